@@ -1,0 +1,424 @@
+//! The neutral machining model: NIST RS274/NGC canonical machining functions plus the
+//! markers plan recovery needs (cycle intent, distance mode).
+//!
+//! The interpreter pushes [`Canon`] values into a [`CanonSink`] (a push model, as ripgrep's
+//! `Sink`): a printer, a collector, or plan recovery can sit behind it. Lengths are in the
+//! active `USE_LENGTH_UNITS`, as LinuxCNC's canonical interface has them; plan recovery
+//! normalises to millimetres.
+
+use std::fmt::{self, Write as _};
+
+use serde::{Deserialize, Serialize};
+
+use crate::text::TextRange;
+
+/// Length units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Units {
+    /// Millimetres.
+    Mm,
+    /// Inches.
+    Inch,
+}
+
+impl Units {
+    /// Millimetres per unit.
+    pub fn to_mm(self) -> f64 {
+        match self {
+            Units::Mm => 1.0,
+            Units::Inch => 25.4,
+        }
+    }
+}
+
+/// Arc plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Plane {
+    /// G17.
+    Xy,
+    /// G18.
+    Xz,
+    /// G19.
+    Yz,
+}
+
+impl Plane {
+    /// Axis indices (first, second, normal) as LinuxCNC orders them in `ARC_FEED`.
+    pub fn axes(self) -> (usize, usize, usize) {
+        match self {
+            Plane::Xy => (0, 1, 2),
+            Plane::Xz => (2, 0, 1),
+            Plane::Yz => (1, 2, 0),
+        }
+    }
+}
+
+/// What kind of canned cycle a [`CycleIntent`] describes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CycleKind {
+    /// Drilling (G81).
+    Drilling,
+    /// Drilling with dwell, counterboring (G82).
+    CounterBoring,
+    /// Peck drilling with full retract (G83).
+    PeckDrilling,
+    /// Chip-breaking drilling (G73).
+    ChipBreaking,
+    /// Boring, feed out (G85).
+    Boring,
+    /// Boring with dwell, feed out (G89).
+    BoringDwell,
+    /// Boring, spindle stop, rapid out (G86).
+    BoringSpindleStop,
+}
+
+impl CycleKind {
+    /// Human name.
+    pub fn label(self) -> &'static str {
+        match self {
+            CycleKind::Drilling => "drilling",
+            CycleKind::CounterBoring => "counterboring",
+            CycleKind::PeckDrilling => "peck drilling",
+            CycleKind::ChipBreaking => "chip-break drilling",
+            CycleKind::Boring => "boring",
+            CycleKind::BoringDwell => "boring with dwell",
+            CycleKind::BoringSpindleStop => "boring with spindle stop",
+        }
+    }
+}
+
+/// The intent of one canned-cycle hole: what was asked for, before expansion into moves.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CycleIntent {
+    /// Kind.
+    pub kind: CycleKind,
+    /// The code as written in the dialect (`G83`).
+    pub code: String,
+    /// Hole position (first and second plane axes) and bottom along the normal axis.
+    pub x: f64,
+    /// Hole position, second axis.
+    pub y: f64,
+    /// Bottom of the hole.
+    pub bottom: f64,
+    /// R (feed-start) plane.
+    pub r_plane: f64,
+    /// Height the tool returns to after the hole.
+    pub clear: f64,
+    /// Peck increment, if any.
+    pub peck: Option<f64>,
+    /// Dwell at the bottom, seconds.
+    pub dwell: Option<f64>,
+}
+
+/// Distance mode (a marker; the canonical interface itself has none).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DistanceMode {
+    /// G90.
+    Absolute,
+    /// G91.
+    Incremental,
+}
+
+/// A canonical machining function, or a marker.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CanonOp {
+    /// `USE_LENGTH_UNITS`
+    UseLengthUnits(Units),
+    /// `SELECT_PLANE`
+    SelectPlane(Plane),
+    /// `SET_G5X_OFFSET(index, x, y, z, a, b, c)`
+    SetG5xOffset(u8, [f64; 6]),
+    /// `SET_G92_OFFSET(x, y, z, a, b, c)`
+    SetG92Offset([f64; 6]),
+    /// `SET_FEED_RATE`
+    SetFeedRate(f64),
+    /// `SET_SPINDLE_SPEED`
+    SetSpindleSpeed(f64),
+    /// `START_SPINDLE_CLOCKWISE`
+    StartSpindleClockwise,
+    /// `START_SPINDLE_COUNTERCLOCKWISE`
+    StartSpindleCounterclockwise,
+    /// `STOP_SPINDLE_TURNING`
+    StopSpindleTurning,
+    /// `SELECT_TOOL`
+    SelectTool(u32),
+    /// `CHANGE_TOOL`
+    ChangeTool(u32),
+    /// `USE_TOOL_LENGTH_OFFSET` (x, y, z offsets)
+    UseToolLengthOffset([f64; 3]),
+    /// `STRAIGHT_TRAVERSE(x, y, z, a, b, c)`
+    StraightTraverse([f64; 6]),
+    /// `STRAIGHT_FEED(x, y, z, a, b, c)`
+    StraightFeed([f64; 6]),
+    /// `ARC_FEED(first_end, second_end, first_axis, second_axis, rotation, axis_end, a, b, c)`
+    ArcFeed {
+        /// End on the plane's first axis.
+        first_end: f64,
+        /// End on the plane's second axis.
+        second_end: f64,
+        /// Centre on the first axis.
+        first_axis: f64,
+        /// Centre on the second axis.
+        second_axis: f64,
+        /// Turns: positive counter-clockwise, negative clockwise.
+        rotation: i32,
+        /// End on the normal axis.
+        axis_end: f64,
+        /// Rotary axes at the end.
+        abc: [f64; 3],
+    },
+    /// `DWELL(seconds)`
+    Dwell(f64),
+    /// `MIST_ON`
+    MistOn,
+    /// `MIST_OFF`
+    MistOff,
+    /// `FLOOD_ON`
+    FloodOn,
+    /// `FLOOD_OFF`
+    FloodOff,
+    /// `PROGRAM_STOP`
+    ProgramStop,
+    /// `OPTIONAL_PROGRAM_STOP`
+    OptionalProgramStop,
+    /// `PROGRAM_END`
+    ProgramEnd,
+    /// `COMMENT(text)`
+    Comment(String),
+    /// `MESSAGE(text)`
+    Message(String),
+    /// Marker: distance mode changed.
+    DistanceMode(DistanceMode),
+    /// Marker: a canned-cycle hole starts; the moves that follow expand it.
+    CycleBegin(Box<CycleIntent>),
+    /// Marker: the current canned-cycle hole ends.
+    CycleEnd,
+    /// Marker: the canned cycle was cancelled (G80).
+    CycleCancel,
+}
+
+/// A canonical op with its provenance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Canon {
+    /// The op.
+    pub op: CanonOp,
+    /// Byte range of the source block.
+    pub origin: TextRange,
+    /// 1-based source line.
+    pub line: u32,
+}
+
+/// Receives canonical ops as the interpreter produces them.
+pub trait CanonSink {
+    /// Takes one op.
+    fn emit(&mut self, canon: Canon);
+}
+
+impl CanonSink for Vec<Canon> {
+    fn emit(&mut self, canon: Canon) {
+        self.push(canon);
+    }
+}
+
+/// Formats `v` with four decimals, as LinuxCNC's `rs274` prints.
+struct F4(f64);
+
+impl fmt::Display for F4 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:.4}", self.0)
+    }
+}
+
+fn join6(out: &mut String, v: &[f64; 6]) {
+    for (i, x) in v.iter().enumerate() {
+        if i > 0 {
+            out.push_str(", ");
+        }
+        let _ = write!(out, "{}", F4(*x));
+    }
+}
+
+fn quoted(out: &mut String, s: &str) {
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_control() => {}
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+}
+
+/// Appends the call as `rs274 -g` prints it (without its sequence prefix) and a newline.
+pub fn write_call(out: &mut String, op: &CanonOp) {
+    match op {
+        CanonOp::UseLengthUnits(u) => {
+            out.push_str(match u {
+                Units::Mm => "USE_LENGTH_UNITS(CANON_UNITS_MM)",
+                Units::Inch => "USE_LENGTH_UNITS(CANON_UNITS_INCHES)",
+            });
+        }
+        CanonOp::SelectPlane(p) => {
+            out.push_str(match p {
+                Plane::Xy => "SELECT_PLANE(CANON_PLANE_XY)",
+                Plane::Xz => "SELECT_PLANE(CANON_PLANE_XZ)",
+                Plane::Yz => "SELECT_PLANE(CANON_PLANE_YZ)",
+            });
+        }
+        CanonOp::SetG5xOffset(i, v) => {
+            let _ = write!(out, "SET_G5X_OFFSET({i}, ");
+            join6(out, v);
+            out.push(')');
+        }
+        CanonOp::SetG92Offset(v) => {
+            out.push_str("SET_G92_OFFSET(");
+            join6(out, v);
+            out.push(')');
+        }
+        CanonOp::SetFeedRate(f) => {
+            let _ = write!(out, "SET_FEED_RATE({})", F4(*f));
+        }
+        CanonOp::SetSpindleSpeed(s) => {
+            let _ = write!(out, "SET_SPINDLE_SPEED(0, {})", F4(*s));
+        }
+        CanonOp::StartSpindleClockwise => out.push_str("START_SPINDLE_CLOCKWISE(0)"),
+        CanonOp::StartSpindleCounterclockwise => out.push_str("START_SPINDLE_COUNTERCLOCKWISE(0)"),
+        CanonOp::StopSpindleTurning => out.push_str("STOP_SPINDLE_TURNING(0)"),
+        CanonOp::SelectTool(t) => {
+            let _ = write!(out, "SELECT_TOOL({t})");
+        }
+        CanonOp::ChangeTool(t) => {
+            let _ = write!(out, "CHANGE_TOOL({t})");
+        }
+        CanonOp::UseToolLengthOffset([x, y, z]) => {
+            let _ = write!(out, "USE_TOOL_LENGTH_OFFSET({} {} {}, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)", F4(*x), F4(*y), F4(*z));
+        }
+        CanonOp::StraightTraverse(p) => {
+            out.push_str("STRAIGHT_TRAVERSE(");
+            join6(out, p);
+            out.push(')');
+        }
+        CanonOp::StraightFeed(p) => {
+            out.push_str("STRAIGHT_FEED(");
+            join6(out, p);
+            out.push(')');
+        }
+        CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
+            let _ = write!(
+                out,
+                "ARC_FEED({}, {}, {}, {}, {rotation}, {}, {}, {}, {})",
+                F4(*first_end),
+                F4(*second_end),
+                F4(*first_axis),
+                F4(*second_axis),
+                F4(*axis_end),
+                F4(abc[0]),
+                F4(abc[1]),
+                F4(abc[2])
+            );
+        }
+        CanonOp::Dwell(s) => {
+            let _ = write!(out, "DWELL({})", F4(*s));
+        }
+        CanonOp::MistOn => out.push_str("MIST_ON()"),
+        CanonOp::MistOff => out.push_str("MIST_OFF()"),
+        CanonOp::FloodOn => out.push_str("FLOOD_ON()"),
+        CanonOp::FloodOff => out.push_str("FLOOD_OFF()"),
+        CanonOp::ProgramStop => out.push_str("PROGRAM_STOP()"),
+        CanonOp::OptionalProgramStop => out.push_str("OPTIONAL_PROGRAM_STOP()"),
+        CanonOp::ProgramEnd => out.push_str("PROGRAM_END()"),
+        CanonOp::Comment(s) => {
+            out.push_str("COMMENT(");
+            quoted(out, s);
+            out.push(')');
+        }
+        CanonOp::Message(s) => {
+            out.push_str("MESSAGE(");
+            quoted(out, s);
+            out.push(')');
+        }
+        CanonOp::DistanceMode(m) => out.push_str(match m {
+            DistanceMode::Absolute => "COMMENT(\"interpreter: distance mode changed to absolute\")",
+            DistanceMode::Incremental => "COMMENT(\"interpreter: distance mode changed to incremental\")",
+        }),
+        CanonOp::CycleBegin(c) => {
+            let _ = write!(
+                out,
+                "COMMENT(\"ncplan: cycle begin {} {} x={} y={} bottom={} r={} clear={}",
+                c.code,
+                c.kind.label(),
+                F4(c.x),
+                F4(c.y),
+                F4(c.bottom),
+                F4(c.r_plane),
+                F4(c.clear)
+            );
+            if let Some(q) = c.peck {
+                let _ = write!(out, " q={}", F4(q));
+            }
+            if let Some(p) = c.dwell {
+                let _ = write!(out, " dwell={}", F4(p));
+            }
+            out.push_str("\")");
+        }
+        CanonOp::CycleEnd => out.push_str("COMMENT(\"ncplan: cycle end\")"),
+        CanonOp::CycleCancel => out.push_str("COMMENT(\"interpreter: motion mode set to none\")"),
+    }
+    out.push('\n');
+}
+
+/// Calls that LinuxCNC emits for its own bookkeeping and that carry no machining meaning.
+/// Comparisons with `rs274` drop them on both sides.
+pub const LINUXCNC_INTERNAL: &[&str] = &[
+    "COMMENT",
+    "MESSAGE",
+    "ON_RESET",
+    "START_CHANGE",
+    "SET_FEED_REFERENCE",
+    "SET_MOTION_CONTROL_MODE",
+    "SET_NAIVECAM_TOLERANCE",
+    "SET_XY_ROTATION",
+    "SET_FEED_MODE",
+    "SET_SPINDLE_MODE",
+    "PALLET_SHUTTLE",
+    "ENABLE_FEED_OVERRIDE",
+    "ENABLE_SPEED_OVERRIDE",
+    "DISABLE_FEED_OVERRIDE",
+    "DISABLE_SPEED_OVERRIDE",
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prints_like_rs274() {
+        let mut s = String::new();
+        write_call(&mut s, &CanonOp::StraightTraverse([0.0, 1.5, -2.0, 0.0, 0.0, 0.0]));
+        write_call(
+            &mut s,
+            &CanonOp::ArcFeed {
+                first_end: 10.0,
+                second_end: 0.0,
+                first_axis: 5.0,
+                second_axis: -0.0,
+                rotation: -1,
+                axis_end: -1.0,
+                abc: [0.0; 3],
+            },
+        );
+        write_call(&mut s, &CanonOp::Comment("a \"b\"".into()));
+        expect_test::expect![[r#"
+            STRAIGHT_TRAVERSE(0.0000, 1.5000, -2.0000, 0.0000, 0.0000, 0.0000)
+            ARC_FEED(10.0000, 0.0000, 5.0000, -0.0000, -1, -1.0000, 0.0000, 0.0000, 0.0000)
+            COMMENT("a \"b\"")
+        "#]]
+        .assert_eq(&s);
+    }
+}

@@ -1,0 +1,454 @@
+//! The command line: the only module that prints.
+//!
+//! Exit codes: 0 success; 1 the input has errors (`check`) or changes were found (`diff`
+//! with `--exit-code`); 2 usage or operational failure.
+
+#![allow(clippy::print_stdout, clippy::print_stderr)]
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand, ValueEnum};
+
+use crate::canon::{Canon, CanonSink, write_call};
+use crate::config::{self, Config};
+use crate::diag::{self, DiagnosticJson};
+use crate::dialect::{Dialect, Registry};
+use crate::diff;
+use crate::pipeline;
+use crate::store::Store;
+use crate::text::LineIndex;
+
+/// Recover process plans from CNC programs, diff them against the CAM original, keep the
+/// shopfloor's changes.
+#[derive(Debug, Parser)]
+#[command(name = "ncplan", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum Format {
+    Text,
+    Json,
+}
+
+#[derive(Debug, clap::Args)]
+struct Input {
+    /// Program file.
+    file: PathBuf,
+    /// Dialect name (see `ncplan dialects`).
+    #[arg(long, short, default_value = "linuxcnc")]
+    dialect: String,
+    /// Configuration (for the tool table and extra dialects).
+    #[arg(long)]
+    config: Option<PathBuf>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Watch the configured folders and store every revision and its changes.
+    Watch {
+        /// Configuration file; without it, the built-in demo configuration.
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
+    /// Report every finding in a program; exits 1 when there are errors.
+    Check {
+        #[command(flatten)]
+        input: Input,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
+    /// Print the NIST canonical machining functions, one call per line.
+    Canon {
+        #[command(flatten)]
+        input: Input,
+        /// Prefix each call with its source line.
+        #[arg(long)]
+        lines: bool,
+    },
+    /// Print the recovered process plan.
+    Plan {
+        #[command(flatten)]
+        input: Input,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
+    /// Compare two programs by what they do.
+    Diff {
+        /// The CAM original.
+        original: PathBuf,
+        /// The edited program.
+        edited: PathBuf,
+        /// Dialect of both (unless overridden).
+        #[arg(long, short, default_value = "linuxcnc")]
+        dialect: String,
+        /// Dialect of the edited program.
+        #[arg(long)]
+        edited_dialect: Option<String>,
+        #[arg(long)]
+        config: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+        /// Exit 1 when there are changes.
+        #[arg(long)]
+        exit_code: bool,
+    },
+    /// Run read-only SQL against the database.
+    Query {
+        /// SQL.
+        sql: String,
+        #[arg(long)]
+        db: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
+    /// Print the shopfloor change report in Markdown.
+    Report {
+        #[arg(long)]
+        db: Option<PathBuf>,
+    },
+    /// List the known dialects, or check dialect files.
+    Dialects {
+        /// Dialect files to check.
+        files: Vec<PathBuf>,
+    },
+}
+
+/// Runs the command line and returns the process exit code.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    match dispatch(cli.command) {
+        Ok(code) => code,
+        Err(e) => {
+            if e.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) {
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn load_config(path: Option<&Path>) -> Result<Config> {
+    match path {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+            let base = p.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+            let base = if base.as_os_str().is_empty() { PathBuf::from(".") } else { base };
+            Config::parse(&text, &std::path::absolute(&base)?)
+        }
+        None => Config::parse(config::DEMO, &std::env::current_dir()?),
+    }
+}
+
+fn registry_for(config: Option<&Config>) -> Result<Registry> {
+    config::dialect_registry(config.and_then(|c| c.dialects_dir.as_deref()))
+}
+
+fn dialect(registry: &Registry, name: &str) -> Result<Arc<Dialect>> {
+    registry.get(name).with_context(|| format!("unknown dialect `{name}`; known: {}", registry.names().collect::<Vec<_>>().join(", ")))
+}
+
+fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
+    let config = match &input.config {
+        Some(p) => load_config(Some(p))?,
+        None => Config::parse("[database]\npath = 'unused.db'\n", Path::new("/"))?,
+    };
+    let registry = registry_for(Some(&config))?;
+    let d = dialect(&registry, &input.dialect)?;
+    let bytes = std::fs::read(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
+    Ok((d, config, bytes))
+}
+
+fn dispatch(command: Command) -> Result<ExitCode> {
+    let stdout = std::io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    match command {
+        Command::Watch { config } => {
+            let config = load_config(config.as_deref())?;
+            let registry = registry_for(Some(&config))?;
+            init_tracing();
+            println!("ncplan watch: database {}", config.database.display());
+            for f in &config.folders {
+                println!(
+                    "  {:<8} {:<10} {:<9} {}{}",
+                    f.role.as_str(),
+                    f.name,
+                    f.dialect,
+                    f.path.display(),
+                    if f.poll { " (polled)" } else { "" }
+                );
+            }
+            if let Some(m) = config.folders.iter().find(|f| f.role == config::Role::Machine) {
+                println!("Try: cp demo/examples/O1234_edited.nc {}/O1234.nc", m.path.display());
+                println!("then: ncplan report --db {}", config.database.display());
+            }
+            crate::daemon::run(config, registry, Arc::new(crate::daemon::SystemClock))?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Check { input, format } => {
+            let (d, config, bytes) = input_setup(&input)?;
+            let a = pipeline::analyze(&bytes, &d, &config.profile);
+            let path = input.file.display().to_string();
+            let idx = LineIndex::new(&a.source.text);
+            match format {
+                Format::Json => {
+                    let ds: Vec<DiagnosticJson> = a.diagnostics.iter().map(|x| DiagnosticJson::new(x, &a.source.text, &idx)).collect();
+                    serde_json::to_writer_pretty(&mut out, &serde_json::json!({ "file": path, "dialect": d.name, "diagnostics": ds }))?;
+                    writeln!(out)?;
+                }
+                Format::Text => {
+                    for x in &a.diagnostics {
+                        write!(out, "{}", diag::render_human(&path, &a.source.text, &idx, x))?;
+                    }
+                    let errors = a.diagnostics.iter().filter(|x| x.is_error()).count();
+                    writeln!(out, "{path}: {errors} errors, {} other findings", a.diagnostics.len() - errors)?;
+                }
+            }
+            out.flush()?;
+            Ok(if a.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+        }
+        Command::Canon { input, lines } => {
+            let (d, config, bytes) = input_setup(&input)?;
+            let (source, mut diags) = crate::text::decode(&bytes);
+            let mut printer = Printer { out: &mut out, buf: String::with_capacity(256), lines, error: None };
+            diags.extend(crate::interp::interpret(&source.text, &d, &config.profile, &mut printer));
+            if let Some(e) = printer.error.take() {
+                return Err(e.into());
+            }
+            out.flush()?;
+            let idx = LineIndex::new(&source.text);
+            let path = input.file.display().to_string();
+            for x in diags.iter().filter(|x| x.is_error()) {
+                eprintln!("{}", diag::render_short(&path, &source.text, &idx, x));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Plan { input, format } => {
+            let (d, config, bytes) = input_setup(&input)?;
+            let a = pipeline::analyze(&bytes, &d, &config.profile);
+            match format {
+                Format::Json => {
+                    serde_json::to_writer_pretty(&mut out, &a.plan)?;
+                    writeln!(out)?;
+                }
+                Format::Text => write_plan(&mut out, &a.plan)?,
+            }
+            out.flush()?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Diff { original, edited, dialect: dname, edited_dialect, config, format, exit_code } => {
+            let config = match &config {
+                Some(p) => load_config(Some(p))?,
+                None => Config::parse("[database]\npath = 'unused.db'\n", Path::new("/"))?,
+            };
+            let registry = registry_for(Some(&config))?;
+            let da = dialect(&registry, &dname)?;
+            let db = dialect(&registry, edited_dialect.as_deref().unwrap_or(&dname))?;
+            let read = |p: &Path| std::fs::read(p).with_context(|| format!("cannot read {}", p.display()));
+            let a = pipeline::analyze(&read(&original)?, &da, &config.profile);
+            let b = pipeline::analyze(&read(&edited)?, &db, &config.profile);
+            let changes = diff::diff(&a.plan, &b.plan);
+            match format {
+                Format::Json => {
+                    serde_json::to_writer_pretty(&mut out, &changes)?;
+                    writeln!(out)?;
+                }
+                Format::Text => {
+                    if changes.is_empty() {
+                        writeln!(out, "no semantic changes")?;
+                    }
+                    for line in diff::render_plain(&changes) {
+                        writeln!(out, "{line}")?;
+                    }
+                }
+            }
+            out.flush()?;
+            Ok(if exit_code && !changes.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+        }
+        Command::Query { sql, db, format } => {
+            let db = db_path(db)?;
+            let store = Store::open_read_only(&db)?;
+            let (cols, rows) = store.query(&sql)?;
+            match format {
+                Format::Json => {
+                    let objs: Vec<serde_json::Map<String, serde_json::Value>> = rows
+                        .iter()
+                        .map(|r| cols.iter().cloned().zip(r.iter().map(|v| serde_json::Value::String(v.clone()))).collect())
+                        .collect();
+                    serde_json::to_writer_pretty(&mut out, &objs)?;
+                    writeln!(out)?;
+                }
+                Format::Text => {
+                    writeln!(out, "{}", cols.join("\t"))?;
+                    for r in rows {
+                        writeln!(out, "{}", r.join("\t"))?;
+                    }
+                }
+            }
+            out.flush()?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Report { db } => {
+            let db = db_path(db)?;
+            let store = Store::open_read_only(&db)?;
+            write_report(&mut out, &store)?;
+            out.flush()?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Dialects { files } => {
+            if files.is_empty() {
+                let r = Registry::shipped();
+                for name in r.names() {
+                    let d = dialect(&r, name)?;
+                    writeln!(out, "{name}\t{}\t{}", d.family, d.title)?;
+                }
+                return Ok(ExitCode::SUCCESS);
+            }
+            let mut bad = false;
+            for f in files {
+                let text = std::fs::read_to_string(&f).with_context(|| format!("cannot read {}", f.display()))?;
+                match Registry::default().add(&f.display().to_string(), &text) {
+                    Ok(d) => writeln!(out, "{}: ok ({} codes, {} addresses)", f.display(), d.codes.len(), d.addresses.len())?,
+                    Err(errors) => {
+                        bad = true;
+                        for e in errors {
+                            writeln!(out, "{e}")?;
+                        }
+                    }
+                }
+            }
+            out.flush()?;
+            Ok(if bad { ExitCode::from(1) } else { ExitCode::SUCCESS })
+        }
+    }
+}
+
+fn db_path(db: Option<PathBuf>) -> Result<PathBuf> {
+    let db = match db {
+        Some(d) => d,
+        None => load_config(None)?.database,
+    };
+    if !db.exists() {
+        bail!("no database at {} (has `ncplan watch` run?)", db.display());
+    }
+    Ok(db)
+}
+
+fn init_tracing() {
+    let filter = tracing_subscriber::EnvFilter::try_from_env("NCPLAN_LOG").unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
+    let _ = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();
+}
+
+struct Printer<'w, W: Write> {
+    out: &'w mut W,
+    buf: String,
+    lines: bool,
+    error: Option<std::io::Error>,
+}
+
+impl<W: Write> CanonSink for Printer<'_, W> {
+    fn emit(&mut self, canon: Canon) {
+        if self.error.is_some() {
+            return;
+        }
+        self.buf.clear();
+        if self.lines {
+            self.buf.push_str(&format!("{:>6} ", canon.line));
+        }
+        write_call(&mut self.buf, &canon.op);
+        if let Err(e) = self.out.write_all(self.buf.as_bytes()) {
+            self.error = Some(e);
+        }
+    }
+}
+
+fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<()> {
+    use crate::diff::num;
+    writeln!(out, "program {}", plan.program.as_deref().unwrap_or("(unnamed)"))?;
+    for t in &plan.tools {
+        let d = t.diameter.map(|d| format!(" D{}", num(d))).unwrap_or_default();
+        writeln!(out, "tool T{}{d} {}", t.number, t.name.as_deref().unwrap_or(""))?;
+    }
+    for w in &plan.workingsteps {
+        let t = &w.technology;
+        writeln!(
+            out,
+            "workingstep {} ({}) T{} F{} S{} {:?} coolant {:?}, lines {}-{}",
+            w.index,
+            w.operation.label(),
+            w.tool,
+            num(t.feed),
+            num(t.spindle_speed),
+            t.spindle,
+            t.coolant,
+            w.lines.0,
+            w.lines.1
+        )?;
+        if let Some(p) = w.start_point {
+            writeln!(out, "  start X{} Y{} Z{}", num(p[0]), num(p[1]), num(p[2]))?;
+        }
+        if let (Some(b), Some(d)) = (w.bbox, w.depth) {
+            writeln!(
+                out,
+                "  box X{}..{} Y{}..{} Z{}..{}; depth Z{}; {} mm of cut in {} moves",
+                num(b.min[0]),
+                num(b.max[0]),
+                num(b.min[1]),
+                num(b.max[1]),
+                num(b.min[2]),
+                num(b.max[2]),
+                num(d),
+                num(w.cutting_length),
+                w.toolpath.len()
+            )?;
+        }
+        for h in &w.holes {
+            writeln!(out, "  hole X{} Y{} bottom Z{} from R{}", num(h.x), num(h.y), num(h.bottom), num(h.r_plane))?;
+        }
+    }
+    Ok(())
+}
+
+fn write_report(out: &mut impl Write, store: &Store) -> Result<()> {
+    let (_, rows) = store.query(
+        "SELECT machine, program, original_path, edited_path, revision_id, workingstep, kind, field, before, after, detected_at, operation
+         FROM shopfloor_changes ORDER BY machine, program, revision_id, workingstep, rowid",
+    )?;
+    writeln!(out, "# Shopfloor changes\n")?;
+    if rows.is_empty() {
+        writeln!(out, "No changes recorded.")?;
+        return Ok(());
+    }
+    let mut i = 0;
+    while i < rows.len() {
+        let r = &rows[i];
+        writeln!(out, "## machine {}, program {} (revision {}, {})\n", r[0], r[1], r[4], r[10])?;
+        writeln!(out, "original `{}`, edited `{}`\n", r[2], r[3])?;
+        let mut changes = Vec::new();
+        while i < rows.len() && rows[i][4] == r[4] {
+            let x = &rows[i];
+            changes.push(diff::Change {
+                kind: serde_json::from_value(serde_json::Value::String(x[6].clone())).unwrap_or(diff::ChangeKind::ToolpathChanged),
+                workingstep: x[5].parse().unwrap_or(0),
+                operation: x[11].clone(),
+                field: x[7].clone(),
+                before: x[8].clone(),
+                after: x[9].clone(),
+                line: None,
+            });
+            i += 1;
+        }
+        for line in diff::render_plain(&changes) {
+            writeln!(out, "- {line}")?;
+        }
+        writeln!(out)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,298 @@
+//! Configuration: `config/ncplan.toml` → validated [`Config`].
+//!
+//! Parsing is strict (`deny_unknown_fields`); validation resolves relative paths against the
+//! config file's folder and checks that the database never sits inside a watched folder.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use serde::Deserialize;
+
+use crate::interp::{Profile, ToolData};
+
+/// The configuration the binary falls back on: the demo folders of this repository.
+pub const DEMO: &str = include_str!("../config/ncplan.toml");
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConfig {
+    database: RawDatabase,
+    #[serde(default)]
+    daemon: RawDaemon,
+    #[serde(default)]
+    matching: RawMatching,
+    dialects_dir: Option<String>,
+    #[serde(default)]
+    cam: Vec<RawFolder>,
+    #[serde(default)]
+    machine: Vec<RawMachine>,
+    #[serde(default)]
+    tool: Vec<RawTool>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawDatabase {
+    path: String,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct RawDaemon {
+    settle_ms: u64,
+    rescan_s: u64,
+    max_file_mb: u64,
+    ignore: Vec<String>,
+}
+
+impl Default for RawDaemon {
+    fn default() -> RawDaemon {
+        RawDaemon {
+            settle_ms: 1000,
+            rescan_s: 300,
+            max_file_mb: 256,
+            ignore: [".*", "~*", "*~", "*.tmp", "*.temp", "*.swp", "*.bak", "*.part", "#*#"].map(String::from).to_vec(),
+        }
+    }
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMatching {
+    pattern: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFolder {
+    path: String,
+    dialect: String,
+    #[serde(default)]
+    poll: bool,
+    poll_ms: Option<u64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMachine {
+    name: String,
+    path: String,
+    dialect: String,
+    #[serde(default)]
+    poll: bool,
+    poll_ms: Option<u64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTool {
+    number: u32,
+    diameter: Option<f64>,
+    length: Option<f64>,
+    name: Option<String>,
+}
+
+/// Whether a folder holds CAM originals or a machine's programs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// CAM release folder.
+    Cam,
+    /// Controller share.
+    Machine,
+}
+
+impl Role {
+    /// Name stored in the database.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Role::Cam => "cam",
+            Role::Machine => "machine",
+        }
+    }
+}
+
+/// A watched folder.
+#[derive(Clone, Debug)]
+pub struct Folder {
+    /// Role.
+    pub role: Role,
+    /// Machine name (machine folders) or `CAM`.
+    pub name: String,
+    /// Absolute or config-relative path.
+    pub path: PathBuf,
+    /// Dialect name.
+    pub dialect: String,
+    /// Poll instead of native events (network shares).
+    pub poll: bool,
+    /// Poll interval.
+    pub poll_ms: u64,
+}
+
+/// The validated configuration.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// SQLite database file.
+    pub database: PathBuf,
+    /// Extra dialect files (`*.xml`), loaded at start.
+    pub dialects_dir: Option<PathBuf>,
+    /// Watched folders, CAM first.
+    pub folders: Vec<Folder>,
+    /// A file counts as complete when size and mtime held still this long.
+    pub settle_ms: u64,
+    /// Full rescan interval.
+    pub rescan_s: u64,
+    /// Largest file analysed, bytes.
+    pub max_file_bytes: u64,
+    /// Ignore globs matched against file names.
+    pub ignore: Vec<String>,
+    /// Optional regex with a `key` group that extracts the matching key from a file name.
+    pub pattern: Option<regex::Regex>,
+    /// Machine profile (tool table).
+    pub profile: Profile,
+}
+
+impl Config {
+    /// Parses and validates `text`; relative paths are resolved against `base`.
+    pub fn parse(text: &str, base: &Path) -> Result<Config> {
+        let raw: RawConfig = toml::from_str(text).context("invalid configuration")?;
+        let abs = |p: &str| if Path::new(p).is_absolute() { PathBuf::from(p) } else { base.join(p) };
+        let mut folders = Vec::new();
+        for f in &raw.cam {
+            folders.push(Folder {
+                role: Role::Cam,
+                name: "CAM".into(),
+                path: abs(&f.path),
+                dialect: f.dialect.clone(),
+                poll: f.poll,
+                poll_ms: f.poll_ms.unwrap_or(2000),
+            });
+        }
+        for m in &raw.machine {
+            if m.name.trim().is_empty() {
+                bail!("a [[machine]] needs a name");
+            }
+            if raw.machine.iter().filter(|x| x.name == m.name).count() > 1 {
+                bail!("machine `{}` is configured twice", m.name);
+            }
+            folders.push(Folder {
+                role: Role::Machine,
+                name: m.name.clone(),
+                path: abs(&m.path),
+                dialect: m.dialect.clone(),
+                poll: m.poll,
+                poll_ms: m.poll_ms.unwrap_or(2000),
+            });
+        }
+        let database = abs(&raw.database.path);
+        for f in &folders {
+            if database.starts_with(&f.path) {
+                bail!(
+                    "the database {} lies inside the watched folder {}; ncplan never writes into a watched folder",
+                    database.display(),
+                    f.path.display()
+                );
+            }
+        }
+        let pattern = match raw.matching.pattern.as_deref().filter(|p| !p.is_empty()) {
+            Some(p) => {
+                let re = regex::Regex::new(p).with_context(|| format!("invalid matching pattern `{p}`"))?;
+                if re.capture_names().all(|n| n != Some("key")) {
+                    bail!("the matching pattern `{p}` needs a named group `(?P<key>...)`");
+                }
+                Some(re)
+            }
+            None => None,
+        };
+        let mut profile = Profile::default();
+        for t in raw.tool {
+            profile.tools.insert(t.number, ToolData { diameter: t.diameter, length: t.length.unwrap_or(0.0), name: t.name });
+        }
+        Ok(Config {
+            database,
+            dialects_dir: raw.dialects_dir.map(|d| abs(&d)),
+            folders,
+            settle_ms: raw.daemon.settle_ms.max(50),
+            rescan_s: raw.daemon.rescan_s.max(5),
+            max_file_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20),
+            ignore: raw.daemon.ignore,
+            pattern,
+            profile,
+        })
+    }
+
+    /// Whether a file name matches an ignore glob (editor and temporary files).
+    pub fn ignored(&self, name: &str) -> bool {
+        self.ignore.iter().any(|g| glob_match(g.as_bytes(), name.as_bytes()))
+    }
+}
+
+/// `*` and `?` glob matching on bytes.
+pub fn glob_match(pat: &[u8], s: &[u8]) -> bool {
+    let (mut p, mut i, mut star, mut mark) = (0, 0, None, 0);
+    while i < s.len() {
+        if p < pat.len() && (pat[p] == b'?' || pat[p].eq_ignore_ascii_case(&s[i])) {
+            p += 1;
+            i += 1;
+        } else if p < pat.len() && pat[p] == b'*' {
+            star = Some(p);
+            mark = i;
+            p += 1;
+        } else if let Some(sp) = star {
+            p = sp + 1;
+            mark += 1;
+            i = mark;
+        } else {
+            return false;
+        }
+    }
+    pat[p..].iter().all(|&c| c == b'*')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn demo_config_is_valid() {
+        let c = Config::parse(DEMO, Path::new("/srv/ncplan")).unwrap();
+        assert!(c.folders.iter().any(|f| f.role == Role::Cam));
+        assert!(c.folders.iter().any(|f| f.role == Role::Machine));
+        assert!(c.database.starts_with("/srv/ncplan"));
+    }
+
+    #[test]
+    fn globs() {
+        assert!(glob_match(b"*.tmp", b"O1234.TMP"));
+        assert!(glob_match(b".*", b".O1234.nc.swp"));
+        assert!(glob_match(b"*~", b"O1234.nc~"));
+        assert!(!glob_match(b"*.tmp", b"O1234.nc"));
+    }
+
+    #[test]
+    fn rejects_database_in_watched_folder_and_unknown_keys() {
+        let bad = "[database]\npath='shares/m1/x.db'\n[[machine]]\nname='m1'\npath='shares/m1'\ndialect='fanuc'\n";
+        assert!(Config::parse(bad, Path::new("/x")).unwrap_err().to_string().contains("inside the watched folder"));
+        let unknown = "[database]\npath='x.db'\ncolour='red'\n";
+        assert!(Config::parse(unknown, Path::new("/x")).is_err());
+    }
+}
+
+/// The shipped dialects plus every `*.xml` in `dir` (which may replace shipped ones).
+/// A broken dialect file is an error that names `file:line:col`.
+pub fn dialect_registry(dir: Option<&Path>) -> Result<crate::dialect::Registry> {
+    let mut registry = crate::dialect::Registry::shipped();
+    let Some(dir) = dir else { return Ok(registry) };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("cannot read the dialects folder {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("xml")))
+        .collect();
+    files.sort();
+    for f in files {
+        let text = std::fs::read_to_string(&f).with_context(|| format!("cannot read {}", f.display()))?;
+        if let Err(errors) = registry.add(&f.display().to_string(), &text) {
+            bail!("invalid dialect file:\n{}", errors.join("\n"));
+        }
+    }
+    Ok(registry)
+}

@@ -1,0 +1,229 @@
+//! Diagnostics: findings about inputs (programs, dialect files, configs) as plain data.
+//!
+//! A diagnostic is a value, never an `Err`: analysis reports every finding and keeps going.
+//! Rendering (short, human with carets, JSON) happens at the edge via [`render_short`],
+//! [`render_human`] and [`DiagnosticJson`].
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use crate::text::{LineIndex, TextRange};
+
+/// How serious a finding is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// The construct was skipped; the output is incomplete.
+    Error,
+    /// Behaviour was assumed; the output may differ from the machine.
+    Warning,
+    /// Information.
+    Note,
+}
+
+impl Severity {
+    /// Lower-case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+            Severity::Note => "note",
+        }
+    }
+}
+
+macro_rules! codes {
+    ($( $(#[doc = $doc:literal])+ $variant:ident = ($name:literal, $sev:ident), )*) => {
+        /// The stable catalogue of diagnostic codes, grouped by phase.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+        #[non_exhaustive]
+        pub enum Code {
+            $( $(#[doc = $doc])+ $variant, )*
+        }
+
+        impl Code {
+            /// Every code, in catalogue order.
+            pub const ALL: &'static [Code] = &[$(Code::$variant),*];
+
+            /// The stable identifier, such as `syntax::unknown-address`.
+            pub fn as_str(self) -> &'static str {
+                match self { $(Code::$variant => $name,)* }
+            }
+
+            /// The default severity.
+            pub fn severity(self) -> Severity {
+                match self { $(Code::$variant => Severity::$sev,)* }
+            }
+
+            /// One line of documentation.
+            pub fn doc(self) -> &'static str {
+                match self { $(Code::$variant => concat!($($doc),+).trim_ascii(),)* }
+            }
+        }
+    };
+}
+
+codes! {
+    /// The input contains NUL or control bytes and is not a part program.
+    BinaryInput = ("text::binary", Error),
+    /// The input is not UTF-8 and was decoded as Windows-1252.
+    NotUtf8 = ("text::not-utf8", Note),
+    /// The input exceeds the configured size limit and was not analysed.
+    TooLarge = ("text::too-large", Error),
+    /// A letter that the dialect does not define as an address.
+    UnknownAddress = ("syntax::unknown-address", Error),
+    /// A number that cannot be read.
+    MalformedNumber = ("syntax::malformed-number", Error),
+    /// A comment that is not closed before the end of the line.
+    UnterminatedComment = ("syntax::unterminated-comment", Error),
+    /// An expression that cannot be parsed.
+    MalformedExpression = ("syntax::malformed-expression", Error),
+    /// An address without a value.
+    MissingValue = ("syntax::missing-value", Error),
+    /// The same address appears twice in one block.
+    DuplicateWord = ("syntax::duplicate-word", Error),
+    /// A G or M code the dialect does not know.
+    UnknownCode = ("syntax::unknown-code", Error),
+    /// Two codes of one modal group in one block.
+    ModalGroupConflict = ("syntax::modal-group-conflict", Error),
+    /// A command is missing a parameter it requires.
+    MissingParameter = ("syntax::missing-parameter", Error),
+    /// A word that no command in the block uses.
+    UnusedWord = ("syntax::unused-word", Warning),
+    /// A construct the dialect defines but this version of the interpreter does not execute.
+    Unsupported = ("interp::unsupported", Warning),
+    /// An arc whose start and end radius differ beyond tolerance, or that cannot be built.
+    BadArc = ("interp::bad-arc", Error),
+    /// A cutting move with the spindle stopped or a zero feed rate.
+    CuttingWithoutTechnology = ("interp::cutting-without-technology", Warning),
+    /// A reference to a parameter that has no value.
+    UndefinedParameter = ("interp::undefined-parameter", Error),
+    /// Division by zero or a function outside its domain.
+    ArithmeticError = ("interp::arithmetic", Error),
+    /// A canned cycle that lacks its depth or retract plane.
+    CycleIncomplete = ("interp::cycle-incomplete", Error),
+    /// Text after the end of the program was ignored.
+    AfterProgramEnd = ("interp::after-program-end", Note),
+    /// The program raised an operator message.
+    ProgramMessage = ("interp::message", Note),
+    /// A toolpath that plan recovery could not assign to a tool.
+    NoTool = ("plan::no-tool", Warning),
+    /// A malformed or invalid dialect file.
+    DialectInvalid = ("dialect::invalid", Error),
+}
+
+/// One finding about one input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    /// Stable code.
+    pub code: Code,
+    /// Severity (defaults to the code's).
+    pub severity: Severity,
+    /// A sentence without a trailing period.
+    pub message: String,
+    /// The byte range of the source the finding is about.
+    pub range: TextRange,
+}
+
+impl Diagnostic {
+    /// A diagnostic with the code's default severity.
+    pub fn new(code: Code, range: TextRange, message: impl Into<String>) -> Diagnostic {
+        Diagnostic { code, severity: code.severity(), message: message.into(), range }
+    }
+
+    /// True for errors.
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+}
+
+/// A diagnostic with its position resolved, ready for JSON or SQL.
+#[derive(Clone, Debug, Serialize)]
+pub struct DiagnosticJson {
+    /// Code identifier.
+    pub code: &'static str,
+    /// Severity.
+    pub severity: Severity,
+    /// Message.
+    pub message: String,
+    /// 1-based line.
+    pub line: u32,
+    /// 1-based column in characters.
+    pub col: u32,
+    /// Byte range start.
+    pub start: u32,
+    /// Byte range end.
+    pub end: u32,
+}
+
+impl DiagnosticJson {
+    /// Resolves the position of `d` in `text`.
+    pub fn new(d: &Diagnostic, text: &str, index: &LineIndex) -> DiagnosticJson {
+        let lc = index.line_col(text, d.range.start);
+        DiagnosticJson {
+            code: d.code.as_str(),
+            severity: d.severity,
+            message: d.message.clone(),
+            line: lc.line,
+            col: lc.col,
+            start: d.range.start,
+            end: d.range.end,
+        }
+    }
+}
+
+/// `path:line:col: severity[code]: message`
+pub fn render_short(path: &str, text: &str, index: &LineIndex, d: &Diagnostic) -> String {
+    let lc = index.line_col(text, d.range.start);
+    format!("{path}:{}:{}: {}[{}]: {}", lc.line, lc.col, d.severity.as_str(), d.code.as_str(), d.message)
+}
+
+/// The short form followed by the source line and a caret line, as rustc prints.
+pub fn render_human(path: &str, text: &str, index: &LineIndex, d: &Diagnostic) -> String {
+    let lc = index.line_col(text, d.range.start);
+    let line = index.line_text(text, lc.line);
+    let mut out = format!("{}[{}]: {}\n", d.severity.as_str(), d.code.as_str(), d.message);
+    let gutter = lc.line.to_string().len();
+    let _ = writeln!(out, "{:gutter$}--> {path}:{}:{}", "", lc.line, lc.col);
+    let _ = writeln!(out, "{:gutter$} |", "");
+    let _ = writeln!(out, "{} | {}", lc.line, line);
+    let end_lc = index.line_col(text, d.range.end);
+    let width = if end_lc.line == lc.line { (end_lc.col.saturating_sub(lc.col)).max(1) } else { 1 };
+    let pad: String = line.chars().take((lc.col - 1) as usize).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
+    let _ = writeln!(out, "{:gutter$} | {pad}{}", "", "^".repeat(width as usize));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_code_is_documented_and_unique() {
+        let mut names: Vec<_> = Code::ALL.iter().map(|c| c.as_str()).collect();
+        for c in Code::ALL {
+            assert!(!c.doc().is_empty(), "{c:?}");
+            assert!(c.as_str().contains("::"), "{c:?}");
+        }
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), Code::ALL.len());
+    }
+
+    #[test]
+    fn renders_with_caret() {
+        let text = "G0 X1\nG1 E5 F100\n";
+        let idx = LineIndex::new(text);
+        let d = Diagnostic::new(Code::UnknownAddress, TextRange::new(9, 11), "unknown address `E`");
+        assert_eq!(render_short("a.nc", text, &idx, &d), "a.nc:2:4: error[syntax::unknown-address]: unknown address `E`");
+        expect_test::expect![[r#"
+            error[syntax::unknown-address]: unknown address `E`
+             --> a.nc:2:4
+              |
+            2 | G1 E5 F100
+              |    ^^
+        "#]]
+        .assert_eq(&render_human("a.nc", text, &idx, &d));
+    }
+}

@@ -1,0 +1,582 @@
+//! XML text → validated [`Dialect`], with diagnostics that point into the XML.
+
+use super::xml::{self, Element};
+use super::{
+    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordDef, Lexical,
+    Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Step, TimeUnit,
+};
+use crate::diag::{Code, Diagnostic};
+use crate::text::TextRange;
+
+/// Loads a dialect from XML text. Never fails: a broken file gives `None` and at least one
+/// error diagnostic whose range points into `text`.
+pub fn load(text: &str) -> (Option<Dialect>, Vec<Diagnostic>) {
+    let mut cx = Cx { diags: Vec::new() };
+    let root = match xml::parse(text) {
+        Ok(root) => root,
+        Err((range, msg)) => {
+            cx.error(range, msg);
+            return (None, cx.diags);
+        }
+    };
+    let dialect = cx.dialect(&root);
+    if cx.diags.iter().any(Diagnostic::is_error) {
+        return (None, cx.diags);
+    }
+    (dialect.map(Dialect::index), cx.diags)
+}
+
+struct Cx {
+    diags: Vec<Diagnostic>,
+}
+
+impl Cx {
+    fn error(&mut self, range: TextRange, msg: impl Into<String>) {
+        self.diags.push(Diagnostic::new(Code::DialectInvalid, range, msg));
+    }
+
+    /// Reports attributes outside `allowed` and child elements outside `children`.
+    fn shape(&mut self, el: &Element, allowed: &[&str], children: &[&str]) {
+        for a in &el.attrs {
+            if !allowed.contains(&a.name.as_str()) {
+                self.error(a.range, format!("<{}> has no attribute `{}`", el.name, a.name));
+            }
+        }
+        for c in &el.children {
+            if !children.contains(&c.name.as_str()) {
+                self.error(c.range, format!("<{}> may not contain <{}>", el.name, c.name));
+            }
+        }
+    }
+
+    fn attr<'a>(&mut self, el: &'a Element, name: &str) -> Option<&'a str> {
+        el.attrs.iter().find(|a| a.name == name).map(|a| a.value.as_str())
+    }
+
+    fn required<'a>(&mut self, el: &'a Element, name: &str) -> Option<&'a str> {
+        let v = self.attr(el, name);
+        if v.is_none() {
+            self.error(el.range, format!("<{}> needs the attribute `{name}`", el.name));
+        }
+        v
+    }
+
+    fn attr_range(el: &Element, name: &str) -> TextRange {
+        el.attrs.iter().find(|a| a.name == name).map_or(el.range, |a| a.range)
+    }
+
+    fn bool(&mut self, el: &Element, name: &str, default: bool) -> bool {
+        match self.attr(el, name) {
+            None => default,
+            Some("true") => true,
+            Some("false") => false,
+            Some(v) => {
+                self.error(Self::attr_range(el, name), format!("`{name}` must be true or false, not `{v}`"));
+                default
+            }
+        }
+    }
+
+    fn number(&mut self, el: &Element, name: &str, default: f64) -> f64 {
+        match self.attr(el, name) {
+            None => default,
+            Some(v) => match v.parse::<f64>() {
+                Ok(x) if x.is_finite() && x >= 0.0 => x,
+                _ => {
+                    self.error(Self::attr_range(el, name), format!("`{name}` must be a non-negative number, not `{v}`"));
+                    default
+                }
+            },
+        }
+    }
+
+    fn char_attr(&mut self, el: &Element, name: &str) -> Option<char> {
+        let v = self.attr(el, name)?;
+        let mut chars = v.chars();
+        match (chars.next(), chars.next()) {
+            (Some(c), None) => Some(c),
+            _ => {
+                self.error(Self::attr_range(el, name), format!("`{name}` must be one character, not `{v}`"));
+                None
+            }
+        }
+    }
+
+    fn letter_attr(&mut self, el: &Element, name: &str) -> Option<char> {
+        let c = self.char_attr(el, name)?;
+        if !c.is_ascii_alphabetic() {
+            self.error(Self::attr_range(el, name), format!("`{name}` must be a letter, not `{c}`"));
+            return None;
+        }
+        Some(c.to_ascii_uppercase())
+    }
+
+    fn roles(&mut self, el: &Element, name: &str, addresses: &[AddressDef]) -> Vec<Role> {
+        let Some(list) = self.attr(el, name) else { return Vec::new() };
+        let mut out = Vec::new();
+        for item in list.split_ascii_whitespace() {
+            match addresses.iter().find(|a| a.name.eq_ignore_ascii_case(item)) {
+                Some(a) => out.push(a.role),
+                None => self.error(Self::attr_range(el, name), format!("`{item}` in `{name}` is not an address declared in <addresses>")),
+            }
+        }
+        out
+    }
+
+    fn dialect(&mut self, root: &Element) -> Option<Dialect> {
+        if root.name != "dialect" {
+            self.error(root.range, format!("the root element must be <dialect>, not <{}>", root.name));
+            return None;
+        }
+        self.shape(
+            root,
+            &["name", "family", "title", "version"],
+            &["description", "lexical", "behaviour", "addresses", "keywords", "execution-order", "groups", "cycles"],
+        );
+        let name = self.required(root, "name").unwrap_or_default().to_owned();
+        if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
+            self.error(Self::attr_range(root, "name"), "`name` must use a-z, 0-9 and _ only");
+        }
+        let family = self.required(root, "family").unwrap_or_default().to_owned();
+        let title = self.attr(root, "title").unwrap_or(&name).to_owned();
+        let child = |n: &str| root.children.iter().find(|c| c.name == n);
+
+        let lexical = match child("lexical") {
+            Some(el) => self.lexical(el),
+            None => {
+                self.error(root.range, "<dialect> needs a <lexical> element");
+                return None;
+            }
+        };
+        let addresses = child("addresses").map(|el| self.addresses(el)).unwrap_or_default();
+        if addresses.is_empty() {
+            self.error(root.range, "<dialect> needs an <addresses> element with at least one <address>");
+        }
+        let behaviour = self.behaviour(child("behaviour"), &addresses);
+        let keywords = child("keywords").map(|el| self.keywords(el)).unwrap_or_default();
+        let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
+        let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
+        let execution_order = match child("execution-order") {
+            Some(el) => self.execution_order(el, &groups),
+            None => {
+                self.error(root.range, "<dialect> needs an <execution-order> element");
+                Vec::new()
+            }
+        };
+        Some(Dialect {
+            name,
+            family,
+            title,
+            lexical,
+            behaviour,
+            addresses,
+            keywords,
+            groups,
+            codes,
+            cycles,
+            execution_order,
+            letter_roles: [None; 26],
+            g_table: Vec::new(),
+            m_table: Vec::new(),
+        })
+    }
+
+    fn lexical(&mut self, el: &Element) -> Lexical {
+        self.shape(
+            el,
+            &["block-form", "spaces-in-numbers"],
+            &[
+                "comment",
+                "block-skip",
+                "block-number",
+                "program-delimiter",
+                "expression",
+                "parameter",
+                "block-end",
+                "continuation",
+                "program-number",
+                "control-word",
+            ],
+        );
+        let block_form = match self.attr(el, "block-form").unwrap_or("word-address") {
+            "word-address" => BlockForm::WordAddress,
+            "keyword-first" => BlockForm::KeywordFirst,
+            other => {
+                self.error(Self::attr_range(el, "block-form"), format!("unknown block-form `{other}`"));
+                BlockForm::WordAddress
+            }
+        };
+        let mut lex = Lexical {
+            block_form,
+            comments: Vec::new(),
+            block_skip: None,
+            block_number: None,
+            program_delimiter: None,
+            expression: None,
+            parameter: None,
+            block_end: None,
+            continuation: None,
+            spaces_in_numbers: self.bool(el, "spaces-in-numbers", false),
+            program_number: None,
+            control_word: None,
+        };
+        for c in &el.children {
+            match c.name.as_str() {
+                "comment" => {
+                    self.shape(c, &["open", "close"], &[]);
+                    let open = self.char_attr(c, "open");
+                    let close = match self.required(c, "close") {
+                        Some("eol") => Some(CommentClose::EndOfLine),
+                        Some(_) => self.char_attr(c, "close").map(CommentClose::Char),
+                        None => None,
+                    };
+                    if open.is_none() {
+                        self.error(c.range, "<comment> needs a one-character `open`");
+                    }
+                    if let (Some(open), Some(close)) = (open, close) {
+                        lex.comments.push(CommentRule { open, close });
+                    }
+                }
+                "block-skip" => {
+                    self.shape(c, &["char", "position"], &[]);
+                    let pos = match self.attr(c, "position").unwrap_or("line-start") {
+                        "line-start" => SkipPosition::LineStart,
+                        "line-start-or-after-number" => SkipPosition::LineStartOrAfterNumber,
+                        other => {
+                            self.error(Self::attr_range(c, "position"), format!("unknown position `{other}`"));
+                            SkipPosition::LineStart
+                        }
+                    };
+                    lex.block_skip = self.char_attr(c, "char").map(|ch| (ch, pos));
+                }
+                "block-number" => {
+                    self.shape(c, &["address"], &[]);
+                    lex.block_number = self.letter_attr(c, "address");
+                }
+                "program-delimiter" => {
+                    self.shape(c, &["char"], &[]);
+                    lex.program_delimiter = self.char_attr(c, "char");
+                }
+                "expression" => {
+                    self.shape(c, &["open", "close"], &[]);
+                    if let (Some(o), Some(cl)) = (self.char_attr(c, "open"), self.char_attr(c, "close")) {
+                        lex.expression = Some((o, cl));
+                    }
+                }
+                "parameter" => {
+                    self.shape(c, &["sigil", "named"], &[]);
+                    let named = self.bool(c, "named", false);
+                    lex.parameter = self.char_attr(c, "sigil").map(|s| (s, named));
+                }
+                "block-end" => {
+                    self.shape(c, &["char"], &[]);
+                    lex.block_end = self.char_attr(c, "char");
+                }
+                "continuation" => {
+                    self.shape(c, &["char"], &[]);
+                    lex.continuation = self.char_attr(c, "char");
+                }
+                "program-number" => {
+                    self.shape(c, &["address"], &[]);
+                    lex.program_number = self.letter_attr(c, "address");
+                }
+                "control-word" => {
+                    self.shape(c, &["address"], &[]);
+                    lex.control_word = self.letter_attr(c, "address");
+                }
+                _ => {}
+            }
+        }
+        if lex.comments.is_empty() {
+            self.error(el.range, "<lexical> needs at least one <comment> rule");
+        }
+        lex
+    }
+
+    fn behaviour(&mut self, el: Option<&Element>, addresses: &[AddressDef]) -> Behaviour {
+        let mut b = Behaviour {
+            decimal_input: DecimalInput::Calculator,
+            dwell_unit: TimeUnit::Seconds,
+            tool_change_stops_spindle: true,
+            peck_clearance_mm: 0.254,
+            peck_clearance_inch: 0.01,
+            arc_tolerance_mm: 0.002,
+        };
+        let Some(el) = el else { return b };
+        self.shape(
+            el,
+            &[
+                "decimal-input",
+                "increment-mm",
+                "increment-inch",
+                "scaled",
+                "dwell-unit",
+                "tool-change-stops-spindle",
+                "peck-clearance-mm",
+                "peck-clearance-inch",
+                "arc-tolerance-mm",
+            ],
+            &[],
+        );
+        b.decimal_input = match self.attr(el, "decimal-input").unwrap_or("calculator") {
+            "calculator" => DecimalInput::Calculator,
+            "least-increment" => DecimalInput::LeastIncrement {
+                mm: self.number(el, "increment-mm", 0.001),
+                inch: self.number(el, "increment-inch", 0.0001),
+                scaled: self.roles(el, "scaled", addresses),
+            },
+            other => {
+                self.error(Self::attr_range(el, "decimal-input"), format!("unknown decimal-input `{other}`"));
+                DecimalInput::Calculator
+            }
+        };
+        b.dwell_unit = match self.attr(el, "dwell-unit").unwrap_or("seconds") {
+            "seconds" => TimeUnit::Seconds,
+            "milliseconds" => TimeUnit::Milliseconds,
+            other => {
+                self.error(Self::attr_range(el, "dwell-unit"), format!("unknown dwell-unit `{other}`"));
+                TimeUnit::Seconds
+            }
+        };
+        b.tool_change_stops_spindle = self.bool(el, "tool-change-stops-spindle", true);
+        b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
+        b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
+        b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
+        b
+    }
+
+    fn addresses(&mut self, el: &Element) -> Vec<AddressDef> {
+        self.shape(el, &[], &["address"]);
+        let mut out: Vec<AddressDef> = Vec::new();
+        for c in el.children.iter().filter(|c| c.name == "address") {
+            self.shape(c, &["name", "role", "form"], &[]);
+            let (Some(name), Some(role)) = (self.required(c, "name"), self.required(c, "role")) else { continue };
+            let name = name.to_ascii_uppercase();
+            if name.is_empty() || !name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') || !name.as_bytes()[0].is_ascii_alphabetic()
+            {
+                self.error(Self::attr_range(c, "name"), format!("address name `{name}` must be a letter followed by letters or digits"));
+                continue;
+            }
+            let Some(role) = Role::parse(role) else {
+                self.error(Self::attr_range(c, "role"), format!("unknown role `{role}`; see the <address> documentation in dialect.xsd"));
+                continue;
+            };
+            let assign = match self.attr(c, "form").unwrap_or("value") {
+                "value" => false,
+                "assign" => true,
+                other => {
+                    self.error(Self::attr_range(c, "form"), format!("unknown form `{other}`"));
+                    false
+                }
+            };
+            if out.iter().any(|a| a.name == name) {
+                self.error(c.range, format!("address `{name}` is declared twice"));
+                continue;
+            }
+            out.push(AddressDef { name, role, assign });
+        }
+        out
+    }
+
+    fn keywords(&mut self, el: &Element) -> Vec<KeywordDef> {
+        self.shape(el, &[], &["keyword"]);
+        let mut out: Vec<KeywordDef> = Vec::new();
+        for c in el.children.iter().filter(|c| c.name == "keyword") {
+            self.shape(c, &["text", "meaning"], &[]);
+            let (Some(text), Some(meaning)) = (self.required(c, "text"), self.required(c, "meaning")) else { continue };
+            let Some(meaning) = Meaning::parse(meaning) else {
+                self.error(Self::attr_range(c, "meaning"), format!("unknown meaning `{meaning}`"));
+                continue;
+            };
+            let text = text.to_ascii_uppercase();
+            if out.iter().any(|k| k.text == text) {
+                self.error(c.range, format!("keyword `{text}` is declared twice"));
+                continue;
+            }
+            out.push(KeywordDef { text, meaning });
+        }
+        out
+    }
+
+    fn groups(&mut self, el: &Element, addresses: &[AddressDef]) -> (Vec<ModalGroup>, Vec<CodeDef>) {
+        self.shape(el, &[], &["group"]);
+        let mut groups: Vec<ModalGroup> = Vec::new();
+        let mut codes: Vec<CodeDef> = Vec::new();
+        for g in el.children.iter().filter(|c| c.name == "group") {
+            self.shape(g, &["id", "letter", "modal", "step"], &["code"]);
+            let id = self.required(g, "id").unwrap_or_default().to_owned();
+            if groups.iter().any(|x| x.id == id) {
+                self.error(g.range, format!("group `{id}` is declared twice"));
+            }
+            let letter = self.letter_attr(g, "letter").unwrap_or('G');
+            if letter != 'G' && letter != 'M' {
+                self.error(Self::attr_range(g, "letter"), "a group's letter must be G or M");
+            }
+            let step = match self.required(g, "step").map(|s| (s, Step::parse(s))) {
+                Some((_, Some(step))) => step,
+                Some((s, None)) => {
+                    self.error(Self::attr_range(g, "step"), format!("unknown step `{s}`"));
+                    Step::Misc
+                }
+                None => Step::Misc,
+            };
+            let modal = self.bool(g, "modal", true);
+            let gi = groups.len();
+            groups.push(ModalGroup { id, modal, step });
+            for c in g.children.iter().filter(|c| c.name == "code") {
+                self.shape(c, &["value", "meaning", "index", "name", "required", "optional", "any-of", "exclusive"], &[]);
+                let (Some(value), Some(meaning)) = (self.required(c, "value"), self.required(c, "meaning")) else { continue };
+                let Some(number) = parse_code_number(value) else {
+                    self.error(Self::attr_range(c, "value"), format!("code value `{value}` must be a number such as 1 or 54.1 below 1000"));
+                    continue;
+                };
+                let Some(meaning) = Meaning::parse(meaning) else {
+                    self.error(Self::attr_range(c, "meaning"), format!("unknown meaning `{meaning}`"));
+                    continue;
+                };
+                let index = self.number(c, "index", 0.0) as u8;
+                if meaning == Meaning::Wcs && !(1..=9).contains(&index) {
+                    self.error(c.range, "a `wcs` code needs an `index` from 1 to 9");
+                }
+                if codes.iter().any(|x| x.letter == letter && x.number == number) {
+                    self.error(c.range, format!("code {letter}{value} is declared twice"));
+                    continue;
+                }
+                let mut params = ParamSpec {
+                    required: self.roles(c, "required", addresses),
+                    optional: self.roles(c, "optional", addresses),
+                    any_of: Vec::new(),
+                    exclusive: Vec::new(),
+                };
+                if let Some(sets) = self.attr(c, "any-of") {
+                    for set in sets.split('|') {
+                        let roles = self.role_list(c, "any-of", set, addresses);
+                        params.optional.extend(roles.iter().copied());
+                        params.any_of.push(roles);
+                    }
+                }
+                if let Some(pair) = self.attr(c, "exclusive") {
+                    match pair.split_once('|') {
+                        Some((a, b)) => {
+                            let a = self.role_list(c, "exclusive", a, addresses);
+                            let b = self.role_list(c, "exclusive", b, addresses);
+                            params.exclusive.push((a, b));
+                        }
+                        None => self.error(Self::attr_range(c, "exclusive"), "`exclusive` needs two address lists separated by `|`"),
+                    }
+                }
+                let name = self.attr(c, "name").unwrap_or(meaning.as_str()).to_owned();
+                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params });
+            }
+        }
+        (groups, codes)
+    }
+
+    fn role_list(&mut self, el: &Element, attr: &str, list: &str, addresses: &[AddressDef]) -> Vec<Role> {
+        let mut out = Vec::new();
+        for item in list.split_ascii_whitespace() {
+            match addresses.iter().find(|a| a.name.eq_ignore_ascii_case(item)) {
+                Some(a) => out.push(a.role),
+                None => self.error(Self::attr_range(el, attr), format!("`{item}` in `{attr}` is not a declared address")),
+            }
+        }
+        out
+    }
+
+    fn cycles(&mut self, el: &Element) -> Vec<CycleDef> {
+        self.shape(el, &[], &["cycle"]);
+        let mut out: Vec<CycleDef> = Vec::new();
+        for c in el.children.iter().filter(|c| c.name == "cycle") {
+            self.shape(c, &["name", "meaning"], &["arg"]);
+            let (Some(name), Some(meaning)) = (self.required(c, "name"), self.required(c, "meaning")) else { continue };
+            let Some(meaning) = Meaning::parse(meaning) else {
+                self.error(Self::attr_range(c, "meaning"), format!("unknown meaning `{meaning}`"));
+                continue;
+            };
+            let mut args = Vec::new();
+            for a in c.children.iter().filter(|a| a.name == "arg") {
+                self.shape(a, &["name", "role", "use"], &[]);
+                let (Some(n), Some(r)) = (self.required(a, "name"), self.required(a, "role")) else { continue };
+                let Some(role) = Role::parse(r) else {
+                    self.error(Self::attr_range(a, "role"), format!("unknown role `{r}`"));
+                    continue;
+                };
+                let required = match self.attr(a, "use").unwrap_or("optional") {
+                    "required" => true,
+                    "optional" => false,
+                    other => {
+                        self.error(Self::attr_range(a, "use"), format!("`use` must be required or optional, not `{other}`"));
+                        false
+                    }
+                };
+                args.push(CycleArg { name: n.to_owned(), role, required });
+            }
+            out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args });
+        }
+        out
+    }
+
+    fn execution_order(&mut self, el: &Element, groups: &[ModalGroup]) -> Vec<Step> {
+        self.shape(el, &[], &[]);
+        let mut out = Vec::new();
+        for item in el.text.split_ascii_whitespace() {
+            match Step::parse(item) {
+                Some(s) if out.contains(&s) => self.error(el.range, format!("step `{item}` appears twice")),
+                Some(s) => out.push(s),
+                None => self.error(el.range, format!("unknown step `{item}`")),
+            }
+        }
+        for g in groups {
+            if !out.contains(&g.step) && g.step != Step::Misc {
+                self.error(
+                    el.range,
+                    format!("group `{}` takes effect at step `{}`, which the execution order does not list", g.id, g.step.as_str()),
+                );
+            }
+        }
+        out
+    }
+}
+
+/// `54.1` → 541; at most one decimal digit, below 1000.
+fn parse_code_number(s: &str) -> Option<u16> {
+    let (int, frac) = s.split_once('.').unwrap_or((s, "0"));
+    let int: u16 = int.parse().ok()?;
+    let frac: u16 = if frac.len() == 1 { frac.parse().ok()? } else { return None };
+    (int < 1000).then_some(int * 10 + frac)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::text::LineIndex;
+
+    fn first_error(xml: &str) -> String {
+        let (d, diags) = load(xml);
+        assert!(d.is_none());
+        let idx = LineIndex::new(xml);
+        let e = diags.iter().find(|d| d.is_error()).expect("an error");
+        crate::diag::render_short("x.xml", xml, &idx, e)
+    }
+
+    #[test]
+    fn broken_files_point_at_line_and_column() {
+        assert_eq!(
+            first_error("<dialect name=\"x\" family=\"f\">\n  <lexical>\n</dialect>"),
+            "x.xml:3:1: error[dialect::invalid]: malformed XML: ill-formed document: expected `</lexical>`, but `</dialect>` was found"
+        );
+        let xml = "<dialect name=\"x\" family=\"f\">\n<lexical><comment open=\"(\" close=\")\"/></lexical>\n<addresses>\n  <address name=\"X\" role=\"axis-q\"/>\n</addresses><execution-order/></dialect>";
+        assert_eq!(
+            first_error(xml),
+            "x.xml:4:21: error[dialect::invalid]: unknown role `axis-q`; see the <address> documentation in dialect.xsd"
+        );
+    }
+
+    #[test]
+    fn code_numbers() {
+        assert_eq!(parse_code_number("54.1"), Some(541));
+        assert_eq!(parse_code_number("0"), Some(0));
+        assert_eq!(parse_code_number("1000"), None);
+        assert_eq!(parse_code_number("5.12"), None);
+    }
+}

@@ -1,0 +1,311 @@
+//! The dialect dictionary: one XML file per controller dialect drives one engine.
+//!
+//! [`load`] turns XML text into a validated [`Dialect`] (never failing: it returns
+//! diagnostics that point into the XML). [`registry`] holds the shipped dialects and those a
+//! user adds at run time. The engine only ever asks a `Dialect` about *capabilities*
+//! (meanings, roles, rules); it never looks at a dialect's name.
+
+mod load;
+pub mod registry;
+mod vocab;
+mod xml;
+
+pub use load::load;
+pub use registry::Registry;
+pub use vocab::{Meaning, Role, Step};
+
+/// How a block's tokens are arranged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlockForm {
+    /// `G1 X10 Y20` — letter + value words in any order (ISO 6983).
+    WordAddress,
+    /// `L X+10 R0 FMAX`, `TOOL CALL 1 Z S2000` — a keyword first, then its words (Heidenhain).
+    KeywordFirst,
+}
+
+/// Where a comment ends.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum CommentClose {
+    /// At the given character.
+    Char(char),
+    /// At the end of the line.
+    EndOfLine,
+}
+
+/// A comment rule.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CommentRule {
+    /// Opening character.
+    pub open: char,
+    /// Where it closes.
+    pub close: CommentClose,
+}
+
+/// Where the block-skip character may stand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SkipPosition {
+    /// First non-blank character of the line.
+    LineStart,
+    /// Either first or right after the block number.
+    LineStartOrAfterNumber,
+}
+
+/// Lexical rules.
+#[derive(Clone, Debug)]
+pub struct Lexical {
+    /// Block form.
+    pub block_form: BlockForm,
+    /// Comment rules, tried in order.
+    pub comments: Vec<CommentRule>,
+    /// Block-skip (block-delete) character.
+    pub block_skip: Option<(char, SkipPosition)>,
+    /// Address letter of block numbers (`N`).
+    pub block_number: Option<char>,
+    /// Program delimiter (`%`).
+    pub program_delimiter: Option<char>,
+    /// Expression brackets, such as `[` `]`.
+    pub expression: Option<(char, char)>,
+    /// Parameter sigil (`#`), and whether `#<name>` names are allowed.
+    pub parameter: Option<(char, bool)>,
+    /// End-of-block character that may separate blocks on one line (Fanuc `;`).
+    pub block_end: Option<char>,
+    /// Line-continuation character (Heidenhain `~`).
+    pub continuation: Option<char>,
+    /// Whether `X 1 0 . 5` is `X10.5`.
+    pub spaces_in_numbers: bool,
+    /// Program-number address at program start (Fanuc `O1234`), not a control word.
+    pub program_number: Option<char>,
+    /// Control-flow word (LinuxCNC `o100 sub`).
+    pub control_word: Option<char>,
+}
+
+/// The decimal-point input rule.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DecimalInput {
+    /// `X10` is 10 units.
+    Calculator,
+    /// `X10` is 10 least increments for the listed roles.
+    LeastIncrement {
+        /// Increment in mm mode.
+        mm: f64,
+        /// Increment in inch mode.
+        inch: f64,
+        /// Roles whose integer values scale.
+        scaled: Vec<Role>,
+    },
+}
+
+/// Unit of a dwell value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimeUnit {
+    /// Seconds.
+    Seconds,
+    /// Milliseconds.
+    Milliseconds,
+}
+
+/// Machine behaviour that differs between controls.
+#[derive(Clone, Debug)]
+pub struct Behaviour {
+    /// Decimal-point input rule.
+    pub decimal_input: DecimalInput,
+    /// Dwell unit of `G4 P`.
+    pub dwell_unit: TimeUnit,
+    /// Whether M6 stops the spindle.
+    pub tool_change_stops_spindle: bool,
+    /// Peck-drilling re-approach clearance, mm.
+    pub peck_clearance_mm: f64,
+    /// Peck-drilling re-approach clearance, inch.
+    pub peck_clearance_inch: f64,
+    /// Maximum start/end radius difference of an arc, mm.
+    pub arc_tolerance_mm: f64,
+}
+
+/// An address: a letter or a multi-letter name and the role its value plays.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AddressDef {
+    /// Upper-case name, such as `X` or `CR`.
+    pub name: String,
+    /// Role.
+    pub role: Role,
+    /// Whether the value must follow `=` (`CR=5`).
+    pub assign: bool,
+}
+
+/// A keyword that starts a block or stands alone (`TOOL CALL`, `CYCLE81`, `TRANS`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeywordDef {
+    /// Upper-case text; may contain one space (`TOOL CALL`).
+    pub text: String,
+    /// Meaning.
+    pub meaning: Meaning,
+}
+
+/// Parameters a command takes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParamSpec {
+    /// Roles the command requires.
+    pub required: Vec<Role>,
+    /// Roles the command accepts.
+    pub optional: Vec<Role>,
+    /// Sets of roles of which at least one must be present.
+    pub any_of: Vec<Vec<Role>>,
+    /// Pairs of role sets that must not be mixed (`I J K` versus `R`).
+    pub exclusive: Vec<(Vec<Role>, Vec<Role>)>,
+}
+
+impl ParamSpec {
+    /// True when the command uses `role`.
+    pub fn takes(&self, role: Role) -> bool {
+        self.required.contains(&role) || self.optional.contains(&role)
+    }
+}
+
+/// A G or M code.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CodeDef {
+    /// Letter (`G` or `M`).
+    pub letter: char,
+    /// Number ×10 (`G54.1` is 541).
+    pub number: u16,
+    /// Meaning.
+    pub meaning: Meaning,
+    /// Index for indexed meanings (work offset 1..9).
+    pub index: u8,
+    /// Human name for messages.
+    pub name: String,
+    /// Index into [`Dialect::groups`].
+    pub group: usize,
+    /// Parameters.
+    pub params: ParamSpec,
+}
+
+impl CodeDef {
+    /// `G81`, `G54.1`, `M30`.
+    pub fn label(&self) -> String {
+        if self.number % 10 == 0 {
+            format!("{}{}", self.letter, self.number / 10)
+        } else {
+            format!("{}{}.{}", self.letter, self.number / 10, self.number % 10)
+        }
+    }
+}
+
+/// A modal group.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalGroup {
+    /// Identifier, such as `motion`.
+    pub id: String,
+    /// Whether the group's state persists across blocks.
+    pub modal: bool,
+    /// When the group's code takes effect within a block.
+    pub step: Step,
+}
+
+/// A positional argument of a named cycle call (`CYCLE81(RTP, RFP, SDIS, DP, DPR)`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleArg {
+    /// Argument name from the control's manual.
+    pub name: String,
+    /// Role in the engine.
+    pub role: Role,
+    /// Whether a value is required.
+    pub required: bool,
+}
+
+/// A named cycle with positional parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleDef {
+    /// Upper-case name.
+    pub name: String,
+    /// Meaning.
+    pub meaning: Meaning,
+    /// Arguments in order; empty slots are allowed in calls.
+    pub args: Vec<CycleArg>,
+}
+
+/// A validated dialect.
+#[derive(Clone, Debug)]
+pub struct Dialect {
+    /// Identifier used in configs and `--dialect`.
+    pub name: String,
+    /// Family (`rs274ngc`, `fanuc`, `siemens`, `heidenhain`); informative only.
+    pub family: String,
+    /// Human title.
+    pub title: String,
+    /// Lexical rules.
+    pub lexical: Lexical,
+    /// Behaviour.
+    pub behaviour: Behaviour,
+    /// Addresses.
+    pub addresses: Vec<AddressDef>,
+    /// Keywords.
+    pub keywords: Vec<KeywordDef>,
+    /// Modal groups.
+    pub groups: Vec<ModalGroup>,
+    /// G and M codes.
+    pub codes: Vec<CodeDef>,
+    /// Named cycles.
+    pub cycles: Vec<CycleDef>,
+    /// The order in which a block's items take effect.
+    pub execution_order: Vec<Step>,
+    letter_roles: [Option<Role>; 26],
+    g_table: Vec<u16>,
+    m_table: Vec<u16>,
+}
+
+const NO_CODE: u16 = u16::MAX;
+const CODE_TABLE_LEN: usize = 10_000;
+
+impl Dialect {
+    /// The role of a single-letter address, if the dialect defines it.
+    #[inline]
+    pub fn letter_role(&self, letter: u8) -> Option<Role> {
+        let i = letter.to_ascii_uppercase().wrapping_sub(b'A') as usize;
+        self.letter_roles.get(i).copied().flatten()
+    }
+
+    /// The index in [`Dialect::codes`] of code `letter` `number×10`, if the dialect defines it.
+    #[inline]
+    pub fn code_id(&self, letter: char, number_x10: u32) -> Option<usize> {
+        let table = match letter {
+            'G' => &self.g_table,
+            'M' => &self.m_table,
+            _ => return None,
+        };
+        let id = *table.get(number_x10 as usize)?;
+        (id != NO_CODE).then_some(id as usize)
+    }
+
+    /// The code `letter` `number×10`, if the dialect defines it.
+    pub fn code(&self, letter: char, number_x10: u32) -> Option<&CodeDef> {
+        self.code_id(letter, number_x10).map(|i| &self.codes[i])
+    }
+
+    /// The first code with `meaning`, for messages and defaults.
+    pub fn code_for(&self, meaning: Meaning) -> Option<&CodeDef> {
+        self.codes.iter().find(|c| c.meaning == meaning)
+    }
+
+    /// Multi-letter addresses, longest first.
+    pub fn long_addresses(&self) -> impl Iterator<Item = &AddressDef> {
+        self.addresses.iter().filter(|a| a.name.len() > 1)
+    }
+
+    fn index(mut self) -> Dialect {
+        for a in &self.addresses {
+            if a.name.len() == 1 && !a.assign {
+                let i = (a.name.as_bytes()[0] - b'A') as usize;
+                self.letter_roles[i] = Some(a.role);
+            }
+        }
+        self.addresses.sort_by(|a, b| b.name.len().cmp(&a.name.len()).then(a.name.cmp(&b.name)));
+        self.g_table = vec![NO_CODE; CODE_TABLE_LEN];
+        self.m_table = vec![NO_CODE; CODE_TABLE_LEN];
+        for (i, c) in self.codes.iter().enumerate() {
+            let table = if c.letter == 'G' { &mut self.g_table } else { &mut self.m_table };
+            table[c.number as usize] = u16::try_from(i).unwrap_or(NO_CODE);
+        }
+        self
+    }
+}

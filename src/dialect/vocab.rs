@@ -1,0 +1,330 @@
+//! The engine's vocabulary: the words a dialect file may use for meanings, roles and steps.
+//!
+//! A dialect maps its own spelling (`G81`, `CYCLE81`, `CYCL DEF 200`) onto these capabilities;
+//! the interpreter branches on them and never on dialect names.
+
+macro_rules! vocab {
+    ($(#[$m:meta])* $name:ident { $( $(#[doc = $doc:literal])+ $variant:ident = $text:literal, )* }) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+        pub enum $name {
+            $( $(#[doc = $doc])+ $variant, )*
+        }
+
+        impl $name {
+            /// Every value.
+            pub const ALL: &'static [$name] = &[$($name::$variant),*];
+
+            /// The spelling used in dialect files.
+            pub fn as_str(self) -> &'static str {
+                match self { $($name::$variant => $text,)* }
+            }
+
+            /// Parses the dialect-file spelling.
+            pub fn parse(s: &str) -> Option<$name> {
+                match s { $($text => Some($name::$variant),)* _ => None }
+            }
+        }
+    };
+}
+
+vocab! {
+    /// What a code or keyword does.
+    Meaning {
+        /// Rapid positioning (G0).
+        Rapid = "rapid",
+        /// Linear interpolation (G1).
+        Linear = "linear",
+        /// Clockwise arc (G2).
+        ArcCw = "arc-cw",
+        /// Counter-clockwise arc (G3).
+        ArcCcw = "arc-ccw",
+        /// Drilling cycle (G81).
+        CycleDrill = "cycle-drill",
+        /// Drilling with dwell at the bottom, counterboring (G82).
+        CycleDrillDwell = "cycle-drill-dwell",
+        /// Peck drilling with full retract (G83).
+        CyclePeckDrill = "cycle-peck-drill",
+        /// Chip-breaking peck drilling (G73).
+        CycleChipBreak = "cycle-chip-break",
+        /// Right-hand tapping (G84).
+        CycleTap = "cycle-tap",
+        /// Left-hand tapping (G74).
+        CycleTapLeft = "cycle-tap-left",
+        /// Boring, feed out (G85).
+        CycleBore = "cycle-bore",
+        /// Boring, spindle stop, rapid out (G86).
+        CycleBoreStop = "cycle-bore-stop",
+        /// Back boring (G87).
+        CycleBackBore = "cycle-back-bore",
+        /// Boring, manual retract (G88).
+        CycleBoreManual = "cycle-bore-manual",
+        /// Boring with dwell, feed out (G89).
+        CycleBoreDwell = "cycle-bore-dwell",
+        /// Fine boring with shift (Fanuc G76).
+        CycleFineBore = "cycle-fine-bore",
+        /// Threading cycle (LinuxCNC G76, lathe).
+        CycleThread = "cycle-thread",
+        /// Cancel the canned cycle (G80).
+        CycleCancel = "cycle-cancel",
+        /// Spindle-synchronised motion (G33).
+        SpindleSync = "spindle-sync",
+        /// Probing (G38.n).
+        Probe = "probe",
+        /// XY plane (G17).
+        PlaneXy = "plane-xy",
+        /// XZ plane (G18).
+        PlaneXz = "plane-xz",
+        /// YZ plane (G19).
+        PlaneYz = "plane-yz",
+        /// Inch units (G20).
+        UnitsInch = "units-inch",
+        /// Millimetre units (G21).
+        UnitsMm = "units-mm",
+        /// Absolute distances (G90).
+        DistanceAbsolute = "distance-absolute",
+        /// Incremental distances (G91).
+        DistanceIncremental = "distance-incremental",
+        /// Absolute arc centres (G90.1).
+        ArcDistanceAbsolute = "arc-distance-absolute",
+        /// Incremental arc centres (G91.1).
+        ArcDistanceIncremental = "arc-distance-incremental",
+        /// Inverse-time feed (G93).
+        FeedInverseTime = "feed-inverse-time",
+        /// Units-per-minute feed (G94).
+        FeedPerMinute = "feed-per-minute",
+        /// Units-per-revolution feed (G95).
+        FeedPerRev = "feed-per-rev",
+        /// Cutter compensation off (G40).
+        CompOff = "comp-off",
+        /// Cutter compensation left (G41).
+        CompLeft = "comp-left",
+        /// Cutter compensation right (G42).
+        CompRight = "comp-right",
+        /// Tool length compensation, positive (G43).
+        LengthCompPlus = "length-comp-plus",
+        /// Tool length compensation, negative (G44).
+        LengthCompMinus = "length-comp-minus",
+        /// Tool length compensation cancel (G49).
+        LengthCompCancel = "length-comp-cancel",
+        /// Work coordinate system select; the code carries an index (G54 = 1).
+        Wcs = "wcs",
+        /// Extended work offsets (G54.1 P).
+        WcsExtended = "wcs-extended",
+        /// Canned-cycle return to the initial level (G98).
+        RetractInitial = "retract-initial",
+        /// Canned-cycle return to the R level (G99).
+        RetractR = "retract-r",
+        /// Exact-stop or blending modes (G61, G64).
+        PathMode = "path-mode",
+        /// Constant surface speed (G96).
+        SpindleCss = "spindle-css",
+        /// Spindle RPM mode (G97).
+        SpindleRpm = "spindle-rpm",
+        /// Lathe diameter/radius mode (G7, G8).
+        LatheMode = "lathe-mode",
+        /// Dwell (G4).
+        Dwell = "dwell",
+        /// Set offsets or tool data (G10).
+        SetData = "set-data",
+        /// Return to the first reference position (G28).
+        Home1 = "home-1",
+        /// Return to the second reference position (G30).
+        Home2 = "home-2",
+        /// Move in machine coordinates for one block (G53).
+        MachineCoords = "machine-coords",
+        /// Coordinate-system shift (G92).
+        OriginShift = "origin-shift",
+        /// Cancel coordinate-system shift (G92.1, G92.2).
+        OriginShiftCancel = "origin-shift-cancel",
+        /// Local coordinate system (G52).
+        LocalOffset = "local-offset",
+        /// Coordinate rotation (G68).
+        Rotation = "rotation",
+        /// Coordinate rotation cancel (G69).
+        RotationCancel = "rotation-cancel",
+        /// Scaling (G51).
+        Scaling = "scaling",
+        /// Scaling cancel (G50).
+        ScalingCancel = "scaling-cancel",
+        /// Polar coordinates on/off (G15, G16).
+        Polar = "polar",
+        /// Macro call (G65).
+        MacroCall = "macro-call",
+        /// Program stop (M0).
+        ProgramStop = "program-stop",
+        /// Optional stop (M1).
+        OptionalStop = "optional-stop",
+        /// Program end (M2).
+        ProgramEnd = "program-end",
+        /// Program end and rewind (M30).
+        ProgramEndRewind = "program-end-rewind",
+        /// Tool change (M6).
+        ToolChange = "tool-change",
+        /// Spindle clockwise (M3).
+        SpindleCw = "spindle-cw",
+        /// Spindle counter-clockwise (M4).
+        SpindleCcw = "spindle-ccw",
+        /// Spindle stop (M5).
+        SpindleStop = "spindle-stop",
+        /// Mist coolant on (M7).
+        CoolantMist = "coolant-mist",
+        /// Flood coolant on (M8).
+        CoolantFlood = "coolant-flood",
+        /// All coolant off (M9).
+        CoolantOff = "coolant-off",
+        /// Subprogram call (M98).
+        SubprogramCall = "subprogram-call",
+        /// Subprogram return (M99).
+        SubprogramReturn = "subprogram-return",
+        /// Spindle orientation (M19).
+        SpindleOrient = "spindle-orient",
+        /// Machine-specific function the interpreter records but does not model.
+        Other = "other",
+    }
+}
+
+vocab! {
+    /// The role of an address's value.
+    Role {
+        /// X axis.
+        X = "axis-x",
+        /// Y axis.
+        Y = "axis-y",
+        /// Z axis.
+        Z = "axis-z",
+        /// A axis.
+        A = "axis-a",
+        /// B axis.
+        B = "axis-b",
+        /// C axis.
+        C = "axis-c",
+        /// U axis.
+        U = "axis-u",
+        /// V axis.
+        V = "axis-v",
+        /// W axis.
+        W = "axis-w",
+        /// Arc centre or cycle offset along X.
+        I = "offset-i",
+        /// Arc centre or cycle offset along Y.
+        J = "offset-j",
+        /// Arc centre or cycle offset along Z, or a repeat count.
+        K = "offset-k",
+        /// Arc radius or cycle R plane.
+        R = "radius",
+        /// Feed rate.
+        F = "feed",
+        /// Spindle speed.
+        S = "speed",
+        /// Tool number.
+        T = "tool",
+        /// Length-offset index.
+        H = "length-offset",
+        /// Radius-offset index.
+        D = "radius-offset",
+        /// Dwell, index, program number or turns.
+        P = "p",
+        /// Peck depth or shift.
+        Q = "q",
+        /// Repeat count or data type.
+        L = "l",
+        /// Extra parameter (E).
+        E = "e",
+        /// G code.
+        G = "g-code",
+        /// M code.
+        M = "m-code",
+        /// Block number.
+        N = "block-number",
+        /// Program number or control word.
+        O = "program-number",
+        /// Cycle retract plane (positional cycles).
+        RetractPlane = "retract-plane",
+        /// Cycle reference plane.
+        ReferencePlane = "reference-plane",
+        /// Cycle safety distance.
+        SafetyDistance = "safety-distance",
+        /// Cycle absolute depth.
+        Depth = "depth",
+        /// Cycle depth relative to the reference plane.
+        DepthRelative = "depth-relative",
+        /// Dwell time at depth.
+        DwellTime = "dwell-time",
+        /// First peck depth.
+        PeckFirst = "peck-first",
+        /// Peck decrement.
+        PeckDecrement = "peck-decrement",
+        /// Arc end angle, intermediate point and similar extra geometry.
+        Geometry = "geometry",
+        /// A value the engine keeps but does not interpret.
+        Extra = "extra",
+    }
+}
+
+impl Role {
+    /// Number of roles, for role-indexed arrays.
+    pub const COUNT: usize = Role::ALL.len();
+
+    /// Axis roles in canonical order (X Y Z A B C).
+    pub const AXES: [Role; 6] = [Role::X, Role::Y, Role::Z, Role::A, Role::B, Role::C];
+
+    /// Whether the decimal-point rule may scale this role.
+    pub fn is_length(self) -> bool {
+        matches!(self, Role::X | Role::Y | Role::Z | Role::U | Role::V | Role::W | Role::I | Role::J | Role::K | Role::R | Role::Q)
+    }
+}
+
+vocab! {
+    /// A step of the order of execution within a block.
+    Step {
+        /// Comments and messages.
+        Comment = "comment",
+        /// Feed-rate mode group.
+        FeedMode = "feed-mode",
+        /// Feed rate (F).
+        Feed = "feed",
+        /// Spindle speed (S).
+        Speed = "speed",
+        /// Tool select (T).
+        ToolSelect = "tool-select",
+        /// Tool-change group.
+        ToolChange = "tool-change",
+        /// Spindle group.
+        Spindle = "spindle",
+        /// Coolant group.
+        Coolant = "coolant",
+        /// Dwell group.
+        Dwell = "dwell",
+        /// Plane group.
+        Plane = "plane",
+        /// Units group.
+        Units = "units",
+        /// Cutter compensation group.
+        CutterComp = "cutter-comp",
+        /// Tool length compensation group.
+        LengthComp = "length-comp",
+        /// Work coordinate system group.
+        Wcs = "wcs",
+        /// Path-control group.
+        PathMode = "path-mode",
+        /// Distance-mode group.
+        Distance = "distance",
+        /// Arc-distance-mode group.
+        ArcDistance = "arc-distance",
+        /// Canned-cycle return group.
+        RetractMode = "retract-mode",
+        /// Spindle speed mode group.
+        SpindleMode = "spindle-mode",
+        /// Other non-modal codes (G10, G28, G92 ...).
+        NonModal = "non-modal",
+        /// Motion group.
+        Motion = "motion",
+        /// Program flow (M98, M99).
+        Flow = "flow",
+        /// Program stop group.
+        Stop = "stop",
+        /// Codes the engine only records.
+        Misc = "misc",
+    }
+}

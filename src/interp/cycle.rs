@@ -1,0 +1,156 @@
+//! Canned drilling and boring cycles, expanded into moves the way LinuxCNC does, wrapped in
+//! intent markers so that plan recovery keeps what was asked for.
+
+use super::{Interpreter, Retract, Spindle};
+use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, Meaning, Role};
+use crate::syntax::Block;
+use crate::text::TextRange;
+
+impl Interpreter<'_> {
+    pub(super) fn cycle(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let kind = match def.meaning {
+            Meaning::CycleDrill => CycleKind::Drilling,
+            Meaning::CycleDrillDwell => CycleKind::CounterBoring,
+            Meaning::CyclePeckDrill => CycleKind::PeckDrilling,
+            Meaning::CycleChipBreak => CycleKind::ChipBreaking,
+            Meaning::CycleBore => CycleKind::Boring,
+            Meaning::CycleBoreDwell => CycleKind::BoringDwell,
+            Meaning::CycleBoreStop => CycleKind::BoringSpindleStop,
+            _ => {
+                self.unsupported(def, range, diags);
+                return;
+            }
+        };
+        if self.st.plane != Plane::Xy {
+            self.limited(
+                diags,
+                "cycle-plane",
+                Diagnostic::new(
+                    Code::Unsupported,
+                    range,
+                    format!("{} outside the XY plane (G17) is not supported yet; skipped", def.label()),
+                ),
+            );
+            return;
+        }
+        self.check_technology(def, block.range, diags);
+        // Sticky words: R always, Z while the same cycle stays active, Q and P as given.
+        if let Some(r) = self.slot(Role::R) {
+            self.st.sticky_r = Some(r);
+        }
+        if let Some(z) = self.slot(Role::Z) {
+            self.st.sticky_z = Some(z);
+        }
+        if let Some(q) = self.slot(Role::Q) {
+            self.st.sticky_q = Some(q);
+        }
+        if let Some(p) = self.slot(Role::P) {
+            self.st.sticky_p = Some(p);
+        }
+        let (Some(r_word), Some(z_word)) = (self.st.sticky_r, self.st.sticky_z) else {
+            let missing = if self.st.sticky_r.is_none() { "R (the feed-start plane)" } else { "Z (the hole bottom)" };
+            diags.push(Diagnostic::new(Code::CycleIncomplete, block.range, format!("{} has no {missing}", def.label())));
+            return;
+        };
+        let incremental = self.st.distance == DistanceMode::Incremental;
+        let old_z = self.st.pos[2];
+        let r = if incremental { old_z + r_word } else { r_word };
+        let bottom = if incremental { r + z_word } else { z_word };
+        let peck = if matches!(kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking) {
+            match self.st.sticky_q {
+                Some(q) if q > 0.0 => Some(q),
+                _ => {
+                    diags.push(Diagnostic::new(
+                        Code::MissingParameter,
+                        block.range,
+                        format!("{} needs a positive Q (peck increment)", def.label()),
+                    ));
+                    return;
+                }
+            }
+        } else {
+            None
+        };
+        let dwell = matches!(kind, CycleKind::CounterBoring | CycleKind::BoringDwell | CycleKind::BoringSpindleStop)
+            .then(|| self.dwell_seconds(self.st.sticky_p.unwrap_or(0.0)));
+        let repeats = self.slot(Role::L).or(self.slot(Role::K)).unwrap_or(1.0);
+        if repeats < 0.0 || repeats.fract() != 0.0 {
+            diags.push(Diagnostic::new(Code::MalformedNumber, block.range, "the repeat count must be a whole number"));
+            return;
+        }
+        let clearance =
+            if self.st.units == Units::Mm { self.dialect.behaviour.peck_clearance_mm } else { self.dialect.behaviour.peck_clearance_inch };
+        let code = def.label();
+
+        let mut p = self.st.pos;
+        if p[2] <= r {
+            p[2] = r;
+            self.emit(sink, CanonOp::StraightTraverse(p));
+        }
+        let clear = if self.st.retract == Retract::Initial { old_z.max(r) } else { r };
+        let (dx, dy) = (self.slot(Role::X), self.slot(Role::Y));
+        for _ in 0..repeats as u64 {
+            let (x, y) =
+                if incremental { (p[0] + dx.unwrap_or(0.0), p[1] + dy.unwrap_or(0.0)) } else { (dx.unwrap_or(p[0]), dy.unwrap_or(p[1])) };
+            let intent = CycleIntent { kind, code: code.clone(), x, y, bottom, r_plane: r, clear, peck, dwell };
+            self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
+            let at = |z: f64| [x, y, z, p[3], p[4], p[5]];
+            self.emit(sink, CanonOp::StraightTraverse(at(p[2])));
+            if p[2] != r {
+                self.emit(sink, CanonOp::StraightTraverse(at(r)));
+            }
+            match kind {
+                CycleKind::Drilling => {
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                }
+                CycleKind::CounterBoring => {
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
+                    self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                }
+                CycleKind::PeckDrilling | CycleKind::ChipBreaking => {
+                    let q = peck.unwrap_or(1.0);
+                    let full = kind == CycleKind::PeckDrilling;
+                    let mut depth = r - q;
+                    while depth > bottom {
+                        self.emit(sink, CanonOp::StraightFeed(at(depth)));
+                        if full {
+                            self.emit(sink, CanonOp::StraightTraverse(at(r)));
+                        }
+                        self.emit(sink, CanonOp::StraightTraverse(at(depth + clearance)));
+                        depth -= q;
+                    }
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                }
+                CycleKind::Boring | CycleKind::BoringDwell => {
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    if let (CycleKind::BoringDwell, Some(d)) = (kind, dwell) {
+                        self.emit(sink, CanonOp::Dwell(d));
+                    }
+                    self.emit(sink, CanonOp::StraightFeed(at(r)));
+                    if clear != r {
+                        self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                    }
+                }
+                CycleKind::BoringSpindleStop => {
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
+                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                    match self.st.spindle {
+                        Spindle::Cw => self.emit(sink, CanonOp::StartSpindleClockwise),
+                        Spindle::Ccw => self.emit(sink, CanonOp::StartSpindleCounterclockwise),
+                        Spindle::Stopped => {}
+                    }
+                }
+            }
+            self.emit(sink, CanonOp::CycleEnd);
+            p = at(clear);
+        }
+        self.st.pos = p;
+    }
+}

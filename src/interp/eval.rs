@@ -1,0 +1,145 @@
+//! Parameters and expression evaluation.
+
+use std::collections::BTreeMap;
+
+use crate::syntax::{BinOp, Block, Expr, ExprId, Func};
+
+/// Highest numbered parameter (LinuxCNC has #1 to #5602; Fanuc permanent variables reach #999
+/// and system variables beyond).
+pub const MAX_PARAM: usize = 10_000;
+
+/// Numbered and named parameters.
+#[derive(Clone, Debug)]
+pub struct Params {
+    numbered: Vec<f64>,
+    named: BTreeMap<String, f64>,
+}
+
+impl Default for Params {
+    fn default() -> Params {
+        Params { numbered: vec![0.0; MAX_PARAM], named: BTreeMap::new() }
+    }
+}
+
+/// Why an expression has no value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EvalError {
+    /// A named parameter that was never set.
+    Undefined(String),
+    /// A parameter number outside the table.
+    BadIndex(f64),
+    /// Division by zero or a function outside its domain.
+    Domain(&'static str),
+}
+
+impl Params {
+    /// The value of numbered parameter `n`.
+    pub fn get(&self, n: f64) -> Result<f64, EvalError> {
+        let i = index(n)?;
+        Ok(self.numbered[i])
+    }
+
+    /// Sets numbered parameter `n`.
+    pub fn set(&mut self, n: f64, v: f64) -> Result<(), EvalError> {
+        let i = index(n)?;
+        self.numbered[i] = v;
+        Ok(())
+    }
+
+    /// The value of a named parameter.
+    pub fn get_named(&self, name: &str) -> Result<f64, EvalError> {
+        self.named.get(name).copied().ok_or_else(|| EvalError::Undefined(name.to_owned()))
+    }
+
+    /// Sets a named parameter.
+    pub fn set_named(&mut self, name: String, v: f64) {
+        self.named.insert(name, v);
+    }
+
+    /// Whether a named parameter exists.
+    pub fn has_named(&self, name: &str) -> bool {
+        self.named.contains_key(name)
+    }
+}
+
+fn index(n: f64) -> Result<usize, EvalError> {
+    let r = n.round();
+    if (n - r).abs() > 1e-4 || r < 0.0 || r >= MAX_PARAM as f64 {
+        return Err(EvalError::BadIndex(n));
+    }
+    Ok(r as usize)
+}
+
+/// Normalises a parameter name as LinuxCNC does: lower case, blanks removed.
+pub fn normalise_name(raw: &str) -> String {
+    raw.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect()
+}
+
+/// Evaluates expression `id` of `block` against `params`; `text` is the program text.
+pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f64, EvalError> {
+    let Some(e) = block.exprs.get(id as usize) else { return Err(EvalError::Domain("invalid expression")) };
+    Ok(match *e {
+        Expr::Num(v) => v,
+        Expr::Param(inner) => params.get(eval(block, inner, params, text)?)?,
+        Expr::Named(r) => params.get_named(&normalise_name(&text[r.start as usize..r.end as usize]))?,
+        Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
+            Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalise_name(&text[r.start as usize..r.end as usize])))),
+            _ => 0.0,
+        },
+        Expr::Unary(f, inner) => unary(f, eval(block, inner, params, text)?)?,
+        Expr::Atan2(y, x) => {
+            let (y, x) = (eval(block, y, params, text)?, eval(block, x, params, text)?);
+            y.atan2(x).to_degrees()
+        }
+        Expr::Binary(op, a, b) => binary(op, eval(block, a, params, text)?, eval(block, b, params, text)?)?,
+    })
+}
+
+fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
+    Ok(match f {
+        Func::Sin => x.to_radians().sin(),
+        Func::Cos => x.to_radians().cos(),
+        Func::Tan => x.to_radians().tan(),
+        Func::Asin if x.abs() > 1.0 => return Err(EvalError::Domain("ASIN of a value outside -1..1")),
+        Func::Asin => x.asin().to_degrees(),
+        Func::Acos if x.abs() > 1.0 => return Err(EvalError::Domain("ACOS of a value outside -1..1")),
+        Func::Acos => x.acos().to_degrees(),
+        Func::Atan => x.atan().to_degrees(),
+        Func::Sqrt if x < 0.0 => return Err(EvalError::Domain("SQRT of a negative value")),
+        Func::Sqrt => x.sqrt(),
+        Func::Abs => x.abs(),
+        Func::Round => x.round(),
+        Func::Fix => x.floor(),
+        Func::Fup => x.ceil(),
+        Func::Ln if x <= 0.0 => return Err(EvalError::Domain("LN of a non-positive value")),
+        Func::Ln => x.ln(),
+        Func::Exp => x.exp(),
+        Func::Exists => 0.0,
+        Func::Neg => -x,
+        Func::Not => f64::from(u8::from(x == 0.0)),
+    })
+}
+
+fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, EvalError> {
+    const EQ_TOL: f64 = 1e-6;
+    let truth = |c: bool| f64::from(u8::from(c));
+    Ok(match op {
+        BinOp::Pow => a.powf(b),
+        BinOp::Mul => a * b,
+        BinOp::Div if b == 0.0 => return Err(EvalError::Domain("division by zero")),
+        BinOp::Div => a / b,
+        BinOp::Mod if b == 0.0 => return Err(EvalError::Domain("MOD by zero")),
+        BinOp::Mod => a.rem_euclid(b.abs()),
+        BinOp::Add => a + b,
+        BinOp::Sub => a - b,
+        BinOp::Eq => truth((a - b).abs() < EQ_TOL),
+        BinOp::Ne => truth((a - b).abs() >= EQ_TOL),
+        BinOp::Gt => truth(a > b),
+        BinOp::Ge => truth(a >= b),
+        BinOp::Lt => truth(a < b),
+        BinOp::Le => truth(a <= b),
+        BinOp::And => truth(a != 0.0 && b != 0.0),
+        BinOp::Or => truth(a != 0.0 || b != 0.0),
+        BinOp::Xor => truth((a != 0.0) != (b != 0.0)),
+    })
+}

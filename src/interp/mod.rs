@@ -1,0 +1,841 @@
+//! The modal interpreter: blocks → canonical ops, with modal state.
+//!
+//! Each block goes through *read* (evaluate values, look up codes, check groups and
+//! parameters) and then *execute*, step by step in the order the dialect's
+//! `<execution-order>` gives. Everything the interpreter knows about a dialect comes from
+//! [`Dialect`]: meanings, roles and behaviour flags. It never fails: findings become
+//! diagnostics and an erroneous block is skipped.
+
+mod cycle;
+pub mod eval;
+mod motion;
+
+use std::collections::BTreeMap;
+
+use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, Plane, Units};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step, TimeUnit};
+use crate::syntax::{Block, ParamTarget, Parser, Value};
+use crate::text::TextRange;
+use eval::{EvalError, Params};
+
+/// What the interpreter knows about one tool (lengths in mm).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ToolData {
+    /// Cutter diameter.
+    pub diameter: Option<f64>,
+    /// Length offset.
+    pub length: f64,
+    /// Description.
+    pub name: Option<String>,
+}
+
+/// Machine settings that are not part of the dialect (from config).
+#[derive(Clone, Debug, Default)]
+pub struct Profile {
+    /// Whether the block-delete switch is on (skip `/` blocks).
+    pub block_delete: bool,
+    /// Tool table by tool number.
+    pub tools: BTreeMap<u32, ToolData>,
+    /// G28 reference position, machine coordinates, mm.
+    pub home1: [f64; 6],
+    /// G30 reference position, machine coordinates, mm.
+    pub home2: [f64; 6],
+}
+
+/// Interprets a whole program text, pushing canonical ops into `sink`. Streams: memory
+/// does not grow with the program's length.
+pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    let mut parser = Parser::new(text, dialect);
+    let mut block = Block::default();
+    let mut interp = Interpreter::new(dialect, profile, text);
+    while parser.next_block(&mut block, &mut diags) {
+        interp.execute(&block, sink, &mut diags);
+        if interp.finished() {
+            break;
+        }
+    }
+    interp.finish(&mut diags);
+    diags
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Slot {
+    value: f64,
+    range: TextRange,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Spindle {
+    Stopped,
+    Cw,
+    Ccw,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Retract {
+    Initial,
+    RPlane,
+}
+
+/// Modal state.
+#[derive(Clone, Debug)]
+struct State {
+    units: Units,
+    plane: Plane,
+    distance: DistanceMode,
+    arc_incremental: bool,
+    feed: f64,
+    speed: f64,
+    spindle: Spindle,
+    mist: bool,
+    flood: bool,
+    selected_tool: u32,
+    tool: u32,
+    motion: Option<&'static str>,
+    motion_code: Option<usize>,
+    retract: Retract,
+    wcs: u8,
+    wcs_offsets: [[f64; 6]; 9],
+    g92: [f64; 6],
+    tool_offset: f64,
+    pos: [f64; 6],
+    sticky_r: Option<f64>,
+    sticky_z: Option<f64>,
+    sticky_q: Option<f64>,
+    sticky_p: Option<f64>,
+    ended: bool,
+    tech_warned: bool,
+}
+
+/// The interpreter for one program run.
+pub struct Interpreter<'a> {
+    dialect: &'a Dialect,
+    profile: &'a Profile,
+    text: &'a str,
+    st: State,
+    params: Params,
+    slots: [Option<Slot>; Role::COUNT],
+    codes: Vec<(usize, TextRange)>,
+    origin: TextRange,
+    line: u32,
+    notes: BTreeMap<&'static str, u32>,
+    after_end_noted: bool,
+}
+
+const NOTE_LIMIT: u32 = 3;
+
+impl<'a> Interpreter<'a> {
+    /// A fresh interpreter in the control's power-on state.
+    pub fn new(dialect: &'a Dialect, profile: &'a Profile, text: &'a str) -> Interpreter<'a> {
+        Interpreter {
+            dialect,
+            profile,
+            text,
+            st: State {
+                units: Units::Mm,
+                plane: Plane::Xy,
+                distance: DistanceMode::Absolute,
+                arc_incremental: true,
+                feed: 0.0,
+                speed: 0.0,
+                spindle: Spindle::Stopped,
+                mist: false,
+                flood: false,
+                selected_tool: 0,
+                tool: 0,
+                motion: None,
+                motion_code: None,
+                retract: Retract::Initial,
+                wcs: 1,
+                wcs_offsets: [[0.0; 6]; 9],
+                g92: [0.0; 6],
+                tool_offset: 0.0,
+                pos: [0.0; 6],
+                sticky_r: None,
+                sticky_z: None,
+                sticky_q: None,
+                sticky_p: None,
+                ended: false,
+                tech_warned: false,
+            },
+            params: Params::default(),
+            slots: [None; Role::COUNT],
+            codes: Vec::new(),
+            origin: TextRange::default(),
+            line: 0,
+            notes: BTreeMap::new(),
+            after_end_noted: false,
+        }
+    }
+
+    /// True once the program has ended (M2/M30).
+    pub fn finished(&self) -> bool {
+        self.st.ended
+    }
+
+    /// Final checks after the last block.
+    pub fn finish(&mut self, diags: &mut Vec<Diagnostic>) {
+        for (what, count) in &self.notes {
+            if *count > NOTE_LIMIT {
+                diags.push(Diagnostic::new(
+                    Code::Unsupported,
+                    TextRange::default(),
+                    format!("{} more findings like `{what}` were not listed", count - NOTE_LIMIT),
+                ));
+            }
+        }
+    }
+
+    fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
+        sink.emit(Canon { op, origin: self.origin, line: self.line });
+    }
+
+    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind.
+    fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &'static str, d: Diagnostic) {
+        let n = self.notes.entry(key).or_insert(0);
+        *n += 1;
+        if *n <= NOTE_LIMIT {
+            diags.push(d);
+        }
+    }
+
+    fn slot(&self, role: Role) -> Option<f64> {
+        self.slots[role as usize].map(|s| s.value)
+    }
+
+    fn code(&self, i: usize) -> &'a CodeDef {
+        &self.dialect.codes[i]
+    }
+
+    /// Executes one block.
+    pub fn execute(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        self.origin = block.range;
+        self.line = block.line;
+        if self.st.ended {
+            if !block.is_empty() && !block.delimiter && !self.after_end_noted {
+                self.after_end_noted = true;
+                diags.push(Diagnostic::new(Code::AfterProgramEnd, block.range, "blocks after the end of the program are not executed"));
+            }
+            return;
+        }
+        if block.skip && self.profile.block_delete {
+            return;
+        }
+        if let Some(r) = block.control {
+            let text = &self.text[r.start as usize..r.end as usize];
+            let head: String = text.split_whitespace().take(2).collect::<Vec<_>>().join(" ");
+            self.limited(
+                diags,
+                "control",
+                Diagnostic::new(
+                    Code::Unsupported,
+                    r,
+                    format!("control statement `{head}` (subroutines, macros and loops) is not supported yet; the block was skipped"),
+                ),
+            );
+            return;
+        }
+        if !self.read(block, diags) {
+            return;
+        }
+        self.assign(block, diags);
+        for &step in &self.dialect.execution_order {
+            self.step(step, block, sink, diags);
+            if self.st.ended {
+                break;
+            }
+        }
+    }
+
+    /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
+    fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        self.slots = [None; Role::COUNT];
+        self.codes.clear();
+        let mut ok = true;
+        // Codes first: a unit change in this block affects how its numbers scale.
+        for w in &block.words {
+            if !matches!(w.role, Role::G | Role::M) {
+                continue;
+            }
+            let Some(v) = self.value(block, w.value, w.range, diags) else {
+                ok = false;
+                continue;
+            };
+            let x10 = (v * 10.0).round();
+            let letter = w.letter as char;
+            let found = if (v * 10.0 - x10).abs() < 1e-3 && (0.0..10_000.0).contains(&x10) {
+                self.dialect.code_id(letter, x10 as u32)
+            } else {
+                None
+            };
+            let Some(idx) = found else {
+                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                diags.push(Diagnostic::new(
+                    Code::UnknownCode,
+                    w.range,
+                    format!("`{shown}` is not a code of the {} dialect", self.dialect.name),
+                ));
+                ok = false;
+                continue;
+            };
+            let def = self.code(idx);
+            if let Some(&(other, _)) = self.codes.iter().find(|(c, _)| self.code(*c).group == def.group) {
+                diags.push(Diagnostic::new(
+                    Code::ModalGroupConflict,
+                    w.range,
+                    format!(
+                        "{} and {} are both in modal group `{}`; a block may hold only one",
+                        self.code(other).label(),
+                        def.label(),
+                        self.dialect.groups[def.group].id
+                    ),
+                ));
+                ok = false;
+                continue;
+            }
+            self.codes.push((idx, w.range));
+        }
+        let units = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
+            Meaning::UnitsInch => Some(Units::Inch),
+            Meaning::UnitsMm => Some(Units::Mm),
+            _ => None,
+        });
+        let units = units.unwrap_or(self.st.units);
+        for w in &block.words {
+            if matches!(w.role, Role::G | Role::M) {
+                continue;
+            }
+            if self.slots[w.role as usize].is_some() {
+                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                diags.push(Diagnostic::new(
+                    Code::DuplicateWord,
+                    w.range,
+                    format!("`{shown}`: the address {} appears twice in this block", w.letter as char),
+                ));
+                ok = false;
+                continue;
+            }
+            let Some(mut v) = self.value(block, w.value, w.range, diags) else {
+                ok = false;
+                continue;
+            };
+            if let (Value::Number { decimal: false, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
+                (w.value, &self.dialect.behaviour.decimal_input)
+                && scaled.contains(&w.role)
+            {
+                v *= if units == Units::Mm { *mm } else { *inch };
+            }
+            self.slots[w.role as usize] = Some(Slot { value: v, range: w.range });
+        }
+        if ok {
+            ok = self.check_params(block, diags);
+        }
+        ok
+    }
+
+    fn value(&mut self, block: &Block, v: Value, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+        match v {
+            Value::Number { value, .. } => Some(value),
+            Value::Expr(e) => match eval::eval(block, e, &self.params, self.text) {
+                Ok(x) if x.is_finite() => Some(x),
+                Ok(_) => {
+                    diags.push(Diagnostic::new(Code::ArithmeticError, range, "the expression has no finite value"));
+                    None
+                }
+                Err(err) => {
+                    diags.push(eval_diag(err, range));
+                    None
+                }
+            },
+        }
+    }
+
+    fn check_params(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let mut ok = true;
+        let present = |s: &Self, r: Role| s.slots[r as usize].is_some();
+        let has_axes = Role::AXES.iter().any(|&r| present(self, r));
+        for &(c, range) in &self.codes {
+            let def = self.code(c);
+            let is_motion = self.dialect.groups[def.group].step == Step::Motion;
+            for &r in &def.params.required {
+                if !present(self, r) {
+                    diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs {}", def.label(), self.address_name(r))));
+                    ok = false;
+                }
+            }
+            for set in &def.params.any_of {
+                if !set.iter().any(|&r| present(self, r)) && (!is_motion || has_axes) {
+                    let names: Vec<_> = set.iter().map(|&r| self.address_name(r)).collect();
+                    diags.push(Diagnostic::new(
+                        Code::MissingParameter,
+                        range,
+                        format!("{} needs one of {}", def.label(), names.join(", ")),
+                    ));
+                    ok = false;
+                }
+            }
+            for (a, b) in &def.params.exclusive {
+                if a.iter().any(|&r| present(self, r)) && b.iter().any(|&r| present(self, r)) {
+                    let an: Vec<_> = a.iter().map(|&r| self.address_name(r)).collect();
+                    let bn: Vec<_> = b.iter().map(|&r| self.address_name(r)).collect();
+                    diags.push(Diagnostic::new(
+                        Code::MissingParameter,
+                        range,
+                        format!("{} mixes {} with {}", def.label(), an.join(" "), bn.join(" ")),
+                    ));
+                    ok = false;
+                }
+            }
+        }
+        // Words that no command in this block takes.
+        let motion = self.active_motion_code(has_axes);
+        for w in &block.words {
+            if !matches!(w.role, Role::P | Role::Q | Role::L | Role::R | Role::I | Role::J | Role::K | Role::H | Role::D | Role::E) {
+                continue;
+            }
+            let taken = self.codes.iter().any(|&(c, _)| self.code(c).params.takes(w.role))
+                || motion.is_some_and(|c| self.code(c).params.takes(w.role));
+            if !taken {
+                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                diags.push(Diagnostic::new(
+                    Code::UnusedWord,
+                    w.range,
+                    format!("`{shown}`: no command in this block takes {}", w.letter as char),
+                ));
+            }
+        }
+        ok
+    }
+
+    fn address_name(&self, role: Role) -> String {
+        self.dialect.addresses.iter().find(|a| a.role == role).map_or_else(|| role.as_str().to_owned(), |a| a.name.clone())
+    }
+
+    /// The motion code this block executes: explicit, or the modal one when axes are given
+    /// and no axis-taking non-modal code claims them.
+    fn active_motion_code(&self, has_axes: bool) -> Option<usize> {
+        if let Some(&(c, _)) = self.codes.iter().find(|(c, _)| self.dialect.groups[self.code(*c).group].step == Step::Motion) {
+            return Some(c);
+        }
+        let claimed = self.codes.iter().any(|&(c, _)| {
+            matches!(
+                self.code(c).meaning,
+                Meaning::SetData
+                    | Meaning::Home1
+                    | Meaning::Home2
+                    | Meaning::OriginShift
+                    | Meaning::LocalOffset
+                    | Meaning::Scaling
+                    | Meaning::Rotation
+            )
+        });
+        if has_axes && !claimed { self.st.motion_code } else { None }
+    }
+
+    fn assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
+        // All reads of a block happen before its assignments take effect.
+        let mut pending = Vec::with_capacity(block.assigns.len());
+        for a in &block.assigns {
+            let value = match eval::eval(block, a.value, &self.params, self.text) {
+                Ok(v) => v,
+                Err(e) => {
+                    diags.push(eval_diag(e, a.range));
+                    continue;
+                }
+            };
+            match a.target {
+                ParamTarget::Numbered(e) => match eval::eval(block, e, &self.params, self.text) {
+                    Ok(n) => pending.push((Some(n), String::new(), value, a.range)),
+                    Err(e) => diags.push(eval_diag(e, a.range)),
+                },
+                ParamTarget::Named(r) => {
+                    let name = eval::normalise_name(&self.text[r.start as usize..r.end as usize]);
+                    pending.push((None, name, value, a.range));
+                }
+            }
+        }
+        for (n, name, value, range) in pending {
+            match n {
+                Some(n) => {
+                    if let Err(e) = self.params.set(n, value) {
+                        diags.push(eval_diag(e, range));
+                    }
+                }
+                None => self.params.set_named(name, value),
+            }
+        }
+    }
+
+    fn codes_at(&self, step: Step) -> impl Iterator<Item = (usize, TextRange)> + '_ {
+        self.codes.iter().copied().filter(move |&(c, _)| self.dialect.groups[self.code(c).group].step == step)
+    }
+
+    fn step(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        match step {
+            Step::Comment => {
+                for r in &block.comments {
+                    let text = self.text[r.start as usize..r.end as usize].to_owned();
+                    let op = match text.get(..4) {
+                        Some(head) if head.eq_ignore_ascii_case("MSG,") => CanonOp::Message(text[4..].to_owned()),
+                        _ => CanonOp::Comment(text),
+                    };
+                    self.emit(sink, op);
+                }
+            }
+            Step::Feed => {
+                if let Some(f) = self.slot(Role::F) {
+                    self.st.feed = f;
+                    self.st.tech_warned = false;
+                    self.emit(sink, CanonOp::SetFeedRate(f));
+                }
+            }
+            Step::Speed => {
+                if let Some(s) = self.slot(Role::S) {
+                    self.st.speed = s;
+                    self.emit(sink, CanonOp::SetSpindleSpeed(s));
+                }
+            }
+            Step::ToolSelect => {
+                if let Some(t) = self.slot(Role::T) {
+                    if t < 0.0 || t.fract() != 0.0 {
+                        diags.push(Diagnostic::new(
+                            Code::MalformedNumber,
+                            self.slots[Role::T as usize].map_or(block.range, |s| s.range),
+                            "a tool number must be a whole number of zero or more",
+                        ));
+                    } else {
+                        self.st.selected_tool = t as u32;
+                        self.emit(sink, CanonOp::SelectTool(t as u32));
+                    }
+                }
+            }
+            Step::Misc => {}
+            _ => {
+                let codes: Vec<_> = self.codes_at(step).collect();
+                for (c, range) in codes {
+                    self.execute_code(c, range, block, sink, diags);
+                }
+                if step == Step::Motion && !self.codes_at(Step::Motion).any(|_| true) {
+                    let has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
+                    if let Some(c) = self.active_motion_code(has_axes) {
+                        self.execute_code(c, block.range, block, sink, diags);
+                    } else if has_axes
+                        && !self.codes.iter().any(|&(c, _)| self.code(c).params.takes(Role::X) || self.code(c).params.takes(Role::Z))
+                    {
+                        diags.push(Diagnostic::new(
+                            Code::UnusedWord,
+                            block.range,
+                            "axis words without an active motion mode (after G80 or at program start) are ignored",
+                        ));
+                    }
+                }
+            }
+        }
+    }
+
+    fn unsupported(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let key: &'static str = def.meaning.as_str();
+        self.limited(
+            diags,
+            key,
+            Diagnostic::new(Code::Unsupported, range, format!("{} ({}) is not supported yet; it was skipped", def.label(), def.name)),
+        );
+    }
+
+    fn execute_code(&mut self, c: usize, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let def = self.code(c);
+        match def.meaning {
+            Meaning::FeedPerMinute => {}
+            Meaning::FeedInverseTime | Meaning::FeedPerRev => self.unsupported(def, range, diags),
+            Meaning::ToolChange => {
+                if self.dialect.behaviour.tool_change_stops_spindle {
+                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    self.st.spindle = Spindle::Stopped;
+                }
+                self.st.tool = self.st.selected_tool;
+                self.emit(sink, CanonOp::ChangeTool(self.st.tool));
+            }
+            Meaning::SpindleCw => {
+                self.st.spindle = Spindle::Cw;
+                self.st.tech_warned = false;
+                self.emit(sink, CanonOp::StartSpindleClockwise);
+            }
+            Meaning::SpindleCcw => {
+                self.st.spindle = Spindle::Ccw;
+                self.st.tech_warned = false;
+                self.emit(sink, CanonOp::StartSpindleCounterclockwise);
+            }
+            Meaning::SpindleStop => {
+                self.st.spindle = Spindle::Stopped;
+                self.emit(sink, CanonOp::StopSpindleTurning);
+            }
+            Meaning::CoolantMist => {
+                self.st.mist = true;
+                self.emit(sink, CanonOp::MistOn);
+            }
+            Meaning::CoolantFlood => {
+                self.st.flood = true;
+                self.emit(sink, CanonOp::FloodOn);
+            }
+            Meaning::CoolantOff => {
+                self.st.mist = false;
+                self.st.flood = false;
+                self.emit(sink, CanonOp::MistOff);
+                self.emit(sink, CanonOp::FloodOff);
+            }
+            Meaning::Dwell => {
+                let seconds = match (self.slot(Role::P), self.slot(Role::X)) {
+                    (Some(p), _) => self.dwell_seconds(p),
+                    (None, Some(x)) => x,
+                    (None, None) => 0.0,
+                };
+                self.emit(sink, CanonOp::Dwell(seconds));
+            }
+            Meaning::PlaneXy | Meaning::PlaneXz | Meaning::PlaneYz => {
+                let plane = match def.meaning {
+                    Meaning::PlaneXy => Plane::Xy,
+                    Meaning::PlaneXz => Plane::Xz,
+                    _ => Plane::Yz,
+                };
+                self.st.plane = plane;
+                self.emit(sink, CanonOp::SelectPlane(plane));
+            }
+            Meaning::UnitsInch | Meaning::UnitsMm => {
+                let units = if def.meaning == Meaning::UnitsInch { Units::Inch } else { Units::Mm };
+                self.set_units(units);
+                self.emit(sink, CanonOp::UseLengthUnits(units));
+            }
+            Meaning::CompOff => {}
+            Meaning::CompLeft | Meaning::CompRight => {
+                let radius = self
+                    .slot(Role::D)
+                    .map(|d| d as u32)
+                    .or(Some(self.st.tool))
+                    .and_then(|t| self.profile.tools.get(&t))
+                    .and_then(|t| t.diameter);
+                let msg = if radius.is_none() {
+                    format!("{} without a known tool radius (no D word or tool table entry); the programmed path is used", def.label())
+                } else {
+                    format!("{}: the compensated path is not computed yet; the programmed path is used", def.label())
+                };
+                self.limited(diags, "cutter-comp", Diagnostic::new(Code::Unsupported, range, msg));
+            }
+            Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
+                let h = self.slot(Role::H).map_or(self.st.tool, |h| h as u32);
+                let length = self.profile.tools.get(&h).map_or(0.0, |t| t.length) / self.st.units.to_mm();
+                let length = if def.meaning == Meaning::LengthCompMinus { -length } else { length };
+                self.st.tool_offset = length;
+                self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
+            }
+            Meaning::LengthCompCancel => {
+                self.st.tool_offset = 0.0;
+                self.emit(sink, CanonOp::UseToolLengthOffset([0.0; 3]));
+            }
+            Meaning::Wcs => {
+                if def.index != self.st.wcs {
+                    self.st.wcs = def.index;
+                    let off = self.st.wcs_offsets[def.index as usize - 1];
+                    self.emit(sink, CanonOp::SetG5xOffset(def.index, off));
+                }
+            }
+            Meaning::PathMode | Meaning::SpindleRpm => {}
+            Meaning::DistanceAbsolute | Meaning::DistanceIncremental => {
+                let mode = if def.meaning == Meaning::DistanceAbsolute { DistanceMode::Absolute } else { DistanceMode::Incremental };
+                if mode != self.st.distance {
+                    self.st.distance = mode;
+                    self.emit(sink, CanonOp::DistanceMode(mode));
+                }
+            }
+            Meaning::ArcDistanceAbsolute => self.st.arc_incremental = false,
+            Meaning::ArcDistanceIncremental => self.st.arc_incremental = true,
+            Meaning::RetractInitial => self.st.retract = Retract::Initial,
+            Meaning::RetractR => self.st.retract = Retract::RPlane,
+            Meaning::SetData => self.set_data(def, range, sink, diags),
+            Meaning::OriginShift => self.origin_shift(sink),
+            Meaning::OriginShiftCancel => {
+                for i in 0..6 {
+                    self.st.pos[i] += self.st.g92[i];
+                }
+                self.st.g92 = [0.0; 6];
+                self.emit(sink, CanonOp::SetG92Offset([0.0; 6]));
+            }
+            Meaning::Home1 | Meaning::Home2 => self.home(def.meaning == Meaning::Home1, sink),
+            Meaning::MachineCoords => {}
+            Meaning::Rapid
+            | Meaning::Linear
+            | Meaning::ArcCw
+            | Meaning::ArcCcw
+            | Meaning::CycleDrill
+            | Meaning::CycleDrillDwell
+            | Meaning::CyclePeckDrill
+            | Meaning::CycleChipBreak
+            | Meaning::CycleBore
+            | Meaning::CycleBoreDwell
+            | Meaning::CycleBoreStop => {
+                if self.st.motion_code != Some(c) {
+                    self.st.sticky_z = None;
+                }
+                self.st.motion_code = Some(c);
+                self.st.motion = Some(def.meaning.as_str());
+                let has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
+                if has_axes {
+                    self.motion(def, range, block, sink, diags);
+                }
+            }
+            Meaning::CycleCancel => {
+                self.st.motion_code = None;
+                self.st.motion = None;
+                self.st.sticky_z = None;
+                self.emit(sink, CanonOp::CycleCancel);
+            }
+            Meaning::ProgramStop => self.emit(sink, CanonOp::ProgramStop),
+            Meaning::OptionalStop => self.emit(sink, CanonOp::OptionalProgramStop),
+            Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.program_end(sink),
+            Meaning::Other | Meaning::LatheMode | Meaning::SpindleOrient => {}
+            _ => {
+                if self.dialect.groups[def.group].step == Step::Motion {
+                    self.st.motion_code = None;
+                    self.st.motion = None;
+                }
+                self.unsupported(def, range, diags);
+            }
+        }
+    }
+
+    fn dwell_seconds(&self, p: f64) -> f64 {
+        match self.dialect.behaviour.dwell_unit {
+            TimeUnit::Seconds => p,
+            TimeUnit::Milliseconds => p / 1000.0,
+        }
+    }
+
+    fn set_units(&mut self, units: Units) {
+        if units == self.st.units {
+            return;
+        }
+        let k = self.st.units.to_mm() / units.to_mm();
+        for i in 0..3 {
+            self.st.pos[i] *= k;
+            self.st.g92[i] *= k;
+            for w in &mut self.st.wcs_offsets {
+                w[i] *= k;
+            }
+        }
+        self.st.tool_offset *= k;
+        self.st.units = units;
+    }
+
+    fn set_data(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let l = self.slot(Role::L).unwrap_or(0.0) as i64;
+        let p = self.slot(Role::P).unwrap_or(0.0).round() as i64;
+        if !(l == 2 || l == 20) || !(0..=9).contains(&p) {
+            self.unsupported(def, range, diags);
+            return;
+        }
+        let index = if p == 0 { self.st.wcs } else { p as u8 };
+        let mut off = self.st.wcs_offsets[index as usize - 1];
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if let Some(v) = self.slot(role) {
+                off[i] = if l == 2 {
+                    v
+                } else {
+                    // L20: the current point becomes `v` in that system.
+                    self.st.pos[i] + self.st.wcs_offsets[self.st.wcs as usize - 1][i] + self.st.g92[i] - v
+                };
+            }
+        }
+        self.st.wcs_offsets[index as usize - 1] = off;
+        if index == self.st.wcs {
+            self.emit(sink, CanonOp::SetG5xOffset(index, off));
+        }
+    }
+
+    fn origin_shift(&mut self, sink: &mut dyn CanonSink) {
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if let Some(v) = self.slot(role) {
+                let machine_rel = self.st.pos[i] + self.st.g92[i];
+                self.st.g92[i] = machine_rel - v;
+                self.st.pos[i] = v;
+            }
+        }
+        self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
+    }
+
+    fn home(&mut self, first: bool, sink: &mut dyn CanonSink) {
+        let any = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
+        let mut mid = self.st.pos;
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if let Some(v) = self.slot(role) {
+                mid[i] = if self.st.distance == DistanceMode::Incremental { self.st.pos[i] + v } else { v };
+            }
+        }
+        self.emit(sink, CanonOp::StraightTraverse(mid));
+        let home = if first { self.profile.home1 } else { self.profile.home2 };
+        let mut end = mid;
+        for i in 0..6 {
+            if !any || self.slots[Role::AXES[i] as usize].is_some() {
+                let k = if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
+                end[i] = home[i] * k - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i];
+            }
+        }
+        self.emit(sink, CanonOp::StraightTraverse(end));
+        self.st.pos = end;
+    }
+
+    fn program_end(&mut self, sink: &mut dyn CanonSink) {
+        self.st.wcs = 1;
+        self.emit(sink, CanonOp::SetG5xOffset(1, self.st.wcs_offsets[0]));
+        if self.st.plane != Plane::Xy {
+            self.st.plane = Plane::Xy;
+            self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
+        }
+        self.st.distance = DistanceMode::Absolute;
+        self.st.feed = 0.0;
+        self.emit(sink, CanonOp::SetFeedRate(0.0));
+        self.st.spindle = Spindle::Stopped;
+        self.emit(sink, CanonOp::StopSpindleTurning);
+        if self.st.mist {
+            self.emit(sink, CanonOp::MistOff);
+        }
+        if self.st.flood {
+            self.emit(sink, CanonOp::FloodOff);
+        }
+        self.st.mist = false;
+        self.st.flood = false;
+        self.emit(sink, CanonOp::ProgramEnd);
+        self.st.ended = true;
+    }
+}
+
+impl Meaning {
+    /// Whether the meaning is a canned drilling or boring cycle.
+    pub fn is_cycle(self) -> bool {
+        matches!(
+            self,
+            Meaning::CycleDrill
+                | Meaning::CycleDrillDwell
+                | Meaning::CyclePeckDrill
+                | Meaning::CycleChipBreak
+                | Meaning::CycleTap
+                | Meaning::CycleTapLeft
+                | Meaning::CycleBore
+                | Meaning::CycleBoreStop
+                | Meaning::CycleBackBore
+                | Meaning::CycleBoreManual
+                | Meaning::CycleBoreDwell
+                | Meaning::CycleFineBore
+        )
+    }
+}
+
+fn eval_diag(e: EvalError, range: TextRange) -> Diagnostic {
+    match e {
+        EvalError::Undefined(name) => {
+            Diagnostic::new(Code::UndefinedParameter, range, format!("parameter `#<{name}>` is used before it is set"))
+        }
+        EvalError::BadIndex(n) => Diagnostic::new(Code::UndefinedParameter, range, format!("parameter number {n} is out of range")),
+        EvalError::Domain(what) => Diagnostic::new(Code::ArithmeticError, range, what),
+    }
+}

@@ -1,0 +1,174 @@
+//! Straight and circular motion.
+
+use super::{Interpreter, Spindle};
+use crate::canon::{CanonOp, CanonSink, DistanceMode, Plane, Units};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, Meaning, Role};
+use crate::syntax::Block;
+use crate::text::TextRange;
+
+/// Offset roles along X, Y and Z.
+const OFFSETS: [Role; 3] = [Role::I, Role::J, Role::K];
+
+impl Interpreter<'_> {
+    /// The end point of a move: axis words in the distance mode, in program coordinates.
+    pub(super) fn target(&self) -> [f64; 6] {
+        let machine = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords);
+        let mut t = self.st.pos;
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if let Some(v) = self.slot(role) {
+                t[i] = if machine {
+                    v - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i]
+                } else if self.st.distance == DistanceMode::Incremental {
+                    self.st.pos[i] + v
+                } else {
+                    v
+                };
+            }
+        }
+        t
+    }
+
+    pub(super) fn motion(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        match def.meaning {
+            Meaning::Rapid => {
+                let t = self.target();
+                self.emit(sink, CanonOp::StraightTraverse(t));
+                self.st.pos = t;
+            }
+            Meaning::Linear => {
+                self.check_technology(def, block.range, diags);
+                let t = self.target();
+                self.emit(sink, CanonOp::StraightFeed(t));
+                self.st.pos = t;
+            }
+            Meaning::ArcCw | Meaning::ArcCcw => self.arc(def, range, block, sink, diags),
+            _ => self.cycle(def, range, block, sink, diags),
+        }
+    }
+
+    pub(super) fn check_technology(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        if self.st.tech_warned {
+            return;
+        }
+        let problem = if self.st.feed <= 0.0 {
+            Some("the feed rate is zero")
+        } else if self.st.spindle == Spindle::Stopped {
+            Some("the spindle is stopped")
+        } else {
+            None
+        };
+        if let Some(p) = problem {
+            self.st.tech_warned = true;
+            let d = Diagnostic::new(Code::CuttingWithoutTechnology, range, format!("{} cuts while {p}", def.label()));
+            self.limited(diags, "technology", d);
+        }
+    }
+
+    fn arc(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        self.check_technology(def, block.range, diags);
+        let cw = def.meaning == Meaning::ArcCw;
+        let start = self.st.pos;
+        let end = self.target();
+        let (a0, a1, n) = self.st.plane.axes();
+        let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);
+        let tol = self.dialect.behaviour.arc_tolerance_mm / self.st.units.to_mm();
+        let turns = match self.slot(Role::P) {
+            None => 1,
+            Some(p) if p >= 1.0 && p.fract() == 0.0 && p < 10_000.0 => p as i32,
+            Some(p) => {
+                diags.push(Diagnostic::new(Code::BadArc, range, format!("the number of turns P{p} must be a positive whole number")));
+                return;
+            }
+        };
+        let center = if let Some(r) = self.slot(Role::R) {
+            match arc_center_from_radius(s1, s2, e1, e2, r, cw, tol) {
+                Ok(c) => c,
+                Err(msg) => {
+                    diags.push(Diagnostic::new(Code::BadArc, block.range, msg));
+                    return;
+                }
+            }
+        } else {
+            let off = |axis: usize| self.slot(OFFSETS[axis]);
+            if off(a0).is_none() && off(a1).is_none() {
+                let needs = if self.st.plane == Plane::Xy {
+                    "I or J"
+                } else if self.st.plane == Plane::Xz {
+                    "I or K"
+                } else {
+                    "J or K"
+                };
+                diags.push(Diagnostic::new(
+                    Code::MissingParameter,
+                    block.range,
+                    format!("{} in this plane needs {needs}, or R", def.label()),
+                ));
+                return;
+            }
+            let (o1, o2) = (off(a0).unwrap_or(0.0), off(a1).unwrap_or(0.0));
+            let c = if self.st.arc_incremental { (s1 + o1, s2 + o2) } else { (o1, o2) };
+            let r_start = (s1 - c.0).hypot(s2 - c.1);
+            let r_end = (e1 - c.0).hypot(e2 - c.1);
+            if (r_start - r_end).abs() > tol {
+                let unit = if self.st.units == Units::Mm { "mm" } else { "in" };
+                diags.push(Diagnostic::new(
+                    Code::BadArc,
+                    block.range,
+                    format!("radius to the end of the arc ({r_end:.4} {unit}) differs from the radius to its start ({r_start:.4} {unit}) by more than {tol} {unit}"),
+                ));
+                return;
+            }
+            c
+        };
+        let rotation = if cw { -turns } else { turns };
+        self.emit(
+            sink,
+            CanonOp::ArcFeed {
+                first_end: e1,
+                second_end: e2,
+                first_axis: center.0,
+                second_axis: center.1,
+                rotation,
+                axis_end: end[n],
+                abc: [end[3], end[4], end[5]],
+            },
+        );
+        self.st.pos = end;
+    }
+}
+
+/// The centre of an arc given by its radius, as LinuxCNC computes it: a positive radius
+/// takes the short way (at most 180°), a negative one the long way.
+fn arc_center_from_radius(s1: f64, s2: f64, e1: f64, e2: f64, r: f64, cw: bool, tol: f64) -> Result<(f64, f64), String> {
+    let abs_r = r.abs();
+    let (m1, m2) = ((s1 + e1) / 2.0, (s2 + e2) / 2.0);
+    let half = (m1 - e1).hypot(m2 - e2);
+    if half < 1e-12 {
+        return Err("an arc given by R cannot be a full circle (start and end coincide)".into());
+    }
+    if half - abs_r > tol {
+        return Err(format!("arc radius {abs_r} is too small to reach the end point ({:.4} away)", 2.0 * half));
+    }
+    let half = half.min(abs_r);
+    let chord = (e2 - s2).atan2(e1 - s1);
+    let theta = if cw == (r > 0.0) { chord - std::f64::consts::FRAC_PI_2 } else { chord + std::f64::consts::FRAC_PI_2 };
+    let offset = (abs_r * abs_r - half * half).max(0.0).sqrt();
+    Ok((m1 + offset * theta.cos(), m2 + offset * theta.sin()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::arc_center_from_radius;
+
+    #[test]
+    fn r_arcs_take_the_short_or_long_way() {
+        // G2 X10 Y0 R5 from the origin: a semicircle about (5, 0).
+        let (c1, c2) = arc_center_from_radius(0.0, 0.0, 10.0, 0.0, 5.0, true, 0.002).unwrap();
+        assert!((c1 - 5.0).abs() < 1e-9 && c2.abs() < 1e-9);
+        // G3 X10 Y0 R-7: centre (5, -4.899), the long way (verified with rs274).
+        let (c1, c2) = arc_center_from_radius(0.0, 0.0, 10.0, 0.0, -7.0, false, 0.002).unwrap();
+        assert!((c1 - 5.0).abs() < 1e-9 && (c2 + 24f64.sqrt()).abs() < 1e-9, "{c1} {c2}");
+        assert!(arc_center_from_radius(0.0, 0.0, 10.0, 0.0, 2.0, true, 0.002).is_err());
+    }
+}

@@ -1,0 +1,22 @@
+//! ncplan: recover process plans from CNC part programs, diff them against the CAM original,
+//! and keep the shopfloor's changes.
+//!
+//! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`,
+//! `diff`, `pipeline`) does no IO. The shell around it (`config`, `store`, `daemon`, `cli`)
+//! reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
+
+#![warn(missing_docs)]
+
+pub mod canon;
+pub mod cli;
+pub mod config;
+pub mod daemon;
+pub mod diag;
+pub mod dialect;
+pub mod diff;
+pub mod interp;
+pub mod pipeline;
+pub mod plan;
+pub mod store;
+pub mod syntax;
+pub mod text;

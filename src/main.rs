@@ -1,0 +1,5 @@
+//! The `ncplan` binary.
+
+fn main() -> std::process::ExitCode {
+    ncplan::cli::run()
+}

@@ -1,0 +1,96 @@
+//! The pure composition of the core: bytes → text → canon → plan, with all diagnostics.
+//! The CLI, the daemon and the tests all analyse programs through [`analyze`].
+
+use crate::canon::Canon;
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::Dialect;
+use crate::interp::{self, Profile};
+use crate::plan::{self, ProcessPlan};
+use crate::text::{self, SourceText, TextRange};
+
+/// Everything known about one program.
+#[derive(Debug)]
+pub struct Analysis {
+    /// The decoded text.
+    pub source: SourceText,
+    /// Canonical ops.
+    pub canon: Vec<Canon>,
+    /// The recovered plan.
+    pub plan: ProcessPlan,
+    /// Findings of every phase, in source order.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Analysis {
+    /// Whether any finding is an error.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+}
+
+/// Analyses raw program bytes. Never fails.
+pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
+    let (source, mut diagnostics) = text::decode(bytes);
+    let mut canon = Vec::new();
+    diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut canon));
+    let (plan, plan_diags) = plan::recover(&canon, profile, program_name(&source.text));
+    diagnostics.extend(plan_diags);
+    diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
+    Analysis { source, canon, plan, diagnostics }
+}
+
+/// A diagnostic for input over the size limit, for callers that refuse to read it whole.
+pub fn too_large(size: u64, limit: u64) -> Diagnostic {
+    Diagnostic::new(
+        Code::TooLarge,
+        TextRange::default(),
+        format!("the file has {size} bytes, over the limit of {limit}; it was stored but not analysed"),
+    )
+}
+
+/// The program's own name or number, as its header states it: `O1234`, `%_N_NAME_MPF`,
+/// `BEGIN PGM NAME MM`. Looks at the first non-blank lines only.
+pub fn program_name(text: &str) -> Option<String> {
+    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()).take(5) {
+        let up = line.to_ascii_uppercase();
+        if let Some(rest) = up.strip_prefix("%_N_") {
+            let name = rest.split(['_', ' ']).next().unwrap_or("");
+            if !name.is_empty() {
+                return Some(name.to_owned());
+            }
+        }
+        let numbered = up.trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
+        if let Some(rest) = numbered.strip_prefix("BEGIN PGM ") {
+            if let Some(name) = rest.split_whitespace().next() {
+                return Some(name.to_owned());
+            }
+        }
+        let mut chars = up.chars();
+        if matches!(chars.next(), Some('O' | ':')) {
+            let digits: String = chars.take_while(char::is_ascii_digit).collect();
+            if !digits.is_empty() {
+                let n: u64 = digits.parse().unwrap_or(0);
+                return Some(format!("O{n}"));
+            }
+        }
+        if up == "%" || up.starts_with('(') || up.starts_with(';') {
+            continue;
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::program_name;
+
+    #[test]
+    fn program_names() {
+        assert_eq!(program_name("%\nO1234 (FACE)\nG0 X0"), Some("O1234".into()));
+        assert_eq!(program_name("%_N_PART1_MPF\n;$PATH=/_N_WKS_DIR\n"), Some("PART1".into()));
+        assert_eq!(program_name("0 BEGIN PGM FLANGE MM\n"), Some("FLANGE".into()));
+        assert_eq!(program_name("BEGIN PGM FLANGE MM\n"), Some("FLANGE".into()));
+        assert_eq!(program_name(":0100\n"), Some("O100".into()));
+        assert_eq!(program_name("G0 X0\n"), None);
+    }
+}

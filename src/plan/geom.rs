@@ -1,0 +1,121 @@
+//! Toolpath geometry: arc sweep, lengths, sampling and boxes (nalgebra).
+
+use nalgebra::{Point3, Rotation3, Unit, Vector3};
+
+use super::model::{BBox, Move, MoveKind, P3};
+
+fn p(a: P3) -> Point3<f64> {
+    Point3::new(a[0], a[1], a[2])
+}
+
+/// Signed sweep angle of an arc move about its axis, radians (positive counter-clockwise).
+pub fn sweep(m: &Move) -> f64 {
+    let (Some(c), Some(axis), Some(turns)) = (m.center, m.axis, m.turns) else { return 0.0 };
+    let axis = Vector3::from(axis);
+    let c = p(c);
+    let u = p(m.from) - c;
+    let mut v = p(m.to) - c;
+    // Project the end onto the arc plane (helical arcs rise along the axis).
+    v -= axis * v.dot(&axis);
+    let theta = u.cross(&v).dot(&axis).atan2(u.dot(&v));
+    let tau = std::f64::consts::TAU;
+    let extra = tau * f64::from(turns.unsigned_abs().saturating_sub(1));
+    if turns > 0 {
+        let t = if theta <= 1e-12 { theta + tau } else { theta };
+        t + extra
+    } else {
+        let t = if theta >= -1e-12 { theta - tau } else { theta };
+        t - extra
+    }
+}
+
+/// Length of a move, mm.
+pub fn length(m: &Move) -> f64 {
+    match m.kind {
+        MoveKind::Rapid | MoveKind::Line => (p(m.to) - p(m.from)).norm(),
+        MoveKind::Arc => {
+            let (Some(c), Some(axis)) = (m.center, m.axis) else { return 0.0 };
+            let axis = Vector3::from(axis);
+            let r = (p(m.from) - p(c)).norm();
+            let rise = (p(m.to) - p(m.from)).dot(&axis);
+            (r * sweep(m)).hypot(rise)
+        }
+    }
+}
+
+/// Points along a move, excluding its start; arcs are sampled every 10° at most.
+pub fn sample(m: &Move, out: &mut Vec<P3>) {
+    if m.kind != MoveKind::Arc {
+        out.push(m.to);
+        return;
+    }
+    let (Some(c), Some(axis)) = (m.center, m.axis) else {
+        out.push(m.to);
+        return;
+    };
+    let total = sweep(m);
+    let n = ((total.abs() / 10f64.to_radians()).ceil() as usize).clamp(1, 3600);
+    let axis_v = Vector3::from(axis);
+    let rise = (p(m.to) - p(m.from)).dot(&axis_v);
+    let unit = Unit::new_normalize(axis_v);
+    let r0 = p(m.from) - p(c);
+    for i in 1..=n {
+        let t = i as f64 / n as f64;
+        let q = p(c) + Rotation3::from_axis_angle(&unit, total * t) * r0 + axis_v * (rise * t);
+        out.push([q.x, q.y, q.z]);
+    }
+    if let Some(last) = out.last_mut() {
+        *last = m.to;
+    }
+}
+
+/// Grows `bbox` to hold `pt`.
+pub fn extend(bbox: &mut Option<BBox>, pt: P3) {
+    match bbox {
+        None => *bbox = Some(BBox { min: pt, max: pt }),
+        Some(b) => {
+            for i in 0..3 {
+                b.min[i] = b.min[i].min(pt[i]);
+                b.max[i] = b.max[i].max(pt[i]);
+            }
+        }
+    }
+}
+
+/// Distance between two points.
+pub fn dist(a: P3, b: P3) -> f64 {
+    (p(a) - p(b)).norm()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plan::model::Phase;
+
+    fn arc(from: P3, to: P3, center: P3, turns: i32) -> Move {
+        Move {
+            kind: MoveKind::Arc,
+            phase: Phase::Cut,
+            from,
+            to,
+            center: Some(center),
+            axis: Some([0.0, 0.0, 1.0]),
+            turns: Some(turns),
+            line: 1,
+        }
+    }
+
+    #[test]
+    fn arc_sweep_and_length() {
+        let half_cw = arc([0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [5.0, 0.0, 0.0], -1);
+        assert!((sweep(&half_cw) + std::f64::consts::PI).abs() < 1e-12);
+        assert!((length(&half_cw) - 5.0 * std::f64::consts::PI).abs() < 1e-9);
+        let full = arc([10.0, 0.0, 0.0], [10.0, 0.0, -2.0], [0.0, 0.0, 0.0], 2);
+        assert!((sweep(&full) - 2.0 * std::f64::consts::TAU).abs() < 1e-9);
+        let mut pts = Vec::new();
+        sample(&half_cw, &mut pts);
+        assert_eq!(pts.len(), 18);
+        // A clockwise half circle from (0,0) to (10,0) about (5,0) passes through (5, 5).
+        assert!(pts.iter().any(|q| (q[0] - 5.0).abs() < 1e-9 && (q[1] - 5.0).abs() < 1e-9));
+    }
+}

@@ -1,0 +1,149 @@
+//! Expression trees, stored in a per-block arena.
+
+use crate::text::TextRange;
+
+/// Index of an expression in [`super::Block::exprs`].
+pub type ExprId = u32;
+
+/// A unary function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Func {
+    /// Sine of degrees.
+    Sin,
+    /// Cosine of degrees.
+    Cos,
+    /// Tangent of degrees.
+    Tan,
+    /// Arc sine, degrees.
+    Asin,
+    /// Arc cosine, degrees.
+    Acos,
+    /// Arc tangent, degrees (one-argument form).
+    Atan,
+    /// Square root.
+    Sqrt,
+    /// Absolute value.
+    Abs,
+    /// Round half away from zero.
+    Round,
+    /// Round down (floor in LinuxCNC).
+    Fix,
+    /// Round up (ceiling in LinuxCNC).
+    Fup,
+    /// Natural logarithm.
+    Ln,
+    /// e to the power.
+    Exp,
+    /// Whether a named parameter exists.
+    Exists,
+    /// Negation.
+    Neg,
+    /// Logical not.
+    Not,
+}
+
+impl Func {
+    /// The function called `name` (upper case), if any.
+    pub fn named(name: &str) -> Option<Func> {
+        Some(match name {
+            "SIN" => Func::Sin,
+            "COS" => Func::Cos,
+            "TAN" => Func::Tan,
+            "ASIN" => Func::Asin,
+            "ACOS" => Func::Acos,
+            "ATAN" => Func::Atan,
+            "SQRT" => Func::Sqrt,
+            "ABS" => Func::Abs,
+            "ROUND" => Func::Round,
+            "FIX" => Func::Fix,
+            "FUP" => Func::Fup,
+            "LN" => Func::Ln,
+            "EXP" => Func::Exp,
+            "EXISTS" => Func::Exists,
+            "NOT" => Func::Not,
+            _ => return None,
+        })
+    }
+}
+
+/// A binary operator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinOp {
+    /// `**`
+    Pow,
+    /// `*`
+    Mul,
+    /// `/`
+    Div,
+    /// `MOD`
+    Mod,
+    /// `+`
+    Add,
+    /// `-`
+    Sub,
+    /// `EQ`
+    Eq,
+    /// `NE`
+    Ne,
+    /// `GT`
+    Gt,
+    /// `GE`
+    Ge,
+    /// `LT`
+    Lt,
+    /// `LE`
+    Le,
+    /// `AND`
+    And,
+    /// `OR`
+    Or,
+    /// `XOR`
+    Xor,
+}
+
+impl BinOp {
+    /// Binding strength; higher binds tighter.
+    pub fn precedence(self) -> u8 {
+        match self {
+            BinOp::Pow => 5,
+            BinOp::Mul | BinOp::Div | BinOp::Mod => 4,
+            BinOp::Add | BinOp::Sub => 3,
+            BinOp::Eq | BinOp::Ne | BinOp::Gt | BinOp::Ge | BinOp::Lt | BinOp::Le => 2,
+            BinOp::And | BinOp::Or | BinOp::Xor => 1,
+        }
+    }
+
+    /// The word operator called `name` (upper case), if any.
+    pub fn named(name: &str) -> Option<BinOp> {
+        Some(match name {
+            "MOD" => BinOp::Mod,
+            "EQ" => BinOp::Eq,
+            "NE" => BinOp::Ne,
+            "GT" => BinOp::Gt,
+            "GE" => BinOp::Ge,
+            "LT" => BinOp::Lt,
+            "LE" => BinOp::Le,
+            "AND" => BinOp::And,
+            "OR" => BinOp::Or,
+            "XOR" => BinOp::Xor,
+            _ => return None,
+        })
+    }
+}
+
+/// An expression node.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Expr {
+    /// A number.
+    Num(f64),
+    /// A numbered parameter whose number is the inner expression (`#1`, `#[#2+1]`).
+    Param(ExprId),
+    /// A named parameter (`#<depth>`); the range covers the name.
+    Named(TextRange),
+    /// A function of one argument.
+    Unary(Func, ExprId),
+    /// Two-argument arc tangent `ATAN[y]/[x]`, degrees.
+    Atan2(ExprId, ExprId),
+    /// A binary operation.
+    Binary(BinOp, ExprId, ExprId),
+}

@@ -1,0 +1,109 @@
+//! Lexical and syntax analysis: program text → blocks of words, driven by a [`Dialect`].
+//!
+//! The parser is a streaming cursor: [`Parser::next_block`] refills one reusable [`Block`]
+//! per call, so memory does not grow with program length. It never fails; findings go to a
+//! diagnostics vector and the block keeps what could be read.
+
+mod expr;
+mod parser;
+
+pub use expr::{BinOp, Expr, ExprId, Func};
+pub use parser::Parser;
+
+use crate::dialect::Role;
+use crate::text::TextRange;
+
+/// The value of a word or assignment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    /// A literal number; `decimal` tells whether it was written with a decimal point.
+    Number {
+        /// The value as written.
+        value: f64,
+        /// Whether a decimal point was present.
+        decimal: bool,
+    },
+    /// An expression in the block's arena.
+    Expr(ExprId),
+}
+
+/// An address and its value, such as `X10.5` or `CR=5`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Word {
+    /// What the value means to the engine.
+    pub role: Role,
+    /// Upper-case first letter of the address (for messages and G/M dispatch).
+    pub letter: u8,
+    /// The value.
+    pub value: Value,
+    /// Source range of the whole word.
+    pub range: TextRange,
+}
+
+/// The target of a parameter assignment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParamTarget {
+    /// `#<expr>=`: a numbered parameter whose number is an expression.
+    Numbered(ExprId),
+    /// `#<name>=`: a named parameter; the range covers the name.
+    Named(TextRange),
+}
+
+/// A parameter assignment such as `#1=2.0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Assign {
+    /// Target.
+    pub target: ParamTarget,
+    /// Value expression.
+    pub value: ExprId,
+    /// Source range.
+    pub range: TextRange,
+}
+
+/// One block (line) of a program.
+#[derive(Clone, Debug, Default)]
+pub struct Block {
+    /// Source range of the block, without its line terminator.
+    pub range: TextRange,
+    /// 1-based physical line of the block's start.
+    pub line: u32,
+    /// Whether the block carries the block-skip character.
+    pub skip: bool,
+    /// Block number (`N120`).
+    pub number: Option<u32>,
+    /// Program number at program start (`O1234`).
+    pub program_number: Option<u32>,
+    /// Whether the block is a program delimiter line (`%`).
+    pub delimiter: bool,
+    /// Words in source order.
+    pub words: Vec<Word>,
+    /// Parameter assignments in source order.
+    pub assigns: Vec<Assign>,
+    /// Comment texts (inside the delimiters).
+    pub comments: Vec<TextRange>,
+    /// A control-flow statement (`o100 sub`), kept whole.
+    pub control: Option<TextRange>,
+    /// Expression arena for this block.
+    pub exprs: Vec<Expr>,
+}
+
+impl Block {
+    fn clear(&mut self) {
+        self.range = TextRange::default();
+        self.line = 0;
+        self.skip = false;
+        self.number = None;
+        self.program_number = None;
+        self.delimiter = false;
+        self.words.clear();
+        self.assigns.clear();
+        self.comments.clear();
+        self.control = None;
+        self.exprs.clear();
+    }
+
+    /// True when the block holds nothing to execute.
+    pub fn is_empty(&self) -> bool {
+        self.words.is_empty() && self.assigns.is_empty() && self.comments.is_empty() && self.control.is_none()
+    }
+}

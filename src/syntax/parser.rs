@@ -1,0 +1,597 @@
+//! The streaming block parser.
+
+use super::expr::{BinOp, Expr, ExprId, Func};
+use super::{Assign, Block, ParamTarget, Value, Word};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CommentClose, Dialect, SkipPosition};
+use crate::text::TextRange;
+
+/// Nesting limit for brackets, against stack exhaustion on hostile input.
+const MAX_DEPTH: u32 = 64;
+
+/// A cursor over a program text that yields one block at a time.
+pub struct Parser<'a> {
+    text: &'a str,
+    bytes: &'a [u8],
+    pos: usize,
+    line: u32,
+    dialect: &'a Dialect,
+}
+
+impl<'a> Parser<'a> {
+    /// A parser at the start of `text`.
+    pub fn new(text: &'a str, dialect: &'a Dialect) -> Parser<'a> {
+        Parser { text, bytes: text.as_bytes(), pos: 0, line: 1, dialect }
+    }
+
+    /// The byte offset of the next block.
+    pub fn offset(&self) -> usize {
+        self.pos
+    }
+
+    /// Moves the cursor to `offset` (a block start previously seen) on 1-based `line`.
+    pub fn seek(&mut self, offset: usize, line: u32) {
+        self.pos = offset.min(self.bytes.len());
+        self.line = line;
+    }
+
+    /// Reads the next block into `block`. Returns false at the end of the text.
+    pub fn next_block(&mut self, block: &mut Block, diags: &mut Vec<Diagnostic>) -> bool {
+        if self.pos >= self.bytes.len() {
+            return false;
+        }
+        block.clear();
+        block.line = self.line;
+        let start = self.pos;
+        let mut lx = Lexer { text: self.text, b: self.bytes, i: start, dialect: self.dialect, block, diags };
+        let end = lx.block();
+        let mut i = lx.i;
+        block.range = TextRange::new(start, end);
+        match self.bytes.get(i) {
+            Some(b'\r') => {
+                i += 1;
+                if self.bytes.get(i) == Some(&b'\n') {
+                    i += 1;
+                }
+                self.line += 1;
+            }
+            Some(b'\n') => {
+                i += 1;
+                self.line += 1;
+            }
+            Some(_) => i += 1, // the end-of-block character
+            None => {}
+        }
+        self.pos = i;
+        true
+    }
+}
+
+struct Lexer<'t, 'b> {
+    text: &'t str,
+    b: &'t [u8],
+    i: usize,
+    dialect: &'t Dialect,
+    block: &'b mut Block,
+    diags: &'b mut Vec<Diagnostic>,
+}
+
+impl Lexer<'_, '_> {
+    fn peek(&self) -> Option<u8> {
+        self.b.get(self.i).copied()
+    }
+
+    fn skip_blanks(&mut self) {
+        while matches!(self.peek(), Some(b' ' | b'\t' | 0x0c)) {
+            self.i += 1;
+        }
+    }
+
+    fn error(&mut self, code: Code, start: usize, end: usize, msg: impl Into<String>) {
+        self.diags.push(Diagnostic::new(code, TextRange::new(start, end), msg));
+    }
+
+    /// Index of the end of the physical line from `i`.
+    fn line_end(&self) -> usize {
+        let rest = &self.b[self.i..];
+        self.i + rest.iter().position(|&c| c == b'\n' || c == b'\r').unwrap_or(rest.len())
+    }
+
+    fn char_len(&self, at: usize) -> usize {
+        self.text[at..].chars().next().map_or(1, char::len_utf8)
+    }
+
+    /// Lexes one block; returns the end of its text (before any terminator).
+    fn block(&mut self) -> usize {
+        let lex = &self.dialect.lexical;
+        self.skip_blanks();
+        if let Some((skip, _)) = lex.block_skip
+            && self.peek() == Some(skip as u8)
+        {
+            self.block.skip = true;
+            self.i += 1;
+            self.skip_blanks();
+        }
+        if let Some(d) = lex.program_delimiter
+            && self.peek() == Some(d as u8)
+            && self.block.words.is_empty()
+        {
+            self.block.delimiter = true;
+            self.i = self.line_end();
+            return self.i;
+        }
+        loop {
+            self.skip_blanks();
+            let Some(c) = self.peek() else { break };
+            if c == b'\n' || c == b'\r' {
+                break;
+            }
+            if lex.block_end == Some(c as char) {
+                let end = self.i;
+                return end;
+            }
+            if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c) {
+                let close = rule.close.clone();
+                self.comment(&close);
+                continue;
+            }
+            if let Some((sigil, _)) = lex.parameter
+                && c == sigil as u8
+            {
+                self.assignment();
+                continue;
+            }
+            if c.is_ascii_alphabetic() {
+                self.address();
+                continue;
+            }
+            let start = self.i;
+            let len = self.char_len(start);
+            let shown = &self.text[start..start + len];
+            self.error(Code::UnknownAddress, start, start + len, format!("unexpected character `{shown}`"));
+            self.i += len;
+        }
+        self.i
+    }
+
+    fn comment(&mut self, close: &CommentClose) {
+        let open = self.i;
+        self.i += 1;
+        let eol = self.line_end();
+        match close {
+            CommentClose::EndOfLine => {
+                self.block.comments.push(TextRange::new(open + 1, eol));
+                self.i = eol;
+            }
+            CommentClose::Char(c) => {
+                let rest = &self.b[self.i..eol];
+                match rest.iter().position(|&x| x == *c as u8) {
+                    Some(p) => {
+                        self.block.comments.push(TextRange::new(self.i, self.i + p));
+                        self.i += p + 1;
+                    }
+                    None => {
+                        self.block.comments.push(TextRange::new(self.i, eol));
+                        self.error(
+                            Code::UnterminatedComment,
+                            open,
+                            eol,
+                            format!("comment is not closed with `{c}` before the end of the line"),
+                        );
+                        self.i = eol;
+                    }
+                }
+            }
+        }
+    }
+
+    fn address(&mut self) {
+        let start = self.i;
+        let lex = &self.dialect.lexical;
+        // Multi-letter addresses such as `CR=` (longest first).
+        for a in self.dialect.long_addresses() {
+            let n = a.name.len();
+            if self.b.len() >= start + n && self.b[start..start + n].eq_ignore_ascii_case(a.name.as_bytes()) {
+                let mut j = start + n;
+                while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+                    j += 1;
+                }
+                let next = self.b.get(j).copied();
+                let ok = if a.assign { next == Some(b'=') } else { !next.is_some_and(|x| x.is_ascii_alphabetic()) };
+                if ok {
+                    self.i = if a.assign { j + 1 } else { start + n };
+                    let (role, letter) = (a.role, a.name.as_bytes()[0]);
+                    if let Some(value) = self.value(start) {
+                        self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i) });
+                    }
+                    return;
+                }
+            }
+        }
+        let letter = self.b[start].to_ascii_uppercase();
+        let next = self.b.get(start + 1).copied();
+        if lex.control_word == Some(letter as char) {
+            let end = self.line_end();
+            self.block.control = Some(TextRange::new(start, end));
+            self.i = end;
+            return;
+        }
+        if next.is_some_and(|x| x.is_ascii_alphabetic()) {
+            // A keyword (`IF`, `GOTO`, `WHILE`): a statement the word-address grammar does not cover.
+            let end = self.line_end();
+            let end = self.text[start..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| start + p);
+            self.block.control = Some(TextRange::new(start, end));
+            self.i = end;
+            return;
+        }
+        self.i += 1;
+        if lex.block_number == Some(letter as char) {
+            if let Some(n) = self.integer(start) {
+                self.block.number = Some(n);
+            }
+            if let Some((skip, SkipPosition::LineStartOrAfterNumber)) = lex.block_skip {
+                self.skip_blanks();
+                if self.peek() == Some(skip as u8) {
+                    self.block.skip = true;
+                    self.i += 1;
+                }
+            }
+            return;
+        }
+        if lex.program_number == Some(letter as char) {
+            if let Some(n) = self.integer(start) {
+                self.block.program_number = Some(n);
+            }
+            return;
+        }
+        let Some(role) = self.dialect.letter_role(letter) else {
+            let _ = self.value(start);
+            self.error(
+                Code::UnknownAddress,
+                start,
+                self.i.max(start + 1),
+                format!("`{}` is not an address in the {} dialect", letter as char, self.dialect.name),
+            );
+            return;
+        };
+        if let Some(value) = self.value(start) {
+            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i) });
+        }
+    }
+
+    fn integer(&mut self, start: usize) -> Option<u32> {
+        self.skip_blanks();
+        let from = self.i;
+        while self.peek().is_some_and(|c| c.is_ascii_digit()) {
+            self.i += 1;
+        }
+        if self.peek() == Some(b'.') {
+            self.i += 1;
+            while self.peek().is_some_and(|c| c.is_ascii_digit()) {
+                self.i += 1;
+            }
+        }
+        let digits = &self.text[from..self.i];
+        let int = digits.split('.').next().unwrap_or("");
+        match int.parse::<u32>() {
+            Ok(n) => Some(n),
+            Err(_) => {
+                let what = self.text[start..start + 1].to_owned();
+                self.error(Code::MalformedNumber, start, self.i.max(start + 1), format!("`{what}` needs a whole number"));
+                None
+            }
+        }
+    }
+
+    /// Reads a word value after its address.
+    fn value(&mut self, start: usize) -> Option<Value> {
+        self.skip_blanks();
+        let Some(c) = self.peek() else {
+            self.error(Code::MissingValue, start, self.i, format!("`{}` has no value", &self.text[start..self.i].trim()));
+            return None;
+        };
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        let sign_then_expr = matches!(c, b'+' | b'-')
+            && self.b.get(self.i + 1).is_some_and(|&n| Some(n) == expr_open || Some(n) == sigil || n.is_ascii_alphabetic());
+        if c.is_ascii_digit() || c == b'.' || (matches!(c, b'+' | b'-') && !sign_then_expr) {
+            return self.number().map(|(value, decimal)| Value::Number { value, decimal });
+        }
+        let is_func = c.is_ascii_alphabetic() && {
+            let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+            Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_some()
+        };
+        if Some(c) == expr_open || Some(c) == sigil || sign_then_expr || is_func {
+            return self.unary(0).map(Value::Expr);
+        }
+        self.error(Code::MissingValue, start, self.i, format!("`{}` has no value", self.text[start..self.i].trim()));
+        None
+    }
+
+    /// Reads a literal number: sign, digits, at most one point; returns it and whether a
+    /// decimal point was written.
+    fn number(&mut self) -> Option<(f64, bool)> {
+        let start = self.i;
+        let spaces = self.dialect.lexical.spaces_in_numbers;
+        let mut negative = false;
+        if let Some(s @ (b'+' | b'-')) = self.peek() {
+            negative = s == b'-';
+            self.i += 1;
+            if spaces {
+                self.skip_blanks();
+            }
+        }
+        let (mut mantissa, mut digits, mut frac, mut point, mut exact) = (0u64, 0u32, 0u32, false, true);
+        loop {
+            match self.peek() {
+                Some(d @ b'0'..=b'9') => {
+                    if digits < 19 {
+                        mantissa = mantissa * 10 + u64::from(d - b'0');
+                        if point {
+                            frac += 1;
+                        }
+                    } else {
+                        exact = false;
+                    }
+                    digits += 1;
+                    self.i += 1;
+                }
+                Some(b'.') if !point => {
+                    point = true;
+                    self.i += 1;
+                }
+                Some(b'.') => {
+                    let s = self.i;
+                    while matches!(self.peek(), Some(b'0'..=b'9' | b'.')) {
+                        self.i += 1;
+                    }
+                    self.error(
+                        Code::MalformedNumber,
+                        start,
+                        self.i,
+                        format!("`{}` has more than one decimal point", &self.text[start..self.i]),
+                    );
+                    let _ = s;
+                    return None;
+                }
+                Some(b' ' | b'\t') if spaces => {
+                    let mut j = self.i;
+                    while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+                        j += 1;
+                    }
+                    if matches!(self.b.get(j), Some(b'0'..=b'9' | b'.')) && digits > 0 && !self.b[j..].starts_with(b"..") {
+                        self.i = j;
+                    } else {
+                        break;
+                    }
+                }
+                _ => break,
+            }
+        }
+        if digits == 0 {
+            self.error(
+                Code::MalformedNumber,
+                start,
+                self.i.max(start + 1),
+                format!("`{}` is not a number", self.text[start..self.i.max(start + 1).min(self.b.len())].trim()),
+            );
+            return None;
+        }
+        let v = if exact && mantissa < (1 << 53) && frac <= 22 {
+            mantissa as f64 / POW10[frac as usize]
+        } else {
+            let s: String = self.text[start..self.i].chars().filter(|c| c.is_ascii_digit() || *c == '.').collect();
+            s.parse::<f64>().unwrap_or(0.0)
+        };
+        Some((if negative { -v } else { v }, point))
+    }
+
+    fn push(&mut self, e: Expr) -> ExprId {
+        self.block.exprs.push(e);
+        (self.block.exprs.len() - 1) as ExprId
+    }
+
+    fn expect(&mut self, c: u8, what: &str, start: usize) -> bool {
+        self.skip_blanks();
+        if self.peek() == Some(c) {
+            self.i += 1;
+            true
+        } else {
+            let end = self.i.max(start + 1).min(self.b.len());
+            self.error(Code::MalformedExpression, start, end, format!("expected `{}` {what}", c as char));
+            false
+        }
+    }
+
+    /// A full expression with binary operators, by precedence climbing.
+    fn expr(&mut self, depth: u32, min_prec: u8) -> Option<ExprId> {
+        let mut lhs = self.unary(depth)?;
+        loop {
+            self.skip_blanks();
+            let save = self.i;
+            let Some(op) = self.binop() else { break };
+            if op.precedence() < min_prec {
+                self.i = save;
+                break;
+            }
+            let rhs = self.expr(depth + 1, op.precedence() + 1)?;
+            lhs = self.push(Expr::Binary(op, lhs, rhs));
+        }
+        Some(lhs)
+    }
+
+    fn binop(&mut self) -> Option<BinOp> {
+        let c = self.peek()?;
+        let op = match c {
+            b'*' if self.b.get(self.i + 1) == Some(&b'*') => {
+                self.i += 2;
+                return Some(BinOp::Pow);
+            }
+            b'*' => BinOp::Mul,
+            b'/' => BinOp::Div,
+            b'+' => BinOp::Add,
+            b'-' => BinOp::Sub,
+            c if c.is_ascii_alphabetic() => {
+                let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+                let word = self.text[self.i..end].to_ascii_uppercase();
+                let op = BinOp::named(&word)?;
+                self.i = end;
+                return Some(op);
+            }
+            _ => return None,
+        };
+        self.i += 1;
+        Some(op)
+    }
+
+    /// A signed operand: number, bracketed expression, parameter or function call.
+    fn unary(&mut self, depth: u32) -> Option<ExprId> {
+        let start = self.i;
+        if depth > MAX_DEPTH {
+            self.error(Code::MalformedExpression, start, start + 1, "expression is nested too deeply");
+            self.i = self.line_end();
+            return None;
+        }
+        self.skip_blanks();
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let expr_close = self.dialect.lexical.expression.map(|(_, c)| c as u8);
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        let Some(c) = self.peek() else {
+            self.error(Code::MalformedExpression, start, start, "expression ends early");
+            return None;
+        };
+        match c {
+            b'-' | b'+' => {
+                self.i += 1;
+                let inner = self.unary(depth + 1)?;
+                Some(if c == b'-' { self.push(Expr::Unary(Func::Neg, inner)) } else { inner })
+            }
+            b'0'..=b'9' | b'.' => {
+                let (v, _) = self.number()?;
+                Some(self.push(Expr::Num(v)))
+            }
+            c if Some(c) == expr_open => {
+                self.i += 1;
+                let e = self.expr(depth + 1, 0)?;
+                if !self.expect(expr_close.unwrap_or(b']'), "to close the expression", start) {
+                    return None;
+                }
+                Some(e)
+            }
+            c if Some(c) == sigil => {
+                self.i += 1;
+                self.skip_blanks();
+                if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
+                    let name = self.name(start)?;
+                    return Some(self.push(Expr::Named(name)));
+                }
+                let inner = self.unary(depth + 1)?;
+                Some(self.push(Expr::Param(inner)))
+            }
+            c if c.is_ascii_alphabetic() => {
+                let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+                let word = self.text[self.i..end].to_ascii_uppercase();
+                let Some(func) = Func::named(&word) else {
+                    self.error(Code::MalformedExpression, start, end, format!("unknown function `{word}`"));
+                    self.i = end;
+                    return None;
+                };
+                self.i = end;
+                self.skip_blanks();
+                if func == Func::Exists {
+                    if !self.expect(expr_open.unwrap_or(b'['), "after EXISTS", start) {
+                        return None;
+                    }
+                    self.skip_blanks();
+                    if self.peek() == sigil {
+                        self.i += 1;
+                    }
+                    self.skip_blanks();
+                    let name = self.name(start)?;
+                    let n = self.push(Expr::Named(name));
+                    if !self.expect(expr_close.unwrap_or(b']'), "to close EXISTS", start) {
+                        return None;
+                    }
+                    return Some(self.push(Expr::Unary(Func::Exists, n)));
+                }
+                if self.peek() != expr_open {
+                    self.error(Code::MalformedExpression, start, self.i, format!("`{word}` needs its argument in brackets"));
+                    return None;
+                }
+                let arg = self.unary(depth + 1)?;
+                if func == Func::Atan {
+                    self.skip_blanks();
+                    if self.peek() == Some(b'/') && self.b.get(self.i + 1).is_some_and(|&n| Some(n) == expr_open || n == b' ') {
+                        self.i += 1;
+                        let x = self.unary(depth + 1)?;
+                        return Some(self.push(Expr::Atan2(arg, x)));
+                    }
+                }
+                Some(self.push(Expr::Unary(func, arg)))
+            }
+            _ => {
+                let len = self.char_len(start);
+                self.error(
+                    Code::MalformedExpression,
+                    start,
+                    start + len,
+                    format!("unexpected `{}` in expression", &self.text[start..start + len]),
+                );
+                None
+            }
+        }
+    }
+
+    /// `<name>` after a sigil; returns the range of the name.
+    fn name(&mut self, start: usize) -> Option<TextRange> {
+        self.i += 1; // '<'
+        let from = self.i;
+        let eol = self.line_end();
+        match self.b[self.i..eol].iter().position(|&c| c == b'>') {
+            Some(p) => {
+                self.i += p + 1;
+                Some(TextRange::new(from, from + p))
+            }
+            None => {
+                self.error(Code::MalformedExpression, start, eol, "parameter name is not closed with `>`");
+                self.i = eol;
+                None
+            }
+        }
+    }
+
+    fn assignment(&mut self) {
+        let start = self.i;
+        self.i += 1;
+        self.skip_blanks();
+        let target = if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, n)| n) {
+            match self.name(start) {
+                Some(r) => ParamTarget::Named(r),
+                None => return,
+            }
+        } else {
+            match self.unary(1) {
+                Some(e) => ParamTarget::Numbered(e),
+                None => {
+                    self.i = self.line_end();
+                    return;
+                }
+            }
+        };
+        self.skip_blanks();
+        if self.peek() != Some(b'=') {
+            // A parameter read without assignment is meaningless in a block.
+            self.error(Code::MalformedExpression, start, self.i.max(start + 1), "a parameter here must be assigned with `=`");
+            return;
+        }
+        self.i += 1;
+        let Some(value) = self.expr(1, 0) else {
+            self.i = self.line_end();
+            return;
+        };
+        self.block.assigns.push(Assign { target, value, range: TextRange::new(start, self.i) });
+    }
+}
+
+const POW10: [f64; 23] =
+    [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22];
