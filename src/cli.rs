@@ -419,7 +419,7 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
 fn write_report(out: &mut impl Write, store: &Store) -> Result<()> {
     let (_, rows) = store.query(
         "SELECT machine, program, original_path, edited_path, revision_id, workingstep, kind, field, before, after, detected_at, operation
-         FROM shopfloor_changes ORDER BY machine, program, revision_id, workingstep, rowid",
+         FROM shopfloor_changes ORDER BY machine, program, revision_id, change_id",
     )?;
     writeln!(out, "# Shopfloor changes\n")?;
     if rows.is_empty() {

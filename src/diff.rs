@@ -230,10 +230,19 @@ fn compare(pa: &ProcessPlan, pb: &ProcessPlan, a: &Workingstep, b: &Workingstep,
     if a.tool != b.tool {
         push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool));
     }
+    let depth_delta = match (a.depth, b.depth) {
+        (Some(x), Some(y)) => y - x,
+        _ => 0.0,
+    };
     if let (Some(x), Some(y)) = (a.start_point, b.start_point)
         && geom::dist(x, y) > TOLERANCE
     {
-        push(ChangeKind::StartPointMoved, "start_point", point(x, Some(y)), point(y, Some(x)));
+        // A start point that only sinks with the depth is the depth change, reported below.
+        let only_depth =
+            (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE && (y[2] - x[2] - depth_delta).abs() <= TOLERANCE;
+        if !only_depth {
+            push(ChangeKind::StartPointMoved, "start_point", point(x, Some(y)), point(y, Some(x)));
+        }
     }
     let (ta, tb) = (&a.technology, &b.technology);
     let feeds_differ = ta.feeds.len() != tb.feeds.len() || ta.feeds.iter().zip(&tb.feeds).any(|(x, y)| (x - y).abs() > TOLERANCE);

@@ -136,8 +136,8 @@ pub fn decode(bytes: &[u8]) -> (SourceText, Vec<Diagnostic>) {
         Ok(s) => (SourceText { text: s.to_owned(), encoding: Encoding::Utf8 }, diags),
         Err(e) => {
             let text: String = body.iter().map(|&b| windows_1252(b)).collect();
-            let at = TextRange::new(e.valid_up_to(), e.valid_up_to() + 1);
-            diags.push(Diagnostic::new(Code::NotUtf8, at, "the file is not valid UTF-8; it was read as Windows-1252 (Latin-1)"));
+            let msg = format!("the file is not valid UTF-8 (first at byte {}); it was read as Windows-1252 (Latin-1)", e.valid_up_to());
+            diags.push(Diagnostic::new(Code::NotUtf8, TextRange::default(), msg));
             (SourceText { text, encoding: Encoding::Windows1252 }, diags)
         }
     }

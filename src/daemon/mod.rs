@@ -233,11 +233,12 @@ fn folder_of(config: &Config, path: &Path) -> Option<usize> {
 }
 
 fn consider(config: &Config, path: &Path, pending: &mut BTreeMap<PathBuf, Pending>) {
-    let Some(name) = path.file_name().and_then(|n| n.to_str()) else { return };
-    if config.ignored(name) || path.components().any(|c| c.as_os_str().to_str().is_some_and(|s| s.starts_with('.') && s.len() > 1)) {
+    let Some(folder) = folder_of(config, path) else { return };
+    let Ok(rel) = path.strip_prefix(&config.folders[folder].path) else { return };
+    // Editor and temporary files, and anything inside hidden folders, are not programs.
+    if rel.components().any(|c| c.as_os_str().to_str().is_none_or(|s| config.ignored(s))) {
         return;
     }
-    let Some(folder) = folder_of(config, path) else { return };
     let Ok(meta) = std::fs::metadata(path) else { return };
     if !meta.is_file() {
         return;

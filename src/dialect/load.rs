@@ -301,6 +301,7 @@ impl Cx {
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
+            assign_before_reads: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -315,6 +316,7 @@ impl Cx {
                 "peck-clearance-mm",
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
+                "parameter-assignment",
             ],
             &[],
         );
@@ -342,6 +344,17 @@ impl Cx {
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
+        b.assign_before_reads = match self.attr(el, "parameter-assignment").unwrap_or("after-reads") {
+            "after-reads" => false,
+            "before-reads" => true,
+            other => {
+                self.error(
+                    Self::attr_range(el, "parameter-assignment"),
+                    format!("`parameter-assignment` must be after-reads or before-reads, not `{other}`"),
+                );
+                false
+            }
+        };
         b
     }
 

@@ -119,6 +119,9 @@ pub struct Behaviour {
     pub peck_clearance_inch: f64,
     /// Maximum start/end radius difference of an arc, mm.
     pub arc_tolerance_mm: f64,
+    /// Whether `#1=2 F#1` reads the new value (macro statements run first, as on Fanuc) or
+    /// the old one (all reads of a block precede its assignments, as in RS274NGC).
+    pub assign_before_reads: bool,
 }
 
 /// An address: a letter or a multi-letter name and the role its value plays.

@@ -237,10 +237,16 @@ impl<'a> Interpreter<'a> {
             );
             return;
         }
+        let early = self.dialect.behaviour.assign_before_reads;
+        if early {
+            self.assign(block, diags);
+        }
         if !self.read(block, diags) {
             return;
         }
-        self.assign(block, diags);
+        if !early {
+            self.assign(block, diags);
+        }
         for &step in &self.dialect.execution_order {
             self.step(step, block, sink, diags);
             if self.st.ended {

@@ -19,7 +19,7 @@ use crate::diff::Change;
 #[non_exhaustive]
 pub enum StoreError {
     /// SQLite failed.
-    #[error("database error while {about}: {source}")]
+    #[error("database error while {about}")]
     Sql {
         /// What was being done.
         about: &'static str,

@@ -91,7 +91,8 @@ SELECT m.name        AS machine,
        c.before      AS before,
        c.after       AS after,
        c.detected_at AS detected_at,
-       c.operation   AS operation
+       c.operation   AS operation,
+       c.id          AS change_id
 FROM changes c
 JOIN revisions r   ON r.id = c.revision_id
 JOIN programs p    ON p.id = r.program_id
@@ -109,22 +110,11 @@ mod tests {
         let s = Store::open_in_memory().unwrap();
         assert_eq!(s.version().unwrap(), super::MIGRATIONS.len());
         let (cols, _) = s.query("SELECT * FROM shopfloor_changes").unwrap();
-        assert_eq!(
-            cols,
-            [
-                "machine",
-                "program",
-                "original_path",
-                "edited_path",
-                "revision_id",
-                "workingstep",
-                "kind",
-                "field",
-                "before",
-                "after",
-                "detected_at",
-                "operation"
-            ]
-        );
+        let want =
+            "machine program original_path edited_path revision_id workingstep kind field before after detected_at operation change_id";
+        assert_eq!(cols.join(" "), want);
+        s.conn.execute_batch("INSERT INTO blobs VALUES ('h', 1, x'00')").unwrap();
+        assert!(s.conn.execute_batch("UPDATE blobs SET size = 2").is_err());
+        assert!(s.conn.execute_batch("DELETE FROM blobs").is_err());
     }
 }

@@ -1,0 +1,120 @@
+//! The binary's commands, exit codes and output formats.
+
+use std::process::Command;
+
+fn ncplan(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(crate::bin()).args(args).current_dir(crate::root()).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn diff_ignores_renumbering_comments_case_and_number_spelling() {
+    let tmp = tempfile::tempdir().unwrap();
+    let a = tmp.path().join("a.nc");
+    let b = tmp.path().join("b.nc");
+    std::fs::write(&a, "O1 (ROUGH)\nN10 T1 M6\nN20 S1000 M3\nN30 G0 X10. Y0 Z5.\nN40 G1 Z-1. F100.\nN50 X20.\nN60 M30\n").unwrap();
+    std::fs::write(
+        &b,
+        "o1 (rough, checked by Ann)\nn1 t1 m06\nn2 s1000 m03\nn3 g00 x10.000 y0.0 z5\nn4 g01 z-1.0 f100.00\nn5   x20.00\nn6 m30\n",
+    )
+    .unwrap();
+    let (code, out, _) = ncplan(&["diff", "-d", "fanuc", a.to_str().unwrap(), b.to_str().unwrap(), "--format", "json", "--exit-code"]);
+    assert_eq!((code, out.trim()), (0, "[]"));
+}
+
+#[test]
+fn diff_reports_typed_changes_as_json_and_sentences() {
+    let (code, out, _) = ncplan(&["diff", "-d", "fanuc", "demo/cam/O1234.nc", "demo/examples/O1234_edited.nc", "--exit-code"]);
+    assert_eq!(code, 1);
+    assert_eq!(out.trim(), "workingstep 1 (face milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20");
+    let (_, json, _) = ncplan(&["diff", "-d", "fanuc", "demo/cam/O1234.nc", "demo/examples/O1234_edited.nc", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let kinds: Vec<&str> = v.as_array().unwrap().iter().map(|c| c["kind"].as_str().unwrap()).collect();
+    assert_eq!(kinds, ["tool_renamed", "start_point_moved"]);
+    for key in ["kind", "workingstep", "field", "before", "after"] {
+        assert!(v[0].get(key).is_some(), "{key}");
+    }
+}
+
+#[test]
+fn diff_reports_feed_speed_depth_and_added_steps() {
+    let tmp = tempfile::tempdir().unwrap();
+    let a = tmp.path().join("a.ngc");
+    let b = tmp.path().join("b.ngc");
+    std::fs::write(&a, "T1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nX50\nY10\nX0\nG0 Z5\nM30\n").unwrap();
+    std::fs::write(
+        &b,
+        "T1 M6\nS1200 M3\nG0 X0 Y0 Z5\nG1 Z-2 F80\nX50\nY10\nX0\nG0 Z5\nT2 M6\nS3000 M3\nG0 X5 Y5\nG81 X5 Y5 Z-10 R2 F50\nG80\nM30\n",
+    )
+    .unwrap();
+    let (_, json, _) = ncplan(&["diff", a.to_str().unwrap(), b.to_str().unwrap(), "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let got: Vec<(String, String, String)> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| (c["kind"].as_str().unwrap().into(), c["before"].as_str().unwrap().into(), c["after"].as_str().unwrap().into()))
+        .collect();
+    let want = [
+        ("feed_changed", "F100", "F80"),
+        ("spindle_speed_changed", "S1000", "S1200"),
+        ("depth_changed", "Z-1", "Z-2"),
+        ("workingstep_added", "", "drilling with T2, 12 mm of cut"),
+    ];
+    assert_eq!(got, want.map(|(a, b, c)| (a.to_owned(), b.to_owned(), c.to_owned())));
+}
+
+#[test]
+fn check_reports_all_findings_with_carets_and_exit_codes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = tmp.path().join("bad.ngc");
+    std::fs::write(&f, "G0 X1 Y2\nG1 X1.2.3 F100\nG0 G1 X5\n(open comment\nG83 X1 Y1 Z-5 R2\nM30\n").unwrap();
+    let (code, out, _) = ncplan(&["check", f.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}");
+    for code in ["syntax::malformed-number", "syntax::modal-group-conflict", "syntax::unterminated-comment", "syntax::missing-parameter"] {
+        assert!(out.contains(code), "{code} missing in\n{out}");
+    }
+    assert!(out.contains("bad.ngc:2:5"), "{out}");
+    assert!(out.contains("^"), "{out}");
+    let (_, json, _) = ncplan(&["check", f.to_str().unwrap(), "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(v["diagnostics"].as_array().unwrap().len() >= 4);
+    let good = tmp.path().join("good.ngc");
+    std::fs::write(&good, "G21 G90\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG2 X10 Y0 R5\nM30\n").unwrap();
+    assert_eq!(ncplan(&["check", good.to_str().unwrap()]).0, 0);
+}
+
+#[test]
+fn query_is_read_only() {
+    let tmp = tempfile::tempdir().unwrap();
+    let db = tmp.path().join("x.db");
+    drop(ncplan::store::Store::open(&db).unwrap());
+    let (code, out, _) = ncplan(&["query", "--db", db.to_str().unwrap(), "SELECT COUNT(*) AS n FROM revisions"]);
+    assert_eq!((code, out.as_str()), (0, "n\n0\n"));
+    let (code, _, err) = ncplan(&["query", "--db", db.to_str().unwrap(), "DROP TABLE changes"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("readonly") || err.contains("read-only") || err.contains("read only"), "{err}");
+    let (code, out, _) = ncplan(&["report", "--db", db.to_str().unwrap()]);
+    assert_eq!((code, out.contains("No changes recorded.")), (0, true));
+}
+
+#[test]
+fn canon_prints_rs274_calls() {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = tmp.path().join("a.ngc");
+    std::fs::write(&f, "G21 F100\nG0 X1 Y2 Z3\nG1 X[1+2*3-4/5] Z[SIN[30]]\n#1=2.0 F#1\nM2\n").unwrap();
+    let (code, out, _) = ncplan(&["canon", f.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    expect_test::expect![[r#"
+        SET_FEED_RATE(100.0000)
+        USE_LENGTH_UNITS(CANON_UNITS_MM)
+        STRAIGHT_TRAVERSE(1.0000, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(6.2000, 2.0000, 0.5000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(0.0000)
+        SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(0.0000)
+        STOP_SPINDLE_TURNING(0)
+        PROGRAM_END()
+    "#]]
+    .assert_eq(&out);
+}

@@ -1,0 +1,83 @@
+//! The dialect dictionary: shipped files load cleanly, pass the XSD, and broken files are
+//! reported with file:line:col.
+
+use std::process::Command;
+
+use ncplan::dialect::{self, Meaning, Registry, Role};
+
+#[test]
+fn shipped_dialects_load_without_findings() {
+    for (origin, text) in dialect::registry::SHIPPED {
+        let (d, diags) = dialect::load(text);
+        assert!(diags.is_empty(), "{origin}: {diags:?}");
+        let d = d.unwrap();
+        assert!(d.code('G', 10).is_some_and(|c| c.meaning == Meaning::Linear), "{origin}");
+        assert_eq!(d.letter_role(b'x'), Some(Role::X));
+    }
+    // The compiled-in copies are the files in dialects/.
+    for (origin, text) in dialect::registry::SHIPPED {
+        assert_eq!(std::fs::read_to_string(crate::root().join("dialects").join(origin)).unwrap(), *text);
+    }
+}
+
+#[test]
+fn shipped_dialects_validate_against_the_schema() {
+    let root = crate::root().join("dialects");
+    for (origin, _) in dialect::registry::SHIPPED {
+        let out = Command::new("xmllint")
+            .args(["--noout", "--schema"])
+            .arg(root.join("dialect.xsd"))
+            .arg(root.join(origin))
+            .output()
+            .expect("xmllint (Debian libxml2-utils) must be installed; .ci/run installs it");
+        assert!(out.status.success(), "{origin}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+}
+
+#[test]
+fn the_format_expresses_multi_letter_addresses_positional_cycles_and_keyword_blocks() {
+    // A sketch of what later dialects need: Siemens `CR=`, `CYCLE81(...)`, Heidenhain word-first.
+    let xml = r#"<dialect xmlns="urn:ncplan:dialect:1" name="sketch" family="siemens">
+  <lexical block-form="keyword-first">
+    <comment open=";" close="eol"/>
+    <block-skip char="/"/>
+    <continuation char="~"/>
+  </lexical>
+  <behaviour decimal-input="calculator" dwell-unit="seconds"/>
+  <addresses>
+    <address name="X" role="axis-x"/><address name="CR" role="radius" form="assign"/>
+    <address name="G" role="g-code"/><address name="I1" role="geometry" form="assign"/>
+  </addresses>
+  <keywords><keyword text="TOOL CALL" meaning="tool-change"/><keyword text="L" meaning="linear"/></keywords>
+  <execution-order>motion</execution-order>
+  <groups><group id="motion" step="motion"><code value="2" meaning="arc-cw" optional="X" any-of="CR"/></group></groups>
+  <cycles><cycle name="CYCLE81" meaning="cycle-drill"><arg name="RTP" role="retract-plane" use="required"/><arg name="RFP" role="reference-plane"/></cycle></cycles>
+</dialect>"#;
+    let mut r = Registry::default();
+    let d = r.add("sketch.xml", xml).unwrap();
+    assert_eq!(d.long_addresses().map(|a| a.name.as_str()).collect::<Vec<_>>(), ["CR", "I1"]);
+    assert_eq!(d.cycles[0].args.len(), 2);
+    assert_eq!(d.keywords[0].text, "TOOL CALL");
+    // And the engine reads `CR=` words through it.
+    let mut diags = Vec::new();
+    let mut block = ncplan::syntax::Block::default();
+    let mut p = ncplan::syntax::Parser::new("G2 X10 CR=5", &d);
+    assert!(p.next_block(&mut block, &mut diags));
+    assert_eq!(block.words.iter().map(|w| w.role).collect::<Vec<_>>(), [Role::G, Role::X, Role::R]);
+    assert!(diags.is_empty(), "{diags:?}");
+}
+
+#[test]
+fn broken_dialect_files_name_file_line_and_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = tmp.path().join("bad.xml");
+    let text =
+        std::fs::read_to_string(crate::root().join("dialects/fanuc.xml")).unwrap().replace(r#"meaning="rapid""#, r#"meaning="warp-speed""#);
+    std::fs::write(&f, &text).unwrap();
+    let out = Command::new(crate::bin()).arg("dialects").arg(&f).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let line = text.lines().position(|l| l.contains("warp-speed")).unwrap() + 1;
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(&format!("bad.xml:{line}:")), "{stdout}");
+    assert!(stdout.contains("unknown meaning `warp-speed`"), "{stdout}");
+}

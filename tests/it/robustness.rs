@@ -1,0 +1,68 @@
+//! Nothing panics or hangs: arbitrary bytes, mutated real programs, and the whole corpus.
+
+use ncplan::dialect::Registry;
+use ncplan::interp::Profile;
+use ncplan::pipeline::analyze;
+use proptest::prelude::*;
+
+fn dialects() -> Vec<std::sync::Arc<ncplan::dialect::Dialect>> {
+    let r = Registry::shipped();
+    r.names().map(|n| r.get(n).unwrap()).collect::<Vec<_>>()
+}
+
+fn check_ranges(bytes: &[u8]) {
+    for d in dialects() {
+        let a = analyze(bytes, &d, &Profile::default());
+        let len = a.source.text.len() as u32;
+        for x in &a.diagnostics {
+            assert!(x.range.start <= x.range.end && x.range.end <= len, "{x:?}");
+            assert!(
+                a.source.text.is_char_boundary(x.range.start as usize) && a.source.text.is_char_boundary(x.range.end as usize),
+                "{x:?}"
+            );
+        }
+        for c in &a.canon {
+            assert!(c.origin.end <= len);
+        }
+        let _ = serde_json::to_string(&a.plan).unwrap();
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
+        check_ranges(&bytes);
+    }
+
+    #[test]
+    fn gcode_like_text_never_panics(s in "[GMXYZIJKRFSTPQLHN#\\[\\]()0-9.+\\-*/ =<>a-z;%\n]{0,300}") {
+        check_ranges(s.as_bytes());
+    }
+
+    #[test]
+    fn mutated_real_programs_never_panic(seed in any::<u64>(), edits in proptest::collection::vec((any::<u16>(), any::<u8>()), 1..20)) {
+        let demo = std::fs::read(crate::root().join("demo/cam/O1234.nc")).unwrap();
+        let mut bytes = demo.clone();
+        for (i, (pos, b)) in edits.iter().enumerate() {
+            let at = (*pos as usize + seed as usize) % (bytes.len() + 1);
+            match (seed as usize + i) % 3 {
+                0 if at < bytes.len() => bytes[at] = *b,
+                1 => bytes.insert(at, *b),
+                _ if at < bytes.len() => { bytes.remove(at); }
+                _ => {}
+            }
+        }
+        check_ranges(&bytes);
+    }
+}
+
+#[test]
+fn hostile_inputs_are_diagnosed() {
+    let deep = format!("G1 X{}1{}\n", "[".repeat(10_000), "]".repeat(10_000));
+    check_ranges(deep.as_bytes());
+    check_ranges(b"\x00\x01\x02binary");
+    check_ranges("G1 X1e5 Y\u{00e9} (caf\u{00e9}\nG2 R0 X0\n".as_bytes());
+    check_ranges(&"G1 X1 Y2 Z3\n".repeat(20_000).into_bytes());
+}
