@@ -248,6 +248,26 @@ pub fn glob_match(pat: &[u8], s: &[u8]) -> bool {
     pat[p..].iter().all(|&c| c == b'*')
 }
 
+/// The shipped dialects plus every `*.xml` in `dir` (which may replace shipped ones).
+/// A broken dialect file is an error that names `file:line:col`.
+pub fn dialect_registry(dir: Option<&Path>) -> Result<crate::dialect::Registry> {
+    let mut registry = crate::dialect::Registry::shipped();
+    let Some(dir) = dir else { return Ok(registry) };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("cannot read the dialects folder {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("xml")))
+        .collect();
+    files.sort();
+    for f in files {
+        let text = std::fs::read_to_string(&f).with_context(|| format!("cannot read {}", f.display()))?;
+        if let Err(errors) = registry.add(&f.display().to_string(), &text) {
+            bail!("invalid dialect file:\n{}", errors.join("\n"));
+        }
+    }
+    Ok(registry)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,24 +295,4 @@ mod tests {
         let unknown = "[database]\npath='x.db'\ncolour='red'\n";
         assert!(Config::parse(unknown, Path::new("/x")).is_err());
     }
-}
-
-/// The shipped dialects plus every `*.xml` in `dir` (which may replace shipped ones).
-/// A broken dialect file is an error that names `file:line:col`.
-pub fn dialect_registry(dir: Option<&Path>) -> Result<crate::dialect::Registry> {
-    let mut registry = crate::dialect::Registry::shipped();
-    let Some(dir) = dir else { return Ok(registry) };
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .with_context(|| format!("cannot read the dialects folder {}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("xml")))
-        .collect();
-    files.sort();
-    for f in files {
-        let text = std::fs::read_to_string(&f).with_context(|| format!("cannot read {}", f.display()))?;
-        if let Err(errors) = registry.add(&f.display().to_string(), &text) {
-            bail!("invalid dialect file:\n{}", errors.join("\n"));
-        }
-    }
-    Ok(registry)
 }

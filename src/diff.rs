@@ -281,10 +281,13 @@ fn compare(pa: &ProcessPlan, pb: &ProcessPlan, a: &Workingstep, b: &Workingstep,
     }
 }
 
+/// What identifies a cutting move: kind, end point, arc centre and turns.
+type CutKey = (MoveKind, [f64; 3], Option<[f64; 3]>, Option<i32>);
+
 /// Compares the cutting moves after the start point; a depth change maps the old lowest Z
 /// onto the new one first, so that it is not reported twice.
 fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64)>) -> Option<(String, String)> {
-    let cuts = |w: &Workingstep| -> Vec<(MoveKind, [f64; 3], Option<[f64; 3]>, Option<i32>)> {
+    let cuts = |w: &Workingstep| -> Vec<CutKey> {
         w.toolpath
             .iter()
             .filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid)

@@ -1,1 +1,151 @@
-fn main() {}
+//! Data-driven corpus tests (libtest-mimic, one trial per file):
+//!
+//! - `check/<dialect>/<file>`: every program of `../shared/corpus` goes through analysis
+//!   without panicking, and its diagnostics point inside the text.
+//! - `canon/<file>`: `ncplan canon` agrees with LinuxCNC's `rs274 -g` (goldens in
+//!   `tests/golden/rs274`, made by `tests/golden/regen.sh`) to 1e-4, ignoring calls that
+//!   are LinuxCNC-internal. Programs listed in `tests/golden/rs274/KNOWN_DIFFERENCES` are
+//!   expected to differ (each with its reason); any other difference fails, and so does a
+//!   listed program that starts to match (so that the list stays true).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use libtest_mimic::{Arguments, Failed, Trial};
+use ncplan::canon::{LINUXCNC_INTERNAL, write_call};
+use ncplan::dialect::Registry;
+use ncplan::interp::Profile;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The dialect used for a corpus folder in the checks (more dialects arrive with later work).
+fn folder_dialect(folder: &str) -> &'static str {
+    match folder {
+        "fanuc" | "haas" | "mazak" | "okuma" => "fanuc",
+        _ => "linuxcnc",
+    }
+}
+
+fn main() {
+    let args = Arguments::from_args();
+    let mut trials = Vec::new();
+    let corpus = root().join("../shared/corpus");
+    let registry = Registry::shipped();
+    if let Ok(dirs) = std::fs::read_dir(&corpus) {
+        let mut dirs: Vec<PathBuf> = dirs.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
+        dirs.sort();
+        for dir in dirs {
+            let folder = dir.file_name().unwrap().to_string_lossy().into_owned();
+            let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok().map(|e| e.path())).collect();
+            files.sort();
+            for f in files {
+                let dialect = registry.get(folder_dialect(&folder)).unwrap();
+                let name = format!("check/{folder}/{}", f.file_name().unwrap().to_string_lossy());
+                trials.push(Trial::test(name, move || check(&f, &dialect)));
+            }
+        }
+    }
+    let goldens = root().join("tests/golden/rs274");
+    let known = known_differences(&goldens);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&goldens)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "canon"))
+        .collect();
+    files.sort();
+    for golden in files {
+        let stem = golden.file_stem().unwrap().to_string_lossy().into_owned();
+        let program = corpus.join("linuxcnc").join(format!("{stem}.ngc"));
+        let expected_diff = known.get(&stem).cloned();
+        let trial = Trial::test(format!("canon/{stem}"), move || compare(&golden, &program, expected_diff.as_deref()));
+        trials.push(if corpus.exists() { trial } else { trial.with_ignored_flag(true) });
+    }
+    libtest_mimic::run(&args, trials).exit();
+}
+
+fn check(path: &Path, dialect: &ncplan::dialect::Dialect) -> Result<(), Failed> {
+    let bytes = std::fs::read(path)?;
+    let a = ncplan::pipeline::analyze(&bytes, dialect, &Profile::default());
+    let len = a.source.text.len() as u32;
+    for d in &a.diagnostics {
+        if d.range.end > len || !a.source.text.is_char_boundary(d.range.start as usize) {
+            return Err(format!("diagnostic outside the text: {d:?}").into());
+        }
+    }
+    Ok(())
+}
+
+fn known_differences(dir: &Path) -> BTreeMap<String, String> {
+    let text = std::fs::read_to_string(dir.join("KNOWN_DIFFERENCES")).unwrap_or_default();
+    text.lines()
+        .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
+        .map(|l| {
+            let (name, why) = l.split_once('\t').unwrap_or((l, ""));
+            (name.trim().to_owned(), why.trim().to_owned())
+        })
+        .collect()
+}
+
+fn meaningful(line: &str) -> bool {
+    let name = line.split('(').next().unwrap_or("");
+    !line.starts_with('#') && !line.is_empty() && !LINUXCNC_INTERNAL.contains(&name)
+}
+
+/// Splits a call into its name and argument tokens.
+fn tokens(line: &str) -> Vec<&str> {
+    line.split(|c: char| c == '(' || c == ')' || c == ',' || c.is_whitespace()).filter(|t| !t.is_empty()).collect()
+}
+
+fn same_call(a: &str, b: &str) -> bool {
+    let (ta, tb) = (tokens(a), tokens(b));
+    ta.len() == tb.len()
+        && ta.iter().zip(&tb).all(|(x, y)| match (x.parse::<f64>(), y.parse::<f64>()) {
+            (Ok(p), Ok(q)) => (p - q).abs() <= 1e-4,
+            _ => x == y,
+        })
+}
+
+/// First difference between ncplan's and rs274's meaningful calls, if any.
+pub fn first_difference(ours: &str, golden: &str) -> Option<String> {
+    // rs274 starts with its own initialisation, up to the first ON_RESET.
+    let start = golden.lines().position(|l| l.starts_with("ON_RESET")).map_or(0, |i| i + 1);
+    let errored = golden.lines().any(|l| l.starts_with("# rs274 error"));
+    let theirs: Vec<&str> = golden.lines().skip(start).filter(|l| meaningful(l)).collect();
+    let mine: Vec<&str> = ours.lines().filter(|l| meaningful(l)).collect();
+    for (i, t) in theirs.iter().enumerate() {
+        match mine.get(i) {
+            Some(m) if same_call(m, t) => {}
+            Some(m) => return Some(format!("call {}: ncplan `{m}`, rs274 `{t}`", i + 1)),
+            None => return Some(format!("call {}: ncplan ends, rs274 `{t}`", i + 1)),
+        }
+    }
+    if !errored && mine.len() > theirs.len() {
+        return Some(format!("call {}: ncplan `{}`, rs274 ends", theirs.len() + 1, mine[theirs.len()]));
+    }
+    None
+}
+
+fn compare(golden: &Path, program: &Path, expected_diff: Option<&str>) -> Result<(), Failed> {
+    let registry = Registry::shipped();
+    let dialect = registry.get(folder_dialect("linuxcnc")).unwrap();
+    let bytes = std::fs::read(program)?;
+    let (source, _) = ncplan::text::decode(&bytes);
+    let mut canon = Vec::new();
+    let _ = ncplan::interp::interpret(&source.text, &dialect, &Profile::default(), &mut canon);
+    let mut ours = String::new();
+    for c in &canon {
+        write_call(&mut ours, &c.op);
+    }
+    let golden = std::fs::read_to_string(golden)?;
+    match (first_difference(&ours, &golden), expected_diff) {
+        (None, None) => Ok(()),
+        (Some(d), Some(_)) => {
+            let _ = d;
+            Ok(())
+        }
+        (Some(d), None) => Err(format!("differs from rs274 at {d}").into()),
+        (None, Some(why)) => Err(format!("now matches rs274; remove it from KNOWN_DIFFERENCES ({why})").into()),
+    }
+}

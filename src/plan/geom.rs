@@ -74,9 +74,9 @@ pub fn extend(bbox: &mut Option<BBox>, pt: P3) {
     match bbox {
         None => *bbox = Some(BBox { min: pt, max: pt }),
         Some(b) => {
-            for i in 0..3 {
-                b.min[i] = b.min[i].min(pt[i]);
-                b.max[i] = b.max[i].max(pt[i]);
+            for (i, v) in pt.into_iter().enumerate() {
+                b.min[i] = b.min[i].min(v);
+                b.max[i] = b.max[i].max(v);
             }
         }
     }

@@ -145,11 +145,8 @@ impl<'p> Recovery<'p> {
             CanonOp::SetSpindleSpeed(s) => self.speed = *s,
             CanonOp::StartSpindleClockwise => self.spindle = SpindleDir::Cw,
             CanonOp::StartSpindleCounterclockwise => self.spindle = SpindleDir::Ccw,
-            CanonOp::StopSpindleTurning => {
-                if self.in_cycle.is_none() {
-                    self.spindle = SpindleDir::Off;
-                }
-            }
+            // A boring cycle's spindle stop is part of the cycle, not of the technology.
+            CanonOp::StopSpindleTurning if self.in_cycle.is_none() => self.spindle = SpindleDir::Off,
             CanonOp::MistOn => self.mist = true,
             CanonOp::MistOff => self.mist = false,
             CanonOp::FloodOn => self.flood = true,

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Regenerates tests/golden/rs274/*.canon from LinuxCNC's rs274 (Debian: linuxcnc-uspace),
+# for the RS274NGC programs of ../shared/corpus/linuxcnc (those under 64 KB).
+# Each golden holds rs274's calls without their sequence prefix; if rs274 stops with an
+# error, the last line is `# rs274 error: <message>`.
+set -euo pipefail
+cd "$(dirname "$0")"
+corpus=../../../shared/corpus/linuxcnc
+out=rs274
+tbl=$(mktemp)
+trap 'rm -f "$tbl"' EXIT
+# An all-zero tool table, so that tool length offsets are 0 as in ncplan's empty table.
+for i in $(seq 1 99); do echo "T$i P$i Z0 D0"; done > "$tbl"
+rm -f "$out"/*.canon
+for f in "$corpus"/*.ngc; do
+  [ "$(stat -c %s "$f")" -le 65536 ] || continue
+  name=$(basename "$f" .ngc)
+  raw=$(cd "$(dirname "$f")" && timeout 20 rs274 -g -t "$tbl" "$(basename "$f")" 2>&1 < /dev/null || true)
+  {
+    printf '%s\n' "$raw" | sed -n 's/^ *[0-9][0-9]* N[^ ]* //p'
+    err=$(printf '%s\n' "$raw" | grep -v -E '^ *[0-9]+ N' | grep -v -E '^(executing|$)' | head -1 || true)
+    [ -n "$err" ] && printf '# rs274 error: %s\n' "$err"
+  } > "$out/$name.canon"
+done
+# Programs whose trace explodes (endless loops in rs274 tests) are not kept.
+find "$out" -name "*.canon" -size +200k -delete
+ls "$out" | wc -l
