@@ -93,7 +93,6 @@ struct State {
     flood: bool,
     selected_tool: u32,
     tool: u32,
-    motion: Option<&'static str>,
     motion_code: Option<usize>,
     retract: Retract,
     wcs: u8,
@@ -145,7 +144,6 @@ impl<'a> Interpreter<'a> {
                 flood: false,
                 selected_tool: 0,
                 tool: 0,
-                motion: None,
                 motion_code: None,
                 retract: Retract::Initial,
                 wcs: 1,
@@ -474,10 +472,6 @@ impl<'a> Interpreter<'a> {
         }
     }
 
-    fn codes_at(&self, step: Step) -> impl Iterator<Item = (usize, TextRange)> + '_ {
-        self.codes.iter().copied().filter(move |&(c, _)| self.dialect.groups[self.code(c).group].step == step)
-    }
-
     fn step(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         match step {
             Step::Comment => {
@@ -519,11 +513,16 @@ impl<'a> Interpreter<'a> {
             }
             Step::Misc => {}
             _ => {
-                let codes: Vec<_> = self.codes_at(step).collect();
-                for (c, range) in codes {
-                    self.execute_code(c, range, block, sink, diags);
+                // Index loop: `execute_code` needs `&mut self`, and the hot path must not allocate.
+                let mut ran = false;
+                for k in 0..self.codes.len() {
+                    let (c, range) = self.codes[k];
+                    if self.dialect.groups[self.code(c).group].step == step {
+                        ran = true;
+                        self.execute_code(c, range, block, sink, diags);
+                    }
                 }
-                if step == Step::Motion && !self.codes_at(Step::Motion).any(|_| true) {
+                if step == Step::Motion && !ran {
                     let has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
                     if let Some(c) = self.active_motion_code(has_axes) {
                         self.execute_code(c, block.range, block, sink, diags);
@@ -684,7 +683,6 @@ impl<'a> Interpreter<'a> {
                     self.st.sticky_z = None;
                 }
                 self.st.motion_code = Some(c);
-                self.st.motion = Some(def.meaning.as_str());
                 let has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
                 if has_axes {
                     self.motion(def, range, block, sink, diags);
@@ -692,7 +690,6 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::CycleCancel => {
                 self.st.motion_code = None;
-                self.st.motion = None;
                 self.st.sticky_z = None;
                 self.emit(sink, CanonOp::CycleCancel);
             }
@@ -703,7 +700,6 @@ impl<'a> Interpreter<'a> {
             _ => {
                 if self.dialect.groups[def.group].step == Step::Motion {
                     self.st.motion_code = None;
-                    self.st.motion = None;
                 }
                 self.unsupported(def, range, diags);
             }
