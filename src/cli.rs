@@ -155,11 +155,16 @@ fn dialect(registry: &Registry, name: &str) -> Result<Arc<Dialect>> {
     registry.get(name).with_context(|| format!("unknown dialect `{name}`; known: {}", registry.names().collect::<Vec<_>>().join(", ")))
 }
 
+/// The config for commands that analyse files: the given one, or an empty tool table.
+fn analysis_config(path: Option<&Path>) -> Result<Config> {
+    match path {
+        Some(p) => load_config(Some(p)),
+        None => Config::parse("[database]\npath = 'unused.db'\n", Path::new("/")),
+    }
+}
+
 fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
-    let config = match &input.config {
-        Some(p) => load_config(Some(p))?,
-        None => Config::parse("[database]\npath = 'unused.db'\n", Path::new("/"))?,
-    };
+    let config = analysis_config(input.config.as_deref())?;
     let registry = registry_for(Some(&config))?;
     let d = dialect(&registry, &input.dialect)?;
     let bytes = std::fs::read(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
@@ -244,10 +249,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Diff { original, edited, dialect: dname, edited_dialect, config, format, exit_code } => {
-            let config = match &config {
-                Some(p) => load_config(Some(p))?,
-                None => Config::parse("[database]\npath = 'unused.db'\n", Path::new("/"))?,
-            };
+            let config = analysis_config(config.as_deref())?;
             let registry = registry_for(Some(&config))?;
             let da = dialect(&registry, &dname)?;
             let db = dialect(&registry, edited_dialect.as_deref().unwrap_or(&dname))?;

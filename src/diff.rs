@@ -94,13 +94,13 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
     let mut out = Vec::new();
     for (i, j) in pairs {
         match (i, j) {
-            (Some(i), Some(j)) => compare(original, edited, &a[i], &b[j], &mut out),
+            (Some(i), Some(j)) => compare(&a[i], &b[j], &mut out),
             (Some(i), None) => out.push(Change {
                 kind: ChangeKind::WorkingstepRemoved,
                 workingstep: a[i].index,
                 operation: a[i].operation.label().into(),
                 field: "workingstep".into(),
-                before: summary(original, &a[i]),
+                before: summary(&a[i]),
                 after: String::new(),
                 line: None,
             }),
@@ -110,7 +110,7 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
                 operation: b[j].operation.label().into(),
                 field: "workingstep".into(),
                 before: String::new(),
-                after: summary(edited, &b[j]),
+                after: summary(&b[j]),
                 line: Some(b[j].lines.0),
             }),
             (None, None) => {}
@@ -119,11 +119,11 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
     out
 }
 
-fn summary(plan: &ProcessPlan, ws: &Workingstep) -> String {
-    format!("{} with {}, {} mm of cut", ws.operation.label(), tool_label(plan, ws.tool), num(ws.cutting_length))
+fn summary(ws: &Workingstep) -> String {
+    format!("{} with {}, {} mm of cut", ws.operation.label(), tool_label(ws.tool), num(ws.cutting_length))
 }
 
-fn tool_label(_plan: &ProcessPlan, t: u32) -> String {
+fn tool_label(t: u32) -> String {
     format!("T{t}")
 }
 
@@ -215,7 +215,7 @@ fn point(p: [f64; 3], other: Option<[f64; 3]>) -> String {
     s
 }
 
-fn compare(pa: &ProcessPlan, pb: &ProcessPlan, a: &Workingstep, b: &Workingstep, out: &mut Vec<Change>) {
+fn compare(a: &Workingstep, b: &Workingstep, out: &mut Vec<Change>) {
     let mut push = |kind: ChangeKind, field: &str, before: String, after: String| {
         out.push(Change {
             kind,
@@ -228,7 +228,7 @@ fn compare(pa: &ProcessPlan, pb: &ProcessPlan, a: &Workingstep, b: &Workingstep,
         });
     };
     if a.tool != b.tool {
-        push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool));
+        push(ChangeKind::ToolRenamed, "tool", tool_label(a.tool), tool_label(b.tool));
     }
     let depth_delta = match (a.depth, b.depth) {
         (Some(x), Some(y)) => y - x,

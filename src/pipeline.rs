@@ -73,9 +73,6 @@ pub fn program_name(text: &str) -> Option<String> {
                 return Some(format!("O{n}"));
             }
         }
-        if up == "%" || up.starts_with('(') || up.starts_with(';') {
-            continue;
-        }
     }
     None
 }

@@ -116,6 +116,8 @@ pub struct Interpreter<'a> {
     st: State,
     params: Params,
     slots: [Option<Slot>; Role::COUNT],
+    /// Whether the block being executed has axis words (set by `read`).
+    has_axes: bool,
     codes: Vec<(usize, TextRange)>,
     origin: TextRange,
     line: u32,
@@ -160,6 +162,7 @@ impl<'a> Interpreter<'a> {
             },
             params: Params::default(),
             slots: [None; Role::COUNT],
+            has_axes: false,
             codes: Vec::new(),
             origin: TextRange::default(),
             line: 0,
@@ -333,6 +336,7 @@ impl<'a> Interpreter<'a> {
             }
             self.slots[w.role as usize] = Some(Slot { value: v, range: w.range });
         }
+        self.has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
         if ok {
             ok = self.check_params(block, diags);
         }
@@ -359,7 +363,7 @@ impl<'a> Interpreter<'a> {
     fn check_params(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         let mut ok = true;
         let present = |s: &Self, r: Role| s.slots[r as usize].is_some();
-        let has_axes = Role::AXES.iter().any(|&r| present(self, r));
+        let has_axes = self.has_axes;
         for &(c, range) in &self.codes {
             let def = self.code(c);
             let is_motion = self.dialect.groups[def.group].step == Step::Motion;
@@ -394,7 +398,7 @@ impl<'a> Interpreter<'a> {
             }
         }
         // Words that no command in this block takes.
-        let motion = self.active_motion_code(has_axes);
+        let motion = self.active_motion_code();
         for w in &block.words {
             if !matches!(w.role, Role::P | Role::Q | Role::L | Role::R | Role::I | Role::J | Role::K | Role::H | Role::D | Role::E) {
                 continue;
@@ -419,7 +423,7 @@ impl<'a> Interpreter<'a> {
 
     /// The motion code this block executes: explicit, or the modal one when axes are given
     /// and no axis-taking non-modal code claims them.
-    fn active_motion_code(&self, has_axes: bool) -> Option<usize> {
+    fn active_motion_code(&self) -> Option<usize> {
         if let Some(&(c, _)) = self.codes.iter().find(|(c, _)| self.dialect.groups[self.code(*c).group].step == Step::Motion) {
             return Some(c);
         }
@@ -435,7 +439,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::Rotation
             )
         });
-        if has_axes && !claimed { self.st.motion_code } else { None }
+        if self.has_axes && !claimed { self.st.motion_code } else { None }
     }
 
     fn assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
@@ -523,10 +527,9 @@ impl<'a> Interpreter<'a> {
                     }
                 }
                 if step == Step::Motion && !ran {
-                    let has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
-                    if let Some(c) = self.active_motion_code(has_axes) {
+                    if let Some(c) = self.active_motion_code() {
                         self.execute_code(c, block.range, block, sink, diags);
-                    } else if has_axes
+                    } else if self.has_axes
                         && !self.codes.iter().any(|&(c, _)| self.code(c).params.takes(Role::X) || self.code(c).params.takes(Role::Z))
                     {
                         diags.push(Diagnostic::new(
@@ -683,8 +686,7 @@ impl<'a> Interpreter<'a> {
                     self.st.sticky_z = None;
                 }
                 self.st.motion_code = Some(c);
-                let has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
-                if has_axes {
+                if self.has_axes {
                     self.motion(def, range, block, sink, diags);
                 }
             }

@@ -294,24 +294,23 @@ impl<'p> Recovery<'p> {
     /// Ends the current workingstep; pending rapids that only lift stay with it as retract,
     /// the rest are kept for the next workingstep's approach.
     fn close_keeping_approach(&mut self) {
-        let Some(mut b) = self.current.take() else { return };
         let lifts = self.pending.iter().take_while(|m| is_lift(m)).count();
-        for mut m in self.pending.drain(..lifts) {
+        self.close_with(lifts);
+    }
+
+    /// Ends the current workingstep with every pending rapid as its retract.
+    fn close(&mut self) {
+        self.close_with(self.pending.len());
+        self.pending.clear();
+    }
+
+    fn close_with(&mut self, retract: usize) {
+        let Some(mut b) = self.current.take() else { return };
+        for mut m in self.pending.drain(..retract) {
             m.phase = Phase::Retract;
             b.moves.push(m);
         }
         self.finish(b);
-    }
-
-    fn close(&mut self) {
-        if let Some(mut b) = self.current.take() {
-            for mut m in self.pending.drain(..) {
-                m.phase = Phase::Retract;
-                b.moves.push(m);
-            }
-            self.finish(b);
-        }
-        self.pending.clear();
     }
 
     fn finish(&mut self, mut b: Builder) {
