@@ -187,6 +187,8 @@ pub enum CanonOp {
     OptionalProgramStop,
     /// `PROGRAM_END`
     ProgramEnd,
+    /// `FINISH`: the program ended at its closing `%` without M2/M30.
+    Finish,
     /// `COMMENT(text)`
     Comment(String),
     /// `MESSAGE(text)`
@@ -333,6 +335,7 @@ pub fn write_call(out: &mut String, op: &CanonOp) {
         CanonOp::ProgramStop => out.push_str("PROGRAM_STOP()"),
         CanonOp::OptionalProgramStop => out.push_str("OPTIONAL_PROGRAM_STOP()"),
         CanonOp::ProgramEnd => out.push_str("PROGRAM_END()"),
+        CanonOp::Finish => out.push_str("FINISH()"),
         CanonOp::Comment(s) => {
             out.push_str("COMMENT(");
             quoted(out, s);

@@ -107,6 +107,20 @@ codes! {
     AfterProgramEnd = ("interp::after-program-end", Note),
     /// The program raised an operator message.
     ProgramMessage = ("interp::message", Note),
+    /// The program raised an alarm (`#3000 = n`); execution stops.
+    ProgramAlarm = ("interp::alarm", Error),
+    /// A jump or call to a label, block number or program that does not exist.
+    MissingLabel = ("flow::missing-label", Error),
+    /// A loop ran past its iteration limit, or the run past its block budget.
+    LoopLimit = ("flow::loop-limit", Error),
+    /// Calls nested deeper than the dialect allows.
+    CallDepth = ("flow::call-depth", Error),
+    /// A loop end, branch or return without its opening statement.
+    UnmatchedStatement = ("flow::unmatched", Error),
+    /// A statement keyword the dialect does not define.
+    UnknownStatement = ("flow::unknown-statement", Error),
+    /// Cutter radius compensation without a known offset.
+    CompWithoutOffset = ("interp::comp-without-offset", Warning),
     /// A toolpath that plan recovery could not assign to a tool.
     NoTool = ("plan::no-tool", Warning),
     /// A malformed or invalid dialect file.

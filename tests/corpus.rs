@@ -5,14 +5,17 @@
 //! - `canon/<file>`: `ncplan canon` agrees with LinuxCNC's `rs274 -g` (goldens in
 //!   `tests/golden/rs274`, made by `tests/golden/regen.sh`) to 1e-4, ignoring calls that
 //!   are LinuxCNC-internal. Programs listed in `tests/golden/rs274/KNOWN_DIFFERENCES` are
-//!   expected to differ (each with its reason); any other difference fails, and so does a
-//!   listed program that starts to match (so that the list stays true).
+//!   expected to differ (each with its first difference and the diagnostic that explains
+//!   it); any other difference fails, and so does a listed program that starts to match.
+//!   A program that differs must say why: ncplan must report at least one warning or
+//!   error on it. `UPDATE_EXPECT=1` rewrites the list.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use libtest_mimic::{Arguments, Failed, Trial};
 use ncplan::canon::{LINUXCNC_INTERNAL, write_call};
+use ncplan::diag::{Code, Severity};
 use ncplan::dialect::Registry;
 use ncplan::interp::Profile;
 
@@ -48,21 +51,33 @@ fn main() {
         }
     }
     let goldens = root().join("tests/golden/rs274");
-    let known = known_differences(&goldens);
     let mut files: Vec<PathBuf> = std::fs::read_dir(&goldens)
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "canon"))
         .collect();
     files.sort();
+    if std::env::var_os("UPDATE_EXPECT").is_some() {
+        update_known_differences(&goldens, &corpus, &files);
+    }
+    let known = known_differences(&goldens);
     for golden in files {
         let stem = golden.file_stem().unwrap().to_string_lossy().into_owned();
-        let program = corpus.join("linuxcnc").join(format!("{stem}.ngc"));
+        let program = program_for(&corpus, &stem);
+        let available = program.exists();
         let expected_diff = known.get(&stem).cloned();
         let trial = Trial::test(format!("canon/{stem}"), move || compare(&golden, &program, expected_diff.as_deref()));
-        trials.push(if corpus.exists() { trial } else { trial.with_ignored_flag(true) });
+        trials.push(if available { trial } else { trial.with_ignored_flag(true) });
     }
     libtest_mimic::run(&args, trials).exit();
+}
+
+/// The program a golden belongs to: `own__<name>` goldens are ncplan's own test programs.
+fn program_for(corpus: &Path, stem: &str) -> PathBuf {
+    match stem.strip_prefix("own__") {
+        Some(name) => root().join("tests/programs/linuxcnc").join(format!("{name}.ngc")),
+        None => corpus.join("linuxcnc").join(format!("{stem}.ngc")),
+    }
 }
 
 fn check(path: &Path, dialect: &ncplan::dialect::Dialect) -> Result<(), Failed> {
@@ -127,22 +142,63 @@ pub fn first_difference(ours: &str, golden: &str) -> Option<String> {
     None
 }
 
-fn compare(golden: &Path, program: &Path, expected_diff: Option<&str>) -> Result<(), Failed> {
+/// ncplan's canon for a corpus program, and its diagnostics that can explain a difference.
+fn run_ours(program: &Path) -> Result<(String, Vec<String>), Failed> {
     let registry = Registry::shipped();
     let dialect = registry.get(folder_dialect("linuxcnc")).unwrap();
     let bytes = std::fs::read(program)?;
     let (source, _) = ncplan::text::decode(&bytes);
     let mut canon = Vec::new();
-    let _ = ncplan::interp::interpret(&source.text, &dialect, &Profile::default(), &mut canon);
+    let diags = ncplan::interp::interpret(&source.text, &dialect, &Profile::default(), &mut canon);
     let mut ours = String::new();
     for c in &canon {
         write_call(&mut ours, &c.op);
     }
+    let explaining = diags
+        .iter()
+        .filter(|d| d.severity != Severity::Note && d.code != Code::CuttingWithoutTechnology)
+        .map(|d| format!("{}: {}", d.code.as_str(), d.message))
+        .collect();
+    Ok((ours, explaining))
+}
+
+fn compare(golden: &Path, program: &Path, expected_diff: Option<&str>) -> Result<(), Failed> {
+    let (ours, explaining) = run_ours(program)?;
     let golden = std::fs::read_to_string(golden)?;
     match (first_difference(&ours, &golden), expected_diff) {
         (None, None) => Ok(()),
+        (Some(d), _) if explaining.is_empty() => Err(format!("differs from rs274 without a diagnostic saying why, at {d}").into()),
         (Some(_), Some(_)) => Ok(()),
         (Some(d), None) => Err(format!("differs from rs274 at {d}").into()),
         (None, Some(why)) => Err(format!("now matches rs274; remove it from KNOWN_DIFFERENCES ({why})").into()),
     }
+}
+
+fn update_known_differences(goldens: &Path, corpus: &Path, files: &[PathBuf]) {
+    let mut out = String::from(
+        "# Programs whose canon differs from rs274 today: name, first difference, and the diagnostic that explains it.\n\
+         # Rewritten by `UPDATE_EXPECT=1 cargo test --test corpus`.\n",
+    );
+    let (mut matching, mut differing) = (0, 0);
+    for golden in files {
+        let stem = golden.file_stem().unwrap().to_string_lossy().into_owned();
+        let program = program_for(corpus, &stem);
+        let (Ok((ours, explaining)), Ok(text)) = (run_ours(&program), std::fs::read_to_string(golden)) else {
+            // Keep the entry of a program that is not here to run.
+            if let Some(why) = known_differences(goldens).get(&stem) {
+                out.push_str(&format!("{stem}\t{why}\n"));
+            }
+            continue;
+        };
+        match first_difference(&ours, &text) {
+            None => matching += 1,
+            Some(d) => {
+                differing += 1;
+                let why = explaining.first().map_or("(no diagnostic)", String::as_str).replace(['\t', '\n'], " ");
+                out.push_str(&format!("{stem}\t{d}\t{why}\n"));
+            }
+        }
+    }
+    out.push_str(&format!("# {matching} of {} programs match.\n", matching + differing));
+    std::fs::write(goldens.join("KNOWN_DIFFERENCES"), out).unwrap();
 }

@@ -3,7 +3,7 @@
 use super::xml::{self, Element};
 use super::{
     AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordDef, Lexical,
-    Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Step, TimeUnit,
+    Macros, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -131,7 +131,7 @@ impl Cx {
         self.shape(
             root,
             &["name", "family", "title", "version"],
-            &["description", "lexical", "behaviour", "addresses", "keywords", "execution-order", "groups", "cycles"],
+            &["description", "lexical", "behaviour", "addresses", "keywords", "macros", "execution-order", "groups", "cycles"],
         );
         let name = self.required(root, "name").unwrap_or_default().to_owned();
         if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
@@ -154,6 +154,7 @@ impl Cx {
         }
         let behaviour = self.behaviour(child("behaviour"), &addresses);
         let keywords = child("keywords").map(|el| self.keywords(el)).unwrap_or_default();
+        let macros = child("macros").map(|el| self.macros(el)).unwrap_or_default();
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
         let execution_order = match child("execution-order") {
@@ -171,6 +172,7 @@ impl Cx {
             behaviour,
             addresses,
             keywords,
+            macros,
             groups,
             codes,
             cycles,
@@ -302,6 +304,7 @@ impl Cx {
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
             assign_before_reads: false,
+            feed_mode_resets_feed: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -317,6 +320,7 @@ impl Cx {
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
                 "parameter-assignment",
+                "feed-mode-resets-feed",
             ],
             &[],
         );
@@ -344,6 +348,7 @@ impl Cx {
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
+        b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.assign_before_reads = match self.attr(el, "parameter-assignment").unwrap_or("after-reads") {
             "after-reads" => false,
             "before-reads" => true,
@@ -409,6 +414,70 @@ impl Cx {
             out.push(KeywordDef { text, meaning });
         }
         out
+    }
+
+    fn macros(&mut self, el: &Element) -> Macros {
+        self.shape(el, &["null-value", "locals", "call-depth", "repeat-in-p"], &["statement", "arguments", "system-variable"]);
+        let mut m = Macros {
+            null_value: self.bool(el, "null-value", false),
+            repeat_in_p: self.bool(el, "repeat-in-p", false),
+            ..Macros::default()
+        };
+        if let Some(v) = self.attr(el, "locals") {
+            match v.split_once('-').and_then(|(a, b)| Some((a.trim().parse::<u16>().ok()?, b.trim().parse::<u16>().ok()?))) {
+                Some((a, b)) if a >= 1 && a <= b && b < 1000 => m.locals = (a, b),
+                _ => self.error(Self::attr_range(el, "locals"), format!("`locals` must be a range such as 1-33, not `{v}`")),
+            }
+        }
+        m.call_depth = self.number(el, "call-depth", 10.0).clamp(1.0, 100.0) as u32;
+        for c in &el.children {
+            match c.name.as_str() {
+                "statement" => {
+                    self.shape(c, &["keyword", "meaning"], &[]);
+                    let (Some(k), Some(meaning)) = (self.required(c, "keyword"), self.required(c, "meaning")) else { continue };
+                    let Some(meaning) = Statement::parse(meaning) else {
+                        self.error(Self::attr_range(c, "meaning"), format!("unknown statement meaning `{meaning}`"));
+                        continue;
+                    };
+                    let k = k.to_ascii_uppercase();
+                    if k.is_empty() || !k.bytes().all(|b| b.is_ascii_alphabetic()) {
+                        self.error(Self::attr_range(c, "keyword"), format!("statement keyword `{k}` must be letters only"));
+                    } else if m.statements.iter().any(|(x, _)| *x == k) {
+                        self.error(c.range, format!("statement `{k}` is declared twice"));
+                    } else {
+                        m.statements.push((k, meaning));
+                    }
+                }
+                "arguments" => {
+                    self.shape(c, &[], &[]);
+                    for item in c.text.split_ascii_whitespace() {
+                        let parsed = item.split_once('=').and_then(|(l, n)| {
+                            let l = l.as_bytes();
+                            (l.len() == 1 && l[0].is_ascii_alphabetic()).then_some(())?;
+                            Some((l[0].to_ascii_uppercase(), n.parse::<u16>().ok()?))
+                        });
+                        match parsed {
+                            Some((l, n)) => m.arguments[(l - b'A') as usize] = Some(n),
+                            None => self.error(c.range, format!("argument `{item}` must look like A=1")),
+                        }
+                    }
+                }
+                _ => {
+                    self.shape(c, &["number", "meaning"], &[]);
+                    let (Some(n), Some(meaning)) = (self.required(c, "number"), self.required(c, "meaning")) else { continue };
+                    let Ok(n) = n.parse::<u32>() else {
+                        self.error(Self::attr_range(c, "number"), format!("`{n}` is not a variable number"));
+                        continue;
+                    };
+                    match SystemVar::parse(meaning) {
+                        Some(v) => m.system.push((n, v)),
+                        None => self.error(Self::attr_range(c, "meaning"), format!("unknown system variable meaning `{meaning}`")),
+                    }
+                }
+            }
+        }
+        m.statements.sort_by(|a, b| b.0.len().cmp(&a.0.len()).then(a.0.cmp(&b.0)));
+        m
     }
 
     fn groups(&mut self, el: &Element, addresses: &[AddressDef]) -> (Vec<ModalGroup>, Vec<CodeDef>) {

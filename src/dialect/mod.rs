@@ -12,7 +12,7 @@ mod xml;
 
 pub use load::load;
 pub use registry::Registry;
-pub use vocab::{Meaning, Role, Step};
+pub use vocab::{Meaning, Role, Statement, Step, SystemVar};
 
 /// How a block's tokens are arranged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -122,6 +122,56 @@ pub struct Behaviour {
     /// Whether `#1=2 F#1` reads the new value (macro statements run first, as on Fanuc) or
     /// the old one (all reads of a block precede its assignments, as in RS274NGC).
     pub assign_before_reads: bool,
+    /// Whether selecting units-per-minute feed (G94) resets the feed rate to zero.
+    pub feed_mode_resets_feed: bool,
+}
+
+/// Macro and control-flow capabilities: statement keywords, variable scoping, call
+/// arguments and system variables.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Macros {
+    /// Statement keywords (upper case) and what they do, longest first.
+    pub statements: Vec<(String, Statement)>,
+    /// Whether variables start vacant (`#0` is null) and a word whose value is null is
+    /// omitted, as in Fanuc Macro B. Otherwise variables start at zero.
+    pub null_value: bool,
+    /// First and last local variable: saved and reset on each macro or subroutine call.
+    pub locals: (u16, u16),
+    /// For each letter A..Z, the local variable a macro-call argument sets (`G65 A1` → `#1`).
+    pub arguments: [Option<u16>; 26],
+    /// System variables by number.
+    pub system: Vec<(u32, SystemVar)>,
+    /// Deepest allowed nesting of calls.
+    pub call_depth: u32,
+    /// Whether digits above the fourth of a subprogram call's P are its repeat count
+    /// (`M98 P30010` runs O10 three times).
+    pub repeat_in_p: bool,
+}
+
+impl Default for Macros {
+    fn default() -> Macros {
+        Macros {
+            statements: Vec::new(),
+            null_value: false,
+            locals: (1, 30),
+            arguments: [None; 26],
+            system: Vec::new(),
+            call_depth: 10,
+            repeat_in_p: false,
+        }
+    }
+}
+
+impl Macros {
+    /// The statement a keyword (any case) names.
+    pub fn statement(&self, word: &str) -> Option<Statement> {
+        self.statements.iter().find(|(k, _)| k.eq_ignore_ascii_case(word)).map(|&(_, s)| s)
+    }
+
+    /// What system variable `n` is, if any.
+    pub fn system_var(&self, n: u32) -> Option<SystemVar> {
+        self.system.iter().find(|&&(k, _)| k == n).map(|&(_, v)| v)
+    }
 }
 
 /// An address: a letter or a multi-letter name and the role its value plays.
@@ -244,6 +294,8 @@ pub struct Dialect {
     pub addresses: Vec<AddressDef>,
     /// Keywords.
     pub keywords: Vec<KeywordDef>,
+    /// Macro and control-flow capabilities.
+    pub macros: Macros,
     /// Modal groups.
     pub groups: Vec<ModalGroup>,
     /// G and M codes.

@@ -179,6 +179,8 @@ vocab! {
         SubprogramReturn = "subprogram-return",
         /// Spindle orientation (M19).
         SpindleOrient = "spindle-orient",
+        /// Save or restore the modal state (M70, M72, M73).
+        ModalState = "modal-state",
         /// Machine-specific function the interpreter records but does not model.
         Other = "other",
     }
@@ -326,5 +328,69 @@ vocab! {
         Stop = "stop",
         /// Codes the engine only records.
         Misc = "misc",
+    }
+}
+
+vocab! {
+    /// What a control-flow keyword does (`IF`, `o100 while`, `GOTO`).
+    Statement {
+        /// Start of a subroutine definition (`o100 sub`).
+        Sub = "sub",
+        /// End of a subroutine definition; returns.
+        EndSub = "endsub",
+        /// Subroutine call with bracketed arguments (`o100 call [1] [2]`).
+        Call = "call",
+        /// Return from a subroutine, optionally with a value.
+        Return = "return",
+        /// Conditional: block form (`o1 if [c]`), jump form (`IF [c] GOTO n`) or `THEN` form.
+        If = "if",
+        /// Another branch of a block conditional.
+        ElseIf = "elseif",
+        /// The last branch of a block conditional.
+        Else = "else",
+        /// End of a block conditional.
+        EndIf = "endif",
+        /// Loop head (`o1 while [c]`, `WHILE [c] DO m`), or the tail of a do-loop.
+        While = "while",
+        /// End of a `while` loop.
+        EndWhile = "endwhile",
+        /// Head of a do-loop, or the loop identifier after `WHILE` (`DO 1`).
+        Do = "do",
+        /// End of a numbered loop (`END 1`).
+        EndLoop = "end-loop",
+        /// Counted loop head (`o1 repeat [3]`).
+        Repeat = "repeat",
+        /// End of a counted loop.
+        EndRepeat = "endrepeat",
+        /// Leave the innermost loop.
+        Break = "break",
+        /// Next iteration of the innermost loop.
+        Continue = "continue",
+        /// Jump to a block number (`GOTO 10`), or the jump part of `IF [c] GOTO n`.
+        Goto = "goto",
+        /// The statement part of `IF [c] THEN ...`.
+        Then = "then",
+    }
+}
+
+vocab! {
+    /// What a system variable reads or does when written.
+    SystemVar {
+        /// Writing raises an alarm: the program stops with an error (`#3000`).
+        Alarm = "alarm",
+        /// Writing stops the program with a message (`#3006`).
+        StopMessage = "stop-message",
+        /// Current X in program coordinates.
+        PositionX = "position-x",
+        /// Current Y in program coordinates.
+        PositionY = "position-y",
+        /// Current Z in program coordinates.
+        PositionZ = "position-z",
+        /// The tool in the spindle.
+        Tool = "tool",
+        /// The programmed feed rate.
+        Feed = "feed",
+        /// The programmed spindle speed.
+        Speed = "speed",
     }
 }

@@ -55,6 +55,20 @@ impl Interpreter<'_> {
             return;
         };
         let incremental = self.st.distance == DistanceMode::Incremental;
+        if incremental && self.st.motion_continued {
+            self.limited(
+                diags,
+                "g91-cycle",
+                Diagnostic::new(
+                    Code::Unsupported,
+                    range,
+                    format!(
+                        "{} continued modally in G91: the R plane is taken from the current Z; LinuxCNC may keep the first R plane",
+                        def.label()
+                    ),
+                ),
+            );
+        }
         let old_z = self.st.pos[2];
         let r = if incremental { old_z + r_word } else { r_word };
         let bottom = if incremental { r + z_word } else { z_word };
@@ -85,7 +99,7 @@ impl Interpreter<'_> {
         let code = def.label();
 
         let mut p = self.st.pos;
-        if p[2] <= r {
+        if p[2] < r {
             p[2] = r;
             self.emit(sink, CanonOp::StraightTraverse(p));
         }

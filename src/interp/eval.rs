@@ -8,6 +8,10 @@ use crate::syntax::{BinOp, Block, Expr, ExprId, Func};
 /// and system variables beyond).
 pub const MAX_PARAM: usize = 10_000;
 
+/// The vacant value of Fanuc Macro B (`#0`): a NaN that arithmetic treats as zero and
+/// `EQ`/`NE` tell apart from zero.
+pub const NULL: f64 = f64::NAN;
+
 /// Numbered and named parameters.
 #[derive(Clone, Debug)]
 pub struct Params {
@@ -17,7 +21,7 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Params {
-        Params { numbered: vec![0.0; MAX_PARAM], named: BTreeMap::new() }
+        Params::new(false)
     }
 }
 
@@ -33,6 +37,41 @@ pub enum EvalError {
 }
 
 impl Params {
+    /// A table whose variables start vacant (`null`) or at zero. `#0` is always vacant in
+    /// the first case.
+    pub fn new(null: bool) -> Params {
+        Params { numbered: vec![if null { NULL } else { 0.0 }; MAX_PARAM], named: BTreeMap::new() }
+    }
+
+    /// Saves and resets the numbered range `first..=last` (a call's locals); returns the
+    /// saved values for [`Params::restore`].
+    pub fn push_locals(&mut self, first: u16, last: u16, reset: f64) -> Vec<f64> {
+        let r = first as usize..=(last as usize).min(MAX_PARAM - 1);
+        let saved = self.numbered[r.clone()].to_vec();
+        self.numbered[r].fill(reset);
+        saved
+    }
+
+    /// Restores locals saved by [`Params::push_locals`].
+    pub fn restore(&mut self, first: u16, saved: &[f64]) {
+        let f = first as usize;
+        self.numbered[f..f + saved.len()].copy_from_slice(saved);
+    }
+
+    /// Named parameters that are local to a subroutine (no leading `_`), removed and
+    /// returned for [`Params::restore_named`].
+    pub fn take_local_names(&mut self) -> BTreeMap<String, f64> {
+        let (globals, locals) = std::mem::take(&mut self.named).into_iter().partition(|(k, _)| k.starts_with('_'));
+        self.named = globals;
+        locals
+    }
+
+    /// Puts back the caller's local names, dropping the callee's.
+    pub fn restore_named(&mut self, locals: BTreeMap<String, f64>) {
+        self.named.retain(|k, _| k.starts_with('_'));
+        self.named.extend(locals);
+    }
+
     /// The value of numbered parameter `n`.
     pub fn get(&self, n: f64) -> Result<f64, EvalError> {
         let i = index(n)?;
@@ -86,13 +125,22 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
             Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalise_name(&text[r.start as usize..r.end as usize])))),
             _ => 0.0,
         },
-        Expr::Unary(f, inner) => unary(f, eval(block, inner, params, text)?)?,
+        Expr::Unary(f, inner) => unary(f, zero_if_null(eval(block, inner, params, text)?))?,
         Expr::Atan2(y, x) => {
             let (y, x) = (eval(block, y, params, text)?, eval(block, x, params, text)?);
-            y.atan2(x).to_degrees()
+            zero_if_null(y).atan2(zero_if_null(x)).to_degrees()
         }
         Expr::Binary(op, a, b) => binary(op, eval(block, a, params, text)?, eval(block, b, params, text)?)?,
     })
+}
+
+/// Whether `v` is the vacant value.
+pub fn is_null(v: f64) -> bool {
+    v.is_nan()
+}
+
+fn zero_if_null(v: f64) -> f64 {
+    if v.is_nan() { 0.0 } else { v }
 }
 
 fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
@@ -121,8 +169,23 @@ fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
 }
 
 fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, EvalError> {
-    const EQ_TOL: f64 = 1e-6;
     let truth = |c: bool| f64::from(u8::from(c));
+    // Vacant values: EQ and NE tell them from zero; everything else reads them as zero.
+    match (op, a.is_nan(), b.is_nan()) {
+        (BinOp::Eq, true, _) | (BinOp::Eq, _, true) => return Ok(truth(a.is_nan() && b.is_nan())),
+        (BinOp::Ne, true, _) | (BinOp::Ne, _, true) => return Ok(truth(a.is_nan() != b.is_nan())),
+        _ => {}
+    }
+    let (a, b) = (zero_if_null(a), zero_if_null(b));
+    let v = binary_value(op, a, b, truth)?;
+    if v.is_nan() {
+        return Err(EvalError::Domain("the operation has no real value"));
+    }
+    Ok(v)
+}
+
+fn binary_value(op: BinOp, a: f64, b: f64, truth: impl Fn(bool) -> f64) -> Result<f64, EvalError> {
+    const EQ_TOL: f64 = 1e-6;
     Ok(match op {
         BinOp::Pow => a.powf(b),
         BinOp::Mul => a * b,

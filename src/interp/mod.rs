@@ -8,14 +8,17 @@
 
 mod cycle;
 pub mod eval;
+mod flow;
 mod motion;
+
+pub use flow::{NoPrograms, ProgramSource, run};
 
 use std::collections::BTreeMap;
 
 use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step, TimeUnit};
-use crate::syntax::{Block, ParamTarget, Parser, Value};
+use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step, SystemVar, TimeUnit};
+use crate::syntax::{Block, ParamTarget, Value};
 use crate::text::TextRange;
 use eval::{EvalError, Params};
 
@@ -31,7 +34,7 @@ pub struct ToolData {
 }
 
 /// Machine settings that are not part of the dialect (from config).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Profile {
     /// Whether the block-delete switch is on (skip `/` blocks).
     pub block_delete: bool,
@@ -41,23 +44,51 @@ pub struct Profile {
     pub home1: [f64; 6],
     /// G30 reference position, machine coordinates, mm.
     pub home2: [f64; 6],
+    /// Most iterations of one loop (or backward jumps to one block) before the run stops.
+    pub max_loop_iterations: u64,
+    /// Most blocks one run executes, counting repeats, before it stops.
+    pub max_blocks: u64,
 }
 
-/// Interprets a whole program text, pushing canonical ops into `sink`. Streams: memory
-/// does not grow with the program's length.
-pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
-    let mut diags = Vec::new();
-    let mut parser = Parser::new(text, dialect);
-    let mut block = Block::default();
-    let mut interp = Interpreter::new(dialect, profile, text);
-    while parser.next_block(&mut block, &mut diags) {
-        interp.execute(&block, sink, &mut diags);
-        if interp.finished() {
-            break;
+impl Default for Profile {
+    fn default() -> Profile {
+        Profile {
+            block_delete: false,
+            tools: BTreeMap::new(),
+            home1: [0.0; 6],
+            home2: [0.0; 6],
+            max_loop_iterations: 1_000_000,
+            max_blocks: 200_000_000,
         }
     }
-    interp.finish(&mut diags);
-    diags
+}
+
+/// Interprets a whole program text, pushing canonical ops into `sink`. Subprograms must
+/// be in the same text; see [`run`] for a [`ProgramSource`]. Streams: memory does not grow
+/// with the program's length.
+pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
+    run(text, dialect, profile, &NoPrograms, sink)
+}
+
+/// What the interpreter asks the control-flow driver to do after a block.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Request {
+    /// Run program `program` `repeats` times; `args` set locals (macro calls only).
+    Call {
+        /// Program number.
+        program: u32,
+        /// Repeat count.
+        repeats: u32,
+        /// Whether the call opens a new level of local variables (G65) or not (M98).
+        macro_call: bool,
+        /// Local variable number and value.
+        args: Vec<(u16, f64)>,
+    },
+    /// Return from a subprogram, optionally to block number `goto` of the caller.
+    Return {
+        /// Block number to continue at.
+        goto: Option<u32>,
+    },
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -106,6 +137,10 @@ struct State {
     sticky_p: Option<f64>,
     ended: bool,
     tech_warned: bool,
+    /// Whether the block's motion mode was already active before it.
+    motion_continued: bool,
+    /// G93: F is the inverse of each move's time in minutes.
+    inverse_time: bool,
 }
 
 /// The interpreter for one program run.
@@ -123,6 +158,12 @@ pub struct Interpreter<'a> {
     line: u32,
     notes: BTreeMap<&'static str, u32>,
     after_end_noted: bool,
+    /// Set by a block that calls or returns; taken by the flow driver.
+    request: Option<Request>,
+    /// A `#3006` stop message to emit at the stop step.
+    stop_message: Option<String>,
+    /// Where ops come from while a subprogram from another file runs: the call block.
+    origin_override: Option<(TextRange, u32)>,
 }
 
 const NOTE_LIMIT: u32 = 3;
@@ -159,8 +200,10 @@ impl<'a> Interpreter<'a> {
                 sticky_p: None,
                 ended: false,
                 tech_warned: false,
+                inverse_time: false,
+                motion_continued: false,
             },
-            params: Params::default(),
+            params: Params::new(dialect.macros.null_value),
             slots: [None; Role::COUNT],
             has_axes: false,
             codes: Vec::new(),
@@ -168,7 +211,16 @@ impl<'a> Interpreter<'a> {
             line: 0,
             notes: BTreeMap::new(),
             after_end_noted: false,
+            request: None,
+            stop_message: None,
+            origin_override: None,
         }
+    }
+
+    /// The closing `%` of the main program: the end of the program without M2/M30.
+    fn finish_at_delimiter(&mut self, sink: &mut dyn CanonSink) {
+        self.emit(sink, CanonOp::Finish);
+        self.st.ended = true;
     }
 
     /// True once the program has ended (M2/M30).
@@ -190,7 +242,25 @@ impl<'a> Interpreter<'a> {
     }
 
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
-        sink.emit(Canon { op, origin: self.origin, line: self.line });
+        let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
+        sink.emit(Canon { op, origin, line });
+    }
+
+    /// Writes the readable system variables (position, tool, feed, speed) into the table
+    /// before a block reads parameters.
+    fn refresh_system_vars(&mut self) {
+        for &(n, var) in &self.dialect.macros.system {
+            let v = match var {
+                SystemVar::PositionX => self.st.pos[0],
+                SystemVar::PositionY => self.st.pos[1],
+                SystemVar::PositionZ => self.st.pos[2],
+                SystemVar::Tool => f64::from(self.st.tool),
+                SystemVar::Feed => self.st.feed,
+                SystemVar::Speed => self.st.speed,
+                SystemVar::Alarm | SystemVar::StopMessage => continue,
+            };
+            let _ = self.params.set(f64::from(n), v);
+        }
     }
 
     /// Reports a finding, at most [`NOTE_LIMIT`] times per kind.
@@ -224,19 +294,8 @@ impl<'a> Interpreter<'a> {
         if block.skip && self.profile.block_delete {
             return;
         }
-        if let Some(r) = block.control {
-            let text = &self.text[r.start as usize..r.end as usize];
-            let head: String = text.split_whitespace().take(2).collect::<Vec<_>>().join(" ");
-            self.limited(
-                diags,
-                "control",
-                Diagnostic::new(
-                    Code::Unsupported,
-                    r,
-                    format!("control statement `{head}` (subroutines, macros and loops) is not supported yet; the block was skipped"),
-                ),
-            );
-            return;
+        if !block.exprs.is_empty() && !self.dialect.macros.system.is_empty() {
+            self.refresh_system_vars();
         }
         let early = self.dialect.behaviour.assign_before_reads;
         if early {
@@ -248,11 +307,22 @@ impl<'a> Interpreter<'a> {
         if !early {
             self.assign(block, diags);
         }
+        if self.st.ended {
+            return;
+        }
+        if let Some(k) = self.codes.iter().position(|&(c, _)| self.code(c).meaning == Meaning::MacroCall) {
+            self.macro_call(block, self.codes[k].1, diags);
+            return;
+        }
         for &step in &self.dialect.execution_order {
             self.step(step, block, sink, diags);
             if self.st.ended {
-                break;
+                return;
             }
+        }
+        // Codes the dialect files under `misc` take effect last; most are only recorded.
+        if self.codes.iter().any(|&(c, _)| self.dialect.groups[self.code(c).group].step == Step::Misc) {
+            self.run_codes(Step::Misc, block, sink, diags);
         }
     }
 
@@ -270,6 +340,9 @@ impl<'a> Interpreter<'a> {
                 ok = false;
                 continue;
             };
+            if eval::is_null(v) {
+                continue; // a word whose value is vacant is omitted
+            }
             let x10 = (v * 10.0).round();
             let letter = w.letter as char;
             let found = if (v * 10.0 - x10).abs() < 1e-3 && (0.0..10_000.0).contains(&x10) {
@@ -328,6 +401,9 @@ impl<'a> Interpreter<'a> {
                 ok = false;
                 continue;
             };
+            if eval::is_null(v) {
+                continue;
+            }
             if let (Value::Number { decimal: false, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
                 (w.value, &self.dialect.behaviour.decimal_input)
                 && scaled.contains(&w.role)
@@ -347,7 +423,7 @@ impl<'a> Interpreter<'a> {
         match v {
             Value::Number { value, .. } => Some(value),
             Value::Expr(e) => match eval::eval(block, e, &self.params, self.text) {
-                Ok(x) if x.is_finite() => Some(x),
+                Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) => Some(x),
                 Ok(_) => {
                     diags.push(Diagnostic::new(Code::ArithmeticError, range, "the expression has no finite value"));
                     None
@@ -467,11 +543,88 @@ impl<'a> Interpreter<'a> {
         for (n, name, value, range) in pending {
             match n {
                 Some(n) => {
-                    if let Err(e) = self.params.set(n, value) {
-                        diags.push(eval_diag(e, range));
+                    let system = if n >= 0.0 && n.fract() == 0.0 { self.dialect.macros.system_var(n as u32) } else { None };
+                    match system {
+                        Some(SystemVar::Alarm) => self.alarm(block, n, value, range, diags),
+                        Some(SystemVar::StopMessage) => {
+                            let msg = self.block_comment(block);
+                            diags.push(Diagnostic::new(Code::ProgramMessage, range, format!("the program stops with message: {msg}")));
+                            self.stop_message = Some(msg);
+                        }
+                        _ if n == 0.0 && self.dialect.macros.null_value => {
+                            diags.push(Diagnostic::new(Code::UndefinedParameter, range, "#0 is the vacant value and cannot be assigned"));
+                        }
+                        _ => {
+                            if let Err(e) = self.params.set(n, value) {
+                                diags.push(eval_diag(e, range));
+                            }
+                        }
                     }
                 }
                 None => self.params.set_named(name, value),
+            }
+        }
+    }
+
+    /// The text of the block's first comment, or an empty string.
+    fn block_comment(&self, block: &Block) -> String {
+        block.comments.first().map(|r| self.text[r.start as usize..r.end as usize].trim().to_owned()).unwrap_or_default()
+    }
+
+    /// `#3000 = n (MESSAGE)`: the control stops with an alarm.
+    fn alarm(&mut self, block: &Block, var: f64, value: f64, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let msg = self.block_comment(block);
+        let number = if eval::is_null(value) { var } else { var + value.trunc() };
+        diags.push(Diagnostic::new(
+            Code::ProgramAlarm,
+            range,
+            format!("the program raises alarm {number}{}{msg}; execution stops here", if msg.is_empty() { "" } else { ": " }),
+        ));
+        self.st.ended = true;
+    }
+
+    /// `G65 P9010 L2 A1 B2`: a macro call; the other words are arguments by letter.
+    fn macro_call(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let Some(program) = self.program_number(Role::P, range, diags) else { return };
+        let repeats = self.repeat_count(diags, range);
+        let mut args = Vec::new();
+        for w in &block.words {
+            if matches!(w.role, Role::G | Role::P | Role::L) {
+                continue;
+            }
+            let Some(local) = self.dialect.macros.arguments.get((w.letter.wrapping_sub(b'A')) as usize).copied().flatten() else {
+                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                diags.push(Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}` is not a macro argument in this dialect")));
+                continue;
+            };
+            // Arguments keep the value as written: the least-increment rule does not apply.
+            if let Some(v) = self.value(block, w.value, w.range, diags) {
+                args.push((local, v));
+            }
+        }
+        self.request = Some(Request::Call { program, repeats, macro_call: true, args });
+    }
+
+    /// A program number from the word `role`, checked.
+    fn program_number(&mut self, role: Role, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<u32> {
+        let slot = self.slots[role as usize]?;
+        // The least-increment rule may have scaled P; program numbers are read as written.
+        let v = slot.value;
+        if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
+            diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("program number {v} must be a whole number")));
+            return None;
+        }
+        Some(v as u32)
+    }
+
+    /// The repeat count of a call: L, or 1.
+    fn repeat_count(&mut self, diags: &mut Vec<Diagnostic>, range: TextRange) -> u32 {
+        match self.slot(Role::L) {
+            None => 1,
+            Some(l) if l >= 0.0 && l.fract() == 0.0 && l < 1e6 => l as u32,
+            Some(l) => {
+                diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("repeat count L{l} must be a whole number")));
+                1
             }
         }
     }
@@ -490,6 +643,10 @@ impl<'a> Interpreter<'a> {
             }
             Step::Feed => {
                 if let Some(f) = self.slot(Role::F) {
+                    if self.st.inverse_time {
+                        // Each feed move of the block turns F into a rate (see `inverse_time_feed`).
+                        return;
+                    }
                     self.st.feed = f;
                     self.st.tech_warned = false;
                     self.emit(sink, CanonOp::SetFeedRate(f));
@@ -516,16 +673,14 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Step::Misc => {}
+            Step::Stop if self.stop_message.is_some() => {
+                let msg = self.stop_message.take().unwrap_or_default();
+                self.emit(sink, CanonOp::Message(msg));
+                self.emit(sink, CanonOp::ProgramStop);
+                self.run_codes(step, block, sink, diags);
+            }
             _ => {
-                // Index loop: `execute_code` needs `&mut self`, and the hot path must not allocate.
-                let mut ran = false;
-                for k in 0..self.codes.len() {
-                    let (c, range) = self.codes[k];
-                    if self.dialect.groups[self.code(c).group].step == step {
-                        ran = true;
-                        self.execute_code(c, range, block, sink, diags);
-                    }
-                }
+                let ran = self.run_codes(step, block, sink, diags);
                 if step == Step::Motion && !ran {
                     if let Some(c) = self.active_motion_code() {
                         self.execute_code(c, block.range, block, sink, diags);
@@ -543,6 +698,20 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// Executes the block's codes that take effect at `step`; true if there were any.
+    fn run_codes(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
+        // Index loop: `execute_code` needs `&mut self`, and the hot path must not allocate.
+        let mut ran = false;
+        for k in 0..self.codes.len() {
+            let (c, range) = self.codes[k];
+            if self.dialect.groups[self.code(c).group].step == step {
+                ran = true;
+                self.execute_code(c, range, block, sink, diags);
+            }
+        }
+        ran
+    }
+
     fn unsupported(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let key: &'static str = def.meaning.as_str();
         self.limited(
@@ -555,8 +724,15 @@ impl<'a> Interpreter<'a> {
     fn execute_code(&mut self, c: usize, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let def = self.code(c);
         match def.meaning {
-            Meaning::FeedPerMinute => {}
-            Meaning::FeedInverseTime | Meaning::FeedPerRev => self.unsupported(def, range, diags),
+            Meaning::FeedPerMinute => {
+                self.st.inverse_time = false;
+                if self.dialect.behaviour.feed_mode_resets_feed {
+                    self.st.feed = 0.0;
+                    self.emit(sink, CanonOp::SetFeedRate(0.0));
+                }
+            }
+            Meaning::FeedInverseTime => self.st.inverse_time = true,
+            Meaning::FeedPerRev => self.unsupported(def, range, diags),
             Meaning::ToolChange => {
                 if self.dialect.behaviour.tool_change_stops_spindle {
                     self.emit(sink, CanonOp::StopSpindleTurning);
@@ -643,9 +819,10 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::Wcs => {
                 if def.index != self.st.wcs {
+                    let (old, new) = (self.st.wcs_offsets[self.st.wcs as usize - 1], self.st.wcs_offsets[def.index as usize - 1]);
+                    self.shift_origin(old, new);
                     self.st.wcs = def.index;
-                    let off = self.st.wcs_offsets[def.index as usize - 1];
-                    self.emit(sink, CanonOp::SetG5xOffset(def.index, off));
+                    self.emit(sink, CanonOp::SetG5xOffset(def.index, new));
                 }
             }
             Meaning::PathMode | Meaning::SpindleRpm => {}
@@ -682,11 +859,14 @@ impl<'a> Interpreter<'a> {
             | Meaning::CycleBore
             | Meaning::CycleBoreDwell
             | Meaning::CycleBoreStop => {
-                if self.st.motion_code != Some(c) {
+                self.st.motion_continued = self.st.motion_code == Some(c);
+                if !self.st.motion_continued {
                     self.st.sticky_z = None;
                 }
                 self.st.motion_code = Some(c);
-                if self.has_axes {
+                let full_circle = matches!(def.meaning, Meaning::ArcCw | Meaning::ArcCcw)
+                    && [Role::I, Role::J, Role::K].iter().any(|&r| self.slots[r as usize].is_some());
+                if self.has_axes || full_circle {
                     self.motion(def, range, block, sink, diags);
                 }
             }
@@ -698,7 +878,20 @@ impl<'a> Interpreter<'a> {
             Meaning::ProgramStop => self.emit(sink, CanonOp::ProgramStop),
             Meaning::OptionalStop => self.emit(sink, CanonOp::OptionalProgramStop),
             Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.program_end(sink),
-            Meaning::Other | Meaning::LatheMode | Meaning::SpindleOrient => {}
+            Meaning::SubprogramCall => {
+                let Some(p) = self.program_number(Role::P, range, diags) else { return };
+                let mut repeats = self.repeat_count(diags, range);
+                let mut program = p;
+                if self.dialect.macros.repeat_in_p && self.slot(Role::L).is_none() && p > 9999 {
+                    (repeats, program) = (p / 10_000, p % 10_000);
+                }
+                self.request = Some(Request::Call { program, repeats, macro_call: false, args: Vec::new() });
+            }
+            Meaning::SubprogramReturn => {
+                let goto = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0).map(|p| p as u32);
+                self.request = Some(Request::Return { goto });
+            }
+            Meaning::Other | Meaning::LatheMode => {}
             _ => {
                 if self.dialect.groups[def.group].step == Step::Motion {
                     self.st.motion_code = None;
@@ -738,6 +931,19 @@ impl<'a> Interpreter<'a> {
             self.unsupported(def, range, diags);
             return;
         }
+        if let Some(r) = self.slot(Role::R)
+            && r != 0.0
+        {
+            self.limited(
+                diags,
+                "wcs-rotation",
+                Diagnostic::new(
+                    Code::Unsupported,
+                    range,
+                    format!("{}: the rotation R{r} of a coordinate system is not applied yet", def.label()),
+                ),
+            );
+        }
         let index = if p == 0 { self.st.wcs } else { p as u8 };
         let mut off = self.st.wcs_offsets[index as usize - 1];
         for (i, &role) in Role::AXES.iter().enumerate() {
@@ -750,9 +956,17 @@ impl<'a> Interpreter<'a> {
                 };
             }
         }
-        self.st.wcs_offsets[index as usize - 1] = off;
+        let before = std::mem::replace(&mut self.st.wcs_offsets[index as usize - 1], off);
         if index == self.st.wcs {
+            self.shift_origin(before, off);
             self.emit(sink, CanonOp::SetG5xOffset(index, off));
+        }
+    }
+
+    /// Keeps the machine position when the active origin moves from `old` to `new`.
+    fn shift_origin(&mut self, old: [f64; 6], new: [f64; 6]) {
+        for i in 0..6 {
+            self.st.pos[i] += old[i] - new[i];
         }
     }
 

@@ -39,12 +39,42 @@ impl Interpreter<'_> {
             Meaning::Linear => {
                 self.check_technology(def, block.range, diags);
                 let t = self.target();
+                let length = (0..3).map(|i| (t[i] - self.st.pos[i]).powi(2)).sum::<f64>().sqrt();
+                if !self.inverse_time_feed(def, length, block, sink, diags) {
+                    return;
+                }
                 self.emit(sink, CanonOp::StraightFeed(t));
                 self.st.pos = t;
             }
             Meaning::ArcCw | Meaning::ArcCcw => self.arc(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
         }
+    }
+
+    /// In inverse-time mode (G93), sets the feed rate that makes a move of `length` last
+    /// 1/F minutes. False when the block lacks the F it needs.
+    fn inverse_time_feed(
+        &mut self,
+        def: &CodeDef,
+        length: f64,
+        block: &Block,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
+        if !self.st.inverse_time {
+            return true;
+        }
+        let Some(f) = self.slot(Role::F) else {
+            diags.push(Diagnostic::new(
+                Code::MissingParameter,
+                block.range,
+                format!("{} in inverse-time mode (G93) needs an F word in every block", def.label()),
+            ));
+            return false;
+        };
+        self.st.feed = length * f;
+        self.emit(sink, CanonOp::SetFeedRate(self.st.feed));
+        true
     }
 
     pub(super) fn check_technology(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
@@ -122,6 +152,10 @@ impl Interpreter<'_> {
             c
         };
         let rotation = if cw { -turns } else { turns };
+        let length = arc_length(start, end, center, (a0, a1, n), cw, turns);
+        if !self.inverse_time_feed(def, length, block, sink, diags) {
+            return;
+        }
         self.emit(
             sink,
             CanonOp::ArcFeed {
@@ -136,6 +170,21 @@ impl Interpreter<'_> {
         );
         self.st.pos = end;
     }
+}
+
+/// The length of a (helical) arc along its path.
+fn arc_length(start: [f64; 6], end: [f64; 6], center: (f64, f64), (a0, a1, n): (usize, usize, usize), cw: bool, turns: i32) -> f64 {
+    let r = (start[a0] - center.0).hypot(start[a1] - center.1);
+    let a_start = (start[a1] - center.1).atan2(start[a0] - center.0);
+    let a_end = (end[a1] - center.1).atan2(end[a0] - center.0);
+    let tau = std::f64::consts::TAU;
+    let mut sweep = if cw { a_start - a_end } else { a_end - a_start };
+    sweep = sweep.rem_euclid(tau);
+    if sweep < 1e-12 {
+        sweep = tau;
+    }
+    sweep += tau * f64::from(turns - 1);
+    (r * sweep).hypot(end[n] - start[n])
 }
 
 /// The centre of an arc given by its radius, as LinuxCNC computes it: a positive radius

@@ -211,7 +211,7 @@ impl<'p> Recovery<'p> {
                 mv.turns = Some(*rotation);
                 self.cut(mv, c);
             }
-            CanonOp::ProgramEnd => self.close(),
+            CanonOp::ProgramEnd | CanonOp::Finish => self.close(),
             _ => {}
         }
     }

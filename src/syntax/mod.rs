@@ -10,7 +10,7 @@ mod parser;
 pub use expr::{BinOp, Expr, ExprId, Func};
 pub use parser::Parser;
 
-use crate::dialect::Role;
+use crate::dialect::{Role, Statement};
 use crate::text::TextRange;
 
 /// The value of a word or assignment.
@@ -60,6 +60,25 @@ pub struct Assign {
     pub range: TextRange,
 }
 
+/// A control-flow statement: `o100 while [#1 LT 3]`, `IF [#1 GT 0] GOTO 10`, `WHILE [c] DO 1`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Control {
+    /// Source range of the statement.
+    pub range: TextRange,
+    /// The label after the control word (`100` or `name` in `o<name>`), if any.
+    pub label: Option<TextRange>,
+    /// The first keyword as written.
+    pub keyword: Option<TextRange>,
+    /// What the first keyword does; `None` when the dialect does not know it.
+    pub statement: Option<Statement>,
+    /// Bracketed operands in order: the condition, call arguments or a repeat count.
+    pub args: Vec<ExprId>,
+    /// A second keyword: `GOTO` or `THEN` after `IF`, `DO` after `WHILE`.
+    pub then: Option<Statement>,
+    /// A jump target or loop number (`GOTO 10`, `DO 1`, `END 1`).
+    pub target: Option<ExprId>,
+}
+
 /// One block (line) of a program.
 #[derive(Clone, Debug, Default)]
 pub struct Block {
@@ -81,8 +100,8 @@ pub struct Block {
     pub assigns: Vec<Assign>,
     /// Comment texts (inside the delimiters).
     pub comments: Vec<TextRange>,
-    /// A control-flow statement (`o100 sub`), kept whole.
-    pub control: Option<TextRange>,
+    /// A control-flow statement, if the block holds one.
+    pub control: Option<Control>,
     /// Expression arena for this block.
     pub exprs: Vec<Expr>,
 }

@@ -1,9 +1,9 @@
 //! The streaming block parser.
 
 use super::expr::{BinOp, Expr, ExprId, Func};
-use super::{Assign, Block, ParamTarget, Value, Word};
+use super::{Assign, Block, Control, ParamTarget, Value, Word};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CommentClose, Dialect, SkipPosition};
+use crate::dialect::{CommentClose, Dialect, SkipPosition, Statement};
 use crate::text::TextRange;
 
 /// Nesting limit for brackets, against stack exhaustion on hostile input.
@@ -27,6 +27,11 @@ impl<'a> Parser<'a> {
     /// The byte offset of the next block.
     pub fn offset(&self) -> usize {
         self.pos
+    }
+
+    /// The 1-based line of the next block.
+    pub fn line(&self) -> u32 {
+        self.line
     }
 
     /// Moves the cursor to `offset` (a block start previously seen) on 1-based `line`.
@@ -211,17 +216,12 @@ impl Lexer<'_, '_> {
         let letter = self.b[start].to_ascii_uppercase();
         let next = self.b.get(start + 1).copied();
         if lex.control_word == Some(letter as char) {
-            let end = self.line_end();
-            self.block.control = Some(TextRange::new(start, end));
-            self.i = end;
+            self.i += 1;
+            self.control_word(start);
             return;
         }
         if next.is_some_and(|x| x.is_ascii_alphabetic()) {
-            // A keyword (`IF`, `GOTO`, `WHILE`): a statement the word-address grammar does not cover.
-            let end = self.line_end();
-            let end = self.text[start..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| start + p);
-            self.block.control = Some(TextRange::new(start, end));
-            self.i = end;
+            self.keyword_statement(start);
             return;
         }
         self.i += 1;
@@ -256,6 +256,140 @@ impl Lexer<'_, '_> {
         };
         if let Some(value) = self.value(start) {
             self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i) });
+        }
+    }
+
+    /// An alphabetic run at the cursor, as a range.
+    fn alpha_run(&self) -> TextRange {
+        let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+        TextRange::new(self.i, end)
+    }
+
+    /// `o100 while [#1 LT 3]`: the label after the control word, then a statement keyword
+    /// and its bracketed operands.
+    fn control_word(&mut self, start: usize) {
+        self.skip_blanks();
+        let label = if self.peek() == Some(b'<') {
+            let from = self.i + 1;
+            let eol = self.line_end();
+            match self.b[from..eol].iter().position(|&c| c == b'>') {
+                Some(p) => {
+                    self.i = from + p + 1;
+                    Some(TextRange::new(from, from + p))
+                }
+                None => {
+                    self.error(Code::MalformedExpression, start, eol, "label name is not closed with `>`");
+                    self.i = eol;
+                    return;
+                }
+            }
+        } else {
+            let from = self.i;
+            while self.peek().is_some_and(|c| c.is_ascii_digit()) {
+                self.i += 1;
+            }
+            (self.i > from).then(|| TextRange::new(from, self.i))
+        };
+        if label.is_none() {
+            self.error(Code::MalformedNumber, start, self.i.max(start + 1), "a control word needs a label such as o100 or o<name>");
+            self.i = self.line_end();
+            return;
+        }
+        self.skip_blanks();
+        let kw = self.alpha_run();
+        let mut control = Control { label, ..Control::default() };
+        if !kw.is_empty() {
+            control.keyword = Some(kw);
+            control.statement = self.dialect.macros.statement(&self.text[kw.start as usize..kw.end as usize]);
+            self.i = kw.end as usize;
+            if control.statement.is_none() {
+                self.i = self.line_end();
+            }
+            self.operands(&mut control);
+        }
+        control.range = TextRange::new(start, self.i);
+        self.block.control = Some(control);
+    }
+
+    /// `IF [#1 GT 0] GOTO 10`, `WHILE [#2 LT 5] DO 1`, `END 1`, `GOTO #3`: a statement that
+    /// starts with a keyword. A run of letters that is no statement of the dialect is kept
+    /// as an unknown statement, so that the interpreter can name it.
+    fn keyword_statement(&mut self, start: usize) {
+        let run = self.alpha_run();
+        let word = &self.text[run.start as usize..run.end as usize];
+        let known = if self.dialect.lexical.control_word.is_none() {
+            self.dialect.macros.statements.iter().find(|(k, _)| word.len() >= k.len() && word[..k.len()].eq_ignore_ascii_case(k))
+        } else {
+            None
+        };
+        let mut control = Control::default();
+        match known {
+            Some((k, st)) => {
+                self.i = start + k.len();
+                control.keyword = Some(TextRange::new(start, self.i));
+                control.statement = Some(*st);
+                self.operands(&mut control);
+            }
+            None => {
+                let end = self.line_end();
+                let lex = &self.dialect.lexical;
+                let end = self.text[start..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| start + p);
+                control.keyword = Some(run);
+                self.i = end;
+            }
+        }
+        control.range = TextRange::new(start, self.i);
+        self.block.control = Some(control);
+    }
+
+    /// The operands after a statement keyword: a target for jumps and loop ends, bracketed
+    /// operands otherwise, then an optional second keyword and its target.
+    fn operands(&mut self, control: &mut Control) {
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let takes_target = |st: Statement| matches!(st, Statement::Goto | Statement::EndLoop | Statement::Do);
+        let starts_operand = |c: Option<u8>, sigil: Option<u8>| {
+            c.is_some_and(|c| c.is_ascii_digit() || c == b'+' || c == b'-' || c == b'.' || Some(c) == sigil || Some(c) == expr_open)
+        };
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        self.skip_blanks();
+        if control.statement.is_some_and(takes_target) && starts_operand(self.peek(), sigil) {
+            control.target = self.unary(1);
+            return;
+        }
+        loop {
+            self.skip_blanks();
+            // Comments may sit between operands: `o<x> call [1] (note) [2]`.
+            while let Some(rule) = self.peek().and_then(|c| self.dialect.lexical.comments.iter().find(|r| r.open as u8 == c)) {
+                let close = rule.close.clone();
+                self.comment(&close);
+                self.skip_blanks();
+            }
+            if self.peek().is_none() || self.peek() != expr_open {
+                break;
+            }
+            match self.unary(1) {
+                Some(e) => control.args.push(e),
+                None => return,
+            }
+        }
+        if self.dialect.lexical.control_word.is_some() || !self.peek().is_some_and(|c| c.is_ascii_alphabetic()) {
+            return;
+        }
+        let run = self.alpha_run();
+        let word = &self.text[run.start as usize..run.end as usize];
+        let Some(&(ref k, st)) =
+            self.dialect.macros.statements.iter().find(|(k, _)| word.len() >= k.len() && word[..k.len()].eq_ignore_ascii_case(k))
+        else {
+            return;
+        };
+        if !matches!(st, Statement::Goto | Statement::Then | Statement::Do) {
+            return;
+        }
+        self.i = run.start as usize + k.len();
+        control.then = Some(st);
+        self.skip_blanks();
+        if takes_target(st) {
+            control.target = self.unary(1);
         }
     }
 

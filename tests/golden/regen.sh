@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates tests/golden/rs274/*.canon from LinuxCNC's rs274 (Debian: linuxcnc-uspace),
-# for the RS274NGC programs of ../shared/corpus/linuxcnc (those under 64 KB).
+# for the RS274NGC programs of ../shared/corpus/linuxcnc (those under 64 KB) and for
+# ncplan's own test programs in tests/programs/linuxcnc (goldens named own__<name>).
 # Each golden holds rs274's calls without their sequence prefix; if rs274 stops with an
 # error, the last line is `# rs274 error: <message>`.
 set -euo pipefail
@@ -12,9 +13,10 @@ trap 'rm -f "$tbl"' EXIT
 # An all-zero tool table, so that tool length offsets are 0 as in ncplan's empty table.
 for i in $(seq 1 99); do echo "T$i P$i Z0 D0"; done > "$tbl"
 rm -f "$out"/*.canon
-for f in "$corpus"/*.ngc; do
+for f in "$corpus"/*.ngc ../programs/linuxcnc/*.ngc; do
   [ "$(stat -c %s "$f")" -le 65536 ] || continue
   name=$(basename "$f" .ngc)
+  case "$f" in ../programs/*) name="own__$name" ;; esac
   raw=$(cd "$(dirname "$f")" && timeout 20 rs274 -g -t "$tbl" "$(basename "$f")" 2>&1 < /dev/null || true)
   {
     printf '%s\n' "$raw" | sed -n 's/^ *[0-9][0-9]* N[^ ]* //p'

@@ -1,0 +1,967 @@
+//! Control flow: the driver that feeds blocks to the [`Interpreter`] and carries out
+//! subroutines, macro calls, conditionals, loops and jumps.
+//!
+//! One engine serves both styles the dialect dictionary can describe: labelled O-word
+//! statements (`o100 while [..]`, `o<probe> call [1]`) and keyword statements (`IF [..] GOTO
+//! 10`, `WHILE [..] DO 1`, `G65 P9010`, `M98 P1000 L2`). The driver never looks ahead in the
+//! normal case: a program without control flow streams block by block. The first jump builds
+//! an index of the source's statements and program numbers (its size follows the number of
+//! statements, not of blocks), and jumps seek the parser within the text.
+//!
+//! Runaway programs stop with a diagnostic: every loop and every backward jump target has an
+//! iteration limit, and the whole run has a block budget ([`Profile`]).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use typed_arena::Arena;
+
+use super::eval::{self, NULL};
+use super::{Interpreter, Profile, Request};
+use crate::canon::CanonSink;
+use crate::diag::{Code, Diagnostic, Severity};
+use crate::dialect::{Dialect, Statement};
+use crate::syntax::{Block, Control, Expr, ExprId, Parser};
+use crate::text::{LineIndex, TextRange};
+
+/// Where the driver finds subprograms that are not in the program's own text. The shell
+/// implements it over a configured program directory; the core never reads files.
+pub trait ProgramSource {
+    /// The text of the program called `name`: `O1000` for a numbered program, or the label
+    /// of an O-word subroutine (`probe` for `o<probe> call`).
+    fn load(&self, name: &str) -> Option<String>;
+}
+
+/// A [`ProgramSource`] without programs: calls resolve within the text only.
+pub struct NoPrograms;
+
+impl ProgramSource for NoPrograms {
+    fn load(&self, _name: &str) -> Option<String> {
+        None
+    }
+}
+
+/// Interprets `text` with its subprograms, pushing canonical ops into `sink`.
+pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn ProgramSource, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
+    let arena = Arena::new();
+    let mut diags = Vec::new();
+    let mut driver = Driver {
+        dialect,
+        profile,
+        programs,
+        arena: &arena,
+        sources: vec![Source::new(text, String::new())],
+        cur: 0,
+        parser: Parser::new(text, dialect),
+        frames: Vec::new(),
+        loops: Vec::new(),
+        back_jumps: BTreeMap::new(),
+        landing: None,
+        executed: 0,
+        replaying: false,
+        seen: BTreeSet::new(),
+        stop: false,
+        delimiters: 0,
+    };
+    let mut interp = Interpreter::new(dialect, profile, text);
+    driver.drive(&mut interp, sink, &mut diags);
+    interp.finish(&mut diags);
+    diags
+}
+
+/// A block position: its byte offset and 1-based line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Pos {
+    at: usize,
+    line: u32,
+}
+
+/// A control statement or program start found by the index.
+#[derive(Clone, Debug)]
+struct Mark {
+    label: Option<String>,
+    statement: Option<Statement>,
+    then: Option<Statement>,
+    id: Option<i64>,
+    program: Option<u32>,
+    start: Pos,
+    next: Pos,
+}
+
+struct Source<'a> {
+    text: &'a str,
+    /// Empty for the main program.
+    name: String,
+    marks: Option<Vec<Mark>>,
+    numbers: BTreeMap<u32, Vec<Pos>>,
+    lines: Option<LineIndex>,
+}
+
+impl<'a> Source<'a> {
+    fn new(text: &'a str, name: String) -> Source<'a> {
+        Source { text, name, marks: None, numbers: BTreeMap::new(), lines: None }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FrameKind {
+    /// `o100 call`: returns at `endsub`/`return`.
+    Sub,
+    /// `G65`, `M98`: returns at `M99`.
+    Program,
+}
+
+struct Frame {
+    kind: FrameKind,
+    /// Source and position to return to.
+    ret_source: usize,
+    ret: Pos,
+    /// Source and start of the body, for repeats.
+    source: usize,
+    body: Pos,
+    repeats_left: u32,
+    args: Vec<(u16, f64)>,
+    saved_locals: Option<Vec<f64>>,
+    saved_names: Option<BTreeMap<String, f64>>,
+    loops_base: usize,
+    call: (TextRange, u32),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LoopKind {
+    While,
+    Do,
+    Repeat,
+    Numbered,
+}
+
+struct Loop {
+    kind: LoopKind,
+    label: Option<String>,
+    id: Option<i64>,
+    source: usize,
+    head: Pos,
+    body: Pos,
+    remaining: u64,
+    iterations: u64,
+}
+
+struct Driver<'a, 'p> {
+    dialect: &'a Dialect,
+    profile: &'a Profile,
+    programs: &'p dyn ProgramSource,
+    arena: &'a Arena<String>,
+    sources: Vec<Source<'a>>,
+    cur: usize,
+    parser: Parser<'a>,
+    frames: Vec<Frame>,
+    loops: Vec<Loop>,
+    back_jumps: BTreeMap<(usize, usize), u64>,
+    /// An `elseif`/`else` reached by a jump from a false condition (source, offset).
+    landing: Option<(usize, usize)>,
+    executed: u64,
+    /// Whether any block may run a second time: diagnostics are then deduplicated.
+    replaying: bool,
+    seen: BTreeSet<(u32, u32, Code)>,
+    stop: bool,
+    /// `%` lines met in the main program: the second one ends it.
+    delimiters: u32,
+}
+
+fn normalise_label(s: &str) -> String {
+    let s: String = s.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect();
+    if s.bytes().all(|b| b.is_ascii_digit()) {
+        let t = s.trim_start_matches('0');
+        if t.is_empty() { "0".into() } else { t.into() }
+    } else {
+        s
+    }
+}
+
+impl<'a> Driver<'a, '_> {
+    fn pos(&self) -> Pos {
+        Pos { at: self.parser.offset(), line: self.parser.line() }
+    }
+
+    fn drive(&mut self, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let mut block = Block::default();
+        loop {
+            let start = self.pos();
+            let src = self.cur;
+            let mark = diags.len();
+            if !self.parser.next_block(&mut block, diags) {
+                if !self.end_of_source(interp, diags) {
+                    break;
+                }
+                continue;
+            }
+            self.executed += 1;
+            if self.executed > self.profile.max_blocks {
+                diags.push(Diagnostic::new(
+                    Code::LoopLimit,
+                    block.range,
+                    format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks),
+                ));
+                break;
+            }
+            if block.delimiter && src == 0 && self.frames.is_empty() {
+                if self.delimiters > 0 {
+                    interp.finish_at_delimiter(sink);
+                }
+                self.delimiters += 1;
+            }
+            if let Some(control) = block.control.take() {
+                self.control(&control, &block, start, interp, sink, diags);
+                block.control = Some(control);
+            } else {
+                interp.execute(&block, sink, diags);
+                if let Some(r) = interp.request.take() {
+                    self.request(r, &block, interp, diags);
+                }
+            }
+            self.tidy(src, mark, diags);
+            if interp.finished() || self.stop {
+                break;
+            }
+        }
+    }
+
+    /// Post-processes the diagnostics of one block: those from another file point at the
+    /// call in the main program; a block that runs again does not repeat its findings.
+    fn tidy(&mut self, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) {
+        if src != 0 {
+            let call = self.external_call().map_or(TextRange::default(), |c| c.0);
+            let source = &mut self.sources[src];
+            let lines = source.lines.get_or_insert_with(|| LineIndex::new(source.text));
+            for d in &mut diags[mark..] {
+                if d.range != call {
+                    let lc = lines.line_col(source.text, d.range.start);
+                    d.message = format!("in {}:{}:{}: {}", source.name, lc.line, lc.col, d.message);
+                    d.range = call;
+                }
+            }
+        }
+        if self.replaying {
+            let mut k = mark;
+            while k < diags.len() {
+                let d = &diags[k];
+                if self.seen.insert((d.range.start, d.range.end, d.code)) {
+                    k += 1;
+                } else {
+                    diags.remove(k);
+                }
+            }
+        }
+    }
+
+    /// The call block in the main program through which a subprogram file runs.
+    fn external_call(&self) -> Option<(TextRange, u32)> {
+        self.frames.iter().find(|f| f.source != 0 && f.ret_source == 0).map(|f| f.call)
+    }
+
+    fn switch_to(&mut self, source: usize, pos: Pos, interp: &mut Interpreter<'a>) {
+        if source != self.cur {
+            self.cur = source;
+            self.parser = Parser::new(self.sources[source].text, self.dialect);
+            interp.text = self.sources[source].text;
+            interp.origin_override = if source == 0 { None } else { self.external_call() };
+        }
+        self.parser.seek(pos.at, pos.line);
+    }
+
+    /// Jumps to `pos` in `source`; a jump backwards turns on replay deduplication.
+    fn jump(&mut self, source: usize, pos: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &[Diagnostic]) {
+        if !self.replaying && (source != self.cur || pos.at <= here.at) {
+            self.replaying = true;
+            self.seen.extend(diags.iter().map(|d| (d.range.start, d.range.end, d.code)));
+        }
+        self.switch_to(source, pos, interp);
+    }
+
+    fn error(&mut self, diags: &mut Vec<Diagnostic>, code: Code, range: TextRange, msg: impl Into<String>) {
+        let d = Diagnostic::new(code, range, msg);
+        if d.severity == Severity::Error && matches!(code, Code::MissingLabel | Code::LoopLimit | Code::CallDepth) {
+            self.stop = true;
+        }
+        diags.push(d);
+    }
+
+    fn marks(&mut self, source: usize) -> &[Mark] {
+        let dialect = self.dialect;
+        let src = &mut self.sources[source];
+        src.marks.get_or_insert_with(|| index(src.text, dialect))
+    }
+
+    /// The first mark after `after` in the current source that `pred` accepts.
+    fn find_after(&mut self, after: usize, pred: impl Fn(&Mark) -> bool) -> Option<Mark> {
+        let marks = self.marks(self.cur);
+        let from = marks.partition_point(|m| m.start.at <= after);
+        marks[from..].iter().find(|m| pred(m)).cloned()
+    }
+
+    fn label_text(&self, control: &Control) -> Option<String> {
+        control.label.map(|r| normalise_label(&self.sources[self.cur].text[r.start as usize..r.end as usize]))
+    }
+
+    /// Evaluates operand `e` of a control block with the interpreter's parameters.
+    fn value(&self, interp: &mut Interpreter<'a>, block: &Block, e: ExprId, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+        match eval::eval(block, e, &interp.params, self.sources[self.cur].text) {
+            Ok(v) => Some(v),
+            Err(err) => {
+                diags.push(super::eval_diag(err, block.range));
+                None
+            }
+        }
+    }
+
+    fn condition(&self, interp: &mut Interpreter<'a>, c: &Control, block: &Block, diags: &mut Vec<Diagnostic>) -> Option<bool> {
+        let Some(&e) = c.args.first() else {
+            diags.push(Diagnostic::new(Code::MalformedExpression, c.range, "the statement needs a bracketed condition"));
+            return None;
+        };
+        let v = self.value(interp, block, e, diags)?;
+        Some(!eval::is_null(v) && v != 0.0)
+    }
+
+    fn count_iteration(&mut self, k: usize, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        self.loops[k].iterations += 1;
+        if self.loops[k].iterations > self.profile.max_loop_iterations {
+            let limit = self.profile.max_loop_iterations;
+            self.error(diags, Code::LoopLimit, range, format!("the loop ran more than {limit} times; the run stops here"));
+            return false;
+        }
+        true
+    }
+
+    fn top_loop(&self, pred: impl Fn(&Loop) -> bool) -> Option<usize> {
+        let base = self.frames.last().map_or(0, |f| f.loops_base);
+        (base..self.loops.len()).rev().find(|&k| pred(&self.loops[k]))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn control(
+        &mut self,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let here = self.pos();
+        let text = self.sources[self.cur].text;
+        let Some(statement) = c.statement else {
+            if let Some(k) = c.keyword {
+                let word = &text[k.start as usize..k.end as usize];
+                let head: String = text[c.range.start as usize..c.range.end as usize].chars().take(40).collect();
+                interp.limited(
+                    diags,
+                    "statement",
+                    Diagnostic::new(
+                        Code::UnknownStatement,
+                        k,
+                        format!("`{word}` is not a statement of the {} dialect; `{}` was skipped", self.dialect.name, head.trim()),
+                    ),
+                );
+            }
+            return;
+        };
+        let label = self.label_text(c);
+        let same_label = |m: &Mark, sts: &[Statement]| m.label == label && m.statement.is_some_and(|s| sts.contains(&s));
+        match statement {
+            Statement::If => {
+                let Some(cond) = self.condition(interp, c, block, diags) else { return };
+                match c.then {
+                    Some(Statement::Goto) => {
+                        if cond {
+                            self.goto(c.target, block, start, interp, diags);
+                        }
+                    }
+                    Some(Statement::Then) => {
+                        if cond {
+                            interp.execute(block, sink, diags);
+                        }
+                    }
+                    _ => {
+                        if !cond {
+                            self.next_branch(&label, start, c.range, interp, diags);
+                        }
+                    }
+                }
+            }
+            Statement::ElseIf => {
+                if self.landing == Some((self.cur, start.at)) {
+                    self.landing = None;
+                    let Some(cond) = self.condition(interp, c, block, diags) else { return };
+                    if !cond {
+                        self.next_branch(&label, start, c.range, interp, diags);
+                    }
+                } else {
+                    self.skip_to(start, c.range, "endif", |m| same_label(m, &[Statement::EndIf]), interp, diags);
+                }
+            }
+            Statement::Else => {
+                if self.landing == Some((self.cur, start.at)) {
+                    self.landing = None;
+                } else {
+                    self.skip_to(start, c.range, "endif", |m| same_label(m, &[Statement::EndIf]), interp, diags);
+                }
+            }
+            Statement::EndIf | Statement::Then => {}
+            Statement::While if label.is_some() => {
+                let Some(cond) = self.condition(interp, c, block, diags) else { return };
+                if let Some(k) = self.top_loop(|l| l.kind == LoopKind::Do && l.label == label) {
+                    // The tail of a do-loop.
+                    if cond {
+                        if self.count_iteration(k, c.range, diags) {
+                            let (src, body) = (self.loops[k].source, self.loops[k].body);
+                            self.jump(src, body, start, interp, diags);
+                        }
+                    } else {
+                        self.loops.truncate(k);
+                    }
+                    return;
+                }
+                let again = self.top_loop(|l| l.kind == LoopKind::While && l.label == label && l.head == start);
+                match (cond, again) {
+                    (true, Some(k)) => {
+                        self.count_iteration(k, c.range, diags);
+                    }
+                    (true, None) => self.push_loop(LoopKind::While, label, None, start, here),
+                    (false, again) => {
+                        if let Some(k) = again {
+                            self.loops.truncate(k);
+                        }
+                        self.skip_to(start, c.range, "endwhile", |m| same_label(m, &[Statement::EndWhile]), interp, diags);
+                    }
+                }
+            }
+            Statement::While => {
+                // `WHILE [c] DO m`.
+                let id = self.loop_id(c, block, interp, diags);
+                let Some(cond) = self.condition(interp, c, block, diags) else { return };
+                let again = self.top_loop(|l| l.kind == LoopKind::Numbered && l.head == start);
+                match (cond, again) {
+                    (true, Some(k)) => {
+                        self.count_iteration(k, c.range, diags);
+                    }
+                    (true, None) => self.push_loop(LoopKind::Numbered, None, id, start, here),
+                    (false, again) => {
+                        if let Some(k) = again {
+                            self.loops.truncate(k);
+                        }
+                        self.skip_numbered_end(id, start, c.range, interp, diags);
+                    }
+                }
+            }
+            Statement::Do if label.is_some() => self.push_loop(LoopKind::Do, label, None, start, here),
+            Statement::Do => {
+                // `DO m` without WHILE: an endless loop that only a jump leaves.
+                let id = self.loop_id(c, block, interp, diags);
+                match self.top_loop(|l| l.kind == LoopKind::Numbered && l.head == start) {
+                    Some(k) => {
+                        self.count_iteration(k, c.range, diags);
+                    }
+                    None => self.push_loop(LoopKind::Numbered, None, id, start, here),
+                }
+            }
+            Statement::EndWhile => match self.top_loop(|l| l.kind == LoopKind::While && l.label == label) {
+                Some(k) => {
+                    let (src, head) = (self.loops[k].source, self.loops[k].head);
+                    self.loops.truncate(k + 1);
+                    self.jump(src, head, start, interp, diags);
+                }
+                None => self.unmatched(c, "endwhile", "while", diags),
+            },
+            Statement::EndLoop => {
+                let id = self.loop_id(c, block, interp, diags);
+                match self.top_loop(|l| l.kind == LoopKind::Numbered && l.id == id) {
+                    Some(k) => {
+                        let (src, head) = (self.loops[k].source, self.loops[k].head);
+                        self.loops.truncate(k + 1);
+                        self.jump(src, head, start, interp, diags);
+                    }
+                    None => self.unmatched(c, "END", "WHILE ... DO", diags),
+                }
+            }
+            Statement::Repeat => {
+                let count = match c.args.first() {
+                    Some(&e) => self.value(interp, block, e, diags).map_or(0.0, |v| if eval::is_null(v) { 0.0 } else { v }),
+                    None => 0.0,
+                };
+                if count >= 1.0 {
+                    self.push_loop(LoopKind::Repeat, label, None, start, here);
+                    if let Some(l) = self.loops.last_mut() {
+                        l.remaining = count.min(u64::MAX as f64) as u64;
+                    }
+                } else {
+                    self.skip_to(start, c.range, "endrepeat", |m| same_label(m, &[Statement::EndRepeat]), interp, diags);
+                }
+            }
+            Statement::EndRepeat => match self.top_loop(|l| l.kind == LoopKind::Repeat && l.label == label) {
+                Some(k) => self.next_repeat(k, true, start, c.range, interp, diags),
+                None => self.unmatched(c, "endrepeat", "repeat", diags),
+            },
+            Statement::Break | Statement::Continue => {
+                let Some(k) = self.top_loop(|l| l.label == label && l.kind != LoopKind::Numbered) else {
+                    self.unmatched(c, if statement == Statement::Break { "break" } else { "continue" }, "a loop", diags);
+                    return;
+                };
+                let kind = self.loops[k].kind;
+                let end: &[Statement] = match kind {
+                    LoopKind::While => &[Statement::EndWhile],
+                    LoopKind::Repeat => &[Statement::EndRepeat],
+                    LoopKind::Do | LoopKind::Numbered => &[Statement::While],
+                };
+                match (statement, kind) {
+                    (Statement::Break, _) => {
+                        self.loops.truncate(k);
+                        self.skip_to(start, c.range, "the loop end", |m| same_label(m, end), interp, diags);
+                    }
+                    (_, LoopKind::While) => {
+                        let (src, head) = (self.loops[k].source, self.loops[k].head);
+                        self.loops.truncate(k + 1);
+                        self.jump(src, head, start, interp, diags);
+                    }
+                    (_, LoopKind::Repeat) => self.next_repeat(k, false, start, c.range, interp, diags),
+                    _ => {
+                        // Continue in a do-loop: evaluate its tail.
+                        self.loops.truncate(k + 1);
+                        if let Some(m) = self.find_after(start.at, |m| same_label(m, end)) {
+                            self.jump(self.cur, m.start, start, interp, diags);
+                        }
+                    }
+                }
+            }
+            Statement::Sub => {
+                // A definition met in the flow of the program is skipped.
+                self.skip_to(start, c.range, "endsub", |m| same_label(m, &[Statement::EndSub]), interp, diags);
+            }
+            Statement::EndSub | Statement::Return => {
+                if statement == Statement::Return
+                    && let Some(&e) = c.args.first()
+                    && let Some(v) = self.value(interp, block, e, diags)
+                {
+                    interp.params.set_named("_value".into(), v);
+                }
+                match self.frames.last() {
+                    Some(f) if f.kind == FrameKind::Sub => self.return_from(None, block, interp, diags),
+                    _ => self.unmatched(c, if statement == Statement::Return { "return" } else { "endsub" }, "call", diags),
+                }
+            }
+            Statement::Call => self.call_sub(c, label, block, start, interp, diags),
+            Statement::Goto => self.goto(c.target, block, start, interp, diags),
+        }
+    }
+
+    fn push_loop(&mut self, kind: LoopKind, label: Option<String>, id: Option<i64>, head: Pos, body: Pos) {
+        self.loops.push(Loop { kind, label, id, source: self.cur, head, body, remaining: 0, iterations: 0 });
+    }
+
+    fn loop_id(&self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> Option<i64> {
+        let v = self.value(interp, block, c.target?, diags)?;
+        (!eval::is_null(v)).then(|| v.round() as i64)
+    }
+
+    fn unmatched(&mut self, c: &Control, what: &str, opener: &str, diags: &mut Vec<Diagnostic>) {
+        diags.push(Diagnostic::new(Code::UnmatchedStatement, c.range, format!("`{what}` without an open {opener}; ignored")));
+    }
+
+    /// The end of one pass of a counted loop, at its `endrepeat` or at a `continue`.
+    fn next_repeat(
+        &mut self,
+        k: usize,
+        at_end: bool,
+        start: Pos,
+        range: TextRange,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        self.loops[k].remaining = self.loops[k].remaining.saturating_sub(1);
+        if self.loops[k].remaining > 0 {
+            if self.count_iteration(k, range, diags) {
+                let (src, body) = (self.loops[k].source, self.loops[k].body);
+                self.loops.truncate(k + 1);
+                self.jump(src, body, start, interp, diags);
+            }
+            return;
+        }
+        let label = self.loops[k].label.clone();
+        self.loops.truncate(k);
+        if !at_end {
+            self.skip_to(start, range, "endrepeat", |m| m.label == label && m.statement == Some(Statement::EndRepeat), interp, diags);
+        }
+    }
+
+    /// After a false condition: the next `elseif`/`else` of the same label, or past `endif`.
+    fn next_branch(
+        &mut self,
+        label: &Option<String>,
+        start: Pos,
+        range: TextRange,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let m = self.find_after(start.at, |m| {
+            m.label == *label && m.statement.is_some_and(|s| matches!(s, Statement::ElseIf | Statement::Else | Statement::EndIf))
+        });
+        match m {
+            Some(m) if m.statement == Some(Statement::EndIf) => self.switch_to(self.cur, m.next, interp),
+            Some(m) => {
+                self.landing = Some((self.cur, m.start.at));
+                self.switch_to(self.cur, m.start, interp);
+            }
+            None => self.error(diags, Code::MissingLabel, range, "no matching `endif` follows this `if`; the run stops here"),
+        }
+    }
+
+    /// Continues after the first mark that `pred` accepts.
+    fn skip_to(
+        &mut self,
+        start: Pos,
+        range: TextRange,
+        what: &str,
+        pred: impl Fn(&Mark) -> bool,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        match self.find_after(start.at, pred) {
+            Some(m) => self.switch_to(self.cur, m.next, interp),
+            None => self.error(diags, Code::MissingLabel, range, format!("no matching `{what}` follows; the run stops here")),
+        }
+    }
+
+    /// After `WHILE [false] DO m`: past the matching `END m`, counting nested loops of the
+    /// same number.
+    fn skip_numbered_end(
+        &mut self,
+        id: Option<i64>,
+        start: Pos,
+        range: TextRange,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let marks = self.marks(self.cur);
+        let from = marks.partition_point(|m| m.start.at <= start.at);
+        let mut depth = 0u32;
+        let mut found = None;
+        for m in &marks[from..] {
+            let opens = m.id == id && (m.then == Some(Statement::Do) || (m.statement == Some(Statement::Do) && m.label.is_none()));
+            if opens {
+                depth += 1;
+            } else if m.id == id && m.statement == Some(Statement::EndLoop) {
+                if depth == 0 {
+                    found = Some(m.next);
+                    break;
+                }
+                depth -= 1;
+            }
+        }
+        match found {
+            Some(next) => self.switch_to(self.cur, next, interp),
+            None => {
+                let n = id.map_or_else(|| "?".to_owned(), |n| n.to_string());
+                self.error(diags, Code::MissingLabel, range, format!("no `END {n}` closes this loop; the run stops here"));
+            }
+        }
+    }
+
+    /// `GOTO n`: the block numbered `n`, searched forward from here and then from the top.
+    fn goto(&mut self, target: Option<ExprId>, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let Some(e) = target else {
+            self.error(diags, Code::MissingLabel, block.range, "the jump has no target");
+            return;
+        };
+        let Some(v) = self.value(interp, block, e, diags) else { return };
+        if eval::is_null(v) || v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
+            self.error(diags, Code::MissingLabel, block.range, format!("jump target {v} is not a block number"));
+            return;
+        }
+        self.goto_number(v as u32, block.range, start, interp, diags);
+    }
+
+    fn goto_number(&mut self, n: u32, range: TextRange, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let dialect = self.dialect;
+        let src = &mut self.sources[self.cur];
+        let text = src.text;
+        let positions = src.numbers.entry(n).or_insert_with(|| numbered(text, dialect, n));
+        let pick = positions.iter().find(|p| p.at > start.at).or(positions.first()).copied();
+        let Some(pos) = pick else {
+            self.error(
+                diags,
+                Code::MissingLabel,
+                range,
+                format!("no block N{n} to jump to; the run stops here, as the control would alarm"),
+            );
+            return;
+        };
+        if pos.at <= start.at {
+            let count = self.back_jumps.entry((self.cur, pos.at)).or_insert(0);
+            *count += 1;
+            if *count > self.profile.max_loop_iterations {
+                let limit = self.profile.max_loop_iterations;
+                self.error(diags, Code::LoopLimit, range, format!("the jump back to N{n} ran more than {limit} times; the run stops here"));
+                return;
+            }
+        }
+        self.jump(self.cur, pos, start, interp, diags);
+    }
+
+    fn call_sub(
+        &mut self,
+        c: &Control,
+        label: Option<String>,
+        block: &Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(label) = label else { return };
+        let mut args = Vec::with_capacity(c.args.len());
+        for &e in &c.args {
+            let Some(v) = self.value(interp, block, e, diags) else { return };
+            args.push(v);
+        }
+        let is_sub = |m: &Mark| m.label.as_deref() == Some(label.as_str()) && m.statement == Some(Statement::Sub);
+        let mut found = None;
+        for source in [self.cur, 0] {
+            if let Some(m) = self.marks(source).iter().find(|m| is_sub(m)) {
+                found = Some((source, m.next));
+                break;
+            }
+        }
+        if found.is_none()
+            && let Some(source) = self.load(&label)
+        {
+            let body = self.marks(source).iter().find(|m| is_sub(m)).map_or(Pos { at: 0, line: 1 }, |m| m.next);
+            found = Some((source, body));
+        }
+        let Some((source, body)) = found else {
+            self.error(
+                diags,
+                Code::MissingLabel,
+                c.range,
+                format!("subroutine o<{label}> is neither in this program nor in the program directory"),
+            );
+            return;
+        };
+        let (first, last) = self.dialect.macros.locals;
+        let args: Vec<(u16, f64)> = args.into_iter().enumerate().map(|(i, v)| (first + i as u16, v)).filter(|(n, _)| *n <= last).collect();
+        self.enter(FrameKind::Sub, source, body, 1, args, true, block, start, interp, diags);
+    }
+
+    /// Loads subprogram `name` through the [`ProgramSource`] (once); returns its source index.
+    fn load(&mut self, name: &str) -> Option<usize> {
+        if let Some(k) = self.sources.iter().position(|s| s.name == name) {
+            return Some(k);
+        }
+        let text = self.programs.load(name)?;
+        let text: &'a str = self.arena.alloc(text);
+        self.sources.push(Source::new(text, name.to_owned()));
+        Some(self.sources.len() - 1)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn enter(
+        &mut self,
+        kind: FrameKind,
+        source: usize,
+        body: Pos,
+        repeats: u32,
+        args: Vec<(u16, f64)>,
+        locals: bool,
+        block: &Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        if self.frames.len() as u32 >= self.dialect.macros.call_depth {
+            let depth = self.dialect.macros.call_depth;
+            self.error(diags, Code::CallDepth, block.range, format!("calls are nested deeper than {depth} levels; the run stops here"));
+            return;
+        }
+        if repeats == 0 {
+            return;
+        }
+        let (first, last) = self.dialect.macros.locals;
+        let reset = if self.dialect.macros.null_value { NULL } else { 0.0 };
+        let saved_locals = locals.then(|| interp.params.push_locals(first, last, reset));
+        let saved_names = (locals && kind == FrameKind::Sub).then(|| interp.params.take_local_names());
+        for &(n, v) in &args {
+            let _ = interp.params.set(f64::from(n), v);
+        }
+        let (origin, line) = interp.origin_override.unwrap_or((block.range, block.line));
+        self.frames.push(Frame {
+            kind,
+            ret_source: self.cur,
+            ret: self.pos(),
+            source,
+            body,
+            repeats_left: repeats,
+            args,
+            saved_locals,
+            saved_names,
+            loops_base: self.loops.len(),
+            call: (origin, line),
+        });
+        self.jump(source, body, start, interp, diags);
+    }
+
+    fn request(&mut self, r: Request, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let start = Pos { at: block.range.start as usize, line: block.line };
+        match r {
+            Request::Call { program, repeats, macro_call, args } => {
+                let found = [self.cur, 0]
+                    .into_iter()
+                    .find_map(|s| self.marks(s).iter().find(|m| m.program == Some(program) && m.statement.is_none()).map(|m| (s, m.next)));
+                let found = found.or_else(|| {
+                    let source = self.load(&format!("O{program:04}"))?;
+                    let body = self.marks(source).iter().find(|m| m.program == Some(program)).map_or(Pos { at: 0, line: 1 }, |m| m.next);
+                    Some((source, body))
+                });
+                let Some((source, body)) = found else {
+                    self.error(
+                        diags,
+                        Code::MissingLabel,
+                        block.range,
+                        format!("program O{program:04} is neither in this file nor in the program directory"),
+                    );
+                    return;
+                };
+                self.enter(FrameKind::Program, source, body, repeats, args, macro_call, block, start, interp, diags);
+            }
+            Request::Return { goto } => {
+                if self.frames.is_empty() {
+                    diags.push(Diagnostic::new(
+                        Code::Unsupported,
+                        block.range,
+                        "M99 in the main program restarts it endlessly on the control; the analysis stops after one pass",
+                    ));
+                    self.stop = true;
+                    return;
+                }
+                self.return_from(goto, block, interp, diags);
+            }
+        }
+    }
+
+    /// Returns from the innermost call, or runs its body again while repeats are left.
+    fn return_from(&mut self, goto: Option<u32>, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let start = Pos { at: block.range.start as usize, line: block.line };
+        let Some(f) = self.frames.last_mut() else { return };
+        if f.repeats_left > 1 {
+            f.repeats_left -= 1;
+            let (source, body) = (f.source, f.body);
+            let (first, last) = self.dialect.macros.locals;
+            if f.saved_locals.is_some() {
+                let reset = if self.dialect.macros.null_value { NULL } else { 0.0 };
+                let _ = interp.params.push_locals(first, last, reset);
+                for &(n, v) in &f.args {
+                    let _ = interp.params.set(f64::from(n), v);
+                }
+            }
+            self.loops.truncate(f.loops_base);
+            self.jump(source, body, start, interp, diags);
+            return;
+        }
+        let Some(f) = self.frames.pop() else { return };
+        if let Some(saved) = &f.saved_locals {
+            interp.params.restore(self.dialect.macros.locals.0, saved);
+        }
+        if let Some(names) = f.saved_names {
+            interp.params.restore_named(names);
+        }
+        self.loops.truncate(f.loops_base);
+        self.switch_to(f.ret_source, f.ret, interp);
+        if let Some(n) = goto {
+            let here = self.pos();
+            self.goto_number(n, block.range, here, interp, diags);
+        }
+    }
+
+    /// The end of a source text: the end of the run, or an implicit return from a
+    /// subprogram. Returns false when the run is over.
+    fn end_of_source(&mut self, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some(f) = self.frames.last() else { return false };
+        let what = if f.kind == FrameKind::Sub { "endsub" } else { "M99" };
+        let (range, _) = f.call;
+        diags.push(Diagnostic::new(
+            Code::UnmatchedStatement,
+            range,
+            format!("the called program ends without {what}; it returns at the end of its text"),
+        ));
+        let block = Block { range, line: self.pos().line, ..Block::default() };
+        if let Some(f) = self.frames.last_mut() {
+            f.repeats_left = 1;
+        }
+        self.return_from(None, &block, interp, diags);
+        true
+    }
+}
+
+/// Indexes the control statements and program numbers of `text`.
+fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
+    let mut parser = Parser::new(text, dialect);
+    let mut block = Block::default();
+    let mut scratch = Vec::new();
+    let mut marks = Vec::new();
+    let mut delimiters = 0;
+    loop {
+        let start = Pos { at: parser.offset(), line: parser.line() };
+        if !parser.next_block(&mut block, &mut scratch) {
+            break;
+        }
+        scratch.clear();
+        let next = Pos { at: parser.offset(), line: parser.line() };
+        if block.delimiter {
+            // Nothing after the closing `%` belongs to the program.
+            delimiters += 1;
+            if delimiters == 2 {
+                break;
+            }
+        }
+        if block.control.is_none() && block.program_number.is_none() {
+            continue;
+        }
+        let c = block.control.as_ref();
+        let literal = |e: Option<ExprId>| match e.and_then(|e| block.exprs.get(e as usize)) {
+            Some(Expr::Num(v)) => Some(v.round() as i64),
+            _ => None,
+        };
+        marks.push(Mark {
+            label: c.and_then(|c| c.label).map(|r| normalise_label(&text[r.start as usize..r.end as usize])),
+            statement: c.and_then(|c| c.statement),
+            then: c.and_then(|c| c.then),
+            id: c.and_then(|c| literal(c.target)),
+            program: block.program_number.or_else(|| {
+                // An O-word label alone on its line starts a numbered program (`O1000` + M99).
+                let c = c?;
+                if c.keyword.is_some() {
+                    return None;
+                }
+                text[c.label?.start as usize..c.label?.end as usize].parse().ok()
+            }),
+            start,
+            next,
+        });
+    }
+    marks
+}
+
+/// The blocks of `text` numbered `n`.
+fn numbered(text: &str, dialect: &Dialect, n: u32) -> Vec<Pos> {
+    let mut parser = Parser::new(text, dialect);
+    let mut block = Block::default();
+    let mut scratch = Vec::new();
+    let mut out = Vec::new();
+    loop {
+        let start = Pos { at: parser.offset(), line: parser.line() };
+        if !parser.next_block(&mut block, &mut scratch) {
+            break;
+        }
+        scratch.clear();
+        if block.number == Some(n) {
+            out.push(start);
+        }
+    }
+    out
+}
