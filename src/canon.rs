@@ -226,12 +226,60 @@ impl CanonSink for Vec<Canon> {
     }
 }
 
+/// Appends `v` with four decimals, exactly as `format!("{:.4}", v)` (and so as rs274's
+/// `%.4f`) would, without the general float formatter on the common path.
+///
+/// Fast path: scale by 10⁴ and round. That is exact unless the scaled value lies within a
+/// hair of a rounding tie, where binary representation decides; those rare values, and
+/// magnitudes beyond 2⁵³/10⁴, go to the standard formatter.
+pub fn push_f4(out: &mut String, v: f64) {
+    if v == 0.0 && v.is_sign_positive() {
+        out.push_str("0.0000");
+        return;
+    }
+    let scaled = v.abs() * 10_000.0;
+    if scaled.is_nan() || scaled >= 9.0e15 {
+        let _ = write!(out, "{v:.4}");
+        return;
+    }
+    let whole = scaled as u64;
+    let frac = scaled - whole as f64;
+    if (frac - 0.5).abs() < 1e-6 {
+        let _ = write!(out, "{v:.4}");
+        return;
+    }
+    let n = whole + u64::from(frac > 0.5);
+    if v.is_sign_negative() {
+        out.push('-');
+    }
+    let (int, f) = (n / 10_000, (n % 10_000) as u32);
+    let mut digits = [0u8; 20];
+    let mut i = digits.len();
+    let mut x = int;
+    loop {
+        i -= 1;
+        digits[i] = b'0' + (x % 10) as u8;
+        x /= 10;
+        if x == 0 {
+            break;
+        }
+    }
+    out.extend(digits[i..].iter().map(|&d| char::from(d)));
+    out.extend(['.', digit(f / 1000), digit(f / 100 % 10), digit(f / 10 % 10), digit(f % 10)]);
+}
+
+fn digit(d: u32) -> char {
+    char::from(b'0' + d as u8)
+}
+
 /// Formats `v` with four decimals, as LinuxCNC's `rs274` prints.
 struct F4(f64);
 
 impl fmt::Display for F4 {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{:.4}", self.0)
+        let mut s = String::with_capacity(24);
+        push_f4(&mut s, self.0);
+        f.write_str(&s)
     }
 }
 
@@ -240,7 +288,7 @@ fn join6(out: &mut String, v: &[f64; 6]) {
         if i > 0 {
             out.push_str(", ");
         }
-        let _ = write!(out, "{}", F4(*x));
+        push_f4(out, *x);
     }
 }
 
@@ -399,6 +447,31 @@ pub const LINUXCNC_INTERNAL: &[&str] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fast_four_decimals_match_the_standard_formatter() {
+        let mut rng = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng
+        };
+        let mut cases =
+            vec![0.0, -0.0, 0.00005, -0.00005, 0.00015, 1.00005, 2.5, -1e-9, 123456.78905, 1e300, -1e17, f64::NAN, f64::INFINITY];
+        for _ in 0..200_000 {
+            let r = next();
+            let mag = 10f64.powi((r % 12) as i32 - 5);
+            let v = ((next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * mag;
+            cases.push(v);
+            cases.push((v * 1e4).round() / 1e4 + 0.00005); // near ties
+        }
+        for v in cases {
+            let mut s = String::new();
+            push_f4(&mut s, v);
+            assert_eq!(s, format!("{v:.4}"), "{v:e}");
+        }
+    }
 
     #[test]
     fn prints_like_rs274() {

@@ -22,6 +22,8 @@ struct RawConfig {
     #[serde(default)]
     matching: RawMatching,
     dialects_dir: Option<String>,
+    /// Directory of subprograms and macros that programs call (`M98 P1000`, `o<probe> call`).
+    programs_dir: Option<String>,
     #[serde(default)]
     cam: Vec<RawFolder>,
     #[serde(default)]
@@ -204,6 +206,10 @@ impl Config {
             None => None,
         };
         let mut profile = Profile::default();
+        if let Some(dir) = &raw.programs_dir {
+            profile.programs =
+                Some(std::sync::Arc::new(DirPrograms { dir: abs(dir), max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20) }));
+        }
         for t in raw.tool {
             profile.tools.insert(t.number, ToolData { diameter: t.diameter, length: t.length.unwrap_or(0.0), name: t.name });
         }
@@ -294,5 +300,42 @@ mod tests {
         assert!(Config::parse(bad, Path::new("/x")).unwrap_err().to_string().contains("inside the watched folder"));
         let unknown = "[database]\npath='x.db'\ncolour='red'\n";
         assert!(Config::parse(unknown, Path::new("/x")).is_err());
+    }
+}
+
+/// Subprograms from a directory: `O1000` is found as `O1000`, `O1000.nc`, `1000.nc` and so
+/// on (any case, the usual extensions); an O-word name `probe` as `probe.ngc`. Files over the
+/// size limit or not valid text are not used.
+#[derive(Debug)]
+pub struct DirPrograms {
+    /// The directory.
+    pub dir: PathBuf,
+    /// Largest file read.
+    pub max_bytes: u64,
+}
+
+impl crate::interp::ProgramSource for DirPrograms {
+    fn load(&self, name: &str) -> Option<String> {
+        const EXTENSIONS: [&str; 9] = ["", ".nc", ".ngc", ".txt", ".tap", ".cnc", ".min", ".mpf", ".spf"];
+        let mut stems = vec![name.to_owned()];
+        if let Some(number) = name.strip_prefix('O') {
+            stems.push(number.trim_start_matches('0').to_owned());
+        }
+        let entries: Vec<PathBuf> = std::fs::read_dir(&self.dir).ok()?.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        for stem in &stems {
+            for ext in EXTENSIONS {
+                let wanted = format!("{stem}{ext}");
+                let Some(path) = entries.iter().find(|p| p.file_name().is_some_and(|f| f.to_string_lossy().eq_ignore_ascii_case(&wanted)))
+                else {
+                    continue;
+                };
+                if std::fs::metadata(path).ok()?.len() > self.max_bytes {
+                    return None;
+                }
+                let (text, _) = crate::text::decode(&std::fs::read(path).ok()?);
+                return Some(text.text);
+            }
+        }
+        None
     }
 }

@@ -2,11 +2,12 @@
 //! and keep the shopfloor's changes.
 //!
 //! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`,
-//! `diff`, `pipeline`) does no IO. The shell around it (`config`, `store`, `daemon`, `cli`)
+//! `diff`, `pipeline`) does no IO. The shell around it (`config`, `store`, `daemon`, `cli`, `bench`)
 //! reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod canon;
 pub mod cli;
 pub mod config;

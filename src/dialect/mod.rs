@@ -344,7 +344,8 @@ impl Dialect {
 
     /// Multi-letter addresses, longest first.
     pub fn long_addresses(&self) -> impl Iterator<Item = &AddressDef> {
-        self.addresses.iter().filter(|a| a.name.len() > 1)
+        // `index` sorts the longest names first.
+        self.addresses.iter().take_while(|a| a.name.len() > 1)
     }
 
     fn index(mut self) -> Dialect {

@@ -48,6 +48,14 @@ pub struct Profile {
     pub max_loop_iterations: u64,
     /// Most blocks one run executes, counting repeats, before it stops.
     pub max_blocks: u64,
+    /// Where subprograms outside the program's text come from (the shell's program directory).
+    pub programs: Option<std::sync::Arc<dyn ProgramSource + Send + Sync>>,
+}
+
+impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("ProgramSource")
+    }
 }
 
 impl Default for Profile {
@@ -59,15 +67,19 @@ impl Default for Profile {
             home2: [0.0; 6],
             max_loop_iterations: 1_000_000,
             max_blocks: 200_000_000,
+            programs: None,
         }
     }
 }
 
-/// Interprets a whole program text, pushing canonical ops into `sink`. Subprograms must
-/// be in the same text; see [`run`] for a [`ProgramSource`]. Streams: memory does not grow
+/// Interprets a whole program text, pushing canonical ops into `sink`. Subprograms come from
+/// the same text or from the profile's [`ProgramSource`]. Streams: memory does not grow
 /// with the program's length.
 pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
-    run(text, dialect, profile, &NoPrograms, sink)
+    match &profile.programs {
+        Some(p) => run(text, dialect, profile, p.as_ref(), sink),
+        None => run(text, dialect, profile, &NoPrograms, sink),
+    }
 }
 
 /// What the interpreter asks the control-flow driver to do after a block.
@@ -151,6 +163,10 @@ pub struct Interpreter<'a> {
     st: State,
     params: Params,
     slots: [Option<Slot>; Role::COUNT],
+    /// Bit per role whose slot is filled, so that clearing touches only those.
+    filled: u64,
+    /// Bit per [`Step`] at which one of the block's codes takes effect.
+    code_steps: u32,
     /// Whether the block being executed has axis words (set by `read`).
     has_axes: bool,
     codes: Vec<(usize, TextRange)>,
@@ -205,6 +221,8 @@ impl<'a> Interpreter<'a> {
             },
             params: Params::new(dialect.macros.null_value),
             slots: [None; Role::COUNT],
+            filled: 0,
+            code_steps: 0,
             has_axes: false,
             codes: Vec::new(),
             origin: TextRange::default(),
@@ -315,20 +333,37 @@ impl<'a> Interpreter<'a> {
             return;
         }
         for &step in &self.dialect.execution_order {
+            let needed = match step {
+                Step::Comment => !block.comments.is_empty(),
+                Step::Feed => self.slots[Role::F as usize].is_some(),
+                Step::Speed => self.slots[Role::S as usize].is_some(),
+                Step::ToolSelect => self.slots[Role::T as usize].is_some(),
+                Step::Motion => true,
+                Step::Stop => self.stop_message.is_some() || self.code_steps & (1 << step as u32) != 0,
+                _ => self.code_steps & (1 << step as u32) != 0,
+            };
+            if !needed {
+                continue;
+            }
             self.step(step, block, sink, diags);
             if self.st.ended {
                 return;
             }
         }
         // Codes the dialect files under `misc` take effect last; most are only recorded.
-        if self.codes.iter().any(|&(c, _)| self.dialect.groups[self.code(c).group].step == Step::Misc) {
+        if self.code_steps & (1 << Step::Misc as u32) != 0 {
             self.run_codes(Step::Misc, block, sink, diags);
         }
     }
 
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
     fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
-        self.slots = [None; Role::COUNT];
+        let mut filled = std::mem::take(&mut self.filled);
+        while filled != 0 {
+            self.slots[filled.trailing_zeros() as usize] = None;
+            filled &= filled - 1;
+        }
+        self.code_steps = 0;
         self.codes.clear();
         let mut ok = true;
         // Codes first: a unit change in this block affects how its numbers scale.
@@ -376,6 +411,7 @@ impl<'a> Interpreter<'a> {
                 continue;
             }
             self.codes.push((idx, w.range));
+            self.code_steps |= 1 << self.dialect.groups[def.group].step as u32;
         }
         let units = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
             Meaning::UnitsInch => Some(Units::Inch),
@@ -411,6 +447,7 @@ impl<'a> Interpreter<'a> {
                 v *= if units == Units::Mm { *mm } else { *inch };
             }
             self.slots[w.role as usize] = Some(Slot { value: v, range: w.range });
+            self.filled |= 1 << w.role as u32;
         }
         self.has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
         if ok {
@@ -1057,3 +1094,6 @@ fn eval_diag(e: EvalError, range: TextRange) -> Diagnostic {
         EvalError::Domain(what) => Diagnostic::new(Code::ArithmeticError, range, what),
     }
 }
+
+// Role and step sets are bit masks.
+const _: () = assert!(Role::COUNT <= 64 && Step::ALL.len() <= 32);
