@@ -137,6 +137,10 @@ vocab! {
         OriginShift = "origin-shift",
         /// Cancel coordinate-system shift (G92.1, G92.2).
         OriginShiftCancel = "origin-shift-cancel",
+        /// Zero the origin shift but keep it for a later restore (G92.2).
+        OriginShiftSuspend = "origin-shift-suspend",
+        /// Bring back a suspended origin shift (G92.3).
+        OriginShiftRestore = "origin-shift-restore",
         /// Local coordinate system (G52).
         LocalOffset = "local-offset",
         /// Coordinate rotation (G68).

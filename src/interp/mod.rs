@@ -141,6 +141,8 @@ struct State {
     wcs: u8,
     wcs_offsets: [[f64; 6]; 9],
     g92: [f64; 6],
+    /// The shift G92.2 suspended, for G92.3.
+    g92_saved: [f64; 6],
     tool_offset: f64,
     pos: [f64; 6],
     sticky_r: Option<f64>,
@@ -208,6 +210,7 @@ impl<'a> Interpreter<'a> {
                 wcs: 1,
                 wcs_offsets: [[0.0; 6]; 9],
                 g92: [0.0; 6],
+                g92_saved: [0.0; 6],
                 tool_offset: 0.0,
                 pos: [0.0; 6],
                 sticky_r: None,
@@ -836,12 +839,16 @@ impl<'a> Interpreter<'a> {
                     .or(Some(self.st.tool))
                     .and_then(|t| self.profile.tools.get(&t))
                     .and_then(|t| t.diameter);
-                let msg = if radius.is_none() {
-                    format!("{} without a known tool radius (no D word or tool table entry); the programmed path is used", def.label())
+                if radius.is_none() {
+                    let msg = format!(
+                        "{} without an offset: no D word and no tool diameter in the tool table; the programmed path is used",
+                        def.label()
+                    );
+                    self.limited(diags, "cutter-comp", Diagnostic::new(Code::CompWithoutOffset, range, msg));
                 } else {
-                    format!("{}: the compensated path is not computed yet; the programmed path is used", def.label())
-                };
-                self.limited(diags, "cutter-comp", Diagnostic::new(Code::Unsupported, range, msg));
+                    let msg = format!("{}: the compensated path is not computed yet; the programmed path is used", def.label());
+                    self.limited(diags, "cutter-comp", Diagnostic::new(Code::Unsupported, range, msg));
+                }
             }
             Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
                 let h = self.slot(Role::H).map_or(self.st.tool, |h| h as u32);
@@ -876,6 +883,34 @@ impl<'a> Interpreter<'a> {
             Meaning::RetractR => self.st.retract = Retract::RPlane,
             Meaning::SetData => self.set_data(def, range, sink, diags),
             Meaning::OriginShift => self.origin_shift(sink),
+            Meaning::LocalOffset => {
+                // G52: the given axes of the local origin, relative to the work origin; kept in
+                // the same offset register as G92 (as LinuxCNC does).
+                let old = self.st.g92;
+                for (i, &role) in Role::AXES.iter().enumerate() {
+                    if let Some(v) = self.slot(role) {
+                        self.st.g92[i] = v;
+                    }
+                }
+                let new = self.st.g92;
+                self.shift_origin(old, new);
+                self.emit(sink, CanonOp::SetG92Offset(new));
+            }
+            Meaning::OriginShiftSuspend => {
+                let old = self.st.g92;
+                if old != [0.0; 6] {
+                    self.st.g92_saved = old;
+                }
+                self.st.g92 = [0.0; 6];
+                self.shift_origin(old, [0.0; 6]);
+                self.emit(sink, CanonOp::SetG92Offset([0.0; 6]));
+            }
+            Meaning::OriginShiftRestore => {
+                let (old, new) = (self.st.g92, self.st.g92_saved);
+                self.st.g92 = new;
+                self.shift_origin(old, new);
+                self.emit(sink, CanonOp::SetG92Offset(new));
+            }
             Meaning::OriginShiftCancel => {
                 for i in 0..6 {
                     self.st.pos[i] += self.st.g92[i];

@@ -4,6 +4,7 @@ mod arch;
 mod cli;
 mod daemon;
 mod dialects;
+mod macros;
 mod robustness;
 
 use std::path::{Path, PathBuf};

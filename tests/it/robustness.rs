@@ -10,9 +10,14 @@ fn dialects() -> Vec<std::sync::Arc<ncplan::dialect::Dialect>> {
     r.names().map(|n| r.get(n).unwrap()).collect::<Vec<_>>()
 }
 
+/// Small loop limits, so that a mutated endless loop ends quickly.
+fn profile() -> Profile {
+    Profile { max_loop_iterations: 2_000, max_blocks: 50_000, ..Profile::default() }
+}
+
 fn check_ranges(bytes: &[u8]) {
     for d in dialects() {
-        let a = analyze(bytes, &d, &Profile::default());
+        let a = analyze(bytes, &d, &profile());
         let len = a.source.text.len() as u32;
         for x in &a.diagnostics {
             assert!(x.range.start <= x.range.end && x.range.end <= len, "{x:?}");
@@ -42,8 +47,21 @@ proptest! {
     }
 
     #[test]
-    fn mutated_real_programs_never_panic(seed in any::<u64>(), edits in proptest::collection::vec((any::<u16>(), any::<u8>()), 1..20)) {
-        let demo = std::fs::read(crate::root().join("demo/cam/O1234.nc")).unwrap();
+    fn statement_soup_never_panics_or_hangs(parts in proptest::collection::vec(prop_oneof![
+        Just("IF [#1 LT 3] GOTO 10\n"), Just("IF [#1 EQ #0] THEN #2=1\n"), Just("WHILE [#1 LT 5] DO 1\n"), Just("END 1\n"),
+        Just("DO 2\n"), Just("END 2\n"), Just("GOTO 10\n"), Just("N10 #1=#1+1\n"), Just("G65 P9000 A1 B#1\n"), Just("M98 P1000 L2\n"),
+        Just("M99\n"), Just("O1000\n"), Just("O9000\n"), Just("#3000=1 (STOP)\n"), Just("o1 sub\n"), Just("o1 endsub\n"),
+        Just("o1 call [1] [2]\n"), Just("o2 while [#1 LT 4]\n"), Just("o2 endwhile\n"), Just("o3 if [#1]\n"), Just("o3 else\n"),
+        Just("o3 endif\n"), Just("o4 repeat [3]\n"), Just("o4 endrepeat\n"), Just("o2 break\n"), Just("o2 continue\n"),
+        Just("o5 do\n"), Just("o5 while [1]\n"), Just("G1 X#1 Y[#2*2] F100\n"), Just("%\n"), Just("M30\n"), Just("#[#1]=#0\n"),
+    ], 0..40)) {
+        check_ranges(parts.concat().as_bytes());
+    }
+
+    #[test]
+    fn mutated_real_programs_never_panic(seed in any::<u64>(), which in 0usize..3, edits in proptest::collection::vec((any::<u16>(), any::<u8>()), 1..20)) {
+        let sources = ["demo/cam/O1234.nc", "tests/programs/linuxcnc/oword_flow.ngc", "tests/programs/linuxcnc/inverse_time.ngc"];
+        let demo = std::fs::read(crate::root().join(sources[which])).unwrap();
         let mut bytes = demo.clone();
         for (i, (pos, b)) in edits.iter().enumerate() {
             let at = (*pos as usize + seed as usize) % (bytes.len() + 1);

@@ -1,0 +1,221 @@
+//! Macro programming and control flow, by what they make the machine do: Fanuc Macro B
+//! (`IF`/`GOTO`/`WHILE`/`DO`/`END`, `G65`, `M98`/`M99`, vacant variables, alarms) and the
+//! expression rules of the issue. Each test runs a small program written for it and checks the
+//! moves (canonical calls) and the findings.
+
+use expect_test::expect;
+use ncplan::canon::{CanonOp, write_call};
+use ncplan::dialect::Registry;
+use ncplan::interp::{Profile, ProgramSource, interpret, run};
+
+/// Canonical moves (other calls left out) and the diagnostic codes.
+fn moves(dialect: &str, program: &str) -> (String, Vec<&'static str>) {
+    moves_with(dialect, program, &Profile::default())
+}
+
+fn moves_with(dialect: &str, program: &str, profile: &Profile) -> (String, Vec<&'static str>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut canon = Vec::new();
+    let diags = interpret(program, &d, profile, &mut canon);
+    (render(&canon), diags.iter().map(|d| d.code.as_str()).collect())
+}
+
+fn render(canon: &[ncplan::canon::Canon]) -> String {
+    let mut out = String::new();
+    for c in canon {
+        if matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }) {
+            write_call(&mut out, &c.op);
+        }
+    }
+    out
+}
+
+#[test]
+fn expressions_follow_precedence_and_degree_functions() {
+    let (out, codes) =
+        moves("fanuc", "G0 X[1+2*3-4/5] Z[SIN[30]] Y[ATAN[1]/[1]]\nG0 X[SQRT[16]+ABS[-1]+ROUND[1.5]+FIX[1.7]+FUP[1.2]]\nM30\n");
+    expect![[r#"
+        STRAIGHT_TRAVERSE(6.2000, 45.0000, 0.5000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 45.0000, 0.5000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&out);
+    assert!(codes.is_empty(), "{codes:?}");
+}
+
+#[test]
+fn fanuc_assigns_before_the_block_reads_and_linuxcnc_after() {
+    let program = "#1=1.0\n#1=2.0 G0 X#1\nM30\n";
+    let (fanuc, _) = moves("fanuc", program);
+    assert!(fanuc.starts_with("STRAIGHT_TRAVERSE(2.0000,"), "{fanuc}");
+    let (lcnc, _) = moves("linuxcnc", program);
+    assert!(lcnc.starts_with("STRAIGHT_TRAVERSE(1.0000,"), "{lcnc}");
+}
+
+#[test]
+fn vacant_variables_omit_words_and_compare_apart_from_zero() {
+    let program = "\
+G0 X1. Y1.
+#1=#0
+G0 X#1 Y5.
+#2=#1+3.
+G0 X#2
+IF [#1 EQ #0] GOTO 20
+G0 X99.
+N20 IF [#1 EQ 0] GOTO 30
+G0 Y7.
+N30 #3=#[#2-1]
+G0 Z#3
+M30
+";
+    let (out, codes) = moves("fanuc", program);
+    // X#1 with #1 vacant leaves X as it was; #1+3 reads vacant as zero; `EQ #0` is true and
+    // `EQ 0` false; #[#2-1] is #2, which holds 3.
+    expect![[r#"
+        STRAIGHT_TRAVERSE(1.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(1.0000, 5.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(3.0000, 5.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(3.0000, 7.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(3.0000, 7.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&out);
+    assert!(codes.is_empty(), "{codes:?}");
+}
+
+#[test]
+fn while_do_end_loops_and_then_statements() {
+    let program = "\
+#1=0
+WHILE [#1 LT 3] DO 1
+  #2=0
+  WHILE [#2 LT 2] DO 2
+    G0 X#1 Y#2
+    #2=#2+1
+  END 2
+  #1=#1+1
+END 1
+IF [#1 EQ 3] THEN #5=42.
+G0 Z#5
+M30
+";
+    let (out, codes) = moves("fanuc", program);
+    assert_eq!(out.lines().count(), 7, "{out}");
+    assert!(out.lines().nth(5).unwrap().starts_with("STRAIGHT_TRAVERSE(2.0000, 1.0000"), "{out}");
+    assert!(out.ends_with("STRAIGHT_TRAVERSE(2.0000, 1.0000, 42.0000, 0.0000, 0.0000, 0.0000)\n"), "{out}");
+    assert!(codes.is_empty(), "{codes:?}");
+}
+
+#[test]
+fn g65_maps_argument_letters_to_locals_and_restores_the_caller() {
+    let program = "\
+O0001
+#1=7.
+G65 P9010 A1.5 B2. X3. L2
+G0 Z#1
+M30
+O9010
+G0 X[#1+#24] Y#2
+#1=100.
+M99
+";
+    let (out, codes) = moves("fanuc", program);
+    // A→#1, B→#2, X→#24; the call runs twice; the caller's #1 is 7 again afterwards.
+    expect![[r#"
+        STRAIGHT_TRAVERSE(4.5000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(4.5000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(4.5000, 2.0000, 7.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&out);
+    assert!(codes.is_empty(), "{codes:?}");
+}
+
+#[test]
+fn m98_repeats_a_subprogram_and_shares_variables() {
+    let program = "\
+#100=0
+M98 P31000
+G0 Z#100
+M30
+O1000
+#100=#100+1
+G91 G0 X10.
+G90
+M99
+";
+    // P31000: program 1000, three times (the digits above the fourth are the repeat count).
+    let (out, codes) = moves("fanuc", program);
+    expect![[r#"
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(20.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(30.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(30.0000, 0.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&out);
+    assert!(codes.is_empty(), "{codes:?}");
+}
+
+struct OneProgram(&'static str, &'static str);
+
+impl ProgramSource for OneProgram {
+    fn load(&self, name: &str) -> Option<String> {
+        (name == self.0).then(|| self.1.to_owned())
+    }
+}
+
+#[test]
+fn subprograms_come_from_the_program_source_and_report_in_their_own_file() {
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let programs = OneProgram("O2000", "%\nO2000\nG0 X5.\nG0 Q1\nM99\n%\n");
+    let mut canon = Vec::new();
+    let main = "M98 P2000\nG0 Y1.\nM30\n";
+    let diags = run(main, &d, &Profile::default(), &programs, &mut canon);
+    expect![[r#"
+        STRAIGHT_TRAVERSE(5.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(5.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&render(&canon));
+    // The finding inside O2000 points at the call and names the file, line and column.
+    let unused = diags.iter().find(|d| d.code.as_str() == "syntax::unused-word").expect("unused Q");
+    assert_eq!(unused.range.start, 0);
+    assert!(unused.message.starts_with("in O2000:4:4:"), "{}", unused.message);
+    // Ops from the subprogram carry the call block's range.
+    assert_eq!(canon.iter().find(|c| matches!(c.op, CanonOp::StraightTraverse(_))).unwrap().line, 1);
+}
+
+#[test]
+fn alarms_missing_labels_and_runaway_loops_stop_with_a_finding() {
+    let (out, codes) = moves("fanuc", "G0 X1.\n#3000=12 (TOOL BROKEN)\nG0 X2.\nM30\n");
+    assert_eq!(out.lines().count(), 1);
+    assert_eq!(codes, ["interp::alarm"]);
+
+    let (_, codes) = moves("fanuc", "GOTO 77\nM30\n");
+    assert_eq!(codes, ["flow::missing-label"]);
+
+    let (_, codes) = moves("fanuc", "M98 P4321\nM30\n");
+    assert_eq!(codes, ["flow::missing-label"]);
+
+    let profile = Profile { max_loop_iterations: 1000, ..Profile::default() };
+    let (_, codes) = moves_with("fanuc", "WHILE [1 EQ 1] DO 1\nG0 X1.\nEND 1\nM30\n", &profile);
+    assert_eq!(codes, ["flow::loop-limit"]);
+    let (_, codes) = moves_with("fanuc", "N10 G0 X1.\nGOTO 10\n", &profile);
+    assert_eq!(codes, ["flow::loop-limit"]);
+    let (_, codes) = moves_with("linuxcnc", "o1 do\nG0 X1\no1 while [1]\nM2\n", &profile);
+    assert_eq!(codes, ["flow::loop-limit"]);
+    // Endless recursion stops at the call depth.
+    let (_, codes) = moves("linuxcnc", "o<r> sub\no<r> call\no<r> endsub\no<r> call\nM2\n");
+    assert_eq!(codes, ["flow::call-depth"]);
+}
+
+#[test]
+fn unknown_statements_and_unmatched_ends_are_named() {
+    let (_, codes) = moves("fanuc", "POPEN\nEND 3\nM30\n");
+    assert_eq!(codes, ["flow::unknown-statement", "flow::unmatched"]);
+    let (_, codes) = moves("linuxcnc", "o5 endwhile\nM2\n");
+    assert_eq!(codes, ["flow::unmatched"]);
+}
+
+#[test]
+fn a_loop_reports_its_findings_once() {
+    let program = "#1=0\nWHILE [#1 LT 50] DO 1\nG0 X1. Q5\n#1=#1+1\nEND 1\nM30\n";
+    let (_, codes) = moves("fanuc", program);
+    assert_eq!(codes, ["syntax::unused-word"]);
+}
