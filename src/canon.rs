@@ -6,7 +6,8 @@
 //! active `USE_LENGTH_UNITS`, as LinuxCNC's canonical interface has them; plan recovery
 //! normalises to millimetres.
 
-use std::fmt::{self, Write as _};
+use std::fmt;
+use std::io::Write as _;
 
 use serde::{Deserialize, Serialize};
 
@@ -232,9 +233,9 @@ impl CanonSink for Vec<Canon> {
 /// Fast path: scale by 10⁴ and round. That is exact unless the scaled value lies within a
 /// hair of a rounding tie, where binary representation decides; those rare values, and
 /// magnitudes beyond 2⁵³/10⁴, go to the standard formatter.
-pub fn push_f4(out: &mut String, v: f64) {
+pub fn push_f4(out: &mut Vec<u8>, v: f64) {
     if v == 0.0 && v.is_sign_positive() {
-        out.push_str("0.0000");
+        out.extend_from_slice("0.0000".as_bytes());
         return;
     }
     let scaled = v.abs() * 10_000.0;
@@ -249,27 +250,31 @@ pub fn push_f4(out: &mut String, v: f64) {
         return;
     }
     let n = whole + u64::from(frac > 0.5);
-    if v.is_sign_negative() {
-        out.push('-');
+    // Digits are written backwards into a stack buffer: four decimals, the point, the
+    // integer part, the sign.
+    let mut buf = [0u8; 24];
+    let mut i = buf.len();
+    let mut x = n;
+    for _ in 0..4 {
+        i -= 1;
+        buf[i] = b'0' + (x % 10) as u8;
+        x /= 10;
     }
-    let (int, f) = (n / 10_000, (n % 10_000) as u32);
-    let mut digits = [0u8; 20];
-    let mut i = digits.len();
-    let mut x = int;
+    i -= 1;
+    buf[i] = b'.';
     loop {
         i -= 1;
-        digits[i] = b'0' + (x % 10) as u8;
+        buf[i] = b'0' + (x % 10) as u8;
         x /= 10;
         if x == 0 {
             break;
         }
     }
-    out.extend(digits[i..].iter().map(|&d| char::from(d)));
-    out.extend(['.', digit(f / 1000), digit(f / 100 % 10), digit(f / 10 % 10), digit(f % 10)]);
-}
-
-fn digit(d: u32) -> char {
-    char::from(b'0' + d as u8)
+    if v.is_sign_negative() {
+        i -= 1;
+        buf[i] = b'-';
+    }
+    out.extend_from_slice(&buf[i..]);
 }
 
 /// Formats `v` with four decimals, as LinuxCNC's `rs274` prints.
@@ -277,59 +282,66 @@ struct F4(f64);
 
 impl fmt::Display for F4 {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut s = String::with_capacity(24);
+        let mut s = Vec::with_capacity(24);
         push_f4(&mut s, self.0);
-        f.write_str(&s)
+        f.write_str(&String::from_utf8_lossy(&s))
     }
 }
 
-fn join6(out: &mut String, v: &[f64; 6]) {
+fn join6(out: &mut Vec<u8>, v: &[f64; 6]) {
     for (i, x) in v.iter().enumerate() {
         if i > 0 {
-            out.push_str(", ");
+            out.extend_from_slice(", ".as_bytes());
         }
         push_f4(out, *x);
     }
 }
 
-fn quoted(out: &mut String, s: &str) {
-    out.push('"');
+fn quoted(out: &mut Vec<u8>, s: &str) {
+    out.push(b'"');
     for c in s.chars() {
         match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
+            '"' => out.extend_from_slice(b"\\\""),
+            '\\' => out.extend_from_slice(b"\\\\"),
             c if c.is_control() => {}
-            c => out.push(c),
+            c => out.extend_from_slice(c.encode_utf8(&mut [0; 4]).as_bytes()),
         }
     }
-    out.push('"');
+    out.push(b'"');
 }
 
 /// Appends the call as `rs274 -g` prints it (without its sequence prefix) and a newline.
 pub fn write_call(out: &mut String, op: &CanonOp) {
+    let mut bytes = Vec::with_capacity(96);
+    write_call_bytes(&mut bytes, op);
+    out.push_str(&String::from_utf8_lossy(&bytes));
+}
+
+/// [`write_call`] into bytes (UTF-8), for printers that write to a stream.
+pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
     match op {
         CanonOp::UseLengthUnits(u) => {
-            out.push_str(match u {
-                Units::Mm => "USE_LENGTH_UNITS(CANON_UNITS_MM)",
-                Units::Inch => "USE_LENGTH_UNITS(CANON_UNITS_INCHES)",
+            out.extend_from_slice(match u {
+                Units::Mm => b"USE_LENGTH_UNITS(CANON_UNITS_MM)",
+                Units::Inch => b"USE_LENGTH_UNITS(CANON_UNITS_INCHES)",
             });
         }
         CanonOp::SelectPlane(p) => {
-            out.push_str(match p {
-                Plane::Xy => "SELECT_PLANE(CANON_PLANE_XY)",
-                Plane::Xz => "SELECT_PLANE(CANON_PLANE_XZ)",
-                Plane::Yz => "SELECT_PLANE(CANON_PLANE_YZ)",
+            out.extend_from_slice(match p {
+                Plane::Xy => b"SELECT_PLANE(CANON_PLANE_XY)",
+                Plane::Xz => b"SELECT_PLANE(CANON_PLANE_XZ)",
+                Plane::Yz => b"SELECT_PLANE(CANON_PLANE_YZ)",
             });
         }
         CanonOp::SetG5xOffset(i, v) => {
             let _ = write!(out, "SET_G5X_OFFSET({i}, ");
             join6(out, v);
-            out.push(')');
+            out.push(b')');
         }
         CanonOp::SetG92Offset(v) => {
-            out.push_str("SET_G92_OFFSET(");
+            out.extend_from_slice("SET_G92_OFFSET(".as_bytes());
             join6(out, v);
-            out.push(')');
+            out.push(b')');
         }
         CanonOp::SetFeedRate(f) => {
             let _ = write!(out, "SET_FEED_RATE({})", F4(*f));
@@ -337,9 +349,9 @@ pub fn write_call(out: &mut String, op: &CanonOp) {
         CanonOp::SetSpindleSpeed(s) => {
             let _ = write!(out, "SET_SPINDLE_SPEED(0, {})", F4(*s));
         }
-        CanonOp::StartSpindleClockwise => out.push_str("START_SPINDLE_CLOCKWISE(0)"),
-        CanonOp::StartSpindleCounterclockwise => out.push_str("START_SPINDLE_COUNTERCLOCKWISE(0)"),
-        CanonOp::StopSpindleTurning => out.push_str("STOP_SPINDLE_TURNING(0)"),
+        CanonOp::StartSpindleClockwise => out.extend_from_slice("START_SPINDLE_CLOCKWISE(0)".as_bytes()),
+        CanonOp::StartSpindleCounterclockwise => out.extend_from_slice("START_SPINDLE_COUNTERCLOCKWISE(0)".as_bytes()),
+        CanonOp::StopSpindleTurning => out.extend_from_slice("STOP_SPINDLE_TURNING(0)".as_bytes()),
         CanonOp::SelectTool(t) => {
             let _ = write!(out, "SELECT_TOOL({t})");
         }
@@ -350,14 +362,14 @@ pub fn write_call(out: &mut String, op: &CanonOp) {
             let _ = write!(out, "USE_TOOL_LENGTH_OFFSET({} {} {}, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)", F4(*x), F4(*y), F4(*z));
         }
         CanonOp::StraightTraverse(p) => {
-            out.push_str("STRAIGHT_TRAVERSE(");
+            out.extend_from_slice("STRAIGHT_TRAVERSE(".as_bytes());
             join6(out, p);
-            out.push(')');
+            out.push(b')');
         }
         CanonOp::StraightFeed(p) => {
-            out.push_str("STRAIGHT_FEED(");
+            out.extend_from_slice("STRAIGHT_FEED(".as_bytes());
             join6(out, p);
-            out.push(')');
+            out.push(b')');
         }
         CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
             let _ = write!(
@@ -376,27 +388,27 @@ pub fn write_call(out: &mut String, op: &CanonOp) {
         CanonOp::Dwell(s) => {
             let _ = write!(out, "DWELL({})", F4(*s));
         }
-        CanonOp::MistOn => out.push_str("MIST_ON()"),
-        CanonOp::MistOff => out.push_str("MIST_OFF()"),
-        CanonOp::FloodOn => out.push_str("FLOOD_ON()"),
-        CanonOp::FloodOff => out.push_str("FLOOD_OFF()"),
-        CanonOp::ProgramStop => out.push_str("PROGRAM_STOP()"),
-        CanonOp::OptionalProgramStop => out.push_str("OPTIONAL_PROGRAM_STOP()"),
-        CanonOp::ProgramEnd => out.push_str("PROGRAM_END()"),
-        CanonOp::Finish => out.push_str("FINISH()"),
+        CanonOp::MistOn => out.extend_from_slice("MIST_ON()".as_bytes()),
+        CanonOp::MistOff => out.extend_from_slice("MIST_OFF()".as_bytes()),
+        CanonOp::FloodOn => out.extend_from_slice("FLOOD_ON()".as_bytes()),
+        CanonOp::FloodOff => out.extend_from_slice("FLOOD_OFF()".as_bytes()),
+        CanonOp::ProgramStop => out.extend_from_slice("PROGRAM_STOP()".as_bytes()),
+        CanonOp::OptionalProgramStop => out.extend_from_slice("OPTIONAL_PROGRAM_STOP()".as_bytes()),
+        CanonOp::ProgramEnd => out.extend_from_slice("PROGRAM_END()".as_bytes()),
+        CanonOp::Finish => out.extend_from_slice("FINISH()".as_bytes()),
         CanonOp::Comment(s) => {
-            out.push_str("COMMENT(");
+            out.extend_from_slice("COMMENT(".as_bytes());
             quoted(out, s);
-            out.push(')');
+            out.push(b')');
         }
         CanonOp::Message(s) => {
-            out.push_str("MESSAGE(");
+            out.extend_from_slice("MESSAGE(".as_bytes());
             quoted(out, s);
-            out.push(')');
+            out.push(b')');
         }
-        CanonOp::DistanceMode(m) => out.push_str(match m {
-            DistanceMode::Absolute => "COMMENT(\"interpreter: distance mode changed to absolute\")",
-            DistanceMode::Incremental => "COMMENT(\"interpreter: distance mode changed to incremental\")",
+        CanonOp::DistanceMode(m) => out.extend_from_slice(match m {
+            DistanceMode::Absolute => b"COMMENT(\"interpreter: distance mode changed to absolute\")",
+            DistanceMode::Incremental => b"COMMENT(\"interpreter: distance mode changed to incremental\")",
         }),
         CanonOp::CycleBegin(c) => {
             let _ = write!(
@@ -416,12 +428,12 @@ pub fn write_call(out: &mut String, op: &CanonOp) {
             if let Some(p) = c.dwell {
                 let _ = write!(out, " dwell={}", F4(p));
             }
-            out.push_str("\")");
+            out.extend_from_slice("\")".as_bytes());
         }
-        CanonOp::CycleEnd => out.push_str("COMMENT(\"ncplan: cycle end\")"),
-        CanonOp::CycleCancel => out.push_str("COMMENT(\"interpreter: motion mode set to none\")"),
+        CanonOp::CycleEnd => out.extend_from_slice("COMMENT(\"ncplan: cycle end\")".as_bytes()),
+        CanonOp::CycleCancel => out.extend_from_slice("COMMENT(\"interpreter: motion mode set to none\")".as_bytes()),
     }
-    out.push('\n');
+    out.push(b'\n');
 }
 
 /// Calls that LinuxCNC emits for its own bookkeeping and that carry no machining meaning.
@@ -467,9 +479,9 @@ mod tests {
             cases.push((v * 1e4).round() / 1e4 + 0.00005); // near ties
         }
         for v in cases {
-            let mut s = String::new();
+            let mut s = Vec::new();
             push_f4(&mut s, v);
-            assert_eq!(s, format!("{v:.4}"), "{v:e}");
+            assert_eq!(String::from_utf8(s).unwrap(), format!("{v:.4}"), "{v:e}");
         }
     }
 

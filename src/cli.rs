@@ -13,7 +13,7 @@ use std::sync::Arc;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::canon::{Canon, CanonSink, write_call};
+use crate::canon::{Canon, CanonSink, write_call_bytes};
 use crate::config::{self, Config};
 use crate::diag::{self, DiagnosticJson};
 use crate::dialect::{Dialect, Registry};
@@ -239,7 +239,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         Command::Canon { input, lines } => {
             let (d, config, bytes) = input_setup(&input)?;
             let (source, mut diags) = crate::text::decode(&bytes);
-            let mut printer = Printer { out: &mut out, buf: String::with_capacity(256), lines, error: None };
+            let mut printer = Printer { out: &mut out, buf: Vec::with_capacity(256), lines, error: None };
             diags.extend(crate::interp::interpret(&source.text, &d, &config.profile, &mut printer));
             if let Some(e) = printer.error.take() {
                 return Err(e.into());
@@ -369,7 +369,7 @@ fn init_tracing() {
 
 struct Printer<'w, W: Write> {
     out: &'w mut W,
-    buf: String,
+    buf: Vec<u8>,
     lines: bool,
     error: Option<std::io::Error>,
 }
@@ -381,10 +381,10 @@ impl<W: Write> CanonSink for Printer<'_, W> {
         }
         self.buf.clear();
         if self.lines {
-            self.buf.push_str(&format!("{:>6} ", canon.line));
+            let _ = write!(self.buf, "{:>6} ", canon.line);
         }
-        write_call(&mut self.buf, &canon.op);
-        if let Err(e) = self.out.write_all(self.buf.as_bytes()) {
+        write_call_bytes(&mut self.buf, &canon.op);
+        if let Err(e) = self.out.write_all(&self.buf) {
             self.error = Some(e);
         }
     }

@@ -335,6 +335,15 @@ impl<'a> Interpreter<'a> {
             self.macro_call(block, self.codes[k].1, diags);
             return;
         }
+        let plain = self.code_steps == 0
+            && block.comments.is_empty()
+            && self.stop_message.is_none()
+            && self.filled & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32) == 0;
+        if plain {
+            // The common block: axis words only, so only the motion step has work.
+            self.step(Step::Motion, block, sink, diags);
+            return;
+        }
         for &step in &self.dialect.execution_order {
             let needed = match step {
                 Step::Comment => !block.comments.is_empty(),
@@ -436,13 +445,17 @@ impl<'a> Interpreter<'a> {
                 ok = false;
                 continue;
             }
-            let Some(mut v) = self.value(block, w.value, w.range, diags) else {
-                ok = false;
-                continue;
+            let mut v = match w.value {
+                Value::Number { value, .. } => value,
+                Value::Expr(_) => match self.value(block, w.value, w.range, diags) {
+                    Some(v) if eval::is_null(v) => continue,
+                    Some(v) => v,
+                    None => {
+                        ok = false;
+                        continue;
+                    }
+                },
             };
-            if eval::is_null(v) {
-                continue;
-            }
             if let (Value::Number { decimal: false, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
                 (w.value, &self.dialect.behaviour.decimal_input)
                 && scaled.contains(&w.role)

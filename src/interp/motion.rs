@@ -39,9 +39,11 @@ impl Interpreter<'_> {
             Meaning::Linear => {
                 self.check_technology(def, block.range, diags);
                 let t = self.target();
-                let length = (0..3).map(|i| (t[i] - self.st.pos[i]).powi(2)).sum::<f64>().sqrt();
-                if !self.inverse_time_feed(def, length, block, sink, diags) {
-                    return;
+                if self.st.inverse_time {
+                    let length = (0..3).map(|i| (t[i] - self.st.pos[i]).powi(2)).sum::<f64>().sqrt();
+                    if !self.inverse_time_feed(def, length, block, sink, diags) {
+                        return;
+                    }
                 }
                 self.emit(sink, CanonOp::StraightFeed(t));
                 self.st.pos = t;
