@@ -250,11 +250,19 @@ pub fn push_f4(out: &mut Vec<u8>, v: f64) {
         return;
     }
     let n = whole + u64::from(frac > 0.5);
-    // Digits are written backwards into a stack buffer: four decimals, the point, the
-    // integer part, the sign.
-    let mut buf = [0u8; 24];
-    let mut i = buf.len();
-    let mut x = n;
+    let (int, frac) = (n / 10_000, n % 10_000);
+    let mut digits = 1;
+    let mut t = int;
+    while t >= 10 {
+        t /= 10;
+        digits += 1;
+    }
+    let len = usize::from(v.is_sign_negative()) + digits + 5;
+    // Written left-aligned into a fixed block so that the copy has a constant size (a short
+    // copy of variable size goes through memmove); the excess is cut off after.
+    let mut buf = [b'0'; 32];
+    let mut i = len;
+    let mut x = frac;
     for _ in 0..4 {
         i -= 1;
         buf[i] = b'0' + (x % 10) as u8;
@@ -262,19 +270,18 @@ pub fn push_f4(out: &mut Vec<u8>, v: f64) {
     }
     i -= 1;
     buf[i] = b'.';
-    loop {
+    let mut x = int;
+    for _ in 0..digits {
         i -= 1;
         buf[i] = b'0' + (x % 10) as u8;
         x /= 10;
-        if x == 0 {
-            break;
-        }
     }
     if v.is_sign_negative() {
-        i -= 1;
-        buf[i] = b'-';
+        buf[0] = b'-';
     }
-    out.extend_from_slice(&buf[i..]);
+    let at = out.len();
+    out.extend_from_slice(&buf);
+    out.truncate(at + len);
 }
 
 /// Formats `v` with four decimals, as LinuxCNC's `rs274` prints.
