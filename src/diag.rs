@@ -89,6 +89,8 @@ codes! {
     ModalGroupConflict = ("syntax::modal-group-conflict", Error),
     /// A command is missing a parameter it requires.
     MissingParameter = ("syntax::missing-parameter", Error),
+    /// An M code the dialect leaves to the machine builder.
+    MachineCode = ("syntax::machine-code", Note),
     /// A word that no command in the block uses.
     UnusedWord = ("syntax::unused-word", Warning),
     /// A construct the dialect defines but this version of the interpreter does not execute.

@@ -220,6 +220,7 @@ impl Cx {
             continuation: None,
             spaces_in_numbers: self.bool(el, "spaces-in-numbers", false),
             program_number: None,
+            program_number_alt: None,
             control_word: None,
         };
         for c in &el.children {
@@ -279,8 +280,9 @@ impl Cx {
                     lex.continuation = self.char_attr(c, "char");
                 }
                 "program-number" => {
-                    self.shape(c, &["address"], &[]);
+                    self.shape(c, &["address", "alternate"], &[]);
                     lex.program_number = self.letter_attr(c, "address");
+                    lex.program_number_alt = self.char_attr(c, "alternate");
                 }
                 "control-word" => {
                     self.shape(c, &["address"], &[]);
@@ -305,6 +307,7 @@ impl Cx {
             arc_tolerance_mm: 0.002,
             assign_before_reads: false,
             feed_mode_resets_feed: false,
+            machine_m_codes: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -321,6 +324,7 @@ impl Cx {
                 "arc-tolerance-mm",
                 "parameter-assignment",
                 "feed-mode-resets-feed",
+                "machine-m-codes",
             ],
             &[],
         );
@@ -349,6 +353,7 @@ impl Cx {
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
+        b.machine_m_codes = self.bool(el, "machine-m-codes", false);
         b.assign_before_reads = match self.attr(el, "parameter-assignment").unwrap_or("after-reads") {
             "after-reads" => false,
             "before-reads" => true,

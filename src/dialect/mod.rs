@@ -75,6 +75,8 @@ pub struct Lexical {
     pub spaces_in_numbers: bool,
     /// Program-number address at program start (Fanuc `O1234`), not a control word.
     pub program_number: Option<char>,
+    /// A second character that starts a program number (`:0100` in ISO tape format).
+    pub program_number_alt: Option<char>,
     /// Control-flow word (LinuxCNC `o100 sub`).
     pub control_word: Option<char>,
 }
@@ -124,6 +126,9 @@ pub struct Behaviour {
     pub assign_before_reads: bool,
     /// Whether selecting units-per-minute feed (G94) resets the feed rate to zero.
     pub feed_mode_resets_feed: bool,
+    /// Whether M codes the file does not list are machine-builder functions (recorded with a
+    /// note) rather than errors.
+    pub machine_m_codes: bool,
 }
 
 /// Macro and control-flow capabilities: statement keywords, variable scoping, call

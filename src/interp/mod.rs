@@ -399,6 +399,15 @@ impl<'a> Interpreter<'a> {
             };
             let Some(idx) = found else {
                 let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                if letter == 'M' && self.dialect.behaviour.machine_m_codes && (0.0..10_000.0).contains(&x10) {
+                    let d = Diagnostic::new(
+                        Code::MachineCode,
+                        w.range,
+                        format!("`{shown}` is a machine-builder M code; recorded, with no effect on the toolpath"),
+                    );
+                    self.limited(diags, "machine-m-code", d);
+                    continue;
+                }
                 diags.push(Diagnostic::new(
                     Code::UnknownCode,
                     w.range,
@@ -956,7 +965,11 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Meaning::CycleCancel => {
-                self.st.motion_code = None;
+                // G80 ends a canned cycle; where it has a group of its own (Fanuc group 09) a
+                // G0/G1 mode set in the same block stays.
+                if self.st.motion_code.is_none_or(|m| self.code(m).meaning.is_cycle() || self.code(m).group == def.group) {
+                    self.st.motion_code = None;
+                }
                 self.st.sticky_z = None;
                 self.emit(sink, CanonOp::CycleCancel);
             }

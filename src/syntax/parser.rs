@@ -150,6 +150,14 @@ impl Lexer<'_, '_> {
                 self.address();
                 continue;
             }
+            if lex.program_number_alt == Some(c as char) {
+                let start = self.i;
+                self.i += 1;
+                if let Some(n) = self.integer(start) {
+                    self.block.program_number = Some(n);
+                }
+                continue;
+            }
             let start = self.i;
             let len = self.char_len(start);
             let shown = &self.text[start..start + len];
