@@ -74,6 +74,16 @@ pub enum CycleKind {
     BoringDwell,
     /// Boring, spindle stop, rapid out (G86).
     BoringSpindleStop,
+    /// Right-hand tapping: feed in, spindle reverses, feed out (G84).
+    Tapping,
+    /// Left-hand tapping (G74).
+    LeftTapping,
+    /// Fine boring: oriented stop and shift away before the rapid out (Fanuc G76).
+    FineBoring,
+    /// Back boring from below (G87).
+    BackBoring,
+    /// Boring, spindle stop, manual retract (G88).
+    BoringManual,
 }
 
 impl CycleKind {
@@ -87,6 +97,11 @@ impl CycleKind {
             CycleKind::Boring => "boring",
             CycleKind::BoringDwell => "boring with dwell",
             CycleKind::BoringSpindleStop => "boring with spindle stop",
+            CycleKind::Tapping => "tapping",
+            CycleKind::LeftTapping => "left-hand tapping",
+            CycleKind::FineBoring => "fine boring",
+            CycleKind::BackBoring => "back boring",
+            CycleKind::BoringManual => "boring with manual retract",
         }
     }
 }

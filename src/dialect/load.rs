@@ -3,7 +3,7 @@
 use super::xml::{self, Element};
 use super::{
     AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordDef, Lexical,
-    Macros, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TimeUnit,
+    Macros, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TapStyle, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -308,6 +308,7 @@ impl Cx {
             assign_before_reads: false,
             feed_mode_resets_feed: false,
             machine_m_codes: false,
+            tapping: TapStyle::RPlane,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -325,6 +326,7 @@ impl Cx {
                 "parameter-assignment",
                 "feed-mode-resets-feed",
                 "machine-m-codes",
+                "tap-retract",
             ],
             &[],
         );
@@ -354,6 +356,14 @@ impl Cx {
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
+        b.tapping = match self.attr(el, "tap-retract").unwrap_or("r-plane") {
+            "r-plane" => TapStyle::RPlane,
+            "clear" => TapStyle::Clear,
+            other => {
+                self.error(Self::attr_range(el, "tap-retract"), format!("`tap-retract` must be r-plane or clear, not `{other}`"));
+                TapStyle::RPlane
+            }
+        };
         b.assign_before_reads = match self.attr(el, "parameter-assignment").unwrap_or("after-reads") {
             "after-reads" => false,
             "before-reads" => true,

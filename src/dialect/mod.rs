@@ -129,6 +129,19 @@ pub struct Behaviour {
     /// Whether M codes the file does not list are machine-builder functions (recorded with a
     /// note) rather than errors.
     pub machine_m_codes: bool,
+    /// How a tapping cycle leaves the hole.
+    pub tapping: TapStyle,
+}
+
+/// The spindle and retract sequence of a tapping cycle at the bottom of the hole.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TapStyle {
+    /// Dwell, reverse, feed out to the R plane, forward again, then rapid to the clear level
+    /// (Fanuc G84).
+    RPlane,
+    /// Stop, reverse, dwell, feed out all the way to the clear level, stop, forward (the
+    /// RS274NGC G84 of LinuxCNC).
+    Clear,
 }
 
 /// Macro and control-flow capabilities: statement keywords, variable scoping, call

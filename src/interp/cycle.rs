@@ -4,7 +4,7 @@
 use super::{Interpreter, Retract, Spindle};
 use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, Meaning, Role};
+use crate::dialect::{CodeDef, Meaning, Role, TapStyle};
 use crate::syntax::Block;
 use crate::text::TextRange;
 
@@ -18,6 +18,12 @@ impl Interpreter<'_> {
             Meaning::CycleBore => CycleKind::Boring,
             Meaning::CycleBoreDwell => CycleKind::BoringDwell,
             Meaning::CycleBoreStop => CycleKind::BoringSpindleStop,
+            Meaning::CycleTap => CycleKind::Tapping,
+            Meaning::CycleTapLeft => CycleKind::LeftTapping,
+            Meaning::CycleFineBore => CycleKind::FineBoring,
+            // The Q-shift form (Fanuc); the I/J form of RS274NGC is not expanded.
+            Meaning::CycleBackBore if self.slot(Role::I).is_none() && self.slot(Role::J).is_none() => CycleKind::BackBoring,
+            Meaning::CycleBoreManual => CycleKind::BoringManual,
             _ => {
                 self.unsupported(def, range, diags);
                 return;
@@ -87,8 +93,20 @@ impl Interpreter<'_> {
         } else {
             None
         };
-        let dwell = matches!(kind, CycleKind::CounterBoring | CycleKind::BoringDwell | CycleKind::BoringSpindleStop)
-            .then(|| self.dwell_seconds(self.st.sticky_p.unwrap_or(0.0)));
+        let dwell = matches!(
+            kind,
+            CycleKind::CounterBoring
+                | CycleKind::BoringDwell
+                | CycleKind::BoringSpindleStop
+                | CycleKind::Tapping
+                | CycleKind::LeftTapping
+                | CycleKind::FineBoring
+                | CycleKind::BackBoring
+                | CycleKind::BoringManual
+        )
+        .then(|| self.dwell_seconds(self.st.sticky_p.unwrap_or(0.0)));
+        // The shift of fine and back boring: Q along +X (parameter 5101 RD1 = RD2 = 0).
+        let shift = if matches!(kind, CycleKind::FineBoring | CycleKind::BackBoring) { self.st.sticky_q.unwrap_or(0.0).abs() } else { 0.0 };
         let repeats = self.slot(Role::L).or(self.slot(Role::K)).unwrap_or(1.0);
         if repeats < 0.0 || repeats.fract() != 0.0 {
             diags.push(Diagnostic::new(Code::MalformedNumber, block.range, "the repeat count must be a whole number"));
@@ -150,21 +168,95 @@ impl Interpreter<'_> {
                         self.emit(sink, CanonOp::StraightTraverse(at(clear)));
                     }
                 }
+                CycleKind::Tapping | CycleKind::LeftTapping => {
+                    let (reverse, forward) = if kind == CycleKind::Tapping {
+                        (CanonOp::StartSpindleCounterclockwise, CanonOp::StartSpindleClockwise)
+                    } else {
+                        (CanonOp::StartSpindleClockwise, CanonOp::StartSpindleCounterclockwise)
+                    };
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    match self.dialect.behaviour.tapping {
+                        TapStyle::RPlane => {
+                            if let Some(d) = dwell.filter(|d| *d > 0.0) {
+                                self.emit(sink, CanonOp::Dwell(d));
+                            }
+                            self.emit(sink, reverse);
+                            self.emit(sink, CanonOp::StraightFeed(at(r)));
+                            self.emit(sink, forward);
+                            if clear != r {
+                                self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                            }
+                        }
+                        TapStyle::Clear => {
+                            self.emit(sink, CanonOp::StopSpindleTurning);
+                            self.emit(sink, reverse);
+                            self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
+                            self.emit(sink, CanonOp::StraightFeed(at(clear)));
+                            self.emit(sink, CanonOp::StopSpindleTurning);
+                            self.emit(sink, forward);
+                        }
+                    }
+                }
+                CycleKind::FineBoring => {
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    if let Some(d) = dwell.filter(|d| *d > 0.0) {
+                        self.emit(sink, CanonOp::Dwell(d));
+                    }
+                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    let shifted = |z: f64| [x + shift, y, z, p[3], p[4], p[5]];
+                    self.emit(sink, CanonOp::StraightTraverse(shifted(bottom)));
+                    self.emit(sink, CanonOp::StraightTraverse(shifted(clear)));
+                    self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                    self.restart_spindle(sink);
+                }
+                CycleKind::BackBoring => {
+                    // From the initial level: stop, shift, rapid down to R below the part,
+                    // shift back, bore upwards to Z, stop, shift, rapid out.
+                    let shifted = |z: f64| [x + shift, y, z, p[3], p[4], p[5]];
+                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    self.emit(sink, CanonOp::StraightTraverse(shifted(p[2])));
+                    self.emit(sink, CanonOp::StraightTraverse(shifted(r)));
+                    self.emit(sink, CanonOp::StraightTraverse(at(r)));
+                    self.restart_spindle(sink);
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    if let Some(d) = dwell.filter(|d| *d > 0.0) {
+                        self.emit(sink, CanonOp::Dwell(d));
+                    }
+                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    self.emit(sink, CanonOp::StraightTraverse(shifted(bottom)));
+                    self.emit(sink, CanonOp::StraightTraverse(shifted(old_z)));
+                    self.emit(sink, CanonOp::StraightTraverse(at(old_z)));
+                    self.restart_spindle(sink);
+                }
+                CycleKind::BoringManual => {
+                    self.emit(sink, CanonOp::StraightFeed(at(bottom)));
+                    self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
+                    self.emit(sink, CanonOp::StopSpindleTurning);
+                    // The operator jogs out; the control then continues from the clear level.
+                    self.emit(sink, CanonOp::ProgramStop);
+                    self.emit(sink, CanonOp::StraightTraverse(at(clear)));
+                    self.restart_spindle(sink);
+                }
                 CycleKind::BoringSpindleStop => {
                     self.emit(sink, CanonOp::StraightFeed(at(bottom)));
                     self.emit(sink, CanonOp::Dwell(dwell.unwrap_or(0.0)));
                     self.emit(sink, CanonOp::StopSpindleTurning);
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
-                    match self.st.spindle {
-                        Spindle::Cw => self.emit(sink, CanonOp::StartSpindleClockwise),
-                        Spindle::Ccw => self.emit(sink, CanonOp::StartSpindleCounterclockwise),
-                        Spindle::Stopped => {}
-                    }
+                    self.restart_spindle(sink);
                 }
             }
             self.emit(sink, CanonOp::CycleEnd);
-            p = at(clear);
+            p = if kind == CycleKind::BackBoring { at(old_z) } else { at(clear) };
         }
         self.st.pos = p;
+    }
+
+    /// Turns the spindle back on in its programmed direction after a cycle stopped it.
+    fn restart_spindle(&self, sink: &mut dyn CanonSink) {
+        match self.st.spindle {
+            Spindle::Cw => self.emit(sink, CanonOp::StartSpindleClockwise),
+            Spindle::Ccw => self.emit(sink, CanonOp::StartSpindleCounterclockwise),
+            Spindle::Stopped => {}
+        }
     }
 }

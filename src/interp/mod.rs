@@ -151,6 +151,10 @@ struct State {
     sticky_p: Option<f64>,
     ended: bool,
     tech_warned: bool,
+    /// Programmable rotation (G68) in the XY plane: centre and angle's cosine and sine.
+    rotation: Option<(f64, f64, f64, f64)>,
+    /// Programmable scaling (G51): centre and factor per linear axis.
+    scaling: Option<([f64; 3], [f64; 3])>,
     /// Whether the block's motion mode was already active before it.
     motion_continued: bool,
     /// G93: F is the inverse of each move's time in minutes.
@@ -221,6 +225,8 @@ impl<'a> Interpreter<'a> {
                 tech_warned: false,
                 inverse_time: false,
                 motion_continued: false,
+                rotation: None,
+                scaling: None,
             },
             params: Params::new(dialect.macros.null_value),
             slots: [None; Role::COUNT],
@@ -264,7 +270,58 @@ impl<'a> Interpreter<'a> {
 
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
         let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
+        let op = if self.st.rotation.is_some() || self.st.scaling.is_some() { self.transform(op) } else { op };
         sink.emit(Canon { op, origin, line });
+    }
+
+    /// A point through programmable scaling (G51), then rotation (G68), as the control moves.
+    fn xform(&self, p: [f64; 3]) -> [f64; 3] {
+        let mut q = p;
+        if let Some((c, k)) = self.st.scaling {
+            for i in 0..3 {
+                q[i] = c[i] + (q[i] - c[i]) * k[i];
+            }
+        }
+        if let Some((cx, cy, cos, sin)) = self.st.rotation {
+            let (dx, dy) = (q[0] - cx, q[1] - cy);
+            q[0] = cx + dx * cos - dy * sin;
+            q[1] = cy + dx * sin + dy * cos;
+        }
+        q
+    }
+
+    fn transform(&self, op: CanonOp) -> CanonOp {
+        let at = |p: [f64; 6]| {
+            let q = self.xform([p[0], p[1], p[2]]);
+            [q[0], q[1], q[2], p[3], p[4], p[5]]
+        };
+        match op {
+            CanonOp::StraightTraverse(p) => CanonOp::StraightTraverse(at(p)),
+            CanonOp::StraightFeed(p) => CanonOp::StraightFeed(at(p)),
+            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
+                let (a0, a1, n) = self.st.plane.axes();
+                let mut end = [0.0; 3];
+                let mut centre = [0.0; 3];
+                (end[a0], end[a1], end[n]) = (first_end, second_end, axis_end);
+                (centre[a0], centre[a1], centre[n]) = (first_axis, second_axis, axis_end);
+                let (end, centre) = (self.xform(end), self.xform(centre));
+                CanonOp::ArcFeed {
+                    first_end: end[a0],
+                    second_end: end[a1],
+                    first_axis: centre[a0],
+                    second_axis: centre[a1],
+                    rotation,
+                    axis_end: end[n],
+                    abc,
+                }
+            }
+            CanonOp::CycleBegin(mut c) => {
+                let q = self.xform([c.x, c.y, c.bottom]);
+                (c.x, c.y) = (q[0], q[1]);
+                CanonOp::CycleBegin(c)
+            }
+            op => op,
+        }
     }
 
     /// Writes the readable system variables (position, tool, feed, speed) into the table
@@ -905,6 +962,72 @@ impl<'a> Interpreter<'a> {
             Meaning::RetractR => self.st.retract = Retract::RPlane,
             Meaning::SetData => self.set_data(def, range, sink, diags),
             Meaning::OriginShift => self.origin_shift(sink),
+            Meaning::Rotation => {
+                if self.st.plane != Plane::Xy {
+                    self.unsupported(def, range, diags);
+                    return;
+                }
+                let cx = self.slot(Role::X).unwrap_or(self.st.pos[0]);
+                let cy = self.slot(Role::Y).unwrap_or(self.st.pos[1]);
+                let angle = self.slot(Role::R).unwrap_or(0.0).to_radians();
+                self.st.rotation = Some((cx, cy, angle.cos(), angle.sin()));
+            }
+            Meaning::RotationCancel => self.st.rotation = None,
+            Meaning::Scaling => {
+                let uniform = block.words.iter().find(|w| w.role == Role::P).map(|w| match w.value {
+                    // Without a decimal point, P counts in 0.001 (parameter 5400#7 off).
+                    Value::Number { decimal: false, value } => value * 0.001,
+                    _ => self.slot(Role::P).unwrap_or(1.0),
+                });
+                let k = match uniform {
+                    Some(p) => [p; 3],
+                    None => [Role::I, Role::J, Role::K].map(|r| {
+                        let w = block.words.iter().find(|w| w.role == r);
+                        match w.map(|w| w.value) {
+                            Some(Value::Number { decimal: false, value }) => value * 0.001,
+                            Some(_) => self.slot(r).unwrap_or(1.0),
+                            None => 1.0,
+                        }
+                    }),
+                };
+                if k.iter().any(|&f| f <= 0.0 || !f.is_finite()) {
+                    diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("{}: scale factors must be positive", def.label())));
+                    return;
+                }
+                let centre = [0, 1, 2].map(|i| self.slot(Role::AXES[i]).unwrap_or(self.st.pos[i]));
+                if k[0] != k[1] {
+                    self.limited(
+                        diags,
+                        "scaling",
+                        Diagnostic::new(
+                            Code::Unsupported,
+                            range,
+                            format!("{}: unequal X and Y factors distort arcs; arcs keep their radius ratio from X", def.label()),
+                        ),
+                    );
+                }
+                self.st.scaling = Some((centre, k));
+            }
+            Meaning::ScalingCancel => self.st.scaling = None,
+            Meaning::WcsExtended => {
+                // G54.1 Pn: the additional work offsets have no table here; use G54's with a note.
+                let p = self.slot(Role::P).unwrap_or(1.0);
+                self.limited(
+                    diags,
+                    "wcs-extended",
+                    Diagnostic::new(
+                        Code::Unsupported,
+                        range,
+                        format!("{} P{p}: additional work offsets are not in the machine profile; G54's offsets are used", def.label()),
+                    ),
+                );
+                if self.st.wcs != 1 {
+                    let (old, new) = (self.st.wcs_offsets[self.st.wcs as usize - 1], self.st.wcs_offsets[0]);
+                    self.shift_origin(old, new);
+                    self.st.wcs = 1;
+                    self.emit(sink, CanonOp::SetG5xOffset(1, new));
+                }
+            }
             Meaning::LocalOffset => {
                 // G52: the given axes of the local origin, relative to the work origin; kept in
                 // the same offset register as G92 (as LinuxCNC does).
@@ -952,7 +1075,12 @@ impl<'a> Interpreter<'a> {
             | Meaning::CycleChipBreak
             | Meaning::CycleBore
             | Meaning::CycleBoreDwell
-            | Meaning::CycleBoreStop => {
+            | Meaning::CycleBoreStop
+            | Meaning::CycleTap
+            | Meaning::CycleTapLeft
+            | Meaning::CycleFineBore
+            | Meaning::CycleBackBore
+            | Meaning::CycleBoreManual => {
                 self.st.motion_continued = self.st.motion_code == Some(c);
                 if !self.st.motion_continued {
                     self.st.sticky_z = None;

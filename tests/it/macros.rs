@@ -219,3 +219,30 @@ fn a_loop_reports_its_findings_once() {
     let (_, codes) = moves("fanuc", program);
     assert_eq!(codes, ["syntax::unused-word"]);
 }
+
+#[test]
+fn fanuc_rotation_and_scaling_move_the_toolpath() {
+    let program = "\
+G17 G90 G0 X10. Y0
+G68 X0 Y0 R90.
+G0 X10. Y0
+G2 X0 Y-10. R10.
+G69
+G51 X0 Y0 P2000
+G0 X5. Y5.
+G50
+G0 X5. Y5.
+M30
+";
+    let (out, codes) = moves("fanuc", program);
+    // G68 turns X10 Y0 into X0 Y10 (and the arc with it); G51 P2000 doubles about the origin.
+    expect![[r#"
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(0.0000, 10.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        ARC_FEED(10.0000, 0.0000, 0.0000, 0.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 10.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(5.0000, 5.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&out.replace("-0.0000", "0.0000"));
+    assert_eq!(codes, ["interp::cutting-without-technology"]);
+}

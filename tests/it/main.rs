@@ -2,6 +2,7 @@
 
 mod arch;
 mod cli;
+mod cycles;
 mod daemon;
 mod dialects;
 mod macros;
