@@ -101,6 +101,10 @@ vocab! {
         CompLeft = "comp-left",
         /// Cutter compensation right (G42).
         CompRight = "comp-right",
+        /// Cutter compensation left, D is the cutter diameter (G41.1).
+        CompLeftDiameter = "comp-left-diameter",
+        /// Cutter compensation right, D is the cutter diameter (G42.1).
+        CompRightDiameter = "comp-right-diameter",
         /// Tool length compensation, positive (G43).
         LengthCompPlus = "length-comp-plus",
         /// Tool length compensation, negative (G44).

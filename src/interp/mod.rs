@@ -911,13 +911,14 @@ impl<'a> Interpreter<'a> {
                 self.emit(sink, CanonOp::UseLengthUnits(units));
             }
             Meaning::CompOff => {}
-            Meaning::CompLeft | Meaning::CompRight => {
-                let radius = self
-                    .slot(Role::D)
-                    .map(|d| d as u32)
-                    .or(Some(self.st.tool))
-                    .and_then(|t| self.profile.tools.get(&t))
-                    .and_then(|t| t.diameter);
+            Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
+                let by_diameter = matches!(def.meaning, Meaning::CompLeftDiameter | Meaning::CompRightDiameter);
+                let radius = if by_diameter { self.slot(Role::D).map(|d| d / 2.0) } else { None };
+                let radius = radius.or_else(|| {
+                    let tool = self.slot(Role::D).map_or(self.st.tool, |d| d as u32);
+                    let diameter = self.profile.tools.get(&tool).and_then(|t| t.diameter);
+                    diameter.filter(|_| !by_diameter).map(|d| d / 2.0)
+                });
                 if radius.is_none() {
                     let msg = format!(
                         "{} without an offset: no D word and no tool diameter in the tool table; the programmed path is used",
