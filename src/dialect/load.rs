@@ -309,6 +309,7 @@ impl Cx {
             feed_mode_resets_feed: false,
             machine_m_codes: false,
             tapping: TapStyle::RPlane,
+            magnitude_rounding: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -327,6 +328,7 @@ impl Cx {
                 "feed-mode-resets-feed",
                 "machine-m-codes",
                 "tap-retract",
+                "integer-rounding",
             ],
             &[],
         );
@@ -356,6 +358,17 @@ impl Cx {
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
+        b.magnitude_rounding = match self.attr(el, "integer-rounding").unwrap_or("floor-ceiling") {
+            "floor-ceiling" => false,
+            "toward-zero" => true,
+            other => {
+                self.error(
+                    Self::attr_range(el, "integer-rounding"),
+                    format!("`integer-rounding` must be floor-ceiling or toward-zero, not `{other}`"),
+                );
+                false
+            }
+        };
         b.tapping = match self.attr(el, "tap-retract").unwrap_or("r-plane") {
             "r-plane" => TapStyle::RPlane,
             "clear" => TapStyle::Clear,

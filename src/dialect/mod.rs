@@ -131,6 +131,9 @@ pub struct Behaviour {
     pub machine_m_codes: bool,
     /// How a tapping cycle leaves the hole.
     pub tapping: TapStyle,
+    /// Whether FIX and FUP round toward and away from zero (Fanuc) rather than down and up
+    /// (LinuxCNC).
+    pub magnitude_rounding: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.

@@ -17,6 +17,8 @@ pub const NULL: f64 = f64::NAN;
 pub struct Params {
     numbered: Vec<f64>,
     named: BTreeMap<String, f64>,
+    /// FIX and FUP round toward and away from zero (Fanuc family) instead of down and up.
+    pub magnitude_rounding: bool,
 }
 
 impl Default for Params {
@@ -40,7 +42,7 @@ impl Params {
     /// A table whose variables start vacant (`null`) or at zero. `#0` is always vacant in
     /// the first case.
     pub fn new(null: bool) -> Params {
-        Params { numbered: vec![if null { NULL } else { 0.0 }; MAX_PARAM], named: BTreeMap::new() }
+        Params { numbered: vec![if null { NULL } else { 0.0 }; MAX_PARAM], named: BTreeMap::new(), magnitude_rounding: false }
     }
 
     /// Saves and resets the numbered range `first..=last` (a call's locals); returns the
@@ -125,6 +127,11 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
             Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalise_name(&text[r.start as usize..r.end as usize])))),
             _ => 0.0,
         },
+        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => zero_if_null(eval(block, inner, params, text)?).trunc(),
+        Expr::Unary(Func::Fup, inner) if params.magnitude_rounding => {
+            let x = zero_if_null(eval(block, inner, params, text)?);
+            if x < 0.0 { x.floor() } else { x.ceil() }
+        }
         Expr::Unary(f, inner) => unary(f, zero_if_null(eval(block, inner, params, text)?))?,
         Expr::Atan2(y, x) => {
             let (y, x) = (eval(block, y, params, text)?, eval(block, x, params, text)?);

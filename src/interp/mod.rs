@@ -228,7 +228,11 @@ impl<'a> Interpreter<'a> {
                 rotation: None,
                 scaling: None,
             },
-            params: Params::new(dialect.macros.null_value),
+            params: {
+                let mut p = Params::new(dialect.macros.null_value);
+                p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
+                p
+            },
             slots: [None; Role::COUNT],
             filled: 0,
             code_steps: 0,

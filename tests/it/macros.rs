@@ -43,6 +43,15 @@ fn expressions_follow_precedence_and_degree_functions() {
 }
 
 #[test]
+fn fix_and_fup_round_by_dialect() {
+    let program = "G0 X[FIX[-1.2]] Y[FUP[-1.2]] Z[FIX[1.7]+FUP[1.2]]\nM30\n";
+    let (fanuc, _) = moves("fanuc", program);
+    assert!(fanuc.starts_with("STRAIGHT_TRAVERSE(-1.0000, -2.0000, 3.0000,"), "{fanuc}");
+    let (lcnc, _) = moves("linuxcnc", program);
+    assert!(lcnc.starts_with("STRAIGHT_TRAVERSE(-2.0000, -1.0000, 3.0000,"), "{lcnc}");
+}
+
+#[test]
 fn fanuc_assigns_before_the_block_reads_and_linuxcnc_after() {
     let program = "#1=1.0\n#1=2.0 G0 X#1\nM30\n";
     let (fanuc, _) = moves("fanuc", program);

@@ -10,6 +10,22 @@ fn dialects() -> Vec<std::sync::Arc<ncplan::dialect::Dialect>> {
     r.names().map(|n| r.get(n).unwrap()).collect::<Vec<_>>()
 }
 
+/// Every program of the shared corpus (none when it is absent).
+fn corpus_files() -> Vec<std::path::PathBuf> {
+    static FILES: std::sync::OnceLock<Vec<std::path::PathBuf>> = std::sync::OnceLock::new();
+    FILES
+        .get_or_init(|| {
+            let mut out = Vec::new();
+            let Ok(dirs) = std::fs::read_dir(crate::shared().join("corpus")) else { return out };
+            for d in dirs.flatten().filter(|d| d.path().is_dir()) {
+                out.extend(std::fs::read_dir(d.path()).into_iter().flatten().flatten().map(|e| e.path()));
+            }
+            out.sort();
+            out
+        })
+        .clone()
+}
+
 /// Small loop limits, so that a mutated endless loop ends quickly.
 fn profile() -> Profile {
     Profile { max_loop_iterations: 2_000, max_blocks: 50_000, ..Profile::default() }
@@ -56,6 +72,31 @@ proptest! {
         Just("o5 do\n"), Just("o5 while [1]\n"), Just("G1 X#1 Y[#2*2] F100\n"), Just("%\n"), Just("M30\n"), Just("#[#1]=#0\n"),
     ], 0..40)) {
         check_ranges(parts.concat().as_bytes());
+    }
+
+    #[test]
+    fn mutated_corpus_programs_never_panic(pick in any::<prop::sample::Index>(), seed in any::<u64>(), edits in proptest::collection::vec((any::<u32>(), any::<u8>()), 1..40)) {
+        let files = corpus_files();
+        if files.is_empty() {
+            return Ok(());
+        }
+        let mut bytes = std::fs::read(pick.get(&files)).unwrap();
+        bytes.truncate(64 * 1024);
+        for (i, (pos, b)) in edits.iter().enumerate() {
+            let at = (*pos as usize) % (bytes.len() + 1);
+            match (seed as usize + i) % 4 {
+                0 if at < bytes.len() => bytes[at] = *b,
+                1 => bytes.insert(at, *b),
+                2 if at < bytes.len() => { bytes.remove(at); }
+                // Duplicate a stretch: repeated loops, labels and blocks.
+                _ => {
+                    let end = (at + 200).min(bytes.len());
+                    let stretch = bytes[at..end].to_vec();
+                    bytes.splice(at..at, stretch);
+                }
+            }
+        }
+        check_ranges(&bytes);
     }
 
     #[test]
