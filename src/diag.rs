@@ -121,6 +121,8 @@ codes! {
     UnmatchedStatement = ("flow::unmatched", Error),
     /// A statement keyword the dialect does not define.
     UnknownStatement = ("flow::unknown-statement", Error),
+    /// Cutter compensation that cannot be computed (gouging, an arc entry).
+    CompGouge = ("interp::comp-gouge", Error),
     /// Cutter radius compensation without a known offset.
     CompWithoutOffset = ("interp::comp-without-offset", Warning),
     /// A toolpath that plan recovery could not assign to a tool.

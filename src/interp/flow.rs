@@ -64,6 +64,7 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
     };
     let mut interp = Interpreter::new(dialect, profile, text);
     driver.drive(&mut interp, sink, &mut diags);
+    interp.flush(sink);
     interp.finish(&mut diags);
     diags
 }

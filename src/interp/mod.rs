@@ -6,6 +6,7 @@
 //! [`Dialect`]: meanings, roles and behaviour flags. It never fails: findings become
 //! diagnostics and an erroneous block is skipped.
 
+mod comp;
 mod cycle;
 pub mod eval;
 mod flow;
@@ -184,6 +185,10 @@ pub struct Interpreter<'a> {
     request: Option<Request>,
     /// A `#3006` stop message to emit at the stop step.
     stop_message: Option<String>,
+    /// Cutter radius compensation while G41/G42 is on with a known radius.
+    comp: std::cell::RefCell<Option<comp::Comp>>,
+    /// A compensation problem met while emitting, reported after the block.
+    comp_problem: std::cell::Cell<Option<comp::CompProblem>>,
     /// Where ops come from while a subprogram from another file runs: the call block.
     origin_override: Option<(TextRange, u32)>,
 }
@@ -244,12 +249,15 @@ impl<'a> Interpreter<'a> {
             after_end_noted: false,
             request: None,
             stop_message: None,
+            comp: std::cell::RefCell::new(None),
+            comp_problem: std::cell::Cell::new(None),
             origin_override: None,
         }
     }
 
     /// The closing `%` of the main program: the end of the program without M2/M30.
     fn finish_at_delimiter(&mut self, sink: &mut dyn CanonSink) {
+        self.comp_off(sink);
         self.emit(sink, CanonOp::Finish);
         self.st.ended = true;
     }
@@ -275,7 +283,33 @@ impl<'a> Interpreter<'a> {
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
         let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
         let op = if self.st.rotation.is_some() || self.st.scaling.is_some() { self.transform(op) } else { op };
-        sink.emit(Canon { op, origin, line });
+        let canon = Canon { op, origin, line };
+        let mut comp = self.comp.borrow_mut();
+        match comp.as_mut() {
+            None => sink.emit(canon),
+            Some(c) => {
+                if let Err(problem) = c.push(canon.clone(), sink) {
+                    // Compensation stops here; the move runs as programmed.
+                    if let Some(c) = comp.take() {
+                        c.finish(sink);
+                    }
+                    sink.emit(canon);
+                    self.comp_problem.set(Some(problem));
+                }
+            }
+        }
+    }
+
+    /// Ends cutter compensation: the held-back moves go out.
+    fn comp_off(&self, sink: &mut dyn CanonSink) {
+        if let Some(c) = self.comp.borrow_mut().take() {
+            c.finish(sink);
+        }
+    }
+
+    /// Ends the run: nothing stays held back.
+    pub fn flush(&self, sink: &mut dyn CanonSink) {
+        self.comp_off(sink);
     }
 
     /// A point through programmable scaling (G51), then rotation (G68), as the control moves.
@@ -362,8 +396,32 @@ impl<'a> Interpreter<'a> {
         &self.dialect.codes[i]
     }
 
+    /// Reports a compensation problem met while emitting the last block.
+    fn comp_report(&mut self, diags: &mut Vec<Diagnostic>) {
+        if let Some(p) = self.comp_problem.take() {
+            let why = match p {
+                comp::CompProblem::Gouge => "the tool radius is larger than an inside arc",
+                comp::CompProblem::NoIntersection => "the offset paths of an inside corner do not meet",
+                comp::CompProblem::ArcEntry => "compensation cannot start with an arc",
+            };
+            let d = Diagnostic::new(
+                Code::CompGouge,
+                self.origin,
+                format!("cutter compensation stops: {why}; the programmed path is used from here"),
+            );
+            diags.push(d);
+        }
+    }
+
     /// Executes one block.
     pub fn execute(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        self.execute_block(block, sink, diags);
+        if self.comp_problem.get().is_some() {
+            self.comp_report(diags);
+        }
+    }
+
+    fn execute_block(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.origin = block.range;
         self.line = block.line;
         if self.st.ended {
@@ -914,7 +972,7 @@ impl<'a> Interpreter<'a> {
                 self.set_units(units);
                 self.emit(sink, CanonOp::UseLengthUnits(units));
             }
-            Meaning::CompOff => {}
+            Meaning::CompOff => self.comp_off(sink),
             Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
                 let by_diameter = matches!(def.meaning, Meaning::CompLeftDiameter | Meaning::CompRightDiameter);
                 let radius = if by_diameter { self.slot(Role::D).map(|d| d / 2.0) } else { None };
@@ -923,6 +981,18 @@ impl<'a> Interpreter<'a> {
                     let diameter = self.profile.tools.get(&tool).and_then(|t| t.diameter);
                     diameter.filter(|_| !by_diameter).map(|d| d / 2.0)
                 });
+                self.comp_off(sink);
+                if let Some(r) = radius.filter(|_| self.st.plane == Plane::Xy) {
+                    let side = if matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter) {
+                        comp::Side::Left
+                    } else {
+                        comp::Side::Right
+                    };
+                    // A D diameter is in program units; the tool table is in millimetres.
+                    let r = if by_diameter { r } else { r / self.st.units.to_mm() };
+                    *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, (self.st.pos[0], self.st.pos[1])));
+                    return;
+                }
                 if radius.is_none() {
                     let msg = format!(
                         "{} without an offset: no D word and no tool diameter in the tool table; the programmed path is used",
@@ -1234,6 +1304,7 @@ impl<'a> Interpreter<'a> {
     }
 
     fn program_end(&mut self, sink: &mut dyn CanonSink) {
+        self.comp_off(sink);
         self.st.wcs = 1;
         self.emit(sink, CanonOp::SetG5xOffset(1, self.st.wcs_offsets[0]));
         if self.st.plane != Plane::Xy {

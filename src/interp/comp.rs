@@ -1,0 +1,319 @@
+//! Cutter radius compensation (G41/G42) in the XY plane, computed as LinuxCNC does.
+//!
+//! The programmed path is offset by the tool radius to the left (G41) or right (G42) of the
+//! direction of travel. The move that turns compensation on ends at its programmed end point
+//! moved sideways by the radius. After that, each move is offset whole, and the corner with
+//! the move before it is resolved when the new move arrives: an outside (convex) corner gets
+//! an arc of the tool radius about the programmed corner; an inside (concave) corner trims
+//! both moves to the intersection of their offset paths. Because a move's end is only known
+//! once the next move arrives, the last offset move is held back, together with the ops that
+//! follow it (feed changes, Z moves), and released in order. Memory stays bounded: one move
+//! and the ops of one block or so.
+
+use crate::canon::{Canon, CanonOp, CanonSink};
+
+type V2 = (f64, f64);
+
+fn sub(a: V2, b: V2) -> V2 {
+    (a.0 - b.0, a.1 - b.1)
+}
+
+fn add(a: V2, b: V2) -> V2 {
+    (a.0 + b.0, a.1 + b.1)
+}
+
+fn scale(a: V2, k: f64) -> V2 {
+    (a.0 * k, a.1 * k)
+}
+
+fn len(a: V2) -> f64 {
+    a.0.hypot(a.1)
+}
+
+fn unit(a: V2) -> V2 {
+    let l = len(a);
+    if l < 1e-12 { (0.0, 0.0) } else { scale(a, 1.0 / l) }
+}
+
+fn cross(a: V2, b: V2) -> f64 {
+    a.0 * b.1 - a.1 * b.0
+}
+
+fn dot(a: V2, b: V2) -> f64 {
+    a.0 * b.0 + a.1 * b.1
+}
+
+/// Which side of the path the tool runs on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Side {
+    /// G41.
+    Left,
+    /// G42.
+    Right,
+}
+
+/// One offset element: a line or an arc about a centre (with its offset radius).
+#[derive(Clone, Copy, Debug)]
+enum Shape {
+    Line,
+    Arc { centre: V2, radius: f64 },
+}
+
+/// The held-back move: its op (end still adjustable), shape, programmed end and the
+/// directions of travel at its end.
+#[derive(Clone, Debug)]
+struct Held {
+    canon: Canon,
+    shape: Shape,
+    /// Offset start (for line intersections).
+    start: V2,
+    /// Programmed end point (the corner with the next move).
+    corner: V2,
+    /// Direction of travel at the end.
+    tangent: V2,
+}
+
+/// Why a corner or move could not be compensated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum CompProblem {
+    /// The tool is larger than an inside arc.
+    Gouge,
+    /// Two offset elements of an inside corner do not meet.
+    NoIntersection,
+    /// Compensation cannot start with an arc.
+    ArcEntry,
+}
+
+/// Compensation state for one run.
+#[derive(Clone, Debug)]
+pub(super) struct Comp {
+    side: Side,
+    radius: f64,
+    /// Whether the next XY move is the one that turns compensation on.
+    entry: bool,
+    held: Option<Held>,
+    /// Ops that came after the held move.
+    queue: Vec<Canon>,
+    /// Last programmed XY point (the control point) and the tool's XY point.
+    programmed: V2,
+    tool: V2,
+}
+
+fn end_of(op: &CanonOp) -> Option<V2> {
+    match op {
+        CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Some((p[0], p[1])),
+        CanonOp::ArcFeed { first_end, second_end, .. } => Some((*first_end, *second_end)),
+        _ => None,
+    }
+}
+
+fn set_end(op: &mut CanonOp, at: V2) {
+    match op {
+        CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => (p[0], p[1]) = at,
+        CanonOp::ArcFeed { first_end, second_end, .. } => (*first_end, *second_end) = at,
+        _ => {}
+    }
+}
+
+impl Comp {
+    /// Compensation starting at programmed (and tool) point `at`.
+    pub(super) fn new(side: Side, radius: f64, at: V2) -> Comp {
+        Comp { side, radius, entry: true, held: None, queue: Vec::new(), programmed: at, tool: at }
+    }
+
+    fn normal(&self, t: V2) -> V2 {
+        match self.side {
+            Side::Left => (-t.1, t.0),
+            Side::Right => (t.1, -t.0),
+        }
+    }
+
+    /// Takes one op while compensation is on; emits what is settled.
+    pub(super) fn push(&mut self, canon: Canon, sink: &mut dyn CanonSink) -> Result<(), CompProblem> {
+        let Some(end) = end_of(&canon.op) else {
+            self.hold_or_emit(canon, sink);
+            return Ok(());
+        };
+        let start = self.programmed;
+        if len(sub(end, start)) < 1e-12 && !matches!(canon.op, CanonOp::ArcFeed { .. }) {
+            // No XY motion (a Z move): it keeps the tool's XY, which the corner may still move.
+            let mut canon = canon;
+            set_end(&mut canon.op, self.tool);
+            self.hold_or_emit(canon, sink);
+            return Ok(());
+        }
+        let (shape, t_start, t_end, off_start, off_end) = match canon.op {
+            CanonOp::ArcFeed { first_axis, second_axis, rotation, .. } => {
+                let centre = (first_axis, second_axis);
+                let ccw = rotation > 0;
+                let radial = |p: V2| unit(sub(p, centre));
+                let tangent = |p: V2| {
+                    let u = radial(p);
+                    if ccw { (-u.1, u.0) } else { (u.1, -u.0) }
+                };
+                let r = len(sub(start, centre));
+                // Left of a counter-clockwise arc is inside.
+                let inside = (self.side == Side::Left) == ccw;
+                let radius = if inside { r - self.radius } else { r + self.radius };
+                if radius <= 1e-9 {
+                    return Err(CompProblem::Gouge);
+                }
+                let shape = Shape::Arc { centre, radius };
+                (shape, tangent(start), tangent(end), add(centre, scale(radial(start), radius)), add(centre, scale(radial(end), radius)))
+            }
+            _ => {
+                let t = unit(sub(end, start));
+                let n = scale(self.normal(t), self.radius);
+                (Shape::Line, t, t, add(start, n), add(end, n))
+            }
+        };
+        let mut canon = canon;
+        if self.entry {
+            // The move that turns compensation on: straight to the offset end point.
+            if let CanonOp::ArcFeed { .. } = canon.op {
+                return Err(CompProblem::ArcEntry);
+            }
+            self.entry = false;
+            set_end(&mut canon.op, off_end);
+            self.release(sink);
+            // For the corner with the next move, the entry counts as its programmed line offset
+            // whole (LinuxCNC trims along that parallel, not along the actual approach).
+            self.held = Some(Held { canon, shape: Shape::Line, start: off_start, corner: end, tangent: t_end });
+            self.programmed = end;
+            self.tool = off_end;
+            return Ok(());
+        }
+        let mut corner_arc = None;
+        let mut new_start = off_start;
+        if let Some(h) = &mut self.held {
+            let a = self.tool;
+            if len(sub(a, off_start)) > 1e-9 {
+                let turn = cross(h.tangent, t_start);
+                let convex = match self.side {
+                    Side::Left => turn < 0.0 || (turn.abs() < 1e-12 && dot(h.tangent, t_start) < 0.0),
+                    Side::Right => turn > 0.0 || (turn.abs() < 1e-12 && dot(h.tangent, t_start) < 0.0),
+                };
+                if convex {
+                    corner_arc = Some(CanonOp::ArcFeed {
+                        first_end: off_start.0,
+                        second_end: off_start.1,
+                        first_axis: h.corner.0,
+                        second_axis: h.corner.1,
+                        rotation: if self.side == Side::Left { -1 } else { 1 },
+                        axis_end: axis_of(&h.canon.op),
+                        abc: abc_of(&h.canon.op),
+                    });
+                } else {
+                    let x = intersect(h.shape, h.start, a, shape, off_start, off_end, h.corner).ok_or(CompProblem::NoIntersection)?;
+                    set_end(&mut h.canon.op, x);
+                    self.tool = x;
+                    new_start = x;
+                    // Z moves queued behind the held move follow its end.
+                    for q in &mut self.queue {
+                        if end_of(&q.op).is_some() {
+                            set_end(&mut q.op, x);
+                        }
+                    }
+                }
+            }
+        }
+        let queued = std::mem::take(&mut self.queue);
+        if let Some(h) = self.held.take() {
+            sink.emit(h.canon);
+        }
+        for q in queued {
+            sink.emit(q);
+        }
+        if let Some(op) = corner_arc {
+            sink.emit(Canon { op, origin: canon.origin, line: canon.line });
+        }
+        set_end(&mut canon.op, off_end);
+        self.held = Some(Held { canon, shape, start: new_start, corner: end, tangent: t_end });
+        self.programmed = end;
+        self.tool = off_end;
+        Ok(())
+    }
+
+    fn hold_or_emit(&mut self, canon: Canon, sink: &mut dyn CanonSink) {
+        if self.held.is_some() {
+            self.queue.push(canon);
+        } else {
+            sink.emit(canon);
+        }
+    }
+
+    fn release(&mut self, sink: &mut dyn CanonSink) {
+        if let Some(h) = self.held.take() {
+            sink.emit(h.canon);
+        }
+        for q in self.queue.drain(..) {
+            sink.emit(q);
+        }
+    }
+
+    /// Compensation ends (G40, program end): everything held goes out. Returns the tool's XY.
+    pub(super) fn finish(mut self, sink: &mut dyn CanonSink) -> V2 {
+        self.release(sink);
+        self.tool
+    }
+}
+
+fn axis_of(op: &CanonOp) -> f64 {
+    match op {
+        CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => p[2],
+        CanonOp::ArcFeed { axis_end, .. } => *axis_end,
+        _ => 0.0,
+    }
+}
+
+fn abc_of(op: &CanonOp) -> [f64; 3] {
+    match op {
+        CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => [p[3], p[4], p[5]],
+        CanonOp::ArcFeed { abc, .. } => *abc,
+        _ => [0.0; 3],
+    }
+}
+
+/// The meeting point of two offset elements nearest to the programmed corner.
+fn intersect(a: Shape, a_start: V2, a_end: V2, b: Shape, b_start: V2, b_end: V2, corner: V2) -> Option<V2> {
+    let candidates: Vec<V2> = match (a, b) {
+        (Shape::Line, Shape::Line) => {
+            let (d1, d2) = (sub(a_end, a_start), sub(b_end, b_start));
+            let den = cross(d1, d2);
+            if den.abs() < 1e-12 {
+                return None;
+            }
+            let t = cross(sub(b_start, a_start), d2) / den;
+            vec![add(a_start, scale(d1, t))]
+        }
+        (Shape::Line, Shape::Arc { centre, radius, .. }) => line_circle(a_start, a_end, centre, radius),
+        (Shape::Arc { centre, radius, .. }, Shape::Line) => line_circle(b_start, b_end, centre, radius),
+        (Shape::Arc { centre: c1, radius: r1, .. }, Shape::Arc { centre: c2, radius: r2, .. }) => circle_circle(c1, r1, c2, r2),
+    };
+    candidates.into_iter().min_by(|p, q| len(sub(*p, corner)).total_cmp(&len(sub(*q, corner))))
+}
+
+fn line_circle(p: V2, q: V2, c: V2, r: f64) -> Vec<V2> {
+    let d = unit(sub(q, p));
+    let f = sub(p, c);
+    let b = dot(f, d);
+    let disc = b * b - (dot(f, f) - r * r);
+    if disc < -1e-12 {
+        return Vec::new();
+    }
+    let s = disc.max(0.0).sqrt();
+    vec![add(p, scale(d, -b - s)), add(p, scale(d, -b + s))]
+}
+
+fn circle_circle(c1: V2, r1: f64, c2: V2, r2: f64) -> Vec<V2> {
+    let d = len(sub(c2, c1));
+    if d < 1e-12 || d > r1 + r2 + 1e-12 || d < (r1 - r2).abs() - 1e-12 {
+        return Vec::new();
+    }
+    let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+    let h = (r1 * r1 - a * a).max(0.0).sqrt();
+    let u = unit(sub(c2, c1));
+    let m = add(c1, scale(u, a));
+    let n = (-u.1, u.0);
+    vec![add(m, scale(n, h)), add(m, scale(n, -h))]
+}
