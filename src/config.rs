@@ -80,6 +80,9 @@ struct RawMachine {
     name: String,
     path: String,
     dialect: String,
+    /// Overrides the dialect's decimal-point rule for this machine: `calculator` (X10 is 10
+    /// units) or `least-increment` (X10 is 10 µm on a metric control).
+    decimal_input: Option<String>,
     #[serde(default)]
     poll: bool,
     poll_ms: Option<u64>,
@@ -128,6 +131,36 @@ pub struct Folder {
     pub poll: bool,
     /// Poll interval.
     pub poll_ms: u64,
+    /// The machine's decimal-point rule, when it differs from its dialect's.
+    pub decimal_input: Option<DecimalRule>,
+}
+
+/// A per-machine decimal-point rule (a control parameter, such as Fanuc 3401#0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DecimalRule {
+    /// `X10` is 10 units.
+    Calculator,
+    /// `X10` is 10 least increments (0.001 mm, 0.0001 in).
+    LeastIncrement,
+}
+
+impl Folder {
+    /// The dialect this folder's programs are read in, with the folder's overrides applied.
+    pub fn dialect_for(&self, base: std::sync::Arc<crate::dialect::Dialect>) -> std::sync::Arc<crate::dialect::Dialect> {
+        use crate::dialect::{DecimalInput, Role as R};
+        let Some(rule) = self.decimal_input else { return base };
+        let mut d = (*base).clone();
+        d.behaviour.decimal_input = match (rule, &base.behaviour.decimal_input) {
+            (DecimalRule::Calculator, _) => DecimalInput::Calculator,
+            (DecimalRule::LeastIncrement, DecimalInput::LeastIncrement { .. }) => return base,
+            (DecimalRule::LeastIncrement, DecimalInput::Calculator) => DecimalInput::LeastIncrement {
+                mm: 0.001,
+                inch: 0.0001,
+                scaled: vec![R::X, R::Y, R::Z, R::A, R::B, R::C, R::U, R::V, R::W, R::I, R::J, R::K, R::R, R::Q],
+            },
+        };
+        std::sync::Arc::new(d)
+    }
 }
 
 /// The validated configuration.
@@ -167,6 +200,7 @@ impl Config {
                 dialect: f.dialect.clone(),
                 poll: f.poll,
                 poll_ms: f.poll_ms.unwrap_or(2000),
+                decimal_input: None,
             });
         }
         for m in &raw.machine {
@@ -176,6 +210,12 @@ impl Config {
             if raw.machine.iter().filter(|x| x.name == m.name).count() > 1 {
                 bail!("machine `{}` is configured twice", m.name);
             }
+            let decimal_input = match m.decimal_input.as_deref() {
+                None => None,
+                Some("calculator") => Some(DecimalRule::Calculator),
+                Some("least-increment") => Some(DecimalRule::LeastIncrement),
+                Some(other) => bail!("machine `{}`: decimal_input must be calculator or least-increment, not `{other}`", m.name),
+            };
             folders.push(Folder {
                 role: Role::Machine,
                 name: m.name.clone(),
@@ -183,6 +223,7 @@ impl Config {
                 dialect: m.dialect.clone(),
                 poll: m.poll,
                 poll_ms: m.poll_ms.unwrap_or(2000),
+                decimal_input,
             });
         }
         let database = abs(&raw.database.path);
@@ -277,6 +318,20 @@ pub fn dialect_registry(dir: Option<&Path>) -> Result<crate::dialect::Registry> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_machine_can_override_the_decimal_point_rule() {
+        let text = "[database]\npath = 'db'\n[[machine]]\nname = 'M1'\npath = 'm1'\ndialect = 'fanuc'\ndecimal_input = 'calculator'\n\
+                    [[machine]]\nname = 'M2'\npath = 'm2'\ndialect = 'linuxcnc'\ndecimal_input = 'least-increment'\n";
+        let c = Config::parse(text, Path::new("/srv")).unwrap();
+        let reg = crate::dialect::Registry::shipped();
+        let m1 = c.folders[0].dialect_for(reg.get("fanuc").unwrap());
+        assert_eq!(m1.behaviour.decimal_input, crate::dialect::DecimalInput::Calculator);
+        let m2 = c.folders[1].dialect_for(reg.get("linuxcnc").unwrap());
+        assert!(matches!(m2.behaviour.decimal_input, crate::dialect::DecimalInput::LeastIncrement { mm, .. } if mm == 0.001));
+        let bad = text.replace("'calculator'", "'metric'");
+        assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("decimal_input"));
+    }
 
     #[test]
     fn demo_config_is_valid() {

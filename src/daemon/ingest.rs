@@ -77,7 +77,7 @@ pub fn ingest(path: &Path, folder: &Folder, config: &Config, registry: &Registry
     if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
         return Ok(Outcome::Unchanged);
     }
-    let dialect = registry.get(&folder.dialect).with_context(|| format!("unknown dialect `{}`", folder.dialect))?;
+    let dialect = folder.dialect_for(registry.get(&folder.dialect).with_context(|| format!("unknown dialect `{}`", folder.dialect))?);
     let mtime_ns = meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_nanos() as i64);
     let too_large = bytes.len() as u64 > config.max_file_bytes;
     let (analysis, diagnostics) = if too_large {
