@@ -464,6 +464,40 @@ impl Lexer<'_, '_> {
             }
         }
         let (mut mantissa, mut digits, mut frac, mut point, mut exact) = (0u64, 0u32, 0u32, false, true);
+        // Fast path: plain digits, at most one point, up to 18 digits, then a byte that ends
+        // the number. Anything else (blanks inside the number, a second point, long runs)
+        // goes through the general loop below from the same position.
+        {
+            let b = self.b;
+            let mut i = self.i;
+            let mut m = 0u64;
+            let mut n = 0u32;
+            let mut f = 0u32;
+            let mut pt = false;
+            while let Some(&c) = b.get(i) {
+                if c.is_ascii_digit() {
+                    m = m * 10 + u64::from(c - b'0');
+                    n += 1;
+                    f += u32::from(pt);
+                } else if c == b'.' && !pt {
+                    pt = true;
+                } else {
+                    break;
+                }
+                i += 1;
+            }
+            let next = b.get(i).copied();
+            let continues_after_blanks = spaces && matches!(next, Some(b' ' | b'\t')) && {
+                let j = b[i..].iter().position(|&c| c != b' ' && c != b'\t').map_or(b.len(), |p| i + p);
+                matches!(b.get(j), Some(b'0'..=b'9' | b'.'))
+            };
+            let clean = n > 0 && n <= 18 && next != Some(b'.') && !continues_after_blanks;
+            if clean {
+                self.i = i;
+                let v = m as f64 / POW10[f as usize];
+                return Some((if negative { -v } else { v }, pt));
+            }
+        }
         loop {
             match self.peek() {
                 Some(d @ b'0'..=b'9') => {
