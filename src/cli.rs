@@ -238,7 +238,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         }
         Command::Canon { input, lines } => {
             let (d, config, bytes) = input_setup(&input)?;
-            let (source, mut diags) = crate::text::decode(&bytes);
+            let (source, mut diags) = crate::text::decode_owned(bytes);
             let mut printer = Printer { out: &mut out, buf: Vec::with_capacity(256), lines, error: None };
             diags.extend(crate::interp::interpret(&source.text, &d, &config.profile, &mut printer));
             if let Some(e) = printer.error.take() {

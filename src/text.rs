@@ -143,6 +143,21 @@ pub fn decode(bytes: &[u8]) -> (SourceText, Vec<Diagnostic>) {
     }
 }
 
+/// [`decode`] that takes the bytes and, for UTF-8 input (the common case), keeps them as the
+/// text without a copy: a large program is held in memory once.
+pub fn decode_owned(mut bytes: Vec<u8>) -> (SourceText, Vec<Diagnostic>) {
+    if bytes.starts_with(b"\xEF\xBB\xBF") {
+        bytes.drain(..3);
+    }
+    if looks_binary(&bytes) {
+        return decode(&bytes);
+    }
+    match String::from_utf8(bytes) {
+        Ok(text) => (SourceText { text, encoding: Encoding::Utf8 }, Vec::new()),
+        Err(e) => decode(e.as_bytes()),
+    }
+}
+
 /// Binary when the sample holds a NUL byte or more than 5% control characters.
 fn looks_binary(bytes: &[u8]) -> bool {
     let sample = &bytes[..bytes.len().min(64 * 1024)];
@@ -167,6 +182,15 @@ fn windows_1252(b: u8) -> char {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn owned_decoding_agrees_with_borrowed() {
+        for input in [&b"\xEF\xBB\xBFG0 X1\n"[..], b"G0 (caf\xe9)\n", b"G0\0\x01", b"", "G1 (é)".as_bytes()] {
+            let (a, da) = decode(input);
+            let (b, db) = decode_owned(input.to_vec());
+            assert_eq!((a.text, a.encoding, da), (b.text, b.encoding, db));
+        }
+    }
 
     #[test]
     fn line_col_handles_crlf_cr_and_multibyte() {
