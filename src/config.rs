@@ -30,6 +30,16 @@ struct RawConfig {
     machine: Vec<RawMachine>,
     #[serde(default)]
     tool: Vec<RawTool>,
+    #[serde(default)]
+    reference: RawReference,
+}
+
+/// G28/G30 reference positions in machine coordinates (mm and degrees): X Y Z A B C.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawReference {
+    g28: Option<Vec<f64>>,
+    g30: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -247,6 +257,17 @@ impl Config {
             None => None,
         };
         let mut profile = Profile::default();
+        let position = |what: &str, v: &Option<Vec<f64>>| -> Result<[f64; 6]> {
+            let Some(v) = v else { return Ok([0.0; 6]) };
+            if v.is_empty() || v.len() > 6 || v.iter().any(|x| !x.is_finite()) {
+                bail!("[reference] {what} must list 1 to 6 finite numbers (X Y Z A B C)");
+            }
+            let mut p = [0.0; 6];
+            p[..v.len()].copy_from_slice(v);
+            Ok(p)
+        };
+        profile.home1 = position("g28", &raw.reference.g28)?;
+        profile.home2 = position("g30", &raw.reference.g30)?;
         if let Some(dir) = &raw.programs_dir {
             profile.programs =
                 Some(std::sync::Arc::new(DirPrograms { dir: abs(dir), max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20) }));
@@ -331,6 +352,21 @@ mod tests {
         assert!(matches!(m2.behaviour.decimal_input, crate::dialect::DecimalInput::LeastIncrement { mm, .. } if mm == 0.001));
         let bad = text.replace("'calculator'", "'metric'");
         assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("decimal_input"));
+    }
+
+    #[test]
+    fn reference_positions_come_from_config() {
+        let c = Config::parse("[database]\npath = 'db'\n[reference]\ng28 = [0, 0, 100]\ng30 = [-500, -400, 100, 0, 0, 0]\n", Path::new("/srv")).unwrap();
+        assert_eq!(c.profile.home1, [0.0, 0.0, 100.0, 0.0, 0.0, 0.0]);
+        assert_eq!(c.profile.home2[0], -500.0);
+        assert!(Config::parse("[database]\npath = 'db'\n[reference]\ng28 = []\n", Path::new("/srv")).is_err());
+    }
+
+    #[test]
+    fn production_example_is_valid() {
+        let c = Config::parse(include_str!("../config/ncplan.production.toml"), Path::new("/")).unwrap();
+        assert!(c.profile.programs.is_some());
+        assert_eq!(c.profile.home2[0], -400.0);
     }
 
     #[test]
