@@ -356,7 +356,9 @@ mod tests {
 
     #[test]
     fn reference_positions_come_from_config() {
-        let c = Config::parse("[database]\npath = 'db'\n[reference]\ng28 = [0, 0, 100]\ng30 = [-500, -400, 100, 0, 0, 0]\n", Path::new("/srv")).unwrap();
+        let c =
+            Config::parse("[database]\npath = 'db'\n[reference]\ng28 = [0, 0, 100]\ng30 = [-500, -400, 100, 0, 0, 0]\n", Path::new("/srv"))
+                .unwrap();
         assert_eq!(c.profile.home1, [0.0, 0.0, 100.0, 0.0, 0.0, 0.0]);
         assert_eq!(c.profile.home2[0], -500.0);
         assert!(Config::parse("[database]\npath = 'db'\n[reference]\ng28 = []\n", Path::new("/srv")).is_err());
