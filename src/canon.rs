@@ -458,6 +458,61 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
     out.push(b'\n');
 }
 
+/// Writes canonical calls like [`write_call_bytes`], remembering recently formatted numbers of
+/// straight moves: part programs repeat coordinates (a row's Y, a level's Z, a grid's X), and
+/// number formatting is the dearest part of printing. The output is the same byte for byte.
+pub struct CallWriter {
+    /// Direct-mapped: slot by a hash of the value's bits; (bits, length, text).
+    cache: Vec<(u64, u8, [u8; 23])>,
+}
+
+impl Default for CallWriter {
+    fn default() -> CallWriter {
+        CallWriter { cache: vec![(0, 0, [0; 23]); 1024] }
+    }
+}
+
+impl CallWriter {
+    /// Appends the call and a newline.
+    pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {
+        let (name, p): (&[u8], _) = match op {
+            CanonOp::StraightTraverse(p) => (b"STRAIGHT_TRAVERSE(", p),
+            CanonOp::StraightFeed(p) => (b"STRAIGHT_FEED(", p),
+            _ => return write_call_bytes(out, op),
+        };
+        out.extend_from_slice(name);
+        for (i, &x) in p.iter().enumerate() {
+            if i > 0 {
+                out.extend_from_slice(b", ");
+            }
+            self.number(out, x);
+        }
+        out.extend_from_slice(b")\n");
+    }
+
+    fn number(&mut self, out: &mut Vec<u8>, v: f64) {
+        if v == 0.0 && v.is_sign_positive() {
+            out.extend_from_slice(b"0.0000");
+            return;
+        }
+        let bits = v.to_bits();
+        let slot = ((bits ^ (bits >> 31)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 54) as usize;
+        let entry = &mut self.cache[slot];
+        if entry.0 == bits && entry.1 > 0 {
+            out.extend_from_slice(&entry.2[..usize::from(entry.1)]);
+            return;
+        }
+        let at = out.len();
+        push_f4(out, v);
+        let written = &out[at..];
+        if written.len() <= entry.2.len() {
+            entry.0 = bits;
+            entry.1 = written.len() as u8;
+            entry.2[..written.len()].copy_from_slice(written);
+        }
+    }
+}
+
 /// Calls that LinuxCNC emits for its own bookkeeping and that carry no machining meaning.
 /// Comparisons with `rs274` drop them on both sides.
 pub const LINUXCNC_INTERNAL: &[&str] = &[
@@ -481,6 +536,25 @@ pub const LINUXCNC_INTERNAL: &[&str] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_caching_writer_prints_the_same_bytes() {
+        let mut w = CallWriter::default();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for i in 0..5000 {
+            let x = f64::from(i % 700) * 0.2 - 3.0;
+            let ops = [
+                CanonOp::StraightFeed([x, -0.0, f64::from(i).sin(), 0.0, 1e-9, -x]),
+                CanonOp::StraightTraverse([x, 1.00005, 2.5, 1e17, -1e-5, 0.0]),
+                CanonOp::Dwell(x),
+            ];
+            for op in &ops {
+                w.write(&mut a, op);
+                write_call_bytes(&mut b, op);
+            }
+        }
+        assert_eq!(a, b);
+    }
 
     #[test]
     fn fast_four_decimals_match_the_standard_formatter() {

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::canon::{Canon, CanonSink, write_call_bytes};
+use crate::canon::{CallWriter, Canon, CanonSink};
 use crate::config::{self, Config};
 use crate::diag::{self, DiagnosticJson};
 use crate::dialect::{Dialect, Registry};
@@ -239,7 +239,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         Command::Canon { input, lines } => {
             let (d, config, bytes) = input_setup(&input)?;
             let (source, mut diags) = crate::text::decode_owned(bytes);
-            let mut printer = Printer { out: &mut out, buf: Vec::with_capacity(256), lines, error: None };
+            let mut printer = Printer { out: &mut out, buf: Vec::with_capacity(256), writer: CallWriter::default(), lines, error: None };
             diags.extend(crate::interp::interpret(&source.text, &d, &config.profile, &mut printer));
             if let Some(e) = printer.error.take() {
                 return Err(e.into());
@@ -370,6 +370,7 @@ fn init_tracing() {
 struct Printer<'w, W: Write> {
     out: &'w mut W,
     buf: Vec<u8>,
+    writer: CallWriter,
     lines: bool,
     error: Option<std::io::Error>,
 }
@@ -383,7 +384,7 @@ impl<W: Write> CanonSink for Printer<'_, W> {
         if self.lines {
             let _ = write!(self.buf, "{:>6} ", canon.line);
         }
-        write_call_bytes(&mut self.buf, &canon.op);
+        self.writer.write(&mut self.buf, &canon.op);
         if let Err(e) = self.out.write_all(&self.buf) {
             self.error = Some(e);
         }
