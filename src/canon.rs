@@ -250,7 +250,7 @@ impl CanonSink for Vec<Canon> {
 /// magnitudes beyond 2⁵³/10⁴, go to the standard formatter.
 pub fn push_f4(out: &mut Vec<u8>, v: f64) {
     if v == 0.0 && v.is_sign_positive() {
-        out.extend_from_slice("0.0000".as_bytes());
+        out.extend_from_slice(b"0.0000");
         return;
     }
     let scaled = v.abs() * 10_000.0;
@@ -310,10 +310,22 @@ impl fmt::Display for F4 {
     }
 }
 
+/// `NAME(x, y, z, a, b, c)` with each number written by `number`.
+fn straight(out: &mut Vec<u8>, name: &[u8], p: &[f64; 6], mut number: impl FnMut(&mut Vec<u8>, f64)) {
+    out.extend_from_slice(name);
+    for (i, &x) in p.iter().enumerate() {
+        if i > 0 {
+            out.extend_from_slice(b", ");
+        }
+        number(out, x);
+    }
+    out.push(b')');
+}
+
 fn join6(out: &mut Vec<u8>, v: &[f64; 6]) {
     for (i, x) in v.iter().enumerate() {
         if i > 0 {
-            out.extend_from_slice(", ".as_bytes());
+            out.extend_from_slice(b", ");
         }
         push_f4(out, *x);
     }
@@ -361,7 +373,7 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
             out.push(b')');
         }
         CanonOp::SetG92Offset(v) => {
-            out.extend_from_slice("SET_G92_OFFSET(".as_bytes());
+            out.extend_from_slice(b"SET_G92_OFFSET(");
             join6(out, v);
             out.push(b')');
         }
@@ -371,9 +383,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::SetSpindleSpeed(s) => {
             let _ = write!(out, "SET_SPINDLE_SPEED(0, {})", F4(*s));
         }
-        CanonOp::StartSpindleClockwise => out.extend_from_slice("START_SPINDLE_CLOCKWISE(0)".as_bytes()),
-        CanonOp::StartSpindleCounterclockwise => out.extend_from_slice("START_SPINDLE_COUNTERCLOCKWISE(0)".as_bytes()),
-        CanonOp::StopSpindleTurning => out.extend_from_slice("STOP_SPINDLE_TURNING(0)".as_bytes()),
+        CanonOp::StartSpindleClockwise => out.extend_from_slice(b"START_SPINDLE_CLOCKWISE(0)"),
+        CanonOp::StartSpindleCounterclockwise => out.extend_from_slice(b"START_SPINDLE_COUNTERCLOCKWISE(0)"),
+        CanonOp::StopSpindleTurning => out.extend_from_slice(b"STOP_SPINDLE_TURNING(0)"),
         CanonOp::SelectTool(t) => {
             let _ = write!(out, "SELECT_TOOL({t})");
         }
@@ -383,16 +395,8 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::UseToolLengthOffset([x, y, z]) => {
             let _ = write!(out, "USE_TOOL_LENGTH_OFFSET({} {} {}, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)", F4(*x), F4(*y), F4(*z));
         }
-        CanonOp::StraightTraverse(p) => {
-            out.extend_from_slice("STRAIGHT_TRAVERSE(".as_bytes());
-            join6(out, p);
-            out.push(b')');
-        }
-        CanonOp::StraightFeed(p) => {
-            out.extend_from_slice("STRAIGHT_FEED(".as_bytes());
-            join6(out, p);
-            out.push(b')');
-        }
+        CanonOp::StraightTraverse(p) => straight(out, b"STRAIGHT_TRAVERSE(", p, push_f4),
+        CanonOp::StraightFeed(p) => straight(out, b"STRAIGHT_FEED(", p, push_f4),
         CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
             let _ = write!(
                 out,
@@ -410,21 +414,21 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::Dwell(s) => {
             let _ = write!(out, "DWELL({})", F4(*s));
         }
-        CanonOp::MistOn => out.extend_from_slice("MIST_ON()".as_bytes()),
-        CanonOp::MistOff => out.extend_from_slice("MIST_OFF()".as_bytes()),
-        CanonOp::FloodOn => out.extend_from_slice("FLOOD_ON()".as_bytes()),
-        CanonOp::FloodOff => out.extend_from_slice("FLOOD_OFF()".as_bytes()),
-        CanonOp::ProgramStop => out.extend_from_slice("PROGRAM_STOP()".as_bytes()),
-        CanonOp::OptionalProgramStop => out.extend_from_slice("OPTIONAL_PROGRAM_STOP()".as_bytes()),
-        CanonOp::ProgramEnd => out.extend_from_slice("PROGRAM_END()".as_bytes()),
-        CanonOp::Finish => out.extend_from_slice("FINISH()".as_bytes()),
+        CanonOp::MistOn => out.extend_from_slice(b"MIST_ON()"),
+        CanonOp::MistOff => out.extend_from_slice(b"MIST_OFF()"),
+        CanonOp::FloodOn => out.extend_from_slice(b"FLOOD_ON()"),
+        CanonOp::FloodOff => out.extend_from_slice(b"FLOOD_OFF()"),
+        CanonOp::ProgramStop => out.extend_from_slice(b"PROGRAM_STOP()"),
+        CanonOp::OptionalProgramStop => out.extend_from_slice(b"OPTIONAL_PROGRAM_STOP()"),
+        CanonOp::ProgramEnd => out.extend_from_slice(b"PROGRAM_END()"),
+        CanonOp::Finish => out.extend_from_slice(b"FINISH()"),
         CanonOp::Comment(s) => {
-            out.extend_from_slice("COMMENT(".as_bytes());
+            out.extend_from_slice(b"COMMENT(");
             quoted(out, s);
             out.push(b')');
         }
         CanonOp::Message(s) => {
-            out.extend_from_slice("MESSAGE(".as_bytes());
+            out.extend_from_slice(b"MESSAGE(");
             quoted(out, s);
             out.push(b')');
         }
@@ -450,10 +454,10 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
             if let Some(p) = c.dwell {
                 let _ = write!(out, " dwell={}", F4(p));
             }
-            out.extend_from_slice("\")".as_bytes());
+            out.extend_from_slice(b"\")");
         }
-        CanonOp::CycleEnd => out.extend_from_slice("COMMENT(\"ncplan: cycle end\")".as_bytes()),
-        CanonOp::CycleCancel => out.extend_from_slice("COMMENT(\"interpreter: motion mode set to none\")".as_bytes()),
+        CanonOp::CycleEnd => out.extend_from_slice(b"COMMENT(\"ncplan: cycle end\")"),
+        CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
     }
     out.push(b'\n');
 }
@@ -475,19 +479,12 @@ impl Default for CallWriter {
 impl CallWriter {
     /// Appends the call and a newline.
     pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {
-        let (name, p): (&[u8], _) = match op {
-            CanonOp::StraightTraverse(p) => (b"STRAIGHT_TRAVERSE(", p),
-            CanonOp::StraightFeed(p) => (b"STRAIGHT_FEED(", p),
+        match op {
+            CanonOp::StraightTraverse(p) => straight(out, b"STRAIGHT_TRAVERSE(", p, |o, x| self.number(o, x)),
+            CanonOp::StraightFeed(p) => straight(out, b"STRAIGHT_FEED(", p, |o, x| self.number(o, x)),
             _ => return write_call_bytes(out, op),
-        };
-        out.extend_from_slice(name);
-        for (i, &x) in p.iter().enumerate() {
-            if i > 0 {
-                out.extend_from_slice(b", ");
-            }
-            self.number(out, x);
         }
-        out.extend_from_slice(b")\n");
+        out.push(b'\n');
     }
 
     fn number(&mut self, out: &mut Vec<u8>, v: f64) {

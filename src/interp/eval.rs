@@ -93,8 +93,13 @@ impl Params {
     }
 
     /// Sets a named parameter.
-    pub fn set_named(&mut self, name: String, v: f64) {
-        self.named.insert(name, v);
+    pub fn set_named(&mut self, name: &str, v: f64) {
+        match self.named.get_mut(name) {
+            Some(slot) => *slot = v,
+            None => {
+                self.named.insert(name.to_owned(), v);
+            }
+        }
     }
 
     /// Whether a named parameter exists.
@@ -113,7 +118,16 @@ fn index(n: f64) -> Result<usize, EvalError> {
 
 /// Normalises a parameter name as LinuxCNC does: lower case, blanks removed.
 pub fn normalise_name(raw: &str) -> String {
-    raw.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect()
+    normalised(raw).into_owned()
+}
+
+/// [`normalise_name`] without an allocation when the name is already normal (the usual case).
+pub(crate) fn normalised(raw: &str) -> std::borrow::Cow<'_, str> {
+    if raw.chars().all(|c| !c.is_whitespace() && !c.is_uppercase()) {
+        std::borrow::Cow::Borrowed(raw)
+    } else {
+        std::borrow::Cow::Owned(raw.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect())
+    }
 }
 
 /// Evaluates expression `id` of `block` against `params`; `text` is the program text.
@@ -122,9 +136,9 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
     Ok(match *e {
         Expr::Num(v) => v,
         Expr::Param(inner) => params.get(eval(block, inner, params, text)?)?,
-        Expr::Named(r) => params.get_named(&normalise_name(&text[r.start as usize..r.end as usize]))?,
+        Expr::Named(r) => params.get_named(&normalised(&text[r.start as usize..r.end as usize]))?,
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
-            Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalise_name(&text[r.start as usize..r.end as usize])))),
+            Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalised(&text[r.start as usize..r.end as usize])))),
             _ => 0.0,
         },
         Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => zero_if_null(eval(block, inner, params, text)?).trunc(),

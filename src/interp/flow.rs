@@ -542,7 +542,7 @@ impl<'a> Driver<'a, '_> {
                     && let Some(&e) = c.args.first()
                     && let Some(v) = self.value(interp, block, e, diags)
                 {
-                    interp.params.set_named("_value".into(), v);
+                    interp.params.set_named("_value", v);
                 }
                 match self.frames.last() {
                     Some(f) if f.kind == FrameKind::Sub => self.return_from(None, block, interp, diags),

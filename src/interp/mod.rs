@@ -183,6 +183,8 @@ pub struct Interpreter<'a> {
     after_end_noted: bool,
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
+    /// Assignments of the block being executed, waiting for its reads (reused).
+    pending: Vec<(Option<f64>, TextRange, f64, TextRange)>,
     /// A `#3006` stop message to emit at the stop step.
     stop_message: Option<String>,
     /// Cutter radius compensation while G41/G42 is on with a known radius.
@@ -248,6 +250,7 @@ impl<'a> Interpreter<'a> {
             notes: BTreeMap::new(),
             after_end_noted: false,
             request: None,
+            pending: Vec::new(),
             stop_message: None,
             comp: std::cell::RefCell::new(None),
             comp_problem: std::cell::Cell::new(None),
@@ -701,7 +704,8 @@ impl<'a> Interpreter<'a> {
 
     fn assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
         // All reads of a block happen before its assignments take effect.
-        let mut pending = Vec::with_capacity(block.assigns.len());
+        let mut pending = std::mem::take(&mut self.pending);
+        pending.clear();
         for a in &block.assigns {
             let value = match eval::eval(block, a.value, &self.params, self.text) {
                 Ok(v) => v,
@@ -712,16 +716,13 @@ impl<'a> Interpreter<'a> {
             };
             match a.target {
                 ParamTarget::Numbered(e) => match eval::eval(block, e, &self.params, self.text) {
-                    Ok(n) => pending.push((Some(n), String::new(), value, a.range)),
+                    Ok(n) => pending.push((Some(n), TextRange::default(), value, a.range)),
                     Err(e) => diags.push(eval_diag(e, a.range)),
                 },
-                ParamTarget::Named(r) => {
-                    let name = eval::normalise_name(&self.text[r.start as usize..r.end as usize]);
-                    pending.push((None, name, value, a.range));
-                }
+                ParamTarget::Named(r) => pending.push((None, r, value, a.range)),
             }
         }
-        for (n, name, value, range) in pending {
+        for &(n, name, value, range) in &pending {
             match n {
                 Some(n) => {
                     let system = if n >= 0.0 && n.fract() == 0.0 { self.dialect.macros.system_var(n as u32) } else { None };
@@ -742,9 +743,10 @@ impl<'a> Interpreter<'a> {
                         }
                     }
                 }
-                None => self.params.set_named(name, value),
+                None => self.params.set_named(&eval::normalised(&self.text[name.start as usize..name.end as usize]), value),
             }
         }
+        self.pending = pending;
     }
 
     /// The text of the block's first comment, or an empty string.
