@@ -107,6 +107,8 @@ codes! {
     CycleIncomplete = ("interp::cycle-incomplete", Error),
     /// Text after the end of the program was ignored.
     AfterProgramEnd = ("interp::after-program-end", Note),
+    /// More findings of one kind than are worth listing; the rest were counted.
+    FindingsOmitted = ("interp::findings-omitted", Note),
     /// The program raised an operator message.
     ProgramMessage = ("interp::message", Note),
     /// The program raised an alarm (`#3000 = n`); execution stops.

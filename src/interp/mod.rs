@@ -275,7 +275,7 @@ impl<'a> Interpreter<'a> {
         for (what, count) in &self.notes {
             if *count > NOTE_LIMIT {
                 diags.push(Diagnostic::new(
-                    Code::Unsupported,
+                    Code::FindingsOmitted,
                     TextRange::default(),
                     format!("{} more findings like `{what}` were not listed", count - NOTE_LIMIT),
                 ));

@@ -74,6 +74,14 @@ impl Interpreter<'_> {
             ));
             return false;
         };
+        if self.comp.borrow().is_some() {
+            let d = Diagnostic::new(
+                Code::Unsupported,
+                block.range,
+                "inverse-time feed under cutter compensation is taken from the programmed path length, not the compensated one",
+            );
+            self.limited(diags, "inverse-time-comp", d);
+        }
         self.st.feed = length * f;
         self.emit(sink, CanonOp::SetFeedRate(self.st.feed));
         true
