@@ -2,7 +2,7 @@
 //! intent markers so that plan recovery keeps what was asked for.
 
 use super::{Interpreter, Retract, Spindle};
-use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
+use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role, TapStyle};
 use crate::syntax::Block;
@@ -29,24 +29,25 @@ impl Interpreter<'_> {
                 return;
             }
         };
-        if self.st.plane != Plane::Xy {
-            self.limited(
-                diags,
-                "cycle-plane",
-                Diagnostic::new(
-                    Code::Unsupported,
-                    range,
-                    format!("{} outside the XY plane (G17) is not supported yet; skipped", def.label()),
+        // The hole axis is the plane's normal: Z in G17, Y in G18, X in G19.
+        let (a0, a1, n) = self.st.plane.axes();
+        if n != 2 && matches!(kind, CycleKind::Tapping | CycleKind::LeftTapping) {
+            let d = Diagnostic::new(
+                Code::Unsupported,
+                range,
+                format!(
+                    "{} outside G17 is tapped along the plane's normal axis; LinuxCNC's rs274 feeds another axis here, so check the machine",
+                    def.label()
                 ),
             );
-            return;
+            self.limited(diags, "tap-plane", d);
         }
         self.check_technology(def, block.range, diags);
         // Sticky words: R always, Z while the same cycle stays active, Q and P as given.
         if let Some(r) = self.slot(Role::R) {
             self.st.sticky_r = Some(r);
         }
-        if let Some(z) = self.slot(Role::Z) {
+        if let Some(z) = self.slot(Role::AXES[n]) {
             self.st.sticky_z = Some(z);
         }
         if let Some(q) = self.slot(Role::Q) {
@@ -75,7 +76,7 @@ impl Interpreter<'_> {
                 ),
             );
         }
-        let old_z = self.st.pos[2];
+        let old_z = self.st.pos[n];
         let r = if incremental { old_z + r_word } else { r_word };
         let bottom = if incremental { r + z_word } else { z_word };
         let peck = if matches!(kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking) {
@@ -117,20 +118,28 @@ impl Interpreter<'_> {
         let code = def.label();
 
         let mut p = self.st.pos;
-        if p[2] < r {
-            p[2] = r;
+        if p[n] < r {
+            p[n] = r;
             self.emit(sink, CanonOp::StraightTraverse(p));
         }
         let clear = if self.st.retract == Retract::Initial { old_z.max(r) } else { r };
-        let (dx, dy) = (self.slot(Role::X), self.slot(Role::Y));
+        let (dx, dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
         for _ in 0..repeats as u64 {
-            let (x, y) =
-                if incremental { (p[0] + dx.unwrap_or(0.0), p[1] + dy.unwrap_or(0.0)) } else { (dx.unwrap_or(p[0]), dy.unwrap_or(p[1])) };
+            let (x, y) = if incremental {
+                (p[a0] + dx.unwrap_or(0.0), p[a1] + dy.unwrap_or(0.0))
+            } else {
+                (dx.unwrap_or(p[a0]), dy.unwrap_or(p[a1]))
+            };
             let intent = CycleIntent { kind, code: code.clone(), x, y, bottom, r_plane: r, clear, peck, dwell };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
-            let at = |z: f64| [x, y, z, p[3], p[4], p[5]];
-            self.emit(sink, CanonOp::StraightTraverse(at(p[2])));
-            if p[2] != r {
+            let place = |first: f64, z: f64| {
+                let mut q = p;
+                (q[a0], q[a1], q[n]) = (first, y, z);
+                q
+            };
+            let at = |z: f64| place(x, z);
+            self.emit(sink, CanonOp::StraightTraverse(at(p[n])));
+            if p[n] != r {
                 self.emit(sink, CanonOp::StraightTraverse(at(r)));
             }
             match kind {
@@ -203,7 +212,7 @@ impl Interpreter<'_> {
                         self.emit(sink, CanonOp::Dwell(d));
                     }
                     self.emit(sink, CanonOp::StopSpindleTurning);
-                    let shifted = |z: f64| [x + shift, y, z, p[3], p[4], p[5]];
+                    let shifted = |z: f64| place(x + shift, z);
                     self.emit(sink, CanonOp::StraightTraverse(shifted(bottom)));
                     self.emit(sink, CanonOp::StraightTraverse(shifted(clear)));
                     self.emit(sink, CanonOp::StraightTraverse(at(clear)));
@@ -212,9 +221,9 @@ impl Interpreter<'_> {
                 CycleKind::BackBoring => {
                     // From the initial level: stop, shift, rapid down to R below the part,
                     // shift back, bore upwards to Z, stop, shift, rapid out.
-                    let shifted = |z: f64| [x + shift, y, z, p[3], p[4], p[5]];
+                    let shifted = |z: f64| place(x + shift, z);
                     self.emit(sink, CanonOp::StopSpindleTurning);
-                    self.emit(sink, CanonOp::StraightTraverse(shifted(p[2])));
+                    self.emit(sink, CanonOp::StraightTraverse(shifted(p[n])));
                     self.emit(sink, CanonOp::StraightTraverse(shifted(r)));
                     self.emit(sink, CanonOp::StraightTraverse(at(r)));
                     self.restart_spindle(sink);
