@@ -183,7 +183,7 @@ fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
         Func::Ln if x <= 0.0 => return Err(EvalError::Domain("LN of a non-positive value")),
         Func::Ln => x.ln(),
         Func::Exp => x.exp(),
-        Func::Exists => 0.0,
+        Func::Exists | Func::Pow => 0.0,
         Func::Neg => -x,
         Func::Not => f64::from(u8::from(x == 0.0)),
     })

@@ -36,6 +36,8 @@ pub enum Func {
     Exp,
     /// Whether a named parameter exists.
     Exists,
+    /// Power, two arguments (`POW[a,b]`); parsed into a binary `**`.
+    Pow,
     /// Negation.
     Neg,
     /// Logical not.
@@ -60,6 +62,7 @@ impl Func {
             "LN" => Func::Ln,
             "EXP" => Func::Exp,
             "EXISTS" => Func::Exists,
+            "POW" => Func::Pow,
             "NOT" => Func::Not,
             _ => return None,
         })

@@ -694,6 +694,26 @@ impl Lexer<'_, '_> {
                     self.error(Code::MalformedExpression, start, self.i, format!("`{word}` needs its argument in brackets"));
                     return None;
                 }
+                if matches!(func, Func::Atan | Func::Pow) && self.has_comma_before_close() {
+                    // Two arguments in one bracket: `ATAN[y,x]`, `POW[a,b]` (Fanuc 30i).
+                    self.i += 1;
+                    let a = self.expr(depth + 1, 0)?;
+                    if !self.expect(b',', "between the two arguments", start) {
+                        return None;
+                    }
+                    let b = self.expr(depth + 1, 0)?;
+                    if !self.expect(expr_close.unwrap_or(b']'), "to close the arguments", start) {
+                        return None;
+                    }
+                    let e = if func == Func::Atan { Expr::Atan2(a, b) } else { Expr::Binary(BinOp::Pow, a, b) };
+                    return Some(self.push(e));
+                }
+                if func == Func::Pow {
+                    self.error(Code::MalformedExpression, start, self.i, "POW needs two arguments: POW[a,b]");
+                    // Skip its bracket, so that the rest of the block reads on.
+                    let _ = self.unary(depth + 1);
+                    return None;
+                }
                 let arg = self.unary(depth + 1)?;
                 if func == Func::Atan {
                     self.skip_blanks();
@@ -716,6 +736,25 @@ impl Lexer<'_, '_> {
                 None
             }
         }
+    }
+
+    /// Whether the bracket at the cursor holds a comma at its own nesting level.
+    fn has_comma_before_close(&self) -> bool {
+        let mut depth = 0u32;
+        for &c in &self.b[self.i..self.line_end()] {
+            match c {
+                b'[' => depth += 1,
+                b']' => {
+                    depth = depth.saturating_sub(1);
+                    if depth == 0 {
+                        return false;
+                    }
+                }
+                b',' if depth == 1 => return true,
+                _ => {}
+            }
+        }
+        false
     }
 
     /// `<name>` after a sigil; returns the range of the name.

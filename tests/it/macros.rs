@@ -43,6 +43,15 @@ fn expressions_follow_precedence_and_degree_functions() {
 }
 
 #[test]
+fn two_argument_functions_in_one_bracket() {
+    let (out, codes) = moves("fanuc", "G0 X[ATAN[1,1]] Y[POW[2,3]] Z[ATAN[1]/[-1]]\nM30\n");
+    assert!(out.starts_with("STRAIGHT_TRAVERSE(45.0000, 8.0000, 135.0000,"), "{out}");
+    assert!(codes.is_empty(), "{codes:?}");
+    let (_, codes) = moves("fanuc", "G0 X[POW[2]]\nM30\n");
+    assert_eq!(codes.first(), Some(&"syntax::malformed-expression"), "{codes:?}");
+}
+
+#[test]
 fn fix_and_fup_round_by_dialect() {
     let program = "G0 X[FIX[-1.2]] Y[FUP[-1.2]] Z[FIX[1.7]+FUP[1.2]]\nM30\n";
     let (fanuc, _) = moves("fanuc", program);
