@@ -189,6 +189,15 @@ impl Macros {
         self.statements.iter().find(|(k, _)| k.eq_ignore_ascii_case(word)).map(|&(_, s)| s)
     }
 
+    /// The statement keyword that `word` (a run of letters, any case) starts with, longest
+    /// first: `GOTO10` → `GOTO`, `WHILE` → `WHILE`.
+    pub fn statement_prefix(&self, word: &str) -> Option<(&str, Statement)> {
+        self.statements
+            .iter()
+            .find(|(k, _)| word.len() >= k.len() && word.as_bytes()[..k.len()].eq_ignore_ascii_case(k.as_bytes()))
+            .map(|(k, st)| (k.as_str(), *st))
+    }
+
     /// What system variable `n` is, if any.
     pub fn system_var(&self, n: u32) -> Option<SystemVar> {
         self.system.iter().find(|&&(k, _)| k == n).map(|&(_, v)| v)

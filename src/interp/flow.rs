@@ -422,36 +422,16 @@ impl<'a> Driver<'a, '_> {
                     }
                     return;
                 }
-                let again = self.top_loop(|l| l.kind == LoopKind::While && l.label == label && l.head == start);
-                match (cond, again) {
-                    (true, Some(k)) => {
-                        self.count_iteration(k, c.range, diags);
-                    }
-                    (true, None) => self.push_loop(LoopKind::While, label, None, start, here),
-                    (false, again) => {
-                        if let Some(k) = again {
-                            self.loops.truncate(k);
-                        }
-                        self.skip_to(start, c.range, "endwhile", |m| same_label(m, &[Statement::EndWhile]), interp, diags);
-                    }
+                if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, diags) {
+                    self.skip_to(start, c.range, "endwhile", |m| same_label(m, &[Statement::EndWhile]), interp, diags);
                 }
             }
             Statement::While => {
                 // `WHILE [c] DO m`.
                 let id = self.loop_id(c, block, interp, diags);
                 let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                let again = self.top_loop(|l| l.kind == LoopKind::Numbered && l.head == start);
-                match (cond, again) {
-                    (true, Some(k)) => {
-                        self.count_iteration(k, c.range, diags);
-                    }
-                    (true, None) => self.push_loop(LoopKind::Numbered, None, id, start, here),
-                    (false, again) => {
-                        if let Some(k) = again {
-                            self.loops.truncate(k);
-                        }
-                        self.skip_numbered_end(id, start, c.range, interp, diags);
-                    }
+                if self.loop_head(LoopKind::Numbered, None, id, cond, start, here, c.range, diags) {
+                    self.skip_numbered_end(id, start, c.range, interp, diags);
                 }
             }
             Statement::Do if label.is_some() => self.push_loop(LoopKind::Do, label, None, start, here),
@@ -551,6 +531,39 @@ impl<'a> Driver<'a, '_> {
             }
             Statement::Call => self.call_sub(c, label, block, start, interp, diags),
             Statement::Goto => self.goto(c.target, block, start, interp, diags),
+        }
+    }
+
+    /// A loop head, met for the first time or again: counts the iteration, or enters the
+    /// loop, or (when the condition is false) drops it. True when the loop is to be left.
+    #[allow(clippy::too_many_arguments)]
+    fn loop_head(
+        &mut self,
+        kind: LoopKind,
+        label: Option<String>,
+        id: Option<i64>,
+        cond: bool,
+        start: Pos,
+        here: Pos,
+        range: TextRange,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
+        let again = self.top_loop(|l| l.kind == kind && l.head == start);
+        match (cond, again) {
+            (true, Some(k)) => {
+                self.count_iteration(k, range, diags);
+                false
+            }
+            (true, None) => {
+                self.push_loop(kind, label, id, start, here);
+                false
+            }
+            (false, again) => {
+                if let Some(k) = again {
+                    self.loops.truncate(k);
+                }
+                true
+            }
         }
     }
 
@@ -723,20 +736,7 @@ impl<'a> Driver<'a, '_> {
             args.push(v);
         }
         let is_sub = |m: &Mark| m.label.as_deref() == Some(label.as_str()) && m.statement == Some(Statement::Sub);
-        let mut found = None;
-        for source in [self.cur, 0] {
-            if let Some(m) = self.marks(source).iter().find(|m| is_sub(m)) {
-                found = Some((source, m.next));
-                break;
-            }
-        }
-        if found.is_none()
-            && let Some(source) = self.load(&label)
-        {
-            let body = self.marks(source).iter().find(|m| is_sub(m)).map_or(Pos { at: 0, line: 1 }, |m| m.next);
-            found = Some((source, body));
-        }
-        let Some((source, body)) = found else {
+        let Some((source, body)) = self.locate(&label, is_sub) else {
             self.error(
                 diags,
                 Code::MissingLabel,
@@ -748,6 +748,20 @@ impl<'a> Driver<'a, '_> {
         let (first, last) = self.dialect.macros.locals;
         let args: Vec<(u16, f64)> = args.into_iter().enumerate().map(|(i, v)| (first + i as u16, v)).filter(|(n, _)| *n <= last).collect();
         self.enter(FrameKind::Sub, source, body, 1, args, true, block, start, interp, diags);
+    }
+
+    /// Where a called program's body starts: after the first mark `starts` accepts in this
+    /// source or the main program, else in the file `name` from the [`ProgramSource`] (after
+    /// such a mark, or at its top).
+    fn locate(&mut self, name: &str, starts: impl Fn(&Mark) -> bool) -> Option<(usize, Pos)> {
+        for source in [self.cur, 0] {
+            if let Some(m) = self.marks(source).iter().find(|m| starts(m)) {
+                return Some((source, m.next));
+            }
+        }
+        let source = self.load(name)?;
+        let body = self.marks(source).iter().find(|m| starts(m)).map_or(Pos { at: 0, line: 1 }, |m| m.next);
+        Some((source, body))
     }
 
     /// Loads subprogram `name` through the [`ProgramSource`] (once); returns its source index.
@@ -811,15 +825,8 @@ impl<'a> Driver<'a, '_> {
         let start = Pos { at: block.range.start as usize, line: block.line };
         match r {
             Request::Call { program, repeats, macro_call, args } => {
-                let found = [self.cur, 0]
-                    .into_iter()
-                    .find_map(|s| self.marks(s).iter().find(|m| m.program == Some(program) && m.statement.is_none()).map(|m| (s, m.next)));
-                let found = found.or_else(|| {
-                    let source = self.load(&format!("O{program:04}"))?;
-                    let body = self.marks(source).iter().find(|m| m.program == Some(program)).map_or(Pos { at: 0, line: 1 }, |m| m.next);
-                    Some((source, body))
-                });
-                let Some((source, body)) = found else {
+                let starts = |m: &Mark| m.program == Some(program) && m.statement.is_none();
+                let Some((source, body)) = self.locate(&format!("O{program:04}"), starts) else {
                     self.error(
                         diags,
                         Code::MissingLabel,

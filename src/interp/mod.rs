@@ -1142,22 +1142,7 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::Home1 | Meaning::Home2 => self.home(def.meaning == Meaning::Home1, sink),
             Meaning::MachineCoords => {}
-            Meaning::Rapid
-            | Meaning::Linear
-            | Meaning::ArcCw
-            | Meaning::ArcCcw
-            | Meaning::CycleDrill
-            | Meaning::CycleDrillDwell
-            | Meaning::CyclePeckDrill
-            | Meaning::CycleChipBreak
-            | Meaning::CycleBore
-            | Meaning::CycleBoreDwell
-            | Meaning::CycleBoreStop
-            | Meaning::CycleTap
-            | Meaning::CycleTapLeft
-            | Meaning::CycleFineBore
-            | Meaning::CycleBackBore
-            | Meaning::CycleBoreManual => {
+            m if matches!(m, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) || m.is_cycle() => {
                 self.st.motion_continued = self.st.motion_code == Some(c);
                 if !self.st.motion_continued {
                     self.st.sticky_z = None;

@@ -325,17 +325,13 @@ impl Lexer<'_, '_> {
     fn keyword_statement(&mut self, start: usize) {
         let run = self.alpha_run();
         let word = &self.text[run.start as usize..run.end as usize];
-        let known = if self.dialect.lexical.control_word.is_none() {
-            self.dialect.macros.statements.iter().find(|(k, _)| word.len() >= k.len() && word[..k.len()].eq_ignore_ascii_case(k))
-        } else {
-            None
-        };
+        let known = if self.dialect.lexical.control_word.is_none() { self.dialect.macros.statement_prefix(word) } else { None };
         let mut control = Control::default();
         match known {
             Some((k, st)) => {
                 self.i = start + k.len();
                 control.keyword = Some(TextRange::new(start, self.i));
-                control.statement = Some(*st);
+                control.statement = Some(st);
                 self.operands(&mut control);
             }
             None => {
@@ -385,9 +381,7 @@ impl Lexer<'_, '_> {
         }
         let run = self.alpha_run();
         let word = &self.text[run.start as usize..run.end as usize];
-        let Some(&(ref k, st)) =
-            self.dialect.macros.statements.iter().find(|(k, _)| word.len() >= k.len() && word[..k.len()].eq_ignore_ascii_case(k))
-        else {
+        let Some((k, st)) = self.dialect.macros.statement_prefix(word) else {
             return;
         };
         if !matches!(st, Statement::Goto | Statement::Then | Statement::Do) {
