@@ -394,17 +394,62 @@ impl<W: Write> CanonSink for Printer<'_, W> {
 fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<()> {
     use crate::diff::num;
     writeln!(out, "program {}", plan.program.as_deref().unwrap_or("(unnamed)"))?;
+    match &plan.workpiece {
+        Some(s) => writeln!(
+            out,
+            "stock X{} Y{} Z{} size {} x {} x {} (from {:?})",
+            num(s.origin[0]),
+            num(s.origin[1]),
+            num(s.origin[2]),
+            num(s.size[0]),
+            num(s.size[1]),
+            num(s.size[2]),
+            s.source
+        )?,
+        None => writeln!(out, "stock unknown")?,
+    }
     for t in &plan.tools {
         let d = t.diameter.map(|d| format!(" D{}", num(d))).unwrap_or_default();
-        writeln!(out, "tool T{}{d} {}", t.number, t.name.as_deref().unwrap_or(""))?;
+        let r = t.corner_radius.map(|d| format!(" R{}", num(d))).unwrap_or_default();
+        let z = t.flutes.map(|d| format!(" Z{d}")).unwrap_or_default();
+        let l = t.length_offset.map(|d| format!(" L{}", num(d))).unwrap_or_default();
+        writeln!(out, "tool T{} {}{d}{r}{z}{l} {}", t.number, t.kind.as_str(), t.name.as_deref().unwrap_or(""))?;
+    }
+    for f in &plan.features {
+        let p = f.placement;
+        let ws: Vec<String> = f.workingsteps.iter().map(u32::to_string).collect();
+        let shape = match &f.kind {
+            crate::plan::FeatureKind::PlanarFace { length, width, .. } => format!(" {} x {}", num(*length), num(*width)),
+            crate::plan::FeatureKind::RoundHole { diameter, positions, bottom } => {
+                format!(" D{} x{} {bottom:?}", diameter.map_or("?".into(), num), positions.len())
+            }
+            crate::plan::FeatureKind::ClosedPocket { rectangle: Some((w, l)), .. } => format!(" {} x {}", num(*w), num(*l)),
+            crate::plan::FeatureKind::Slot { width, .. } | crate::plan::FeatureKind::Step { width, .. } => {
+                format!(" width {}", num(*width))
+            }
+            _ => String::new(),
+        };
+        writeln!(
+            out,
+            "feature {} {}{shape} at X{} Y{} Z{} depth {}{}; workingsteps {}",
+            f.id,
+            f.kind.label(),
+            num(p[0]),
+            num(p[1]),
+            num(p[2]),
+            num(f.depth),
+            if f.top_inferred { " (top inferred)" } else { "" },
+            ws.join(", ")
+        )?;
     }
     for w in &plan.workingsteps {
         let t = &w.technology;
         writeln!(
             out,
-            "workingstep {} ({}) T{} F{} S{} {:?} coolant {:?}, lines {}-{}",
+            "workingstep {} ({}{}) T{} F{} S{} {:?} coolant {:?}, lines {}-{}",
             w.index,
             w.operation.label(),
+            w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default(),
             w.tool,
             num(t.feed),
             num(t.spindle_speed),
@@ -414,7 +459,27 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
             w.lines.1
         )?;
         if let Some(p) = w.start_point {
-            writeln!(out, "  start X{} Y{} Z{}", num(p[0]), num(p[1]), num(p[2]))?;
+            writeln!(out, "  start X{} Y{} Z{}; security plane Z{}", num(p[0]), num(p[1]), num(p[2]), num(w.security_plane))?;
+        }
+        if let Some(s) = &w.strategy {
+            let mut parts = vec![format!("{:?}", s.kind).to_lowercase()];
+            if let Some(r) = s.rotation {
+                parts.push(format!("{r:?}").to_lowercase());
+            }
+            if let Some(c) = s.cutmode {
+                parts.push(format!("{c:?}").to_lowercase());
+            }
+            for (name, v) in [
+                ("axial depth", w.axial_depth),
+                ("stepover", w.radial_depth),
+                ("side allowance", w.allowance_side),
+                ("bottom allowance", w.allowance_bottom),
+            ] {
+                if let Some(v) = v {
+                    parts.push(format!("{name} {}", num(v)));
+                }
+            }
+            writeln!(out, "  strategy {}", parts.join(", "))?;
         }
         if let (Some(b), Some(d)) = (w.bbox, w.depth) {
             writeln!(

@@ -32,6 +32,7 @@ struct RawConfig {
     tool: Vec<RawTool>,
     #[serde(default)]
     reference: RawReference,
+    stock: Option<RawStock>,
 }
 
 /// G28/G30 reference positions in machine coordinates (mm and degrees): X Y Z A B C.
@@ -105,6 +106,17 @@ struct RawTool {
     diameter: Option<f64>,
     length: Option<f64>,
     name: Option<String>,
+    kind: Option<String>,
+    corner_radius: Option<f64>,
+    flutes: Option<u32>,
+}
+
+/// The raw stock: two corners in program coordinates, mm.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStock {
+    min: [f64; 3],
+    max: [f64; 3],
 }
 
 /// Whether a folder holds CAM originals or a machine's programs.
@@ -273,7 +285,29 @@ impl Config {
                 Some(std::sync::Arc::new(DirPrograms { dir: abs(dir), max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20) }));
         }
         for t in raw.tool {
-            profile.tools.insert(t.number, ToolData { diameter: t.diameter, length: t.length.unwrap_or(0.0), name: t.name });
+            if let Some(k) = &t.kind
+                && crate::plan::ToolKind::parse(k).is_none()
+            {
+                let kinds: Vec<&str> = crate::plan::ToolKind::ALL.iter().map(|k| k.as_str()).collect();
+                bail!("[[tool]] {}: kind {k:?} is not one of {}", t.number, kinds.join(", "));
+            }
+            profile.tools.insert(
+                t.number,
+                ToolData {
+                    diameter: t.diameter,
+                    length: t.length.unwrap_or(0.0),
+                    name: t.name,
+                    kind: t.kind,
+                    corner_radius: t.corner_radius,
+                    flutes: t.flutes,
+                },
+            );
+        }
+        if let Some(st) = &raw.stock {
+            if st.min.iter().zip(&st.max).any(|(a, b)| a >= b || !a.is_finite() || !b.is_finite()) {
+                bail!("[stock] min must be below max on every axis");
+            }
+            profile.stock = Some([st.min, st.max]);
         }
         Ok(Config {
             database,

@@ -320,7 +320,7 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
 }
 
 /// Groups changes per workingstep as sentences:
-/// `workingstep 1 (face milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20`.
+/// `workingstep 1 (plane finish milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20`.
 pub fn render_plain(changes: &[Change]) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     let mut i = 0;

@@ -32,6 +32,12 @@ pub struct ToolData {
     pub length: f64,
     /// Description.
     pub name: Option<String>,
+    /// Kind, as a plan tool kind name (`end_mill`, `twist_drill`, …).
+    pub kind: Option<String>,
+    /// Corner radius.
+    pub corner_radius: Option<f64>,
+    /// Number of flutes.
+    pub flutes: Option<u32>,
 }
 
 /// Machine settings that are not part of the dialect (from config).
@@ -51,6 +57,8 @@ pub struct Profile {
     pub max_blocks: u64,
     /// Where subprograms outside the program's text come from (the shell's program directory).
     pub programs: Option<std::sync::Arc<dyn ProgramSource + Send + Sync>>,
+    /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
+    pub stock: Option<[[f64; 3]; 2]>,
 }
 
 impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
@@ -69,6 +77,7 @@ impl Default for Profile {
             max_loop_iterations: 1_000_000,
             max_blocks: 200_000_000,
             programs: None,
+            stock: None,
         }
     }
 }

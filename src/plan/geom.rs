@@ -101,6 +101,7 @@ mod tests {
             center: Some(center),
             axis: Some([0.0, 0.0, 1.0]),
             turns: Some(turns),
+            feed: 100.0,
             line: 1,
         }
     }

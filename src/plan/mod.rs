@@ -1,8 +1,10 @@
-//! Plan recovery: canonical ops → workingsteps with tools, technology and toolpaths.
+//! Plan recovery: canonical ops → workingsteps with tools, technology and toolpaths, then
+//! features (planar faces, holes, pockets, slots, steps, profiles) with their operations.
 
+pub mod feature;
 pub mod geom;
 mod model;
 mod recover;
 
 pub use model::*;
-pub use recover::{parse_tool_comment, recover};
+pub use recover::{ToolFacts, parse_stock, parse_tool_comment, recover};

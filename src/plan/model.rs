@@ -20,6 +20,194 @@ pub struct ProcessPlan {
     pub tools: Vec<Tool>,
     /// Workingsteps in machining order.
     pub workingsteps: Vec<Workingstep>,
+    /// Features the workingsteps machine, in order of first machining.
+    #[serde(default)]
+    pub features: Vec<Feature>,
+    /// The raw stock, when config or the program states it.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub workpiece: Option<Stock>,
+}
+
+impl ProcessPlan {
+    /// The tool with this number.
+    pub fn tool(&self, number: u32) -> Option<&Tool> {
+        self.tools.iter().find(|t| t.number == number)
+    }
+
+    /// The feature with this id.
+    pub fn feature(&self, id: u32) -> Option<&Feature> {
+        self.features.iter().find(|f| f.id == id)
+    }
+}
+
+/// Where the stock's size came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StockSource {
+    /// The configuration.
+    Config,
+    /// A statement or comment of the program (`BLK FORM`, a CAM stock comment).
+    Program,
+}
+
+/// The raw stock: an axis-aligned block in program coordinates, mm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Stock {
+    /// Minimum corner.
+    pub origin: P3,
+    /// Size along X, Y and Z.
+    pub size: P3,
+    /// Where it came from.
+    pub source: StockSource,
+}
+
+impl Stock {
+    /// Maximum corner.
+    pub fn max(&self) -> P3 {
+        [self.origin[0] + self.size[0], self.origin[1] + self.size[1], self.origin[2] + self.size[2]]
+    }
+}
+
+/// A point in the XY plane, mm.
+pub type P2 = [f64; 2];
+
+/// One segment of a [`Contour`]: a line or an arc to `to`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Segment {
+    /// End point.
+    pub to: P2,
+    /// For an arc: its centre and whether it turns counter-clockwise.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub arc: Option<(P2, bool)>,
+}
+
+/// A planar path of lines and arcs in XY, mm, relative to its feature's placement.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Contour {
+    /// Start point.
+    pub start: P2,
+    /// Segments in order.
+    pub segments: Vec<Segment>,
+}
+
+impl Contour {
+    /// Whether the contour ends where it starts.
+    pub fn is_closed(&self) -> bool {
+        self.segments.last().is_some_and(|s| (s.to[0] - self.start[0]).hypot(s.to[1] - self.start[1]) < 1e-4)
+    }
+}
+
+/// How a round hole ends.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HoleBottom {
+    /// Through the stock.
+    Through,
+    /// Blind with a flat bottom.
+    Flat,
+    /// Blind with a drill point of this included angle, degrees.
+    Conical(f64),
+}
+
+/// What a feature is (ISO 14649-10 2½D manufacturing features).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "type")]
+pub enum FeatureKind {
+    /// A planar face: a rectangle from the placement, swept along `direction` for `length`,
+    /// `width` to its left.
+    PlanarFace {
+        /// Unit direction of travel.
+        direction: P3,
+        /// Extent along the direction, mm.
+        length: f64,
+        /// Extent across, mm.
+        width: f64,
+    },
+    /// Round holes of one diameter and depth at one or more positions.
+    RoundHole {
+        /// Diameter, mm, when the tool's is known.
+        diameter: Option<f64>,
+        /// Bottom.
+        bottom: HoleBottom,
+        /// Positions relative to the placement; the first is (0, 0).
+        positions: Vec<P2>,
+    },
+    /// A pocket surrounded by walls.
+    ClosedPocket {
+        /// Wall contour at the floor, closed.
+        boundary: Contour,
+        /// Width and length when the boundary is an axis-aligned rectangle.
+        #[serde(skip_serializing_if = "Option::is_none", default)]
+        rectangle: Option<(f64, f64)>,
+        /// Radius of the vertical corners, mm.
+        #[serde(skip_serializing_if = "Option::is_none", default)]
+        corner_radius: Option<f64>,
+    },
+    /// A pocket open to the stock's side.
+    OpenPocket {
+        /// Wall contour at the floor.
+        boundary: Contour,
+    },
+    /// A slot along a centre path.
+    Slot {
+        /// Centre path.
+        path: Contour,
+        /// Width, mm.
+        width: f64,
+    },
+    /// A step along a stock edge: its inner edge runs from the placement along `direction`.
+    Step {
+        /// Unit direction of the edge.
+        direction: P3,
+        /// Length of the edge, mm.
+        length: f64,
+        /// Width removed from the edge, mm.
+        width: f64,
+    },
+    /// A wall around the outside of the part.
+    OutsideProfile {
+        /// Wall contour, closed.
+        boundary: Contour,
+    },
+    /// A toolpath that fits no other feature.
+    Toolpath,
+}
+
+impl FeatureKind {
+    /// Human label.
+    pub fn label(&self) -> &'static str {
+        match self {
+            FeatureKind::PlanarFace { .. } => "planar face",
+            FeatureKind::RoundHole { .. } => "round hole",
+            FeatureKind::ClosedPocket { .. } => "closed pocket",
+            FeatureKind::OpenPocket { .. } => "open pocket",
+            FeatureKind::Slot { .. } => "slot",
+            FeatureKind::Step { .. } => "step",
+            FeatureKind::OutsideProfile { .. } => "general outside profile",
+            FeatureKind::Toolpath => "toolpath feature",
+        }
+    }
+}
+
+/// A manufacturing feature: the material the workingsteps remove.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Feature {
+    /// 1-based id.
+    pub id: u32,
+    /// What it is.
+    pub kind: FeatureKind,
+    /// Origin of the feature: on its top, mm.
+    pub placement: P3,
+    /// Depth below the placement, mm.
+    pub depth: f64,
+    /// Whether the top was inferred (no stock known: the plane where feeding began).
+    pub top_inferred: bool,
+    /// Workingsteps that machine it, in order.
+    pub workingsteps: Vec<u32>,
+    /// Source range covered by its workingsteps.
+    pub source: TextRange,
+    /// First and last source line.
+    pub lines: (u32, u32),
 }
 
 /// Where a tool fact came from.
@@ -30,8 +218,99 @@ pub enum ToolSource {
     Table,
     /// A CAM comment in the program.
     Comment,
+    /// Inferred from how the program uses the tool (a drilling cycle implies a drill).
+    Inferred,
     /// Nothing but the tool number is known.
     Unknown,
+}
+
+impl ToolSource {
+    /// snake_case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ToolSource::Table => "table",
+            ToolSource::Comment => "comment",
+            ToolSource::Inferred => "inferred",
+            ToolSource::Unknown => "unknown",
+        }
+    }
+
+    /// Parses [`ToolSource::as_str`].
+    pub fn parse(s: &str) -> Option<ToolSource> {
+        [ToolSource::Table, ToolSource::Comment, ToolSource::Inferred, ToolSource::Unknown].into_iter().find(|k| k.as_str() == s)
+    }
+}
+
+/// Kind of cutting tool (the ISO 14649-111 tool bodies ncplan distinguishes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToolKind {
+    /// Flat end mill.
+    EndMill,
+    /// Ball-nose end mill.
+    BallEndMill,
+    /// End mill with a corner radius.
+    BullnoseEndMill,
+    /// Face mill.
+    FaceMill,
+    /// Twist drill.
+    TwistDrill,
+    /// Centre or spot drill.
+    CenterDrill,
+    /// Reamer.
+    Reamer,
+    /// Tap.
+    Tap,
+    /// Boring bar.
+    BoringTool,
+    /// Countersink or chamfer tool.
+    Countersink,
+    /// Not known.
+    Unknown,
+}
+
+impl ToolKind {
+    /// Every kind.
+    pub const ALL: [ToolKind; 11] = [
+        ToolKind::EndMill,
+        ToolKind::BallEndMill,
+        ToolKind::BullnoseEndMill,
+        ToolKind::FaceMill,
+        ToolKind::TwistDrill,
+        ToolKind::CenterDrill,
+        ToolKind::Reamer,
+        ToolKind::Tap,
+        ToolKind::BoringTool,
+        ToolKind::Countersink,
+        ToolKind::Unknown,
+    ];
+
+    /// snake_case name, as in config files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ToolKind::EndMill => "end_mill",
+            ToolKind::BallEndMill => "ball_end_mill",
+            ToolKind::BullnoseEndMill => "bullnose_end_mill",
+            ToolKind::FaceMill => "face_mill",
+            ToolKind::TwistDrill => "twist_drill",
+            ToolKind::CenterDrill => "center_drill",
+            ToolKind::Reamer => "reamer",
+            ToolKind::Tap => "tap",
+            ToolKind::BoringTool => "boring_tool",
+            ToolKind::Countersink => "countersink",
+            ToolKind::Unknown => "unknown",
+        }
+    }
+
+    /// Parses [`ToolKind::as_str`].
+    pub fn parse(s: &str) -> Option<ToolKind> {
+        ToolKind::ALL.into_iter().find(|k| k.as_str() == s)
+    }
+
+    /// Whether the tool makes holes along its axis only.
+    pub fn is_holemaking(self) -> bool {
+        matches!(self, ToolKind::TwistDrill | ToolKind::CenterDrill | ToolKind::Reamer | ToolKind::Tap | ToolKind::BoringTool)
+    }
 }
 
 /// A cutting tool.
@@ -41,41 +320,176 @@ pub struct Tool {
     pub number: u32,
     /// Name or description.
     pub name: Option<String>,
+    /// Kind of tool.
+    pub kind: ToolKind,
+    /// Where the kind came from.
+    pub kind_source: ToolSource,
     /// Cutter diameter, mm.
     pub diameter: Option<f64>,
-    /// Where the facts came from.
+    /// Corner radius, mm.
+    pub corner_radius: Option<f64>,
+    /// Number of flutes (teeth).
+    pub flutes: Option<u32>,
+    /// Length offset, mm.
+    pub length_offset: Option<f64>,
+    /// Where the geometry (diameter, corner radius, flutes) came from.
     pub source: ToolSource,
 }
 
-/// What a workingstep does.
+/// An ISO 14649-11 machining operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Operation {
-    /// Planar facing: parallel passes at one depth.
-    FaceMilling,
-    /// Contour milling with arcs.
-    ContourMilling,
-    /// Other milling.
-    Milling,
-    /// A hole-making canned cycle.
-    Hole(CycleKind),
+    /// Roughing a planar face, leaving a bottom allowance.
+    PlaneRoughMilling,
+    /// Finishing a planar face.
+    PlaneFinishMilling,
+    /// Roughing a wall.
+    SideRoughMilling,
+    /// Finishing a wall.
+    SideFinishMilling,
+    /// Roughing floor and walls (pockets, slots, steps).
+    BottomAndSideRoughMilling,
+    /// Finishing floor and walls.
+    BottomAndSideFinishMilling,
+    /// An explicit toolpath that fits no 2½D feature.
+    FreeformMilling,
+    /// Drilling in one feed.
+    Drilling,
+    /// Centre or spot drilling.
+    CenterDrilling,
+    /// Peck drilling.
+    MultistepDrilling,
+    /// Reaming.
+    Reaming,
+    /// Boring.
+    Boring,
+    /// Back boring.
+    BackBoring,
+    /// Tapping.
+    Tapping,
 }
 
 impl Operation {
     /// Human label.
     pub fn label(self) -> &'static str {
         match self {
-            Operation::FaceMilling => "face milling",
-            Operation::ContourMilling => "contour milling",
-            Operation::Milling => "milling",
-            Operation::Hole(k) => k.label(),
+            Operation::PlaneRoughMilling => "plane rough milling",
+            Operation::PlaneFinishMilling => "plane finish milling",
+            Operation::SideRoughMilling => "side rough milling",
+            Operation::SideFinishMilling => "side finish milling",
+            Operation::BottomAndSideRoughMilling => "bottom and side rough milling",
+            Operation::BottomAndSideFinishMilling => "bottom and side finish milling",
+            Operation::FreeformMilling => "freeform milling",
+            Operation::Drilling => "drilling",
+            Operation::CenterDrilling => "center drilling",
+            Operation::MultistepDrilling => "multistep drilling",
+            Operation::Reaming => "reaming",
+            Operation::Boring => "boring",
+            Operation::BackBoring => "back boring",
+            Operation::Tapping => "tapping",
         }
+    }
+
+    /// Whether the operation makes holes (a drilling-type operation).
+    pub fn is_hole(self) -> bool {
+        matches!(
+            self,
+            Operation::Drilling
+                | Operation::CenterDrilling
+                | Operation::MultistepDrilling
+                | Operation::Reaming
+                | Operation::Boring
+                | Operation::BackBoring
+                | Operation::Tapping
+        )
     }
 
     /// Whether two operations are of the same family (milling or hole making).
     pub fn same_family(self, other: Operation) -> bool {
-        matches!(self, Operation::Hole(_)) == matches!(other, Operation::Hole(_))
+        self.is_hole() == other.is_hole()
     }
+
+    /// The rough counterpart of a finishing milling operation.
+    pub fn roughing(self) -> Operation {
+        match self {
+            Operation::PlaneFinishMilling => Operation::PlaneRoughMilling,
+            Operation::SideFinishMilling => Operation::SideRoughMilling,
+            Operation::BottomAndSideFinishMilling => Operation::BottomAndSideRoughMilling,
+            other => other,
+        }
+    }
+
+    /// The operation a canned cycle performs, refined by the tool's kind.
+    pub fn from_cycle(kind: CycleKind, tool: ToolKind) -> Operation {
+        match (kind, tool) {
+            (_, ToolKind::CenterDrill) if !matches!(kind, CycleKind::Tapping | CycleKind::LeftTapping) => Operation::CenterDrilling,
+            (CycleKind::Drilling | CycleKind::CounterBoring, _) => Operation::Drilling,
+            (CycleKind::PeckDrilling | CycleKind::ChipBreaking, _) => Operation::MultistepDrilling,
+            (CycleKind::Boring | CycleKind::BoringDwell, ToolKind::Reamer) => Operation::Reaming,
+            (CycleKind::Boring | CycleKind::BoringDwell | CycleKind::BoringSpindleStop, _) => Operation::Boring,
+            (CycleKind::FineBoring | CycleKind::BoringManual, _) => Operation::Boring,
+            (CycleKind::BackBoring, _) => Operation::BackBoring,
+            (CycleKind::Tapping | CycleKind::LeftTapping, _) => Operation::Tapping,
+        }
+    }
+}
+
+/// A 2½D milling strategy (ISO 14649-11 `two5D_milling_strategy`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrategyKind {
+    /// Parallel passes in alternating directions (zigzag).
+    Bidirectional,
+    /// Parallel passes in one direction, with lifts between.
+    Unidirectional,
+    /// Closed loops parallel to the boundary.
+    ContourParallel,
+    /// One spiral towards or away from the boundary.
+    ContourSpiral,
+    /// Along the centre line (slots).
+    CenterMilling,
+    /// The toolpath as programmed.
+    Explicit,
+}
+
+/// Rotation sense of a contour, seen from +Z.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Rotation {
+    /// Clockwise.
+    Cw,
+    /// Counter-clockwise.
+    Ccw,
+}
+
+/// Climb or conventional milling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CutMode {
+    /// Climb (down) milling.
+    Climb,
+    /// Conventional (up) milling.
+    Conventional,
+}
+
+/// How a milling workingstep moves the tool.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Strategy {
+    /// Kind.
+    pub kind: StrategyKind,
+    /// Direction of the first pass (parallel strategies), unit vector.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub feed_direction: Option<P3>,
+    /// Rotation sense (contour strategies).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub rotation: Option<Rotation>,
+    /// Climb or conventional, from the rotation and the spindle direction.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub cutmode: Option<CutMode>,
+    /// Overlap of adjacent passes as a share of the tool diameter (0–1).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub overlap: Option<f64>,
 }
 
 /// Spindle direction.
@@ -165,6 +579,9 @@ pub struct Move {
     /// Arc turns, signed.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub turns: Option<i32>,
+    /// Feed, mm/min (0 for rapids).
+    #[serde(default)]
+    pub feed: f64,
     /// 1-based source line.
     pub line: u32,
 }
@@ -182,6 +599,9 @@ pub struct Hole {
     pub r_plane: f64,
     /// Peck increment, mm.
     pub peck: Option<f64>,
+    /// Dwell at the bottom, seconds.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub dwell: Option<f64>,
 }
 
 /// An axis-aligned box.
@@ -208,6 +628,26 @@ pub struct Workingstep {
     pub start_point: Option<P3>,
     /// Lowest cutting Z, mm.
     pub depth: Option<f64>,
+    /// Security (clearance) plane: the height of the rapids between cuts, mm.
+    pub security_plane: f64,
+    /// Feature this workingstep machines.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub feature: Option<u32>,
+    /// Milling strategy.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub strategy: Option<Strategy>,
+    /// Depth of cut per layer along the tool axis, mm.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub axial_depth: Option<f64>,
+    /// Stepover between passes, mm.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub radial_depth: Option<f64>,
+    /// Material left on the walls for a later workingstep, mm.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub allowance_side: Option<f64>,
+    /// Material left on the floor for a later workingstep, mm.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub allowance_bottom: Option<f64>,
     /// Bounding box of the cutting moves, mm.
     pub bbox: Option<BBox>,
     /// Length of the cutting moves, mm.

@@ -6,9 +6,10 @@
 
 use std::collections::BTreeMap;
 
+use super::feature;
 use super::geom;
 use super::model::*;
-use crate::canon::{Canon, CanonOp, Plane, Units};
+use crate::canon::{Canon, CanonOp, CycleKind, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::interp::Profile;
 use crate::text::TextRange;
@@ -23,16 +24,119 @@ pub fn recover(canon: &[Canon], profile: &Profile, program: Option<String>) -> (
         r.op(c);
     }
     r.close();
+    let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
+    let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| r.stock.map(|s| stock(s, StockSource::Program)));
     let mut tools: Vec<Tool> = r.tools.into_values().collect();
     tools.sort_by_key(|t| t.number);
-    let plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done };
+    let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
+    infer_tool_kinds(&mut plan);
+    feature::recognise(&mut plan);
     (plan, r.diags)
 }
 
-/// Reads a CAM tool comment such as `T1 D=18 ENDMILL` or `6MM FLAT END MILL`: returns the
-/// diameter in the comment's numbers (mm) when one is stated.
-pub fn parse_tool_comment(text: &str) -> Option<f64> {
+/// Tools whose kind nothing states get one from how the program uses them.
+fn infer_tool_kinds(plan: &mut ProcessPlan) {
+    for t in plan.tools.iter_mut().filter(|t| t.kind == ToolKind::Unknown) {
+        let ops: Vec<Operation> = plan.workingsteps.iter().filter(|w| w.tool == t.number).map(|w| w.operation).collect();
+        let kind = if ops.is_empty() {
+            continue;
+        } else if ops.iter().all(|o| *o == Operation::Tapping) {
+            ToolKind::Tap
+        } else if ops.iter().all(|o| matches!(o, Operation::Drilling | Operation::MultistepDrilling)) {
+            ToolKind::TwistDrill
+        } else if ops.iter().all(|o| matches!(o, Operation::Boring | Operation::BackBoring)) {
+            ToolKind::BoringTool
+        } else if ops.iter().all(|o| !o.is_hole()) {
+            ToolKind::EndMill
+        } else {
+            continue;
+        };
+        t.kind = kind;
+        t.kind_source = ToolSource::Inferred;
+    }
+}
+
+/// What a CAM tool comment states.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ToolFacts {
+    /// Diameter, mm.
+    pub diameter: Option<f64>,
+    /// Kind, from words such as `ENDMILL`, `DRILL`, `REAMER`.
+    pub kind: Option<ToolKind>,
+    /// Corner radius, mm (`R0.5`, `CR=0.5`).
+    pub corner_radius: Option<f64>,
+    /// Flutes (`4FL`, `Z4`, `4 FLUTE`).
+    pub flutes: Option<u32>,
+}
+
+/// Reads a CAM tool comment such as `T1 D=18 ENDMILL`, `6MM FLAT END MILL`,
+/// `T3 DIA 10.5 DRILL` or `10MM 4FL BULL R0.5`.
+pub fn parse_tool_comment(text: &str) -> ToolFacts {
     let up = text.to_ascii_uppercase();
+    let compact: String = up.chars().filter(|c| !c.is_whitespace() && *c != '-' && *c != '_').collect();
+    let has = |k: &str| compact.contains(k);
+    let kind = if has("BALL") {
+        Some(ToolKind::BallEndMill)
+    } else if has("BULL") || has("TORUS") {
+        Some(ToolKind::BullnoseEndMill)
+    } else if has("FACEMILL") || has("SHELLMILL") || has("FACE") && has("MILL") {
+        Some(ToolKind::FaceMill)
+    } else if has("SPOT") || has("CENTERDRILL") || has("CENTREDRILL") || has("CTRDRILL") || has("NCDRILL") {
+        Some(ToolKind::CenterDrill)
+    } else if has("REAM") {
+        Some(ToolKind::Reamer)
+    } else if has("CHAMFER") || has("COUNTERSINK") || has("CSINK") || has("CSK") {
+        Some(ToolKind::Countersink)
+    } else if has("TAP") && !has("TAPER") {
+        Some(ToolKind::Tap)
+    } else if has("BORE") || has("BORING") {
+        Some(ToolKind::BoringTool)
+    } else if has("DRILL") {
+        Some(ToolKind::TwistDrill)
+    } else if has("ENDMILL") || has("FLAT") || has("SLOTMILL") || has("MILL") {
+        Some(ToolKind::EndMill)
+    } else {
+        None
+    };
+    let mut corner_radius = None;
+    let mut flutes = None;
+    for word in up.split(|c: char| c.is_whitespace() || c == ',' || c == '(' || c == ')') {
+        if let Some(rest) = word.strip_prefix("CR").or_else(|| word.strip_prefix('R')) {
+            let v = rest.trim_start_matches(['=', ':']);
+            let v = v.strip_suffix("MM").unwrap_or(v);
+            if let Ok(r) = v.parse::<f64>()
+                && (0.0..100.0).contains(&r)
+                && v.starts_with(|c: char| c.is_ascii_digit() || c == '.')
+            {
+                corner_radius = Some(r);
+            }
+        }
+        if let Some(rest) = word.strip_prefix('Z') {
+            if !rest.is_empty() && rest.chars().all(|c| c.is_ascii_digit()) {
+                flutes = rest.parse().ok();
+            }
+        }
+        for suffix in ["FLUTES", "FLUTE", "FL"] {
+            if let Some(n) = word.strip_suffix(suffix) {
+                if !n.is_empty() && n.chars().all(|c| c.is_ascii_digit()) {
+                    flutes = n.parse().ok();
+                    break;
+                }
+            }
+        }
+    }
+    if flutes.is_none() {
+        let words: Vec<&str> = up.split_whitespace().collect();
+        for w in words.windows(2) {
+            if w[1].starts_with("FLUTE") && w[0].chars().all(|c| c.is_ascii_digit()) {
+                flutes = w[0].parse().ok();
+            }
+        }
+    }
+    ToolFacts { diameter: comment_diameter(&up), kind, corner_radius, flutes }
+}
+
+fn comment_diameter(up: &str) -> Option<f64> {
     let number = |s: &str| -> Option<f64> {
         let s = s.trim_start_matches([' ', '=', ':']);
         let end = s.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(s.len());
@@ -69,6 +173,7 @@ struct Builder {
     technology: Technology,
     moves: Vec<Move>,
     holes: Vec<Hole>,
+    dwell: Option<f64>,
     source: TextRange,
     lines: (u32, u32),
 }
@@ -88,7 +193,9 @@ struct Recovery<'p> {
     tools: BTreeMap<u32, Tool>,
     name_pending: bool,
     comments: Vec<(u32, String)>,
-    in_cycle: Option<Operation>,
+    in_cycle: Option<CycleKind>,
+    dwell: Option<f64>,
+    stock: Option<[P3; 2]>,
     current: Option<Builder>,
     pending: Vec<Move>,
     done: Vec<Workingstep>,
@@ -113,6 +220,8 @@ impl<'p> Recovery<'p> {
             name_pending: false,
             comments: Vec::new(),
             in_cycle: None,
+            dwell: None,
+            stock: None,
             current: None,
             pending: Vec::new(),
             done: Vec::new(),
@@ -155,18 +264,46 @@ impl<'p> Recovery<'p> {
                 self.close();
                 self.tool = *t;
                 let known = self.profile.tools.get(t);
+                let kind = known.and_then(|k| k.kind.as_deref()).and_then(ToolKind::parse);
                 let entry = self.tools.entry(*t).or_insert_with(|| Tool {
                     number: *t,
                     name: known.and_then(|k| k.name.clone()),
+                    kind: kind.unwrap_or(ToolKind::Unknown),
+                    kind_source: if kind.is_some() { ToolSource::Table } else { ToolSource::Unknown },
                     diameter: known.and_then(|k| k.diameter),
+                    corner_radius: known.and_then(|k| k.corner_radius),
+                    flutes: known.and_then(|k| k.flutes),
+                    length_offset: known.map(|k| k.length).filter(|l| *l != 0.0),
                     source: if known.is_some() { ToolSource::Table } else { ToolSource::Unknown },
                 });
+                if entry.kind == ToolKind::Unknown
+                    && let Some(name) = entry.name.clone()
+                {
+                    let facts = parse_tool_comment(&name);
+                    if let Some(k) = facts.kind {
+                        entry.kind = k;
+                        entry.kind_source = ToolSource::Table;
+                    }
+                }
                 self.name_pending = entry.name.is_none();
                 // A comment on the tool-change block or the one before names the tool.
                 let near: Vec<String> = self.comments.iter().filter(|(l, _)| *l + 1 >= c.line).map(|(_, s)| s.clone()).collect();
                 for s in near {
                     self.name_tool(&s);
                 }
+            }
+            CanonOp::UseToolLengthOffset(o) => {
+                let len = self.mm(o[2]);
+                if let Some(t) = self.tools.get_mut(&self.tool)
+                    && t.length_offset.is_none()
+                    && len != 0.0
+                {
+                    t.length_offset = Some(len);
+                }
+            }
+            CanonOp::Dwell(secs) if self.in_cycle.is_some() => self.dwell = Some(*secs),
+            CanonOp::Comment(s) if self.stock.is_none() && parse_stock(s).is_some() => {
+                self.stock = parse_stock(s).map(|[a, b]| [a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
             }
             CanonOp::Comment(s) => {
                 self.comments.push((c.line, s.trim().to_owned()));
@@ -178,7 +315,10 @@ impl<'p> Recovery<'p> {
                     self.name_tool(&s);
                 }
             }
-            CanonOp::CycleBegin(intent) => self.in_cycle = Some(Operation::Hole(intent.kind)),
+            CanonOp::CycleBegin(intent) => {
+                self.in_cycle = Some(intent.kind);
+                self.dwell = intent.dwell;
+            }
             CanonOp::CycleEnd => self.in_cycle = None,
             CanonOp::StraightTraverse(p) => {
                 let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
@@ -224,11 +364,18 @@ impl<'p> Recovery<'p> {
             && t.name.is_none()
         {
             t.name = Some(comment.to_owned());
-            if t.diameter.is_none() {
-                t.diameter = parse_tool_comment(comment);
-                if t.diameter.is_some() {
-                    t.source = ToolSource::Comment;
-                }
+            let facts = parse_tool_comment(comment);
+            if t.diameter.is_none() && facts.diameter.is_some() {
+                t.diameter = facts.diameter;
+                t.corner_radius = t.corner_radius.or(facts.corner_radius);
+                t.flutes = t.flutes.or(facts.flutes);
+                t.source = ToolSource::Comment;
+            }
+            if t.kind == ToolKind::Unknown
+                && let Some(k) = facts.kind
+            {
+                t.kind = k;
+                t.kind_source = ToolSource::Comment;
             }
             self.name_pending = false;
         }
@@ -237,11 +384,13 @@ impl<'p> Recovery<'p> {
     fn mv(&mut self, kind: MoveKind, to: P3, line: u32) -> Move {
         let from = self.pos;
         self.pos = to;
-        Move { kind, phase: Phase::Cut, from, to, center: None, axis: None, turns: None, line }
+        let feed = if kind == MoveKind::Rapid { 0.0 } else { self.feed };
+        Move { kind, phase: Phase::Cut, from, to, center: None, axis: None, turns: None, feed, line }
     }
 
     fn cut(&mut self, mv: Move, c: &Canon) {
-        let operation = self.in_cycle.unwrap_or(Operation::Milling);
+        let tool_kind = self.tools.get(&self.tool).map_or(ToolKind::Unknown, |t| t.kind);
+        let operation = self.in_cycle.map_or(Operation::FreeformMilling, |k| Operation::from_cycle(k, tool_kind));
         let tech = self.technology();
         let restart = match &self.current {
             None => true,
@@ -258,7 +407,20 @@ impl<'p> Recovery<'p> {
                     c.origin,
                     "cutting before any tool change; the workingstep is assigned to tool 0",
                 ));
-                self.tools.insert(0, Tool { number: 0, name: None, diameter: None, source: ToolSource::Unknown });
+                self.tools.insert(
+                    0,
+                    Tool {
+                        number: 0,
+                        name: None,
+                        kind: ToolKind::Unknown,
+                        kind_source: ToolSource::Unknown,
+                        diameter: None,
+                        corner_radius: None,
+                        flutes: None,
+                        length_offset: None,
+                        source: ToolSource::Unknown,
+                    },
+                );
             }
             let mut moves: Vec<Move> = std::mem::take(&mut self.pending);
             for m in &mut moves {
@@ -271,6 +433,7 @@ impl<'p> Recovery<'p> {
                 technology: tech,
                 moves,
                 holes: Vec::new(),
+                dwell: None,
                 source: c.origin,
                 lines: (first_line, c.line),
             });
@@ -286,8 +449,11 @@ impl<'p> Recovery<'p> {
         b.moves.push(mv);
         b.source = b.source.cover(c.origin);
         b.lines.1 = c.line;
-        if matches!(operation, Operation::Hole(_)) && b.operation == Operation::Milling {
+        if operation.is_hole() && !b.operation.is_hole() {
             b.operation = operation;
+        }
+        if operation.is_hole() && self.dwell.is_some() {
+            b.dwell = self.dwell;
         }
     }
 
@@ -330,11 +496,16 @@ impl<'p> Recovery<'p> {
             }
         }
         let start_point = b.moves.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
-        if let Operation::Hole(_) = b.operation {
-            b.holes = holes(&b.moves);
-        } else {
-            b.operation = classify(&b.moves);
+        if b.operation.is_hole() {
+            b.holes = holes(&b.moves, b.dwell);
         }
+        // The highest rapid on the way in or between cuts; the retract may go home.
+        let rapid_z = |phases: &[Phase]| {
+            b.moves.iter().filter(|m| m.kind == MoveKind::Rapid && phases.contains(&m.phase)).map(|m| m.to[2]).reduce(f64::max)
+        };
+        let security_plane = rapid_z(&[Phase::Approach, Phase::Connect])
+            .or_else(|| rapid_z(&[Phase::Retract, Phase::Cut]))
+            .unwrap_or_else(|| b.moves.iter().flat_map(|m| [m.from[2], m.to[2]]).fold(f64::NEG_INFINITY, f64::max));
         let index = self.done.len() as u32 + 1;
         self.done.push(Workingstep {
             index,
@@ -343,6 +514,13 @@ impl<'p> Recovery<'p> {
             technology: b.technology,
             start_point,
             depth,
+            security_plane,
+            feature: None,
+            strategy: None,
+            axial_depth: None,
+            radial_depth: None,
+            allowance_side: None,
+            allowance_bottom: None,
             bbox,
             cutting_length,
             holes: b.holes,
@@ -393,7 +571,7 @@ fn refine_phases(moves: &mut [Move]) {
 }
 
 /// Hole positions: the bottom of each feed-in within a cycle.
-fn holes(moves: &[Move]) -> Vec<Hole> {
+fn holes(moves: &[Move], dwell: Option<f64>) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
     for m in moves.iter().filter(|m| m.kind == MoveKind::Line && is_plunge(m)) {
         match out.last_mut() {
@@ -404,45 +582,90 @@ fn holes(moves: &[Move]) -> Vec<Hole> {
                     h.peck = Some(h.peck.map_or(step, |p| p.max(step)));
                 }
             }
-            _ => out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None }),
+            _ => out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None, dwell }),
         }
     }
     out
 }
 
-/// Face milling: cutting at one Z in at least three parallel straight passes, alternating
-/// in direction. Contour milling: any arcs. Otherwise plain milling.
-fn classify(moves: &[Move]) -> Operation {
-    let cuts: Vec<&Move> = moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect();
-    if cuts.iter().any(|m| m.kind == MoveKind::Arc) {
-        return Operation::ContourMilling;
+/// A CAM stock comment: `STOCK X0 Y0 Z-20 X100 Y50 Z0` (two corners), `STOCK 100 X 50 X 20`
+/// or `STOCK SIZE X100 Y50 Z20` (sizes, top at Z0, corner at X0 Y0). Program units.
+pub fn parse_stock(comment: &str) -> Option<[P3; 2]> {
+    let up = comment.to_ascii_uppercase();
+    let rest = &up[up.find("STOCK").or_else(|| up.find("BLANK"))? + 5..];
+    let mut letters = Vec::new();
+    let mut numbers = Vec::new();
+    let bytes = rest.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        let c = bytes[i];
+        if c.is_ascii_digit() || c == b'-' || c == b'+' || c == b'.' {
+            let start = i;
+            i += 1;
+            while i < bytes.len() && (bytes[i].is_ascii_digit() || bytes[i] == b'.') {
+                i += 1;
+            }
+            let v: f64 = rest[start..i].parse().ok()?;
+            let letter = if start > 0 && matches!(bytes[start - 1], b'X' | b'Y' | b'Z') { Some(bytes[start - 1]) } else { None };
+            letters.push(letter);
+            numbers.push(v);
+        } else {
+            i += 1;
+        }
     }
-    let Some(z) = cuts.first().map(|m| m.to[2]) else { return Operation::Milling };
-    let flat = cuts.iter().all(|m| (m.from[2] - z).abs() < 1e-3 && (m.to[2] - z).abs() < 1e-3);
-    let passes: Vec<(f64, f64)> =
-        cuts.iter().map(|m| (m.to[0] - m.from[0], m.to[1] - m.from[1])).filter(|d| d.0.hypot(d.1) > 1e-3).collect();
-    let longest = passes.iter().map(|d| d.0.hypot(d.1)).fold(0.0, f64::max);
-    let long: Vec<(f64, f64)> = passes.into_iter().filter(|d| d.0.hypot(d.1) > 0.5 * longest).collect();
-    let alternating = long.len() >= 3
-        && long.windows(2).all(|w| {
-            let (a, b) = (w[0], w[1]);
-            let cross = a.0 * b.1 - a.1 * b.0;
-            let dot = a.0 * b.0 + a.1 * b.1;
-            cross.abs() < 1e-6 * a.0.hypot(a.1) * b.0.hypot(b.1) && dot < 0.0
-        });
-    if flat && alternating { Operation::FaceMilling } else { Operation::Milling }
+    let axis = |l: Option<u8>| l.map(|l| usize::from(l - b'X'));
+    match numbers.len() {
+        6 if letters.iter().all(Option::is_some) => {
+            let mut min = [f64::INFINITY; 3];
+            let mut max = [f64::NEG_INFINITY; 3];
+            for (l, v) in letters.iter().zip(&numbers) {
+                let a = axis(*l)?;
+                min[a] = min[a].min(*v);
+                max[a] = max[a].max(*v);
+            }
+            (min.iter().zip(&max).all(|(a, b)| a < b)).then_some([min, max])
+        }
+        3 if numbers.iter().all(|v| *v > 0.0) => {
+            let mut size = [numbers[0], numbers[1], numbers[2]];
+            if letters.iter().all(Option::is_some) {
+                for (l, v) in letters.iter().zip(&numbers) {
+                    size[axis(*l)?] = *v;
+                }
+            }
+            Some([[0.0, 0.0, -size[2]], [size[0], size[1], 0.0]])
+        }
+        _ => None,
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::parse_tool_comment;
+    use super::{parse_stock, parse_tool_comment};
+    use crate::plan::ToolKind;
 
     #[test]
     fn tool_comments() {
-        assert_eq!(parse_tool_comment("T1 D=18 ENDMILL"), Some(18.0));
-        assert_eq!(parse_tool_comment("6MM FLAT END MILL"), Some(6.0));
-        assert_eq!(parse_tool_comment("T3 DIA 10.5 DRILL"), Some(10.5));
-        assert_eq!(parse_tool_comment("DRILL D8"), Some(8.0));
-        assert_eq!(parse_tool_comment("ROUGHING"), None);
+        let d = |s: &str| parse_tool_comment(s).diameter;
+        assert_eq!(d("T1 D=18 ENDMILL"), Some(18.0));
+        assert_eq!(d("6MM FLAT END MILL"), Some(6.0));
+        assert_eq!(d("T3 DIA 10.5 DRILL"), Some(10.5));
+        assert_eq!(d("DRILL D8"), Some(8.0));
+        assert_eq!(d("ROUGHING"), None);
+        let f = parse_tool_comment("T4 10MM 4FL BULL NOSE R0.5");
+        assert_eq!((f.diameter, f.kind, f.corner_radius, f.flutes), (Some(10.0), Some(ToolKind::BullnoseEndMill), Some(0.5), Some(4)));
+        assert_eq!(parse_tool_comment("T1 D=18 ENDMILL").kind, Some(ToolKind::EndMill));
+        assert_eq!(parse_tool_comment("5/16 SPOT DRILL").kind, Some(ToolKind::CenterDrill));
+        assert_eq!(parse_tool_comment("M8X1.25 TAP").kind, Some(ToolKind::Tap));
+        assert_eq!(parse_tool_comment("8H7 REAMER Z6").kind, Some(ToolKind::Reamer));
+        assert_eq!(parse_tool_comment("8H7 REAMER Z6").flutes, Some(6));
+        assert_eq!(parse_tool_comment("3 FLUTE END MILL").flutes, Some(3));
+        assert_eq!(parse_tool_comment("FACE MILL D63").kind, Some(ToolKind::FaceMill));
+    }
+
+    #[test]
+    fn stock_comments() {
+        assert_eq!(parse_stock("STOCK X0 Y0 Z-20 X100 Y50 Z0"), Some([[0.0, 0.0, -20.0], [100.0, 50.0, 0.0]]));
+        assert_eq!(parse_stock("Stock size: 100 x 50 x 20"), Some([[0.0, 0.0, -20.0], [100.0, 50.0, 0.0]]));
+        assert_eq!(parse_stock("T1 D=18 ENDMILL"), None);
     }
 }

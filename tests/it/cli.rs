@@ -26,7 +26,7 @@ fn diff_ignores_renumbering_comments_case_and_number_spelling() {
 fn diff_reports_typed_changes_as_json_and_sentences() {
     let (code, out, _) = ncplan(&["diff", "-d", "fanuc", "demo/cam/O1234.nc", "demo/examples/O1234_edited.nc", "--exit-code"]);
     assert_eq!(code, 1);
-    assert_eq!(out.trim(), "workingstep 1 (face milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20");
+    assert_eq!(out.trim(), "workingstep 1 (plane finish milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20");
     let (_, json, _) = ncplan(&["diff", "-d", "fanuc", "demo/cam/O1234.nc", "demo/examples/O1234_edited.nc", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     let kinds: Vec<&str> = v.as_array().unwrap().iter().map(|c| c["kind"].as_str().unwrap()).collect();

@@ -1,0 +1,722 @@
+//! Feature recognition: the cutting moves of each workingstep become a 2½D feature with the
+//! operation's strategy and depths; workingsteps that machine the same feature (roughing
+//! then finishing, drilling then reaming) are merged into one feature with several
+//! operations.
+//!
+//! The rules, in order, on the horizontal cutting moves of the deepest level:
+//! - parallel straight passes → a planar face (or, when the stock is known and the passes
+//!   do not cover it, a step along the one side they cross, or a pocket);
+//! - several nested closed loops, or passes inside a closed loop → a closed pocket;
+//! - one closed loop → a pocket wall or an outside profile, the side decided by the comp
+//!   side a climb-milling cut implies with the spindle's direction;
+//! - one open path winding a full turn or more → a spiral pocket;
+//! - one open path → a slot as wide as the tool;
+//! - anything else, or cutting that is not at constant levels → a toolpath feature.
+
+use super::model::*;
+
+const EPS: f64 = 1e-6;
+
+/// Recognises features for every workingstep of `plan` and fills in the workingsteps'
+/// strategy, depths and allowances.
+pub fn recognise(plan: &mut ProcessPlan) {
+    let mut features: Vec<(Feature, Vec<Region>)> = Vec::new();
+    for i in 0..plan.workingsteps.len() {
+        let ws = &plan.workingsteps[i];
+        let tool = plan.tool(ws.tool).cloned();
+        let cand = if ws.operation.is_hole() {
+            hole(ws, tool.as_ref(), plan.workpiece.as_ref())
+        } else {
+            milling(ws, tool.as_ref(), plan.workpiece.as_ref())
+        };
+        let ws = &mut plan.workingsteps[i];
+        ws.operation = cand.operation;
+        ws.strategy = cand.strategy.clone();
+        ws.axial_depth = cand.axial_depth;
+        ws.radial_depth = cand.radial_depth;
+        let merge = features.iter().rposition(|(f, regions)| same_feature(f, regions.last(), &cand));
+        let id = match merge {
+            Some(k) => {
+                let (f, regions) = &mut features[k];
+                if let (Some(prev), Some(region)) = (regions.last(), &cand.region) {
+                    // The earlier workingstep roughed what this one finishes.
+                    let last = *f.workingsteps.last().expect("a feature has a workingstep") as usize - 1;
+                    let rough = &mut plan.workingsteps[last];
+                    if !rough.operation.is_hole() {
+                        rough.operation = rough.operation.roughing();
+                        let side = ((region.max[0] - region.min[0]) - (prev.max[0] - prev.min[0]))
+                            .max((region.max[1] - region.min[1]) - (prev.max[1] - prev.min[1]))
+                            / 2.0;
+                        rough.allowance_side = Some(round6(side.max(0.0)));
+                        rough.allowance_bottom = Some(round6((prev.bottom - region.bottom).max(0.0)));
+                    }
+                }
+                merge_into(f, &cand, &plan.workingsteps[i]);
+                if let Some(r) = cand.region {
+                    regions.push(r);
+                }
+                f.id
+            }
+            None => {
+                let ws = &plan.workingsteps[i];
+                let id = features.len() as u32 + 1;
+                let f = Feature {
+                    id,
+                    kind: cand.kind.clone(),
+                    placement: cand.placement,
+                    depth: cand.depth,
+                    top_inferred: cand.top_inferred,
+                    workingsteps: vec![ws.index],
+                    source: ws.source,
+                    lines: ws.lines,
+                };
+                features.push((f, cand.region.into_iter().collect()));
+                id
+            }
+        };
+        plan.workingsteps[i].feature = Some(id);
+    }
+    plan.features = features.into_iter().map(|(f, _)| f).collect();
+}
+
+/// The source range and lines of a feature: the cover of its workingsteps'.
+pub fn feature_source(f: &mut Feature, workingsteps: &[Workingstep]) {
+    let mut it = f.workingsteps.iter().filter_map(|i| workingsteps.get(*i as usize - 1));
+    if let Some(first) = it.next() {
+        let (mut src, mut lines) = (first.source, first.lines);
+        for w in it {
+            src = src.cover(w.source);
+            lines = (lines.0.min(w.lines.0), lines.1.max(w.lines.1));
+        }
+        f.source = src;
+        f.lines = lines;
+    }
+}
+
+fn merge_into(f: &mut Feature, cand: &Candidate, ws: &Workingstep) {
+    f.workingsteps.push(ws.index);
+    f.source = f.source.cover(ws.source);
+    f.lines = (f.lines.0.min(ws.lines.0), f.lines.1.max(ws.lines.1));
+    match (&mut f.kind, &cand.kind) {
+        (FeatureKind::RoundHole { diameter, bottom, .. }, FeatureKind::RoundHole { diameter: d2, bottom: b2, .. }) => {
+            *diameter = match (*diameter, *d2) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, b) => a.or(b),
+            };
+            if *bottom != HoleBottom::Through {
+                *bottom = *b2;
+            }
+            f.depth = f.depth.max(cand.depth);
+        }
+        _ => {
+            // The finishing workingstep states the final shape.
+            f.kind = cand.kind.clone();
+            f.placement = cand.placement;
+            f.depth = cand.depth;
+            f.top_inferred = cand.top_inferred;
+        }
+    }
+}
+
+/// The swept region of a milling candidate, for matching rough and finish passes.
+#[derive(Clone, Copy, Debug)]
+struct Region {
+    min: P2,
+    max: P2,
+    bottom: f64,
+}
+
+struct Candidate {
+    kind: FeatureKind,
+    placement: P3,
+    depth: f64,
+    top_inferred: bool,
+    operation: Operation,
+    strategy: Option<Strategy>,
+    axial_depth: Option<f64>,
+    radial_depth: Option<f64>,
+    region: Option<Region>,
+    /// Hole positions, absolute, for matching drilling and reaming of one pattern.
+    holes: Vec<P2>,
+}
+
+fn same_feature(f: &Feature, region: Option<&Region>, c: &Candidate) -> bool {
+    match (&f.kind, &c.kind) {
+        (FeatureKind::RoundHole { positions, .. }, FeatureKind::RoundHole { .. }) => {
+            let abs: Vec<P2> = positions.iter().map(|p| [p[0] + f.placement[0], p[1] + f.placement[1]]).collect();
+            abs.len() == c.holes.len() && abs.iter().zip(&c.holes).all(|(a, b)| (a[0] - b[0]).abs() < 1e-3 && (a[1] - b[1]).abs() < 1e-3)
+        }
+        (FeatureKind::Toolpath, _) | (_, FeatureKind::Toolpath) => false,
+        (a, b) if std::mem::discriminant(a) == std::mem::discriminant(b) => {
+            let (Some(r), Some(s)) = (region, &c.region) else { return false };
+            let ix = (r.max[0].min(s.max[0]) - r.min[0].max(s.min[0])).max(0.0);
+            let iy = (r.max[1].min(s.max[1]) - r.min[1].max(s.min[1])).max(0.0);
+            let area = |q: &Region| (q.max[0] - q.min[0]).max(EPS) * (q.max[1] - q.min[1]).max(EPS);
+            ix * iy >= 0.7 * area(r).min(area(s)) && s.bottom <= r.bottom + 1e-3
+        }
+        _ => false,
+    }
+}
+
+fn round6(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6
+}
+
+fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Candidate {
+    let first = ws.holes.first();
+    let bottom_z = ws.holes.iter().map(|h| h.bottom).fold(f64::INFINITY, f64::min);
+    let (top, top_inferred) = match stock {
+        Some(s) => (s.max()[2], false),
+        None => (first.map_or(0.0, |h| h.r_plane), true),
+    };
+    let through = stock.is_some_and(|s| bottom_z <= s.origin[2] + 1e-6);
+    let kind = tool.map_or(ToolKind::Unknown, |t| t.kind);
+    let bottom = if through {
+        HoleBottom::Through
+    } else if matches!(kind, ToolKind::TwistDrill | ToolKind::CenterDrill) || kind == ToolKind::Unknown && ws.operation != Operation::Boring
+    {
+        HoleBottom::Conical(if kind == ToolKind::CenterDrill { 90.0 } else { 118.0 })
+    } else {
+        HoleBottom::Flat
+    };
+    let origin = first.map_or([0.0, 0.0], |h| [h.x, h.y]);
+    let positions = ws.holes.iter().map(|h| [h.x - origin[0], h.y - origin[1]]).collect();
+    Candidate {
+        kind: FeatureKind::RoundHole { diameter: tool.and_then(|t| t.diameter), bottom, positions },
+        placement: [origin[0], origin[1], top],
+        depth: if bottom_z.is_finite() { top - bottom_z } else { 0.0 },
+        top_inferred,
+        operation: ws.operation,
+        strategy: None,
+        axial_depth: ws.holes.iter().filter_map(|h| h.peck).reduce(f64::max),
+        radial_depth: None,
+        region: None,
+        holes: ws.holes.iter().map(|h| [h.x, h.y]).collect(),
+    }
+}
+
+/// A horizontal cutting move, projected to XY.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    from: P2,
+    to: P2,
+    arc: Option<(P2, bool)>,
+}
+
+impl Piece {
+    fn len(&self) -> f64 {
+        match self.arc {
+            None => dist(self.from, self.to),
+            Some((c, ccw)) => dist(self.from, c) * sweep(self.from, self.to, c, ccw).abs(),
+        }
+    }
+    fn dir(&self) -> P2 {
+        let d = [self.to[0] - self.from[0], self.to[1] - self.from[1]];
+        let n = d[0].hypot(d[1]).max(EPS);
+        [d[0] / n, d[1] / n]
+    }
+    /// Unit tangent at the start and at the end.
+    fn tangents(&self) -> (P2, P2) {
+        match self.arc {
+            None => (self.dir(), self.dir()),
+            Some((c, ccw)) => {
+                let t = |p: P2| {
+                    let r = [p[0] - c[0], p[1] - c[1]];
+                    let n = r[0].hypot(r[1]).max(EPS);
+                    if ccw { [-r[1] / n, r[0] / n] } else { [r[1] / n, -r[0] / n] }
+                };
+                (t(self.from), t(self.to))
+            }
+        }
+    }
+}
+
+fn dist(a: P2, b: P2) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+fn cross(a: P2, b: P2) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+/// Signed sweep of an arc in XY from `a` to `b` about `c`, radians; a closed arc is a full turn.
+fn sweep(a: P2, b: P2, c: P2, ccw: bool) -> f64 {
+    let u = [a[0] - c[0], a[1] - c[1]];
+    let v = [b[0] - c[0], b[1] - c[1]];
+    let mut t = cross(u, v).atan2(u[0] * v[0] + u[1] * v[1]);
+    if ccw && t <= 1e-12 {
+        t += std::f64::consts::TAU;
+    }
+    if !ccw && t >= -1e-12 {
+        t -= std::f64::consts::TAU;
+    }
+    t
+}
+
+/// Signed area of a closed chain (positive counter-clockwise), arcs included.
+fn signed_area(chain: &[Piece]) -> f64 {
+    let mut a = 0.0;
+    for p in chain {
+        a += cross(p.from, p.to) / 2.0;
+        if let Some((c, ccw)) = p.arc {
+            // The circular segment between the chord and the arc.
+            let r = dist(p.from, c);
+            let t = sweep(p.from, p.to, c, ccw);
+            a += r * r * (t - t.sin()) / 2.0;
+        }
+    }
+    a
+}
+
+fn total_turning(chain: &[Piece]) -> f64 {
+    let mut total = 0.0;
+    for (i, p) in chain.iter().enumerate() {
+        if let Some((c, ccw)) = p.arc {
+            total += sweep(p.from, p.to, c, ccw);
+        }
+        if let Some(q) = chain.get(i + 1) {
+            let (_, t0) = p.tangents();
+            let (t1, _) = q.tangents();
+            total += cross(t0, t1).atan2(t0[0] * t1[0] + t0[1] * t1[1]);
+        }
+    }
+    total
+}
+
+fn bounds(chain: &[Piece]) -> (P2, P2) {
+    let mut min = [f64::INFINITY; 2];
+    let mut max = [f64::NEG_INFINITY; 2];
+    let mut add = |p: P2| {
+        for k in 0..2 {
+            min[k] = min[k].min(p[k]);
+            max[k] = max[k].max(p[k]);
+        }
+    };
+    for p in chain {
+        add(p.from);
+        add(p.to);
+        if let Some((c, ccw)) = p.arc {
+            let r = dist(p.from, c);
+            let a0 = (p.from[1] - c[1]).atan2(p.from[0] - c[0]);
+            let t = sweep(p.from, p.to, c, ccw);
+            for k in 1..=36 {
+                let a = a0 + t * f64::from(k) / 36.0;
+                add([c[0] + r * a.cos(), c[1] + r * a.sin()]);
+            }
+        }
+    }
+    (min, max)
+}
+
+fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Candidate {
+    let toolpath = |reason: Option<f64>| Candidate {
+        kind: FeatureKind::Toolpath,
+        placement: [0.0, 0.0, ws.depth.unwrap_or(0.0)],
+        depth: 0.0,
+        top_inferred: reason.is_none(),
+        operation: Operation::FreeformMilling,
+        strategy: Some(Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap: None }),
+        axial_depth: None,
+        radial_depth: None,
+        region: None,
+        holes: Vec::new(),
+    };
+    let cuts: Vec<&Move> = ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect();
+    let total: f64 = cuts.iter().map(|m| super::geom::length(m)).sum();
+    let horizontal: Vec<&Move> = cuts.iter().copied().filter(|m| (m.from[2] - m.to[2]).abs() < 1e-4).collect();
+    let flat_len: f64 = horizontal.iter().map(|m| super::geom::length(m)).sum();
+    let arcs_in_xy = horizontal.iter().all(|m| m.axis.is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
+    if horizontal.is_empty() || flat_len < 0.8 * total || !arcs_in_xy {
+        return toolpath(None);
+    }
+    let mut levels: Vec<f64> = Vec::new();
+    for m in &horizontal {
+        if !levels.iter().any(|z| (z - m.to[2]).abs() < 1e-3) {
+            levels.push(m.to[2]);
+        }
+    }
+    levels.sort_by(|a, b| b.total_cmp(a));
+    if levels.len() > 200 {
+        return toolpath(None);
+    }
+    let bottom = *levels.last().expect("one level at least");
+    let step = levels.windows(2).map(|w| w[0] - w[1]).reduce(f64::max);
+    let feed_start =
+        ws.toolpath.iter().filter(|m| m.kind == MoveKind::Line && m.to[2] < m.from[2] - EPS).map(|m| m.from[2]).reduce(f64::max);
+    let (top, top_inferred) = match (stock, step) {
+        (Some(s), _) => (s.max()[2], false),
+        (None, Some(st)) => (levels[0] + st, true),
+        (None, None) => (feed_start.map_or(bottom, |z| z.max(bottom)), true),
+    };
+    let axial_depth = step.or_else(|| stock.map(|_| top - bottom)).filter(|d| *d > EPS).map(round6);
+    // Chains of contiguous horizontal moves at the bottom level.
+    let mut chains: Vec<Vec<Piece>> = Vec::new();
+    let mut prev_end: Option<P3> = None;
+    for m in ws.toolpath.iter() {
+        let at_bottom =
+            m.phase == Phase::Cut && m.kind != MoveKind::Rapid && (m.from[2] - bottom).abs() < 1e-3 && (m.to[2] - bottom).abs() < 1e-3;
+        if !at_bottom {
+            prev_end = None;
+            continue;
+        }
+        let arc = match (m.kind, m.center, m.axis) {
+            (MoveKind::Arc, Some(c), Some(a)) => Some(([c[0], c[1]], (m.turns.unwrap_or(1) > 0) == (a[2] > 0.0))),
+            _ => None,
+        };
+        let piece = Piece { from: [m.from[0], m.from[1]], to: [m.to[0], m.to[1]], arc };
+        if piece.arc.is_none() && piece.len() < EPS {
+            continue;
+        }
+        let joined = prev_end.is_some_and(|p| (p[0] - m.from[0]).abs() < 1e-4 && (p[1] - m.from[1]).abs() < 1e-4);
+        match chains.last_mut() {
+            Some(c) if joined => c.push(piece),
+            _ => chains.push(vec![piece]),
+        }
+        prev_end = Some(m.to);
+    }
+    if chains.is_empty() {
+        return toolpath(None);
+    }
+    let radius = tool.and_then(|t| t.diameter).map(|d| d / 2.0);
+    let r = radius.unwrap_or(0.0);
+    let spindle_ccw = ws.technology.spindle == SpindleDir::Ccw;
+    let all: Vec<Piece> = chains.iter().flatten().copied().collect();
+    let closed = |c: &Vec<Piece>| {
+        c.len() > 1 && dist(c[0].from, c[c.len() - 1].to) < 1e-4 || c.len() == 1 && c[0].arc.is_some() && dist(c[0].from, c[0].to) < 1e-4
+    };
+    let bottom_len: f64 = all.iter().map(Piece::len).sum();
+    let region_of = |min: P2, max: P2| Region { min, max, bottom };
+    let mut cand = Candidate {
+        kind: FeatureKind::Toolpath,
+        placement: [0.0, 0.0, top],
+        depth: top - bottom,
+        top_inferred,
+        operation: Operation::FreeformMilling,
+        strategy: None,
+        axial_depth,
+        radial_depth: None,
+        region: None,
+        holes: Vec::new(),
+    };
+    // Parallel straight passes.
+    let longest = all.iter().filter(|p| p.arc.is_none()).map(Piece::len).fold(0.0, f64::max);
+    let passes: Vec<Piece> = all.iter().copied().filter(|p| p.arc.is_none() && p.len() > 0.5 * longest).collect();
+    let parallel = passes.len() >= 2
+        && passes.iter().all(|p| cross(p.dir(), passes[0].dir()).abs() < 1e-6)
+        && passes.iter().map(Piece::len).sum::<f64>() >= 0.6 * bottom_len;
+    let loops: Vec<&Vec<Piece>> = chains.iter().filter(|c| closed(c)).collect();
+    if parallel {
+        // The face's frame runs along the passes, pointing to +X (or +Y).
+        let d = passes[0].dir();
+        let u = if d[0] > 1e-9 || d[0].abs() <= 1e-9 && d[1] > 0.0 { d } else { [-d[0], -d[1]] };
+        let v = [-u[1], u[0]];
+        let along = |p: P2| p[0] * u[0] + p[1] * u[1];
+        let across = |p: P2| p[0] * v[0] + p[1] * v[1];
+        let mut offsets: Vec<f64> = passes.iter().map(|p| across(p.from)).collect();
+        offsets.sort_by(f64::total_cmp);
+        offsets.dedup_by(|a, b| (*a - *b).abs() < 1e-4);
+        let stepover = offsets.windows(2).map(|w| w[1] - w[0]).reduce(f64::min);
+        let alternating = passes.windows(2).all(|w| w[0].dir()[0] * w[1].dir()[0] + w[0].dir()[1] * w[1].dir()[1] < 0.0);
+        let (mut amin, mut amax, mut cmin, mut cmax) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for p in &all {
+            for q in [p.from, p.to] {
+                amin = amin.min(along(q));
+                amax = amax.max(along(q));
+                cmin = cmin.min(across(q));
+                cmax = cmax.max(across(q));
+            }
+        }
+        let (amin, amax, cmin, cmax) = (amin - r, amax + r, cmin - r, cmax + r);
+        let corner = [u[0] * amin + v[0] * cmin, u[1] * amin + v[1] * cmin];
+        let (bmin, bmax) = bounds(&all);
+        let swept = ([bmin[0] - r, bmin[1] - r], [bmax[0] + r, bmax[1] + r]);
+        cand.region = Some(region_of(swept.0, swept.1));
+        cand.radial_depth = stepover.map(round6);
+        cand.strategy = Some(Strategy {
+            kind: if alternating { StrategyKind::Bidirectional } else { StrategyKind::Unidirectional },
+            feed_direction: Some([d[0], d[1], 0.0]),
+            rotation: None,
+            cutmode: None,
+            overlap: match (stepover, radius) {
+                (Some(s), Some(r)) if s < 2.0 * r => Some(round6(1.0 - s / (2.0 * r))),
+                _ => None,
+            },
+        });
+        let enclosing = loops.iter().find(|l| {
+            let (lmin, lmax) = bounds(l);
+            passes.iter().all(|p| {
+                [p.from, p.to]
+                    .iter()
+                    .all(|q| q[0] >= lmin[0] - 1e-4 && q[0] <= lmax[0] + 1e-4 && q[1] >= lmin[1] - 1e-4 && q[1] <= lmax[1] + 1e-4)
+            })
+        });
+        if let Some(outer) = enclosing {
+            pocket(&mut cand, outer, r, stock);
+            return cand;
+        }
+        let sides = stock.map(|s| crossed_sides(s, swept));
+        match sides {
+            Some(n) if n.iter().all(|x| *x) || top - bottom < 1e-3 => {}
+            Some(n) if n.iter().filter(|x| **x).count() == 1 => {
+                // A step: the inner edge is the swept band's edge away from the crossed side.
+                cand.operation = Operation::BottomAndSideFinishMilling;
+                cand.placement = [corner[0], corner[1], top];
+                let width = cmax - cmin;
+                cand.kind = FeatureKind::Step { direction: [u[0], u[1], 0.0], length: round6(amax - amin), width: round6(width) };
+                return cand;
+            }
+            Some(_) => {
+                let boundary = rectangle(swept.0, swept.1);
+                cand.operation = Operation::BottomAndSideFinishMilling;
+                cand.placement = [swept.0[0], swept.0[1], top];
+                cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&boundary), cand.placement) };
+                return cand;
+            }
+            None => {}
+        }
+        cand.operation = Operation::PlaneFinishMilling;
+        cand.placement = [corner[0], corner[1], bottom];
+        cand.depth = if stock.is_some() { top - bottom } else { 0.0 };
+        if stock.is_some() {
+            cand.placement[2] = top;
+        }
+        cand.kind = FeatureKind::PlanarFace { direction: [u[0], u[1], 0.0], length: round6(amax - amin), width: round6(cmax - cmin) };
+        return cand;
+    }
+    if !loops.is_empty() && loops.len() == chains.len() {
+        let mut sorted: Vec<&Vec<Piece>> = loops.clone();
+        sorted.sort_by(|a, b| signed_area(b).abs().total_cmp(&signed_area(a).abs()));
+        let outer = sorted[0];
+        let area = signed_area(outer);
+        let rotation = if area > 0.0 { Rotation::Ccw } else { Rotation::Cw };
+        if sorted.len() >= 2 {
+            cand.strategy = Some(Strategy {
+                kind: StrategyKind::ContourParallel,
+                feed_direction: None,
+                rotation: Some(rotation),
+                cutmode: Some(cutmode(rotation, spindle_ccw, true)),
+                overlap: None,
+            });
+            let (omin, _) = bounds(outer);
+            let (imin, _) = bounds(sorted[1]);
+            cand.radial_depth = Some(round6((imin[0] - omin[0]).max(imin[1] - omin[1])));
+            pocket(&mut cand, outer, r, stock);
+            return cand;
+        }
+        // One loop: the side a climb cut puts the tool on decides pocket wall or profile.
+        let tool_inside = (rotation == Rotation::Ccw) != spindle_ccw;
+        cand.strategy = Some(Strategy {
+            kind: StrategyKind::ContourParallel,
+            feed_direction: None,
+            rotation: Some(rotation),
+            cutmode: Some(CutMode::Climb),
+            overlap: None,
+        });
+        if tool_inside {
+            pocket(&mut cand, outer, r, stock);
+            cand.operation = Operation::SideFinishMilling;
+        } else {
+            let boundary = offset(outer, if area > 0.0 { r } else { -r });
+            let (bmin, bmax) = bounds(outer);
+            cand.region = Some(region_of(bmin, bmax));
+            cand.operation = Operation::SideFinishMilling;
+            cand.placement = [0.0, 0.0, top];
+            cand.kind = FeatureKind::OutsideProfile { boundary: to_contour(&boundary) };
+        }
+        return cand;
+    }
+    if chains.len() == 1 {
+        let chain = &chains[0];
+        let turning = total_turning(chain);
+        let (bmin, bmax) = bounds(chain);
+        if turning.abs() >= std::f64::consts::TAU - 1e-6 {
+            // A spiral: the pocket is the box it sweeps.
+            let rotation = if turning > 0.0 { Rotation::Ccw } else { Rotation::Cw };
+            cand.strategy = Some(Strategy {
+                kind: StrategyKind::ContourSpiral,
+                feed_direction: None,
+                rotation: Some(rotation),
+                cutmode: Some(cutmode(rotation, spindle_ccw, true)),
+                overlap: None,
+            });
+            let rect = rectangle(bmin, bmax);
+            pocket(&mut cand, &rect, r, stock);
+            return cand;
+        }
+        if let Some(rad) = radius {
+            cand.operation = Operation::BottomAndSideFinishMilling;
+            cand.strategy =
+                Some(Strategy { kind: StrategyKind::CenterMilling, feed_direction: None, rotation: None, cutmode: None, overlap: None });
+            cand.region = Some(region_of([bmin[0] - rad, bmin[1] - rad], [bmax[0] + rad, bmax[1] + rad]));
+            let start = chain[0].from;
+            cand.placement = [start[0], start[1], top];
+            cand.kind = FeatureKind::Slot { path: relative(&to_contour(chain), cand.placement), width: round6(2.0 * rad) };
+            return cand;
+        }
+    }
+    toolpath(Some(0.0))
+}
+
+/// Climb or conventional from the loop's rotation, the spindle direction and which side of
+/// the path the material is (inside the loop for a pocket).
+fn cutmode(rotation: Rotation, spindle_ccw: bool, material_outside: bool) -> CutMode {
+    // M3 with the material on the right of travel is climb milling.
+    let material_right = (rotation == Rotation::Ccw) == material_outside;
+    if material_right != spindle_ccw { CutMode::Climb } else { CutMode::Conventional }
+}
+
+/// Which stock sides (−X, +X, −Y, +Y) a swept box reaches or crosses.
+fn crossed_sides(s: &Stock, (min, max): (P2, P2)) -> [bool; 4] {
+    let smax = s.max();
+    [min[0] <= s.origin[0] + 1e-6, max[0] >= smax[0] - 1e-6, min[1] <= s.origin[1] + 1e-6, max[1] >= smax[1] - 1e-6]
+}
+
+/// Makes `cand` a pocket whose tool-centre outer loop is `outer`.
+fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) {
+    let area = signed_area(outer);
+    let wall = offset(outer, if area > 0.0 { -r } else { r });
+    let (bmin, bmax) = bounds(&wall);
+    cand.region = Some(Region { min: bmin, max: bmax, bottom: cand.placement[2] - cand.depth });
+    cand.operation = Operation::BottomAndSideFinishMilling;
+    let open = stock.is_some_and(|s| crossed_sides(s, (bmin, bmax)).iter().any(|x| *x));
+    if open {
+        cand.placement = [bmin[0], bmin[1], cand.placement[2]];
+        cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&wall), cand.placement) };
+        return;
+    }
+    let rect = outer.len() == 4 && outer.iter().all(|p| p.arc.is_none() && (p.dir()[0].abs() < 1e-9 || p.dir()[1].abs() < 1e-9));
+    if rect {
+        let (cmin, cmax) = bounds(outer);
+        let centre = [(bmin[0] + bmax[0]) / 2.0, (bmin[1] + bmax[1]) / 2.0];
+        cand.placement = [centre[0], centre[1], cand.placement[2]];
+        cand.kind = FeatureKind::ClosedPocket {
+            boundary: relative(&to_contour(&wall), cand.placement),
+            rectangle: Some((round6(cmax[0] - cmin[0] + 2.0 * r), round6(cmax[1] - cmin[1] + 2.0 * r))),
+            corner_radius: (r > 0.0).then_some(round6(r)),
+        };
+    } else {
+        cand.placement = [bmin[0], bmin[1], cand.placement[2]];
+        cand.kind =
+            FeatureKind::ClosedPocket { boundary: relative(&to_contour(&wall), cand.placement), rectangle: None, corner_radius: None };
+    }
+}
+
+fn rectangle(min: P2, max: P2) -> Vec<Piece> {
+    let c = [min, [max[0], min[1]], max, [min[0], max[1]]];
+    (0..4).map(|i| Piece { from: c[i], to: c[(i + 1) % 4], arc: None }).collect()
+}
+
+fn to_contour(chain: &[Piece]) -> Contour {
+    Contour {
+        start: chain.first().map_or([0.0; 2], |p| p.from),
+        segments: chain.iter().map(|p| Segment { to: p.to, arc: p.arc }).collect(),
+    }
+}
+
+/// The contour moved so that `placement` is its origin, rounded to 1e-6 mm.
+fn relative(c: &Contour, placement: P3) -> Contour {
+    let rel = |p: P2| [round6(p[0] - placement[0]), round6(p[1] - placement[1])];
+    Contour {
+        start: rel(c.start),
+        segments: c.segments.iter().map(|s| Segment { to: rel(s.to), arc: s.arc.map(|(c, ccw)| (rel(c), ccw)) }).collect(),
+    }
+}
+
+/// Offsets a chain by `d` to the left of travel (negative: to the right). Outside corners
+/// get an arc about the corner; inside corners between lines are trimmed to their
+/// intersection, other inside corners are joined by a line.
+fn offset(chain: &[Piece], d: f64) -> Vec<Piece> {
+    if d.abs() < EPS {
+        return chain.to_vec();
+    }
+    let shifted: Vec<Piece> = chain
+        .iter()
+        .filter_map(|p| match p.arc {
+            None => {
+                let u = p.dir();
+                let n = [-u[1] * d, u[0] * d];
+                Some(Piece { from: [p.from[0] + n[0], p.from[1] + n[1]], to: [p.to[0] + n[0], p.to[1] + n[1]], arc: None })
+            }
+            Some((c, ccw)) => {
+                let r0 = dist(p.from, c);
+                let r1 = if ccw { r0 - d } else { r0 + d };
+                if r1 <= EPS {
+                    return None;
+                }
+                let k = r1 / r0;
+                let at = |q: P2| [c[0] + (q[0] - c[0]) * k, c[1] + (q[1] - c[1]) * k];
+                Some(Piece { from: at(p.from), to: at(p.to), arc: Some((c, ccw)) })
+            }
+        })
+        .collect();
+    let closed = chain.len() > 1 && dist(chain[0].from, chain[chain.len() - 1].to) < 1e-4;
+    let n = shifted.len();
+    let mut out: Vec<Piece> = Vec::new();
+    let mut pieces = shifted.clone();
+    let joints = if closed { n } else { n.saturating_sub(1) };
+    let mut joins: Vec<Option<Piece>> = vec![None; n];
+    for i in 0..joints {
+        let j = (i + 1) % n;
+        let (a, b) = (pieces[i], pieces[j]);
+        if dist(a.to, b.from) < 1e-6 {
+            continue;
+        }
+        let (_, ta) = a.tangents();
+        let (tb, _) = b.tangents();
+        let turn = cross(ta, tb);
+        if turn * d < 0.0 {
+            let corner = chain.get(i).map_or(a.to, |p| p.to);
+            joins[i] = Some(Piece { from: a.to, to: b.from, arc: Some((corner, turn > 0.0)) });
+        } else if a.arc.is_none() && b.arc.is_none() {
+            let denom = cross(a.dir(), b.dir());
+            if denom.abs() > 1e-12 {
+                let w = [b.from[0] - a.from[0], b.from[1] - a.from[1]];
+                let t = cross(w, b.dir()) / denom;
+                let x = [a.from[0] + a.dir()[0] * t, a.from[1] + a.dir()[1] * t];
+                pieces[i].to = x;
+                pieces[j].from = x;
+            }
+        } else {
+            joins[i] = Some(Piece { from: a.to, to: b.from, arc: None });
+        }
+    }
+    for (p, j) in pieces.into_iter().zip(joins) {
+        out.push(p);
+        if let Some(j) = j {
+            out.push(j);
+        }
+    }
+    // A closed chain starts where its first piece starts after trimming.
+    if closed && let (Some(first), Some(last)) = (out.first().map(|p| p.from), out.last_mut()) {
+        last.to = first;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offset_square_outward_gets_corner_arcs() {
+        let sq = rectangle([0.0, 0.0], [10.0, 10.0]);
+        assert!(signed_area(&sq) > 0.0);
+        let out = offset(&sq, -2.0);
+        assert_eq!(out.len(), 8);
+        let (min, max) = bounds(&out);
+        assert!((min[0] + 2.0).abs() < 1e-9 && (max[1] - 12.0).abs() < 1e-9, "{min:?} {max:?}");
+        let inner = offset(&sq, 2.0);
+        assert_eq!(inner.len(), 4);
+        let (min, max) = bounds(&inner);
+        assert!((min[0] - 2.0).abs() < 1e-9 && (max[0] - 8.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn cut_modes() {
+        // M3, a clockwise loop around the part (material inside, on the right): climb.
+        assert_eq!(cutmode(Rotation::Cw, false, false), CutMode::Climb);
+        // M3, a counter-clockwise pocket loop (material outside, on the right): climb.
+        assert_eq!(cutmode(Rotation::Ccw, false, true), CutMode::Climb);
+        assert_eq!(cutmode(Rotation::Ccw, true, true), CutMode::Conventional);
+    }
+}
