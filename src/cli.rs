@@ -79,6 +79,23 @@ enum Command {
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
     },
+    /// Write the recovered plan as STEP-NC: ISO 10303-21 in the ISO 14649 flavour.
+    Stepnc {
+        #[command(flatten)]
+        input: Input,
+        /// Conformance class 1: explicit toolpaths (toolpath features, freeform operations).
+        #[arg(long, conflicts_with = "cc2", required_unless_present = "cc2")]
+        cc1: bool,
+        /// Conformance class 2: features, operations and strategies, toolpaths included.
+        #[arg(long)]
+        cc2: bool,
+        /// Output file; standard output when absent.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Header time stamp (ISO 8601); by default the current time (UTC).
+        #[arg(long)]
+        timestamp: Option<String>,
+    },
     /// Compare two programs by what they do.
     Diff {
         /// The CAM original.
@@ -263,6 +280,28 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                     writeln!(out)?;
                 }
                 Format::Text => write_plan(&mut out, &a.plan)?,
+            }
+            out.flush()?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Stepnc { input, cc1, cc2: _, output, timestamp } => {
+            let (d, config, bytes) = input_setup(&input)?;
+            let a = pipeline::analyze(&bytes, &d, &config.profile);
+            let class = if cc1 { crate::part21::stepnc::Class::Cc1 } else { crate::part21::stepnc::Class::Cc2 };
+            let timestamp = timestamp.unwrap_or_else(|| {
+                use crate::daemon::Clock;
+                crate::daemon::SystemClock.now()
+            });
+            let (exchange, diags) = crate::part21::stepnc::write(&a.plan, class, &timestamp);
+            let text = crate::part21::write(&exchange);
+            let path = input.file.display().to_string();
+            let idx = LineIndex::new(&a.source.text);
+            for x in diags.iter().chain(a.diagnostics.iter().filter(|x| x.is_error())) {
+                eprintln!("{}", diag::render_short(&path, &a.source.text, &idx, x));
+            }
+            match output {
+                Some(o) => std::fs::write(&o, text).with_context(|| format!("cannot write {}", o.display()))?,
+                None => out.write_all(text.as_bytes())?,
             }
             out.flush()?;
             Ok(ExitCode::SUCCESS)

@@ -129,6 +129,10 @@ codes! {
     CompWithoutOffset = ("interp::comp-without-offset", Warning),
     /// A toolpath that plan recovery could not assign to a tool.
     NoTool = ("plan::no-tool", Warning),
+    /// STEP-NC export without stock dimensions: the rawpiece has no bounding block.
+    StockUnknown = ("stepnc::stock-unknown", Warning),
+    /// STEP-NC export of a tool or hole whose diameter is not known: written as 0.
+    DiameterUnknown = ("stepnc::diameter-unknown", Warning),
     /// A malformed or invalid dialect file.
     DialectInvalid = ("dialect::invalid", Error),
 }

@@ -1,7 +1,7 @@
 //! ncplan: recover process plans from CNC part programs, diff them against the CAM original,
 //! and keep the shopfloor's changes.
 //!
-//! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`,
+//! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`, `part21`,
 //! `diff`, `pipeline`) does no IO. The shell around it (`config`, `store`, `daemon`, `cli`, `bench`)
 //! reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
 
@@ -16,6 +16,7 @@ pub mod diag;
 pub mod dialect;
 pub mod diff;
 pub mod interp;
+pub mod part21;
 pub mod pipeline;
 pub mod plan;
 pub mod store;

@@ -44,11 +44,21 @@ pub fn recognise(plan: &mut ProcessPlan) {
                     let rough = &mut plan.workingsteps[last];
                     if !rough.operation.is_hole() {
                         rough.operation = rough.operation.roughing();
+                        // Roughing inside a pocket leaves a smaller region, around a profile a
+                        // larger one: the allowance is half the difference either way.
                         let side = ((region.max[0] - region.min[0]) - (prev.max[0] - prev.min[0]))
-                            .max((region.max[1] - region.min[1]) - (prev.max[1] - prev.min[1]))
+                            .abs()
+                            .max(((region.max[1] - region.min[1]) - (prev.max[1] - prev.min[1])).abs())
                             / 2.0;
-                        rough.allowance_side = Some(round6(side.max(0.0)));
-                        rough.allowance_bottom = Some(round6((prev.bottom - region.bottom).max(0.0)));
+                        let bottom = round6((prev.bottom - region.bottom).max(0.0));
+                        // Each rough operation carries the allowances it has attributes for.
+                        let (has_side, has_bottom) = match rough.operation {
+                            Operation::PlaneRoughMilling => (false, true),
+                            Operation::SideRoughMilling => (true, false),
+                            _ => (true, true),
+                        };
+                        rough.allowance_side = has_side.then_some(round6(side));
+                        rough.allowance_bottom = has_bottom.then_some(bottom);
                     }
                 }
                 merge_into(f, &cand, &plan.workingsteps[i]);
@@ -159,7 +169,7 @@ fn same_feature(f: &Feature, region: Option<&Region>, c: &Candidate) -> bool {
 }
 
 fn round6(v: f64) -> f64 {
-    (v * 1e6).round() / 1e6
+    (v * 1e6).round() / 1e6 + 0.0
 }
 
 fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Candidate {
@@ -381,10 +391,15 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
     let r = radius.unwrap_or(0.0);
     let spindle_ccw = ws.technology.spindle == SpindleDir::Ccw;
     let all: Vec<Piece> = chains.iter().flatten().copied().collect();
-    let closed = |c: &Vec<Piece>| {
-        c.len() > 1 && dist(c[0].from, c[c.len() - 1].to) < 1e-4 || c.len() == 1 && c[0].arc.is_some() && dist(c[0].from, c[0].to) < 1e-4
-    };
+    let mut loops_owned: Vec<Vec<Piece>> = Vec::new();
+    let mut rest: Vec<Piece> = Vec::new();
+    for c in &chains {
+        let (l, r) = split_loops(c);
+        loops_owned.extend(l);
+        rest.extend(r);
+    }
     let bottom_len: f64 = all.iter().map(Piece::len).sum();
+    let rest_len: f64 = rest.iter().map(Piece::len).sum();
     let region_of = |min: P2, max: P2| Region { min, max, bottom };
     let mut cand = Candidate {
         kind: FeatureKind::Toolpath,
@@ -398,17 +413,19 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
         region: None,
         holes: Vec::new(),
     };
-    // Parallel straight passes.
-    let longest = all.iter().filter(|p| p.arc.is_none()).map(Piece::len).fold(0.0, f64::max);
-    let passes: Vec<Piece> = all.iter().copied().filter(|p| p.arc.is_none() && p.len() > 0.5 * longest).collect();
+    // Parallel straight passes, outside any closed loops.
+    let longest = rest.iter().filter(|p| p.arc.is_none()).map(Piece::len).fold(0.0, f64::max);
+    let passes: Vec<Piece> = rest.iter().copied().filter(|p| p.arc.is_none() && p.len() > 0.5 * longest).collect();
     let parallel = passes.len() >= 2
         && passes.iter().all(|p| cross(p.dir(), passes[0].dir()).abs() < 1e-6)
-        && passes.iter().map(Piece::len).sum::<f64>() >= 0.6 * bottom_len;
-    let loops: Vec<&Vec<Piece>> = chains.iter().filter(|c| closed(c)).collect();
+        && passes.iter().map(Piece::len).sum::<f64>() >= 0.6 * rest_len
+        && rest_len >= 0.3 * bottom_len;
+    let loops: Vec<&Vec<Piece>> = loops_owned.iter().collect();
     if parallel {
         // The face's frame runs along the passes, pointing to +X (or +Y).
         let d = passes[0].dir();
         let u = if d[0] > 1e-9 || d[0].abs() <= 1e-9 && d[1] > 0.0 { d } else { [-d[0], -d[1]] };
+        let u = [u[0] + 0.0, u[1] + 0.0];
         let v = [-u[1], u[0]];
         let along = |p: P2| p[0] * u[0] + p[1] * u[1];
         let across = |p: P2| p[0] * v[0] + p[1] * v[1];
@@ -434,7 +451,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
         cand.radial_depth = stepover.map(round6);
         cand.strategy = Some(Strategy {
             kind: if alternating { StrategyKind::Bidirectional } else { StrategyKind::Unidirectional },
-            feed_direction: Some([d[0], d[1], 0.0]),
+            feed_direction: Some([d[0] + 0.0, d[1] + 0.0, 0.0]),
             rotation: None,
             cutmode: None,
             overlap: match (stepover, radius) {
@@ -455,24 +472,40 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
             return cand;
         }
         let sides = stock.map(|s| crossed_sides(s, swept));
-        match sides {
-            Some(n) if n.iter().all(|x| *x) || top - bottom < 1e-3 => {}
-            Some(n) if n.iter().filter(|x| **x).count() == 1 => {
-                // A step: the inner edge is the swept band's edge away from the crossed side.
+        let axis_aligned = u[0].abs() < 1e-9 || u[1].abs() < 1e-9;
+        match (sides, stock) {
+            (Some(n), _) if n.iter().all(|x| *x) || top - bottom < 1e-3 => {}
+            (Some(n), Some(st)) if axis_aligned && step_side(n, u).is_some() => {
+                // A step: the band runs from end to end of the stock along one side; its
+                // wall is the band's edge away from that side.
+                let k = usize::from(u[0].abs() < 1e-9); // 0: passes along X, 1: along Y
+                let across = 1 - k;
+                let smax = st.max();
+                let (lo, hi) = (st.origin[k], smax[k]);
+                let high_side = step_side(n, u) == Some(true);
+                let (wall, width) = if high_side {
+                    (swept.0[across], smax[across] - swept.0[across])
+                } else {
+                    (swept.1[across], swept.1[across] - st.origin[across])
+                };
+                let mut start = [0.0; 2];
+                start[k] = lo;
+                start[across] = wall;
+                let mut dir = [0.0; 3];
+                dir[k] = 1.0;
                 cand.operation = Operation::BottomAndSideFinishMilling;
-                cand.placement = [corner[0], corner[1], top];
-                let width = cmax - cmin;
-                cand.kind = FeatureKind::Step { direction: [u[0], u[1], 0.0], length: round6(amax - amin), width: round6(width) };
+                cand.placement = [start[0], start[1], top];
+                cand.kind = FeatureKind::Step { direction: dir, length: round6(hi - lo), width: round6(width) };
                 return cand;
             }
-            Some(_) => {
+            (Some(_), _) => {
                 let boundary = rectangle(swept.0, swept.1);
                 cand.operation = Operation::BottomAndSideFinishMilling;
                 cand.placement = [swept.0[0], swept.0[1], top];
                 cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&boundary), cand.placement) };
                 return cand;
             }
-            None => {}
+            _ => {}
         }
         cand.operation = Operation::PlaneFinishMilling;
         cand.placement = [corner[0], corner[1], bottom];
@@ -483,7 +516,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
         cand.kind = FeatureKind::PlanarFace { direction: [u[0], u[1], 0.0], length: round6(amax - amin), width: round6(cmax - cmin) };
         return cand;
     }
-    if !loops.is_empty() && loops.len() == chains.len() {
+    if !loops.is_empty() && rest_len < 0.3 * bottom_len {
         let mut sorted: Vec<&Vec<Piece>> = loops.clone();
         sorted.sort_by(|a, b| signed_area(b).abs().total_cmp(&signed_area(a).abs()));
         let outer = sorted[0];
@@ -525,7 +558,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
         }
         return cand;
     }
-    if chains.len() == 1 {
+    if chains.len() == 1 && loops.is_empty() {
         let chain = &chains[0];
         let turning = total_turning(chain);
         let (bmin, bmax) = bounds(chain);
@@ -565,6 +598,40 @@ fn cutmode(rotation: Rotation, spindle_ccw: bool, material_outside: bool) -> Cut
     if material_right != spindle_ccw { CutMode::Climb } else { CutMode::Conventional }
 }
 
+/// For passes along `u` (X or Y), the side a step lies on: `Some(true)` for the high side
+/// across the passes, `Some(false)` for the low side, when the band reaches both ends along
+/// the passes and exactly one side across them.
+fn step_side(n: [bool; 4], u: P2) -> Option<bool> {
+    let (ends, sides) = if u[1].abs() < 1e-9 { ([n[0], n[1]], [n[2], n[3]]) } else { ([n[2], n[3]], [n[0], n[1]]) };
+    match (ends, sides) {
+        ([true, true], [false, true]) => Some(true),
+        ([true, true], [true, false]) => Some(false),
+        _ => None,
+    }
+}
+
+/// Splits a chain into the closed loops it traces (a point met again closes a loop) and the
+/// pieces between them.
+fn split_loops(chain: &[Piece]) -> (Vec<Vec<Piece>>, Vec<Piece>) {
+    let mut loops = Vec::new();
+    let mut rest = Vec::new();
+    let mut open: Vec<Piece> = Vec::new();
+    for p in chain {
+        open.push(*p);
+        if let Some(k) = open.iter().position(|q| dist(q.from, p.to) < 1e-4) {
+            let lp: Vec<Piece> = open.drain(k..).collect();
+            if lp.len() >= 2 || lp[0].arc.is_some() {
+                loops.push(lp);
+            } else {
+                rest.extend(lp);
+            }
+            rest.append(&mut open);
+        }
+    }
+    rest.extend(open);
+    (loops, rest)
+}
+
 /// Which stock sides (−X, +X, −Y, +Y) a swept box reaches or crosses.
 fn crossed_sides(s: &Stock, (min, max): (P2, P2)) -> [bool; 4] {
     let smax = s.max();
@@ -589,16 +656,45 @@ fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) 
         let (cmin, cmax) = bounds(outer);
         let centre = [(bmin[0] + bmax[0]) / 2.0, (bmin[1] + bmax[1]) / 2.0];
         cand.placement = [centre[0], centre[1], cand.placement[2]];
-        cand.kind = FeatureKind::ClosedPocket {
-            boundary: relative(&to_contour(&wall), cand.placement),
-            rectangle: Some((round6(cmax[0] - cmin[0] + 2.0 * r), round6(cmax[1] - cmin[1] + 2.0 * r))),
-            corner_radius: (r > 0.0).then_some(round6(r)),
-        };
+        let (w, l) = (round6(cmax[0] - cmin[0] + 2.0 * r), round6(cmax[1] - cmin[1] + 2.0 * r));
+        let corner_radius = (r > 0.0).then_some(round6(r));
+        cand.kind = FeatureKind::ClosedPocket { boundary: rect_contour(w, l, corner_radius), rectangle: Some((w, l)), corner_radius };
     } else {
         cand.placement = [bmin[0], bmin[1], cand.placement[2]];
         cand.kind =
             FeatureKind::ClosedPocket { boundary: relative(&to_contour(&wall), cand.placement), rectangle: None, corner_radius: None };
     }
+}
+
+/// The wall of a rectangular pocket `w` × `l` centred on its placement, with vertical corner
+/// radius `r`: counter-clockwise from the middle of the bottom edge.
+pub fn rect_contour(w: f64, l: f64, r: Option<f64>) -> Contour {
+    let (hw, hl) = (w / 2.0, l / 2.0);
+    let r = r.unwrap_or(0.0).clamp(0.0, hw.min(hl));
+    let mut segments = Vec::new();
+    let corners = [([hw, -hl], [-1.0, 1.0]), ([hw, hl], [-1.0, -1.0]), ([-hw, hl], [1.0, -1.0]), ([-hw, -hl], [1.0, 1.0])];
+    for (k, (c, inward)) in corners.iter().enumerate() {
+        // Along the edge towards corner k, then around it.
+        let along: P2 = match k {
+            0 => [c[0] - r, c[1]],
+            1 => [c[0], c[1] - r],
+            2 => [c[0] + r, c[1]],
+            _ => [c[0], c[1] + r],
+        };
+        segments.push(Segment { to: along, arc: None });
+        if r > 0.0 {
+            let centre = [c[0] + inward[0] * r, c[1] + inward[1] * r];
+            let out: P2 = match k {
+                0 => [c[0], c[1] + r],
+                1 => [c[0] - r, c[1]],
+                2 => [c[0], c[1] - r],
+                _ => [c[0] + r, c[1]],
+            };
+            segments.push(Segment { to: out, arc: Some((centre, true)) });
+        }
+    }
+    segments.push(Segment { to: [0.0, -hl], arc: None });
+    Contour { start: [0.0, -hl], segments }
 }
 
 fn rectangle(min: P2, max: P2) -> Vec<Piece> {

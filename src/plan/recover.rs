@@ -172,10 +172,27 @@ struct Builder {
     tool: u32,
     technology: Technology,
     moves: Vec<Move>,
-    holes: Vec<Hole>,
     dwell: Option<f64>,
+    peck: Option<f64>,
     source: TextRange,
     lines: (u32, u32),
+    tentative: Option<Tentative>,
+    /// Feed of the last cutting move that is not a plunge.
+    cut_feed: Option<f64>,
+}
+
+/// A possible boundary between two workingsteps with one tool and technology.
+struct Tentative {
+    /// Index of the first move after the boundary.
+    at: usize,
+    /// How many of those moves lift (they stay with the earlier workingstep).
+    lifts: usize,
+    /// The earlier workingstep's source and last line at the boundary.
+    source: TextRange,
+    last_line: u32,
+    /// Source and first line of the later one.
+    origin: TextRange,
+    line: u32,
 }
 
 struct Recovery<'p> {
@@ -195,6 +212,7 @@ struct Recovery<'p> {
     comments: Vec<(u32, String)>,
     in_cycle: Option<CycleKind>,
     dwell: Option<f64>,
+    peck: Option<f64>,
     stock: Option<[P3; 2]>,
     current: Option<Builder>,
     pending: Vec<Move>,
@@ -221,6 +239,7 @@ impl<'p> Recovery<'p> {
             comments: Vec::new(),
             in_cycle: None,
             dwell: None,
+            peck: None,
             stock: None,
             current: None,
             pending: Vec::new(),
@@ -287,8 +306,19 @@ impl<'p> Recovery<'p> {
                 }
                 self.name_pending = entry.name.is_none();
                 // A comment on the tool-change block or the one before names the tool.
-                let near: Vec<String> = self.comments.iter().filter(|(l, _)| *l + 1 >= c.line).map(|(_, s)| s.clone()).collect();
-                for s in near {
+                // A comment on the tool-change block or up to three lines before names the tool.
+                // The closest one stating a diameter or a kind wins, else the closest.
+                let near: Vec<&String> = self.comments.iter().rev().filter(|(l, _)| *l + 3 >= c.line).map(|(_, s)| s).collect();
+                let best = near
+                    .iter()
+                    .find(|s| {
+                        let f = parse_tool_comment(s);
+                        f.diameter.is_some() || f.kind.is_some()
+                    })
+                    .or(near.first())
+                    .map(|s| s.to_string());
+                self.comments.clear();
+                if let Some(s) = best {
                     self.name_tool(&s);
                 }
             }
@@ -318,6 +348,7 @@ impl<'p> Recovery<'p> {
             CanonOp::CycleBegin(intent) => {
                 self.in_cycle = Some(intent.kind);
                 self.dwell = intent.dwell;
+                self.peck = intent.peck.map(|q| self.mm(q));
             }
             CanonOp::CycleEnd => self.in_cycle = None,
             CanonOp::StraightTraverse(p) => {
@@ -432,11 +463,33 @@ impl<'p> Recovery<'p> {
                 tool: self.tool,
                 technology: tech,
                 moves,
-                holes: Vec::new(),
                 dwell: None,
+                peck: None,
                 source: c.origin,
                 lines: (first_line, c.line),
+                tentative: None,
+                cut_feed: None,
             });
+        }
+        // A retract and re-entry with the same tool and plunge feed may still start the next
+        // operation (roughing, then finishing at another feed): decided at the first cut.
+        if !restart
+            && !self.pending.is_empty()
+            && !operation.is_hole()
+            && let Some(b) = self.current.as_mut()
+        {
+            let lifts = self.pending.iter().take_while(|m| is_lift(m)).count();
+            let line = self.pending.first().map_or(c.line, |m| m.line);
+            b.tentative = Some(Tentative { at: b.moves.len(), lifts, source: b.source, last_line: b.lines.1, origin: c.origin, line });
+        }
+        let is_cut = mv.kind != MoveKind::Rapid && !is_plunge(&mv);
+        if is_cut
+            && let Some(b) = self.current.as_mut()
+            && let Some(t) = b.tentative.take()
+            && b.cut_feed.is_some_and(|f| (f - mv.feed).abs() > EPS)
+        {
+            let now = self.technology();
+            self.split(t, c, now);
         }
         let Some(b) = self.current.as_mut() else { return };
         for mut m in self.pending.drain(..) {
@@ -445,6 +498,9 @@ impl<'p> Recovery<'p> {
         }
         if mv.kind != MoveKind::Rapid && !b.technology.feeds.iter().any(|f| (f - self.feed).abs() < EPS) {
             b.technology.feeds.push(self.feed);
+        }
+        if is_cut {
+            b.cut_feed = Some(mv.feed);
         }
         b.moves.push(mv);
         b.source = b.source.cover(c.origin);
@@ -455,6 +511,49 @@ impl<'p> Recovery<'p> {
         if operation.is_hole() && self.dwell.is_some() {
             b.dwell = self.dwell;
         }
+        if operation.is_hole() && b.peck.is_none() {
+            b.peck = self.peck;
+        }
+    }
+
+    /// Ends the current workingstep at a tentative boundary and starts the next with the
+    /// moves after it.
+    fn split(&mut self, t: Tentative, c: &Canon, technology: Technology) {
+        let Some(mut b) = self.current.take() else { return };
+        let mut tail = b.moves.split_off(t.at);
+        let rest = tail.split_off(t.lifts.min(tail.len()));
+        for mut m in tail {
+            m.phase = Phase::Retract;
+            b.moves.push(m);
+        }
+        b.source = t.source;
+        b.lines.1 = t.last_line;
+        let (operation, tool) = (b.operation, b.tool);
+        self.finish(b);
+        let mut moves = rest;
+        for m in &mut moves {
+            m.phase = Phase::Approach;
+        }
+        let mut feeds = vec![technology.feed];
+        for m in moves.iter().filter(|m| m.kind != MoveKind::Rapid) {
+            if !feeds.iter().any(|f| (f - m.feed).abs() < EPS) {
+                feeds.push(m.feed);
+            }
+        }
+        let technology =
+            Technology { feed: moves.iter().find(|m| m.kind != MoveKind::Rapid).map_or(technology.feed, |m| m.feed), feeds, ..technology };
+        self.current = Some(Builder {
+            operation,
+            tool,
+            technology,
+            moves,
+            dwell: None,
+            peck: None,
+            source: t.origin.cover(c.origin),
+            lines: (t.line, c.line),
+            tentative: None,
+            cut_feed: None,
+        });
     }
 
     /// Ends the current workingstep; pending rapids that only lift stay with it as retract,
@@ -481,24 +580,6 @@ impl<'p> Recovery<'p> {
 
     fn finish(&mut self, mut b: Builder) {
         refine_phases(&mut b.moves);
-        let mut bbox = None;
-        let mut depth: Option<f64> = None;
-        let mut cutting_length = 0.0;
-        let mut samples = Vec::new();
-        for m in b.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid) {
-            cutting_length += geom::length(m);
-            samples.clear();
-            geom::extend(&mut bbox, m.from);
-            geom::sample(m, &mut samples);
-            for &pt in &samples {
-                geom::extend(&mut bbox, pt);
-                depth = Some(depth.map_or(pt[2], |d: f64| d.min(pt[2])));
-            }
-        }
-        let start_point = b.moves.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
-        if b.operation.is_hole() {
-            b.holes = holes(&b.moves, b.dwell);
-        }
         // The highest rapid on the way in or between cuts; the retract may go home.
         let rapid_z = |phases: &[Phase]| {
             b.moves.iter().filter(|m| m.kind == MoveKind::Rapid && phases.contains(&m.phase)).map(|m| m.to[2]).reduce(f64::max)
@@ -507,13 +588,13 @@ impl<'p> Recovery<'p> {
             .or_else(|| rapid_z(&[Phase::Retract, Phase::Cut]))
             .unwrap_or_else(|| b.moves.iter().flat_map(|m| [m.from[2], m.to[2]]).fold(f64::NEG_INFINITY, f64::max));
         let index = self.done.len() as u32 + 1;
-        self.done.push(Workingstep {
+        let mut ws = Workingstep {
             index,
             operation: b.operation,
             tool: b.tool,
             technology: b.technology,
-            start_point,
-            depth,
+            start_point: None,
+            depth: None,
             security_plane,
             feature: None,
             strategy: None,
@@ -521,14 +602,48 @@ impl<'p> Recovery<'p> {
             radial_depth: None,
             allowance_side: None,
             allowance_bottom: None,
-            bbox,
-            cutting_length,
-            holes: b.holes,
+            bbox: None,
+            cutting_length: 0.0,
+            holes: Vec::new(),
             toolpath: b.moves,
             source: b.source,
             lines: b.lines,
-        });
+        };
+        measure(&mut ws, b.dwell, b.peck);
+        self.done.push(ws);
     }
+}
+
+/// Fills in what a workingstep's toolpath determines: start point, depth, box, cutting
+/// length, holes (for hole making, with `dwell` at each bottom and the cycle's `peck`) and
+/// the list of feeds.
+pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>) {
+    let mut bbox = None;
+    let mut depth: Option<f64> = None;
+    let mut cutting_length = 0.0;
+    let mut samples = Vec::new();
+    for m in ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid) {
+        cutting_length += geom::length(m);
+        samples.clear();
+        geom::extend(&mut bbox, m.from);
+        geom::sample(m, &mut samples);
+        for &pt in &samples {
+            geom::extend(&mut bbox, pt);
+            depth = Some(depth.map_or(pt[2], |d: f64| d.min(pt[2])));
+        }
+    }
+    ws.bbox = bbox;
+    ws.depth = depth;
+    ws.cutting_length = cutting_length;
+    ws.start_point = ws.toolpath.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
+    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck) } else { Vec::new() };
+    let mut feeds = vec![ws.technology.feed];
+    for m in ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid) {
+        if !feeds.iter().any(|f| (f - m.feed).abs() < EPS) {
+            feeds.push(m.feed);
+        }
+    }
+    ws.technology.feeds = feeds;
 }
 
 fn same_tech(a: &Technology, b: &Technology) -> bool {
@@ -571,15 +686,16 @@ fn refine_phases(moves: &mut [Move]) {
 }
 
 /// Hole positions: the bottom of each feed-in within a cycle.
-fn holes(moves: &[Move], dwell: Option<f64>) -> Vec<Hole> {
+fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
     for m in moves.iter().filter(|m| m.kind == MoveKind::Line && is_plunge(m)) {
         match out.last_mut() {
             Some(h) if (h.x - m.to[0]).abs() < EPS && (h.y - m.to[1]).abs() < EPS => {
                 if m.to[2] < h.bottom {
                     h.bottom = m.to[2];
+                    // The cycle's peck when it states one; the longest feed-in otherwise.
                     let step = m.from[2] - m.to[2];
-                    h.peck = Some(h.peck.map_or(step, |p| p.max(step)));
+                    h.peck = Some(peck.unwrap_or_else(|| h.peck.map_or(step, |p| p.max(step))));
                 }
             }
             _ => out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None, dwell }),

@@ -6,7 +6,9 @@ mod cycles;
 mod daemon;
 mod dialects;
 mod macros;
+mod plan;
 mod robustness;
+mod stepnc;
 
 use std::path::{Path, PathBuf};
 

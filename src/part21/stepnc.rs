@@ -1,0 +1,1252 @@
+//! Process plans as ISO 14649 STEP-NC Part 21 files, and back.
+//!
+//! - **CC1** (explicit toolpaths): every workingstep is a TOOLPATH_FEATURE machined by a
+//!   FREEFORM_OPERATION whose TOOLPATH_LIST holds CUTTER_LOCATION_TRAJECTORYs over POLYLINEs
+//!   and TRIMMED_CURVEs of CIRCLEs.
+//! - **CC2** (features): workingsteps machine PLANAR_FACE, ROUND_HOLE (a GENERAL_PATTERN for
+//!   several positions), CLOSED_POCKET, OPEN_POCKET, SLOT, STEP, GENERAL_OUTSIDE_PROFILE or
+//!   TOOLPATH_FEATURE with the ISO 14649-11 operation and strategy; the explicit toolpath
+//!   rides along in each operation's `its_toolpath`.
+//!
+//! Units follow the standard: mm, seconds, degrees, feeds in m/s, spindle speeds in rev/s
+//! with a negative value for clockwise (M3). What ISO 14649 has no attribute for (source
+//! lines and bytes, where a tool fact came from, a step's width) is written as `key=value`
+//! words in the `its_id` strings, so that [`read`] gives back the plan [`write`] was given.
+
+use std::collections::BTreeMap;
+
+use super::{Builder, Exchange, Header, Instance, Value};
+use crate::canon::Units;
+use crate::diag::{Code, Diagnostic};
+use crate::plan::{self, *};
+use crate::text::TextRange;
+
+/// Conformance class.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Class {
+    /// Explicit toolpaths.
+    Cc1,
+    /// Features and operations.
+    Cc2,
+}
+
+const RAPID: &str = "RAPID";
+
+/// Writes `plan` as a Part 21 exchange with the given header timestamp. Returns the
+/// exchange and findings (stock or diameters unknown).
+pub fn write(plan: &ProcessPlan, class: Class, timestamp: &str) -> (Exchange, Vec<Diagnostic>) {
+    let plan = if class == Class::Cc1 { toolpaths_only(plan) } else { plan.clone() };
+    let mut w =
+        Writer { b: Builder::default(), tech: BTreeMap::new(), functions: BTreeMap::new(), tools: BTreeMap::new(), diags: Vec::new() };
+    let root = w.b.add("PROJECT", Vec::new());
+    let rawpiece = match &plan.workpiece {
+        Some(s) => {
+            let pos = w.placement(s.origin, None);
+            let source = match s.source {
+                StockSource::Config => "stock from config",
+                StockSource::Program => "stock from program",
+            };
+            let block =
+                w.b.add("BLOCK", vec![Value::str(source), pos, Value::Real(s.size[0]), Value::Real(s.size[1]), Value::Real(s.size[2])]);
+            Some(w.b.add(
+                "WORKPIECE",
+                vec![Value::str("rawpiece"), Value::Null, Value::Null, Value::Null, Value::Null, block, Value::List(vec![])],
+            ))
+        }
+        None => {
+            w.diags.push(Diagnostic::new(
+                Code::StockUnknown,
+                TextRange::default(),
+                "the stock is not known (no [stock] in config, no stock comment in the program); the workpiece has no rawpiece block",
+            ));
+            None
+        }
+    };
+    let workpiece = w.b.add(
+        "WORKPIECE",
+        vec![
+            Value::str("workpiece"),
+            Value::Null,
+            Value::Null,
+            rawpiece.unwrap_or(Value::Null),
+            Value::Null,
+            Value::Null,
+            Value::List(vec![]),
+        ],
+    );
+    // Operations first (features list them), then features, then workingsteps.
+    let ops: Vec<Value> = plan.workingsteps.iter().map(|ws| w.operation(&plan, ws, class)).collect();
+    let mut features: BTreeMap<u32, Value> = BTreeMap::new();
+    for f in &plan.features {
+        let f_ops: Vec<Value> = f.workingsteps.iter().filter_map(|i| ops.get(*i as usize - 1).cloned()).collect();
+        let v = w.feature(f, &workpiece, f_ops);
+        features.insert(f.id, v);
+    }
+    let mut elements = Vec::new();
+    let mut loaded: Option<u32> = None;
+    for (ws, op) in plan.workingsteps.iter().zip(&ops) {
+        if loaded != Some(ws.tool) {
+            let tool = w.tool(&plan, ws.tool);
+            elements.push(w.b.add("LOAD_TOOL", vec![Value::str(format!("load T{}", ws.tool)), tool]));
+            loaded = Some(ws.tool);
+        }
+        let sec = w.plane("security plane", [0.0, 0.0, ws.security_plane]);
+        let feature = ws.feature.and_then(|f| features.get(&f).cloned()).unwrap_or(Value::Null);
+        let id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
+        elements.push(w.b.add("MACHINING_WORKINGSTEP", vec![Value::str(id), sec, feature, op.clone(), Value::Null]));
+    }
+    // Tools that never cut still appear, loaded at the end.
+    for t in &plan.tools {
+        if !plan.workingsteps.iter().any(|ws| ws.tool == t.number) {
+            let tool = w.tool(&plan, t.number);
+            elements.push(w.b.add("LOAD_TOOL", vec![Value::str(format!("load T{}", t.number)), tool]));
+        }
+    }
+    let origin = w.placement([0.0; 3], None);
+    let top = plan.workingsteps.iter().map(|ws| ws.security_plane).fold(0.0, f64::max);
+    let setup_sec = w.plane("setup security plane", [0.0, 0.0, top]);
+    let wp_origin = w.placement([0.0; 3], None);
+    let wp_setup = w.b.add("WORKPIECE_SETUP", vec![workpiece.clone(), wp_origin, Value::Null, Value::Null, Value::List(vec![])]);
+    let setup = w.b.add("SETUP", vec![Value::str("setup"), origin, setup_sec, Value::List(vec![wp_setup])]);
+    let units = match plan.units {
+        Some(Units::Mm) => " units=mm",
+        Some(Units::Inch) => " units=inch",
+        None => "",
+    };
+    let workplan =
+        w.b.add("WORKPLAN", vec![Value::str(format!("main workplan{units}")), Value::List(elements), Value::Null, setup, Value::Null]);
+    w.b.set(
+        &root,
+        vec![
+            Value::str(plan.program.clone().unwrap_or_default()),
+            workplan,
+            Value::List(vec![workpiece]),
+            Value::Null,
+            Value::Null,
+            Value::Null,
+        ],
+    );
+    let header = Header {
+        description: vec![match class {
+            Class::Cc1 => "ncplan process plan, ISO 14649 conformance class 1 (explicit toolpaths)".into(),
+            Class::Cc2 => "ncplan process plan, ISO 14649 conformance class 2 (features)".into(),
+        }],
+        name: plan.program.clone().unwrap_or_default(),
+        timestamp: timestamp.to_owned(),
+        system: concat!("ncplan ", env!("CARGO_PKG_VERSION")).into(),
+        schemas: vec!["MACHINING_SCHEMA".into(), "MILLING_SCHEMA".into()],
+    };
+    let diags = w.diags;
+    (w.b.finish(header, &root), diags)
+}
+
+/// The plan as CC1 keeps it: every workingstep a freeform operation on its own toolpath
+/// feature, without features, strategies or hole data.
+pub fn toolpaths_only(plan: &ProcessPlan) -> ProcessPlan {
+    let mut p = plan.clone();
+    p.features.clear();
+    for ws in &mut p.workingsteps {
+        ws.operation = Operation::FreeformMilling;
+        ws.strategy = Some(explicit());
+        ws.axial_depth = None;
+        ws.radial_depth = None;
+        ws.allowance_side = None;
+        ws.allowance_bottom = None;
+        ws.holes.clear();
+        ws.feature = Some(ws.index);
+        p.features.push(Feature {
+            id: ws.index,
+            kind: FeatureKind::Toolpath,
+            placement: [0.0; 3],
+            depth: 0.0,
+            top_inferred: false,
+            workingsteps: vec![ws.index],
+            source: ws.source,
+            lines: ws.lines,
+        });
+    }
+    p
+}
+
+fn explicit() -> Strategy {
+    Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap: None }
+}
+
+struct Writer {
+    b: Builder,
+    tech: BTreeMap<(u64, u64, u8), Value>,
+    functions: BTreeMap<u8, Value>,
+    tools: BTreeMap<u32, Value>,
+    diags: Vec<Diagnostic>,
+}
+
+fn spindle_rev_s(t: &Technology) -> f64 {
+    match t.spindle {
+        SpindleDir::Cw => -t.spindle_speed / 60.0,
+        SpindleDir::Ccw => t.spindle_speed / 60.0,
+        SpindleDir::Off => 0.0,
+    }
+}
+
+impl Writer {
+    fn point(&mut self, name: &str, p: P3) -> Value {
+        self.b.add("CARTESIAN_POINT", vec![Value::str(name), Value::List(p.iter().map(|v| Value::Real(*v)).collect())])
+    }
+
+    fn direction(&mut self, d: P3) -> Value {
+        self.b.add("DIRECTION", vec![Value::str(""), Value::List(d.iter().map(|v| Value::Real(*v)).collect())])
+    }
+
+    fn placement(&mut self, at: P3, axis: Option<P3>) -> Value {
+        let loc = self.point("", at);
+        let axis = axis.map_or(Value::Null, |a| self.direction(a));
+        self.b.add("AXIS2_PLACEMENT_3D", vec![Value::str(""), loc, axis, Value::Null])
+    }
+
+    fn plane(&mut self, name: &str, at: P3) -> Value {
+        let pos = self.placement(at, None);
+        self.b.add("PLANE", vec![Value::str(name), pos])
+    }
+
+    fn tlm(&mut self, v: f64) -> Value {
+        let tol = self.b.add("PLUS_MINUS_VALUE", vec![Value::Real(0.0), Value::Real(0.0), Value::Int(4)]);
+        self.b.add("TOLERANCED_LENGTH_MEASURE", vec![Value::Real(v), tol])
+    }
+
+    fn technology(&mut self, t: &Technology, feed: f64) -> Value {
+        let key = (feed.to_bits(), t.spindle_speed.to_bits(), t.spindle as u8);
+        if let Some(v) = self.tech.get(&key) {
+            return v.clone();
+        }
+        let v = self.b.add(
+            "MILLING_TECHNOLOGY",
+            vec![
+                Value::Real(feed / 60_000.0),
+                Value::Enum("TCP".into()),
+                Value::Null,
+                Value::Real(spindle_rev_s(t)),
+                Value::Null,
+                Value::bool(false),
+                Value::bool(false),
+                Value::bool(false),
+                Value::Null,
+            ],
+        );
+        self.tech.insert(key, v.clone());
+        v
+    }
+
+    fn machine_functions(&mut self, c: Coolant) -> Value {
+        let (flood, mist) = match c {
+            Coolant::Off => (false, false),
+            Coolant::Mist => (false, true),
+            Coolant::Flood => (true, false),
+            Coolant::Both => (true, true),
+        };
+        if let Some(v) = self.functions.get(&(c as u8)) {
+            return v.clone();
+        }
+        let v = self.b.add(
+            "MILLING_MACHINE_FUNCTIONS",
+            vec![
+                Value::bool(flood),
+                Value::Null,
+                Value::bool(mist),
+                Value::bool(false),
+                Value::Null,
+                Value::List(vec![]),
+                Value::bool(false),
+                Value::Null,
+                Value::Null,
+                Value::List(vec![]),
+            ],
+        );
+        self.functions.insert(c as u8, v.clone());
+        v
+    }
+
+    fn tool(&mut self, plan: &ProcessPlan, number: u32) -> Value {
+        if let Some(v) = self.tools.get(&number) {
+            return v.clone();
+        }
+        let t = plan.tool(number).cloned().unwrap_or(Tool {
+            number,
+            name: None,
+            kind: ToolKind::Unknown,
+            kind_source: ToolSource::Unknown,
+            diameter: None,
+            corner_radius: None,
+            flutes: None,
+            length_offset: None,
+            source: ToolSource::Unknown,
+        });
+        if t.diameter.is_none() {
+            self.diags.push(Diagnostic::new(
+                Code::DiameterUnknown,
+                TextRange::default(),
+                format!("the diameter of tool T{number} is not known (no tool table entry, no CAM comment); written as 0"),
+            ));
+        }
+        let dim = self.b.add(
+            "MILLING_TOOL_DIMENSION",
+            vec![
+                Value::Real(t.diameter.unwrap_or(0.0)),
+                Value::Null,
+                Value::Null,
+                Value::Null,
+                Value::opt_real(t.corner_radius),
+                Value::Null,
+                Value::Null,
+            ],
+        );
+        let body_name = match t.kind {
+            ToolKind::EndMill | ToolKind::Unknown => "ENDMILL",
+            ToolKind::BallEndMill => "BALL_ENDMILL",
+            ToolKind::BullnoseEndMill => "BULLNOSE_ENDMILL",
+            ToolKind::FaceMill => "FACEMILL",
+            ToolKind::TwistDrill => "TWIST_DRILL",
+            ToolKind::CenterDrill => "CENTERDRILL",
+            ToolKind::Reamer => "REAMER",
+            ToolKind::Tap => "TAP",
+            // ISO 14649-111 (2002) has no boring bar; a counterbore is the nearest body.
+            ToolKind::BoringTool => "COUNTERBORE",
+            ToolKind::Countersink => "COUNTERSINK",
+        };
+        let mut body_attrs = vec![dim, t.flutes.map_or(Value::Null, |n| Value::Int(i64::from(n))), Value::Null, Value::Null, Value::Null];
+        if t.kind == ToolKind::Countersink {
+            body_attrs.push(Value::Null);
+        }
+        let body = self.b.add(body_name, body_attrs);
+        let component = self.b.add(
+            "CUTTING_COMPONENT",
+            vec![Value::Real(t.length_offset.unwrap_or(0.0)), Value::Null, Value::Null, Value::Null, Value::Null],
+        );
+        let mut id = format!("T{} kind={} kind_source={} source={}", t.number, t.kind.as_str(), t.kind_source.as_str(), t.source.as_str());
+        if let Some(n) = &t.name {
+            id.push_str(" name=");
+            id.push_str(n);
+        }
+        let v = self
+            .b
+            .add("MILLING_CUTTING_TOOL", vec![Value::str(id), body, Value::List(vec![component]), Value::Null, Value::Null, Value::Null]);
+        self.tools.insert(number, v.clone());
+        v
+    }
+
+    fn toolpath(&mut self, ws: &Workingstep) -> Value {
+        let mut trajectories = Vec::new();
+        let mut i = 0;
+        let mut last_end: Option<(P3, Value)> = None;
+        while i < ws.toolpath.len() {
+            let first = &ws.toolpath[i];
+            let rapid = first.kind == MoveKind::Rapid;
+            let mut j = i + 1;
+            while j < ws.toolpath.len() {
+                let m = &ws.toolpath[j];
+                if m.phase != first.phase || (m.kind == MoveKind::Rapid) != rapid || m.feed.to_bits() != first.feed.to_bits() {
+                    break;
+                }
+                j += 1;
+            }
+            let group = &ws.toolpath[i..j];
+            let start = match &last_end {
+                Some((p, v)) if *p == group[0].from => v.clone(),
+                _ => self.point("", group[0].from),
+            };
+            let curve = if group.iter().all(|m| m.kind != MoveKind::Arc) {
+                let mut points = vec![start];
+                for m in group {
+                    points.push(self.point(&format!("L{}", m.line), m.to));
+                }
+                last_end = Some((group[group.len() - 1].to, points[points.len() - 1].clone()));
+                self.b.add("POLYLINE", vec![Value::str(""), Value::List(points)])
+            } else {
+                let mut segments = Vec::new();
+                let mut from = start;
+                for (k, m) in group.iter().enumerate() {
+                    let to = self.point(&format!("L{}", m.line), m.to);
+                    let curve = match (m.kind, m.center, m.axis, m.turns) {
+                        (MoveKind::Arc, Some(c), Some(axis), Some(turns)) => {
+                            let pos = self.placement(c, Some(axis));
+                            let r = geom::dist(m.from, c);
+                            let circle = self.b.add("CIRCLE", vec![Value::str(""), pos, Value::Real(r)]);
+                            let sweep = plan::geom::sweep(m).to_degrees();
+                            let param = |v: f64| Value::Typed("PARAMETER_VALUE".into(), Box::new(Value::Real(v)));
+                            self.b.add(
+                                "TRIMMED_CURVE",
+                                vec![
+                                    Value::str(""),
+                                    circle,
+                                    Value::List(vec![from.clone(), param(0.0)]),
+                                    Value::List(vec![to.clone(), param(sweep.abs())]),
+                                    Value::bool(turns > 0),
+                                    Value::Enum("CARTESIAN".into()),
+                                ],
+                            )
+                        }
+                        _ => self.b.add("POLYLINE", vec![Value::str(""), Value::List(vec![from.clone(), to.clone()])]),
+                    };
+                    let transition = if k + 1 == group.len() { "DISCONTINUOUS" } else { "CONTINUOUS" };
+                    segments.push(self.b.add("COMPOSITE_CURVE_SEGMENT", vec![Value::Enum(transition.into()), Value::bool(true), curve]));
+                    from = to;
+                }
+                last_end = Some((group[group.len() - 1].to, from));
+                self.b.add("COMPOSITE_CURVE", vec![Value::str(""), Value::List(segments), Value::Enum("F".into())])
+            };
+            let ty = match first.phase {
+                Phase::Approach => "APPROACH",
+                Phase::Cut => "CONTACT",
+                Phase::Connect => "CONNECT",
+                Phase::Retract => "LIFT",
+            };
+            let (speed, tech) = if rapid {
+                (Value::Typed("SPEED_NAME".into(), Box::new(Value::Enum(RAPID.into()))), Value::Null)
+            } else {
+                (Value::Null, self.technology(&ws.technology, first.feed))
+            };
+            trajectories.push(self.b.add(
+                "CUTTER_LOCATION_TRAJECTORY",
+                vec![Value::bool(true), Value::Enum(ty.into()), speed, tech, Value::Null, Value::Null, curve, Value::Null, Value::Null],
+            ));
+            i = j;
+        }
+        if trajectories.is_empty() {
+            return Value::Null;
+        }
+        self.b.add("TOOLPATH_LIST", vec![Value::List(trajectories)])
+    }
+
+    fn strategy(&mut self, s: &Strategy) -> Value {
+        let overlap = Value::opt_real(s.overlap);
+        let dir = |w: &mut Writer| s.feed_direction.map_or(Value::Null, |d| w.direction(d));
+        let rot = s.rotation.map_or(Value::Null, |r| Value::Enum(if r == Rotation::Cw { "CW" } else { "CCW" }.into()));
+        let cut = s.cutmode.map_or(Value::Null, |c| Value::Enum(if c == CutMode::Climb { "CLIMB" } else { "CONVENTIONAL" }.into()));
+        match s.kind {
+            StrategyKind::Bidirectional => {
+                let d = dir(self);
+                self.b.add("BIDIRECTIONAL", vec![overlap, Value::Null, d, Value::Null, Value::Null])
+            }
+            StrategyKind::Unidirectional => {
+                let d = dir(self);
+                self.b.add("UNIDIRECTIONAL", vec![overlap, Value::Null, d, cut])
+            }
+            StrategyKind::ContourParallel => self.b.add("CONTOUR_PARALLEL", vec![overlap, Value::Null, rot, cut]),
+            StrategyKind::ContourSpiral => self.b.add("CONTOUR_SPIRAL", vec![overlap, Value::Null, rot, cut]),
+            StrategyKind::CenterMilling => self.b.add("CENTER_MILLING", vec![overlap, Value::Null]),
+            StrategyKind::Explicit => self.b.add("EXPLICIT_STRATEGY", vec![overlap, Value::Null]),
+        }
+    }
+
+    fn operation(&mut self, plan: &ProcessPlan, ws: &Workingstep, class: Class) -> Value {
+        let toolpath = self.toolpath(ws);
+        let start = ws.start_point.map_or(Value::Null, |p| self.point("start", p));
+        let tool = self.tool(plan, ws.tool);
+        let tech = self.technology(&ws.technology, ws.technology.feed);
+        let functions = self.machine_functions(ws.technology.coolant);
+        let mut id = format!("OP{}", ws.index);
+        // Plane milling has no radial depth attribute.
+        if let (Operation::PlaneRoughMilling | Operation::PlaneFinishMilling, Some(s)) = (ws.operation, ws.radial_depth)
+            && class == Class::Cc2
+        {
+            id.push_str(&format!(" stepover={s}"));
+        }
+        if ws.technology.spindle == SpindleDir::Off && ws.technology.spindle_speed != 0.0 {
+            id.push_str(&format!(" stopped_spindle_speed={}", ws.technology.spindle_speed));
+        }
+        let mut attrs = vec![toolpath, Value::Null, Value::str(id), Value::Null, start, tool, tech, functions, Value::Null];
+        let op = if class == Class::Cc1 { Operation::FreeformMilling } else { ws.operation };
+        let strategy =
+            |w: &mut Writer| ws.strategy.as_ref().filter(|s| s.kind != StrategyKind::Explicit).map_or(Value::Null, |s| w.strategy(s));
+        let r = Value::opt_real;
+        let name = match op {
+            Operation::FreeformMilling => {
+                attrs.extend([Value::Null, Value::Null, Value::Null]);
+                "FREEFORM_OPERATION"
+            }
+            Operation::PlaneRoughMilling | Operation::PlaneFinishMilling => {
+                attrs.extend([Value::Null, Value::Null, strategy(self), r(ws.axial_depth), r(ws.allowance_bottom)]);
+                if op == Operation::PlaneRoughMilling { "PLANE_ROUGH_MILLING" } else { "PLANE_FINISH_MILLING" }
+            }
+            Operation::SideRoughMilling | Operation::SideFinishMilling => {
+                attrs.extend([Value::Null, Value::Null, strategy(self), r(ws.axial_depth), r(ws.radial_depth), r(ws.allowance_side)]);
+                if op == Operation::SideRoughMilling { "SIDE_ROUGH_MILLING" } else { "SIDE_FINISH_MILLING" }
+            }
+            Operation::BottomAndSideRoughMilling | Operation::BottomAndSideFinishMilling => {
+                attrs.extend([
+                    Value::Null,
+                    Value::Null,
+                    strategy(self),
+                    r(ws.axial_depth),
+                    r(ws.radial_depth),
+                    r(ws.allowance_side),
+                    r(ws.allowance_bottom),
+                ]);
+                if op == Operation::BottomAndSideRoughMilling { "BOTTOM_AND_SIDE_ROUGH_MILLING" } else { "BOTTOM_AND_SIDE_FINISH_MILLING" }
+            }
+            hole => {
+                let depth = ws.holes.first().map(|h| h.r_plane - h.bottom);
+                let dwell = ws.holes.first().and_then(|h| h.dwell);
+                attrs.extend([r(depth), Value::Null, r(dwell), Value::Null, Value::Null]);
+                match hole {
+                    Operation::MultistepDrilling => {
+                        let peck = ws.holes.iter().filter_map(|h| h.peck).reduce(f64::max).or(ws.axial_depth).unwrap_or(0.0);
+                        attrs.extend([Value::Real(0.0), Value::Real(peck), Value::Real(peck), Value::Null]);
+                        "MULTISTEP_DRILLING"
+                    }
+                    Operation::Reaming | Operation::Boring => {
+                        let stop =
+                            ws.toolpath.iter().any(|m| m.phase == Phase::Retract && m.kind == MoveKind::Rapid) && hole == Operation::Boring;
+                        attrs.extend([Value::bool(stop), Value::Null, Value::Null]);
+                        if hole == Operation::Reaming { "REAMING" } else { "BORING" }
+                    }
+                    Operation::Tapping => {
+                        attrs.push(Value::bool(false));
+                        "TAPPING"
+                    }
+                    Operation::CenterDrilling => "CENTER_DRILLING",
+                    Operation::BackBoring => "BACK_BORING",
+                    _ => "DRILLING",
+                }
+            }
+        };
+        self.b.add(name, attrs)
+    }
+
+    fn curve(&mut self, c: &Contour) -> Value {
+        if c.segments.iter().all(|s| s.arc.is_none()) {
+            let mut points = vec![self.point("", [c.start[0], c.start[1], 0.0])];
+            for s in &c.segments {
+                points.push(self.point("", [s.to[0], s.to[1], 0.0]));
+            }
+            return self.b.add("POLYLINE", vec![Value::str(""), Value::List(points)]);
+        }
+        let mut segments = Vec::new();
+        let mut from = self.point("", [c.start[0], c.start[1], 0.0]);
+        let mut from_xy = c.start;
+        for (k, s) in c.segments.iter().enumerate() {
+            let to = self.point("", [s.to[0], s.to[1], 0.0]);
+            let curve = match s.arc {
+                None => self.b.add("POLYLINE", vec![Value::str(""), Value::List(vec![from.clone(), to.clone()])]),
+                Some((centre, ccw)) => {
+                    let pos = self.placement([centre[0], centre[1], 0.0], Some([0.0, 0.0, 1.0]));
+                    let r = (from_xy[0] - centre[0]).hypot(from_xy[1] - centre[1]);
+                    let circle = self.b.add("CIRCLE", vec![Value::str(""), pos, Value::Real(r)]);
+                    let param = |v: f64| Value::Typed("PARAMETER_VALUE".into(), Box::new(Value::Real(v)));
+                    let a0 = (from_xy[1] - centre[1]).atan2(from_xy[0] - centre[0]).to_degrees();
+                    let a1 = (s.to[1] - centre[1]).atan2(s.to[0] - centre[0]).to_degrees();
+                    self.b.add(
+                        "TRIMMED_CURVE",
+                        vec![
+                            Value::str(""),
+                            circle,
+                            Value::List(vec![from.clone(), param(a0)]),
+                            Value::List(vec![to.clone(), param(a1)]),
+                            Value::bool(ccw),
+                            Value::Enum("CARTESIAN".into()),
+                        ],
+                    )
+                }
+            };
+            let closed_end = k + 1 == c.segments.len() && !c.is_closed();
+            let transition = if closed_end { "DISCONTINUOUS" } else { "CONTINUOUS" };
+            segments.push(self.b.add("COMPOSITE_CURVE_SEGMENT", vec![Value::Enum(transition.into()), Value::bool(true), curve]));
+            from = to;
+            from_xy = s.to;
+        }
+        self.b.add("COMPOSITE_CURVE", vec![Value::str(""), Value::List(segments), Value::Enum("F".into())])
+    }
+
+    fn feature(&mut self, f: &Feature, workpiece: &Value, ops: Vec<Value>) -> Value {
+        let mut id = format!("F{}", f.id);
+        if f.top_inferred {
+            id.push_str(" top=inferred");
+        }
+        if let FeatureKind::Step { width, .. } = &f.kind {
+            id.push_str(&format!(" width={width}"));
+        }
+        let common = |w: &mut Writer, placement: P3, depth: f64, ops: Vec<Value>| {
+            let place = w.placement(placement, Some([0.0, 0.0, 1.0]));
+            let depth = w.plane("depth", [0.0, 0.0, -depth]);
+            vec![Value::str(id.clone()), workpiece.clone(), Value::List(ops), place, depth]
+        };
+        match &f.kind {
+            FeatureKind::RoundHole { diameter, bottom, positions } => {
+                let (base_place, base_ops) = if positions.len() > 1 { ([0.0; 3], Vec::new()) } else { (f.placement, ops.clone()) };
+                let mut attrs = common(self, base_place, f.depth, base_ops);
+                if diameter.is_none() {
+                    self.diags.push(Diagnostic::new(
+                        Code::DiameterUnknown,
+                        f.source,
+                        format!("feature {}: the hole diameter is not known (the tool's is not); written as 0", f.id),
+                    ));
+                }
+                let d = self.tlm(diameter.unwrap_or(0.0));
+                let bottom = match bottom {
+                    HoleBottom::Through => self.b.add("THROUGH_BOTTOM_CONDITION", vec![]),
+                    HoleBottom::Flat => self.b.add("FLAT_HOLE_BOTTOM", vec![]),
+                    HoleBottom::Conical(angle) => self.b.add("CONICAL_HOLE_BOTTOM", vec![Value::Real(*angle), Value::Null]),
+                };
+                attrs.extend([d, Value::Null, bottom]);
+                let hole = self.b.add("ROUND_HOLE", attrs);
+                if positions.len() < 2 {
+                    return hole;
+                }
+                let place = self.placement(f.placement, Some([0.0, 0.0, 1.0]));
+                let locations: Vec<Value> = positions.iter().map(|p| self.placement([p[0], p[1], 0.0], None)).collect();
+                let mut pid = format!("F{} pattern", f.id);
+                if f.top_inferred {
+                    pid.push_str(" top=inferred");
+                }
+                self.b
+                    .add("GENERAL_PATTERN", vec![Value::str(pid), workpiece.clone(), Value::List(ops), place, hole, Value::List(locations)])
+            }
+            FeatureKind::PlanarFace { direction, length, width } => {
+                let mut attrs = common(self, f.placement, f.depth, ops);
+                let len = self.tlm(*length);
+                let dir = self.direction(*direction);
+                let course = self.b.add("LINEAR_PATH", vec![Value::Null, len, dir]);
+                let wparam = self.b.add("NUMERIC_PARAMETER", vec![Value::str("width"), Value::Real(*width), Value::str("mm")]);
+                let removal = self.b.add("LINEAR_PROFILE", vec![Value::Null, wparam]);
+                attrs.extend([course, removal, Value::Null, Value::List(vec![])]);
+                self.b.add("PLANAR_FACE", attrs)
+            }
+            FeatureKind::ClosedPocket { boundary, rectangle, corner_radius } => {
+                let mut attrs = common(self, f.placement, f.depth, ops);
+                let bottom = self.b.add("PLANAR_POCKET_BOTTOM_CONDITION", vec![]);
+                let radius = corner_radius.map_or(Value::Null, |r| self.tlm(r));
+                let profile = match rectangle {
+                    Some((w, l)) => {
+                        let (w, l) = (self.tlm(*w), self.tlm(*l));
+                        self.b.add("RECTANGULAR_CLOSED_PROFILE", vec![Value::Null, w, l])
+                    }
+                    None => {
+                        let c = self.curve(boundary);
+                        self.b.add("GENERAL_CLOSED_PROFILE", vec![Value::Null, c])
+                    }
+                };
+                attrs.extend([Value::List(vec![]), Value::Null, bottom, radius, Value::Null, profile]);
+                self.b.add("CLOSED_POCKET", attrs)
+            }
+            FeatureKind::OpenPocket { boundary } => {
+                let mut attrs = common(self, f.placement, f.depth, ops);
+                let bottom = self.b.add("PLANAR_POCKET_BOTTOM_CONDITION", vec![]);
+                let c = self.curve(boundary);
+                let profile = self.b.add("GENERAL_PROFILE", vec![Value::Null, c]);
+                attrs.extend([Value::List(vec![]), Value::Null, bottom, Value::Null, Value::Null, profile, Value::Null]);
+                self.b.add("OPEN_POCKET", attrs)
+            }
+            FeatureKind::Slot { path, width } => {
+                let mut attrs = common(self, f.placement, f.depth, ops);
+                let c = self.curve(path);
+                let course = self.b.add("GENERAL_PATH", vec![Value::Null, c]);
+                let w = self.tlm(*width);
+                let (r1, r2) = (self.tlm(0.0), self.tlm(0.0));
+                let shape = self.b.add("SQUARE_U_PROFILE", vec![Value::Null, w, r1, Value::Real(90.0), r2, Value::Real(90.0)]);
+                let ends = vec![self.b.add("RADIUSED_SLOT_END_TYPE", vec![]), self.b.add("RADIUSED_SLOT_END_TYPE", vec![])];
+                attrs.extend([course, shape, Value::List(ends)]);
+                self.b.add("SLOT", attrs)
+            }
+            FeatureKind::Step { direction, length, .. } => {
+                let mut attrs = common(self, f.placement, f.depth, ops);
+                let len = self.tlm(*length);
+                let dir = self.direction(*direction);
+                let edge = self.b.add("LINEAR_PATH", vec![Value::Null, len, dir]);
+                attrs.extend([edge, Value::Null, Value::List(vec![])]);
+                self.b.add("STEP", attrs)
+            }
+            FeatureKind::OutsideProfile { boundary } => {
+                let mut attrs = common(self, f.placement, f.depth, ops);
+                let len = self.tlm(f.depth);
+                let down = self.direction([0.0, 0.0, -1.0]);
+                let swept = self.b.add("LINEAR_PATH", vec![Value::Null, len, down]);
+                let c = self.curve(boundary);
+                let profile = self.b.add("GENERAL_CLOSED_PROFILE", vec![Value::Null, c]);
+                attrs.extend([swept, profile]);
+                self.b.add("GENERAL_OUTSIDE_PROFILE", attrs)
+            }
+            FeatureKind::Toolpath => {
+                let attrs = common(self, f.placement, f.depth, ops);
+                self.b.add("TOOLPATH_FEATURE", attrs)
+            }
+        }
+    }
+}
+
+use crate::plan::geom;
+
+/// Reads a plan back from an exchange [`write`] produced (either class).
+pub fn read(x: &Exchange) -> Result<ProcessPlan, String> {
+    let r = Reader { x };
+    r.plan()
+}
+
+struct Reader<'a> {
+    x: &'a Exchange,
+}
+
+/// `key=value` words after the first word of an id; a `name=` value runs to the end.
+fn words(id: &str) -> (String, BTreeMap<String, String>) {
+    let (head, rest) = id.split_once(' ').unwrap_or((id, ""));
+    let mut map = BTreeMap::new();
+    let mut rest = rest;
+    while !rest.is_empty() {
+        if let Some(v) = rest.strip_prefix("name=") {
+            map.insert("name".to_owned(), v.to_owned());
+            break;
+        }
+        let (w, tail) = rest.split_once(' ').unwrap_or((rest, ""));
+        if let Some((k, v)) = w.split_once('=') {
+            map.insert(k.to_owned(), v.to_owned());
+        } else {
+            map.insert(w.to_owned(), String::new());
+        }
+        rest = tail;
+    }
+    (head.to_owned(), map)
+}
+
+/// A converted unit read back: the shortest decimal with 12 significant digits, so that
+/// `240 / 60000 * 60000` is 240 again.
+fn snap(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
+}
+
+impl Reader<'_> {
+    fn inst(&self, v: &Value) -> Result<&Instance, String> {
+        let id = v.as_ref_id().ok_or_else(|| format!("expected a reference, found {v:?}"))?;
+        self.x.get(id).ok_or_else(|| format!("#{id} is not defined"))
+    }
+
+    fn attr<'v>(&self, i: &'v Instance, k: usize) -> Result<&'v Value, String> {
+        i.attrs.get(k).ok_or_else(|| format!("{} has no attribute {k}", i.name))
+    }
+
+    fn real(&self, i: &Instance, k: usize) -> Result<f64, String> {
+        self.attr(i, k)?.as_real().ok_or_else(|| format!("{} attribute {k} is not a real", i.name))
+    }
+
+    fn opt_real(&self, i: &Instance, k: usize) -> Result<Option<f64>, String> {
+        match self.attr(i, k)? {
+            Value::Null => Ok(None),
+            v => v.as_real().map(Some).ok_or_else(|| format!("{} attribute {k} is not a real", i.name)),
+        }
+    }
+
+    fn string(&self, i: &Instance, k: usize) -> Result<String, String> {
+        Ok(self.attr(i, k)?.as_str().unwrap_or_default().to_owned())
+    }
+
+    fn point(&self, v: &Value) -> Result<(P3, String), String> {
+        let p = self.inst(v)?;
+        let c = self.attr(p, 1)?.as_list().ok_or("a point without coordinates")?;
+        let get = |k: usize| c.get(k).and_then(Value::as_real).unwrap_or(0.0);
+        Ok(([get(0), get(1), get(2)], self.string(p, 0)?))
+    }
+
+    fn direction(&self, v: &Value) -> Result<P3, String> {
+        let d = self.inst(v)?;
+        let c = self.attr(d, 1)?.as_list().ok_or("a direction without ratios")?;
+        let get = |k: usize| c.get(k).and_then(Value::as_real).unwrap_or(0.0);
+        Ok([get(0), get(1), get(2)])
+    }
+
+    fn placement(&self, v: &Value) -> Result<P3, String> {
+        let a = self.inst(v)?;
+        Ok(self.point(self.attr(a, 1)?)?.0)
+    }
+
+    fn plane_z(&self, v: &Value) -> Result<f64, String> {
+        let p = self.inst(v)?;
+        Ok(self.placement(self.attr(p, 1)?)?[2])
+    }
+
+    fn tlm(&self, v: &Value) -> Result<f64, String> {
+        let t = self.inst(v)?;
+        self.real(t, 0)
+    }
+
+    fn plan(&self) -> Result<ProcessPlan, String> {
+        let project = self.x.ids_of("PROJECT").next().and_then(|id| self.x.get(id)).ok_or("no PROJECT")?;
+        let program = self.string(project, 0)?;
+        let workplan = self.inst(self.attr(project, 1)?)?;
+        let (_, wp_words) = words(&self.string(workplan, 0)?);
+        let units = match wp_words.get("units").map(String::as_str) {
+            Some("mm") => Some(Units::Mm),
+            Some("inch") => Some(Units::Inch),
+            _ => None,
+        };
+        let workpiece = self.workpiece(project)?;
+        let mut plan = ProcessPlan {
+            program: (!program.is_empty()).then_some(program),
+            units,
+            tools: Vec::new(),
+            workingsteps: Vec::new(),
+            features: Vec::new(),
+            workpiece,
+        };
+        let mut tools: BTreeMap<u32, Tool> = BTreeMap::new();
+        let mut feature_ids: BTreeMap<u64, u32> = BTreeMap::new();
+        let elements = self.attr(workplan, 1)?.as_list().ok_or("WORKPLAN without elements")?;
+        for e in elements {
+            let inst = self.inst(e)?;
+            match inst.name.as_str() {
+                "LOAD_TOOL" => {
+                    let t = self.tool(self.attr(inst, 1)?)?;
+                    tools.insert(t.number, t);
+                }
+                "MACHINING_WORKINGSTEP" => {
+                    let ws = self.workingstep(inst, &mut plan, &mut tools, &mut feature_ids)?;
+                    plan.workingsteps.push(ws);
+                }
+                other => return Err(format!("unexpected workplan element {other}")),
+            }
+        }
+        for f in &mut plan.features {
+            plan::feature::feature_source(f, &plan.workingsteps);
+        }
+        plan.tools = tools.into_values().collect();
+        Ok(plan)
+    }
+
+    fn workpiece(&self, project: &Instance) -> Result<Option<Stock>, String> {
+        let Some(wp) = self.attr(project, 2)?.as_list().and_then(|l| l.first()) else { return Ok(None) };
+        let wp = self.inst(wp)?;
+        let raw = self.attr(wp, 3)?;
+        if *raw == Value::Null {
+            return Ok(None);
+        }
+        let raw = self.inst(raw)?;
+        let block = self.attr(raw, 5)?;
+        if *block == Value::Null {
+            return Ok(None);
+        }
+        let block = self.inst(block)?;
+        let source = if self.string(block, 0)?.ends_with("config") { StockSource::Config } else { StockSource::Program };
+        let origin = self.placement(self.attr(block, 1)?)?;
+        Ok(Some(Stock { origin, size: [self.real(block, 2)?, self.real(block, 3)?, self.real(block, 4)?], source }))
+    }
+
+    fn tool(&self, v: &Value) -> Result<Tool, String> {
+        let t = self.inst(v)?;
+        let (head, w) = words(&self.string(t, 0)?);
+        let number: u32 = head.trim_start_matches('T').parse().map_err(|_| format!("tool id {head:?}"))?;
+        let body = self.inst(self.attr(t, 1)?)?;
+        let dim = self.inst(self.attr(body, 0)?)?;
+        let diameter = self.real(dim, 0)?;
+        let flutes = match self.attr(body, 1)? {
+            Value::Int(n) => Some(*n as u32),
+            _ => None,
+        };
+        let component = self.attr(t, 2)?.as_list().and_then(|l| l.first()).ok_or("a tool without cutting component")?;
+        let offset = self.real(self.inst(component)?, 0)?;
+        let parse_source = |k: &str| w.get(k).and_then(|s| ToolSource::parse(s)).unwrap_or(ToolSource::Unknown);
+        Ok(Tool {
+            number,
+            name: w.get("name").cloned(),
+            kind: w.get("kind").and_then(|k| ToolKind::parse(k)).unwrap_or(ToolKind::Unknown),
+            kind_source: parse_source("kind_source"),
+            diameter: (diameter != 0.0).then_some(diameter),
+            corner_radius: self.opt_real(dim, 4)?,
+            flutes,
+            length_offset: (offset != 0.0).then_some(offset),
+            source: parse_source("source"),
+        })
+    }
+
+    fn workingstep(
+        &self,
+        inst: &Instance,
+        plan: &mut ProcessPlan,
+        tools: &mut BTreeMap<u32, Tool>,
+        feature_ids: &mut BTreeMap<u64, u32>,
+    ) -> Result<Workingstep, String> {
+        let (head, w) = words(&self.string(inst, 0)?);
+        let index: u32 = head.trim_start_matches("WS").parse().map_err(|_| format!("workingstep id {head:?}"))?;
+        let pair = |s: Option<&String>| -> (u32, u32) {
+            s.and_then(|s| s.split_once('-')).map_or((0, 0), |(a, b)| (a.parse().unwrap_or(0), b.parse().unwrap_or(0)))
+        };
+        let lines = pair(w.get("lines"));
+        let bytes = pair(w.get("bytes"));
+        let security_plane = self.plane_z(self.attr(inst, 1)?)?;
+        let op = self.inst(self.attr(inst, 3)?)?;
+        let tool = self.tool(self.attr(op, 5)?)?;
+        let tool_number = tool.number;
+        tools.insert(tool.number, tool);
+        let tech = self.inst(self.attr(op, 6)?)?;
+        let feed = snap(self.real(tech, 0)? * 60_000.0);
+        let rev_s = self.real(tech, 3)?;
+        let (_, op_words) = words(&self.string(op, 2)?);
+        let (spindle, spindle_speed) = if rev_s < 0.0 {
+            (SpindleDir::Cw, snap(-rev_s * 60.0))
+        } else if rev_s > 0.0 {
+            (SpindleDir::Ccw, snap(rev_s * 60.0))
+        } else {
+            (SpindleDir::Off, op_words.get("stopped_spindle_speed").and_then(|s| s.parse().ok()).unwrap_or(0.0))
+        };
+        let mf = self.inst(self.attr(op, 7)?)?;
+        let flood = self.attr(mf, 0)?.as_enum() == Some("T");
+        let mist = self.attr(mf, 2)?.as_enum() == Some("T");
+        let coolant = match (mist, flood) {
+            (false, false) => Coolant::Off,
+            (true, false) => Coolant::Mist,
+            (false, true) => Coolant::Flood,
+            (true, true) => Coolant::Both,
+        };
+        let toolpath = match self.attr(op, 0)? {
+            Value::Null => Vec::new(),
+            v => self.toolpath(v)?,
+        };
+        let operation = match op.name.as_str() {
+            "FREEFORM_OPERATION" => Operation::FreeformMilling,
+            "PLANE_ROUGH_MILLING" => Operation::PlaneRoughMilling,
+            "PLANE_FINISH_MILLING" => Operation::PlaneFinishMilling,
+            "SIDE_ROUGH_MILLING" => Operation::SideRoughMilling,
+            "SIDE_FINISH_MILLING" => Operation::SideFinishMilling,
+            "BOTTOM_AND_SIDE_ROUGH_MILLING" => Operation::BottomAndSideRoughMilling,
+            "BOTTOM_AND_SIDE_FINISH_MILLING" => Operation::BottomAndSideFinishMilling,
+            "DRILLING" => Operation::Drilling,
+            "CENTER_DRILLING" => Operation::CenterDrilling,
+            "MULTISTEP_DRILLING" => Operation::MultistepDrilling,
+            "REAMING" => Operation::Reaming,
+            "BORING" => Operation::Boring,
+            "BACK_BORING" => Operation::BackBoring,
+            "TAPPING" => Operation::Tapping,
+            other => return Err(format!("unknown operation {other}")),
+        };
+        let mut ws = Workingstep {
+            index,
+            operation,
+            tool: tool_number,
+            technology: Technology { feed, feeds: Vec::new(), spindle_speed, spindle, coolant },
+            start_point: None,
+            depth: None,
+            security_plane,
+            feature: None,
+            strategy: None,
+            axial_depth: None,
+            radial_depth: None,
+            allowance_side: None,
+            allowance_bottom: None,
+            bbox: None,
+            cutting_length: 0.0,
+            holes: Vec::new(),
+            toolpath,
+            source: TextRange::new(bytes.0 as usize, bytes.1 as usize),
+            lines,
+        };
+        let mut dwell = None;
+        match operation {
+            Operation::FreeformMilling => ws.strategy = Some(explicit()),
+            Operation::PlaneRoughMilling | Operation::PlaneFinishMilling => {
+                ws.strategy = self.strategy(self.attr(op, 11)?)?;
+                ws.axial_depth = self.opt_real(op, 12)?;
+                ws.allowance_bottom = self.opt_real(op, 13)?;
+            }
+            Operation::SideRoughMilling | Operation::SideFinishMilling => {
+                ws.strategy = self.strategy(self.attr(op, 11)?)?;
+                ws.axial_depth = self.opt_real(op, 12)?;
+                ws.radial_depth = self.opt_real(op, 13)?;
+                ws.allowance_side = self.opt_real(op, 14)?;
+            }
+            Operation::BottomAndSideRoughMilling | Operation::BottomAndSideFinishMilling => {
+                ws.strategy = self.strategy(self.attr(op, 11)?)?;
+                ws.axial_depth = self.opt_real(op, 12)?;
+                ws.radial_depth = self.opt_real(op, 13)?;
+                ws.allowance_side = self.opt_real(op, 14)?;
+                ws.allowance_bottom = self.opt_real(op, 15)?;
+            }
+            _ => dwell = self.opt_real(op, 11)?,
+        }
+        if matches!(operation, Operation::PlaneRoughMilling | Operation::PlaneFinishMilling) {
+            ws.radial_depth = op_words.get("stepover").and_then(|v| v.parse().ok());
+        }
+        let peck = if operation == Operation::MultistepDrilling { self.opt_real(op, 16)?.filter(|p| *p > 0.0) } else { None };
+        plan::measure(&mut ws, dwell, peck);
+        // The feature, numbered in order of first machining.
+        let fref = self.attr(inst, 2)?;
+        if let Some(fid) = fref.as_ref_id() {
+            let id = match feature_ids.get(&fid) {
+                Some(id) => *id,
+                None => {
+                    let id = feature_ids.len() as u32 + 1;
+                    feature_ids.insert(fid, id);
+                    let f = self.feature(self.inst(fref)?, id)?;
+                    plan.features.push(f);
+                    id
+                }
+            };
+            ws.feature = Some(id);
+            if let Some(f) = plan.features.iter_mut().find(|f| f.id == id) {
+                f.workingsteps.push(index);
+            }
+            if matches!(
+                operation,
+                Operation::MultistepDrilling
+                    | Operation::Drilling
+                    | Operation::Reaming
+                    | Operation::Boring
+                    | Operation::Tapping
+                    | Operation::CenterDrilling
+                    | Operation::BackBoring
+            ) {
+                ws.axial_depth = ws.holes.iter().filter_map(|h| h.peck).reduce(f64::max);
+            }
+        }
+        Ok(ws)
+    }
+
+    fn strategy(&self, v: &Value) -> Result<Option<Strategy>, String> {
+        if *v == Value::Null {
+            return Ok(None);
+        }
+        let s = self.inst(v)?;
+        let overlap = self.opt_real(s, 0)?;
+        let dir = |k: usize| -> Result<Option<P3>, String> {
+            match self.attr(s, k)? {
+                Value::Null => Ok(None),
+                d => self.direction(d).map(Some),
+            }
+        };
+        let rot = |k: usize| -> Result<Option<Rotation>, String> {
+            Ok(match self.attr(s, k)?.as_enum() {
+                Some("CW") => Some(Rotation::Cw),
+                Some("CCW") => Some(Rotation::Ccw),
+                _ => None,
+            })
+        };
+        let cut = |k: usize| -> Result<Option<CutMode>, String> {
+            Ok(match self.attr(s, k)?.as_enum() {
+                Some("CLIMB") => Some(CutMode::Climb),
+                Some("CONVENTIONAL") => Some(CutMode::Conventional),
+                _ => None,
+            })
+        };
+        let mut out = Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap };
+        match s.name.as_str() {
+            "BIDIRECTIONAL" => {
+                out.kind = StrategyKind::Bidirectional;
+                out.feed_direction = dir(2)?;
+            }
+            "UNIDIRECTIONAL" => {
+                out.kind = StrategyKind::Unidirectional;
+                out.feed_direction = dir(2)?;
+                out.cutmode = cut(3)?;
+            }
+            "CONTOUR_PARALLEL" | "CONTOUR_SPIRAL" => {
+                out.kind = if s.name == "CONTOUR_PARALLEL" { StrategyKind::ContourParallel } else { StrategyKind::ContourSpiral };
+                out.rotation = rot(2)?;
+                out.cutmode = cut(3)?;
+            }
+            "CENTER_MILLING" => out.kind = StrategyKind::CenterMilling,
+            "EXPLICIT_STRATEGY" => {}
+            other => return Err(format!("unknown strategy {other}")),
+        }
+        Ok(Some(out))
+    }
+
+    fn toolpath(&self, v: &Value) -> Result<Vec<Move>, String> {
+        let list = self.inst(v)?;
+        let mut moves = Vec::new();
+        for t in self.attr(list, 0)?.as_list().ok_or("TOOLPATH_LIST without a list")? {
+            let t = self.inst(t)?;
+            let phase = match self.attr(t, 1)?.as_enum() {
+                Some("APPROACH") => Phase::Approach,
+                Some("LIFT") => Phase::Retract,
+                Some("CONNECT") => Phase::Connect,
+                _ => Phase::Cut,
+            };
+            let rapid = self.attr(t, 2)?.as_enum() == Some(RAPID);
+            let feed = match self.attr(t, 3)? {
+                Value::Null => 0.0,
+                tech => snap(self.real(self.inst(tech)?, 0)? * 60_000.0),
+            };
+            let curve = self.inst(self.attr(t, 6)?)?;
+            let mut push = |from: P3, to: P3, name: &str, arc: Option<(P3, P3, i32)>| {
+                let line = name.trim_start_matches('L').parse().unwrap_or(0);
+                let kind = if arc.is_some() {
+                    MoveKind::Arc
+                } else if rapid {
+                    MoveKind::Rapid
+                } else {
+                    MoveKind::Line
+                };
+                moves.push(Move {
+                    kind,
+                    phase,
+                    from,
+                    to,
+                    center: arc.map(|a| a.0),
+                    axis: arc.map(|a| a.1),
+                    turns: arc.map(|a| a.2),
+                    feed,
+                    line,
+                });
+            };
+            match curve.name.as_str() {
+                "POLYLINE" => {
+                    let pts = self.attr(curve, 1)?.as_list().ok_or("POLYLINE without points")?;
+                    let pts: Vec<(P3, String)> = pts.iter().map(|p| self.point(p)).collect::<Result<_, _>>()?;
+                    for w in pts.windows(2) {
+                        push(w[0].0, w[1].0, &w[1].1, None);
+                    }
+                }
+                "COMPOSITE_CURVE" => {
+                    for seg in self.attr(curve, 1)?.as_list().ok_or("COMPOSITE_CURVE without segments")? {
+                        let c = self.inst(self.attr(self.inst(seg)?, 2)?)?;
+                        match c.name.as_str() {
+                            "POLYLINE" => {
+                                let pts = self.attr(c, 1)?.as_list().ok_or("POLYLINE without points")?;
+                                let (a, _) = self.point(&pts[0])?;
+                                let (b, name) = self.point(&pts[pts.len() - 1])?;
+                                push(a, b, &name, None);
+                            }
+                            "TRIMMED_CURVE" => {
+                                let circle = self.inst(self.attr(c, 1)?)?;
+                                let pos = self.inst(self.attr(circle, 1)?)?;
+                                let centre = self.point(self.attr(pos, 1)?)?.0;
+                                let axis = self.direction(self.attr(pos, 2)?)?;
+                                let t1 = self.attr(c, 2)?.as_list().ok_or("trim")?;
+                                let t2 = self.attr(c, 3)?.as_list().ok_or("trim")?;
+                                let (a, _) = self.point(&t1[0])?;
+                                let (b, name) = self.point(&t2[0])?;
+                                let sweep = t2.get(1).and_then(Value::as_real).unwrap_or(0.0);
+                                let ccw = self.attr(c, 4)?.as_enum() == Some("T");
+                                let n = ((sweep.abs() / 360.0 - 1e-9).ceil() as i32).max(1);
+                                push(a, b, &name, Some((centre, axis, if ccw { n } else { -n })));
+                            }
+                            other => return Err(format!("unexpected curve {other}")),
+                        }
+                    }
+                }
+                other => return Err(format!("unexpected toolpath curve {other}")),
+            }
+        }
+        Ok(moves)
+    }
+
+    fn contour(&self, v: &Value) -> Result<Contour, String> {
+        let c = self.inst(v)?;
+        let xy = |p: P3| [p[0], p[1]];
+        match c.name.as_str() {
+            "POLYLINE" => {
+                let pts: Vec<P3> =
+                    self.attr(c, 1)?.as_list().ok_or("points")?.iter().map(|p| self.point(p).map(|q| q.0)).collect::<Result<_, _>>()?;
+                Ok(Contour { start: xy(pts[0]), segments: pts[1..].iter().map(|p| Segment { to: xy(*p), arc: None }).collect() })
+            }
+            "COMPOSITE_CURVE" => {
+                let mut start = None;
+                let mut segments = Vec::new();
+                for seg in self.attr(c, 1)?.as_list().ok_or("segments")? {
+                    let s = self.inst(self.attr(self.inst(seg)?, 2)?)?;
+                    match s.name.as_str() {
+                        "POLYLINE" => {
+                            let pts = self.attr(s, 1)?.as_list().ok_or("points")?;
+                            start.get_or_insert(xy(self.point(&pts[0])?.0));
+                            segments.push(Segment { to: xy(self.point(&pts[pts.len() - 1])?.0), arc: None });
+                        }
+                        "TRIMMED_CURVE" => {
+                            let circle = self.inst(self.attr(s, 1)?)?;
+                            let centre = self.placement(self.attr(circle, 1)?)?;
+                            let t1 = self.attr(s, 2)?.as_list().ok_or("trim")?;
+                            let t2 = self.attr(s, 3)?.as_list().ok_or("trim")?;
+                            start.get_or_insert(xy(self.point(&t1[0])?.0));
+                            let ccw = self.attr(s, 4)?.as_enum() == Some("T");
+                            segments.push(Segment { to: xy(self.point(&t2[0])?.0), arc: Some((xy(centre), ccw)) });
+                        }
+                        other => return Err(format!("unexpected curve {other}")),
+                    }
+                }
+                Ok(Contour { start: start.unwrap_or([0.0; 2]), segments })
+            }
+            other => Err(format!("unexpected profile curve {other}")),
+        }
+    }
+
+    fn feature(&self, f: &Instance, id: u32) -> Result<Feature, String> {
+        let (_, w) = words(&self.string(f, 0)?);
+        let top_inferred = w.get("top").is_some_and(|v| v == "inferred");
+        let placement = self.placement(self.attr(f, 3)?)?;
+        let depth = if f.name == "GENERAL_PATTERN" { 0.0 } else { -self.plane_z(self.attr(f, 4)?)? };
+        let mut feature = Feature {
+            id,
+            kind: FeatureKind::Toolpath,
+            placement,
+            depth,
+            top_inferred,
+            workingsteps: Vec::new(),
+            source: TextRange::default(),
+            lines: (0, 0),
+        };
+        let hole = |h: &Instance, positions: Vec<P2>| -> Result<FeatureKind, String> {
+            let d = self.tlm(self.attr(h, 5)?)?;
+            let bottom = self.inst(self.attr(h, 7)?)?;
+            let bottom = match bottom.name.as_str() {
+                "THROUGH_BOTTOM_CONDITION" => HoleBottom::Through,
+                "CONICAL_HOLE_BOTTOM" => HoleBottom::Conical(self.real(bottom, 0)?),
+                _ => HoleBottom::Flat,
+            };
+            Ok(FeatureKind::RoundHole { diameter: (d != 0.0).then_some(d), bottom, positions })
+        };
+        feature.kind = match f.name.as_str() {
+            "ROUND_HOLE" => hole(f, vec![[0.0, 0.0]])?,
+            "GENERAL_PATTERN" => {
+                let base = self.inst(self.attr(f, 4)?)?;
+                feature.depth = -self.plane_z(self.attr(base, 4)?)?;
+                let positions = self
+                    .attr(f, 5)?
+                    .as_list()
+                    .ok_or("pattern locations")?
+                    .iter()
+                    .map(|p| self.placement(p).map(|q| [q[0], q[1]]))
+                    .collect::<Result<_, _>>()?;
+                hole(base, positions)?
+            }
+            "PLANAR_FACE" => {
+                let course = self.inst(self.attr(f, 5)?)?;
+                let length = self.tlm(self.attr(course, 1)?)?;
+                let direction = self.direction(self.attr(course, 2)?)?;
+                let removal = self.inst(self.attr(f, 6)?)?;
+                let width = self.real(self.inst(self.attr(removal, 1)?)?, 1)?;
+                FeatureKind::PlanarFace { direction, length, width }
+            }
+            "CLOSED_POCKET" => {
+                let corner_radius = match self.attr(f, 8)? {
+                    Value::Null => None,
+                    v => Some(self.tlm(v)?),
+                };
+                let profile = self.inst(self.attr(f, 10)?)?;
+                if profile.name == "RECTANGULAR_CLOSED_PROFILE" {
+                    let (wd, l) = (self.tlm(self.attr(profile, 1)?)?, self.tlm(self.attr(profile, 2)?)?);
+                    FeatureKind::ClosedPocket {
+                        boundary: plan::feature::rect_contour(wd, l, corner_radius),
+                        rectangle: Some((wd, l)),
+                        corner_radius,
+                    }
+                } else {
+                    FeatureKind::ClosedPocket { boundary: self.contour(self.attr(profile, 1)?)?, rectangle: None, corner_radius }
+                }
+            }
+            "OPEN_POCKET" => {
+                let profile = self.inst(self.attr(f, 10)?)?;
+                FeatureKind::OpenPocket { boundary: self.contour(self.attr(profile, 1)?)? }
+            }
+            "SLOT" => {
+                let course = self.inst(self.attr(f, 5)?)?;
+                let shape = self.inst(self.attr(f, 6)?)?;
+                FeatureKind::Slot { path: self.contour(self.attr(course, 1)?)?, width: self.tlm(self.attr(shape, 1)?)? }
+            }
+            "STEP" => {
+                let edge = self.inst(self.attr(f, 5)?)?;
+                let width = w.get("width").and_then(|v| v.parse().ok()).unwrap_or(0.0);
+                FeatureKind::Step { direction: self.direction(self.attr(edge, 2)?)?, length: self.tlm(self.attr(edge, 1)?)?, width }
+            }
+            "GENERAL_OUTSIDE_PROFILE" => {
+                let profile = self.inst(self.attr(f, 6)?)?;
+                FeatureKind::OutsideProfile { boundary: self.contour(self.attr(profile, 1)?)? }
+            }
+            "TOOLPATH_FEATURE" => FeatureKind::Toolpath,
+            other => return Err(format!("unknown feature {other}")),
+        };
+        Ok(feature)
+    }
+}
