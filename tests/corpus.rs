@@ -1,7 +1,8 @@
 //! Data-driven corpus tests (libtest-mimic, one trial per file):
 //!
 //! - `check/<dialect>/<file>`: every program of `../shared/corpus` goes through analysis
-//!   without panicking, and its diagnostics point inside the text.
+//!   without panicking, and its diagnostics point inside the text; its plan, written as
+//!   STEP-NC CC1 and CC2, conforms to the ISO 14649 signatures and reads back unchanged.
 //! - `canon/<file>`: `ncplan canon` agrees with LinuxCNC's `rs274 -g` (goldens in
 //!   `tests/golden/rs274`, made by `tests/golden/regen.sh`) to 1e-4, ignoring calls that
 //!   are LinuxCNC-internal. Programs listed in `tests/golden/rs274/KNOWN_DIFFERENCES` are
@@ -87,6 +88,23 @@ fn check(path: &Path, dialect: &ncplan::dialect::Dialect) -> Result<(), Failed> 
     for d in &a.diagnostics {
         if d.range.end > len || !a.source.text.is_char_boundary(d.range.start as usize) {
             return Err(format!("diagnostic outside the text: {d:?}").into());
+        }
+    }
+    use ncplan::part21::stepnc::{self, Class};
+    for class in [Class::Cc1, Class::Cc2] {
+        let (x, _) = stepnc::write(&a.plan, class, "2026-01-01T00:00:00");
+        let findings = ncplan::part21::schema::iso14649().check(&x);
+        if !findings.is_empty() {
+            return Err(format!("{class:?} does not conform:\n{}", findings.join("\n")).into());
+        }
+        let text = ncplan::part21::write(&x);
+        let back = stepnc::read(&ncplan::part21::parse(&text)?)?;
+        let expected = if class == Class::Cc1 { stepnc::toolpaths_only(&a.plan) } else { a.plan.clone() };
+        if back != expected {
+            let (a, b) = (serde_json::to_string_pretty(&expected)?, serde_json::to_string_pretty(&back)?);
+            let at = a.lines().zip(b.lines()).position(|(x, y)| x != y).unwrap_or(0);
+            let context = |t: &str| t.lines().skip(at.saturating_sub(6)).take(8).collect::<Vec<_>>().join("\n");
+            return Err(format!("{class:?} does not read back to the same plan:\n{}\n---- read back:\n{}", context(&a), context(&b)).into());
         }
     }
     Ok(())

@@ -612,12 +612,25 @@ impl Parser<'_> {
                     out.push(u8::from_str_radix(hex, 16).map_or('?', char::from));
                     self.i += 5;
                 }
-                Some(_) => {
-                    let rest = std::str::from_utf8(&self.s[self.i..])
-                        .unwrap_or_else(|e| std::str::from_utf8(&self.s[self.i..self.i + e.valid_up_to()]).unwrap_or(""));
-                    let c = rest.chars().next().unwrap_or('?');
-                    out.push(c);
-                    self.i += c.len_utf8().max(1);
+                Some(b) => {
+                    // One UTF-8 character (the standard wants ASCII; be lenient).
+                    let len = match b {
+                        0xF0..=0xF7 => 4,
+                        0xE0..=0xEF => 3,
+                        0xC0..=0xDF => 2,
+                        _ => 1,
+                    };
+                    let end = (self.i + len).min(self.s.len());
+                    match std::str::from_utf8(&self.s[self.i..end]) {
+                        Ok(c) => {
+                            out.push_str(c);
+                            self.i = end;
+                        }
+                        Err(_) => {
+                            out.push('\u{FFFD}');
+                            self.i += 1;
+                        }
+                    }
                 }
             }
         }

@@ -166,17 +166,17 @@ impl Schema {
             return items.iter().try_for_each(|i| self.value(x, i, elem, false));
         }
         match ty {
-            "real" | "number" => return if v.as_real().is_some() { Ok(()) } else { Err(format!("expected a real, found {v:?}")) },
-            "integer" => return if matches!(v, Value::Int(_)) { Ok(()) } else { Err(format!("expected an integer, found {v:?}")) },
-            "string" => return if matches!(v, Value::Str(_)) { Ok(()) } else { Err(format!("expected a string, found {v:?}")) },
+            "real" | "number" => return if v.as_real().is_some() { Ok(()) } else { Err(format!("expected a real, found {}", brief(v))) },
+            "integer" => return if matches!(v, Value::Int(_)) { Ok(()) } else { Err(format!("expected an integer, found {}", brief(v))) },
+            "string" => return if matches!(v, Value::Str(_)) { Ok(()) } else { Err(format!("expected a string, found {}", brief(v))) },
             "boolean" | "logical" => {
                 let ok = matches!(v.as_enum(), Some("T" | "F")) || ty == "logical" && v.as_enum() == Some("U");
-                return if ok { Ok(()) } else { Err(format!("expected a {ty}, found {v:?}")) };
+                return if ok { Ok(()) } else { Err(format!("expected a {ty}, found {}", brief(v))) };
             }
             _ => {}
         }
         if self.entities.contains_key(ty) {
-            let Value::Ref(r) = v else { return Err(format!("expected a reference to {ty}, found {v:?}")) };
+            let Value::Ref(r) = v else { return Err(format!("expected a reference to {ty}, found {}", brief(v))) };
             let Some(target) = x.get(*r) else { return Err(format!("#{r} is not defined")) };
             let tname = target.name.to_ascii_lowercase();
             return if self.is_a(&tname, ty) { Ok(()) } else { Err(format!("#{r} is {}, not a {ty}", target.name)) };
@@ -185,7 +185,7 @@ impl Schema {
             Some(Type::Alias(a)) => self.value(x, v, a, false),
             Some(Type::Enumeration(lits)) => match v.as_enum() {
                 Some(e) if lits.iter().any(|l| l.eq_ignore_ascii_case(e)) => Ok(()),
-                _ => Err(format!("expected one of .{}., found {v:?}", lits.join(".|.").to_ascii_uppercase())),
+                _ => Err(format!("expected one of .{}., found {}", lits.join(".|.").to_ascii_uppercase(), brief(v))),
             },
             Some(Type::Select(members)) => {
                 if let Value::Typed(name, inner) = v {
@@ -199,7 +199,7 @@ impl Schema {
                 if members.iter().any(|m| self.value(x, v, m, false).is_ok()) {
                     Ok(())
                 } else {
-                    Err(format!("{v:?} fits no member of the select {ty}"))
+                    Err(format!("{} fits no member of the select {ty}", brief(v)))
                 }
             }
             None => Err(format!("type {ty} is not in the schema")),
@@ -208,5 +208,15 @@ impl Schema {
 
     fn select_has(&self, members: &[String], name: &str) -> bool {
         members.iter().any(|m| m == name || matches!(self.types.get(m), Some(Type::Select(inner)) if self.select_has(inner, name)))
+    }
+}
+
+/// A short description of a value for messages (aggregates can be huge).
+fn brief(v: &Value) -> String {
+    match v {
+        Value::List(items) => format!("a list of {}", items.len()),
+        Value::Typed(name, _) => format!("{name}(..)"),
+        Value::Str(s) if s.len() > 40 => "a long string".into(),
+        other => format!("{other:?}"),
     }
 }

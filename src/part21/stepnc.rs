@@ -450,8 +450,13 @@ impl Writer {
         {
             id.push_str(&format!(" stepover={s}"));
         }
+        // A spindle value is signed by direction: a stopped spindle's speed, and the direction
+        // of a turning spindle at speed 0, have no attribute.
         if ws.technology.spindle == SpindleDir::Off && ws.technology.spindle_speed != 0.0 {
             id.push_str(&format!(" stopped_spindle_speed={}", ws.technology.spindle_speed));
+        }
+        if ws.technology.spindle != SpindleDir::Off && ws.technology.spindle_speed == 0.0 {
+            id.push_str(if ws.technology.spindle == SpindleDir::Cw { " spindle=cw" } else { " spindle=ccw" });
         }
         let mut attrs = vec![toolpath, Value::Null, Value::str(id), Value::Null, start, tool, tech, functions, Value::Null];
         let op = if class == Class::Cc1 { Operation::FreeformMilling } else { ws.operation };
@@ -705,10 +710,10 @@ fn words(id: &str) -> (String, BTreeMap<String, String>) {
     (head.to_owned(), map)
 }
 
-/// A converted unit read back: the shortest decimal with 12 significant digits, so that
+/// A converted unit read back, rounded as plan recovery rounds rates, so that
 /// `240 / 60000 * 60000` is 240 again.
 fn snap(v: f64) -> f64 {
-    format!("{v:.11e}").parse().unwrap_or(v)
+    plan::round_sig(v)
 }
 
 impl Reader<'_> {
@@ -881,7 +886,11 @@ impl Reader<'_> {
         } else if rev_s > 0.0 {
             (SpindleDir::Ccw, snap(rev_s * 60.0))
         } else {
-            (SpindleDir::Off, op_words.get("stopped_spindle_speed").and_then(|s| s.parse().ok()).unwrap_or(0.0))
+            match op_words.get("spindle").map(String::as_str) {
+                Some("cw") => (SpindleDir::Cw, 0.0),
+                Some("ccw") => (SpindleDir::Ccw, 0.0),
+                _ => (SpindleDir::Off, op_words.get("stopped_spindle_speed").and_then(|s| s.parse().ok()).unwrap_or(0.0)),
+            }
         };
         let mf = self.inst(self.attr(op, 7)?)?;
         let flood = self.attr(mf, 0)?.as_enum() == Some("T");

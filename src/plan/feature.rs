@@ -13,6 +13,8 @@
 //! - one open path → a slot as wide as the tool;
 //! - anything else, or cutting that is not at constant levels → a toolpath feature.
 
+use std::collections::BTreeMap;
+
 use super::model::*;
 
 const EPS: f64 = 1e-6;
@@ -24,7 +26,8 @@ pub fn recognise(plan: &mut ProcessPlan) {
     for i in 0..plan.workingsteps.len() {
         let ws = &plan.workingsteps[i];
         let tool = plan.tool(ws.tool).cloned();
-        let cand = if ws.operation.is_hole() {
+        // Holes along another axis than Z (cycles in G18/G19) are not recognised yet.
+        let cand = if ws.operation.is_hole() && !ws.holes.is_empty() {
             hole(ws, tool.as_ref(), plan.workpiece.as_ref())
         } else {
             milling(ws, tool.as_ref(), plan.workpiece.as_ref())
@@ -613,12 +616,16 @@ fn step_side(n: [bool; 4], u: P2) -> Option<bool> {
 /// Splits a chain into the closed loops it traces (a point met again closes a loop) and the
 /// pieces between them.
 fn split_loops(chain: &[Piece]) -> (Vec<Vec<Piece>>, Vec<Piece>) {
+    // Start points of the open pieces, quantised to 1e-4 mm, for a lookup in log time.
+    let key = |p: P2| ((p[0] * 1e4).round() as i64, (p[1] * 1e4).round() as i64);
     let mut loops = Vec::new();
     let mut rest = Vec::new();
     let mut open: Vec<Piece> = Vec::new();
+    let mut starts: BTreeMap<(i64, i64), usize> = BTreeMap::new();
     for p in chain {
+        starts.entry(key(p.from)).or_insert(open.len());
         open.push(*p);
-        if let Some(k) = open.iter().position(|q| dist(q.from, p.to) < 1e-4) {
+        if let Some(&k) = starts.get(&key(p.to)) {
             let lp: Vec<Piece> = open.drain(k..).collect();
             if lp.len() >= 2 || lp[0].arc.is_some() {
                 loops.push(lp);
@@ -626,6 +633,7 @@ fn split_loops(chain: &[Piece]) -> (Vec<Vec<Piece>>, Vec<Piece>) {
                 rest.extend(lp);
             }
             rest.append(&mut open);
+            starts.clear();
         }
     }
     rest.extend(open);

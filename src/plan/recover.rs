@@ -269,8 +269,8 @@ impl<'p> Recovery<'p> {
                 self.k = u.to_mm();
             }
             CanonOp::SelectPlane(p) => self.plane = *p,
-            CanonOp::SetFeedRate(f) => self.feed = self.mm(*f),
-            CanonOp::SetSpindleSpeed(s) => self.speed = *s,
+            CanonOp::SetFeedRate(f) => self.feed = round_sig(self.mm(*f)),
+            CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
             CanonOp::StartSpindleClockwise => self.spindle = SpindleDir::Cw,
             CanonOp::StartSpindleCounterclockwise => self.spindle = SpindleDir::Ccw,
             // A boring cycle's spindle stop is part of the cycle, not of the technology.
@@ -612,6 +612,12 @@ impl<'p> Recovery<'p> {
         measure(&mut ws, b.dwell, b.peck);
         self.done.push(ws);
     }
+}
+
+/// A rate rounded to 12 significant digits: feeds converted from inches carry no
+/// floating-point noise (`9999 × 25.4` is 253974.6), so they survive unit conversions.
+pub fn round_sig(v: f64) -> f64 {
+    if v.is_finite() { format!("{v:.11e}").parse().unwrap_or(v) } else { v }
 }
 
 /// Fills in what a workingstep's toolpath determines: start point, depth, box, cutting
