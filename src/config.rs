@@ -403,6 +403,13 @@ mod tests {
         let c = Config::parse(include_str!("../config/ncplan.production.toml"), Path::new("/")).unwrap();
         assert!(c.profile.programs.is_some());
         assert_eq!(c.profile.home2[0], -400.0);
+        let t = &c.profile.tools[&7];
+        assert_eq!((t.kind.as_deref(), t.corner_radius, t.flutes), (Some("bullnose_end_mill"), Some(0.5), Some(4)));
+        let with_stock =
+            Config::parse("[database]\npath = 'db'\n[stock]\nmin = [0, 0, -30]\nmax = [150, 100, 0]\n", Path::new("/srv")).unwrap();
+        assert_eq!(with_stock.profile.stock, Some([[0.0, 0.0, -30.0], [150.0, 100.0, 0.0]]));
+        assert!(Config::parse("[database]\npath = 'db'\n[stock]\nmin = [0, 0, 0]\nmax = [150, 100, 0]\n", Path::new("/srv")).is_err());
+        assert!(Config::parse("[database]\npath = 'db'\n[[tool]]\nnumber = 1\nkind = 'spoon'\n", Path::new("/srv")).is_err());
     }
 
     #[test]

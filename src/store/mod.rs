@@ -252,6 +252,8 @@ impl Store {
                 params![revision_id, plan, rev.counts.0 as i64, rev.counts.1 as i64],
             )
             .map_err(sql("storing a plan"))?;
+            tx.execute(schema::FILL_WORKINGSTEPS, params![revision_id]).map_err(sql("storing workingsteps"))?;
+            tx.execute(schema::FILL_FEATURES, params![revision_id]).map_err(sql("storing features"))?;
         }
         {
             let mut stmt = tx

@@ -1,8 +1,48 @@
 //! Schema migrations, applied in order; `PRAGMA user_version` holds how many have run.
 //! Never edit a shipped migration: append a new one.
 
+/// Rows of `workingsteps` from the stored plan JSON (SQLite's JSON functions), so that the
+/// tables follow the plan without the store knowing the plan's types.
+macro_rules! fill_workingsteps {
+    () => {
+        "INSERT INTO workingsteps(revision_id, idx, operation, tool, feature, strategy, feed, spindle_speed, spindle, coolant,
+                          depth, security_plane, cutting_length, axial_depth, radial_depth, allowance_side, allowance_bottom,
+                          first_line, last_line)
+SELECT p.revision_id, json_extract(w.value, '$.index'), json_extract(w.value, '$.operation'), json_extract(w.value, '$.tool'),
+       json_extract(w.value, '$.feature'), json_extract(w.value, '$.strategy.kind'), json_extract(w.value, '$.technology.feed'),
+       json_extract(w.value, '$.technology.spindle_speed'), json_extract(w.value, '$.technology.spindle'),
+       json_extract(w.value, '$.technology.coolant'), json_extract(w.value, '$.depth'), json_extract(w.value, '$.security_plane'),
+       json_extract(w.value, '$.cutting_length'), json_extract(w.value, '$.axial_depth'), json_extract(w.value, '$.radial_depth'),
+       json_extract(w.value, '$.allowance_side'), json_extract(w.value, '$.allowance_bottom'),
+       json_extract(w.value, '$.lines[0]'), json_extract(w.value, '$.lines[1]')
+FROM plans p, json_each(p.plan_json, '$.workingsteps') w"
+    };
+}
+
+/// Rows of `features` from the stored plan JSON.
+macro_rules! fill_features {
+    () => {
+        "INSERT INTO features(revision_id, id, kind, x, y, z, depth, diameter, width, length, positions, top_inferred, workingsteps,
+                      first_line, last_line)
+SELECT p.revision_id, json_extract(f.value, '$.id'), json_extract(f.value, '$.kind.type'), json_extract(f.value, '$.placement[0]'),
+       json_extract(f.value, '$.placement[1]'), json_extract(f.value, '$.placement[2]'), json_extract(f.value, '$.depth'),
+       json_extract(f.value, '$.kind.diameter'),
+       COALESCE(json_extract(f.value, '$.kind.width'), json_extract(f.value, '$.kind.rectangle[0]')),
+       COALESCE(json_extract(f.value, '$.kind.length'), json_extract(f.value, '$.kind.rectangle[1]')),
+       json_array_length(f.value, '$.kind.positions'), json_extract(f.value, '$.top_inferred'),
+       json_extract(f.value, '$.workingsteps'), json_extract(f.value, '$.lines[0]'), json_extract(f.value, '$.lines[1]')
+FROM plans p, json_each(p.plan_json, '$.features') f"
+    };
+}
+
+/// Fills `workingsteps` for one revision (`?1`).
+pub const FILL_WORKINGSTEPS: &str = concat!(fill_workingsteps!(), " WHERE p.revision_id = ?1");
+/// Fills `features` for one revision (`?1`).
+pub const FILL_FEATURES: &str = concat!(fill_features!(), " WHERE p.revision_id = ?1");
+
 /// The migrations.
-pub const MIGRATIONS: &[&str] = &[r#"
+pub const MIGRATIONS: &[&str] = &[
+    r#"
 CREATE TABLE machines (
     id      INTEGER PRIMARY KEY,
     name    TEXT NOT NULL UNIQUE,
@@ -99,7 +139,57 @@ JOIN programs p    ON p.id = r.program_id
 LEFT JOIN machines m ON m.id = p.machine_id
 JOIN revisions orv ON orv.id = c.original_revision_id
 JOIN programs op   ON op.id = orv.program_id;
-"#];
+"#,
+    // 2: workingsteps and features as tables, filled from the plans already stored.
+    concat!(
+        "
+CREATE TABLE workingsteps (
+    revision_id      INTEGER NOT NULL REFERENCES revisions(id),
+    idx              INTEGER NOT NULL,
+    operation        TEXT NOT NULL,
+    tool             INTEGER NOT NULL,
+    feature          INTEGER,
+    strategy         TEXT,
+    feed             REAL,
+    spindle_speed    REAL,
+    spindle          TEXT,
+    coolant          TEXT,
+    depth            REAL,
+    security_plane   REAL,
+    cutting_length   REAL,
+    axial_depth      REAL,
+    radial_depth     REAL,
+    allowance_side   REAL,
+    allowance_bottom REAL,
+    first_line       INTEGER,
+    last_line        INTEGER,
+    PRIMARY KEY (revision_id, idx)
+);
+CREATE TABLE features (
+    revision_id  INTEGER NOT NULL REFERENCES revisions(id),
+    id           INTEGER NOT NULL,
+    kind         TEXT NOT NULL,
+    x            REAL,
+    y            REAL,
+    z            REAL,
+    depth        REAL,
+    diameter     REAL,
+    width        REAL,
+    length       REAL,
+    positions    INTEGER,
+    top_inferred INTEGER,
+    workingsteps TEXT,
+    first_line   INTEGER,
+    last_line    INTEGER,
+    PRIMARY KEY (revision_id, id)
+);
+",
+        fill_workingsteps!(),
+        ";\n",
+        fill_features!(),
+        ";\n"
+    ),
+];
 
 #[cfg(test)]
 mod tests {
@@ -116,5 +206,33 @@ mod tests {
         s.conn.execute_batch("INSERT INTO blobs VALUES ('h', 1, x'00')").unwrap();
         assert!(s.conn.execute_batch("UPDATE blobs SET size = 2").is_err());
         assert!(s.conn.execute_batch("DELETE FROM blobs").is_err());
+    }
+
+    #[test]
+    fn the_second_migration_fills_tables_from_stored_plans() {
+        let conn = rusqlite::Connection::open_in_memory().unwrap();
+        conn.execute_batch(super::MIGRATIONS[0]).unwrap();
+        conn.execute_batch(
+            "INSERT INTO programs VALUES (1, 'p', 'cam', NULL, 'p', 'p', 'p', 'fanuc');
+             INSERT INTO blobs VALUES ('h', 1, x'00');
+             INSERT INTO revisions VALUES (7, 1, 'h', 1, NULL, 't', 'utf-8', 'ok');",
+        )
+        .unwrap();
+        let plan = r#"{"workingsteps":[{"index":1,"operation":"drilling","tool":2,"feature":1,"technology":{"feed":120.0,"spindle_speed":1500.0,"spindle":"cw","coolant":"flood"},"security_plane":50.0,"cutting_length":34.0,"lines":[4,9]}],
+                       "features":[{"id":1,"kind":{"type":"round_hole","diameter":8.0,"positions":[[0,0],[40,0]]},"placement":[20,20,2],"depth":17.0,"top_inferred":true,"workingsteps":[1],"lines":[4,9]}]}"#;
+        conn.execute("INSERT INTO plans VALUES (7, ?1, 1, 1)", [plan]).unwrap();
+        conn.execute_batch(super::MIGRATIONS[1]).unwrap();
+        let ws: (i64, String, f64, i64) = conn
+            .query_row("SELECT idx, operation, feed, last_line FROM workingsteps WHERE revision_id = 7", [], |r| {
+                Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?))
+            })
+            .unwrap();
+        assert_eq!(ws, (1, "drilling".into(), 120.0, 9));
+        let f: (String, f64, i64, f64) = conn
+            .query_row("SELECT kind, diameter, positions, depth FROM features WHERE revision_id = 7", [], |r| {
+                Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?))
+            })
+            .unwrap();
+        assert_eq!(f, ("round_hole".into(), 8.0, 2, 17.0));
     }
 }

@@ -118,3 +118,16 @@ fn canon_prints_rs274_calls() {
     "#]]
     .assert_eq(&out);
 }
+
+#[test]
+fn stepnc_writes_part21_to_stdout_and_needs_a_class() {
+    let (code, out, err) = ncplan(&["stepnc", "-d", "fanuc", "demo/cam/O1234.nc", "--cc2", "--timestamp", "2026-01-01T00:00:00"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("ISO-10303-21;\nHEADER;\n"), "{out}");
+    assert!(out.contains("#12=PLANAR_FACE('F1 top=inferred',"), "{out}");
+    assert!(err.contains("warning[stepnc::stock-unknown]"), "{err}");
+    let (code, _, _) = ncplan(&["stepnc", "-d", "fanuc", "demo/cam/O1234.nc"]);
+    assert_eq!(code, 2, "a conformance class is required");
+    let (code, _, _) = ncplan(&["stepnc", "-d", "fanuc", "demo/cam/O1234.nc", "--cc1", "--cc2"]);
+    assert_eq!(code, 2, "one class at a time");
+}

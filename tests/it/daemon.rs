@@ -90,6 +90,14 @@ fn edited_program_yields_exactly_the_two_changes_and_survives_sigkill() {
     assert_eq!(rows(&db, "SELECT * FROM shopfloor_changes").len(), 2);
     assert_eq!(rows(&db, "SELECT id FROM revisions").len(), 2);
     assert!(rows(&db, "SELECT * FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path LIKE '%.tmp'").is_empty());
+    // Plans are queryable as workingsteps and features.
+    assert_eq!(
+        rows(
+            &db,
+            "SELECT DISTINCT w.operation, w.strategy, f.kind FROM workingsteps w JOIN features f ON f.revision_id = w.revision_id AND f.id = w.feature"
+        ),
+        [["plane_finish_milling", "bidirectional", "planar_face"]]
+    );
 
     // SIGKILL mid-run, with more files arriving while it is down.
     let mut daemon = daemon;
