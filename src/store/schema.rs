@@ -36,9 +36,9 @@ FROM plans p, json_each(p.plan_json, '$.features') f"
 }
 
 /// Fills `workingsteps` for one revision (`?1`).
-pub const FILL_WORKINGSTEPS: &str = concat!(fill_workingsteps!(), " WHERE p.revision_id = ?1");
+pub(super) const FILL_WORKINGSTEPS: &str = concat!(fill_workingsteps!(), " WHERE p.revision_id = ?1");
 /// Fills `features` for one revision (`?1`).
-pub const FILL_FEATURES: &str = concat!(fill_features!(), " WHERE p.revision_id = ?1");
+pub(super) const FILL_FEATURES: &str = concat!(fill_features!(), " WHERE p.revision_id = ?1");
 
 /// The migrations.
 pub const MIGRATIONS: &[&str] = &[
