@@ -16,6 +16,7 @@ pub(crate) const PROGRAMS: &[(&str, &str)] = &[
     ("slot", SLOT),
     ("step", STEP),
     ("surface", SURFACE),
+    ("open_pocket", OPEN_POCKET),
 ];
 
 const FACE: &str = "%
@@ -197,6 +198,30 @@ M30
 %
 ";
 
+const OPEN_POCKET: &str = "%
+O8000 (POCKET OPEN TO +X)
+(STOCK X0 Y0 Z-20 X100 Y50 Z0)
+(T4 D10 ENDMILL)
+T4 M06
+G90 G54 G00 X95. Y25. S3000 M03
+G43 Z20. H04
+Z2.
+G01 Z-4. F150.
+X85. Y20. F400.
+X105.
+Y30.
+X85.
+Y20.
+X80. Y15.
+X110.
+Y35.
+X80.
+Y15.
+G00 Z20.
+M30
+%
+";
+
 fn analyze(program: &str) -> ProcessPlan {
     let reg = Registry::shipped();
     pipeline::analyze(program.as_bytes(), &reg.get("fanuc").unwrap(), &Profile::default()).plan
@@ -302,4 +327,14 @@ fn three_d_cutting_stays_a_toolpath_feature() {
     assert_eq!(p.features[0].kind, FeatureKind::Toolpath);
     assert_eq!(p.workingsteps[0].operation, Operation::FreeformMilling);
     assert_eq!(p.tools[0].kind, ToolKind::BallEndMill);
+}
+
+#[test]
+fn a_pocket_through_a_stock_side_is_open() {
+    let p = analyze(OPEN_POCKET);
+    let FeatureKind::OpenPocket { boundary } = &p.features[0].kind else { panic!("{:?}", p.features[0].kind) };
+    assert!(boundary.is_closed());
+    assert_eq!(p.features[0].placement, [75.0, 10.0, 0.0]);
+    assert_eq!(p.features[0].depth, 4.0);
+    assert_eq!(p.workingsteps[0].operation, Operation::BottomAndSideFinishMilling);
 }
