@@ -107,6 +107,8 @@ vocab! {
         CompRightDiameter = "comp-right-diameter",
         /// Tool length compensation, positive (G43).
         LengthCompPlus = "length-comp-plus",
+        /// Tool length offset given by the axis words (G43.1).
+        LengthCompDynamic = "length-comp-dynamic",
         /// Tool length compensation, negative (G44).
         LengthCompMinus = "length-comp-minus",
         /// Tool length compensation cancel (G49).
@@ -135,6 +137,10 @@ vocab! {
         Home1 = "home-1",
         /// Return to the second reference position (G30).
         Home2 = "home-2",
+        /// Store the current machine position as the first reference position (G28.1).
+        Home1Set = "home-1-set",
+        /// Store the current machine position as the second reference position (G30.1).
+        Home2Set = "home-2-set",
         /// Move in machine coordinates for one block (G53).
         MachineCoords = "machine-coords",
         /// Coordinate-system shift (G92).

@@ -82,6 +82,12 @@ impl Default for Profile {
     }
 }
 
+/// Rotates a point about the origin by `degrees`, counter-clockwise.
+fn rotate(p: [f64; 2], degrees: f64) -> [f64; 2] {
+    let (sin, cos) = degrees.to_radians().sin_cos();
+    [p[0] * cos - p[1] * sin, p[0] * sin + p[1] * cos]
+}
+
 /// Interprets a whole program text, pushing canonical ops into `sink`. Subprograms come from
 /// the same text or from the profile's [`ProgramSource`]. Streams: memory does not grow
 /// with the program's length.
@@ -150,6 +156,12 @@ struct State {
     retract: Retract,
     wcs: u8,
     wcs_offsets: [[f64; 6]; 9],
+    /// Rotation of each work coordinate system about its origin in XY (G10 L2 R), degrees.
+    wcs_rotation: [f64; 9],
+    /// G28 and G30 reference positions, machine coordinates, mm (from the profile; G28.1
+    /// and G30.1 store new ones).
+    home1: [f64; 6],
+    home2: [f64; 6],
     g92: [f64; 6],
     /// The shift G92.2 suspended, for G92.3.
     g92_saved: [f64; 6],
@@ -229,6 +241,9 @@ impl<'a> Interpreter<'a> {
                 retract: Retract::Initial,
                 wcs: 1,
                 wcs_offsets: [[0.0; 6]; 9],
+                wcs_rotation: [0.0; 9],
+                home1: profile.home1,
+                home2: profile.home2,
                 g92: [0.0; 6],
                 g92_saved: [0.0; 6],
                 tool_offset: 0.0,
@@ -700,6 +715,7 @@ impl<'a> Interpreter<'a> {
             matches!(
                 self.code(c).meaning,
                 Meaning::SetData
+                    | Meaning::LengthCompDynamic
                     | Meaning::Home1
                     | Meaning::Home2
                     | Meaning::OriginShift
@@ -1022,16 +1038,23 @@ impl<'a> Interpreter<'a> {
                 self.st.tool_offset = length;
                 self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
             }
+            Meaning::LengthCompDynamic => {
+                // G43.1: the offset is the Z word itself, in program units.
+                let length = self.slot(Role::Z).unwrap_or(0.0);
+                self.st.tool_offset = length;
+                self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
+            }
             Meaning::LengthCompCancel => {
                 self.st.tool_offset = 0.0;
                 self.emit(sink, CanonOp::UseToolLengthOffset([0.0; 3]));
             }
             Meaning::Wcs => {
                 if def.index != self.st.wcs {
-                    let (old, new) = (self.st.wcs_offsets[self.st.wcs as usize - 1], self.st.wcs_offsets[def.index as usize - 1]);
-                    self.shift_origin(old, new);
-                    self.st.wcs = def.index;
+                    let new = self.st.wcs_offsets[def.index as usize - 1];
+                    self.switch_wcs(|st| st.wcs = def.index);
                     self.emit(sink, CanonOp::SetG5xOffset(def.index, new));
+                    // LinuxCNC restates the G92 offset with every switch of system.
+                    self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
                 }
             }
             Meaning::PathMode | Meaning::SpindleRpm => {}
@@ -1108,10 +1131,10 @@ impl<'a> Interpreter<'a> {
                     ),
                 );
                 if self.st.wcs != 1 {
-                    let (old, new) = (self.st.wcs_offsets[self.st.wcs as usize - 1], self.st.wcs_offsets[0]);
-                    self.shift_origin(old, new);
-                    self.st.wcs = 1;
+                    let new = self.st.wcs_offsets[0];
+                    self.switch_wcs(|st| st.wcs = 1);
                     self.emit(sink, CanonOp::SetG5xOffset(1, new));
+                    self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
                 }
             }
             Meaning::LocalOffset => {
@@ -1150,6 +1173,19 @@ impl<'a> Interpreter<'a> {
                 self.emit(sink, CanonOp::SetG92Offset([0.0; 6]));
             }
             Meaning::Home1 | Meaning::Home2 => self.home(def.meaning == Meaning::Home1, sink),
+            Meaning::Home1Set | Meaning::Home2Set => {
+                // The reference positions are kept in machine coordinates, mm.
+                let m = self.machine_pos();
+                let mut home = [0.0; 6];
+                for (i, v) in home.iter_mut().enumerate() {
+                    *v = if i < 3 { m[i] * self.st.units.to_mm() } else { m[i] };
+                }
+                if def.meaning == Meaning::Home1Set {
+                    self.st.home1 = home;
+                } else {
+                    self.st.home2 = home;
+                }
+            }
             Meaning::MachineCoords => {}
             m if matches!(m, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) || m.is_cycle() => {
                 self.st.motion_continued = self.st.motion_code == Some(c);
@@ -1228,35 +1264,84 @@ impl<'a> Interpreter<'a> {
             self.unsupported(def, range, diags);
             return;
         }
-        if let Some(r) = self.slot(Role::R)
-            && r != 0.0
-        {
-            self.limited(
-                diags,
-                "wcs-rotation",
-                Diagnostic::new(
-                    Code::Unsupported,
-                    range,
-                    format!("{}: the rotation R{r} of a coordinate system is not applied yet", def.label()),
-                ),
-            );
-        }
         let index = if p == 0 { self.st.wcs } else { p as u8 };
-        let mut off = self.st.wcs_offsets[index as usize - 1];
-        for (i, &role) in Role::AXES.iter().enumerate() {
-            if let Some(v) = self.slot(role) {
-                off[i] = if l == 2 {
-                    v
-                } else {
-                    // L20: the current point becomes `v` in that system.
-                    self.st.pos[i] + self.st.wcs_offsets[self.st.wcs as usize - 1][i] + self.st.g92[i] - v
-                };
+        let slot = index as usize - 1;
+        let rotation = self.slot(Role::R).unwrap_or(self.st.wcs_rotation[slot]);
+        let mut off = self.st.wcs_offsets[slot];
+        if l == 20 {
+            // L20: the current point becomes the given coordinates in that system, whose
+            // rotation applies to them (machine = offset + R·(program + G92)).
+            let machine = self.machine_pos();
+            let mut p = self.st.pos;
+            for (i, &role) in Role::AXES.iter().enumerate() {
+                if let Some(v) = self.slot(role) {
+                    p[i] = v;
+                }
+            }
+            let local = rotate([p[0] + self.st.g92[0], p[1] + self.st.g92[1]], rotation);
+            // In a rotated system X or Y moves the origin along both machine axes.
+            let xy = rotation != 0.0 && (self.slot(Role::X).is_some() || self.slot(Role::Y).is_some());
+            for (i, &role) in Role::AXES.iter().enumerate() {
+                if xy && i < 2 {
+                    off[i] = machine[i] - local[i];
+                } else if self.slot(role).is_some() {
+                    off[i] = machine[i] - self.st.g92[i] - p[i];
+                }
+            }
+        } else {
+            for (i, &role) in Role::AXES.iter().enumerate() {
+                if let Some(v) = self.slot(role) {
+                    off[i] = v;
+                }
             }
         }
-        let before = std::mem::replace(&mut self.st.wcs_offsets[index as usize - 1], off);
         if index == self.st.wcs {
-            self.shift_origin(before, off);
+            self.switch_wcs(|st| {
+                st.wcs_offsets[slot] = off;
+                st.wcs_rotation[slot] = rotation;
+            });
             self.emit(sink, CanonOp::SetG5xOffset(index, off));
+        } else {
+            self.st.wcs_offsets[slot] = off;
+            self.st.wcs_rotation[slot] = rotation;
+        }
+    }
+
+    /// The current position in machine coordinates: offset + R(rotation)·(program + G92).
+    pub(super) fn machine_pos(&self) -> [f64; 6] {
+        let w = self.st.wcs as usize - 1;
+        let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+        let mut m: [f64; 6] = std::array::from_fn(|i| self.st.pos[i] + self.st.g92[i]);
+        if rotation != 0.0 {
+            [m[0], m[1]] = rotate([m[0], m[1]], rotation);
+        }
+        std::array::from_fn(|i| m[i] + off[i])
+    }
+
+    /// Program coordinates of a machine position in the active system.
+    pub(super) fn program_pos(&self, machine: [f64; 6]) -> [f64; 6] {
+        let w = self.st.wcs as usize - 1;
+        let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+        let mut p: [f64; 6] = std::array::from_fn(|i| machine[i] - off[i]);
+        if rotation != 0.0 {
+            [p[0], p[1]] = rotate([p[0], p[1]], -rotation);
+        }
+        std::array::from_fn(|i| p[i] - self.st.g92[i])
+    }
+
+    /// Changes the active coordinate system (which one, its offsets or rotation) keeping the
+    /// machine position.
+    fn switch_wcs(&mut self, change: impl FnOnce(&mut State)) {
+        let w = self.st.wcs as usize - 1;
+        let (old, old_rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+        let machine = self.machine_pos();
+        change(&mut self.st);
+        let w = self.st.wcs as usize - 1;
+        let (new, new_rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+        if old_rotation == 0.0 && new_rotation == 0.0 {
+            self.shift_origin(old, new);
+        } else {
+            self.st.pos = self.program_pos(machine);
         }
     }
 
@@ -1287,12 +1372,25 @@ impl<'a> Interpreter<'a> {
             }
         }
         self.emit(sink, CanonOp::StraightTraverse(mid));
-        let home = if first { self.profile.home1 } else { self.profile.home2 };
+        let home = if first { self.st.home1 } else { self.st.home2 };
         let mut end = mid;
-        for i in 0..6 {
-            if !any || self.slots[Role::AXES[i] as usize].is_some() {
-                let k = if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
-                end[i] = home[i] * k - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i];
+        let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();
+        let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
+        if self.st.wcs_rotation[self.st.wcs as usize - 1] != 0.0 {
+            let saved = std::mem::replace(&mut self.st.pos, mid);
+            let mut m = self.machine_pos();
+            self.st.pos = saved;
+            for (i, v) in m.iter_mut().enumerate() {
+                if moves(i) {
+                    *v = home[i] * k(i);
+                }
+            }
+            end = self.program_pos(m);
+        } else {
+            for i in 0..6 {
+                if moves(i) {
+                    end[i] = home[i] * k(i) - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i];
+                }
             }
         }
         self.emit(sink, CanonOp::StraightTraverse(end));

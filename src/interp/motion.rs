@@ -14,11 +14,27 @@ impl Interpreter<'_> {
     /// The end point of a move: axis words in the distance mode, in program coordinates.
     pub(super) fn target(&self) -> [f64; 6] {
         let machine = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords);
+        if machine && self.st.wcs_rotation[self.st.wcs as usize - 1] != 0.0 {
+            // In a rotated system the machine point maps to program X and Y together.
+            let mut m = self.machine_pos();
+            for (i, &role) in Role::AXES.iter().enumerate() {
+                if let Some(v) = self.slot(role) {
+                    m[i] = v;
+                }
+            }
+            let mut t = self.program_pos(m);
+            if self.slot(Role::Z).is_some() {
+                t[2] -= self.st.tool_offset;
+            }
+            return t;
+        }
         let mut t = self.st.pos;
         for (i, &role) in Role::AXES.iter().enumerate() {
             if let Some(v) = self.slot(role) {
                 t[i] = if machine {
-                    v - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i]
+                    // The tool length offset moves the controlled point along Z.
+                    let tlo = if i == 2 { self.st.tool_offset } else { 0.0 };
+                    v - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i] - tlo
                 } else if self.st.distance == DistanceMode::Incremental {
                     self.st.pos[i] + v
                 } else {
