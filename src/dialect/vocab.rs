@@ -165,6 +165,10 @@ vocab! {
         Polar = "polar",
         /// Macro call (G65).
         MacroCall = "macro-call",
+        /// Register a macro called after every move until cancelled (Fanuc G66).
+        ModalMacroCall = "modal-macro-call",
+        /// Cancel the modal macro call (Fanuc G67).
+        ModalMacroCancel = "modal-macro-cancel",
         /// Program stop (M0).
         ProgramStop = "program-stop",
         /// Optional stop (M1).

@@ -184,6 +184,32 @@ fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
         Func::Ln => x.ln(),
         Func::Exp => x.exp(),
         Func::Exists | Func::Pow => 0.0,
+        Func::Bin | Func::Bcd if x < 0.0 || x.fract() != 0.0 || x > 4_294_967_295.0 => {
+            return Err(EvalError::Domain("BIN and BCD take a whole number from 0 to 2^32-1"));
+        }
+        // BIN: each 4-bit nibble is one decimal digit; BCD: the reverse.
+        Func::Bin => {
+            let (mut v, mut out, mut scale) = (x as u64, 0u64, 1u64);
+            while v > 0 {
+                let digit = v & 0xF;
+                if digit > 9 {
+                    return Err(EvalError::Domain("BIN of a value that is not BCD"));
+                }
+                out += digit * scale;
+                scale *= 10;
+                v >>= 4;
+            }
+            out as f64
+        }
+        Func::Bcd => {
+            let (mut v, mut out, mut shift) = (x as u64, 0u64, 0u32);
+            while v > 0 && shift < 64 {
+                out |= (v % 10) << shift;
+                shift += 4;
+                v /= 10;
+            }
+            out as f64
+        }
         Func::Neg => -x,
         Func::Not => f64::from(u8::from(x == 0.0)),
     })

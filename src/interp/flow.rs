@@ -818,6 +818,7 @@ impl<'a> Driver<'a, '_> {
             loops_base: self.loops.len(),
             call: (origin, line),
         });
+        interp.depth = self.frames.len() as u32;
         self.jump(source, body, start, interp, diags);
     }
 
@@ -872,6 +873,7 @@ impl<'a> Driver<'a, '_> {
             return;
         }
         let Some(f) = self.frames.pop() else { return };
+        interp.depth = self.frames.len() as u32;
         if let Some(saved) = &f.saved_locals {
             interp.params.restore(self.dialect.macros.locals.0, saved);
         }

@@ -138,6 +138,15 @@ enum Retract {
     RPlane,
 }
 
+/// A macro registered by G66, called after every move at the call depth it was made at.
+#[derive(Clone, Debug)]
+struct ModalMacro {
+    program: u32,
+    repeats: u32,
+    args: Vec<(u16, f64)>,
+    depth: u32,
+}
+
 /// Modal state.
 #[derive(Clone, Debug)]
 struct State {
@@ -158,6 +167,8 @@ struct State {
     wcs_offsets: [[f64; 6]; 9],
     /// Rotation of each work coordinate system about its origin in XY (G10 L2 R), degrees.
     wcs_rotation: [f64; 9],
+    /// The registered G66 modal macro call.
+    modal_macro: Option<ModalMacro>,
     /// G28 and G30 reference positions, machine coordinates, mm (from the profile; G28.1
     /// and G30.1 store new ones).
     home1: [f64; 6],
@@ -204,6 +215,10 @@ pub struct Interpreter<'a> {
     after_end_noted: bool,
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
+    /// Call depth (0 in the main program), kept by the flow driver.
+    pub(super) depth: u32,
+    /// Motion commands executed so far (to tell whether a block moved).
+    motions: u64,
     /// Assignments of the block being executed, waiting for its reads (reused).
     pending: Vec<(Option<f64>, TextRange, f64, TextRange)>,
     /// A `#3006` stop message to emit at the stop step.
@@ -242,6 +257,7 @@ impl<'a> Interpreter<'a> {
                 wcs: 1,
                 wcs_offsets: [[0.0; 6]; 9],
                 wcs_rotation: [0.0; 9],
+                modal_macro: None,
                 home1: profile.home1,
                 home2: profile.home2,
                 g92: [0.0; 6],
@@ -274,6 +290,8 @@ impl<'a> Interpreter<'a> {
             notes: BTreeMap::new(),
             after_end_noted: false,
             request: None,
+            depth: 0,
+            motions: 0,
             pending: Vec::new(),
             stop_message: None,
             comp: std::cell::RefCell::new(None),
@@ -481,6 +499,21 @@ impl<'a> Interpreter<'a> {
             self.macro_call(block, self.codes[k].1, diags);
             return;
         }
+        if let Some(&(c, range)) =
+            self.codes.iter().find(|&&(c, _)| matches!(self.code(c).meaning, Meaning::ModalMacroCall | Meaning::ModalMacroCancel))
+        {
+            // G66 registers the call (its words are arguments, nothing moves); G67 drops it.
+            self.st.modal_macro = None;
+            if self.code(c).meaning == Meaning::ModalMacroCall
+                && let Some(program) = self.program_number(Role::P, range, diags)
+            {
+                let repeats = self.repeat_count(diags, range);
+                let args = self.macro_args(block, diags);
+                self.st.modal_macro = Some(ModalMacro { program, repeats, args, depth: self.depth });
+            }
+            return;
+        }
+        let motions = self.motions;
         let plain = self.code_steps == 0
             && block.comments.is_empty()
             && self.stop_message.is_none()
@@ -488,6 +521,7 @@ impl<'a> Interpreter<'a> {
         if plain {
             // The common block: axis words only, so only the motion step has work.
             self.step(Step::Motion, block, sink, diags);
+            self.modal_macro_after(motions);
             return;
         }
         for &step in &self.dialect.execution_order {
@@ -511,6 +545,19 @@ impl<'a> Interpreter<'a> {
         // Codes the dialect files under `misc` take effect last; most are only recorded.
         if self.code_steps & (1 << Step::Misc as u32) != 0 {
             self.run_codes(Step::Misc, block, sink, diags);
+        }
+        self.modal_macro_after(motions);
+    }
+
+    /// After a block that moved, the registered G66 macro is called (not from inside it).
+    fn modal_macro_after(&mut self, motions: u64) {
+        if self.motions == motions || self.request.is_some() {
+            return;
+        }
+        if let Some(m) = &self.st.modal_macro
+            && m.depth == self.depth
+        {
+            self.request = Some(Request::Call { program: m.program, repeats: m.repeats, macro_call: true, args: m.args.clone() });
         }
     }
 
@@ -715,6 +762,7 @@ impl<'a> Interpreter<'a> {
             matches!(
                 self.code(c).meaning,
                 Meaning::SetData
+                    | Meaning::ModalMacroCall
                     | Meaning::LengthCompDynamic
                     | Meaning::Home1
                     | Meaning::Home2
@@ -795,6 +843,12 @@ impl<'a> Interpreter<'a> {
     fn macro_call(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let Some(program) = self.program_number(Role::P, range, diags) else { return };
         let repeats = self.repeat_count(diags, range);
+        let args = self.macro_args(block, diags);
+        self.request = Some(Request::Call { program, repeats, macro_call: true, args });
+    }
+
+    /// The argument words of a macro call (all but G, P and L) as (local, value).
+    fn macro_args(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> Vec<(u16, f64)> {
         let mut args = Vec::new();
         for w in &block.words {
             if matches!(w.role, Role::G | Role::P | Role::L) {
@@ -810,7 +864,7 @@ impl<'a> Interpreter<'a> {
                 args.push((local, v));
             }
         }
-        self.request = Some(Request::Call { program, repeats, macro_call: true, args });
+        args
     }
 
     /// A program number from the word `role`, checked.

@@ -46,6 +46,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn motion(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        self.motions += 1;
         match def.meaning {
             Meaning::Rapid => {
                 let t = self.target();

@@ -38,6 +38,10 @@ pub enum Func {
     Exists,
     /// Power, two arguments (`POW[a,b]`); parsed into a binary `**`.
     Pow,
+    /// BCD to binary (Fanuc `BIN`).
+    Bin,
+    /// Binary to BCD (Fanuc `BCD`).
+    Bcd,
     /// Negation.
     Neg,
     /// Logical not.
@@ -63,6 +67,8 @@ impl Func {
             "EXP" => Func::Exp,
             "EXISTS" => Func::Exists,
             "POW" => Func::Pow,
+            "BIN" => Func::Bin,
+            "BCD" => Func::Bcd,
             "NOT" => Func::Not,
             _ => return None,
         })

@@ -264,3 +264,31 @@ M30
     .assert_eq(&out.replace("-0.0000", "0.0000"));
     assert_eq!(codes, ["interp::cutting-without-technology"]);
 }
+
+#[test]
+fn bin_and_bcd_convert_between_binary_and_packed_decimal() {
+    // BCD[12] is 0x12 = 18; BIN[18] is 12; BIN of a non-BCD nibble is an error.
+    let (out, codes) = moves("fanuc", "G0 X[BCD[12]] Y[BIN[18]] Z[BIN[BCD[9876]]]\nM30\n");
+    assert!(out.starts_with("STRAIGHT_TRAVERSE(18.0000, 12.0000, 9876.0000,"), "{out}");
+    assert!(codes.is_empty(), "{codes:?}");
+    let (_, codes) = moves("fanuc", "G0 X[BIN[10]]\nM30\n");
+    assert!(!codes.is_empty(), "0x0A is not BCD");
+}
+
+#[test]
+fn g66_calls_the_macro_after_every_move_until_g67() {
+    let program = "O1000\nS1000 M3\nG90 G00 X0 Y0 Z50.\nG66 P9100 Z-10. R2. F100.\nX10. Y10.\nX20.\nG67\nX30.\nM30\nO9100\nG01 Z#26 F#9\nG00 Z#18\nM99\n";
+    let (out, codes) = moves("fanuc", program);
+    expect![[r#"
+        STRAIGHT_TRAVERSE(0.0000, 0.0000, 50.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 10.0000, 50.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(10.0000, 10.0000, -10.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 10.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(20.0000, 10.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(20.0000, 10.0000, -10.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(20.0000, 10.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(30.0000, 10.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&out);
+    assert!(codes.is_empty(), "{codes:?}");
+}
