@@ -388,6 +388,10 @@ vocab! {
         Goto = "goto",
         /// The statement part of `IF [c] THEN ...`.
         Then = "then",
+        /// Print a formatted line to the data output (`DPRNT[X#100[53]]`): a message.
+        Print = "print",
+        /// Data-output housekeeping with no effect on the machining (`POPEN`, `PCLOS`, `SETVN`).
+        Output = "output",
     }
 }
 

@@ -17,7 +17,7 @@ use typed_arena::Arena;
 
 use super::eval::{self, NULL};
 use super::{Interpreter, Profile, Request};
-use crate::canon::CanonSink;
+use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{Dialect, Statement};
 use crate::syntax::{Block, Control, Expr, ExprId, Parser};
@@ -407,7 +407,13 @@ impl<'a> Driver<'a, '_> {
                     self.skip_to(start, c.range, "endif", |m| same_label(m, &[Statement::EndIf]), interp, diags);
                 }
             }
-            Statement::EndIf | Statement::Then => {}
+            Statement::EndIf | Statement::Then | Statement::Output => {}
+            Statement::Print => {
+                let head = c.keyword.map_or(c.range.start, |k| k.end) as usize;
+                let format = &text[head..c.range.end as usize];
+                let message = print_format(format, |n| interp.params.get(f64::from(n)).ok());
+                sink.emit(Canon { op: CanonOp::Message(message), origin: block.range, line: block.line });
+            }
             Statement::While if label.is_some() => {
                 let Some(cond) = self.condition(interp, c, block, diags) else { return };
                 if let Some(k) = self.top_loop(|l| l.kind == LoopKind::Do && l.label == label) {
@@ -971,6 +977,55 @@ fn numbered(text: &str, dialect: &Dialect, n: u32) -> Vec<Pos> {
         scratch.clear();
         if block.number == Some(n) {
             out.push(start);
+        }
+    }
+    out
+}
+
+/// The line a Fanuc `DPRNT[...]` prints: characters as written, `*` as a space, and
+/// `#n[ab]` as variable n with `a` integer and `b` decimal digits (leading zeros as spaces;
+/// a vacant variable prints as blanks).
+pub(super) fn print_format(format: &str, value: impl Fn(u32) -> Option<f64>) -> String {
+    let inner = format.trim();
+    let inner = inner.strip_prefix('[').unwrap_or(inner);
+    let inner = inner.strip_suffix(']').unwrap_or(inner);
+    let b = inner.as_bytes();
+    let mut out = String::new();
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            b'*' => {
+                out.push(' ');
+                i += 1;
+            }
+            b'#' => {
+                let start = i + 1;
+                let mut j = start;
+                while j < b.len() && b[j].is_ascii_digit() {
+                    j += 1;
+                }
+                let n: u32 = inner[start..j].parse().unwrap_or(0);
+                let (mut int_digits, mut dec_digits) = (8usize, 0usize);
+                if j < b.len() && b[j] == b'[' {
+                    let close = inner[j..].find(']').map_or(b.len(), |p| j + p);
+                    let spec = &inner[j + 1..close];
+                    let digits: Vec<usize> = spec.bytes().filter(u8::is_ascii_digit).map(|d| usize::from(d - b'0')).collect();
+                    int_digits = digits.first().copied().unwrap_or(8);
+                    dec_digits = digits.get(1).copied().unwrap_or(0);
+                    j = (close + 1).min(b.len());
+                }
+                let width = int_digits + 1 + if dec_digits > 0 { dec_digits + 1 } else { 0 };
+                match value(n).filter(|v| !v.is_nan()) {
+                    Some(v) => out.push_str(&format!("{v:>width$.dec_digits$}")),
+                    None => out.push_str(&" ".repeat(width)),
+                }
+                i = j;
+            }
+            _ => {
+                let ch = inner[i..].chars().next().unwrap_or(' ');
+                out.push(ch);
+                i += ch.len_utf8();
+            }
         }
     }
     out

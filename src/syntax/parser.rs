@@ -332,7 +332,14 @@ impl Lexer<'_, '_> {
                 self.i = start + k.len();
                 control.keyword = Some(TextRange::new(start, self.i));
                 control.statement = Some(st);
-                self.operands(&mut control);
+                if matches!(st, Statement::Print | Statement::Output) {
+                    // A print format or output setting is not an expression: kept as text.
+                    let end = self.line_end();
+                    let lex = &self.dialect.lexical;
+                    self.i = self.text[self.i..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| self.i + p);
+                } else {
+                    self.operands(&mut control);
+                }
             }
             None => {
                 let end = self.line_end();

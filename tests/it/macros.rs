@@ -292,3 +292,15 @@ fn g66_calls_the_macro_after_every_move_until_g67() {
     .assert_eq(&out);
     assert!(codes.is_empty(), "{codes:?}");
 }
+
+#[test]
+fn dprnt_prints_a_message_and_output_statements_are_accepted() {
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let mut canon = Vec::new();
+    let program = "#100=1.5\n#101=-12.25\nPOPEN\nDPRNT[X#100[53]*Y#101[44]*Z#102[2]]\nPCLOS\nSETVN 500[TOOL]\nM30\n";
+    let diags = interpret(program, &d, &Profile::default(), &mut canon);
+    assert!(diags.is_empty(), "{diags:?}");
+    let messages: Vec<&str> = canon.iter().filter_map(|c| if let CanonOp::Message(m) = &c.op { Some(m.as_str()) } else { None }).collect();
+    // #102 is vacant: blanks in its field.
+    assert_eq!(messages, ["X     1.500 Y  -12.2500 Z   "]);
+}
