@@ -477,7 +477,8 @@ impl Lexer<'_, '_> {
             let mut pt = false;
             while let Some(&c) = b.get(i) {
                 if c.is_ascii_digit() {
-                    m = m * 10 + u64::from(c - b'0');
+                    // Past 18 digits the general path below takes over; stop accumulating.
+                    m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
                     n += 1;
                     f += u32::from(pt);
                 } else if c == b'.' && !pt {

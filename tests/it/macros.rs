@@ -225,7 +225,7 @@ fn alarms_missing_labels_and_runaway_loops_stop_with_a_finding() {
 
 #[test]
 fn unknown_statements_and_unmatched_ends_are_named() {
-    let (_, codes) = moves("fanuc", "POPEN\nEND 3\nM30\n");
+    let (_, codes) = moves("fanuc", "PRINTF\nEND 3\nM30\n");
     assert_eq!(codes, ["flow::unknown-statement", "flow::unmatched"]);
     let (_, codes) = moves("linuxcnc", "o5 endwhile\nM2\n");
     assert_eq!(codes, ["flow::unmatched"]);
