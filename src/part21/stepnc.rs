@@ -689,6 +689,14 @@ struct Reader<'a> {
     x: &'a Exchange,
 }
 
+fn first(l: &[Value]) -> Result<&Value, String> {
+    l.first().ok_or_else(|| "an empty list".to_owned())
+}
+
+fn last(l: &[Value]) -> Result<&Value, String> {
+    l.last().ok_or_else(|| "an empty list".to_owned())
+}
+
 /// `key=value` words after the first word of an id; a `name=` value runs to the end.
 fn words(id: &str) -> (String, BTreeMap<String, String>) {
     let (head, rest) = id.split_once(' ').unwrap_or((id, ""));
@@ -922,27 +930,9 @@ impl Reader<'_> {
             "TAPPING" => Operation::Tapping,
             other => return Err(format!("unknown operation {other}")),
         };
-        let mut ws = Workingstep {
-            index,
-            operation,
-            tool: tool_number,
-            technology: Technology { feed, feeds: Vec::new(), spindle_speed, spindle, coolant },
-            start_point: None,
-            depth: None,
-            security_plane,
-            feature: None,
-            strategy: None,
-            axial_depth: None,
-            radial_depth: None,
-            allowance_side: None,
-            allowance_bottom: None,
-            bbox: None,
-            cutting_length: 0.0,
-            holes: Vec::new(),
-            toolpath,
-            source: TextRange::new(bytes.0 as usize, bytes.1 as usize),
-            lines,
-        };
+        let technology = Technology { feed, feeds: Vec::new(), spindle_speed, spindle, coolant };
+        let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
+        let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
         let mut dwell = None;
         match operation {
             Operation::FreeformMilling => ws.strategy = Some(explicit()),
@@ -1105,8 +1095,8 @@ impl Reader<'_> {
                         match c.name.as_str() {
                             "POLYLINE" => {
                                 let pts = self.attr(c, 1)?.as_list().ok_or("POLYLINE without points")?;
-                                let (a, _) = self.point(&pts[0])?;
-                                let (b, name) = self.point(&pts[pts.len() - 1])?;
+                                let (a, _) = self.point(first(pts)?)?;
+                                let (b, name) = self.point(last(pts)?)?;
                                 push(a, b, &name, None);
                             }
                             "TRIMMED_CURVE" => {
@@ -1116,8 +1106,8 @@ impl Reader<'_> {
                                 let axis = self.direction(self.attr(pos, 2)?)?;
                                 let t1 = self.attr(c, 2)?.as_list().ok_or("trim")?;
                                 let t2 = self.attr(c, 3)?.as_list().ok_or("trim")?;
-                                let (a, _) = self.point(&t1[0])?;
-                                let (b, name) = self.point(&t2[0])?;
+                                let (a, _) = self.point(first(t1)?)?;
+                                let (b, name) = self.point(first(t2)?)?;
                                 let sweep = t2.get(1).and_then(Value::as_real).unwrap_or(0.0);
                                 let ccw = self.attr(c, 4)?.as_enum() == Some("T");
                                 let n = ((sweep.abs() / 360.0 - 1e-9).ceil() as i32).max(1);
@@ -1140,7 +1130,10 @@ impl Reader<'_> {
             "POLYLINE" => {
                 let pts: Vec<P3> =
                     self.attr(c, 1)?.as_list().ok_or("points")?.iter().map(|p| self.point(p).map(|q| q.0)).collect::<Result<_, _>>()?;
-                Ok(Contour { start: xy(pts[0]), segments: pts[1..].iter().map(|p| Segment { to: xy(*p), arc: None }).collect() })
+                Ok(Contour {
+                    start: xy(*pts.first().ok_or("a polyline without points")?),
+                    segments: pts.iter().skip(1).map(|p| Segment { to: xy(*p), arc: None }).collect(),
+                })
             }
             "COMPOSITE_CURVE" => {
                 let mut start = None;
@@ -1150,17 +1143,17 @@ impl Reader<'_> {
                     match s.name.as_str() {
                         "POLYLINE" => {
                             let pts = self.attr(s, 1)?.as_list().ok_or("points")?;
-                            start.get_or_insert(xy(self.point(&pts[0])?.0));
-                            segments.push(Segment { to: xy(self.point(&pts[pts.len() - 1])?.0), arc: None });
+                            start.get_or_insert(xy(self.point(first(pts)?)?.0));
+                            segments.push(Segment { to: xy(self.point(last(pts)?)?.0), arc: None });
                         }
                         "TRIMMED_CURVE" => {
                             let circle = self.inst(self.attr(s, 1)?)?;
                             let centre = self.placement(self.attr(circle, 1)?)?;
                             let t1 = self.attr(s, 2)?.as_list().ok_or("trim")?;
                             let t2 = self.attr(s, 3)?.as_list().ok_or("trim")?;
-                            start.get_or_insert(xy(self.point(&t1[0])?.0));
+                            start.get_or_insert(xy(self.point(first(t1)?)?.0));
                             let ccw = self.attr(s, 4)?.as_enum() == Some("T");
-                            segments.push(Segment { to: xy(self.point(&t2[0])?.0), arc: Some((xy(centre), ccw)) });
+                            segments.push(Segment { to: xy(self.point(first(t2)?)?.0), arc: Some((xy(centre), ccw)) });
                         }
                         other => return Err(format!("unexpected curve {other}")),
                     }

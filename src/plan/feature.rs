@@ -94,7 +94,7 @@ pub fn recognise(plan: &mut ProcessPlan) {
 
 /// The source range and lines of a feature: the cover of its workingsteps'.
 pub fn feature_source(f: &mut Feature, workingsteps: &[Workingstep]) {
-    let mut it = f.workingsteps.iter().filter_map(|i| workingsteps.get(*i as usize - 1));
+    let mut it = f.workingsteps.iter().filter_map(|i| workingsteps.get((*i as usize).checked_sub(1)?));
     if let Some(first) = it.next() {
         let (mut src, mut lines) = (first.source, first.lines);
         for w in it {

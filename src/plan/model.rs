@@ -662,3 +662,42 @@ pub struct Workingstep {
     /// First and last source line.
     pub lines: (u32, u32),
 }
+
+impl Workingstep {
+    /// A workingstep with its toolpath and what was decided about it; what the toolpath
+    /// determines is left empty for [`measure`](crate::plan::measure), and features,
+    /// strategies, depths and allowances for feature recognition.
+    #[allow(clippy::too_many_arguments)]
+    pub fn unmeasured(
+        index: u32,
+        operation: Operation,
+        tool: u32,
+        technology: Technology,
+        security_plane: f64,
+        toolpath: Vec<Move>,
+        source: TextRange,
+        lines: (u32, u32),
+    ) -> Workingstep {
+        Workingstep {
+            index,
+            operation,
+            tool,
+            technology,
+            start_point: None,
+            depth: None,
+            security_plane,
+            feature: None,
+            strategy: None,
+            axial_depth: None,
+            radial_depth: None,
+            allowance_side: None,
+            allowance_bottom: None,
+            bbox: None,
+            cutting_length: 0.0,
+            holes: Vec::new(),
+            toolpath,
+            source,
+            lines,
+        }
+    }
+}

@@ -588,27 +588,7 @@ impl<'p> Recovery<'p> {
             .or_else(|| rapid_z(&[Phase::Retract, Phase::Cut]))
             .unwrap_or_else(|| b.moves.iter().flat_map(|m| [m.from[2], m.to[2]]).fold(f64::NEG_INFINITY, f64::max));
         let index = self.done.len() as u32 + 1;
-        let mut ws = Workingstep {
-            index,
-            operation: b.operation,
-            tool: b.tool,
-            technology: b.technology,
-            start_point: None,
-            depth: None,
-            security_plane,
-            feature: None,
-            strategy: None,
-            axial_depth: None,
-            radial_depth: None,
-            allowance_side: None,
-            allowance_bottom: None,
-            bbox: None,
-            cutting_length: 0.0,
-            holes: Vec::new(),
-            toolpath: b.moves,
-            source: b.source,
-            lines: b.lines,
-        };
+        let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         measure(&mut ws, b.dwell, b.peck);
         self.done.push(ws);
     }

@@ -473,3 +473,29 @@ fn steputils_reads_the_exports() {
     assert_eq!(stdout.lines().count(), files.len(), "{stdout}");
     assert!(stdout.lines().all(|l| l.split(' ').nth(1).and_then(|n| n.parse::<usize>().ok()).is_some_and(|n| n > 10)), "{stdout}");
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 256, ..proptest::prelude::ProptestConfig::default() })]
+
+    /// A damaged exchange file gets a parse error or a read error, never a panic.
+    #[test]
+    fn damaged_exports_never_panic_the_reader(
+        program in 0..crate::plan::PROGRAMS.len(),
+        cc2 in proptest::prelude::any::<bool>(),
+        edits in proptest::collection::vec((0usize..1_000_000, 0u8..128), 1..6),
+    ) {
+        use ncplan::{dialect, interp::Profile, part21::stepnc, pipeline};
+        let fanuc = dialect::Registry::shipped().get("fanuc").unwrap();
+        let a = pipeline::analyze(crate::plan::PROGRAMS[program].1.as_bytes(), &fanuc, &Profile::default());
+        let class = if cc2 { stepnc::Class::Cc2 } else { stepnc::Class::Cc1 };
+        let mut bytes = ncplan::part21::write(&stepnc::write(&a.plan, class, "t").0).into_bytes();
+        for (at, b) in edits {
+            let i = at % bytes.len();
+            bytes[i] = b;
+        }
+        if let Ok(x) = ncplan::part21::parse(&String::from_utf8_lossy(&bytes)) {
+            let _ = stepnc::read(&x);
+            let _ = schema::iso14649().check(&x);
+        }
+    }
+}
