@@ -551,10 +551,9 @@ impl<'a> Interpreter<'a> {
 
     /// After a block that moved, the registered G66 macro is called (not from inside it).
     fn modal_macro_after(&mut self, motions: u64) {
-        if self.motions == motions || self.request.is_some() {
-            return;
-        }
         if let Some(m) = &self.st.modal_macro
+            && self.motions != motions
+            && self.request.is_none()
             && m.depth == self.depth
         {
             self.request = Some(Request::Call { program: m.program, repeats: m.repeats, macro_call: true, args: m.args.clone() });
@@ -1361,11 +1360,16 @@ impl<'a> Interpreter<'a> {
         }
     }
 
-    /// The current position in machine coordinates: offset + R(rotation)·(program + G92).
+    /// The current position in machine coordinates.
     pub(super) fn machine_pos(&self) -> [f64; 6] {
+        self.to_machine(self.st.pos)
+    }
+
+    /// A program position in machine coordinates: offset + R(rotation)·(program + G92).
+    fn to_machine(&self, pos: [f64; 6]) -> [f64; 6] {
         let w = self.st.wcs as usize - 1;
         let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
-        let mut m: [f64; 6] = std::array::from_fn(|i| self.st.pos[i] + self.st.g92[i]);
+        let mut m: [f64; 6] = std::array::from_fn(|i| pos[i] + self.st.g92[i]);
         if rotation != 0.0 {
             [m[0], m[1]] = rotate([m[0], m[1]], rotation);
         }
@@ -1431,9 +1435,7 @@ impl<'a> Interpreter<'a> {
         let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();
         let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
         if self.st.wcs_rotation[self.st.wcs as usize - 1] != 0.0 {
-            let saved = std::mem::replace(&mut self.st.pos, mid);
-            let mut m = self.machine_pos();
-            self.st.pos = saved;
+            let mut m = self.to_machine(mid);
             for (i, v) in m.iter_mut().enumerate() {
                 if moves(i) {
                     *v = home[i] * k(i);

@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use super::{Builder, Exchange, Header, Instance, Value};
 use crate::canon::Units;
 use crate::diag::{Code, Diagnostic};
-use crate::plan::{self, *};
+use crate::plan::{self, geom, *};
 use crate::text::TextRange;
 
 /// Conformance class.
@@ -269,17 +269,7 @@ impl Writer {
         if let Some(v) = self.tools.get(&number) {
             return v.clone();
         }
-        let t = plan.tool(number).cloned().unwrap_or(Tool {
-            number,
-            name: None,
-            kind: ToolKind::Unknown,
-            kind_source: ToolSource::Unknown,
-            diameter: None,
-            corner_radius: None,
-            flutes: None,
-            length_offset: None,
-            source: ToolSource::Unknown,
-        });
+        let t = plan.tool(number).cloned().unwrap_or_else(|| Tool::unknown(number));
         if t.diameter.is_none() {
             self.diags.push(Diagnostic::new(
                 Code::DiameterUnknown,
@@ -370,7 +360,7 @@ impl Writer {
                             let pos = self.placement(c, Some(axis));
                             let r = geom::dist(m.from, c);
                             let circle = self.b.add("CIRCLE", vec![Value::str(""), pos, Value::Real(r)]);
-                            let sweep = plan::geom::sweep(m).to_degrees();
+                            let sweep = geom::sweep(m).to_degrees();
                             let param = |v: f64| Value::Typed("PARAMETER_VALUE".into(), Box::new(Value::Real(v)));
                             self.b.add(
                                 "TRIMMED_CURVE",
@@ -676,8 +666,6 @@ impl Writer {
         }
     }
 }
-
-use crate::plan::geom;
 
 /// Reads a plan back from an exchange [`write`] produced (either class).
 pub fn read(x: &Exchange) -> Result<ProcessPlan, String> {

@@ -322,11 +322,12 @@ fn bounds(chain: &[Piece]) -> (P2, P2) {
 }
 
 fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Candidate {
-    let toolpath = |reason: Option<f64>| Candidate {
+    // A toolpath feature; `top_inferred` is false only once the levels were analysed.
+    let toolpath = |top_inferred: bool| Candidate {
         kind: FeatureKind::Toolpath,
         placement: [0.0, 0.0, ws.depth.unwrap_or(0.0)],
         depth: 0.0,
-        top_inferred: reason.is_none(),
+        top_inferred,
         operation: Operation::FreeformMilling,
         strategy: Some(Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap: None }),
         axial_depth: None,
@@ -340,7 +341,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
     let flat_len: f64 = horizontal.iter().map(|m| super::geom::length(m)).sum();
     let arcs_in_xy = horizontal.iter().all(|m| m.axis.is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
     if horizontal.is_empty() || flat_len < 0.8 * total || !arcs_in_xy {
-        return toolpath(None);
+        return toolpath(true);
     }
     let mut levels: Vec<f64> = Vec::new();
     for m in &horizontal {
@@ -350,7 +351,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
     }
     levels.sort_by(|a, b| b.total_cmp(a));
     if levels.len() > 200 {
-        return toolpath(None);
+        return toolpath(true);
     }
     let bottom = *levels.last().expect("one level at least");
     let step = levels.windows(2).map(|w| w[0] - w[1]).reduce(f64::max);
@@ -388,7 +389,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
         prev_end = Some(m.to);
     }
     if chains.is_empty() {
-        return toolpath(None);
+        return toolpath(true);
     }
     let radius = tool.and_then(|t| t.diameter).map(|d| d / 2.0);
     let r = radius.unwrap_or(0.0);
@@ -590,7 +591,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
             return cand;
         }
     }
-    toolpath(Some(0.0))
+    toolpath(false)
 }
 
 /// Climb or conventional from the loop's rotation, the spindle direction and which side of

@@ -336,6 +336,23 @@ pub struct Tool {
     pub source: ToolSource,
 }
 
+impl Tool {
+    /// A tool of which nothing but the number is known.
+    pub fn unknown(number: u32) -> Tool {
+        Tool {
+            number,
+            name: None,
+            kind: ToolKind::Unknown,
+            kind_source: ToolSource::Unknown,
+            diameter: None,
+            corner_radius: None,
+            flutes: None,
+            length_offset: None,
+            source: ToolSource::Unknown,
+        }
+    }
+}
+
 /// An ISO 14649-11 machining operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

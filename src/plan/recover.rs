@@ -438,20 +438,7 @@ impl<'p> Recovery<'p> {
                     c.origin,
                     "cutting before any tool change; the workingstep is assigned to tool 0",
                 ));
-                self.tools.insert(
-                    0,
-                    Tool {
-                        number: 0,
-                        name: None,
-                        kind: ToolKind::Unknown,
-                        kind_source: ToolSource::Unknown,
-                        diameter: None,
-                        corner_radius: None,
-                        flutes: None,
-                        length_offset: None,
-                        source: ToolSource::Unknown,
-                    },
-                );
+                self.tools.insert(0, Tool::unknown(0));
             }
             let mut moves: Vec<Move> = std::mem::take(&mut self.pending);
             for m in &mut moves {
