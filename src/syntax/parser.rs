@@ -685,6 +685,12 @@ impl Lexer<'_, '_> {
                         self.i += 1;
                     }
                     self.skip_blanks();
+                    if self.peek() != Some(b'<') {
+                        let end = self.line_end();
+                        self.error(Code::MalformedExpression, start, end, "EXISTS takes a named parameter: `EXISTS[#<name>]`");
+                        self.i = end;
+                        return None;
+                    }
                     let name = self.name(start)?;
                     let n = self.push(Expr::Named(name));
                     if !self.expect(expr_close.unwrap_or(b']'), "to close EXISTS", start) {

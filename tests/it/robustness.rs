@@ -125,3 +125,14 @@ fn hostile_inputs_are_diagnosed() {
     check_ranges("G1 X1e5 Y\u{00e9} (caf\u{00e9}\nG2 R0 X0\n".as_bytes());
     check_ranges(&"G1 X1 Y2 Z3\n".repeat(20_000).into_bytes());
 }
+
+/// Found by `mutated_corpus_programs_never_panic`: EXISTS with something other than `#<name>` inside,
+/// here a multi-byte character, once cut a name range inside the character.
+#[test]
+fn exists_without_a_name_is_diagnosed() {
+    check_ranges("o100 if [EXISTS[\u{00d7}#<P>]]\no100 endif\n".as_bytes());
+    check_ranges(b"o100 if [EXISTS[\xd7#<P>]]\no100 endif\n");
+    let d = Registry::shipped().get("linuxcnc").unwrap();
+    let a = analyze(b"o100 if [EXISTS[1]]\no100 endif\nM2\n", &d, &profile());
+    assert!(a.diagnostics.iter().any(|x| x.message.contains("EXISTS takes a named parameter")), "{:?}", a.diagnostics);
+}
