@@ -2,8 +2,8 @@
 
 use super::xml::{self, Element};
 use super::{
-    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordDef, Lexical,
-    Macros, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TapStyle, TimeUnit,
+    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordRest,
+    KeywordSpec, Lexical, Macros, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TapStyle, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -131,7 +131,7 @@ impl Cx {
         self.shape(
             root,
             &["name", "family", "title", "version"],
-            &["description", "lexical", "behaviour", "addresses", "keywords", "macros", "execution-order", "groups", "cycles"],
+            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles"],
         );
         let name = self.required(root, "name").unwrap_or_default().to_owned();
         if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
@@ -153,7 +153,6 @@ impl Cx {
             self.error(root.range, "<dialect> needs an <addresses> element with at least one <address>");
         }
         let behaviour = self.behaviour(child("behaviour"), &addresses);
-        let keywords = child("keywords").map(|el| self.keywords(el)).unwrap_or_default();
         let macros = child("macros").map(|el| self.macros(el)).unwrap_or_default();
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
@@ -171,7 +170,6 @@ impl Cx {
             lexical,
             behaviour,
             addresses,
-            keywords,
             macros,
             groups,
             codes,
@@ -180,14 +178,18 @@ impl Cx {
             letter_roles: [None; 26],
             g_table: Vec::new(),
             m_table: Vec::new(),
+            keyword_codes: Vec::new(),
         })
     }
 
     fn lexical(&mut self, el: &Element) -> Lexical {
         self.shape(
             el,
-            &["block-form", "spaces-in-numbers"],
+            &["block-form", "spaces-in-numbers", "assign-values", "bare-function-arguments"],
             &[
+                "axis-modes",
+                "label",
+                "string",
                 "comment",
                 "block-skip",
                 "block-number",
@@ -210,6 +212,12 @@ impl Cx {
         };
         let mut lex = Lexical {
             block_form,
+            leading_block_number: false,
+            assign_values: self.bool(el, "assign-values", false),
+            axis_modes: None,
+            label_suffix: None,
+            string_quote: None,
+            bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             comments: Vec::new(),
             block_skip: None,
             block_number: None,
@@ -225,8 +233,30 @@ impl Cx {
         };
         for c in &el.children {
             match c.name.as_str() {
+                "axis-modes" => {
+                    self.shape(c, &["absolute", "incremental"], &[]);
+                    if let (Some(a), Some(i)) = (self.required(c, "absolute"), self.required(c, "incremental")) {
+                        lex.axis_modes = Some((a.to_ascii_uppercase(), i.to_ascii_uppercase()));
+                    }
+                }
+                "label" => {
+                    self.shape(c, &["suffix"], &[]);
+                    lex.label_suffix = self.char_attr(c, "suffix");
+                }
+                "string" => {
+                    self.shape(c, &["quote"], &[]);
+                    lex.string_quote = self.char_attr(c, "quote");
+                }
                 "comment" => {
-                    self.shape(c, &["open", "close"], &[]);
+                    self.shape(c, &["open", "close", "position"], &[]);
+                    let block_start = match self.attr(c, "position").unwrap_or("anywhere") {
+                        "anywhere" => false,
+                        "block-start" => true,
+                        other => {
+                            self.error(Self::attr_range(c, "position"), format!("unknown comment position `{other}`"));
+                            false
+                        }
+                    };
                     let open = self.char_attr(c, "open");
                     let close = match self.required(c, "close") {
                         Some("eol") => Some(CommentClose::EndOfLine),
@@ -237,7 +267,7 @@ impl Cx {
                         self.error(c.range, "<comment> needs a one-character `open`");
                     }
                     if let (Some(open), Some(close)) = (open, close) {
-                        lex.comments.push(CommentRule { open, close });
+                        lex.comments.push(CommentRule { open, close, block_start });
                     }
                 }
                 "block-skip" => {
@@ -253,8 +283,11 @@ impl Cx {
                     lex.block_skip = self.char_attr(c, "char").map(|ch| (ch, pos));
                 }
                 "block-number" => {
-                    self.shape(c, &["address"], &[]);
-                    lex.block_number = self.letter_attr(c, "address");
+                    self.shape(c, &["address", "leading"], &[]);
+                    lex.leading_block_number = self.bool(c, "leading", false);
+                    if c.attrs.iter().any(|a| a.name == "address") {
+                        lex.block_number = self.letter_attr(c, "address");
+                    }
                 }
                 "program-delimiter" => {
                     self.shape(c, &["char"], &[]);
@@ -395,7 +428,7 @@ impl Cx {
         self.shape(el, &[], &["address"]);
         let mut out: Vec<AddressDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "address") {
-            self.shape(c, &["name", "role", "form"], &[]);
+            self.shape(c, &["name", "role", "form", "mode"], &[]);
             let (Some(name), Some(role)) = (self.required(c, "name"), self.required(c, "role")) else { continue };
             let name = name.to_ascii_uppercase();
             if name.is_empty() || !name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') || !name.as_bytes()[0].is_ascii_alphabetic()
@@ -415,31 +448,19 @@ impl Cx {
                     false
                 }
             };
+            let incremental = match self.attr(c, "mode").unwrap_or("modal") {
+                "modal" => false,
+                "incremental" => true,
+                other => {
+                    self.error(Self::attr_range(c, "mode"), format!("unknown mode `{other}`; use modal or incremental"));
+                    false
+                }
+            };
             if out.iter().any(|a| a.name == name) {
                 self.error(c.range, format!("address `{name}` is declared twice"));
                 continue;
             }
-            out.push(AddressDef { name, role, assign });
-        }
-        out
-    }
-
-    fn keywords(&mut self, el: &Element) -> Vec<KeywordDef> {
-        self.shape(el, &[], &["keyword"]);
-        let mut out: Vec<KeywordDef> = Vec::new();
-        for c in el.children.iter().filter(|c| c.name == "keyword") {
-            self.shape(c, &["text", "meaning"], &[]);
-            let (Some(text), Some(meaning)) = (self.required(c, "text"), self.required(c, "meaning")) else { continue };
-            let Some(meaning) = Meaning::parse(meaning) else {
-                self.error(Self::attr_range(c, "meaning"), format!("unknown meaning `{meaning}`"));
-                continue;
-            };
-            let text = text.to_ascii_uppercase();
-            if out.iter().any(|k| k.text == text) {
-                self.error(c.range, format!("keyword `{text}` is declared twice"));
-                continue;
-            }
-            out.push(KeywordDef { text, meaning });
+            out.push(AddressDef { name, role, assign, incremental });
         }
         out
     }
@@ -520,7 +541,7 @@ impl Cx {
             }
             let letter = self.letter_attr(g, "letter").unwrap_or('G');
             if letter != 'G' && letter != 'M' {
-                self.error(Self::attr_range(g, "letter"), "a group's letter must be G or M");
+                self.error(Self::attr_range(g, "letter"), "a group's letter must be G or M (keyword codes may sit in either)");
             }
             let step = match self.required(g, "step").map(|s| (s, Step::parse(s))) {
                 Some((_, Some(step))) => step,
@@ -534,8 +555,21 @@ impl Cx {
             let gi = groups.len();
             groups.push(ModalGroup { id, modal, step });
             for c in g.children.iter().filter(|c| c.name == "code") {
-                self.shape(c, &["value", "meaning", "index", "name", "required", "optional", "any-of", "exclusive"], &[]);
-                let (Some(value), Some(meaning)) = (self.required(c, "value"), self.required(c, "meaning")) else { continue };
+                self.shape(
+                    c,
+                    &["value", "keyword", "value-role", "rest", "meaning", "index", "name", "required", "optional", "any-of", "exclusive"],
+                    &[],
+                );
+                let keyword = self.keyword_spec(c);
+                let value = match (self.attr(c, "value"), &keyword) {
+                    (Some(v), None) => v,
+                    (None, Some(_)) => "0",
+                    _ => {
+                        self.error(c.range, "a <code> needs either `value` (G1, M3) or `keyword` (TRANS, TOOL CALL)");
+                        continue;
+                    }
+                };
+                let Some(meaning) = self.required(c, "meaning") else { continue };
                 let Some(number) = parse_code_number(value) else {
                     self.error(Self::attr_range(c, "value"), format!("code value `{value}` must be a number such as 1 or 54.1 below 1000"));
                     continue;
@@ -548,7 +582,12 @@ impl Cx {
                 if meaning == Meaning::Wcs && !(1..=9).contains(&index) {
                     self.error(c.range, "a `wcs` code needs an `index` from 1 to 9");
                 }
-                if codes.iter().any(|x| x.letter == letter && x.number == number) {
+                if let Some(k) = &keyword {
+                    if codes.iter().any(|x| x.keyword.as_ref().is_some_and(|o| o.text == k.text)) {
+                        self.error(c.range, format!("keyword `{}` is declared twice", k.text));
+                        continue;
+                    }
+                } else if codes.iter().any(|x| x.keyword.is_none() && x.letter == letter && x.number == number) {
                     self.error(c.range, format!("code {letter}{value} is declared twice"));
                     continue;
                 }
@@ -576,10 +615,44 @@ impl Cx {
                     }
                 }
                 let name = self.attr(c, "name").unwrap_or(meaning.as_str()).to_owned();
-                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params });
+                let name = match &keyword {
+                    Some(k) if self.attr(c, "name").is_none() => k.text.clone(),
+                    _ => name,
+                };
+                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword });
             }
         }
         (groups, codes)
+    }
+
+    /// The `keyword`, `value-role` and `rest` attributes of a keyword code.
+    fn keyword_spec(&mut self, c: &Element) -> Option<KeywordSpec> {
+        let text = self.attr(c, "keyword")?;
+        let text = text.split_ascii_whitespace().collect::<Vec<_>>().join(" ").to_ascii_uppercase();
+        if text.is_empty() || !text.as_bytes()[0].is_ascii_alphabetic() {
+            self.error(Self::attr_range(c, "keyword"), "a keyword starts with a letter");
+            return None;
+        }
+        let value_role = match self.attr(c, "value-role") {
+            None => None,
+            Some(r) => match Role::parse(r) {
+                Some(role) => Some(role),
+                None => {
+                    self.error(Self::attr_range(c, "value-role"), format!("unknown role `{r}`"));
+                    None
+                }
+            },
+        };
+        let rest = match self.attr(c, "rest").unwrap_or("none") {
+            "none" => KeywordRest::None,
+            "name" => KeywordRest::Name,
+            "words" => KeywordRest::Words,
+            other => {
+                self.error(Self::attr_range(c, "rest"), format!("unknown rest `{other}`; use none, name or words"));
+                KeywordRest::None
+            }
+        };
+        Some(KeywordSpec { text, value_role, rest })
     }
 
     fn role_list(&mut self, el: &Element, attr: &str, list: &str, addresses: &[AddressDef]) -> Vec<Role> {
@@ -597,7 +670,15 @@ impl Cx {
         self.shape(el, &[], &["cycle"]);
         let mut out: Vec<CycleDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "cycle") {
-            self.shape(c, &["name", "meaning"], &["arg"]);
+            self.shape(c, &["name", "meaning", "acts"], &["arg"]);
+            let immediate = match self.attr(c, "acts").unwrap_or("where-written") {
+                "where-written" => true,
+                "when-called" => false,
+                other => {
+                    self.error(Self::attr_range(c, "acts"), format!("`acts` must be where-written or when-called, not `{other}`"));
+                    true
+                }
+            };
             let (Some(name), Some(meaning)) = (self.required(c, "name"), self.required(c, "meaning")) else { continue };
             let Some(meaning) = Meaning::parse(meaning) else {
                 self.error(Self::attr_range(c, "meaning"), format!("unknown meaning `{meaning}`"));
@@ -605,7 +686,17 @@ impl Cx {
             };
             let mut args = Vec::new();
             for a in c.children.iter().filter(|a| a.name == "arg") {
-                self.shape(a, &["name", "role", "use"], &[]);
+                self.shape(a, &["name", "role", "use", "param"], &[]);
+                let param = match self.attr(a, "param") {
+                    None => None,
+                    Some(p) => match p.parse::<u32>() {
+                        Ok(n) => Some(n),
+                        Err(_) => {
+                            self.error(Self::attr_range(a, "param"), format!("`param` must be a parameter number, not `{p}`"));
+                            None
+                        }
+                    },
+                };
                 let (Some(n), Some(r)) = (self.required(a, "name"), self.required(a, "role")) else { continue };
                 let Some(role) = Role::parse(r) else {
                     self.error(Self::attr_range(a, "role"), format!("unknown role `{r}`"));
@@ -619,9 +710,9 @@ impl Cx {
                         false
                     }
                 };
-                args.push(CycleArg { name: n.to_owned(), role, required });
+                args.push(CycleArg { name: n.to_owned(), role, required, param });
             }
-            out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args });
+            out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate });
         }
         out
     }

@@ -39,6 +39,8 @@ pub struct CommentRule {
     pub open: char,
     /// Where it closes.
     pub close: CommentClose,
+    /// Only at the start of a block (after its number): Heidenhain's `*` structure blocks.
+    pub block_start: bool,
 }
 
 /// Where the block-skip character may stand.
@@ -55,6 +57,18 @@ pub enum SkipPosition {
 pub struct Lexical {
     /// Block form.
     pub block_form: BlockForm,
+    /// Whether a bare number at the start of a block is its block number (`17 L X+10`).
+    pub leading_block_number: bool,
+    /// Whether any address may take `=` and an infix expression (`X=R1*2`, `X=AC(10)`).
+    pub assign_values: bool,
+    /// Per-word absolute and incremental wrappers (`X=AC(10)`, `Y=IC(5)`).
+    pub axis_modes: Option<(String, String)>,
+    /// The character that ends a label at block start (`MARKE1:`).
+    pub label_suffix: Option<char>,
+    /// The string delimiter (`T="DRILL"`, `LBL "NAME"`).
+    pub string_quote: Option<char>,
+    /// Whether a function may take its argument without brackets (`SIN +Q1`, `SQRT 25`).
+    pub bare_function_arguments: bool,
     /// Comment rules, tried in order.
     pub comments: Vec<CommentRule>,
     /// Block-skip (block-delete) character.
@@ -213,15 +227,31 @@ pub struct AddressDef {
     pub role: Role,
     /// Whether the value must follow `=` (`CR=5`).
     pub assign: bool,
+    /// Whether the value is always incremental (`IX+10`), whatever G90/G91 say.
+    pub incremental: bool,
 }
 
-/// A keyword that starts a block or stands alone (`TOOL CALL`, `CYCLE81`, `TRANS`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct KeywordDef {
-    /// Upper-case text; may contain one space (`TOOL CALL`).
+/// What a keyword code reads after itself, before the block's other words.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum KeywordRest {
+    /// Nothing special.
+    #[default]
+    None,
+    /// One name (`BEGIN PGM PART1 MM`).
+    Name,
+    /// Any plain words (`CYCL DEF 200 DRILLING`, `CYCL DEF 7.0 DATUM SHIFT`).
+    Words,
+}
+
+/// The spelling of a keyword code (`TRANS`, `TOOL CALL`, `DR+`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct KeywordSpec {
+    /// Upper-case text; may contain single spaces (`TOOL CALL`).
     pub text: String,
-    /// Meaning.
-    pub meaning: Meaning,
+    /// The role of a bare number right after the keyword (`TOOL CALL 5` → tool).
+    pub value_role: Option<Role>,
+    /// What follows that value.
+    pub rest: KeywordRest,
 }
 
 /// Parameters a command takes.
@@ -261,11 +291,16 @@ pub struct CodeDef {
     pub group: usize,
     /// Parameters.
     pub params: ParamSpec,
+    /// For a keyword code (`TRANS`, `TOOL CALL`), its spelling; G and M codes have none.
+    pub keyword: Option<KeywordSpec>,
 }
 
 impl CodeDef {
-    /// `G81`, `G54.1`, `M30`.
+    /// `G81`, `G54.1`, `M30`, or the keyword (`TOOL CALL`).
     pub fn label(&self) -> String {
+        if let Some(k) = &self.keyword {
+            return k.text.clone();
+        }
         if self.number % 10 == 0 {
             format!("{}{}", self.letter, self.number / 10)
         } else {
@@ -294,17 +329,22 @@ pub struct CycleArg {
     pub role: Role,
     /// Whether a value is required.
     pub required: bool,
+    /// The parameter the value is read from when the cycle is called (`Q200`), for cycles
+    /// defined by parameter assignments rather than positional arguments.
+    pub param: Option<u32>,
 }
 
 /// A named cycle with positional parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CycleDef {
-    /// Upper-case name.
+    /// Upper-case name (`CYCLE81`) or number (`200`).
     pub name: String,
-    /// Meaning.
+    /// Meaning: a hole-making cycle, or a code meaning such as `local-offset` for cycles that act at once.
     pub meaning: Meaning,
     /// Arguments in order; empty slots are allowed in calls.
     pub args: Vec<CycleArg>,
+    /// Whether the cycle acts where it is written (`CYCLE81(...)`, `CYCL DEF 7`) rather than when called.
+    pub immediate: bool,
 }
 
 /// A validated dialect.
@@ -322,8 +362,6 @@ pub struct Dialect {
     pub behaviour: Behaviour,
     /// Addresses.
     pub addresses: Vec<AddressDef>,
-    /// Keywords.
-    pub keywords: Vec<KeywordDef>,
     /// Macro and control-flow capabilities.
     pub macros: Macros,
     /// Modal groups.
@@ -337,6 +375,8 @@ pub struct Dialect {
     letter_roles: [Option<Role>; 26],
     g_table: Vec<u16>,
     m_table: Vec<u16>,
+    /// Indices of keyword codes, longest keyword first.
+    keyword_codes: Vec<usize>,
 }
 
 const NO_CODE: u16 = u16::MAX;
@@ -378,6 +418,16 @@ impl Dialect {
         self.addresses.iter().take_while(|a| a.name.len() > 1)
     }
 
+    /// Keyword codes, longest keyword first (so that `CYCL CALL PAT` wins over `CYCL CALL`).
+    pub fn keyword_codes(&self) -> impl Iterator<Item = (usize, &KeywordSpec)> {
+        self.keyword_codes.iter().filter_map(|&i| self.codes[i].keyword.as_ref().map(|k| (i, k)))
+    }
+
+    /// The named cycle `name` (case-insensitive).
+    pub fn cycle(&self, name: &str) -> Option<usize> {
+        self.cycles.iter().position(|c| c.name.eq_ignore_ascii_case(name))
+    }
+
     fn index(mut self) -> Dialect {
         for a in &self.addresses {
             if a.name.len() == 1 && !a.assign {
@@ -388,7 +438,12 @@ impl Dialect {
         self.addresses.sort_by(|a, b| b.name.len().cmp(&a.name.len()).then(a.name.cmp(&b.name)));
         self.g_table = vec![NO_CODE; CODE_TABLE_LEN];
         self.m_table = vec![NO_CODE; CODE_TABLE_LEN];
+        self.keyword_codes = (0..self.codes.len()).filter(|&i| self.codes[i].keyword.is_some()).collect();
+        self.keyword_codes.sort_by_key(|&i| std::cmp::Reverse(self.codes[i].keyword.as_ref().map_or(0, |k| k.text.len())));
         for (i, c) in self.codes.iter().enumerate() {
+            if c.keyword.is_some() {
+                continue;
+            }
             let table = if c.letter == 'G' { &mut self.g_table } else { &mut self.m_table };
             table[c.number as usize] = u16::try_from(i).unwrap_or(NO_CODE);
         }

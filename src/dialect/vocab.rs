@@ -199,6 +199,44 @@ vocab! {
         SpindleOrient = "spindle-orient",
         /// Save or restore the modal state (M70, M72, M73).
         ModalState = "modal-state",
+        /// Replaces the programmable frame's translation (`TRANS X10`); alone, resets the frame.
+        FrameTrans = "frame-trans",
+        /// Adds to the programmable frame's translation (`ATRANS`).
+        FrameTransAdd = "frame-trans-add",
+        /// Replaces the programmable frame's rotation in the plane (`ROT RPL=30`, `ROT Z30`).
+        FrameRot = "frame-rot",
+        /// Adds to the programmable frame's rotation (`AROT`).
+        FrameRotAdd = "frame-rot-add",
+        /// Replaces the programmable frame's scale (`SCALE X2 Y2`).
+        FrameScale = "frame-scale",
+        /// Multiplies the programmable frame's scale (`ASCALE`).
+        FrameScaleAdd = "frame-scale-add",
+        /// Mirroring of the programmable frame (`MIRROR X0`, `AMIRROR`): diagnosed, not applied.
+        FrameMirror = "frame-mirror",
+        /// Sets the circle centre / pole from the block's axis words (`CC X+25 Y+25`); alone, the current position.
+        Pole = "pole",
+        /// An arc about the pole to the block's end point (`C X Y DR-`); the direction from the block or the last arc.
+        ArcPole = "arc-pole",
+        /// An arc with a given radius (`CR X Y R+5 DR-`); the direction from the block or the last arc.
+        ArcRadius = "arc-radius",
+        /// An arc tangent to the previous element (`CT X Y`).
+        ArcTangent = "arc-tangent",
+        /// Clockwise for this block's arc (`DR-`).
+        ArcDirCw = "arc-dir-cw",
+        /// Counter-clockwise for this block's arc (`DR+`).
+        ArcDirCcw = "arc-dir-ccw",
+        /// This block's move is a rapid (`FMAX`); the modal feed stays.
+        RapidBlock = "rapid-block",
+        /// Defines a cycle (`CYCL DEF 200`): the cycle's parameters are read when it is called.
+        CycleDefine = "cycle-define",
+        /// Calls the defined cycle at the position reached by the block (`CYCL CALL`, `M99`).
+        CycleCall = "cycle-call",
+        /// With a cycle in the block: call it after every later move (`MCALL CYCLE81(...)`); alone: stop that.
+        CycleModal = "cycle-modal",
+        /// Program start with a name and units (`BEGIN PGM name MM`); recorded.
+        ProgramBegin = "program-begin",
+        /// A corner of the workpiece blank from the block's axis words (`BLK FORM 0.1 Z X+0 Y+0 Z-40`); recorded.
+        Stock = "stock",
         /// Machine-specific function the interpreter records but does not model.
         Other = "other",
     }
@@ -279,6 +317,20 @@ vocab! {
         Geometry = "geometry",
         /// A value the engine keeps but does not interpret.
         Extra = "extra",
+        /// A retract level relative to the reference plane (Heidenhain Q204, 2nd set-up clearance).
+        RetractDistance = "retract-distance",
+        /// The feed of a cycle's plunge (Heidenhain Q206).
+        PlungeFeed = "plunge-feed",
+        /// The re-approach distance above the last peck depth (Siemens _DIS1, Heidenhain Q258).
+        PreStop = "pre-stop",
+        /// 0: chip breaking, 1: full retract between pecks (Siemens VARI).
+        PeckMode = "peck-mode",
+        /// A cycle number given after a keyword (`CYCL DEF 200`).
+        CycleNumber = "cycle-number",
+        /// A keyword code of the dialect (internal: the word's value is the code's index).
+        Keyword = "keyword",
+        /// A named cycle call (internal: the word's value is the cycle's index).
+        Cycle = "cycle",
     }
 }
 

@@ -8,6 +8,32 @@ use crate::dialect::{CodeDef, Meaning, Role, TapStyle};
 use crate::syntax::Block;
 use crate::text::TextRange;
 
+/// What one hole of a cycle needs, in program coordinates along the hole axis.
+#[derive(Clone, Debug)]
+pub(super) struct HoleRun {
+    pub kind: CycleKind,
+    /// The cycle as written (`G83`, `CYCLE83`, `CYCL DEF 200`).
+    pub code: String,
+    /// Where feeding starts (the R plane).
+    pub r: f64,
+    pub bottom: f64,
+    /// Where the tool goes after the hole.
+    pub clear: f64,
+    /// The level before the cycle (back boring returns there).
+    pub old_z: f64,
+    /// Peck depth.
+    pub peck: Option<f64>,
+    /// The level the peck depths count from (Fanuc: R; Siemens and Heidenhain: the surface).
+    pub peck_from: f64,
+    pub dwell: Option<f64>,
+    /// Fine and back boring shift.
+    pub shift: f64,
+    /// Re-approach distance above the last peck.
+    pub clearance: f64,
+    /// Whether the hole is at the current position, so no move in the plane is needed.
+    pub still: bool,
+}
+
 impl Interpreter<'_> {
     pub(super) fn cycle(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let kind = match def.meaning {
@@ -124,13 +150,25 @@ impl Interpreter<'_> {
         }
         let clear = if self.st.retract == Retract::Initial { old_z.max(r) } else { r };
         let (dx, dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
+        let run = HoleRun { kind, code, r, bottom, clear, old_z, peck, peck_from: r, dwell, shift, clearance, still: false };
         for _ in 0..repeats as u64 {
             let (x, y) = if incremental {
                 (p[a0] + dx.unwrap_or(0.0), p[a1] + dy.unwrap_or(0.0))
             } else {
                 (dx.unwrap_or(p[a0]), dy.unwrap_or(p[a1]))
             };
-            let intent = CycleIntent { kind, code: code.clone(), x, y, bottom, r_plane: r, clear, peck, dwell };
+            p = self.hole(&run, x, y, p, sink);
+        }
+        self.st.pos = p;
+    }
+
+    /// One hole of a cycle at (`x`, `y`) in the plane, from position `p`: the intent marker,
+    /// the moves, the end marker. Returns the position after it.
+    pub(super) fn hole(&mut self, run: &HoleRun, x: f64, y: f64, p: [f64; 6], sink: &mut dyn CanonSink) -> [f64; 6] {
+        let (a0, a1, n) = self.st.plane.axes();
+        let HoleRun { kind, r, bottom, clear, old_z, peck, peck_from, dwell, shift, clearance, still, .. } = *run;
+        {
+            let intent = CycleIntent { kind, code: run.code.clone(), x, y, bottom, r_plane: r, clear, peck, dwell };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             let place = |first: f64, z: f64| {
                 let mut q = p;
@@ -138,7 +176,9 @@ impl Interpreter<'_> {
                 q
             };
             let at = |z: f64| place(x, z);
-            self.emit(sink, CanonOp::StraightTraverse(at(p[n])));
+            if !(still && p[a0] == x && p[a1] == y) {
+                self.emit(sink, CanonOp::StraightTraverse(at(p[n])));
+            }
             if p[n] != r {
                 self.emit(sink, CanonOp::StraightTraverse(at(r)));
             }
@@ -155,7 +195,7 @@ impl Interpreter<'_> {
                 CycleKind::PeckDrilling | CycleKind::ChipBreaking => {
                     let q = peck.unwrap_or(1.0);
                     let full = kind == CycleKind::PeckDrilling;
-                    let mut depth = r - q;
+                    let mut depth = peck_from - q;
                     while depth > bottom {
                         self.emit(sink, CanonOp::StraightFeed(at(depth)));
                         if full {
@@ -255,9 +295,8 @@ impl Interpreter<'_> {
                 }
             }
             self.emit(sink, CanonOp::CycleEnd);
-            p = if kind == CycleKind::BackBoring { at(old_z) } else { at(clear) };
+            if kind == CycleKind::BackBoring { at(old_z) } else { at(clear) }
         }
-        self.st.pos = p;
     }
 
     /// Turns the spindle back on in its programmed direction after a cycle stopped it.

@@ -211,6 +211,7 @@ fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
             out as f64
         }
         Func::Neg => -x,
+        Func::Trunc => x.trunc(),
         Func::Not => f64::from(u8::from(x == 0.0)),
     })
 }

@@ -8,6 +8,7 @@
 
 mod comp;
 mod cycle;
+mod define;
 pub mod eval;
 mod flow;
 mod motion;
@@ -19,7 +20,7 @@ use std::collections::BTreeMap;
 use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step, SystemVar, TimeUnit};
-use crate::syntax::{Block, ParamTarget, Value};
+use crate::syntax::{Block, ParamTarget, Value, WordMode};
 use crate::text::TextRange;
 use eval::{EvalError, Params};
 
@@ -123,6 +124,7 @@ pub(crate) enum Request {
 struct Slot {
     value: f64,
     range: TextRange,
+    mode: WordMode,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -192,6 +194,16 @@ struct State {
     motion_continued: bool,
     /// G93: F is the inverse of each move's time in minutes.
     inverse_time: bool,
+    /// The circle centre / pole in the plane's two axes (`CC X Y`), program coordinates.
+    pole: (f64, f64),
+    /// The direction of the last arc, for arcs that do not state one (`C X Y` after `DR-`).
+    arc_cw: bool,
+    /// The cycle defined last (`CYCL DEF 200`, `MCALL CYCLE81(...)`), for later calls.
+    defined_cycle: Option<define::Defined>,
+    /// Whether the defined cycle runs after every move (`MCALL`, `M89`).
+    cycle_modal: bool,
+    /// The direction of travel at the end of the last move in the plane (unit vector).
+    tangent: Option<(f64, f64)>,
 }
 
 /// The interpreter for one program run.
@@ -229,6 +241,11 @@ pub struct Interpreter<'a> {
     comp_problem: std::cell::Cell<Option<comp::CompProblem>>,
     /// Where ops come from while a subprogram from another file runs: the call block.
     origin_override: Option<(TextRange, u32)>,
+    /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
+    block_cycle: Option<usize>,
+    cycle_args: Vec<(Role, f64)>,
+    /// Tool names met in `T="NAME"` that the tool table does not know, numbered from 10001.
+    tool_names: Vec<String>,
 }
 
 const NOTE_LIMIT: u32 = 3;
@@ -274,6 +291,11 @@ impl<'a> Interpreter<'a> {
                 motion_continued: false,
                 rotation: None,
                 scaling: None,
+                pole: (0.0, 0.0),
+                arc_cw: true,
+                defined_cycle: None,
+                cycle_modal: false,
+                tangent: None,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -297,6 +319,9 @@ impl<'a> Interpreter<'a> {
             comp: std::cell::RefCell::new(None),
             comp_problem: std::cell::Cell::new(None),
             origin_override: None,
+            block_cycle: None,
+            cycle_args: Vec::new(),
+            tool_names: Vec::new(),
         }
     }
 
@@ -522,6 +547,9 @@ impl<'a> Interpreter<'a> {
             // The common block: axis words only, so only the motion step has work.
             self.step(Step::Motion, block, sink, diags);
             self.modal_macro_after(motions);
+            if self.st.cycle_modal {
+                self.cycles_after(motions, block.range, sink, diags);
+            }
             return;
         }
         for &step in &self.dialect.execution_order {
@@ -547,6 +575,7 @@ impl<'a> Interpreter<'a> {
             self.run_codes(Step::Misc, block, sink, diags);
         }
         self.modal_macro_after(motions);
+        self.cycles_after(motions, block.range, sink, diags);
     }
 
     /// After a block that moved, the registered G66 macro is called (not from inside it).
@@ -569,9 +598,22 @@ impl<'a> Interpreter<'a> {
         }
         self.code_steps = 0;
         self.codes.clear();
+        self.block_cycle = None;
+        self.cycle_args.clear();
         let mut ok = true;
         // Codes first: a unit change in this block affects how its numbers scale.
         for w in &block.words {
+            if w.role == Role::Cycle {
+                if let Value::Number { value, .. } = w.value {
+                    self.block_cycle = Some(value as usize);
+                }
+                continue;
+            }
+            if w.role == Role::Keyword {
+                let Value::Number { value, .. } = w.value else { continue };
+                ok &= self.push_code(value as usize, w.range, diags);
+                continue;
+            }
             if !matches!(w.role, Role::G | Role::M) {
                 continue;
             }
@@ -608,23 +650,7 @@ impl<'a> Interpreter<'a> {
                 ok = false;
                 continue;
             };
-            let def = self.code(idx);
-            if let Some(&(other, _)) = self.codes.iter().find(|(c, _)| self.code(*c).group == def.group) {
-                diags.push(Diagnostic::new(
-                    Code::ModalGroupConflict,
-                    w.range,
-                    format!(
-                        "{} and {} are both in modal group `{}`; a block may hold only one",
-                        self.code(other).label(),
-                        def.label(),
-                        self.dialect.groups[def.group].id
-                    ),
-                ));
-                ok = false;
-                continue;
-            }
-            self.codes.push((idx, w.range));
-            self.code_steps |= 1 << self.dialect.groups[def.group].step as u32;
+            ok &= self.push_code(idx, w.range, diags);
         }
         let units = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
             Meaning::UnitsInch => Some(Units::Inch),
@@ -633,7 +659,15 @@ impl<'a> Interpreter<'a> {
         });
         let units = units.unwrap_or(self.st.units);
         for w in &block.words {
-            if matches!(w.role, Role::G | Role::M) {
+            if matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
+                continue;
+            }
+            if w.cycle_arg {
+                match self.value(block, w.value, w.range, diags) {
+                    Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),
+                    Some(_) => {}
+                    None => ok = false,
+                }
                 continue;
             }
             if self.slots[w.role as usize].is_some() {
@@ -648,6 +682,13 @@ impl<'a> Interpreter<'a> {
             }
             let mut v = match w.value {
                 Value::Number { value, .. } => value,
+                Value::Text(r) => match self.text_value(w.role, r, w.range, diags) {
+                    Some(v) => v,
+                    None => {
+                        ok = false;
+                        continue;
+                    }
+                },
                 Value::Expr(_) => match self.value(block, w.value, w.range, diags) {
                     Some(v) if eval::is_null(v) => continue,
                     Some(v) => v,
@@ -663,7 +704,7 @@ impl<'a> Interpreter<'a> {
             {
                 v *= if units == Units::Mm { *mm } else { *inch };
             }
-            self.slots[w.role as usize] = Some(Slot { value: v, range: w.range });
+            self.slots[w.role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
             self.filled |= 1 << w.role as u32;
         }
         self.has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
@@ -673,9 +714,55 @@ impl<'a> Interpreter<'a> {
         ok
     }
 
+    /// Adds code `idx` to the block's codes; false (with a diagnostic) when its group already has one.
+    fn push_code(&mut self, idx: usize, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        let def = self.code(idx);
+        if let Some(&(other, _)) = self.codes.iter().find(|(c, _)| self.code(*c).group == def.group) {
+            diags.push(Diagnostic::new(
+                Code::ModalGroupConflict,
+                range,
+                format!(
+                    "{} and {} are both in modal group `{}`; a block may hold only one",
+                    self.code(other).label(),
+                    def.label(),
+                    self.dialect.groups[def.group].id
+                ),
+            ));
+            return false;
+        }
+        self.codes.push((idx, range));
+        self.code_steps |= 1 << self.dialect.groups[def.group].step as u32;
+        true
+    }
+
+    /// A quoted value: a tool name (`T="DRILL_8"`) becomes the number the tool table gives
+    /// it, or a number from 10001 on in the order names first appear.
+    fn text_value(&mut self, role: Role, r: TextRange, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+        let name = &self.text[r.start as usize..r.end as usize];
+        if role != Role::T {
+            diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("\"{name}\" is text; this address takes a number")));
+            return None;
+        }
+        if let Some((&n, _)) = self.profile.tools.iter().find(|(_, t)| t.name.as_deref().is_some_and(|t| t.eq_ignore_ascii_case(name))) {
+            return Some(f64::from(n));
+        }
+        let k = match self.tool_names.iter().position(|t| t.eq_ignore_ascii_case(name)) {
+            Some(k) => k,
+            None => {
+                self.tool_names.push(name.to_owned());
+                self.tool_names.len() - 1
+            }
+        };
+        Some(10_001.0 + k as f64)
+    }
+
     fn value(&mut self, block: &Block, v: Value, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
         match v {
             Value::Number { value, .. } => Some(value),
+            Value::Text(_) => {
+                diags.push(Diagnostic::new(Code::MalformedNumber, range, "text where a number is needed"));
+                None
+            }
             Value::Expr(e) => match eval::eval(block, e, &self.params, self.text) {
                 Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) => Some(x),
                 Ok(_) => {
@@ -769,6 +856,16 @@ impl<'a> Interpreter<'a> {
                     | Meaning::LocalOffset
                     | Meaning::Scaling
                     | Meaning::Rotation
+                    | Meaning::Pole
+                    | Meaning::CycleDefine
+                    | Meaning::FrameTrans
+                    | Meaning::FrameTransAdd
+                    | Meaning::FrameRot
+                    | Meaning::FrameRotAdd
+                    | Meaning::FrameScale
+                    | Meaning::FrameScaleAdd
+                    | Meaning::FrameMirror
+                    | Meaning::Stock
             )
         });
         if self.has_axes && !claimed { self.st.motion_code } else { None }
@@ -1240,7 +1337,17 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Meaning::MachineCoords => {}
-            m if matches!(m, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) || m.is_cycle() => {
+            m if matches!(
+                m,
+                Meaning::Rapid
+                    | Meaning::Linear
+                    | Meaning::ArcCw
+                    | Meaning::ArcCcw
+                    | Meaning::ArcPole
+                    | Meaning::ArcRadius
+                    | Meaning::ArcTangent
+            ) || m.is_cycle() =>
+            {
                 self.st.motion_continued = self.st.motion_code == Some(c);
                 if !self.st.motion_continued {
                     self.st.sticky_z = None;
@@ -1277,7 +1384,19 @@ impl<'a> Interpreter<'a> {
                 let goto = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0).map(|p| p as u32);
                 self.request = Some(Request::Return { goto });
             }
-            Meaning::Other | Meaning::LatheMode => {}
+            Meaning::Other | Meaning::LatheMode | Meaning::ProgramBegin | Meaning::Stock => {}
+            Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
+            Meaning::Pole => {
+                let t = self.target();
+                let (a0, a1, _) = self.st.plane.axes();
+                self.st.pole = (t[a0], t[a1]);
+            }
+            Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
+            Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, range, diags),
+            Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),
+            Meaning::FrameMirror => self.unsupported(def, range, diags),
+            Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),
+            Meaning::CycleCall | Meaning::CycleModal => {}
             _ => {
                 if self.dialect.groups[def.group].step == Step::Motion {
                     self.st.motion_code = None;

@@ -4,7 +4,7 @@ use super::{Interpreter, Spindle};
 use crate::canon::{CanonOp, CanonSink, DistanceMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
-use crate::syntax::Block;
+use crate::syntax::{Block, WordMode};
 use crate::text::TextRange;
 
 /// Offset roles along X, Y and Z.
@@ -30,12 +30,18 @@ impl Interpreter<'_> {
         }
         let mut t = self.st.pos;
         for (i, &role) in Role::AXES.iter().enumerate() {
-            if let Some(v) = self.slot(role) {
+            if let Some(slot) = self.slots[role as usize] {
+                let v = slot.value;
+                let incremental = match slot.mode {
+                    WordMode::Modal => self.st.distance == DistanceMode::Incremental,
+                    WordMode::Absolute => false,
+                    WordMode::Incremental => true,
+                };
                 t[i] = if machine {
                     // The tool length offset moves the controlled point along Z.
                     let tlo = if i == 2 { self.st.tool_offset } else { 0.0 };
                     v - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i] - tlo
-                } else if self.st.distance == DistanceMode::Incremental {
+                } else if incremental {
                     self.st.pos[i] + v
                 } else {
                     v
@@ -45,11 +51,28 @@ impl Interpreter<'_> {
         t
     }
 
+    /// Whether the axis word for `role` is incremental (per word, or by G91).
+    pub(super) fn incremental(&self, role: Role) -> bool {
+        match self.slots[role as usize].map(|s| s.mode) {
+            Some(WordMode::Absolute) => false,
+            Some(WordMode::Incremental) => true,
+            _ => self.st.distance == DistanceMode::Incremental,
+        }
+    }
+
     pub(super) fn motion(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.motions += 1;
+        let rapid_block = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RapidBlock);
         match def.meaning {
+            Meaning::Rapid | Meaning::Linear if rapid_block => {
+                let t = self.target();
+                self.note_tangent(t);
+                self.emit(sink, CanonOp::StraightTraverse(t));
+                self.st.pos = t;
+            }
             Meaning::Rapid => {
                 let t = self.target();
+                self.note_tangent(t);
                 self.emit(sink, CanonOp::StraightTraverse(t));
                 self.st.pos = t;
             }
@@ -62,10 +85,13 @@ impl Interpreter<'_> {
                         return;
                     }
                 }
+                self.note_tangent(t);
                 self.emit(sink, CanonOp::StraightFeed(t));
                 self.st.pos = t;
             }
-            Meaning::ArcCw | Meaning::ArcCcw => self.arc(def, range, block, sink, diags),
+            Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent => {
+                self.arc(def, range, block, sink, diags)
+            }
             _ => self.cycle(def, range, block, sink, diags),
         }
     }
@@ -122,13 +148,67 @@ impl Interpreter<'_> {
         }
     }
 
+    /// After a straight move to `t`: its direction in the plane, for a following tangent arc.
+    fn note_tangent(&mut self, t: [f64; 6]) {
+        let (a0, a1, _) = self.st.plane.axes();
+        let (d1, d2) = (t[a0] - self.st.pos[a0], t[a1] - self.st.pos[a1]);
+        let len = d1.hypot(d2);
+        if len > 1e-12 {
+            self.st.tangent = Some((d1 / len, d2 / len));
+        }
+    }
+
     fn arc(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.check_technology(def, block.range, diags);
-        let cw = def.meaning == Meaning::ArcCw;
+        let stated = self.codes.iter().find_map(|&(c, _)| match self.code(c).meaning {
+            Meaning::ArcDirCw => Some(true),
+            Meaning::ArcDirCcw => Some(false),
+            _ => None,
+        });
         let start = self.st.pos;
         let end = self.target();
         let (a0, a1, n) = self.st.plane.axes();
         let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);
+        let mut cw = match def.meaning {
+            Meaning::ArcCw => true,
+            Meaning::ArcCcw => false,
+            _ => stated.unwrap_or(self.st.arc_cw),
+        };
+        let mut given_centre = None;
+        match def.meaning {
+            Meaning::ArcPole => given_centre = Some(self.st.pole),
+            Meaning::ArcRadius if self.slot(Role::R).is_none() => {
+                diags.push(Diagnostic::new(Code::MissingParameter, block.range, format!("{} needs a radius R", def.label())));
+                return;
+            }
+            Meaning::ArcTangent => {
+                // The centre lies on the normal to the incoming direction, as far from the
+                // start as from the end.
+                let Some((t1, t2)) = self.st.tangent else {
+                    diags.push(Diagnostic::new(
+                        Code::BadArc,
+                        block.range,
+                        format!("{}: no previous element to be tangent to", def.label()),
+                    ));
+                    return;
+                };
+                let (d1, d2) = (e1 - s1, e2 - s2);
+                let (n1, n2) = (-t2, t1);
+                let dn = d1 * n1 + d2 * n2;
+                if dn.abs() < 1e-9 {
+                    diags.push(Diagnostic::new(
+                        Code::BadArc,
+                        block.range,
+                        format!("{}: the end point lies on the tangent; no arc", def.label()),
+                    ));
+                    return;
+                }
+                let k = (d1 * d1 + d2 * d2) / (2.0 * dn);
+                given_centre = Some((s1 + k * n1, s2 + k * n2));
+                cw = k < 0.0;
+            }
+            _ => {}
+        }
         let tol = self.dialect.behaviour.arc_tolerance_mm / self.st.units.to_mm();
         let turns = match self.slot(Role::P) {
             None => 1,
@@ -138,7 +218,19 @@ impl Interpreter<'_> {
                 return;
             }
         };
-        let center = if let Some(r) = self.slot(Role::R) {
+        let center = if let Some(c) = given_centre {
+            let r_start = (s1 - c.0).hypot(s2 - c.1);
+            let r_end = (e1 - c.0).hypot(e2 - c.1);
+            if (r_start - r_end).abs() > tol {
+                diags.push(Diagnostic::new(
+                    Code::BadArc,
+                    block.range,
+                    format!("the end point is {r_end:.4} from the circle centre, the start {r_start:.4}; they must agree"),
+                ));
+                return;
+            }
+            c
+        } else if let Some(r) = self.slot(Role::R) {
             match arc_center_from_radius(s1, s2, e1, e2, r, cw, tol) {
                 Ok(c) => c,
                 Err(msg) => {
@@ -196,6 +288,13 @@ impl Interpreter<'_> {
             },
         );
         self.st.pos = end;
+        self.st.arc_cw = cw;
+        // The direction at the end: along the circle, perpendicular to the radius.
+        let (r1, r2) = (e1 - center.0, e2 - center.1);
+        let len = r1.hypot(r2);
+        if len > 1e-12 {
+            self.st.tangent = Some(if cw { (r2 / len, -r1 / len) } else { (-r2 / len, r1 / len) });
+        }
     }
 }
 

@@ -44,6 +44,8 @@ pub enum Func {
     Bcd,
     /// Negation.
     Neg,
+    /// Integer part, toward zero in every dialect (Siemens `TRUNC`, Heidenhain `INT`).
+    Trunc,
     /// Logical not.
     Not,
 }
@@ -57,11 +59,12 @@ impl Func {
             "TAN" => Func::Tan,
             "ASIN" => Func::Asin,
             "ACOS" => Func::Acos,
-            "ATAN" => Func::Atan,
+            "ATAN" | "ATAN2" => Func::Atan,
             "SQRT" => Func::Sqrt,
             "ABS" => Func::Abs,
             "ROUND" => Func::Round,
             "FIX" => Func::Fix,
+            "TRUNC" | "INT" => Func::Trunc,
             "FUP" => Func::Fup,
             "LN" => Func::Ln,
             "EXP" => Func::Exp,
@@ -126,6 +129,8 @@ impl BinOp {
     pub fn named(name: &str) -> Option<BinOp> {
         Some(match name {
             "MOD" => BinOp::Mod,
+            "DIV" => BinOp::Div,
+            "EQU" => BinOp::Eq,
             "EQ" => BinOp::Eq,
             "NE" => BinOp::Ne,
             "GT" => BinOp::Gt,

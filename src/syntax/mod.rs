@@ -25,6 +25,20 @@ pub enum Value {
     },
     /// An expression in the block's arena.
     Expr(ExprId),
+    /// A quoted string (`T="DRILL_8"`); the range covers the text inside the quotes.
+    Text(TextRange),
+}
+
+/// How a word's axis value is measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum WordMode {
+    /// As G90/G91 say.
+    #[default]
+    Modal,
+    /// Absolute for this word (`X=AC(10)`).
+    Absolute,
+    /// Incremental for this word (`X=IC(5)`, `IX+5`).
+    Incremental,
 }
 
 /// An address and its value, such as `X10.5` or `CR=5`.
@@ -38,6 +52,10 @@ pub struct Word {
     pub value: Value,
     /// Source range of the whole word.
     pub range: TextRange,
+    /// Absolute or incremental for this word only.
+    pub mode: WordMode,
+    /// Whether the word is an argument of the block's named cycle (`CYCLE81(50, 0, 2)`).
+    pub cycle_arg: bool,
 }
 
 /// The target of a parameter assignment.
@@ -88,8 +106,12 @@ pub struct Block {
     pub line: u32,
     /// Whether the block carries the block-skip character.
     pub skip: bool,
-    /// Block number (`N120`).
+    /// Block number (`N120`, or `17` leading a Heidenhain block).
     pub number: Option<u32>,
+    /// A label at block start (`MARKE1:`); the range covers the name.
+    pub label: Option<TextRange>,
+    /// Physical lines the block runs over after its first (continued with `~`).
+    pub extra_lines: u32,
     /// Program number at program start (`O1234`).
     pub program_number: Option<u32>,
     /// Whether the block is a program delimiter line (`%`).
@@ -112,6 +134,8 @@ impl Block {
         self.line = 0;
         self.skip = false;
         self.number = None;
+        self.label = None;
+        self.extra_lines = 0;
         self.program_number = None;
         self.delimiter = false;
         self.words.clear();

@@ -1,9 +1,9 @@
 //! The streaming block parser.
 
 use super::expr::{BinOp, Expr, ExprId, Func};
-use super::{Assign, Block, Control, ParamTarget, Value, Word};
+use super::{Assign, Block, Control, ParamTarget, Value, Word, WordMode};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CommentClose, Dialect, SkipPosition, Statement};
+use crate::dialect::{CommentClose, Dialect, KeywordRest, Role, SkipPosition, Statement};
 use crate::text::TextRange;
 
 /// Nesting limit for brackets, against stack exhaustion on hostile input.
@@ -48,10 +48,11 @@ impl<'a> Parser<'a> {
         block.clear();
         block.line = self.line;
         let start = self.pos;
-        let mut lx = Lexer { text: self.text, b: self.bytes, i: start, dialect: self.dialect, block, diags };
+        let mut lx = Lexer { text: self.text, b: self.bytes, i: start, dialect: self.dialect, block, diags, pending_mode: WordMode::Modal };
         let end = lx.block();
         let mut i = lx.i;
         block.range = TextRange::new(start, end);
+        self.line += block.extra_lines;
         match self.bytes.get(i) {
             Some(b'\r') => {
                 i += 1;
@@ -79,6 +80,8 @@ struct Lexer<'t, 'b> {
     dialect: &'t Dialect,
     block: &'b mut Block,
     diags: &'b mut Vec<Diagnostic>,
+    /// An `AC(..)`/`IC(..)` wrapper just read, for the word being built.
+    pending_mode: WordMode,
 }
 
 impl Lexer<'_, '_> {
@@ -125,9 +128,24 @@ impl Lexer<'_, '_> {
             self.i = self.line_end();
             return self.i;
         }
+        if lex.leading_block_number && self.peek().is_some_and(|c| c.is_ascii_digit()) {
+            let start = self.i;
+            if let Some(n) = self.integer(start) {
+                self.block.number = Some(n);
+            }
+        }
         loop {
             self.skip_blanks();
             let Some(c) = self.peek() else { break };
+            if lex.continuation == Some(c as char) {
+                // `~` continues the block on the next line.
+                self.i += 1;
+                self.skip_blanks();
+                if !self.continue_line() && self.peek().is_some() {
+                    self.error(Code::UnknownAddress, self.i - 1, self.i, "the continuation mark must end its line");
+                }
+                continue;
+            }
             if c == b'\n' || c == b'\r' {
                 break;
             }
@@ -135,13 +153,15 @@ impl Lexer<'_, '_> {
                 let end = self.i;
                 return end;
             }
-            if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c) {
+            let at_start = self.block.words.is_empty() && self.block.assigns.is_empty() && self.block.control.is_none();
+            if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (at_start || !r.block_start)) {
                 let close = rule.close.clone();
                 self.comment(&close);
                 continue;
             }
             if let Some((sigil, _)) = lex.parameter
-                && c == sigil as u8
+                && c.eq_ignore_ascii_case(&(sigil as u8))
+                && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()))
             {
                 self.assignment();
                 continue;
@@ -167,14 +187,42 @@ impl Lexer<'_, '_> {
         self.i
     }
 
+    /// After a continuation mark: steps over the line end. False when the line does not end here.
+    fn continue_line(&mut self) -> bool {
+        match self.peek() {
+            Some(b'\r') => {
+                self.i += 1;
+                if self.peek() == Some(b'\n') {
+                    self.i += 1;
+                }
+            }
+            Some(b'\n') => self.i += 1,
+            _ => return false,
+        }
+        self.block.extra_lines += 1;
+        true
+    }
+
+    fn expr_open(&self) -> Option<u8> {
+        self.dialect.lexical.expression.map(|(o, _)| o as u8)
+    }
+
     fn comment(&mut self, close: &CommentClose) {
         let open = self.i;
         self.i += 1;
         let eol = self.line_end();
         match close {
             CommentClose::EndOfLine => {
-                self.block.comments.push(TextRange::new(open + 1, eol));
+                // A comment that ends with the continuation mark continues the block (`Q200=2 ;CLEARANCE ~`).
+                let text = &self.b[open + 1..eol];
+                let trimmed = text.len() - text.iter().rev().take_while(|c| matches!(c, b' ' | b'\t')).count();
+                let cont = self.dialect.lexical.continuation.is_some_and(|k| trimmed > 0 && text[trimmed - 1] == k as u8);
+                let end = if cont { open + trimmed } else { eol };
+                self.block.comments.push(TextRange::new(open + 1, end));
                 self.i = eol;
+                if cont {
+                    self.continue_line();
+                }
             }
             CommentClose::Char(c) => {
                 let rest = &self.b[self.i..eol];
@@ -201,6 +249,17 @@ impl Lexer<'_, '_> {
     fn address(&mut self) {
         let start = self.i;
         let lex = &self.dialect.lexical;
+        if let Some(suffix) = lex.label_suffix {
+            let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
+            if self.b.get(end) == Some(&(suffix as u8)) && end - start >= 2 && self.block.label.is_none() && self.block.words.is_empty() {
+                self.block.label = Some(TextRange::new(start, end));
+                self.i = end + 1;
+                return;
+            }
+        }
+        if self.keyword() || self.cycle_call() {
+            return;
+        }
         // Multi-letter addresses such as `CR=` (longest first).
         for a in self.dialect.long_addresses() {
             let n = a.name.len();
@@ -214,8 +273,17 @@ impl Lexer<'_, '_> {
                 if ok {
                     self.i = if a.assign { j + 1 } else { start + n };
                     let (role, letter) = (a.role, a.name.as_bytes()[0]);
-                    if let Some(value) = self.value(start) {
-                        self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i) });
+                    let mode = if a.incremental { WordMode::Incremental } else { WordMode::Modal };
+                    let value = if a.assign { self.assigned_value(start) } else { self.value(start) };
+                    if let Some((value, m)) = value.map(|v| (v, mode)).map(|(v, m)| self.unwrap_mode(v, m)) {
+                        self.block.words.push(Word {
+                            role,
+                            letter,
+                            value,
+                            range: TextRange::new(start, self.i),
+                            mode: m,
+                            cycle_arg: false,
+                        });
                     }
                     return;
                 }
@@ -262,9 +330,297 @@ impl Lexer<'_, '_> {
             );
             return;
         };
-        if let Some(value) = self.value(start) {
-            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i) });
+        let mut j = self.i;
+        while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+            j += 1;
         }
+        let value = if lex.assign_values && self.b.get(j) == Some(&b'=') {
+            self.i = j + 1;
+            self.assigned_value(start)
+        } else {
+            self.value(start)
+        };
+        if let Some(value) = value {
+            let (value, mode) = self.unwrap_mode(value, WordMode::Modal);
+            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
+        }
+    }
+
+    /// A value after `=`: a string, `AC(..)`/`IC(..)`, or an infix expression (`X=R1*2`).
+    /// An `AC`/`IC` wrapper is returned as a marker the caller unwraps with [`Self::unwrap_mode`].
+    fn assigned_value(&mut self, start: usize) -> Option<Value> {
+        self.skip_blanks();
+        if let Some(q) = self.dialect.lexical.string_quote
+            && self.peek() == Some(q as u8)
+        {
+            return self.string(start).map(Value::Text);
+        }
+        if let Some((abs, inc)) = &self.dialect.lexical.axis_modes {
+            let run = self.alpha_run();
+            let word = &self.text[run.start as usize..run.end as usize];
+            let mode = if word.eq_ignore_ascii_case(abs) {
+                Some(WordMode::Absolute)
+            } else if word.eq_ignore_ascii_case(inc) {
+                Some(WordMode::Incremental)
+            } else {
+                None
+            };
+            if let Some(mode) = mode {
+                self.i = run.end as usize;
+                let e = self.unary(1)?;
+                self.pending_mode = mode;
+                return Some(Value::Expr(e));
+            }
+        }
+        let save = self.i;
+        if let Some((value, decimal)) = self.plain_number() {
+            return Some(Value::Number { value, decimal });
+        }
+        self.i = save;
+        self.expr(1, 0).map(Value::Expr)
+    }
+
+    /// A literal number that is the whole value (no operator follows it).
+    fn plain_number(&mut self) -> Option<(f64, bool)> {
+        let c = self.peek()?;
+        if !(c.is_ascii_digit() || c == b'.' || c == b'+' || c == b'-') {
+            return None;
+        }
+        let mark = self.diags.len();
+        let n = self.number();
+        if n.is_none() {
+            self.diags.truncate(mark);
+            return None;
+        }
+        let mut j = self.i;
+        while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+            j += 1;
+        }
+        let operator = matches!(self.b.get(j), Some(b'*' | b'/' | b'+' | b'-' | b'<' | b'>' | b'='))
+            || self.b.get(j).is_some_and(|&x| x.is_ascii_alphabetic()) && {
+                let end = self.b[j..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| j + p);
+                super::expr::BinOp::named(&self.text[j..end].to_ascii_uppercase()).is_some()
+            };
+        if operator { None } else { n }
+    }
+
+    /// Applies an `AC(..)`/`IC(..)` wrapper read by [`Self::assigned_value`].
+    fn unwrap_mode(&mut self, v: Value, mode: WordMode) -> (Value, WordMode) {
+        let m = std::mem::take(&mut self.pending_mode);
+        (v, if m == WordMode::Modal { mode } else { m })
+    }
+
+    /// A quoted string at the cursor; the range inside the quotes.
+    fn string(&mut self, start: usize) -> Option<TextRange> {
+        let q = self.b[self.i];
+        let from = self.i + 1;
+        let eol = self.line_end();
+        match self.b[from..eol].iter().position(|&c| c == q) {
+            Some(p) => {
+                self.i = from + p + 1;
+                Some(TextRange::new(from, from + p))
+            }
+            None => {
+                self.error(Code::MalformedExpression, start, eol, format!("the string is not closed with `{}`", q as char));
+                self.i = eol;
+                None
+            }
+        }
+    }
+
+    /// A keyword code at the cursor (`TRANS`, `TOOL CALL 5`, `DR+`), longest first. Blanks in
+    /// a keyword match any run of blanks; the keyword must end at a word boundary.
+    fn keyword(&mut self) -> bool {
+        let start = self.i;
+        let mut found = None;
+        for (idx, k) in self.dialect.keyword_codes() {
+            if let Some(end) = self.match_keyword(start, &k.text) {
+                found = Some((idx, end, k.value_role, k.rest));
+                break;
+            }
+        }
+        let Some((idx, end, value_role, rest)) = found else { return false };
+        let letter = self.b[start].to_ascii_uppercase();
+        let value = Value::Number { value: idx as f64, decimal: false };
+        self.block.words.push(Word {
+            role: Role::Keyword,
+            letter,
+            value,
+            range: TextRange::new(start, end),
+            mode: WordMode::Modal,
+            cycle_arg: false,
+        });
+        self.i = end;
+        self.skip_blanks();
+        if let Some(role) = value_role {
+            let vstart = self.i;
+            let c = self.peek();
+            let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+            let value = if c.is_some_and(|c| c.is_ascii_digit() || c == b'.' || c == b'+' || c == b'-') {
+                self.number().map(|(value, decimal)| Value::Number { value, decimal })
+            } else if c.is_some() && c == self.dialect.lexical.string_quote.map(|q| q as u8) {
+                self.string(vstart).map(Value::Text)
+            } else if c.is_some()
+                && (c == sigil || c == self.expr_open())
+                && self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || c != sigil)
+            {
+                self.unary(1).map(Value::Expr)
+            } else {
+                None
+            };
+            if let Some(value) = value {
+                self.block.words.push(Word {
+                    role,
+                    letter: b'#',
+                    value,
+                    range: TextRange::new(vstart, self.i),
+                    mode: WordMode::Modal,
+                    cycle_arg: false,
+                });
+            }
+            self.skip_blanks();
+            if self.peek() == Some(b':') {
+                self.i += 1; // `FN 0:`
+            }
+        }
+        match rest {
+            KeywordRest::None => {}
+            KeywordRest::Name => {
+                self.skip_blanks();
+                while self.peek().is_some_and(|c| !matches!(c, b' ' | b'\t' | b'\r' | b'\n')) {
+                    self.i += 1;
+                }
+            }
+            KeywordRest::Words => loop {
+                self.skip_blanks();
+                let from = self.i;
+                let end = self.b[from..]
+                    .iter()
+                    .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/')))
+                    .map_or(self.b.len(), |p| from + p);
+                let word = &self.b[from..end];
+                let plain = !word.is_empty()
+                    && word.iter().all(|c| !c.is_ascii_digit() || word[0].is_ascii_digit())
+                    && !matches!(self.b.get(end), Some(b'=' | b'+'))
+                    && !(word[0].is_ascii_alphabetic() && word.len() == 1);
+                if !plain {
+                    break;
+                }
+                self.i = end;
+            },
+        }
+        true
+    }
+
+    /// The end of keyword `kw` when it stands at `at`.
+    fn match_keyword(&self, at: usize, kw: &str) -> Option<usize> {
+        let mut i = at;
+        for part in kw.as_bytes().split(|&c| c == b' ') {
+            if i > at {
+                let j = i;
+                while matches!(self.b.get(i), Some(b' ' | b'\t')) {
+                    i += 1;
+                }
+                if i == j {
+                    return None;
+                }
+            }
+            let end = i + part.len();
+            if self.b.len() < end || !self.b[i..end].eq_ignore_ascii_case(part) {
+                return None;
+            }
+            i = end;
+        }
+        let last = *kw.as_bytes().last()?;
+        let boundary = !last.is_ascii_alphanumeric()
+            || !self.b.get(i).is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b'.' | b'=' | b'('));
+        boundary.then_some(i)
+    }
+
+    /// A named cycle with positional arguments: `CYCLE83(50,0,2,-30,,-5)`. Empty slots are
+    /// skipped; each argument becomes a word of the role the dialect gives its position.
+    fn cycle_call(&mut self) -> bool {
+        let start = self.i;
+        let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
+        let mut open = end;
+        while matches!(self.b.get(open), Some(b' ' | b'\t')) {
+            open += 1;
+        }
+        if self.b.get(open) != Some(&b'(') {
+            return false;
+        }
+        let Some(ci) = self.dialect.cycle(&self.text[start..end]) else { return false };
+        let letter = self.b[start].to_ascii_uppercase();
+        self.block.words.push(Word {
+            role: Role::Cycle,
+            letter,
+            value: Value::Number { value: ci as f64, decimal: false },
+            range: TextRange::new(start, end),
+            mode: WordMode::Modal,
+            cycle_arg: false,
+        });
+        self.i = open + 1;
+        let dialect = self.dialect;
+        let args = &dialect.cycles[ci].args;
+        let mut n = 0;
+        loop {
+            self.skip_blanks();
+            match self.peek() {
+                Some(b')') => {
+                    self.i += 1;
+                    break;
+                }
+                Some(b',') => {
+                    self.i += 1;
+                    n += 1;
+                    continue;
+                }
+                None | Some(b'\n' | b'\r') => {
+                    self.error(Code::MalformedExpression, start, self.i, "the cycle's argument list is not closed with `)`");
+                    return true;
+                }
+                _ => {}
+            }
+            let from = self.i;
+            let Some(e) = self.expr(1, 0) else {
+                self.i = self.line_end();
+                return true;
+            };
+            match args.get(n) {
+                Some(a) => self.block.words.push(Word {
+                    role: a.role,
+                    letter: a.name.as_bytes()[0],
+                    value: Value::Expr(e),
+                    range: TextRange::new(from, self.i),
+                    mode: WordMode::Modal,
+                    cycle_arg: true,
+                }),
+                None => self.error(
+                    Code::UnusedWord,
+                    from,
+                    self.i.max(from + 1),
+                    format!("{} takes {} arguments; this is argument {}", dialect.cycles[ci].name, args.len(), n + 1),
+                ),
+            }
+            self.skip_blanks();
+            match self.peek() {
+                Some(b',') => {
+                    self.i += 1;
+                    n += 1;
+                }
+                Some(b')') => {
+                    self.i += 1;
+                    break;
+                }
+                _ => {
+                    let at = self.i;
+                    self.error(Code::MalformedExpression, at, (at + 1).min(self.b.len()), "expected `,` or `)` in the cycle's arguments");
+                    self.i = self.line_end();
+                    return true;
+                }
+            }
+        }
+        true
     }
 
     /// An alphabetic run at the cursor, as a range.
@@ -656,7 +1012,9 @@ impl Lexer<'_, '_> {
                 }
                 Some(e)
             }
-            c if Some(c) == sigil => {
+            c if Some(c.to_ascii_uppercase()) == sigil
+                && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == expr_open)) =>
+            {
                 self.i += 1;
                 self.skip_blanks();
                 if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
@@ -699,6 +1057,11 @@ impl Lexer<'_, '_> {
                     return Some(self.push(Expr::Unary(Func::Exists, n)));
                 }
                 if self.peek() != expr_open {
+                    if self.dialect.lexical.bare_function_arguments && self.peek().is_some() {
+                        // `SIN +Q1`, `SQRT 25`: the operand follows without brackets.
+                        let inner = self.unary(depth + 1)?;
+                        return Some(self.push(Expr::Unary(func, inner)));
+                    }
                     self.error(Code::MalformedExpression, start, self.i, format!("`{word}` needs its argument in brackets"));
                     return None;
                 }

@@ -48,16 +48,19 @@ fn the_format_expresses_multi_letter_addresses_positional_cycles_and_keyword_blo
     <address name="X" role="axis-x"/><address name="CR" role="radius" form="assign"/>
     <address name="G" role="g-code"/><address name="I1" role="geometry" form="assign"/>
   </addresses>
-  <keywords><keyword text="TOOL CALL" meaning="tool-change"/><keyword text="L" meaning="linear"/></keywords>
-  <execution-order>motion</execution-order>
-  <groups><group id="motion" step="motion"><code value="2" meaning="arc-cw" optional="X" any-of="CR"/></group></groups>
+  <execution-order>motion tool-change</execution-order>
+  <groups>
+    <group id="motion" step="motion"><code value="2" meaning="arc-cw" optional="X" any-of="CR"/><code keyword="L" meaning="linear" optional="X"/></group>
+    <group id="tool" step="tool-change"><code keyword="TOOL  CALL" value-role="tool" meaning="tool-change"/></group>
+  </groups>
   <cycles><cycle name="CYCLE81" meaning="cycle-drill"><arg name="RTP" role="retract-plane" use="required"/><arg name="RFP" role="reference-plane"/></cycle></cycles>
 </dialect>"#;
     let mut r = Registry::default();
     let d = r.add("sketch.xml", xml).unwrap();
     assert_eq!(d.long_addresses().map(|a| a.name.as_str()).collect::<Vec<_>>(), ["CR", "I1"]);
     assert_eq!(d.cycles[0].args.len(), 2);
-    assert_eq!(d.keywords[0].text, "TOOL CALL");
+    // Keyword codes, longest first, with blanks normalised.
+    assert_eq!(d.keyword_codes().map(|(_, k)| k.text.as_str()).collect::<Vec<_>>(), ["TOOL CALL", "L"]);
     // And the engine reads `CR=` words through it.
     let mut diags = Vec::new();
     let mut block = ncplan::syntax::Block::default();

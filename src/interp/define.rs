@@ -1,0 +1,238 @@
+//! Cycles that are defined and then called (`CYCLE81(...)`, `MCALL`, `CYCL DEF 200` with
+//! `CYCL CALL` or `M99`), and the programmable frame (`TRANS`, `ROT`, `SCALE`).
+//!
+//! A defined cycle states its geometry by planes rather than by R and Z words: a reference
+//! plane (the surface), a safety distance above it, a depth (absolute or below the surface)
+//! and a retract plane. The moves are the same as those of the G8x cycles (`cycle.rs`).
+
+use super::Interpreter;
+use super::cycle::HoleRun;
+use crate::canon::{CanonOp, CanonSink, CycleKind, Units};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, Meaning, Role};
+use crate::text::TextRange;
+
+/// A cycle waiting to be called.
+#[derive(Clone, Debug)]
+pub(super) struct Defined {
+    /// Index into the dialect's cycles.
+    cycle: usize,
+    /// Positional arguments as given; parameter-defined cycles read theirs at the call.
+    args: Vec<(Role, f64)>,
+    /// Where the definition was written, for messages.
+    range: TextRange,
+}
+
+impl Interpreter<'_> {
+    /// `CYCL DEF 200`: remembers cycle 200 for later calls; a cycle that acts where it is
+    /// written (`CYCL DEF 7.1 X+10`, a datum shift) acts now.
+    pub(super) fn define_numbered_cycle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let Some(number) = self.slot(Role::CycleNumber) else {
+            diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs a cycle number", def.label())));
+            return;
+        };
+        let name = format!("{}", number.trunc());
+        let Some(ci) = self.dialect.cycle(&name) else {
+            let d = Diagnostic::new(
+                Code::Unsupported,
+                range,
+                format!("{} {name}: the {} dialect has no cycle {name}; skipped", def.label(), self.dialect.name),
+            );
+            self.limited(diags, "cycle-unknown", d);
+            return;
+        };
+        let cycle = &self.dialect.cycles[ci];
+        if !cycle.immediate {
+            self.st.defined_cycle = Some(Defined { cycle: ci, args: Vec::new(), range });
+            return;
+        }
+        match cycle.meaning {
+            Meaning::LocalOffset => self.datum_shift(sink),
+            Meaning::Other => {}
+            _ => {
+                let d = Diagnostic::new(
+                    Code::Unsupported,
+                    range,
+                    format!("{} {name} ({}) is not supported yet; skipped", def.label(), cycle.meaning.as_str()),
+                );
+                self.limited(diags, "cycle-unsupported", d);
+            }
+        }
+    }
+
+    /// A datum shift of the given axes (absolute, or incremental per word), kept with G52.
+    fn datum_shift(&mut self, sink: &mut dyn CanonSink) {
+        let old = self.st.g92;
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if let Some(v) = self.slot(role) {
+                self.st.g92[i] = if self.incremental(role) { old[i] + v } else { v };
+            }
+        }
+        if self.st.g92 != old {
+            let new = self.st.g92;
+            self.shift_origin(old, new);
+            self.emit(sink, CanonOp::SetG92Offset(new));
+        }
+    }
+
+    /// After a block ran: defines its named cycle, switches modal calls on or off, and calls
+    /// the defined cycle where the block asks for it or, while modal, after a move.
+    pub(super) fn cycles_after(&mut self, motions: u64, block_range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let has = |s: &Self, m: Meaning| s.codes.iter().any(|&(c, _)| s.code(c).meaning == m);
+        let modal = has(self, Meaning::CycleModal);
+        if let Some(ci) = self.block_cycle.take() {
+            self.st.defined_cycle = Some(Defined { cycle: ci, args: std::mem::take(&mut self.cycle_args), range: block_range });
+            if modal {
+                self.st.cycle_modal = true;
+            } else if self.dialect.cycles[ci].immediate {
+                self.call_defined(block_range, sink, diags);
+            }
+            return;
+        }
+        if modal {
+            self.st.cycle_modal = false;
+        }
+        if has(self, Meaning::CycleCall) || (self.st.cycle_modal && self.motions != motions) {
+            self.call_defined(block_range, sink, diags);
+        }
+    }
+
+    /// Runs the defined cycle at the current position.
+    fn call_defined(&mut self, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let Some(defined) = self.st.defined_cycle.clone() else {
+            diags.push(Diagnostic::new(Code::CycleIncomplete, range, "a cycle call without a cycle defined before it"));
+            return;
+        };
+        let cycle = &self.dialect.cycles[defined.cycle];
+        let mut args = defined.args.clone();
+        for a in cycle.args.iter().filter(|a| a.param.is_some()) {
+            if let Some(v) = a.param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v)) {
+                args.push((a.role, v));
+            }
+        }
+        let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
+        for a in cycle.args.iter().filter(|a| a.required) {
+            if get(a.role).is_none() {
+                let msg = format!("{} needs {} ({})", cycle.name, a.name, a.role.as_str());
+                diags.push(Diagnostic::new(Code::MissingParameter, defined.range, msg));
+                return;
+            }
+        }
+        let kind = match cycle.meaning {
+            Meaning::CycleDrill | Meaning::CyclePeckDrill | Meaning::CycleChipBreak | Meaning::CycleDrillDwell => CycleKind::Drilling,
+            Meaning::CycleBore => CycleKind::Boring,
+            Meaning::CycleBoreDwell => CycleKind::BoringDwell,
+            Meaning::CycleBoreStop => CycleKind::BoringSpindleStop,
+            Meaning::CycleBoreManual => CycleKind::BoringManual,
+            Meaning::CycleTap => CycleKind::Tapping,
+            Meaning::CycleTapLeft => CycleKind::LeftTapping,
+            Meaning::CycleFineBore => CycleKind::FineBoring,
+            m => {
+                let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", cycle.name, m.as_str());
+                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
+                return;
+            }
+        };
+        let surface = get(Role::ReferencePlane).unwrap_or(0.0);
+        let r = surface + get(Role::SafetyDistance).unwrap_or(0.0).abs();
+        let bottom = match (get(Role::Depth), get(Role::DepthRelative)) {
+            (Some(d), _) => d,
+            (None, Some(rel)) => surface - rel.abs(),
+            (None, None) => {
+                diags.push(Diagnostic::new(Code::CycleIncomplete, range, format!("{} has no depth", cycle.name)));
+                return;
+            }
+        };
+        let clear = match (get(Role::RetractPlane), get(Role::RetractDistance)) {
+            (Some(rtp), _) => rtp,
+            (None, Some(d)) => (surface + d).max(r),
+            (None, None) => r,
+        };
+        let dwell = get(Role::DwellTime).filter(|d| *d > 0.0);
+        // Pecking: the first depth below the surface; a peck as deep as the hole is one plunge.
+        let peck = get(Role::PeckFirst).map(f64::abs).filter(|q| *q > 0.0 && *q < surface - bottom);
+        let kind = match (kind, peck, dwell) {
+            (CycleKind::Drilling, Some(_), _) if get(Role::PeckMode) == Some(0.0) || cycle.meaning == Meaning::CycleChipBreak => {
+                CycleKind::ChipBreaking
+            }
+            (CycleKind::Drilling, Some(_), _) => CycleKind::PeckDrilling,
+            (CycleKind::Drilling, None, Some(_)) => CycleKind::CounterBoring,
+            (k, _, _) => k,
+        };
+        let units_clearance =
+            if self.st.units == Units::Mm { self.dialect.behaviour.peck_clearance_mm } else { self.dialect.behaviour.peck_clearance_inch };
+        let clearance = get(Role::PreStop).map_or(units_clearance, f64::abs);
+        if let Some(f) = get(Role::PlungeFeed).filter(|f| *f > 0.0 && *f != self.st.feed) {
+            self.st.feed = f;
+            self.emit(sink, CanonOp::SetFeedRate(f));
+        }
+        let label = match cycle.name.parse::<u32>() {
+            Ok(_) => format!("CYCL DEF {}", cycle.name),
+            Err(_) => cycle.name.clone(),
+        };
+        let (a0, a1, n) = self.st.plane.axes();
+        let mut p = self.st.pos;
+        let old_z = p[n];
+        let run =
+            HoleRun { kind, code: label, r, bottom, clear, old_z, peck, peck_from: surface, dwell, shift: 0.0, clearance, still: true };
+        if p[n] < r {
+            p[n] = r;
+            self.emit(sink, CanonOp::StraightTraverse(p));
+        }
+        self.st.pos = self.hole(&run, p[a0], p[a1], p, sink);
+    }
+
+    /// `TRANS X10 Y5` replaces the programmable frame with a translation (alone: no frame);
+    /// `ATRANS` adds to it. Kept in the G52/G92 offset, as G52 is.
+    pub(super) fn frame_trans(&mut self, additive: bool, sink: &mut dyn CanonSink) {
+        let old = self.st.g92;
+        let mut new = if additive { old } else { [0.0; 6] };
+        if !additive {
+            self.st.rotation = None;
+            self.st.scaling = None;
+        }
+        for (i, &role) in Role::AXES.iter().enumerate() {
+            if let Some(v) = self.slot(role) {
+                new[i] += v;
+            }
+        }
+        self.st.g92 = new;
+        self.shift_origin(old, new);
+        self.emit(sink, CanonOp::SetG92Offset(new));
+    }
+
+    /// `ROT RPL=30` / `ROT Z30` rotates the frame in the plane about the program origin;
+    /// `AROT` adds to the rotation.
+    pub(super) fn frame_rot(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        if [Role::X, Role::Y].iter().any(|&r| self.slot(r).is_some_and(|v| v != 0.0)) {
+            let d = Diagnostic::new(
+                Code::Unsupported,
+                range,
+                format!("{}: rotation about X or Y (a tilted plane) is not applied", def.label()),
+            );
+            self.limited(diags, "frame-rot-3d", d);
+        }
+        let angle = self.slot(Role::R).or(self.slot(Role::Z)).unwrap_or(0.0);
+        let additive = def.meaning == Meaning::FrameRotAdd;
+        let base = match (additive, self.st.rotation) {
+            (true, Some((_, _, c, s))) => s.atan2(c).to_degrees(),
+            _ => 0.0,
+        };
+        let total = (base + angle).to_radians();
+        self.st.rotation = if total == 0.0 { None } else { Some((0.0, 0.0, total.cos(), total.sin())) };
+    }
+
+    /// `SCALE X2 Y2` sets the frame's scale per axis (1 where not given); `ASCALE` multiplies it.
+    pub(super) fn frame_scale(&mut self, additive: bool) {
+        let mut k = match (additive, self.st.scaling) {
+            (true, Some((_, k))) => k,
+            _ => [1.0; 3],
+        };
+        for (i, &role) in [Role::X, Role::Y, Role::Z].iter().enumerate() {
+            if let Some(v) = self.slot(role).filter(|v| *v > 0.0 && v.is_finite()) {
+                k[i] *= v;
+            }
+        }
+        self.st.scaling = if k == [1.0; 3] { None } else { Some(([0.0; 3], k)) };
+    }
+}
