@@ -499,10 +499,11 @@ impl Lexer<'_, '_> {
                     .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/')))
                     .map_or(self.b.len(), |p| from + p);
                 let word = &self.b[from..end];
-                let plain = !word.is_empty()
-                    && word.iter().all(|c| !c.is_ascii_digit() || word[0].is_ascii_digit())
-                    && !matches!(self.b.get(end), Some(b'=' | b'+'))
-                    && !(word[0].is_ascii_alphabetic() && word.len() == 1);
+                // A display name (`DRILLING`, `DATUM SHIFT`) or a plain number; not an address
+                // word such as `X+0`, `Q200=2` or a lone axis letter.
+                let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
+                let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
+                let plain = !word.is_empty() && !mixed && !single_letter && !matches!(self.b.get(end), Some(b'=' | b'+'));
                 if !plain {
                     break;
                 }
