@@ -185,7 +185,7 @@ impl Cx {
     fn lexical(&mut self, el: &Element) -> Lexical {
         self.shape(
             el,
-            &["block-form", "spaces-in-numbers", "assign-values", "bare-function-arguments"],
+            &["block-form", "spaces-in-numbers", "assign-values", "bare-function-arguments", "identifier-variables"],
             &[
                 "axis-modes",
                 "label",
@@ -218,6 +218,7 @@ impl Cx {
             label_suffix: None,
             string_quote: None,
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
+            identifier_variables: self.bool(el, "identifier-variables", false),
             comments: Vec::new(),
             block_skip: None,
             block_number: None,
@@ -335,6 +336,7 @@ impl Cx {
             decimal_input: DecimalInput::Calculator,
             dwell_unit: TimeUnit::Seconds,
             tool_change_stops_spindle: true,
+            tool_change_applies_length: false,
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
@@ -354,6 +356,7 @@ impl Cx {
                 "scaled",
                 "dwell-unit",
                 "tool-change-stops-spindle",
+                "tool-change-applies-length",
                 "peck-clearance-mm",
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
@@ -386,6 +389,7 @@ impl Cx {
             }
         };
         b.tool_change_stops_spindle = self.bool(el, "tool-change-stops-spindle", true);
+        b.tool_change_applies_length = self.bool(el, "tool-change-applies-length", false);
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);

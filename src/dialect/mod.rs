@@ -69,6 +69,8 @@ pub struct Lexical {
     pub string_quote: Option<char>,
     /// Whether a function may take its argument without brackets (`SIN +Q1`, `SQRT 25`).
     pub bare_function_arguments: bool,
+    /// Whether identifiers name variables (`_X_HOME=0`, `X=_X_HOME`), as declared with `DEF`.
+    pub identifier_variables: bool,
     /// Comment rules, tried in order.
     pub comments: Vec<CommentRule>,
     /// Block-skip (block-delete) character.
@@ -129,6 +131,9 @@ pub struct Behaviour {
     pub dwell_unit: TimeUnit,
     /// Whether M6 stops the spindle.
     pub tool_change_stops_spindle: bool,
+    /// Whether a tool change applies the new tool's length offset (Siemens `D1` default,
+    /// Heidenhain `TOOL CALL`), with no G43.
+    pub tool_change_applies_length: bool,
     /// Peck-drilling re-approach clearance, mm.
     pub peck_clearance_mm: f64,
     /// Peck-drilling re-approach clearance, inch.

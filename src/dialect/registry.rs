@@ -8,8 +8,11 @@ use crate::diag::{self, Diagnostic};
 use crate::text::LineIndex;
 
 /// The dialect files shipped in `dialects/`, compiled into the binary.
-pub const SHIPPED: &[(&str, &str)] =
-    &[("linuxcnc.xml", include_str!("../../dialects/linuxcnc.xml")), ("fanuc.xml", include_str!("../../dialects/fanuc.xml"))];
+pub const SHIPPED: &[(&str, &str)] = &[
+    ("linuxcnc.xml", include_str!("../../dialects/linuxcnc.xml")),
+    ("fanuc.xml", include_str!("../../dialects/fanuc.xml")),
+    ("siemens.xml", include_str!("../../dialects/siemens.xml")),
+];
 
 /// Known dialects by name, in name order.
 #[derive(Clone, Debug, Default)]

@@ -235,6 +235,8 @@ vocab! {
         CycleModal = "cycle-modal",
         /// Program start with a name and units (`BEGIN PGM name MM`); recorded.
         ProgramBegin = "program-begin",
+        /// A cycle kept as intent whose moves are not expanded (pockets, patterns, swivelling).
+        CycleIntent = "cycle-intent",
         /// A corner of the workpiece blank from the block's axis words (`BLK FORM 0.1 Z X+0 Y+0 Z-40`); recorded.
         Stock = "stock",
         /// Machine-specific function the interpreter records but does not model.
@@ -319,6 +321,8 @@ vocab! {
         Extra = "extra",
         /// A retract level relative to the reference plane (Heidenhain Q204, 2nd set-up clearance).
         RetractDistance = "retract-distance",
+        /// An absolute first peck depth (Siemens FDEP).
+        PeckFirstAbsolute = "peck-first-absolute",
         /// The feed of a cycle's plunge (Heidenhain Q206).
         PlungeFeed = "plunge-feed",
         /// The re-approach distance above the last peck depth (Siemens _DIS1, Heidenhain Q258).
@@ -444,6 +448,8 @@ vocab! {
         Print = "print",
         /// Data-output housekeeping with no effect on the machining (`POPEN`, `PCLOS`, `SETVN`).
         Output = "output",
+        /// Declares variables, with optional initial values (`DEF REAL LEN=10.5, WID`).
+        Declare = "declare",
     }
 }
 

@@ -127,6 +127,7 @@ impl Interpreter<'_> {
             Meaning::CycleTap => CycleKind::Tapping,
             Meaning::CycleTapLeft => CycleKind::LeftTapping,
             Meaning::CycleFineBore => CycleKind::FineBoring,
+            Meaning::Other => return,
             m => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", cycle.name, m.as_str());
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
@@ -150,7 +151,12 @@ impl Interpreter<'_> {
         };
         let dwell = get(Role::DwellTime).filter(|d| *d > 0.0);
         // Pecking: the first depth below the surface; a peck as deep as the hole is one plunge.
-        let peck = get(Role::PeckFirst).map(f64::abs).filter(|q| *q > 0.0 && *q < surface - bottom);
+        let first = get(Role::PeckFirst).map(f64::abs).or(get(Role::PeckFirstAbsolute).map(|d| surface - d));
+        let peck = first.filter(|q| *q > 0.0 && *q < surface - bottom);
+        if peck.is_some() && get(Role::PeckDecrement).is_some_and(|d| d != 0.0) {
+            let msg = format!("{}: the peck degression is not applied; every peck is as deep as the first", cycle.name);
+            self.limited(diags, "peck-degression", Diagnostic::new(Code::Unsupported, range, msg));
+        }
         let kind = match (kind, peck, dwell) {
             (CycleKind::Drilling, Some(_), _) if get(Role::PeckMode) == Some(0.0) || cycle.meaning == Meaning::CycleChipBreak => {
                 CycleKind::ChipBreaking

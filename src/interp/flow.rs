@@ -407,7 +407,7 @@ impl<'a> Driver<'a, '_> {
                     self.skip_to(start, c.range, "endif", |m| same_label(m, &[Statement::EndIf]), interp, diags);
                 }
             }
-            Statement::EndIf | Statement::Then | Statement::Output => {}
+            Statement::EndIf | Statement::Then | Statement::Output | Statement::Declare => {}
             Statement::Print => {
                 let head = c.keyword.map_or(c.range.start, |k| k.end) as usize;
                 let format = &text[head..c.range.end as usize];

@@ -1000,7 +1000,9 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Step::Feed => {
-                if let Some(f) = self.slot(Role::F) {
+                // A dwell that takes F (Siemens `G4 F2.5`) reads it as seconds, not as a feed.
+                let dwell_f = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::Dwell && self.code(c).params.takes(Role::F));
+                if let Some(f) = self.slot(Role::F).filter(|_| !dwell_f) {
                     if self.st.inverse_time {
                         // Each feed move of the block turns F into a rate (see `inverse_time_feed`).
                         return;
@@ -1098,6 +1100,11 @@ impl<'a> Interpreter<'a> {
                 }
                 self.st.tool = self.st.selected_tool;
                 self.emit(sink, CanonOp::ChangeTool(self.st.tool));
+                if self.dialect.behaviour.tool_change_applies_length {
+                    let length = self.profile.tools.get(&self.st.tool).map_or(0.0, |t| t.length) / self.st.units.to_mm();
+                    self.st.tool_offset = length;
+                    self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
+                }
             }
             Meaning::SpindleCw => {
                 self.st.spindle = Spindle::Cw;
@@ -1131,6 +1138,7 @@ impl<'a> Interpreter<'a> {
                 let seconds = match (self.slot(Role::P), self.slot(Role::X)) {
                     (Some(p), _) => self.dwell_seconds(p),
                     (None, Some(x)) => x,
+                    (None, None) if def.params.takes(Role::F) => self.slot(Role::F).unwrap_or(0.0),
                     (None, None) => 0.0,
                 };
                 self.emit(sink, CanonOp::Dwell(seconds));

@@ -166,7 +166,7 @@ impl Lexer<'_, '_> {
                 self.assignment();
                 continue;
             }
-            if c.is_ascii_alphabetic() {
+            if c.is_ascii_alphabetic() || (c == b'_' && lex.identifier_variables) {
                 self.address();
                 continue;
             }
@@ -257,7 +257,7 @@ impl Lexer<'_, '_> {
                 return;
             }
         }
-        if self.keyword() || self.cycle_call() {
+        if self.keyword() || self.cycle_call() || self.variable_assignment() {
             return;
         }
         // Multi-letter addresses such as `CR=` (longest first).
@@ -513,6 +513,103 @@ impl Lexer<'_, '_> {
         true
     }
 
+    /// The end of an identifier (letters, digits, `_`) starting at `at`.
+    fn identifier_end(&self, at: usize) -> usize {
+        self.b[at..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| at + p)
+    }
+
+    /// `_X_HOME=0`, `LEN=LEN+1`: a variable assignment, where identifiers name variables. A
+    /// single letter is an address, not a variable.
+    fn variable_assignment(&mut self) -> bool {
+        if !self.dialect.lexical.identifier_variables {
+            return false;
+        }
+        let start = self.i;
+        let end = self.identifier_end(start);
+        let name = &self.b[start..end];
+        if name.len() < 2 && name.first() != Some(&b'_') {
+            return false;
+        }
+        if self.dialect.long_addresses().any(|a| a.name.as_bytes().eq_ignore_ascii_case(name)) {
+            return false;
+        }
+        let mut j = end;
+        while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+            j += 1;
+        }
+        if self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
+            return false;
+        }
+        self.i = j + 1;
+        let Some(value) = self.expr(1, 0) else {
+            self.i = self.line_end();
+            return true;
+        };
+        self.block.assigns.push(Assign {
+            target: ParamTarget::Named(TextRange::new(start, end)),
+            value,
+            range: TextRange::new(start, self.i),
+        });
+        true
+    }
+
+    /// `DEF REAL LEN=10.5, WID`: each declared variable starts at its value, or 0.
+    fn declaration(&mut self) {
+        self.skip_blanks();
+        let type_end = self.identifier_end(self.i);
+        self.i = type_end;
+        // `STRING[20]`, array bounds: skipped.
+        if self.peek() == Some(b'[') {
+            while self.peek().is_some_and(|c| c != b']' && c != b'\n' && c != b'\r') {
+                self.i += 1;
+            }
+            self.i = (self.i + 1).min(self.b.len());
+        }
+        loop {
+            self.skip_blanks();
+            let start = self.i;
+            let end = self.identifier_end(start);
+            if end == start {
+                break;
+            }
+            self.i = end;
+            self.skip_blanks();
+            if self.peek() == Some(b'[') {
+                let d = Diagnostic::new(
+                    Code::Unsupported,
+                    TextRange::new(start, end),
+                    "array variables are not supported; the declaration is skipped",
+                );
+                self.diags.push(d);
+                self.i = self.line_end();
+                return;
+            }
+            let value = if self.peek() == Some(b'=') {
+                self.i += 1;
+                match self.expr(1, 0) {
+                    Some(v) => v,
+                    None => {
+                        self.i = self.line_end();
+                        return;
+                    }
+                }
+            } else {
+                self.push(Expr::Num(0.0))
+            };
+            self.block.assigns.push(Assign {
+                target: ParamTarget::Named(TextRange::new(start, end)),
+                value,
+                range: TextRange::new(start, self.i),
+            });
+            self.skip_blanks();
+            if self.peek() == Some(b',') {
+                self.i += 1;
+            } else {
+                break;
+            }
+        }
+    }
+
     /// The end of keyword `kw` when it stands at `at`.
     fn match_keyword(&self, at: usize, kw: &str) -> Option<usize> {
         let mut i = at;
@@ -689,6 +786,10 @@ impl Lexer<'_, '_> {
                 self.i = start + k.len();
                 control.keyword = Some(TextRange::new(start, self.i));
                 control.statement = Some(st);
+                if st == Statement::Declare {
+                    self.declaration();
+                    return;
+                }
                 if matches!(st, Statement::Print | Statement::Output) {
                     // A print format or output setting is not an expression: kept as text.
                     let end = self.line_end();
@@ -1024,6 +1125,17 @@ impl Lexer<'_, '_> {
                 }
                 let inner = self.unary(depth + 1)?;
                 Some(self.push(Expr::Param(inner)))
+            }
+            c if self.dialect.lexical.identifier_variables && (c.is_ascii_alphabetic() || c == b'_') && {
+                let end = self.identifier_end(self.i);
+                Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_none()
+                    || !self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_some_and(|x| Some(*x) == expr_open)
+            } =>
+            {
+                let end = self.identifier_end(self.i);
+                let r = TextRange::new(self.i, end);
+                self.i = end;
+                Some(self.push(Expr::Named(r)))
             }
             c if c.is_ascii_alphabetic() => {
                 let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
