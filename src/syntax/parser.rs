@@ -1129,7 +1129,7 @@ impl Lexer<'_, '_> {
             c if self.dialect.lexical.identifier_variables && (c.is_ascii_alphabetic() || c == b'_') && {
                 let end = self.identifier_end(self.i);
                 Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_none()
-                    || !self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_some_and(|x| Some(*x) == expr_open)
+                    || self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_none_or(|x| Some(*x) != expr_open)
             } =>
             {
                 let end = self.identifier_end(self.i);
