@@ -651,6 +651,7 @@ impl Cx {
             "none" => KeywordRest::None,
             "name" => KeywordRest::Name,
             "words" => KeywordRest::Words,
+            "line" => KeywordRest::Line,
             other => {
                 self.error(Self::attr_range(c, "rest"), format!("unknown rest `{other}`; use none, name or words"));
                 KeywordRest::None
@@ -674,7 +675,15 @@ impl Cx {
         self.shape(el, &[], &["cycle"]);
         let mut out: Vec<CycleDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "cycle") {
-            self.shape(c, &["name", "meaning", "acts"], &["arg"]);
+            self.shape(c, &["name", "meaning", "acts", "surface"], &["arg"]);
+            let surface_below_start = match self.attr(c, "surface").unwrap_or("parameter") {
+                "parameter" => false,
+                "below-start" => true,
+                other => {
+                    self.error(Self::attr_range(c, "surface"), format!("`surface` must be parameter or below-start, not `{other}`"));
+                    false
+                }
+            };
             let immediate = match self.attr(c, "acts").unwrap_or("where-written") {
                 "where-written" => true,
                 "when-called" => false,
@@ -716,7 +725,7 @@ impl Cx {
                 };
                 args.push(CycleArg { name: n.to_owned(), role, required, param });
             }
-            out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate });
+            out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate, surface_below_start });
         }
         out
     }

@@ -246,6 +246,8 @@ pub enum KeywordRest {
     Name,
     /// Any plain words (`CYCL DEF 200 DRILLING`, `CYCL DEF 7.0 DATUM SHIFT`).
     Words,
+    /// The rest of the line (`SYSREAD Q1 = ID270 NR1`), kept unread.
+    Line,
 }
 
 /// The spelling of a keyword code (`TRANS`, `TOOL CALL`, `DR+`).
@@ -350,6 +352,9 @@ pub struct CycleDef {
     pub args: Vec<CycleArg>,
     /// Whether the cycle acts where it is written (`CYCLE81(...)`, `CYCL DEF 7`) rather than when called.
     pub immediate: bool,
+    /// Whether, with no reference plane given, the surface lies the safety distance below the
+    /// position the cycle starts from (Heidenhain's legacy cycles: `CYCL DEF 1.1 DIST2`).
+    pub surface_below_start: bool,
 }
 
 /// A validated dialect.

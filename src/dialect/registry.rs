@@ -12,6 +12,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("linuxcnc.xml", include_str!("../../dialects/linuxcnc.xml")),
     ("fanuc.xml", include_str!("../../dialects/fanuc.xml")),
     ("siemens.xml", include_str!("../../dialects/siemens.xml")),
+    ("heidenhain.xml", include_str!("../../dialects/heidenhain.xml")),
 ];
 
 /// Known dialects by name, in name order.

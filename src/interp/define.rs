@@ -43,7 +43,18 @@ impl Interpreter<'_> {
         };
         let cycle = &self.dialect.cycles[ci];
         if !cycle.immediate {
-            self.st.defined_cycle = Some(Defined { cycle: ci, args: Vec::new(), range });
+            // `CYCL DEF 1.0` (or `CYCL DEF 200`) starts the definition; the sub-blocks
+            // `CYCL DEF 1.1 DIST2` ... add their words to it.
+            let sub = (number.fract() * 10.0).round();
+            let same = self.st.defined_cycle.as_ref().is_some_and(|d| d.cycle == ci);
+            if sub == 0.0 || !same {
+                self.st.defined_cycle = Some(Defined { cycle: ci, args: Vec::new(), range });
+            }
+            let words: Vec<(Role, f64)> =
+                cycle.args.iter().filter(|a| a.param.is_none()).filter_map(|a| self.slot(a.role).map(|v| (a.role, v))).collect();
+            if let Some(d) = self.st.defined_cycle.as_mut() {
+                d.args.extend(words);
+            }
             return;
         }
         match cycle.meaning {
@@ -134,7 +145,12 @@ impl Interpreter<'_> {
                 return;
             }
         };
-        let surface = get(Role::ReferencePlane).unwrap_or(0.0);
+        let (a0, a1, n) = self.st.plane.axes();
+        let surface = match get(Role::ReferencePlane) {
+            Some(s) => s,
+            None if cycle.surface_below_start => self.st.pos[n] - get(Role::SafetyDistance).unwrap_or(0.0).abs(),
+            None => 0.0,
+        };
         let r = surface + get(Role::SafetyDistance).unwrap_or(0.0).abs();
         let bottom = match (get(Role::Depth), get(Role::DepthRelative)) {
             (Some(d), _) => d,
@@ -168,7 +184,7 @@ impl Interpreter<'_> {
         let units_clearance =
             if self.st.units == Units::Mm { self.dialect.behaviour.peck_clearance_mm } else { self.dialect.behaviour.peck_clearance_inch };
         let clearance = get(Role::PreStop).map_or(units_clearance, f64::abs);
-        if let Some(f) = get(Role::PlungeFeed).filter(|f| *f > 0.0 && *f != self.st.feed) {
+        if let Some(f) = get(Role::PlungeFeed).or(get(Role::F)).filter(|f| *f > 0.0 && *f != self.st.feed) {
             self.st.feed = f;
             self.emit(sink, CanonOp::SetFeedRate(f));
         }
@@ -176,7 +192,6 @@ impl Interpreter<'_> {
             Ok(_) => format!("CYCL DEF {}", cycle.name),
             Err(_) => cycle.name.clone(),
         };
-        let (a0, a1, n) = self.st.plane.axes();
         let mut p = self.st.pos;
         let old_z = p[n];
         let run =

@@ -212,6 +212,23 @@ fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
         }
         Func::Neg => -x,
         Func::Trunc => x.trunc(),
+        Func::Sgn => {
+            if x > 0.0 {
+                1.0
+            } else if x < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        }
+        Func::Frac => x.fract(),
+        Func::Sq => x * x,
+        Func::Log => {
+            if x <= 0.0 {
+                return Err(EvalError::Domain("LOG of a value that is not positive"));
+            }
+            x.log10()
+        }
         Func::Not => f64::from(u8::from(x == 0.0)),
     })
 }

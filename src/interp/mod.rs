@@ -739,6 +739,9 @@ impl<'a> Interpreter<'a> {
     /// it, or a number from 10001 on in the order names first appear.
     fn text_value(&mut self, role: Role, r: TextRange, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
         let name = &self.text[r.start as usize..r.end as usize];
+        if role == Role::Extra {
+            return Some(0.0); // a name the engine only records (`LBL "NAME"`)
+        }
         if role != Role::T {
             diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("\"{name}\" is text; this address takes a number")));
             return None;
@@ -1001,7 +1004,11 @@ impl<'a> Interpreter<'a> {
             }
             Step::Feed => {
                 // A dwell that takes F (Siemens `G4 F2.5`) reads it as seconds, not as a feed.
-                let dwell_f = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::Dwell && self.code(c).params.takes(Role::F));
+                // So does a cycle definition (`CYCL DEF 1.5 F80`): the cycle's own feed.
+                let dwell_f = self.codes.iter().any(|&(c, _)| {
+                    let d = self.code(c);
+                    (d.meaning == Meaning::Dwell && d.params.takes(Role::F)) || d.meaning == Meaning::CycleDefine
+                });
                 if let Some(f) = self.slot(Role::F).filter(|_| !dwell_f) {
                     if self.st.inverse_time {
                         // Each feed move of the block turns F into a rate (see `inverse_time_feed`).

@@ -46,6 +46,14 @@ pub enum Func {
     Neg,
     /// Integer part, toward zero in every dialect (Siemens `TRUNC`, Heidenhain `INT`).
     Trunc,
+    /// Sign: -1, 0 or 1.
+    Sgn,
+    /// Fractional part.
+    Frac,
+    /// Square.
+    Sq,
+    /// Base-10 logarithm.
+    Log,
     /// Logical not.
     Not,
 }
@@ -65,6 +73,11 @@ impl Func {
             "ROUND" => Func::Round,
             "FIX" => Func::Fix,
             "TRUNC" | "INT" => Func::Trunc,
+            "SGN" => Func::Sgn,
+            "FRAC" => Func::Frac,
+            "SQ" => Func::Sq,
+            "LOG" => Func::Log,
+            "NEG" => Func::Neg,
             "FUP" => Func::Fup,
             "LN" => Func::Ln,
             "EXP" => Func::Exp,

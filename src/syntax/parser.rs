@@ -203,6 +203,23 @@ impl Lexer<'_, '_> {
         true
     }
 
+    /// Continued comment lines: each is comment text up to a closing `~` or the line end.
+    fn comment_lines(&mut self) {
+        let Some(k) = self.dialect.lexical.continuation.map(|k| k as u8) else { return };
+        loop {
+            let from = self.i;
+            let eol = self.line_end();
+            let text = &self.b[from..eol];
+            let trimmed = text.len() - text.iter().rev().take_while(|c| matches!(c, b' ' | b'\t')).count();
+            let cont = trimmed > 0 && text[trimmed - 1] == k;
+            self.block.comments.push(TextRange::new(from, if cont { from + trimmed - 1 } else { eol }));
+            self.i = eol;
+            if !cont || !self.continue_line() {
+                return;
+            }
+        }
+    }
+
     fn expr_open(&self) -> Option<u8> {
         self.dialect.lexical.expression.map(|(o, _)| o as u8)
     }
@@ -222,6 +239,11 @@ impl Lexer<'_, '_> {
                 self.i = eol;
                 if cont {
                     self.continue_line();
+                    // A block that is only a comment continues as comment text (`;long text~`).
+                    let only_comment = self.block.words.is_empty() && self.block.assigns.is_empty() && self.block.control.is_none();
+                    if only_comment {
+                        self.comment_lines();
+                    }
                 }
             }
             CommentClose::Char(c) => {
@@ -296,7 +318,10 @@ impl Lexer<'_, '_> {
             self.control_word(start);
             return;
         }
-        if next.is_some_and(|x| x.is_ascii_alphabetic()) {
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        let param_value =
+            next.is_some_and(|x| Some(x.to_ascii_uppercase()) == sigil) && self.b.get(start + 2).is_some_and(u8::is_ascii_digit);
+        if next.is_some_and(|x| x.is_ascii_alphabetic()) && !param_value {
             self.keyword_statement(start);
             return;
         }
@@ -434,7 +459,7 @@ impl Lexer<'_, '_> {
         let start = self.i;
         let mut found = None;
         for (idx, k) in self.dialect.keyword_codes() {
-            if let Some(end) = self.match_keyword(start, &k.text) {
+            if let Some(end) = self.match_keyword(start, &k.text, k.value_role.is_some()) {
                 found = Some((idx, end, k.value_role, k.rest));
                 break;
             }
@@ -491,6 +516,7 @@ impl Lexer<'_, '_> {
                     self.i += 1;
                 }
             }
+            KeywordRest::Line => self.i = self.line_end(),
             KeywordRest::Words => loop {
                 self.skip_blanks();
                 let from = self.i;
@@ -611,7 +637,7 @@ impl Lexer<'_, '_> {
     }
 
     /// The end of keyword `kw` when it stands at `at`.
-    fn match_keyword(&self, at: usize, kw: &str) -> Option<usize> {
+    fn match_keyword(&self, at: usize, kw: &str, takes_value: bool) -> Option<usize> {
         let mut i = at;
         for part in kw.as_bytes().split(|&c| c == b' ') {
             if i > at {
@@ -629,10 +655,23 @@ impl Lexer<'_, '_> {
             }
             i = end;
         }
+        // The keyword must end where a word ends: `L X+1` and `DR+ F100`, not `LBL 1`,
+        // `L-4.5` or `DR+0.2`. A keyword that takes a value may run into it (`FN18:`).
         let last = *kw.as_bytes().last()?;
-        let boundary = !last.is_ascii_alphanumeric()
-            || !self.b.get(i).is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b'.' | b'=' | b'('));
-        boundary.then_some(i)
+        let next = self.b.get(i).copied();
+        let joined = next.is_some_and(|c| {
+            (c.is_ascii_alphanumeric() && !(takes_value && c.is_ascii_digit()))
+                || matches!(c, b'_' | b'.' | b'=' | b'(')
+                || (last.is_ascii_alphanumeric() && matches!(c, b'+' | b'-') && !takes_value)
+                || (!last.is_ascii_alphanumeric() && c.is_ascii_digit())
+        });
+        // A keyword spelt like an address (`Z`, the tool axis) is the address when a value follows.
+        let is_address = self.dialect.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(kw));
+        let value_follows = is_address && {
+            let j = self.b[i..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| i + p);
+            self.b.get(j).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-' | b'.'))
+        };
+        (!joined && !value_follows).then_some(i)
     }
 
     /// A named cycle with positional arguments: `CYCLE83(50,0,2,-30,,-5)`. Empty slots are
@@ -893,8 +932,17 @@ impl Lexer<'_, '_> {
         };
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        // After a sign, blanks may stand before the operand where the dialect allows blanks in numbers (`Z + Q13`).
+        let after_sign = if self.dialect.lexical.spaces_in_numbers {
+            self.b[self.i + 1..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| self.i + 1 + p)
+        } else {
+            self.i + 1
+        };
         let sign_then_expr = matches!(c, b'+' | b'-')
-            && self.b.get(self.i + 1).is_some_and(|&n| Some(n) == expr_open || Some(n) == sigil || n.is_ascii_alphabetic());
+            && self
+                .b
+                .get(after_sign)
+                .is_some_and(|&n| Some(n) == expr_open || Some(n.to_ascii_uppercase()) == sigil || n.is_ascii_alphabetic());
         if c.is_ascii_digit() || c == b'.' || (matches!(c, b'+' | b'-') && !sign_then_expr) {
             return self.number().map(|(value, decimal)| Value::Number { value, decimal });
         }
