@@ -127,6 +127,9 @@ pub struct CycleIntent {
     pub peck: Option<f64>,
     /// Dwell at the bottom, seconds.
     pub dwell: Option<f64>,
+    /// Whether the move just before the cycle positioned the tool over the hole (a cycle
+    /// called after a positioning block: `MCALL`, `M99`), rather than the cycle itself.
+    pub positioned: bool,
 }
 
 /// Distance mode (a marker; the canonical interface itself has none).

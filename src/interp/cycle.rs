@@ -168,7 +168,7 @@ impl Interpreter<'_> {
         let (a0, a1, n) = self.st.plane.axes();
         let HoleRun { kind, r, bottom, clear, old_z, peck, peck_from, dwell, shift, clearance, still, .. } = *run;
         {
-            let intent = CycleIntent { kind, code: run.code.clone(), x, y, bottom, r_plane: r, clear, peck, dwell };
+            let intent = CycleIntent { kind, code: run.code.clone(), x, y, bottom, r_plane: r, clear, peck, dwell, positioned: still };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             let place = |first: f64, z: f64| {
                 let mut q = p;

@@ -204,6 +204,8 @@ struct State {
     cycle_modal: bool,
     /// The direction of travel at the end of the last move in the plane (unit vector).
     tangent: Option<(f64, f64)>,
+    /// The first corner of a workpiece blank (`BLK FORM 0.1`), waiting for the second.
+    blank_min: Option<[f64; 3]>,
 }
 
 /// The interpreter for one program run.
@@ -296,6 +298,7 @@ impl<'a> Interpreter<'a> {
                 defined_cycle: None,
                 cycle_modal: false,
                 tangent: None,
+                blank_min: None,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -1399,7 +1402,8 @@ impl<'a> Interpreter<'a> {
                 let goto = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0).map(|p| p as u32);
                 self.request = Some(Request::Return { goto });
             }
-            Meaning::Other | Meaning::LatheMode | Meaning::ProgramBegin | Meaning::Stock => {}
+            Meaning::Other | Meaning::LatheMode | Meaning::ProgramBegin => {}
+            Meaning::Stock => self.stock_corner(sink),
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
             Meaning::Pole => {
                 let t = self.target();
@@ -1418,6 +1422,34 @@ impl<'a> Interpreter<'a> {
                 }
                 self.unsupported(def, range, diags);
             }
+        }
+    }
+
+    /// `BLK FORM 0.1 Z X+0 Y+0 Z-40` then `BLK FORM 0.2 X+100 Y+100 Z+0`: the blank's corners
+    /// (the second may be incremental from the first). Passed on as the stock comment that
+    /// plan recovery reads, as a CAM system writes it.
+    fn stock_corner(&mut self, sink: &mut dyn CanonSink) {
+        let corner = |s: &Self, base: [f64; 3]| {
+            [Role::X, Role::Y, Role::Z].map(|r| {
+                let i = r as usize;
+                match s.slots[i] {
+                    Some(slot) if slot.mode == WordMode::Incremental => base[i] + slot.value,
+                    Some(slot) => slot.value,
+                    None => base[i],
+                }
+            })
+        };
+        let second = self.slot(Role::Extra).is_some_and(|v| (v - 0.2).abs() < 1e-9);
+        match (second, self.st.blank_min) {
+            (false, _) => self.st.blank_min = Some(corner(self, [0.0; 3])),
+            (true, Some(min)) => {
+                let max = corner(self, min);
+                let n = |v: f64| format!("{}", v + 0.0);
+                let text = format!("STOCK X{} Y{} Z{} X{} Y{} Z{}", n(min[0]), n(min[1]), n(min[2]), n(max[0]), n(max[1]), n(max[2]));
+                self.emit(sink, CanonOp::Comment(text));
+                self.st.blank_min = None;
+            }
+            (true, None) => {}
         }
     }
 

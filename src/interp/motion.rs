@@ -255,8 +255,17 @@ impl Interpreter<'_> {
                 ));
                 return;
             }
-            let (o1, o2) = (off(a0).unwrap_or(0.0), off(a1).unwrap_or(0.0));
-            let c = if self.st.arc_incremental { (s1 + o1, s2 + o2) } else { (o1, o2) };
+            // Centre words are incremental from the start (G91.1) or absolute (G90.1), or per word (`I=AC(28)`).
+            let centre = |axis: usize, start: f64| {
+                let o = off(axis).unwrap_or(0.0);
+                let incremental = match self.slots[OFFSETS[axis] as usize].map(|s| s.mode) {
+                    Some(WordMode::Absolute) => false,
+                    Some(WordMode::Incremental) => true,
+                    _ => self.st.arc_incremental,
+                };
+                if incremental { start + o } else { o }
+            };
+            let c = (centre(a0, s1), centre(a1, s2));
             let r_start = (s1 - c.0).hypot(s2 - c.1);
             let r_end = (e1 - c.0).hypot(e2 - c.1);
             if (r_start - r_end).abs() > tol {

@@ -349,6 +349,14 @@ impl<'p> Recovery<'p> {
                 self.in_cycle = Some(intent.kind);
                 self.dwell = intent.dwell;
                 self.peck = intent.peck.map(|q| self.mm(q));
+                // The positioning move before a called cycle belongs to the hole, as the
+                // cycle's own move to the hole does when the cycle positions itself (G81 X Y).
+                if intent.positioned
+                    && self.pending.last().is_some_and(|m| m.kind == MoveKind::Rapid && (m.to[2] - m.from[2]).abs() < EPS)
+                    && let Some(mv) = self.pending.pop()
+                {
+                    self.cut(mv, c);
+                }
             }
             CanonOp::CycleEnd => self.in_cycle = None,
             CanonOp::StraightTraverse(p) => {

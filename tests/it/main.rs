@@ -5,6 +5,7 @@ mod cli;
 mod cycles;
 mod daemon;
 mod dialects;
+mod equivalence;
 mod macros;
 mod plan;
 mod robustness;
