@@ -41,9 +41,10 @@ enum Format {
 struct Input {
     /// Program file.
     file: PathBuf,
-    /// Dialect name (see `ncplan dialects`).
-    #[arg(long, short, default_value = "linuxcnc")]
-    dialect: String,
+    /// Dialect name (see `ncplan dialects`); without it, the dialect is told from the
+    /// program's text and file name, and how sure that is goes to stderr.
+    #[arg(long, short)]
+    dialect: Option<String>,
     /// Configuration (for the tool table and extra dialects).
     #[arg(long)]
     config: Option<PathBuf>,
@@ -102,9 +103,9 @@ enum Command {
         original: PathBuf,
         /// The edited program.
         edited: PathBuf,
-        /// Dialect of both (unless overridden).
-        #[arg(long, short, default_value = "linuxcnc")]
-        dialect: String,
+        /// Dialect of both (unless overridden); without it, each file's is told from its text.
+        #[arg(long, short)]
+        dialect: Option<String>,
         /// Dialect of the edited program.
         #[arg(long)]
         edited_dialect: Option<String>,
@@ -195,9 +196,29 @@ fn analysis_config(path: Option<&Path>) -> Result<Config> {
 fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
     let config = analysis_config(input.config.as_deref())?;
     let registry = registry_for(Some(&config))?;
-    let d = dialect(&registry, &input.dialect)?;
     let bytes = std::fs::read(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
+    let name = match &input.dialect {
+        Some(n) => n.clone(),
+        None => {
+            let s = sniff_file(&registry, &input.file, &bytes);
+            eprintln!("{}", sniff_report(&s));
+            s.dialect
+        }
+    };
+    let d = dialect(&registry, &name)?;
     Ok((d, config, bytes))
+}
+
+/// The dialect of a program told from its text and name (LinuxCNC when nothing tells).
+fn sniff_file(registry: &Registry, path: &Path, bytes: &[u8]) -> crate::dialect::sniff::Sniffed {
+    let (source, _) = crate::text::decode(&bytes[..bytes.len().min(64 * 1024)]);
+    registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), "linuxcnc")
+}
+
+fn sniff_report(s: &crate::dialect::sniff::Sniffed) -> String {
+    let why = if s.evidence.is_empty() { "no evidence; the default".to_owned() } else { s.evidence.join(", ") };
+    let next = s.runner_up.as_ref().map(|(n, score)| format!("; next: {n} ({score})")).unwrap_or_default();
+    format!("ncplan: dialect {} (sure: {}; score {}: {why}{next}); give --dialect to choose", s.dialect, s.confidence.as_str(), s.score)
 }
 
 fn dispatch(command: Command) -> Result<ExitCode> {
@@ -309,11 +330,20 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         Command::Diff { original, edited, dialect: dname, edited_dialect, config, format, exit_code } => {
             let config = analysis_config(config.as_deref())?;
             let registry = registry_for(Some(&config))?;
-            let da = dialect(&registry, &dname)?;
-            let db = dialect(&registry, edited_dialect.as_deref().unwrap_or(&dname))?;
             let read = |p: &Path| std::fs::read(p).with_context(|| format!("cannot read {}", p.display()));
-            let a = pipeline::analyze(&read(&original)?, &da, &config.profile);
-            let b = pipeline::analyze(&read(&edited)?, &db, &config.profile);
+            let (bytes_a, bytes_b) = (read(&original)?, read(&edited)?);
+            let pick = |given: Option<&str>, path: &Path, bytes: &[u8]| match given {
+                Some(n) => dialect(&registry, n),
+                None => {
+                    let s = sniff_file(&registry, path, bytes);
+                    eprintln!("{}: {}", path.display(), sniff_report(&s));
+                    dialect(&registry, &s.dialect)
+                }
+            };
+            let da = pick(dname.as_deref(), &original, &bytes_a)?;
+            let db = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
+            let a = pipeline::analyze(&bytes_a, &da, &config.profile);
+            let b = pipeline::analyze(&bytes_b, &db, &config.profile);
             let changes = diff::diff(&a.plan, &b.plan);
             match format {
                 Format::Json => {

@@ -157,6 +157,9 @@ pub struct Folder {
     pub decimal_input: Option<DecimalRule>,
 }
 
+/// The folder dialect that means "tell each program's dialect from its text".
+pub const AUTO_DIALECT: &str = "auto";
+
 /// A per-machine decimal-point rule (a control parameter, such as Fanuc 3401#0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DecimalRule {

@@ -77,7 +77,16 @@ pub fn ingest(path: &Path, folder: &Folder, config: &Config, registry: &Registry
     if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
         return Ok(Outcome::Unchanged);
     }
-    let dialect = folder.dialect_for(registry.get(&folder.dialect).with_context(|| format!("unknown dialect `{}`", folder.dialect))?);
+    // A folder with `dialect = "auto"` has each program's dialect told from its text.
+    let dialect_name = if folder.dialect == crate::config::AUTO_DIALECT {
+        let (source, _) = crate::text::decode(&bytes[..bytes.len().min(64 * 1024)]);
+        let s = registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), "linuxcnc");
+        tracing::info!(path = %path.display(), dialect = %s.dialect, sure = s.confidence.as_str(), evidence = %s.evidence.join(", "), "Dialect told from the program.");
+        s.dialect
+    } else {
+        folder.dialect.clone()
+    };
+    let dialect = folder.dialect_for(registry.get(&dialect_name).with_context(|| format!("unknown dialect `{dialect_name}`"))?);
     let mtime_ns = meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_nanos() as i64);
     let too_large = bytes.len() as u64 > config.max_file_bytes;
     let (analysis, diagnostics) = if too_large {
@@ -106,8 +115,7 @@ pub fn ingest(path: &Path, folder: &Folder, config: &Config, registry: &Registry
         Some(Encoding::Binary) => "binary",
         None => "unknown",
     };
-    let machine =
-        (folder.role == Role::Machine).then(|| (folder.name.as_str(), folder.dialect.as_str(), folder.path.to_str().unwrap_or("")));
+    let machine = (folder.role == Role::Machine).then(|| (folder.name.as_str(), dialect_name.as_str(), folder.path.to_str().unwrap_or("")));
     let stem = stem(path);
     let name = program.clone().unwrap_or_else(|| stem.clone());
     let rev = NewRevision {
@@ -117,7 +125,7 @@ pub fn ingest(path: &Path, folder: &Folder, config: &Config, registry: &Registry
         name: &name,
         key: &keys[0],
         stem: &stem,
-        dialect: &folder.dialect,
+        dialect: &dialect_name,
         bytes: &bytes,
         hash: &hash,
         mtime_ns,

@@ -78,7 +78,7 @@ pub fn run(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<
 
 async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<()> {
     let notifier = Notifier::from_env();
-    for f in &config.folders {
+    for f in config.folders.iter().filter(|f| f.dialect != crate::config::AUTO_DIALECT) {
         registry.get(&f.dialect).with_context(|| format!("folder {} uses the unknown dialect `{}`", f.path.display(), f.dialect))?;
     }
     if let Some(parent) = config.database.parent() {

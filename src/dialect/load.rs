@@ -131,7 +131,7 @@ impl Cx {
         self.shape(
             root,
             &["name", "family", "title", "version"],
-            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles"],
+            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "recognise"],
         );
         let name = self.required(root, "name").unwrap_or_default().to_owned();
         if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
@@ -156,6 +156,7 @@ impl Cx {
         let macros = child("macros").map(|el| self.macros(el)).unwrap_or_default();
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
+        let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
         let execution_order = match child("execution-order") {
             Some(el) => self.execution_order(el, &groups),
             None => {
@@ -175,6 +176,7 @@ impl Cx {
             codes,
             cycles,
             execution_order,
+            recognise,
             letter_roles: [None; 26],
             g_table: Vec::new(),
             m_table: Vec::new(),
@@ -726,6 +728,42 @@ impl Cx {
                 args.push(CycleArg { name: n.to_owned(), role, required, param });
             }
             out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate, surface_below_start });
+        }
+        out
+    }
+
+    /// `<recognise>`: `<extension name="h" weight="10"/>`, `<marker regex="..." weight="30" label="BEGIN PGM"/>`.
+    fn recognise(&mut self, el: &Element) -> Vec<super::sniff::Evidence> {
+        use super::sniff::{Evidence, Marker};
+        self.shape(el, &[], &["extension", "marker"]);
+        let mut out = Vec::new();
+        for c in &el.children {
+            let weight = self.number(c, "weight", 10.0);
+            if !(0.0..=1000.0).contains(&weight) || weight.fract() != 0.0 {
+                self.error(Self::attr_range(c, "weight"), "`weight` must be a whole number from 0 to 1000");
+                continue;
+            }
+            let weight = weight as u32;
+            match c.name.as_str() {
+                "extension" => {
+                    self.shape(c, &["name", "weight"], &[]);
+                    let Some(name) = self.required(c, "name") else { continue };
+                    let name = name.trim_start_matches('.').to_ascii_lowercase();
+                    out.push(Evidence { label: format!(".{name}"), marker: Marker::Extension(name), weight });
+                }
+                "marker" => {
+                    self.shape(c, &["regex", "weight", "label"], &[]);
+                    let Some(src) = self.required(c, "regex") else { continue };
+                    match regex::Regex::new(src) {
+                        Ok(re) => {
+                            let label = self.attr(c, "label").unwrap_or(src).to_owned();
+                            out.push(Evidence { label, marker: Marker::Pattern(re), weight });
+                        }
+                        Err(e) => self.error(Self::attr_range(c, "regex"), format!("invalid regular expression: {e}")),
+                    }
+                }
+                _ => {}
+            }
         }
         out
     }

@@ -7,6 +7,7 @@
 
 mod load;
 pub mod registry;
+pub mod sniff;
 mod vocab;
 mod xml;
 
@@ -382,6 +383,8 @@ pub struct Dialect {
     pub cycles: Vec<CycleDef>,
     /// The order in which a block's items take effect.
     pub execution_order: Vec<Step>,
+    /// Evidence that a program is written in this dialect (for folders with none configured).
+    pub recognise: Vec<sniff::Evidence>,
     letter_roles: [Option<Role>; 26],
     g_table: Vec<u16>,
     m_table: Vec<u16>,

@@ -85,3 +85,65 @@ fn broken_dialect_files_name_file_line_and_column() {
     assert!(stdout.contains(&format!("bad.xml:{line}:")), "{stdout}");
     assert!(stdout.contains("unknown meaning `warp-speed`"), "{stdout}");
 }
+
+#[test]
+fn the_dialect_is_told_from_the_text_and_the_file_name() {
+    use ncplan::dialect::sniff::Confidence;
+    let r = Registry::shipped();
+    for (ext, want) in [("nc", "fanuc"), ("mpf", "siemens"), ("h", "heidenhain")] {
+        for part in ["face", "drill_ream", "peck", "pocket"] {
+            let name = format!("{part}.{ext}");
+            let text = std::fs::read_to_string(crate::root().join("tests/programs/equivalence").join(&name)).unwrap();
+            let s = r.sniff(&text, Some(&name), "linuxcnc");
+            assert_eq!(s.dialect, want, "{name}: {s:?}");
+            assert!(s.confidence >= Confidence::Medium, "{name}: {s:?}");
+            // The text alone is enough for the conversational and Siemens headers.
+            if ext != "nc" {
+                let s = r.sniff(&text, None, "linuxcnc");
+                assert_eq!((s.dialect.as_str(), s.confidence), (want, Confidence::High), "{name} without its name: {s:?}");
+            }
+        }
+    }
+    let ngc = "o<probe> sub\n#<depth> = 5\no<probe> endsub\n";
+    assert_eq!(r.sniff(ngc, Some("probe.ngc"), "fanuc").dialect, "linuxcnc");
+    // No evidence: the default, and a low confidence.
+    let s = r.sniff("G0 X1\n", None, "linuxcnc");
+    assert_eq!((s.dialect.as_str(), s.confidence, s.score), ("linuxcnc", Confidence::Low, 0));
+    // Evidence inside a comment does not count: `CR=` in a Fanuc tool comment is not Siemens.
+    let s = r.sniff("O1000\n(T1 D=2.7 CR=0 FLAT END MILL)\nG2 X1 Y1 R1\n", Some("a.nc"), "linuxcnc");
+    assert_eq!(s.dialect, "fanuc", "{s:?}");
+}
+
+#[test]
+fn every_heidenhain_and_siemens_corpus_program_is_recognised() {
+    let r = Registry::shipped();
+    for (folder, want) in [("heidenhain", "heidenhain"), ("siemens", "siemens")] {
+        let Ok(dir) = std::fs::read_dir(crate::shared().join("corpus").join(folder)) else { continue };
+        let mut wrong = Vec::new();
+        for e in dir.flatten() {
+            let bytes = std::fs::read(e.path()).unwrap();
+            let (source, _) = ncplan::text::decode(&bytes);
+            let name = e.file_name().to_string_lossy().into_owned();
+            let s = r.sniff(&source.text, Some(&name), "linuxcnc");
+            if s.dialect != want {
+                wrong.push(format!("{name}: {} ({})", s.dialect, s.evidence.join(", ")));
+            }
+        }
+        // Siemens syntax-test fragments with no Siemens-only construct may look like plain ISO.
+        assert!(wrong.len() <= if want == "siemens" { 3 } else { 0 }, "{folder}: {wrong:#?}");
+    }
+}
+
+#[test]
+fn a_broken_recognition_pattern_is_reported_with_its_position() {
+    let xml = r#"<dialect xmlns="urn:ncplan:dialect:1" name="bad" family="x">
+  <lexical><comment open="(" close=")"/></lexical>
+  <addresses><address name="G" role="g-code"/></addresses>
+  <execution-order>motion</execution-order>
+  <recognise><marker regex="(unclosed" weight="5"/></recognise>
+</dialect>"#;
+    let (_, diags) = dialect::load(xml);
+    let d = diags.iter().find(|d| d.message.contains("regular expression")).expect("a finding for the regex");
+    let line = xml[..d.range.start as usize].lines().count();
+    assert_eq!(line, 5, "{d:?}");
+}
