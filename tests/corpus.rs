@@ -24,12 +24,81 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The dialect used for a corpus folder in the checks (more dialects arrive with later work).
-fn folder_dialect(folder: &str) -> &'static str {
+/// The dialect used for a corpus folder in the checks; `None`: told from each program.
+fn folder_dialect(folder: &str) -> Option<&'static str> {
     match folder {
-        "fanuc" | "haas" | "mazak" | "okuma" => "fanuc",
-        _ => "linuxcnc",
+        "fanuc" | "haas" | "mazak" | "okuma" => Some("fanuc"),
+        "siemens" => Some("siemens"),
+        "heidenhain" => Some("heidenhain"),
+        "linuxcnc" | "centroid" => Some("linuxcnc"),
+        _ => None,
     }
+}
+
+/// The dialect a corpus program is checked in: its folder's, or the one told from its text.
+fn dialect_for(registry: &Registry, folder: &str, path: &Path) -> std::sync::Arc<ncplan::dialect::Dialect> {
+    let name = match folder_dialect(folder) {
+        Some(n) => n.to_owned(),
+        None => {
+            let bytes = std::fs::read(path).unwrap_or_default();
+            let (source, _) = ncplan::text::decode(&bytes);
+            registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), "linuxcnc").dialect
+        }
+    };
+    registry.get(&name).unwrap()
+}
+
+/// `tests/golden/corpus/errors.tsv`: per program, the dialect and the number of error
+/// findings. A program with more or fewer errors than recorded fails its check (a
+/// regression, or an improvement to record with `UPDATE_EXPECT=1`).
+fn error_golden(dir: &Path) -> BTreeMap<String, (String, usize)> {
+    let text = std::fs::read_to_string(dir.join("errors.tsv")).unwrap_or_default();
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.is_empty())
+        .filter_map(|l| {
+            let mut f = l.split('\t');
+            let (folder, file, dialect, errors) = (f.next()?, f.next()?, f.next()?, f.next()?.parse().ok()?);
+            Some((format!("{folder}/{file}"), (dialect.to_owned(), errors)))
+        })
+        .collect()
+}
+
+fn errors_of(path: &Path, dialect: &ncplan::dialect::Dialect) -> (usize, String) {
+    let bytes = std::fs::read(path).unwrap_or_default();
+    let a = ncplan::pipeline::analyze(&bytes, dialect, &Profile::default());
+    let errors: Vec<_> = a.diagnostics.iter().filter(|d| d.is_error()).collect();
+    (errors.len(), errors.first().map_or(String::new(), |d| d.code.as_str().to_owned()))
+}
+
+/// Rewrites `errors.tsv` and the per-folder table `summary.md`.
+fn update_error_golden(dir: &Path, corpus: &Path, registry: &Registry, programs: &[(String, PathBuf)]) {
+    let mut rows = String::from("# folder\tfile\tdialect\terrors\tfirst error code\n");
+    let mut by_folder: BTreeMap<String, (usize, usize, BTreeMap<String, usize>)> = BTreeMap::new();
+    for (folder, path) in programs {
+        let d = dialect_for(registry, folder, path);
+        let (n, first) = errors_of(path, &d);
+        let file = path.file_name().unwrap().to_string_lossy();
+        rows.push_str(&format!("{folder}\t{file}\t{}\t{n}\t{first}\n", d.name));
+        let e = by_folder.entry(folder.clone()).or_default();
+        e.0 += 1;
+        if n == 0 {
+            e.1 += 1;
+        }
+        *e.2.entry(d.name.clone()).or_default() += 1;
+    }
+    let mut md = String::from("| folder | dialect | programs | without errors | share |\n|---|---|---:|---:|---:|\n");
+    let (mut all, mut clean) = (0, 0);
+    for (folder, (n, ok, dialects)) in &by_folder {
+        let ds: Vec<String> = dialects.iter().map(|(d, k)| if dialects.len() == 1 { d.clone() } else { format!("{d} ({k})") }).collect();
+        md.push_str(&format!("| {folder} | {} | {n} | {ok} | {:.1}% |\n", ds.join(", "), 100.0 * *ok as f64 / *n as f64));
+        all += n;
+        clean += ok;
+    }
+    md.push_str(&format!("| **all** | | {all} | {clean} | {:.1}% |\n", 100.0 * clean as f64 / all.max(1) as f64));
+    let _ = corpus;
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("errors.tsv"), rows).unwrap();
+    std::fs::write(dir.join("summary.md"), md).unwrap();
 }
 
 fn main() {
@@ -37,6 +106,7 @@ fn main() {
     let mut trials = Vec::new();
     let corpus = root().join("../shared/corpus");
     let registry = Registry::shipped();
+    let mut programs: Vec<(String, PathBuf)> = Vec::new();
     if let Ok(dirs) = std::fs::read_dir(&corpus) {
         let mut dirs: Vec<PathBuf> = dirs.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
         dirs.sort();
@@ -44,12 +114,19 @@ fn main() {
             let folder = dir.file_name().unwrap().to_string_lossy().into_owned();
             let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok().map(|e| e.path())).collect();
             files.sort();
-            for f in files {
-                let dialect = registry.get(folder_dialect(&folder)).unwrap();
-                let name = format!("check/{folder}/{}", f.file_name().unwrap().to_string_lossy());
-                trials.push(Trial::test(name, move || check(&f, &dialect)));
-            }
+            programs.extend(files.into_iter().map(|f| (folder.clone(), f)));
         }
+    }
+    let error_dir = root().join("tests/golden/corpus");
+    if std::env::var_os("UPDATE_EXPECT").is_some() && !programs.is_empty() {
+        update_error_golden(&error_dir, &corpus, &registry, &programs);
+    }
+    let expected_errors = error_golden(&error_dir);
+    for (folder, f) in programs {
+        let dialect = dialect_for(&registry, &folder, &f);
+        let key = format!("{folder}/{}", f.file_name().unwrap().to_string_lossy());
+        let expected = expected_errors.get(&key).cloned();
+        trials.push(Trial::test(format!("check/{key}"), move || check(&f, &dialect, expected)));
     }
     let goldens = root().join("tests/golden/rs274");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&goldens)
@@ -81,9 +158,24 @@ fn program_for(corpus: &Path, stem: &str) -> PathBuf {
     }
 }
 
-fn check(path: &Path, dialect: &ncplan::dialect::Dialect) -> Result<(), Failed> {
+fn check(path: &Path, dialect: &ncplan::dialect::Dialect, expected: Option<(String, usize)>) -> Result<(), Failed> {
     let bytes = std::fs::read(path)?;
     let a = ncplan::pipeline::analyze(&bytes, dialect, &Profile::default());
+    let errors: Vec<_> = a.diagnostics.iter().filter(|d| d.is_error()).collect();
+    match &expected {
+        None => return Err("not in tests/golden/corpus/errors.tsv; run with UPDATE_EXPECT=1".into()),
+        Some((d, _)) if *d != dialect.name => {
+            return Err(format!("read as {}, recorded as {d}; run with UPDATE_EXPECT=1 if intended", dialect.name).into());
+        }
+        Some((_, n)) if errors.len() > *n => {
+            let first: Vec<String> = errors.iter().take(3).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect();
+            return Err(format!("{} errors, {n} recorded (a regression):\n{}", errors.len(), first.join("\n")).into());
+        }
+        Some((_, n)) if errors.len() < *n => {
+            return Err(format!("{} errors, {n} recorded: an improvement; record it with UPDATE_EXPECT=1", errors.len()).into());
+        }
+        _ => {}
+    }
     let len = a.source.text.len() as u32;
     for d in &a.diagnostics {
         if d.range.end > len || !a.source.text.is_char_boundary(d.range.start as usize) {
@@ -163,7 +255,7 @@ pub fn first_difference(ours: &str, golden: &str) -> Option<String> {
 /// ncplan's canon for a corpus program, and its diagnostics that can explain a difference.
 fn run_ours(program: &Path) -> Result<(String, Vec<String>), Failed> {
     let registry = Registry::shipped();
-    let dialect = registry.get(folder_dialect("linuxcnc")).unwrap();
+    let dialect = registry.get("linuxcnc").unwrap();
     let bytes = std::fs::read(program)?;
     let (source, _) = ncplan::text::decode(&bytes);
     let mut canon = Vec::new();

@@ -440,6 +440,13 @@ impl Writer {
         {
             id.push_str(&format!(" stepover={s}"));
         }
+        // Only multistep drilling has a peck attribute; a pecked centre drilling keeps its own.
+        if ws.operation.is_hole()
+            && ws.operation != Operation::MultistepDrilling
+            && let Some(p) = ws.holes.iter().filter_map(|h| h.peck).reduce(f64::max)
+        {
+            id.push_str(&format!(" peck={p}"));
+        }
         // A spindle value is signed by direction: a stopped spindle's speed, and the direction
         // of a turning spindle at speed 0, have no attribute.
         if ws.technology.spindle == SpindleDir::Off && ws.technology.spindle_speed != 0.0 {
@@ -947,7 +954,11 @@ impl Reader<'_> {
         if matches!(operation, Operation::PlaneRoughMilling | Operation::PlaneFinishMilling) {
             ws.radial_depth = op_words.get("stepover").and_then(|v| v.parse().ok());
         }
-        let peck = if operation == Operation::MultistepDrilling { self.opt_real(op, 16)?.filter(|p| *p > 0.0) } else { None };
+        let peck = if operation == Operation::MultistepDrilling {
+            self.opt_real(op, 16)?.filter(|p| *p > 0.0)
+        } else {
+            op_words.get("peck").and_then(|v| v.parse().ok())
+        };
         plan::measure(&mut ws, dwell, peck);
         // The feature, numbered in order of first machining.
         let fref = self.attr(inst, 2)?;
