@@ -456,6 +456,9 @@ impl Lexer<'_, '_> {
     /// A keyword code at the cursor (`TRANS`, `TOOL CALL 5`, `DR+`), longest first. Blanks in
     /// a keyword match any run of blanks; the keyword must end at a word boundary.
     fn keyword(&mut self) -> bool {
+        if self.dialect.keyword_codes().next().is_none() {
+            return false;
+        }
         let start = self.i;
         let mut found = None;
         for (idx, k) in self.dialect.keyword_codes() {
@@ -589,7 +592,9 @@ impl Lexer<'_, '_> {
             while self.peek().is_some_and(|c| c != b']' && c != b'\n' && c != b'\r') {
                 self.i += 1;
             }
-            self.i = (self.i + 1).min(self.b.len());
+            if self.peek() == Some(b']') {
+                self.i += 1;
+            }
         }
         loop {
             self.skip_blanks();
@@ -677,6 +682,9 @@ impl Lexer<'_, '_> {
     /// A named cycle with positional arguments: `CYCLE83(50,0,2,-30,,-5)`. Empty slots are
     /// skipped; each argument becomes a word of the role the dialect gives its position.
     fn cycle_call(&mut self) -> bool {
+        if self.dialect.cycles.is_empty() {
+            return false;
+        }
         let start = self.i;
         let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
         let mut open = end;
@@ -751,7 +759,8 @@ impl Lexer<'_, '_> {
                 }
                 _ => {
                     let at = self.i;
-                    self.error(Code::MalformedExpression, at, (at + 1).min(self.b.len()), "expected `,` or `)` in the cycle's arguments");
+                    let end = if at < self.b.len() { at + self.char_len(at) } else { at };
+                    self.error(Code::MalformedExpression, at, end, "expected `,` or `)` in the cycle's arguments");
                     self.i = self.line_end();
                     return true;
                 }

@@ -50,7 +50,7 @@ fn check_ranges(bytes: &[u8]) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: std::env::var("NCPLAN_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256), ..ProptestConfig::default() })]
 
     #[test]
     fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
@@ -135,4 +135,14 @@ fn exists_without_a_name_is_diagnosed() {
     let d = Registry::shipped().get("linuxcnc").unwrap();
     let a = analyze(b"o100 if [EXISTS[1]]\no100 endif\nM2\n", &d, &profile());
     assert!(a.diagnostics.iter().any(|x| x.message.contains("EXISTS takes a named parameter")), "{:?}", a.diagnostics);
+}
+
+/// Found by `mutated_corpus_programs_never_panic` on CI: a multi-byte character where a
+/// cycle's argument list expects `,` or `)` got a range that split it.
+#[test]
+fn a_cycle_argument_list_broken_by_a_multibyte_character_is_diagnosed() {
+    check_ranges("CYCLE81(50 \u{00d7}, 0)\nDEF REAL A[3\nG0 X1\n".as_bytes());
+    let d = Registry::shipped().get("siemens").unwrap();
+    let a = analyze("CYCLE81(50 \u{00d7}, 0)\n".as_bytes(), &d, &profile());
+    assert!(a.diagnostics.iter().any(|x| x.message.contains("expected `,` or `)`")), "{:?}", a.diagnostics);
 }
