@@ -606,6 +606,9 @@ impl<'a> Interpreter<'a> {
         let mut ok = true;
         // Codes first: a unit change in this block affects how its numbers scale.
         for w in &block.words {
+            if !matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
+                continue;
+            }
             if w.role == Role::Cycle {
                 if let Value::Number { value, .. } = w.value {
                     self.block_cycle = Some(value as usize);

@@ -62,7 +62,7 @@ impl Interpreter<'_> {
 
     pub(super) fn motion(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.motions += 1;
-        let rapid_block = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RapidBlock);
+        let rapid_block = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RapidBlock);
         match def.meaning {
             Meaning::Rapid | Meaning::Linear if rapid_block => {
                 let t = self.target();
@@ -152,9 +152,8 @@ impl Interpreter<'_> {
     fn note_tangent(&mut self, t: [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (d1, d2) = (t[a0] - self.st.pos[a0], t[a1] - self.st.pos[a1]);
-        let len = d1.hypot(d2);
-        if len > 1e-12 {
-            self.st.tangent = Some((d1 / len, d2 / len));
+        if d1 != 0.0 || d2 != 0.0 {
+            self.st.tangent = Some((d1, d2)); // normalised where a tangent arc needs it
         }
     }
 
@@ -184,7 +183,7 @@ impl Interpreter<'_> {
             Meaning::ArcTangent => {
                 // The centre lies on the normal to the incoming direction, as far from the
                 // start as from the end.
-                let Some((t1, t2)) = self.st.tangent else {
+                let Some((t1, t2)) = self.st.tangent.map(|(x, y)| (x / x.hypot(y), y / x.hypot(y))) else {
                     diags.push(Diagnostic::new(
                         Code::BadArc,
                         block.range,

@@ -153,8 +153,8 @@ impl Lexer<'_, '_> {
                 let end = self.i;
                 return end;
             }
-            let at_start = self.block.words.is_empty() && self.block.assigns.is_empty() && self.block.control.is_none();
-            if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (at_start || !r.block_start)) {
+            let at_start = |b: &Block| b.words.is_empty() && b.assigns.is_empty() && b.control.is_none();
+            if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (!r.block_start || at_start(self.block))) {
                 let close = rule.close.clone();
                 self.comment(&close);
                 continue;
@@ -355,18 +355,17 @@ impl Lexer<'_, '_> {
             );
             return;
         };
-        let mut j = self.i;
-        while matches!(self.b.get(j), Some(b' ' | b'\t')) {
-            j += 1;
-        }
-        let value = if lex.assign_values && self.b.get(j) == Some(&b'=') {
-            self.i = j + 1;
-            self.assigned_value(start)
-        } else {
-            self.value(start)
+        let assigned = lex.assign_values && {
+            let j = self.b[self.i..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| self.i + p);
+            let eq = self.b.get(j) == Some(&b'=');
+            if eq {
+                self.i = j + 1;
+            }
+            eq
         };
+        let value = if assigned { self.assigned_value(start) } else { self.value(start) };
         if let Some(value) = value {
-            let (value, mode) = self.unwrap_mode(value, WordMode::Modal);
+            let mode = if assigned { self.unwrap_mode(value, WordMode::Modal).1 } else { WordMode::Modal };
             self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
         }
     }
@@ -942,7 +941,7 @@ impl Lexer<'_, '_> {
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
         // After a sign, blanks may stand before the operand where the dialect allows blanks in numbers (`Z + Q13`).
-        let after_sign = if self.dialect.lexical.spaces_in_numbers {
+        let after_sign = if matches!(c, b'+' | b'-') && self.dialect.lexical.spaces_in_numbers {
             self.b[self.i + 1..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| self.i + 1 + p)
         } else {
             self.i + 1
