@@ -442,7 +442,7 @@ impl Cx {
                 self.error(Self::attr_range(c, "name"), format!("address name `{name}` must be a letter followed by letters or digits"));
                 continue;
             }
-            let Some(role) = Role::parse(role) else {
+            let Some(role) = Role::parse(role).filter(|r| !r.is_internal()) else {
                 self.error(Self::attr_range(c, "role"), format!("unknown role `{role}`; see the <address> documentation in dialect.xsd"));
                 continue;
             };
@@ -641,7 +641,7 @@ impl Cx {
         }
         let value_role = match self.attr(c, "value-role") {
             None => None,
-            Some(r) => match Role::parse(r) {
+            Some(r) => match Role::parse(r).filter(|r| !r.is_internal()) {
                 Some(role) => Some(role),
                 None => {
                     self.error(Self::attr_range(c, "value-role"), format!("unknown role `{r}`"));
@@ -713,7 +713,7 @@ impl Cx {
                     },
                 };
                 let (Some(n), Some(r)) = (self.required(a, "name"), self.required(a, "role")) else { continue };
-                let Some(role) = Role::parse(r) else {
+                let Some(role) = Role::parse(r).filter(|r| !r.is_internal()) else {
                     self.error(Self::attr_range(a, "role"), format!("unknown role `{r}`"));
                     continue;
                 };

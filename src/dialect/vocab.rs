@@ -345,6 +345,11 @@ impl Role {
     /// Axis roles in canonical order (X Y Z A B C).
     pub const AXES: [Role; 6] = [Role::X, Role::Y, Role::Z, Role::A, Role::B, Role::C];
 
+    /// Roles the parser gives words itself (keyword codes, named cycles); a dialect file may not use them.
+    pub fn is_internal(self) -> bool {
+        matches!(self, Role::Keyword | Role::Cycle)
+    }
+
     /// Whether the decimal-point rule may scale this role.
     pub fn is_length(self) -> bool {
         matches!(self, Role::X | Role::Y | Role::Z | Role::U | Role::V | Role::W | Role::I | Role::J | Role::K | Role::R | Role::Q)
