@@ -200,19 +200,13 @@ fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
     let name = match &input.dialect {
         Some(n) => n.clone(),
         None => {
-            let s = sniff_file(&registry, &input.file, &bytes);
+            let s = pipeline::sniff(&registry, &bytes, &input.file);
             eprintln!("{}", sniff_report(&s));
             s.dialect
         }
     };
     let d = dialect(&registry, &name)?;
     Ok((d, config, bytes))
-}
-
-/// The dialect of a program told from its text and name (LinuxCNC when nothing tells).
-fn sniff_file(registry: &Registry, path: &Path, bytes: &[u8]) -> crate::dialect::sniff::Sniffed {
-    let (source, _) = crate::text::decode(&bytes[..bytes.len().min(64 * 1024)]);
-    registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), "linuxcnc")
 }
 
 fn sniff_report(s: &crate::dialect::sniff::Sniffed) -> String {
@@ -335,7 +329,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             let pick = |given: Option<&str>, path: &Path, bytes: &[u8]| match given {
                 Some(n) => dialect(&registry, n),
                 None => {
-                    let s = sniff_file(&registry, path, bytes);
+                    let s = pipeline::sniff(&registry, bytes, path);
                     eprintln!("{}: {}", path.display(), sniff_report(&s));
                     dialect(&registry, &s.dialect)
                 }

@@ -77,6 +77,15 @@ pub fn program_name(text: &str) -> Option<String> {
     None
 }
 
+/// The dialect taken when nothing in a program tells its dialect: RS274NGC, the ISO baseline.
+pub const DEFAULT_DIALECT: &str = "linuxcnc";
+
+/// Tells the dialect of the program `bytes` (named `path`) from its start and its file name.
+pub fn sniff(registry: &crate::dialect::Registry, bytes: &[u8], path: &std::path::Path) -> crate::dialect::sniff::Sniffed {
+    let (source, _) = text::decode(&bytes[..bytes.len().min(64 * 1024)]);
+    registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT)
+}
+
 #[cfg(test)]
 mod tests {
     use super::program_name;

@@ -41,8 +41,7 @@ fn dialect_for(registry: &Registry, folder: &str, path: &Path) -> std::sync::Arc
         Some(n) => n.to_owned(),
         None => {
             let bytes = std::fs::read(path).unwrap_or_default();
-            let (source, _) = ncplan::text::decode(&bytes);
-            registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), "linuxcnc").dialect
+            ncplan::pipeline::sniff(registry, &bytes, path).dialect
         }
     };
     registry.get(&name).unwrap()

@@ -79,8 +79,7 @@ pub fn ingest(path: &Path, folder: &Folder, config: &Config, registry: &Registry
     }
     // A folder with `dialect = "auto"` has each program's dialect told from its text.
     let dialect_name = if folder.dialect == crate::config::AUTO_DIALECT {
-        let (source, _) = crate::text::decode(&bytes[..bytes.len().min(64 * 1024)]);
-        let s = registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), "linuxcnc");
+        let s = pipeline::sniff(registry, &bytes, path);
         tracing::info!(path = %path.display(), dialect = %s.dialect, sure = s.confidence.as_str(), evidence = %s.evidence.join(", "), "Dialect told from the program.");
         s.dialect
     } else {

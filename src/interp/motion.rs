@@ -183,7 +183,10 @@ impl Interpreter<'_> {
             Meaning::ArcTangent => {
                 // The centre lies on the normal to the incoming direction, as far from the
                 // start as from the end.
-                let Some((t1, t2)) = self.st.tangent.map(|(x, y)| (x / x.hypot(y), y / x.hypot(y))) else {
+                let Some((t1, t2)) = self.st.tangent.map(|(x, y)| {
+                    let len = x.hypot(y);
+                    (x / len, y / len)
+                }) else {
                     diags.push(Diagnostic::new(
                         Code::BadArc,
                         block.range,

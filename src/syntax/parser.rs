@@ -48,7 +48,7 @@ impl<'a> Parser<'a> {
         block.clear();
         block.line = self.line;
         let start = self.pos;
-        let mut lx = Lexer { text: self.text, b: self.bytes, i: start, dialect: self.dialect, block, diags, pending_mode: WordMode::Modal };
+        let mut lx = Lexer { text: self.text, b: self.bytes, i: start, dialect: self.dialect, block, diags };
         let end = lx.block();
         let mut i = lx.i;
         block.range = TextRange::new(start, end);
@@ -80,8 +80,6 @@ struct Lexer<'t, 'b> {
     dialect: &'t Dialect,
     block: &'b mut Block,
     diags: &'b mut Vec<Diagnostic>,
-    /// An `AC(..)`/`IC(..)` wrapper just read, for the word being built.
-    pending_mode: WordMode,
 }
 
 impl Lexer<'_, '_> {
@@ -296,8 +294,9 @@ impl Lexer<'_, '_> {
                     self.i = if a.assign { j + 1 } else { start + n };
                     let (role, letter) = (a.role, a.name.as_bytes()[0]);
                     let mode = if a.incremental { WordMode::Incremental } else { WordMode::Modal };
-                    let value = if a.assign { self.assigned_value(start) } else { self.value(start) };
-                    if let Some((value, m)) = value.map(|v| (v, mode)).map(|(v, m)| self.unwrap_mode(v, m)) {
+                    let value = if a.assign { self.assigned_value(start) } else { self.value(start).map(|v| (v, WordMode::Modal)) };
+                    if let Some((value, wrapped)) = value {
+                        let m = if wrapped == WordMode::Modal { mode } else { wrapped };
                         self.block.words.push(Word {
                             role,
                             letter,
@@ -363,21 +362,20 @@ impl Lexer<'_, '_> {
             }
             eq
         };
-        let value = if assigned { self.assigned_value(start) } else { self.value(start) };
-        if let Some(value) = value {
-            let mode = if assigned { self.unwrap_mode(value, WordMode::Modal).1 } else { WordMode::Modal };
+        let value = if assigned { self.assigned_value(start) } else { self.value(start).map(|v| (v, WordMode::Modal)) };
+        if let Some((value, mode)) = value {
             self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
         }
     }
 
-    /// A value after `=`: a string, `AC(..)`/`IC(..)`, or an infix expression (`X=R1*2`).
-    /// An `AC`/`IC` wrapper is returned as a marker the caller unwraps with [`Self::unwrap_mode`].
-    fn assigned_value(&mut self, start: usize) -> Option<Value> {
+    /// A value after `=`: a string, `AC(..)`/`IC(..)`, or an infix expression (`X=R1*2`);
+    /// with the measure an `AC`/`IC` wrapper gives it (else modal).
+    fn assigned_value(&mut self, start: usize) -> Option<(Value, WordMode)> {
         self.skip_blanks();
         if let Some(q) = self.dialect.lexical.string_quote
             && self.peek() == Some(q as u8)
         {
-            return self.string(start).map(Value::Text);
+            return self.string(start).map(|r| (Value::Text(r), WordMode::Modal));
         }
         if let Some((abs, inc)) = &self.dialect.lexical.axis_modes {
             let run = self.alpha_run();
@@ -392,16 +390,15 @@ impl Lexer<'_, '_> {
             if let Some(mode) = mode {
                 self.i = run.end as usize;
                 let e = self.unary(1)?;
-                self.pending_mode = mode;
-                return Some(Value::Expr(e));
+                return Some((Value::Expr(e), mode));
             }
         }
         let save = self.i;
         if let Some((value, decimal)) = self.plain_number() {
-            return Some(Value::Number { value, decimal });
+            return Some((Value::Number { value, decimal }, WordMode::Modal));
         }
         self.i = save;
-        self.expr(1, 0).map(Value::Expr)
+        self.expr(1, 0).map(|e| (Value::Expr(e), WordMode::Modal))
     }
 
     /// A literal number that is the whole value (no operator follows it).
@@ -426,12 +423,6 @@ impl Lexer<'_, '_> {
                 super::expr::BinOp::named(&self.text[j..end].to_ascii_uppercase()).is_some()
             };
         if operator { None } else { n }
-    }
-
-    /// Applies an `AC(..)`/`IC(..)` wrapper read by [`Self::assigned_value`].
-    fn unwrap_mode(&mut self, v: Value, mode: WordMode) -> (Value, WordMode) {
-        let m = std::mem::take(&mut self.pending_mode);
-        (v, if m == WordMode::Modal { mode } else { m })
     }
 
     /// A quoted string at the cursor; the range inside the quotes.
