@@ -115,6 +115,9 @@ codes! {
     ProgramAlarm = ("interp::alarm", Error),
     /// A jump or call to a label, block number or program that does not exist.
     MissingLabel = ("flow::missing-label", Error),
+    /// A program called by name that is neither in the file nor in the program directory:
+    /// its machining is missing from the analysis.
+    MissingProgram = ("flow::missing-program", Error),
     /// A loop ran past its iteration limit, or the run past its block budget.
     LoopLimit = ("flow::loop-limit", Error),
     /// Calls nested deeper than the dialect allows.

@@ -3,7 +3,8 @@
 use super::xml::{self, Element};
 use super::{
     AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordRest,
-    KeywordSpec, Lexical, Macros, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TapStyle, TimeUnit,
+    KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TapStyle,
+    TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -187,7 +188,14 @@ impl Cx {
     fn lexical(&mut self, el: &Element) -> Lexical {
         self.shape(
             el,
-            &["block-form", "spaces-in-numbers", "assign-values", "bare-function-arguments", "identifier-variables"],
+            &[
+                "block-form",
+                "spaces-in-numbers",
+                "assign-values",
+                "bare-function-arguments",
+                "identifier-variables",
+                "symbolic-comparisons",
+            ],
             &[
                 "axis-modes",
                 "label",
@@ -221,6 +229,7 @@ impl Cx {
             string_quote: None,
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             identifier_variables: self.bool(el, "identifier-variables", false),
+            symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
             comments: Vec::new(),
             block_skip: None,
             block_number: None,
@@ -472,12 +481,54 @@ impl Cx {
     }
 
     fn macros(&mut self, el: &Element) -> Macros {
-        self.shape(el, &["null-value", "locals", "call-depth", "repeat-in-p"], &["statement", "arguments", "system-variable"]);
+        self.shape(
+            el,
+            &[
+                "null-value",
+                "locals",
+                "call-depth",
+                "repeat-in-p",
+                "conditions",
+                "end-label",
+                "call-by-name",
+                "call-repeat",
+                "call-repeat-counts",
+                "main-return",
+            ],
+            &["statement", "arguments", "system-variable"],
+        );
         let mut m = Macros {
             null_value: self.bool(el, "null-value", false),
             repeat_in_p: self.bool(el, "repeat-in-p", false),
+            call_by_name: self.bool(el, "call-by-name", false),
+            end_label: self.attr(el, "end-label").map(|l| l.trim().to_ascii_lowercase()),
+            call_repeat: self.attr(el, "call-repeat").map(|w| w.trim().to_ascii_uppercase()),
             ..Macros::default()
         };
+        match self.attr(el, "conditions").unwrap_or("bracketed") {
+            "bracketed" => {}
+            "bare" => m.bare_conditions = true,
+            other => self.error(Self::attr_range(el, "conditions"), format!("`conditions` is bracketed or bare, not `{other}`")),
+        }
+        match self.attr(el, "call-repeat-counts").unwrap_or("total") {
+            "total" => {}
+            "additional" => m.call_repeat_additional = true,
+            other => self
+                .error(Self::attr_range(el, "call-repeat-counts"), format!("`call-repeat-counts` is total or additional, not `{other}`")),
+        }
+        m.main_return = match self.attr(el, "main-return").unwrap_or("error") {
+            "error" => MainReturn::Error,
+            "end" => MainReturn::End,
+            "restart" => MainReturn::Restart,
+            other => {
+                self.error(Self::attr_range(el, "main-return"), format!("`main-return` is error, end or restart, not `{other}`"));
+                MainReturn::Error
+            }
+        };
+        if m.call_repeat.as_deref().is_some_and(|w| w.is_empty() || !w.bytes().all(|b| b.is_ascii_alphabetic())) {
+            self.error(Self::attr_range(el, "call-repeat"), "`call-repeat` must be a word of letters");
+            m.call_repeat = None;
+        }
         if let Some(v) = self.attr(el, "locals") {
             match v.split_once('-').and_then(|(a, b)| Some((a.trim().parse::<u16>().ok()?, b.trim().parse::<u16>().ok()?))) {
                 Some((a, b)) if a >= 1 && a <= b && b < 1000 => m.locals = (a, b),
@@ -495,8 +546,11 @@ impl Cx {
                         continue;
                     };
                     let k = k.to_ascii_uppercase();
-                    if k.is_empty() || !k.bytes().all(|b| b.is_ascii_alphabetic()) {
-                        self.error(Self::attr_range(c, "keyword"), format!("statement keyword `{k}` must be letters only"));
+                    if k.split(' ').any(|w| w.is_empty() || !w.bytes().all(|b| b.is_ascii_alphabetic())) {
+                        self.error(
+                            Self::attr_range(c, "keyword"),
+                            format!("statement keyword `{k}` must be letters, or words of letters separated by single blanks"),
+                        );
                     } else if m.statements.iter().any(|(x, _)| *x == k) {
                         self.error(c.range, format!("statement `{k}` is declared twice"));
                     } else {

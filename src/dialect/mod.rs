@@ -72,6 +72,8 @@ pub struct Lexical {
     pub bare_function_arguments: bool,
     /// Whether identifiers name variables (`_X_HOME=0`, `X=_X_HOME`), as declared with `DEF`.
     pub identifier_variables: bool,
+    /// Whether `==`, `<>`, `<`, `>`, `<=`, `>=` compare in expressions (`R1>=5`).
+    pub symbolic_comparisons: bool,
     /// Comment rules, tried in order.
     pub comments: Vec<CommentRule>,
     /// Block-skip (block-delete) character.
@@ -187,6 +189,30 @@ pub struct Macros {
     /// Whether digits above the fourth of a subprogram call's P are its repeat count
     /// (`M98 P30010` runs O10 three times).
     pub repeat_in_p: bool,
+    /// Whether conditions are whole expressions up to the next keyword (`IF R1>5 GOTOF M1`)
+    /// rather than bracketed operands (`IF [#1 GT 5] GOTO 10`).
+    pub bare_conditions: bool,
+    /// The label whose definition ends a label call (`LBL 0`), normalised.
+    pub end_label: Option<String>,
+    /// Whether a block that starts with an unknown name calls the program of that name.
+    pub call_by_name: bool,
+    /// The word that repeats a call (`P`, `REP`), upper case.
+    pub call_repeat: Option<String>,
+    /// Whether the repeat count gives the passes after the first (`REP 2` = 3 passes).
+    pub call_repeat_additional: bool,
+    /// What a return in the main program does.
+    pub main_return: MainReturn,
+}
+
+/// What a return (`M99`, `M17`, `RET`) does in the main program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MainReturn {
+    /// It is a mistake: reported as an unmatched return.
+    Error,
+    /// It ends the program (a subprogram checked on its own).
+    End,
+    /// The control restarts the program endlessly (Fanuc `M99`).
+    Restart,
 }
 
 impl Default for Macros {
@@ -199,6 +225,12 @@ impl Default for Macros {
             system: Vec::new(),
             call_depth: 10,
             repeat_in_p: false,
+            bare_conditions: false,
+            end_label: None,
+            call_by_name: false,
+            call_repeat: None,
+            call_repeat_additional: false,
+            main_return: MainReturn::Error,
         }
     }
 }
@@ -210,7 +242,8 @@ impl Macros {
     }
 
     /// The statement keyword that `word` (a run of letters, any case) starts with, longest
-    /// first: `GOTO10` → `GOTO`, `WHILE` → `WHILE`.
+    /// first: `GOTO10` → `GOTO`, `WHILE` → `WHILE`. Keywords of several words are matched
+    /// by the parser against the text.
     pub fn statement_prefix(&self, word: &str) -> Option<(&str, Statement)> {
         self.statements
             .iter()

@@ -436,7 +436,19 @@ vocab! {
         /// Head of a do-loop, or the loop identifier after `WHILE` (`DO 1`).
         Do = "do",
         /// End of a numbered loop (`END 1`).
-        EndLoop = "end-loop",
+        EndDo = "end-do",
+        /// Head of a counting loop: `FOR R1=0 TO 10` (step 1).
+        For = "for",
+        /// End of a counting loop.
+        EndFor = "endfor",
+        /// Head of a loop whose condition stands at its end (`REPEAT` ... `UNTIL c`).
+        RepeatUntil = "repeat-until",
+        /// End of a `repeat-until` loop: leaves it when the condition holds.
+        Until = "until",
+        /// Head of an endless loop (`LOOP` ... `ENDLOOP`), left by a jump.
+        Loop = "loop",
+        /// End of an endless loop.
+        EndLoop = "endloop",
         /// Counted loop head (`o1 repeat [3]`).
         Repeat = "repeat",
         /// End of a counted loop.
@@ -445,8 +457,29 @@ vocab! {
         Break = "break",
         /// Next iteration of the innermost loop.
         Continue = "continue",
-        /// Jump to a block number (`GOTO 10`), or the jump part of `IF [c] GOTO n`.
+        /// Jump to a block number (`GOTO 10`), or the jump part of `IF [c] GOTO n`; a named
+        /// target is a label (`GOTO MARK1`). Searched forward, then from the top.
         Goto = "goto",
+        /// Jump forward only (`GOTOF MARK1`).
+        GotoForward = "goto-forward",
+        /// Jump backward only (`GOTOB MARK1`).
+        GotoBack = "goto-back",
+        /// Jump like `goto`, but a missing target is no error (`GOTOC`).
+        GotoQuiet = "goto-quiet",
+        /// Jump to a label, numbered or named (`GOTO LBL 5` after `FN 9: IF ...`).
+        GotoLabel = "goto-label",
+        /// Defines a label (`LBL 1`, `LBL "name"`): a jump target and the start of a section
+        /// a label call runs. The dialect's end label (`LBL 0`) returns from a label call.
+        Label = "label",
+        /// Runs the section after a label (`CALL LBL 1 REP 2`): up to the end label when the
+        /// label is a subprogram, or up to this call again when it is a section before it.
+        CallLabel = "call-label",
+        /// Runs another program by name (`CALL PGM NAME`, `CALL "NAME"`, `L123 P2`).
+        CallProgram = "call-program",
+        /// The head of a subprogram with named parameters (`PROC NAME(REAL A, INT B)`).
+        Procedure = "procedure",
+        /// A statement with no effect on the machining (`EXTERN` declarations).
+        Inert = "inert",
         /// The statement part of `IF [c] THEN ...`.
         Then = "then",
         /// Print a formatted line to the data output (`DPRNT[X#100[53]]`): a message.

@@ -19,7 +19,7 @@ use super::eval::{self, NULL};
 use super::{Interpreter, Profile, Request};
 use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
-use crate::dialect::{Dialect, Statement};
+use crate::dialect::{Dialect, MainReturn, Statement};
 use crate::syntax::{Block, Control, Expr, ExprId, Parser};
 use crate::text::{LineIndex, TextRange};
 
@@ -76,10 +76,15 @@ struct Pos {
     line: u32,
 }
 
-/// A control statement or program start found by the index.
+/// A control statement, label or program start found by the index.
 #[derive(Clone, Debug)]
 struct Mark {
+    /// The O-word label of the statement (`o100 while`).
     label: Option<String>,
+    /// The jump label the block defines (`MARK1:`, `LBL 5`), normalised.
+    defines: Option<String>,
+    /// The statement's named target (`PROC NAME`, `CALL PGM NAME`), normalised.
+    name: Option<String>,
     statement: Option<Statement>,
     then: Option<Statement>,
     id: Option<i64>,
@@ -107,8 +112,11 @@ impl<'a> Source<'a> {
 enum FrameKind {
     /// `o100 call`: returns at `endsub`/`return`.
     Sub,
-    /// `G65`, `M98`: returns at `M99`.
+    /// `G65`, `M98`, `CALL PGM`, `NAME`: returns at `M99`, `M17`, `RET` or the end of its text.
     Program,
+    /// `CALL LBL 1`: returns at the end label (`LBL 0`), or on meeting the call again when
+    /// the label stands before it (a section repeat).
+    Label,
 }
 
 struct Frame {
@@ -125,6 +133,10 @@ struct Frame {
     saved_names: Option<BTreeMap<String, f64>>,
     loops_base: usize,
     call: (TextRange, u32),
+    /// Source and offset of the calling block.
+    call_at: (usize, usize),
+    /// Arguments of a procedure call, bound by the callee's `PROC` statement.
+    proc_args: Option<Vec<f64>>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,6 +145,21 @@ enum LoopKind {
     Do,
     Repeat,
     Numbered,
+    /// `FOR var = a TO b`.
+    For,
+    /// `REPEAT` ... `UNTIL c`.
+    Until,
+    /// `LOOP` ... `ENDLOOP`.
+    Forever,
+}
+
+/// Where a jump looks for its target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Direction {
+    /// Forward, then from the top (`GOTO`).
+    Any,
+    Forward,
+    Back,
 }
 
 struct Loop {
@@ -216,7 +243,7 @@ impl<'a> Driver<'a, '_> {
             } else {
                 interp.execute(&block, sink, diags);
                 if let Some(r) = interp.request.take() {
-                    self.request(r, &block, interp, diags);
+                    self.request(r, &block, interp, sink, diags);
                 }
             }
             self.tidy(src, mark, diags);
@@ -372,9 +399,11 @@ impl<'a> Driver<'a, '_> {
             Statement::If => {
                 let Some(cond) = self.condition(interp, c, block, diags) else { return };
                 match c.then {
-                    Some(Statement::Goto) => {
+                    Some(
+                        st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel),
+                    ) => {
                         if cond {
-                            self.goto(c.target, block, start, interp, diags);
+                            self.jump_statement(st, c, block, start, interp, diags);
                         }
                     }
                     Some(Statement::Then) => {
@@ -397,14 +426,14 @@ impl<'a> Driver<'a, '_> {
                         self.next_branch(&label, start, c.range, interp, diags);
                     }
                 } else {
-                    self.skip_to(start, c.range, "endif", |m| same_label(m, &[Statement::EndIf]), interp, diags);
+                    self.skip_structure(&label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
                 }
             }
             Statement::Else => {
                 if self.landing == Some((self.cur, start.at)) {
                     self.landing = None;
                 } else {
-                    self.skip_to(start, c.range, "endif", |m| same_label(m, &[Statement::EndIf]), interp, diags);
+                    self.skip_structure(&label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
                 }
             }
             Statement::EndIf | Statement::Then | Statement::Output | Statement::Declare => {}
@@ -414,7 +443,7 @@ impl<'a> Driver<'a, '_> {
                 let message = print_format(format, |n| interp.params.get(f64::from(n)).ok());
                 sink.emit(Canon { op: CanonOp::Message(message), origin: block.range, line: block.line });
             }
-            Statement::While if label.is_some() => {
+            Statement::While if label.is_some() || c.then != Some(Statement::Do) => {
                 let Some(cond) = self.condition(interp, c, block, diags) else { return };
                 if let Some(k) = self.top_loop(|l| l.kind == LoopKind::Do && l.label == label) {
                     // The tail of a do-loop.
@@ -429,7 +458,16 @@ impl<'a> Driver<'a, '_> {
                     return;
                 }
                 if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, diags) {
-                    self.skip_to(start, c.range, "endwhile", |m| same_label(m, &[Statement::EndWhile]), interp, diags);
+                    self.skip_structure(
+                        &label,
+                        start,
+                        c.range,
+                        Statement::While,
+                        Statement::EndWhile,
+                        &[Statement::EndWhile],
+                        interp,
+                        diags,
+                    );
                 }
             }
             Statement::While => {
@@ -459,7 +497,7 @@ impl<'a> Driver<'a, '_> {
                 }
                 None => self.unmatched(c, "endwhile", "while", diags),
             },
-            Statement::EndLoop => {
+            Statement::EndDo => {
                 let id = self.loop_id(c, block, interp, diags);
                 match self.top_loop(|l| l.kind == LoopKind::Numbered && l.id == id) {
                     Some(k) => {
@@ -498,6 +536,9 @@ impl<'a> Driver<'a, '_> {
                     LoopKind::While => &[Statement::EndWhile],
                     LoopKind::Repeat => &[Statement::EndRepeat],
                     LoopKind::Do | LoopKind::Numbered => &[Statement::While],
+                    LoopKind::For => &[Statement::EndFor],
+                    LoopKind::Until => &[Statement::Until],
+                    LoopKind::Forever => &[Statement::EndLoop],
                 };
                 match (statement, kind) {
                     (Statement::Break, _) => {
@@ -531,12 +572,296 @@ impl<'a> Driver<'a, '_> {
                     interp.params.set_named("_value", v);
                 }
                 match self.frames.last() {
-                    Some(f) if f.kind == FrameKind::Sub => self.return_from(None, block, interp, diags),
+                    Some(f) if f.kind == FrameKind::Sub || statement == Statement::Return => self.return_from(None, block, interp, diags),
+                    None if statement == Statement::Return && self.dialect.macros.main_return == MainReturn::End => {
+                        self.main_return(block, interp, sink, diags)
+                    }
                     _ => self.unmatched(c, if statement == Statement::Return { "return" } else { "endsub" }, "call", diags),
                 }
             }
             Statement::Call => self.call_sub(c, label, block, start, interp, diags),
-            Statement::Goto => self.goto(c.target, block, start, interp, diags),
+            Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel => {
+                self.jump_statement(statement, c, block, start, interp, diags)
+            }
+            Statement::For => self.for_head(c, block, start, here, interp, diags),
+            Statement::EndFor => match self.top_loop(|l| l.kind == LoopKind::For) {
+                Some(k) => {
+                    let (src, head) = (self.loops[k].source, self.loops[k].head);
+                    self.loops.truncate(k + 1);
+                    self.jump(src, head, start, interp, diags);
+                }
+                None => self.unmatched(c, "ENDFOR", "FOR", diags),
+            },
+            Statement::RepeatUntil => {
+                if self.top_loop(|l| l.kind == LoopKind::Until && l.head == start).is_none() {
+                    self.push_loop(LoopKind::Until, None, None, start, here);
+                }
+            }
+            Statement::Until => {
+                let Some(k) = self.top_loop(|l| l.kind == LoopKind::Until) else {
+                    self.unmatched(c, "UNTIL", "REPEAT", diags);
+                    return;
+                };
+                let Some(cond) = self.condition(interp, c, block, diags) else { return };
+                if cond {
+                    self.loops.truncate(k);
+                } else if self.count_iteration(k, c.range, diags) {
+                    let (src, body) = (self.loops[k].source, self.loops[k].body);
+                    self.loops.truncate(k + 1);
+                    self.jump(src, body, start, interp, diags);
+                }
+            }
+            Statement::Loop => match self.top_loop(|l| l.kind == LoopKind::Forever && l.head == start) {
+                Some(k) => {
+                    self.count_iteration(k, c.range, diags);
+                }
+                None => self.push_loop(LoopKind::Forever, None, None, start, here),
+            },
+            Statement::EndLoop => match self.top_loop(|l| l.kind == LoopKind::Forever) {
+                Some(k) => {
+                    let (src, head) = (self.loops[k].source, self.loops[k].head);
+                    self.loops.truncate(k + 1);
+                    self.jump(src, head, start, interp, diags);
+                }
+                None => self.unmatched(c, "ENDLOOP", "LOOP", diags),
+            },
+            Statement::Label => {
+                let end = self.dialect.macros.end_label.as_deref();
+                let returns = end.is_some() && self.target_label(c, block, interp, diags).as_deref() == end;
+                if returns && self.frames.last().is_some_and(|f| f.kind == FrameKind::Label) {
+                    self.return_from(None, block, interp, diags);
+                }
+            }
+            Statement::CallLabel => self.call_label(c, block, start, interp, diags),
+            Statement::CallProgram => self.call_program(c, block, start, interp, diags),
+            Statement::Procedure => self.procedure(c, interp),
+            Statement::Inert => {}
+        }
+    }
+
+    /// The label a statement names: its string or name, or its number (`LBL 5`, `GOTO LBL 5`).
+    fn target_label(&self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> Option<String> {
+        if let Some(r) = c.name {
+            return Some(normalise_label(&self.sources[self.cur].text[r.start as usize..r.end as usize]));
+        }
+        let v = self.value(interp, block, c.target?, diags)?;
+        (!eval::is_null(v) && v.fract() == 0.0 && v.abs() < 1e9).then(|| normalise_label(&format!("{}", v as i64)))
+    }
+
+    /// `GOTO 10`, `GOTOF MARK1`, `GOTOB N100`, `GOTO LBL "X"`: a jump to a block number or a label.
+    fn jump_statement(
+        &mut self,
+        st: Statement,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let dir = match st {
+            Statement::GotoForward => Direction::Forward,
+            Statement::GotoBack => Direction::Back,
+            _ => Direction::Any,
+        };
+        let quiet = st == Statement::GotoQuiet;
+        if st != Statement::GotoLabel && c.name.is_none() {
+            if let Some(n) = self.target_number(c.target, block, interp, diags) {
+                self.goto_number(n, dir, quiet, block.range, start, interp, diags);
+            }
+            return;
+        }
+        let Some(name) = self.target_label(c, block, interp, diags) else {
+            self.error(diags, Code::MissingLabel, block.range, "the jump has no target");
+            return;
+        };
+        let found = {
+            let marks = self.marks(self.cur);
+            let at = |m: &&Mark| m.defines.as_deref() == Some(name.as_str());
+            match dir {
+                Direction::Forward => marks.iter().filter(at).find(|m| m.start.at > start.at),
+                Direction::Back => marks.iter().filter(at).rev().find(|m| m.start.at < start.at),
+                Direction::Any => marks.iter().filter(at).find(|m| m.start.at > start.at).or_else(|| marks.iter().find(at)),
+            }
+            .map(|m| m.start)
+        };
+        match found {
+            Some(pos) => self.jump_to(pos, &name, block.range, start, interp, diags),
+            None => {
+                // A label that is a block number: `GOTOF N100`.
+                let letter = self.dialect.lexical.block_number.map(|c| c.to_ascii_lowercase());
+                let number = name.strip_prefix(|c| Some(c) == letter).and_then(|n| n.parse::<u32>().ok());
+                if let Some(n) = number.filter(|_| st != Statement::GotoLabel) {
+                    self.goto_number(n, dir, quiet, block.range, start, interp, diags);
+                } else if !quiet {
+                    let whither = match dir {
+                        Direction::Forward => " after this block",
+                        Direction::Back => " before this block",
+                        Direction::Any => "",
+                    };
+                    self.error(
+                        diags,
+                        Code::MissingLabel,
+                        block.range,
+                        format!("no label `{name}`{whither} to jump to; the run stops here"),
+                    );
+                }
+            }
+        }
+    }
+
+    /// Jumps to a found target; a jump backwards counts against the loop limit.
+    fn jump_to(&mut self, pos: Pos, what: &str, range: TextRange, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        if pos.at <= start.at {
+            let count = self.back_jumps.entry((self.cur, pos.at)).or_insert(0);
+            *count += 1;
+            if *count > self.profile.max_loop_iterations {
+                let limit = self.profile.max_loop_iterations;
+                self.error(
+                    diags,
+                    Code::LoopLimit,
+                    range,
+                    format!("the jump back to {what} ran more than {limit} times; the run stops here"),
+                );
+                return;
+            }
+        }
+        self.jump(self.cur, pos, start, interp, diags);
+    }
+
+    /// `FOR var = a TO b`: sets the counter on entry, steps it by one when the loop comes
+    /// round, and leaves past `ENDFOR` once it is above `b`.
+    fn for_head(&mut self, c: &Control, block: &Block, start: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let (Some(var), [first, last]) = (c.target, c.args.as_slice()) else { return };
+        let again = self.top_loop(|l| l.kind == LoopKind::For && l.head == start);
+        let value = match again {
+            Some(_) => self.value(interp, block, var, diags).map(|v| v + 1.0),
+            None => self.value(interp, block, *first, diags),
+        };
+        let (Some(value), Some(last)) = (value, self.value(interp, block, *last, diags)) else { return };
+        if let Err(e) = set_variable(interp, block, var, value, self.sources[self.cur].text) {
+            diags.push(super::eval_diag(e, c.range));
+            return;
+        }
+        if self.loop_head(LoopKind::For, None, None, value <= last, start, here, c.range, diags) {
+            self.skip_structure(&None, start, c.range, Statement::For, Statement::EndFor, &[Statement::EndFor], interp, diags);
+        }
+    }
+
+    /// `CALL LBL 1 REP 2`: runs the section after the label, as a subprogram up to the end
+    /// label or, for a label before the call, up to this call again.
+    fn call_label(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        if let Some(f) = self.frames.last()
+            && f.kind == FrameKind::Label
+            && f.call_at == (self.cur, start.at)
+        {
+            // The end of a repeated section.
+            self.return_from(None, block, interp, diags);
+            return;
+        }
+        let Some(name) = self.target_label(c, block, interp, diags) else {
+            self.error(diags, Code::MissingLabel, block.range, "the call names no label");
+            return;
+        };
+        let Some(m) = self.marks(self.cur).iter().find(|m| m.defines.as_deref() == Some(name.as_str())).cloned() else {
+            self.error(diags, Code::MissingLabel, block.range, format!("no label `{name}` to call; the run stops here"));
+            return;
+        };
+        let Some(mut passes) = self.passes(c, block, interp, diags) else { return };
+        // A section before the call, with no end label between, has run once on the way
+        // here: the call adds the passes after the first.
+        let end = self.dialect.macros.end_label.clone();
+        let section = m.start.at < start.at
+            && !self
+                .marks(self.cur)
+                .iter()
+                .any(|e| e.start.at > m.start.at && e.start.at < start.at && e.defines.is_some() && e.defines == end);
+        if section {
+            passes = passes.saturating_sub(1);
+        }
+        let source = self.cur;
+        self.enter(FrameKind::Label, source, m.next, passes, Vec::new(), false, block, start, interp, diags);
+    }
+
+    /// How many times a call runs, from its repeat word.
+    fn passes(&self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> Option<u32> {
+        let Some(e) = c.repeat else { return Some(1) };
+        let v = self.value(interp, block, e, diags)?;
+        if eval::is_null(v) || v < 0.0 || v.fract() != 0.0 || v > 65_535.0 {
+            diags.push(Diagnostic::new(Code::MalformedNumber, c.range, format!("repeat count {v} is not a whole number from 0 to 65535")));
+            return None;
+        }
+        let n = v as u32;
+        Some(if self.dialect.macros.call_repeat_additional { n + 1 } else { n })
+    }
+
+    /// `CALL PGM NAME`, `L123 P2`, `NAME(1.5, 3)`: runs the program of that name, from a
+    /// `PROC NAME` in this file or from the program directory.
+    fn call_program(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let text = self.sources[self.cur].text;
+        let written = match c.name {
+            Some(r) => &text[r.start as usize..r.end as usize],
+            None => {
+                self.error(diags, Code::MissingLabel, block.range, "the call names no program");
+                return;
+            }
+        };
+        // `TNC:\PARTS\SUB.H` → `SUB.H`.
+        let file = written.rsplit(['\\', '/', ':']).next().unwrap_or(written);
+        let key = normalise_label(file.split('.').next().unwrap_or(file));
+        let mut args = Vec::with_capacity(c.args.len());
+        for &e in &c.args {
+            let Some(v) = self.value(interp, block, e, diags) else { return };
+            args.push(v);
+        }
+        let Some(passes) = self.passes(c, block, interp, diags) else { return };
+        let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
+        let Some((source, body)) = self.locate(file, is_proc) else {
+            let keyword = c.keyword.map_or(written, |k| &text[k.start as usize..k.end as usize]);
+            let msg = if c.keyword == c.name {
+                format!(
+                    "`{keyword}` is neither a statement of the {} dialect nor a program in this file or the program directory; the call was skipped",
+                    self.dialect.name
+                )
+            } else {
+                format!("program `{written}` is neither in this file nor in the program directory; the call was skipped")
+            };
+            interp.limited(diags, "program", Diagnostic::new(Code::MissingProgram, block.range, msg));
+            return;
+        };
+        // A procedure's body starts at its PROC statement, which binds the arguments.
+        let body = match self.marks(source).iter().find(|m| is_proc(m)) {
+            Some(m) => m.start,
+            None => body,
+        };
+        let depth = self.frames.len();
+        self.enter(FrameKind::Program, source, body, passes, Vec::new(), false, block, start, interp, diags);
+        if self.frames.len() > depth
+            && let Some(f) = self.frames.last_mut()
+        {
+            f.proc_args = Some(args);
+        }
+    }
+
+    /// `PROC NAME(REAL A, INT B=2) SAVE`: binds the call's arguments to the parameter names,
+    /// in order (a missing one keeps its default, else 0).
+    fn procedure(&mut self, c: &Control, interp: &mut Interpreter<'a>) {
+        let text = self.sources[self.cur].text;
+        let line = &text[c.range.start as usize..c.range.end as usize];
+        let args = self.frames.last_mut().and_then(|f| f.proc_args.take()).unwrap_or_default();
+        let Some(open) = line.find('(') else { return };
+        let close = line.rfind(')').filter(|&p| p > open).unwrap_or(line.len());
+        for (k, param) in line[open + 1..close].split(',').enumerate() {
+            let (decl, default) = match param.split_once('=') {
+                Some((d, v)) => (d, v.trim().parse::<f64>().ok()),
+                None => (param, None),
+            };
+            let Some(name) = decl.split_whitespace().last() else { continue };
+            let name = name.trim_end_matches(|c: char| c == ']' || c == '[' || c.is_ascii_digit() && name.contains('['));
+            if name.is_empty() {
+                continue;
+            }
+            let v = args.get(k).copied().or(default).unwrap_or(0.0);
+            interp.params.set_named(&eval::normalised(name), v);
         }
     }
 
@@ -621,9 +946,13 @@ impl<'a> Driver<'a, '_> {
         interp: &mut Interpreter<'a>,
         diags: &mut Vec<Diagnostic>,
     ) {
-        let m = self.find_after(start.at, |m| {
-            m.label == *label && m.statement.is_some_and(|s| matches!(s, Statement::ElseIf | Statement::Else | Statement::EndIf))
-        });
+        let m = self.find_structure_end(
+            label,
+            start.at,
+            Statement::If,
+            Statement::EndIf,
+            &[Statement::ElseIf, Statement::Else, Statement::EndIf],
+        );
         match m {
             Some(m) if m.statement == Some(Statement::EndIf) => self.switch_to(self.cur, m.next, interp),
             Some(m) => {
@@ -631,6 +960,59 @@ impl<'a> Driver<'a, '_> {
                 self.switch_to(self.cur, m.start, interp);
             }
             None => self.error(diags, Code::MissingLabel, range, "no matching `endif` follows this `if`; the run stops here"),
+        }
+    }
+
+    /// The first of `targets` after `after` that belongs to the structure opened there: by
+    /// label where statements carry one (`o100 endif`), else by nesting depth, counting
+    /// `open` ... `close` pairs in between (`IF` ... `ENDIF` inside `IF` ... `ELSE`).
+    fn find_structure_end(
+        &mut self,
+        label: &Option<String>,
+        after: usize,
+        open: Statement,
+        close: Statement,
+        targets: &[Statement],
+    ) -> Option<Mark> {
+        if label.is_some() {
+            return self.find_after(after, |m| m.label == *label && m.statement.is_some_and(|s| targets.contains(&s)));
+        }
+        let marks = self.marks(self.cur);
+        let from = marks.partition_point(|m| m.start.at <= after);
+        let mut depth = 0u32;
+        for m in &marks[from..] {
+            let Some(st) = m.statement.filter(|_| m.label.is_none()) else { continue };
+            if depth == 0 && targets.contains(&st) {
+                return Some(m.clone());
+            }
+            if st == open && m.then.is_none() {
+                depth += 1;
+            } else if st == close {
+                depth = depth.saturating_sub(1);
+            }
+        }
+        None
+    }
+
+    /// Continues after the end of the structure opened at `start` (see [`Self::find_structure_end`]).
+    #[allow(clippy::too_many_arguments)]
+    fn skip_structure(
+        &mut self,
+        label: &Option<String>,
+        start: Pos,
+        range: TextRange,
+        open: Statement,
+        close: Statement,
+        targets: &[Statement],
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        match self.find_structure_end(label, start.at, open, close, targets) {
+            Some(m) => self.switch_to(self.cur, m.next, interp),
+            None => {
+                let what = targets.last().map_or("end", |s| s.as_str());
+                self.error(diags, Code::MissingLabel, range, format!("no matching `{what}` follows; the run stops here"));
+            }
         }
     }
 
@@ -668,7 +1050,7 @@ impl<'a> Driver<'a, '_> {
             let opens = m.id == id && (m.then == Some(Statement::Do) || (m.statement == Some(Statement::Do) && m.label.is_none()));
             if opens {
                 depth += 1;
-            } else if m.id == id && m.statement == Some(Statement::EndLoop) {
+            } else if m.id == id && m.statement == Some(Statement::EndDo) {
                 if depth == 0 {
                     found = Some(m.next);
                     break;
@@ -685,45 +1067,61 @@ impl<'a> Driver<'a, '_> {
         }
     }
 
-    /// `GOTO n`: the block numbered `n`, searched forward from here and then from the top.
-    fn goto(&mut self, target: Option<ExprId>, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+    /// The block number a jump names (`GOTO 10`, `GOTO #1`).
+    fn target_number(
+        &mut self,
+        target: Option<ExprId>,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<u32> {
         let Some(e) = target else {
             self.error(diags, Code::MissingLabel, block.range, "the jump has no target");
-            return;
+            return None;
         };
-        let Some(v) = self.value(interp, block, e, diags) else { return };
+        let v = self.value(interp, block, e, diags)?;
         if eval::is_null(v) || v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
             self.error(diags, Code::MissingLabel, block.range, format!("jump target {v} is not a block number"));
-            return;
+            return None;
         }
-        self.goto_number(v as u32, block.range, start, interp, diags);
+        Some(v as u32)
     }
 
-    fn goto_number(&mut self, n: u32, range: TextRange, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+    /// Jumps to the block numbered `n`: forward from here, backward, or forward and then
+    /// from the top. A missing block stops the run, unless the jump is `quiet`.
+    #[allow(clippy::too_many_arguments)]
+    fn goto_number(
+        &mut self,
+        n: u32,
+        dir: Direction,
+        quiet: bool,
+        range: TextRange,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
         let dialect = self.dialect;
         let src = &mut self.sources[self.cur];
         let text = src.text;
         let positions = src.numbers.entry(n).or_insert_with(|| numbered(text, dialect, n));
-        let pick = positions.iter().find(|p| p.at > start.at).or(positions.first()).copied();
+        let pick = match dir {
+            Direction::Forward => positions.iter().find(|p| p.at > start.at),
+            Direction::Back => positions.iter().rev().find(|p| p.at < start.at),
+            Direction::Any => positions.iter().find(|p| p.at > start.at).or(positions.first()),
+        }
+        .copied();
         let Some(pos) = pick else {
-            self.error(
-                diags,
-                Code::MissingLabel,
-                range,
-                format!("no block N{n} to jump to; the run stops here, as the control would alarm"),
-            );
+            if !quiet {
+                self.error(
+                    diags,
+                    Code::MissingLabel,
+                    range,
+                    format!("no block N{n} to jump to; the run stops here, as the control would alarm"),
+                );
+            }
             return;
         };
-        if pos.at <= start.at {
-            let count = self.back_jumps.entry((self.cur, pos.at)).or_insert(0);
-            *count += 1;
-            if *count > self.profile.max_loop_iterations {
-                let limit = self.profile.max_loop_iterations;
-                self.error(diags, Code::LoopLimit, range, format!("the jump back to N{n} ran more than {limit} times; the run stops here"));
-                return;
-            }
-        }
-        self.jump(self.cur, pos, start, interp, diags);
+        self.jump_to(pos, &format!("N{n}"), range, start, interp, diags);
     }
 
     fn call_sub(
@@ -823,12 +1221,14 @@ impl<'a> Driver<'a, '_> {
             saved_names,
             loops_base: self.loops.len(),
             call: (origin, line),
+            call_at: (self.cur, start.at),
+            proc_args: None,
         });
         interp.depth = self.frames.len() as u32;
         self.jump(source, body, start, interp, diags);
     }
 
-    fn request(&mut self, r: Request, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+    fn request(&mut self, r: Request, block: &Block, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let start = Pos { at: block.range.start as usize, line: block.line };
         match r {
             Request::Call { program, repeats, macro_call, args } => {
@@ -846,12 +1246,7 @@ impl<'a> Driver<'a, '_> {
             }
             Request::Return { goto } => {
                 if self.frames.is_empty() {
-                    diags.push(Diagnostic::new(
-                        Code::Unsupported,
-                        block.range,
-                        "M99 in the main program restarts it endlessly on the control; the analysis stops after one pass",
-                    ));
-                    self.stop = true;
+                    self.main_return(block, interp, sink, diags);
                     return;
                 }
                 self.return_from(goto, block, interp, diags);
@@ -890,27 +1285,56 @@ impl<'a> Driver<'a, '_> {
         self.switch_to(f.ret_source, f.ret, interp);
         if let Some(n) = goto {
             let here = self.pos();
-            self.goto_number(n, block.range, here, interp, diags);
+            self.goto_number(n, Direction::Any, false, block.range, here, interp, diags);
         }
+    }
+
+    /// A return in the main program: its end (a subprogram checked on its own), or on a
+    /// control that restarts the program, the end of the analysis after one pass.
+    fn main_return(&mut self, block: &Block, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        match self.dialect.macros.main_return {
+            MainReturn::Restart => diags.push(Diagnostic::new(
+                Code::Unsupported,
+                block.range,
+                "a return in the main program restarts it endlessly on the control; the analysis stops after one pass",
+            )),
+            MainReturn::End | MainReturn::Error => interp.program_end(sink),
+        }
+        self.stop = true;
     }
 
     /// The end of a source text: the end of the run, or an implicit return from a
     /// subprogram. Returns false when the run is over.
     fn end_of_source(&mut self, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
         let Some(f) = self.frames.last() else { return false };
-        let what = if f.kind == FrameKind::Sub { "endsub" } else { "M99" };
+        let msg = match f.kind {
+            FrameKind::Sub => "the called subroutine ends without endsub; it returns at the end of its text",
+            FrameKind::Program => "the called program ends without its return (M99, M17, RET); it returns at the end of its text",
+            FrameKind::Label => "the called section runs to the end of the program without its end label; it returns there",
+        };
         let (range, _) = f.call;
-        diags.push(Diagnostic::new(
-            Code::UnmatchedStatement,
-            range,
-            format!("the called program ends without {what}; it returns at the end of its text"),
-        ));
+        diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
         let block = Block { range, line: self.pos().line, ..Block::default() };
         if let Some(f) = self.frames.last_mut() {
             f.repeats_left = 1;
         }
         self.return_from(None, &block, interp, diags);
         true
+    }
+}
+
+/// Sets the variable expression `var` (`R1`, `#5`, `COUNT`) to `v`.
+fn set_variable(interp: &mut Interpreter<'_>, block: &Block, var: ExprId, v: f64, text: &str) -> Result<(), eval::EvalError> {
+    match block.exprs.get(var as usize) {
+        Some(&Expr::Param(n)) => {
+            let n = eval::eval(block, n, &interp.params, text)?;
+            interp.params.set(n, v)
+        }
+        Some(&Expr::Named(r)) => {
+            interp.params.set_named(&eval::normalised(&text[r.start as usize..r.end as usize]), v);
+            Ok(())
+        }
+        _ => Err(eval::EvalError::Domain("the loop counter is not a variable")),
     }
 }
 
@@ -935,7 +1359,7 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
                 break;
             }
         }
-        if block.control.is_none() && block.program_number.is_none() {
+        if block.control.is_none() && block.program_number.is_none() && block.label.is_none() {
             continue;
         }
         let c = block.control.as_ref();
@@ -943,8 +1367,17 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
             Some(Expr::Num(v)) => Some(v.round() as i64),
             _ => None,
         };
+        let name = c.and_then(|c| c.name).map(|r| normalise_label(&text[r.start as usize..r.end as usize]));
+        let defines = match c {
+            Some(c) if c.statement == Some(Statement::Label) => {
+                name.clone().or_else(|| literal(c.target).map(|n| normalise_label(&n.to_string())))
+            }
+            _ => block.label.map(|r| normalise_label(&text[r.start as usize..r.end as usize])),
+        };
         marks.push(Mark {
             label: c.and_then(|c| c.label).map(|r| normalise_label(&text[r.start as usize..r.end as usize])),
+            defines,
+            name,
             statement: c.and_then(|c| c.statement),
             then: c.and_then(|c| c.then),
             id: c.and_then(|c| literal(c.target)),

@@ -1622,7 +1622,7 @@ impl<'a> Interpreter<'a> {
         self.st.pos = end;
     }
 
-    fn program_end(&mut self, sink: &mut dyn CanonSink) {
+    pub(super) fn program_end(&mut self, sink: &mut dyn CanonSink) {
         self.comp_off(sink);
         self.st.wcs = 1;
         self.emit(sink, CanonOp::SetG5xOffset(1, self.st.wcs_offsets[0]));

@@ -93,8 +93,14 @@ pub struct Control {
     pub args: Vec<ExprId>,
     /// A second keyword: `GOTO` or `THEN` after `IF`, `DO` after `WHILE`.
     pub then: Option<Statement>,
-    /// A jump target or loop number (`GOTO 10`, `DO 1`, `END 1`).
+    /// A jump target or loop number (`GOTO 10`, `DO 1`, `END 1`), a label number (`LBL 5`),
+    /// or the counter of a `FOR`.
     pub target: Option<ExprId>,
+    /// A named target: a label (`GOTOF MARK1`, `LBL "NAME"`) or a program (`CALL PGM SUB`,
+    /// `DRILLING`); for a string, the range inside the quotes.
+    pub name: Option<TextRange>,
+    /// The repeat count of a call (`REP 2`, `P3`).
+    pub repeat: Option<ExprId>,
 }
 
 /// One block (line) of a program.

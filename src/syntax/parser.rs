@@ -320,7 +320,10 @@ impl Lexer<'_, '_> {
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
         let param_value =
             next.is_some_and(|x| Some(x.to_ascii_uppercase()) == sigil) && self.b.get(start + 2).is_some_and(u8::is_ascii_digit);
-        if next.is_some_and(|x| x.is_ascii_alphabetic()) && !param_value {
+        let named_call = self.dialect.macros.call_by_name
+            && self.dialect.letter_role(letter).is_none()
+            && next.is_some_and(|x| x.is_ascii_digit() || x == b'_');
+        if (next.is_some_and(|x| x.is_ascii_alphabetic()) && !param_value) || named_call {
             self.keyword_statement(start);
             return;
         }
@@ -811,37 +814,44 @@ impl Lexer<'_, '_> {
         self.block.control = Some(control);
     }
 
-    /// `IF [#1 GT 0] GOTO 10`, `WHILE [#2 LT 5] DO 1`, `END 1`, `GOTO #3`: a statement that
-    /// starts with a keyword. A run of letters that is no statement of the dialect is kept
-    /// as an unknown statement, so that the interpreter can name it.
+    /// `IF [#1 GT 0] GOTO 10`, `WHILE [#2 LT 5] DO 1`, `END 1`, `GOTO #3`, `CALL LBL 1 REP 2`:
+    /// a statement that starts with a keyword. Where the dialect calls programs by name, an
+    /// unknown name is such a call (`DRILLING`, `L123 P2`, `MYPROC(1.5, 3)`). Any other run of
+    /// letters is kept as an unknown statement, so that the interpreter can name it.
     fn keyword_statement(&mut self, start: usize) {
-        let run = self.alpha_run();
-        let word = &self.text[run.start as usize..run.end as usize];
-        let known = if self.dialect.lexical.control_word.is_none() { self.dialect.macros.statement_prefix(word) } else { None };
+        let known = if self.dialect.lexical.control_word.is_none() { self.statement_at(start) } else { None };
         let mut control = Control::default();
         match known {
-            Some((k, st)) => {
-                self.i = start + k.len();
-                control.keyword = Some(TextRange::new(start, self.i));
+            Some((end, st)) => {
+                self.i = end;
+                control.keyword = Some(TextRange::new(start, end));
                 control.statement = Some(st);
-                if st == Statement::Declare {
-                    self.declaration();
-                    return;
-                }
-                if matches!(st, Statement::Print | Statement::Output) {
-                    // A print format or output setting is not an expression: kept as text.
-                    let end = self.line_end();
-                    let lex = &self.dialect.lexical;
-                    self.i = self.text[self.i..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| self.i + p);
-                } else {
-                    self.operands(&mut control);
+                match st {
+                    Statement::Declare => {
+                        self.declaration();
+                        return;
+                    }
+                    Statement::Print | Statement::Output | Statement::Inert | Statement::Procedure => {
+                        // A print format, output setting, declaration or parameter list is not
+                        // an expression: kept as text (a procedure's name is its target).
+                        if st == Statement::Procedure {
+                            self.skip_blanks();
+                            let end = self.identifier_end(self.i);
+                            control.name = (end > self.i).then(|| TextRange::new(self.i, end));
+                        }
+                        let end = self.line_end();
+                        let lex = &self.dialect.lexical;
+                        self.i = self.text[self.i..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| self.i + p);
+                    }
+                    _ => self.operands(&mut control),
                 }
             }
+            None if self.dialect.macros.call_by_name && self.call_by_name(start, &mut control) => {}
             None => {
                 let end = self.line_end();
                 let lex = &self.dialect.lexical;
                 let end = self.text[start..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| start + p);
-                control.keyword = Some(run);
+                control.keyword = Some(self.alpha_run());
                 self.i = end;
             }
         }
@@ -849,52 +859,287 @@ impl Lexer<'_, '_> {
         self.block.control = Some(control);
     }
 
-    /// The operands after a statement keyword: a target for jumps and loop ends, bracketed
-    /// operands otherwise, then an optional second keyword and its target.
+    /// The statement keyword at `at` and where it ends, longest first. A keyword of several
+    /// words matches them separated by any blanks (`CALL  LBL`); it must not run into a
+    /// letter (`IFX`), though a number may follow directly (`GOTO10`, `DO1`).
+    fn statement_at(&self, at: usize) -> Option<(usize, Statement)> {
+        'keywords: for (k, st) in &self.dialect.macros.statements {
+            let mut i = at;
+            for (n, part) in k.split(' ').enumerate() {
+                if n > 0 {
+                    let j = i;
+                    while matches!(self.b.get(i), Some(b' ' | b'\t')) {
+                        i += 1;
+                    }
+                    if i == j {
+                        continue 'keywords;
+                    }
+                }
+                let end = i + part.len();
+                if self.b.len() < end || !self.b[i..end].eq_ignore_ascii_case(part.as_bytes()) {
+                    continue 'keywords;
+                }
+                i = end;
+            }
+            if self.b.get(i).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_') {
+                continue;
+            }
+            return Some((i, *st));
+        }
+        None
+    }
+
+    /// `NAME`, `NAME P3`, `L123`, `NAME(1.5, , 3)`: a call of the program `NAME`. False (and
+    /// nothing consumed) when the block holds anything else after the name.
+    fn call_by_name(&mut self, start: usize, control: &mut Control) -> bool {
+        let end = self.identifier_end(start);
+        if end == start {
+            return false;
+        }
+        let (save, mark, exprs) = (self.i, self.diags.len(), self.block.exprs.len());
+        self.i = end;
+        self.skip_blanks();
+        if self.peek().is_some() && self.peek() == self.expr_open() {
+            self.i += 1;
+            loop {
+                self.skip_blanks();
+                match self.peek() {
+                    Some(b')' | b']') if Some(self.b[self.i]) == self.dialect.lexical.expression.map(|(_, c)| c as u8) => {
+                        self.i += 1;
+                        break;
+                    }
+                    Some(b',') => {
+                        // An empty argument keeps its default.
+                        let zero = self.push(Expr::Num(0.0));
+                        control.args.push(zero);
+                        self.i += 1;
+                        continue;
+                    }
+                    _ => {}
+                }
+                let Some(e) = self.expr(1, 0) else {
+                    self.i = save;
+                    self.diags.truncate(mark);
+                    self.block.exprs.truncate(exprs);
+                    control.args.clear();
+                    return false;
+                };
+                control.args.push(e);
+                self.skip_blanks();
+                if self.peek() == Some(b',') {
+                    self.i += 1;
+                }
+            }
+        }
+        self.call_repeat(control);
+        self.skip_blanks();
+        if !self.at_block_end() {
+            self.i = save;
+            self.diags.truncate(mark);
+            self.block.exprs.truncate(exprs);
+            control.args.clear();
+            control.repeat = None;
+            return false;
+        }
+        control.keyword = Some(TextRange::new(start, end));
+        control.name = Some(TextRange::new(start, end));
+        control.statement = Some(Statement::CallProgram);
+        true
+    }
+
+    /// Whether the cursor is at the end of the block: end of line, a comment or a block end.
+    fn at_block_end(&self) -> bool {
+        match self.peek() {
+            None | Some(b'\r' | b'\n') => true,
+            Some(c) => self.dialect.lexical.block_end == Some(c as char) || self.dialect.lexical.comments.iter().any(|r| r.open as u8 == c),
+        }
+    }
+
+    /// The repeat word of a call (`P3`, `P=3`, `REP 2`), if the dialect has one.
+    fn call_repeat(&mut self, control: &mut Control) {
+        let Some(word) = self.dialect.macros.call_repeat.as_deref() else { return };
+        self.skip_blanks();
+        let end = self.i + word.len();
+        if self.b.len() < end
+            || !self.b[self.i..end].eq_ignore_ascii_case(word.as_bytes())
+            || self.b.get(end).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_')
+        {
+            return;
+        }
+        self.i = end;
+        self.skip_blanks();
+        if self.peek() == Some(b'=') {
+            self.i += 1;
+        }
+        control.repeat = self.unary(1);
+        // The control's display form `REP 20/20` (passes set / passes left).
+        if self.peek() == Some(b'/') && self.b.get(self.i + 1).is_some_and(u8::is_ascii_digit) {
+            self.i += 1;
+            while self.peek().is_some_and(|c| c.is_ascii_digit()) {
+                self.i += 1;
+            }
+        }
+    }
+
+    /// The target of a jump, label or call: a string (`LBL "NAME"`), a name (`GOTOF MARK1`,
+    /// `CALL PGM TNC:\\PARTS\\SUB.H`) or a number (`GOTO 10`, `GOTO #1`).
+    fn target(&mut self, control: &mut Control) {
+        self.skip_blanks();
+        let Some(c) = self.peek() else { return };
+        let quote = self.dialect.lexical.string_quote.map(|q| q as u8);
+        if Some(c) == quote {
+            control.name = self.string(self.i);
+        } else if control.statement == Some(Statement::CallProgram) && !self.at_block_end() {
+            let from = self.i;
+            while self.peek().is_some_and(|c| !matches!(c, b' ' | b'\t' | b'\r' | b'\n')) && !self.at_block_end() {
+                self.i += self.char_len(self.i);
+            }
+            control.name = Some(TextRange::new(from, self.i));
+        } else if c.is_ascii_alphabetic() || c == b'_' {
+            let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+            let param = Some(c.to_ascii_uppercase()) == sigil && self.b.get(self.i + 1).is_some_and(u8::is_ascii_digit);
+            if param {
+                control.target = self.unary(1);
+            } else {
+                let end = self.identifier_end(self.i);
+                control.name = Some(TextRange::new(self.i, end));
+                self.i = end;
+            }
+        } else if c.is_ascii_digit() || matches!(c, b'+' | b'-' | b'.') || Some(c) == self.expr_open() || {
+            let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+            Some(c) == sigil
+        } {
+            control.target = self.unary(1);
+        }
+    }
+
+    /// `FOR R1=0 TO 10`: the counter (target), its first and last value (operands).
+    fn for_head(&mut self, control: &mut Control) {
+        let start = self.i;
+        self.skip_blanks();
+        let Some(var) = self.unary(1) else {
+            self.i = self.line_end();
+            return;
+        };
+        control.target = Some(var);
+        self.skip_blanks();
+        if !self.expect(b'=', "after the loop counter", start) {
+            self.i = self.line_end();
+            return;
+        }
+        let Some(first) = self.expr(1, 0) else {
+            self.i = self.line_end();
+            return;
+        };
+        self.skip_blanks();
+        let to = self.alpha_run();
+        if !self.text[to.start as usize..to.end as usize].eq_ignore_ascii_case("TO") {
+            self.error(
+                Code::MalformedExpression,
+                self.i,
+                self.i.max(to.end as usize).max(self.i + 1).min(self.b.len()),
+                "expected `TO` and the last value",
+            );
+            self.i = self.line_end();
+            return;
+        }
+        self.i = to.end as usize;
+        let Some(last) = self.expr(1, 0) else {
+            self.i = self.line_end();
+            return;
+        };
+        control.args.extend([first, last]);
+    }
+
+    /// The operands after a statement keyword: a target for jumps, labels, calls and loop
+    /// ends, the counter of a `FOR`, a condition (bracketed operands, or one bare expression),
+    /// then an optional second keyword and its target.
     fn operands(&mut self, control: &mut Control) {
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
-        let takes_target = |st: Statement| matches!(st, Statement::Goto | Statement::EndLoop | Statement::Do);
+        let takes_target = |st: Statement| {
+            matches!(
+                st,
+                Statement::Goto
+                    | Statement::GotoForward
+                    | Statement::GotoBack
+                    | Statement::GotoQuiet
+                    | Statement::GotoLabel
+                    | Statement::EndDo
+                    | Statement::Do
+                    | Statement::Label
+                    | Statement::CallLabel
+                    | Statement::CallProgram
+            )
+        };
         let starts_operand = |c: Option<u8>, sigil: Option<u8>| {
             c.is_some_and(|c| c.is_ascii_digit() || c == b'+' || c == b'-' || c == b'.' || Some(c) == sigil || Some(c) == expr_open)
         };
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        let Some(st) = control.statement else { return };
         self.skip_blanks();
-        if control.statement.is_some_and(takes_target) && starts_operand(self.peek(), sigil) {
-            control.target = self.unary(1);
+        if matches!(st, Statement::Do | Statement::EndDo) {
+            if starts_operand(self.peek(), sigil) {
+                control.target = self.unary(1);
+                return;
+            }
+        } else if takes_target(st) {
+            if self.dialect.lexical.control_word.is_none() {
+                self.target(control);
+                if matches!(st, Statement::CallLabel | Statement::CallProgram) {
+                    self.call_repeat(control);
+                }
+            } else if starts_operand(self.peek(), sigil) {
+                control.target = self.unary(1);
+            }
             return;
         }
-        loop {
-            self.skip_blanks();
-            // Comments may sit between operands: `o<x> call [1] (note) [2]`.
-            while let Some(rule) = self.peek().and_then(|c| self.dialect.lexical.comments.iter().find(|r| r.open as u8 == c)) {
-                let close = rule.close.clone();
-                self.comment(&close);
+        if st == Statement::For {
+            self.for_head(control);
+            return;
+        }
+        let condition = matches!(st, Statement::If | Statement::ElseIf | Statement::While | Statement::Until);
+        if condition && self.dialect.macros.bare_conditions {
+            if !self.at_block_end() {
+                match self.expr(1, 0) {
+                    Some(e) => control.args.push(e),
+                    None => return,
+                }
+            }
+        } else {
+            loop {
                 self.skip_blanks();
-            }
-            if self.peek().is_none() || self.peek() != expr_open {
-                break;
-            }
-            match self.unary(1) {
-                Some(e) => control.args.push(e),
-                None => return,
+                // Comments may sit between operands: `o<x> call [1] (note) [2]`.
+                while let Some(rule) = self.peek().and_then(|c| self.dialect.lexical.comments.iter().find(|r| r.open as u8 == c)) {
+                    let close = rule.close.clone();
+                    self.comment(&close);
+                    self.skip_blanks();
+                }
+                if self.peek().is_none() || self.peek() != expr_open {
+                    break;
+                }
+                match self.unary(1) {
+                    Some(e) => control.args.push(e),
+                    None => return,
+                }
             }
         }
+        self.skip_blanks();
         if self.dialect.lexical.control_word.is_some() || !self.peek().is_some_and(|c| c.is_ascii_alphabetic()) {
             return;
         }
-        let run = self.alpha_run();
-        let word = &self.text[run.start as usize..run.end as usize];
-        let Some((k, st)) = self.dialect.macros.statement_prefix(word) else {
-            return;
-        };
-        if !matches!(st, Statement::Goto | Statement::Then | Statement::Do) {
+        let Some((end, then)) = self.statement_at(self.i) else { return };
+        let jump =
+            matches!(then, Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel);
+        if !(jump || matches!(then, Statement::Then | Statement::Do)) {
             return;
         }
-        self.i = run.start as usize + k.len();
-        control.then = Some(st);
+        self.i = end;
+        control.then = Some(then);
         self.skip_blanks();
-        if takes_target(st) {
+        if then == Statement::Do {
             control.target = self.unary(1);
+        } else if jump {
+            self.target(control);
         }
     }
 
@@ -1114,6 +1359,20 @@ impl Lexer<'_, '_> {
             b'/' => BinOp::Div,
             b'+' => BinOp::Add,
             b'-' => BinOp::Sub,
+            b'=' | b'<' | b'>' if self.dialect.lexical.symbolic_comparisons => {
+                let next = self.b.get(self.i + 1).copied();
+                let (op, len) = match (c, next) {
+                    (b'=', Some(b'=')) => (BinOp::Eq, 2),
+                    (b'<', Some(b'>')) => (BinOp::Ne, 2),
+                    (b'<', Some(b'=')) => (BinOp::Le, 2),
+                    (b'>', Some(b'=')) => (BinOp::Ge, 2),
+                    (b'<', _) => (BinOp::Lt, 1),
+                    (b'>', _) => (BinOp::Gt, 1),
+                    _ => return None,
+                };
+                self.i += len;
+                return Some(op);
+            }
             c if c.is_ascii_alphabetic() => {
                 let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
                 let word = self.text[self.i..end].to_ascii_uppercase();

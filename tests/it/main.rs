@@ -6,6 +6,7 @@ mod cycles;
 mod daemon;
 mod dialects;
 mod equivalence;
+mod flow;
 mod macros;
 mod plan;
 mod robustness;

@@ -1,0 +1,162 @@
+//! Control flow in the Siemens and Heidenhain dialects, by what it makes the machine do:
+//! labels and jumps, structured statements without labels (nested by depth), counting and
+//! repeat-until loops, calls by name with arguments and passes, Heidenhain label sections
+//! and FN 9–12 jumps. The statements come from the dialect files; the engine is the one that
+//! runs Fanuc Macro B and LinuxCNC O-words.
+
+use std::collections::BTreeMap;
+
+use ncplan::canon::{CanonOp, write_call};
+use ncplan::dialect::Registry;
+use ncplan::interp::{Profile, ProgramSource, run};
+
+/// Programs by name, for calls that leave the file.
+struct Programs(BTreeMap<&'static str, &'static str>);
+
+impl ProgramSource for Programs {
+    fn load(&self, name: &str) -> Option<String> {
+        self.0.get(name).map(|s| (*s).to_owned())
+    }
+}
+
+/// The X, Y and Z of every move, one `x y z` per line, and the diagnostic codes.
+fn path(dialect: &str, program: &str, programs: &[(&'static str, &'static str)]) -> (String, Vec<&'static str>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut canon = Vec::new();
+    let diags = run(program, &d, &Profile::default(), &Programs(programs.iter().copied().collect()), &mut canon);
+    let mut out = String::new();
+    for c in &canon {
+        if let CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) = &c.op {
+            out.push_str(&format!("{} {} {}\n", p[0], p[1], p[2]));
+        } else if matches!(c.op, CanonOp::ArcFeed { .. }) {
+            write_call(&mut out, &c.op);
+        }
+    }
+    (out, diags.iter().filter(|d| d.severity == ncplan::diag::Severity::Error).map(|d| d.code.as_str()).collect())
+}
+
+#[test]
+fn siemens_labels_jumps_and_nested_conditionals() {
+    let program = "\
+DEF INT CNT
+R1=0
+MARK1:
+R1=R1+1
+G1 X=R1 F100
+IF R1<3 GOTOB MARK1
+IF R1==3
+  IF R1>5
+    G1 Y99
+  ELSE
+    G1 Y1
+  ENDIF
+  G1 Y2
+ELSE
+  G1 Y98
+ENDIF
+GOTOF N90
+G1 Z99
+N90 G1 Z-1
+GOTOC NOWHERE
+GOTO ENDE
+G1 Z98
+ENDE:
+M30
+";
+    let (out, errors) = path("siemens", program, &[]);
+    assert_eq!(out, "1 0 0\n2 0 0\n3 0 0\n3 1 0\n3 2 0\n3 2 -1\n");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn siemens_loops_count_and_test_at_either_end() {
+    let program = "\
+DEF INT CNT=0
+WHILE CNT<2
+  CNT=CNT+1
+  G1 X=CNT F100
+ENDWHILE
+FOR R2=1 TO 3
+  G1 Y=R2
+ENDFOR
+FOR R3=5 TO 4
+  G1 Y99
+ENDFOR
+REPEAT
+  R4=R4+1
+  G1 Z=-R4
+UNTIL R4>=2
+R5=0
+LOOP
+  R5=R5+1
+  IF R5>1 GOTOF OUT
+ENDLOOP
+OUT:
+G1 X=R5*10
+M30
+";
+    let (out, errors) = path("siemens", program, &[]);
+    assert_eq!(out, "1 0 0\n2 0 0\n2 1 0\n2 2 0\n2 3 0\n2 3 -1\n2 3 -2\n20 3 -2\n");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn siemens_calls_by_name_with_arguments_and_passes() {
+    let programs = [
+        ("POCKET_A", "PROC POCKET_A(REAL DEPTH, INT N=2)\nG1 Z=-DEPTH X=N F100\nRET\n"),
+        ("L123", "G91 G1 X1\nG90\nM17\n"),
+        ("BARE", "G1 Y7 F100\n"),
+    ];
+    let program = "G0 X0 Y0 Z0\nPOCKET_A(1.5)\nPOCKET_A(2, 5)\nL123 P3\nCALL \"BARE\"\nM30\n";
+    let (out, errors) = path("siemens", program, &programs);
+    assert_eq!(out, "0 0 0\n2 0 -1.5\n5 0 -2\n6 0 -2\n7 0 -2\n8 0 -2\n8 7 -2\n");
+    // BARE ends without M17 or RET: a finding, and the call still returns.
+    assert_eq!(errors, ["flow::unmatched"]);
+}
+
+#[test]
+fn siemens_unknown_names_and_labels_are_named() {
+    let (_, errors) = path("siemens", "G0 X0\nFACE_MILL\nGOTOF NOWHERE\nG0 X1\nM30\n", &[]);
+    assert_eq!(errors, ["flow::missing-program", "flow::missing-label"]);
+    // A subprogram checked on its own ends at its return.
+    let (out, errors) = path("siemens", "G0 X1\nRET\nG0 X2\n", &[]);
+    assert_eq!(out, "1 0 0\n");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn heidenhain_labels_sections_and_fn_jumps() {
+    let program = "\
+0 BEGIN PGM FLOW MM
+1 Q1 = 0
+2 L X+0 Y+0 Z+0 R0 FMAX
+3 LBL 1
+4 Q1 = Q1 + 1
+5 L X+Q1 F100
+6 FN 12: IF +Q1 LT +3 GOTO LBL 1
+7 CALL LBL \"SUB\" REP 1
+8 LBL 3
+9 L IY+1
+10 CALL LBL 3 REP 2/2
+11 FN 9: IF +0 EQU +0 GOTO LBL 4
+12 L Z+99
+13 LBL 4
+14 CALL PGM TNC:\\PARTS\\OTHER.H
+15 M30
+16 LBL \"SUB\"
+17 L IZ-1
+18 LBL 0
+19 END PGM FLOW MM
+";
+    let programs = [("OTHER.H", "0 BEGIN PGM OTHER MM\n1 L X+50\n2 END PGM OTHER MM\n")];
+    let (out, errors) = path("heidenhain", program, &programs);
+    assert_eq!(out, "0 0 0\n1 0 0\n2 0 0\n3 0 0\n3 0 -1\n3 0 -2\n3 1 -2\n3 2 -2\n3 3 -2\n50 3 -2\n");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn heidenhain_missing_labels_stop_the_run() {
+    let (out, errors) = path("heidenhain", "0 BEGIN PGM X MM\n1 L X+1 FMAX\n2 CALL LBL 7\n3 L X+2 FMAX\n4 END PGM X MM\n", &[]);
+    assert_eq!(out, "1 0 0\n");
+    assert_eq!(errors, ["flow::missing-label"]);
+}
