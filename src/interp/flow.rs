@@ -153,6 +153,13 @@ enum LoopKind {
     Forever,
 }
 
+/// Where a loop comes round to: its head statement, or the first block of its body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LoopPart {
+    Head,
+    Body,
+}
+
 /// Where a jump looks for its target.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Direction {
@@ -449,8 +456,7 @@ impl<'a> Driver<'a, '_> {
                     // The tail of a do-loop.
                     if cond {
                         if self.count_iteration(k, c.range, diags) {
-                            let (src, body) = (self.loops[k].source, self.loops[k].body);
-                            self.jump(src, body, start, interp, diags);
+                            self.loop_jump(k, LoopPart::Body, start, interp, diags);
                         }
                     } else {
                         self.loops.truncate(k);
@@ -491,9 +497,7 @@ impl<'a> Driver<'a, '_> {
             }
             Statement::EndWhile => match self.top_loop(|l| l.kind == LoopKind::While && l.label == label) {
                 Some(k) => {
-                    let (src, head) = (self.loops[k].source, self.loops[k].head);
-                    self.loops.truncate(k + 1);
-                    self.jump(src, head, start, interp, diags);
+                    self.loop_jump(k, LoopPart::Head, start, interp, diags);
                 }
                 None => self.unmatched(c, "endwhile", "while", diags),
             },
@@ -501,9 +505,7 @@ impl<'a> Driver<'a, '_> {
                 let id = self.loop_id(c, block, interp, diags);
                 match self.top_loop(|l| l.kind == LoopKind::Numbered && l.id == id) {
                     Some(k) => {
-                        let (src, head) = (self.loops[k].source, self.loops[k].head);
-                        self.loops.truncate(k + 1);
-                        self.jump(src, head, start, interp, diags);
+                        self.loop_jump(k, LoopPart::Head, start, interp, diags);
                     }
                     None => self.unmatched(c, "END", "WHILE ... DO", diags),
                 }
@@ -546,9 +548,7 @@ impl<'a> Driver<'a, '_> {
                         self.skip_to(start, c.range, "the loop end", |m| same_label(m, end), interp, diags);
                     }
                     (_, LoopKind::While) => {
-                        let (src, head) = (self.loops[k].source, self.loops[k].head);
-                        self.loops.truncate(k + 1);
-                        self.jump(src, head, start, interp, diags);
+                        self.loop_jump(k, LoopPart::Head, start, interp, diags);
                     }
                     (_, LoopKind::Repeat) => self.next_repeat(k, false, start, c.range, interp, diags),
                     _ => {
@@ -584,14 +584,14 @@ impl<'a> Driver<'a, '_> {
                 self.jump_statement(statement, c, block, start, interp, diags)
             }
             Statement::For => self.for_head(c, block, start, here, interp, diags),
-            Statement::EndFor => match self.top_loop(|l| l.kind == LoopKind::For) {
-                Some(k) => {
-                    let (src, head) = (self.loops[k].source, self.loops[k].head);
-                    self.loops.truncate(k + 1);
-                    self.jump(src, head, start, interp, diags);
+            Statement::EndFor | Statement::EndLoop => {
+                let (kind, what, opener) =
+                    if statement == Statement::EndFor { (LoopKind::For, "ENDFOR", "FOR") } else { (LoopKind::Forever, "ENDLOOP", "LOOP") };
+                match self.top_loop(|l| l.kind == kind) {
+                    Some(k) => self.loop_jump(k, LoopPart::Head, start, interp, diags),
+                    None => self.unmatched(c, what, opener, diags),
                 }
-                None => self.unmatched(c, "ENDFOR", "FOR", diags),
-            },
+            }
             Statement::RepeatUntil => {
                 if self.top_loop(|l| l.kind == LoopKind::Until && l.head == start).is_none() {
                     self.push_loop(LoopKind::Until, None, None, start, here);
@@ -606,9 +606,7 @@ impl<'a> Driver<'a, '_> {
                 if cond {
                     self.loops.truncate(k);
                 } else if self.count_iteration(k, c.range, diags) {
-                    let (src, body) = (self.loops[k].source, self.loops[k].body);
-                    self.loops.truncate(k + 1);
-                    self.jump(src, body, start, interp, diags);
+                    self.loop_jump(k, LoopPart::Body, start, interp, diags);
                 }
             }
             Statement::Loop => match self.top_loop(|l| l.kind == LoopKind::Forever && l.head == start) {
@@ -616,14 +614,6 @@ impl<'a> Driver<'a, '_> {
                     self.count_iteration(k, c.range, diags);
                 }
                 None => self.push_loop(LoopKind::Forever, None, None, start, here),
-            },
-            Statement::EndLoop => match self.top_loop(|l| l.kind == LoopKind::Forever) {
-                Some(k) => {
-                    let (src, head) = (self.loops[k].source, self.loops[k].head);
-                    self.loops.truncate(k + 1);
-                    self.jump(src, head, start, interp, diags);
-                }
-                None => self.unmatched(c, "ENDLOOP", "LOOP", diags),
             },
             Statement::Label => {
                 let end = self.dialect.macros.end_label.as_deref();
@@ -898,6 +888,14 @@ impl<'a> Driver<'a, '_> {
         }
     }
 
+    /// Back to loop `k`'s head (to test it again) or body, dropping the loops inside it.
+    fn loop_jump(&mut self, k: usize, part: LoopPart, start: Pos, interp: &mut Interpreter<'a>, diags: &[Diagnostic]) {
+        let l = &self.loops[k];
+        let (src, to) = (l.source, if part == LoopPart::Head { l.head } else { l.body });
+        self.loops.truncate(k + 1);
+        self.jump(src, to, start, interp, diags);
+    }
+
     fn push_loop(&mut self, kind: LoopKind, label: Option<String>, id: Option<i64>, head: Pos, body: Pos) {
         self.loops.push(Loop { kind, label, id, source: self.cur, head, body, remaining: 0, iterations: 0 });
     }
@@ -924,9 +922,7 @@ impl<'a> Driver<'a, '_> {
         self.loops[k].remaining = self.loops[k].remaining.saturating_sub(1);
         if self.loops[k].remaining > 0 {
             if self.count_iteration(k, range, diags) {
-                let (src, body) = (self.loops[k].source, self.loops[k].body);
-                self.loops.truncate(k + 1);
-                self.jump(src, body, start, interp, diags);
+                self.loop_jump(k, LoopPart::Body, start, interp, diags);
             }
             return;
         }
@@ -1298,7 +1294,11 @@ impl<'a> Driver<'a, '_> {
                 block.range,
                 "a return in the main program restarts it endlessly on the control; the analysis stops after one pass",
             )),
-            MainReturn::End | MainReturn::Error => interp.program_end(sink),
+            MainReturn::End => interp.program_end(sink),
+            MainReturn::Error => {
+                diags.push(Diagnostic::new(Code::UnmatchedStatement, block.range, "a return without an open call; ignored"));
+                return;
+            }
         }
         self.stop = true;
     }

@@ -987,6 +987,7 @@ impl Lexer<'_, '_> {
         self.skip_blanks();
         let Some(c) = self.peek() else { return };
         let quote = self.dialect.lexical.string_quote.map(|q| q as u8);
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
         if Some(c) == quote {
             control.name = self.string(self.i);
         } else if control.statement == Some(Statement::CallProgram) && !self.at_block_end() {
@@ -996,7 +997,6 @@ impl Lexer<'_, '_> {
             }
             control.name = Some(TextRange::new(from, self.i));
         } else if c.is_ascii_alphabetic() || c == b'_' {
-            let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
             let param = Some(c.to_ascii_uppercase()) == sigil && self.b.get(self.i + 1).is_some_and(u8::is_ascii_digit);
             if param {
                 control.target = self.unary(1);
@@ -1005,10 +1005,7 @@ impl Lexer<'_, '_> {
                 control.name = Some(TextRange::new(self.i, end));
                 self.i = end;
             }
-        } else if c.is_ascii_digit() || matches!(c, b'+' | b'-' | b'.') || Some(c) == self.expr_open() || {
-            let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
-            Some(c) == sigil
-        } {
+        } else if c.is_ascii_digit() || matches!(c, b'+' | b'-' | b'.') || Some(c) == self.expr_open() || Some(c) == sigil {
             control.target = self.unary(1);
         }
     }
