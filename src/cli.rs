@@ -398,7 +398,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             let mut bad = false;
             for f in files {
                 let text = std::fs::read_to_string(&f).with_context(|| format!("cannot read {}", f.display()))?;
-                match Registry::default().add(&f.display().to_string(), &text) {
+                match Registry::shipped().add(&f.display().to_string(), &text) {
                     Ok(d) => writeln!(out, "{}: ok ({} codes, {} addresses)", f.display(), d.codes.len(), d.addresses.len())?,
                     Err(errors) => {
                         bad = true;

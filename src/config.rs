@@ -364,11 +364,13 @@ pub fn dialect_registry(dir: Option<&Path>) -> Result<crate::dialect::Registry> 
         .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("xml")))
         .collect();
     files.sort();
+    let mut texts = Vec::with_capacity(files.len());
     for f in files {
         let text = std::fs::read_to_string(&f).with_context(|| format!("cannot read {}", f.display()))?;
-        if let Err(errors) = registry.add(&f.display().to_string(), &text) {
-            bail!("invalid dialect file:\n{}", errors.join("\n"));
-        }
+        texts.push((f.display().to_string(), text));
+    }
+    if let Err(errors) = registry.add_all(&texts) {
+        bail!("invalid dialect file:\n{}", errors.join("\n"));
     }
     Ok(registry)
 }

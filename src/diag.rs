@@ -67,6 +67,8 @@ macro_rules! codes {
 codes! {
     /// The input contains NUL or control bytes and is not a part program.
     BinaryInput = ("text::binary", Error),
+    /// The text is another program format the dialect names (a conversational export).
+    ForeignFormat = ("text::foreign-format", Error),
     /// The input is not UTF-8 and was decoded as Windows-1252.
     NotUtf8 = ("text::not-utf8", Note),
     /// The input exceeds the configured size limit and was not analysed.

@@ -27,7 +27,10 @@ fn root() -> PathBuf {
 /// The dialect used for a corpus folder in the checks; `None`: told from each program.
 fn folder_dialect(folder: &str) -> Option<&'static str> {
     match folder {
-        "fanuc" | "haas" | "mazak" | "okuma" => Some("fanuc"),
+        "fanuc" => Some("fanuc"),
+        "haas" => Some("haas"),
+        "mazak" => Some("mazak"),
+        "okuma" => Some("fanuc"),
         "siemens" => Some("siemens"),
         "heidenhain" => Some("heidenhain"),
         "linuxcnc" | "centroid" => Some("linuxcnc"),

@@ -1,5 +1,6 @@
 //! XML text → validated [`Dialect`], with diagnostics that point into the XML.
 
+use super::inherit;
 use super::xml::{self, Element};
 use super::{
     AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordRest,
@@ -10,21 +11,39 @@ use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
 
 /// Loads a dialect from XML text. Never fails: a broken file gives `None` and at least one
-/// error diagnostic whose range points into `text`.
+/// error diagnostic whose range points into `text`. A file that `extends` another needs
+/// [`Registry::add`](super::Registry::add), which knows the bases.
 pub fn load(text: &str) -> (Option<Dialect>, Vec<Diagnostic>) {
+    let (dialect, diags, _) = load_tree(text, &|_| None);
+    (dialect, diags)
+}
+
+/// Like [`load`], with `base(name)` giving the merged element tree of a dialect this one may
+/// extend. Also returns this dialect's merged tree, for dialects that extend it in turn.
+pub(super) fn load_tree(text: &str, base: &dyn Fn(&str) -> Option<Element>) -> (Option<Dialect>, Vec<Diagnostic>, Option<Element>) {
     let mut cx = Cx { diags: Vec::new() };
-    let root = match xml::parse(text) {
+    let mut root = match xml::parse(text) {
         Ok(root) => root,
         Err((range, msg)) => {
             cx.error(range, msg);
-            return (None, cx.diags);
+            return (None, cx.diags, None);
         }
     };
+    if let Some(a) = root.attrs.iter().find(|a| a.name == "extends") {
+        let at = a.range;
+        match base(&a.value) {
+            Some(b) => root = inherit::merge(&b, root, at),
+            None => {
+                cx.error(at, format!("`extends` names `{}`, which is not a dialect loaded before this one", a.value));
+                return (None, cx.diags, None);
+            }
+        }
+    }
     let dialect = cx.dialect(&root);
     if cx.diags.iter().any(Diagnostic::is_error) {
-        return (None, cx.diags);
+        return (None, cx.diags, None);
     }
-    (dialect.map(Dialect::index), cx.diags)
+    (dialect.map(Dialect::index), cx.diags, Some(root))
 }
 
 struct Cx {
@@ -210,6 +229,7 @@ impl Cx {
                 "continuation",
                 "program-number",
                 "control-word",
+                "foreign",
             ],
         );
         let block_form = match self.attr(el, "block-form").unwrap_or("word-address") {
@@ -242,6 +262,7 @@ impl Cx {
             program_number: None,
             program_number_alt: None,
             control_word: None,
+            foreign: Vec::new(),
         };
         for c in &el.children {
             match c.name.as_str() {
@@ -332,6 +353,14 @@ impl Cx {
                 "control-word" => {
                     self.shape(c, &["address"], &[]);
                     lex.control_word = self.letter_attr(c, "address");
+                }
+                "foreign" => {
+                    self.shape(c, &["regex", "name"], &[]);
+                    let (Some(src), Some(name)) = (self.required(c, "regex"), self.required(c, "name")) else { continue };
+                    match regex::Regex::new(src) {
+                        Ok(re) => lex.foreign.push((re, name.to_owned())),
+                        Err(e) => self.error(Self::attr_range(c, "regex"), format!("invalid regular expression: {e}")),
+                    }
                 }
                 _ => {}
             }
@@ -443,7 +472,7 @@ impl Cx {
         self.shape(el, &[], &["address"]);
         let mut out: Vec<AddressDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "address") {
-            self.shape(c, &["name", "role", "form", "mode"], &[]);
+            self.shape(c, &["name", "role", "form", "mode", "again"], &[]);
             let (Some(name), Some(role)) = (self.required(c, "name"), self.required(c, "role")) else { continue };
             let name = name.to_ascii_uppercase();
             if name.is_empty() || !name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') || !name.as_bytes()[0].is_ascii_alphabetic()
@@ -471,11 +500,21 @@ impl Cx {
                     false
                 }
             };
+            let again = match self.attr(c, "again") {
+                None => None,
+                Some(r) => match Role::parse(r).filter(|r| !r.is_internal()) {
+                    Some(r) => Some(r),
+                    None => {
+                        self.error(Self::attr_range(c, "again"), format!("unknown role `{r}`"));
+                        None
+                    }
+                },
+            };
             if out.iter().any(|a| a.name == name) {
                 self.error(c.range, format!("address `{name}` is declared twice"));
                 continue;
             }
-            out.push(AddressDef { name, role, assign, incremental });
+            out.push(AddressDef { name, role, assign, incremental, again });
         }
         out
     }
@@ -494,6 +533,7 @@ impl Cx {
                 "call-repeat",
                 "call-repeat-counts",
                 "main-return",
+                "call-start",
             ],
             &["statement", "arguments", "system-variable"],
         );
@@ -503,6 +543,7 @@ impl Cx {
             call_by_name: self.bool(el, "call-by-name", false),
             end_label: self.attr(el, "end-label").map(|l| l.trim().to_ascii_lowercase()),
             call_repeat: self.attr(el, "call-repeat").map(|w| w.trim().to_ascii_uppercase()),
+            call_start: self.letter_attr(el, "call-start").map(|c| c as u8),
             ..Macros::default()
         };
         match self.attr(el, "conditions").unwrap_or("bracketed") {

@@ -5,6 +5,7 @@
 //! user adds at run time. The engine only ever asks a `Dialect` about *capabilities*
 //! (meanings, roles, rules); it never looks at a dialect's name.
 
+mod inherit;
 mod load;
 pub mod registry;
 pub mod sniff;
@@ -98,6 +99,9 @@ pub struct Lexical {
     pub program_number_alt: Option<char>,
     /// Control-flow word (LinuxCNC `o100 sub`).
     pub control_word: Option<char>,
+    /// Other program formats that files for this control may hold (a conversational
+    /// format exported as text), told by a pattern at the start, with what they are.
+    pub foreign: Vec<(regex::Regex, String)>,
 }
 
 /// The decimal-point input rule.
@@ -200,6 +204,8 @@ pub struct Macros {
     pub call_repeat: Option<String>,
     /// Whether the repeat count gives the passes after the first (`REP 2` = 3 passes).
     pub call_repeat_additional: bool,
+    /// The address that names the block a subprogram call starts at (`M98 P100 H20`), if any.
+    pub call_start: Option<u8>,
     /// What a return in the main program does.
     pub main_return: MainReturn,
 }
@@ -230,6 +236,7 @@ impl Default for Macros {
             call_by_name: false,
             call_repeat: None,
             call_repeat_additional: false,
+            call_start: None,
             main_return: MainReturn::Error,
         }
     }
@@ -268,6 +275,9 @@ pub struct AddressDef {
     pub assign: bool,
     /// Whether the value is always incremental (`IX+10`), whatever G90/G91 say.
     pub incremental: bool,
+    /// The role a second occurrence in one block takes (`T02 T05`: the next tool), if the
+    /// address may appear twice.
+    pub again: Option<Role>,
 }
 
 /// What a keyword code reads after itself, before the block's other words.

@@ -3,8 +3,9 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use super::{Dialect, load};
-use crate::diag::{self, Diagnostic};
+use super::xml::Element;
+use super::{Dialect, load::load_tree};
+use crate::diag;
 use crate::text::LineIndex;
 
 /// The dialect files shipped in `dialects/`, compiled into the binary.
@@ -13,12 +14,18 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("fanuc.xml", include_str!("../../dialects/fanuc.xml")),
     ("siemens.xml", include_str!("../../dialects/siemens.xml")),
     ("heidenhain.xml", include_str!("../../dialects/heidenhain.xml")),
+    // Derived dialects come after their bases.
+    ("haas.xml", include_str!("../../dialects/haas.xml")),
+    ("mitsubishi.xml", include_str!("../../dialects/mitsubishi.xml")),
+    ("mazak.xml", include_str!("../../dialects/mazak.xml")),
 ];
 
 /// Known dialects by name, in name order.
 #[derive(Clone, Debug, Default)]
 pub struct Registry {
     dialects: BTreeMap<String, Arc<Dialect>>,
+    /// Each dialect's merged element tree, the base for dialects that extend it.
+    trees: BTreeMap<String, Arc<Element>>,
 }
 
 impl Registry {
@@ -35,18 +42,47 @@ impl Registry {
     /// Loads a dialect from `text` (read from `origin`) and adds or replaces it by name.
     /// On failure, returns the rendered diagnostics (`origin:line:col: ...`).
     pub fn add(&mut self, origin: &str, text: &str) -> Result<Arc<Dialect>, Vec<String>> {
-        let (dialect, diags) = load(text);
-        let render = |ds: &[Diagnostic]| {
-            let idx = LineIndex::new(text);
-            ds.iter().map(|d| diag::render_short(origin, text, &idx, d)).collect::<Vec<_>>()
-        };
-        match dialect {
-            Some(d) => {
-                let d = Arc::new(d);
-                self.dialects.insert(d.name.clone(), Arc::clone(&d));
-                Ok(d)
+        match self.add_with_findings(origin, text) {
+            (Some(d), _) => Ok(d),
+            (None, findings) => Err(findings),
+        }
+    }
+
+    /// Like [`Registry::add`], also returning the findings (warnings) of a file that loads.
+    pub fn add_with_findings(&mut self, origin: &str, text: &str) -> (Option<Arc<Dialect>>, Vec<String>) {
+        let (dialect, diags, tree) = load_tree(text, &|name| self.trees.get(name).map(|t| Element::clone(t)));
+        let idx = LineIndex::new(text);
+        let findings = diags.iter().map(|d| diag::render_short(origin, text, &idx, d)).collect();
+        let Some(d) = dialect else { return (None, findings) };
+        let d = Arc::new(d);
+        self.dialects.insert(d.name.clone(), Arc::clone(&d));
+        if let Some(tree) = tree {
+            self.trees.insert(d.name.clone(), Arc::new(tree));
+        }
+        (Some(d), findings)
+    }
+
+    /// Loads several dialect files `(origin, text)` that may extend one another, in any
+    /// order: a file whose base comes later is retried once the base is in. On failure,
+    /// returns the rendered diagnostics of every file that could not be loaded.
+    pub fn add_all(&mut self, files: &[(String, String)]) -> Result<(), Vec<String>> {
+        let mut pending: Vec<&(String, String)> = files.iter().collect();
+        loop {
+            let before = pending.len();
+            let mut errors = Vec::new();
+            pending.retain(|(origin, text)| match self.add(origin, text) {
+                Ok(_) => false,
+                Err(e) => {
+                    errors.extend(e);
+                    true
+                }
+            });
+            if pending.is_empty() {
+                return Ok(());
             }
-            None => Err(render(&diags)),
+            if pending.len() == before {
+                return Err(errors);
+            }
         }
     }
 

@@ -193,6 +193,9 @@ vocab! {
         CoolantOff = "coolant-off",
         /// Subprogram call (M98).
         SubprogramCall = "subprogram-call",
+        /// Call of a local subprogram: the block numbered P in the same file, run until the
+        /// return (Haas M97 P100 L2).
+        LocalSubprogramCall = "local-subprogram-call",
         /// Subprogram return (M99).
         SubprogramReturn = "subprogram-return",
         /// Spindle orientation (M19).
@@ -331,6 +334,8 @@ vocab! {
         PeckMode = "peck-mode",
         /// A cycle number given after a keyword (`CYCL DEF 200`).
         CycleNumber = "cycle-number",
+        /// The tool to prepare after a tool change (Mazak's second T: `T02 T05 M06`).
+        NextTool = "next-tool",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

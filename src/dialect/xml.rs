@@ -9,7 +9,7 @@ use quick_xml::reader::Reader;
 use crate::text::TextRange;
 
 /// An attribute and where its value sits.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct Attr {
     pub(super) name: String,
     pub(super) value: String,
@@ -17,7 +17,7 @@ pub(super) struct Attr {
 }
 
 /// An element with its attributes, children and text.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct Element {
     pub(super) name: String,
     pub(super) attrs: Vec<Attr>,

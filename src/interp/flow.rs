@@ -1227,9 +1227,9 @@ impl<'a> Driver<'a, '_> {
     fn request(&mut self, r: Request, block: &Block, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let start = Pos { at: block.range.start as usize, line: block.line };
         match r {
-            Request::Call { program, repeats, macro_call, args } => {
+            Request::Call { program, repeats, macro_call, args, start: first } => {
                 let starts = |m: &Mark| m.program == Some(program) && m.statement.is_none();
-                let Some((source, body)) = self.locate(&format!("O{program:04}"), starts) else {
+                let Some((source, mut body)) = self.locate(&format!("O{program:04}"), starts) else {
                     self.error(
                         diags,
                         Code::MissingLabel,
@@ -1238,7 +1238,28 @@ impl<'a> Driver<'a, '_> {
                     );
                     return;
                 };
+                if let Some(n) = first {
+                    let dialect = self.dialect;
+                    let src = &mut self.sources[source];
+                    let text = src.text;
+                    let at = src.numbers.entry(n).or_insert_with(|| numbered(text, dialect, n)).iter().find(|p| p.at >= body.at).copied();
+                    let Some(at) = at else {
+                        self.error(diags, Code::MissingLabel, block.range, format!("program O{program:04} has no block N{n} to start at"));
+                        return;
+                    };
+                    body = at;
+                }
                 self.enter(FrameKind::Program, source, body, repeats, args, macro_call, block, start, interp, diags);
+            }
+            Request::CallLocal { number, repeats } => {
+                let dialect = self.dialect;
+                let src = &mut self.sources[self.cur];
+                let text = src.text;
+                let Some(&body) = src.numbers.entry(number).or_insert_with(|| numbered(text, dialect, number)).first() else {
+                    self.error(diags, Code::MissingLabel, block.range, format!("no block N{number} in this file to call"));
+                    return;
+                };
+                self.enter(FrameKind::Program, self.cur, body, repeats, Vec::new(), false, block, start, interp, diags);
             }
             Request::Return { goto } => {
                 if self.frames.is_empty() {

@@ -93,10 +93,27 @@ fn rotate(p: [f64; 2], degrees: f64) -> [f64; 2] {
 /// the same text or from the profile's [`ProgramSource`]. Streams: memory does not grow
 /// with the program's length.
 pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
+    if let Some(d) = foreign(text, dialect) {
+        return vec![d];
+    }
     match &profile.programs {
         Some(p) => run(text, dialect, profile, p.as_ref(), sink),
         None => run(text, dialect, profile, &NoPrograms, sink),
     }
+}
+
+/// A program in a format the dialect names as foreign (Mazatrol unit blocks in a Mazak
+/// folder): one error at the evidence instead of a finding for every block.
+fn foreign(text: &str, dialect: &Dialect) -> Option<Diagnostic> {
+    let mut end = text.len().min(64 * 1024);
+    while !text.is_char_boundary(end) {
+        end -= 1;
+    }
+    dialect.lexical.foreign.iter().find_map(|(re, name)| {
+        let m = re.find(&text[..end])?;
+        let msg = format!("this is {name}, not a program in the {} dialect; it was stored but not interpreted", dialect.name);
+        Some(Diagnostic::new(Code::ForeignFormat, TextRange::new(m.start(), m.end()), msg))
+    })
 }
 
 /// What the interpreter asks the control-flow driver to do after a block.
@@ -112,6 +129,15 @@ pub(crate) enum Request {
         macro_call: bool,
         /// Local variable number and value.
         args: Vec<(u16, f64)>,
+        /// The block number in the program to start at (`M98 P100 H20`), else its top.
+        start: Option<u32>,
+    },
+    /// Run the current file from its block numbered `number` up to a return, `repeats` times.
+    CallLocal {
+        /// Block number.
+        number: u32,
+        /// Repeat count.
+        repeats: u32,
     },
     /// Return from a subprogram, optionally to block number `goto` of the caller.
     Return {
@@ -588,7 +614,8 @@ impl<'a> Interpreter<'a> {
             && self.request.is_none()
             && m.depth == self.depth
         {
-            self.request = Some(Request::Call { program: m.program, repeats: m.repeats, macro_call: true, args: m.args.clone() });
+            self.request =
+                Some(Request::Call { program: m.program, repeats: m.repeats, macro_call: true, args: m.args.clone(), start: None });
         }
     }
 
@@ -676,7 +703,15 @@ impl<'a> Interpreter<'a> {
                 }
                 continue;
             }
-            if self.slots[w.role as usize].is_some() {
+            let mut role = w.role;
+            if self.slots[role as usize].is_some() {
+                // An address that may appear twice gives its second occurrence another role.
+                let again = self.dialect.addresses.iter().find(|a| a.role == role).and_then(|a| a.again);
+                if let Some(r) = again.filter(|r| self.slots[*r as usize].is_none()) {
+                    role = r;
+                }
+            }
+            if self.slots[role as usize].is_some() {
                 let shown = &self.text[w.range.start as usize..w.range.end as usize];
                 diags.push(Diagnostic::new(
                     Code::DuplicateWord,
@@ -688,7 +723,7 @@ impl<'a> Interpreter<'a> {
             }
             let mut v = match w.value {
                 Value::Number { value, .. } => value,
-                Value::Text(r) => match self.text_value(w.role, r, w.range, diags) {
+                Value::Text(r) => match self.text_value(role, r, w.range, diags) {
                     Some(v) => v,
                     None => {
                         ok = false;
@@ -706,12 +741,12 @@ impl<'a> Interpreter<'a> {
             };
             if let (Value::Number { decimal: false, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
                 (w.value, &self.dialect.behaviour.decimal_input)
-                && scaled.contains(&w.role)
+                && scaled.contains(&role)
             {
                 v *= if units == Units::Mm { *mm } else { *inch };
             }
-            self.slots[w.role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
-            self.filled |= 1 << w.role as u32;
+            self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
+            self.filled |= 1 << role as u32;
         }
         self.has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
         if ok {
@@ -875,6 +910,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::FrameScaleAdd
                     | Meaning::FrameMirror
                     | Meaning::Stock
+                    | Meaning::CycleIntent
             )
         });
         if self.has_axes && !claimed { self.st.motion_code } else { None }
@@ -949,7 +985,7 @@ impl<'a> Interpreter<'a> {
         let Some(program) = self.program_number(Role::P, range, diags) else { return };
         let repeats = self.repeat_count(diags, range);
         let args = self.macro_args(block, diags);
-        self.request = Some(Request::Call { program, repeats, macro_call: true, args });
+        self.request = Some(Request::Call { program, repeats, macro_call: true, args, start: None });
     }
 
     /// The argument words of a macro call (all but G, P and L) as (local, value).
@@ -1113,6 +1149,10 @@ impl<'a> Interpreter<'a> {
                 }
                 self.st.tool = self.st.selected_tool;
                 self.emit(sink, CanonOp::ChangeTool(self.st.tool));
+                if let Some(next) = self.slot(Role::NextTool).filter(|t| *t >= 0.0 && t.fract() == 0.0) {
+                    self.st.selected_tool = next as u32;
+                    self.emit(sink, CanonOp::SelectTool(next as u32));
+                }
                 if self.dialect.behaviour.tool_change_applies_length {
                     let length = self.profile.tools.get(&self.st.tool).map_or(0.0, |t| t.length) / self.st.units.to_mm();
                     self.st.tool_offset = length;
@@ -1399,7 +1439,19 @@ impl<'a> Interpreter<'a> {
                 if self.dialect.macros.repeat_in_p && self.slot(Role::L).is_none() && p > 9999 {
                     (repeats, program) = (p / 10_000, p % 10_000);
                 }
-                self.request = Some(Request::Call { program, repeats, macro_call: false, args: Vec::new() });
+                let start = match self.dialect.macros.call_start.and_then(|l| self.dialect.letter_role(l)) {
+                    Some(role) if self.slots[role as usize].is_some() => match self.program_number(role, range, diags) {
+                        Some(n) => Some(n),
+                        None => return,
+                    },
+                    _ => None,
+                };
+                self.request = Some(Request::Call { program, repeats, macro_call: false, args: Vec::new(), start });
+            }
+            Meaning::LocalSubprogramCall => {
+                let Some(number) = self.program_number(Role::P, range, diags) else { return };
+                let repeats = self.repeat_count(diags, range);
+                self.request = Some(Request::CallLocal { number, repeats });
             }
             Meaning::SubprogramReturn => {
                 let goto = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0).map(|p| p as u32);
@@ -1419,6 +1471,10 @@ impl<'a> Interpreter<'a> {
             Meaning::FrameMirror => self.unsupported(def, range, diags),
             Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),
             Meaning::CycleCall | Meaning::CycleModal => {}
+            Meaning::CycleIntent => {
+                let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
+                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
+            }
             _ => {
                 if self.dialect.groups[def.group].step == Step::Motion {
                     self.st.motion_code = None;

@@ -7,9 +7,10 @@ use ncplan::dialect::{self, Meaning, Registry, Role};
 
 #[test]
 fn shipped_dialects_load_without_findings() {
+    let mut r = Registry::default();
     for (origin, text) in dialect::registry::SHIPPED {
-        let (d, diags) = dialect::load(text);
-        assert!(diags.is_empty(), "{origin}: {diags:?}");
+        let (d, findings) = r.add_with_findings(origin, text);
+        assert!(findings.is_empty(), "{origin}: {findings:?}");
         let d = d.unwrap();
         // Every dialect can move in a straight line, by G1 or by a keyword (`L`).
         assert!(d.code_for(Meaning::Linear).is_some(), "{origin}");

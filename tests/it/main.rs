@@ -4,6 +4,7 @@ mod arch;
 mod cli;
 mod cycles;
 mod daemon;
+mod derived;
 mod dialects;
 mod equivalence;
 mod flow;

@@ -1,0 +1,118 @@
+//! Dialects written as the differences from another (`extends`), and the general
+//! capabilities they brought: Haas M97 local subprograms, Mitsubishi `M98 P H` start blocks,
+//! Mazak's next tool in a tool-change block, cycles kept as intent, and foreign formats told
+//! apart. None of these dialects has a line of Rust of its own.
+
+use ncplan::canon::{CanonOp, write_call};
+use ncplan::dialect::Registry;
+use ncplan::interp::{Profile, interpret};
+
+/// The canonical calls of `program`, one per line, without the internal bookkeeping, and the
+/// codes of its error findings.
+fn canon(dialect: &str, program: &str) -> (String, Vec<&'static str>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    let mut text = String::new();
+    for c in &out {
+        if matches!(
+            c.op,
+            CanonOp::StraightTraverse(_)
+                | CanonOp::StraightFeed(_)
+                | CanonOp::ArcFeed { .. }
+                | CanonOp::SelectTool(_)
+                | CanonOp::ChangeTool(_)
+        ) {
+            write_call(&mut text, &c.op);
+        }
+    }
+    (text, diags.iter().filter(|d| d.is_error()).map(|d| d.code.as_str()).collect())
+}
+
+fn moves(text: &str) -> Vec<&str> {
+    text.lines().filter(|l| l.starts_with("STRAIGHT")).collect()
+}
+
+#[test]
+fn haas_m97_calls_a_block_number_of_the_same_file_with_repeats() {
+    let program = "%\nO00001\nG21 G90 G0 X0 Y0 Z5.\nM97 P100 L2\nG0 X50.\nM30\nN100 G91 G1 X10. F100.\nG90\nM99\n%\n";
+    let (text, errors) = canon("haas", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let xs: Vec<&str> = moves(&text).iter().map(|l| l.split(['(', ',']).nth(1).unwrap().trim()).collect();
+    assert_eq!(xs, ["0.0000", "10.0000", "20.0000", "50.0000"], "{text}");
+    // A missing block is an error that names it.
+    let (_, errors) = canon("haas", "G21 G90\nM97 P200\nM30\n");
+    assert_eq!(errors, ["flow::missing-label"]);
+}
+
+#[test]
+fn mitsubishi_m98_h_starts_the_subprogram_at_a_block() {
+    let program = "O1\nG21 G90 G0 X0 Y0 Z5.\nM98 P100 H20\nM30\nO100\nN10 G0 X10.\nN20 G0 X20.\nM99\n";
+    let (text, errors) = canon("mitsubishi", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let m = moves(&text);
+    assert_eq!(m.len(), 2, "{text}");
+    assert!(m[1].starts_with("STRAIGHT_TRAVERSE(20.0000,"), "{text}");
+    // Fanuc has no start block: its M98 runs O100 from the top.
+    let (text, _) = canon("fanuc", program);
+    assert_eq!(moves(&text).len(), 3, "{text}");
+}
+
+#[test]
+fn mazak_reads_the_second_t_as_the_next_tool() {
+    let (text, errors) = canon("mazak", "G21 G90\nT02 T05 M06\nG0 X1 Y1 Z1\nM06\nM30\n");
+    assert!(errors.is_empty(), "{errors:?}");
+    let tools: Vec<&str> = text.lines().filter(|l| l.contains("TOOL")).collect();
+    assert_eq!(tools, ["SELECT_TOOL(2)", "CHANGE_TOOL(2)", "SELECT_TOOL(5)", "CHANGE_TOOL(5)"], "{text}");
+    // On Fanuc a second T is still a mistake.
+    let (_, errors) = canon("fanuc", "G21 G90\nT02 T05 M06\nM30\n");
+    assert_eq!(errors, ["syntax::duplicate-word"]);
+}
+
+#[test]
+fn a_mazatrol_export_is_named_once_instead_of_failing_on_every_block() {
+    let program = "O01040301(MG3-231)\nG300U0(414C554D494E554D)Z100.A0B3\nG420U0\nN1X0.Y0.E0.Z0.\nG421\n";
+    let d = Registry::shipped().get("mazak").unwrap();
+    let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
+    assert_eq!(diags.len(), 1, "{diags:?}");
+    assert_eq!(diags[0].code.as_str(), "text::foreign-format");
+    assert!(diags[0].message.contains("Mazatrol"), "{}", diags[0].message);
+    assert_eq!(&program[diags[0].range.start as usize..diags[0].range.end as usize], "G300U0");
+}
+
+#[test]
+fn haas_pocket_and_engraving_cycles_are_kept_as_intent_without_moving() {
+    let (text, errors) =
+        canon("haas", "G20 G90 G0 X0 Y0 Z0.1\nG12 I1.5 F10. Z-1.2 D01\nG47 P0 (ABC) X2. Y2. I45. J0.5 R0.05 Z-0.005 F15. E10.\nM30\n");
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(moves(&text).len(), 1, "the depth of G12 is not a move of its own: {text}");
+    let d = Registry::shipped().get("haas").unwrap();
+    let diags = interpret("G20 G90\nG12 I1.5 F10. Z-1.2 D01\nM30\n", &d, &Profile::default(), &mut Vec::new());
+    assert!(diags.iter().any(|d| d.message.contains("G12 (circular pocket milling CW) is kept as intent")), "{diags:?}");
+}
+
+#[test]
+fn a_user_dialect_extends_another_in_any_file_order() {
+    let base = r#"<dialect xmlns="urn:ncplan:dialect:1" name="shop_haas" extends="haas" title="Our Haas">
+  <behaviour decimal-input="calculator"/>
+</dialect>"#;
+    let child = r#"<dialect xmlns="urn:ncplan:dialect:1" name="shop_haas_vf2" extends="shop_haas">
+  <groups><group id="flow" letter="M" step="flow"><code value="198" meaning="subprogram-call" name="call from memory card" required="P"/></group></groups>
+</dialect>"#;
+    let mut r = Registry::shipped();
+    // The derived file comes first; it is retried once its base is in.
+    r.add_all(&[("b.xml".into(), child.into()), ("a.xml".into(), base.into())]).unwrap();
+    let d = r.get("shop_haas_vf2").unwrap();
+    assert_eq!(d.family, "fanuc", "inherited through two levels");
+    assert_eq!(d.behaviour.decimal_input, ncplan::dialect::DecimalInput::Calculator);
+    assert!(d.codes.iter().any(|c| c.name == "local subprogram call (block number P)"), "Haas's M97 is inherited");
+    assert!(d.codes.iter().any(|c| c.name == "call from memory card"));
+    assert!(d.codes.iter().any(|c| c.name == "subprogram call"), "Fanuc's M98 stays beside the new M198");
+    assert!(d.recognise.is_empty(), "evidence is never inherited");
+
+    // An unknown base is an error at the `extends` attribute.
+    let bad = "<dialect xmlns=\"urn:ncplan:dialect:1\"\n  name=\"x\" extends=\"nosuch\"/>";
+    let errors = Registry::shipped().add("x.xml", bad).unwrap_err();
+    assert_eq!(errors.len(), 1);
+    assert!(errors[0].starts_with("x.xml:2:") && errors[0].contains("`nosuch`"), "{errors:?}");
+}
