@@ -103,6 +103,8 @@ codes! {
     CuttingWithoutTechnology = ("interp::cutting-without-technology", Warning),
     /// A reference to a parameter that has no value.
     UndefinedParameter = ("interp::undefined-parameter", Error),
+    /// A variable read before it is set, on a control where that reads 0.
+    UnsetVariable = ("interp::unset-variable", Warning),
     /// Division by zero or a function outside its domain.
     ArithmeticError = ("interp::arithmetic", Error),
     /// A canned cycle that lacks its depth or retract plane.

@@ -30,7 +30,7 @@ fn folder_dialect(folder: &str) -> Option<&'static str> {
         "fanuc" => Some("fanuc"),
         "haas" => Some("haas"),
         "mazak" => Some("mazak"),
-        "okuma" => Some("fanuc"),
+        "okuma" => Some("okuma"),
         "siemens" => Some("siemens"),
         "heidenhain" => Some("heidenhain"),
         "linuxcnc" | "centroid" => Some("linuxcnc"),

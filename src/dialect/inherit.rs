@@ -6,9 +6,12 @@
 //! - Attributes: the derived element's win; the base's others are kept.
 //! - `<lexical>`, `<behaviour>`, `<addresses>`, `<macros>`, `<groups>`, `<group>` and
 //!   `<cycles>` merge their children by key: an entry with the same element name and the
-//!   same key attribute (`name`, `id`, `value`, `keyword`, `number` or `open`) replaces the
+//!   same key attribute (the first of `id`, `value`, `keyword`, `number`, `open` and `name`) replaces the
 //!   base's in place; a new one is added at the end.
 //! - Every other element (`<code>`, `<cycle>`, `<execution-order>`, …) is replaced whole.
+//! - `<remove value="56"/>` (or `name`, `id`, `keyword`, `number`) among the entries deletes
+//!   the base's entry with that key, whatever its element name (Okuma's G56 is not a work
+//!   offset, so it leaves Fanuc's work-offset group before joining another).
 //! - `<description>` and `<recognise>` are never inherited: a derived dialect has its own
 //!   evidence, else sniffing could never tell it from its base.
 //!
@@ -28,7 +31,7 @@ const OWN: &[&str] = &["description", "recognise"];
 const OWN_ATTRS: &[&str] = &["name", "title", "extends"];
 
 /// The attribute that tells entries apart among siblings of one element name.
-const KEYS: &[&str] = &["name", "id", "value", "keyword", "number", "open"];
+const KEYS: &[&str] = &["id", "value", "keyword", "number", "open", "name"];
 
 fn key(el: &Element) -> (&str, Option<&str>) {
     let k = KEYS.iter().find_map(|k| el.attrs.iter().find(|a| a.name == *k)).map(|a| a.value.as_str());
@@ -46,7 +49,7 @@ fn relocate(mut el: Element, at: TextRange) -> Element {
 }
 
 /// `derived` laid over `base`. Inherited parts are relocated to `at`.
-pub(super) fn merge(base: &Element, derived: Element, at: TextRange) -> Element {
+pub(super) fn merge(base: &Element, derived: Element, at: TextRange, errors: &mut Vec<(TextRange, String)>) -> Element {
     let is_root = derived.name == "dialect";
     let mut attrs: Vec<Attr> = base
         .attrs
@@ -58,11 +61,21 @@ pub(super) fn merge(base: &Element, derived: Element, at: TextRange) -> Element 
     let mut children: Vec<Element> =
         base.children.iter().filter(|c| !(is_root && OWN.contains(&c.name.as_str()))).map(|c| relocate(c.clone(), at)).collect();
     for child in derived.children {
+        if child.name == "remove" {
+            let k = key(&child).1;
+            match children.iter().position(|c| k.is_some() && key(c).1 == k) {
+                Some(i) => {
+                    children.remove(i);
+                }
+                None => errors.push((child.range, format!("<remove> names no entry of <{}> in the base dialect", derived.name))),
+            }
+            continue;
+        }
         let slot = children.iter().position(|c| key(c) == key(&child));
         match slot {
             Some(i) if MERGED.contains(&child.name.as_str()) => {
                 let inherited = children[i].clone();
-                children[i] = merge(&inherited, child, at);
+                children[i] = merge(&inherited, child, at, errors);
             }
             Some(i) => children[i] = child,
             None => children.push(child),
@@ -102,7 +115,9 @@ mod tests {
         )
         .unwrap();
         let at = TextRange::new(20, 29);
-        let m = merge(&base, derived, at);
+        let mut errors = Vec::new();
+        let m = merge(&base, derived, at, &mut errors);
+        assert!(errors.is_empty());
         assert_eq!(attr(&m, "name"), Some("b"));
         assert_eq!(attr(&m, "family"), Some("f"));
         assert_eq!(attr(&m, "title"), None);

@@ -32,7 +32,13 @@ pub(super) fn load_tree(text: &str, base: &dyn Fn(&str) -> Option<Element>) -> (
     if let Some(a) = root.attrs.iter().find(|a| a.name == "extends") {
         let at = a.range;
         match base(&a.value) {
-            Some(b) => root = inherit::merge(&b, root, at),
+            Some(b) => {
+                let mut errors = Vec::new();
+                root = inherit::merge(&b, root, at, &mut errors);
+                for (range, msg) in errors {
+                    cx.error(range, msg);
+                }
+            }
             None => {
                 cx.error(at, format!("`extends` names `{}`, which is not a dialect loaded before this one", a.value));
                 return (None, cx.diags, None);
@@ -263,6 +269,8 @@ impl Cx {
             program_number_alt: None,
             control_word: None,
             foreign: Vec::new(),
+            named_blocks: false,
+            named_programs: false,
         };
         for c in &el.children {
             match c.name.as_str() {
@@ -316,8 +324,9 @@ impl Cx {
                     lex.block_skip = self.char_attr(c, "char").map(|ch| (ch, pos));
                 }
                 "block-number" => {
-                    self.shape(c, &["address", "leading"], &[]);
+                    self.shape(c, &["address", "leading", "names"], &[]);
                     lex.leading_block_number = self.bool(c, "leading", false);
+                    lex.named_blocks = self.bool(c, "names", false);
                     if c.attrs.iter().any(|a| a.name == "address") {
                         lex.block_number = self.letter_attr(c, "address");
                     }
@@ -346,8 +355,9 @@ impl Cx {
                     lex.continuation = self.char_attr(c, "char");
                 }
                 "program-number" => {
-                    self.shape(c, &["address", "alternate"], &[]);
+                    self.shape(c, &["address", "alternate", "names"], &[]);
                     lex.program_number = self.letter_attr(c, "address");
+                    lex.named_programs = self.bool(c, "names", false);
                     lex.program_number_alt = self.char_attr(c, "alternate");
                 }
                 "control-word" => {
@@ -534,6 +544,8 @@ impl Cx {
                 "call-repeat-counts",
                 "main-return",
                 "call-start",
+                "bare-if-jump",
+                "unset-variables",
             ],
             &["statement", "arguments", "system-variable"],
         );
@@ -544,12 +556,18 @@ impl Cx {
             end_label: self.attr(el, "end-label").map(|l| l.trim().to_ascii_lowercase()),
             call_repeat: self.attr(el, "call-repeat").map(|w| w.trim().to_ascii_uppercase()),
             call_start: self.letter_attr(el, "call-start").map(|c| c as u8),
+            bare_if_jump: self.bool(el, "bare-if-jump", false),
             ..Macros::default()
         };
         match self.attr(el, "conditions").unwrap_or("bracketed") {
             "bracketed" => {}
             "bare" => m.bare_conditions = true,
             other => self.error(Self::attr_range(el, "conditions"), format!("`conditions` is bracketed or bare, not `{other}`")),
+        }
+        match self.attr(el, "unset-variables").unwrap_or("error") {
+            "error" => {}
+            "zero" => m.unset_reads_zero = true,
+            other => self.error(Self::attr_range(el, "unset-variables"), format!("`unset-variables` is error or zero, not `{other}`")),
         }
         match self.attr(el, "call-repeat-counts").unwrap_or("total") {
             "total" => {}

@@ -81,6 +81,8 @@ pub struct Lexical {
     pub block_skip: Option<(char, SkipPosition)>,
     /// Address letter of block numbers (`N`).
     pub block_number: Option<char>,
+    /// Whether a block may be named instead of numbered (`NLOOP`), a jump target.
+    pub named_blocks: bool,
     /// Program delimiter (`%`).
     pub program_delimiter: Option<char>,
     /// Expression brackets, such as `[` `]`.
@@ -97,6 +99,8 @@ pub struct Lexical {
     pub program_number: Option<char>,
     /// A second character that starts a program number (`:0100` in ISO tape format).
     pub program_number_alt: Option<char>,
+    /// Whether a program may be named instead of numbered (`OTBOX`), a call target.
+    pub named_programs: bool,
     /// Control-flow word (LinuxCNC `o100 sub`).
     pub control_word: Option<char>,
     /// Other program formats that files for this control may hold (a conversational
@@ -204,6 +208,10 @@ pub struct Macros {
     pub call_repeat: Option<String>,
     /// Whether the repeat count gives the passes after the first (`REP 2` = 3 passes).
     pub call_repeat_additional: bool,
+    /// Whether a condition followed by a block name jumps there (`IF [VC1 EQ 0] NLOOP`).
+    pub bare_if_jump: bool,
+    /// Whether a variable read before it is set is 0 (with a note) instead of an error.
+    pub unset_reads_zero: bool,
     /// The address that names the block a subprogram call starts at (`M98 P100 H20`), if any.
     pub call_start: Option<u8>,
     /// What a return in the main program does.
@@ -237,6 +245,8 @@ impl Default for Macros {
             call_repeat: None,
             call_repeat_additional: false,
             call_start: None,
+            bare_if_jump: false,
+            unset_reads_zero: false,
             main_return: MainReturn::Error,
         }
     }

@@ -18,6 +18,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("haas.xml", include_str!("../../dialects/haas.xml")),
     ("mitsubishi.xml", include_str!("../../dialects/mitsubishi.xml")),
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),
+    ("okuma.xml", include_str!("../../dialects/okuma.xml")),
 ];
 
 /// Known dialects by name, in name order.

@@ -137,6 +137,10 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
         Expr::Num(v) => v,
         Expr::Param(inner) => params.get(eval(block, inner, params, text)?)?,
         Expr::Named(r) => params.get_named(&normalised(&text[r.start as usize..r.end as usize]))?,
+        Expr::NamedIndex(r, index) => {
+            let i = eval(block, index, params, text)?;
+            params.get_named(&format!("{}[{}]", normalised(&text[r.start as usize..r.end as usize]), i))?
+        }
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
             Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalised(&text[r.start as usize..r.end as usize])))),
             _ => 0.0,

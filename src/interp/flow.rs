@@ -89,6 +89,8 @@ struct Mark {
     then: Option<Statement>,
     id: Option<i64>,
     program: Option<u32>,
+    /// The program a named program start begins (`OTBOX`), normalised.
+    program_name: Option<String>,
     start: Pos,
     next: Pos,
 }
@@ -339,7 +341,7 @@ impl<'a> Driver<'a, '_> {
 
     /// Evaluates operand `e` of a control block with the interpreter's parameters.
     fn value(&self, interp: &mut Interpreter<'a>, block: &Block, e: ExprId, diags: &mut Vec<Diagnostic>) -> Option<f64> {
-        match eval::eval(block, e, &interp.params, self.sources[self.cur].text) {
+        match interp.eval(block, e, self.sources[self.cur].text, block.range, diags) {
             Ok(v) => Some(v),
             Err(err) => {
                 diags.push(super::eval_diag(err, block.range));
@@ -804,8 +806,13 @@ impl<'a> Driver<'a, '_> {
             args.push(v);
         }
         let Some(passes) = self.passes(c, block, interp, diags) else { return };
+        // Named arguments (`CALL OTBOX PZ=-5. PF=500.`) are set before the call.
+        if !block.assigns.is_empty() {
+            interp.assign(block, diags);
+        }
         let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
-        let Some((source, body)) = self.locate(file, is_proc) else {
+        let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
+        let Some((source, body)) = self.locate(file, starts) else {
             let keyword = c.keyword.map_or(written, |k| &text[k.start as usize..k.end as usize]);
             let msg = if c.keyword == c.name {
                 format!(
@@ -1380,7 +1387,7 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
                 break;
             }
         }
-        if block.control.is_none() && block.program_number.is_none() && block.label.is_none() {
+        if block.control.is_none() && block.program_number.is_none() && block.label.is_none() && block.program_name.is_none() {
             continue;
         }
         let c = block.control.as_ref();
@@ -1410,6 +1417,7 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
                 }
                 text[c.label?.start as usize..c.label?.end as usize].parse().ok()
             }),
+            program_name: block.program_name.map(|r| normalise_label(&text[r.start as usize..r.end as usize])),
             start,
             next,
         });

@@ -807,7 +807,7 @@ impl<'a> Interpreter<'a> {
                 diags.push(Diagnostic::new(Code::MalformedNumber, range, "text where a number is needed"));
                 None
             }
-            Value::Expr(e) => match eval::eval(block, e, &self.params, self.text) {
+            Value::Expr(e) => match self.eval(block, e, self.text, range, diags) {
                 Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) => Some(x),
                 Ok(_) => {
                     diags.push(Diagnostic::new(Code::ArithmeticError, range, "the expression has no finite value"));
@@ -916,12 +916,34 @@ impl<'a> Interpreter<'a> {
         if self.has_axes && !claimed { self.st.motion_code } else { None }
     }
 
+    /// Evaluates `e` of `block` (in `text`). On a control where an unset variable reads as 0,
+    /// each one met is set to 0, with a note, and the expression evaluated again.
+    pub(super) fn eval(
+        &mut self,
+        block: &Block,
+        e: crate::syntax::ExprId,
+        text: &str,
+        range: TextRange,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Result<f64, EvalError> {
+        loop {
+            match eval::eval(block, e, &self.params, text) {
+                Err(EvalError::Undefined(name)) if self.dialect.macros.unset_reads_zero => {
+                    let msg = format!("`{name}` is read before this program sets it (machine data or set elsewhere); taken as 0");
+                    diags.push(Diagnostic::new(Code::UnsetVariable, range, msg));
+                    self.params.set_named(&name, 0.0);
+                }
+                r => return r,
+            }
+        }
+    }
+
     fn assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
         // All reads of a block happen before its assignments take effect.
         let mut pending = std::mem::take(&mut self.pending);
         pending.clear();
         for a in &block.assigns {
-            let value = match eval::eval(block, a.value, &self.params, self.text) {
+            let value = match self.eval(block, a.value, self.text, a.range, diags) {
                 Ok(v) => v,
                 Err(e) => {
                     diags.push(eval_diag(e, a.range));
@@ -929,7 +951,7 @@ impl<'a> Interpreter<'a> {
                 }
             };
             match a.target {
-                ParamTarget::Numbered(e) => match eval::eval(block, e, &self.params, self.text) {
+                ParamTarget::Numbered(e) => match self.eval(block, e, self.text, a.range, diags) {
                     Ok(n) => pending.push((Some(n), TextRange::default(), value, a.range)),
                     Err(e) => diags.push(eval_diag(e, a.range)),
                 },
@@ -1330,15 +1352,23 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::ScalingCancel => self.st.scaling = None,
             Meaning::WcsExtended => {
-                // G54.1 Pn: the additional work offsets have no table here; use G54's with a note.
-                let p = self.slot(Role::P).unwrap_or(1.0);
+                // G54.1 Pn, G15 Hn: the additional work offsets have no table here; use G54's
+                // with a note.
+                let (letter, p) = match (self.slot(Role::P), self.slot(Role::H)) {
+                    (Some(p), _) => ('P', p),
+                    (None, Some(h)) => ('H', h),
+                    (None, None) => ('P', 1.0),
+                };
                 self.limited(
                     diags,
                     "wcs-extended",
                     Diagnostic::new(
                         Code::Unsupported,
                         range,
-                        format!("{} P{p}: additional work offsets are not in the machine profile; G54's offsets are used", def.label()),
+                        format!(
+                            "{} {letter}{p}: additional work offsets are not in the machine profile; G54's offsets are used",
+                            def.label()
+                        ),
                     ),
                 );
                 if self.st.wcs != 1 {

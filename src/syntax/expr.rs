@@ -167,6 +167,8 @@ pub enum Expr {
     Param(ExprId),
     /// A named parameter (`#<depth>`); the range covers the name.
     Named(TextRange),
+    /// An element of a named array (`VTOFD[1]`); the range covers the name.
+    NamedIndex(TextRange, ExprId),
     /// A function of one argument.
     Unary(Func, ExprId),
     /// Two-argument arc tangent `ATAN[y]/[x]`, degrees.

@@ -120,6 +120,8 @@ pub struct Block {
     pub extra_lines: u32,
     /// Program number at program start (`O1234`).
     pub program_number: Option<u32>,
+    /// Program name at program start, where names are allowed (`OTBOX`); covers the name.
+    pub program_name: Option<TextRange>,
     /// Whether the block is a program delimiter line (`%`).
     pub delimiter: bool,
     /// Words in source order.
@@ -143,6 +145,7 @@ impl Block {
         self.label = None;
         self.extra_lines = 0;
         self.program_number = None;
+        self.program_name = None;
         self.delimiter = false;
         self.words.clear();
         self.assigns.clear();

@@ -277,6 +277,22 @@ impl Lexer<'_, '_> {
                 return;
             }
         }
+        // A named block (`NLOOP G0 X1`) or program (`OTBOX`) at block start.
+        let at_start = self.block.words.is_empty() && self.block.label.is_none() && self.block.control.is_none();
+        if at_start && self.b.get(start + 1).is_some_and(u8::is_ascii_alphabetic) {
+            let letter = Some(self.b[start].to_ascii_uppercase() as char);
+            let end = self.identifier_end(start);
+            if lex.named_blocks && letter == lex.block_number {
+                self.block.label = Some(TextRange::new(start, end));
+                self.i = end;
+                return;
+            }
+            if lex.named_programs && letter == lex.program_number && self.block.assigns.is_empty() && self.b.get(end) != Some(&b'=') {
+                self.block.program_name = Some(TextRange::new(start, end));
+                self.i = end;
+                return;
+            }
+        }
         if self.keyword() || self.cycle_call() || self.variable_assignment() {
             return;
         }
@@ -1124,7 +1140,19 @@ impl Lexer<'_, '_> {
         if self.dialect.lexical.control_word.is_some() || !self.peek().is_some_and(|c| c.is_ascii_alphabetic()) {
             return;
         }
-        let Some((end, then)) = self.statement_at(self.i) else { return };
+        let Some((end, then)) = self.statement_at(self.i) else {
+            // `IF [VC1 EQ 0] NLOOP`: a condition and a block name, with no GOTO.
+            let lex = &self.dialect.lexical;
+            if st == Statement::If
+                && self.dialect.macros.bare_if_jump
+                && lex.named_blocks
+                && self.peek().map(|c| c.to_ascii_uppercase() as char) == lex.block_number
+            {
+                control.then = Some(Statement::Goto);
+                self.target(control);
+            }
+            return;
+        };
         let jump =
             matches!(then, Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel);
         if !(jump || matches!(then, Statement::Then | Statement::Do)) {
@@ -1438,6 +1466,11 @@ impl Lexer<'_, '_> {
                 let end = self.identifier_end(self.i);
                 let r = TextRange::new(self.i, end);
                 self.i = end;
+                if self.peek().is_some() && self.peek() == expr_open {
+                    // `VTOFD[1]`: an element of a named array.
+                    let index = self.unary(depth + 1)?;
+                    return Some(self.push(Expr::NamedIndex(r, index)));
+                }
                 Some(self.push(Expr::Named(r)))
             }
             c if c.is_ascii_alphabetic() => {

@@ -22,6 +22,7 @@ fn canon(dialect: &str, program: &str) -> (String, Vec<&'static str>) {
                 | CanonOp::ArcFeed { .. }
                 | CanonOp::SelectTool(_)
                 | CanonOp::ChangeTool(_)
+                | CanonOp::SetFeedRate(_)
         ) {
             write_call(&mut text, &c.op);
         }
@@ -115,4 +116,64 @@ fn a_user_dialect_extends_another_in_any_file_order() {
     let errors = Registry::shipped().add("x.xml", bad).unwrap_err();
     assert_eq!(errors.len(), 1);
     assert!(errors[0].starts_with("x.xml:2:") && errors[0].contains("`nosuch`"), "{errors:?}");
+}
+
+#[test]
+fn okuma_named_blocks_programs_arguments_and_machine_variables() {
+    let program = "\
+%
+O1234
+G15 H01
+T1 M06
+S2000 M03
+G00 X10. Y10.
+G00 G56 Z50. H01
+VC1=0
+NLOOP VC1=VC1+1
+G01 X=VC1*10 F100
+IF [VC1 LT 3] NLOOP
+CALL OSUB PZ=-5. PF=500.
+G04 F1.000
+X=VNTOL
+M02
+OSUB
+G01 Z=PZ F=PF
+G00 Z50.
+RTS
+";
+    let (text, errors) = canon("okuma", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let xz: Vec<String> = moves(&text)
+        .iter()
+        .map(|l| {
+            let v: Vec<&str> = l.split(['(', ',']).map(str::trim).collect();
+            format!("{} {}", v[1], v[3])
+        })
+        .collect();
+    assert_eq!(
+        xz,
+        [
+            "10.0000 0.0000",
+            "10.0000 50.0000",
+            // The named-block loop runs three times.
+            "10.0000 50.0000",
+            "20.0000 50.0000",
+            "30.0000 50.0000",
+            // The named program, with its named arguments.
+            "30.0000 -5.0000",
+            "30.0000 50.0000",
+            // VNTOL is machine data: 0 here.
+            "0.0000 50.0000",
+        ],
+        "{text}"
+    );
+    assert!(text.contains("SET_FEED_RATE(500.0000)"), "PF=500. reaches the called program");
+    let d = Registry::shipped().get("okuma").unwrap();
+    let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
+    let unset: Vec<&str> = diags.iter().filter(|d| d.code.as_str() == "interp::unset-variable").map(|d| d.message.as_str()).collect();
+    assert_eq!(unset.len(), 1, "{unset:?}");
+    assert!(unset[0].starts_with("`vntol` is read before"), "{unset:?}");
+    // Fanuc reads G15 as polar coordinates off and has no named programs.
+    let (_, errors) = canon("fanuc", program);
+    assert!(!errors.is_empty());
 }
