@@ -236,6 +236,7 @@ impl Cx {
                 "program-number",
                 "control-word",
                 "foreign",
+                "statement-prefix",
             ],
         );
         let block_form = match self.attr(el, "block-form").unwrap_or("word-address") {
@@ -271,6 +272,7 @@ impl Cx {
             foreign: Vec::new(),
             named_blocks: false,
             named_programs: false,
+            statement_prefix: Vec::new(),
         };
         for c in &el.children {
             match c.name.as_str() {
@@ -363,6 +365,16 @@ impl Cx {
                 "control-word" => {
                     self.shape(c, &["address"], &[]);
                     lex.control_word = self.letter_attr(c, "address");
+                }
+                "statement-prefix" => {
+                    self.shape(c, &["chars"], &[]);
+                    if let Some(chars) = self.required(c, "chars") {
+                        if chars.is_empty() || !chars.bytes().all(|b| b.is_ascii_punctuation()) {
+                            self.error(Self::attr_range(c, "chars"), "`chars` must be punctuation characters such as #$%");
+                        } else {
+                            lex.statement_prefix = chars.bytes().collect();
+                        }
+                    }
                 }
                 "foreign" => {
                     self.shape(c, &["regex", "name"], &[]);

@@ -81,6 +81,8 @@ pub struct Lexical {
     pub block_skip: Option<(char, SkipPosition)>,
     /// Address letter of block numbers (`N`).
     pub block_number: Option<char>,
+    /// Characters that mark a statement keyword (`#CALL`, `$IF`, `%L 100`).
+    pub statement_prefix: Vec<u8>,
     /// Whether a block may be named instead of numbered (`NLOOP`), a jump target.
     pub named_blocks: bool,
     /// Program delimiter (`%`).
@@ -331,7 +333,7 @@ pub struct ParamSpec {
 impl ParamSpec {
     /// True when the command uses `role`.
     pub fn takes(&self, role: Role) -> bool {
-        self.required.contains(&role) || self.optional.contains(&role)
+        self.required.contains(&role) || self.optional.contains(&role) || self.any_of.iter().any(|set| set.contains(&role))
     }
 }
 

@@ -19,6 +19,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("mitsubishi.xml", include_str!("../../dialects/mitsubishi.xml")),
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),
     ("okuma.xml", include_str!("../../dialects/okuma.xml")),
+    ("fagor.xml", include_str!("../../dialects/fagor.xml")),
 ];
 
 /// Known dialects by name, in name order.

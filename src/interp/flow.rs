@@ -723,10 +723,21 @@ impl<'a> Driver<'a, '_> {
     /// `FOR var = a TO b`: sets the counter on entry, steps it by one when the loop comes
     /// round, and leaves past `ENDFOR` once it is above `b`.
     fn for_head(&mut self, c: &Control, block: &Block, start: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
-        let (Some(var), [first, last]) = (c.target, c.args.as_slice()) else { return };
+        let (Some(var), [first, last, rest @ ..]) = (c.target, c.args.as_slice()) else { return };
+        let step = match rest.first() {
+            Some(&e) => match self.value(interp, block, e, diags) {
+                Some(s) if s != 0.0 && s.is_finite() => s,
+                Some(_) => {
+                    self.error(diags, Code::MalformedExpression, c.range, "a loop step of 0 never ends the loop; the run stops here");
+                    return;
+                }
+                None => return,
+            },
+            None => 1.0,
+        };
         let again = self.top_loop(|l| l.kind == LoopKind::For && l.head == start);
         let value = match again {
-            Some(_) => self.value(interp, block, var, diags).map(|v| v + 1.0),
+            Some(_) => self.value(interp, block, var, diags).map(|v| v + step),
             None => self.value(interp, block, *first, diags),
         };
         let (Some(value), Some(last)) = (value, self.value(interp, block, *last, diags)) else { return };
@@ -734,7 +745,8 @@ impl<'a> Driver<'a, '_> {
             diags.push(super::eval_diag(e, c.range));
             return;
         }
-        if self.loop_head(LoopKind::For, None, None, value <= last, start, here, c.range, diags) {
+        let go_on = if step > 0.0 { value <= last } else { value >= last };
+        if self.loop_head(LoopKind::For, None, None, go_on, start, here, c.range, diags) {
             self.skip_structure(&None, start, c.range, Statement::For, Statement::EndFor, &[Statement::EndFor], interp, diags);
         }
     }
@@ -1395,7 +1407,16 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
             Some(Expr::Num(v)) => Some(v.round() as i64),
             _ => None,
         };
-        let name = c.and_then(|c| c.name).map(|r| normalise_label(&text[r.start as usize..r.end as usize]));
+        let name = c.and_then(|c| {
+            let n = &text[c.name?.start as usize..c.name?.end as usize];
+            // A procedure named by a number takes its keyword's name too: `%L 100` is `L100`.
+            match c.keyword {
+                Some(k) if c.statement == Some(Statement::Procedure) && n.starts_with(|ch: char| ch.is_ascii_digit()) => {
+                    Some(normalise_label(&format!("{}{n}", &text[k.start as usize..k.end as usize])))
+                }
+                _ => Some(normalise_label(n)),
+            }
+        });
         let defines = match c {
             Some(c) if c.statement == Some(Statement::Label) => {
                 name.clone().or_else(|| literal(c.target).map(|n| normalise_label(&n.to_string())))

@@ -883,7 +883,8 @@ impl<'a> Interpreter<'a> {
     }
 
     /// The motion code this block executes: explicit, or the modal one when axes are given
-    /// and no axis-taking non-modal code claims them.
+    /// and no other code claims them: one whose meaning uses axis words, or whose parameters
+    /// list an axis word the block has (`G4 X1.5`, `G51 A45 E0.002`).
     fn active_motion_code(&self) -> Option<usize> {
         if let Some(&(c, _)) = self.codes.iter().find(|(c, _)| self.dialect.groups[self.code(*c).group].step == Step::Motion) {
             return Some(c);
@@ -911,7 +912,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::FrameMirror
                     | Meaning::Stock
                     | Meaning::CycleIntent
-            )
+            ) || (self.dialect.groups[self.code(c).group].step != Step::Motion && self.claims_axes(c))
         });
         if self.has_axes && !claimed { self.st.motion_code } else { None }
     }
@@ -936,6 +937,11 @@ impl<'a> Interpreter<'a> {
                 r => return r,
             }
         }
+    }
+
+    /// Whether code `c` takes one of the axis words the block has.
+    fn claims_axes(&self, c: usize) -> bool {
+        Role::AXES.iter().any(|&r| self.slots[r as usize].is_some() && self.code(c).params.takes(r))
     }
 
     fn assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
@@ -1115,9 +1121,7 @@ impl<'a> Interpreter<'a> {
                 if step == Step::Motion && !ran {
                     if let Some(c) = self.active_motion_code() {
                         self.execute_code(c, block.range, block, sink, diags);
-                    } else if self.has_axes
-                        && !self.codes.iter().any(|&(c, _)| self.code(c).params.takes(Role::X) || self.code(c).params.takes(Role::Z))
-                    {
+                    } else if self.has_axes && !self.codes.iter().any(|&(c, _)| self.claims_axes(c)) {
                         diags.push(Diagnostic::new(
                             Code::UnusedWord,
                             block.range,
@@ -1213,7 +1217,8 @@ impl<'a> Interpreter<'a> {
                 let seconds = match (self.slot(Role::P), self.slot(Role::X)) {
                     (Some(p), _) => self.dwell_seconds(p),
                     (None, Some(x)) => x,
-                    (None, None) if def.params.takes(Role::F) => self.slot(Role::F).unwrap_or(0.0),
+                    (None, None) if def.params.takes(Role::F) && self.slot(Role::F).is_some() => self.slot(Role::F).unwrap_or(0.0),
+                    (None, None) if def.params.takes(Role::K) => self.slot(Role::K).unwrap_or(0.0),
                     (None, None) => 0.0,
                 };
                 self.emit(sink, CanonOp::Dwell(seconds));

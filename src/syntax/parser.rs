@@ -157,6 +157,12 @@ impl Lexer<'_, '_> {
                 self.comment(&close);
                 continue;
             }
+            if lex.statement_prefix.contains(&c) && self.b.get(self.i + 1).is_some_and(u8::is_ascii_alphabetic) {
+                // `#CALL L100`, `$IF P1 == 0`, `%L 100`: the mark says a statement follows.
+                self.i += 1;
+                self.keyword_statement(self.i);
+                continue;
+            }
             if let Some((sigil, _)) = lex.parameter
                 && c.eq_ignore_ascii_case(&(sigil as u8))
                 && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()))
@@ -1026,7 +1032,8 @@ impl Lexer<'_, '_> {
         }
     }
 
-    /// `FOR R1=0 TO 10`: the counter (target), its first and last value (operands).
+    /// `FOR R1=0 TO 10`, `$FOR P1=0,10,2`: the counter (target), its first and last value and
+    /// an optional step (operands).
     fn for_head(&mut self, control: &mut Control) {
         let start = self.i;
         self.skip_blanks();
@@ -1045,6 +1052,23 @@ impl Lexer<'_, '_> {
             return;
         };
         self.skip_blanks();
+        if self.peek() == Some(b',') {
+            // `$FOR P1 = 1, 10, 2`: the last value, then an optional step.
+            self.i += 1;
+            let Some(last) = self.expr(1, 0) else {
+                self.i = self.line_end();
+                return;
+            };
+            control.args.extend([first, last]);
+            self.skip_blanks();
+            if self.peek() == Some(b',') {
+                self.i += 1;
+                if let Some(step) = self.expr(1, 0) {
+                    control.args.push(step);
+                }
+            }
+            return;
+        }
         let to = self.alpha_run();
         if !self.text[to.start as usize..to.end as usize].eq_ignore_ascii_case("TO") {
             self.error(

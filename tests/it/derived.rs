@@ -177,3 +177,74 @@ RTS
     let (_, errors) = canon("fanuc", program);
     assert!(!errors.is_empty());
 }
+
+#[test]
+fn fagor_statements_parameters_and_local_subroutines() {
+    let program = "\
+; PART1
+G90 G94 G17
+G71
+G51 A45 E0.002
+G54
+T1 M6
+S3000 M3
+P1=0
+$WHILE P1 < 3
+  P1=P1+1
+  G1 X P1 Y0 F500
+$ENDWHILE
+$FOR P2=10,30,10
+  G0 X P2 Y5
+$ENDFOR
+$IF P1 == 3
+  #CALL L100
+$ELSE
+  G0 X999
+$ENDIF
+$GOTO N20
+G0 X888
+N20 G4 K0.5
+M30
+%L 100
+G0 X10 Y10
+G1 Z-2 F100
+G0 Z5
+M17
+";
+    let (text, errors) = canon("fagor", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let xyz: Vec<String> = moves(&text)
+        .iter()
+        .map(|l| {
+            let v: Vec<&str> = l.split(['(', ',']).map(str::trim).collect();
+            format!("{} {} {}", v[1], v[2], v[3])
+        })
+        .collect();
+    let want = [
+        // $WHILE, three passes.
+        "1.0000 0.0000 0.0000",
+        "2.0000 0.0000 0.0000",
+        "3.0000 0.0000 0.0000",
+        // $FOR with a step of 10.
+        "10.0000 5.0000 0.0000",
+        "20.0000 5.0000 0.0000",
+        "30.0000 5.0000 0.0000",
+        // #CALL L100 runs %L 100 up to M17; $ELSE and the block $GOTO skips do not run.
+        "10.0000 10.0000 0.0000",
+        "10.0000 10.0000 -2.0000",
+        "10.0000 10.0000 5.0000",
+    ];
+    assert_eq!(xyz, want, "{text}");
+    // G51 is look-ahead here: its A word is not a rotary move, and nothing is scaled.
+    let d = Registry::shipped().get("fagor").unwrap();
+    let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
+    assert!(diags.is_empty(), "{diags:?}");
+}
+
+#[test]
+fn a_non_motion_code_keeps_the_axis_words_it_takes() {
+    // Fanuc `G4 X1.5` dwells 1.5 s; it does not also move X under the modal G1.
+    let (text, errors) = canon("fanuc", "G21 G90 G1 X0 Y0 F100.\nG4 X1.5\nM30\n");
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(moves(&text).len(), 1, "{text}");
+}
