@@ -122,8 +122,12 @@ impl Lexer<'_, '_> {
             && self.peek() == Some(d as u8)
             && self.block.words.is_empty()
         {
-            self.block.delimiter = true;
-            self.i = self.line_end();
+            // A bare `%` (perhaps with a comment) opens or closes the program; `%_N_PART_MPF`
+            // is a header line, skipped without ending anything.
+            let end = self.line_end();
+            let rest = self.text[self.i + 1..end].trim_start();
+            self.block.delimiter = rest.is_empty() || lex.comments.iter().any(|r| rest.starts_with(r.open));
+            self.i = end;
             return self.i;
         }
         if lex.leading_block_number && self.peek().is_some_and(|c| c.is_ascii_digit()) {

@@ -6,6 +6,7 @@ mod cycles;
 mod daemon;
 mod derived;
 mod dialects;
+mod encodings;
 mod equivalence;
 mod flow;
 mod macros;
