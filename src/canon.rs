@@ -531,6 +531,9 @@ pub const LINUXCNC_INTERNAL: &[&str] = &[
     "ENABLE_SPEED_OVERRIDE",
     "DISABLE_FEED_OVERRIDE",
     "DISABLE_SPEED_OVERRIDE",
+    // G10 L1/L10/L11 write the control's tool table; what they set shows in the
+    // USE_TOOL_LENGTH_OFFSET calls that follow, which are compared.
+    "SET_TOOL_TABLE_ENTRY",
 ];
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 use super::inherit;
 use super::xml::{self, Element};
 use super::{
-    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DecimalInput, Dialect, KeywordRest,
+    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect, KeywordRest,
     KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TapStyle,
     TimeUnit,
 };
@@ -688,7 +688,20 @@ impl Cx {
             for c in g.children.iter().filter(|c| c.name == "code") {
                 self.shape(
                     c,
-                    &["value", "keyword", "value-role", "rest", "meaning", "index", "name", "required", "optional", "any-of", "exclusive"],
+                    &[
+                        "value",
+                        "keyword",
+                        "value-role",
+                        "rest",
+                        "meaning",
+                        "index",
+                        "name",
+                        "required",
+                        "optional",
+                        "any-of",
+                        "exclusive",
+                        "forms",
+                    ],
                     &[],
                 );
                 let keyword = self.keyword_spec(c);
@@ -750,10 +763,25 @@ impl Cx {
                     Some(k) if self.attr(c, "name").is_none() => k.text.clone(),
                     _ => name,
                 };
-                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword });
+                let forms = self.forms(c);
+                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms });
             }
         }
         (groups, codes)
+    }
+
+    /// `forms="2:wcs 20:wcs-here 1:tool"`: what a data-setting code sets for each L value.
+    /// Without the attribute, L2 and L20 set work offsets as LinuxCNC does.
+    fn forms(&mut self, c: &Element) -> Vec<(u16, DataForm)> {
+        let Some(list) = self.attr(c, "forms") else { return vec![(2, DataForm::Wcs), (20, DataForm::WcsHere)] };
+        let mut out = Vec::new();
+        for item in list.split_ascii_whitespace() {
+            match item.split_once(':').and_then(|(l, f)| Some((l.parse::<u16>().ok()?, DataForm::parse(f)?))) {
+                Some(pair) => out.push(pair),
+                None => self.error(Self::attr_range(c, "forms"), format!("`{item}` is not L:form (form: wcs, wcs-here, wcs-extended, tool, tool-here, tool-here-fixture, tool-length, tool-length-wear, tool-radius, tool-radius-wear)")),
+            }
+        }
+        out
     }
 
     /// The `keyword`, `value-role` and `rest` attributes of a keyword code.

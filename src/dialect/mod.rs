@@ -356,6 +356,52 @@ pub struct CodeDef {
     pub params: ParamSpec,
     /// For a keyword code (`TRANS`, `TOOL CALL`), its spelling; G and M codes have none.
     pub keyword: Option<KeywordSpec>,
+    /// For a data-setting code (G10), what each L value sets.
+    pub forms: Vec<(u16, DataForm)>,
+}
+
+/// What a data-setting code (`G10 L..`) sets, by its L value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DataForm {
+    /// A work offset P to the given values (LinuxCNC and Fanuc L2).
+    Wcs,
+    /// A work offset P so that the current point has the given coordinates (LinuxCNC L20).
+    WcsHere,
+    /// An additional work offset P (Fanuc L20, G54.1 Pn).
+    WcsExtended,
+    /// Tool P's length Z and radius R (LinuxCNC L1).
+    Tool,
+    /// Tool P's length so that the current point has the given Z (LinuxCNC L10).
+    ToolHere,
+    /// As `ToolHere`, in the G59.3 fixture system without G92 (LinuxCNC L11).
+    ToolHereFixture,
+    /// Offset P's length geometry to R (Fanuc L10; memory A L1).
+    ToolLength,
+    /// Offset P's length wear to R (Fanuc L11).
+    ToolLengthWear,
+    /// Offset P's radius geometry to R (Fanuc L12).
+    ToolRadius,
+    /// Offset P's radius wear to R (Fanuc L13).
+    ToolRadiusWear,
+}
+
+impl DataForm {
+    /// The form named `s` in a dialect file.
+    pub fn parse(s: &str) -> Option<DataForm> {
+        Some(match s {
+            "wcs" => DataForm::Wcs,
+            "wcs-here" => DataForm::WcsHere,
+            "wcs-extended" => DataForm::WcsExtended,
+            "tool" => DataForm::Tool,
+            "tool-here" => DataForm::ToolHere,
+            "tool-here-fixture" => DataForm::ToolHereFixture,
+            "tool-length" => DataForm::ToolLength,
+            "tool-length-wear" => DataForm::ToolLengthWear,
+            "tool-radius" => DataForm::ToolRadius,
+            "tool-radius-wear" => DataForm::ToolRadiusWear,
+            _ => return None,
+        })
+    }
 }
 
 impl CodeDef {

@@ -13,6 +13,7 @@ pub mod eval;
 mod flow;
 mod motion;
 
+use crate::dialect::DataForm;
 pub use flow::{NoPrograms, ProgramSource, run};
 
 use std::collections::BTreeMap;
@@ -114,6 +115,15 @@ fn foreign(text: &str, dialect: &Dialect) -> Option<Diagnostic> {
         let msg = format!("this is {name}, not a program in the {} dialect; it was stored but not interpreted", dialect.name);
         Some(Diagnostic::new(Code::ForeignFormat, TextRange::new(m.start(), m.end()), msg))
     })
+}
+
+/// Tool data a program set with G10, in millimetres.
+#[derive(Clone, Copy, Debug, Default)]
+struct ToolEdit {
+    length: Option<f64>,
+    length_wear: f64,
+    radius: Option<f64>,
+    radius_wear: f64,
 }
 
 /// What the interpreter asks the control-flow driver to do after a block.
@@ -263,6 +273,8 @@ pub struct Interpreter<'a> {
     pending: Vec<(Option<f64>, TextRange, f64, TextRange)>,
     /// A `#3006` stop message to emit at the stop step.
     stop_message: Option<String>,
+    /// Tool data the program set with G10 (millimetres), over the profile's tool table.
+    tool_edits: BTreeMap<u32, ToolEdit>,
     /// Cutter radius compensation while G41/G42 is on with a known radius.
     comp: std::cell::RefCell<Option<comp::Comp>>,
     /// A compensation problem met while emitting, reported after the block.
@@ -345,6 +357,7 @@ impl<'a> Interpreter<'a> {
             motions: 0,
             pending: Vec::new(),
             stop_message: None,
+            tool_edits: BTreeMap::new(),
             comp: std::cell::RefCell::new(None),
             comp_problem: std::cell::Cell::new(None),
             origin_override: None,
@@ -1180,7 +1193,7 @@ impl<'a> Interpreter<'a> {
                     self.emit(sink, CanonOp::SelectTool(next as u32));
                 }
                 if self.dialect.behaviour.tool_change_applies_length {
-                    let length = self.profile.tools.get(&self.st.tool).map_or(0.0, |t| t.length) / self.st.units.to_mm();
+                    let length = self.tool_length(self.st.tool) / self.st.units.to_mm();
                     self.st.tool_offset = length;
                     self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
                 }
@@ -1243,7 +1256,7 @@ impl<'a> Interpreter<'a> {
                 let radius = if by_diameter { self.slot(Role::D).map(|d| d / 2.0) } else { None };
                 let radius = radius.or_else(|| {
                     let tool = self.slot(Role::D).map_or(self.st.tool, |d| d as u32);
-                    let diameter = self.profile.tools.get(&tool).and_then(|t| t.diameter);
+                    let diameter = self.tool_diameter(tool);
                     diameter.filter(|_| !by_diameter).map(|d| d / 2.0)
                 });
                 self.comp_off(sink);
@@ -1271,7 +1284,7 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
                 let h = self.slot(Role::H).map_or(self.st.tool, |h| h as u32);
-                let length = self.profile.tools.get(&h).map_or(0.0, |t| t.length) / self.st.units.to_mm();
+                let length = self.tool_length(h) / self.st.units.to_mm();
                 let length = if def.meaning == Meaning::LengthCompMinus { -length } else { length };
                 self.st.tool_offset = length;
                 self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
@@ -1570,13 +1583,112 @@ impl<'a> Interpreter<'a> {
         self.st.units = units;
     }
 
+    /// Tool `n`'s length offset in millimetres: the profile's, as the program changed it.
+    fn tool_length(&self, n: u32) -> f64 {
+        let edit = self.tool_edits.get(&n);
+        edit.and_then(|e| e.length).unwrap_or_else(|| self.profile.tools.get(&n).map_or(0.0, |t| t.length))
+            + edit.map_or(0.0, |e| e.length_wear)
+    }
+
+    /// Tool `n`'s diameter in millimetres, if known: the profile's, as the program changed it.
+    fn tool_diameter(&self, n: u32) -> Option<f64> {
+        let edit = self.tool_edits.get(&n);
+        let geometry = edit.and_then(|e| e.radius).map(|r| 2.0 * r).or_else(|| self.profile.tools.get(&n).and_then(|t| t.diameter));
+        geometry.map(|d| d + 2.0 * edit.map_or(0.0, |e| e.radius_wear))
+    }
+
+    /// `G10 L..`: sets a work offset or tool data, as the dialect's forms say for this L.
     fn set_data(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let l = self.slot(Role::L).unwrap_or(0.0) as i64;
+        let l = self.slot(Role::L).unwrap_or(0.0);
+        let form = def.forms.iter().find(|(n, _)| f64::from(*n) == l).map(|&(_, f)| f);
+        match form {
+            Some(DataForm::Wcs | DataForm::WcsHere) => self.set_wcs(def, form == Some(DataForm::WcsHere), range, sink, diags),
+            Some(DataForm::WcsExtended) => {
+                let msg = format!("{} L{l}: additional work offsets are not in the machine profile; the setting is not kept", def.label());
+                self.limited(diags, "wcs-extended", Diagnostic::new(Code::Unsupported, range, msg));
+            }
+            Some(f) => self.set_tool_data(def, f, range, diags),
+            None => {
+                let known: Vec<String> = def.forms.iter().map(|(n, _)| format!("L{n}")).collect();
+                let msg = format!(
+                    "{} L{l} is not a data-setting form of the {} dialect (known: {})",
+                    def.label(),
+                    self.dialect.name,
+                    known.join(", ")
+                );
+                diags.push(Diagnostic::new(Code::Unsupported, range, msg));
+            }
+        }
+    }
+
+    /// `G10 L1/L10/L11` (LinuxCNC) and `G10 L10–L13` (Fanuc): tool P's length or radius.
+    fn set_tool_data(&mut self, def: &CodeDef, form: DataForm, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let Some(p) = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0 && *p < 1e6) else {
+            diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs P, a tool or offset number", def.label())));
+            return;
+        };
+        let n = p as u32;
+        let mm = self.st.units.to_mm();
+        if matches!(form, DataForm::Tool | DataForm::ToolHere | DataForm::ToolHereFixture)
+            && [Role::X, Role::Y, Role::A, Role::B, Role::C].iter().any(|&r| self.slots[r as usize].is_some())
+        {
+            let msg =
+                format!("{}: tool offsets along axes other than Z (lathe and angled tools) are not kept; only Z and R are", def.label());
+            self.limited(diags, "tool-offset-axes", Diagnostic::new(Code::Unsupported, range, msg));
+        }
+        // Fanuc: in G91 the value is added to the offset.
+        let incremental = self.st.distance == DistanceMode::Incremental;
+        let current = (self.tool_length(n), self.tool_diameter(n).map(|d| d / 2.0));
+        // For L10/L11: the spindle's Z and the origin the given Z is measured from, in the
+        // active system with G92 (L10), or in G59.3 without it (L11).
+        let machine_z = self.machine_pos()[2] + self.st.tool_offset;
+        let origin_z = match form {
+            DataForm::ToolHereFixture => self.st.wcs_offsets[8][2],
+            _ => self.st.wcs_offsets[self.st.wcs as usize - 1][2] + self.st.g92[2],
+        };
+        let edit = self.tool_edits.entry(n).or_default();
+        let value = |v: f64, old: f64| if incremental { old + v * mm } else { v * mm };
+        match form {
+            DataForm::Tool => {
+                if let Some(z) = self.slots[Role::Z as usize].map(|s| s.value) {
+                    (edit.length, edit.length_wear) = (Some(z * mm), 0.0);
+                }
+                if let Some(r) = self.slots[Role::R as usize].map(|s| s.value) {
+                    (edit.radius, edit.radius_wear) = (Some(r * mm), 0.0);
+                }
+            }
+            DataForm::ToolHere | DataForm::ToolHereFixture => {
+                let Some(z) = self.slots[Role::Z as usize].map(|s| s.value) else { return };
+                (edit.length, edit.length_wear) = (Some((machine_z - origin_z - z) * mm), 0.0);
+                if let Some(r) = self.slots[Role::R as usize].map(|s| s.value) {
+                    (edit.radius, edit.radius_wear) = (Some(r * mm), 0.0);
+                }
+            }
+            DataForm::ToolLength | DataForm::ToolLengthWear | DataForm::ToolRadius | DataForm::ToolRadiusWear => {
+                let Some(r) = self.slots[Role::R as usize].map(|s| s.value) else {
+                    diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs R, the offset value", def.label())));
+                    return;
+                };
+                match form {
+                    DataForm::ToolLength => edit.length = Some(value(r, current.0 - edit.length_wear)),
+                    DataForm::ToolLengthWear => edit.length_wear = value(r, edit.length_wear),
+                    DataForm::ToolRadius => edit.radius = Some(value(r, current.1.unwrap_or(0.0) - edit.radius_wear)),
+                    _ => edit.radius_wear = value(r, edit.radius_wear),
+                }
+            }
+            DataForm::Wcs | DataForm::WcsHere | DataForm::WcsExtended => {}
+        }
+    }
+
+    /// `G10 L2/L20 P..`: work offset P (0: the active one) to the given values, or so that
+    /// the current point has them.
+    fn set_wcs(&mut self, def: &CodeDef, here: bool, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let p = self.slot(Role::P).unwrap_or(0.0).round() as i64;
-        if !(l == 2 || l == 20) || !(0..=9).contains(&p) {
+        if !(0..=9).contains(&p) {
             self.unsupported(def, range, diags);
             return;
         }
+        let l = if here { 20 } else { 2 };
         let index = if p == 0 { self.st.wcs } else { p as u8 };
         let slot = index as usize - 1;
         let rotation = self.slot(Role::R).unwrap_or(self.st.wcs_rotation[slot]);

@@ -248,3 +248,35 @@ fn a_non_motion_code_keeps_the_axis_words_it_takes() {
     assert!(errors.is_empty(), "{errors:?}");
     assert_eq!(moves(&text).len(), 1, "{text}");
 }
+
+#[test]
+fn g10_sets_what_each_dialect_says_its_l_values_set() {
+    let offsets = |dialect: &str, program: &str| -> Vec<String> {
+        let d = Registry::shipped().get(dialect).unwrap();
+        let mut out = Vec::new();
+        let diags = interpret(program, &d, &Profile::default(), &mut out);
+        assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+        out.iter()
+            .filter(|c| matches!(c.op, CanonOp::UseToolLengthOffset(_)))
+            .map(|c| {
+                let mut s = String::new();
+                write_call(&mut s, &c.op);
+                s.split(", ").next().unwrap().rsplit(' ').next().unwrap().to_owned()
+            })
+            .collect()
+    };
+    // Fanuc memory C: L10 length geometry, L11 length wear (added to it; in G91 added to
+    // the old wear), L12/L13 radius geometry and wear.
+    let fanuc = "G21 G90\nG10 L10 P5 R100.\nG10 L11 P5 R-0.5\nG43 H5 Z10.\nG91 G10 L11 P5 R-0.5\nG90 G43 H5 Z10.\nG10 L12 P5 R4.\nM30\n";
+    assert_eq!(offsets("fanuc", fanuc), ["99.5000", "99.0000"]);
+    // LinuxCNC: L1 sets tool P's length, L10 so that the current Z reads as given.
+    let linuxcnc = "G21 G90\nG10 L1 P5 Z100\nG43 H5\nG0 Z10\nG10 L10 P5 Z0\nG43 H5\nM2\n";
+    assert_eq!(offsets("linuxcnc", linuxcnc), ["100.0000", "110.0000"]);
+    // Fanuc's L20 is an extended work offset, not LinuxCNC's "set from here".
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let diags = interpret("G21 G90\nG10 L20 P1 X10. Y10.\nM30\n", &d, &Profile::default(), &mut Vec::new());
+    assert!(diags.iter().any(|d| d.message.contains("L20: additional work offsets")), "{diags:?}");
+    // An L the dialect does not list is named.
+    let diags = interpret("G21 G90\nG10 L50 P1\nM30\n", &d, &Profile::default(), &mut Vec::new());
+    assert!(diags.iter().any(|d| d.message.contains("G10 L50 is not a data-setting form of the fanuc dialect")), "{diags:?}");
+}
