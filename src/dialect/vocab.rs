@@ -336,6 +336,11 @@ vocab! {
         CycleNumber = "cycle-number",
         /// The tool to prepare after a tool change (Mazak's second T: `T02 T05 M06`).
         NextTool = "next-tool",
+        /// A polar end point's distance from the pole (Heidenhain `PR`).
+        PolarRadius = "polar-radius",
+        /// A polar end point's angle about the pole, in degrees from the plane's first axis
+        /// (Heidenhain `PA`).
+        PolarAngle = "polar-angle",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

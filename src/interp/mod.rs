@@ -761,7 +761,8 @@ impl<'a> Interpreter<'a> {
             self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
             self.filled |= 1 << role as u32;
         }
-        self.has_axes = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
+        // Polar words (`PA+90`) name an end point as axis words do.
+        self.has_axes = Role::AXES.iter().chain(&[Role::PolarRadius, Role::PolarAngle]).any(|&r| self.slots[r as usize].is_some());
         if ok {
             ok = self.check_params(block, diags);
         }

@@ -48,7 +48,28 @@ impl Interpreter<'_> {
                 };
             }
         }
+        if self.slots[Role::PolarRadius as usize].is_some() || self.slots[Role::PolarAngle as usize].is_some() {
+            self.polar_target(&mut t);
+        }
         t
+    }
+
+    /// `LP PR+30 PA+45`, `CP IPA+90`: the end point in the plane from its distance to the pole
+    /// and its angle about it; a missing one keeps the current point's, an incremental one
+    /// (`IPR`, `IPA`) adds to it.
+    fn polar_target(&self, t: &mut [f64; 6]) {
+        let (a0, a1, _) = self.st.plane.axes();
+        let (px, py) = self.st.pole;
+        let (dx, dy) = (self.st.pos[a0] - px, self.st.pos[a1] - py);
+        let polar = |role: Role, current: f64| match self.slots[role as usize] {
+            None => current,
+            Some(s) if self.incremental(role) => current + s.value,
+            Some(s) => s.value,
+        };
+        let r = polar(Role::PolarRadius, dx.hypot(dy));
+        let a = polar(Role::PolarAngle, dy.atan2(dx).to_degrees()).to_radians();
+        t[a0] = px + r * a.cos();
+        t[a1] = py + r * a.sin();
     }
 
     /// Whether the axis word for `role` is incremental (per word, or by G91).

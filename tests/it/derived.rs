@@ -1,7 +1,8 @@
 //! Dialects written as the differences from another (`extends`), and the general
 //! capabilities they brought: Haas M97 local subprograms, Mitsubishi `M98 P H` start blocks,
 //! Mazak's next tool in a tool-change block, cycles kept as intent, and foreign formats told
-//! apart. None of these dialects has a line of Rust of its own.
+//! apart, G10 data forms and Heidenhain polar coordinates. None of these dialects has a line
+//! of Rust of its own.
 
 use ncplan::canon::{CanonOp, write_call};
 use ncplan::dialect::Registry;
@@ -279,4 +280,36 @@ fn g10_sets_what_each_dialect_says_its_l_values_set() {
     // An L the dialect does not list is named.
     let diags = interpret("G21 G90\nG10 L50 P1\nM30\n", &d, &Profile::default(), &mut Vec::new());
     assert!(diags.iter().any(|d| d.message.contains("G10 L50 is not a data-setting form of the fanuc dialect")), "{diags:?}");
+}
+
+#[test]
+fn heidenhain_polar_lines_and_arcs_about_the_pole() {
+    let program = "\
+0 BEGIN PGM POLAR MM
+1 TOOL CALL 1 Z S1000
+2 CC X+50 Y+50
+3 L X+80 Y+50 Z-2 R0 FMAX
+4 LP PA+90 F200
+5 LP PR+10
+6 CP IPA+90 DR+
+7 LP IPA-90 IPR+5
+8 END PGM POLAR MM
+";
+    let (text, errors) = canon("heidenhain", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let calls: Vec<&str> = text.lines().filter(|l| !l.starts_with("SET_FEED") && !l.contains("TOOL")).collect();
+    assert_eq!(
+        calls,
+        [
+            "STRAIGHT_TRAVERSE(80.0000, 50.0000, -2.0000, 0.0000, 0.0000, 0.0000)",
+            // PA alone keeps the distance to the pole (30); PR alone keeps the angle (90°).
+            "STRAIGHT_FEED(50.0000, 80.0000, -2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(50.0000, 60.0000, -2.0000, 0.0000, 0.0000, 0.0000)",
+            // CP: a quarter circle about the pole, counter-clockwise, to 180°.
+            "ARC_FEED(40.0000, 50.0000, 50.0000, 50.0000, 1, -2.0000, 0.0000, 0.0000, 0.0000)",
+            // IPA and IPR add to the current angle and distance.
+            "STRAIGHT_FEED(50.0000, 65.0000, -2.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{text}"
+    );
 }
