@@ -137,6 +137,16 @@ impl Cx {
         Some(c.to_ascii_uppercase())
     }
 
+    /// An optional attribute naming one role (`again="next-tool"`, `value-role="tool"`).
+    fn role_attr(&mut self, el: &Element, name: &str) -> Option<Role> {
+        let r = self.attr(el, name)?;
+        let role = Role::parse(r).filter(|r| !r.is_internal());
+        if role.is_none() {
+            self.error(Self::attr_range(el, name), format!("unknown role `{r}`"));
+        }
+        role
+    }
+
     fn roles(&mut self, el: &Element, name: &str, addresses: &[AddressDef]) -> Vec<Role> {
         let Some(list) = self.attr(el, name) else { return Vec::new() };
         let mut out = Vec::new();
@@ -522,16 +532,7 @@ impl Cx {
                     false
                 }
             };
-            let again = match self.attr(c, "again") {
-                None => None,
-                Some(r) => match Role::parse(r).filter(|r| !r.is_internal()) {
-                    Some(r) => Some(r),
-                    None => {
-                        self.error(Self::attr_range(c, "again"), format!("unknown role `{r}`"));
-                        None
-                    }
-                },
-            };
+            let again = self.role_attr(c, "again");
             if out.iter().any(|a| a.name == name) {
                 self.error(c.range, format!("address `{name}` is declared twice"));
                 continue;
@@ -792,16 +793,7 @@ impl Cx {
             self.error(Self::attr_range(c, "keyword"), "a keyword starts with a letter");
             return None;
         }
-        let value_role = match self.attr(c, "value-role") {
-            None => None,
-            Some(r) => match Role::parse(r).filter(|r| !r.is_internal()) {
-                Some(role) => Some(role),
-                None => {
-                    self.error(Self::attr_range(c, "value-role"), format!("unknown role `{r}`"));
-                    None
-                }
-            },
-        };
+        let value_role = self.role_attr(c, "value-role");
         let rest = match self.attr(c, "rest").unwrap_or("none") {
             "none" => KeywordRest::None,
             "name" => KeywordRest::Name,

@@ -292,12 +292,14 @@ impl Lexer<'_, '_> {
         if at_start && self.b.get(start + 1).is_some_and(u8::is_ascii_alphabetic) {
             let letter = Some(self.b[start].to_ascii_uppercase() as char);
             let end = self.identifier_end(start);
-            if lex.named_blocks && letter == lex.block_number {
+            // `NLAB=1` assigns a variable of that name instead.
+            let assigned = self.b[end..].iter().find(|c| !matches!(c, b' ' | b'\t')) == Some(&b'=');
+            if lex.named_blocks && letter == lex.block_number && !assigned {
                 self.block.label = Some(TextRange::new(start, end));
                 self.i = end;
                 return;
             }
-            if lex.named_programs && letter == lex.program_number && self.block.assigns.is_empty() && self.b.get(end) != Some(&b'=') {
+            if lex.named_programs && letter == lex.program_number && self.block.assigns.is_empty() && !assigned {
                 self.block.program_name = Some(TextRange::new(start, end));
                 self.i = end;
                 return;
