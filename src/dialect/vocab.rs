@@ -224,6 +224,8 @@ vocab! {
         ArcRadius = "arc-radius",
         /// An arc tangent to the previous element (`CT X Y`).
         ArcTangent = "arc-tangent",
+        /// An arc through an intermediate point to the end point (`CIP X Y I1= J1=`).
+        ArcThreePoint = "arc-three-point",
         /// Clockwise for this block's arc (`DR-`).
         ArcDirCw = "arc-dir-cw",
         /// Counter-clockwise for this block's arc (`DR+`).
@@ -336,6 +338,14 @@ vocab! {
         CycleNumber = "cycle-number",
         /// The tool to prepare after a tool change (Mazak's second T: `T02 T05 M06`).
         NextTool = "next-tool",
+        /// An arc's opening angle in degrees (Siemens `AR=`).
+        OpeningAngle = "opening-angle",
+        /// The intermediate point of a three-point arc, along X (Siemens `I1=`).
+        ViaX = "via-x",
+        /// The intermediate point of a three-point arc, along Y (Siemens `J1=`).
+        ViaY = "via-y",
+        /// The intermediate point of a three-point arc, along Z (Siemens `K1=`).
+        ViaZ = "via-z",
         /// A polar end point's distance from the pole (Heidenhain `PR`).
         PolarRadius = "polar-radius",
         /// A polar end point's angle about the pole, in degrees from the plane's first axis

@@ -1456,6 +1456,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::ArcPole
                     | Meaning::ArcRadius
                     | Meaning::ArcTangent
+                    | Meaning::ArcThreePoint
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);

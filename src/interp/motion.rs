@@ -72,6 +72,26 @@ impl Interpreter<'_> {
         t[a1] = py + r * a.sin();
     }
 
+    /// The arc centre the block's I, J or K words give in the plane of axes `a0`, `a1`: they are
+    /// incremental from the start (G91.1) or absolute (G90.1), or per word (`I=AC(28)`).
+    /// `None` when the block has none in that plane.
+    fn centre_words(&self, a0: usize, a1: usize, start: [f64; 6]) -> Option<(f64, f64)> {
+        let off = |axis: usize| self.slot(OFFSETS[axis]);
+        if off(a0).is_none() && off(a1).is_none() {
+            return None;
+        }
+        let centre = |axis: usize| {
+            let o = off(axis).unwrap_or(0.0);
+            let incremental = match self.slots[OFFSETS[axis] as usize].map(|s| s.mode) {
+                Some(WordMode::Absolute) => false,
+                Some(WordMode::Incremental) => true,
+                _ => self.st.arc_incremental,
+            };
+            if incremental { start[axis] + o } else { o }
+        };
+        Some((centre(a0), centre(a1)))
+    }
+
     /// Whether the axis word for `role` is incremental (per word, or by G91).
     pub(super) fn incremental(&self, role: Role) -> bool {
         match self.slots[role as usize].map(|s| s.mode) {
@@ -110,7 +130,7 @@ impl Interpreter<'_> {
                 self.emit(sink, CanonOp::StraightFeed(t));
                 self.st.pos = t;
             }
-            Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent => {
+            Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint => {
                 self.arc(def, range, block, sink, diags)
             }
             _ => self.cycle(def, range, block, sink, diags),
@@ -186,16 +206,70 @@ impl Interpreter<'_> {
             _ => None,
         });
         let start = self.st.pos;
-        let end = self.target();
+        let mut end = self.target();
         let (a0, a1, n) = self.st.plane.axes();
-        let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);
         let mut cw = match def.meaning {
             Meaning::ArcCw => true,
             Meaning::ArcCcw => false,
             _ => stated.unwrap_or(self.st.arc_cw),
         };
         let mut given_centre = None;
+        if let Some(ar) = self.slot(Role::OpeningAngle) {
+            // `G2 X Y AR=90` (end point and opening angle) or `G3 I J AR=90` (centre and angle).
+            if !(ar > 0.0 && ar < 360.0) {
+                diags.push(Diagnostic::new(
+                    Code::BadArc,
+                    block.range,
+                    format!("the opening angle AR={ar} must lie between 0 and 360 degrees"),
+                ));
+                return;
+            }
+            let sign = if cw { -1.0 } else { 1.0 };
+            if self.slots[Role::AXES[a0] as usize].is_some() || self.slots[Role::AXES[a1] as usize].is_some() {
+                let (d1, d2) = (end[a0] - start[a0], end[a1] - start[a1]);
+                let chord = d1.hypot(d2);
+                if chord < 1e-9 {
+                    diags.push(Diagnostic::new(Code::BadArc, block.range, "an opening angle needs an end point away from the start"));
+                    return;
+                }
+                // The centre lies on the chord's bisector, left of it for counter-clockwise.
+                let h = chord / 2.0 / (ar / 2.0).to_radians().tan();
+                let mid = ((start[a0] + end[a0]) / 2.0, (start[a1] + end[a1]) / 2.0);
+                given_centre = Some((mid.0 - sign * h * d2 / chord, mid.1 + sign * h * d1 / chord));
+            } else if let Some(c) = self.centre_words(a0, a1, start) {
+                let (sin, cos) = (sign * ar.to_radians()).sin_cos();
+                let (r1, r2) = (start[a0] - c.0, start[a1] - c.1);
+                end[a0] = c.0 + r1 * cos - r2 * sin;
+                end[a1] = c.1 + r1 * sin + r2 * cos;
+                given_centre = Some(c);
+            } else {
+                diags.push(Diagnostic::new(Code::MissingParameter, block.range, "AR= needs an end point or a centre (I, J, K)"));
+                return;
+            }
+        }
+        let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);
         match def.meaning {
+            Meaning::ArcThreePoint => {
+                // The circle through the start, the intermediate point and the end.
+                let via = |axis: usize, role: Role| match self.slots[role as usize] {
+                    Some(s) if self.incremental(role) => start[axis] + s.value,
+                    Some(s) => s.value,
+                    None => start[axis],
+                };
+                let vias = [Role::ViaX, Role::ViaY, Role::ViaZ];
+                let (m1, m2) = (via(a0, vias[a0]), via(a1, vias[a1]));
+                let d = 2.0 * (s1 * (m2 - e2) + m1 * (e2 - s2) + e1 * (s2 - m2));
+                if d.abs() < 1e-9 {
+                    diags.push(Diagnostic::new(Code::BadArc, block.range, format!("{}: the three points lie on one line", def.label())));
+                    return;
+                }
+                let (ss, mm, ee) = (s1 * s1 + s2 * s2, m1 * m1 + m2 * m2, e1 * e1 + e2 * e2);
+                let u1 = (ss * (m2 - e2) + mm * (e2 - s2) + ee * (s2 - m2)) / d;
+                let u2 = (ss * (e1 - m1) + mm * (s1 - e1) + ee * (m1 - s1)) / d;
+                // `+ 0.0` turns a -0.0 quotient into 0.0, which prints without a sign.
+                given_centre = Some((u1 + 0.0, u2 + 0.0));
+                cw = (m1 - s1) * (e2 - m2) - (m2 - s2) * (e1 - m1) < 0.0;
+            }
             Meaning::ArcPole => given_centre = Some(self.st.pole),
             Meaning::ArcRadius if self.slot(Role::R).is_none() => {
                 diags.push(Diagnostic::new(Code::MissingParameter, block.range, format!("{} needs a radius R", def.label())));
@@ -278,17 +352,7 @@ impl Interpreter<'_> {
                 ));
                 return;
             }
-            // Centre words are incremental from the start (G91.1) or absolute (G90.1), or per word (`I=AC(28)`).
-            let centre = |axis: usize, start: f64| {
-                let o = off(axis).unwrap_or(0.0);
-                let incremental = match self.slots[OFFSETS[axis] as usize].map(|s| s.mode) {
-                    Some(WordMode::Absolute) => false,
-                    Some(WordMode::Incremental) => true,
-                    _ => self.st.arc_incremental,
-                };
-                if incremental { start + o } else { o }
-            };
-            let c = (centre(a0, s1), centre(a1, s2));
+            let Some(c) = self.centre_words(a0, a1, start) else { return };
             let r_start = (s1 - c.0).hypot(s2 - c.1);
             let r_end = (e1 - c.0).hypot(e2 - c.1);
             if (r_start - r_end).abs() > tol {

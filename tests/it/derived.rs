@@ -313,3 +313,38 @@ fn heidenhain_polar_lines_and_arcs_about_the_pole() {
         "{text}"
     );
 }
+
+#[test]
+fn siemens_arcs_by_opening_angle_and_through_an_intermediate_point() {
+    let program = "\
+%_N_ARCS_MPF
+N10 G17 G710 G90 G94
+N20 T1 D1
+N30 M6
+N40 S1000 M3
+N50 G0 X0 Y0 Z2
+N60 G1 Z-1 F200
+N70 G1 X10 Y0
+N80 G3 X10 Y20 AR=180
+N90 G2 I0 J-10 AR=90
+N100 CIP X30 Y0 I1=28 J1=6
+N110 M30
+";
+    let (text, errors) = canon("siemens", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let arcs: Vec<&str> = text.lines().filter(|l| l.starts_with("ARC")).collect();
+    assert_eq!(
+        arcs,
+        [
+            // End point and opening angle: the centre is on the chord's bisector.
+            "ARC_FEED(10.0000, 20.0000, 10.0000, 10.0000, 1, -1.0000, 0.0000, 0.0000, 0.0000)",
+            // Centre and opening angle: the end point is the start turned by AR.
+            "ARC_FEED(20.0000, 10.0000, 10.0000, 10.0000, -1, -1.0000, 0.0000, 0.0000, 0.0000)",
+            // Three points: the circle through them, clockwise as they run.
+            "ARC_FEED(30.0000, 0.0000, 20.0000, 0.0000, -1, -1.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{text}"
+    );
+    let (_, errors) = canon("siemens", "G17 G90 G0 X0 Y0\nG1 F100\nCIP X20 Y0 I1=10 J1=0\nM30\n");
+    assert_eq!(errors, ["interp::bad-arc"], "three points on a line");
+}
