@@ -248,6 +248,10 @@ fn a_non_motion_code_keeps_the_axis_words_it_takes() {
     let (text, errors) = canon("fanuc", "G21 G90 G1 X0 Y0 F100.\nG4 X1.5\nM30\n");
     assert!(errors.is_empty(), "{errors:?}");
     assert_eq!(moves(&text).len(), 1, "{text}");
+    // G9 lists no axis words: those of its block belong to the modal move.
+    let (text, errors) = canon("fanuc", "G21 G90 G1 X0 Y0 F100.\nG09 X10. Y5.\nM30\n");
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(moves(&text).len(), 2, "{text}");
 }
 
 #[test]
