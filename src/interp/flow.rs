@@ -1102,6 +1102,14 @@ impl<'a> Driver<'a, '_> {
         Some(v as u32)
     }
 
+    /// Where the blocks numbered `n` start in source `source`, in text order (found once).
+    fn numbered_blocks(&mut self, source: usize, n: u32) -> &[Pos] {
+        let dialect = self.dialect;
+        let src = &mut self.sources[source];
+        let text = src.text;
+        src.numbers.entry(n).or_insert_with(|| numbered(text, dialect, n))
+    }
+
     /// Jumps to the block numbered `n`: forward from here, backward, or forward and then
     /// from the top. A missing block stops the run, unless the jump is `quiet`.
     #[allow(clippy::too_many_arguments)]
@@ -1115,10 +1123,7 @@ impl<'a> Driver<'a, '_> {
         interp: &mut Interpreter<'a>,
         diags: &mut Vec<Diagnostic>,
     ) {
-        let dialect = self.dialect;
-        let src = &mut self.sources[self.cur];
-        let text = src.text;
-        let positions = src.numbers.entry(n).or_insert_with(|| numbered(text, dialect, n));
+        let positions = self.numbered_blocks(self.cur, n);
         let pick = match dir {
             Direction::Forward => positions.iter().find(|p| p.at > start.at),
             Direction::Back => positions.iter().rev().find(|p| p.at < start.at),
@@ -1258,11 +1263,7 @@ impl<'a> Driver<'a, '_> {
                     return;
                 };
                 if let Some(n) = first {
-                    let dialect = self.dialect;
-                    let src = &mut self.sources[source];
-                    let text = src.text;
-                    let at = src.numbers.entry(n).or_insert_with(|| numbered(text, dialect, n)).iter().find(|p| p.at >= body.at).copied();
-                    let Some(at) = at else {
+                    let Some(at) = self.numbered_blocks(source, n).iter().find(|p| p.at >= body.at).copied() else {
                         self.error(diags, Code::MissingLabel, block.range, format!("program O{program:04} has no block N{n} to start at"));
                         return;
                     };
@@ -1271,10 +1272,7 @@ impl<'a> Driver<'a, '_> {
                 self.enter(FrameKind::Program, source, body, repeats, args, macro_call, block, start, interp, diags);
             }
             Request::CallLocal { number, repeats } => {
-                let dialect = self.dialect;
-                let src = &mut self.sources[self.cur];
-                let text = src.text;
-                let Some(&body) = src.numbers.entry(number).or_insert_with(|| numbered(text, dialect, number)).first() else {
+                let Some(&body) = self.numbered_blocks(self.cur, number).first() else {
                     self.error(diags, Code::MissingLabel, block.range, format!("no block N{number} in this file to call"));
                     return;
                 };
