@@ -65,9 +65,39 @@ fn error_golden(dir: &Path) -> BTreeMap<String, (String, usize)> {
         .collect()
 }
 
+/// The corpus flattens LinuxCNC's test folders into file names: `a/b/test.ngc` is
+/// `a_b_test.ngc` and `a/b/subs/x.ngc` is `a_b_subs_x.ngc`. A program's subroutines are its
+/// siblings there, found as the shell's program directory would find them in the folder.
+struct FlatCorpus {
+    dir: PathBuf,
+    /// The file-name prefix of the program's own folder (`a_b_`).
+    prefix: String,
+}
+
+impl FlatCorpus {
+    fn profile(path: &Path) -> Profile {
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let prefix = name.rfind('_').map_or(String::new(), |i| name[..=i].to_owned());
+        let dir = path.parent().unwrap_or(Path::new(".")).to_owned();
+        Profile { programs: Some(std::sync::Arc::new(FlatCorpus { dir, prefix })), ..Profile::default() }
+    }
+}
+
+impl ncplan::interp::ProgramSource for FlatCorpus {
+    fn load(&self, name: &str) -> Option<String> {
+        if self.prefix.is_empty() || name.is_empty() {
+            return None;
+        }
+        ["", "subs_"].iter().find_map(|sub| {
+            let bytes = std::fs::read(self.dir.join(format!("{}{sub}{}.ngc", self.prefix, name.to_ascii_lowercase()))).ok()?;
+            Some(ncplan::text::decode(&bytes).0.text)
+        })
+    }
+}
+
 fn errors_of(path: &Path, dialect: &ncplan::dialect::Dialect) -> (usize, String) {
     let bytes = std::fs::read(path).unwrap_or_default();
-    let a = ncplan::pipeline::analyze(&bytes, dialect, &Profile::default());
+    let a = ncplan::pipeline::analyze(&bytes, dialect, &FlatCorpus::profile(path));
     let errors: Vec<_> = a.diagnostics.iter().filter(|d| d.is_error()).collect();
     (errors.len(), errors.first().map_or(String::new(), |d| d.code.as_str().to_owned()))
 }
@@ -162,7 +192,7 @@ fn program_for(corpus: &Path, stem: &str) -> PathBuf {
 
 fn check(path: &Path, dialect: &ncplan::dialect::Dialect, expected: Option<(String, usize)>) -> Result<(), Failed> {
     let bytes = std::fs::read(path)?;
-    let a = ncplan::pipeline::analyze(&bytes, dialect, &Profile::default());
+    let a = ncplan::pipeline::analyze(&bytes, dialect, &FlatCorpus::profile(path));
     let errors: Vec<_> = a.diagnostics.iter().filter(|d| d.is_error()).collect();
     match &expected {
         None => return Err("not in tests/golden/corpus/errors.tsv; run with UPDATE_EXPECT=1".into()),
@@ -261,7 +291,7 @@ fn run_ours(program: &Path) -> Result<(String, Vec<String>), Failed> {
     let bytes = std::fs::read(program)?;
     let (source, _) = ncplan::text::decode(&bytes);
     let mut canon = Vec::new();
-    let diags = ncplan::interp::interpret(&source.text, &dialect, &Profile::default(), &mut canon);
+    let diags = ncplan::interp::interpret(&source.text, &dialect, &FlatCorpus::profile(program), &mut canon);
     let mut ours = String::new();
     for c in &canon {
         write_call(&mut ours, &c.op);

@@ -412,6 +412,8 @@ impl Cx {
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
+            arc_tolerance_inch: 0.002 / 25.4,
+            arc_relative_tolerance: None,
             assign_before_reads: false,
             feed_mode_resets_feed: false,
             machine_m_codes: false,
@@ -432,6 +434,8 @@ impl Cx {
                 "peck-clearance-mm",
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
+                "arc-tolerance-inch",
+                "arc-relative-tolerance",
                 "parameter-assignment",
                 "feed-mode-resets-feed",
                 "machine-m-codes",
@@ -465,6 +469,8 @@ impl Cx {
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
+        b.arc_tolerance_inch = self.number(el, "arc-tolerance-inch", b.arc_tolerance_mm / 25.4);
+        b.arc_relative_tolerance = self.attr(el, "arc-relative-tolerance").map(|_| self.number(el, "arc-relative-tolerance", 0.0));
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
         b.magnitude_rounding = match self.attr(el, "integer-rounding").unwrap_or("floor-ceiling") {
@@ -559,6 +565,7 @@ impl Cx {
                 "call-start",
                 "bare-if-jump",
                 "unset-variables",
+                "return-value",
             ],
             &["statement", "arguments", "system-variable"],
         );
@@ -570,6 +577,7 @@ impl Cx {
             call_repeat: self.attr(el, "call-repeat").map(|w| w.trim().to_ascii_uppercase()),
             call_start: self.letter_attr(el, "call-start").map(|c| c as u8),
             bare_if_jump: self.bool(el, "bare-if-jump", false),
+            return_value: self.attr(el, "return-value").map(|n| n.split_whitespace().collect::<String>().to_lowercase()),
             ..Macros::default()
         };
         match self.attr(el, "conditions").unwrap_or("bracketed") {

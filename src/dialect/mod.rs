@@ -151,8 +151,14 @@ pub struct Behaviour {
     pub peck_clearance_mm: f64,
     /// Peck-drilling re-approach clearance, inch.
     pub peck_clearance_inch: f64,
-    /// Maximum start/end radius difference of an arc, mm.
+    /// Maximum start/end radius difference of an arc given by its centre, mm.
     pub arc_tolerance_mm: f64,
+    /// The same in inch programs (its own setting: LinuxCNC's are not one value converted).
+    pub arc_tolerance_inch: f64,
+    /// When set, a radius difference above the tolerance is still accepted while it is at
+    /// most this share of the radius and at most 100 times the tolerance (LinuxCNC's rule
+    /// for spirals written as arcs).
+    pub arc_relative_tolerance: Option<f64>,
     /// Whether `#1=2 F#1` reads the new value (macro statements run first, as on Fanuc) or
     /// the old one (all reads of a block precede its assignments, as in RS274NGC).
     pub assign_before_reads: bool,
@@ -218,6 +224,9 @@ pub struct Macros {
     pub call_start: Option<u8>,
     /// What a return in the main program does.
     pub main_return: MainReturn,
+    /// The named parameter a subroutine's return value goes to (`_value`), normalised;
+    /// `<name>_returned` says whether the last call returned one.
+    pub return_value: Option<String>,
 }
 
 /// What a return (`M99`, `M17`, `RET`) does in the main program.
@@ -250,6 +259,7 @@ impl Default for Macros {
             bare_if_jump: false,
             unset_reads_zero: false,
             main_return: MainReturn::Error,
+            return_value: None,
         }
     }
 }

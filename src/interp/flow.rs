@@ -567,11 +567,10 @@ impl<'a> Driver<'a, '_> {
                 self.skip_to(start, c.range, "endsub", |m| same_label(m, &[Statement::EndSub]), interp, diags);
             }
             Statement::EndSub | Statement::Return => {
-                if statement == Statement::Return
-                    && let Some(&e) = c.args.first()
+                if let Some(&e) = c.args.first()
                     && let Some(v) = self.value(interp, block, e, diags)
                 {
-                    interp.params.set_named("_value", v);
+                    Self::set_return_value(self.dialect, interp, v, true);
                 }
                 match self.frames.last() {
                     Some(f) if f.kind == FrameKind::Sub || statement == Statement::Return => self.return_from(None, block, interp, diags),
@@ -1144,6 +1143,14 @@ impl<'a> Driver<'a, '_> {
         self.jump_to(pos, &format!("N{n}"), range, start, interp, diags);
     }
 
+    /// Sets the dialect's return-value parameters (`_value`, `_value_returned`), if it has them.
+    fn set_return_value(dialect: &Dialect, interp: &mut Interpreter<'_>, v: f64, returned: bool) {
+        if let Some(name) = &dialect.macros.return_value {
+            interp.params.set_named(name, v);
+            interp.params.set_named(&format!("{name}_returned"), f64::from(u8::from(returned)));
+        }
+    }
+
     fn call_sub(
         &mut self,
         c: &Control,
@@ -1169,6 +1176,7 @@ impl<'a> Driver<'a, '_> {
             );
             return;
         };
+        Self::set_return_value(self.dialect, interp, 0.0, false);
         let (first, last) = self.dialect.macros.locals;
         let args: Vec<(u16, f64)> = args.into_iter().enumerate().map(|(i, v)| (first + i as u16, v)).filter(|(n, _)| *n <= last).collect();
         self.enter(FrameKind::Sub, source, body, 1, args, true, block, start, interp, diags);

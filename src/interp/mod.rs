@@ -341,6 +341,10 @@ impl<'a> Interpreter<'a> {
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
                 p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
+                if let Some(name) = &dialect.macros.return_value {
+                    p.set_named(name, 0.0);
+                    p.set_named(&format!("{name}_returned"), 0.0);
+                }
                 p
             },
             slots: [None; Role::COUNT],

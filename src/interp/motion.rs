@@ -306,7 +306,17 @@ impl Interpreter<'_> {
             }
             _ => {}
         }
-        let tol = self.dialect.behaviour.arc_tolerance_mm / self.st.units.to_mm();
+        let b = &self.dialect.behaviour;
+        let tol = if self.st.units == Units::Mm { b.arc_tolerance_mm } else { b.arc_tolerance_inch };
+        let relative = b.arc_relative_tolerance;
+        // Whether the radii to the start and to the end disagree beyond the dialect's tolerance.
+        let radii_disagree = |r_start: f64, r_end: f64| {
+            let err = (r_start - r_end).abs();
+            match relative {
+                None => err > tol,
+                Some(rel) => err > 100.0 * tol || (err > tol && err / r_start.max(r_end) > rel),
+            }
+        };
         let turns = match self.slot(Role::P) {
             None => 1,
             Some(p) if p >= 1.0 && p.fract() == 0.0 && p < 10_000.0 => p as i32,
@@ -318,7 +328,7 @@ impl Interpreter<'_> {
         let center = if let Some(c) = given_centre {
             let r_start = (s1 - c.0).hypot(s2 - c.1);
             let r_end = (e1 - c.0).hypot(e2 - c.1);
-            if (r_start - r_end).abs() > tol {
+            if radii_disagree(r_start, r_end) {
                 diags.push(Diagnostic::new(
                     Code::BadArc,
                     block.range,
@@ -355,12 +365,17 @@ impl Interpreter<'_> {
             let Some(c) = self.centre_words(a0, a1, start) else { return };
             let r_start = (s1 - c.0).hypot(s2 - c.1);
             let r_end = (e1 - c.0).hypot(e2 - c.1);
-            if (r_start - r_end).abs() > tol {
+            if radii_disagree(r_start, r_end) {
                 let unit = if self.st.units == Units::Mm { "mm" } else { "in" };
                 diags.push(Diagnostic::new(
                     Code::BadArc,
                     block.range,
-                    format!("radius to the end of the arc ({r_end:.4} {unit}) differs from the radius to its start ({r_start:.4} {unit}) by more than {tol} {unit}"),
+                    format!("radius to the end of the arc ({r_end:.4} {unit}) differs from the radius to its start ({r_start:.4} {unit}) by more than {tol} {unit}{}",
+                        match relative {
+                            Some(rel) => format!(" and {}% of the radius", rel * 100.0),
+                            None => String::new(),
+                        }
+                    ),
                 ));
                 return;
             }

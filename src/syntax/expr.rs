@@ -34,7 +34,7 @@ pub enum Func {
     Ln,
     /// e to the power.
     Exp,
-    /// Whether a named parameter exists.
+    /// Whether a named parameter exists, or whether a numbered one's index is in range.
     Exists,
     /// Power, two arguments (`POW[a,b]`); parsed into a binary `**`.
     Pow,

@@ -1518,18 +1518,24 @@ impl Lexer<'_, '_> {
                         return None;
                     }
                     self.skip_blanks();
-                    if self.peek() == sigil {
+                    let has_sigil = sigil.is_some() && self.peek() == sigil;
+                    if has_sigil {
                         self.i += 1;
                     }
                     self.skip_blanks();
-                    if self.peek() != Some(b'<') {
+                    let n = if self.peek() == Some(b'<') {
+                        let name = self.name(start)?;
+                        self.push(Expr::Named(name))
+                    } else if !has_sigil {
                         let end = self.line_end();
-                        self.error(Code::MalformedExpression, start, end, "EXISTS takes a named parameter: `EXISTS[#<name>]`");
+                        self.error(Code::MalformedExpression, start, end, "EXISTS takes a parameter: `EXISTS[#<name>]` or `EXISTS[#1]`");
                         self.i = end;
                         return None;
-                    }
-                    let name = self.name(start)?;
-                    let n = self.push(Expr::Named(name));
+                    } else {
+                        // `EXISTS[#1]`, `EXISTS[##2]`: whether the index names a parameter.
+                        let index = self.unary(depth + 1)?;
+                        self.push(Expr::Param(index))
+                    };
                     if !self.expect(expr_close.unwrap_or(b']'), "to close EXISTS", start) {
                         return None;
                     }

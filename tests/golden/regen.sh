@@ -4,12 +4,16 @@
 # ncplan's own test programs in tests/programs/linuxcnc (goldens named own__<name>).
 # Each golden holds rs274's calls without their sequence prefix; if rs274 stops with an
 # error, the last line is `# rs274 error: <message>`.
+# The corpus flattens LinuxCNC's test folders into file names (`a/b/test.ngc` is
+# `a_b_test.ngc`, `a/b/subs/x.ngc` is `a_b_subs_x.ngc`), so each program runs in a scratch
+# folder holding its siblings under their own names, where rs274 finds called subroutines.
 set -euo pipefail
 cd "$(dirname "$0")"
 corpus=../../../shared/corpus/linuxcnc
 out=rs274
 tbl=$(mktemp)
-trap 'rm -f "$tbl"' EXIT
+scratch=$(mktemp -d)
+trap 'rm -rf "$tbl" "$scratch"' EXIT
 # An all-zero tool table, so that tool length offsets are 0 as in ncplan's empty table.
 for i in $(seq 1 99); do echo "T$i P$i Z0 D0"; done > "$tbl"
 rm -f "$out"/*.canon
@@ -17,7 +21,17 @@ for f in "$corpus"/*.ngc ../programs/linuxcnc/*.ngc; do
   [ "$(stat -c %s "$f")" -le 65536 ] || continue
   name=$(basename "$f" .ngc)
   case "$f" in ../programs/*) name="own__$name" ;; esac
-  raw=$(cd "$(dirname "$f")" && timeout 20 rs274 -g -t "$tbl" "$(basename "$f")" 2>&1 < /dev/null || true)
+  rm -rf "${scratch:?}"/*
+  base=$(basename "$f")
+  prefix=${base%_*}_
+  case "$f" in ../programs/*) prefix=$base ;; esac
+  for s in "$(dirname "$f")/$prefix"*; do
+    [ -f "$s" ] || continue
+    short=${s##*/"$prefix"}
+    cp "$s" "$scratch/${short#subs_}"
+  done
+  cp "$f" "$scratch/$base"
+  raw=$(cd "$scratch" && timeout 20 rs274 -g -t "$tbl" "$base" 2>&1 < /dev/null || true)
   {
     printf '%s\n' "$raw" | sed -n 's/^ *[0-9][0-9]* N[^ ]* //p'
     err=$(printf '%s\n' "$raw" | grep -v -E '^ *[0-9]+ N' | grep -v -E '^(executing|$)' | head -1 || true)

@@ -304,3 +304,48 @@ fn dprnt_prints_a_message_and_output_statements_are_accepted() {
     // #102 is vacant: blanks in its field.
     assert_eq!(messages, ["X     1.500 Y  -12.2500 Z   "]);
 }
+
+/// LinuxCNC's O-word return value: `#<_value>` is 0 before any call, each call resets it,
+/// and `return [e]` or `endsub [e]` sets it with `#<_value_returned>`.
+#[test]
+fn a_subroutine_return_value_reaches_the_caller() {
+    let program = "G0 X#<_value>\n\
+                   o1 sub\no2 if [#1 GT 0]\no1 return [123*#1]\no2 endif\no1 endsub [4712]\n\
+                   o1 call [2]\nG0 X#<_value> Y#<_value_returned>\n\
+                   o1 call [0]\nG0 X#<_value>\nM2\n";
+    let (moves, codes) = moves("linuxcnc", program);
+    assert_eq!(codes, Vec::<&str>::new());
+    expect![[r#"
+        STRAIGHT_TRAVERSE(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(246.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(4712.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&moves);
+}
+
+/// `EXISTS[#1]` asks whether an index names a parameter; `EXISTS[##2]` reads the index first.
+#[test]
+fn exists_takes_numbered_parameters_too() {
+    let (moves, codes) = moves("linuxcnc", "#<a>=1\n#2=99999\nG0 X EXISTS[#1] Y EXISTS[##2] Z EXISTS[#<a>] A EXISTS[#<b>]\nM2\n");
+    assert_eq!(codes, Vec::<&str>::new());
+    expect![[r#"
+        STRAIGHT_TRAVERSE(1.0000, 0.0000, 1.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&moves);
+}
+
+/// Centre-format arcs: LinuxCNC accepts a radius difference of 0.028 mm, and a larger one
+/// below 0.1% of the radius (a spiral); the Fanuc dictionary keeps its 0.002 mm.
+#[test]
+fn arc_radius_tolerance_follows_the_dialect() {
+    let spiral = "G21 G17 G90 F100\nG1 X0 Y0\nG2 X6000 I3001.4\nM2\n";
+    let near = "G21 G17 G90 F100\nG1 X0 Y0\nG2 X20.02 I10\nM2\n";
+    let (_, codes) = moves("linuxcnc", spiral);
+    assert!(!codes.contains(&"interp::bad-arc"), "{codes:?}");
+    let (_, codes) = moves("linuxcnc", near);
+    assert!(!codes.contains(&"interp::bad-arc"), "{codes:?}");
+    let (_, codes) = moves("linuxcnc", "G21 G17 G90 F100\nG1 X0 Y0\nG2 X20.1 I10\nM2\n");
+    assert!(codes.contains(&"interp::bad-arc"), "0.1 mm on a 10 mm radius: {codes:?}");
+    let (_, codes) = moves("fanuc", "G21 G17 G90 F100 S1000 M3\nG1 X0 Y0\nG2 X20.02 I10.\nM30\n");
+    assert!(codes.contains(&"interp::bad-arc"), "{codes:?}");
+}
