@@ -213,7 +213,7 @@ impl Cx {
             cycles,
             execution_order,
             recognise,
-            letter_roles: [None; 26],
+            letter_roles: [None; 128],
             g_table: Vec::new(),
             m_table: Vec::new(),
             keyword_codes: Vec::new(),
@@ -419,6 +419,7 @@ impl Cx {
             machine_m_codes: false,
             tapping: TapStyle::RPlane,
             magnitude_rounding: false,
+            motion_in_place: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -441,6 +442,7 @@ impl Cx {
                 "machine-m-codes",
                 "tap-retract",
                 "integer-rounding",
+                "motion-without-axes",
             ],
             &[],
         );
@@ -473,6 +475,17 @@ impl Cx {
         b.arc_relative_tolerance = self.attr(el, "arc-relative-tolerance").map(|_| self.number(el, "arc-relative-tolerance", 0.0));
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
+        b.motion_in_place = match self.attr(el, "motion-without-axes").unwrap_or("mode-only") {
+            "mode-only" => false,
+            "in-place" => true,
+            other => {
+                self.error(
+                    Self::attr_range(el, "motion-without-axes"),
+                    format!("`motion-without-axes` is mode-only or in-place, not `{other}`"),
+                );
+                false
+            }
+        };
         b.magnitude_rounding = match self.attr(el, "integer-rounding").unwrap_or("floor-ceiling") {
             "floor-ceiling" => false,
             "toward-zero" => true,
@@ -507,15 +520,24 @@ impl Cx {
     }
 
     fn addresses(&mut self, el: &Element) -> Vec<AddressDef> {
+        /// Characters that may be an address on their own (LinuxCNC's polar `@` and `^`).
+        const SYMBOL_ADDRESSES: &str = "@^";
         self.shape(el, &[], &["address"]);
         let mut out: Vec<AddressDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "address") {
             self.shape(c, &["name", "role", "form", "mode", "again"], &[]);
             let (Some(name), Some(role)) = (self.required(c, "name"), self.required(c, "role")) else { continue };
             let name = name.to_ascii_uppercase();
-            if name.is_empty() || !name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') || !name.as_bytes()[0].is_ascii_alphabetic()
+            let symbol = name.len() == 1 && SYMBOL_ADDRESSES.contains(name.as_bytes()[0] as char);
+            if !symbol
+                && (name.is_empty()
+                    || !name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
+                    || !name.as_bytes()[0].is_ascii_alphabetic())
             {
-                self.error(Self::attr_range(c, "name"), format!("address name `{name}` must be a letter followed by letters or digits"));
+                self.error(
+                    Self::attr_range(c, "name"),
+                    format!("address name `{name}` must be a letter followed by letters or digits, or one of `{SYMBOL_ADDRESSES}`"),
+                );
                 continue;
             }
             let Some(role) = Role::parse(role).filter(|r| !r.is_internal()) else {
@@ -710,6 +732,7 @@ impl Cx {
                         "any-of",
                         "exclusive",
                         "forms",
+                        "gives-way",
                     ],
                     &[],
                 );
@@ -773,7 +796,8 @@ impl Cx {
                     _ => name,
                 };
                 let forms = self.forms(c);
-                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms });
+                let gives_way = self.bool(c, "gives-way", false);
+                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms, gives_way });
             }
         }
         (groups, codes)

@@ -172,6 +172,9 @@ pub struct Behaviour {
     /// Whether FIX and FUP round toward and away from zero (Fanuc) rather than down and up
     /// (LinuxCNC).
     pub magnitude_rounding: bool,
+    /// Whether a G0 or G1 written in a block without axis words moves to where the tool is
+    /// (a zero-length move, as LinuxCNC emits it) rather than only setting the mode.
+    pub motion_in_place: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.
@@ -368,6 +371,9 @@ pub struct CodeDef {
     pub keyword: Option<KeywordSpec>,
     /// For a data-setting code (G10), what each L value sets.
     pub forms: Vec<(u16, DataForm)>,
+    /// Whether another code of its group in the same block replaces it instead of being an
+    /// error (LinuxCNC's `G80 G0`).
+    pub gives_way: bool,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.
@@ -496,7 +502,8 @@ pub struct Dialect {
     pub execution_order: Vec<Step>,
     /// Evidence that a program is written in this dialect (for folders with none configured).
     pub recognise: Vec<sniff::Evidence>,
-    letter_roles: [Option<Role>; 26],
+    /// Roles of single-character addresses by ASCII code (letters upper case).
+    letter_roles: [Option<Role>; 128],
     g_table: Vec<u16>,
     m_table: Vec<u16>,
     /// Indices of keyword codes, longest keyword first.
@@ -507,11 +514,11 @@ const NO_CODE: u16 = u16::MAX;
 const CODE_TABLE_LEN: usize = 10_000;
 
 impl Dialect {
-    /// The role of a single-letter address, if the dialect defines it.
+    /// The role of a single-letter address (or a symbol address such as LinuxCNC's polar
+    /// `@`), if the dialect defines it.
     #[inline]
     pub fn letter_role(&self, letter: u8) -> Option<Role> {
-        let i = letter.to_ascii_uppercase().wrapping_sub(b'A') as usize;
-        self.letter_roles.get(i).copied().flatten()
+        self.letter_roles.get(letter.to_ascii_uppercase() as usize).copied().flatten()
     }
 
     /// The index in [`Dialect::codes`] of code `letter` `number×10`, if the dialect defines it.
@@ -555,8 +562,7 @@ impl Dialect {
     fn index(mut self) -> Dialect {
         for a in &self.addresses {
             if a.name.len() == 1 && !a.assign {
-                let i = (a.name.as_bytes()[0] - b'A') as usize;
-                self.letter_roles[i] = Some(a.role);
+                self.letter_roles[a.name.as_bytes()[0] as usize] = Some(a.role);
             }
         }
         self.addresses.sort_by(|a, b| b.name.len().cmp(&a.name.len()).then(a.name.cmp(&b.name)));

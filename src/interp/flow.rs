@@ -402,7 +402,18 @@ impl<'a> Driver<'a, '_> {
             }
             return;
         };
-        let label = self.label_text(c);
+        let label = match c.label_expr {
+            // `o#<sub> call`: the label is the parameter's value, a whole number.
+            Some(e) => match self.value(interp, block, e, diags) {
+                Some(v) if v.fract() == 0.0 && (0.0..1e9).contains(&v) => Some(format!("{v}")),
+                Some(v) => {
+                    self.error(diags, Code::MalformedNumber, c.range, format!("a label from a parameter must be a whole number, not {v}"));
+                    return;
+                }
+                None => return,
+            },
+            None => self.label_text(c),
+        };
         let same_label = |m: &Mark, sts: &[Statement]| m.label == label && m.statement.is_some_and(|s| sts.contains(&s));
         match statement {
             Statement::If => {

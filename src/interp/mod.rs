@@ -776,7 +776,15 @@ impl<'a> Interpreter<'a> {
     /// Adds code `idx` to the block's codes; false (with a diagnostic) when its group already has one.
     fn push_code(&mut self, idx: usize, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
         let def = self.code(idx);
-        if let Some(&(other, _)) = self.codes.iter().find(|(c, _)| self.code(*c).group == def.group) {
+        if let Some(k) = self.codes.iter().position(|(c, _)| self.code(*c).group == def.group) {
+            let other = self.codes[k].0;
+            if def.gives_way {
+                return true;
+            }
+            if self.code(other).gives_way {
+                self.codes[k] = (idx, range);
+                return true;
+            }
             diags.push(Diagnostic::new(
                 Code::ModalGroupConflict,
                 range,
@@ -1470,7 +1478,8 @@ impl<'a> Interpreter<'a> {
                 self.st.motion_code = Some(c);
                 let full_circle = matches!(def.meaning, Meaning::ArcCw | Meaning::ArcCcw)
                     && [Role::I, Role::J, Role::K].iter().any(|&r| self.slots[r as usize].is_some());
-                if self.has_axes || full_circle {
+                let in_place = self.dialect.behaviour.motion_in_place && matches!(def.meaning, Meaning::Rapid | Meaning::Linear);
+                if self.has_axes || full_circle || in_place {
                     self.motion(def, range, block, sink, diags);
                 }
             }

@@ -85,6 +85,8 @@ pub struct Control {
     pub range: TextRange,
     /// The label after the control word (`100` or `name` in `o<name>`), if any.
     pub label: Option<TextRange>,
+    /// A label given by a parameter or expression (`o#<sub> call`), read when the block runs.
+    pub label_expr: Option<ExprId>,
     /// The first keyword as written.
     pub keyword: Option<TextRange>,
     /// What the first keyword does; `None` when the dialect does not know it.

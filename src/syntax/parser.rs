@@ -187,6 +187,15 @@ impl Lexer<'_, '_> {
                 continue;
             }
             let start = self.i;
+            if let Some(role) = self.dialect.letter_role(c).filter(|_| c.is_ascii_punctuation()) {
+                // A symbol address (`@-.0025 ^4.5`).
+                self.i += 1;
+                if let Some(value) = self.value(start) {
+                    let range = TextRange::new(start, self.i);
+                    self.block.words.push(Word { role, letter: c, value, range, mode: WordMode::Modal, cycle_arg: false });
+                }
+                continue;
+            }
             let len = self.char_len(start);
             let shown = &self.text[start..start + len];
             self.error(Code::UnknownAddress, start, start + len, format!("unexpected character `{shown}`"));
@@ -800,6 +809,7 @@ impl Lexer<'_, '_> {
     /// and its bracketed operands.
     fn control_word(&mut self, start: usize) {
         self.skip_blanks();
+        let mut label_expr = None;
         let label = if self.peek() == Some(b'<') {
             let from = self.i + 1;
             let eol = self.line_end();
@@ -814,6 +824,17 @@ impl Lexer<'_, '_> {
                     return;
                 }
             }
+        } else if self.peek().is_some()
+            && (self.peek() == self.dialect.lexical.parameter.map(|(s, _)| s as u8) || self.peek() == self.expr_open())
+        {
+            // `o#<sub> call`, `o[#1+100] call`: the number comes from a parameter.
+            let from = self.i;
+            label_expr = self.unary(0);
+            if label_expr.is_none() {
+                self.i = self.line_end();
+                return;
+            }
+            Some(TextRange::new(from, self.i))
         } else {
             let from = self.i;
             while self.peek().is_some_and(|c| c.is_ascii_digit()) {
@@ -828,7 +849,7 @@ impl Lexer<'_, '_> {
         }
         self.skip_blanks();
         let kw = self.alpha_run();
-        let mut control = Control { label, ..Control::default() };
+        let mut control = Control { label, label_expr, ..Control::default() };
         if !kw.is_empty() {
             control.keyword = Some(kw);
             control.statement = self.dialect.macros.statement(&self.text[kw.start as usize..kw.end as usize]);

@@ -349,3 +349,25 @@ fn arc_radius_tolerance_follows_the_dialect() {
     let (_, codes) = moves("fanuc", "G21 G17 G90 F100 S1000 M3\nG1 X0 Y0\nG2 X20.02 I10.\nM30\n");
     assert!(codes.contains(&"interp::bad-arc"), "{codes:?}");
 }
+
+/// LinuxCNC forms the canonical output has to follow: polar `@`/`^` words (in G91 they add
+/// to the distance and angle about the origin), `G80` giving way to a motion code of its
+/// group, a G0 without axis words moving in place, and `o#<n> call`.
+#[test]
+fn linuxcnc_polar_words_g80_with_motion_and_indirect_calls() {
+    let program = "G20 G0 X1 Y0\nG91 G1 @-.0025 ^4.5 F10\nG90 G80 G0\nG0 @2 ^90\n\
+                   o2 sub\nG0 X3\no2 endsub\n#<n>=2\no#<n> call\nM2\n";
+    let (moves, codes) = moves("linuxcnc", program);
+    assert_eq!(codes, ["interp::cutting-without-technology"]);
+    expect![[r#"
+        STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(0.9944, 0.0783, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(0.9944, 0.0783, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(0.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(3.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    "#]]
+    .assert_eq(&moves);
+    // Fanuc keeps G80 and G0 apart (its own group) and a bare G0 only sets the mode.
+    let (fanuc, _) = self::moves("fanuc", "G0 X1.\nG80 G0\nM30\n");
+    assert_eq!(fanuc.lines().count(), 1, "{fanuc}");
+}
