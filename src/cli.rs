@@ -271,8 +271,15 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         Command::Canon { input, lines } => {
             let (d, config, bytes) = input_setup(&input)?;
             let (source, mut diags) = crate::text::decode_owned(bytes);
-            let mut printer = Printer { out: &mut out, buf: Vec::with_capacity(256), writer: CallWriter::default(), lines, error: None };
+            let mut printer = Printer {
+                out: &mut out,
+                buf: Vec::with_capacity(Printer::<Vec<u8>>::CHUNK + 256),
+                writer: CallWriter::default(),
+                lines,
+                error: None,
+            };
             diags.extend(crate::interp::interpret(&source.text, &d, &config.profile, &mut printer));
+            printer.flush();
             if let Some(e) = printer.error.take() {
                 return Err(e.into());
             }
@@ -438,18 +445,31 @@ struct Printer<'w, W: Write> {
     error: Option<std::io::Error>,
 }
 
+impl<W: Write> Printer<'_, W> {
+    /// Lines are gathered into chunks of about this size before they are written.
+    const CHUNK: usize = 64 * 1024;
+
+    fn flush(&mut self) {
+        if self.error.is_none()
+            && let Err(e) = self.out.write_all(&self.buf)
+        {
+            self.error = Some(e);
+        }
+        self.buf.clear();
+    }
+}
+
 impl<W: Write> CanonSink for Printer<'_, W> {
     fn emit(&mut self, canon: Canon) {
         if self.error.is_some() {
             return;
         }
-        self.buf.clear();
         if self.lines {
             let _ = write!(self.buf, "{:>6} ", canon.line);
         }
         self.writer.write(&mut self.buf, &canon.op);
-        if let Err(e) = self.out.write_all(&self.buf) {
-            self.error = Some(e);
+        if self.buf.len() >= Self::CHUNK {
+            self.flush();
         }
     }
 }

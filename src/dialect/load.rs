@@ -214,6 +214,7 @@ impl Cx {
             execution_order,
             recognise,
             letter_roles: [None; 128],
+            plain_roles: [None; 128],
             g_table: Vec::new(),
             m_table: Vec::new(),
             keyword_codes: Vec::new(),
@@ -389,7 +390,7 @@ impl Cx {
                 "foreign" => {
                     self.shape(c, &["regex", "name"], &[]);
                     let (Some(src), Some(name)) = (self.required(c, "regex"), self.required(c, "name")) else { continue };
-                    match regex::Regex::new(src) {
+                    match super::Pattern::new(src) {
                         Ok(re) => lex.foreign.push((re, name.to_owned())),
                         Err(e) => self.error(Self::attr_range(c, "regex"), format!("invalid regular expression: {e}")),
                     }
@@ -931,7 +932,7 @@ impl Cx {
                 "marker" => {
                     self.shape(c, &["regex", "weight", "label"], &[]);
                     let Some(src) = self.required(c, "regex") else { continue };
-                    match regex::Regex::new(src) {
+                    match super::Pattern::new(src) {
                         Ok(re) => {
                             let label = self.attr(c, "label").unwrap_or(src).to_owned();
                             out.push(Evidence { label, marker: Marker::Pattern(re), weight });

@@ -107,7 +107,30 @@ pub struct Lexical {
     pub control_word: Option<char>,
     /// Other program formats that files for this control may hold (a conversational
     /// format exported as text), told by a pattern at the start, with what they are.
-    pub foreign: Vec<(regex::Regex, String)>,
+    pub foreign: Vec<(Pattern, String)>,
+}
+
+/// A regular expression from a dictionary: checked when the dictionary loads, compiled when
+/// first used. Compiling every pattern of every shipped dialect costs more than reading a
+/// short program, and most runs use none of them.
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    source: String,
+    compiled: std::sync::OnceLock<regex::Regex>,
+}
+
+impl Pattern {
+    /// Checks `source`; the error says what is wrong with it.
+    pub fn new(source: &str) -> Result<Pattern, String> {
+        regex_syntax::Parser::new().parse(source).map_err(|e| e.to_string())?;
+        Ok(Pattern { source: source.to_owned(), compiled: std::sync::OnceLock::new() })
+    }
+
+    /// The compiled expression. One that passed the check but cannot be compiled (past the
+    /// size limit) matches nothing.
+    pub fn regex(&self) -> &regex::Regex {
+        self.compiled.get_or_init(|| regex::Regex::new(&self.source).unwrap_or_else(|_| regex::Regex::new("[^\\s\\S]").expect("valid")))
+    }
 }
 
 /// The decimal-point input rule.
@@ -504,6 +527,9 @@ pub struct Dialect {
     pub recognise: Vec<sniff::Evidence>,
     /// Roles of single-character addresses by ASCII code (letters upper case).
     letter_roles: [Option<Role>; 128],
+    /// The letters whose word followed by a digit is always that address and a number
+    /// (`X10.5`): nothing else the dialect reads starts that way.
+    plain_roles: [Option<Role>; 128],
     g_table: Vec<u16>,
     m_table: Vec<u16>,
     /// Indices of keyword codes, longest keyword first.
@@ -549,6 +575,13 @@ impl Dialect {
         self.addresses.iter().take_while(|a| a.name.len() > 1)
     }
 
+    /// The role of `letter` when a digit follows it and the word can only be that address
+    /// with a literal number (the lexer's fast path); `None` where it needs the full rules.
+    #[inline]
+    pub fn plain_role(&self, letter: u8) -> Option<Role> {
+        self.plain_roles.get(letter.to_ascii_uppercase() as usize).copied().flatten()
+    }
+
     /// Keyword codes, longest keyword first (so that `CYCL CALL PAT` wins over `CYCL CALL`).
     pub fn keyword_codes(&self) -> impl Iterator<Item = (usize, &KeywordSpec)> {
         self.keyword_codes.iter().filter_map(|&i| self.codes[i].keyword.as_ref().map(|k| (i, k)))
@@ -566,6 +599,24 @@ impl Dialect {
             }
         }
         self.addresses.sort_by(|a, b| b.name.len().cmp(&a.name.len()).then(a.name.cmp(&b.name)));
+        let lex = &self.lexical;
+        // Labels (`AB1:`) and variables (`XY1=`) can start like a word; so can a parameter
+        // (`Q1 = 5`), a longer address (`I1=`) or a keyword (`L`, `R0`).
+        if lex.label_suffix.is_none() && !lex.identifier_variables {
+            for c in b'A'..=b'Z' {
+                let ch = Some(c as char);
+                let special = [lex.control_word, lex.block_number, lex.program_number, lex.program_number_alt].contains(&ch)
+                    || lex.parameter.is_some_and(|(s, _)| s.eq_ignore_ascii_case(&(c as char)))
+                    || self.addresses.iter().any(|a| a.name.len() > 1 && a.name.as_bytes()[0] == c)
+                    || self.codes.iter().filter_map(|k| k.keyword.as_ref()).any(|k| {
+                        let t = k.text.as_bytes();
+                        t[0] == c && t.get(1).is_none_or(|&n| n.is_ascii_digit() || n == b'.' || n == b' ')
+                    });
+                if !special {
+                    self.plain_roles[c as usize] = self.letter_roles[c as usize];
+                }
+            }
+        }
         self.g_table = vec![NO_CODE; CODE_TABLE_LEN];
         self.m_table = vec![NO_CODE; CODE_TABLE_LEN];
         self.keyword_codes = (0..self.codes.len()).filter(|&i| self.codes[i].keyword.is_some()).collect();
@@ -578,5 +629,19 @@ impl Dialect {
             table[c.number as usize] = u16::try_from(i).unwrap_or(NO_CODE);
         }
         self
+    }
+}
+
+#[cfg(test)]
+mod pattern_tests {
+    use super::Pattern;
+
+    #[test]
+    fn patterns_are_checked_at_once_and_compiled_on_use() {
+        assert!(Pattern::new("(unclosed").unwrap_err().contains("unclosed"));
+        let p = Pattern::new(r"^G300\s*U").unwrap();
+        assert!(p.regex().is_match("G300 U0"));
+        // The fallback for a pattern that cannot be compiled is itself valid and matches nothing.
+        assert!(!regex::Regex::new(r"[^\s\S]").unwrap().is_match("anything"));
     }
 }

@@ -10,7 +10,7 @@ pub enum Marker {
     /// The file name ends in `.ext` (case-insensitive).
     Extension(String),
     /// The text matches.
-    Pattern(regex::Regex),
+    Pattern(super::Pattern),
 }
 
 /// Evidence with its weight.
@@ -74,7 +74,7 @@ fn score(d: &Dialect, text: &str, file_name: Option<&str>) -> (u32, Vec<String>)
     for e in &d.recognise {
         let hit = match &e.marker {
             Marker::Extension(x) => ext.as_deref() == Some(x.as_str()),
-            Marker::Pattern(re) => re.is_match(text),
+            Marker::Pattern(re) => re.regex().is_match(text),
         };
         if hit {
             total += e.weight;

@@ -111,7 +111,7 @@ fn foreign(text: &str, dialect: &Dialect) -> Option<Diagnostic> {
         end -= 1;
     }
     dialect.lexical.foreign.iter().find_map(|(re, name)| {
-        let m = re.find(&text[..end])?;
+        let m = re.regex().find(&text[..end])?;
         let msg = format!("this is {name}, not a program in the {} dialect; it was stored but not interpreted", dialect.name);
         Some(Diagnostic::new(Code::ForeignFormat, TextRange::new(m.start(), m.end()), msg))
     })

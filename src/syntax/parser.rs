@@ -287,6 +287,27 @@ impl Lexer<'_, '_> {
 
     fn address(&mut self) {
         let start = self.i;
+        // Fast path: `X10.5`, `Y-.25`: a plain address with a literal number.
+        if let Some(role) = self.dialect.plain_role(self.b[start]) {
+            let digit_at = |j: usize| self.b.get(j).is_some_and(|&c| c.is_ascii_digit() || c == b'.');
+            let literal = digit_at(start + 1) || (matches!(self.b.get(start + 1), Some(b'-' | b'+')) && digit_at(start + 2));
+            if literal {
+                self.i += 1;
+                if let Some((value, decimal)) = self.number() {
+                    let letter = self.b[start].to_ascii_uppercase();
+                    let range = TextRange::new(start, self.i);
+                    self.block.words.push(Word {
+                        role,
+                        letter,
+                        value: Value::Number { value, decimal },
+                        range,
+                        mode: WordMode::Modal,
+                        cycle_arg: false,
+                    });
+                }
+                return;
+            }
+        }
         let lex = &self.dialect.lexical;
         if let Some(suffix) = lex.label_suffix {
             let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
