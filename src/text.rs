@@ -133,14 +133,32 @@ pub fn decode(bytes: &[u8]) -> (SourceText, Vec<Diagnostic>) {
         return (SourceText { text: String::new(), encoding: Encoding::Binary }, diags);
     }
     match std::str::from_utf8(body) {
-        Ok(s) => (SourceText { text: s.to_owned(), encoding: Encoding::Utf8 }, diags),
+        Ok(s) => (SourceText { text: blank_stray_returns(s.to_owned()), encoding: Encoding::Utf8 }, diags),
         Err(e) => {
             let text: String = body.iter().map(|&b| windows_1252(b)).collect();
             let msg = format!("the file is not valid UTF-8 (first at byte {}); it was read as Windows-1252 (Latin-1)", e.valid_up_to());
             diags.push(Diagnostic::new(Code::NotUtf8, TextRange::default(), msg));
-            (SourceText { text, encoding: Encoding::Windows1252 }, diags)
+            (SourceText { text: blank_stray_returns(text), encoding: Encoding::Windows1252 }, diags)
         }
     }
+}
+
+/// In a file whose lines end in LF or CRLF, a carriage return on its own inside a line (a
+/// post processor's stray byte) is a blank, not a line end; only a file without any LF
+/// (classic Mac) ends its lines in CR. The text keeps its length, so offsets hold.
+fn blank_stray_returns(text: String) -> String {
+    let b = text.as_bytes();
+    let stray = |i: usize| b[i] == b'\r' && b.get(i + 1) != Some(&b'\n');
+    if !b.contains(&b'\r') || !b.contains(&b'\n') || !(0..b.len()).any(stray) {
+        return text;
+    }
+    let mut bytes = text.into_bytes();
+    for i in 0..bytes.len() {
+        if bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n') {
+            bytes[i] = b' ';
+        }
+    }
+    String::from_utf8(bytes).expect("an ASCII byte replaced by another keeps UTF-8 valid")
 }
 
 /// [`decode`] that takes the bytes and, for UTF-8 input (the common case), keeps them as the
@@ -153,7 +171,7 @@ pub fn decode_owned(mut bytes: Vec<u8>) -> (SourceText, Vec<Diagnostic>) {
         return decode(&bytes);
     }
     match String::from_utf8(bytes) {
-        Ok(text) => (SourceText { text, encoding: Encoding::Utf8 }, Vec::new()),
+        Ok(text) => (SourceText { text: blank_stray_returns(text), encoding: Encoding::Utf8 }, Vec::new()),
         Err(e) => decode(e.as_bytes()),
     }
 }
@@ -182,6 +200,14 @@ fn windows_1252(b: u8) -> char {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_stray_carriage_return_is_a_blank_unless_the_file_ends_lines_in_cr() {
+        let (t, _) = decode(b"N1 ;COMMENT\r REST\nN2 G0\r\nN3\r");
+        assert_eq!(t.text, "N1 ;COMMENT  REST\nN2 G0\r\nN3 ");
+        let (t, _) = decode_owned(b"N1 G0\rN2 G1\r".to_vec());
+        assert_eq!(t.text, "N1 G0\rN2 G1\r", "a CR-only file keeps its line ends");
+    }
 
     #[test]
     fn owned_decoding_agrees_with_borrowed() {

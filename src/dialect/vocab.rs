@@ -351,6 +351,9 @@ vocab! {
         /// A polar end point's angle about the pole, in degrees from the plane's first axis
         /// (Heidenhain `PA`).
         PolarAngle = "polar-angle",
+        /// Raises a program alarm with this number: the run stops with an error (Heidenhain
+        /// `FN 14: ERROR= 1005`).
+        AlarmNumber = "alarm-number",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

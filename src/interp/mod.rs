@@ -563,6 +563,9 @@ impl<'a> Interpreter<'a> {
         if !early {
             self.assign(block, diags);
         }
+        if let Some(s) = self.slots[Role::AlarmNumber as usize] {
+            self.alarm(block, 0.0, s.value, s.range, diags);
+        }
         if self.st.ended {
             return;
         }
