@@ -218,6 +218,12 @@ vocab! {
         FrameMirror = "frame-mirror",
         /// Sets the circle centre / pole from the block's axis words (`CC X+25 Y+25`); alone, the current position.
         Pole = "pole",
+        /// Rounds the corner between the straight moves before and after the block with an
+        /// arc of radius R (`RND R5`).
+        CornerRound = "corner-round",
+        /// Chamfers the corner between the straight moves before and after the block, cutting
+        /// back the given length along each (`CHF 2`).
+        CornerChamfer = "corner-chamfer",
         /// An arc about the pole to the block's end point (`C X Y DR-`); the direction from the block or the last arc.
         ArcPole = "arc-pole",
         /// An arc with a given radius (`CR X Y R+5 DR-`); the direction from the block or the last arc.

@@ -12,30 +12,30 @@
 
 use crate::canon::{Canon, CanonOp, CanonSink};
 
-type V2 = (f64, f64);
+pub(super) type V2 = (f64, f64);
 
-fn sub(a: V2, b: V2) -> V2 {
+pub(super) fn sub(a: V2, b: V2) -> V2 {
     (a.0 - b.0, a.1 - b.1)
 }
 
-fn add(a: V2, b: V2) -> V2 {
+pub(super) fn add(a: V2, b: V2) -> V2 {
     (a.0 + b.0, a.1 + b.1)
 }
 
-fn scale(a: V2, k: f64) -> V2 {
+pub(super) fn scale(a: V2, k: f64) -> V2 {
     (a.0 * k, a.1 * k)
 }
 
-fn len(a: V2) -> f64 {
+pub(super) fn len(a: V2) -> f64 {
     a.0.hypot(a.1)
 }
 
-fn unit(a: V2) -> V2 {
+pub(super) fn unit(a: V2) -> V2 {
     let l = len(a);
     if l < 1e-12 { (0.0, 0.0) } else { scale(a, 1.0 / l) }
 }
 
-fn cross(a: V2, b: V2) -> f64 {
+pub(super) fn cross(a: V2, b: V2) -> f64 {
     a.0 * b.1 - a.1 * b.0
 }
 
@@ -119,6 +119,11 @@ impl Comp {
     /// Compensation starting at programmed (and tool) point `at`.
     pub(super) fn new(side: Side, radius: f64, at: V2) -> Comp {
         Comp { side, radius, entry: true, held: None, queue: Vec::new(), programmed: at, tool: at }
+    }
+
+    /// Whether compensation runs to this side with this radius already (a repeated `RL`).
+    pub(super) fn runs(&self, side: Side, radius: f64) -> bool {
+        self.side == side && (self.radius - radius).abs() < 1e-12
     }
 
     fn normal(&self, t: V2) -> V2 {

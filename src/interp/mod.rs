@@ -7,6 +7,7 @@
 //! diagnostics and an erroneous block is skipped.
 
 mod comp;
+mod corner;
 mod cycle;
 mod define;
 pub mod eval;
@@ -277,6 +278,8 @@ pub struct Interpreter<'a> {
     tool_edits: BTreeMap<u32, ToolEdit>,
     /// Cutter radius compensation while G41/G42 is on with a known radius.
     comp: std::cell::RefCell<Option<comp::Comp>>,
+    /// Corner blocks (`RND`, `CHF`), where the dialect has them: the stage before compensation.
+    corners: std::cell::RefCell<Option<corner::Corners>>,
     /// A compensation problem met while emitting, reported after the block.
     comp_problem: std::cell::Cell<Option<comp::CompProblem>>,
     /// Where ops come from while a subprogram from another file runs: the call block.
@@ -363,6 +366,13 @@ impl<'a> Interpreter<'a> {
             stop_message: None,
             tool_edits: BTreeMap::new(),
             comp: std::cell::RefCell::new(None),
+            corners: std::cell::RefCell::new(
+                dialect
+                    .codes
+                    .iter()
+                    .any(|c| matches!(c.meaning, Meaning::CornerRound | Meaning::CornerChamfer))
+                    .then(corner::Corners::default),
+            ),
             comp_problem: std::cell::Cell::new(None),
             origin_override: None,
             block_cycle: None,
@@ -400,6 +410,20 @@ impl<'a> Interpreter<'a> {
         let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
         let op = if self.st.rotation.is_some() || self.st.scaling.is_some() { self.transform(op) } else { op };
         let canon = Canon { op, origin, line };
+        let mut corners = self.corners.borrow_mut();
+        match corners.as_mut() {
+            None => self.compensate(canon, sink),
+            Some(k) => {
+                k.push(canon);
+                for c in k.released.drain(..) {
+                    self.compensate(c, sink);
+                }
+            }
+        }
+    }
+
+    /// The stage after corners: cutter compensation when it is on, else the sink.
+    fn compensate(&self, canon: Canon, sink: &mut dyn CanonSink) {
         let mut comp = self.comp.borrow_mut();
         match comp.as_mut() {
             None => sink.emit(canon),
@@ -416,8 +440,23 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// Sends on what the corner stage holds (before compensation changes or ends).
+    fn corners_out(&self, sink: &mut dyn CanonSink) {
+        let mut corners = self.corners.borrow_mut();
+        if let Some(k) = corners.as_mut() {
+            k.finish();
+            for c in k.released.drain(..) {
+                self.compensate(c, sink);
+            }
+        }
+    }
+
     /// Ends cutter compensation: the held-back moves go out.
     fn comp_off(&self, sink: &mut dyn CanonSink) {
+        if self.comp.borrow().is_none() {
+            return;
+        }
+        self.corners_out(sink);
         if let Some(c) = self.comp.borrow_mut().take() {
             c.finish(sink);
         }
@@ -534,6 +573,16 @@ impl<'a> Interpreter<'a> {
         self.execute_block(block, sink, diags);
         if self.comp_problem.get().is_some() {
             self.comp_report(diags);
+        }
+        self.corner_report(diags);
+    }
+
+    /// Reports a corner block that could not be made while emitting the last block.
+    fn corner_report(&mut self, diags: &mut Vec<Diagnostic>) {
+        let problem = self.corners.get_mut().as_mut().and_then(|k| k.problem.take());
+        if let Some(p) = problem {
+            let msg = format!("the corner is left sharp: {}", p.describe());
+            diags.push(Diagnostic::new(Code::BadArc, self.origin, msg));
         }
     }
 
@@ -1275,15 +1324,20 @@ impl<'a> Interpreter<'a> {
                     let diameter = self.tool_diameter(tool);
                     diameter.filter(|_| !by_diameter).map(|d| d / 2.0)
                 });
+                let side =
+                    if matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter) { comp::Side::Left } else { comp::Side::Right };
+                // A D diameter is in program units; the tool table is in millimetres.
+                let radius = radius.map(|r| if by_diameter { r } else { r / self.st.units.to_mm() });
+                if let Some(r) = radius
+                    && self.comp.borrow().as_ref().is_some_and(|c| c.runs(side, r))
+                {
+                    // Written again on a later block (`L X+10 RL`): compensation goes on.
+                    return;
+                }
                 self.comp_off(sink);
+                // Moves held before compensation starts are not compensated.
+                self.corners_out(sink);
                 if let Some(r) = radius.filter(|_| self.st.plane == Plane::Xy) {
-                    let side = if matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter) {
-                        comp::Side::Left
-                    } else {
-                        comp::Side::Right
-                    };
-                    // A D diameter is in program units; the tool table is in millimetres.
-                    let r = if by_diameter { r } else { r / self.st.units.to_mm() };
                     *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, (self.st.pos[0], self.st.pos[1])));
                     return;
                 }
@@ -1526,6 +1580,19 @@ impl<'a> Interpreter<'a> {
             Meaning::Other | Meaning::LatheMode | Meaning::ProgramBegin => {}
             Meaning::Stock => self.stock_corner(sink),
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
+            Meaning::CornerRound | Meaning::CornerChamfer => {
+                let size = if def.meaning == Meaning::CornerRound { self.slot(Role::R) } else { self.slot(Role::Geometry) };
+                match size {
+                    Some(v) if v > 0.0 => {
+                        let corner =
+                            if def.meaning == Meaning::CornerRound { corner::Corner::Round(v) } else { corner::Corner::Chamfer(v) };
+                        if let Some(k) = self.corners.get_mut().as_mut() {
+                            k.mark(corner, self.origin, self.line);
+                        }
+                    }
+                    _ => diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs a size above zero", def.label()))),
+                }
+            }
             Meaning::Pole => {
                 let t = self.target();
                 let (a0, a1, _) = self.st.plane.axes();

@@ -352,3 +352,41 @@ N110 M30
     let (_, errors) = canon("siemens", "G17 G90 G0 X0 Y0\nG1 F100\nCIP X20 Y0 I1=10 J1=0\nM30\n");
     assert_eq!(errors, ["interp::bad-arc"], "three points on a line");
 }
+
+/// Heidenhain `RND R` and `CHF` between two straight moves: the first move stops at the
+/// tangent point, the arc (about a centre inside the turn) or the chamfer follows, and the
+/// next move starts at the second tangent point. A feed on the corner block applies from the
+/// corner on. A corner without a straight move after it stays sharp with a warning.
+#[test]
+fn heidenhain_rounds_and_chamfers_corners_written_between_moves() {
+    let program = "0 BEGIN PGM CORNERS MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z-5 R0 F100 M3\n\
+                   3 L X+20 Y+0\n4 RND R5 F50\n5 L X+20 Y+20\n6 CHF 2\n7 L X+0 Y+20\n8 RND R3\n9 L Z+10 FMAX\n10 END PGM CORNERS MM\n";
+    let d = Registry::shipped().get("heidenhain").unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    let mut text = String::new();
+    for c in &out {
+        if matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::SetFeedRate(_)) {
+            write_call(&mut text, &c.op);
+        }
+    }
+    expect_test::expect![[r#"
+        SET_FEED_RATE(100.0000)
+        STRAIGHT_FEED(0.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(15.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(50.0000)
+        ARC_FEED(20.0000, 5.0000, 15.0000, 5.0000, 1, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(20.0000, 18.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(18.0000, 20.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(0.0000, 20.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(0.0000, 20.0000, 10.0000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(0.0000)
+    "#]]
+    .assert_eq(&text);
+    let warnings: Vec<_> = diags.iter().map(|d| (d.code.as_str(), d.message.as_str())).collect();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].1.contains("followed by a straight feed move"), "{warnings:?}");
+    // A radius too large for the moves beside the corner is reported, and the corner stays sharp.
+    let (text, _) = canon("heidenhain", "0 BEGIN PGM C MM\n1 L X+0 Y+0 R0 F100\n2 L X+4 Y+0\n3 RND R10\n4 L X+4 Y+4\n5 END PGM C MM\n");
+    assert!(text.contains("STRAIGHT_FEED(4.0000, 0.0000"), "{text}");
+}

@@ -1,0 +1,181 @@
+//! Corners written as blocks of their own between two straight moves in the XY plane:
+//! rounded (Heidenhain `RND R5`) or chamfered (`CHF 2`).
+//!
+//! The corner block stands between the two moves, so the first move cannot go out until the
+//! second is known. Where the dialect has corner blocks, the last straight feed is held back
+//! here, with the ops that follow it (a feed change on the corner block), until the next move
+//! arrives. A marked corner then shortens the held move to the first tangent point, adds the
+//! arc or chamfer from the corner block, and the next move starts at the second tangent
+//! point. Memory stays bounded: one move and the ops of about one block.
+
+use super::comp::{V2, add, cross, len, scale, sub, unit};
+use crate::canon::{Canon, CanonOp};
+use crate::text::TextRange;
+
+/// What a corner block asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Corner {
+    /// An arc of this radius, tangent to both moves.
+    Round(f64),
+    /// A straight cut this far back from the corner along each move.
+    Chamfer(f64),
+}
+
+/// Why a corner was left sharp.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum CornerProblem {
+    /// The corner block does not follow a straight feed move.
+    NoMoveBefore,
+    /// The corner block is not followed by a straight feed move (an arc, a rapid, the end).
+    NoMoveAfter,
+    /// A move of the corner changes Z, or the corner is not in the XY plane.
+    NotPlanar,
+    /// The arc or chamfer is longer than one of the moves.
+    TooLarge,
+}
+
+impl CornerProblem {
+    pub(super) fn describe(self) -> &'static str {
+        match self {
+            CornerProblem::NoMoveBefore => "it must follow a straight feed move in the XY plane",
+            CornerProblem::NoMoveAfter => "it must be followed by a straight feed move in the XY plane",
+            CornerProblem::NotPlanar => "rounding and chamfers are computed for corners in the XY plane only",
+            CornerProblem::TooLarge => "it does not fit: it is longer than one of the moves beside the corner",
+        }
+    }
+}
+
+/// The corner stage between the interpreter and cutter compensation.
+#[derive(Default)]
+pub(super) struct Corners {
+    /// Where the tool is after the last move seen, when known.
+    pos: Option<[f64; 6]>,
+    /// The held straight feed and where it starts, then the ops that followed it.
+    held: Option<([f64; 6], Canon)>,
+    after: Vec<Canon>,
+    /// A corner block waiting for the next move: what, and its block's range and line.
+    pending: Option<(Corner, TextRange, u32)>,
+    /// Ops settled and ready to go on, in order.
+    pub(super) released: Vec<Canon>,
+    /// The last corner that could not be made.
+    pub(super) problem: Option<CornerProblem>,
+}
+
+impl Corners {
+    /// A corner block: the corner at the end of the held move is to be rounded or chamfered.
+    pub(super) fn mark(&mut self, corner: Corner, origin: TextRange, line: u32) {
+        if self.held.is_none() || self.pending.is_some() {
+            self.problem = Some(CornerProblem::NoMoveBefore);
+            return;
+        }
+        self.pending = Some((corner, origin, line));
+    }
+
+    /// Takes one op; what is settled goes to [`Corners::released`].
+    pub(super) fn push(&mut self, canon: Canon) {
+        match canon.op {
+            CanonOp::StraightFeed(end) => {
+                let start = self.pos.unwrap_or(end);
+                if let Some((corner, origin, line)) = self.pending.take() {
+                    self.make_corner(corner, origin, line, start, end);
+                } else {
+                    self.release_held();
+                }
+                // The move starts where the corner left the tool (its second tangent point).
+                let from = self.pos.unwrap_or(start);
+                self.held = Some((from, canon));
+                self.pos = Some(end);
+            }
+            CanonOp::StraightTraverse(p) => {
+                self.moved_otherwise();
+                self.pos = Some(p);
+                self.released.push(canon);
+            }
+            CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
+                self.moved_otherwise();
+                // The stage only works in XY, where the arc's plane axes are X and Y.
+                self.pos = Some([first_end, second_end, axis_end, abc[0], abc[1], abc[2]]);
+                self.released.push(canon);
+            }
+            CanonOp::SelectPlane(_) | CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) | CanonOp::UseToolLengthOffset(_) => {
+                // The coordinates change meaning: nothing held may span the change.
+                self.moved_otherwise();
+                self.pos = None;
+                self.released.push(canon);
+            }
+            _ if self.held.is_some() => self.after.push(canon),
+            _ => self.released.push(canon),
+        }
+    }
+
+    /// The end of the run (or of the stage): everything held goes out.
+    pub(super) fn finish(&mut self) {
+        self.moved_otherwise();
+    }
+
+    fn moved_otherwise(&mut self) {
+        if self.pending.take().is_some() {
+            self.problem = Some(CornerProblem::NoMoveAfter);
+        }
+        self.release_held();
+    }
+
+    fn release_held(&mut self) {
+        if let Some((_, c)) = self.held.take() {
+            self.released.push(c);
+        }
+        self.released.append(&mut self.after);
+    }
+
+    /// Resolves the corner between the held move (ending at the corner) and the move to `end`.
+    fn make_corner(&mut self, corner: Corner, origin: TextRange, line: u32, at: [f64; 6], end: [f64; 6]) {
+        let Some((from, mut first)) = self.held.take() else { return };
+        let planar = from[2] == at[2] && end[2] == at[2] && from[3..] == at[3..] && end[3..] == at[3..];
+        let (s, c, e): (V2, V2, V2) = ((from[0], from[1]), (at[0], at[1]), (end[0], end[1]));
+        let (d1, d2) = (unit(sub(c, s)), unit(sub(e, c)));
+        let turn = cross(d1, d2);
+        let cos = d1.0 * d2.0 + d1.1 * d2.1;
+        if !planar {
+            self.problem = Some(CornerProblem::NotPlanar);
+        }
+        // Along each move, how far from the corner the new element starts and ends.
+        let back = match corner {
+            Corner::Chamfer(l) => l,
+            Corner::Round(r) => r * ((1.0 - cos) / (1.0 + cos).max(1e-12)).sqrt(), // r·tan(θ/2)
+        };
+        let fits = back <= len(sub(c, s)) + 1e-9 && back <= len(sub(e, c)) + 1e-9;
+        if !fits {
+            self.problem = Some(CornerProblem::TooLarge);
+        }
+        if !planar || !fits || turn.abs() < 1e-12 || back <= 0.0 {
+            // A straight continuation has no corner to make; the others were reported.
+            self.held = Some((from, first));
+            self.release_held();
+            return;
+        }
+        let t1 = sub(c, scale(d1, back));
+        let t2 = add(c, scale(d2, back));
+        first.op = CanonOp::StraightFeed([t1.0, t1.1, at[2], at[3], at[4], at[5]]);
+        self.released.push(first);
+        self.released.append(&mut self.after);
+        let op = match corner {
+            Corner::Chamfer(_) => CanonOp::StraightFeed([t2.0, t2.1, at[2], at[3], at[4], at[5]]),
+            Corner::Round(r) => {
+                // The centre lies inside the turn, a radius from the first tangent point.
+                let side = turn.signum();
+                let centre = add(t1, scale((-d1.1, d1.0), side * r));
+                CanonOp::ArcFeed {
+                    first_end: t2.0,
+                    second_end: t2.1,
+                    first_axis: centre.0,
+                    second_axis: centre.1,
+                    rotation: if side > 0.0 { 1 } else { -1 },
+                    axis_end: at[2],
+                    abc: [at[3], at[4], at[5]],
+                }
+            }
+        };
+        self.released.push(Canon { op, origin, line });
+        self.pos = Some([t2.0, t2.1, at[2], at[3], at[4], at[5]]);
+    }
+}
