@@ -224,6 +224,23 @@ vocab! {
         /// Chamfers the corner between the straight moves before and after the block, cutting
         /// back the given length along each (`CHF 2`).
         CornerChamfer = "corner-chamfer",
+        /// Approaches the contour point of the block on a straight line tangent to the first
+        /// contour element, from an auxiliary point LEN before it (`APPR LT`).
+        ApproachTangent = "approach-tangent",
+        /// The same, on a straight line perpendicular to the first contour element, from the
+        /// side of the radius compensation (`APPR LN`).
+        ApproachNormal = "approach-normal",
+        /// An approach on an arc (`APPR CT`, `APPR LCT`): the tool goes straight to the
+        /// contour point, with a warning that the arc is not computed.
+        ApproachArc = "approach-arc",
+        /// Leaves the contour on a straight line of length LEN tangent to its last element (`DEP LT`).
+        DepartTangent = "depart-tangent",
+        /// Leaves the contour on a straight line of length LEN perpendicular to its last
+        /// element, on the side of the radius compensation (`DEP LN`).
+        DepartNormal = "depart-normal",
+        /// A departure on an arc (`DEP CT`, `DEP LCT`): not computed; the tool stays at the
+        /// contour end, with a warning.
+        DepartArc = "depart-arc",
         /// An arc about the pole to the block's end point (`C X Y DR-`); the direction from the block or the last arc.
         ArcPole = "arc-pole",
         /// An arc with a given radius (`CR X Y R+5 DR-`); the direction from the block or the last arc.

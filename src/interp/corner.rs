@@ -1,5 +1,6 @@
 //! Corners written as blocks of their own between two straight moves in the XY plane:
-//! rounded (Heidenhain `RND R5`) or chamfered (`CHF 2`).
+//! rounded (Heidenhain `RND R5`) or chamfered (`CHF 2`); and approaches to a contour that
+//! follow its first element (`APPR LT`, `APPR LN`).
 //!
 //! The corner block stands between the two moves, so the first move cannot go out until the
 //! second is known. Where the dialect has corner blocks, the last straight feed is held back
@@ -21,6 +22,22 @@ pub(super) enum Corner {
     Chamfer(f64),
 }
 
+/// An approach to a contour point, waiting for the contour's first element to know its direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Approach {
+    /// Perpendicular to the first element (`APPR LN`) rather than along it (`APPR LT`).
+    pub normal: bool,
+    /// Distance of the auxiliary point from the contour point.
+    pub len: f64,
+    /// The side of the radius compensation (left for `RL`): where a perpendicular approach comes from.
+    pub left: bool,
+    /// Where the tool is, and the contour point.
+    pub from: [f64; 6],
+    pub to: [f64; 6],
+    pub origin: TextRange,
+    pub line: u32,
+}
+
 /// Why a corner was left sharp.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum CornerProblem {
@@ -32,6 +49,8 @@ pub(super) enum CornerProblem {
     NotPlanar,
     /// The arc or chamfer is longer than one of the moves.
     TooLarge,
+    /// An approach is not followed by a contour element in the XY plane.
+    NoContourAfterApproach,
 }
 
 impl CornerProblem {
@@ -41,6 +60,9 @@ impl CornerProblem {
             CornerProblem::NoMoveAfter => "it must be followed by a straight feed move in the XY plane",
             CornerProblem::NotPlanar => "rounding and chamfers are computed for corners in the XY plane only",
             CornerProblem::TooLarge => "it does not fit: it is longer than one of the moves beside the corner",
+            CornerProblem::NoContourAfterApproach => {
+                "the approach is not followed by a contour element in the XY plane; the tool went straight to the contour point"
+            }
         }
     }
 }
@@ -55,6 +77,8 @@ pub(super) struct Corners {
     after: Vec<Canon>,
     /// A corner block waiting for the next move: what, and its block's range and line.
     pending: Option<(Corner, TextRange, u32)>,
+    /// An approach waiting for the contour's first element.
+    approach: Option<Approach>,
     /// Ops settled and ready to go on, in order.
     pub(super) released: Vec<Canon>,
     /// The last corner that could not be made.
@@ -71,8 +95,33 @@ impl Corners {
         self.pending = Some((corner, origin, line));
     }
 
+    /// An approach block: its moves go out when the first contour element arrives.
+    pub(super) fn approach(&mut self, a: Approach) {
+        self.moved_otherwise();
+        self.approach = Some(a);
+        self.pos = Some(a.to);
+    }
+
     /// Takes one op; what is settled goes to [`Corners::released`].
     pub(super) fn push(&mut self, canon: Canon) {
+        if let Some(a) = self.approach {
+            // Non-moving ops of the next block wait; a move settles the approach.
+            match canon.op {
+                CanonOp::StraightFeed(end) => self.make_approach(a, Some((end[0] - a.to[0], end[1] - a.to[1]))),
+                CanonOp::ArcFeed { first_axis, second_axis, rotation, .. } => {
+                    let r = (a.to[0] - first_axis, a.to[1] - second_axis);
+                    let along = if rotation > 0 { (-r.1, r.0) } else { (r.1, -r.0) };
+                    self.make_approach(a, Some(along));
+                }
+                CanonOp::StraightTraverse(_) | CanonOp::SelectPlane(_) | CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) => {
+                    self.make_approach(a, None)
+                }
+                _ => {
+                    self.after.push(canon);
+                    return;
+                }
+            }
+        }
         match canon.op {
             CanonOp::StraightFeed(end) => {
                 let start = self.pos.unwrap_or(end);
@@ -110,7 +159,33 @@ impl Corners {
 
     /// The end of the run (or of the stage): everything held goes out.
     pub(super) fn finish(&mut self) {
+        if let Some(a) = self.approach {
+            self.make_approach(a, None);
+        }
         self.moved_otherwise();
+    }
+
+    /// The approach's moves, now that the first contour element leaves the contour point in
+    /// direction `along` (`None`: no element; straight to the contour point).
+    fn make_approach(&mut self, a: Approach, along: Option<V2>) {
+        self.approach = None;
+        let at = |p: V2, z: &[f64; 6]| [p.0, p.1, z[2], z[3], z[4], z[5]];
+        let to = (a.to[0], a.to[1]);
+        match along.map(unit).filter(|t| len(*t) > 0.5) {
+            Some(t) => {
+                let aux = if a.normal {
+                    let n = if a.left { (-t.1, t.0) } else { (t.1, -t.0) };
+                    add(to, scale(n, a.len))
+                } else {
+                    sub(to, scale(t, a.len))
+                };
+                // To the auxiliary point at the height the tool is at, then onto the contour.
+                self.released.push(Canon { op: CanonOp::StraightFeed(at(aux, &a.from)), origin: a.origin, line: a.line });
+            }
+            None => self.problem = Some(CornerProblem::NoContourAfterApproach),
+        }
+        self.released.push(Canon { op: CanonOp::StraightFeed(a.to), origin: a.origin, line: a.line });
+        self.released.append(&mut self.after);
     }
 
     fn moved_otherwise(&mut self) {

@@ -241,6 +241,9 @@ struct State {
     cycle_modal: bool,
     /// The direction of travel at the end of the last move in the plane (unit vector).
     tangent: Option<(f64, f64)>,
+    /// The side of the last radius compensation (left: G41, `RL`), which perpendicular
+    /// approaches and departures take.
+    comp_left: bool,
     /// The first corner of a workpiece blank (`BLK FORM 0.1`), waiting for the second.
     blank_min: Option<[f64; 3]>,
 }
@@ -339,6 +342,7 @@ impl<'a> Interpreter<'a> {
                 defined_cycle: None,
                 cycle_modal: false,
                 tangent: None,
+                comp_left: true,
                 blank_min: None,
             },
             params: {
@@ -370,7 +374,12 @@ impl<'a> Interpreter<'a> {
                 dialect
                     .codes
                     .iter()
-                    .any(|c| matches!(c.meaning, Meaning::CornerRound | Meaning::CornerChamfer))
+                    .any(|c| {
+                        matches!(
+                            c.meaning,
+                            Meaning::CornerRound | Meaning::CornerChamfer | Meaning::ApproachTangent | Meaning::ApproachNormal
+                        )
+                    })
                     .then(corner::Corners::default),
             ),
             comp_problem: std::cell::Cell::new(None),
@@ -1326,6 +1335,7 @@ impl<'a> Interpreter<'a> {
                 });
                 let side =
                     if matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter) { comp::Side::Left } else { comp::Side::Right };
+                self.st.comp_left = side == comp::Side::Left;
                 // A D diameter is in program units; the tool table is in millimetres.
                 let radius = radius.map(|r| if by_diameter { r } else { r / self.st.units.to_mm() });
                 if let Some(r) = radius
@@ -1580,6 +1590,12 @@ impl<'a> Interpreter<'a> {
             Meaning::Other | Meaning::LatheMode | Meaning::ProgramBegin => {}
             Meaning::Stock => self.stock_corner(sink),
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
+            Meaning::ApproachTangent
+            | Meaning::ApproachNormal
+            | Meaning::ApproachArc
+            | Meaning::DepartTangent
+            | Meaning::DepartNormal
+            | Meaning::DepartArc => self.motion(def, range, block, sink, diags),
             Meaning::CornerRound | Meaning::CornerChamfer => {
                 let size = if def.meaning == Meaning::CornerRound { self.slot(Role::R) } else { self.slot(Role::Geometry) };
                 match size {

@@ -133,6 +133,8 @@ impl Interpreter<'_> {
             Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint => {
                 self.arc(def, range, block, sink, diags)
             }
+            Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
+            Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
         }
     }
@@ -190,6 +192,68 @@ impl Interpreter<'_> {
     }
 
     /// After a straight move to `t`: its direction in the plane, for a following tangent arc.
+    /// `APPR LT/LN X Y LEN`: the contour point is the block's end point; the auxiliary point
+    /// before it depends on the first contour element, so the corner stage holds the approach
+    /// until that element arrives. An arc approach goes straight to the contour point.
+    fn approach(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        self.check_technology(def, block.range, diags);
+        let to = self.target();
+        let len = self.slot(Role::Geometry).unwrap_or(0.0);
+        let left = self.codes.iter().find_map(|&(c, _)| match self.code(c).meaning {
+            Meaning::CompLeft | Meaning::CompLeftDiameter => Some(true),
+            Meaning::CompRight | Meaning::CompRightDiameter => Some(false),
+            _ => None,
+        });
+        if let Some(l) = left {
+            self.st.comp_left = l;
+        }
+        let staged = def.meaning != Meaning::ApproachArc && len > 0.0 && self.st.plane == Plane::Xy;
+        if staged && let Some(k) = self.corners.get_mut().as_mut() {
+            let (origin, line) = (self.origin, self.line);
+            let normal = def.meaning == Meaning::ApproachNormal;
+            k.approach(super::corner::Approach { normal, len, left: self.st.comp_left, from: self.st.pos, to, origin, line });
+        } else {
+            if def.meaning == Meaning::ApproachArc {
+                let msg = format!("{}: the approach arc is not computed; the tool goes straight to the contour point", def.label());
+                diags.push(Diagnostic::new(Code::Unsupported, range, msg));
+            }
+            self.emit(sink, CanonOp::StraightFeed(to));
+        }
+        self.st.pos = to;
+    }
+
+    /// `DEP LT/LN LEN`: a straight line of length LEN from the contour end, along its last
+    /// element or perpendicular to it on the side of the compensation. An arc departure is
+    /// not computed: the tool stays at the contour end.
+    fn depart(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let (a0, a1, _) = self.st.plane.axes();
+        let len = self.slot(Role::Geometry).unwrap_or(0.0);
+        let direction = self.st.tangent.map(|(x, y)| {
+            let l = x.hypot(y);
+            let t = (x / l, y / l);
+            match def.meaning {
+                Meaning::DepartNormal if self.st.comp_left => (-t.1, t.0),
+                Meaning::DepartNormal => (t.1, -t.0),
+                _ => t,
+            }
+        });
+        let Some(d) = direction.filter(|_| def.meaning != Meaning::DepartArc) else {
+            let why = if def.meaning == Meaning::DepartArc {
+                "the departure arc is not computed"
+            } else {
+                "no contour element before it gives the direction"
+            };
+            diags.push(Diagnostic::new(Code::Unsupported, range, format!("{}: {why}; the tool stays at the contour end", def.label())));
+            return;
+        };
+        self.check_technology(def, block.range, diags);
+        let mut to = self.target();
+        to[a0] = self.st.pos[a0] + len * d.0;
+        to[a1] = self.st.pos[a1] + len * d.1;
+        self.emit(sink, CanonOp::StraightFeed(to));
+        self.st.pos = to;
+    }
+
     fn note_tangent(&mut self, t: [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (d1, d2) = (t[a0] - self.st.pos[a0], t[a1] - self.st.pos[a1]);

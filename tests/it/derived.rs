@@ -390,3 +390,30 @@ fn heidenhain_rounds_and_chamfers_corners_written_between_moves() {
     let (text, _) = canon("heidenhain", "0 BEGIN PGM C MM\n1 L X+0 Y+0 R0 F100\n2 L X+4 Y+0\n3 RND R10\n4 L X+4 Y+4\n5 END PGM C MM\n");
     assert!(text.contains("STRAIGHT_FEED(4.0000, 0.0000"), "{text}");
 }
+
+/// Heidenhain `APPR LT`/`APPR LN` reach the contour point from an auxiliary point LEN away,
+/// along the first contour element or perpendicular to it on the compensation side (known
+/// only when that element arrives); `DEP LT`/`DEP LN` leave along the last element or
+/// perpendicular to it. Arc forms go straight, with a warning.
+#[test]
+fn heidenhain_approaches_and_departures_follow_the_contour() {
+    let program = "0 BEGIN PGM A MM\n1 TOOL CALL 1 Z S1000\n2 L X-20 Y-20 Z-5 R0 FMAX M3\n\
+                   3 APPR LT X+0 Y+0 LEN 10 R0 F100\n4 L X+20 Y+0\n5 L X+20 Y+20\n6 DEP LT LEN 5\n\
+                   7 APPR LN X+0 Y+0 LEN 3 RL\n8 CC X+0 Y+10\n9 C X+0 Y+20 DR+\n10 DEP LN LEN 4 R0\n\
+                   11 APPR CT X+5 Y+5 CCA 90 R5\n12 L Z+10 FMAX\n13 END PGM A MM\n";
+    let (text, errors) = canon("heidenhain", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    expect_test::expect![[r#"
+        STRAIGHT_TRAVERSE(-20.0000, -20.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(-10.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(0.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(20.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(20.0000, 20.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(20.0000, 25.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(0.0000, 3.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(0.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(0.0000, 16.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(5.0000, 5.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(5.0000, 5.0000, 10.0000, 0.0000, 0.0000, 0.0000)"#]]
+    .assert_eq(&moves(&text).join("\n"));
+}
