@@ -33,7 +33,8 @@ fn folder_dialect(folder: &str) -> Option<&'static str> {
         "okuma" => Some("okuma"),
         "siemens" => Some("siemens"),
         "heidenhain" => Some("heidenhain"),
-        "linuxcnc" | "centroid" => Some("linuxcnc"),
+        "linuxcnc" => Some("linuxcnc"),
+        "centroid" => Some("centroid"),
         _ => None,
     }
 }

@@ -20,6 +20,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),
     ("okuma.xml", include_str!("../../dialects/okuma.xml")),
     ("fagor.xml", include_str!("../../dialects/fagor.xml")),
+    ("centroid.xml", include_str!("../../dialects/centroid.xml")),
 ];
 
 /// Known dialects by name, in name order.

@@ -417,3 +417,24 @@ fn heidenhain_approaches_and_departures_follow_the_contour() {
         STRAIGHT_TRAVERSE(5.0000, 5.0000, 10.0000, 0.0000, 0.0000, 0.0000)"#]]
     .assert_eq(&moves(&text).join("\n"));
 }
+
+/// FreeCAD posted the same jobs for Centroid and for LinuxCNC (`../shared/corpus`): read in
+/// their own dialects, with no error, both give the same moves. Centroid's `M25` (Z home) is
+/// kept as intent; the only extra move is the Centroid preamble's `G53 G00` without axes.
+#[test]
+fn centroid_and_linuxcnc_posts_of_one_job_give_the_same_moves() {
+    for (centroid, linuxcnc) in [
+        ("freecad__test_centroid_01.ngc", "freecad__test_linuxcnc_01.ngc"),
+        ("freecad__test_centroid_metric_ref.ngc", "freecad__test_linuxcnc_metric_ref.ngc"),
+    ] {
+        let read = |folder: &str, file: &str| std::fs::read_to_string(crate::shared().join("corpus").join(folder).join(file)).unwrap();
+        let (a, a_errors) = canon("centroid", &read("centroid", centroid));
+        let (b, b_errors) = canon("linuxcnc", &read("linuxcnc", linuxcnc));
+        assert!(a_errors.is_empty() && b_errors.is_empty(), "{a_errors:?} {b_errors:?}");
+        let cutting = |t: &str| {
+            t.lines().filter(|l| l.starts_with("STRAIGHT_FEED") || l.starts_with("ARC_FEED")).map(str::to_owned).collect::<Vec<_>>()
+        };
+        assert!(cutting(&a).len() > 5);
+        assert_eq!(cutting(&a), cutting(&b), "{centroid}");
+    }
+}
