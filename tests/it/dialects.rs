@@ -108,8 +108,11 @@ fn the_dialect_is_told_from_the_text_and_the_file_name() {
     let ngc = "o<probe> sub\n#<depth> = 5\no<probe> endsub\n";
     assert_eq!(r.sniff(ngc, Some("probe.ngc"), "fanuc").dialect, "linuxcnc");
     // No evidence: the default, and a low confidence.
-    let s = r.sniff("G0 X1\n", None, "linuxcnc");
+    let s = r.sniff("G0 X1.5\n", None, "linuxcnc");
     assert_eq!((s.dialect.as_str(), s.confidence, s.score), ("linuxcnc", Confidence::Low, 0));
+    // A whole coordinate without a point reads as millimetres: not Fanuc's least increments.
+    let s = r.sniff("G0 X1.5 Y2.\nG1 Z10 F100\n", None, "fanuc");
+    assert_eq!(s.dialect, "linuxcnc", "{s:?}");
     // Evidence inside a comment does not count: `CR=` in a Fanuc tool comment is not Siemens.
     let s = r.sniff("O1000\n(T1 D=2.7 CR=0 FLAT END MILL)\nG2 X1 Y1 R1\n", Some("a.nc"), "linuxcnc");
     assert_eq!(s.dialect, "fanuc", "{s:?}");
