@@ -252,54 +252,64 @@ impl CanonSink for Vec<Canon> {
 /// hair of a rounding tie, where binary representation decides; those rare values, and
 /// magnitudes beyond 2⁵³/10⁴, go to the standard formatter.
 pub fn push_f4(out: &mut Vec<u8>, v: f64) {
+    let mut buf = [0u8; 32];
+    match f4_fast(v, &mut buf) {
+        Some(len) => out.extend_from_slice(&buf[..len]),
+        None => {
+            let _ = write!(out, "{v:.4}");
+        }
+    }
+}
+
+/// Two decimal digits for each value 0..100.
+const DIGIT_PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
+/// [`push_f4`]'s fast path: writes `v` with four decimals at the start of `buf` and returns
+/// the length, or `None` where the standard formatter must decide (NaN, huge, near a tie).
+fn f4_fast(v: f64, buf: &mut [u8; 32]) -> Option<usize> {
     if v == 0.0 && v.is_sign_positive() {
-        out.extend_from_slice(b"0.0000");
-        return;
+        buf[..6].copy_from_slice(b"0.0000");
+        return Some(6);
     }
     let scaled = v.abs() * 10_000.0;
     if scaled.is_nan() || scaled >= 9.0e15 {
-        let _ = write!(out, "{v:.4}");
-        return;
+        return None;
     }
     let whole = scaled as u64;
     let frac = scaled - whole as f64;
     if (frac - 0.5).abs() < 1e-6 {
-        let _ = write!(out, "{v:.4}");
-        return;
+        return None;
     }
     let n = whole + u64::from(frac > 0.5);
-    let (int, frac) = (n / 10_000, n % 10_000);
-    let mut digits = 1;
-    let mut t = int;
-    while t >= 10 {
-        t /= 10;
-        digits += 1;
+    let (mut int, frac) = (n / 10_000, (n % 10_000) as usize);
+    let digits = match int {
+        0..=9 => 1,
+        10..=99 => 2,
+        100..=999 => 3,
+        1000..=9999 => 4,
+        _ => int.ilog10() as usize + 1,
+    };
+    let sign = usize::from(v.is_sign_negative());
+    let len = sign + digits + 5;
+    buf[0] = b'-';
+    let pair = |k: usize| [DIGIT_PAIRS[2 * k], DIGIT_PAIRS[2 * k + 1]];
+    buf[len - 4..len - 2].copy_from_slice(&pair(frac / 100));
+    buf[len - 2..len].copy_from_slice(&pair(frac % 100));
+    buf[len - 5] = b'.';
+    let mut i = len - 5;
+    while int >= 10 {
+        i -= 2;
+        buf[i..i + 2].copy_from_slice(&pair((int % 100) as usize));
+        int /= 100;
     }
-    let len = usize::from(v.is_sign_negative()) + digits + 5;
-    // Written left-aligned into a fixed block so that the copy has a constant size (a short
-    // copy of variable size goes through memmove); the excess is cut off after.
-    let mut buf = [b'0'; 32];
-    let mut i = len;
-    let mut x = frac;
-    for _ in 0..4 {
-        i -= 1;
-        buf[i] = b'0' + (x % 10) as u8;
-        x /= 10;
+    if i > sign {
+        buf[i - 1] = b'0' + int as u8;
     }
-    i -= 1;
-    buf[i] = b'.';
-    let mut x = int;
-    for _ in 0..digits {
-        i -= 1;
-        buf[i] = b'0' + (x % 10) as u8;
-        x /= 10;
-    }
-    if v.is_sign_negative() {
-        buf[0] = b'-';
-    }
-    let at = out.len();
-    out.extend_from_slice(&buf);
-    out.truncate(at + len);
+    Some(len)
 }
 
 /// Formats `v` with four decimals, as LinuxCNC's `rs274` prints.
@@ -570,6 +580,8 @@ mod tests {
         };
         let mut cases =
             vec![0.0, -0.0, 0.00005, -0.00005, 0.00015, 1.00005, 2.5, -1e-9, 123456.78905, 1e300, -1e17, f64::NAN, f64::INFINITY];
+        // Whole parts of every length the fast path writes (one to twelve digits).
+        cases.extend((0..12).flat_map(|k| [10f64.powi(k) + 0.123, -(10f64.powi(k) * 9.87654), 10f64.powi(k) - 0.00004]));
         for _ in 0..200_000 {
             let r = next();
             let mag = 10f64.powi((r % 12) as i32 - 5);
