@@ -103,6 +103,19 @@ impl Cx {
         }
     }
 
+    /// A two-valued attribute: false for `off` (the default), true for `on`.
+    fn either(&mut self, el: &Element, name: &str, off: &str, on: &str) -> bool {
+        match self.attr(el, name) {
+            None => false,
+            Some(v) if v == off => false,
+            Some(v) if v == on => true,
+            Some(other) => {
+                self.error(Self::attr_range(el, name), format!("`{name}` is {off} or {on}, not `{other}`"));
+                false
+            }
+        }
+    }
+
     fn number(&mut self, el: &Element, name: &str, default: f64) -> f64 {
         match self.attr(el, name) {
             None => default,
@@ -476,28 +489,8 @@ impl Cx {
         b.arc_relative_tolerance = self.attr(el, "arc-relative-tolerance").map(|_| self.number(el, "arc-relative-tolerance", 0.0));
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
-        b.motion_in_place = match self.attr(el, "motion-without-axes").unwrap_or("mode-only") {
-            "mode-only" => false,
-            "in-place" => true,
-            other => {
-                self.error(
-                    Self::attr_range(el, "motion-without-axes"),
-                    format!("`motion-without-axes` is mode-only or in-place, not `{other}`"),
-                );
-                false
-            }
-        };
-        b.magnitude_rounding = match self.attr(el, "integer-rounding").unwrap_or("floor-ceiling") {
-            "floor-ceiling" => false,
-            "toward-zero" => true,
-            other => {
-                self.error(
-                    Self::attr_range(el, "integer-rounding"),
-                    format!("`integer-rounding` must be floor-ceiling or toward-zero, not `{other}`"),
-                );
-                false
-            }
-        };
+        b.motion_in_place = self.either(el, "motion-without-axes", "mode-only", "in-place");
+        b.magnitude_rounding = self.either(el, "integer-rounding", "floor-ceiling", "toward-zero");
         b.tapping = match self.attr(el, "tap-retract").unwrap_or("r-plane") {
             "r-plane" => TapStyle::RPlane,
             "clear" => TapStyle::Clear,
@@ -603,22 +596,9 @@ impl Cx {
             return_value: self.attr(el, "return-value").map(|n| n.split_whitespace().collect::<String>().to_lowercase()),
             ..Macros::default()
         };
-        match self.attr(el, "conditions").unwrap_or("bracketed") {
-            "bracketed" => {}
-            "bare" => m.bare_conditions = true,
-            other => self.error(Self::attr_range(el, "conditions"), format!("`conditions` is bracketed or bare, not `{other}`")),
-        }
-        match self.attr(el, "unset-variables").unwrap_or("error") {
-            "error" => {}
-            "zero" => m.unset_reads_zero = true,
-            other => self.error(Self::attr_range(el, "unset-variables"), format!("`unset-variables` is error or zero, not `{other}`")),
-        }
-        match self.attr(el, "call-repeat-counts").unwrap_or("total") {
-            "total" => {}
-            "additional" => m.call_repeat_additional = true,
-            other => self
-                .error(Self::attr_range(el, "call-repeat-counts"), format!("`call-repeat-counts` is total or additional, not `{other}`")),
-        }
+        m.bare_conditions = self.either(el, "conditions", "bracketed", "bare");
+        m.unset_reads_zero = self.either(el, "unset-variables", "error", "zero");
+        m.call_repeat_additional = self.either(el, "call-repeat-counts", "total", "additional");
         m.main_return = match self.attr(el, "main-return").unwrap_or("error") {
             "error" => MainReturn::Error,
             "end" => MainReturn::End,
