@@ -99,8 +99,10 @@ codes! {
     Unsupported = ("interp::unsupported", Warning),
     /// An arc whose start and end radius differ beyond tolerance, or that cannot be built.
     BadArc = ("interp::bad-arc", Error),
-    /// A cutting move with the spindle stopped or a zero feed rate.
+    /// A cutting move with the spindle stopped.
     CuttingWithoutTechnology = ("interp::cutting-without-technology", Warning),
+    /// A cutting move with a zero feed rate: the control stops with an alarm.
+    NoFeed = ("interp::no-feed", Error),
     /// A reference to a parameter that has no value.
     UndefinedParameter = ("interp::undefined-parameter", Error),
     /// A variable read before it is set, on a control where that reads 0.
@@ -128,6 +130,10 @@ codes! {
     CallDepth = ("flow::call-depth", Error),
     /// A loop end, branch or return without its opening statement.
     UnmatchedStatement = ("flow::unmatched", Error),
+    /// A subroutine defined inside another subroutine's definition.
+    NestedDefinition = ("flow::nested-definition", Error),
+    /// A main program that runs off the end of its file, on a control that requires an end.
+    NoProgramEnd = ("flow::no-program-end", Error),
     /// A statement keyword the dialect does not define.
     UnknownStatement = ("flow::unknown-statement", Error),
     /// Cutter compensation that cannot be computed (gouging, an arc entry).

@@ -6,7 +6,7 @@
 //! - Attributes: the derived element's win; the base's others are kept.
 //! - `<lexical>`, `<behaviour>`, `<addresses>`, `<macros>`, `<groups>`, `<group>` and
 //!   `<cycles>` merge their children by key: an entry with the same element name and the
-//!   same key attribute (the first of `id`, `value`, `keyword`, `number`, `open`, `char` and `name`) replaces the
+//!   same key attribute (the first of `id`, `value`, `keyword`, `number`, `open`, `char`, `name` and `prefix`) replaces the
 //!   base's in place; a new one is added at the end.
 //! - Every other element (`<code>`, `<cycle>`, `<execution-order>`, …) is replaced whole.
 //! - `<remove value="56"/>` (or `name`, `id`, `keyword`, `number`, `char`) among the entries deletes
@@ -31,7 +31,7 @@ const OWN: &[&str] = &["description", "recognise"];
 const OWN_ATTRS: &[&str] = &["name", "title", "extends"];
 
 /// The attribute that tells entries apart among siblings of one element name.
-const KEYS: &[&str] = &["id", "value", "keyword", "number", "open", "char", "name"];
+const KEYS: &[&str] = &["id", "value", "keyword", "number", "open", "char", "name", "prefix"];
 
 fn key(el: &Element) -> (&str, Option<&str>) {
     let k = KEYS.iter().find_map(|k| el.attrs.iter().find(|a| a.name == *k)).map(|a| a.value.as_str());

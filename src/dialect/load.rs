@@ -3,9 +3,9 @@
 use super::inherit;
 use super::xml::{self, Element};
 use super::{
-    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect, KeywordRest,
-    KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar, TapStyle,
-    TimeUnit,
+    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect, Directive,
+    KeywordRest, KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar,
+    TapStyle, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -261,6 +261,7 @@ impl Cx {
                 "control-word",
                 "foreign",
                 "statement-prefix",
+                "comment-directive",
             ],
         );
         let block_form = match self.attr(el, "block-form").unwrap_or("word-address") {
@@ -285,6 +286,7 @@ impl Cx {
             block_skip: None,
             block_number: None,
             program_delimiter: None,
+            delimiter_first_line: false,
             expression: None,
             parameter: None,
             block_end: None,
@@ -297,6 +299,7 @@ impl Cx {
             named_blocks: false,
             named_programs: false,
             statement_prefix: Vec::new(),
+            directives: Vec::new(),
         };
         for c in &el.children {
             match c.name.as_str() {
@@ -337,6 +340,30 @@ impl Cx {
                         lex.comments.push(CommentRule { open, close, block_start });
                     }
                 }
+                "comment-directive" => {
+                    self.shape(c, &["prefix", "meaning"], &[]);
+                    let meaning = match self.required(c, "meaning") {
+                        Some("message") => Some(Directive::Message),
+                        Some("abort") => Some(Directive::Abort),
+                        Some(other) => {
+                            self.error(
+                                Self::attr_range(c, "meaning"),
+                                format!("a comment directive's meaning is message or abort, not `{other}`"),
+                            );
+                            None
+                        }
+                        None => None,
+                    };
+                    match self.required(c, "prefix") {
+                        Some("") => self.error(Self::attr_range(c, "prefix"), "a comment directive's prefix cannot be empty"),
+                        Some(prefix) => {
+                            if let Some(m) = meaning {
+                                lex.directives.push((prefix.to_ascii_lowercase(), m));
+                            }
+                        }
+                        None => {}
+                    }
+                }
                 "block-skip" => {
                     self.shape(c, &["char", "position"], &[]);
                     let pos = match self.attr(c, "position").unwrap_or("line-start") {
@@ -358,8 +385,9 @@ impl Cx {
                     }
                 }
                 "program-delimiter" => {
-                    self.shape(c, &["char"], &[]);
+                    self.shape(c, &["char", "opening"], &[]);
                     lex.program_delimiter = self.char_attr(c, "char");
+                    lex.delimiter_first_line = self.either(c, "opening", "anywhere", "first-line");
                 }
                 "expression" => {
                     self.shape(c, &["open", "close"], &[]);
@@ -434,6 +462,8 @@ impl Cx {
             tapping: TapStyle::RPlane,
             magnitude_rounding: false,
             motion_in_place: false,
+            unused_words_rejected: false,
+            end_required: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -456,6 +486,8 @@ impl Cx {
                 "machine-m-codes",
                 "tap-retract",
                 "integer-rounding",
+                "unused-words",
+                "program-end",
                 "motion-without-axes",
             ],
             &[],
@@ -491,6 +523,8 @@ impl Cx {
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
         b.motion_in_place = self.either(el, "motion-without-axes", "mode-only", "in-place");
         b.magnitude_rounding = self.either(el, "integer-rounding", "floor-ceiling", "toward-zero");
+        b.unused_words_rejected = self.either(el, "unused-words", "ignored", "rejected");
+        b.end_required = self.either(el, "program-end", "optional", "required");
         b.tapping = match self.attr(el, "tap-retract").unwrap_or("r-plane") {
             "r-plane" => TapStyle::RPlane,
             "clear" => TapStyle::Clear,

@@ -87,6 +87,10 @@ pub struct Lexical {
     pub named_blocks: bool,
     /// Program delimiter (`%`).
     pub program_delimiter: Option<char>,
+    /// Whether the delimiter opens a program only on its first line (after blank lines),
+    /// and one anywhere else without that opening is an error (LinuxCNC), rather than
+    /// delimiting wherever it stands (tape format).
+    pub delimiter_first_line: bool,
     /// Expression brackets, such as `[` `]`.
     pub expression: Option<(char, char)>,
     /// Parameter sigil (`#`), and whether `#<name>` names are allowed.
@@ -108,6 +112,29 @@ pub struct Lexical {
     /// Other program formats that files for this control may hold (a conversational
     /// format exported as text), told by a pattern at the start, with what they are.
     pub foreign: Vec<(Pattern, String)>,
+    /// Comments that act: `(MSG, Part 2)` shows a message, `(ABORT, no tool)` stops the
+    /// program. Prefixes are lower case and compared without case after leading blanks.
+    pub directives: Vec<(String, Directive)>,
+}
+
+/// What a comment starting with a directive prefix does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Directive {
+    /// Shows the rest of the comment to the operator.
+    Message,
+    /// Stops the program with the rest of the comment as its error.
+    Abort,
+}
+
+impl Lexical {
+    /// The directive a comment's text starts with, and the text after its prefix.
+    pub fn directive<'t>(&self, comment: &'t str) -> Option<(Directive, &'t str)> {
+        let t = comment.trim_start();
+        self.directives.iter().find_map(|(prefix, d)| {
+            let head = t.get(..prefix.len())?;
+            head.eq_ignore_ascii_case(prefix).then(|| (*d, &t[prefix.len()..]))
+        })
+    }
 }
 
 /// A regular expression from a dictionary: checked when the dictionary loads, compiled when
@@ -198,6 +225,13 @@ pub struct Behaviour {
     /// Whether a G0 or G1 written in a block without axis words moves to where the tool is
     /// (a zero-length move, as LinuxCNC emits it) rather than only setting the mode.
     pub motion_in_place: bool,
+    /// Whether a word that no command of its block uses stops the control (LinuxCNC: "R word
+    /// with no g code that uses it") rather than being ignored with a warning.
+    pub unused_words_rejected: bool,
+    /// Whether a main program must end with its end code (M2, M30) or a closing delimiter;
+    /// running off the end of the file is then an error (LinuxCNC: "File ended with no
+    /// percent sign or program end"). A file of subroutine definitions only is exempt.
+    pub end_required: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.

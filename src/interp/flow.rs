@@ -61,6 +61,8 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         seen: BTreeSet::new(),
         stop: false,
         delimiters: 0,
+        started: false,
+        main_work: false,
     };
     let mut interp = Interpreter::new(dialect, profile, text);
     driver.drive(&mut interp, sink, &mut diags);
@@ -202,6 +204,10 @@ struct Driver<'a, 'p> {
     stop: bool,
     /// `%` lines met in the main program: the second one ends it.
     delimiters: u32,
+    /// Whether the main program has had a non-blank line.
+    started: bool,
+    /// Whether the main program has run a block outside subroutine definitions.
+    main_work: bool,
 }
 
 fn normalise_label(s: &str) -> String {
@@ -227,6 +233,7 @@ impl<'a> Driver<'a, '_> {
             let mark = diags.len();
             if !self.parser.next_block(&mut block, diags) {
                 if !self.end_of_source(interp, diags) {
+                    self.end_of_main(interp, diags);
                     break;
                 }
                 continue;
@@ -240,11 +247,23 @@ impl<'a> Driver<'a, '_> {
                 ));
                 break;
             }
-            if block.delimiter && src == 0 && self.frames.is_empty() {
-                if self.delimiters > 0 {
-                    interp.finish_at_delimiter(sink);
+            if src == 0 && self.frames.is_empty() {
+                if block.delimiter {
+                    if self.delimiters > 0 {
+                        interp.finish_at_delimiter(sink);
+                    } else if self.started && self.dialect.lexical.delimiter_first_line {
+                        let msg = "a `%` line closes a program only when another opens it on the first line; the control stops here";
+                        diags.push(Diagnostic::new(Code::UnmatchedStatement, block.range, msg));
+                        break;
+                    }
+                    self.delimiters += 1;
+                } else {
+                    let blank = self.sources[0].text[block.range.start as usize..block.range.end as usize].trim().is_empty();
+                    self.started |= !blank;
+                    self.main_work |= !block.words.is_empty()
+                        || !block.assigns.is_empty()
+                        || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
                 }
-                self.delimiters += 1;
             }
             if let Some(control) = block.control.take() {
                 self.control(&control, &block, start, interp, sink, diags);
@@ -574,7 +593,17 @@ impl<'a> Driver<'a, '_> {
                 }
             }
             Statement::Sub => {
-                // A definition met in the flow of the program is skipped.
+                // A definition met in the flow of the program is skipped. Definitions do not
+                // nest: one inside another's body stops the control.
+                if self.frames.last().is_some_and(|f| f.kind == FrameKind::Sub) {
+                    let msg = "a subroutine definition inside a running subroutine: definitions do not nest";
+                    diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
+                }
+                let inner = self.find_after(start.at, |m| same_label(m, &[Statement::EndSub]) || m.statement == Some(Statement::Sub));
+                if let Some(m) = inner.filter(|m| m.statement == Some(Statement::Sub)) {
+                    let msg = format!("another subroutine is defined inside this one (line {}): definitions do not nest", m.start.line);
+                    diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
+                }
                 self.skip_to(start, c.range, "endsub", |m| same_label(m, &[Statement::EndSub]), interp, diags);
             }
             Statement::EndSub | Statement::Return => {
@@ -1362,6 +1391,21 @@ impl<'a> Driver<'a, '_> {
 
     /// The end of a source text: the end of the run, or an implicit return from a
     /// subprogram. Returns false when the run is over.
+    /// The main program's text ran out: an error where the dialect requires an end, unless
+    /// the file only defines subroutines.
+    fn end_of_main(&mut self, interp: &Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        if !self.dialect.behaviour.end_required || interp.finished() || !self.main_work || self.cur != 0 {
+            return;
+        }
+        let end = self.sources[0].text.trim_end().len();
+        let msg = if self.delimiters > 0 {
+            "the file ends without the `%` that closes the program opened by the first line"
+        } else {
+            "the program runs off the end of the file without M2, M30 or a closing `%`"
+        };
+        diags.push(Diagnostic::new(Code::NoProgramEnd, TextRange::new(end, end), msg));
+    }
+
     fn end_of_source(&mut self, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
         let Some(f) = self.frames.last() else { return false };
         let msg = match f.kind {

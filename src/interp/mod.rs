@@ -20,8 +20,8 @@ pub use flow::{NoPrograms, ProgramSource, run};
 use std::collections::BTreeMap;
 
 use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, Plane, Units};
-use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step, SystemVar, TimeUnit};
+use crate::diag::{Code, Diagnostic, Severity};
+use crate::dialect::{CodeDef, DecimalInput, Dialect, Directive, Meaning, Role, Step, SystemVar, TimeUnit};
 use crate::syntax::{Block, ParamTarget, Value, WordMode};
 use crate::text::TextRange;
 use eval::{EvalError, Params};
@@ -544,6 +544,17 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Reports a finding, at most [`NOTE_LIMIT`] times per kind.
+    /// An unused word: ignored, or an error where the dialect rejects it.
+    fn unused(&self, mut d: Diagnostic) -> Diagnostic {
+        if self.dialect.behaviour.unused_words_rejected {
+            d.severity = Severity::Error;
+            d.message.push_str("; the control stops here");
+        } else {
+            d.message.push_str("; ignored");
+        }
+        d
+    }
+
     fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &'static str, d: Diagnostic) {
         let n = self.notes.entry(key).or_insert(0);
         *n += 1;
@@ -955,11 +966,9 @@ impl<'a> Interpreter<'a> {
                 || motion.is_some_and(|c| self.code(c).params.takes(w.role));
             if !taken {
                 let shown = &self.text[w.range.start as usize..w.range.end as usize];
-                diags.push(Diagnostic::new(
-                    Code::UnusedWord,
-                    w.range,
-                    format!("`{shown}`: no command in this block takes {}", w.letter as char),
-                ));
+                let d =
+                    Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}`: no command in this block takes {}", w.letter as char));
+                diags.push(self.unused(d));
             }
         }
         ok
@@ -1151,10 +1160,16 @@ impl<'a> Interpreter<'a> {
         match step {
             Step::Comment => {
                 for r in &block.comments {
-                    let text = self.text[r.start as usize..r.end as usize].to_owned();
-                    let op = match text.get(..4) {
-                        Some(head) if head.eq_ignore_ascii_case("MSG,") => CanonOp::Message(text[4..].to_owned()),
-                        _ => CanonOp::Comment(text),
+                    let text = &self.text[r.start as usize..r.end as usize];
+                    let op = match self.dialect.lexical.directive(text) {
+                        Some((Directive::Message, m)) => CanonOp::Message(m.to_owned()),
+                        Some((Directive::Abort, m)) => {
+                            let msg = format!("the program aborts: {}; execution stops here", m.trim());
+                            diags.push(Diagnostic::new(Code::ProgramAlarm, *r, msg));
+                            self.st.ended = true;
+                            return;
+                        }
+                        None => CanonOp::Comment(text.to_owned()),
                     };
                     self.emit(sink, op);
                 }
@@ -1209,11 +1224,12 @@ impl<'a> Interpreter<'a> {
                     if let Some(c) = self.active_motion_code() {
                         self.execute_code(c, block.range, block, sink, diags);
                     } else if self.has_axes && !self.codes.iter().any(|&(c, _)| self.claims_axes(c)) {
-                        diags.push(Diagnostic::new(
+                        let d = Diagnostic::new(
                             Code::UnusedWord,
                             block.range,
-                            "axis words without an active motion mode (after G80 or at program start) are ignored",
-                        ));
+                            "axis words without an active motion mode (after G80 or at program start)",
+                        );
+                        diags.push(self.unused(d));
                     }
                 }
             }

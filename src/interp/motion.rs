@@ -177,16 +177,17 @@ impl Interpreter<'_> {
         if self.st.tech_warned {
             return;
         }
-        let problem = if self.st.feed <= 0.0 {
-            Some("the feed rate is zero")
+        // In inverse time each feed move brings its own F (see `inverse_time_feed`).
+        let problem = if self.st.feed <= 0.0 && !self.st.inverse_time {
+            Some((Code::NoFeed, "the feed rate is zero"))
         } else if self.st.spindle == Spindle::Stopped {
-            Some("the spindle is stopped")
+            Some((Code::CuttingWithoutTechnology, "the spindle is stopped"))
         } else {
             None
         };
-        if let Some(p) = problem {
+        if let Some((code, p)) = problem {
             self.st.tech_warned = true;
-            let d = Diagnostic::new(Code::CuttingWithoutTechnology, range, format!("{} cuts while {p}", def.label()));
+            let d = Diagnostic::new(code, range, format!("{} cuts while {p}", def.label()));
             self.limited(diags, "technology", d);
         }
     }

@@ -3,7 +3,8 @@
 # for the RS274NGC programs of ../shared/corpus/linuxcnc (those under 64 KB) and for
 # ncplan's own test programs in tests/programs/linuxcnc (goldens named own__<name>).
 # Each golden holds rs274's calls without their sequence prefix; if rs274 stops with an
-# error, the last line is `# rs274 error: <message>`.
+# error (a non-zero exit), the last line is `# rs274 error: <message>`, the first line rs274
+# wrote to stderr; (print,...) output is not an error.
 # The corpus flattens LinuxCNC's test folders into file names (`a/b/test.ngc` is
 # `a_b_test.ngc`, `a/b/subs/x.ngc` is `a_b_subs_x.ngc`), so each program runs in a scratch
 # folder holding its siblings under their own names, where rs274 finds called subroutines.
@@ -31,11 +32,16 @@ for f in "$corpus"/*.ngc ../programs/linuxcnc/*.ngc; do
     cp "$s" "$scratch/${short#subs_}"
   done
   cp "$f" "$scratch/$base"
-  raw=$(cd "$scratch" && timeout 20 rs274 -g -t "$tbl" "$base" 2>&1 < /dev/null || true)
+  # rs274 prints calls and (print,...) output on stdout, and an error on stderr between
+  # `executing` lines; it exits non-zero only on an error.
+  rc=0
+  (cd "$scratch" && timeout 20 rs274 -g -t "$tbl" "$base" < /dev/null > "$scratch/.out" 2> "$scratch/.err") || rc=$?
   {
-    printf '%s\n' "$raw" | sed -n 's/^ *[0-9][0-9]* N[^ ]* //p'
-    err=$(printf '%s\n' "$raw" | grep -v -E '^ *[0-9]+ N' | grep -v -E '^(executing|$)' | head -1 || true)
-    [ -n "$err" ] && printf '# rs274 error: %s\n' "$err"
+    sed -n 's/^ *[0-9][0-9]* N[^ ]* //p' "$scratch/.out"
+    if [ "$rc" -ne 0 ]; then
+      err=$(grep -v -E '^(executing|$)' "$scratch/.err" | head -1 || true)
+      printf '# rs274 error: %s\n' "${err:-exit status $rc}"
+    fi
   } > "$out/$name.canon"
 done
 # Programs whose trace explodes (endless loops in rs274 tests) are not kept.

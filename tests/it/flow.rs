@@ -160,3 +160,53 @@ fn heidenhain_missing_labels_stop_the_run() {
     assert_eq!(out, "1 0 0\n");
     assert_eq!(errors, ["flow::missing-label"]);
 }
+
+/// The error codes of `program` in `dialect`.
+fn errors(dialect: &str, program: &str) -> Vec<&'static str> {
+    path(dialect, program, &[]).1
+}
+
+#[test]
+fn linuxcnc_requires_a_program_end_and_pairs_percent_lines_as_rs274_does() {
+    // Each case as rs274 -g (LinuxCNC 2.9) judges it.
+    let cases: &[(&str, &[&str])] = &[
+        ("G0 X1\nM2\n", &[]),
+        ("%\nG0 X1\n%\nG0 X2\n", &[]),
+        ("\n%\nG0 X1\n%\n", &[]),
+        // A file of subroutine definitions is a library, not a program run off its end.
+        ("o<a> sub\nG0 X1\no<a> endsub\n", &[]),
+        ("G0 X1\n", &["flow::no-program-end"]),
+        ("%\nG0 X1\n", &["flow::no-program-end"]),
+        ("G0 X1\n%\n", &["flow::unmatched"]),
+        ("(first)\n%\nG0 X1\n%\n", &["flow::unmatched"]),
+    ];
+    for (program, want) in cases {
+        assert_eq!(errors("linuxcnc", program), *want, "{program:?}");
+    }
+    // Tape format: `%` delimits wherever it stands, and no end code is required.
+    assert_eq!(errors("fanuc", "G0 X1\n"), Vec::<&str>::new());
+    assert_eq!(errors("fanuc", "G0 X1\n%\n"), Vec::<&str>::new());
+}
+
+#[test]
+fn linuxcnc_rejects_unused_words_nested_definitions_and_aborts_on_a_comment() {
+    assert_eq!(errors("linuxcnc", "G0 X1 R2\nM2\n"), ["syntax::unused-word"]);
+    // Fanuc ignores the word, with a warning.
+    assert_eq!(errors("fanuc", "G0 X1 R2\nM30\n"), Vec::<&str>::new());
+    let nested = "o1 sub\no2 sub\nG0 X1\no2 endsub\no1 endsub\no1 call\nM2\n";
+    assert!(errors("linuxcnc", nested).contains(&"flow::nested-definition"));
+    let (moves, codes) = path("linuxcnc", "G0 X1\n( abort, no tool #1)\nG0 X2\nM2\n", &[]);
+    assert_eq!((moves.as_str(), codes), ("1 0 0\n", vec!["interp::alarm"]));
+    // `(ABORT ,` is an ordinary comment, as in rs274.
+    assert_eq!(errors("linuxcnc", "(ABORT ,x)\nG0 X1\nM2\n"), Vec::<&str>::new());
+}
+
+#[test]
+fn cutting_at_zero_feed_is_an_error_everywhere_but_a_stopped_spindle_only_a_warning() {
+    for (dialect, end) in [("linuxcnc", "M2"), ("fanuc", "M30"), ("siemens", "M30")] {
+        assert_eq!(errors(dialect, &format!("G1 X1\n{end}\n")), ["interp::no-feed"], "{dialect}");
+        assert_eq!(errors(dialect, &format!("G1 X1 F100\n{end}\n")), Vec::<&str>::new(), "{dialect}");
+    }
+    // Inverse time: each move's own F.
+    assert_eq!(errors("linuxcnc", "G93 G1 X1 F30\nM2\n"), Vec::<&str>::new());
+}

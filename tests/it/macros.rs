@@ -244,7 +244,7 @@ fn fanuc_rotation_and_scaling_move_the_toolpath() {
 G17 G90 G0 X10. Y0
 G68 X0 Y0 R90.
 G0 X10. Y0
-G2 X0 Y-10. R10.
+G2 X0 Y-10. R10. F100.
 G69
 G51 X0 Y0 P2000
 G0 X5. Y5.
