@@ -132,6 +132,8 @@ codes! {
     UnmatchedStatement = ("flow::unmatched", Error),
     /// A subroutine defined inside another subroutine's definition.
     NestedDefinition = ("flow::nested-definition", Error),
+    /// A file that only defines subroutines: nothing runs by itself.
+    Library = ("flow::library", Note),
     /// A main program that runs off the end of its file, on a control that requires an end.
     NoProgramEnd = ("flow::no-program-end", Error),
     /// A statement keyword the dialect does not define.

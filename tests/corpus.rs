@@ -322,7 +322,7 @@ fn run_ours(program: &Path) -> Result<Ours, Failed> {
     }
     let explaining = diags
         .iter()
-        .filter(|d| d.severity != Severity::Note && d.code != Code::CuttingWithoutTechnology)
+        .filter(|d| (d.severity != Severity::Note || d.code == Code::Library) && d.code != Code::CuttingWithoutTechnology)
         .map(|d| format!("{}: {}", d.code.as_str(), d.message))
         .collect();
     let error = diags.iter().find(|d| d.is_error()).map(|d| d.code.as_str());

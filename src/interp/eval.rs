@@ -143,7 +143,8 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
         }
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
             Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalised(&text[r.start as usize..r.end as usize])))),
-            Some(&Expr::Param(i)) => f64::from(u8::from(eval(block, i, params, text).and_then(index).is_ok_and(|i| i >= 1))),
+            // The parameter number itself must evaluate (`EXISTS[###2]` reads `##2`).
+            Some(&Expr::Param(i)) => f64::from(u8::from(index(eval(block, i, params, text)?).is_ok_and(|i| i >= 1))),
             _ => 0.0,
         },
         Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => zero_if_null(eval(block, inner, params, text)?).trunc(),

@@ -63,6 +63,7 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         delimiters: 0,
         started: false,
         main_work: false,
+        library: false,
     };
     let mut interp = Interpreter::new(dialect, profile, text);
     driver.drive(&mut interp, sink, &mut diags);
@@ -208,6 +209,8 @@ struct Driver<'a, 'p> {
     started: bool,
     /// Whether the main program has run a block outside subroutine definitions.
     main_work: bool,
+    /// Whether the main program has skipped a subroutine definition.
+    library: bool,
 }
 
 fn normalise_label(s: &str) -> String {
@@ -604,6 +607,7 @@ impl<'a> Driver<'a, '_> {
                     let msg = format!("another subroutine is defined inside this one (line {}): definitions do not nest", m.start.line);
                     diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
                 }
+                self.library |= self.frames.is_empty() && self.cur == 0;
                 self.skip_to(start, c.range, "endsub", |m| same_label(m, &[Statement::EndSub]), interp, diags);
             }
             Statement::EndSub | Statement::Return => {
@@ -1394,7 +1398,17 @@ impl<'a> Driver<'a, '_> {
     /// The main program's text ran out: an error where the dialect requires an end, unless
     /// the file only defines subroutines.
     fn end_of_main(&mut self, interp: &Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
-        if !self.dialect.behaviour.end_required || interp.finished() || !self.main_work || self.cur != 0 {
+        if interp.finished() || self.cur != 0 {
+            return;
+        }
+        if !self.main_work {
+            if self.library {
+                let msg = "the file only defines subroutines: a library for other programs, with nothing to run by itself";
+                diags.push(Diagnostic::new(Code::Library, TextRange::default(), msg));
+            }
+            return;
+        }
+        if !self.dialect.behaviour.end_required {
             return;
         }
         let end = self.sources[0].text.trim_end().len();
