@@ -526,6 +526,9 @@ vocab! {
         Procedure = "procedure",
         /// A statement with no effect on the machining (`EXTERN` declarations).
         Inert = "inert",
+        /// A statement of the control that ncplan does not simulate (Siemens synchronized
+        /// actions, `WHENEVER $A_IN[1] DO OVR=0`): skipped with a warning naming it.
+        Unsupported = "unsupported",
         /// The statement part of `IF [c] THEN ...`.
         Then = "then",
         /// Print a formatted line to the data output (`DPRNT[X#100[53]]`): a message.

@@ -671,6 +671,11 @@ impl<'a> Driver<'a, '_> {
             Statement::CallProgram => self.call_program(c, block, start, interp, diags),
             Statement::Procedure => self.procedure(c, interp),
             Statement::Inert => {}
+            Statement::Unsupported => {
+                let head: String = text[c.range.start as usize..c.range.end as usize].chars().take(40).collect();
+                let msg = format!("`{}` is not simulated; it was skipped", head.trim());
+                interp.limited(diags, "unsupported-statement", Diagnostic::new(Code::Unsupported, c.range, msg));
+            }
         }
     }
 

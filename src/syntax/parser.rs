@@ -901,7 +901,7 @@ impl Lexer<'_, '_> {
                         self.declaration();
                         return;
                     }
-                    Statement::Print | Statement::Output | Statement::Inert | Statement::Procedure => {
+                    Statement::Print | Statement::Output | Statement::Inert | Statement::Unsupported | Statement::Procedure => {
                         // A print format, output setting, declaration or parameter list is not
                         // an expression: kept as text (a procedure's name is its target).
                         if st == Statement::Procedure {
