@@ -220,6 +220,26 @@ pub enum CanonOp {
     CycleEnd,
     /// Marker: the canned cycle was cancelled (G80).
     CycleCancel,
+    /// `SET_FEED_MODE(0, n)`: feed per minute (0) or per spindle revolution (1, G95).
+    SetFeedMode(FeedMode),
+    /// `START_SPEED_FEED_SYNC(pitch,0)`: the moves that follow advance `pitch` per spindle
+    /// revolution (G33 threading, G33.1 rigid tapping).
+    StartSpeedFeedSync(f64),
+    /// `STOP_SPEED_FEED_SYNCH()`
+    StopSpeedFeedSync,
+    /// `RIGID_TAP(x, y, z)`: a synchronised feed to the bottom and, spindle reversed, back to
+    /// where it started.
+    RigidTap([f64; 3]),
+}
+
+/// What a feed rate is per.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FeedMode {
+    /// Units per minute (G94).
+    PerMinute,
+    /// Units per spindle revolution (G95).
+    PerRevolution,
 }
 
 /// A canonical op with its provenance.
@@ -471,6 +491,17 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         }
         CanonOp::CycleEnd => out.extend_from_slice(b"COMMENT(\"ncplan: cycle end\")"),
         CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
+        CanonOp::SetFeedMode(m) => out.extend_from_slice(match m {
+            FeedMode::PerMinute => b"SET_FEED_MODE(0, 0)",
+            FeedMode::PerRevolution => b"SET_FEED_MODE(0, 1)",
+        }),
+        CanonOp::StartSpeedFeedSync(pitch) => {
+            let _ = write!(out, "START_SPEED_FEED_SYNC({pitch:.6},0)");
+        }
+        CanonOp::StopSpeedFeedSync => out.extend_from_slice(b"STOP_SPEED_FEED_SYNCH()"),
+        CanonOp::RigidTap([x, y, z]) => {
+            let _ = write!(out, "RIGID_TAP({}, {}, {})", F4(*x), F4(*y), F4(*z));
+        }
     }
     out.push(b'\n');
 }

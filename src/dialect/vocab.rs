@@ -67,8 +67,10 @@ vocab! {
         CycleThread = "cycle-thread",
         /// Cancel the canned cycle (G80).
         CycleCancel = "cycle-cancel",
-        /// Spindle-synchronised motion (G33).
+        /// Spindle-synchronised motion (G33): K is the advance per revolution.
         SpindleSync = "spindle-sync",
+        /// Rigid tapping (G33.1): synchronised to the bottom and back out, K per revolution.
+        RigidTap = "rigid-tap",
         /// Probing (G38.n).
         Probe = "probe",
         /// XY plane (G17).

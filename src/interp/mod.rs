@@ -19,7 +19,7 @@ pub use flow::{NoPrograms, ProgramSource, run};
 
 use std::collections::BTreeMap;
 
-use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, Plane, Units};
+use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Units};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{CodeDef, DecimalInput, Dialect, Directive, Meaning, Role, Step, SystemVar, TimeUnit};
 use crate::syntax::{Block, ParamTarget, Value, WordMode};
@@ -231,6 +231,8 @@ struct State {
     motion_continued: bool,
     /// G93: F is the inverse of each move's time in minutes.
     inverse_time: bool,
+    /// Feed per spindle revolution (G95).
+    feed_per_rev: bool,
     /// The circle centre / pole in the plane's two axes (`CC X Y`), program coordinates.
     pole: (f64, f64),
     /// The direction of the last arc, for arcs that do not state one (`C X Y` after `DR-`).
@@ -334,6 +336,7 @@ impl<'a> Interpreter<'a> {
                 ended: false,
                 tech_warned: false,
                 inverse_time: false,
+                feed_per_rev: false,
                 motion_continued: false,
                 rotation: None,
                 scaling: None,
@@ -522,6 +525,7 @@ impl<'a> Interpreter<'a> {
                 (c.x, c.y) = (q[0], q[1]);
                 CanonOp::CycleBegin(c)
             }
+            CanonOp::RigidTap(p) => CanonOp::RigidTap(self.xform(p)),
             op => op,
         }
     }
@@ -1262,15 +1266,25 @@ impl<'a> Interpreter<'a> {
     fn execute_code(&mut self, c: usize, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let def = self.code(c);
         match def.meaning {
-            Meaning::FeedPerMinute => {
+            Meaning::FeedPerMinute | Meaning::FeedPerRev => {
                 self.st.inverse_time = false;
+                let per_rev = def.meaning == Meaning::FeedPerRev;
+                if per_rev != self.st.feed_per_rev {
+                    self.st.feed_per_rev = per_rev;
+                    self.emit(sink, CanonOp::SetFeedMode(if per_rev { FeedMode::PerRevolution } else { FeedMode::PerMinute }));
+                }
                 if self.dialect.behaviour.feed_mode_resets_feed {
                     self.st.feed = 0.0;
                     self.emit(sink, CanonOp::SetFeedRate(0.0));
                 }
             }
-            Meaning::FeedInverseTime => self.st.inverse_time = true,
-            Meaning::FeedPerRev => self.unsupported(def, range, diags),
+            Meaning::FeedInverseTime => {
+                self.st.inverse_time = true;
+                if self.st.feed_per_rev {
+                    self.st.feed_per_rev = false;
+                    self.emit(sink, CanonOp::SetFeedMode(FeedMode::PerMinute));
+                }
+            }
             Meaning::ToolChange => {
                 if self.dialect.behaviour.tool_change_stops_spindle {
                     self.emit(sink, CanonOp::StopSpindleTurning);
@@ -1552,6 +1566,8 @@ impl<'a> Interpreter<'a> {
                     | Meaning::ArcRadius
                     | Meaning::ArcTangent
                     | Meaning::ArcThreePoint
+                    | Meaning::SpindleSync
+                    | Meaning::RigidTap
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);

@@ -1,7 +1,7 @@
 //! Straight and circular motion.
 
 use super::{Interpreter, Spindle};
-use crate::canon::{CanonOp, CanonSink, DistanceMode, Plane, Units};
+use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
 use crate::syntax::{Block, WordMode};
@@ -133,10 +133,50 @@ impl Interpreter<'_> {
             Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint => {
                 self.arc(def, range, block, sink, diags)
             }
+            Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),
             Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
             Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
         }
+    }
+
+    /// G33 (a thread: a feed move advancing K per spindle revolution) and G33.1 (rigid
+    /// tapping: synchronised to the target and back out to where it started). The feed rate
+    /// does not apply; the spindle speed does. The dictionary makes the lead required.
+    fn synchronised(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        // The lead is K (LinuxCNC), or F where the dictionary gives the code F (Fanuc).
+        let lead = if def.params.takes(Role::F) { Role::F } else { Role::K };
+        let Some(pitch) = self.slot(lead) else {
+            let msg =
+                format!("{} without {} (the advance per revolution) was skipped", def.label(), if lead == Role::F { 'F' } else { 'K' });
+            diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+            return;
+        };
+        let t = self.target();
+        self.emit(sink, CanonOp::StartSpeedFeedSync(pitch));
+        if def.meaning == Meaning::RigidTap {
+            let from = self.st.pos;
+            let intent = CycleIntent {
+                kind: CycleKind::Tapping,
+                code: def.label(),
+                x: t[0],
+                y: t[1],
+                bottom: t[2],
+                r_plane: from[2],
+                clear: from[2],
+                peck: None,
+                dwell: None,
+                positioned: false,
+            };
+            self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
+            self.emit(sink, CanonOp::RigidTap([t[0], t[1], t[2]]));
+            self.emit(sink, CanonOp::CycleEnd);
+        } else {
+            self.note_tangent(t);
+            self.emit(sink, CanonOp::StraightFeed(t));
+            self.st.pos = t;
+        }
+        self.emit(sink, CanonOp::StopSpeedFeedSync);
     }
 
     /// In inverse-time mode (G93), sets the feed rate that makes a move of `length` last

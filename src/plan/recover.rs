@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use super::feature;
 use super::geom;
 use super::model::*;
-use crate::canon::{Canon, CanonOp, CycleKind, Plane, Units};
+use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::interp::Profile;
 use crate::text::TextRange;
@@ -203,6 +203,10 @@ struct Recovery<'p> {
     pos: P3,
     tool: u32,
     feed: f64,
+    /// Feed per spindle revolution (G95): the feed rate is then F times the speed.
+    per_rev: bool,
+    /// The advance per revolution of synchronised motion (G33, rigid tapping).
+    sync: Option<f64>,
     speed: f64,
     spindle: SpindleDir,
     mist: bool,
@@ -230,6 +234,8 @@ impl<'p> Recovery<'p> {
             pos: [0.0; 3],
             tool: 0,
             feed: 0.0,
+            per_rev: false,
+            sync: None,
             speed: 0.0,
             spindle: SpindleDir::Off,
             mist: false,
@@ -255,7 +261,18 @@ impl<'p> Recovery<'p> {
             (false, true) => Coolant::Flood,
             (true, true) => Coolant::Both,
         };
-        Technology { feed: self.feed, feeds: vec![self.feed], spindle_speed: self.speed, spindle: self.spindle, coolant }
+        let feed = self.feed_now();
+        Technology { feed, feeds: vec![feed], spindle_speed: self.speed, spindle: self.spindle, coolant }
+    }
+
+    /// The feed per minute. A feed per revolution becomes one at the programmed speed, so
+    /// that the same cut programmed either way gives the same technology.
+    fn feed_now(&self) -> f64 {
+        match self.sync {
+            Some(pitch) => round_sig(pitch * self.speed),
+            None if self.per_rev => round_sig(self.feed * self.speed),
+            None => self.feed,
+        }
     }
 
     fn mm(&self, v: f64) -> f64 {
@@ -270,6 +287,18 @@ impl<'p> Recovery<'p> {
             }
             CanonOp::SelectPlane(p) => self.plane = *p,
             CanonOp::SetFeedRate(f) => self.feed = round_sig(self.mm(*f)),
+            CanonOp::SetFeedMode(m) => self.per_rev = *m == FeedMode::PerRevolution,
+            CanonOp::StartSpeedFeedSync(pitch) => self.sync = Some(self.mm(*pitch)),
+            CanonOp::StopSpeedFeedSync => self.sync = None,
+            CanonOp::RigidTap(p) => {
+                // Into the hole and back out along the same line.
+                let back = self.pos;
+                let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
+                let mv = self.mv(MoveKind::Line, to, c.line);
+                self.cut(mv, c);
+                let mv = self.mv(MoveKind::Line, back, c.line);
+                self.cut(mv, c);
+            }
             CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
             CanonOp::StartSpindleClockwise => self.spindle = SpindleDir::Cw,
             CanonOp::StartSpindleCounterclockwise => self.spindle = SpindleDir::Ccw,
@@ -423,7 +452,7 @@ impl<'p> Recovery<'p> {
     fn mv(&mut self, kind: MoveKind, to: P3, line: u32) -> Move {
         let from = self.pos;
         self.pos = to;
-        let feed = if kind == MoveKind::Rapid { 0.0 } else { self.feed };
+        let feed = if kind == MoveKind::Rapid { 0.0 } else { self.feed_now() };
         Move { kind, phase: Phase::Cut, from, to, center: None, axis: None, turns: None, feed, line }
     }
 
@@ -486,13 +515,14 @@ impl<'p> Recovery<'p> {
             let now = self.technology();
             self.split(t, c, now);
         }
+        let feed = self.feed_now();
         let Some(b) = self.current.as_mut() else { return };
         for mut m in self.pending.drain(..) {
             m.phase = Phase::Connect;
             b.moves.push(m);
         }
-        if mv.kind != MoveKind::Rapid && !b.technology.feeds.iter().any(|f| (f - self.feed).abs() < EPS) {
-            b.technology.feeds.push(self.feed);
+        if mv.kind != MoveKind::Rapid && !b.technology.feeds.iter().any(|f| (f - feed).abs() < EPS) {
+            b.technology.feeds.push(feed);
         }
         if is_cut {
             b.cut_feed = Some(mv.feed);

@@ -338,3 +338,24 @@ fn a_pocket_through_a_stock_side_is_open() {
     assert_eq!(p.features[0].depth, 4.0);
     assert_eq!(p.workingsteps[0].operation, Operation::BottomAndSideFinishMilling);
 }
+
+#[test]
+fn rigid_tapping_and_feed_per_revolution_become_a_tapping_step_and_feeds_per_minute() {
+    // LinuxCNC: G33.1 taps synchronised to the spindle; G95 gives the feed per revolution.
+    let program = "G21 G90 G17
+T1 M6
+S500 M3
+G0 X10 Y10 Z5
+G33.1 Z-12 K1.25
+G0 X30
+G95 G1 Z-2 F0.1
+G94 G1 Z-4 F100
+M2
+";
+    let reg = Registry::shipped();
+    let a = pipeline::analyze(program.as_bytes(), &reg.get("linuxcnc").unwrap(), &Profile::default());
+    assert!(!a.has_errors(), "{:?}", a.diagnostics);
+    let steps: Vec<(Operation, Vec<f64>)> = a.plan.workingsteps.iter().map(|w| (w.operation, w.technology.feeds.clone())).collect();
+    // The tap advances 1.25 mm per turn at 500 rpm: 625 mm/min; 0.1 mm/rev at 500 rpm is 50.
+    assert_eq!(steps, [(Operation::Tapping, vec![625.0]), (Operation::FreeformMilling, vec![50.0, 100.0])]);
+}
