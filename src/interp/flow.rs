@@ -1398,8 +1398,6 @@ impl<'a> Driver<'a, '_> {
         self.stop = true;
     }
 
-    /// The end of a source text: the end of the run, or an implicit return from a
-    /// subprogram. Returns false when the run is over.
     /// The main program's text ran out: an error where the dialect requires an end, unless
     /// the file only defines subroutines.
     fn end_of_main(&mut self, interp: &Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
@@ -1425,6 +1423,8 @@ impl<'a> Driver<'a, '_> {
         diags.push(Diagnostic::new(Code::NoProgramEnd, TextRange::new(end, end), msg));
     }
 
+    /// The end of a source text: the end of the run, or an implicit return from a
+    /// subprogram. Returns false when the run is over.
     fn end_of_source(&mut self, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
         let Some(f) = self.frames.last() else { return false };
         let msg = match f.kind {
