@@ -213,6 +213,12 @@ struct Driver<'a, 'p> {
     library: bool,
 }
 
+/// The first 40 characters of a control statement, for a message.
+fn statement_head<'t>(text: &'t str, c: &Control) -> &'t str {
+    let t = &text[c.range.start as usize..c.range.end as usize];
+    t.char_indices().nth(40).map_or(t, |(i, _)| &t[..i]).trim()
+}
+
 fn normalise_label(s: &str) -> String {
     let s: String = s.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect();
     if s.bytes().all(|b| b.is_ascii_digit()) {
@@ -260,10 +266,11 @@ impl<'a> Driver<'a, '_> {
                         break;
                     }
                     self.delimiters += 1;
-                } else {
-                    let blank = self.sources[0].text[block.range.start as usize..block.range.end as usize].trim().is_empty();
-                    self.started |= !blank;
-                    self.main_work |= !block.words.is_empty()
+                } else if !self.main_work {
+                    // Settled by the first blocks of a program; not looked at again.
+                    self.started =
+                        self.started || !self.sources[0].text[block.range.start as usize..block.range.end as usize].trim().is_empty();
+                    self.main_work = !block.words.is_empty()
                         || !block.assigns.is_empty()
                         || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
                 }
@@ -411,14 +418,14 @@ impl<'a> Driver<'a, '_> {
         let Some(statement) = c.statement else {
             if let Some(k) = c.keyword {
                 let word = &text[k.start as usize..k.end as usize];
-                let head: String = text[c.range.start as usize..c.range.end as usize].chars().take(40).collect();
+                let head = statement_head(text, c);
                 interp.limited(
                     diags,
                     "statement",
                     Diagnostic::new(
                         Code::UnknownStatement,
                         k,
-                        format!("`{word}` is not a statement of the {} dialect; `{}` was skipped", self.dialect.name, head.trim()),
+                        format!("`{word}` is not a statement of the {} dialect; `{head}` was skipped", self.dialect.name),
                     ),
                 );
             }
@@ -672,8 +679,7 @@ impl<'a> Driver<'a, '_> {
             Statement::Procedure => self.procedure(c, interp),
             Statement::Inert => {}
             Statement::Unsupported => {
-                let head: String = text[c.range.start as usize..c.range.end as usize].chars().take(40).collect();
-                let msg = format!("`{}` is not simulated; it was skipped", head.trim());
+                let msg = format!("`{}` is not simulated; it was skipped", statement_head(text, c));
                 interp.limited(diags, "unsupported-statement", Diagnostic::new(Code::Unsupported, c.range, msg));
             }
         }
