@@ -511,48 +511,75 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
 /// number formatting is the dearest part of printing. The output is the same byte for byte.
 pub struct CallWriter {
     /// Direct-mapped: slot by a hash of the value's bits; (bits, length, text).
-    cache: Vec<(u64, u8, [u8; 23])>,
+    cache: Vec<(u64, u8, [u8; CACHED])>,
 }
 
 impl Default for CallWriter {
     fn default() -> CallWriter {
-        CallWriter { cache: vec![(0, 0, [0; 23]); 1024] }
+        CallWriter { cache: vec![(0, 0, [0; CACHED]); 1024] }
     }
 }
 
 impl CallWriter {
     /// Appends the call and a newline.
+    ///
+    /// A straight move is assembled in a line buffer on the stack, with fixed-size copies of
+    /// cached numbers, and appended in one copy. Any number the fast formatter declines sends
+    /// the whole call to [`write_call_bytes`].
     pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {
-        match op {
-            CanonOp::StraightTraverse(p) => straight(out, b"STRAIGHT_TRAVERSE(", p, |o, x| self.number(o, x)),
-            CanonOp::StraightFeed(p) => straight(out, b"STRAIGHT_FEED(", p, |o, x| self.number(o, x)),
+        let (name, p): (&[u8], _) = match op {
+            CanonOp::StraightTraverse(p) => (b"STRAIGHT_TRAVERSE(", p),
+            CanonOp::StraightFeed(p) => (b"STRAIGHT_FEED(", p),
             _ => return write_call_bytes(out, op),
+        };
+        // Name, six numbers with separators, `)` and the newline: 18 + 6 × (2 + 23) + 2.
+        let mut line = [0u8; 176];
+        line[..name.len()].copy_from_slice(name);
+        let mut len = name.len();
+        for (i, &x) in p.iter().enumerate() {
+            if i > 0 {
+                line[len..len + 2].copy_from_slice(b", ");
+                len += 2;
+            }
+            let Some((text, n)) = self.number(x) else { return write_call_bytes(out, op) };
+            line[len..len + CACHED].copy_from_slice(text);
+            len += n;
         }
-        out.push(b'\n');
+        line[len..len + 2].copy_from_slice(b")\n");
+        out.extend_from_slice(&line[..len + 2]);
     }
 
-    fn number(&mut self, out: &mut Vec<u8>, v: f64) {
+    /// `v` as [`push_f4`] writes it, padded to [`CACHED`] bytes, and its length; `None` when
+    /// only the standard formatter can decide.
+    fn number(&mut self, v: f64) -> Option<(&[u8; CACHED], usize)> {
+        const ZERO: [u8; CACHED] = {
+            let mut z = [0u8; CACHED];
+            let mut k = 0;
+            while k < 6 {
+                z[k] = b"0.0000"[k];
+                k += 1;
+            }
+            z
+        };
         if v == 0.0 && v.is_sign_positive() {
-            out.extend_from_slice(b"0.0000");
-            return;
+            return Some((&ZERO, 6));
         }
         let bits = v.to_bits();
         let slot = ((bits ^ (bits >> 31)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 54) as usize;
         let entry = &mut self.cache[slot];
-        if entry.0 == bits && entry.1 > 0 {
-            out.extend_from_slice(&entry.2[..usize::from(entry.1)]);
-            return;
-        }
-        let at = out.len();
-        push_f4(out, v);
-        let written = &out[at..];
-        if written.len() <= entry.2.len() {
+        if entry.0 != bits || entry.1 == 0 {
+            let mut buf = [0u8; 32];
+            let n = f4_fast(v, &mut buf).filter(|&n| n <= CACHED)?;
             entry.0 = bits;
-            entry.1 = written.len() as u8;
-            entry.2[..written.len()].copy_from_slice(written);
+            entry.1 = n as u8;
+            entry.2.copy_from_slice(&buf[..CACHED]);
         }
+        Some((&entry.2, usize::from(entry.1)))
     }
 }
+
+/// Bytes a cached number may take: [`f4_fast`] writes at most 18.
+const CACHED: usize = 23;
 
 /// Calls that LinuxCNC emits for its own bookkeeping and that carry no machining meaning.
 /// Comparisons with `rs274` drop them on both sides.

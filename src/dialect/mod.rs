@@ -639,7 +639,11 @@ impl Dialect {
         if lex.label_suffix.is_none() && !lex.identifier_variables {
             for c in b'A'..=b'Z' {
                 let ch = Some(c as char);
-                let special = [lex.control_word, lex.block_number, lex.program_number, lex.program_number_alt].contains(&ch)
+                let lexer_mark = [lex.continuation, lex.block_end, lex.program_delimiter, lex.block_skip.map(|(k, _)| k)].contains(&ch)
+                    || lex.statement_prefix.contains(&c)
+                    || lex.comments.iter().any(|r| r.open.eq_ignore_ascii_case(&(c as char)));
+                let special = lexer_mark
+                    || [lex.control_word, lex.block_number, lex.program_number, lex.program_number_alt].contains(&ch)
                     || lex.parameter.is_some_and(|(s, _)| s.eq_ignore_ascii_case(&(c as char)))
                     || self.addresses.iter().any(|a| a.name.len() > 1 && a.name.as_bytes()[0] == c)
                     || self.codes.iter().filter_map(|k| k.keyword.as_ref()).any(|k| {

@@ -139,6 +139,13 @@ impl Lexer<'_, '_> {
         loop {
             self.skip_blanks();
             let Some(c) = self.peek() else { break };
+            // Most words are a letter and a number; the dialect's index guarantees that no
+            // other rule below claims a letter that has a plain role.
+            if let Some(role) = self.dialect.plain_role(c)
+                && self.plain_word(role)
+            {
+                continue;
+            }
             if lex.continuation == Some(c as char) {
                 // `~` continues the block on the next line.
                 self.i += 1;
@@ -285,29 +292,34 @@ impl Lexer<'_, '_> {
         }
     }
 
+    /// The lexer's fast path: `X10.5`, `Y-.25`, a plain address with a literal number. False,
+    /// with nothing consumed, when the word is anything else.
+    #[inline]
+    fn plain_word(&mut self, role: Role) -> bool {
+        let start = self.i;
+        let digit_at = |j: usize| self.b.get(j).is_some_and(|&c| c.is_ascii_digit() || c == b'.');
+        let literal = digit_at(start + 1) || (matches!(self.b.get(start + 1), Some(b'-' | b'+')) && digit_at(start + 2));
+        if !literal {
+            return false;
+        }
+        self.i += 1;
+        if let Some((value, decimal)) = self.number() {
+            let letter = self.b[start].to_ascii_uppercase();
+            let range = TextRange::new(start, self.i);
+            self.block.words.push(Word {
+                role,
+                letter,
+                value: Value::Number { value, decimal },
+                range,
+                mode: WordMode::Modal,
+                cycle_arg: false,
+            });
+        }
+        true
+    }
+
     fn address(&mut self) {
         let start = self.i;
-        // Fast path: `X10.5`, `Y-.25`: a plain address with a literal number.
-        if let Some(role) = self.dialect.plain_role(self.b[start]) {
-            let digit_at = |j: usize| self.b.get(j).is_some_and(|&c| c.is_ascii_digit() || c == b'.');
-            let literal = digit_at(start + 1) || (matches!(self.b.get(start + 1), Some(b'-' | b'+')) && digit_at(start + 2));
-            if literal {
-                self.i += 1;
-                if let Some((value, decimal)) = self.number() {
-                    let letter = self.b[start].to_ascii_uppercase();
-                    let range = TextRange::new(start, self.i);
-                    self.block.words.push(Word {
-                        role,
-                        letter,
-                        value: Value::Number { value, decimal },
-                        range,
-                        mode: WordMode::Modal,
-                        cycle_arg: false,
-                    });
-                }
-                return;
-            }
-        }
         let lex = &self.dialect.lexical;
         if let Some(suffix) = lex.label_suffix {
             let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
@@ -1315,37 +1327,9 @@ impl Lexer<'_, '_> {
         // Fast path: plain digits, at most one point, up to 18 digits, then a byte that ends
         // the number. Anything else (blanks inside the number, a second point, long runs)
         // goes through the general loop below from the same position.
-        {
-            let b = self.b;
-            let mut i = self.i;
-            let mut m = 0u64;
-            let mut n = 0u32;
-            let mut f = 0u32;
-            let mut pt = false;
-            while let Some(&c) = b.get(i) {
-                if c.is_ascii_digit() {
-                    // Past 18 digits the general path below takes over; stop accumulating.
-                    m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-                    n += 1;
-                    f += u32::from(pt);
-                } else if c == b'.' && !pt {
-                    pt = true;
-                } else {
-                    break;
-                }
-                i += 1;
-            }
-            let next = b.get(i).copied();
-            let continues_after_blanks = spaces && matches!(next, Some(b' ' | b'\t')) && {
-                let j = b[i..].iter().position(|&c| c != b' ' && c != b'\t').map_or(b.len(), |p| i + p);
-                matches!(b.get(j), Some(b'0'..=b'9' | b'.'))
-            };
-            let clean = n > 0 && n <= 18 && next != Some(b'.') && !continues_after_blanks;
-            if clean {
-                self.i = i;
-                let v = m as f64 / POW10[f as usize];
-                return Some((if negative { -v } else { v }, pt));
-            }
+        if let Some((v, end, pt)) = plain_number(self.b, self.i, spaces) {
+            self.i = end;
+            return Some((if negative { -v } else { v }, pt));
         }
         loop {
             match self.peek() {
@@ -1705,6 +1689,66 @@ impl Lexer<'_, '_> {
         self.block.assigns.push(Assign { target, value, range: TextRange::new(start, self.i) });
     }
 }
+
+/// The digits at the start of `b`: their value (exact for up to 19 digits) and count.
+#[inline]
+fn digit_run(b: &[u8]) -> (u64, usize) {
+    let mut m = 0u64;
+    for (n, &c) in b.iter().enumerate() {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
+            return (m, n);
+        }
+        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+    }
+    (m, b.len())
+}
+
+/// A number of plain digits with at most one point, at most 18 digits, and a byte after it
+/// that cannot continue it: its value, end and whether it has a point. `None` sends the
+/// caller to the general path.
+#[inline]
+fn plain_number(b: &[u8], i: usize, spaces: bool) -> Option<(f64, usize, bool)> {
+    let (int, n_int) = digit_run(&b[i..]);
+    let mut end = i + n_int;
+    let point = b.get(end) == Some(&b'.');
+    let (mut m, mut n_frac) = (int, 0);
+    if point {
+        let (frac, n) = digit_run(&b[end + 1..]);
+        if n_int + n > 18 {
+            return None;
+        }
+        m = int * POW10_U64[n] + frac;
+        n_frac = n;
+        end += 1 + n;
+    }
+    // Past 2^53 the mantissa is no longer exact as a float; the general path parses it.
+    if n_int + n_frac == 0 || n_int > 18 || m >= 1 << 53 {
+        return None;
+    }
+    match b.get(end) {
+        Some(b'.') => return None,
+        Some(b' ' | b'\t') if spaces => {
+            // `X1 5` is X15 where blanks may sit inside numbers.
+            let j = b[end..].iter().position(|&c| c != b' ' && c != b'\t').map_or(b.len(), |p| end + p);
+            if matches!(b.get(j), Some(b'0'..=b'9' | b'.')) {
+                return None;
+            }
+        }
+        _ => {}
+    }
+    Some((m as f64 / POW10[n_frac], end, point))
+}
+
+const POW10_U64: [u64; 19] = {
+    let mut t = [1u64; 19];
+    let mut k = 1;
+    while k < 19 {
+        t[k] = t[k - 1] * 10;
+        k += 1;
+    }
+    t
+};
 
 const POW10: [f64; 23] =
     [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22];
