@@ -512,11 +512,14 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
 pub struct CallWriter {
     /// Direct-mapped: slot by a hash of the value's bits; (bits, length, text).
     cache: Vec<(u64, u8, [u8; CACHED])>,
+    /// The line being assembled: name, six numbers with separators, `)` and the newline,
+    /// 18 + 6 × (2 + 23) + 2 bytes.
+    line: [u8; 176],
 }
 
 impl Default for CallWriter {
     fn default() -> CallWriter {
-        CallWriter { cache: vec![(0, 0, [0; CACHED]); 1024] }
+        CallWriter { cache: vec![(0, 0, [0; CACHED]); 1024], line: [0; 176] }
     }
 }
 
@@ -532,8 +535,7 @@ impl CallWriter {
             CanonOp::StraightFeed(p) => (b"STRAIGHT_FEED(", p),
             _ => return write_call_bytes(out, op),
         };
-        // Name, six numbers with separators, `)` and the newline: 18 + 6 × (2 + 23) + 2.
-        let mut line = [0u8; 176];
+        let CallWriter { cache, line } = self;
         line[..name.len()].copy_from_slice(name);
         let mut len = name.len();
         for (i, &x) in p.iter().enumerate() {
@@ -541,41 +543,41 @@ impl CallWriter {
                 line[len..len + 2].copy_from_slice(b", ");
                 len += 2;
             }
-            let Some((text, n)) = self.number(x) else { return write_call_bytes(out, op) };
+            let Some((text, n)) = cached_f4(cache, x) else { return write_call_bytes(out, op) };
             line[len..len + CACHED].copy_from_slice(text);
             len += n;
         }
         line[len..len + 2].copy_from_slice(b")\n");
         out.extend_from_slice(&line[..len + 2]);
     }
+}
 
-    /// `v` as [`push_f4`] writes it, padded to [`CACHED`] bytes, and its length; `None` when
-    /// only the standard formatter can decide.
-    fn number(&mut self, v: f64) -> Option<(&[u8; CACHED], usize)> {
-        const ZERO: [u8; CACHED] = {
-            let mut z = [0u8; CACHED];
-            let mut k = 0;
-            while k < 6 {
-                z[k] = b"0.0000"[k];
-                k += 1;
-            }
-            z
-        };
-        if v == 0.0 && v.is_sign_positive() {
-            return Some((&ZERO, 6));
+/// `v` as [`push_f4`] writes it, padded to [`CACHED`] bytes, and its length, from `cache` or
+/// formatted into it; `None` when only the standard formatter can decide.
+fn cached_f4(cache: &mut [(u64, u8, [u8; CACHED])], v: f64) -> Option<(&[u8; CACHED], usize)> {
+    const ZERO: [u8; CACHED] = {
+        let mut z = [0u8; CACHED];
+        let mut k = 0;
+        while k < 6 {
+            z[k] = b"0.0000"[k];
+            k += 1;
         }
-        let bits = v.to_bits();
-        let slot = ((bits ^ (bits >> 31)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 54) as usize;
-        let entry = &mut self.cache[slot];
-        if entry.0 != bits || entry.1 == 0 {
-            let mut buf = [0u8; 32];
-            let n = f4_fast(v, &mut buf).filter(|&n| n <= CACHED)?;
-            entry.0 = bits;
-            entry.1 = n as u8;
-            entry.2.copy_from_slice(&buf[..CACHED]);
-        }
-        Some((&entry.2, usize::from(entry.1)))
+        z
+    };
+    if v == 0.0 && v.is_sign_positive() {
+        return Some((&ZERO, 6));
     }
+    let bits = v.to_bits();
+    let slot = ((bits ^ (bits >> 31)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 54) as usize;
+    let entry = &mut cache[slot];
+    if entry.0 != bits || entry.1 == 0 {
+        let mut buf = [0u8; 32];
+        let n = f4_fast(v, &mut buf).filter(|&n| n <= CACHED)?;
+        entry.0 = bits;
+        entry.1 = n as u8;
+        entry.2.copy_from_slice(&buf[..CACHED]);
+    }
+    Some((&entry.2, usize::from(entry.1)))
 }
 
 /// Bytes a cached number may take: [`f4_fast`] writes at most 18.

@@ -842,7 +842,16 @@ impl<'a> Interpreter<'a> {
             self.filled |= 1 << role as u32;
         }
         // Polar words (`PA+90`) name an end point as axis words do.
-        self.has_axes = Role::AXES.iter().chain(&[Role::PolarRadius, Role::PolarAngle]).any(|&r| self.slots[r as usize].is_some());
+        const POSITION: u64 = {
+            let mut m = 1 << Role::PolarRadius as u32 | 1 << Role::PolarAngle as u32;
+            let mut k = 0;
+            while k < Role::AXES.len() {
+                m |= 1 << Role::AXES[k] as u32;
+                k += 1;
+            }
+            m
+        };
+        self.has_axes = self.filled & POSITION != 0;
         if ok {
             ok = self.check_params(block, diags);
         }
@@ -961,11 +970,12 @@ impl<'a> Interpreter<'a> {
             }
         }
         // Words that no command in this block takes.
-        let motion = self.active_motion_code();
+        let mut motion = None;
         for w in &block.words {
             if !matches!(w.role, Role::P | Role::Q | Role::L | Role::R | Role::I | Role::J | Role::K | Role::H | Role::D | Role::E) {
                 continue;
             }
+            let motion = *motion.get_or_insert_with(|| self.active_motion_code());
             let taken = self.codes.iter().any(|&(c, _)| self.code(c).params.takes(w.role))
                 || motion.is_some_and(|c| self.code(c).params.takes(w.role));
             if !taken {
