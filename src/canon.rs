@@ -230,6 +230,17 @@ pub enum CanonOp {
     /// `RIGID_TAP(x, y, z)`: a synchronised feed to the bottom and, spindle reversed, back to
     /// where it started.
     RigidTap([f64; 3]),
+    /// `ORIENT_SPINDLE(0, angle, mode)`: stop the spindle at `angle` degrees; mode 0 takes
+    /// the shorter way, 1 turns clockwise, 2 counterclockwise (M19 R.. P..).
+    OrientSpindle {
+        /// Degrees.
+        angle: f64,
+        /// 0 the shorter way, 1 clockwise, 2 counterclockwise.
+        mode: u8,
+    },
+    /// `SPINDLE.0.WAIT_ORIENT_COMPLETE(timeout)`: wait up to `timeout` seconds for the
+    /// orientation to finish (M19 Q..).
+    WaitOrientComplete(f64),
 }
 
 /// What a feed rate is per.
@@ -501,6 +512,12 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::StopSpeedFeedSync => out.extend_from_slice(b"STOP_SPEED_FEED_SYNCH()"),
         CanonOp::RigidTap([x, y, z]) => {
             let _ = write!(out, "RIGID_TAP({}, {}, {})", F4(*x), F4(*y), F4(*z));
+        }
+        CanonOp::OrientSpindle { angle, mode } => {
+            let _ = write!(out, "ORIENT_SPINDLE(0, {}, {mode})", F4(*angle));
+        }
+        CanonOp::WaitOrientComplete(t) => {
+            let _ = write!(out, "SPINDLE.0.WAIT_ORIENT_COMPLETE({})", F4(*t));
         }
     }
     out.push(b'\n');

@@ -99,6 +99,8 @@ codes! {
     Unsupported = ("interp::unsupported", Warning),
     /// An arc whose start and end radius differ beyond tolerance, or that cannot be built.
     BadArc = ("interp::bad-arc", Error),
+    /// A word's value lies outside what its command accepts (`M19 P3`, `M19 Q-1`).
+    BadValue = ("interp::bad-value", Error),
     /// A cutting move with the spindle stopped.
     CuttingWithoutTechnology = ("interp::cutting-without-technology", Warning),
     /// A cutting move with a zero feed rate: the control stops with an alarm.

@@ -202,8 +202,14 @@ vocab! {
         SubprogramReturn = "subprogram-return",
         /// Spindle orientation (M19).
         SpindleOrient = "spindle-orient",
-        /// Save or restore the modal state (M70, M72, M73).
-        ModalState = "modal-state",
+        /// Saves the modal state at the current call level (M70).
+        StateSave = "state-save",
+        /// Saves the modal state, restored when the current call returns (M73).
+        StateSaveAutorestore = "state-save-autorestore",
+        /// Forgets the state saved at the current call level (M71).
+        StateInvalidate = "state-invalidate",
+        /// Restores the state saved at the current call level (M72).
+        StateRestore = "state-restore",
         /// Replaces the programmable frame's translation (`TRANS X10`); alone, resets the frame.
         FrameTrans = "frame-trans",
         /// Adds to the programmable frame's translation (`ATRANS`).

@@ -237,6 +237,10 @@ impl<'a> Driver<'a, '_> {
     fn drive(&mut self, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let mut block = Block::default();
         loop {
+            if let Some(level) = interp.left_level.take() {
+                // A call returned; the state it saved with M73 comes back first.
+                interp.leave_level(level, sink);
+            }
             let start = self.pos();
             let src = self.cur;
             let mark = diags.len();
@@ -1371,6 +1375,7 @@ impl<'a> Driver<'a, '_> {
             return;
         }
         let Some(f) = self.frames.pop() else { return };
+        interp.left_level = Some(self.frames.len() + 1);
         interp.depth = self.frames.len() as u32;
         if let Some(saved) = &f.saved_locals {
             interp.params.restore(self.dialect.macros.locals.0, saved);

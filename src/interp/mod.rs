@@ -7,6 +7,7 @@
 //! diagnostics and an erroneous block is skipped.
 
 mod comp;
+mod context;
 mod corner;
 mod cycle;
 mod define;
@@ -273,6 +274,10 @@ pub struct Interpreter<'a> {
     request: Option<Request>,
     /// Call depth (0 in the main program), kept by the flow driver.
     pub(super) depth: u32,
+    /// Modal state saved per call level (M70, M73), index 0 for the main program.
+    contexts: Vec<Option<context::Context>>,
+    /// A call level left whose saved state waits to be restored before the next block.
+    pub(super) left_level: Option<usize>,
     /// Motion commands executed so far (to tell whether a block moved).
     motions: u64,
     /// Assignments of the block being executed, waiting for its reads (reused).
@@ -368,6 +373,8 @@ impl<'a> Interpreter<'a> {
             after_end_noted: false,
             request: None,
             depth: 0,
+            contexts: Vec::new(),
+            left_level: None,
             motions: 0,
             pending: Vec::new(),
             stop_message: None,
@@ -1273,6 +1280,33 @@ impl<'a> Interpreter<'a> {
         );
     }
 
+    /// M19: the spindle stops at an angle (R, degrees) turning the way P says (0 shorter,
+    /// 1 clockwise, 2 counterclockwise); Q waits that many seconds for it. A code that takes
+    /// no R orients to the angle the machine is set up with, given as 0.
+    fn orient_spindle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        self.st.spindle = Spindle::Stopped;
+        let (angle, mode) = (self.slot(Role::R), self.slot(Role::P));
+        if angle.is_some() || mode.is_some() || !def.params.takes(Role::R) {
+            let mode = match mode {
+                None => 0,
+                Some(p) if [0.0, 1.0, 2.0].contains(&p) => p as u8,
+                Some(p) => {
+                    let d = Diagnostic::new(Code::BadValue, range, format!("{}: P{p} is no direction; P takes 0, 1 or 2", def.label()));
+                    diags.push(d);
+                    return;
+                }
+            };
+            self.emit(sink, CanonOp::OrientSpindle { angle: angle.unwrap_or(0.0), mode });
+        }
+        match self.slot(Role::Q) {
+            Some(t) if t > 0.0 => self.emit(sink, CanonOp::WaitOrientComplete(t)),
+            Some(t) => {
+                diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: a wait of Q{t} seconds; Q must be above 0", def.label())))
+            }
+            None => {}
+        }
+    }
+
     fn execute_code(&mut self, c: usize, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let def = self.code(c);
         match def.meaning {
@@ -1326,6 +1360,7 @@ impl<'a> Interpreter<'a> {
                 self.st.spindle = Spindle::Stopped;
                 self.emit(sink, CanonOp::StopSpindleTurning);
             }
+            Meaning::SpindleOrient => self.orient_spindle(def, range, sink, diags),
             Meaning::CoolantMist => {
                 self.st.mist = true;
                 self.emit(sink, CanonOp::MistOn);
@@ -1421,12 +1456,11 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::Wcs => {
                 if def.index != self.st.wcs {
-                    let new = self.st.wcs_offsets[def.index as usize - 1];
-                    self.switch_wcs(|st| st.wcs = def.index);
-                    self.emit(sink, CanonOp::SetG5xOffset(def.index, new));
-                    // LinuxCNC restates the G92 offset with every switch of system.
-                    self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
+                    self.select_wcs(def.index, sink);
                 }
+            }
+            Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
+                self.modal_context(def, range, sink, diags);
             }
             Meaning::PathMode | Meaning::SpindleRpm => {}
             Meaning::DistanceAbsolute | Meaning::DistanceIncremental => {
@@ -1900,6 +1934,15 @@ impl<'a> Interpreter<'a> {
             [p[0], p[1]] = rotate([p[0], p[1]], -rotation);
         }
         std::array::from_fn(|i| p[i] - self.st.g92[i])
+    }
+
+    /// Makes work coordinate system `index` (1 for G54) the active one.
+    fn select_wcs(&mut self, index: u8, sink: &mut dyn CanonSink) {
+        let new = self.st.wcs_offsets[index as usize - 1];
+        self.switch_wcs(|st| st.wcs = index);
+        self.emit(sink, CanonOp::SetG5xOffset(index, new));
+        // LinuxCNC restates the G92 offset with every switch of system.
+        self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
     }
 
     /// Changes the active coordinate system (which one, its offsets or rotation) keeping the

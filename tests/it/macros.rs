@@ -371,3 +371,90 @@ fn linuxcnc_polar_words_g80_with_motion_and_indirect_calls() {
     let (fanuc, _) = self::moves("fanuc", "G0 X1.\nG80 G0\nM30\n");
     assert_eq!(fanuc.lines().count(), 1, "{fanuc}");
 }
+
+/// All calls except LinuxCNC's bookkeeping ones, and the diagnostic codes.
+fn calls(program: &str) -> (String, Vec<&'static str>) {
+    let d = Registry::shipped().get("linuxcnc").unwrap();
+    let mut canon = Vec::new();
+    let diags = interpret(program, &d, &Profile::default(), &mut canon);
+    let mut out = String::new();
+    for c in &canon {
+        let mut line = String::new();
+        write_call(&mut line, &c.op);
+        if !ncplan::canon::LINUXCNC_INTERNAL.iter().any(|k| line.starts_with(&format!("{k}("))) && !line.is_empty() {
+            out.push_str(&line);
+        }
+    }
+    (out, diags.iter().map(|d| d.code.as_str()).collect())
+}
+
+/// Each case checked against LinuxCNC 2.9's `rs274`: R orients, P picks the way, Q waits;
+/// a bare M19 does nothing there.
+#[test]
+fn m19_orients_the_spindle_as_rs274_does() {
+    let (out, codes) = calls("S500 M3\nM19\nM19 R45 Q2\nM19 P1\nM19 R30 P2 Q3\nM19 Q1\nM2\n");
+    assert!(codes.is_empty(), "{codes:?}");
+    expect![[r#"
+        SET_SPINDLE_SPEED(0, 500.0000)
+        START_SPINDLE_CLOCKWISE(0)
+        ORIENT_SPINDLE(0, 45.0000, 0)
+        SPINDLE.0.WAIT_ORIENT_COMPLETE(2.0000)
+        ORIENT_SPINDLE(0, 0.0000, 1)
+        ORIENT_SPINDLE(0, 30.0000, 2)
+        SPINDLE.0.WAIT_ORIENT_COMPLETE(3.0000)
+        SPINDLE.0.WAIT_ORIENT_COMPLETE(1.0000)
+        SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(0.0000)
+        STOP_SPINDLE_TURNING(0)
+        PROGRAM_END()
+    "#]]
+    .assert_eq(&out);
+    // rs274: "P value must be 0,1,or 2 with M19", "Q word with M19 requires a value > 0".
+    assert_eq!(calls("M19 R10 P3\nM2\n").1, ["interp::bad-value"]);
+    assert_eq!(calls("M19 R10 Q-1\nM2\n").1, ["interp::bad-value"]);
+}
+
+/// M70 saves, M72 restores only what changed, in rs274's order (units, feed, speed,
+/// spindle, plane, system, distance, coolant); M73 in a subroutine restores at its return;
+/// M71 forgets, after which M72 has nothing to restore. Checked against `rs274`.
+#[test]
+fn m70_to_m73_save_and_restore_the_modal_state() {
+    let (out, codes) = calls(
+        "G21 G17 G90 F100 S1000 M3 G54\nM70\nF5 S200 M7\nM8\nG91 G18 G55\nM72\nG1 X1\n\
+         o10 sub\nM73\nG91 M9 M4\nG0 X1\no10 endsub\no10 call\nG0 X2\nM71\nM72\nM2\n",
+    );
+    assert_eq!(codes, ["flow::unmatched"]);
+    expect![[r#"
+        SET_FEED_RATE(100.0000)
+        SET_SPINDLE_SPEED(0, 1000.0000)
+        START_SPINDLE_CLOCKWISE(0)
+        SELECT_PLANE(CANON_PLANE_XY)
+        USE_LENGTH_UNITS(CANON_UNITS_MM)
+        SET_FEED_RATE(5.0000)
+        SET_SPINDLE_SPEED(0, 200.0000)
+        MIST_ON()
+        FLOOD_ON()
+        SELECT_PLANE(CANON_PLANE_XZ)
+        SET_G5X_OFFSET(2, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_G92_OFFSET(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(100.0000)
+        SET_SPINDLE_SPEED(0, 1000.0000)
+        MIST_OFF()
+        FLOOD_OFF()
+        SELECT_PLANE(CANON_PLANE_XY)
+        SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_G92_OFFSET(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        START_SPINDLE_COUNTERCLOCKWISE(0)
+        MIST_OFF()
+        FLOOD_OFF()
+        STRAIGHT_TRAVERSE(2.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        START_SPINDLE_CLOCKWISE(0)
+        STRAIGHT_TRAVERSE(2.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(0.0000)
+        STOP_SPINDLE_TURNING(0)
+        PROGRAM_END()
+    "#]]
+    .assert_eq(&out);
+}

@@ -1,0 +1,146 @@
+//! Saved modal state (LinuxCNC's M70 to M73): a snapshot per call level, restored on
+//! request or when the call that saved it returns.
+
+use super::{Interpreter, Retract, Spindle};
+use crate::canon::{CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Units};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::CodeDef;
+use crate::text::TextRange;
+
+/// The modes a save keeps: those LinuxCNC restores.
+#[derive(Clone, Debug)]
+pub(super) struct Context {
+    units: Units,
+    plane: Plane,
+    distance: DistanceMode,
+    arc_incremental: bool,
+    inverse_time: bool,
+    feed_per_rev: bool,
+    feed: f64,
+    speed: f64,
+    spindle: Spindle,
+    mist: bool,
+    flood: bool,
+    wcs: u8,
+    retract: Retract,
+    /// Restored when the call that saved it returns (M73).
+    autorestore: bool,
+}
+
+impl Interpreter<'_> {
+    fn snapshot(&self, autorestore: bool) -> Context {
+        let st = &self.st;
+        Context {
+            units: st.units,
+            plane: st.plane,
+            distance: st.distance,
+            arc_incremental: st.arc_incremental,
+            inverse_time: st.inverse_time,
+            feed_per_rev: st.feed_per_rev,
+            feed: st.feed,
+            speed: st.speed,
+            spindle: st.spindle,
+            mist: st.mist,
+            flood: st.flood,
+            wcs: st.wcs,
+            retract: st.retract,
+            autorestore,
+        }
+    }
+
+    /// M70 and M73 save, M71 forgets, M72 restores: each at the current call level.
+    pub(super) fn modal_context(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        use crate::dialect::Meaning;
+        let level = self.depth as usize;
+        if self.contexts.len() <= level {
+            self.contexts.resize(level + 1, None);
+        }
+        match def.meaning {
+            Meaning::StateSave => self.contexts[level] = Some(self.snapshot(false)),
+            Meaning::StateSaveAutorestore => self.contexts[level] = Some(self.snapshot(true)),
+            Meaning::StateInvalidate => self.contexts[level] = None,
+            _ => match self.contexts[level].clone() {
+                Some(saved) => self.restore(&saved, sink),
+                None => diags.push(Diagnostic::new(
+                    Code::UnmatchedStatement,
+                    range,
+                    format!("{}: no state was saved at this call level (M70 or M73 first)", def.label()),
+                )),
+            },
+        }
+    }
+
+    /// The call at `level` returns: its saved state goes, restored first if M73 saved it.
+    pub(super) fn leave_level(&mut self, level: usize, sink: &mut dyn CanonSink) {
+        if let Some(saved) = self.contexts.get_mut(level).and_then(Option::take)
+            && saved.autorestore
+        {
+            self.restore(&saved, sink);
+        }
+    }
+
+    /// Sets the saved modes again, with the calls LinuxCNC makes, in its order (units, feed,
+    /// speed, spindle, coolant, plane, system, distance); only what changed is set. Coolant follows LinuxCNC: a saved mist or flood is switched on, and
+    /// both go off only when neither was on.
+    fn restore(&mut self, saved: &Context, sink: &mut dyn CanonSink) {
+        if saved.units != self.st.units {
+            self.set_units(saved.units);
+            self.emit(sink, CanonOp::UseLengthUnits(saved.units));
+        }
+        let mode_changed = (saved.inverse_time, saved.feed_per_rev) != (self.st.inverse_time, self.st.feed_per_rev);
+        if mode_changed {
+            self.st.inverse_time = saved.inverse_time;
+            self.st.feed_per_rev = saved.feed_per_rev;
+            self.emit(sink, CanonOp::SetFeedMode(if saved.feed_per_rev { FeedMode::PerRevolution } else { FeedMode::PerMinute }));
+            if self.dialect.behaviour.feed_mode_resets_feed {
+                self.st.feed = 0.0;
+                self.emit(sink, CanonOp::SetFeedRate(0.0));
+            }
+        } else if saved.feed != self.st.feed {
+            self.st.feed = saved.feed;
+            self.emit(sink, CanonOp::SetFeedRate(saved.feed));
+        }
+        if saved.speed != self.st.speed {
+            self.st.speed = saved.speed;
+            self.emit(sink, CanonOp::SetSpindleSpeed(saved.speed));
+        }
+        if saved.spindle != self.st.spindle {
+            self.st.spindle = saved.spindle;
+            self.emit(
+                sink,
+                match saved.spindle {
+                    Spindle::Cw => CanonOp::StartSpindleClockwise,
+                    Spindle::Ccw => CanonOp::StartSpindleCounterclockwise,
+                    Spindle::Stopped => CanonOp::StopSpindleTurning,
+                },
+            );
+        }
+        if saved.mist && !self.st.mist {
+            self.st.mist = true;
+            self.emit(sink, CanonOp::MistOn);
+        }
+        if saved.flood && !self.st.flood {
+            self.st.flood = true;
+            self.emit(sink, CanonOp::FloodOn);
+        }
+        if !saved.mist && !saved.flood && (self.st.mist || self.st.flood) {
+            self.st.mist = false;
+            self.st.flood = false;
+            self.emit(sink, CanonOp::MistOff);
+            self.emit(sink, CanonOp::FloodOff);
+        }
+        if saved.plane != self.st.plane {
+            self.st.plane = saved.plane;
+            self.emit(sink, CanonOp::SelectPlane(saved.plane));
+        }
+        if saved.wcs != self.st.wcs {
+            self.select_wcs(saved.wcs, sink);
+        }
+        if saved.distance != self.st.distance {
+            self.st.distance = saved.distance;
+            self.emit(sink, CanonOp::DistanceMode(saved.distance));
+        }
+        self.st.arc_incremental = saved.arc_incremental;
+        self.st.retract = saved.retract;
+    }
+}
