@@ -668,7 +668,12 @@ impl Cx {
                             Self::attr_range(c, "keyword"),
                             format!("statement keyword `{k}` must be letters, or words of letters separated by single blanks"),
                         );
-                    } else if m.statements.iter().any(|(x, _)| *x == k) {
+                    } else if m.statements.iter().any(|&(ref x, other)| {
+                        // One keyword may head a repeat-until loop and a section repeat: a
+                        // label after it tells them apart.
+                        let pair = [other, meaning];
+                        *x == k && !(pair.contains(&Statement::RepeatUntil) && pair.contains(&Statement::RepeatSection))
+                    }) {
                         self.error(c.range, format!("statement `{k}` is declared twice"));
                     } else {
                         m.statements.push((k, meaning));

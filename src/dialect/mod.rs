@@ -330,6 +330,11 @@ impl Macros {
         self.statements.iter().find(|(k, _)| k.eq_ignore_ascii_case(word)).map(|&(_, s)| s)
     }
 
+    /// Whether the dialect has a statement that does `st`.
+    pub fn has_statement(&self, st: Statement) -> bool {
+        self.statements.iter().any(|&(_, s)| s == st)
+    }
+
     /// The statement keyword that `word` (a run of letters, any case) starts with, longest
     /// first: `GOTO10` → `GOTO`, `WHILE` → `WHILE`. Keywords of several words are matched
     /// by the parser against the text.

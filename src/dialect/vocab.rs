@@ -477,6 +477,9 @@ vocab! {
         Return = "return",
         /// Conditional: block form (`o1 if [c]`), jump form (`IF [c] GOTO n`) or `THEN` form.
         If = "if",
+        /// A jump chosen by value: `CASE R1 OF 1 GOTOF A 2 GOTOF B DEFAULT GOTOF C`; with no
+        /// match and no `DEFAULT`, the run goes on with the next block.
+        Case = "case",
         /// Another branch of a block conditional.
         ElseIf = "elseif",
         /// The last branch of a block conditional.
@@ -528,6 +531,14 @@ vocab! {
         /// Runs the section after a label (`CALL LBL 1 REP 2`): up to the end label when the
         /// label is a subprogram, or up to this call again when it is a section before it.
         CallLabel = "call-label",
+        /// Runs a section of this program again (`REPEAT START END P=2`: from the block with
+        /// the first label through the block with the second; `REPEAT START P=2`: from the
+        /// label up to this statement). The section lies before the statement; P (default 1)
+        /// counts the extra passes. The dialect gives this the keyword of `repeat-until` too:
+        /// a label after the keyword makes it a section repeat.
+        RepeatSection = "repeat-section",
+        /// Runs the one block with a label again (`REPEATB MARK P=3`).
+        RepeatBlock = "repeat-block",
         /// Runs another program by name (`CALL PGM NAME`, `CALL "NAME"`, `L123 P2`).
         CallProgram = "call-program",
         /// The head of a subprogram with named parameters (`PROC NAME(REAL A, INT B)`).

@@ -122,6 +122,8 @@ enum FrameKind {
     /// `CALL LBL 1`: returns at the end label (`LBL 0`), or on meeting the call again when
     /// the label stands before it (a section repeat).
     Label,
+    /// `REPEAT START END P=2`: returns on reaching the frame's `until` offset.
+    Section,
 }
 
 struct Frame {
@@ -142,6 +144,8 @@ struct Frame {
     call_at: (usize, usize),
     /// Arguments of a procedure call, bound by the callee's `PROC` statement.
     proc_args: Option<Vec<f64>>,
+    /// For a section repeat: the offset in the source where the section ends.
+    until: usize,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -249,6 +253,15 @@ impl<'a> Driver<'a, '_> {
                     self.end_of_main(interp, diags);
                     break;
                 }
+                continue;
+            }
+            if let Some(f) = self.frames.last()
+                && f.kind == FrameKind::Section
+                && self.cur == f.source
+                && block.range.start as usize >= f.until
+            {
+                // The end of a repeated section: again from its start, or back after the repeat.
+                self.return_from(None, &block, interp, diags);
                 continue;
             }
             self.executed += 1;
@@ -679,6 +692,8 @@ impl<'a> Driver<'a, '_> {
                 }
             }
             Statement::CallLabel => self.call_label(c, block, start, interp, diags),
+            Statement::Case => self.case(c, block, start, interp, diags),
+            Statement::RepeatSection | Statement::RepeatBlock => self.repeat_section(statement, c, block, start, interp, diags),
             Statement::CallProgram => self.call_program(c, block, start, interp, diags),
             Statement::Procedure => self.procedure(c, interp),
             Statement::Inert => {}
@@ -842,6 +857,77 @@ impl<'a> Driver<'a, '_> {
         }
         let source = self.cur;
         self.enter(FrameKind::Label, source, m.next, passes, Vec::new(), false, block, start, interp, diags);
+    }
+
+    /// `CASE R1 OF 1 GOTOF A 2 GOTOF B DEFAULT GOTOF C`: the first branch whose value equals
+    /// the operand, or `DEFAULT`, jumps; with neither the run goes on.
+    fn case(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let Some(operand) = c.args.first().and_then(|&e| self.value(interp, block, e, diags)) else { return };
+        for branch in &c.cases {
+            let taken = match branch.value {
+                None => true,
+                Some(e) => match self.value(interp, block, e, diags) {
+                    Some(v) => v == operand,
+                    None => return,
+                },
+            };
+            if taken {
+                let jump = Control {
+                    range: c.range,
+                    statement: Some(branch.jump),
+                    name: branch.name,
+                    target: branch.target,
+                    ..Control::default()
+                };
+                self.jump_statement(branch.jump, &jump, block, start, interp, diags);
+                return;
+            }
+        }
+    }
+
+    /// `REPEAT START END P=2`, `REPEAT START P=2`, `REPEATB MARK P=2`: runs again, P times,
+    /// the blocks from the first label's through the second label's, up to this statement, or
+    /// the labelled block alone; then goes on after the statement.
+    fn repeat_section(
+        &mut self,
+        st: Statement,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(name) = self.target_label(c, block, interp, diags) else {
+            self.error(diags, Code::MissingLabel, block.range, "the repeat names no label");
+            return;
+        };
+        let before = |m: &&Mark, name: &str, from: usize| m.defines.as_deref() == Some(name) && m.start.at >= from && m.start.at < start.at;
+        let Some(first) = self.marks(self.cur).iter().rev().find(|m| before(m, &name, 0)).cloned() else {
+            self.error(diags, Code::MissingLabel, block.range, format!("no label `{name}` before this repeat; the run stops here"));
+            return;
+        };
+        let until = match (st, c.label) {
+            (Statement::RepeatBlock, _) => first.next.at,
+            (_, Some(r)) => {
+                let last = normalise_label(&self.sources[self.cur].text[r.start as usize..r.end as usize]);
+                let Some(m) = self.marks(self.cur).iter().find(|m| before(m, &last, first.start.at)) else {
+                    let msg = format!("no label `{last}` between `{name}` and this repeat; the run stops here");
+                    self.error(diags, Code::MissingLabel, block.range, msg);
+                    return;
+                };
+                m.next.at
+            }
+            (_, None) => start.at,
+        };
+        let Some(passes) = self.passes(c, block, interp, diags) else { return };
+        let source = self.cur;
+        let depth = self.frames.len();
+        self.enter(FrameKind::Section, source, first.start, passes, Vec::new(), false, block, start, interp, diags);
+        if self.frames.len() > depth
+            && let Some(f) = self.frames.last_mut()
+        {
+            f.until = until;
+        }
     }
 
     /// How many times a call runs, from its repeat word.
@@ -1310,6 +1396,7 @@ impl<'a> Driver<'a, '_> {
             call: (origin, line),
             call_at: (self.cur, start.at),
             proc_args: None,
+            until: usize::MAX,
         });
         interp.depth = self.frames.len() as u32;
         self.jump(source, body, start, interp, diags);
@@ -1442,6 +1529,7 @@ impl<'a> Driver<'a, '_> {
             FrameKind::Sub => "the called subroutine ends without endsub; it returns at the end of its text",
             FrameKind::Program => "the called program ends without its return (M99, M17, RET); it returns at the end of its text",
             FrameKind::Label => "the called section runs to the end of the program without its end label; it returns there",
+            FrameKind::Section => "the repeated section runs to the end of the program (a jump left it); it returns there",
         };
         let (range, _) = f.call;
         diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));

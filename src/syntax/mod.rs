@@ -103,6 +103,21 @@ pub struct Control {
     pub name: Option<TextRange>,
     /// The repeat count of a call (`REP 2`, `P3`).
     pub repeat: Option<ExprId>,
+    /// The branches of a `CASE` (its operand is the first of `args`), in order.
+    pub cases: Vec<CaseBranch>,
+}
+
+/// One branch of a `CASE`: a value (none for `DEFAULT`) and the jump it takes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaseBranch {
+    /// The constant the operand is compared with; `None` for `DEFAULT`.
+    pub value: Option<ExprId>,
+    /// The jump: `GOTOF`, `GOTOB`, `GOTO` or `GOTOC`.
+    pub jump: Statement,
+    /// A named target (`GOTOF MARK1`).
+    pub name: Option<TextRange>,
+    /// A numbered target (`GOTOF N100` reads as a label; `GOTO 100` as a number).
+    pub target: Option<ExprId>,
 }
 
 /// One block (line) of a program.

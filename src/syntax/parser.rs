@@ -1,7 +1,7 @@
 //! The streaming block parser.
 
 use super::expr::{BinOp, Expr, ExprId, Func};
-use super::{Assign, Block, Control, ParamTarget, Value, Word, WordMode};
+use super::{Assign, Block, CaseBranch, Control, ParamTarget, Value, Word, WordMode};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CommentClose, Dialect, KeywordRest, Role, SkipPosition, Statement};
 use crate::text::TextRange;
@@ -904,8 +904,11 @@ impl Lexer<'_, '_> {
         let known = if self.dialect.lexical.control_word.is_none() { self.statement_at(start) } else { None };
         let mut control = Control::default();
         match known {
-            Some((end, st)) => {
+            Some((end, mut st)) => {
                 self.i = end;
+                if st == Statement::RepeatUntil && self.label_follows() && self.dialect.macros.has_statement(Statement::RepeatSection) {
+                    st = Statement::RepeatSection;
+                }
                 control.keyword = Some(TextRange::new(start, end));
                 control.statement = Some(st);
                 match st {
@@ -939,6 +942,89 @@ impl Lexer<'_, '_> {
         }
         control.range = TextRange::new(start, self.i);
         self.block.control = Some(control);
+    }
+
+    /// `CASE R1 OF 1 GOTOF A 2 GOTOB B DEFAULT GOTOF C`: the operand, then each value (or
+    /// `DEFAULT`) with its jump.
+    fn case_branches(&mut self, control: &mut Control) {
+        let start = self.i;
+        let Some(operand) = self.expr(1, 0) else {
+            self.i = self.line_end();
+            return;
+        };
+        control.args.push(operand);
+        self.skip_blanks();
+        let of = self.alpha_run();
+        if !self.text[of.start as usize..of.end as usize].eq_ignore_ascii_case("OF") {
+            let end = self.i.max(start + 1).min(self.b.len());
+            self.error(Code::MalformedExpression, self.i, end, "expected `OF` and the branches of the CASE");
+            self.i = self.line_end();
+            return;
+        }
+        self.i = of.end as usize;
+        loop {
+            self.skip_blanks();
+            if self.at_block_end() {
+                break;
+            }
+            let at = self.i;
+            let word = self.alpha_run();
+            let value = if self.text[word.start as usize..word.end as usize].eq_ignore_ascii_case("DEFAULT") {
+                self.i = word.end as usize;
+                None
+            } else {
+                match self.unary(1) {
+                    Some(v) => Some(v),
+                    None => {
+                        self.i = self.line_end();
+                        return;
+                    }
+                }
+            };
+            self.skip_blanks();
+            let jump = self
+                .statement_at(self.i)
+                .filter(|(_, st)| matches!(st, Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet));
+            let Some((end, jump)) = jump else {
+                let end = self.line_end();
+                self.error(
+                    Code::MalformedExpression,
+                    at,
+                    end.max(at + 1).min(self.b.len()),
+                    "each CASE branch needs a jump (GOTOF, GOTOB, GOTO)",
+                );
+                self.i = end;
+                return;
+            };
+            self.i = end;
+            let mut target = Control { statement: Some(jump), ..Control::default() };
+            self.target(&mut target);
+            control.cases.push(CaseBranch { value, jump, name: target.name, target: target.target });
+        }
+    }
+
+    /// Whether a name follows on this line (`REPEAT MARK1`), not a comment or the line end.
+    fn label_follows(&self) -> bool {
+        let rest = &self.b[self.i..];
+        let at = rest.iter().position(|c| !matches!(c, b' ' | b'\t')).unwrap_or(rest.len());
+        rest.get(at).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_')
+    }
+
+    /// `REPEAT START [END] [P=n]`, `REPEATB MARK [P=n]`: the first label is the name, the
+    /// second (if any) the label, the passes the repeat.
+    fn repeat_section(&mut self, control: &mut Control) {
+        self.target(control);
+        self.skip_blanks();
+        let repeat_word = self.dialect.macros.call_repeat.as_deref().unwrap_or("");
+        if control.statement == Some(Statement::RepeatSection) && self.label_follows() {
+            let end = self.identifier_end(self.i);
+            let word = &self.text[self.i..end];
+            if !word.eq_ignore_ascii_case(repeat_word) {
+                control.label = Some(TextRange::new(self.i, end));
+                self.i = end;
+            }
+        }
+        self.call_repeat(control);
     }
 
     /// The statement keyword at `at` and where it ends, longest first. A keyword of several
@@ -1179,6 +1265,12 @@ impl Lexer<'_, '_> {
                 control.target = self.unary(1);
                 return;
             }
+        } else if matches!(st, Statement::RepeatSection | Statement::RepeatBlock) {
+            self.repeat_section(control);
+            return;
+        } else if st == Statement::Case {
+            self.case_branches(control);
+            return;
         } else if takes_target(st) {
             if self.dialect.lexical.control_word.is_none() {
                 self.target(control);

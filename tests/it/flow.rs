@@ -227,3 +227,58 @@ fn siemens_synchronized_actions_and_interrupts_are_named_and_kept_out_of_the_too
     );
     assert_eq!(path("siemens", program, &[]).0, "10 0 0\n");
 }
+
+/// 840D section repeats: `REPEAT A B P=n` runs the blocks from label A through label B n
+/// more times, `REPEAT A P=n` the blocks from A up to the statement, `REPEATB A P=n` the
+/// block with A alone; then the run goes on after the statement. A bare `REPEAT` still
+/// opens a REPEAT ... UNTIL loop.
+#[test]
+fn siemens_section_repeats() {
+    let program = "\
+G0 X0 Y0 Z0
+ANF: G1 X1 F100
+G1 Y1
+ENDE: G1 Z1
+G1 Z9
+REPEAT ANF ENDE P=2
+BOHR: G0 X5
+G0 X6
+REPEAT BOHR P = 1
+REPEATB BOHR
+R1=0
+REPEAT
+R1=R1+1
+G1 Y=R1
+UNTIL R1>=2
+REPEAT NOWHERE
+M30
+";
+    let (path, errors) = path("siemens", program, &[]);
+    assert_eq!(
+        path,
+        "0 0 0\n1 0 0\n1 1 0\n1 1 1\n1 1 9\n\
+         1 1 9\n1 1 9\n1 1 1\n1 1 1\n1 1 1\n1 1 1\n\
+         5 1 1\n6 1 1\n5 1 1\n6 1 1\n5 1 1\n\
+         5 1 1\n5 2 1\n"
+    );
+    assert_eq!(errors, ["flow::missing-label"]);
+}
+
+/// `CASE` jumps by value, to `DEFAULT` without a match, and on past the block when there
+/// is neither.
+#[test]
+fn siemens_case_jumps_by_value() {
+    let case = |r1: u32, default: bool| {
+        let program = format!(
+            "R1={r1}\nCASE R1 OF 1 GOTOF ONE 2 GOTOF TWO{}\nG1 X9 F100\nONE: G1 X1 F100\nTWO: G1 Y2 F100\nOTHER: G1 Z3 F100\nM30\n",
+            if default { " DEFAULT GOTOF OTHER ; note" } else { "" }
+        );
+        let (path, errors) = path("siemens", &program, &[]);
+        assert!(errors.is_empty(), "{errors:?}");
+        path
+    };
+    assert_eq!(case(1, true), "1 0 0\n1 2 0\n1 2 3\n");
+    assert_eq!(case(2, true), "0 2 0\n0 2 3\n");
+    assert_eq!(case(7, true), "0 0 3\n");
+    assert_eq!(case(7, false), "9 0 0\n1 0 0\n1 2 0\n1 2 3\n");
+}
