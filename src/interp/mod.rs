@@ -1612,6 +1612,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::ArcThreePoint
                     | Meaning::SpindleSync
                     | Meaning::RigidTap
+                    | Meaning::CycleThread
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);

@@ -134,6 +134,7 @@ impl Interpreter<'_> {
                 self.arc(def, range, block, sink, diags)
             }
             Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),
+            Meaning::CycleThread => self.threading_cycle(def, range, sink, diags),
             Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
             Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
@@ -177,6 +178,109 @@ impl Interpreter<'_> {
             self.st.pos = t;
         }
         self.emit(sink, CanonOp::StopSpeedFeedSync);
+    }
+
+    /// LinuxCNC's G76 lathe threading cycle, pass by pass as its interpreter makes them. X is
+    /// the depth axis and Z runs along the thread; the start point is the drive line.
+    /// P is the pitch, I the offset from the drive line to the thread crests (negative for an
+    /// outside thread), J the first depth, K the full depth, R the degression (pass n cuts to
+    /// J·n^(1/R)), Q the compound angle, H the spring passes, E the taper length along Z and
+    /// L which ends taper (1 entry, 2 exit, 3 both). The tool ends at the block's end point.
+    fn threading_cycle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let mut bad = |msg: &str| diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: {msg}", def.label())));
+        if self.comp.borrow().is_some() {
+            bad("the threading cycle cannot run with cutter compensation on");
+            return;
+        }
+        let (i, j, k) = (self.slot(Role::I).unwrap_or(0.0), self.slot(Role::J).unwrap_or(0.0), self.slot(Role::K).unwrap_or(0.0));
+        let Some(pitch) = self.slot(Role::P) else { return };
+        if i == 0.0 {
+            return bad("I, the offset to the thread crests, must not be 0");
+        }
+        if j <= 0.0 {
+            return bad("J, the first cut depth, must be above 0");
+        }
+        if k <= j {
+            return bad("K, the full thread depth, must be more than J");
+        }
+        let end = self.target();
+        let start = self.st.pos;
+        let boring = i > 0.0;
+        let crest = i.abs();
+        let full = k;
+        let bottom = k + crest;
+        let along = end[2] > start[2];
+        let mut angle = self.slot(Role::Q).filter(|&q| q != -1.0).unwrap_or(0.0).to_radians();
+        if along {
+            angle = -angle;
+        }
+        let springs = self.slot(Role::H).map_or(0, |h| h.max(0.0) as u32);
+        let degression = self.slot(Role::R).filter(|&r| r >= 1.0).unwrap_or(1.0);
+        let mut taper = self.slot(Role::E).unwrap_or(0.0).max(0.0);
+        let taper_pitch = if taper > 0.0 { pitch * taper.hypot(full) / taper } else { pitch };
+        if along {
+            taper = -taper;
+        }
+        let flags = self.slot(Role::L).map_or(0, |l| l.max(0.0) as u32);
+        let t = Thread {
+            start,
+            boring,
+            crest,
+            full,
+            bottom,
+            tan: angle.tan(),
+            target_z: end[2] + k * angle.tan(),
+            pitch,
+            taper,
+            taper_pitch,
+            entry: taper != 0.0 && flags & 1 != 0,
+            exit: taper != 0.0 && flags & 2 != 0,
+        };
+        let mut pass = 1.0_f64;
+        let mut depth = crest + j;
+        while depth < bottom {
+            self.thread_pass(&t, depth, sink);
+            pass += 1.0;
+            depth = crest + j * pass.powf(1.0 / degression);
+        }
+        // The full depth, once and then once per spring pass.
+        for _ in 0..=springs {
+            self.thread_pass(&t, bottom, sink);
+        }
+        self.emit(sink, CanonOp::StraightTraverse(end));
+        self.st.pos = end;
+    }
+
+    /// One threading pass at `depth` below the drive line: in at the clearance, across
+    /// synchronised (tapering in and out where asked), and back out.
+    fn thread_pass(&mut self, t: &Thread, depth: f64, sink: &mut dyn CanonSink) {
+        let x_at = |d: f64| if t.boring { t.start[0] + d } else { t.start[0] - d };
+        let zoff = (depth - t.crest) * t.tan;
+        let clear = x_at(depth - t.bottom);
+        let at = |x: f64, z: f64| {
+            let mut p = t.start;
+            p[0] = x;
+            p[2] = z;
+            p
+        };
+        self.emit(sink, CanonOp::StraightTraverse(at(clear, t.start[2] - zoff)));
+        if t.entry {
+            self.emit(sink, CanonOp::StartSpeedFeedSync(t.taper_pitch));
+            self.emit(sink, CanonOp::StraightFeed(at(x_at(depth - t.full), t.start[2] - zoff)));
+            self.emit(sink, CanonOp::StraightFeed(at(x_at(depth), t.start[2] - zoff - t.taper)));
+        } else {
+            self.emit(sink, CanonOp::StraightTraverse(at(x_at(depth), t.start[2] - zoff)));
+        }
+        self.emit(sink, CanonOp::StartSpeedFeedSync(t.pitch));
+        if t.exit {
+            self.emit(sink, CanonOp::StraightFeed(at(x_at(depth), t.target_z - zoff + t.taper)));
+            self.emit(sink, CanonOp::StartSpeedFeedSync(t.taper_pitch));
+            self.emit(sink, CanonOp::StraightFeed(at(x_at(depth - t.full), t.target_z - zoff)));
+        } else {
+            self.emit(sink, CanonOp::StraightFeed(at(x_at(depth), t.target_z - zoff)));
+        }
+        self.emit(sink, CanonOp::StopSpeedFeedSync);
+        self.emit(sink, CanonOp::StraightTraverse(at(clear, t.target_z - zoff)));
     }
 
     /// In inverse-time mode (G93), sets the feed rate that makes a move of `length` last
@@ -546,6 +650,31 @@ fn arc_center_from_radius(s1: f64, s2: f64, e1: f64, e2: f64, r: f64, cw: bool, 
     let theta = if cw == (r > 0.0) { chord - std::f64::consts::FRAC_PI_2 } else { chord + std::f64::consts::FRAC_PI_2 };
     let offset = (abs_r * abs_r - half * half).max(0.0).sqrt();
     Ok((m1 + offset * theta.cos(), m2 + offset * theta.sin()))
+}
+
+/// The fixed quantities of a G76 threading cycle (see `threading_cycle`).
+struct Thread {
+    /// The start point: X on the drive line.
+    start: [f64; 6],
+    /// An inside thread: depths go towards +X.
+    boring: bool,
+    /// From the drive line to the thread crests (|I|).
+    crest: f64,
+    /// The thread height (K).
+    full: f64,
+    /// From the drive line to the thread root (|I| + K).
+    bottom: f64,
+    /// Tangent of the compound angle (signed by the direction along Z).
+    tan: f64,
+    /// Where the passes end along Z, before the compound shift.
+    target_z: f64,
+    pitch: f64,
+    /// Taper length along Z (signed by the direction along Z).
+    taper: f64,
+    /// The advance per revolution on the taper, along its slant.
+    taper_pitch: f64,
+    entry: bool,
+    exit: bool,
 }
 
 #[cfg(test)]

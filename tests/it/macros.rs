@@ -458,3 +458,86 @@ fn m70_to_m73_save_and_restore_the_modal_state() {
     "#]]
     .assert_eq(&out);
 }
+
+/// LinuxCNC's G76 lathe threading cycle: an inside thread (I > 0) cut towards +Z with a
+/// compound angle, tapers at both ends and one spring pass; then an outside thread with
+/// the defaults. The expected calls are rs274's, byte for byte (its bookkeeping calls left
+/// out); so are the three rejections.
+#[test]
+fn g76_threads_pass_by_pass_as_rs274_does() {
+    let (out, codes) = calls("G21 G18\nS300 M4\nG0 X10 Z-20\nG76 P1.5 Z5 I1 J0.3 K0.9 Q30 H1 E2 L3\nG76 P1.5 Z-20 X12 I-1 J0.5 K1\nM2\n");
+    assert!(codes.is_empty(), "{codes:?}");
+    expect![[r#"
+        SELECT_PLANE(CANON_PLANE_XZ)
+        USE_LENGTH_UNITS(CANON_UNITS_MM)
+        SET_SPINDLE_SPEED(0, 300.0000)
+        START_SPINDLE_COUNTERCLOCKWISE(0)
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, -20.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(9.4000, 0.0000, -19.8268, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(10.4000, 0.0000, -19.8268, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(11.3000, 0.0000, -17.8268, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.500000,0)
+        STRAIGHT_FEED(11.3000, 0.0000, 2.6536, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(10.4000, 0.0000, 4.6536, 0.0000, 0.0000, 0.0000)
+        STOP_SPEED_FEED_SYNCH()
+        STRAIGHT_TRAVERSE(9.4000, 0.0000, 4.6536, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(9.7000, 0.0000, -19.6536, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(10.7000, 0.0000, -19.6536, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(11.6000, 0.0000, -17.6536, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.500000,0)
+        STRAIGHT_FEED(11.6000, 0.0000, 2.8268, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(10.7000, 0.0000, 4.8268, 0.0000, 0.0000, 0.0000)
+        STOP_SPEED_FEED_SYNCH()
+        STRAIGHT_TRAVERSE(9.7000, 0.0000, 4.8268, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, -19.4804, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(11.0000, 0.0000, -19.4804, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(11.9000, 0.0000, -17.4804, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.500000,0)
+        STRAIGHT_FEED(11.9000, 0.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(11.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        STOP_SPEED_FEED_SYNCH()
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, -19.4804, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(11.0000, 0.0000, -19.4804, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(11.9000, 0.0000, -17.4804, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.500000,0)
+        STRAIGHT_FEED(11.9000, 0.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.644878,0)
+        STRAIGHT_FEED(11.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        STOP_SPEED_FEED_SYNCH()
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.5000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(8.5000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.500000,0)
+        STRAIGHT_FEED(8.5000, 0.0000, -20.0000, 0.0000, 0.0000, 0.0000)
+        STOP_SPEED_FEED_SYNCH()
+        STRAIGHT_TRAVERSE(10.5000, 0.0000, -20.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(8.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+        START_SPEED_FEED_SYNC(1.500000,0)
+        STRAIGHT_FEED(8.0000, 0.0000, -20.0000, 0.0000, 0.0000, 0.0000)
+        STOP_SPEED_FEED_SYNCH()
+        STRAIGHT_TRAVERSE(10.0000, 0.0000, -20.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_TRAVERSE(12.0000, 0.0000, -20.0000, 0.0000, 0.0000, 0.0000)
+        SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SELECT_PLANE(CANON_PLANE_XY)
+        SET_FEED_RATE(0.0000)
+        STOP_SPINDLE_TURNING(0)
+        PROGRAM_END()
+    "#]]
+    .assert_eq(&out);
+    for (block, message) in [("I0 J.1 K.5", "I, the offset"), ("I-1 J0 K.5", "J, the first"), ("I-1 J.5 K.5", "K, the full")] {
+        let d = Registry::shipped().get("linuxcnc").unwrap();
+        let mut canon = Vec::new();
+        let diags = interpret(&format!("G18 S100 M3\nG0 X5 Z0\nG76 P1 Z-5 {block}\nM2\n"), &d, &Profile::default(), &mut canon);
+        assert!(diags.iter().any(|d| d.code.as_str() == "interp::bad-value" && d.message.contains(message)), "{block}: {diags:?}");
+    }
+}
