@@ -249,6 +249,8 @@ struct State {
     comp_left: bool,
     /// The first corner of a workpiece blank (`BLK FORM 0.1`), waiting for the second.
     blank_min: Option<[f64; 3]>,
+    /// Cutter compensation has just ended: the next move leaves the compensated path.
+    leaving_comp: bool,
 }
 
 /// The interpreter for one program run.
@@ -352,6 +354,7 @@ impl<'a> Interpreter<'a> {
                 tangent: None,
                 comp_left: true,
                 blank_min: None,
+                leaving_comp: false,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -1399,7 +1402,10 @@ impl<'a> Interpreter<'a> {
                 self.set_units(units);
                 self.emit(sink, CanonOp::UseLengthUnits(units));
             }
-            Meaning::CompOff => self.comp_off(sink),
+            Meaning::CompOff => {
+                self.st.leaving_comp = self.comp.borrow().is_some();
+                self.comp_off(sink);
+            }
             Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
                 let by_diameter = matches!(def.meaning, Meaning::CompLeftDiameter | Meaning::CompRightDiameter);
                 let radius = if by_diameter { self.slot(Role::D).map(|d| d / 2.0) } else { None };

@@ -104,6 +104,16 @@ impl Interpreter<'_> {
     pub(super) fn motion(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.motions += 1;
         let rapid_block = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RapidBlock);
+        let arc = matches!(
+            def.meaning,
+            Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint
+        );
+        if std::mem::take(&mut self.st.leaving_comp) && arc {
+            // The move that takes the tool off its compensated path has to be straight.
+            let msg = format!("{}: the move just after cutter compensation ends must be straight, not an arc", def.label());
+            diags.push(Diagnostic::new(Code::BadArc, range, msg));
+            return;
+        }
         match def.meaning {
             Meaning::Rapid | Meaning::Linear if rapid_block => {
                 let t = self.target();
