@@ -699,7 +699,9 @@ impl<'a> Driver<'a, '_> {
             Statement::Inert => {}
             Statement::Unsupported => {
                 let msg = format!("`{}` is not simulated; it was skipped", statement_head(text, c));
-                interp.limited(diags, "unsupported-statement", Diagnostic::new(Code::Unsupported, c.range, msg));
+                // Counted per keyword: each kind of statement is named at least once.
+                let key = format!("statement {}", c.keyword.map_or("", |k| &text[k.start as usize..k.end as usize]).to_ascii_uppercase());
+                interp.limited(diags, &key, Diagnostic::new(Code::Unsupported, c.range, msg));
             }
         }
     }

@@ -270,7 +270,7 @@ pub struct Interpreter<'a> {
     codes: Vec<(usize, TextRange)>,
     origin: TextRange,
     line: u32,
-    notes: BTreeMap<&'static str, u32>,
+    notes: BTreeMap<String, u32>,
     after_end_noted: bool,
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
@@ -569,8 +569,11 @@ impl<'a> Interpreter<'a> {
         d
     }
 
-    fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &'static str, d: Diagnostic) {
-        let n = self.notes.entry(key).or_insert(0);
+    fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &str, d: Diagnostic) {
+        let n = match self.notes.get_mut(key) {
+            Some(n) => n,
+            None => self.notes.entry(key.to_owned()).or_insert(0),
+        };
         *n += 1;
         if *n <= NOTE_LIMIT {
             diags.push(d);

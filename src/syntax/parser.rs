@@ -926,7 +926,10 @@ impl Lexer<'_, '_> {
                         }
                         let end = self.line_end();
                         let lex = &self.dialect.lexical;
-                        self.i = self.text[self.i..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| self.i + p);
+                        // An unsupported or inert statement's text stops at a comment too.
+                        let plain = matches!(st, Statement::Inert | Statement::Unsupported);
+                        let stops = |c: char| lex.block_end == Some(c) || (plain && lex.comments.iter().any(|r| r.open == c));
+                        self.i = self.text[self.i..end].find(stops).map_or(end, |p| self.i + p);
                     }
                     _ => self.operands(&mut control),
                 }
@@ -1701,12 +1704,13 @@ impl Lexer<'_, '_> {
             }
             _ => {
                 let len = self.char_len(start);
-                self.error(
-                    Code::MalformedExpression,
-                    start,
-                    start + len,
-                    format!("unexpected `{}` in expression", &self.text[start..start + len]),
-                );
+                let shown = &self.text[start..start + len];
+                let msg = if matches!(shown, "" | "\r" | "\n") {
+                    "expression ends early".to_owned()
+                } else {
+                    format!("unexpected `{shown}` in expression")
+                };
+                self.error(Code::MalformedExpression, start, (start + len).max(start), msg);
                 None
             }
         }

@@ -214,7 +214,8 @@ fn cutting_at_zero_feed_is_an_error_everywhere_but_a_stopped_spindle_only_a_warn
 #[test]
 fn siemens_synchronized_actions_and_interrupts_are_named_and_kept_out_of_the_toolpath() {
     let d = Registry::shipped().get("siemens").unwrap();
-    let program = "N10 WHENEVER $A_IN[1] DO OVR=0\nN20 SETINT(1) PRIO=4 ALARM\nN30 STOPRE\nN40 G0 X10\nN50 M30\n";
+    let program = "N10 WHENEVER $A_IN[1] DO OVR=0\nN20 SETINT(1) PRIO=4 ALARM\nN30 STOPRE\nN40 G0 X10\n\
+                   N42 DEFINE RAPID AS G0 ; a macro\nN44 ISOCALL \"L320\"\nN50 M30\n";
     let mut canon = Vec::new();
     let diags = run(program, &d, &Profile::default(), &Programs(BTreeMap::new()), &mut canon);
     let found: Vec<(&str, &str)> = diags.iter().map(|d| (d.code.as_str(), d.message.as_str())).collect();
@@ -223,6 +224,8 @@ fn siemens_synchronized_actions_and_interrupts_are_named_and_kept_out_of_the_too
         [
             ("interp::unsupported", "`WHENEVER $A_IN[1] DO OVR=0` is not simulated; it was skipped"),
             ("interp::unsupported", "`SETINT(1) PRIO=4 ALARM` is not simulated; it was skipped"),
+            ("interp::unsupported", "`DEFINE RAPID AS G0` is not simulated; it was skipped"),
+            ("interp::unsupported", "`ISOCALL \"L320\"` is not simulated; it was skipped"),
         ]
     );
     assert_eq!(path("siemens", program, &[]).0, "10 0 0\n");
