@@ -80,8 +80,9 @@ impl Interpreter<'_> {
     }
 
     /// Sets the saved modes again, with the calls LinuxCNC makes, in its order (units, feed,
-    /// speed, spindle, coolant, plane, system, distance); only what changed is set. Coolant follows LinuxCNC: a saved mist or flood is switched on, and
-    /// both go off only when neither was on.
+    /// speed, spindle, coolant, plane, system, distance); only what changed is set. Coolant
+    /// follows LinuxCNC: a saved mist or flood is switched on, and both go off only when
+    /// neither was on. A changed feed mode leaves the feed rate as the mode change sets it.
     fn restore(&mut self, saved: &Context, sink: &mut dyn CanonSink) {
         if saved.units != self.st.units {
             self.set_units(saved.units);
