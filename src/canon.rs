@@ -241,6 +241,13 @@ pub enum CanonOp {
     /// `SPINDLE.0.WAIT_ORIENT_COMPLETE(timeout)`: wait up to `timeout` seconds for the
     /// orientation to finish (M19 Q..).
     WaitOrientComplete(f64),
+    /// `TURN_PROBE_ON()`
+    TurnProbeOn,
+    /// `TURN_PROBE_OFF()`
+    TurnProbeOff,
+    /// `STRAIGHT_PROBE(x, y, z, a, b, c)`: a feed towards the point that stops where the
+    /// probe touches (G38.2 to G38.5).
+    StraightProbe([f64; 6]),
 }
 
 /// What a feed rate is per.
@@ -516,6 +523,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::OrientSpindle { angle, mode } => {
             let _ = write!(out, "ORIENT_SPINDLE(0, {}, {mode})", F4(*angle));
         }
+        CanonOp::TurnProbeOn => out.extend_from_slice(b"TURN_PROBE_ON()"),
+        CanonOp::TurnProbeOff => out.extend_from_slice(b"TURN_PROBE_OFF()"),
+        CanonOp::StraightProbe(p) => straight(out, b"STRAIGHT_PROBE(", p, push_f4),
         CanonOp::WaitOrientComplete(t) => {
             let _ = write!(out, "SPINDLE.0.WAIT_ORIENT_COMPLETE({})", F4(*t));
         }

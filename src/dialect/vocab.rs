@@ -578,5 +578,13 @@ vocab! {
         Feed = "feed",
         /// The programmed spindle speed.
         Speed = "speed",
+        /// X where the last probe move stopped, program coordinates.
+        ProbeX = "probe-x",
+        /// Y where the last probe move stopped.
+        ProbeY = "probe-y",
+        /// Z where the last probe move stopped.
+        ProbeZ = "probe-z",
+        /// 1 when the last probe move touched, else 0.
+        ProbeTripped = "probe-tripped",
     }
 }

@@ -251,6 +251,8 @@ struct State {
     blank_min: Option<[f64; 3]>,
     /// Cutter compensation has just ended: the next move leaves the compensated path.
     leaving_comp: bool,
+    /// Where the last probe move stopped (taken as its programmed end point).
+    probe: Option<[f64; 3]>,
 }
 
 /// The interpreter for one program run.
@@ -355,6 +357,7 @@ impl<'a> Interpreter<'a> {
                 comp_left: true,
                 blank_min: None,
                 leaving_comp: false,
+                probe: None,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -551,13 +554,16 @@ impl<'a> Interpreter<'a> {
                 SystemVar::Tool => f64::from(self.st.tool),
                 SystemVar::Feed => self.st.feed,
                 SystemVar::Speed => self.st.speed,
+                SystemVar::ProbeX => self.st.probe.map_or(0.0, |p| p[0]),
+                SystemVar::ProbeY => self.st.probe.map_or(0.0, |p| p[1]),
+                SystemVar::ProbeZ => self.st.probe.map_or(0.0, |p| p[2]),
+                SystemVar::ProbeTripped => f64::from(u8::from(self.st.probe.is_some())),
                 SystemVar::Alarm | SystemVar::StopMessage => continue,
             };
             let _ = self.params.set(f64::from(n), v);
         }
     }
 
-    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind.
     /// An unused word: ignored, or an error where the dialect rejects it.
     fn unused(&self, mut d: Diagnostic) -> Diagnostic {
         if self.dialect.behaviour.unused_words_rejected {
@@ -569,6 +575,7 @@ impl<'a> Interpreter<'a> {
         d
     }
 
+    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind.
     fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &str, d: Diagnostic) {
         let n = match self.notes.get_mut(key) {
             Some(n) => n,
@@ -1622,6 +1629,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::SpindleSync
                     | Meaning::RigidTap
                     | Meaning::CycleThread
+                    | Meaning::Probe
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);

@@ -145,6 +145,7 @@ impl Interpreter<'_> {
             }
             Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),
             Meaning::CycleThread => self.threading_cycle(def, range, sink, diags),
+            Meaning::Probe => self.probe(def, range, sink, diags),
             Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
             Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
@@ -188,6 +189,33 @@ impl Interpreter<'_> {
             self.st.pos = t;
         }
         self.emit(sink, CanonOp::StopSpeedFeedSync);
+    }
+
+    /// G38.2 to G38.5: a feed towards the end point that stops where the probe touches (or,
+    /// away, leaves contact). Where that is, only the machine knows: the analysis takes the
+    /// programmed end point, for the position and for the probe result variables.
+    fn probe(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let bad = |code: Code, msg: &str| Diagnostic::new(code, range, format!("{}: {msg}", def.label()));
+        if self.comp.borrow().is_some() {
+            return diags.push(bad(Code::BadValue, "cannot probe with cutter compensation on"));
+        }
+        if self.st.feed == 0.0 || self.st.inverse_time {
+            return diags.push(bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)"));
+        }
+        let t = self.target();
+        if (0..3).all(|i| (t[i] - self.st.pos[i]).abs() < 1e-9) {
+            return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point"));
+        }
+        self.emit(sink, CanonOp::TurnProbeOn);
+        self.emit(sink, CanonOp::StraightProbe(t));
+        self.emit(sink, CanonOp::TurnProbeOff);
+        self.st.pos = t;
+        self.st.probe = Some([t[0], t[1], t[2]]);
+        let note = bad(
+            Code::Unsupported,
+            "the probe stops where it touches, which only the machine knows; the analysis goes on from the programmed end point",
+        );
+        self.limited(diags, "probe", note);
     }
 
     /// LinuxCNC's G76 lathe threading cycle, pass by pass as its interpreter makes them. X is

@@ -388,7 +388,8 @@ impl<'p> Recovery<'p> {
                 }
             }
             CanonOp::CycleEnd => self.in_cycle = None,
-            CanonOp::StraightTraverse(p) => {
+            // A probe move measures; it positions like a rapid and cuts nothing.
+            CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
                 let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
                 let mv = self.mv(MoveKind::Rapid, to, c.line);
                 if self.in_cycle.is_some() {

@@ -541,3 +541,38 @@ fn g76_threads_pass_by_pass_as_rs274_does() {
         assert!(diags.iter().any(|d| d.code.as_str() == "interp::bad-value" && d.message.contains(message)), "{block}: {diags:?}");
     }
 }
+
+/// G38.2 to G38.5 probe towards a point with the probe on; the analysis goes on from the
+/// programmed end point (where the probe touches only the machine knows), which the probe
+/// result parameters then hold. rs274's rejections: no feed, compensation on, no length.
+#[test]
+fn probing_moves_and_their_results() {
+    let (out, codes) = calls("G21 F100 S1000 M3\nG0 X1 Y2 Z3\nG38.2 Z-5\nG1 X#5061 Y[#5063 + #5070]\nG38.5 X0\nM2\n");
+    assert_eq!(codes, ["interp::unsupported", "interp::unsupported"]);
+    expect![[r#"
+        SET_FEED_RATE(100.0000)
+        SET_SPINDLE_SPEED(0, 1000.0000)
+        START_SPINDLE_CLOCKWISE(0)
+        USE_LENGTH_UNITS(CANON_UNITS_MM)
+        STRAIGHT_TRAVERSE(1.0000, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+        TURN_PROBE_ON()
+        STRAIGHT_PROBE(1.0000, 2.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        TURN_PROBE_OFF()
+        STRAIGHT_FEED(1.0000, -4.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        TURN_PROBE_ON()
+        STRAIGHT_PROBE(0.0000, -4.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        TURN_PROBE_OFF()
+        SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+        SET_FEED_RATE(0.0000)
+        STOP_SPINDLE_TURNING(0)
+        PROGRAM_END()
+    "#]]
+    .assert_eq(&out);
+    for (program, code) in [
+        ("G38.2 Z-1\nM2\n", "interp::no-feed"),
+        ("F100 G0 Z1\nG38.3 Z1\nM2\n", "interp::bad-value"),
+        ("F100 G41.1 D1 G1 X1\nG38.2 Z-1\nM2\n", "interp::bad-value"),
+    ] {
+        assert!(calls(program).1.contains(&code), "{program}: {:?}", calls(program).1);
+    }
+}
