@@ -156,6 +156,9 @@ impl Interpreter<'_> {
     /// tapping: synchronised to the target and back out to where it started). The feed rate
     /// does not apply; the spindle speed does. The dictionary makes the lead required.
     fn synchronised(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        if !self.spindle_turns(def, range, diags) {
+            return;
+        }
         // The lead is K (LinuxCNC), or F where the dictionary gives the code F (Fanuc).
         let lead = if def.params.takes(Role::F) { Role::F } else { Role::K };
         let Some(pitch) = self.slot(lead) else {
@@ -189,6 +192,19 @@ impl Interpreter<'_> {
             self.st.pos = t;
         }
         self.emit(sink, CanonOp::StopSpeedFeedSync);
+    }
+
+    /// Whether the spindle turns, as a move synchronised with it needs; else an error (the
+    /// control stops: there is no rotation to follow) and false.
+    fn spindle_turns(&self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        if self.st.spindle != Spindle::Stopped {
+            return true;
+        }
+        let msg = format!("{} follows the spindle's rotation, and the spindle is not turning (M3 or M4 first)", def.label());
+        let mut d = Diagnostic::new(Code::CuttingWithoutTechnology, range, msg);
+        d.severity = crate::diag::Severity::Error;
+        diags.push(d);
+        false
     }
 
     /// G38.2 to G38.5: a feed towards the end point that stops where the probe touches (or,
@@ -225,6 +241,9 @@ impl Interpreter<'_> {
     /// J·n^(1/R)), Q the compound angle, H the spring passes, E the taper length along Z and
     /// L which ends taper (1 entry, 2 exit, 3 both). The tool ends at the block's end point.
     fn threading_cycle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        if !self.spindle_turns(def, range, diags) {
+            return;
+        }
         let mut bad = |msg: &str| diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: {msg}", def.label())));
         if self.comp.borrow().is_some() {
             bad("the threading cycle cannot run with cutter compensation on");

@@ -540,6 +540,15 @@ fn g76_threads_pass_by_pass_as_rs274_does() {
         let diags = interpret(&format!("G18 S100 M3\nG0 X5 Z0\nG76 P1 Z-5 {block}\nM2\n"), &d, &Profile::default(), &mut canon);
         assert!(diags.iter().any(|d| d.code.as_str() == "interp::bad-value" && d.message.contains(message)), "{block}: {diags:?}");
     }
+    // rs274: "Spindle not turning in G33", "Chosen spindle (0) not turning in G76".
+    for program in ["G33 Z-1 K1\nM2\n", "G33.1 Z-1 K1\nM2\n", "G18 G76 P1 Z-5 I-1 J.2 K.5\nM2\n"] {
+        let (out, codes) = calls(program);
+        assert_eq!(codes, ["interp::cutting-without-technology"], "{program}");
+        assert!(!out.contains("SYNC"), "{program}: {out}");
+        let d = Registry::shipped().get("linuxcnc").unwrap();
+        let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
+        assert_eq!(diags[0].severity, ncplan::diag::Severity::Error, "{program}: the control stops");
+    }
 }
 
 /// G38.2 to G38.5 probe towards a point with the probe on; the analysis goes on from the
