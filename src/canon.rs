@@ -553,7 +553,7 @@ impl Default for CallWriter {
 impl CallWriter {
     /// Appends the call and a newline.
     ///
-    /// A straight move is assembled in a line buffer on the stack, with fixed-size copies of
+    /// A straight move is assembled in the writer's line buffer, with fixed-size copies of
     /// cached numbers, and appended in one copy. Any number the fast formatter declines sends
     /// the whole call to [`write_call_bytes`].
     pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {

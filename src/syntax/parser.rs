@@ -906,8 +906,10 @@ impl Lexer<'_, '_> {
         match known {
             Some((end, mut st)) => {
                 self.i = end;
-                if st == Statement::RepeatUntil && self.label_follows() && self.dialect.macros.has_statement(Statement::RepeatSection) {
-                    st = Statement::RepeatSection;
+                // One keyword for both (Siemens `REPEAT`): a label after it makes a section repeat.
+                let pair = [Statement::RepeatUntil, Statement::RepeatSection];
+                if pair.contains(&st) && pair.iter().all(|&p| self.dialect.macros.has_statement(p)) {
+                    st = if self.label_follows() { Statement::RepeatSection } else { Statement::RepeatUntil };
                 }
                 control.keyword = Some(TextRange::new(start, end));
                 control.statement = Some(st);
