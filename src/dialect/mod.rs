@@ -140,23 +140,37 @@ impl Lexical {
 /// A regular expression from a dictionary: checked when the dictionary loads, compiled when
 /// first used. Compiling every pattern of every shipped dialect costs more than reading a
 /// short program, and most runs use none of them.
+///
+/// Patterns are ASCII: `\d`, `\w`, `\b` and `(?i)` follow ASCII rules, as NC words are
+/// ASCII. That keeps each compiled automaton small (Unicode word boundaries cost about a
+/// million instructions a pattern to build), and it lets a pattern run over bytes, so a match
+/// may start or end inside a multi-byte character: callers that slice text with a match widen
+/// it to character boundaries.
 #[derive(Clone, Debug)]
 pub struct Pattern {
     source: String,
-    compiled: std::sync::OnceLock<regex::Regex>,
+    compiled: std::sync::OnceLock<regex_automata::meta::Regex>,
 }
 
 impl Pattern {
     /// Checks `source`; the error says what is wrong with it.
     pub fn new(source: &str) -> Result<Pattern, String> {
-        regex_syntax::Parser::new().parse(source).map_err(|e| e.to_string())?;
+        regex_syntax::ParserBuilder::new().unicode(false).utf8(false).build().parse(source).map_err(|e| e.to_string())?;
         Ok(Pattern { source: source.to_owned(), compiled: std::sync::OnceLock::new() })
     }
 
     /// The compiled expression. One that passed the check but cannot be compiled (past the
     /// size limit) matches nothing.
-    pub fn regex(&self) -> &regex::Regex {
-        self.compiled.get_or_init(|| regex::Regex::new(&self.source).unwrap_or_else(|_| regex::Regex::new("[^\\s\\S]").expect("valid")))
+    pub fn regex(&self) -> &regex_automata::meta::Regex {
+        self.compiled.get_or_init(|| {
+            let build = |src: &str| {
+                regex_automata::meta::Regex::builder()
+                    .syntax(regex_automata::util::syntax::Config::new().unicode(false).utf8(false))
+                    .configure(regex_automata::meta::Config::new().dfa(false))
+                    .build(src)
+            };
+            build(&self.source).unwrap_or_else(|_| build("[^\\s\\S]").expect("valid"))
+        })
     }
 }
 
@@ -683,8 +697,12 @@ mod pattern_tests {
     fn patterns_are_checked_at_once_and_compiled_on_use() {
         assert!(Pattern::new("(unclosed").unwrap_err().contains("unclosed"));
         let p = Pattern::new(r"^G300\s*U").unwrap();
-        assert!(p.regex().is_match("G300 U0"));
+        assert!(p.regex().is_match(b"G300 U0"));
+        // ASCII rules: a pattern may match any byte, and Latin-1 letters are not word characters.
+        let any = Pattern::new(r"(?m)^[^(;]*\bX\d").unwrap();
+        assert!(any.regex().is_match("\u{e9}X1".as_bytes()));
+        assert!(!Pattern::new(r"\w").unwrap().regex().is_match("\u{e9}".as_bytes()));
         // The fallback for a pattern that cannot be compiled is itself valid and matches nothing.
-        assert!(!regex::Regex::new(r"[^\s\S]").unwrap().is_match("anything"));
+        assert!(!regex_automata::meta::Regex::new(r"[^\s\S]").unwrap().is_match("anything"));
     }
 }

@@ -74,7 +74,7 @@ fn score(d: &Dialect, text: &str, file_name: Option<&str>) -> (u32, Vec<String>)
     for e in &d.recognise {
         let hit = match &e.marker {
             Marker::Extension(x) => ext.as_deref() == Some(x.as_str()),
-            Marker::Pattern(re) => re.regex().is_match(text),
+            Marker::Pattern(re) => re.regex().is_match(text.as_bytes()),
         };
         if hit {
             total += e.weight;

@@ -113,9 +113,17 @@ fn foreign(text: &str, dialect: &Dialect) -> Option<Diagnostic> {
         end -= 1;
     }
     dialect.lexical.foreign.iter().find_map(|(re, name)| {
-        let m = re.regex().find(&text[..end])?;
+        let m = re.regex().find(text[..end].as_bytes())?;
+        // An ASCII pattern can match part of a character; the range covers whole ones.
+        let (mut start, mut stop) = (m.start(), m.end());
+        while !text.is_char_boundary(start) {
+            start -= 1;
+        }
+        while !text.is_char_boundary(stop) {
+            stop += 1;
+        }
         let msg = format!("this is {name}, not a program in the {} dialect; it was stored but not interpreted", dialect.name);
-        Some(Diagnostic::new(Code::ForeignFormat, TextRange::new(m.start(), m.end()), msg))
+        Some(Diagnostic::new(Code::ForeignFormat, TextRange::new(start, stop), msg))
     })
 }
 
