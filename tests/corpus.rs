@@ -2,7 +2,8 @@
 //!
 //! - `check/<dialect>/<file>`: every program of `../shared/corpus` goes through analysis
 //!   without panicking, and its diagnostics point inside the text; its plan, written as
-//!   STEP-NC CC1 and CC2, conforms to the ISO 14649 signatures and reads back unchanged.
+//!   STEP-NC CC1 and CC2, conforms to the ISO 14649 signatures and reads back unchanged;
+//!   the interpreter's fast lane for plain moves changes nothing in its calls or findings.
 //! - `canon/<file>`: `ncplan canon` agrees with LinuxCNC's `rs274 -g` (goldens in
 //!   `tests/golden/rs274`, made by `tests/golden/regen.sh`) to 1e-4, ignoring calls that
 //!   are LinuxCNC-internal. Programs listed in `tests/golden/rs274/KNOWN_DIFFERENCES` are
@@ -209,6 +210,7 @@ fn check(path: &Path, dialect: &ncplan::dialect::Dialect, expected: Option<(Stri
         }
         _ => {}
     }
+    fast_lane_changes_nothing(&a.source.text, dialect, path)?;
     let len = a.source.text.len() as u32;
     for d in &a.diagnostics {
         if d.range.end > len || !a.source.text.is_char_boundary(d.range.start as usize) {
@@ -231,6 +233,27 @@ fn check(path: &Path, dialect: &ncplan::dialect::Dialect, expected: Option<(Stri
             let context = |t: &str| t.lines().skip(at.saturating_sub(6)).take(8).collect::<Vec<_>>().join("\n");
             return Err(format!("{class:?} does not read back to the same plan:\n{}\n---- read back:\n{}", context(&a), context(&b)).into());
         }
+    }
+    Ok(())
+}
+
+/// The interpreter's fast lane for plain moves gives what the general path gives: the same
+/// canonical calls with the same source ranges, and the same findings.
+fn fast_lane_changes_nothing(text: &str, dialect: &ncplan::dialect::Dialect, path: &Path) -> Result<(), Failed> {
+    let run = |fast_lane: bool| {
+        let profile = Profile { fast_lane, ..FlatCorpus::profile(path) };
+        let mut canon = Vec::new();
+        let diags = ncplan::interp::interpret(text, dialect, &profile, &mut canon);
+        // Compared as text: a NaN that a broken program computes is the same both ways.
+        (canon.iter().map(|c| format!("{c:?}")).collect::<Vec<_>>(), diags.iter().map(|d| format!("{d:?}")).collect::<Vec<_>>())
+    };
+    let ((fast, fast_diags), (general, general_diags)) = (run(true), run(false));
+    if let Some(i) = (0..fast.len().max(general.len())).find(|&i| fast.get(i) != general.get(i)) {
+        return Err(format!("fast lane: call {i} is {:?}, the general path gives {:?}", fast.get(i), general.get(i)).into());
+    }
+    if fast_diags != general_diags {
+        let i = fast_diags.iter().zip(&general_diags).position(|(a, b)| a != b).unwrap_or(fast_diags.len().min(general_diags.len()));
+        return Err(format!("fast lane: finding {i} is {:?}, the general path gives {:?}", fast_diags.get(i), general_diags.get(i)).into());
     }
     Ok(())
 }

@@ -168,8 +168,9 @@ impl Pattern {
                     .syntax(regex_automata::util::syntax::Config::new().unicode(false).utf8(false))
                     .configure(regex_automata::meta::Config::new().dfa(false))
                     .build(src)
+                    .ok()
             };
-            build(&self.source).unwrap_or_else(|_| build("[^\\s\\S]").expect("valid"))
+            build(&self.source).or_else(|| build("[^\\s\\S]")).expect("the empty class compiles")
         })
     }
 }

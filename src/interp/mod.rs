@@ -12,6 +12,7 @@ mod corner;
 mod cycle;
 mod define;
 pub mod eval;
+mod fast;
 mod flow;
 mod motion;
 
@@ -63,6 +64,9 @@ pub struct Profile {
     pub programs: Option<std::sync::Arc<dyn ProgramSource + Send + Sync>>,
     /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
     pub stock: Option<[[f64; 3]; 2]>,
+    /// Whether plain moves (`X.. Y.. Z..` under a modal G0 or G1) take the fast lane. Off,
+    /// every block goes the general way; the two give the same result, and tests check it.
+    pub fast_lane: bool,
 }
 
 impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
@@ -82,6 +86,7 @@ impl Default for Profile {
             max_blocks: 200_000_000,
             programs: None,
             stock: None,
+            fast_lane: true,
         }
     }
 }
@@ -113,7 +118,7 @@ fn foreign(text: &str, dialect: &Dialect) -> Option<Diagnostic> {
         end -= 1;
     }
     dialect.lexical.foreign.iter().find_map(|(re, name)| {
-        let m = re.regex().find(text[..end].as_bytes())?;
+        let m = re.regex().find(&text.as_bytes()[..end])?;
         // An ASCII pattern can match part of a character; the range covers whole ones.
         let (mut start, mut stop) = (m.start(), m.end());
         while !text.is_char_boundary(start) {
@@ -651,6 +656,9 @@ impl<'a> Interpreter<'a> {
         if block.skip && self.profile.block_delete {
             return;
         }
+        if self.profile.fast_lane && self.fast_move(block, sink, diags) {
+            return;
+        }
         if !block.exprs.is_empty() && !self.dialect.macros.system.is_empty() {
             self.refresh_system_vars();
         }
@@ -740,8 +748,8 @@ impl<'a> Interpreter<'a> {
         }
     }
 
-    /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
-    fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+    /// Forgets the previous block's words and codes.
+    fn clear_block(&mut self) {
         let mut filled = std::mem::take(&mut self.filled);
         while filled != 0 {
             self.slots[filled.trailing_zeros() as usize] = None;
@@ -751,6 +759,11 @@ impl<'a> Interpreter<'a> {
         self.codes.clear();
         self.block_cycle = None;
         self.cycle_args.clear();
+    }
+
+    /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
+    fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        self.clear_block();
         let mut ok = true;
         // Codes first: a unit change in this block affects how its numbers scale.
         for w in &block.words {

@@ -297,24 +297,36 @@ impl Lexer<'_, '_> {
     #[inline]
     fn plain_word(&mut self, role: Role) -> bool {
         let start = self.i;
-        let digit_at = |j: usize| self.b.get(j).is_some_and(|&c| c.is_ascii_digit() || c == b'.');
-        let literal = digit_at(start + 1) || (matches!(self.b.get(start + 1), Some(b'-' | b'+')) && digit_at(start + 2));
-        if !literal {
+        let b = self.b;
+        let digit_at = |j: usize| b.get(j).is_some_and(|&c| c.is_ascii_digit() || c == b'.');
+        let signed = matches!(b.get(start + 1), Some(b'-' | b'+'));
+        if !(digit_at(start + 1) || signed && digit_at(start + 2)) {
             return false;
         }
-        self.i += 1;
-        if let Some((value, decimal)) = self.number() {
-            let letter = self.b[start].to_ascii_uppercase();
-            let range = TextRange::new(start, self.i);
-            self.block.words.push(Word {
-                role,
-                letter,
-                value: Value::Number { value, decimal },
-                range,
-                mode: WordMode::Modal,
-                cycle_arg: false,
-            });
-        }
+        let spaces = self.dialect.lexical.spaces_in_numbers;
+        // The common case in one pass; anything unusual goes through `number`, which also
+        // reports what is wrong with it.
+        let (value, decimal) = match plain_number(b, start + 1 + usize::from(signed), spaces) {
+            Some((v, end, point)) => {
+                self.i = end;
+                (if b[start + 1] == b'-' { -v } else { v }, point)
+            }
+            None => {
+                self.i += 1;
+                match self.number() {
+                    Some(n) => n,
+                    None => return true,
+                }
+            }
+        };
+        self.block.words.push(Word {
+            role,
+            letter: b[start].to_ascii_uppercase(),
+            value: Value::Number { value, decimal },
+            range: TextRange::new(start, self.i),
+            mode: WordMode::Modal,
+            cycle_arg: false,
+        });
         true
     }
 
