@@ -117,6 +117,41 @@ proptest! {
     }
 }
 
+/// Runs `text` with and without the interpreter's fast lane for plain moves; both ways must
+/// give the same calls (with their source ranges) and the same findings.
+fn fast_lane_agrees(text: &str) {
+    for d in dialects() {
+        let run = |fast_lane: bool| {
+            let mut canon = Vec::new();
+            let diags = ncplan::interp::interpret(text, &d, &Profile { fast_lane, ..profile() }, &mut canon);
+            (format!("{canon:?}"), format!("{diags:?}"))
+        };
+        let (fast, general) = (run(true), run(false));
+        assert!(fast == general, "{}: the fast lane differs on\n{text}\nfast: {fast:?}\ngeneral: {general:?}", d.name);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: std::env::var("NCPLAN_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64), ..ProptestConfig::default() })]
+
+    /// Plain moves between every kind of block that changes what a plain move means: motion
+    /// modes, distance and units, inverse time, cycles, compensation, rotation and scaling,
+    /// tool changes, stops, block numbers, comments and integers that may count increments.
+    #[test]
+    fn fast_lane_changes_nothing(parts in proptest::collection::vec(prop_oneof![
+        Just("X1.5 Y2.25\n"), Just("Z-1.\n"), Just("X10 Y-3\n"), Just("Y.5 X-.25 Z3\n"), Just("X1 X2\n"), Just("x4.5 z-.1\n"),
+        Just("N20 X3 Y3\n"), Just("/X7 Y7\n"), Just("X2 (note)\n"), Just("G0 X0 Y0 Z5\n"), Just("G1 Z-1 F300\n"), Just("G1 X5\n"),
+        Just("G2 X10 Y0 I2.5 J0\n"), Just("G91\n"), Just("G90\n"), Just("G20\n"), Just("G21\n"), Just("G93\n"), Just("G94\n"),
+        Just("F0\n"), Just("F500\n"), Just("S1000 M3\n"), Just("M5\n"), Just("G81 R2 Z-5 F100\n"), Just("G80\n"), Just("G17\n"),
+        Just("G18\n"), Just("G41 D1\n"), Just("G42 D1\n"), Just("G40\n"), Just("G68 X0 Y0 R30\n"), Just("G69\n"),
+        Just("G51 X0 Y0 P2\n"), Just("G50\n"), Just("T1 M6\n"), Just("G43 H1\n"), Just("G54\n"), Just("G55\n"),
+        Just("G92 X0 Y0\n"), Just("G53 X0\n"), Just("M0\n"), Just("#1=2\n"), Just("X#1\n"), Just("G64 P0.01\n"),
+        Just("G66 P9000\n"), Just("G67\n"), Just("M30\n"),
+    ], 0..40)) {
+        fast_lane_agrees(&parts.concat());
+    }
+}
+
 #[test]
 fn hostile_inputs_are_diagnosed() {
     let deep = format!("G1 X{}1{}\n", "[".repeat(10_000), "]".repeat(10_000));
