@@ -539,30 +539,34 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
 pub struct CallWriter {
     /// Direct-mapped: slot by a hash of the value's bits; (bits, length, text).
     cache: Vec<(u64, u8, [u8; CACHED])>,
-    /// The line being assembled: name, six numbers with separators, `)` and the newline,
-    /// 18 + 6 × (2 + 23) + 2 bytes.
-    line: [u8; 176],
 }
 
 impl Default for CallWriter {
     fn default() -> CallWriter {
-        CallWriter { cache: vec![(0, 0, [0; CACHED]); 1024], line: [0; 176] }
+        CallWriter { cache: vec![(0, 0, [0; CACHED]); 1024] }
     }
 }
+
+/// The longest straight move line: name, six numbers with separators, `)` and the newline,
+/// 18 + 6 × (2 + 23) + 2 bytes.
+const MOVE_LINE: usize = 176;
 
 impl CallWriter {
     /// Appends the call and a newline.
     ///
-    /// A straight move is assembled in the writer's line buffer, with fixed-size copies of
-    /// cached numbers, and appended in one copy. Any number the fast formatter declines sends
-    /// the whole call to [`write_call_bytes`].
+    /// A straight move is assembled in place at the end of `out`, with fixed-size copies of
+    /// cached numbers (each overwriting the padding of the one before), and cut to its
+    /// length. Any number the fast formatter declines sends the whole call to
+    /// [`write_call_bytes`].
     pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {
         let (name, p): (&[u8], _) = match op {
             CanonOp::StraightTraverse(p) => (b"STRAIGHT_TRAVERSE(", p),
             CanonOp::StraightFeed(p) => (b"STRAIGHT_FEED(", p),
             _ => return write_call_bytes(out, op),
         };
-        let CallWriter { cache, line } = self;
+        let start = out.len();
+        out.resize(start + MOVE_LINE, 0);
+        let line = &mut out[start..];
         line[..name.len()].copy_from_slice(name);
         let mut len = name.len();
         for (i, &x) in p.iter().enumerate() {
@@ -570,12 +574,15 @@ impl CallWriter {
                 line[len..len + 2].copy_from_slice(b", ");
                 len += 2;
             }
-            let Some((text, n)) = cached_f4(cache, x) else { return write_call_bytes(out, op) };
+            let Some((text, n)) = cached_f4(&mut self.cache, x) else {
+                out.truncate(start);
+                return write_call_bytes(out, op);
+            };
             line[len..len + CACHED].copy_from_slice(text);
             len += n;
         }
         line[len..len + 2].copy_from_slice(b")\n");
-        out.extend_from_slice(&line[..len + 2]);
+        out.truncate(start + len + 2);
     }
 }
 
