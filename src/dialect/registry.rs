@@ -21,6 +21,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("okuma.xml", include_str!("../../dialects/okuma.xml")),
     ("fagor.xml", include_str!("../../dialects/fagor.xml")),
     ("centroid.xml", include_str!("../../dialects/centroid.xml")),
+    ("mach3.xml", include_str!("../../dialects/mach3.xml")),
 ];
 
 /// Known dialects by name, in name order.

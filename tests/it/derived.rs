@@ -438,3 +438,31 @@ fn centroid_and_linuxcnc_posts_of_one_job_give_the_same_moves() {
         assert_eq!(cutting(&a), cutting(&b), "{centroid}");
     }
 }
+
+#[test]
+fn mach3_probes_with_g31_and_records_output_triggers_and_user_macros() {
+    let program =
+        "G20 G90 F55\nG0 X1 Y1 Z0.2\nM900 (THC check)\nG31 Z-11.8\n#1=#2002\nG92 Z0\nM3 S1000\nM11P1\nG1 X2 F140\nM10P1\nM5 M30\n";
+    let d = Registry::shipped().get("mach3").unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
+    let mut text = String::new();
+    for c in &out {
+        write_call(&mut text, &c.op);
+    }
+    assert!(text.contains("TURN_PROBE_ON()\nSTRAIGHT_PROBE(1.0000, 1.0000, -11.8000, 0.0000, 0.0000, 0.0000)\nTURN_PROBE_OFF()"), "{text}");
+    // M900 is a user macro: recorded, named, no effect.
+    assert!(diags.iter().any(|x| x.message.contains("`M900` is a machine-builder M code")), "{diags:?}");
+    // LinuxCNC has neither G31 nor M10/M11 with P.
+    let linuxcnc = Registry::shipped().get("linuxcnc").unwrap();
+    let errors: Vec<_> = interpret(program, &linuxcnc, &Profile::default(), &mut Vec::new())
+        .into_iter()
+        .filter(|x| x.is_error())
+        .map(|x| x.message)
+        .collect();
+    assert!(errors.iter().any(|m| m.contains("G31")) && errors.iter().any(|m| m.contains("M11")), "{errors:?}");
+    // The sniffer tells a Mach3 plasma program from LinuxCNC.
+    let sniffed = Registry::shipped().sniff(program, Some("part.tap"), "linuxcnc");
+    assert_eq!(sniffed.dialect, "mach3", "{sniffed:?}");
+}
