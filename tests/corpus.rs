@@ -31,7 +31,7 @@ fn folder_dialect(folder: &str) -> Option<&'static str> {
         "fanuc" => Some("fanuc"),
         "haas" => Some("haas"),
         "mazak" => Some("mazak"),
-        "okuma" => Some("okuma"),
+        // Okuma folders hold machining-centre and lathe programs: told from each program.
         "siemens" => Some("siemens"),
         "heidenhain" => Some("heidenhain"),
         "linuxcnc" => Some("linuxcnc"),

@@ -464,6 +464,8 @@ impl Cx {
             motion_in_place: false,
             unused_words_rejected: false,
             end_required: false,
+            x_diameter: false,
+            initial_plane: crate::canon::Plane::Xy,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -489,6 +491,8 @@ impl Cx {
                 "unused-words",
                 "program-end",
                 "motion-without-axes",
+                "x-words",
+                "initial-plane",
             ],
             &[],
         );
@@ -525,6 +529,16 @@ impl Cx {
         b.magnitude_rounding = self.either(el, "integer-rounding", "floor-ceiling", "toward-zero");
         b.unused_words_rejected = self.either(el, "unused-words", "ignored", "rejected");
         b.end_required = self.either(el, "program-end", "optional", "required");
+        b.x_diameter = self.either(el, "x-words", "radius", "diameter");
+        b.initial_plane = match self.attr(el, "initial-plane").unwrap_or("xy") {
+            "xy" => crate::canon::Plane::Xy,
+            "xz" => crate::canon::Plane::Xz,
+            "yz" => crate::canon::Plane::Yz,
+            other => {
+                self.error(Self::attr_range(el, "initial-plane"), format!("`initial-plane` must be xy, xz or yz, not `{other}`"));
+                crate::canon::Plane::Xy
+            }
+        };
         b.tapping = match self.attr(el, "tap-retract").unwrap_or("r-plane") {
             "r-plane" => TapStyle::RPlane,
             "clear" => TapStyle::Clear,

@@ -247,6 +247,11 @@ pub struct Behaviour {
     /// running off the end of the file is then an error (LinuxCNC: "File ended with no
     /// percent sign or program end"). A file of subroutine definitions only is exempt.
     pub end_required: bool,
+    /// Whether X words give diameters from the program's start (a lathe control); G7/G8
+    /// switch where the dictionary has them.
+    pub x_diameter: bool,
+    /// The plane at the program's start and after its end (XZ on a lathe).
+    pub initial_plane: crate::canon::Plane,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.

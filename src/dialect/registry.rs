@@ -19,6 +19,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("mitsubishi.xml", include_str!("../../dialects/mitsubishi.xml")),
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),
     ("okuma.xml", include_str!("../../dialects/okuma.xml")),
+    ("okuma_lathe.xml", include_str!("../../dialects/okuma_lathe.xml")),
     ("fagor.xml", include_str!("../../dialects/fagor.xml")),
     ("centroid.xml", include_str!("../../dialects/centroid.xml")),
     ("mach3.xml", include_str!("../../dialects/mach3.xml")),

@@ -129,8 +129,12 @@ vocab! {
         SpindleCss = "spindle-css",
         /// Spindle RPM mode (G97).
         SpindleRpm = "spindle-rpm",
-        /// Lathe diameter/radius mode (G7, G8).
-        LatheMode = "lathe-mode",
+        /// Spindle speed limit (lathe `G50 S`): the block's S is the limit, not a speed; recorded.
+        SpindleLimit = "spindle-limit",
+        /// Lathe diameter mode (G7): X words give diameters, so the tool moves half of them.
+        DiameterMode = "diameter-mode",
+        /// Lathe radius mode (G8): X words give radii.
+        RadiusMode = "radius-mode",
         /// Dwell (G4).
         Dwell = "dwell",
         /// Set offsets or tool data (G10).

@@ -34,6 +34,7 @@ impl Interpreter<'_> {
             || self.st.cycle_modal
             || self.st.modal_macro.is_some()
             || self.stop_message.is_some()
+            || self.st.diameter
         {
             return false;
         }

@@ -200,6 +200,19 @@ struct ModalMacro {
     depth: u32,
 }
 
+/// An assignment of the block being executed, evaluated and waiting for the block's reads.
+#[derive(Clone, Copy, Debug)]
+struct PendingAssign {
+    /// The parameter number (`#5=`), or `None` for a named one.
+    number: Option<f64>,
+    /// The name of a named parameter (`VC1=`, `#<depth>=`).
+    name: TextRange,
+    /// The element of a named array (`VGRIN[6]=`).
+    index: Option<f64>,
+    value: f64,
+    range: TextRange,
+}
+
 /// Modal state.
 #[derive(Clone, Debug)]
 struct State {
@@ -266,6 +279,8 @@ struct State {
     leaving_comp: bool,
     /// Where the last probe move stopped (taken as its programmed end point).
     probe: Option<[f64; 3]>,
+    /// Lathe diameter mode (G7): X words give diameters.
+    diameter: bool,
 }
 
 /// The interpreter for one program run.
@@ -298,7 +313,7 @@ pub struct Interpreter<'a> {
     /// Motion commands executed so far (to tell whether a block moved).
     motions: u64,
     /// Assignments of the block being executed, waiting for its reads (reused).
-    pending: Vec<(Option<f64>, TextRange, f64, TextRange)>,
+    pending: Vec<PendingAssign>,
     /// A `#3006` stop message to emit at the stop step.
     stop_message: Option<String>,
     /// Tool data the program set with G10 (millimetres), over the profile's tool table.
@@ -329,7 +344,7 @@ impl<'a> Interpreter<'a> {
             text,
             st: State {
                 units: Units::Mm,
-                plane: Plane::Xy,
+                plane: dialect.behaviour.initial_plane,
                 distance: DistanceMode::Absolute,
                 arc_incremental: true,
                 feed: 0.0,
@@ -371,6 +386,7 @@ impl<'a> Interpreter<'a> {
                 blank_min: None,
                 leaving_comp: false,
                 probe: None,
+                diameter: dialect.behaviour.x_diameter,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -825,6 +841,13 @@ impl<'a> Interpreter<'a> {
             _ => None,
         });
         let units = units.unwrap_or(self.st.units);
+        // G7 in this block already reads its X words as diameters.
+        let diameter = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
+            Meaning::DiameterMode => Some(true),
+            Meaning::RadiusMode => Some(false),
+            _ => None,
+        });
+        let diameter = diameter.unwrap_or(self.st.diameter);
         for w in &block.words {
             if matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
                 continue;
@@ -878,6 +901,9 @@ impl<'a> Interpreter<'a> {
                 && scaled.contains(&role)
             {
                 v *= if units == Units::Mm { *mm } else { *inch };
+            }
+            if diameter && role == Role::X {
+                v /= 2.0;
             }
             self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
             self.filled |= 1 << role as u32;
@@ -1109,14 +1135,20 @@ impl<'a> Interpreter<'a> {
             };
             match a.target {
                 ParamTarget::Numbered(e) => match self.eval(block, e, self.text, a.range, diags) {
-                    Ok(n) => pending.push((Some(n), TextRange::default(), value, a.range)),
+                    Ok(n) => {
+                        pending.push(PendingAssign { number: Some(n), name: TextRange::default(), index: None, value, range: a.range })
+                    }
                     Err(e) => diags.push(eval_diag(e, a.range)),
                 },
-                ParamTarget::Named(r) => pending.push((None, r, value, a.range)),
+                ParamTarget::Named(name) => pending.push(PendingAssign { number: None, name, index: None, value, range: a.range }),
+                ParamTarget::NamedIndex(name, e) => match self.eval(block, e, self.text, a.range, diags) {
+                    Ok(i) => pending.push(PendingAssign { number: None, name, index: Some(i), value, range: a.range }),
+                    Err(e) => diags.push(eval_diag(e, a.range)),
+                },
             }
         }
-        for &(n, name, value, range) in &pending {
-            match n {
+        for &PendingAssign { number, name, index, value, range } in &pending {
+            match number {
                 Some(n) => {
                     let system = if n >= 0.0 && n.fract() == 0.0 { self.dialect.macros.system_var(n as u32) } else { None };
                     match system {
@@ -1136,7 +1168,14 @@ impl<'a> Interpreter<'a> {
                         }
                     }
                 }
-                None => self.params.set_named(&eval::normalised(&self.text[name.start as usize..name.end as usize]), value),
+                None => {
+                    let name = eval::normalised(&self.text[name.start as usize..name.end as usize]);
+                    match index {
+                        // The key a read of `name[i]` looks up (`eval`).
+                        Some(i) => self.params.set_named(&format!("{name}[{i}]"), value),
+                        None => self.params.set_named(&name, value),
+                    }
+                }
             }
         }
         self.pending = pending;
@@ -1247,7 +1286,9 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Step::Speed => {
-                if let Some(s) = self.slot(Role::S) {
+                // `G50 S3200` on a lathe limits the speed; it does not set it.
+                let limit = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::SpindleLimit);
+                if let Some(s) = self.slot(Role::S).filter(|_| !limit) {
                     self.st.speed = s;
                     self.emit(sink, CanonOp::SetSpindleSpeed(s));
                 }
@@ -1499,7 +1540,7 @@ impl<'a> Interpreter<'a> {
             Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
                 self.modal_context(def, range, sink, diags);
             }
-            Meaning::PathMode | Meaning::SpindleRpm => {}
+            Meaning::PathMode | Meaning::SpindleRpm | Meaning::SpindleLimit => {}
             Meaning::DistanceAbsolute | Meaning::DistanceIncremental => {
                 let mode = if def.meaning == Meaning::DistanceAbsolute { DistanceMode::Absolute } else { DistanceMode::Incremental };
                 if mode != self.st.distance {
@@ -1702,7 +1743,9 @@ impl<'a> Interpreter<'a> {
                 let goto = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0).map(|p| p as u32);
                 self.request = Some(Request::Return { goto });
             }
-            Meaning::Other | Meaning::LatheMode | Meaning::ProgramBegin => {}
+            Meaning::DiameterMode => self.st.diameter = true,
+            Meaning::RadiusMode => self.st.diameter = false,
+            Meaning::Other | Meaning::ProgramBegin => {}
             Meaning::Stock => self.stock_corner(sink),
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
             Meaning::ApproachTangent
@@ -2054,9 +2097,10 @@ impl<'a> Interpreter<'a> {
         self.comp_off(sink);
         self.st.wcs = 1;
         self.emit(sink, CanonOp::SetG5xOffset(1, self.st.wcs_offsets[0]));
-        if self.st.plane != Plane::Xy {
-            self.st.plane = Plane::Xy;
-            self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
+        let initial = self.dialect.behaviour.initial_plane;
+        if self.st.plane != initial {
+            self.st.plane = initial;
+            self.emit(sink, CanonOp::SelectPlane(initial));
         }
         self.st.distance = DistanceMode::Absolute;
         self.st.feed = 0.0;

@@ -65,6 +65,8 @@ pub enum ParamTarget {
     Numbered(ExprId),
     /// `#<name>=`: a named parameter; the range covers the name.
     Named(TextRange),
+    /// `VGRIN[6]=`: an element of a named array; the range covers the name.
+    NamedIndex(TextRange, ExprId),
 }
 
 /// A parameter assignment such as `#1=2.0`.

@@ -638,10 +638,24 @@ impl Lexer<'_, '_> {
             return false;
         }
         let mut j = end;
+        // `VGRIN[6]=19`: an element of a named array, where the dialect indexes with brackets.
+        let mut index = None;
+        let (marks, exprs) = (self.diags.len(), self.block.exprs.len());
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        if expr_open.is_some() && self.b.get(end).copied() == expr_open {
+            self.i = end;
+            index = self.unary(1);
+            j = self.i;
+        }
         while matches!(self.b.get(j), Some(b' ' | b'\t')) {
             j += 1;
         }
-        if self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
+        let indexed = self.b.get(end).copied() == expr_open && expr_open.is_some();
+        if (indexed && index.is_none()) || self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
+            // Not an assignment: whatever the index left behind goes.
+            self.diags.truncate(marks);
+            self.block.exprs.truncate(exprs);
+            self.i = start;
             return false;
         }
         self.i = j + 1;
@@ -649,8 +663,9 @@ impl Lexer<'_, '_> {
             self.i = self.line_end();
             return true;
         };
+        let name = TextRange::new(start, end);
         self.block.assigns.push(Assign {
-            target: ParamTarget::Named(TextRange::new(start, end)),
+            target: index.map_or(ParamTarget::Named(name), |i| ParamTarget::NamedIndex(name, i)),
             value,
             range: TextRange::new(start, self.i),
         });

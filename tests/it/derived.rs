@@ -466,3 +466,27 @@ fn mach3_probes_with_g31_and_records_output_triggers_and_user_macros() {
     let sniffed = Registry::shipped().sniff(program, Some("part.tap"), "linuxcnc");
     assert_eq!(sniffed.dialect, "mach3", "{sniffed:?}");
 }
+
+#[test]
+fn okuma_lathe_reads_diameters_in_the_zx_plane() {
+    let program = "$SHAFT.MIN%\nO100\nVGRIN[2]=40\nG50 S3000\nG0 X=VGRIN[2] Z5\nG96 S200 M3\nG1 Z-10 F0.2\nG2 X50 Z-15 K-5\nG1 X60\nM2\n";
+    let d = Registry::shipped().get("okuma_lathe").unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
+    let mut text = String::new();
+    for c in &out {
+        write_call(&mut text, &c.op);
+    }
+    // X40 is a diameter: the tool is 20 from the axis; the arc turns about Z-15, X20 (K is
+    // along Z, the radius 5 is not halved) to diameter 50.
+    assert!(text.contains("STRAIGHT_TRAVERSE(20.0000, 0.0000, 5.0000,"), "{text}");
+    assert!(text.contains("ARC_FEED(-15.0000, 25.0000, -15.0000, 20.0000, -1,"), "{text}");
+    assert!(text.contains("STRAIGHT_FEED(30.0000, 0.0000, -15.0000,"), "{text}");
+    // G50 S limits the speed; only G96's S reaches the spindle.
+    assert!(!text.contains("3000.0000"), "{text}");
+    // The machining-centre dialect reads the same words in the XY plane, as radii.
+    let (text, _) = canon("okuma", program);
+    assert!(text.contains("STRAIGHT_TRAVERSE(40.0000, 0.0000, 5.0000,"), "{text}");
+    assert_eq!(Registry::shipped().sniff(program, Some("SHAFT.MIN"), "fanuc").dialect, "okuma_lathe");
+}
