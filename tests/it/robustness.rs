@@ -146,7 +146,7 @@ proptest! {
         Just("G18\n"), Just("G41 D1\n"), Just("G42 D1\n"), Just("G40\n"), Just("G68 X0 Y0 R30\n"), Just("G69\n"),
         Just("G51 X0 Y0 P2\n"), Just("G50\n"), Just("T1 M6\n"), Just("G43 H1\n"), Just("G54\n"), Just("G55\n"),
         Just("G92 X0 Y0\n"), Just("G53 X0\n"), Just("M0\n"), Just("#1=2\n"), Just("X#1\n"), Just("G64 P0.01\n"),
-        Just("G66 P9000\n"), Just("G67\n"), Just("M30\n"),
+        Just("G66 P9000\n"), Just("G67\n"), Just("G7\n"), Just("G8\n"), Just("M30\n"),
     ], 0..40)) {
         fast_lane_agrees(&parts.concat());
     }
