@@ -547,16 +547,17 @@ impl Default for CallWriter {
     }
 }
 
-/// The longest straight move line: name, six numbers with separators, `)` and the newline,
-/// 18 + 6 × (2 + 23) + 2 bytes.
-const MOVE_LINE: usize = 176;
+/// Room for the longest straight move line: name, six numbers with separators, `)` and the
+/// newline, 18 + 6 × (2 + 23) + 2 bytes, and the 32 bytes the last number is formatted in.
+const MOVE_LINE: usize = 18 + 5 * (2 + CACHED) + 2 + 32;
 
 impl CallWriter {
     /// Appends the call and a newline.
     ///
-    /// A straight move is assembled in place at the end of `out`, with fixed-size copies of
-    /// cached numbers (each overwriting the padding of the one before), and cut to its
-    /// length. Any number the fast formatter declines sends the whole call to
+    /// A straight move is assembled in place at the end of `out` and cut to its length. Each
+    /// number is a fixed-size copy from the cache, or formatted where it goes and then
+    /// cached; either may overwrite bytes past its end, which the next part overwrites in
+    /// turn. Any number the fast formatter declines sends the whole call to
     /// [`write_call_bytes`].
     pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {
         let (name, p): (&[u8], _) = match op {
@@ -574,11 +575,11 @@ impl CallWriter {
                 line[len..len + 2].copy_from_slice(b", ");
                 len += 2;
             }
-            let Some((text, n)) = cached_f4(&mut self.cache, x) else {
+            let dst = line[len..].first_chunk_mut::<32>().expect("MOVE_LINE leaves room");
+            let Some(n) = write_f4(&mut self.cache, x, dst) else {
                 out.truncate(start);
                 return write_call_bytes(out, op);
             };
-            line[len..len + CACHED].copy_from_slice(text);
             len += n;
         }
         line[len..len + 2].copy_from_slice(b")\n");
@@ -586,32 +587,26 @@ impl CallWriter {
     }
 }
 
-/// `v` as [`push_f4`] writes it, padded to [`CACHED`] bytes, and its length, from `cache` or
-/// formatted into it; `None` when only the standard formatter can decide.
-fn cached_f4(cache: &mut [(u64, u8, [u8; CACHED])], v: f64) -> Option<(&[u8; CACHED], usize)> {
-    const ZERO: [u8; CACHED] = {
-        let mut z = [0u8; CACHED];
-        let mut k = 0;
-        while k < 6 {
-            z[k] = b"0.0000"[k];
-            k += 1;
-        }
-        z
-    };
+/// Writes `v` as [`push_f4`] writes it at the start of `dst` (which it may overwrite up to
+/// 32 bytes) and returns its length: from `cache`, or formatted in place and remembered;
+/// `None` when only the standard formatter can decide.
+fn write_f4(cache: &mut [(u64, u8, [u8; CACHED])], v: f64, dst: &mut [u8; 32]) -> Option<usize> {
     if v == 0.0 && v.is_sign_positive() {
-        return Some((&ZERO, 6));
+        dst[..8].copy_from_slice(b"0.0000\0\0");
+        return Some(6);
     }
     let bits = v.to_bits();
     let slot = ((bits ^ (bits >> 31)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 54) as usize;
     let entry = &mut cache[slot];
-    if entry.0 != bits || entry.1 == 0 {
-        let mut buf = [0u8; 32];
-        let n = f4_fast(v, &mut buf).filter(|&n| n <= CACHED)?;
-        entry.0 = bits;
-        entry.1 = n as u8;
-        entry.2.copy_from_slice(&buf[..CACHED]);
+    if entry.0 == bits && entry.1 != 0 {
+        dst[..CACHED].copy_from_slice(&entry.2);
+        return Some(usize::from(entry.1));
     }
-    Some((&entry.2, usize::from(entry.1)))
+    let n = f4_fast(v, dst).filter(|&n| n <= CACHED)?;
+    entry.0 = bits;
+    entry.1 = n as u8;
+    entry.2.copy_from_slice(&dst[..CACHED]);
+    Some(n)
 }
 
 /// Bytes a cached number may take: [`f4_fast`] writes at most 18.
