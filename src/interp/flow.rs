@@ -66,6 +66,7 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         library: false,
     };
     let mut interp = Interpreter::new(dialect, profile, text);
+    interp.start(sink);
     driver.drive(&mut interp, sink, &mut diags);
     interp.flush(sink);
     interp.finish(&mut diags);

@@ -764,6 +764,14 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// Before the first block: a control that starts in another plane than XY (a lathe in
+    /// ZX) says so, as its program would, so that the canon is read in the right plane.
+    fn start(&mut self, sink: &mut dyn CanonSink) {
+        if self.st.plane != Plane::Xy {
+            self.emit(sink, CanonOp::SelectPlane(self.st.plane));
+        }
+    }
+
     /// Forgets the previous block's words and codes.
     fn clear_block(&mut self) {
         let mut filled = std::mem::take(&mut self.filled);

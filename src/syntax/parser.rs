@@ -642,7 +642,8 @@ impl Lexer<'_, '_> {
         let mut index = None;
         let (marks, exprs) = (self.diags.len(), self.block.exprs.len());
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
-        if expr_open.is_some() && self.b.get(end).copied() == expr_open {
+        let indexed = expr_open.is_some() && self.b.get(end).copied() == expr_open;
+        if indexed {
             self.i = end;
             index = self.unary(1);
             j = self.i;
@@ -650,7 +651,6 @@ impl Lexer<'_, '_> {
         while matches!(self.b.get(j), Some(b' ' | b'\t')) {
             j += 1;
         }
-        let indexed = self.b.get(end).copied() == expr_open && expr_open.is_some();
         if (indexed && index.is_none()) || self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
             // Not an assignment: whatever the index left behind goes.
             self.diags.truncate(marks);
