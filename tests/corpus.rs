@@ -3,7 +3,8 @@
 //! - `check/<dialect>/<file>`: every program of `../shared/corpus` goes through analysis
 //!   without panicking, and its diagnostics point inside the text; its plan, written as
 //!   STEP-NC CC1 and CC2, conforms to the ISO 14649 signatures and reads back unchanged;
-//!   the interpreter's fast lane for plain moves changes nothing in its calls or findings.
+//!   the interpreter's fast paths (the lane for plain moves, the cache of lexed loop
+//!   bodies) change nothing in its calls or findings.
 //! - `canon/<file>`: `ncplan canon` agrees with LinuxCNC's `rs274 -g` (goldens in
 //!   `tests/golden/rs274`, made by `tests/golden/regen.sh`) to 1e-4, ignoring calls that
 //!   are LinuxCNC-internal. Programs listed in `tests/golden/rs274/KNOWN_DIFFERENCES` are
@@ -237,7 +238,7 @@ fn check(path: &Path, dialect: &ncplan::dialect::Dialect, expected: Option<(Stri
     Ok(())
 }
 
-/// The interpreter's fast lane for plain moves gives what the general path gives: the same
+/// The interpreter's fast paths (`Profile::fast_lane`) give what the general path gives: the same
 /// canonical calls with the same source ranges, and the same findings.
 fn fast_lane_changes_nothing(text: &str, dialect: &ncplan::dialect::Dialect, path: &Path) -> Result<(), Failed> {
     let run = |fast_lane: bool| {

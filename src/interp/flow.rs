@@ -64,6 +64,8 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         started: false,
         main_work: false,
         library: false,
+        lexed: BTreeMap::new(),
+        reached: Vec::new(),
     };
     let mut interp = Interpreter::new(dialect, profile, text);
     interp.start(sink);
@@ -216,7 +218,22 @@ struct Driver<'a, 'p> {
     main_work: bool,
     /// Whether the main program has skipped a subroutine definition.
     library: bool,
+    /// Blocks lexed on their second run, by source and offset, for their later runs: a loop
+    /// body is lexed twice, not once per iteration. Bounded by [`BLOCK_CACHE`].
+    lexed: BTreeMap<(usize, usize), Lexed>,
+    /// Per source, the furthest offset lexed: a block before it has run before.
+    reached: Vec<usize>,
 }
+
+/// A block as the parser left it, and where the next one starts. Its lexical findings are
+/// not kept: a block that runs again does not repeat them (see `tidy`).
+struct Lexed {
+    block: Block,
+    next: Pos,
+}
+
+/// Most blocks kept lexed (a few megabytes at most).
+const BLOCK_CACHE: usize = 16_384;
 
 /// The first 40 characters of a control statement, for a message.
 fn statement_head<'t>(text: &'t str, c: &Control) -> &'t str {
@@ -249,7 +266,7 @@ impl<'a> Driver<'a, '_> {
             let start = self.pos();
             let src = self.cur;
             let mark = diags.len();
-            if !self.parser.next_block(&mut block, diags) {
+            if !self.next_block(&mut block, start, diags) {
                 if !self.end_of_source(interp, diags) {
                     self.end_of_main(interp, diags);
                     break;
@@ -307,6 +324,35 @@ impl<'a> Driver<'a, '_> {
                 break;
             }
         }
+    }
+
+    /// The block at `start` of the current source: lexed by the parser, or, on a third run
+    /// or later, as it was lexed before (the run is replaying by then, so its findings would
+    /// not be shown again). False at the end of the source.
+    fn next_block(&mut self, block: &mut Block, start: Pos, diags: &mut Vec<Diagnostic>) -> bool {
+        let key = (self.cur, start.at);
+        let cache = self.profile.fast_lane;
+        if let Some(l) = self.lexed.get(&key).filter(|_| cache) {
+            block.clone_from(&l.block);
+            self.parser.seek(l.next.at, l.next.line);
+            return true;
+        }
+        if !self.parser.next_block(block, diags) {
+            return false;
+        }
+        if self.reached.len() <= self.cur {
+            self.reached.resize(self.cur + 1, 0);
+        }
+        let reached = &mut self.reached[self.cur];
+        if start.at < *reached {
+            // Run before: probably in a loop, so kept for the runs to come.
+            if cache && self.lexed.len() < BLOCK_CACHE {
+                self.lexed.insert(key, Lexed { block: block.clone(), next: self.pos() });
+            }
+        } else {
+            *reached = self.parser.offset();
+        }
+        true
     }
 
     /// Post-processes the diagnostics of one block: those from another file point at the

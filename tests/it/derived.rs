@@ -478,6 +478,7 @@ fn okuma_lathe_reads_diameters_in_the_zx_plane() {
     for c in &out {
         write_call(&mut text, &c.op);
     }
+    assert!(text.starts_with("SELECT_PLANE(CANON_PLANE_XZ)\n"), "{text}");
     // X40 is a diameter: the tool is 20 from the axis; the arc turns about Z-15, X20 (K is
     // along Z, the radius 5 is not halved) to diameter 50.
     assert!(text.contains("STRAIGHT_TRAVERSE(20.0000, 0.0000, 5.0000,"), "{text}");

@@ -117,8 +117,9 @@ proptest! {
     }
 }
 
-/// Runs `text` with and without the interpreter's fast lane for plain moves; both ways must
-/// give the same calls (with their source ranges) and the same findings.
+/// Runs `text` with and without the interpreter's fast paths (the lane for plain moves, the
+/// cache of lexed loop bodies); both ways must give the same calls (with their source ranges)
+/// and the same findings.
 fn fast_lane_agrees(text: &str) {
     for d in dialects() {
         let run = |fast_lane: bool| {
@@ -147,6 +148,8 @@ proptest! {
         Just("G51 X0 Y0 P2\n"), Just("G50\n"), Just("T1 M6\n"), Just("G43 H1\n"), Just("G54\n"), Just("G55\n"),
         Just("G92 X0 Y0\n"), Just("G53 X0\n"), Just("M0\n"), Just("#1=2\n"), Just("X#1\n"), Just("G64 P0.01\n"),
         Just("G66 P9000\n"), Just("G67\n"), Just("G7\n"), Just("G8\n"), Just("M30\n"),
+        Just("o1 repeat [3]\n"), Just("o1 endrepeat\n"), Just("#1=0\n"), Just("o2 while [#1 LT 3]\n"), Just("#1=[#1+1]\n"),
+        Just("o2 endwhile\n"), Just("WHILE [#1 LT 3] DO 1\n"), Just("END 1\n"), Just("X[#1*2] Y@\n"), Just("GOTO 20\n"), Just("N20 G0 X1\n"),
     ], 0..40)) {
         fast_lane_agrees(&parts.concat());
     }
