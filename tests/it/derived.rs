@@ -80,6 +80,14 @@ fn a_mazatrol_export_is_named_once_instead_of_failing_on_every_block() {
     assert_eq!(diags[0].code.as_str(), "text::foreign-format");
     assert!(diags[0].message.contains("Mazatrol"), "{}", diags[0].message);
     assert_eq!(&program[diags[0].range.start as usize..diags[0].range.end as usize], "G300U0");
+    // An editor's template with `{$NAME=...}` fields is named the same way, in every dialect
+    // that extends Fanuc (Mazak too, beside its own foreign format).
+    let template = "%\nO4113 (MACRO EXAMPLE)\n{$DRILLVC=100}\nG0 X{$DIA1}\nM30\n%\n";
+    for name in ["fanuc", "mazak", "haas"] {
+        let diags = interpret(template, &Registry::shipped().get(name).unwrap(), &Profile::default(), &mut Vec::new());
+        assert_eq!(diags.len(), 1, "{name}: {diags:?}");
+        assert!(diags[0].message.contains("template"), "{name}: {}", diags[0].message);
+    }
 }
 
 #[test]
