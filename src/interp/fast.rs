@@ -1,11 +1,13 @@
-//! The fast lane: the block that makes up most of any CAM program, literal X, Y and Z words
-//! continuing a modal G0 or G1 (`X12.5 Y-3.2 Z-1.05`).
+//! The fast lane: the block that makes up most of any CAM program, a straight move with
+//! literal X, Y and Z words, perhaps its G0 or G1 and an F (`X12.5 Y-3.2 Z-1.05`,
+//! `G1 X3 Y4 F600`).
 //!
 //! Such a block needs none of the general machinery: no codes to sort into steps, no
 //! expressions, no parameter checks, no cycle or macro after it. The lane does exactly what
-//! `read`, `step(Motion)` and `motion` do for it, in the same order and with the same state
-//! changes, and turns down anything else, which then goes the general way. Emitting still
-//! goes through `emit`, so transforms, corners and cutter compensation apply as usual.
+//! `read`, `step(Feed)`, `step(Motion)` and `motion` do for it, in the same order and with the
+//! same state changes, and turns down anything else, which then goes the general way.
+//! Emitting still goes through `emit`, so transforms, corners and cutter compensation apply
+//! as usual.
 //!
 //! `Profile::fast_lane` switches it off; the corpus test `fast_lane_changes_nothing` runs
 //! every program both ways and compares the canonical text and the findings.
@@ -13,21 +15,13 @@
 use super::{Interpreter, Slot};
 use crate::canon::{CanonOp, CanonSink, DistanceMode};
 use crate::diag::Diagnostic;
-use crate::dialect::{DecimalInput, Meaning, Role};
+use crate::dialect::{DecimalInput, Meaning, Role, Step};
 use crate::syntax::{Block, Value, WordMode};
 
 impl Interpreter<'_> {
     /// Executes `block` when it is a plain move; false, with nothing changed, when it is not.
     pub(super) fn fast_move(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
-        let Some(code) = self.st.motion_code else { return false };
-        let def = self.code(code);
-        let rapid = match def.meaning {
-            Meaning::Rapid => true,
-            Meaning::Linear if !self.st.inverse_time => false,
-            _ => return false,
-        };
-        if block.words.is_empty()
-            || !block.comments.is_empty()
+        if !block.comments.is_empty()
             || !block.assigns.is_empty()
             || !block.exprs.is_empty()
             || block.control.is_some()
@@ -42,32 +36,70 @@ impl Interpreter<'_> {
         let integers_scale = matches!(self.dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. });
         let incremental = self.st.distance == DistanceMode::Incremental;
         let mut to = self.st.pos;
-        let mut seen = 0u32;
+        let (mut axes, mut code, mut feed) = (0u32, None, None);
         for w in &block.words {
+            let Value::Number { value, decimal } = w.value else { return false };
+            if w.mode != WordMode::Modal || (integers_scale && !decimal) {
+                return false;
+            }
             let axis = match w.role {
                 Role::X => 0,
                 Role::Y => 1,
                 Role::Z => 2,
+                Role::G if code.is_none() => {
+                    let Some(c) = self.plain_motion_code(value) else { return false };
+                    code = Some(c);
+                    continue;
+                }
+                Role::F if feed.is_none() && self.feed_before_motion => {
+                    feed = Some(value);
+                    continue;
+                }
                 _ => return false,
             };
-            let Value::Number { value, decimal } = w.value else { return false };
-            if w.mode != WordMode::Modal || seen & 1 << axis != 0 || (integers_scale && !decimal) {
+            if axes & 1 << axis != 0 {
                 return false;
             }
-            seen |= 1 << axis;
+            axes |= 1 << axis;
             to[axis] = if incremental { self.st.pos[axis] + value } else { value };
         }
+        let Some(c) = code.or(self.st.motion_code) else { return false };
+        let def = self.code(c);
+        let rapid = match def.meaning {
+            Meaning::Rapid => true,
+            Meaning::Linear => false,
+            _ => return false,
+        };
+        // In inverse time F is each move's time (`inverse_time_feed`), not a rate.
+        if axes == 0 || (self.st.inverse_time && (!rapid || feed.is_some())) {
+            return false;
+        }
 
-        // The block's words, as `read` leaves them for whatever looks at them next.
+        // The block's words and code, as `read` leaves them for whatever looks at them next.
         self.clear_block();
         for w in &block.words {
             let Value::Number { value, .. } = w.value else { unreachable!("checked above") };
-            self.slots[w.role as usize] = Some(Slot { value, range: w.range, mode: w.mode });
-            self.filled |= 1 << w.role as u32;
+            if w.role == Role::G {
+                self.codes.push((c, w.range));
+                self.code_steps |= 1 << self.dialect.groups[def.group].step as u32;
+            } else {
+                self.slots[w.role as usize] = Some(Slot { value, range: w.range, mode: w.mode });
+                self.filled |= 1 << w.role as u32;
+            }
         }
         self.has_axes = true;
-        // As `execute_code` and `motion` do for the modal motion code.
-        self.st.motion_continued = true;
+        // The feed step, as `step(Feed)` does.
+        if let Some(f) = feed {
+            self.st.feed = f;
+            self.st.tech_warned = false;
+            self.emit(sink, CanonOp::SetFeedRate(f));
+        }
+        // As `execute_code` and `motion` do for the motion code.
+        self.st.motion_continued = self.st.motion_code == Some(c);
+        if !self.st.motion_continued {
+            self.st.sticky_z = None;
+        }
+        self.st.motion_code = Some(c);
         self.motions += 1;
         self.st.leaving_comp = false;
         if rapid {
@@ -80,5 +112,22 @@ impl Interpreter<'_> {
         }
         self.st.pos = to;
         true
+    }
+
+    /// The G0 or G1 that G word `value` names, when its block needs nothing but the move:
+    /// a motion code that requires no other word.
+    fn plain_motion_code(&self, value: f64) -> Option<usize> {
+        let x10 = (value * 10.0).round();
+        if (value * 10.0 - x10).abs() >= 1e-3 || !(0.0..10_000.0).contains(&x10) {
+            return None;
+        }
+        let c = self.dialect.code_id('G', x10 as u32)?;
+        let def = self.code(c);
+        let plain = matches!(def.meaning, Meaning::Rapid | Meaning::Linear)
+            && self.dialect.groups[def.group].step == Step::Motion
+            && def.params.required.is_empty()
+            && def.params.any_of.is_empty()
+            && def.params.exclusive.is_empty();
+        plain.then_some(c)
     }
 }

@@ -280,10 +280,12 @@ impl<'a> Driver<'a, '_> {
             {
                 // The end of a repeated section: again from its start, or back after the repeat.
                 self.return_from(None, &block, interp, diags);
+                self.tidy(src, mark, diags);
                 continue;
             }
             self.executed += 1;
             if self.executed > self.profile.max_blocks {
+                self.tidy(src, mark, diags);
                 diags.push(Diagnostic::new(
                     Code::LoopLimit,
                     block.range,
@@ -326,12 +328,14 @@ impl<'a> Driver<'a, '_> {
         }
     }
 
-    /// The block at `start` of the current source: lexed by the parser, or, on a third run
-    /// or later, as it was lexed before (the run is replaying by then, so its findings would
-    /// not be shown again). False at the end of the source.
+    /// The block at `start` of the current source: lexed by the parser, or, when it has run
+    /// twice before with the run replaying, as it was lexed then (its findings would not be
+    /// shown again). False at the end of the source.
     fn next_block(&mut self, block: &mut Block, start: Pos, diags: &mut Vec<Diagnostic>) -> bool {
         let key = (self.cur, start.at);
-        let cache = self.profile.fast_lane;
+        // Only while replaying: a block lexed then has had its findings noted in `seen`, so a
+        // later run that skips lexing loses nothing (`tidy` would drop them again).
+        let cache = self.profile.fast_lane && self.replaying;
         if let Some(l) = self.lexed.get(&key).filter(|_| cache) {
             block.clone_from(&l.block);
             self.parser.seek(l.next.at, l.next.line);

@@ -315,6 +315,8 @@ pub struct Interpreter<'a> {
     /// Motion commands executed so far (to tell whether a block moved).
     motions: u64,
     /// Assignments of the block being executed, waiting for its reads (reused).
+    /// Whether the dialect sets the feed before it moves (the fast lane takes F only then).
+    feed_before_motion: bool,
     pending: Vec<PendingAssign>,
     /// A `#3006` stop message to emit at the stop step.
     stop_message: Option<String>,
@@ -414,6 +416,10 @@ impl<'a> Interpreter<'a> {
             left_level: None,
             motions: 0,
             pending: Vec::new(),
+            feed_before_motion: {
+                let at = |step: Step| dialect.execution_order.iter().position(|&s| s == step);
+                matches!((at(Step::Feed), at(Step::Motion)), (Some(f), Some(m)) if f < m)
+            },
             stop_message: None,
             tool_edits: BTreeMap::new(),
             comp: std::cell::RefCell::new(None),
