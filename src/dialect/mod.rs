@@ -159,6 +159,11 @@ impl Pattern {
         Ok(Pattern { source: source.to_owned(), compiled: std::sync::OnceLock::new() })
     }
 
+    /// The expression as the dictionary writes it.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
     /// The compiled expression. One that passed the check but cannot be compiled (past the
     /// size limit) matches nothing.
     pub fn regex(&self) -> &regex_automata::meta::Regex {

@@ -31,6 +31,8 @@ pub struct Registry {
     dialects: BTreeMap<String, Arc<Dialect>>,
     /// Each dialect's merged element tree, the base for dialects that extend it.
     trees: BTreeMap<String, Arc<Element>>,
+    /// Every dialect's evidence patterns as one expression, built on the first sniff.
+    pub(super) evidence: std::sync::OnceLock<Option<super::sniff::EvidenceSet>>,
 }
 
 impl Registry {
@@ -61,6 +63,7 @@ impl Registry {
         let Some(d) = dialect else { return (None, findings) };
         let d = Arc::new(d);
         self.dialects.insert(d.name.clone(), Arc::clone(&d));
+        self.evidence = std::sync::OnceLock::new();
         if let Some(tree) = tree {
             self.trees.insert(d.name.clone(), Arc::new(tree));
         }
