@@ -31,6 +31,18 @@ fn canon(dialect: &str, program: &str) -> (String, Vec<&'static str>) {
     (text, diags.iter().filter(|d| d.is_error()).map(|d| d.code.as_str()).collect())
 }
 
+/// Every canonical call of `program`, one per line, and all its findings.
+fn every_call(dialect: &str, program: &str) -> (String, Vec<ncplan::diag::Diagnostic>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    let mut text = String::new();
+    for c in &out {
+        write_call(&mut text, &c.op);
+    }
+    (text, diags)
+}
+
 fn moves(text: &str) -> Vec<&str> {
     text.lines().filter(|l| l.starts_with("STRAIGHT")).collect()
 }
@@ -451,14 +463,8 @@ fn centroid_and_linuxcnc_posts_of_one_job_give_the_same_moves() {
 fn mach3_probes_with_g31_and_records_output_triggers_and_user_macros() {
     let program =
         "G20 G90 F55\nG0 X1 Y1 Z0.2\nM900 (THC check)\nG31 Z-11.8\n#1=#2002\nG92 Z0\nM3 S1000\nM11P1\nG1 X2 F140\nM10P1\nM5 M30\n";
-    let d = Registry::shipped().get("mach3").unwrap();
-    let mut out = Vec::new();
-    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    let (text, diags) = every_call("mach3", program);
     assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
-    let mut text = String::new();
-    for c in &out {
-        write_call(&mut text, &c.op);
-    }
     assert!(text.contains("TURN_PROBE_ON()\nSTRAIGHT_PROBE(1.0000, 1.0000, -11.8000, 0.0000, 0.0000, 0.0000)\nTURN_PROBE_OFF()"), "{text}");
     // M900 is a user macro: recorded, named, no effect.
     assert!(diags.iter().any(|x| x.message.contains("`M900` is a machine-builder M code")), "{diags:?}");
@@ -478,14 +484,8 @@ fn mach3_probes_with_g31_and_records_output_triggers_and_user_macros() {
 #[test]
 fn okuma_lathe_reads_diameters_in_the_zx_plane() {
     let program = "$SHAFT.MIN%\nO100\nVGRIN[2]=40\nG50 S3000\nG0 X=VGRIN[2] Z5\nG96 S200 M3\nG1 Z-10 F0.2\nG2 X50 Z-15 K-5\nG1 X60\nM2\n";
-    let d = Registry::shipped().get("okuma_lathe").unwrap();
-    let mut out = Vec::new();
-    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    let (text, diags) = every_call("okuma_lathe", program);
     assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
-    let mut text = String::new();
-    for c in &out {
-        write_call(&mut text, &c.op);
-    }
     assert!(text.starts_with("SELECT_PLANE(CANON_PLANE_XZ)\n"), "{text}");
     // X40 is a diameter: the tool is 20 from the axis; the arc turns about Z-15, X20 (K is
     // along Z, the radius 5 is not halved) to diameter 50.
