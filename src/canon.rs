@@ -547,8 +547,9 @@ impl Default for CallWriter {
     }
 }
 
-/// Room for the longest straight move line: name, six numbers with separators, `)` and the
-/// newline, 18 + 6 × (2 + 23) + 2 bytes, and the 32 bytes the last number is formatted in.
+/// Room for the longest straight move line: the name (18 bytes), five numbers with the
+/// separators before them (5 × (2 + 23)), the last separator (2), and the 32 bytes the last
+/// number is formatted in, which also hold its `)` and the newline.
 const MOVE_LINE: usize = 18 + 5 * (2 + CACHED) + 2 + 32;
 
 impl CallWriter {

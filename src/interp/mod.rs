@@ -314,9 +314,9 @@ pub struct Interpreter<'a> {
     pub(super) left_level: Option<usize>,
     /// Motion commands executed so far (to tell whether a block moved).
     motions: u64,
-    /// Assignments of the block being executed, waiting for its reads (reused).
     /// Whether the dialect sets the feed before it moves (the fast lane takes F only then).
     feed_before_motion: bool,
+    /// Assignments of the block being executed, waiting for its reads (reused).
     pending: Vec<PendingAssign>,
     /// A `#3006` stop message to emit at the stop step.
     stop_message: Option<String>,
