@@ -222,6 +222,9 @@ pub enum CanonOp {
     CycleCancel,
     /// `SET_FEED_MODE(0, n)`: feed per minute (0) or per spindle revolution (1, G95).
     SetFeedMode(FeedMode),
+    /// `SET_SPINDLE_MODE(0 max)`: with a limit, S is a constant surface speed (G96) and the
+    /// spindle turns at most `max` 1/min; without, S is in 1/min (G97, printed as 0).
+    SetSpindleMode(Option<f64>),
     /// `START_SPEED_FEED_SYNC(pitch,0)`: the moves that follow advance `pitch` per spindle
     /// revolution (G33 threading, G33.1 rigid tapping).
     StartSpeedFeedSync(f64),
@@ -513,6 +516,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
             FeedMode::PerMinute => b"SET_FEED_MODE(0, 0)",
             FeedMode::PerRevolution => b"SET_FEED_MODE(0, 1)",
         }),
+        CanonOp::SetSpindleMode(max) => {
+            let _ = write!(out, "SET_SPINDLE_MODE(0 {})", F4(max.unwrap_or(0.0)));
+        }
         CanonOp::StartSpeedFeedSync(pitch) => {
             let _ = write!(out, "START_SPEED_FEED_SYNC({pitch:.6},0)");
         }

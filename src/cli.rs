@@ -529,13 +529,16 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
         let t = &w.technology;
         writeln!(
             out,
-            "workingstep {} ({}{}) T{} F{} S{} {:?} coolant {:?}, lines {}-{}",
+            "workingstep {} ({}{}) T{} F{} {} {:?} coolant {:?}, lines {}-{}",
             w.index,
             w.operation.label(),
             w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default(),
             w.tool,
             num(t.feed),
-            num(t.spindle_speed),
+            match t.surface_speed {
+                Some(v) => format!("surface speed {} m/min (S at most {})", num(v), num(t.spindle_speed)),
+                None => format!("S{}", num(t.spindle_speed)),
+            },
             t.spindle,
             t.coolant,
             w.lines.0,

@@ -258,6 +258,10 @@ fn compare(a: &Workingstep, b: &Workingstep, out: &mut Vec<Change>) {
             format!("S{}", num(tb.spindle_speed)),
         );
     }
+    if ta.surface_speed != tb.surface_speed {
+        let v = |s: Option<f64>| s.map_or_else(|| "none".to_string(), |v| format!("{} m/min", num(v)));
+        push(ChangeKind::SpindleSpeedChanged, "surface_speed", v(ta.surface_speed), v(tb.surface_speed));
+    }
     if ta.spindle != tb.spindle {
         push(
             ChangeKind::SpindleDirectionChanged,

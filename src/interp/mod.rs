@@ -215,6 +215,9 @@ struct PendingAssign {
     range: TextRange,
 }
 
+/// The spindle limit of a G96 that names none, as rs274 reports it.
+const NO_SPINDLE_LIMIT: f64 = 1e30;
+
 /// Modal state.
 #[derive(Clone, Debug)]
 struct State {
@@ -283,6 +286,11 @@ struct State {
     probe: Option<[f64; 3]>,
     /// Lathe diameter mode (G7): X words give diameters.
     diameter: bool,
+    /// Constant surface speed (G96): S is a surface speed, and this is the spindle's
+    /// speed limit; `None` in G97, where S is in revolutions per minute.
+    css_max: Option<f64>,
+    /// The spindle speed limit a lathe's `G50 S` set, which a G96 without D keeps.
+    spindle_limit: Option<f64>,
 }
 
 /// The interpreter for one program run.
@@ -391,6 +399,8 @@ impl<'a> Interpreter<'a> {
                 leaving_comp: false,
                 probe: None,
                 diameter: dialect.behaviour.x_diameter,
+                css_max: None,
+                spindle_limit: None,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -1556,7 +1566,18 @@ impl<'a> Interpreter<'a> {
             Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
                 self.modal_context(def, range, sink, diags);
             }
-            Meaning::PathMode | Meaning::SpindleRpm | Meaning::SpindleLimit => {}
+            Meaning::PathMode => {}
+            Meaning::SpindleLimit => self.st.spindle_limit = self.slot(Role::S),
+            Meaning::SpindleCss => {
+                // LinuxCNC's D, else the lathe's `G50 S` limit, else none (rs274 says 1e30).
+                let max = self.slot(Role::D).or(self.st.spindle_limit).unwrap_or(NO_SPINDLE_LIMIT);
+                self.st.css_max = Some(max);
+                self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
+            }
+            Meaning::SpindleRpm => {
+                self.st.css_max = None;
+                self.emit(sink, CanonOp::SetSpindleMode(None));
+            }
             Meaning::DistanceAbsolute | Meaning::DistanceIncremental => {
                 let mode = if def.meaning == Meaning::DistanceAbsolute { DistanceMode::Absolute } else { DistanceMode::Incremental };
                 if mode != self.st.distance {
@@ -2123,6 +2144,9 @@ impl<'a> Interpreter<'a> {
         self.emit(sink, CanonOp::SetFeedRate(0.0));
         self.st.spindle = Spindle::Stopped;
         self.emit(sink, CanonOp::StopSpindleTurning);
+        if self.st.css_max.take().is_some() {
+            self.emit(sink, CanonOp::SetSpindleMode(None));
+        }
         if self.st.mist {
             self.emit(sink, CanonOp::MistOff);
         }

@@ -455,6 +455,11 @@ impl Writer {
         if ws.technology.spindle != SpindleDir::Off && ws.technology.spindle_speed == 0.0 {
             id.push_str(if ws.technology.spindle == SpindleDir::Cw { " spindle=cw" } else { " spindle=ccw" });
         }
+        // Constant surface speed has no place in milling technology: the spindle value is
+        // its limit, and the surface speed goes with the identifier.
+        if let Some(v) = ws.technology.surface_speed {
+            id.push_str(&format!(" surface_speed={v}"));
+        }
         let mut attrs = vec![toolpath, Value::Null, Value::str(id), Value::Null, start, tool, tech, functions, Value::Null];
         let op = if class == Class::Cc1 { Operation::FreeformMilling } else { ws.operation };
         let strategy =
@@ -925,7 +930,8 @@ impl Reader<'_> {
             "TAPPING" => Operation::Tapping,
             other => return Err(format!("unknown operation {other}")),
         };
-        let technology = Technology { feed, feeds: Vec::new(), spindle_speed, spindle, coolant };
+        let surface_speed = op_words.get("surface_speed").and_then(|s| s.parse().ok());
+        let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
         let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
         let mut dwell = None;

@@ -542,8 +542,12 @@ pub struct Technology {
     pub feed: f64,
     /// Every distinct feed of the cutting moves, in order of first use.
     pub feeds: Vec<f64>,
-    /// Spindle speed, 1/min.
+    /// Spindle speed, 1/min. Under constant surface speed, the spindle's speed limit, or 0
+    /// where none was set.
     pub spindle_speed: f64,
+    /// Constant surface speed (G96), m/min: the spindle speed then follows the diameter.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface_speed: Option<f64>,
     /// Spindle direction.
     pub spindle: SpindleDir,
     /// Coolant.

@@ -16,6 +16,9 @@ use crate::text::TextRange;
 
 const EPS: f64 = 1e-6;
 
+/// A speed limit this high is none: rs274 reports a G96 without D as a limit of 1e30.
+const CSS_UNLIMITED: f64 = 1e29;
+
 /// Recovers the process plan from a canonical stream. `program` is the program's number or
 /// name, when known.
 pub fn recover(canon: &[Canon], profile: &Profile, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
@@ -208,6 +211,8 @@ struct Recovery<'p> {
     /// The advance per revolution of synchronised motion (G33, rigid tapping).
     sync: Option<f64>,
     speed: f64,
+    /// Constant surface speed (G96): the speed limit, 1/min; `speed` is then a surface speed.
+    css: Option<f64>,
     spindle: SpindleDir,
     mist: bool,
     flood: bool,
@@ -237,6 +242,7 @@ impl<'p> Recovery<'p> {
             per_rev: false,
             sync: None,
             speed: 0.0,
+            css: None,
             spindle: SpindleDir::Off,
             mist: false,
             flood: false,
@@ -262,15 +268,35 @@ impl<'p> Recovery<'p> {
             (true, true) => Coolant::Both,
         };
         let feed = self.feed_now();
-        Technology { feed, feeds: vec![feed], spindle_speed: self.speed, spindle: self.spindle, coolant }
+        let (spindle_speed, surface_speed) = match self.css {
+            Some(max) => (if max < CSS_UNLIMITED { max } else { 0.0 }, Some(round_sig(self.surface_mm_per_min() / 1000.0))),
+            None => (self.speed, None),
+        };
+        Technology { feed, feeds: vec![feed], spindle_speed, surface_speed, spindle: self.spindle, coolant }
+    }
+
+    /// The constant surface speed in mm/min: S is in m/min in a metric program and in feet
+    /// per minute in an inch one.
+    fn surface_mm_per_min(&self) -> f64 {
+        self.speed * if self.k == 1.0 { 1000.0 } else { 304.8 }
+    }
+
+    /// The spindle's speed now, 1/min: under constant surface speed, the one that gives the
+    /// surface speed at the tool's distance from the turning axis (X), up to the limit.
+    fn rpm_now(&self) -> f64 {
+        let Some(max) = self.css else { return self.speed };
+        // Surface speed in mm/min over the circumference at the tool.
+        let circumference = 2.0 * std::f64::consts::PI * self.pos[0].abs();
+        let rpm = if circumference > 1e-9 { self.surface_mm_per_min() / circumference } else { f64::INFINITY };
+        if rpm.is_finite() || max < CSS_UNLIMITED { rpm.min(max) } else { 0.0 }
     }
 
     /// The feed per minute. A feed per revolution becomes one at the programmed speed, so
     /// that the same cut programmed either way gives the same technology.
     fn feed_now(&self) -> f64 {
         match self.sync {
-            Some(pitch) => round_sig(pitch * self.speed),
-            None if self.per_rev => round_sig(self.feed * self.speed),
+            Some(pitch) => round_sig(pitch * self.rpm_now()),
+            None if self.per_rev => round_sig(self.feed * self.rpm_now()),
             None => self.feed,
         }
     }
@@ -300,6 +326,7 @@ impl<'p> Recovery<'p> {
                 self.cut(mv, c);
             }
             CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
+            CanonOp::SetSpindleMode(max) => self.css = *max,
             CanonOp::StartSpindleClockwise => self.spindle = SpindleDir::Cw,
             CanonOp::StartSpindleCounterclockwise => self.spindle = SpindleDir::Ccw,
             // A boring cycle's spindle stop is part of the cycle, not of the technology.
@@ -659,7 +686,11 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>) {
 }
 
 fn same_tech(a: &Technology, b: &Technology) -> bool {
-    (a.feed - b.feed).abs() < EPS && (a.spindle_speed - b.spindle_speed).abs() < EPS && a.spindle == b.spindle && a.coolant == b.coolant
+    (a.feed - b.feed).abs() < EPS
+        && (a.spindle_speed - b.spindle_speed).abs() < EPS
+        && a.surface_speed == b.surface_speed
+        && a.spindle == b.spindle
+        && a.coolant == b.coolant
 }
 
 fn is_lift(m: &Move) -> bool {

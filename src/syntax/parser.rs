@@ -865,6 +865,29 @@ impl Lexer<'_, '_> {
         TextRange::new(self.i, end)
     }
 
+    /// The keyword of a control word at the cursor and its statement. Blanks do not count
+    /// in RS274NGC, so `o100 end sub` is `endsub` and `o1 else if` is `elseif`: the longest
+    /// run of blank-separated letter runs that spells a statement wins.
+    fn control_keyword(&self) -> (TextRange, Option<Statement>) {
+        let first = self.alpha_run();
+        let mut best = (first, self.dialect.macros.statement(&self.text[first.start as usize..first.end as usize]));
+        let mut joined = self.text[first.start as usize..first.end as usize].to_string();
+        let mut at = first.end as usize;
+        while !joined.is_empty() {
+            let next = at + self.b[at..].iter().take_while(|c| matches!(c, b' ' | b'\t')).count();
+            let end = next + self.b[next..].iter().take_while(|c| c.is_ascii_alphabetic()).count();
+            if next == at || end == next {
+                break;
+            }
+            joined.push_str(&self.text[next..end]);
+            at = end;
+            if let Some(st) = self.dialect.macros.statement(&joined) {
+                best = (TextRange::new(first.start as usize, end), Some(st));
+            }
+        }
+        best
+    }
+
     /// `o100 while [#1 LT 3]`: the label after the control word, then a statement keyword
     /// and its bracketed operands.
     fn control_word(&mut self, start: usize) {
@@ -908,11 +931,11 @@ impl Lexer<'_, '_> {
             return;
         }
         self.skip_blanks();
-        let kw = self.alpha_run();
+        let (kw, statement) = self.control_keyword();
         let mut control = Control { label, label_expr, ..Control::default() };
         if !kw.is_empty() {
             control.keyword = Some(kw);
-            control.statement = self.dialect.macros.statement(&self.text[kw.start as usize..kw.end as usize]);
+            control.statement = statement;
             self.i = kw.end as usize;
             if control.statement.is_none() {
                 self.i = self.line_end();

@@ -492,8 +492,9 @@ fn okuma_lathe_reads_diameters_in_the_zx_plane() {
     assert!(text.contains("STRAIGHT_TRAVERSE(20.0000, 0.0000, 5.0000,"), "{text}");
     assert!(text.contains("ARC_FEED(-15.0000, 25.0000, -15.0000, 20.0000, -1,"), "{text}");
     assert!(text.contains("STRAIGHT_FEED(30.0000, 0.0000, -15.0000,"), "{text}");
-    // G50 S limits the speed; only G96's S reaches the spindle.
-    assert!(!text.contains("3000.0000"), "{text}");
+    // G50 S limits the speed, and G96 takes that limit; only G96's S sets the speed.
+    assert!(!text.contains("SET_SPINDLE_SPEED(0, 3000.0000)"), "{text}");
+    assert!(text.contains("SET_SPINDLE_MODE(0 3000.0000)\nSET_SPINDLE_SPEED(0, 200.0000)\n"), "{text}");
     // The machining-centre dialect reads the same words in the XY plane, as radii.
     let (text, _) = canon("okuma", program);
     assert!(text.contains("STRAIGHT_TRAVERSE(40.0000, 0.0000, 5.0000,"), "{text}");

@@ -285,3 +285,12 @@ fn siemens_case_jumps_by_value() {
     assert_eq!(case(7, true), "0 0 3\n");
     assert_eq!(case(7, false), "9 0 0\n1 0 0\n1 2 0\n1 2 3\n");
 }
+
+#[test]
+fn blanks_inside_an_o_word_keyword_do_not_count_as_in_rs274() {
+    // rs274 -g (LinuxCNC 2.9) runs this program to X1 then X1 Y2.
+    let program = "o1 sub\nG0 X1\no1 end sub\no1 call\n#1=2\no2 if [#1 EQ 1]\nG0 Y1\n\
+                   o2 else if [#1 EQ 2]\nG0 Y2\no2 end if\nM2\n";
+    let (moves, codes) = path("linuxcnc", program, &[]);
+    assert_eq!((moves.as_str(), codes), ("1 0 0\n1 2 0\n", vec![]));
+}

@@ -359,3 +359,22 @@ M2
     // The tap advances 1.25 mm per turn at 500 rpm: 625 mm/min; 0.1 mm/rev at 500 rpm is 50.
     assert_eq!(steps, [(Operation::Tapping, vec![625.0]), (Operation::FreeformMilling, vec![50.0, 100.0])]);
 }
+
+#[test]
+fn constant_surface_speed_is_kept_and_feeds_per_revolution_follow_the_diameter() {
+    // G96 S is metres per minute, with D (LinuxCNC) or `G50 S` (lathes) as the speed limit.
+    let program = "G18 G21 G95\nT1 M6\nG96 S200 D2000 M3\nG0 X20 Z1\nG1 Z-10 F0.2\nG1 X5\nM2\n";
+    let reg = Registry::shipped();
+    let lathe = reg.get("linuxcnc").unwrap();
+    let a = pipeline::analyze(program.as_bytes(), &lathe, &Profile::default());
+    assert!(!a.has_errors(), "{:?}", a.diagnostics);
+    let t = &a.plan.workingsteps[0].technology;
+    assert_eq!((t.surface_speed, t.spindle_speed), (Some(200.0), 2000.0));
+    // 200 m/min at 20 mm from the axis is 1591.55 1/min: 0.2 mm/rev is 318.31 mm/min. At
+    // 5 mm it would be 6366 1/min, held to the 2000 limit: 400 mm/min.
+    assert_eq!(t.feeds, [318.309886184, 400.0]);
+    // The change of surface speed is a change report of its own.
+    let b = pipeline::analyze(program.replace("S200", "S180").as_bytes(), &lathe, &Profile::default());
+    let rows = ncplan::diff::diff(&a.plan, &b.plan);
+    assert!(rows.iter().any(|r| r.field == "surface_speed" && r.before == "200 m/min" && r.after == "180 m/min"), "{rows:?}");
+}
