@@ -193,8 +193,11 @@ fn analysis_config(path: Option<&Path>) -> Result<Config> {
     }
 }
 
+/// The dialect, config and bytes of an input file. Without a configured program directory,
+/// called subprograms are looked for beside the file.
 fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
-    let config = analysis_config(input.config.as_deref())?;
+    let mut config = analysis_config(input.config.as_deref())?;
+    config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
     let registry = registry_for(Some(&config))?;
     let bytes = std::fs::read(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
     let name = match &input.dialect {

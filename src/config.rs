@@ -443,8 +443,9 @@ mod tests {
 }
 
 /// Subprograms from a directory: `O1000` is found as `O1000`, `O1000.nc`, `1000.nc` and so
-/// on (any case, the usual extensions); an O-word name `probe` as `probe.ngc`. Files over the
-/// size limit or not valid text are not used.
+/// on (any case, the usual extensions); an O-word name `probe` as `probe.ngc`; a path the
+/// control knows (`TNC:\PARTS\Plan.h`) by its file name. Files over the size limit are
+/// not used.
 #[derive(Debug)]
 pub struct DirPrograms {
     /// The directory.
@@ -453,16 +454,38 @@ pub struct DirPrograms {
     pub max_bytes: u64,
 }
 
+impl DirPrograms {
+    /// The subprograms beside `file`, for a profile that has no program directory of its own.
+    pub fn beside(profile: &crate::interp::Profile, file: &Path, max_bytes: u64) -> crate::interp::Profile {
+        let mut p = profile.clone();
+        if p.programs.is_none() {
+            let dir = file.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            p.programs = Some(std::sync::Arc::new(DirPrograms { dir: dir.to_path_buf(), max_bytes }));
+        }
+        p
+    }
+}
+
+/// The file names a call of `name` may mean, without extension, best first: the name with
+/// any drive and folders of the control taken off (`TNC:\Plan.h` is `Plan.h`), and a program
+/// number without its O and leading zeros (`O0100` is also `100`).
+pub fn program_file_stems(name: &str) -> Vec<String> {
+    let base = name.rsplit(['\\', '/', ':']).next().unwrap_or(name).trim_matches('"');
+    let mut stems = vec![base.to_owned()];
+    if let Some(number) = base.strip_prefix(['O', 'o']).filter(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())) {
+        stems.push(number.trim_start_matches('0').to_owned());
+    }
+    stems
+}
+
+/// Extensions of program files, tried in this order after the bare name.
+pub const PROGRAM_EXTENSIONS: [&str; 11] = ["", ".nc", ".ngc", ".txt", ".tap", ".cnc", ".min", ".mpf", ".spf", ".h", ".i"];
+
 impl crate::interp::ProgramSource for DirPrograms {
     fn load(&self, name: &str) -> Option<String> {
-        const EXTENSIONS: [&str; 9] = ["", ".nc", ".ngc", ".txt", ".tap", ".cnc", ".min", ".mpf", ".spf"];
-        let mut stems = vec![name.to_owned()];
-        if let Some(number) = name.strip_prefix('O') {
-            stems.push(number.trim_start_matches('0').to_owned());
-        }
         let entries: Vec<PathBuf> = std::fs::read_dir(&self.dir).ok()?.filter_map(|e| e.ok().map(|e| e.path())).collect();
-        for stem in &stems {
-            for ext in EXTENSIONS {
+        for stem in program_file_stems(name) {
+            for ext in PROGRAM_EXTENSIONS {
                 let wanted = format!("{stem}{ext}");
                 let Some(path) = entries.iter().find(|p| p.file_name().is_some_and(|f| f.to_string_lossy().eq_ignore_ascii_case(&wanted)))
                 else {

@@ -92,7 +92,9 @@ pub fn ingest(path: &Path, folder: &Folder, config: &Config, registry: &Registry
         let d = pipeline::too_large(bytes.len() as u64, config.max_file_bytes);
         (None, vec![DiagnosticJson::new(&d, "", &LineIndex::new(""))])
     } else {
-        let a = pipeline::analyze(&bytes, &dialect, &config.profile);
+        // Subprograms come from the configured directory, else from beside the program.
+        let profile = crate::config::DirPrograms::beside(&config.profile, path, config.max_file_bytes);
+        let a = pipeline::analyze(&bytes, &dialect, &profile);
         let idx = LineIndex::new(&a.source.text);
         let ds = a.diagnostics.iter().map(|d| DiagnosticJson::new(d, &a.source.text, &idx)).collect();
         (Some(a), ds)

@@ -8,7 +8,7 @@ use crate::dialect::CodeDef;
 use crate::text::TextRange;
 
 /// The modes a save keeps: those LinuxCNC restores.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub(super) struct Context {
     units: Units,
     plane: Plane,

@@ -13,7 +13,7 @@ use crate::dialect::{CodeDef, Meaning, Role};
 use crate::text::TextRange;
 
 /// A cycle waiting to be called.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub(super) struct Defined {
     /// Index into the dialect's cycles.
     cycle: usize,

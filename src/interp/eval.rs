@@ -27,6 +27,17 @@ impl Default for Params {
     }
 }
 
+impl PartialEq for Params {
+    /// Equal values in every parameter (a vacant or NaN value equals only itself).
+    fn eq(&self, other: &Params) -> bool {
+        let bits = |a: &f64, b: &f64| a.to_bits() == b.to_bits();
+        self.numbered.len() == other.numbered.len()
+            && self.numbered.iter().zip(&other.numbered).all(|(a, b)| bits(a, b))
+            && self.named.len() == other.named.len()
+            && self.named.iter().zip(&other.named).all(|((ka, a), (kb, b))| ka == kb && bits(a, b))
+    }
+}
+
 /// Why an expression has no value.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EvalError {

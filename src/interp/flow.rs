@@ -23,6 +23,9 @@ use crate::dialect::{Dialect, MainReturn, Statement};
 use crate::syntax::{Block, Control, Expr, ExprId, Parser};
 use crate::text::{LineIndex, TextRange};
 
+/// Why a loop that changes nothing is stopped.
+const ENDLESS: &str = "with every parameter and mode as the round before left them, so it would never end";
+
 /// Where the driver finds subprograms that are not in the program's own text. The shell
 /// implements it over a configured program directory; the core never reads files.
 pub trait ProgramSource {
@@ -58,6 +61,8 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         landing: None,
         executed: 0,
         replaying: false,
+        not_found: BTreeSet::new(),
+        round: None,
         seen: BTreeSet::new(),
         stop: false,
         delimiters: 0,
@@ -192,6 +197,17 @@ struct Loop {
     iterations: u64,
 }
 
+/// The state at one pass of a backward jump or loop end, to compare with the next pass.
+struct Round {
+    /// The jump or loop: source and target offset.
+    key: (usize, usize),
+    /// The pass number.
+    pass: u64,
+    /// The calls and loops open (see [`Driver::open`]).
+    open: Vec<(usize, usize, u64)>,
+    state: super::RoundState,
+}
+
 struct Driver<'a, 'p> {
     dialect: &'a Dialect,
     profile: &'a Profile,
@@ -208,6 +224,10 @@ struct Driver<'a, 'p> {
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
+    /// The state at a recent pass of a backward jump or loop end.
+    round: Option<Round>,
+    /// Program names the [`ProgramSource`] did not have: asked once, not on every call.
+    not_found: BTreeSet<String>,
     seen: BTreeSet<(u32, u32, Code)>,
     stop: bool,
     /// `%` lines met in the main program: the second one ends it.
@@ -438,6 +458,10 @@ impl<'a> Driver<'a, '_> {
 
     /// Evaluates operand `e` of a control block with the interpreter's parameters.
     fn value(&self, interp: &mut Interpreter<'a>, block: &Block, e: ExprId, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+        // A condition may read the position or the tool (`o1 if [#5420 GT 3]`).
+        if !self.dialect.macros.system.is_empty() {
+            interp.refresh_system_vars();
+        }
         match interp.eval(block, e, self.sources[self.cur].text, block.range, diags) {
             Ok(v) => Some(v),
             Err(err) => {
@@ -456,11 +480,19 @@ impl<'a> Driver<'a, '_> {
         Some(!eval::is_null(v) && v != 0.0)
     }
 
-    fn count_iteration(&mut self, k: usize, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+    fn count_iteration(&mut self, k: usize, range: TextRange, interp: &Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
         self.loops[k].iterations += 1;
-        if self.loops[k].iterations > self.profile.max_loop_iterations {
+        let l = &self.loops[k];
+        if l.iterations > self.profile.max_loop_iterations {
             let limit = self.profile.max_loop_iterations;
             self.error(diags, Code::LoopLimit, range, format!("the loop ran more than {limit} times; the run stops here"));
+            return false;
+        }
+        // A loop that counts its rounds itself ends; one that runs on a condition may not.
+        let conditional = matches!(l.kind, LoopKind::While | LoopKind::Do | LoopKind::Numbered | LoopKind::Until | LoopKind::Forever);
+        let (key, count) = ((l.source, l.head.at), l.iterations);
+        if conditional && self.endless(key, count, interp) {
+            self.error(diags, Code::LoopLimit, range, format!("the loop comes round {ENDLESS}; the run stops here"));
             return false;
         }
         true
@@ -565,7 +597,7 @@ impl<'a> Driver<'a, '_> {
                 if let Some(k) = self.top_loop(|l| l.kind == LoopKind::Do && l.label == label) {
                     // The tail of a do-loop.
                     if cond {
-                        if self.count_iteration(k, c.range, diags) {
+                        if self.count_iteration(k, c.range, interp, diags) {
                             self.loop_jump(k, LoopPart::Body, start, interp, diags);
                         }
                     } else {
@@ -573,7 +605,7 @@ impl<'a> Driver<'a, '_> {
                     }
                     return;
                 }
-                if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, diags) {
+                if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, interp, diags) {
                     self.skip_structure(
                         &label,
                         start,
@@ -590,7 +622,7 @@ impl<'a> Driver<'a, '_> {
                 // `WHILE [c] DO m`.
                 let id = self.loop_id(c, block, interp, diags);
                 let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                if self.loop_head(LoopKind::Numbered, None, id, cond, start, here, c.range, diags) {
+                if self.loop_head(LoopKind::Numbered, None, id, cond, start, here, c.range, interp, diags) {
                     self.skip_numbered_end(id, start, c.range, interp, diags);
                 }
             }
@@ -600,7 +632,7 @@ impl<'a> Driver<'a, '_> {
                 let id = self.loop_id(c, block, interp, diags);
                 match self.top_loop(|l| l.kind == LoopKind::Numbered && l.head == start) {
                     Some(k) => {
-                        self.count_iteration(k, c.range, diags);
+                        self.count_iteration(k, c.range, interp, diags);
                     }
                     None => self.push_loop(LoopKind::Numbered, None, id, start, here),
                 }
@@ -725,13 +757,13 @@ impl<'a> Driver<'a, '_> {
                 let Some(cond) = self.condition(interp, c, block, diags) else { return };
                 if cond {
                     self.loops.truncate(k);
-                } else if self.count_iteration(k, c.range, diags) {
+                } else if self.count_iteration(k, c.range, interp, diags) {
                     self.loop_jump(k, LoopPart::Body, start, interp, diags);
                 }
             }
             Statement::Loop => match self.top_loop(|l| l.kind == LoopKind::Forever && l.head == start) {
                 Some(k) => {
-                    self.count_iteration(k, c.range, diags);
+                    self.count_iteration(k, c.range, interp, diags);
                 }
                 None => self.push_loop(LoopKind::Forever, None, None, start, here),
             },
@@ -827,12 +859,15 @@ impl<'a> Driver<'a, '_> {
         }
     }
 
-    /// Jumps to a found target; a jump backwards counts against the loop limit.
+    /// Jumps to a found target; a jump backwards counts against the loop limit, and stops
+    /// the run when the round before it changed nothing.
     fn jump_to(&mut self, pos: Pos, what: &str, range: TextRange, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
         if pos.at <= start.at {
-            let count = self.back_jumps.entry((self.cur, pos.at)).or_insert(0);
+            let key = (self.cur, pos.at);
+            let count = self.back_jumps.entry(key).or_insert(0);
             *count += 1;
-            if *count > self.profile.max_loop_iterations {
+            let count = *count;
+            if count > self.profile.max_loop_iterations {
                 let limit = self.profile.max_loop_iterations;
                 self.error(
                     diags,
@@ -842,8 +877,39 @@ impl<'a> Driver<'a, '_> {
                 );
                 return;
             }
+            if self.endless(key, count, interp) {
+                self.error(diags, Code::LoopLimit, range, format!("the jump back to {what} comes round {ENDLESS}; the run stops here"));
+                return;
+            }
         }
         self.jump(self.cur, pos, start, interp, diags);
+    }
+
+    /// Whether pass `count` of the backward jump or loop end `key` finds everything as the
+    /// pass before it left it: every parameter, mode and call level. The run is then
+    /// deterministic and repeats for ever. The state is kept at passes 1, 2, 4, 8, ... and
+    /// every 4096th, so a loop that changes nothing stops within a few rounds, at the cost
+    /// of a copy of the modes now and then.
+    fn endless(&mut self, key: (usize, usize), count: u64, interp: &Interpreter<'a>) -> bool {
+        if let Some(r) = &self.round
+            && r.key == key
+            && r.pass + 1 == count
+            && r.open == self.open()
+            && r.state == interp.round_state()
+        {
+            return true;
+        }
+        if count.is_power_of_two() || count % 4096 == 0 {
+            self.round = Some(Round { key, pass: count, open: self.open(), state: interp.round_state() });
+        }
+        false
+    }
+
+    /// The calls open (where each returns to, and its repeats left) and the loops open (where
+    /// each comes round to, and its rounds left): where the run goes after this point.
+    fn open(&self) -> Vec<(usize, usize, u64)> {
+        let calls = self.frames.iter().map(|f| (f.ret_source, f.ret.at, u64::from(f.repeats_left)));
+        calls.chain(self.loops.iter().map(|l| (l.source, l.head.at, l.remaining))).collect()
     }
 
     /// `FOR var = a TO b`: sets the counter on entry, steps it by one when the loop comes
@@ -872,7 +938,7 @@ impl<'a> Driver<'a, '_> {
             return;
         }
         let go_on = if step > 0.0 { value <= last } else { value >= last };
-        if self.loop_head(LoopKind::For, None, None, go_on, start, here, c.range, diags) {
+        if self.loop_head(LoopKind::For, None, None, go_on, start, here, c.range, interp, diags) {
             self.skip_structure(&None, start, c.range, Statement::For, Statement::EndFor, &[Statement::EndFor], interp, diags);
         }
     }
@@ -1083,12 +1149,13 @@ impl<'a> Driver<'a, '_> {
         start: Pos,
         here: Pos,
         range: TextRange,
+        interp: &Interpreter<'a>,
         diags: &mut Vec<Diagnostic>,
     ) -> bool {
         let again = self.top_loop(|l| l.kind == kind && l.head == start);
         match (cond, again) {
             (true, Some(k)) => {
-                self.count_iteration(k, range, diags);
+                self.count_iteration(k, range, interp, diags);
                 false
             }
             (true, None) => {
@@ -1137,7 +1204,7 @@ impl<'a> Driver<'a, '_> {
     ) {
         self.loops[k].remaining = self.loops[k].remaining.saturating_sub(1);
         if self.loops[k].remaining > 0 {
-            if self.count_iteration(k, range, diags) {
+            if self.count_iteration(k, range, interp, diags) {
                 self.loop_jump(k, LoopPart::Body, start, interp, diags);
             }
             return;
@@ -1399,7 +1466,13 @@ impl<'a> Driver<'a, '_> {
         if let Some(k) = self.sources.iter().position(|s| s.name == name) {
             return Some(k);
         }
-        let text = self.programs.load(name)?;
+        if self.not_found.contains(name) {
+            return None;
+        }
+        let Some(text) = self.programs.load(name) else {
+            self.not_found.insert(name.to_owned());
+            return None;
+        };
         let text: &'a str = self.arena.alloc(text);
         self.sources.push(Source::new(text, name.to_owned()));
         Some(self.sources.len() - 1)

@@ -194,7 +194,7 @@ enum Retract {
 }
 
 /// A macro registered by G66, called after every move at the call depth it was made at.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct ModalMacro {
     program: u32,
     repeats: u32,
@@ -219,7 +219,7 @@ struct PendingAssign {
 const NO_SPINDLE_LIMIT: f64 = 1e30;
 
 /// Modal state.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct State {
     units: Units,
     plane: Plane,
@@ -291,6 +291,17 @@ struct State {
     css_max: Option<f64>,
     /// The spindle speed limit a lathe's `G50 S` set, which a G96 without D keeps.
     spindle_limit: Option<f64>,
+}
+
+/// What decides how a run goes on from a point: the parameters, the modes, the saved modes
+/// and the call depth. Equal readings at two passes of the same jump mean the stretch between
+/// them left everything as it was, so it will repeat for ever.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct RoundState {
+    params: Params,
+    depth: u32,
+    st: State,
+    contexts: Vec<Option<context::Context>>,
 }
 
 /// The interpreter for one program run.
@@ -590,9 +601,14 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// The reading of [`RoundState`] now.
+    pub(super) fn round_state(&self) -> RoundState {
+        RoundState { params: self.params.clone(), depth: self.depth, st: self.st.clone(), contexts: self.contexts.clone() }
+    }
+
     /// Writes the readable system variables (position, tool, feed, speed) into the table
     /// before a block reads parameters.
-    fn refresh_system_vars(&mut self) {
+    pub(super) fn refresh_system_vars(&mut self) {
         for &(n, var) in &self.dialect.macros.system {
             let v = match var {
                 SystemVar::PositionX => self.st.pos[0],

@@ -294,3 +294,23 @@ fn blanks_inside_an_o_word_keyword_do_not_count_as_in_rs274() {
     let (moves, codes) = path("linuxcnc", program, &[]);
     assert_eq!((moves.as_str(), codes), ("1 0 0\n1 2 0\n", vec![]));
 }
+
+#[test]
+fn a_loop_that_changes_nothing_stops_at_once_and_one_that_moves_on_runs_out() {
+    // Nothing changes from round to round: the control would run for ever.
+    let (moves, codes) = path("fanuc", "#1=0\nWHILE [#1 LT 5] DO 1\nG0 X#1\nEND 1\nM30\n", &[]);
+    assert_eq!((moves.as_str(), codes), ("0 0 0\n0 0 0\n0 0 0\n", vec!["flow::loop-limit"]));
+    // A parameter changes and changes back within each round, as Q1940 does in a spiral
+    // that cannot grow: the rounds still end alike.
+    let spiral = "#2=0\nN10 #1=5\n#1=[#1-#2]\nG0 X#1\nIF [#1 LT 0] GOTO 20\nGOTO 10\nN20 M30\n";
+    let (_, codes) = path("fanuc", spiral, &[]);
+    assert_eq!(codes, ["flow::loop-limit"]);
+    // The same loops with progress run to their end.
+    let (moves, codes) = path("fanuc", "#1=0\nWHILE [#1 LT 3] DO 1\nG0 X#1\n#1=#1+1\nEND 1\nM30\n", &[]);
+    assert_eq!((moves.as_str(), codes), ("0 0 0\n1 0 0\n2 0 0\n", vec![]));
+    // Only the position moves on, read back through #5420 in the condition (rs274 -g: X1,
+    // X2, X3): no parameter of the program's own changes from round to round, yet it ends.
+    let program = "o1 while [1]\nG91 G0 X1\no2 if [#5420 GE 3]\no1 break\no2 endif\no1 endwhile\nM2\n";
+    let (moves, codes) = path("linuxcnc", program, &[]);
+    assert_eq!((moves.as_str(), codes), ("1 0 0\n2 0 0\n3 0 0\n", vec![]));
+}
