@@ -426,6 +426,15 @@ mod tests {
     }
 
     #[test]
+    fn called_program_names_become_file_names() {
+        assert_eq!(program_file_stems("O0100"), ["O0100", "100"]);
+        assert_eq!(program_file_stems("TNC:\\PARTS\\Plan.h"), ["Plan.h"]);
+        assert_eq!(program_file_stems("\"LIB/DRILL\""), ["DRILL"]);
+        // Okuma names programs with letters after the O.
+        assert_eq!(program_file_stems("OCHCK"), ["OCHCK"]);
+    }
+
+    #[test]
     fn globs() {
         assert!(glob_match(b"*.tmp", b"O1234.TMP"));
         assert!(glob_match(b".*", b".O1234.nc.swp"));
