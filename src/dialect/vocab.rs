@@ -582,6 +582,11 @@ vocab! {
         Feed = "feed",
         /// The programmed spindle speed.
         Speed = "speed",
+        /// The radius of the tool in the spindle, in program units, from the tool table as
+        /// the program changed it (0 where unknown).
+        ToolRadius = "tool-radius",
+        /// The diameter of the tool in the spindle, likewise.
+        ToolDiameter = "tool-diameter",
         /// X where the last probe move stopped, program coordinates.
         ProbeX = "probe-x",
         /// Y where the last probe move stopped.

@@ -617,6 +617,8 @@ impl<'a> Interpreter<'a> {
                 SystemVar::Tool => f64::from(self.st.tool),
                 SystemVar::Feed => self.st.feed,
                 SystemVar::Speed => self.st.speed,
+                SystemVar::ToolRadius => self.tool_diameter(self.st.tool).unwrap_or(0.0) / 2.0 / self.st.units.to_mm(),
+                SystemVar::ToolDiameter => self.tool_diameter(self.st.tool).unwrap_or(0.0) / self.st.units.to_mm(),
                 SystemVar::ProbeX => self.st.probe.map_or(0.0, |p| p[0]),
                 SystemVar::ProbeY => self.st.probe.map_or(0.0, |p| p[1]),
                 SystemVar::ProbeZ => self.st.probe.map_or(0.0, |p| p[2]),

@@ -500,3 +500,31 @@ fn okuma_lathe_reads_diameters_in_the_zx_plane() {
     assert!(text.contains("STRAIGHT_TRAVERSE(40.0000, 0.0000, 5.0000,"), "{text}");
     assert_eq!(Registry::shipped().sniff(program, Some("SHAFT.MIN"), "fanuc").dialect, "okuma_lathe");
 }
+
+#[test]
+fn the_tool_radius_and_diameter_read_the_tool_table() {
+    let mut profile = Profile::default();
+    profile.tools.insert(1, ncplan::interp::ToolData { diameter: Some(6.0), ..Default::default() });
+    let moves = |dialect: &str, program: &str, profile: &Profile| {
+        let mut out = Vec::new();
+        let diags = interpret(program, &Registry::shipped().get(dialect).unwrap(), profile, &mut out);
+        assert!(!diags.iter().any(|d| d.is_error()), "{diags:?}");
+        out.iter().filter(|c| matches!(c.op, CanonOp::StraightTraverse(_))).map(|c| call_text(&c.op)).collect::<Vec<_>>()
+    };
+    // Heidenhain's Q108 is the radius; LinuxCNC's #5410 the diameter (rs274 -g with a tool
+    // table of T1 D6 gives X6), in inches in an inch program.
+    let heidenhain = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nQ1 = Q108 * 2\nL X+Q1 Y+0 R0 FMAX M3\nEND PGM T MM\n";
+    assert_eq!(moves("heidenhain", heidenhain, &profile), ["STRAIGHT_TRAVERSE(6.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"]);
+    let linuxcnc = "G21 T1 M6\nG0 X#5410\nG20\nG0 X#5410\nM2\n";
+    let got = moves("linuxcnc", linuxcnc, &profile);
+    assert_eq!(got[0], "STRAIGHT_TRAVERSE(6.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
+    assert!(got[1].starts_with("STRAIGHT_TRAVERSE(0.2362,"), "{got:?}");
+    // A tool the table does not hold reads 0.
+    assert_eq!(moves("linuxcnc", linuxcnc, &Profile::default())[0], "STRAIGHT_TRAVERSE(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
+}
+
+fn call_text(op: &CanonOp) -> String {
+    let mut s = String::new();
+    write_call(&mut s, op);
+    s.trim_end().to_owned()
+}
