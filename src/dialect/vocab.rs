@@ -389,6 +389,8 @@ vocab! {
         /// Raises a program alarm with this number: the run stops with an error (Heidenhain
         /// `FN 14: ERROR= 1005`).
         AlarmNumber = "alarm-number",
+        /// The spindle speed limit under constant surface speed (Siemens `LIMS=3000`).
+        SpindleLimit = "spindle-limit",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

@@ -752,7 +752,7 @@ impl<'a> Interpreter<'a> {
         let plain = self.code_steps == 0
             && block.comments.is_empty()
             && self.stop_message.is_none()
-            && self.filled & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32) == 0;
+            && self.filled & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32 | 1 << Role::SpindleLimit as u32) == 0;
         if plain {
             // The common block: axis words only, so only the motion step has work.
             self.step(Step::Motion, block, sink, diags);
@@ -766,7 +766,7 @@ impl<'a> Interpreter<'a> {
             let needed = match step {
                 Step::Comment => !block.comments.is_empty(),
                 Step::Feed => self.slots[Role::F as usize].is_some(),
-                Step::Speed => self.slots[Role::S as usize].is_some(),
+                Step::Speed => self.slots[Role::S as usize].is_some() || self.slots[Role::SpindleLimit as usize].is_some(),
                 Step::ToolSelect => self.slots[Role::T as usize].is_some(),
                 Step::Motion => true,
                 Step::Stop => self.stop_message.is_some() || self.code_steps & (1 << step as u32) != 0,
@@ -1330,6 +1330,14 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Step::Speed => {
+                // `LIMS=3000` (Siemens) sets the limit of constant surface speed, now or later.
+                if let Some(max) = self.slot(Role::SpindleLimit) {
+                    self.st.spindle_limit = Some(max);
+                    if self.st.css_max.is_some_and(|m| m != max) {
+                        self.st.css_max = Some(max);
+                        self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
+                    }
+                }
                 // `G50 S3200` on a lathe limits the speed; it does not set it.
                 let limit = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::SpindleLimit);
                 if let Some(s) = self.slot(Role::S).filter(|_| !limit) {
@@ -1587,8 +1595,9 @@ impl<'a> Interpreter<'a> {
             Meaning::PathMode => {}
             Meaning::SpindleLimit => self.st.spindle_limit = self.slot(Role::S),
             Meaning::SpindleCss => {
-                // LinuxCNC's D, else the lathe's `G50 S` limit, else none (rs274 says 1e30).
-                let max = self.slot(Role::D).or(self.st.spindle_limit).unwrap_or(NO_SPINDLE_LIMIT);
+                // LinuxCNC's D or Siemens' LIMS in the block, else the limit set before (a
+                // lathe's `G50 S`), else none (rs274 says 1e30).
+                let max = self.slot(Role::D).or(self.slot(Role::SpindleLimit)).or(self.st.spindle_limit).unwrap_or(NO_SPINDLE_LIMIT);
                 self.st.css_max = Some(max);
                 self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
             }
