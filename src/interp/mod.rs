@@ -1538,11 +1538,14 @@ impl<'a> Interpreter<'a> {
                     let diameter = self.tool_diameter(tool);
                     diameter.filter(|_| !by_diameter).map(|d| d / 2.0)
                 });
-                let side =
-                    if matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter) { comp::Side::Left } else { comp::Side::Right };
-                self.st.comp_left = side == comp::Side::Left;
+                let left = matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter);
                 // A D diameter is in program units; the tool table is in millimetres.
                 let radius = radius.map(|r| if by_diameter { r } else { r / self.st.units.to_mm() });
+                // A negative offset (`G41.1 D-0.3`) runs on the other side, as in rs274.
+                let left = left != radius.is_some_and(|r| r < 0.0);
+                let radius = radius.map(f64::abs);
+                let side = if left { comp::Side::Left } else { comp::Side::Right };
+                self.st.comp_left = left;
                 if let Some(r) = radius
                     && self.comp.borrow().as_ref().is_some_and(|c| c.runs(side, r))
                 {
@@ -1552,6 +1555,10 @@ impl<'a> Interpreter<'a> {
                 self.comp_off(sink);
                 // Moves held before compensation starts are not compensated.
                 self.corners_out(sink);
+                if radius == Some(0.0) {
+                    // A zero offset leaves the path as programmed (rs274 does the same).
+                    return;
+                }
                 if let Some(r) = radius.filter(|_| self.st.plane == Plane::Xy) {
                     *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, (self.st.pos[0], self.st.pos[1])));
                     return;

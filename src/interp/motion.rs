@@ -365,7 +365,7 @@ impl Interpreter<'_> {
             let d = Diagnostic::new(
                 Code::Unsupported,
                 block.range,
-                "inverse-time feed under cutter compensation is taken from the programmed path length, not the compensated one",
+                "inverse-time feed under cutter compensation is taken from the programmed path length, as LinuxCNC does; a control that times the compensated path feeds differently",
             );
             self.limited(diags, "inverse-time-comp", d);
         }

@@ -66,3 +66,23 @@ fn tapping_fine_boring_and_manual_boring() {
     .assert_eq(&out);
     assert!(codes.is_empty(), "{codes:?}");
 }
+
+#[test]
+fn a_zero_offset_keeps_the_path_and_a_negative_one_changes_sides() {
+    let run = |comp: &str| {
+        let program = format!("G20 F10 S1000 M3\nG0 X0 Y0\n{comp}\nG1 X1 Y0.3\nG1 X2 Y0\nG1 X2 Y1\nG40\nG0 X0 Y0\nM2\n");
+        let mut out = Vec::new();
+        let diags = interpret(&program, &Registry::shipped().get("linuxcnc").unwrap(), &Profile::default(), &mut out);
+        assert!(diags.is_empty(), "{comp}: {diags:?}");
+        let mut text = String::new();
+        for c in out.iter().filter(|c| matches!(c.op, CanonOp::StraightFeed(_))) {
+            write_call(&mut text, &c.op);
+        }
+        text
+    };
+    // As rs274 -g runs LinuxCNC's inside-corners and inverse-time-with-comp tests.
+    assert_eq!(run("G41.1 D0"), run(""));
+    assert_eq!(run("G41.1 D-0.2"), run("G42.1 D0.2"));
+    assert_ne!(run("G41.1 D-0.2"), run("G41.1 D0.2"));
+    assert_ne!(run("G41.1 D0.2"), run(""));
+}
