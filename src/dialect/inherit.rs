@@ -48,18 +48,19 @@ fn relocate(mut el: Element, at: TextRange) -> Element {
     el
 }
 
-/// `derived` laid over `base`. Inherited parts are relocated to `at`.
-pub(super) fn merge(base: &Element, derived: Element, at: TextRange, errors: &mut Vec<(TextRange, String)>) -> Element {
+/// `derived` laid over `base` (a copy of the base's tree, taken apart here). Inherited parts
+/// are relocated to `at`.
+pub(super) fn merge(base: Element, derived: Element, at: TextRange, errors: &mut Vec<(TextRange, String)>) -> Element {
     let is_root = derived.name == "dialect";
     let mut attrs: Vec<Attr> = base
         .attrs
-        .iter()
+        .into_iter()
         .filter(|a| !(is_root && OWN_ATTRS.contains(&a.name.as_str())))
         .filter(|a| !derived.attrs.iter().any(|d| d.name == a.name))
-        .map(|a| Attr { name: a.name.clone(), value: a.value.clone(), range: at })
+        .map(|a| Attr { range: at, ..a })
         .collect();
     let mut children: Vec<Element> =
-        base.children.iter().filter(|c| !(is_root && OWN.contains(&c.name.as_str()))).map(|c| relocate(c.clone(), at)).collect();
+        base.children.into_iter().filter(|c| !(is_root && OWN.contains(&c.name.as_str()))).map(|c| relocate(c, at)).collect();
     for child in derived.children {
         if child.name == "remove" {
             let k = key(&child).1;
@@ -74,8 +75,8 @@ pub(super) fn merge(base: &Element, derived: Element, at: TextRange, errors: &mu
         let slot = children.iter().position(|c| key(c) == key(&child));
         match slot {
             Some(i) if MERGED.contains(&child.name.as_str()) => {
-                let inherited = children[i].clone();
-                children[i] = merge(&inherited, child, at, errors);
+                let inherited = std::mem::take(&mut children[i]);
+                children[i] = merge(inherited, child, at, errors);
             }
             Some(i) => children[i] = child,
             None => children.push(child),
@@ -86,7 +87,7 @@ pub(super) fn merge(base: &Element, derived: Element, at: TextRange, errors: &mu
         name: derived.name,
         attrs,
         children,
-        text: if derived.text.trim().is_empty() { base.text.clone() } else { derived.text },
+        text: if derived.text.trim().is_empty() { base.text } else { derived.text },
         range: derived.range,
     }
 }
@@ -116,7 +117,7 @@ mod tests {
         .unwrap();
         let at = TextRange::new(20, 29);
         let mut errors = Vec::new();
-        let m = merge(&base, derived, at, &mut errors);
+        let m = merge(base, derived, at, &mut errors);
         assert!(errors.is_empty());
         assert_eq!(attr(&m, "name"), Some("b"));
         assert_eq!(attr(&m, "family"), Some("f"));

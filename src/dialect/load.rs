@@ -34,7 +34,7 @@ pub(super) fn load_tree(text: &str, base: &dyn Fn(&str) -> Option<Element>) -> (
         match base(&a.value) {
             Some(b) => {
                 let mut errors = Vec::new();
-                root = inherit::merge(&b, root, at, &mut errors);
+                root = inherit::merge(b, root, at, &mut errors);
                 for (range, msg) in errors {
                     cx.error(range, msg);
                 }

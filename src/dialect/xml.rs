@@ -17,7 +17,7 @@ pub(super) struct Attr {
 }
 
 /// An element with its attributes, children and text.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct Element {
     pub(super) name: String,
     pub(super) attrs: Vec<Attr>,
