@@ -88,22 +88,11 @@ impl Interpreter<'_> {
             return;
         };
         let incremental = self.st.distance == DistanceMode::Incremental;
-        if incremental && self.st.motion_continued {
-            self.limited(
-                diags,
-                "g91-cycle",
-                Diagnostic::new(
-                    Code::Unsupported,
-                    range,
-                    format!(
-                        "{} continued modally in G91: the R plane is taken from the current Z; LinuxCNC may keep the first R plane",
-                        def.label()
-                    ),
-                ),
-            );
-        }
         let old_z = self.st.pos[n];
-        let r = if incremental { old_z + r_word } else { r_word };
+        // The initial level is where the first of the cycles in force began: in G91, R counts
+        // from it in every later cycle block too, as rs274 and Fanuc's manuals do.
+        let initial = *self.st.cycle_initial.get_or_insert(old_z);
+        let r = if incremental { initial + r_word } else { r_word };
         let bottom = if incremental { r + z_word } else { z_word };
         let peck = if matches!(kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking) {
             match self.st.sticky_q {
@@ -143,12 +132,14 @@ impl Interpreter<'_> {
             if self.st.units == Units::Mm { self.dialect.behaviour.peck_clearance_mm } else { self.dialect.behaviour.peck_clearance_inch };
         let code = def.label();
 
+        // Up to R when the initial level is below it, in every cycle block (rs274 then moves
+        // even where a G99 retract already left the tool at R).
         let mut p = self.st.pos;
-        if p[n] < r {
+        if initial < r {
             p[n] = r;
             self.emit(sink, CanonOp::StraightTraverse(p));
         }
-        let clear = if self.st.retract == Retract::Initial { old_z.max(r) } else { r };
+        let clear = if self.st.retract == Retract::Initial { initial.max(r) } else { r };
         let (dx, dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
         let run = HoleRun { kind, code, r, bottom, clear, old_z, peck, peck_from: r, dwell, shift, clearance, still: false };
         for _ in 0..repeats as u64 {

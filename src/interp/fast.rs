@@ -99,6 +99,7 @@ impl Interpreter<'_> {
         if !self.st.motion_continued {
             self.st.sticky_z = None;
         }
+        self.st.cycle_initial = None;
         self.st.motion_code = Some(c);
         self.motions += 1;
         self.st.leaving_comp = false;

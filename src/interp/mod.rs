@@ -291,6 +291,9 @@ struct State {
     css_max: Option<f64>,
     /// The spindle speed limit a lathe's `G50 S` set, which a G96 without D keeps.
     spindle_limit: Option<f64>,
+    /// The initial level of the canned cycles in force: the hole axis position when the
+    /// first of them began. G98 returns to it, and in G91 R counts from it.
+    cycle_initial: Option<f64>,
 }
 
 /// What decides how a run goes on from a point: the parameters, the modes, the saved modes
@@ -412,6 +415,7 @@ impl<'a> Interpreter<'a> {
                 diameter: dialect.behaviour.x_diameter,
                 css_max: None,
                 spindle_limit: None,
+                cycle_initial: None,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -1769,6 +1773,9 @@ impl<'a> Interpreter<'a> {
                 if !self.st.motion_continued {
                     self.st.sticky_z = None;
                 }
+                if !m.is_cycle() {
+                    self.st.cycle_initial = None;
+                }
                 self.st.motion_code = Some(c);
                 let full_circle = matches!(def.meaning, Meaning::ArcCw | Meaning::ArcCcw)
                     && [Role::I, Role::J, Role::K].iter().any(|&r| self.slots[r as usize].is_some());
@@ -1784,6 +1791,7 @@ impl<'a> Interpreter<'a> {
                     self.st.motion_code = None;
                 }
                 self.st.sticky_z = None;
+                self.st.cycle_initial = None;
                 self.emit(sink, CanonOp::CycleCancel);
             }
             Meaning::ProgramStop => self.emit(sink, CanonOp::ProgramStop),
