@@ -127,6 +127,16 @@ struct Tally {
     dialects: BTreeMap<String, usize>,
 }
 
+impl Tally {
+    /// The table row of `folder`, read in `dialects`.
+    fn row(&self, folder: &str, dialects: &str) -> String {
+        let pct = |k: usize| 100.0 * k as f64 / self.programs.max(1) as f64;
+        let ok = self.clean + self.oracle + self.not_program;
+        let (n, clean, oracle, other) = (self.programs, self.clean, self.oracle, self.not_program);
+        format!("| {folder} | {dialects} | {n} | {clean} | {:.1}% | {oracle} | {other} | {ok} | {:.1}% |\n", pct(clean), pct(ok))
+    }
+}
+
 /// Whether rs274 stopped with an error on the LinuxCNC program `path`, per its golden.
 fn rs274_rejects(path: &Path) -> bool {
     let stem = path.file_stem().unwrap_or_default().to_string_lossy();
@@ -160,37 +170,17 @@ fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, Pat
          | folder | dialect | programs | without errors | share | errors rs274 confirms | not a program | without unconfirmed errors | share |\n\
          |---|---|---:|---:|---:|---:|---:|---:|---:|\n",
     );
-    let pct = |k: usize, n: usize| 100.0 * k as f64 / n.max(1) as f64;
     let mut all = Tally::default();
     for (folder, t) in &by_folder {
         let ds: Vec<String> =
             t.dialects.iter().map(|(d, k)| if t.dialects.len() == 1 { d.clone() } else { format!("{d} ({k})") }).collect();
-        let ok = t.clean + t.oracle + t.not_program;
-        md.push_str(&format!(
-            "| {folder} | {} | {} | {} | {:.1}% | {} | {} | {ok} | {:.1}% |\n",
-            ds.join(", "),
-            t.programs,
-            t.clean,
-            pct(t.clean, t.programs),
-            t.oracle,
-            t.not_program,
-            pct(ok, t.programs)
-        ));
+        md.push_str(&t.row(folder, &ds.join(", ")));
         all.programs += t.programs;
         all.clean += t.clean;
         all.oracle += t.oracle;
         all.not_program += t.not_program;
     }
-    let ok = all.clean + all.oracle + all.not_program;
-    md.push_str(&format!(
-        "| **all** | | {} | {} | {:.1}% | {} | {} | {ok} | {:.1}% |\n",
-        all.programs,
-        all.clean,
-        pct(all.clean, all.programs),
-        all.oracle,
-        all.not_program,
-        pct(ok, all.programs)
-    ));
+    md.push_str(&all.row("**all**", ""));
     std::fs::create_dir_all(dir).unwrap();
     std::fs::write(dir.join("errors.tsv"), rows).unwrap();
     std::fs::write(dir.join("summary.md"), md).unwrap();
