@@ -277,6 +277,9 @@ vocab! {
         ProgramBegin = "program-begin",
         /// A cycle kept as intent whose moves are not expanded (pockets, patterns, swivelling).
         CycleIntent = "cycle-intent",
+        /// Reads data only the machine has at run time into a parameter (Heidenhain `FN 18:
+        /// SYSREAD`); the parameter keeps its value in the analysis, with a warning.
+        MachineDataRead = "machine-data-read",
         /// A corner of the workpiece blank from the block's axis words (`BLK FORM 0.1 Z X+0 Y+0 Z-40`); recorded.
         Stock = "stock",
         /// Machine-specific function the interpreter records but does not model.

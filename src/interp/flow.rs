@@ -465,7 +465,7 @@ impl<'a> Driver<'a, '_> {
         match interp.eval(block, e, self.sources[self.cur].text, block.range, diags) {
             Ok(v) => Some(v),
             Err(err) => {
-                diags.push(super::eval_diag(err, block.range));
+                diags.push(interp.eval_diag(err, block.range));
                 None
             }
         }
@@ -934,7 +934,7 @@ impl<'a> Driver<'a, '_> {
         };
         let (Some(value), Some(last)) = (value, self.value(interp, block, *last, diags)) else { return };
         if let Err(e) = set_variable(interp, block, var, value, self.sources[self.cur].text) {
-            diags.push(super::eval_diag(e, c.range));
+            diags.push(interp.eval_diag(e, c.range));
             return;
         }
         let go_on = if step > 0.0 { value <= last } else { value >= last };

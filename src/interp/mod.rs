@@ -294,6 +294,9 @@ struct State {
     /// The initial level of the canned cycles in force: the hole axis position when the
     /// first of them began. G98 returns to it, and in G91 R counts from it.
     cycle_initial: Option<f64>,
+    /// Whether the program has read data only the machine has (FN 18): arithmetic faults
+    /// after it may come from that data.
+    machine_data_read: bool,
 }
 
 /// What decides how a run goes on from a point: the parameters, the modes, the saved modes
@@ -416,6 +419,7 @@ impl<'a> Interpreter<'a> {
                 css_max: None,
                 spindle_limit: None,
                 cycle_initial: None,
+                machine_data_read: false,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -602,6 +606,27 @@ impl<'a> Interpreter<'a> {
             }
             CanonOp::RigidTap(p) => CanonOp::RigidTap(self.xform(p)),
             op => op,
+        }
+    }
+
+    /// The finding for an expression without a value. After a read of data only the machine
+    /// has, an arithmetic fault may come from that data: it is a warning that says so.
+    pub(super) fn eval_diag(&self, e: EvalError, range: TextRange) -> Diagnostic {
+        match e {
+            EvalError::Undefined(name) => {
+                Diagnostic::new(Code::UndefinedParameter, range, format!("parameter `#<{name}>` is used before it is set"))
+            }
+            EvalError::BadIndex(n) => Diagnostic::new(Code::UndefinedParameter, range, format!("parameter number {n} is out of range")),
+            EvalError::Domain(what) if self.st.machine_data_read => {
+                let mut d = Diagnostic::new(
+                    Code::ArithmeticError,
+                    range,
+                    format!("{what}, after the program read data only the machine has at run time: on the machine the values may differ"),
+                );
+                d.severity = Severity::Warning;
+                d
+            }
+            EvalError::Domain(what) => Diagnostic::new(Code::ArithmeticError, range, what),
         }
     }
 
@@ -1040,7 +1065,7 @@ impl<'a> Interpreter<'a> {
                     None
                 }
                 Err(err) => {
-                    diags.push(eval_diag(err, range));
+                    diags.push(self.eval_diag(err, range));
                     None
                 }
             },
@@ -1177,7 +1202,7 @@ impl<'a> Interpreter<'a> {
             let value = match self.eval(block, a.value, self.text, a.range, diags) {
                 Ok(v) => v,
                 Err(e) => {
-                    diags.push(eval_diag(e, a.range));
+                    diags.push(self.eval_diag(e, a.range));
                     continue;
                 }
             };
@@ -1186,12 +1211,12 @@ impl<'a> Interpreter<'a> {
                     Ok(n) => {
                         pending.push(PendingAssign { number: Some(n), name: TextRange::default(), index: None, value, range: a.range })
                     }
-                    Err(e) => diags.push(eval_diag(e, a.range)),
+                    Err(e) => diags.push(self.eval_diag(e, a.range)),
                 },
                 ParamTarget::Named(name) => pending.push(PendingAssign { number: None, name, index: None, value, range: a.range }),
                 ParamTarget::NamedIndex(name, e) => match self.eval(block, e, self.text, a.range, diags) {
                     Ok(i) => pending.push(PendingAssign { number: None, name, index: Some(i), value, range: a.range }),
-                    Err(e) => diags.push(eval_diag(e, a.range)),
+                    Err(e) => diags.push(self.eval_diag(e, a.range)),
                 },
             }
         }
@@ -1211,7 +1236,7 @@ impl<'a> Interpreter<'a> {
                         }
                         _ => {
                             if let Err(e) = self.params.set(n, value) {
-                                diags.push(eval_diag(e, range));
+                                diags.push(self.eval_diag(e, range));
                             }
                         }
                     }
@@ -1857,6 +1882,15 @@ impl<'a> Interpreter<'a> {
             Meaning::FrameMirror => self.unsupported(def, range, diags),
             Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),
             Meaning::CycleCall | Meaning::CycleModal => {}
+            Meaning::MachineDataRead => {
+                let msg = format!(
+                    "{} ({}) reads data only the machine has at run time: the parameter it sets keeps its value here, so what follows from it may differ on the machine",
+                    def.label(),
+                    def.name
+                );
+                self.st.machine_data_read = true;
+                self.limited(diags, "machine-data-read", Diagnostic::new(Code::Unsupported, range, msg));
+            }
             Meaning::CycleIntent => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
@@ -2220,16 +2254,6 @@ impl Meaning {
                 | Meaning::CycleBoreDwell
                 | Meaning::CycleFineBore
         )
-    }
-}
-
-fn eval_diag(e: EvalError, range: TextRange) -> Diagnostic {
-    match e {
-        EvalError::Undefined(name) => {
-            Diagnostic::new(Code::UndefinedParameter, range, format!("parameter `#<{name}>` is used before it is set"))
-        }
-        EvalError::BadIndex(n) => Diagnostic::new(Code::UndefinedParameter, range, format!("parameter number {n} is out of range")),
-        EvalError::Domain(what) => Diagnostic::new(Code::ArithmeticError, range, what),
     }
 }
 
