@@ -630,6 +630,16 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// Limits the spindle speed under constant surface speed (`G50 S`, `LIMS=`), at once when
+    /// it is on.
+    fn set_spindle_limit(&mut self, max: f64, sink: &mut dyn CanonSink) {
+        self.st.spindle_limit = Some(max);
+        if self.st.css_max.is_some_and(|m| m != max) {
+            self.st.css_max = Some(max);
+            self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
+        }
+    }
+
     /// The reading of [`RoundState`] now.
     pub(super) fn round_state(&self) -> RoundState {
         RoundState { params: self.params.clone(), depth: self.depth, st: self.st.clone(), contexts: self.contexts.clone() }
@@ -1361,11 +1371,7 @@ impl<'a> Interpreter<'a> {
             Step::Speed => {
                 // `LIMS=3000` (Siemens) sets the limit of constant surface speed, now or later.
                 if let Some(max) = self.slot(Role::SpindleLimit) {
-                    self.st.spindle_limit = Some(max);
-                    if self.st.css_max.is_some_and(|m| m != max) {
-                        self.st.css_max = Some(max);
-                        self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
-                    }
+                    self.set_spindle_limit(max, sink);
                 }
                 // `G50 S3200` on a lathe limits the speed; it does not set it.
                 let limit = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::SpindleLimit);
@@ -1629,7 +1635,11 @@ impl<'a> Interpreter<'a> {
                 self.modal_context(def, range, sink, diags);
             }
             Meaning::PathMode => {}
-            Meaning::SpindleLimit => self.st.spindle_limit = self.slot(Role::S),
+            Meaning::SpindleLimit => {
+                if let Some(max) = self.slot(Role::S) {
+                    self.set_spindle_limit(max, sink);
+                }
+            }
             Meaning::SpindleCss => {
                 // LinuxCNC's D or Siemens' LIMS in the block, else the limit set before (a
                 // lathe's `G50 S`), else none (rs274 says 1e30).
