@@ -137,6 +137,8 @@ fn foreign(text: &str, dialect: &Dialect) -> Option<Diagnostic> {
 /// Tool data a program set with G10, in millimetres.
 #[derive(Clone, Copy, Debug, Default)]
 struct ToolEdit {
+    /// Offsets along X and Y (lathe and angled tools), mm.
+    xy: [Option<f64>; 2],
     length: Option<f64>,
     length_wear: f64,
     radius: Option<f64>,
@@ -247,7 +249,8 @@ struct State {
     g92: [f64; 6],
     /// The shift G92.2 suspended, for G92.3.
     g92_saved: [f64; 6],
-    tool_offset: f64,
+    /// The tool offset in force along X, Y and Z, program units.
+    tool_offset: [f64; 3],
     pos: [f64; 6],
     sticky_r: Option<f64>,
     sticky_z: Option<f64>,
@@ -393,7 +396,7 @@ impl<'a> Interpreter<'a> {
                 home2: profile.home2,
                 g92: [0.0; 6],
                 g92_saved: [0.0; 6],
-                tool_offset: 0.0,
+                tool_offset: [0.0; 3],
                 pos: [0.0; 6],
                 sticky_r: None,
                 sticky_z: None,
@@ -1503,9 +1506,10 @@ impl<'a> Interpreter<'a> {
                     self.emit(sink, CanonOp::SelectTool(next as u32));
                 }
                 if self.dialect.behaviour.tool_change_applies_length {
-                    let length = self.tool_length(self.st.tool) / self.st.units.to_mm();
-                    self.st.tool_offset = length;
-                    self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
+                    // A tool change that applies the length (Siemens D, Heidenhain TOOL CALL)
+                    // keeps the program position: such programs place Z after the call.
+                    self.st.tool_offset = self.tool_offsets(self.st.tool);
+                    self.emit(sink, CanonOp::UseToolLengthOffset(self.st.tool_offset));
                 }
             }
             Meaning::SpindleCw => {
@@ -1611,20 +1615,19 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
                 let h = self.slot(Role::H).map_or(self.st.tool, |h| h as u32);
-                let length = self.tool_length(h) / self.st.units.to_mm();
-                let length = if def.meaning == Meaning::LengthCompMinus { -length } else { length };
-                self.st.tool_offset = length;
-                self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
+                let mut offsets = self.tool_offsets(h);
+                if def.meaning == Meaning::LengthCompMinus {
+                    offsets = offsets.map(|v| -v);
+                }
+                self.use_tool_offset(offsets, sink);
             }
             Meaning::LengthCompDynamic => {
-                // G43.1: the offset is the Z word itself, in program units.
-                let length = self.slot(Role::Z).unwrap_or(0.0);
-                self.st.tool_offset = length;
-                self.emit(sink, CanonOp::UseToolLengthOffset([0.0, 0.0, length]));
+                // G43.1: the offsets are the axis words themselves, in program units.
+                let offsets = [Role::X, Role::Y, Role::Z].map(|r| self.slot(r).unwrap_or(0.0));
+                self.use_tool_offset(offsets, sink);
             }
             Meaning::LengthCompCancel => {
-                self.st.tool_offset = 0.0;
-                self.emit(sink, CanonOp::UseToolLengthOffset([0.0; 3]));
+                self.use_tool_offset([0.0; 3], sink);
             }
             Meaning::Wcs => {
                 if def.index != self.st.wcs {
@@ -1961,8 +1964,34 @@ impl<'a> Interpreter<'a> {
                 w[i] *= k;
             }
         }
-        self.st.tool_offset *= k;
+        for v in &mut self.st.tool_offset {
+            *v *= k;
+        }
         self.st.units = units;
+    }
+
+    /// Puts tool offsets (program units) in force. The controlled point stays where it is, so
+    /// its program coordinates change by the difference, as rs274's do.
+    fn use_tool_offset(&mut self, offsets: [f64; 3], sink: &mut dyn CanonSink) {
+        // The offsets are along the machine's axes; a rotated system sees X and Y turned.
+        let mut delta: [f64; 3] = std::array::from_fn(|i| offsets[i] - self.st.tool_offset[i]);
+        let rotation = self.st.wcs_rotation[self.st.wcs as usize - 1];
+        if rotation != 0.0 {
+            [delta[0], delta[1]] = rotate([delta[0], delta[1]], -rotation);
+        }
+        for (p, d) in self.st.pos.iter_mut().zip(delta) {
+            *p -= d;
+        }
+        self.st.tool_offset = offsets;
+        self.emit(sink, CanonOp::UseToolLengthOffset(offsets));
+    }
+
+    /// Tool `n`'s offsets along X, Y and Z in program units: X and Y as the program set them
+    /// (G10 L1/L10/L11), Z its length.
+    fn tool_offsets(&self, n: u32) -> [f64; 3] {
+        let xy = self.tool_edits.get(&n).map_or([None; 2], |e| e.xy);
+        let mm = self.st.units.to_mm();
+        [xy[0].unwrap_or(0.0) / mm, xy[1].unwrap_or(0.0) / mm, self.tool_length(n) / mm]
     }
 
     /// Tool `n`'s length offset in millimetres: the profile's, as the program changed it.
@@ -2012,27 +2041,41 @@ impl<'a> Interpreter<'a> {
         let n = p as u32;
         let mm = self.st.units.to_mm();
         if matches!(form, DataForm::Tool | DataForm::ToolHere | DataForm::ToolHereFixture)
-            && [Role::X, Role::Y, Role::A, Role::B, Role::C].iter().any(|&r| self.slots[r as usize].is_some())
+            && [Role::A, Role::B, Role::C].iter().any(|&r| self.slots[r as usize].is_some())
         {
-            let msg =
-                format!("{}: tool offsets along axes other than Z (lathe and angled tools) are not kept; only Z and R are", def.label());
+            let msg = format!("{}: tool offsets along rotary axes are not kept; only X, Y, Z and R are", def.label());
             self.limited(diags, "tool-offset-axes", Diagnostic::new(Code::Unsupported, range, msg));
         }
         // Fanuc: in G91 the value is added to the offset.
         let incremental = self.st.distance == DistanceMode::Incremental;
         let current = (self.tool_length(n), self.tool_diameter(n).map(|d| d / 2.0));
-        // For L10/L11: the spindle's Z and the origin the given Z is measured from, in the
-        // active system with G92 (L10), or in G59.3 without it (L11).
-        let machine_z = self.machine_pos()[2] + self.st.tool_offset;
-        let origin_z = match form {
-            DataForm::ToolHereFixture => self.st.wcs_offsets[8][2],
-            _ => self.st.wcs_offsets[self.st.wcs as usize - 1][2] + self.st.g92[2],
+        let given = [Role::X, Role::Y, Role::Z].map(|r| self.slots[r as usize].map(|s| s.value));
+        // For L10/L11: offsets that make the spindle's point read the given coordinates, in the
+        // active system with G92 (L10) or in G59.3 without it (L11). They are worked out in
+        // that system's (perhaps rotated) axes, an axis not given keeping the tool's offset,
+        // and turned back to the machine's axes, as rs274 does.
+        let here = {
+            let (w, g92) = if form == DataForm::ToolHereFixture { (8, false) } else { (self.st.wcs as usize - 1, true) };
+            let rotation = self.st.wcs_rotation[w];
+            let machine = self.machine_pos();
+            let spindle: [f64; 6] = std::array::from_fn(|i| machine[i] + if i < 3 { self.st.tool_offset[i] } else { 0.0 });
+            let q = self.from_machine_in(spindle, w, g92);
+            let stored = self.tool_offsets(n);
+            let [sx, sy] = rotate([stored[0], stored[1]], -rotation);
+            let xy = rotate([given[0].map_or(sx, |v| q[0] - v), given[1].map_or(sy, |v| q[1] - v)], rotation);
+            [xy[0], xy[1], given[2].map_or(stored[2], |z| q[2] - z)]
         };
+        let set_here = [given[0].is_some() || given[1].is_some(), given[0].is_some() || given[1].is_some(), given[2].is_some()];
         let edit = self.tool_edits.entry(n).or_default();
         let value = |v: f64, old: f64| if incremental { old + v * mm } else { v * mm };
         match form {
             DataForm::Tool => {
-                if let Some(z) = self.slots[Role::Z as usize].map(|s| s.value) {
+                for i in 0..2 {
+                    if let Some(v) = given[i] {
+                        edit.xy[i] = Some(v * mm);
+                    }
+                }
+                if let Some(z) = given[2] {
                     (edit.length, edit.length_wear) = (Some(z * mm), 0.0);
                 }
                 if let Some(r) = self.slots[Role::R as usize].map(|s| s.value) {
@@ -2040,8 +2083,14 @@ impl<'a> Interpreter<'a> {
                 }
             }
             DataForm::ToolHere | DataForm::ToolHereFixture => {
-                let Some(z) = self.slots[Role::Z as usize].map(|s| s.value) else { return };
-                (edit.length, edit.length_wear) = (Some((machine_z - origin_z - z) * mm), 0.0);
+                for i in 0..2 {
+                    if set_here[i] {
+                        edit.xy[i] = Some(here[i] * mm);
+                    }
+                }
+                if set_here[2] {
+                    (edit.length, edit.length_wear) = (Some(here[2] * mm), 0.0);
+                }
                 if let Some(r) = self.slots[Role::R as usize].map(|s| s.value) {
                     (edit.radius, edit.radius_wear) = (Some(r * mm), 0.0);
                 }
@@ -2121,9 +2170,14 @@ impl<'a> Interpreter<'a> {
 
     /// A program position in machine coordinates: offset + R(rotation)·(program + G92).
     fn to_machine(&self, pos: [f64; 6]) -> [f64; 6] {
-        let w = self.st.wcs as usize - 1;
+        self.to_machine_in(pos, self.st.wcs as usize - 1, true)
+    }
+
+    /// A position in work coordinate system `w` (0 for G54), with or without the G92 shift,
+    /// in machine coordinates.
+    fn to_machine_in(&self, pos: [f64; 6], w: usize, g92: bool) -> [f64; 6] {
         let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
-        let mut m: [f64; 6] = std::array::from_fn(|i| pos[i] + self.st.g92[i]);
+        let mut m: [f64; 6] = std::array::from_fn(|i| pos[i] + if g92 { self.st.g92[i] } else { 0.0 });
         if rotation != 0.0 {
             [m[0], m[1]] = rotate([m[0], m[1]], rotation);
         }
@@ -2132,13 +2186,18 @@ impl<'a> Interpreter<'a> {
 
     /// Program coordinates of a machine position in the active system.
     pub(super) fn program_pos(&self, machine: [f64; 6]) -> [f64; 6] {
-        let w = self.st.wcs as usize - 1;
+        self.from_machine_in(machine, self.st.wcs as usize - 1, true)
+    }
+
+    /// A machine position in work coordinate system `w` (0 for G54), with or without the G92
+    /// shift.
+    fn from_machine_in(&self, machine: [f64; 6], w: usize, g92: bool) -> [f64; 6] {
         let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
         let mut p: [f64; 6] = std::array::from_fn(|i| machine[i] - off[i]);
         if rotation != 0.0 {
             [p[0], p[1]] = rotate([p[0], p[1]], -rotation);
         }
-        std::array::from_fn(|i| p[i] - self.st.g92[i])
+        std::array::from_fn(|i| p[i] - if g92 { self.st.g92[i] } else { 0.0 })
     }
 
     /// Makes work coordinate system `index` (1 for G54) the active one.

@@ -23,8 +23,10 @@ impl Interpreter<'_> {
                 }
             }
             let mut t = self.program_pos(m);
-            if self.slot(Role::Z).is_some() {
-                t[2] -= self.st.tool_offset;
+            for (i, &role) in [Role::X, Role::Y, Role::Z].iter().enumerate() {
+                if self.slot(role).is_some() {
+                    t[i] -= self.st.tool_offset[i];
+                }
             }
             return t;
         }
@@ -38,8 +40,8 @@ impl Interpreter<'_> {
                     WordMode::Incremental => true,
                 };
                 t[i] = if machine {
-                    // The tool length offset moves the controlled point along Z.
-                    let tlo = if i == 2 { self.st.tool_offset } else { 0.0 };
+                    // The tool offsets move the controlled point along X, Y and Z.
+                    let tlo = if i < 3 { self.st.tool_offset[i] } else { 0.0 };
                     v - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i] - tlo
                 } else if incremental {
                     self.st.pos[i] + v

@@ -541,3 +541,41 @@ fn arithmetic_on_data_read_from_the_machine_is_a_warning_that_says_so() {
     let (_, diags) = every_call("heidenhain", "BEGIN PGM P MM\nQ5 = 0\nQ7 = 10 / Q5\nEND PGM P MM\n");
     assert_eq!(diags.iter().map(|d| (d.code.as_str(), d.is_error())).collect::<Vec<_>>(), [("interp::arithmetic", true)]);
 }
+
+#[test]
+fn tool_offsets_along_x_y_and_z_move_the_program_position_as_rs274_does() {
+    let mut profile = Profile::default();
+    profile.tools.insert(1, ncplan::interp::ToolData { length: 1.0, ..Default::default() });
+    let calls = |program: &str, profile: &Profile| {
+        let mut out = Vec::new();
+        let diags = interpret(program, &Registry::shipped().get("linuxcnc").unwrap(), profile, &mut out);
+        assert!(!diags.iter().any(|d| d.is_error()), "{diags:?}");
+        out.iter()
+            .filter(|c| matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::UseToolLengthOffset(_)))
+            .map(|c| call_text(&c.op))
+            .collect::<Vec<_>>()
+    };
+    // G43 leaves the tool where it is: its program Z drops by the length, so the incremental
+    // move ends at Z-2 and #5422 reads it (rs274 -g, with the length in the tool table).
+    let got = calls("G21 G0 Z0\nT1 M6\nG43 H1\nG91 G0 Z-1\nG90\nG0 X#5422\nM2\n", &profile);
+    assert_eq!(
+        got[got.len() - 2..],
+        [
+            "STRAIGHT_TRAVERSE(0.0000, 0.0000, -2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(-2.0000, 0.0000, -2.0000, 0.0000, 0.0000, 0.0000)"
+        ]
+    );
+    // G10 L10 in a system rotated 45°: offsets are worked out along the rotated axes, an
+    // axis not given keeping the tool's, and applied along the machine's (rs274 -g).
+    let rotated = "G20\nG10 L2 P1 R45\nG0 X0 Y0 Z0\nG10 L10 P1 X0 Y0 Z0\nT1 M6 G43\nG10 L10 P1 X1\nG43\n\
+                   G0 X#5420 Y#5421\nG10 L10 P1 Y1\nG43\nM2\n";
+    let got = calls(rotated, &Profile::default());
+    assert_eq!(
+        got[got.len() - 3..],
+        [
+            "USE_TOOL_LENGTH_OFFSET(-0.7071 -0.7071 0.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)",
+            "STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "USE_TOOL_LENGTH_OFFSET(-0.0000 -1.4142 0.0000, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)",
+        ]
+    );
+}
