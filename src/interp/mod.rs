@@ -2059,20 +2059,20 @@ impl<'a> Interpreter<'a> {
             let rotation = self.st.wcs_rotation[w];
             let machine = self.machine_pos();
             let spindle: [f64; 6] = std::array::from_fn(|i| machine[i] + if i < 3 { self.st.tool_offset[i] } else { 0.0 });
-            let q = self.from_machine_in(spindle, w, g92);
+            let q = self.machine_to_system(spindle, w, g92);
             let stored = self.tool_offsets(n);
             let [sx, sy] = rotate([stored[0], stored[1]], -rotation);
             let xy = rotate([given[0].map_or(sx, |v| q[0] - v), given[1].map_or(sy, |v| q[1] - v)], rotation);
             [xy[0], xy[1], given[2].map_or(stored[2], |z| q[2] - z)]
         };
-        let set_here = [given[0].is_some() || given[1].is_some(), given[0].is_some() || given[1].is_some(), given[2].is_some()];
+        let xy_given = given[0].is_some() || given[1].is_some();
         let edit = self.tool_edits.entry(n).or_default();
         let value = |v: f64, old: f64| if incremental { old + v * mm } else { v * mm };
         match form {
             DataForm::Tool => {
-                for i in 0..2 {
-                    if let Some(v) = given[i] {
-                        edit.xy[i] = Some(v * mm);
+                for (slot, v) in edit.xy.iter_mut().zip(given) {
+                    if let Some(v) = v {
+                        *slot = Some(v * mm);
                     }
                 }
                 if let Some(z) = given[2] {
@@ -2083,12 +2083,10 @@ impl<'a> Interpreter<'a> {
                 }
             }
             DataForm::ToolHere | DataForm::ToolHereFixture => {
-                for i in 0..2 {
-                    if set_here[i] {
-                        edit.xy[i] = Some(here[i] * mm);
-                    }
+                if xy_given {
+                    edit.xy = [Some(here[0] * mm), Some(here[1] * mm)];
                 }
-                if set_here[2] {
+                if given[2].is_some() {
                     (edit.length, edit.length_wear) = (Some(here[2] * mm), 0.0);
                 }
                 if let Some(r) = self.slots[Role::R as usize].map(|s| s.value) {
@@ -2186,12 +2184,12 @@ impl<'a> Interpreter<'a> {
 
     /// Program coordinates of a machine position in the active system.
     pub(super) fn program_pos(&self, machine: [f64; 6]) -> [f64; 6] {
-        self.from_machine_in(machine, self.st.wcs as usize - 1, true)
+        self.machine_to_system(machine, self.st.wcs as usize - 1, true)
     }
 
     /// A machine position in work coordinate system `w` (0 for G54), with or without the G92
     /// shift.
-    fn from_machine_in(&self, machine: [f64; 6], w: usize, g92: bool) -> [f64; 6] {
+    fn machine_to_system(&self, machine: [f64; 6], w: usize, g92: bool) -> [f64; 6] {
         let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
         let mut p: [f64; 6] = std::array::from_fn(|i| machine[i] - off[i]);
         if rotation != 0.0 {
