@@ -223,7 +223,8 @@ pub enum CanonOp {
     /// `SET_FEED_MODE(0, n)`: feed per minute (0) or per spindle revolution (1, G95).
     SetFeedMode(FeedMode),
     /// `SET_SPINDLE_MODE(0 max)`: with a limit, S is a constant surface speed (G96) and the
-    /// spindle turns at most `max` 1/min; without, S is in 1/min (G97, printed as 0).
+    /// spindle turns at most `max` 1/min ([`NO_SPINDLE_LIMIT`] when none was set); without,
+    /// S is in 1/min (G97, printed as 0).
     SetSpindleMode(Option<f64>),
     /// `START_SPEED_FEED_SYNC(pitch,0)`: the moves that follow advance `pitch` per spindle
     /// revolution (G33 threading, G33.1 rigid tapping).
@@ -618,6 +619,9 @@ fn write_f4(cache: &mut [(u64, u8, [u8; CACHED])], v: f64, dst: &mut [u8; 32]) -
 
 /// Bytes a cached number may take: [`f4_fast`] writes at most 18.
 const CACHED: usize = 23;
+
+/// The limit of a G96 that names none, as rs274 reports it: no limit.
+pub const NO_SPINDLE_LIMIT: f64 = 1e30;
 
 /// Calls that LinuxCNC emits for its own bookkeeping and that carry no machining meaning.
 /// Comparisons with `rs274` drop them on both sides.

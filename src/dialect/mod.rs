@@ -168,16 +168,18 @@ impl Pattern {
     /// size limit) matches nothing.
     pub fn regex(&self) -> &regex_automata::meta::Regex {
         self.compiled.get_or_init(|| {
-            let build = |src: &str| {
-                regex_automata::meta::Regex::builder()
-                    .syntax(regex_automata::util::syntax::Config::new().unicode(false).utf8(false))
-                    .configure(regex_automata::meta::Config::new().dfa(false))
-                    .build(src)
-                    .ok()
-            };
+            let build = |src: &str| pattern_builder(regex_automata::meta::Config::new()).build(src).ok();
             build(&self.source).or_else(|| build("[^\\s\\S]")).expect("the empty class compiles")
         })
     }
+}
+
+/// A builder for dictionary patterns: ASCII over bytes, and no dense DFA (tracing's
+/// env-filter turns that feature on, and building one per pattern costs more than a run).
+pub(crate) fn pattern_builder(config: regex_automata::meta::Config) -> regex_automata::meta::Builder {
+    let mut b = regex_automata::meta::Regex::builder();
+    b.syntax(regex_automata::util::syntax::Config::new().unicode(false).utf8(false)).configure(config.dfa(false));
+    b
 }
 
 /// The decimal-point input rule.

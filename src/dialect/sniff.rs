@@ -94,11 +94,8 @@ impl EvidenceSet {
                 }
             }
         }
-        let regex = regex_automata::meta::Regex::builder()
-            .syntax(regex_automata::util::syntax::Config::new().unicode(false).utf8(false))
-            .configure(regex_automata::meta::Config::new().dfa(false).match_kind(regex_automata::MatchKind::All))
-            .build_many(&sources)
-            .ok()?;
+        let all = regex_automata::meta::Config::new().match_kind(regex_automata::MatchKind::All);
+        let regex = super::pattern_builder(all).build_many(&sources).ok()?;
         Some(EvidenceSet { regex, owners })
     }
 

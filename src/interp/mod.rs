@@ -217,9 +217,6 @@ struct PendingAssign {
     range: TextRange,
 }
 
-/// The spindle limit of a G96 that names none, as rs274 reports it.
-const NO_SPINDLE_LIMIT: f64 = 1e30;
-
 /// Modal state.
 #[derive(Clone, Debug, PartialEq)]
 struct State {
@@ -1646,7 +1643,11 @@ impl<'a> Interpreter<'a> {
             Meaning::SpindleCss => {
                 // LinuxCNC's D or Siemens' LIMS in the block, else the limit set before (a
                 // lathe's `G50 S`), else none (rs274 says 1e30).
-                let max = self.slot(Role::D).or(self.slot(Role::SpindleLimit)).or(self.st.spindle_limit).unwrap_or(NO_SPINDLE_LIMIT);
+                let max = self
+                    .slot(Role::D)
+                    .or(self.slot(Role::SpindleLimit))
+                    .or(self.st.spindle_limit)
+                    .unwrap_or(crate::canon::NO_SPINDLE_LIMIT);
                 self.st.css_max = Some(max);
                 self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
             }
@@ -2168,14 +2169,9 @@ impl<'a> Interpreter<'a> {
 
     /// A program position in machine coordinates: offset + R(rotation)·(program + G92).
     fn to_machine(&self, pos: [f64; 6]) -> [f64; 6] {
-        self.to_machine_in(pos, self.st.wcs as usize - 1, true)
-    }
-
-    /// A position in work coordinate system `w` (0 for G54), with or without the G92 shift,
-    /// in machine coordinates.
-    fn to_machine_in(&self, pos: [f64; 6], w: usize, g92: bool) -> [f64; 6] {
+        let w = self.st.wcs as usize - 1;
         let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
-        let mut m: [f64; 6] = std::array::from_fn(|i| pos[i] + if g92 { self.st.g92[i] } else { 0.0 });
+        let mut m: [f64; 6] = std::array::from_fn(|i| pos[i] + self.st.g92[i]);
         if rotation != 0.0 {
             [m[0], m[1]] = rotate([m[0], m[1]], rotation);
         }

@@ -9,15 +9,12 @@ use std::collections::BTreeMap;
 use super::feature;
 use super::geom;
 use super::model::*;
-use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, Plane, Units};
+use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, NO_SPINDLE_LIMIT, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::interp::Profile;
 use crate::text::TextRange;
 
 const EPS: f64 = 1e-6;
-
-/// A speed limit this high is none: rs274 reports a G96 without D as a limit of 1e30.
-const CSS_UNLIMITED: f64 = 1e29;
 
 /// Recovers the process plan from a canonical stream. `program` is the program's number or
 /// name, when known.
@@ -269,7 +266,7 @@ impl<'p> Recovery<'p> {
         };
         let feed = self.feed_now();
         let (spindle_speed, surface_speed) = match self.css {
-            Some(max) => (if max < CSS_UNLIMITED { max } else { 0.0 }, Some(round_sig(self.surface_mm_per_min() / 1000.0))),
+            Some(max) => (if max < NO_SPINDLE_LIMIT { max } else { 0.0 }, Some(round_sig(self.surface_mm_per_min() / 1000.0))),
             None => (self.speed, None),
         };
         Technology { feed, feeds: vec![feed], spindle_speed, surface_speed, spindle: self.spindle, coolant }
@@ -288,7 +285,7 @@ impl<'p> Recovery<'p> {
         // Surface speed in mm/min over the circumference at the tool.
         let circumference = 2.0 * std::f64::consts::PI * self.pos[0].abs();
         let rpm = if circumference > 1e-9 { self.surface_mm_per_min() / circumference } else { f64::INFINITY };
-        if rpm.is_finite() || max < CSS_UNLIMITED { rpm.min(max) } else { 0.0 }
+        if rpm.is_finite() || max < NO_SPINDLE_LIMIT { rpm.min(max) } else { 0.0 }
     }
 
     /// The feed per minute. A feed per revolution becomes one at the programmed speed, so
