@@ -93,7 +93,17 @@ impl Lexer<'_, '_> {
         }
     }
 
+    /// Records a finding. Its range is widened to whole characters, so that a range
+    /// computed in bytes never splits a multi-byte character.
     fn error(&mut self, code: Code, start: usize, end: usize, msg: impl Into<String>) {
+        let mut start = start.min(self.text.len());
+        while !self.text.is_char_boundary(start) {
+            start -= 1;
+        }
+        let mut end = end.clamp(start, self.text.len());
+        while !self.text.is_char_boundary(end) {
+            end += 1;
+        }
         self.diags.push(Diagnostic::new(code, TextRange::new(start, end), msg));
     }
 

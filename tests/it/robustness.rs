@@ -185,3 +185,15 @@ fn a_cycle_argument_list_broken_by_a_multibyte_character_is_diagnosed() {
     let a = analyze("CYCLE81(50 \u{00d7}, 0)\n".as_bytes(), &d, &profile());
     assert!(a.diagnostics.iter().any(|x| x.message.contains("expected `,` or `)`")), "{:?}", a.diagnostics);
 }
+
+/// Found by `mutated_corpus_programs_never_panic` on CI: a multi-byte character where a
+/// `FOR` head expects `TO` got a one-byte range inside the character. Parser findings are
+/// now widened to whole characters in one place.
+#[test]
+fn a_for_head_broken_by_a_multibyte_character_is_diagnosed() {
+    check_ranges("FOR R1=0 \u{00d7}O 10\nENDFOR\nM30\n".as_bytes());
+    let d = Registry::shipped().get("siemens").unwrap();
+    let a = analyze("FOR R1=0 \u{00d7} 10\nENDFOR\nM30\n".as_bytes(), &d, &profile());
+    let found = a.diagnostics.iter().find(|x| x.message.contains("expected `TO`")).expect("a finding");
+    assert_eq!(&a.source.text[found.range.start as usize..found.range.end as usize], "\u{00d7}");
+}
