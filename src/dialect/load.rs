@@ -4,8 +4,8 @@ use super::inherit;
 use super::xml::{self, Element};
 use super::{
     AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect, Directive,
-    KeywordRest, KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, ParamSpec, Role, SkipPosition, Statement, Step, SystemVar,
-    TapStyle, TimeUnit,
+    KeywordRest, KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, NumberForms, ParamSpec, Role, SkipPosition, Statement,
+    Step, SystemVar, TapStyle, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -249,6 +249,8 @@ impl Cx {
                 "axis-modes",
                 "label",
                 "string",
+                "numbers",
+                "system-variables",
                 "comment",
                 "block-skip",
                 "block-number",
@@ -279,6 +281,8 @@ impl Cx {
             axis_modes: None,
             label_suffix: None,
             string_quote: None,
+            numbers: NumberForms::default(),
+            system_variable_prefix: None,
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             identifier_variables: self.bool(el, "identifier-variables", false),
             symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
@@ -316,6 +320,19 @@ impl Cx {
                 "string" => {
                     self.shape(c, &["quote"], &[]);
                     lex.string_quote = self.char_attr(c, "quote");
+                }
+                "numbers" => {
+                    self.shape(c, &["exponent", "radix-quote", "hex", "binary"], &[]);
+                    lex.numbers.exponent = self.attr(c, "exponent").map(str::to_ascii_uppercase);
+                    if let Some(q) = self.char_attr(c, "radix-quote") {
+                        let hex = self.letter_attr(c, "hex").unwrap_or('H').to_ascii_uppercase();
+                        let binary = self.letter_attr(c, "binary").unwrap_or('B').to_ascii_uppercase();
+                        lex.numbers.radix = Some((q, hex, binary));
+                    }
+                }
+                "system-variables" => {
+                    self.shape(c, &["prefix"], &[]);
+                    lex.system_variable_prefix = self.char_attr(c, "prefix");
                 }
                 "comment" => {
                     self.shape(c, &["open", "close", "position"], &[]);

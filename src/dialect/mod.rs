@@ -54,6 +54,17 @@ pub enum SkipPosition {
     LineStartOrAfterNumber,
 }
 
+/// Number notations beyond digits and a point.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct NumberForms {
+    /// The letters that start a decimal exponent after a number (`EX`: `10EX3` is 10000),
+    /// compared without case.
+    pub exponent: Option<String>,
+    /// The quote around a constant in another base, and the letters that name hexadecimal
+    /// and binary (`'`, `H`, `B`: `'H1F'` is 31, `'B101'` is 5).
+    pub radix: Option<(char, char, char)>,
+}
+
 /// Lexical rules.
 #[derive(Clone, Debug)]
 pub struct Lexical {
@@ -69,10 +80,17 @@ pub struct Lexical {
     pub label_suffix: Option<char>,
     /// The string delimiter (`T="DRILL"`, `LBL "NAME"`).
     pub string_quote: Option<char>,
+    /// Other ways to write a number: a decimal exponent (`10EX3`), quoted hexadecimal and
+    /// binary constants (`'H1F'`, `'B1011'`).
+    pub numbers: NumberForms,
     /// Whether a function may take its argument without brackets (`SIN +Q1`, `SQRT 25`).
     pub bare_function_arguments: bool,
     /// Whether identifiers name variables (`_X_HOME=0`, `X=_X_HOME`), as declared with `DEF`.
     pub identifier_variables: bool,
+    /// The character that starts the name of a system variable (`$AC_TIME`, `$P_UIFR[1]`):
+    /// the control's own data, which a program may read and write. One the program reads
+    /// before it writes it is machine data, unknown here.
+    pub system_variable_prefix: Option<char>,
     /// Whether `==`, `<>`, `<`, `>`, `<=`, `>=` compare in expressions (`R1>=5`).
     pub symbolic_comparisons: bool,
     /// Comment rules, tried in order.

@@ -1189,6 +1189,13 @@ impl<'a> Interpreter<'a> {
     ) -> Result<f64, EvalError> {
         loop {
             match eval::eval(block, e, &self.params, text) {
+                Err(EvalError::Undefined(name)) if self.dialect.lexical.system_variable_prefix.is_some_and(|p| name.starts_with(p)) => {
+                    // The control's own data: unknown here, and what follows may differ on the machine.
+                    let msg = format!("system variable `{name}` is the control's data, unknown here; taken as 0");
+                    diags.push(Diagnostic::new(Code::UnsetVariable, range, msg));
+                    self.st.machine_data_read = true;
+                    self.params.set_named(&name, 0.0);
+                }
                 Err(EvalError::Undefined(name)) if self.dialect.macros.unset_reads_zero => {
                     let msg = format!("`{name}` is read before this program sets it (machine data or set elsewhere); taken as 0");
                     diags.push(Diagnostic::new(Code::UnsetVariable, range, msg));

@@ -191,7 +191,7 @@ impl Lexer<'_, '_> {
                 self.assignment();
                 continue;
             }
-            if c.is_ascii_alphabetic() || (c == b'_' && lex.identifier_variables) {
+            if c.is_ascii_alphabetic() || (c == b'_' && lex.identifier_variables) || self.at_system_variable(self.i) {
                 self.address();
                 continue;
             }
@@ -628,8 +628,28 @@ impl Lexer<'_, '_> {
     }
 
     /// The end of an identifier (letters, digits, `_`) starting at `at`.
+    /// A system variable's name includes its prefix and a constant index (`$AC_TIME`,
+    /// `$A_IN[1]`, `$TC_DP1[1,2]`): the control's data is unknown here whatever the index.
     fn identifier_end(&self, at: usize) -> usize {
-        self.b[at..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| at + p)
+        let system = self.at_system_variable(at);
+        let from = if system { at + 1 } else { at };
+        let end = self.b[from..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| from + p);
+        if system && self.b.get(end) == Some(&b'[') {
+            // The index: letters, digits, commas and blanks up to `]`.
+            let inside = self.b[end + 1..].iter().position(|&c| !(c.is_ascii_alphanumeric() || matches!(c, b',' | b'_' | b' ')));
+            if let Some(p) = inside
+                && self.b[end + 1 + p] == b']'
+            {
+                return end + 2 + p;
+            }
+        }
+        end
+    }
+
+    /// Whether a system variable's name starts at `at` (`$AC_TIME`).
+    fn at_system_variable(&self, at: usize) -> bool {
+        self.b.get(at).is_some_and(|&c| Some(c as char) == self.dialect.lexical.system_variable_prefix)
+            && self.b.get(at + 1).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_')
     }
 
     /// `_X_HOME=0`, `LEN=LEN+1`: a variable assignment, where identifiers name variables. A
@@ -1460,7 +1480,8 @@ impl Lexer<'_, '_> {
             let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
             Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_some()
         };
-        if Some(c) == expr_open || Some(c) == sigil || sign_then_expr || is_func {
+        let radix = self.dialect.lexical.numbers.radix.is_some_and(|(q, _, _)| c == q as u8);
+        if Some(c) == expr_open || Some(c) == sigil || sign_then_expr || is_func || radix {
             return self.unary(0).map(Value::Expr);
         }
         self.error(Code::MissingValue, start, self.i, format!("`{}` has no value", self.text[start..self.i].trim()));
@@ -1486,6 +1507,7 @@ impl Lexer<'_, '_> {
         // goes through the general loop below from the same position.
         if let Some((v, end, pt)) = plain_number(self.b, self.i, spaces) {
             self.i = end;
+            let v = if self.dialect.lexical.numbers.exponent.is_some() { self.exponent(start, v)? } else { v };
             return Some((if negative { -v } else { v }, pt));
         }
         loop {
@@ -1549,7 +1571,81 @@ impl Lexer<'_, '_> {
             let s: String = self.text[start..self.i].chars().filter(|c| c.is_ascii_digit() || *c == '.').collect();
             s.parse::<f64>().unwrap_or(0.0)
         };
+        let v = if self.dialect.lexical.numbers.exponent.is_some() { self.exponent(start, v)? } else { v };
         Some((if negative { -v } else { v }, point))
+    }
+
+    /// A decimal exponent after the digits of the number that starts at `start` and has
+    /// (unsigned) value `v`: `10EX3`, `.5EX-2`. Returns the scaled value. The digits are read
+    /// again as text, so that `1EX-3` is exactly the double nearest to 0.001.
+    fn exponent(&mut self, start: usize, v: f64) -> Option<f64> {
+        let marker = self.dialect.lexical.numbers.exponent.as_deref().unwrap_or_default();
+        let at = self.i;
+        let rest = &self.b[at..];
+        if marker.is_empty() || rest.len() < marker.len() || !rest[..marker.len()].eq_ignore_ascii_case(marker.as_bytes()) {
+            return Some(v);
+        }
+        let mut j = at + marker.len();
+        let sign_at = j;
+        if matches!(self.b.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let digits_at = j;
+        while self.b.get(j).is_some_and(u8::is_ascii_digit) {
+            j += 1;
+        }
+        if j == digits_at {
+            self.error(
+                Code::MalformedNumber,
+                start,
+                j.max(at + marker.len()),
+                format!("`{}` needs the digits of its exponent after `{marker}`", &self.text[start..j]),
+            );
+            self.i = j;
+            return None;
+        }
+        self.i = j;
+        let mantissa: String = self.text[start..at].chars().filter(|c| c.is_ascii_digit() || *c == '.').collect();
+        let text = format!("{mantissa}e{}", &self.text[sign_at..j]);
+        match text.parse::<f64>() {
+            Ok(x) if x.is_finite() => Some(x),
+            _ => {
+                self.error(Code::MalformedNumber, start, j, format!("`{}` is too large", &self.text[start..j]));
+                None
+            }
+        }
+    }
+
+    /// A constant in another base, at the opening quote: `'H1F'` (hexadecimal), `'B101'`
+    /// (binary).
+    fn radix_constant(&mut self, quote: u8, hex: u8, binary: u8) -> Option<f64> {
+        let start = self.i;
+        let base = match self.b.get(start + 1).map(u8::to_ascii_uppercase) {
+            Some(c) if c == hex => 16,
+            Some(c) if c == binary => 2,
+            _ => {
+                let end = (start + 1 + self.char_len(start + 1).min(self.b.len() - start - 1)).min(self.b.len());
+                self.error(Code::MalformedNumber, start, end, "a quoted constant names its base first: `'H1F'` or `'B101'`");
+                self.i = self.line_end();
+                return None;
+            }
+        };
+        let eol = self.line_end();
+        let Some(close) = self.b[start + 2..eol].iter().position(|&c| c == quote).map(|p| start + 2 + p) else {
+            self.error(Code::MalformedNumber, start, eol, "the quoted constant is not closed");
+            self.i = eol;
+            return None;
+        };
+        self.i = close + 1;
+        let digits = &self.text[start + 2..close];
+        match u64::from_str_radix(digits, base) {
+            Ok(v) if !digits.starts_with(['+', '-']) => Some(v as f64),
+            _ => {
+                let kind = if base == 16 { "hexadecimal" } else { "binary" };
+                self.error(Code::MalformedNumber, start, self.i, format!("`{}` is not a {kind} number", &self.text[start..self.i]));
+                None
+            }
+        }
     }
 
     fn push(&mut self, e: Expr) -> ExprId {
@@ -1650,6 +1746,11 @@ impl Lexer<'_, '_> {
                 let (v, _) = self.number()?;
                 Some(self.push(Expr::Num(v)))
             }
+            c if self.dialect.lexical.numbers.radix.is_some_and(|(q, _, _)| c == q as u8) => {
+                let (q, hex, binary) = self.dialect.lexical.numbers.radix.unwrap_or_default();
+                let v = self.radix_constant(q as u8, hex as u8, binary as u8)?;
+                Some(self.push(Expr::Num(v)))
+            }
             c if Some(c) == expr_open => {
                 self.i += 1;
                 let e = self.expr(depth + 1, 0)?;
@@ -1670,11 +1771,13 @@ impl Lexer<'_, '_> {
                 let inner = self.unary(depth + 1)?;
                 Some(self.push(Expr::Param(inner)))
             }
-            c if self.dialect.lexical.identifier_variables && (c.is_ascii_alphabetic() || c == b'_') && {
-                let end = self.identifier_end(self.i);
-                Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_none()
-                    || self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_none_or(|x| Some(*x) != expr_open)
-            } =>
+            c if self.dialect.lexical.identifier_variables
+                && (c.is_ascii_alphabetic() || c == b'_' || self.at_system_variable(self.i))
+                && {
+                    let end = self.identifier_end(self.i);
+                    Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_none()
+                        || self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_none_or(|x| Some(*x) != expr_open)
+                } =>
             {
                 let end = self.identifier_end(self.i);
                 let r = TextRange::new(self.i, end);

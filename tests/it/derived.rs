@@ -373,6 +373,51 @@ N110 M30
     assert_eq!(errors, ["interp::bad-arc"], "three points on a line");
 }
 
+/// Siemens number notations and system variables, both switched on in `siemens.xml`:
+/// `EX` exponents, `'H..'` and `'B..'` constants, and `$` names for the control's own data,
+/// which read as 0 with a warning and may be written.
+#[test]
+fn siemens_exponents_radix_constants_and_system_variables() {
+    let program = "\
+DEF REAL _R
+N10 G1 F100 X=10EX-1 Y=.5EX2
+N20 R1='H1F'+'B101'
+N30 G1 X=R1 Z30.4EX-4
+N40 $R10=5
+N50 G1 Y=$R10
+N60 _R=$AC_CTOL*2+1
+N70 G1 X=_R
+N80 IF $A_IN[1]==1 GOTOF SKIP
+N90 G1 Z-1
+SKIP:
+N100 M30
+";
+    let (text, errors) = canon("siemens", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let feeds: Vec<&str> = text.lines().filter(|l| l.starts_with("STRAIGHT_FEED")).collect();
+    assert_eq!(
+        feeds,
+        [
+            "STRAIGHT_FEED(1.0000, 50.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(36.0000, 50.0000, 0.0030, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(36.0000, 5.0000, 0.0030, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(1.0000, 5.0000, 0.0030, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(1.0000, 5.0000, -1.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{text}"
+    );
+    let (_, diags) = every_call("siemens", program);
+    let unknown: Vec<&str> = diags.iter().filter(|d| d.code.as_str() == "interp::unset-variable").map(|d| d.message.as_str()).collect();
+    assert_eq!(unknown.len(), 2, "{unknown:?}");
+    assert!(unknown[0].contains("$ac_ctol") && unknown[1].contains("$a_in[1]"), "{unknown:?}");
+
+    let (_, errors) = canon("siemens", "R1='H1G'\nR2=1EX\nR3='X12'\nM30\n");
+    assert_eq!(errors, ["syntax::malformed-number"; 3]);
+    // Elsewhere `E` is no exponent: Fanuc reads `X1E3` as X1 and an E word.
+    let (text, _) = canon("fanuc", "G1 F100 X1EX3\nM30\n");
+    assert!(!text.contains("1000.0000"), "{text}");
+}
+
 /// Heidenhain `RND R` and `CHF` between two straight moves: the first move stops at the
 /// tangent point, the arc (about a centre inside the turn) or the chamfer follows, and the
 /// next move starts at the second tangent point. A feed on the corner block applies from the
