@@ -275,8 +275,17 @@ vocab! {
         CycleModal = "cycle-modal",
         /// Program start with a name and units (`BEGIN PGM name MM`); recorded.
         ProgramBegin = "program-begin",
-        /// A cycle kept as intent whose moves are not expanded (pockets, patterns, swivelling).
+        /// A cycle kept as intent whose moves are not expanded (pockets, swivelling).
         CycleIntent = "cycle-intent",
+        /// A row of positions (Siemens `HOLES1`): from a reference point along an angle, the
+        /// first at a distance, then evenly spaced. The modal cycle runs at each.
+        PatternRow = "pattern-row",
+        /// Positions on a circle (Siemens `HOLES2`): centre, radius, start angle and the angle
+        /// between them (0: the full circle shared evenly). The modal cycle runs at each.
+        PatternCircle = "pattern-circle",
+        /// A grid of positions (Siemens `CYCLE801`): a corner, an angle, column and row
+        /// spacing and counts, visited row by row in a meander. The modal cycle runs at each.
+        PatternGrid = "pattern-grid",
         /// Reads data only the machine has at run time into a parameter (Heidenhain `FN 18:
         /// SYSREAD`); the parameter keeps its value in the analysis, with a warning.
         MachineDataRead = "machine-data-read",
@@ -394,6 +403,26 @@ vocab! {
         AlarmNumber = "alarm-number",
         /// The spindle speed limit under constant surface speed (Siemens `LIMS=3000`).
         SpindleLimit = "spindle-limit",
+        /// A hole pattern's reference point (row, grid) or centre (circle), along the plane's first axis.
+        PatternX = "pattern-x",
+        /// A hole pattern's reference point or centre, along the plane's second axis.
+        PatternY = "pattern-y",
+        /// A hole pattern's direction (row, grid) or start angle (circle), in degrees from the plane's first axis.
+        PatternAngle = "pattern-angle",
+        /// The distance from a row's reference point to its first position.
+        PatternFirst = "pattern-first",
+        /// The distance between positions of a row, or between the columns of a grid.
+        PatternSpacing = "pattern-spacing",
+        /// The distance between the rows of a grid.
+        PatternRowSpacing = "pattern-row-spacing",
+        /// The number of positions of a row or circle, or of columns of a grid.
+        PatternCount = "pattern-count",
+        /// The number of rows of a grid.
+        PatternRowCount = "pattern-row-count",
+        /// The radius of a circle of positions.
+        PatternRadius = "pattern-radius",
+        /// The angle between positions on a circle, in degrees (0: the full circle shared evenly).
+        PatternStepAngle = "pattern-step-angle",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

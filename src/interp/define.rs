@@ -91,6 +91,12 @@ impl Interpreter<'_> {
     pub(super) fn cycles_after(&mut self, motions: u64, block_range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let has = |s: &Self, m: Meaning| s.codes.iter().any(|&(c, _)| s.code(c).meaning == m);
         let modal = has(self, Meaning::CycleModal);
+        if let Some(ci) = self.block_cycle.take_if(|&mut ci| pattern_kind(self.dialect.cycles[ci].meaning)) {
+            // A hole pattern leaves the modal cycle defined, and runs it at its positions.
+            let args = std::mem::take(&mut self.cycle_args);
+            self.run_pattern(ci, &args, block_range, sink, diags);
+            return;
+        }
         if let Some(ci) = self.block_cycle.take() {
             self.st.defined_cycle = Some(Defined { cycle: ci, args: std::mem::take(&mut self.cycle_args), range: block_range });
             if modal {
@@ -105,6 +111,32 @@ impl Interpreter<'_> {
         }
         if has(self, Meaning::CycleCall) || (self.st.cycle_modal && self.motions != motions) {
             self.call_defined(block_range, sink, diags);
+        }
+    }
+
+    /// `HOLES1(...)`, `HOLES2(...)`, `CYCLE801(...)`: to each position of the pattern at the
+    /// current height, rapid, and the modal cycle there if one is on.
+    fn run_pattern(&mut self, ci: usize, args: &[(Role, f64)], range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let cycle = &self.dialect.cycles[ci];
+        let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
+        let points = match pattern_points(cycle.meaning, get) {
+            Ok(points) => points,
+            Err(problem) => {
+                diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{}: {problem}; the pattern is skipped", cycle.name)));
+                return;
+            }
+        };
+        let (a0, a1, _) = self.st.plane.axes();
+        for (x, y) in points {
+            let mut p = self.st.pos;
+            (p[a0], p[a1]) = (x, y);
+            if p != self.st.pos {
+                self.emit(sink, CanonOp::StraightTraverse(p));
+                self.st.pos = p;
+            }
+            if self.st.cycle_modal && self.st.defined_cycle.is_some() {
+                self.call_defined(range, sink, diags);
+            }
         }
     }
 
@@ -256,4 +288,75 @@ impl Interpreter<'_> {
         }
         self.st.scaling = if k == [1.0; 3] { None } else { Some(([0.0; 3], k)) };
     }
+}
+
+/// Positions a pattern may have at most: a count past this is a slip, not a part.
+const MAX_PATTERN_POINTS: f64 = 10_000.0;
+
+/// Whether a cycle of this meaning is a hole pattern.
+fn pattern_kind(meaning: Meaning) -> bool {
+    matches!(meaning, Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid)
+}
+
+/// The positions of a hole pattern in the plane, in the order they are visited, from its
+/// arguments by role; or what is wrong with them.
+fn pattern_points(meaning: Meaning, get: impl Fn(Role) -> Option<f64>) -> Result<Vec<(f64, f64)>, String> {
+    let count = |role: Role, what: &str| match get(role) {
+        Some(n) if n.fract() == 0.0 && (1.0..=MAX_PATTERN_POINTS).contains(&n) => Ok(n as usize),
+        Some(n) => Err(format!("{what} must be a whole number from 1 to {MAX_PATTERN_POINTS}, not {n}")),
+        None => Err(format!("{what} ({}) is missing", role.as_str())),
+    };
+    let (x0, y0) = (get(Role::PatternX).unwrap_or(0.0), get(Role::PatternY).unwrap_or(0.0));
+    let angle = get(Role::PatternAngle).unwrap_or(0.0).to_radians();
+    let (c, s) = (angle.cos(), angle.sin());
+    let points: Vec<(f64, f64)> = match meaning {
+        Meaning::PatternRow => {
+            let (first, spacing) = (get(Role::PatternFirst).unwrap_or(0.0), get(Role::PatternSpacing).unwrap_or(0.0));
+            (0..count(Role::PatternCount, "the number of holes")?)
+                .map(|i| {
+                    let d = first + i as f64 * spacing;
+                    (x0 + d * c, y0 + d * s)
+                })
+                .collect()
+        }
+        Meaning::PatternCircle => {
+            let n = count(Role::PatternCount, "the number of holes")?;
+            let radius = get(Role::PatternRadius).unwrap_or(0.0);
+            let step = match get(Role::PatternStepAngle).unwrap_or(0.0) {
+                0.0 => 360.0 / n as f64,
+                a => a,
+            };
+            (0..n)
+                .map(|i| {
+                    let a = angle + (i as f64 * step).to_radians();
+                    (x0 + radius * a.cos(), y0 + radius * a.sin())
+                })
+                .collect()
+        }
+        _ => {
+            let (columns, rows) =
+                (count(Role::PatternCount, "the number of columns")?, count(Role::PatternRowCount, "the number of rows")?);
+            if columns as f64 * rows as f64 > MAX_PATTERN_POINTS {
+                return Err(format!("{columns} columns by {rows} rows is more than {MAX_PATTERN_POINTS} positions"));
+            }
+            let (dx, dy) = (get(Role::PatternSpacing).unwrap_or(0.0), get(Role::PatternRowSpacing).unwrap_or(0.0));
+            let mut out = Vec::with_capacity(columns * rows);
+            for row in 0..rows {
+                for k in 0..columns {
+                    // Meander: every other row runs back.
+                    let col = if row % 2 == 0 { k } else { columns - 1 - k };
+                    let (u, v) = (col as f64 * dx, row as f64 * dy);
+                    out.push((x0 + u * c - v * s, y0 + u * s + v * c));
+                }
+            }
+            out
+        }
+    };
+    // Cosines of right angles leave residues like 6e-17: round those away, so that a hole on
+    // an axis is exactly on it (and never prints as -0.0000).
+    let clean = |v: f64| {
+        let r = (v * 1e9).round() / 1e9;
+        if (v - r).abs() < 1e-12 { r + 0.0 } else { v }
+    };
+    Ok(points.into_iter().map(|(x, y): (f64, f64)| (clean(x), clean(y))).collect())
 }

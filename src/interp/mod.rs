@@ -788,7 +788,8 @@ impl<'a> Interpreter<'a> {
             return;
         }
         let motions = self.motions;
-        let plain = self.code_steps == 0
+        let plain = self.block_cycle.is_none()
+            && self.code_steps == 0
             && block.comments.is_empty()
             && self.stop_message.is_none()
             && self.filled & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32 | 1 << Role::SpindleLimit as u32) == 0;

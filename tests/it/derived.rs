@@ -373,6 +373,72 @@ N110 M30
     assert_eq!(errors, ["interp::bad-arc"], "three points on a line");
 }
 
+/// Siemens hole patterns: `HOLES1` (a row), `HOLES2` (a circle) and `CYCLE801` (a grid)
+/// run the modal cycle of `MCALL` at each position; without one they only approach the
+/// positions. The row is the reference's example (dialects.md §9.4): holes at X10, X20, X30.
+#[test]
+fn siemens_hole_patterns_run_the_modal_cycle_at_each_position() {
+    let holes = |program: &str| -> Vec<String> {
+        let (text, errors) = canon("siemens", program);
+        assert!(errors.is_empty(), "{errors:?}");
+        // The plunges: one feed to the bottom per hole.
+        text.lines()
+            .filter(|l| l.starts_with("STRAIGHT_FEED"))
+            .map(|l| l[14..l.find(", 0.0000, 0.0000, 0.0000)").unwrap()].to_owned())
+            .collect()
+    };
+    let row = "N10 G0 X0 Y0 Z100\nN15 T1 D1 M6\nN16 S1000 M3 F100\nN20 MCALL CYCLE81(10, 0, 2, -10, 0)\nN30 HOLES1(0, 0, 0, 10, 10, 3)\nN40 MCALL\nN50 M30\n";
+    assert_eq!(holes(row), ["10.0000, 0.0000, -10.0000", "20.0000, 0.0000, -10.0000", "30.0000, 0.0000, -10.0000"]);
+    // A circle of four from -90°, the angle between them left to the cycle (INDA 0); then a
+    // row at 45°.
+    let circle =
+        "G0 X0 Y0 Z10\nF100\nMCALL CYCLE81(10, 0, 2, , 5)\nHOLES2(50, 50, 20, -90, 0, 4)\nHOLES1(0, 0, 45, 10, 10, 1)\nMCALL\nM30\n";
+    assert_eq!(
+        holes(circle),
+        [
+            "50.0000, 30.0000, -5.0000",
+            "70.0000, 50.0000, -5.0000",
+            "50.0000, 70.0000, -5.0000",
+            "30.0000, 50.0000, -5.0000",
+            "7.0711, 7.0711, -5.0000"
+        ]
+    );
+    // A grid of three columns and two rows, the second row run back.
+    let grid = "G0 X0 Y0 Z10\nF100\nMCALL CYCLE82(10, 0, 2, -3, , 0.5)\nCYCLE801(100, 0, 0, 10, 5, 3, 2)\nMCALL\nM30\n";
+    assert_eq!(
+        holes(grid),
+        [
+            "100.0000, 0.0000, -3.0000",
+            "110.0000, 0.0000, -3.0000",
+            "120.0000, 0.0000, -3.0000",
+            "120.0000, 5.0000, -3.0000",
+            "110.0000, 5.0000, -3.0000",
+            "100.0000, 5.0000, -3.0000"
+        ]
+    );
+    // Without a modal cycle the positions are only approached.
+    let (text, errors) = canon("siemens", "G0 X0 Y0 Z10\nHOLES1(0, 0, 90, 5, 5, 2)\nM30\n");
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(text.lines().filter(|l| l.starts_with("STRAIGHT_TRAVERSE")).count(), 3, "{text}");
+    assert!(!text.contains("FEED("), "{text}");
+    // The plan sees drilled holes, as from any other drilling cycle.
+    let d = Registry::shipped().get("siemens").unwrap();
+    let a = ncplan::pipeline::analyze(row.as_bytes(), &d, &Profile::default());
+    let positions: Vec<usize> = a
+        .plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            ncplan::plan::FeatureKind::RoundHole { positions, .. } => Some(positions.len()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(positions, [3], "{:?}", a.plan.features);
+    // A pattern without its count, or with an absurd one, is named and skipped.
+    let (_, errors) = canon("siemens", "MCALL CYCLE81(10, 0, 2, -10)\nHOLES1(0, 0, 0, 10, 10)\nHOLES2(0, 0, 5, 0, 0, 1EX9)\nMCALL\nM30\n");
+    assert_eq!(errors, ["syntax::missing-parameter"; 2]);
+}
+
 /// Siemens number notations and system variables, both switched on in `siemens.xml`:
 /// `EX` exponents, `'H..'` and `'B..'` constants, and `$` names for the control's own data,
 /// which read as 0 with a warning and may be written.
