@@ -476,6 +476,7 @@ impl Cx {
             assign_before_reads: false,
             feed_mode_resets_feed: false,
             machine_m_codes: false,
+            resident_programs: false,
             tapping: TapStyle::RPlane,
             magnitude_rounding: false,
             motion_in_place: false,
@@ -503,6 +504,7 @@ impl Cx {
                 "parameter-assignment",
                 "feed-mode-resets-feed",
                 "machine-m-codes",
+                "resident-programs",
                 "tap-retract",
                 "integer-rounding",
                 "unused-words",
@@ -542,6 +544,7 @@ impl Cx {
         b.arc_relative_tolerance = self.attr(el, "arc-relative-tolerance").map(|_| self.number(el, "arc-relative-tolerance", 0.0));
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
+        b.resident_programs = self.bool(el, "resident-programs", false);
         b.motion_in_place = self.either(el, "motion-without-axes", "mode-only", "in-place");
         b.magnitude_rounding = self.either(el, "integer-rounding", "floor-ceiling", "toward-zero");
         b.unused_words_rejected = self.either(el, "unused-words", "ignored", "rejected");

@@ -257,6 +257,12 @@ pub struct Behaviour {
     /// Whether M codes the file does not list are machine-builder functions (recorded with a
     /// note) rather than errors.
     pub machine_m_codes: bool,
+    /// Whether the control keeps programs in its own memory (machine builder's cycles, shop
+    /// macros), so that a program called by an explicit call and found neither in the file
+    /// nor in the program directory may well exist there: a warning that the analysis lacks
+    /// its moves, and the run goes on. Otherwise (LinuxCNC, whose subroutines are files) the
+    /// call is an error, as rs274 makes it.
+    pub resident_programs: bool,
     /// How a tapping cycle leaves the hole.
     pub tapping: TapStyle,
     /// Whether FIX and FUP round toward and away from zero (Fanuc) rather than down and up

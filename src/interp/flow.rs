@@ -439,6 +439,26 @@ impl<'a> Driver<'a, '_> {
         diags.push(d);
     }
 
+    /// The finding for an explicit call to a program found neither in the file nor in the
+    /// program directory. A control that keeps programs in its own memory may hold it: then
+    /// it is a warning that the analysis lacks the program's moves.
+    fn program_not_found(&self, what: String, range: TextRange) -> Diagnostic {
+        if self.dialect.behaviour.resident_programs {
+            let msg = format!(
+                "{what} is neither in this file nor in the program directory; the control may hold it in its memory, but this analysis skips the call and lacks its moves"
+            );
+            let mut d = Diagnostic::new(Code::MissingProgram, range, msg);
+            d.severity = Severity::Warning;
+            d
+        } else {
+            Diagnostic::new(
+                Code::MissingProgram,
+                range,
+                format!("{what} is neither in this file nor in the program directory; the call was skipped"),
+            )
+        }
+    }
+
     fn marks(&mut self, source: usize) -> &[Mark] {
         let dialect = self.dialect;
         let src = &mut self.sources[source];
@@ -1089,15 +1109,17 @@ impl<'a> Driver<'a, '_> {
         let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
         let Some((source, body)) = self.locate(file, starts) else {
             let keyword = c.keyword.map_or(written, |k| &text[k.start as usize..k.end as usize]);
-            let msg = if c.keyword == c.name {
-                format!(
+            let d = if c.keyword == c.name {
+                // A bare name may be a statement this dialect file lacks as well as a program.
+                let msg = format!(
                     "`{keyword}` is neither a statement of the {} dialect nor a program in this file or the program directory; the call was skipped",
                     self.dialect.name
-                )
+                );
+                Diagnostic::new(Code::MissingProgram, block.range, msg)
             } else {
-                format!("program `{written}` is neither in this file nor in the program directory; the call was skipped")
+                self.program_not_found(format!("program `{written}`"), block.range)
             };
-            interp.limited(diags, "program", Diagnostic::new(Code::MissingProgram, block.range, msg));
+            interp.limited(diags, "program", d);
             return;
         };
         // A procedure's body starts at its PROC statement, which binds the arguments.
@@ -1534,12 +1556,13 @@ impl<'a> Driver<'a, '_> {
             Request::Call { program, repeats, macro_call, args, start: first } => {
                 let starts = |m: &Mark| m.program == Some(program) && m.statement.is_none();
                 let Some((source, mut body)) = self.locate(&format!("O{program:04}"), starts) else {
-                    self.error(
-                        diags,
-                        Code::MissingLabel,
-                        block.range,
-                        format!("program O{program:04} is neither in this file nor in the program directory"),
-                    );
+                    let name = format!("program O{program:04}");
+                    if self.dialect.behaviour.resident_programs {
+                        diags.push(self.program_not_found(name, block.range));
+                    } else {
+                        let msg = format!("{name} is neither in this file nor in the program directory");
+                        self.error(diags, Code::MissingLabel, block.range, msg);
+                    }
                     return;
                 };
                 if let Some(n) = first {

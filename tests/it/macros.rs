@@ -208,8 +208,16 @@ fn alarms_missing_labels_and_runaway_loops_stop_with_a_finding() {
     let (_, codes) = moves("fanuc", "GOTO 77\nM30\n");
     assert_eq!(codes, ["flow::missing-label"]);
 
-    let (_, codes) = moves("fanuc", "M98 P4321\nM30\n");
+    // A called program that is not here stops LinuxCNC, whose subroutines are files; a Fanuc
+    // control may hold it in its memory: a warning, and the run goes on past the call.
+    let (_, codes) = moves("linuxcnc", "M98 P4321\nG0 X1\nM30\n");
     assert_eq!(codes, ["flow::missing-label"]);
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let mut canon = Vec::new();
+    let diags = interpret("M98 P4321\nG0 X1.\nM30\n", &d, &Profile::default(), &mut canon);
+    assert_eq!(render(&canon).lines().count(), 1, "the move after the call runs");
+    assert_eq!(diags.iter().map(|d| (d.code.as_str(), d.is_error())).collect::<Vec<_>>(), [("flow::missing-program", false)]);
+    assert!(diags[0].message.contains("the control may hold it in its memory"), "{}", diags[0].message);
 
     let profile = Profile { max_loop_iterations: 1000, ..Profile::default() };
     let (_, codes) = moves_with("fanuc", "WHILE [1 EQ 1] DO 1\nG0 X1.\nEND 1\nM30\n", &profile);
