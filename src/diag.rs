@@ -109,6 +109,9 @@ codes! {
     UndefinedParameter = ("interp::undefined-parameter", Error),
     /// A variable read before it is set, on a control where that reads 0.
     UnsetVariable = ("interp::unset-variable", Warning),
+    /// A length without a decimal point under least-increment input, in a program whose other
+    /// lengths have one: `X118` is 0.118 mm there, which is rarely what was meant.
+    NoDecimalPoint = ("interp::no-decimal-point", Warning),
     /// Division by zero or a function outside its domain.
     ArithmeticError = ("interp::arithmetic", Error),
     /// A canned cycle that lacks its depth or retract plane.

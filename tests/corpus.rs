@@ -29,10 +29,9 @@ fn root() -> PathBuf {
 /// The dialect used for a corpus folder in the checks; `None`: told from each program.
 fn folder_dialect(folder: &str) -> Option<&'static str> {
     match folder {
-        "fanuc" => Some("fanuc"),
         "haas" => Some("haas"),
         "mazak" => Some("mazak"),
-        // Okuma folders hold machining-centre and lathe programs: told from each program.
+        // Fanuc and Okuma folders hold machining-centre and lathe programs: told from each program.
         "siemens" => Some("siemens"),
         "heidenhain" => Some("heidenhain"),
         "linuxcnc" => Some("linuxcnc"),

@@ -477,6 +477,8 @@ impl Cx {
             feed_mode_resets_feed: false,
             machine_m_codes: false,
             resident_programs: false,
+            tool_word_changes: false,
+            initial_feed_per_rev: false,
             tapping: TapStyle::RPlane,
             magnitude_rounding: false,
             motion_in_place: false,
@@ -505,6 +507,8 @@ impl Cx {
                 "feed-mode-resets-feed",
                 "machine-m-codes",
                 "resident-programs",
+                "tool-word-changes",
+                "initial-feed",
                 "tap-retract",
                 "integer-rounding",
                 "unused-words",
@@ -545,6 +549,8 @@ impl Cx {
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
         b.resident_programs = self.bool(el, "resident-programs", false);
+        b.tool_word_changes = self.bool(el, "tool-word-changes", false);
+        b.initial_feed_per_rev = self.either(el, "initial-feed", "per-minute", "per-rev");
         b.motion_in_place = self.either(el, "motion-without-axes", "mode-only", "in-place");
         b.magnitude_rounding = self.either(el, "integer-rounding", "floor-ceiling", "toward-zero");
         b.unused_words_rejected = self.either(el, "unused-words", "ignored", "rejected");
@@ -587,7 +593,7 @@ impl Cx {
         self.shape(el, &[], &["address"]);
         let mut out: Vec<AddressDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "address") {
-            self.shape(c, &["name", "role", "form", "mode", "again"], &[]);
+            self.shape(c, &["name", "role", "form", "mode", "again", "offset-digits"], &[]);
             let (Some(name), Some(role)) = (self.required(c, "name"), self.required(c, "role")) else { continue };
             let name = name.to_ascii_uppercase();
             let symbol = name.len() == 1 && SYMBOL_ADDRESSES.contains(name.as_bytes()[0] as char);
@@ -623,11 +629,21 @@ impl Cx {
                 }
             };
             let again = self.role_attr(c, "again");
+            let offset_digits = self.attr(c, "offset-digits").and_then(|v| match v.parse::<u8>() {
+                Ok(n @ 1..=4) if role == Role::T => Some(n),
+                _ => {
+                    self.error(
+                        Self::attr_range(c, "offset-digits"),
+                        format!("`offset-digits` must be 1 to 4, on a tool address, not `{v}`"),
+                    );
+                    None
+                }
+            });
             if out.iter().any(|a| a.name == name) {
                 self.error(c.range, format!("address `{name}` is declared twice"));
                 continue;
             }
-            out.push(AddressDef { name, role, assign, incremental, again });
+            out.push(AddressDef { name, role, assign, incremental, again, offset_digits });
         }
         out
     }

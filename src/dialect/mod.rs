@@ -263,6 +263,11 @@ pub struct Behaviour {
     /// its moves, and the run goes on. Otherwise (LinuxCNC, whose subroutines are files) the
     /// call is an error, as rs274 makes it.
     pub resident_programs: bool,
+    /// Whether the T word changes the tool at once (a lathe turret indexes on `T0202`, with
+    /// no M6) and puts its offset in force.
+    pub tool_word_changes: bool,
+    /// Whether F is a feed per revolution from the start (a lathe's power-on G99).
+    pub initial_feed_per_rev: bool,
     /// How a tapping cycle leaves the hole.
     pub tapping: TapStyle,
     /// Whether FIX and FUP round toward and away from zero (Fanuc) rather than down and up
@@ -416,6 +421,9 @@ pub struct AddressDef {
     /// The role a second occurrence in one block takes (`T02 T05`: the next tool), if the
     /// address may appear twice.
     pub again: Option<Role>,
+    /// For the tool address: how many last digits name the tool offset rather than the tool
+    /// (a lathe's `T0202`: tool 2, offset 2; `T0200` cancels the offset).
+    pub offset_digits: Option<u8>,
 }
 
 /// What a keyword code reads after itself, before the block's other words.
@@ -691,7 +699,8 @@ impl Dialect {
         self.addresses.sort_by(|a, b| b.name.len().cmp(&a.name.len()).then(a.name.cmp(&b.name)));
         let lex = &self.lexical;
         // Labels (`AB1:`) and variables (`XY1=`) can start like a word; so can a parameter
-        // (`Q1 = 5`), a longer address (`I1=`) or a keyword (`L`, `R0`).
+        // (`Q1 = 5`), a longer address (`I1=`) or a keyword (`L`, `R0`). A letter that is
+        // always incremental (a lathe's `U`) goes the general way, which marks its words so.
         if lex.label_suffix.is_none() && !lex.identifier_variables {
             for c in b'A'..=b'Z' {
                 let ch = Some(c as char);
@@ -701,7 +710,7 @@ impl Dialect {
                 let special = lexer_mark
                     || [lex.control_word, lex.block_number, lex.program_number, lex.program_number_alt].contains(&ch)
                     || lex.parameter.is_some_and(|(s, _)| s.eq_ignore_ascii_case(&(c as char)))
-                    || self.addresses.iter().any(|a| a.name.len() > 1 && a.name.as_bytes()[0] == c)
+                    || self.addresses.iter().any(|a| a.name.as_bytes()[0] == c && (a.name.len() > 1 || a.incremental))
                     || self.codes.iter().filter_map(|k| k.keyword.as_ref()).any(|k| {
                         let t = k.text.as_bytes();
                         t[0] == c && t.get(1).is_none_or(|&n| n.is_ascii_digit() || n == b'.' || n == b' ')

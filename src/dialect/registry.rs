@@ -20,6 +20,8 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),
     ("okuma.xml", include_str!("../../dialects/okuma.xml")),
     ("okuma_lathe.xml", include_str!("../../dialects/okuma_lathe.xml")),
+    ("fanuc_lathe.xml", include_str!("../../dialects/fanuc_lathe.xml")),
+    ("fanuc_lathe_b.xml", include_str!("../../dialects/fanuc_lathe_b.xml")),
     ("fagor.xml", include_str!("../../dialects/fagor.xml")),
     ("centroid.xml", include_str!("../../dialects/centroid.xml")),
     ("mach3.xml", include_str!("../../dialects/mach3.xml")),

@@ -88,6 +88,10 @@ impl Interpreter<'_> {
             }
         }
         self.has_axes = true;
+        if integers_scale {
+            // Every length here has its decimal point (integers went the general way).
+            self.st.length_points = true;
+        }
         // The feed step, as `step(Feed)` does.
         if let Some(f) = feed {
             self.st.feed = f;

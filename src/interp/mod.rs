@@ -19,7 +19,7 @@ mod motion;
 use crate::dialect::DataForm;
 pub use flow::{NoPrograms, ProgramSource, run};
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Units};
 use crate::diag::{Code, Diagnostic, Severity};
@@ -297,6 +297,9 @@ struct State {
     /// Whether the program has read data only the machine has (FN 18): arithmetic faults
     /// after it may come from that data.
     machine_data_read: bool,
+    /// Whether a length with a decimal point has been read under least-increment input:
+    /// after one, a length without (`X118`, 0.118 mm) is suspect.
+    length_points: bool,
 }
 
 /// What decides how a run goes on from a point: the parameters, the modes, the saved modes
@@ -328,6 +331,9 @@ pub struct Interpreter<'a> {
     origin: TextRange,
     line: u32,
     notes: BTreeMap<String, u32>,
+    /// The limited findings met so far (range and message), so that a loop's later passes
+    /// over the same block do not count again.
+    noted: BTreeSet<(u32, u32, String)>,
     after_end_noted: bool,
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
@@ -402,7 +408,7 @@ impl<'a> Interpreter<'a> {
                 ended: false,
                 tech_warned: false,
                 inverse_time: false,
-                feed_per_rev: false,
+                feed_per_rev: dialect.behaviour.initial_feed_per_rev,
                 motion_continued: false,
                 rotation: None,
                 scaling: None,
@@ -420,6 +426,7 @@ impl<'a> Interpreter<'a> {
                 spindle_limit: None,
                 cycle_initial: None,
                 machine_data_read: false,
+                length_points: false,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -438,6 +445,7 @@ impl<'a> Interpreter<'a> {
             origin: TextRange::default(),
             line: 0,
             notes: BTreeMap::new(),
+            noted: BTreeSet::new(),
             after_end_noted: false,
             request: None,
             depth: 0,
@@ -679,8 +687,12 @@ impl<'a> Interpreter<'a> {
         d
     }
 
-    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind.
+    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind; the same finding again (a
+    /// loop's next pass) is neither reported nor counted.
     fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &str, d: Diagnostic) {
+        if !self.noted.insert((d.range.start, d.range.end, d.message.clone())) {
+            return;
+        }
         let n = match self.notes.get_mut(key) {
             Some(n) => n,
             None => self.notes.entry(key.to_owned()).or_insert(0),
@@ -841,10 +853,14 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Before the first block: a control that starts in another plane than XY (a lathe in
-    /// ZX) says so, as its program would, so that the canon is read in the right plane.
+    /// ZX), or with feed per revolution, says so, as its program would, so that the canon is
+    /// read in the right plane and feed mode.
     fn start(&mut self, sink: &mut dyn CanonSink) {
         if self.st.plane != Plane::Xy {
             self.emit(sink, CanonOp::SelectPlane(self.st.plane));
+        }
+        if self.st.feed_per_rev {
+            self.emit(sink, CanonOp::SetFeedMode(FeedMode::PerRevolution));
         }
     }
 
@@ -980,11 +996,24 @@ impl<'a> Interpreter<'a> {
                     }
                 },
             };
-            if let (Value::Number { decimal: false, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
+            if let (Value::Number { decimal, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
                 (w.value, &self.dialect.behaviour.decimal_input)
                 && scaled.contains(&role)
             {
-                v *= if units == Units::Mm { *mm } else { *inch };
+                if decimal {
+                    self.st.length_points = true;
+                } else {
+                    if v != 0.0 && self.st.length_points {
+                        let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                        let unit = if units == Units::Mm { "mm" } else { "inch" };
+                        let scaled_to = (v * if units == Units::Mm { *mm } else { *inch } * 1e9).round() / 1e9;
+                        let msg = format!(
+                            "`{shown}` has no decimal point: least-increment input reads it as {scaled_to} {unit}, while this program writes its other lengths with points; if {v} {unit} was meant, write `{shown}.` (or, if the machine reads whole numbers as units, set its decimal_input to calculator in the config)"
+                        );
+                        self.limited(diags, "no-decimal-point", Diagnostic::new(Code::NoDecimalPoint, w.range, msg));
+                    }
+                    v *= if units == Units::Mm { *mm } else { *inch };
+                }
             }
             if diameter && role == Role::X {
                 v /= 2.0;
@@ -1397,8 +1426,7 @@ impl<'a> Interpreter<'a> {
                             "a tool number must be a whole number of zero or more",
                         ));
                     } else {
-                        self.st.selected_tool = t as u32;
-                        self.emit(sink, CanonOp::SelectTool(t as u32));
+                        self.tool_word(t, sink);
                     }
                 }
             }
@@ -1646,6 +1674,11 @@ impl<'a> Interpreter<'a> {
             Meaning::SpindleLimit => {
                 if let Some(max) = self.slot(Role::S) {
                     self.set_spindle_limit(max, sink);
+                }
+                // A lathe's `G50 X.. Z..` (G-code system A) also sets the coordinate system,
+                // as G92 does, where the dictionary lets the code take axis words.
+                if Role::AXES.iter().any(|&r| self.slot(r).is_some() && def.params.takes(r)) {
+                    self.origin_shift(sink);
                 }
             }
             Meaning::SpindleCss => {
@@ -1993,6 +2026,39 @@ impl<'a> Interpreter<'a> {
         }
         self.st.tool_offset = offsets;
         self.emit(sink, CanonOp::UseToolLengthOffset(offsets));
+    }
+
+    /// A T word: selects the tool. Where the dictionary splits the word (`T0202`), its last
+    /// digits name the offset; where the T word changes the tool (a turret), the change and
+    /// the offset take effect at once, the program position kept as after a tool change.
+    fn tool_word(&mut self, t: f64, sink: &mut dyn CanonSink) {
+        let digits = self.dialect.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits);
+        let (tool, offset) = match digits {
+            Some(d) => {
+                let base = 10u32.pow(u32::from(d));
+                let t = t as u64;
+                ((t / u64::from(base)).min(u64::from(u32::MAX)) as u32, Some((t % u64::from(base)) as u32))
+            }
+            None => (t.min(f64::from(u32::MAX)) as u32, None),
+        };
+        self.st.selected_tool = tool;
+        self.emit(sink, CanonOp::SelectTool(tool));
+        if !self.dialect.behaviour.tool_word_changes {
+            return;
+        }
+        if tool != self.st.tool {
+            self.st.tool = tool;
+            self.emit(sink, CanonOp::ChangeTool(tool));
+        }
+        let offsets = match offset {
+            Some(0) => [0.0; 3],
+            Some(n) => self.tool_offsets(n),
+            None => self.tool_offsets(tool),
+        };
+        if offsets != self.st.tool_offset {
+            self.st.tool_offset = offsets;
+            self.emit(sink, CanonOp::UseToolLengthOffset(offsets));
+        }
     }
 
     /// Tool `n`'s offsets along X, Y and Z in program units: X and Y as the program set them

@@ -459,6 +459,9 @@ impl Lexer<'_, '_> {
         };
         let value = if assigned { self.assigned_value(start) } else { self.value(start).map(|v| (v, WordMode::Modal)) };
         if let Some((value, mode)) = value {
+            // A letter that is always incremental (a lathe's `U`) marks its words so.
+            let always_incremental = self.dialect.addresses.iter().any(|a| a.incremental && a.name.as_bytes() == [letter]);
+            let mode = if mode == WordMode::Modal && always_incremental { WordMode::Incremental } else { mode };
             self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
         }
     }

@@ -612,6 +612,47 @@ fn okuma_lathe_reads_diameters_in_the_zx_plane() {
     assert_eq!(Registry::shipped().sniff(program, Some("SHAFT.MIN"), "fanuc").dialect, "okuma_lathe");
 }
 
+/// A Fanuc lathe in G-code system A, by dictionary alone: diameters, U/W increments, a
+/// turret that changes on the T word (`T0202`: tool 2, offset 2), feed per revolution from
+/// the start, G50 S as the speed limit and G50 X Z as the coordinate system; in system B,
+/// G92 S, G90/G91 and G94/G95 instead.
+#[test]
+fn fanuc_lathe_reads_diameters_turret_tools_and_its_own_codes() {
+    let program = "%\nO0358\nG50 S2000\nT0202\nG96 S200 M3\nG0 X50. Z2.\nG1 Z-20. F0.2\nU10. W-5.\nX70\nG0 X100. Z100. T0200\nT0505\nG97 S500\nG0 X40. Z5.\nG32 Z-10. F1.5\nG50 X100. Z50.\nG0 X80.\nM30\n%\n";
+    let (text, diags) = every_call("fanuc_lathe", program);
+    assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
+    assert!(text.starts_with("SELECT_PLANE(CANON_PLANE_XZ)\nSET_FEED_MODE(0, 1)\n"), "{text}");
+    // The turret indexes on T: no M6.
+    assert!(text.contains("SELECT_TOOL(2)\nCHANGE_TOOL(2)\n"), "{text}");
+    assert!(text.contains("SELECT_TOOL(5)\nCHANGE_TOOL(5)\n"), "{text}");
+    assert_eq!(text.matches("CHANGE_TOOL(2)").count(), 1, "T0200 cancels the offset and keeps tool 2: {text}");
+    // Diameters: X50. is 25 from the axis; U10. W-5. moves 5 out and 5 along Z.
+    assert!(text.contains("STRAIGHT_TRAVERSE(25.0000, 0.0000, 2.0000,"), "{text}");
+    assert!(text.contains("STRAIGHT_FEED(30.0000, 0.0000, -25.0000,"), "{text}");
+    // `X70` without a point beside lengths with one: 70 µm, and a warning that says so.
+    assert!(text.contains("STRAIGHT_FEED(0.0350, 0.0000, -25.0000,"), "{text}");
+    let warning = diags.iter().find(|d| d.code.as_str() == "interp::no-decimal-point").expect("a warning for X70");
+    assert!(warning.message.contains("0.07 mm") && warning.message.contains("write `X70.`"), "{}", warning.message);
+    // G50 S limits the speed under G96; G32 cuts the thread synchronised with the spindle.
+    assert!(text.contains("SET_SPINDLE_MODE(0 2000.0000)"), "{text}");
+    assert!(text.contains("START_SPEED_FEED_SYNC(1.500000,0)\nSTRAIGHT_FEED(20.0000, 0.0000, -10.0000,"), "{text}");
+    // G50 X100. Z50. makes the position there (X20 Z-10 from the axis and origin) X100
+    // (diameter) Z50, as G92 does: an offset of -30 and -60, and X80. is 40 from the new axis.
+    assert!(
+        text.contains("SET_G92_OFFSET(-30.0000, 0.0000, -60.0000, 0.0000, 0.0000, 0.0000)\nSTRAIGHT_TRAVERSE(40.0000, 0.0000, 50.0000,"),
+        "{text}"
+    );
+
+    // System B: G92 S is the limit, G95 feed per revolution, G90 absolute; U is no increment.
+    let b = "G92 S1500\nG95\nG90 G0 X40. Z2.\nG91 G1 Z-10. F0.2\nM30\n";
+    let (text, diags) = every_call("fanuc_lathe_b", b);
+    assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
+    assert!(text.contains("STRAIGHT_FEED(20.0000, 0.0000, -8.0000,"), "{text}");
+    let shipped = Registry::shipped();
+    assert_eq!(shipped.sniff(program, Some("O0358.NC"), "fanuc").dialect, "fanuc_lathe");
+    assert_eq!(shipped.sniff(b, Some("O0001.NC"), "fanuc").dialect, "fanuc_lathe_b");
+}
+
 #[test]
 fn the_tool_radius_and_diameter_read_the_tool_table() {
     let mut profile = Profile::default();
