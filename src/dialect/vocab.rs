@@ -65,6 +65,16 @@ vocab! {
         CycleFineBore = "cycle-fine-bore",
         /// Threading cycle (LinuxCNC G76, lathe).
         CycleThread = "cycle-thread",
+        /// A lathe's single-pass turning cycle (Fanuc G90): rapid in X to the target (plus the
+        /// taper R, a radius), feed along Z to the target, feed back out in X, rapid back in Z.
+        /// Modal: a following block with only X repeats it; X, Z and R carry over.
+        CycleTurn = "cycle-turn",
+        /// A lathe's single-pass facing cycle (Fanuc G94): rapid in Z to the target (plus the
+        /// taper R), feed in X to the target, feed back in Z, rapid back out in X. Modal.
+        CycleFace = "cycle-face",
+        /// A lathe's single-pass threading cycle (Fanuc G92): rapid in X, one threaded pass
+        /// along Z (F the lead), rapid out in X, rapid back in Z. Modal.
+        CycleThreadPass = "cycle-thread-pass",
         /// Cancel the canned cycle (G80).
         CycleCancel = "cycle-cancel",
         /// Spindle-synchronised motion (G33): K is the advance per revolution.

@@ -251,6 +251,9 @@ struct State {
     pos: [f64; 6],
     sticky_r: Option<f64>,
     sticky_z: Option<f64>,
+    /// A lathe's single-pass cycle in force: its X (radius) and Z targets and taper, which a
+    /// following block repeats with what it changes.
+    turn_cycle: Option<[f64; 3]>,
     sticky_q: Option<f64>,
     sticky_p: Option<f64>,
     ended: bool,
@@ -403,6 +406,7 @@ impl<'a> Interpreter<'a> {
                 pos: [0.0; 6],
                 sticky_r: None,
                 sticky_z: None,
+                turn_cycle: None,
                 sticky_q: None,
                 sticky_p: None,
                 ended: false,
@@ -1846,12 +1850,16 @@ impl<'a> Interpreter<'a> {
                     | Meaning::SpindleSync
                     | Meaning::RigidTap
                     | Meaning::CycleThread
+                    | Meaning::CycleTurn
+                    | Meaning::CycleFace
+                    | Meaning::CycleThreadPass
                     | Meaning::Probe
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);
                 if !self.st.motion_continued {
                     self.st.sticky_z = None;
+                    self.st.turn_cycle = None;
                 }
                 if !m.is_cycle() {
                     self.st.cycle_initial = None;

@@ -147,6 +147,7 @@ impl Interpreter<'_> {
             }
             Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),
             Meaning::CycleThread => self.threading_cycle(def, range, sink, diags),
+            Meaning::CycleTurn | Meaning::CycleFace | Meaning::CycleThreadPass => self.single_pass_cycle(def, range, sink, diags),
             Meaning::Probe => self.probe(def, range, sink, diags),
             Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
             Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
@@ -194,6 +195,51 @@ impl Interpreter<'_> {
             self.st.pos = t;
         }
         self.emit(sink, CanonOp::StopSpeedFeedSync);
+    }
+
+    /// A lathe's single-pass cycle (Fanuc G90, G94, G92): four moves from the start point and
+    /// back to it. X is the radial axis, Z the axis of turning. Words the block leaves out
+    /// keep the cycle's previous X, Z and taper R.
+    fn single_pass_cycle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let t = self.target();
+        let previous = self.st.turn_cycle;
+        let given = |role: Role| self.slots[role as usize].is_some();
+        let x = if given(Role::X) { t[0] } else { previous.map_or(t[0], |p| p[0]) };
+        let z = if given(Role::Z) { t[2] } else { previous.map_or(t[2], |p| p[1]) };
+        let r = self.slot(Role::R).or(previous.map(|p| p[2])).unwrap_or(0.0);
+        self.st.turn_cycle = Some([x, z, r]);
+        let start = self.st.pos;
+        let at = |x: f64, z: f64| {
+            let mut p = start;
+            (p[0], p[2]) = (x, z);
+            p
+        };
+        let thread = def.meaning == Meaning::CycleThreadPass;
+        if thread && !self.spindle_turns(def, range, diags) {
+            return;
+        }
+        if !thread {
+            self.check_technology(def, range, diags);
+        }
+        let moves = match def.meaning {
+            // Rapid to the cut's start, feed to the target, feed out, rapid back.
+            Meaning::CycleTurn => [(at(x + r, start[2]), true), (at(x, z), false), (at(start[0], z), false), (start, true)],
+            Meaning::CycleFace => [(at(start[0], z + r), true), (at(x, z), false), (at(x, start[2]), false), (start, true)],
+            _ => [(at(x + r, start[2]), true), (at(x, z), false), (at(start[0], z), true), (start, true)],
+        };
+        for (i, (p, rapid)) in moves.into_iter().enumerate() {
+            if thread && i == 1 {
+                let lead = self.slot(Role::F).unwrap_or(self.st.feed);
+                self.emit(sink, CanonOp::StartSpeedFeedSync(lead));
+                self.emit(sink, CanonOp::StraightFeed(p));
+                self.emit(sink, CanonOp::StopSpeedFeedSync);
+            } else if rapid {
+                self.emit(sink, CanonOp::StraightTraverse(p));
+            } else {
+                self.emit(sink, CanonOp::StraightFeed(p));
+            }
+            self.st.pos = p;
+        }
     }
 
     /// Whether the spindle turns, as a move synchronised with it needs; else an error (the

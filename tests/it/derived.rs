@@ -653,6 +653,62 @@ fn fanuc_lathe_reads_diameters_turret_tools_and_its_own_codes() {
     assert_eq!(shipped.sniff(b, Some("O0001.NC"), "fanuc").dialect, "fanuc_lathe_b");
 }
 
+/// A Fanuc lathe's single-pass cycles, modal and with their data carried over: G90 turns
+/// (rapid in, feed along Z, feed out, rapid back), G94 faces, G92 threads one pass; R is the
+/// taper as a radius.
+#[test]
+fn fanuc_lathe_single_pass_cycles_run_as_four_moves() {
+    let program = "T0101\nG97 S800 M3\nG0 X52. Z2.\nG90 X48. Z-30. F0.25\nX44.\nX40. R-2.\nG0 X52. Z2.\nG94 X20. Z-2. F0.2\nZ-4.\nG0 X40. Z5.\nG92 X38. Z-20. F1.5\nX37.4\nM30\n";
+    let (text, diags) = every_call("fanuc_lathe", program);
+    assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
+    let moves: Vec<String> = text
+        .lines()
+        .filter(|l| l.starts_with("STRAIGHT") || l.starts_with("START_SPEED"))
+        .map(|l| l.replace(", 0.0000, 0.0000, 0.0000)", ")").replace(".0000", ""))
+        .collect();
+    let expected = [
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        // G90 X48. Z-30.: the start point is X26 Z2 (radii).
+        "STRAIGHT_TRAVERSE(24, 0, 2)",
+        "STRAIGHT_FEED(24, 0, -30)",
+        "STRAIGHT_FEED(26, 0, -30)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        // X44.: again, to Z-30.
+        "STRAIGHT_TRAVERSE(22, 0, 2)",
+        "STRAIGHT_FEED(22, 0, -30)",
+        "STRAIGHT_FEED(26, 0, -30)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        // X40. R-2.: a taper from radius 18 at the start to 20 at Z-30.
+        "STRAIGHT_TRAVERSE(18, 0, 2)",
+        "STRAIGHT_FEED(20, 0, -30)",
+        "STRAIGHT_FEED(26, 0, -30)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        // G94 X20. Z-2.: in along Z, feed down to X10, back along Z, out.
+        "STRAIGHT_TRAVERSE(26, 0, -2)",
+        "STRAIGHT_FEED(10, 0, -2)",
+        "STRAIGHT_FEED(10, 0, 2)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        "STRAIGHT_TRAVERSE(26, 0, -4)",
+        "STRAIGHT_FEED(10, 0, -4)",
+        "STRAIGHT_FEED(10, 0, 2)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        "STRAIGHT_TRAVERSE(20, 0, 5)",
+        // G92: one threaded pass with the spindle, F the lead; out and back at rapid.
+        "STRAIGHT_TRAVERSE(19, 0, 5)",
+        "START_SPEED_FEED_SYNC(1.500000,0)",
+        "STRAIGHT_FEED(19, 0, -20)",
+        "STRAIGHT_TRAVERSE(20, 0, -20)",
+        "STRAIGHT_TRAVERSE(20, 0, 5)",
+        "STRAIGHT_TRAVERSE(18.7000, 0, 5)",
+        "START_SPEED_FEED_SYNC(1.500000,0)",
+        "STRAIGHT_FEED(18.7000, 0, -20)",
+        "STRAIGHT_TRAVERSE(20, 0, -20)",
+        "STRAIGHT_TRAVERSE(20, 0, 5)",
+    ];
+    assert_eq!(moves, expected, "{text}");
+}
+
 #[test]
 fn the_tool_radius_and_diameter_read_the_tool_table() {
     let mut profile = Profile::default();
