@@ -803,6 +803,7 @@ impl Cx {
                         "exclusive",
                         "forms",
                         "gives-way",
+                        "args",
                     ],
                     &[],
                 );
@@ -867,10 +868,31 @@ impl Cx {
                 };
                 let forms = self.forms(c);
                 let gives_way = self.bool(c, "gives-way", false);
-                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms, gives_way });
+                let args = self.code_args(c, addresses);
+                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms, gives_way, args });
             }
         }
         (groups, codes)
+    }
+
+    /// `args="I:pattern-radius L:pattern-count"`: the role each listed address's value has for
+    /// this code. The addresses must be among the code's parameters.
+    fn code_args(&mut self, c: &Element, addresses: &[AddressDef]) -> Vec<(Role, Role)> {
+        let Some(list) = self.attr(c, "args") else { return Vec::new() };
+        let mut out = Vec::new();
+        for item in list.split_ascii_whitespace() {
+            let pair = item.split_once(':').and_then(|(a, r)| {
+                let from = addresses.iter().find(|x| x.name.eq_ignore_ascii_case(a))?.role;
+                let to = Role::parse(r).filter(|r| !r.is_internal())?;
+                Some((from, to))
+            });
+            match pair {
+                Some(pair) => out.push(pair),
+                None => self
+                    .error(Self::attr_range(c, "args"), format!("`{item}` is not ADDRESS:role with a declared address and a known role")),
+            }
+        }
+        out
     }
 
     /// `forms="2:wcs 20:wcs-here 1:tool"`: what a data-setting code sets for each L value.

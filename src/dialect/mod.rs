@@ -495,6 +495,9 @@ pub struct CodeDef {
     /// Whether another code of its group in the same block replaces it instead of being an
     /// error (LinuxCNC's `G80 G0`).
     pub gives_way: bool,
+    /// The roles the code gives its words' values (`I:pattern-radius`: Haas G70's I is the
+    /// radius of its bolt circle, whatever I means elsewhere).
+    pub args: Vec<(Role, Role)>,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.

@@ -10,6 +10,7 @@ use super::cycle::HoleRun;
 use crate::canon::{CanonOp, CanonSink, CycleKind, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
+use crate::syntax::Block;
 use crate::text::TextRange;
 
 /// A cycle waiting to be called.
@@ -293,6 +294,57 @@ impl Interpreter<'_> {
 /// Positions a pattern may have at most: a count past this is a slip, not a part.
 const MAX_PATTERN_POINTS: f64 = 10_000.0;
 
+impl Interpreter<'_> {
+    /// A hole pattern a code states (Haas `G70 I1.5 J0 L6`): about the current position
+    /// unless the code's words place it, the canned cycle in force makes a hole at each
+    /// position, as a block naming that position would.
+    pub(super) fn code_pattern(
+        &mut self,
+        def: &CodeDef,
+        range: TextRange,
+        block: &Block,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(cycle) = self.st.motion_code.filter(|&c| self.code(c).meaning.is_cycle()) else {
+            let msg = format!("{} drills with the canned cycle in force (G81 to G89), and none is; the pattern is skipped", def.label());
+            diags.push(Diagnostic::new(Code::CycleIncomplete, range, msg));
+            return;
+        };
+        let (a0, a1, _) = self.st.plane.axes();
+        let mut args: Vec<(Role, f64)> = def.args.iter().filter_map(|&(from, to)| self.slot(from).map(|v| (to, v))).collect();
+        for (role, axis) in [(Role::PatternX, a0), (Role::PatternY, a1)] {
+            if !args.iter().any(|(r, _)| *r == role) {
+                args.push((role, self.st.pos[axis]));
+            }
+        }
+        let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
+        let points = match pattern_points(def.meaning, get) {
+            Ok(points) => points,
+            Err(problem) => {
+                diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{}: {problem}; the pattern is skipped", def.label())));
+                return;
+            }
+        };
+        // The block's own words are the pattern's: the cycle sees only the position (its L
+        // would be a repeat count).
+        let saved = self.slots;
+        let filled = self.filled;
+        for (x, y) in points {
+            self.slots = [None; Role::COUNT];
+            let incremental = self.st.distance == crate::canon::DistanceMode::Incremental;
+            for (axis, v) in [(a0, x), (a1, y)] {
+                let value = if incremental { v - self.st.pos[axis] } else { v };
+                self.slots[Role::AXES[axis] as usize] = Some(super::Slot { value, range, mode: crate::syntax::WordMode::Modal });
+            }
+            let cycle_def = self.code(cycle);
+            self.cycle(cycle_def, range, block, sink, diags);
+        }
+        self.slots = saved;
+        self.filled = filled;
+    }
+}
+
 /// Whether a cycle of this meaning is a hole pattern.
 fn pattern_kind(meaning: Meaning) -> bool {
     matches!(meaning, Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid)
@@ -321,11 +373,13 @@ fn pattern_points(meaning: Meaning, get: impl Fn(Role) -> Option<f64>) -> Result
         }
         Meaning::PatternCircle => {
             let n = count(Role::PatternCount, "the number of holes")?;
+            // A negative radius runs the circle clockwise (Haas `I-1.5`).
             let radius = get(Role::PatternRadius).unwrap_or(0.0);
             let step = match get(Role::PatternStepAngle).unwrap_or(0.0) {
                 0.0 => 360.0 / n as f64,
                 a => a,
-            };
+            } * radius.signum();
+            let radius = radius.abs();
             (0..n)
                 .map(|i| {
                     let a = angle + (i as f64 * step).to_radians();

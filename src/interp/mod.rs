@@ -1954,6 +1954,7 @@ impl<'a> Interpreter<'a> {
                 self.st.machine_data_read = true;
                 self.limited(diags, "machine-data-read", Diagnostic::new(Code::Unsupported, range, msg));
             }
+            Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
             Meaning::CycleIntent => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));

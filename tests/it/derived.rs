@@ -439,6 +439,37 @@ fn siemens_hole_patterns_run_the_modal_cycle_at_each_position() {
     assert_eq!(errors, ["syntax::missing-parameter"; 2]);
 }
 
+/// Haas bolt-hole patterns through the code's own argument roles (`args="I:pattern-radius
+/// ..."`): G70 spreads L holes on a circle of radius I from angle J about the current
+/// position, G71 steps K degrees (a negative I runs clockwise); the canned cycle in force
+/// drills each. Without a canned cycle, the pattern is named and skipped.
+#[test]
+fn haas_bolt_hole_patterns_drill_with_the_canned_cycle_in_force() {
+    let program =
+        "T1 M6\nG0 G90 G54 X0. Y0. S1000 M3\nG43 H1 Z1.\nG81 G98 Z-0.5 R0.1 F10. L0\nG70 I1. J0. L4\nG71 I-2. J90. K30. L3\nG80\nM30\n";
+    let (text, errors) = canon("haas", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let holes: Vec<&str> = text.lines().filter(|l| l.starts_with("STRAIGHT_FEED")).collect();
+    assert_eq!(
+        holes,
+        [
+            // L0 on the G81 block: no hole at the centre; then four on the circle from 3 o'clock.
+            "STRAIGHT_FEED(1.0000, 0.0000, -0.5000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(0.0000, 1.0000, -0.5000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(-1.0000, 0.0000, -0.5000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(0.0000, -1.0000, -0.5000, 0.0000, 0.0000, 0.0000)",
+            // About the last hole, X0 Y-1 (a G0 would end the canned cycle), radius 2, from 90°
+            // clockwise by 30°: three holes on an arc.
+            "STRAIGHT_FEED(0.0000, 1.0000, -0.5000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(1.0000, 0.7321, -0.5000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(1.7321, 0.0000, -0.5000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{text}"
+    );
+    let (_, errors) = canon("haas", "G0 X0. Y0. Z1.\nG70 I1. J0. L4\nM30\n");
+    assert_eq!(errors, ["interp::cycle-incomplete"]);
+}
+
 /// Siemens number notations and system variables, both switched on in `siemens.xml`:
 /// `EX` exponents, `'H..'` and `'B..'` constants, and `$` names for the control's own data,
 /// which read as 0 with a warning and may be written.
