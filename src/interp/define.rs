@@ -4,13 +4,16 @@
 //! A defined cycle states its geometry by planes rather than by R and Z words: a reference
 //! plane (the surface), a safety distance above it, a depth (absolute or below the surface)
 //! and a retract plane. The moves are the same as those of the G8x cycles (`cycle.rs`).
+//!
+//! Hole patterns (`HOLES1`, `HOLES2`, `CYCLE801`; Haas `G70`/`G71`) give the positions at
+//! which the cycle in force runs: the modal defined cycle, or the G8x cycle.
 
-use super::Interpreter;
 use super::cycle::HoleRun;
-use crate::canon::{CanonOp, CanonSink, CycleKind, Units};
+use super::{Interpreter, Slot};
+use crate::canon::{CanonOp, CanonSink, CycleKind, DistanceMode, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
-use crate::syntax::Block;
+use crate::syntax::{Block, WordMode};
 use crate::text::TextRange;
 
 /// A cycle waiting to be called.
@@ -119,14 +122,7 @@ impl Interpreter<'_> {
     /// current height, rapid, and the modal cycle there if one is on.
     fn run_pattern(&mut self, ci: usize, args: &[(Role, f64)], range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let cycle = &self.dialect.cycles[ci];
-        let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
-        let points = match pattern_points(cycle.meaning, get) {
-            Ok(points) => points,
-            Err(problem) => {
-                diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{}: {problem}; the pattern is skipped", cycle.name)));
-                return;
-            }
-        };
+        let Some(points) = pattern_at(&cycle.name, cycle.meaning, args, range, diags) else { return };
         let (a0, a1, _) = self.st.plane.axes();
         for (x, y) in points {
             let mut p = self.st.pos;
@@ -139,6 +135,47 @@ impl Interpreter<'_> {
                 self.call_defined(range, sink, diags);
             }
         }
+    }
+
+    /// A hole pattern a code states (Haas `G70 I1.5 J0 L6`): about the current position
+    /// unless the code's words place it, the canned cycle in force makes a hole at each
+    /// position, as a block naming that position would.
+    pub(super) fn code_pattern(
+        &mut self,
+        def: &CodeDef,
+        range: TextRange,
+        block: &Block,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(cycle) = self.st.motion_code.filter(|&c| self.code(c).meaning.is_cycle()) else {
+            let msg = format!("{} drills with the canned cycle in force (G81 to G89), and none is; the pattern is skipped", def.label());
+            diags.push(Diagnostic::new(Code::CycleIncomplete, range, msg));
+            return;
+        };
+        let (a0, a1, _) = self.st.plane.axes();
+        let mut args: Vec<(Role, f64)> = def.args.iter().filter_map(|&(from, to)| self.slot(from).map(|v| (to, v))).collect();
+        for (role, axis) in [(Role::PatternX, a0), (Role::PatternY, a1)] {
+            if !args.iter().any(|(r, _)| *r == role) {
+                args.push((role, self.st.pos[axis]));
+            }
+        }
+        let Some(points) = pattern_at(&def.label(), def.meaning, &args, range, diags) else { return };
+        // The block's own words are the pattern's: the cycle sees only the position (its L
+        // would be a repeat count).
+        let (saved, filled) = (self.slots, self.filled);
+        let incremental = self.st.distance == DistanceMode::Incremental;
+        for (x, y) in points {
+            self.slots = [None; Role::COUNT];
+            for (axis, v) in [(a0, x), (a1, y)] {
+                let value = if incremental { v - self.st.pos[axis] } else { v };
+                self.slots[Role::AXES[axis] as usize] = Some(Slot { value, range, mode: WordMode::Modal });
+            }
+            let cycle_def = self.code(cycle);
+            self.cycle(cycle_def, range, block, sink, diags);
+        }
+        self.slots = saved;
+        self.filled = filled;
     }
 
     /// Runs the defined cycle at the current position.
@@ -294,55 +331,19 @@ impl Interpreter<'_> {
 /// Positions a pattern may have at most: a count past this is a slip, not a part.
 const MAX_PATTERN_POINTS: f64 = 10_000.0;
 
-impl Interpreter<'_> {
-    /// A hole pattern a code states (Haas `G70 I1.5 J0 L6`): about the current position
-    /// unless the code's words place it, the canned cycle in force makes a hole at each
-    /// position, as a block naming that position would.
-    pub(super) fn code_pattern(
-        &mut self,
-        def: &CodeDef,
-        range: TextRange,
-        block: &Block,
-        sink: &mut dyn CanonSink,
-        diags: &mut Vec<Diagnostic>,
-    ) {
-        let Some(cycle) = self.st.motion_code.filter(|&c| self.code(c).meaning.is_cycle()) else {
-            let msg = format!("{} drills with the canned cycle in force (G81 to G89), and none is; the pattern is skipped", def.label());
-            diags.push(Diagnostic::new(Code::CycleIncomplete, range, msg));
-            return;
-        };
-        let (a0, a1, _) = self.st.plane.axes();
-        let mut args: Vec<(Role, f64)> = def.args.iter().filter_map(|&(from, to)| self.slot(from).map(|v| (to, v))).collect();
-        for (role, axis) in [(Role::PatternX, a0), (Role::PatternY, a1)] {
-            if !args.iter().any(|(r, _)| *r == role) {
-                args.push((role, self.st.pos[axis]));
-            }
-        }
-        let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
-        let points = match pattern_points(def.meaning, get) {
-            Ok(points) => points,
-            Err(problem) => {
-                diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{}: {problem}; the pattern is skipped", def.label())));
-                return;
-            }
-        };
-        // The block's own words are the pattern's: the cycle sees only the position (its L
-        // would be a repeat count).
-        let saved = self.slots;
-        let filled = self.filled;
-        for (x, y) in points {
-            self.slots = [None; Role::COUNT];
-            let incremental = self.st.distance == crate::canon::DistanceMode::Incremental;
-            for (axis, v) in [(a0, x), (a1, y)] {
-                let value = if incremental { v - self.st.pos[axis] } else { v };
-                self.slots[Role::AXES[axis] as usize] = Some(super::Slot { value, range, mode: crate::syntax::WordMode::Modal });
-            }
-            let cycle_def = self.code(cycle);
-            self.cycle(cycle_def, range, block, sink, diags);
-        }
-        self.slots = saved;
-        self.filled = filled;
-    }
+/// The positions of the pattern `name` states with `args`; none, with a finding that says
+/// why, when they do not make one.
+fn pattern_at(
+    name: &str,
+    meaning: Meaning,
+    args: &[(Role, f64)],
+    range: TextRange,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Vec<(f64, f64)>> {
+    let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
+    pattern_points(meaning, get)
+        .map_err(|problem| diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{name}: {problem}; the pattern is skipped"))))
+        .ok()
 }
 
 /// Whether a cycle of this meaning is a hole pattern.
