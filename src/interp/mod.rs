@@ -334,7 +334,7 @@ pub struct Interpreter<'a> {
     origin: TextRange,
     line: u32,
     notes: BTreeMap<String, u32>,
-    /// The limited findings met so far (range and message), so that a loop's later passes
+    /// The limited findings listed so far (range and message), so that a loop's later passes
     /// over the same block do not count again.
     noted: BTreeSet<(u32, u32, String)>,
     after_end_noted: bool,
@@ -691,10 +691,12 @@ impl<'a> Interpreter<'a> {
         d
     }
 
-    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind; the same finding again (a
-    /// loop's next pass) is neither reported nor counted.
+    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind, and counts the rest. A
+    /// listed finding met again (a loop's next pass) is neither listed nor counted; only the
+    /// listed ones are remembered, so memory stays bounded on any program.
     fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &str, d: Diagnostic) {
-        if !self.noted.insert((d.range.start, d.range.end, d.message.clone())) {
+        let listed = (d.range.start, d.range.end, d.message);
+        if self.noted.contains(&listed) {
             return;
         }
         let n = match self.notes.get_mut(key) {
@@ -703,6 +705,8 @@ impl<'a> Interpreter<'a> {
         };
         *n += 1;
         if *n <= NOTE_LIMIT {
+            let d = Diagnostic { message: listed.2.clone(), ..d };
+            self.noted.insert(listed);
             diags.push(d);
         }
     }
