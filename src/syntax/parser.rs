@@ -415,6 +415,9 @@ impl Lexer<'_, '_> {
         let named_call = self.dialect.macros.call_by_name
             && self.dialect.letter_role(letter).is_none()
             && next.is_some_and(|x| x.is_ascii_digit() || x == b'_');
+        if self.dialect.letter_role(letter).is_some() && self.not_a_number_after(start + 1) {
+            return;
+        }
         if (next.is_some_and(|x| x.is_ascii_alphabetic()) && !param_value) || named_call {
             self.keyword_statement(start);
             return;
@@ -631,6 +634,27 @@ impl Lexer<'_, '_> {
     }
 
     /// The end of an identifier (letters, digits, `_`) starting at `at`.
+    /// `Xnan`, `Y-inf`: what a post writes for a value it could not compute. A finding that
+    /// says so, and the word is skipped; false, with nothing read, for anything else.
+    fn not_a_number_after(&mut self, at: usize) -> bool {
+        let from = at + usize::from(matches!(self.b.get(at), Some(b'+' | b'-')));
+        let end = self.b[from.min(self.b.len())..].iter().position(|c| !c.is_ascii_alphanumeric()).map_or(self.b.len(), |p| from + p);
+        let word = &self.b[from.min(end)..end];
+        if !(word.eq_ignore_ascii_case(b"nan") || word.eq_ignore_ascii_case(b"inf")) {
+            return false;
+        }
+        let start = at - 1;
+        let shown = &self.text[start..end];
+        self.error(
+            Code::MalformedNumber,
+            start,
+            end,
+            format!("`{shown}` has no number: the program was written with a value its post could not compute"),
+        );
+        self.i = end;
+        true
+    }
+
     /// A system variable's name includes its prefix and a constant index (`$AC_TIME`,
     /// `$A_IN[1]`, `$TC_DP1[1,2]`): the control's data is unknown here whatever the index.
     fn identifier_end(&self, at: usize) -> usize {

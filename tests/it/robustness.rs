@@ -197,3 +197,25 @@ fn a_for_head_broken_by_a_multibyte_character_is_diagnosed() {
     let found = a.diagnostics.iter().find(|x| x.message.contains("expected `TO`")).expect("a finding");
     assert_eq!(&a.source.text[found.range.start as usize..found.range.end as usize], "\u{00d7}");
 }
+
+/// A post that could not compute a value writes `nan` or `inf` (the corpus has `L Xnan Ynan
+/// Znan FMAX`): each such word is named with its position, and the rest of the block runs.
+#[test]
+fn a_value_the_post_could_not_compute_is_named() {
+    for (dialect, program) in [("heidenhain", "0 BEGIN PGM P MM\n1 L Xnan Y+5 FMAX\n2 END PGM P MM\n"), ("fanuc", "G0 X-inf Y5.\nM30\n")] {
+        check_ranges(program.as_bytes());
+        let d = Registry::shipped().get(dialect).unwrap();
+        let a = analyze(program.as_bytes(), &d, &profile());
+        let named: Vec<&str> = a
+            .diagnostics
+            .iter()
+            .filter(|x| x.code.as_str() == "syntax::malformed-number")
+            .map(|x| &a.source.text[x.range.start as usize..x.range.end as usize])
+            .collect();
+        assert!(named == ["Xnan"] || named == ["X-inf"], "{dialect}: {:?}", a.diagnostics);
+        assert!(
+            a.canon.iter().any(|c| matches!(c.op, ncplan::canon::CanonOp::StraightTraverse(p) if p[1] == 5.0)),
+            "{dialect}: Y5 still moves"
+        );
+    }
+}
