@@ -240,6 +240,12 @@ vocab! {
         FrameMirror = "frame-mirror",
         /// Sets the circle centre / pole from the block's axis words (`CC X+25 Y+25`); alone, the current position.
         Pole = "pole",
+        /// Sets the pole from the block's axis words as increments from the current position
+        /// (Siemens `G110 X10 Y5`).
+        PoleIncremental = "pole-incremental",
+        /// Sets the pole from the block's axis words as increments from the last pole (Siemens
+        /// `G112 X10`).
+        PoleFromPole = "pole-from-pole",
         /// Rounds the corner between the straight moves before and after the block with an
         /// arc of radius R (`RND R5`).
         CornerRound = "corner-round",

@@ -1943,6 +1943,12 @@ impl<'a> Interpreter<'a> {
                 let (a0, a1, _) = self.st.plane.axes();
                 self.st.pole = (t[a0], t[a1]);
             }
+            Meaning::PoleIncremental | Meaning::PoleFromPole => {
+                let (a0, a1, _) = self.st.plane.axes();
+                let (b0, b1) = if def.meaning == Meaning::PoleIncremental { (self.st.pos[a0], self.st.pos[a1]) } else { self.st.pole };
+                let word = |axis: usize| self.slot(Role::AXES[axis]).unwrap_or(0.0);
+                self.st.pole = (b0 + word(a0), b1 + word(a1));
+            }
             Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
             Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, range, diags),
             Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),

@@ -618,6 +618,14 @@ impl Interpreter<'_> {
                 given_centre = Some((s1 + k * n1, s2 + k * n2));
                 cw = k < 0.0;
             }
+            // A polar end point and nothing else to place the centre (Siemens `G2 AP=90`):
+            // the arc turns about the pole.
+            _ if given_centre.is_none()
+                && [Role::PolarAngle, Role::PolarRadius].iter().any(|&r| self.slots[r as usize].is_some())
+                && [Role::I, Role::J, Role::K, Role::R].iter().all(|&r| self.slots[r as usize].is_none()) =>
+            {
+                given_centre = Some(self.st.pole);
+            }
             _ => {}
         }
         let b = &self.dialect.behaviour;

@@ -470,6 +470,35 @@ fn haas_bolt_hole_patterns_drill_with_the_canned_cycle_in_force() {
     assert_eq!(errors, ["interp::cycle-incomplete"]);
 }
 
+/// Siemens polar coordinates by dictionary: G111 sets the pole from the work zero, G110 from
+/// the last point, G112 from the last pole; `AP=` and `RP=` place the end point about it (a
+/// missing one keeps the current point's), and an arc with a polar end point turns about it.
+#[test]
+fn siemens_polar_coordinates_about_the_pole() {
+    let program = "G17 G90 T1 D1 M6\nS1000 M3 F200\nG0 X0 Y0 Z2\nG111 X10 Y10\nG1 AP=0 RP=20\nG3 AP=90\nG1 RP=10\nG110 X5\nG1 AP=180 RP=10\nG112 Y1\nG0 AP=90 RP=1\nM30\n";
+    let (text, errors) = canon("siemens", program);
+    assert!(errors.is_empty(), "{errors:?}");
+    let moves: Vec<String> =
+        text.lines().filter(|l| l.contains("FEED(") || l.contains("TRAVERSE(")).map(|l| l.replace(".0000", "")).collect();
+    assert_eq!(
+        moves,
+        [
+            "STRAIGHT_TRAVERSE(0, 0, 2, 0, 0, 0)",
+            // Pole X10 Y10: 20 along 0°.
+            "STRAIGHT_FEED(30, 10, 2, 0, 0, 0)",
+            // A quarter circle about the pole to 90°.
+            "ARC_FEED(10, 30, 10, 10, 1, 2, 0, 0, 0)",
+            // RP=10 keeps the angle.
+            "STRAIGHT_FEED(10, 20, 2, 0, 0, 0)",
+            // G110 X5: the pole 5 right of that point, X15 Y20; 10 along 180°.
+            "STRAIGHT_FEED(5, 20, 2, 0, 0, 0)",
+            // G112 Y1: the pole 1 above the last, X15 Y21.
+            "STRAIGHT_TRAVERSE(15, 22, 2, 0, 0, 0)",
+        ],
+        "{text}"
+    );
+}
+
 /// Siemens number notations and system variables, both switched on in `siemens.xml`:
 /// `EX` exponents, `'H..'` and `'B..'` constants, and `$` names for the control's own data,
 /// which read as 0 with a warning and may be written.
