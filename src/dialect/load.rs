@@ -868,7 +868,7 @@ impl Cx {
                 };
                 let forms = self.forms(c);
                 let gives_way = self.bool(c, "gives-way", false);
-                let args = self.code_args(c, addresses);
+                let args = self.code_args(c, addresses, &params);
                 codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms, gives_way, args });
             }
         }
@@ -877,19 +877,24 @@ impl Cx {
 
     /// `args="I:pattern-radius L:pattern-count"`: the role each listed address's value has for
     /// this code. The addresses must be among the code's parameters.
-    fn code_args(&mut self, c: &Element, addresses: &[AddressDef]) -> Vec<(Role, Role)> {
+    fn code_args(&mut self, c: &Element, addresses: &[AddressDef], params: &ParamSpec) -> Vec<(Role, Role)> {
         let Some(list) = self.attr(c, "args") else { return Vec::new() };
         let mut out = Vec::new();
         for item in list.split_ascii_whitespace() {
             let pair = item.split_once(':').and_then(|(a, r)| {
                 let from = addresses.iter().find(|x| x.name.eq_ignore_ascii_case(a))?.role;
+                if !params.takes(from) {
+                    return None;
+                }
                 let to = Role::parse(r).filter(|r| !r.is_internal())?;
                 Some((from, to))
             });
             match pair {
                 Some(pair) => out.push(pair),
-                None => self
-                    .error(Self::attr_range(c, "args"), format!("`{item}` is not ADDRESS:role with a declared address and a known role")),
+                None => self.error(
+                    Self::attr_range(c, "args"),
+                    format!("`{item}` is not ADDRESS:role with an address the code takes and a known role"),
+                ),
             }
         }
         out

@@ -85,6 +85,19 @@ fn broken_dialect_files_name_file_line_and_column() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains(&format!("bad.xml:{line}:")), "{stdout}");
     assert!(stdout.contains("unknown meaning `warp-speed`"), "{stdout}");
+
+    // A code's argument roles name addresses it takes, and known roles.
+    let text = std::fs::read_to_string(crate::root().join("dialects/haas.xml"))
+        .unwrap()
+        .replace("args=\"I:pattern-radius J:pattern-angle L:pattern-count\"", "args=\"Q:pattern-radius J:pattern-size\"");
+    std::fs::write(&f, &text).unwrap();
+    let out = Command::new(crate::bin()).arg("dialects").arg(&f).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("`Q:pattern-radius` is not ADDRESS:role") && stdout.contains("`J:pattern-size` is not ADDRESS:role"),
+        "{stdout}"
+    );
 }
 
 #[test]
