@@ -1,6 +1,7 @@
 //! One engine, three dialects: the same part posted for Fanuc, Siemens 840D and Heidenhain
 //! (`tests/programs/equivalence/<part>.{nc,mpf,h}`, written for these tests the way each
-//! control's CAM posts write them) gives the same toolpath and the same plan.
+//! control's CAM posts write them) gives the same toolpath and the same plan; and a turned
+//! part for three lathe dialects (`turn.nc`, `turn_b.nc`, `turn.min`) the same toolpath.
 
 use ncplan::canon::CanonOp;
 use ncplan::dialect::Registry;
@@ -90,6 +91,30 @@ fn every_dialect_gives_the_same_toolpath() {
                 for (x, y) in g.1.iter().zip(&w.1) {
                     assert!((x - y).abs() <= 1e-6, "{part}.{ext} move {i}: {g:?} against {w:?}");
                 }
+            }
+        }
+    }
+}
+
+/// A turned shaft (facing, then three roughing passes) for three lathe controls: Fanuc in
+/// G-code system A with its single-pass cycles G94 and G90, the same in system B (G79, G77),
+/// and Okuma OSP-L with every pass written out. X words are diameters in all three.
+#[test]
+fn every_lathe_dialect_gives_the_same_toolpath() {
+    let profile = Profile::default();
+    let reference = run("turn", "nc", "fanuc_lathe", &profile);
+    let want = toolpath(&reference);
+    assert_eq!(want.len(), 19, "{want:?}");
+    // The face cut runs to X-0.8 (a diameter of -1.6), the last pass to X20 at Z-40.
+    assert!(want.contains(&("feed", vec![-0.8, 0.0, 0.0, 0.0, 0.0, 0.0])), "{want:?}");
+    assert!(want.contains(&("feed", vec![20.0, 0.0, -40.0, 0.0, 0.0, 0.0])), "{want:?}");
+    for (part, ext, dialect) in [("turn_b", "nc", "fanuc_lathe_b"), ("turn", "min", "okuma_lathe")] {
+        let got = toolpath(&run(part, ext, dialect, &profile));
+        assert_eq!(got.len(), want.len(), "{part}.{ext}: {got:?}");
+        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+            assert_eq!(g.0, w.0, "{part}.{ext} move {i}");
+            for (x, y) in g.1.iter().zip(&w.1) {
+                assert!((x - y).abs() <= 1e-6, "{part}.{ext} move {i}: {g:?} against {w:?}");
             }
         }
     }
