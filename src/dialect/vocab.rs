@@ -75,6 +75,16 @@ vocab! {
         /// A lathe's single-pass threading cycle (Fanuc G92): rapid in X, one threaded pass
         /// along Z (F the lead), rapid out in X, rapid back in Z. Modal.
         CycleThreadPass = "cycle-thread-pass",
+        /// A lathe's stock removal in turning (Fanuc G71, type I): the contour between the
+        /// blocks numbered P and Q (their p and q words), shifted by the finishing allowances, is roughed out from
+        /// the start point in passes along Z, the cut depth apart in X, each retracted at 45°;
+        /// a last pass follows the shifted contour, and the run goes on after block Q. A block
+        /// without P and Q only sets the cut depth (U) and retract (R) of the ones after it;
+        /// with them, its cut-depth word is the X finishing allowance (the two-block form).
+        CycleRoughTurn = "cycle-rough-turn",
+        /// A lathe's finishing cycle (Fanuc G70): the contour between the blocks numbered P
+        /// and Q runs as written, then the tool returns to the start point at rapid.
+        CycleFinishContour = "cycle-finish-contour",
         /// Cancel the canned cycle (G80).
         CycleCancel = "cycle-cancel",
         /// Spindle-synchronised motion (G33): K is the advance per revolution.
@@ -419,6 +429,10 @@ vocab! {
         AlarmNumber = "alarm-number",
         /// The spindle speed limit under constant surface speed (Siemens `LIMS=3000`).
         SpindleLimit = "spindle-limit",
+        /// The depth of each roughing pass, a radius (Fanuc G71's first U).
+        CutDepth = "cut-depth",
+        /// The finishing allowance along Z left by roughing (Fanuc G71 W).
+        AllowanceZ = "allowance-z",
         /// A hole pattern's reference point (row, grid) or centre (circle), along the plane's first axis.
         PatternX = "pattern-x",
         /// A hole pattern's reference point or centre, along the plane's second axis.

@@ -299,3 +299,234 @@ impl Interpreter<'_> {
         }
     }
 }
+
+/// How a lathe roughing cycle cuts (Fanuc G71): the depth of each pass (a radius), the
+/// retract at 45° after it, and the finishing allowances it leaves (X as a radius, and Z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Rough {
+    depth: f64,
+    retract: f64,
+    allow_x: f64,
+    allow_z: f64,
+}
+
+/// A contour element in the ZX plane, as (X, Z) points: a line, or an arc about a centre
+/// (counter-clockwise as the canon's rotation says, in the plane's first-second frame).
+#[derive(Clone, Copy, Debug)]
+enum Element {
+    Line { from: (f64, f64), to: (f64, f64) },
+    Arc { from: (f64, f64), to: (f64, f64), centre: (f64, f64), rotation: i32 },
+}
+
+impl Element {
+    fn shifted(self, dx: f64, dz: f64) -> Element {
+        let s = |p: (f64, f64)| (p.0 + dx, p.1 + dz);
+        match self {
+            Element::Line { from, to } => Element::Line { from: s(from), to: s(to) },
+            Element::Arc { from, to, centre, rotation } => Element::Arc { from: s(from), to: s(to), centre: s(centre), rotation },
+        }
+    }
+
+    fn end(self) -> (f64, f64) {
+        match self {
+            Element::Line { to, .. } | Element::Arc { to, .. } => to,
+        }
+    }
+
+    /// Where the element first reaches X = `x`, as its Z, going from its start.
+    fn z_at(self, x: f64) -> Option<f64> {
+        match self {
+            Element::Line { from, to } => {
+                // A line along Z at that X is met where the next element leaves it.
+                if (from.0 - x) * (to.0 - x) > 0.0 || from.0 == to.0 {
+                    return None;
+                }
+                Some(from.1 + (x - from.0) / (to.0 - from.0) * (to.1 - from.1))
+            }
+            Element::Arc { from, to, centre, rotation } => {
+                // In the plane's frame (Z first, X second): angles about the centre.
+                let r = (from.1 - centre.1).hypot(from.0 - centre.0);
+                let s = (x - centre.0) / r;
+                if !(-1.0..=1.0).contains(&s) || r == 0.0 {
+                    return None;
+                }
+                let angle = |p: (f64, f64)| (p.0 - centre.0).atan2(p.1 - centre.1);
+                let (a, b) = (angle(from), angle(to));
+                let tau = std::f64::consts::TAU;
+                let along = |t: f64| if rotation > 0 { (t - a).rem_euclid(tau) } else { (a - t).rem_euclid(tau) };
+                let mut sweep = along(b);
+                if sweep == 0.0 {
+                    sweep = tau;
+                }
+                let t1 = s.asin();
+                [t1, std::f64::consts::PI - t1]
+                    .into_iter()
+                    .filter(|&t| along(t) <= sweep + 1e-12)
+                    .min_by(|p, q| along(*p).total_cmp(&along(*q)))
+                    .map(|t| centre.1 + r * t.cos())
+            }
+        }
+    }
+}
+
+/// Roughing passes a cycle may make at most: more is a slip in the depth of cut.
+const MAX_ROUGH_PASSES: f64 = 10_000.0;
+
+impl Interpreter<'_> {
+    /// Fanuc's G71 and G70 (`cycle-rough-turn`, `cycle-finish-contour`): the first block of
+    /// G71's two-block form keeps the depth of cut and retract; a block with P and Q asks the
+    /// flow driver for the contour between those blocks.
+    pub(super) fn contour_cycle(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        // The words the code gives roles of its own, as written: U is an X word, halved in
+        // diameter mode by the read.
+        let arg = |s: &Self, role: Role| {
+            let (from, _) = *def.args.iter().find(|(_, to)| *to == role)?;
+            let v = s.slot(from)?;
+            Some(if from == Role::X && s.st.diameter { 2.0 * v } else { v })
+        };
+        let (p, q) = (self.slot(Role::P), self.slot(Role::Q));
+        if def.meaning == Meaning::CycleRoughTurn && p.is_none() && q.is_none() {
+            let (depth, retract) = self.st.rough_cut.unwrap_or((0.0, 0.0));
+            self.st.rough_cut = Some((arg(self, Role::CutDepth).unwrap_or(depth), arg(self, Role::RetractDistance).unwrap_or(retract)));
+            return;
+        }
+        let block_number = |v: Option<f64>| v.filter(|v| *v >= 0.0 && v.fract() == 0.0 && *v < 1e9).map(|v| v as u32);
+        let (Some(first), Some(last)) = (block_number(p), block_number(q)) else {
+            let msg = format!("{} needs P and Q, the block numbers where its contour begins and ends; the cycle is skipped", def.label());
+            diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+            return;
+        };
+        let rough = if def.meaning == Meaning::CycleRoughTurn {
+            let depth = self.st.rough_cut.map_or(0.0, |(d, _)| d);
+            if !(depth > 0.0 && depth.is_finite()) {
+                let msg = format!(
+                    "{} has no depth of cut: a block `{} U.. R..` before it gives it; the cycle is skipped",
+                    def.label(),
+                    def.label()
+                );
+                diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+                return;
+            }
+            let retract = self.st.rough_cut.map_or(0.0, |(_, e)| e).abs();
+            // With P and Q, U is the X allowance (a diameter) and W the Z allowance.
+            let allow_x = arg(self, Role::CutDepth).unwrap_or(0.0) / 2.0;
+            let allow_z = arg(self, Role::AllowanceZ).unwrap_or(0.0);
+            Some(Rough { depth, retract, allow_x, allow_z })
+        } else {
+            None
+        };
+        if self.st.plane != crate::canon::Plane::Xz {
+            let msg = format!("{} turns in the ZX plane (G18); the cycle is skipped", def.label());
+            diags.push(Diagnostic::new(Code::Unsupported, range, msg));
+            return;
+        }
+        self.request = Some(super::Request::Contour { first, last, rough });
+    }
+
+    /// Roughs out `contour` (the canon of its blocks, run from `start`) as G71 type I does:
+    /// passes along Z, `depth` apart in X from the start point towards the contour, each
+    /// ending where it meets the contour shifted by the allowances and retracted at 45°;
+    /// then one pass along the shifted contour, and back to the start point.
+    pub(super) fn rough_turn(
+        &mut self,
+        r: Rough,
+        start: [f64; 6],
+        contour: &[crate::canon::Canon],
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let (a0, a1, _) = self.st.plane.axes();
+        let xz = |p: &[f64; 6]| (p[0], p[2]);
+        let mut at = xz(&start);
+        let mut elements = Vec::new();
+        for c in contour {
+            let e = match &c.op {
+                CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Element::Line { from: at, to: xz(p) },
+                CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, .. } => {
+                    // First and second axes of the ZX plane: Z then X.
+                    let (mut to, mut centre) = ([0.0; 6], [0.0; 6]);
+                    (to[a0], to[a1], centre[a0], centre[a1]) = (*first_end, *second_end, *first_axis, *second_axis);
+                    Element::Arc { from: at, to: xz(&to), centre: xz(&centre), rotation: *rotation }
+                }
+                _ => continue,
+            };
+            at = e.end();
+            elements.push(e);
+        }
+        // The first element reaches the contour's start A' from the start point A.
+        let Some((first, rest)) = elements.split_first() else {
+            diags.push(Diagnostic::new(
+                Code::CycleIncomplete,
+                self.origin,
+                "the contour of the roughing cycle has no moves; the cycle is skipped",
+            ));
+            return;
+        };
+        let a = xz(&start);
+        let a1_ = first.end();
+        let outward = if a1_.0 < a.0 { 1.0 } else { -1.0 };
+        // The allowances leave stock outside the contour (U negative for a bore).
+        let shifted: Vec<Element> = rest.iter().map(|e| e.shifted(r.allow_x, r.allow_z)).collect();
+        let contour_start = (a1_.0 + r.allow_x, a1_.1 + r.allow_z);
+        let end_z = shifted.last().map_or(contour_start.1, |e| e.end().1);
+        // Passes down to the contour's start; the last pass along the contour takes the rest.
+        let passes = ((a.0 - contour_start.0) * outward / r.depth - 1e-9).ceil() - 1.0;
+        if !(passes.is_finite() && passes <= MAX_ROUGH_PASSES) {
+            let msg = format!("the roughing cycle would take {passes} passes of {} each; the cycle is skipped", r.depth);
+            diags.push(Diagnostic::new(Code::BadValue, self.origin, msg));
+            return;
+        }
+        let point = |x: f64, z: f64| {
+            let mut p = start;
+            (p[0], p[2]) = (x, z);
+            p
+        };
+        let e = r.retract;
+        for k in 1..=passes.max(0.0) as u32 {
+            let x = a.0 - outward * r.depth * f64::from(k);
+            let z = shifted.iter().find_map(|el| el.z_at(x)).unwrap_or(end_z);
+            let back = (a.1 - z).signum();
+            self.go(sink, point(x, a.1), false);
+            self.go(sink, point(x, z), true);
+            self.go(sink, point(x + outward * e, z + back * e), false);
+            self.go(sink, point(x + outward * e, a.1), false);
+        }
+        // The last pass follows the shifted contour.
+        self.go(sink, point(contour_start.0, contour_start.1), false);
+        for el in &shifted {
+            match *el {
+                Element::Line { to, .. } => self.go(sink, point(to.0, to.1), true),
+                Element::Arc { to, centre, rotation, .. } => {
+                    let end = point(to.0, to.1);
+                    let c = point(centre.0, centre.1);
+                    let axis_end = end[3 - a0 - a1];
+                    self.emit(
+                        sink,
+                        CanonOp::ArcFeed {
+                            first_end: end[a0],
+                            second_end: end[a1],
+                            first_axis: c[a0],
+                            second_axis: c[a1],
+                            rotation,
+                            axis_end,
+                            abc: [end[3], end[4], end[5]],
+                        },
+                    );
+                    self.st.pos = end;
+                }
+            }
+        }
+        self.go(sink, start, false);
+    }
+
+    /// A straight move to `p`, at feed or at rapid.
+    fn go(&mut self, sink: &mut dyn CanonSink, p: [f64; 6], feed: bool) {
+        self.emit(sink, if feed { CanonOp::StraightFeed(p) } else { CanonOp::StraightTraverse(p) });
+        self.st.pos = p;
+    }
+
+    /// After a finishing pass (G70): back to the start point at rapid.
+    pub(super) fn back_to(&mut self, start: [f64; 6], sink: &mut dyn CanonSink) {
+        self.go(sink, start, false);
+    }
+}

@@ -1588,6 +1588,79 @@ impl<'a> Driver<'a, '_> {
                 }
                 self.return_from(goto, block, interp, diags);
             }
+            Request::Contour { first, last, rough } => self.contour(first, last, rough, block, interp, sink, diags),
+        }
+    }
+
+    /// A lathe cycle's contour, the blocks numbered `first` to `last` after the cycle's
+    /// block: for roughing, run without effect to read its shape (the state is put back),
+    /// roughed out, and skipped; for finishing, run as written, and the tool back to where
+    /// it started.
+    #[allow(clippy::too_many_arguments)]
+    fn contour(
+        &mut self,
+        first: u32,
+        last: u32,
+        rough: Option<super::cycle::Rough>,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        /// Blocks a contour may have at most.
+        const MAX_CONTOUR_BLOCKS: usize = 100_000;
+        // A roughing cycle's contour follows it; a finishing cycle's is usually before it.
+        let after = block.range.end as usize;
+        let blocks = self.numbered_blocks(self.cur, first);
+        let found = blocks.iter().find(|p| p.at >= after).or(if rough.is_none() { blocks.first() } else { None }).copied();
+        let Some(from) = found else {
+            self.error(diags, Code::MissingLabel, block.range, format!("no block N{first} after this cycle starts its contour"));
+            return;
+        };
+        let start = interp.st.pos;
+        let saved = rough.map(|_| (interp.st.clone(), interp.params.clone()));
+        let mut parser = Parser::new(self.sources[self.cur].text, self.dialect);
+        parser.seek(from.at, from.line);
+        let mut shape: Vec<Canon> = Vec::new();
+        let mut b = Block::default();
+        let mut end = None;
+        for _ in 0..MAX_CONTOUR_BLOCKS {
+            if !parser.next_block(&mut b, diags) {
+                break;
+            }
+            // The contour's blocks count towards the run's budget, as any block run does.
+            self.executed += 1;
+            if self.executed > self.profile.max_blocks {
+                let msg = format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks);
+                self.error(diags, Code::LoopLimit, b.range, msg);
+                break;
+            }
+            if rough.is_some() {
+                interp.execute(&b, &mut shape, diags);
+            } else {
+                interp.execute(&b, sink, diags);
+            }
+            // A contour holds moves only; a call in it is not followed.
+            interp.request = None;
+            if b.number == Some(last) {
+                end = Some(Pos { at: parser.offset(), line: parser.line() });
+                break;
+            }
+        }
+        if let Some((st, params)) = saved {
+            interp.st = st;
+            interp.params = params;
+        }
+        let Some(end) = end else {
+            self.error(diags, Code::MissingLabel, block.range, format!("no block N{last} after N{first} ends this cycle's contour"));
+            return;
+        };
+        match rough {
+            Some(r) => {
+                interp.rough_turn(r, start, &shape, sink, diags);
+                self.switch_to(self.cur, end, interp);
+            }
+            None => interp.back_to(start, sink),
         }
     }
 

@@ -173,6 +173,17 @@ pub(crate) enum Request {
         /// Block number to continue at.
         goto: Option<u32>,
     },
+    /// A lathe cycle over the contour between the blocks numbered `first` and `last` after
+    /// this one: roughed out from the start point (then the run goes on after `last`), or,
+    /// without `rough`, run as written and left to the start point again (G70).
+    Contour {
+        /// The contour's first block number (P).
+        first: u32,
+        /// Its last block number (Q).
+        last: u32,
+        /// How to rough it out (G71); `None` finishes it (G70).
+        rough: Option<cycle::Rough>,
+    },
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -294,6 +305,9 @@ struct State {
     css_max: Option<f64>,
     /// The spindle speed limit a lathe's `G50 S` set, which a G96 without D keeps.
     spindle_limit: Option<f64>,
+    /// A lathe roughing cycle's depth of cut and retract, as its first block (`G71 U2. R.5`)
+    /// set them for the ones after it.
+    rough_cut: Option<(f64, f64)>,
     /// The initial level of the canned cycles in force: the hole axis position when the
     /// first of them began. G98 returns to it, and in G91 R counts from it.
     cycle_initial: Option<f64>,
@@ -325,7 +339,7 @@ pub struct Interpreter<'a> {
     params: Params,
     slots: [Option<Slot>; Role::COUNT],
     /// Bit per role whose slot is filled, so that clearing touches only those.
-    filled: u64,
+    filled: u128,
     /// Bit per [`Step`] at which one of the block's codes takes effect.
     code_steps: u32,
     /// Whether the block being executed has axis words (set by `read`).
@@ -407,6 +421,7 @@ impl<'a> Interpreter<'a> {
                 sticky_r: None,
                 sticky_z: None,
                 turn_cycle: None,
+                rough_cut: None,
                 sticky_q: None,
                 sticky_p: None,
                 ended: false,
@@ -1030,7 +1045,7 @@ impl<'a> Interpreter<'a> {
             self.filled |= 1 << role as u32;
         }
         // Polar words (`PA+90`) name an end point as axis words do.
-        const POSITION: u64 = {
+        const POSITION: u128 = {
             let mut m = 1 << Role::PolarRadius as u32 | 1 << Role::PolarAngle as u32;
             let mut k = 0;
             while k < Role::AXES.len() {
@@ -1965,6 +1980,7 @@ impl<'a> Interpreter<'a> {
                 self.limited(diags, "machine-data-read", Diagnostic::new(Code::Unsupported, range, msg));
             }
             Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
+            Meaning::CycleRoughTurn | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
             Meaning::CycleIntent => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
@@ -2414,4 +2430,4 @@ impl Meaning {
 }
 
 // Role and step sets are bit masks.
-const _: () = assert!(Role::COUNT <= 64 && Step::ALL.len() <= 32);
+const _: () = assert!(Role::COUNT <= 128 && Step::ALL.len() <= 32);

@@ -769,6 +769,66 @@ fn fanuc_lathe_single_pass_cycles_run_as_four_moves() {
     assert_eq!(moves, expected, "{text}");
 }
 
+/// Fanuc G71 (two-block form) roughs the contour between N10 and N20 in passes along Z, 2 mm
+/// deep, each ending at the contour shifted by the allowances (U0.4 on the diameter, W0.1)
+/// and retracted at 45° by R0.5; a last pass follows the shifted contour and the run skips
+/// the contour blocks. G70 then runs them as written and returns to the start point. Passes
+/// end on arcs where the circle meets them.
+#[test]
+fn fanuc_lathe_roughing_and_finishing_cycles_follow_the_contour() {
+    let program = "T0101\nG97 S1000 M3\nG0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X30.\nG1 Z-20.\nX40. Z-30.\nN20 X52.\nG70 P10 Q20\nG0 X100. Z100.\nM30\n";
+    let moves = |program: &str| {
+        let (text, diags) = every_call("fanuc_lathe", program);
+        assert!(!diags.iter().any(|x| x.is_error()), "{diags:?}");
+        text.lines()
+            .filter(|l| l.contains("TRAVERSE(") || l.contains("FEED(") || l.starts_with("ARC"))
+            .map(|l| l.replace(", 0.0000, 0.0000, 0.0000)", ")").replace(".0000", ""))
+            .collect::<Vec<_>>()
+    };
+    let mut want = vec!["STRAIGHT_TRAVERSE(26, 0, 2)".to_owned()];
+    // Passes at X24 and X22 end at the shoulder (Z-30 + W0.1); X20, X18, X16 on the taper.
+    for (x, z) in [("24", "-29.9000"), ("22", "-29.9000"), ("20", "-29.5000"), ("18", "-25.5000"), ("16", "-21.5000")] {
+        let (xr, zr) = (format!("{x}.5000"), format!("{:.4}", z.parse::<f64>().unwrap() + 0.5));
+        want.push(format!("STRAIGHT_TRAVERSE({x}, 0, 2)"));
+        want.push(format!("STRAIGHT_FEED({x}, 0, {z})"));
+        want.push(format!("STRAIGHT_TRAVERSE({xr}, 0, {})", zr.replace(".0000", "")));
+        want.push(format!("STRAIGHT_TRAVERSE({xr}, 0, 2)"));
+    }
+    for m in [
+        // Along the contour shifted by 0.2 (U0.4 on the diameter) and 0.1.
+        "STRAIGHT_TRAVERSE(15.2000, 0, 2.1000)",
+        "STRAIGHT_FEED(15.2000, 0, -19.9000)",
+        "STRAIGHT_FEED(20.2000, 0, -29.9000)",
+        "STRAIGHT_FEED(26.2000, 0, -29.9000)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        // G70: the contour as written, and back.
+        "STRAIGHT_TRAVERSE(15, 0, 2)",
+        "STRAIGHT_FEED(15, 0, -20)",
+        "STRAIGHT_FEED(20, 0, -30)",
+        "STRAIGHT_FEED(26, 0, -30)",
+        "STRAIGHT_TRAVERSE(26, 0, 2)",
+        "STRAIGHT_TRAVERSE(50, 0, 100)",
+    ] {
+        want.push(m.to_owned());
+    }
+    assert_eq!(moves(program), want);
+
+    // An arc in the contour: the pass at X17 ends where the circle about X20 Z-10 (R10) is
+    // 17 from the axis, at Z-10-sqrt(91).
+    let arc = "T0101\nG97 S1000 M3\nG0 X52. Z2.\nG71 U3. R1.\nG71 P10 Q20 U0. W0. F0.25\nN10 G0 X20.\nG1 Z-10.\nG2 X40. Z-20. R10.\nN20 G1 X52.\nM30\n";
+    let got = moves(arc);
+    assert!(got.contains(&"STRAIGHT_FEED(17, 0, -19.5394)".to_owned()), "{got:?}");
+    assert!(got.contains(&"ARC_FEED(-20, 20, -10, 20, -1, 0)".to_owned()), "{got:?}");
+
+    // Without the first block, the depth of cut is missing; without P and Q, the contour.
+    let (_, errors) = canon("fanuc_lathe", "G0 X52. Z2.\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X30.\nN20 G1 Z-20.\nM30\n");
+    assert_eq!(errors, ["syntax::missing-parameter"]);
+    let (_, errors) = canon("fanuc_lathe", "G0 X52. Z2.\nG70 P10\nM30\n");
+    assert_eq!(errors, ["syntax::missing-parameter"]);
+    let (_, errors) = canon("fanuc_lathe", "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.25\nN10 G0 X30.\nG1 Z-20.\nM30\n");
+    assert_eq!(errors, ["flow::missing-label"], "no N20 ends the contour");
+}
+
 #[test]
 fn the_tool_radius_and_diameter_read_the_tool_table() {
     let mut profile = Profile::default();
