@@ -70,6 +70,8 @@ proptest! {
         Just("o1 call [1] [2]\n"), Just("o2 while [#1 LT 4]\n"), Just("o2 endwhile\n"), Just("o3 if [#1]\n"), Just("o3 else\n"),
         Just("o3 endif\n"), Just("o4 repeat [3]\n"), Just("o4 endrepeat\n"), Just("o2 break\n"), Just("o2 continue\n"),
         Just("o5 do\n"), Just("o5 while [1]\n"), Just("G1 X#1 Y[#2*2] F100\n"), Just("%\n"), Just("M30\n"), Just("#[#1]=#0\n"),
+        Just("G71 U2. R0.5\n"), Just("G71 P10 Q20 U0.4 W0.1 F0.25\n"), Just("N20 G2 X52. Z-5. R4.\n"), Just("G70 P10 Q20\n"),
+        Just("G90 X40. Z-10. F0.2\n"), Just("HOLES2(0,0,5,0,0,4)\n"), Just("G70 I1. J0. L3\n"),
     ], 0..40)) {
         check_ranges(parts.concat().as_bytes());
     }
