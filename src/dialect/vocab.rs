@@ -82,6 +82,10 @@ vocab! {
         /// without P and Q only sets the cut depth (U) and retract (R) of the ones after it;
         /// with them, its cut-depth word is the X finishing allowance (the two-block form).
         CycleRoughTurn = "cycle-rough-turn",
+        /// A lathe's stock removal in facing (Fanuc G72, type I): as `cycle-rough-turn` with X
+        /// and Z exchanged, the passes along X and the depth of cut (W) stepping in Z; with P
+        /// and Q, its cut-depth word is the Z finishing allowance.
+        CycleRoughFace = "cycle-rough-face",
         /// A lathe's finishing cycle (Fanuc G70): the contour between the blocks numbered P
         /// and Q runs as written, then the tool returns to the start point at rapid.
         CycleFinishContour = "cycle-finish-contour",
@@ -433,6 +437,8 @@ vocab! {
         CutDepth = "cut-depth",
         /// The finishing allowance along Z left by roughing (Fanuc G71 W).
         AllowanceZ = "allowance-z",
+        /// The finishing allowance along X left by roughing, a diameter (Fanuc G72 U).
+        AllowanceX = "allowance-x",
         /// A hole pattern's reference point (row, grid) or centre (circle), along the plane's first axis.
         PatternX = "pattern-x",
         /// A hole pattern's reference point or centre, along the plane's second axis.

@@ -300,14 +300,17 @@ impl Interpreter<'_> {
     }
 }
 
-/// How a lathe roughing cycle cuts (Fanuc G71): the depth of each pass (a radius), the
-/// retract at 45° after it, and the finishing allowances it leaves (X as a radius, and Z).
+/// How a lathe roughing cycle cuts (Fanuc G71, G72): the depth of each pass (a radius for
+/// G71), the retract at 45° after it, and the finishing allowances it leaves (X as a radius,
+/// and Z).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Rough {
     depth: f64,
     retract: f64,
     allow_x: f64,
     allow_z: f64,
+    /// Passes along X, the depth stepping in Z (G72), rather than along Z (G71).
+    facing: bool,
 }
 
 /// A contour element in the ZX plane, as (X, Z) points: a line, or an arc about a centre
@@ -333,7 +336,8 @@ impl Element {
         }
     }
 
-    /// Where the element first reaches X = `x`, as its Z, going from its start.
+    /// Where the element first reaches the level `x` (its first coordinate), as its second
+    /// coordinate, going from its start.
     fn z_at(self, x: f64) -> Option<f64> {
         match self {
             Element::Line { from, to } => {
@@ -385,7 +389,7 @@ impl Interpreter<'_> {
             Some(if from == Role::X && s.st.diameter { 2.0 * v } else { v })
         };
         let (p, q) = (self.slot(Role::P), self.slot(Role::Q));
-        if def.meaning == Meaning::CycleRoughTurn && p.is_none() && q.is_none() {
+        if matches!(def.meaning, Meaning::CycleRoughTurn | Meaning::CycleRoughFace) && p.is_none() && q.is_none() {
             let (depth, retract) = self.st.rough_cut.unwrap_or((0.0, 0.0));
             self.st.rough_cut = Some((arg(self, Role::CutDepth).unwrap_or(depth), arg(self, Role::RetractDistance).unwrap_or(retract)));
             return;
@@ -396,11 +400,12 @@ impl Interpreter<'_> {
             diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
             return;
         };
-        let rough = if def.meaning == Meaning::CycleRoughTurn {
+        let facing = def.meaning == Meaning::CycleRoughFace;
+        let rough = if matches!(def.meaning, Meaning::CycleRoughTurn | Meaning::CycleRoughFace) {
             let depth = self.st.rough_cut.map_or(0.0, |(d, _)| d);
             if !(depth > 0.0 && depth.is_finite()) {
                 let msg = format!(
-                    "{} has no depth of cut: a block `{} U.. R..` before it gives it; the cycle is skipped",
+                    "{} has no depth of cut: a {} block with only the depth of cut and the retract, before this one, gives it; the cycle is skipped",
                     def.label(),
                     def.label()
                 );
@@ -408,10 +413,14 @@ impl Interpreter<'_> {
                 return;
             }
             let retract = self.st.rough_cut.map_or(0.0, |(_, e)| e).abs();
-            // With P and Q, U is the X allowance (a diameter) and W the Z allowance.
-            let allow_x = arg(self, Role::CutDepth).unwrap_or(0.0) / 2.0;
-            let allow_z = arg(self, Role::AllowanceZ).unwrap_or(0.0);
-            Some(Rough { depth, retract, allow_x, allow_z })
+            // With P and Q, the word that gave the depth of cut gives the allowance along the
+            // depth's axis (G71's U, G72's W); U is a diameter.
+            let (allow_x, allow_z) = if facing {
+                (arg(self, Role::AllowanceX).unwrap_or(0.0) / 2.0, arg(self, Role::CutDepth).unwrap_or(0.0))
+            } else {
+                (arg(self, Role::CutDepth).unwrap_or(0.0) / 2.0, arg(self, Role::AllowanceZ).unwrap_or(0.0))
+            };
+            Some(Rough { depth, retract, allow_x, allow_z, facing })
         } else {
             None
         };
@@ -423,10 +432,11 @@ impl Interpreter<'_> {
         self.request = Some(super::Request::Contour { first, last, rough });
     }
 
-    /// Roughs out `contour` (the canon of its blocks, run from `start`) as G71 type I does:
-    /// passes along Z, `depth` apart in X from the start point towards the contour, each
-    /// ending where it meets the contour shifted by the allowances and retracted at 45°;
-    /// then one pass along the shifted contour, and back to the start point.
+    /// Roughs out `contour` (the canon of its blocks, run from `start`) as G71 and G72 type I
+    /// do: passes `depth` apart from the start point towards the contour, along Z (turning)
+    /// or along X (facing), each ending where it meets the contour shifted by the allowances
+    /// and retracted at 45°; then one pass along the shifted contour, and back to the start
+    /// point. The work is done in (level, pass) coordinates: (X, Z) turning, (Z, X) facing.
     pub(super) fn rough_turn(
         &mut self,
         r: Rough,
@@ -436,17 +446,24 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let (a0, a1, _) = self.st.plane.axes();
-        let xz = |p: &[f64; 6]| (p[0], p[2]);
-        let mut at = xz(&start);
+        // Exchanging the axes mirrors the plane: arcs turn the other way.
+        let flip = if r.facing { -1 } else { 1 };
+        let lp = |p: &[f64; 6]| if r.facing { (p[2], p[0]) } else { (p[0], p[2]) };
+        let point = |l: f64, q: f64| {
+            let mut p = start;
+            (p[0], p[2]) = if r.facing { (q, l) } else { (l, q) };
+            p
+        };
+        let mut at = lp(&start);
         let mut elements = Vec::new();
         for c in contour {
             let e = match &c.op {
-                CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Element::Line { from: at, to: xz(p) },
+                CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Element::Line { from: at, to: lp(p) },
                 CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, .. } => {
                     // First and second axes of the ZX plane: Z then X.
                     let (mut to, mut centre) = ([0.0; 6], [0.0; 6]);
                     (to[a0], to[a1], centre[a0], centre[a1]) = (*first_end, *second_end, *first_axis, *second_axis);
-                    Element::Arc { from: at, to: xz(&to), centre: xz(&centre), rotation: *rotation }
+                    Element::Arc { from: at, to: lp(&to), centre: lp(&centre), rotation: rotation * flip }
                 }
                 _ => continue,
             };
@@ -462,34 +479,30 @@ impl Interpreter<'_> {
             ));
             return;
         };
-        let a = xz(&start);
+        let a = lp(&start);
         let a1_ = first.end();
         let outward = if a1_.0 < a.0 { 1.0 } else { -1.0 };
         // The allowances leave stock outside the contour (U negative for a bore).
-        let shifted: Vec<Element> = rest.iter().map(|e| e.shifted(r.allow_x, r.allow_z)).collect();
-        let contour_start = (a1_.0 + r.allow_x, a1_.1 + r.allow_z);
-        let end_z = shifted.last().map_or(contour_start.1, |e| e.end().1);
-        // Passes down to the contour's start; the last pass along the contour takes the rest.
+        let (allow_level, allow_pass) = if r.facing { (r.allow_z, r.allow_x) } else { (r.allow_x, r.allow_z) };
+        let shifted: Vec<Element> = rest.iter().map(|e| e.shifted(allow_level, allow_pass)).collect();
+        let contour_start = (a1_.0 + allow_level, a1_.1 + allow_pass);
+        let end_pass = shifted.last().map_or(contour_start.1, |e| e.end().1);
+        // Passes up to the contour's start; the last pass along the contour takes the rest.
         let passes = ((a.0 - contour_start.0) * outward / r.depth - 1e-9).ceil() - 1.0;
         if !(passes.is_finite() && passes <= MAX_ROUGH_PASSES) {
             let msg = format!("the roughing cycle would take {passes} passes of {} each; the cycle is skipped", r.depth);
             diags.push(Diagnostic::new(Code::BadValue, self.origin, msg));
             return;
         }
-        let point = |x: f64, z: f64| {
-            let mut p = start;
-            (p[0], p[2]) = (x, z);
-            p
-        };
         let e = r.retract;
         for k in 1..=passes.max(0.0) as u32 {
-            let x = a.0 - outward * r.depth * f64::from(k);
-            let z = shifted.iter().find_map(|el| el.z_at(x)).unwrap_or(end_z);
-            let back = (a.1 - z).signum();
-            self.go(sink, point(x, a.1), false);
-            self.go(sink, point(x, z), true);
-            self.go(sink, point(x + outward * e, z + back * e), false);
-            self.go(sink, point(x + outward * e, a.1), false);
+            let level = a.0 - outward * r.depth * f64::from(k);
+            let end = shifted.iter().find_map(|el| el.z_at(level)).unwrap_or(end_pass);
+            let back = (a.1 - end).signum();
+            self.go(sink, point(level, a.1), false);
+            self.go(sink, point(level, end), true);
+            self.go(sink, point(level + outward * e, end + back * e), false);
+            self.go(sink, point(level + outward * e, a.1), false);
         }
         // The last pass follows the shifted contour.
         self.go(sink, point(contour_start.0, contour_start.1), false);
@@ -507,7 +520,7 @@ impl Interpreter<'_> {
                             second_end: end[a1],
                             first_axis: c[a0],
                             second_axis: c[a1],
-                            rotation,
+                            rotation: rotation * flip,
                             axis_end,
                             abc: [end[3], end[4], end[5]],
                         },

@@ -1980,7 +1980,7 @@ impl<'a> Interpreter<'a> {
                 self.limited(diags, "machine-data-read", Diagnostic::new(Code::Unsupported, range, msg));
             }
             Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
-            Meaning::CycleRoughTurn | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
+            Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
             Meaning::CycleIntent => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));

@@ -820,6 +820,26 @@ fn fanuc_lathe_roughing_and_finishing_cycles_follow_the_contour() {
     assert!(got.contains(&"STRAIGHT_FEED(17, 0, -19.5394)".to_owned()), "{got:?}");
     assert!(got.contains(&"ARC_FEED(-20, 20, -10, 20, -1, 0)".to_owned()), "{got:?}");
 
+    // G72 faces: passes along X, 2 mm apart in Z, each ending at the contour shifted by U0.4
+    // (0.2 on the radius) and W0.1; the pass at Z-2 ends on the taper, at X10.45.
+    let facing =
+        "T0101\nG97 S1000 M3\nG0 X82. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 Z-6.\nG1 X40.\nX20. Z-2.\nN20 Z2.\nM30\n";
+    let got = moves(facing);
+    let passes: Vec<&str> = got.iter().filter(|l| l.starts_with("STRAIGHT_FEED")).map(String::as_str).collect();
+    assert_eq!(
+        passes,
+        [
+            "STRAIGHT_FEED(10.2000, 0, 0)",
+            "STRAIGHT_FEED(10.4500, 0, -2)",
+            "STRAIGHT_FEED(15.4500, 0, -4)",
+            "STRAIGHT_FEED(20.2000, 0, -5.9000)",
+            "STRAIGHT_FEED(10.2000, 0, -1.9000)",
+            "STRAIGHT_FEED(10.2000, 0, 2.1000)",
+        ],
+        "{got:?}"
+    );
+    assert!(got.contains(&"STRAIGHT_TRAVERSE(10.7000, 0, 0.5000)".to_owned()), "the 45° retract: {got:?}");
+
     // Without the first block, the depth of cut is missing; without P and Q, the contour.
     let (_, errors) = canon("fanuc_lathe", "G0 X52. Z2.\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X30.\nN20 G1 Z-20.\nM30\n");
     assert_eq!(errors, ["syntax::missing-parameter"]);
