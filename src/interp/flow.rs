@@ -1618,7 +1618,12 @@ impl<'a> Driver<'a, '_> {
             return;
         };
         let start = interp.st.pos;
-        let saved = rough.map(|_| (interp.st.clone(), interp.params.clone()));
+        // Reading a contour changes nothing: the modal state, the parameters and the
+        // compensation and corner stages (which would hold its moves back) are put back.
+        let saved = rough.map(|_| {
+            let corners = interp.corners.replace(None);
+            (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take())
+        });
         let mut parser = Parser::new(self.sources[self.cur].text, self.dialect);
         parser.seek(from.at, from.line);
         let mut shape: Vec<Canon> = Vec::new();
@@ -1647,9 +1652,12 @@ impl<'a> Driver<'a, '_> {
                 break;
             }
         }
-        if let Some((st, params)) = saved {
+        if let Some((st, params, comp, corners, problem)) = saved {
             interp.st = st;
             interp.params = params;
+            interp.comp.replace(comp);
+            interp.corners.replace(corners);
+            interp.comp_problem.set(problem);
         }
         let Some(end) = end else {
             self.error(diags, Code::MissingLabel, block.range, format!("no block N{last} after N{first} ends this cycle's contour"));
