@@ -1663,6 +1663,8 @@ impl<'a> Driver<'a, '_> {
             self.error(diags, Code::MissingLabel, block.range, format!("no block N{last} after N{first} ends this cycle's contour"));
             return;
         };
+        // The cycle's own moves come from the cycle's block.
+        (interp.origin, interp.line) = (block.range, block.line);
         match rough {
             Some(r) => {
                 interp.rough_turn(r, start, &shape, sink, diags);

@@ -812,6 +812,11 @@ fn fanuc_lathe_roughing_and_finishing_cycles_follow_the_contour() {
         want.push(m.to_owned());
     }
     assert_eq!(moves(program), want);
+    // The roughing moves come from the G71 block (line 5), the finishing ones from N10-N20.
+    let mut out = Vec::new();
+    interpret(program, &Registry::shipped().get("fanuc_lathe").unwrap(), &Profile::default(), &mut out);
+    let lines: Vec<u32> = out.iter().filter(|c| matches!(c.op, CanonOp::StraightFeed(_))).map(|c| c.line).collect();
+    assert_eq!(lines, [5, 5, 5, 5, 5, 5, 5, 5, 7, 8, 9], "{lines:?}");
 
     // An arc in the contour: the pass at X17 ends where the circle about X20 Z-10 (R10) is
     // 17 from the axis, at Z-10-sqrt(91).
