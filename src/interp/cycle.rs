@@ -420,6 +420,11 @@ impl Interpreter<'_> {
             } else {
                 (arg(self, Role::CutDepth).unwrap_or(0.0) / 2.0, arg(self, Role::AllowanceZ).unwrap_or(0.0))
             };
+            if ![retract, allow_x, allow_z].iter().all(|v| v.is_finite()) {
+                let msg = format!("{}: the retract and the allowances must be numbers; the cycle is skipped", def.label());
+                diags.push(Diagnostic::new(Code::BadValue, range, msg));
+                return;
+            }
             Some(Rough { depth, retract, allow_x, allow_z, facing })
         } else {
             None
