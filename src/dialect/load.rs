@@ -227,6 +227,7 @@ impl Cx {
             execution_order,
             recognise,
             letter_roles: [None; 128],
+            letter_incremental: 0,
             plain_roles: [None; 128],
             g_table: Vec::new(),
             m_table: Vec::new(),

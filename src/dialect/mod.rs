@@ -628,6 +628,9 @@ pub struct Dialect {
     pub recognise: Vec<sniff::Evidence>,
     /// Roles of single-character addresses by ASCII code (letters upper case).
     letter_roles: [Option<Role>; 128],
+    /// The single-character addresses that are always incremental (a lathe's `U`), as bits
+    /// by ASCII code.
+    letter_incremental: u128,
     /// The letters whose word followed by a digit is always that address and a number
     /// (`X10.5`): nothing else the dialect reads starts that way.
     plain_roles: [Option<Role>; 128],
@@ -646,6 +649,13 @@ impl Dialect {
     #[inline]
     pub fn letter_role(&self, letter: u8) -> Option<Role> {
         self.letter_roles.get(letter.to_ascii_uppercase() as usize).copied().flatten()
+    }
+
+    /// Whether the single-character address `letter` is always incremental (a lathe's `U`).
+    #[inline]
+    pub fn letter_incremental(&self, letter: u8) -> bool {
+        let c = letter.to_ascii_uppercase();
+        c < 128 && self.letter_incremental & (1 << c) != 0
     }
 
     /// The index in [`Dialect::codes`] of code `letter` `number×10`, if the dialect defines it.
@@ -696,7 +706,11 @@ impl Dialect {
     fn index(mut self) -> Dialect {
         for a in &self.addresses {
             if a.name.len() == 1 && !a.assign {
-                self.letter_roles[a.name.as_bytes()[0] as usize] = Some(a.role);
+                let c = a.name.as_bytes()[0];
+                self.letter_roles[c as usize] = Some(a.role);
+                if a.incremental {
+                    self.letter_incremental |= 1 << c;
+                }
             }
         }
         self.addresses.sort_by(|a, b| b.name.len().cmp(&a.name.len()).then(a.name.cmp(&b.name)));

@@ -463,8 +463,7 @@ impl Lexer<'_, '_> {
         let value = if assigned { self.assigned_value(start) } else { self.value(start).map(|v| (v, WordMode::Modal)) };
         if let Some((value, mode)) = value {
             // A letter that is always incremental (a lathe's `U`) marks its words so.
-            let always_incremental = self.dialect.addresses.iter().any(|a| a.incremental && a.name.as_bytes() == [letter]);
-            let mode = if mode == WordMode::Modal && always_incremental { WordMode::Incremental } else { mode };
+            let mode = if mode == WordMode::Modal && self.dialect.letter_incremental(letter) { WordMode::Incremental } else { mode };
             self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
         }
     }
@@ -638,6 +637,10 @@ impl Lexer<'_, '_> {
     /// says so, and the word is skipped; false, with nothing read, for anything else.
     fn not_a_number_after(&mut self, at: usize) -> bool {
         let from = at + usize::from(matches!(self.b.get(at), Some(b'+' | b'-')));
+        // Most words have a digit here: nothing to look at.
+        if !matches!(self.b.get(from), Some(b'n' | b'N' | b'i' | b'I')) {
+            return false;
+        }
         let end = self.b[from.min(self.b.len())..].iter().position(|c| !c.is_ascii_alphanumeric()).map_or(self.b.len(), |p| from + p);
         let word = &self.b[from.min(end)..end];
         if !(word.eq_ignore_ascii_case(b"nan") || word.eq_ignore_ascii_case(b"inf")) {

@@ -56,6 +56,17 @@ fn toolpath(a: &Analysis) -> Vec<(&'static str, Vec<f64>)> {
         .collect()
 }
 
+/// `got` has the moves of `want`, of the same kinds, their numbers within 1e-6.
+fn assert_same_toolpath(label: &str, got: &[(&'static str, Vec<f64>)], want: &[(&'static str, Vec<f64>)]) {
+    assert_eq!(got.len(), want.len(), "{label}: {got:?}");
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        assert_eq!(g.0, w.0, "{label} move {i}");
+        for (x, y) in g.1.iter().zip(&w.1) {
+            assert!((x - y).abs() <= 1e-6, "{label} move {i}: {g:?} against {w:?}");
+        }
+    }
+}
+
 /// The plan without what legitimately differs between posts: tool and program names, where
 /// facts came from, and source positions.
 fn comparable_plan(a: &Analysis) -> serde_json::Value {
@@ -84,14 +95,7 @@ fn every_dialect_gives_the_same_toolpath() {
         let want = toolpath(&reference);
         assert!(want.len() >= 10, "{part}: {} moves", want.len());
         for (ext, dialect) in &VERSIONS[1..] {
-            let got = toolpath(&run(part, ext, dialect, &profile));
-            assert_eq!(got.len(), want.len(), "{part}.{ext}: {got:?}");
-            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-                assert_eq!(g.0, w.0, "{part}.{ext} move {i}");
-                for (x, y) in g.1.iter().zip(&w.1) {
-                    assert!((x - y).abs() <= 1e-6, "{part}.{ext} move {i}: {g:?} against {w:?}");
-                }
-            }
+            assert_same_toolpath(&format!("{part}.{ext}"), &toolpath(&run(part, ext, dialect, &profile)), &want);
         }
     }
 }
@@ -109,14 +113,7 @@ fn every_lathe_dialect_gives_the_same_toolpath() {
     assert!(want.contains(&("feed", vec![-0.8, 0.0, 0.0, 0.0, 0.0, 0.0])), "{want:?}");
     assert!(want.contains(&("feed", vec![20.0, 0.0, -40.0, 0.0, 0.0, 0.0])), "{want:?}");
     for (part, ext, dialect) in [("turn_b", "nc", "fanuc_lathe_b"), ("turn", "min", "okuma_lathe")] {
-        let got = toolpath(&run(part, ext, dialect, &profile));
-        assert_eq!(got.len(), want.len(), "{part}.{ext}: {got:?}");
-        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-            assert_eq!(g.0, w.0, "{part}.{ext} move {i}");
-            for (x, y) in g.1.iter().zip(&w.1) {
-                assert!((x - y).abs() <= 1e-6, "{part}.{ext} move {i}: {g:?} against {w:?}");
-            }
-        }
+        assert_same_toolpath(&format!("{part}.{ext}"), &toolpath(&run(part, ext, dialect, &profile)), &want);
     }
 }
 
