@@ -73,6 +73,15 @@ codes! {
     NotUtf8 = ("text::not-utf8", Note),
     /// The input exceeds the configured size limit and was not analysed.
     TooLarge = ("text::too-large", Error),
+    /// The file holds no program (empty, or only blanks or NUL bytes: a truncated save or an
+    /// aborted copy); it is stored but never compared.
+    EmptyFile = ("text::empty", Warning),
+    /// The revision is the start of the next revision of the same file, stored seconds later:
+    /// a partial write, kept out of the change report.
+    PartialWrite = ("text::partial-write", Warning),
+    /// Several CAM originals match the program's names and nothing tells them apart, so it
+    /// was not compared.
+    PairingAmbiguous = ("pairing::ambiguous", Warning),
     /// A letter that the dialect does not define as an address.
     UnknownAddress = ("syntax::unknown-address", Error),
     /// A number that cannot be read.

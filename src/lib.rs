@@ -16,6 +16,7 @@ pub mod diag;
 pub mod dialect;
 pub mod diff;
 pub mod interp;
+pub mod pairing;
 pub mod part21;
 pub mod pipeline;
 pub mod plan;

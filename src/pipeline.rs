@@ -54,7 +54,9 @@ pub fn program_name(text: &str) -> Option<String> {
     for line in text.lines().map(str::trim).filter(|l| !l.is_empty()).take(5) {
         let up = line.to_ascii_uppercase();
         if let Some(rest) = up.strip_prefix("%_N_") {
-            let name = rest.split(['_', ' ']).next().unwrap_or("");
+            // A whole name: `%_N_DRILL_REAM_MPF` is DRILL_REAM, with only the type suffix off.
+            let word = rest.split_whitespace().next().unwrap_or("");
+            let name = word.strip_suffix("_MPF").or_else(|| word.strip_suffix("_SPF")).unwrap_or(word);
             if !name.is_empty() {
                 return Some(name.to_owned());
             }
@@ -94,6 +96,8 @@ mod tests {
     fn program_names() {
         assert_eq!(program_name("%\nO1234 (FACE)\nG0 X0"), Some("O1234".into()));
         assert_eq!(program_name("%_N_PART1_MPF\n;$PATH=/_N_WKS_DIR\n"), Some("PART1".into()));
+        assert_eq!(program_name("%_N_DRILL_REAM_MPF\n"), Some("DRILL_REAM".into()));
+        assert_eq!(program_name("%_N_CYCLE_POCKET_SPF\n"), Some("CYCLE_POCKET".into()));
         assert_eq!(program_name("0 BEGIN PGM FLANGE MM\n"), Some("FLANGE".into()));
         assert_eq!(program_name("BEGIN PGM FLANGE MM\n"), Some("FLANGE".into()));
         assert_eq!(program_name(":0100\n"), Some("O100".into()));

@@ -21,7 +21,7 @@ use tokio::sync::mpsc;
 use crate::config::Config;
 use crate::dialect::Registry;
 use crate::store::Store;
-pub use ingest::{Outcome, ingest};
+pub use ingest::{Outcome, Snapshot, ingest};
 use systemd::Notifier;
 
 /// A wall clock, injected so that tests and replays are deterministic.
@@ -59,21 +59,73 @@ pub fn rfc3339(secs: i64, millis: u32) -> String {
 
 /// Events of the main loop.
 enum Event {
-    Fs(notify::Result<notify::Event>),
-    Done { path: PathBuf, result: Result<Outcome>, elapsed: Duration },
+    Fs { folder: usize, event: notify::Result<notify::Event> },
+    Done { path: PathBuf, folder: usize, result: Result<Outcome>, elapsed: Duration },
+}
+
+/// What a file-system event means for the file it names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Trigger {
+    /// The content may have changed (created, written, renamed into place).
+    Content,
+    /// A writer closed the file after writing (inotify `IN_CLOSE_WRITE`).
+    Closed,
+    /// Nothing that changes content: opens, reads, closes without writing, attribute changes
+    /// on a native share, removals. The daemon's own reads are such events.
+    Ignore,
+}
+
+/// Classifies an event kind. A poll watcher reports a changed mtime as a metadata change,
+/// so there metadata counts as content; a native watcher reports writes as such.
+pub fn trigger(kind: &notify::EventKind, polled: bool) -> Trigger {
+    use notify::EventKind as K;
+    use notify::event::{AccessKind, AccessMode, ModifyKind};
+    match kind {
+        K::Access(AccessKind::Close(AccessMode::Write)) => Trigger::Closed,
+        K::Access(_) | K::Remove(_) => Trigger::Ignore,
+        K::Modify(ModifyKind::Metadata(_)) if !polled => Trigger::Ignore,
+        K::Create(_) | K::Modify(_) | K::Any | K::Other => Trigger::Content,
+    }
 }
 
 struct Pending {
     folder: usize,
     size: u64,
     mtime: Option<SystemTime>,
+    /// When size or mtime last changed.
     since: Instant,
+    /// A native share said it was written and has not said that the writer closed it.
+    writing: bool,
+}
+
+/// A file still open for writing is taken anyway once it held still this many settle windows
+/// (a writer that died holding it); the partial-write mark catches it if it grows later.
+const OPEN_WRITER_SETTLES: u32 = 60;
+
+/// A watched folder's state: its watcher, and the identity (device, inode) it was armed on.
+struct Share {
+    watcher: Option<Box<dyn Watcher + Send>>,
+    identity: Option<(u64, u64)>,
+    /// Whether the folder could be read at the last look; state changes are logged once.
+    up: bool,
+    /// The folder's real path (links resolved): stored content must lie below it.
+    root: PathBuf,
 }
 
 /// Runs the daemon until SIGTERM or SIGINT.
 pub fn run(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<()> {
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().context("cannot start the runtime")?;
     runtime.block_on(main_loop(config, registry, clock))
+}
+
+struct Daemon {
+    config: Arc<Config>,
+    shares: Vec<Share>,
+    pending: BTreeMap<PathBuf, Pending>,
+    in_flight: BTreeSet<PathBuf>,
+    /// Paths refused (links out of a share), said once each.
+    refused: BTreeSet<PathBuf>,
+    tx: mpsc::UnboundedSender<Event>,
 }
 
 async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<()> {
@@ -87,32 +139,40 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     let store = Store::open(&config.database).with_context(|| format!("cannot open the database {}", config.database.display()))?;
     let config = Arc::new(config);
     let (tx, mut rx) = mpsc::unbounded_channel::<Event>();
+    let roots: Vec<PathBuf> = config.folders.iter().map(|f| std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone())).collect();
 
-    // The worker thread owns the database connection.
-    let (job_tx, job_rx) = std::sync::mpsc::channel::<(PathBuf, usize)>();
+    // The worker thread owns the database connection. It first compares what an earlier run
+    // left waiting, then takes files one at a time.
+    let (job_tx, job_rx) = std::sync::mpsc::channel::<(PathBuf, usize, Snapshot, PathBuf)>();
     let worker = {
         let (config, tx, clock) = (Arc::clone(&config), tx.clone(), Arc::clone(&clock));
         std::thread::Builder::new().name("ncplan-worker".into()).spawn(move || {
             let mut store = store;
-            while let Ok((path, folder)) = job_rx.recv() {
+            match ingest::reconcile(&mut store, &clock.now()) {
+                Ok(0) => {}
+                Ok(n) => tracing::info!(compared = n, "Compared the edited programs that were waiting for their original."),
+                Err(error) => tracing::error!(error = format!("{error:#}"), "Could not compare the waiting edited programs."),
+            }
+            while let Ok((path, folder, snapshot, root)) = job_rx.recv() {
                 let started = Instant::now();
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    ingest(&path, &config.folders[folder], &config, &registry, &mut store, &clock.now())
+                    ingest(&path, &config.folders[folder], &root, &config, &registry, &mut store, &clock.now(), Some(snapshot))
                 }))
                 .unwrap_or_else(|_| Err(anyhow::anyhow!("analysis panicked")));
-                if tx.send(Event::Done { path, result, elapsed: started.elapsed() }).is_err() {
+                if tx.send(Event::Done { path, folder, result, elapsed: started.elapsed() }).is_err() {
                     break;
                 }
             }
         })?
     };
 
-    let mut watchers: Vec<Option<Box<dyn Watcher + Send>>> = (0..config.folders.len()).map(|_| None).collect();
-    arm_watchers(&config, &mut watchers, &tx);
-    let mut pending: BTreeMap<PathBuf, Pending> = BTreeMap::new();
-    let mut in_flight: BTreeSet<PathBuf> = BTreeSet::new();
-    scan(&config, &mut pending);
-    tracing::info!(files = pending.len(), "Catch-up scan queued.");
+    let shares = roots.into_iter().map(|root| Share { watcher: None, identity: None, up: true, root }).collect();
+    let mut d =
+        Daemon { config: Arc::clone(&config), shares, pending: BTreeMap::new(), in_flight: BTreeSet::new(), refused: BTreeSet::new(), tx };
+    for i in 0..config.folders.len() {
+        d.check_share(i, true);
+    }
+    tracing::info!(files = d.pending.len(), "Catch-up scan queued.");
     notifier.notify("READY=1");
     notifier.notify(&format!("STATUS=Watching {} folders.", config.folders.len()));
 
@@ -120,7 +180,7 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     let mut tick = tokio::time::interval((settle / 4).max(Duration::from_millis(25)));
     let mut rescan = tokio::time::interval(Duration::from_secs(config.rescan_s));
     rescan.tick().await;
-    let mut retry = tokio::time::interval(Duration::from_secs(5));
+    let mut health = tokio::time::interval(Duration::from_secs(1));
     let mut watchdog = tokio::time::interval(notifier.watchdog_interval().unwrap_or(Duration::from_secs(3600)));
     let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())?;
     let mut sigint = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::interrupt())?;
@@ -128,25 +188,41 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     loop {
         tokio::select! {
             Some(event) = rx.recv() => match event {
-                Event::Fs(Ok(ev)) => {
+                Event::Fs { folder, event: Ok(ev) } => {
                     if ev.need_rescan() {
-                        tracing::warn!("The event queue overflowed; rescanning every folder.");
-                        scan(&config, &mut pending);
+                        tracing::warn!(folder = %config.folders[folder].path.display(), "The event queue overflowed; rescanning the folder.");
+                        d.scan(folder);
                     }
-                    for p in ev.paths {
-                        consider(&config, &p, &mut pending);
+                    let polled = config.folders[folder].poll;
+                    match trigger(&ev.kind, polled) {
+                        Trigger::Ignore => {}
+                        Trigger::Content => {
+                            let written = matches!(ev.kind, notify::EventKind::Modify(notify::event::ModifyKind::Data(_))) && !polled;
+                            for p in &ev.paths {
+                                d.consider(p, written);
+                            }
+                        }
+                        Trigger::Closed => {
+                            for p in &ev.paths {
+                                if let Some(entry) = d.pending.get_mut(p) {
+                                    entry.writing = false;
+                                }
+                            }
+                        }
                     }
                 }
-                Event::Fs(Err(error)) => {
-                    tracing::warn!(%error, "The watcher reported an error; rescanning every folder.");
-                    scan(&config, &mut pending);
-                }
-                Event::Done { path, result, elapsed } => {
-                    in_flight.remove(&path);
+                Event::Fs { folder, event: Err(error) } => d.watch_failed(folder, &error),
+                Event::Done { path, folder, result, elapsed } => {
+                    d.in_flight.remove(&path);
                     match result {
-                        Ok(Outcome::Stored { revision, changes }) => tracing::info!(path = %path.display(), revision, ?changes, ms = elapsed.as_millis() as u64, "Stored a revision."),
+                        Ok(Outcome::Stored { revision, changes, compared }) => tracing::info!(path = %path.display(), revision, ?changes, compared, ms = elapsed.as_millis() as u64, "Stored a revision."),
                         Ok(Outcome::Unchanged) => tracing::debug!(path = %path.display(), "Content unchanged."),
                         Ok(Outcome::Gone) => tracing::debug!(path = %path.display(), "File vanished."),
+                        Ok(Outcome::Changing) => {
+                            tracing::debug!(path = %path.display(), "The file changed while it was read; it must settle again.");
+                            d.queue(path, folder, false);
+                        }
+                        Ok(Outcome::Refused(why)) => d.refuse(&path, &why),
                         Err(error) => {
                             // Runtime error: keep the file for the next rescan and go on.
                             tracing::error!(path = %path.display(), error = format!("{error:#}"), "Could not ingest a file; it will be retried.");
@@ -155,32 +231,25 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
                 }
             },
             _ = tick.tick() => {
-                let now = Instant::now();
-                let mut ready = Vec::new();
-                pending.retain(|path, p| {
-                    let Ok(meta) = std::fs::metadata(path) else { return false };
-                    let (size, mtime) = (meta.len(), meta.modified().ok());
-                    if size != p.size || mtime != p.mtime {
-                        (p.size, p.mtime, p.since) = (size, mtime, now);
-                        return true;
-                    }
-                    if now.duration_since(p.since) >= settle && !in_flight.contains(path) {
-                        ready.push((path.clone(), p.folder));
-                        return false;
-                    }
-                    true
-                });
-                for (path, folder) in ready {
-                    in_flight.insert(path.clone());
-                    if job_tx.send((path, folder)).is_err() {
+                for (path, folder, snapshot) in d.settled(settle) {
+                    tracing::debug!(path = %path.display(), "Queued a settled file.");
+                    d.in_flight.insert(path.clone());
+                    let root = d.shares[folder].root.clone();
+                    if job_tx.send((path, folder, snapshot, root)).is_err() {
                         anyhow::bail!("the worker thread stopped");
                     }
                 }
             }
-            _ = rescan.tick() => scan(&config, &mut pending),
-            _ = retry.tick() => {
-                if watchers.iter().any(Option::is_none) {
-                    arm_watchers(&config, &mut watchers, &tx);
+            _ = rescan.tick() => {
+                for i in 0..config.folders.len() {
+                    if d.shares[i].up {
+                        d.scan(i);
+                    }
+                }
+            }
+            _ = health.tick() => {
+                for i in 0..config.folders.len() {
+                    d.check_share(i, false);
                 }
             }
             _ = watchdog.tick() => notifier.notify("WATCHDOG=1"),
@@ -191,32 +260,181 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     tracing::info!("Stopping: finishing the file in progress.");
     notifier.notify("STOPPING=1");
     drop(job_tx);
-    drop(watchers);
+    drop(d);
     let _ = tokio::task::spawn_blocking(move || worker.join()).await;
     Ok(())
 }
 
-fn arm_watchers(config: &Config, watchers: &mut [Option<Box<dyn Watcher + Send>>], tx: &mpsc::UnboundedSender<Event>) {
-    for (i, f) in config.folders.iter().enumerate() {
-        if watchers[i].is_some() {
-            continue;
-        }
-        let tx = tx.clone();
-        let handler = move |res: notify::Result<notify::Event>| {
-            let _ = tx.send(Event::Fs(res));
-        };
-        let made: notify::Result<Box<dyn Watcher + Send>> = if f.poll {
-            let cfg = notify::Config::default().with_poll_interval(Duration::from_millis(f.poll_ms));
-            PollWatcher::new(handler, cfg).map(|w| Box::new(w) as Box<dyn Watcher + Send>)
-        } else {
-            RecommendedWatcher::new(handler, notify::Config::default()).map(|w| Box::new(w) as Box<dyn Watcher + Send>)
-        };
-        match made.and_then(|mut w| w.watch(&f.path, RecursiveMode::Recursive).map(|()| w)) {
-            Ok(w) => {
-                tracing::info!(folder = %f.path.display(), machine = %f.name, dialect = %f.dialect, poll = f.poll, "Watching a folder.");
-                watchers[i] = Some(w);
+fn identity(meta: &std::fs::Metadata) -> (u64, u64) {
+    use std::os::unix::fs::MetadataExt;
+    (meta.dev(), meta.ino())
+}
+
+impl Daemon {
+    /// Looks at a share: arms its watcher when it is up and has none, and re-arms it (and
+    /// rescans the folder) when the folder was replaced or remounted, which a watch on the old
+    /// folder would never report. Each change of state is logged once.
+    fn check_share(&mut self, i: usize, first: bool) {
+        let f = &self.config.folders[i];
+        let meta = std::fs::metadata(&f.path).ok().filter(std::fs::Metadata::is_dir);
+        let Some(meta) = meta else {
+            let share = &mut self.shares[i];
+            if share.up || first {
+                tracing::warn!(folder = %f.path.display(), machine = %f.name, "The share cannot be read (down or unmounted); watching for it to come back.");
             }
-            Err(error) => tracing::error!(folder = %f.path.display(), %error, "Cannot watch a folder (share down?); retrying every 5 s."),
+            share.up = false;
+            share.watcher = None;
+            return;
+        };
+        let id = identity(&meta);
+        let share = &self.shares[i];
+        if share.up && share.watcher.is_some() && share.identity == Some(id) {
+            return;
+        }
+        let (was_up, was_armed, replaced) = (share.up, share.identity.is_some(), share.identity.is_some_and(|old| old != id));
+        self.shares[i].watcher = None;
+        match self.arm(i) {
+            Ok(w) => {
+                let share = &mut self.shares[i];
+                share.watcher = Some(w);
+                share.identity = Some(id);
+                share.up = true;
+                share.root = std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone());
+                if replaced {
+                    tracing::warn!(folder = %f.path.display(), machine = %f.name, "The share was remounted or replaced; watching it again and rescanning it.");
+                } else if was_armed || !was_up {
+                    tracing::warn!(folder = %f.path.display(), machine = %f.name, "The share is back; watching it again and rescanning it.");
+                } else {
+                    tracing::info!(folder = %f.path.display(), machine = %f.name, dialect = %f.dialect, poll = f.poll, "Watching a folder.");
+                }
+                self.scan(i);
+            }
+            Err(error) => {
+                let share = &mut self.shares[i];
+                if share.up || first {
+                    tracing::error!(folder = %f.path.display(), %error, "Cannot watch a folder; retrying every second.");
+                }
+                share.up = false;
+            }
+        }
+    }
+
+    fn arm(&self, i: usize) -> notify::Result<Box<dyn Watcher + Send>> {
+        let f = &self.config.folders[i];
+        let tx = self.tx.clone();
+        let handler = move |event: notify::Result<notify::Event>| {
+            let _ = tx.send(Event::Fs { folder: i, event });
+        };
+        // Links are never followed by the watcher: what a link leads to is judged per file.
+        let cfg = notify::Config::default().with_follow_symlinks(false);
+        let mut w: Box<dyn Watcher + Send> = if f.poll {
+            Box::new(PollWatcher::new(handler, cfg.with_poll_interval(Duration::from_millis(f.poll_ms)))?)
+        } else {
+            Box::new(RecommendedWatcher::new(handler, cfg)?)
+        };
+        w.watch(&f.path, RecursiveMode::Recursive)?;
+        Ok(w)
+    }
+
+    /// A watcher reported an error: the watch may be dead, so the share is looked at again
+    /// at the next health check (which re-arms and rescans it), and the error is said once.
+    fn watch_failed(&mut self, folder: usize, error: &notify::Error) {
+        let f = &self.config.folders[folder];
+        let share = &mut self.shares[folder];
+        if share.up {
+            tracing::warn!(folder = %f.path.display(), %error, "The watcher reported an error; the share is looked at again.");
+        }
+        share.up = false;
+        share.watcher = None;
+    }
+
+    fn refuse(&mut self, path: &Path, why: &str) {
+        if self.refused.insert(path.to_path_buf()) {
+            tracing::warn!(path = %path.display(), reason = why, "Not following a link out of the watched folder.");
+        }
+        self.pending.remove(path);
+    }
+
+    /// Queues `path` if it is a program file of a watched folder.
+    fn consider(&mut self, path: &Path, written: bool) {
+        let Some(folder) = folder_of(&self.config, path) else { return };
+        let Ok(rel) = path.strip_prefix(&self.config.folders[folder].path) else { return };
+        // Editor and temporary files, and anything inside hidden folders, are not programs.
+        if rel.components().any(|c| c.as_os_str().to_str().is_none_or(|s| self.config.ignored(s))) {
+            return;
+        }
+        let Ok(meta) = std::fs::symlink_metadata(path) else { return };
+        if meta.file_type().is_symlink() {
+            match std::fs::canonicalize(path) {
+                Ok(real) if !real.starts_with(&self.shares[folder].root) => {
+                    return self.refuse(path, &format!("it leads to {}, outside the watched folder", real.display()));
+                }
+                Ok(real) if !real.is_file() => return,
+                Ok(_) => {}
+                Err(_) => return,
+            }
+        } else if !meta.is_file() {
+            return;
+        }
+        self.refused.remove(path);
+        self.queue(path.to_path_buf(), folder, written);
+    }
+
+    fn queue(&mut self, path: PathBuf, folder: usize, written: bool) {
+        let entry =
+            self.pending.entry(path).or_insert(Pending { folder, size: u64::MAX, mtime: None, since: Instant::now(), writing: false });
+        entry.folder = folder;
+        entry.writing |= written;
+    }
+
+    /// The pending files whose size and mtime held still for `settle` (and whose writer closed
+    /// them, where the share tells), removed from the pending set with the state they settled in.
+    fn settled(&mut self, settle: Duration) -> Vec<(PathBuf, usize, Snapshot)> {
+        let now = Instant::now();
+        let mut ready = Vec::new();
+        let in_flight = &self.in_flight;
+        self.pending.retain(|path, p| {
+            let Ok(meta) = std::fs::metadata(path) else { return false };
+            let (size, mtime) = (meta.len(), meta.modified().ok());
+            if size != p.size || mtime != p.mtime {
+                (p.size, p.mtime, p.since) = (size, mtime, now);
+                return true;
+            }
+            let still = now.duration_since(p.since);
+            let closed = !p.writing || still >= settle * OPEN_WRITER_SETTLES;
+            if still >= settle && closed && !in_flight.contains(path) {
+                ready.push((path.clone(), p.folder, Snapshot { size, mtime }));
+                return false;
+            }
+            true
+        });
+        ready
+    }
+
+    /// Queues every file of a folder (to depth 4) without following links to folders; the
+    /// worker skips unchanged content.
+    fn scan(&mut self, folder: usize) {
+        fn walk(d: &mut Daemon, dir: &Path, depth: u32) -> bool {
+            let Ok(entries) = std::fs::read_dir(dir) else { return false };
+            let mut found: Vec<(PathBuf, std::fs::FileType)> =
+                entries.filter_map(|e| e.ok()).filter_map(|e| Some((e.path(), e.file_type().ok()?))).collect();
+            found.sort_by(|a, b| a.0.cmp(&b.0));
+            for (p, kind) in found {
+                if kind.is_dir() {
+                    if depth < 4 {
+                        walk(d, &p, depth + 1);
+                    }
+                } else {
+                    d.consider(&p, false);
+                }
+            }
+            true
+        }
+        let path = self.config.folders[folder].path.clone();
+        if !walk(self, &path, 0) && self.shares[folder].up {
+            tracing::warn!(folder = %path.display(), "Cannot list a folder (share down?).");
+            self.shares[folder].up = false;
+            self.shares[folder].watcher = None;
         }
     }
 }
@@ -232,48 +450,34 @@ fn folder_of(config: &Config, path: &Path) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
-fn consider(config: &Config, path: &Path, pending: &mut BTreeMap<PathBuf, Pending>) {
-    let Some(folder) = folder_of(config, path) else { return };
-    let Ok(rel) = path.strip_prefix(&config.folders[folder].path) else { return };
-    // Editor and temporary files, and anything inside hidden folders, are not programs.
-    if rel.components().any(|c| c.as_os_str().to_str().is_none_or(|s| config.ignored(s))) {
-        return;
-    }
-    let Ok(meta) = std::fs::metadata(path) else { return };
-    if !meta.is_file() {
-        return;
-    }
-    let entry = pending.entry(path.to_path_buf()).or_insert(Pending { folder, size: u64::MAX, mtime: None, since: Instant::now() });
-    entry.folder = folder;
-}
-
-/// Queues every file of every folder (to depth 4); the worker skips unchanged content.
-fn scan(config: &Config, pending: &mut BTreeMap<PathBuf, Pending>) {
-    fn walk(config: &Config, dir: &Path, depth: u32, pending: &mut BTreeMap<PathBuf, Pending>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            tracing::warn!(folder = %dir.display(), "Cannot list a folder (share down?).");
-            return;
-        };
-        let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-        paths.sort();
-        for p in paths {
-            if p.is_dir() {
-                if depth < 4 {
-                    walk(config, &p, depth + 1, pending);
-                }
-            } else {
-                consider(config, &p, pending);
-            }
-        }
-    }
-    for f in &config.folders {
-        walk(config, &f.path, 0, pending);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::rfc3339;
+
+    #[test]
+    fn only_events_that_can_change_content_queue_a_file() {
+        use super::{Trigger, trigger};
+        use notify::EventKind as K;
+        use notify::event::{AccessKind, AccessMode, CreateKind, DataChange, MetadataKind, ModifyKind, RemoveKind, RenameMode};
+        // The daemon's own reads: opening, reading and closing without writing.
+        for k in [
+            K::Access(AccessKind::Open(AccessMode::Any)),
+            K::Access(AccessKind::Read),
+            K::Access(AccessKind::Close(AccessMode::Read)),
+            K::Remove(RemoveKind::File),
+        ] {
+            assert_eq!(trigger(&k, false), Trigger::Ignore, "{k:?}");
+            assert_eq!(trigger(&k, true), Trigger::Ignore, "{k:?}");
+        }
+        let attrib = K::Modify(ModifyKind::Metadata(MetadataKind::Any));
+        assert_eq!(trigger(&attrib, false), Trigger::Ignore);
+        // A poll watcher reports a new mtime as a metadata change.
+        assert_eq!(trigger(&K::Modify(ModifyKind::Metadata(MetadataKind::WriteTime)), true), Trigger::Content);
+        for k in [K::Create(CreateKind::File), K::Modify(ModifyKind::Data(DataChange::Any)), K::Modify(ModifyKind::Name(RenameMode::To))] {
+            assert_eq!(trigger(&k, false), Trigger::Content, "{k:?}");
+        }
+        assert_eq!(trigger(&K::Access(AccessKind::Close(AccessMode::Write)), false), Trigger::Closed);
+    }
 
     #[test]
     fn formats_utc() {

@@ -9,6 +9,8 @@ mod schema;
 use std::path::Path;
 
 use rusqlite::{Connection, OpenFlags, OptionalExtension, Transaction, params};
+
+use crate::pairing::{Candidate, Key, Rule};
 pub use schema::MIGRATIONS;
 
 use crate::diag::DiagnosticJson;
@@ -55,12 +57,12 @@ pub struct NewRevision<'a> {
     pub path: &'a str,
     /// `cam` or `machine`.
     pub role: &'a str,
-    /// Machine name, for machine folders.
+    /// Machine name, dialect and folder, for machine folders.
     pub machine: Option<(&'a str, &'a str, &'a str)>,
-    /// Program name shown in reports.
+    /// Program name shown in reports (the name this revision states).
     pub name: &'a str,
-    /// Matching key (pattern key, else program number, else upper-case stem).
-    pub key: &'a str,
+    /// The keys the program is paired by, most specific first (at least one).
+    pub keys: &'a [Key],
     /// Upper-case file stem.
     pub stem: &'a str,
     /// Dialect name.
@@ -75,7 +77,7 @@ pub struct NewRevision<'a> {
     pub seen_at: &'a str,
     /// Text encoding.
     pub encoding: &'a str,
-    /// `analysed` or `too_large`.
+    /// `analysed`, `too_large` or `empty`.
     pub status: &'a str,
     /// Plan JSON, when analysed.
     pub plan_json: Option<&'a str>,
@@ -83,19 +85,30 @@ pub struct NewRevision<'a> {
     pub counts: (usize, usize),
     /// Diagnostics.
     pub diagnostics: &'a [DiagnosticJson],
-    /// The comparison with the CAM original, when one was found.
-    pub comparison: Option<(i64, &'a [Change])>,
 }
 
-/// A stored revision that a diff can use.
+/// The newest revision of a path.
 #[derive(Debug, Clone)]
-pub struct StoredPlan {
+pub struct Latest {
     /// Revision id.
-    pub revision_id: i64,
+    pub id: i64,
+    /// Content hash.
+    pub hash: String,
+    /// Size in bytes.
+    pub size: u64,
+    /// Seconds between its `seen_at` and the time asked about.
+    pub age_s: f64,
+}
+
+/// A machine revision that may be compared: its id, path and the keys of its program.
+#[derive(Debug, Clone)]
+pub struct Comparable {
+    /// Revision id.
+    pub revision: i64,
     /// Program path.
     pub path: String,
-    /// Plan JSON.
-    pub plan_json: String,
+    /// The program's keys.
+    pub keys: Vec<Key>,
 }
 
 impl Store {
@@ -157,125 +170,10 @@ impl Store {
             .map_err(sql("looking up the latest revision"))
     }
 
-    /// The latest analysed CAM revision whose key is one of `keys` (first key wins).
-    pub fn find_original(&self, keys: &[String]) -> Result<Option<StoredPlan>> {
-        for key in keys {
-            let found = self
-                .conn
-                .query_row(
-                    "SELECT r.id, p.path, pl.plan_json FROM revisions r JOIN programs p ON p.id = r.program_id
-                     JOIN plans pl ON pl.revision_id = r.id
-                     WHERE p.role = 'cam' AND (p.program_key = ?1 OR p.stem = ?1)
-                       AND r.id = (SELECT MAX(id) FROM revisions WHERE program_id = p.id)
-                     ORDER BY r.id DESC LIMIT 1",
-                    [key],
-                    |r| Ok(StoredPlan { revision_id: r.get(0)?, path: r.get(1)?, plan_json: r.get(2)? }),
-                )
-                .optional()
-                .map_err(sql("looking up a CAM original"))?;
-            if found.is_some() {
-                return Ok(found);
-            }
-        }
-        Ok(None)
-    }
-
-    /// Latest machine revisions with `key` that have not been compared with an original yet.
-    pub fn uncompared_machine_revisions(&self, key: &str) -> Result<Vec<StoredPlan>> {
-        let mut stmt = self
-            .conn
-            .prepare(
-                "SELECT r.id, p.path, pl.plan_json FROM revisions r JOIN programs p ON p.id = r.program_id
-                 JOIN plans pl ON pl.revision_id = r.id
-                 WHERE p.role = 'machine' AND (p.program_key = ?1 OR p.stem = ?1)
-                   AND r.id = (SELECT MAX(id) FROM revisions WHERE program_id = p.id)
-                   AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id)
-                 ORDER BY r.id",
-            )
-            .map_err(sql("preparing a query"))?;
-        let rows = stmt
-            .query_map([key], |r| Ok(StoredPlan { revision_id: r.get(0)?, path: r.get(1)?, plan_json: r.get(2)? }))
-            .map_err(sql("listing uncompared revisions"))?;
-        rows.collect::<std::result::Result<_, _>>().map_err(sql("listing uncompared revisions"))
-    }
-
-    /// Records a revision with its plan, diagnostics and changes in one transaction.
-    /// Returns `None` when the latest stored revision already has this content.
-    pub fn record(&mut self, rev: &NewRevision<'_>) -> Result<Option<i64>> {
-        let tx = self.conn.transaction().map_err(sql("starting a transaction"))?;
-        let latest: Option<String> = tx
-            .query_row(
-                "SELECT r.hash FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path = ?1 ORDER BY r.id DESC LIMIT 1",
-                [rev.path],
-                |r| r.get(0),
-            )
-            .optional()
-            .map_err(sql("looking up the latest revision"))?;
-        if latest.as_deref() == Some(rev.hash) {
-            return Ok(None);
-        }
-        let machine_id: Option<i64> = match rev.machine {
-            Some((name, dialect, folder)) => {
-                tx.execute(
-                    "INSERT INTO machines(name, dialect, folder) VALUES (?1, ?2, ?3)
-                     ON CONFLICT(name) DO UPDATE SET dialect = excluded.dialect, folder = excluded.folder",
-                    params![name, dialect, folder],
-                )
-                .map_err(sql("recording a machine"))?;
-                Some(tx.query_row("SELECT id FROM machines WHERE name = ?1", [name], |r| r.get(0)).map_err(sql("recording a machine"))?)
-            }
-            None => None,
-        };
-        tx.execute(
-            "INSERT INTO programs(path, role, machine_id, name, program_key, stem, dialect) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)
-             ON CONFLICT(path) DO UPDATE SET role = excluded.role, machine_id = excluded.machine_id, name = excluded.name,
-               program_key = excluded.program_key, stem = excluded.stem, dialect = excluded.dialect",
-            params![rev.path, rev.role, machine_id, rev.name, rev.key, rev.stem, rev.dialect],
-        )
-        .map_err(sql("recording a program"))?;
-        let program_id: i64 =
-            tx.query_row("SELECT id FROM programs WHERE path = ?1", [rev.path], |r| r.get(0)).map_err(sql("recording a program"))?;
-        tx.execute(
-            "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, ?3)",
-            params![rev.hash, rev.bytes.len() as i64, rev.bytes],
-        )
-        .map_err(sql("storing program bytes"))?;
-        tx.execute(
-            "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
-            params![program_id, rev.hash, rev.bytes.len() as i64, rev.mtime_ns, rev.seen_at, rev.encoding, rev.status],
-        )
-        .map_err(sql("recording a revision"))?;
-        let revision_id = tx.last_insert_rowid();
-        if let Some(plan) = rev.plan_json {
-            tx.execute(
-                "INSERT INTO plans(revision_id, plan_json, workingsteps, tools) VALUES (?1, ?2, ?3, ?4)",
-                params![revision_id, plan, rev.counts.0 as i64, rev.counts.1 as i64],
-            )
-            .map_err(sql("storing a plan"))?;
-            tx.execute(schema::FILL_WORKINGSTEPS, params![revision_id]).map_err(sql("storing workingsteps"))?;
-            tx.execute(schema::FILL_FEATURES, params![revision_id]).map_err(sql("storing features"))?;
-        }
-        {
-            let mut stmt = tx
-                .prepare("INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)")
-                .map_err(sql("storing diagnostics"))?;
-            for d in rev.diagnostics {
-                stmt.execute(params![revision_id, d.code, d.severity.as_str(), d.line, d.col, d.start, d.end, d.message])
-                    .map_err(sql("storing diagnostics"))?;
-            }
-        }
-        if let Some((original, changes)) = rev.comparison {
-            insert_comparison(&tx, revision_id, original, changes, rev.seen_at)?;
-        }
-        tx.commit().map_err(sql("committing a revision"))?;
-        Ok(Some(revision_id))
-    }
-
-    /// Records the comparison of an already stored revision (when its original arrives later).
-    pub fn record_comparison(&mut self, revision_id: i64, original: i64, changes: &[Change], at: &str) -> Result<()> {
-        let tx = self.conn.transaction().map_err(sql("starting a transaction"))?;
-        insert_comparison(&tx, revision_id, original, changes, at)?;
-        tx.commit().map_err(sql("committing a comparison"))
+    /// Starts the one transaction in which a revision and everything it enables are recorded.
+    pub fn begin(&mut self) -> Result<Txn<'_>> {
+        let tx = self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate).map_err(sql("starting a transaction"))?;
+        Ok(Txn { tx })
     }
 
     /// Runs a query and returns column names and rows as text.
@@ -304,21 +202,246 @@ impl Store {
     }
 }
 
-fn insert_comparison(tx: &Transaction<'_>, revision_id: i64, original: i64, changes: &[Change], at: &str) -> Result<()> {
-    tx.execute(
-        "INSERT OR REPLACE INTO comparisons(revision_id, original_revision_id, compared_at, changes) VALUES (?1, ?2, ?3, ?4)",
-        params![revision_id, original, at, changes.len() as i64],
-    )
-    .map_err(sql("recording a comparison"))?;
-    let mut stmt = tx
-        .prepare(
-            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
-        )
-        .map_err(sql("storing changes"))?;
-    for c in changes {
-        stmt.execute(params![revision_id, original, c.workingstep, c.operation, c.kind.as_str(), c.field, c.before, c.after, c.line, at])
-            .map_err(sql("storing changes"))?;
+/// One unit of work: a revision, its findings, the partial-write mark of the one before, and
+/// every comparison it enables commit together or not at all.
+pub struct Txn<'c> {
+    tx: Transaction<'c>,
+}
+
+/// `(revision_id)` of revisions that may serve as originals or be compared: analysed, with a
+/// plan, and not a partial write.
+const USABLE: &str = "r.status = 'analysed' AND EXISTS (SELECT 1 FROM plans pl WHERE pl.revision_id = r.id)
+     AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = r.id AND k.mark = 'partial')";
+
+impl Txn<'_> {
+    /// Commits.
+    pub fn commit(self) -> Result<()> {
+        self.tx.commit().map_err(sql("committing a revision"))
     }
-    Ok(())
+
+    /// The newest revision of the program at `path`, with its age at `now` (RFC 3339).
+    pub fn latest(&self, path: &str, now: &str) -> Result<Option<Latest>> {
+        self.tx
+            .query_row(
+                "SELECT r.id, r.hash, r.size, (julianday(?2) - julianday(r.seen_at)) * 86400.0
+                 FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path = ?1 ORDER BY r.id DESC LIMIT 1",
+                params![path, now],
+                |r| {
+                    Ok(Latest {
+                        id: r.get(0)?,
+                        hash: r.get(1)?,
+                        size: r.get::<_, i64>(2)? as u64,
+                        age_s: r.get::<_, Option<f64>>(3)?.unwrap_or(f64::INFINITY),
+                    })
+                },
+            )
+            .optional()
+            .map_err(sql("looking up the latest revision"))
+    }
+
+    /// The stored bytes with `hash`.
+    pub fn blob(&self, hash: &str) -> Result<Option<Vec<u8>>> {
+        self.tx
+            .query_row("SELECT content FROM blobs WHERE hash = ?1", [hash], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading program bytes"))
+    }
+
+    /// Records a revision with its program, keys, bytes, plan and diagnostics.
+    pub fn insert_revision(&self, rev: &NewRevision<'_>) -> Result<i64> {
+        let tx = &self.tx;
+        let machine_id: Option<i64> = match rev.machine {
+            Some((name, dialect, folder)) => {
+                tx.execute(
+                    "INSERT INTO machines(name, dialect, folder) VALUES (?1, ?2, ?3)
+                     ON CONFLICT(name) DO UPDATE SET dialect = excluded.dialect, folder = excluded.folder",
+                    params![name, dialect, folder],
+                )
+                .map_err(sql("recording a machine"))?;
+                Some(tx.query_row("SELECT id FROM machines WHERE name = ?1", [name], |r| r.get(0)).map_err(sql("recording a machine"))?)
+            }
+            None => None,
+        };
+        let first_key = rev.keys.first().map_or(rev.stem, |k| k.value.as_str());
+        tx.execute(
+            "INSERT INTO programs(path, role, machine_id, name, program_key, stem, dialect) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)
+             ON CONFLICT(path) DO UPDATE SET role = excluded.role, machine_id = excluded.machine_id, name = excluded.name,
+               program_key = excluded.program_key, stem = excluded.stem, dialect = excluded.dialect",
+            params![rev.path, rev.role, machine_id, rev.name, first_key, rev.stem, rev.dialect],
+        )
+        .map_err(sql("recording a program"))?;
+        let program_id: i64 =
+            tx.query_row("SELECT id FROM programs WHERE path = ?1", [rev.path], |r| r.get(0)).map_err(sql("recording a program"))?;
+        tx.execute("DELETE FROM program_keys WHERE program_id = ?1", [program_id]).map_err(sql("recording program keys"))?;
+        for k in rev.keys {
+            tx.execute(
+                "INSERT OR IGNORE INTO program_keys(program_id, rule, key) VALUES (?1, ?2, ?3)",
+                params![program_id, k.rule.as_str(), k.value],
+            )
+            .map_err(sql("recording program keys"))?;
+        }
+        tx.execute(
+            "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, ?3)",
+            params![rev.hash, rev.bytes.len() as i64, rev.bytes],
+        )
+        .map_err(sql("storing program bytes"))?;
+        tx.execute(
+            "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
+            params![program_id, rev.hash, rev.bytes.len() as i64, rev.mtime_ns, rev.seen_at, rev.encoding, rev.status, rev.name],
+        )
+        .map_err(sql("recording a revision"))?;
+        let revision_id = tx.last_insert_rowid();
+        if let Some(plan) = rev.plan_json {
+            tx.execute(
+                "INSERT INTO plans(revision_id, plan_json, workingsteps, tools) VALUES (?1, ?2, ?3, ?4)",
+                params![revision_id, plan, rev.counts.0 as i64, rev.counts.1 as i64],
+            )
+            .map_err(sql("storing a plan"))?;
+            tx.execute(schema::FILL_WORKINGSTEPS, params![revision_id]).map_err(sql("storing workingsteps"))?;
+            tx.execute(schema::FILL_FEATURES, params![revision_id]).map_err(sql("storing features"))?;
+        }
+        for d in rev.diagnostics {
+            self.insert_finding(revision_id, d)?;
+        }
+        Ok(revision_id)
+    }
+
+    fn insert_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<()> {
+        self.tx
+            .prepare_cached(
+                "INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
+            )
+            .and_then(|mut stmt| stmt.execute(params![revision_id, d.code, d.severity.as_str(), d.line, d.col, d.start, d.end, d.message]))
+            .map_err(sql("storing diagnostics"))?;
+        Ok(())
+    }
+
+    /// Adds a finding to a stored revision, unless it has the same one (code and message).
+    pub fn add_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<bool> {
+        let known: bool = self
+            .tx
+            .query_row(
+                "SELECT EXISTS (SELECT 1 FROM diagnostics WHERE revision_id = ?1 AND code = ?2 AND message = ?3)",
+                params![revision_id, d.code, d.message],
+                |r| r.get(0),
+            )
+            .map_err(sql("looking up diagnostics"))?;
+        if !known {
+            self.insert_finding(revision_id, d)?;
+        }
+        Ok(!known)
+    }
+
+    /// Marks `revision` as a partial write of `by` (the revision whose start it is).
+    pub fn mark_partial(&self, revision: i64, by: i64, at: &str) -> Result<()> {
+        self.tx
+            .execute(
+                "INSERT OR IGNORE INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES (?1, 'partial', ?2, ?3)",
+                params![revision, by, at],
+            )
+            .map_err(sql("marking a partial write"))?;
+        Ok(())
+    }
+
+    /// The CAM originals that have the key `key`: for each, its newest usable revision.
+    pub fn originals(&self, key: &str) -> Result<Vec<Candidate>> {
+        let found: Vec<(i64, String, i64)> = {
+            let mut stmt = self
+                .tx
+                .prepare_cached(&format!(
+                    "SELECT p.id, p.path, (SELECT MAX(r.id) FROM revisions r WHERE r.program_id = p.id AND {USABLE})
+                     FROM programs p
+                     WHERE p.role = 'cam' AND p.id IN (SELECT program_id FROM program_keys WHERE key = ?1)
+                     ORDER BY p.path"
+                ))
+                .map_err(sql("preparing a query"))?;
+            let rows = stmt
+                .query_map([key], |r| Ok((r.get(0)?, r.get(1)?, r.get::<_, Option<i64>>(2)?)))
+                .map_err(sql("looking up CAM originals"))?;
+            let mut out = Vec::new();
+            for row in rows {
+                if let (id, path, Some(rev)) = row.map_err(sql("looking up CAM originals"))? {
+                    out.push((id, path, rev));
+                }
+            }
+            out
+        };
+        found.into_iter().map(|(id, path, revision)| Ok(Candidate { revision, path, keys: self.keys_of(id)? })).collect()
+    }
+
+    fn keys_of(&self, program_id: i64) -> Result<Vec<Key>> {
+        let mut stmt =
+            self.tx.prepare_cached("SELECT rule, key FROM program_keys WHERE program_id = ?1").map_err(sql("preparing a query"))?;
+        let rows =
+            stmt.query_map([program_id], |r| Ok((r.get::<_, String>(0)?, r.get::<_, String>(1)?))).map_err(sql("reading program keys"))?;
+        let mut keys = Vec::new();
+        for row in rows {
+            let (rule, value) = row.map_err(sql("reading program keys"))?;
+            if let Some(rule) = Rule::parse(&rule) {
+                keys.push(Key { rule, value });
+            }
+        }
+        keys.sort_by_key(|k| k.rule);
+        Ok(keys)
+    }
+
+    /// The plan JSON of a revision.
+    pub fn plan_json(&self, revision: i64) -> Result<Option<String>> {
+        self.tx
+            .query_row("SELECT plan_json FROM plans WHERE revision_id = ?1", [revision], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading a plan"))
+    }
+
+    /// Usable machine revisions without a comparison: of the programs with the key `key`, or
+    /// of every program.
+    pub fn uncompared(&self, key: Option<&str>) -> Result<Vec<Comparable>> {
+        let query = format!(
+            "SELECT r.id, p.path, p.id FROM revisions r JOIN programs p ON p.id = r.program_id
+             WHERE p.role = 'machine' AND {USABLE}
+               AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id)
+               AND (?1 IS NULL OR p.id IN (SELECT program_id FROM program_keys WHERE key = ?1))
+             ORDER BY r.id"
+        );
+        self.comparables(&query, rusqlite::types::Value::from(key.map(str::to_owned)))
+    }
+
+    /// Machine revisions compared with `original`.
+    pub fn compared_with(&self, original: i64) -> Result<Vec<Comparable>> {
+        let query = "SELECT r.id, p.path, p.id FROM comparisons c JOIN revisions r ON r.id = c.revision_id
+                     JOIN programs p ON p.id = r.program_id WHERE c.original_revision_id = ?1 ORDER BY r.id";
+        self.comparables(query, rusqlite::types::Value::from(original))
+    }
+
+    fn comparables(&self, query: &str, arg: rusqlite::types::Value) -> Result<Vec<Comparable>> {
+        let found: Vec<(i64, String, i64)> = {
+            let mut stmt = self.tx.prepare_cached(query).map_err(sql("preparing a query"))?;
+            let rows = stmt.query_map([arg], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?))).map_err(sql("listing revisions to compare"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(sql("listing revisions to compare"))?
+        };
+        found.into_iter().map(|(revision, path, id)| Ok(Comparable { revision, path, keys: self.keys_of(id)? })).collect()
+    }
+
+    /// Records the comparison of `revision` with `original`, paired by `rule`, replacing an
+    /// earlier one of the same revision.
+    pub fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
+        let tx = &self.tx;
+        tx.execute("DELETE FROM changes WHERE revision_id = ?1", [revision]).map_err(sql("replacing a comparison"))?;
+        tx.execute(
+            "INSERT OR REPLACE INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule) VALUES (?1, ?2, ?3, ?4, ?5)",
+            params![revision, original, at, changes.len() as i64, rule],
+        )
+        .map_err(sql("recording a comparison"))?;
+        let mut stmt = tx
+            .prepare_cached(
+                "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+            )
+            .map_err(sql("storing changes"))?;
+        for c in changes {
+            stmt.execute(params![revision, original, c.workingstep, c.operation, c.kind.as_str(), c.field, c.before, c.after, c.line, at])
+                .map_err(sql("storing changes"))?;
+        }
+        Ok(())
+    }
 }

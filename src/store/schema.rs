@@ -189,6 +189,48 @@ CREATE TABLE features (
         fill_features!(),
         ";\n"
     ),
+    // 3: pairing by whole names, rule by rule; the name each revision had; partial writes.
+    r#"
+CREATE TABLE program_keys (
+    program_id INTEGER NOT NULL REFERENCES programs(id),
+    rule       TEXT NOT NULL CHECK (rule IN ('pattern', 'program-name', 'file-name')),
+    key        TEXT NOT NULL,
+    PRIMARY KEY (program_id, rule)
+);
+CREATE INDEX program_keys_key ON program_keys(key);
+INSERT INTO program_keys(program_id, rule, key) SELECT id, 'file-name', stem FROM programs;
+INSERT OR IGNORE INTO program_keys(program_id, rule, key) SELECT id, 'program-name', program_key FROM programs WHERE program_key <> stem;
+ALTER TABLE comparisons ADD COLUMN rule TEXT;
+ALTER TABLE revisions ADD COLUMN name TEXT;
+CREATE TABLE revision_marks (
+    revision_id   INTEGER PRIMARY KEY REFERENCES revisions(id),
+    mark          TEXT NOT NULL CHECK (mark IN ('partial')),
+    superseded_by INTEGER NOT NULL REFERENCES revisions(id),
+    noted_at      TEXT NOT NULL
+);
+DROP VIEW shopfloor_changes;
+CREATE VIEW shopfloor_changes AS
+SELECT m.name                    AS machine,
+       COALESCE(r.name, p.name)  AS program,
+       op.path                   AS original_path,
+       p.path                    AS edited_path,
+       c.revision_id             AS revision_id,
+       c.workingstep             AS workingstep,
+       c.kind                    AS kind,
+       c.field                   AS field,
+       c.before                  AS before,
+       c.after                   AS after,
+       c.detected_at             AS detected_at,
+       c.operation               AS operation,
+       c.id                      AS change_id
+FROM changes c
+JOIN revisions r   ON r.id = c.revision_id
+JOIN programs p    ON p.id = r.program_id
+LEFT JOIN machines m ON m.id = p.machine_id
+JOIN revisions orv ON orv.id = c.original_revision_id
+JOIN programs op   ON op.id = orv.program_id
+WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial');
+"#,
 ];
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ mod derived;
 mod dialects;
 mod encodings;
 mod equivalence;
+mod faults;
 mod flow;
 mod macros;
 mod plan;
