@@ -9,6 +9,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -47,6 +48,18 @@ struct Input {
     dialect: Option<String>,
     /// Configuration (for the tool table and extra dialects).
     #[arg(long)]
+    config: Option<PathBuf>,
+}
+
+/// Where the database is.
+#[derive(Debug, clap::Args)]
+struct StoreArgs {
+    /// The SQLite database file; by default the one the configuration names.
+    #[arg(long, value_name = "FILE")]
+    db: Option<PathBuf>,
+    /// Configuration whose database (and, for `report --wait`, folders) to use; without it,
+    /// the built-in demo configuration.
+    #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
 }
 
@@ -117,19 +130,40 @@ enum Command {
         #[arg(long)]
         exit_code: bool,
     },
-    /// Run read-only SQL against the database.
+    /// Run one read-only SQL statement against the database.
     Query {
-        /// SQL.
+        /// SQL: one SELECT, WITH, VALUES or EXPLAIN statement.
         sql: String,
-        #[arg(long)]
-        db: Option<PathBuf>,
+        #[command(flatten)]
+        store: StoreArgs,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
     },
     /// Print the shopfloor change report in Markdown.
     Report {
+        #[command(flatten)]
+        store: StoreArgs,
+        /// First wait until every file in the watched folders is stored (at most this many
+        /// seconds; 30 when given without a number), so that a file just copied is reported.
+        #[arg(long, num_args = 0..=1, default_missing_value = "30", value_name = "SECONDS")]
+        wait: Option<u64>,
+    },
+    /// Print one stored revision: what it is, its findings and its changes; with flags, its
+    /// source or its plan.
+    Show {
+        /// A revision id, or a program's path (whole, or its end such as `DMU50/O1234.nc`).
+        revision: String,
+        /// With a path: the newest revision seen at or before this time (RFC 3339, or a date).
+        #[arg(long, value_name = "TIME")]
+        at: Option<String>,
+        /// Print the stored program bytes as they were, and nothing else.
+        #[arg(long, conflicts_with = "plan")]
+        source: bool,
+        /// Print the stored plan as JSON, and nothing else.
         #[arg(long)]
-        db: Option<PathBuf>,
+        plan: bool,
+        #[command(flatten)]
+        store: StoreArgs,
     },
     /// Generate the benchmark programs and time `canon` on them, beside `rs274` if installed.
     Bench {
@@ -168,12 +202,39 @@ pub fn run() -> ExitCode {
 fn load_config(path: Option<&Path>) -> Result<Config> {
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read the configuration {}", p.display()))?;
             let base = p.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
             let base = if base.as_os_str().is_empty() { PathBuf::from(".") } else { base };
-            Config::parse(&text, &std::path::absolute(&base)?)
+            Config::parse(&text, &std::path::absolute(&base)?).with_context(|| format!("in the configuration {}", p.display()))
         }
-        None => Config::parse(config::DEMO, &std::env::current_dir()?),
+        None => {
+            let here = std::env::current_dir()?;
+            Config::parse(config::DEMO, &here).context("in the built-in demo configuration")
+        }
+    }
+}
+
+/// The built-in demo configuration names folders of the checkout: it runs from its root.
+fn demo_config_here() -> Result<Config> {
+    let here = std::env::current_dir()?;
+    if !here.join("demo/cam").is_dir() {
+        bail!(
+            "without --config, ncplan runs the demo, whose folders are in the checkout (demo/cam, demo/shares); \
+             {} has no demo/ folder: run it from the checkout's root, or give --config FILE",
+            here.display()
+        );
+    }
+    load_config(None)
+}
+
+/// How to run this binary again, as the user can type it: a path relative to the working
+/// directory when it lies below it.
+fn this_binary() -> String {
+    let exe = std::env::current_exe().ok();
+    let here = std::env::current_dir().ok();
+    match (exe, here) {
+        (Some(exe), Some(here)) => exe.strip_prefix(&here).map_or_else(|_| exe.display().to_string(), |r| r.display().to_string()),
+        _ => "ncplan".into(),
     }
 }
 
@@ -222,9 +283,14 @@ fn dispatch(command: Command) -> Result<ExitCode> {
     let stdout = std::io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     match command {
-        Command::Watch { config } => {
-            let config = load_config(config.as_deref())?;
+        Command::Watch { config: given } => {
+            let demo = given.is_none();
+            let config = if demo { demo_config_here()? } else { load_config(given.as_deref())? };
+            config.check_watchable()?;
             let registry = registry_for(Some(&config))?;
+            for f in config.folders.iter().filter(|f| f.dialect != config::AUTO_DIALECT) {
+                dialect(&registry, &f.dialect).with_context(|| format!("folder {}", f.path.display()))?;
+            }
             init_tracing();
             println!("ncplan watch: database {}", config.database.display());
             for f in &config.folders {
@@ -237,9 +303,9 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                     if f.poll { " (polled)" } else { "" }
                 );
             }
-            if let Some(m) = config.folders.iter().find(|f| f.role == config::Role::Machine) {
-                println!("Try: cp demo/examples/O1234_edited.nc {}/O1234.nc", m.path.display());
-                println!("then: ncplan report --db {}", config.database.display());
+            if demo {
+                println!("Try, in another terminal: cp demo/examples/O1234_edited.nc demo/shares/DMU50/O1234.nc");
+                println!("then: {} report --wait", this_binary());
             }
             crate::daemon::run(config, registry, Arc::new(crate::daemon::SystemClock))?;
             Ok(ExitCode::SUCCESS)
@@ -366,10 +432,16 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if exit_code && !changes.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
-        Command::Query { sql, db, format } => {
-            let db = db_path(db)?;
+        Command::Query { sql, store, format } => {
+            let db = db_path(&store)?;
             let store = Store::open_read_only(&db)?;
-            let (cols, rows) = store.query(&sql)?;
+            let (cols, rows) = match store.query_read_only(&sql) {
+                Ok(r) => r,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return Ok(ExitCode::from(2));
+                }
+            };
             match format {
                 Format::Json => {
                     let objs: Vec<serde_json::Map<String, serde_json::Value>> = rows
@@ -389,10 +461,48 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Report { db } => {
-            let db = db_path(db)?;
+        Command::Report { store, wait } => {
+            if let Some(seconds) = wait {
+                let config = match &store.config {
+                    Some(p) => load_config(Some(p))?,
+                    None => demo_config_here()?,
+                };
+                let db = store.db.clone().unwrap_or_else(|| config.database.clone());
+                let left = wait_until_stored(&config, &db, Duration::from_secs(seconds))?;
+                if left > 0 {
+                    eprintln!(
+                        "ncplan: {left} files in the watched folders are not stored yet (is `ncplan watch` running?); reporting what is"
+                    );
+                }
+            }
+            let db = db_path(&store)?;
             let store = Store::open_read_only(&db)?;
             write_report(&mut out, &store)?;
+            out.flush()?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Show { revision, at, source, plan, store } => {
+            let db = db_path(&store)?;
+            let store = Store::open_read_only(&db)?;
+            let id = match revision.parse::<i64>() {
+                Ok(id) if at.is_none() => id,
+                _ => match store.revision_of_path(&revision, at.as_deref())? {
+                    Ok(Some(id)) => id,
+                    Ok(None) => bail!("no stored revision of `{revision}`{}", at.map(|a| format!(" at or before {a}")).unwrap_or_default()),
+                    Err(paths) => bail!("`{revision}` names several programs; give more of the path:\n  {}", paths.join("\n  ")),
+                },
+            };
+            let Some(info) = store.revision(id)? else { bail!("no revision {id}") };
+            if source {
+                out.write_all(&store.content(id)?.unwrap_or_default())?;
+            } else if plan {
+                match store.plan_json(id)? {
+                    Some(json) => writeln!(out, "{json}")?,
+                    None => bail!("revision {id} has no plan (status {})", info.status),
+                }
+            } else {
+                write_revision(&mut out, &store, &info)?;
+            }
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
@@ -424,10 +534,11 @@ fn dispatch(command: Command) -> Result<ExitCode> {
     }
 }
 
-fn db_path(db: Option<PathBuf>) -> Result<PathBuf> {
-    let db = match db {
-        Some(d) => d,
-        None => load_config(None)?.database,
+fn db_path(args: &StoreArgs) -> Result<PathBuf> {
+    let db = match (&args.db, &args.config) {
+        (Some(d), _) => d.clone(),
+        (None, Some(c)) => load_config(Some(c))?.database,
+        (None, None) => load_config(None)?.database,
     };
     if !db.exists() {
         bail!("no database at {} (has `ncplan watch` run?)", db.display());
@@ -435,9 +546,85 @@ fn db_path(db: Option<PathBuf>) -> Result<PathBuf> {
     Ok(db)
 }
 
+/// Waits until every program file in the configured folders is stored as the newest revision
+/// of its path, or `timeout` passed. Returns how many were still not stored.
+fn wait_until_stored(config: &Config, db: &Path, timeout: Duration) -> Result<usize> {
+    let deadline = Instant::now() + timeout;
+    loop {
+        let mut files = Vec::new();
+        for f in &config.folders {
+            files.extend(config.program_files(f).unwrap_or_default());
+        }
+        let store = if db.exists() { Store::open_read_only(db).ok() } else { None };
+        let mut left = 0;
+        for p in &files {
+            let stored = match (&store, std::fs::read(p)) {
+                (Some(s), Ok(bytes)) => {
+                    s.latest_hash(&p.to_string_lossy())?.as_deref() == Some(crate::daemon::ingest::sha256_hex(&bytes).as_str())
+                }
+                (_, Err(_)) => true,
+                (None, _) => false,
+            };
+            left += usize::from(!stored);
+        }
+        if left == 0 || Instant::now() >= deadline {
+            return Ok(left);
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// Logs to stderr: coloured only on a terminal; under systemd, to the journal with its fields.
 fn init_tracing() {
+    use std::io::IsTerminal;
+    use tracing_subscriber::layer::SubscriberExt;
+    use tracing_subscriber::util::SubscriberInitExt;
     let filter = tracing_subscriber::EnvFilter::try_from_env("NCPLAN_LOG").unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
-    let _ = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr).try_init();
+    if std::env::var_os("JOURNAL_STREAM").is_some()
+        && let Ok(journal) = tracing_journald::layer()
+    {
+        let _ = tracing_subscriber::registry().with(filter).with(journal.with_syslog_identifier("ncplan".into())).try_init();
+        return;
+    }
+    let _ = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_ansi(std::io::stderr().is_terminal())
+        .with_writer(std::io::stderr)
+        .try_init();
+}
+
+fn write_revision(out: &mut impl Write, store: &Store, r: &crate::store::RevisionInfo) -> Result<()> {
+    let place = r.machine.as_deref().map_or_else(|| "CAM original".to_owned(), |m| format!("machine {m}"));
+    writeln!(out, "revision {}: {place}, program {} ({})", r.id, r.name, r.dialect)?;
+    writeln!(out, "  path     {}", r.path)?;
+    writeln!(out, "  seen     {}", r.seen_at)?;
+    writeln!(out, "  content  {} bytes, {}, sha256 {}", r.size, r.encoding, r.hash)?;
+    let status = match (r.status.as_str(), r.partial_of) {
+        (_, Some(by)) => format!("a partial write of revision {by}; kept out of the change report"),
+        ("too_large", _) => "too large; stored, not analysed".into(),
+        ("empty", _) => "holds no program; stored, never compared".into(),
+        _ => "analysed".into(),
+    };
+    writeln!(out, "  status   {status}")?;
+    match &r.original {
+        Some((id, path, rule, n)) => writeln!(out, "  compared with revision {id} ({path}), paired by {rule}: {n} changes")?,
+        None if r.role == "machine" => writeln!(out, "  not compared (no CAM original paired)")?,
+        None => {}
+    }
+    let findings = store.findings(r.id)?;
+    writeln!(out, "\nfindings ({}):", findings.len())?;
+    for f in &findings {
+        writeln!(out, "  {}:{}: {}[{}]: {}", f.line, f.col, f.severity, f.code, f.message)?;
+    }
+    let changes = store.changes(r.id)?;
+    if r.original.is_some() {
+        writeln!(out, "\nchanges ({}):", changes.len())?;
+        for line in diff::render_plain(&changes) {
+            writeln!(out, "  - {line}")?;
+        }
+    }
+    writeln!(out, "\n(--source prints the program, --plan its plan)")?;
+    Ok(())
 }
 
 struct Printer<'w, W: Write> {

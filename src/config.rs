@@ -10,6 +10,11 @@ use serde::Deserialize;
 
 use crate::interp::{Profile, ToolData};
 
+/// The least settle window: below it, a file being copied looks settled between writes.
+pub const MIN_SETTLE_MS: u64 = 50;
+/// The least interval between full rescans.
+pub const MIN_RESCAN_S: u64 = 5;
+
 /// The configuration the binary falls back on: the demo folders of this repository.
 pub const DEMO: &str = include_str!("../config/ncplan.toml");
 
@@ -312,17 +317,64 @@ impl Config {
             }
             profile.stock = Some([st.min, st.max]);
         }
+        if raw.daemon.settle_ms < MIN_SETTLE_MS {
+            bail!("[daemon] settle_ms = {} is below the least that tells a settled file, {MIN_SETTLE_MS}", raw.daemon.settle_ms);
+        }
+        if raw.daemon.rescan_s < MIN_RESCAN_S {
+            bail!("[daemon] rescan_s = {} is below the least, {MIN_RESCAN_S} (a rescan reads every file)", raw.daemon.rescan_s);
+        }
+        if raw.daemon.max_file_mb == 0 {
+            bail!("[daemon] max_file_mb must be at least 1");
+        }
         Ok(Config {
             database,
             dialects_dir: raw.dialects_dir.map(|d| abs(&d)),
             folders,
-            settle_ms: raw.daemon.settle_ms.max(50),
-            rescan_s: raw.daemon.rescan_s.max(5),
+            settle_ms: raw.daemon.settle_ms,
+            rescan_s: raw.daemon.rescan_s,
             max_file_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20),
             ignore: raw.daemon.ignore,
             pattern,
             profile,
         })
+    }
+
+    /// What `ncplan watch` needs beyond a valid file: folders to watch.
+    pub fn check_watchable(&self) -> Result<()> {
+        if self.folders.is_empty() {
+            bail!("no folders to watch: add a [[cam]] folder and at least one [[machine]] share");
+        }
+        Ok(())
+    }
+
+    /// The program files of a folder, sorted, to depth 4: regular files, and links that stay
+    /// inside the folder; not editor or temporary files, nothing in hidden folders, never a
+    /// link to a folder. An error when the folder itself cannot be listed.
+    pub fn program_files(&self, folder: &Folder) -> std::io::Result<Vec<PathBuf>> {
+        fn walk(config: &Config, root: &Path, dir: &Path, depth: u32, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+            let mut found: Vec<(PathBuf, std::fs::FileType)> =
+                std::fs::read_dir(dir)?.filter_map(|e| e.ok()).filter_map(|e| Some((e.path(), e.file_type().ok()?))).collect();
+            found.sort_by(|a, b| a.0.cmp(&b.0));
+            for (p, kind) in found {
+                if p.file_name().and_then(|n| n.to_str()).is_none_or(|n| config.ignored(n)) {
+                    continue;
+                }
+                if kind.is_dir() {
+                    if depth < 4 {
+                        let _ = walk(config, root, &p, depth + 1, out);
+                    }
+                } else if kind.is_file()
+                    || (kind.is_symlink() && std::fs::canonicalize(&p).is_ok_and(|r| r.starts_with(root) && r.is_file()))
+                {
+                    out.push(p);
+                }
+            }
+            Ok(())
+        }
+        let root = std::fs::canonicalize(&folder.path)?;
+        let mut out = Vec::new();
+        walk(self, &root, &folder.path, 0, &mut out)?;
+        Ok(out)
     }
 
     /// Whether a file name matches an ignore glob (editor and temporary files).

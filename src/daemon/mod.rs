@@ -411,30 +411,23 @@ impl Daemon {
         ready
     }
 
-    /// Queues every file of a folder (to depth 4) without following links to folders; the
-    /// worker skips unchanged content.
+    /// Queues every program file of a folder (`Config::program_files`); the worker skips
+    /// unchanged content.
     fn scan(&mut self, folder: usize) {
-        fn walk(d: &mut Daemon, dir: &Path, depth: u32) -> bool {
-            let Ok(entries) = std::fs::read_dir(dir) else { return false };
-            let mut found: Vec<(PathBuf, std::fs::FileType)> =
-                entries.filter_map(|e| e.ok()).filter_map(|e| Some((e.path(), e.file_type().ok()?))).collect();
-            found.sort_by(|a, b| a.0.cmp(&b.0));
-            for (p, kind) in found {
-                if kind.is_dir() {
-                    if depth < 4 {
-                        walk(d, &p, depth + 1);
-                    }
-                } else {
-                    d.consider(&p, false);
+        let config = Arc::clone(&self.config);
+        match config.program_files(&config.folders[folder]) {
+            Ok(files) => {
+                for p in files {
+                    self.consider(&p, false);
                 }
             }
-            true
-        }
-        let path = self.config.folders[folder].path.clone();
-        if !walk(self, &path, 0) && self.shares[folder].up {
-            tracing::warn!(folder = %path.display(), "Cannot list a folder (share down?).");
-            self.shares[folder].up = false;
-            self.shares[folder].watcher = None;
+            Err(error) => {
+                if self.shares[folder].up {
+                    tracing::warn!(folder = %config.folders[folder].path.display(), %error, "Cannot list a folder (share down?).");
+                }
+                self.shares[folder].up = false;
+                self.shares[folder].watcher = None;
+            }
         }
     }
 }

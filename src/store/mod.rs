@@ -100,6 +100,54 @@ pub struct Latest {
     pub age_s: f64,
 }
 
+/// A stored finding.
+#[derive(Debug, Clone)]
+pub struct StoredFinding {
+    /// `error`, `warning` or `note`.
+    pub severity: String,
+    /// Code.
+    pub code: String,
+    /// Line, from 1.
+    pub line: i64,
+    /// Column, from 1.
+    pub col: i64,
+    /// Message.
+    pub message: String,
+}
+
+/// A stored revision as `ncplan show` tells it.
+#[derive(Debug, Clone)]
+pub struct RevisionInfo {
+    /// Revision id.
+    pub id: i64,
+    /// Program path.
+    pub path: String,
+    /// `cam` or `machine`.
+    pub role: String,
+    /// Machine name.
+    pub machine: Option<String>,
+    /// The name the revision stated.
+    pub name: String,
+    /// Dialect.
+    pub dialect: String,
+    /// Content hash.
+    pub hash: String,
+    /// Size in bytes.
+    pub size: u64,
+    /// When ncplan saw it.
+    pub seen_at: String,
+    /// Text encoding.
+    pub encoding: String,
+    /// `analysed`, `too_large` or `empty`.
+    pub status: String,
+    /// The revision this one is the start of, when it was a partial write.
+    pub partial_of: Option<i64>,
+    /// The original it was compared with: revision, path, pairing rule, number of changes.
+    pub original: Option<(i64, String, String, usize)>,
+    /// Whether a plan is stored.
+    pub has_plan: bool,
+}
+
 /// A machine revision that may be compared: its id, path and the keys of its program.
 #[derive(Debug, Clone)]
 pub struct Comparable {
@@ -176,6 +224,153 @@ impl Store {
         Ok(Txn { tx })
     }
 
+    /// One stored revision, for `ncplan show`.
+    pub fn revision(&self, id: i64) -> Result<Option<RevisionInfo>> {
+        self.conn
+            .query_row(
+                "SELECT r.id, p.path, p.role, m.name, COALESCE(r.name, p.name), p.dialect, r.hash, r.size, r.seen_at, r.encoding, r.status,
+                        (SELECT superseded_by FROM revision_marks k WHERE k.revision_id = r.id AND k.mark = 'partial'),
+                        c.original_revision_id, (SELECT op.path FROM revisions orv JOIN programs op ON op.id = orv.program_id WHERE orv.id = c.original_revision_id),
+                        c.rule, c.changes, pl.plan_json IS NOT NULL
+                 FROM revisions r JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
+                 LEFT JOIN comparisons c ON c.revision_id = r.id LEFT JOIN plans pl ON pl.revision_id = r.id
+                 WHERE r.id = ?1",
+                [id],
+                |r| {
+                    Ok(RevisionInfo {
+                        id: r.get(0)?,
+                        path: r.get(1)?,
+                        role: r.get(2)?,
+                        machine: r.get(3)?,
+                        name: r.get(4)?,
+                        dialect: r.get(5)?,
+                        hash: r.get(6)?,
+                        size: r.get::<_, i64>(7)? as u64,
+                        seen_at: r.get(8)?,
+                        encoding: r.get(9)?,
+                        status: r.get(10)?,
+                        partial_of: r.get(11)?,
+                        original: match (r.get::<_, Option<i64>>(12)?, r.get::<_, Option<String>>(13)?) {
+                            (Some(id), Some(path)) => Some((id, path, r.get::<_, Option<String>>(14)?.unwrap_or_default(), r.get::<_, i64>(15)? as usize)),
+                            _ => None,
+                        },
+                        has_plan: r.get(16)?,
+                    })
+                },
+            )
+            .optional()
+            .map_err(sql("reading a revision"))
+    }
+
+    /// The newest revision of the program at `path` (a whole path, or its end after a `/`)
+    /// seen at or before `at` (RFC 3339 or a date; `None`: the newest of all). Several
+    /// programs whose paths end so are an error that lists them.
+    pub fn revision_of_path(&self, path: &str, at: Option<&str>) -> Result<std::result::Result<Option<i64>, Vec<String>>> {
+        let mut stmt = self
+            .conn
+            .prepare("SELECT id, path FROM programs WHERE path = ?1 OR path LIKE '%/' || ?1 ESCAPE '\\' ORDER BY path")
+            .map_err(sql("preparing a query"))?;
+        let escaped = path.replace('\\', "\\\\").replace('%', "\\%").replace('_', "\\_");
+        let found: Vec<(i64, String)> = stmt
+            .query_map([&escaped], |r| Ok((r.get(0)?, r.get(1)?)))
+            .map_err(sql("looking up a path"))?
+            .collect::<std::result::Result<_, _>>()
+            .map_err(sql("looking up a path"))?;
+        let exact: Vec<(i64, String)> = found.iter().filter(|(_, p)| p == path).cloned().collect();
+        let program = match (exact.as_slice(), found.as_slice()) {
+            ([one], _) | ([], [one]) => one.0,
+            ([], []) => return Ok(Ok(None)),
+            _ => return Ok(Err(found.into_iter().map(|(_, p)| p).collect())),
+        };
+        // A bare date means the whole day.
+        let at = at.map(|a| if a.len() == 10 { format!("{a}T23:59:59.999Z") } else { a.to_owned() });
+        let id = self
+            .conn
+            .query_row(
+                "SELECT MAX(id) FROM revisions WHERE program_id = ?1 AND (?2 IS NULL OR julianday(seen_at) <= julianday(?2))",
+                params![program, at],
+                |r| r.get::<_, Option<i64>>(0),
+            )
+            .map_err(sql("looking up a revision"))?;
+        Ok(Ok(id))
+    }
+
+    /// The stored bytes of a revision.
+    pub fn content(&self, revision: i64) -> Result<Option<Vec<u8>>> {
+        self.conn
+            .query_row("SELECT b.content FROM revisions r JOIN blobs b ON b.hash = r.hash WHERE r.id = ?1", [revision], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading program bytes"))
+    }
+
+    /// The stored plan JSON of a revision.
+    pub fn plan_json(&self, revision: i64) -> Result<Option<String>> {
+        self.conn
+            .query_row("SELECT plan_json FROM plans WHERE revision_id = ?1", [revision], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading a plan"))
+    }
+
+    /// The findings of a revision, in source order.
+    pub fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
+        let mut stmt = self
+            .conn
+            .prepare("SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = ?1 ORDER BY byte_start, id")
+            .map_err(sql("preparing a query"))?;
+        let rows = stmt
+            .query_map([revision], |r| {
+                Ok(StoredFinding { severity: r.get(0)?, code: r.get(1)?, line: r.get(2)?, col: r.get(3)?, message: r.get(4)? })
+            })
+            .map_err(sql("reading findings"))?;
+        rows.collect::<std::result::Result<_, _>>().map_err(sql("reading findings"))
+    }
+
+    /// The changes found in a revision against its original.
+    pub fn changes(&self, revision: i64) -> Result<Vec<Change>> {
+        let mut stmt = self
+            .conn
+            .prepare("SELECT workingstep, operation, kind, field, before, after, line FROM changes WHERE revision_id = ?1 ORDER BY id")
+            .map_err(sql("preparing a query"))?;
+        let rows = stmt
+            .query_map([revision], |r| {
+                let kind: String = r.get(2)?;
+                Ok(Change {
+                    kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
+                    workingstep: r.get(0)?,
+                    operation: r.get(1)?,
+                    field: r.get(3)?,
+                    before: r.get(4)?,
+                    after: r.get(5)?,
+                    line: r.get(6)?,
+                })
+            })
+            .map_err(sql("reading changes"))?;
+        rows.collect::<std::result::Result<_, _>>().map_err(sql("reading changes"))
+    }
+
+    /// Runs one read-only statement (`SELECT`, `WITH`, `VALUES`, `EXPLAIN`) for `ncplan query`,
+    /// with refusals in plain words.
+    pub fn query_read_only(&self, sql_text: &str) -> std::result::Result<(Vec<String>, Vec<Vec<String>>), QueryError> {
+        let (first, rest) = split_statement(sql_text);
+        if !rest.is_empty() {
+            return Err(QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
+        }
+        let keyword = first.trim_start().split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("").to_ascii_uppercase();
+        if !matches!(keyword.as_str(), "SELECT" | "WITH" | "VALUES" | "EXPLAIN") {
+            let what = if keyword.is_empty() { "an empty statement".to_owned() } else { format!("`{keyword}`") };
+            return Err(QueryError::Refused(format!("{what} is refused: queries only read (SELECT, WITH, VALUES, EXPLAIN)")));
+        }
+        let stmt = self.conn.prepare(first).map_err(|e| QueryError::Sql(plain(&e)))?;
+        if !stmt.readonly() {
+            return Err(QueryError::Refused("the statement would change the database; queries only read".into()));
+        }
+        drop(stmt);
+        self.query(first).map_err(|e| match e {
+            StoreError::Sql { source, .. } => QueryError::Sql(plain(&source)),
+            other => QueryError::Sql(other.to_string()),
+        })
+    }
+
     /// Runs a query and returns column names and rows as text.
     pub fn query(&self, sql_text: &str) -> Result<(Vec<String>, Vec<Vec<String>>)> {
         let mut stmt = self.conn.prepare(sql_text).map_err(sql("preparing the query"))?;
@@ -199,6 +394,89 @@ impl Store {
             out.push(cells);
         }
         Ok((names, out))
+    }
+}
+
+/// Why `ncplan query` did not run a statement.
+#[derive(Debug, thiserror::Error)]
+pub enum QueryError {
+    /// The statement is not one read-only statement.
+    #[error("{0}")]
+    Refused(String),
+    /// SQLite rejected it.
+    #[error("{0}")]
+    Sql(String),
+}
+
+/// SQLite's message, without its internals.
+fn plain(e: &rusqlite::Error) -> String {
+    match e {
+        rusqlite::Error::SqliteFailure(_, Some(msg)) => msg.clone(),
+        rusqlite::Error::SqliteFailure(f, None) => match f.code {
+            rusqlite::ErrorCode::ReadOnly | rusqlite::ErrorCode::SystemIoFailure | rusqlite::ErrorCode::CannotOpen => {
+                "the query would write; queries only read".into()
+            }
+            rusqlite::ErrorCode::OperationInterrupted => "the query ran past its time limit".into(),
+            _ => f.to_string(),
+        },
+        other => other.to_string(),
+    }
+}
+
+/// The first statement of `sql` and what follows it (blank when nothing does): `;` inside
+/// quotes or comments does not end a statement.
+pub fn split_statement(sql: &str) -> (&str, &str) {
+    let b = sql.as_bytes();
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            q @ (b'\'' | b'"' | b'`') => {
+                i += 1;
+                while i < b.len() && b[i] != q {
+                    i += 1;
+                }
+            }
+            b'[' => {
+                while i < b.len() && b[i] != b']' {
+                    i += 1;
+                }
+            }
+            b'-' if b.get(i + 1) == Some(&b'-') => {
+                while i < b.len() && b[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if b.get(i + 1) == Some(&b'*') => {
+                i += 2;
+                while i + 1 < b.len() && !(b[i] == b'*' && b[i + 1] == b'/') {
+                    i += 1;
+                }
+                i += 1;
+            }
+            b';' => {
+                let rest = &sql[i + 1..];
+                let rest_code = split_statement_blank(rest);
+                return (&sql[..i], if rest_code { "" } else { rest });
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    (sql, "")
+}
+
+/// Whether `s` holds only blanks, semicolons and comments.
+fn split_statement_blank(s: &str) -> bool {
+    let mut t = s.trim_start_matches(|c: char| c.is_whitespace() || c == ';');
+    loop {
+        if let Some(r) = t.strip_prefix("--") {
+            t = r.split_once('\n').map_or("", |x| x.1);
+        } else if let Some(r) = t.strip_prefix("/*") {
+            t = r.split_once("*/").map_or("", |x| x.1);
+        } else {
+            return t.is_empty();
+        }
+        t = t.trim_start_matches(|c: char| c.is_whitespace() || c == ';');
     }
 }
 

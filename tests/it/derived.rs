@@ -614,11 +614,12 @@ fn heidenhain_approaches_and_departures_follow_the_contour() {
 /// kept as intent; the only extra move is the Centroid preamble's `G53 G00` without axes.
 #[test]
 fn centroid_and_linuxcnc_posts_of_one_job_give_the_same_moves() {
+    let Some(corpus) = crate::shared_corpus("derived::centroid_and_linuxcnc_posts_of_one_job_give_the_same_moves") else { return };
     for (centroid, linuxcnc) in [
         ("freecad__test_centroid_01.ngc", "freecad__test_linuxcnc_01.ngc"),
         ("freecad__test_centroid_metric_ref.ngc", "freecad__test_linuxcnc_metric_ref.ngc"),
     ] {
-        let read = |folder: &str, file: &str| std::fs::read_to_string(crate::shared().join("corpus").join(folder).join(file)).unwrap();
+        let read = |folder: &str, file: &str| std::fs::read_to_string(corpus.join(folder).join(file)).unwrap();
         let (a, a_errors) = canon("centroid", &read("centroid", centroid));
         let (b, b_errors) = canon("linuxcnc", &read("linuxcnc", linuxcnc));
         assert!(a_errors.is_empty() && b_errors.is_empty(), "{a_errors:?} {b_errors:?}");

@@ -25,13 +25,21 @@ fn shipped_dialects_load_without_findings() {
 #[test]
 fn shipped_dialects_validate_against_the_schema() {
     let root = crate::root().join("dialects");
+    if Command::new("xmllint").arg("--version").output().is_err() {
+        assert!(std::env::var_os("NCPLAN_REQUIRE_XMLLINT").is_none(), "NCPLAN_REQUIRE_XMLLINT is set but xmllint is not installed");
+        crate::skip(
+            "dialects::shipped_dialects_validate_against_the_schema",
+            "xmllint is not installed (Debian libxml2-utils; .ci/run installs it)",
+        );
+        return;
+    }
     for (origin, _) in dialect::registry::SHIPPED {
         let out = Command::new("xmllint")
             .args(["--noout", "--schema"])
             .arg(root.join("dialect.xsd"))
             .arg(root.join(origin))
             .output()
-            .expect("xmllint (Debian libxml2-utils) must be installed; .ci/run installs it");
+            .expect("xmllint runs");
         assert!(out.status.success(), "{origin}: {}", String::from_utf8_lossy(&out.stderr));
     }
 }
@@ -133,9 +141,10 @@ fn the_dialect_is_told_from_the_text_and_the_file_name() {
 
 #[test]
 fn every_heidenhain_and_siemens_corpus_program_is_recognised() {
+    let Some(corpus) = crate::shared_corpus("dialects::every_heidenhain_and_siemens_corpus_program_is_recognised") else { return };
     let r = Registry::shipped();
     for (folder, want) in [("heidenhain", "heidenhain"), ("siemens", "siemens")] {
-        let Ok(dir) = std::fs::read_dir(crate::shared().join("corpus").join(folder)) else { continue };
+        let Ok(dir) = std::fs::read_dir(corpus.join(folder)) else { continue };
         let mut wrong = Vec::new();
         for e in dir.flatten() {
             let bytes = std::fs::read(e.path()).unwrap();

@@ -477,7 +477,6 @@ fn a_share_that_goes_down_is_said_once_and_watched_again_when_it_is_back() {
 }
 
 #[test]
-#[allow(clippy::print_stderr)] // says why it did nothing
 fn a_tmpfs_mounted_over_the_share_is_watched() {
     let site = Site::new("");
     let probe = site.path("probe");
@@ -485,8 +484,9 @@ fn a_tmpfs_mounted_over_the_share_is_watched() {
     let can_mount =
         Command::new("mount").args(["-t", "tmpfs", "tmpfs"]).arg(&probe).stderr(Stdio::null()).status().is_ok_and(|s| s.success());
     if !can_mount {
-        eprintln!(
-            "skipped: mounting a tmpfs is not permitted here (needs root with CAP_SYS_ADMIN); the folder-replacement test covers the dead watch"
+        crate::skip(
+            "faults::a_tmpfs_mounted_over_the_share_is_watched",
+            "mounting a tmpfs is not permitted here (it needs root with CAP_SYS_ADMIN); faults::a_replaced_share_is_watched_again_at_once covers the dead watch",
         );
         return;
     }

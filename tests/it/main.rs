@@ -9,6 +9,7 @@ mod dialects;
 mod encodings;
 mod equivalence;
 mod faults;
+mod first_start;
 mod flow;
 mod macros;
 mod plan;
@@ -22,12 +23,32 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The shared corpus beside the checkout, if present.
+/// The shared material beside the checkout (`NCPLAN_SHARED` names another place).
 pub fn shared() -> PathBuf {
-    root().join("../shared")
+    std::env::var_os("NCPLAN_SHARED").map_or_else(|| root().join("../shared"), PathBuf::from)
 }
 
-/// The built `ncplan` binary.
+/// The shared corpus, or `None` after saying that `test` is skipped because it is absent.
+/// With `NCPLAN_REQUIRE_SHARED` set (CI sets it) an absent corpus fails the test instead.
+pub fn shared_corpus(test: &str) -> Option<PathBuf> {
+    let corpus = shared().join("corpus");
+    if corpus.is_dir() {
+        return Some(corpus);
+    }
+    assert!(std::env::var_os("NCPLAN_REQUIRE_SHARED").is_none(), "NCPLAN_REQUIRE_SHARED is set but {} is absent", corpus.display());
+    skip(test, &format!("{} is absent (clone the shared material beside the checkout to run it)", corpus.display()));
+    None
+}
+
+/// Says why `test` did nothing, past the harness's output capture, so that a skip is never silent.
+pub fn skip(test: &str, why: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "skipped {test}: {why}");
+}
+
+/// The built `ncplan` binary, or the one `NCPLAN_TEST_BIN` names (to show that a test fails
+/// on an older build).
 pub fn bin() -> &'static Path {
-    Path::new(env!("CARGO_BIN_EXE_ncplan"))
+    static BIN: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    BIN.get_or_init(|| std::env::var_os("NCPLAN_TEST_BIN").map_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_ncplan")), PathBuf::from))
 }

@@ -16,7 +16,8 @@ fn corpus_files() -> Vec<std::path::PathBuf> {
     FILES
         .get_or_init(|| {
             let mut out = Vec::new();
-            let Ok(dirs) = std::fs::read_dir(crate::shared().join("corpus")) else { return out };
+            let Some(corpus) = crate::shared_corpus("robustness (the mutated corpus programs)") else { return out };
+            let Ok(dirs) = std::fs::read_dir(corpus) else { return out };
             for d in dirs.flatten().filter(|d| d.path().is_dir()) {
                 out.extend(std::fs::read_dir(d.path()).into_iter().flatten().flatten().map(|e| e.path()));
             }

@@ -439,7 +439,6 @@ fn plans_round_trip_through_part21() {
 /// installs it in a virtual environment and sets `NCPLAN_STEPUTILS_PYTHON`; without it the
 /// test says so and passes only when `NCPLAN_REQUIRE_STEPUTILS` is unset.
 #[test]
-#[allow(clippy::print_stderr)] // says why it did nothing
 fn steputils_reads_the_exports() {
     let python = std::env::var("NCPLAN_STEPUTILS_PYTHON").ok().or_else(|| {
         let local = Path::new("target/venv/bin/python");
@@ -450,8 +449,9 @@ fn steputils_reads_the_exports() {
             std::env::var_os("NCPLAN_REQUIRE_STEPUTILS").is_none(),
             "NCPLAN_REQUIRE_STEPUTILS is set but no steputils python was found"
         );
-        eprintln!(
-            "steputils not installed (run .ci/run, or python3 -m venv target/venv && target/venv/bin/pip install steputils); skipped"
+        crate::skip(
+            "stepnc::steputils_reads_the_exports",
+            "steputils is not installed (run .ci/run, or python3 -m venv target/venv && target/venv/bin/pip install steputils)",
         );
         return;
     };
