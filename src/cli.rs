@@ -481,8 +481,8 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Show { revision, at, source, plan, store } => {
-            let db = db_path(&store)?;
+        Command::Show { revision, at, source, plan, store: store_args } => {
+            let db = db_path(&store_args)?;
             let store = Store::open_read_only(&db)?;
             let id = match revision.parse::<i64>() {
                 Ok(id) if at.is_none() => id,
@@ -496,8 +496,18 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             if source {
                 out.write_all(&store.content(id)?.unwrap_or_default())?;
             } else if plan {
-                match store.plan_json(id)? {
-                    Some(json) => writeln!(out, "{json}")?,
+                // The stored plan is a summary; the whole plan is rebuilt from the stored bytes.
+                let config = match &store_args.config {
+                    Some(p) => load_config(Some(p))?,
+                    None => load_config(None)?,
+                };
+                let registry = registry_for(Some(&config))?;
+                let reader = crate::daemon::ingest::Reader { config: &config, registry: &registry };
+                match store.source(id)?.map(|src| reader.rebuild(&src)).transpose()?.flatten() {
+                    Some(plan) => {
+                        serde_json::to_writer_pretty(&mut out, &plan)?;
+                        writeln!(out)?;
+                    }
                     None => bail!("revision {id} has no plan (status {})", info.status),
                 }
             } else {
@@ -553,7 +563,7 @@ fn wait_until_stored(config: &Config, db: &Path, timeout: Duration) -> Result<us
     loop {
         let mut files = Vec::new();
         for f in &config.folders {
-            files.extend(config.program_files(f).unwrap_or_default());
+            files.extend(config.program_files(f).unwrap_or_default().into_iter().filter(|p| Config::stays_inside(f, p)));
         }
         let store = if db.exists() { Store::open_read_only(db).ok() } else { None };
         let mut left = 0;

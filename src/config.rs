@@ -339,6 +339,16 @@ impl Config {
         })
     }
 
+    /// The folder holding `path` (the longest matching prefix).
+    pub fn folder_at(&self, path: &Path) -> Option<usize> {
+        self.folders
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| path.starts_with(&f.path))
+            .max_by_key(|(_, f)| f.path.as_os_str().len())
+            .map(|(i, _)| i)
+    }
+
     /// What `ncplan watch` needs beyond a valid file: folders to watch.
     pub fn check_watchable(&self) -> Result<()> {
         if self.folders.is_empty() {
@@ -347,11 +357,12 @@ impl Config {
         Ok(())
     }
 
-    /// The program files of a folder, sorted, to depth 4: regular files, and links that stay
-    /// inside the folder; not editor or temporary files, nothing in hidden folders, never a
-    /// link to a folder. An error when the folder itself cannot be listed.
+    /// The program files of a folder, sorted, to depth 4: regular files and links to files
+    /// (which the caller judges with [`Config::stays_inside`]); not editor or temporary files,
+    /// nothing in hidden folders, never a link to a folder. An error when the folder itself
+    /// cannot be listed.
     pub fn program_files(&self, folder: &Folder) -> std::io::Result<Vec<PathBuf>> {
-        fn walk(config: &Config, root: &Path, dir: &Path, depth: u32, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+        fn walk(config: &Config, dir: &Path, depth: u32, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
             let mut found: Vec<(PathBuf, std::fs::FileType)> =
                 std::fs::read_dir(dir)?.filter_map(|e| e.ok()).filter_map(|e| Some((e.path(), e.file_type().ok()?))).collect();
             found.sort_by(|a, b| a.0.cmp(&b.0));
@@ -361,20 +372,23 @@ impl Config {
                 }
                 if kind.is_dir() {
                     if depth < 4 {
-                        let _ = walk(config, root, &p, depth + 1, out);
+                        let _ = walk(config, &p, depth + 1, out);
                     }
-                } else if kind.is_file()
-                    || (kind.is_symlink() && std::fs::canonicalize(&p).is_ok_and(|r| r.starts_with(root) && r.is_file()))
-                {
+                } else if kind.is_file() || (kind.is_symlink() && !p.is_dir()) {
                     out.push(p);
                 }
             }
             Ok(())
         }
-        let root = std::fs::canonicalize(&folder.path)?;
         let mut out = Vec::new();
-        walk(self, &root, &folder.path, 0, &mut out)?;
+        walk(self, &folder.path, 0, &mut out)?;
         Ok(out)
+    }
+
+    /// Whether `path` (perhaps a link) leads to a file inside `folder`, links resolved.
+    pub fn stays_inside(folder: &Folder, path: &Path) -> bool {
+        let root = std::fs::canonicalize(&folder.path).unwrap_or_else(|_| folder.path.clone());
+        std::fs::canonicalize(path).is_ok_and(|real| real.starts_with(root) && real.is_file())
     }
 
     /// Whether a file name matches an ignore glob (editor and temporary files).

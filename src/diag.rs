@@ -79,6 +79,9 @@ codes! {
     /// The revision is the start of the next revision of the same file, stored seconds later:
     /// a partial write, kept out of the change report.
     PartialWrite = ("text::partial-write", Warning),
+    /// An earlier analysis of the same content never finished (the process was killed: out of
+    /// memory, a memory limit, a crash); it is stored without analysis instead of being retried.
+    AnalysisFailed = ("text::analysis-failed", Error),
     /// Several CAM originals match the program's names and nothing tells them apart, so it
     /// was not compared.
     PairingAmbiguous = ("pairing::ambiguous", Warning),

@@ -21,7 +21,7 @@ use crate::diff;
 use crate::pairing::{self, Key, Pairing};
 use crate::pipeline;
 use crate::plan::ProcessPlan;
-use crate::store::{Comparable, NewRevision, Store, Txn};
+use crate::store::{Comparable, Content, NewRevision, Store, Txn};
 use crate::text::{Encoding, LineIndex, TextRange};
 
 /// A revision that is the start of the next one, stored at most this many seconds before it,
@@ -78,13 +78,15 @@ pub fn is_blank(bytes: &[u8]) -> bool {
 
 enum Read {
     Bytes(Vec<u8>, std::fs::Metadata),
+    /// Over the size limit: not read into memory.
+    TooLarge(std::fs::Metadata),
     Done(Outcome),
 }
 
 /// Reads a file that lies in the folder whose real path is `root`, and makes sure that what
 /// was read is one whole state of it: the same file the path names, unchanged while read,
 /// and the state the settle logic saw (`expected`).
-fn read_settled(path: &Path, root: &Path, expected: Option<Snapshot>) -> Result<Read> {
+fn read_settled(path: &Path, root: &Path, expected: Option<Snapshot>, limit: u64) -> Result<Read> {
     let file = match std::fs::File::open(path) {
         Ok(f) => f,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Read::Done(Outcome::Gone)),
@@ -103,6 +105,9 @@ fn read_settled(path: &Path, root: &Path, expected: Option<Snapshot>) -> Result<
         && (exp.size != before.len() || exp.mtime != before.modified().ok())
     {
         return Ok(Read::Done(Outcome::Changing));
+    }
+    if before.len() > limit {
+        return Ok(Read::TooLarge(before));
     }
     let mut bytes = Vec::with_capacity(before.len() as usize);
     (&file).read_to_end(&mut bytes).with_context(|| format!("cannot read {}", path.display()))?;
@@ -135,8 +140,9 @@ pub fn ingest(
     now: &str,
     expected: Option<Snapshot>,
 ) -> Result<Outcome> {
-    let (bytes, meta) = match read_settled(path, root, expected)? {
+    let (bytes, meta) = match read_settled(path, root, expected, config.max_file_bytes)? {
         Read::Bytes(b, m) => (b, m),
+        Read::TooLarge(meta) => return store_too_large(path, folder, config, store, now, &meta),
         Read::Done(outcome) => return Ok(outcome),
     };
     let hash = sha256_hex(&bytes);
@@ -144,37 +150,127 @@ pub fn ingest(
     if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
         return Ok(Outcome::Unchanged);
     }
+    // An analysis of this content that never finished (the process was killed) is not tried again.
+    let earlier = store.begin_attempt(&hash, &path_str, now)?;
+    let result = record(path, folder, config, registry, store, now, &bytes, &hash, &meta, earlier);
+    if result.is_err() {
+        store.finish_attempt(&hash)?;
+    }
+    result
+}
+
+/// Stores a file over the size limit without reading it into memory: its hash is computed
+/// and its bytes copied in chunks; it is analysed by no one.
+fn store_too_large(
+    path: &Path,
+    folder: &Folder,
+    config: &Config,
+    store: &mut Store,
+    now: &str,
+    meta: &std::fs::Metadata,
+) -> Result<Outcome> {
+    let hash = {
+        let mut file = std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let mut hasher = Sha256::new();
+        std::io::copy(&mut file, &mut hasher).with_context(|| format!("cannot read {}", path.display()))?;
+        hasher.finalize().iter().map(|b| format!("{b:02x}")).collect::<String>()
+    };
+    let path_str = path.to_string_lossy().into_owned();
+    if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
+        return Ok(Outcome::Unchanged);
+    }
+    let d = pipeline::too_large(meta.len(), config.max_file_bytes);
+    let mut diagnostics = vec![DiagnosticJson::new(&d, "", &LineIndex::new(""))];
+    if meta.len() > crate::store::MAX_BLOB {
+        diagnostics.push(finding(
+            Code::TooLarge,
+            format!("over {} bytes, SQLite's largest blob: only its size and hash are kept", crate::store::MAX_BLOB),
+        ));
+    }
+    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let keys = pairing::keys(config.pattern.as_ref(), &file_name, None);
+    let stem = pairing::file_stem(&file_name);
+    let tx = store.begin()?;
+    let inserted = tx.insert_revision(&NewRevision {
+        path: &path_str,
+        role: folder.role.as_str(),
+        machine: (folder.role == Role::Machine)
+            .then(|| (folder.name.as_str(), folder.dialect.as_str(), folder.path.to_str().unwrap_or(""))),
+        name: &stem,
+        keys: &keys,
+        stem: &stem,
+        dialect: &folder.dialect,
+        content: Content::File { path, size: meta.len() },
+        hash: &hash,
+        mtime_ns: mtime_ns(meta),
+        seen_at: now,
+        encoding: "unknown",
+        status: "too_large",
+        plan_json: None,
+        plan_complete: false,
+        counts: (0, 0),
+        diagnostics: &diagnostics,
+    });
+    let revision = match inserted {
+        Ok(r) => r,
+        Err(crate::store::StoreError::ContentChanged) => return Ok(Outcome::Changing),
+        Err(e) => return Err(e.into()),
+    };
+    tx.commit()?;
+    Ok(Outcome::Stored { revision, changes: None, compared: 0 })
+}
+
+fn mtime_ns(meta: &std::fs::Metadata) -> Option<i64> {
+    meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_nanos() as i64)
+}
+
+/// Analyses the bytes (unless an earlier analysis of them never finished) and records the
+/// revision with everything it enables, in one transaction.
+#[allow(clippy::too_many_arguments)]
+fn record(
+    path: &Path,
+    folder: &Folder,
+    config: &Config,
+    registry: &Registry,
+    store: &mut Store,
+    now: &str,
+    bytes: &[u8],
+    hash: &str,
+    meta: &std::fs::Metadata,
+    earlier: u32,
+) -> Result<Outcome> {
+    let path_str = path.to_string_lossy().into_owned();
     // A folder with `dialect = "auto"` has each program's dialect told from its text.
     let dialect_name = if folder.dialect == crate::config::AUTO_DIALECT {
-        let s = pipeline::sniff(registry, &bytes, path);
+        let s = pipeline::sniff(registry, bytes, path);
         tracing::info!(path = %path.display(), dialect = %s.dialect, sure = s.confidence.as_str(), evidence = %s.evidence.join(", "), "Dialect told from the program.");
         s.dialect
     } else {
         folder.dialect.clone()
     };
-    let dialect = folder.dialect_for(registry.get(&dialect_name).with_context(|| format!("unknown dialect `{dialect_name}`"))?);
-    let mtime_ns = meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_nanos() as i64);
-    let too_large = bytes.len() as u64 > config.max_file_bytes;
-    let blank = is_blank(&bytes);
-    let (analysis, diagnostics) = if too_large {
-        let d = pipeline::too_large(bytes.len() as u64, config.max_file_bytes);
-        (None, vec![DiagnosticJson::new(&d, "", &LineIndex::new(""))])
-    } else if blank {
+    let reader = Reader { config, registry };
+    let blank = is_blank(bytes);
+    let (analysis, diagnostics, status) = if blank {
         let what = if bytes.is_empty() { "empty".to_owned() } else { format!("{} bytes of blanks or NUL bytes", bytes.len()) };
         let message = format!("the file holds no program ({what}): a truncated save or an aborted copy; stored, never compared");
-        (None, vec![finding(Code::EmptyFile, message)])
+        (None, vec![finding(Code::EmptyFile, message)], "empty")
+    } else if earlier > 0 {
+        let message = format!(
+            "analysing this content ended the process {earlier} time(s) before (out of memory, a memory limit or a crash); stored, not analysed"
+        );
+        tracing::error!(path = %path.display(), hash, "An earlier analysis of this content never finished; storing it without analysis.");
+        (None, vec![finding(Code::AnalysisFailed, message)], "failed")
     } else {
-        // Subprograms come from the configured directory, else from beside the program.
-        let profile = crate::config::DirPrograms::beside(&config.profile, path, config.max_file_bytes);
-        let a = pipeline::analyze(&bytes, &dialect, &profile);
+        let a = reader.analyse(path, folder, &dialect_name, bytes)?;
         let idx = LineIndex::new(&a.source.text);
         let ds = a.diagnostics.iter().map(|d| DiagnosticJson::new(d, &a.source.text, &idx)).collect();
-        (Some(a), ds)
+        (Some(a), ds, "analysed")
     };
     let program = analysis.as_ref().and_then(|a| a.plan.program.clone());
     let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let keys = pairing::keys(config.pattern.as_ref(), &file_name, program.as_deref());
-    let plan_json = analysis.as_ref().map(|a| serde_json::to_string(&a.plan)).transpose()?;
+    let mut analysis = analysis;
+    let summary = analysis.as_mut().map(|a| summary_json(&mut a.plan)).transpose()?;
     let encoding = match analysis.as_ref().map(|a| a.source.encoding) {
         Some(Encoding::Utf8) => "utf-8",
         Some(Encoding::Windows1252) => "windows-1252",
@@ -184,13 +280,6 @@ pub fn ingest(
     let machine = (folder.role == Role::Machine).then(|| (folder.name.as_str(), dialect_name.as_str(), folder.path.to_str().unwrap_or("")));
     let stem = pairing::file_stem(&file_name);
     let name = program.clone().unwrap_or_else(|| stem.clone());
-    let status = if too_large {
-        "too_large"
-    } else if blank {
-        "empty"
-    } else {
-        "analysed"
-    };
 
     let tx = store.begin()?;
     let previous = tx.latest(&path_str, now)?;
@@ -205,13 +294,14 @@ pub fn ingest(
         keys: &keys,
         stem: &stem,
         dialect: &dialect_name,
-        bytes: &bytes,
-        hash: &hash,
-        mtime_ns,
+        content: Content::Bytes(bytes),
+        hash,
+        mtime_ns: mtime_ns(meta),
         seen_at: now,
         encoding,
         status,
-        plan_json: plan_json.as_deref(),
+        plan_json: summary.as_deref(),
+        plan_complete: false,
         counts: analysis.as_ref().map_or((0, 0), |a| (a.plan.workingsteps.len(), a.plan.tools.len())),
         diagnostics: &diagnostics,
     })?;
@@ -237,7 +327,7 @@ pub fn ingest(
     if let Some(a) = &analysis {
         let known = Known { revision, plan: &a.plan };
         match folder.role {
-            Role::Machine => changes = settle(&tx, revision, &keys, known, now)?,
+            Role::Machine => changes = settle(&tx, &reader, revision, &keys, known, now)?,
             Role::Cam => {
                 // Edited programs that arrived before their original are compared now.
                 let mut waiting: Vec<Comparable> = recompare;
@@ -247,7 +337,7 @@ pub fn ingest(
                 waiting.sort_by_key(|w| w.revision);
                 waiting.dedup_by_key(|w| w.revision);
                 for w in &waiting {
-                    if settle(&tx, w.revision, &w.keys, known, now)?.is_some() {
+                    if settle(&tx, &reader, w.revision, &w.keys, known, now)?.is_some() {
                         compared += 1;
                     }
                 }
@@ -258,6 +348,73 @@ pub fn ingest(
     Ok(Outcome::Stored { revision, changes, compared })
 }
 
+/// The stored form of a plan: everything but the toolpaths and the holes of each
+/// workingstep, which the immutable program rebuilds (`Reader::plan`), so that a revision
+/// costs about its program's bytes.
+pub fn summary_json(plan: &mut ProcessPlan) -> Result<String> {
+    let taken: Vec<_> = plan.workingsteps.iter_mut().map(|w| (std::mem::take(&mut w.toolpath), std::mem::take(&mut w.holes))).collect();
+    let json = serde_json::to_string(plan);
+    for (w, (toolpath, holes)) in plan.workingsteps.iter_mut().zip(taken) {
+        (w.toolpath, w.holes) = (toolpath, holes);
+    }
+    Ok(json?)
+}
+
+/// Reads programs as the daemon does: in their folder's dialect, with the configured
+/// profile, called programs beside them. Rebuilds stored plans from their bytes.
+pub struct Reader<'a> {
+    /// The configuration.
+    pub config: &'a Config,
+    /// The dialects.
+    pub registry: &'a Registry,
+}
+
+impl Reader<'_> {
+    /// Analyses `bytes` of `path` in `folder` read in `dialect`; the canonical ops are not kept.
+    pub fn analyse(&self, path: &Path, folder: &Folder, dialect: &str, bytes: &[u8]) -> Result<pipeline::Analysis> {
+        let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
+        // Subprograms come from the configured directory, else from beside the program.
+        let profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
+        let mut a = pipeline::analyze(bytes, &d, &profile);
+        a.canon = Vec::new();
+        Ok(a)
+    }
+
+    /// The whole plan of a stored revision: the stored one when it is complete (older
+    /// revisions), else rebuilt from its bytes. `None` when it was never analysed.
+    pub fn plan(&self, tx: &Txn<'_>, revision: i64) -> Result<Option<ProcessPlan>> {
+        match tx.source(revision)? {
+            Some(src) => self.rebuild(&src),
+            None => Ok(None),
+        }
+    }
+
+    /// The whole plan of a stored program: its stored plan when complete, else its bytes read again.
+    pub fn rebuild(&self, src: &crate::store::StoredSource) -> Result<Option<ProcessPlan>> {
+        match (&src.plan, &src.bytes) {
+            (Some((json, true)), _) => Ok(Some(serde_json::from_str(json).context("stored plan is unreadable")?)),
+            (Some(_), Some(bytes)) => {
+                let path = Path::new(&src.path);
+                let folder = match self.config.folder_at(path) {
+                    Some(i) => self.config.folders[i].clone(),
+                    // A folder no longer configured: its stored dialect, no overrides.
+                    None => Folder {
+                        role: Role::Machine,
+                        name: String::new(),
+                        path: path.parent().map(Path::to_path_buf).unwrap_or_default(),
+                        dialect: src.dialect.clone(),
+                        poll: false,
+                        poll_ms: 0,
+                        decimal_input: None,
+                    },
+                };
+                Ok(Some(self.analyse(path, &folder, &src.dialect, bytes)?.plan))
+            }
+            _ => Ok(None),
+        }
+    }
+}
+
 /// A plan at hand, so that it need not be read back from the store.
 #[derive(Clone, Copy)]
 struct Known<'a> {
@@ -265,16 +422,9 @@ struct Known<'a> {
     plan: &'a ProcessPlan,
 }
 
-fn stored_plan(tx: &Txn<'_>, revision: i64) -> Result<Option<ProcessPlan>> {
-    match tx.plan_json(revision)? {
-        Some(json) => Ok(Some(serde_json::from_str(&json).context("stored plan is unreadable")?)),
-        None => Ok(None),
-    }
-}
-
 /// Pairs the machine revision `revision` (with the program keys `keys`) with its original
 /// and records the comparison, or the ambiguity. Returns the number of changes when compared.
-fn settle(tx: &Txn<'_>, revision: i64, keys: &[Key], known: Known<'_>, now: &str) -> Result<Option<usize>> {
+fn settle(tx: &Txn<'_>, reader: &Reader<'_>, revision: i64, keys: &[Key], known: Known<'_>, now: &str) -> Result<Option<usize>> {
     let pairing = pairing::choose(keys, |k| tx.originals(k))?;
     match &pairing {
         Pairing::Unpaired => Ok(None),
@@ -286,7 +436,7 @@ fn settle(tx: &Txn<'_>, revision: i64, keys: &[Key], known: Known<'_>, now: &str
         Pairing::Paired { revision: original, rule, .. } => {
             use std::borrow::Cow;
             let load = |id: i64| -> Result<Option<Cow<'_, ProcessPlan>>> {
-                if id == known.revision { Ok(Some(Cow::Borrowed(known.plan))) } else { Ok(stored_plan(tx, id)?.map(Cow::Owned)) }
+                if id == known.revision { Ok(Some(Cow::Borrowed(known.plan))) } else { Ok(reader.plan(tx, id)?.map(Cow::Owned)) }
             };
             let (Some(before), Some(after)) = (load(*original)?, load(revision)?) else { return Ok(None) };
             let changes = diff::diff(&before, &after);
@@ -298,12 +448,16 @@ fn settle(tx: &Txn<'_>, revision: i64, keys: &[Key], known: Known<'_>, now: &str
 
 /// Compares every usable machine revision that has no comparison yet but whose original is
 /// stored (an older ncplan, killed between the two, left such). Returns how many it compared.
-pub fn reconcile(store: &mut Store, now: &str) -> Result<usize> {
+pub fn reconcile(store: &mut Store, reader: &Reader<'_>, now: &str) -> Result<usize> {
     let tx = store.begin()?;
     let mut compared = 0;
     for w in tx.uncompared(None)? {
-        let Some(plan) = stored_plan(&tx, w.revision)? else { continue };
-        if settle(&tx, w.revision, &w.keys, Known { revision: w.revision, plan: &plan }, now)?.is_some() {
+        // Only those an original is stored for are rebuilt.
+        if !matches!(pairing::choose(&w.keys, |k| tx.originals(k))?, Pairing::Paired { .. }) {
+            continue;
+        }
+        let Some(plan) = reader.plan(&tx, w.revision)? else { continue };
+        if settle(&tx, reader, w.revision, &w.keys, Known { revision: w.revision, plan: &plan }, now)?.is_some() {
             compared += 1;
         }
     }

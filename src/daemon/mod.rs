@@ -148,7 +148,7 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
         let (config, tx, clock) = (Arc::clone(&config), tx.clone(), Arc::clone(&clock));
         std::thread::Builder::new().name("ncplan-worker".into()).spawn(move || {
             let mut store = store;
-            match ingest::reconcile(&mut store, &clock.now()) {
+            match ingest::reconcile(&mut store, &ingest::Reader { config: &config, registry: &registry }, &clock.now()) {
                 Ok(0) => {}
                 Ok(n) => tracing::info!(compared = n, "Compared the edited programs that were waiting for their original."),
                 Err(error) => tracing::error!(error = format!("{error:#}"), "Could not compare the waiting edited programs."),
@@ -357,7 +357,7 @@ impl Daemon {
 
     /// Queues `path` if it is a program file of a watched folder.
     fn consider(&mut self, path: &Path, written: bool) {
-        let Some(folder) = folder_of(&self.config, path) else { return };
+        let Some(folder) = self.config.folder_at(path) else { return };
         let Ok(rel) = path.strip_prefix(&self.config.folders[folder].path) else { return };
         // Editor and temporary files, and anything inside hidden folders, are not programs.
         if rel.components().any(|c| c.as_os_str().to_str().is_none_or(|s| self.config.ignored(s))) {
@@ -430,17 +430,6 @@ impl Daemon {
             }
         }
     }
-}
-
-/// The folder holding `path` (the longest matching prefix).
-fn folder_of(config: &Config, path: &Path) -> Option<usize> {
-    config
-        .folders
-        .iter()
-        .enumerate()
-        .filter(|(_, f)| path.starts_with(&f.path))
-        .max_by_key(|(_, f)| f.path.as_os_str().len())
-        .map(|(i, _)| i)
 }
 
 #[cfg(test)]

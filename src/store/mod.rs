@@ -29,6 +29,18 @@ pub enum StoreError {
         #[source]
         source: rusqlite::Error,
     },
+    /// A file could not be read or its bytes not copied.
+    #[error("IO error while {about}")]
+    Io {
+        /// What was being done.
+        about: &'static str,
+        /// The error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file streamed into its blob no longer had the size and hash it was read with.
+    #[error("the file changed while it was stored")]
+    ContentChanged,
     /// The database was written by a newer ncplan.
     #[error("the database schema version {found} is newer than this ncplan knows ({known})")]
     TooNew {
@@ -67,8 +79,8 @@ pub struct NewRevision<'a> {
     pub stem: &'a str,
     /// Dialect name.
     pub dialect: &'a str,
-    /// Raw bytes.
-    pub bytes: &'a [u8],
+    /// The program's bytes.
+    pub content: Content<'a>,
     /// SHA-256 of the bytes, hex.
     pub hash: &'a str,
     /// File modification time, ns since the epoch.
@@ -79,12 +91,62 @@ pub struct NewRevision<'a> {
     pub encoding: &'a str,
     /// `analysed`, `too_large` or `empty`.
     pub status: &'a str,
-    /// Plan JSON, when analysed.
+    /// Plan JSON, when analysed: a summary without toolpaths unless `plan_complete`.
     pub plan_json: Option<&'a str>,
+    /// Whether `plan_json` holds the whole plan, toolpaths included.
+    pub plan_complete: bool,
     /// Number of workingsteps and tools.
     pub counts: (usize, usize),
     /// Diagnostics.
     pub diagnostics: &'a [DiagnosticJson],
+}
+
+/// A revision's bytes: in memory, or a file streamed into the blob in chunks (bounded memory).
+#[derive(Debug, Clone, Copy)]
+pub enum Content<'a> {
+    /// The bytes.
+    Bytes(&'a [u8]),
+    /// A file of `size` bytes whose SHA-256 is the revision's hash; a file that no longer
+    /// has that hash when it is copied is [`StoreError::ContentChanged`].
+    File {
+        /// Its path.
+        path: &'a Path,
+        /// Its size.
+        size: u64,
+    },
+}
+
+impl Content<'_> {
+    /// Size in bytes.
+    pub fn len(&self) -> u64 {
+        match self {
+            Content::Bytes(b) => b.len() as u64,
+            Content::File { size, .. } => *size,
+        }
+    }
+
+    /// Whether there are no bytes.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The largest blob SQLite keeps (`SQLITE_MAX_LENGTH`); bigger files keep their hash and size only.
+pub const MAX_BLOB: u64 = 1_000_000_000;
+
+/// A stored revision's program, to rebuild its plan from.
+#[derive(Debug, Clone)]
+pub struct StoredSource {
+    /// Program path.
+    pub path: String,
+    /// Dialect it was read in.
+    pub dialect: String,
+    /// Revision status.
+    pub status: String,
+    /// The stored plan JSON and whether it is complete.
+    pub plan: Option<(String, bool)>,
+    /// The bytes (read only when the plan is not complete).
+    pub bytes: Option<Vec<u8>>,
 }
 
 /// The newest revision of a path.
@@ -218,6 +280,31 @@ impl Store {
             .map_err(sql("looking up the latest revision"))
     }
 
+    /// Notes that the content `hash` is about to be analysed, and returns how many earlier
+    /// analyses of it never finished (a kill by the kernel's out-of-memory killer, a memory
+    /// limit, a crash). The note is removed when its revision is recorded, or by [`Store::finish_attempt`].
+    pub fn begin_attempt(&self, hash: &str, path: &str, at: &str) -> Result<u32> {
+        let tries: Option<u32> = self
+            .conn
+            .query_row("SELECT tries FROM attempts WHERE hash = ?1", [hash], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading the attempt journal"))?;
+        self.conn
+            .execute(
+                "INSERT INTO attempts(hash, path, started_at, tries) VALUES (?1, ?2, ?3, 1)
+                 ON CONFLICT(hash) DO UPDATE SET tries = tries + 1, started_at = excluded.started_at, path = excluded.path",
+                params![hash, path, at],
+            )
+            .map_err(sql("writing the attempt journal"))?;
+        Ok(tries.unwrap_or(0))
+    }
+
+    /// Removes the note of an analysis that ended without recording a revision.
+    pub fn finish_attempt(&self, hash: &str) -> Result<()> {
+        self.conn.execute("DELETE FROM attempts WHERE hash = ?1", [hash]).map_err(sql("writing the attempt journal"))?;
+        Ok(())
+    }
+
     /// Starts the one transaction in which a revision and everything it enables are recorded.
     pub fn begin(&mut self) -> Result<Txn<'_>> {
         let tx = self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate).map_err(sql("starting a transaction"))?;
@@ -293,6 +380,11 @@ impl Store {
             )
             .map_err(sql("looking up a revision"))?;
         Ok(Ok(id))
+    }
+
+    /// A stored revision's program and plan, to rebuild its whole plan from.
+    pub fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
+        source_of(&self.conn, revision)
     }
 
     /// The stored bytes of a revision.
@@ -395,6 +487,33 @@ impl Store {
         }
         Ok((names, out))
     }
+}
+
+/// A stored revision's program and plan; its bytes only when the plan is not complete.
+fn source_of(conn: &Connection, revision: i64) -> Result<Option<StoredSource>> {
+    let found = conn
+        .query_row(
+            "SELECT p.path, p.dialect, r.status, pl.plan_json, pl.complete, r.hash FROM revisions r JOIN programs p ON p.id = r.program_id
+             LEFT JOIN plans pl ON pl.revision_id = r.id WHERE r.id = ?1",
+            [revision],
+            |r| {
+                let plan = match r.get::<_, Option<String>>(3)? {
+                    Some(json) => Some((json, r.get::<_, Option<bool>>(4)?.unwrap_or(true))),
+                    None => None,
+                };
+                Ok((StoredSource { path: r.get(0)?, dialect: r.get(1)?, status: r.get(2)?, plan, bytes: None }, r.get::<_, String>(5)?))
+            },
+        )
+        .optional()
+        .map_err(sql("reading a revision"))?;
+    let Some((mut src, hash)) = found else { return Ok(None) };
+    if !src.plan.as_ref().is_some_and(|(_, complete)| *complete) {
+        src.bytes = conn
+            .query_row("SELECT content FROM blobs WHERE hash = ?1", [&hash], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading program bytes"))?;
+    }
+    Ok(Some(src))
 }
 
 /// Why `ncplan query` did not run a statement.
@@ -558,21 +677,28 @@ impl Txn<'_> {
             )
             .map_err(sql("recording program keys"))?;
         }
-        tx.execute(
-            "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, ?3)",
-            params![rev.hash, rev.bytes.len() as i64, rev.bytes],
-        )
-        .map_err(sql("storing program bytes"))?;
+        match rev.content {
+            Content::Bytes(bytes) => {
+                tx.execute(
+                    "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, ?3)",
+                    params![rev.hash, bytes.len() as i64, bytes],
+                )
+                .map_err(sql("storing program bytes"))?;
+            }
+            Content::File { path, size } => self.stream_blob(rev.hash, path, size)?,
+        }
+        let size = rev.content.len() as i64;
         tx.execute(
             "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
-            params![program_id, rev.hash, rev.bytes.len() as i64, rev.mtime_ns, rev.seen_at, rev.encoding, rev.status, rev.name],
+            params![program_id, rev.hash, size, rev.mtime_ns, rev.seen_at, rev.encoding, rev.status, rev.name],
         )
         .map_err(sql("recording a revision"))?;
         let revision_id = tx.last_insert_rowid();
+        tx.execute("DELETE FROM attempts WHERE hash = ?1", [rev.hash]).map_err(sql("closing an attempt"))?;
         if let Some(plan) = rev.plan_json {
             tx.execute(
-                "INSERT INTO plans(revision_id, plan_json, workingsteps, tools) VALUES (?1, ?2, ?3, ?4)",
-                params![revision_id, plan, rev.counts.0 as i64, rev.counts.1 as i64],
+                "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete) VALUES (?1, ?2, ?3, ?4, ?5)",
+                params![revision_id, plan, rev.counts.0 as i64, rev.counts.1 as i64, rev.plan_complete],
             )
             .map_err(sql("storing a plan"))?;
             tx.execute(schema::FILL_WORKINGSTEPS, params![revision_id]).map_err(sql("storing workingsteps"))?;
@@ -582,6 +708,55 @@ impl Txn<'_> {
             self.insert_finding(revision_id, d)?;
         }
         Ok(revision_id)
+    }
+
+    /// Copies the file into the blob `hash` in chunks, checking on the way that it still has
+    /// that hash. Files over [`MAX_BLOB`] keep an empty blob (their size and hash are kept).
+    fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
+        use sha2::Digest as _;
+        use std::io::{Read as _, Write as _};
+        let kept = if size > MAX_BLOB { 0 } else { size };
+        let inserted = self
+            .tx
+            .execute(
+                "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, zeroblob(?3))",
+                params![hash, size as i64, kept as i64],
+            )
+            .map_err(sql("storing program bytes"))?;
+        if inserted == 0 || kept == 0 {
+            return Ok(());
+        }
+        let rowid: i64 =
+            self.tx.query_row("SELECT rowid FROM blobs WHERE hash = ?1", [hash], |r| r.get(0)).map_err(sql("storing program bytes"))?;
+        let mut blob =
+            self.tx.blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, false).map_err(sql("storing program bytes"))?;
+        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+        let mut hasher = sha2::Sha256::new();
+        let mut buf = vec![0u8; 1 << 20];
+        let mut copied = 0u64;
+        loop {
+            let n = file.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+            if n == 0 {
+                break;
+            }
+            if copied + n as u64 > size {
+                return Err(StoreError::ContentChanged);
+            }
+            hasher.update(&buf[..n]);
+            blob.write_all(&buf[..n]).map_err(|e| StoreError::Io { about: "storing program bytes", source: e })?;
+            copied += n as u64;
+        }
+        let digest = hasher.finalize();
+        let hex: String = digest.iter().map(|b| format!("{b:02x}")).collect();
+        if copied != size || hex != hash {
+            return Err(StoreError::ContentChanged);
+        }
+        Ok(())
+    }
+
+    /// A stored revision's program and plan, to rebuild its whole plan from.
+    pub fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
+        source_of(&self.tx, revision)
     }
 
     fn insert_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<()> {

@@ -231,6 +231,17 @@ JOIN revisions orv ON orv.id = c.original_revision_id
 JOIN programs op   ON op.id = orv.program_id
 WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial');
 "#,
+    // 4: plans as summaries (toolpaths are rebuilt from the immutable blob); a journal of
+    // analyses in progress, so that content whose analysis killed the process is recorded once.
+    r#"
+ALTER TABLE plans ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
+CREATE TABLE attempts (
+    hash       TEXT PRIMARY KEY,
+    path       TEXT NOT NULL,
+    started_at TEXT NOT NULL,
+    tries      INTEGER NOT NULL
+);
+"#,
 ];
 
 #[cfg(test)]

@@ -93,7 +93,7 @@ fn query_is_read_only() {
     assert_eq!((code, out.as_str()), (0, "n\n0\n"));
     let (code, _, err) = ncplan(&["query", "--db", db.to_str().unwrap(), "DROP TABLE changes"]);
     assert_eq!(code, 2);
-    assert!(err.contains("readonly") || err.contains("read-only") || err.contains("read only"), "{err}");
+    assert!(err.contains("`DROP` is refused: queries only read"), "{err}");
     let (code, out, _) = ncplan(&["report", "--db", db.to_str().unwrap()]);
     assert_eq!((code, out.contains("No changes recorded.")), (0, true));
 }

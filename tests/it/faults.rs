@@ -215,13 +215,14 @@ fn start_up_compares_what_an_older_run_left_waiting() {
                 keys: &keys,
                 stem: "O7",
                 dialect: "fanuc",
-                bytes: text.as_bytes(),
+                content: ncplan::store::Content::Bytes(text.as_bytes()),
                 hash: &ncplan::daemon::ingest::sha256_hex(text.as_bytes()),
                 mtime_ns: None,
                 seen_at: "2026-12-01T10:00:00.000Z",
                 encoding: "utf-8",
                 status: "analysed",
                 plan_json: Some(&plan),
+                plan_complete: true,
                 counts: (a.plan.workingsteps.len(), a.plan.tools.len()),
                 diagnostics: &[],
             })
@@ -501,4 +502,72 @@ fn a_tmpfs_mounted_over_the_share_is_watched() {
     let _ = Command::new("umount").arg(site.path("share")).status();
     assert_eq!(revs.len(), 2, "{}", site.log());
     daemon.kill();
+}
+
+#[test]
+fn a_file_over_the_size_limit_is_stored_in_chunks_and_analysed_by_no_one() {
+    let site = Site::new("");
+    let text = std::fs::read_to_string(site.path("ncplan.toml")).unwrap();
+    std::fs::write(site.path("ncplan.toml"), text.replace("settle_ms = 200\n", "settle_ms = 200\nmax_file_mb = 1\n")).unwrap();
+    let mut store = Store::open_in_memory().unwrap();
+    let mut big = String::from("%\nO8 (SURFACE)\nT1 M6\nS9000 M3\nG0 X0 Y0 Z5\nG1 Z0 F900\n");
+    for i in 0..60_000 {
+        big.push_str(&format!("X{}.{:03} Y{}.500 Z-0.{:04}\n", i % 100, i % 1000, i / 500, i % 9999));
+    }
+    big.push_str("M30\n%\n");
+    assert!(big.len() > 1 << 20);
+    std::fs::write(site.path("share/O8.nc"), &big).unwrap();
+    let out = ingest_at(&site, &mut store, "share/O8.nc", "2026-12-01T10:00:00.000Z", None);
+    assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
+    let rows = store
+        .query("SELECT r.status, r.size, b.size, length(b.content), r.hash, d.code FROM revisions r JOIN blobs b ON b.hash = r.hash JOIN diagnostics d ON d.revision_id = r.id")
+        .unwrap()
+        .1;
+    let size = big.len().to_string();
+    assert_eq!(rows[0][..4], ["too_large", size.as_str(), size.as_str(), size.as_str()]);
+    assert_eq!(rows[0][4], ncplan::daemon::ingest::sha256_hex(big.as_bytes()));
+    assert_eq!(rows[0][5], "text::too-large");
+    assert!(store.query("SELECT * FROM plans").unwrap().1.is_empty());
+    let content = store.query("SELECT CAST(b.content AS TEXT) FROM blobs b").unwrap().1;
+    assert_eq!(content[0][0], big);
+}
+
+#[test]
+fn content_whose_analysis_killed_the_process_is_stored_once_without_analysis() {
+    let site = Site::new("");
+    let mut store = Store::open_in_memory().unwrap();
+    let text = program(12, 300);
+    std::fs::write(site.path("share/O12.nc"), &text).unwrap();
+    // An earlier run began analysing this content and never finished (killed by a memory limit).
+    let hash = ncplan::daemon::ingest::sha256_hex(text.as_bytes());
+    assert_eq!(store.begin_attempt(&hash, "share/O12.nc", "2026-12-01T09:00:00.000Z").unwrap(), 0);
+    let out = ingest_at(&site, &mut store, "share/O12.nc", "2026-12-01T10:00:00.000Z", None);
+    assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
+    let rows = store.query("SELECT r.status, d.code, d.message FROM revisions r JOIN diagnostics d ON d.revision_id = r.id").unwrap().1;
+    assert_eq!(rows[0][..2], ["failed", "text::analysis-failed"]);
+    assert!(rows[0][2].contains("ended the process 1 time(s) before"), "{rows:?}");
+    assert!(store.query("SELECT * FROM attempts").unwrap().1.is_empty(), "the journal is closed with the revision");
+    // It is not retried: the same content again is unchanged.
+    assert_eq!(ingest_at(&site, &mut store, "share/O12.nc", "2026-12-01T10:01:00.000Z", None), Outcome::Unchanged);
+}
+
+#[test]
+fn plans_are_stored_without_toolpaths_and_rebuilt_from_the_program_for_the_diff() {
+    let site = Site::new("");
+    let mut store = Store::open_in_memory().unwrap();
+    std::fs::write(site.path("cam/O21.nc"), program(21, 300)).unwrap();
+    ingest_at(&site, &mut store, "cam/O21.nc", "2026-12-01T10:00:00.000Z", None);
+    // The operator shortens one pass: only the toolpath tells.
+    std::fs::write(site.path("share/O21.nc"), program(21, 300).replace("X110\n", "X104\n")).unwrap();
+    let out = ingest_at(&site, &mut store, "share/O21.nc", "2026-12-01T11:00:00.000Z", None);
+    assert!(matches!(out, Outcome::Stored { changes: Some(n), .. } if n >= 1), "{out:?}");
+    let plans = store.query("SELECT plan_json, complete FROM plans").unwrap().1;
+    for p in &plans {
+        let v: serde_json::Value = serde_json::from_str(&p[0]).unwrap();
+        assert!(v["workingsteps"].as_array().unwrap().iter().all(|w| w["toolpath"].as_array().is_some_and(Vec::is_empty)), "{}", p[0]);
+        assert_eq!(p[1], "0");
+    }
+    assert!(!store.query("SELECT kind FROM changes").unwrap().1.is_empty());
+    // The queryable tables are filled from the summary.
+    assert_eq!(store.query("SELECT operation FROM workingsteps WHERE revision_id = 1").unwrap().1.len(), 1);
 }
