@@ -112,6 +112,269 @@ pub fn run(dir: &Path, rows: usize, runs: u32, out: &mut impl std::io::Write) ->
     Ok(())
 }
 
+/// The peak resident memory of a process, from `/proc/PID/status` (`VmHWM`), in bytes.
+pub fn peak_rss(pid: u32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// CPU time a process used so far (user + system), from `/proc/PID/stat`.
+fn cpu_time(pid: u32) -> Option<Duration> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // Fields after the command name, which is in parentheses and may hold spaces.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: u64 = f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?;
+    // USER_HZ is 100 on Linux.
+    Some(Duration::from_millis(ticks * 10))
+}
+
+/// Runs `exe args` with `NCPLAN_REPORT_PEAK` set and returns its wall time and the peak
+/// resident memory it reports of itself.
+fn measured(exe: &str, args: &[&str]) -> Result<(Duration, u64)> {
+    let t = Instant::now();
+    let out = Command::new(exe).args(args).env("NCPLAN_REPORT_PEAK", "1").stdout(Stdio::null()).stderr(Stdio::piped()).output()?;
+    let elapsed = t.elapsed();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let peak =
+        err.lines().find_map(|l| l.strip_prefix("ncplan: peak resident memory ")).and_then(|v| v.trim_end_matches(" bytes").parse().ok());
+    Ok((elapsed, peak.with_context(|| format!("{exe} {} did not report its peak memory: {err}", args.join(" ")))?))
+}
+
+/// A watch daemon on temporary folders, for the daemon benchmarks.
+struct Bed {
+    dir: PathBuf,
+    child: std::process::Child,
+}
+
+impl Bed {
+    fn start(exe: &str, dir: &Path, settle_ms: u64) -> Result<Bed> {
+        for sub in ["cam", "share"] {
+            std::fs::create_dir_all(dir.join(sub))?;
+        }
+        std::fs::write(
+            dir.join("ncplan.toml"),
+            format!(
+                "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = {settle_ms}\nmax_file_mb = 512\n\
+                 [[cam]]\npath = 'cam'\ndialect = 'linuxcnc'\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'linuxcnc'\n"
+            ),
+        )?;
+        let log = std::fs::File::create(dir.join("daemon.log"))?;
+        let child = Command::new(exe).args(["watch", "--config"]).arg(dir.join("ncplan.toml")).stdout(Stdio::null()).stderr(log).spawn()?;
+        let bed = Bed { dir: dir.to_path_buf(), child };
+        bed.wait_log("Catch-up scan queued", 1, Duration::from_secs(30))?;
+        Ok(bed)
+    }
+
+    fn log(&self) -> String {
+        std::fs::read_to_string(self.dir.join("daemon.log")).unwrap_or_default()
+    }
+
+    fn wait_log(&self, needle: &str, n: usize, limit: Duration) -> Result<()> {
+        let deadline = Instant::now() + limit;
+        while self.log().matches(needle).count() < n {
+            anyhow::ensure!(Instant::now() < deadline, "timed out waiting for {n} × '{needle}'");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        Ok(())
+    }
+
+    fn count(&self, sql: &str) -> usize {
+        let db = self.dir.join("var/ncplan.db");
+        crate::store::Store::open_read_only(&db)
+            .ok()
+            .and_then(|s| s.query(sql).ok())
+            .and_then(|(_, r)| r.first()?.first()?.parse().ok())
+            .unwrap_or(0)
+    }
+
+    fn wait_count(&self, sql: &str, n: usize, limit: Duration) -> Result<Duration> {
+        let t = Instant::now();
+        while self.count(sql) < n {
+            anyhow::ensure!(t.elapsed() < limit, "timed out waiting for {n} rows of {sql}");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        Ok(t.elapsed())
+    }
+
+    fn stop(mut self) -> Result<()> {
+        let _ = Command::new("kill").args(["-TERM", &self.child.id().to_string()]).status();
+        let _ = self.child.wait();
+        Ok(())
+    }
+
+    fn kill(mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The daemon's figures: the 1M-block ingest (time, memory, stored size) beside `plan`,
+/// `diff` and `stepnc` on the same program; idle CPU over stored files; edit latency; a burst;
+/// a kill loop. Each runs a real `ncplan watch` on temporary folders.
+pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut impl std::io::Write) -> Result<()> {
+    let exe = std::env::current_exe()?.to_string_lossy().into_owned();
+    let _ = std::fs::remove_dir_all(dir);
+    std::fs::create_dir_all(dir)?;
+    let mb = |b: u64| b as f64 / 1e6;
+
+    // 1. The huge program: CAM original, then the operator's edit (one feed).
+    let original = surfacing_program(rows);
+    let edited = original.replacen("G1 Z0 F1500", "G1 Z0 F1200", 1);
+    let moves = rows * 500 + rows / 10;
+    let orig_path = dir.join("surface.ngc");
+    let edit_path = dir.join("surface_edited.ngc");
+    std::fs::write(&orig_path, &original)?;
+    std::fs::write(&edit_path, &edited)?;
+    let (o, e) = (orig_path.to_string_lossy().into_owned(), edit_path.to_string_lossy().into_owned());
+    writeln!(out, "huge program: {} blocks, {:.1} MB, {moves} moves", rows * 500 + 8, mb(original.len() as u64))?;
+    for (what, args) in [
+        ("plan", vec!["plan", "-d", "linuxcnc", &o]),
+        ("diff", vec!["diff", "-d", "linuxcnc", &o, &e]),
+        ("stepnc --cc2", vec!["stepnc", "-d", "linuxcnc", "--cc2", "--timestamp", "2026-01-01T00:00:00", &o]),
+    ] {
+        let (t, peak) = measured(&exe, &args)?;
+        writeln!(out, "  {what:<14} {:6.2} s  peak {:7.1} MB  {:5.0} B/move", t.as_secs_f64(), mb(peak), peak as f64 / moves as f64)?;
+    }
+    let bed = Bed::start(&exe, &dir.join("huge"), 100)?;
+    std::fs::copy(&orig_path, bed.dir.join("cam/surface.ngc"))?;
+    bed.wait_count("SELECT COUNT(*) FROM revisions", 1, Duration::from_secs(300))?;
+    std::fs::copy(&edit_path, bed.dir.join("share/surface.ngc"))?;
+    bed.wait_count("SELECT COUNT(*) FROM comparisons", 1, Duration::from_secs(300))?;
+    let peak = peak_rss(bed.child.id()).unwrap_or(0);
+    let ms: Vec<u64> = bed
+        .log()
+        .lines()
+        .filter(|l| l.contains("Stored a revision"))
+        .filter_map(|l| l.split("ms=").nth(1)?.split_whitespace().next()?.parse().ok())
+        .collect();
+    let changes = bed.count("SELECT COUNT(*) FROM changes");
+    bed.stop()?;
+    let bed_dir = dir.join("huge");
+    let db = ["ncplan.db", "ncplan.db-wal"]
+        .iter()
+        .filter_map(|f| std::fs::metadata(bed_dir.join("var").join(f)).ok())
+        .map(|m| m.len())
+        .sum::<u64>();
+    writeln!(
+        out,
+        "  daemon ingest  original {:.2} s, edited (plan and diff included) {:.2} s; peak {:.1} MB ({:.0} B/move); {changes} changes",
+        ms.first().copied().unwrap_or(0) as f64 / 1e3,
+        ms.get(1).copied().unwrap_or(0) as f64 / 1e3,
+        mb(peak),
+        peak as f64 / moves as f64
+    )?;
+    writeln!(
+        out,
+        "  stored         {:.1} MB for two revisions of {:.1} MB each: {:.2}x the program's bytes",
+        mb(db),
+        mb(original.len() as u64),
+        db as f64 / (2.0 * original.len() as f64)
+    )?;
+
+    // 2. Idle CPU over stored files in a native share.
+    let bed = Bed::start(&exe, &dir.join("idle"), 200)?;
+    for i in 0..files {
+        std::fs::write(
+            bed.dir.join(format!("share/P{i:05}.nc")),
+            format!("%\nO{i}\nT1 M6\nS1000 M3\nG0 X{i} Y0 Z5\nG1 Z-1 F100\nX{}\nM30\n%\n", i + 10),
+        )?;
+    }
+    let t = bed.wait_count("SELECT COUNT(*) FROM revisions", files, Duration::from_secs(600))?;
+    writeln!(out, "burst: {files} files stored in {:.1} s", t.as_secs_f64())?;
+    std::thread::sleep(Duration::from_secs(2));
+    let pid = bed.child.id();
+    let (c0, t0) = (cpu_time(pid).unwrap_or_default(), Instant::now());
+    std::thread::sleep(Duration::from_secs(10));
+    let (c1, t1) = (cpu_time(pid).unwrap_or_default(), Instant::now());
+    writeln!(
+        out,
+        "idle: {:.2}% of a core over 10 s with {files} stored files in a native share",
+        100.0 * (c1 - c0).as_secs_f64() / (t1 - t0).as_secs_f64()
+    )?;
+
+    // 3. Latency of 20 edits, from the write to the stored revision (settle window 200 ms included).
+    let mut lat = Vec::new();
+    for i in 0..20 {
+        let before = bed.count("SELECT COUNT(*) FROM revisions");
+        let t = Instant::now();
+        std::fs::write(
+            bed.dir.join("share/P00000.nc"),
+            format!("%\nO0\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F{}\nX10\nM30\n%\n", 200 + i),
+        )?;
+        while bed.count("SELECT COUNT(*) FROM revisions") <= before {
+            anyhow::ensure!(t.elapsed() < Duration::from_secs(30), "an edit was never stored");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        lat.push(t.elapsed());
+    }
+    lat.sort();
+    writeln!(
+        out,
+        "latency over 20 edits (settle 200 ms): median {:.0} ms, max {:.0} ms",
+        lat[lat.len() / 2].as_secs_f64() * 1e3,
+        lat[lat.len() - 1].as_secs_f64() * 1e3
+    )?;
+    bed.stop()?;
+
+    // 4. A kill loop: files written in place in two pieces while the daemon is killed -9 again and again.
+    let kill_dir = dir.join("kills");
+    let mut bed = Bed::start(&exe, &kill_dir, 100)?;
+    let mut versions: std::collections::BTreeMap<String, Vec<String>> = std::collections::BTreeMap::new();
+    let mut written = 0usize;
+    for k in 0..kills {
+        for j in 0..3 {
+            let name = format!("K{:03}.nc", (k * 3 + j) % 50);
+            let text = format!("%\nO{k}{j}\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F{}\nX{}\nM30\n%\n", 100 + k, 10 + j);
+            let (a, b) = text.split_at(text.len() / 2);
+            let mut f = std::fs::File::create(kill_dir.join("share").join(&name))?;
+            std::io::Write::write_all(&mut f, a.as_bytes())?;
+            std::thread::sleep(Duration::from_millis(5));
+            std::io::Write::write_all(&mut f, b.as_bytes())?;
+            drop(f);
+            versions.entry(name).or_default().push(text);
+            written += 1;
+        }
+        std::thread::sleep(Duration::from_millis(150 + (k as u64 * 37) % 200));
+        bed.kill();
+        bed = Bed {
+            dir: kill_dir.clone(),
+            child: Command::new(&exe)
+                .args(["watch", "--config"])
+                .arg(kill_dir.join("ncplan.toml"))
+                .stdout(Stdio::null())
+                .stderr(std::fs::OpenOptions::new().append(true).open(kill_dir.join("daemon.log"))?)
+                .spawn()?,
+        };
+    }
+    std::thread::sleep(Duration::from_secs(3));
+    let store = crate::store::Store::open_read_only(&kill_dir.join("var/ncplan.db"))?;
+    let (_, rows) = store.query(
+        "SELECT p.path, CAST(b.content AS TEXT), EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = r.id) FROM revisions r
+         JOIN programs p ON p.id = r.program_id JOIN blobs b ON b.hash = r.hash ORDER BY r.id",
+    )?;
+    let (_, dup) =
+        store.query("SELECT COUNT(*) FROM (SELECT program_id, hash FROM revisions GROUP BY program_id, hash HAVING COUNT(*) > 1)")?;
+    let mut lost = 0;
+    for (name, texts) in &versions {
+        let last = texts.last().map(String::as_str);
+        let latest = rows.iter().rev().find(|r| r[0].ends_with(&format!("/{name}"))).map(|r| r[1].as_str());
+        lost += usize::from(latest != last);
+    }
+    let partial_unmarked = rows.iter().filter(|r| r[2] == "0" && !versions.values().flatten().any(|t| t == &r[1])).count();
+    let partial_marked = rows.iter().filter(|r| r[2] == "1").count();
+    bed.kill();
+    writeln!(
+        out,
+        "kill loop: {kills} SIGKILLs while {written} versions of 50 files were written in place: {lost} lost, {} duplicated, {partial_unmarked} partial revisions unmarked ({partial_marked} partial writes marked and kept out of the report); {} revisions",
+        dup[0][0],
+        rows.len()
+    )?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

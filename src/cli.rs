@@ -176,6 +176,16 @@ enum Command {
         /// Runs per measurement; the best is kept.
         #[arg(long, default_value_t = 3)]
         runs: u32,
+        /// Measure the daemon instead: the huge program's ingest, memory and stored size beside
+        /// plan, diff and stepnc; idle CPU; edit latency; a burst; a kill loop.
+        #[arg(long)]
+        daemon: bool,
+        /// With --daemon: files stored before the idle measurement (also the burst).
+        #[arg(long, default_value_t = 2000)]
+        files: usize,
+        /// With --daemon: SIGKILLs in the kill loop.
+        #[arg(long, default_value_t = 100)]
+        kills: usize,
     },
     /// List the known dialects, or check dialect files.
     Dialects {
@@ -187,7 +197,14 @@ enum Command {
 /// Runs the command line and returns the process exit code.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
-    match dispatch(cli.command) {
+    let code = dispatch(cli.command);
+    // For `ncplan bench`: the peak resident memory of this run.
+    if std::env::var_os("NCPLAN_REPORT_PEAK").is_some()
+        && let Some(peak) = crate::bench::peak_rss(std::process::id())
+    {
+        eprintln!("ncplan: peak resident memory {peak} bytes");
+    }
+    match code {
         Ok(code) => code,
         Err(e) => {
             if e.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) {
@@ -332,8 +349,12 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if a.has_errors() { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
-        Command::Bench { dir, rows, runs } => {
-            crate::bench::run(&dir, rows, runs, &mut out)?;
+        Command::Bench { dir, rows, runs, daemon, files, kills } => {
+            if daemon {
+                crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
+            } else {
+                crate::bench::run(&dir, rows, runs, &mut out)?;
+            }
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
@@ -635,6 +656,23 @@ fn write_revision(out: &mut impl Write, store: &Store, r: &crate::store::Revisio
     }
     writeln!(out, "\n(--source prints the program, --plan its plan)")?;
     Ok(())
+}
+
+/// A writer that flushes at every line, so that a long benchmark shows each figure as it comes.
+struct LineFlush<'w, W: Write>(&'w mut W);
+
+impl<W: Write> Write for LineFlush<'_, W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.0.write(buf)?;
+        if buf[..n].contains(&b'\n') {
+            self.0.flush()?;
+        }
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()
+    }
 }
 
 struct Printer<'w, W: Write> {

@@ -60,6 +60,7 @@ struct RawDaemon {
     settle_ms: u64,
     rescan_s: u64,
     max_file_mb: u64,
+    workers: usize,
     ignore: Vec<String>,
 }
 
@@ -69,6 +70,7 @@ impl Default for RawDaemon {
             settle_ms: 1000,
             rescan_s: 300,
             max_file_mb: 256,
+            workers: 4,
             ignore: [".*", "~*", "*~", "*.tmp", "*.temp", "*.swp", "*.bak", "*.part", "#*#"].map(String::from).to_vec(),
         }
     }
@@ -208,6 +210,8 @@ pub struct Config {
     pub rescan_s: u64,
     /// Largest file analysed, bytes.
     pub max_file_bytes: u64,
+    /// Most files analysed at once (each worker also takes a core).
+    pub workers: usize,
     /// Ignore globs matched against file names.
     pub ignore: Vec<String>,
     /// Optional regex with a `key` group that extracts the matching key from a file name.
@@ -323,6 +327,9 @@ impl Config {
         if raw.daemon.rescan_s < MIN_RESCAN_S {
             bail!("[daemon] rescan_s = {} is below the least, {MIN_RESCAN_S} (a rescan reads every file)", raw.daemon.rescan_s);
         }
+        if raw.daemon.workers == 0 {
+            bail!("[daemon] workers must be at least 1");
+        }
         if raw.daemon.max_file_mb == 0 {
             bail!("[daemon] max_file_mb must be at least 1");
         }
@@ -333,6 +340,7 @@ impl Config {
             settle_ms: raw.daemon.settle_ms,
             rescan_s: raw.daemon.rescan_s,
             max_file_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20),
+            workers: raw.daemon.workers,
             ignore: raw.daemon.ignore,
             pattern,
             profile,

@@ -112,6 +112,21 @@ struct Share {
     root: PathBuf,
 }
 
+/// A settled file for a worker.
+struct Job {
+    path: PathBuf,
+    folder: usize,
+    snapshot: Snapshot,
+    /// The folder's real path.
+    root: PathBuf,
+}
+
+/// Workers: one per core, at least one and at most `[daemon] workers` (default 4).
+fn worker_count(config: &Config) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+    cores.clamp(1, config.workers.max(1))
+}
+
 /// Runs the daemon until SIGTERM or SIGINT.
 pub fn run(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<()> {
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().context("cannot start the runtime")?;
@@ -136,24 +151,46 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     if let Some(parent) = config.database.parent() {
         std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
     }
-    let store = Store::open(&config.database).with_context(|| format!("cannot open the database {}", config.database.display()))?;
+    let open = || -> Result<Store> {
+        let mut store = Store::open(&config.database).with_context(|| format!("cannot open the database {}", config.database.display()))?;
+        // Workers wait for each other's transactions (one revision and what it enables).
+        store.set_busy_timeout(Duration::from_secs(600))?;
+        Ok(store)
+    };
+    let first = open()?;
+    let workers = worker_count(&config);
+    let mut stores = vec![first];
+    for _ in 1..workers {
+        stores.push(open()?);
+    }
     let config = Arc::new(config);
+    let registry = Arc::new(registry);
     let (tx, mut rx) = mpsc::unbounded_channel::<Event>();
     let roots: Vec<PathBuf> = config.folders.iter().map(|f| std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone())).collect();
 
-    // The worker thread owns the database connection. It first compares what an earlier run
-    // left waiting, then takes files one at a time.
-    let (job_tx, job_rx) = std::sync::mpsc::channel::<(PathBuf, usize, Snapshot, PathBuf)>();
-    let worker = {
-        let (config, tx, clock) = (Arc::clone(&config), tx.clone(), Arc::clone(&clock));
-        std::thread::Builder::new().name("ncplan-worker".into()).spawn(move || {
+    // A bounded pool of workers, each with its own connection, so that one huge program does
+    // not hold up the others. The first compares what an earlier run left waiting.
+    let (job_tx, job_rx) = std::sync::mpsc::channel::<Job>();
+    let job_rx = Arc::new(std::sync::Mutex::new(job_rx));
+    let mut pool = Vec::new();
+    for (i, store) in stores.into_iter().enumerate() {
+        let (config, registry, tx, clock, jobs) =
+            (Arc::clone(&config), Arc::clone(&registry), tx.clone(), Arc::clone(&clock), Arc::clone(&job_rx));
+        pool.push(std::thread::Builder::new().name(format!("ncplan-worker-{i}")).spawn(move || {
             let mut store = store;
-            match ingest::reconcile(&mut store, &ingest::Reader { config: &config, registry: &registry }, &clock.now()) {
-                Ok(0) => {}
-                Ok(n) => tracing::info!(compared = n, "Compared the edited programs that were waiting for their original."),
-                Err(error) => tracing::error!(error = format!("{error:#}"), "Could not compare the waiting edited programs."),
+            if i == 0 {
+                match ingest::reconcile(&mut store, &ingest::Reader { config: &config, registry: &registry }, &clock.now()) {
+                    Ok(0) => {}
+                    Ok(n) => tracing::info!(compared = n, "Compared the edited programs that were waiting for their original."),
+                    Err(error) => tracing::error!(error = format!("{error:#}"), "Could not compare the waiting edited programs."),
+                }
             }
-            while let Ok((path, folder, snapshot, root)) = job_rx.recv() {
+            loop {
+                let job = match jobs.lock() {
+                    Ok(rx) => rx.recv(),
+                    Err(_) => break,
+                };
+                let Ok(Job { path, folder, snapshot, root }) = job else { break };
                 let started = Instant::now();
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     ingest(&path, &config.folders[folder], &root, &config, &registry, &mut store, &clock.now(), Some(snapshot))
@@ -163,8 +200,8 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
                     break;
                 }
             }
-        })?
-    };
+        })?);
+    }
 
     let shares = roots.into_iter().map(|root| Share { watcher: None, identity: None, up: true, root }).collect();
     let mut d =
@@ -235,8 +272,8 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
                     tracing::debug!(path = %path.display(), "Queued a settled file.");
                     d.in_flight.insert(path.clone());
                     let root = d.shares[folder].root.clone();
-                    if job_tx.send((path, folder, snapshot, root)).is_err() {
-                        anyhow::bail!("the worker thread stopped");
+                    if job_tx.send(Job { path, folder, snapshot, root }).is_err() {
+                        anyhow::bail!("the workers stopped");
                     }
                 }
             }
@@ -261,7 +298,7 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     notifier.notify("STOPPING=1");
     drop(job_tx);
     drop(d);
-    let _ = tokio::task::spawn_blocking(move || worker.join()).await;
+    let _ = tokio::task::spawn_blocking(move || pool.into_iter().for_each(|w| drop(w.join()))).await;
     Ok(())
 }
 

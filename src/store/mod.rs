@@ -263,6 +263,11 @@ impl Store {
         Ok(())
     }
 
+    /// How long a statement waits for another connection's transaction before it fails.
+    pub fn set_busy_timeout(&mut self, wait: std::time::Duration) -> Result<()> {
+        self.conn.busy_timeout(wait).map_err(sql("setting the busy timeout"))
+    }
+
     /// Schema version.
     pub fn version(&self) -> Result<usize> {
         self.conn.query_row("PRAGMA user_version", [], |r| r.get(0)).map_err(sql("reading the schema version"))
