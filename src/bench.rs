@@ -243,6 +243,7 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
     bed.wait_count("SELECT COUNT(*) FROM revisions", 1, Duration::from_secs(300))?;
     std::fs::copy(&edit_path, bed.dir.join("share/surface.ngc"))?;
     bed.wait_count("SELECT COUNT(*) FROM comparisons", 1, Duration::from_secs(300))?;
+    bed.wait_log("Stored a revision", 2, Duration::from_secs(30))?;
     let peak = peak_rss(bed.child.id()).unwrap_or(0);
     let ms: Vec<u64> = bed
         .log()

@@ -329,7 +329,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         }
         Command::Check { input, format } => {
             let (d, config, bytes) = input_setup(&input)?;
-            let a = pipeline::analyze(&bytes, &d, &config.profile);
+            let a = pipeline::analyze_plan(&bytes, &d, &config.profile);
             let path = input.file.display().to_string();
             let idx = LineIndex::new(&a.source.text);
             match format {
@@ -385,7 +385,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         }
         Command::Plan { input, format } => {
             let (d, config, bytes) = input_setup(&input)?;
-            let a = pipeline::analyze(&bytes, &d, &config.profile);
+            let a = pipeline::analyze_plan(&bytes, &d, &config.profile);
             match format {
                 Format::Json => {
                     serde_json::to_writer_pretty(&mut out, &a.plan)?;
@@ -398,7 +398,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         }
         Command::Stepnc { input, cc1, cc2: _, output, timestamp } => {
             let (d, config, bytes) = input_setup(&input)?;
-            let a = pipeline::analyze(&bytes, &d, &config.profile);
+            let a = pipeline::analyze_plan(&bytes, &d, &config.profile);
             let class = if cc1 { crate::part21::stepnc::Class::Cc1 } else { crate::part21::stepnc::Class::Cc2 };
             let timestamp = timestamp.unwrap_or_else(|| {
                 use crate::daemon::Clock;
@@ -433,8 +433,8 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             };
             let da = pick(dname.as_deref(), &original, &bytes_a)?;
             let db = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
-            let a = pipeline::analyze(&bytes_a, &da, &config.profile);
-            let b = pipeline::analyze(&bytes_b, &db, &config.profile);
+            let a = pipeline::analyze_plan(&bytes_a, &da, &config.profile);
+            let b = pipeline::analyze_plan(&bytes_b, &db, &config.profile);
             let changes = diff::diff(&a.plan, &b.plan);
             match format {
                 Format::Json => {

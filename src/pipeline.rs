@@ -13,7 +13,7 @@ use crate::text::{self, SourceText, TextRange};
 pub struct Analysis {
     /// The decoded text.
     pub source: SourceText,
-    /// Canonical ops.
+    /// Canonical ops (empty from [`analyze_plan`]).
     pub canon: Vec<Canon>,
     /// The recovered plan.
     pub plan: ProcessPlan,
@@ -37,6 +37,19 @@ pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
     diagnostics.extend(plan_diags);
     diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
     Analysis { source, canon, plan, diagnostics }
+}
+
+/// Analyses raw program bytes as [`analyze`] does, without keeping the canonical ops: plan
+/// recovery takes them as the interpreter emits them, so memory holds the plan, not the ops.
+/// Never fails.
+pub fn analyze_plan(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
+    let (source, mut diagnostics) = text::decode(bytes);
+    let mut recoverer = plan::Recoverer::new(profile);
+    diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut recoverer));
+    let (plan, plan_diags) = recoverer.finish(program_name(&source.text));
+    diagnostics.extend(plan_diags);
+    diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
+    Analysis { source, canon: Vec::new(), plan, diagnostics }
 }
 
 /// A diagnostic for input over the size limit, for callers that refuse to read it whole.

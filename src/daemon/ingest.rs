@@ -280,6 +280,8 @@ fn record(
     let machine = (folder.role == Role::Machine).then(|| (folder.name.as_str(), dialect_name.as_str(), folder.path.to_str().unwrap_or("")));
     let stem = pairing::file_stem(&file_name);
     let name = program.clone().unwrap_or_else(|| stem.clone());
+    // Only the plan is needed from here on: the decoded text goes.
+    let plan: Option<ProcessPlan> = analysis.map(|a| a.plan);
 
     let tx = store.begin()?;
     let previous = tx.latest(&path_str, now)?;
@@ -302,7 +304,7 @@ fn record(
         status,
         plan_json: summary.as_deref(),
         plan_complete: false,
-        counts: analysis.as_ref().map_or((0, 0), |a| (a.plan.workingsteps.len(), a.plan.tools.len())),
+        counts: plan.as_ref().map_or((0, 0), |p| (p.workingsteps.len(), p.tools.len())),
         diagnostics: &diagnostics,
     })?;
     // The revision before, if it is this one's start and came seconds earlier, was a partial write.
@@ -324,8 +326,8 @@ fn record(
     }
     let mut changes = None;
     let mut compared = 0;
-    if let Some(a) = &analysis {
-        let known = Known { revision, plan: &a.plan };
+    if let Some(plan) = &plan {
+        let known = Known { revision, plan };
         match folder.role {
             Role::Machine => changes = settle(&tx, &reader, revision, &keys, known, now)?,
             Role::Cam => {
@@ -375,9 +377,7 @@ impl Reader<'_> {
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
         // Subprograms come from the configured directory, else from beside the program.
         let profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
-        let mut a = pipeline::analyze(bytes, &d, &profile);
-        a.canon = Vec::new();
-        Ok(a)
+        Ok(pipeline::analyze_plan(bytes, &d, &profile))
     }
 
     /// The whole plan of a stored revision: the stored one when it is complete (older

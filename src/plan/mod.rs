@@ -7,4 +7,4 @@ mod model;
 mod recover;
 
 pub use model::*;
-pub use recover::{ToolFacts, measure, parse_stock, parse_tool_comment, recover, round_sig};
+pub use recover::{Recoverer, ToolFacts, measure, parse_stock, parse_tool_comment, recover, round_sig};

@@ -19,10 +19,40 @@ const EPS: f64 = 1e-6;
 /// Recovers the process plan from a canonical stream. `program` is the program's number or
 /// name, when known.
 pub fn recover(canon: &[Canon], profile: &Profile, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
-    let mut r = Recovery::new(profile);
+    let mut r = Recoverer::new(profile);
     for c in canon {
-        r.op(c);
+        r.r.op(c);
     }
+    r.finish(program)
+}
+
+/// Plan recovery as a [`CanonSink`]: it takes the ops as the interpreter emits them, so that
+/// no list of them is kept (a million-move program's ops cost more than its plan).
+pub struct Recoverer<'p> {
+    r: Recovery<'p>,
+    profile: &'p Profile,
+}
+
+impl crate::canon::CanonSink for Recoverer<'_> {
+    fn emit(&mut self, canon: Canon) {
+        self.r.op(&canon);
+    }
+}
+
+impl<'p> Recoverer<'p> {
+    /// Recovery for a program read with `profile`.
+    pub fn new(profile: &'p Profile) -> Recoverer<'p> {
+        Recoverer { r: Recovery::new(profile), profile }
+    }
+
+    /// The plan of the ops taken, with the findings of recovery.
+    pub fn finish(self, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
+        let Recoverer { r, profile } = self;
+        recover_finish(r, profile, program)
+    }
+}
+
+fn recover_finish(mut r: Recovery<'_>, profile: &Profile, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
     r.close();
     let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
     let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| r.stock.map(|s| stock(s, StockSource::Program)));
