@@ -142,7 +142,7 @@ pub fn ingest(
 ) -> Result<Outcome> {
     let (bytes, meta) = match read_settled(path, root, expected, config.max_file_bytes)? {
         Read::Bytes(b, m) => (b, m),
-        Read::TooLarge(meta) => return store_too_large(path, folder, config, store, now, &meta),
+        Read::TooLarge(meta) => return store_too_large(path, path, folder, config, store, now, &meta),
         Read::Done(outcome) => return Ok(outcome),
     };
     let hash = sha256_hex(&bytes);
@@ -152,7 +152,38 @@ pub fn ingest(
     }
     // An analysis of this content that never finished (the process was killed) is not tried again.
     let earlier = store.begin_attempt(&hash, &path_str, now)?;
-    let result = record(path, folder, config, registry, store, now, &bytes, &hash, &meta, earlier);
+    let result = record(path, path, folder, config, registry, store, now, &bytes, &hash, &meta, earlier);
+    if result.is_err() {
+        store.finish_attempt(&hash)?;
+    }
+    result
+}
+
+/// Imports `file`, a copy of the program at `stored_as` (a share's file, from an archive or
+/// a dated backup), as a revision seen at `seen_at` (its file time). Content the program
+/// already has as any revision is skipped, so an import that was killed resumes.
+#[allow(clippy::too_many_arguments)]
+pub fn import_file(
+    file: &Path,
+    stored_as: &Path,
+    folder: &Folder,
+    config: &Config,
+    registry: &Registry,
+    store: &mut Store,
+    seen_at: &str,
+) -> Result<Outcome> {
+    let meta = std::fs::metadata(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let stored_str = stored_as.to_string_lossy().into_owned();
+    if meta.len() > config.max_file_bytes {
+        return store_too_large(file, stored_as, folder, config, store, seen_at, &meta);
+    }
+    let bytes = std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let hash = sha256_hex(&bytes);
+    if store.has_revision(&stored_str, &hash)? {
+        return Ok(Outcome::Unchanged);
+    }
+    let earlier = store.begin_attempt(&hash, &stored_str, seen_at)?;
+    let result = record(file, stored_as, folder, config, registry, store, seen_at, &bytes, &hash, &meta, earlier);
     if result.is_err() {
         store.finish_attempt(&hash)?;
     }
@@ -163,6 +194,7 @@ pub fn ingest(
 /// and its bytes copied in chunks; it is analysed by no one.
 fn store_too_large(
     path: &Path,
+    stored_as: &Path,
     folder: &Folder,
     config: &Config,
     store: &mut Store,
@@ -175,7 +207,7 @@ fn store_too_large(
         std::io::copy(&mut file, &mut hasher).with_context(|| format!("cannot read {}", path.display()))?;
         hasher.finalize().iter().map(|b| format!("{b:02x}")).collect::<String>()
     };
-    let path_str = path.to_string_lossy().into_owned();
+    let path_str = stored_as.to_string_lossy().into_owned();
     if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
         return Ok(Outcome::Unchanged);
     }
@@ -229,6 +261,7 @@ fn mtime_ns(meta: &std::fs::Metadata) -> Option<i64> {
 #[allow(clippy::too_many_arguments)]
 fn record(
     path: &Path,
+    stored_as: &Path,
     folder: &Folder,
     config: &Config,
     registry: &Registry,
@@ -239,7 +272,7 @@ fn record(
     meta: &std::fs::Metadata,
     earlier: u32,
 ) -> Result<Outcome> {
-    let path_str = path.to_string_lossy().into_owned();
+    let path_str = stored_as.to_string_lossy().into_owned();
     // A folder with `dialect = "auto"` has each program's dialect told from its text.
     let dialect_name = if folder.dialect == crate::config::AUTO_DIALECT {
         let s = pipeline::sniff(registry, bytes, path);

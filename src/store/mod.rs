@@ -285,6 +285,17 @@ impl Store {
             .map_err(sql("looking up the latest revision"))
     }
 
+    /// Whether the program at `path` has a revision with the content `hash`, at any time.
+    pub fn has_revision(&self, path: &str, hash: &str) -> Result<bool> {
+        self.conn
+            .query_row(
+                "SELECT EXISTS (SELECT 1 FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path = ?1 AND r.hash = ?2)",
+                [path, hash],
+                |r| r.get(0),
+            )
+            .map_err(sql("looking up a revision"))
+    }
+
     /// Notes that the content `hash` is about to be analysed, and returns how many earlier
     /// analyses of it never finished (a kill by the kernel's out-of-memory killer, a memory
     /// limit, a crash). The note is removed when its revision is recorded, or by [`Store::finish_attempt`].

@@ -141,3 +141,59 @@ fn logs_to_a_file_carry_no_colour_codes() {
     assert!(text.contains("Watching a folder"), "{text}");
     assert!(!text.contains('\u{1b}'), "{text:?}");
 }
+
+#[test]
+fn import_stores_dated_backups_with_their_file_times_and_resumes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    for sub in ["cam", "share", "backups/2024-01-10", "backups/2024-02-20", "backups/2024-03-05"] {
+        std::fs::create_dir_all(dir.join(sub)).unwrap();
+    }
+    let config = dir.join("c.toml");
+    std::fs::write(
+        &config,
+        "[database]\npath = 'var/x.db'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'DMU50'\npath = 'share'\ndialect = 'fanuc'\n",
+    )
+    .unwrap();
+    let original = std::fs::read_to_string(crate::root().join("demo/cam/O1234.nc")).unwrap();
+    std::fs::copy(crate::root().join("demo/cam/O1234.nc"), dir.join("cam/O1234.nc")).unwrap();
+    let (c, _, err) = ncplan_in(dir, &["import", "--cam", "cam", "--config", "c.toml"]);
+    assert_eq!(c, 2, "the watched folder itself is refused");
+    assert!(err.contains("the watched folder itself"), "{err}");
+    let edited = std::fs::read_to_string(crate::root().join("demo/examples/O1234_edited.nc")).unwrap();
+    for (day, text) in [("2024-01-10", &original), ("2024-02-20", &edited), ("2024-03-05", &edited)] {
+        let f = dir.join(format!("backups/{day}/O1234.nc"));
+        std::fs::write(&f, text).unwrap();
+        assert!(Command::new("touch").args(["-d", &format!("{day} 12:00:00 UTC")]).arg(&f).status().unwrap().success());
+    }
+    std::fs::write(dir.join("backups/2024-03-05/O2000.nc"), "%\nO2000\nT2 M6\nS900 M3\nG0 X0 Y0 Z5\nG1 Z-1 F80\nX20\nM30\n%\n").unwrap();
+    // The originals first, then the machine's backups.
+    std::fs::create_dir_all(dir.join("cam_archive")).unwrap();
+    std::fs::copy(dir.join("cam/O1234.nc"), dir.join("cam_archive/O1234.nc")).unwrap();
+    let (code, out, err) = ncplan_in(dir, &["import", "cam_archive", "--cam", "--config", "c.toml"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, out, err) = ncplan_in(dir, &["import", "backups", "--machine", "DMU50", "--config", "c.toml"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("4 files of 2 programs; 3 revisions stored, 1 already stored, 2 compared with their original, 0 errors"), "{out}");
+    let store = ncplan::store::Store::open_read_only(&dir.join("var/x.db")).unwrap();
+    let (_, revs) = store
+        .query(
+            "SELECT substr(r.seen_at, 1, 10), p.path FROM revisions r JOIN programs p ON p.id = r.program_id
+             WHERE p.role = 'machine' ORDER BY r.id",
+        )
+        .unwrap();
+    let got: Vec<(String, bool)> =
+        revs.iter().map(|r| (r[0].clone(), r[1].ends_with("share/O1234.nc") || r[1].ends_with("share/O2000.nc"))).collect();
+    assert_eq!(got.iter().filter(|g| g.1).count(), 3);
+    let o1234: Vec<&str> = revs.iter().filter(|r| r[1].ends_with("O1234.nc")).map(|r| r[0].as_str()).collect();
+    assert_eq!(o1234, ["2024-01-10", "2024-02-20"], "in file-time order, the repeat skipped");
+    let (_, changes) = store.query("SELECT kind FROM shopfloor_changes ORDER BY change_id").unwrap();
+    assert_eq!(changes, [["tool_renamed"], ["start_point_moved"]]);
+    // Run again (as after a kill): nothing new.
+    let (code, out, _) = ncplan_in(dir, &["import", "backups", "--machine", "DMU50", "--config", "c.toml"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("0 revisions stored, 4 already stored"), "{out}");
+    let (code, _, err) = ncplan_in(dir, &["import", "backups", "--machine", "NOPE", "--config", "c.toml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no machine `NOPE`") && err.contains("DMU50"), "{err}");
+}

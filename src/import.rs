@@ -1,0 +1,142 @@
+//! `ncplan import`: a shop's existing program folder, or its dated backups, stored as
+//! revisions of one machine's (or the CAM folder's) programs with their file times, so that
+//! a new installation starts with history.
+//!
+//! Shell code. Files are grouped by program (their file name: `2024-03-01/O1234.nc` and
+//! `2024-05-12/O1234.nc` are two revisions of the share's `O1234.nc`) and each program's
+//! files go, oldest first, to one worker of a pool with a connection each, so that every core
+//! analyses and each program's revisions are stored in time order. Content a program already
+//! has is skipped, so an import that was killed resumes where it was.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant, SystemTime};
+
+use anyhow::{Context, Result};
+
+use crate::config::{Config, Folder};
+use crate::daemon::{Outcome, ingest};
+use crate::dialect::Registry;
+use crate::store::Store;
+
+/// What an import did.
+#[derive(Debug, Default, Clone, PartialEq, Eq)]
+pub struct Summary {
+    /// Files found.
+    pub files: usize,
+    /// Programs they are revisions of.
+    pub programs: usize,
+    /// Revisions stored.
+    pub stored: usize,
+    /// Files whose content their program already had (an earlier import, a copy).
+    pub known: usize,
+    /// Stored revisions compared with their CAM original.
+    pub compared: usize,
+    /// Files that could not be read or stored, with the reason.
+    pub errors: Vec<(PathBuf, String)>,
+    /// Wall time.
+    pub elapsed: Duration,
+}
+
+/// The files under `dir` (any depth, links not followed, editor and temp files skipped),
+/// grouped by program file name, each group sorted by file time then path.
+pub fn programs(config: &Config, dir: &Path) -> Result<BTreeMap<String, Vec<(PathBuf, SystemTime)>>> {
+    fn walk(config: &Config, dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+        for e in std::fs::read_dir(dir)?.flatten() {
+            let (p, Ok(kind)) = (e.path(), e.file_type()) else { continue };
+            if p.file_name().and_then(|n| n.to_str()).is_none_or(|n| config.ignored(n)) {
+                continue;
+            }
+            if kind.is_dir() {
+                walk(config, &p, out)?;
+            } else if kind.is_file() {
+                out.push(p);
+            }
+        }
+        Ok(())
+    }
+    let mut files = Vec::new();
+    walk(config, dir, &mut files).with_context(|| format!("cannot list {}", dir.display()))?;
+    let mut groups: BTreeMap<String, Vec<(PathBuf, SystemTime)>> = BTreeMap::new();
+    for f in files {
+        let mtime = std::fs::metadata(&f).and_then(|m| m.modified()).unwrap_or(SystemTime::UNIX_EPOCH);
+        let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        groups.entry(name).or_default().push((f, mtime));
+    }
+    for g in groups.values_mut() {
+        g.sort_by(|a, b| a.1.cmp(&b.1).then_with(|| a.0.cmp(&b.0)));
+    }
+    Ok(groups)
+}
+
+fn rfc3339(t: SystemTime) -> String {
+    let d = t.duration_since(SystemTime::UNIX_EPOCH).unwrap_or_default();
+    crate::daemon::rfc3339(d.as_secs() as i64, d.subsec_millis())
+}
+
+/// Imports `dir` into `folder` (a configured machine share or CAM folder): each file becomes
+/// a revision of `folder/<file name>` seen at its file time. `progress(done, total)` is called
+/// after each file.
+pub fn run(
+    config: &Config,
+    registry: &Registry,
+    folder: &Folder,
+    dir: &Path,
+    workers: usize,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Summary> {
+    let started = Instant::now();
+    let groups = programs(config, dir)?;
+    let total: usize = groups.values().map(Vec::len).sum();
+    let mut summary = Summary { files: total, programs: groups.len(), ..Summary::default() };
+    if let Some(parent) = config.database.parent() {
+        std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
+    }
+    let queue = Mutex::new(groups.into_iter().collect::<Vec<_>>().into_iter());
+    let done = AtomicUsize::new(0);
+    let result = Mutex::new(Summary::default());
+    let workers = workers.max(1);
+    let mut stores = Vec::with_capacity(workers);
+    for _ in 0..workers {
+        let mut s = Store::open(&config.database).with_context(|| format!("cannot open the database {}", config.database.display()))?;
+        s.set_busy_timeout(Duration::from_secs(600))?;
+        stores.push(s);
+    }
+    std::thread::scope(|scope| {
+        for mut store in stores {
+            let (queue, done, result) = (&queue, &done, &result);
+            scope.spawn(move || {
+                loop {
+                    let next = queue.lock().ok().and_then(|mut q| q.next());
+                    let Some((name, files)) = next else { break };
+                    let stored_as = folder.path.join(&name);
+                    for (file, mtime) in files {
+                        let outcome = ingest::import_file(&file, &stored_as, folder, config, registry, &mut store, &rfc3339(mtime));
+                        if let Ok(mut r) = result.lock() {
+                            match outcome {
+                                Ok(Outcome::Stored { changes, compared, .. }) => {
+                                    r.stored += 1;
+                                    r.compared += usize::from(changes.is_some()) + compared;
+                                }
+                                Ok(Outcome::Unchanged) => r.known += 1,
+                                Ok(other) => r.errors.push((file.clone(), format!("{other:?}"))),
+                                Err(e) => r.errors.push((file.clone(), format!("{e:#}"))),
+                            }
+                        }
+                        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                    }
+                }
+            });
+        }
+    });
+    let r = result.into_inner().unwrap_or_default();
+    summary.stored = r.stored;
+    summary.known = r.known;
+    summary.compared = r.compared;
+    summary.errors = r.errors;
+    summary.errors.sort();
+    summary.elapsed = started.elapsed();
+    Ok(summary)
+}
