@@ -210,6 +210,7 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
         d.check_share(i, true);
     }
     tracing::info!(files = d.pending.len(), "Catch-up scan queued.");
+    let mut catch_up = CatchUp { files: d.pending.len(), looked: 0, stored: 0, started: Instant::now(), said: Instant::now(), done: false };
     notifier.notify("READY=1");
     notifier.notify(&format!("STATUS=Watching {} folders.", config.folders.len()));
 
@@ -251,6 +252,8 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
                 Event::Fs { folder, event: Err(error) } => d.watch_failed(folder, &error),
                 Event::Done { path, folder, result, elapsed } => {
                     d.in_flight.remove(&path);
+                    catch_up.looked += 1;
+                    catch_up.stored += usize::from(matches!(result, Ok(Outcome::Stored { .. })));
                     match result {
                         Ok(Outcome::Stored { revision, changes, compared }) => tracing::info!(path = %path.display(), revision, ?changes, compared, ms = elapsed.as_millis() as u64, "Stored a revision."),
                         Ok(Outcome::Unchanged) => tracing::debug!(path = %path.display(), "Content unchanged."),
@@ -268,6 +271,7 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
                 }
             },
             _ = tick.tick() => {
+                catch_up.report(d.pending.is_empty() && d.in_flight.is_empty());
                 for (path, folder, snapshot) in d.settled(settle) {
                     tracing::debug!(path = %path.display(), "Queued a settled file.");
                     d.in_flight.insert(path.clone());
@@ -300,6 +304,34 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     drop(d);
     let _ = tokio::task::spawn_blocking(move || pool.into_iter().for_each(|w| drop(w.join()))).await;
     Ok(())
+}
+
+/// Progress of the first pass over what the folders already hold: a line every 10 s while it
+/// lasts (a first start over a large archive), and one when it is done.
+struct CatchUp {
+    files: usize,
+    looked: usize,
+    stored: usize,
+    started: Instant,
+    said: Instant,
+    done: bool,
+}
+
+impl CatchUp {
+    fn report(&mut self, idle: bool) {
+        if self.done {
+            return;
+        }
+        if idle {
+            self.done = true;
+            if self.files > 0 {
+                tracing::info!(files = self.files, stored = self.stored, seconds = self.started.elapsed().as_secs(), "Caught up with the folders.");
+            }
+        } else if self.said.elapsed() >= Duration::from_secs(10) {
+            self.said = Instant::now();
+            tracing::info!(done = self.looked, of = self.files, stored = self.stored, "Catching up with the folders.");
+        }
+    }
 }
 
 fn identity(meta: &std::fs::Metadata) -> (u64, u64) {
