@@ -4,12 +4,12 @@
 //! hole making), and at a change of technology when the toolpath starts anew (after a
 //! rapid). Rapids between cuts are kept back until the next cut decides where they belong.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::feature;
 use super::geom;
 use super::model::*;
-use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, NO_SPINDLE_LIMIT, Plane, Units};
+use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, NO_SPINDLE_LIMIT, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::interp::Profile;
 use crate::text::TextRange;
@@ -24,6 +24,11 @@ pub fn recover(canon: &[Canon], profile: &Profile, program: Option<String>) -> (
         r.op(c);
     }
     r.close();
+    if let Some(last) = r.done.last_mut() {
+        let n = last.toolpath.len() as u32;
+        last.state.stops.extend(r.pending_stops.drain(..).map(|s| Stop { at: n, ..s }));
+        last.state.dwells.extend(r.pending_dwells.drain(..).map(|d| Dwell { at: n, ..d }));
+    }
     let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
     let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| r.stock.map(|s| stock(s, StockSource::Program)));
     let mut tools: Vec<Tool> = r.tools.into_values().collect();
@@ -179,6 +184,10 @@ struct Builder {
     tentative: Option<Tentative>,
     /// Feed of the last cutting move that is not a plunge.
     cut_feed: Option<f64>,
+    /// Work offset, stops and dwells; offsets and optional lines are filled in at the end.
+    state: MachineState,
+    /// (move index, length offset, compensation) wherever they change along the feeds.
+    settings: Vec<(usize, Option<u32>, Option<CompUse>)>,
 }
 
 /// A possible boundary between two workingsteps with one tool and technology.
@@ -220,6 +229,17 @@ struct Recovery<'p> {
     dwell: Option<f64>,
     peck: Option<f64>,
     stock: Option<[P3; 2]>,
+    /// Work offset in force (1 for G54).
+    wcs: u8,
+    /// Length offset number in force.
+    h: Option<u32>,
+    /// Cutter compensation in force.
+    comp: Option<CompUse>,
+    /// Lines of optional (`/`) blocks that ran.
+    optional: BTreeSet<u32>,
+    /// Stops and dwells met while no workingstep is open: they go to the next one.
+    pending_stops: Vec<Stop>,
+    pending_dwells: Vec<Dwell>,
     current: Option<Builder>,
     pending: Vec<Move>,
     done: Vec<Workingstep>,
@@ -250,6 +270,12 @@ impl<'p> Recovery<'p> {
             dwell: None,
             peck: None,
             stock: None,
+            wcs: 1,
+            h: None,
+            comp: None,
+            optional: BTreeSet::new(),
+            pending_stops: Vec::new(),
+            pending_dwells: Vec::new(),
             current: None,
             pending: Vec::new(),
             done: Vec::new(),
@@ -385,6 +411,26 @@ impl<'p> Recovery<'p> {
                 }
             }
             CanonOp::Dwell(secs) if self.in_cycle.is_some() => self.dwell = Some(*secs),
+            CanonOp::Dwell(secs) => {
+                let d = Dwell { seconds: *secs, line: c.line, at: 0 };
+                match self.current.as_mut() {
+                    Some(b) => b.state.dwells.push(Dwell { at: (b.moves.len() + self.pending.len()) as u32, ..d }),
+                    None => self.pending_dwells.push(d),
+                }
+            }
+            CanonOp::ProgramStop | CanonOp::OptionalProgramStop => {
+                let s = Stop { optional: c.op == CanonOp::OptionalProgramStop, line: c.line, at: 0 };
+                match self.current.as_mut() {
+                    Some(b) => b.state.stops.push(Stop { at: (b.moves.len() + self.pending.len()) as u32, ..s }),
+                    None => self.pending_stops.push(s),
+                }
+            }
+            CanonOp::SetG5xOffset(index, _) => self.wcs = *index,
+            CanonOp::Setting(Setting::LengthOffset(h)) => self.h = Some(*h),
+            CanonOp::Setting(Setting::CutterComp(c)) => self.comp = c.map(|(left, number)| CompUse { left, number }),
+            CanonOp::Setting(Setting::BlockDelete) => {
+                self.optional.insert(c.line);
+            }
             CanonOp::Comment(s) if self.stock.is_none() && parse_stock(s).is_some() => {
                 self.stock = parse_stock(s).map(|[a, b]| [a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
             }
@@ -489,7 +535,10 @@ impl<'p> Recovery<'p> {
             None => true,
             Some(b) => {
                 let retracted = !self.pending.is_empty();
-                b.tool != self.tool || !b.operation.same_family(operation) || (retracted && !same_tech(&b.technology, &tech))
+                b.tool != self.tool
+                    || !b.operation.same_family(operation)
+                    || (retracted && !same_tech(&b.technology, &tech))
+                    || b.state.work_offset != self.wcs
             }
         };
         if restart {
@@ -507,6 +556,12 @@ impl<'p> Recovery<'p> {
                 m.phase = Phase::Approach;
             }
             let first_line = moves.first().map_or(c.line, |m| m.line);
+            let state = MachineState {
+                work_offset: self.wcs,
+                stops: std::mem::take(&mut self.pending_stops),
+                dwells: std::mem::take(&mut self.pending_dwells),
+                ..MachineState::default()
+            };
             self.current = Some(Builder {
                 operation,
                 tool: self.tool,
@@ -518,6 +573,8 @@ impl<'p> Recovery<'p> {
                 lines: (first_line, c.line),
                 tentative: None,
                 cut_feed: None,
+                state,
+                settings: Vec::new(),
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next
@@ -552,6 +609,14 @@ impl<'p> Recovery<'p> {
         if is_cut {
             b.cut_feed = Some(mv.feed);
         }
+        // Offset numbers count where they are not the tool's own (`T4` with `H3`, or `H0`):
+        // an implicit length offset (Heidenhain's `TOOL CALL`) is the same as `G43 H4`.
+        let own = |n: u32| n != self.tool;
+        let h = self.h.filter(|h| own(*h));
+        let comp = self.comp.map(|c| CompUse { number: c.number.filter(|n| own(*n)), ..c });
+        if mv.kind != MoveKind::Rapid && b.settings.last().is_none_or(|s| (s.1, s.2) != (h, comp)) {
+            b.settings.push((b.moves.len(), h, comp));
+        }
         b.moves.push(mv);
         b.source = b.source.cover(c.origin);
         b.lines.1 = c.line;
@@ -572,6 +637,23 @@ impl<'p> Recovery<'p> {
         let Some(mut b) = self.current.take() else { return };
         let mut tail = b.moves.split_off(t.at);
         let rest = tail.split_off(t.lifts.min(tail.len()));
+        // What comes after the boundary's lifts goes with the later workingstep.
+        let cut = (t.at + t.lifts.min(tail.len())) as u32;
+        let later = |v: &mut Vec<u32>| v.iter().position(|at| *at >= cut);
+        let mut state = MachineState { work_offset: b.state.work_offset, ..MachineState::default() };
+        if let Some(i) = later(&mut b.state.stops.iter().map(|s| s.at).collect()) {
+            state.stops = b.state.stops.split_off(i).into_iter().map(|s| Stop { at: s.at - cut, ..s }).collect();
+        }
+        if let Some(i) = later(&mut b.state.dwells.iter().map(|d| d.at).collect()) {
+            state.dwells = b.state.dwells.split_off(i).into_iter().map(|d| Dwell { at: d.at - cut, ..d }).collect();
+        }
+        let keep = b.settings.iter().position(|s| s.0 >= t.at).unwrap_or(b.settings.len());
+        let mut settings: Vec<_> = b.settings.split_off(keep).into_iter().map(|s| (s.0.saturating_sub(cut as usize), s.1, s.2)).collect();
+        if settings.first().is_none_or(|s| s.0 > 0)
+            && let Some(&(_, h, comp)) = b.settings.last()
+        {
+            settings.insert(0, (0, h, comp));
+        }
         for mut m in tail {
             m.phase = Phase::Retract;
             b.moves.push(m);
@@ -603,6 +685,8 @@ impl<'p> Recovery<'p> {
             lines: (t.line, c.line),
             tentative: None,
             cut_feed: None,
+            state,
+            settings,
         });
     }
 
@@ -638,7 +722,29 @@ impl<'p> Recovery<'p> {
             .or_else(|| rapid_z(&[Phase::Retract, Phase::Cut]))
             .unwrap_or_else(|| b.moves.iter().flat_map(|m| [m.from[2], m.to[2]]).fold(f64::NEG_INFINITY, f64::max));
         let index = self.done.len() as u32 + 1;
+        let mut state = b.state;
+        for (i, h, comp) in &b.settings {
+            // Only what is in force while the tool feeds counts, not on a lift.
+            if b.moves.get(*i).is_some_and(|m| m.phase == Phase::Retract) {
+                continue;
+            }
+            if let Some(h) = h
+                && !state.length_offsets.contains(h)
+            {
+                state.length_offsets.push(*h);
+            }
+            if let Some(c) = comp
+                && !state.cutter_comp.contains(c)
+            {
+                state.cutter_comp.push(*c);
+            }
+        }
+        if !self.optional.is_empty() {
+            let lines: BTreeSet<u32> = b.moves.iter().map(|m| m.line).filter(|l| self.optional.contains(l)).collect();
+            state.optional_lines = lines.into_iter().collect();
+        }
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
+        ws.state = state;
         measure(&mut ws, b.dwell, b.peck);
         self.done.push(ws);
     }
@@ -672,7 +778,7 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>) {
     ws.depth = depth;
     ws.cutting_length = cutting_length;
     ws.start_point = ws.toolpath.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
-    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck) } else { Vec::new() };
+    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, &ws.state.optional_lines) } else { Vec::new() };
     let mut feeds = vec![ws.technology.feed];
     for m in ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid) {
         if !feeds.iter().any(|f| (f - m.feed).abs() < EPS) {
@@ -725,12 +831,26 @@ fn refine_phases(moves: &mut [Move]) {
     }
 }
 
-/// Hole positions: the bottom of each feed-in within a cycle.
-fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>) -> Vec<Hole> {
+/// Hole positions: the bottom of each feed-in within a cycle, with the height the tool
+/// lifts to before it leaves the hole. A hole fed by an optional block is optional.
+fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>, optional: &[u32]) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
-    for m in moves.iter().filter(|m| m.kind == MoveKind::Line && is_plunge(m)) {
+    let mut open = false;
+    for m in moves {
+        if !(m.kind == MoveKind::Line && is_plunge(m)) {
+            if open && is_lift(m) {
+                if let Some(h) = out.last_mut() {
+                    h.retract = Some(h.retract.map_or(m.to[2], |r| r.max(m.to[2])));
+                }
+            } else if open && !is_plunge(m) {
+                open = false;
+            }
+            continue;
+        }
+        let optional = optional.binary_search(&m.line).is_ok();
         match out.last_mut() {
-            Some(h) if (h.x - m.to[0]).abs() < EPS && (h.y - m.to[1]).abs() < EPS => {
+            Some(h) if open && (h.x - m.to[0]).abs() < EPS && (h.y - m.to[1]).abs() < EPS => {
+                h.optional |= optional;
                 if m.to[2] < h.bottom {
                     h.bottom = m.to[2];
                     // The cycle's peck when it states one; the longest feed-in otherwise.
@@ -738,7 +858,10 @@ fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>) -> Vec<Hole> {
                     h.peck = Some(peck.unwrap_or_else(|| h.peck.map_or(step, |p| p.max(step))));
                 }
             }
-            _ => out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None, dwell }),
+            _ => {
+                out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None, dwell, retract: None, optional });
+                open = true;
+            }
         }
     }
     out
