@@ -618,6 +618,9 @@ fn write_report(out: &mut impl Write, store: &Store) -> Result<()> {
                 before: x[8].clone(),
                 after: x[9].clone(),
                 line: None,
+                original_line: None,
+                region: None,
+                deviation: None,
             });
             i += 1;
         }

@@ -719,7 +719,10 @@ impl MachineState {
             out.push(format!("h={}", list(self.length_offsets.iter().map(u32::to_string).collect())));
         }
         if !self.cutter_comp.is_empty() {
-            let c = self.cutter_comp.iter().map(|c| format!("{}{}", if c.left { 'L' } else { 'R' }, c.number.map_or(String::new(), |n| n.to_string())));
+            let c = self
+                .cutter_comp
+                .iter()
+                .map(|c| format!("{}{}", if c.left { 'L' } else { 'R' }, c.number.map_or(String::new(), |n| n.to_string())));
             out.push(format!("comp={}", list(c.collect())));
         }
         if !self.stops.is_empty() {
@@ -740,7 +743,9 @@ impl MachineState {
     /// unreadable keeps its default.
     pub fn decode(words: &std::collections::BTreeMap<String, String>) -> MachineState {
         let mut st = MachineState::default();
-        let items = |k: &str| words.get(k).map(|v| v.split(',').filter(|s| !s.is_empty()).map(str::to_owned).collect::<Vec<_>>()).unwrap_or_default();
+        let items = |k: &str| {
+            words.get(k).map(|v| v.split(',').filter(|s| !s.is_empty()).map(str::to_owned).collect::<Vec<_>>()).unwrap_or_default()
+        };
         let at = |s: &str| -> Option<(u32, u32)> {
             let (l, a) = s.split_once('/')?;
             Some((l.parse().ok()?, a.parse().ok()?))
@@ -749,10 +754,8 @@ impl MachineState {
             st.work_offset = w;
         }
         st.length_offsets = items("h").iter().filter_map(|v| v.parse().ok()).collect();
-        st.cutter_comp = items("comp")
-            .iter()
-            .map(|c| CompUse { left: c.starts_with('L'), number: c.get(1..).and_then(|n| n.parse().ok()) })
-            .collect();
+        st.cutter_comp =
+            items("comp").iter().map(|c| CompUse { left: c.starts_with('L'), number: c.get(1..).and_then(|n| n.parse().ok()) }).collect();
         st.stops = items("stops")
             .iter()
             .filter_map(|s| {

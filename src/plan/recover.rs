@@ -36,7 +36,9 @@ pub fn recover(canon: &[Canon], profile: &Profile, program: Option<String>) -> (
     let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
     infer_tool_kinds(&mut plan);
     feature::recognise(&mut plan);
-    (plan, r.diags)
+    let mut diags = r.diags;
+    diags.extend(super::risk::diagnostics(&plan));
+    (plan, diags)
 }
 
 /// Tools whose kind nothing states get one from how the program uses them.

@@ -6,6 +6,7 @@ mod cycles;
 mod daemon;
 mod derived;
 mod dialects;
+mod edits;
 mod encodings;
 mod equivalence;
 mod flow;
