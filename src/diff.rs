@@ -869,7 +869,8 @@ struct Grid<'a> {
     min: [f64; 2],
     cols: i64,
     rows: i64,
-    bins: std::collections::BTreeMap<(i64, i64), Vec<usize>>,
+    /// (cell, segment) sorted by cell.
+    bins: Vec<((i64, i64), u32)>,
 }
 
 impl<'a> Grid<'a> {
@@ -888,19 +889,20 @@ impl<'a> Grid<'a> {
         let cell = (total / n).max(extent / n.sqrt()).max(1e-3);
         let cols = ((max[0] - min[0]) / cell).floor() as i64 + 1;
         let rows = ((max[1] - min[1]) / cell).floor() as i64 + 1;
-        let mut g = Grid { pts, cell, min, cols, rows, bins: std::collections::BTreeMap::new() };
+        let mut g = Grid { pts, cell, min, cols, rows, bins: Vec::with_capacity(pts.len()) };
         if pts.len() == 1 {
-            g.bins.entry((0, 0)).or_default().push(0);
+            g.bins.push(((0, 0), 0));
         }
         for i in 0..pts.len().saturating_sub(1) {
             let (c0, r0) = g.at(pts[i]);
             let (c1, r1) = g.at(pts[i + 1]);
             for c in c0.min(c1)..=c0.max(c1) {
                 for r in r0.min(r1)..=r0.max(r1) {
-                    g.bins.entry((c, r)).or_default().push(i);
+                    g.bins.push(((c, r), i as u32));
                 }
             }
         }
+        g.bins.sort_unstable();
         g
     }
 
@@ -932,10 +934,10 @@ impl<'a> Grid<'a> {
                     if dc.abs() != ring && dr.abs() != ring {
                         continue;
                     }
-                    if let Some(list) = self.bins.get(&(c + dc, r + dr)) {
-                        for &i in list {
-                            best = best.min(self.seg_dist(i, p));
-                        }
+                    let key = (c + dc, r + dr);
+                    let from = self.bins.partition_point(|b| b.0 < key);
+                    for &(_, i) in self.bins[from..].iter().take_while(|b| b.0 == key) {
+                        best = best.min(self.seg_dist(i as usize, p));
                     }
                 }
             }

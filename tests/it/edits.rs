@@ -377,3 +377,82 @@ fn inch_program_in_inches() {
           toolpath changed at line 15: the cut at line 15 to X4.3 Y0.8 became the cut at line 15 to X3.8 Y0.8 (0.5 in shorter), in X-0.3…4.3 Y0.8…0.8, at most 0.5 in from the original path
     "#]].assert_eq(&rows(&changes(a, &b, "fanuc")));
 }
+
+/// A surfacing raster of `passes` passes of `steps` short moves over 200 × 200 mm.
+fn raster(passes: usize, steps: usize, shift: f64, edit: Option<usize>) -> ncplan::plan::ProcessPlan {
+    use ncplan::plan::*;
+    let (dx, dy) = (200.0 / steps as f64, 200.0 / passes as f64);
+    let mut moves = Vec::with_capacity(passes * steps);
+    let mut at = [0.0, shift, -1.0];
+    for p in 0..passes {
+        for s in 0..steps {
+            let x = if p % 2 == 0 { (s + 1) as f64 * dx } else { 200.0 - (s + 1) as f64 * dx };
+            let z = -1.0 - 0.5 * ((x / 20.0).sin() * (at[1] / 20.0).cos());
+            let mut to = [x, at[1], z];
+            if edit == Some(moves.len()) {
+                to[2] -= 0.3;
+            }
+            moves.push(Move {
+                kind: MoveKind::Line,
+                phase: Phase::Cut,
+                from: at,
+                to,
+                center: None,
+                axis: None,
+                turns: None,
+                feed: 2000.0,
+                line: moves.len() as u32 + 10,
+            });
+            at = to;
+        }
+        let to = [at[0], (p + 1) as f64 * dy + shift, at[2]];
+        moves.push(Move {
+            kind: MoveKind::Line,
+            phase: Phase::Cut,
+            from: at,
+            to,
+            center: None,
+            axis: None,
+            turns: None,
+            feed: 2000.0,
+            line: moves.len() as u32 + 10,
+        });
+        at = to;
+    }
+    let tech = Technology {
+        feed: 2000.0,
+        feeds: vec![2000.0],
+        spindle_speed: 12000.0,
+        surface_speed: None,
+        spindle: SpindleDir::Cw,
+        coolant: Coolant::Flood,
+    };
+    let mut ws = Workingstep::unmeasured(1, Operation::FreeformMilling, 1, tech, 10.0, moves, ncplan::text::TextRange::new(0, 1), (10, 10));
+    measure(&mut ws, None, None);
+    ProcessPlan { workingsteps: vec![ws], tools: vec![Tool::unknown(1)], ..ProcessPlan::default() }
+}
+
+/// One move of a quarter million changed: the change names its line and its deviation.
+/// (Near-linear time: a quadratic comparison would not finish; timings live in `bench`.)
+#[test]
+fn localisation_on_a_large_program() {
+    let a = raster(500, 499, 0.0, None);
+    let b = raster(500, 499, 0.0, Some(154_321));
+    let got = diff::diff(&a, &b);
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    let c = &got[0];
+    assert_eq!((c.kind.as_str(), c.line, c.original_line), ("toolpath_changed", Some(154_331), Some(154_331)));
+    assert!((c.deviation.unwrap() - 0.3).abs() < 0.01, "{c:?}");
+    let r = c.region.unwrap();
+    assert!(r.max[0] - r.min[0] < 1.0 && r.max[1] - r.min[1] < 1.0, "{r:?}");
+}
+
+/// Every move changed (the whole raster shifted by 0.05 mm): still measured.
+#[test]
+fn localisation_of_a_shift_over_a_large_program() {
+    let a = raster(500, 499, 0.0, None);
+    let b = raster(500, 499, 0.05, None);
+    let got = diff::diff(&a, &b);
+    let c = got.iter().find(|c| c.kind.as_str() == "toolpath_changed").expect("a toolpath change");
+    assert!(c.deviation.unwrap() < 0.1 && c.deviation.unwrap() > 0.0, "{c:?}");
+}
