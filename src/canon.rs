@@ -143,7 +143,7 @@ pub enum DistanceMode {
 }
 
 /// A machine setting the canonical interface does not carry, as a marker for the plan.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Setting {
     /// The length offset number put in force (`G43 H5`); 0 when it is cancelled (`G49`).
@@ -153,6 +153,8 @@ pub enum Setting {
     CutterComp(Option<(bool, Option<u32>)>),
     /// The block is optional (`/`): it runs only while the block-delete switch is off.
     BlockDelete,
+    /// A tool selected by name (`T="EM10"`) and the number the analysis gave it.
+    ToolName(u32, String),
 }
 
 /// A canonical machining function, or a marker.
@@ -540,6 +542,10 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
                     }
                 }
                 Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
+                Setting::ToolName(n, name) => {
+                    let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
+                    write!(out, "COMMENT(\"ncplan: tool {n} is {name}\")")
+                }
             };
         }
         CanonOp::SetFeedMode(m) => out.extend_from_slice(match m {

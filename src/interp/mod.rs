@@ -2087,6 +2087,9 @@ impl<'a> Interpreter<'a> {
         };
         self.st.selected_tool = tool;
         self.emit(sink, CanonOp::SelectTool(tool));
+        if let Some(name) = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)) {
+            self.emit(sink, CanonOp::Setting(Setting::ToolName(tool, name.clone())));
+        }
         if !self.dialect.behaviour.tool_word_changes {
             return;
         }

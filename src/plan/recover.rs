@@ -100,7 +100,7 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
         Some(ToolKind::BoringTool)
     } else if has("DRILL") {
         Some(ToolKind::TwistDrill)
-    } else if has("ENDMILL") || has("FLAT") || has("SLOTMILL") || has("MILL") {
+    } else if has("ENDMILL") || has("FLAT") || has("SLOTMILL") || has("MILL") || em_word(&up).is_some() {
         Some(ToolKind::EndMill)
     } else {
         None
@@ -143,6 +143,14 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
     ToolFacts { diameter: comment_diameter(&up), kind, corner_radius, flutes }
 }
 
+/// The diameter of a short end-mill name (`EM10`, `EM12.5`).
+fn em_word(up: &str) -> Option<f64> {
+    up.split(|c: char| !(c.is_ascii_alphanumeric() || c == '.')).find_map(|w| {
+        let n = w.strip_prefix("EM")?;
+        n.starts_with(|c: char| c.is_ascii_digit()).then(|| n.parse::<f64>().ok()).flatten().filter(|v| *v > 0.0 && *v < 1000.0)
+    })
+}
+
 fn comment_diameter(up: &str) -> Option<f64> {
     let number = |s: &str| -> Option<f64> {
         let s = s.trim_start_matches([' ', '=', ':']);
@@ -156,8 +164,8 @@ fn comment_diameter(up: &str) -> Option<f64> {
             }
         }
     }
-    // `D18` as a word of its own.
-    for word in up.split(|c: char| c.is_whitespace() || c == ',') {
+    // `D18` as a word of its own (`DRILL-D8.5`, `REAMER_22MM`, `SPIRAL_DRILL_20MM`).
+    for word in up.split(|c: char| c.is_whitespace() || matches!(c, ',' | '-' | '_' | '(' | ')' | '"' | '\'' | ';')) {
         if let Some(rest) = word.strip_prefix('D') {
             if let Some(v) = number(rest) {
                 if rest.len() == rest.trim_end_matches(|c: char| c.is_ascii_alphabetic()).len() {
@@ -171,7 +179,7 @@ fn comment_diameter(up: &str) -> Option<f64> {
             }
         }
     }
-    None
+    em_word(up)
 }
 
 struct Builder {
@@ -237,6 +245,8 @@ struct Recovery<'p> {
     h: Option<u32>,
     /// Cutter compensation in force.
     comp: Option<CompUse>,
+    /// Names of tools the program selects by name (`T="EM10"`).
+    tool_names: BTreeMap<u32, String>,
     /// Lines of optional (`/`) blocks that ran.
     optional: BTreeSet<u32>,
     /// Stops and dwells met while no workingstep is open: they go to the next one.
@@ -276,6 +286,7 @@ impl<'p> Recovery<'p> {
             h: None,
             comp: None,
             optional: BTreeSet::new(),
+            tool_names: BTreeMap::new(),
             pending_stops: Vec::new(),
             pending_dwells: Vec::new(),
             current: None,
@@ -385,7 +396,12 @@ impl<'p> Recovery<'p> {
                         entry.kind_source = ToolSource::Table;
                     }
                 }
+                let by_name = entry.name.is_none().then(|| self.tool_names.get(t).cloned()).flatten();
                 self.name_pending = entry.name.is_none();
+                if let Some(name) = by_name {
+                    self.name_tool(&name);
+                    self.name_pending = false;
+                }
                 // A comment on the tool-change block or the one before names the tool.
                 // A comment on the tool-change block or up to three lines before names the tool.
                 // The closest one stating a diameter or a kind wins, else the closest.
@@ -430,6 +446,9 @@ impl<'p> Recovery<'p> {
             CanonOp::SetG5xOffset(index, _) => self.wcs = *index,
             CanonOp::Setting(Setting::LengthOffset(h)) => self.h = Some(*h),
             CanonOp::Setting(Setting::CutterComp(c)) => self.comp = c.map(|(left, number)| CompUse { left, number }),
+            CanonOp::Setting(Setting::ToolName(n, name)) => {
+                self.tool_names.insert(*n, name.clone());
+            }
             CanonOp::Setting(Setting::BlockDelete) => {
                 self.optional.insert(c.line);
             }
@@ -501,10 +520,11 @@ impl<'p> Recovery<'p> {
         if comment.is_empty() {
             return;
         }
+        // A tool named by the program (`T="EM10"`) still takes the facts a comment states.
         if let Some(t) = self.tools.get_mut(&self.tool)
-            && t.name.is_none()
+            && (t.name.is_none() || t.source == ToolSource::Unknown)
         {
-            t.name = Some(comment.to_owned());
+            t.name.get_or_insert_with(|| comment.to_owned());
             let facts = parse_tool_comment(comment);
             if t.diameter.is_none() && facts.diameter.is_some() {
                 t.diameter = facts.diameter;
@@ -941,6 +961,18 @@ mod tests {
         assert_eq!(parse_tool_comment("8H7 REAMER Z6").flutes, Some(6));
         assert_eq!(parse_tool_comment("3 FLUTE END MILL").flutes, Some(3));
         assert_eq!(parse_tool_comment("FACE MILL D63").kind, Some(ToolKind::FaceMill));
+        // Post spellings: underscores and dashes join the words.
+        let f = |s: &str| {
+            let f = parse_tool_comment(s);
+            (f.kind, f.diameter)
+        };
+        assert_eq!(f("SPIRAL_DRILL_20MM"), (Some(ToolKind::TwistDrill), Some(20.0)));
+        assert_eq!(f("DRILL-D8.5"), (Some(ToolKind::TwistDrill), Some(8.5)));
+        assert_eq!(f("REAMER_22MM"), (Some(ToolKind::Reamer), Some(22.0)));
+        assert_eq!(f("T3 D=10. CR=0. - FLAT END MILL"), (Some(ToolKind::EndMill), Some(10.0)));
+        assert_eq!(parse_tool_comment("D=10. CR=0.").corner_radius, Some(0.0));
+        assert_eq!(f("EM10"), (Some(ToolKind::EndMill), Some(10.0)));
+        assert_eq!(f("T=\"EM10\""), (Some(ToolKind::EndMill), Some(10.0)));
     }
 
     #[test]
