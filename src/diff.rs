@@ -232,7 +232,7 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
                 workingstep: a[i].index,
                 operation: a[i].operation.label().into(),
                 field: "workingstep".into(),
-                before: summary(&a[i], u),
+                before: summary(original, &a[i], u),
                 after: String::new(),
                 line: None,
                 original_line: Some(a[i].lines.0),
@@ -245,7 +245,7 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
                 operation: b[j].operation.label().into(),
                 field: "workingstep".into(),
                 before: String::new(),
-                after: summary(&b[j], u),
+                after: summary(edited, &b[j], u),
                 line: Some(b[j].lines.0),
                 original_line: None,
                 region: None,
@@ -282,12 +282,16 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
     out
 }
 
-fn summary(ws: &Workingstep, u: Fmt) -> String {
-    format!("{} with {}, {} of cut", ws.operation.label(), tool_label(ws.tool), u.len(ws.cutting_length))
+fn summary(plan: &ProcessPlan, ws: &Workingstep, u: Fmt) -> String {
+    format!("{} with {}, {} of cut", ws.operation.label(), tool_label(plan, ws.tool), u.len(ws.cutting_length))
 }
 
-fn tool_label(t: u32) -> String {
-    format!("T{t}")
+/// A tool as the program names it: `T4`, or `T="EM10"` for a tool selected by name.
+fn tool_label(plan: &ProcessPlan, t: u32) -> String {
+    match plan.tool(t).and_then(|x| x.name.as_deref()) {
+        Some(name) if t > 10_000 => format!("T=\"{name}\""),
+        _ => format!("T{t}"),
+    }
 }
 
 fn tool_diameter(plan: &ProcessPlan, t: u32) -> Option<f64> {
@@ -447,8 +451,8 @@ fn compare(
         });
     };
     let at_start = (Some(a.lines.0), Some(b.lines.0));
-    if a.tool != b.tool {
-        push(ChangeKind::ToolRenamed, "tool", tool_label(a.tool), tool_label(b.tool), at_start);
+    if tool_label(pa, a.tool) != tool_label(pb, b.tool) {
+        push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool), at_start);
     }
     // The machine state.
     let (sa, sb) = (&a.state, &b.state);

@@ -34,11 +34,63 @@ pub fn recover(canon: &[Canon], profile: &Profile, program: Option<String>) -> (
     let mut tools: Vec<Tool> = r.tools.into_values().collect();
     tools.sort_by_key(|t| t.number);
     let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
+    explicit_holes(&mut plan);
     infer_tool_kinds(&mut plan);
     feature::recognise(&mut plan);
     let mut diags = r.diags;
     diags.extend(super::risk::diagnostics(&plan));
     (plan, diags)
+}
+
+/// Holes made by explicit moves (posts that expand drilling into `G0`/`G1`): a workingstep
+/// whose every feed runs along the tool axis, plunging at one or more points, with a tool
+/// that is not a milling cutter, makes holes. The operation follows from the tool's kind
+/// and the motion: several feeds into one hole are pecks, a feed back out of the hole with
+/// an unknown tool is boring.
+fn explicit_holes(plan: &mut ProcessPlan) {
+    for ws in plan.workingsteps.iter_mut().filter(|w| w.operation == Operation::FreeformMilling) {
+        let feeds: Vec<&Move> = ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid).collect();
+        let vertical = |m: &Move| m.kind == MoveKind::Line && (m.to[0] - m.from[0]).abs() < EPS && (m.to[1] - m.from[1]).abs() < EPS;
+        if feeds.is_empty() || !feeds.iter().all(|m| vertical(m)) || !feeds.iter().any(|m| is_plunge(m)) {
+            continue;
+        }
+        let kind = plan.tools.iter().find(|t| t.number == ws.tool).map_or(ToolKind::Unknown, |t| t.kind);
+        if matches!(kind, ToolKind::EndMill | ToolKind::BallEndMill | ToolKind::BullnoseEndMill | ToolKind::FaceMill) {
+            continue; // plunge milling
+        }
+        // A feed into a position after lifting out of it is a peck; a feed up is a feed out.
+        let mut pecked = false;
+        let mut last: Option<[f64; 2]> = None;
+        let mut lifted = false;
+        for m in &ws.toolpath {
+            if m.kind != MoveKind::Rapid && is_plunge(m) {
+                let at = [m.to[0], m.to[1]];
+                pecked |= lifted && last.is_some_and(|l| (l[0] - at[0]).abs() < EPS && (l[1] - at[1]).abs() < EPS);
+                last = Some(at);
+                lifted = false;
+            } else if is_lift(m) && m.to[2] > m.from[2] + EPS {
+                lifted = true;
+            } else if !is_plunge(m) {
+                last = None;
+            }
+        }
+        let feed_out = feeds.iter().any(|m| m.to[2] > m.from[2] + EPS);
+        ws.operation = match kind {
+            ToolKind::Reamer => Operation::Reaming,
+            ToolKind::BoringTool => Operation::Boring,
+            ToolKind::Tap => Operation::Tapping,
+            ToolKind::CenterDrill => Operation::CenterDrilling,
+            ToolKind::Unknown if feed_out && !pecked => Operation::Boring,
+            _ if pecked => Operation::MultistepDrilling,
+            _ => Operation::Drilling,
+        };
+        // Every move is part of making the holes, as in a cycle.
+        for m in ws.toolpath.iter_mut().filter(|m| m.phase == Phase::Approach && m.kind != MoveKind::Rapid) {
+            m.phase = Phase::Cut;
+        }
+        let dwell = ws.state.dwells.first().map(|d| d.seconds);
+        measure(ws, dwell, None);
+    }
 }
 
 /// Tools whose kind nothing states get one from how the program uses them.
@@ -61,6 +113,15 @@ fn infer_tool_kinds(plan: &mut ProcessPlan) {
         t.kind = kind;
         t.kind_source = ToolSource::Inferred;
     }
+}
+
+/// The tool a tool-list comment names: `T3 D=10. ...`, `T3 - 10MM ENDMILL`, `T03: ...`.
+fn listed_tool(comment: &str) -> Option<u32> {
+    let s = comment.trim_start();
+    let rest = s.strip_prefix('T').or_else(|| s.strip_prefix('t'))?;
+    let end = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
+    let after = rest[end..].chars().next();
+    (end > 0 && after.is_none_or(|c| c.is_whitespace() || matches!(c, ':' | '-' | '=' | ','))).then(|| rest[..end].parse().ok()).flatten()
 }
 
 /// What a CAM tool comment states.
@@ -245,6 +306,8 @@ struct Recovery<'p> {
     h: Option<u32>,
     /// Cutter compensation in force.
     comp: Option<CompUse>,
+    /// Tool-list comments (`T3 D=10. CR=0. - FLAT END MILL`) by the tool they name.
+    listed: BTreeMap<u32, String>,
     /// Names of tools the program selects by name (`T="EM10"`).
     tool_names: BTreeMap<u32, String>,
     /// Lines of optional (`/`) blocks that ran.
@@ -287,6 +350,7 @@ impl<'p> Recovery<'p> {
             comp: None,
             optional: BTreeSet::new(),
             tool_names: BTreeMap::new(),
+            listed: BTreeMap::new(),
             pending_stops: Vec::new(),
             pending_dwells: Vec::new(),
             current: None,
@@ -405,15 +469,28 @@ impl<'p> Recovery<'p> {
                 // A comment on the tool-change block or the one before names the tool.
                 // A comment on the tool-change block or up to three lines before names the tool.
                 // The closest one stating a diameter or a kind wins, else the closest.
-                let near: Vec<&String> = self.comments.iter().rev().filter(|(l, _)| *l + 3 >= c.line).map(|(_, s)| s).collect();
+                // A comment that names another tool (`T2 ...` of a header tool list) is not
+                // this one's; without a near comment stating facts, the tool list's line is.
+                let near: Vec<&String> = self
+                    .comments
+                    .iter()
+                    .rev()
+                    .filter(|(l, s)| *l + 3 >= c.line && listed_tool(s).is_none_or(|n| n == *t))
+                    .map(|(_, s)| s)
+                    .collect();
+                let states = |s: &str| {
+                    let f = parse_tool_comment(s);
+                    f.diameter.is_some() || f.kind.is_some()
+                };
+                // A diameter near the change first, then the tool list, then a kind near it
+                // (an operation's name, `DRILL1`, says less than the list).
                 let best = near
                     .iter()
-                    .find(|s| {
-                        let f = parse_tool_comment(s);
-                        f.diameter.is_some() || f.kind.is_some()
-                    })
-                    .or(near.first())
-                    .map(|s| s.to_string());
+                    .find(|s| parse_tool_comment(s).diameter.is_some())
+                    .map(|s| s.to_string())
+                    .or_else(|| self.listed.get(t).cloned())
+                    .or_else(|| near.iter().find(|s| states(s)).map(|s| s.to_string()))
+                    .or(near.first().map(|s| s.to_string()));
                 self.comments.clear();
                 if let Some(s) = best {
                     self.name_tool(&s);
@@ -456,6 +533,12 @@ impl<'p> Recovery<'p> {
                 self.stock = parse_stock(s).map(|[a, b]| [a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
             }
             CanonOp::Comment(s) => {
+                if let Some(n) = listed_tool(s) {
+                    let f = parse_tool_comment(s);
+                    if f.diameter.is_some() || f.kind.is_some() {
+                        self.listed.entry(n).or_insert_with(|| s.trim().to_owned());
+                    }
+                }
                 self.comments.push((c.line, s.trim().to_owned()));
                 if self.comments.len() > 4 {
                     self.comments.remove(0);

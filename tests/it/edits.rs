@@ -231,11 +231,9 @@ fn r_level() {
         "R3.",
         "R5.",
         expect![[r#"
-        cycle_parameter_changed | r_level | Z3 | Z5 | - | -
-          r level changed from Z3 to Z5
-        feature_changed | feature_depth | 23 mm | 25 mm | 34 | 34
-          feature depth changed from 23 mm to 25 mm
-    "#]],
+            cycle_parameter_changed | r_level | Z3 | Z5 | - | -
+              r level changed from Z3 to Z5
+        "#]],
     );
 }
 
@@ -345,11 +343,9 @@ fn spindle_and_coolant() {
         "N190 S8000 M03",
         "N190 S8000 M04",
         expect![[r#"
-        spindle_direction_changed | spindle_direction | clockwise (M3) | counter-clockwise (M4) | 48 | 48
-          spindle direction changed from clockwise (M3) to counter-clockwise (M4)
-        feature_changed | feature | closed pocket | general outside profile | 48 | 48
-          feature changed from closed pocket to general outside profile
-    "#]],
+            spindle_direction_changed | spindle_direction | clockwise (M3) | counter-clockwise (M4) | 48 | 48
+              spindle direction changed from clockwise (M3) to counter-clockwise (M4)
+        "#]],
     );
 }
 
@@ -359,9 +355,9 @@ fn pocket_wall_moved() {
         "N235 X40.",
         "N235 X44.",
         expect![[r#"
-        toolpath_changed | toolpath | the 2 cuts at lines 55–56, ending at X40 Y20 | the 2 cuts at lines 55–56, ending at X44 Y20 (4 mm shorter), in X40…60 Y20…40, at most 4 mm from the original path | 55 | 55
-          toolpath changed at line 55: the 2 cuts at lines 55–56, ending at X40 Y20 became the 2 cuts at lines 55–56, ending at X44 Y20 (4 mm shorter), in X40…60 Y20…40, at most 4 mm from the original path
-    "#]],
+            feature_changed | pocket_width | 20 mm | 16 mm | 48 | 48
+              pocket width changed from 20 mm to 16 mm
+        "#]],
     );
 }
 
