@@ -420,7 +420,10 @@ fn comp_words(list: &[crate::plan::CompUse], tool: u32) -> String {
     list.iter()
         .map(|c| {
             let side = if c.left { "left (G41)" } else { "right (G42)" };
-            format!("{side} with D{}", c.number.unwrap_or(tool))
+            match c.number {
+                Some(n) => format!("{side} with D{n}"),
+                None => format!("{side} with the tool's own D{tool}"),
+            }
         })
         .collect::<Vec<_>>()
         .join(", ")
@@ -454,19 +457,36 @@ fn compare(
     if tool_label(pa, a.tool) != tool_label(pb, b.tool) {
         push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool), at_start);
     }
+    let depth_delta = match (a.depth, b.depth) {
+        (Some(x), Some(y)) => y - x,
+        _ => 0.0,
+    };
+    if let (Some(x), Some(y)) = (a.start_point, b.start_point)
+        && geom::dist(x, y) > TOLERANCE
+    {
+        // A start point that only sinks with the depth is the depth change, reported below.
+        let only_depth =
+            (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE && (y[2] - x[2] - depth_delta).abs() <= TOLERANCE;
+        // Over a hole, only the height moves: the R level's change says it.
+        let hole_height = a.operation.is_hole() && (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE;
+        if !only_depth && !hole_height {
+            push(ChangeKind::StartPointMoved, "start_point", u.point(x, Some(y)), u.point(y, Some(x)), at_start);
+        }
+    }
     // The machine state.
     let (sa, sb) = (&a.state, &b.state);
     if sa.work_offset != sb.work_offset {
         push(ChangeKind::WorkOffsetChanged, "work_offset", work_offset_name(sa.work_offset), work_offset_name(sb.work_offset), at_start);
     }
-    if sa.length_offsets != sb.length_offsets {
+    // By the numbers in force: `T1 H1` renamed `T8 H1` keeps its offset (the risk is told apart).
+    let numbers = |list: &[u32], tool: u32| if list.is_empty() { vec![tool] } else { list.to_vec() };
+    let both_own = sa.length_offsets.is_empty() && sb.length_offsets.is_empty();
+    if !both_own && numbers(&sa.length_offsets, a.tool) != numbers(&sb.length_offsets, b.tool) {
         let (x, y) = (length_offset_words(&sa.length_offsets, a.tool), length_offset_words(&sb.length_offsets, b.tool));
-        if x != y {
-            push(ChangeKind::LengthOffsetChanged, "length_offset", x, y, at_start);
-        }
+        push(ChangeKind::LengthOffsetChanged, "length_offset", x, y, at_start);
     }
     let (ca, cb) = (comp_words(&sa.cutter_comp, a.tool), comp_words(&sb.cutter_comp, b.tool));
-    if ca != cb {
+    if sa.cutter_comp != sb.cutter_comp && ca != cb {
         push(ChangeKind::CutterCompChanged, "cutter_compensation", ca, cb, at_start);
     }
     let (removed, added) = unmatched(&sa.stops, &sb.stops, |s| (s.optional, s.at), |s| s.optional);

@@ -129,11 +129,15 @@ fn merge_into(f: &mut Feature, cand: &Candidate, ws: &Workingstep) {
             f.depth = f.depth.max(cand.depth);
         }
         _ => {
-            // The finishing workingstep states the final shape.
+            // The finishing workingstep states the final shape; an inferred top does not
+            // undo a higher one the roughing stated (its layers start higher).
+            let bottom = cand.placement[2] - cand.depth;
+            let keep_top = cand.top_inferred && f.placement[2] > cand.placement[2] && cand.depth > 0.0;
+            let top = if keep_top { f.placement[2] } else { cand.placement[2] };
             f.kind = cand.kind.clone();
-            f.placement = cand.placement;
-            f.depth = cand.depth;
-            f.top_inferred = cand.top_inferred;
+            f.placement = [cand.placement[0], cand.placement[1], top];
+            f.depth = round6(top - bottom);
+            f.top_inferred = cand.top_inferred && !keep_top || keep_top && f.top_inferred;
         }
     }
 }
@@ -190,8 +194,8 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
     let bottom_z = ws.holes.iter().map(|h| h.bottom).fold(f64::INFINITY, f64::min);
     let r_level = first.map_or(0.0, |h| h.r_plane);
     let (top, top_inferred) = match (stock, faced) {
+        (_, Some(f)) if f > bottom_z && stock.is_none_or(|s| f < s.max()[2]) => (f, false),
         (Some(s), _) => (s.max()[2], false),
-        (None, Some(f)) if f > bottom_z => (f, false),
         _ if bottom_z < 0.0 && r_level >= 0.0 => (0.0, true),
         _ => (r_level, true),
     };
@@ -208,7 +212,12 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
     let origin = first.map_or([0.0, 0.0], |h| [h.x, h.y]);
     let positions = ws.holes.iter().map(|h| [h.x - origin[0], h.y - origin[1]]).collect();
     Candidate {
-        kind: FeatureKind::RoundHole { diameter: tool.and_then(|t| t.diameter), bottom, positions },
+        // A spot drill or countersink marks the hole; its diameter is not the hole's.
+        kind: FeatureKind::RoundHole {
+            diameter: tool.filter(|t| !matches!(t.kind, ToolKind::CenterDrill | ToolKind::Countersink)).and_then(|t| t.diameter),
+            bottom,
+            positions,
+        },
         placement: [origin[0], origin[1], top],
         depth: if bottom_z.is_finite() { top - bottom_z } else { 0.0 },
         top_inferred,
@@ -370,10 +379,14 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
     let step = levels.windows(2).map(|w| w[0] - w[1]).reduce(f64::max);
     let feed_start =
         ws.toolpath.iter().filter(|m| m.kind == MoveKind::Line && m.to[2] < m.from[2] - EPS).map(|m| m.from[2]).reduce(f64::max);
+    // The faced level, the stock's top, the layers' (one step above the first), or the
+    // program zero that posts put on the part's top.
+    let faced = faced.filter(|f| *f > bottom + EPS && *f >= levels[0] - EPS && stock.is_none_or(|s| *f < s.max()[2]));
     let (top, top_inferred) = match (stock, step) {
+        _ if faced.is_some() => (faced.unwrap_or(bottom), false),
         (Some(s), _) => (s.max()[2], false),
-        (None, _) if faced.is_some_and(|f| f > bottom + EPS && f >= levels[0] - EPS) => (faced.unwrap_or(bottom), false),
         (None, Some(st)) => (levels[0] + st, true),
+        (None, None) if bottom < -EPS => (0.0, true),
         (None, None) => (feed_start.map_or(bottom, |z| z.max(bottom)), true),
     };
     let axial_depth = step.or_else(|| stock.map(|_| top - bottom)).filter(|d| *d > EPS).map(round6);
@@ -530,8 +543,10 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         }
         cand.operation = Operation::PlaneFinishMilling;
         cand.placement = [corner[0], corner[1], bottom];
-        cand.depth = if stock.is_some() { top - bottom } else { 0.0 };
-        if stock.is_some() {
+        // The depth follows from the stock or the layers (a single layer without stock: none).
+        let known = stock.is_some() || step.is_some() || faced.is_some();
+        cand.depth = if known { top - bottom } else { 0.0 };
+        if known {
             cand.placement[2] = top;
         }
         cand.kind = FeatureKind::PlanarFace { direction: [u[0], u[1], 0.0], length: round6(amax - amin), width: round6(cmax - cmin) };

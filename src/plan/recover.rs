@@ -259,6 +259,51 @@ struct Builder {
     state: MachineState,
     /// (move index, length offset, compensation) wherever they change along the feeds.
     settings: Vec<(usize, Option<u32>, Option<CompUse>)>,
+    /// The levels cut so far (Z of the cuts that are not plunges), deepest last.
+    levels: Vec<f64>,
+    /// Where the deepest level's first cut began, in XY.
+    level_entry: Option<[f64; 2]>,
+    /// XY box of the cuts so far: min x, min y, max x, max y.
+    cut_box: Option<[f64; 4]>,
+}
+
+impl Builder {
+    /// Notes a cut (not a plunge) for the depth sequence and the region.
+    fn note_cut(&mut self, m: &Move) {
+        let z = m.from[2].min(m.to[2]);
+        if self.levels.last().is_none_or(|d| z < d - 1e-3) {
+            self.levels.push(z);
+            self.level_entry = Some([m.from[0], m.from[1]]);
+        }
+        let b = self.cut_box.get_or_insert([m.from[0], m.from[1], m.from[0], m.from[1]]);
+        for p in [m.from, m.to] {
+            b[0] = b[0].min(p[0]);
+            b[1] = b[1].min(p[1]);
+            b[2] = b[2].max(p[0]);
+            b[3] = b[3].max(p[1]);
+        }
+    }
+
+    /// Whether a cut after a retract and re-entry starts another operation with the same
+    /// tool and technology: the depth sequence restarts (it is not deeper than the deepest
+    /// level), the tool re-enters where the deepest level began after several levels (a
+    /// finishing pass over the roughed region), or it enters outside the region cut so far.
+    fn starts_anew(&self, m: &Move) -> bool {
+        let Some(&deepest) = self.levels.last() else { return false };
+        let z = m.from[2];
+        if z > deepest + 1e-3 {
+            return true;
+        }
+        if z < deepest - 1e-3 {
+            return false;
+        }
+        let outside = self
+            .cut_box
+            .is_some_and(|b| m.from[0] < b[0] - 1.0 || m.from[0] > b[2] + 1.0 || m.from[1] < b[1] - 1.0 || m.from[1] > b[3] + 1.0);
+        let again =
+            self.levels.len() >= 2 && self.level_entry.is_some_and(|e| (e[0] - m.from[0]).abs() < 1e-3 && (e[1] - m.from[1]).abs() < 1e-3);
+        outside || again
+    }
 }
 
 /// A possible boundary between two workingsteps with one tool and technology.
@@ -680,6 +725,9 @@ impl<'p> Recovery<'p> {
                 cut_feed: None,
                 state,
                 settings: Vec::new(),
+                levels: Vec::new(),
+                level_entry: None,
+                cut_box: None,
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next
@@ -697,7 +745,7 @@ impl<'p> Recovery<'p> {
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
-            && b.cut_feed.is_some_and(|f| (f - mv.feed).abs() > EPS)
+            && (b.cut_feed.is_some_and(|f| (f - mv.feed).abs() > EPS) || !is_lift(&mv) && b.starts_anew(&mv))
         {
             let now = self.technology();
             self.split(t, c, now);
@@ -713,6 +761,10 @@ impl<'p> Recovery<'p> {
         }
         if is_cut {
             b.cut_feed = Some(mv.feed);
+            // A feed out of a hole is no level and no region.
+            if !is_lift(&mv) {
+                b.note_cut(&mv);
+            }
         }
         // Offset numbers count where they are not the tool's own (`T4` with `H3`, or `H0`):
         // an implicit length offset (Heidenhain's `TOOL CALL`) is the same as `G43 H4`.
@@ -792,6 +844,9 @@ impl<'p> Recovery<'p> {
             cut_feed: None,
             state,
             settings,
+            levels: Vec::new(),
+            level_entry: None,
+            cut_box: None,
         });
     }
 

@@ -135,9 +135,9 @@ fn cutter_compensation_side() {
         "G41 D03",
         "G42 D03",
         expect![[r#"
-        cutter_comp_changed | cutter_compensation | left (G41) with D3 | right (G42) with D3 | 48 | 48
-          cutter compensation changed from left (G41) with D3 to right (G42) with D3
-    "#]],
+            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | right (G42) with the tool's own D3 | 48 | 48
+              cutter compensation changed from left (G41) with the tool's own D3 to right (G42) with the tool's own D3
+        "#]],
     );
 }
 
@@ -147,9 +147,9 @@ fn compensation_number() {
         "G41 D03",
         "G41 D13",
         expect![[r#"
-        cutter_comp_changed | cutter_compensation | left (G41) with D3 | left (G41) with D13 | 48 | 48
-          cutter compensation changed from left (G41) with D3 to left (G41) with D13
-    "#]],
+            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | left (G41) with D13 | 48 | 48
+              cutter compensation changed from left (G41) with the tool's own D3 to left (G41) with D13
+        "#]],
     );
 }
 

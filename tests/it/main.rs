@@ -1,6 +1,7 @@
 //! Integration tests: one binary (matklad's advice), one module per area.
 
 mod arch;
+mod cam_suite;
 mod cli;
 mod cycles;
 mod daemon;

@@ -309,7 +309,7 @@ fn one_open_pass_is_a_slot_as_wide_as_the_tool() {
     assert_eq!(*width, 8.0);
     assert_eq!(path.segments.len(), 1);
     assert_eq!(p.workingsteps[0].strategy.as_ref().unwrap().kind, StrategyKind::CenterMilling);
-    assert_eq!(p.features[0].depth, 5.0, "top inferred from the plunge start at Z2");
+    assert_eq!(p.features[0].depth, 3.0, "top inferred at the program zero, not the plunge start at Z2");
 }
 
 #[test]
