@@ -468,7 +468,13 @@ fn compare(
         let only_depth =
             (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE && (y[2] - x[2] - depth_delta).abs() <= TOLERANCE;
         // Over a hole, only the height moves: the R level's change says it.
-        let hole_height = a.operation.is_hole() && (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE;
+        // Over a hole, or with another depth of cut, only the height moves: the R level's or
+        // the axial depth's change says it.
+        let axial = match (a.axial_depth, b.axial_depth) {
+            (Some(p), Some(q)) => (p - q).abs() > TOLERANCE,
+            (p, q) => p.is_some() != q.is_some(),
+        };
+        let hole_height = (a.operation.is_hole() || axial) && (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE;
         if !only_depth && !hole_height {
             push(ChangeKind::StartPointMoved, "start_point", u.point(x, Some(y)), u.point(y, Some(x)), at_start);
         }
@@ -590,9 +596,11 @@ fn compare(
     }
     if differs(a.allowance_side, b.allowance_side) {
         push(ChangeKind::AllowanceChanged, "wall_allowance", opt(a.allowance_side), opt(b.allowance_side), at_start);
+        explained = true;
     }
     if differs(a.allowance_bottom, b.allowance_bottom) {
         push(ChangeKind::AllowanceChanged, "floor_allowance", opt(a.allowance_bottom), opt(b.allowance_bottom), at_start);
+        explained = true;
     }
     if let (Some(x), Some(y)) = (&a.strategy, &b.strategy)
         && x.kind != y.kind

@@ -452,3 +452,33 @@ fn localisation_of_a_shift_over_a_large_program() {
     let c = got.iter().find(|c| c.kind.as_str() == "toolpath_changed").expect("a toolpath change");
     assert!(c.deviation.unwrap() < 0.1 && c.deviation.unwrap() > 0.0, "{c:?}");
 }
+
+/// A roughing re-posted with other parameters: `tests/programs/cam/edits/pocket_*.nc`.
+fn pocket_edit(variant: &str, want: Expect) {
+    let read = |name: &str| std::fs::read_to_string(crate::root().join(format!("tests/programs/cam/edits/pocket_{name}.nc"))).unwrap();
+    want.assert_eq(&rows(&changes(&read("original"), &read(variant), "fanuc")));
+}
+
+#[test]
+fn stepover() {
+    pocket_edit("stepover", expect![[r#"
+        stepover_changed | stepover | 5 mm | 4 mm | 12 | 12
+          stepover changed from 5 mm to 4 mm
+    "#]]);
+}
+
+#[test]
+fn allowance() {
+    pocket_edit("allowance", expect![[r#"
+        allowance_changed | wall_allowance | 0.3 mm | 0.5 mm | 12 | 12
+          wall allowance changed from 0.3 mm to 0.5 mm
+    "#]]);
+}
+
+#[test]
+fn axial_depth() {
+    pocket_edit("axial_depth", expect![[r#"
+        axial_depth_changed | axial_depth | 3 mm | 2 mm | 12 | 12
+          axial depth changed from 3 mm to 2 mm
+    "#]]);
+}
