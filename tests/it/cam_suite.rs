@@ -69,6 +69,7 @@ struct Score {
 }
 
 #[test]
+#[allow(clippy::print_stdout)] // the table is the test's report (`--nocapture` shows it)
 fn cam_suite_precision_and_recall_per_feature_kind() {
     let programs = suite();
     assert!(programs.len() >= 30, "{} programs", programs.len());

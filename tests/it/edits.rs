@@ -461,24 +461,33 @@ fn pocket_edit(variant: &str, want: Expect) {
 
 #[test]
 fn stepover() {
-    pocket_edit("stepover", expect![[r#"
+    pocket_edit(
+        "stepover",
+        expect![[r#"
         stepover_changed | stepover | 5 mm | 4 mm | 12 | 12
           stepover changed from 5 mm to 4 mm
-    "#]]);
+    "#]],
+    );
 }
 
 #[test]
 fn allowance() {
-    pocket_edit("allowance", expect![[r#"
+    pocket_edit(
+        "allowance",
+        expect![[r#"
         allowance_changed | wall_allowance | 0.3 mm | 0.5 mm | 12 | 12
           wall allowance changed from 0.3 mm to 0.5 mm
-    "#]]);
+    "#]],
+    );
 }
 
 #[test]
 fn axial_depth() {
-    pocket_edit("axial_depth", expect![[r#"
+    pocket_edit(
+        "axial_depth",
+        expect![[r#"
         axial_depth_changed | axial_depth | 3 mm | 2 mm | 12 | 12
           axial depth changed from 3 mm to 2 mm
-    "#]]);
+    "#]],
+    );
 }
