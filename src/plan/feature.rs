@@ -542,6 +542,19 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             _ => {}
         }
         cand.operation = Operation::PlaneFinishMilling;
+        // Trimmed to the stock when it is known: the passes run over its edges.
+        let (mut amin, mut amax, mut cmin, mut cmax) = (amin, amax, cmin, cmax);
+        let mut corner = corner;
+        if let Some(st) = stock {
+            let (lo, hi) = (st.origin, st.max());
+            let corners = [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]];
+            let (sa0, sa1) = corners.iter().map(|p| along(*p)).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+            let (sc0, sc1) = corners.iter().map(|p| across(*p)).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+            if amin.max(sa0) < amax.min(sa1) && cmin.max(sc0) < cmax.min(sc1) {
+                (amin, amax, cmin, cmax) = (amin.max(sa0), amax.min(sa1), cmin.max(sc0), cmax.min(sc1));
+                corner = [u[0] * amin + v[0] * cmin, u[1] * amin + v[1] * cmin];
+            }
+        }
         cand.placement = [corner[0], corner[1], bottom];
         // The depth follows from the stock or the layers (a single layer without stock: none).
         let known = stock.is_some() || step.is_some() || faced.is_some();

@@ -57,6 +57,7 @@ fn matches(f: &Feature, want: &Value) -> bool {
                 && rectangle.is_some_and(|(w, l)| near(w, "width", 0.1) && near(l, "length", 0.1))
                 && near(corner_radius.unwrap_or(0.0), "corner_radius", 0.1)
         }
+        FeatureKind::PlanarFace { length, width, .. } => near(*length, "length", 0.1) && near(*width, "width", 0.1),
         _ => true,
     }
 }

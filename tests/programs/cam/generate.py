@@ -406,7 +406,8 @@ def pocket_f(cx, cy, w, l, rc, depth):
 
 
 def face_f(depth):
-    return dict(kind="planar_face", depth=depth)
+    # Trimmed to the stock (120 x 80, passes along X).
+    return dict(kind="planar_face", depth=depth, length=120.0, width=80.0)
 
 
 def profile_f(depth):
