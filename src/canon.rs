@@ -142,6 +142,21 @@ pub enum DistanceMode {
     Incremental,
 }
 
+/// A machine setting the canonical interface does not carry, as a marker for the plan.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Setting {
+    /// The length offset number put in force (`G43 H5`); 0 when it is cancelled (`G49`).
+    LengthOffset(u32),
+    /// Cutter radius compensation on a side (`true` left, G41) with its offset number
+    /// (`D5`) when the block states one, or off (G40).
+    CutterComp(Option<(bool, Option<u32>)>),
+    /// The block is optional (`/`): it runs only while the block-delete switch is off.
+    BlockDelete,
+    /// A tool selected by name (`T="EM10"`) and the number the analysis gave it.
+    ToolName(u32, String),
+}
+
 /// A canonical machining function, or a marker.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CanonOp {
@@ -220,6 +235,8 @@ pub enum CanonOp {
     CycleEnd,
     /// Marker: the canned cycle was cancelled (G80).
     CycleCancel,
+    /// Marker: a machine setting of the block (offset numbers, compensation side, block delete).
+    Setting(Setting),
     /// `SET_FEED_MODE(0, n)`: feed per minute (0) or per spindle revolution (1, G95).
     SetFeedMode(FeedMode),
     /// `SET_SPINDLE_MODE(0 max)`: with a limit, S is a constant surface speed (G96) and the
@@ -513,6 +530,24 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         }
         CanonOp::CycleEnd => out.extend_from_slice(b"COMMENT(\"ncplan: cycle end\")"),
         CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
+        CanonOp::Setting(s) => {
+            let _ = match s {
+                Setting::LengthOffset(h) => write!(out, "COMMENT(\"ncplan: length offset H{h}\")"),
+                Setting::CutterComp(None) => write!(out, "COMMENT(\"ncplan: cutter compensation off\")"),
+                Setting::CutterComp(Some((left, d))) => {
+                    let side = if *left { "left" } else { "right" };
+                    match d {
+                        Some(d) => write!(out, "COMMENT(\"ncplan: cutter compensation {side} D{d}\")"),
+                        None => write!(out, "COMMENT(\"ncplan: cutter compensation {side}\")"),
+                    }
+                }
+                Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
+                Setting::ToolName(n, name) => {
+                    let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
+                    write!(out, "COMMENT(\"ncplan: tool {n} is {name}\")")
+                }
+            };
+        }
         CanonOp::SetFeedMode(m) => out.extend_from_slice(match m {
             FeedMode::PerMinute => b"SET_FEED_MODE(0, 0)",
             FeedMode::PerRevolution => b"SET_FEED_MODE(0, 1)",

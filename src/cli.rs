@@ -912,20 +912,11 @@ fn write_report(out: &mut impl Write, store: &Store) -> Result<()> {
         let r = &rows[i];
         writeln!(out, "## machine {}, program {} (revision {}, {})\n", r[0], r[1], r[4], r[10])?;
         writeln!(out, "original `{}`, edited `{}`\n", r[2], r[3])?;
-        let mut changes = Vec::new();
+        let revision: i64 = r[4].parse().unwrap_or(0);
         while i < rows.len() && rows[i][4] == r[4] {
-            let x = &rows[i];
-            changes.push(diff::Change {
-                kind: serde_json::from_value(serde_json::Value::String(x[6].clone())).unwrap_or(diff::ChangeKind::ToolpathChanged),
-                workingstep: x[5].parse().unwrap_or(0),
-                operation: x[11].clone(),
-                field: x[7].clone(),
-                before: x[8].clone(),
-                after: x[9].clone(),
-                line: None,
-            });
             i += 1;
         }
+        let changes = store.changes(revision)?;
         for line in diff::render_plain(&changes) {
             writeln!(out, "- {line}")?;
         }

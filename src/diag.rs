@@ -161,6 +161,12 @@ codes! {
     CompWithoutOffset = ("interp::comp-without-offset", Warning),
     /// A toolpath that plan recovery could not assign to a tool.
     NoTool = ("plan::no-tool", Warning),
+    /// A tool that cuts with another tool's length offset (`T4` with `G43 H3`).
+    ForeignLengthOffset = ("plan::foreign-length-offset", Warning),
+    /// Cutting with no length offset (`H0`, or after `G49`) where the program uses them elsewhere.
+    NoLengthOffset = ("plan::no-length-offset", Warning),
+    /// A workingstep in a work offset that the rest of the program never uses.
+    LoneWorkOffset = ("plan::lone-work-offset", Warning),
     /// STEP-NC export without stock dimensions: the rawpiece has no bounding block.
     StockUnknown = ("stepnc::stock-unknown", Warning),
     /// STEP-NC export of a tool or hole whose diameter is not known: written as 0.

@@ -3,10 +3,22 @@
 //! Alignment is a global sequence alignment (Needleman–Wunsch) whose score rewards the same
 //! operation family, the same tool geometry and overlapping toolpaths. Tool numbers and
 //! block numbers play no part, so a renamed tool or renumbered program still aligns.
+//!
+//! Aligned workingsteps are compared by the machine state they run under (work offset,
+//! offset numbers, compensation side, stops, dwells, optional blocks), their technology,
+//! their holes (position and cycle parameters), their features and strategy, and last their
+//! toolpaths, localised to the moves that differ. Every value is written in the original
+//! program's units, so one report speaks one unit system.
+
+use std::collections::BTreeSet;
 
 use serde::{Deserialize, Serialize};
 
-use crate::plan::{MoveKind, Phase, ProcessPlan, Workingstep, geom};
+use crate::canon::Units;
+use crate::plan::risk::{self, work_offset_name};
+use crate::plan::{
+    BBox, Coolant, Dwell, FeatureKind, Hole, Move, MoveKind, P3, Phase, ProcessPlan, SpindleDir, Stop, StrategyKind, Workingstep, geom,
+};
 
 /// Kind of change.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
@@ -32,6 +44,40 @@ pub enum ChangeKind {
     WorkingstepAdded,
     /// A workingstep exists only in the original.
     WorkingstepRemoved,
+    /// The work offset (G54…) changed.
+    WorkOffsetChanged,
+    /// The length offset number (H) changed.
+    LengthOffsetChanged,
+    /// Cutter compensation side or offset number changed.
+    CutterCompChanged,
+    /// A program stop (M00) or optional stop (M01) was added.
+    StopAdded,
+    /// A program stop or optional stop was removed.
+    StopRemoved,
+    /// A dwell was added, removed or changed.
+    DwellChanged,
+    /// Moves now depend, or no longer depend, on the block-delete switch.
+    OptionalBlockChanged,
+    /// Constant surface speed was turned on or off.
+    SpindleModeChanged,
+    /// A canned-cycle parameter changed: peck, dwell, R level, retract plane.
+    CycleParameterChanged,
+    /// A hole exists only in the edited program.
+    HoleAdded,
+    /// A hole exists only in the original.
+    HoleRemoved,
+    /// A feature's kind or dimensions changed.
+    FeatureChanged,
+    /// A wall or floor allowance changed.
+    AllowanceChanged,
+    /// The stepover between passes changed.
+    StepoverChanged,
+    /// The depth of cut per layer changed.
+    AxialDepthChanged,
+    /// The milling strategy changed.
+    StrategyChanged,
+    /// The edited program has a risky setting the original has not.
+    RiskyEdit,
 }
 
 impl ChangeKind {
@@ -48,6 +94,23 @@ impl ChangeKind {
             ChangeKind::ToolpathChanged => "toolpath_changed",
             ChangeKind::WorkingstepAdded => "workingstep_added",
             ChangeKind::WorkingstepRemoved => "workingstep_removed",
+            ChangeKind::WorkOffsetChanged => "work_offset_changed",
+            ChangeKind::LengthOffsetChanged => "length_offset_changed",
+            ChangeKind::CutterCompChanged => "cutter_comp_changed",
+            ChangeKind::StopAdded => "stop_added",
+            ChangeKind::StopRemoved => "stop_removed",
+            ChangeKind::DwellChanged => "dwell_changed",
+            ChangeKind::OptionalBlockChanged => "optional_block_changed",
+            ChangeKind::SpindleModeChanged => "spindle_mode_changed",
+            ChangeKind::CycleParameterChanged => "cycle_parameter_changed",
+            ChangeKind::HoleAdded => "hole_added",
+            ChangeKind::HoleRemoved => "hole_removed",
+            ChangeKind::FeatureChanged => "feature_changed",
+            ChangeKind::AllowanceChanged => "allowance_changed",
+            ChangeKind::StepoverChanged => "stepover_changed",
+            ChangeKind::AxialDepthChanged => "axial_depth_changed",
+            ChangeKind::StrategyChanged => "strategy_changed",
+            ChangeKind::RiskyEdit => "risky_edit",
         }
     }
 }
@@ -63,23 +126,52 @@ pub struct Change {
     pub operation: String,
     /// The changed field.
     pub field: String,
-    /// Value in the original.
+    /// Value in the original, as a planner writes it.
     pub before: String,
     /// Value in the edited program.
     pub after: String,
     /// 1-based line in the edited program, when the change is visible there.
     pub line: Option<u32>,
+    /// 1-based line in the original, when the change is visible there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub original_line: Option<u32>,
+    /// For a toolpath change: the box around the moves that differ, in both programs, mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub region: Option<BBox>,
+    /// For a toolpath change: the largest distance from a point of one toolpath to the
+    /// other where they differ, mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deviation: Option<f64>,
 }
 
 impl Change {
     /// The change as a planner reads it: `tool T1 renamed T8`.
     pub fn phrase(&self) -> String {
+        let field = self.field.replace('_', " ");
+        let at = |l: Option<u32>| l.map_or(String::new(), |l| format!(" at line {l}"));
         match self.kind {
             ChangeKind::ToolRenamed => format!("tool {} renamed {}", self.before, self.after),
             ChangeKind::StartPointMoved => format!("start point moved from {} to {}", self.before, self.after),
             ChangeKind::WorkingstepAdded => format!("workingstep added ({})", self.after),
             ChangeKind::WorkingstepRemoved => format!("workingstep removed ({})", self.before),
-            _ => format!("{} changed from {} to {}", self.field.replace('_', " "), self.before, self.after),
+            ChangeKind::StopAdded => format!("{} added{}", self.after, at(self.line)),
+            ChangeKind::StopRemoved => format!("{} removed{}", self.before, at(self.original_line).replace("line", "original line")),
+            ChangeKind::HoleAdded => format!("hole added at {}", self.after),
+            ChangeKind::HoleRemoved => format!("hole at {} removed", self.before),
+            ChangeKind::RiskyEdit => format!("warning: {}", self.after),
+            ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
+            ChangeKind::ToolpathChanged => {
+                let mut s = format!("toolpath changed{}", at(self.line));
+                if let Some(l) = self.original_line
+                    && Some(l) != self.line
+                {
+                    s.push_str(&format!(" (line {l} in the original)"));
+                }
+                format!("{s}: {} became {}", self.before, self.after)
+            }
+            _ if self.before.is_empty() => format!("{field} {} added{}", self.after, at(self.line)),
+            _ if self.after.is_empty() => format!("{field} {} removed", self.before),
+            _ => format!("{field} changed from {} to {}", self.before, self.after),
         }
     }
 }
@@ -87,22 +179,65 @@ impl Change {
 /// Geometric tolerance for positions, mm.
 pub const TOLERANCE: f64 = 1e-4;
 
+/// How values are written: in the original program's units.
+#[derive(Clone, Copy)]
+struct Fmt {
+    inch: bool,
+}
+
+impl Fmt {
+    /// A coordinate, without a unit.
+    fn c(self, mm: f64) -> String {
+        num(if self.inch { mm / 25.4 } else { mm })
+    }
+
+    /// A length with its unit.
+    fn len(self, mm: f64) -> String {
+        format!("{} {}", self.c(mm), if self.inch { "in" } else { "mm" })
+    }
+
+    fn feed(self, mm_per_min: f64) -> String {
+        format!("F{}", self.c(mm_per_min))
+    }
+
+    fn surface(self, m_per_min: f64) -> String {
+        if self.inch { format!("{} ft/min", num(m_per_min / 0.3048)) } else { format!("{} m/min", num(m_per_min)) }
+    }
+
+    fn xy(self, p: [f64; 2]) -> String {
+        format!("X{} Y{}", self.c(p[0]), self.c(p[1]))
+    }
+
+    fn point(self, p: P3, other: Option<P3>) -> String {
+        let mut s = self.xy([p[0], p[1]]);
+        if other.is_none_or(|o| (o[2] - p[2]).abs() > TOLERANCE) {
+            s.push_str(&format!(" Z{}", self.c(p[2])));
+        }
+        s
+    }
+}
+
 /// The changes from `original` to `edited`, in workingstep order.
 pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
     let (a, b) = (&original.workingsteps, &edited.workingsteps);
+    let u = Fmt { inch: original.units == Some(Units::Inch) };
     let pairs = align(original, edited);
     let mut out = Vec::new();
-    for (i, j) in pairs {
+    let mut features_seen = BTreeSet::new();
+    for &(i, j) in &pairs {
         match (i, j) {
-            (Some(i), Some(j)) => compare(&a[i], &b[j], &mut out),
+            (Some(i), Some(j)) => compare(original, &a[i], edited, &b[j], u, &mut features_seen, &mut out),
             (Some(i), None) => out.push(Change {
                 kind: ChangeKind::WorkingstepRemoved,
                 workingstep: a[i].index,
                 operation: a[i].operation.label().into(),
                 field: "workingstep".into(),
-                before: summary(&a[i]),
+                before: summary(original, &a[i], u),
                 after: String::new(),
                 line: None,
+                original_line: Some(a[i].lines.0),
+                region: None,
+                deviation: None,
             }),
             (None, Some(j)) => out.push(Change {
                 kind: ChangeKind::WorkingstepAdded,
@@ -110,21 +245,53 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
                 operation: b[j].operation.label().into(),
                 field: "workingstep".into(),
                 before: String::new(),
-                after: summary(&b[j]),
+                after: summary(edited, &b[j], u),
                 line: Some(b[j].lines.0),
+                original_line: None,
+                region: None,
+                deviation: None,
             }),
             (None, None) => {}
         }
     }
+    // Risky settings the edit brought in, on the workingstep they concern.
+    let had: BTreeSet<(crate::diag::Code, String)> = risk::risks(original)
+        .into_iter()
+        .map(|r| (r.code, a.iter().find(|w| w.index == r.workingstep).map_or(String::new(), |w| format!("T{}", w.tool))))
+        .collect();
+    for r in risk::risks(edited) {
+        let Some(j) = b.iter().position(|w| w.index == r.workingstep) else { continue };
+        if had.contains(&(r.code, format!("T{}", b[j].tool))) {
+            continue;
+        }
+        let orig = pairs.iter().find(|p| p.1 == Some(j)).and_then(|p| p.0);
+        let (index, operation) = orig.map_or((b[j].index, b[j].operation), |i| (a[i].index, a[i].operation));
+        out.push(Change {
+            kind: ChangeKind::RiskyEdit,
+            workingstep: index,
+            operation: operation.label().into(),
+            field: r.code.as_str().trim_start_matches("plan::").into(),
+            before: String::new(),
+            after: r.message,
+            line: Some(b[j].lines.0),
+            original_line: orig.map(|i| a[i].lines.0),
+            region: None,
+            deviation: None,
+        });
+    }
     out
 }
 
-fn summary(ws: &Workingstep) -> String {
-    format!("{} with {}, {} mm of cut", ws.operation.label(), tool_label(ws.tool), num(ws.cutting_length))
+fn summary(plan: &ProcessPlan, ws: &Workingstep, u: Fmt) -> String {
+    format!("{} with {}, {} of cut", ws.operation.label(), tool_label(plan, ws.tool), u.len(ws.cutting_length))
 }
 
-fn tool_label(t: u32) -> String {
-    format!("T{t}")
+/// A tool as the program names it: `T4`, or `T="EM10"` for a tool selected by name.
+fn tool_label(plan: &ProcessPlan, t: u32) -> String {
+    match plan.tool(t).and_then(|x| x.name.as_deref()) {
+        Some(name) if t > 10_000 => format!("T=\"{name}\""),
+        _ => format!("T{t}"),
+    }
 }
 
 fn tool_diameter(plan: &ProcessPlan, t: u32) -> Option<f64> {
@@ -207,16 +374,72 @@ pub fn num(v: f64) -> String {
     if s == "-0" { "0".into() } else { s.into() }
 }
 
-fn point(p: [f64; 3], other: Option<[f64; 3]>) -> String {
-    let mut s = format!("X{} Y{}", num(p[0]), num(p[1]));
-    if other.is_none_or(|o| (o[2] - p[2]).abs() > TOLERANCE) {
-        s.push_str(&format!(" Z{}", num(p[2])));
+fn spindle_words(s: SpindleDir) -> &'static str {
+    match s {
+        SpindleDir::Cw => "clockwise (M3)",
+        SpindleDir::Ccw => "counter-clockwise (M4)",
+        SpindleDir::Off => "stopped (M5)",
     }
-    s
 }
 
-fn compare(a: &Workingstep, b: &Workingstep, out: &mut Vec<Change>) {
-    let mut push = |kind: ChangeKind, field: &str, before: String, after: String| {
+fn coolant_words(c: Coolant) -> &'static str {
+    match c {
+        Coolant::Off => "off",
+        Coolant::Mist => "mist (M7)",
+        Coolant::Flood => "flood (M8)",
+        Coolant::Both => "mist and flood (M7 and M8)",
+    }
+}
+
+fn strategy_words(k: StrategyKind) -> &'static str {
+    match k {
+        StrategyKind::Bidirectional => "zig-zag passes",
+        StrategyKind::Unidirectional => "one-way passes",
+        StrategyKind::ContourParallel => "contour-parallel loops",
+        StrategyKind::ContourSpiral => "a spiral",
+        StrategyKind::CenterMilling => "along the centre line",
+        StrategyKind::Explicit => "the programmed toolpath",
+    }
+}
+
+fn stop_words(s: &Stop) -> &'static str {
+    if s.optional { "optional stop (M01)" } else { "program stop (M00)" }
+}
+
+fn length_offset_words(list: &[u32], tool: u32) -> String {
+    if list.is_empty() {
+        return format!("the tool's own (H{tool})");
+    }
+    list.iter().map(|h| if *h == 0 { "none (H0)".to_owned() } else { format!("H{h}") }).collect::<Vec<_>>().join(", ")
+}
+
+fn comp_words(list: &[crate::plan::CompUse], tool: u32) -> String {
+    if list.is_empty() {
+        return "off (G40)".into();
+    }
+    list.iter()
+        .map(|c| {
+            let side = if c.left { "left (G41)" } else { "right (G42)" };
+            match c.number {
+                Some(n) => format!("{side} with D{n}"),
+                None => format!("{side} with the tool's own D{tool}"),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[allow(clippy::too_many_arguments)]
+fn compare(
+    pa: &ProcessPlan,
+    a: &Workingstep,
+    pb: &ProcessPlan,
+    b: &Workingstep,
+    u: Fmt,
+    features_seen: &mut BTreeSet<(u32, u32)>,
+    out: &mut Vec<Change>,
+) {
+    let mut push = |kind: ChangeKind, field: &str, before: String, after: String, lines: (Option<u32>, Option<u32>)| {
         out.push(Change {
             kind,
             workingstep: a.index,
@@ -224,11 +447,15 @@ fn compare(a: &Workingstep, b: &Workingstep, out: &mut Vec<Change>) {
             field: field.into(),
             before,
             after,
-            line: Some(b.lines.0),
+            line: lines.1,
+            original_line: lines.0,
+            region: None,
+            deviation: None,
         });
     };
-    if a.tool != b.tool {
-        push(ChangeKind::ToolRenamed, "tool", tool_label(a.tool), tool_label(b.tool));
+    let at_start = (Some(a.lines.0), Some(b.lines.0));
+    if tool_label(pa, a.tool) != tool_label(pb, b.tool) {
+        push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool), at_start);
     }
     let depth_delta = match (a.depth, b.depth) {
         (Some(x), Some(y)) => y - x,
@@ -240,87 +467,518 @@ fn compare(a: &Workingstep, b: &Workingstep, out: &mut Vec<Change>) {
         // A start point that only sinks with the depth is the depth change, reported below.
         let only_depth =
             (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE && (y[2] - x[2] - depth_delta).abs() <= TOLERANCE;
-        if !only_depth {
-            push(ChangeKind::StartPointMoved, "start_point", point(x, Some(y)), point(y, Some(x)));
+        // Over a hole, only the height moves: the R level's change says it.
+        // Over a hole, or with another depth of cut, only the height moves: the R level's or
+        // the axial depth's change says it.
+        let axial = match (a.axial_depth, b.axial_depth) {
+            (Some(p), Some(q)) => (p - q).abs() > TOLERANCE,
+            (p, q) => p.is_some() != q.is_some(),
+        };
+        let hole_height = (a.operation.is_hole() || axial) && (x[0] - y[0]).abs() <= TOLERANCE && (x[1] - y[1]).abs() <= TOLERANCE;
+        if !only_depth && !hole_height {
+            push(ChangeKind::StartPointMoved, "start_point", u.point(x, Some(y)), u.point(y, Some(x)), at_start);
         }
     }
+    // The machine state.
+    let (sa, sb) = (&a.state, &b.state);
+    if sa.work_offset != sb.work_offset {
+        push(ChangeKind::WorkOffsetChanged, "work_offset", work_offset_name(sa.work_offset), work_offset_name(sb.work_offset), at_start);
+    }
+    // By the numbers in force: `T1 H1` renamed `T8 H1` keeps its offset (the risk is told apart).
+    let numbers = |list: &[u32], tool: u32| if list.is_empty() { vec![tool] } else { list.to_vec() };
+    let both_own = sa.length_offsets.is_empty() && sb.length_offsets.is_empty();
+    if !both_own && numbers(&sa.length_offsets, a.tool) != numbers(&sb.length_offsets, b.tool) {
+        let (x, y) = (length_offset_words(&sa.length_offsets, a.tool), length_offset_words(&sb.length_offsets, b.tool));
+        push(ChangeKind::LengthOffsetChanged, "length_offset", x, y, at_start);
+    }
+    let (ca, cb) = (comp_words(&sa.cutter_comp, a.tool), comp_words(&sb.cutter_comp, b.tool));
+    if sa.cutter_comp != sb.cutter_comp && ca != cb {
+        push(ChangeKind::CutterCompChanged, "cutter_compensation", ca, cb, at_start);
+    }
+    let (removed, added) = unmatched(&sa.stops, &sb.stops, |s| (s.optional, s.at), |s| s.optional);
+    for s in removed {
+        push(ChangeKind::StopRemoved, "stop", stop_words(s).into(), String::new(), (Some(s.line), None));
+    }
+    for s in added {
+        push(ChangeKind::StopAdded, "stop", String::new(), stop_words(s).into(), (None, Some(s.line)));
+    }
+    dwells(&sa.dwells, &sb.dwells, &mut push);
+    if !a.operation.is_hole() && sa.optional_lines.is_empty() != sb.optional_lines.is_empty() {
+        let lines = |v: &[u32]| match v {
+            [l] => format!("line {l}"),
+            [f, .., l] => format!("lines {f}–{l}"),
+            [] => String::new(),
+        };
+        let (o, e) = (sa.optional_lines.first().copied(), sb.optional_lines.first().copied());
+        if sb.optional_lines.is_empty() {
+            push(
+                ChangeKind::OptionalBlockChanged,
+                "optional_block",
+                format!("the moves at {}", lines(&sa.optional_lines)),
+                "no longer depend on the block-delete switch".into(),
+                (o, e),
+            );
+        } else {
+            push(
+                ChangeKind::OptionalBlockChanged,
+                "optional_block",
+                format!("the moves at {}", lines(&sb.optional_lines)),
+                "now depend on the block-delete switch".into(),
+                (o, e),
+            );
+        }
+    }
+    // Technology.
     let (ta, tb) = (&a.technology, &b.technology);
     let feeds_differ = ta.feeds.len() != tb.feeds.len() || ta.feeds.iter().zip(&tb.feeds).any(|(x, y)| (x - y).abs() > TOLERANCE);
     if feeds_differ {
-        let f = |v: &[f64]| v.iter().map(|x| format!("F{}", num(*x))).collect::<Vec<_>>().join(", ");
-        push(ChangeKind::FeedChanged, "feed", f(&ta.feeds), f(&tb.feeds));
+        let f = |v: &[f64]| v.iter().map(|x| u.feed(*x)).collect::<Vec<_>>().join(", ");
+        push(ChangeKind::FeedChanged, "feed", f(&ta.feeds), f(&tb.feeds), at_start);
     }
-    if (ta.spindle_speed - tb.spindle_speed).abs() > TOLERANCE {
-        push(
-            ChangeKind::SpindleSpeedChanged,
-            "spindle_speed",
-            format!("S{}", num(ta.spindle_speed)),
-            format!("S{}", num(tb.spindle_speed)),
-        );
-    }
-    if ta.surface_speed != tb.surface_speed {
-        let v = |s: Option<f64>| s.map_or_else(|| "none".to_string(), |v| format!("{} m/min", num(v)));
-        push(ChangeKind::SpindleSpeedChanged, "surface_speed", v(ta.surface_speed), v(tb.surface_speed));
+    match (ta.surface_speed, tb.surface_speed) {
+        (None, None) => {
+            if (ta.spindle_speed - tb.spindle_speed).abs() > TOLERANCE {
+                let s = |v: f64| format!("S{}", num(v));
+                push(ChangeKind::SpindleSpeedChanged, "spindle_speed", s(ta.spindle_speed), s(tb.spindle_speed), at_start);
+            }
+        }
+        (Some(x), Some(y)) => {
+            if (x - y).abs() > TOLERANCE {
+                push(ChangeKind::SpindleSpeedChanged, "surface_speed", u.surface(x), u.surface(y), at_start);
+            }
+        }
+        (x, y) => {
+            let mode = |v: Option<f64>, rpm: f64| match v {
+                Some(v) => format!("constant surface speed {} (G96)", u.surface(v)),
+                None => format!("S{} 1/min (G97)", num(rpm)),
+            };
+            push(ChangeKind::SpindleModeChanged, "spindle_mode", mode(x, ta.spindle_speed), mode(y, tb.spindle_speed), at_start);
+        }
     }
     if ta.spindle != tb.spindle {
         push(
             ChangeKind::SpindleDirectionChanged,
             "spindle_direction",
-            format!("{:?}", ta.spindle).to_lowercase(),
-            format!("{:?}", tb.spindle).to_lowercase(),
+            spindle_words(ta.spindle).into(),
+            spindle_words(tb.spindle).into(),
+            at_start,
         );
     }
     if ta.coolant != tb.coolant {
-        push(ChangeKind::CoolantChanged, "coolant", format!("{:?}", ta.coolant).to_lowercase(), format!("{:?}", tb.coolant).to_lowercase());
+        push(ChangeKind::CoolantChanged, "coolant", coolant_words(ta.coolant).into(), coolant_words(tb.coolant).into(), at_start);
     }
     let depth_change = match (a.depth, b.depth) {
         (Some(x), Some(y)) if (x - y).abs() > TOLERANCE => Some((x, y)),
         _ => None,
     };
     if let Some((x, y)) = depth_change {
-        push(ChangeKind::DepthChanged, "depth", format!("Z{}", num(x)), format!("Z{}", num(y)));
+        push(ChangeKind::DepthChanged, "depth", format!("Z{}", u.c(x)), format!("Z{}", u.c(y)), at_start);
     }
-    if let Some((before, after)) = toolpath_difference(a, b, depth_change) {
-        push(ChangeKind::ToolpathChanged, "toolpath", before, after);
+    let mut explained = false;
+    // Holes and their cycle parameters.
+    if a.operation.is_hole() || b.operation.is_hole() {
+        explained |= compare_holes(&a.holes, &b.holes, depth_change, u, &mut push);
+    }
+    // Strategy, depths of cut and allowances.
+    let opt = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| u.len(v));
+    let differs = |x: Option<f64>, y: Option<f64>| match (x, y) {
+        (Some(x), Some(y)) => (x - y).abs() > TOLERANCE,
+        (None, None) => false,
+        _ => true,
+    };
+    if !a.operation.is_hole() && differs(a.radial_depth, b.radial_depth) {
+        push(ChangeKind::StepoverChanged, "stepover", opt(a.radial_depth), opt(b.radial_depth), at_start);
+        explained = true;
+    }
+    if !a.operation.is_hole() && differs(a.axial_depth, b.axial_depth) {
+        push(ChangeKind::AxialDepthChanged, "axial_depth", opt(a.axial_depth), opt(b.axial_depth), at_start);
+        explained = true;
+    }
+    if differs(a.allowance_side, b.allowance_side) {
+        push(ChangeKind::AllowanceChanged, "wall_allowance", opt(a.allowance_side), opt(b.allowance_side), at_start);
+        explained = true;
+    }
+    if differs(a.allowance_bottom, b.allowance_bottom) {
+        push(ChangeKind::AllowanceChanged, "floor_allowance", opt(a.allowance_bottom), opt(b.allowance_bottom), at_start);
+        explained = true;
+    }
+    if let (Some(x), Some(y)) = (&a.strategy, &b.strategy)
+        && x.kind != y.kind
+    {
+        push(ChangeKind::StrategyChanged, "strategy", strategy_words(x.kind).into(), strategy_words(y.kind).into(), at_start);
+        explained = true;
+    }
+    // The features, once per pair.
+    if let (Some(fa), Some(fb)) = (a.feature.and_then(|f| pa.feature(f)), b.feature.and_then(|f| pb.feature(f)))
+        && features_seen.insert((fa.id, fb.id))
+    {
+        explained |= compare_features(fa, fb, depth_change.is_some(), u, &mut push);
+    }
+    if !explained && let Some(tp) = toolpath_difference(a, b, depth_change, u) {
+        out.push(Change {
+            kind: ChangeKind::ToolpathChanged,
+            workingstep: a.index,
+            operation: a.operation.label().into(),
+            field: "toolpath".into(),
+            before: tp.before,
+            after: tp.after,
+            line: tp.lines.1,
+            original_line: tp.lines.0,
+            region: tp.region,
+            deviation: Some(tp.deviation),
+        });
     }
 }
 
-/// What identifies a cutting move: kind, end point, arc centre and turns.
-type CutKey = (MoveKind, [f64; 3], Option<[f64; 3]>, Option<i32>);
+type Push<'a> = dyn FnMut(ChangeKind, &str, String, String, (Option<u32>, Option<u32>)) + 'a;
 
-/// Compares the cutting moves after the start point; a depth change maps the old lowest Z
-/// onto the new one first, so that it is not reported twice.
-fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64)>) -> Option<(String, String)> {
-    let cuts = |w: &Workingstep| -> Vec<CutKey> {
-        w.toolpath
+/// The items of `a` and `b` that have no counterpart: first paired by `key`, then what is
+/// left by `kind` in order (the same stop after a toolpath that changed before it).
+fn unmatched<'x, T, K: PartialEq, G: PartialEq>(
+    a: &'x [T],
+    b: &'x [T],
+    key: impl Fn(&T) -> K,
+    kind: impl Fn(&T) -> G,
+) -> (Vec<&'x T>, Vec<&'x T>) {
+    let mut used = vec![false; b.len()];
+    let mut left = Vec::new();
+    for x in a {
+        match (0..b.len()).find(|&j| !used[j] && key(&b[j]) == key(x)) {
+            Some(j) => used[j] = true,
+            None => left.push(x),
+        }
+    }
+    let mut removed = Vec::new();
+    for x in left {
+        match (0..b.len()).find(|&j| !used[j] && kind(&b[j]) == kind(x)) {
+            Some(j) => used[j] = true,
+            None => removed.push(x),
+        }
+    }
+    let added = b.iter().zip(&used).filter(|(_, u)| !**u).map(|(x, _)| x).collect();
+    (removed, added)
+}
+
+fn dwells(a: &[Dwell], b: &[Dwell], push: &mut Push<'_>) {
+    let secs = |d: &Dwell| format!("{} s", num(d.seconds));
+    let n = a.len().min(b.len());
+    for (x, y) in a.iter().zip(b) {
+        if (x.seconds - y.seconds).abs() > 1e-9 {
+            push(ChangeKind::DwellChanged, "dwell", secs(x), secs(y), (Some(x.line), Some(y.line)));
+        }
+    }
+    for x in &a[n..] {
+        push(ChangeKind::DwellChanged, "dwell", secs(x), String::new(), (Some(x.line), None));
+    }
+    for y in &b[n..] {
+        push(ChangeKind::DwellChanged, "dwell", String::new(), secs(y), (None, Some(y.line)));
+    }
+}
+
+/// Holes added, removed, optional, and cycle parameters changed; whether anything was.
+fn compare_holes(a: &[Hole], b: &[Hole], depth: Option<(f64, f64)>, u: Fmt, push: &mut Push<'_>) -> bool {
+    let same_xy = |h: &Hole, k: &Hole| (h.x - k.x).abs() <= TOLERANCE && (h.y - k.y).abs() <= TOLERANCE;
+    let mut used = vec![false; b.len()];
+    let mut pairs = Vec::new();
+    let mut any = false;
+    for h in a {
+        match (0..b.len()).find(|&j| !used[j] && same_xy(h, &b[j])) {
+            Some(j) => {
+                used[j] = true;
+                pairs.push((h, &b[j]));
+            }
+            None => {
+                push(ChangeKind::HoleRemoved, "hole", u.xy([h.x, h.y]), String::new(), (None, None));
+                any = true;
+            }
+        }
+    }
+    for (k, _) in b.iter().zip(&used).filter(|(_, u)| !**u) {
+        push(ChangeKind::HoleAdded, "hole", String::new(), u.xy([k.x, k.y]), (None, None));
+        any = true;
+    }
+    for (h, k) in &pairs {
+        if h.optional != k.optional {
+            let what = format!("the hole at {}", u.xy([h.x, h.y]));
+            let now = if k.optional { "now depends on the block-delete switch" } else { "no longer depends on the block-delete switch" };
+            push(ChangeKind::OptionalBlockChanged, "optional_block", what, now.into(), (None, None));
+            any = true;
+        }
+    }
+    // One change per parameter: all holes alike, or the first that differs, by position.
+    type Param = (&'static str, fn(&Hole) -> Option<f64>, fn(Fmt, f64) -> String);
+    let params: [Param; 5] = [
+        ("peck", |h| h.peck, |u, v| format!("Q{}", u.c(v))),
+        ("dwell", |h| h.dwell, |_, v| format!("{} s", num(v))),
+        ("r_level", |h| Some(h.r_plane), |u, v| format!("Z{}", u.c(v))),
+        ("retract_plane", |h| h.retract, |u, v| format!("Z{}", u.c(v))),
+        ("hole_bottom", |h| Some(h.bottom), |u, v| format!("Z{}", u.c(v))),
+    ];
+    for (field, get, show) in params {
+        let map_bottom = |h: &Hole, v: Option<f64>| match (field, depth) {
+            ("hole_bottom", Some((old, new))) if (h.bottom - old).abs() <= TOLERANCE => Some(new),
+            _ => v,
+        };
+        let differs: Vec<&(&Hole, &Hole)> = pairs
             .iter()
-            .filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid)
-            .map(|m| (m.kind, m.to, m.center, m.turns))
-            .collect()
+            .filter(|(h, k)| {
+                let (x, y) = (map_bottom(h, get(h)), get(k));
+                match (x, y) {
+                    (Some(x), Some(y)) => (x - y).abs() > TOLERANCE,
+                    (None, None) => false,
+                    _ => true,
+                }
+            })
+            .collect();
+        let Some((h, k)) = differs.first() else { continue };
+        let v = |x: Option<f64>| x.map_or_else(|| "none".to_owned(), |x| show(u, x));
+        let (mut before, mut after) = (v(get(h)), v(get(k)));
+        if differs.len() < pairs.len() {
+            before = format!("{before} at {}", u.xy([h.x, h.y]));
+            after = format!("{after} at {}", u.xy([k.x, k.y]));
+        }
+        push(ChangeKind::CycleParameterChanged, field, before, after, (None, None));
+        any = true;
+    }
+    any
+}
+
+/// A feature's kind and dimensions; whether anything changed.
+fn compare_features(fa: &crate::plan::Feature, fb: &crate::plan::Feature, depth_reported: bool, u: Fmt, push: &mut Push<'_>) -> bool {
+    let mut any = false;
+    if fa.kind.label() != fb.kind.label() {
+        push(ChangeKind::FeatureChanged, "feature", fa.kind.label().into(), fb.kind.label().into(), (Some(fa.lines.0), Some(fb.lines.0)));
+        return true;
+    }
+    let mut dim = |field: &str, x: Option<f64>, y: Option<f64>| {
+        if let (Some(x), Some(y)) = (x, y)
+            && (x - y).abs() > TOLERANCE
+        {
+            push(ChangeKind::FeatureChanged, field, u.len(x), u.len(y), (Some(fa.lines.0), Some(fb.lines.0)));
+            any = true;
+        }
     };
+    if !depth_reported {
+        dim("feature_depth", Some(fa.depth), Some(fb.depth));
+    }
+    match (&fa.kind, &fb.kind) {
+        (
+            FeatureKind::ClosedPocket { rectangle: ra, corner_radius: cra, .. },
+            FeatureKind::ClosedPocket { rectangle: rb, corner_radius: crb, .. },
+        ) => {
+            dim("pocket_width", ra.map(|r| r.0), rb.map(|r| r.0));
+            dim("pocket_length", ra.map(|r| r.1), rb.map(|r| r.1));
+            dim("corner_radius", *cra, *crb);
+        }
+        (FeatureKind::RoundHole { diameter: da, .. }, FeatureKind::RoundHole { diameter: db, .. }) => dim("hole_diameter", *da, *db),
+        (FeatureKind::PlanarFace { length: la, width: wa, .. }, FeatureKind::PlanarFace { length: lb, width: wb, .. })
+        | (FeatureKind::Step { length: la, width: wa, .. }, FeatureKind::Step { length: lb, width: wb, .. }) => {
+            dim("feature_length", Some(*la), Some(*lb));
+            dim("feature_width", Some(*wa), Some(*wb));
+        }
+        (FeatureKind::Slot { width: wa, .. }, FeatureKind::Slot { width: wb, .. }) => dim("slot_width", Some(*wa), Some(*wb)),
+        _ => {}
+    }
+    any
+}
+
+/// What differs between two toolpaths, and where.
+struct ToolpathDifference {
+    before: String,
+    after: String,
+    /// First differing line in the original and in the edited program.
+    lines: (Option<u32>, Option<u32>),
+    region: Option<BBox>,
+    deviation: f64,
+}
+
+/// Compares the cutting moves; a depth change maps the old lowest Z onto the new one first,
+/// so that it is not reported twice. The moves both toolpaths share at their start and at
+/// their end are set aside (linear time), and the rest is measured: its lines, its box and
+/// the largest distance from a point of one side to the other side's path (a grid of
+/// segments keeps that near-linear).
+fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64)>, u: Fmt) -> Option<ToolpathDifference> {
+    fn cuts(w: &Workingstep) -> Vec<&Move> {
+        w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect()
+    }
     let (ca, cb) = (cuts(a), cuts(b));
     let map_z = |z: f64| match depth {
         Some((old, new)) if (z - old).abs() <= TOLERANCE => new,
         _ => z,
     };
-    let same_point = |p: [f64; 3], q: [f64; 3]| {
-        (p[0] - q[0]).abs() <= TOLERANCE && (p[1] - q[1]).abs() <= TOLERANCE && (map_z(p[2]) - q[2]).abs() <= TOLERANCE
+    let close =
+        |p: P3, q: P3| (p[0] - q[0]).abs() <= TOLERANCE && (p[1] - q[1]).abs() <= TOLERANCE && (map_z(p[2]) - q[2]).abs() <= TOLERANCE;
+    let same = |x: &Move, y: &Move| {
+        x.kind == y.kind
+            && close(x.to, y.to)
+            && x.turns == y.turns
+            && match (x.center, y.center) {
+                (Some(p), Some(q)) => (p[0] - q[0]).abs() <= TOLERANCE && (p[1] - q[1]).abs() <= TOLERANCE,
+                (None, None) => true,
+                _ => false,
+            }
     };
-    let differs = ca.len() != cb.len()
-        || ca.iter().zip(&cb).any(|(x, y)| {
-            x.0 != y.0
-                || !same_point(x.1, y.1)
-                || x.3 != y.3
-                || match (x.2, y.2) {
-                    (Some(p), Some(q)) => (p[0] - q[0]).abs() > TOLERANCE || (p[1] - q[1]).abs() > TOLERANCE,
-                    (None, None) => false,
-                    _ => true,
+    let (na, nb) = (ca.len(), cb.len());
+    let mut p = 0;
+    while p < na.min(nb) && same(ca[p], cb[p]) {
+        p += 1;
+    }
+    let mut s = 0;
+    while s < na.min(nb) - p && same(ca[na - 1 - s], cb[nb - 1 - s]) {
+        s += 1;
+    }
+    if p == na && p == nb {
+        return None;
+    }
+    let (ma, mb) = (&ca[p..na - s], &cb[p..nb - s]);
+    // The paths around the difference: from where the shared start ends to where the shared
+    // end begins, so that a removed move is measured against the path that replaces it.
+    let path = |all: &[&Move], from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Vec<P3> {
+        let mut pts = Vec::new();
+        let start = if from > 0 { all[from - 1].to } else { all.get(from).map_or([0.0; 3], |m| m.from) };
+        pts.push([start[0], start[1], z(start[2])]);
+        let mut buf = Vec::new();
+        for m in all.iter().take(to.min(all.len()) + 1).skip(from) {
+            buf.clear();
+            geom::sample(m, &mut buf);
+            pts.extend(buf.iter().map(|q| [q[0], q[1], z(q[2])]));
+        }
+        pts
+    };
+    let ident = |z: f64| z;
+    // Original points in edited Z (the depth change mapped), so depth is not counted again.
+    let pa = path(&ca, p, na - s, &map_z);
+    let pb = path(&cb, p, nb - s, &ident);
+    let deviation = hausdorff(&pa, &pb);
+    let mut region = None;
+    for q in pa.iter().chain(&pb) {
+        geom::extend(&mut region, *q);
+    }
+    let first_line = |m: &[&Move], all: &[&Move]| m.first().or_else(|| all.get(p)).or_else(|| all.last()).map(|m| m.line);
+    let lines = (first_line(ma, &ca), first_line(mb, &cb));
+    let len = |m: &[&Move]| m.iter().map(|m| geom::length(m)).sum::<f64>();
+    // The ends are written with Z only where the two differ in it.
+    let (ea, eb) = (ma.last().map(|m| m.to), mb.last().map(|m| m.to));
+    let describe = |m: &[&Move], other: Option<P3>| -> String {
+        match m {
+            [] => "no cut".into(),
+            [one] => format!("the cut at line {} to {}", one.line, u.point(one.to, other)),
+            [f, .., l] => {
+                let (lo, hi) = (f.line.min(l.line), f.line.max(l.line));
+                let at = if lo == hi { format!("line {lo}") } else { format!("lines {lo}–{hi}") };
+                format!("the {} cuts at {at}, ending at {}", m.len(), u.point(l.to, other))
+            }
+        }
+    };
+    let before = describe(ma, eb);
+    let mut after = describe(mb, ea);
+    let (la, lb) = (len(ma), len(mb));
+    if (la - lb).abs() > TOLERANCE {
+        after.push_str(&format!(" ({} {})", u.len((la - lb).abs()), if lb < la { "shorter" } else { "longer" }));
+    }
+    if let Some(r) = region {
+        after.push_str(&format!(", in X{}…{} Y{}…{}", u.c(r.min[0]), u.c(r.max[0]), u.c(r.min[1]), u.c(r.max[1])));
+    }
+    after.push_str(&format!(", at most {} from the original path", u.len(deviation)));
+    Some(ToolpathDifference { before, after, lines, region, deviation: (deviation * 1e6).round() / 1e6 })
+}
+
+/// The larger of the two directed distances between point chains (polylines), each point
+/// measured to the nearest segment of the other chain.
+fn hausdorff(a: &[P3], b: &[P3]) -> f64 {
+    directed(a, b).max(directed(b, a))
+}
+
+fn directed(from: &[P3], to: &[P3]) -> f64 {
+    let grid = Grid::new(to);
+    from.iter().map(|p| grid.nearest(*p)).fold(0.0, f64::max)
+}
+
+/// Segments of a polyline binned in XY cells, for nearest-segment queries.
+struct Grid<'a> {
+    pts: &'a [P3],
+    cell: f64,
+    min: [f64; 2],
+    cols: i64,
+    rows: i64,
+    /// (cell, segment) sorted by cell.
+    bins: Vec<((i64, i64), u32)>,
+}
+
+impl<'a> Grid<'a> {
+    fn new(pts: &'a [P3]) -> Grid<'a> {
+        let mut min = [f64::INFINITY; 2];
+        let mut max = [f64::NEG_INFINITY; 2];
+        for p in pts {
+            for i in 0..2 {
+                min[i] = min[i].min(p[i]);
+                max[i] = max[i].max(p[i]);
+            }
+        }
+        let n = pts.len().max(1) as f64;
+        let extent = (max[0] - min[0]).max(max[1] - min[1]).max(1e-3);
+        let total: f64 = pts.windows(2).map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1])).sum();
+        let cell = (total / n).max(extent / n.sqrt()).max(1e-3);
+        let cols = ((max[0] - min[0]) / cell).floor() as i64 + 1;
+        let rows = ((max[1] - min[1]) / cell).floor() as i64 + 1;
+        let mut g = Grid { pts, cell, min, cols, rows, bins: Vec::with_capacity(pts.len()) };
+        if pts.len() == 1 {
+            g.bins.push(((0, 0), 0));
+        }
+        for i in 0..pts.len().saturating_sub(1) {
+            let (c0, r0) = g.at(pts[i]);
+            let (c1, r1) = g.at(pts[i + 1]);
+            for c in c0.min(c1)..=c0.max(c1) {
+                for r in r0.min(r1)..=r0.max(r1) {
+                    g.bins.push(((c, r), i as u32));
                 }
-        });
-    differs.then(|| {
-        let s = |c: usize, w: &Workingstep| format!("{c} cutting moves, {} mm", num(w.cutting_length));
-        (s(ca.len(), a), s(cb.len(), b))
-    })
+            }
+        }
+        g.bins.sort_unstable();
+        g
+    }
+
+    fn at(&self, p: P3) -> (i64, i64) {
+        (((p[0] - self.min[0]) / self.cell).floor() as i64, ((p[1] - self.min[1]) / self.cell).floor() as i64)
+    }
+
+    fn seg_dist(&self, i: usize, p: P3) -> f64 {
+        let a = self.pts[i];
+        let b = *self.pts.get(i + 1).unwrap_or(&a);
+        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let t = if l2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2]) / l2).clamp(0.0, 1.0) } else { 0.0 };
+        geom::dist(p, [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]])
+    }
+
+    /// Distance from `p` to the nearest segment: rings of cells outwards until no cell
+    /// further out can hold a nearer one.
+    fn nearest(&self, p: P3) -> f64 {
+        let (c, r) = self.at(p);
+        let mut best = f64::INFINITY;
+        // Rings wholly outside the grid hold nothing.
+        let outside = |v: i64, n: i64| (-v).max(v - (n - 1)).max(0);
+        let first = outside(c, self.cols).max(outside(r, self.rows));
+        let far = first + self.cols.max(self.rows);
+        for ring in first..=far {
+            for dc in -ring..=ring {
+                for dr in -ring..=ring {
+                    if dc.abs() != ring && dr.abs() != ring {
+                        continue;
+                    }
+                    let key = (c + dc, r + dr);
+                    let from = self.bins.partition_point(|b| b.0 < key);
+                    for &(_, i) in self.bins[from..].iter().take_while(|b| b.0 == key) {
+                        best = best.min(self.seg_dist(i as usize, p));
+                    }
+                }
+            }
+            if best <= ring as f64 * self.cell {
+                break;
+            }
+        }
+        if best.is_finite() { best } else { 0.0 }
+    }
 }
 
 /// Groups changes per workingstep as sentences:

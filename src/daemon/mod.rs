@@ -325,7 +325,12 @@ impl CatchUp {
         if idle {
             self.done = true;
             if self.files > 0 {
-                tracing::info!(files = self.files, stored = self.stored, seconds = self.started.elapsed().as_secs(), "Caught up with the folders.");
+                tracing::info!(
+                    files = self.files,
+                    stored = self.stored,
+                    seconds = self.started.elapsed().as_secs(),
+                    "Caught up with the folders."
+                );
             }
         } else if self.said.elapsed() >= Duration::from_secs(10) {
             self.said = Instant::now();

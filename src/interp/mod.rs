@@ -21,7 +21,7 @@ pub use flow::{NoPrograms, ProgramSource, run};
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Units};
+use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{CodeDef, DecimalInput, Dialect, Directive, Meaning, Role, Step, SystemVar, TimeUnit};
 use crate::syntax::{Block, ParamTarget, Value, WordMode};
@@ -781,6 +781,10 @@ impl<'a> Interpreter<'a> {
         }
         if block.skip && self.profile.block_delete {
             return;
+        }
+        if block.skip {
+            // The plan tells the moves that hang on the block-delete switch.
+            self.emit(sink, CanonOp::Setting(Setting::BlockDelete));
         }
         if self.profile.fast_lane && self.fast_move(block, sink, diags) {
             return;
@@ -1622,6 +1626,7 @@ impl<'a> Interpreter<'a> {
                 self.emit(sink, CanonOp::UseLengthUnits(units));
             }
             Meaning::CompOff => {
+                self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
                 self.st.leaving_comp = self.comp.borrow().is_some();
                 self.comp_off(sink);
             }
@@ -1641,6 +1646,8 @@ impl<'a> Interpreter<'a> {
                 let radius = radius.map(f64::abs);
                 let side = if left { comp::Side::Left } else { comp::Side::Right };
                 self.st.comp_left = left;
+                let number = self.slot(Role::D).filter(|_| !by_diameter).map(|d| d as u32);
+                self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some((left, number)))));
                 if let Some(r) = radius
                     && self.comp.borrow().as_ref().is_some_and(|c| c.runs(side, r))
                 {
@@ -1671,6 +1678,7 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
                 let h = self.slot(Role::H).map_or(self.st.tool, |h| h as u32);
+                self.emit(sink, CanonOp::Setting(Setting::LengthOffset(h)));
                 let mut offsets = self.tool_offsets(h);
                 if def.meaning == Meaning::LengthCompMinus {
                     offsets = offsets.map(|v| -v);
@@ -1683,6 +1691,7 @@ impl<'a> Interpreter<'a> {
                 self.use_tool_offset(offsets, sink);
             }
             Meaning::LengthCompCancel => {
+                self.emit(sink, CanonOp::Setting(Setting::LengthOffset(0)));
                 self.use_tool_offset([0.0; 3], sink);
             }
             Meaning::Wcs => {
@@ -2078,6 +2087,9 @@ impl<'a> Interpreter<'a> {
         };
         self.st.selected_tool = tool;
         self.emit(sink, CanonOp::SelectTool(tool));
+        if let Some(name) = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)) {
+            self.emit(sink, CanonOp::Setting(Setting::ToolName(tool, name.clone())));
+        }
         if !self.dialect.behaviour.tool_word_changes {
             return;
         }

@@ -92,7 +92,11 @@ pub fn write(plan: &ProcessPlan, class: Class, timestamp: &str) -> (Exchange, Ve
         }
         let sec = w.plane("security plane", [0.0, 0.0, ws.security_plane]);
         let feature = ws.feature.and_then(|f| features.get(&f).cloned()).unwrap_or(Value::Null);
-        let id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
+        let mut id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
+        for word in ws.state.encode() {
+            id.push(' ');
+            id.push_str(&word);
+        }
         elements.push(w.b.add("MACHINING_WORKINGSTEP", vec![Value::str(id), sec, feature, op.clone(), Value::Null]));
     }
     // Tools that never cut still appear, loaded at the end.
@@ -934,6 +938,7 @@ impl Reader<'_> {
         let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
         let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
+        ws.state = MachineState::decode(&w);
         let mut dwell = None;
         match operation {
             Operation::FreeformMilling => ws.strategy = Some(explicit()),

@@ -23,15 +23,22 @@ const EPS: f64 = 1e-6;
 /// strategy, depths and allowances.
 pub fn recognise(plan: &mut ProcessPlan) {
     let mut features: Vec<(Feature, Vec<Region>)> = Vec::new();
+    // The level a planar face left the top at, for the features machined after it.
+    let mut faced: Option<f64> = None;
     for i in 0..plan.workingsteps.len() {
         let ws = &plan.workingsteps[i];
         let tool = plan.tool(ws.tool).cloned();
         // Holes along another axis than Z (cycles in G18/G19) are not recognised yet.
         let cand = if ws.operation.is_hole() && !ws.holes.is_empty() {
-            hole(ws, tool.as_ref(), plan.workpiece.as_ref())
+            hole(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
         } else {
-            milling(ws, tool.as_ref(), plan.workpiece.as_ref())
+            milling(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
         };
+        if matches!(cand.kind, FeatureKind::PlanarFace { .. })
+            && let Some(d) = ws.depth
+        {
+            faced = Some(faced.map_or(d, |f: f64| f.min(d)));
+        }
         let ws = &mut plan.workingsteps[i];
         ws.operation = cand.operation;
         ws.strategy = cand.strategy.clone();
@@ -122,11 +129,15 @@ fn merge_into(f: &mut Feature, cand: &Candidate, ws: &Workingstep) {
             f.depth = f.depth.max(cand.depth);
         }
         _ => {
-            // The finishing workingstep states the final shape.
+            // The finishing workingstep states the final shape; an inferred top does not
+            // undo a higher one the roughing stated (its layers start higher).
+            let bottom = cand.placement[2] - cand.depth;
+            let keep_top = cand.top_inferred && f.placement[2] > cand.placement[2] && cand.depth > 0.0;
+            let top = if keep_top { f.placement[2] } else { cand.placement[2] };
             f.kind = cand.kind.clone();
-            f.placement = cand.placement;
-            f.depth = cand.depth;
-            f.top_inferred = cand.top_inferred;
+            f.placement = [cand.placement[0], cand.placement[1], top];
+            f.depth = round6(top - bottom);
+            f.top_inferred = cand.top_inferred && !keep_top || keep_top && f.top_inferred;
         }
     }
 }
@@ -175,12 +186,18 @@ fn round6(v: f64) -> f64 {
     (v * 1e6).round() / 1e6 + 0.0
 }
 
-fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Candidate {
+/// The top of a hole: the stock's, the faced level, or else the program zero where it lies
+/// between the bottom and the R level (posts put the work zero on the part's top); the R
+/// level only as a last resort.
+fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Option<f64>) -> Candidate {
     let first = ws.holes.first();
     let bottom_z = ws.holes.iter().map(|h| h.bottom).fold(f64::INFINITY, f64::min);
-    let (top, top_inferred) = match stock {
-        Some(s) => (s.max()[2], false),
-        None => (first.map_or(0.0, |h| h.r_plane), true),
+    let r_level = first.map_or(0.0, |h| h.r_plane);
+    let (top, top_inferred) = match (stock, faced) {
+        (_, Some(f)) if f > bottom_z && stock.is_none_or(|s| f < s.max()[2]) => (f, false),
+        (Some(s), _) => (s.max()[2], false),
+        _ if bottom_z < 0.0 && r_level >= 0.0 => (0.0, true),
+        _ => (r_level, true),
     };
     let through = stock.is_some_and(|s| bottom_z <= s.origin[2] + 1e-6);
     let kind = tool.map_or(ToolKind::Unknown, |t| t.kind);
@@ -195,7 +212,12 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Candida
     let origin = first.map_or([0.0, 0.0], |h| [h.x, h.y]);
     let positions = ws.holes.iter().map(|h| [h.x - origin[0], h.y - origin[1]]).collect();
     Candidate {
-        kind: FeatureKind::RoundHole { diameter: tool.and_then(|t| t.diameter), bottom, positions },
+        // A spot drill or countersink marks the hole; its diameter is not the hole's.
+        kind: FeatureKind::RoundHole {
+            diameter: tool.filter(|t| !matches!(t.kind, ToolKind::CenterDrill | ToolKind::Countersink)).and_then(|t| t.diameter),
+            bottom,
+            positions,
+        },
         placement: [origin[0], origin[1], top],
         depth: if bottom_z.is_finite() { top - bottom_z } else { 0.0 },
         top_inferred,
@@ -321,7 +343,7 @@ fn bounds(chain: &[Piece]) -> (P2, P2) {
     (min, max)
 }
 
-fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Candidate {
+fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Option<f64>) -> Candidate {
     // A toolpath feature; `top_inferred` is false only once the levels were analysed.
     let toolpath = |top_inferred: bool| Candidate {
         kind: FeatureKind::Toolpath,
@@ -357,9 +379,14 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
     let step = levels.windows(2).map(|w| w[0] - w[1]).reduce(f64::max);
     let feed_start =
         ws.toolpath.iter().filter(|m| m.kind == MoveKind::Line && m.to[2] < m.from[2] - EPS).map(|m| m.from[2]).reduce(f64::max);
+    // The faced level, the stock's top, the layers' (one step above the first), or the
+    // program zero that posts put on the part's top.
+    let faced = faced.filter(|f| *f > bottom + EPS && *f >= levels[0] - EPS && stock.is_none_or(|s| *f < s.max()[2]));
     let (top, top_inferred) = match (stock, step) {
+        _ if faced.is_some() => (faced.unwrap_or(bottom), false),
         (Some(s), _) => (s.max()[2], false),
         (None, Some(st)) => (levels[0] + st, true),
+        (None, None) if bottom < -EPS => (0.0, true),
         (None, None) => (feed_start.map_or(bottom, |z| z.max(bottom)), true),
     };
     let axial_depth = step.or_else(|| stock.map(|_| top - bottom)).filter(|d| *d > EPS).map(round6);
@@ -392,7 +419,10 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
         return toolpath(true);
     }
     let radius = tool.and_then(|t| t.diameter).map(|d| d / 2.0);
-    let r = radius.unwrap_or(0.0);
+    // Under cutter compensation the interpreter offsets the path only by a radius the tool
+    // table gives; otherwise the moves are the programmed contour itself.
+    let contour_programmed = !ws.state.cutter_comp.is_empty() && tool.is_none_or(|t| t.source != ToolSource::Table);
+    let r = if contour_programmed { 0.0 } else { radius.unwrap_or(0.0) };
     let spindle_ccw = ws.technology.spindle == SpindleDir::Ccw;
     let all: Vec<Piece> = chains.iter().flatten().copied().collect();
     let mut loops_owned: Vec<Vec<Piece>> = Vec::new();
@@ -512,9 +542,24 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
             _ => {}
         }
         cand.operation = Operation::PlaneFinishMilling;
+        // Trimmed to the stock when it is known: the passes run over its edges.
+        let (mut amin, mut amax, mut cmin, mut cmax) = (amin, amax, cmin, cmax);
+        let mut corner = corner;
+        if let Some(st) = stock {
+            let (lo, hi) = (st.origin, st.max());
+            let corners = [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]];
+            let (sa0, sa1) = corners.iter().map(|p| along(*p)).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+            let (sc0, sc1) = corners.iter().map(|p| across(*p)).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+            if amin.max(sa0) < amax.min(sa1) && cmin.max(sc0) < cmax.min(sc1) {
+                (amin, amax, cmin, cmax) = (amin.max(sa0), amax.min(sa1), cmin.max(sc0), cmax.min(sc1));
+                corner = [u[0] * amin + v[0] * cmin, u[1] * amin + v[1] * cmin];
+            }
+        }
         cand.placement = [corner[0], corner[1], bottom];
-        cand.depth = if stock.is_some() { top - bottom } else { 0.0 };
-        if stock.is_some() {
+        // The depth follows from the stock or the layers (a single layer without stock: none).
+        let known = stock.is_some() || step.is_some() || faced.is_some();
+        cand.depth = if known { top - bottom } else { 0.0 };
+        if known {
             cand.placement[2] = top;
         }
         cand.kind = FeatureKind::PlanarFace { direction: [u[0], u[1], 0.0], length: round6(amax - amin), width: round6(cmax - cmin) };
@@ -540,13 +585,25 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
             pocket(&mut cand, outer, r, stock);
             return cand;
         }
-        // One loop: the side a climb cut puts the tool on decides pocket wall or profile.
-        let tool_inside = (rotation == Rotation::Ccw) != spindle_ccw;
+        // One loop: where the material is decides pocket wall or profile — where the tool
+        // entered (inside the loop or outside it), else the compensation side; the cut
+        // direction (taken as climb milling) only as a last resort, and then the cut mode
+        // is not stated.
+        let entry = ws
+            .toolpath
+            .iter()
+            .find(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS && m.to[2] <= bottom + 1e-3)
+            .or_else(|| ws.toolpath.iter().find(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS))
+            .map(|m| [m.to[0], m.to[1]]);
+        let by_entry = entry.and_then(|p| inside(outer, p));
+        let by_comp = ws.state.cutter_comp.first().map(|c| c.left == (rotation == Rotation::Ccw));
+        let evidence = by_entry.or(by_comp);
+        let tool_inside = evidence.unwrap_or((rotation == Rotation::Ccw) != spindle_ccw);
         cand.strategy = Some(Strategy {
             kind: StrategyKind::ContourParallel,
             feed_direction: None,
             rotation: Some(rotation),
-            cutmode: Some(CutMode::Climb),
+            cutmode: evidence.map(|inside| cutmode(rotation, spindle_ccw, inside)),
             overlap: None,
         });
         if tool_inside {
@@ -592,6 +649,61 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Cand
         }
     }
     toolpath(false)
+}
+
+/// Whether `p` lies inside the closed chain (by its vertices and arc midpoints); `None` on it.
+fn inside(chain: &[Piece], p: P2) -> Option<bool> {
+    let mut poly: Vec<P2> = Vec::new();
+    for q in chain {
+        poly.push(q.from);
+        if let Some((c, ccw)) = q.arc {
+            let r = dist(q.from, c);
+            let a0 = (q.from[1] - c[1]).atan2(q.from[0] - c[0]);
+            let t = sweep(q.from, q.to, c, ccw);
+            for k in 1..8 {
+                let a = a0 + t * f64::from(k) / 8.0;
+                poly.push([c[0] + r * a.cos(), c[1] + r * a.sin()]);
+            }
+        }
+    }
+    let n = poly.len();
+    let mut odd = false;
+    for i in 0..n {
+        let (a, b) = (poly[i], poly[(i + 1) % n]);
+        // On the boundary: no evidence.
+        let ab = [b[0] - a[0], b[1] - a[1]];
+        let l2 = ab[0] * ab[0] + ab[1] * ab[1];
+        let t = if l2 > 0.0 { (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / l2).clamp(0.0, 1.0) } else { 0.0 };
+        if dist(p, [a[0] + t * ab[0], a[1] + t * ab[1]]) < 1e-3 {
+            return None;
+        }
+        if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+            odd = !odd;
+        }
+    }
+    Some(odd)
+}
+
+/// Joins straight pieces that continue one another, also across the loop's start.
+fn join_collinear(chain: &[Piece]) -> Vec<Piece> {
+    let along = |q: &Piece, p: &Piece| {
+        q.arc.is_none()
+            && p.arc.is_none()
+            && cross(q.dir(), p.dir()).abs() < 1e-6
+            && q.dir()[0] * p.dir()[0] + q.dir()[1] * p.dir()[1] > 0.0
+    };
+    let mut out: Vec<Piece> = Vec::new();
+    for p in chain {
+        match out.last_mut() {
+            Some(q) if along(q, p) => q.to = p.to,
+            _ => out.push(*p),
+        }
+    }
+    if out.len() > 2 && along(&out[out.len() - 1], &out[0]) {
+        let last = out.pop().expect("more than two pieces");
+        out[0].from = last.from;
+    }
+    out
 }
 
 /// Climb or conventional from the loop's rotation, the spindle direction and which side of
@@ -660,13 +772,28 @@ fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) 
         cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&wall), cand.placement) };
         return;
     }
-    let rect = outer.len() == 4 && outer.iter().all(|p| p.arc.is_none() && (p.dir()[0].abs() < 1e-9 || p.dir()[1].abs() < 1e-9));
-    if rect {
-        let (cmin, cmax) = bounds(outer);
+    let joined = join_collinear(outer);
+    let axis_line = |p: &Piece| p.arc.is_none() && (p.dir()[0].abs() < 1e-9 || p.dir()[1].abs() < 1e-9);
+    let sharp = joined.len() == 4 && joined.iter().all(axis_line);
+    // Four axis-aligned edges joined by four quarter arcs of one radius.
+    let arc_radius = |p: &Piece| p.arc.map(|(c, ccw)| (dist(p.from, c), sweep(p.from, p.to, c, ccw).abs()));
+    let rounded = (joined.len() == 8)
+        .then(|| {
+            let first = joined.iter().position(|p| p.arc.is_some())?;
+            let arcs: Vec<(f64, f64)> = joined.iter().filter_map(arc_radius).collect();
+            let alternate = (0..8).all(|k| joined[(first + k) % 8].arc.is_some() == (k % 2 == 0));
+            let same = arcs.len() == 4
+                && arcs.iter().all(|(ra, t)| (ra - arcs[0].0).abs() < 1e-4 && (t - std::f64::consts::FRAC_PI_2).abs() < 1e-4);
+            (alternate && same && joined.iter().filter(|p| p.arc.is_none()).all(axis_line)).then_some(arcs[0].0)
+        })
+        .flatten();
+    if sharp || rounded.is_some() {
+        let (cmin, cmax) = bounds(&joined);
         let centre = [(bmin[0] + bmax[0]) / 2.0, (bmin[1] + bmax[1]) / 2.0];
         cand.placement = [centre[0], centre[1], cand.placement[2]];
         let (w, l) = (round6(cmax[0] - cmin[0] + 2.0 * r), round6(cmax[1] - cmin[1] + 2.0 * r));
-        let corner_radius = (r > 0.0).then_some(round6(r));
+        let corner = rounded.unwrap_or(0.0) + r;
+        let corner_radius = (corner > 0.0).then_some(round6(corner));
         cand.kind = FeatureKind::ClosedPocket { boundary: rect_contour(w, l, corner_radius), rectangle: Some((w, l)), corner_radius };
     } else {
         cand.placement = [bmin[0], bmin[1], cand.placement[2]];

@@ -5,6 +5,7 @@ pub mod feature;
 pub mod geom;
 mod model;
 mod recover;
+pub mod risk;
 
 pub use model::*;
 pub use recover::{Recoverer, ToolFacts, measure, parse_stock, parse_tool_comment, recover, round_sig};

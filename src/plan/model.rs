@@ -623,6 +623,158 @@ pub struct Hole {
     /// Dwell at the bottom, seconds.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub dwell: Option<f64>,
+    /// Height the tool returns to after the hole (the retract plane), mm.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub retract: Option<f64>,
+    /// Whether the hole is made by optional (`/`) blocks, and so hangs on the block-delete switch.
+    #[serde(skip_serializing_if = "std::ops::Not::not", default)]
+    pub optional: bool,
+}
+
+/// A program stop within or after a workingstep's moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Stop {
+    /// Whether it is the optional stop (M01) rather than the program stop (M00).
+    pub optional: bool,
+    /// 1-based source line.
+    pub line: u32,
+    /// How many of the workingstep's moves come before it.
+    pub at: u32,
+}
+
+/// A dwell outside a canned cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Dwell {
+    /// Seconds.
+    pub seconds: f64,
+    /// 1-based source line.
+    pub line: u32,
+    /// How many of the workingstep's moves come before it.
+    pub at: u32,
+}
+
+/// Cutter radius compensation in force while cutting.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct CompUse {
+    /// Left of the direction of travel (G41) rather than right (G42).
+    pub left: bool,
+    /// Offset number (`D5`), when the program states one.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub number: Option<u32>,
+}
+
+/// The machine state a workingstep runs under, as the program sets it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MachineState {
+    /// Work offset in force while cutting: 1 for G54 (the default) to 6 for G59, more for
+    /// the extended ones.
+    pub work_offset: u8,
+    /// Length offset numbers (H) in force while cutting that are not the tool's own, in order
+    /// of first use; 0 is none (`H0`, or cancelled by G49).
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub length_offsets: Vec<u32>,
+    /// Cutter compensation in force while cutting, in order of first use; its number only where
+    /// it is not the tool's own.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub cutter_comp: Vec<CompUse>,
+    /// Program and optional stops.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub stops: Vec<Stop>,
+    /// Dwells outside canned cycles.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub dwells: Vec<Dwell>,
+    /// Lines of the optional (`/`) blocks whose moves belong to the workingstep.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub optional_lines: Vec<u32>,
+}
+
+impl Default for MachineState {
+    fn default() -> MachineState {
+        MachineState {
+            work_offset: 1,
+            length_offsets: Vec::new(),
+            cutter_comp: Vec::new(),
+            stops: Vec::new(),
+            dwells: Vec::new(),
+            optional_lines: Vec::new(),
+        }
+    }
+}
+
+impl MachineState {
+    /// Whether nothing differs from a program that sets nothing.
+    pub fn is_default(&self) -> bool {
+        *self == MachineState::default()
+    }
+
+    /// The state as `key=value` words without spaces (`wcs=2 h=1,5 comp=L1,R stops=M0@12/40`),
+    /// for identifiers that carry it; [`MachineState::decode`] reads them back.
+    pub fn encode(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let list = |v: Vec<String>| v.join(",");
+        if self.work_offset != 1 {
+            out.push(format!("wcs={}", self.work_offset));
+        }
+        if !self.length_offsets.is_empty() {
+            out.push(format!("h={}", list(self.length_offsets.iter().map(u32::to_string).collect())));
+        }
+        if !self.cutter_comp.is_empty() {
+            let c = self
+                .cutter_comp
+                .iter()
+                .map(|c| format!("{}{}", if c.left { 'L' } else { 'R' }, c.number.map_or(String::new(), |n| n.to_string())));
+            out.push(format!("comp={}", list(c.collect())));
+        }
+        if !self.stops.is_empty() {
+            let s = self.stops.iter().map(|s| format!("M{}@{}/{}", u8::from(s.optional), s.line, s.at));
+            out.push(format!("stops={}", list(s.collect())));
+        }
+        if !self.dwells.is_empty() {
+            let d = self.dwells.iter().map(|d| format!("{}@{}/{}", d.seconds, d.line, d.at));
+            out.push(format!("dwells={}", list(d.collect())));
+        }
+        if !self.optional_lines.is_empty() {
+            out.push(format!("optional={}", list(self.optional_lines.iter().map(u32::to_string).collect())));
+        }
+        out
+    }
+
+    /// Reads [`MachineState::encode`]'s words from a key → value map; what is missing or
+    /// unreadable keeps its default.
+    pub fn decode(words: &std::collections::BTreeMap<String, String>) -> MachineState {
+        let mut st = MachineState::default();
+        let items = |k: &str| {
+            words.get(k).map(|v| v.split(',').filter(|s| !s.is_empty()).map(str::to_owned).collect::<Vec<_>>()).unwrap_or_default()
+        };
+        let at = |s: &str| -> Option<(u32, u32)> {
+            let (l, a) = s.split_once('/')?;
+            Some((l.parse().ok()?, a.parse().ok()?))
+        };
+        if let Some(w) = words.get("wcs").and_then(|v| v.parse().ok()) {
+            st.work_offset = w;
+        }
+        st.length_offsets = items("h").iter().filter_map(|v| v.parse().ok()).collect();
+        st.cutter_comp =
+            items("comp").iter().map(|c| CompUse { left: c.starts_with('L'), number: c.get(1..).and_then(|n| n.parse().ok()) }).collect();
+        st.stops = items("stops")
+            .iter()
+            .filter_map(|s| {
+                let (k, rest) = s.split_once('@')?;
+                let (line, at) = at(rest)?;
+                Some(Stop { optional: k == "M1", line, at })
+            })
+            .collect();
+        st.dwells = items("dwells")
+            .iter()
+            .filter_map(|s| {
+                let (v, rest) = s.split_once('@')?;
+                let (line, at) = at(rest)?;
+                Some(Dwell { seconds: v.parse().ok()?, line, at })
+            })
+            .collect();
+        st.optional_lines = items("optional").iter().filter_map(|v| v.parse().ok()).collect();
+        st
+    }
 }
 
 /// An axis-aligned box.
@@ -678,6 +830,9 @@ pub struct Workingstep {
     pub holes: Vec<Hole>,
     /// The explicit toolpath.
     pub toolpath: Vec<Move>,
+    /// The machine state it runs under: offsets, compensation, stops, dwells, optional blocks.
+    #[serde(skip_serializing_if = "MachineState::is_default", default)]
+    pub state: MachineState,
     /// Source range covered by the workingstep's blocks.
     pub source: TextRange,
     /// First and last source line.
@@ -717,6 +872,7 @@ impl Workingstep {
             cutting_length: 0.0,
             holes: Vec::new(),
             toolpath,
+            state: MachineState::default(),
             source,
             lines,
         }

@@ -4,12 +4,12 @@
 //! hole making), and at a change of technology when the toolpath starts anew (after a
 //! rapid). Rapids between cuts are kept back until the next cut decides where they belong.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::feature;
 use super::geom;
 use super::model::*;
-use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, NO_SPINDLE_LIMIT, Plane, Units};
+use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, NO_SPINDLE_LIMIT, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::interp::Profile;
 use crate::text::TextRange;
@@ -54,14 +54,73 @@ impl<'p> Recoverer<'p> {
 
 fn recover_finish(mut r: Recovery<'_>, profile: &Profile, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
     r.close();
+    if let Some(last) = r.done.last_mut() {
+        let n = last.toolpath.len() as u32;
+        last.state.stops.extend(r.pending_stops.drain(..).map(|s| Stop { at: n, ..s }));
+        last.state.dwells.extend(r.pending_dwells.drain(..).map(|d| Dwell { at: n, ..d }));
+    }
     let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
     let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| r.stock.map(|s| stock(s, StockSource::Program)));
     let mut tools: Vec<Tool> = r.tools.into_values().collect();
     tools.sort_by_key(|t| t.number);
     let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
+    explicit_holes(&mut plan);
     infer_tool_kinds(&mut plan);
     feature::recognise(&mut plan);
-    (plan, r.diags)
+    let mut diags = r.diags;
+    diags.extend(super::risk::diagnostics(&plan));
+    (plan, diags)
+}
+
+/// Holes made by explicit moves (posts that expand drilling into `G0`/`G1`): a workingstep
+/// whose every feed runs along the tool axis, plunging at one or more points, with a tool
+/// that is not a milling cutter, makes holes. The operation follows from the tool's kind
+/// and the motion: several feeds into one hole are pecks, a feed back out of the hole with
+/// an unknown tool is boring.
+fn explicit_holes(plan: &mut ProcessPlan) {
+    for ws in plan.workingsteps.iter_mut().filter(|w| w.operation == Operation::FreeformMilling) {
+        let feeds: Vec<&Move> = ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid).collect();
+        let vertical = |m: &Move| m.kind == MoveKind::Line && (m.to[0] - m.from[0]).abs() < EPS && (m.to[1] - m.from[1]).abs() < EPS;
+        if feeds.is_empty() || !feeds.iter().all(|m| vertical(m)) || !feeds.iter().any(|m| is_plunge(m)) {
+            continue;
+        }
+        let kind = plan.tools.iter().find(|t| t.number == ws.tool).map_or(ToolKind::Unknown, |t| t.kind);
+        if matches!(kind, ToolKind::EndMill | ToolKind::BallEndMill | ToolKind::BullnoseEndMill | ToolKind::FaceMill) {
+            continue; // plunge milling
+        }
+        // A feed into a position after lifting out of it is a peck; a feed up is a feed out.
+        let mut pecked = false;
+        let mut last: Option<[f64; 2]> = None;
+        let mut lifted = false;
+        for m in &ws.toolpath {
+            if m.kind != MoveKind::Rapid && is_plunge(m) {
+                let at = [m.to[0], m.to[1]];
+                pecked |= lifted && last.is_some_and(|l| (l[0] - at[0]).abs() < EPS && (l[1] - at[1]).abs() < EPS);
+                last = Some(at);
+                lifted = false;
+            } else if is_lift(m) && m.to[2] > m.from[2] + EPS {
+                lifted = true;
+            } else if !is_plunge(m) {
+                last = None;
+            }
+        }
+        let feed_out = feeds.iter().any(|m| m.to[2] > m.from[2] + EPS);
+        ws.operation = match kind {
+            ToolKind::Reamer => Operation::Reaming,
+            ToolKind::BoringTool => Operation::Boring,
+            ToolKind::Tap => Operation::Tapping,
+            ToolKind::CenterDrill => Operation::CenterDrilling,
+            ToolKind::Unknown if feed_out && !pecked => Operation::Boring,
+            _ if pecked => Operation::MultistepDrilling,
+            _ => Operation::Drilling,
+        };
+        // Every move is part of making the holes, as in a cycle.
+        for m in ws.toolpath.iter_mut().filter(|m| m.phase == Phase::Approach && m.kind != MoveKind::Rapid) {
+            m.phase = Phase::Cut;
+        }
+        let dwell = ws.state.dwells.first().map(|d| d.seconds);
+        measure(ws, dwell, None);
+    }
 }
 
 /// Tools whose kind nothing states get one from how the program uses them.
@@ -84,6 +143,15 @@ fn infer_tool_kinds(plan: &mut ProcessPlan) {
         t.kind = kind;
         t.kind_source = ToolSource::Inferred;
     }
+}
+
+/// The tool a tool-list comment names: `T3 D=10. ...`, `T3 - 10MM ENDMILL`, `T03: ...`.
+fn listed_tool(comment: &str) -> Option<u32> {
+    let s = comment.trim_start();
+    let rest = s.strip_prefix('T').or_else(|| s.strip_prefix('t'))?;
+    let end = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
+    let after = rest[end..].chars().next();
+    (end > 0 && after.is_none_or(|c| c.is_whitespace() || matches!(c, ':' | '-' | '=' | ','))).then(|| rest[..end].parse().ok()).flatten()
 }
 
 /// What a CAM tool comment states.
@@ -123,7 +191,7 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
         Some(ToolKind::BoringTool)
     } else if has("DRILL") {
         Some(ToolKind::TwistDrill)
-    } else if has("ENDMILL") || has("FLAT") || has("SLOTMILL") || has("MILL") {
+    } else if has("ENDMILL") || has("FLAT") || has("SLOTMILL") || has("MILL") || em_word(&up).is_some() {
         Some(ToolKind::EndMill)
     } else {
         None
@@ -166,6 +234,14 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
     ToolFacts { diameter: comment_diameter(&up), kind, corner_radius, flutes }
 }
 
+/// The diameter of a short end-mill name (`EM10`, `EM12.5`).
+fn em_word(up: &str) -> Option<f64> {
+    up.split(|c: char| !(c.is_ascii_alphanumeric() || c == '.')).find_map(|w| {
+        let n = w.strip_prefix("EM")?;
+        n.starts_with(|c: char| c.is_ascii_digit()).then(|| n.parse::<f64>().ok()).flatten().filter(|v| *v > 0.0 && *v < 1000.0)
+    })
+}
+
 fn comment_diameter(up: &str) -> Option<f64> {
     let number = |s: &str| -> Option<f64> {
         let s = s.trim_start_matches([' ', '=', ':']);
@@ -179,8 +255,8 @@ fn comment_diameter(up: &str) -> Option<f64> {
             }
         }
     }
-    // `D18` as a word of its own.
-    for word in up.split(|c: char| c.is_whitespace() || c == ',') {
+    // `D18` as a word of its own (`DRILL-D8.5`, `REAMER_22MM`, `SPIRAL_DRILL_20MM`).
+    for word in up.split(|c: char| c.is_whitespace() || matches!(c, ',' | '-' | '_' | '(' | ')' | '"' | '\'' | ';')) {
         if let Some(rest) = word.strip_prefix('D') {
             if let Some(v) = number(rest) {
                 if rest.len() == rest.trim_end_matches(|c: char| c.is_ascii_alphabetic()).len() {
@@ -194,7 +270,7 @@ fn comment_diameter(up: &str) -> Option<f64> {
             }
         }
     }
-    None
+    em_word(up)
 }
 
 struct Builder {
@@ -209,6 +285,55 @@ struct Builder {
     tentative: Option<Tentative>,
     /// Feed of the last cutting move that is not a plunge.
     cut_feed: Option<f64>,
+    /// Work offset, stops and dwells; offsets and optional lines are filled in at the end.
+    state: MachineState,
+    /// (move index, length offset, compensation) wherever they change along the feeds.
+    settings: Vec<(usize, Option<u32>, Option<CompUse>)>,
+    /// The levels cut so far (Z of the cuts that are not plunges), deepest last.
+    levels: Vec<f64>,
+    /// Where the deepest level's first cut began, in XY.
+    level_entry: Option<[f64; 2]>,
+    /// XY box of the cuts so far: min x, min y, max x, max y.
+    cut_box: Option<[f64; 4]>,
+}
+
+impl Builder {
+    /// Notes a cut (not a plunge) for the depth sequence and the region.
+    fn note_cut(&mut self, m: &Move) {
+        let z = m.from[2].min(m.to[2]);
+        if self.levels.last().is_none_or(|d| z < d - 1e-3) {
+            self.levels.push(z);
+            self.level_entry = Some([m.from[0], m.from[1]]);
+        }
+        let b = self.cut_box.get_or_insert([m.from[0], m.from[1], m.from[0], m.from[1]]);
+        for p in [m.from, m.to] {
+            b[0] = b[0].min(p[0]);
+            b[1] = b[1].min(p[1]);
+            b[2] = b[2].max(p[0]);
+            b[3] = b[3].max(p[1]);
+        }
+    }
+
+    /// Whether a cut after a retract and re-entry starts another operation with the same
+    /// tool and technology: the depth sequence restarts (it is not deeper than the deepest
+    /// level), the tool re-enters where the deepest level began after several levels (a
+    /// finishing pass over the roughed region), or it enters outside the region cut so far.
+    fn starts_anew(&self, m: &Move) -> bool {
+        let Some(&deepest) = self.levels.last() else { return false };
+        let z = m.from[2];
+        if z > deepest + 1e-3 {
+            return true;
+        }
+        if z < deepest - 1e-3 {
+            return false;
+        }
+        let outside = self
+            .cut_box
+            .is_some_and(|b| m.from[0] < b[0] - 1.0 || m.from[0] > b[2] + 1.0 || m.from[1] < b[1] - 1.0 || m.from[1] > b[3] + 1.0);
+        let again =
+            self.levels.len() >= 2 && self.level_entry.is_some_and(|e| (e[0] - m.from[0]).abs() < 1e-3 && (e[1] - m.from[1]).abs() < 1e-3);
+        outside || again
+    }
 }
 
 /// A possible boundary between two workingsteps with one tool and technology.
@@ -250,6 +375,21 @@ struct Recovery<'p> {
     dwell: Option<f64>,
     peck: Option<f64>,
     stock: Option<[P3; 2]>,
+    /// Work offset in force (1 for G54).
+    wcs: u8,
+    /// Length offset number in force.
+    h: Option<u32>,
+    /// Cutter compensation in force.
+    comp: Option<CompUse>,
+    /// Tool-list comments (`T3 D=10. CR=0. - FLAT END MILL`) by the tool they name.
+    listed: BTreeMap<u32, String>,
+    /// Names of tools the program selects by name (`T="EM10"`).
+    tool_names: BTreeMap<u32, String>,
+    /// Lines of optional (`/`) blocks that ran.
+    optional: BTreeSet<u32>,
+    /// Stops and dwells met while no workingstep is open: they go to the next one.
+    pending_stops: Vec<Stop>,
+    pending_dwells: Vec<Dwell>,
     current: Option<Builder>,
     pending: Vec<Move>,
     done: Vec<Workingstep>,
@@ -280,6 +420,14 @@ impl<'p> Recovery<'p> {
             dwell: None,
             peck: None,
             stock: None,
+            wcs: 1,
+            h: None,
+            comp: None,
+            optional: BTreeSet::new(),
+            tool_names: BTreeMap::new(),
+            listed: BTreeMap::new(),
+            pending_stops: Vec::new(),
+            pending_dwells: Vec::new(),
             current: None,
             pending: Vec::new(),
             done: Vec::new(),
@@ -387,19 +535,37 @@ impl<'p> Recovery<'p> {
                         entry.kind_source = ToolSource::Table;
                     }
                 }
+                let by_name = entry.name.is_none().then(|| self.tool_names.get(t).cloned()).flatten();
                 self.name_pending = entry.name.is_none();
+                if let Some(name) = by_name {
+                    self.name_tool(&name);
+                    self.name_pending = false;
+                }
                 // A comment on the tool-change block or the one before names the tool.
                 // A comment on the tool-change block or up to three lines before names the tool.
                 // The closest one stating a diameter or a kind wins, else the closest.
-                let near: Vec<&String> = self.comments.iter().rev().filter(|(l, _)| *l + 3 >= c.line).map(|(_, s)| s).collect();
+                // A comment that names another tool (`T2 ...` of a header tool list) is not
+                // this one's; without a near comment stating facts, the tool list's line is.
+                let near: Vec<&String> = self
+                    .comments
+                    .iter()
+                    .rev()
+                    .filter(|(l, s)| *l + 3 >= c.line && listed_tool(s).is_none_or(|n| n == *t))
+                    .map(|(_, s)| s)
+                    .collect();
+                let states = |s: &str| {
+                    let f = parse_tool_comment(s);
+                    f.diameter.is_some() || f.kind.is_some()
+                };
+                // A diameter near the change first, then the tool list, then a kind near it
+                // (an operation's name, `DRILL1`, says less than the list).
                 let best = near
                     .iter()
-                    .find(|s| {
-                        let f = parse_tool_comment(s);
-                        f.diameter.is_some() || f.kind.is_some()
-                    })
-                    .or(near.first())
-                    .map(|s| s.to_string());
+                    .find(|s| parse_tool_comment(s).diameter.is_some())
+                    .map(|s| s.to_string())
+                    .or_else(|| self.listed.get(t).cloned())
+                    .or_else(|| near.iter().find(|s| states(s)).map(|s| s.to_string()))
+                    .or(near.first().map(|s| s.to_string()));
                 self.comments.clear();
                 if let Some(s) = best {
                     self.name_tool(&s);
@@ -415,10 +581,39 @@ impl<'p> Recovery<'p> {
                 }
             }
             CanonOp::Dwell(secs) if self.in_cycle.is_some() => self.dwell = Some(*secs),
+            CanonOp::Dwell(secs) => {
+                let d = Dwell { seconds: *secs, line: c.line, at: 0 };
+                match self.current.as_mut() {
+                    Some(b) => b.state.dwells.push(Dwell { at: (b.moves.len() + self.pending.len()) as u32, ..d }),
+                    None => self.pending_dwells.push(d),
+                }
+            }
+            CanonOp::ProgramStop | CanonOp::OptionalProgramStop => {
+                let s = Stop { optional: c.op == CanonOp::OptionalProgramStop, line: c.line, at: 0 };
+                match self.current.as_mut() {
+                    Some(b) => b.state.stops.push(Stop { at: (b.moves.len() + self.pending.len()) as u32, ..s }),
+                    None => self.pending_stops.push(s),
+                }
+            }
+            CanonOp::SetG5xOffset(index, _) => self.wcs = *index,
+            CanonOp::Setting(Setting::LengthOffset(h)) => self.h = Some(*h),
+            CanonOp::Setting(Setting::CutterComp(c)) => self.comp = c.map(|(left, number)| CompUse { left, number }),
+            CanonOp::Setting(Setting::ToolName(n, name)) => {
+                self.tool_names.insert(*n, name.clone());
+            }
+            CanonOp::Setting(Setting::BlockDelete) => {
+                self.optional.insert(c.line);
+            }
             CanonOp::Comment(s) if self.stock.is_none() && parse_stock(s).is_some() => {
                 self.stock = parse_stock(s).map(|[a, b]| [a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
             }
             CanonOp::Comment(s) => {
+                if let Some(n) = listed_tool(s) {
+                    let f = parse_tool_comment(s);
+                    if f.diameter.is_some() || f.kind.is_some() {
+                        self.listed.entry(n).or_insert_with(|| s.trim().to_owned());
+                    }
+                }
                 self.comments.push((c.line, s.trim().to_owned()));
                 if self.comments.len() > 4 {
                     self.comments.remove(0);
@@ -483,10 +678,11 @@ impl<'p> Recovery<'p> {
         if comment.is_empty() {
             return;
         }
+        // A tool named by the program (`T="EM10"`) still takes the facts a comment states.
         if let Some(t) = self.tools.get_mut(&self.tool)
-            && t.name.is_none()
+            && (t.name.is_none() || t.source == ToolSource::Unknown)
         {
-            t.name = Some(comment.to_owned());
+            t.name.get_or_insert_with(|| comment.to_owned());
             let facts = parse_tool_comment(comment);
             if t.diameter.is_none() && facts.diameter.is_some() {
                 t.diameter = facts.diameter;
@@ -519,7 +715,10 @@ impl<'p> Recovery<'p> {
             None => true,
             Some(b) => {
                 let retracted = !self.pending.is_empty();
-                b.tool != self.tool || !b.operation.same_family(operation) || (retracted && !same_tech(&b.technology, &tech))
+                b.tool != self.tool
+                    || !b.operation.same_family(operation)
+                    || (retracted && !same_tech(&b.technology, &tech))
+                    || b.state.work_offset != self.wcs
             }
         };
         if restart {
@@ -537,6 +736,12 @@ impl<'p> Recovery<'p> {
                 m.phase = Phase::Approach;
             }
             let first_line = moves.first().map_or(c.line, |m| m.line);
+            let state = MachineState {
+                work_offset: self.wcs,
+                stops: std::mem::take(&mut self.pending_stops),
+                dwells: std::mem::take(&mut self.pending_dwells),
+                ..MachineState::default()
+            };
             self.current = Some(Builder {
                 operation,
                 tool: self.tool,
@@ -548,6 +753,11 @@ impl<'p> Recovery<'p> {
                 lines: (first_line, c.line),
                 tentative: None,
                 cut_feed: None,
+                state,
+                settings: Vec::new(),
+                levels: Vec::new(),
+                level_entry: None,
+                cut_box: None,
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next
@@ -565,7 +775,7 @@ impl<'p> Recovery<'p> {
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
-            && b.cut_feed.is_some_and(|f| (f - mv.feed).abs() > EPS)
+            && (b.cut_feed.is_some_and(|f| (f - mv.feed).abs() > EPS) || !is_lift(&mv) && b.starts_anew(&mv))
         {
             let now = self.technology();
             self.split(t, c, now);
@@ -581,6 +791,18 @@ impl<'p> Recovery<'p> {
         }
         if is_cut {
             b.cut_feed = Some(mv.feed);
+            // A feed out of a hole is no level and no region.
+            if !is_lift(&mv) {
+                b.note_cut(&mv);
+            }
+        }
+        // Offset numbers count where they are not the tool's own (`T4` with `H3`, or `H0`):
+        // an implicit length offset (Heidenhain's `TOOL CALL`) is the same as `G43 H4`.
+        let own = |n: u32| n != self.tool;
+        let h = self.h.filter(|h| own(*h));
+        let comp = self.comp.map(|c| CompUse { number: c.number.filter(|n| own(*n)), ..c });
+        if mv.kind != MoveKind::Rapid && b.settings.last().is_none_or(|s| (s.1, s.2) != (h, comp)) {
+            b.settings.push((b.moves.len(), h, comp));
         }
         b.moves.push(mv);
         b.source = b.source.cover(c.origin);
@@ -602,6 +824,23 @@ impl<'p> Recovery<'p> {
         let Some(mut b) = self.current.take() else { return };
         let mut tail = b.moves.split_off(t.at);
         let rest = tail.split_off(t.lifts.min(tail.len()));
+        // What comes after the boundary's lifts goes with the later workingstep.
+        let cut = (t.at + t.lifts.min(tail.len())) as u32;
+        let later = |v: &mut Vec<u32>| v.iter().position(|at| *at >= cut);
+        let mut state = MachineState { work_offset: b.state.work_offset, ..MachineState::default() };
+        if let Some(i) = later(&mut b.state.stops.iter().map(|s| s.at).collect()) {
+            state.stops = b.state.stops.split_off(i).into_iter().map(|s| Stop { at: s.at - cut, ..s }).collect();
+        }
+        if let Some(i) = later(&mut b.state.dwells.iter().map(|d| d.at).collect()) {
+            state.dwells = b.state.dwells.split_off(i).into_iter().map(|d| Dwell { at: d.at - cut, ..d }).collect();
+        }
+        let keep = b.settings.iter().position(|s| s.0 >= t.at).unwrap_or(b.settings.len());
+        let mut settings: Vec<_> = b.settings.split_off(keep).into_iter().map(|s| (s.0.saturating_sub(cut as usize), s.1, s.2)).collect();
+        if settings.first().is_none_or(|s| s.0 > 0)
+            && let Some(&(_, h, comp)) = b.settings.last()
+        {
+            settings.insert(0, (0, h, comp));
+        }
         for mut m in tail {
             m.phase = Phase::Retract;
             b.moves.push(m);
@@ -633,6 +872,11 @@ impl<'p> Recovery<'p> {
             lines: (t.line, c.line),
             tentative: None,
             cut_feed: None,
+            state,
+            settings,
+            levels: Vec::new(),
+            level_entry: None,
+            cut_box: None,
         });
     }
 
@@ -668,7 +912,29 @@ impl<'p> Recovery<'p> {
             .or_else(|| rapid_z(&[Phase::Retract, Phase::Cut]))
             .unwrap_or_else(|| b.moves.iter().flat_map(|m| [m.from[2], m.to[2]]).fold(f64::NEG_INFINITY, f64::max));
         let index = self.done.len() as u32 + 1;
+        let mut state = b.state;
+        for (i, h, comp) in &b.settings {
+            // Only what is in force while the tool feeds counts, not on a lift.
+            if b.moves.get(*i).is_some_and(|m| m.phase == Phase::Retract) {
+                continue;
+            }
+            if let Some(h) = h
+                && !state.length_offsets.contains(h)
+            {
+                state.length_offsets.push(*h);
+            }
+            if let Some(c) = comp
+                && !state.cutter_comp.contains(c)
+            {
+                state.cutter_comp.push(*c);
+            }
+        }
+        if !self.optional.is_empty() {
+            let lines: BTreeSet<u32> = b.moves.iter().map(|m| m.line).filter(|l| self.optional.contains(l)).collect();
+            state.optional_lines = lines.into_iter().collect();
+        }
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
+        ws.state = state;
         measure(&mut ws, b.dwell, b.peck);
         self.done.push(ws);
     }
@@ -702,7 +968,7 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>) {
     ws.depth = depth;
     ws.cutting_length = cutting_length;
     ws.start_point = ws.toolpath.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
-    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck) } else { Vec::new() };
+    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, &ws.state.optional_lines) } else { Vec::new() };
     let mut feeds = vec![ws.technology.feed];
     for m in ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid) {
         if !feeds.iter().any(|f| (f - m.feed).abs() < EPS) {
@@ -755,12 +1021,26 @@ fn refine_phases(moves: &mut [Move]) {
     }
 }
 
-/// Hole positions: the bottom of each feed-in within a cycle.
-fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>) -> Vec<Hole> {
+/// Hole positions: the bottom of each feed-in within a cycle, with the height the tool
+/// lifts to before it leaves the hole. A hole fed by an optional block is optional.
+fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>, optional: &[u32]) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
-    for m in moves.iter().filter(|m| m.kind == MoveKind::Line && is_plunge(m)) {
+    let mut open = false;
+    for m in moves {
+        if !(m.kind == MoveKind::Line && is_plunge(m)) {
+            if open && is_lift(m) {
+                if let Some(h) = out.last_mut() {
+                    h.retract = Some(h.retract.map_or(m.to[2], |r| r.max(m.to[2])));
+                }
+            } else if open && !is_plunge(m) {
+                open = false;
+            }
+            continue;
+        }
+        let optional = optional.binary_search(&m.line).is_ok();
         match out.last_mut() {
-            Some(h) if (h.x - m.to[0]).abs() < EPS && (h.y - m.to[1]).abs() < EPS => {
+            Some(h) if open && (h.x - m.to[0]).abs() < EPS && (h.y - m.to[1]).abs() < EPS => {
+                h.optional |= optional;
                 if m.to[2] < h.bottom {
                     h.bottom = m.to[2];
                     // The cycle's peck when it states one; the longest feed-in otherwise.
@@ -768,7 +1048,10 @@ fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>) -> Vec<Hole> {
                     h.peck = Some(peck.unwrap_or_else(|| h.peck.map_or(step, |p| p.max(step))));
                 }
             }
-            _ => out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None, dwell }),
+            _ => {
+                out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None, dwell, retract: None, optional });
+                open = true;
+            }
         }
     }
     out
@@ -846,6 +1129,18 @@ mod tests {
         assert_eq!(parse_tool_comment("8H7 REAMER Z6").flutes, Some(6));
         assert_eq!(parse_tool_comment("3 FLUTE END MILL").flutes, Some(3));
         assert_eq!(parse_tool_comment("FACE MILL D63").kind, Some(ToolKind::FaceMill));
+        // Post spellings: underscores and dashes join the words.
+        let f = |s: &str| {
+            let f = parse_tool_comment(s);
+            (f.kind, f.diameter)
+        };
+        assert_eq!(f("SPIRAL_DRILL_20MM"), (Some(ToolKind::TwistDrill), Some(20.0)));
+        assert_eq!(f("DRILL-D8.5"), (Some(ToolKind::TwistDrill), Some(8.5)));
+        assert_eq!(f("REAMER_22MM"), (Some(ToolKind::Reamer), Some(22.0)));
+        assert_eq!(f("T3 D=10. CR=0. - FLAT END MILL"), (Some(ToolKind::EndMill), Some(10.0)));
+        assert_eq!(parse_tool_comment("D=10. CR=0.").corner_radius, Some(0.0));
+        assert_eq!(f("EM10"), (Some(ToolKind::EndMill), Some(10.0)));
+        assert_eq!(f("T=\"EM10\""), (Some(ToolKind::EndMill), Some(10.0)));
     }
 
     #[test]

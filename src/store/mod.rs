@@ -437,7 +437,11 @@ impl Store {
     pub fn changes(&self, revision: i64) -> Result<Vec<Change>> {
         let mut stmt = self
             .conn
-            .prepare("SELECT workingstep, operation, kind, field, before, after, line FROM changes WHERE revision_id = ?1 ORDER BY id")
+            .prepare(
+                "SELECT workingstep, operation, kind, field, before, after, line, original_line,
+                        region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
+                 FROM changes WHERE revision_id = ?1 ORDER BY id",
+            )
             .map_err(sql("preparing a query"))?;
         let rows = stmt
             .query_map([revision], |r| {
@@ -450,6 +454,14 @@ impl Store {
                     before: r.get(4)?,
                     after: r.get(5)?,
                     line: r.get(6)?,
+                    original_line: r.get(7)?,
+                    region: match (r.get::<_, Option<f64>>(8)?, r.get::<_, Option<f64>>(11)?) {
+                        (Some(_), Some(_)) => {
+                            Some(crate::plan::BBox { min: [r.get(8)?, r.get(9)?, r.get(10)?], max: [r.get(11)?, r.get(12)?, r.get(13)?] })
+                        }
+                        _ => None,
+                    },
+                    deviation: r.get(14)?,
                 })
             })
             .map_err(sql("reading changes"))?;
@@ -903,13 +915,37 @@ impl Txn<'_> {
         .map_err(sql("recording a comparison"))?;
         let mut stmt = tx
             .prepare_cached(
-                "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+                "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                     original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)",
             )
             .map_err(sql("storing changes"))?;
         for c in changes {
-            stmt.execute(params![revision, original, c.workingstep, c.operation, c.kind.as_str(), c.field, c.before, c.after, c.line, at])
-                .map_err(sql("storing changes"))?;
+            let (lo, hi) = match &c.region {
+                Some(b) => (b.min.map(Some), b.max.map(Some)),
+                None => ([None; 3], [None; 3]),
+            };
+            stmt.execute(params![
+                revision,
+                original,
+                c.workingstep,
+                c.operation,
+                c.kind.as_str(),
+                c.field,
+                c.before,
+                c.after,
+                c.line,
+                at,
+                c.original_line,
+                lo[0],
+                lo[1],
+                lo[2],
+                hi[0],
+                hi[1],
+                hi[2],
+                c.deviation
+            ])
+            .map_err(sql("storing changes"))?;
         }
         Ok(())
     }

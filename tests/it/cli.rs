@@ -26,11 +26,15 @@ fn diff_ignores_renumbering_comments_case_and_number_spelling() {
 fn diff_reports_typed_changes_as_json_and_sentences() {
     let (code, out, _) = ncplan(&["diff", "-d", "fanuc", "demo/cam/O1234.nc", "demo/examples/O1234_edited.nc", "--exit-code"]);
     assert_eq!(code, 1);
-    assert_eq!(out.trim(), "workingstep 1 (plane finish milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20");
+    assert_eq!(
+        out.trim(),
+        "workingstep 1 (plane finish milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20; \
+         warning: T8 cuts with the length offset H1, not its own H8"
+    );
     let (_, json, _) = ncplan(&["diff", "-d", "fanuc", "demo/cam/O1234.nc", "demo/examples/O1234_edited.nc", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     let kinds: Vec<&str> = v.as_array().unwrap().iter().map(|c| c["kind"].as_str().unwrap()).collect();
-    assert_eq!(kinds, ["tool_renamed", "start_point_moved"]);
+    assert_eq!(kinds, ["tool_renamed", "start_point_moved", "risky_edit"]);
     for key in ["kind", "workingstep", "field", "before", "after"] {
         assert!(v[0].get(key).is_some(), "{key}");
     }

@@ -75,19 +75,21 @@ fn edited_program_yields_exactly_the_two_changes_and_survives_sigkill() {
     std::fs::copy(demo.join("examples/O1234_edited.nc"), share.join("O1234.tmp")).unwrap();
     std::fs::rename(share.join("O1234.tmp"), share.join("O1234.nc")).unwrap();
     let changes =
-        wait_for(&db, "SELECT machine, program, workingstep, kind, field, before, after FROM shopfloor_changes ORDER BY change_id", 2);
+        wait_for(&db, "SELECT machine, program, workingstep, kind, field, before, after FROM shopfloor_changes ORDER BY change_id", 3);
     let latency = landed.elapsed();
     assert_eq!(
         changes,
         vec![
             vec!["DMU50", "O1234", "1", "tool_renamed", "tool", "T1", "T8"],
             vec!["DMU50", "O1234", "1", "start_point_moved", "start_point", "X90 Y20", "X83 Y20"],
+            // The sister tool kept T1's length offset: a risky edit.
+            vec!["DMU50", "O1234", "1", "risky_edit", "foreign-length-offset", "", "T8 cuts with the length offset H1, not its own H8"],
         ],
         "latency {latency:?}"
     );
     // Give it time to (wrongly) add anything else, then check nothing else arrived.
     std::thread::sleep(Duration::from_millis(600));
-    assert_eq!(rows(&db, "SELECT * FROM shopfloor_changes").len(), 2);
+    assert_eq!(rows(&db, "SELECT * FROM shopfloor_changes").len(), 3);
     assert_eq!(rows(&db, "SELECT id FROM revisions").len(), 2);
     assert!(rows(&db, "SELECT * FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path LIKE '%.tmp'").is_empty());
     // Plans are queryable as workingsteps and features.

@@ -48,7 +48,7 @@ fn the_readme_demo_works_as_written() {
     let (code, out, err) = ncplan_in(dir, &["show", "DMU50/O1234.nc"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("revision 2: machine DMU50, program O1234"), "{out}");
-    assert!(out.contains("paired by program-name: 2 changes"), "{out}");
+    assert!(out.contains("paired by program-name: 3 changes"), "{out}");
     let (_, source, _) = ncplan_in(dir, &["show", "2", "--source"]);
     assert_eq!(source, std::fs::read_to_string(dir.join("demo/examples/O1234_edited.nc")).unwrap());
     let (_, plan, _) = ncplan_in(dir, &["show", "1", "--plan"]);
@@ -188,7 +188,7 @@ fn import_stores_dated_backups_with_their_file_times_and_resumes() {
     let o1234: Vec<&str> = revs.iter().filter(|r| r[1].ends_with("O1234.nc")).map(|r| r[0].as_str()).collect();
     assert_eq!(o1234, ["2024-01-10", "2024-02-20"], "in file-time order, the repeat skipped");
     let (_, changes) = store.query("SELECT kind FROM shopfloor_changes ORDER BY change_id").unwrap();
-    assert_eq!(changes, [["tool_renamed"], ["start_point_moved"]]);
+    assert_eq!(changes, [["tool_renamed"], ["start_point_moved"], ["risky_edit"]]);
     // Run again (as after a kill): nothing new.
     let (code, out, _) = ncplan_in(dir, &["import", "backups", "--machine", "DMU50", "--config", "c.toml"]);
     assert_eq!(code, 0);

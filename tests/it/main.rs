@@ -1,11 +1,13 @@
 //! Integration tests: one binary (matklad's advice), one module per area.
 
 mod arch;
+mod cam_suite;
 mod cli;
 mod cycles;
 mod daemon;
 mod derived;
 mod dialects;
+mod edits;
 mod encodings;
 mod equivalence;
 mod faults;

@@ -254,9 +254,10 @@ fn drilling_then_reaming_one_pattern_is_one_hole_feature() {
     assert_eq!(*bottom, HoleBottom::Flat);
     assert_eq!(positions, &[[0.0, 0.0], [40.0, 0.0], [40.0, 20.0], [0.0, 20.0]]);
     assert_eq!(f.workingsteps, [1, 2]);
-    assert_eq!(f.placement, [20.0, 20.0, 2.0]);
+    // Without stock or a faced level the top is the program zero, not the R level.
+    assert_eq!(f.placement, [20.0, 20.0, 0.0]);
     assert!(f.top_inferred);
-    assert_eq!(f.depth, 17.0);
+    assert_eq!(f.depth, 15.0);
     assert_eq!(p.tools.iter().map(|t| t.kind).collect::<Vec<_>>(), [ToolKind::TwistDrill, ToolKind::Reamer]);
 }
 
@@ -296,7 +297,9 @@ fn rough_and_finish_passes_around_the_part_are_one_outside_profile() {
     assert_eq!((rough.operation, finish.operation), (Operation::SideRoughMilling, Operation::SideFinishMilling));
     assert_eq!((rough.allowance_side, rough.allowance_bottom), (Some(0.5), None), "side milling has no floor allowance");
     let s = finish.strategy.as_ref().unwrap();
-    assert_eq!((s.kind, s.rotation, s.cutmode), (StrategyKind::ContourParallel, Some(Rotation::Cw), Some(CutMode::Climb)));
+    // The tool enters on the contour and without compensation: nothing says where the
+    // material is, so the cut mode is not stated (the side comes from the cut direction).
+    assert_eq!((s.kind, s.rotation, s.cutmode), (StrategyKind::ContourParallel, Some(Rotation::Cw), None));
 }
 
 #[test]
@@ -306,7 +309,7 @@ fn one_open_pass_is_a_slot_as_wide_as_the_tool() {
     assert_eq!(*width, 8.0);
     assert_eq!(path.segments.len(), 1);
     assert_eq!(p.workingsteps[0].strategy.as_ref().unwrap().kind, StrategyKind::CenterMilling);
-    assert_eq!(p.features[0].depth, 5.0, "top inferred from the plunge start at Z2");
+    assert_eq!(p.features[0].depth, 3.0, "top inferred at the program zero, not the plunge start at Z2");
 }
 
 #[test]
@@ -357,7 +360,8 @@ M2
     assert!(!a.has_errors(), "{:?}", a.diagnostics);
     let steps: Vec<(Operation, Vec<f64>)> = a.plan.workingsteps.iter().map(|w| (w.operation, w.technology.feeds.clone())).collect();
     // The tap advances 1.25 mm per turn at 500 rpm: 625 mm/min; 0.1 mm/rev at 500 rpm is 50.
-    assert_eq!(steps, [(Operation::Tapping, vec![625.0]), (Operation::FreeformMilling, vec![50.0, 100.0])]);
+    // The feeds straight down with the same tool are a hole made by explicit moves.
+    assert_eq!(steps, [(Operation::Tapping, vec![625.0]), (Operation::Drilling, vec![50.0, 100.0])]);
 }
 
 #[test]

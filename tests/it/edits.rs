@@ -1,0 +1,493 @@
+//! Shopfloor edits: one CAM original (`tests/programs/cam/edits_original.nc`), one edit at a
+//! time, and the exact change rows the diff must give. A cosmetic rewrite gives none.
+//!
+//! Each row is `kind | field | before | after | edited line | original line`, and the
+//! planner's sentence follows on the next line.
+
+use expect_test::{Expect, expect};
+use ncplan::dialect::Registry;
+use ncplan::diff::{self, Change};
+use ncplan::interp::Profile;
+use ncplan::pipeline;
+
+fn original() -> String {
+    std::fs::read_to_string(crate::root().join("tests/programs/cam/edits_original.nc")).unwrap()
+}
+
+fn changes(a: &str, b: &str, dialect: &str) -> Vec<Change> {
+    let registry = Registry::shipped();
+    let d = registry.get(dialect).unwrap();
+    let profile = Profile::default();
+    let pa = pipeline::analyze(a.as_bytes(), &d, &profile);
+    let pb = pipeline::analyze(b.as_bytes(), &d, &profile);
+    diff::diff(&pa.plan, &pb.plan)
+}
+
+fn rows(changes: &[Change]) -> String {
+    let opt = |l: Option<u32>| l.map_or("-".to_owned(), |l| l.to_string());
+    let mut s = String::new();
+    for c in changes {
+        s.push_str(&format!(
+            "{} | {} | {} | {} | {} | {}\n  {}\n",
+            c.kind.as_str(),
+            c.field,
+            c.before,
+            c.after,
+            opt(c.line),
+            opt(c.original_line),
+            c.phrase()
+        ));
+    }
+    s
+}
+
+/// Replaces `from` (which must occur once) by `to` in the original and diffs.
+fn edit(from: &str, to: &str, want: Expect) {
+    let a = original();
+    assert_eq!(a.matches(from).count(), 1, "{from:?} occurs once in the original");
+    let b = a.replace(from, to);
+    let got = changes(&a, &b, "fanuc");
+    for c in &got {
+        for word in ["Cw", "Ccw", "Flood", "Mist", "Some(", "None", "Rapid", "Line"] {
+            assert!(!c.phrase().contains(word), "a Rust name in {:?}", c.phrase());
+        }
+        assert_ne!(c.before, c.after, "{}", c.phrase());
+    }
+    want.assert_eq(&rows(&got));
+}
+
+#[test]
+fn cosmetic_rewrite_gives_no_change() {
+    let a = original();
+    let mut b = String::new();
+    for line in a.lines() {
+        let mut l = line.to_owned();
+        // Block numbers, comments, spacing, case, G0/G00, X10./X10.000.
+        if let Some(rest) = l.strip_prefix('N')
+            && let Some((n, tail)) = rest.split_once(' ')
+        {
+            l = format!("N{} {tail}", n.parse::<u32>().unwrap() * 2 + 1);
+        }
+        if l.starts_with("(FACE1") {
+            l = "(FACING THE TOP, CHECKED BY ANN)".into();
+        }
+        l = l.replace("G00", "G0").replace("G01 ", "G1 ").replace("M06", "M6").replace(' ', "  ");
+        for axis in ["X", "Y", "Z", "R", "Q", "F"] {
+            for n in ["130.", "50.", "15.", "20.", "4.", "3.", "1000."] {
+                l = l.replace(&format!("{axis}{n} "), &format!("{axis}{n}000 "));
+            }
+        }
+        if l.contains("G83") {
+            l = l.to_lowercase();
+        }
+        b.push_str(&l);
+        b.push('\n');
+    }
+    assert_ne!(a, b);
+    assert_eq!(rows(&changes(&a, &b, "fanuc")), "");
+}
+
+#[test]
+fn work_offset() {
+    edit(
+        "N195 G54",
+        "N195 G55",
+        expect![[r#"
+            work_offset_changed | work_offset | G54 | G55 | 48 | 48
+              work offset changed from G54 to G55
+            risky_edit | lone-work-offset |  | workingstep 3 cuts in G55, which the rest of the program never uses (it cuts in G54) | 48 | 48
+              warning: workingstep 3 cuts in G55, which the rest of the program never uses (it cuts in G54)
+        "#]],
+    );
+}
+
+#[test]
+fn length_offset_of_another_tool() {
+    edit(
+        "G43 Z15. H03",
+        "G43 Z15. H02",
+        expect![[r#"
+            length_offset_changed | length_offset | the tool's own (H3) | H2 | 48 | 48
+              length offset changed from the tool's own (H3) to H2
+            risky_edit | foreign-length-offset |  | T3 cuts with the length offset of tool T2 (H2) | 48 | 48
+              warning: T3 cuts with the length offset of tool T2 (H2)
+        "#]],
+    );
+}
+
+#[test]
+fn no_length_offset_while_cutting() {
+    edit(
+        "G43 Z15. H02",
+        "G43 Z15. H00",
+        expect![[r#"
+        length_offset_changed | length_offset | the tool's own (H2) | none (H0) | 34 | 34
+          length offset changed from the tool's own (H2) to none (H0)
+        risky_edit | no-length-offset |  | T2 cuts with no length offset (H0), while the rest of the program uses them | 34 | 34
+          warning: T2 cuts with no length offset (H0), while the rest of the program uses them
+    "#]],
+    );
+}
+
+#[test]
+fn cutter_compensation_side() {
+    edit(
+        "G41 D03",
+        "G42 D03",
+        expect![[r#"
+            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | right (G42) with the tool's own D3 | 48 | 48
+              cutter compensation changed from left (G41) with the tool's own D3 to right (G42) with the tool's own D3
+        "#]],
+    );
+}
+
+#[test]
+fn compensation_number() {
+    edit(
+        "G41 D03",
+        "G41 D13",
+        expect![[r#"
+            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | left (G41) with D13 | 48 | 48
+              cutter compensation changed from left (G41) with the tool's own D3 to left (G41) with D13
+        "#]],
+    );
+}
+
+#[test]
+fn program_stop_added() {
+    edit(
+        "N215 G00 Z3.\n",
+        "N215 G00 Z3.\nN216 M00\n",
+        expect![[r#"
+        stop_added | stop |  | program stop (M00) | 52 | -
+          program stop (M00) added at line 52
+    "#]],
+    );
+}
+
+#[test]
+fn optional_stop_removed() {
+    edit(
+        "N115 M01\n",
+        "",
+        expect![[r#"
+        stop_removed | stop | optional stop (M01) |  | - | 29
+          optional stop (M01) removed at original line 29
+    "#]],
+    );
+}
+
+#[test]
+fn dwell_added() {
+    edit(
+        "N220 G01 Z-5. F300.\n",
+        "N220 G01 Z-5. F300.\nN221 G04 X0.5\n",
+        expect![[r#"
+        dwell_changed | dwell |  | 0.5 s | 53 | -
+          dwell 0.5 s added at line 53
+    "#]],
+    );
+}
+
+#[test]
+fn block_delete_on_a_hole() {
+    edit(
+        "N160 Y40.",
+        "/N160 Y40.",
+        expect![[r#"
+        optional_block_changed | optional_block | the hole at X80 Y40 | now depends on the block-delete switch | - | -
+          the hole at X80 Y40 now depends on the block-delete switch
+    "#]],
+    );
+}
+
+#[test]
+fn block_delete_on_a_pass() {
+    edit(
+        "N85 Y50.\nN90 X130.",
+        "/N85 Y50.\n/N90 X130.",
+        expect![[r#"
+        optional_block_changed | optional_block | the moves at lines 23–24 | now depend on the block-delete switch | 23 | -
+          the moves at lines 23–24 now depend on the block-delete switch
+    "#]],
+    );
+}
+
+#[test]
+fn peck_depth() {
+    edit(
+        "Q4.",
+        "Q2.",
+        expect![[r#"
+        cycle_parameter_changed | peck | Q4 | Q2 | - | -
+          peck changed from Q4 to Q2
+    "#]],
+    );
+}
+
+#[test]
+fn r_level() {
+    edit(
+        "R3.",
+        "R5.",
+        expect![[r#"
+            cycle_parameter_changed | r_level | Z3 | Z5 | - | -
+              r level changed from Z3 to Z5
+        "#]],
+    );
+}
+
+#[test]
+fn retract_plane() {
+    edit(
+        "G98 G83",
+        "G99 G83",
+        expect![[r#"
+        cycle_parameter_changed | retract_plane | Z15 | Z3 | - | -
+          retract plane changed from Z15 to Z3
+    "#]],
+    );
+}
+
+#[test]
+fn hole_added() {
+    edit(
+        "N160 Y40.\n",
+        "N160 Y40.\nN161 X50.\n",
+        expect![[r#"
+        hole_added | hole |  | X50 Y40 | - | -
+          hole added at X50 Y40
+    "#]],
+    );
+}
+
+#[test]
+fn hole_removed() {
+    edit(
+        "N155 X80.\n",
+        "",
+        expect![[r#"
+        hole_removed | hole | X80 Y20 |  | - | -
+          hole at X80 Y20 removed
+        hole_removed | hole | X80 Y40 |  | - | -
+          hole at X80 Y40 removed
+        hole_added | hole |  | X20 Y40 | - | -
+          hole added at X20 Y40
+    "#]],
+    );
+}
+
+#[test]
+fn hole_depth() {
+    edit(
+        "Z-20. R3.",
+        "Z-18. R3.",
+        expect![[r#"
+        depth_changed | depth | Z-20 | Z-18 | 34 | 34
+          depth changed from Z-20 to Z-18
+    "#]],
+    );
+}
+
+#[test]
+fn pass_shortened() {
+    edit(
+        "N80 X-30.",
+        "N80 X-24.",
+        expect![[r#"
+        toolpath_changed | toolpath | the 2 cuts at lines 22–23, ending at X-30 Y50 | the 2 cuts at lines 22–23, ending at X-24 Y50 (6 mm shorter), in X-30…130 Y30…50, at most 6 mm from the original path | 22 | 22
+          toolpath changed at line 22: the 2 cuts at lines 22–23, ending at X-30 Y50 became the 2 cuts at lines 22–23, ending at X-24 Y50 (6 mm shorter), in X-30…130 Y30…50, at most 6 mm from the original path
+    "#]],
+    );
+}
+
+#[test]
+fn last_pass_shortened() {
+    edit(
+        "N90 X130.",
+        "N90 X120.",
+        expect![[r#"
+        toolpath_changed | toolpath | the cut at line 24 to X130 Y50 | the cut at line 24 to X120 Y50 (10 mm shorter), in X-30…130 Y50…50, at most 10 mm from the original path | 24 | 24
+          toolpath changed at line 24: the cut at line 24 to X130 Y50 became the cut at line 24 to X120 Y50 (10 mm shorter), in X-30…130 Y50…50, at most 10 mm from the original path
+    "#]],
+    );
+}
+
+#[test]
+fn constant_surface_speed() {
+    edit(
+        "S8000 M03",
+        "G96 S200 M03",
+        expect![[r#"
+        spindle_mode_changed | spindle_mode | S8000 1/min (G97) | constant surface speed 200 m/min (G96) | 48 | 48
+          spindle mode changed from S8000 1/min (G97) to constant surface speed 200 m/min (G96)
+    "#]],
+    );
+}
+
+#[test]
+fn feed_and_speed() {
+    edit(
+        "X60. F1200.",
+        "X60. F1000.",
+        expect![[r#"
+        feed_changed | feed | F300, F1200 | F300, F1000 | 48 | 48
+          feed changed from F300, F1200 to F300, F1000
+    "#]],
+    );
+}
+
+#[test]
+fn spindle_and_coolant() {
+    edit(
+        "N190 S8000 M03",
+        "N190 S8000 M04",
+        expect![[r#"
+            spindle_direction_changed | spindle_direction | clockwise (M3) | counter-clockwise (M4) | 48 | 48
+              spindle direction changed from clockwise (M3) to counter-clockwise (M4)
+        "#]],
+    );
+}
+
+#[test]
+fn pocket_wall_moved() {
+    edit(
+        "N235 X40.",
+        "N235 X44.",
+        expect![[r#"
+            feature_changed | pocket_width | 20 mm | 16 mm | 48 | 48
+              pocket width changed from 20 mm to 16 mm
+        "#]],
+    );
+}
+
+/// An inch program's changes are written in inches.
+#[test]
+fn inch_program_in_inches() {
+    let a = "%\nO2 (INCH)\n(T1 D=0.5 FLAT END MILL)\nG20 G17 G40 G49 G80 G90\nT1 M06\nS6000 M03\nG54 G00 X-0.3 Y0.\nG43 Z1. H01\nZ0.1\nG01 Z-0.05 F20.\nX4.3 F40.\nY0.4\nX-0.3\nY0.8\nX4.3\nG00 Z1.\nM30\n%\n";
+    let b = a.replace("Y0.8\nX4.3\n", "Y0.8\nX3.8 F30.\n");
+    expect![[r#"
+        feed_changed | feed | F20, F40 | F20, F40, F30 | 7 | 7
+          feed changed from F20, F40 to F20, F40, F30
+        toolpath_changed | toolpath | the cut at line 15 to X4.3 Y0.8 | the cut at line 15 to X3.8 Y0.8 (0.5 in shorter), in X-0.3…4.3 Y0.8…0.8, at most 0.5 in from the original path | 15 | 15
+          toolpath changed at line 15: the cut at line 15 to X4.3 Y0.8 became the cut at line 15 to X3.8 Y0.8 (0.5 in shorter), in X-0.3…4.3 Y0.8…0.8, at most 0.5 in from the original path
+    "#]].assert_eq(&rows(&changes(a, &b, "fanuc")));
+}
+
+/// A surfacing raster of `passes` passes of `steps` short moves over 200 × 200 mm.
+fn raster(passes: usize, steps: usize, shift: f64, edit: Option<usize>) -> ncplan::plan::ProcessPlan {
+    use ncplan::plan::*;
+    let (dx, dy) = (200.0 / steps as f64, 200.0 / passes as f64);
+    let mut moves = Vec::with_capacity(passes * steps);
+    let mut at = [0.0, shift, -1.0];
+    for p in 0..passes {
+        for s in 0..steps {
+            let x = if p % 2 == 0 { (s + 1) as f64 * dx } else { 200.0 - (s + 1) as f64 * dx };
+            let z = -1.0 - 0.5 * ((x / 20.0).sin() * (at[1] / 20.0).cos());
+            let mut to = [x, at[1], z];
+            if edit == Some(moves.len()) {
+                to[2] -= 0.3;
+            }
+            moves.push(Move {
+                kind: MoveKind::Line,
+                phase: Phase::Cut,
+                from: at,
+                to,
+                center: None,
+                axis: None,
+                turns: None,
+                feed: 2000.0,
+                line: moves.len() as u32 + 10,
+            });
+            at = to;
+        }
+        let to = [at[0], (p + 1) as f64 * dy + shift, at[2]];
+        moves.push(Move {
+            kind: MoveKind::Line,
+            phase: Phase::Cut,
+            from: at,
+            to,
+            center: None,
+            axis: None,
+            turns: None,
+            feed: 2000.0,
+            line: moves.len() as u32 + 10,
+        });
+        at = to;
+    }
+    let tech = Technology {
+        feed: 2000.0,
+        feeds: vec![2000.0],
+        spindle_speed: 12000.0,
+        surface_speed: None,
+        spindle: SpindleDir::Cw,
+        coolant: Coolant::Flood,
+    };
+    let mut ws = Workingstep::unmeasured(1, Operation::FreeformMilling, 1, tech, 10.0, moves, ncplan::text::TextRange::new(0, 1), (10, 10));
+    measure(&mut ws, None, None);
+    ProcessPlan { workingsteps: vec![ws], tools: vec![Tool::unknown(1)], ..ProcessPlan::default() }
+}
+
+/// One move of a quarter million changed: the change names its line and its deviation.
+/// (Near-linear time: a quadratic comparison would not finish; timings live in `bench`.)
+#[test]
+fn localisation_on_a_large_program() {
+    let a = raster(500, 499, 0.0, None);
+    let b = raster(500, 499, 0.0, Some(154_321));
+    let got = diff::diff(&a, &b);
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    let c = &got[0];
+    assert_eq!((c.kind.as_str(), c.line, c.original_line), ("toolpath_changed", Some(154_331), Some(154_331)));
+    assert!((c.deviation.unwrap() - 0.3).abs() < 0.01, "{c:?}");
+    let r = c.region.unwrap();
+    assert!(r.max[0] - r.min[0] < 1.0 && r.max[1] - r.min[1] < 1.0, "{r:?}");
+}
+
+/// Every move changed (the whole raster shifted by 0.05 mm): still measured.
+#[test]
+fn localisation_of_a_shift_over_a_large_program() {
+    let a = raster(500, 499, 0.0, None);
+    let b = raster(500, 499, 0.05, None);
+    let got = diff::diff(&a, &b);
+    let c = got.iter().find(|c| c.kind.as_str() == "toolpath_changed").expect("a toolpath change");
+    assert!(c.deviation.unwrap() < 0.1 && c.deviation.unwrap() > 0.0, "{c:?}");
+}
+
+/// A roughing re-posted with other parameters: `tests/programs/cam/edits/pocket_*.nc`.
+fn pocket_edit(variant: &str, want: Expect) {
+    let read = |name: &str| std::fs::read_to_string(crate::root().join(format!("tests/programs/cam/edits/pocket_{name}.nc"))).unwrap();
+    want.assert_eq(&rows(&changes(&read("original"), &read(variant), "fanuc")));
+}
+
+#[test]
+fn stepover() {
+    pocket_edit(
+        "stepover",
+        expect![[r#"
+        stepover_changed | stepover | 5 mm | 4 mm | 12 | 12
+          stepover changed from 5 mm to 4 mm
+    "#]],
+    );
+}
+
+#[test]
+fn allowance() {
+    pocket_edit(
+        "allowance",
+        expect![[r#"
+        allowance_changed | wall_allowance | 0.3 mm | 0.5 mm | 12 | 12
+          wall allowance changed from 0.3 mm to 0.5 mm
+    "#]],
+    );
+}
+
+#[test]
+fn axial_depth() {
+    pocket_edit(
+        "axial_depth",
+        expect![[r#"
+        axial_depth_changed | axial_depth | 3 mm | 2 mm | 12 | 12
+          axial depth changed from 3 mm to 2 mm
+    "#]],
+    );
+}
