@@ -543,7 +543,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 };
                 let registry = registry_for(Some(&config))?;
                 let reader = crate::daemon::ingest::Reader { config: &config, registry: &registry };
-                match store.source(id)?.map(|src| reader.rebuild(&src)).transpose()?.flatten() {
+                match store.source(id)?.map(|src| reader.rebuild(src)).transpose()?.flatten() {
                     Some(plan) => {
                         serde_json::to_writer_pretty(&mut out, &plan)?;
                         writeln!(out)?;

@@ -43,7 +43,15 @@ pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
 /// recovery takes them as the interpreter emits them, so memory holds the plan, not the ops.
 /// Never fails.
 pub fn analyze_plan(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
-    let (source, mut diagnostics) = text::decode(bytes);
+    plan_of(text::decode(bytes), dialect, profile)
+}
+
+/// [`analyze_plan`] of bytes it may take: decoding reuses them, so the text is not a copy.
+pub fn analyze_plan_owned(bytes: Vec<u8>, dialect: &Dialect, profile: &Profile) -> Analysis {
+    plan_of(text::decode_owned(bytes), dialect, profile)
+}
+
+fn plan_of((source, mut diagnostics): (SourceText, Vec<Diagnostic>), dialect: &Dialect, profile: &Profile) -> Analysis {
     let mut recoverer = plan::Recoverer::new(profile);
     diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut recoverer));
     let (plan, plan_diags) = recoverer.finish(program_name(&source.text));

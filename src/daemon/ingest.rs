@@ -152,7 +152,7 @@ pub fn ingest(
     }
     // An analysis of this content that never finished (the process was killed) is not tried again.
     let earlier = store.begin_attempt(&hash, &path_str, now)?;
-    let result = record(path, path, folder, config, registry, store, now, &bytes, &hash, &meta, earlier);
+    let result = record(path, path, folder, config, registry, store, now, bytes, &hash, &meta, earlier);
     if result.is_err() {
         store.finish_attempt(&hash)?;
     }
@@ -183,7 +183,7 @@ pub fn import_file(
         return Ok(Outcome::Unchanged);
     }
     let earlier = store.begin_attempt(&hash, &stored_str, seen_at)?;
-    let result = record(file, stored_as, folder, config, registry, store, seen_at, &bytes, &hash, &meta, earlier);
+    let result = record(file, stored_as, folder, config, registry, store, seen_at, bytes, &hash, &meta, earlier);
     if result.is_err() {
         store.finish_attempt(&hash)?;
     }
@@ -267,7 +267,7 @@ fn record(
     registry: &Registry,
     store: &mut Store,
     now: &str,
-    bytes: &[u8],
+    bytes: Vec<u8>,
     hash: &str,
     meta: &std::fs::Metadata,
     earlier: u32,
@@ -275,14 +275,14 @@ fn record(
     let path_str = stored_as.to_string_lossy().into_owned();
     // A folder with `dialect = "auto"` has each program's dialect told from its text.
     let dialect_name = if folder.dialect == crate::config::AUTO_DIALECT {
-        let s = pipeline::sniff(registry, bytes, path);
+        let s = pipeline::sniff(registry, &bytes, path);
         tracing::info!(path = %path.display(), dialect = %s.dialect, sure = s.confidence.as_str(), evidence = %s.evidence.join(", "), "Dialect told from the program.");
         s.dialect
     } else {
         folder.dialect.clone()
     };
     let reader = Reader { config, registry };
-    let blank = is_blank(bytes);
+    let blank = is_blank(&bytes);
     let (analysis, diagnostics, status) = if blank {
         let what = if bytes.is_empty() { "empty".to_owned() } else { format!("{} bytes of blanks or NUL bytes", bytes.len()) };
         let message = format!("the file holds no program ({what}): a truncated save or an aborted copy; stored, never compared");
@@ -294,7 +294,7 @@ fn record(
         tracing::error!(path = %path.display(), hash, "An earlier analysis of this content never finished; storing it without analysis.");
         (None, vec![finding(Code::AnalysisFailed, message)], "failed")
     } else {
-        let a = reader.analyse(path, folder, &dialect_name, bytes)?;
+        let a = reader.analyse(path, folder, &dialect_name, &bytes)?;
         let idx = LineIndex::new(&a.source.text);
         let ds = a.diagnostics.iter().map(|d| DiagnosticJson::new(d, &a.source.text, &idx)).collect();
         (Some(a), ds, "analysed")
@@ -329,7 +329,7 @@ fn record(
         keys: &keys,
         stem: &stem,
         dialect: &dialect_name,
-        content: Content::Bytes(bytes),
+        content: Content::Bytes(&bytes),
         hash,
         mtime_ns: mtime_ns(meta),
         seen_at: now,
@@ -357,6 +357,8 @@ fn record(
         // Edited programs compared with a partial original are compared again.
         recompare = tx.compared_with(p.id)?;
     }
+    // The bytes are stored: only the plan is needed for the comparisons.
+    drop(bytes);
     let mut changes = None;
     let mut compared = 0;
     if let Some(plan) = &plan {
@@ -417,14 +419,14 @@ impl Reader<'_> {
     /// revisions), else rebuilt from its bytes. `None` when it was never analysed.
     pub fn plan(&self, tx: &Txn<'_>, revision: i64) -> Result<Option<ProcessPlan>> {
         match tx.source(revision)? {
-            Some(src) => self.rebuild(&src),
+            Some(src) => self.rebuild(src),
             None => Ok(None),
         }
     }
 
     /// The whole plan of a stored program: its stored plan when complete, else its bytes read again.
-    pub fn rebuild(&self, src: &crate::store::StoredSource) -> Result<Option<ProcessPlan>> {
-        match (&src.plan, &src.bytes) {
+    pub fn rebuild(&self, src: crate::store::StoredSource) -> Result<Option<ProcessPlan>> {
+        match (&src.plan, src.bytes) {
             (Some((json, true)), _) => Ok(Some(serde_json::from_str(json).context("stored plan is unreadable")?)),
             (Some(_), Some(bytes)) => {
                 let path = Path::new(&src.path);
@@ -441,7 +443,9 @@ impl Reader<'_> {
                         decimal_input: None,
                     },
                 };
-                Ok(Some(self.analyse(path, &folder, &src.dialect, bytes)?.plan))
+                let d = folder.dialect_for(self.registry.get(&src.dialect).with_context(|| format!("unknown dialect `{}`", src.dialect))?);
+                let profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
+                Ok(Some(pipeline::analyze_plan_owned(bytes, &d, &profile).plan))
             }
             _ => Ok(None),
         }
