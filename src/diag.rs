@@ -112,6 +112,23 @@ codes! {
     /// A length without a decimal point under least-increment input, in a program whose other
     /// lengths have one: `X118` is 0.118 mm there, which is rarely what was meant.
     NoDecimalPoint = ("interp::no-decimal-point", Warning),
+    /// A word whose value comes from outside the file (the caller's arguments, retained
+    /// common variables, machine data, global user data): left out, so the block keeps its
+    /// known words. A note on a called program, a warning on a main one.
+    UnknownValue = ("interp::unknown-value", Note),
+    /// A finding that only follows from state the caller sets (its modal feed or spindle),
+    /// noted on a program that is called; on a main program the finding keeps its own code.
+    CallerState = ("interp::caller-state", Note),
+    /// The file reads as a called program (its form, the config or `--as` says so), and
+    /// what that means for the findings.
+    CalledProgram = ("interp::called-program", Note),
+    /// A condition on a value from outside the file: it took the way a run without alarm
+    /// goes (or the dictionary's or config's choice), and the note names it.
+    UnknownCondition = ("flow::unknown-condition", Note),
+    /// A control statement that could not be read (a condition cut short, a jump left
+    /// without its IF): it is skipped instead of acting on what was left of it (the control
+    /// alarms at it).
+    BrokenCondition = ("flow::broken-statement", Warning),
     /// Division by zero or a function outside its domain.
     ArithmeticError = ("interp::arithmetic", Error),
     /// A canned cycle that lacks its depth or retract plane.

@@ -1,6 +1,7 @@
 //! Integration tests: one binary (matklad's advice), one module per area.
 
 mod arch;
+mod called;
 mod cli;
 mod cycles;
 mod daemon;
