@@ -148,6 +148,9 @@ codes! {
     MissingProgram = ("flow::missing-program", Error),
     /// A loop ran past its iteration limit, or the run past its block budget.
     LoopLimit = ("flow::loop-limit", Error),
+    /// The run executed more blocks again (loop passes, backward jumps, repeated calls) than
+    /// the profile's budget: the analysis stops there, the program may well go on.
+    RepeatBudget = ("flow::repeat-budget", Warning),
     /// Calls nested deeper than the dialect allows.
     CallDepth = ("flow::call-depth", Error),
     /// A loop end, branch or return without its opening statement.

@@ -73,6 +73,7 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         reached: Vec::new(),
         broken_blocks: BTreeSet::new(),
         broken: false,
+        repeated: 0,
     };
     let mut interp = Interpreter::new(dialect, profile, text);
     interp.start(sink);
@@ -250,6 +251,8 @@ struct Driver<'a, 'p> {
     broken_blocks: BTreeSet<(usize, usize)>,
     /// Whether the block being run is one of them.
     broken: bool,
+    /// Blocks run again so far (see [`Profile::max_repeated_blocks`]).
+    repeated: u64,
 }
 
 /// A block as the parser left it, and where the next one starts. Its lexical findings are
@@ -323,6 +326,15 @@ impl<'a> Driver<'a, '_> {
                 continue;
             }
             self.executed += 1;
+            if self.repeated > self.profile.max_repeated_blocks {
+                self.tidy(src, mark, diags);
+                let msg = format!(
+                    "the run has executed more than {} blocks again (loops, jumps back, repeated calls); the analysis stops here, and what the program does after it is not analysed",
+                    self.profile.max_repeated_blocks
+                );
+                diags.push(Diagnostic::new(Code::RepeatBudget, block.range, msg));
+                break;
+            }
             if self.executed > self.profile.max_blocks {
                 self.tidy(src, mark, diags);
                 diags.push(Diagnostic::new(
@@ -393,6 +405,7 @@ impl<'a> Driver<'a, '_> {
         if let Some(l) = self.lexed.get(&key).filter(|_| cache) {
             block.clone_from(&l.block);
             self.parser.seek(l.next.at, l.next.line);
+            self.repeated += 1;
             return true;
         }
         if !self.parser.next_block(block, diags) {
@@ -403,6 +416,7 @@ impl<'a> Driver<'a, '_> {
         }
         let reached = &mut self.reached[self.cur];
         if start.at < *reached {
+            self.repeated += 1;
             // Run before: probably in a loop, so kept for the runs to come.
             if cache && self.lexed.len() < BLOCK_CACHE {
                 self.lexed.insert(key, Lexed { block: block.clone(), next: self.pos() });

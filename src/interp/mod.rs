@@ -60,6 +60,11 @@ pub struct Profile {
     pub max_loop_iterations: u64,
     /// Most blocks one run executes, counting repeats, before it stops.
     pub max_blocks: u64,
+    /// Most blocks one run executes again (loop passes, backward jumps, repeated calls)
+    /// before the analysis stops with a warning: this bounds the time and memory of any run
+    /// by the size of the file, whatever the loop budgets. Blocks run for the first time do
+    /// not count, so a long program streams whole.
+    pub max_repeated_blocks: u64,
     /// Where subprograms outside the program's text come from (the shell's program directory).
     pub programs: Option<std::sync::Arc<dyn ProgramSource + Send + Sync>>,
     /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
@@ -117,6 +122,7 @@ impl Default for Profile {
             home2: [0.0; 6],
             max_loop_iterations: 1_000_000,
             max_blocks: 200_000_000,
+            max_repeated_blocks: 250_000,
             programs: None,
             stock: None,
             fast_lane: true,
@@ -585,13 +591,17 @@ impl<'a> Interpreter<'a> {
     /// A finding that only follows from state a caller sets: a note that says what was
     /// assumed (`note`), and `main`, the finding as it stands on a main program, kept for
     /// [`Interpreter::finish`] to put back should the file not read as a called one.
-    fn caller_state(&mut self, diags: &mut Vec<Diagnostic>, main: Diagnostic, note: String) {
+    /// Both are limited as [`Interpreter::limited`] limits findings: a loop's later passes
+    /// add nothing.
+    fn caller_state(&mut self, diags: &mut Vec<Diagnostic>, key: &str, main: Diagnostic, note: String) {
         if self.profile.role == ProgramRole::Main {
-            diags.push(main);
-            return;
+            return self.limited(diags, key, main);
         }
-        diags.push(Diagnostic::new(Code::CallerState, main.range, note));
-        self.provisional.push(main);
+        let range = main.range;
+        let mut provisional = std::mem::take(&mut self.provisional);
+        self.limited(&mut provisional, key, main);
+        self.provisional = provisional;
+        self.limited(diags, "caller-state", Diagnostic::new(Code::CallerState, range, note));
     }
 
     /// Final checks after the last block.

@@ -439,7 +439,7 @@ impl Interpreter<'_> {
             let d = Diagnostic::new(code, range, format!("{} cuts while {p}", def.label()));
             if outside {
                 let note = format!("{} cuts with a {what} this file does not set: the {what} comes from the caller", def.label());
-                self.caller_state(diags, d, note);
+                self.caller_state(diags, "technology", d, note);
             } else {
                 self.limited(diags, "technology", d);
             }

@@ -135,3 +135,26 @@ fn a_broken_condition_takes_no_jump_and_keeps_its_findings() {
     assert!(on_if.len() >= 2, "{diags:#?}");
     assert!(diags.iter().any(|d| d.code.as_str() == "flow::broken-statement"), "{diags:#?}");
 }
+
+/// A loop whose counter changes every round, so that no round repeats the one before, and
+/// whose exit never comes: the run stops at the repeat budget with a warning, and what it
+/// keeps (calls, findings) does not grow with the loop budget.
+#[test]
+fn a_runaway_loop_stops_at_the_repeat_budget_whatever_the_loop_budget() {
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let text = "O0001\n#1=0\nN10 #1=#1+1\nG1 X[#1/1000] Y1. F100\nIF [#1 GT 0] GOTO 10\nM30\n";
+    let run = |max_loop_iterations: u64| {
+        let profile = Profile { max_loop_iterations, max_repeated_blocks: 20_000, ..Profile::default() };
+        let mut out = Vec::new();
+        let diags = interpret(text, &d, &profile, &mut out);
+        (out.len(), diags)
+    };
+    let (small, diags) = run(1_000_000);
+    let (large, _) = run(u64::MAX);
+    assert_eq!(small, large);
+    assert!(small < 30_000, "{small} calls");
+    assert_eq!(codes(&diags).iter().filter(|(_, s)| *s == Severity::Error).count(), 0, "{diags:#?}");
+    assert!(codes(&diags).contains(&("flow::repeat-budget", Severity::Warning)), "{diags:#?}");
+    // The spindle finding of the loop's G1 is listed once, not once a pass.
+    assert!(diags.len() < 10, "{diags:#?}");
+}
