@@ -158,3 +158,24 @@ fn a_runaway_loop_stops_at_the_repeat_budget_whatever_the_loop_budget() {
     // The spindle finding of the loop's G1 is listed once, not once a pass.
     assert!(diags.len() < 10, "{diags:#?}");
 }
+
+/// `check --as main|called|auto`, and the file name in auto: a `.SPF` is a called program.
+#[test]
+fn check_takes_the_role_from_as_or_the_file_name() {
+    let dir = crate::root().join("tests/programs/called");
+    let check = |file: &str, args: &[&str]| {
+        let out = std::process::Command::new(crate::bin()).arg("check").arg(dir.join(file)).args(args).output().unwrap();
+        (out.status.code(), String::from_utf8_lossy(&out.stdout).into_owned())
+    };
+    assert_eq!(check("sub_no_feed.nc", &["-d", "fanuc"]).0, Some(0));
+    let (code, text) = check("sub_no_feed.nc", &["-d", "fanuc", "--as", "main"]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("interp::no-feed"), "{text}");
+    let (code, text) = check("main_no_feed.nc", &["-d", "fanuc", "--as", "called"]);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.contains("the feed comes from the caller"), "{text}");
+    // A Siemens subprogram file without any return or PROC: the extension says it is called.
+    let (code, text) = check("COUNTER.SPF", &["-d", "siemens"]);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.contains("role is given"), "{text}");
+}
