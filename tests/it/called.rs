@@ -179,3 +179,37 @@ fn check_takes_the_role_from_as_or_the_file_name() {
     assert_eq!(code, Some(0), "{text}");
     assert!(text.contains("role is given"), "{text}");
 }
+
+/// Every run ends quickly in bounded memory: `check` on runaway loops and on the largest
+/// corpus files under 64 KB runs with its data segment limited to 100 MB (an allocation past
+/// it aborts the process) and ends well within a few seconds even in a debug build.
+#[test]
+fn check_stays_within_100_mb_on_runaway_loops_and_the_largest_small_files() {
+    let mut files: Vec<std::path::PathBuf> =
+        ["runaway_while.nc", "runaway_goto.nc"].iter().map(|f| crate::root().join("tests/programs/called").join(f)).collect();
+    let corpus = crate::shared().join("corpus");
+    if let Ok(dirs) = std::fs::read_dir(&corpus) {
+        let mut small: Vec<(u64, std::path::PathBuf)> = dirs
+            .flatten()
+            .filter(|d| d.path().is_dir())
+            .flat_map(|d| std::fs::read_dir(d.path()).into_iter().flatten().flatten())
+            .filter_map(|e| Some((e.metadata().ok()?.len(), e.path())))
+            .filter(|(len, _)| *len < 64 * 1024)
+            .collect();
+        small.sort();
+        files.extend(small.into_iter().rev().take(8).map(|(_, p)| p));
+    }
+    for f in files {
+        let started = std::time::Instant::now();
+        let status = std::process::Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -d 102400; exec \"$0\" check \"$1\" >/dev/null 2>&1")
+            .arg(crate::bin())
+            .arg(&f)
+            .status()
+            .unwrap();
+        let took = started.elapsed();
+        assert!(matches!(status.code(), Some(0 | 1)), "{}: {status:?} (over 100 MB?)", f.display());
+        assert!(took < std::time::Duration::from_secs(10), "{}: {took:?}", f.display());
+    }
+}
