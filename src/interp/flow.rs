@@ -265,6 +265,24 @@ struct Lexed {
 /// Most blocks kept lexed (a few megabytes at most).
 const BLOCK_CACHE: usize = 16_384;
 
+/// Whether a statement decides where the run goes (a condition, a jump, a loop): one the
+/// lexer could not read is skipped rather than carried out on what was left of it.
+fn branches(st: Statement) -> bool {
+    matches!(
+        st,
+        Statement::If
+            | Statement::ElseIf
+            | Statement::While
+            | Statement::Until
+            | Statement::For
+            | Statement::Goto
+            | Statement::GotoForward
+            | Statement::GotoBack
+            | Statement::GotoQuiet
+            | Statement::GotoLabel
+    )
+}
+
 /// The first 40 characters of a control statement, for a message.
 fn statement_head<'t>(text: &'t str, c: &Control) -> &'t str {
     let t = &text[c.range.start as usize..c.range.end as usize];
@@ -366,7 +384,7 @@ impl<'a> Driver<'a, '_> {
                         || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
                 }
             }
-            if let Some(control) = block.control.as_ref().filter(|_| self.broken) {
+            if let Some(control) = block.control.as_ref().filter(|c| self.broken && c.statement.is_some_and(branches)) {
                 // The lexer could not read the statement: what it kept of it (a condition cut
                 // short, a jump without its IF) is not what the program says, and the control
                 // stops with an alarm at a block it cannot read.
