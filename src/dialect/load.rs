@@ -487,6 +487,7 @@ impl Cx {
             end_required: false,
             x_diameter: false,
             initial_plane: crate::canon::Plane::Xy,
+            initial_retract_r: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -517,6 +518,7 @@ impl Cx {
                 "motion-without-axes",
                 "x-words",
                 "initial-plane",
+                "initial-retract",
             ],
             &[],
         );
@@ -557,6 +559,7 @@ impl Cx {
         b.unused_words_rejected = self.either(el, "unused-words", "ignored", "rejected");
         b.end_required = self.either(el, "program-end", "optional", "required");
         b.x_diameter = self.either(el, "x-words", "radius", "diameter");
+        b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.initial_plane = match self.attr(el, "initial-plane").unwrap_or("xy") {
             "xy" => crate::canon::Plane::Xy,
             "xz" => crate::canon::Plane::Xz,

@@ -288,6 +288,9 @@ pub struct Behaviour {
     pub x_diameter: bool,
     /// The plane at the program's start and after its end (XZ on a lathe).
     pub initial_plane: crate::canon::Plane,
+    /// Whether canned cycles retract to the R plane (G99) until the program says G98 or G99
+    /// (RS274NGC); otherwise to the initial level (G98, the Fanuc power-on state).
+    pub initial_retract_r: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.

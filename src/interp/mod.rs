@@ -458,7 +458,7 @@ impl<'a> Interpreter<'a> {
                 selected_tool: 0,
                 tool: 0,
                 motion_code: None,
-                retract: Retract::Initial,
+                retract: if dialect.behaviour.initial_retract_r { Retract::RPlane } else { Retract::Initial },
                 wcs: 1,
                 wcs_offsets: [[0.0; 6]; 9],
                 wcs_rotation: [0.0; 9],

@@ -11,6 +11,7 @@ mod encodings;
 mod equivalence;
 mod flow;
 mod macros;
+mod parity;
 mod plan;
 mod robustness;
 mod stepnc;
