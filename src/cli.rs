@@ -77,6 +77,10 @@ enum Command {
         input: Input,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
+        /// Read the file as a main program, as one others call (its caller sets the feed,
+        /// spindle and arguments), or tell it from its form and file name.
+        #[arg(long = "as", value_enum, default_value = "auto")]
+        role: RoleArg,
     },
     /// Print the NIST canonical machining functions, one call per line.
     Canon {
@@ -292,6 +296,14 @@ fn analysis_config(path: Option<&Path>) -> Result<Config> {
 
 /// The dialect, config and bytes of an input file. Without a configured program directory,
 /// called subprograms are looked for beside the file.
+/// `check --as`: the role of the program checked.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum RoleArg {
+    Auto,
+    Main,
+    Called,
+}
+
 fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
     let mut config = analysis_config(input.config.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
@@ -346,8 +358,17 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             crate::daemon::run(config, registry, Arc::new(crate::daemon::SystemClock))?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Check { input, format } => {
-            let (d, config, bytes) = input_setup(&input)?;
+        Command::Check { input, format, role } => {
+            let (d, mut config, bytes) = input_setup(&input)?;
+            config.profile.role = match role {
+                RoleArg::Main => crate::interp::ProgramRole::Main,
+                RoleArg::Called => crate::interp::ProgramRole::Called,
+                RoleArg::Auto => input
+                    .file
+                    .file_name()
+                    .and_then(|n| crate::interp::role_from_file_name(&n.to_string_lossy(), &d))
+                    .unwrap_or(config.profile.role),
+            };
             let a = pipeline::analyze_plan(&bytes, &d, &config.profile);
             let path = input.file.display().to_string();
             let idx = LineIndex::new(&a.source.text);

@@ -124,6 +124,23 @@ codes! {
     /// A length without a decimal point under least-increment input, in a program whose other
     /// lengths have one: `X118` is 0.118 mm there, which is rarely what was meant.
     NoDecimalPoint = ("interp::no-decimal-point", Warning),
+    /// A word whose value comes from outside the file (the caller's arguments, retained
+    /// common variables, machine data, global user data): left out, so the block keeps its
+    /// known words. A note on a called program, a warning on a main one.
+    UnknownValue = ("interp::unknown-value", Note),
+    /// A finding that only follows from state the caller sets (its modal feed or spindle),
+    /// noted on a program that is called; on a main program the finding keeps its own code.
+    CallerState = ("interp::caller-state", Note),
+    /// The file reads as a called program (its form, the config or `--as` says so), and
+    /// what that means for the findings.
+    CalledProgram = ("interp::called-program", Note),
+    /// A condition on a value from outside the file: it took the way a run without alarm
+    /// goes (or the dictionary's or config's choice), and the note names it.
+    UnknownCondition = ("flow::unknown-condition", Note),
+    /// A control statement that could not be read (a condition cut short, a jump left
+    /// without its IF): it is skipped instead of acting on what was left of it (the control
+    /// alarms at it).
+    BrokenCondition = ("flow::broken-statement", Warning),
     /// Division by zero or a function outside its domain.
     ArithmeticError = ("interp::arithmetic", Error),
     /// A canned cycle that lacks its depth or retract plane.
@@ -143,6 +160,9 @@ codes! {
     MissingProgram = ("flow::missing-program", Error),
     /// A loop ran past its iteration limit, or the run past its block budget.
     LoopLimit = ("flow::loop-limit", Error),
+    /// The run executed more blocks again (loop passes, backward jumps, repeated calls) than
+    /// the profile's budget: the analysis stops there, the program may well go on.
+    RepeatBudget = ("flow::repeat-budget", Warning),
     /// Calls nested deeper than the dialect allows.
     CallDepth = ("flow::call-depth", Error),
     /// A loop end, branch or return without its opening statement.

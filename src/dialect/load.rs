@@ -487,6 +487,7 @@ impl Cx {
             end_required: false,
             x_diameter: false,
             initial_plane: crate::canon::Plane::Xy,
+            initial_retract_r: false,
         };
         let Some(el) = el else { return b };
         self.shape(
@@ -517,6 +518,7 @@ impl Cx {
                 "motion-without-axes",
                 "x-words",
                 "initial-plane",
+                "initial-retract",
             ],
             &[],
         );
@@ -557,6 +559,7 @@ impl Cx {
         b.unused_words_rejected = self.either(el, "unused-words", "ignored", "rejected");
         b.end_required = self.either(el, "program-end", "optional", "required");
         b.x_diameter = self.either(el, "x-words", "radius", "diameter");
+        b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.initial_plane = match self.attr(el, "initial-plane").unwrap_or("xy") {
             "xy" => crate::canon::Plane::Xy,
             "xz" => crate::canon::Plane::Xz,
@@ -667,6 +670,11 @@ impl Cx {
                 "bare-if-jump",
                 "unset-variables",
                 "return-value",
+                "outside-variables",
+                "called-programs",
+                "called-extensions",
+                "unknown-conditions",
+                "return-tells-called",
             ],
             &["statement", "arguments", "system-variable"],
         );
@@ -682,7 +690,40 @@ impl Cx {
             ..Macros::default()
         };
         m.bare_conditions = self.either(el, "conditions", "bracketed", "bare");
-        m.unset_reads_zero = self.either(el, "unset-variables", "error", "zero");
+        match self.attr(el, "unset-variables") {
+            None | Some("error") => {}
+            Some("zero") => m.unset_reads_zero = true,
+            Some("unknown") => m.unset_unknown = true,
+            Some(other) => {
+                self.error(Self::attr_range(el, "unset-variables"), format!("`unset-variables` is error, zero or unknown, not `{other}`"))
+            }
+        }
+        m.unknown_conditions = self.either(el, "unknown-conditions", "false", "true");
+        m.return_tells_called = self.bool(el, "return-tells-called", true);
+        if let Some(v) = self.attr(el, "outside-variables") {
+            for part in v.split_whitespace() {
+                let (a, b) = part.split_once('-').unwrap_or((part, part));
+                match (a.trim().parse::<u32>(), b.trim().parse::<u32>()) {
+                    (Ok(a), Ok(b)) if a <= b => m.outside.push((a, b)),
+                    _ => self.error(
+                        Self::attr_range(el, "outside-variables"),
+                        format!("`outside-variables` lists ranges such as 100-199 500-999, not `{part}`"),
+                    ),
+                }
+            }
+        }
+        if let Some(v) = self.attr(el, "called-programs") {
+            match v.split_once('-').and_then(|(a, b)| Some((a.trim().parse::<u32>().ok()?, b.trim().parse::<u32>().ok()?))) {
+                Some((a, b)) if a <= b => m.called_numbers = Some((a, b)),
+                _ => self.error(
+                    Self::attr_range(el, "called-programs"),
+                    format!("`called-programs` must be a range such as 9000-9999, not `{v}`"),
+                ),
+            }
+        }
+        if let Some(v) = self.attr(el, "called-extensions") {
+            m.called_extensions = v.split_whitespace().map(|e| e.trim_start_matches('.').to_ascii_lowercase()).collect();
+        }
         m.call_repeat_additional = self.either(el, "call-repeat-counts", "total", "additional");
         m.main_return = match self.attr(el, "main-return").unwrap_or("error") {
             "error" => MainReturn::Error,

@@ -288,6 +288,9 @@ pub struct Behaviour {
     pub x_diameter: bool,
     /// The plane at the program's start and after its end (XZ on a lathe).
     pub initial_plane: crate::canon::Plane,
+    /// Whether canned cycles retract to the R plane (G99) until the program says G98 or G99
+    /// (RS274NGC); otherwise to the initial level (G98, the Fanuc power-on state).
+    pub initial_retract_r: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.
@@ -336,6 +339,22 @@ pub struct Macros {
     pub bare_if_jump: bool,
     /// Whether a variable read before it is set is 0 (with a note) instead of an error.
     pub unset_reads_zero: bool,
+    /// Whether a named variable read before the file declares or sets it is unknown: global
+    /// user data or the caller's (Siemens GUD), rather than an error.
+    pub unset_unknown: bool,
+    /// Numbered variables whose values come from outside the file (retained common
+    /// variables, machine inputs and data): unknown until the program sets them.
+    pub outside: Vec<(u32, u32)>,
+    /// Whether a return at the top level shows a called program. False where main programs
+    /// end with the same word (Heidenhain `END PGM`).
+    pub return_tells_called: bool,
+    /// Program numbers a control reserves for called programs (Fanuc O9000–O9999 macros).
+    pub called_numbers: Option<(u32, u32)>,
+    /// File extensions (lower case, without the dot) of called programs (Siemens `spf`).
+    pub called_extensions: Vec<String>,
+    /// How a condition on an unknown value is taken when neither way leads to an alarm:
+    /// true or false (the dictionary's choice; the config may override it).
+    pub unknown_conditions: bool,
     /// The address that names the block a subprogram call starts at (`M98 P100 H20`), if any.
     pub call_start: Option<u8>,
     /// What a return in the main program does.
@@ -374,6 +393,12 @@ impl Default for Macros {
             call_start: None,
             bare_if_jump: false,
             unset_reads_zero: false,
+            unset_unknown: false,
+            outside: Vec::new(),
+            called_numbers: None,
+            return_tells_called: true,
+            called_extensions: Vec::new(),
+            unknown_conditions: false,
             main_return: MainReturn::Error,
             return_value: None,
         }
@@ -399,6 +424,11 @@ impl Macros {
             .iter()
             .find(|(k, _)| word.len() >= k.len() && word.as_bytes()[..k.len()].eq_ignore_ascii_case(k.as_bytes()))
             .map(|(k, st)| (k.as_str(), *st))
+    }
+
+    /// Whether program number `n` is one the control reserves for called programs.
+    pub fn is_called_number(&self, n: u32) -> bool {
+        self.called_numbers.is_some_and(|(a, b)| (a..=b).contains(&n))
     }
 
     /// What system variable `n` is, if any.

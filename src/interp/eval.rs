@@ -12,6 +12,26 @@ pub const MAX_PARAM: usize = 10_000;
 /// `EQ`/`NE` tell apart from zero.
 pub const NULL: f64 = f64::NAN;
 
+/// A value that comes from outside the file: the caller's arguments, retained common
+/// variables, machine data, global user data. A NaN with its own payload, so that it travels
+/// through the parameter table like any value; arithmetic on it stays unknown (see [`eval`]),
+/// and a word whose value is unknown is omitted, as a vacant one is, with a note.
+pub const UNKNOWN: f64 = f64::from_bits(0x7FF8_0000_0BAD_F00D);
+
+/// Whether `v` is [`UNKNOWN`] (whatever its sign: negation flips only the sign bit).
+pub fn is_unknown(v: f64) -> bool {
+    v.to_bits() & !(1 << 63) == UNKNOWN.to_bits()
+}
+
+/// Where the first unknown value an evaluation read came from.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum UnknownSource {
+    /// A numbered parameter (`#101`, `R5`).
+    Numbered(u32),
+    /// A named parameter (`_X_HOME`, a `PROC` argument).
+    Named(String),
+}
+
 /// Numbered and named parameters.
 #[derive(Clone, Debug)]
 pub struct Params {
@@ -19,6 +39,9 @@ pub struct Params {
     named: BTreeMap<String, f64>,
     /// FIX and FUP round toward and away from zero (Fanuc family) instead of down and up.
     pub magnitude_rounding: bool,
+    /// The first unknown value read since [`Params::take_unknown_read`] (the interpreter
+    /// names it in its notes).
+    unknown_read: std::cell::RefCell<Option<UnknownSource>>,
 }
 
 impl Default for Params {
@@ -53,7 +76,37 @@ impl Params {
     /// A table whose variables start vacant (`null`) or at zero. `#0` is always vacant in
     /// the first case.
     pub fn new(null: bool) -> Params {
-        Params { numbered: vec![if null { NULL } else { 0.0 }; MAX_PARAM], named: BTreeMap::new(), magnitude_rounding: false }
+        Params {
+            numbered: vec![if null { NULL } else { 0.0 }; MAX_PARAM],
+            named: BTreeMap::new(),
+            magnitude_rounding: false,
+            unknown_read: std::cell::RefCell::new(None),
+        }
+    }
+
+    /// Sets the numbered range `first..=last` to [`UNKNOWN`]: values the program finds set.
+    pub fn mark_unknown(&mut self, first: u32, last: u32) {
+        let last = (last as usize).min(MAX_PARAM - 1);
+        if (first as usize) <= last {
+            self.numbered[first as usize..=last].fill(UNKNOWN);
+        }
+    }
+
+    /// The first unknown value read since [`Params::take_unknown_read`].
+    pub fn unknown_read_peek(&self) -> Option<UnknownSource> {
+        self.unknown_read.borrow().clone()
+    }
+
+    /// The first unknown value read since the last call, and forgets it.
+    pub fn take_unknown_read(&self) -> Option<UnknownSource> {
+        self.unknown_read.borrow_mut().take()
+    }
+
+    fn note_unknown(&self, source: impl FnOnce() -> UnknownSource) {
+        let mut r = self.unknown_read.borrow_mut();
+        if r.is_none() {
+            *r = Some(source());
+        }
     }
 
     /// Saves and resets the numbered range `first..=last` (a call's locals); returns the
@@ -88,7 +141,11 @@ impl Params {
     /// The value of numbered parameter `n`.
     pub fn get(&self, n: f64) -> Result<f64, EvalError> {
         let i = index(n)?;
-        Ok(self.numbered[i])
+        let v = self.numbered[i];
+        if is_unknown(v) {
+            self.note_unknown(|| UnknownSource::Numbered(i as u32));
+        }
+        Ok(v)
     }
 
     /// Sets numbered parameter `n`.
@@ -100,7 +157,11 @@ impl Params {
 
     /// The value of a named parameter.
     pub fn get_named(&self, name: &str) -> Result<f64, EvalError> {
-        self.named.get(name).copied().ok_or_else(|| EvalError::Undefined(name.to_owned()))
+        let v = self.named.get(name).copied().ok_or_else(|| EvalError::Undefined(name.to_owned()))?;
+        if is_unknown(v) {
+            self.note_unknown(|| UnknownSource::Named(name.to_owned()));
+        }
+        Ok(v)
     }
 
     /// Sets a named parameter.
@@ -146,7 +207,11 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
     let Some(e) = block.exprs.get(id as usize) else { return Err(EvalError::Domain("invalid expression")) };
     Ok(match *e {
         Expr::Num(v) => v,
-        Expr::Param(inner) => params.get(eval(block, inner, params, text)?)?,
+        Expr::Param(inner) => {
+            let n = eval(block, inner, params, text)?;
+            // `#[#1]` with #1 unknown: which parameter is read is unknown, and so is its value.
+            if is_unknown(n) { UNKNOWN } else { params.get(n)? }
+        }
         Expr::Named(r) => params.get_named(&normalised(&text[r.start as usize..r.end as usize]))?,
         Expr::NamedIndex(r, index) => {
             let i = eval(block, index, params, text)?;
@@ -158,6 +223,7 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
             Some(&Expr::Param(i)) => f64::from(u8::from(index(eval(block, i, params, text)?).is_ok_and(|i| i >= 1))),
             _ => 0.0,
         },
+        Expr::Unary(f, inner) if f != Func::Exists && is_unknown(eval(block, inner, params, text)?) => UNKNOWN,
         Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => zero_if_null(eval(block, inner, params, text)?).trunc(),
         Expr::Unary(Func::Fup, inner) if params.magnitude_rounding => {
             let x = zero_if_null(eval(block, inner, params, text)?);
@@ -166,6 +232,9 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
         Expr::Unary(f, inner) => unary(f, zero_if_null(eval(block, inner, params, text)?))?,
         Expr::Atan2(y, x) => {
             let (y, x) = (eval(block, y, params, text)?, eval(block, x, params, text)?);
+            if is_unknown(y) || is_unknown(x) {
+                return Ok(UNKNOWN);
+            }
             zero_if_null(y).atan2(zero_if_null(x)).to_degrees()
         }
         Expr::Binary(op, a, b) => binary(op, eval(block, a, params, text)?, eval(block, b, params, text)?)?,
@@ -252,6 +321,10 @@ fn unary(f: Func, x: f64) -> Result<f64, EvalError> {
 
 fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, EvalError> {
     let truth = |c: bool| f64::from(u8::from(c));
+    // Unknown values: whatever the operation, the result is unknown too.
+    if is_unknown(a) || is_unknown(b) {
+        return Ok(UNKNOWN);
+    }
     // Vacant values: EQ and NE tell them from zero; everything else reads them as zero.
     match (op, a.is_nan(), b.is_nan()) {
         (BinOp::Eq, true, _) | (BinOp::Eq, _, true) => return Ok(truth(a.is_nan() && b.is_nan())),

@@ -95,6 +95,7 @@ impl Interpreter<'_> {
         // The feed step, as `step(Feed)` does.
         if let Some(f) = feed {
             self.st.feed = f;
+            self.st.feed_unknown = false;
             self.st.tech_warned = false;
             self.emit(sink, CanonOp::SetFeedRate(f));
         }

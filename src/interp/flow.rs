@@ -71,6 +71,9 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         library: false,
         lexed: BTreeMap::new(),
         reached: Vec::new(),
+        broken_blocks: BTreeSet::new(),
+        broken: false,
+        repeated: 0,
     };
     let mut interp = Interpreter::new(dialect, profile, text);
     interp.start(sink);
@@ -243,6 +246,13 @@ struct Driver<'a, 'p> {
     lexed: BTreeMap<(usize, usize), Lexed>,
     /// Per source, the furthest offset lexed: a block before it has run before.
     reached: Vec<usize>,
+    /// Control blocks whose lexing found errors (source, offset): their conditions are
+    /// not what the program says.
+    broken_blocks: BTreeSet<(usize, usize)>,
+    /// Whether the block being run is one of them.
+    broken: bool,
+    /// Blocks run again so far (see [`Profile::max_repeated_blocks`]).
+    repeated: u64,
 }
 
 /// A block as the parser left it, and where the next one starts. Its lexical findings are
@@ -254,6 +264,24 @@ struct Lexed {
 
 /// Most blocks kept lexed (a few megabytes at most).
 const BLOCK_CACHE: usize = 16_384;
+
+/// Whether a statement decides where the run goes (a condition, a jump, a loop): one the
+/// lexer could not read is skipped rather than carried out on what was left of it.
+fn branches(st: Statement) -> bool {
+    matches!(
+        st,
+        Statement::If
+            | Statement::ElseIf
+            | Statement::While
+            | Statement::Until
+            | Statement::For
+            | Statement::Goto
+            | Statement::GotoForward
+            | Statement::GotoBack
+            | Statement::GotoQuiet
+            | Statement::GotoLabel
+    )
+}
 
 /// The first 40 characters of a control statement, for a message.
 fn statement_head<'t>(text: &'t str, c: &Control) -> &'t str {
@@ -293,6 +321,18 @@ impl<'a> Driver<'a, '_> {
                 }
                 continue;
             }
+            if block.control.is_some() {
+                let range = block.range;
+                if diags[mark..]
+                    .iter()
+                    .any(|d| d.is_error() && d.range.start >= range.start && d.range.start < range.end.max(range.start + 1))
+                {
+                    self.broken_blocks.insert((src, start.at));
+                }
+                self.broken = !self.broken_blocks.is_empty() && self.broken_blocks.contains(&(src, start.at));
+            } else {
+                self.broken = false;
+            }
             if let Some(f) = self.frames.last()
                 && f.kind == FrameKind::Section
                 && self.cur == f.source
@@ -304,6 +344,15 @@ impl<'a> Driver<'a, '_> {
                 continue;
             }
             self.executed += 1;
+            if self.repeated > self.profile.max_repeated_blocks {
+                self.tidy(src, mark, diags);
+                let msg = format!(
+                    "the run has executed more than {} blocks again (loops, jumps back, repeated calls); the analysis stops here, and what the program does after it is not analysed",
+                    self.profile.max_repeated_blocks
+                );
+                diags.push(Diagnostic::new(Code::RepeatBudget, block.range, msg));
+                break;
+            }
             if self.executed > self.profile.max_blocks {
                 self.tidy(src, mark, diags);
                 diags.push(Diagnostic::new(
@@ -314,6 +363,9 @@ impl<'a> Driver<'a, '_> {
                 break;
             }
             if src == 0 && self.frames.is_empty() {
+                if let Some(n) = block.program_number.filter(|&n| !self.main_work && self.dialect.macros.is_called_number(n)) {
+                    interp.called_by(|| format!("its number O{n:04} is one the control reserves for called programs"));
+                }
                 if block.delimiter {
                     if self.delimiters > 0 {
                         interp.finish_at_delimiter(sink);
@@ -331,6 +383,18 @@ impl<'a> Driver<'a, '_> {
                         || !block.assigns.is_empty()
                         || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
                 }
+            }
+            if let Some(control) = block.control.as_ref().filter(|c| self.broken && c.statement.is_some_and(branches)) {
+                // The lexer could not read the statement: what it kept of it (a condition cut
+                // short, a jump without its IF) is not what the program says, and the control
+                // stops with an alarm at a block it cannot read.
+                let head = statement_head(self.sources[self.cur].text, control);
+                let msg = format!(
+                    "the statement `{head}` could not be read and is skipped: no jump, branch or loop is taken on what was left of it (the control alarms here)"
+                );
+                diags.push(Diagnostic::new(Code::BrokenCondition, block.range, msg));
+                self.tidy(src, mark, diags);
+                continue;
             }
             if let Some(control) = block.control.take() {
                 self.control(&control, &block, start, interp, sink, diags);
@@ -359,6 +423,7 @@ impl<'a> Driver<'a, '_> {
         if let Some(l) = self.lexed.get(&key).filter(|_| cache) {
             block.clone_from(&l.block);
             self.parser.seek(l.next.at, l.next.line);
+            self.repeated += 1;
             return true;
         }
         if !self.parser.next_block(block, diags) {
@@ -369,6 +434,7 @@ impl<'a> Driver<'a, '_> {
         }
         let reached = &mut self.reached[self.cur];
         if start.at < *reached {
+            self.repeated += 1;
             // Run before: probably in a loop, so kept for the runs to come.
             if cache && self.lexed.len() < BLOCK_CACHE {
                 self.lexed.insert(key, Lexed { block: block.clone(), next: self.pos() });
@@ -491,13 +557,117 @@ impl<'a> Driver<'a, '_> {
         }
     }
 
-    fn condition(&self, interp: &mut Interpreter<'a>, c: &Control, block: &Block, diags: &mut Vec<Diagnostic>) -> Option<bool> {
+    fn condition(&mut self, interp: &mut Interpreter<'a>, c: &Control, block: &Block, diags: &mut Vec<Diagnostic>) -> Option<bool> {
         let Some(&e) = c.args.first() else {
             diags.push(Diagnostic::new(Code::MalformedExpression, c.range, "the statement needs a bracketed condition"));
             return None;
         };
         let v = self.value(interp, block, e, diags)?;
+        if eval::is_unknown(v) {
+            return Some(self.unknown_condition(interp, c, block, diags));
+        }
         Some(!eval::is_null(v) && v != 0.0)
+    }
+
+    /// The way a condition on an unknown value goes: the one a run without alarm takes; for
+    /// a loop, the way out of it (a successful run ends its loops); else the config's or the
+    /// dictionary's choice (`unknown-conditions`). A note names the condition.
+    fn unknown_condition(&mut self, interp: &mut Interpreter<'a>, c: &Control, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let text = self.sources[self.cur].text;
+        let here = self.pos();
+        let what = interp.unknown_what();
+        let choice = self.profile.unknown_conditions.unwrap_or(self.dialect.macros.unknown_conditions);
+        let jump = matches!(
+            c.then,
+            Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
+        );
+        let (value, why) = match c.statement {
+            Some(Statement::If) if c.then == Some(Statement::Then) => {
+                self.alarm_choice(self.is_alarm(block, text), self.alarm_at(here), choice)
+            }
+            Some(Statement::If) if jump => match self.jump_target(c, block, interp) {
+                Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
+                target => {
+                    let at_target = target.is_some_and(|t| self.alarm_at(t));
+                    self.alarm_choice(at_target, self.alarm_at(here), choice)
+                }
+            },
+            Some(Statement::If | Statement::ElseIf) => self.alarm_choice(self.alarm_at(here), false, choice),
+            Some(Statement::Until) => (true, "the loop is left: a run that ends leaves its loops"),
+            _ => (false, "the loop is left: a run that ends leaves its loops"),
+        };
+        let head = statement_head(text, c);
+        let msg = format!("the condition of `{head}` reads {what}; taken as {value}: {why}");
+        diags.push(Diagnostic::new(Code::UnknownCondition, c.range, msg));
+        value
+    }
+
+    /// The value of a condition whose true way leads to an alarm or not, and its false way.
+    fn alarm_choice(&self, true_alarm: bool, false_alarm: bool, choice: bool) -> (bool, &'static str) {
+        match (true_alarm, false_alarm) {
+            (true, false) => (false, "the other way raises the program's alarm"),
+            (false, true) => (true, "the other way raises the program's alarm"),
+            _ => (choice, "the dictionary's (or config's) choice for a condition on an unknown value"),
+        }
+    }
+
+    /// Where a conditional jump goes, without going there (block numbers and labels).
+    fn jump_target(&mut self, c: &Control, block: &Block, interp: &mut Interpreter<'a>) -> Option<Pos> {
+        let here = self.pos();
+        let mut scratch = Vec::new();
+        if c.name.is_none() {
+            let e = c.target?;
+            let v = self.value(interp, block, e, &mut scratch)?;
+            if eval::is_null(v) || v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
+                return None;
+            }
+            let positions = self.numbered_blocks(self.cur, v as u32);
+            return positions.iter().find(|p| p.at >= here.at).or(positions.first()).copied();
+        }
+        let name = self.target_label(c, block, interp, &mut scratch)?;
+        let marks = self.marks(self.cur);
+        let at = |m: &&Mark| m.defines.as_deref() == Some(name.as_str());
+        marks.iter().filter(at).find(|m| m.start.at >= here.at).or_else(|| marks.iter().find(at)).map(|m| m.start)
+    }
+
+    /// Whether the first block with content at `at` (of the next few) raises an alarm.
+    fn alarm_at(&self, at: Pos) -> bool {
+        let text = self.sources[self.cur].text;
+        let mut p = Parser::new(text, self.dialect);
+        p.seek(at.at, at.line);
+        let (mut b, mut scratch) = (Block::default(), Vec::new());
+        for _ in 0..4 {
+            if !p.next_block(&mut b, &mut scratch) {
+                return false;
+            }
+            // A conditional alarm (`IF [..] THEN #3000=1`) is another question, not this way's end.
+            if b.control.is_none() && self.is_alarm(&b, text) {
+                return true;
+            }
+            if !b.words.is_empty() || !b.assigns.is_empty() || b.control.is_some() {
+                return false;
+            }
+        }
+        false
+    }
+
+    /// Whether `b` raises an alarm: it sets the alarm variable (`#3000 = 1`), names an error
+    /// (`FN 14: ERROR=`), or aborts in a comment (`(abort, …)`).
+    fn is_alarm(&self, b: &Block, text: &str) -> bool {
+        let alarm_var = |e: ExprId| match b.exprs.get(e as usize) {
+            Some(&Expr::Num(n)) if n >= 0.0 && n.fract() == 0.0 => {
+                self.dialect.macros.system_var(n as u32) == Some(crate::dialect::SystemVar::Alarm)
+            }
+            _ => false,
+        };
+        b.assigns.iter().any(|a| matches!(a.target, crate::syntax::ParamTarget::Numbered(e) if alarm_var(e)))
+            || b.words.iter().any(|w| w.role == crate::dialect::Role::AlarmNumber)
+            || b.comments.iter().any(|r| {
+                matches!(
+                    self.dialect.lexical.directive(&text[r.start as usize..r.end as usize]),
+                    Some((crate::dialect::Directive::Abort, _))
+                )
+            })
     }
 
     fn count_iteration(&mut self, k: usize, range: TextRange, interp: &Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
@@ -1141,6 +1311,10 @@ impl<'a> Driver<'a, '_> {
     fn procedure(&mut self, c: &Control, interp: &mut Interpreter<'a>) {
         let text = self.sources[self.cur].text;
         let line = &text[c.range.start as usize..c.range.end as usize];
+        let alone = self.frames.is_empty();
+        if alone {
+            interp.called_by(|| "it starts with a PROC header".to_owned());
+        }
         let args = self.frames.last_mut().and_then(|f| f.proc_args.take()).unwrap_or_default();
         let Some(open) = line.find('(') else { return };
         let close = line.rfind(')').filter(|&p| p > open).unwrap_or(line.len());
@@ -1154,7 +1328,8 @@ impl<'a> Driver<'a, '_> {
             if name.is_empty() {
                 continue;
             }
-            let v = args.get(k).copied().or(default).unwrap_or(0.0);
+            // Analysed on its own, the procedure's arguments are the caller's: unknown here.
+            let v = args.get(k).copied().or(default).unwrap_or(if alone { eval::UNKNOWN } else { 0.0 });
             interp.params.set_named(&eval::normalised(name), v);
         }
     }
@@ -1713,6 +1888,15 @@ impl<'a> Driver<'a, '_> {
     /// A return in the main program: its end (a subprogram checked on its own), or on a
     /// control that restarts the program, the end of the analysis after one pass.
     fn main_return(&mut self, block: &Block, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        if self.cur == 0 && self.dialect.macros.return_tells_called {
+            interp.called_by(|| "it ends with a return (M99, M17, RET), not a program end".to_owned());
+        }
+        if interp.is_called() {
+            // A called program analysed on its own: its return ends the analysis.
+            interp.program_end(sink);
+            self.stop = true;
+            return;
+        }
         match self.dialect.macros.main_return {
             MainReturn::Restart => diags.push(Diagnostic::new(
                 Code::Unsupported,
@@ -1741,7 +1925,7 @@ impl<'a> Driver<'a, '_> {
             }
             return;
         }
-        if !self.dialect.behaviour.end_required {
+        if !self.dialect.behaviour.end_required || interp.is_called() {
             return;
         }
         let end = self.sources[0].text.trim_end().len();

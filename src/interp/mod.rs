@@ -60,6 +60,11 @@ pub struct Profile {
     pub max_loop_iterations: u64,
     /// Most blocks one run executes, counting repeats, before it stops.
     pub max_blocks: u64,
+    /// Most blocks one run executes again (loop passes, backward jumps, repeated calls)
+    /// before the analysis stops with a warning: this bounds the time and memory of any run
+    /// by the size of the file, whatever the loop budgets. Blocks run for the first time do
+    /// not count, so a long program streams whole.
+    pub max_repeated_blocks: u64,
     /// Where subprograms outside the program's text come from (the shell's program directory).
     pub programs: Option<std::sync::Arc<dyn ProgramSource + Send + Sync>>,
     /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
@@ -69,6 +74,37 @@ pub struct Profile {
     /// Off, every block is lexed and goes the general way; both give the same result, and
     /// tests check it.
     pub fast_lane: bool,
+    /// Whether the file is a main program, a program others call, or to be told from its
+    /// form (the config's `role`, `check --as`).
+    pub role: ProgramRole,
+    /// How a condition on an unknown value goes when neither way leads to an alarm; `None`
+    /// takes the dictionary's choice (`unknown-conditions`).
+    pub unknown_conditions: Option<bool>,
+}
+
+/// Whether a file is a main program or a called one (a subprogram, a macro, a `PROC`).
+///
+/// A called program analysed on its own relies on state its caller sets: the modal feed and
+/// spindle, its arguments. Findings that only follow from that missing state are notes on a
+/// called program; on a main program they keep their severity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ProgramRole {
+    /// Told from the program's form: a return (`M99`, `M17`, `RET`) at its top level, a
+    /// `PROC` header, a program number the control reserves for macros (O9xxx), an argument
+    /// read before it is written, or the file extension (`.SPF`, see [`role_from_file_name`]).
+    #[default]
+    Auto,
+    /// A main program: it starts from the control's power-on state.
+    Main,
+    /// A program another one calls.
+    Called,
+}
+
+/// The role a file's name says, where the dictionary lists extensions of called programs
+/// (Siemens `.SPF`).
+pub fn role_from_file_name(name: &str, dialect: &Dialect) -> Option<ProgramRole> {
+    let (_, ext) = name.rsplit_once('.')?;
+    dialect.macros.called_extensions.iter().any(|e| e.eq_ignore_ascii_case(ext)).then_some(ProgramRole::Called)
 }
 
 impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
@@ -86,9 +122,12 @@ impl Default for Profile {
             home2: [0.0; 6],
             max_loop_iterations: 1_000_000,
             max_blocks: 200_000_000,
+            max_repeated_blocks: 250_000,
             programs: None,
             stock: None,
             fast_lane: true,
+            role: ProgramRole::Auto,
+            unknown_conditions: None,
         }
     }
 }
@@ -317,6 +356,11 @@ struct State {
     /// Whether a length with a decimal point has been read under least-increment input:
     /// after one, a length without (`X118`, 0.118 mm) is suspect.
     length_points: bool,
+    /// Whether the feed is the caller's (a called program that has set none) or an unknown
+    /// value: not zero.
+    feed_unknown: bool,
+    /// Whether the spindle is the caller's (a called program that has not set it).
+    spindle_unknown: bool,
 }
 
 /// What decides how a run goes on from a point: the parameters, the modes, the saved modes
@@ -342,6 +386,8 @@ pub struct Interpreter<'a> {
     filled: u128,
     /// Bit per [`Step`] at which one of the block's codes takes effect.
     code_steps: u32,
+    /// Bit per role whose word in the block has an unknown value (left out of the slots).
+    unknown_roles: u128,
     /// Whether the block being executed has axis words (set by `read`).
     has_axes: bool,
     codes: Vec<(usize, TextRange)>,
@@ -383,6 +429,11 @@ pub struct Interpreter<'a> {
     cycle_args: Vec<(Role, f64)>,
     /// Tool names met in `T="NAME"` that the tool table does not know, numbered from 10001.
     tool_names: Vec<String>,
+    /// Why the file reads as a called program, once something shows it (see [`ProgramRole`]).
+    called: Option<String>,
+    /// Findings that follow from state a caller would set, as they stand if the file turns
+    /// out to be a main program; meanwhile they are notes (`interp::caller-state`).
+    provisional: Vec<Diagnostic>,
 }
 
 const NOTE_LIMIT: u32 = 3;
@@ -407,7 +458,7 @@ impl<'a> Interpreter<'a> {
                 selected_tool: 0,
                 tool: 0,
                 motion_code: None,
-                retract: Retract::Initial,
+                retract: if dialect.behaviour.initial_retract_r { Retract::RPlane } else { Retract::Initial },
                 wcs: 1,
                 wcs_offsets: [[0.0; 6]; 9],
                 wcs_rotation: [0.0; 9],
@@ -446,10 +497,19 @@ impl<'a> Interpreter<'a> {
                 cycle_initial: None,
                 machine_data_read: false,
                 length_points: false,
+                feed_unknown: profile.role != ProgramRole::Main,
+                spindle_unknown: profile.role != ProgramRole::Main,
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
                 p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
+                for &(a, b) in &dialect.macros.outside {
+                    p.mark_unknown(a, b);
+                }
+                if profile.role != ProgramRole::Main && dialect.macros.arguments.iter().any(Option::is_some) {
+                    // The caller's arguments: unknown, not vacant, in a program that may be called.
+                    p.mark_unknown(u32::from(dialect.macros.locals.0), u32::from(dialect.macros.locals.1));
+                }
                 if let Some(name) = &dialect.macros.return_value {
                     p.set_named(name, 0.0);
                     p.set_named(&format!("{name}_returned"), 0.0);
@@ -458,6 +518,7 @@ impl<'a> Interpreter<'a> {
             },
             slots: [None; Role::COUNT],
             filled: 0,
+            unknown_roles: 0,
             code_steps: 0,
             has_axes: false,
             codes: Vec::new(),
@@ -496,6 +557,9 @@ impl<'a> Interpreter<'a> {
             block_cycle: None,
             cycle_args: Vec::new(),
             tool_names: Vec::new(),
+            called: (profile.role == ProgramRole::Called)
+                .then(|| "its role is given: the configuration, `--as` or its file name".to_owned()),
+            provisional: Vec::new(),
         }
     }
 
@@ -511,8 +575,47 @@ impl<'a> Interpreter<'a> {
         self.st.ended
     }
 
+    /// Notes that the file reads as a called program, for `why`, unless that is known
+    /// already or the profile says it is a main program.
+    pub(super) fn called_by(&mut self, why: impl FnOnce() -> String) {
+        if self.called.is_none() && self.profile.role != ProgramRole::Main {
+            self.called = Some(why());
+        }
+    }
+
+    /// Whether the file reads as a called program so far.
+    pub(super) fn is_called(&self) -> bool {
+        self.called.is_some()
+    }
+
+    /// A finding that only follows from state a caller sets: a note that says what was
+    /// assumed (`note`), and `main`, the finding as it stands on a main program, kept for
+    /// [`Interpreter::finish`] to put back should the file not read as a called one.
+    /// Both are limited as [`Interpreter::limited`] limits findings: a loop's later passes
+    /// add nothing.
+    fn caller_state(&mut self, diags: &mut Vec<Diagnostic>, key: &str, main: Diagnostic, note: String) {
+        if self.profile.role == ProgramRole::Main {
+            return self.limited(diags, key, main);
+        }
+        let range = main.range;
+        let mut provisional = std::mem::take(&mut self.provisional);
+        self.limited(&mut provisional, key, main);
+        self.provisional = provisional;
+        self.limited(diags, "caller-state", Diagnostic::new(Code::CallerState, range, note));
+    }
+
     /// Final checks after the last block.
     pub fn finish(&mut self, diags: &mut Vec<Diagnostic>) {
+        if self.called.is_none() && !self.provisional.is_empty() {
+            // Nothing showed the file to be a called program: the caller's state was the
+            // power-on state after all.
+            let provisional: BTreeSet<(u32, u32)> = self.provisional.iter().map(|d| (d.range.start, d.range.end)).collect();
+            diags.retain(|d| d.code != Code::CallerState || !provisional.contains(&(d.range.start, d.range.end)));
+            diags.append(&mut self.provisional);
+        } else if let Some(why) = &self.called {
+            let msg = format!("read as a called program ({why}): its caller sets the state it starts from");
+            diags.push(Diagnostic::new(Code::CalledProgram, TextRange::default(), msg));
+        }
         for (what, count) in &self.notes {
             if *count > NOTE_LIMIT {
                 diags.push(Diagnostic::new(
@@ -899,6 +1002,7 @@ impl<'a> Interpreter<'a> {
             filled &= filled - 1;
         }
         self.code_steps = 0;
+        self.unknown_roles = 0;
         self.codes.clear();
         self.block_cycle = None;
         self.cycle_args.clear();
@@ -931,6 +1035,10 @@ impl<'a> Interpreter<'a> {
                 ok = false;
                 continue;
             };
+            if eval::is_unknown(v) {
+                self.unknown_word(w.range, diags);
+                continue;
+            }
             if eval::is_null(v) {
                 continue; // a word whose value is vacant is omitted
             }
@@ -981,6 +1089,7 @@ impl<'a> Interpreter<'a> {
             }
             if w.cycle_arg {
                 match self.value(block, w.value, w.range, diags) {
+                    Some(v) if eval::is_unknown(v) => self.unknown_word(w.range, diags),
                     Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),
                     Some(_) => {}
                     None => ok = false,
@@ -1015,6 +1124,16 @@ impl<'a> Interpreter<'a> {
                     }
                 },
                 Value::Expr(_) => match self.value(block, w.value, w.range, diags) {
+                    Some(v) if eval::is_unknown(v) => {
+                        if role == Role::F {
+                            // Not zero: the feed the control has, which this file does not know.
+                            self.st.feed_unknown = true;
+                            self.st.feed = self.st.feed.max(0.0);
+                        }
+                        self.unknown_roles |= 1 << role as u32;
+                        self.unknown_word(w.range, diags);
+                        continue;
+                    }
                     Some(v) if eval::is_null(v) => continue,
                     Some(v) => v,
                     None => {
@@ -1126,7 +1245,7 @@ impl<'a> Interpreter<'a> {
                 None
             }
             Value::Expr(e) => match self.eval(block, e, self.text, range, diags) {
-                Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) => Some(x),
+                Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) || eval::is_unknown(x) => Some(x),
                 Ok(_) => {
                     diags.push(Diagnostic::new(Code::ArithmeticError, range, "the expression has no finite value"));
                     None
@@ -1141,7 +1260,8 @@ impl<'a> Interpreter<'a> {
 
     fn check_params(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         let mut ok = true;
-        let present = |s: &Self, r: Role| s.slots[r as usize].is_some();
+        // A word whose value is unknown is there on the machine: it meets the requirement.
+        let present = |s: &Self, r: Role| s.slots[r as usize].is_some() || s.unknown_roles & (1 << r as u32) != 0;
         let has_axes = self.has_axes;
         for &(c, range) in &self.codes {
             let def = self.code(c);
@@ -1244,6 +1364,7 @@ impl<'a> Interpreter<'a> {
         range: TextRange,
         diags: &mut Vec<Diagnostic>,
     ) -> Result<f64, EvalError> {
+        self.params.take_unknown_read();
         loop {
             match eval::eval(block, e, &self.params, text) {
                 Err(EvalError::Undefined(name)) if self.dialect.lexical.system_variable_prefix.is_some_and(|p| name.starts_with(p)) => {
@@ -1253,14 +1374,61 @@ impl<'a> Interpreter<'a> {
                     self.st.machine_data_read = true;
                     self.params.set_named(&name, 0.0);
                 }
+                Err(EvalError::Undefined(name)) if self.dialect.macros.unset_unknown => {
+                    // Global user data (Siemens GUD) or the caller's: it has a value, unknown here.
+                    let msg = format!("`{name}` is neither declared nor set in this file: global data or the caller's, unknown here");
+                    self.limited(diags, "unknown-variable", Diagnostic::new(Code::UnknownValue, range, msg));
+                    self.params.set_named(&name, eval::UNKNOWN);
+                }
                 Err(EvalError::Undefined(name)) if self.dialect.macros.unset_reads_zero => {
                     let msg = format!("`{name}` is read before this program sets it (machine data or set elsewhere); taken as 0");
                     diags.push(Diagnostic::new(Code::UnsetVariable, range, msg));
                     self.params.set_named(&name, 0.0);
                 }
-                r => return r,
+                r => {
+                    if let Some(eval::UnknownSource::Numbered(n)) = self.params.unknown_read_peek()
+                        && self.depth == 0
+                        && self.is_argument(n)
+                    {
+                        self.called_by(|| format!("it reads argument #{n} before writing it"));
+                    }
+                    return r;
+                }
             }
         }
+    }
+
+    /// Whether local `n` is one a macro call's arguments set.
+    fn is_argument(&self, n: u32) -> bool {
+        self.dialect.macros.arguments.iter().flatten().any(|&a| u32::from(a) == n)
+    }
+
+    /// What an unknown value read last came from, for a message.
+    pub(super) fn unknown_what(&self) -> String {
+        match self.params.take_unknown_read() {
+            Some(eval::UnknownSource::Numbered(n)) if self.depth == 0 && self.is_argument(n) => {
+                format!("argument #{n}, which the caller gives")
+            }
+            Some(eval::UnknownSource::Numbered(n)) => {
+                let sigil = self.dialect.lexical.parameter.map_or('#', |(c, _)| c);
+                format!("{sigil}{n}, which is set outside this file (retained, or machine data)")
+            }
+            Some(eval::UnknownSource::Named(name)) => format!("`{name}`, which the caller or the control's global data sets"),
+            None => "a value set outside this file".to_owned(),
+        }
+    }
+
+    /// A word whose value is unknown: omitted, as a vacant one is, so that a move keeps its
+    /// known axes; said once per block.
+    fn unknown_word(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let shown = self.text[range.start as usize..range.end as usize].to_owned();
+        let what = self.unknown_what();
+        let msg = format!("`{shown}` reads {what}; the word is left out and the block keeps its known words");
+        let mut d = Diagnostic::new(Code::UnknownValue, range, msg);
+        if !self.is_called() {
+            d.severity = Severity::Warning;
+        }
+        self.limited(diags, "unknown-value", d);
     }
 
     /// Whether code `c` takes one of the axis words the block has.
@@ -1428,6 +1596,7 @@ impl<'a> Interpreter<'a> {
                         return;
                     }
                     self.st.feed = f;
+                    self.st.feed_unknown = false;
                     self.st.tech_warned = false;
                     self.emit(sink, CanonOp::SetFeedRate(f));
                 }
@@ -1544,6 +1713,7 @@ impl<'a> Interpreter<'a> {
                 }
                 if self.dialect.behaviour.feed_mode_resets_feed {
                     self.st.feed = 0.0;
+                    self.st.feed_unknown = false;
                     self.emit(sink, CanonOp::SetFeedRate(0.0));
                 }
             }
@@ -1558,6 +1728,7 @@ impl<'a> Interpreter<'a> {
                 if self.dialect.behaviour.tool_change_stops_spindle {
                     self.emit(sink, CanonOp::StopSpindleTurning);
                     self.st.spindle = Spindle::Stopped;
+                    self.st.spindle_unknown = false;
                 }
                 self.st.tool = self.st.selected_tool;
                 self.emit(sink, CanonOp::ChangeTool(self.st.tool));
@@ -1584,6 +1755,7 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::SpindleStop => {
                 self.st.spindle = Spindle::Stopped;
+                self.st.spindle_unknown = false;
                 self.emit(sink, CanonOp::StopSpindleTurning);
             }
             Meaning::SpindleOrient => self.orient_spindle(def, range, sink, diags),

@@ -428,16 +428,21 @@ impl Interpreter<'_> {
         }
         // In inverse time each feed move brings its own F (see `inverse_time_feed`).
         let problem = if self.st.feed <= 0.0 && !self.st.inverse_time {
-            Some((Code::NoFeed, "the feed rate is zero"))
+            Some((Code::NoFeed, "the feed rate is zero", self.st.feed_unknown, "feed"))
         } else if self.st.spindle == Spindle::Stopped {
-            Some((Code::CuttingWithoutTechnology, "the spindle is stopped"))
+            Some((Code::CuttingWithoutTechnology, "the spindle is stopped", self.st.spindle_unknown, "spindle"))
         } else {
             None
         };
-        if let Some((code, p)) = problem {
+        if let Some((code, p, outside, what)) = problem {
             self.st.tech_warned = true;
             let d = Diagnostic::new(code, range, format!("{} cuts while {p}", def.label()));
-            self.limited(diags, "technology", d);
+            if outside {
+                let note = format!("{} cuts with a {what} this file does not set: the {what} comes from the caller", def.label());
+                self.caller_state(diags, "technology", d, note);
+            } else {
+                self.limited(diags, "technology", d);
+            }
         }
     }
 

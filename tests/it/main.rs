@@ -1,6 +1,7 @@
 //! Integration tests: one binary (matklad's advice), one module per area.
 
 mod arch;
+mod called;
 mod cam_suite;
 mod cli;
 mod cycles;
@@ -14,6 +15,7 @@ mod faults;
 mod first_start;
 mod flow;
 mod macros;
+mod parity;
 mod plan;
 mod robustness;
 mod stepnc;
