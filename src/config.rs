@@ -10,6 +10,17 @@ use serde::Deserialize;
 
 use crate::interp::{Profile, ToolData};
 
+/// A folder's `role`: whether its files are main programs or called ones.
+fn program_role(role: Option<&str>, folder: &str) -> Result<crate::interp::ProgramRole> {
+    use crate::interp::ProgramRole;
+    Ok(match role {
+        None | Some("auto") => ProgramRole::Auto,
+        Some("main") => ProgramRole::Main,
+        Some("called") => ProgramRole::Called,
+        Some(other) => bail!("`{folder}`: role must be main, called or auto, not `{other}`"),
+    })
+}
+
 /// The least settle window: below it, a file being copied looks settled between writes.
 pub const MIN_SETTLE_MS: u64 = 50;
 /// The least interval between full rescans.
@@ -38,6 +49,20 @@ struct RawConfig {
     #[serde(default)]
     reference: RawReference,
     stock: Option<RawStock>,
+    #[serde(default)]
+    analysis: RawAnalysis,
+}
+
+/// Limits and choices of the analysis.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawAnalysis {
+    /// Blocks a run may execute again (loop passes, jumps back, repeated calls) before it
+    /// stops with a warning.
+    max_repeated_blocks: Option<u64>,
+    /// How a condition on a value from outside the file goes when neither way leads to an
+    /// alarm: `true` or `false`; without it, the dialect's choice.
+    unknown_conditions: Option<bool>,
 }
 
 /// G28/G30 reference positions in machine coordinates (mm and degrees): X Y Z A B C.
@@ -87,6 +112,9 @@ struct RawMatching {
 struct RawFolder {
     path: String,
     dialect: String,
+    /// Whether the folder holds main programs, called ones (subprograms, macros, cycles), or
+    /// each file says (`auto`, the default).
+    role: Option<String>,
     #[serde(default)]
     poll: bool,
     poll_ms: Option<u64>,
@@ -101,6 +129,8 @@ struct RawMachine {
     /// Overrides the dialect's decimal-point rule for this machine: `calculator` (X10 is 10
     /// units) or `least-increment` (X10 is 10 µm on a metric control).
     decimal_input: Option<String>,
+    /// As for CAM folders: `main`, `called` or `auto`.
+    role: Option<String>,
     #[serde(default)]
     poll: bool,
     poll_ms: Option<u64>,
@@ -162,6 +192,8 @@ pub struct Folder {
     pub poll_ms: u64,
     /// The machine's decimal-point rule, when it differs from its dialect's.
     pub decimal_input: Option<DecimalRule>,
+    /// Whether the folder's files are main programs, called ones, or tell it themselves.
+    pub program_role: crate::interp::ProgramRole,
 }
 
 /// The folder dialect that means "tell each program's dialect from its text".
@@ -235,6 +267,7 @@ impl Config {
                 poll: f.poll,
                 poll_ms: f.poll_ms.unwrap_or(2000),
                 decimal_input: None,
+                program_role: program_role(f.role.as_deref(), &f.path)?,
             });
         }
         for m in &raw.machine {
@@ -258,6 +291,7 @@ impl Config {
                 poll: m.poll,
                 poll_ms: m.poll_ms.unwrap_or(2000),
                 decimal_input,
+                program_role: program_role(m.role.as_deref(), &m.name)?,
             });
         }
         let database = abs(&raw.database.path);
@@ -281,6 +315,13 @@ impl Config {
             None => None,
         };
         let mut profile = Profile::default();
+        if let Some(n) = raw.analysis.max_repeated_blocks {
+            if n == 0 {
+                bail!("[analysis] max_repeated_blocks must be at least 1");
+            }
+            profile.max_repeated_blocks = n;
+        }
+        profile.unknown_conditions = raw.analysis.unknown_conditions;
         let position = |what: &str, v: &Option<Vec<f64>>| -> Result<[f64; 6]> {
             let Some(v) = v else { return Ok([0.0; 6]) };
             if v.is_empty() || v.len() > 6 || v.iter().any(|x| !x.is_finite()) {
@@ -465,6 +506,19 @@ mod tests {
         assert!(matches!(m2.behaviour.decimal_input, crate::dialect::DecimalInput::LeastIncrement { mm, .. } if mm == 0.001));
         let bad = text.replace("'calculator'", "'metric'");
         assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("decimal_input"));
+    }
+
+    #[test]
+    fn folders_say_whether_they_hold_called_programs_and_analysis_limits_are_set() {
+        use crate::interp::ProgramRole;
+        let text = "[database]\npath = 'db'\n[analysis]\nmax_repeated_blocks = 5000\nunknown_conditions = false\n\
+                    [[cam]]\npath = 'cycles'\ndialect = 'siemens'\nrole = 'called'\n\
+                    [[machine]]\nname = 'M1'\npath = 'm1'\ndialect = 'fanuc'\n";
+        let c = Config::parse(text, Path::new("/srv")).unwrap();
+        assert_eq!((c.folders[0].program_role, c.folders[1].program_role), (ProgramRole::Called, ProgramRole::Auto));
+        assert_eq!((c.profile.max_repeated_blocks, c.profile.unknown_conditions), (5000, Some(false)));
+        let bad = text.replace("role = 'called'", "role = 'sub'");
+        assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("role must be main, called or auto"));
     }
 
     #[test]

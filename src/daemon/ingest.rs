@@ -410,9 +410,23 @@ impl Reader<'_> {
     /// Analyses `bytes` of `path` in `folder` read in `dialect`; the canonical ops are not kept.
     pub fn analyse(&self, path: &Path, folder: &Folder, dialect: &str, bytes: &[u8]) -> Result<pipeline::Analysis> {
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
-        // Subprograms come from the configured directory, else from beside the program.
-        let profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
-        Ok(pipeline::analyze_plan(bytes, &d, &profile))
+        Ok(pipeline::analyze_plan(bytes, &d, &self.profile(path, folder, &d)))
+    }
+
+    /// The profile a program of `folder` is read with: called programs from the configured
+    /// directory, else from beside it; main or called as the folder says, else as its file
+    /// name says (`.SPF`), else as its form tells.
+    fn profile(&self, path: &Path, folder: &Folder, dialect: &crate::dialect::Dialect) -> crate::interp::Profile {
+        use crate::interp::ProgramRole;
+        let mut profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
+        profile.role = match folder.program_role {
+            ProgramRole::Auto => path
+                .file_name()
+                .and_then(|n| crate::interp::role_from_file_name(&n.to_string_lossy(), dialect))
+                .unwrap_or(ProgramRole::Auto),
+            given => given,
+        };
+        profile
     }
 
     /// The whole plan of a stored revision: the stored one when it is complete (older
@@ -441,11 +455,11 @@ impl Reader<'_> {
                         poll: false,
                         poll_ms: 0,
                         decimal_input: None,
+                        program_role: crate::interp::ProgramRole::Auto,
                     },
                 };
                 let d = folder.dialect_for(self.registry.get(&src.dialect).with_context(|| format!("unknown dialect `{}`", src.dialect))?);
-                let profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
-                Ok(Some(pipeline::analyze_plan_owned(bytes, &d, &profile).plan))
+                Ok(Some(pipeline::analyze_plan_owned(bytes, &d, &self.profile(path, &folder, &d)).plan))
             }
             _ => Ok(None),
         }
