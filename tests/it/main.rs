@@ -10,6 +10,7 @@ mod dialects;
 mod edits;
 mod encodings;
 mod equivalence;
+mod express;
 mod flow;
 mod macros;
 mod plan;
