@@ -597,7 +597,13 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             .map(|m| [m.to[0], m.to[1]]);
         let by_entry = entry.and_then(|p| inside(outer, p));
         let by_comp = ws.state.cutter_comp.first().map(|c| c.left == (rotation == Rotation::Ccw));
-        let evidence = by_entry.or(by_comp);
+        // A wall the tool could not stand outside of (a loop tighter than the tool, as when
+        // a bore is circle-milled) is a pocket's.
+        let no_profile = {
+            let b = offset(outer, if area > 0.0 { r } else { -r });
+            b.is_empty() || signed_area(&b).abs() < EPS || (signed_area(&b) > 0.0) != (area > 0.0)
+        };
+        let evidence = by_entry.or(by_comp).or(no_profile.then_some(true));
         let tool_inside = evidence.unwrap_or((rotation == Rotation::Ccw) != spindle_ccw);
         cand.strategy = Some(Strategy {
             kind: StrategyKind::ContourParallel,

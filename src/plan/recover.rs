@@ -771,7 +771,8 @@ impl<'p> Recovery<'p> {
             let line = self.pending.first().map_or(c.line, |m| m.line);
             b.tentative = Some(Tentative { at: b.moves.len(), lifts, source: b.source, last_line: b.lines.1, origin: c.origin, line });
         }
-        let is_cut = mv.kind != MoveKind::Rapid && !is_plunge(&mv);
+        // An entry (plunge, ramp or helix down, at its own feed) is not the cut that decides.
+        let is_cut = mv.kind != MoveKind::Rapid && mv.to[2] >= mv.from[2] - EPS;
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
@@ -994,12 +995,13 @@ fn is_plunge(m: &Move) -> bool {
     (m.to[0] - m.from[0]).abs() < EPS && (m.to[1] - m.from[1]).abs() < EPS && m.to[2] < m.from[2]
 }
 
-/// Leading plunges join the approach; trailing lifts join the retract.
+/// Leading entries (plunges, ramps, helices down) join the approach; trailing lifts join
+/// the retract.
 fn refine_phases(moves: &mut [Move]) {
     let first_cut = moves.iter().position(|m| m.phase == Phase::Cut);
     if let Some(i) = first_cut {
         for m in moves[i..].iter_mut() {
-            if m.phase == Phase::Cut && m.kind == MoveKind::Line && is_plunge(m) {
+            if m.phase == Phase::Cut && m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS {
                 m.phase = Phase::Approach;
             } else {
                 break;

@@ -11,6 +11,7 @@ mod dialects;
 mod edits;
 mod encodings;
 mod equivalence;
+mod express;
 mod faults;
 mod first_start;
 mod flow;

@@ -61,15 +61,23 @@ def rounded_rect(cx, cy, w, l, rc, z, f, start_mid=True):
     return out
 
 
-def pocket_rough(tool_d, cx, cy, w, l, rc, levels, f, allowance=0.3, step_share=0.5):
+def pocket_rough(tool_d, cx, cy, w, l, rc, levels, f, allowance=0.3, step_share=0.5, ramp=None):
     """Contour-parallel loops inward from the wall less the allowance, at each level; the tool
-    plunges at the centre (or ramps, by `ramp`)."""
+    plunges at the centre, or ramps down along X over `ramp` mm at half the feed."""
     r = tool_d / 2
     out = []
+    prev = 0.0
     for z in levels:
-        out.append(("rapid", cx, cy, None))
-        out.append(("rapid", cx, cy, z + 5))
-        out.append(("feed", cx, cy, z, f / 3))
+        if ramp:
+            out.append(("rapid", cx - ramp / 2, cy, None))
+            out.append(("rapid", cx - ramp / 2, cy, prev + 1))
+            out.append(("feed", cx + ramp / 2, cy, z, f / 2))
+            out.append(("feed", cx, cy, z, f))
+        else:
+            out.append(("rapid", cx, cy, None))
+            out.append(("rapid", cx, cy, z + 5))
+            out.append(("feed", cx, cy, z, f / 3))
+        prev = z
         ow, ol = w - 2 * (r + allowance), l - 2 * (r + allowance)
         loops = []
         k = 0
@@ -474,10 +482,18 @@ EXPANDED = part(
 )
 
 
+# Roughing that ramps into each level at half the feed: the ramps are entries, not cuts.
+RAMP = part(
+    "pocket_ramp_entry", {14: ("FLAT_END_MILL", 12.0)},
+    [(14, 7000, pocket_rough(12, 60, 40, 60, 44, 8, [-3.0, -6.0, -9.0], 1600, ramp=16.0) + pocket_finish(12, 60, 40, 60, 44, 8, -9.0, 1600))],
+    [pocket_f(60, 40, 60, 44, 8, 9.0)], ["bottom_and_side_rough_milling", "side_finish_milling"],
+)
+
+
 def main():
     posts = [("fanuc", "nc", fanuc), ("siemens", "mpf", siemens), ("heidenhain", "h", heidenhain)]
     count = 0
-    for k, p in enumerate(PARTS + [NIST, EXPANDED]):
+    for k, p in enumerate(PARTS + [NIST, EXPANDED, RAMP]):
         for d, (dialect, ext, post) in enumerate(posts):
             # Explicit moves are what Fanuc-family posts expand; the others keep cycles.
             if p["name"] in ("nist_style", "expanded_drilling") and dialect != "fanuc":
