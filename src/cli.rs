@@ -809,14 +809,17 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
     match &plan.workpiece {
         Some(s) => writeln!(
             out,
-            "stock X{} Y{} Z{} size {} x {} x {} (from {:?})",
+            "stock X{} Y{} Z{} size {} x {} x {} (from the {})",
             num(s.origin[0]),
             num(s.origin[1]),
             num(s.origin[2]),
             num(s.size[0]),
             num(s.size[1]),
             num(s.size[2]),
-            s.source
+            match s.source {
+                crate::plan::StockSource::Config => "configuration",
+                crate::plan::StockSource::Program => "program",
+            }
         )?,
         None => writeln!(out, "stock unknown")?,
     }
@@ -825,7 +828,7 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
         let r = t.corner_radius.map(|d| format!(" R{}", num(d))).unwrap_or_default();
         let z = t.flutes.map(|d| format!(" Z{d}")).unwrap_or_default();
         let l = t.length_offset.map(|d| format!(" L{}", num(d))).unwrap_or_default();
-        writeln!(out, "tool T{} {}{d}{r}{z}{l} {}", t.number, t.kind.as_str(), t.name.as_deref().unwrap_or(""))?;
+        writeln!(out, "tool T{} {}{d}{r}{z}{l} {}", t.number, t.kind.as_str().replace('_', " "), t.name.as_deref().unwrap_or(""))?;
     }
     for f in &plan.features {
         let p = f.placement;
@@ -833,7 +836,12 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
         let shape = match &f.kind {
             crate::plan::FeatureKind::PlanarFace { length, width, .. } => format!(" {} x {}", num(*length), num(*width)),
             crate::plan::FeatureKind::RoundHole { diameter, positions, bottom } => {
-                format!(" D{} x{} {bottom:?}", diameter.map_or("?".into(), num), positions.len())
+                let bottom = match bottom {
+                    crate::plan::HoleBottom::Through => "through".to_owned(),
+                    crate::plan::HoleBottom::Flat => "flat bottom".to_owned(),
+                    crate::plan::HoleBottom::Conical(angle) => format!("drill-point bottom {}°", num(*angle)),
+                };
+                format!(" D{} x{} {bottom}", diameter.map_or("?".into(), num), positions.len())
             }
             crate::plan::FeatureKind::ClosedPocket { rectangle: Some((w, l)), .. } => format!(" {} x {}", num(*w), num(*l)),
             crate::plan::FeatureKind::Slot { width, .. } | crate::plan::FeatureKind::Step { width, .. } => {
@@ -858,7 +866,7 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
         let t = &w.technology;
         writeln!(
             out,
-            "workingstep {} ({}{}) T{} F{} {} {:?} coolant {:?}, lines {}-{}",
+            "workingstep {} ({}{}) T{} F{} {} spindle {}, coolant {}, lines {}-{}",
             w.index,
             w.operation.label(),
             w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default(),
@@ -868,8 +876,17 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
                 Some(v) => format!("surface speed {} m/min (S at most {})", num(v), num(t.spindle_speed)),
                 None => format!("S{}", num(t.spindle_speed)),
             },
-            t.spindle,
-            t.coolant,
+            match t.spindle {
+                crate::plan::SpindleDir::Cw => "clockwise",
+                crate::plan::SpindleDir::Ccw => "counter-clockwise",
+                crate::plan::SpindleDir::Off => "off",
+            },
+            match t.coolant {
+                crate::plan::Coolant::Off => "off",
+                crate::plan::Coolant::Mist => "mist",
+                crate::plan::Coolant::Flood => "flood",
+                crate::plan::Coolant::Both => "mist and flood",
+            },
             w.lines.0,
             w.lines.1
         )?;
@@ -877,12 +894,18 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
             writeln!(out, "  start X{} Y{} Z{}; security plane Z{}", num(p[0]), num(p[1]), num(p[2]), num(w.security_plane))?;
         }
         if let Some(s) = &w.strategy {
-            let mut parts = vec![format!("{:?}", s.kind).to_lowercase()];
+            // The snake-case names the JSON uses, in words.
+            let words =
+                |v: serde_json::Result<serde_json::Value>| v.ok().and_then(|v| v.as_str().map(|s| s.replace('_', " "))).unwrap_or_default();
+            let mut parts = vec![words(serde_json::to_value(s.kind))];
             if let Some(r) = s.rotation {
-                parts.push(format!("{r:?}").to_lowercase());
+                parts.push(match r {
+                    crate::plan::Rotation::Cw => "clockwise".into(),
+                    crate::plan::Rotation::Ccw => "counter-clockwise".into(),
+                });
             }
             if let Some(c) = s.cutmode {
-                parts.push(format!("{c:?}").to_lowercase());
+                parts.push(words(serde_json::to_value(c)) + " milling");
             }
             for (name, v) in [
                 ("axial depth", w.axial_depth),
