@@ -811,8 +811,8 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     let same = |x: &Move, y: &Move| {
         x.kind == y.kind
             && close(x.to, y.to)
-            && x.turns == y.turns
-            && match (x.center, y.center) {
+            && x.turns() == y.turns()
+            && match (x.center(), y.center()) {
                 (Some(p), Some(q)) => (p[0] - q[0]).abs() <= TOLERANCE && (p[1] - q[1]).abs() <= TOLERANCE,
                 (None, None) => true,
                 _ => false,

@@ -359,7 +359,7 @@ impl Writer {
                 let mut from = start;
                 for (k, m) in group.iter().enumerate() {
                     let to = self.point(&format!("L{}", m.line), m.to);
-                    let curve = match (m.kind, m.center, m.axis, m.turns) {
+                    let curve = match (m.kind, m.center(), m.axis(), m.turns()) {
                         (MoveKind::Arc, Some(c), Some(axis), Some(turns)) => {
                             let pos = self.placement(c, Some(axis));
                             let r = geom::dist(m.from, c);
@@ -1084,9 +1084,7 @@ impl Reader<'_> {
                     phase,
                     from,
                     to,
-                    center: arc.map(|a| a.0),
-                    axis: arc.map(|a| a.1),
-                    turns: arc.map(|a| a.2),
+                    arc: arc.map(|a| Box::new(ArcGeometry { center: a.0, axis: a.1, turns: a.2 })),
                     feed,
                     line,
                 });

@@ -361,7 +361,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
     let total: f64 = cuts.iter().map(|m| super::geom::length(m)).sum();
     let horizontal: Vec<&Move> = cuts.iter().copied().filter(|m| (m.from[2] - m.to[2]).abs() < 1e-4).collect();
     let flat_len: f64 = horizontal.iter().map(|m| super::geom::length(m)).sum();
-    let arcs_in_xy = horizontal.iter().all(|m| m.axis.is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
+    let arcs_in_xy = horizontal.iter().all(|m| m.axis().is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
     if horizontal.is_empty() || flat_len < 0.8 * total || !arcs_in_xy {
         return toolpath(true);
     }
@@ -400,8 +400,8 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             prev_end = None;
             continue;
         }
-        let arc = match (m.kind, m.center, m.axis) {
-            (MoveKind::Arc, Some(c), Some(a)) => Some(([c[0], c[1]], (m.turns.unwrap_or(1) > 0) == (a[2] > 0.0))),
+        let arc = match (m.kind, m.center(), m.axis()) {
+            (MoveKind::Arc, Some(c), Some(a)) => Some(([c[0], c[1]], (m.turns().unwrap_or(1) > 0) == (a[2] > 0.0))),
             _ => None,
         };
         let piece = Piece { from: [m.from[0], m.from[1]], to: [m.to[0], m.to[1]], arc };

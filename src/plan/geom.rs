@@ -10,7 +10,7 @@ fn p(a: P3) -> Point3<f64> {
 
 /// Signed sweep angle of an arc move about its axis, radians (positive counter-clockwise).
 pub fn sweep(m: &Move) -> f64 {
-    let (Some(c), Some(axis), Some(turns)) = (m.center, m.axis, m.turns) else { return 0.0 };
+    let (Some(c), Some(axis), Some(turns)) = (m.center(), m.axis(), m.turns()) else { return 0.0 };
     let axis = Vector3::from(axis);
     let c = p(c);
     let u = p(m.from) - c;
@@ -34,7 +34,7 @@ pub fn length(m: &Move) -> f64 {
     match m.kind {
         MoveKind::Rapid | MoveKind::Line => (p(m.to) - p(m.from)).norm(),
         MoveKind::Arc => {
-            let (Some(c), Some(axis)) = (m.center, m.axis) else { return 0.0 };
+            let (Some(c), Some(axis)) = (m.center(), m.axis()) else { return 0.0 };
             let axis = Vector3::from(axis);
             let r = (p(m.from) - p(c)).norm();
             let rise = (p(m.to) - p(m.from)).dot(&axis);
@@ -49,7 +49,7 @@ pub fn sample(m: &Move, out: &mut Vec<P3>) {
         out.push(m.to);
         return;
     }
-    let (Some(c), Some(axis)) = (m.center, m.axis) else {
+    let (Some(c), Some(axis)) = (m.center(), m.axis()) else {
         out.push(m.to);
         return;
     };
@@ -98,9 +98,7 @@ mod tests {
             phase: Phase::Cut,
             from,
             to,
-            center: Some(center),
-            axis: Some([0.0, 0.0, 1.0]),
-            turns: Some(turns),
+            arc: Some(Box::new(crate::plan::ArcGeometry { center, axis: [0.0, 0.0, 1.0], turns })),
             feed: 100.0,
             line: 1,
         }

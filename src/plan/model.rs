@@ -591,20 +591,43 @@ pub struct Move {
     pub from: P3,
     /// End point, mm.
     pub to: P3,
-    /// Arc centre (on the arc's plane through `from`), mm.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub center: Option<P3>,
-    /// Arc axis (unit normal); with `turns`, positive is counter-clockwise about it.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub axis: Option<P3>,
-    /// Arc turns, signed.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub turns: Option<i32>,
+    /// An arc's geometry, boxed: most moves are lines, and a million-move toolpath should not
+    /// pay for arcs it does not have (written as `center`, `axis` and `turns`).
+    #[serde(flatten, default)]
+    pub arc: Option<Box<ArcGeometry>>,
     /// Feed, mm/min (0 for rapids).
     #[serde(default)]
     pub feed: f64,
     /// 1-based source line.
     pub line: u32,
+}
+
+/// The geometry of an arc move.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ArcGeometry {
+    /// Arc centre (on the arc's plane through `from`), mm.
+    pub center: P3,
+    /// Arc axis (unit normal); with `turns`, positive is counter-clockwise about it.
+    pub axis: P3,
+    /// Arc turns, signed.
+    pub turns: i32,
+}
+
+impl Move {
+    /// The arc centre, for an arc.
+    pub fn center(&self) -> Option<P3> {
+        self.arc.as_ref().map(|a| a.center)
+    }
+
+    /// The arc axis, for an arc.
+    pub fn axis(&self) -> Option<P3> {
+        self.arc.as_ref().map(|a| a.axis)
+    }
+
+    /// The arc's signed turns, for an arc.
+    pub fn turns(&self) -> Option<i32> {
+        self.arc.as_ref().map(|a| a.turns)
+    }
 }
 
 /// A drilled or bored hole.

@@ -664,9 +664,7 @@ impl<'p> Recovery<'p> {
                 let mut axis = [0.0; 3];
                 axis[n] = 1.0;
                 let mut mv = self.mv(MoveKind::Arc, to, c.line);
-                mv.center = Some(center);
-                mv.axis = Some(axis);
-                mv.turns = Some(*rotation);
+                mv.arc = Some(Box::new(ArcGeometry { center, axis, turns: *rotation }));
                 self.cut(mv, c);
             }
             CanonOp::ProgramEnd | CanonOp::Finish => self.close(),
@@ -704,7 +702,7 @@ impl<'p> Recovery<'p> {
         let from = self.pos;
         self.pos = to;
         let feed = if kind == MoveKind::Rapid { 0.0 } else { self.feed_now() };
-        Move { kind, phase: Phase::Cut, from, to, center: None, axis: None, turns: None, feed, line }
+        Move { kind, phase: Phase::Cut, from, to, arc: None, feed, line }
     }
 
     fn cut(&mut self, mv: Move, c: &Canon) {

@@ -393,26 +393,14 @@ fn raster(passes: usize, steps: usize, shift: f64, edit: Option<usize>) -> ncpla
                 phase: Phase::Cut,
                 from: at,
                 to,
-                center: None,
-                axis: None,
-                turns: None,
+                arc: None,
                 feed: 2000.0,
                 line: moves.len() as u32 + 10,
             });
             at = to;
         }
         let to = [at[0], (p + 1) as f64 * dy + shift, at[2]];
-        moves.push(Move {
-            kind: MoveKind::Line,
-            phase: Phase::Cut,
-            from: at,
-            to,
-            center: None,
-            axis: None,
-            turns: None,
-            feed: 2000.0,
-            line: moves.len() as u32 + 10,
-        });
+        moves.push(Move { kind: MoveKind::Line, phase: Phase::Cut, from: at, to, arc: None, feed: 2000.0, line: moves.len() as u32 + 10 });
         at = to;
     }
     let tech = Technology {
