@@ -40,6 +40,49 @@ fn folder_dialect(folder: &str) -> Option<&'static str> {
     }
 }
 
+/// The controller family a corpus folder's name says its programs are for (a dialect's
+/// `family`); `None` for folders of mixed or unknown origin.
+fn folder_family(folder: &str) -> Option<&str> {
+    match folder {
+        "generic_iso" | "other" | "cldata" => None,
+        "linuxcnc" => Some("rs274ngc"),
+        f => Some(f),
+    }
+}
+
+/// `tests/golden/corpus/sniff.tsv`: the dialect told from each program of a folder that names
+/// a family, with how sure, and whether its family is the folder's; with the per-folder share
+/// of right families. Rewritten with `UPDATE_EXPECT=1`, compared otherwise.
+fn sniff_table(registry: &Registry, programs: &[(String, PathBuf)]) -> (String, String) {
+    let mut rows = String::from("# folder\tfile\tsniffed dialect\tsure\tright family\n");
+    let mut per: BTreeMap<&str, (usize, usize, usize)> = BTreeMap::new();
+    for (folder, path) in programs {
+        let Some(family) = folder_family(folder) else { continue };
+        let bytes = std::fs::read(path).unwrap_or_default();
+        let s = ncplan::pipeline::sniff(registry, &bytes, path);
+        let right = registry.get(&s.dialect).is_some_and(|d| d.family == family);
+        let file = path.file_name().unwrap().to_string_lossy();
+        let sure = s.confidence.as_str();
+        rows.push_str(&format!("{folder}\t{file}\t{}\t{sure}\t{}\n", s.dialect, if right { "yes" } else { "no" }));
+        let e = per.entry(folder.as_str()).or_default();
+        e.0 += 1;
+        e.1 += usize::from(right);
+        e.2 += usize::from(!right && s.confidence != ncplan::dialect::sniff::Confidence::Low);
+    }
+    let mut md = String::from(
+        "\nThe dialect told from each program's text and name (`ncplan check` without `-d`), for folders that name a \
+         controller family: how many are of that family, and how many of the others were not said with `sure: low`.\n\n\
+         | folder | programs | right family | share | wrong and not said low |\n|---|---:|---:|---:|---:|\n",
+    );
+    let (mut n, mut ok, mut loud) = (0, 0, 0);
+    for (folder, (k, r, l)) in &per {
+        md.push_str(&format!("| {folder} | {k} | {r} | {:.1}% | {l} |\n", 100.0 * *r as f64 / *k as f64));
+        (n, ok, loud) = (n + k, ok + r, loud + l);
+    }
+    md.push_str(&format!("| **all** | {n} | {ok} | {:.1}% | {loud} |\n", 100.0 * ok as f64 / n.max(1) as f64));
+    (rows, md)
+}
+
 /// The dialect a corpus program is checked in: its folder's, or the one told from its text.
 fn dialect_for(registry: &Registry, folder: &str, path: &Path) -> std::sync::Arc<ncplan::dialect::Dialect> {
     let name = match folder_dialect(folder) {
@@ -180,7 +223,10 @@ fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, Pat
         all.not_program += t.not_program;
     }
     md.push_str(&all.row("**all**", ""));
+    let (sniffed, sniff_md) = sniff_table(registry, programs);
+    md.push_str(&sniff_md);
     std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("sniff.tsv"), sniffed).unwrap();
     std::fs::write(dir.join("errors.tsv"), rows).unwrap();
     std::fs::write(dir.join("summary.md"), md).unwrap();
 }
@@ -206,6 +252,18 @@ fn main() {
         update_error_golden(&error_dir, &registry, &programs);
     }
     let expected_errors = error_golden(&error_dir);
+    {
+        let (registry, programs, dir) = (registry.clone(), programs.clone(), error_dir.clone());
+        trials.push(Trial::test("sniff/corpus", move || {
+            let (now, _) = sniff_table(&registry, &programs);
+            let recorded = std::fs::read_to_string(dir.join("sniff.tsv")).unwrap_or_default();
+            match now.lines().zip(recorded.lines()).find(|(a, b)| a != b) {
+                Some((a, b)) => Err(format!("sniffed `{a}`, recorded `{b}`; run with UPDATE_EXPECT=1 if intended").into()),
+                None if now.lines().count() != recorded.lines().count() => Err("tests/golden/corpus/sniff.tsv is out of date".into()),
+                None => Ok(()),
+            }
+        }));
+    }
     for (folder, f) in programs {
         let dialect = dialect_for(&registry, &folder, &f);
         let key = format!("{folder}/{}", f.file_name().unwrap().to_string_lossy());
