@@ -29,6 +29,7 @@ pub(super) fn load_tree(text: &str, base: &dyn Fn(&str) -> Option<Element>) -> (
             return (None, cx.diags, None);
         }
     };
+    let extends = root.attrs.iter().find(|a| a.name == "extends").map(|a| a.value.clone());
     if let Some(a) = root.attrs.iter().find(|a| a.name == "extends") {
         let at = a.range;
         match base(&a.value) {
@@ -45,7 +46,7 @@ pub(super) fn load_tree(text: &str, base: &dyn Fn(&str) -> Option<Element>) -> (
             }
         }
     }
-    let dialect = cx.dialect(&root);
+    let dialect = cx.dialect(&root).map(|d| Dialect { extends, ..d });
     if cx.diags.iter().any(Diagnostic::is_error) {
         return (None, cx.diags, None);
     }
@@ -206,6 +207,11 @@ impl Cx {
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
         let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
+        let recognise_removed = child("recognise")
+            .map(|el| {
+                el.children.iter().filter(|c| c.name == "remove").filter_map(|c| self.required(c, "label").map(str::to_owned)).collect()
+            })
+            .unwrap_or_default();
         let execution_order = match child("execution-order") {
             Some(el) => self.execution_order(el, &groups),
             None => {
@@ -216,6 +222,7 @@ impl Cx {
         Some(Dialect {
             name,
             family,
+            extends: None,
             title,
             lexical,
             behaviour,
@@ -226,6 +233,7 @@ impl Cx {
             cycles,
             execution_order,
             recognise,
+            recognise_removed,
             letter_roles: [None; 128],
             letter_incremental: 0,
             plain_roles: [None; 128],
@@ -1010,9 +1018,9 @@ impl Cx {
     /// `<recognise>`: `<extension name="h" weight="10"/>`, `<marker regex="..." weight="30" label="BEGIN PGM"/>`.
     fn recognise(&mut self, el: &Element) -> Vec<super::sniff::Evidence> {
         use super::sniff::{Evidence, Marker};
-        self.shape(el, &[], &["extension", "marker"]);
+        self.shape(el, &[], &["extension", "marker", "remove"]);
         let mut out = Vec::new();
-        for c in &el.children {
+        for c in el.children.iter().filter(|c| c.name != "remove") {
             let weight = self.number(c, "weight", 10.0);
             if !(0.0..=1000.0).contains(&weight) || weight.fract() != 0.0 {
                 self.error(Self::attr_range(c, "weight"), "`weight` must be a whole number from 0 to 1000");
@@ -1024,15 +1032,18 @@ impl Cx {
                     self.shape(c, &["name", "weight"], &[]);
                     let Some(name) = self.required(c, "name") else { continue };
                     let name = name.trim_start_matches('.').to_ascii_lowercase();
-                    out.push(Evidence { label: format!(".{name}"), marker: Marker::Extension(name), weight });
+                    out.push(Evidence { label: format!(".{name}"), marker: Marker::Extension(name), weight, against: false });
                 }
                 "marker" => {
-                    self.shape(c, &["regex", "weight", "label"], &[]);
+                    self.shape(c, &["regex", "weight", "label", "case-sensitive", "against"], &[]);
                     let Some(src) = self.required(c, "regex") else { continue };
-                    match super::Pattern::new(src) {
+                    // Markers ignore case (`(HAAS` and `(haas`) unless the file says otherwise.
+                    let source = if self.bool(c, "case-sensitive", false) { src.to_owned() } else { format!("(?i){src}") };
+                    match super::Pattern::new(&source) {
                         Ok(re) => {
                             let label = self.attr(c, "label").unwrap_or(src).to_owned();
-                            out.push(Evidence { label, marker: Marker::Pattern(re), weight });
+                            let against = self.bool(c, "against", false);
+                            out.push(Evidence { label, marker: Marker::Pattern(re), weight, against });
                         }
                         Err(e) => self.error(Self::attr_range(c, "regex"), format!("invalid regular expression: {e}")),
                     }

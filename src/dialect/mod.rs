@@ -604,8 +604,11 @@ pub struct CycleDef {
 pub struct Dialect {
     /// Identifier used in configs and `--dialect`.
     pub name: String,
-    /// Family (`rs274ngc`, `fanuc`, `siemens`, `heidenhain`); informative only.
+    /// The controller family (`rs274ngc`, `fanuc`, `haas`, `siemens`, `heidenhain`): the maker
+    /// whose controls read the dialect. Informative, and what sniffing is measured by.
     pub family: String,
+    /// The dialect this one `extends`, if any: its evidence counts for this one too.
+    pub extends: Option<String>,
     /// Human title.
     pub title: String,
     /// Lexical rules.
@@ -624,8 +627,12 @@ pub struct Dialect {
     pub cycles: Vec<CycleDef>,
     /// The order in which a block's items take effect.
     pub execution_order: Vec<Step>,
-    /// Evidence that a program is written in this dialect (for folders with none configured).
+    /// Evidence that a program is written in this dialect (for folders with none configured),
+    /// its own; a derived dialect also counts its base's (`Registry::sniff`).
     pub recognise: Vec<sniff::Evidence>,
+    /// The labels of inherited evidence this dialect does not count (`<remove label=".."/>` in
+    /// `<recognise>`: a lathe does not take a mill's Y words as its own evidence).
+    pub recognise_removed: Vec<String>,
     /// Roles of single-character addresses by ASCII code (letters upper case).
     letter_roles: [Option<Role>; 128],
     /// The single-character addresses that are always incremental (a lathe's `U`), as bits

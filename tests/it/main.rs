@@ -12,6 +12,7 @@ mod flow;
 mod macros;
 mod plan;
 mod robustness;
+mod shop;
 mod stepnc;
 
 use std::path::{Path, PathBuf};
