@@ -64,6 +64,10 @@ enum Command {
         input: Input,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
+        /// Calls to programs the analysis does not have (a control's resident cycles, shop
+        /// subprograms) are errors, not warnings.
+        #[arg(long)]
+        strict: bool,
     },
     /// Print the NIST canonical machining functions, one call per line.
     Canon {
@@ -244,9 +248,14 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             crate::daemon::run(config, registry, Arc::new(crate::daemon::SystemClock))?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Check { input, format } => {
+        Command::Check { input, format, strict } => {
             let (d, config, bytes) = input_setup(&input)?;
-            let a = pipeline::analyze(&bytes, &d, &config.profile);
+            let mut a = pipeline::analyze(&bytes, &d, &config.profile);
+            if strict {
+                for x in a.diagnostics.iter_mut().filter(|x| x.code == diag::Code::MissingProgram) {
+                    x.severity = diag::Severity::Error;
+                }
+            }
             let path = input.file.display().to_string();
             let idx = LineIndex::new(&a.source.text);
             match format {

@@ -481,6 +481,7 @@ impl Cx {
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
             arc_tolerance_inch: 0.002 / 25.4,
+            arc_tolerance_steps: 0.0,
             arc_relative_tolerance: None,
             assign_before_reads: false,
             feed_mode_resets_feed: false,
@@ -511,6 +512,7 @@ impl Cx {
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
                 "arc-tolerance-inch",
+                "arc-tolerance-steps",
                 "arc-relative-tolerance",
                 "parameter-assignment",
                 "feed-mode-resets-feed",
@@ -554,6 +556,7 @@ impl Cx {
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
         b.arc_tolerance_inch = self.number(el, "arc-tolerance-inch", b.arc_tolerance_mm / 25.4);
+        b.arc_tolerance_steps = self.number(el, "arc-tolerance-steps", 0.0).max(0.0);
         b.arc_relative_tolerance = self.attr(el, "arc-relative-tolerance").map(|_| self.number(el, "arc-relative-tolerance", 0.0));
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);

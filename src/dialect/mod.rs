@@ -245,6 +245,11 @@ pub struct Behaviour {
     pub arc_tolerance_mm: f64,
     /// The same in inch programs (its own setting: LinuxCNC's are not one value converted).
     pub arc_tolerance_inch: f64,
+    /// How many of the steps a program writes its arc's numbers in (`X1.2345`: 0.0001) the
+    /// radii may differ by, when more than the tolerance: rounding each coordinate to that
+    /// step moves a radius by up to √2 steps, so 2√2 for both. 0: the tolerance alone
+    /// (LinuxCNC, as rs274).
+    pub arc_tolerance_steps: f64,
     /// When set, a radius difference above the tolerance is still accepted while it is at
     /// most this share of the radius and at most 100 times the tolerance (LinuxCNC's rule
     /// for spirals written as arcs).

@@ -412,9 +412,9 @@ impl Lexer<'_, '_> {
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
         let param_value =
             next.is_some_and(|x| Some(x.to_ascii_uppercase()) == sigil) && self.b.get(start + 2).is_some_and(u8::is_ascii_digit);
+        // A name such as `L123` or `T_INI` (an address's value never starts with `_`).
         let named_call = self.dialect.macros.call_by_name
-            && self.dialect.letter_role(letter).is_none()
-            && next.is_some_and(|x| x.is_ascii_digit() || x == b'_');
+            && (self.dialect.letter_role(letter).is_none() && next.is_some_and(|x| x.is_ascii_digit()) || next == Some(b'_'));
         if self.dialect.letter_role(letter).is_some() && self.not_a_number_after(start + 1) {
             return;
         }
@@ -877,15 +877,24 @@ impl Lexer<'_, '_> {
                 _ => {}
             }
             let from = self.i;
-            let Some(e) = self.expr(1, 0) else {
+            // A string argument (`CYCLE800(1,"TABLE",...)`, `EXTCALL("ROUGH")`) names
+            // something: a text value.
+            let value = match self.dialect.lexical.string_quote {
+                Some(q) if self.peek() == Some(q as u8) => self.string(from).map(Value::Text),
+                _ => self.expr(1, 0).map(Value::Expr),
+            };
+            let Some(value) = value else {
                 self.i = self.line_end();
                 return true;
             };
             match args.get(n) {
+                // An argument the engine does not use (`extra`) is read but not evaluated: it
+                // may name what only the control knows (`_ORI_ROUGH`, an axis `X`).
+                Some(a) if a.role == Role::Extra => {}
                 Some(a) => self.block.words.push(Word {
                     role: a.role,
                     letter: a.name.as_bytes()[0],
-                    value: Value::Expr(e),
+                    value,
                     range: TextRange::new(from, self.i),
                     mode: WordMode::Modal,
                     cycle_arg: true,
@@ -1199,6 +1208,25 @@ impl Lexer<'_, '_> {
                         continue;
                     }
                     _ => {}
+                }
+                // A string argument (`RAPORT("START")`) names something; it passes no number.
+                if let Some(q) = self.dialect.lexical.string_quote
+                    && self.peek() == Some(q as u8)
+                {
+                    if self.string(self.i).is_none() {
+                        self.i = save;
+                        self.diags.truncate(mark);
+                        self.block.exprs.truncate(exprs);
+                        control.args.clear();
+                        return false;
+                    }
+                    let zero = self.push(Expr::Num(0.0));
+                    control.args.push(zero);
+                    self.skip_blanks();
+                    if self.peek() == Some(b',') {
+                        self.i += 1;
+                    }
+                    continue;
                 }
                 let Some(e) = self.expr(1, 0) else {
                     self.i = save;

@@ -113,3 +113,114 @@ fn haas_lathe_one_block_roughing_is_fanucs_two_block_form() {
     assert!(h.len() > 20, "{h:?}");
     assert_eq!(h, f);
 }
+
+// ---- §2: programs and cycles that live in the control ----
+
+/// The 840D's built-in procedures and language commands are read: they set how the control
+/// moves, not where, so the moves around them are the program's.
+#[test]
+fn siemens_built_ins_are_read_without_findings() {
+    let program = "\
+%_N_PART_MPF
+G17 G90 G54 G64
+FGROUP(X,Y,Z)
+COMPCAD
+SOFT
+FFWON
+SBLOF
+SBLON
+CYCLE832(0.05,_ORI_ROUGH,1)
+CYCLE800(1,\"TABLE\",0,57,0,0,0,0,0,0,0,0,0,1,100,1)
+TRAORI
+G642
+T=\"MILL_10\" M6
+S5000 M3 D1
+G0 X10 Y20 Z5
+G1 Z-1 F500
+COMPOF
+FFWOF
+BRISK
+TRAFOOF
+SETAL(61000)
+G505 G0 X0
+G599 G0 Y0
+M30
+";
+    let (_, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let m = moves("siemens", program);
+    assert_eq!(m.len(), 4, "{m:?}");
+    assert!(m[1].starts_with("STRAIGHT_FEED(10.0000, 20.0000, -1.0000"), "{m:?}");
+}
+
+/// A call to a program that is neither in the file nor in the program directory may be one
+/// the control holds (a machine maker's cycle, a shop subprogram): a warning, in every
+/// dialect but LinuxCNC, which keeps rs274's error. The run goes on after it.
+#[test]
+fn a_call_to_a_program_the_control_may_hold_is_a_warning() {
+    for (dialect, program) in [
+        ("siemens", "G0 X0\nTOL(0.1,1,1)\nRAPORT(\"START\")\nT_INI\nL9021\nG0 X5\nM30\n"),
+        ("fanuc", "G0 X0.\nM98 P9021\nG65 P9810 X1. Y2.\nG0 X5.\nM30\n"),
+        ("haas", "G0 X0.\nM98 P9021\nG0 X5.\nM30\n"),
+        ("heidenhain", "0 BEGIN PGM A MM\n1 L X+0 FMAX\n2 CALL PGM TNC:\\CYCLES\\RAPORT.H\n3 L X+5 FMAX\n4 END PGM A MM\n"),
+    ] {
+        let (_, diags) = run(dialect, program);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        assert!(has(&diags, "flow::missing-program", Severity::Warning), "{dialect}: {diags:?}");
+        let m = moves(dialect, program);
+        assert!(m.last().is_some_and(|l| l.starts_with("STRAIGHT_TRAVERSE(5.0000")), "{dialect}: the run goes on: {m:?}");
+    }
+    // `T_INI` is one name, not a T word without a value.
+    let (_, diags) = run("siemens", "T_INI\nM30\n");
+    assert!(diags.iter().any(|d| d.message.contains("`T_INI`")), "{diags:?}");
+    let (_, diags) = run("linuxcnc", "G0 X0\no<probe> call\nM2\n");
+    assert!(!errors(&diags).is_empty(), "LinuxCNC keeps rs274's error: {diags:?}");
+}
+
+/// `check --strict` makes such calls errors.
+#[test]
+fn check_strict_makes_a_missing_program_an_error() {
+    let dir = std::env::temp_dir().join(format!("ncplan-strict-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("part.mpf");
+    std::fs::write(&file, "G0 X0\nTOL(0.1,1,1)\nM30\n").unwrap();
+    let out = std::process::Command::new(crate::bin()).args(["check", "-d", "siemens"]).arg(&file).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+    let out = std::process::Command::new(crate::bin()).args(["check", "--strict", "-d", "siemens"]).arg(&file).output().unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("error[flow::missing-program]"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---- §4: arcs ----
+
+/// An inch program written to 4 decimals (a Fusion 360 post) makes arcs whose radii differ
+/// by up to 0.0002 in: within what its own rounding allows on Fanuc-family controls.
+#[test]
+fn arc_tolerance_follows_the_programs_resolution() {
+    // Centre (1, 0), start (0, 0), end on the circle rounded: radius to the end 1.0002.
+    let program = "G20 G17 G90 G54\nS1000 M3\nG0 X0. Y0.\nG1 Z-0.1 F20.\nG2 X2.0002 Y0. I1. J0.\nM30\n";
+    for dialect in ["fanuc", "haas", "siemens"] {
+        let (_, diags) = run(dialect, program);
+        assert!(!has(&diags, "interp::bad-arc", Severity::Error), "{dialect}: {diags:?}");
+    }
+    // 0.001 in off is more than a 4-decimal program's rounding.
+    let off = program.replace("X2.0002", "X2.0013");
+    let (_, diags) = run("fanuc", &off);
+    assert!(has(&diags, "interp::bad-arc", Severity::Error), "{diags:?}");
+    // LinuxCNC keeps rs274's rule.
+    let (_, diags) = run("linuxcnc", "G20 G17 G90\nG0 X0 Y0\nG1 Z-0.1 F20\nG2 X2.01 Y0 I1 J0\nM2\n");
+    assert!(has(&diags, "interp::bad-arc", Severity::Error), "{diags:?}");
+}
+
+/// A rejected arc leaves the tool at its programmed end point: the next arc, right in
+/// itself, is not rejected too.
+#[test]
+fn one_bad_arc_is_one_finding() {
+    let program = "G21 G17 G90\nS1000 M3\nG0 X0. Y0.\nG1 Z-1. F100.\nG2 X20.5 Y0. I10. J0.\nG2 X40.5 Y0. I10. J0.\nG1 X50.\nM30\n";
+    let (_, diags) = run("fanuc", program);
+    let bad: Vec<_> = diags.iter().filter(|d| d.code.as_str() == "interp::bad-arc").collect();
+    assert_eq!(bad.len(), 1, "{diags:?}");
+    let m = moves("fanuc", program);
+    assert!(m.iter().any(|l| l.starts_with("ARC_FEED(40.5000, 0.0000, 30.5000, 0.0000, -1")), "{m:?}");
+}
