@@ -73,6 +73,9 @@ codes! {
     NotUtf8 = ("text::not-utf8", Note),
     /// The input exceeds the configured size limit and was not analysed.
     TooLarge = ("text::too-large", Error),
+    /// Text before the program's opening `%` (a CAM listing header): tape leader, which the
+    /// control skips and so does the analysis.
+    Leader = ("syntax::leader", Note),
     /// A letter that the dialect does not define as an address.
     UnknownAddress = ("syntax::unknown-address", Error),
     /// A number that cannot be read.

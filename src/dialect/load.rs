@@ -299,6 +299,7 @@ impl Cx {
             block_skip: None,
             block_number: None,
             program_delimiter: None,
+            leader_skipped: false,
             delimiter_first_line: false,
             expression: None,
             parameter: None,
@@ -411,8 +412,9 @@ impl Cx {
                     }
                 }
                 "program-delimiter" => {
-                    self.shape(c, &["char", "opening"], &[]);
+                    self.shape(c, &["char", "opening", "leader"], &[]);
                     lex.program_delimiter = self.char_attr(c, "char");
+                    lex.leader_skipped = self.either(c, "leader", "read", "skipped");
                     lex.delimiter_first_line = self.either(c, "opening", "anywhere", "first-line");
                 }
                 "expression" => {

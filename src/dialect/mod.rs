@@ -105,6 +105,9 @@ pub struct Lexical {
     pub named_blocks: bool,
     /// Program delimiter (`%`).
     pub program_delimiter: Option<char>,
+    /// Whether text before the first delimiter line that has program text after it is tape
+    /// leader the control skips (a CAM listing header, a title), rather than blocks.
+    pub leader_skipped: bool,
     /// Whether the delimiter opens a program only on its first line (after blank lines),
     /// and one anywhere else without that opening is an error (LinuxCNC), rather than
     /// delimiting wherever it stands (tape format).

@@ -106,10 +106,15 @@ pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dy
     if let Some(d) = foreign(text, dialect) {
         return vec![d];
     }
-    match &profile.programs {
+    let mut diags = match &profile.programs {
         Some(p) => run(text, dialect, profile, p.as_ref(), sink),
         None => run(text, dialect, profile, &NoPrograms, sink),
+    };
+    if let Some((range, line)) = crate::syntax::leader(text, dialect) {
+        let msg = format!("the text before the `%` on line {line} is tape leader: the control skips it, and so does this analysis");
+        diags.insert(0, Diagnostic::new(Code::Leader, range, msg));
     }
+    diags
 }
 
 /// A program in a format the dialect names as foreign (Mazatrol unit blocks in a Mazak

@@ -9,6 +9,26 @@ use crate::text::TextRange;
 /// Nesting limit for brackets, against stack exhaustion on hostile input.
 const MAX_DEPTH: u32 = 64;
 
+/// The tape leader the dialect skips: the text before the first line that is only the
+/// program delimiter (`%`) with program text after it, when there is text before it (an NX
+/// listing header, a title), and the 1-based line the program starts on.
+pub fn leader(text: &str, dialect: &Dialect) -> Option<(TextRange, u32)> {
+    let d = dialect.lexical.program_delimiter.filter(|_| dialect.lexical.leader_skipped)?;
+    let head = &text[..text.len().min(64 * 1024)];
+    let mut at = 0;
+    for (n, line) in head.split_inclusive('\n').enumerate() {
+        let t = line.trim().trim_start_matches('\u{feff}');
+        if t.len() == d.len_utf8() && t.starts_with(d) {
+            let before = &text[..at];
+            let after = &text[at + line.len()..];
+            let blank = |s: &str| s.chars().all(|c| c.is_whitespace() || c == '\u{feff}' || c == d);
+            return (!blank(before) && !blank(after)).then(|| (TextRange::new(0, at), n as u32 + 1));
+        }
+        at += line.len();
+    }
+    None
+}
+
 /// A cursor over a program text that yields one block at a time.
 pub struct Parser<'a> {
     text: &'a str,
@@ -21,7 +41,8 @@ pub struct Parser<'a> {
 impl<'a> Parser<'a> {
     /// A parser at the start of `text`.
     pub fn new(text: &'a str, dialect: &'a Dialect) -> Parser<'a> {
-        Parser { text, bytes: text.as_bytes(), pos: 0, line: 1, dialect }
+        let (pos, line) = leader(text, dialect).map_or((0, 1), |(r, line)| (r.end as usize, line));
+        Parser { text, bytes: text.as_bytes(), pos, line, dialect }
     }
 
     /// The byte offset of the next block.

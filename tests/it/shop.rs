@@ -224,3 +224,19 @@ fn one_bad_arc_is_one_finding() {
     let m = moves("fanuc", program);
     assert!(m.iter().any(|l| l.starts_with("ARC_FEED(40.5000, 0.0000, 30.5000, 0.0000, -1")), "{m:?}");
 }
+
+/// An NX listing header before the opening `%` is tape leader: Fanuc-family controls skip
+/// it, with a note; a `%` that only ends the program leaves what comes before it alone.
+#[test]
+fn text_before_the_opening_percent_is_tape_leader() {
+    let program = "==========\nInformation listing created by : lili\nDate : 8/31/2006\n==========\n%\nO0001\nG0 G90 X1. Y2.\nM30\n%\n";
+    for dialect in ["fanuc", "mitsubishi", "haas"] {
+        let (_, diags) = run(dialect, program);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        assert!(has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
+        assert_eq!(moves(dialect, program), ["STRAIGHT_TRAVERSE(1.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)"]);
+    }
+    let (_, diags) = run("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n");
+    assert!(!has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
+    assert_eq!(moves("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n").len(), 1);
+}
