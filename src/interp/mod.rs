@@ -1220,6 +1220,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::Scaling
                     | Meaning::Rotation
                     | Meaning::Pole
+                    | Meaning::PoleKeeping
                     | Meaning::CycleDefine
                     | Meaning::FrameTrans
                     | Meaning::FrameTransAdd
@@ -1962,6 +1963,15 @@ impl<'a> Interpreter<'a> {
                 let t = self.target();
                 let (a0, a1, _) = self.st.plane.axes();
                 self.st.pole = (t[a0], t[a1]);
+            }
+            Meaning::PoleKeeping => {
+                let t = self.target();
+                let (a0, a1, _) = self.st.plane.axes();
+                let given = |axis: usize| self.slots[Role::AXES[axis] as usize].is_some();
+                self.st.pole = match (given(a0), given(a1)) {
+                    (false, false) => (t[a0], t[a1]),
+                    (g0, g1) => (if g0 { t[a0] } else { self.st.pole.0 }, if g1 { t[a1] } else { self.st.pole.1 }),
+                };
             }
             Meaning::PoleIncremental | Meaning::PoleFromPole => {
                 let (a0, a1, _) = self.st.plane.axes();

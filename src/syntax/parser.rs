@@ -636,10 +636,11 @@ impl Lexer<'_, '_> {
                 let from = self.i;
                 let end = self.b[from..]
                     .iter()
-                    .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/')))
+                    .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/' | b'\'') || *c >= 0x80))
                     .map_or(self.b.len(), |p| from + p);
                 let word = &self.b[from..end];
-                // A display name (`DRILLING`, `DATUM SHIFT`) or a plain number; not an address
+                // A display name in the control's language (`DRILLING`, `DATUM SHIFT`,
+                // `PLAN D'USINAGE`, `PERÇAGE`) or a plain number; not an address
                 // word such as `X+0`, `Q200=2` or a lone axis letter.
                 let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
                 let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
@@ -648,6 +649,11 @@ impl Lexer<'_, '_> {
                     break;
                 }
                 self.i = end;
+                // A setting shown with its value (`HSC-MODE:0` in cycle 32).
+                if self.peek() == Some(b':') && self.b.get(self.i + 1).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-')) {
+                    self.i += 1;
+                    let _ = self.number();
+                }
             },
         }
         true

@@ -240,3 +240,39 @@ fn text_before_the_opening_percent_is_tape_leader() {
     assert!(!has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
     assert_eq!(moves("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n").len(), 1);
 }
+
+/// Heidenhain: PLANE (kept as intent, RESET read), M140 MB MAX, cycle 32 TOLERANCE, M128
+/// with F and FQ, TCH PROBE (intent), FN 17: SYSWRITE, cycle names in the control's language;
+/// a CC with one coordinate keeps the other from the last CC.
+#[test]
+fn heidenhain_plane_tolerance_probe_and_one_coordinate_pole() {
+    let program = "\
+0 BEGIN PGM H2 MM
+1 TOOL CALL 1 Z S3000
+2 PLANE RESET STAY
+3 M140 MB MAX
+4 CYCL DEF 32.0 TOLERANCE
+5 CYCL DEF 32.1 T0.015
+6 CYCL DEF 32.2 HSC-MODE:0
+7 CYCL DEF 19.0 PLAN D'USINAGE
+8 M128 F1000
+9 M128 FQ2
+10 TCH PROBE 400 BASIC ROTATION
+11 FN 17: SYSWRITE ID 990 NR6 IDX0 =+1
+12 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN MB MAX FMAX SEQ- TABLE ROT
+13 PLANE RESET STAY
+14 M129
+15 L X+0 Y+0 Z+5 R0 FMAX M3
+16 CC X+50 Y+50
+17 L X+60 Y+50 Z-1 F500
+18 C X+40 Y+50 DR+
+19 CC X+30
+20 C X+20 Y+50 DR+
+21 END PGM H2 MM
+";
+    let (_, diags) = run("heidenhain", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(diags.iter().any(|d| d.message.contains("PLANE (tilt the working plane) is kept as intent")), "{diags:?}");
+    let m = moves("heidenhain", program);
+    assert_eq!(m.last().unwrap(), "ARC_FEED(20.0000, 50.0000, 30.0000, 50.0000, 1, -1.0000, 0.0000, 0.0000, 0.0000)", "{m:?}");
+}
