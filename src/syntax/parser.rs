@@ -746,6 +746,20 @@ impl Lexer<'_, '_> {
             return false;
         }
         self.i = j + 1;
+        // Text (`VUACM[1]='END OF BAR'`, a Siemens STRING): what an alarm or a message shows,
+        // no number the toolpath depends on; read and not kept.
+        self.skip_blanks();
+        if let Some(q) = self.dialect.lexical.string_quote
+            && self.peek() == Some(q as u8)
+        {
+            let _ = self.string(start);
+            // A concatenation (`"A" << R1`) is text too, to the end of the line.
+            self.skip_blanks();
+            if self.b[self.i..].starts_with(b"<<") {
+                self.i = self.line_end();
+            }
+            return true;
+        }
         let Some(value) = self.expr(1, 0) else {
             self.i = self.line_end();
             return true;

@@ -276,3 +276,18 @@ fn heidenhain_plane_tolerance_probe_and_one_coordinate_pole() {
     let m = moves("heidenhain", program);
     assert_eq!(m.last().unwrap(), "ARC_FEED(20.0000, 50.0000, 30.0000, 50.0000, 1, -1.0000, 0.0000, 0.0000, 0.0000)", "{m:?}");
 }
+
+/// Okuma: text in a system variable (`VUACM[1]='END OF BAR'`) and the lathe's G136/G137;
+/// Haas: the 5-axis codes G254/G255, G234, G268/G269 are read (the ones that change the
+/// coordinates kept as intent, with a warning).
+#[test]
+fn okuma_strings_and_haas_five_axis_codes() {
+    let okuma = "$A.MIN%\nVUACM[1]='END OF BAR'\nG136\nG0 X10. Z5.\nG137\nM30\n";
+    let (_, diags) = run("okuma_lathe", okuma);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(moves("okuma_lathe", okuma).len(), 1);
+    let haas = "O1000\nG0 G90 G54 X0. Y0.\nG254\nG234 H1\nG0 X1.\nG255\nG268 X0. Y0. Z0. I0. J45. K0.\nG269\nM30\n";
+    let (_, diags) = run("haas", haas);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "interp::unsupported", Severity::Warning), "{diags:?}");
+}
