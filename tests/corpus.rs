@@ -166,6 +166,8 @@ struct Tally {
     oracle: usize,
     /// Not a part program: binary data or a foreign format (Mazatrol, a template).
     not_program: usize,
+    /// Errors that `reasons.tsv` says are genuine (or another issue's), with why.
+    explained: usize,
     dialects: BTreeMap<String, usize>,
 }
 
@@ -173,9 +175,9 @@ impl Tally {
     /// The table row of `folder`, read in `dialects`.
     fn row(&self, folder: &str, dialects: &str) -> String {
         let pct = |k: usize| 100.0 * k as f64 / self.programs.max(1) as f64;
-        let ok = self.clean + self.oracle + self.not_program;
-        let (n, clean, oracle, other) = (self.programs, self.clean, self.oracle, self.not_program);
-        format!("| {folder} | {dialects} | {n} | {clean} | {:.1}% | {oracle} | {other} | {ok} | {:.1}% |\n", pct(clean), pct(ok))
+        let ok = self.clean + self.oracle + self.not_program + self.explained;
+        let (n, clean, oracle, other, why) = (self.programs, self.clean, self.oracle, self.not_program, self.explained);
+        format!("| {folder} | {dialects} | {n} | {clean} | {:.1}% | {oracle} | {other} | {why} | {ok} | {:.1}% |\n", pct(clean), pct(ok))
     }
 }
 
@@ -186,15 +188,39 @@ fn rs274_rejects(path: &Path) -> bool {
     std::fs::read_to_string(golden).is_ok_and(|t| t.lines().any(|l| l.starts_with("# rs274 error")))
 }
 
+/// `tests/golden/corpus/reasons.tsv`, kept by hand: per program whose errors are genuine
+/// (or not ncplan's to fix), why: `folder<TAB>file<TAB>reason`. The reason is copied into
+/// `errors.tsv` while the program has errors.
+fn reasons(dir: &Path) -> BTreeMap<String, String> {
+    let text = std::fs::read_to_string(dir.join("reasons.tsv")).unwrap_or_default();
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .filter_map(|l| {
+            let mut f = l.splitn(3, '\t');
+            Some((format!("{}/{}", f.next()?, f.next()?), f.next()?.trim().to_owned()))
+        })
+        .collect()
+}
+
 /// Rewrites `errors.tsv` and the per-folder table `summary.md`.
 fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, PathBuf)]) {
-    let mut rows = String::from("# folder\tfile\tdialect\terrors\tfirst error code\n");
+    let why = reasons(dir);
+    let mut rows = String::from("# folder\tfile\tdialect\terrors\tfirst error code\treason the errors are genuine (reasons.tsv)\n");
     let mut by_folder: BTreeMap<String, Tally> = BTreeMap::new();
     for (folder, path) in programs {
         let d = dialect_for(registry, folder, path);
         let (n, first) = errors_of(path, &d);
         let file = path.file_name().unwrap().to_string_lossy();
-        rows.push_str(&format!("{folder}\t{file}\t{}\t{n}\t{first}\n", d.name));
+        let reason = if n > 0 {
+            why.get(&format!("{folder}/{file}"))
+                .or_else(|| {
+                    why.iter().find(|(k, _)| k.strip_suffix('*').is_some_and(|p| format!("{folder}/{file}").starts_with(p))).map(|(_, v)| v)
+                })
+                .map_or("", String::as_str)
+        } else {
+            ""
+        };
+        rows.push_str(&format!("{folder}\t{file}\t{}\t{n}\t{first}\t{reason}\n", d.name));
         let t = by_folder.entry(folder.clone()).or_default();
         t.programs += 1;
         if n == 0 {
@@ -203,14 +229,16 @@ fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, Pat
             t.not_program += 1;
         } else if folder == "linuxcnc" && rs274_rejects(path) {
             t.oracle += 1;
+        } else if !reason.is_empty() {
+            t.explained += 1;
         }
         *t.dialects.entry(d.name.clone()).or_default() += 1;
     }
     let mut md = String::from(
         "Errors are confirmed when rs274 stops on the program too, or when the file is not a part program \
-         (binary data, a Mazatrol export, a template).\n\n\
-         | folder | dialect | programs | without errors | share | errors rs274 confirms | not a program | without unconfirmed errors | share |\n\
-         |---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+         (binary data, a Mazatrol export, a template); explained when `reasons.tsv` says why they are genuine.\n\n\
+         | folder | dialect | programs | without errors | share | errors rs274 confirms | not a program | explained | without unexplained errors | share |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     let mut all = Tally::default();
     for (folder, t) in &by_folder {
@@ -221,6 +249,7 @@ fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, Pat
         all.clean += t.clean;
         all.oracle += t.oracle;
         all.not_program += t.not_program;
+        all.explained += t.explained;
     }
     md.push_str(&all.row("**all**", ""));
     let (sniffed, sniff_md) = sniff_table(registry, programs);
