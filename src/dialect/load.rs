@@ -484,6 +484,7 @@ impl Cx {
             arc_tolerance_mm: 0.002,
             arc_tolerance_inch: 0.002 / 25.4,
             arc_tolerance_steps: 0.0,
+            cycle_r_defaults_to_initial: false,
             arc_relative_tolerance: None,
             assign_before_reads: false,
             feed_mode_resets_feed: false,
@@ -515,6 +516,7 @@ impl Cx {
                 "arc-tolerance-mm",
                 "arc-tolerance-inch",
                 "arc-tolerance-steps",
+                "cycle-without-r",
                 "arc-relative-tolerance",
                 "parameter-assignment",
                 "feed-mode-resets-feed",
@@ -559,6 +561,7 @@ impl Cx {
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
         b.arc_tolerance_inch = self.number(el, "arc-tolerance-inch", b.arc_tolerance_mm / 25.4);
         b.arc_tolerance_steps = self.number(el, "arc-tolerance-steps", 0.0).max(0.0);
+        b.cycle_r_defaults_to_initial = self.either(el, "cycle-without-r", "error", "initial-level");
         b.arc_relative_tolerance = self.attr(el, "arc-relative-tolerance").map(|_| self.number(el, "arc-relative-tolerance", 0.0));
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);

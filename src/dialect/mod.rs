@@ -253,6 +253,9 @@ pub struct Behaviour {
     /// step moves a radius by up to √2 steps, so 2√2 for both. 0: the tolerance alone
     /// (LinuxCNC, as rs274).
     pub arc_tolerance_steps: f64,
+    /// Whether a drilling cycle with no R feeds from the initial level (Fanuc family, with a
+    /// warning) rather than being an error (LinuxCNC, as rs274).
+    pub cycle_r_defaults_to_initial: bool,
     /// When set, a radius difference above the tolerance is still accepted while it is at
     /// most this share of the radius and at most 100 times the tolerance (LinuxCNC's rule
     /// for spirals written as arcs).

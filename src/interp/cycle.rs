@@ -82,6 +82,20 @@ impl Interpreter<'_> {
         if let Some(p) = self.slot(Role::P) {
             self.st.sticky_p = Some(p);
         }
+        // Without R, Fanuc-family controls feed from the initial level (where the tool is when
+        // the first cycle begins): a warning where the dictionary says so, else an error.
+        if self.st.sticky_r.is_none() && self.st.sticky_z.is_some() && self.dialect.behaviour.cycle_r_defaults_to_initial {
+            let initial = self.st.cycle_initial.unwrap_or(self.st.pos[n]);
+            let r = if self.st.distance == DistanceMode::Incremental { 0.0 } else { initial };
+            self.st.sticky_r = Some(r);
+            let mut d = Diagnostic::new(
+                Code::CycleIncomplete,
+                block.range,
+                format!("{} has no R: the control feeds from the initial level, {r}", def.label()),
+            );
+            d.severity = crate::diag::Severity::Warning;
+            diags.push(d);
+        }
         let (Some(r_word), Some(z_word)) = (self.st.sticky_r, self.st.sticky_z) else {
             let missing = if self.st.sticky_r.is_none() { "R (the feed-start plane)" } else { "Z (the hole bottom)" };
             diags.push(Diagnostic::new(Code::CycleIncomplete, block.range, format!("{} has no {missing}", def.label())));

@@ -976,6 +976,26 @@ impl<'a> Interpreter<'a> {
             _ => None,
         });
         let diameter = diameter.unwrap_or(self.st.diameter);
+        // In a drilling cycle's block (its own or the one in force) K counts repeats: no length.
+        let is_hole_cycle = |m: Meaning| {
+            matches!(
+                m,
+                Meaning::CycleDrill
+                    | Meaning::CycleDrillDwell
+                    | Meaning::CyclePeckDrill
+                    | Meaning::CycleChipBreak
+                    | Meaning::CycleBore
+                    | Meaning::CycleBoreDwell
+                    | Meaning::CycleBoreStop
+                    | Meaning::CycleTap
+                    | Meaning::CycleTapLeft
+                    | Meaning::CycleFineBore
+                    | Meaning::CycleBackBore
+                    | Meaning::CycleBoreManual
+            )
+        };
+        let k_counts = self.codes.iter().any(|&(c, _)| is_hole_cycle(self.code(c).meaning))
+            || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
         for w in &block.words {
             if matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
                 continue;
@@ -1027,6 +1047,7 @@ impl<'a> Interpreter<'a> {
             if let (Value::Number { decimal, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
                 (w.value, &self.dialect.behaviour.decimal_input)
                 && scaled.contains(&role)
+                && !(k_counts && role == Role::K)
             {
                 if decimal {
                     self.st.length_points = true;

@@ -291,3 +291,22 @@ fn okuma_strings_and_haas_five_axis_codes() {
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
     assert!(has(&diags, "interp::unsupported", Severity::Warning), "{diags:?}");
 }
+
+/// Fanuc: K in a drilling cycle counts its repeats, also under least-increment input (`K3`
+/// is three holes, not 0.003); a cycle without R feeds from the initial level, with a
+/// warning, where LinuxCNC keeps rs274's error.
+#[test]
+fn fanuc_cycle_repeat_count_and_missing_r() {
+    let k = "O1\nG21 G17 G90 G54\nS1000 M3\nG0 X0. Y0. Z10.\nG91 G81 X10. Z-5. R-8. K3 F100.\nG80 G90\nM30\n";
+    let (_, diags) = run("fanuc", k);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(!diags.iter().any(|d| d.code.as_str() == "interp::no-decimal-point"), "{diags:?}");
+    assert_eq!(moves("fanuc", k).iter().filter(|m| m.starts_with("STRAIGHT_FEED")).count(), 3);
+    let r = "O1\nG21 G17 G90 G54\nS1000 M3\nG0 X0. Y0. Z2.\nG81 X10. Z-5. F100.\nG80\nM30\n";
+    let (_, diags) = run("fanuc", r);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "interp::cycle-incomplete", Severity::Warning), "{diags:?}");
+    assert!(moves("fanuc", r).contains(&"STRAIGHT_FEED(10.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)".to_owned()));
+    let (_, diags) = run("linuxcnc", "G21 G17 G90\nG0 X0 Y0 Z2\nG81 X10 Z-5 F100\nG80\nM2\n");
+    assert!(has(&diags, "interp::cycle-incomplete", Severity::Error), "{diags:?}");
+}
