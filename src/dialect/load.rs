@@ -260,6 +260,7 @@ impl Cx {
                 "string",
                 "numbers",
                 "system-variables",
+                "array",
                 "comment",
                 "block-skip",
                 "block-number",
@@ -292,6 +293,7 @@ impl Cx {
             string_quote: None,
             numbers: NumberForms::default(),
             system_variable_prefix: None,
+            array_brackets: None,
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             identifier_variables: self.bool(el, "identifier-variables", false),
             symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
@@ -343,6 +345,15 @@ impl Cx {
                 "system-variables" => {
                     self.shape(c, &["prefix"], &[]);
                     lex.system_variable_prefix = self.char_attr(c, "prefix");
+                }
+                "array" => {
+                    self.shape(c, &["open", "close"], &[]);
+                    if let (Some(o), Some(e)) = (self.char_attr(c, "open"), self.char_attr(c, "close"))
+                        && o.is_ascii()
+                        && e.is_ascii()
+                    {
+                        lex.array_brackets = Some((o as u8, e as u8));
+                    }
                 }
                 "comment" => {
                     self.shape(c, &["open", "close", "position"], &[]);

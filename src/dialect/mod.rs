@@ -91,6 +91,9 @@ pub struct Lexical {
     /// the control's own data, which a program may read and write. One the program reads
     /// before it writes it is machine data, unknown here.
     pub system_variable_prefix: Option<char>,
+    /// The brackets of an array element (`_RICH[0]`, `VAR5[R2]`) where they are not the
+    /// expression brackets (Siemens: `[` and `]`).
+    pub array_brackets: Option<(u8, u8)>,
     /// Whether `==`, `<>`, `<`, `>`, `<=`, `>=` compare in expressions (`R1>=5`).
     pub symbolic_comparisons: bool,
     /// Comment rules, tried in order.

@@ -692,15 +692,40 @@ impl Lexer<'_, '_> {
         let from = if system { at + 1 } else { at };
         let end = self.b[from..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| from + p);
         if system && self.b.get(end) == Some(&b'[') {
-            // The index: letters, digits, commas and blanks up to `]`.
-            let inside = self.b[end + 1..].iter().position(|&c| !(c.is_ascii_alphanumeric() || matches!(c, b',' | b'_' | b' ')));
-            if let Some(p) = inside
-                && self.b[end + 1 + p] == b']'
-            {
-                return end + 2 + p;
+            // The index, whatever it holds (`$TC_SCP13[$P_TOOLNO,1]`), up to the matching `]`
+            // on the line.
+            let mut depth = 0;
+            for (p, &c) in self.b[end..].iter().enumerate() {
+                match c {
+                    b'[' => depth += 1,
+                    b']' if depth == 1 => return end + p + 1,
+                    b']' => depth -= 1,
+                    b'\n' | b'\r' | b';' => break,
+                    _ => {}
+                }
             }
         }
         end
+    }
+
+    /// An array element's index at the cursor (`[R2+1]`, in the dialect's array brackets):
+    /// `None` when none is there, `Some(None)` when it is malformed.
+    fn array_index(&mut self, depth: u32) -> Option<Option<ExprId>> {
+        let (open, close) = self.dialect.lexical.array_brackets?;
+        if self.peek() != Some(open) {
+            return None;
+        }
+        let at = self.i;
+        self.i += 1;
+        let Some(e) = self.expr(depth + 1, 0) else { return Some(None) };
+        self.skip_blanks();
+        if self.peek() != Some(close) {
+            let end = self.i.max(at + 1);
+            self.error(Code::MalformedExpression, at, end, format!("an array element's index is closed with `{}`", close as char));
+            return Some(None);
+        }
+        self.i += 1;
+        Some(Some(e))
     }
 
     /// Whether a system variable's name starts at `at` (`$AC_TIME`).
@@ -733,6 +758,16 @@ impl Lexer<'_, '_> {
         if indexed {
             self.i = end;
             index = self.unary(1);
+            j = self.i;
+        } else if self.dialect.lexical.array_brackets.is_some_and(|(o, _)| self.b.get(end) == Some(&o)) {
+            self.i = end;
+            index = self.array_index(0).flatten();
+            if index.is_none() {
+                self.diags.truncate(marks);
+                self.block.exprs.truncate(exprs);
+                self.i = start;
+                return false;
+            }
             j = self.i;
         }
         while matches!(self.b.get(j), Some(b' ' | b'\t')) {
@@ -796,6 +831,39 @@ impl Lexer<'_, '_> {
             }
             self.i = end;
             self.skip_blanks();
+            // `DEF REAL _RICH[4]`: a one-dimensional array whose elements start at 0.
+            if let Some((open, close)) = self.dialect.lexical.array_brackets
+                && self.peek() == Some(open)
+            {
+                let inner = self.i + 1;
+                let stop = self.b[inner..].iter().position(|&c| c == close || c == b'\n').map_or(self.b.len(), |p| inner + p);
+                let size = self.text[inner..stop].trim().parse::<u32>().ok().filter(|n| (1..=1000).contains(n));
+                let after = self.b[(stop + 1).min(self.b.len())..].iter().find(|c| !matches!(c, b' ' | b'\t')).copied();
+                if let Some(n) = size.filter(|_| self.b.get(stop) == Some(&close) && after != Some(open)) {
+                    let name = TextRange::new(start, end);
+                    for k in 0..n {
+                        let (index, zero) = (self.push(Expr::Num(f64::from(k))), self.push(Expr::Num(0.0)));
+                        self.block.assigns.push(Assign { target: ParamTarget::NamedIndex(name, index), value: zero, range: name });
+                    }
+                    self.i = stop + 1;
+                    self.skip_blanks();
+                    if self.peek() == Some(b'=') {
+                        let d = Diagnostic::new(
+                            Code::Unsupported,
+                            TextRange::new(start, end),
+                            "an array's initial values are not read: its elements start at 0 here",
+                        );
+                        self.diags.push(d);
+                        self.i = self.line_end();
+                        return;
+                    }
+                    if self.peek() == Some(b',') {
+                        self.i += 1;
+                        continue;
+                    }
+                    break;
+                }
+            }
             if self.peek() == Some(b'[') {
                 let d = Diagnostic::new(
                     Code::Unsupported,
@@ -1885,6 +1953,9 @@ impl Lexer<'_, '_> {
                     // `VTOFD[1]`: an element of a named array.
                     let index = self.unary(depth + 1)?;
                     return Some(self.push(Expr::NamedIndex(r, index)));
+                }
+                if let Some(index) = self.array_index(depth) {
+                    return Some(self.push(Expr::NamedIndex(r, index?)));
                 }
                 Some(self.push(Expr::Named(r)))
             }

@@ -310,3 +310,31 @@ fn fanuc_cycle_repeat_count_and_missing_r() {
     let (_, diags) = run("linuxcnc", "G21 G17 G90\nG0 X0 Y0 Z2\nG81 X10 Z-5 F100\nG80\nM2\n");
     assert!(has(&diags, "interp::cycle-incomplete", Severity::Error), "{diags:?}");
 }
+
+/// Siemens arrays: declared (`DEF REAL _RICH[4]`, elements at 0), written (`_RICH[0]=5`,
+/// `VAR5[R2]=3`, several in one block) and read (`FOR ... TO _RICH[1]-1`); a system
+/// variable's index may hold anything (`$TC_SCP13[$P_TOOLNO,1]`, also inside IF).
+#[test]
+fn siemens_arrays_and_system_variable_indexes() {
+    let program = "\
+DEF REAL _RICH[4]
+DEF INT VAR5[3]
+DEF INT I
+R2=1
+_RICH[0]=5 _RICH[1]=3
+VAR5[R2]=_RICH[0]+1
+G0 X0 Y0 Z5
+FOR I=0 TO _RICH[1]-1
+G1 X=VAR5[1]*I F100
+ENDFOR
+IF $TC_SCP13[$P_TOOLNO,1]>0
+G0 Z50
+ENDIF
+M30
+";
+    let (_, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let m = moves("siemens", program);
+    let xs: Vec<&str> = m.iter().filter(|l| l.starts_with("STRAIGHT_FEED")).map(|l| &l[14..20]).collect();
+    assert_eq!(xs, ["0.0000", "6.0000", "12.000"], "{m:?}");
+}
