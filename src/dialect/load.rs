@@ -356,7 +356,8 @@ impl Cx {
                     }
                 }
                 "comment" => {
-                    self.shape(c, &["open", "close", "position"], &[]);
+                    self.shape(c, &["open", "close", "position", "nested"], &[]);
+                    let nested = self.bool(c, "nested", false);
                     let block_start = match self.attr(c, "position").unwrap_or("anywhere") {
                         "anywhere" => false,
                         "block-start" => true,
@@ -375,7 +376,7 @@ impl Cx {
                         self.error(c.range, "<comment> needs a one-character `open`");
                     }
                     if let (Some(open), Some(close)) = (open, close) {
-                        lex.comments.push(CommentRule { open, close, block_start });
+                        lex.comments.push(CommentRule { open, close, block_start, nested });
                     }
                 }
                 "comment-directive" => {

@@ -43,6 +43,9 @@ pub struct CommentRule {
     pub close: CommentClose,
     /// Only at the start of a block (after its number): Heidenhain's `*` structure blocks.
     pub block_start: bool,
+    /// Whether an opening character inside the comment opens a nested one, so the comment
+    /// ends at the matching close (`($SetPartSize(4, 4, 1, 1) )`, which simulators write).
+    pub nested: bool,
 }
 
 /// Where the block-skip character may stand.

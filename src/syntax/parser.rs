@@ -303,7 +303,21 @@ impl Lexer<'_, '_> {
             }
             CommentClose::Char(c) => {
                 let rest = &self.b[self.i..eol];
-                match rest.iter().position(|&x| x == *c as u8) {
+                let opener = self.b[open];
+                let nested = self.dialect.lexical.comments.iter().any(|r| r.open as u8 == opener && r.nested);
+                let mut depth = 0u32;
+                let mut closing = |x: u8| {
+                    if nested && x == opener && x != *c as u8 {
+                        depth += 1;
+                    } else if x == *c as u8 {
+                        if depth == 0 {
+                            return true;
+                        }
+                        depth -= 1;
+                    }
+                    false
+                };
+                match rest.iter().position(|&x| closing(x)) {
                     Some(p) => {
                         self.block.comments.push(TextRange::new(self.i, self.i + p));
                         self.i += p + 1;

@@ -338,3 +338,20 @@ M30
     let xs: Vec<&str> = m.iter().filter(|l| l.starts_with("STRAIGHT_FEED")).map(|l| &l[14..20]).collect();
     assert_eq!(xs, ["0.0000", "6.0000", "12.000"], "{m:?}");
 }
+
+/// Nested parentheses in comments, as simulators write them (`($SetPartSize(4, 4, 1, 1) )`),
+/// are a dictionary option: a dialect that says `nested="true"` reads the whole comment.
+#[test]
+fn nested_comments_are_a_dictionary_option() {
+    let program = "O1\n($SetPartSize(4, 4, 1, 1) )\nG0 G90 X1. Y2.\nM30\n";
+    let (_, diags) = run("fanuc", program);
+    assert!(!errors(&diags).is_empty(), "Fanuc closes the comment at the first `)`");
+    let mut r = Registry::shipped();
+    let nested = r#"<dialect xmlns="urn:ncplan:dialect:1" name="sim" extends="fanuc" title="A simulator">
+  <lexical><comment open="(" close=")" nested="true"/></lexical>
+</dialect>"#;
+    r.add("sim.xml", nested).unwrap();
+    let d = r.get("sim").unwrap();
+    let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+}
