@@ -81,6 +81,10 @@ enum Command {
         /// spindle and arguments), or tell it from its form and file name.
         #[arg(long = "as", value_enum, default_value = "auto")]
         role: RoleArg,
+        /// Calls to programs the analysis does not have (a control's resident cycles, shop
+        /// subprograms) are errors, not warnings.
+        #[arg(long)]
+        strict: bool,
     },
     /// Print the NIST canonical machining functions, one call per line.
     Canon {
@@ -358,7 +362,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             crate::daemon::run(config, registry, Arc::new(crate::daemon::SystemClock))?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Check { input, format, role } => {
+        Command::Check { input, format, role, strict } => {
             let (d, mut config, bytes) = input_setup(&input)?;
             config.profile.role = match role {
                 RoleArg::Main => crate::interp::ProgramRole::Main,
@@ -369,7 +373,12 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                     .and_then(|n| crate::interp::role_from_file_name(&n.to_string_lossy(), &d))
                     .unwrap_or(config.profile.role),
             };
-            let a = pipeline::analyze_plan(&bytes, &d, &config.profile);
+            let mut a = pipeline::analyze_plan(&bytes, &d, &config.profile);
+            if strict {
+                for x in a.diagnostics.iter_mut().filter(|x| x.code == diag::Code::MissingProgram) {
+                    x.severity = diag::Severity::Error;
+                }
+            }
             let path = input.file.display().to_string();
             let idx = LineIndex::new(&a.source.text);
             match format {

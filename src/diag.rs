@@ -85,6 +85,9 @@ codes! {
     /// Several CAM originals match the program's names and nothing tells them apart, so it
     /// was not compared.
     PairingAmbiguous = ("pairing::ambiguous", Warning),
+    /// Text before the program's opening `%` (a CAM listing header): tape leader, which the
+    /// control skips and so does the analysis.
+    Leader = ("syntax::leader", Note),
     /// A letter that the dialect does not define as an address.
     UnknownAddress = ("syntax::unknown-address", Error),
     /// A number that cannot be read.

@@ -42,6 +42,49 @@ fn folder_dialect(folder: &str) -> Option<&'static str> {
     }
 }
 
+/// The controller family a corpus folder's name says its programs are for (a dialect's
+/// `family`); `None` for folders of mixed or unknown origin.
+fn folder_family(folder: &str) -> Option<&str> {
+    match folder {
+        "generic_iso" | "other" | "cldata" => None,
+        "linuxcnc" => Some("rs274ngc"),
+        f => Some(f),
+    }
+}
+
+/// `tests/golden/corpus/sniff.tsv`: the dialect told from each program of a folder that names
+/// a family, with how sure, and whether its family is the folder's; with the per-folder share
+/// of right families. Rewritten with `UPDATE_EXPECT=1`, compared otherwise.
+fn sniff_table(registry: &Registry, programs: &[(String, PathBuf)]) -> (String, String) {
+    let mut rows = String::from("# folder\tfile\tsniffed dialect\tsure\tright family\n");
+    let mut per: BTreeMap<&str, (usize, usize, usize)> = BTreeMap::new();
+    for (folder, path) in programs {
+        let Some(family) = folder_family(folder) else { continue };
+        let bytes = std::fs::read(path).unwrap_or_default();
+        let s = ncplan::pipeline::sniff(registry, &bytes, path);
+        let right = registry.get(&s.dialect).is_some_and(|d| d.family == family);
+        let file = path.file_name().unwrap().to_string_lossy();
+        let sure = s.confidence.as_str();
+        rows.push_str(&format!("{folder}\t{file}\t{}\t{sure}\t{}\n", s.dialect, if right { "yes" } else { "no" }));
+        let e = per.entry(folder.as_str()).or_default();
+        e.0 += 1;
+        e.1 += usize::from(right);
+        e.2 += usize::from(!right && s.confidence != ncplan::dialect::sniff::Confidence::Low);
+    }
+    let mut md = String::from(
+        "\nThe dialect told from each program's text and name (`ncplan check` without `-d`), for folders that name a \
+         controller family: how many are of that family, and how many of the others were not said with `sure: low`.\n\n\
+         | folder | programs | right family | share | wrong and not said low |\n|---|---:|---:|---:|---:|\n",
+    );
+    let (mut n, mut ok, mut loud) = (0, 0, 0);
+    for (folder, (k, r, l)) in &per {
+        md.push_str(&format!("| {folder} | {k} | {r} | {:.1}% | {l} |\n", 100.0 * *r as f64 / *k as f64));
+        (n, ok, loud) = (n + k, ok + r, loud + l);
+    }
+    md.push_str(&format!("| **all** | {n} | {ok} | {:.1}% | {loud} |\n", 100.0 * ok as f64 / n.max(1) as f64));
+    (rows, md)
+}
+
 /// The dialect a corpus program is checked in: its folder's, or the one told from its text.
 fn dialect_for(registry: &Registry, folder: &str, path: &Path) -> std::sync::Arc<ncplan::dialect::Dialect> {
     let name = match folder_dialect(folder) {
@@ -125,6 +168,8 @@ struct Tally {
     oracle: usize,
     /// Not a part program: binary data or a foreign format (Mazatrol, a template).
     not_program: usize,
+    /// Errors that `reasons.tsv` says are genuine (or another issue's), with why.
+    explained: usize,
     dialects: BTreeMap<String, usize>,
 }
 
@@ -132,9 +177,9 @@ impl Tally {
     /// The table row of `folder`, read in `dialects`.
     fn row(&self, folder: &str, dialects: &str) -> String {
         let pct = |k: usize| 100.0 * k as f64 / self.programs.max(1) as f64;
-        let ok = self.clean + self.oracle + self.not_program;
-        let (n, clean, oracle, other) = (self.programs, self.clean, self.oracle, self.not_program);
-        format!("| {folder} | {dialects} | {n} | {clean} | {:.1}% | {oracle} | {other} | {ok} | {:.1}% |\n", pct(clean), pct(ok))
+        let ok = self.clean + self.oracle + self.not_program + self.explained;
+        let (n, clean, oracle, other, why) = (self.programs, self.clean, self.oracle, self.not_program, self.explained);
+        format!("| {folder} | {dialects} | {n} | {clean} | {:.1}% | {oracle} | {other} | {why} | {ok} | {:.1}% |\n", pct(clean), pct(ok))
     }
 }
 
@@ -145,15 +190,39 @@ fn rs274_rejects(path: &Path) -> bool {
     std::fs::read_to_string(golden).is_ok_and(|t| t.lines().any(|l| l.starts_with("# rs274 error")))
 }
 
+/// `tests/golden/corpus/reasons.tsv`, kept by hand: per program whose errors are genuine
+/// (or not ncplan's to fix), why: `folder<TAB>file<TAB>reason`. The reason is copied into
+/// `errors.tsv` while the program has errors.
+fn reasons(dir: &Path) -> BTreeMap<String, String> {
+    let text = std::fs::read_to_string(dir.join("reasons.tsv")).unwrap_or_default();
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .filter_map(|l| {
+            let mut f = l.splitn(3, '\t');
+            Some((format!("{}/{}", f.next()?, f.next()?), f.next()?.trim().to_owned()))
+        })
+        .collect()
+}
+
 /// Rewrites `errors.tsv` and the per-folder table `summary.md`.
 fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, PathBuf)]) {
-    let mut rows = String::from("# folder\tfile\tdialect\terrors\tfirst error code\n");
+    let why = reasons(dir);
+    let mut rows = String::from("# folder\tfile\tdialect\terrors\tfirst error code\treason the errors are genuine (reasons.tsv)\n");
     let mut by_folder: BTreeMap<String, Tally> = BTreeMap::new();
     for (folder, path) in programs {
         let d = dialect_for(registry, folder, path);
         let (n, first) = errors_of(path, &d);
         let file = path.file_name().unwrap().to_string_lossy();
-        rows.push_str(&format!("{folder}\t{file}\t{}\t{n}\t{first}\n", d.name));
+        let reason = if n > 0 {
+            why.get(&format!("{folder}/{file}"))
+                .or_else(|| {
+                    why.iter().find(|(k, _)| k.strip_suffix('*').is_some_and(|p| format!("{folder}/{file}").starts_with(p))).map(|(_, v)| v)
+                })
+                .map_or("", String::as_str)
+        } else {
+            ""
+        };
+        rows.push_str(&format!("{folder}\t{file}\t{}\t{n}\t{first}\t{reason}\n", d.name));
         let t = by_folder.entry(folder.clone()).or_default();
         t.programs += 1;
         if n == 0 {
@@ -162,14 +231,16 @@ fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, Pat
             t.not_program += 1;
         } else if folder == "linuxcnc" && rs274_rejects(path) {
             t.oracle += 1;
+        } else if !reason.is_empty() {
+            t.explained += 1;
         }
         *t.dialects.entry(d.name.clone()).or_default() += 1;
     }
     let mut md = String::from(
         "Errors are confirmed when rs274 stops on the program too, or when the file is not a part program \
-         (binary data, a Mazatrol export, a template).\n\n\
-         | folder | dialect | programs | without errors | share | errors rs274 confirms | not a program | without unconfirmed errors | share |\n\
-         |---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+         (binary data, a Mazatrol export, a template); explained when `reasons.tsv` says why they are genuine.\n\n\
+         | folder | dialect | programs | without errors | share | errors rs274 confirms | not a program | explained | without unexplained errors | share |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     let mut all = Tally::default();
     for (folder, t) in &by_folder {
@@ -180,9 +251,13 @@ fn update_error_golden(dir: &Path, registry: &Registry, programs: &[(String, Pat
         all.clean += t.clean;
         all.oracle += t.oracle;
         all.not_program += t.not_program;
+        all.explained += t.explained;
     }
     md.push_str(&all.row("**all**", ""));
+    let (sniffed, sniff_md) = sniff_table(registry, programs);
+    md.push_str(&sniff_md);
     std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("sniff.tsv"), sniffed).unwrap();
     std::fs::write(dir.join("errors.tsv"), rows).unwrap();
     std::fs::write(dir.join("summary.md"), md).unwrap();
 }
@@ -216,6 +291,18 @@ fn main() {
         update_error_golden(&error_dir, &registry, &programs);
     }
     let expected_errors = error_golden(&error_dir);
+    {
+        let (registry, programs, dir) = (registry.clone(), programs.clone(), error_dir.clone());
+        trials.push(Trial::test("sniff/corpus", move || {
+            let (now, _) = sniff_table(&registry, &programs);
+            let recorded = std::fs::read_to_string(dir.join("sniff.tsv")).unwrap_or_default();
+            match now.lines().zip(recorded.lines()).find(|(a, b)| a != b) {
+                Some((a, b)) => Err(format!("sniffed `{a}`, recorded `{b}`; run with UPDATE_EXPECT=1 if intended").into()),
+                None if now.lines().count() != recorded.lines().count() => Err("tests/golden/corpus/sniff.tsv is out of date".into()),
+                None => Ok(()),
+            }
+        }));
+    }
     for (folder, f) in programs {
         let dialect = dialect_for(&registry, &folder, &f);
         let key = format!("{folder}/{}", f.file_name().unwrap().to_string_lossy());

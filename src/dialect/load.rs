@@ -29,6 +29,7 @@ pub(super) fn load_tree(text: &str, base: &dyn Fn(&str) -> Option<Element>) -> (
             return (None, cx.diags, None);
         }
     };
+    let extends = root.attrs.iter().find(|a| a.name == "extends").map(|a| a.value.clone());
     if let Some(a) = root.attrs.iter().find(|a| a.name == "extends") {
         let at = a.range;
         match base(&a.value) {
@@ -45,7 +46,7 @@ pub(super) fn load_tree(text: &str, base: &dyn Fn(&str) -> Option<Element>) -> (
             }
         }
     }
-    let dialect = cx.dialect(&root);
+    let dialect = cx.dialect(&root).map(|d| Dialect { extends, ..d });
     if cx.diags.iter().any(Diagnostic::is_error) {
         return (None, cx.diags, None);
     }
@@ -206,6 +207,11 @@ impl Cx {
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
         let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
+        let recognise_removed = child("recognise")
+            .map(|el| {
+                el.children.iter().filter(|c| c.name == "remove").filter_map(|c| self.required(c, "label").map(str::to_owned)).collect()
+            })
+            .unwrap_or_default();
         let execution_order = match child("execution-order") {
             Some(el) => self.execution_order(el, &groups),
             None => {
@@ -216,6 +222,7 @@ impl Cx {
         Some(Dialect {
             name,
             family,
+            extends: None,
             title,
             lexical,
             behaviour,
@@ -226,6 +233,7 @@ impl Cx {
             cycles,
             execution_order,
             recognise,
+            recognise_removed,
             letter_roles: [None; 128],
             letter_incremental: 0,
             plain_roles: [None; 128],
@@ -252,6 +260,7 @@ impl Cx {
                 "string",
                 "numbers",
                 "system-variables",
+                "array",
                 "comment",
                 "block-skip",
                 "block-number",
@@ -284,6 +293,7 @@ impl Cx {
             string_quote: None,
             numbers: NumberForms::default(),
             system_variable_prefix: None,
+            array_brackets: None,
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             identifier_variables: self.bool(el, "identifier-variables", false),
             symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
@@ -291,6 +301,7 @@ impl Cx {
             block_skip: None,
             block_number: None,
             program_delimiter: None,
+            leader_skipped: false,
             delimiter_first_line: false,
             expression: None,
             parameter: None,
@@ -335,8 +346,18 @@ impl Cx {
                     self.shape(c, &["prefix"], &[]);
                     lex.system_variable_prefix = self.char_attr(c, "prefix");
                 }
+                "array" => {
+                    self.shape(c, &["open", "close"], &[]);
+                    if let (Some(o), Some(e)) = (self.char_attr(c, "open"), self.char_attr(c, "close"))
+                        && o.is_ascii()
+                        && e.is_ascii()
+                    {
+                        lex.array_brackets = Some((o as u8, e as u8));
+                    }
+                }
                 "comment" => {
-                    self.shape(c, &["open", "close", "position"], &[]);
+                    self.shape(c, &["open", "close", "position", "nested"], &[]);
+                    let nested = self.bool(c, "nested", false);
                     let block_start = match self.attr(c, "position").unwrap_or("anywhere") {
                         "anywhere" => false,
                         "block-start" => true,
@@ -355,7 +376,7 @@ impl Cx {
                         self.error(c.range, "<comment> needs a one-character `open`");
                     }
                     if let (Some(open), Some(close)) = (open, close) {
-                        lex.comments.push(CommentRule { open, close, block_start });
+                        lex.comments.push(CommentRule { open, close, block_start, nested });
                     }
                 }
                 "comment-directive" => {
@@ -403,8 +424,9 @@ impl Cx {
                     }
                 }
                 "program-delimiter" => {
-                    self.shape(c, &["char", "opening"], &[]);
+                    self.shape(c, &["char", "opening", "leader"], &[]);
                     lex.program_delimiter = self.char_attr(c, "char");
+                    lex.leader_skipped = self.either(c, "leader", "read", "skipped");
                     lex.delimiter_first_line = self.either(c, "opening", "anywhere", "first-line");
                 }
                 "expression" => {
@@ -473,6 +495,8 @@ impl Cx {
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
             arc_tolerance_inch: 0.002 / 25.4,
+            arc_tolerance_steps: 0.0,
+            cycle_r_defaults_to_initial: false,
             arc_relative_tolerance: None,
             assign_before_reads: false,
             feed_mode_resets_feed: false,
@@ -504,6 +528,8 @@ impl Cx {
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
                 "arc-tolerance-inch",
+                "arc-tolerance-steps",
+                "cycle-without-r",
                 "arc-relative-tolerance",
                 "parameter-assignment",
                 "feed-mode-resets-feed",
@@ -548,6 +574,8 @@ impl Cx {
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
         b.arc_tolerance_inch = self.number(el, "arc-tolerance-inch", b.arc_tolerance_mm / 25.4);
+        b.arc_tolerance_steps = self.number(el, "arc-tolerance-steps", 0.0).max(0.0);
+        b.cycle_r_defaults_to_initial = self.either(el, "cycle-without-r", "error", "initial-level");
         b.arc_relative_tolerance = self.attr(el, "arc-relative-tolerance").map(|_| self.number(el, "arc-relative-tolerance", 0.0));
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
@@ -1051,9 +1079,9 @@ impl Cx {
     /// `<recognise>`: `<extension name="h" weight="10"/>`, `<marker regex="..." weight="30" label="BEGIN PGM"/>`.
     fn recognise(&mut self, el: &Element) -> Vec<super::sniff::Evidence> {
         use super::sniff::{Evidence, Marker};
-        self.shape(el, &[], &["extension", "marker"]);
+        self.shape(el, &[], &["extension", "marker", "remove"]);
         let mut out = Vec::new();
-        for c in &el.children {
+        for c in el.children.iter().filter(|c| c.name != "remove") {
             let weight = self.number(c, "weight", 10.0);
             if !(0.0..=1000.0).contains(&weight) || weight.fract() != 0.0 {
                 self.error(Self::attr_range(c, "weight"), "`weight` must be a whole number from 0 to 1000");
@@ -1065,15 +1093,18 @@ impl Cx {
                     self.shape(c, &["name", "weight"], &[]);
                     let Some(name) = self.required(c, "name") else { continue };
                     let name = name.trim_start_matches('.').to_ascii_lowercase();
-                    out.push(Evidence { label: format!(".{name}"), marker: Marker::Extension(name), weight });
+                    out.push(Evidence { label: format!(".{name}"), marker: Marker::Extension(name), weight, against: false });
                 }
                 "marker" => {
-                    self.shape(c, &["regex", "weight", "label"], &[]);
+                    self.shape(c, &["regex", "weight", "label", "case-sensitive", "against"], &[]);
                     let Some(src) = self.required(c, "regex") else { continue };
-                    match super::Pattern::new(src) {
+                    // Markers ignore case (`(HAAS` and `(haas`) unless the file says otherwise.
+                    let source = if self.bool(c, "case-sensitive", false) { src.to_owned() } else { format!("(?i){src}") };
+                    match super::Pattern::new(&source) {
                         Ok(re) => {
                             let label = self.attr(c, "label").unwrap_or(src).to_owned();
-                            out.push(Evidence { label, marker: Marker::Pattern(re), weight });
+                            let against = self.bool(c, "against", false);
+                            out.push(Evidence { label, marker: Marker::Pattern(re), weight, against });
                         }
                         Err(e) => self.error(Self::attr_range(c, "regex"), format!("invalid regular expression: {e}")),
                     }

@@ -43,6 +43,9 @@ pub struct CommentRule {
     pub close: CommentClose,
     /// Only at the start of a block (after its number): Heidenhain's `*` structure blocks.
     pub block_start: bool,
+    /// Whether an opening character inside the comment opens a nested one, so the comment
+    /// ends at the matching close (`($SetPartSize(4, 4, 1, 1) )`, which simulators write).
+    pub nested: bool,
 }
 
 /// Where the block-skip character may stand.
@@ -91,6 +94,9 @@ pub struct Lexical {
     /// the control's own data, which a program may read and write. One the program reads
     /// before it writes it is machine data, unknown here.
     pub system_variable_prefix: Option<char>,
+    /// The brackets of an array element (`_RICH[0]`, `VAR5[R2]`) where they are not the
+    /// expression brackets (Siemens: `[` and `]`).
+    pub array_brackets: Option<(u8, u8)>,
     /// Whether `==`, `<>`, `<`, `>`, `<=`, `>=` compare in expressions (`R1>=5`).
     pub symbolic_comparisons: bool,
     /// Comment rules, tried in order.
@@ -105,6 +111,9 @@ pub struct Lexical {
     pub named_blocks: bool,
     /// Program delimiter (`%`).
     pub program_delimiter: Option<char>,
+    /// Whether text before the first delimiter line that has program text after it is tape
+    /// leader the control skips (a CAM listing header, a title), rather than blocks.
+    pub leader_skipped: bool,
     /// Whether the delimiter opens a program only on its first line (after blank lines),
     /// and one anywhere else without that opening is an error (LinuxCNC), rather than
     /// delimiting wherever it stands (tape format).
@@ -245,6 +254,14 @@ pub struct Behaviour {
     pub arc_tolerance_mm: f64,
     /// The same in inch programs (its own setting: LinuxCNC's are not one value converted).
     pub arc_tolerance_inch: f64,
+    /// How many of the steps a program writes its arc's numbers in (`X1.2345`: 0.0001) the
+    /// radii may differ by, when more than the tolerance: rounding each coordinate to that
+    /// step moves a radius by up to √2 steps, so 2√2 for both. 0: the tolerance alone
+    /// (LinuxCNC, as rs274).
+    pub arc_tolerance_steps: f64,
+    /// Whether a drilling cycle with no R feeds from the initial level (Fanuc family, with a
+    /// warning) rather than being an error (LinuxCNC, as rs274).
+    pub cycle_r_defaults_to_initial: bool,
     /// When set, a radius difference above the tolerance is still accepted while it is at
     /// most this share of the radius and at most 100 times the tolerance (LinuxCNC's rule
     /// for spirals written as arcs).
@@ -634,8 +651,11 @@ pub struct CycleDef {
 pub struct Dialect {
     /// Identifier used in configs and `--dialect`.
     pub name: String,
-    /// Family (`rs274ngc`, `fanuc`, `siemens`, `heidenhain`); informative only.
+    /// The controller family (`rs274ngc`, `fanuc`, `haas`, `siemens`, `heidenhain`): the maker
+    /// whose controls read the dialect. Informative, and what sniffing is measured by.
     pub family: String,
+    /// The dialect this one `extends`, if any: its evidence counts for this one too.
+    pub extends: Option<String>,
     /// Human title.
     pub title: String,
     /// Lexical rules.
@@ -654,8 +674,12 @@ pub struct Dialect {
     pub cycles: Vec<CycleDef>,
     /// The order in which a block's items take effect.
     pub execution_order: Vec<Step>,
-    /// Evidence that a program is written in this dialect (for folders with none configured).
+    /// Evidence that a program is written in this dialect (for folders with none configured),
+    /// its own; a derived dialect also counts its base's (`Registry::sniff`).
     pub recognise: Vec<sniff::Evidence>,
+    /// The labels of inherited evidence this dialect does not count (`<remove label=".."/>` in
+    /// `<recognise>`: a lathe does not take a mill's Y words as its own evidence).
+    pub recognise_removed: Vec<String>,
     /// Roles of single-character addresses by ASCII code (letters upper case).
     letter_roles: [Option<Role>; 128],
     /// The single-character addresses that are always incremental (a lathe's `U`), as bits

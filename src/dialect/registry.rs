@@ -23,6 +23,10 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("fanuc_lathe.xml", include_str!("../../dialects/fanuc_lathe.xml")),
     ("fanuc_lathe_b.xml", include_str!("../../dialects/fanuc_lathe_b.xml")),
     ("fagor.xml", include_str!("../../dialects/fagor.xml")),
+    ("haas_lathe.xml", include_str!("../../dialects/haas_lathe.xml")),
+    ("mitsubishi_lathe.xml", include_str!("../../dialects/mitsubishi_lathe.xml")),
+    ("mazak_lathe.xml", include_str!("../../dialects/mazak_lathe.xml")),
+    ("fagor_lathe.xml", include_str!("../../dialects/fagor_lathe.xml")),
     ("centroid.xml", include_str!("../../dialects/centroid.xml")),
     ("mach3.xml", include_str!("../../dialects/mach3.xml")),
 ];

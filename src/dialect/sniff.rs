@@ -20,6 +20,8 @@ pub struct Evidence {
     pub marker: Marker,
     /// How much it counts.
     pub weight: u32,
+    /// Evidence against the dialect (a mill's Y words for a lathe): the weight is taken off.
+    pub against: bool,
     /// How it is shown in reports (`BEGIN PGM`, `.h`).
     pub label: String,
 }
@@ -107,9 +109,9 @@ impl EvidenceSet {
     }
 }
 
-fn score(d: &Dialect, text: &str, file_name: Option<&str>, matched: Option<&Matched<'_>>) -> (u32, Vec<String>) {
+/// The dialect's own evidence found: weight and label of each.
+fn score(d: &Dialect, text: &str, file_name: Option<&str>, matched: Option<&Matched<'_>>) -> Vec<(i64, String)> {
     let ext = file_name.and_then(|n| n.rsplit_once('.')).map(|(_, e)| e.to_ascii_lowercase());
-    let mut total = 0;
     let mut found = Vec::new();
     for (k, e) in d.recognise.iter().enumerate() {
         let hit = match &e.marker {
@@ -120,16 +122,36 @@ fn score(d: &Dialect, text: &str, file_name: Option<&str>, matched: Option<&Matc
             },
         };
         if hit {
-            total += e.weight;
-            found.push(e.label.clone());
+            let w = i64::from(e.weight);
+            found.push((if e.against { -w } else { w }, e.label.clone()));
         }
     }
-    (total, found)
+    found
 }
 
 impl Registry {
+    /// `name`, the dialect it extends, that one's base, and so on (at most 16 levels).
+    fn lineage<'a>(&'a self, name: &'a str) -> Vec<&'a str> {
+        let mut out = vec![name];
+        while let Some(base) = self.get(out[out.len() - 1]).and_then(|d| d.extends.clone()) {
+            match self.names().find(|n| *n == base) {
+                Some(n) if !out.contains(&n) && out.len() < 16 => out.push(n),
+                _ => break,
+            }
+        }
+        out
+    }
+
     /// The dialect whose evidence best matches the start of `text` and `file_name`; with no
-    /// evidence at all, `default` with low confidence. Ties go to the name first in order.
+    /// evidence at all, `default` with low confidence.
+    ///
+    /// A derived dialect counts its base's evidence as well as its own, so it ties with its
+    /// base unless it has evidence of its own, and a tie goes to the base (then to the name
+    /// first in order). How sure the choice is compares what sets the winner apart from each
+    /// other dialect: the evidence above the one dialect both descend from, if any. A
+    /// derived dialect chosen over its base is sure only with own evidence worth half of
+    /// [`SURE`]; a base that a dialect of another family derived from it matches as well is
+    /// not sure of the maker (medium at most).
     pub fn sniff(&self, text: &str, file_name: Option<&str>, default: &str) -> Sniffed {
         let mut end = text.len().min(SNIFF_BYTES);
         while !text.is_char_boundary(end) {
@@ -138,32 +160,63 @@ impl Registry {
         let head = &text[..end];
         let set = self.evidence.get_or_init(|| EvidenceSet::build(self));
         let matched = set.as_ref().map(|s| s.matches(head));
-        let mut scores: Vec<(u32, String, Vec<String>)> = self
-            .names()
-            .filter_map(|n| self.get(n))
-            .map(|d| {
-                let (s, ev) = score(&d, head, file_name, matched.as_ref());
-                (s, d.name.clone(), ev)
-            })
-            .collect();
-        // Highest score first; names break ties (the registry iterates in name order).
-        scores.sort_by(|a, b| b.0.cmp(&a.0).then_with(|| a.1.cmp(&b.1)));
-        let best = scores.first().filter(|b| b.0 > 0);
-        let runner_up = scores.get(1).filter(|r| r.0 > 0).map(|r| (r.1.clone(), r.0));
-        match best {
-            None => Sniffed { dialect: default.to_owned(), confidence: Confidence::Low, evidence: Vec::new(), runner_up: None, score: 0 },
-            Some((s, name, ev)) => {
-                let second = runner_up.as_ref().map_or(0, |r| r.1);
-                let confidence = if *s >= SURE && *s >= 2 * second {
-                    Confidence::High
-                } else if *s > second {
-                    Confidence::Medium
-                } else {
-                    Confidence::Low
-                };
-                Sniffed { dialect: name.clone(), confidence, evidence: ev.clone(), runner_up, score: *s }
+        let own: std::collections::BTreeMap<&str, Vec<(i64, String)>> =
+            self.names().filter_map(|n| self.get(n).map(|d| (n, score(&d, head, file_name, matched.as_ref())))).collect();
+        let lineages: std::collections::BTreeMap<&str, Vec<&str>> = own.keys().map(|n| (*n, self.lineage(n))).collect();
+        // A dialect's score: its own evidence and every ancestor's, less what a dialect on the
+        // way down removes (`<remove label=".."/>`).
+        let counted = |n: &str| -> Vec<(i64, &str)> {
+            let mut removed: Vec<String> = Vec::new();
+            let mut out = Vec::new();
+            for a in lineages.get(n).into_iter().flatten() {
+                out.extend(own[a].iter().filter(|(_, label)| !removed.contains(label)).map(|(w, l)| (*w, l.as_str())));
+                removed.extend(self.get(a).map(|d| d.recognise_removed.clone()).unwrap_or_default());
+            }
+            out
+        };
+        let total = |n: &str| u32::try_from(counted(n).iter().map(|e| e.0).sum::<i64>().max(0)).unwrap_or(u32::MAX);
+        let mut ranked: Vec<(u32, usize, &str)> = lineages.iter().map(|(n, l)| (total(n), l.len(), *n)).collect();
+        // Highest score first; the base before a dialect derived from it; then names.
+        ranked.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)).then_with(|| a.2.cmp(b.2)));
+        let Some(&(best, _, winner)) = ranked.first().filter(|b| b.0 > 0) else {
+            return Sniffed { dialect: default.to_owned(), confidence: Confidence::Low, evidence: Vec::new(), runner_up: None, score: 0 };
+        };
+        let mine = &lineages[winner];
+        let family = |n: &str| self.get(n).map(|d| d.family.clone());
+        // Per other dialect: what it has beyond the dialect both descend from, and what the
+        // winner has beyond it.
+        let mut margins = Vec::new();
+        for &(t, _, other) in &ranked[1..] {
+            let shared = lineages[other].iter().find(|a| mine.contains(a)).map_or(0, |a| total(a));
+            let is_ancestor = mine.contains(&other);
+            // Of the winner's own family, evidence both have (its name) tells nothing apart:
+            // only what that dialect has beyond the winner counts.
+            let same_maker = family(other) == family(winner);
+            // (What one removes of the shared evidence may leave it below the ancestor.)
+            let (theirs, ours) = (t.saturating_sub(shared), best.saturating_sub(shared));
+            let theirs = if same_maker { theirs.saturating_sub(ours) } else { theirs };
+            if theirs > 0 || is_ancestor {
+                margins.push((other, t, theirs, ours, is_ancestor));
             }
         }
+        // A dialect of another family derived from the winner, with nothing of its own here,
+        // would read the program as well: the maker is not sure.
+        let shared_by_another_maker =
+            ranked.iter().any(|&(t, _, o)| t == best && o != winner && lineages[o].contains(&winner) && family(o) != family(winner));
+        let high = best >= SURE
+            && !shared_by_another_maker
+            && margins.iter().all(|&(_, t, theirs, ours, ancestor)| if ancestor { t == 0 || ours >= SURE / 2 } else { ours >= 2 * theirs });
+        let medium = margins.iter().all(|&(_, _, theirs, ours, ancestor)| ancestor || ours > theirs);
+        let confidence = if high {
+            Confidence::High
+        } else if medium {
+            Confidence::Medium
+        } else {
+            Confidence::Low
+        };
+        let runner_up = margins.iter().max_by(|a, b| a.1.cmp(&b.1).then_with(|| b.0.cmp(a.0))).map(|m| (m.0.to_owned(), m.1));
+        let evidence = counted(winner).into_iter().filter(|(w, _)| *w > 0).map(|(_, l)| l.to_owned()).collect();
+        Sniffed { dialect: winner.to_owned(), confidence, evidence, runner_up, score: best }
     }
 }
 

@@ -254,6 +254,9 @@ vocab! {
         FrameMirror = "frame-mirror",
         /// Sets the circle centre / pole from the block's axis words (`CC X+25 Y+25`); alone, the current position.
         Pole = "pole",
+        /// Sets the circle centre from the block's axis words, an axis without one keeping the
+        /// last pole's coordinate; with none, the current position (Heidenhain `CC X+40`).
+        PoleKeeping = "pole-keeping",
         /// Sets the pole from the block's axis words as increments from the current position
         /// (Siemens `G110 X10 Y5`).
         PoleIncremental = "pole-incremental",

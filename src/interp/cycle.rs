@@ -82,6 +82,20 @@ impl Interpreter<'_> {
         if let Some(p) = self.slot(Role::P) {
             self.st.sticky_p = Some(p);
         }
+        // Without R, Fanuc-family controls feed from the initial level (where the tool is when
+        // the first cycle begins): a warning where the dictionary says so, else an error.
+        if self.st.sticky_r.is_none() && self.st.sticky_z.is_some() && self.dialect.behaviour.cycle_r_defaults_to_initial {
+            let initial = self.st.cycle_initial.unwrap_or(self.st.pos[n]);
+            let r = if self.st.distance == DistanceMode::Incremental { 0.0 } else { initial };
+            self.st.sticky_r = Some(r);
+            let mut d = Diagnostic::new(
+                Code::CycleIncomplete,
+                block.range,
+                format!("{} has no R: the control feeds from the initial level, {r}", def.label()),
+            );
+            d.severity = crate::diag::Severity::Warning;
+            diags.push(d);
+        }
         let (Some(r_word), Some(z_word)) = (self.st.sticky_r, self.st.sticky_z) else {
             let missing = if self.st.sticky_r.is_none() { "R (the feed-start plane)" } else { "Z (the hole bottom)" };
             diags.push(Diagnostic::new(Code::CycleIncomplete, block.range, format!("{} has no {missing}", def.label())));
@@ -401,6 +415,13 @@ impl Interpreter<'_> {
             return;
         };
         let facing = def.meaning == Meaning::CycleRoughFace;
+        // The one-block form (`G71 P Q U W D F`: Haas, Fanuc 10/11/15) names words for both
+        // allowances, and the block with P and Q gives the depth of cut (and any retract).
+        let one_block = [Role::AllowanceX, Role::AllowanceZ].iter().all(|r| def.args.iter().any(|(_, to)| to == r));
+        if one_block {
+            let (depth, retract) = self.st.rough_cut.unwrap_or((0.0, 0.0));
+            self.st.rough_cut = Some((arg(self, Role::CutDepth).unwrap_or(depth), arg(self, Role::RetractDistance).unwrap_or(retract)));
+        }
         let rough = if matches!(def.meaning, Meaning::CycleRoughTurn | Meaning::CycleRoughFace) {
             let depth = self.st.rough_cut.map_or(0.0, |(d, _)| d);
             if !(depth > 0.0 && depth.is_finite()) {
@@ -415,7 +436,9 @@ impl Interpreter<'_> {
             let retract = self.st.rough_cut.map_or(0.0, |(_, e)| e).abs();
             // With P and Q, the word that gave the depth of cut gives the allowance along the
             // depth's axis (G71's U, G72's W); U is a diameter.
-            let (allow_x, allow_z) = if facing {
+            let (allow_x, allow_z) = if one_block {
+                (arg(self, Role::AllowanceX).unwrap_or(0.0) / 2.0, arg(self, Role::AllowanceZ).unwrap_or(0.0))
+            } else if facing {
                 (arg(self, Role::AllowanceX).unwrap_or(0.0) / 2.0, arg(self, Role::CutDepth).unwrap_or(0.0))
             } else {
                 (arg(self, Role::CutDepth).unwrap_or(0.0) / 2.0, arg(self, Role::AllowanceZ).unwrap_or(0.0))

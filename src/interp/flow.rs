@@ -1280,12 +1280,17 @@ impl<'a> Driver<'a, '_> {
         let Some((source, body)) = self.locate(file, starts) else {
             let keyword = c.keyword.map_or(written, |k| &text[k.start as usize..k.end as usize]);
             let d = if c.keyword == c.name {
-                // A bare name may be a statement this dialect file lacks as well as a program.
+                // A bare name may be a statement this dialect file lacks as well as a program
+                // (a machine maker's cycle, `T_INI`): a warning where the control keeps such.
                 let msg = format!(
                     "`{keyword}` is neither a statement of the {} dialect nor a program in this file or the program directory; the call was skipped",
                     self.dialect.name
                 );
-                Diagnostic::new(Code::MissingProgram, block.range, msg)
+                let mut d = Diagnostic::new(Code::MissingProgram, block.range, msg);
+                if self.dialect.behaviour.resident_programs {
+                    d.severity = Severity::Warning;
+                }
+                d
             } else {
                 self.program_not_found(format!("program `{written}`"), block.range)
             };

@@ -145,10 +145,15 @@ pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dy
     if let Some(d) = foreign(text, dialect) {
         return vec![d];
     }
-    match &profile.programs {
+    let mut diags = match &profile.programs {
         Some(p) => run(text, dialect, profile, p.as_ref(), sink),
         None => run(text, dialect, profile, &NoPrograms, sink),
+    };
+    if let Some((range, line)) = crate::syntax::leader(text, dialect) {
+        let msg = format!("the text before the `%` on line {line} is tape leader: the control skips it, and so does this analysis");
+        diags.insert(0, Diagnostic::new(Code::Leader, range, msg));
     }
+    diags
 }
 
 /// A program in a format the dialect names as foreign (Mazatrol unit blocks in a Mazak
@@ -1083,6 +1088,26 @@ impl<'a> Interpreter<'a> {
             _ => None,
         });
         let diameter = diameter.unwrap_or(self.st.diameter);
+        // In a drilling cycle's block (its own or the one in force) K counts repeats: no length.
+        let is_hole_cycle = |m: Meaning| {
+            matches!(
+                m,
+                Meaning::CycleDrill
+                    | Meaning::CycleDrillDwell
+                    | Meaning::CyclePeckDrill
+                    | Meaning::CycleChipBreak
+                    | Meaning::CycleBore
+                    | Meaning::CycleBoreDwell
+                    | Meaning::CycleBoreStop
+                    | Meaning::CycleTap
+                    | Meaning::CycleTapLeft
+                    | Meaning::CycleFineBore
+                    | Meaning::CycleBackBore
+                    | Meaning::CycleBoreManual
+            )
+        };
+        let k_counts = self.codes.iter().any(|&(c, _)| is_hole_cycle(self.code(c).meaning))
+            || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
         for w in &block.words {
             if matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
                 continue;
@@ -1145,6 +1170,7 @@ impl<'a> Interpreter<'a> {
             if let (Value::Number { decimal, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
                 (w.value, &self.dialect.behaviour.decimal_input)
                 && scaled.contains(&role)
+                && !(k_counts && role == Role::K)
             {
                 if decimal {
                     self.st.length_points = true;
@@ -1339,6 +1365,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::Scaling
                     | Meaning::Rotation
                     | Meaning::Pole
+                    | Meaning::PoleKeeping
                     | Meaning::CycleDefine
                     | Meaning::FrameTrans
                     | Meaning::FrameTransAdd
@@ -2138,6 +2165,15 @@ impl<'a> Interpreter<'a> {
                 let t = self.target();
                 let (a0, a1, _) = self.st.plane.axes();
                 self.st.pole = (t[a0], t[a1]);
+            }
+            Meaning::PoleKeeping => {
+                let t = self.target();
+                let (a0, a1, _) = self.st.plane.axes();
+                let given = |axis: usize| self.slots[Role::AXES[axis] as usize].is_some();
+                self.st.pole = match (given(a0), given(a1)) {
+                    (false, false) => (t[a0], t[a1]),
+                    (g0, g1) => (if g0 { t[a0] } else { self.st.pole.0 }, if g1 { t[a1] } else { self.st.pole.1 }),
+                };
             }
             Meaning::PoleIncremental | Meaning::PoleFromPole => {
                 let (a0, a1, _) = self.st.plane.axes();

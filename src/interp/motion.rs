@@ -634,7 +634,11 @@ impl Interpreter<'_> {
             _ => {}
         }
         let b = &self.dialect.behaviour;
+        // The control's tolerance, or what the program's own resolution allows where the
+        // dictionary says so: with each coordinate rounded to the step it is written in
+        // (`X1.2345`: 0.0001), the radii to the start and to the end may differ by 2√2 steps.
         let tol = if self.st.units == Units::Mm { b.arc_tolerance_mm } else { b.arc_tolerance_inch };
+        let tol = tol.max(b.arc_tolerance_steps * written_step(block) * (1.0 + 1e-9));
         let relative = b.arc_relative_tolerance;
         // Whether the radii to the start and to the end disagree beyond the dialect's tolerance.
         let radii_disagree = |r_start: f64, r_end: f64| {
@@ -661,6 +665,7 @@ impl Interpreter<'_> {
                     block.range,
                     format!("the end point is {r_end:.4} from the circle centre, the start {r_start:.4}; they must agree"),
                 ));
+                self.rejected_arc(end);
                 return;
             }
             c
@@ -669,6 +674,7 @@ impl Interpreter<'_> {
                 Ok(c) => c,
                 Err(msg) => {
                     diags.push(Diagnostic::new(Code::BadArc, block.range, msg));
+                    self.rejected_arc(end);
                     return;
                 }
             }
@@ -704,6 +710,7 @@ impl Interpreter<'_> {
                         }
                     ),
                 ));
+                self.rejected_arc(end);
                 return;
             }
             c
@@ -734,6 +741,35 @@ impl Interpreter<'_> {
             self.st.tangent = Some(if cw { (r2 / len, -r1 / len) } else { (-r2 / len, r1 / len) });
         }
     }
+}
+
+impl Interpreter<'_> {
+    /// After an arc that cannot be made: the program goes on from its programmed end point,
+    /// as the next blocks expect, so one bad arc is one finding and not every later one.
+    fn rejected_arc(&mut self, end: [f64; 6]) {
+        self.st.pos = end;
+        self.st.tangent = None;
+    }
+}
+
+/// The finest step among the lengths an arc block writes with a decimal point (`X1.2345`:
+/// 0.0001; a trimmed `X10.` says nothing finer); 0 when none has a fraction.
+fn written_step(block: &Block) -> f64 {
+    let roles = [Role::X, Role::Y, Role::Z, Role::I, Role::J, Role::K, Role::R];
+    let digits = block
+        .words
+        .iter()
+        .filter(|w| roles.contains(&w.role))
+        .filter_map(|w| match w.value {
+            crate::syntax::Value::Number { value, decimal: true } => (0..=6).find(|&d| {
+                let scaled = value.abs() * 10f64.powi(d);
+                (scaled - scaled.round()).abs() < 1e-6 * scaled.max(1.0)
+            }),
+            _ => None,
+        })
+        .max()
+        .unwrap_or(0);
+    if digits == 0 { 0.0 } else { 10f64.powi(-digits) }
 }
 
 /// The length of a (helical) arc along its path.

@@ -75,7 +75,7 @@ impl Func {
             "TRUNC" | "INT" => Func::Trunc,
             "SGN" => Func::Sgn,
             "FRAC" => Func::Frac,
-            "SQ" => Func::Sq,
+            "SQ" | "POT" => Func::Sq,
             "LOG" => Func::Log,
             "NEG" => Func::Neg,
             "FUP" => Func::Fup,

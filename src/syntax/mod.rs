@@ -8,7 +8,7 @@ mod expr;
 mod parser;
 
 pub use expr::{BinOp, Expr, ExprId, Func};
-pub use parser::Parser;
+pub use parser::{Parser, leader};
 
 use crate::dialect::{Role, Statement};
 use crate::text::TextRange;

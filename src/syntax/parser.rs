@@ -9,6 +9,26 @@ use crate::text::TextRange;
 /// Nesting limit for brackets, against stack exhaustion on hostile input.
 const MAX_DEPTH: u32 = 64;
 
+/// The tape leader the dialect skips: the text before the first line that is only the
+/// program delimiter (`%`) with program text after it, when there is text before it (an NX
+/// listing header, a title), and the 1-based line the program starts on.
+pub fn leader(text: &str, dialect: &Dialect) -> Option<(TextRange, u32)> {
+    let d = dialect.lexical.program_delimiter.filter(|_| dialect.lexical.leader_skipped)?;
+    let head = &text[..text.len().min(64 * 1024)];
+    let mut at = 0;
+    for (n, line) in head.split_inclusive('\n').enumerate() {
+        let t = line.trim().trim_start_matches('\u{feff}');
+        if t.len() == d.len_utf8() && t.starts_with(d) {
+            let before = &text[..at];
+            let after = &text[at + line.len()..];
+            let blank = |s: &str| s.chars().all(|c| c.is_whitespace() || c == '\u{feff}' || c == d);
+            return (!blank(before) && !blank(after)).then(|| (TextRange::new(0, at), n as u32 + 1));
+        }
+        at += line.len();
+    }
+    None
+}
+
 /// A cursor over a program text that yields one block at a time.
 pub struct Parser<'a> {
     text: &'a str,
@@ -21,7 +41,8 @@ pub struct Parser<'a> {
 impl<'a> Parser<'a> {
     /// A parser at the start of `text`.
     pub fn new(text: &'a str, dialect: &'a Dialect) -> Parser<'a> {
-        Parser { text, bytes: text.as_bytes(), pos: 0, line: 1, dialect }
+        let (pos, line) = leader(text, dialect).map_or((0, 1), |(r, line)| (r.end as usize, line));
+        Parser { text, bytes: text.as_bytes(), pos, line, dialect }
     }
 
     /// The byte offset of the next block.
@@ -282,7 +303,21 @@ impl Lexer<'_, '_> {
             }
             CommentClose::Char(c) => {
                 let rest = &self.b[self.i..eol];
-                match rest.iter().position(|&x| x == *c as u8) {
+                let opener = self.b[open];
+                let nested = self.dialect.lexical.comments.iter().any(|r| r.open as u8 == opener && r.nested);
+                let mut depth = 0u32;
+                let mut closing = |x: u8| {
+                    if nested && x == opener && x != *c as u8 {
+                        depth += 1;
+                    } else if x == *c as u8 {
+                        if depth == 0 {
+                            return true;
+                        }
+                        depth -= 1;
+                    }
+                    false
+                };
+                match rest.iter().position(|&x| closing(x)) {
                     Some(p) => {
                         self.block.comments.push(TextRange::new(self.i, self.i + p));
                         self.i += p + 1;
@@ -412,9 +447,9 @@ impl Lexer<'_, '_> {
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
         let param_value =
             next.is_some_and(|x| Some(x.to_ascii_uppercase()) == sigil) && self.b.get(start + 2).is_some_and(u8::is_ascii_digit);
+        // A name such as `L123` or `T_INI` (an address's value never starts with `_`).
         let named_call = self.dialect.macros.call_by_name
-            && self.dialect.letter_role(letter).is_none()
-            && next.is_some_and(|x| x.is_ascii_digit() || x == b'_');
+            && (self.dialect.letter_role(letter).is_none() && next.is_some_and(|x| x.is_ascii_digit()) || next == Some(b'_'));
         if self.dialect.letter_role(letter).is_some() && self.not_a_number_after(start + 1) {
             return;
         }
@@ -615,10 +650,11 @@ impl Lexer<'_, '_> {
                 let from = self.i;
                 let end = self.b[from..]
                     .iter()
-                    .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/')))
+                    .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/' | b'\'') || *c >= 0x80))
                     .map_or(self.b.len(), |p| from + p);
                 let word = &self.b[from..end];
-                // A display name (`DRILLING`, `DATUM SHIFT`) or a plain number; not an address
+                // A display name in the control's language (`DRILLING`, `DATUM SHIFT`,
+                // `PLAN D'USINAGE`, `PERÇAGE`) or a plain number; not an address
                 // word such as `X+0`, `Q200=2` or a lone axis letter.
                 let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
                 let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
@@ -627,6 +663,11 @@ impl Lexer<'_, '_> {
                     break;
                 }
                 self.i = end;
+                // A setting shown with its value (`HSC-MODE:0` in cycle 32).
+                if self.peek() == Some(b':') && self.b.get(self.i + 1).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-')) {
+                    self.i += 1;
+                    let _ = self.number();
+                }
             },
         }
         true
@@ -665,15 +706,40 @@ impl Lexer<'_, '_> {
         let from = if system { at + 1 } else { at };
         let end = self.b[from..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| from + p);
         if system && self.b.get(end) == Some(&b'[') {
-            // The index: letters, digits, commas and blanks up to `]`.
-            let inside = self.b[end + 1..].iter().position(|&c| !(c.is_ascii_alphanumeric() || matches!(c, b',' | b'_' | b' ')));
-            if let Some(p) = inside
-                && self.b[end + 1 + p] == b']'
-            {
-                return end + 2 + p;
+            // The index, whatever it holds (`$TC_SCP13[$P_TOOLNO,1]`), up to the matching `]`
+            // on the line.
+            let mut depth = 0;
+            for (p, &c) in self.b[end..].iter().enumerate() {
+                match c {
+                    b'[' => depth += 1,
+                    b']' if depth == 1 => return end + p + 1,
+                    b']' => depth -= 1,
+                    b'\n' | b'\r' | b';' => break,
+                    _ => {}
+                }
             }
         }
         end
+    }
+
+    /// An array element's index at the cursor (`[R2+1]`, in the dialect's array brackets):
+    /// `None` when none is there, `Some(None)` when it is malformed.
+    fn array_index(&mut self, depth: u32) -> Option<Option<ExprId>> {
+        let (open, close) = self.dialect.lexical.array_brackets?;
+        if self.peek() != Some(open) {
+            return None;
+        }
+        let at = self.i;
+        self.i += 1;
+        let Some(e) = self.expr(depth + 1, 0) else { return Some(None) };
+        self.skip_blanks();
+        if self.peek() != Some(close) {
+            let end = self.i.max(at + 1);
+            self.error(Code::MalformedExpression, at, end, format!("an array element's index is closed with `{}`", close as char));
+            return Some(None);
+        }
+        self.i += 1;
+        Some(Some(e))
     }
 
     /// Whether a system variable's name starts at `at` (`$AC_TIME`).
@@ -707,6 +773,16 @@ impl Lexer<'_, '_> {
             self.i = end;
             index = self.unary(1);
             j = self.i;
+        } else if self.dialect.lexical.array_brackets.is_some_and(|(o, _)| self.b.get(end) == Some(&o)) {
+            self.i = end;
+            index = self.array_index(0).flatten();
+            if index.is_none() {
+                self.diags.truncate(marks);
+                self.block.exprs.truncate(exprs);
+                self.i = start;
+                return false;
+            }
+            j = self.i;
         }
         while matches!(self.b.get(j), Some(b' ' | b'\t')) {
             j += 1;
@@ -719,6 +795,20 @@ impl Lexer<'_, '_> {
             return false;
         }
         self.i = j + 1;
+        // Text (`VUACM[1]='END OF BAR'`, a Siemens STRING): what an alarm or a message shows,
+        // no number the toolpath depends on; read and not kept.
+        self.skip_blanks();
+        if let Some(q) = self.dialect.lexical.string_quote
+            && self.peek() == Some(q as u8)
+        {
+            let _ = self.string(start);
+            // A concatenation (`"A" << R1`) is text too, to the end of the line.
+            self.skip_blanks();
+            if self.b[self.i..].starts_with(b"<<") {
+                self.i = self.line_end();
+            }
+            return true;
+        }
         let Some(value) = self.expr(1, 0) else {
             self.i = self.line_end();
             return true;
@@ -755,6 +845,39 @@ impl Lexer<'_, '_> {
             }
             self.i = end;
             self.skip_blanks();
+            // `DEF REAL _RICH[4]`: a one-dimensional array whose elements start at 0.
+            if let Some((open, close)) = self.dialect.lexical.array_brackets
+                && self.peek() == Some(open)
+            {
+                let inner = self.i + 1;
+                let stop = self.b[inner..].iter().position(|&c| c == close || c == b'\n').map_or(self.b.len(), |p| inner + p);
+                let size = self.text[inner..stop].trim().parse::<u32>().ok().filter(|n| (1..=1000).contains(n));
+                let after = self.b[(stop + 1).min(self.b.len())..].iter().find(|c| !matches!(c, b' ' | b'\t')).copied();
+                if let Some(n) = size.filter(|_| self.b.get(stop) == Some(&close) && after != Some(open)) {
+                    let name = TextRange::new(start, end);
+                    for k in 0..n {
+                        let (index, zero) = (self.push(Expr::Num(f64::from(k))), self.push(Expr::Num(0.0)));
+                        self.block.assigns.push(Assign { target: ParamTarget::NamedIndex(name, index), value: zero, range: name });
+                    }
+                    self.i = stop + 1;
+                    self.skip_blanks();
+                    if self.peek() == Some(b'=') {
+                        let d = Diagnostic::new(
+                            Code::Unsupported,
+                            TextRange::new(start, end),
+                            "an array's initial values are not read: its elements start at 0 here",
+                        );
+                        self.diags.push(d);
+                        self.i = self.line_end();
+                        return;
+                    }
+                    if self.peek() == Some(b',') {
+                        self.i += 1;
+                        continue;
+                    }
+                    break;
+                }
+            }
             if self.peek() == Some(b'[') {
                 let d = Diagnostic::new(
                     Code::Unsupported,
@@ -877,15 +1000,24 @@ impl Lexer<'_, '_> {
                 _ => {}
             }
             let from = self.i;
-            let Some(e) = self.expr(1, 0) else {
+            // A string argument (`CYCLE800(1,"TABLE",...)`, `EXTCALL("ROUGH")`) names
+            // something: a text value.
+            let value = match self.dialect.lexical.string_quote {
+                Some(q) if self.peek() == Some(q as u8) => self.string(from).map(Value::Text),
+                _ => self.expr(1, 0).map(Value::Expr),
+            };
+            let Some(value) = value else {
                 self.i = self.line_end();
                 return true;
             };
             match args.get(n) {
+                // An argument the engine does not use (`extra`) is read but not evaluated: it
+                // may name what only the control knows (`_ORI_ROUGH`, an axis `X`).
+                Some(a) if a.role == Role::Extra => {}
                 Some(a) => self.block.words.push(Word {
                     role: a.role,
                     letter: a.name.as_bytes()[0],
-                    value: Value::Expr(e),
+                    value,
                     range: TextRange::new(from, self.i),
                     mode: WordMode::Modal,
                     cycle_arg: true,
@@ -1199,6 +1331,25 @@ impl Lexer<'_, '_> {
                         continue;
                     }
                     _ => {}
+                }
+                // A string argument (`RAPORT("START")`) names something; it passes no number.
+                if let Some(q) = self.dialect.lexical.string_quote
+                    && self.peek() == Some(q as u8)
+                {
+                    if self.string(self.i).is_none() {
+                        self.i = save;
+                        self.diags.truncate(mark);
+                        self.block.exprs.truncate(exprs);
+                        control.args.clear();
+                        return false;
+                    }
+                    let zero = self.push(Expr::Num(0.0));
+                    control.args.push(zero);
+                    self.skip_blanks();
+                    if self.peek() == Some(b',') {
+                        self.i += 1;
+                    }
+                    continue;
                 }
                 let Some(e) = self.expr(1, 0) else {
                     self.i = save;
@@ -1816,6 +1967,9 @@ impl Lexer<'_, '_> {
                     // `VTOFD[1]`: an element of a named array.
                     let index = self.unary(depth + 1)?;
                     return Some(self.push(Expr::NamedIndex(r, index)));
+                }
+                if let Some(index) = self.array_index(depth) {
+                    return Some(self.push(Expr::NamedIndex(r, index?)));
                 }
                 Some(self.push(Expr::Named(r)))
             }

@@ -125,7 +125,7 @@ fn a_user_dialect_extends_another_in_any_file_order() {
     // The derived file comes first; it is retried once its base is in.
     r.add_all(&[("b.xml".into(), child.into()), ("a.xml".into(), base.into())]).unwrap();
     let d = r.get("shop_haas_vf2").unwrap();
-    assert_eq!(d.family, "fanuc", "inherited through two levels");
+    assert_eq!(d.family, "haas", "inherited through two levels");
     assert_eq!(d.behaviour.decimal_input, ncplan::dialect::DecimalInput::Calculator);
     assert!(d.codes.iter().any(|c| c.name == "local subprogram call (block number P)"), "Haas's M97 is inherited");
     assert!(d.codes.iter().any(|c| c.name == "call from memory card"));

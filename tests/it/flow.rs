@@ -117,8 +117,9 @@ fn siemens_calls_by_name_with_arguments_and_passes() {
 
 #[test]
 fn siemens_unknown_names_and_labels_are_named() {
+    // A name that is no program here may be one the control holds (a warning, issue 17 §2).
     let (_, errors) = path("siemens", "G0 X0\nFACE_MILL\nGOTOF NOWHERE\nG0 X1\nM30\n", &[]);
-    assert_eq!(errors, ["flow::missing-program", "flow::missing-label"]);
+    assert_eq!(errors, ["flow::missing-label"]);
     // A subprogram checked on its own ends at its return.
     let (out, errors) = path("siemens", "G0 X1\nRET\nG0 X2\n", &[]);
     assert_eq!(out, "1 0 0\n");

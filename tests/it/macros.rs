@@ -356,8 +356,11 @@ fn arc_radius_tolerance_follows_the_dialect() {
     assert!(!codes.contains(&"interp::bad-arc"), "{codes:?}");
     let (_, codes) = moves("linuxcnc", "G21 G17 G90 F100\nG1 X0 Y0\nG2 X20.1 I10\nM2\n");
     assert!(codes.contains(&"interp::bad-arc"), "0.1 mm on a 10 mm radius: {codes:?}");
-    let (_, codes) = moves("fanuc", "G21 G17 G90 F100 S1000 M3\nG1 X0 Y0\nG2 X20.02 I10.\nM30\n");
+    // Fanuc: 0.002 mm, or 2.83 of the steps the block is written in (0.01 here).
+    let (_, codes) = moves("fanuc", "G21 G17 G90 F100 S1000 M3\nG1 X0 Y0\nG2 X20.05 I10.\nM30\n");
     assert!(codes.contains(&"interp::bad-arc"), "{codes:?}");
+    let (_, codes) = moves("fanuc", "G21 G17 G90 F100 S1000 M3\nG1 X0 Y0\nG2 X20.02 I10.\nM30\n");
+    assert!(!codes.contains(&"interp::bad-arc"), "{codes:?}");
 }
 
 /// LinuxCNC forms the canonical output has to follow: polar `@`/`^` words (in G91 they add

@@ -19,6 +19,7 @@ mod macros;
 mod parity;
 mod plan;
 mod robustness;
+mod shop;
 mod stepnc;
 
 use std::path::{Path, PathBuf};

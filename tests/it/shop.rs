@@ -1,0 +1,357 @@
+//! Real shop programs read without false alarms (issue 17, §2-§4): the dialect told from
+//! the program, controller built-ins and resident cycles, and the dialect gaps real
+//! programs showed. Small programs of our own, each showing one reading.
+
+use ncplan::canon::{CanonOp, write_call};
+use ncplan::diag::{Diagnostic, Severity};
+use ncplan::dialect::Registry;
+use ncplan::dialect::sniff::Confidence;
+use ncplan::interp::{Profile, interpret};
+
+/// Every canonical call of `program` in `dialect`, one per line, and its findings.
+fn run(dialect: &str, program: &str) -> (String, Vec<Diagnostic>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(program, &d, &Profile::default(), &mut out);
+    let mut text = String::new();
+    for c in &out {
+        write_call(&mut text, &c.op);
+    }
+    (text, diags)
+}
+
+/// The moves of `program`, one per line.
+fn moves(dialect: &str, program: &str) -> Vec<String> {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    interpret(program, &d, &Profile::default(), &mut out);
+    let mut lines = Vec::new();
+    for c in &out {
+        if matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }) {
+            let mut t = String::new();
+            write_call(&mut t, &c.op);
+            lines.push(t.trim().to_owned());
+        }
+    }
+    lines
+}
+
+fn errors(diags: &[Diagnostic]) -> Vec<String> {
+    diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect()
+}
+
+fn has(diags: &[Diagnostic], code: &str, severity: Severity) -> bool {
+    diags.iter().any(|d| d.code.as_str() == code && d.severity == severity)
+}
+
+// ---- §3: telling the dialect ----
+
+/// A derived dialect counts its base's evidence and its own; with evidence of its own it
+/// beats its base, without it the base wins. Markers ignore case.
+#[test]
+fn a_derived_dialect_wins_over_its_base_by_evidence_of_its_own() {
+    let r = Registry::shipped();
+    let fanuc = "%\nO1234\nG90 G54 G0 X10. Y5.\nG43 H1 Z5.\nG81 Z-5. R2. F100.\nM30\n%\n";
+    let s = r.sniff(fanuc, Some("p.nc"), "linuxcnc");
+    assert_eq!(s.dialect, "fanuc", "{s:?}");
+    for (marker, want) in [
+        ("( HAAS VF2 )", "haas"),
+        ("(haas vf2)", "haas"),
+        ("(NX POSTPROCESSOR: HAAS_UMC750_5AXIS_MILL_IN)", "haas"),
+        ("G103 P1", "haas"),
+        ("G187 P2", "haas"),
+        ("G255", "haas"),
+        ("(Mitsubishi M80)", "mitsubishi"),
+        ("#900001=5.", "mitsubishi"),
+        ("(OKUMA MB-46)", "okuma"),
+    ] {
+        let text = fanuc.replacen("O1234\n", &format!("O1234\n{marker}\n"), 1);
+        let s = r.sniff(&text, Some("p.nc"), "linuxcnc");
+        assert_eq!(s.dialect, want, "{marker}: {s:?}");
+        assert!(s.evidence.iter().any(|e| e == "O1234"), "the base's evidence counts: {s:?}");
+        assert!(s.confidence >= Confidence::Medium, "{marker}: {s:?}");
+    }
+}
+
+/// Lathe programs get the lathe dialect of their family.
+#[test]
+fn lathe_programs_get_a_lathe_dialect_of_their_family() {
+    let r = Registry::shipped();
+    let lathe = "%\nO0001\nG50 S3000\nG96 S200 M3\nT0101\nG0 X52. Z2.\nG99 G1 Z-20. F0.2\nU2. W1.\nM30\n%\n";
+    assert_eq!(r.sniff(lathe, Some("p.nc"), "linuxcnc").dialect, "fanuc_lathe");
+    for (marker, want) in [("(HAAS ST-20)", "haas_lathe"), ("(MITSUBISHI M80 L)", "mitsubishi_lathe"), ("(MAZAK QTN 200)", "mazak_lathe")] {
+        let text = lathe.replacen("O0001\n", &format!("O0001\n{marker}\n"), 1);
+        assert_eq!(r.sniff(&text, Some("p.nc"), "linuxcnc").dialect, want, "{marker}");
+    }
+    let fagor = "%\nN10 G90 G71\nN20 T1.1\nN30 G92 S2000\nN40 G96 S200 M3\nN50 G95 G1 X20 Z-5 F0.2\nM30\n";
+    assert_eq!(r.sniff(fagor, Some("p.ptp"), "linuxcnc").dialect, "fagor_lathe");
+}
+
+/// A program that only shows what a base and its derived dialects share is read in the
+/// base, but not said to be sure: a Haas or a Mitsubishi control would read it too.
+#[test]
+fn a_program_any_of_a_family_would_read_is_not_sure_of_the_maker() {
+    let r = Registry::shipped();
+    let s = r.sniff("%\nO0001\nT1 M6\nG0 G90 G54 X1. Y2.\nG43 H1 Z1.\nG1 Z-1. F10.\nM30\n%\n", Some("p.nc"), "linuxcnc");
+    assert_eq!(s.dialect, "fanuc");
+    assert_eq!(s.confidence, Confidence::Medium, "{s:?}");
+}
+
+// ---- §4: dialect gaps ----
+
+/// Haas lathes write G71 in one block, `G71 P Q U W D F`, D the depth of each pass: the
+/// same roughing as Fanuc's two-block form with that depth.
+#[test]
+fn haas_lathe_one_block_roughing_is_fanucs_two_block_form() {
+    let contour = "N10 G0 X30.\nG1 Z-20.\nX40. Z-30.\nN20 X52.\nG70 P10 Q20\nG0 X100. Z100.\nM30\n";
+    let start = "T0101\nG97 S1000 M3\nG0 X52. Z2.\n";
+    let fanuc = format!("{start}G71 U2. R0.\nG71 P10 Q20 U0.4 W0.1 F0.25\n{contour}");
+    let haas = format!("{start}G71 P10 Q20 U0.4 W0.1 D2. F0.25\n{contour}");
+    let (_, diags) = run("haas_lathe", &haas);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let (h, f) = (moves("haas_lathe", &haas), moves("fanuc_lathe", &fanuc));
+    assert!(h.len() > 20, "{h:?}");
+    assert_eq!(h, f);
+}
+
+// ---- §2: programs and cycles that live in the control ----
+
+/// The 840D's built-in procedures and language commands are read: they set how the control
+/// moves, not where, so the moves around them are the program's.
+#[test]
+fn siemens_built_ins_are_read_without_findings() {
+    let program = "\
+%_N_PART_MPF
+G17 G90 G54 G64
+FGROUP(X,Y,Z)
+COMPCAD
+SOFT
+FFWON
+SBLOF
+SBLON
+CYCLE832(0.05,_ORI_ROUGH,1)
+CYCLE800(1,\"TABLE\",0,57,0,0,0,0,0,0,0,0,0,1,100,1)
+TRAORI
+G642
+T=\"MILL_10\" M6
+S5000 M3 D1
+G0 X10 Y20 Z5
+G1 Z-1 F500
+COMPOF
+FFWOF
+BRISK
+TRAFOOF
+SETAL(61000)
+G505 G0 X0
+G599 G0 Y0
+M30
+";
+    let (_, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let m = moves("siemens", program);
+    assert_eq!(m.len(), 4, "{m:?}");
+    assert!(m[1].starts_with("STRAIGHT_FEED(10.0000, 20.0000, -1.0000"), "{m:?}");
+}
+
+/// A call to a program that is neither in the file nor in the program directory may be one
+/// the control holds (a machine maker's cycle, a shop subprogram): a warning, in every
+/// dialect but LinuxCNC, which keeps rs274's error. The run goes on after it.
+#[test]
+fn a_call_to_a_program_the_control_may_hold_is_a_warning() {
+    for (dialect, program) in [
+        ("siemens", "G0 X0\nTOL(0.1,1,1)\nRAPORT(\"START\")\nT_INI\nL9021\nG0 X5\nM30\n"),
+        ("fanuc", "G0 X0.\nM98 P9021\nG65 P9810 X1. Y2.\nG0 X5.\nM30\n"),
+        ("haas", "G0 X0.\nM98 P9021\nG0 X5.\nM30\n"),
+        ("heidenhain", "0 BEGIN PGM A MM\n1 L X+0 FMAX\n2 CALL PGM TNC:\\CYCLES\\RAPORT.H\n3 L X+5 FMAX\n4 END PGM A MM\n"),
+    ] {
+        let (_, diags) = run(dialect, program);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        assert!(has(&diags, "flow::missing-program", Severity::Warning), "{dialect}: {diags:?}");
+        let m = moves(dialect, program);
+        assert!(m.last().is_some_and(|l| l.starts_with("STRAIGHT_TRAVERSE(5.0000")), "{dialect}: the run goes on: {m:?}");
+    }
+    // `T_INI` is one name, not a T word without a value.
+    let (_, diags) = run("siemens", "T_INI\nM30\n");
+    assert!(diags.iter().any(|d| d.message.contains("`T_INI`")), "{diags:?}");
+    let (_, diags) = run("linuxcnc", "G0 X0\no<probe> call\nM2\n");
+    assert!(!errors(&diags).is_empty(), "LinuxCNC keeps rs274's error: {diags:?}");
+}
+
+/// `check --strict` makes such calls errors.
+#[test]
+fn check_strict_makes_a_missing_program_an_error() {
+    let dir = std::env::temp_dir().join(format!("ncplan-strict-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("part.mpf");
+    std::fs::write(&file, "G0 X0\nTOL(0.1,1,1)\nM30\n").unwrap();
+    let out = std::process::Command::new(crate::bin()).args(["check", "-d", "siemens"]).arg(&file).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+    let out = std::process::Command::new(crate::bin()).args(["check", "--strict", "-d", "siemens"]).arg(&file).output().unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("error[flow::missing-program]"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---- §4: arcs ----
+
+/// An inch program written to 4 decimals (a Fusion 360 post) makes arcs whose radii differ
+/// by up to 0.0002 in: within what its own rounding allows on Fanuc-family controls.
+#[test]
+fn arc_tolerance_follows_the_programs_resolution() {
+    // Centre (1, 0), start (0, 0), end on the circle rounded: radius to the end 1.0002.
+    let program = "G20 G17 G90 G54\nS1000 M3\nG0 X0. Y0.\nG1 Z-0.1 F20.\nG2 X2.0002 Y0. I1. J0.\nM30\n";
+    for dialect in ["fanuc", "haas", "siemens"] {
+        let (_, diags) = run(dialect, program);
+        assert!(!has(&diags, "interp::bad-arc", Severity::Error), "{dialect}: {diags:?}");
+    }
+    // 0.001 in off is more than a 4-decimal program's rounding.
+    let off = program.replace("X2.0002", "X2.0013");
+    let (_, diags) = run("fanuc", &off);
+    assert!(has(&diags, "interp::bad-arc", Severity::Error), "{diags:?}");
+    // LinuxCNC keeps rs274's rule.
+    let (_, diags) = run("linuxcnc", "G20 G17 G90\nG0 X0 Y0\nG1 Z-0.1 F20\nG2 X2.01 Y0 I1 J0\nM2\n");
+    assert!(has(&diags, "interp::bad-arc", Severity::Error), "{diags:?}");
+}
+
+/// A rejected arc leaves the tool at its programmed end point: the next arc, right in
+/// itself, is not rejected too.
+#[test]
+fn one_bad_arc_is_one_finding() {
+    let program = "G21 G17 G90\nS1000 M3\nG0 X0. Y0.\nG1 Z-1. F100.\nG2 X20.5 Y0. I10. J0.\nG2 X40.5 Y0. I10. J0.\nG1 X50.\nM30\n";
+    let (_, diags) = run("fanuc", program);
+    let bad: Vec<_> = diags.iter().filter(|d| d.code.as_str() == "interp::bad-arc").collect();
+    assert_eq!(bad.len(), 1, "{diags:?}");
+    let m = moves("fanuc", program);
+    assert!(m.iter().any(|l| l.starts_with("ARC_FEED(40.5000, 0.0000, 30.5000, 0.0000, -1")), "{m:?}");
+}
+
+/// An NX listing header before the opening `%` is tape leader: Fanuc-family controls skip
+/// it, with a note; a `%` that only ends the program leaves what comes before it alone.
+#[test]
+fn text_before_the_opening_percent_is_tape_leader() {
+    let program = "==========\nInformation listing created by : lili\nDate : 8/31/2006\n==========\n%\nO0001\nG0 G90 X1. Y2.\nM30\n%\n";
+    for dialect in ["fanuc", "mitsubishi", "haas"] {
+        let (_, diags) = run(dialect, program);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        assert!(has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
+        assert_eq!(moves(dialect, program), ["STRAIGHT_TRAVERSE(1.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)"]);
+    }
+    let (_, diags) = run("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n");
+    assert!(!has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
+    assert_eq!(moves("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n").len(), 1);
+}
+
+/// Heidenhain: PLANE (kept as intent, RESET read), M140 MB MAX, cycle 32 TOLERANCE, M128
+/// with F and FQ, TCH PROBE (intent), FN 17: SYSWRITE, cycle names in the control's language;
+/// a CC with one coordinate keeps the other from the last CC.
+#[test]
+fn heidenhain_plane_tolerance_probe_and_one_coordinate_pole() {
+    let program = "\
+0 BEGIN PGM H2 MM
+1 TOOL CALL 1 Z S3000
+2 PLANE RESET STAY
+3 M140 MB MAX
+4 CYCL DEF 32.0 TOLERANCE
+5 CYCL DEF 32.1 T0.015
+6 CYCL DEF 32.2 HSC-MODE:0
+7 CYCL DEF 19.0 PLAN D'USINAGE
+8 M128 F1000
+9 M128 FQ2
+10 TCH PROBE 400 BASIC ROTATION
+11 FN 17: SYSWRITE ID 990 NR6 IDX0 =+1
+12 PLANE SPATIAL SPA+0 SPB+30 SPC+0 TURN MB MAX FMAX SEQ- TABLE ROT
+13 PLANE RESET STAY
+14 M129
+15 L X+0 Y+0 Z+5 R0 FMAX M3
+16 CC X+50 Y+50
+17 L X+60 Y+50 Z-1 F500
+18 C X+40 Y+50 DR+
+19 CC X+30
+20 C X+20 Y+50 DR+
+21 END PGM H2 MM
+";
+    let (_, diags) = run("heidenhain", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(diags.iter().any(|d| d.message.contains("PLANE (tilt the working plane) is kept as intent")), "{diags:?}");
+    let m = moves("heidenhain", program);
+    assert_eq!(m.last().unwrap(), "ARC_FEED(20.0000, 50.0000, 30.0000, 50.0000, 1, -1.0000, 0.0000, 0.0000, 0.0000)", "{m:?}");
+}
+
+/// Okuma: text in a system variable (`VUACM[1]='END OF BAR'`) and the lathe's G136/G137;
+/// Haas: the 5-axis codes G254/G255, G234, G268/G269 are read (the ones that change the
+/// coordinates kept as intent, with a warning).
+#[test]
+fn okuma_strings_and_haas_five_axis_codes() {
+    let okuma = "$A.MIN%\nVUACM[1]='END OF BAR'\nG136\nG0 X10. Z5.\nG137\nM30\n";
+    let (_, diags) = run("okuma_lathe", okuma);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(moves("okuma_lathe", okuma).len(), 1);
+    let haas = "O1000\nG0 G90 G54 X0. Y0.\nG254\nG234 H1\nG0 X1.\nG255\nG268 X0. Y0. Z0. I0. J45. K0.\nG269\nM30\n";
+    let (_, diags) = run("haas", haas);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "interp::unsupported", Severity::Warning), "{diags:?}");
+}
+
+/// Fanuc: K in a drilling cycle counts its repeats, also under least-increment input (`K3`
+/// is three holes, not 0.003); a cycle without R feeds from the initial level, with a
+/// warning, where LinuxCNC keeps rs274's error.
+#[test]
+fn fanuc_cycle_repeat_count_and_missing_r() {
+    let k = "O1\nG21 G17 G90 G54\nS1000 M3\nG0 X0. Y0. Z10.\nG91 G81 X10. Z-5. R-8. K3 F100.\nG80 G90\nM30\n";
+    let (_, diags) = run("fanuc", k);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(!diags.iter().any(|d| d.code.as_str() == "interp::no-decimal-point"), "{diags:?}");
+    assert_eq!(moves("fanuc", k).iter().filter(|m| m.starts_with("STRAIGHT_FEED")).count(), 3);
+    let r = "O1\nG21 G17 G90 G54\nS1000 M3\nG0 X0. Y0. Z2.\nG81 X10. Z-5. F100.\nG80\nM30\n";
+    let (_, diags) = run("fanuc", r);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "interp::cycle-incomplete", Severity::Warning), "{diags:?}");
+    assert!(moves("fanuc", r).contains(&"STRAIGHT_FEED(10.0000, 0.0000, -5.0000, 0.0000, 0.0000, 0.0000)".to_owned()));
+    let (_, diags) = run("linuxcnc", "G21 G17 G90\nG0 X0 Y0 Z2\nG81 X10 Z-5 F100\nG80\nM2\n");
+    assert!(has(&diags, "interp::cycle-incomplete", Severity::Error), "{diags:?}");
+}
+
+/// Siemens arrays: declared (`DEF REAL _RICH[4]`, elements at 0), written (`_RICH[0]=5`,
+/// `VAR5[R2]=3`, several in one block) and read (`FOR ... TO _RICH[1]-1`); a system
+/// variable's index may hold anything (`$TC_SCP13[$P_TOOLNO,1]`, also inside IF).
+#[test]
+fn siemens_arrays_and_system_variable_indexes() {
+    let program = "\
+DEF REAL _RICH[4]
+DEF INT VAR5[3]
+DEF INT I
+R2=1
+_RICH[0]=5 _RICH[1]=3
+VAR5[R2]=_RICH[0]+1
+G0 X0 Y0 Z5
+FOR I=0 TO _RICH[1]-1
+G1 X=VAR5[1]*I F100
+ENDFOR
+IF $TC_SCP13[$P_TOOLNO,1]>0
+G0 Z50
+ENDIF
+M30
+";
+    let (_, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let m = moves("siemens", program);
+    let xs: Vec<&str> = m.iter().filter(|l| l.starts_with("STRAIGHT_FEED")).map(|l| &l[14..20]).collect();
+    assert_eq!(xs, ["0.0000", "6.0000", "12.000"], "{m:?}");
+}
+
+/// Nested parentheses in comments, as simulators write them (`($SetPartSize(4, 4, 1, 1) )`),
+/// are a dictionary option: a dialect that says `nested="true"` reads the whole comment.
+#[test]
+fn nested_comments_are_a_dictionary_option() {
+    let program = "O1\n($SetPartSize(4, 4, 1, 1) )\nG0 G90 X1. Y2.\nM30\n";
+    let (_, diags) = run("fanuc", program);
+    assert!(!errors(&diags).is_empty(), "Fanuc closes the comment at the first `)`");
+    let mut r = Registry::shipped();
+    let nested = r#"<dialect xmlns="urn:ncplan:dialect:1" name="sim" extends="fanuc" title="A simulator">
+  <lexical><comment open="(" close=")" nested="true"/></lexical>
+</dialect>"#;
+    r.add("sim.xml", nested).unwrap();
+    let d = r.get("sim").unwrap();
+    let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+}
