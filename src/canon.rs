@@ -130,6 +130,10 @@ pub struct CycleIntent {
     /// Whether the move just before the cycle positioned the tool over the hole (a cycle
     /// called after a positioning block: `MCALL`, `M99`), rather than the cycle itself.
     pub positioned: bool,
+    /// The workpiece surface the cycle states, where it states one (Siemens `RFP`, Heidenhain
+    /// `Q203`): the hole's top. G8x cycles state only the R level, which is above it.
+    #[serde(default)]
+    pub surface: Option<f64>,
 }
 
 /// Distance mode (a marker; the canonical interface itself has none).

@@ -32,6 +32,8 @@ pub(super) struct HoleRun {
     pub clearance: f64,
     /// Whether the hole is at the current position, so no move in the plane is needed.
     pub still: bool,
+    /// The workpiece surface a defined cycle states (`RFP`, `Q203`).
+    pub surface: Option<f64>,
 }
 
 impl Interpreter<'_> {
@@ -155,7 +157,7 @@ impl Interpreter<'_> {
         }
         let clear = if self.st.retract == Retract::Initial { initial.max(r) } else { r };
         let (dx, dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
-        let run = HoleRun { kind, code, r, bottom, clear, old_z, peck, peck_from: r, dwell, shift, clearance, still: false };
+        let run = HoleRun { kind, code, r, bottom, clear, old_z, peck, peck_from: r, dwell, shift, clearance, still: false, surface: None };
         for _ in 0..repeats as u64 {
             let (x, y) = if incremental {
                 (p[a0] + dx.unwrap_or(0.0), p[a1] + dy.unwrap_or(0.0))
@@ -173,7 +175,19 @@ impl Interpreter<'_> {
         let (a0, a1, n) = self.st.plane.axes();
         let HoleRun { kind, r, bottom, clear, old_z, peck, peck_from, dwell, shift, clearance, still, .. } = *run;
         {
-            let intent = CycleIntent { kind, code: run.code.clone(), x, y, bottom, r_plane: r, clear, peck, dwell, positioned: still };
+            let intent = CycleIntent {
+                kind,
+                code: run.code.clone(),
+                x,
+                y,
+                bottom,
+                r_plane: r,
+                clear,
+                peck,
+                dwell,
+                positioned: still,
+                surface: run.surface,
+            };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             let place = |first: f64, z: f64| {
                 let mut q = p;

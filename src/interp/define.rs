@@ -264,8 +264,21 @@ impl Interpreter<'_> {
         };
         let mut p = self.st.pos;
         let old_z = p[n];
-        let run =
-            HoleRun { kind, code: label, r, bottom, clear, old_z, peck, peck_from: surface, dwell, shift: 0.0, clearance, still: true };
+        let run = HoleRun {
+            kind,
+            code: label,
+            r,
+            bottom,
+            clear,
+            old_z,
+            peck,
+            peck_from: surface,
+            dwell,
+            shift: 0.0,
+            clearance,
+            still: true,
+            surface: Some(surface),
+        };
         if p[n] < r {
             p[n] = r;
             self.emit(sink, CanonOp::StraightTraverse(p));

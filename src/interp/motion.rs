@@ -185,6 +185,7 @@ impl Interpreter<'_> {
                 peck: None,
                 dwell: None,
                 positioned: false,
+                surface: None,
             };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             self.emit(sink, CanonOp::RigidTap([t[0], t[1], t[2]]));

@@ -451,6 +451,12 @@ impl Writer {
         {
             id.push_str(&format!(" peck={p}"));
         }
+        // The surface a cycle stated (RFP, Q203) has no attribute of its own.
+        if ws.operation.is_hole()
+            && let Some(z) = ws.holes.iter().find_map(|h| h.top)
+        {
+            id.push_str(&format!(" surface={z}"));
+        }
         // A spindle value is signed by direction: a stopped spindle's speed, and the direction
         // of a turning spindle at speed 0, have no attribute.
         if ws.technology.spindle == SpindleDir::Off && ws.technology.spindle_speed != 0.0 {
@@ -970,7 +976,8 @@ impl Reader<'_> {
         } else {
             op_words.get("peck").and_then(|v| v.parse().ok())
         };
-        plan::measure(&mut ws, dwell, peck);
+        let surface = op_words.get("surface").and_then(|v| v.parse().ok());
+        plan::measure(&mut ws, dwell, peck, surface);
         // The feature, numbered in order of first machining.
         let fref = self.attr(inst, 2)?;
         if let Some(fid) = fref.as_ref_id() {

@@ -186,14 +186,17 @@ fn round6(v: f64) -> f64 {
     (v * 1e6).round() / 1e6 + 0.0
 }
 
-/// The top of a hole: the stock's, the faced level, or else the program zero where it lies
-/// between the bottom and the R level (posts put the work zero on the part's top); the R
-/// level only as a last resort.
+/// The top of a hole: the surface its cycle states (`RFP`, `Q203`), the faced level, the
+/// stock's, or else the program zero where it lies between the bottom and the R level (posts
+/// put the work zero on the part's top); the R level only as a last resort.
 fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Option<f64>) -> Candidate {
     let first = ws.holes.first();
     let bottom_z = ws.holes.iter().map(|h| h.bottom).fold(f64::INFINITY, f64::min);
     let r_level = first.map_or(0.0, |h| h.r_plane);
+    let stated = ws.holes.iter().find_map(|h| h.top);
     let (top, top_inferred) = match (stock, faced) {
+        // The surface the cycle states (RFP, Q203) is the programmer's own word for the top.
+        _ if stated.is_some() => (stated.unwrap_or_default(), false),
         (_, Some(f)) if f > bottom_z && stock.is_none_or(|s| f < s.max()[2]) => (f, false),
         (Some(s), _) => (s.max()[2], false),
         _ if bottom_z < 0.0 && r_level >= 0.0 => (0.0, true),

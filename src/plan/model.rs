@@ -641,6 +641,9 @@ pub struct Hole {
     pub bottom: f64,
     /// Feed-start plane, mm.
     pub r_plane: f64,
+    /// The workpiece surface the cycle states (`RFP`, `Q203`): the hole's top, when stated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub top: Option<f64>,
     /// Peck increment, mm.
     pub peck: Option<f64>,
     /// Dwell at the bottom, seconds.

@@ -119,7 +119,7 @@ fn explicit_holes(plan: &mut ProcessPlan) {
             m.phase = Phase::Cut;
         }
         let dwell = ws.state.dwells.first().map(|d| d.seconds);
-        measure(ws, dwell, None);
+        measure(ws, dwell, None, None);
     }
 }
 
@@ -280,6 +280,8 @@ struct Builder {
     moves: Vec<Move>,
     dwell: Option<f64>,
     peck: Option<f64>,
+    /// The workpiece surface its cycles state (`RFP`, `Q203`).
+    surface: Option<f64>,
     source: TextRange,
     lines: (u32, u32),
     tentative: Option<Tentative>,
@@ -374,6 +376,7 @@ struct Recovery<'p> {
     in_cycle: Option<CycleKind>,
     dwell: Option<f64>,
     peck: Option<f64>,
+    surface: Option<f64>,
     stock: Option<[P3; 2]>,
     /// Work offset in force (1 for G54).
     wcs: u8,
@@ -419,6 +422,7 @@ impl<'p> Recovery<'p> {
             in_cycle: None,
             dwell: None,
             peck: None,
+            surface: None,
             stock: None,
             wcs: 1,
             h: None,
@@ -627,6 +631,7 @@ impl<'p> Recovery<'p> {
                 self.in_cycle = Some(intent.kind);
                 self.dwell = intent.dwell;
                 self.peck = intent.peck.map(|q| self.mm(q));
+                self.surface = intent.surface.map(|z| self.mm(z));
                 // The positioning move before a called cycle belongs to the hole, as the
                 // cycle's own move to the hole does when the cycle positions itself (G81 X Y).
                 if intent.positioned
@@ -747,6 +752,7 @@ impl<'p> Recovery<'p> {
                 moves,
                 dwell: None,
                 peck: None,
+                surface: None,
                 source: c.origin,
                 lines: (first_line, c.line),
                 tentative: None,
@@ -815,6 +821,9 @@ impl<'p> Recovery<'p> {
         if operation.is_hole() && b.peck.is_none() {
             b.peck = self.peck;
         }
+        if operation.is_hole() && b.surface.is_none() && self.in_cycle.is_some() {
+            b.surface = self.surface;
+        }
     }
 
     /// Ends the current workingstep at a tentative boundary and starts the next with the
@@ -867,6 +876,7 @@ impl<'p> Recovery<'p> {
             moves,
             dwell: None,
             peck: None,
+            surface: None,
             source: t.origin.cover(c.origin),
             lines: (t.line, c.line),
             tentative: None,
@@ -934,7 +944,7 @@ impl<'p> Recovery<'p> {
         }
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         ws.state = state;
-        measure(&mut ws, b.dwell, b.peck);
+        measure(&mut ws, b.dwell, b.peck, b.surface);
         self.done.push(ws);
     }
 }
@@ -948,7 +958,7 @@ pub fn round_sig(v: f64) -> f64 {
 /// Fills in what a workingstep's toolpath determines: start point, depth, box, cutting
 /// length, holes (for hole making, with `dwell` at each bottom and the cycle's `peck`) and
 /// the list of feeds.
-pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>) {
+pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surface: Option<f64>) {
     let mut bbox = None;
     let mut depth: Option<f64> = None;
     let mut cutting_length = 0.0;
@@ -967,7 +977,7 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>) {
     ws.depth = depth;
     ws.cutting_length = cutting_length;
     ws.start_point = ws.toolpath.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
-    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, &ws.state.optional_lines) } else { Vec::new() };
+    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, surface, &ws.state.optional_lines) } else { Vec::new() };
     let mut feeds = vec![ws.technology.feed];
     for m in ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid) {
         if !feeds.iter().any(|f| (f - m.feed).abs() < EPS) {
@@ -1023,7 +1033,7 @@ fn refine_phases(moves: &mut [Move]) {
 
 /// Hole positions: the bottom of each feed-in within a cycle, with the height the tool
 /// lifts to before it leaves the hole. A hole fed by an optional block is optional.
-fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>, optional: &[u32]) -> Vec<Hole> {
+fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>, surface: Option<f64>, optional: &[u32]) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
     let mut open = false;
     for m in moves {
@@ -1049,7 +1059,18 @@ fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>, optional: &[u32]
                 }
             }
             _ => {
-                out.push(Hole { x: m.to[0], y: m.to[1], bottom: m.to[2], r_plane: m.from[2], peck: None, dwell, retract: None, optional });
+                let top = surface.filter(|z| *z > m.to[2]);
+                out.push(Hole {
+                    x: m.to[0],
+                    y: m.to[1],
+                    bottom: m.to[2],
+                    r_plane: m.from[2],
+                    top,
+                    peck: None,
+                    dwell,
+                    retract: None,
+                    optional,
+                });
                 open = true;
             }
         }

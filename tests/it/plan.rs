@@ -387,3 +387,29 @@ fn constant_surface_speed_is_kept_and_feeds_per_revolution_follow_the_diameter()
     assert!(!s.has_errors(), "{:?}", s.diagnostics);
     assert_eq!(s.plan.workingsteps[0].technology, *t);
 }
+
+/// A plan read in `dialect`.
+fn analyze_in(dialect: &str, program: &str) -> ProcessPlan {
+    let d = ncplan::dialect::Registry::shipped().get(dialect).unwrap();
+    ncplan::pipeline::analyze(program.as_bytes(), &d, &ncplan::interp::Profile::default()).plan
+}
+
+#[test]
+fn a_hole_s_top_is_the_surface_its_cycle_states() {
+    // A boss 3 mm above the work zero: Siemens RFP=3, Heidenhain Q203=+3. The R level (the
+    // safety distance above it) is not the top, nor is the work zero.
+    let siemens = "%_N_BOSS_MPF\nG17 G90 G71\nT=\"DRILL8\"\nM6\nS1800 M3 F150\nG0 X20 Y20 Z50\n\
+                   MCALL CYCLE81(20,3,2,-12,)\nX20 Y20\nX60 Y20\nMCALL\nG0 Z100\nM30\n";
+    let heidenhain = "0 BEGIN PGM BOSS MM\n1 TOOL CALL 5 Z S1800\n2 L Z+50 R0 FMAX M3\n\
+                      3 CYCL DEF 200 DRILLING ~\n  Q200=2 ;SET-UP CLEARANCE ~\n  Q201=-15 ;DEPTH ~\n  Q206=150 ;FEED RATE FOR PLNGNG ~\n\
+                      \x20 Q202=15 ;PLUNGING DEPTH ~\n  Q210=0 ;DWELL TIME AT TOP ~\n  Q203=+3 ;SURFACE COORDINATE ~\n\
+                      \x20 Q204=20 ;2ND SET-UP CLEARANCE ~\n  Q211=0 ;DWELL TIME AT DEPTH\n\
+                      4 L X+20 Y+20 R0 FMAX M99\n5 L X+60 Y+20 R0 FMAX M99\n6 L Z+100 R0 FMAX\n7 END PGM BOSS MM\n";
+    for (dialect, program) in [("siemens", siemens), ("heidenhain", heidenhain)] {
+        let p = analyze_in(dialect, program);
+        let holes: Vec<&ncplan::plan::Feature> = p.features.iter().filter(|f| matches!(f.kind, FeatureKind::RoundHole { .. })).collect();
+        assert_eq!(holes.len(), 1, "{dialect}: {:#?}", p.features);
+        let f = holes[0];
+        assert_eq!((f.placement[2], f.depth, f.top_inferred), (3.0, 15.0, false), "{dialect}");
+    }
+}
