@@ -223,6 +223,10 @@ pub enum CanonOp {
     ProgramStop,
     /// `OPTIONAL_PROGRAM_STOP`
     OptionalProgramStop,
+    /// `ENABLE_FEED_OVERRIDE()` (`true`) or `DISABLE_FEED_OVERRIDE()`.
+    FeedOverride(bool),
+    /// `ENABLE_SPEED_OVERRIDE(0)` (`true`) or `DISABLE_SPEED_OVERRIDE(0)`.
+    SpeedOverride(bool),
     /// `PROGRAM_END`
     ProgramEnd,
     /// `FINISH`: the program ended at its closing `%` without M2/M30.
@@ -496,6 +500,8 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::FloodOff => out.extend_from_slice(b"FLOOD_OFF()"),
         CanonOp::ProgramStop => out.extend_from_slice(b"PROGRAM_STOP()"),
         CanonOp::OptionalProgramStop => out.extend_from_slice(b"OPTIONAL_PROGRAM_STOP()"),
+        CanonOp::FeedOverride(on) => out.extend_from_slice(if *on { b"ENABLE_FEED_OVERRIDE()" } else { b"DISABLE_FEED_OVERRIDE()" }),
+        CanonOp::SpeedOverride(on) => out.extend_from_slice(if *on { b"ENABLE_SPEED_OVERRIDE(0)" } else { b"DISABLE_SPEED_OVERRIDE(0)" }),
         CanonOp::ProgramEnd => out.extend_from_slice(b"PROGRAM_END()"),
         CanonOp::Finish => out.extend_from_slice(b"FINISH()"),
         CanonOp::Comment(s) => {

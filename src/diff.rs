@@ -60,6 +60,8 @@ pub enum ChangeKind {
     OptionalBlockChanged,
     /// Constant surface speed was turned on or off.
     SpindleModeChanged,
+    /// The feed override was turned off (M49, M50 P0) or on again for the workingstep.
+    FeedOverrideChanged,
     /// A canned-cycle parameter changed: peck, dwell, R level, retract plane.
     CycleParameterChanged,
     /// A hole exists only in the edited program.
@@ -102,6 +104,7 @@ impl ChangeKind {
             ChangeKind::DwellChanged => "dwell_changed",
             ChangeKind::OptionalBlockChanged => "optional_block_changed",
             ChangeKind::SpindleModeChanged => "spindle_mode_changed",
+            ChangeKind::FeedOverrideChanged => "feed_override_changed",
             ChangeKind::CycleParameterChanged => "cycle_parameter_changed",
             ChangeKind::HoleAdded => "hole_added",
             ChangeKind::HoleRemoved => "hole_removed",
@@ -481,6 +484,10 @@ fn compare(
     }
     // The machine state.
     let (sa, sb) = (&a.state, &b.state);
+    if sa.feed_override_off != sb.feed_override_off {
+        let words = |off: bool| if off { "off (the programmed feed, whatever the dial)" } else { "on" }.to_owned();
+        push(ChangeKind::FeedOverrideChanged, "feed_override", words(sa.feed_override_off), words(sb.feed_override_off), at_start);
+    }
     if sa.work_offset != sb.work_offset {
         push(ChangeKind::WorkOffsetChanged, "work_offset", work_offset_name(sa.work_offset), work_offset_name(sb.work_offset), at_start);
     }

@@ -203,6 +203,15 @@ vocab! {
         ProgramStop = "program-stop",
         /// Optional stop (M1).
         OptionalStop = "optional-stop",
+        /// Feed and spindle speed overrides enabled (LinuxCNC M48).
+        OverridesOn = "overrides-on",
+        /// Feed and spindle speed overrides disabled: the program runs at its own values
+        /// whatever the operator's dials say (LinuxCNC M49).
+        OverridesOff = "overrides-off",
+        /// Feed override on with `P1` or no P, off with `P0` (LinuxCNC M50).
+        FeedOverrideSwitch = "feed-override",
+        /// Spindle speed override on with `P1` or no P, off with `P0` (LinuxCNC M51).
+        SpeedOverrideSwitch = "speed-override",
         /// Program end (M2).
         ProgramEnd = "program-end",
         /// Program end and rewind (M30).

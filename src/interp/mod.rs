@@ -2111,6 +2111,19 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::ProgramStop => self.emit(sink, CanonOp::ProgramStop),
             Meaning::OptionalStop => self.emit(sink, CanonOp::OptionalProgramStop),
+            Meaning::OverridesOn | Meaning::OverridesOff => {
+                let on = def.meaning == Meaning::OverridesOn;
+                self.emit(sink, CanonOp::FeedOverride(on));
+                self.emit(sink, CanonOp::SpeedOverride(on));
+            }
+            Meaning::FeedOverrideSwitch => {
+                let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
+                self.emit(sink, CanonOp::FeedOverride(on));
+            }
+            Meaning::SpeedOverrideSwitch => {
+                let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
+                self.emit(sink, CanonOp::SpeedOverride(on));
+            }
             Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.program_end(sink),
             Meaning::SubprogramCall => {
                 let Some(p) = self.program_number(Role::P, range, diags) else { return };

@@ -712,6 +712,10 @@ pub struct MachineState {
     /// Lines of the optional (`/`) blocks whose moves belong to the workingstep.
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
     pub optional_lines: Vec<u32>,
+    /// The feed override was off (M49, M50 P0) while the workingstep cut: it ran at the
+    /// programmed feed whatever the operator's dial said.
+    #[serde(skip_serializing_if = "std::ops::Not::not", default)]
+    pub feed_override_off: bool,
 }
 
 impl Default for MachineState {
@@ -723,6 +727,7 @@ impl Default for MachineState {
             stops: Vec::new(),
             dwells: Vec::new(),
             optional_lines: Vec::new(),
+            feed_override_off: false,
         }
     }
 }
@@ -762,6 +767,9 @@ impl MachineState {
         if !self.optional_lines.is_empty() {
             out.push(format!("optional={}", list(self.optional_lines.iter().map(u32::to_string).collect())));
         }
+        if self.feed_override_off {
+            out.push("feed_override=off".into());
+        }
         out
     }
 
@@ -799,6 +807,7 @@ impl MachineState {
             })
             .collect();
         st.optional_lines = items("optional").iter().filter_map(|v| v.parse().ok()).collect();
+        st.feed_override_off = words.get("feed_override").is_some_and(|v| v == "off");
         st
     }
 }

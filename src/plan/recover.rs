@@ -393,6 +393,8 @@ struct Recovery<'p> {
     /// Stops and dwells met while no workingstep is open: they go to the next one.
     pending_stops: Vec<Stop>,
     pending_dwells: Vec<Dwell>,
+    /// The feed override is off (M49, M50 P0).
+    feed_override_off: bool,
     current: Option<Builder>,
     pending: Vec<Move>,
     done: Vec<Workingstep>,
@@ -432,6 +434,7 @@ impl<'p> Recovery<'p> {
             listed: BTreeMap::new(),
             pending_stops: Vec::new(),
             pending_dwells: Vec::new(),
+            feed_override_off: false,
             current: None,
             pending: Vec::new(),
             done: Vec::new(),
@@ -592,6 +595,7 @@ impl<'p> Recovery<'p> {
                     None => self.pending_dwells.push(d),
                 }
             }
+            CanonOp::FeedOverride(on) => self.feed_override_off = !on,
             CanonOp::ProgramStop | CanonOp::OptionalProgramStop => {
                 let s = Stop { optional: c.op == CanonOp::OptionalProgramStop, line: c.line, at: 0 };
                 match self.current.as_mut() {
@@ -809,6 +813,9 @@ impl<'p> Recovery<'p> {
         if mv.kind != MoveKind::Rapid && b.settings.last().is_none_or(|s| (s.1, s.2) != (h, comp)) {
             b.settings.push((b.moves.len(), h, comp));
         }
+        if mv.kind != MoveKind::Rapid && self.feed_override_off {
+            b.state.feed_override_off = true;
+        }
         b.moves.push(mv);
         b.source = b.source.cover(c.origin);
         b.lines.1 = c.line;
@@ -835,7 +842,9 @@ impl<'p> Recovery<'p> {
         // What comes after the boundary's lifts goes with the later workingstep.
         let cut = (t.at + t.lifts.min(tail.len())) as u32;
         let later = |v: &mut Vec<u32>| v.iter().position(|at| *at >= cut);
-        let mut state = MachineState { work_offset: b.state.work_offset, ..MachineState::default() };
+        // The override flag is kept for both pieces: it was off somewhere in what is split.
+        let mut state =
+            MachineState { work_offset: b.state.work_offset, feed_override_off: b.state.feed_override_off, ..MachineState::default() };
         if let Some(i) = later(&mut b.state.stops.iter().map(|s| s.at).collect()) {
             state.stops = b.state.stops.split_off(i).into_iter().map(|s| Stop { at: s.at - cut, ..s }).collect();
         }

@@ -479,3 +479,20 @@ fn axial_depth() {
     "#]],
     );
 }
+
+#[test]
+fn the_feed_override_turned_off_is_a_change() {
+    // LinuxCNC: M49 disables the feed and speed overrides, M50 P0 the feed override alone.
+    let a = "G21 G90 G17\nT1 M6\nS3000 M3\nG0 X0 Y0 Z5\nG1 Z-2 F400\nX50\nY30\nX0\nY0\nG0 Z5\nM30\n";
+    for off in ["M49", "M50 P0"] {
+        let b = a.replace("G1 Z-2 F400\n", &format!("{off}\nG1 Z-2 F400\n"));
+        expect![[r#"
+            feed_override_changed | feed_override | on | off (the programmed feed, whatever the dial) | 4 | 4
+              feed override changed from on to off (the programmed feed, whatever the dial)
+        "#]]
+        .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
+    }
+    // Turned on again before the cut: no change.
+    let b = a.replace("G1 Z-2 F400\n", "M49\nM48\nG1 Z-2 F400\n");
+    assert_eq!(rows(&changes(a, &b, "linuxcnc")), "");
+}
