@@ -197,3 +197,19 @@ fn import_stores_dated_backups_with_their_file_times_and_resumes() {
     assert_eq!(code, 2);
     assert!(err.contains("no machine `NOPE`") && err.contains("DMU50"), "{err}");
 }
+
+#[test]
+fn check_takes_many_files_and_ends_with_a_summary() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("good.nc"), "%\nO1\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nX10\nM30\n%\n").unwrap();
+    std::fs::write(tmp.path().join("bad.nc"), "%\nO2\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG2 X10 Y0 I1 J1\nM30\n%\n").unwrap();
+    let (code, out, err) = ncplan_in(tmp.path(), &["check", "-d", "fanuc", "good.nc", "bad.nc", "missing.nc"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(out.contains("good.nc: 0 errors") && out.contains("bad.nc: 1 errors"), "{out}");
+    assert!(out.trim_end().ends_with("checked 3 files: 1 with errors (1 errors, 0 other findings); 1 could not be read"), "{out}");
+    assert!(err.contains("cannot read missing.nc"), "{err}");
+    let (code, out, _) = ncplan_in(tmp.path(), &["check", "-d", "fanuc", "--format", "json", "good.nc", "bad.nc"]);
+    assert_eq!(code, 1);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v.as_array().map(Vec::len), Some(2));
+}
