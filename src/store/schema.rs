@@ -189,7 +189,11 @@ CREATE TABLE features (
         fill_features!(),
         ";\n"
     ),
-    // 3: pairing by whole names, rule by rule; the name each revision had; partial writes.
+    // 3: pairing by whole names, rule by rule, with the rule stored; the name each revision
+    // stated; partial writes; plans as summaries (toolpaths are rebuilt from the immutable
+    // blob); a journal of analyses in progress, so that content whose analysis killed the
+    // process is recorded once; where a change is (its line in the original, and for a
+    // toolpath change the region and the largest deviation, mm).
     r#"
 CREATE TABLE program_keys (
     program_id INTEGER NOT NULL REFERENCES programs(id),
@@ -208,32 +212,6 @@ CREATE TABLE revision_marks (
     superseded_by INTEGER NOT NULL REFERENCES revisions(id),
     noted_at      TEXT NOT NULL
 );
-DROP VIEW shopfloor_changes;
-CREATE VIEW shopfloor_changes AS
-SELECT m.name                    AS machine,
-       COALESCE(r.name, p.name)  AS program,
-       op.path                   AS original_path,
-       p.path                    AS edited_path,
-       c.revision_id             AS revision_id,
-       c.workingstep             AS workingstep,
-       c.kind                    AS kind,
-       c.field                   AS field,
-       c.before                  AS before,
-       c.after                   AS after,
-       c.detected_at             AS detected_at,
-       c.operation               AS operation,
-       c.id                      AS change_id
-FROM changes c
-JOIN revisions r   ON r.id = c.revision_id
-JOIN programs p    ON p.id = r.program_id
-LEFT JOIN machines m ON m.id = p.machine_id
-JOIN revisions orv ON orv.id = c.original_revision_id
-JOIN programs op   ON op.id = orv.program_id
-WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial');
-"#,
-    // 4: plans as summaries (toolpaths are rebuilt from the immutable blob); a journal of
-    // analyses in progress, so that content whose analysis killed the process is recorded once.
-    r#"
 ALTER TABLE plans ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
 CREATE TABLE attempts (
     hash       TEXT PRIMARY KEY,
@@ -241,10 +219,6 @@ CREATE TABLE attempts (
     started_at TEXT NOT NULL,
     tries      INTEGER NOT NULL
 );
-"#,
-    // 5: where a change is: its line in the original, and for a toolpath change the region
-    // (mm) and the largest deviation (mm).
-    r#"
 ALTER TABLE changes ADD COLUMN original_line INTEGER;
 ALTER TABLE changes ADD COLUMN region_min_x REAL;
 ALTER TABLE changes ADD COLUMN region_min_y REAL;

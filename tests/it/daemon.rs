@@ -5,8 +5,6 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use ncplan::store::Store;
-
 struct Daemon(Child);
 
 impl Drop for Daemon {
@@ -29,13 +27,7 @@ fn start(config: &Path) -> Daemon {
 }
 
 fn rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
-    if !db.exists() {
-        return Vec::new();
-    }
-    match Store::open_read_only(db) {
-        Ok(s) => s.query(sql).map(|(_, r)| r).unwrap_or_default(),
-        Err(_) => Vec::new(),
-    }
+    crate::db_rows(db, sql)
 }
 
 fn wait_for(db: &Path, sql: &str, want: usize) -> Vec<Vec<String>> {

@@ -100,13 +100,7 @@ impl Site {
 }
 
 fn rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
-    if !db.exists() {
-        return Vec::new();
-    }
-    match Store::open_read_only(db) {
-        Ok(s) => s.query(sql).map(|(_, r)| r).unwrap_or_default(),
-        Err(_) => Vec::new(),
-    }
+    crate::db_rows(db, sql)
 }
 
 struct Daemon(Child);

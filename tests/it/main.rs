@@ -46,6 +46,18 @@ pub fn shared_corpus(test: &str) -> Option<PathBuf> {
     None
 }
 
+/// The rows `sql` gives on the database `db` opened read-only; none while it does not exist
+/// or cannot be read yet (a daemon is still creating it).
+pub fn db_rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
+    if !db.exists() {
+        return Vec::new();
+    }
+    match ncplan::store::Store::open_read_only(db) {
+        Ok(s) => s.query(sql).map(|(_, r)| r).unwrap_or_default(),
+        Err(_) => Vec::new(),
+    }
+}
+
 /// Says why `test` did nothing, past the harness's output capture, so that a skip is never silent.
 pub fn skip(test: &str, why: &str) {
     use std::io::Write as _;
