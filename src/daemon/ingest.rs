@@ -153,8 +153,9 @@ pub fn ingest(
     // An analysis of this content that never finished (the process was killed) is not tried again.
     let earlier = store.begin_attempt(&hash, &path_str, now)?;
     let result = record(path, path, folder, config, registry, store, now, bytes, &hash, &meta, earlier);
-    if result.is_err() {
-        store.finish_attempt(&hash)?;
+    // Only a stored revision closes the journal in its transaction; any other end closes it here.
+    if !matches!(result, Ok(Outcome::Stored { .. })) {
+        store.finish_attempt(&hash, &path_str)?;
     }
     result
 }
@@ -184,8 +185,8 @@ pub fn import_file(
     }
     let earlier = store.begin_attempt(&hash, &stored_str, seen_at)?;
     let result = record(file, stored_as, folder, config, registry, store, seen_at, bytes, &hash, &meta, earlier);
-    if result.is_err() {
-        store.finish_attempt(&hash)?;
+    if !matches!(result, Ok(Outcome::Stored { .. })) {
+        store.finish_attempt(&hash, &stored_str)?;
     }
     result
 }

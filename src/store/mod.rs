@@ -302,13 +302,13 @@ impl Store {
     pub fn begin_attempt(&self, hash: &str, path: &str, at: &str) -> Result<u32> {
         let tries: Option<u32> = self
             .conn
-            .query_row("SELECT tries FROM attempts WHERE hash = ?1", [hash], |r| r.get(0))
+            .query_row("SELECT tries FROM attempts WHERE hash = ?1 AND path = ?2", [hash, path], |r| r.get(0))
             .optional()
             .map_err(sql("reading the attempt journal"))?;
         self.conn
             .execute(
                 "INSERT INTO attempts(hash, path, started_at, tries) VALUES (?1, ?2, ?3, 1)
-                 ON CONFLICT(hash) DO UPDATE SET tries = tries + 1, started_at = excluded.started_at, path = excluded.path",
+                 ON CONFLICT(hash, path) DO UPDATE SET tries = tries + 1, started_at = excluded.started_at",
                 params![hash, path, at],
             )
             .map_err(sql("writing the attempt journal"))?;
@@ -316,8 +316,10 @@ impl Store {
     }
 
     /// Removes the note of an analysis that ended without recording a revision.
-    pub fn finish_attempt(&self, hash: &str) -> Result<()> {
-        self.conn.execute("DELETE FROM attempts WHERE hash = ?1", [hash]).map_err(sql("writing the attempt journal"))?;
+    pub fn finish_attempt(&self, hash: &str, path: &str) -> Result<()> {
+        self.conn
+            .execute("DELETE FROM attempts WHERE hash = ?1 AND path = ?2", [hash, path])
+            .map_err(sql("writing the attempt journal"))?;
         Ok(())
     }
 
@@ -722,7 +724,7 @@ impl Txn<'_> {
         )
         .map_err(sql("recording a revision"))?;
         let revision_id = tx.last_insert_rowid();
-        tx.execute("DELETE FROM attempts WHERE hash = ?1", [rev.hash]).map_err(sql("closing an attempt"))?;
+        tx.execute("DELETE FROM attempts WHERE hash = ?1 AND path = ?2", [rev.hash, rev.path]).map_err(sql("closing an attempt"))?;
         if let Some(plan) = rev.plan_json {
             tx.execute(
                 "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete) VALUES (?1, ?2, ?3, ?4, ?5)",

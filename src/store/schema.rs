@@ -214,10 +214,11 @@ CREATE TABLE revision_marks (
 );
 ALTER TABLE plans ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
 CREATE TABLE attempts (
-    hash       TEXT PRIMARY KEY,
+    hash       TEXT NOT NULL,
     path       TEXT NOT NULL,
     started_at TEXT NOT NULL,
-    tries      INTEGER NOT NULL
+    tries      INTEGER NOT NULL,
+    PRIMARY KEY (hash, path)
 );
 ALTER TABLE changes ADD COLUMN original_line INTEGER;
 ALTER TABLE changes ADD COLUMN region_min_x REAL;

@@ -534,7 +534,8 @@ fn content_whose_analysis_killed_the_process_is_stored_once_without_analysis() {
     std::fs::write(site.path("share/O12.nc"), &text).unwrap();
     // An earlier run began analysing this content and never finished (killed by a memory limit).
     let hash = ncplan::daemon::ingest::sha256_hex(text.as_bytes());
-    assert_eq!(store.begin_attempt(&hash, "share/O12.nc", "2026-12-01T09:00:00.000Z").unwrap(), 0);
+    let at = site.path("share/O12.nc").to_string_lossy().into_owned();
+    assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:00:00.000Z").unwrap(), 0);
     let out = ingest_at(&site, &mut store, "share/O12.nc", "2026-12-01T10:00:00.000Z", None);
     assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
     let rows = store.query("SELECT r.status, d.code, d.message FROM revisions r JOIN diagnostics d ON d.revision_id = r.id").unwrap().1;
@@ -543,6 +544,12 @@ fn content_whose_analysis_killed_the_process_is_stored_once_without_analysis() {
     assert!(store.query("SELECT * FROM attempts").unwrap().1.is_empty(), "the journal is closed with the revision");
     // It is not retried: the same content again is unchanged.
     assert_eq!(ingest_at(&site, &mut store, "share/O12.nc", "2026-12-01T10:01:00.000Z", None), Outcome::Unchanged);
+    // The same content in another file is analysed: the journal is per file.
+    std::fs::write(site.path("share/O12_COPY.nc"), &text).unwrap();
+    ingest_at(&site, &mut store, "share/O12_COPY.nc", "2026-12-01T10:02:00.000Z", None);
+    let copy =
+        store.query("SELECT r.status FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path LIKE '%O12_COPY.nc'").unwrap().1;
+    assert_eq!(copy, [["analysed"]]);
 }
 
 #[test]
