@@ -140,6 +140,8 @@ struct Daemon {
     in_flight: BTreeSet<PathBuf>,
     /// Paths refused (links out of a share), said once each.
     refused: BTreeSet<PathBuf>,
+    /// Paths inside a share the watcher reported errors on, said once each.
+    said: BTreeSet<PathBuf>,
     tx: mpsc::UnboundedSender<Event>,
 }
 
@@ -204,8 +206,15 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     }
 
     let shares = roots.into_iter().map(|root| Share { watcher: None, identity: None, up: true, root }).collect();
-    let mut d =
-        Daemon { config: Arc::clone(&config), shares, pending: BTreeMap::new(), in_flight: BTreeSet::new(), refused: BTreeSet::new(), tx };
+    let mut d = Daemon {
+        config: Arc::clone(&config),
+        shares,
+        pending: BTreeMap::new(),
+        in_flight: BTreeSet::new(),
+        refused: BTreeSet::new(),
+        said: BTreeSet::new(),
+        tx,
+    };
     for i in 0..config.folders.len() {
         d.check_share(i, true);
     }
@@ -414,6 +423,16 @@ impl Daemon {
     /// at the next health check (which re-arms and rescans it), and the error is said once.
     fn watch_failed(&mut self, folder: usize, error: &notify::Error) {
         let f = &self.config.folders[folder];
+        // An error about something inside a share that can still be read (an unreadable
+        // subfolder, a file that vanished while polled) is said once per path; the watch lives.
+        if std::fs::read_dir(&f.path).is_ok() && !error.paths.is_empty() && !error.paths.contains(&f.path) {
+            for p in &error.paths {
+                if self.said.insert(p.clone()) {
+                    tracing::warn!(path = %p.display(), %error, "The watcher cannot read a path inside the share.");
+                }
+            }
+            return;
+        }
         let share = &mut self.shares[folder];
         if share.up {
             tracing::warn!(folder = %f.path.display(), %error, "The watcher reported an error; the share is looked at again.");
