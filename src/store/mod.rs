@@ -413,14 +413,6 @@ impl Store {
             .map_err(sql("reading program bytes"))
     }
 
-    /// The stored plan JSON of a revision.
-    pub fn plan_json(&self, revision: i64) -> Result<Option<String>> {
-        self.conn
-            .query_row("SELECT plan_json FROM plans WHERE revision_id = ?1", [revision], |r| r.get(0))
-            .optional()
-            .map_err(sql("reading a plan"))
-    }
-
     /// The findings of a revision, in source order.
     pub fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
         let mut stmt = self
@@ -866,14 +858,6 @@ impl Txn<'_> {
         }
         keys.sort_by_key(|k| k.rule);
         Ok(keys)
-    }
-
-    /// The plan JSON of a revision.
-    pub fn plan_json(&self, revision: i64) -> Result<Option<String>> {
-        self.tx
-            .query_row("SELECT plan_json FROM plans WHERE revision_id = ?1", [revision], |r| r.get(0))
-            .optional()
-            .map_err(sql("reading a plan"))
     }
 
     /// Usable machine revisions without a comparison: of the programs with the key `key`, or
