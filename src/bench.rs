@@ -216,6 +216,14 @@ impl Bed {
     }
 }
 
+impl Drop for Bed {
+    /// A benchmark that fails half-way leaves no daemon behind.
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
 /// The daemon's figures: the 1M-block ingest (time, memory, stored size) beside `plan`,
 /// `diff` and `stepnc` on the same program; idle CPU over stored files; edit latency; a burst;
 /// a kill loop. Each runs a real `ncplan watch` on temporary folders.
