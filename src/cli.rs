@@ -404,13 +404,12 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 };
                 let d = dialect(&registry, &name)?;
                 config.profile = config::DirPrograms::beside(&base, file, config.max_file_bytes);
-                config.profile.role = match role {
+                let given = match role {
                     RoleArg::Main => crate::interp::ProgramRole::Main,
                     RoleArg::Called => crate::interp::ProgramRole::Called,
-                    RoleArg::Auto => {
-                        file.file_name().and_then(|n| crate::interp::role_from_file_name(&n.to_string_lossy(), &d)).unwrap_or(base.role)
-                    }
+                    RoleArg::Auto => base.role,
                 };
+                config.profile.role = crate::interp::role_for(given, file, &d);
                 let mut a = pipeline::analyze_plan(&bytes, &d, &config.profile);
                 if strict {
                     for x in a.diagnostics.iter_mut().filter(|x| x.code == diag::Code::MissingProgram) {

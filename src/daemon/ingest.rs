@@ -61,13 +61,7 @@ pub struct Snapshot {
 
 /// Hex SHA-256.
 pub fn sha256_hex(bytes: &[u8]) -> String {
-    use std::fmt::Write as _;
-    let digest = Sha256::digest(bytes);
-    let mut s = String::with_capacity(64);
-    for b in digest {
-        let _ = write!(s, "{b:02x}");
-    }
-    s
+    format!("{:x}", Sha256::digest(bytes))
 }
 
 /// Whether the bytes hold no program: nothing, or only blanks and NUL bytes (a truncated save,
@@ -150,12 +144,30 @@ pub fn ingest(
     if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
         return Ok(Outcome::Unchanged);
     }
-    // An analysis of this content that never finished (the process was killed) is not tried again.
-    let earlier = store.begin_attempt(&hash, &path_str, now)?;
-    let result = record(path, path, folder, config, registry, store, now, bytes, &hash, &meta, earlier);
-    // Only a stored revision closes the journal in its transaction; any other end closes it here.
+    journaled(path, path, folder, config, registry, store, now, bytes, &hash, &meta)
+}
+
+/// [`record`] with the attempt journal around it: an analysis of this content that never
+/// finished (the process was killed) is not tried again. A stored revision closes the
+/// journal in its own transaction; any other end closes it here.
+#[allow(clippy::too_many_arguments)]
+fn journaled(
+    path: &Path,
+    stored_as: &Path,
+    folder: &Folder,
+    config: &Config,
+    registry: &Registry,
+    store: &mut Store,
+    now: &str,
+    bytes: Vec<u8>,
+    hash: &str,
+    meta: &std::fs::Metadata,
+) -> Result<Outcome> {
+    let stored_str = stored_as.to_string_lossy().into_owned();
+    let earlier = store.begin_attempt(hash, &stored_str, now)?;
+    let result = record(path, stored_as, folder, config, registry, store, now, bytes, hash, meta, earlier);
     if !matches!(result, Ok(Outcome::Stored { .. })) {
-        store.finish_attempt(&hash, &path_str)?;
+        store.finish_attempt(hash, &stored_str)?;
     }
     result
 }
@@ -183,12 +195,7 @@ pub fn import_file(
     if store.has_revision(&stored_str, &hash)? {
         return Ok(Outcome::Unchanged);
     }
-    let earlier = store.begin_attempt(&hash, &stored_str, seen_at)?;
-    let result = record(file, stored_as, folder, config, registry, store, seen_at, bytes, &hash, &meta, earlier);
-    if !matches!(result, Ok(Outcome::Stored { .. })) {
-        store.finish_attempt(&hash, &stored_str)?;
-    }
-    result
+    journaled(file, stored_as, folder, config, registry, store, seen_at, bytes, &hash, &meta)
 }
 
 /// Stores a file over the size limit without reading it into memory: its hash is computed
@@ -206,7 +213,7 @@ fn store_too_large(
         let mut file = std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
         let mut hasher = Sha256::new();
         std::io::copy(&mut file, &mut hasher).with_context(|| format!("cannot read {}", path.display()))?;
-        hasher.finalize().iter().map(|b| format!("{b:02x}")).collect::<String>()
+        format!("{:x}", hasher.finalize())
     };
     let path_str = stored_as.to_string_lossy().into_owned();
     if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
@@ -365,7 +372,7 @@ fn record(
     if let Some(plan) = &plan {
         let known = Known { revision, plan };
         match folder.role {
-            Role::Machine => changes = settle(&tx, &reader, revision, &keys, known, now)?,
+            Role::Machine => changes = settle(&tx, &reader, revision, &pair(&tx, &keys)?, known, now)?,
             Role::Cam => {
                 // Edited programs that arrived before their original are compared now.
                 let mut waiting: Vec<Comparable> = recompare;
@@ -375,7 +382,7 @@ fn record(
                 waiting.sort_by_key(|w| w.revision);
                 waiting.dedup_by_key(|w| w.revision);
                 for w in &waiting {
-                    if settle(&tx, &reader, w.revision, &w.keys, known, now)?.is_some() {
+                    if settle(&tx, &reader, w.revision, &pair(&tx, &w.keys)?, known, now)?.is_some() {
                         compared += 1;
                     }
                 }
@@ -418,15 +425,8 @@ impl Reader<'_> {
     /// directory, else from beside it; main or called as the folder says, else as its file
     /// name says (`.SPF`), else as its form tells.
     fn profile(&self, path: &Path, folder: &Folder, dialect: &crate::dialect::Dialect) -> crate::interp::Profile {
-        use crate::interp::ProgramRole;
         let mut profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
-        profile.role = match folder.program_role {
-            ProgramRole::Auto => path
-                .file_name()
-                .and_then(|n| crate::interp::role_from_file_name(&n.to_string_lossy(), dialect))
-                .unwrap_or(ProgramRole::Auto),
-            given => given,
-        };
+        profile.role = crate::interp::role_for(folder.program_role, path, dialect);
         profile
     }
 
@@ -476,9 +476,8 @@ struct Known<'a> {
 
 /// Pairs the machine revision `revision` (with the program keys `keys`) with its original
 /// and records the comparison, or the ambiguity. Returns the number of changes when compared.
-fn settle(tx: &Txn<'_>, reader: &Reader<'_>, revision: i64, keys: &[Key], known: Known<'_>, now: &str) -> Result<Option<usize>> {
-    let pairing = pairing::choose(keys, |k| tx.originals(k))?;
-    match &pairing {
+fn settle(tx: &Txn<'_>, reader: &Reader<'_>, revision: i64, pairing: &Pairing, known: Known<'_>, now: &str) -> Result<Option<usize>> {
+    match pairing {
         Pairing::Unpaired => Ok(None),
         Pairing::Ambiguous { .. } => {
             let message = pairing.message().unwrap_or_default();
@@ -486,16 +485,22 @@ fn settle(tx: &Txn<'_>, reader: &Reader<'_>, revision: i64, keys: &[Key], known:
             Ok(None)
         }
         Pairing::Paired { revision: original, rule, .. } => {
+            let original = *original;
             use std::borrow::Cow;
             let load = |id: i64| -> Result<Option<Cow<'_, ProcessPlan>>> {
                 if id == known.revision { Ok(Some(Cow::Borrowed(known.plan))) } else { Ok(reader.plan(tx, id)?.map(Cow::Owned)) }
             };
-            let (Some(before), Some(after)) = (load(*original)?, load(revision)?) else { return Ok(None) };
+            let (Some(before), Some(after)) = (load(original)?, load(revision)?) else { return Ok(None) };
             let changes = diff::diff(&before, &after);
-            tx.record_comparison(revision, *original, rule, &changes, now)?;
+            tx.record_comparison(revision, original, rule, &changes, now)?;
             Ok(Some(changes.len()))
         }
     }
+}
+
+/// The original a program with `keys` is paired with, among the stored CAM originals.
+fn pair(tx: &Txn<'_>, keys: &[Key]) -> Result<Pairing> {
+    Ok(pairing::choose(keys, |k| tx.originals(k))?)
 }
 
 /// Compares every usable machine revision that has no comparison yet but whose original is
@@ -505,11 +510,12 @@ pub fn reconcile(store: &mut Store, reader: &Reader<'_>, now: &str) -> Result<us
     let mut compared = 0;
     for w in tx.uncompared(None)? {
         // Only those an original is stored for are rebuilt.
-        if !matches!(pairing::choose(&w.keys, |k| tx.originals(k))?, Pairing::Paired { .. }) {
+        let pairing = pair(&tx, &w.keys)?;
+        if !matches!(pairing, Pairing::Paired { .. }) {
             continue;
         }
         let Some(plan) = reader.plan(&tx, w.revision)? else { continue };
-        if settle(&tx, reader, w.revision, &w.keys, Known { revision: w.revision, plan: &plan }, now)?.is_some() {
+        if settle(&tx, reader, w.revision, &pairing, Known { revision: w.revision, plan: &plan }, now)?.is_some() {
             compared += 1;
         }
     }

@@ -107,6 +107,15 @@ pub fn role_from_file_name(name: &str, dialect: &Dialect) -> Option<ProgramRole>
     dialect.macros.called_extensions.iter().any(|e| e.eq_ignore_ascii_case(ext)).then_some(ProgramRole::Called)
 }
 
+/// The role a program is read with: the one `given` (by the config or `check --as`) unless it
+/// is `Auto`, else the one its file name says, else `Auto` (its form will tell).
+pub fn role_for(given: ProgramRole, path: &std::path::Path, dialect: &Dialect) -> ProgramRole {
+    match given {
+        ProgramRole::Auto => path.file_name().and_then(|n| role_from_file_name(&n.to_string_lossy(), dialect)).unwrap_or(ProgramRole::Auto),
+        given => given,
+    }
+}
+
 impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("ProgramSource")

@@ -47,29 +47,25 @@ impl<'p> Recoverer<'p> {
 
     /// The plan of the ops taken, with the findings of recovery.
     pub fn finish(self, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
-        let Recoverer { r, profile } = self;
-        recover_finish(r, profile, program)
+        let Recoverer { mut r, profile } = self;
+        r.close();
+        if let Some(last) = r.done.last_mut() {
+            let n = last.toolpath.len() as u32;
+            last.state.stops.extend(r.pending_stops.drain(..).map(|s| Stop { at: n, ..s }));
+            last.state.dwells.extend(r.pending_dwells.drain(..).map(|d| Dwell { at: n, ..d }));
+        }
+        let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
+        let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| r.stock.map(|s| stock(s, StockSource::Program)));
+        let mut tools: Vec<Tool> = r.tools.into_values().collect();
+        tools.sort_by_key(|t| t.number);
+        let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
+        explicit_holes(&mut plan);
+        infer_tool_kinds(&mut plan);
+        feature::recognise(&mut plan);
+        let mut diags = r.diags;
+        diags.extend(super::risk::diagnostics(&plan));
+        (plan, diags)
     }
-}
-
-fn recover_finish(mut r: Recovery<'_>, profile: &Profile, program: Option<String>) -> (ProcessPlan, Vec<Diagnostic>) {
-    r.close();
-    if let Some(last) = r.done.last_mut() {
-        let n = last.toolpath.len() as u32;
-        last.state.stops.extend(r.pending_stops.drain(..).map(|s| Stop { at: n, ..s }));
-        last.state.dwells.extend(r.pending_dwells.drain(..).map(|d| Dwell { at: n, ..d }));
-    }
-    let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
-    let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| r.stock.map(|s| stock(s, StockSource::Program)));
-    let mut tools: Vec<Tool> = r.tools.into_values().collect();
-    tools.sort_by_key(|t| t.number);
-    let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
-    explicit_holes(&mut plan);
-    infer_tool_kinds(&mut plan);
-    feature::recognise(&mut plan);
-    let mut diags = r.diags;
-    diags.extend(super::risk::diagnostics(&plan));
-    (plan, diags)
 }
 
 /// Holes made by explicit moves (posts that expand drilling into `G0`/`G1`): a workingstep

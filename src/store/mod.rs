@@ -768,9 +768,7 @@ impl Txn<'_> {
             blob.write_all(&buf[..n]).map_err(|e| StoreError::Io { about: "storing program bytes", source: e })?;
             copied += n as u64;
         }
-        let digest = hasher.finalize();
-        let hex: String = digest.iter().map(|b| format!("{b:02x}")).collect();
-        if copied != size || hex != hash {
+        if copied != size || format!("{:x}", hasher.finalize()) != hash {
             return Err(StoreError::ContentChanged);
         }
         Ok(())
