@@ -510,18 +510,31 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 use crate::daemon::Clock;
                 crate::daemon::SystemClock.now()
             });
-            let (exchange, diags) = crate::part21::stepnc::write(&a.plan, class, &timestamp);
-            let text = crate::part21::write(&exchange);
+            // Streamed: the export is written as it is made, never held whole in memory. A file
+            // is written beside its place and renamed, so a failed export leaves no half file.
+            let diags = match &output {
+                Some(o) => {
+                    let tmp = o.with_file_name(format!(".{}.partial", o.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()));
+                    let file = std::fs::File::create(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
+                    match crate::part21::stepnc::write(&a.plan, class, &timestamp, std::io::BufWriter::new(file)) {
+                        Ok((_, diags)) => {
+                            std::fs::rename(&tmp, o).with_context(|| format!("cannot write {}", o.display()))?;
+                            diags
+                        }
+                        Err(e) => {
+                            let _ = std::fs::remove_file(&tmp);
+                            return Err(anyhow::Error::new(e).context(format!("cannot write {}", o.display())));
+                        }
+                    }
+                }
+                None => crate::part21::stepnc::write(&a.plan, class, &timestamp, &mut out)?.1,
+            };
+            out.flush()?;
             let path = input.file.display().to_string();
             let idx = LineIndex::new(&a.source.text);
             for x in diags.iter().chain(a.diagnostics.iter().filter(|x| x.is_error())) {
                 eprintln!("{}", diag::render_short(&path, &a.source.text, &idx, x));
             }
-            match output {
-                Some(o) => std::fs::write(&o, text).with_context(|| format!("cannot write {}", o.display()))?,
-                None => out.write_all(text.as_bytes())?,
-            }
-            out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Diff { original, edited, dialect: dname, edited_dialect, config, format, exit_code } => {

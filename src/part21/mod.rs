@@ -1,7 +1,7 @@
 //! ISO 10303-21 (STEP Part 21) exchange files: values, a deterministic writer and a reader.
 //!
-//! The writer numbers entity instances in depth-first order from the first instance added
-//! (the root), following references in attribute order, so equal content gives equal text.
+//! The writer ([`Stream`]) numbers entity instances in the order they are made and writes each
+//! at once, so an export streams in bounded memory and equal content gives equal text.
 //! The header's timestamp is a parameter: nothing here reads a clock.
 
 pub mod schema;
@@ -138,91 +138,106 @@ impl Exchange {
     }
 }
 
-/// Builds the instances of an exchange file; ids are assigned when it is finished.
-#[derive(Default)]
-pub struct Builder {
-    instances: Vec<Instance>,
+/// Writes an exchange file as its instances are made, in bounded memory: each instance is
+/// numbered in the order it is added and written at once, so every reference points at an
+/// instance written before it and equal content gives equal text. Output goes out in chunks;
+/// the first write error is kept, later instances are numbered but not written, and
+/// [`Stream::finish`] returns the error.
+pub struct Stream<W: std::io::Write> {
+    out: W,
+    buf: String,
+    next: u64,
+    error: Option<std::io::Error>,
 }
 
-impl Builder {
-    /// Adds an instance and returns a reference to it. References in `attrs` must point at
+/// Output is handed to the writer in chunks of about this size.
+const CHUNK: usize = 1 << 16;
+
+impl<W: std::io::Write> Stream<W> {
+    /// Starts a file: writes the header section and opens the data section.
+    pub fn new(out: W, header: &Header) -> Stream<W> {
+        let mut buf = String::with_capacity(CHUNK + 4096);
+        write_header(&mut buf, header);
+        Stream { out, buf, next: 0, error: None }
+    }
+
+    /// Writes an instance and returns a reference to it. References in `attrs` must point at
     /// instances added before.
     pub fn add(&mut self, name: &str, attrs: Vec<Value>) -> Value {
-        self.instances.push(Instance { name: name.to_owned(), attrs });
-        Value::Ref(self.instances.len() as u64)
+        self.next += 1;
+        let _ = write!(self.buf, "#{}=", self.next);
+        write_call(&mut self.buf, name, &attrs);
+        self.spill();
+        Value::Ref(self.next)
     }
 
-    /// Replaces the attributes of an instance added before (for forward references).
-    pub fn set(&mut self, r: &Value, attrs: Vec<Value>) {
-        if let Value::Ref(id) = r
-            && let Some(i) = self.instances.get_mut(*id as usize - 1)
-        {
-            i.attrs = attrs;
+    /// Writes an instance whose attributes are `head`, then one list of references, then
+    /// `tail`: a polyline of a million points without a million values in memory.
+    pub fn add_with_refs(&mut self, name: &str, head: &[Value], refs: impl IntoIterator<Item = u64>, tail: &[Value]) -> Value {
+        self.next += 1;
+        let _ = write!(self.buf, "#{}={name}(", self.next);
+        write_values(&mut self.buf, head);
+        if !head.is_empty() {
+            self.buf.push(',');
+        }
+        self.buf.push('(');
+        for (i, r) in refs.into_iter().enumerate() {
+            if i > 0 {
+                self.buf.push(',');
+            }
+            let _ = write!(self.buf, "#{r}");
+            self.spill();
+        }
+        self.buf.push(')');
+        if !tail.is_empty() {
+            self.buf.push(',');
+            write_values(&mut self.buf, tail);
+        }
+        self.buf.push_str(");\n");
+        self.spill();
+        Value::Ref(self.next)
+    }
+
+    /// The id the next instance will get.
+    pub fn next_id(&self) -> u64 {
+        self.next + 1
+    }
+
+    fn spill(&mut self) {
+        if self.buf.len() >= CHUNK {
+            self.flush_buf();
         }
     }
 
-    /// Finishes the file: renumbers instances depth-first from `root`, in attribute order.
-    pub fn finish(self, header: Header, root: &Value) -> Exchange {
-        let n = self.instances.len();
-        let mut order: Vec<u64> = Vec::with_capacity(n);
-        let mut new_id = vec![0u64; n + 1];
-        let mut stack: Vec<u64> = Vec::new();
-        let roots: Vec<u64> = root.as_ref_id().into_iter().chain(1..=n as u64).collect();
-        for r in roots {
-            stack.push(r);
-            while let Some(id) = stack.pop() {
-                if id == 0 || id as usize > n || new_id[id as usize] != 0 {
-                    continue;
-                }
-                order.push(id);
-                new_id[id as usize] = order.len() as u64;
-                let mut refs = Vec::new();
-                collect_refs(&self.instances[id as usize - 1].attrs, &mut refs);
-                stack.extend(refs.into_iter().rev());
+    fn flush_buf(&mut self) {
+        if self.error.is_none()
+            && let Err(e) = self.out.write_all(self.buf.as_bytes())
+        {
+            self.error = Some(e);
+        }
+        self.buf.clear();
+    }
+
+    /// Closes the data section and returns the writer, or the first write error.
+    pub fn finish(mut self) -> std::io::Result<W> {
+        self.buf.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
+        self.flush_buf();
+        match self.error.take() {
+            Some(e) => Err(e),
+            None => {
+                self.out.flush()?;
+                Ok(self.out)
             }
         }
-        let mut instances = BTreeMap::new();
-        let mut old: Vec<Option<Instance>> = self.instances.into_iter().map(Some).collect();
-        for id in order {
-            let mut inst = old[id as usize - 1].take().expect("each instance is placed once");
-            renumber(&mut inst.attrs, &new_id);
-            instances.insert(new_id[id as usize], inst);
-        }
-        Exchange { header, instances }
     }
 }
 
-fn collect_refs(values: &[Value], out: &mut Vec<u64>) {
-    for v in values {
-        match v {
-            Value::Ref(r) => out.push(*r),
-            Value::List(l) => collect_refs(l, out),
-            Value::Typed(_, b) => collect_refs(std::slice::from_ref(b), out),
-            _ => {}
-        }
-    }
-}
-
-fn renumber(values: &mut [Value], map: &[u64]) {
-    for v in values {
-        match v {
-            Value::Ref(r) => *r = map.get(*r as usize).copied().unwrap_or(0),
-            Value::List(l) => renumber(l, map),
-            Value::Typed(_, b) => renumber(std::slice::from_mut(b), map),
-            _ => {}
-        }
-    }
-}
-
-/// Writes an exchange file.
-pub fn write(x: &Exchange) -> String {
-    let mut out = String::with_capacity(64 * x.instances.len() + 512);
+fn write_header(out: &mut String, h: &Header) {
     out.push_str("ISO-10303-21;\nHEADER;\n");
     let strings = |v: &[String]| v.iter().map(|s| Value::Str(s.clone())).collect::<Vec<_>>();
-    let h = &x.header;
-    write_call(&mut out, "FILE_DESCRIPTION", &[Value::List(strings(&h.description)), Value::str("2;1")]);
+    write_call(out, "FILE_DESCRIPTION", &[Value::List(strings(&h.description)), Value::str("2;1")]);
     write_call(
-        &mut out,
+        out,
         "FILE_NAME",
         &[
             Value::str(h.name.clone()),
@@ -234,8 +249,14 @@ pub fn write(x: &Exchange) -> String {
             Value::str(""),
         ],
     );
-    write_call(&mut out, "FILE_SCHEMA", &[Value::List(strings(&h.schemas))]);
+    write_call(out, "FILE_SCHEMA", &[Value::List(strings(&h.schemas))]);
     out.push_str("ENDSEC;\nDATA;\n");
+}
+
+/// Writes an exchange file held in memory (one read back, say), instances in id order.
+pub fn write(x: &Exchange) -> String {
+    let mut out = String::with_capacity(64 * x.instances.len() + 512);
+    write_header(&mut out, &x.header);
     for (id, inst) in &x.instances {
         let _ = write!(out, "#{id}=");
         write_call(&mut out, &inst.name, &inst.attrs);
@@ -648,15 +669,6 @@ mod tests {
             write_real(&mut out, v);
             assert_eq!(out, s);
         }
-        let mut b = Builder::default();
-        let p = b.add(
-            "CARTESIAN_POINT",
-            vec![Value::str("it's \\ ø"), Value::List(vec![Value::Real(0.1), Value::Real(1e-7), Value::Real(123456.789)])],
-        );
-        let root = b.add(
-            "ROOT",
-            vec![p, Value::Null, Value::Enum("T".into()), Value::Typed("PARAMETER_VALUE".into(), Box::new(Value::Real(90.0)))],
-        );
         let header = Header {
             description: vec!["d".into()],
             name: "n".into(),
@@ -664,13 +676,45 @@ mod tests {
             system: "ncplan".into(),
             schemas: vec!["S".into()],
         };
-        let x = b.finish(header, &root);
-        // The root comes first.
-        assert_eq!(x.get(1).unwrap().name, "ROOT");
-        let text = write(&x);
-        let back = parse(&text).unwrap();
-        assert_eq!(back, x);
-        assert_eq!(write(&back), text);
+        let mut b = Stream::new(Vec::new(), &header);
+        let p = b.add(
+            "CARTESIAN_POINT",
+            vec![Value::str("it's \\ ø"), Value::List(vec![Value::Real(0.1), Value::Real(1e-7), Value::Real(123456.789)])],
+        );
+        let q = b.add("CARTESIAN_POINT", vec![Value::str(""), Value::List(vec![Value::Real(1.0), Value::Real(2.0), Value::Real(3.0)])]);
+        let line = b.add_with_refs("POLYLINE", &[Value::str("")], [1, 2], &[]);
+        b.add(
+            "ROOT",
+            vec![p, line, Value::Null, Value::Enum("T".into()), Value::Typed("PARAMETER_VALUE".into(), Box::new(Value::Real(90.0)))],
+        );
+        assert_eq!(q, Value::Ref(2));
+        let text = String::from_utf8(b.finish().unwrap()).unwrap();
+        let x = parse(&text).unwrap();
+        // Numbered in the order added, each reference to an instance before it.
+        assert_eq!(x.get(3).unwrap().name, "POLYLINE");
+        assert_eq!(x.get(3).unwrap().attrs[1], Value::List(vec![Value::Ref(1), Value::Ref(2)]));
+        assert_eq!(x.get(4).unwrap().name, "ROOT");
+        assert_eq!(write(&x), text);
+    }
+
+    #[test]
+    fn a_write_error_is_returned_once_at_the_end() {
+        #[derive(Debug)]
+        struct Full;
+        impl std::io::Write for Full {
+            fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+                Err(std::io::Error::other("disk full"))
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let header = Header { description: vec![], name: "n".into(), timestamp: "t".into(), system: "s".into(), schemas: vec![] };
+        let mut b = Stream::new(Full, &header);
+        for _ in 0..10_000 {
+            b.add("CARTESIAN_POINT", vec![Value::str("a long name to fill the buffer quickly"), Value::Real(1.0)]);
+        }
+        assert_eq!(b.finish().unwrap_err().to_string(), "disk full");
     }
 
     #[test]

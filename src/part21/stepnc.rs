@@ -15,7 +15,7 @@
 
 use std::collections::BTreeMap;
 
-use super::{Builder, Exchange, Header, Instance, Value};
+use super::{Exchange, Header, Instance, Stream, Value};
 use crate::canon::Units;
 use crate::diag::{Code, Diagnostic};
 use crate::plan::{self, geom, *};
@@ -32,14 +32,36 @@ pub enum Class {
 
 const RAPID: &str = "RAPID";
 
-/// Writes `plan` as a Part 21 exchange with the given header timestamp. Returns the
-/// exchange and findings (stock or diameters unknown).
-pub fn write(plan: &ProcessPlan, class: Class, timestamp: &str) -> (Exchange, Vec<Diagnostic>) {
-    let plan = if class == Class::Cc1 { toolpaths_only(plan) } else { plan.clone() };
-    let mut w =
-        Writer { b: Builder::default(), tech: BTreeMap::new(), functions: BTreeMap::new(), tools: BTreeMap::new(), diags: Vec::new() };
-    let root = w.b.add("PROJECT", Vec::new());
-    let rawpiece = match &plan.workpiece {
+/// Writes `plan` as a Part 21 exchange with the given header timestamp into `out`, as it
+/// goes: memory stays that of the plan, whatever the toolpaths' length. Returns findings
+/// (stock or diameters unknown), or the first write error.
+pub fn write<W: std::io::Write>(plan: &ProcessPlan, class: Class, timestamp: &str, out: W) -> std::io::Result<(W, Vec<Diagnostic>)> {
+    // CC1 keeps toolpaths only: a view of the plan without its moves, which are read from `plan`.
+    let view;
+    let shape = if class == Class::Cc1 {
+        view = toolpaths_only_skeleton(plan);
+        &view
+    } else {
+        plan
+    };
+    let header = Header {
+        description: vec![match class {
+            Class::Cc1 => "ncplan process plan, ISO 14649 conformance class 1 (explicit toolpaths)".into(),
+            Class::Cc2 => "ncplan process plan, ISO 14649 conformance class 2 (features)".into(),
+        }],
+        name: plan.program.clone().unwrap_or_default(),
+        timestamp: timestamp.to_owned(),
+        system: concat!("ncplan ", env!("CARGO_PKG_VERSION")).into(),
+        schemas: vec!["MACHINING_SCHEMA".into(), "MILLING_SCHEMA".into()],
+    };
+    let mut w = Writer {
+        b: Stream::new(out, &header),
+        tech: BTreeMap::new(),
+        functions: BTreeMap::new(),
+        tools: BTreeMap::new(),
+        diags: Vec::new(),
+    };
+    let rawpiece = match &shape.workpiece {
         Some(s) => {
             let pos = w.placement(s.origin, None);
             let source = match s.source {
@@ -75,18 +97,19 @@ pub fn write(plan: &ProcessPlan, class: Class, timestamp: &str) -> (Exchange, Ve
         ],
     );
     // Operations first (features list them), then features, then workingsteps.
-    let ops: Vec<Value> = plan.workingsteps.iter().map(|ws| w.operation(&plan, ws, class)).collect();
+    let ops: Vec<Value> =
+        shape.workingsteps.iter().zip(&plan.workingsteps).map(|(ws, moves)| w.operation(shape, ws, &moves.toolpath, class)).collect();
     let mut features: BTreeMap<u32, Value> = BTreeMap::new();
-    for f in &plan.features {
+    for f in &shape.features {
         let f_ops: Vec<Value> = f.workingsteps.iter().filter_map(|i| ops.get(*i as usize - 1).cloned()).collect();
         let v = w.feature(f, &workpiece, f_ops);
         features.insert(f.id, v);
     }
     let mut elements = Vec::new();
     let mut loaded: Option<u32> = None;
-    for (ws, op) in plan.workingsteps.iter().zip(&ops) {
+    for (ws, op) in shape.workingsteps.iter().zip(&ops) {
         if loaded != Some(ws.tool) {
-            let tool = w.tool(&plan, ws.tool);
+            let tool = w.tool(shape, ws.tool);
             elements.push(w.b.add("LOAD_TOOL", vec![Value::str(format!("load T{}", ws.tool)), tool]));
             loaded = Some(ws.tool);
         }
@@ -100,29 +123,30 @@ pub fn write(plan: &ProcessPlan, class: Class, timestamp: &str) -> (Exchange, Ve
         elements.push(w.b.add("MACHINING_WORKINGSTEP", vec![Value::str(id), sec, feature, op.clone(), Value::Null]));
     }
     // Tools that never cut still appear, loaded at the end.
-    for t in &plan.tools {
-        if !plan.workingsteps.iter().any(|ws| ws.tool == t.number) {
-            let tool = w.tool(&plan, t.number);
+    for t in &shape.tools {
+        if !shape.workingsteps.iter().any(|ws| ws.tool == t.number) {
+            let tool = w.tool(shape, t.number);
             elements.push(w.b.add("LOAD_TOOL", vec![Value::str(format!("load T{}", t.number)), tool]));
         }
     }
     let origin = w.placement([0.0; 3], None);
-    let top = plan.workingsteps.iter().map(|ws| ws.security_plane).fold(0.0, f64::max);
+    let top = shape.workingsteps.iter().map(|ws| ws.security_plane).fold(0.0, f64::max);
     let setup_sec = w.plane("setup security plane", [0.0, 0.0, top]);
     let wp_origin = w.placement([0.0; 3], None);
     let wp_setup = w.b.add("WORKPIECE_SETUP", vec![workpiece.clone(), wp_origin, Value::Null, Value::Null, Value::List(vec![])]);
     let setup = w.b.add("SETUP", vec![Value::str("setup"), origin, setup_sec, Value::List(vec![wp_setup])]);
-    let units = match plan.units {
+    let units = match shape.units {
         Some(Units::Mm) => " units=mm",
         Some(Units::Inch) => " units=inch",
         None => "",
     };
     let workplan =
         w.b.add("WORKPLAN", vec![Value::str(format!("main workplan{units}")), Value::List(elements), Value::Null, setup, Value::Null]);
-    w.b.set(
-        &root,
+    // The root comes last: everything it refers to is written by then.
+    w.b.add(
+        "PROJECT",
         vec![
-            Value::str(plan.program.clone().unwrap_or_default()),
+            Value::str(shape.program.clone().unwrap_or_default()),
             workplan,
             Value::List(vec![workpiece]),
             Value::Null,
@@ -130,33 +154,67 @@ pub fn write(plan: &ProcessPlan, class: Class, timestamp: &str) -> (Exchange, Ve
             Value::Null,
         ],
     );
-    let header = Header {
-        description: vec![match class {
-            Class::Cc1 => "ncplan process plan, ISO 14649 conformance class 1 (explicit toolpaths)".into(),
-            Class::Cc2 => "ncplan process plan, ISO 14649 conformance class 2 (features)".into(),
-        }],
-        name: plan.program.clone().unwrap_or_default(),
-        timestamp: timestamp.to_owned(),
-        system: concat!("ncplan ", env!("CARGO_PKG_VERSION")).into(),
-        schemas: vec!["MACHINING_SCHEMA".into(), "MILLING_SCHEMA".into()],
-    };
     let diags = w.diags;
-    (w.b.finish(header, &root), diags)
+    Ok((w.b.finish()?, diags))
+}
+
+/// [`write`] into a string, for tests and small plans.
+pub fn to_string(plan: &ProcessPlan, class: Class, timestamp: &str) -> (String, Vec<Diagnostic>) {
+    let (bytes, diags) = write(plan, class, timestamp, Vec::new()).expect("writing into memory does not fail");
+    (String::from_utf8(bytes).expect("Part 21 text is UTF-8"), diags)
 }
 
 /// The plan as CC1 keeps it: every workingstep a freeform operation on its own toolpath
 /// feature, without features, strategies or hole data.
 pub fn toolpaths_only(plan: &ProcessPlan) -> ProcessPlan {
-    let mut p = plan.clone();
-    p.features.clear();
-    for ws in &mut p.workingsteps {
-        ws.operation = Operation::FreeformMilling;
+    let mut p = toolpaths_only_skeleton(plan);
+    for (ws, full) in p.workingsteps.iter_mut().zip(&plan.workingsteps) {
+        ws.toolpath = full.toolpath.clone();
+    }
+    p
+}
+
+/// [`toolpaths_only`] without the moves, which a large plan should not copy.
+fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
+    let ProcessPlan { program, units, tools, workingsteps, features: _, workpiece } = plan;
+    let mut p = ProcessPlan {
+        program: program.clone(),
+        units: *units,
+        tools: tools.clone(),
+        workingsteps: Vec::with_capacity(workingsteps.len()),
+        features: Vec::new(),
+        workpiece: workpiece.clone(),
+    };
+    for full in workingsteps {
+        let Workingstep {
+            index,
+            operation: _,
+            tool,
+            technology,
+            start_point,
+            depth,
+            security_plane,
+            feature: _,
+            strategy: _,
+            axial_depth: _,
+            radial_depth: _,
+            allowance_side: _,
+            allowance_bottom: _,
+            bbox,
+            cutting_length,
+            holes: _,
+            toolpath: _,
+            state,
+            source,
+            lines,
+        } = full;
+        let mut ws = Workingstep::unmeasured(*index, Operation::FreeformMilling, *tool, technology.clone(), *security_plane, Vec::new(), *source, *lines);
+        ws.start_point = *start_point;
+        ws.depth = *depth;
+        ws.bbox = *bbox;
+        ws.cutting_length = *cutting_length;
+        ws.state = state.clone();
         ws.strategy = Some(explicit());
-        ws.axial_depth = None;
-        ws.radial_depth = None;
-        ws.allowance_side = None;
-        ws.allowance_bottom = None;
-        ws.holes.clear();
         ws.feature = Some(ws.index);
         p.features.push(Feature {
             id: ws.index,
@@ -168,6 +226,7 @@ pub fn toolpaths_only(plan: &ProcessPlan) -> ProcessPlan {
             source: ws.source,
             lines: ws.lines,
         });
+        p.workingsteps.push(ws);
     }
     p
 }
@@ -176,8 +235,8 @@ fn explicit() -> Strategy {
     Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap: None }
 }
 
-struct Writer {
-    b: Builder,
+struct Writer<W: std::io::Write> {
+    b: Stream<W>,
     tech: BTreeMap<(u64, u64, u8), Value>,
     functions: BTreeMap<u8, Value>,
     tools: BTreeMap<u32, Value>,
@@ -192,7 +251,7 @@ fn spindle_rev_s(t: &Technology) -> f64 {
     }
 }
 
-impl Writer {
+impl<W: std::io::Write> Writer<W> {
     fn point(&mut self, name: &str, p: P3) -> Value {
         self.b.add("CARTESIAN_POINT", vec![Value::str(name), Value::List(p.iter().map(|v| Value::Real(*v)).collect())])
     }
@@ -327,33 +386,36 @@ impl Writer {
         v
     }
 
-    fn toolpath(&mut self, ws: &Workingstep) -> Value {
+    fn toolpath(&mut self, ws: &Workingstep, moves: &[Move]) -> Value {
         let mut trajectories = Vec::new();
         let mut i = 0;
         let mut last_end: Option<(P3, Value)> = None;
-        while i < ws.toolpath.len() {
-            let first = &ws.toolpath[i];
+        while i < moves.len() {
+            let first = &moves[i];
             let rapid = first.kind == MoveKind::Rapid;
             let mut j = i + 1;
-            while j < ws.toolpath.len() {
-                let m = &ws.toolpath[j];
+            while j < moves.len() {
+                let m = &moves[j];
                 if m.phase != first.phase || (m.kind == MoveKind::Rapid) != rapid || m.feed.to_bits() != first.feed.to_bits() {
                     break;
                 }
                 j += 1;
             }
-            let group = &ws.toolpath[i..j];
+            let group = &moves[i..j];
             let start = match &last_end {
                 Some((p, v)) if *p == group[0].from => v.clone(),
                 _ => self.point("", group[0].from),
             };
             let curve = if group.iter().all(|m| m.kind != MoveKind::Arc) {
-                let mut points = vec![start];
+                // The points go out first, numbered one after another; the polyline lists them.
+                let first_id = self.b.next_id();
                 for m in group {
-                    points.push(self.point(&format!("L{}", m.line), m.to));
+                    self.point(&format!("L{}", m.line), m.to);
                 }
-                last_end = Some((group[group.len() - 1].to, points[points.len() - 1].clone()));
-                self.b.add("POLYLINE", vec![Value::str(""), Value::List(points)])
+                let last_id = self.b.next_id() - 1;
+                last_end = Some((group[group.len() - 1].to, Value::Ref(last_id)));
+                let start = start.as_ref_id().unwrap_or(0);
+                self.b.add_with_refs("POLYLINE", &[Value::str("")], std::iter::once(start).chain(first_id..=last_id), &[])
             } else {
                 let mut segments = Vec::new();
                 let mut from = start;
@@ -412,7 +474,7 @@ impl Writer {
 
     fn strategy(&mut self, s: &Strategy) -> Value {
         let overlap = Value::opt_real(s.overlap);
-        let dir = |w: &mut Writer| s.feed_direction.map_or(Value::Null, |d| w.direction(d));
+        let dir = |w: &mut Writer<W>| s.feed_direction.map_or(Value::Null, |d| w.direction(d));
         let rot = s.rotation.map_or(Value::Null, |r| Value::Enum(if r == Rotation::Cw { "CW" } else { "CCW" }.into()));
         let cut = s.cutmode.map_or(Value::Null, |c| Value::Enum(if c == CutMode::Climb { "CLIMB" } else { "CONVENTIONAL" }.into()));
         match s.kind {
@@ -431,8 +493,8 @@ impl Writer {
         }
     }
 
-    fn operation(&mut self, plan: &ProcessPlan, ws: &Workingstep, class: Class) -> Value {
-        let toolpath = self.toolpath(ws);
+    fn operation(&mut self, plan: &ProcessPlan, ws: &Workingstep, moves: &[Move], class: Class) -> Value {
+        let toolpath = self.toolpath(ws, moves);
         let start = ws.start_point.map_or(Value::Null, |p| self.point("start", p));
         let tool = self.tool(plan, ws.tool);
         let tech = self.technology(&ws.technology, ws.technology.feed);
@@ -473,7 +535,7 @@ impl Writer {
         let mut attrs = vec![toolpath, Value::Null, Value::str(id), Value::Null, start, tool, tech, functions, Value::Null];
         let op = if class == Class::Cc1 { Operation::FreeformMilling } else { ws.operation };
         let strategy =
-            |w: &mut Writer| ws.strategy.as_ref().filter(|s| s.kind != StrategyKind::Explicit).map_or(Value::Null, |s| w.strategy(s));
+            |w: &mut Writer<W>| ws.strategy.as_ref().filter(|s| s.kind != StrategyKind::Explicit).map_or(Value::Null, |s| w.strategy(s));
         let r = Value::opt_real;
         let name = match op {
             Operation::FreeformMilling => {
@@ -512,7 +574,7 @@ impl Writer {
                     }
                     Operation::Reaming | Operation::Boring => {
                         let stop =
-                            ws.toolpath.iter().any(|m| m.phase == Phase::Retract && m.kind == MoveKind::Rapid) && hole == Operation::Boring;
+                            moves.iter().any(|m| m.phase == Phase::Retract && m.kind == MoveKind::Rapid) && hole == Operation::Boring;
                         attrs.extend([Value::bool(stop), Value::Null, Value::Null]);
                         if hole == Operation::Reaming { "REAMING" } else { "BORING" }
                     }
@@ -581,7 +643,7 @@ impl Writer {
         if let FeatureKind::Step { width, .. } = &f.kind {
             id.push_str(&format!(" width={width}"));
         }
-        let common = |w: &mut Writer, placement: P3, depth: f64, ops: Vec<Value>| {
+        let common = |w: &mut Writer<W>, placement: P3, depth: f64, ops: Vec<Value>| {
             let place = w.placement(placement, Some([0.0, 0.0, 1.0]));
             let depth = w.plane("depth", [0.0, 0.0, -depth]);
             vec![Value::str(id.clone()), workpiece.clone(), Value::List(ops), place, depth]

@@ -27,9 +27,9 @@ fn export(text: &[u8], dialect: &str, name: &str, dir: &Path, files: &mut Vec<Pa
     let Some(d) = reg.get(dialect) else { return };
     let a = pipeline::analyze(text, &d, &Profile::default());
     for (cc, tag) in [(stepnc::Class::Cc1, "cc1"), (stepnc::Class::Cc2, "cc2")] {
-        let (x, _) = stepnc::write(&a.plan, cc, "2026-01-01T00:00:00");
+        let (text, _) = stepnc::to_string(&a.plan, cc, "2026-01-01T00:00:00");
         let f = dir.join(format!("{name}_{tag}.stp"));
-        std::fs::write(&f, ncplan::part21::write(&x)).unwrap();
+        std::fs::write(&f, text).unwrap();
         files.push(f);
     }
 }

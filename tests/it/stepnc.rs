@@ -279,9 +279,10 @@ fn signatures_are_generated_from_express() {
 
 #[test]
 fn the_checker_catches_what_it_should() {
-    use ncplan::part21::{Builder, Header, Value};
+    use ncplan::part21::{Header, Stream, Value};
     let s = schema::iso14649();
-    let mut b = Builder::default();
+    let header = Header { description: vec![], name: String::new(), timestamp: String::new(), system: String::new(), schemas: vec![] };
+    let mut b = Stream::new(Vec::new(), &header);
     let p = b.add("CARTESIAN_POINT", vec![Value::str(""), Value::List(vec![Value::Real(0.0)])]);
     let bad_count = b.add("DIRECTION", vec![Value::str("")]);
     let bad_null = b.add("AXIS2_PLACEMENT_3D", vec![Value::str(""), Value::Null, Value::Null, Value::Null]);
@@ -300,11 +301,8 @@ fn the_checker_catches_what_it_should() {
             Value::Null,
         ],
     );
-    let root = b.add("NO_SUCH_ENTITY", vec![p, bad_count, bad_null, bad_ref, bad_enum]);
-    let x = b.finish(
-        Header { description: vec![], name: String::new(), timestamp: String::new(), system: String::new(), schemas: vec![] },
-        &root,
-    );
+    b.add("NO_SUCH_ENTITY", vec![p, bad_count, bad_null, bad_ref, bad_enum]);
+    let x = ncplan::part21::parse(&String::from_utf8(b.finish().unwrap()).unwrap()).unwrap();
     let found = s.check(&x).join("\n");
     for want in [
         "NO_SUCH_ENTITY: unknown entity",
@@ -423,14 +421,13 @@ fn plans_round_trip_through_part21() {
     for (name, program) in crate::plan::PROGRAMS {
         let a = pipeline::analyze(program.as_bytes(), &fanuc, &Profile::default());
         for cc in [stepnc::Class::Cc2, stepnc::Class::Cc1] {
-            let (x, _) = stepnc::write(&a.plan, cc, "2026-01-01T00:00:00");
-            let text = ncplan::part21::write(&x);
+            let (text, _) = stepnc::to_string(&a.plan, cc, "2026-01-01T00:00:00");
             let back = stepnc::read(&ncplan::part21::parse(&text).unwrap()).unwrap_or_else(|e| panic!("{name}: {e}"));
             let expected = if cc == stepnc::Class::Cc2 { a.plan.clone() } else { stepnc::toolpaths_only(&a.plan) };
             assert_eq!(back, expected, "{name} {cc:?}");
             // And the second writing is the same text.
-            let (x2, _) = stepnc::write(&back, cc, "2026-01-01T00:00:00");
-            assert_eq!(ncplan::part21::write(&x2), text, "{name} {cc:?}");
+            let (text2, _) = stepnc::to_string(&back, cc, "2026-01-01T00:00:00");
+            assert_eq!(text2, text, "{name} {cc:?}");
         }
     }
 }
@@ -488,7 +485,7 @@ proptest::proptest! {
         let fanuc = dialect::Registry::shipped().get("fanuc").unwrap();
         let a = pipeline::analyze(crate::plan::PROGRAMS[program].1.as_bytes(), &fanuc, &Profile::default());
         let class = if cc2 { stepnc::Class::Cc2 } else { stepnc::Class::Cc1 };
-        let mut bytes = ncplan::part21::write(&stepnc::write(&a.plan, class, "t").0).into_bytes();
+        let mut bytes = stepnc::to_string(&a.plan, class, "t").0.into_bytes();
         for (at, b) in edits {
             let i = at % bytes.len();
             bytes[i] = b;
