@@ -410,7 +410,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                     RoleArg::Auto => base.role,
                 };
                 config.profile.role = crate::interp::role_for(given, file, &d);
-                let mut a = pipeline::analyze_plan(&bytes, &d, &config.profile);
+                let mut a = pipeline::analyze_plan_owned(bytes, &d, &config.profile);
                 if strict {
                     for x in a.diagnostics.iter_mut().filter(|x| x.code == diag::Code::MissingProgram) {
                         x.severity = diag::Severity::Error;
@@ -491,7 +491,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         }
         Command::Plan { input, format } => {
             let (d, config, bytes) = input_setup(&input)?;
-            let a = pipeline::analyze_plan(&bytes, &d, &config.profile);
+            let a = pipeline::analyze_plan_owned(bytes, &d, &config.profile);
             match format {
                 Format::Json => {
                     serde_json::to_writer_pretty(&mut out, &a.plan)?;
@@ -504,7 +504,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         }
         Command::Stepnc { input, cc1, cc2: _, output, timestamp } => {
             let (d, config, bytes) = input_setup(&input)?;
-            let a = pipeline::analyze_plan(&bytes, &d, &config.profile);
+            let a = pipeline::analyze_plan_owned(bytes, &d, &config.profile);
             let class = if cc1 { crate::part21::stepnc::Class::Cc1 } else { crate::part21::stepnc::Class::Cc2 };
             let timestamp = timestamp.unwrap_or_else(|| {
                 use crate::daemon::Clock;
@@ -552,8 +552,8 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             };
             let da = pick(dname.as_deref(), &original, &bytes_a)?;
             let db = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
-            let a = pipeline::analyze_plan(&bytes_a, &da, &config.profile);
-            let b = pipeline::analyze_plan(&bytes_b, &db, &config.profile);
+            let a = pipeline::analyze_plan_owned(bytes_a, &da, &config.profile);
+            let b = pipeline::analyze_plan_owned(bytes_b, &db, &config.profile);
             let changes = diff::diff(&a.plan, &b.plan);
             match format {
                 Format::Json => {

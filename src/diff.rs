@@ -17,7 +17,8 @@ use serde::{Deserialize, Serialize};
 use crate::canon::Units;
 use crate::plan::risk::{self, work_offset_name};
 use crate::plan::{
-    BBox, Coolant, Dwell, FeatureKind, Hole, Move, MoveKind, P3, Phase, ProcessPlan, SpindleDir, Stop, StrategyKind, Workingstep, geom,
+    BBox, Coolant, Dwell, FeatureKind, Hole, Move, MoveKind, P3, Phase, ProcessPlan, SpindleDir, Stop, StrategyKind, Toolpath, Workingstep,
+    geom,
 };
 
 /// Kind of change.
@@ -805,10 +806,12 @@ struct ToolpathDifference {
 /// the largest distance from a point of one side to the other side's path (a grid of
 /// segments keeps that near-linear).
 fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64)>, u: Fmt) -> Option<ToolpathDifference> {
-    fn cuts(w: &Workingstep) -> Vec<&Move> {
+    // The cutting moves, compactly: two million-move toolpaths cost 32 bytes a move here.
+    fn cuts(w: &Workingstep) -> Toolpath {
         w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect()
     }
     let (ca, cb) = (cuts(a), cuts(b));
+    let at = |t: &Toolpath, i: usize| t.get(i).expect("an index within the toolpath");
     let map_z = |z: f64| match depth {
         Some((old, new)) if (z - old).abs() <= TOLERANCE => new,
         _ => z,
@@ -827,27 +830,31 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     };
     let (na, nb) = (ca.len(), cb.len());
     let mut p = 0;
-    while p < na.min(nb) && same(ca[p], cb[p]) {
-        p += 1;
+    {
+        let mut both = ca.iter().zip(cb.iter());
+        while p < na.min(nb) && both.next().is_some_and(|(x, y)| same(&x, &y)) {
+            p += 1;
+        }
     }
     let mut s = 0;
-    while s < na.min(nb) - p && same(ca[na - 1 - s], cb[nb - 1 - s]) {
+    while s < na.min(nb) - p && same(&at(&ca, na - 1 - s), &at(&cb, nb - 1 - s)) {
         s += 1;
     }
     if p == na && p == nb {
         return None;
     }
-    let (ma, mb) = (&ca[p..na - s], &cb[p..nb - s]);
+    // The differing moves of each side, as index ranges.
+    let (ma, mb) = (p..na - s, p..nb - s);
     // The paths around the difference: from where the shared start ends to where the shared
     // end begins, so that a removed move is measured against the path that replaces it.
-    let path = |all: &[&Move], from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Vec<P3> {
+    let path = |all: &Toolpath, from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Vec<P3> {
         let mut pts = Vec::new();
-        let start = if from > 0 { all[from - 1].to } else { all.get(from).map_or([0.0; 3], |m| m.from) };
+        let start = if from > 0 { at(all, from - 1).to } else { all.get(from).map_or([0.0; 3], |m| m.from) };
         pts.push([start[0], start[1], z(start[2])]);
         let mut buf = Vec::new();
         for m in all.iter().take(to.min(all.len()) + 1).skip(from) {
             buf.clear();
-            geom::sample(m, &mut buf);
+            geom::sample(&m, &mut buf);
             pts.extend(buf.iter().map(|q| [q[0], q[1], z(q[2])]));
         }
         pts
@@ -861,25 +868,32 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     for q in pa.iter().chain(&pb) {
         geom::extend(&mut region, *q);
     }
-    let first_line = |m: &[&Move], all: &[&Move]| m.first().or_else(|| all.get(p)).or_else(|| all.last()).map(|m| m.line);
-    let lines = (first_line(ma, &ca), first_line(mb, &cb));
-    let len = |m: &[&Move]| m.iter().map(|m| geom::length(m)).sum::<f64>();
+    let first_line = |m: &std::ops::Range<usize>, all: &Toolpath| {
+        if m.is_empty() { all.get(p).or_else(|| all.last()) } else { all.get(m.start) }.map(|m| m.line)
+    };
+    let lines = (first_line(&ma, &ca), first_line(&mb, &cb));
+    let len = |m: &std::ops::Range<usize>, all: &Toolpath| all.iter().skip(m.start).take(m.len()).map(|m| geom::length(&m)).sum::<f64>();
     // The ends are written with Z only where the two differ in it.
-    let (ea, eb) = (ma.last().map(|m| m.to), mb.last().map(|m| m.to));
-    let describe = |m: &[&Move], other: Option<P3>| -> String {
-        match m {
-            [] => "no cut".into(),
-            [one] => format!("the cut at line {} to {}", one.line, u.point(one.to, other)),
-            [f, .., l] => {
+    let end = |m: &std::ops::Range<usize>, all: &Toolpath| (!m.is_empty()).then(|| at(all, m.end - 1).to);
+    let (ea, eb) = (end(&ma, &ca), end(&mb, &cb));
+    let describe = |m: &std::ops::Range<usize>, all: &Toolpath, other: Option<P3>| -> String {
+        match m.len() {
+            0 => "no cut".into(),
+            1 => {
+                let one = at(all, m.start);
+                format!("the cut at line {} to {}", one.line, u.point(one.to, other))
+            }
+            n => {
+                let (f, l) = (at(all, m.start), at(all, m.end - 1));
                 let (lo, hi) = (f.line.min(l.line), f.line.max(l.line));
                 let at = if lo == hi { format!("line {lo}") } else { format!("lines {lo}–{hi}") };
-                format!("the {} cuts at {at}, ending at {}", m.len(), u.point(l.to, other))
+                format!("the {n} cuts at {at}, ending at {}", u.point(l.to, other))
             }
         }
     };
-    let before = describe(ma, eb);
-    let mut after = describe(mb, ea);
-    let (la, lb) = (len(ma), len(mb));
+    let before = describe(&ma, &ca, eb);
+    let mut after = describe(&mb, &cb, ea);
+    let (la, lb) = (len(&ma, &ca), len(&mb, &cb));
     if (la - lb).abs() > TOLERANCE {
         after.push_str(&format!(" ({} {})", u.len((la - lb).abs()), if lb < la { "shorter" } else { "longer" }));
     }

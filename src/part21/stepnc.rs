@@ -208,7 +208,16 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             source,
             lines,
         } = full;
-        let mut ws = Workingstep::unmeasured(*index, Operation::FreeformMilling, *tool, technology.clone(), *security_plane, Vec::new(), *source, *lines);
+        let mut ws = Workingstep::unmeasured(
+            *index,
+            Operation::FreeformMilling,
+            *tool,
+            technology.clone(),
+            *security_plane,
+            Toolpath::new(),
+            *source,
+            *lines,
+        );
         ws.start_point = *start_point;
         ws.depth = *depth;
         ws.bbox = *bbox;
@@ -386,47 +395,50 @@ impl<W: std::io::Write> Writer<W> {
         v
     }
 
-    fn toolpath(&mut self, ws: &Workingstep, moves: &[Move]) -> Value {
+    fn toolpath(&mut self, ws: &Workingstep, moves: &Toolpath) -> Value {
         let mut trajectories = Vec::new();
         let mut i = 0;
         let mut last_end: Option<(P3, Value)> = None;
-        while i < moves.len() {
-            let first = &moves[i];
+        let mut segments: Vec<u64> = Vec::new();
+        while let Some(first) = moves.get(i) {
+            // A group: the moves from `i` on with the same phase, kind of feed and feed.
             let rapid = first.kind == MoveKind::Rapid;
             let mut j = i + 1;
-            while j < moves.len() {
-                let m = &moves[j];
+            let mut arcs = first.kind == MoveKind::Arc;
+            for m in moves.iter().skip(j) {
                 if m.phase != first.phase || (m.kind == MoveKind::Rapid) != rapid || m.feed.to_bits() != first.feed.to_bits() {
                     break;
                 }
+                arcs |= m.kind == MoveKind::Arc;
                 j += 1;
             }
-            let group = &moves[i..j];
+            let group = || moves.iter().skip(i).take(j - i);
+            let last_to = moves.get(j - 1).map_or(first.to, |m| m.to);
             let start = match &last_end {
-                Some((p, v)) if *p == group[0].from => v.clone(),
-                _ => self.point("", group[0].from),
+                Some((p, v)) if *p == first.from => v.clone(),
+                _ => self.point("", first.from),
             };
-            let curve = if group.iter().all(|m| m.kind != MoveKind::Arc) {
+            let curve = if !arcs {
                 // The points go out first, numbered one after another; the polyline lists them.
                 let first_id = self.b.next_id();
-                for m in group {
+                for m in group() {
                     self.point(&format!("L{}", m.line), m.to);
                 }
                 let last_id = self.b.next_id() - 1;
-                last_end = Some((group[group.len() - 1].to, Value::Ref(last_id)));
+                last_end = Some((last_to, Value::Ref(last_id)));
                 let start = start.as_ref_id().unwrap_or(0);
                 self.b.add_with_refs("POLYLINE", &[Value::str("")], std::iter::once(start).chain(first_id..=last_id), &[])
             } else {
-                let mut segments = Vec::new();
+                segments.clear();
                 let mut from = start;
-                for (k, m) in group.iter().enumerate() {
+                for (k, m) in group().enumerate() {
                     let to = self.point(&format!("L{}", m.line), m.to);
                     let curve = match (m.kind, m.center(), m.axis(), m.turns()) {
                         (MoveKind::Arc, Some(c), Some(axis), Some(turns)) => {
                             let pos = self.placement(c, Some(axis));
                             let r = geom::dist(m.from, c);
                             let circle = self.b.add("CIRCLE", vec![Value::str(""), pos, Value::Real(r)]);
-                            let sweep = geom::sweep(m).to_degrees();
+                            let sweep = geom::sweep(&m).to_degrees();
                             let param = |v: f64| Value::Typed("PARAMETER_VALUE".into(), Box::new(Value::Real(v)));
                             self.b.add(
                                 "TRIMMED_CURVE",
@@ -442,12 +454,13 @@ impl<W: std::io::Write> Writer<W> {
                         }
                         _ => self.b.add("POLYLINE", vec![Value::str(""), Value::List(vec![from.clone(), to.clone()])]),
                     };
-                    let transition = if k + 1 == group.len() { "DISCONTINUOUS" } else { "CONTINUOUS" };
-                    segments.push(self.b.add("COMPOSITE_CURVE_SEGMENT", vec![Value::Enum(transition.into()), Value::bool(true), curve]));
+                    let transition = if i + k + 1 == j { "DISCONTINUOUS" } else { "CONTINUOUS" };
+                    let segment = self.b.add("COMPOSITE_CURVE_SEGMENT", vec![Value::Enum(transition.into()), Value::bool(true), curve]);
+                    segments.extend(segment.as_ref_id());
                     from = to;
                 }
-                last_end = Some((group[group.len() - 1].to, from));
-                self.b.add("COMPOSITE_CURVE", vec![Value::str(""), Value::List(segments), Value::Enum("F".into())])
+                last_end = Some((last_to, from));
+                self.b.add_with_refs("COMPOSITE_CURVE", &[Value::str("")], segments.iter().copied(), &[Value::Enum("F".into())])
             };
             let ty = match first.phase {
                 Phase::Approach => "APPROACH",
@@ -493,7 +506,7 @@ impl<W: std::io::Write> Writer<W> {
         }
     }
 
-    fn operation(&mut self, plan: &ProcessPlan, ws: &Workingstep, moves: &[Move], class: Class) -> Value {
+    fn operation(&mut self, plan: &ProcessPlan, ws: &Workingstep, moves: &Toolpath, class: Class) -> Value {
         let toolpath = self.toolpath(ws, moves);
         let start = ws.start_point.map_or(Value::Null, |p| self.point("start", p));
         let tool = self.tool(plan, ws.tool);
@@ -1005,7 +1018,7 @@ impl Reader<'_> {
         let surface_speed = op_words.get("surface_speed").and_then(|s| s.parse().ok());
         let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
-        let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
+        let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath.into(), source, lines);
         ws.state = MachineState::decode(&w);
         let mut dwell = None;
         match operation {
@@ -1153,7 +1166,7 @@ impl Reader<'_> {
                     phase,
                     from,
                     to,
-                    arc: arc.map(|a| Box::new(ArcGeometry { center: a.0, axis: a.1, turns: a.2 })),
+                    arc: arc.map(|a| ArcGeometry { center: a.0, axis: a.1, turns: a.2 }),
                     feed,
                     line,
                 });

@@ -360,18 +360,23 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         region: None,
         holes: Vec::new(),
     };
-    let cuts: Vec<&Move> = ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect();
-    let total: f64 = cuts.iter().map(|m| super::geom::length(m)).sum();
-    let horizontal: Vec<&Move> = cuts.iter().copied().filter(|m| (m.from[2] - m.to[2]).abs() < 1e-4).collect();
-    let flat_len: f64 = horizontal.iter().map(|m| super::geom::length(m)).sum();
-    let arcs_in_xy = horizontal.iter().all(|m| m.axis().is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
-    if horizontal.is_empty() || flat_len < 0.8 * total || !arcs_in_xy {
+    // Passes over the toolpath rather than lists of moves: a toolpath may hold millions.
+    let cuts = || ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+    let horizontal = || cuts().filter(|m| (m.from[2] - m.to[2]).abs() < 1e-4);
+    let total: f64 = cuts().map(|m| super::geom::length(&m)).sum();
+    let flat_len: f64 = horizontal().map(|m| super::geom::length(&m)).sum();
+    let arcs_in_xy = horizontal().all(|m| m.axis().is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
+    if horizontal().next().is_none() || flat_len < 0.8 * total || !arcs_in_xy {
         return toolpath(true);
     }
     let mut levels: Vec<f64> = Vec::new();
-    for m in &horizontal {
+    for m in horizontal() {
         if !levels.iter().any(|z| (z - m.to[2]).abs() < 1e-3) {
             levels.push(m.to[2]);
+            // More levels than a pocket has: a 3D surface; the list stops growing here.
+            if levels.len() > 200 {
+                break;
+            }
         }
     }
     levels.sort_by(|a, b| b.total_cmp(a));

@@ -98,7 +98,7 @@ mod tests {
             phase: Phase::Cut,
             from,
             to,
-            arc: Some(Box::new(crate::plan::ArcGeometry { center, axis: [0.0, 0.0, 1.0], turns })),
+            arc: Some(crate::plan::ArcGeometry { center, axis: [0.0, 0.0, 1.0], turns }),
             feed: 100.0,
             line: 1,
         }

@@ -6,6 +6,8 @@ pub mod geom;
 mod model;
 mod recover;
 pub mod risk;
+mod toolpath;
 
 pub use model::*;
 pub use recover::{Recoverer, ToolFacts, measure, parse_stock, parse_tool_comment, recover, round_sig};
+pub use toolpath::{Iter as ToolpathIter, Toolpath};

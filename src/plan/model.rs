@@ -580,8 +580,8 @@ pub enum Phase {
     Retract,
 }
 
-/// One move of a toolpath.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// One move of a toolpath, as a [`Toolpath`](super::Toolpath) gives it back.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Move {
     /// Kind.
     pub kind: MoveKind,
@@ -591,10 +591,10 @@ pub struct Move {
     pub from: P3,
     /// End point, mm.
     pub to: P3,
-    /// An arc's geometry, boxed: most moves are lines, and a million-move toolpath should not
-    /// pay for arcs it does not have (written as `center`, `axis` and `turns`).
+    /// An arc's geometry (written as `center`, `axis` and `turns`); a toolpath stores it
+    /// apart, so lines do not pay for it.
     #[serde(flatten, default)]
-    pub arc: Option<Box<ArcGeometry>>,
+    pub arc: Option<ArcGeometry>,
     /// Feed, mm/min (0 for rapids).
     #[serde(default)]
     pub feed: f64,
@@ -864,7 +864,7 @@ pub struct Workingstep {
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
     pub holes: Vec<Hole>,
     /// The explicit toolpath.
-    pub toolpath: Vec<Move>,
+    pub toolpath: super::Toolpath,
     /// The machine state it runs under: offsets, compensation, stops, dwells, optional blocks.
     #[serde(skip_serializing_if = "MachineState::is_default", default)]
     pub state: MachineState,
@@ -885,7 +885,7 @@ impl Workingstep {
         tool: u32,
         technology: Technology,
         security_plane: f64,
-        toolpath: Vec<Move>,
+        toolpath: super::Toolpath,
         source: TextRange,
         lines: (u32, u32),
     ) -> Workingstep {

@@ -6,6 +6,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use super::Toolpath;
 use super::feature;
 use super::geom;
 use super::model::*;
@@ -75,9 +76,10 @@ impl<'p> Recoverer<'p> {
 /// an unknown tool is boring.
 fn explicit_holes(plan: &mut ProcessPlan) {
     for ws in plan.workingsteps.iter_mut().filter(|w| w.operation == Operation::FreeformMilling) {
-        let feeds: Vec<&Move> = ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid).collect();
+        // Passes over the toolpath, not a list of its feeds: it may hold millions.
+        let feeds = || ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid);
         let vertical = |m: &Move| m.kind == MoveKind::Line && (m.to[0] - m.from[0]).abs() < EPS && (m.to[1] - m.from[1]).abs() < EPS;
-        if feeds.is_empty() || !feeds.iter().all(|m| vertical(m)) || !feeds.iter().any(|m| is_plunge(m)) {
+        if feeds().next().is_none() || !feeds().all(|m| vertical(&m)) || !feeds().any(|m| is_plunge(&m)) {
             continue;
         }
         let kind = plan.tools.iter().find(|t| t.number == ws.tool).map_or(ToolKind::Unknown, |t| t.kind);
@@ -89,6 +91,7 @@ fn explicit_holes(plan: &mut ProcessPlan) {
         let mut last: Option<[f64; 2]> = None;
         let mut lifted = false;
         for m in &ws.toolpath {
+            let m = &m;
             if m.kind != MoveKind::Rapid && is_plunge(m) {
                 let at = [m.to[0], m.to[1]];
                 pecked |= lifted && last.is_some_and(|l| (l[0] - at[0]).abs() < EPS && (l[1] - at[1]).abs() < EPS);
@@ -100,7 +103,7 @@ fn explicit_holes(plan: &mut ProcessPlan) {
                 last = None;
             }
         }
-        let feed_out = feeds.iter().any(|m| m.to[2] > m.from[2] + EPS);
+        let feed_out = feeds().any(|m| m.to[2] > m.from[2] + EPS);
         ws.operation = match kind {
             ToolKind::Reamer => Operation::Reaming,
             ToolKind::BoringTool => Operation::Boring,
@@ -111,8 +114,10 @@ fn explicit_holes(plan: &mut ProcessPlan) {
             _ => Operation::Drilling,
         };
         // Every move is part of making the holes, as in a cycle.
-        for m in ws.toolpath.iter_mut().filter(|m| m.phase == Phase::Approach && m.kind != MoveKind::Rapid) {
-            m.phase = Phase::Cut;
+        for i in 0..ws.toolpath.len() {
+            if ws.toolpath.get(i).is_some_and(|m| m.phase == Phase::Approach && m.kind != MoveKind::Rapid) {
+                ws.toolpath.set_phase(i, Phase::Cut);
+            }
         }
         let dwell = ws.state.dwells.first().map(|d| d.seconds);
         measure(ws, dwell, None, None);
@@ -273,7 +278,7 @@ struct Builder {
     operation: Operation,
     tool: u32,
     technology: Technology,
-    moves: Vec<Move>,
+    moves: Toolpath,
     dwell: Option<f64>,
     peck: Option<f64>,
     /// The workpiece surface its cycles state (`RFP`, `Q203`).
@@ -669,7 +674,7 @@ impl<'p> Recovery<'p> {
                 let mut axis = [0.0; 3];
                 axis[n] = 1.0;
                 let mut mv = self.mv(MoveKind::Arc, to, c.line);
-                mv.arc = Some(Box::new(ArcGeometry { center, axis, turns: *rotation }));
+                mv.arc = Some(ArcGeometry { center, axis, turns: *rotation });
                 self.cut(mv, c);
             }
             CanonOp::ProgramEnd | CanonOp::Finish => self.close(),
@@ -734,10 +739,7 @@ impl<'p> Recovery<'p> {
                 ));
                 self.tools.insert(0, Tool::unknown(0));
             }
-            let mut moves: Vec<Move> = std::mem::take(&mut self.pending);
-            for m in &mut moves {
-                m.phase = Phase::Approach;
-            }
+            let moves: Toolpath = self.pending.drain(..).map(|m| Move { phase: Phase::Approach, ..m }).collect();
             let first_line = moves.first().map_or(c.line, |m| m.line);
             let state = MachineState {
                 work_offset: self.wcs,
@@ -854,17 +856,16 @@ impl<'p> Recovery<'p> {
         {
             settings.insert(0, (0, h, comp));
         }
-        for mut m in tail {
-            m.phase = Phase::Retract;
-            b.moves.push(m);
+        for m in &tail {
+            b.moves.push(Move { phase: Phase::Retract, ..m });
         }
         b.source = t.source;
         b.lines.1 = t.last_line;
         let (operation, tool) = (b.operation, b.tool);
         self.finish(b);
         let mut moves = rest;
-        for m in &mut moves {
-            m.phase = Phase::Approach;
+        for i in 0..moves.len() {
+            moves.set_phase(i, Phase::Approach);
         }
         let mut feeds = vec![technology.feed];
         for m in moves.iter().filter(|m| m.kind != MoveKind::Rapid) {
@@ -929,7 +930,7 @@ impl<'p> Recovery<'p> {
         let mut state = b.state;
         for (i, h, comp) in &b.settings {
             // Only what is in force while the tool feeds counts, not on a lift.
-            if b.moves.get(*i).is_some_and(|m| m.phase == Phase::Retract) {
+            if b.moves.phase(*i) == Some(Phase::Retract) {
                 continue;
             }
             if let Some(h) = h
@@ -969,10 +970,10 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surf
     let mut cutting_length = 0.0;
     let mut samples = Vec::new();
     for m in ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid) {
-        cutting_length += geom::length(m);
+        cutting_length += geom::length(&m);
         samples.clear();
         geom::extend(&mut bbox, m.from);
-        geom::sample(m, &mut samples);
+        geom::sample(&m, &mut samples);
         for &pt in &samples {
             geom::extend(&mut bbox, pt);
             depth = Some(depth.map_or(pt[2], |d: f64| d.min(pt[2])));
@@ -1010,38 +1011,39 @@ fn is_plunge(m: &Move) -> bool {
 
 /// Leading entries (plunges, ramps, helices down) join the approach; trailing lifts join
 /// the retract.
-fn refine_phases(moves: &mut [Move]) {
+fn refine_phases(moves: &mut Toolpath) {
     let first_cut = moves.iter().position(|m| m.phase == Phase::Cut);
-    if let Some(i) = first_cut {
-        for m in moves[i..].iter_mut() {
-            if m.phase == Phase::Cut && m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS {
-                m.phase = Phase::Approach;
-            } else {
-                break;
+    if let Some(first) = first_cut {
+        for i in first..moves.len() {
+            match moves.get(i) {
+                Some(m) if m.phase == Phase::Cut && m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS => {
+                    moves.set_phase(i, Phase::Approach)
+                }
+                _ => break,
             }
         }
     }
-    for m in moves.iter_mut().rev() {
-        if m.phase == Phase::Retract || (m.phase == Phase::Cut && is_lift(m)) {
-            m.phase = Phase::Retract;
-        } else {
-            break;
+    for i in (0..moves.len()).rev() {
+        match moves.get(i) {
+            Some(m) if m.phase == Phase::Retract || (m.phase == Phase::Cut && is_lift(&m)) => moves.set_phase(i, Phase::Retract),
+            _ => break,
         }
     }
     // A workingstep that only plunges keeps its last plunge as its cut.
     if !moves.iter().any(|m| m.phase == Phase::Cut)
-        && let Some(m) = moves.iter_mut().rev().find(|m| m.kind != MoveKind::Rapid)
+        && let Some(i) = (0..moves.len()).rev().find(|&i| moves.get(i).is_some_and(|m| m.kind != MoveKind::Rapid))
     {
-        m.phase = Phase::Cut;
+        moves.set_phase(i, Phase::Cut);
     }
 }
 
 /// Hole positions: the bottom of each feed-in within a cycle, with the height the tool
 /// lifts to before it leaves the hole. A hole fed by an optional block is optional.
-fn holes(moves: &[Move], dwell: Option<f64>, peck: Option<f64>, surface: Option<f64>, optional: &[u32]) -> Vec<Hole> {
+fn holes(moves: &Toolpath, dwell: Option<f64>, peck: Option<f64>, surface: Option<f64>, optional: &[u32]) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
     let mut open = false;
     for m in moves {
+        let m = &m;
         if !(m.kind == MoveKind::Line && is_plunge(m)) {
             if open && is_lift(m) {
                 if let Some(h) = out.last_mut() {
