@@ -181,7 +181,7 @@ impl Cx {
         self.shape(
             root,
             &["name", "family", "title", "version"],
-            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "recognise"],
+            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "records", "recognise"],
         );
         let name = self.required(root, "name").unwrap_or_default().to_owned();
         if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
@@ -206,6 +206,14 @@ impl Cx {
         let macros = child("macros").map(|el| self.macros(el)).unwrap_or_default();
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
+        let records = child("records").map(|el| Box::new(self.records(el, &codes)));
+        match (&records, lexical.block_form) {
+            (None, BlockForm::Record) => self.error(root.range, "block-form=\"record\" needs a <records> element"),
+            (Some(_), BlockForm::WordAddress | BlockForm::KeywordFirst) => {
+                self.error(child("records").map_or(root.range, |e| e.range), "<records> needs block-form=\"record\" in <lexical>")
+            }
+            _ => {}
+        }
         let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
         let recognise_removed = child("recognise")
             .map(|el| {
@@ -231,6 +239,7 @@ impl Cx {
             groups,
             codes,
             cycles,
+            records,
             execution_order,
             recognise,
             recognise_removed,
@@ -279,6 +288,7 @@ impl Cx {
         let block_form = match self.attr(el, "block-form").unwrap_or("word-address") {
             "word-address" => BlockForm::WordAddress,
             "keyword-first" => BlockForm::KeywordFirst,
+            "record" => BlockForm::Record,
             other => {
                 self.error(Self::attr_range(el, "block-form"), format!("unknown block-form `{other}`"));
                 BlockForm::WordAddress
@@ -479,7 +489,7 @@ impl Cx {
                 _ => {}
             }
         }
-        if lex.comments.is_empty() {
+        if lex.comments.is_empty() && lex.block_form != BlockForm::Record {
             self.error(el.range, "<lexical> needs at least one <comment> rule");
         }
         lex
@@ -1177,5 +1187,138 @@ mod tests {
         assert_eq!(parse_code_number("0"), Some(0));
         assert_eq!(parse_code_number("1000"), None);
         assert_eq!(parse_code_number("5.12"), None);
+    }
+}
+
+/// The record form (`<records>`): the engine's record actions, codes by their spelling, roles.
+impl Cx {
+    fn records(&mut self, el: &Element, codes: &[CodeDef]) -> super::records::Records {
+        use super::records::{CircleSense, Producer, Records};
+        self.shape(el, &["continuation", "comment", "tolerance"], &["record", "producer"]);
+        let continuation = self.char_attr(el, "continuation").unwrap_or('$');
+        let comment = self.attr(el, "comment").unwrap_or("$$").to_owned();
+        let tolerance = self.number(el, "tolerance", 0.001);
+        let mut records = Vec::new();
+        for r in el.children.iter().filter(|c| c.name == "record") {
+            if let Some(def) = self.record(r, codes) {
+                if records.iter().any(|x: &super::records::RecordDef| x.major == def.major) {
+                    self.error(r.range, format!("record `{}` is defined twice", def.major));
+                }
+                records.push(def);
+            }
+        }
+        let mut producers = Vec::new();
+        for p in el.children.iter().filter(|c| c.name == "producer") {
+            self.shape(p, &["name", "circle"], &["evidence", "record"]);
+            let name = self.required(p, "name").unwrap_or_default().to_owned();
+            let circle = match self.required(p, "circle") {
+                Some("clockwise") => CircleSense::Clockwise,
+                Some("counter-clockwise") | None => CircleSense::CounterClockwise,
+                Some(other) => {
+                    self.error(Self::attr_range(p, "circle"), format!("`circle` is clockwise or counter-clockwise, not `{other}`"));
+                    CircleSense::CounterClockwise
+                }
+            };
+            let mut evidence = Vec::new();
+            for e in p.children.iter().filter(|c| c.name == "evidence") {
+                self.shape(e, &["regex", "label"], &[]);
+                let Some(src) = self.required(e, "regex") else { continue };
+                match super::Pattern::new(src) {
+                    Ok(re) => evidence.push((self.attr(e, "label").unwrap_or(src).to_owned(), re)),
+                    Err(err) => self.error(Self::attr_range(e, "regex"), format!("invalid regular expression: {err}")),
+                }
+            }
+            let own = p.children.iter().filter(|c| c.name == "record").filter_map(|r| self.record(r, codes)).collect();
+            producers.push(Producer { name, evidence, circle, records: own });
+        }
+        if !producers.iter().any(|p| p.evidence.is_empty()) {
+            self.error(el.range, "<records> needs one <producer> without <evidence>: the default");
+        }
+        Records { continuation, comment, records, producers, tolerance }
+    }
+
+    /// A code by its spelling in the dialect: `G81`, `M6`, or a keyword code's keyword.
+    fn code_ref(&mut self, el: &Element, attr: &str, spelled: &str, codes: &[CodeDef]) -> Option<usize> {
+        let up = spelled.to_ascii_uppercase();
+        let by_number = || {
+            let mut chars = up.chars();
+            let letter = chars.next()?;
+            let n: f64 = chars.as_str().parse().ok()?;
+            let x10 = (n * 10.0).round() as u16;
+            codes.iter().position(|c| c.keyword.is_none() && c.letter == letter && c.number == x10)
+        };
+        let found = by_number().or_else(|| codes.iter().position(|c| c.keyword.as_ref().is_some_and(|k| k.text.eq_ignore_ascii_case(&up))));
+        if found.is_none() {
+            self.error(Self::attr_range(el, attr), format!("`{spelled}` is not a code of this dialect's <groups>"));
+        }
+        found
+    }
+
+    fn record_roles(&mut self, el: &Element, attr: &str) -> Vec<Role> {
+        let Some(list) = self.attr(el, attr) else { return Vec::new() };
+        let mut out = Vec::new();
+        for item in list.split_ascii_whitespace() {
+            match Role::parse(item).filter(|r| !r.is_internal()) {
+                Some(r) => out.push(r),
+                None => self.error(Self::attr_range(el, attr), format!("unknown role `{item}` in `{attr}`")),
+            }
+        }
+        out
+    }
+
+    fn record(&mut self, r: &Element, codes: &[CodeDef]) -> Option<super::records::RecordDef> {
+        use super::records::{MinorDef, RecordAction, RecordDef};
+        self.shape(r, &["major", "action", "codes", "args", "also"], &["minor"]);
+        let major = self.required(r, "major")?.split_ascii_whitespace().collect::<Vec<_>>().join(" ").to_ascii_uppercase();
+        let action = match self.attr(r, "action").unwrap_or("words") {
+            a => match RecordAction::parse(a) {
+                Some(a) => a,
+                None => {
+                    self.error(Self::attr_range(r, "action"), format!("unknown record action `{a}`"));
+                    return None;
+                }
+            },
+        };
+        let mut own = Vec::new();
+        for c in self.attr(r, "codes").unwrap_or("").split_ascii_whitespace() {
+            own.extend(self.code_ref(r, "codes", c, codes));
+        }
+        let args = self.record_roles(r, "args");
+        let mut also = Vec::new();
+        if let Some(list) = self.attr(r, "also") {
+            for pair in list.split_ascii_whitespace() {
+                match pair.split_once(':').map(|(a, b)| (Role::parse(a), Role::parse(b))) {
+                    Some((Some(a), Some(b))) => also.push((a, b)),
+                    _ => self.error(Self::attr_range(r, "also"), format!("`{pair}` in `also` is not role:role")),
+                }
+            }
+        }
+        let mut minors: Vec<MinorDef> = Vec::new();
+        for m in r.children.iter().filter(|c| c.name == "minor") {
+            self.shape(m, &["word", "codes", "role", "from-point"], &[]);
+            let Some(word) = self.required(m, "word").map(str::to_ascii_uppercase) else { continue };
+            if minors.iter().any(|x| x.word == word) {
+                self.error(m.range, format!("minor word `{word}` is defined twice in record `{major}`"));
+            }
+            let mut own_codes = Vec::new();
+            for c in self.attr(m, "codes").unwrap_or("").split_ascii_whitespace() {
+                own_codes.extend(self.code_ref(m, "codes", c, codes));
+            }
+            let role = self.role_attr(m, "role");
+            let from_point = match self.attr(m, "from-point") {
+                None => None,
+                Some("up") => Some(1.0),
+                Some("down") => Some(-1.0),
+                Some(other) => {
+                    self.error(Self::attr_range(m, "from-point"), format!("`from-point` is up or down, not `{other}`"));
+                    None
+                }
+            };
+            if from_point.is_some() && role.is_none() {
+                self.error(Self::attr_range(m, "from-point"), "`from-point` needs a `role`");
+            }
+            minors.push(MinorDef { word, codes: own_codes, role, from_point });
+        }
+        Some(RecordDef { major, action, codes: own, args, minors, also })
     }
 }

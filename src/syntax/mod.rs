@@ -6,6 +6,7 @@
 
 mod expr;
 mod parser;
+mod records;
 
 pub use expr::{BinOp, Expr, ExprId, Func};
 pub use parser::{Parser, leader};
