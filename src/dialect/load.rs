@@ -1254,13 +1254,23 @@ impl Cx {
         found
     }
 
-    fn record_roles(&mut self, el: &Element, attr: &str) -> Vec<Role> {
-        let Some(list) = self.attr(el, attr) else { return Vec::new() };
+    /// `args="tool"`, `args="extra radius@up"`: positional roles, perhaps from a hole's point.
+    fn record_args(&mut self, el: &Element) -> Vec<(Role, Option<f64>)> {
+        let Some(list) = self.attr(el, "args") else { return Vec::new() };
         let mut out = Vec::new();
         for item in list.split_ascii_whitespace() {
-            match Role::parse(item).filter(|r| !r.is_internal()) {
-                Some(r) => out.push(r),
-                None => self.error(Self::attr_range(el, attr), format!("unknown role `{item}` in `{attr}`")),
+            let (name, from) = match item.split_once('@') {
+                Some((n, "up")) => (n, Some(1.0)),
+                Some((n, "down")) => (n, Some(-1.0)),
+                Some((n, _)) => {
+                    self.error(Self::attr_range(el, "args"), format!("`{item}` in `args`: after `@` comes up or down"));
+                    (n, None)
+                }
+                None => (item, None),
+            };
+            match Role::parse(name).filter(|r| !r.is_internal()) {
+                Some(r) => out.push((r, from)),
+                None => self.error(Self::attr_range(el, "args"), format!("unknown role `{name}` in `args`")),
             }
         }
         out
@@ -1283,7 +1293,7 @@ impl Cx {
         for c in self.attr(r, "codes").unwrap_or("").split_ascii_whitespace() {
             own.extend(self.code_ref(r, "codes", c, codes));
         }
-        let args = self.record_roles(r, "args");
+        let args = self.record_args(r);
         let mut also = Vec::new();
         if let Some(list) = self.attr(r, "also") {
             for pair in list.split_ascii_whitespace() {

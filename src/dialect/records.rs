@@ -95,8 +95,9 @@ pub struct RecordDef {
     pub action: RecordAction,
     /// Codes every such record puts in force (indices into [`super::Dialect::codes`]).
     pub codes: Vec<usize>,
-    /// Roles of the numbers not taken by a minor word, in order.
-    pub args: Vec<Role>,
+    /// Roles of the numbers not taken by a minor word, in order, each perhaps measured from
+    /// a hole's point as [`MinorDef::from_point`] (`radius@up`).
+    pub args: Vec<(Role, Option<f64>)>,
     /// Minor words.
     pub minors: Vec<MinorDef>,
     /// A role whose value also gives another (`LOADTL/2`: tool 2 and length offset 2), when

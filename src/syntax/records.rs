@@ -35,7 +35,29 @@ struct ArcEnd {
     centre: [f64; 3],
     axis: [f64; 3],
     ccw: bool,
+    /// Whether the move into the arc, where tangent, turns the way the arc does.
+    incoming: Option<bool>,
     range: TextRange,
+}
+
+/// Decides the last arc's check once the move after it is known (`out`: whether it leaves
+/// the arc turning its way, where tangent): the data contradicts the producer's circle sense
+/// when the moves at both ends are tangent to the arc and both turn the other way (the arc
+/// read by the setting has a cusp at each end).
+fn settle(st: &mut RecordState, recs: &Records, out: Option<bool>, diags: &mut Vec<Diagnostic>) {
+    let Some(e) = st.arc_end.take() else { return };
+    if e.incoming == Some(false) && out == Some(false) {
+        let producer = st.producer.and_then(|p| recs.producers.get(p));
+        let name = producer.map_or("the default producer", |p| p.name.as_str());
+        let (said, seen) = if e.ccw { ("counter-clockwise", "clockwise") } else { ("clockwise", "counter-clockwise") };
+        diags.push(Diagnostic::new(
+            Code::CircleDirection,
+            e.range,
+            format!(
+                "the moves into and out of this arc are tangent to it turning {seen} about its axis, but {name}'s circles turn {said}: the data contradicts the producer's setting (read as the setting says)"
+            ),
+        ));
+    }
 }
 
 /// The canned cycle in force: its codes and its values, some measured from the hole's point.
@@ -58,6 +80,9 @@ pub(super) struct RecordState {
     arc_end: Option<ArcEnd>,
     cycle: Option<Cycle>,
     units_seen: bool,
+    /// The units code the file states first (`UNITS/MM`, or a feed's `IPM`), put in force
+    /// with the first block: NX listings move before their first `FEDRAT/IPM`.
+    units_first: Option<usize>,
     moved: bool,
     last_goto: bool,
     noted: Vec<String>,
@@ -116,6 +141,8 @@ pub(super) fn next_record(
                 format!("read as a CL file written by {name} ({why}); its circles turn {sense} about their axis"),
             ));
         }
+        st.units_first = first_units(recs, st.producer, dialect, &text[..text.len().min(64 * 1024)]);
+        st.units_seen = st.units_first.is_some();
     }
     let bytes = text.as_bytes();
     if *pos >= bytes.len() {
@@ -189,8 +216,31 @@ pub(super) fn next_record(
     }
     block.range = TextRange::new(start, end);
     *pos = cur;
+    if let Some(u) = st.units_first.take() {
+        push_codes(block, &[u]);
+    }
     record(st, recs, dialect, block, diags);
     true
+}
+
+/// The first units code a record in `head` states through a minor word (`UNITS/MM`,
+/// `FEDRAT/IPM,10`): the units of the whole file, from its first move on.
+fn first_units(recs: &Records, producer: Option<usize>, dialect: &Dialect, head: &str) -> Option<usize> {
+    for line in head.lines() {
+        let code = line.split(recs.comment.as_str()).next().unwrap_or("");
+        let Some((major, args)) = code.split_once('/') else { continue };
+        let major = major.split_whitespace().collect::<Vec<_>>().join(" ").to_ascii_uppercase();
+        let Some(def) = recs.record(producer, &major) else { continue };
+        for word in args.split(|c: char| c == ',' || c.is_whitespace()).filter(|w| !w.is_empty()) {
+            let up = word.to_ascii_uppercase();
+            if let Some(m) = def.minor(&up)
+                && let Some(&c) = m.codes.iter().find(|&&c| matches!(dialect.codes[c].meaning, Meaning::UnitsMm | Meaning::UnitsInch))
+            {
+                return Some(c);
+            }
+        }
+    }
+    None
 }
 
 fn is_major_char(c: char) -> bool {
@@ -340,6 +390,10 @@ fn code_word(idx: usize) -> Word {
 fn push_codes(block: &mut Block, codes: &[usize]) {
     let r = block.range;
     for &c in codes {
+        let given = Value::Number { value: c as f64, decimal: false };
+        if block.words.iter().any(|w| w.role == Role::Keyword && w.value == given) {
+            continue;
+        }
         let mut w = code_word(c);
         w.range = r;
         block.words.push(w);
@@ -402,7 +456,8 @@ fn words(
                 None => argument(diags, &def.major, w, toks[i].1),
             },
             Tok::Num(v) => match positional.next() {
-                Some(&role) => push_word(block, dialect, role, *v, toks[i].1),
+                Some(&(Role::Extra, _)) => {}
+                Some(&(role, _)) => push_word(block, dialect, role, *v, toks[i].1),
                 None => argument(diags, &def.major, &format!("{v}"), toks[i].1),
             },
         }
@@ -493,15 +548,8 @@ fn goto(
         arc(st, recs, dialect, c, p, block, diags);
         return;
     }
-    if let (Some(e), Some(from)) = (st.arc_end.take(), st.pos) {
-        if let Some(ccw) = tangent_sense(from, sub(p, from), e.centre, e.axis)
-            && ccw != e.ccw
-            && norm(sub(from, e.end)) < 1e-9
-        {
-            let msg = "the move after this arc leaves it turning the other way: the data contradicts the producer's circle sense (cusp)";
-            diags.push(Diagnostic::new(Code::CircleDirection, e.range, msg));
-        }
-    }
+    let out = st.arc_end.as_ref().and_then(|e| tangent_sense(e.end, sub(p, e.end), e.centre, e.axis).map(|ccw| ccw == e.ccw));
+    settle(st, recs, out, diags);
     match rapid {
         Some(c) => push_codes(block, &c),
         None => push_codes(block, codes),
@@ -613,21 +661,9 @@ fn arc(st: &mut RecordState, recs: &Records, dialect: &Dialect, c: Circle, end: 
             format!("the arc's start is {rs:.4} from the centre and its end {re:.4}{stated}"),
         ));
     }
-    // Checked by tangency with the move into the arc.
-    if let Some(prev) = st.prev
-        && let Some(ccw) = tangent_sense(start, sub(start, prev), c.centre, axis)
-        && ccw != sense_ccw
-    {
-        let name = producer.map_or("the default producer", |p| p.name.as_str());
-        let (said, seen) = if sense_ccw { ("counter-clockwise", "clockwise") } else { ("clockwise", "counter-clockwise") };
-        diags.push(Diagnostic::new(
-            Code::CircleDirection,
-            c.range,
-            format!(
-                "the move into this arc is tangent to it turning {seen} about its axis, but {name}'s circles turn {said}: the data contradicts the producer's setting (read as the setting says)"
-            ),
-        ));
-    }
+    // Checked by tangency with the moves into and out of the arc (decided at the next move).
+    settle(st, recs, None, diags);
+    let incoming = st.prev.and_then(|prev| tangent_sense(start, sub(start, prev), c.centre, axis)).map(|ccw| ccw == sense_ccw);
     let normal = [0.0, 0.0, 0.0];
     let mut pn = normal;
     pn[normal_i] = 1.0;
@@ -648,7 +684,7 @@ fn arc(st: &mut RecordState, recs: &Records, dialect: &Dialect, c: Circle, end: 
     if let Some(t) = c.turns.filter(|t| *t >= 1.0) {
         push_word(block, dialect, Role::P, t.round() + 1.0, r);
     }
-    st.arc_end = Some(ArcEnd { end, centre: c.centre, axis, ccw: sense_ccw, range: c.range });
+    st.arc_end = Some(ArcEnd { end, centre: c.centre, axis, ccw: sense_ccw, incoming, range: c.range });
     st.prev = None;
     st.pos = Some(end);
 }
@@ -708,7 +744,11 @@ fn cycle(
                 None => argument(diags, &def.major, w, toks[i].1),
             },
             Tok::Num(v) => match positional.next() {
-                Some(&role) => values.push((role, *v, None)),
+                Some(&(Role::Extra, _)) => {}
+                Some(&(role, from)) => {
+                    values.retain(|x| x.0 != role);
+                    values.push((role, *v, from));
+                }
                 None => argument(diags, &def.major, &format!("{v}"), toks[i].1),
             },
         }
