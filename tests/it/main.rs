@@ -2,6 +2,7 @@
 
 mod arch;
 mod called;
+mod cldata;
 mod cam_suite;
 mod cli;
 mod cycles;
