@@ -141,12 +141,45 @@ fn cuts_mm(a: &Analysis) -> Vec<(&'static str, Vec<f64>)> {
             CanonOp::StraightFeed(p) => out.push(("feed", p[..3].iter().map(|v| v * scale).collect())),
             CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => out.push((
                 "arc",
-                vec![*first_end * scale, *second_end * scale, *first_axis * scale, *second_axis * scale, f64::from(*rotation), *axis_end * scale],
+                vec![
+                    *first_end * scale,
+                    *second_end * scale,
+                    *first_axis * scale,
+                    *second_axis * scale,
+                    f64::from(*rotation),
+                    *axis_end * scale,
+                ],
             )),
             _ => {}
         }
     }
     out
+}
+
+/// As [`assert_same_toolpath`], except that the post may write an arc shorter than 0.1 mm as
+/// a line to the same end (the Haas post does: `CIRCLE` of 0.036 mm in Zig_Zag_Smoothed
+/// became `G01 X5.9085 Y6.1023`).
+fn assert_same_cuts(label: &str, got: &[(&'static str, Vec<f64>)], want: &[(&'static str, Vec<f64>)], tol: f64) {
+    assert_eq!(got.len(), want.len(), "{label}");
+    let mut last = [f64::NAN; 2];
+    let mut linearised = 0;
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        let end = |m: &(&str, Vec<f64>)| [m.1[0], m.1[1]];
+        if g.0 != w.0 {
+            let chord = (end(g)[0] - last[0]).hypot(end(g)[1] - last[1]);
+            assert!(chord < 0.1, "{label} move {i}: {g:?} against {w:?}");
+            linearised += 1;
+            for (x, y) in end(g).iter().zip(&end(w)) {
+                assert!((x - y).abs() <= tol, "{label} move {i}: {g:?} against {w:?}");
+            }
+        } else {
+            for (x, y) in g.1.iter().zip(&w.1) {
+                assert!((x - y).abs() <= tol, "{label} move {i}: {g:?} against {w:?}");
+            }
+        }
+        last = end(g);
+    }
+    assert!(linearised * 20 <= got.len(), "{label}: {linearised} short arcs written as lines");
 }
 
 fn corpus_analysis(folder: &str, file: &str, dialect: &str) -> Analysis {
@@ -167,9 +200,146 @@ fn nx_cl_files_cut_what_their_haas_programs_cut() {
         let haas = corpus_analysis("haas", &format!("mech491__PostProcessed_{part}.txt"), "haas");
         let (got, want) = (cuts_mm(&cl), cuts_mm(&haas));
         assert!(want.len() >= 10, "{part}: {} cuts", want.len());
-        assert_same_toolpath(part, &got, &want, 0.003);
+        assert_same_cuts(part, &got, &want, 0.003);
         // The same workingsteps and tools; the feed differs by the post's rounding to 0.1 in/min.
         assert_eq!(cl.plan.workingsteps.len(), haas.plan.workingsteps.len(), "{part}");
-        assert_eq!(cl.plan.tools.iter().map(|t| t.number).collect::<Vec<_>>(), haas.plan.tools.iter().map(|t| t.number).collect::<Vec<_>>(), "{part}");
+        assert_eq!(
+            cl.plan.tools.iter().map(|t| t.number).collect::<Vec<_>>(),
+            haas.plan.tools.iter().map(|t| t.number).collect::<Vec<_>>(),
+            "{part}"
+        );
     }
+}
+
+/// Every corpus CL file reads with the `cldata` dictionary without errors; the findings left
+/// are the data's own (tilted circles of a 5-axis part, the producer's cusps, NX listings'
+/// header lines, post-processor words passed over).
+#[test]
+fn every_corpus_cl_file_reads_without_errors() {
+    let Some(corpus) = crate::shared_corpus("cldata::every_corpus_cl_file_reads_without_errors") else { return };
+    let registry = Registry::shipped();
+    let mut files = std::fs::read_dir(corpus.join("cldata")).unwrap().map(|e| e.unwrap().path()).collect::<Vec<_>>();
+    files.sort();
+    assert_eq!(files.len(), 36);
+    for path in &files {
+        let bytes = std::fs::read(path).unwrap();
+        // Sniffing tells them CL files.
+        let sniffed = ncplan::pipeline::sniff(&registry, &bytes, path);
+        assert_eq!(sniffed.dialect, "cldata", "{}", path.display());
+        let a = analyze(&bytes, &registry.get("cldata").unwrap(), &Profile::default());
+        let errors =
+            a.diagnostics.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect::<Vec<_>>();
+        assert!(errors.is_empty(), "{}: {errors:#?}", path.display());
+        assert!(
+            a.canon.iter().filter(|c| matches!(c.op, CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. })).count() > 0,
+            "{}",
+            path.display()
+        );
+        assert!(a.diagnostics.iter().any(|d| d.code == Code::RecordProducer), "{}", path.display());
+    }
+}
+
+#[test]
+fn sniffing_tells_cl_files_from_programs() {
+    let registry = Registry::shipped();
+    for part in PARTS {
+        for (style, ext) in STYLES {
+            let file = format!("{part}_{style}.{ext}");
+            let bytes = std::fs::read(crate::root().join("tests/programs/cldata").join(&file)).unwrap();
+            // By content alone, without the extension.
+            let s = ncplan::pipeline::sniff(&registry, &bytes, std::path::Path::new("program.txt"));
+            assert_eq!(s.dialect, "cldata", "{file}");
+        }
+        let bytes = std::fs::read(crate::root().join("tests/programs/cldata").join(format!("{part}.nc"))).unwrap();
+        assert_eq!(ncplan::pipeline::sniff(&registry, &bytes, std::path::Path::new("program.nc")).dialect, "fanuc", "{part}.nc");
+    }
+}
+
+/// The producer's circle sense decides which way an arc turns, and the tangent moves check it:
+/// the pocket's arcs with their axes reversed have a cusp at both ends and say so, and are
+/// read as the setting says (clockwise in XY for Creo's -Z), not guessed.
+#[test]
+fn a_circle_against_its_producers_sense_is_reported() {
+    for (file, from, to) in [
+        ("pocket_creo.ncl", "0.0000000000, 0.0000000000, 1.0000000000, 3", "0.0000000000, 0.0000000000, -1.0000000000, 3"),
+        ("pocket_nx.cls", "0.0000000,0.0000000,-1.0000000,3.0000", "0.0000000,0.0000000,1.0000000,3.0000"),
+    ] {
+        let text = std::fs::read_to_string(crate::root().join("tests/programs/cldata").join(file)).unwrap();
+        assert_eq!(text.matches(from).count(), 4, "{file}");
+        let flipped = text.replace(from, to);
+        let a = analyze(flipped.as_bytes(), &Registry::shipped().get("cldata").unwrap(), &profile());
+        let against = a.diagnostics.iter().filter(|d| d.code == Code::CircleDirection).count();
+        assert_eq!(against, 4, "{file}: {:#?}", a.diagnostics);
+        // Clockwise now: negative rotations.
+        let turns = a
+            .canon
+            .iter()
+            .filter_map(|c| if let CanonOp::ArcFeed { rotation, .. } = c.op { Some(rotation) } else { None })
+            .collect::<Vec<_>>();
+        assert_eq!(turns, [-1, -1, -1, -1], "{file}");
+        // As written, no finding.
+        let a = read(file, "cldata");
+        assert!(!a.diagnostics.iter().any(|d| d.code == Code::CircleDirection), "{file}");
+    }
+}
+
+/// `GOTO/x,y,z,i,j,k` keeps the tool axis: a `ToolAxis` marker where it changes, the move
+/// itself the tool tip's; a 3-axis file (axis +Z throughout) has none.
+#[test]
+fn the_tool_axis_goes_into_the_canon_where_it_changes() {
+    let cl = "PARTNO/AXIS\nUNITS/MM\nLOADTL/1\nFEDRAT/500,MMPM\nGOTO/0,0,10,0,0,1\nGOTO/10,0,10,0,0.6,0.8\nGOTO/20,0,10,0,0.6,0.8\nGOTO/30,0,10\n\
+                GOTO/40,0,10,0,0,1.\nFINI\n";
+    let a = analyze(cl.as_bytes(), &Registry::shipped().get("cldata").unwrap(), &Profile::default());
+    assert!(!a.has_errors(), "{:#?}", a.diagnostics);
+    let axes = a.canon.iter().filter_map(|c| if let CanonOp::ToolAxis(v) = c.op { Some(v) } else { None }).collect::<Vec<_>>();
+    assert_eq!(axes, [[0.0, 0.6, 0.8], [0.0, 0.0, 1.0]]);
+    let feeds = a.canon.iter().filter_map(|c| if let CanonOp::StraightFeed(p) = c.op { Some(p[0]) } else { None }).collect::<Vec<_>>();
+    assert_eq!(feeds, [0.0, 10.0, 20.0, 30.0, 40.0]);
+    // It prints as a marker rs274 comparisons drop.
+    let mut text = String::new();
+    for c in &a.canon {
+        ncplan::canon::write_call(&mut text, &c.op);
+        text.push('\n');
+    }
+    assert!(text.contains("COMMENT(\"ncplan: tool axis 0.000000 0.600000 0.800000\")"), "{text}");
+    for part in PARTS {
+        let a = read(&format!("{part}_catia.aptsource"), "cldata");
+        assert!(!a.canon.iter().any(|c| matches!(c.op, CanonOp::ToolAxis(_))), "{part}");
+    }
+}
+
+/// The record syntax's traps (../shared/reference/cldata.md §7): a record continued inside a
+/// number, a `$$` comment continued over bare lines, `$ $$` (continued and commented),
+/// no-slash text records, foreign lines, unknown post-processor words, `RAPID` one-shot.
+#[test]
+fn the_record_syntax_traps_are_read_as_the_reference_says() {
+    let cl = "Information listing created by\tphill\n\
+              PARTNO PART TO BE MACHINED\n\
+              $$-> CSYS / 1.0, 0.0, 0.0, 0.0,  $\n   0.0, 1.0, 0.0, 0.0,  $\n   0.0, 0.0, 1.0, 0.0\n\
+              UNITS / MM\n\
+              FEDRAT / 400.0,  MMPM\n\
+              RAPID\n\
+              GOTO  /  10.00000,  20.00000,  5.0$\n00000\n\
+              GOTO / 10.0, 25.0, $ $$ trailing comment\n 5.0\n\
+              AIR/ON\n\
+              GOTO/15,25,5\n\
+              Tool Path Listing has 3 lines.\n\
+              FINI\n";
+    let a = analyze(cl.as_bytes(), &Registry::shipped().get("cldata").unwrap(), &Profile::default());
+    assert!(!a.has_errors(), "{:#?}", a.diagnostics);
+    let moves = toolpath(&a);
+    assert_eq!(
+        moves,
+        [
+            ("traverse", vec![10.0, 20.0, 5.0, 0.0, 0.0, 0.0]),
+            ("feed", vec![10.0, 25.0, 5.0, 0.0, 0.0, 0.0]),
+            ("feed", vec![15.0, 25.0, 5.0, 0.0, 0.0, 0.0])
+        ]
+    );
+    let codes = a.diagnostics.iter().map(|d| d.code).collect::<Vec<_>>();
+    assert_eq!(codes.iter().filter(|c| **c == Code::NotARecord).count(), 2, "{:#?}", a.diagnostics);
+    assert_eq!(codes.iter().filter(|c| **c == Code::UnknownRecord).count(), 1, "{:#?}", a.diagnostics);
+    // The feed stays 400 after the rapid; the part name is a comment.
+    assert!(a.canon.iter().any(|c| c.op == CanonOp::SetFeedRate(400.0)));
+    assert!(a.canon.iter().any(|c| c.op == CanonOp::Comment("PART TO BE MACHINED".into())), "{:#?}", a.canon);
 }

@@ -2,8 +2,8 @@
 
 mod arch;
 mod called;
-mod cldata;
 mod cam_suite;
+mod cldata;
 mod cli;
 mod cycles;
 mod daemon;
