@@ -343,3 +343,39 @@ fn the_record_syntax_traps_are_read_as_the_reference_says() {
     assert!(a.canon.iter().any(|c| c.op == CanonOp::SetFeedRate(400.0)));
     assert!(a.canon.iter().any(|c| c.op == CanonOp::Comment("PART TO BE MACHINED".into())), "{:#?}", a.canon);
 }
+
+/// The loader checks the record form and points into the XML.
+#[test]
+fn record_form_mistakes_point_into_the_dictionary() {
+    let xml = std::fs::read_to_string(crate::root().join("dialects/cldata.xml")).unwrap();
+    for (from, to, says) in [
+        (r#"<record major="GOTO" action="goto" codes="G1"/>"#, r#"<record major="GOTO" action="goto" codes="G7"/>"#, "`G7` is not a code"),
+        (
+            r#"<record major="GOTO" action="goto" codes="G1"/>"#,
+            r#"<record major="GOTO" action="go" codes="G1"/>"#,
+            "unknown record action `go`",
+        ),
+        (
+            r#"<minor word="FEDTO" role="axis-z" from-point="down"/>"#,
+            r#"<minor word="FEDTO" role="axis-z" from-point="below"/>"#,
+            "`from-point` is up or down",
+        ),
+        (r#"<producer name="ISO 4343" circle="counter-clockwise"/>"#, "", "needs one <producer> without <evidence>"),
+        (r#"<lexical block-form="record">"#, r#"<lexical block-form="word-address">"#, "<records> needs block-form"),
+    ] {
+        assert!(xml.contains(from), "{from}");
+        let bad = xml.replacen(from, to, 1);
+        let (dialect, diags) = ncplan::dialect::load(&bad);
+        assert!(dialect.is_none(), "{says}");
+        let d = diags.iter().find(|d| d.message.contains(says)).unwrap_or_else(|| panic!("{says}: {diags:#?}"));
+        let at = &bad[d.range.start as usize..d.range.end as usize];
+        assert!(
+            !at.is_empty()
+                && (to.is_empty()
+                    || at.contains(to.split_whitespace().nth(1).unwrap_or(to))
+                    || to.contains(at.trim_matches('"'))
+                    || at.starts_with('<')),
+            "{says}: {at}"
+        );
+    }
+}
