@@ -10,6 +10,7 @@ mod records;
 
 pub use expr::{BinOp, Expr, ExprId, Func};
 pub use parser::{Parser, leader};
+pub use records::record_program_name;
 
 use crate::dialect::{Role, Statement};
 use crate::text::TextRange;

@@ -794,3 +794,27 @@ fn hole(st: &mut RecordState, dialect: &Dialect, c: &Cycle, p: [f64; 3], block: 
     st.prev = None;
     st.pos = Some(p);
 }
+
+/// The program's name a record-form text states (the first record whose action is
+/// [`RecordAction::Name`]: `PARTNO/MFG0004`, `PARTNO PART 1`), quotes taken off; `None` for
+/// a dialect of words or a text without one. Looks at the first 64 KiB.
+pub fn record_program_name(text: &str, dialect: &Dialect) -> Option<String> {
+    let recs = dialect.records.as_deref()?;
+    let mut end = text.len().min(64 * 1024);
+    while !text.is_char_boundary(end) {
+        end -= 1;
+    }
+    for line in text[..end].lines() {
+        let code = line.split(recs.comment.as_str()).next().unwrap_or("").trim();
+        let (major, rest) = match code.split_once('/') {
+            Some((m, r)) => (m, r),
+            None => code.split_once(char::is_whitespace).unwrap_or((code, "")),
+        };
+        let major = major.split_whitespace().collect::<Vec<_>>().join(" ").to_ascii_uppercase();
+        if recs.records.iter().any(|r| r.major == major && r.action == RecordAction::Name) {
+            let name = rest.trim().trim_matches(|c| c == '\'' || c == '"').trim();
+            return (!name.is_empty()).then(|| name.to_owned());
+        }
+    }
+    None
+}

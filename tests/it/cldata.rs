@@ -109,8 +109,11 @@ fn every_cl_style_gives_the_fanuc_plan() {
         let want = comparable_plan(&fanuc);
         for (style, ext) in STYLES {
             let file = format!("{part}_{style}.{ext}");
-            let got = comparable_plan(&read(&file, "cldata"));
-            assert_eq!(got, want, "{file}");
+            let cl = read(&file, "cldata");
+            assert_eq!(comparable_plan(&cl), want, "{file}");
+            // `ncplan diff` between the CL original and the posted program reports nothing.
+            let changes = ncplan::diff::diff(&cl.plan, &fanuc.plan);
+            assert!(changes.is_empty(), "{file}: {:?}", changes.iter().map(|c| c.phrase()).collect::<Vec<_>>());
         }
     }
 }
@@ -378,4 +381,69 @@ fn record_form_mistakes_point_into_the_dictionary() {
             "{says}: {at}"
         );
     }
+}
+
+/// A CAM folder of CL files and a machine share of Fanuc programs: the real daemon pairs the
+/// shop's program with its CL original by name (the CL file's name; its `PARTNO` is a key
+/// too) and reports the operator's edit, and nothing else.
+#[test]
+fn the_daemon_compares_a_shop_program_with_its_cl_original() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let path = |rel: &str| dir.path().join(rel);
+    std::fs::create_dir_all(path("cam")).unwrap();
+    std::fs::create_dir_all(path("share")).unwrap();
+    std::fs::write(
+        path("ncplan.toml"),
+        "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 200\n\
+         [[cam]]\npath = 'cam'\ndialect = 'auto'\n\
+         [[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n",
+    )
+    .unwrap();
+    let programs = crate::root().join("tests/programs/cldata");
+    std::fs::copy(programs.join("pocket_nx.cls"), path("cam/POCKET.cls")).unwrap();
+    std::fs::copy(programs.join("drill_ream_creo.ncl"), path("cam/DRILL_REAM.ncl")).unwrap();
+    let log = std::fs::File::create(path("daemon.log")).unwrap();
+    let mut child = Command::new(crate::bin())
+        .args(["watch", "--config"])
+        .arg(path("ncplan.toml"))
+        .env("NCPLAN_LOG", "debug")
+        .stdout(Stdio::null())
+        .stderr(log)
+        .spawn()
+        .expect("start ncplan watch");
+    let db = path("var/ncplan.db");
+    let wait_for = |sql: &str, want: usize| {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        loop {
+            let r = crate::db_rows(&db, sql);
+            if r.len() >= want || Instant::now() > deadline {
+                return r;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    assert_eq!(wait_for("SELECT id FROM revisions", 2).len(), 2);
+    // The operator slows the pocket's contour feed from 600 to 450; the drilling program
+    // goes to the machine as posted.
+    let pocket = std::fs::read_to_string(programs.join("pocket.nc")).unwrap().replace("F600.", "F450.");
+    std::fs::write(path("share/POCKET.nc"), pocket).unwrap();
+    std::fs::copy(programs.join("drill_ream.nc"), path("share/DRILL_REAM.nc")).unwrap();
+    let compared = wait_for(
+        "SELECT p.path, c.rule, c.changes FROM comparisons c JOIN revisions r ON r.id = c.original_revision_id
+         JOIN programs p ON p.id = r.program_id ORDER BY p.path",
+        2,
+    );
+    let _ = child.kill();
+    let _ = child.wait();
+    assert_eq!(compared.len(), 2, "{compared:?}\n{}", std::fs::read_to_string(path("daemon.log")).unwrap_or_default());
+    assert!(compared[0][0].ends_with("cam/DRILL_REAM.ncl") && compared[1][0].ends_with("cam/POCKET.cls"), "{compared:?}");
+    assert_eq!(compared[0][2], "0", "the posted drilling program is what its CL file says: {compared:?}");
+    assert_eq!(compared[1][2], "1", "{compared:?}");
+    let changes = crate::db_rows(&db, "SELECT program, kind, before, after FROM shopfloor_changes");
+    assert_eq!(changes, [["O1004", "feed_changed", "F200, F600", "F200, F450"]]);
+    // The CL originals were read as CL files, without errors.
+    let errors = crate::db_rows(&db, "SELECT d.code FROM diagnostics d WHERE d.severity = 'error'");
+    assert!(errors.is_empty(), "{errors:?}");
 }
