@@ -357,21 +357,19 @@ fn record(st: &mut RecordState, recs: &Records, dialect: &Dialect, block: &mut B
 fn tokens(st: &RecordState, buf: &str, from: usize) -> Vec<(Tok, TextRange)> {
     let mut out = Vec::new();
     let s = &buf[from.min(buf.len())..];
-    let mut i = 0;
-    let b = s.as_bytes();
-    while i < b.len() {
-        if b[i] == b',' || b[i].is_ascii_whitespace() {
-            i += 1;
-            continue;
-        }
-        let j = s[i..].find(|c: char| c == ',' || c.is_whitespace()).map_or(s.len(), |k| i + k);
-        let t = &s[i..j];
-        let range = st.range(from + i, from + j);
-        match t.parse::<f64>() {
+    let sep = |c: char| c == ',' || c.is_whitespace();
+    let mut rest = s;
+    while let Some(i) = rest.find(|c: char| !sep(c)) {
+        let start = s.len() - rest.len() + i;
+        let t = &s[start..];
+        let len = t.find(sep).unwrap_or(t.len());
+        let word = &t[..len];
+        let range = st.range(from + start, from + start + len);
+        match word.parse::<f64>() {
             Ok(v) if v.is_finite() => out.push((Tok::Num(v), range)),
-            _ => out.push((Tok::Word(t.to_ascii_uppercase()), range)),
+            _ => out.push((Tok::Word(word.to_ascii_uppercase()), range)),
         }
-        i = j;
+        rest = &t[len..];
     }
     out
 }
