@@ -146,6 +146,10 @@ pub(super) fn next_record(
     }
     let bytes = text.as_bytes();
     if *pos >= bytes.len() {
+        settle(st, recs, None, diags);
+        if let Some(c) = st.circle.take() {
+            diags.push(Diagnostic::new(Code::CircleWithoutMove, c.range, "no motion record ends this circle's arc before the end of the file"));
+        }
         return false;
     }
     block.clear();
@@ -339,7 +343,12 @@ fn record(st: &mut RecordState, recs: &Records, dialect: &Dialect, block: &mut B
                 }
                 RecordAction::Rapid => st.rapid = Some(def.codes.clone()),
                 RecordAction::Circle => circle(st, def, &toks, block, diags),
-                RecordAction::Cycle => cycle(st, def, &toks, dialect, block, diags),
+                RecordAction::Cycle => {
+                    if let Some(c) = st.circle.take() {
+                        diags.push(Diagnostic::new(Code::CircleWithoutMove, c.range, "a cycle starts before a motion record ends this circle's arc: it is dropped"));
+                    }
+                    cycle(st, def, &toks, dialect, block, diags)
+                }
                 RecordAction::From => {
                     if nums_only.len() >= 3 {
                         st.pos = Some([nums_only[0], nums_only[1], nums_only[2]]);

@@ -413,6 +413,9 @@ fn the_daemon_compares_a_shop_program_with_its_cl_original() {
     let programs = crate::root().join("tests/programs/cldata");
     std::fs::copy(programs.join("pocket_nx.cls"), path("cam/POCKET.cls")).unwrap();
     std::fs::copy(programs.join("drill_ream_creo.ncl"), path("cam/DRILL_REAM.ncl")).unwrap();
+    // A CL file whose PARTNO names the program the post writes (`O1005`), under another file name.
+    let profile = std::fs::read_to_string(programs.join("profile_creo.ncl")).unwrap().replace("PARTNO / PROFILE", "PARTNO / O1005");
+    std::fs::write(path("cam/PROFILE_OP10.ncl"), profile).unwrap();
     let log = std::fs::File::create(path("daemon.log")).unwrap();
     let mut child = Command::new(crate::bin())
         .args(["watch", "--config"])
@@ -433,23 +436,26 @@ fn the_daemon_compares_a_shop_program_with_its_cl_original() {
             std::thread::sleep(Duration::from_millis(20));
         }
     };
-    assert_eq!(wait_for("SELECT id FROM revisions", 2).len(), 2);
+    assert_eq!(wait_for("SELECT id FROM revisions", 3).len(), 3);
     // The operator slows the pocket's contour feed from 600 to 450; the drilling program
     // goes to the machine as posted.
     let pocket = std::fs::read_to_string(programs.join("pocket.nc")).unwrap().replace("F600.", "F450.");
     std::fs::write(path("share/POCKET.nc"), pocket).unwrap();
     std::fs::copy(programs.join("drill_ream.nc"), path("share/DRILL_REAM.nc")).unwrap();
+    std::fs::copy(programs.join("profile.nc"), path("share/PROFILE.nc")).unwrap();
     let compared = wait_for(
         "SELECT p.path, c.rule, c.changes FROM comparisons c JOIN revisions r ON r.id = c.original_revision_id
          JOIN programs p ON p.id = r.program_id ORDER BY p.path",
-        2,
+        3,
     );
     let _ = child.kill();
     let _ = child.wait();
-    assert_eq!(compared.len(), 2, "{compared:?}\n{}", std::fs::read_to_string(path("daemon.log")).unwrap_or_default());
+    assert_eq!(compared.len(), 3, "{compared:?}\n{}", std::fs::read_to_string(path("daemon.log")).unwrap_or_default());
     assert!(compared[0][0].ends_with("cam/DRILL_REAM.ncl") && compared[1][0].ends_with("cam/POCKET.cls"), "{compared:?}");
-    assert_eq!(compared[0][2], "0", "the posted drilling program is what its CL file says: {compared:?}");
-    assert_eq!(compared[1][2], "1", "{compared:?}");
+    assert!(compared[2][0].ends_with("cam/PROFILE_OP10.ncl"), "{compared:?}");
+    assert_eq!((compared[0][1].as_str(), compared[0][2].as_str()), ("file-name", "0"), "the posted drilling program is what its CL file says");
+    assert_eq!((compared[1][1].as_str(), compared[1][2].as_str()), ("file-name", "1"));
+    assert_eq!((compared[2][1].as_str(), compared[2][2].as_str()), ("program-name", "0"), "paired by the CL file's PARTNO");
     let changes = crate::db_rows(&db, "SELECT program, kind, before, after FROM shopfloor_changes");
     assert_eq!(changes, [["O1004", "feed_changed", "F200, F600", "F200, F450"]]);
     // The CL originals were read as CL files, without errors.
@@ -566,5 +572,47 @@ fn solidworks_cl_files_drill_and_cut_what_their_heidenhain_programs_do() {
         let cl_in_h = ce.iter().filter(|p| near(p, &he)).count();
         assert!(hc.len() >= 100, "{part}: {} cuts", hc.len());
         assert_eq!((h_in_cl, cl_in_h), (he.len(), ce.len()), "{part}");
+    }
+}
+
+/// The issue's other records, each doing what the reference says: `FROM` (a start point, no
+/// motion), `GODLTA` (increments, or a distance along the tool axis), `DELAY` (seconds),
+/// `OPSTOP`, `STOP` with a message, `INSERT` text, `COOLNT`, `CUTCOM` with a register,
+/// `SELECT/TOOL` (a preselection), `MULTAX` and `MACHIN` (nothing to do), `SPINDL/OFF`.
+#[test]
+fn the_other_records_do_what_the_reference_says() {
+    let cl = "PARTNO/RECORDS\nMACHIN/UNCX01,1\nUNITS/MM\nMULTAX\nLOADTL/7\nSELECT/TOOL,8\nSPINDL/2000,RPM,CCLW\nCOOLNT/MIST\n\
+              FROM/0,0,100\nRAPID\nGOTO/10,10,20\nFEDRAT/300,MMPM\nGODLTA/5,0,-2\nGODLTA/-3\nDELAY/1.5\nOPSTOP\n\
+              INSERT/G65 P9010 (passed through as text)\nCUTCOM/RIGHT,7\nGOTO/30,10,15\nCUTCOM/OFF\nGOTO/40,10,15\n\
+              STOP/(TURN THE PART OVER)\nCOOLNT/OFF\nSPINDL/OFF\nFINI\n";
+    let d = Registry::shipped().get("cldata").unwrap();
+    let mut p = Profile::default();
+    p.tools.insert(7, ToolData { diameter: Some(6.0), ..ToolData::default() });
+    let a = analyze(cl.as_bytes(), &d, &p);
+    assert!(findings(&a).is_empty(), "{:#?}", findings(&a));
+    let ops = a.canon.iter().map(|c| &c.op).collect::<Vec<_>>();
+    let has = |want: &CanonOp| ops.iter().any(|o| *o == want);
+    assert!(has(&CanonOp::ChangeTool(7)) && has(&CanonOp::SelectTool(8)), "{ops:#?}");
+    assert!(has(&CanonOp::SetSpindleSpeed(2000.0)) && has(&CanonOp::StartSpindleCounterclockwise) && has(&CanonOp::StopSpindleTurning));
+    assert!(has(&CanonOp::MistOn) && has(&CanonOp::MistOff));
+    assert!(has(&CanonOp::Dwell(1.5)) && has(&CanonOp::OptionalProgramStop) && has(&CanonOp::ProgramStop) && has(&CanonOp::ProgramEnd));
+    assert!(has(&CanonOp::Comment("TURN THE PART OVER".into())) || has(&CanonOp::Comment("(TURN THE PART OVER)".into())), "{ops:#?}");
+    assert!(has(&CanonOp::Comment("G65 P9010 (passed through as text)".into())), "{ops:#?}");
+    assert!(has(&CanonOp::Setting(ncplan::canon::Setting::CutterComp(Some((false, Some(7)))))), "{ops:#?}");
+    // FROM moves nothing; GODLTA goes by increments from the last point, then 3 down the axis.
+    let moves = toolpath(&a).into_iter().map(|(k, p)| (k, [p[0], p[1], p[2]])).collect::<Vec<_>>();
+    assert_eq!(moves[0], ("traverse", [10.0, 10.0, 20.0]), "{moves:?}");
+    assert_eq!(moves[1], ("feed", [15.0, 10.0, 18.0]), "{moves:?}");
+    assert_eq!(moves[2], ("feed", [15.0, 10.0, 15.0]), "{moves:?}");
+    assert_eq!(a.plan.program.as_deref(), Some("RECORDS"));
+}
+
+#[test]
+fn a_circle_no_move_ends_is_reported() {
+    let d = Registry::shipped().get("cldata").unwrap();
+    for cl in ["UNITS/MM\nGOTO/0,0,0\nCIRCLE/5,0,0,0,0,1,5\n", "UNITS/MM\nGOTO/0,0,0\nCIRCLE/5,0,0,0,0,1,5\nCYCLE/DRILL,FEDTO,5,MMPM,100,RAPTO,2\nGOTO/1,1,0\nCYCLE/OFF\n"] {
+        let a = analyze(cl.as_bytes(), &d, &Profile::default());
+        assert_eq!(a.diagnostics.iter().filter(|x| x.code == Code::CircleWithoutMove).count(), 1, "{cl}: {:#?}", a.diagnostics);
+        assert!(!a.canon.iter().any(|c| matches!(c.op, CanonOp::ArcFeed { .. })), "{cl}");
     }
 }
