@@ -134,6 +134,9 @@ pub struct Records {
     pub continuation: char,
     /// The comment opener, to the end of the line (`$$`).
     pub comment: String,
+    /// The opener of a comment that is a command for the CAM system (Creo `$$-> CSYS / ...`,
+    /// `$$-> CUTTER / 3.0`), not a note for the operator: read over, not kept as a comment.
+    pub command: Option<String>,
     /// Records common to every producer.
     pub records: Vec<RecordDef>,
     /// Producers, tried in order; the first without evidence is the default.

@@ -148,7 +148,11 @@ pub(super) fn next_record(
     if *pos >= bytes.len() {
         settle(st, recs, None, diags);
         if let Some(c) = st.circle.take() {
-            diags.push(Diagnostic::new(Code::CircleWithoutMove, c.range, "no motion record ends this circle's arc before the end of the file"));
+            diags.push(Diagnostic::new(
+                Code::CircleWithoutMove,
+                c.range,
+                "no motion record ends this circle's arc before the end of the file",
+            ));
         }
         return false;
     }
@@ -160,6 +164,8 @@ pub(super) fn next_record(
     let mut cur = start;
     let mut end = start;
     let mut comment_continues = false;
+    // Whether the comment being continued is a CAM command (`$$-> CSYS ... $`), not kept.
+    let mut command = false;
     for _ in 0..CONTINUED_LIMIT {
         let le = text[cur..].find('\n').map_or(bytes.len(), |i| cur + i);
         let next = if le < bytes.len() { le + 1 } else { le };
@@ -168,7 +174,9 @@ pub(super) fn next_record(
         end = le;
         let at_end = next >= bytes.len();
         if comment_continues {
-            block.comments.push(TextRange::new(cur, le));
+            if !command {
+                block.comments.push(TextRange::new(cur, le));
+            }
             comment_continues = phys.trim_end().ends_with(recs.continuation);
             *line += 1;
             cur = next;
@@ -183,7 +191,10 @@ pub(super) fn next_record(
             None => (phys, None),
         };
         if let Some(i) = comment {
-            block.comments.push(TextRange::new(cur + i + recs.comment.len(), le));
+            command = recs.command.as_deref().is_some_and(|c| phys[i..].starts_with(c));
+            if !command {
+                block.comments.push(TextRange::new(cur + i + recs.comment.len(), le));
+            }
         }
         let code_t = code.trim_end();
         if code_t.ends_with(recs.continuation) && !code_t.trim().is_empty() {
@@ -345,7 +356,11 @@ fn record(st: &mut RecordState, recs: &Records, dialect: &Dialect, block: &mut B
                 RecordAction::Circle => circle(st, def, &toks, block, diags),
                 RecordAction::Cycle => {
                     if let Some(c) = st.circle.take() {
-                        diags.push(Diagnostic::new(Code::CircleWithoutMove, c.range, "a cycle starts before a motion record ends this circle's arc: it is dropped"));
+                        diags.push(Diagnostic::new(
+                            Code::CircleWithoutMove,
+                            c.range,
+                            "a cycle starts before a motion record ends this circle's arc: it is dropped",
+                        ));
                     }
                     cycle(st, def, &toks, dialect, block, diags)
                 }

@@ -453,7 +453,11 @@ fn the_daemon_compares_a_shop_program_with_its_cl_original() {
     assert_eq!(compared.len(), 3, "{compared:?}\n{}", std::fs::read_to_string(path("daemon.log")).unwrap_or_default());
     assert!(compared[0][0].ends_with("cam/DRILL_REAM.ncl") && compared[1][0].ends_with("cam/POCKET.cls"), "{compared:?}");
     assert!(compared[2][0].ends_with("cam/PROFILE_OP10.ncl"), "{compared:?}");
-    assert_eq!((compared[0][1].as_str(), compared[0][2].as_str()), ("file-name", "0"), "the posted drilling program is what its CL file says");
+    assert_eq!(
+        (compared[0][1].as_str(), compared[0][2].as_str()),
+        ("file-name", "0"),
+        "the posted drilling program is what its CL file says"
+    );
     assert_eq!((compared[1][1].as_str(), compared[1][2].as_str()), ("file-name", "1"));
     assert_eq!((compared[2][1].as_str(), compared[2][2].as_str()), ("program-name", "0"), "paired by the CL file's PARTNO");
     let changes = crate::db_rows(&db, "SELECT program, kind, before, after FROM shopfloor_changes");
@@ -610,7 +614,10 @@ fn the_other_records_do_what_the_reference_says() {
 #[test]
 fn a_circle_no_move_ends_is_reported() {
     let d = Registry::shipped().get("cldata").unwrap();
-    for cl in ["UNITS/MM\nGOTO/0,0,0\nCIRCLE/5,0,0,0,0,1,5\n", "UNITS/MM\nGOTO/0,0,0\nCIRCLE/5,0,0,0,0,1,5\nCYCLE/DRILL,FEDTO,5,MMPM,100,RAPTO,2\nGOTO/1,1,0\nCYCLE/OFF\n"] {
+    for cl in [
+        "UNITS/MM\nGOTO/0,0,0\nCIRCLE/5,0,0,0,0,1,5\n",
+        "UNITS/MM\nGOTO/0,0,0\nCIRCLE/5,0,0,0,0,1,5\nCYCLE/DRILL,FEDTO,5,MMPM,100,RAPTO,2\nGOTO/1,1,0\nCYCLE/OFF\n",
+    ] {
         let a = analyze(cl.as_bytes(), &d, &Profile::default());
         assert_eq!(a.diagnostics.iter().filter(|x| x.code == Code::CircleWithoutMove).count(), 1, "{cl}: {:#?}", a.diagnostics);
         assert!(!a.canon.iter().any(|c| matches!(c.op, CanonOp::ArcFeed { .. })), "{cl}");

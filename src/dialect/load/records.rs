@@ -9,10 +9,14 @@ use super::Cx;
 impl Cx {
     pub(super) fn records(&mut self, el: &Element, codes: &[CodeDef]) -> crate::dialect::records::Records {
         use crate::dialect::records::{CircleSense, Producer, Records};
-        self.shape(el, &["continuation", "comment", "tolerance"], &["record", "producer"]);
+        self.shape(el, &["continuation", "comment", "command", "tolerance"], &["record", "producer"]);
         let continuation = self.char_attr(el, "continuation").unwrap_or('$');
         let comment = self.attr(el, "comment").unwrap_or("$$").to_owned();
         let tolerance = self.number(el, "tolerance", 0.001);
+        let command = self.attr(el, "command").map(str::to_owned);
+        if command.as_ref().is_some_and(|c| !c.starts_with(&comment)) {
+            self.error(Self::attr_range(el, "command"), "`command` must start with the `comment` opener");
+        }
         let mut records = Vec::new();
         for r in el.children.iter().filter(|c| c.name == "record") {
             if let Some(def) = self.record(r, codes) {
@@ -49,7 +53,7 @@ impl Cx {
         if !producers.iter().any(|p| p.evidence.is_empty()) {
             self.error(el.range, "<records> needs one <producer> without <evidence>: the default");
         }
-        Records { continuation, comment, records, producers, tolerance }
+        Records { continuation, comment, command, records, producers, tolerance }
     }
 
     /// A code by its spelling in the dialect: `G81`, `M6`, or a keyword code's keyword.
