@@ -595,7 +595,7 @@ fn the_other_records_do_what_the_reference_says() {
     let a = analyze(cl.as_bytes(), &d, &p);
     assert!(findings(&a).is_empty(), "{:#?}", findings(&a));
     let ops = a.canon.iter().map(|c| &c.op).collect::<Vec<_>>();
-    let has = |want: &CanonOp| ops.iter().any(|o| *o == want);
+    let has = |want: &CanonOp| ops.contains(&want);
     assert!(has(&CanonOp::ChangeTool(7)) && has(&CanonOp::SelectTool(8)), "{ops:#?}");
     assert!(has(&CanonOp::SetSpindleSpeed(2000.0)) && has(&CanonOp::StartSpindleCounterclockwise) && has(&CanonOp::StopSpindleTurning));
     assert!(has(&CanonOp::MistOn) && has(&CanonOp::MistOff));
