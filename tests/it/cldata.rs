@@ -623,3 +623,50 @@ fn a_circle_no_move_ends_is_reported() {
         assert!(!a.canon.iter().any(|c| matches!(c.op, CanonOp::ArcFeed { .. })), "{cl}");
     }
 }
+
+/// The 5-axis pair (NX `Variable_Axis` → Haas UMC-750, B tilting and C rotary): the tool axis
+/// the CL file's `GOTO/x,y,z,i,j,k` records keep in the canon is the one the post turned into
+/// B and C (B = -acos k, C = atan2(j, i) - 180°, or the other pair -B, C + 180°, within the
+/// post's 0.001°), and the tool tip
+/// points are the Haas program's X Y Z within a step of its 4 decimals (the post writes them unchanged, for the control's
+/// tool-centre-point mode). So the data for a 5-axis output is all there.
+#[test]
+fn the_tool_axis_of_a_5_axis_cl_file_is_what_its_post_made_b_and_c_of() {
+    let Some(_) = crate::shared_corpus("cldata::the_tool_axis_of_a_5_axis_cl_file_is_what_its_post_made_b_and_c_of") else { return };
+    let cl = corpus_analysis("cldata", "mech491__APT_Variable_Axis.txt", "cldata");
+    let haas = corpus_analysis("haas", "mech491__PostProcessed_Variable_Axis.txt", "haas");
+    // The CL feeds with the axis in force at each.
+    let mut axis = [0.0, 0.0, 1.0];
+    let mut cl_cuts = Vec::new();
+    for c in &cl.canon {
+        match c.op {
+            CanonOp::ToolAxis(a) => axis = a,
+            CanonOp::StraightFeed(p) => cl_cuts.push(([p[0], p[1], p[2]], axis)),
+            _ => {}
+        }
+    }
+    let haas_cuts = haas.canon.iter().filter_map(|c| if let CanonOp::StraightFeed(p) = c.op { Some(p) } else { None }).collect::<Vec<_>>();
+    assert_eq!(cl_cuts.len(), haas_cuts.len());
+    assert!(cl_cuts.len() > 300, "{}", cl_cuts.len());
+    let mut tilted = 0;
+    for (i, ((p, a), h)) in cl_cuts.iter().zip(&haas_cuts).enumerate() {
+        for k in 0..3 {
+            assert!((p[k] - h[k]).abs() <= 0.00015, "cut {i}: {p:?} against {h:?}");
+        }
+        // Two B/C pairs give one axis: (B, C) and (-B, C + 180°); the post picks either.
+        let mut b = -a[2].clamp(-1.0, 1.0).acos().to_degrees();
+        let mut flip = 0.0;
+        if (b + h[4]).abs() < (b - h[4]).abs() {
+            b = -b;
+            flip = 180.0;
+        }
+        assert!((b - h[4]).abs() <= 0.002, "cut {i}: B {b} against {}", h[4]);
+        if b.abs() > 0.01 {
+            let c = (a[1].atan2(a[0]).to_degrees() - 180.0 + flip + 540.0).rem_euclid(360.0) - 180.0;
+            let d = (c - h[5] + 540.0).rem_euclid(360.0) - 180.0;
+            assert!(d.abs() <= 0.002, "cut {i}: C {c} against {}", h[5]);
+            tilted += 1;
+        }
+    }
+    assert!(tilted > 300, "{tilted}");
+}
