@@ -10,6 +10,8 @@ use super::{
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
 
+mod records;
+
 /// Loads a dialect from XML text. Never fails: a broken file gives `None` and at least one
 /// error diagnostic whose range points into `text`. A file that `extends` another needs
 /// [`Registry::add`](super::Registry::add), which knows the bases.
@@ -181,7 +183,7 @@ impl Cx {
         self.shape(
             root,
             &["name", "family", "title", "version"],
-            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "recognise"],
+            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "records", "recognise"],
         );
         let name = self.required(root, "name").unwrap_or_default().to_owned();
         if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
@@ -206,6 +208,14 @@ impl Cx {
         let macros = child("macros").map(|el| self.macros(el)).unwrap_or_default();
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
+        let records = child("records").map(|el| Box::new(self.records(el, &codes)));
+        match (&records, lexical.block_form) {
+            (None, BlockForm::Record) => self.error(root.range, "block-form=\"record\" needs a <records> element"),
+            (Some(_), BlockForm::WordAddress | BlockForm::KeywordFirst) => {
+                self.error(child("records").map_or(root.range, |e| e.range), "<records> needs block-form=\"record\" in <lexical>")
+            }
+            _ => {}
+        }
         let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
         let recognise_removed = child("recognise")
             .map(|el| {
@@ -231,6 +241,7 @@ impl Cx {
             groups,
             codes,
             cycles,
+            records,
             execution_order,
             recognise,
             recognise_removed,
@@ -279,6 +290,7 @@ impl Cx {
         let block_form = match self.attr(el, "block-form").unwrap_or("word-address") {
             "word-address" => BlockForm::WordAddress,
             "keyword-first" => BlockForm::KeywordFirst,
+            "record" => BlockForm::Record,
             other => {
                 self.error(Self::attr_range(el, "block-form"), format!("unknown block-form `{other}`"));
                 BlockForm::WordAddress
@@ -479,7 +491,7 @@ impl Cx {
                 _ => {}
             }
         }
-        if lex.comments.is_empty() {
+        if lex.comments.is_empty() && lex.block_form != BlockForm::Record {
             self.error(el.range, "<lexical> needs at least one <comment> rule");
         }
         lex

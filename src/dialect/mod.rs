@@ -7,6 +7,7 @@
 
 mod inherit;
 mod load;
+pub mod records;
 pub mod registry;
 pub mod sniff;
 mod vocab;
@@ -23,6 +24,9 @@ pub enum BlockForm {
     WordAddress,
     /// `L X+10 R0 FMAX`, `TOOL CALL 1 Z S2000` — a keyword first, then its words (Heidenhain).
     KeywordFirst,
+    /// `GOTO/1.0,2.0,3.0`, `SPINDL/RPM,1200,CLW` — records of a major word, a slash and
+    /// minor words and numbers (APT CLDATA); read as the dialect's `<records>` say.
+    Record,
 }
 
 /// Where a comment ends.
@@ -672,6 +676,8 @@ pub struct Dialect {
     pub codes: Vec<CodeDef>,
     /// Named cycles.
     pub cycles: Vec<CycleDef>,
+    /// The record form (APT CLDATA `MAJOR/minor,value`), where programs are records, not words.
+    pub records: Option<Box<records::Records>>,
     /// The order in which a block's items take effect.
     pub execution_order: Vec<Step>,
     /// Evidence that a program is written in this dialect (for folders with none configured),

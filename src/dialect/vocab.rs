@@ -471,6 +471,13 @@ vocab! {
         PatternRadius = "pattern-radius",
         /// The angle between positions on a circle, in degrees (0: the full circle shared evenly).
         PatternStepAngle = "pattern-step-angle",
+        /// The tool axis vector's X component, from the tool tip towards the holder (CLDATA
+        /// `GOTO/x,y,z,i,j,k`); kept in the canon as `ToolAxis`.
+        ToolAxisI = "tool-axis-i",
+        /// The tool axis vector's Y component.
+        ToolAxisJ = "tool-axis-j",
+        /// The tool axis vector's Z component.
+        ToolAxisK = "tool-axis-k",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

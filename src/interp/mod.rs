@@ -398,6 +398,9 @@ pub struct Interpreter<'a> {
     slots: [Option<Slot>; Role::COUNT],
     /// Bit per role whose slot is filled, so that clearing touches only those.
     filled: u128,
+    /// The tool axis vector (from the tip towards the holder) the canon last stated; +Z
+    /// until a block gives another (CLDATA `GOTO/x,y,z,i,j,k`).
+    tool_axis: [f64; 3],
     /// Bit per [`Step`] at which one of the block's codes takes effect.
     code_steps: u32,
     /// Bit per role whose word in the block has an unknown value (left out of the slots).
@@ -532,6 +535,7 @@ impl<'a> Interpreter<'a> {
             },
             slots: [None; Role::COUNT],
             filled: 0,
+            tool_axis: [0.0, 0.0, 1.0],
             unknown_roles: 0,
             code_steps: 0,
             has_axes: false,
@@ -886,6 +890,21 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// A block's tool axis words (CLDATA `GOTO/x,y,z,i,j,k`): the axis goes into the canon
+    /// where it changes, before the block's move.
+    fn tool_axis(&mut self, sink: &mut dyn CanonSink) {
+        let mut axis = self.tool_axis;
+        for (k, role) in [Role::ToolAxisI, Role::ToolAxisJ, Role::ToolAxisK].into_iter().enumerate() {
+            if let Some(v) = self.slots[role as usize] {
+                axis[k] = v.value;
+            }
+        }
+        if axis != self.tool_axis {
+            self.tool_axis = axis;
+            self.emit(sink, CanonOp::ToolAxis(axis));
+        }
+    }
+
     fn execute_block(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.origin = block.range;
         self.line = block.line;
@@ -924,6 +943,9 @@ impl<'a> Interpreter<'a> {
         }
         if self.st.ended {
             return;
+        }
+        if self.filled & (1 << Role::ToolAxisI as u32 | 1 << Role::ToolAxisJ as u32 | 1 << Role::ToolAxisK as u32) != 0 {
+            self.tool_axis(sink);
         }
         if let Some(k) = self.codes.iter().position(|&(c, _)| self.code(c).meaning == Meaning::MacroCall) {
             self.macro_call(block, self.codes[k].1, diags);
