@@ -491,6 +491,10 @@ impl Cx {
             dwell_unit: TimeUnit::Seconds,
             tool_change_stops_spindle: true,
             tool_change_applies_length: false,
+            tool_change_rereads_position: false,
+            h0_spindle_tool: false,
+            probe_backoff_mm: 0.0,
+            probe_backoff_inch: 0.0,
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
@@ -524,6 +528,10 @@ impl Cx {
                 "dwell-unit",
                 "tool-change-stops-spindle",
                 "tool-change-applies-length",
+                "position-after-tool-change",
+                "h0",
+                "probe-backoff-mm",
+                "probe-backoff-inch",
                 "peck-clearance-mm",
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
@@ -570,6 +578,10 @@ impl Cx {
         };
         b.tool_change_stops_spindle = self.bool(el, "tool-change-stops-spindle", true);
         b.tool_change_applies_length = self.bool(el, "tool-change-applies-length", false);
+        b.h0_spindle_tool = self.either(el, "h0", "no-offset", "spindle-tool");
+        b.tool_change_rereads_position = self.either(el, "position-after-tool-change", "program", "last-move");
+        b.probe_backoff_mm = self.number(el, "probe-backoff-mm", 0.0).max(0.0);
+        b.probe_backoff_inch = self.number(el, "probe-backoff-inch", b.probe_backoff_mm / 25.4).max(0.0);
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);

@@ -95,8 +95,12 @@ vocab! {
         SpindleSync = "spindle-sync",
         /// Rigid tapping (G33.1): synchronised to the bottom and back out, K per revolution.
         RigidTap = "rigid-tap",
-        /// Probing (G38.n).
+        /// Probing (G38.2, G38.4): a probe that does not touch (or leave contact) stops
+        /// the program with an error, and so does a move of no length.
         Probe = "probe",
+        /// Probing that goes on whether it touches or not (G38.3, G38.5); a move of no
+        /// length is taken.
+        ProbeQuiet = "probe-quiet",
         /// XY plane (G17).
         PlaneXy = "plane-xy",
         /// XZ plane (G18).

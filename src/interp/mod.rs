@@ -349,8 +349,6 @@ struct State {
     blank_min: Option<[f64; 3]>,
     /// Cutter compensation has just ended: the next move leaves the compensated path.
     leaving_comp: bool,
-    /// Where the last probe move stopped (taken as its programmed end point).
-    probe: Option<[f64; 3]>,
     /// Lathe diameter mode (G7): X words give diameters.
     diameter: bool,
     /// Constant surface speed (G96): S is a surface speed, and this is the spindle's
@@ -436,6 +434,10 @@ pub struct Interpreter<'a> {
     corners: std::cell::RefCell<Option<corner::Corners>>,
     /// A compensation problem met while emitting, reported after the block.
     comp_problem: std::cell::Cell<Option<comp::CompProblem>>,
+    /// The end of the last move sent (program coordinates, before transforms), which a
+    /// control that re-reads its position after a tool change takes as the program position
+    /// (`position-after-tool-change="last-move"`).
+    sent: std::cell::Cell<[f64; 6]>,
     /// Where ops come from while a subprogram from another file runs: the call block.
     origin_override: Option<(TextRange, u32)>,
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
@@ -504,7 +506,6 @@ impl<'a> Interpreter<'a> {
                 comp_left: true,
                 blank_min: None,
                 leaving_comp: false,
-                probe: None,
                 diameter: dialect.behaviour.x_diameter,
                 css_max: None,
                 spindle_limit: None,
@@ -567,6 +568,7 @@ impl<'a> Interpreter<'a> {
                     .then(corner::Corners::default),
             ),
             comp_problem: std::cell::Cell::new(None),
+            sent: std::cell::Cell::new([0.0; 6]),
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),
@@ -643,6 +645,17 @@ impl<'a> Interpreter<'a> {
 
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
         let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
+        match &op {
+            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => self.sent.set(*p),
+            CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
+                let (a0, a1, n) = self.st.plane.axes();
+                let mut p = [0.0; 6];
+                (p[a0], p[a1], p[n]) = (*first_end, *second_end, *axis_end);
+                p[3..].copy_from_slice(abc);
+                self.sent.set(p);
+            }
+            _ => {}
+        }
         let op = if self.st.rotation.is_some() || self.st.scaling.is_some() { self.transform(op) } else { op };
         let canon = Canon { op, origin, line };
         let mut corners = self.corners.borrow_mut();
@@ -802,10 +815,9 @@ impl<'a> Interpreter<'a> {
                 SystemVar::Speed => self.st.speed,
                 SystemVar::ToolRadius => self.tool_diameter(self.st.tool).unwrap_or(0.0) / 2.0 / self.st.units.to_mm(),
                 SystemVar::ToolDiameter => self.tool_diameter(self.st.tool).unwrap_or(0.0) / self.st.units.to_mm(),
-                SystemVar::ProbeX => self.st.probe.map_or(0.0, |p| p[0]),
-                SystemVar::ProbeY => self.st.probe.map_or(0.0, |p| p[1]),
-                SystemVar::ProbeZ => self.st.probe.map_or(0.0, |p| p[2]),
-                SystemVar::ProbeTripped => f64::from(u8::from(self.st.probe.is_some())),
+                // The probe results are written when a probe move ends, and the program
+                // may write them too, as any parameter.
+                SystemVar::ProbeX | SystemVar::ProbeY | SystemVar::ProbeZ | SystemVar::ProbeTripped => continue,
                 SystemVar::Alarm | SystemVar::StopMessage => continue,
             };
             let _ = self.params.set(f64::from(n), v);
@@ -979,6 +991,14 @@ impl<'a> Interpreter<'a> {
         // Codes the dialect files under `misc` take effect last; most are only recorded.
         if self.code_steps & (1 << Step::Misc as u32) != 0 {
             self.run_codes(Step::Misc, block, sink, diags);
+        }
+        // After a tool change, such a control reads its position back from the machine: the
+        // last move's end, so what the block shifted without moving (a G43 beside the M6) is
+        // not where the next block starts.
+        if self.dialect.behaviour.tool_change_rereads_position
+            && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::ToolChange)
+        {
+            self.st.pos = self.sent.get();
         }
         self.modal_macro_after(motions);
         self.cycles_after(motions, block.range, sink, diags);
@@ -1885,7 +1905,10 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
-                let h = self.slot(Role::H).map_or(self.st.tool, |h| h as u32);
+                let h = match self.slot(Role::H) {
+                    Some(h) if h != 0.0 || !self.dialect.behaviour.h0_spindle_tool => h as u32,
+                    _ => self.st.tool,
+                };
                 self.emit(sink, CanonOp::Setting(Setting::LengthOffset(h)));
                 let mut offsets = self.tool_offsets(h);
                 if def.meaning == Meaning::LengthCompMinus {
@@ -2090,6 +2113,7 @@ impl<'a> Interpreter<'a> {
                     | Meaning::CycleFace
                     | Meaning::CycleThreadPass
                     | Meaning::Probe
+                    | Meaning::ProbeQuiet
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);

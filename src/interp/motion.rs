@@ -3,7 +3,7 @@
 use super::{Interpreter, Spindle};
 use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, Meaning, Role};
+use crate::dialect::{CodeDef, Meaning, Role, SystemVar};
 use crate::syntax::{Block, WordMode};
 use crate::text::TextRange;
 
@@ -59,7 +59,7 @@ impl Interpreter<'_> {
     /// `LP PR+30 PA+45`, `CP IPA+90`: the end point in the plane from its distance to the pole
     /// and its angle about it; a missing one keeps the current point's, an incremental one
     /// (`IPR`, `IPA`) adds to it.
-    fn polar_target(&self, t: &mut [f64; 6]) {
+    pub(super) fn polar_target(&self, t: &mut [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (px, py) = self.st.pole;
         let (dx, dy) = (self.st.pos[a0] - px, self.st.pos[a1] - py);
@@ -148,7 +148,7 @@ impl Interpreter<'_> {
             Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),
             Meaning::CycleThread => self.threading_cycle(def, range, sink, diags),
             Meaning::CycleTurn | Meaning::CycleFace | Meaning::CycleThreadPass => self.single_pass_cycle(def, range, sink, diags),
-            Meaning::Probe => self.probe(def, range, sink, diags),
+            Meaning::Probe | Meaning::ProbeQuiet => self.probe(def, range, sink, diags),
             Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
             Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
@@ -258,7 +258,11 @@ impl Interpreter<'_> {
 
     /// G38.2 to G38.5: a feed towards the end point that stops where the probe touches (or,
     /// away, leaves contact). Where that is, only the machine knows: the analysis takes the
-    /// programmed end point, for the position and for the probe result variables.
+    /// programmed end point for the probe result variables (written once, then the program's
+    /// to change) and, backed off towards the start by the dictionary's `probe-backoff`, for
+    /// the position, as rs274's simulator does. A probe that must touch (G38.2, G38.4) is
+    /// taken to have touched, since the run stops otherwise; so is a quiet one (G38.3,
+    /// G38.5), the way a successful run goes. Only a quiet probe may have no length.
     fn probe(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let bad = |code: Code, msg: &str| Diagnostic::new(code, range, format!("{}: {msg}", def.label()));
         if self.comp.borrow().is_some() {
@@ -268,14 +272,34 @@ impl Interpreter<'_> {
             return diags.push(bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)"));
         }
         let t = self.target();
-        if (0..3).all(|i| (t[i] - self.st.pos[i]).abs() < 1e-9) {
+        let start = self.st.pos;
+        let length = (0..3).map(|i| (t[i] - start[i]).powi(2)).sum::<f64>().sqrt();
+        if length < 1e-9 && def.meaning == Meaning::Probe {
             return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point"));
         }
         self.emit(sink, CanonOp::TurnProbeOn);
         self.emit(sink, CanonOp::StraightProbe(t));
         self.emit(sink, CanonOp::TurnProbeOff);
-        self.st.pos = t;
-        self.st.probe = Some([t[0], t[1], t[2]]);
+        let b = &self.dialect.behaviour;
+        let backoff = if self.st.units == Units::Mm { b.probe_backoff_mm } else { b.probe_backoff_inch };
+        let mut stop = t;
+        if length >= 1e-9 {
+            for i in 0..3 {
+                stop[i] += backoff * (start[i] - t[i]) / length;
+            }
+        }
+        self.st.pos = stop;
+        self.sent.set(stop);
+        for &(n, var) in &self.dialect.macros.system {
+            let v = match var {
+                SystemVar::ProbeX => t[0],
+                SystemVar::ProbeY => t[1],
+                SystemVar::ProbeZ => t[2],
+                SystemVar::ProbeTripped => 1.0,
+                _ => continue,
+            };
+            let _ = self.params.set(f64::from(n), v);
+        }
         let note = bad(
             Code::Unsupported,
             "the probe stops where it touches, which only the machine knows; the analysis goes on from the programmed end point",
