@@ -101,6 +101,15 @@ vocab! {
         /// Probing that goes on whether it touches or not (G38.3, G38.5); a move of no
         /// length is taken.
         ProbeQuiet = "probe-quiet",
+        /// A quadratic B-spline in the XY plane (G5.1): I and J give its control point
+        /// relative to the start; X and Y the end.
+        SplineQuadratic = "spline-quadratic",
+        /// A NURBS control point (G5.2 and the blocks after it): X, Y, the weight P, the
+        /// order L. The curve runs when the block that ends it comes.
+        Nurbs = "nurbs",
+        /// Ends a NURBS block (G5.3): the curve through the collected control points runs,
+        /// and no motion mode stays in force.
+        NurbsEnd = "nurbs-end",
         /// XY plane (G17).
         PlaneXy = "plane-xy",
         /// XZ plane (G18).

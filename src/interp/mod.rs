@@ -318,6 +318,9 @@ struct State {
     /// A lathe's single-pass cycle in force: its X (radius) and Z targets and taper, which a
     /// following block repeats with what it changes.
     turn_cycle: Option<[f64; 3]>,
+    /// The NURBS being collected (G5.2): control points so far, the start among them, and
+    /// the last one.
+    nurbs: Option<(u32, [f64; 6])>,
     sticky_q: Option<f64>,
     sticky_p: Option<f64>,
     ended: bool,
@@ -488,6 +491,7 @@ impl<'a> Interpreter<'a> {
                 sticky_r: None,
                 sticky_z: None,
                 turn_cycle: None,
+                nurbs: None,
                 rough_cut: None,
                 sticky_q: None,
                 sticky_p: None,
@@ -646,7 +650,7 @@ impl<'a> Interpreter<'a> {
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
         let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
         match &op {
-            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => self.sent.set(*p),
+            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => self.sent.set(*p),
             CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
                 let (a0, a1, n) = self.st.plane.axes();
                 let mut p = [0.0; 6];
@@ -739,6 +743,7 @@ impl<'a> Interpreter<'a> {
         match op {
             CanonOp::StraightTraverse(p) => CanonOp::StraightTraverse(at(p)),
             CanonOp::StraightFeed(p) => CanonOp::StraightFeed(at(p)),
+            CanonOp::NurbsFeed { points, end } => CanonOp::NurbsFeed { points, end: at(end) },
             CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
                 let (a0, a1, n) = self.st.plane.axes();
                 let mut end = [0.0; 3];
@@ -2114,12 +2119,16 @@ impl<'a> Interpreter<'a> {
                     | Meaning::CycleThreadPass
                     | Meaning::Probe
                     | Meaning::ProbeQuiet
+                    | Meaning::SplineQuadratic
+                    | Meaning::Nurbs
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);
                 if !self.st.motion_continued {
                     self.st.sticky_z = None;
                     self.st.turn_cycle = None;
+                    // Another motion mode drops the NURBS points collected (as rs274 does).
+                    self.st.nurbs = None;
                 }
                 if !m.is_cycle() {
                     self.st.cycle_initial = None;
@@ -2131,6 +2140,10 @@ impl<'a> Interpreter<'a> {
                 if self.has_axes || full_circle || in_place {
                     self.motion(def, range, block, sink, diags);
                 }
+            }
+            Meaning::NurbsEnd => {
+                self.st.motion_code = None;
+                self.nurbs_end(def, range, sink, diags);
             }
             Meaning::CycleCancel => {
                 // G80 ends a canned cycle; where it has a group of its own (Fanuc group 09) a

@@ -149,6 +149,7 @@ impl Interpreter<'_> {
             Meaning::CycleThread => self.threading_cycle(def, range, sink, diags),
             Meaning::CycleTurn | Meaning::CycleFace | Meaning::CycleThreadPass => self.single_pass_cycle(def, range, sink, diags),
             Meaning::Probe | Meaning::ProbeQuiet => self.probe(def, range, sink, diags),
+            Meaning::SplineQuadratic | Meaning::Nurbs => self.spline(def, range, sink, diags),
             Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
             Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
@@ -305,6 +306,48 @@ impl Interpreter<'_> {
             "the probe stops where it touches, which only the machine knows; the analysis goes on from the programmed end point",
         );
         self.limited(diags, "probe", note);
+    }
+
+    /// G5.1 (a quadratic spline, run at once) and G5.2 (a NURBS control point, kept until
+    /// G5.3): in the XY plane, without Z or rotary motion, and not under cutter
+    /// compensation, as rs274 requires.
+    fn spline(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let bad = |msg: &str| Diagnostic::new(Code::BadValue, range, format!("{}: {msg}", def.label()));
+        if self.st.plane != Plane::Xy {
+            return diags.push(bad("splines are in the XY plane only (G17)"));
+        }
+        if [Role::Z, Role::A, Role::B, Role::C].iter().any(|&r| self.slots[r as usize].is_some()) {
+            return diags.push(bad("splines may not move Z, A, B or C"));
+        }
+        if self.comp.borrow().is_some() {
+            return diags.push(bad("splines cannot run with cutter compensation on"));
+        }
+        let t = self.target();
+        if def.meaning == Meaning::SplineQuadratic {
+            if self.slot(Role::I).is_none() || self.slot(Role::J).is_none() {
+                return diags.push(bad("a quadratic spline needs both I and J (its control point)"));
+            }
+            self.check_technology(def, range, diags);
+            self.emit(sink, CanonOp::NurbsFeed { points: 3, end: t });
+            self.st.pos = t;
+            return;
+        }
+        if self.slot(Role::P).is_none_or(|p| p <= 0.0) {
+            return diags.push(bad("every control point needs a positive weight P"));
+        }
+        let (n, _) = self.st.nurbs.unwrap_or((1, self.st.pos));
+        self.st.nurbs = Some((n + 1, t));
+    }
+
+    /// G5.3: the NURBS collected since G5.2 runs to its last control point.
+    pub(super) fn nurbs_end(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let Some((points, end)) = self.st.nurbs.take() else {
+            let msg = format!("{}: no NURBS block to end (G5.2 first)", def.label());
+            return diags.push(Diagnostic::new(Code::BadValue, range, msg));
+        };
+        self.check_technology(def, range, diags);
+        self.emit(sink, CanonOp::NurbsFeed { points, end });
+        self.st.pos = end;
     }
 
     /// LinuxCNC's G76 lathe threading cycle, pass by pass as its interpreter makes them. X is
