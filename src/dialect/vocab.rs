@@ -89,6 +89,16 @@ vocab! {
         /// A lathe's finishing cycle (Fanuc G70): the contour between the blocks numbered P
         /// and Q runs as written, then the tool returns to the start point at rapid.
         CycleFinishContour = "cycle-finish-contour",
+        /// LinuxCNC's G70: finishing passes along the profile that the O-word subroutine
+        /// named by Q draws, from distance D to E in P passes.
+        ProfileFinish = "profile-finish",
+        /// LinuxCNC's G71: roughing the Q subroutine's profile by passes along Z, I apart,
+        /// leaving D to the profile and the allowances U and W, retracting R. The code's
+        /// `index` says what it does with pockets: 0 cuts them, 1 leaves them (G71.1), 2
+        /// cuts only from the first one on (G71.2).
+        ProfileRoughTurn = "profile-rough-turn",
+        /// LinuxCNC's G72: as `profile-rough-turn`, with passes along X (facing).
+        ProfileRoughFace = "profile-rough-face",
         /// Cancel the canned cycle (G80).
         CycleCancel = "cycle-cancel",
         /// Spindle-synchronised motion (G33): K is the advance per revolution.

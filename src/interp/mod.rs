@@ -14,6 +14,7 @@ mod define;
 pub mod eval;
 mod fast;
 mod flow;
+mod g7x;
 mod motion;
 
 use crate::dialect::DataForm;
@@ -236,6 +237,13 @@ pub(crate) enum Request {
         last: u32,
         /// How to rough it out (G71); `None` finishes it (G70).
         rough: Option<cycle::Rough>,
+    },
+    /// A lathe profile cycle over the O-word subroutine `name` (LinuxCNC G70–G72).
+    Profile {
+        /// The subroutine's label.
+        name: String,
+        /// The cycle.
+        cycle: g7x::Cycle,
     },
 }
 
@@ -2257,6 +2265,7 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
             Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
+            Meaning::ProfileFinish | Meaning::ProfileRoughTurn | Meaning::ProfileRoughFace => self.profile_cycle(def, range, diags),
             Meaning::CycleIntent => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
