@@ -88,13 +88,37 @@ fn lathe_programs_get_a_lathe_dialect_of_their_family() {
 }
 
 /// A program that only shows what a base and its derived dialects share is read in the
-/// base, but not said to be sure: a Haas or a Mitsubishi control would read it too.
+/// base, and said to be a guess (low): a Haas or a Mitsubishi control would read it too.
 #[test]
 fn a_program_any_of_a_family_would_read_is_not_sure_of_the_maker() {
     let r = Registry::shipped();
     let s = r.sniff("%\nO0001\nT1 M6\nG0 G90 G54 X1. Y2.\nG43 H1 Z1.\nG1 Z-1. F10.\nM30\n%\n", Some("p.nc"), "linuxcnc");
     assert_eq!(s.dialect, "fanuc");
-    assert_eq!(s.confidence, Confidence::Medium, "{s:?}");
+    assert_eq!(s.confidence, Confidence::Low, "{s:?}");
+}
+
+/// Evidence against the winner makes the choice a guess: a lathe program's codes beside a
+/// mill's Y words and G17.
+#[test]
+fn a_winner_with_evidence_against_it_is_said_low() {
+    let r = Registry::shipped();
+    let lathe = "%\nO0001\n(HAAS ST-20)\nG50 S3000\nG96 S200 M3\nT0101\nG0 X52. Z2.\nG99 G1 Z-20. F0.2\nU2. W1.\nM30\n%\n";
+    let s = r.sniff(lathe, Some("p.nc"), "linuxcnc");
+    assert_eq!(s.dialect, "haas_lathe");
+    assert_ne!(s.confidence, Confidence::Low, "{s:?}");
+    let mixed = lathe.replacen("G0 X52. Z2.", "G17 G0 X52. Y10. Z2.", 1);
+    let s = r.sniff(&mixed, Some("p.nc"), "linuxcnc");
+    assert_eq!((s.dialect.as_str(), s.confidence), ("haas_lathe", Confidence::Low), "{s:?}");
+}
+
+/// `.ngc` is LinuxCNC's extension, not Mach3's: a LinuxCNC program that only mentions Mach3
+/// in a comment stays LinuxCNC's.
+#[test]
+fn a_mach3_mention_in_an_ngc_program_does_not_make_it_mach3() {
+    let r = Registry::shipped();
+    let text = "( Note: modified for compatibility with Mach3 )\nG21 G90 G64 P0.01\nG0 X1 Y1 Z5\nG1 Z-1 F100\nM2\n";
+    assert_eq!(r.sniff(text, Some("chips.ngc"), "fanuc").dialect, "linuxcnc");
+    assert_eq!(r.sniff(text, Some("chips.tap"), "fanuc").dialect, "mach3");
 }
 
 // ---- §4: dialect gaps ----
