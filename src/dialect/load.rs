@@ -711,6 +711,7 @@ impl Cx {
                 "unset-variables",
                 "return-value",
                 "outside-variables",
+                "highest-variable",
                 "called-programs",
                 "called-extensions",
                 "unknown-conditions",
@@ -740,6 +741,16 @@ impl Cx {
         }
         m.unknown_conditions = self.either(el, "unknown-conditions", "false", "true");
         m.return_tells_called = self.bool(el, "return-tells-called", true);
+        let highest = self.number(el, "highest-variable", 9999.0);
+        m.highest_variable = if (0.0..crate::interp::eval::MAX_HIGH_PARAM as f64).contains(&highest) {
+            highest as u32
+        } else {
+            self.error(
+                Self::attr_range(el, "highest-variable"),
+                format!("`highest-variable` is at most {}", crate::interp::eval::MAX_HIGH_PARAM - 1),
+            );
+            9999
+        };
         if let Some(v) = self.attr(el, "outside-variables") {
             for part in v.split_whitespace() {
                 let (a, b) = part.split_once('-').unwrap_or((part, part));

@@ -373,6 +373,9 @@ pub struct Macros {
     /// Numbered variables whose values come from outside the file (retained common
     /// variables, machine inputs and data): unknown until the program sets them.
     pub outside: Vec<(u32, u32)>,
+    /// The highest numbered variable the control has (`highest-variable`; 9999 unless the
+    /// dictionary says more: Haas NGC's #59999, Mitsubishi's #907400).
+    pub highest_variable: u32,
     /// Whether a return at the top level shows a called program. False where main programs
     /// end with the same word (Heidenhain `END PGM`).
     pub return_tells_called: bool,
@@ -423,6 +426,7 @@ impl Default for Macros {
             unset_reads_zero: false,
             unset_unknown: false,
             outside: Vec::new(),
+            highest_variable: 9999,
             called_numbers: None,
             return_tells_called: true,
             called_extensions: Vec::new(),

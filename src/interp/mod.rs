@@ -530,6 +530,7 @@ impl<'a> Interpreter<'a> {
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
                 p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
+                p.set_highest(dialect.macros.highest_variable);
                 for &(a, b) in &dialect.macros.outside {
                     p.mark_unknown(a, b);
                 }

@@ -379,3 +379,29 @@ fn nested_comments_are_a_dictionary_option() {
     let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
 }
+
+/// Haas NGC's #10000+ and Mitsubishi's #900000+ variables are variables of those controls:
+/// written and read back, and, unwritten, set outside the file (unknown, a warning). A
+/// control without them still rejects the number.
+#[test]
+fn haas_and_mitsubishi_high_variables() {
+    let haas = "%\nO0001\n#10001=5.\nG0 G90 G54 X#10001 Y0.\n#10002=[#10001*2]\nG1 Y#10002 F10.\nG1 X#10500\nM30\n%\n";
+    let (_, diags) = run("haas", haas);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(
+        moves("haas", haas),
+        [
+            "STRAIGHT_TRAVERSE(5.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(5.0000, 10.0000, 0.0000, 0.0000, 0.0000, 0.0000)"
+        ]
+    );
+    assert!(has(&diags, "interp::unknown-value", Severity::Warning), "{diags:?}");
+    let mitsubishi = "%\nO0001\n#900001=2.5\nG0 G90 G54 X#900001 Y#907400\nM30\n%\n";
+    let (_, diags) = run("mitsubishi", mitsubishi);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(moves("mitsubishi", mitsubishi), ["STRAIGHT_TRAVERSE(2.5000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"]);
+    let (_, diags) = run("fanuc", mitsubishi);
+    assert!(errors(&diags).iter().any(|e| e.contains("900001 is out of range")), "{diags:?}");
+    let (_, diags) = run("haas", "%\nO0001\n#60000=1.\nM30\n%\n");
+    assert!(errors(&diags).iter().any(|e| e.contains("60000 is out of range")), "{diags:?}");
+}
