@@ -1057,18 +1057,28 @@ impl<'a> Driver<'a, '_> {
             let count = self.back_jumps.entry(key).or_insert(0);
             *count += 1;
             let count = *count;
-            if count > self.profile.max_loop_iterations {
-                let limit = self.profile.max_loop_iterations;
-                self.error(
-                    diags,
-                    Code::LoopLimit,
-                    range,
-                    format!("the jump back to {what} ran more than {limit} times; the run stops here"),
-                );
-                return;
-            }
-            if self.endless(key, count, interp) {
-                self.error(diags, Code::LoopLimit, range, format!("the jump back to {what} comes round {ENDLESS}; the run stops here"));
+            let limit = self.profile.max_loop_iterations;
+            let over = count > limit;
+            if over || self.endless(key, count, interp) {
+                // Back to the main program's first label, with nothing open: the program runs
+                // until the operator stops it, by design (a cell's loop), as a return in a
+                // main program restarts it.
+                let cur = self.cur;
+                let first_label = !self.marks(cur).iter().any(|m| m.defines.is_some() && m.next.at < pos.at);
+                if cur == 0 && self.frames.is_empty() && self.loops.is_empty() && first_label {
+                    let msg = format!(
+                        "the jump back to {what} restarts the program from its first label: a program that runs until the operator stops it (a cell's loop); the analysis stops here"
+                    );
+                    let mut d = Diagnostic::new(Code::LoopLimit, range, msg);
+                    d.severity = Severity::Warning;
+                    diags.push(d);
+                    self.stop = true;
+                } else if over {
+                    let msg = format!("the jump back to {what} ran more than {limit} times; the run stops here");
+                    self.error(diags, Code::LoopLimit, range, msg);
+                } else {
+                    self.error(diags, Code::LoopLimit, range, format!("the jump back to {what} comes round {ENDLESS}; the run stops here"));
+                }
                 return;
             }
         }

@@ -405,3 +405,17 @@ fn haas_and_mitsubishi_high_variables() {
     let (_, diags) = run("haas", "%\nO0001\n#60000=1.\nM30\n%\n");
     assert!(errors(&diags).iter().any(|e| e.contains("60000 is out of range")), "{diags:?}");
 }
+
+/// A cell program that jumps back to its first label runs until the operator stops it: a
+/// warning, as a return in a Fanuc main program is. An endless jump to a later label stays
+/// an error.
+#[test]
+fn a_cell_program_looping_to_its_first_label_is_a_warning() {
+    let cell = "N10 G90 G54\nSTART:\nG0 X0 Y0 Z10\nM0\nG0 X50\nGOTOB START\nM30\n";
+    let (_, diags) = run("siemens", cell);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "flow::loop-limit", Severity::Warning), "{diags:?}");
+    let stuck = "N10 G90 G54\nSTART:\nG0 X0 Y0 Z10\nAGAIN:\nG0 X50\nGOTOB AGAIN\nM30\n";
+    let (_, diags) = run("siemens", stuck);
+    assert!(errors(&diags).iter().any(|e| e.starts_with("flow::loop-limit")), "{diags:?}");
+}
