@@ -449,6 +449,15 @@ pub struct Interpreter<'a> {
     /// control that re-reads its position after a tool change takes as the program position
     /// (`position-after-tool-change="last-move"`).
     sent: std::cell::Cell<[f64; 6]>,
+    /// Per axis, whether its position comes from a length word without a decimal point that
+    /// least-increment input shrank (`X4` read as 0.004 mm) and that was said; as the block
+    /// began, and after its words. An arc that fails from it is that finding's consequence.
+    misread: [bool; 6],
+    misread_before: [bool; 6],
+    /// Whether one of this block's own words (an R, I, J or K) was shrunk so.
+    block_misread: bool,
+    /// The word that was, as the finding showed it (`` `X4` read as 0.004 mm ``).
+    misread_word: Option<String>,
     /// Where ops come from while a subprogram from another file runs: the call block.
     origin_override: Option<(TextRange, u32)>,
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
@@ -582,6 +591,10 @@ impl<'a> Interpreter<'a> {
             ),
             comp_problem: std::cell::Cell::new(None),
             sent: std::cell::Cell::new([0.0; 6]),
+            misread: [false; 6],
+            misread_before: [false; 6],
+            block_misread: false,
+            misread_word: None,
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),
@@ -1059,6 +1072,8 @@ impl<'a> Interpreter<'a> {
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
     fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         self.clear_block();
+        self.misread_before = self.misread;
+        self.block_misread = false;
         let mut ok = true;
         // Codes first: a unit change in this block affects how its numbers scale.
         for w in &block.words {
@@ -1215,8 +1230,17 @@ impl<'a> Interpreter<'a> {
                 && scaled.contains(&role)
                 && !(k_counts && role == Role::K)
             {
+                let axis = Role::AXES.iter().position(|&a| a == role);
+                let absolute = match w.mode {
+                    WordMode::Modal => self.st.distance == DistanceMode::Absolute,
+                    WordMode::Absolute => true,
+                    WordMode::Incremental => false,
+                };
                 if decimal {
                     self.st.length_points = true;
+                    if let Some(i) = axis.filter(|_| absolute) {
+                        self.misread[i] = false;
+                    }
                 } else {
                     if v != 0.0 && self.st.length_points {
                         let shown = &self.text[w.range.start as usize..w.range.end as usize];
@@ -1225,7 +1249,19 @@ impl<'a> Interpreter<'a> {
                         let msg = format!(
                             "`{shown}` has no decimal point: least-increment input reads it as {scaled_to} {unit}, while this program writes its other lengths with points; if {v} {unit} was meant, write `{shown}.` (or, if the machine reads whole numbers as units, set its decimal_input to calculator in the config)"
                         );
-                        self.limited(diags, "no-decimal-point", Diagnostic::new(Code::NoDecimalPoint, w.range, msg));
+                        let mut d = Diagnostic::new(Code::NoDecimalPoint, w.range, msg);
+                        // The first such word is the finding; the others repeat it.
+                        if self.misread_word.is_some() {
+                            d.severity = Severity::Note;
+                        }
+                        self.limited(diags, "no-decimal-point", d);
+                        match axis {
+                            Some(i) => self.misread[i] = true,
+                            None => self.block_misread = true,
+                        }
+                        self.misread_word = Some(format!("`{shown}` read as {scaled_to} {unit}"));
+                    } else if let Some(i) = axis.filter(|_| absolute) {
+                        self.misread[i] = false;
                     }
                     v *= if units == Units::Mm { *mm } else { *inch };
                 }

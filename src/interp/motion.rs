@@ -143,7 +143,9 @@ impl Interpreter<'_> {
                 self.st.pos = t;
             }
             Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint => {
-                self.arc(def, range, block, sink, diags)
+                let before = diags.len();
+                self.arc(def, range, block, sink, diags);
+                self.misread_consequences(&mut diags[before..]);
             }
             Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),
             Meaning::CycleThread => self.threading_cycle(def, range, sink, diags),
@@ -306,6 +308,19 @@ impl Interpreter<'_> {
             "the probe stops where it touches, which only the machine knows; the analysis goes on from the programmed end point",
         );
         self.limited(diags, "probe", note);
+    }
+
+    /// An arc that fails where its start, end or radius comes from a length word that
+    /// least-increment input shrank (and that finding was made) fails because of it: one
+    /// cause, one error. Its findings become notes that point at that word.
+    fn misread_consequences(&self, found: &mut [Diagnostic]) {
+        let (a0, a1, _) = self.st.plane.axes();
+        let tainted = self.block_misread || [a0, a1].iter().any(|&i| self.misread[i] || self.misread_before[i]);
+        let Some(word) = self.misread_word.as_deref().filter(|_| tainted) else { return };
+        for d in found.iter_mut().filter(|d| d.code == Code::BadArc && d.is_error()) {
+            d.severity = crate::diag::Severity::Note;
+            d.message.push_str(&format!("; it follows from {word} (no decimal point), the finding to fix"));
+        }
     }
 
     /// G5.1 (a quadratic spline, run at once) and G5.2 (a NURBS control point, kept until

@@ -419,3 +419,22 @@ fn a_cell_program_looping_to_its_first_label_is_a_warning() {
     let (_, diags) = run("siemens", stuck);
     assert!(errors(&diags).iter().any(|e| e.starts_with("flow::loop-limit")), "{diags:?}");
 }
+
+/// One cause, one error: a Fanuc program that writes `X4` beside `X3.9` under
+/// least-increment input gets one finding about the decimal point; the arcs that fail
+/// because the tool stands at X0.004 are notes that point at it. Once every axis is
+/// written with a point again, a bad arc is an error of its own.
+#[test]
+fn a_missing_decimal_point_is_one_finding_not_a_cascade_of_arcs() {
+    let program = "%\nO0001\nG21 G90 G54 G17\nT1 M6\nS1000 M3\nG0 X0 Y0\nG43 H1 Z5.\nG1 Z-1. F100.\nG1 X4 Y0\nG2 X3.9 Y0.1 R0.1\nG1 Y4\nG3 X3.8 Y4.1 I-0.1 J0\nG1 X0.5\nG2 X0.4 Y4. R0.1\nG1 X1. Y1.\nG2 X1.5 Y1. I0.1 J0.\nG0 Z5.\nM30\n%\n";
+    let (_, diags) = run("fanuc", program);
+    let decimal: Vec<_> = diags.iter().filter(|d| d.code.as_str() == "interp::no-decimal-point" && d.severity != Severity::Note).collect();
+    assert_eq!(decimal.len(), 1, "{diags:?}");
+    assert!(decimal[0].message.contains("`X4`"), "{decimal:?}");
+    let consequences = diags.iter().filter(|d| d.code.as_str() == "interp::bad-arc" && d.severity == Severity::Note).count();
+    assert_eq!(consequences, 2, "{diags:?}");
+    // The last arc (to X1.5 from X1. about X1.1) is wrong by itself.
+    let errors = errors(&diags);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].starts_with("interp::bad-arc") && !errors[0].contains("follows from"), "{errors:?}");
+}
