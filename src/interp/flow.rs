@@ -1064,7 +1064,10 @@ impl<'a> Driver<'a, '_> {
                 // until the operator stops it, by design (a cell's loop), as a return in a
                 // main program restarts it.
                 let cur = self.cur;
-                let first_label = !self.marks(cur).iter().any(|m| m.defines.is_some() && m.next.at < pos.at);
+                // The target is a label (`START:`), and no label comes before it.
+                let marks = self.marks(cur);
+                let labelled = marks.iter().any(|m| m.defines.is_some() && (m.start.at == pos.at || m.next.at == pos.at));
+                let first_label = labelled && !marks.iter().any(|m| m.defines.is_some() && m.next.at < pos.at && m.start.at < pos.at);
                 if cur == 0 && self.frames.is_empty() && self.loops.is_empty() && first_label {
                     let msg = format!(
                         "the jump back to {what} restarts the program from its first label: a program that runs until the operator stops it (a cell's loop); the analysis stops here"
