@@ -503,6 +503,10 @@ impl Cx {
             dwell_unit: TimeUnit::Seconds,
             tool_change_stops_spindle: true,
             tool_change_applies_length: false,
+            tool_change_rereads_position: false,
+            h0_spindle_tool: false,
+            probe_backoff_mm: 0.0,
+            probe_backoff_inch: 0.0,
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
@@ -536,6 +540,10 @@ impl Cx {
                 "dwell-unit",
                 "tool-change-stops-spindle",
                 "tool-change-applies-length",
+                "position-after-tool-change",
+                "h0",
+                "probe-backoff-mm",
+                "probe-backoff-inch",
                 "peck-clearance-mm",
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
@@ -582,6 +590,10 @@ impl Cx {
         };
         b.tool_change_stops_spindle = self.bool(el, "tool-change-stops-spindle", true);
         b.tool_change_applies_length = self.bool(el, "tool-change-applies-length", false);
+        b.h0_spindle_tool = self.either(el, "h0", "no-offset", "spindle-tool");
+        b.tool_change_rereads_position = self.either(el, "position-after-tool-change", "program", "last-move");
+        b.probe_backoff_mm = self.number(el, "probe-backoff-mm", 0.0).max(0.0);
+        b.probe_backoff_inch = self.number(el, "probe-backoff-inch", b.probe_backoff_mm / 25.4).max(0.0);
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
@@ -711,6 +723,7 @@ impl Cx {
                 "unset-variables",
                 "return-value",
                 "outside-variables",
+                "highest-variable",
                 "called-programs",
                 "called-extensions",
                 "unknown-conditions",
@@ -740,6 +753,16 @@ impl Cx {
         }
         m.unknown_conditions = self.either(el, "unknown-conditions", "false", "true");
         m.return_tells_called = self.bool(el, "return-tells-called", true);
+        let highest = self.number(el, "highest-variable", 9999.0);
+        m.highest_variable = if (0.0..crate::interp::eval::MAX_HIGH_PARAM as f64).contains(&highest) {
+            highest as u32
+        } else {
+            self.error(
+                Self::attr_range(el, "highest-variable"),
+                format!("`highest-variable` is at most {}", crate::interp::eval::MAX_HIGH_PARAM - 1),
+            );
+            9999
+        };
         if let Some(v) = self.attr(el, "outside-variables") {
             for part in v.split_whitespace() {
                 let (a, b) = part.split_once('-').unwrap_or((part, part));

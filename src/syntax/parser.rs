@@ -240,10 +240,16 @@ impl Lexer<'_, '_> {
                 }
                 continue;
             }
-            let len = self.char_len(start);
-            let shown = &self.text[start..start + len];
-            self.error(Code::UnknownAddress, start, start + len, format!("unexpected character `{shown}`"));
-            self.i += len;
+            // Digits, signs, points and brackets right after it are the same slip (a value
+            // with no address, `M202(0.0024)`): one finding for the run.
+            let mut end = start + self.char_len(start);
+            while self.text.as_bytes().get(end).is_some_and(|b| b"0123456789.+-()".contains(b)) {
+                end += 1;
+            }
+            let shown = &self.text[start..end];
+            let what = if shown.chars().count() > 1 { "characters" } else { "character" };
+            self.error(Code::UnknownAddress, start, end, format!("unexpected {what} `{shown}`"));
+            self.i = end;
         }
         self.i
     }
