@@ -177,10 +177,10 @@ pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
     let (svgs, _) = pictures(c);
     html! {
         p class="legend" {
-            span { i style="background:#1f6fd1" {} "original (" (c.original.name) ")" }
+            span { i style="background:#1f6fd1;height:5px;opacity:.45" {} "original (" (c.original.name) ", wide)" }
             span { i style="background:#e07b00" {} "edited" }
             span { i style="background:#d0021b" {} "changed segments" }
-            span { i style="border-top:1px dashed #555" {} "rapids (dashed)" }
+            span { i style="height:0;border-top:2px dashed #777" {} "rapids" }
             span { "● start points · dashed boxes: changed regions" }
         }
         @if with_layers {

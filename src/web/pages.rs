@@ -121,7 +121,7 @@ fn week_chart(weeks: &[(String, String, i64)]) -> Markup {
     let colour = |m: &str| colours[machines.iter().position(|x| *x == m).unwrap_or(0) % colours.len()];
     let max = by_week.values().map(|v| v.iter().map(|x| x.1).sum::<i64>()).max().unwrap_or(1).max(1);
     let (w, h, left, bottom) = (560.0, 180.0, 30.0, 22.0);
-    let slot = (w - left) / (by_week.len().max(1) as f64);
+    let slot = ((w - left) / (by_week.len().max(1) as f64)).min(60.0);
     // Each bar: x, y, height, colour, title.
     let mut bars: Vec<(f64, f64, f64, &str, String)> = Vec::new();
     let mut labels: Vec<(f64, &str)> = Vec::new();
@@ -226,7 +226,7 @@ pub(super) fn overview(s: &Server, ctx: &Ctx, store: &Store) -> Result<Markup> {
                         @let path = f.path.display().to_string();
                         @let readable = std::fs::read_dir(&f.path).is_ok();
                         tr {
-                            td { (f.role.as_str()) " " (f.name) }
+                            td { @if f.role == crate::config::Role::Cam { "CAM originals" } @else { "machine " (f.name) } }
                             td class="muted" { (path) }
                             td { @if readable { span class="ok" { "readable" } } @else { span class="bad" { "dead: cannot be read" } } }
                             td class="muted" {
