@@ -303,14 +303,17 @@ impl Store {
         self.rows(
             "listing machines",
             &format!(
-                "SELECT m.name, m.dialect, m.folder,
-                    (SELECT COUNT(*) FROM programs p WHERE p.machine_id = m.id),
-                    (SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.machine_id = m.id),
-                    (SELECT MAX(r.seen_at) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.machine_id = m.id),
-                    (SELECT COUNT(*) FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
-                      WHERE p.machine_id = m.id AND {UNMARKED}
-                        AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial'))
-             FROM machines m ORDER BY m.name"
+                "WITH pr AS (SELECT machine_id AS mid, COUNT(*) AS n FROM programs GROUP BY machine_id),
+                      rv AS (SELECT p.machine_id AS mid, COUNT(*) AS n, MAX(r.seen_at) AS last
+                             FROM revisions r JOIN programs p ON p.id = r.program_id GROUP BY p.machine_id),
+                      q AS (SELECT p.machine_id AS mid, COUNT(*) AS n
+                            FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
+                            WHERE {UNMARKED}
+                              AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')
+                            GROUP BY p.machine_id)
+                 SELECT m.name, m.dialect, m.folder, COALESCE(pr.n, 0), COALESCE(rv.n, 0), rv.last, COALESCE(q.n, 0)
+                 FROM machines m LEFT JOIN pr ON pr.mid = m.id LEFT JOIN rv ON rv.mid = m.id LEFT JOIN q ON q.mid = m.id
+                 ORDER BY m.name"
             ),
             [],
             |r| {
@@ -327,9 +330,25 @@ impl Store {
         )
     }
 
+    /// The rows with their review marks, read in one query.
     fn with_marks(&self, mut rows: Vec<ChangeRow>) -> Result<Vec<ChangeRow>> {
+        if rows.is_empty() {
+            return Ok(rows);
+        }
+        let ids = serde_json::to_string(&rows.iter().map(|r| r.id).collect::<Vec<_>>()).unwrap_or_else(|_| "[]".into());
+        let marks = self.rows(
+            "reading review marks",
+            "SELECT change_id, mark, note, marked_by, marked_at FROM review_marks
+             WHERE change_id IN (SELECT value FROM json_each(?1)) ORDER BY id",
+            [ids],
+            |r| Ok((r.get::<_, i64>(0)?, Mark { mark: r.get(1)?, note: r.get(2)?, by: r.get(3)?, at: r.get(4)? })),
+        )?;
+        let mut by_change: std::collections::BTreeMap<i64, Vec<Mark>> = std::collections::BTreeMap::new();
+        for (id, m) in marks {
+            by_change.entry(id).or_default().push(m);
+        }
         for row in &mut rows {
-            row.marks = self.marks(row.id)?;
+            row.marks = by_change.remove(&row.id).unwrap_or_default();
         }
         Ok(rows)
     }
@@ -385,7 +404,11 @@ impl Store {
     pub fn changes_per_week(&self, weeks: usize) -> Result<Vec<(String, String, i64)>> {
         self.rows(
             "counting changes per week",
-            "WITH w AS (SELECT strftime('%Y-W%W', detected_at) AS week, COALESCE(machine, '') AS machine FROM shopfloor_changes),
+            "WITH w AS (SELECT strftime('%Y-W%W', c.detected_at) AS week, COALESCE(m.name, '') AS machine
+                        FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
+                        LEFT JOIN machines m ON m.id = p.machine_id
+                        WHERE c.detected_at >= date((SELECT MAX(detected_at) FROM changes), '-' || (?1 * 7) || ' days')
+                          AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')),
                   last AS (SELECT DISTINCT week FROM w ORDER BY week DESC LIMIT ?1)
              SELECT week, machine, COUNT(*) FROM w WHERE week IN (SELECT week FROM last) GROUP BY week, machine ORDER BY week, machine",
             [weeks as i64],
@@ -576,6 +599,9 @@ impl Store {
         let result = self.query_capped(first, max_rows);
         self.conn.progress_handler(0, None::<fn() -> bool>);
         result.map_err(|e| match e {
+            StoreError::Sql { source: rusqlite::Error::SqliteFailure(f, _), .. } if f.code == rusqlite::ErrorCode::OperationInterrupted => {
+                super::QueryError::Refused(format!("the query ran past its time limit of {} ms and was stopped", limit.as_millis()))
+            }
             StoreError::Sql { source, .. } => super::QueryError::Sql(super::plain(&source)),
             other => super::QueryError::Sql(other.to_string()),
         })
@@ -604,5 +630,89 @@ impl Store {
             out.push(super::cells(row, names.len())?);
         }
         Ok((names, out, more))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn store_with_a_change() -> Store {
+        let s = Store::open_in_memory().unwrap();
+        s.conn
+            .execute_batch(
+                "INSERT INTO machines VALUES (1, 'DMU50', 'fanuc', '/share');
+                 INSERT INTO programs VALUES (1, '/cam/O1.nc', 'cam', NULL, 'O1', 'O1', 'O1', 'fanuc');
+                 INSERT INTO programs VALUES (2, '/share/O1.nc', 'machine', 1, 'O1', 'O1', 'O1', 'fanuc');
+                 INSERT INTO blobs VALUES ('a', 1, x'00'), ('b', 1, x'01');
+                 INSERT INTO revisions(id, program_id, hash, size, seen_at, encoding, status) VALUES
+                   (1, 1, 'a', 1, '2026-11-01T00:00:00.000Z', 'utf-8', 'analysed'),
+                   (2, 2, 'b', 1, '2026-11-02T00:00:00.000Z', 'utf-8', 'analysed');
+                 INSERT INTO comparisons VALUES (2, 1, '2026-11-02T00:00:00.000Z', 2, 'file-name');
+                 INSERT INTO changes(id, revision_id, original_revision_id, workingstep, operation, kind, field, before, after, detected_at) VALUES
+                   (10, 2, 1, 1, 'plane finish milling', 'tool_renamed', 'tool', 'T1', 'T8', '2026-11-02T00:00:00.000Z'),
+                   (11, 2, 1, 1, 'plane finish milling', 'feed_changed', 'feed', '240 mm/min', '200 mm/min', '2026-11-02T00:00:00.000Z');",
+            )
+            .unwrap();
+        s
+    }
+
+    #[test]
+    fn a_mark_takes_a_change_off_the_queue_and_leaves_the_analysis_alone() {
+        let s = store_with_a_change();
+        let queue = ChangeFilter { to_review: true, ..ChangeFilter::default() };
+        assert_eq!(s.search_changes(&queue, 10).unwrap().len(), 2);
+        assert_eq!(s.machines().unwrap()[0].to_review, 2);
+        assert_eq!(s.add_mark(10, "adopt", "", "ada", "2026-11-03T00:00:00.000Z").unwrap(), Some(2));
+        assert_eq!(s.add_mark(99, "adopt", "", "ada", "2026-11-03T00:00:00.000Z").unwrap(), None);
+        let left = s.search_changes(&queue, 10).unwrap();
+        assert_eq!(left.iter().map(|r| r.id).collect::<Vec<_>>(), vec![11]);
+        assert_eq!(s.machines().unwrap()[0].to_review, 1);
+        let rows = s.change_rows(2).unwrap();
+        assert_eq!(rows[0].marks, vec![Mark { mark: "adopt".into(), note: String::new(), by: "ada".into(), at: "2026-11-03T00:00:00.000Z".into() }]);
+        assert!(s.add_mark(11, "maybe", "", "ada", "t").is_err(), "only adopt, reject and note");
+        assert!(s.conn.execute_batch("UPDATE review_marks SET mark = 'reject'").is_err(), "marks are a record");
+        // The change rows are as they were.
+        let (_, changes) = s.query("SELECT kind, before, after FROM changes ORDER BY id").unwrap();
+        assert_eq!(changes[0], vec!["tool_renamed", "T1", "T8"]);
+    }
+
+    #[test]
+    fn search_filters_by_program_number_machine_dates_and_kind() {
+        let s = store_with_a_change();
+        let f = |program: &str, machine: &str, since: &str, until: &str, kind: &str| ChangeFilter {
+            program: program.into(),
+            machine: machine.into(),
+            since: since.into(),
+            until: until.into(),
+            kind: kind.into(),
+            to_review: false,
+        };
+        let n = |filter: ChangeFilter| s.search_changes(&filter, 10).unwrap().len();
+        assert_eq!(n(f("1", "", "", "", "")), 2, "by number");
+        assert_eq!(n(f("O1", "DMU50", "2026-11-02", "2026-11-02", "feed_changed")), 1);
+        assert_eq!(n(f("", "HAAS1", "", "", "")), 0);
+        assert_eq!(n(f("", "", "2026-11-03", "", "")), 0);
+    }
+
+    #[test]
+    fn the_console_limits_rows_and_time_and_refuses_writes() {
+        let s = store_with_a_change();
+        let (_, rows, more) = s.query_limited("SELECT value FROM generate_series(1, 100)", 10, std::time::Duration::from_secs(5)).unwrap_or_else(|_| {
+            s.query_limited(
+                "WITH RECURSIVE n(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM n WHERE x < 100) SELECT x FROM n",
+                10,
+                std::time::Duration::from_secs(5),
+            )
+            .unwrap()
+        });
+        assert_eq!((rows.len(), more), (10, true));
+        let forever = "WITH RECURSIVE n(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM n) SELECT COUNT(*) FROM n";
+        let err = s.query_limited(forever, 10, std::time::Duration::from_millis(100)).unwrap_err();
+        assert!(err.to_string().contains("time limit"), "{err}");
+        assert!(s.query_limited("DELETE FROM changes", 10, std::time::Duration::from_secs(1)).is_err());
+        for k in KNOWLEDGE {
+            s.query(k.sql).unwrap_or_else(|e| panic!("{}: {e}", k.name));
+        }
     }
 }

@@ -279,6 +279,8 @@ CREATE TABLE review_marks (
 );
 CREATE INDEX review_marks_change ON review_marks(change_id);
 CREATE INDEX review_marks_revision ON review_marks(revision_id);
+CREATE INDEX changes_detected ON changes(detected_at);
+CREATE INDEX programs_machine ON programs(machine_id);
 CREATE TRIGGER review_marks_immutable BEFORE UPDATE ON review_marks BEGIN SELECT RAISE(ABORT, 'review marks are a record: add a new one'); END;
 "#,
 ];

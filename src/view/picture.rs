@@ -202,15 +202,30 @@ impl std::fmt::Display for Tenth {
     }
 }
 
-/// A run of moves of one kind, projected: its pixels, and which points lie in a changed region.
+/// A run of moves of one kind, projected: its pixels, and whether each point lies in a
+/// changed region ([`EXACT`] in one drawn exactly, [`WIDE`] in one that is not).
 struct Run {
     rapid: bool,
     pts: Vec<[f64; 2]>,
-    changed: Vec<bool>,
+    changed: Vec<u8>,
+}
+
+/// A point in a region that covers much of the view (the whole part, say): drawn as changed,
+/// simplified at a quarter pixel, so that the picture's size stays bounded by the view.
+const WIDE: u8 = 1;
+/// A point in a region drawn exactly.
+const EXACT: u8 = 2;
+
+/// The share of the drawing (of its width times of its height) a region may cover and still be drawn exactly.
+const EXACT_SHARE: f64 = 0.125;
+
+/// How a point lies in the regions: the highest of [`WIDE`], [`EXACT`], or 0.
+fn in_regions(regions: &[(Region, u8)], p: P3) -> u8 {
+    regions.iter().filter(|(r, _)| inside(&r.bbox, p)).map(|(_, k)| *k).max().unwrap_or(0)
 }
 
 /// Writes the paths of one workingstep, for one program, into `out`.
-fn workingstep_paths(out: &mut String, frame: &Frame, w: &crate::plan::Workingstep, regions: &[Region], side: Side, stats: &mut Stats) {
+fn workingstep_paths(out: &mut String, frame: &Frame, w: &crate::plan::Workingstep, regions: &[(Region, u8)], side: Side, stats: &mut Stats) {
     let mut runs: Vec<Run> = Vec::new();
     let mut samples = Vec::new();
     let mut last_end: Option<P3> = None;
@@ -218,7 +233,7 @@ fn workingstep_paths(out: &mut String, frame: &Frame, w: &crate::plan::Workingst
         let rapid = m.kind == MoveKind::Rapid;
         let contiguous = last_end == Some(m.from);
         if !contiguous || runs.last().is_none_or(|r| r.rapid != rapid) {
-            let start_in = regions.iter().any(|r| inside(&r.bbox, m.from));
+            let start_in = in_regions(regions, m.from);
             let carry = if contiguous { runs.last().and_then(|r| r.pts.last().copied()) } else { None };
             runs.push(Run { rapid, pts: vec![carry.unwrap_or_else(|| frame.px(m.from))], changed: vec![start_in] });
         }
@@ -227,7 +242,7 @@ fn workingstep_paths(out: &mut String, frame: &Frame, w: &crate::plan::Workingst
         let run = runs.last_mut().expect("a run was pushed");
         for p in &samples {
             run.pts.push(frame.px(*p));
-            run.changed.push(regions.iter().any(|r| inside(&r.bbox, *p)));
+            run.changed.push(in_regions(regions, *p));
         }
         last_end = Some(m.to);
         stats.moves += 1;
@@ -241,20 +256,26 @@ fn workingstep_paths(out: &mut String, frame: &Frame, w: &crate::plan::Workingst
         // between them, pieces simplified at half a pixel.
         let n = run.pts.len();
         let mut i = 0;
+        // A segment is changed as the lesser of its ends.
+        let seg = |k: usize| run.changed[k].min(run.changed[k + 1]);
         while i + 1 < n {
-            let seg_changed = run.changed[i] && run.changed[i + 1];
+            let state = seg(i);
             let mut j = i + 1;
-            while j + 1 < n && (run.changed[j] && run.changed[j + 1]) == seg_changed {
+            while j + 1 < n && seg(j) == state {
                 j += 1;
             }
             let piece = &run.pts[i..=j];
-            if seg_changed && !run.rapid {
+            if state == EXACT && !run.rapid {
                 path_data(&mut changed_d, piece.iter().copied());
                 stats.drawn += piece.len();
             } else {
                 let mut keep = vec![false; piece.len()];
-                simplify(piece, &mut keep, TOLERANCE_PX);
-                let target = if run.rapid { &mut rapid_d } else { &mut feed_d };
+                let (tolerance, target) = match (run.rapid, state) {
+                    (true, _) => (TOLERANCE_PX, &mut rapid_d),
+                    (false, WIDE) => (TOLERANCE_PX / 2.0, &mut changed_d),
+                    _ => (TOLERANCE_PX, &mut feed_d),
+                };
+                simplify(piece, &mut keep, tolerance);
                 let kept = piece.iter().zip(&keep).filter(|(_, k)| **k).map(|(p, _)| *p);
                 stats.drawn += keep.iter().filter(|k| **k).count();
                 path_data(target, kept);
@@ -318,6 +339,17 @@ pub fn view_svg(
     });
     let frame = Frame::new(projection, bbox, size.0, size.1);
     let name = projection.name();
+    // A region's share of the drawing: of its width times of its height.
+    let (e0, e1) = (frame.px(bbox.min), frame.px(bbox.max));
+    let (ew, eh) = ((e0[0] - e1[0]).abs().max(1.0), (e0[1] - e1[1]).abs().max(1.0));
+    let regions: Vec<(Region, u8)> = regions
+        .iter()
+        .map(|r| {
+            let (a, b) = (frame.px(r.bbox.min), frame.px(r.bbox.max));
+            let share = ((a[0] - b[0]).abs() / ew).min(1.0) * ((a[1] - b[1]).abs() / eh).min(1.0);
+            (*r, if share <= EXACT_SHARE { EXACT } else { WIDE })
+        })
+        .collect();
     let mut out = String::new();
     let _ = write!(
         out,
@@ -333,11 +365,11 @@ pub fn view_svg(
     for (side, plan) in [(Side::Original, original), (Side::Edited, edited)] {
         for w in &plan.workingsteps {
             let _ = write!(out, "<g class=\"layer\" data-layer=\"{}{}\">", side.class(), w.index);
-            workingstep_paths(&mut out, &frame, w, regions, side, stats);
+            workingstep_paths(&mut out, &frame, w, &regions, side, stats);
             out.push_str("</g>");
         }
     }
-    for r in regions {
+    for (r, _) in &regions {
         let (a, b) = (frame.px(r.bbox.min), frame.px(r.bbox.max));
         let (x0, x1) = (a[0].min(b[0]) - 3.0, a[0].max(b[0]) + 3.0);
         let (y0, y1) = (a[1].min(b[1]) - 3.0, a[1].max(b[1]) + 3.0);
@@ -419,5 +451,11 @@ mod tests {
         // 11 exact points in each region piece, a handful elsewhere.
         assert!(stats.drawn < 40, "{stats:?}");
         assert_eq!(stats.moves, 400);
+        // A region over the whole part is drawn as changed, but simplified.
+        let wide = [Region { id: 8, bbox: BBox { min: [-1.0, -1.0, -1.0], max: [201.0, 1.0, 1.0] } }];
+        let mut stats = Stats::default();
+        let svg = view_svg(Projection::Top, &a, &b, &wide, (600.0, 300.0), &mut stats);
+        assert!(svg.contains("class=\"e chg\"") && !svg.contains("class=\"e feed\""), "{svg}");
+        assert!(stats.drawn <= 4, "{stats:?}");
     }
 }

@@ -148,8 +148,9 @@ const ALIGN_CELLS: usize = 4_000_000;
 /// Aligns the lines of two programs: the common start and end, then a longest common
 /// subsequence of the normalized lines in between.
 pub fn align(a: &[&str], b: &[&str]) -> Alignment {
-    let na: Vec<String> = a.iter().map(|l| normalize(l)).collect();
-    let nb: Vec<String> = b.iter().map(|l| normalize(l)).collect();
+    // Equal text is the common case of long programs: only the lines between the common
+    // start and end of equal (or equally read) lines are normalized for the LCS.
+    let same = |i: usize, j: usize| a[i] == b[j] || normalize(a[i]) == normalize(b[j]);
     let mut out = Alignment { original: vec![(LineState::Differs, None); a.len()], edited: vec![(LineState::Differs, None); b.len()] };
     let pair = |i: usize, j: usize, out: &mut Alignment| {
         let state = if a[i] == b[j] { LineState::Same } else { LineState::Cosmetic };
@@ -157,16 +158,18 @@ pub fn align(a: &[&str], b: &[&str]) -> Alignment {
         out.edited[j] = (state, Some(i));
     };
     let mut start = 0;
-    while start < a.len() && start < b.len() && na[start] == nb[start] {
+    while start < a.len() && start < b.len() && same(start, start) {
         pair(start, start, &mut out);
         start += 1;
     }
     let mut end = 0;
-    while end < a.len() - start && end < b.len() - start && na[a.len() - 1 - end] == nb[b.len() - 1 - end] {
+    while end < a.len() - start && end < b.len() - start && same(a.len() - 1 - end, b.len() - 1 - end) {
         pair(a.len() - 1 - end, b.len() - 1 - end, &mut out);
         end += 1;
     }
-    let (ma, mb) = (&na[start..a.len() - end], &nb[start..b.len() - end]);
+    let na: Vec<String> = a[start..a.len() - end].iter().map(|l| normalize(l)).collect();
+    let nb: Vec<String> = b[start..b.len() - end].iter().map(|l| normalize(l)).collect();
+    let (ma, mb) = (&na[..], &nb[..]);
     if ma.len().saturating_mul(mb.len()) <= ALIGN_CELLS {
         // LCS table, from the end.
         let w = mb.len() + 1;

@@ -367,13 +367,14 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
         assert_eq!(n(format!("svg[data-view={view}] circle.start")).await, 2, "{view}: both start points");
         assert_eq!(n(format!("svg[data-view={view}] rect.region")).await, 1, "{view}: the moved start point's region");
     }
+    shot(c, "comparison").await?;
     let moved = c.find(Locator::Css("li[data-kind=start_point_moved] a.change")).await?;
     moved.click().await?;
     assert_eq!(js(c, "return document.querySelectorAll('svg rect.region.active').length").await, json!(3), "the region is highlighted");
     assert_eq!(js(c, "return document.querySelectorAll('.src .ln.hl').length > 0").await, json!(true));
     // Cosmetic differences (block numbers, spelling) are greyed.
     assert!(js(c, "return document.querySelectorAll('#src-e .ln.cos').length").await.as_u64().unwrap() >= 5);
-    shot(c, "comparison").await?;
+    shot(c, "comparison-clicked").await?;
     // A layer switched off hides its paths.
     c.find(Locator::Css("input[data-layer=o1]")).await?.click().await?;
     assert_eq!(js(c, "return getComputedStyle(document.querySelector('g.layer[data-layer=o1]')).display").await, json!("none"));
