@@ -12,7 +12,10 @@ use std::path::Path;
 use rusqlite::{Connection, OpenFlags, OptionalExtension, Transaction, params};
 
 use crate::pairing::{Candidate, Key, Rule};
-pub use pages::{ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, MachineSummary, Mark, ProgramInfo, ProgramRow, SAVED_QUERIES, TimelineRow};
+pub use pages::{
+    ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow,
+    SAVED_QUERIES, TimelineRow,
+};
 pub use schema::MIGRATIONS;
 
 use crate::diag::DiagnosticJson;

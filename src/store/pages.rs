@@ -165,6 +165,9 @@ pub struct ChangeFilter {
     pub to_review: bool,
 }
 
+/// The SQL console's answer: the columns, the rows, and whether rows were left off.
+pub type Limited = (Vec<String>, Vec<Vec<String>>, bool);
+
 /// A knowledge page's query: its name, its title and its SQL.
 #[derive(Debug, Clone, Copy)]
 pub struct Knowledge {
@@ -233,10 +236,7 @@ pub const SAVED_QUERIES: &[(&str, &str)] = &[
         "Revisions with errors",
         "SELECT r.id, p.path, r.seen_at, COUNT(*) errors FROM diagnostics d JOIN revisions r ON r.id = d.revision_id JOIN programs p ON p.id = r.program_id WHERE d.severity = 'error' GROUP BY r.id ORDER BY r.id DESC",
     ),
-    (
-        "Hole diameters drilled",
-        "SELECT diameter, SUM(positions) holes FROM features WHERE kind = 'round_hole' GROUP BY 1 ORDER BY 2 DESC",
-    ),
+    ("Hole diameters drilled", "SELECT diameter, SUM(positions) holes FROM features WHERE kind = 'round_hole' GROUP BY 1 ORDER BY 2 DESC"),
     (
         "Review marks",
         "SELECT change_id, revision_id, kind, before, after, mark, note, marked_by, marked_at FROM review_marks ORDER BY id DESC",
@@ -244,7 +244,8 @@ pub const SAVED_QUERIES: &[(&str, &str)] = &[
 ];
 
 /// The changes of `shopfloor_changes` with the columns [`ChangeRow`] reads; `{where}` filters.
-const CHANGE_ROWS: &str = "SELECT c.id, c.revision_id, c.original_revision_id, COALESCE(m.name, ''), COALESCE(r.name, p.name), c.detected_at,
+const CHANGE_ROWS: &str =
+    "SELECT c.id, c.revision_id, c.original_revision_id, COALESCE(m.name, ''), COALESCE(r.name, p.name), c.detected_at,
         c.workingstep, c.operation, c.kind, c.field, c.before, c.after, c.line, c.original_line,
         c.region_min_x, c.region_min_y, c.region_min_z, c.region_max_x, c.region_max_y, c.region_max_z, c.deviation
  FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
@@ -431,12 +432,9 @@ impl Store {
 
     /// How often each change kind occurs, most often first.
     pub fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
-        self.rows(
-            "counting change kinds",
-            "SELECT kind, COUNT(*) FROM shopfloor_changes GROUP BY kind ORDER BY 2 DESC, 1",
-            [],
-            |r| Ok((r.get(0)?, r.get(1)?)),
-        )
+        self.rows("counting change kinds", "SELECT kind, COUNT(*) FROM shopfloor_changes GROUP BY kind ORDER BY 2 DESC, 1", [], |r| {
+            Ok((r.get(0)?, r.get(1)?))
+        })
     }
 
     /// The newest revisions whose analysis found errors.
@@ -584,7 +582,7 @@ impl Store {
         sql_text: &str,
         max_rows: usize,
         limit: std::time::Duration,
-    ) -> std::result::Result<(Vec<String>, Vec<Vec<String>>, bool), super::QueryError> {
+    ) -> std::result::Result<Limited, super::QueryError> {
         let (first, rest) = super::split_statement(sql_text);
         if !rest.is_empty() {
             return Err(super::QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
@@ -607,7 +605,7 @@ impl Store {
         })
     }
 
-    fn query_capped(&self, sql_text: &str, max_rows: usize) -> Result<(Vec<String>, Vec<Vec<String>>, bool)> {
+    fn query_capped(&self, sql_text: &str, max_rows: usize) -> Result<Limited> {
         let mut stmt = self.conn.prepare(sql_text).map_err(sql("preparing the query"))?;
         if !stmt.readonly() {
             return Err(StoreError::Sql {
@@ -669,7 +667,10 @@ mod tests {
         assert_eq!(left.iter().map(|r| r.id).collect::<Vec<_>>(), vec![11]);
         assert_eq!(s.machines().unwrap()[0].to_review, 1);
         let rows = s.change_rows(2).unwrap();
-        assert_eq!(rows[0].marks, vec![Mark { mark: "adopt".into(), note: String::new(), by: "ada".into(), at: "2026-11-03T00:00:00.000Z".into() }]);
+        assert_eq!(
+            rows[0].marks,
+            vec![Mark { mark: "adopt".into(), note: String::new(), by: "ada".into(), at: "2026-11-03T00:00:00.000Z".into() }]
+        );
         assert!(s.add_mark(11, "maybe", "", "ada", "t").is_err(), "only adopt, reject and note");
         assert!(s.conn.execute_batch("UPDATE review_marks SET mark = 'reject'").is_err(), "marks are a record");
         // The change rows are as they were.
@@ -698,14 +699,15 @@ mod tests {
     #[test]
     fn the_console_limits_rows_and_time_and_refuses_writes() {
         let s = store_with_a_change();
-        let (_, rows, more) = s.query_limited("SELECT value FROM generate_series(1, 100)", 10, std::time::Duration::from_secs(5)).unwrap_or_else(|_| {
-            s.query_limited(
-                "WITH RECURSIVE n(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM n WHERE x < 100) SELECT x FROM n",
-                10,
-                std::time::Duration::from_secs(5),
-            )
-            .unwrap()
-        });
+        let (_, rows, more) =
+            s.query_limited("SELECT value FROM generate_series(1, 100)", 10, std::time::Duration::from_secs(5)).unwrap_or_else(|_| {
+                s.query_limited(
+                    "WITH RECURSIVE n(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM n WHERE x < 100) SELECT x FROM n",
+                    10,
+                    std::time::Duration::from_secs(5),
+                )
+                .unwrap()
+            });
         assert_eq!((rows.len(), more), (10, true));
         let forever = "WITH RECURSIVE n(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM n) SELECT COUNT(*) FROM n";
         let err = s.query_limited(forever, 10, std::time::Duration::from_millis(100)).unwrap_err();

@@ -135,9 +135,26 @@ fn inside(b: &BBox, p: P3) -> bool {
     (0..3).all(|i| p[i] >= b.min[i] - e && p[i] <= b.max[i] + e)
 }
 
-/// Douglas–Peucker over `pts[lo..=hi]`: sets `keep` for the points that stay. Iterative, so a
-/// run of a million points does not recurse a million deep.
+/// Douglas–Peucker over `pts`: sets `keep` for the points that stay, in chunks of at most
+/// [`CHUNK`] points (their ends kept), so that a run of a million points costs a million
+/// times a chunk's kept points at worst, not a million times the run's.
 fn simplify(pts: &[[f64; 2]], keep: &mut [bool], tolerance: f64) {
+    let mut lo = 0;
+    while lo + 1 < pts.len() {
+        let hi = (lo + CHUNK).min(pts.len() - 1);
+        simplify_chunk(&pts[lo..=hi], &mut keep[lo..=hi], tolerance);
+        lo = hi;
+    }
+    if pts.len() == 1 {
+        keep[0] = true;
+    }
+}
+
+/// The most points Douglas–Peucker looks at together.
+const CHUNK: usize = 2048;
+
+/// Douglas–Peucker over one chunk. Iterative, so a long chunk does not recurse deep.
+fn simplify_chunk(pts: &[[f64; 2]], keep: &mut [bool], tolerance: f64) {
     if pts.len() < 3 {
         keep.iter_mut().for_each(|k| *k = true);
         return;
@@ -225,7 +242,14 @@ fn in_regions(regions: &[(Region, u8)], p: P3) -> u8 {
 }
 
 /// Writes the paths of one workingstep, for one program, into `out`.
-fn workingstep_paths(out: &mut String, frame: &Frame, w: &crate::plan::Workingstep, regions: &[(Region, u8)], side: Side, stats: &mut Stats) {
+fn workingstep_paths(
+    out: &mut String,
+    frame: &Frame,
+    w: &crate::plan::Workingstep,
+    regions: &[(Region, u8)],
+    side: Side,
+    stats: &mut Stats,
+) {
     let mut runs: Vec<Run> = Vec::new();
     let mut samples = Vec::new();
     let mut last_end: Option<P3> = None;

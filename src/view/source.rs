@@ -209,9 +209,9 @@ pub fn align(a: &[&str], b: &[&str]) -> Alignment {
 /// of interest (1-based), merged.
 pub fn windows(total: usize, interest: &[usize], whole: usize, context: usize) -> Vec<std::ops::Range<usize>> {
     if total <= whole {
-        return vec![0..total];
+        return std::iter::once(0..total).collect();
     }
-    let mut ranges: Vec<std::ops::Range<usize>> = vec![0..context.min(total)];
+    let mut ranges: Vec<std::ops::Range<usize>> = std::iter::once(0..context.min(total)).collect();
     let mut lines: Vec<usize> = interest.iter().filter(|l| **l >= 1 && **l <= total).map(|l| l - 1).collect();
     lines.sort_unstable();
     for l in lines {

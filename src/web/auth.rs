@@ -18,7 +18,9 @@ const COOKIE: &str = "ncplan_session";
 pub(super) fn random() -> anyhow::Result<[u8; 32]> {
     use std::io::Read as _;
     let mut b = [0u8; 32];
-    std::fs::File::open("/dev/urandom").and_then(|mut f| f.read_exact(&mut b)).map_err(|e| anyhow::anyhow!("cannot read /dev/urandom: {e}"))?;
+    std::fs::File::open("/dev/urandom")
+        .and_then(|mut f| f.read_exact(&mut b))
+        .map_err(|e| anyhow::anyhow!("cannot read /dev/urandom: {e}"))?;
     Ok(b)
 }
 

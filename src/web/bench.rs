@@ -192,7 +192,12 @@ pub fn run(dir: &Path, rows: usize, out: &mut impl Write) -> Result<()> {
     let registry = crate::config::dialect_registry(None)?;
     let t = Instant::now();
     let n = build(&dir, &config, &registry)?;
-    writeln!(out, "web: built {} ({n} machine revisions, {MACHINES} machines) in {:.1} s", config.database.display(), t.elapsed().as_secs_f64())?;
+    writeln!(
+        out,
+        "web: built {} ({n} machine revisions, {MACHINES} machines) in {:.1} s",
+        config.database.display(),
+        t.elapsed().as_secs_f64()
+    )?;
     let server = Server::new(config.clone(), registry.clone(), Arc::new(crate::daemon::SystemClock))?;
     let store = server.store()?;
     let ctx = Ctx { user: None, csrf: "bench".into(), auth: false };
@@ -233,8 +238,8 @@ pub fn run(dir: &Path, rows: usize, out: &mut impl Write) -> Result<()> {
 fn huge(dir: &Path, rows: usize, registry: &crate::dialect::Registry, out: &mut impl Write) -> Result<()> {
     let hdir = dir.join("huge");
     std::fs::create_dir_all(&hdir)?;
-    let text = format!("[database]\npath = 'huge.db'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n");
-    let config = Config::parse(&text, &hdir)?;
+    let text = "[database]\npath = 'huge.db'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n";
+    let config = Config::parse(text, &hdir)?;
     if config.database.exists() {
         std::fs::remove_file(&config.database)?;
     }
@@ -267,7 +272,12 @@ fn huge(dir: &Path, rows: usize, registry: &crate::dialect::Registry, out: &mut 
     tx.record_comparison(e, o, "file-name", &changes, &at(10))?;
     tx.commit()?;
     drop(store);
-    writeln!(out, "web: 1M-move database: {moves} moves per program, {} changes, built in {:.1} s", changes.len(), t.elapsed().as_secs_f64())?;
+    writeln!(
+        out,
+        "web: 1M-move database: {moves} moves per program, {} changes, built in {:.1} s",
+        changes.len(),
+        t.elapsed().as_secs_f64()
+    )?;
     let server = Server::new(config, registry.clone(), Arc::new(crate::daemon::SystemClock))?;
     let store = server.store()?;
     let ctx = Ctx { user: None, csrf: "bench".into(), auth: false };

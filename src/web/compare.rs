@@ -26,8 +26,11 @@ pub(crate) struct Comparison {
     pub(crate) findings: (Vec<StoredFinding>, Vec<StoredFinding>),
 }
 
+/// Rebuilds the whole plan of a stored revision.
+pub(crate) type PlanOf<'a> = dyn Fn(&Store, i64) -> Result<Option<Arc<ProcessPlan>>> + 'a;
+
 /// Loads the comparison of the edited revision `revision`; `plan` rebuilds a whole plan.
-pub(crate) fn load(store: &Store, revision: i64, plan: &dyn Fn(&Store, i64) -> Result<Option<Arc<ProcessPlan>>>) -> Result<Comparison> {
+pub(crate) fn load(store: &Store, revision: i64, plan: &PlanOf<'_>) -> Result<Comparison> {
     let edited = store.revision(revision)?.ok_or_else(|| NotFound(format!("no revision {revision}")))?;
     let Some((original_id, _, rule, _)) = edited.original.clone() else {
         return Err(NotFound(format!("revision {revision} was not compared with a CAM original")).into());

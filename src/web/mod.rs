@@ -79,7 +79,10 @@ struct PlanCache {
     kept: Vec<(i64, Arc<ProcessPlan>)>,
 }
 
-const PLANS_KEPT: usize = 6;
+const PLANS_KEPT: usize = 4;
+
+/// Comparisons whose plans are rebuilt at start.
+const WARM_COMPARISONS: usize = 2;
 
 /// The server's state.
 pub(crate) struct Server {
@@ -127,6 +130,23 @@ impl Server {
         Ok(Some(plan))
     }
 
+    /// Rebuilds the plans of the newest `n` compared revisions and their originals.
+    fn warm(&self, n: usize) {
+        let Ok(store) = self.store() else { return };
+        let Ok(rows) = store.search_changes(&crate::store::ChangeFilter::default(), 50) else { return };
+        let mut seen = Vec::new();
+        for r in rows {
+            if seen.len() == n {
+                break;
+            }
+            if !seen.contains(&r.revision_id) {
+                seen.push(r.revision_id);
+                let _ = self.plan(&store, r.original_revision_id);
+                let _ = self.plan(&store, r.revision_id);
+            }
+        }
+    }
+
     fn auth_required(&self) -> bool {
         !self.config.web_users.is_empty()
     }
@@ -163,6 +183,10 @@ pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
     runtime.block_on(async move {
         let listener = tokio::net::TcpListener::bind(addr).await.with_context(|| format!("cannot listen on {addr}"))?;
         ready(listener.local_addr()?);
+        // The newest comparisons' plans are rebuilt at start, so that their pages (a huge
+        // program's too) come without reading the programs again.
+        let warm = server.clone();
+        tokio::task::spawn_blocking(move || warm.warm(WARM_COMPARISONS));
         axum::serve(listener, router(server)).with_graceful_shutdown(shutdown()).await.context("the server failed")
     })
 }

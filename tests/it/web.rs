@@ -256,16 +256,18 @@ fn the_workspace_in_chromium() {
             std::env::var_os("NCPLAN_REQUIRE_CHROMIUM").is_none(),
             "NCPLAN_REQUIRE_CHROMIUM is set but chromium or chromedriver is missing (apt-get install chromium chromium-driver)"
         );
-        crate::skip("web::the_workspace_in_chromium", "chromium or chromedriver is not installed (apt-get install chromium chromium-driver)");
+        crate::skip(
+            "web::the_workspace_in_chromium",
+            "chromium or chromedriver is not installed (apt-get install chromium chromium-driver)",
+        );
         return;
     }
     let site = Site::new();
     site.build();
     let (_serve, base) = serve(&site, &[]);
     let port = free_port();
-    let _driver = Proc(
-        Command::new("chromedriver").arg(format!("--port={port}")).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap(),
-    );
+    let _driver =
+        Proc(Command::new("chromedriver").arg(format!("--port={port}")).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap());
     let deadline = Instant::now() + Duration::from_secs(20);
     while TcpStream::connect(("127.0.0.1", port)).is_err() {
         assert!(Instant::now() < deadline, "chromedriver did not start");
