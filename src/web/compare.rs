@@ -214,12 +214,11 @@ pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
 fn listing(
     prefix: &str,
     other: &str,
-    text: &str,
+    lines: &[&str],
     states: &[(LineState, Option<usize>)],
     highlight: &BTreeSet<usize>,
     whole: usize,
 ) -> Markup {
-    let lines: Vec<&str> = text.lines().collect();
     let interest: Vec<usize> = highlight
         .iter()
         .copied()
@@ -267,11 +266,11 @@ pub(crate) fn sources(c: &Comparison, whole: usize) -> Markup {
         div class="sources" {
             div {
                 h3 { "Original " span class="muted" { (c.original.path) } }
-                div class="src" id="src-o" { (listing("o", "e", &c.texts.0, &al.original, &ho, whole)) }
+                div class="src" id="src-o" { (listing("o", "e", &a, &al.original, &ho, whole)) }
             }
             div {
                 h3 { "Edited " span class="muted" { (c.edited.path) } }
-                div class="src" id="src-e" { (listing("e", "o", &c.texts.1, &al.edited, &he, whole)) }
+                div class="src" id="src-e" { (listing("e", "o", &b, &al.edited, &he, whole)) }
             }
         }
         p class="muted" { "Highlighted: the lines of a change. Tinted: lines that differ. Grey: differences the machine does not see (block numbers, comments, spelling). Click a line to see its counterpart." }
@@ -280,11 +279,16 @@ pub(crate) fn sources(c: &Comparison, whole: usize) -> Markup {
 
 /// Findings with their source line and a caret.
 pub(crate) fn findings(title: &str, text: &str, findings: &[StoredFinding]) -> Markup {
-    let lines: Vec<&str> = text.lines().collect();
+    // Only the lines findings point at are looked up.
+    let wanted: BTreeSet<usize> = findings.iter().take(200).map(|f| (f.line.max(1) - 1) as usize).collect();
+    let lines: std::collections::BTreeMap<usize, &str> = match wanted.last() {
+        Some(last) => text.lines().enumerate().take(last + 1).filter(|(i, _)| wanted.contains(i)).collect(),
+        None => std::collections::BTreeMap::new(),
+    };
     html! {
         h3 { (title) " (" (findings.len()) ")" }
         @for f in findings.iter().take(200) {
-            @let line = lines.get((f.line.max(1) - 1) as usize).copied().unwrap_or("");
+            @let line = lines.get(&((f.line.max(1) - 1) as usize)).copied().unwrap_or("");
             @let col = line.chars().take((f.col.max(1) - 1) as usize).count();
             pre class="finding" {
                 span class=(if f.severity == "error" { "bad" } else { "muted" }) { (f.severity) "[" (f.code) "]" } ": " (f.message) "\n"
