@@ -653,10 +653,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 }
             }
             let db = db_path(&store)?;
-            let config = match &store.config {
-                Some(p) => load_config(Some(p))?,
-                None => load_config(None)?,
-            };
+            let config_path = store.config.clone();
             let store = Store::open_read_only(&db)?;
             let filter = crate::web::report::Filter { since, machine };
             let text = match format {
@@ -667,6 +664,8 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 }
                 ReportFormat::Html => {
                     use crate::daemon::Clock;
+                    // The configuration reads the programs as the daemon did, to draw their toolpaths.
+                    let config = load_config(config_path.as_deref())?;
                     let registry = registry_for(Some(&config))?;
                     crate::web::report::html(&store, &config, &registry, &filter, &crate::daemon::SystemClock.now())?.into_bytes()
                 }

@@ -307,6 +307,33 @@ async fn shot(c: &Client, name: &str) -> Result<(), fantoccini::error::CmdError>
     Ok(())
 }
 
+/// The text of the first element `css` selects, waiting (up to 10 s) for a page that is
+/// still loading after a form's POST and redirect.
+async fn text_of(c: &Client, css: &str) -> String {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        if let Ok(e) = c.find(Locator::Css(css)).await
+            && let Ok(t) = e.text().await
+        {
+            return t;
+        }
+        assert!(Instant::now() < deadline, "no element {css}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+/// Waits (up to 10 s) until the element `css` holds `want`; returns its text.
+async fn wait_text(c: &Client, css: &str, want: &str) -> String {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let t = text_of(c, css).await;
+        if t.contains(want) || Instant::now() > deadline {
+            return t;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
 async fn js(c: &Client, script: &str) -> serde_json::Value {
     c.execute(script, vec![]).await.unwrap()
 }
@@ -323,7 +350,7 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
     let queue = |v: serde_json::Value| v.as_str().unwrap_or("").trim().parse::<usize>().unwrap_or(usize::MAX);
     let before = queue(js(c, "return document.querySelector('[data-queue=\"DMU50\"]').textContent").await);
     assert_eq!(before, total);
-    assert!(c.find(Locator::Css("#health")).await?.text().await?.contains("readable"));
+    assert!(text_of(c, "#health").await.contains("readable"));
     assert!(c.find(Locator::Css("svg.chart rect.bar")).await.is_ok(), "the weekly chart has bars");
     shot(c, "overview").await?;
 
@@ -341,24 +368,24 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
         ("/sql?q=SELECT%20kind%2C%20COUNT(*)%20FROM%20shopfloor_changes%20GROUP%20BY%201".to_owned(), "SQL console"),
     ] {
         c.goto(&format!("{base}{path}")).await?;
-        let h1 = c.find(Locator::Css("h1")).await?.text().await?;
+        let h1 = text_of(c, "h1").await;
         assert!(h1.starts_with(heading), "{path}: {h1}");
         let name: String = path.trim_start_matches('/').split(['?', '/']).take(2).collect::<Vec<_>>().join("-");
         let name: String = name.chars().map(|ch| if ch.is_ascii_alphanumeric() || ch == '-' { ch } else { '_' }).take(40).collect();
         shot(c, &name).await?;
     }
     c.goto(&format!("{base}/knowledge/tools?sql")).await?;
-    assert!(c.find(Locator::Css("pre.sql")).await?.text().await?.contains("tool_renamed"));
-    assert!(c.find(Locator::Css("table")).await?.text().await?.contains("T8"), "the substitution T1 → T8 is counted");
+    assert!(text_of(c, "pre.sql").await.contains("tool_renamed"));
+    assert!(text_of(c, "table").await.contains("T8"), "the substitution T1 → T8 is counted");
     c.goto(&format!("{base}/search?program=1234&machine=DMU50&kind=tool_renamed")).await?;
-    assert!(c.find(Locator::Css("#result-count")).await?.text().await?.starts_with("1 changes"));
+    assert!(text_of(c, "#result-count").await.starts_with("1 changes"));
     c.goto(&format!("{base}/sql?q=DELETE%20FROM%20revisions")).await?;
-    assert!(c.find(Locator::Css("p.error")).await?.text().await?.contains("refused"));
+    assert!(text_of(c, "p.error").await.contains("refused"));
 
     // The demo's comparison: the face milling workingstep, T1 → T8, the moved start point boxed.
     c.set_window_size(1400, 2000).await?;
     c.goto(&format!("{base}/compare/{demo_rev}")).await?;
-    let sentences = c.find(Locator::Css("section.card")).await?.text().await?;
+    let sentences = text_of(c, "section.card").await;
     assert!(sentences.contains("Workingstep 1 (plane finish milling)"), "{sentences}");
     assert!(sentences.contains("tool T1 renamed T8") && sentences.contains("start point moved from X90 Y20 to X83 Y20"), "{sentences}");
     for view in ["top", "front", "side"] {
@@ -383,7 +410,7 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
 
     // Adopt a change: its mark is shown and the queue shrinks by one.
     c.find(Locator::Css("li[data-kind=tool_renamed] button[data-mark=adopt]")).await?.click().await?;
-    let li = c.find(Locator::Css("li[data-kind=tool_renamed]")).await?.text().await?;
+    let li = wait_text(c, "li[data-kind=tool_renamed]", "adopt by planner").await;
     assert!(li.contains("adopt by planner"), "{li}");
     c.goto(&format!("{base}/")).await?;
     let after = queue(js(c, "return document.querySelector('[data-queue=\"DMU50\"]').textContent").await);
@@ -397,7 +424,7 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
     c.goto(&format!("{base}/compare/{long_rev}")).await?;
     assert_eq!(js(c, "return window.pwned === undefined").await, json!(true), "script in a comment ran");
     assert_eq!(js(c, "return document.querySelectorAll('[onload], [onerror], main script').length").await, json!(0));
-    let text = c.find(Locator::Css("#src-e")).await?.text().await?;
+    let text = text_of(c, "#src-e").await;
     assert!(text.contains("(<script>window.pwned=1</script>)") && text.contains("(\" onload=\"window.pwned=2)"), "{text}");
     let scroll = "return [document.getElementById('src-o').scrollTop, document.getElementById('src-e').scrollTop]";
     assert_eq!(js(c, scroll).await, json!([0, 0]));
@@ -427,7 +454,7 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
     assert!(html.contains("<style>") && html.contains("<svg"));
     assert!(html.contains("tool T1 renamed T8") && html.contains("&lt;script&gt;window.pwned=1"));
     c.goto(&format!("file://{}", report.display())).await?;
-    assert!(c.find(Locator::Css("h1")).await?.text().await?.contains("Shopfloor changes"));
+    assert!(text_of(c, "h1").await.contains("Shopfloor changes"));
     assert_eq!(js(c, "return document.querySelectorAll('svg.toolpath').length").await, json!(6));
     shot(c, "report").await?;
     Ok(())
