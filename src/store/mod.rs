@@ -4,6 +4,7 @@
 //! revision is recorded with its plan, diagnostics and changes in one transaction, so a
 //! crash leaves either all of it or none of it, and the next scan picks the file up again.
 
+mod pages;
 mod schema;
 
 use std::path::Path;
@@ -11,6 +12,10 @@ use std::path::Path;
 use rusqlite::{Connection, OpenFlags, OptionalExtension, Transaction, params};
 
 use crate::pairing::{Candidate, Key, Rule};
+pub use pages::{
+    ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow,
+    SAVED_QUERIES, TimelineRow,
+};
 pub use schema::MIGRATIONS;
 
 use crate::diag::DiagnosticJson;
@@ -493,22 +498,27 @@ impl Store {
         let mut rows = stmt.query([]).map_err(sql("running the query"))?;
         let mut out = Vec::new();
         while let Some(row) = rows.next().map_err(sql("reading a row"))? {
-            let mut cells = Vec::with_capacity(n);
-            for i in 0..n {
-                use rusqlite::types::ValueRef;
-                let v = row.get_ref(i).map_err(sql("reading a cell"))?;
-                cells.push(match v {
-                    ValueRef::Null => String::new(),
-                    ValueRef::Integer(x) => x.to_string(),
-                    ValueRef::Real(x) => x.to_string(),
-                    ValueRef::Text(t) => String::from_utf8_lossy(t).into_owned(),
-                    ValueRef::Blob(b) => format!("<{} bytes>", b.len()),
-                });
-            }
-            out.push(cells);
+            out.push(cells(row, n)?);
         }
         Ok((names, out))
     }
+}
+
+/// The first `n` cells of a row as text.
+fn cells(row: &rusqlite::Row<'_>, n: usize) -> Result<Vec<String>> {
+    let mut cells = Vec::with_capacity(n);
+    for i in 0..n {
+        use rusqlite::types::ValueRef;
+        let v = row.get_ref(i).map_err(sql("reading a cell"))?;
+        cells.push(match v {
+            ValueRef::Null => String::new(),
+            ValueRef::Integer(x) => x.to_string(),
+            ValueRef::Real(x) => x.to_string(),
+            ValueRef::Text(t) => String::from_utf8_lossy(t).into_owned(),
+            ValueRef::Blob(b) => format!("<{} bytes>", b.len()),
+        });
+    }
+    Ok(cells)
 }
 
 /// A stored revision's program and plan; its bytes only when the plan is not complete.
