@@ -21,6 +21,7 @@ mod plan;
 mod robustness;
 mod shop;
 mod stepnc;
+mod translate;
 
 use std::path::{Path, PathBuf};
 
