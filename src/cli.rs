@@ -820,14 +820,22 @@ fn translate_command(
         .unwrap_or_else(|| "PROGRAM".into());
     let limits = folder.map(|f| f.limits.clone()).unwrap_or_default();
     // Plan facts for the writer: where each hole's top is (a G81 states only its R level).
-    let facts = pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan;
+    // Only a program with such cycles needs it: the plan holds the toolpath, and a program
+    // without them is written in constant memory.
+    let states_surface = target.output.as_ref().is_some_and(crate::post::states_surface);
+    let hole_tops = if states_surface && crate::post::needs_hole_tops(&source.text, &source_dialect, &config.profile) {
+        crate::post::hole_tops(&pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan)
+    } else {
+        Vec::new()
+    };
     let opts = crate::post::Options {
-        hole_tops: crate::post::hole_tops(&facts),
+        hole_tops,
         peck_clearance: (0.0, 0.0),
         length_at_tool_change: (false, false),
         number: crate::post::program_number(&name),
         name: crate::post::program_identifier(&name),
         units: limits.units.unwrap_or(crate::canon::Units::Mm),
+        follow_source_units: limits.units.is_none(),
         limits: crate::post::Limits { max_spindle_speed: limits.max_spindle_speed, max_feed: limits.max_feed, travel: limits.travel },
     };
     let mut profile = config.profile.clone();

@@ -20,6 +20,9 @@ pub struct NumberFormat {
     pub address: String,
     /// Decimals after the point.
     pub decimals: u8,
+    /// Decimals after the point in an inch program (one more than in millimetres unless
+    /// `inch-decimals` says).
+    pub inch_decimals: u8,
     /// When the decimal point is written.
     pub point: Point,
     /// Whether trailing zeros are kept (`X10.500`).
@@ -481,7 +484,11 @@ pub(super) fn load(el: &Element, errors: &mut Errors) -> Output {
     };
     // Formats first: templates refer to them.
     for c in el.children.iter().filter(|c| c.name == "format") {
-        shape(c, &["name", "address", "decimals", "point", "trailing-zeros", "leading-zero", "plus", "increment", "modal"], errors);
+        shape(
+            c,
+            &["name", "address", "decimals", "point", "trailing-zeros", "leading-zero", "plus", "increment", "modal", "inch-decimals"],
+            errors,
+        );
         let Some(name) = attr(c, "name") else {
             errors.push((c.range, "<format> needs the attribute `name`".into()));
             continue;
@@ -503,6 +510,7 @@ pub(super) fn load(el: &Element, errors: &mut Errors) -> Output {
             name: name.to_owned(),
             address: attr(c, "address").unwrap_or(name).to_owned(),
             decimals: decimals.min(6) as u8,
+            inch_decimals: count(c, "inch-decimals", if point == Point::Never { 0 } else { (decimals + 1).min(6) }, errors).min(6) as u8,
             point,
             trailing_zeros: flag(c, "trailing-zeros", false, errors),
             leading_zero: flag(c, "leading-zero", true, errors),
@@ -516,6 +524,7 @@ pub(super) fn load(el: &Element, errors: &mut Errors) -> Output {
             name: "num".into(),
             address: String::new(),
             decimals: 3,
+            inch_decimals: 4,
             point: Point::Needed,
             trailing_zeros: false,
             leading_zero: true,
@@ -821,6 +830,7 @@ mod tests {
             name: "X".into(),
             address: "X".into(),
             decimals: 3,
+            inch_decimals: 4,
             point: Point::Always,
             trailing_zeros: false,
             leading_zero: true,

@@ -25,6 +25,9 @@ pub struct Options {
     pub number: u32,
     /// The target machine's units.
     pub units: Units,
+    /// Whether, instead, the program is written in the units the source starts in (no
+    /// machine named).
+    pub follow_source_units: bool,
     /// The target machine's limits.
     pub limits: Limits,
     /// Plan facts: the top of each hole the source's plan found (X, Y, top, mm), for cycles
@@ -37,6 +40,31 @@ pub struct Options {
     /// Whether the source's tool change puts the tool's length offset in force, and the
     /// target's (set by [`translate`] from the dictionaries).
     pub length_at_tool_change: (bool, bool),
+}
+
+/// Whether the output rules write a cycle's workpiece surface (Siemens RFP, Heidenhain
+/// Q203), which a G8x source does not state.
+pub fn states_surface(out: &Output) -> bool {
+    out.cycles
+        .iter()
+        .any(|c| [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v)))
+}
+
+/// Whether the program has canned cycles that state no workpiece surface (G81's R level
+/// only), for which the writer wants [`hole_tops`] from the plan. Runs the interpreter with
+/// a sink that keeps nothing.
+pub fn needs_hole_tops(text: &str, dialect: &crate::dialect::Dialect, profile: &crate::interp::Profile) -> bool {
+    struct Scan(bool);
+    impl CanonSink for Scan {
+        fn emit(&mut self, canon: Canon) {
+            if let CanonOp::CycleBegin(i) = &canon.op {
+                self.0 |= i.surface.is_none();
+            }
+        }
+    }
+    let mut scan = Scan(false);
+    crate::interp::interpret(text, dialect, profile, &mut scan);
+    scan.0
 }
 
 /// The hole tops of a plan, for [`Options::hole_tops`].
@@ -155,7 +183,7 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// Last written text of the modal values X, Y, Z, F, S.
     written: [Option<String>; 5],
     motion: Option<String>,
-    mods: Vec<String>,
+    mods: Vec<(String, String)>,
     tool: u32,
     tool_names: Vec<(u32, String)>,
     pending_tool: Option<u32>,
@@ -190,9 +218,15 @@ fn modal_slot(v: Value) -> Option<usize> {
 }
 
 /// Writes `v` in format `f` (address included) onto `out`.
-pub fn format_number(out: &mut String, f: &NumberFormat, v: f64) {
+pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) {
     out.push_str(&f.address);
-    let decimals = if f.point == Point::Never && !f.increment { 0 } else { f.decimals as u32 };
+    let decimals = if f.point == Point::Never && !f.increment {
+        0
+    } else if inch {
+        f.inch_decimals as u32
+    } else {
+        f.decimals as u32
+    };
     let scale = 10f64.powi(decimals as i32);
     let n = (v * scale).round();
     let n = if n == 0.0 { 0.0 } else { n };
@@ -319,7 +353,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         for (k, f) in ["X", "Y", "Z"].iter().enumerate() {
             self.written[k] = self.out.formats.iter().find(|x| x.name == *f).map(|f| {
                 let mut s = String::new();
-                format_number(&mut s, f, 0.0);
+                format_number(&mut s, f, 0.0, self.opts.units == Units::Inch);
                 s
             });
         }
@@ -350,8 +384,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         }
                     }
                 }
+                // A later word of the same kind replaces the one still waiting (G49 then G43 H1).
+                let group = event.split('-').next().unwrap_or(event).to_owned();
+                self.mods.retain(|(g, _)| *g != group);
                 if !text.is_empty() {
-                    self.mods.push(text);
+                    self.mods.push((group, text));
                 }
                 true
             }
@@ -412,7 +449,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     any_var = true;
                     if value.is_text() {
                         let t = match value {
-                            Value::Mods => std::mem::take(&mut self.mods).join(&self.out.separator),
+                            Value::Mods => {
+                                std::mem::take(&mut self.mods).into_iter().map(|(_, t)| t).collect::<Vec<_>>().join(&self.out.separator)
+                            }
                             Value::Name => self.opts.name.clone(),
                             Value::UnitName => if self.opts.units == Units::Mm { "MM" } else { "INCH" }.to_owned(),
                             Value::Tname => self
@@ -440,7 +479,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     let f = &self.out.formats[*fi];
                     self.word_buf.clear();
                     let mut wb = std::mem::take(&mut self.word_buf);
-                    format_number(&mut wb, f, x);
+                    format_number(&mut wb, f, x, self.opts.units == Units::Inch);
                     if let Some(slot) = modal_slot(*value) {
                         if f.modal && !force && self.written[slot].as_deref() == Some(wb.as_str()) {
                             self.word_buf = wb;
@@ -465,6 +504,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
         for b in &t.0 {
             let saved = self.written.clone();
+            let saved_motion = self.motion.clone();
             let mut line = std::mem::take(&mut self.line_buf);
             line.clear();
             let mut moved = 0;
@@ -490,6 +530,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 b.words.iter().flat_map(|w| &w.0).any(|p| matches!(p, Piece::Var { value: Value::X | Value::Y | Value::Z, .. }));
             if motion && positions && moved == 0 {
                 self.written = saved;
+                self.motion = saved_motion;
                 self.line_buf = line;
                 continue;
             }
@@ -503,6 +544,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     }
 
     fn line(&mut self, text: &str, raw: bool, tool_change: bool) {
+        // The header waits for the first block, so that the units the source starts in are
+        // known.
+        self.start();
         let start = self.buf.len();
         if !raw && self.optional_line == Some(self.line) {
             self.buf.push(b'/');
@@ -660,6 +704,19 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.moved(end);
             return;
         };
+        // The source's tolerance let the two radii differ; the target's may not. The centre
+        // goes onto the perpendicular bisector of the chord (moving it by about the radius
+        // error), so both radii agree whatever the target checks.
+        let mut centre = centre;
+        let (dx, dy) = (end[a] - start[a], end[b] - start[b]);
+        let chord = dx.hypot(dy);
+        if chord > 1e-9 {
+            let (mx, my) = ((start[a] + end[a]) / 2.0, (start[b] + end[b]) / 2.0);
+            let (ux, uy) = (-dy / chord, dx / chord);
+            let t = (centre[a] - mx) * ux + (centre[b] - my) * uy;
+            centre[a] = mx + t * ux;
+            centre[b] = my + t * uy;
+        }
         let r = ((start[a] - centre[a]).hypot(start[b] - centre[b])).max(EPS);
         let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
         let mut sweep = ang(end) - ang(start);
@@ -850,7 +907,6 @@ impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
     fn op(&mut self, canon: Canon) {
-        self.start();
         if canon.line < self.line && canon.line > 0 {
             self.note(
                 Code::PostUnrolled,
@@ -886,6 +942,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
         match &canon.op {
             CanonOp::UseLengthUnits(u) => {
+                if self.opts.follow_source_units && !self.started {
+                    self.opts.units = *u;
+                }
                 self.scale = u.to_mm() / self.opts.units.to_mm();
                 if *u != self.opts.units {
                     self.note(
@@ -1059,10 +1118,11 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     self.in_cycle = false;
                     let p = self.pos;
                     let out = self.out;
+                    let inch = self.opts.units == Units::Inch;
                     for (k, f) in ["X", "Y", "Z"].iter().enumerate() {
                         self.written[k] = out.formats.iter().find(|x| x.name == *f).map(|f| {
                             let mut s = String::new();
-                            format_number(&mut s, f, p[k]);
+                            format_number(&mut s, f, p[k], inch);
                             s
                         });
                     }
@@ -1109,6 +1169,7 @@ mod tests {
             name: "X".into(),
             address: "X".into(),
             decimals,
+            inch_decimals: decimals + 1,
             point,
             trailing_zeros: trailing,
             leading_zero: leading,
@@ -1120,7 +1181,7 @@ mod tests {
 
     fn s(fmt: &NumberFormat, v: f64) -> String {
         let mut out = String::new();
-        format_number(&mut out, fmt, v);
+        format_number(&mut out, fmt, v, false);
         out
     }
 

@@ -38,14 +38,29 @@ fn dialect(name: &str) -> Arc<Dialect> {
 
 /// Translates `text` from `from` to `to` in metric.
 pub(crate) fn translate(text: &str, from: &Dialect, to: &Dialect, name: &str) -> (String, Vec<Diagnostic>) {
-    let mut out = Vec::new();
     let plan = pipeline::analyze_plan(text.as_bytes(), from, &Profile::default()).plan;
+    translate_with(text, from, to, name, &plan, None)
+}
+
+/// [`translate`] with the source's plan already recovered.
+/// [`translate`] with the source's plan already recovered, in the machine's `units` or, without,
+/// the source's.
+fn translate_with(
+    text: &str,
+    from: &Dialect,
+    to: &Dialect,
+    name: &str,
+    plan: &ProcessPlan,
+    units: Option<Units>,
+) -> (String, Vec<Diagnostic>) {
+    let mut out = Vec::new();
     let opts = Options {
         name: post::program_identifier(name),
         number: post::program_number(name),
-        units: Units::Mm,
+        units: units.unwrap_or(Units::Mm),
+        follow_source_units: units.is_none(),
         limits: Limits::default(),
-        hole_tops: post::hole_tops(&plan),
+        hole_tops: post::hole_tops(plan),
         peck_clearance: (0.0, 0.0),
         length_at_tool_change: (false, false),
     };
@@ -62,6 +77,9 @@ struct Mv {
     to: [f64; 3],
     centre: [f64; 3],
     sweep: f64,
+    /// How far the source's radii at start and end differ: the writer may move the centre
+    /// by that much to make them agree for a stricter target.
+    slack: f64,
     feed: f64,
     speed: f64,
     spindle: i8,
@@ -110,6 +128,7 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                     to,
                     centre: [0.0; 3],
                     sweep: 0.0,
+                    slack: 0.0,
                     feed,
                     speed,
                     spindle,
@@ -125,7 +144,7 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                 to[a] = mm(*first_end, a, &g92, scale);
                 to[b] = mm(*second_end, b, &g92, scale);
                 to[n] = mm(*axis_end, n, &g92, scale);
-                let mut centre = to;
+                let mut centre = [0.0; 3];
                 centre[a] = mm(*first_axis, a, &g92, scale);
                 centre[b] = mm(*second_axis, b, &g92, scale);
                 let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
@@ -141,11 +160,13 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                     }
                 }
                 let sweep = sweep.abs() + tau * f64::from(rotation.unsigned_abs().saturating_sub(1));
+                let slack = ((pos[a] - centre[a]).hypot(pos[b] - centre[b]) - (to[a] - centre[a]).hypot(to[b] - centre[b])).abs();
                 out.push(Mv {
                     kind: if *rotation > 0 { 3 } else { 2 },
                     to,
                     centre,
                     sweep,
+                    slack,
                     feed,
                     speed,
                     spindle,
@@ -170,19 +191,22 @@ fn fmt(p: [f64; 3]) -> String {
 }
 
 /// The first way toolpath `b` differs from `a`, if any.
-fn toolpath_difference(a: &[Mv], b: &[Mv]) -> Option<String> {
+fn toolpath_difference(a: &[Mv], b: &[Mv], tol: f64) -> Option<String> {
     let mut j = 0;
     for m in a {
         let Some(n) = b.get(j) else { return Some(format!("the translation ends before the move of line {} to {}", m.line, fmt(m.to))) };
         let state = |x: &Mv| (x.spindle, x.coolant, x.tool);
-        if state(m) != state(n) || (m.speed - n.speed).abs() > 0.5 || (m.kind != 0 && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0)) {
+        if state(m) != state(n)
+            || (m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
+            || (m.kind != 0 && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0))
+        {
             return Some(format!(
                 "line {}: tool/spindle/coolant/feed/speed T{} {} {} F{} S{} became T{} {} {} F{} S{}",
                 m.line, m.tool, m.spindle, m.coolant, m.feed, m.speed, n.tool, n.spindle, n.coolant, n.feed, n.speed
             ));
         }
         if m.kind < 2 {
-            if n.kind != m.kind || !near(m.to, n.to, TOL) {
+            if n.kind != m.kind || !near(m.to, n.to, tol) {
                 return Some(format!("line {}: {} to {} became {} to {}", m.line, kind(m.kind), fmt(m.to), kind(n.kind), fmt(n.to)));
             }
             j += 1;
@@ -192,13 +216,13 @@ fn toolpath_difference(a: &[Mv], b: &[Mv]) -> Option<String> {
         let mut swept = 0.0;
         loop {
             let Some(n) = b.get(j) else { return Some(format!("the translation ends within the arc of line {}", m.line)) };
-            if n.kind != m.kind || !near(n.centre, m.centre, 2.0 * TOL) {
+            if n.kind != m.kind || !near(n.centre, m.centre, 2.0 * tol + m.slack) {
                 return Some(format!("line {}: arc about {} became {} about {}", m.line, fmt(m.centre), kind(n.kind), fmt(n.centre)));
             }
             swept += n.sweep;
             j += 1;
             if swept >= m.sweep - 1e-3 {
-                if !near(n.to, m.to, TOL) || (swept - m.sweep).abs() > 1e-2 {
+                if !near(n.to, m.to, tol) || (swept - m.sweep).abs() > 1e-2 {
                     return Some(format!("line {}: arc to {} became one to {}", m.line, fmt(m.to), fmt(n.to)));
                 }
                 break;
@@ -283,7 +307,7 @@ impl Source {
 /// Translates `src` to `to` and reads it back: `equal`, or the first difference.
 pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
     let target = dialect(to);
-    let (text, diags) = translate(&src.text, &src.dialect, &target, &src.name);
+    let (text, diags) = translate_with(&src.text, &src.dialect, &target, &src.name, &src.plan, None);
     if let Some(e) = diags.iter().find(|d| d.is_error()) {
         return (text, format!("untranslatable: {}: {}", e.code.as_str(), e.message));
     }
@@ -292,7 +316,9 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
         let line = ncplan::text::LineIndex::new(&back.source.text).line_col(&back.source.text, e.range.start).line;
         return (text, format!("read back with errors: line {line}: {}: {}", e.code.as_str(), e.message));
     }
-    if let Some(d) = toolpath_difference(&src.moves, &moves(&back.canon)) {
+    // The LinuxCNC output has four decimals: the oracle's 1e-4 holds against the source.
+    let tol = if to == "linuxcnc" { 1.0001e-4 } else { TOL };
+    if let Some(d) = toolpath_difference(&src.moves, &moves(&back.canon), tol) {
         return (text, format!("toolpath: {d}"));
     }
     if let Some(d) = plan_difference(&src.plan, &back.plan) {
@@ -344,7 +370,7 @@ fn equivalence_parts_go_fanuc_siemens_heidenhain_fanuc_with_cycles_staying_cycle
             let expected: Vec<_> =
                 holes.iter().map(|(k, p)| (if *k == CycleKind::CounterBoring { CycleKind::Drilling } else { *k }, p.clone())).collect();
             assert_eq!(stage_holes, expected, "{part} → {to}: the cycles changed\n{next}");
-            if let Some(d) = toolpath_difference(&src.moves, &stage.moves) {
+            if let Some(d) = toolpath_difference(&src.moves, &stage.moves, TOL) {
                 panic!("{part} → {to}: toolpath: {d}\n{next}");
             }
             if let Some(d) = plan_difference(&src.plan, &stage.plan) {
@@ -411,13 +437,17 @@ fn output_rules_are_inherited_and_checked() {
 #[test]
 fn inch_programs_are_written_in_millimetres_with_a_note() {
     let text = "%\nO0001\nG20 G17 G40 G49 G80 G90\nT1 M6\nS1000 M3\nG0 X1. Y1.\nG43 Z1. H1\nG1 Z-0.1 F10.\nX2.\nG0 Z1.\nM30\n%\n";
-    let (out, diags) = translate(text, &dialect("fanuc"), &dialect("heidenhain"), "O0001");
+    let plan = pipeline::analyze_plan(text.as_bytes(), &dialect("fanuc"), &Profile::default()).plan;
+    let (out, diags) = translate_with(text, &dialect("fanuc"), &dialect("heidenhain"), "O0001", &plan, Some(Units::Mm));
     assert!(out.contains("BEGIN PGM O0001 MM"), "{out}");
     assert!(out.contains("L X+50.8"), "{out}");
     assert!(out.contains("F254"), "{out}");
     assert!(diags.iter().any(|d| d.code == ncplan::diag::Code::PostUnitsConverted), "{diags:?}");
     let src = Source::read(text.as_bytes(), dialect("fanuc"), "O0001").unwrap();
-    assert_eq!(round_trip(&src, "heidenhain").1, "equal");
+    // Without a machine, the program stays in inches, with a decimal more.
+    let (text, verdict) = round_trip(&src, "heidenhain");
+    assert_eq!(verdict, "equal");
+    assert!(text.contains("BEGIN PGM O0001 INCH") && text.contains("L X+2\n") && text.contains("L Z-0.1 F10"), "{text}");
 }
 
 // ---- the corpus table ----
@@ -446,6 +476,9 @@ fn corpus_programs(corpus: &Path) -> Vec<(String, PathBuf)> {
     out
 }
 
+/// Programs larger than this go to one target only.
+const LARGE: usize = 64 * 1024;
+
 /// Source dialects × targets the table covers: every program to every other mill dialect.
 fn table(corpus: &Path) -> (String, String, Vec<(PathBuf, String)>) {
     let programs = corpus_programs(corpus);
@@ -464,9 +497,14 @@ fn table(corpus: &Path) -> (String, String, Vec<(PathBuf, String)>) {
                     let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
                     let Some(src) = Source::read(&bytes, dialect(from), &stem) else { continue };
                     let mut mine = Vec::new();
-                    for to in MILLS.iter().filter(|t| **t != from.as_str()) {
+                    // Every program to every other mill dialect; a large one (over 64 KB, a
+                    // sixth of the programs but most of the bytes) to one target, taken in
+                    // turn, so that the table stays a few minutes of a debug build.
+                    let targets: Vec<&str> = MILLS.iter().copied().filter(|t| *t != from.as_str()).collect();
+                    let targets = if bytes.len() > LARGE { vec![targets[i % targets.len()]] } else { targets };
+                    for to in targets {
                         let (text, verdict) = round_trip(&src, to);
-                        if *to == "linuxcnc" && !verdict.starts_with("untranslatable") {
+                        if to == "linuxcnc" && !verdict.starts_with("untranslatable") {
                             linuxcnc.lock().unwrap().push((path.clone(), text));
                         }
                         mine.push((i, from.clone(), to.to_string(), file.clone(), verdict));
