@@ -799,6 +799,16 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             );
             return;
         };
+        if self.plane != Plane::Xy {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                "cycle-plane",
+                format!("a {} cycle outside the XY plane is written as the moves it makes", intent.kind.label()),
+            );
+            return;
+        }
         let m: &CycleOut = &out.cycles[index];
         let (src_clear, dst_clear) = self.opts.peck_clearance;
         if matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking)
