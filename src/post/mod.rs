@@ -204,6 +204,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     active: Option<ActiveCycle>,
     word_buf: String,
     line_buf: String,
+    /// Modal values of the block being rendered, written once the block is.
+    staged: [Option<String>; 5],
 }
 
 fn modal_slot(v: Value) -> Option<usize> {
@@ -325,6 +327,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             active: None,
             word_buf: String::new(),
             line_buf: String::new(),
+            staged: [None, None, None, None, None],
         }
     }
 
@@ -488,7 +491,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         if slot < 3 {
                             *moved += 1;
                         }
-                        self.written[slot] = Some(wb.clone());
+                        // Staged: it counts as written once the block is.
+                        let staged = self.staged[slot].get_or_insert_with(String::new);
+                        staged.clear();
+                        staged.push_str(&wb);
                     }
                     s.push_str(&wb);
                     self.word_buf = wb;
@@ -502,22 +508,23 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
     /// (with its modal values unwritten), and its G code is left out when unchanged.
     fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
+        let mut s = String::new();
         for b in &t.0 {
-            let saved = self.written.clone();
-            let saved_motion = self.motion.clone();
             let mut line = std::mem::take(&mut self.line_buf);
             line.clear();
             let mut moved = 0;
             let mut first = true;
+            let mut code: Option<&str> = None;
             for (wi, w) in b.words.iter().enumerate() {
-                if motion && wi == 0 && self.out.modal_motion && w.0.iter().all(|p| matches!(p, Piece::Lit(_))) {
-                    let code: String = w.0.iter().map(|p| if let Piece::Lit(l) = p { l.as_str() } else { "" }).collect();
-                    if self.motion.as_deref() == Some(code.as_str()) {
-                        continue;
+                if motion && wi == 0 && self.out.modal_motion {
+                    if let [Piece::Lit(l)] = w.0.as_slice() {
+                        if self.motion.as_deref() == Some(l.as_str()) {
+                            continue;
+                        }
+                        code = Some(l);
                     }
-                    self.motion = Some(code);
                 }
-                let mut s = String::new();
+                s.clear();
                 if self.word(w, vals, &mut s, &mut moved) && !s.is_empty() {
                     if !first {
                         line.push_str(&self.out.separator);
@@ -529,10 +536,26 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             let positions =
                 b.words.iter().flat_map(|w| &w.0).any(|p| matches!(p, Piece::Var { value: Value::X | Value::Y | Value::Z, .. }));
             if motion && positions && moved == 0 {
-                self.written = saved;
-                self.motion = saved_motion;
+                for st in &mut self.staged {
+                    if let Some(x) = st.as_mut() {
+                        x.clear();
+                    }
+                }
                 self.line_buf = line;
                 continue;
+            }
+            for k in 0..5 {
+                if let Some(x) = self.staged[k].as_mut().filter(|x| !x.is_empty()) {
+                    let w = self.written[k].get_or_insert_with(String::new);
+                    w.clear();
+                    w.push_str(x);
+                    x.clear();
+                }
+            }
+            if let Some(c) = code {
+                if self.motion.as_deref() != Some(c) {
+                    self.motion = Some(c.to_owned());
+                }
             }
             if line.is_empty() {
                 self.line_buf = line;
@@ -616,8 +639,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
-    fn flush_speed(&mut self) {
-        if self.speed_dirty && self.spindle_on {
+    /// Writes a new speed before a cut (even with the spindle off: the technology says it),
+    /// or before anything else while the spindle turns.
+    fn flush_speed(&mut self, cutting: bool) {
+        if self.speed_dirty && (self.spindle_on || cutting) {
             self.speed_dirty = false;
             let mut vals = Vals::new();
             vals.set(Value::S, self.speed);
@@ -948,7 +973,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::Setting(_)
             | CanonOp::SelectTool(_)
             | CanonOp::ChangeTool(_) => {}
-            _ => self.flush_speed(),
+            CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::CycleBegin(_) => self.flush_speed(true),
+            _ => self.flush_speed(false),
         }
         match &canon.op {
             CanonOp::UseLengthUnits(u) => {

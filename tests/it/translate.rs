@@ -255,7 +255,7 @@ fn plan_difference(a: &ProcessPlan, b: &ProcessPlan) -> Option<String> {
             ));
         }
         if (s.feed - t.feed).abs() > 1e-3 * s.feed.max(1.0)
-            || (s.spindle_speed - t.spindle_speed).abs() > 0.5
+            || (s.spindle != ncplan::plan::SpindleDir::Off && (s.spindle_speed - t.spindle_speed).abs() > 0.5)
             || s.spindle != t.spindle
             || s.coolant != t.coolant
         {
