@@ -419,7 +419,7 @@ fn output_rules_are_inherited_and_checked() {
     let bad = r#"<dialect name="bad_out" extends="fanuc" family="fanuc"><output>
         <emit name="rapid" text="G0 {q}"/><format name="X" point="sometimes"/>
         <rule name="r" when="coolant-of" after="G4 P1"/><emit name="fly" text="x"/></output></dialect>"#;
-    let msgs = reg.add("bad.xml", bad).err().expect("the broken file is refused");
+    let msgs = reg.add("bad.xml", bad).expect_err("the broken file is refused");
     assert!(msgs.iter().any(|m| m.contains("names no value")), "{msgs:?}");
     assert!(msgs.iter().any(|m| m.contains("`point` is always")), "{msgs:?}");
     assert!(msgs.iter().any(|m| m.contains("neither an event")), "{msgs:?}");
