@@ -669,3 +669,34 @@ fn same_call(a: &str, b: &str) -> bool {
             _ => x == y,
         })
 }
+
+#[test]
+fn a_post_written_as_a_file_can_use_radius_arcs_and_least_increments() {
+    // A Fanuc post with R arcs (full circles in halves, beyond 180° a negative R) and
+    // lengths in least increments without a point (X10000 is 10 mm), read back by Fanuc.
+    let mut reg = Registry::shipped();
+    let post = r#"<dialect name="fanuc_r" extends="fanuc" family="fanuc"><output>
+        <format name="X" decimals="3" point="never" increment="true" modal="true"/>
+        <format name="Y" decimals="3" point="never" increment="true" modal="true"/>
+        <format name="Z" decimals="3" point="never" increment="true" modal="true"/>
+        <format name="R" decimals="3" point="always"/>
+        <block-numbers address="N" start="5" step="5" which="all"/>
+        <emit name="arc-cw" text="G2 {x} {y} {z} {r} {f}"/>
+        <emit name="arc-ccw" text="G3 {x} {y} {z} {r} {f}"/></output></dialect>"#;
+    let target = reg.add("fanuc_r.xml", post).unwrap();
+    let text = "%\nO0007\nG21 G17 G90\nT1 M6\nS2000 M3\nG0 X0 Y0\nG43 Z5. H1\nG1 Z-1. F300.\nG1 X10.\nG2 X10. Y0 I-10. J0\nG3 X-10. Y0 I-10. J0\nG2 X0 Y-10. I10. J0\nG0 Z5.\nM30\n%\n";
+    let fanuc = dialect("fanuc");
+    let src = Source::read(text.as_bytes(), fanuc.clone(), "O0007").unwrap();
+    let (out, diags) = translate_with(text, &fanuc, &target, "O0007", &src.plan, None);
+    assert!(!diags.iter().any(Diagnostic::is_error), "{diags:?}");
+    assert!(out.contains("N5 G17") && out.contains("X10000"), "{out}");
+    assert!(out.contains("G2 X-10000 R10."), "the full circle goes in halves:\n{out}");
+    assert!(out.contains(" R-10."), "the 270° arc has a negative R:\n{out}");
+    let back = pipeline::analyze(out.as_bytes(), &fanuc, &Profile::default());
+    assert!(!back.has_errors(), "{:?}\n{out}", back.diagnostics);
+    assert_eq!(toolpath_difference(&src.moves, &moves(&back.canon), TOL), None, "{out}");
+    // The diff pairs moves one to one: the full circle's two halves are a change of the
+    // moves, not of the path.
+    let d = plan_difference(&src.plan, &back.plan);
+    assert!(d.as_ref().is_none_or(|d| d.contains("at most 0 mm from the original path")), "{d:?}\n{out}");
+}
