@@ -200,3 +200,21 @@ fn translate_writes_for_another_control_and_never_into_a_watched_folder() {
     assert!(out.starts_with("%\n") && out.contains("T1 M6") && out.contains("G21"), "{out}");
     assert!(err.contains("post::machine-limit") && err.contains("highest spindle speed"), "{err}");
 }
+
+#[test]
+fn translate_writes_a_stored_revision() {
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["cam", "share", "copy"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    std::fs::copy(crate::root().join("tests/programs/equivalence/drill_ream.nc"), dir.path().join("copy/O1002.nc")).unwrap();
+    let config = dir.path().join("ncplan.toml");
+    std::fs::write(&config, "[database]\npath = 'db.sqlite'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n").unwrap();
+    let config = config.to_str().unwrap();
+    let copy = dir.path().join("copy");
+    let (code, _, err) = ncplan(&["import", copy.to_str().unwrap(), "--cam", "--config", config]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = ncplan(&["translate", "--revision", "1", "--to", "siemens", "--config", config]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("%_N_O1002_MPF\n") && out.contains("MCALL CYCLE81(50,0,2,-15)"), "{out}");
+}
