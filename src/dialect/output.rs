@@ -363,8 +363,6 @@ pub struct Output {
     pub end_of_block: String,
     /// The longest line the control takes (0: no limit).
     pub max_line: usize,
-    /// A word that continues a block on the next line (Heidenhain `~`).
-    pub continuation: Option<String>,
     /// The block-number address (empty for Heidenhain's bare numbers).
     pub number_address: String,
     /// The first block number.
@@ -467,7 +465,6 @@ pub(super) fn load(el: &Element, errors: &mut Errors) -> Output {
         separator: " ".into(),
         end_of_block: String::new(),
         max_line: 0,
-        continuation: None,
         number_address: "N".into(),
         number_start: 10,
         number_step: 10,
@@ -537,13 +534,12 @@ pub(super) fn load(el: &Element, errors: &mut Errors) -> Output {
         match c.name.as_str() {
             "format" => {}
             "block" => {
-                shape(c, &["separator", "end", "max-length", "continuation"], errors);
+                shape(c, &["separator", "end", "max-length"], errors);
                 if let Some(s) = attr(c, "separator") {
                     out.separator = s.to_owned();
                 }
                 out.end_of_block = attr(c, "end").unwrap_or("").to_owned();
                 out.max_line = count(c, "max-length", 0, errors) as usize;
-                out.continuation = attr(c, "continuation").map(str::to_owned);
             }
             "block-numbers" => {
                 shape(c, &["address", "start", "step", "which"], errors);
