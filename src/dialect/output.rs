@@ -57,6 +57,12 @@ pub enum Value {
     Y,
     /// End point, Z.
     Z,
+    /// Rotary axis A, degrees.
+    A,
+    /// Rotary axis B, degrees.
+    B,
+    /// Rotary axis C, degrees.
+    C,
     /// Arc centre relative to the start, X.
     I,
     /// Arc centre relative to the start, Y.
@@ -129,6 +135,9 @@ const VALUES: &[(&str, Value)] = &[
     ("x", Value::X),
     ("y", Value::Y),
     ("z", Value::Z),
+    ("a", Value::A),
+    ("b", Value::B),
+    ("c", Value::C),
     ("i", Value::I),
     ("j", Value::J),
     ("k", Value::K),
@@ -171,6 +180,9 @@ impl Value {
             Value::X | Value::Cx => "X",
             Value::Y | Value::Cy => "Y",
             Value::Z | Value::Cz | Value::Bottom => "Z",
+            Value::A => "A",
+            Value::B => "B",
+            Value::C => "C",
             Value::I => "I",
             Value::J => "J",
             Value::K => "K",

@@ -181,7 +181,7 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// The machine position (target units, work offset frame).
     pos: [f64; 3],
     /// Last written text of the modal values X, Y, Z, F, S.
-    written: [Option<String>; 5],
+    written: [Option<String>; 8],
     motion: Option<String>,
     mods: Vec<(String, String)>,
     tool: u32,
@@ -205,7 +205,7 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     word_buf: String,
     line_buf: String,
     /// Modal values of the block being rendered, written once the block is.
-    staged: [Option<String>; 5],
+    staged: [Option<String>; 8],
 }
 
 fn modal_slot(v: Value) -> Option<usize> {
@@ -215,6 +215,9 @@ fn modal_slot(v: Value) -> Option<usize> {
         Value::Z => Some(2),
         Value::F => Some(3),
         Value::S => Some(4),
+        Value::A => Some(5),
+        Value::B => Some(6),
+        Value::C => Some(7),
         _ => None,
     }
 }
@@ -305,7 +308,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             wcs: Some(1),
             feed_mode: FeedMode::PerMinute,
             pos: [0.0; 3],
-            written: [None, None, None, None, None],
+            written: Default::default(),
             motion: None,
             mods: Vec::new(),
             tool: 0,
@@ -327,7 +330,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             active: None,
             word_buf: String::new(),
             line_buf: String::new(),
-            staged: [None, None, None, None, None],
+            staged: Default::default(),
         }
     }
 
@@ -353,7 +356,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.block = self.out.number_start;
         // The tool starts at the program zero, as the interpreter has it: a first move
         // leaves out the axes it does not change, as the source did.
-        for (k, f) in ["X", "Y", "Z"].iter().enumerate() {
+        for (k, f) in ["X", "Y", "Z", "", "", "A", "B", "C"].iter().enumerate() {
             self.written[k] = self.out.formats.iter().find(|x| x.name == *f).map(|f| {
                 let mut s = String::new();
                 format_number(&mut s, f, 0.0, self.opts.units == Units::Inch);
@@ -488,7 +491,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                             self.word_buf = wb;
                             continue;
                         }
-                        if slot < 3 {
+                        if !(3..5).contains(&slot) {
                             *moved += 1;
                         }
                         // Staged: it counts as written once the block is.
@@ -544,7 +547,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 self.line_buf = line;
                 continue;
             }
-            for k in 0..5 {
+            for k in 0..8 {
                 if let Some(x) = self.staged[k].as_mut().filter(|x| !x.is_empty()) {
                     let w = self.written[k].get_or_insert_with(String::new);
                     w.clear();
@@ -689,8 +692,16 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     }
 
     fn straight(&mut self, canon: &Canon, p: &[f64; 6], rapid: bool) {
-        if p[3].abs() > EPS || p[4].abs() > EPS || p[5].abs() > EPS {
-            self.note(Code::PostUnwritable, canon, "rotary", "rotary axes (A, B, C) are not written: the target's output rules have none");
+        let event = if rapid { "rapid" } else { "feed" };
+        let rotary = [Value::A, Value::B, Value::C];
+        let writes = |v: Value| self.out.template(event).is_some_and(|(t, _)| t.uses(v));
+        if (0..3).any(|k| p[3 + k].abs() > EPS && !writes(rotary[k])) {
+            self.note(
+                Code::PostUnwritable,
+                canon,
+                "rotary",
+                "a rotary axis (A, B, C) moves, and the target's output rules do not write it",
+            );
         }
         let q = self.point(p);
         if self.in_cycle {
@@ -700,10 +711,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.cancel_cycle();
         let mut vals = Vals::new();
         vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]);
+        // Rotary axes in degrees, not scaled.
+        vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
         if !rapid {
             vals.set(Value::F, self.feed);
         }
-        let event = if rapid { "rapid" } else { "feed" };
         if let Some((t, _)) = self.out.template(event) {
             self.rules(event, true);
             self.render(t, &mut vals, false, true);
