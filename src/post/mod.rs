@@ -242,40 +242,43 @@ pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) {
     } else if f.plus {
         out.push('+');
     }
-    let mut digits = itoa(a);
     if f.increment {
-        out.push_str(&digits);
+        push_u64(out, a);
         return;
     }
     let p = 10u64.pow(decimals);
     let (int, frac) = (a / p, a % p);
     if decimals == 0 {
-        digits = itoa(int);
-        out.push_str(&digits);
+        push_u64(out, int);
         if f.point == Point::Always {
             out.push('.');
         }
         return;
     }
-    let mut fs = itoa(frac);
-    while fs.len() < decimals as usize {
-        fs.insert(0, '0');
+    // The fraction's digits, zero-padded, without trailing zeros unless the format keeps them.
+    let mut fb = [b'0'; 20];
+    let mut n = frac;
+    for k in (0..decimals as usize).rev() {
+        fb[k] = b'0' + (n % 10) as u8;
+        n /= 10;
     }
+    let mut len = decimals as usize;
     if !f.trailing_zeros {
-        while fs.ends_with('0') {
-            fs.pop();
+        while len > 0 && fb[len - 1] == b'0' {
+            len -= 1;
         }
     }
-    if int != 0 || f.leading_zero || fs.is_empty() {
-        out.push_str(&itoa(int));
+    if int != 0 || f.leading_zero || len == 0 {
+        push_u64(out, int);
     }
-    if !fs.is_empty() || f.point == Point::Always {
+    if len > 0 || f.point == Point::Always {
         out.push('.');
     }
-    out.push_str(&fs);
+    out.push_str(std::str::from_utf8(&fb[..len]).unwrap_or(""));
 }
 
-fn itoa(mut n: u64) -> String {
+/// Appends the decimal digits of `n` without allocating.
+fn push_u64(out: &mut String, mut n: u64) {
     let mut b = [0u8; 20];
     let mut i = 20;
     loop {
@@ -286,7 +289,7 @@ fn itoa(mut n: u64) -> String {
             break;
         }
     }
-    String::from_utf8_lossy(&b[i..]).into_owned()
+    out.push_str(std::str::from_utf8(&b[i..]).unwrap_or(""));
 }
 
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
@@ -584,7 +587,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         };
         if numbered {
             self.buf.extend_from_slice(self.out.number_address.as_bytes());
-            self.buf.extend_from_slice(itoa(self.block).as_bytes());
+            let mut n = String::new();
+            push_u64(&mut n, self.block);
+            self.buf.extend_from_slice(n.as_bytes());
             self.buf.extend_from_slice(self.out.separator.as_bytes());
             self.block += self.out.number_step;
         }
