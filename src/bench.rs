@@ -113,6 +113,50 @@ pub fn run(dir: &Path, rows: usize, runs: u32, out: &mut impl std::io::Write) ->
         writeln!(out, "{what:<14} {mb:6.1} MB {moves:>9}  {}  {theirs_text:<31} {ratio}", rate(ours))?;
     }
     writeln!(out)?;
+    // Translation: the surfacing program written for three controls, and at half its size,
+    // to show the memory does not grow with the program.
+    let surface = dir.join("surface.ngc");
+    let half = dir.join("surface_half.ngc");
+    std::fs::write(&half, surfacing_program((rows / 2).max(1)))?;
+    writeln!(out, "translate (surfacing, from linuxcnc)   output            rate of output   peak memory (half-size program)")?;
+    for to in ["fanuc", "siemens", "heidenhain"] {
+        let mut best: Option<(Duration, u64)> = None;
+        let target = dir.join(format!("surface.{to}"));
+        let args = |src: &Path, dst: &Path| {
+            vec![
+                "translate".to_owned(),
+                src.to_string_lossy().into_owned(),
+                "-d".into(),
+                "linuxcnc".into(),
+                "--to".into(),
+                to.into(),
+                "-o".into(),
+                dst.to_string_lossy().into_owned(),
+            ]
+        };
+        let full = args(&surface, &target);
+        let full: Vec<&str> = full.iter().map(String::as_str).collect();
+        for _ in 0..runs {
+            let m = measured(&exe, &full)?;
+            if best.is_none_or(|b| m.0 < b.0) {
+                best = Some(m);
+            }
+        }
+        let (t, peak) = best.context("no run")?;
+        let small = args(&half, &dir.join(format!("surface_half.{to}")));
+        let small: Vec<&str> = small.iter().map(String::as_str).collect();
+        let (_, half_peak) = measured(&exe, &small)?;
+        let size = std::fs::metadata(&target)?.len() as f64 / 1e6;
+        writeln!(
+            out,
+            "  to {to:<11} {:6.3} s       {size:6.1} MB       {:7.1} MB/s      {:.1} MB ({:.1} MB)",
+            t.as_secs_f64(),
+            size / t.as_secs_f64(),
+            peak as f64 / 1e6,
+            half_peak as f64 / 1e6
+        )?;
+    }
+    writeln!(out)?;
     writeln!(out, "side by side: hyperfine -w1 '{exe} canon {0}/surface.ngc' 'rs274 -g -t {0}/zero.tbl {0}/surface.ngc'", dir.display())?;
     Ok(())
 }

@@ -255,6 +255,31 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
+    /// Write a program for another control: read it in its dialect, write it by the
+    /// target dialect's output rules; macros, loops and subprograms come out unrolled.
+    Translate {
+        /// Program file (or give --revision).
+        #[arg(required_unless_present = "revision")]
+        file: Option<PathBuf>,
+        /// The program's dialect; without it, told from the program (or the stored one).
+        #[arg(long, short)]
+        dialect: Option<String>,
+        /// The target dialect; by default the --machine's.
+        #[arg(long, required_unless_present = "machine")]
+        to: Option<String>,
+        /// Output file; standard output when absent. Never inside a watched folder.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// The configured machine to write for: its units and limits (travel, spindle
+        /// speed, feed), and its dialect unless --to is given.
+        #[arg(long)]
+        machine: Option<String>,
+        /// A stored revision (the as-run program) instead of a file.
+        #[arg(long, conflicts_with = "file")]
+        revision: Option<i64>,
+        #[command(flatten)]
+        store: StoreArgs,
+    },
     /// List the known dialects, or check dialect files.
     Dialects {
         /// Dialect files to check.
@@ -783,6 +808,9 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if summary.errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
         }
+        Command::Translate { file, dialect: from, to, output, machine, revision, store: store_args } => {
+            translate_command(file, from, to, output, machine, revision, &store_args, &mut out)
+        }
         Command::Dialects { files } => {
             if files.is_empty() {
                 let r = Registry::shipped();
@@ -809,6 +837,123 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             Ok(if bad { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
     }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn translate_command(
+    file: Option<PathBuf>,
+    from: Option<String>,
+    to: Option<String>,
+    output: Option<PathBuf>,
+    machine: Option<String>,
+    revision: Option<i64>,
+    store_args: &StoreArgs,
+    out: &mut impl Write,
+) -> Result<ExitCode> {
+    let config = analysis_config(store_args.config.as_deref())?;
+    let registry = registry_for(Some(&config))?;
+    let folder = match &machine {
+        Some(m) => Some(
+            config
+                .folders
+                .iter()
+                .find(|f| f.role == config::Role::Machine && &f.name == m)
+                .with_context(|| format!("no [[machine]] named `{m}` in the configuration"))?,
+        ),
+        None => None,
+    };
+    let (bytes, path, stored_dialect) = match (revision, &file) {
+        (Some(id), _) => {
+            let store = Store::open_read_only(&db_path(store_args)?)?;
+            let Some(src) = store.source(id)? else { bail!("no revision {id}") };
+            let bytes = match src.bytes {
+                Some(b) => b,
+                None => store.content(id)?.unwrap_or_default(),
+            };
+            (bytes, PathBuf::from(&src.path), Some(src.dialect))
+        }
+        (None, Some(f)) => (std::fs::read(f).with_context(|| format!("cannot read {}", f.display()))?, f.clone(), None),
+        (None, None) => bail!("give a program file or --revision"),
+    };
+    let from_name = match (from, stored_dialect) {
+        (Some(n), _) => n,
+        (None, Some(n)) if n != config::AUTO_DIALECT => n,
+        _ => {
+            let s = pipeline::sniff(&registry, &bytes, &path);
+            eprintln!("{}", sniff_report(&s));
+            s.dialect
+        }
+    };
+    let source_dialect = dialect(&registry, &from_name)?;
+    let to_name = to.or_else(|| folder.map(|f| f.dialect.clone())).context("give --to DIALECT")?;
+    let target = dialect(&registry, &to_name)?;
+    if let Some(o) = &output {
+        let abs = std::path::absolute(o)?;
+        let dir = abs.parent().map(Path::to_path_buf).unwrap_or_default();
+        let dir = dir.canonicalize().unwrap_or(dir);
+        for f in &config.folders {
+            let watched = f.path.canonicalize().unwrap_or_else(|_| f.path.clone());
+            if dir.starts_with(&watched) {
+                bail!(
+                    "{} lies in the watched folder {} ({}): ncplan never writes into a watched folder",
+                    o.display(),
+                    f.path.display(),
+                    f.name
+                );
+            }
+        }
+    }
+    let (source, mut diags) = crate::text::decode_owned(bytes);
+    let name = pipeline::program_name(&source.text)
+        .or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .unwrap_or_else(|| "PROGRAM".into());
+    let limits = folder.map(|f| f.limits.clone()).unwrap_or_default();
+    // Plan facts for the writer: where each hole's top is (a G81 states only its R level).
+    // Only a program with such cycles needs it: the plan holds the toolpath, and a program
+    // without them is written in constant memory.
+    let states_surface = target.output.as_ref().is_some_and(crate::post::states_surface);
+    let hole_tops = if states_surface && crate::post::needs_hole_tops(&source.text, &source_dialect, &config.profile) {
+        crate::post::hole_tops(&pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan)
+    } else {
+        Vec::new()
+    };
+    let opts = crate::post::Options {
+        hole_tops,
+        peck_clearance: (0.0, 0.0),
+        length_at_tool_change: (false, false),
+        number: crate::post::program_number(&name),
+        name: crate::post::program_identifier(&name),
+        units: limits.units.unwrap_or(crate::canon::Units::Mm),
+        follow_source_units: limits.units.is_none(),
+        limits: crate::post::Limits { max_spindle_speed: limits.max_spindle_speed, max_feed: limits.max_feed, travel: limits.travel },
+    };
+    let mut profile = config.profile.clone();
+    if let Some(f) = &file {
+        profile = config::DirPrograms::beside(&profile, f, config.max_file_bytes);
+    }
+    let mut file_out: Box<dyn Write> = match &output {
+        Some(o) => Box::new(BufWriter::new(std::fs::File::create(o).with_context(|| format!("cannot write {}", o.display()))?)),
+        None => Box::new(&mut *out),
+    };
+    let mut error: Option<std::io::Error> = None;
+    diags.extend(crate::post::translate(&source.text, &source_dialect, &target, &profile, opts, |chunk| {
+        if error.is_none()
+            && let Err(e) = file_out.write_all(chunk)
+        {
+            error = Some(e);
+        }
+    }));
+    if let Some(e) = error {
+        return Err(e.into());
+    }
+    file_out.flush()?;
+    drop(file_out);
+    let idx = LineIndex::new(&source.text);
+    let shown = path.display().to_string();
+    for x in diags.iter().filter(|x| x.severity != diag::Severity::Note || x.code.as_str().starts_with("post::")) {
+        eprintln!("{}", diag::render_short(&shown, &source.text, &idx, x));
+    }
+    Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
 fn db_path(args: &StoreArgs) -> Result<PathBuf> {

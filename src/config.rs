@@ -162,6 +162,29 @@ struct RawMachine {
     #[serde(default)]
     poll: bool,
     poll_ms: Option<u64>,
+    /// The machine's units (`mm` or `inch`): `translate --machine` writes in them.
+    units: Option<String>,
+    /// Highest spindle speed, 1/min.
+    max_spindle_speed: Option<f64>,
+    /// Highest feed, mm/min.
+    max_feed: Option<f64>,
+    /// Travel: the lowest X, Y, Z the tool may reach (program coordinates, mm).
+    travel_min: Option<[f64; 3]>,
+    /// Travel: the highest X, Y, Z.
+    travel_max: Option<[f64; 3]>,
+}
+
+/// What a machine can do, for `translate --machine`: its units and limits.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MachineLimits {
+    /// Its units, where configured.
+    pub units: Option<crate::canon::Units>,
+    /// Highest spindle speed, 1/min.
+    pub max_spindle_speed: Option<f64>,
+    /// Highest feed, mm/min.
+    pub max_feed: Option<f64>,
+    /// Travel in mm: lowest and highest X, Y, Z.
+    pub travel: Option<([f64; 3], [f64; 3])>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -222,6 +245,8 @@ pub struct Folder {
     pub decimal_input: Option<DecimalRule>,
     /// Whether the folder's files are main programs, called ones, or tell it themselves.
     pub program_role: crate::interp::ProgramRole,
+    /// The machine's units and limits (machines only).
+    pub limits: MachineLimits,
 }
 
 /// The folder dialect that means "tell each program's dialect from its text".
@@ -300,6 +325,7 @@ impl Config {
                 poll_ms: f.poll_ms.unwrap_or(2000),
                 decimal_input: None,
                 program_role: program_role(f.role.as_deref(), &f.path)?,
+                limits: MachineLimits::default(),
             });
         }
         for m in &raw.machine {
@@ -315,7 +341,20 @@ impl Config {
                 Some("least-increment") => Some(DecimalRule::LeastIncrement),
                 Some(other) => bail!("machine `{}`: decimal_input must be calculator or least-increment, not `{other}`", m.name),
             };
+            let units = match m.units.as_deref() {
+                None => None,
+                Some("mm") => Some(crate::canon::Units::Mm),
+                Some("inch") => Some(crate::canon::Units::Inch),
+                Some(other) => bail!("machine `{}`: units must be mm or inch, not `{other}`", m.name),
+            };
+            let travel = match (m.travel_min, m.travel_max) {
+                (Some(lo), Some(hi)) => Some((lo, hi)),
+                (None, None) => None,
+                _ => bail!("machine `{}`: give both travel_min and travel_max, or neither", m.name),
+            };
+            let limits = MachineLimits { units, max_spindle_speed: m.max_spindle_speed, max_feed: m.max_feed, travel };
             folders.push(Folder {
+                limits,
                 role: Role::Machine,
                 name: m.name.clone(),
                 path: abs(&m.path),

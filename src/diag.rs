@@ -215,6 +215,19 @@ codes! {
     DiameterUnknown = ("stepnc::diameter-unknown", Warning),
     /// A malformed or invalid dialect file.
     DialectInvalid = ("dialect::invalid", Error),
+    /// The target dialect has no output rules, or no rule for something the program does:
+    /// that part of the program is not written.
+    PostUnwritable = ("post::unwritable", Error),
+    /// A canned cycle the target cannot state as a cycle: written as the moves it makes.
+    PostCycleAsMoves = ("post::cycle-as-moves", Note),
+    /// Macros, loops and subprograms are written as the path that runs, unrolled.
+    PostUnrolled = ("post::unrolled", Note),
+    /// A written line is longer than the target control takes.
+    PostLineTooLong = ("post::line-too-long", Warning),
+    /// The program exceeds a limit of the target machine (travel, spindle speed, feed).
+    PostMachineLimit = ("post::machine-limit", Warning),
+    /// Inch input written in millimetres for a metric machine (or the reverse).
+    PostUnitsConverted = ("post::units-converted", Note),
 }
 
 /// One finding about one input.

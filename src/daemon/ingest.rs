@@ -457,6 +457,7 @@ impl Reader<'_> {
                         poll_ms: 0,
                         decimal_input: None,
                         program_role: crate::interp::ProgramRole::Auto,
+                        limits: Default::default(),
                     },
                 };
                 let d = folder.dialect_for(self.registry.get(&src.dialect).with_context(|| format!("unknown dialect `{}`", src.dialect))?);

@@ -5,7 +5,7 @@
 //!
 //! - Attributes: the derived element's win; the base's others are kept.
 //! - `<lexical>`, `<behaviour>`, `<addresses>`, `<macros>`, `<groups>`, `<group>` and
-//!   `<cycles>` merge their children by key: an entry with the same element name and the
+//!   `<cycles>` and `<output>` merge their children by key: an entry with the same element name and the
 //!   same key attribute (the first of `id`, `value`, `keyword`, `number`, `open`, `char`, `name` and `prefix`) replaces the
 //!   base's in place; a new one is added at the end.
 //! - Every other element (`<code>`, `<cycle>`, `<execution-order>`, …) is replaced whole.
@@ -22,7 +22,7 @@ use super::xml::{Attr, Element};
 use crate::text::TextRange;
 
 /// Elements whose children merge by key instead of being replaced whole.
-const MERGED: &[&str] = &["dialect", "lexical", "behaviour", "addresses", "macros", "groups", "group", "cycles"];
+const MERGED: &[&str] = &["dialect", "lexical", "behaviour", "addresses", "macros", "groups", "group", "cycles", "output"];
 
 /// Sections a derived dialect never takes from its base.
 const OWN: &[&str] = &["description", "recognise"];

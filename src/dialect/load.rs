@@ -183,7 +183,19 @@ impl Cx {
         self.shape(
             root,
             &["name", "family", "title", "version"],
-            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "records", "recognise"],
+            &[
+                "description",
+                "lexical",
+                "behaviour",
+                "addresses",
+                "macros",
+                "execution-order",
+                "groups",
+                "cycles",
+                "records",
+                "recognise",
+                "output",
+            ],
         );
         let name = self.required(root, "name").unwrap_or_default().to_owned();
         if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
@@ -217,6 +229,14 @@ impl Cx {
             _ => {}
         }
         let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
+        let output = child("output").map(|el| {
+            let mut errors = Vec::new();
+            let out = super::output::load(el, &mut errors);
+            for (range, msg) in errors {
+                self.error(range, msg);
+            }
+            out
+        });
         let recognise_removed = child("recognise")
             .map(|el| {
                 el.children.iter().filter(|c| c.name == "remove").filter_map(|c| self.required(c, "label").map(str::to_owned)).collect()
@@ -245,6 +265,7 @@ impl Cx {
             execution_order,
             recognise,
             recognise_removed,
+            output,
             letter_roles: [None; 128],
             letter_incremental: 0,
             plain_roles: [None; 128],

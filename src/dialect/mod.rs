@@ -7,6 +7,7 @@
 
 mod inherit;
 mod load;
+pub mod output;
 pub mod records;
 pub mod registry;
 pub mod sniff;
@@ -701,6 +702,8 @@ pub struct Dialect {
     /// The labels of inherited evidence this dialect does not count (`<remove label=".."/>` in
     /// `<recognise>`: a lathe does not take a mill's Y words as its own evidence).
     pub recognise_removed: Vec<String>,
+    /// How to write programs for this control (`<output>`), where the dictionary says.
+    pub output: Option<output::Output>,
     /// Roles of single-character addresses by ASCII code (letters upper case).
     letter_roles: [Option<Role>; 128],
     /// The single-character addresses that are always incremental (a lathe's `U`), as bits

@@ -155,3 +155,67 @@ fn check_finds_a_called_program_beside_the_file_by_its_name_on_the_control() {
     let (code, out, _) = ncplan(&["check", "--dialect", "heidenhain", main.to_str().unwrap()]);
     assert_eq!((code, out.lines().last()), (0, Some(format!("{}: 0 errors, 0 other findings", main.display()).as_str())), "{out}");
 }
+
+#[test]
+fn translate_writes_for_another_control_and_never_into_a_watched_folder() {
+    let (code, out, err) = ncplan(&["translate", "tests/programs/equivalence/drill_ream.nc", "-d", "fanuc", "--to", "heidenhain"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("0 BEGIN PGM O1002 MM\n") && out.contains("CYCL DEF 200 DRILLING") && out.contains("M99"), "{out}");
+    assert!(out.trim_end().ends_with("END PGM O1002 MM"), "{out}");
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["cam", "share"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    let config = dir.path().join("ncplan.toml");
+    std::fs::write(
+        &config,
+        "[database]\npath = 'db.sqlite'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\n\
+         dialect = 'fanuc'\nunits = 'mm'\nmax_spindle_speed = 8100\n",
+    )
+    .unwrap();
+    let config = config.to_str().unwrap();
+    // An -o inside a watched folder is refused.
+    let inside = dir.path().join("share/x.nc");
+    let (code, _, err) = ncplan(&[
+        "translate",
+        "tests/programs/equivalence/drill_ream.nc",
+        "--to",
+        "siemens",
+        "--config",
+        config,
+        "-o",
+        inside.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("never writes into a watched folder"), "{err}");
+    assert!(!inside.exists());
+    // A machine's dialect, units and limits.
+    let fast = dir.path().join("fast.h");
+    std::fs::write(
+        &fast,
+        std::fs::read_to_string(crate::root().join("tests/programs/equivalence/face.h")).unwrap().replace("S1200", "S9000"),
+    )
+    .unwrap();
+    let (code, out, err) = ncplan(&["translate", fast.to_str().unwrap(), "-d", "heidenhain", "--machine", "M1", "--config", config]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("%\n") && out.contains("T1 M6") && out.contains("G21"), "{out}");
+    assert!(err.contains("post::machine-limit") && err.contains("highest spindle speed"), "{err}");
+}
+
+#[test]
+fn translate_writes_a_stored_revision() {
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["cam", "share", "copy"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    std::fs::copy(crate::root().join("tests/programs/equivalence/drill_ream.nc"), dir.path().join("copy/O1002.nc")).unwrap();
+    let config = dir.path().join("ncplan.toml");
+    std::fs::write(&config, "[database]\npath = 'db.sqlite'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n").unwrap();
+    let config = config.to_str().unwrap();
+    let copy = dir.path().join("copy");
+    let (code, _, err) = ncplan(&["import", copy.to_str().unwrap(), "--cam", "--config", config]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = ncplan(&["translate", "--revision", "1", "--to", "siemens", "--config", config]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("%_N_O1002_MPF\n") && out.contains("MCALL CYCLE81(50,0,2,-15)"), "{out}");
+}

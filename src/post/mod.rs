@@ -1,0 +1,1254 @@
+//! The post-processor: canonical ops (with cycle intent and plan facts) → program text for
+//! a target control, by the `<output>` rules of its dictionary.
+//!
+//! [`Post`] is a [`CanonSink`]: the interpreter pushes ops into it and it appends text to a
+//! buffer that it hands to a caller-given function whenever the buffer passes 64 KiB, so
+//! memory holds one buffer, not the program. It keeps only the modal state it needs to
+//! leave out unchanged words. Positions are written absolute, in the target's units, in
+//! the work offset's frame (a G92-style shift is added to the positions). Canned cycles
+//! whose kind the target maps stay cycles; the others are written as their moves, with a
+//! note. Everything the target has no rule for is said in a diagnostic, never silently
+//! dropped.
+
+use std::collections::BTreeSet;
+
+use crate::canon::{Canon, CanonOp, CanonSink, CycleIntent, CycleKind, FeedMode, Plane, Setting, Units};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::output::{Cmp, CycleOut, Expr, NumberFormat, Numbered, Output, Piece, Point, StateVar, Template, Value};
+
+/// What the caller tells the writer about the program.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The program's name (`BEGIN PGM NAME`, `%_N_NAME_MPF`).
+    pub name: String,
+    /// The program's number (`O1234`).
+    pub number: u32,
+    /// The target machine's units.
+    pub units: Units,
+    /// Whether, instead, the program is written in the units the source starts in (no
+    /// machine named).
+    pub follow_source_units: bool,
+    /// The target machine's limits.
+    pub limits: Limits,
+    /// Plan facts: the top of each hole the source's plan found (X, Y, top, mm), for cycles
+    /// that state the workpiece surface where the source's cycle did not (G81 → `CYCLE81`'s
+    /// RFP, `Q203`). See [`hole_tops`].
+    pub hole_tops: Vec<[f64; 3]>,
+    /// The re-approach distance of the source's peck cycles (mm), and the target's: a peck
+    /// cycle whose target cannot state it and whose distance differs is written as moves.
+    pub peck_clearance: (f64, f64),
+    /// Whether the source's tool change puts the tool's length offset in force, and the
+    /// target's (set by [`translate`] from the dictionaries).
+    pub length_at_tool_change: (bool, bool),
+}
+
+/// Whether the output rules write a cycle's workpiece surface (Siemens RFP, Heidenhain
+/// Q203), which a G8x source does not state.
+pub fn states_surface(out: &Output) -> bool {
+    out.cycles
+        .iter()
+        .any(|c| [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v)))
+}
+
+/// Whether the program has canned cycles that state no workpiece surface (G81's R level
+/// only), for which the writer wants [`hole_tops`] from the plan. Runs the interpreter with
+/// a sink that keeps nothing.
+pub fn needs_hole_tops(text: &str, dialect: &crate::dialect::Dialect, profile: &crate::interp::Profile) -> bool {
+    struct Scan(bool);
+    impl CanonSink for Scan {
+        fn emit(&mut self, canon: Canon) {
+            if let CanonOp::CycleBegin(i) = &canon.op {
+                self.0 |= i.surface.is_none();
+            }
+        }
+    }
+    let mut scan = Scan(false);
+    crate::interp::interpret(text, dialect, profile, &mut scan);
+    scan.0
+}
+
+/// The hole tops of a plan, for [`Options::hole_tops`].
+pub fn hole_tops(plan: &crate::plan::ProcessPlan) -> Vec<[f64; 3]> {
+    let mut out = Vec::new();
+    for f in &plan.features {
+        if let crate::plan::FeatureKind::RoundHole { positions, .. } = &f.kind {
+            for p in positions {
+                out.push([f.placement[0] + p[0], f.placement[1] + p[1], f.placement[2]]);
+            }
+        }
+    }
+    out
+}
+
+/// A machine's limits, in millimetres, mm/min and 1/min; `None` where not known.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Limits {
+    /// Highest spindle speed.
+    pub max_spindle_speed: Option<f64>,
+    /// Highest feed.
+    pub max_feed: Option<f64>,
+    /// Lowest and highest X, Y, Z.
+    pub travel: Option<([f64; 3], [f64; 3])>,
+}
+
+/// The program number a name states (`O1234` → 1234), else 1.
+pub fn program_number(name: &str) -> u32 {
+    let digits: String = name.chars().skip_while(|c| !c.is_ascii_digit()).take_while(char::is_ascii_digit).collect();
+    digits.parse().ok().filter(|&n| n > 0 && n <= 9999).unwrap_or(1)
+}
+
+/// A name every control takes: letters, digits and `_`, upper case, starting with a letter.
+pub fn program_identifier(name: &str) -> String {
+    let mut s: String = name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_uppercase() } else { '_' }).take(24).collect();
+    if !s.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        s.insert(0, 'P');
+    }
+    s
+}
+
+/// Translates program `text`, read in `from`, into `to`'s dialect, handing the text to
+/// `sink` as it is written. Returns the findings of reading and writing. Never fails: a
+/// target without output rules gets an error diagnostic and no text.
+pub fn translate(
+    text: &str,
+    from: &crate::dialect::Dialect,
+    to: &crate::dialect::Dialect,
+    profile: &crate::interp::Profile,
+    opts: Options,
+    sink: impl FnMut(&[u8]),
+) -> Vec<Diagnostic> {
+    let Some(out) = &to.output else {
+        return vec![Diagnostic::new(
+            Code::PostUnwritable,
+            Default::default(),
+            format!("the dialect `{}` has no <output> rules: ncplan cannot write programs for it", to.name),
+        )];
+    };
+    let mut opts = opts;
+    opts.peck_clearance = (from.behaviour.peck_clearance_mm, to.behaviour.peck_clearance_mm);
+    opts.length_at_tool_change = (from.behaviour.tool_change_applies_length, to.behaviour.tool_change_applies_length);
+    let mut post = Post::new(out, opts, sink);
+    let mut diags = crate::interp::interpret(text, from, profile, &mut post);
+    diags.extend(post.finish());
+    diags.sort_by_key(|d| (d.range.start, d.range.end));
+    diags
+}
+
+const FLUSH_AT: usize = 64 * 1024;
+const NVALUES: usize = 40;
+const EPS: f64 = 1e-9;
+
+/// Values for one event's template: numbers (NaN when absent) and texts.
+struct Vals {
+    num: [f64; NVALUES],
+    text: Option<String>,
+}
+
+impl Vals {
+    fn new() -> Vals {
+        Vals { num: [f64::NAN; NVALUES], text: None }
+    }
+
+    fn set(&mut self, v: Value, x: f64) -> &mut Vals {
+        self.num[v as usize] = x;
+        self
+    }
+}
+
+/// The output cycle in force: its mapping and the parameters it was defined with.
+struct ActiveCycle {
+    index: usize,
+    params: [f64; 7],
+}
+
+/// The writer. Feed it with [`CanonSink::emit`], then call [`Post::finish`].
+pub struct Post<'a, F: FnMut(&[u8])> {
+    out: &'a Output,
+    opts: Options,
+    sink: F,
+    buf: Vec<u8>,
+    diags: Vec<Diagnostic>,
+    noted: BTreeSet<String>,
+    started: bool,
+    ended: bool,
+    block: u64,
+    /// Millimetres → target units, times source units → millimetres.
+    scale: f64,
+    g92: [f64; 3],
+    plane: Plane,
+    wcs: Option<u8>,
+    feed_mode: FeedMode,
+    /// The machine position (target units, work offset frame).
+    pos: [f64; 3],
+    /// Last written text of the modal values X, Y, Z, F, S.
+    written: [Option<String>; 8],
+    motion: Option<String>,
+    mods: Vec<(String, String)>,
+    tool: u32,
+    tool_names: Vec<(u32, String)>,
+    pending_tool: Option<u32>,
+    speed: f64,
+    speed_dirty: bool,
+    spindle_on: bool,
+    feed: f64,
+    coolant: bool,
+    length: u32,
+    comp_d: u32,
+    comp: Option<(bool, Option<u32>)>,
+    pending_move: Option<Canon>,
+    optional_line: Option<u32>,
+    line: u32,
+    origin: crate::text::TextRange,
+    /// The cycle being drilled as a cycle (its moves are not written).
+    in_cycle: bool,
+    active: Option<ActiveCycle>,
+    word_buf: String,
+    line_buf: String,
+    /// Modal values of the block being rendered, written once the block is.
+    staged: [Option<String>; 8],
+}
+
+fn modal_slot(v: Value) -> Option<usize> {
+    match v {
+        Value::X => Some(0),
+        Value::Y => Some(1),
+        Value::Z => Some(2),
+        Value::F => Some(3),
+        Value::S => Some(4),
+        Value::A => Some(5),
+        Value::B => Some(6),
+        Value::C => Some(7),
+        _ => None,
+    }
+}
+
+/// Writes `v` in format `f` (address included) onto `out`.
+pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) {
+    out.push_str(&f.address);
+    let decimals = if f.point == Point::Never && !f.increment {
+        0
+    } else if inch {
+        f.inch_decimals as u32
+    } else {
+        f.decimals as u32
+    };
+    let scale = 10f64.powi(decimals as i32);
+    let n = (v * scale).round();
+    let n = if n == 0.0 { 0.0 } else { n };
+    let neg = n < 0.0;
+    let a = n.abs() as u64;
+    if neg {
+        out.push('-');
+    } else if f.plus {
+        out.push('+');
+    }
+    if f.increment {
+        push_u64(out, a);
+        return;
+    }
+    let p = 10u64.pow(decimals);
+    let (int, frac) = (a / p, a % p);
+    if decimals == 0 {
+        push_u64(out, int);
+        if f.point == Point::Always {
+            out.push('.');
+        }
+        return;
+    }
+    // The fraction's digits, zero-padded, without trailing zeros unless the format keeps them.
+    let mut fb = [b'0'; 20];
+    let mut n = frac;
+    for k in (0..decimals as usize).rev() {
+        fb[k] = b'0' + (n % 10) as u8;
+        n /= 10;
+    }
+    let mut len = decimals as usize;
+    if !f.trailing_zeros {
+        while len > 0 && fb[len - 1] == b'0' {
+            len -= 1;
+        }
+    }
+    if int != 0 || f.leading_zero || len == 0 {
+        push_u64(out, int);
+    }
+    if len > 0 || f.point == Point::Always {
+        out.push('.');
+    }
+    out.push_str(std::str::from_utf8(&fb[..len]).unwrap_or(""));
+}
+
+/// Appends the decimal digits of `n` without allocating.
+fn push_u64(out: &mut String, mut n: u64) {
+    let mut b = [0u8; 20];
+    let mut i = 20;
+    loop {
+        i -= 1;
+        b[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.push_str(std::str::from_utf8(&b[i..]).unwrap_or(""));
+}
+
+impl<'a, F: FnMut(&[u8])> Post<'a, F> {
+    /// A writer by the rules `out`, handing text to `sink` as it grows.
+    pub fn new(out: &'a Output, opts: Options, sink: F) -> Post<'a, F> {
+        Post {
+            out,
+            opts,
+            sink,
+            buf: Vec::with_capacity(FLUSH_AT + 4096),
+            diags: Vec::new(),
+            noted: BTreeSet::new(),
+            started: false,
+            ended: false,
+            block: 0,
+            scale: 1.0,
+            g92: [0.0; 3],
+            plane: Plane::Xy,
+            wcs: Some(1),
+            feed_mode: FeedMode::PerMinute,
+            pos: [0.0; 3],
+            written: Default::default(),
+            motion: None,
+            mods: Vec::new(),
+            tool: 0,
+            tool_names: Vec::new(),
+            pending_tool: None,
+            speed: 0.0,
+            speed_dirty: false,
+            spindle_on: false,
+            feed: 0.0,
+            coolant: false,
+            length: 0,
+            comp_d: 0,
+            comp: None,
+            pending_move: None,
+            optional_line: None,
+            line: 0,
+            origin: Default::default(),
+            in_cycle: false,
+            active: None,
+            word_buf: String::new(),
+            line_buf: String::new(),
+            staged: Default::default(),
+        }
+    }
+
+    fn note(&mut self, code: Code, canon: &Canon, key: &str, msg: impl Into<String>) {
+        if self.noted.insert(key.to_owned()) {
+            self.diags.push(Diagnostic::new(code, canon.origin, msg));
+        }
+    }
+
+    fn to_out(&self, v: f64) -> f64 {
+        v * self.scale
+    }
+
+    fn point(&self, p: &[f64]) -> [f64; 3] {
+        [self.to_out(p[0]) + self.g92[0], self.to_out(p[1]) + self.g92[1], self.to_out(p[2]) + self.g92[2]]
+    }
+
+    fn start(&mut self) {
+        if self.started {
+            return;
+        }
+        self.started = true;
+        self.block = self.out.number_start;
+        // The tool starts at the program zero, as the interpreter has it: a first move
+        // leaves out the axes it does not change, as the source did.
+        for (k, f) in ["X", "Y", "Z", "", "", "A", "B", "C"].iter().enumerate() {
+            self.written[k] = self.out.formats.iter().find(|x| x.name == *f).map(|f| {
+                let mut s = String::new();
+                format_number(&mut s, f, 0.0, self.opts.units == Units::Inch);
+                s
+            });
+        }
+        let units = match self.opts.units {
+            Units::Mm => "units-mm",
+            Units::Inch => "units-inch",
+        };
+        for ev in ["header", "safe-start", units] {
+            self.event(ev, &mut Vals::new());
+        }
+    }
+
+    /// Renders `event`'s template (and the rules around it); false when it has none.
+    fn event(&mut self, event: &str, vals: &mut Vals) -> bool {
+        let out = self.out;
+        self.rules(event, true);
+        let found = match out.template(event) {
+            Some((t, true)) => {
+                let mut text = String::new();
+                for b in &t.0 {
+                    for w in &b.words {
+                        let mut s = String::new();
+                        if self.word(w, vals, &mut s, &mut 0) {
+                            if !text.is_empty() {
+                                text.push_str(&out.separator);
+                            }
+                            text.push_str(&s);
+                        }
+                    }
+                }
+                // A later word of the same kind replaces the one still waiting (G49 then G43 H1).
+                let group = event.split('-').next().unwrap_or(event).to_owned();
+                self.mods.retain(|(g, _)| *g != group);
+                if !text.is_empty() {
+                    self.mods.push((group, text));
+                }
+                true
+            }
+            Some((t, false)) => {
+                self.render(t, vals, event == "tool-change", false);
+                true
+            }
+            None => false,
+        };
+        self.rules(event, false);
+        found
+    }
+
+    fn rules(&mut self, event: &str, before: bool) {
+        let out = self.out;
+        for r in &out.rules {
+            if self.holds(&r.when, event) {
+                let t = if before { &r.before } else { &r.after };
+                self.render(t, &mut Vals::new(), false, false);
+            }
+        }
+    }
+
+    fn holds(&self, e: &Expr, event: &str) -> bool {
+        match e {
+            Expr::Event(n) => n == event,
+            Expr::Compare(var, op, n) => {
+                let v = match var {
+                    StateVar::Tool => f64::from(self.tool),
+                    StateVar::Speed => self.speed,
+                    StateVar::Feed => self.feed,
+                    StateVar::Block => self.block as f64,
+                };
+                match op {
+                    Cmp::Eq => (v - n).abs() < EPS,
+                    Cmp::Ne => (v - n).abs() >= EPS,
+                    Cmp::Lt => v < *n,
+                    Cmp::Le => v <= *n,
+                    Cmp::Gt => v > *n,
+                    Cmp::Ge => v >= *n,
+                }
+            }
+            Expr::And(a, b) => self.holds(a, event) && self.holds(b, event),
+            Expr::Or(a, b) => self.holds(a, event) || self.holds(b, event),
+            Expr::Not(a) => !self.holds(a, event),
+        }
+    }
+
+    /// Renders one word into `s`; false when it comes out empty (every placeholder absent or
+    /// unchanged). Counts the modal values written in `moved`.
+    fn word(&mut self, w: &crate::dialect::output::Word, vals: &Vals, s: &mut String, moved: &mut u32) -> bool {
+        let mut any_var = false;
+        let mut any_out = false;
+        for p in &w.0 {
+            match p {
+                Piece::Lit(l) => s.push_str(l),
+                Piece::Var { value, format, force } => {
+                    any_var = true;
+                    if value.is_text() {
+                        let t = match value {
+                            Value::Mods => {
+                                std::mem::take(&mut self.mods).into_iter().map(|(_, t)| t).collect::<Vec<_>>().join(&self.out.separator)
+                            }
+                            Value::Name => self.opts.name.clone(),
+                            Value::UnitName => if self.opts.units == Units::Mm { "MM" } else { "INCH" }.to_owned(),
+                            Value::Tname => self
+                                .tool_names
+                                .iter()
+                                .find(|(n, _)| *n == self.tool)
+                                .map_or_else(|| self.tool.to_string(), |(_, t)| format!("\"{t}\"")),
+                            _ => vals.text.clone().unwrap_or_default(),
+                        };
+                        if !t.is_empty() {
+                            any_out = true;
+                            if *value == Value::Mods {
+                                // Words put off to a move are written with it, moving or not.
+                                *moved += 1;
+                            }
+                            s.push_str(&t);
+                        }
+                        continue;
+                    }
+                    let x = vals.num[*value as usize];
+                    let Some(fi) = format else { continue };
+                    if x.is_nan() {
+                        continue;
+                    }
+                    let f = &self.out.formats[*fi];
+                    self.word_buf.clear();
+                    let mut wb = std::mem::take(&mut self.word_buf);
+                    format_number(&mut wb, f, x, self.opts.units == Units::Inch);
+                    if let Some(slot) = modal_slot(*value) {
+                        if f.modal && !force && self.written[slot].as_deref() == Some(wb.as_str()) {
+                            self.word_buf = wb;
+                            continue;
+                        }
+                        if !(3..5).contains(&slot) {
+                            *moved += 1;
+                        }
+                        // Staged: it counts as written once the block is.
+                        let staged = self.staged[slot].get_or_insert_with(String::new);
+                        staged.clear();
+                        staged.push_str(&wb);
+                    }
+                    s.push_str(&wb);
+                    self.word_buf = wb;
+                    any_out = true;
+                }
+            }
+        }
+        !any_var || any_out
+    }
+
+    /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
+    /// (with its modal values unwritten), and its G code is left out when unchanged.
+    fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
+        let mut s = String::new();
+        for b in &t.0 {
+            let mut line = std::mem::take(&mut self.line_buf);
+            line.clear();
+            let mut moved = 0;
+            let mut first = true;
+            let mut code: Option<&str> = None;
+            for (wi, w) in b.words.iter().enumerate() {
+                if motion && wi == 0 && self.out.modal_motion {
+                    if let [Piece::Lit(l)] = w.0.as_slice() {
+                        if self.motion.as_deref() == Some(l.as_str()) {
+                            continue;
+                        }
+                        code = Some(l);
+                    }
+                }
+                s.clear();
+                if self.word(w, vals, &mut s, &mut moved) && !s.is_empty() {
+                    if !first {
+                        line.push_str(&self.out.separator);
+                    }
+                    first = false;
+                    line.push_str(&s);
+                }
+            }
+            let positions =
+                b.words.iter().flat_map(|w| &w.0).any(|p| matches!(p, Piece::Var { value: Value::X | Value::Y | Value::Z, .. }));
+            if motion && positions && moved == 0 {
+                for st in &mut self.staged {
+                    if let Some(x) = st.as_mut() {
+                        x.clear();
+                    }
+                }
+                self.line_buf = line;
+                continue;
+            }
+            for k in 0..8 {
+                if let Some(x) = self.staged[k].as_mut().filter(|x| !x.is_empty()) {
+                    let w = self.written[k].get_or_insert_with(String::new);
+                    w.clear();
+                    w.push_str(x);
+                    x.clear();
+                }
+            }
+            if let Some(c) = code {
+                if self.motion.as_deref() != Some(c) {
+                    self.motion = Some(c.to_owned());
+                }
+            }
+            if line.is_empty() {
+                self.line_buf = line;
+                continue;
+            }
+            self.line(&line, b.raw, tool_change);
+            self.line_buf = line;
+        }
+    }
+
+    fn line(&mut self, text: &str, raw: bool, tool_change: bool) {
+        // The header waits for the first block, so that the units the source starts in are
+        // known.
+        self.start();
+        let start = self.buf.len();
+        if !raw && self.optional_line == Some(self.line) {
+            self.buf.push(b'/');
+        }
+        let numbered = match self.out.numbered {
+            Numbered::All => !raw,
+            Numbered::ToolChange => tool_change && !raw,
+            Numbered::None => false,
+        };
+        if numbered {
+            self.buf.extend_from_slice(self.out.number_address.as_bytes());
+            let mut n = String::new();
+            push_u64(&mut n, self.block);
+            self.buf.extend_from_slice(n.as_bytes());
+            self.buf.extend_from_slice(self.out.separator.as_bytes());
+            self.block += self.out.number_step;
+        }
+        self.buf.extend_from_slice(text.as_bytes());
+        if !raw {
+            self.buf.extend_from_slice(self.out.end_of_block.as_bytes());
+        }
+        if self.out.max_line > 0 && self.buf.len() - start > self.out.max_line && self.noted.insert("line-too-long".into()) {
+            self.diags.push(Diagnostic::new(
+                Code::PostLineTooLong,
+                Default::default(),
+                format!("a written line has {} characters, over the {} the target takes", self.buf.len() - start, self.out.max_line),
+            ));
+        }
+        self.buf.push(b'\n');
+        if self.buf.len() >= FLUSH_AT {
+            (self.sink)(&self.buf);
+            self.buf.clear();
+        }
+    }
+
+    fn comment(&mut self, text: &str, event: &str) {
+        let mut t: String = text.chars().map(|c| if self.out.comment_forbidden.contains(c) || c.is_control() { ' ' } else { c }).collect();
+        if self.out.comment_upper {
+            t = t.to_uppercase();
+        }
+        let t = t.trim();
+        let mut vals = Vals::new();
+        vals.text = Some(t.to_owned());
+        if !self.event(event, &mut vals) && event != "comment" {
+            self.event("comment", &mut vals);
+        }
+    }
+
+    fn flush_tool(&mut self) {
+        if let Some(t) = self.pending_tool.take() {
+            self.cancel_cycle();
+            self.tool = t;
+            let mut vals = Vals::new();
+            vals.set(Value::T, f64::from(t));
+            let uses_s = self.out.template("tool-change").is_some_and(|(t, _)| t.uses(Value::S));
+            if uses_s && self.speed > 0.0 && (self.speed_dirty || self.written[4].is_none()) {
+                vals.set(Value::S, self.speed);
+                self.speed_dirty = false;
+            }
+            self.event("tool-change", &mut vals);
+            self.motion = None;
+            if self.opts.length_at_tool_change == (true, false) {
+                // The source's tool change applied the tool's length; the target needs it said.
+                let mut vals = Vals::new();
+                vals.set(Value::H, f64::from(t));
+                self.length = t;
+                self.event("length-offset", &mut vals);
+            }
+        }
+    }
+
+    /// Writes a new speed before a cut (even with the spindle off: the technology says it),
+    /// or before anything else while the spindle turns.
+    fn flush_speed(&mut self, cutting: bool) {
+        if self.speed_dirty && (self.spindle_on || cutting) {
+            self.speed_dirty = false;
+            let mut vals = Vals::new();
+            vals.set(Value::S, self.speed);
+            self.event("speed", &mut vals);
+        }
+    }
+
+    fn cancel_cycle(&mut self) {
+        if let Some(a) = self.active.take() {
+            let out = self.out;
+            self.render(&out.cycles[a.index].cancel, &mut Vals::new(), false, false);
+            self.motion = None;
+        }
+    }
+
+    fn moved(&mut self, p: [f64; 3]) {
+        self.pos = p;
+        if let Some((lo, hi)) = self.opts.limits.travel {
+            let mm = self.opts.units.to_mm();
+            if (0..3).any(|k| p[k] * mm < lo[k] - 1e-6 || p[k] * mm > hi[k] + 1e-6) && self.noted.insert("travel".into()) {
+                self.diags.push(Diagnostic::new(
+                    Code::PostMachineLimit,
+                    self.origin,
+                    format!("the tool goes to X{:.3} Y{:.3} Z{:.3} mm, outside the machine's travel", p[0] * mm, p[1] * mm, p[2] * mm),
+                ));
+            }
+        }
+    }
+
+    fn check_limits(&mut self, canon: &Canon) {
+        let mm = self.opts.units.to_mm();
+        if let Some(max) = self.opts.limits.max_spindle_speed
+            && self.speed > max + EPS
+        {
+            let msg = format!("S{} is over the machine's highest spindle speed, {max}", self.speed);
+            self.note(Code::PostMachineLimit, canon, "speed-limit", msg);
+        }
+        if let Some(max) = self.opts.limits.max_feed
+            && self.feed * mm > max + EPS
+        {
+            let msg = format!("F{} mm/min is over the machine's highest feed, {max}", self.feed * mm);
+            self.note(Code::PostMachineLimit, canon, "feed-limit", msg);
+        }
+    }
+
+    fn straight(&mut self, canon: &Canon, p: &[f64; 6], rapid: bool) {
+        let event = if rapid { "rapid" } else { "feed" };
+        let rotary = [Value::A, Value::B, Value::C];
+        let writes = |v: Value| self.out.template(event).is_some_and(|(t, _)| t.uses(v));
+        if (0..3).any(|k| p[3 + k].abs() > EPS && !writes(rotary[k])) {
+            self.note(
+                Code::PostUnwritable,
+                canon,
+                "rotary",
+                "a rotary axis (A, B, C) moves, and the target's output rules do not write it",
+            );
+        }
+        let q = self.point(p);
+        if self.in_cycle {
+            self.moved(q);
+            return;
+        }
+        self.cancel_cycle();
+        let mut vals = Vals::new();
+        vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]);
+        // Rotary axes in degrees, not scaled.
+        vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
+        if !rapid {
+            vals.set(Value::F, self.feed);
+        }
+        if let Some((t, _)) = self.out.template(event) {
+            self.rules(event, true);
+            self.render(t, &mut vals, false, true);
+            self.rules(event, false);
+        } else {
+            self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
+        }
+        self.moved(q);
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn arc(&mut self, canon: &Canon, end: [f64; 3], centre: [f64; 3], ccw: bool, turns: u32) {
+        if self.in_cycle {
+            self.moved(end);
+            return;
+        }
+        self.cancel_cycle();
+        let (a, b, n) = self.plane.axes();
+        let start = self.pos;
+        let event = if ccw { "arc-ccw" } else { "arc-cw" };
+        let Some((t, _)) = self.out.template(event) else {
+            self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
+            self.moved(end);
+            return;
+        };
+        // The source's tolerance let the two radii differ; the target's may not. The centre
+        // goes onto the perpendicular bisector of the chord (moving it by about the radius
+        // error), so both radii agree whatever the target checks.
+        let mut centre = centre;
+        let (dx, dy) = (end[a] - start[a], end[b] - start[b]);
+        let chord = dx.hypot(dy);
+        if chord > 1e-9 {
+            let (mx, my) = ((start[a] + end[a]) / 2.0, (start[b] + end[b]) / 2.0);
+            let (ux, uy) = (-dy / chord, dx / chord);
+            let t = (centre[a] - mx) * ux + (centre[b] - my) * uy;
+            centre[a] = mx + t * ux;
+            centre[b] = my + t * uy;
+        }
+        let r = ((start[a] - centre[a]).hypot(start[b] - centre[b])).max(EPS);
+        let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
+        let mut sweep = ang(end) - ang(start);
+        if ccw {
+            while sweep <= 1e-12 {
+                sweep += std::f64::consts::TAU;
+            }
+        } else {
+            while sweep >= -1e-12 {
+                sweep -= std::f64::consts::TAU;
+            }
+        }
+        let same = (end[a] - start[a]).hypot(end[b] - start[b]) < 1e-7;
+        if same {
+            sweep = if ccw { std::f64::consts::TAU } else { -std::f64::consts::TAU };
+        }
+        let total = sweep.abs() + std::f64::consts::TAU * f64::from(turns.saturating_sub(1));
+        let uses_r = t.uses(Value::R);
+        // Pieces: the extra full turns, then the last arc; an R-form full circle goes in halves.
+        let mut pieces: Vec<(f64, bool)> = Vec::new();
+        for _ in 1..turns.max(1) {
+            pieces.push((std::f64::consts::TAU, true));
+        }
+        pieces.push((sweep.abs(), same));
+        let mut from = start;
+        let mut done = 0.0;
+        for (piece, full) in pieces {
+            let halves = if uses_r && (full || piece > std::f64::consts::TAU - 1e-9) { 2 } else { 1 };
+            for h in 0..halves {
+                let part = piece / f64::from(halves);
+                done += part;
+                let frac = done / total;
+                let a0 = ang(from);
+                let a1 = a0 + if ccw { part } else { -part };
+                let mut to = [0.0; 3];
+                let last = (done - total).abs() < 1e-9;
+                if last && h + 1 == halves {
+                    to = end;
+                } else {
+                    to[a] = centre[a] + r * a1.cos();
+                    to[b] = centre[b] + r * a1.sin();
+                    to[n] = start[n] + (end[n] - start[n]) * frac;
+                }
+                let mut vals = Vals::new();
+                vals.set(Value::X, to[0]).set(Value::Y, to[1]).set(Value::Z, to[2]).set(Value::F, self.feed);
+                let ij = [Value::I, Value::J, Value::K];
+                let cc = [Value::Cx, Value::Cy, Value::Cz];
+                for k in [a, b] {
+                    vals.set(ij[k], centre[k] - from[k]);
+                    vals.set(cc[k], centre[k]);
+                }
+                vals.set(Value::R, if part > std::f64::consts::PI + 1e-9 { -r } else { r });
+                // A full circle: its end words must be written even though unchanged.
+                if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
+                    for k in 0..3 {
+                        self.written[k] = None;
+                    }
+                    let keep = [to[a], to[b]];
+                    let _ = keep;
+                }
+                self.rules(event, true);
+                self.render(t, &mut vals, false, true);
+                self.rules(event, false);
+                from = to;
+                self.moved(to);
+            }
+        }
+    }
+
+    fn cycle_begin(&mut self, canon: &Canon, intent: &CycleIntent) {
+        self.flush_tool();
+        let out = self.out;
+        let Some(index) = out.cycles.iter().position(|c| c.kinds.contains(&intent.kind)) else {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                intent.kind.label(),
+                format!("the target has no {} cycle: it is written as the moves it makes", intent.kind.label()),
+            );
+            return;
+        };
+        if self.plane != Plane::Xy {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                "cycle-plane",
+                format!("a {} cycle outside the XY plane is written as the moves it makes", intent.kind.label()),
+            );
+            return;
+        }
+        let m: &CycleOut = &out.cycles[index];
+        let (src_clear, dst_clear) = self.opts.peck_clearance;
+        if matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking)
+            && !m.define.uses(Value::PeckClearance)
+            && (src_clear - dst_clear).abs() > 1e-9
+        {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                "peck-clearance",
+                format!(
+                    "the target's {} cycle re-approaches {dst_clear} mm above the last peck, the source's {src_clear} mm: written as the moves it makes",
+                    intent.kind.label()
+                ),
+            );
+            return;
+        }
+        let s = self.scale;
+        let (zoff, xoff, yoff) = (self.g92[2], self.g92[0], self.g92[1]);
+        let x = intent.x * s + xoff;
+        let y = intent.y * s + yoff;
+        let bottom = intent.bottom * s + zoff;
+        let r = intent.r_plane * s + zoff;
+        let clear = intent.clear * s + zoff;
+        let src_mm = s * self.opts.units.to_mm();
+        let found = self
+            .opts
+            .hole_tops
+            .iter()
+            .find(|h| (h[0] - intent.x * src_mm).abs() < 1e-3 && (h[1] - intent.y * src_mm).abs() < 1e-3)
+            .map(|h| h[2] / self.opts.units.to_mm() + zoff);
+        let surface = intent.surface.map(|v| v * s + zoff).or(found).filter(|v| *v <= r + 1e-9).unwrap_or(r);
+        let peck = intent.peck.map_or(surface - bottom, |p| p * s);
+        let dwell = intent.dwell.unwrap_or(0.0);
+        let params = [bottom, r, clear, surface, peck, dwell, self.feed];
+        let mut vals = Vals::new();
+        vals.set(Value::X, x).set(Value::Y, y).set(Value::Bottom, bottom).set(Value::RPlane, r).set(Value::Clear, clear);
+        vals.set(Value::Surface, surface).set(Value::Sdis, r - surface).set(Value::Depth, bottom - surface);
+        vals.set(Value::ClearDist, clear - surface).set(Value::Peck, peck).set(Value::CycleDwell, dwell);
+        vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, self.feed);
+        vals.set(Value::Seconds, dwell).set(Value::Millis, dwell * 1000.0).set(Value::PeckClearance, src_clear / self.opts.units.to_mm());
+        let same =
+            self.active.as_ref().is_some_and(|a| a.index == index && a.params.iter().zip(&params).all(|(p, q)| (p - q).abs() < 1e-9));
+        if same {
+            self.render(&m.at, &mut vals, false, false);
+        } else {
+            self.cancel_cycle();
+            self.render(&m.define, &mut vals, false, false);
+            if !m.inline {
+                self.render(&m.at, &mut vals, false, false);
+            }
+            self.active = Some(ActiveCycle { index, params });
+        }
+        self.motion = None;
+        self.in_cycle = true;
+    }
+
+    /// Ends the program (the footer) and hands over the rest of the text; returns the
+    /// findings.
+    pub fn finish(mut self) -> Vec<Diagnostic> {
+        self.start();
+        if let Some(p) = self.pending_move.take() {
+            self.op(p);
+        }
+        self.flush_tool();
+        self.cancel_cycle();
+        if !self.ended {
+            self.event("end", &mut Vals::new());
+        }
+        self.event("footer", &mut Vals::new());
+        if !self.buf.is_empty() {
+            (self.sink)(&self.buf);
+            self.buf.clear();
+        }
+        self.diags
+    }
+}
+
+impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
+    fn emit(&mut self, canon: Canon) {
+        // A rapid while an output cycle is in force may be the positioning before the next
+        // hole of a modal cycle (`MCALL`, `M99`): it waits for the op after it.
+        if let Some(p) = self.pending_move.take() {
+            let positions = match (&p.op, &canon.op) {
+                (CanonOp::StraightTraverse(q), CanonOp::CycleBegin(i)) => {
+                    i.positioned && (q[0] - i.x).abs() < 1e-9 && (q[1] - i.y).abs() < 1e-9
+                }
+                _ => false,
+            };
+            if !positions {
+                self.op(p);
+            }
+        }
+        if self.active.is_some() && !self.in_cycle && !self.ended {
+            if let CanonOp::StraightTraverse(q) = &canon.op {
+                if (self.point(q)[2] - self.pos[2]).abs() < 1e-9 {
+                    self.pending_move = Some(canon);
+                    return;
+                }
+            }
+        }
+        self.op(canon);
+    }
+}
+
+impl<F: FnMut(&[u8])> Post<'_, F> {
+    fn op(&mut self, canon: Canon) {
+        if canon.line < self.line && canon.line > 0 {
+            self.note(
+                Code::PostUnrolled,
+                &canon,
+                "unrolled",
+                "the program runs blocks again (a loop, a jump back or a subprogram): it is written as the path that runs, unrolled",
+            );
+        }
+        self.line = canon.line;
+        self.origin = canon.origin;
+        if self.ended {
+            // What follows the end is the control's reset, not the program.
+            return;
+        }
+        match &canon.op {
+            // What a tool change's block may still take (its speed), or what writes nothing.
+            CanonOp::SetSpindleSpeed(_)
+            | CanonOp::Setting(Setting::ToolName(..) | Setting::LengthOffset(_))
+            | CanonOp::SelectTool(_)
+            | CanonOp::UseToolLengthOffset(_)
+            | CanonOp::SetFeedRate(_) => {}
+            _ => self.flush_tool(),
+        }
+        match &canon.op {
+            CanonOp::SetSpindleSpeed(_)
+            | CanonOp::StartSpindleClockwise
+            | CanonOp::StartSpindleCounterclockwise
+            | CanonOp::StopSpindleTurning
+            | CanonOp::Setting(_)
+            | CanonOp::SelectTool(_)
+            | CanonOp::ChangeTool(_) => {}
+            CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::CycleBegin(_) => self.flush_speed(true),
+            _ => self.flush_speed(false),
+        }
+        match &canon.op {
+            CanonOp::UseLengthUnits(u) => {
+                if self.opts.follow_source_units && !self.started {
+                    self.opts.units = *u;
+                }
+                self.scale = u.to_mm() / self.opts.units.to_mm();
+                if *u != self.opts.units {
+                    self.note(
+                        Code::PostUnitsConverted,
+                        &canon,
+                        "units",
+                        format!(
+                            "the program is in {}; it is written in {} for the target machine",
+                            unit_name(*u),
+                            unit_name(self.opts.units)
+                        ),
+                    );
+                }
+            }
+            CanonOp::SelectPlane(p) => {
+                if *p != self.plane {
+                    self.plane = *p;
+                    let ev = match p {
+                        Plane::Xy => "plane-xy",
+                        Plane::Xz => "plane-xz",
+                        Plane::Yz => "plane-yz",
+                    };
+                    if !self.event(ev, &mut Vals::new()) {
+                        self.note(Code::PostUnwritable, &canon, ev, format!("the target's output rules have no `{ev}` template"));
+                    }
+                }
+            }
+            CanonOp::SetG5xOffset(i, _) => {
+                if self.wcs != Some(*i) {
+                    self.wcs = Some(*i);
+                    let mut vals = Vals::new();
+                    vals.set(Value::Wcs, f64::from(*i)).set(Value::WcsCode, 53.0 + f64::from(*i));
+                    if !self.event("work-offset", &mut vals) && *i != 1 {
+                        self.note(Code::PostUnwritable, &canon, "work-offset", "the target's output rules have no `work-offset` template");
+                    }
+                }
+            }
+            CanonOp::SetG92Offset(o) => {
+                self.g92 = [self.to_out(o[0]), self.to_out(o[1]), self.to_out(o[2])];
+            }
+            CanonOp::SetFeedRate(f) => {
+                self.feed = self.to_out(*f);
+                self.check_limits(&canon);
+            }
+            CanonOp::SetSpindleSpeed(s) => {
+                if (*s - self.speed).abs() > EPS {
+                    self.speed_dirty = true;
+                }
+                self.speed = *s;
+                self.check_limits(&canon);
+            }
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise => {
+                let cw = matches!(canon.op, CanonOp::StartSpindleClockwise);
+                let ev = if cw { "spindle-cw" } else { "spindle-ccw" };
+                if self.speed_dirty && self.out.template(ev).is_some_and(|(t, _)| !t.uses(Value::S)) {
+                    let mut vals = Vals::new();
+                    vals.set(Value::S, self.speed);
+                    self.event("speed", &mut vals);
+                    self.speed_dirty = false;
+                }
+                let mut vals = Vals::new();
+                vals.set(Value::S, self.speed);
+                self.written[4] = if self.speed_dirty { None } else { self.written[4].take() };
+                self.speed_dirty = false;
+                self.spindle_on = true;
+                self.event(if cw { "spindle-cw" } else { "spindle-ccw" }, &mut vals);
+            }
+            CanonOp::StopSpindleTurning => {
+                if self.spindle_on {
+                    self.spindle_on = false;
+                    self.event("spindle-stop", &mut Vals::new());
+                }
+            }
+            CanonOp::SelectTool(_) => {}
+            CanonOp::ChangeTool(t) => {
+                self.pending_tool = Some(*t);
+                self.spindle_on = false;
+            }
+            CanonOp::Setting(Setting::ToolName(n, name)) => {
+                self.tool_names.retain(|(k, _)| k != n);
+                self.tool_names.push((*n, name.clone()));
+            }
+            CanonOp::Setting(Setting::LengthOffset(h)) if *h == self.length => {}
+            CanonOp::Setting(Setting::LengthOffset(h)) => {
+                self.length = *h;
+                let mut vals = Vals::new();
+                vals.set(Value::H, f64::from(*h));
+                self.event(if *h == 0 { "length-offset-off" } else { "length-offset" }, &mut vals);
+            }
+            CanonOp::Setting(Setting::CutterComp(c)) if *c == self.comp => {}
+            CanonOp::Setting(Setting::CutterComp(c)) => {
+                self.comp = *c;
+                let mut vals = Vals::new();
+                let ev = match c {
+                    Some((left, d)) => {
+                        self.comp_d = d.unwrap_or(self.tool);
+                        vals.set(Value::D, f64::from(self.comp_d));
+                        if *left { "comp-left" } else { "comp-right" }
+                    }
+                    None => "comp-off",
+                };
+                if !self.event(ev, &mut vals) {
+                    self.note(Code::PostUnwritable, &canon, ev, format!("the target's output rules have no `{ev}` template"));
+                }
+            }
+            CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
+            CanonOp::UseToolLengthOffset(_) | CanonOp::DistanceMode(_) | CanonOp::Finish => {}
+            CanonOp::StraightTraverse(p) => self.straight(&canon, p, true),
+            CanonOp::StraightFeed(p) => self.straight(&canon, p, false),
+            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
+                let (a, b, n) = self.plane.axes();
+                let mut end = [0.0; 3];
+                end[a] = self.to_out(*first_end) + self.g92[a];
+                end[b] = self.to_out(*second_end) + self.g92[b];
+                end[n] = self.to_out(*axis_end) + self.g92[n];
+                let mut centre = [0.0; 3];
+                centre[a] = self.to_out(*first_axis) + self.g92[a];
+                centre[b] = self.to_out(*second_axis) + self.g92[b];
+                centre[n] = end[n];
+                self.arc(&canon, end, centre, *rotation > 0, rotation.unsigned_abs());
+            }
+            CanonOp::Dwell(s) => {
+                let mut vals = Vals::new();
+                vals.set(Value::Seconds, *s).set(Value::Millis, s * 1000.0);
+                if !self.in_cycle && !self.event("dwell", &mut vals) {
+                    self.note(Code::PostUnwritable, &canon, "dwell", "the target's output rules have no `dwell` template");
+                }
+            }
+            CanonOp::FloodOn | CanonOp::MistOn => {
+                self.coolant = true;
+                let ev = if matches!(canon.op, CanonOp::FloodOn) { "flood-on" } else { "mist-on" };
+                if !self.event(ev, &mut Vals::new()) {
+                    self.event("flood-on", &mut Vals::new());
+                }
+            }
+            CanonOp::FloodOff | CanonOp::MistOff => {
+                if self.coolant {
+                    self.coolant = false;
+                    self.event("coolant-off", &mut Vals::new());
+                }
+            }
+            CanonOp::ProgramStop => {
+                self.cancel_cycle();
+                self.event("stop", &mut Vals::new());
+            }
+            CanonOp::OptionalProgramStop => {
+                self.cancel_cycle();
+                self.event("optional-stop", &mut Vals::new());
+            }
+            CanonOp::ProgramEnd => {
+                self.cancel_cycle();
+                if !self.ended {
+                    self.ended = true;
+                    self.event("end", &mut Vals::new());
+                }
+            }
+            CanonOp::Comment(t) => {
+                let t = t.clone();
+                self.comment(&t, "comment");
+            }
+            CanonOp::Message(t) => {
+                let t = t.clone();
+                self.comment(&t, "message");
+            }
+            CanonOp::CycleBegin(intent) => {
+                let intent = intent.clone();
+                self.cycle_begin(&canon, &intent);
+            }
+            CanonOp::CycleEnd => {
+                if self.in_cycle {
+                    self.in_cycle = false;
+                    let p = self.pos;
+                    let out = self.out;
+                    let inch = self.opts.units == Units::Inch;
+                    for (k, f) in ["X", "Y", "Z"].iter().enumerate() {
+                        self.written[k] = out.formats.iter().find(|x| x.name == *f).map(|f| {
+                            let mut s = String::new();
+                            format_number(&mut s, f, p[k], inch);
+                            s
+                        });
+                    }
+                }
+            }
+            CanonOp::CycleCancel => self.cancel_cycle(),
+            CanonOp::SetFeedMode(m) => {
+                if *m != self.feed_mode {
+                    self.feed_mode = *m;
+                    let ev = if *m == FeedMode::PerMinute { "feed-per-minute" } else { "feed-per-rev" };
+                    if !self.event(ev, &mut Vals::new()) {
+                        self.note(Code::PostUnwritable, &canon, ev, format!("the target's output rules have no `{ev}` template"));
+                    }
+                }
+            }
+            CanonOp::SetSpindleMode(None) => {}
+            other => {
+                let name = format!("{other:?}");
+                let key = name.split(['(', ' ', '{']).next().unwrap_or("").to_owned();
+                self.note(
+                    Code::PostUnwritable,
+                    &canon,
+                    &key,
+                    format!("`{key}` is not written: the target's output rules have nothing for it"),
+                );
+            }
+        }
+    }
+}
+
+fn unit_name(u: Units) -> &'static str {
+    match u {
+        Units::Mm => "millimetres",
+        Units::Inch => "inches",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(point: Point, decimals: u8, trailing: bool, leading: bool, plus: bool, increment: bool) -> NumberFormat {
+        NumberFormat {
+            name: "X".into(),
+            address: "X".into(),
+            decimals,
+            inch_decimals: decimals + 1,
+            point,
+            trailing_zeros: trailing,
+            leading_zero: leading,
+            plus,
+            increment,
+            modal: false,
+        }
+    }
+
+    fn s(fmt: &NumberFormat, v: f64) -> String {
+        let mut out = String::new();
+        format_number(&mut out, fmt, v, false);
+        out
+    }
+
+    #[test]
+    fn numbers_follow_their_format() {
+        let always = f(Point::Always, 3, false, true, false, false);
+        assert_eq!(s(&always, 10.0), "X10.");
+        assert_eq!(s(&always, -0.5), "X-0.5");
+        assert_eq!(s(&always, -0.0001), "X0.");
+        assert_eq!(s(&always, 1.23456), "X1.235");
+        assert_eq!(s(&f(Point::Needed, 3, false, true, true, false), 20.0), "X+20");
+        assert_eq!(s(&f(Point::Needed, 3, false, true, true, false), -2.5), "X-2.5");
+        assert_eq!(s(&f(Point::Always, 3, true, false, false, false), 0.5), "X.500");
+        assert_eq!(s(&f(Point::Needed, 3, false, true, false, true), 10.0), "X10000");
+        assert_eq!(s(&f(Point::Never, 0, false, true, false, false), 1500.4), "X1500");
+    }
+}
