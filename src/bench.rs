@@ -188,7 +188,7 @@ impl Bed {
 
     fn count(&self, sql: &str) -> usize {
         let db = self.dir.join("var/ncplan.db");
-        crate::store::Store::open_read_only(&db)
+        crate::store::Store::open_read_only(&crate::store::Location::Sqlite(db))
             .ok()
             .and_then(|s| s.query(sql).ok())
             .and_then(|(_, r)| r.first()?.first()?.parse().ok())
@@ -375,7 +375,7 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
         };
     }
     std::thread::sleep(Duration::from_secs(3));
-    let store = crate::store::Store::open_read_only(&kill_dir.join("var/ncplan.db"))?;
+    let store = crate::store::Store::open_read_only(&crate::store::Location::Sqlite(kill_dir.join("var/ncplan.db")))?;
     let (_, rows) = store.query(
         "SELECT p.path, CAST(b.content AS TEXT), EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = r.id) FROM revisions r
          JOIN programs p ON p.id = r.program_id JOIN blobs b ON b.hash = r.hash ORDER BY r.id",

@@ -20,7 +20,7 @@ use crate::diag::{self, DiagnosticJson};
 use crate::dialect::{Dialect, Registry};
 use crate::diff;
 use crate::pipeline;
-use crate::store::Store;
+use crate::store::{Location, Store};
 use crate::text::LineIndex;
 
 /// Recover process plans from CNC programs, diff them against the CAM original, keep the
@@ -54,9 +54,11 @@ struct Input {
 /// Where the database is.
 #[derive(Debug, clap::Args)]
 struct StoreArgs {
-    /// The SQLite database file; by default the one the configuration names.
-    #[arg(long, value_name = "FILE")]
-    db: Option<PathBuf>,
+    /// The database: a SQLite file or a `postgresql://` URL (its password from
+    /// NCPLAN_DB_PASSWORD or the file NCPLAN_DB_PASSWORD_FILE names); by default the one the
+    /// configuration names.
+    #[arg(long, value_name = "FILE|URL")]
+    db: Option<String>,
     /// Configuration whose database (and, for `report --wait`, folders) to use; without it,
     /// the built-in demo configuration.
     #[arg(long, value_name = "FILE")]
@@ -347,7 +349,11 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 dialect(&registry, &f.dialect).with_context(|| format!("folder {}", f.path.display()))?;
             }
             init_tracing();
-            println!("ncplan watch: database {}", config.database.display());
+            println!(
+                "ncplan watch: database {}{}",
+                config.database,
+                if config.site.is_empty() { String::new() } else { format!(", site {}", config.site) }
+            );
             for f in &config.folders {
                 println!(
                     "  {:<8} {:<10} {:<9} {}{}",
@@ -607,7 +613,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                     Some(p) => load_config(Some(p))?,
                     None => demo_config_here()?,
                 };
-                let db = store.db.clone().unwrap_or_else(|| config.database.clone());
+                let db = store.db.as_deref().map_or_else(|| config.database.clone(), Location::parse);
                 let left = wait_until_stored(&config, &db, Duration::from_secs(seconds))?;
                 if left > 0 {
                     eprintln!(
@@ -735,28 +741,28 @@ fn dispatch(command: Command) -> Result<ExitCode> {
     }
 }
 
-fn db_path(args: &StoreArgs) -> Result<PathBuf> {
+fn db_path(args: &StoreArgs) -> Result<Location> {
     let db = match (&args.db, &args.config) {
-        (Some(d), _) => d.clone(),
+        (Some(d), _) => Location::parse(d),
         (None, Some(c)) => load_config(Some(c))?.database,
         (None, None) => load_config(None)?.database,
     };
     if !db.exists() {
-        bail!("no database at {} (has `ncplan watch` run?)", db.display());
+        bail!("no database at {db} (has `ncplan watch` run?)");
     }
     Ok(db)
 }
 
 /// Waits until every program file in the configured folders is stored as the newest revision
 /// of its path, or `timeout` passed. Returns how many were still not stored.
-fn wait_until_stored(config: &Config, db: &Path, timeout: Duration) -> Result<usize> {
+fn wait_until_stored(config: &Config, db: &Location, timeout: Duration) -> Result<usize> {
     let deadline = Instant::now() + timeout;
     loop {
         let mut files = Vec::new();
         for f in &config.folders {
             files.extend(config.program_files(f).unwrap_or_default().into_iter().filter(|p| Config::stays_inside(f, p)));
         }
-        let store = if db.exists() { Store::open_read_only(db).ok() } else { None };
+        let store = if db.exists() { Store::open_read_only(db).ok().map(|s| s.for_site(&config.site)) } else { None };
         let mut left = 0;
         for p in &files {
             let stored = match (&store, std::fs::read(p)) {

@@ -150,11 +150,12 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     for f in config.folders.iter().filter(|f| f.dialect != crate::config::AUTO_DIALECT) {
         registry.get(&f.dialect).with_context(|| format!("folder {} uses the unknown dialect `{}`", f.path.display(), f.dialect))?;
     }
-    if let Some(parent) = config.database.parent() {
+    if let Some(parent) = config.database.file().and_then(Path::parent) {
         std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
     }
     let open = || -> Result<Store> {
-        let mut store = Store::open(&config.database).with_context(|| format!("cannot open the database {}", config.database.display()))?;
+        let mut store =
+            Store::open(&config.database, &config.site).with_context(|| format!("cannot open the database {}", config.database))?;
         // Workers wait for each other's transactions (one revision and what it enables).
         store.set_busy_timeout(Duration::from_secs(600))?;
         Ok(store)

@@ -191,7 +191,7 @@ fn start_up_compares_what_an_older_run_left_waiting() {
     let dialect = registry.get("fanuc").unwrap();
     std::fs::create_dir_all(site.path("var")).unwrap();
     {
-        let mut store = Store::open(&site.db()).unwrap();
+        let mut store = Store::open(&ncplan::store::Location::Sqlite(site.db()), "").unwrap();
         for (path, folder, text, machine) in
             [("share/O7.nc", 1, program(7, 250), Some(("M1", "fanuc", "share"))), ("cam/O7.nc", 0, program(7, 300), None)]
         {

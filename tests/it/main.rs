@@ -52,7 +52,7 @@ pub fn db_rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
     if !db.exists() {
         return Vec::new();
     }
-    match ncplan::store::Store::open_read_only(db) {
+    match ncplan::store::Store::open_read_only(&ncplan::store::Location::Sqlite(db.to_path_buf())) {
         Ok(s) => s.query(sql).map(|(_, r)| r).unwrap_or_default(),
         Err(_) => Vec::new(),
     }
