@@ -160,12 +160,11 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
         store.set_busy_timeout(Duration::from_secs(600))?;
         Ok(store)
     };
-    let first = open()?;
     let workers = worker_count(&config);
-    let mut stores = vec![first];
-    for _ in 1..workers {
-        stores.push(open()?);
-    }
+    // Opened on a thread of their own: a store's connection may block (PostgreSQL's client
+    // runs its own runtime), which a thread driving this one may not.
+    let stores = std::thread::scope(|s| s.spawn(|| (0..workers).map(|_| open()).collect::<Result<Vec<Store>>>()).join())
+        .map_err(|_| anyhow::anyhow!("opening the database panicked"))??;
     let config = Arc::new(config);
     let registry = Arc::new(registry);
     let (tx, mut rx) = mpsc::unbounded_channel::<Event>();

@@ -17,6 +17,7 @@ mod first_start;
 mod flow;
 mod macros;
 mod parity;
+mod pg;
 mod plan;
 mod robustness;
 mod shop;
