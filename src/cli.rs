@@ -219,6 +219,23 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
+    /// Copy a server's SQLite history into the plant's PostgreSQL database as its site's;
+    /// run again after a stop, it goes on where it was.
+    Migrate {
+        /// The SQLite file (`var/ncplan.db`).
+        #[arg(long, value_name = "FILE")]
+        from: PathBuf,
+        /// The PostgreSQL database (`postgresql://user@host/db`; the password from
+        /// NCPLAN_DB_PASSWORD or the file NCPLAN_DB_PASSWORD_FILE names).
+        #[arg(long, value_name = "URL")]
+        to: String,
+        /// The site the history belongs to; by default the configuration's `site`.
+        #[arg(long)]
+        site: Option<String>,
+        /// Configuration whose `site` to use.
+        #[arg(long)]
+        config: Option<PathBuf>,
+    },
     /// List the known dialects, or check dialect files.
     Dialects {
         /// Dialect files to check.
@@ -712,6 +729,42 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             }
             out.flush()?;
             Ok(if summary.errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+        }
+        Command::Migrate { from, to, site, config } => {
+            let site = match (site, &config) {
+                (Some(s), _) => s,
+                (None, Some(c)) => load_config(Some(c))?.site,
+                (None, None) => String::new(),
+            };
+            anyhow::ensure!(
+                !site.trim().is_empty(),
+                "name the site the history belongs to: --site HALL2 (or --config with site = \"HALL2\")"
+            );
+            let target = Location::parse(&to);
+            anyhow::ensure!(target.file().is_none(), "--to takes a postgresql:// URL");
+            let store = Store::open(&target, &site).with_context(|| format!("cannot open the database {target}"))?;
+            let bar = indicatif::ProgressBar::new(0);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} revisions, {per_sec}, {eta} left")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            let progress = |done: usize, total: usize| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            };
+            let summary = store.copy_from_sqlite(&from, &progress)?;
+            bar.finish_and_clear();
+            writeln!(
+                out,
+                "migrated {} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied",
+                from.display(),
+                summary.revisions,
+                summary.copied,
+                summary.revisions - summary.copied,
+                summary.comparisons
+            )?;
+            out.flush()?;
+            Ok(ExitCode::SUCCESS)
         }
         Command::Dialects { files } => {
             if files.is_empty() {

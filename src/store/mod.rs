@@ -18,6 +18,7 @@ use std::path::Path;
 
 use crate::pairing::{Candidate, Key};
 pub use location::Location;
+pub use pg::CopySummary;
 pub use schema::MIGRATIONS;
 
 use crate::diag::DiagnosticJson;
@@ -373,6 +374,26 @@ impl Store {
             Engine::Pg(e) => e.set_site(site),
         }
         self
+    }
+
+    /// Copies the history of the SQLite file `from` into this PostgreSQL database as this
+    /// store's site (`ncplan migrate`), resumably; `progress` hears (done, of) revisions.
+    pub fn copy_from_sqlite(&self, from: &Path, progress: &dyn Fn(usize, usize)) -> Result<CopySummary> {
+        let Engine::Pg(pg) = &self.engine else {
+            return Err(StoreError::Setup("ncplan migrate copies into a PostgreSQL database (--to postgresql://…)".into()));
+        };
+        if !from.is_file() {
+            return Err(StoreError::Setup(format!("no SQLite database at {}", from.display())));
+        }
+        let lite = sqlite::Lite::open_read_only(from)?;
+        let version = lite.version()?;
+        if version < 3 {
+            return Err(StoreError::Setup(format!(
+                "{} has schema version {version}; run this ncplan's `watch` on it once to bring it to the current one",
+                from.display()
+            )));
+        }
+        pg.copy_from(&lite, progress)
     }
 
     /// Which engine, for messages: `SQLite` or `PostgreSQL`.

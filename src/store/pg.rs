@@ -795,3 +795,241 @@ impl PgTxn<'_> {
         Ok(())
     }
 }
+
+/// What `ncplan migrate` did.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct CopySummary {
+    /// Revisions in the SQLite file.
+    pub revisions: usize,
+    /// Revisions copied by this run (the others were there from an earlier run).
+    pub copied: usize,
+    /// Comparisons copied by this run.
+    pub comparisons: usize,
+}
+
+/// One source revision with its program and machine.
+struct SourceRevision {
+    id: i64,
+    path: String,
+    role: String,
+    machine: Option<(String, String, String)>,
+    program: (String, String, String, String),
+    hash: String,
+    size: i64,
+    mtime_ns: Option<i64>,
+    seen_at: String,
+    encoding: String,
+    status: String,
+    name: Option<String>,
+}
+
+impl Pg {
+    /// Copies a SQLite file's history into this database as this site's: every revision in
+    /// its own transaction with its blob, plan and findings, then the comparisons with their
+    /// changes and the partial-write marks. A revision (the program's path, its hash and
+    /// when it was seen) or a comparison already here is left as it is, so a run that was
+    /// stopped resumes where it was.
+    pub(super) fn copy_from(&self, lite: &super::sqlite::Lite, progress: &dyn Fn(usize, usize)) -> Result<CopySummary> {
+        use rusqlite::OptionalExtension as _;
+        let lsql = |about: &'static str| move |e: rusqlite::Error| StoreError::Sql { about, source: Box::new(e) };
+        let src = &lite.conn;
+        let c = &self.conn;
+        let site = c.site.clone();
+        let revisions: Vec<SourceRevision> = {
+            let mut stmt = src
+                .prepare(
+                    "SELECT r.id, p.path, p.role, m.name, m.dialect, m.folder, p.name, p.program_key, p.stem, p.dialect,
+                            r.hash, r.size, r.mtime_ns, r.seen_at, r.encoding, r.status, r.name
+                     FROM revisions r JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id ORDER BY r.id",
+                )
+                .map_err(lsql("reading the SQLite revisions"))?;
+            let rows = stmt
+                .query_map([], |r| {
+                    Ok(SourceRevision {
+                        id: r.get(0)?,
+                        path: r.get(1)?,
+                        role: r.get(2)?,
+                        machine: match r.get::<_, Option<String>>(3)? {
+                            Some(name) => Some((name, r.get(4)?, r.get(5)?)),
+                            None => None,
+                        },
+                        program: (r.get(6)?, r.get(7)?, r.get(8)?, r.get(9)?),
+                        hash: r.get(10)?,
+                        size: r.get(11)?,
+                        mtime_ns: r.get(12)?,
+                        seen_at: r.get(13)?,
+                        encoding: r.get(14)?,
+                        status: r.get(15)?,
+                        name: r.get(16)?,
+                    })
+                })
+                .map_err(lsql("reading the SQLite revisions"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading the SQLite revisions"))?
+        };
+        let mut summary = CopySummary { revisions: revisions.len(), ..CopySummary::default() };
+        let mut ids: BTreeMap<i64, i64> = BTreeMap::new();
+        for (n, r) in revisions.iter().enumerate() {
+            c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
+            let tx = PgTxn { conn: c, done: Cell::new(false) };
+            let machine_id: Option<i64> = match &r.machine {
+                Some((name, dialect, folder)) => Some(
+                    c.one(
+                        "recording a machine",
+                        "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
+                         ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect RETURNING id",
+                        &[&site, name, dialect, folder],
+                    )?
+                    .get(0),
+                ),
+                None => None,
+            };
+            let (pname, key, stem, dialect) = &r.program;
+            let program_id: i64 = c
+                .one(
+                    "recording a program",
+                    "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                     ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role RETURNING id",
+                    &[&site, &r.path, &r.role, &machine_id, pname, key, stem, dialect],
+                )?
+                .get(0);
+            let found = c.opt(
+                "looking up a copied revision",
+                "SELECT id FROM revisions WHERE program_id = $1 AND hash = $2 AND seen_at = $3",
+                &[&program_id, &r.hash, &r.seen_at],
+            )?;
+            if let Some(row) = found {
+                ids.insert(r.id, row.get(0));
+                drop(tx);
+                progress(n + 1, revisions.len());
+                continue;
+            }
+            let keys: Vec<(String, String)> = {
+                let mut stmt = src
+                    .prepare_cached("SELECT k.rule, k.key FROM program_keys k JOIN programs p ON p.id = k.program_id WHERE p.path = ?1")
+                    .map_err(lsql("reading program keys"))?;
+                let rows = stmt.query_map([&r.path], |x| Ok((x.get(0)?, x.get(1)?))).map_err(lsql("reading program keys"))?;
+                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading program keys"))?
+            };
+            c.exec("recording program keys", "DELETE FROM program_keys WHERE program_id = $1", &[&program_id])?;
+            for (rule, key) in &keys {
+                c.exec(
+                    "recording program keys",
+                    "INSERT INTO program_keys(program_id, rule, key) VALUES ($1, $2, $3) ON CONFLICT DO NOTHING",
+                    &[&program_id, rule, key],
+                )?;
+            }
+            if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&r.hash])?.is_none() {
+                let blob: Option<(i64, Vec<u8>)> = src
+                    .query_row("SELECT size, content FROM blobs WHERE hash = ?1", [&r.hash], |x| Ok((x.get(0)?, x.get(1)?)))
+                    .optional()
+                    .map_err(lsql("reading program bytes"))?;
+                let (size, content) = blob.unwrap_or((r.size, Vec::new()));
+                c.exec(
+                    "storing program bytes",
+                    "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, $3) ON CONFLICT (hash) DO NOTHING",
+                    &[&r.hash, &size, &content],
+                )?;
+            }
+            let new_id: i64 = c
+                .one(
+                    "recording a revision",
+                    "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                     RETURNING id",
+                    &[&program_id, &r.hash, &r.size, &r.mtime_ns, &r.seen_at, &r.encoding, &r.status, &r.name],
+                )?
+                .get(0);
+            let plan: Option<(String, i64, i64, i64)> = src
+                .query_row("SELECT plan_json, workingsteps, tools, complete FROM plans WHERE revision_id = ?1", [r.id], |x| {
+                    Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?))
+                })
+                .optional()
+                .map_err(lsql("reading a plan"))?;
+            if let Some((json, ws, tools, complete)) = plan {
+                c.exec(
+                    "storing a plan",
+                    "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete) VALUES ($1, $2, $3, $4, $5)",
+                    &[&new_id, &json, &ws, &tools, &complete],
+                )?;
+                c.exec("storing workingsteps", pg_schema::FILL_WORKINGSTEPS, &[&new_id])?;
+                c.exec("storing features", pg_schema::FILL_FEATURES, &[&new_id])?;
+            }
+            let findings: Vec<(String, String, i64, i64, i64, i64, String)> = {
+                let mut stmt = src
+                    .prepare_cached(
+                        "SELECT code, severity, line, col, byte_start, byte_end, message FROM diagnostics WHERE revision_id = ?1 ORDER BY id",
+                    )
+                    .map_err(lsql("reading findings"))?;
+                let rows = stmt
+                    .query_map([r.id], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?, x.get(5)?, x.get(6)?)))
+                    .map_err(lsql("reading findings"))?;
+                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading findings"))?
+            };
+            for f in &findings {
+                c.exec(
+                    "storing diagnostics",
+                    "INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
+                    &[&new_id, &f.0, &f.1, &f.2, &f.3, &f.4, &f.5, &f.6],
+                )?;
+            }
+            tx.commit()?;
+            ids.insert(r.id, new_id);
+            summary.copied += 1;
+            progress(n + 1, revisions.len());
+        }
+        // Comparisons, their changes and the marks name revisions of any age: copied once all are.
+        type SourceComparison = (i64, i64, String, i64, Option<String>);
+        let comparisons: Vec<SourceComparison> = {
+            let mut stmt = src
+                .prepare("SELECT revision_id, original_revision_id, compared_at, changes, rule FROM comparisons ORDER BY revision_id")
+                .map_err(lsql("reading comparisons"))?;
+            let rows =
+                stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?))).map_err(lsql("reading comparisons"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading comparisons"))?
+        };
+        for (rev, orig, at, n, rule) in &comparisons {
+            let (Some(new_rev), Some(new_orig)) = (ids.get(rev), ids.get(orig)) else { continue };
+            if c.opt("looking up a comparison", "SELECT 1 FROM comparisons WHERE revision_id = $1", &[new_rev])?.is_some() {
+                continue;
+            }
+            c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
+            let tx = PgTxn { conn: c, done: Cell::new(false) };
+            c.exec(
+                "recording a comparison",
+                "INSERT INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule) VALUES ($1, $2, $3, $4, $5)",
+                &[new_rev, new_orig, at, n, rule],
+            )?;
+            let changes = super::sqlite::changes_of(src, *rev)?;
+            for ch in &changes {
+                c.exec(
+                    "storing changes",
+                    "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                         original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
+                     VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18)",
+                    &[
+                        new_rev, new_orig, &ch.workingstep, &ch.operation, &ch.kind, &ch.field, &ch.before, &ch.after, &ch.line,
+                        &ch.detected_at, &ch.original_line, &ch.region[0], &ch.region[1], &ch.region[2], &ch.region[3],
+                        &ch.region[4], &ch.region[5], &ch.deviation,
+                    ],
+                )?;
+            }
+            tx.commit()?;
+            summary.comparisons += 1;
+        }
+        let marks: Vec<(i64, String, i64, String)> = {
+            let mut stmt =
+                src.prepare("SELECT revision_id, mark, superseded_by, noted_at FROM revision_marks").map_err(lsql("reading marks"))?;
+            let rows = stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?))).map_err(lsql("reading marks"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading marks"))?
+        };
+        for (rev, mark, by, at) in &marks {
+            if let (Some(rev), Some(by)) = (ids.get(rev), ids.get(by)) {
+                c.exec(
+                    "copying a mark",
+                    "INSERT INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
+                    &[rev, mark, by, at],
+                )?;
+            }
+        }
+        Ok(summary)
+    }
+}

@@ -667,3 +667,47 @@ impl LiteTxn<'_> {
         Ok(())
     }
 }
+
+/// A stored change row as it is, for copying.
+pub(super) struct ChangeRow {
+    pub(super) workingstep: i64,
+    pub(super) operation: String,
+    pub(super) kind: String,
+    pub(super) field: String,
+    pub(super) before: String,
+    pub(super) after: String,
+    pub(super) line: Option<i64>,
+    pub(super) detected_at: String,
+    pub(super) original_line: Option<i64>,
+    pub(super) region: [Option<f64>; 6],
+    pub(super) deviation: Option<f64>,
+}
+
+/// The change rows of a revision, in their order.
+pub(super) fn changes_of(conn: &Connection, revision: i64) -> Result<Vec<ChangeRow>> {
+    let mut stmt = conn
+        .prepare_cached(
+            "SELECT workingstep, operation, kind, field, before, after, line, detected_at, original_line,
+                    region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
+             FROM changes WHERE revision_id = ?1 ORDER BY id",
+        )
+        .map_err(sql("reading changes"))?;
+    let rows = stmt
+        .query_map([revision], |r| {
+            Ok(ChangeRow {
+                workingstep: r.get(0)?,
+                operation: r.get(1)?,
+                kind: r.get(2)?,
+                field: r.get(3)?,
+                before: r.get(4)?,
+                after: r.get(5)?,
+                line: r.get(6)?,
+                detected_at: r.get(7)?,
+                original_line: r.get(8)?,
+                region: [r.get(9)?, r.get(10)?, r.get(11)?, r.get(12)?, r.get(13)?, r.get(14)?],
+                deviation: r.get(15)?,
+            })
+        })
+        .map_err(sql("reading changes"))?;
+    rows.collect::<std::result::Result<_, _>>().map_err(sql("reading changes"))
+}

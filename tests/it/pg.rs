@@ -460,3 +460,43 @@ const UNCOMPARED: &str = "SELECT COUNT(*) FROM revisions r JOIN programs p ON p.
      WHERE p.role = 'machine' AND r.status = 'analysed'
        AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = r.id)
        AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id)";
+
+#[test]
+fn migrate_copies_a_servers_history_into_the_plant_database_and_resumes() {
+    let Some(pg) = Cluster::start("pg::migrate_copies_a_servers_history_into_the_plant_database_and_resumes") else { return };
+    let lite = Server::new(Some("HALL7"), "path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    let daemon = lite.start();
+    lite.put("cam/O1234.nc", &program(1234, 250, 1800));
+    lite.put("share/O1234.nc", &program(1234, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]);
+    daemon.kill();
+    let url = pg.url();
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("2 revisions, 2 copied now, 0 already there; 1 comparisons copied"), "{out}");
+    const SHOWN: &str = "SELECT machine, program, kind, before, after, line FROM shopfloor_changes ORDER BY change_id";
+    let copied = pg.rows(SHOWN);
+    assert!(!copied.is_empty());
+    assert_eq!(copied, crate::db_rows(&db, SHOWN));
+    assert_eq!(pg.rows("SELECT DISTINCT site FROM programs"), [["HALL7"]]);
+    // More history on the server, and migrate again: only what is new is copied.
+    let daemon = lite.start();
+    lite.put("share/O1234.nc", &program(1234, 320, 2000));
+    wait_until("the second edit is compared", Duration::from_secs(30), || {
+        crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["2"]]
+    });
+    daemon.kill();
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("3 revisions, 1 copied now, 2 already there; 1 comparisons copied"), "{out}");
+    assert_eq!(pg.rows(SHOWN), crate::db_rows(&db, SHOWN));
+    for table in ["revisions", "blobs", "plans", "diagnostics", "comparisons", "changes", "workingsteps", "features", "program_keys"] {
+        let sql = format!("SELECT COUNT(*) FROM {table}");
+        assert_eq!(pg.rows(&sql), crate::db_rows(&db, &sql), "{table}");
+    }
+    // History is copied as some site's: without one named, nothing is.
+    let (code, _, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url]);
+    assert_eq!(code, 2);
+    assert!(err.contains("name the site"), "{err}");
+}
