@@ -32,6 +32,13 @@ struct Cli {
     command: Command,
 }
 
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ReportFormat {
+    Markdown,
+    Html,
+    Csv,
+}
+
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum Format {
     Text,
@@ -152,7 +159,8 @@ enum Command {
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
     },
-    /// Print the shopfloor change report in Markdown.
+    /// Print the shopfloor change report: Markdown, or one self-contained HTML file (inline
+    /// CSS and SVG: toolpath pictures and sources), or the change rows as CSV.
     Report {
         #[command(flatten)]
         store: StoreArgs,
@@ -160,6 +168,28 @@ enum Command {
         /// seconds; 30 when given without a number), so that a file just copied is reported.
         #[arg(long, num_args = 0..=1, default_missing_value = "30", value_name = "SECONDS")]
         wait: Option<u64>,
+        #[arg(long, value_enum, default_value = "markdown")]
+        format: ReportFormat,
+        /// Write the report to this file instead of standard output.
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Only changes detected on or after this date (YYYY-MM-DD; html and csv).
+        #[arg(long, value_name = "DATE")]
+        since: Option<String>,
+        /// Only changes of this machine (html and csv).
+        #[arg(long, value_name = "NAME")]
+        machine: Option<String>,
+    },
+    /// Serve the planners' workspace: overview, machines, programs, comparisons with toolpath
+    /// pictures, review, knowledge pages, SQL console and search.
+    Serve {
+        /// Configuration (database, folders, [[web.user]]); without it, the built-in demo's.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// Address to listen on (default 127.0.0.1:8480, or the configuration's [web] listen);
+        /// another than loopback needs users configured.
+        #[arg(long, value_name = "ADDR")]
+        listen: Option<String>,
     },
     /// Print one stored revision: what it is, its findings and its changes; with flags, its
     /// source or its plan.
@@ -199,6 +229,10 @@ enum Command {
         /// With --daemon: SIGKILLs in the kill loop.
         #[arg(long, default_value_t = 100)]
         kills: usize,
+        /// Measure `ncplan serve` instead: every page's render time on a database of
+        /// 10,000 revisions across 20 machines, and a 1M-move comparison page.
+        #[arg(long, conflicts_with = "daemon")]
+        web: bool,
     },
     /// Store an existing program folder, or its dated backups, as revisions of a machine's
     /// programs with their file times; resumes after a kill; ends with a summary.
@@ -478,8 +512,10 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
-        Command::Bench { dir, rows, runs, daemon, files, kills } => {
-            if daemon {
+        Command::Bench { dir, rows, runs, daemon, files, kills, web } => {
+            if web {
+                crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;
+            } else if daemon {
                 crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
             } else {
                 crate::bench::run(&dir, rows, runs, &mut out)?;
@@ -624,7 +660,21 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Report { store, wait } => {
+        Command::Serve { config: given, listen } => {
+            let config = load_config(given.as_deref())?;
+            if !config.database.exists() {
+                bail!("no database at {} (has `ncplan watch` run?)", config.database);
+            }
+            let registry = registry_for(Some(&config))?;
+            let db = config.database.clone();
+            let options = crate::web::Options { config, registry, listen, clock: Arc::new(crate::daemon::SystemClock) };
+            crate::web::serve(options, |addr| {
+                println!("ncplan serve: http://{addr}/ (database {db})");
+                let _ = std::io::stdout().flush();
+            })?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Report { store, wait, format, output, since, machine } => {
             if let Some(seconds) = wait {
                 let config = match &store.config {
                     Some(p) => load_config(Some(p))?,
@@ -639,8 +689,28 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 }
             }
             let db = db_path(&store)?;
+            let config_path = store.config.clone();
             let store = Store::open_read_only(&db)?;
-            write_report(&mut out, &store)?;
+            let filter = crate::web::report::Filter { since, machine };
+            let text = match format {
+                ReportFormat::Markdown => {
+                    let mut buf = Vec::new();
+                    write_report(&mut buf, &store)?;
+                    buf
+                }
+                ReportFormat::Html => {
+                    use crate::daemon::Clock;
+                    // The configuration reads the programs as the daemon did, to draw their toolpaths.
+                    let config = load_config(config_path.as_deref())?;
+                    let registry = registry_for(Some(&config))?;
+                    crate::web::report::html(&store, &config, &registry, &filter, &crate::daemon::SystemClock.now())?.into_bytes()
+                }
+                ReportFormat::Csv => crate::web::report::csv(&store, &filter)?.into_bytes(),
+            };
+            match output {
+                Some(o) => std::fs::write(&o, text).with_context(|| format!("cannot write {}", o.display()))?,
+                None => out.write_all(&text)?,
+            }
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }

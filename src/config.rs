@@ -54,6 +54,34 @@ struct RawConfig {
     stock: Option<RawStock>,
     #[serde(default)]
     analysis: RawAnalysis,
+    #[serde(default)]
+    web: RawWeb,
+}
+
+/// `ncplan serve`: where it listens and who may sign in.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWeb {
+    listen: Option<String>,
+    #[serde(default)]
+    user: Vec<RawUser>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawUser {
+    name: String,
+    /// An argon2 PHC string (`$argon2id$v=19$...`).
+    password_hash: String,
+}
+
+/// A user of `ncplan serve`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WebUser {
+    /// Sign-in name; review marks carry it.
+    pub name: String,
+    /// The argon2 PHC string of the password.
+    pub password_hash: String,
 }
 
 /// Limits and choices of the analysis.
@@ -260,6 +288,10 @@ pub struct Config {
     pub pattern: Option<regex::Regex>,
     /// Machine profile (tool table).
     pub profile: Profile,
+    /// `[web] listen`: the address `ncplan serve` listens on without `--listen`.
+    pub web_listen: Option<String>,
+    /// `[[web.user]]`: who may sign in to `ncplan serve`; none means no authentication.
+    pub web_users: Vec<WebUser>,
 }
 
 impl Config {
@@ -416,6 +448,8 @@ impl Config {
             ignore: raw.daemon.ignore,
             pattern,
             profile,
+            web_listen: raw.web.listen,
+            web_users: raw.web.user.into_iter().map(|u| WebUser { name: u.name, password_hash: u.password_hash }).collect(),
         })
     }
 

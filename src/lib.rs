@@ -2,7 +2,7 @@
 //! and keep the shopfloor's changes.
 //!
 //! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`, `part21`,
-//! `diff`, `pipeline`) does no IO. The shell around it (`config`, `store`, `daemon`, `cli`, `bench`)
+//! `diff`, `pipeline`, `view`) does no IO. The shell around it (`config`, `store`, `daemon`, `web`, `cli`, `bench`)
 //! reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
@@ -24,3 +24,5 @@ pub mod plan;
 pub mod store;
 pub mod syntax;
 pub mod text;
+pub mod view;
+pub mod web;

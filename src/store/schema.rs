@@ -260,7 +260,30 @@ JOIN revisions orv ON orv.id = c.original_revision_id
 JOIN programs op   ON op.id = orv.program_id
 WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial');
 "#,
-    // SITE (after the web branch's review marks): the site each program and machine belongs
+    // 4: the planners' review marks (`ncplan serve`): adopt, reject or a note on a change, with
+    // who and when. Their own table: analysis data is never modified. A change is named by its
+    // id and, since a comparison made again replaces its change rows, by what it said, so a
+    // mark never blocks a comparison and outlives it as a record.
+    r#"
+CREATE TABLE review_marks (
+    id          INTEGER PRIMARY KEY,
+    change_id   INTEGER NOT NULL,
+    revision_id INTEGER NOT NULL REFERENCES revisions(id),
+    kind        TEXT NOT NULL,
+    before      TEXT NOT NULL,
+    after       TEXT NOT NULL,
+    mark        TEXT NOT NULL CHECK (mark IN ('adopt', 'reject', 'note')),
+    note        TEXT NOT NULL DEFAULT '',
+    marked_by   TEXT NOT NULL,
+    marked_at   TEXT NOT NULL
+);
+CREATE INDEX review_marks_change ON review_marks(change_id);
+CREATE INDEX review_marks_revision ON review_marks(revision_id);
+CREATE INDEX changes_detected ON changes(detected_at);
+CREATE INDEX programs_machine ON programs(machine_id);
+CREATE TRIGGER review_marks_immutable BEFORE UPDATE ON review_marks BEGIN SELECT RAISE(ABORT, 'review marks are a record: add a new one'); END;
+"#,
+    // 5: the site each program and machine belongs
     // to (`site = "HALL2"` in the config), so that many DNC servers share one PostgreSQL
     // database. A SQLite file is one server's: its names and paths stay unique as they were.
     r#"

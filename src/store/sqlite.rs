@@ -8,7 +8,7 @@ use super::schema;
 use super::*;
 use crate::pairing::{Candidate, Key, Rule};
 
-fn sql(about: &'static str) -> impl FnOnce(rusqlite::Error) -> StoreError {
+pub(super) fn sql(about: &'static str) -> impl FnOnce(rusqlite::Error) -> StoreError {
     move |source| StoreError::Sql { about, source: source.into() }
 }
 
@@ -292,22 +292,27 @@ impl Lite {
         let mut rows = stmt.query([]).map_err(sql("running the query"))?;
         let mut out = Vec::new();
         while let Some(row) = rows.next().map_err(sql("reading a row"))? {
-            let mut cells = Vec::with_capacity(n);
-            for i in 0..n {
-                use rusqlite::types::ValueRef;
-                let v = row.get_ref(i).map_err(sql("reading a cell"))?;
-                cells.push(match v {
-                    ValueRef::Null => String::new(),
-                    ValueRef::Integer(x) => x.to_string(),
-                    ValueRef::Real(x) => x.to_string(),
-                    ValueRef::Text(t) => String::from_utf8_lossy(t).into_owned(),
-                    ValueRef::Blob(b) => format!("<{} bytes>", b.len()),
-                });
-            }
-            out.push(cells);
+            out.push(cells(row, n)?);
         }
         Ok((names, out))
     }
+}
+
+/// The first `n` cells of a row as text.
+pub(super) fn cells(row: &rusqlite::Row<'_>, n: usize) -> Result<Vec<String>> {
+    let mut cells = Vec::with_capacity(n);
+    for i in 0..n {
+        use rusqlite::types::ValueRef;
+        let v = row.get_ref(i).map_err(sql("reading a cell"))?;
+        cells.push(match v {
+            ValueRef::Null => String::new(),
+            ValueRef::Integer(x) => x.to_string(),
+            ValueRef::Real(x) => x.to_string(),
+            ValueRef::Text(t) => String::from_utf8_lossy(t).into_owned(),
+            ValueRef::Blob(b) => format!("<{} bytes>", b.len()),
+        });
+    }
+    Ok(cells)
 }
 
 /// A stored revision's program and plan; its bytes only when the plan is not complete.
@@ -338,7 +343,7 @@ fn source_of(conn: &Connection, revision: i64) -> Result<Option<StoredSource>> {
 }
 
 /// SQLite's message, without its internals.
-fn plain(e: &rusqlite::Error) -> String {
+pub(super) fn plain(e: &rusqlite::Error) -> String {
     match e {
         rusqlite::Error::SqliteFailure(_, Some(msg)) => msg.clone(),
         rusqlite::Error::SqliteFailure(f, None) => match f.code {

@@ -22,6 +22,7 @@ mod plan;
 mod robustness;
 mod shop;
 mod stepnc;
+mod web;
 
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,386 @@
+//! `ncplan serve`: the planners' workspace, a web application over the store.
+//!
+//! Its own room in the IO shell: axum on a current-thread tokio runtime, pages rendered by
+//! maud (compile-time checked, every interpolated value escaped: program text is untrusted),
+//! assets embedded. It reads through `store` on read-only connections, writes only review
+//! marks (their own table), and calls the pure core (`view`) for pictures and source views.
+//! The door is [`serve`]; [`report`] writes the same comparison views as one HTML file.
+//!
+//! Security: without `[[web.user]]` in the configuration the server listens on loopback only
+//! (a non-local address is refused); with users, every page asks for a session (argon2
+//! password check, an HttpOnly SameSite=Strict cookie). Every POST carries a CSRF token
+//! derived from the session cookie and a per-process secret.
+
+mod auth;
+pub mod bench;
+mod compare;
+mod pages;
+pub mod report;
+
+use std::collections::BTreeMap;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+use anyhow::{Context, Result};
+use axum::Router;
+use axum::extract::{Form, Path, Query, State};
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::response::{Html, IntoResponse, Redirect, Response};
+use axum::routing::{get, post};
+use maud::Markup;
+
+use crate::config::Config;
+use crate::daemon::Clock;
+use crate::dialect::Registry;
+use crate::plan::ProcessPlan;
+use crate::store::Store;
+
+/// The default address: loopback only.
+pub const DEFAULT_LISTEN: &str = "127.0.0.1:8480";
+
+/// The stylesheet, embedded (and inlined into HTML reports).
+pub const CSS: &str = include_str!("assets/app.css");
+/// The script: pan and zoom, scroll sync, review buttons.
+pub const JS: &str = include_str!("assets/app.js");
+
+/// What `ncplan serve` needs.
+pub struct Options {
+    /// The configuration (database, folders, users).
+    pub config: Config,
+    /// The dialects, to rebuild plans from stored bytes.
+    pub registry: Registry,
+    /// `--listen`, else the configuration's, else [`DEFAULT_LISTEN`].
+    pub listen: Option<String>,
+    /// The clock review marks are dated by.
+    pub clock: Arc<dyn Clock>,
+}
+
+/// The address to listen on, refused when it is not loopback and no user is configured.
+pub fn listen_address(given: Option<&str>, config: &Config) -> Result<SocketAddr> {
+    let text = given.or(config.web_listen.as_deref()).unwrap_or(DEFAULT_LISTEN);
+    let addr: SocketAddr = text.parse().with_context(|| format!("`{text}` is not an address such as 127.0.0.1:8480"))?;
+    if !addr.ip().is_loopback() && config.web_users.is_empty() {
+        anyhow::bail!(
+            "refusing to listen on {addr}: it is reachable from other machines and no users are configured; \
+             add [[web.user]] entries (name, password_hash: an argon2 PHC string) to the configuration, or listen on 127.0.0.1"
+        );
+    }
+    for u in &config.web_users {
+        argon2::PasswordHash::new(&u.password_hash)
+            .map_err(|e| anyhow::anyhow!("[[web.user]] {}: password_hash is not an argon2 PHC string ({e})", u.name))?;
+    }
+    Ok(addr)
+}
+
+/// Whole plans rebuilt from stored bytes, the last few kept: a comparison page asked again
+/// does not read its programs again.
+struct PlanCache {
+    kept: Vec<(i64, Arc<ProcessPlan>)>,
+}
+
+const PLANS_KEPT: usize = 4;
+
+/// Comparisons whose plans are rebuilt at start.
+const WARM_COMPARISONS: usize = 2;
+
+/// The server's state.
+pub(crate) struct Server {
+    db: crate::store::Location,
+    config: Config,
+    registry: Registry,
+    clock: Arc<dyn Clock>,
+    secret: [u8; 32],
+    sessions: Mutex<BTreeMap<String, String>>,
+    plans: Mutex<PlanCache>,
+}
+
+impl Server {
+    pub(crate) fn new(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<Server> {
+        Ok(Server {
+            db: config.database.clone(),
+            config,
+            registry,
+            clock,
+            secret: auth::random()?,
+            sessions: Mutex::new(BTreeMap::new()),
+            plans: Mutex::new(PlanCache { kept: Vec::new() }),
+        })
+    }
+
+    fn store(&self) -> Result<Store> {
+        Store::open_read_only(&self.db).with_context(|| format!("cannot open the database {}", self.db))
+    }
+
+    /// The whole plan of a stored revision (cached).
+    pub(crate) fn plan(&self, store: &Store, revision: i64) -> Result<Option<Arc<ProcessPlan>>> {
+        if let Ok(cache) = self.plans.lock()
+            && let Some((_, p)) = cache.kept.iter().find(|(id, _)| *id == revision)
+        {
+            return Ok(Some(p.clone()));
+        }
+        let reader = crate::daemon::ingest::Reader { config: &self.config, registry: &self.registry };
+        let Some(plan) = store.source(revision)?.map(|src| reader.rebuild(src)).transpose()?.flatten() else { return Ok(None) };
+        let plan = Arc::new(plan);
+        if let Ok(mut cache) = self.plans.lock() {
+            cache.kept.retain(|(id, _)| *id != revision);
+            cache.kept.insert(0, (revision, plan.clone()));
+            cache.kept.truncate(PLANS_KEPT);
+        }
+        Ok(Some(plan))
+    }
+
+    /// Rebuilds the plans of the newest `n` compared revisions and their originals.
+    fn warm(&self, n: usize) {
+        let Ok(store) = self.store() else { return };
+        let Ok(rows) = store.search_changes(&crate::store::ChangeFilter::default(), 50) else { return };
+        let mut seen = Vec::new();
+        for r in rows {
+            if seen.len() == n {
+                break;
+            }
+            if !seen.contains(&r.revision_id) {
+                seen.push(r.revision_id);
+                let _ = self.plan(&store, r.original_revision_id);
+                let _ = self.plan(&store, r.revision_id);
+            }
+        }
+    }
+
+    fn auth_required(&self) -> bool {
+        !self.config.web_users.is_empty()
+    }
+}
+
+/// Who is asking: their name (signed in, or `None` without authentication) and the CSRF
+/// token their forms carry.
+#[derive(Clone, Debug)]
+pub(crate) struct Ctx {
+    pub(crate) user: Option<String>,
+    pub(crate) csrf: String,
+    pub(crate) auth: bool,
+}
+
+/// A page that does not exist.
+#[derive(Debug)]
+pub(crate) struct NotFound(pub(crate) String);
+
+impl std::fmt::Display for NotFound {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for NotFound {}
+
+/// Runs the server until SIGTERM or SIGINT; `ready` is told the address once it listens.
+pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
+    let addr = listen_address(options.listen.as_deref(), &options.config)?;
+    // Review marks need migration 4; the daemon may not have run since this ncplan.
+    if options.config.database.file().is_none() {
+        anyhow::bail!("ncplan serve reads a SQLite database so far; on PostgreSQL, query, report and show work");
+    }
+    Store::open(&options.config.database, &options.config.site)
+        .with_context(|| format!("cannot open the database {}", options.config.database))?;
+    let server = Arc::new(Server::new(options.config, options.registry, options.clock)?);
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().context("cannot start the runtime")?;
+    runtime.block_on(async move {
+        let listener = tokio::net::TcpListener::bind(addr).await.with_context(|| format!("cannot listen on {addr}"))?;
+        ready(listener.local_addr()?);
+        // The newest comparisons' plans are rebuilt at start, so that their pages (a huge
+        // program's too) come without reading the programs again.
+        let warm = server.clone();
+        tokio::task::spawn_blocking(move || warm.warm(WARM_COMPARISONS));
+        axum::serve(listener, router(server)).with_graceful_shutdown(shutdown()).await.context("the server failed")
+    })
+}
+
+async fn shutdown() {
+    let term = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    tokio::select! {
+        _ = term => {}
+        _ = tokio::signal::ctrl_c() => {}
+    }
+}
+
+fn router(server: Arc<Server>) -> Router {
+    Router::new()
+        .route("/", get(overview))
+        .route("/machine/{name}", get(machine))
+        .route("/program/{id}", get(program))
+        .route("/compare/{revision}", get(compare))
+        .route("/review/{change}", post(review))
+        .route("/knowledge", get(knowledge_index))
+        .route("/knowledge/{name}", get(knowledge))
+        .route("/sql", get(sql_console))
+        .route("/search", get(search))
+        .route("/login", get(login_page).post(login))
+        .route("/logout", post(logout))
+        .route("/static/app.css", get(|| async { ([(header::CONTENT_TYPE, "text/css; charset=utf-8")], CSS) }))
+        .route("/static/app.js", get(|| async { ([(header::CONTENT_TYPE, "text/javascript; charset=utf-8")], JS) }))
+        .fallback(|| async { (StatusCode::NOT_FOUND, "no such page") })
+        .with_state(server)
+}
+
+/// Renders a page on the blocking pool with a read-only store: signs in first where users
+/// are configured, and gives a new visitor the cookie that their CSRF token derives from.
+async fn page<F>(s: Arc<Server>, headers: HeaderMap, render: F) -> Response
+where
+    F: FnOnce(&Server, &Ctx, &Store) -> Result<Markup> + Send + 'static,
+{
+    let (ctx, cookie) = match auth::context(&s, &headers) {
+        Some(found) => found,
+        None => return Redirect::to("/login").into_response(),
+    };
+    let result = tokio::task::spawn_blocking(move || {
+        let store = s.store()?;
+        render(&s, &ctx, &store)
+    })
+    .await;
+    let mut response = match result {
+        Ok(Ok(markup)) => Html(markup.into_string()).into_response(),
+        Ok(Err(e)) if e.downcast_ref::<NotFound>().is_some() => {
+            (StatusCode::NOT_FOUND, Html(pages::message("Not found", &format!("{e:#}")).into_string())).into_response()
+        }
+        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, Html(pages::message("Error", &format!("{e:#}")).into_string())).into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("the page failed: {e}")).into_response(),
+    };
+    if let Some(c) = cookie
+        && let Ok(v) = HeaderValue::from_str(&c)
+    {
+        response.headers_mut().append(header::SET_COOKIE, v);
+    }
+    let h = response.headers_mut();
+    h.insert("x-content-type-options", HeaderValue::from_static("nosniff"));
+    h.insert("x-frame-options", HeaderValue::from_static("DENY"));
+    h.insert(
+        header::CONTENT_SECURITY_POLICY,
+        HeaderValue::from_static("default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; script-src 'self'"),
+    );
+    response
+}
+
+async fn overview(State(s): State<Arc<Server>>, headers: HeaderMap) -> Response {
+    page(s, headers, pages::overview).await
+}
+
+async fn machine(State(s): State<Arc<Server>>, headers: HeaderMap, Path(name): Path<String>) -> Response {
+    page(s, headers, move |s, ctx, store| pages::machine(s, ctx, store, &name)).await
+}
+
+async fn program(State(s): State<Arc<Server>>, headers: HeaderMap, Path(id): Path<i64>) -> Response {
+    page(s, headers, move |s, ctx, store| pages::program(s, ctx, store, id)).await
+}
+
+async fn compare(State(s): State<Arc<Server>>, headers: HeaderMap, Path(revision): Path<i64>) -> Response {
+    page(s, headers, move |s, ctx, store| pages::comparison(s, ctx, store, revision)).await
+}
+
+async fn knowledge_index(State(s): State<Arc<Server>>, headers: HeaderMap) -> Response {
+    page(s, headers, pages::knowledge_index).await
+}
+
+async fn knowledge(
+    State(s): State<Arc<Server>>,
+    headers: HeaderMap,
+    Path(name): Path<String>,
+    Query(q): Query<BTreeMap<String, String>>,
+) -> Response {
+    let show_sql = q.contains_key("sql");
+    page(s, headers, move |s, ctx, store| pages::knowledge(s, ctx, store, &name, show_sql)).await
+}
+
+async fn sql_console(State(s): State<Arc<Server>>, headers: HeaderMap, Query(q): Query<BTreeMap<String, String>>) -> Response {
+    page(s, headers, move |s, ctx, store| pages::sql_console(s, ctx, store, &q)).await
+}
+
+async fn search(State(s): State<Arc<Server>>, headers: HeaderMap, Query(q): Query<BTreeMap<String, String>>) -> Response {
+    page(s, headers, move |s, ctx, store| pages::search(s, ctx, store, &q)).await
+}
+
+/// A review mark: `mark` (adopt, reject, note), `note`, `csrf`, and `by` where nobody signs in.
+async fn review(
+    State(s): State<Arc<Server>>,
+    headers: HeaderMap,
+    Path(change): Path<i64>,
+    Form(form): Form<BTreeMap<String, String>>,
+) -> Response {
+    let Some((ctx, _)) = auth::context(&s, &headers) else { return Redirect::to("/login").into_response() };
+    if !auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str)) {
+        return (StatusCode::FORBIDDEN, "the form's CSRF token does not match this session; reload the page").into_response();
+    }
+    let mark = form.get("mark").map(String::as_str).unwrap_or("");
+    if !matches!(mark, "adopt" | "reject" | "note") {
+        return (StatusCode::BAD_REQUEST, "a mark is adopt, reject or note").into_response();
+    }
+    let note = form.get("note").map(|n| n.trim().to_owned()).unwrap_or_default();
+    if mark == "note" && note.is_empty() {
+        return (StatusCode::BAD_REQUEST, "a note needs its text").into_response();
+    }
+    let by = match &ctx.user {
+        Some(u) => u.clone(),
+        None => form.get("by").map(|b| b.trim().to_owned()).filter(|b| !b.is_empty()).unwrap_or_else(|| "planner".into()),
+    };
+    let mark = mark.to_owned();
+    let s2 = s.clone();
+    let result = tokio::task::spawn_blocking(move || -> Result<Option<i64>> {
+        let store = Store::open(&s2.db, &s2.config.site)?;
+        let at = s2.clock.now();
+        Ok(store.add_mark(change, &mark, &note, &by, &at)?)
+    })
+    .await;
+    match result {
+        Ok(Ok(Some(revision))) => {
+            let back = form.get("back").filter(|b| b.starts_with('/') && !b.starts_with("//")).cloned();
+            Redirect::to(&back.unwrap_or_else(|| format!("/compare/{revision}#change-{change}"))).into_response()
+        }
+        Ok(Ok(None)) => (StatusCode::NOT_FOUND, "no such change").into_response(),
+        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e:#}")).into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e}")).into_response(),
+    }
+}
+
+async fn login_page(State(s): State<Arc<Server>>, Query(q): Query<BTreeMap<String, String>>) -> Response {
+    Html(pages::login(s.auth_required(), q.contains_key("failed")).into_string()).into_response()
+}
+
+async fn login(State(s): State<Arc<Server>>, Form(form): Form<BTreeMap<String, String>>) -> Response {
+    let name = form.get("name").cloned().unwrap_or_default();
+    let password = form.get("password").cloned().unwrap_or_default();
+    let s2 = s.clone();
+    let ok = tokio::task::spawn_blocking(move || auth::check_password(&s2.config.web_users, &name, &password).then_some(name))
+        .await
+        .ok()
+        .flatten();
+    match ok {
+        Some(name) => match auth::start_session(&s, &name) {
+            Ok(cookie) => {
+                let mut r = Redirect::to("/").into_response();
+                if let Ok(v) = HeaderValue::from_str(&cookie) {
+                    r.headers_mut().append(header::SET_COOKIE, v);
+                }
+                r
+            }
+            Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot start a session: {e:#}")).into_response(),
+        },
+        None => Redirect::to("/login?failed").into_response(),
+    }
+}
+
+async fn logout(State(s): State<Arc<Server>>, headers: HeaderMap, Form(form): Form<BTreeMap<String, String>>) -> Response {
+    if let Some((ctx, _)) = auth::context(&s, &headers)
+        && auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str))
+    {
+        auth::end_session(&s, &headers);
+    }
+    let mut r = Redirect::to("/login").into_response();
+    r.headers_mut().append(header::SET_COOKIE, HeaderValue::from_static("ncplan_session=; Max-Age=0; Path=/; HttpOnly; SameSite=Strict"));
+    r
+}

@@ -1,0 +1,461 @@
+//! The planners' workspace in a real browser: a temporary database built by the real daemon
+//! from real edits (the demo's, and a long program whose comments try to inject script), the
+//! real `ncplan serve` binary on a free port, and Debian's chromium driven headless through
+//! chromedriver (WebDriver, the `fantoccini` crate). Screenshots go to `target/screenshots/`.
+//!
+//! Without chromium and chromedriver the browser test says it is skipped, unless
+//! `NCPLAN_REQUIRE_CHROMIUM` is set (CI sets it), which makes their absence a failure.
+
+use std::io::{BufRead as _, Read as _, Write as _};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use fantoccini::{Client, ClientBuilder, Locator};
+use serde_json::json;
+
+/// A child process killed when dropped.
+struct Proc(Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// A DNC server in a temporary folder: CAM originals, one machine share, a config.
+struct Site {
+    dir: tempfile::TempDir,
+}
+
+/// The long program: a face milling and a contour at `contour_feed`, 160 lines of
+/// moves between them, and comments that try to inject script (they must stay text).
+fn long_program(contour_feed: u32, hostile: bool) -> String {
+    let mut s = String::from("%\nO4321 (POCKET PLATE)\n");
+    if hostile {
+        s.push_str("(<script>window.pwned=1</script>)\n(\" onload=\"window.pwned=2)\n(<img src=x onerror=window.pwned=3>)\n");
+    } else {
+        s.push_str("(POSTED BY CAM)\n(CHECK STOCK)\n(OPERATOR NOTES)\n");
+    }
+    s.push_str("G21 G90 G17 G54\n(T1 D=18 ENDMILL)\nT1 M6\nS2000 M3\nG0 X-10. Y0. Z5.\nG43 H1 Z5.\nG1 Z-1. F600.\n");
+    for i in 0..40 {
+        let y = f64::from(i) * 2.0;
+        let x = if i % 2 == 0 { 110.0 } else { -10.0 };
+        s.push_str(&format!("X{x:.1}\nY{:.1}\n", y + 2.0));
+    }
+    s.push_str("G0 Z50.\n");
+    for i in 0..80 {
+        s.push_str(&format!("(LINE {i})\n"));
+    }
+    s.push_str(&format!(
+        "(T2 D=10 ENDMILL)\nT2 M6\nS3500 M3\nG0 X20. Y20. Z5.\nG43 H2 Z5.\nG1 Z-5. F{contour_feed}.\nX80.\nY60.\nX20.\nY20.\nG0 Z50.\nM30\n%\n"
+    ));
+    s
+}
+
+impl Site {
+    fn new() -> Site {
+        let dir = tempfile::tempdir().unwrap();
+        for d in ["cam", "share"] {
+            std::fs::create_dir_all(dir.path().join(d)).unwrap();
+        }
+        std::fs::write(
+            dir.path().join("ncplan.toml"),
+            "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 150\n\
+             [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
+             [[machine]]\nname = 'DMU50'\npath = 'share'\ndialect = 'fanuc'\n\
+             [[tool]]\nnumber = 1\ndiameter = 18.0\nlength = 50.0\n",
+        )
+        .unwrap();
+        Site { dir }
+    }
+
+    fn path(&self, rel: &str) -> PathBuf {
+        self.dir.path().join(rel)
+    }
+
+    fn db(&self) -> PathBuf {
+        self.path("var/ncplan.db")
+    }
+
+    fn wait_rows(&self, sql: &str, want: usize) -> Vec<Vec<String>> {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        loop {
+            let r = crate::db_rows(&self.db(), sql);
+            if r.len() >= want || Instant::now() > deadline {
+                return r;
+            }
+            std::thread::sleep(Duration::from_millis(25));
+        }
+    }
+
+    /// Runs the real daemon over the demo edit and the hostile program, then stops it.
+    fn build(&self) {
+        let root = crate::root();
+        std::fs::copy(root.join("demo/cam/O1234.nc"), self.path("cam/O1234.nc")).unwrap();
+        std::fs::write(self.path("cam/O4321.nc"), long_program(400, false)).unwrap();
+        let log = std::fs::File::create(self.path("daemon.log")).unwrap();
+        let daemon = Proc(
+            Command::new(crate::bin())
+                .args(["watch", "--config"])
+                .arg(self.path("ncplan.toml"))
+                .stdout(Stdio::null())
+                .stderr(log)
+                .spawn()
+                .expect("start ncplan watch"),
+        );
+        assert_eq!(self.wait_rows("SELECT id FROM revisions", 2).len(), 2, "the originals were not stored");
+        std::fs::copy(root.join("demo/examples/O1234_edited.nc"), self.path("share/O1234.nc")).unwrap();
+        std::fs::write(self.path("share/O4321.nc"), long_program(300, true)).unwrap();
+        let compared = self.wait_rows("SELECT revision_id FROM comparisons", 2);
+        assert_eq!(compared.len(), 2, "the edits were not compared: {}", std::fs::read_to_string(self.path("daemon.log")).unwrap());
+        drop(daemon);
+    }
+}
+
+/// A free local port.
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
+/// Starts `ncplan serve` on a free port; returns it and its base URL.
+fn serve(site: &Site, extra: &[&str]) -> (Proc, String) {
+    let mut child = Command::new(crate::bin())
+        .args(["serve", "--config"])
+        .arg(site.path("ncplan.toml"))
+        .args(["--listen", "127.0.0.1:0"])
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("start ncplan serve");
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("serve said: {line}"));
+    (Proc(child), url.trim_end_matches('/').to_owned())
+}
+
+/// A raw HTTP/1.1 exchange: the status line and headers, and the body.
+fn http(base: &str, request: &str) -> (String, String) {
+    let addr = base.trim_start_matches("http://");
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.write_all(request.replace("{host}", addr).as_bytes()).unwrap();
+    let mut out = String::new();
+    s.read_to_string(&mut out).unwrap();
+    let (head, body) = out.split_once("\r\n\r\n").unwrap_or((&out, ""));
+    (head.to_owned(), body.to_owned())
+}
+
+fn have(program: &str) -> bool {
+    Command::new(program).arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok_and(|s| s.success())
+}
+
+fn screenshots() -> PathBuf {
+    let d = crate::root().join("target/screenshots");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn a_non_local_listen_without_users_is_refused() {
+    let site = Site::new();
+    std::fs::create_dir_all(site.path("var")).unwrap();
+    ncplan::store::Store::open(&site.db()).unwrap();
+    let out = Command::new(crate::bin())
+        .args(["serve", "--config"])
+        .arg(site.path("ncplan.toml"))
+        .args(["--listen", "0.0.0.0:0"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("refusing to listen on 0.0.0.0:0") && err.contains("[[web.user]]"), "{err}");
+}
+
+#[test]
+fn sign_in_csrf_and_reports_without_a_browser() {
+    let site = Site::new();
+    site.build();
+    // Without users: a review POST without the session's CSRF token is refused, and nothing is stored.
+    let (_serve, base) = serve(&site, &[]);
+    let change = crate::db_rows(&site.db(), "SELECT id FROM changes ORDER BY id LIMIT 1")[0][0].clone();
+    let body = "mark=adopt&csrf=forged";
+    let (head, _) = http(
+        &base,
+        &format!(
+            "POST /review/{change} HTTP/1.1\r\nHost: {{host}}\r\nCookie: ncplan_session={}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            "ab".repeat(32),
+            body.len()
+        ),
+    );
+    assert!(head.starts_with("HTTP/1.1 403"), "{head}");
+    assert!(crate::db_rows(&site.db(), "SELECT id FROM review_marks").is_empty());
+    // A first visit gets an HttpOnly, SameSite session cookie; program text is escaped.
+    let (head, page) = http(&base, "GET /search?program=O4321 HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n");
+    assert!(head.to_ascii_lowercase().contains("set-cookie: ncplan_session=") && head.contains("HttpOnly; SameSite=Strict"), "{head}");
+    assert!(page.contains("O4321"));
+    let revision = crate::db_rows(&site.db(), "SELECT revision_id FROM shopfloor_changes WHERE program = 'O4321' LIMIT 1")[0][0].clone();
+    let (_, page) = http(&base, &format!("GET /compare/{revision} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    assert!(page.contains("&lt;script&gt;window.pwned=1&lt;/script&gt;"), "the comment is not shown as text");
+    assert!(!page.contains("<script>window") && !page.contains("<img src=x"), "program text reached the page as markup");
+    assert_eq!(page.matches("<script").count(), 1, "only the app's script");
+    // The CSV report: a header and one row per change, commas quoted.
+    let csv = Command::new(crate::bin())
+        .args(["report", "--format", "csv", "--machine", "DMU50", "--config"])
+        .arg(site.path("ncplan.toml"))
+        .output()
+        .unwrap();
+    assert!(csv.status.success(), "{}", String::from_utf8_lossy(&csv.stderr));
+    let csv = String::from_utf8(csv.stdout).unwrap();
+    let n = crate::db_rows(&site.db(), "SELECT change_id FROM shopfloor_changes").len();
+    assert_eq!(csv.lines().count(), n + 1, "{csv}");
+    assert!(csv.starts_with("machine,program,revision_id,change_id,workingstep"));
+    assert!(csv.contains("DMU50,O1234,") && csv.contains("tool T1 renamed T8"), "{csv}");
+    drop(_serve);
+
+    // With a user: pages ask to sign in; a wrong password is refused, the right one signs in.
+    use argon2::PasswordHasher as _;
+    let salt = argon2::password_hash::SaltString::encode_b64(b"web-test-salt-16").unwrap();
+    let hash = argon2::Argon2::default().hash_password(b"planner-pw", &salt).unwrap().to_string();
+    let mut cfg = std::fs::read_to_string(site.path("ncplan.toml")).unwrap();
+    cfg.push_str(&format!("[web]\n[[web.user]]\nname = 'ada'\npassword_hash = '{hash}'\n"));
+    std::fs::write(site.path("ncplan.toml"), cfg).unwrap();
+    let (_serve, base) = serve(&site, &[]);
+    let (head, _) = http(&base, "GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n");
+    assert!(head.starts_with("HTTP/1.1 303") && head.to_ascii_lowercase().contains("location: /login"), "{head}");
+    let login = |pw: &str| {
+        let body = format!("name=ada&password={pw}");
+        http(
+            &base,
+            &format!(
+                "POST /login HTTP/1.1\r\nHost: {{host}}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                body.len()
+            ),
+        )
+        .0
+    };
+    assert!(login("wrong").to_ascii_lowercase().contains("location: /login?failed"));
+    let head = login("planner-pw");
+    let cookie = head
+        .lines()
+        .find_map(|l| l.strip_prefix("set-cookie: ").or_else(|| l.strip_prefix("Set-Cookie: ")))
+        .expect("a session cookie")
+        .to_owned();
+    assert!(cookie.contains("HttpOnly") && cookie.contains("SameSite=Strict"), "{cookie}");
+    let token = cookie.split(';').next().unwrap();
+    let (head, page) = http(&base, &format!("GET / HTTP/1.1\r\nHost: {{host}}\r\nCookie: {token}\r\nConnection: close\r\n\r\n"));
+    assert!(head.starts_with("HTTP/1.1 200") && page.contains("Sign out") && page.contains("ada"), "{head}");
+}
+
+#[test]
+fn the_workspace_in_chromium() {
+    if !(have("chromium") && have("chromedriver")) {
+        assert!(
+            std::env::var_os("NCPLAN_REQUIRE_CHROMIUM").is_none(),
+            "NCPLAN_REQUIRE_CHROMIUM is set but chromium or chromedriver is missing (apt-get install chromium chromium-driver)"
+        );
+        crate::skip(
+            "web::the_workspace_in_chromium",
+            "chromium or chromedriver is not installed (apt-get install chromium chromium-driver)",
+        );
+        return;
+    }
+    let site = Site::new();
+    site.build();
+    let (_serve, base) = serve(&site, &[]);
+    let port = free_port();
+    let _driver =
+        Proc(Command::new("chromedriver").arg(format!("--port={port}")).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap());
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(Instant::now() < deadline, "chromedriver did not start");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    // The HTML report, for the browser to open.
+    let report = screenshots().join("report.html");
+    let out = Command::new(crate::bin())
+        .args(["report", "--format", "html", "-o"])
+        .arg(&report)
+        .arg("--config")
+        .arg(site.path("ncplan.toml"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rt = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+    rt.block_on(async {
+        let mut caps = serde_json::Map::new();
+        caps.insert(
+            "goog:chromeOptions".into(),
+            json!({ "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1400,1100"] }),
+        );
+        let c = ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+            .capabilities(caps)
+            .connect(&format!("http://127.0.0.1:{port}"))
+            .await
+            .expect("connect to chromedriver");
+        let result = walk(&c, &base, &site, &report).await;
+        let _ = c.close().await;
+        result.unwrap();
+    });
+}
+
+async fn shot(c: &Client, name: &str) -> Result<(), fantoccini::error::CmdError> {
+    let png = c.screenshot().await?;
+    std::fs::write(screenshots().join(format!("{name}.png")), png).unwrap();
+    Ok(())
+}
+
+/// The text of the first element `css` selects, waiting (up to 10 s) for a page that is
+/// still loading after a form's POST and redirect.
+async fn text_of(c: &Client, css: &str) -> String {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        if let Ok(e) = c.find(Locator::Css(css)).await
+            && let Ok(t) = e.text().await
+        {
+            return t;
+        }
+        assert!(Instant::now() < deadline, "no element {css}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+/// Waits (up to 10 s) until the element `css` holds `want`; returns its text.
+async fn wait_text(c: &Client, css: &str, want: &str) -> String {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let t = text_of(c, css).await;
+        if t.contains(want) || Instant::now() > deadline {
+            return t;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+async fn js(c: &Client, script: &str) -> serde_json::Value {
+    c.execute(script, vec![]).await.unwrap()
+}
+
+async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), fantoccini::error::CmdError> {
+    let db = site.db();
+    let demo_rev = crate::db_rows(&db, "SELECT revision_id FROM shopfloor_changes WHERE program = 'O1234' LIMIT 1")[0][0].clone();
+    let long_rev = crate::db_rows(&db, "SELECT revision_id FROM shopfloor_changes WHERE program = 'O4321' LIMIT 1")[0][0].clone();
+    let program_id = crate::db_rows(&db, &format!("SELECT program_id FROM revisions WHERE id = {demo_rev}"))[0][0].clone();
+    let total: usize = crate::db_rows(&db, "SELECT change_id FROM shopfloor_changes").len();
+
+    // The overview: the queue holds every change.
+    c.goto(&format!("{base}/")).await?;
+    let queue = |v: serde_json::Value| v.as_str().unwrap_or("").trim().parse::<usize>().unwrap_or(usize::MAX);
+    let before = queue(js(c, "return document.querySelector('[data-queue=\"DMU50\"]').textContent").await);
+    assert_eq!(before, total);
+    assert!(text_of(c, "#health").await.contains("readable"));
+    assert!(c.find(Locator::Css("svg.chart rect.bar")).await.is_ok(), "the weekly chart has bars");
+    shot(c, "overview").await?;
+
+    // Every other page renders, with its own heading.
+    for (path, heading) in [
+        ("/machine/DMU50".to_owned(), "Machine DMU50"),
+        (format!("/program/{program_id}"), "Program O1234"),
+        ("/search?program=1234&machine=DMU50&kind=tool_renamed".to_owned(), "Search"),
+        ("/search?to_review=1".to_owned(), "Review queue"),
+        ("/knowledge".to_owned(), "Knowledge"),
+        ("/knowledge/feeds".to_owned(), "Feeds and speeds"),
+        ("/knowledge/tools?sql".to_owned(), "Tool substitutions"),
+        ("/knowledge/start-points".to_owned(), "Start points"),
+        ("/knowledge/depths".to_owned(), "Depth changes"),
+        ("/sql?q=SELECT%20kind%2C%20COUNT(*)%20FROM%20shopfloor_changes%20GROUP%20BY%201".to_owned(), "SQL console"),
+    ] {
+        c.goto(&format!("{base}{path}")).await?;
+        let h1 = text_of(c, "h1").await;
+        assert!(h1.starts_with(heading), "{path}: {h1}");
+        let name: String = path.trim_start_matches('/').split(['?', '/']).take(2).collect::<Vec<_>>().join("-");
+        let name: String = name.chars().map(|ch| if ch.is_ascii_alphanumeric() || ch == '-' { ch } else { '_' }).take(40).collect();
+        shot(c, &name).await?;
+    }
+    c.goto(&format!("{base}/knowledge/tools?sql")).await?;
+    assert!(text_of(c, "pre.sql").await.contains("tool_renamed"));
+    assert!(text_of(c, "table").await.contains("T8"), "the substitution T1 → T8 is counted");
+    c.goto(&format!("{base}/search?program=1234&machine=DMU50&kind=tool_renamed")).await?;
+    assert!(text_of(c, "#result-count").await.starts_with("1 changes"));
+    c.goto(&format!("{base}/sql?q=DELETE%20FROM%20revisions")).await?;
+    assert!(text_of(c, "p.error").await.contains("refused"));
+
+    // The demo's comparison: the face milling workingstep, T1 → T8, the moved start point boxed.
+    c.set_window_size(1400, 2000).await?;
+    c.goto(&format!("{base}/compare/{demo_rev}")).await?;
+    let sentences = text_of(c, "section.card").await;
+    assert!(sentences.contains("Workingstep 1 (plane finish milling)"), "{sentences}");
+    assert!(sentences.contains("tool T1 renamed T8") && sentences.contains("start point moved from X90 Y20 to X83 Y20"), "{sentences}");
+    for view in ["top", "front", "side"] {
+        let n = |sel: String| async move { js(c, &format!("return document.querySelectorAll('{sel}').length")).await.as_u64().unwrap() };
+        assert!(n(format!("svg[data-view={view}] path.o.feed")).await > 0, "{view}: the original's toolpath");
+        assert!(n(format!("svg[data-view={view}] path.e.feed")).await > 0, "{view}: the edited toolpath");
+        assert!(n(format!("svg[data-view={view}] path.rapid")).await > 0, "{view}: rapids");
+        assert_eq!(n(format!("svg[data-view={view}] circle.start")).await, 2, "{view}: both start points");
+        assert_eq!(n(format!("svg[data-view={view}] rect.region")).await, 1, "{view}: the moved start point's region");
+    }
+    shot(c, "comparison").await?;
+    let moved = c.find(Locator::Css("li[data-kind=start_point_moved] a.change")).await?;
+    moved.click().await?;
+    assert_eq!(js(c, "return document.querySelectorAll('svg rect.region.active').length").await, json!(3), "the region is highlighted");
+    assert_eq!(js(c, "return document.querySelectorAll('.src .ln.hl').length > 0").await, json!(true));
+    // Cosmetic differences (block numbers, spelling) are greyed.
+    assert!(js(c, "return document.querySelectorAll('#src-e .ln.cos').length").await.as_u64().unwrap() >= 5);
+    shot(c, "comparison-clicked").await?;
+    // A layer switched off hides its paths.
+    c.find(Locator::Css("input[data-layer=o1]")).await?.click().await?;
+    assert_eq!(js(c, "return getComputedStyle(document.querySelector('g.layer[data-layer=o1]')).display").await, json!("none"));
+
+    // Adopt a change: its mark is shown and the queue shrinks by one.
+    c.find(Locator::Css("li[data-kind=tool_renamed] button[data-mark=adopt]")).await?.click().await?;
+    let li = wait_text(c, "li[data-kind=tool_renamed]", "adopt by planner").await;
+    assert!(li.contains("adopt by planner"), "{li}");
+    c.goto(&format!("{base}/")).await?;
+    let after = queue(js(c, "return document.querySelector('[data-queue=\"DMU50\"]').textContent").await);
+    assert_eq!(after, before - 1, "the queue shrinks");
+    let marks = crate::db_rows(&db, "SELECT mark, marked_by, kind FROM review_marks");
+    assert_eq!(marks, vec![vec!["adopt".to_owned(), "planner".to_owned(), "tool_renamed".to_owned()]]);
+
+    // The long program: a click on its change scrolls both sources to it; its hostile
+    // comments are text.
+    c.set_window_size(1400, 1600).await?;
+    c.goto(&format!("{base}/compare/{long_rev}")).await?;
+    assert_eq!(js(c, "return window.pwned === undefined").await, json!(true), "script in a comment ran");
+    assert_eq!(js(c, "return document.querySelectorAll('[onload], [onerror], main script').length").await, json!(0));
+    let text = text_of(c, "#src-e").await;
+    assert!(text.contains("(<script>window.pwned=1</script>)") && text.contains("(\" onload=\"window.pwned=2)"), "{text}");
+    let scroll = "return [document.getElementById('src-o').scrollTop, document.getElementById('src-e').scrollTop]";
+    assert_eq!(js(c, scroll).await, json!([0, 0]));
+    let feed = c.find(Locator::Css("li[data-kind=feed_changed] a.change")).await?;
+    let (line, oline) = (feed.attr("data-line").await?.unwrap(), feed.attr("data-oline").await?.unwrap());
+    feed.click().await?;
+    let tops = js(c, scroll).await;
+    assert!(tops[0].as_f64().unwrap() > 100.0 && tops[1].as_f64().unwrap() > 100.0, "both sources scroll: {tops}");
+    // Each change line is in view in its pane.
+    for (pane, id) in [("src-o", format!("o-{oline}")), ("src-e", format!("e-{line}"))] {
+        let visible = js(
+            c,
+            &format!(
+                "var p = document.getElementById('{pane}'), l = document.getElementById('{id}');
+                 var a = p.getBoundingClientRect(), b = l.getBoundingClientRect();
+                 return b.top >= a.top && b.bottom <= a.bottom && l.classList.contains('hl');"
+            ),
+        )
+        .await;
+        assert_eq!(visible, json!(true), "{id} is in view and highlighted in {pane}");
+    }
+    shot(c, "comparison-scrolled").await?;
+
+    // The HTML report: self-contained (no links to fetch), opened from a file.
+    let html = std::fs::read_to_string(report).unwrap();
+    assert!(!html.contains("<link") && !html.contains("<script") && !html.contains("src=\"http") && !html.contains("href=\"http"));
+    assert!(html.contains("<style>") && html.contains("<svg"));
+    assert!(html.contains("tool T1 renamed T8") && html.contains("&lt;script&gt;window.pwned=1"));
+    c.goto(&format!("file://{}", report.display())).await?;
+    assert!(text_of(c, "h1").await.contains("Shopfloor changes"));
+    assert_eq!(js(c, "return document.querySelectorAll('svg.toolpath').length").await, json!(6));
+    shot(c, "report").await?;
+    Ok(())
+}
