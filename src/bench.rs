@@ -117,6 +117,63 @@ pub fn run(dir: &Path, rows: usize, runs: u32, out: &mut impl std::io::Write) ->
     Ok(())
 }
 
+/// The files of a corpus `check` is measured on: every file below `dir`, in name order.
+fn corpus_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else { continue };
+        for e in entries.flatten() {
+            let p = e.path();
+            match e.file_type() {
+                Ok(t) if t.is_dir() => todo.push(p),
+                Ok(t) if t.is_file() => out.push(p),
+                _ => {}
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// `ncplan bench --corpus DIR`: `check` on every program of a corpus, one process each
+/// (the dialect told from the program, as a user runs it), with its wall time and the peak
+/// resident memory it reports; the slowest files, and the largest time and memory.
+pub fn run_corpus(dir: &Path, out: &mut impl std::io::Write) -> Result<()> {
+    const SHOWN: usize = 15;
+    let mb = |b: u64| b as f64 / 1e6;
+    let exe = std::env::current_exe()?;
+    let exe = exe.to_string_lossy().into_owned();
+    let files = corpus_files(dir);
+    anyhow::ensure!(!files.is_empty(), "no files under {}", dir.display());
+    let mut rows = Vec::with_capacity(files.len());
+    for f in &files {
+        let p = f.to_string_lossy();
+        let (t, peak) = measured(&exe, &["check", &p])?;
+        let size = std::fs::metadata(f).map_or(0, |m| m.len());
+        rows.push((t, peak, size, f.strip_prefix(dir).unwrap_or(f).display().to_string()));
+    }
+    rows.sort_by(|a, b| b.0.cmp(&a.0).then_with(|| a.3.cmp(&b.3)));
+    writeln!(out, "check on {} files of {} (one process each); the {SHOWN} slowest:", rows.len(), dir.display())?;
+    writeln!(out, "  {:>8}  {:>9}  {:>9}  file", "time", "peak", "size")?;
+    for (t, peak, size, name) in rows.iter().take(SHOWN) {
+        writeln!(out, "  {:6.3} s  {:6.1} MB  {:6.1} KB  {name}", t.as_secs_f64(), mb(*peak), *size as f64 / 1024.0)?;
+    }
+    let worst_memory = rows.iter().max_by_key(|r| r.1).map_or(0, |r| r.1);
+    let small: Vec<_> = rows.iter().filter(|r| r.2 < 64 * 1024).collect();
+    let small_time = small.iter().map(|r| r.0).max().unwrap_or_default();
+    let small_memory = small.iter().map(|r| r.1).max().unwrap_or(0);
+    writeln!(
+        out,
+        "largest peak {:.1} MB; files under 64 KB ({}): at most {:.3} s and {:.1} MB (the bound: 1 s, 100 MB)",
+        mb(worst_memory),
+        small.len(),
+        small_time.as_secs_f64(),
+        mb(small_memory)
+    )?;
+    Ok(())
+}
+
 /// The peak resident memory of a process, from `/proc/PID/status` (`VmHWM`), in bytes.
 pub fn peak_rss(pid: u32) -> Option<u64> {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;

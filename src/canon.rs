@@ -277,6 +277,18 @@ pub enum CanonOp {
     /// `STRAIGHT_PROBE(x, y, z, a, b, c)`: a feed towards the point that stops where the
     /// probe touches (G38.2 to G38.5).
     StraightProbe([f64; 6]),
+    /// Marker: the tool axis vector (from the tip towards the holder, program coordinates)
+    /// for the moves that follow, where it changes from +Z or from the last one stated
+    /// (CLDATA `GOTO/x,y,z,i,j,k`). The moves stay the tool tip's; 5-axis output reads this.
+    ToolAxis([f64; 3]),
+    /// `NURBS_FEED(n, ...)`: a feed along a spline of `points` control points (the start
+    /// among them) that ends at `end` (G5.1, G5.2 … G5.3); rs274 prints only the count.
+    NurbsFeed {
+        /// Control points, the start point included.
+        points: u32,
+        /// The end point.
+        end: [f64; 6],
+    },
 }
 
 /// What a feed rate is per.
@@ -539,6 +551,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
             out.extend_from_slice(b"\")");
         }
         CanonOp::CycleEnd => out.extend_from_slice(b"COMMENT(\"ncplan: cycle end\")"),
+        CanonOp::ToolAxis([i, j, k]) => {
+            let _ = write!(out, "COMMENT(\"ncplan: tool axis {i:.6} {j:.6} {k:.6}\")");
+        }
         CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
         CanonOp::Setting(s) => {
             let _ = match s {
@@ -578,6 +593,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::TurnProbeOn => out.extend_from_slice(b"TURN_PROBE_ON()"),
         CanonOp::TurnProbeOff => out.extend_from_slice(b"TURN_PROBE_OFF()"),
         CanonOp::StraightProbe(p) => straight(out, b"STRAIGHT_PROBE(", p, push_f4),
+        CanonOp::NurbsFeed { points, .. } => {
+            let _ = write!(out, "NURBS_FEED({points}, ...)");
+        }
         CanonOp::WaitOrientComplete(t) => {
             let _ = write!(out, "SPINDLE.0.WAIT_ORIENT_COMPLETE({})", F4(*t));
         }

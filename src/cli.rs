@@ -223,6 +223,10 @@ enum Command {
         /// plan, diff and stepnc; idle CPU; edit latency; a burst; a kill loop.
         #[arg(long)]
         daemon: bool,
+        /// Measure `check` on every program in this folder and its subfolders (a corpus)
+        /// instead: the slowest files' time and peak memory, and the largest of each.
+        #[arg(long, value_name = "DIR", conflicts_with = "daemon")]
+        corpus: Option<PathBuf>,
         /// With --daemon: files stored before the idle measurement (also the burst).
         #[arg(long, default_value_t = 2000)]
         files: usize,
@@ -512,9 +516,11 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
-        Command::Bench { dir, rows, runs, daemon, files, kills, web } => {
+        Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web } => {
             if web {
                 crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;
+            } else if let Some(corpus) = corpus {
+                crate::bench::run_corpus(&corpus, &mut LineFlush(&mut out))?;
             } else if daemon {
                 crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
             } else {

@@ -88,6 +88,25 @@ codes! {
     /// Text before the program's opening `%` (a CAM listing header): tape leader, which the
     /// control skips and so does the analysis.
     Leader = ("syntax::leader", Note),
+    /// Which producer's conventions a CL file (record form) is read with, and why.
+    RecordProducer = ("syntax::record-producer", Note),
+    /// A line of a CL file that is no record (a listing's header, `Tool Path Listing has 81
+    /// lines.`): skipped.
+    NotARecord = ("syntax::not-a-record", Warning),
+    /// A major word the dictionary does not define (a user post-processor word): passed over.
+    UnknownRecord = ("syntax::unknown-record", Note),
+    /// An argument a record does not take, or a record missing what it needs.
+    RecordArgument = ("syntax::record-argument", Warning),
+    /// A CL file without a units record before its first move: default units assumed.
+    RecordUnits = ("syntax::record-units", Note),
+    /// A circle whose tangent moves turn the other way than its producer's setting says.
+    CircleDirection = ("syntax::circle-direction", Warning),
+    /// A circle whose start and end (or stated radius) are not the same distance from its centre.
+    CircleRadius = ("syntax::circle-radius", Warning),
+    /// A circle no motion record ends.
+    CircleWithoutMove = ("syntax::circle-without-move", Warning),
+    /// A circle (or hole) about a tilted axis, which the canon cannot state: read straight or along Z.
+    CircleTilted = ("syntax::circle-tilted", Warning),
     /// A letter that the dialect does not define as an address.
     UnknownAddress = ("syntax::unknown-address", Error),
     /// A number that cannot be read.

@@ -806,12 +806,8 @@ struct ToolpathDifference {
 /// the largest distance from a point of one side to the other side's path (a grid of
 /// segments keeps that near-linear).
 fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64)>, u: Fmt) -> Option<ToolpathDifference> {
-    // The cutting moves, compactly: two million-move toolpaths cost 32 bytes a move here.
-    fn cuts(w: &Workingstep) -> Toolpath {
-        w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect()
-    }
-    let (ca, cb) = (cuts(a), cuts(b));
-    let at = |t: &Toolpath, i: usize| t.get(i).expect("an index within the toolpath");
+    let (ca, cb) = (Cuts::of(a), Cuts::of(b));
+    let at = |t: &Cuts<'_>, i: usize| t.get(i).expect("an index within the cuts");
     let map_z = |z: f64| match depth {
         Some((old, new)) if (z - old).abs() <= TOLERANCE => new,
         _ => z,
@@ -847,7 +843,7 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     let (ma, mb) = (p..na - s, p..nb - s);
     // The paths around the difference: from where the shared start ends to where the shared
     // end begins, so that a removed move is measured against the path that replaces it.
-    let path = |all: &Toolpath, from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Vec<P3> {
+    let path = |all: &Cuts<'_>, from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Vec<P3> {
         let mut pts = Vec::new();
         let start = if from > 0 { at(all, from - 1).to } else { all.get(from).map_or([0.0; 3], |m| m.from) };
         pts.push([start[0], start[1], z(start[2])]);
@@ -868,15 +864,15 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     for q in pa.iter().chain(&pb) {
         geom::extend(&mut region, *q);
     }
-    let first_line = |m: &std::ops::Range<usize>, all: &Toolpath| {
+    let first_line = |m: &std::ops::Range<usize>, all: &Cuts<'_>| {
         if m.is_empty() { all.get(p).or_else(|| all.last()) } else { all.get(m.start) }.map(|m| m.line)
     };
     let lines = (first_line(&ma, &ca), first_line(&mb, &cb));
-    let len = |m: &std::ops::Range<usize>, all: &Toolpath| all.iter().skip(m.start).take(m.len()).map(|m| geom::length(&m)).sum::<f64>();
+    let len = |m: &std::ops::Range<usize>, all: &Cuts<'_>| all.iter().skip(m.start).take(m.len()).map(|m| geom::length(&m)).sum::<f64>();
     // The ends are written with Z only where the two differ in it.
-    let end = |m: &std::ops::Range<usize>, all: &Toolpath| (!m.is_empty()).then(|| at(all, m.end - 1).to);
+    let end = |m: &std::ops::Range<usize>, all: &Cuts<'_>| (!m.is_empty()).then(|| at(all, m.end - 1).to);
     let (ea, eb) = (end(&ma, &ca), end(&mb, &cb));
-    let describe = |m: &std::ops::Range<usize>, all: &Toolpath, other: Option<P3>| -> String {
+    let describe = |m: &std::ops::Range<usize>, all: &Cuts<'_>, other: Option<P3>| -> String {
         match m.len() {
             0 => "no cut".into(),
             1 => {
@@ -902,6 +898,42 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     }
     after.push_str(&format!(", at most {} from the original path", u.len(deviation)));
     Some(ToolpathDifference { before, after, lines, region, deviation: (deviation * 1e6).round() / 1e6 })
+}
+
+/// The cutting moves of a workingstep, by index into its toolpath: 4 bytes a move, so two
+/// million-move toolpaths are compared without copies of them.
+struct Cuts<'a> {
+    toolpath: &'a Toolpath,
+    index: Vec<u32>,
+}
+
+impl<'a> Cuts<'a> {
+    fn of(w: &'a Workingstep) -> Cuts<'a> {
+        let index = w
+            .toolpath
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.phase == Phase::Cut && m.kind != MoveKind::Rapid)
+            .map(|(i, _)| i as u32)
+            .collect();
+        Cuts { toolpath: &w.toolpath, index }
+    }
+
+    fn len(&self) -> usize {
+        self.index.len()
+    }
+
+    fn get(&self, i: usize) -> Option<Move> {
+        self.index.get(i).and_then(|&k| self.toolpath.get(k as usize))
+    }
+
+    fn last(&self) -> Option<Move> {
+        self.len().checked_sub(1).and_then(|i| self.get(i))
+    }
+
+    fn iter(&self) -> impl Iterator<Item = Move> + '_ {
+        self.index.iter().filter_map(|&k| self.toolpath.get(k as usize))
+    }
 }
 
 /// The larger of the two directed distances between point chains (polylines), each point

@@ -33,7 +33,7 @@ pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
     let (source, mut diagnostics) = text::decode(bytes);
     let mut canon = Vec::new();
     diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut canon));
-    let (plan, plan_diags) = plan::recover(&canon, profile, program_name(&source.text));
+    let (plan, plan_diags) = plan::recover(&canon, profile, name_of(&source.text, dialect));
     diagnostics.extend(plan_diags);
     diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
     Analysis { source, canon, plan, diagnostics }
@@ -54,10 +54,15 @@ pub fn analyze_plan_owned(bytes: Vec<u8>, dialect: &Dialect, profile: &Profile) 
 fn plan_of((source, mut diagnostics): (SourceText, Vec<Diagnostic>), dialect: &Dialect, profile: &Profile) -> Analysis {
     let mut recoverer = plan::Recoverer::new(profile);
     diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut recoverer));
-    let (plan, plan_diags) = recoverer.finish(program_name(&source.text));
+    let (plan, plan_diags) = recoverer.finish(name_of(&source.text, dialect));
     diagnostics.extend(plan_diags);
     diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
     Analysis { source, canon: Vec::new(), plan, diagnostics }
+}
+
+/// The program's name: the record the dictionary names it by (CLDATA `PARTNO`), or the header's.
+fn name_of(text: &str, dialect: &Dialect) -> Option<String> {
+    crate::syntax::record_program_name(text, dialect).or_else(|| program_name(text))
 }
 
 /// A diagnostic for input over the size limit, for callers that refuse to read it whole.

@@ -10,6 +10,8 @@ use super::{
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
 
+mod records;
+
 /// Loads a dialect from XML text. Never fails: a broken file gives `None` and at least one
 /// error diagnostic whose range points into `text`. A file that `extends` another needs
 /// [`Registry::add`](super::Registry::add), which knows the bases.
@@ -181,7 +183,7 @@ impl Cx {
         self.shape(
             root,
             &["name", "family", "title", "version"],
-            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "recognise"],
+            &["description", "lexical", "behaviour", "addresses", "macros", "execution-order", "groups", "cycles", "records", "recognise"],
         );
         let name = self.required(root, "name").unwrap_or_default().to_owned();
         if !name.is_empty() && !name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_') {
@@ -206,6 +208,14 @@ impl Cx {
         let macros = child("macros").map(|el| self.macros(el)).unwrap_or_default();
         let (groups, codes) = child("groups").map(|el| self.groups(el, &addresses)).unwrap_or_default();
         let cycles = child("cycles").map(|el| self.cycles(el)).unwrap_or_default();
+        let records = child("records").map(|el| Box::new(self.records(el, &codes)));
+        match (&records, lexical.block_form) {
+            (None, BlockForm::Record) => self.error(root.range, "block-form=\"record\" needs a <records> element"),
+            (Some(_), BlockForm::WordAddress | BlockForm::KeywordFirst) => {
+                self.error(child("records").map_or(root.range, |e| e.range), "<records> needs block-form=\"record\" in <lexical>")
+            }
+            _ => {}
+        }
         let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
         let recognise_removed = child("recognise")
             .map(|el| {
@@ -231,6 +241,7 @@ impl Cx {
             groups,
             codes,
             cycles,
+            records,
             execution_order,
             recognise,
             recognise_removed,
@@ -279,6 +290,7 @@ impl Cx {
         let block_form = match self.attr(el, "block-form").unwrap_or("word-address") {
             "word-address" => BlockForm::WordAddress,
             "keyword-first" => BlockForm::KeywordFirst,
+            "record" => BlockForm::Record,
             other => {
                 self.error(Self::attr_range(el, "block-form"), format!("unknown block-form `{other}`"));
                 BlockForm::WordAddress
@@ -479,7 +491,7 @@ impl Cx {
                 _ => {}
             }
         }
-        if lex.comments.is_empty() {
+        if lex.comments.is_empty() && lex.block_form != BlockForm::Record {
             self.error(el.range, "<lexical> needs at least one <comment> rule");
         }
         lex
@@ -491,6 +503,10 @@ impl Cx {
             dwell_unit: TimeUnit::Seconds,
             tool_change_stops_spindle: true,
             tool_change_applies_length: false,
+            tool_change_rereads_position: false,
+            h0_spindle_tool: false,
+            probe_backoff_mm: 0.0,
+            probe_backoff_inch: 0.0,
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
@@ -524,6 +540,10 @@ impl Cx {
                 "dwell-unit",
                 "tool-change-stops-spindle",
                 "tool-change-applies-length",
+                "position-after-tool-change",
+                "h0",
+                "probe-backoff-mm",
+                "probe-backoff-inch",
                 "peck-clearance-mm",
                 "peck-clearance-inch",
                 "arc-tolerance-mm",
@@ -570,6 +590,10 @@ impl Cx {
         };
         b.tool_change_stops_spindle = self.bool(el, "tool-change-stops-spindle", true);
         b.tool_change_applies_length = self.bool(el, "tool-change-applies-length", false);
+        b.h0_spindle_tool = self.either(el, "h0", "no-offset", "spindle-tool");
+        b.tool_change_rereads_position = self.either(el, "position-after-tool-change", "program", "last-move");
+        b.probe_backoff_mm = self.number(el, "probe-backoff-mm", 0.0).max(0.0);
+        b.probe_backoff_inch = self.number(el, "probe-backoff-inch", b.probe_backoff_mm / 25.4).max(0.0);
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
@@ -699,6 +723,7 @@ impl Cx {
                 "unset-variables",
                 "return-value",
                 "outside-variables",
+                "highest-variable",
                 "called-programs",
                 "called-extensions",
                 "unknown-conditions",
@@ -728,6 +753,16 @@ impl Cx {
         }
         m.unknown_conditions = self.either(el, "unknown-conditions", "false", "true");
         m.return_tells_called = self.bool(el, "return-tells-called", true);
+        let highest = self.number(el, "highest-variable", 9999.0);
+        m.highest_variable = if (0.0..crate::interp::eval::MAX_HIGH_PARAM as f64).contains(&highest) {
+            highest as u32
+        } else {
+            self.error(
+                Self::attr_range(el, "highest-variable"),
+                format!("`highest-variable` is at most {}", crate::interp::eval::MAX_HIGH_PARAM - 1),
+            );
+            9999
+        };
         if let Some(v) = self.attr(el, "outside-variables") {
             for part in v.split_whitespace() {
                 let (a, b) = part.split_once('-').unwrap_or((part, part));

@@ -7,6 +7,7 @@
 
 mod inherit;
 mod load;
+pub mod records;
 pub mod registry;
 pub mod sniff;
 mod vocab;
@@ -23,6 +24,9 @@ pub enum BlockForm {
     WordAddress,
     /// `L X+10 R0 FMAX`, `TOOL CALL 1 Z S2000` — a keyword first, then its words (Heidenhain).
     KeywordFirst,
+    /// `GOTO/1.0,2.0,3.0`, `SPINDL/RPM,1200,CLW` — records of a major word, a slash and
+    /// minor words and numbers (APT CLDATA); read as the dialect's `<records>` say.
+    Record,
 }
 
 /// Where a comment ends.
@@ -246,6 +250,17 @@ pub struct Behaviour {
     /// Whether a tool change applies the new tool's length offset (Siemens `D1` default,
     /// Heidenhain `TOOL CALL`), with no G43.
     pub tool_change_applies_length: bool,
+    /// Whether `G43 H0` takes the tool in the spindle (LinuxCNC's pocket 0, `h0="spindle-tool"`)
+    /// rather than no offset.
+    pub h0_spindle_tool: bool,
+    /// Whether, after a block with a tool change, the program position is read back from the
+    /// machine: the last move's end (LinuxCNC, `position-after-tool-change="last-move"`).
+    pub tool_change_rereads_position: bool,
+    /// How far back from a probe move's end, towards its start, the tool is taken to stop
+    /// (rs274's simulator backs off 0.254 mm or 0.01 in), mm and inch.
+    pub probe_backoff_mm: f64,
+    /// The same in inch programs.
+    pub probe_backoff_inch: f64,
     /// Peck-drilling re-approach clearance, mm.
     pub peck_clearance_mm: f64,
     /// Peck-drilling re-approach clearance, inch.
@@ -362,6 +377,9 @@ pub struct Macros {
     /// Numbered variables whose values come from outside the file (retained common
     /// variables, machine inputs and data): unknown until the program sets them.
     pub outside: Vec<(u32, u32)>,
+    /// The highest numbered variable the control has (`highest-variable`; 9999 unless the
+    /// dictionary says more: Haas NGC's #59999, Mitsubishi's #907400).
+    pub highest_variable: u32,
     /// Whether a return at the top level shows a called program. False where main programs
     /// end with the same word (Heidenhain `END PGM`).
     pub return_tells_called: bool,
@@ -412,6 +430,7 @@ impl Default for Macros {
             unset_reads_zero: false,
             unset_unknown: false,
             outside: Vec::new(),
+            highest_variable: 9999,
             called_numbers: None,
             return_tells_called: true,
             called_extensions: Vec::new(),
@@ -672,6 +691,8 @@ pub struct Dialect {
     pub codes: Vec<CodeDef>,
     /// Named cycles.
     pub cycles: Vec<CycleDef>,
+    /// The record form (APT CLDATA `MAJOR/minor,value`), where programs are records, not words.
+    pub records: Option<Box<records::Records>>,
     /// The order in which a block's items take effect.
     pub execution_order: Vec<Step>,
     /// Evidence that a program is written in this dialect (for folders with none configured),

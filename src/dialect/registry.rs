@@ -12,6 +12,7 @@ use crate::text::LineIndex;
 pub const SHIPPED: &[(&str, &str)] = &[
     ("linuxcnc.xml", include_str!("../../dialects/linuxcnc.xml")),
     ("fanuc.xml", include_str!("../../dialects/fanuc.xml")),
+    ("cldata.xml", include_str!("../../dialects/cldata.xml")),
     ("siemens.xml", include_str!("../../dialects/siemens.xml")),
     ("heidenhain.xml", include_str!("../../dialects/heidenhain.xml")),
     // Derived dialects come after their bases.

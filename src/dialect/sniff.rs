@@ -151,7 +151,7 @@ impl Registry {
     /// other dialect: the evidence above the one dialect both descend from, if any. A
     /// derived dialect chosen over its base is sure only with own evidence worth half of
     /// [`SURE`]; a base that a dialect of another family derived from it matches as well is
-    /// not sure of the maker (medium at most).
+    /// not sure of the maker, and a winner with evidence against it is a guess (both low).
     pub fn sniff(&self, text: &str, file_name: Option<&str>, default: &str) -> Sniffed {
         let mut end = text.len().min(SNIFF_BYTES);
         while !text.is_char_boundary(end) {
@@ -207,7 +207,12 @@ impl Registry {
             && !shared_by_another_maker
             && margins.iter().all(|&(_, t, theirs, ours, ancestor)| if ancestor { t == 0 || ours >= SURE / 2 } else { ours >= 2 * theirs });
         let medium = margins.iter().all(|&(_, _, theirs, ours, ancestor)| ancestor || ours > theirs);
-        let confidence = if high {
+        // Evidence against the winner (a mill's Y words for a lathe) makes it a guess, and so
+        // does a base whose maker another family's dialect shares.
+        let against = counted(winner).iter().any(|e| e.0 < 0);
+        let confidence = if shared_by_another_maker || against {
+            Confidence::Low
+        } else if high {
             Confidence::High
         } else if medium {
             Confidence::Medium

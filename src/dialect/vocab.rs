@@ -89,14 +89,37 @@ vocab! {
         /// A lathe's finishing cycle (Fanuc G70): the contour between the blocks numbered P
         /// and Q runs as written, then the tool returns to the start point at rapid.
         CycleFinishContour = "cycle-finish-contour",
+        /// LinuxCNC's G70: finishing passes along the profile that the O-word subroutine
+        /// named by Q draws, from distance D to E in P passes.
+        ProfileFinish = "profile-finish",
+        /// LinuxCNC's G71: roughing the Q subroutine's profile by passes along Z, I apart,
+        /// leaving D to the profile and the allowances U and W, retracting R. The code's
+        /// `index` says what it does with pockets: 0 cuts them, 1 leaves them (G71.1), 2
+        /// cuts only from the first one on (G71.2).
+        ProfileRoughTurn = "profile-rough-turn",
+        /// LinuxCNC's G72: as `profile-rough-turn`, with passes along X (facing).
+        ProfileRoughFace = "profile-rough-face",
         /// Cancel the canned cycle (G80).
         CycleCancel = "cycle-cancel",
         /// Spindle-synchronised motion (G33): K is the advance per revolution.
         SpindleSync = "spindle-sync",
         /// Rigid tapping (G33.1): synchronised to the bottom and back out, K per revolution.
         RigidTap = "rigid-tap",
-        /// Probing (G38.n).
+        /// Probing (G38.2, G38.4): a probe that does not touch (or leave contact) stops
+        /// the program with an error, and so does a move of no length.
         Probe = "probe",
+        /// Probing that goes on whether it touches or not (G38.3, G38.5); a move of no
+        /// length is taken.
+        ProbeQuiet = "probe-quiet",
+        /// A quadratic B-spline in the XY plane (G5.1): I and J give its control point
+        /// relative to the start; X and Y the end.
+        SplineQuadratic = "spline-quadratic",
+        /// A NURBS control point (G5.2 and the blocks after it): X, Y, the weight P, the
+        /// order L. The curve runs when the block that ends it comes.
+        Nurbs = "nurbs",
+        /// Ends a NURBS block (G5.3): the curve through the collected control points runs,
+        /// and no motion mode stays in force.
+        NurbsEnd = "nurbs-end",
         /// XY plane (G17).
         PlaneXy = "plane-xy",
         /// XZ plane (G18).
@@ -471,6 +494,13 @@ vocab! {
         PatternRadius = "pattern-radius",
         /// The angle between positions on a circle, in degrees (0: the full circle shared evenly).
         PatternStepAngle = "pattern-step-angle",
+        /// The tool axis vector's X component, from the tool tip towards the holder (CLDATA
+        /// `GOTO/x,y,z,i,j,k`); kept in the canon as `ToolAxis`.
+        ToolAxisI = "tool-axis-i",
+        /// The tool axis vector's Y component.
+        ToolAxisJ = "tool-axis-j",
+        /// The tool axis vector's Z component.
+        ToolAxisK = "tool-axis-k",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

@@ -156,7 +156,14 @@ impl Interpreter<'_> {
             self.emit(sink, CanonOp::StraightTraverse(p));
         }
         let clear = if self.st.retract == Retract::Initial { initial.max(r) } else { r };
-        let (dx, dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
+        let (mut dx, mut dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
+        // Polar words (`@`, `^`) place the first hole as they place a move's end point; in G91
+        // the holes after it repeat that step, as rs274 does.
+        if self.slots[Role::PolarRadius as usize].is_some() || self.slots[Role::PolarAngle as usize].is_some() {
+            let mut t = self.st.pos;
+            self.polar_target(&mut t);
+            (dx, dy) = if incremental { (Some(t[a0] - p[a0]), Some(t[a1] - p[a1])) } else { (Some(t[a0]), Some(t[a1])) };
+        }
         let run = HoleRun { kind, code, r, bottom, clear, old_z, peck, peck_from: r, dwell, shift, clearance, still: false, surface: None };
         for _ in 0..repeats as u64 {
             let (x, y) = if incremental {

@@ -4,9 +4,14 @@ use std::collections::BTreeMap;
 
 use crate::syntax::{BinOp, Block, Expr, ExprId, Func};
 
-/// Highest numbered parameter (LinuxCNC has #1 to #5602; Fanuc permanent variables reach #999
-/// and system variables beyond).
+/// Parameters below this number live in a dense table (LinuxCNC has #1 to #5602; Fanuc
+/// permanent variables reach #999 and system variables beyond).
 pub const MAX_PARAM: usize = 10_000;
+
+/// Numbered parameters from [`MAX_PARAM`] up to this one (Haas NGC's #10000 to #30000+
+/// settings and parameters, Mitsubishi's extended common variables #900001 to #907400) live
+/// in a sparse table: only the ones a program writes take memory.
+pub const MAX_HIGH_PARAM: usize = 1_000_000;
 
 /// The vacant value of Fanuc Macro B (`#0`): a NaN that arithmetic treats as zero and
 /// `EQ`/`NE` tell apart from zero.
@@ -36,6 +41,13 @@ pub enum UnknownSource {
 #[derive(Clone, Debug)]
 pub struct Params {
     numbered: Vec<f64>,
+    /// Parameters from [`MAX_PARAM`] on that were written; the others read as `fill`, or as
+    /// [`UNKNOWN`] inside one of `high_unknown`'s ranges.
+    high: BTreeMap<u32, f64>,
+    high_unknown: Vec<(u32, u32)>,
+    fill: f64,
+    /// The highest parameter number the control has.
+    highest: usize,
     named: BTreeMap<String, f64>,
     /// FIX and FUP round toward and away from zero (Fanuc family) instead of down and up.
     pub magnitude_rounding: bool,
@@ -56,6 +68,8 @@ impl PartialEq for Params {
         let bits = |a: &f64, b: &f64| a.to_bits() == b.to_bits();
         self.numbered.len() == other.numbered.len()
             && self.numbered.iter().zip(&other.numbered).all(|(a, b)| bits(a, b))
+            && self.high.len() == other.high.len()
+            && self.high.iter().zip(&other.high).all(|((ka, a), (kb, b))| ka == kb && bits(a, b))
             && self.named.len() == other.named.len()
             && self.named.iter().zip(&other.named).all(|((ka, a), (kb, b))| ka == kb && bits(a, b))
     }
@@ -78,14 +92,27 @@ impl Params {
     pub fn new(null: bool) -> Params {
         Params {
             numbered: vec![if null { NULL } else { 0.0 }; MAX_PARAM],
+            high: BTreeMap::new(),
+            high_unknown: Vec::new(),
+            fill: if null { NULL } else { 0.0 },
+            highest: MAX_PARAM - 1,
             named: BTreeMap::new(),
             magnitude_rounding: false,
             unknown_read: std::cell::RefCell::new(None),
         }
     }
 
+    /// Lets the table reach parameter `n` (at most [`MAX_HIGH_PARAM`] - 1): the control's
+    /// highest variable.
+    pub fn set_highest(&mut self, n: u32) {
+        self.highest = (n as usize).clamp(MAX_PARAM - 1, MAX_HIGH_PARAM - 1);
+    }
+
     /// Sets the numbered range `first..=last` to [`UNKNOWN`]: values the program finds set.
     pub fn mark_unknown(&mut self, first: u32, last: u32) {
+        if last as usize >= MAX_PARAM {
+            self.high_unknown.push((first.max(MAX_PARAM as u32), last));
+        }
         let last = (last as usize).min(MAX_PARAM - 1);
         if (first as usize) <= last {
             self.numbered[first as usize..=last].fill(UNKNOWN);
@@ -140,8 +167,17 @@ impl Params {
 
     /// The value of numbered parameter `n`.
     pub fn get(&self, n: f64) -> Result<f64, EvalError> {
-        let i = index(n)?;
-        let v = self.numbered[i];
+        let i = index(n, self.highest)?;
+        let v = if i < MAX_PARAM {
+            self.numbered[i]
+        } else {
+            let k = i as u32;
+            match self.high.get(&k) {
+                Some(&v) => v,
+                None if self.high_unknown.iter().any(|&(a, b)| (a..=b).contains(&k)) => UNKNOWN,
+                None => self.fill,
+            }
+        };
         if is_unknown(v) {
             self.note_unknown(|| UnknownSource::Numbered(i as u32));
         }
@@ -150,8 +186,12 @@ impl Params {
 
     /// Sets numbered parameter `n`.
     pub fn set(&mut self, n: f64, v: f64) -> Result<(), EvalError> {
-        let i = index(n)?;
-        self.numbered[i] = v;
+        let i = index(n, self.highest)?;
+        if i < MAX_PARAM {
+            self.numbered[i] = v;
+        } else {
+            self.high.insert(i as u32, v);
+        }
         Ok(())
     }
 
@@ -180,9 +220,9 @@ impl Params {
     }
 }
 
-fn index(n: f64) -> Result<usize, EvalError> {
+fn index(n: f64, highest: usize) -> Result<usize, EvalError> {
     let r = n.round();
-    if (n - r).abs() > 1e-4 || r < 0.0 || r >= MAX_PARAM as f64 {
+    if (n - r).abs() > 1e-4 || r < 0.0 || r > highest as f64 {
         return Err(EvalError::BadIndex(n));
     }
     Ok(r as usize)
@@ -220,7 +260,7 @@ pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f6
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
             Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalised(&text[r.start as usize..r.end as usize])))),
             // The parameter number itself must evaluate (`EXISTS[###2]` reads `##2`).
-            Some(&Expr::Param(i)) => f64::from(u8::from(index(eval(block, i, params, text)?).is_ok_and(|i| i >= 1))),
+            Some(&Expr::Param(i)) => f64::from(u8::from(index(eval(block, i, params, text)?, params.highest).is_ok_and(|i| i >= 1))),
             _ => 0.0,
         },
         Expr::Unary(f, inner) if f != Func::Exists && is_unknown(eval(block, inner, params, text)?) => UNKNOWN,

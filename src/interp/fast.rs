@@ -29,6 +29,7 @@ impl Interpreter<'_> {
             || self.st.modal_macro.is_some()
             || self.stop_message.is_some()
             || self.st.diameter
+            || self.st.nurbs.is_some()
         {
             return false;
         }

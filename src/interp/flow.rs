@@ -1057,18 +1057,31 @@ impl<'a> Driver<'a, '_> {
             let count = self.back_jumps.entry(key).or_insert(0);
             *count += 1;
             let count = *count;
-            if count > self.profile.max_loop_iterations {
-                let limit = self.profile.max_loop_iterations;
-                self.error(
-                    diags,
-                    Code::LoopLimit,
-                    range,
-                    format!("the jump back to {what} ran more than {limit} times; the run stops here"),
-                );
-                return;
-            }
-            if self.endless(key, count, interp) {
-                self.error(diags, Code::LoopLimit, range, format!("the jump back to {what} comes round {ENDLESS}; the run stops here"));
+            let limit = self.profile.max_loop_iterations;
+            let over = count > limit;
+            if over || self.endless(key, count, interp) {
+                // Back to the main program's first label, with nothing open: the program runs
+                // until the operator stops it, by design (a cell's loop), as a return in a
+                // main program restarts it.
+                let cur = self.cur;
+                // The target is a label (`START:`), and no label comes before it.
+                let marks = self.marks(cur);
+                let labelled = marks.iter().any(|m| m.defines.is_some() && (m.start.at == pos.at || m.next.at == pos.at));
+                let first_label = labelled && !marks.iter().any(|m| m.defines.is_some() && m.next.at < pos.at && m.start.at < pos.at);
+                if cur == 0 && self.frames.is_empty() && self.loops.is_empty() && first_label {
+                    let msg = format!(
+                        "the jump back to {what} restarts the program from its first label: a program that runs until the operator stops it (a cell's loop); the analysis stops here"
+                    );
+                    let mut d = Diagnostic::new(Code::LoopLimit, range, msg);
+                    d.severity = Severity::Warning;
+                    diags.push(d);
+                    self.stop = true;
+                } else if over {
+                    let msg = format!("the jump back to {what} ran more than {limit} times; the run stops here");
+                    self.error(diags, Code::LoopLimit, range, msg);
+                } else {
+                    self.error(diags, Code::LoopLimit, range, format!("the jump back to {what} comes round {ENDLESS}; the run stops here"));
+                }
                 return;
             }
         }
@@ -1769,6 +1782,7 @@ impl<'a> Driver<'a, '_> {
                 self.return_from(goto, block, interp, diags);
             }
             Request::Contour { first, last, rough } => self.contour(first, last, rough, block, interp, sink, diags),
+            Request::Profile { name, cycle } => self.profile(&name, cycle, block, interp, sink, diags),
         }
     }
 
@@ -1852,6 +1866,78 @@ impl<'a> Driver<'a, '_> {
             }
             None => interp.back_to(start, sink),
         }
+    }
+
+    /// A lathe profile cycle (LinuxCNC G70–G72): the subroutine `name`'s blocks are run
+    /// without effect from the cycle's start point to read the profile (the state is put
+    /// back), then the cycle cuts it.
+    fn profile(
+        &mut self,
+        name: &str,
+        cycle: super::g7x::Cycle,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        /// Blocks a profile may have at most.
+        const MAX_PROFILE_BLOCKS: usize = 100_000;
+        let label = normalise_label(name);
+        let is_sub = |m: &Mark| m.label.as_deref() == Some(label.as_str()) && m.statement == Some(Statement::Sub);
+        let Some((source, body)) = self.locate(&label, is_sub) else {
+            let msg = format!("the profile subroutine o<{label}> (Q) is neither in this program nor in the program directory");
+            self.error(diags, Code::MissingLabel, block.range, msg);
+            return;
+        };
+        let corners = interp.corners.replace(None);
+        let saved = (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take());
+        interp.comp.replace(None);
+        let start = interp.st.pos;
+        (interp.st.pos[0], interp.st.pos[2]) = (cycle.x, cycle.z);
+        // The cycle's move to its start point leaves G0 in force for the profile's blocks.
+        interp.st.motion_code = self.dialect.codes.iter().position(|c| c.letter == 'G' && c.meaning == crate::dialect::Meaning::Rapid);
+        let mut parser = Parser::new(self.sources[source].text, self.dialect);
+        parser.seek(body.at, body.line);
+        let mut shape: Vec<Canon> = Vec::new();
+        let mut finishes = Vec::new();
+        let mut b = Block::default();
+        for _ in 0..MAX_PROFILE_BLOCKS {
+            if !parser.next_block(&mut b, diags) {
+                break;
+            }
+            if b.control.as_ref().is_some_and(|c| matches!(c.statement, Some(Statement::EndSub | Statement::Return))) {
+                break;
+            }
+            self.executed += 1;
+            if self.executed > self.profile.max_blocks {
+                let msg = format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks);
+                self.error(diags, Code::LoopLimit, b.range, msg);
+                break;
+            }
+            if b.control.is_none() {
+                let before = shape.len();
+                interp.execute(&b, &mut shape, diags);
+                // A and C words on a profile's move ask for a rounded or chamfered corner.
+                let moved = shape[before..]
+                    .iter()
+                    .any(|c| matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }));
+                let finish =
+                    interp.slot(crate::dialect::Role::A).map(|a| (true, a)).or(interp.slot(crate::dialect::Role::C).map(|c| (false, c)));
+                if let (true, Some((round, size))) = (moved, finish) {
+                    finishes.push((shape.len(), round, size));
+                }
+            }
+            interp.request = None;
+        }
+        let (st, params, comp, corners, problem) = saved;
+        interp.st = st;
+        interp.params = params;
+        interp.comp.replace(comp);
+        interp.corners.replace(corners);
+        interp.comp_problem.set(problem);
+        interp.st.pos = start;
+        (interp.origin, interp.line) = (block.range, block.line);
+        interp.profile_run(cycle, &shape, &finishes, sink, diags);
     }
 
     /// Returns from the innermost call, or runs its body again while repeats are left.

@@ -14,6 +14,7 @@ mod define;
 pub mod eval;
 mod fast;
 mod flow;
+mod g7x;
 mod motion;
 
 use crate::dialect::DataForm;
@@ -237,6 +238,13 @@ pub(crate) enum Request {
         /// How to rough it out (G71); `None` finishes it (G70).
         rough: Option<cycle::Rough>,
     },
+    /// A lathe profile cycle over the O-word subroutine `name` (LinuxCNC G70–G72).
+    Profile {
+        /// The subroutine's label.
+        name: String,
+        /// The cycle.
+        cycle: g7x::Cycle,
+    },
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -318,6 +326,9 @@ struct State {
     /// A lathe's single-pass cycle in force: its X (radius) and Z targets and taper, which a
     /// following block repeats with what it changes.
     turn_cycle: Option<[f64; 3]>,
+    /// The NURBS being collected (G5.2): control points so far, the start among them, and
+    /// the last one.
+    nurbs: Option<(u32, [f64; 6])>,
     sticky_q: Option<f64>,
     sticky_p: Option<f64>,
     ended: bool,
@@ -349,8 +360,6 @@ struct State {
     blank_min: Option<[f64; 3]>,
     /// Cutter compensation has just ended: the next move leaves the compensated path.
     leaving_comp: bool,
-    /// Where the last probe move stopped (taken as its programmed end point).
-    probe: Option<[f64; 3]>,
     /// Lathe diameter mode (G7): X words give diameters.
     diameter: bool,
     /// Constant surface speed (G96): S is a surface speed, and this is the spindle's
@@ -398,6 +407,9 @@ pub struct Interpreter<'a> {
     slots: [Option<Slot>; Role::COUNT],
     /// Bit per role whose slot is filled, so that clearing touches only those.
     filled: u128,
+    /// The tool axis vector (from the tip towards the holder) the canon last stated; +Z
+    /// until a block gives another (CLDATA `GOTO/x,y,z,i,j,k`).
+    tool_axis: [f64; 3],
     /// Bit per [`Step`] at which one of the block's codes takes effect.
     code_steps: u32,
     /// Bit per role whose word in the block has an unknown value (left out of the slots).
@@ -436,6 +448,19 @@ pub struct Interpreter<'a> {
     corners: std::cell::RefCell<Option<corner::Corners>>,
     /// A compensation problem met while emitting, reported after the block.
     comp_problem: std::cell::Cell<Option<comp::CompProblem>>,
+    /// The end of the last move sent (program coordinates, before transforms), which a
+    /// control that re-reads its position after a tool change takes as the program position
+    /// (`position-after-tool-change="last-move"`).
+    sent: std::cell::Cell<[f64; 6]>,
+    /// Per axis, whether its position comes from a length word without a decimal point that
+    /// least-increment input shrank (`X4` read as 0.004 mm) and that was said; as the block
+    /// began, and after its words. An arc that fails from it is that finding's consequence.
+    misread: [bool; 6],
+    misread_before: [bool; 6],
+    /// Whether one of this block's own words (an R, I, J or K) was shrunk so.
+    block_misread: bool,
+    /// The word that was, as the finding showed it (`` `X4` read as 0.004 mm ``).
+    misread_word: Option<String>,
     /// Where ops come from while a subprogram from another file runs: the call block.
     origin_override: Option<(TextRange, u32)>,
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
@@ -486,6 +511,7 @@ impl<'a> Interpreter<'a> {
                 sticky_r: None,
                 sticky_z: None,
                 turn_cycle: None,
+                nurbs: None,
                 rough_cut: None,
                 sticky_q: None,
                 sticky_p: None,
@@ -504,7 +530,6 @@ impl<'a> Interpreter<'a> {
                 comp_left: true,
                 blank_min: None,
                 leaving_comp: false,
-                probe: None,
                 diameter: dialect.behaviour.x_diameter,
                 css_max: None,
                 spindle_limit: None,
@@ -517,6 +542,7 @@ impl<'a> Interpreter<'a> {
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
                 p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
+                p.set_highest(dialect.macros.highest_variable);
                 for &(a, b) in &dialect.macros.outside {
                     p.mark_unknown(a, b);
                 }
@@ -532,6 +558,7 @@ impl<'a> Interpreter<'a> {
             },
             slots: [None; Role::COUNT],
             filled: 0,
+            tool_axis: [0.0, 0.0, 1.0],
             unknown_roles: 0,
             code_steps: 0,
             has_axes: false,
@@ -567,6 +594,11 @@ impl<'a> Interpreter<'a> {
                     .then(corner::Corners::default),
             ),
             comp_problem: std::cell::Cell::new(None),
+            sent: std::cell::Cell::new([0.0; 6]),
+            misread: [false; 6],
+            misread_before: [false; 6],
+            block_misread: false,
+            misread_word: None,
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),
@@ -643,6 +675,17 @@ impl<'a> Interpreter<'a> {
 
     fn emit(&self, sink: &mut dyn CanonSink, op: CanonOp) {
         let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
+        match &op {
+            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => self.sent.set(*p),
+            CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
+                let (a0, a1, n) = self.st.plane.axes();
+                let mut p = [0.0; 6];
+                (p[a0], p[a1], p[n]) = (*first_end, *second_end, *axis_end);
+                p[3..].copy_from_slice(abc);
+                self.sent.set(p);
+            }
+            _ => {}
+        }
         let op = if self.st.rotation.is_some() || self.st.scaling.is_some() { self.transform(op) } else { op };
         let canon = Canon { op, origin, line };
         let mut corners = self.corners.borrow_mut();
@@ -726,6 +769,7 @@ impl<'a> Interpreter<'a> {
         match op {
             CanonOp::StraightTraverse(p) => CanonOp::StraightTraverse(at(p)),
             CanonOp::StraightFeed(p) => CanonOp::StraightFeed(at(p)),
+            CanonOp::NurbsFeed { points, end } => CanonOp::NurbsFeed { points, end: at(end) },
             CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
                 let (a0, a1, n) = self.st.plane.axes();
                 let mut end = [0.0; 3];
@@ -802,10 +846,9 @@ impl<'a> Interpreter<'a> {
                 SystemVar::Speed => self.st.speed,
                 SystemVar::ToolRadius => self.tool_diameter(self.st.tool).unwrap_or(0.0) / 2.0 / self.st.units.to_mm(),
                 SystemVar::ToolDiameter => self.tool_diameter(self.st.tool).unwrap_or(0.0) / self.st.units.to_mm(),
-                SystemVar::ProbeX => self.st.probe.map_or(0.0, |p| p[0]),
-                SystemVar::ProbeY => self.st.probe.map_or(0.0, |p| p[1]),
-                SystemVar::ProbeZ => self.st.probe.map_or(0.0, |p| p[2]),
-                SystemVar::ProbeTripped => f64::from(u8::from(self.st.probe.is_some())),
+                // The probe results are written when a probe move ends, and the program
+                // may write them too, as any parameter.
+                SystemVar::ProbeX | SystemVar::ProbeY | SystemVar::ProbeZ | SystemVar::ProbeTripped => continue,
                 SystemVar::Alarm | SystemVar::StopMessage => continue,
             };
             let _ = self.params.set(f64::from(n), v);
@@ -886,6 +929,21 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// A block's tool axis words (CLDATA `GOTO/x,y,z,i,j,k`): the axis goes into the canon
+    /// where it changes, before the block's move.
+    fn tool_axis(&mut self, sink: &mut dyn CanonSink) {
+        let mut axis = self.tool_axis;
+        for (k, role) in [Role::ToolAxisI, Role::ToolAxisJ, Role::ToolAxisK].into_iter().enumerate() {
+            if let Some(v) = self.slots[role as usize] {
+                axis[k] = v.value;
+            }
+        }
+        if axis != self.tool_axis {
+            self.tool_axis = axis;
+            self.emit(sink, CanonOp::ToolAxis(axis));
+        }
+    }
+
     fn execute_block(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.origin = block.range;
         self.line = block.line;
@@ -924,6 +982,9 @@ impl<'a> Interpreter<'a> {
         }
         if self.st.ended {
             return;
+        }
+        if self.filled & (1 << Role::ToolAxisI as u32 | 1 << Role::ToolAxisJ as u32 | 1 << Role::ToolAxisK as u32) != 0 {
+            self.tool_axis(sink);
         }
         if let Some(k) = self.codes.iter().position(|&(c, _)| self.code(c).meaning == Meaning::MacroCall) {
             self.macro_call(block, self.codes[k].1, diags);
@@ -980,6 +1041,14 @@ impl<'a> Interpreter<'a> {
         if self.code_steps & (1 << Step::Misc as u32) != 0 {
             self.run_codes(Step::Misc, block, sink, diags);
         }
+        // After a tool change, such a control reads its position back from the machine: the
+        // last move's end, so what the block shifted without moving (a G43 beside the M6) is
+        // not where the next block starts.
+        if self.dialect.behaviour.tool_change_rereads_position
+            && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::ToolChange)
+        {
+            self.st.pos = self.sent.get();
+        }
         self.modal_macro_after(motions);
         self.cycles_after(motions, block.range, sink, diags);
     }
@@ -1025,6 +1094,8 @@ impl<'a> Interpreter<'a> {
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
     fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         self.clear_block();
+        self.misread_before = self.misread;
+        self.block_misread = false;
         let mut ok = true;
         // Codes first: a unit change in this block affects how its numbers scale.
         for w in &block.words {
@@ -1181,8 +1252,17 @@ impl<'a> Interpreter<'a> {
                 && scaled.contains(&role)
                 && !(k_counts && role == Role::K)
             {
+                let axis = Role::AXES.iter().position(|&a| a == role);
+                let absolute = match w.mode {
+                    WordMode::Modal => self.st.distance == DistanceMode::Absolute,
+                    WordMode::Absolute => true,
+                    WordMode::Incremental => false,
+                };
                 if decimal {
                     self.st.length_points = true;
+                    if let Some(i) = axis.filter(|_| absolute) {
+                        self.misread[i] = false;
+                    }
                 } else {
                     if v != 0.0 && self.st.length_points {
                         let shown = &self.text[w.range.start as usize..w.range.end as usize];
@@ -1191,7 +1271,19 @@ impl<'a> Interpreter<'a> {
                         let msg = format!(
                             "`{shown}` has no decimal point: least-increment input reads it as {scaled_to} {unit}, while this program writes its other lengths with points; if {v} {unit} was meant, write `{shown}.` (or, if the machine reads whole numbers as units, set its decimal_input to calculator in the config)"
                         );
-                        self.limited(diags, "no-decimal-point", Diagnostic::new(Code::NoDecimalPoint, w.range, msg));
+                        let mut d = Diagnostic::new(Code::NoDecimalPoint, w.range, msg);
+                        // The first such word is the finding; the others repeat it.
+                        if self.misread_word.is_some() {
+                            d.severity = Severity::Note;
+                        }
+                        self.limited(diags, "no-decimal-point", d);
+                        match axis {
+                            Some(i) => self.misread[i] = true,
+                            None => self.block_misread = true,
+                        }
+                        self.misread_word = Some(format!("`{shown}` read as {scaled_to} {unit}"));
+                    } else if let Some(i) = axis.filter(|_| absolute) {
+                        self.misread[i] = false;
                     }
                     v *= if units == Units::Mm { *mm } else { *inch };
                 }
@@ -1885,7 +1977,10 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
-                let h = self.slot(Role::H).map_or(self.st.tool, |h| h as u32);
+                let h = match self.slot(Role::H) {
+                    Some(h) if h != 0.0 || !self.dialect.behaviour.h0_spindle_tool => h as u32,
+                    _ => self.st.tool,
+                };
                 self.emit(sink, CanonOp::Setting(Setting::LengthOffset(h)));
                 let mut offsets = self.tool_offsets(h);
                 if def.meaning == Meaning::LengthCompMinus {
@@ -2090,12 +2185,17 @@ impl<'a> Interpreter<'a> {
                     | Meaning::CycleFace
                     | Meaning::CycleThreadPass
                     | Meaning::Probe
+                    | Meaning::ProbeQuiet
+                    | Meaning::SplineQuadratic
+                    | Meaning::Nurbs
             ) || m.is_cycle() =>
             {
                 self.st.motion_continued = self.st.motion_code == Some(c);
                 if !self.st.motion_continued {
                     self.st.sticky_z = None;
                     self.st.turn_cycle = None;
+                    // Another motion mode drops the NURBS points collected (as rs274 does).
+                    self.st.nurbs = None;
                 }
                 if !m.is_cycle() {
                     self.st.cycle_initial = None;
@@ -2107,6 +2207,10 @@ impl<'a> Interpreter<'a> {
                 if self.has_axes || full_circle || in_place {
                     self.motion(def, range, block, sink, diags);
                 }
+            }
+            Meaning::NurbsEnd => {
+                self.st.motion_code = None;
+                self.nurbs_end(def, range, sink, diags);
             }
             Meaning::CycleCancel => {
                 // G80 ends a canned cycle; where it has a group of its own (Fanuc group 09) a
@@ -2220,6 +2324,7 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
             Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
+            Meaning::ProfileFinish | Meaning::ProfileRoughTurn | Meaning::ProfileRoughFace => self.profile_cycle(def, range, diags),
             Meaning::CycleIntent => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));

@@ -3,7 +3,7 @@
 use super::{Interpreter, Spindle};
 use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, Meaning, Role};
+use crate::dialect::{CodeDef, Meaning, Role, SystemVar};
 use crate::syntax::{Block, WordMode};
 use crate::text::TextRange;
 
@@ -59,7 +59,7 @@ impl Interpreter<'_> {
     /// `LP PR+30 PA+45`, `CP IPA+90`: the end point in the plane from its distance to the pole
     /// and its angle about it; a missing one keeps the current point's, an incremental one
     /// (`IPR`, `IPA`) adds to it.
-    fn polar_target(&self, t: &mut [f64; 6]) {
+    pub(super) fn polar_target(&self, t: &mut [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (px, py) = self.st.pole;
         let (dx, dy) = (self.st.pos[a0] - px, self.st.pos[a1] - py);
@@ -143,12 +143,15 @@ impl Interpreter<'_> {
                 self.st.pos = t;
             }
             Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint => {
-                self.arc(def, range, block, sink, diags)
+                let before = diags.len();
+                self.arc(def, range, block, sink, diags);
+                self.misread_consequences(&mut diags[before..]);
             }
             Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),
             Meaning::CycleThread => self.threading_cycle(def, range, sink, diags),
             Meaning::CycleTurn | Meaning::CycleFace | Meaning::CycleThreadPass => self.single_pass_cycle(def, range, sink, diags),
-            Meaning::Probe => self.probe(def, range, sink, diags),
+            Meaning::Probe | Meaning::ProbeQuiet => self.probe(def, range, sink, diags),
+            Meaning::SplineQuadratic | Meaning::Nurbs => self.spline(def, range, sink, diags),
             Meaning::ApproachTangent | Meaning::ApproachNormal | Meaning::ApproachArc => self.approach(def, range, block, sink, diags),
             Meaning::DepartTangent | Meaning::DepartNormal | Meaning::DepartArc => self.depart(def, range, block, sink, diags),
             _ => self.cycle(def, range, block, sink, diags),
@@ -258,7 +261,11 @@ impl Interpreter<'_> {
 
     /// G38.2 to G38.5: a feed towards the end point that stops where the probe touches (or,
     /// away, leaves contact). Where that is, only the machine knows: the analysis takes the
-    /// programmed end point, for the position and for the probe result variables.
+    /// programmed end point for the probe result variables (written once, then the program's
+    /// to change) and, backed off towards the start by the dictionary's `probe-backoff`, for
+    /// the position, as rs274's simulator does. A probe that must touch (G38.2, G38.4) is
+    /// taken to have touched, since the run stops otherwise; so is a quiet one (G38.3,
+    /// G38.5), the way a successful run goes. Only a quiet probe may have no length.
     fn probe(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let bad = |code: Code, msg: &str| Diagnostic::new(code, range, format!("{}: {msg}", def.label()));
         if self.comp.borrow().is_some() {
@@ -268,19 +275,94 @@ impl Interpreter<'_> {
             return diags.push(bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)"));
         }
         let t = self.target();
-        if (0..3).all(|i| (t[i] - self.st.pos[i]).abs() < 1e-9) {
+        let start = self.st.pos;
+        let length = (0..3).map(|i| (t[i] - start[i]).powi(2)).sum::<f64>().sqrt();
+        if length < 1e-9 && def.meaning == Meaning::Probe {
             return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point"));
         }
         self.emit(sink, CanonOp::TurnProbeOn);
         self.emit(sink, CanonOp::StraightProbe(t));
         self.emit(sink, CanonOp::TurnProbeOff);
-        self.st.pos = t;
-        self.st.probe = Some([t[0], t[1], t[2]]);
+        let b = &self.dialect.behaviour;
+        let backoff = if self.st.units == Units::Mm { b.probe_backoff_mm } else { b.probe_backoff_inch };
+        let mut stop = t;
+        if length >= 1e-9 {
+            for i in 0..3 {
+                stop[i] += backoff * (start[i] - t[i]) / length;
+            }
+        }
+        self.st.pos = stop;
+        self.sent.set(stop);
+        for &(n, var) in &self.dialect.macros.system {
+            let v = match var {
+                SystemVar::ProbeX => t[0],
+                SystemVar::ProbeY => t[1],
+                SystemVar::ProbeZ => t[2],
+                SystemVar::ProbeTripped => 1.0,
+                _ => continue,
+            };
+            let _ = self.params.set(f64::from(n), v);
+        }
         let note = bad(
             Code::Unsupported,
             "the probe stops where it touches, which only the machine knows; the analysis goes on from the programmed end point",
         );
         self.limited(diags, "probe", note);
+    }
+
+    /// An arc that fails where its start, end or radius comes from a length word that
+    /// least-increment input shrank (and that finding was made) fails because of it: one
+    /// cause, one error. Its findings become notes that point at that word.
+    fn misread_consequences(&self, found: &mut [Diagnostic]) {
+        let (a0, a1, _) = self.st.plane.axes();
+        let tainted = self.block_misread || [a0, a1].iter().any(|&i| self.misread[i] || self.misread_before[i]);
+        let Some(word) = self.misread_word.as_deref().filter(|_| tainted) else { return };
+        for d in found.iter_mut().filter(|d| d.code == Code::BadArc && d.is_error()) {
+            d.severity = crate::diag::Severity::Note;
+            d.message.push_str(&format!("; it follows from {word} (no decimal point), the finding to fix"));
+        }
+    }
+
+    /// G5.1 (a quadratic spline, run at once) and G5.2 (a NURBS control point, kept until
+    /// G5.3): in the XY plane, without Z or rotary motion, and not under cutter
+    /// compensation, as rs274 requires.
+    fn spline(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let bad = |msg: &str| Diagnostic::new(Code::BadValue, range, format!("{}: {msg}", def.label()));
+        if self.st.plane != Plane::Xy {
+            return diags.push(bad("splines are in the XY plane only (G17)"));
+        }
+        if [Role::Z, Role::A, Role::B, Role::C].iter().any(|&r| self.slots[r as usize].is_some()) {
+            return diags.push(bad("splines may not move Z, A, B or C"));
+        }
+        if self.comp.borrow().is_some() {
+            return diags.push(bad("splines cannot run with cutter compensation on"));
+        }
+        let t = self.target();
+        if def.meaning == Meaning::SplineQuadratic {
+            if self.slot(Role::I).is_none() || self.slot(Role::J).is_none() {
+                return diags.push(bad("a quadratic spline needs both I and J (its control point)"));
+            }
+            self.check_technology(def, range, diags);
+            self.emit(sink, CanonOp::NurbsFeed { points: 3, end: t });
+            self.st.pos = t;
+            return;
+        }
+        if self.slot(Role::P).is_none_or(|p| p <= 0.0) {
+            return diags.push(bad("every control point needs a positive weight P"));
+        }
+        let (n, _) = self.st.nurbs.unwrap_or((1, self.st.pos));
+        self.st.nurbs = Some((n + 1, t));
+    }
+
+    /// G5.3: the NURBS collected since G5.2 runs to its last control point.
+    pub(super) fn nurbs_end(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let Some((points, end)) = self.st.nurbs.take() else {
+            let msg = format!("{}: no NURBS block to end (G5.2 first)", def.label());
+            return diags.push(Diagnostic::new(Code::BadValue, range, msg));
+        };
+        self.check_technology(def, range, diags);
+        self.emit(sink, CanonOp::NurbsFeed { points, end });
+        self.st.pos = end;
     }
 
     /// LinuxCNC's G76 lathe threading cycle, pass by pass as its interpreter makes them. X is

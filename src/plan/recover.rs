@@ -657,7 +657,8 @@ impl<'p> Recovery<'p> {
                     self.pending.push(mv);
                 }
             }
-            CanonOp::StraightFeed(p) => {
+            // A spline is followed by its chord: the plan keeps where it cuts to.
+            CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => {
                 let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
                 let mv = self.mv(MoveKind::Line, to, c.line);
                 self.cut(mv, c);

@@ -578,142 +578,142 @@ const ON_SQLITE_ONLY: &str = "the web workspace's pages read a SQLite database; 
 
 /// The planners' workspace (`ncplan serve`): its read queries and review marks (`pages.rs`).
 impl Store {
-        /// The machines with their programs, revisions, newest revision and review queue.
-        pub fn machines(&self) -> Result<Vec<MachineSummary>> {
-            match &self.engine {
-                Engine::Lite(e) => e.machines(),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The machines with their programs, revisions, newest revision and review queue.
+    pub fn machines(&self) -> Result<Vec<MachineSummary>> {
+        match &self.engine {
+            Engine::Lite(e) => e.machines(),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// The review marks of a change, oldest first.
-        pub fn marks(&self, change_id: i64) -> Result<Vec<Mark>> {
-            match &self.engine {
-                Engine::Lite(e) => e.marks(change_id),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The review marks of a change, oldest first.
+    pub fn marks(&self, change_id: i64) -> Result<Vec<Mark>> {
+        match &self.engine {
+            Engine::Lite(e) => e.marks(change_id),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// The changes that match `filter`, newest first, at most `limit`.
-        pub fn search_changes(&self, filter: &ChangeFilter, limit: usize) -> Result<Vec<ChangeRow>> {
-            match &self.engine {
-                Engine::Lite(e) => e.search_changes(filter, limit),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The changes that match `filter`, newest first, at most `limit`.
+    pub fn search_changes(&self, filter: &ChangeFilter, limit: usize) -> Result<Vec<ChangeRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.search_changes(filter, limit),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// The changes of one edited revision, in their order.
-        pub fn change_rows(&self, revision: i64) -> Result<Vec<ChangeRow>> {
-            match &self.engine {
-                Engine::Lite(e) => e.change_rows(revision),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The changes of one edited revision, in their order.
+    pub fn change_rows(&self, revision: i64) -> Result<Vec<ChangeRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.change_rows(revision),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// Changes per ISO week (`YYYY-Www`) per machine, oldest week first, for the last `weeks` weeks with changes.
-        pub fn changes_per_week(&self, weeks: usize) -> Result<Vec<(String, String, i64)>> {
-            match &self.engine {
-                Engine::Lite(e) => e.changes_per_week(weeks),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// Changes per ISO week (`YYYY-Www`) per machine, oldest week first, for the last `weeks` weeks with changes.
+    pub fn changes_per_week(&self, weeks: usize) -> Result<Vec<(String, String, i64)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.changes_per_week(weeks),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// The programs edited most: by revisions with changes.
-        pub fn most_edited(&self, limit: usize) -> Result<Vec<EditedProgram>> {
-            match &self.engine {
-                Engine::Lite(e) => e.most_edited(limit),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The programs edited most: by revisions with changes.
+    pub fn most_edited(&self, limit: usize) -> Result<Vec<EditedProgram>> {
+        match &self.engine {
+            Engine::Lite(e) => e.most_edited(limit),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// How often each change kind occurs, most often first.
-        pub fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
-            match &self.engine {
-                Engine::Lite(e) => e.kind_counts(),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// How often each change kind occurs, most often first.
+    pub fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.kind_counts(),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// The newest revisions whose analysis found errors.
-        pub fn error_revisions(&self, limit: usize) -> Result<Vec<ErrorRevision>> {
-            match &self.engine {
-                Engine::Lite(e) => e.error_revisions(limit),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The newest revisions whose analysis found errors.
+    pub fn error_revisions(&self, limit: usize) -> Result<Vec<ErrorRevision>> {
+        match &self.engine {
+            Engine::Lite(e) => e.error_revisions(limit),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// When the newest revision of each CAM or machine folder was seen: `(folder, when)`.
-        pub fn last_seen_per_folder(&self) -> Result<Vec<(String, String)>> {
-            match &self.engine {
-                Engine::Lite(e) => e.last_seen_per_folder(),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// When the newest revision of each CAM or machine folder was seen: `(folder, when)`.
+    pub fn last_seen_per_folder(&self) -> Result<Vec<(String, String)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.last_seen_per_folder(),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// One machine.
-        pub fn machine(&self, name: &str) -> Result<Option<MachineSummary>> {
-            match &self.engine {
-                Engine::Lite(e) => e.machine(name),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// One machine.
+    pub fn machine(&self, name: &str) -> Result<Option<MachineSummary>> {
+        match &self.engine {
+            Engine::Lite(e) => e.machine(name),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// A machine's programs with their newest revision.
-        pub fn machine_programs(&self, machine: &str) -> Result<Vec<ProgramRow>> {
-            match &self.engine {
-                Engine::Lite(e) => e.machine_programs(machine),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// A machine's programs with their newest revision.
+    pub fn machine_programs(&self, machine: &str) -> Result<Vec<ProgramRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.machine_programs(machine),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// One program.
-        pub fn program(&self, id: i64) -> Result<Option<ProgramInfo>> {
-            match &self.engine {
-                Engine::Lite(e) => e.program(id),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// One program.
+    pub fn program(&self, id: i64) -> Result<Option<ProgramInfo>> {
+        match &self.engine {
+            Engine::Lite(e) => e.program(id),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// The program a revision belongs to.
-        pub fn program_of(&self, revision: i64) -> Result<Option<i64>> {
-            match &self.engine {
-                Engine::Lite(e) => e.program_of(revision),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The program a revision belongs to.
+    pub fn program_of(&self, revision: i64) -> Result<Option<i64>> {
+        match &self.engine {
+            Engine::Lite(e) => e.program_of(revision),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// Every revision of a program, oldest first.
-        pub fn timeline(&self, program: i64) -> Result<Vec<TimelineRow>> {
-            match &self.engine {
-                Engine::Lite(e) => e.timeline(program),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// Every revision of a program, oldest first.
+    pub fn timeline(&self, program: i64) -> Result<Vec<TimelineRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.timeline(program),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// The CAM originals a program's revisions were compared with: `(program id, path, newest revision)`.
-        pub fn originals_of(&self, program: i64) -> Result<Vec<(i64, String, i64)>> {
-            match &self.engine {
-                Engine::Lite(e) => e.originals_of(program),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// The CAM originals a program's revisions were compared with: `(program id, path, newest revision)`.
+    pub fn originals_of(&self, program: i64) -> Result<Vec<(i64, String, i64)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.originals_of(program),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// Adds a review mark to a change: `adopt`, `reject` or `note`. Returns the revision the
-        /// change belongs to, or `None` when there is no such change. Analysis tables are only read.
-        pub fn add_mark(&self, change_id: i64, mark: &str, note: &str, by: &str, at: &str) -> Result<Option<i64>> {
-            match &self.engine {
-                Engine::Lite(e) => e.add_mark(change_id, mark, note, by, at),
-                Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-            }
+    /// Adds a review mark to a change: `adopt`, `reject` or `note`. Returns the revision the
+    /// change belongs to, or `None` when there is no such change. Analysis tables are only read.
+    pub fn add_mark(&self, change_id: i64, mark: &str, note: &str, by: &str, at: &str) -> Result<Option<i64>> {
+        match &self.engine {
+            Engine::Lite(e) => e.add_mark(change_id, mark, note, by, at),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
+    }
 
-        /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
-        /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
-        /// whether rows were left off.
-        pub fn query_limited(&self, sql_text: &str, max_rows: usize, limit: std::time::Duration) -> std::result::Result<Limited, QueryError> {
-            match &self.engine {
-                Engine::Lite(e) => e.query_limited(sql_text, max_rows, limit),
-                Engine::Pg(_) => Err(QueryError::Refused(ON_SQLITE_ONLY.into())),
-            }
+    /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
+    /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
+    /// whether rows were left off.
+    pub fn query_limited(&self, sql_text: &str, max_rows: usize, limit: std::time::Duration) -> std::result::Result<Limited, QueryError> {
+        match &self.engine {
+            Engine::Lite(e) => e.query_limited(sql_text, max_rows, limit),
+            Engine::Pg(_) => Err(QueryError::Refused(ON_SQLITE_ONLY.into())),
         }
+    }
 }

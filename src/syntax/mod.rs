@@ -6,9 +6,11 @@
 
 mod expr;
 mod parser;
+mod records;
 
 pub use expr::{BinOp, Expr, ExprId, Func};
 pub use parser::{Parser, leader};
+pub use records::record_program_name;
 
 use crate::dialect::{Role, Statement};
 use crate::text::TextRange;

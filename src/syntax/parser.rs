@@ -36,13 +36,16 @@ pub struct Parser<'a> {
     pos: usize,
     line: u32,
     dialect: &'a Dialect,
+    /// The record reader's state, where the dialect's programs are records (CLDATA).
+    records: Option<Box<super::records::RecordState>>,
 }
 
 impl<'a> Parser<'a> {
     /// A parser at the start of `text`.
     pub fn new(text: &'a str, dialect: &'a Dialect) -> Parser<'a> {
         let (pos, line) = leader(text, dialect).map_or((0, 1), |(r, line)| (r.end as usize, line));
-        Parser { text, bytes: text.as_bytes(), pos, line, dialect }
+        let records = dialect.records.as_ref().map(|_| Box::default());
+        Parser { text, bytes: text.as_bytes(), pos, line, dialect, records }
     }
 
     /// The byte offset of the next block.
@@ -63,6 +66,9 @@ impl<'a> Parser<'a> {
 
     /// Reads the next block into `block`. Returns false at the end of the text.
     pub fn next_block(&mut self, block: &mut Block, diags: &mut Vec<Diagnostic>) -> bool {
+        if let Some(st) = self.records.as_deref_mut() {
+            return super::records::next_record(st, self.text, &mut self.pos, &mut self.line, self.dialect, block, diags);
+        }
         if self.pos >= self.bytes.len() {
             return false;
         }
@@ -234,10 +240,16 @@ impl Lexer<'_, '_> {
                 }
                 continue;
             }
-            let len = self.char_len(start);
-            let shown = &self.text[start..start + len];
-            self.error(Code::UnknownAddress, start, start + len, format!("unexpected character `{shown}`"));
-            self.i += len;
+            // Digits, signs, points and brackets right after it are the same slip (a value
+            // with no address, `M202(0.0024)`): one finding for the run.
+            let mut end = start + self.char_len(start);
+            while self.text.as_bytes().get(end).is_some_and(|b| b"0123456789.+-()".contains(b)) {
+                end += 1;
+            }
+            let shown = &self.text[start..end];
+            let what = if shown.chars().count() > 1 { "characters" } else { "character" };
+            self.error(Code::UnknownAddress, start, end, format!("unexpected {what} `{shown}`"));
+            self.i = end;
         }
         self.i
     }

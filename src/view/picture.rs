@@ -262,7 +262,7 @@ fn workingstep_paths(
             runs.push(Run { rapid, pts: vec![carry.unwrap_or_else(|| frame.px(m.from))], changed: vec![start_in] });
         }
         samples.clear();
-        geom::sample(m, &mut samples);
+        geom::sample(&m, &mut samples);
         let run = runs.last_mut().expect("a run was pushed");
         for p in &samples {
             run.pts.push(frame.px(*p));

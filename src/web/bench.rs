@@ -192,12 +192,7 @@ pub fn run(dir: &Path, rows: usize, out: &mut impl Write) -> Result<()> {
     let registry = crate::config::dialect_registry(None)?;
     let t = Instant::now();
     let n = build(&dir, &config, &registry)?;
-    writeln!(
-        out,
-        "web: built {} ({n} machine revisions, {MACHINES} machines) in {:.1} s",
-        config.database,
-        t.elapsed().as_secs_f64()
-    )?;
+    writeln!(out, "web: built {} ({n} machine revisions, {MACHINES} machines) in {:.1} s", config.database, t.elapsed().as_secs_f64())?;
     let server = Server::new(config.clone(), registry.clone(), Arc::new(crate::daemon::SystemClock))?;
     let store = server.store()?;
     let ctx = Ctx { user: None, csrf: "bench".into(), auth: false };

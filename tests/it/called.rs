@@ -180,11 +180,12 @@ fn check_takes_the_role_from_as_or_the_file_name() {
     assert!(text.contains("role is given"), "{text}");
 }
 
-/// Every run ends quickly in bounded memory: `check` on runaway loops and on the largest
-/// corpus files under 64 KB runs with its data segment limited to 100 MB (an allocation past
-/// it aborts the process) and ends well within a few seconds even in a debug build.
+/// Every run ends quickly in bounded memory: `check` on runaway loops and on every corpus
+/// file under 64 KB runs with its data segment limited to 100 MB (an allocation past it
+/// aborts the process) and ends well within a few seconds even in a debug build (the 1 s
+/// bound is for a release build; `ncplan bench --corpus` reports the times).
 #[test]
-fn check_stays_within_100_mb_on_runaway_loops_and_the_largest_small_files() {
+fn check_stays_within_100_mb_on_runaway_loops_and_every_small_corpus_file() {
     let mut files: Vec<std::path::PathBuf> =
         ["runaway_while.nc", "runaway_goto.nc"].iter().map(|f| crate::root().join("tests/programs/called").join(f)).collect();
     let corpus = crate::shared().join("corpus");
@@ -197,7 +198,7 @@ fn check_stays_within_100_mb_on_runaway_loops_and_the_largest_small_files() {
             .filter(|(len, _)| *len < 64 * 1024)
             .collect();
         small.sort();
-        files.extend(small.into_iter().rev().take(8).map(|(_, p)| p));
+        files.extend(small.into_iter().rev().map(|(_, p)| p));
     }
     for f in files {
         let started = std::time::Instant::now();

@@ -118,7 +118,10 @@ fn the_dialect_is_told_from_the_text_and_the_file_name() {
             let text = std::fs::read_to_string(crate::root().join("tests/programs/equivalence").join(&name)).unwrap();
             let s = r.sniff(&text, Some(&name), "linuxcnc");
             assert_eq!(s.dialect, want, "{name}: {s:?}");
-            assert!(s.confidence >= Confidence::Medium, "{name}: {s:?}");
+            // A plain ISO program is Fanuc's, but a Haas or a Mitsubishi control would read it
+            // too: the maker is a guess (low); the others are sure.
+            let least = if ext == "nc" { Confidence::Low } else { Confidence::Medium };
+            assert!(s.confidence >= least, "{name}: {s:?}");
             // The text alone is enough for the conversational and Siemens headers.
             if ext != "nc" {
                 let s = r.sniff(&text, None, "linuxcnc");

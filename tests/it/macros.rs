@@ -580,9 +580,9 @@ fn probing_moves_and_their_results() {
         TURN_PROBE_ON()
         STRAIGHT_PROBE(1.0000, 2.0000, -5.0000, 0.0000, 0.0000, 0.0000)
         TURN_PROBE_OFF()
-        STRAIGHT_FEED(1.0000, -4.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_FEED(1.0000, -4.0000, -4.7460, 0.0000, 0.0000, 0.0000)
         TURN_PROBE_ON()
-        STRAIGHT_PROBE(0.0000, -4.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+        STRAIGHT_PROBE(0.0000, -4.0000, -4.7460, 0.0000, 0.0000, 0.0000)
         TURN_PROBE_OFF()
         SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
         SET_FEED_RATE(0.0000)
@@ -592,9 +592,13 @@ fn probing_moves_and_their_results() {
     .assert_eq(&out);
     for (program, code) in [
         ("G38.2 Z-1\nM2\n", "interp::no-feed"),
-        ("F100 G0 Z1\nG38.3 Z1\nM2\n", "interp::bad-value"),
+        ("F100 G0 Z1\nG38.2 Z1\nM2\n", "interp::bad-value"),
         ("F100 G41.1 D1 G1 X1\nG38.2 Z-1\nM2\n", "interp::bad-value"),
     ] {
         assert!(calls(program).1.contains(&code), "{program}: {:?}", calls(program).1);
     }
+    // A quiet probe may have no length, as in rs274 (the tool stays where it is).
+    let (out, codes) = calls("F100 G0 Z1\nG38.3 Z1\nG0 X1\nM2\n");
+    assert!(codes.iter().all(|c| *c == "interp::unsupported"), "{codes:?}");
+    assert!(out.contains("STRAIGHT_PROBE(0.0000, 0.0000, 1.0000") && out.contains("STRAIGHT_TRAVERSE(1.0000, 0.0000, 1.0000"), "{out}");
 }

@@ -3,6 +3,7 @@
 mod arch;
 mod called;
 mod cam_suite;
+mod cldata;
 mod cli;
 mod cycles;
 mod daemon;

@@ -88,13 +88,37 @@ fn lathe_programs_get_a_lathe_dialect_of_their_family() {
 }
 
 /// A program that only shows what a base and its derived dialects share is read in the
-/// base, but not said to be sure: a Haas or a Mitsubishi control would read it too.
+/// base, and said to be a guess (low): a Haas or a Mitsubishi control would read it too.
 #[test]
 fn a_program_any_of_a_family_would_read_is_not_sure_of_the_maker() {
     let r = Registry::shipped();
     let s = r.sniff("%\nO0001\nT1 M6\nG0 G90 G54 X1. Y2.\nG43 H1 Z1.\nG1 Z-1. F10.\nM30\n%\n", Some("p.nc"), "linuxcnc");
     assert_eq!(s.dialect, "fanuc");
-    assert_eq!(s.confidence, Confidence::Medium, "{s:?}");
+    assert_eq!(s.confidence, Confidence::Low, "{s:?}");
+}
+
+/// Evidence against the winner makes the choice a guess: a lathe program's codes beside a
+/// mill's Y words and G17.
+#[test]
+fn a_winner_with_evidence_against_it_is_said_low() {
+    let r = Registry::shipped();
+    let lathe = "%\nO0001\n(HAAS ST-20)\nG50 S3000\nG96 S200 M3\nT0101\nG0 X52. Z2.\nG99 G1 Z-20. F0.2\nU2. W1.\nM30\n%\n";
+    let s = r.sniff(lathe, Some("p.nc"), "linuxcnc");
+    assert_eq!(s.dialect, "haas_lathe");
+    assert_ne!(s.confidence, Confidence::Low, "{s:?}");
+    let mixed = lathe.replacen("G0 X52. Z2.", "G17 G0 X52. Y10. Z2.", 1);
+    let s = r.sniff(&mixed, Some("p.nc"), "linuxcnc");
+    assert_eq!((s.dialect.as_str(), s.confidence), ("haas_lathe", Confidence::Low), "{s:?}");
+}
+
+/// `.ngc` is LinuxCNC's extension, not Mach3's: a LinuxCNC program that only mentions Mach3
+/// in a comment stays LinuxCNC's.
+#[test]
+fn a_mach3_mention_in_an_ngc_program_does_not_make_it_mach3() {
+    let r = Registry::shipped();
+    let text = "( Note: modified for compatibility with Mach3 )\nG21 G90 G64 P0.01\nG0 X1 Y1 Z5\nG1 Z-1 F100\nM2\n";
+    assert_eq!(r.sniff(text, Some("chips.ngc"), "fanuc").dialect, "linuxcnc");
+    assert_eq!(r.sniff(text, Some("chips.tap"), "fanuc").dialect, "mach3");
 }
 
 // ---- §4: dialect gaps ----
@@ -354,4 +378,63 @@ fn nested_comments_are_a_dictionary_option() {
     let d = r.get("sim").unwrap();
     let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+}
+
+/// Haas NGC's #10000+ and Mitsubishi's #900000+ variables are variables of those controls:
+/// written and read back, and, unwritten, set outside the file (unknown, a warning). A
+/// control without them still rejects the number.
+#[test]
+fn haas_and_mitsubishi_high_variables() {
+    let haas = "%\nO0001\n#10001=5.\nG0 G90 G54 X#10001 Y0.\n#10002=[#10001*2]\nG1 Y#10002 F10.\nG1 X#10500\nM30\n%\n";
+    let (_, diags) = run("haas", haas);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(
+        moves("haas", haas),
+        [
+            "STRAIGHT_TRAVERSE(5.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(5.0000, 10.0000, 0.0000, 0.0000, 0.0000, 0.0000)"
+        ]
+    );
+    assert!(has(&diags, "interp::unknown-value", Severity::Warning), "{diags:?}");
+    let mitsubishi = "%\nO0001\n#900001=2.5\nG0 G90 G54 X#900001 Y#907400\nM30\n%\n";
+    let (_, diags) = run("mitsubishi", mitsubishi);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(moves("mitsubishi", mitsubishi), ["STRAIGHT_TRAVERSE(2.5000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"]);
+    let (_, diags) = run("fanuc", mitsubishi);
+    assert!(errors(&diags).iter().any(|e| e.contains("900001 is out of range")), "{diags:?}");
+    let (_, diags) = run("haas", "%\nO0001\n#60000=1.\nM30\n%\n");
+    assert!(errors(&diags).iter().any(|e| e.contains("60000 is out of range")), "{diags:?}");
+}
+
+/// A cell program that jumps back to its first label runs until the operator stops it: a
+/// warning, as a return in a Fanuc main program is. An endless jump to a later label stays
+/// an error.
+#[test]
+fn a_cell_program_looping_to_its_first_label_is_a_warning() {
+    let cell = "N10 G90 G54\nSTART:\nG0 X0 Y0 Z10\nM0\nG0 X50\nGOTOB START\nM30\n";
+    let (_, diags) = run("siemens", cell);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "flow::loop-limit", Severity::Warning), "{diags:?}");
+    let stuck = "N10 G90 G54\nSTART:\nG0 X0 Y0 Z10\nAGAIN:\nG0 X50\nGOTOB AGAIN\nM30\n";
+    let (_, diags) = run("siemens", stuck);
+    assert!(errors(&diags).iter().any(|e| e.starts_with("flow::loop-limit")), "{diags:?}");
+}
+
+/// One cause, one error: a Fanuc program that writes `X4` beside `X3.9` under
+/// least-increment input gets one finding about the decimal point; the arcs that fail
+/// because the tool stands at X0.004 are notes that point at it. Once every axis is
+/// written with a point again, a bad arc is an error of its own.
+#[test]
+fn a_missing_decimal_point_is_one_finding_not_a_cascade_of_arcs() {
+    let program = "%\nO0001\nG21 G90 G54 G17\nT1 M6\nS1000 M3\nG0 X0 Y0\nG43 H1 Z5.\nG1 Z-1. F100.\nG1 X4 Y0\nG2 X3.9 Y0.1 R0.1\nG1 Y4\nG3 X3.8 Y4.1 I-0.1 J0\nG1 X0.5\nG2 X0.4 Y4. R0.1\nG1 X1. Y1.\nG2 X1.5 Y1. I0.1 J0.\nG0 Z5.\nM30\n%\n";
+    let (_, diags) = run("fanuc", program);
+    let decimal: Vec<_> = diags.iter().filter(|d| d.code.as_str() == "interp::no-decimal-point" && d.severity != Severity::Note).collect();
+    assert_eq!(decimal.len(), 1, "{diags:?}");
+    assert!(decimal[0].message.contains("`X4`"), "{decimal:?}");
+    let consequences = diags.iter().filter(|d| d.code.as_str() == "interp::bad-arc" && d.severity == Severity::Note).count();
+    assert_eq!(consequences, 2, "{diags:?}");
+    // The last arc (to X1.5 from X1. about X1.1) is wrong by itself.
+    let errors = errors(&diags);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].starts_with("interp::bad-arc") && !errors[0].contains("follows from"), "{errors:?}");
 }
