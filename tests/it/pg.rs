@@ -500,3 +500,19 @@ fn migrate_copies_a_servers_history_into_the_plant_database_and_resumes() {
     assert_eq!(code, 2);
     assert!(err.contains("name the site"), "{err}");
 }
+
+/// A store on each engine for a store test: SQLite in memory, and PostgreSQL on a cluster of
+/// its own when one can be started (the cluster stops when the engine is dropped).
+pub(crate) struct Engine {
+    pub(crate) store: Store,
+    _cluster: Option<Cluster>,
+}
+
+/// The engines `test` runs on.
+pub(crate) fn engines(test: &str) -> Vec<Engine> {
+    let mut out = vec![Engine { store: Store::open_in_memory().unwrap(), _cluster: None }];
+    if let Some(c) = Cluster::start(&format!("{test} on PostgreSQL")) {
+        out.push(Engine { store: Store::open(&Location::parse(&c.url()), "").unwrap(), _cluster: Some(c) });
+    }
+    out
+}
