@@ -25,6 +25,16 @@ impl Drop for Proc {
     }
 }
 
+/// A process group led by a child: the whole group is ended when dropped.
+struct Group(Proc);
+
+impl Drop for Group {
+    fn drop(&mut self) {
+        let pgid = self.0.0.id();
+        let _ = Command::new("kill").args(["-TERM", "--", &format!("-{pgid}")]).stderr(Stdio::null()).status();
+    }
+}
+
 /// A DNC server in a temporary folder: CAM originals, one machine share, a config.
 struct Site {
     dir: tempfile::TempDir,
@@ -266,8 +276,18 @@ fn the_workspace_in_chromium() {
     site.build();
     let (_serve, base) = serve(&site, &[]);
     let port = free_port();
-    let _driver =
-        Proc(Command::new("chromedriver").arg(format!("--port={port}")).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap());
+    // In a process group of its own, so that the browser it starts goes with it even when
+    // an assertion ends the test before the session is closed.
+    let _driver = Group(Proc({
+        use std::os::unix::process::CommandExt as _;
+        Command::new("chromedriver")
+            .arg(format!("--port={port}"))
+            .process_group(0)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap()
+    }));
     let deadline = Instant::now() + Duration::from_secs(20);
     while TcpStream::connect(("127.0.0.1", port)).is_err() {
         assert!(Instant::now() < deadline, "chromedriver did not start");
