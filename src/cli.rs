@@ -517,10 +517,10 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
         Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web } => {
-            if web {
-                crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;
-            } else if let Some(corpus) = corpus {
+            if let Some(corpus) = corpus {
                 crate::bench::run_corpus(&corpus, &mut LineFlush(&mut out))?;
+            } else if web {
+                crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;
             } else if daemon {
                 crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
             } else {
