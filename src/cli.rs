@@ -237,6 +237,10 @@ enum Command {
         /// 10,000 revisions across 20 machines, and a 1M-move comparison page.
         #[arg(long, conflicts_with = "daemon")]
         web: bool,
+        /// Measure ingest throughput on SQLite and on this PostgreSQL database instead
+        /// (`--files` programs at once); the daemon writes as a site of its own.
+        #[arg(long, value_name = "URL", conflicts_with_all = ["daemon", "web"])]
+        postgres: Option<String>,
     },
     /// Store an existing program folder, or its dated backups, as revisions of a machine's
     /// programs with their file times; resumes after a kill; ends with a summary.
@@ -516,8 +520,10 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
-        Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web } => {
-            if let Some(corpus) = corpus {
+        Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web, postgres } => {
+            if let Some(url) = postgres {
+                crate::bench::run_engines(&dir.join("engines"), &url, files, &mut LineFlush(&mut out))?;
+            } else if let Some(corpus) = corpus {
                 crate::bench::run_corpus(&corpus, &mut LineFlush(&mut out))?;
             } else if web {
                 crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;

@@ -34,6 +34,11 @@ impl std::fmt::Debug for PgTarget {
 }
 
 impl PgTarget {
+    /// The URL as given, to write into a generated configuration (benchmarks); may hold a password.
+    pub fn url_for_config(&self) -> &str {
+        &self.url
+    }
+
     /// The URL with any password in it blanked, for messages and logs.
     pub fn shown(&self) -> String {
         redact(&self.url)
