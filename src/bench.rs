@@ -468,6 +468,27 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
     Ok(())
 }
 
+/// The report queries on a simulated plant of `revisions` revisions in the PostgreSQL
+/// database `url` (made once; the best of three runs of each query).
+pub fn run_simulation(url: &str, revisions: i64, out: &mut impl std::io::Write) -> Result<()> {
+    let db = crate::store::Location::parse(url);
+    let store = crate::store::Store::open(&db, "BENCH")?;
+    let t = Instant::now();
+    let n = store.simulate_plant(revisions)?;
+    writeln!(out, "simulated plant: {n} revisions, 2 changes each, on 100 sites ({:.1} s to make or find)", t.elapsed().as_secs_f64())?;
+    for (name, sql) in crate::store::PLANT_QUERIES {
+        let mut best = Duration::MAX;
+        let mut rows = 0;
+        for _ in 0..3 {
+            let t = Instant::now();
+            rows = store.query(sql)?.1.len();
+            best = best.min(t.elapsed());
+        }
+        writeln!(out, "{name}: {rows} rows in {:.1} ms", best.as_secs_f64() * 1e3)?;
+    }
+    Ok(())
+}
+
 /// Ingest throughput on SQLite and on the PostgreSQL database `url`: `files` small programs
 /// written into a share at once, timed until the daemon has stored them all. On PostgreSQL
 /// the daemon is a site of its own (`BENCH` and the time), so earlier runs do not count.

@@ -241,6 +241,10 @@ enum Command {
         /// (`--files` programs at once); the daemon writes as a site of its own.
         #[arg(long, value_name = "URL", conflicts_with_all = ["daemon", "web"])]
         postgres: Option<String>,
+        /// With --postgres: time the report queries on a simulated plant of this many
+        /// revisions instead (made once in that database).
+        #[arg(long, value_name = "REVISIONS", requires = "postgres")]
+        simulate: Option<i64>,
     },
     /// Store an existing program folder, or its dated backups, as revisions of a machine's
     /// programs with their file times; resumes after a kill; ends with a summary.
@@ -520,8 +524,10 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
-        Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web, postgres } => {
-            if let Some(url) = postgres {
+        Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web, postgres, simulate } => {
+            if let (Some(url), Some(n)) = (&postgres, simulate) {
+                crate::bench::run_simulation(url, n, &mut LineFlush(&mut out))?;
+            } else if let Some(url) = postgres {
                 crate::bench::run_engines(&dir.join("engines"), &url, files, &mut LineFlush(&mut out))?;
             } else if let Some(corpus) = corpus {
                 crate::bench::run_corpus(&corpus, &mut LineFlush(&mut out))?;

@@ -23,7 +23,7 @@ pub use pages::{
     ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow,
     SAVED_QUERIES, TimelineRow,
 };
-pub use pg::CopySummary;
+pub use pg::{CopySummary, PLANT_QUERIES};
 pub use schema::MIGRATIONS;
 
 use crate::diag::DiagnosticJson;
@@ -399,6 +399,15 @@ impl Store {
             )));
         }
         pg.copy_from(&lite, progress)
+    }
+
+    /// Fills a PostgreSQL database with a simulated plant of `revisions` revisions (see
+    /// [`PLANT_QUERIES`]) for `ncplan bench --simulate`; returns how many there are.
+    pub fn simulate_plant(&self, revisions: i64) -> Result<i64> {
+        match &self.engine {
+            Engine::Pg(pg) => pg.simulate_plant(revisions),
+            Engine::Lite(_) => Err(StoreError::Setup("the plant simulation runs on PostgreSQL (--postgres URL)".into())),
+        }
     }
 
     /// Which engine, for messages: `SQLite` or `PostgreSQL`.

@@ -1033,3 +1033,91 @@ impl Pg {
         Ok(summary)
     }
 }
+
+/// The plant-scale queries `ncplan bench --simulate` times, by name.
+pub const PLANT_QUERIES: &[(&str, &str)] = &[
+    (
+        "one machine's changes of a week",
+        "SELECT machine, program, kind, before, after, detected_at FROM shopfloor_changes
+         WHERE site = 'SIM7' AND machine = 'M3' AND detected_at >= '2025-06-01' AND detected_at < '2025-06-08' ORDER BY detected_at DESC",
+    ),
+    (
+        "the plant's newest 50 changes",
+        "SELECT site, machine, program, kind, before, after FROM shopfloor_changes ORDER BY detected_at DESC LIMIT 50",
+    ),
+    (
+        "feed changes per machine of a site",
+        "SELECT machine, COUNT(*) FROM shopfloor_changes WHERE site = 'SIM42' AND kind = 'feed_changed' GROUP BY machine ORDER BY 2 DESC",
+    ),
+    (
+        "every revision of one program with its errors",
+        "SELECT r.id, r.seen_at, (SELECT COUNT(*) FROM diagnostics d WHERE d.revision_id = r.id AND d.severity = 'error')
+         FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site = 'SIM13' AND p.path = '/srv/share/M5/O7.nc' ORDER BY r.id",
+    ),
+];
+
+impl Pg {
+    /// Fills the database with a simulated plant of `revisions` machine revisions (sites
+    /// `SIM1`…`SIM100`, 10 machines each, 20 programs a machine, revisions three minutes
+    /// apart since 2024, two changes and a comparison each), unless it has them already;
+    /// returns how many simulated revisions there are.
+    pub(super) fn simulate_plant(&self, revisions: i64) -> Result<i64> {
+        let c = &self.conn;
+        let have: i64 = c
+            .one(
+                "counting the simulation",
+                "SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site LIKE 'SIM%'",
+                &[],
+            )?
+            .get(0);
+        if have >= revisions {
+            return Ok(have);
+        }
+        if have > 0 {
+            return Err(StoreError::Setup(format!(
+                "the database holds a smaller simulation ({have} revisions); simulate on an empty database"
+            )));
+        }
+        let mut client = c.client.borrow_mut();
+        let mut tx = client.transaction().map_err(sql("starting the simulation"))?;
+        tx.batch_execute(
+            "INSERT INTO machines(site, name, dialect, folder)
+               SELECT 'SIM' || s, 'M' || m, 'fanuc', '/srv/share/M' || m FROM generate_series(1, 100) s, generate_series(1, 10) m;
+             INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect)
+               SELECT m.site, '/srv/share/' || m.name || '/O' || p || '.nc', 'machine', m.id, 'O' || p, 'O' || p, 'O' || p, 'fanuc'
+               FROM machines m, generate_series(1, 20) p WHERE m.site LIKE 'SIM%';
+             INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect)
+               SELECT 'SIM' || s, '/srv/cam/O' || p || '.nc', 'cam', NULL, 'O' || p, 'O' || p, 'O' || p, 'fanuc'
+               FROM generate_series(1, 100) s, generate_series(1, 20) p;",
+        )
+        .map_err(sql("simulating programs"))?;
+        tx.execute(
+            "INSERT INTO blobs(hash, size, content) SELECT 'sim' || g, 12, convert_to('G1 X' || g, 'UTF8') FROM generate_series(1, $1::bigint) g",
+            &[&revisions],
+        )
+        .map_err(sql("simulating blobs"))?;
+        tx.execute(
+            "WITH mp AS (SELECT id, name, row_number() OVER (ORDER BY id) - 1 AS k FROM programs WHERE role = 'machine' AND site LIKE 'SIM%')
+             INSERT INTO revisions(program_id, hash, size, seen_at, encoding, status, name)
+             SELECT mp.id, 'sim' || g, 12,
+                    to_char(timestamp '2024-01-01' + g * interval '3 minutes', 'YYYY-MM-DD\"T\"HH24:MI:SS.MS\"Z\"'), 'utf-8', 'analysed', mp.name
+             FROM generate_series(1, $1::bigint) g JOIN mp ON mp.k = g % (SELECT COUNT(*) FROM mp)",
+            &[&revisions],
+        )
+        .map_err(sql("simulating revisions"))?;
+        tx.batch_execute(
+            "INSERT INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule)
+               SELECT r.id, r.id, r.seen_at, 2, 'file-name' FROM revisions r WHERE r.hash LIKE 'sim%';
+             INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at)
+               SELECT r.id, r.id, 1, 'plane finish milling', k.kind, k.field, k.before, (250 + r.id % 50)::text, 7, r.seen_at
+               FROM revisions r, (VALUES ('feed_changed', 'feed', '250'), ('spindle_speed_changed', 'spindle_speed', '1800')) k(kind, field, before)
+               WHERE r.hash LIKE 'sim%';
+             INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message)
+               SELECT r.id, 'interp::unknown-code', 'error', 3, 1, 10, 14, 'simulated' FROM revisions r WHERE r.hash LIKE 'sim%' AND r.id % 10 = 0;",
+        )
+        .map_err(sql("simulating comparisons"))?;
+        tx.commit().map_err(sql("committing the simulation"))?;
+        client.batch_execute("ANALYZE").map_err(sql("analysing the simulation"))?;
+        Ok(revisions)
+    }
+}
