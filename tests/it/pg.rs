@@ -335,6 +335,16 @@ fn credentials_come_from_a_private_file_and_are_never_shown() {
     let (code, _, err) = server.ncplan(&["query", "--db", &dead, "SELECT 1"]);
     assert_eq!(code, 2);
     assert!(!err.contains("hunter2") && err.contains("PostgreSQL"), "{err}");
+    // sslmode is honoured: this test server offers no TLS, which `require` refuses and `prefer` accepts.
+    let with_mode = |mode: &str| pg.url().replace("sslmode=disable", &format!("sslmode={mode}"));
+    let (code, _, err) = server.ncplan(&["query", "--db", &with_mode("require"), "SELECT 1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("server does not support TLS"), "{err}");
+    let (code, out, err) = server.ncplan(&["query", "--db", &with_mode("prefer"), "SELECT 1 AS one"]);
+    assert_eq!((code, out.as_str()), (0, "one\n1\n"), "{err}");
+    let (code, _, err) = server.ncplan(&["query", "--db", &with_mode("bogus"), "SELECT 1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("sslmode `bogus` is not one of"), "{err}");
     // A PostgreSQL database needs the site named.
     std::fs::write(server.path("ncplan.toml"), config.replace("site = 'HALL1'\n", "")).unwrap();
     let (code, _, err) = server.ncplan(&["watch", "--config", server.path("ncplan.toml").to_str().unwrap()]);
