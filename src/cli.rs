@@ -12,7 +12,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::canon::{CallWriter, Canon, CanonSink};
 use crate::config::{self, Config};
@@ -70,6 +70,23 @@ struct StoreArgs {
     /// the built-in demo configuration.
     #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct WorkArgs {
+    /// The database (a SQLite file or a postgresql:// URL); by default the configuration's.
+    #[arg(long, value_name = "FILE|URL")]
+    db: Option<String>,
+    /// Configuration (dialects, folders, tool table); without it, the built-in demo's.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Connections working at once; by default one per core.
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Seconds a claimed batch stays this worker's; after that a killed worker's batch
+    /// returns to the queue.
+    #[arg(long, default_value_t = 300)]
+    lease: u64,
 }
 
 #[derive(Debug, Subcommand)]
@@ -264,6 +281,25 @@ enum Command {
         /// Files analysed at once; by default one per core.
         #[arg(long)]
         jobs: Option<usize>,
+    },
+    /// Read every stored revision again with today's dictionary and engine: new plans,
+    /// findings and comparisons, the old ones kept with their analysis version. Queues the
+    /// revisions and works them with all cores; resumes after a kill; ends with a summary.
+    Reanalyze {
+        /// Only revisions seen on or after this date (or RFC 3339 time).
+        #[arg(long)]
+        since: Option<String>,
+        /// Only programs read in this dialect.
+        #[arg(long)]
+        dialect: Option<String>,
+        #[command(flatten)]
+        work: WorkArgs,
+    },
+    /// Work the re-analysis queue `ncplan reanalyze` filled (on PostgreSQL, from any host):
+    /// claim batches, read them again, until the queue is empty.
+    Worker {
+        #[command(flatten)]
+        work: WorkArgs,
     },
     /// Copy a server's SQLite history into the plant's PostgreSQL database as its site's;
     /// run again after a stop, it goes on where it was.
@@ -818,6 +854,8 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if summary.errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
         }
+        Command::Reanalyze { since, dialect, work } => reanalyze(&mut out, &work, Some((since.as_deref(), dialect.as_deref()))),
+        Command::Worker { work } => reanalyze(&mut out, &work, None),
         Command::Migrate { from, to, site, config } => {
             let site = match (site, &config) {
                 (Some(s), _) => s,
@@ -880,6 +918,57 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             Ok(if bad { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
     }
+}
+
+/// `reanalyze` (queueing what `filter` selects) and `worker`.
+fn reanalyze(out: &mut impl Write, work: &WorkArgs, filter: Option<(Option<&str>, Option<&str>)>) -> Result<ExitCode> {
+    let config = load_config(work.config.as_deref())?;
+    let registry = registry_for(Some(&config))?;
+    let db = work.db.as_deref().map_or_else(|| config.database.clone(), Location::parse);
+    if !db.exists() {
+        bail!("no database at {db} (has `ncplan watch` run?)");
+    }
+    let jobs = work.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)).max(1);
+    let mut stores = Vec::with_capacity(jobs);
+    for _ in 0..jobs {
+        let mut s = Store::open(&db, &config.site).with_context(|| format!("cannot open the database {db}"))?;
+        s.set_busy_timeout(Duration::from_secs(600))?;
+        stores.push(s);
+    }
+    let version = crate::reanalyze::version(&config)?;
+    let queued = match filter {
+        Some((since, dialect)) => stores[0].queue_reanalysis(&version, since, dialect)?,
+        None => stores[0].reanalysis_left(&version)?,
+    };
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_owned()).unwrap_or_else(|_| "host".into());
+    let worker = format!("{host}:{}", std::process::id());
+    let bar = indicatif::ProgressBar::new(queued as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} revisions, {per_sec}, {eta} left")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let progress = |done: usize, left: usize| {
+        bar.set_length((done + left) as u64);
+        bar.set_position(done as u64);
+    };
+    let summary = crate::reanalyze::work(&config, &registry, stores, &version, &worker, Duration::from_secs(work.lease), &progress)?;
+    bar.finish_and_clear();
+    writeln!(
+        out,
+        "analysis {version}: {} revisions read again, {} plans changed, {} new findings, {} vanished; {} comparisons made again; {} done by another worker; {} errors",
+        summary.reread,
+        summary.plans_changed,
+        summary.new_findings,
+        summary.vanished_findings,
+        summary.compared,
+        summary.skipped,
+        summary.errors.len()
+    )?;
+    for (id, why) in &summary.errors {
+        writeln!(out, "  revision {id}: {why}")?;
+    }
+    out.flush()?;
+    Ok(if summary.errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 fn db_path(args: &StoreArgs) -> Result<Location> {

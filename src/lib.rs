@@ -21,6 +21,7 @@ pub mod pairing;
 pub mod part21;
 pub mod pipeline;
 pub mod plan;
+pub mod reanalyze;
 pub mod store;
 pub mod syntax;
 pub mod text;

@@ -307,6 +307,36 @@ fn split_statement_blank(s: &str) -> bool {
     }
 }
 
+/// A re-analysis to record ([`Txn::record_analysis`]).
+#[derive(Debug)]
+pub struct NewAnalysis<'a> {
+    /// The revision.
+    pub revision: i64,
+    /// The analysis version (ncplan's and the dictionary's).
+    pub version: &'a str,
+    /// Who did it (host and process).
+    pub worker: &'a str,
+    /// When (RFC 3339).
+    pub at: &'a str,
+    /// The new plan summary JSON.
+    pub plan_json: &'a str,
+    /// Workingsteps and tools.
+    pub counts: (usize, usize),
+    /// The new findings.
+    pub diagnostics: &'a [DiagnosticJson],
+}
+
+/// What a re-analysis changed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Reanalysed {
+    /// Whether the plan differs from the one it replaced.
+    pub plan_changed: bool,
+    /// Findings (code and message) the old analysis did not have.
+    pub new_findings: usize,
+    /// Findings of the old analysis this one does not have.
+    pub vanished_findings: usize,
+}
+
 /// An open database, on either engine.
 pub struct Store {
     engine: Engine,
@@ -408,6 +438,24 @@ impl Store {
             Engine::Pg(pg) => pg.simulate_plant(revisions),
             Engine::Lite(_) => Err(StoreError::Setup("the plant simulation runs on PostgreSQL (--postgres URL)".into())),
         }
+    }
+
+    /// Queues every analysed revision (seen since `since`, of `dialect`) that has no analysis
+    /// of `version` yet; returns how many are queued for it now.
+    pub fn queue_reanalysis(&self, version: &str, since: Option<&str>, dialect: Option<&str>) -> Result<usize> {
+        on!(self, e => e.queue_reanalysis(version, since, dialect))
+    }
+
+    /// Claims up to `n` queued revisions of `version` for `worker` until `lease_until`: those
+    /// no one holds, or whose lease ran out before `now` (its worker died). On PostgreSQL
+    /// concurrent workers skip each other's rows (`FOR UPDATE SKIP LOCKED`).
+    pub fn claim_reanalysis(&self, version: &str, worker: &str, n: usize, now: &str, lease_until: &str) -> Result<Vec<i64>> {
+        on!(self, e => e.claim_reanalysis(version, worker, n, now, lease_until))
+    }
+
+    /// Revisions of `version` still queued.
+    pub fn reanalysis_left(&self, version: &str) -> Result<usize> {
+        on!(self, e => e.reanalysis_left(version))
     }
 
     /// Which engine, for messages: `SQLite` or `PostgreSQL`.
@@ -579,6 +627,19 @@ impl Txn<'_> {
     /// earlier one of the same revision.
     pub fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
         on_tx!(self, e => e.record_comparison(revision, original, rule, changes, at))
+    }
+
+    /// The original `revision` was compared with, and the rule that paired them.
+    pub fn comparison_of(&self, revision: i64) -> Result<Option<(i64, String)>> {
+        on_tx!(self, e => e.comparison_of(revision))
+    }
+
+    /// Records a re-analysis of a revision: its new plan and findings replace the current
+    /// ones, which are kept in `analyses` with the version that made them, and its queue entry
+    /// goes. `None` when this version's analysis of the revision is recorded already (by
+    /// another worker): each revision is analysed once per version.
+    pub fn record_analysis(&self, a: &NewAnalysis<'_>) -> Result<Option<Reanalysed>> {
+        on_tx!(self, e => e.record_analysis(a))
     }
 }
 

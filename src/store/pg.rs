@@ -1121,3 +1121,113 @@ impl Pg {
         Ok(revisions)
     }
 }
+
+impl Pg {
+    pub(super) fn queue_reanalysis(&self, version: &str, since: Option<&str>, dialect: Option<&str>) -> Result<usize> {
+        self.conn.exec(
+            "queueing revisions",
+            "INSERT INTO reanalysis_queue(revision_id, version)
+             SELECT r.id, $1 FROM revisions r JOIN programs p ON p.id = r.program_id
+             WHERE r.status = 'analysed' AND ($2::text IS NULL OR r.seen_at::timestamptz >= $2::text::timestamptz)
+               AND ($3::text IS NULL OR p.dialect = $3)
+               AND NOT EXISTS (SELECT 1 FROM analyses a WHERE a.revision_id = r.id AND a.version = $1)
+             ON CONFLICT DO NOTHING",
+            &[&version, &since, &dialect],
+        )?;
+        self.reanalysis_left(version)
+    }
+
+    pub(super) fn claim_reanalysis(&self, version: &str, worker: &str, n: usize, now: &str, lease_until: &str) -> Result<Vec<i64>> {
+        let rows = self.conn.rows(
+            "claiming revisions",
+            "UPDATE reanalysis_queue q SET worker = $1, lease_until = $2
+             FROM (SELECT revision_id FROM reanalysis_queue WHERE version = $3 AND (lease_until IS NULL OR lease_until < $4)
+                   ORDER BY revision_id LIMIT $5 FOR UPDATE SKIP LOCKED) c
+             WHERE q.revision_id = c.revision_id AND q.version = $3
+             RETURNING q.revision_id",
+            &[&worker, &lease_until, &version, &now, &(n as i64)],
+        )?;
+        let mut ids: Vec<i64> = rows.iter().map(|r| r.get(0)).collect();
+        ids.sort_unstable();
+        Ok(ids)
+    }
+
+    pub(super) fn reanalysis_left(&self, version: &str) -> Result<usize> {
+        let row = self.conn.one("counting the queue", "SELECT COUNT(*) FROM reanalysis_queue WHERE version = $1", &[&version])?;
+        Ok(row.get::<_, i64>(0) as usize)
+    }
+}
+
+impl PgTxn<'_> {
+    pub(super) fn comparison_of(&self, revision: i64) -> Result<Option<(i64, String)>> {
+        let row = self.conn.opt(
+            "reading a comparison",
+            "SELECT original_revision_id, COALESCE(rule, '') FROM comparisons WHERE revision_id = $1",
+            &[&revision],
+        )?;
+        Ok(row.map(|r| (r.get(0), r.get(1))))
+    }
+
+    pub(super) fn record_analysis(&self, a: &NewAnalysis<'_>) -> Result<Option<Reanalysed>> {
+        let c = self.conn;
+        // The queue entry's row lock: a worker whose lease ran out and one that took it over meet here.
+        c.exec(
+            "locking a queue entry",
+            "SELECT 1 FROM reanalysis_queue WHERE revision_id = $1 AND version = $2 FOR UPDATE",
+            &[&a.revision, &a.version],
+        )?;
+        let old = c
+            .opt("reading a plan", "SELECT plan_json, analysis FROM plans WHERE revision_id = $1", &[&a.revision])?
+            .map(|r| (r.get::<_, String>(0), r.get::<_, String>(1)));
+        let found: Vec<StoredFinding> = c
+            .rows(
+                "reading findings",
+                "SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = $1 ORDER BY byte_start, id",
+                &[&a.revision],
+            )?
+            .iter()
+            .map(|r| StoredFinding { severity: r.get(0), code: r.get(1), line: r.get(2), col: r.get(3), message: r.get(4) })
+            .collect();
+        let (old_json, old_set) = super::sqlite::findings_record(&found);
+        let outcome = super::sqlite::reanalysed(old.as_ref().map(|o| o.0.as_str()), &old_set, a);
+        let inserted = c.exec(
+            "recording an analysis",
+            "INSERT INTO analyses(revision_id, version, analysed_at, worker, previous, previous_plan, previous_findings,
+                                  plan_changed, new_findings, vanished_findings)
+             VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10) ON CONFLICT DO NOTHING",
+            &[
+                &a.revision,
+                &a.version,
+                &a.at,
+                &a.worker,
+                &old.as_ref().map_or("", |o| o.1.as_str()),
+                &old.as_ref().map(|o| o.0.as_str()),
+                &old_json,
+                &i64::from(outcome.plan_changed),
+                &(outcome.new_findings as i64),
+                &(outcome.vanished_findings as i64),
+            ],
+        )?;
+        if inserted == 0 {
+            return Ok(None);
+        }
+        c.exec("replacing an analysis", "DELETE FROM workingsteps WHERE revision_id = $1", &[&a.revision])?;
+        c.exec("replacing an analysis", "DELETE FROM features WHERE revision_id = $1", &[&a.revision])?;
+        c.exec("replacing an analysis", "DELETE FROM plans WHERE revision_id = $1", &[&a.revision])?;
+        c.exec("replacing an analysis", "DELETE FROM diagnostics WHERE revision_id = $1", &[&a.revision])?;
+        c.exec(
+            "storing a plan",
+            "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete, analysis) VALUES ($1, $2, $3, $4, 0, $5)",
+            &[&a.revision, &a.plan_json, &(a.counts.0 as i64), &(a.counts.1 as i64), &a.version],
+        )?;
+        c.exec("storing workingsteps", pg_schema::FILL_WORKINGSTEPS, &[&a.revision])?;
+        c.exec("storing features", pg_schema::FILL_FEATURES, &[&a.revision])?;
+        self.insert_findings(a.revision, a.diagnostics)?;
+        c.exec(
+            "closing a queue entry",
+            "DELETE FROM reanalysis_queue WHERE revision_id = $1 AND version = $2",
+            &[&a.revision, &a.version],
+        )?;
+        Ok(Some(outcome))
+    }
+}

@@ -311,6 +311,33 @@ JOIN revisions orv ON orv.id = c.original_revision_id
 JOIN programs op   ON op.id = orv.program_id
 WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial');
 "#,
+    // 6: re-analysis of the archive (`ncplan reanalyze`, `ncplan worker`): each revision's
+    // plan says which analysis version made it ('' for the one at ingest); `analyses` records
+    // each re-analysis once per version, with the plan and findings it replaced; the queue
+    // holds what is left, with the lease of the worker that claimed it.
+    r#"
+CREATE TABLE analyses (
+    revision_id       BIGINT NOT NULL REFERENCES revisions(id),
+    version           TEXT NOT NULL,
+    analysed_at       TEXT NOT NULL,
+    worker            TEXT NOT NULL,
+    previous          TEXT NOT NULL,
+    previous_plan     TEXT,
+    previous_findings TEXT NOT NULL,
+    plan_changed      BIGINT NOT NULL,
+    new_findings      BIGINT NOT NULL,
+    vanished_findings BIGINT NOT NULL,
+    PRIMARY KEY (revision_id, version)
+);
+CREATE TABLE reanalysis_queue (
+    revision_id BIGINT NOT NULL REFERENCES revisions(id),
+    version     TEXT NOT NULL,
+    worker      TEXT,
+    lease_until TEXT,
+    PRIMARY KEY (revision_id, version)
+);
+ALTER TABLE plans ADD COLUMN analysis TEXT NOT NULL DEFAULT '';
+"#,
 ];
 
 #[cfg(test)]

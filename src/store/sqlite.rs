@@ -716,3 +716,130 @@ pub(super) fn changes_of(conn: &Connection, revision: i64) -> Result<Vec<ChangeR
         .map_err(sql("reading changes"))?;
     rows.collect::<std::result::Result<_, _>>().map_err(sql("reading changes"))
 }
+
+/// Findings as the re-analysis keeps and compares them: JSON of (severity, code, line, col,
+/// message), and the set of (code, message).
+pub(super) fn findings_record(found: &[StoredFinding]) -> (String, std::collections::BTreeSet<(String, String)>) {
+    let rows: Vec<(&str, &str, i64, i64, &str)> =
+        found.iter().map(|f| (f.severity.as_str(), f.code.as_str(), f.line, f.col, f.message.as_str())).collect();
+    (serde_json::to_string(&rows).unwrap_or_default(), found.iter().map(|f| (f.code.clone(), f.message.clone())).collect())
+}
+
+/// What a re-analysis changed, from the old and new plan and findings.
+pub(super) fn reanalysed(old_plan: Option<&str>, old: &std::collections::BTreeSet<(String, String)>, a: &NewAnalysis<'_>) -> Reanalysed {
+    let new: std::collections::BTreeSet<(String, String)> = a.diagnostics.iter().map(|d| (d.code.to_owned(), d.message.clone())).collect();
+    Reanalysed {
+        plan_changed: old_plan != Some(a.plan_json),
+        new_findings: new.difference(old).count(),
+        vanished_findings: old.difference(&new).count(),
+    }
+}
+
+impl Lite {
+    pub(super) fn queue_reanalysis(&self, version: &str, since: Option<&str>, dialect: Option<&str>) -> Result<usize> {
+        self.conn
+            .execute(
+                "INSERT OR IGNORE INTO reanalysis_queue(revision_id, version)
+                 SELECT r.id, ?1 FROM revisions r JOIN programs p ON p.id = r.program_id
+                 WHERE r.status = 'analysed' AND (?2 IS NULL OR julianday(r.seen_at) >= julianday(?2)) AND (?3 IS NULL OR p.dialect = ?3)
+                   AND NOT EXISTS (SELECT 1 FROM analyses a WHERE a.revision_id = r.id AND a.version = ?1)
+                 ORDER BY r.id",
+                params![version, since, dialect],
+            )
+            .map_err(sql("queueing revisions"))?;
+        self.reanalysis_left(version)
+    }
+
+    pub(super) fn claim_reanalysis(&self, version: &str, worker: &str, n: usize, now: &str, lease_until: &str) -> Result<Vec<i64>> {
+        let mut stmt = self
+            .conn
+            .prepare_cached(
+                "UPDATE reanalysis_queue SET worker = ?1, lease_until = ?2
+                 WHERE rowid IN (SELECT rowid FROM reanalysis_queue WHERE version = ?3 AND (lease_until IS NULL OR lease_until < ?4)
+                                 ORDER BY revision_id LIMIT ?5)
+                 RETURNING revision_id",
+            )
+            .map_err(sql("preparing a query"))?;
+        let rows = stmt.query_map(params![worker, lease_until, version, now, n as i64], |r| r.get(0)).map_err(sql("claiming revisions"))?;
+        let mut ids: Vec<i64> = rows.collect::<std::result::Result<_, _>>().map_err(sql("claiming revisions"))?;
+        ids.sort_unstable();
+        Ok(ids)
+    }
+
+    pub(super) fn reanalysis_left(&self, version: &str) -> Result<usize> {
+        self.conn
+            .query_row("SELECT COUNT(*) FROM reanalysis_queue WHERE version = ?1", [version], |r| r.get::<_, i64>(0))
+            .map(|n| n as usize)
+            .map_err(sql("counting the queue"))
+    }
+}
+
+impl LiteTxn<'_> {
+    pub(super) fn comparison_of(&self, revision: i64) -> Result<Option<(i64, String)>> {
+        self.tx
+            .query_row("SELECT original_revision_id, COALESCE(rule, '') FROM comparisons WHERE revision_id = ?1", [revision], |r| {
+                Ok((r.get(0)?, r.get(1)?))
+            })
+            .optional()
+            .map_err(sql("reading a comparison"))
+    }
+
+    pub(super) fn record_analysis(&self, a: &NewAnalysis<'_>) -> Result<Option<Reanalysed>> {
+        let tx = &self.tx;
+        let old: Option<(String, String)> = tx
+            .query_row("SELECT plan_json, analysis FROM plans WHERE revision_id = ?1", [a.revision], |r| Ok((r.get(0)?, r.get(1)?)))
+            .optional()
+            .map_err(sql("reading a plan"))?;
+        let found = {
+            let mut stmt = tx
+                .prepare_cached("SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = ?1 ORDER BY byte_start, id")
+                .map_err(sql("preparing a query"))?;
+            let rows = stmt
+                .query_map([a.revision], |r| {
+                    Ok(StoredFinding { severity: r.get(0)?, code: r.get(1)?, line: r.get(2)?, col: r.get(3)?, message: r.get(4)? })
+                })
+                .map_err(sql("reading findings"))?;
+            rows.collect::<std::result::Result<Vec<_>, _>>().map_err(sql("reading findings"))?
+        };
+        let (old_json, old_set) = findings_record(&found);
+        let outcome = reanalysed(old.as_ref().map(|o| o.0.as_str()), &old_set, a);
+        let inserted = tx
+            .execute(
+                "INSERT OR IGNORE INTO analyses(revision_id, version, analysed_at, worker, previous, previous_plan, previous_findings,
+                                               plan_changed, new_findings, vanished_findings)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+                params![
+                    a.revision,
+                    a.version,
+                    a.at,
+                    a.worker,
+                    old.as_ref().map_or("", |o| o.1.as_str()),
+                    old.as_ref().map(|o| o.0.as_str()),
+                    old_json,
+                    outcome.plan_changed,
+                    outcome.new_findings as i64,
+                    outcome.vanished_findings as i64
+                ],
+            )
+            .map_err(sql("recording an analysis"))?;
+        if inserted == 0 {
+            return Ok(None);
+        }
+        for table in ["workingsteps", "features", "plans", "diagnostics"] {
+            tx.execute(&format!("DELETE FROM {table} WHERE revision_id = ?1"), [a.revision]).map_err(sql("replacing an analysis"))?;
+        }
+        tx.execute(
+            "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete, analysis) VALUES (?1, ?2, ?3, ?4, 0, ?5)",
+            params![a.revision, a.plan_json, a.counts.0 as i64, a.counts.1 as i64, a.version],
+        )
+        .map_err(sql("storing a plan"))?;
+        tx.execute(schema::FILL_WORKINGSTEPS, params![a.revision]).map_err(sql("storing workingsteps"))?;
+        tx.execute(schema::FILL_FEATURES, params![a.revision]).map_err(sql("storing features"))?;
+        for d in a.diagnostics {
+            self.insert_finding(a.revision, d)?;
+        }
+        tx.execute("DELETE FROM reanalysis_queue WHERE revision_id = ?1 AND version = ?2", params![a.revision, a.version])
+            .map_err(sql("closing a queue entry"))?;
+        Ok(Some(outcome))
+    }
+}

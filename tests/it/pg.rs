@@ -526,3 +526,99 @@ pub(crate) fn engines(test: &str) -> Vec<Engine> {
     }
     out
 }
+
+/// A longer program, so that reading it again takes a moment: `rows` passes at `feed`.
+fn long_program(number: u32, feed: u32, rows: u32) -> String {
+    let mut p = format!("%\nO{number} (SURFACE)\nG21 G90 G17\nT1 M6\nS2000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F{feed}\n");
+    for r in 0..rows {
+        p.push_str(&format!("X100 Y{}\nX0 Y{}\n", r * 2, r * 2 + 1));
+    }
+    p.push_str("G0 Z50\nM30\n%\n");
+    p
+}
+
+#[test]
+fn three_workers_one_killed_mid_batch_read_every_revision_again_exactly_once() {
+    let Some(pg) = Cluster::start("pg::three_workers_one_killed_mid_batch_read_every_revision_again_exactly_once") else { return };
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    const PROGRAMS: u32 = 24;
+    let daemon = server.start();
+    for n in 0..PROGRAMS {
+        server.put(&format!("cam/O{}.nc", 200 + n), &long_program(200 + n, 250, 400));
+        server.put(&format!("share/O{}.nc", 200 + n), &long_program(200 + n, 300, 400));
+    }
+    wait_until("every edit is compared", Duration::from_secs(120), || pg.count("SELECT COUNT(*) FROM comparisons") == i64::from(PROGRAMS));
+    daemon.kill();
+    let config = server.path("ncplan.toml");
+    let args = |cmd: &str| -> Vec<String> {
+        [cmd, "--config", config.to_str().unwrap(), "--jobs", "1", "--lease", "3"].iter().map(|s| (*s).to_owned()).collect()
+    };
+    let spawn = |a: Vec<String>| Command::new(crate::bin()).args(a).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    // The first queues everything and starts; two workers join; the first dies holding a batch.
+    let mut first = spawn(args("reanalyze"));
+    wait_until("the archive is queued", Duration::from_secs(30), || pg.count("SELECT COUNT(*) FROM reanalysis_queue") > 0);
+    let second = spawn(args("worker"));
+    let third = spawn(args("worker"));
+    let holder = format!("%:{}/%", first.id());
+    wait_until("the first worker holds a batch", Duration::from_secs(30), || {
+        pg.count(&format!("SELECT COUNT(*) FROM reanalysis_queue WHERE worker LIKE '{holder}'")) > 0
+    });
+    first.kill().unwrap();
+    first.wait().unwrap();
+    let held = pg.count(&format!("SELECT COUNT(*) FROM reanalysis_queue WHERE worker LIKE '{holder}'"));
+    assert!(held > 0, "the killed worker held a batch");
+    let (a, b) = (second.wait_with_output().unwrap(), third.wait_with_output().unwrap());
+    for o in [&a, &b] {
+        assert!(o.status.success(), "{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    }
+    let revisions = i64::from(2 * PROGRAMS);
+    // Every revision once for this version, the killed worker's batch taken over after its lease.
+    assert_eq!(pg.count("SELECT COUNT(*) FROM reanalysis_queue"), 0);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM analyses"), revisions);
+    assert_eq!(pg.count("SELECT COUNT(DISTINCT version) FROM analyses"), 1);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM plans WHERE analysis <> ''"), revisions);
+    let by_others = pg.count(&format!("SELECT COUNT(*) FROM analyses WHERE worker NOT LIKE '{holder}'"));
+    assert!(by_others >= held, "{by_others} read by the survivors, {held} held by the killed one");
+    let read: usize = [&a, &b]
+        .iter()
+        .map(|o| {
+            let out = String::from_utf8_lossy(&o.stdout).into_owned();
+            out.split(": ")
+                .nth(1)
+                .and_then(|t| t.split_whitespace().next())
+                .and_then(|n| n.parse::<usize>().ok())
+                .unwrap_or_else(|| panic!("{out}"))
+        })
+        .sum();
+    assert_eq!(read as i64, by_others);
+    // The old results are kept, with the version that made them (the ingest's: ''); the
+    // comparisons were made again and still find the feed change.
+    assert_eq!(pg.count("SELECT COUNT(*) FROM analyses WHERE previous = '' AND previous_plan IS NOT NULL"), revisions);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM changes WHERE kind = 'feed_changed'"), i64::from(PROGRAMS));
+    // Nothing changed in the dictionary: same plans, no new or vanished findings.
+    assert_eq!(pg.count("SELECT COUNT(*) FROM analyses WHERE plan_changed = 1 OR new_findings > 0 OR vanished_findings > 0"), 0);
+    // Again: nothing is left to read for this version.
+    let (code, out, err) = server.ncplan(&args("reanalyze").iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": 0 revisions read again"), "{out}");
+}
+
+#[test]
+fn reanalyze_on_sqlite_reads_every_revision_again_once_and_keeps_the_old_results() {
+    let server = Server::new(None, "path = 'var/ncplan.db'");
+    let db = server.path("var/ncplan.db");
+    let daemon = server.start();
+    server.put("cam/O1.nc", &program(1, 250, 1800));
+    server.put("share/O1.nc", &program(1, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]);
+    daemon.kill();
+    let config = server.path("ncplan.toml");
+    let (code, out, err) = server.ncplan(&["reanalyze", "--config", config.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": 2 revisions read again, 0 plans changed, 0 new findings, 0 vanished; 1 comparisons made again"), "{out}");
+    assert_eq!(crate::db_rows(&db, "SELECT COUNT(*), COUNT(previous_plan) FROM analyses"), [["2", "2"]]);
+    assert_eq!(crate::db_rows(&db, "SELECT kind FROM shopfloor_changes ORDER BY change_id"), [["feed_changed"], ["spindle_speed_changed"]]);
+    let (code, out, _) = server.ncplan(&["reanalyze", "--config", config.to_str().unwrap(), "--since", "2000-01-01"]);
+    assert_eq!(code, 0);
+    assert!(out.contains(": 0 revisions read again"), "{out}");
+}
