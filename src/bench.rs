@@ -522,6 +522,24 @@ pub fn run_engines(dir: &Path, url: &str, files: usize, out: &mut impl std::io::
         rates.push(files as f64 / secs);
     }
     writeln!(out, "PostgreSQL ingest takes {:.2}× SQLite's time (the issue asks for at most 2×)", rates[0] / rates[1])?;
+    // Re-analysis of what was stored, by 1, 2 and 4 workers (each a version of its own).
+    let config = crate::config::Config::parse(&std::fs::read_to_string(dir.join("postgresql/ncplan.toml"))?, &dir.join("postgresql"))?;
+    let registry = crate::dialect::Registry::shipped();
+    let db = crate::store::Location::parse(url);
+    for workers in [1, 2, 4] {
+        let stores = (0..workers).map(|_| crate::store::Store::open(&db, &site)).collect::<std::result::Result<Vec<_>, _>>()?;
+        let version = format!("bench-{stamp}-{workers}");
+        let queued = stores[0].queue_reanalysis(&version, None, None)?;
+        let t = Instant::now();
+        let summary = crate::reanalyze::work(&config, &registry, stores, &version, "bench", Duration::from_secs(300), &|_, _| {})?;
+        let secs = t.elapsed().as_secs_f64();
+        writeln!(
+            out,
+            "re-analysis on PostgreSQL, {workers} worker(s): {} of {queued} queued revisions in {secs:.2} s ({:.0} revisions/s)",
+            summary.reread,
+            summary.reread as f64 / secs
+        )?;
+    }
     Ok(())
 }
 
