@@ -660,7 +660,7 @@ impl Store {
     pub fn marks(&self, change_id: i64) -> Result<Vec<Mark>> {
         match &self.engine {
             Engine::Lite(e) => e.marks(change_id),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+            Engine::Pg(e) => e.marks(change_id),
         }
     }
 
@@ -668,7 +668,7 @@ impl Store {
     pub fn search_changes(&self, filter: &ChangeFilter, limit: usize) -> Result<Vec<ChangeRow>> {
         match &self.engine {
             Engine::Lite(e) => e.search_changes(filter, limit),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+            Engine::Pg(e) => e.search_changes(filter, limit),
         }
     }
 
@@ -676,7 +676,7 @@ impl Store {
     pub fn change_rows(&self, revision: i64) -> Result<Vec<ChangeRow>> {
         match &self.engine {
             Engine::Lite(e) => e.change_rows(revision),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+            Engine::Pg(e) => e.change_rows(revision),
         }
     }
 

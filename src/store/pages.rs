@@ -245,7 +245,7 @@ pub const SAVED_QUERIES: &[(&str, &str)] = &[
 ];
 
 /// The changes of `shopfloor_changes` with the columns [`ChangeRow`] reads; `{where}` filters.
-const CHANGE_ROWS: &str =
+pub(super) const CHANGE_ROWS: &str =
     "SELECT c.id, c.revision_id, c.original_revision_id, COALESCE(m.name, ''), COALESCE(r.name, p.name), c.detected_at,
         c.workingstep, c.operation, c.kind, c.field, c.before, c.after, c.line, c.original_line,
         c.region_min_x, c.region_min_y, c.region_min_z, c.region_max_x, c.region_max_y, c.region_max_z, c.deviation
@@ -253,7 +253,7 @@ const CHANGE_ROWS: &str =
  WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')";
 
 /// Rows waiting for review: no mark names the change.
-const UNMARKED: &str = "NOT EXISTS (SELECT 1 FROM review_marks v WHERE v.change_id = c.id)";
+pub(super) const UNMARKED: &str = "NOT EXISTS (SELECT 1 FROM review_marks v WHERE v.change_id = c.id)";
 
 fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
     let kind: String = r.get(8)?;

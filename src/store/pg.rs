@@ -1231,3 +1231,109 @@ impl PgTxn<'_> {
         Ok(Some(outcome))
     }
 }
+
+/// A row of `pages::CHANGE_ROWS`.
+fn change_row(r: &Row) -> super::ChangeRow {
+    let kind: String = r.get(8);
+    let region = match (r.get::<_, Option<f64>>(14), r.get::<_, Option<f64>>(17)) {
+        (Some(a), Some(b)) => Some(crate::plan::BBox {
+            min: [a, r.get::<_, Option<f64>>(15).unwrap_or(0.0), r.get::<_, Option<f64>>(16).unwrap_or(0.0)],
+            max: [b, r.get::<_, Option<f64>>(18).unwrap_or(0.0), r.get::<_, Option<f64>>(19).unwrap_or(0.0)],
+        }),
+        _ => None,
+    };
+    super::ChangeRow {
+        id: r.get(0),
+        revision_id: r.get(1),
+        original_revision_id: r.get(2),
+        machine: r.get(3),
+        program: r.get(4),
+        detected_at: r.get(5),
+        change: Change {
+            kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
+            workingstep: r.get::<_, i64>(6) as u32,
+            operation: r.get(7),
+            field: r.get(9),
+            before: r.get(10),
+            after: r.get(11),
+            line: r.get::<_, Option<i64>>(12).map(|l| l as u32),
+            original_line: r.get::<_, Option<i64>>(13).map(|l| l as u32),
+            region,
+            deviation: r.get(20),
+        },
+        marks: Vec::new(),
+    }
+}
+
+/// The workspace's change reads on PostgreSQL (what `report --format html|csv` needs).
+impl Pg {
+    fn with_marks(&self, mut rows: Vec<super::ChangeRow>) -> Result<Vec<super::ChangeRow>> {
+        if rows.is_empty() {
+            return Ok(rows);
+        }
+        let ids: Vec<i64> = rows.iter().map(|r| r.id).collect();
+        let marks = self.conn.rows(
+            "reading review marks",
+            "SELECT change_id, mark, note, marked_by, marked_at FROM review_marks WHERE change_id = ANY($1) ORDER BY id",
+            &[&ids],
+        )?;
+        let mut by_change: BTreeMap<i64, Vec<super::Mark>> = BTreeMap::new();
+        for r in marks {
+            by_change.entry(r.get(0)).or_default().push(super::Mark { mark: r.get(1), note: r.get(2), by: r.get(3), at: r.get(4) });
+        }
+        for row in &mut rows {
+            row.marks = by_change.remove(&row.id).unwrap_or_default();
+        }
+        Ok(rows)
+    }
+
+    pub(super) fn marks(&self, change_id: i64) -> Result<Vec<super::Mark>> {
+        let rows = self.conn.rows(
+            "reading review marks",
+            "SELECT mark, note, marked_by, marked_at FROM review_marks WHERE change_id = $1 ORDER BY id",
+            &[&change_id],
+        )?;
+        Ok(rows.iter().map(|r| super::Mark { mark: r.get(0), note: r.get(1), by: r.get(2), at: r.get(3) }).collect())
+    }
+
+    pub(super) fn search_changes(&self, filter: &super::ChangeFilter, limit: usize) -> Result<Vec<super::ChangeRow>> {
+        let program_number = filter.program.trim().trim_start_matches(['O', 'o']).parse::<u64>().ok().map(|n| format!("O{n}"));
+        let query = format!(
+            "{}
+               AND ($1 = '' OR COALESCE(r.name, p.name) LIKE '%' || $1 || '%' OR p.path LIKE '%' || $1 || '%' OR COALESCE(r.name, p.name) = $2)
+               AND ($3 = '' OR m.name = $3)
+               AND ($4 = '' OR c.detected_at::timestamptz >= $4::timestamptz)
+               AND ($5 = '' OR c.detected_at::timestamptz < ($5::date + 1)::timestamptz)
+               AND (NOT $6::bool OR {})
+               AND ($7 = '' OR c.kind = $7)
+             ORDER BY c.detected_at DESC, c.id DESC LIMIT $8",
+            super::pages::CHANGE_ROWS,
+            super::pages::UNMARKED
+        );
+        let rows = self
+            .conn
+            .client
+            .borrow_mut()
+            .query(
+                query.as_str(),
+                &[
+                    &filter.program.trim(),
+                    &program_number.unwrap_or_default(),
+                    &filter.machine.trim(),
+                    &filter.since.trim(),
+                    &filter.until.trim(),
+                    &filter.to_review,
+                    &filter.kind.trim(),
+                    &(limit as i64),
+                ],
+            )
+            .map_err(sql("searching changes"))?;
+        self.with_marks(rows.iter().map(change_row).collect())
+    }
+
+    pub(super) fn change_rows(&self, revision: i64) -> Result<Vec<super::ChangeRow>> {
+        let query = format!("{} AND c.revision_id = $1 ORDER BY c.id", super::pages::CHANGE_ROWS);
+        let rows = self.conn.client.borrow_mut().query(query.as_str(), &[&revision]).map_err(sql("reading changes"))?;
+        self.with_marks(rows.iter().map(change_row).collect())
+    }
+}

@@ -245,6 +245,19 @@ fn one_edit(server: &Server, db: &str, rows: impl Fn(&str) -> Vec<Vec<String>>) 
     assert_eq!(code, 0, "{err}");
     // The report names revisions and times; what it says of them is compared.
     out.push(report.lines().filter(|l| l.starts_with("- ")).collect::<Vec<_>>().join("\n"));
+    // The CSV report (the workspace's change rows) without its ids and times.
+    let (code, csv, err) = server.ncplan(&["report", "--db", db, "--format", "csv", "--since", "2000-01-01"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(csv.lines().count() > 1, "{csv}");
+    out.push(
+        csv.lines()
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                [0, 1, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13].iter().filter_map(|&i| f.get(i).copied()).collect::<Vec<_>>().join(",")
+            })
+            .collect::<Vec<_>>()
+            .join("\n"),
+    );
     let (code, show, err) = server.ncplan(&["show", "--db", db, "share/O1234.nc"]);
     assert_eq!(code, 0, "{err}");
     out.push(
