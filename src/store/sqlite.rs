@@ -556,12 +556,14 @@ impl LiteTxn<'_> {
                 .prepare_cached(&format!(
                     "SELECT p.id, p.path, (SELECT MAX(r.id) FROM revisions r WHERE r.program_id = p.id AND {USABLE})
                      FROM programs p
-                     WHERE p.role = 'cam' AND p.site = ?2 AND p.id IN (SELECT program_id FROM program_keys WHERE key = ?1)
+                     WHERE p.role = 'cam' AND p.id IN (SELECT program_id FROM program_keys WHERE key = ?1)
                      ORDER BY p.path"
                 ))
                 .map_err(sql("preparing a query"))?;
+            // A SQLite file is one server's: all its programs are its site's (rows stored
+            // before migration 5, or before `site` was configured, have a blank site).
             let rows = stmt
-                .query_map([key, self.site], |r| Ok((r.get(0)?, r.get(1)?, r.get::<_, Option<i64>>(2)?)))
+                .query_map([key], |r| Ok((r.get(0)?, r.get(1)?, r.get::<_, Option<i64>>(2)?)))
                 .map_err(sql("looking up CAM originals"))?;
             let mut out = Vec::new();
             for row in rows {
@@ -598,13 +600,9 @@ impl LiteTxn<'_> {
              WHERE p.role = 'machine' AND {USABLE}
                AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id)
                AND (?1 IS NULL OR p.id IN (SELECT program_id FROM program_keys WHERE key = ?1))
-               AND p.site = ?2
              ORDER BY r.id"
         );
-        self.comparables(
-            &query,
-            &[rusqlite::types::Value::from(key.map(str::to_owned)), rusqlite::types::Value::from(self.site.to_owned())],
-        )
+        self.comparables(&query, &[rusqlite::types::Value::from(key.map(str::to_owned))])
     }
 
     /// Machine revisions compared with `original`.
