@@ -591,3 +591,22 @@ fn plans_are_stored_without_toolpaths_and_rebuilt_from_the_program_for_the_diff(
         assert_eq!(store.query("SELECT operation FROM workingsteps WHERE revision_id = 1").unwrap().1.len(), 1);
     }
 }
+
+#[test]
+fn a_site_named_later_still_pairs_with_the_originals_stored_before() {
+    // A server's SQLite file from before sites (or before `site` was configured): its rows
+    // have a blank site, and the server, now named, still pairs with them.
+    let site = Site::new("");
+    std::fs::create_dir_all(site.path("var")).unwrap();
+    let db = ncplan::store::Location::Sqlite(site.db());
+    {
+        let mut store = Store::open(&db, "").unwrap();
+        std::fs::write(site.path("cam/O4.nc"), program(4, 300)).unwrap();
+        ingest_at(&site, &mut store, "cam/O4.nc", "2026-12-01T10:00:00.000Z", None);
+    }
+    let mut store = Store::open(&db, "HALL2").unwrap();
+    std::fs::write(site.path("share/O4.nc"), program(4, 250)).unwrap();
+    ingest_at(&site, &mut store, "share/O4.nc", "2026-12-01T10:05:00.000Z", None);
+    let rows = store.query("SELECT kind, before, after, site FROM shopfloor_changes").unwrap().1;
+    assert_eq!(rows, [["feed_changed", "F300", "F250", "HALL2"]]);
+}
