@@ -12,7 +12,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::canon::{CallWriter, Canon, CanonSink};
 use crate::config::{self, Config};
@@ -20,7 +20,7 @@ use crate::diag::{self, DiagnosticJson};
 use crate::dialect::{Dialect, Registry};
 use crate::diff;
 use crate::pipeline;
-use crate::store::Store;
+use crate::store::{Location, Store};
 use crate::text::LineIndex;
 
 /// Recover process plans from CNC programs, diff them against the CAM original, keep the
@@ -61,13 +61,32 @@ struct Input {
 /// Where the database is.
 #[derive(Debug, clap::Args)]
 struct StoreArgs {
-    /// The SQLite database file; by default the one the configuration names.
-    #[arg(long, value_name = "FILE")]
-    db: Option<PathBuf>,
+    /// The database: a SQLite file or a `postgresql://` URL (its password from
+    /// NCPLAN_DB_PASSWORD or the file NCPLAN_DB_PASSWORD_FILE names); by default the one the
+    /// configuration names.
+    #[arg(long, value_name = "FILE|URL")]
+    db: Option<String>,
     /// Configuration whose database (and, for `report --wait`, folders) to use; without it,
     /// the built-in demo configuration.
     #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct WorkArgs {
+    /// The database (a SQLite file or a postgresql:// URL); by default the configuration's.
+    #[arg(long, value_name = "FILE|URL")]
+    db: Option<String>,
+    /// Configuration (dialects, folders, tool table); without it, the built-in demo's.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Connections working at once; by default one per core.
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Seconds a claimed batch stays this worker's; after that a killed worker's batch
+    /// returns to the queue.
+    #[arg(long, default_value_t = 300)]
+    lease: u64,
 }
 
 #[derive(Debug, Subcommand)]
@@ -235,6 +254,14 @@ enum Command {
         /// 10,000 revisions across 20 machines, and a 1M-move comparison page.
         #[arg(long, conflicts_with = "daemon")]
         web: bool,
+        /// Measure ingest throughput on SQLite and on this PostgreSQL database instead
+        /// (`--files` programs at once); the daemon writes as a site of its own.
+        #[arg(long, value_name = "URL", conflicts_with_all = ["daemon", "web"])]
+        postgres: Option<String>,
+        /// With --postgres: time the report queries on a simulated plant of this many
+        /// revisions instead (made once in that database).
+        #[arg(long, value_name = "REVISIONS", requires = "postgres")]
+        simulate: Option<i64>,
     },
     /// Store an existing program folder, or its dated backups, as revisions of a machine's
     /// programs with their file times; resumes after a kill; ends with a summary.
@@ -254,6 +281,42 @@ enum Command {
         /// Files analysed at once; by default one per core.
         #[arg(long)]
         jobs: Option<usize>,
+    },
+    /// Read every stored revision again with today's dictionary and engine: new plans,
+    /// findings and comparisons, the old ones kept with their analysis version. Queues the
+    /// revisions and works them with all cores; resumes after a kill; ends with a summary.
+    Reanalyze {
+        /// Only revisions seen on or after this date (or RFC 3339 time).
+        #[arg(long)]
+        since: Option<String>,
+        /// Only programs read in this dialect.
+        #[arg(long)]
+        dialect: Option<String>,
+        #[command(flatten)]
+        work: WorkArgs,
+    },
+    /// Work the re-analysis queue `ncplan reanalyze` filled (on PostgreSQL, from any host):
+    /// claim batches, read them again, until the queue is empty.
+    Worker {
+        #[command(flatten)]
+        work: WorkArgs,
+    },
+    /// Copy a server's SQLite history into the plant's PostgreSQL database as its site's;
+    /// run again after a stop, it goes on where it was.
+    Migrate {
+        /// The SQLite file (`var/ncplan.db`).
+        #[arg(long, value_name = "FILE")]
+        from: PathBuf,
+        /// The PostgreSQL database (`postgresql://user@host/db`; the password from
+        /// NCPLAN_DB_PASSWORD or the file NCPLAN_DB_PASSWORD_FILE names).
+        #[arg(long, value_name = "URL")]
+        to: String,
+        /// The site the history belongs to; by default the configuration's `site`.
+        #[arg(long)]
+        site: Option<String>,
+        /// Configuration whose `site` to use.
+        #[arg(long)]
+        config: Option<PathBuf>,
     },
     /// Write a program for another control: read it in its dialect, write it by the
     /// target dialect's output rules; macros, loops and subprograms come out unrolled.
@@ -410,7 +473,11 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 dialect(&registry, &f.dialect).with_context(|| format!("folder {}", f.path.display()))?;
             }
             init_tracing();
-            println!("ncplan watch: database {}", config.database.display());
+            println!(
+                "ncplan watch: database {}{}",
+                config.database,
+                if config.site.is_empty() { String::new() } else { format!(", site {}", config.site) }
+            );
             for f in &config.folders {
                 println!(
                     "  {:<8} {:<10} {:<9} {}{}",
@@ -518,8 +585,12 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
-        Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web } => {
-            if let Some(corpus) = corpus {
+        Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web, postgres, simulate } => {
+            if let (Some(url), Some(n)) = (&postgres, simulate) {
+                crate::bench::run_simulation(url, n, &mut LineFlush(&mut out))?;
+            } else if let Some(url) = postgres {
+                crate::bench::run_engines(&dir.join("engines"), &url, files, &mut LineFlush(&mut out))?;
+            } else if let Some(corpus) = corpus {
                 crate::bench::run_corpus(&corpus, &mut LineFlush(&mut out))?;
             } else if web {
                 crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;
@@ -671,13 +742,13 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         Command::Serve { config: given, listen } => {
             let config = load_config(given.as_deref())?;
             if !config.database.exists() {
-                bail!("no database at {} (has `ncplan watch` run?)", config.database.display());
+                bail!("no database at {} (has `ncplan watch` run?)", config.database);
             }
             let registry = registry_for(Some(&config))?;
             let db = config.database.clone();
             let options = crate::web::Options { config, registry, listen, clock: Arc::new(crate::daemon::SystemClock) };
             crate::web::serve(options, |addr| {
-                println!("ncplan serve: http://{addr}/ (database {})", db.display());
+                println!("ncplan serve: http://{addr}/ (database {db})");
                 let _ = std::io::stdout().flush();
             })?;
             Ok(ExitCode::SUCCESS)
@@ -688,7 +759,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                     Some(p) => load_config(Some(p))?,
                     None => demo_config_here()?,
                 };
-                let db = store.db.clone().unwrap_or_else(|| config.database.clone());
+                let db = store.db.as_deref().map_or_else(|| config.database.clone(), Location::parse);
                 let left = wait_until_stored(&config, &db, Duration::from_secs(seconds))?;
                 if left > 0 {
                     eprintln!(
@@ -807,6 +878,44 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             }
             out.flush()?;
             Ok(if summary.errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+        }
+        Command::Reanalyze { since, dialect, work } => reanalyze(&mut out, &work, Some((since.as_deref(), dialect.as_deref()))),
+        Command::Worker { work } => reanalyze(&mut out, &work, None),
+        Command::Migrate { from, to, site, config } => {
+            let site = match (site, &config) {
+                (Some(s), _) => s,
+                (None, Some(c)) => load_config(Some(c))?.site,
+                (None, None) => String::new(),
+            };
+            anyhow::ensure!(
+                !site.trim().is_empty(),
+                "name the site the history belongs to: --site HALL2 (or --config with site = \"HALL2\")"
+            );
+            let target = Location::parse(&to);
+            anyhow::ensure!(target.file().is_none(), "--to takes a postgresql:// URL");
+            let store = Store::open(&target, &site).with_context(|| format!("cannot open the database {target}"))?;
+            let bar = indicatif::ProgressBar::new(0);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} revisions, {per_sec}, {eta} left")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            let progress = |done: usize, total: usize| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            };
+            let summary = store.copy_from_sqlite(&from, &progress)?;
+            bar.finish_and_clear();
+            writeln!(
+                out,
+                "migrated {} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied",
+                from.display(),
+                summary.revisions,
+                summary.copied,
+                summary.revisions - summary.copied,
+                summary.comparisons
+            )?;
+            out.flush()?;
+            Ok(ExitCode::SUCCESS)
         }
         Command::Translate { file, dialect: from, to, output, machine, revision, store: store_args } => {
             translate_command(file, from, to, output, machine, revision, &store_args, &mut out)
@@ -956,28 +1065,79 @@ fn translate_command(
     Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
-fn db_path(args: &StoreArgs) -> Result<PathBuf> {
+/// `reanalyze` (queueing what `filter` selects) and `worker`.
+fn reanalyze(out: &mut impl Write, work: &WorkArgs, filter: Option<(Option<&str>, Option<&str>)>) -> Result<ExitCode> {
+    let config = load_config(work.config.as_deref())?;
+    let registry = registry_for(Some(&config))?;
+    let db = work.db.as_deref().map_or_else(|| config.database.clone(), Location::parse);
+    if !db.exists() {
+        bail!("no database at {db} (has `ncplan watch` run?)");
+    }
+    let jobs = work.jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)).max(1);
+    let mut stores = Vec::with_capacity(jobs);
+    for _ in 0..jobs {
+        let mut s = Store::open(&db, &config.site).with_context(|| format!("cannot open the database {db}"))?;
+        s.set_busy_timeout(Duration::from_secs(600))?;
+        stores.push(s);
+    }
+    let version = crate::reanalyze::version(&config)?;
+    let queued = match filter {
+        Some((since, dialect)) => stores[0].queue_reanalysis(&version, since, dialect)?,
+        None => stores[0].reanalysis_left(&version)?,
+    };
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").map(|h| h.trim().to_owned()).unwrap_or_else(|_| "host".into());
+    let worker = format!("{host}:{}", std::process::id());
+    let bar = indicatif::ProgressBar::new(queued as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} revisions, {per_sec}, {eta} left")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let progress = |done: usize, left: usize| {
+        bar.set_length((done + left) as u64);
+        bar.set_position(done as u64);
+    };
+    let summary = crate::reanalyze::work(&config, &registry, stores, &version, &worker, Duration::from_secs(work.lease), &progress)?;
+    bar.finish_and_clear();
+    writeln!(
+        out,
+        "analysis {version}: {} revisions read again, {} plans changed, {} new findings, {} vanished; {} comparisons made again; {} done by another worker; {} errors",
+        summary.reread,
+        summary.plans_changed,
+        summary.new_findings,
+        summary.vanished_findings,
+        summary.compared,
+        summary.skipped,
+        summary.errors.len()
+    )?;
+    for (id, why) in &summary.errors {
+        writeln!(out, "  revision {id}: {why}")?;
+    }
+    out.flush()?;
+    Ok(if summary.errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+fn db_path(args: &StoreArgs) -> Result<Location> {
     let db = match (&args.db, &args.config) {
-        (Some(d), _) => d.clone(),
+        (Some(d), _) => Location::parse(d),
         (None, Some(c)) => load_config(Some(c))?.database,
         (None, None) => load_config(None)?.database,
     };
     if !db.exists() {
-        bail!("no database at {} (has `ncplan watch` run?)", db.display());
+        bail!("no database at {db} (has `ncplan watch` run?)");
     }
     Ok(db)
 }
 
 /// Waits until every program file in the configured folders is stored as the newest revision
 /// of its path, or `timeout` passed. Returns how many were still not stored.
-fn wait_until_stored(config: &Config, db: &Path, timeout: Duration) -> Result<usize> {
+fn wait_until_stored(config: &Config, db: &Location, timeout: Duration) -> Result<usize> {
     let deadline = Instant::now() + timeout;
     loop {
         let mut files = Vec::new();
         for f in &config.folders {
             files.extend(config.program_files(f).unwrap_or_default().into_iter().filter(|p| Config::stays_inside(f, p)));
         }
-        let store = if db.exists() { Store::open_read_only(db).ok() } else { None };
+        let store = if db.exists() { Store::open_read_only(db).ok().map(|s| s.for_site(&config.site)) } else { None };
         let mut left = 0;
         for p in &files {
             let stored = match (&store, std::fs::read(p)) {

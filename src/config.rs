@@ -32,6 +32,9 @@ pub const DEMO: &str = include_str!("../config/ncplan.toml");
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawConfig {
+    /// The site this server's programs and machines belong to (a hall, a plant), so that
+    /// many servers share one PostgreSQL database.
+    site: Option<String>,
     database: RawDatabase,
     #[serde(default)]
     daemon: RawDaemon,
@@ -104,7 +107,12 @@ struct RawReference {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawDatabase {
-    path: String,
+    /// A SQLite file.
+    path: Option<String>,
+    /// A PostgreSQL URL (`postgresql://user@host/db?sslmode=require`), instead of `path`.
+    url: Option<String>,
+    /// A file with the PostgreSQL password, readable by the service user alone.
+    password_file: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -283,8 +291,10 @@ impl Folder {
 /// The validated configuration.
 #[derive(Clone, Debug)]
 pub struct Config {
-    /// SQLite database file.
-    pub database: PathBuf,
+    /// The database: a SQLite file or a PostgreSQL server.
+    pub database: crate::store::Location,
+    /// The site (`site = "HALL2"`) its programs and machines are stored under.
+    pub site: String,
     /// Extra dialect files (`*.xml`), loaded at start.
     pub dialects_dir: Option<PathBuf>,
     /// Watched folders, CAM first.
@@ -365,12 +375,32 @@ impl Config {
                 program_role: program_role(m.role.as_deref(), &m.name)?,
             });
         }
-        let database = abs(&raw.database.path);
+        let database = match (&raw.database.path, &raw.database.url) {
+            (Some(path), None) => {
+                if raw.database.password_file.is_some() {
+                    bail!("[database] password_file goes with a PostgreSQL url, not a SQLite path");
+                }
+                crate::store::Location::Sqlite(abs(path))
+            }
+            (None, Some(url)) if crate::store::location::is_url(url) => {
+                if raw.site.is_none() {
+                    bail!("a PostgreSQL database is shared by many servers: name this one's site at the top (site = \"HALL2\")");
+                }
+                crate::store::Location::postgres(url, raw.database.password_file.as_deref().map(abs))
+            }
+            (None, Some(_)) => bail!("[database] url must start with postgresql:// (a SQLite file is given as path)"),
+            (Some(_), Some(_)) => bail!("[database] has both path and url: give one"),
+            (None, None) => bail!("[database] needs a path (SQLite) or a url (PostgreSQL)"),
+        };
+        let site = raw.site.clone().unwrap_or_default();
+        if site.trim() != site || site.chars().any(char::is_control) {
+            bail!("site `{site}` has blanks at its ends or control characters");
+        }
         for f in &folders {
-            if database.starts_with(&f.path) {
+            if database.file().is_some_and(|d| d.starts_with(&f.path)) {
                 bail!(
                     "the database {} lies inside the watched folder {}; ncplan never writes into a watched folder",
-                    database.display(),
+                    database,
                     f.path.display()
                 );
             }
@@ -447,6 +477,7 @@ impl Config {
         }
         Ok(Config {
             database,
+            site,
             dialects_dir: raw.dialects_dir.map(|d| abs(&d)),
             folders,
             settle_ms: raw.daemon.settle_ms,
@@ -623,7 +654,7 @@ mod tests {
         let c = Config::parse(DEMO, Path::new("/srv/ncplan")).unwrap();
         assert!(c.folders.iter().any(|f| f.role == Role::Cam));
         assert!(c.folders.iter().any(|f| f.role == Role::Machine));
-        assert!(c.database.starts_with("/srv/ncplan"));
+        assert!(c.database.file().unwrap().starts_with("/srv/ncplan"));
     }
 
     #[test]

@@ -91,7 +91,7 @@ pub fn run(
     let groups = programs(config, dir)?;
     let total: usize = groups.values().map(Vec::len).sum();
     let mut summary = Summary { files: total, programs: groups.len(), ..Summary::default() };
-    if let Some(parent) = config.database.parent() {
+    if let Some(parent) = config.database.file().and_then(Path::parent) {
         std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
     }
     let queue = Mutex::new(groups.into_iter().collect::<Vec<_>>().into_iter());
@@ -100,7 +100,7 @@ pub fn run(
     let workers = workers.max(1);
     let mut stores = Vec::with_capacity(workers);
     for _ in 0..workers {
-        let mut s = Store::open(&config.database).with_context(|| format!("cannot open the database {}", config.database.display()))?;
+        let mut s = Store::open(&config.database, &config.site).with_context(|| format!("cannot open the database {}", config.database))?;
         s.set_busy_timeout(Duration::from_secs(600))?;
         stores.push(s);
     }

@@ -443,28 +443,31 @@ impl Reader<'_> {
     pub fn rebuild(&self, src: crate::store::StoredSource) -> Result<Option<ProcessPlan>> {
         match (&src.plan, src.bytes) {
             (Some((json, true)), _) => Ok(Some(serde_json::from_str(json).context("stored plan is unreadable")?)),
-            (Some(_), Some(bytes)) => {
-                let path = Path::new(&src.path);
-                let folder = match self.config.folder_at(path) {
-                    Some(i) => self.config.folders[i].clone(),
-                    // A folder no longer configured: its stored dialect, no overrides.
-                    None => Folder {
-                        role: Role::Machine,
-                        name: String::new(),
-                        path: path.parent().map(Path::to_path_buf).unwrap_or_default(),
-                        dialect: src.dialect.clone(),
-                        poll: false,
-                        poll_ms: 0,
-                        decimal_input: None,
-                        program_role: crate::interp::ProgramRole::Auto,
-                        limits: Default::default(),
-                    },
-                };
-                let d = folder.dialect_for(self.registry.get(&src.dialect).with_context(|| format!("unknown dialect `{}`", src.dialect))?);
-                Ok(Some(pipeline::analyze_plan_owned(bytes, &d, &self.profile(path, &folder, &d)).plan))
-            }
+            (Some(_), Some(bytes)) => Ok(Some(self.reanalyse(&src.path, &src.dialect, bytes)?.plan)),
             _ => Ok(None),
         }
+    }
+
+    /// Analyses a stored program's bytes again, with today's dictionary and engine, as the
+    /// folder it lies in reads it (a folder no longer configured: its stored dialect, no overrides).
+    pub fn reanalyse(&self, path: &str, dialect: &str, bytes: Vec<u8>) -> Result<pipeline::Analysis> {
+        let path = Path::new(path);
+        let folder = match self.config.folder_at(path) {
+            Some(i) => self.config.folders[i].clone(),
+            None => Folder {
+                role: Role::Machine,
+                name: String::new(),
+                path: path.parent().map(Path::to_path_buf).unwrap_or_default(),
+                dialect: dialect.to_owned(),
+                poll: false,
+                poll_ms: 0,
+                decimal_input: None,
+                program_role: crate::interp::ProgramRole::Auto,
+                limits: Default::default(),
+            },
+        };
+        let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
+        Ok(pipeline::analyze_plan_owned(bytes, &d, &self.profile(path, &folder, &d)))
     }
 }
 

@@ -150,21 +150,21 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     for f in config.folders.iter().filter(|f| f.dialect != crate::config::AUTO_DIALECT) {
         registry.get(&f.dialect).with_context(|| format!("folder {} uses the unknown dialect `{}`", f.path.display(), f.dialect))?;
     }
-    if let Some(parent) = config.database.parent() {
+    if let Some(parent) = config.database.file().and_then(Path::parent) {
         std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
     }
     let open = || -> Result<Store> {
-        let mut store = Store::open(&config.database).with_context(|| format!("cannot open the database {}", config.database.display()))?;
+        let mut store =
+            Store::open(&config.database, &config.site).with_context(|| format!("cannot open the database {}", config.database))?;
         // Workers wait for each other's transactions (one revision and what it enables).
         store.set_busy_timeout(Duration::from_secs(600))?;
         Ok(store)
     };
-    let first = open()?;
     let workers = worker_count(&config);
-    let mut stores = vec![first];
-    for _ in 1..workers {
-        stores.push(open()?);
-    }
+    // Opened on a thread of their own: a store's connection may block (PostgreSQL's client
+    // runs its own runtime), which a thread driving this one may not.
+    let stores = std::thread::scope(|s| s.spawn(|| (0..workers).map(|_| open()).collect::<Result<Vec<Store>>>()).join())
+        .map_err(|_| anyhow::anyhow!("opening the database panicked"))??;
     let config = Arc::new(config);
     let registry = Arc::new(registry);
     let (tx, mut rx) = mpsc::unbounded_channel::<Event>();

@@ -1,21 +1,29 @@
-//! The SQLite store: the only module that knows SQL.
+//! The store: the only module that knows SQL, on two engines behind one interface.
+//!
+//! [`Store`] and [`Txn`] are the interface; `sqlite.rs` (one file per DNC server) and `pg.rs`
+//! (one PostgreSQL database for a plant) are the backends, with the same schema, views,
+//! migrations and semantics. The rest of the program does not know which one it talks to.
 //!
 //! Revisions are content-addressed and never overwritten (triggers forbid it). Each
 //! revision is recorded with its plan, diagnostics and changes in one transaction, so a
 //! crash leaves either all of it or none of it, and the next scan picks the file up again.
 
+pub mod location;
 mod pages;
+mod pg;
+mod pg_schema;
 mod schema;
+mod sqlite;
 
 use std::path::Path;
 
-use rusqlite::{Connection, OpenFlags, OptionalExtension, Transaction, params};
-
-use crate::pairing::{Candidate, Key, Rule};
+use crate::pairing::{Candidate, Key};
+pub use location::Location;
 pub use pages::{
     ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow,
     SAVED_QUERIES, TimelineRow,
 };
+pub use pg::{CopySummary, PLANT_QUERIES};
 pub use schema::MIGRATIONS;
 
 use crate::diag::DiagnosticJson;
@@ -30,9 +38,9 @@ pub enum StoreError {
     Sql {
         /// What was being done.
         about: &'static str,
-        /// The SQLite error.
+        /// The engine's error.
         #[source]
-        source: rusqlite::Error,
+        source: Box<dyn std::error::Error + Send + Sync + 'static>,
     },
     /// A file could not be read or its bytes not copied.
     #[error("IO error while {about}")]
@@ -43,6 +51,9 @@ pub enum StoreError {
         #[source]
         source: std::io::Error,
     },
+    /// The database cannot be reached as configured (its URL, password file or TLS).
+    #[error("{0}")]
+    Setup(String),
     /// A file streamed into its blob no longer had the size and hash it was read with.
     #[error("the file changed while it was stored")]
     ContentChanged,
@@ -58,14 +69,16 @@ pub enum StoreError {
 
 type Result<T> = std::result::Result<T, StoreError>;
 
-fn sql(about: &'static str) -> impl FnOnce(rusqlite::Error) -> StoreError {
-    move |source| StoreError::Sql { about, source }
+/// `(revision_id)` of revisions that may serve as originals or be compared: analysed, with a
+/// plan, and not a partial write. The same SQL on both engines.
+macro_rules! usable {
+    () => {
+        "r.status = 'analysed' AND EXISTS (SELECT 1 FROM plans pl WHERE pl.revision_id = r.id)
+     AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = r.id AND k.mark = 'partial')"
+    };
 }
-
-/// An open database.
-pub struct Store {
-    conn: Connection,
-}
+use usable;
+const USABLE: &str = usable!();
 
 /// A revision to record.
 #[derive(Debug)]
@@ -226,328 +239,6 @@ pub struct Comparable {
     pub keys: Vec<Key>,
 }
 
-impl Store {
-    /// Opens (creating if needed) the database in WAL mode and applies migrations.
-    pub fn open(path: &Path) -> Result<Store> {
-        let conn = Connection::open(path).map_err(sql("opening the database"))?;
-        conn.execute_batch("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON; PRAGMA busy_timeout=5000;")
-            .map_err(sql("setting pragmas"))?;
-        let mut s = Store { conn };
-        s.migrate()?;
-        Ok(s)
-    }
-
-    /// An in-memory database, for tests.
-    pub fn open_in_memory() -> Result<Store> {
-        let conn = Connection::open_in_memory().map_err(sql("opening the database"))?;
-        conn.execute_batch("PRAGMA foreign_keys=ON;").map_err(sql("setting pragmas"))?;
-        let mut s = Store { conn };
-        s.migrate()?;
-        Ok(s)
-    }
-
-    /// Opens the database read-only: no statement can change it.
-    pub fn open_read_only(path: &Path) -> Result<Store> {
-        let conn = Connection::open_with_flags(path, OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX)
-            .map_err(sql("opening the database read-only"))?;
-        conn.execute_batch("PRAGMA query_only=ON; PRAGMA busy_timeout=5000;").map_err(sql("setting pragmas"))?;
-        Ok(Store { conn })
-    }
-
-    fn migrate(&mut self) -> Result<()> {
-        let version: usize = self.conn.query_row("PRAGMA user_version", [], |r| r.get(0)).map_err(sql("reading the schema version"))?;
-        if version > MIGRATIONS.len() {
-            return Err(StoreError::TooNew { found: version, known: MIGRATIONS.len() });
-        }
-        for (i, m) in MIGRATIONS.iter().enumerate().skip(version) {
-            let tx = self.conn.transaction().map_err(sql("starting a migration"))?;
-            tx.execute_batch(m).map_err(sql("applying a migration"))?;
-            tx.pragma_update(None, "user_version", i + 1).map_err(sql("recording the schema version"))?;
-            tx.commit().map_err(sql("committing a migration"))?;
-        }
-        Ok(())
-    }
-
-    /// How long a statement waits for another connection's transaction before it fails.
-    pub fn set_busy_timeout(&mut self, wait: std::time::Duration) -> Result<()> {
-        self.conn.busy_timeout(wait).map_err(sql("setting the busy timeout"))
-    }
-
-    /// Schema version.
-    pub fn version(&self) -> Result<usize> {
-        self.conn.query_row("PRAGMA user_version", [], |r| r.get(0)).map_err(sql("reading the schema version"))
-    }
-
-    /// The hash of the latest revision of the program at `path`.
-    pub fn latest_hash(&self, path: &str) -> Result<Option<String>> {
-        self.conn
-            .query_row(
-                "SELECT r.hash FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path = ?1 ORDER BY r.id DESC LIMIT 1",
-                [path],
-                |r| r.get(0),
-            )
-            .optional()
-            .map_err(sql("looking up the latest revision"))
-    }
-
-    /// Whether the program at `path` has a revision with the content `hash`, at any time.
-    pub fn has_revision(&self, path: &str, hash: &str) -> Result<bool> {
-        self.conn
-            .query_row(
-                "SELECT EXISTS (SELECT 1 FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path = ?1 AND r.hash = ?2)",
-                [path, hash],
-                |r| r.get(0),
-            )
-            .map_err(sql("looking up a revision"))
-    }
-
-    /// Notes that the content `hash` is about to be analysed, and returns how many earlier
-    /// analyses of it never finished (a kill by the kernel's out-of-memory killer, a memory
-    /// limit, a crash). The note is removed when its revision is recorded, or by [`Store::finish_attempt`].
-    pub fn begin_attempt(&self, hash: &str, path: &str, at: &str) -> Result<u32> {
-        let tries: Option<u32> = self
-            .conn
-            .query_row("SELECT tries FROM attempts WHERE hash = ?1 AND path = ?2", [hash, path], |r| r.get(0))
-            .optional()
-            .map_err(sql("reading the attempt journal"))?;
-        self.conn
-            .execute(
-                "INSERT INTO attempts(hash, path, started_at, tries) VALUES (?1, ?2, ?3, 1)
-                 ON CONFLICT(hash, path) DO UPDATE SET tries = tries + 1, started_at = excluded.started_at",
-                params![hash, path, at],
-            )
-            .map_err(sql("writing the attempt journal"))?;
-        Ok(tries.unwrap_or(0))
-    }
-
-    /// Removes the note of an analysis that ended without recording a revision.
-    pub fn finish_attempt(&self, hash: &str, path: &str) -> Result<()> {
-        self.conn
-            .execute("DELETE FROM attempts WHERE hash = ?1 AND path = ?2", [hash, path])
-            .map_err(sql("writing the attempt journal"))?;
-        Ok(())
-    }
-
-    /// Starts the one transaction in which a revision and everything it enables are recorded.
-    pub fn begin(&mut self) -> Result<Txn<'_>> {
-        let tx = self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate).map_err(sql("starting a transaction"))?;
-        Ok(Txn { tx })
-    }
-
-    /// One stored revision, for `ncplan show`.
-    pub fn revision(&self, id: i64) -> Result<Option<RevisionInfo>> {
-        self.conn
-            .query_row(
-                "SELECT r.id, p.path, p.role, m.name, COALESCE(r.name, p.name), p.dialect, r.hash, r.size, r.seen_at, r.encoding, r.status,
-                        (SELECT superseded_by FROM revision_marks k WHERE k.revision_id = r.id AND k.mark = 'partial'),
-                        c.original_revision_id, (SELECT op.path FROM revisions orv JOIN programs op ON op.id = orv.program_id WHERE orv.id = c.original_revision_id),
-                        c.rule, c.changes, pl.plan_json IS NOT NULL
-                 FROM revisions r JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
-                 LEFT JOIN comparisons c ON c.revision_id = r.id LEFT JOIN plans pl ON pl.revision_id = r.id
-                 WHERE r.id = ?1",
-                [id],
-                |r| {
-                    Ok(RevisionInfo {
-                        id: r.get(0)?,
-                        path: r.get(1)?,
-                        role: r.get(2)?,
-                        machine: r.get(3)?,
-                        name: r.get(4)?,
-                        dialect: r.get(5)?,
-                        hash: r.get(6)?,
-                        size: r.get::<_, i64>(7)? as u64,
-                        seen_at: r.get(8)?,
-                        encoding: r.get(9)?,
-                        status: r.get(10)?,
-                        partial_of: r.get(11)?,
-                        original: match (r.get::<_, Option<i64>>(12)?, r.get::<_, Option<String>>(13)?) {
-                            (Some(id), Some(path)) => Some((id, path, r.get::<_, Option<String>>(14)?.unwrap_or_default(), r.get::<_, i64>(15)? as usize)),
-                            _ => None,
-                        },
-                        has_plan: r.get(16)?,
-                    })
-                },
-            )
-            .optional()
-            .map_err(sql("reading a revision"))
-    }
-
-    /// The newest revision of the program at `path` (a whole path, or its end after a `/`)
-    /// seen at or before `at` (RFC 3339 or a date; `None`: the newest of all). Several
-    /// programs whose paths end so are an error that lists them.
-    pub fn revision_of_path(&self, path: &str, at: Option<&str>) -> Result<std::result::Result<Option<i64>, Vec<String>>> {
-        let mut stmt = self
-            .conn
-            .prepare("SELECT id, path FROM programs WHERE path = ?1 OR path LIKE '%/' || ?1 ESCAPE '\\' ORDER BY path")
-            .map_err(sql("preparing a query"))?;
-        let escaped = path.replace('\\', "\\\\").replace('%', "\\%").replace('_', "\\_");
-        let found: Vec<(i64, String)> = stmt
-            .query_map([&escaped], |r| Ok((r.get(0)?, r.get(1)?)))
-            .map_err(sql("looking up a path"))?
-            .collect::<std::result::Result<_, _>>()
-            .map_err(sql("looking up a path"))?;
-        let exact: Vec<(i64, String)> = found.iter().filter(|(_, p)| p == path).cloned().collect();
-        let program = match (exact.as_slice(), found.as_slice()) {
-            ([one], _) | ([], [one]) => one.0,
-            ([], []) => return Ok(Ok(None)),
-            _ => return Ok(Err(found.into_iter().map(|(_, p)| p).collect())),
-        };
-        // A bare date means the whole day.
-        let at = at.map(|a| if a.len() == 10 { format!("{a}T23:59:59.999Z") } else { a.to_owned() });
-        let id = self
-            .conn
-            .query_row(
-                "SELECT MAX(id) FROM revisions WHERE program_id = ?1 AND (?2 IS NULL OR julianday(seen_at) <= julianday(?2))",
-                params![program, at],
-                |r| r.get::<_, Option<i64>>(0),
-            )
-            .map_err(sql("looking up a revision"))?;
-        Ok(Ok(id))
-    }
-
-    /// A stored revision's program and plan, to rebuild its whole plan from.
-    pub fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
-        source_of(&self.conn, revision)
-    }
-
-    /// The stored bytes of a revision.
-    pub fn content(&self, revision: i64) -> Result<Option<Vec<u8>>> {
-        self.conn
-            .query_row("SELECT b.content FROM revisions r JOIN blobs b ON b.hash = r.hash WHERE r.id = ?1", [revision], |r| r.get(0))
-            .optional()
-            .map_err(sql("reading program bytes"))
-    }
-
-    /// The findings of a revision, in source order.
-    pub fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
-        let mut stmt = self
-            .conn
-            .prepare("SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = ?1 ORDER BY byte_start, id")
-            .map_err(sql("preparing a query"))?;
-        let rows = stmt
-            .query_map([revision], |r| {
-                Ok(StoredFinding { severity: r.get(0)?, code: r.get(1)?, line: r.get(2)?, col: r.get(3)?, message: r.get(4)? })
-            })
-            .map_err(sql("reading findings"))?;
-        rows.collect::<std::result::Result<_, _>>().map_err(sql("reading findings"))
-    }
-
-    /// The changes found in a revision against its original.
-    pub fn changes(&self, revision: i64) -> Result<Vec<Change>> {
-        let mut stmt = self
-            .conn
-            .prepare(
-                "SELECT workingstep, operation, kind, field, before, after, line, original_line,
-                        region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
-                 FROM changes WHERE revision_id = ?1 ORDER BY id",
-            )
-            .map_err(sql("preparing a query"))?;
-        let rows = stmt
-            .query_map([revision], |r| {
-                let kind: String = r.get(2)?;
-                Ok(Change {
-                    kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
-                    workingstep: r.get(0)?,
-                    operation: r.get(1)?,
-                    field: r.get(3)?,
-                    before: r.get(4)?,
-                    after: r.get(5)?,
-                    line: r.get(6)?,
-                    original_line: r.get(7)?,
-                    region: match (r.get::<_, Option<f64>>(8)?, r.get::<_, Option<f64>>(11)?) {
-                        (Some(_), Some(_)) => {
-                            Some(crate::plan::BBox { min: [r.get(8)?, r.get(9)?, r.get(10)?], max: [r.get(11)?, r.get(12)?, r.get(13)?] })
-                        }
-                        _ => None,
-                    },
-                    deviation: r.get(14)?,
-                })
-            })
-            .map_err(sql("reading changes"))?;
-        rows.collect::<std::result::Result<_, _>>().map_err(sql("reading changes"))
-    }
-
-    /// Runs one read-only statement (`SELECT`, `WITH`, `VALUES`, `EXPLAIN`) for `ncplan query`,
-    /// with refusals in plain words.
-    pub fn query_read_only(&self, sql_text: &str) -> std::result::Result<(Vec<String>, Vec<Vec<String>>), QueryError> {
-        let (first, rest) = split_statement(sql_text);
-        if !rest.is_empty() {
-            return Err(QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
-        }
-        let keyword = first.trim_start().split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("").to_ascii_uppercase();
-        if !matches!(keyword.as_str(), "SELECT" | "WITH" | "VALUES" | "EXPLAIN") {
-            let what = if keyword.is_empty() { "an empty statement".to_owned() } else { format!("`{keyword}`") };
-            return Err(QueryError::Refused(format!("{what} is refused: queries only read (SELECT, WITH, VALUES, EXPLAIN)")));
-        }
-        let stmt = self.conn.prepare(first).map_err(|e| QueryError::Sql(plain(&e)))?;
-        if !stmt.readonly() {
-            return Err(QueryError::Refused("the statement would change the database; queries only read".into()));
-        }
-        drop(stmt);
-        self.query(first).map_err(|e| match e {
-            StoreError::Sql { source, .. } => QueryError::Sql(plain(&source)),
-            other => QueryError::Sql(other.to_string()),
-        })
-    }
-
-    /// Runs a query and returns column names and rows as text.
-    pub fn query(&self, sql_text: &str) -> Result<(Vec<String>, Vec<Vec<String>>)> {
-        let mut stmt = self.conn.prepare(sql_text).map_err(sql("preparing the query"))?;
-        let names: Vec<String> = stmt.column_names().iter().map(|s| (*s).to_owned()).collect();
-        let n = names.len();
-        let mut rows = stmt.query([]).map_err(sql("running the query"))?;
-        let mut out = Vec::new();
-        while let Some(row) = rows.next().map_err(sql("reading a row"))? {
-            out.push(cells(row, n)?);
-        }
-        Ok((names, out))
-    }
-}
-
-/// The first `n` cells of a row as text.
-fn cells(row: &rusqlite::Row<'_>, n: usize) -> Result<Vec<String>> {
-    let mut cells = Vec::with_capacity(n);
-    for i in 0..n {
-        use rusqlite::types::ValueRef;
-        let v = row.get_ref(i).map_err(sql("reading a cell"))?;
-        cells.push(match v {
-            ValueRef::Null => String::new(),
-            ValueRef::Integer(x) => x.to_string(),
-            ValueRef::Real(x) => x.to_string(),
-            ValueRef::Text(t) => String::from_utf8_lossy(t).into_owned(),
-            ValueRef::Blob(b) => format!("<{} bytes>", b.len()),
-        });
-    }
-    Ok(cells)
-}
-
-/// A stored revision's program and plan; its bytes only when the plan is not complete.
-fn source_of(conn: &Connection, revision: i64) -> Result<Option<StoredSource>> {
-    let found = conn
-        .query_row(
-            "SELECT p.path, p.dialect, r.status, pl.plan_json, pl.complete, r.hash FROM revisions r JOIN programs p ON p.id = r.program_id
-             LEFT JOIN plans pl ON pl.revision_id = r.id WHERE r.id = ?1",
-            [revision],
-            |r| {
-                let plan = match r.get::<_, Option<String>>(3)? {
-                    Some(json) => Some((json, r.get::<_, Option<bool>>(4)?.unwrap_or(true))),
-                    None => None,
-                };
-                Ok((StoredSource { path: r.get(0)?, dialect: r.get(1)?, status: r.get(2)?, plan, bytes: None }, r.get::<_, String>(5)?))
-            },
-        )
-        .optional()
-        .map_err(sql("reading a revision"))?;
-    let Some((mut src, hash)) = found else { return Ok(None) };
-    if !src.plan.as_ref().is_some_and(|(_, complete)| *complete) {
-        src.bytes = conn
-            .query_row("SELECT content FROM blobs WHERE hash = ?1", [&hash], |r| r.get(0))
-            .optional()
-            .map_err(sql("reading program bytes"))?;
-    }
-    Ok(Some(src))
-}
-
 /// Why `ncplan query` did not run a statement.
 #[derive(Debug, thiserror::Error)]
 pub enum QueryError {
@@ -557,21 +248,6 @@ pub enum QueryError {
     /// SQLite rejected it.
     #[error("{0}")]
     Sql(String),
-}
-
-/// SQLite's message, without its internals.
-fn plain(e: &rusqlite::Error) -> String {
-    match e {
-        rusqlite::Error::SqliteFailure(_, Some(msg)) => msg.clone(),
-        rusqlite::Error::SqliteFailure(f, None) => match f.code {
-            rusqlite::ErrorCode::ReadOnly | rusqlite::ErrorCode::SystemIoFailure | rusqlite::ErrorCode::CannotOpen => {
-                "the query would write; queries only read".into()
-            }
-            rusqlite::ErrorCode::OperationInterrupted => "the query ran past its time limit".into(),
-            _ => f.to_string(),
-        },
-        other => other.to_string(),
-    }
 }
 
 /// The first statement of `sql` and what follows it (blank when nothing does): `;` inside
@@ -631,316 +307,483 @@ fn split_statement_blank(s: &str) -> bool {
     }
 }
 
+/// A re-analysis to record ([`Txn::record_analysis`]).
+#[derive(Debug)]
+pub struct NewAnalysis<'a> {
+    /// The revision.
+    pub revision: i64,
+    /// The analysis version (ncplan's and the dictionary's).
+    pub version: &'a str,
+    /// Who did it (host and process).
+    pub worker: &'a str,
+    /// When (RFC 3339).
+    pub at: &'a str,
+    /// The new plan summary JSON.
+    pub plan_json: &'a str,
+    /// Workingsteps and tools.
+    pub counts: (usize, usize),
+    /// The new findings.
+    pub diagnostics: &'a [DiagnosticJson],
+}
+
+/// What a re-analysis changed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Reanalysed {
+    /// Whether the plan differs from the one it replaced.
+    pub plan_changed: bool,
+    /// Findings (code and message) the old analysis did not have.
+    pub new_findings: usize,
+    /// Findings of the old analysis this one does not have.
+    pub vanished_findings: usize,
+}
+
+/// An open database, on either engine.
+pub struct Store {
+    engine: Engine,
+}
+
+enum Engine {
+    Lite(sqlite::Lite),
+    Pg(Box<pg::Pg>),
+}
+
 /// One unit of work: a revision, its findings, the partial-write mark of the one before, and
 /// every comparison it enables commit together or not at all.
 pub struct Txn<'c> {
-    tx: Transaction<'c>,
+    engine: TxnEngine<'c>,
 }
 
-/// `(revision_id)` of revisions that may serve as originals or be compared: analysed, with a
-/// plan, and not a partial write.
-const USABLE: &str = "r.status = 'analysed' AND EXISTS (SELECT 1 FROM plans pl WHERE pl.revision_id = r.id)
-     AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = r.id AND k.mark = 'partial')";
+enum TxnEngine<'c> {
+    Lite(sqlite::LiteTxn<'c>),
+    Pg(pg::PgTxn<'c>),
+}
 
-impl Txn<'_> {
-    /// Commits.
-    pub fn commit(self) -> Result<()> {
-        self.tx.commit().map_err(sql("committing a revision"))
-    }
+macro_rules! on {
+    ($self:expr, $e:ident => $call:expr) => {
+        match &$self.engine {
+            Engine::Lite($e) => $call,
+            Engine::Pg($e) => $call,
+        }
+    };
+}
 
-    /// The newest revision of the program at `path`, with its age at `now` (RFC 3339).
-    pub fn latest(&self, path: &str, now: &str) -> Result<Option<Latest>> {
-        self.tx
-            .query_row(
-                "SELECT r.id, r.hash, r.size, (julianday(?2) - julianday(r.seen_at)) * 86400.0
-                 FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path = ?1 ORDER BY r.id DESC LIMIT 1",
-                params![path, now],
-                |r| {
-                    Ok(Latest {
-                        id: r.get(0)?,
-                        hash: r.get(1)?,
-                        size: r.get::<_, i64>(2)? as u64,
-                        age_s: r.get::<_, Option<f64>>(3)?.unwrap_or(f64::INFINITY),
-                    })
-                },
-            )
-            .optional()
-            .map_err(sql("looking up the latest revision"))
-    }
+macro_rules! on_tx {
+    ($self:expr, $e:ident => $call:expr) => {
+        match &$self.engine {
+            TxnEngine::Lite($e) => $call,
+            TxnEngine::Pg($e) => $call,
+        }
+    };
+}
 
-    /// The stored bytes with `hash`.
-    pub fn blob(&self, hash: &str) -> Result<Option<Vec<u8>>> {
-        self.tx
-            .query_row("SELECT content FROM blobs WHERE hash = ?1", [hash], |r| r.get(0))
-            .optional()
-            .map_err(sql("reading program bytes"))
-    }
-
-    /// Records a revision with its program, keys, bytes, plan and diagnostics.
-    pub fn insert_revision(&self, rev: &NewRevision<'_>) -> Result<i64> {
-        let tx = &self.tx;
-        let machine_id: Option<i64> = match rev.machine {
-            Some((name, dialect, folder)) => {
-                tx.execute(
-                    "INSERT INTO machines(name, dialect, folder) VALUES (?1, ?2, ?3)
-                     ON CONFLICT(name) DO UPDATE SET dialect = excluded.dialect, folder = excluded.folder",
-                    params![name, dialect, folder],
-                )
-                .map_err(sql("recording a machine"))?;
-                Some(tx.query_row("SELECT id FROM machines WHERE name = ?1", [name], |r| r.get(0)).map_err(sql("recording a machine"))?)
-            }
-            None => None,
+impl Store {
+    /// Opens (creating if needed) the database at `at` and applies migrations; what this
+    /// process writes belongs to `site`.
+    pub fn open(at: &Location, site: &str) -> Result<Store> {
+        let engine = match at {
+            Location::Sqlite(path) => Engine::Lite(sqlite::Lite::open(path, site)?),
+            Location::Postgres(target) => Engine::Pg(Box::new(pg::Pg::open(target, site)?)),
         };
-        let first_key = rev.keys.first().map_or(rev.stem, |k| k.value.as_str());
-        tx.execute(
-            "INSERT INTO programs(path, role, machine_id, name, program_key, stem, dialect) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)
-             ON CONFLICT(path) DO UPDATE SET role = excluded.role, machine_id = excluded.machine_id, name = excluded.name,
-               program_key = excluded.program_key, stem = excluded.stem, dialect = excluded.dialect",
-            params![rev.path, rev.role, machine_id, rev.name, first_key, rev.stem, rev.dialect],
-        )
-        .map_err(sql("recording a program"))?;
-        let program_id: i64 =
-            tx.query_row("SELECT id FROM programs WHERE path = ?1", [rev.path], |r| r.get(0)).map_err(sql("recording a program"))?;
-        tx.execute("DELETE FROM program_keys WHERE program_id = ?1", [program_id]).map_err(sql("recording program keys"))?;
-        for k in rev.keys {
-            tx.execute(
-                "INSERT OR IGNORE INTO program_keys(program_id, rule, key) VALUES (?1, ?2, ?3)",
-                params![program_id, k.rule.as_str(), k.value],
-            )
-            .map_err(sql("recording program keys"))?;
-        }
-        match rev.content {
-            Content::Bytes(bytes) => {
-                tx.execute(
-                    "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, ?3)",
-                    params![rev.hash, bytes.len() as i64, bytes],
-                )
-                .map_err(sql("storing program bytes"))?;
-            }
-            Content::File { path, size } => self.stream_blob(rev.hash, path, size)?,
-        }
-        let size = rev.content.len() as i64;
-        tx.execute(
-            "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
-            params![program_id, rev.hash, size, rev.mtime_ns, rev.seen_at, rev.encoding, rev.status, rev.name],
-        )
-        .map_err(sql("recording a revision"))?;
-        let revision_id = tx.last_insert_rowid();
-        tx.execute("DELETE FROM attempts WHERE hash = ?1 AND path = ?2", [rev.hash, rev.path]).map_err(sql("closing an attempt"))?;
-        if let Some(plan) = rev.plan_json {
-            tx.execute(
-                "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete) VALUES (?1, ?2, ?3, ?4, ?5)",
-                params![revision_id, plan, rev.counts.0 as i64, rev.counts.1 as i64, rev.plan_complete],
-            )
-            .map_err(sql("storing a plan"))?;
-            tx.execute(schema::FILL_WORKINGSTEPS, params![revision_id]).map_err(sql("storing workingsteps"))?;
-            tx.execute(schema::FILL_FEATURES, params![revision_id]).map_err(sql("storing features"))?;
-        }
-        for d in rev.diagnostics {
-            self.insert_finding(revision_id, d)?;
-        }
-        Ok(revision_id)
+        Ok(Store { engine })
     }
 
-    /// Copies the file into the blob `hash` in chunks, checking on the way that it still has
-    /// that hash. Files over [`MAX_BLOB`] keep an empty blob (their size and hash are kept).
-    fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
-        use sha2::Digest as _;
-        use std::io::{Read as _, Write as _};
-        let kept = if size > MAX_BLOB { 0 } else { size };
-        let inserted = self
-            .tx
-            .execute(
-                "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, zeroblob(?3))",
-                params![hash, size as i64, kept as i64],
-            )
-            .map_err(sql("storing program bytes"))?;
-        if inserted == 0 || kept == 0 {
-            return Ok(());
+    /// An in-memory SQLite database, for tests.
+    pub fn open_in_memory() -> Result<Store> {
+        Ok(Store { engine: Engine::Lite(sqlite::Lite::open_in_memory("")?) })
+    }
+
+    /// Opens the database read-only: no statement can change it (SQLite opened read-only;
+    /// on PostgreSQL every transaction of the session is read-only).
+    pub fn open_read_only(at: &Location) -> Result<Store> {
+        let engine = match at {
+            Location::Sqlite(path) => Engine::Lite(sqlite::Lite::open_read_only(path)?),
+            Location::Postgres(target) => Engine::Pg(Box::new(pg::Pg::open_read_only(target)?)),
+        };
+        Ok(Store { engine })
+    }
+
+    /// The same store reading as `site` (whose program paths [`Store::latest_hash`] looks up).
+    pub fn for_site(mut self, site: &str) -> Store {
+        match &mut self.engine {
+            Engine::Lite(e) => e.site = site.to_owned(),
+            Engine::Pg(e) => e.set_site(site),
         }
-        let rowid: i64 =
-            self.tx.query_row("SELECT rowid FROM blobs WHERE hash = ?1", [hash], |r| r.get(0)).map_err(sql("storing program bytes"))?;
-        let mut blob =
-            self.tx.blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, false).map_err(sql("storing program bytes"))?;
-        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-        let mut hasher = sha2::Sha256::new();
-        let mut buf = vec![0u8; 1 << 20];
-        let mut copied = 0u64;
-        loop {
-            let n = file.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-            if n == 0 {
-                break;
-            }
-            if copied + n as u64 > size {
-                return Err(StoreError::ContentChanged);
-            }
-            hasher.update(&buf[..n]);
-            blob.write_all(&buf[..n]).map_err(|e| StoreError::Io { about: "storing program bytes", source: e })?;
-            copied += n as u64;
+        self
+    }
+
+    /// Copies the history of the SQLite file `from` into this PostgreSQL database as this
+    /// store's site (`ncplan migrate`), resumably; `progress` hears (done, of) revisions.
+    pub fn copy_from_sqlite(&self, from: &Path, progress: &dyn Fn(usize, usize)) -> Result<CopySummary> {
+        let Engine::Pg(pg) = &self.engine else {
+            return Err(StoreError::Setup("ncplan migrate copies into a PostgreSQL database (--to postgresql://…)".into()));
+        };
+        if !from.is_file() {
+            return Err(StoreError::Setup(format!("no SQLite database at {}", from.display())));
         }
-        if copied != size || format!("{:x}", hasher.finalize()) != hash {
-            return Err(StoreError::ContentChanged);
+        let lite = sqlite::Lite::open_read_only(from)?;
+        let version = lite.version()?;
+        if version < 3 {
+            return Err(StoreError::Setup(format!(
+                "{} has schema version {version}; run this ncplan's `watch` on it once to bring it to the current one",
+                from.display()
+            )));
         }
-        Ok(())
+        pg.copy_from(&lite, progress)
+    }
+
+    /// Fills a PostgreSQL database with a simulated plant of `revisions` revisions (see
+    /// [`PLANT_QUERIES`]) for `ncplan bench --simulate`; returns how many there are.
+    pub fn simulate_plant(&self, revisions: i64) -> Result<i64> {
+        match &self.engine {
+            Engine::Pg(pg) => pg.simulate_plant(revisions),
+            Engine::Lite(_) => Err(StoreError::Setup("the plant simulation runs on PostgreSQL (--postgres URL)".into())),
+        }
+    }
+
+    /// Queues every analysed revision (seen since `since`, of `dialect`) that has no analysis
+    /// of `version` yet; returns how many are queued for it now.
+    pub fn queue_reanalysis(&self, version: &str, since: Option<&str>, dialect: Option<&str>) -> Result<usize> {
+        on!(self, e => e.queue_reanalysis(version, since, dialect))
+    }
+
+    /// Claims up to `n` queued revisions of `version` for `worker` until `lease_until`: those
+    /// no one holds, or whose lease ran out before `now` (its worker died). On PostgreSQL
+    /// concurrent workers skip each other's rows (`FOR UPDATE SKIP LOCKED`).
+    pub fn claim_reanalysis(&self, version: &str, worker: &str, n: usize, now: &str, lease_until: &str) -> Result<Vec<i64>> {
+        on!(self, e => e.claim_reanalysis(version, worker, n, now, lease_until))
+    }
+
+    /// Revisions of `version` still queued.
+    pub fn reanalysis_left(&self, version: &str) -> Result<usize> {
+        on!(self, e => e.reanalysis_left(version))
+    }
+
+    /// Which engine, for messages: `SQLite` or `PostgreSQL`.
+    pub fn engine_name(&self) -> &'static str {
+        match self.engine {
+            Engine::Lite(_) => "SQLite",
+            Engine::Pg(_) => "PostgreSQL",
+        }
+    }
+
+    /// How long a statement waits for another connection's transaction before it fails.
+    pub fn set_busy_timeout(&mut self, wait: std::time::Duration) -> Result<()> {
+        match &mut self.engine {
+            Engine::Lite(e) => e.set_busy_timeout(wait),
+            Engine::Pg(e) => e.set_busy_timeout(wait),
+        }
+    }
+
+    /// Schema version: how many migrations have run.
+    pub fn version(&self) -> Result<usize> {
+        on!(self, e => e.version())
+    }
+
+    /// The hash of the latest revision of the program at `path` (of this site).
+    pub fn latest_hash(&self, path: &str) -> Result<Option<String>> {
+        on!(self, e => e.latest_hash(path))
+    }
+
+    /// Whether the program at `path` has a revision with the content `hash`, at any time.
+    pub fn has_revision(&self, path: &str, hash: &str) -> Result<bool> {
+        on!(self, e => e.has_revision(path, hash))
+    }
+
+    /// Notes that the content `hash` is about to be analysed, and returns how many earlier
+    /// analyses of it never finished (a kill by the kernel's out-of-memory killer, a memory
+    /// limit, a crash). The note is removed when its revision is recorded, or by [`Store::finish_attempt`].
+    pub fn begin_attempt(&self, hash: &str, path: &str, at: &str) -> Result<u32> {
+        on!(self, e => e.begin_attempt(hash, path, at))
+    }
+
+    /// Removes the note of an analysis that ended without recording a revision.
+    pub fn finish_attempt(&self, hash: &str, path: &str) -> Result<()> {
+        on!(self, e => e.finish_attempt(hash, path))
+    }
+
+    /// Starts the one transaction in which a revision and everything it enables are recorded.
+    /// Writers of other programs do not wait for it (PostgreSQL) or wait for one
+    /// transaction at most (SQLite's single writer).
+    pub fn begin(&mut self) -> Result<Txn<'_>> {
+        let engine = match &mut self.engine {
+            Engine::Lite(e) => TxnEngine::Lite(e.begin()?),
+            Engine::Pg(e) => TxnEngine::Pg(e.begin()?),
+        };
+        Ok(Txn { engine })
+    }
+
+    /// One stored revision, for `ncplan show`.
+    pub fn revision(&self, id: i64) -> Result<Option<RevisionInfo>> {
+        on!(self, e => e.revision(id))
+    }
+
+    /// The newest revision of the program at `path` (a whole path, or its end after a `/`)
+    /// seen at or before `at` (RFC 3339 or a date; `None`: the newest of all). Several
+    /// programs whose paths end so are an error that lists them.
+    pub fn revision_of_path(&self, path: &str, at: Option<&str>) -> Result<std::result::Result<Option<i64>, Vec<String>>> {
+        on!(self, e => e.revision_of_path(path, at))
     }
 
     /// A stored revision's program and plan, to rebuild its whole plan from.
     pub fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
-        source_of(&self.tx, revision)
+        on!(self, e => e.source(revision))
     }
 
-    fn insert_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<()> {
-        self.tx
-            .prepare_cached(
-                "INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
-            )
-            .and_then(|mut stmt| stmt.execute(params![revision_id, d.code, d.severity.as_str(), d.line, d.col, d.start, d.end, d.message]))
-            .map_err(sql("storing diagnostics"))?;
-        Ok(())
+    /// The stored bytes of a revision.
+    pub fn content(&self, revision: i64) -> Result<Option<Vec<u8>>> {
+        on!(self, e => e.content(revision))
+    }
+
+    /// The findings of a revision, in source order.
+    pub fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
+        on!(self, e => e.findings(revision))
+    }
+
+    /// The changes found in a revision against its original.
+    pub fn changes(&self, revision: i64) -> Result<Vec<Change>> {
+        on!(self, e => e.changes(revision))
+    }
+
+    /// Runs one read-only statement (`SELECT`, `WITH`, `VALUES`, `EXPLAIN`) for `ncplan query`,
+    /// with refusals in plain words. On PostgreSQL it runs in a read-only transaction.
+    pub fn query_read_only(&self, sql_text: &str) -> std::result::Result<(Vec<String>, Vec<Vec<String>>), QueryError> {
+        let (first, rest) = split_statement(sql_text);
+        if !rest.is_empty() {
+            return Err(QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
+        }
+        let keyword = first.trim_start().split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("").to_ascii_uppercase();
+        if !matches!(keyword.as_str(), "SELECT" | "WITH" | "VALUES" | "EXPLAIN") {
+            let what = if keyword.is_empty() { "an empty statement".to_owned() } else { format!("`{keyword}`") };
+            return Err(QueryError::Refused(format!("{what} is refused: queries only read (SELECT, WITH, VALUES, EXPLAIN)")));
+        }
+        on!(self, e => e.query_read_only(first))
+    }
+
+    /// Runs a query and returns column names and rows as text (NULL as blank, a blob as
+    /// `<n bytes>`, a truth value as 1 or 0, on both engines).
+    pub fn query(&self, sql_text: &str) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+        on!(self, e => e.query(sql_text))
+    }
+}
+
+impl Txn<'_> {
+    /// Commits.
+    pub fn commit(self) -> Result<()> {
+        match self.engine {
+            TxnEngine::Lite(t) => t.commit(),
+            TxnEngine::Pg(t) => t.commit(),
+        }
+    }
+
+    /// The newest revision of the program at `path`, with its age at `now` (RFC 3339). On
+    /// PostgreSQL this also makes other writers of the same program wait for this transaction,
+    /// so that one content is stored once however many processes see it.
+    pub fn latest(&self, path: &str, now: &str) -> Result<Option<Latest>> {
+        on_tx!(self, e => e.latest(path, now))
+    }
+
+    /// The stored bytes with `hash`.
+    pub fn blob(&self, hash: &str) -> Result<Option<Vec<u8>>> {
+        on_tx!(self, e => e.blob(hash))
+    }
+
+    /// Records a revision with its program, keys, bytes, plan and diagnostics.
+    pub fn insert_revision(&self, rev: &NewRevision<'_>) -> Result<i64> {
+        on_tx!(self, e => e.insert_revision(rev))
+    }
+
+    /// A stored revision's program and plan, to rebuild its whole plan from.
+    pub fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
+        on_tx!(self, e => e.source(revision))
     }
 
     /// Adds a finding to a stored revision, unless it has the same one (code and message).
     pub fn add_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<bool> {
-        let known: bool = self
-            .tx
-            .query_row(
-                "SELECT EXISTS (SELECT 1 FROM diagnostics WHERE revision_id = ?1 AND code = ?2 AND message = ?3)",
-                params![revision_id, d.code, d.message],
-                |r| r.get(0),
-            )
-            .map_err(sql("looking up diagnostics"))?;
-        if !known {
-            self.insert_finding(revision_id, d)?;
-        }
-        Ok(!known)
+        on_tx!(self, e => e.add_finding(revision_id, d))
     }
 
     /// Marks `revision` as a partial write of `by` (the revision whose start it is).
     pub fn mark_partial(&self, revision: i64, by: i64, at: &str) -> Result<()> {
-        self.tx
-            .execute(
-                "INSERT OR IGNORE INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES (?1, 'partial', ?2, ?3)",
-                params![revision, by, at],
-            )
-            .map_err(sql("marking a partial write"))?;
-        Ok(())
+        on_tx!(self, e => e.mark_partial(revision, by, at))
     }
 
-    /// The CAM originals that have the key `key`: for each, its newest usable revision.
+    /// The CAM originals of this site that have the key `key`: for each, its newest usable revision.
     pub fn originals(&self, key: &str) -> Result<Vec<Candidate>> {
-        let found: Vec<(i64, String, i64)> = {
-            let mut stmt = self
-                .tx
-                .prepare_cached(&format!(
-                    "SELECT p.id, p.path, (SELECT MAX(r.id) FROM revisions r WHERE r.program_id = p.id AND {USABLE})
-                     FROM programs p
-                     WHERE p.role = 'cam' AND p.id IN (SELECT program_id FROM program_keys WHERE key = ?1)
-                     ORDER BY p.path"
-                ))
-                .map_err(sql("preparing a query"))?;
-            let rows = stmt
-                .query_map([key], |r| Ok((r.get(0)?, r.get(1)?, r.get::<_, Option<i64>>(2)?)))
-                .map_err(sql("looking up CAM originals"))?;
-            let mut out = Vec::new();
-            for row in rows {
-                if let (id, path, Some(rev)) = row.map_err(sql("looking up CAM originals"))? {
-                    out.push((id, path, rev));
-                }
-            }
-            out
-        };
-        found.into_iter().map(|(id, path, revision)| Ok(Candidate { revision, path, keys: self.keys_of(id)? })).collect()
+        on_tx!(self, e => e.originals(key))
     }
 
-    fn keys_of(&self, program_id: i64) -> Result<Vec<Key>> {
-        let mut stmt =
-            self.tx.prepare_cached("SELECT rule, key FROM program_keys WHERE program_id = ?1").map_err(sql("preparing a query"))?;
-        let rows =
-            stmt.query_map([program_id], |r| Ok((r.get::<_, String>(0)?, r.get::<_, String>(1)?))).map_err(sql("reading program keys"))?;
-        let mut keys = Vec::new();
-        for row in rows {
-            let (rule, value) = row.map_err(sql("reading program keys"))?;
-            if let Some(rule) = Rule::parse(&rule) {
-                keys.push(Key { rule, value });
-            }
-        }
-        keys.sort_by_key(|k| k.rule);
-        Ok(keys)
-    }
-
-    /// Usable machine revisions without a comparison: of the programs with the key `key`, or
-    /// of every program.
+    /// Usable machine revisions of this site without a comparison: of the programs with the
+    /// key `key`, or of every program.
     pub fn uncompared(&self, key: Option<&str>) -> Result<Vec<Comparable>> {
-        let query = format!(
-            "SELECT r.id, p.path, p.id FROM revisions r JOIN programs p ON p.id = r.program_id
-             WHERE p.role = 'machine' AND {USABLE}
-               AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id)
-               AND (?1 IS NULL OR p.id IN (SELECT program_id FROM program_keys WHERE key = ?1))
-             ORDER BY r.id"
-        );
-        self.comparables(&query, rusqlite::types::Value::from(key.map(str::to_owned)))
+        on_tx!(self, e => e.uncompared(key))
     }
 
     /// Machine revisions compared with `original`.
     pub fn compared_with(&self, original: i64) -> Result<Vec<Comparable>> {
-        let query = "SELECT r.id, p.path, p.id FROM comparisons c JOIN revisions r ON r.id = c.revision_id
-                     JOIN programs p ON p.id = r.program_id WHERE c.original_revision_id = ?1 ORDER BY r.id";
-        self.comparables(query, rusqlite::types::Value::from(original))
-    }
-
-    fn comparables(&self, query: &str, arg: rusqlite::types::Value) -> Result<Vec<Comparable>> {
-        let found: Vec<(i64, String, i64)> = {
-            let mut stmt = self.tx.prepare_cached(query).map_err(sql("preparing a query"))?;
-            let rows = stmt.query_map([arg], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?))).map_err(sql("listing revisions to compare"))?;
-            rows.collect::<std::result::Result<_, _>>().map_err(sql("listing revisions to compare"))?
-        };
-        found.into_iter().map(|(revision, path, id)| Ok(Comparable { revision, path, keys: self.keys_of(id)? })).collect()
+        on_tx!(self, e => e.compared_with(original))
     }
 
     /// Records the comparison of `revision` with `original`, paired by `rule`, replacing an
     /// earlier one of the same revision.
     pub fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
-        let tx = &self.tx;
-        tx.execute("DELETE FROM changes WHERE revision_id = ?1", [revision]).map_err(sql("replacing a comparison"))?;
-        tx.execute(
-            "INSERT OR REPLACE INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule) VALUES (?1, ?2, ?3, ?4, ?5)",
-            params![revision, original, at, changes.len() as i64, rule],
-        )
-        .map_err(sql("recording a comparison"))?;
-        let mut stmt = tx
-            .prepare_cached(
-                "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
-                                     original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)",
-            )
-            .map_err(sql("storing changes"))?;
-        for c in changes {
-            let (lo, hi) = match &c.region {
-                Some(b) => (b.min.map(Some), b.max.map(Some)),
-                None => ([None; 3], [None; 3]),
-            };
-            stmt.execute(params![
-                revision,
-                original,
-                c.workingstep,
-                c.operation,
-                c.kind.as_str(),
-                c.field,
-                c.before,
-                c.after,
-                c.line,
-                at,
-                c.original_line,
-                lo[0],
-                lo[1],
-                lo[2],
-                hi[0],
-                hi[1],
-                hi[2],
-                c.deviation
-            ])
-            .map_err(sql("storing changes"))?;
+        on_tx!(self, e => e.record_comparison(revision, original, rule, changes, at))
+    }
+
+    /// The original `revision` was compared with, and the rule that paired them.
+    pub fn comparison_of(&self, revision: i64) -> Result<Option<(i64, String)>> {
+        on_tx!(self, e => e.comparison_of(revision))
+    }
+
+    /// Records a re-analysis of a revision: its new plan and findings replace the current
+    /// ones, which are kept in `analyses` with the version that made them, and its queue entry
+    /// goes. `None` when this version's analysis of the revision is recorded already (by
+    /// another worker): each revision is analysed once per version.
+    pub fn record_analysis(&self, a: &NewAnalysis<'_>) -> Result<Option<Reanalysed>> {
+        on_tx!(self, e => e.record_analysis(a))
+    }
+}
+
+/// What the workspace's pages say on PostgreSQL, which they do not read yet.
+const ON_SQLITE_ONLY: &str = "the web workspace's pages read a SQLite database; on PostgreSQL only query, report and show work so far";
+
+/// The planners' workspace (`ncplan serve`): its read queries and review marks (`pages.rs`).
+impl Store {
+    /// The machines with their programs, revisions, newest revision and review queue.
+    pub fn machines(&self) -> Result<Vec<MachineSummary>> {
+        match &self.engine {
+            Engine::Lite(e) => e.machines(),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
         }
-        Ok(())
+    }
+
+    /// The review marks of a change, oldest first.
+    pub fn marks(&self, change_id: i64) -> Result<Vec<Mark>> {
+        match &self.engine {
+            Engine::Lite(e) => e.marks(change_id),
+            Engine::Pg(e) => e.marks(change_id),
+        }
+    }
+
+    /// The changes that match `filter`, newest first, at most `limit`.
+    pub fn search_changes(&self, filter: &ChangeFilter, limit: usize) -> Result<Vec<ChangeRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.search_changes(filter, limit),
+            Engine::Pg(e) => e.search_changes(filter, limit),
+        }
+    }
+
+    /// The changes of one edited revision, in their order.
+    pub fn change_rows(&self, revision: i64) -> Result<Vec<ChangeRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.change_rows(revision),
+            Engine::Pg(e) => e.change_rows(revision),
+        }
+    }
+
+    /// Changes per ISO week (`YYYY-Www`) per machine, oldest week first, for the last `weeks` weeks with changes.
+    pub fn changes_per_week(&self, weeks: usize) -> Result<Vec<(String, String, i64)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.changes_per_week(weeks),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// The programs edited most: by revisions with changes.
+    pub fn most_edited(&self, limit: usize) -> Result<Vec<EditedProgram>> {
+        match &self.engine {
+            Engine::Lite(e) => e.most_edited(limit),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// How often each change kind occurs, most often first.
+    pub fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.kind_counts(),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// The newest revisions whose analysis found errors.
+    pub fn error_revisions(&self, limit: usize) -> Result<Vec<ErrorRevision>> {
+        match &self.engine {
+            Engine::Lite(e) => e.error_revisions(limit),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// When the newest revision of each CAM or machine folder was seen: `(folder, when)`.
+    pub fn last_seen_per_folder(&self) -> Result<Vec<(String, String)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.last_seen_per_folder(),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// One machine.
+    pub fn machine(&self, name: &str) -> Result<Option<MachineSummary>> {
+        match &self.engine {
+            Engine::Lite(e) => e.machine(name),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// A machine's programs with their newest revision.
+    pub fn machine_programs(&self, machine: &str) -> Result<Vec<ProgramRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.machine_programs(machine),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// One program.
+    pub fn program(&self, id: i64) -> Result<Option<ProgramInfo>> {
+        match &self.engine {
+            Engine::Lite(e) => e.program(id),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// The program a revision belongs to.
+    pub fn program_of(&self, revision: i64) -> Result<Option<i64>> {
+        match &self.engine {
+            Engine::Lite(e) => e.program_of(revision),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// Every revision of a program, oldest first.
+    pub fn timeline(&self, program: i64) -> Result<Vec<TimelineRow>> {
+        match &self.engine {
+            Engine::Lite(e) => e.timeline(program),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// The CAM originals a program's revisions were compared with: `(program id, path, newest revision)`.
+    pub fn originals_of(&self, program: i64) -> Result<Vec<(i64, String, i64)>> {
+        match &self.engine {
+            Engine::Lite(e) => e.originals_of(program),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// Adds a review mark to a change: `adopt`, `reject` or `note`. Returns the revision the
+    /// change belongs to, or `None` when there is no such change. Analysis tables are only read.
+    pub fn add_mark(&self, change_id: i64, mark: &str, note: &str, by: &str, at: &str) -> Result<Option<i64>> {
+        match &self.engine {
+            Engine::Lite(e) => e.add_mark(change_id, mark, note, by, at),
+            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        }
+    }
+
+    /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
+    /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
+    /// whether rows were left off.
+    pub fn query_limited(&self, sql_text: &str, max_rows: usize, limit: std::time::Duration) -> std::result::Result<Limited, QueryError> {
+        match &self.engine {
+            Engine::Lite(e) => e.query_limited(sql_text, max_rows, limit),
+            Engine::Pg(_) => Err(QueryError::Refused(ON_SQLITE_ONLY.into())),
+        }
     }
 }

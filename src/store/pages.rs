@@ -5,7 +5,8 @@
 
 use rusqlite::{OptionalExtension, params};
 
-use super::{Result, Store, StoreError, sql};
+use super::sqlite::{Lite, sql};
+use super::{Result, StoreError};
 use crate::diff::{Change, ChangeKind};
 
 /// A configured machine as the store knows it.
@@ -244,7 +245,7 @@ pub const SAVED_QUERIES: &[(&str, &str)] = &[
 ];
 
 /// The changes of `shopfloor_changes` with the columns [`ChangeRow`] reads; `{where}` filters.
-const CHANGE_ROWS: &str =
+pub(super) const CHANGE_ROWS: &str =
     "SELECT c.id, c.revision_id, c.original_revision_id, COALESCE(m.name, ''), COALESCE(r.name, p.name), c.detected_at,
         c.workingstep, c.operation, c.kind, c.field, c.before, c.after, c.line, c.original_line,
         c.region_min_x, c.region_min_y, c.region_min_z, c.region_max_x, c.region_max_y, c.region_max_z, c.deviation
@@ -252,7 +253,7 @@ const CHANGE_ROWS: &str =
  WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')";
 
 /// Rows waiting for review: no mark names the change.
-const UNMARKED: &str = "NOT EXISTS (SELECT 1 FROM review_marks v WHERE v.change_id = c.id)";
+pub(super) const UNMARKED: &str = "NOT EXISTS (SELECT 1 FROM review_marks v WHERE v.change_id = c.id)";
 
 fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
     let kind: String = r.get(8)?;
@@ -286,7 +287,7 @@ fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
     })
 }
 
-impl Store {
+impl Lite {
     fn rows<T>(
         &self,
         about: &'static str,
@@ -300,7 +301,7 @@ impl Store {
     }
 
     /// The machines with their programs, revisions, newest revision and review queue.
-    pub fn machines(&self) -> Result<Vec<MachineSummary>> {
+    pub(super) fn machines(&self) -> Result<Vec<MachineSummary>> {
         self.rows(
             "listing machines",
             &format!(
@@ -355,7 +356,7 @@ impl Store {
     }
 
     /// The review marks of a change, oldest first.
-    pub fn marks(&self, change_id: i64) -> Result<Vec<Mark>> {
+    pub(super) fn marks(&self, change_id: i64) -> Result<Vec<Mark>> {
         self.rows(
             "reading review marks",
             "SELECT mark, note, marked_by, marked_at FROM review_marks WHERE change_id = ?1 ORDER BY id",
@@ -365,7 +366,7 @@ impl Store {
     }
 
     /// The changes that match `filter`, newest first, at most `limit`.
-    pub fn search_changes(&self, filter: &ChangeFilter, limit: usize) -> Result<Vec<ChangeRow>> {
+    pub(super) fn search_changes(&self, filter: &ChangeFilter, limit: usize) -> Result<Vec<ChangeRow>> {
         let program_number = filter.program.trim().trim_start_matches(['O', 'o']).parse::<u64>().ok().map(|n| format!("O{n}"));
         let query = format!(
             "{CHANGE_ROWS}
@@ -396,13 +397,13 @@ impl Store {
     }
 
     /// The changes of one edited revision, in their order.
-    pub fn change_rows(&self, revision: i64) -> Result<Vec<ChangeRow>> {
+    pub(super) fn change_rows(&self, revision: i64) -> Result<Vec<ChangeRow>> {
         let rows = self.rows("reading changes", &format!("{CHANGE_ROWS} AND c.revision_id = ?1 ORDER BY c.id"), [revision], change_row)?;
         self.with_marks(rows)
     }
 
     /// Changes per ISO week (`YYYY-Www`) per machine, oldest week first, for the last `weeks` weeks with changes.
-    pub fn changes_per_week(&self, weeks: usize) -> Result<Vec<(String, String, i64)>> {
+    pub(super) fn changes_per_week(&self, weeks: usize) -> Result<Vec<(String, String, i64)>> {
         self.rows(
             "counting changes per week",
             "WITH w AS (SELECT strftime('%Y-W%W', c.detected_at) AS week, COALESCE(m.name, '') AS machine
@@ -418,7 +419,7 @@ impl Store {
     }
 
     /// The programs edited most: by revisions with changes.
-    pub fn most_edited(&self, limit: usize) -> Result<Vec<EditedProgram>> {
+    pub(super) fn most_edited(&self, limit: usize) -> Result<Vec<EditedProgram>> {
         self.rows(
             "listing the most edited programs",
             "SELECT COALESCE(m.name, ''), p.name, p.id, COUNT(DISTINCT c.revision_id), COUNT(*)
@@ -431,14 +432,14 @@ impl Store {
     }
 
     /// How often each change kind occurs, most often first.
-    pub fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
+    pub(super) fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
         self.rows("counting change kinds", "SELECT kind, COUNT(*) FROM shopfloor_changes GROUP BY kind ORDER BY 2 DESC, 1", [], |r| {
             Ok((r.get(0)?, r.get(1)?))
         })
     }
 
     /// The newest revisions whose analysis found errors.
-    pub fn error_revisions(&self, limit: usize) -> Result<Vec<ErrorRevision>> {
+    pub(super) fn error_revisions(&self, limit: usize) -> Result<Vec<ErrorRevision>> {
         self.rows(
             "listing revisions with errors",
             "SELECT r.id, p.path, r.seen_at, (SELECT COUNT(*) FROM diagnostics d WHERE d.revision_id = r.id AND d.severity = 'error') AS n
@@ -451,7 +452,7 @@ impl Store {
     }
 
     /// When the newest revision of each CAM or machine folder was seen: `(folder, when)`.
-    pub fn last_seen_per_folder(&self) -> Result<Vec<(String, String)>> {
+    pub(super) fn last_seen_per_folder(&self) -> Result<Vec<(String, String)>> {
         self.rows(
             "reading the last event per share",
             "SELECT COALESCE(m.folder, 'cam'), MAX(r.seen_at) FROM revisions r JOIN programs p ON p.id = r.program_id
@@ -462,12 +463,12 @@ impl Store {
     }
 
     /// One machine.
-    pub fn machine(&self, name: &str) -> Result<Option<MachineSummary>> {
+    pub(super) fn machine(&self, name: &str) -> Result<Option<MachineSummary>> {
         Ok(self.machines()?.into_iter().find(|m| m.name == name))
     }
 
     /// A machine's programs with their newest revision.
-    pub fn machine_programs(&self, machine: &str) -> Result<Vec<ProgramRow>> {
+    pub(super) fn machine_programs(&self, machine: &str) -> Result<Vec<ProgramRow>> {
         self.rows(
             "listing a machine's programs",
             "SELECT p.id, p.path, COALESCE(r.name, p.name), r.id, r.seen_at, r.size,
@@ -493,7 +494,7 @@ impl Store {
     }
 
     /// One program.
-    pub fn program(&self, id: i64) -> Result<Option<ProgramInfo>> {
+    pub(super) fn program(&self, id: i64) -> Result<Option<ProgramInfo>> {
         self.conn
             .query_row(
                 "SELECT p.id, p.path, p.name, p.role, m.name, p.dialect FROM programs p LEFT JOIN machines m ON m.id = p.machine_id WHERE p.id = ?1",
@@ -505,7 +506,7 @@ impl Store {
     }
 
     /// The program a revision belongs to.
-    pub fn program_of(&self, revision: i64) -> Result<Option<i64>> {
+    pub(super) fn program_of(&self, revision: i64) -> Result<Option<i64>> {
         self.conn
             .query_row("SELECT program_id FROM revisions WHERE id = ?1", [revision], |r| r.get(0))
             .optional()
@@ -513,7 +514,7 @@ impl Store {
     }
 
     /// Every revision of a program, oldest first.
-    pub fn timeline(&self, program: i64) -> Result<Vec<TimelineRow>> {
+    pub(super) fn timeline(&self, program: i64) -> Result<Vec<TimelineRow>> {
         self.rows(
             "reading a program's revisions",
             "SELECT r.id, r.seen_at, r.size, r.hash, r.status,
@@ -543,7 +544,7 @@ impl Store {
     }
 
     /// The CAM originals a program's revisions were compared with: `(program id, path, newest revision)`.
-    pub fn originals_of(&self, program: i64) -> Result<Vec<(i64, String, i64)>> {
+    pub(super) fn originals_of(&self, program: i64) -> Result<Vec<(i64, String, i64)>> {
         self.rows(
             "reading a program's originals",
             "SELECT op.id, op.path, MAX(o.id) FROM comparisons c JOIN revisions r ON r.id = c.revision_id
@@ -556,7 +557,7 @@ impl Store {
 
     /// Adds a review mark to a change: `adopt`, `reject` or `note`. Returns the revision the
     /// change belongs to, or `None` when there is no such change. Analysis tables are only read.
-    pub fn add_mark(&self, change_id: i64, mark: &str, note: &str, by: &str, at: &str) -> Result<Option<i64>> {
+    pub(super) fn add_mark(&self, change_id: i64, mark: &str, note: &str, by: &str, at: &str) -> Result<Option<i64>> {
         let n = self
             .conn
             .execute(
@@ -577,7 +578,7 @@ impl Store {
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
     /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
     /// whether rows were left off.
-    pub fn query_limited(
+    pub(super) fn query_limited(
         &self,
         sql_text: &str,
         max_rows: usize,
@@ -597,10 +598,13 @@ impl Store {
         let result = self.query_capped(first, max_rows);
         self.conn.progress_handler(0, None::<fn() -> bool>);
         result.map_err(|e| match e {
-            StoreError::Sql { source: rusqlite::Error::SqliteFailure(f, _), .. } if f.code == rusqlite::ErrorCode::OperationInterrupted => {
-                super::QueryError::Refused(format!("the query ran past its time limit of {} ms and was stopped", limit.as_millis()))
-            }
-            StoreError::Sql { source, .. } => super::QueryError::Sql(super::plain(&source)),
+            StoreError::Sql { source, .. } => match source.downcast_ref::<rusqlite::Error>() {
+                Some(rusqlite::Error::SqliteFailure(f, _)) if f.code == rusqlite::ErrorCode::OperationInterrupted => {
+                    super::QueryError::Refused(format!("the query ran past its time limit of {} ms and was stopped", limit.as_millis()))
+                }
+                Some(e) => super::QueryError::Sql(super::sqlite::plain(e)),
+                None => super::QueryError::Sql(source.to_string()),
+            },
             other => super::QueryError::Sql(other.to_string()),
         })
     }
@@ -610,10 +614,10 @@ impl Store {
         if !stmt.readonly() {
             return Err(StoreError::Sql {
                 about: "checking the query",
-                source: rusqlite::Error::SqliteFailure(
+                source: Box::new(rusqlite::Error::SqliteFailure(
                     rusqlite::ffi::Error::new(rusqlite::ffi::SQLITE_READONLY),
                     Some("the statement would change the database; queries only read".into()),
-                ),
+                )),
             });
         }
         let names: Vec<String> = stmt.column_names().iter().map(|s| (*s).to_owned()).collect();
@@ -625,7 +629,7 @@ impl Store {
                 more = true;
                 break;
             }
-            out.push(super::cells(row, names.len())?);
+            out.push(super::sqlite::cells(row, names.len())?);
         }
         Ok((names, out, more))
     }
@@ -635,13 +639,13 @@ impl Store {
 mod tests {
     use super::*;
 
-    fn store_with_a_change() -> Store {
-        let s = Store::open_in_memory().unwrap();
+    fn store_with_a_change() -> Lite {
+        let s = Lite::open_in_memory("").unwrap();
         s.conn
             .execute_batch(
-                "INSERT INTO machines VALUES (1, 'DMU50', 'fanuc', '/share');
-                 INSERT INTO programs VALUES (1, '/cam/O1.nc', 'cam', NULL, 'O1', 'O1', 'O1', 'fanuc');
-                 INSERT INTO programs VALUES (2, '/share/O1.nc', 'machine', 1, 'O1', 'O1', 'O1', 'fanuc');
+                "INSERT INTO machines(id, name, dialect, folder) VALUES (1, 'DMU50', 'fanuc', '/share');
+                 INSERT INTO programs(id, path, role, machine_id, name, program_key, stem, dialect) VALUES (1, '/cam/O1.nc', 'cam', NULL, 'O1', 'O1', 'O1', 'fanuc');
+                 INSERT INTO programs(id, path, role, machine_id, name, program_key, stem, dialect) VALUES (2, '/share/O1.nc', 'machine', 1, 'O1', 'O1', 'O1', 'fanuc');
                  INSERT INTO blobs VALUES ('a', 1, x'00'), ('b', 1, x'01');
                  INSERT INTO revisions(id, program_id, hash, size, seen_at, encoding, status) VALUES
                    (1, 1, 'a', 1, '2026-11-01T00:00:00.000Z', 'utf-8', 'analysed'),

@@ -283,6 +283,73 @@ CREATE INDEX changes_detected ON changes(detected_at);
 CREATE INDEX programs_machine ON programs(machine_id);
 CREATE TRIGGER review_marks_immutable BEFORE UPDATE ON review_marks BEGIN SELECT RAISE(ABORT, 'review marks are a record: add a new one'); END;
 "#,
+    // 5: the site each program and machine belongs
+    // to (`site = "HALL2"` in the config), so that many DNC servers share one PostgreSQL
+    // database. A SQLite file is one server's: its names and paths stay unique as they were.
+    r#"
+ALTER TABLE machines ADD COLUMN site TEXT NOT NULL DEFAULT '';
+ALTER TABLE programs ADD COLUMN site TEXT NOT NULL DEFAULT '';
+ALTER TABLE attempts ADD COLUMN site TEXT NOT NULL DEFAULT '';
+DROP VIEW shopfloor_changes;
+CREATE VIEW shopfloor_changes AS
+SELECT m.name                    AS machine,
+       COALESCE(r.name, p.name)  AS program,
+       op.path                   AS original_path,
+       p.path                    AS edited_path,
+       c.revision_id             AS revision_id,
+       c.workingstep             AS workingstep,
+       c.kind                    AS kind,
+       c.field                   AS field,
+       c.before                  AS before,
+       c.after                   AS after,
+       c.detected_at             AS detected_at,
+       c.operation               AS operation,
+       c.id                      AS change_id,
+       c.line                    AS line,
+       c.original_line           AS original_line,
+       c.region_min_x            AS region_min_x,
+       c.region_min_y            AS region_min_y,
+       c.region_min_z            AS region_min_z,
+       c.region_max_x            AS region_max_x,
+       c.region_max_y            AS region_max_y,
+       c.region_max_z            AS region_max_z,
+       c.deviation               AS deviation,
+       p.site                    AS site
+FROM changes c
+JOIN revisions r   ON r.id = c.revision_id
+JOIN programs p    ON p.id = r.program_id
+LEFT JOIN machines m ON m.id = p.machine_id
+JOIN revisions orv ON orv.id = c.original_revision_id
+JOIN programs op   ON op.id = orv.program_id
+WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial');
+"#,
+    // 6: re-analysis of the archive (`ncplan reanalyze`, `ncplan worker`): each revision's
+    // plan says which analysis version made it ('' for the one at ingest); `analyses` records
+    // each re-analysis once per version, with the plan and findings it replaced; the queue
+    // holds what is left, with the lease of the worker that claimed it.
+    r#"
+CREATE TABLE analyses (
+    revision_id       INTEGER NOT NULL REFERENCES revisions(id),
+    version           TEXT NOT NULL,
+    analysed_at       TEXT NOT NULL,
+    worker            TEXT NOT NULL,
+    previous          TEXT NOT NULL,
+    previous_plan     TEXT,
+    previous_findings TEXT NOT NULL,
+    plan_changed      INTEGER NOT NULL,
+    new_findings      INTEGER NOT NULL,
+    vanished_findings INTEGER NOT NULL,
+    PRIMARY KEY (revision_id, version)
+);
+CREATE TABLE reanalysis_queue (
+    revision_id INTEGER NOT NULL REFERENCES revisions(id),
+    version     TEXT NOT NULL,
+    worker      TEXT,
+    lease_until TEXT,
+    PRIMARY KEY (revision_id, version)
+);
+ALTER TABLE plans ADD COLUMN analysis TEXT NOT NULL DEFAULT '';
+"#,
 ];
 
 #[cfg(test)]
@@ -293,9 +360,10 @@ mod tests {
     fn migrations_apply_and_protect_revisions() {
         let s = Store::open_in_memory().unwrap();
         assert_eq!(s.version().unwrap(), super::MIGRATIONS.len());
+        let s = crate::store::sqlite::Lite::open_in_memory("").unwrap();
         let (cols, _) = s.query("SELECT * FROM shopfloor_changes").unwrap();
         let want = "machine program original_path edited_path revision_id workingstep kind field before after detected_at operation change_id \
-                    line original_line region_min_x region_min_y region_min_z region_max_x region_max_y region_max_z deviation";
+                    line original_line region_min_x region_min_y region_min_z region_max_x region_max_y region_max_z deviation site";
         assert_eq!(cols.join(" "), want);
         s.conn.execute_batch("INSERT INTO blobs VALUES ('h', 1, x'00')").unwrap();
         assert!(s.conn.execute_batch("UPDATE blobs SET size = 2").is_err());

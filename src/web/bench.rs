@@ -131,11 +131,11 @@ fn config_for(dir: &Path) -> Result<Config> {
 /// Builds the database of 10,000 machine revisions (20 machines × 25 programs × 20
 /// revisions, each compared with its original); returns it and the number of revisions.
 fn build(dir: &Path, config: &Config, registry: &crate::dialect::Registry) -> Result<usize> {
-    let db = &config.database;
+    let db = config.database.file().context("the web bench builds a SQLite database")?;
     if db.exists() {
         std::fs::remove_file(db).with_context(|| format!("cannot remove {}", db.display()))?;
     }
-    let mut store = Store::open(db)?;
+    let mut store = Store::open(&crate::store::Location::Sqlite(db.to_path_buf()), "")?;
     let programs = MACHINES * PROGRAMS_PER_MACHINE;
     let mut originals = BTreeMap::new();
     let mut variants: Vec<Vec<Analysed>> = Vec::new();
@@ -192,12 +192,7 @@ pub fn run(dir: &Path, rows: usize, out: &mut impl Write) -> Result<()> {
     let registry = crate::config::dialect_registry(None)?;
     let t = Instant::now();
     let n = build(&dir, &config, &registry)?;
-    writeln!(
-        out,
-        "web: built {} ({n} machine revisions, {MACHINES} machines) in {:.1} s",
-        config.database.display(),
-        t.elapsed().as_secs_f64()
-    )?;
+    writeln!(out, "web: built {} ({n} machine revisions, {MACHINES} machines) in {:.1} s", config.database, t.elapsed().as_secs_f64())?;
     let server = Server::new(config.clone(), registry.clone(), Arc::new(crate::daemon::SystemClock))?;
     let store = server.store()?;
     let ctx = Ctx { user: None, csrf: "bench".into(), auth: false };
@@ -240,8 +235,8 @@ fn huge(dir: &Path, rows: usize, registry: &crate::dialect::Registry, out: &mut 
     std::fs::create_dir_all(&hdir)?;
     let text = "[database]\npath = 'huge.db'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n";
     let config = Config::parse(text, &hdir)?;
-    if config.database.exists() {
-        std::fs::remove_file(&config.database)?;
+    if let Some(db) = config.database.file().filter(|d| d.exists()) {
+        std::fs::remove_file(db)?;
     }
     let original = crate::bench::surfacing_program(rows);
     // The operator lowered one row in the middle by 0.2 mm.
@@ -264,7 +259,7 @@ fn huge(dir: &Path, rows: usize, registry: &crate::dialect::Registry, out: &mut 
     let (a, b) = (analyse(registry, &config, original)?, analyse(registry, &config, edited)?);
     let moves: usize = a.plan.workingsteps.iter().map(|w| w.toolpath.len()).sum();
     let changes = crate::diff::diff(&a.plan, &b.plan);
-    let mut store = Store::open(&config.database)?;
+    let mut store = Store::open(&config.database, "")?;
     let o = record(&mut store, &hdir.join("cam/O1.nc").display().to_string(), None, "O1", &a, &at(0))?;
     let share = hdir.join("share").display().to_string();
     let tx = store.begin()?;

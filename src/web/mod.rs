@@ -19,7 +19,6 @@ pub mod report;
 
 use std::collections::BTreeMap;
 use std::net::SocketAddr;
-use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use anyhow::{Context, Result};
@@ -86,7 +85,7 @@ const WARM_COMPARISONS: usize = 2;
 
 /// The server's state.
 pub(crate) struct Server {
-    db: PathBuf,
+    db: crate::store::Location,
     config: Config,
     registry: Registry,
     clock: Arc<dyn Clock>,
@@ -109,7 +108,7 @@ impl Server {
     }
 
     fn store(&self) -> Result<Store> {
-        Store::open_read_only(&self.db).with_context(|| format!("cannot open the database {}", self.db.display()))
+        Store::open_read_only(&self.db).with_context(|| format!("cannot open the database {}", self.db))
     }
 
     /// The whole plan of a stored revision (cached).
@@ -177,7 +176,11 @@ impl std::error::Error for NotFound {}
 pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
     let addr = listen_address(options.listen.as_deref(), &options.config)?;
     // Review marks need migration 4; the daemon may not have run since this ncplan.
-    Store::open(&options.config.database).with_context(|| format!("cannot open the database {}", options.config.database.display()))?;
+    if options.config.database.file().is_none() {
+        anyhow::bail!("ncplan serve reads a SQLite database so far; on PostgreSQL, query, report and show work");
+    }
+    Store::open(&options.config.database, &options.config.site)
+        .with_context(|| format!("cannot open the database {}", options.config.database))?;
     let server = Arc::new(Server::new(options.config, options.registry, options.clock)?);
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().context("cannot start the runtime")?;
     runtime.block_on(async move {
@@ -327,7 +330,7 @@ async fn review(
     let mark = mark.to_owned();
     let s2 = s.clone();
     let result = tokio::task::spawn_blocking(move || -> Result<Option<i64>> {
-        let store = Store::open(&s2.db)?;
+        let store = Store::open(&s2.db, &s2.config.site)?;
         let at = s2.clock.now();
         Ok(store.add_mark(change, &mark, &note, &by, &at)?)
     })

@@ -92,7 +92,7 @@ fn check_reports_all_findings_with_carets_and_exit_codes() {
 fn query_is_read_only() {
     let tmp = tempfile::tempdir().unwrap();
     let db = tmp.path().join("x.db");
-    drop(ncplan::store::Store::open(&db).unwrap());
+    drop(ncplan::store::Store::open(&ncplan::store::Location::Sqlite(db.clone()), "").unwrap());
     let (code, out, _) = ncplan(&["query", "--db", db.to_str().unwrap(), "SELECT COUNT(*) AS n FROM revisions"]);
     assert_eq!((code, out.as_str()), (0, "n\n0\n"));
     let (code, _, err) = ncplan(&["query", "--db", db.to_str().unwrap(), "DROP TABLE changes"]);

@@ -191,7 +191,7 @@ fn start_up_compares_what_an_older_run_left_waiting() {
     let dialect = registry.get("fanuc").unwrap();
     std::fs::create_dir_all(site.path("var")).unwrap();
     {
-        let mut store = Store::open(&site.db()).unwrap();
+        let mut store = Store::open(&ncplan::store::Location::Sqlite(site.db()), "").unwrap();
         for (path, folder, text, machine) in
             [("share/O7.nc", 1, program(7, 250), Some(("M1", "fanuc", "share"))), ("cam/O7.nc", 0, program(7, 300), None)]
         {
@@ -298,98 +298,109 @@ fn ingest_at(site: &Site, store: &mut Store, rel: &str, now: &str, expected: Opt
 
 #[test]
 fn a_file_that_changed_since_it_settled_is_not_stored() {
-    let site = Site::new("");
-    let mut store = Store::open_in_memory().unwrap();
-    let path = site.path("share/O5.nc");
-    std::fs::write(&path, program(5, 300)).unwrap();
-    let meta = std::fs::metadata(&path).unwrap();
-    // The settle logic saw a shorter file: it was rewritten after it settled.
-    let seen = Snapshot { size: meta.len() - 10, mtime: meta.modified().ok() };
-    assert_eq!(ingest_at(&site, &mut store, "share/O5.nc", "2026-12-01T10:00:00.000Z", Some(seen)), Outcome::Changing);
-    assert_eq!(store.query("SELECT id FROM revisions").unwrap().1.len(), 0);
-    let now = Snapshot { size: meta.len(), mtime: meta.modified().ok() };
-    assert!(matches!(ingest_at(&site, &mut store, "share/O5.nc", "2026-12-01T10:00:01.000Z", Some(now)), Outcome::Stored { .. }));
+    for mut engine in crate::pg::engines("faults::a_file_that_changed_since_it_settled_is_not_stored") {
+        let store = &mut engine.store;
+        let site = Site::new("");
+        let path = site.path("share/O5.nc");
+        std::fs::write(&path, program(5, 300)).unwrap();
+        let meta = std::fs::metadata(&path).unwrap();
+        // The settle logic saw a shorter file: it was rewritten after it settled.
+        let seen = Snapshot { size: meta.len() - 10, mtime: meta.modified().ok() };
+        assert_eq!(ingest_at(&site, store, "share/O5.nc", "2026-12-01T10:00:00.000Z", Some(seen)), Outcome::Changing);
+        assert_eq!(store.query("SELECT id FROM revisions").unwrap().1.len(), 0);
+        let now = Snapshot { size: meta.len(), mtime: meta.modified().ok() };
+        assert!(matches!(ingest_at(&site, store, "share/O5.nc", "2026-12-01T10:00:01.000Z", Some(now)), Outcome::Stored { .. }));
+    }
 }
 
 #[test]
 fn a_strict_prefix_seconds_before_the_next_revision_is_a_partial_write() {
-    let site = Site::new("");
-    let mut store = Store::open_in_memory().unwrap();
-    std::fs::write(site.path("cam/O9.nc"), program(9, 300)).unwrap();
-    ingest_at(&site, &mut store, "cam/O9.nc", "2026-12-01T10:00:00.000Z", None);
-    let edited = program(9, 250);
-    std::fs::write(site.path("share/O9.nc"), &edited[..edited.len() * 2 / 3]).unwrap();
-    ingest_at(&site, &mut store, "share/O9.nc", "2026-12-01T10:05:00.000Z", None);
-    std::fs::write(site.path("share/O9.nc"), &edited).unwrap();
-    ingest_at(&site, &mut store, "share/O9.nc", "2026-12-01T10:05:03.500Z", None);
-    let marks = store.query("SELECT revision_id, mark, superseded_by FROM revision_marks").unwrap().1;
-    assert_eq!(marks, [["2", "partial", "3"]]);
-    let finding = store.query("SELECT message FROM diagnostics WHERE code = 'text::partial-write' AND revision_id = 2").unwrap().1;
-    assert!(finding[0][0].contains("3.5 s later"), "{finding:?}");
-    // Only the complete revision's changes are reported.
-    let reported = store.query("SELECT revision_id, kind, before, after FROM shopfloor_changes").unwrap().1;
-    assert_eq!(reported, [["3", "feed_changed", "F300", "F250"]]);
+    for mut engine in crate::pg::engines("faults::a_strict_prefix_seconds_before_the_next_revision_is_a_partial_write") {
+        let store = &mut engine.store;
+        let site = Site::new("");
+        std::fs::write(site.path("cam/O9.nc"), program(9, 300)).unwrap();
+        ingest_at(&site, store, "cam/O9.nc", "2026-12-01T10:00:00.000Z", None);
+        let edited = program(9, 250);
+        std::fs::write(site.path("share/O9.nc"), &edited[..edited.len() * 2 / 3]).unwrap();
+        ingest_at(&site, store, "share/O9.nc", "2026-12-01T10:05:00.000Z", None);
+        std::fs::write(site.path("share/O9.nc"), &edited).unwrap();
+        ingest_at(&site, store, "share/O9.nc", "2026-12-01T10:05:03.500Z", None);
+        let marks = store.query("SELECT revision_id, mark, superseded_by FROM revision_marks").unwrap().1;
+        assert_eq!(marks, [["2", "partial", "3"]]);
+        let finding = store.query("SELECT message FROM diagnostics WHERE code = 'text::partial-write' AND revision_id = 2").unwrap().1;
+        assert!(finding[0][0].contains("3.5 s later"), "{finding:?}");
+        // Only the complete revision's changes are reported.
+        let reported = store.query("SELECT revision_id, kind, before, after FROM shopfloor_changes").unwrap().1;
+        assert_eq!(reported, [["3", "feed_changed", "F300", "F250"]]);
 
-    // The same growth a day apart is an edit, not a partial write.
-    let grown = format!("{edited}(SETUP NOTE)\n");
-    std::fs::write(site.path("share/O9.nc"), &grown).unwrap();
-    ingest_at(&site, &mut store, "share/O9.nc", "2026-12-02T10:00:00.000Z", None);
-    assert_eq!(store.query("SELECT * FROM revision_marks").unwrap().1.len(), 1);
+        // The same growth a day apart is an edit, not a partial write.
+        let grown = format!("{edited}(SETUP NOTE)\n");
+        std::fs::write(site.path("share/O9.nc"), &grown).unwrap();
+        ingest_at(&site, store, "share/O9.nc", "2026-12-02T10:00:00.000Z", None);
+        assert_eq!(store.query("SELECT * FROM revision_marks").unwrap().1.len(), 1);
+    }
 }
 
 #[test]
 fn a_partial_original_is_replaced_in_the_comparisons_made_with_it() {
-    let site = Site::new("");
-    let mut store = Store::open_in_memory().unwrap();
-    let original = program(3, 300);
-    std::fs::write(site.path("share/O3.nc"), program(3, 250)).unwrap();
-    ingest_at(&site, &mut store, "share/O3.nc", "2026-12-01T10:00:00.000Z", None);
-    std::fs::write(site.path("cam/O3.nc"), &original[..original.len() / 2]).unwrap();
-    ingest_at(&site, &mut store, "cam/O3.nc", "2026-12-01T11:00:00.000Z", None);
-    std::fs::write(site.path("cam/O3.nc"), &original).unwrap();
-    ingest_at(&site, &mut store, "cam/O3.nc", "2026-12-01T11:00:02.000Z", None);
-    let compared = store.query("SELECT revision_id, original_revision_id FROM comparisons").unwrap().1;
-    assert_eq!(compared, [["1", "3"]]);
-    let reported = store.query("SELECT kind, before, after FROM shopfloor_changes").unwrap().1;
-    assert_eq!(reported, [["feed_changed", "F300", "F250"]]);
+    for mut engine in crate::pg::engines("faults::a_partial_original_is_replaced_in_the_comparisons_made_with_it") {
+        let store = &mut engine.store;
+        let site = Site::new("");
+        let original = program(3, 300);
+        std::fs::write(site.path("share/O3.nc"), program(3, 250)).unwrap();
+        ingest_at(&site, store, "share/O3.nc", "2026-12-01T10:00:00.000Z", None);
+        std::fs::write(site.path("cam/O3.nc"), &original[..original.len() / 2]).unwrap();
+        ingest_at(&site, store, "cam/O3.nc", "2026-12-01T11:00:00.000Z", None);
+        std::fs::write(site.path("cam/O3.nc"), &original).unwrap();
+        ingest_at(&site, store, "cam/O3.nc", "2026-12-01T11:00:02.000Z", None);
+        let compared = store.query("SELECT revision_id, original_revision_id FROM comparisons").unwrap().1;
+        assert_eq!(compared, [["1", "3"]]);
+        let reported = store.query("SELECT kind, before, after FROM shopfloor_changes").unwrap().1;
+        assert_eq!(reported, [["feed_changed", "F300", "F250"]]);
+    }
 }
 
 #[test]
 fn an_empty_file_is_stored_and_never_compared() {
-    let site = Site::new("");
-    let mut store = Store::open_in_memory().unwrap();
-    std::fs::write(site.path("cam/O4.nc"), program(4, 300)).unwrap();
-    ingest_at(&site, &mut store, "cam/O4.nc", "2026-12-01T10:00:00.000Z", None);
-    for (i, content) in [&b""[..], b"\0\0\0\0\0\0\0\0", b"\r\n \r\n"].into_iter().enumerate() {
-        std::fs::write(site.path("share/O4.nc"), content).unwrap();
-        let out = ingest_at(&site, &mut store, "share/O4.nc", &format!("2026-12-01T1{}:00:00.000Z", i + 1), None);
-        assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
+    for mut engine in crate::pg::engines("faults::an_empty_file_is_stored_and_never_compared") {
+        let store = &mut engine.store;
+        let site = Site::new("");
+        std::fs::write(site.path("cam/O4.nc"), program(4, 300)).unwrap();
+        ingest_at(&site, store, "cam/O4.nc", "2026-12-01T10:00:00.000Z", None);
+        for (i, content) in [&b""[..], b"\0\0\0\0\0\0\0\0", b"\r\n \r\n"].into_iter().enumerate() {
+            std::fs::write(site.path("share/O4.nc"), content).unwrap();
+            let out = ingest_at(&site, store, "share/O4.nc", &format!("2026-12-01T1{}:00:00.000Z", i + 1), None);
+            assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
+        }
+        let revs =
+            store.query("SELECT r.status, d.code FROM revisions r JOIN diagnostics d ON d.revision_id = r.id WHERE r.id > 1").unwrap().1;
+        assert_eq!(revs, [["empty", "text::empty"], ["empty", "text::empty"], ["empty", "text::empty"]]);
+        assert!(store.query("SELECT * FROM comparisons").unwrap().1.is_empty());
+        // An empty CAM revision is no original either: the edit is compared with the last real one.
+        std::fs::write(site.path("cam/O4.nc"), b"").unwrap();
+        ingest_at(&site, store, "cam/O4.nc", "2026-12-01T15:00:00.000Z", None);
+        std::fs::write(site.path("share/O4.nc"), program(4, 250)).unwrap();
+        let out = ingest_at(&site, store, "share/O4.nc", "2026-12-01T16:00:00.000Z", None);
+        assert!(matches!(out, Outcome::Stored { changes: Some(1), .. }), "{out:?}");
+        assert_eq!(store.query("SELECT original_revision_id FROM comparisons").unwrap().1, [["1"]]);
     }
-    let revs = store.query("SELECT r.status, d.code FROM revisions r JOIN diagnostics d ON d.revision_id = r.id WHERE r.id > 1").unwrap().1;
-    assert_eq!(revs, [["empty", "text::empty"], ["empty", "text::empty"], ["empty", "text::empty"]]);
-    assert!(store.query("SELECT * FROM comparisons").unwrap().1.is_empty());
-    // An empty CAM revision is no original either: the edit is compared with the last real one.
-    std::fs::write(site.path("cam/O4.nc"), b"").unwrap();
-    ingest_at(&site, &mut store, "cam/O4.nc", "2026-12-01T15:00:00.000Z", None);
-    std::fs::write(site.path("share/O4.nc"), program(4, 250)).unwrap();
-    let out = ingest_at(&site, &mut store, "share/O4.nc", "2026-12-01T16:00:00.000Z", None);
-    assert!(matches!(out, Outcome::Stored { changes: Some(1), .. }), "{out:?}");
-    assert_eq!(store.query("SELECT original_revision_id FROM comparisons").unwrap().1, [["1"]]);
 }
 
 #[test]
 fn old_revisions_keep_the_name_they_had() {
-    let site = Site::new("[matching]\npattern = '^(?P<key>PART)'\n");
-    let mut store = Store::open_in_memory().unwrap();
-    std::fs::write(site.path("cam/PART.nc"), program(100, 300)).unwrap();
-    ingest_at(&site, &mut store, "cam/PART.nc", "2026-12-01T10:00:00.000Z", None);
-    std::fs::write(site.path("share/PART.nc"), program(100, 250)).unwrap();
-    ingest_at(&site, &mut store, "share/PART.nc", "2026-12-01T11:00:00.000Z", None);
-    // The operator saves another program over the same file.
-    std::fs::write(site.path("share/PART.nc"), program(200, 280)).unwrap();
-    ingest_at(&site, &mut store, "share/PART.nc", "2026-12-01T12:00:00.000Z", None);
-    let reported = store.query("SELECT revision_id, program, after FROM shopfloor_changes ORDER BY change_id").unwrap().1;
-    assert_eq!(reported, [["2", "O100", "F250"], ["3", "O200", "F280"]]);
+    for mut engine in crate::pg::engines("faults::old_revisions_keep_the_name_they_had") {
+        let store = &mut engine.store;
+        let site = Site::new("[matching]\npattern = '^(?P<key>PART)'\n");
+        std::fs::write(site.path("cam/PART.nc"), program(100, 300)).unwrap();
+        ingest_at(&site, store, "cam/PART.nc", "2026-12-01T10:00:00.000Z", None);
+        std::fs::write(site.path("share/PART.nc"), program(100, 250)).unwrap();
+        ingest_at(&site, store, "share/PART.nc", "2026-12-01T11:00:00.000Z", None);
+        // The operator saves another program over the same file.
+        std::fs::write(site.path("share/PART.nc"), program(200, 280)).unwrap();
+        ingest_at(&site, store, "share/PART.nc", "2026-12-01T12:00:00.000Z", None);
+        let reported = store.query("SELECT revision_id, program, after FROM shopfloor_changes ORDER BY change_id").unwrap().1;
+        assert_eq!(reported, [["2", "O100", "F250"], ["3", "O200", "F280"]]);
+    }
 }
 
 #[test]
@@ -500,75 +511,102 @@ fn a_tmpfs_mounted_over_the_share_is_watched() {
 
 #[test]
 fn a_file_over_the_size_limit_is_stored_in_chunks_and_analysed_by_no_one() {
-    let site = Site::new("");
-    let text = std::fs::read_to_string(site.path("ncplan.toml")).unwrap();
-    std::fs::write(site.path("ncplan.toml"), text.replace("settle_ms = 200\n", "settle_ms = 200\nmax_file_mb = 1\n")).unwrap();
-    let mut store = Store::open_in_memory().unwrap();
-    let mut big = String::from("%\nO8 (SURFACE)\nT1 M6\nS9000 M3\nG0 X0 Y0 Z5\nG1 Z0 F900\n");
-    for i in 0..60_000 {
-        big.push_str(&format!("X{}.{:03} Y{}.500 Z-0.{:04}\n", i % 100, i % 1000, i / 500, i % 9999));
-    }
-    big.push_str("M30\n%\n");
-    assert!(big.len() > 1 << 20);
-    std::fs::write(site.path("share/O8.nc"), &big).unwrap();
-    let out = ingest_at(&site, &mut store, "share/O8.nc", "2026-12-01T10:00:00.000Z", None);
-    assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
-    let rows = store
+    for mut engine in crate::pg::engines("faults::a_file_over_the_size_limit_is_stored_in_chunks_and_analysed_by_no_one") {
+        let store = &mut engine.store;
+        let site = Site::new("");
+        let text = std::fs::read_to_string(site.path("ncplan.toml")).unwrap();
+        std::fs::write(site.path("ncplan.toml"), text.replace("settle_ms = 200\n", "settle_ms = 200\nmax_file_mb = 1\n")).unwrap();
+        let mut big = String::from("%\nO8 (SURFACE)\nT1 M6\nS9000 M3\nG0 X0 Y0 Z5\nG1 Z0 F900\n");
+        for i in 0..60_000 {
+            big.push_str(&format!("X{}.{:03} Y{}.500 Z-0.{:04}\n", i % 100, i % 1000, i / 500, i % 9999));
+        }
+        big.push_str("M30\n%\n");
+        assert!(big.len() > 1 << 20);
+        std::fs::write(site.path("share/O8.nc"), &big).unwrap();
+        let out = ingest_at(&site, store, "share/O8.nc", "2026-12-01T10:00:00.000Z", None);
+        assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
+        let rows = store
         .query("SELECT r.status, r.size, b.size, length(b.content), r.hash, d.code FROM revisions r JOIN blobs b ON b.hash = r.hash JOIN diagnostics d ON d.revision_id = r.id")
         .unwrap()
         .1;
-    let size = big.len().to_string();
-    assert_eq!(rows[0][..4], ["too_large", size.as_str(), size.as_str(), size.as_str()]);
-    assert_eq!(rows[0][4], ncplan::daemon::ingest::sha256_hex(big.as_bytes()));
-    assert_eq!(rows[0][5], "text::too-large");
-    assert!(store.query("SELECT * FROM plans").unwrap().1.is_empty());
-    let content = store.query("SELECT CAST(b.content AS TEXT) FROM blobs b").unwrap().1;
-    assert_eq!(content[0][0], big);
+        let size = big.len().to_string();
+        assert_eq!(rows[0][..4], ["too_large", size.as_str(), size.as_str(), size.as_str()]);
+        assert_eq!(rows[0][4], ncplan::daemon::ingest::sha256_hex(big.as_bytes()));
+        assert_eq!(rows[0][5], "text::too-large");
+        assert!(store.query("SELECT * FROM plans").unwrap().1.is_empty());
+        // The bytes, streamed in chunks, are the file's.
+        assert_eq!(store.content(1).unwrap().unwrap(), big.as_bytes());
+    }
 }
 
 #[test]
 fn content_whose_analysis_killed_the_process_is_stored_once_without_analysis() {
-    let site = Site::new("");
-    let mut store = Store::open_in_memory().unwrap();
-    let text = program(12, 300);
-    std::fs::write(site.path("share/O12.nc"), &text).unwrap();
-    // An earlier run began analysing this content and never finished (killed by a memory limit).
-    let hash = ncplan::daemon::ingest::sha256_hex(text.as_bytes());
-    let at = site.path("share/O12.nc").to_string_lossy().into_owned();
-    assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:00:00.000Z").unwrap(), 0);
-    let out = ingest_at(&site, &mut store, "share/O12.nc", "2026-12-01T10:00:00.000Z", None);
-    assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
-    let rows = store.query("SELECT r.status, d.code, d.message FROM revisions r JOIN diagnostics d ON d.revision_id = r.id").unwrap().1;
-    assert_eq!(rows[0][..2], ["failed", "text::analysis-failed"]);
-    assert!(rows[0][2].contains("ended the process 1 time(s) before"), "{rows:?}");
-    assert!(store.query("SELECT * FROM attempts").unwrap().1.is_empty(), "the journal is closed with the revision");
-    // It is not retried: the same content again is unchanged.
-    assert_eq!(ingest_at(&site, &mut store, "share/O12.nc", "2026-12-01T10:01:00.000Z", None), Outcome::Unchanged);
-    // The same content in another file is analysed: the journal is per file.
-    std::fs::write(site.path("share/O12_COPY.nc"), &text).unwrap();
-    ingest_at(&site, &mut store, "share/O12_COPY.nc", "2026-12-01T10:02:00.000Z", None);
-    let copy =
-        store.query("SELECT r.status FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path LIKE '%O12_COPY.nc'").unwrap().1;
-    assert_eq!(copy, [["analysed"]]);
+    for mut engine in crate::pg::engines("faults::content_whose_analysis_killed_the_process_is_stored_once_without_analysis") {
+        let store = &mut engine.store;
+        let site = Site::new("");
+        let text = program(12, 300);
+        std::fs::write(site.path("share/O12.nc"), &text).unwrap();
+        // An earlier run began analysing this content and never finished (killed by a memory limit).
+        let hash = ncplan::daemon::ingest::sha256_hex(text.as_bytes());
+        let at = site.path("share/O12.nc").to_string_lossy().into_owned();
+        assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:00:00.000Z").unwrap(), 0);
+        let out = ingest_at(&site, store, "share/O12.nc", "2026-12-01T10:00:00.000Z", None);
+        assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
+        let rows = store.query("SELECT r.status, d.code, d.message FROM revisions r JOIN diagnostics d ON d.revision_id = r.id").unwrap().1;
+        assert_eq!(rows[0][..2], ["failed", "text::analysis-failed"]);
+        assert!(rows[0][2].contains("ended the process 1 time(s) before"), "{rows:?}");
+        assert!(store.query("SELECT * FROM attempts").unwrap().1.is_empty(), "the journal is closed with the revision");
+        // It is not retried: the same content again is unchanged.
+        assert_eq!(ingest_at(&site, store, "share/O12.nc", "2026-12-01T10:01:00.000Z", None), Outcome::Unchanged);
+        // The same content in another file is analysed: the journal is per file.
+        std::fs::write(site.path("share/O12_COPY.nc"), &text).unwrap();
+        ingest_at(&site, store, "share/O12_COPY.nc", "2026-12-01T10:02:00.000Z", None);
+        let copy = store
+            .query("SELECT r.status FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path LIKE '%O12_COPY.nc'")
+            .unwrap()
+            .1;
+        assert_eq!(copy, [["analysed"]]);
+    }
 }
 
 #[test]
 fn plans_are_stored_without_toolpaths_and_rebuilt_from_the_program_for_the_diff() {
-    let site = Site::new("");
-    let mut store = Store::open_in_memory().unwrap();
-    std::fs::write(site.path("cam/O21.nc"), program(21, 300)).unwrap();
-    ingest_at(&site, &mut store, "cam/O21.nc", "2026-12-01T10:00:00.000Z", None);
-    // The operator shortens one pass: only the toolpath tells.
-    std::fs::write(site.path("share/O21.nc"), program(21, 300).replace("X110\n", "X104\n")).unwrap();
-    let out = ingest_at(&site, &mut store, "share/O21.nc", "2026-12-01T11:00:00.000Z", None);
-    assert!(matches!(out, Outcome::Stored { changes: Some(n), .. } if n >= 1), "{out:?}");
-    let plans = store.query("SELECT plan_json, complete FROM plans").unwrap().1;
-    for p in &plans {
-        let v: serde_json::Value = serde_json::from_str(&p[0]).unwrap();
-        assert!(v["workingsteps"].as_array().unwrap().iter().all(|w| w["toolpath"].as_array().is_some_and(Vec::is_empty)), "{}", p[0]);
-        assert_eq!(p[1], "0");
+    for mut engine in crate::pg::engines("faults::plans_are_stored_without_toolpaths_and_rebuilt_from_the_program_for_the_diff") {
+        let store = &mut engine.store;
+        let site = Site::new("");
+        std::fs::write(site.path("cam/O21.nc"), program(21, 300)).unwrap();
+        ingest_at(&site, store, "cam/O21.nc", "2026-12-01T10:00:00.000Z", None);
+        // The operator shortens one pass: only the toolpath tells.
+        std::fs::write(site.path("share/O21.nc"), program(21, 300).replace("X110\n", "X104\n")).unwrap();
+        let out = ingest_at(&site, store, "share/O21.nc", "2026-12-01T11:00:00.000Z", None);
+        assert!(matches!(out, Outcome::Stored { changes: Some(n), .. } if n >= 1), "{out:?}");
+        let plans = store.query("SELECT plan_json, complete FROM plans").unwrap().1;
+        for p in &plans {
+            let v: serde_json::Value = serde_json::from_str(&p[0]).unwrap();
+            assert!(v["workingsteps"].as_array().unwrap().iter().all(|w| w["toolpath"].as_array().is_some_and(Vec::is_empty)), "{}", p[0]);
+            assert_eq!(p[1], "0");
+        }
+        assert!(!store.query("SELECT kind FROM changes").unwrap().1.is_empty());
+        // The queryable tables are filled from the summary.
+        assert_eq!(store.query("SELECT operation FROM workingsteps WHERE revision_id = 1").unwrap().1.len(), 1);
     }
-    assert!(!store.query("SELECT kind FROM changes").unwrap().1.is_empty());
-    // The queryable tables are filled from the summary.
-    assert_eq!(store.query("SELECT operation FROM workingsteps WHERE revision_id = 1").unwrap().1.len(), 1);
+}
+
+#[test]
+fn a_site_named_later_still_pairs_with_the_originals_stored_before() {
+    // A server's SQLite file from before sites (or before `site` was configured): its rows
+    // have a blank site, and the server, now named, still pairs with them.
+    let site = Site::new("");
+    std::fs::create_dir_all(site.path("var")).unwrap();
+    let db = ncplan::store::Location::Sqlite(site.db());
+    {
+        let mut store = Store::open(&db, "").unwrap();
+        std::fs::write(site.path("cam/O4.nc"), program(4, 300)).unwrap();
+        ingest_at(&site, &mut store, "cam/O4.nc", "2026-12-01T10:00:00.000Z", None);
+    }
+    let mut store = Store::open(&db, "HALL2").unwrap();
+    std::fs::write(site.path("share/O4.nc"), program(4, 250)).unwrap();
+    ingest_at(&site, &mut store, "share/O4.nc", "2026-12-01T10:05:00.000Z", None);
+    let rows = store.query("SELECT kind, before, after, site FROM shopfloor_changes").unwrap().1;
+    assert_eq!(rows, [["feed_changed", "F300", "F250", "HALL2"]]);
 }

@@ -77,7 +77,7 @@ fn query_refuses_in_plain_words() {
     let checkout = demo_checkout();
     let dir = checkout.path();
     let db = dir.join("x.db");
-    ncplan::store::Store::open(&db).unwrap();
+    ncplan::store::Store::open(&ncplan::store::Location::Sqlite(db.clone()), "").unwrap();
     let db = db.to_str().unwrap();
     for (sql, said) in [
         ("SELECT 1; DROP TABLE changes", "one statement at a time: `DROP TABLE changes` was not run"),
@@ -175,7 +175,7 @@ fn import_stores_dated_backups_with_their_file_times_and_resumes() {
     let (code, out, err) = ncplan_in(dir, &["import", "backups", "--machine", "DMU50", "--config", "c.toml"]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("4 files of 2 programs; 3 revisions stored, 1 already stored, 2 compared with their original, 0 errors"), "{out}");
-    let store = ncplan::store::Store::open_read_only(&dir.join("var/x.db")).unwrap();
+    let store = ncplan::store::Store::open_read_only(&ncplan::store::Location::Sqlite(dir.join("var/x.db"))).unwrap();
     let (_, revs) = store
         .query(
             "SELECT substr(r.seen_at, 1, 10), p.path FROM revisions r JOIN programs p ON p.id = r.program_id

@@ -18,6 +18,7 @@ mod first_start;
 mod flow;
 mod macros;
 mod parity;
+mod pg;
 mod plan;
 mod robustness;
 mod shop;
@@ -55,7 +56,7 @@ pub fn db_rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
     if !db.exists() {
         return Vec::new();
     }
-    match ncplan::store::Store::open_read_only(db) {
+    match ncplan::store::Store::open_read_only(&ncplan::store::Location::Sqlite(db.to_path_buf())) {
         Ok(s) => s.query(sql).map(|(_, r)| r).unwrap_or_default(),
         Err(_) => Vec::new(),
     }

@@ -172,7 +172,7 @@ fn screenshots() -> PathBuf {
 fn a_non_local_listen_without_users_is_refused() {
     let site = Site::new();
     std::fs::create_dir_all(site.path("var")).unwrap();
-    ncplan::store::Store::open(&site.db()).unwrap();
+    ncplan::store::Store::open(&ncplan::store::Location::Sqlite(site.db()), "").unwrap();
     let out = Command::new(crate::bin())
         .args(["serve", "--config"])
         .arg(site.path("ncplan.toml"))

@@ -1,0 +1,1339 @@
+//! The PostgreSQL backend: one database for a plant's DNC servers.
+//!
+//! The same tables, views and rules as SQLite (`pg_schema.rs` holds the twin of each
+//! migration). Concurrent writers never wait for each other beyond one revision's
+//! transaction: a transaction-scoped advisory lock per program path (taken by
+//! [`PgTxn::latest`]) makes two processes that see the same content store it once, and one
+//! per pairing key (taken by [`PgTxn::insert_revision`], in a fixed order) makes an original
+//! and its edit, arriving at once on two connections, meet in whichever commits second.
+//! Rows that many revisions share (machines, blobs) are written with `ON CONFLICT`.
+
+use std::cell::{Cell, RefCell};
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use postgres::types::{ToSql, Type};
+use postgres::{Client, Row, SimpleQueryMessage, Statement};
+
+use super::location::{PASSWORD_ENV, PASSWORD_FILE_ENV, PgTarget};
+use super::pg_schema;
+use super::*;
+use crate::pairing::Rule;
+
+fn sql(about: &'static str) -> impl FnOnce(postgres::Error) -> StoreError {
+    move |source| StoreError::Sql { about, source: Box::new(source) }
+}
+
+/// Lock classes of `pg_advisory_xact_lock(class, key)`.
+const LOCK_PATH: i32 = 1;
+const LOCK_KEY: i32 = 2;
+/// Session lock class and key that serialise migrations of concurrent starts.
+const LOCK_MIGRATE: (i32, i32) = (3, 0);
+
+/// An open PostgreSQL connection.
+pub(super) struct Pg {
+    conn: Conn,
+}
+
+/// The connection with its prepared statements and the site it writes for.
+struct Conn {
+    client: RefCell<Client>,
+    prepared: RefCell<BTreeMap<&'static str, Statement>>,
+    site: String,
+}
+
+/// Connects, with TLS as `sslmode` says (rustls, the system's trusted roots): `disable`
+/// never, `prefer` (the default) when the server offers it, `require`, `verify-ca` and
+/// `verify-full` always, and always verifying the server's certificate and name.
+fn connect(target: &PgTarget) -> Result<Client> {
+    let (url, mode) = take_sslmode(&target.url)?;
+    let mut config: postgres::Config =
+        url.parse().map_err(|_| StoreError::Setup(format!("the database URL {} cannot be read", target.shown())))?;
+    if config.get_password().is_none()
+        && let Some(password) = password(target)?
+    {
+        config.password(password);
+    }
+    if config.get_application_name().is_none() {
+        config.application_name("ncplan");
+    }
+    let connected = match mode {
+        SslMode::Disable => {
+            config.ssl_mode(postgres::config::SslMode::Disable);
+            config.connect(postgres::NoTls)
+        }
+        SslMode::Prefer | SslMode::Require => {
+            config.ssl_mode(if mode == SslMode::Prefer { postgres::config::SslMode::Prefer } else { postgres::config::SslMode::Require });
+            config.connect(tls()?)
+        }
+    };
+    connected.map_err(|e| StoreError::Sql { about: "connecting to PostgreSQL", source: Box::new(e) })
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum SslMode {
+    Disable,
+    Prefer,
+    Require,
+}
+
+/// The URL without its `sslmode` parameter, and the mode (libpq's names).
+fn take_sslmode(url: &str) -> Result<(String, SslMode)> {
+    let Some((base, query)) = url.split_once('?') else { return Ok((url.to_owned(), SslMode::Prefer)) };
+    let mut mode = SslMode::Prefer;
+    let mut kept = Vec::new();
+    for p in query.split('&') {
+        match p.strip_prefix("sslmode=") {
+            Some("disable") => mode = SslMode::Disable,
+            Some("allow" | "prefer") => mode = SslMode::Prefer,
+            Some("require" | "verify-ca" | "verify-full") => mode = SslMode::Require,
+            Some(other) => {
+                return Err(StoreError::Setup(format!(
+                    "sslmode `{other}` is not one of disable, allow, prefer, require, verify-ca, verify-full"
+                )));
+            }
+            None => kept.push(p),
+        }
+    }
+    Ok((if kept.is_empty() { base.to_owned() } else { format!("{base}?{}", kept.join("&")) }, mode))
+}
+
+fn tls() -> Result<tokio_postgres_rustls::MakeRustlsConnect> {
+    let mut roots = rustls::RootCertStore::empty();
+    for cert in rustls_native_certs::load_native_certs().certs {
+        let _ = roots.add(cert);
+    }
+    let config = rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
+        .with_safe_default_protocol_versions()
+        .map_err(|e| StoreError::Setup(format!("TLS: {e}")))?
+        .with_root_certificates(roots)
+        .with_no_client_auth();
+    Ok(tokio_postgres_rustls::MakeRustlsConnect::new(config))
+}
+
+/// The password: from `NCPLAN_DB_PASSWORD`, else from the file `NCPLAN_DB_PASSWORD_FILE` or
+/// the config's `password_file` names, which only its owner may read.
+fn password(target: &PgTarget) -> Result<Option<String>> {
+    if let Ok(p) = std::env::var(PASSWORD_ENV) {
+        return Ok(Some(p));
+    }
+    let file = std::env::var_os(PASSWORD_FILE_ENV).map(std::path::PathBuf::from).or_else(|| target.password_file.clone());
+    let Some(file) = file else { return Ok(None) };
+    read_password_file(&file).map(Some)
+}
+
+/// Reads a password file, refusing one that others than its owner may read.
+pub(super) fn read_password_file(file: &Path) -> Result<String> {
+    use std::os::unix::fs::PermissionsExt as _;
+    let meta = std::fs::metadata(file).map_err(|e| StoreError::Io { about: "reading the database password file", source: e })?;
+    let mode = meta.permissions().mode();
+    if mode & 0o077 != 0 {
+        return Err(StoreError::Setup(format!(
+            "the password file {} may be read by others (mode {:o}); make it readable by the service user alone (chmod 600)",
+            file.display(),
+            mode & 0o777
+        )));
+    }
+    let text = std::fs::read_to_string(file).map_err(|e| StoreError::Io { about: "reading the database password file", source: e })?;
+    Ok(text.trim_end_matches(['\r', '\n']).to_owned())
+}
+
+impl Pg {
+    /// Connects and applies migrations; writes belong to `site`.
+    pub(super) fn open(target: &PgTarget, site: &str) -> Result<Pg> {
+        let pg = Pg { conn: Conn { client: RefCell::new(connect(target)?), prepared: RefCell::default(), site: site.to_owned() } };
+        pg.migrate()?;
+        Ok(pg)
+    }
+
+    /// Connects with every transaction read-only.
+    pub(super) fn open_read_only(target: &PgTarget) -> Result<Pg> {
+        let mut client = connect(target)?;
+        client.batch_execute("SET default_transaction_read_only = on").map_err(sql("making the session read-only"))?;
+        Ok(Pg { conn: Conn { client: RefCell::new(client), prepared: RefCell::default(), site: String::new() } })
+    }
+
+    pub(super) fn set_site(&mut self, site: &str) {
+        self.conn.site = site.to_owned();
+    }
+
+    fn migrate(&self) -> Result<()> {
+        let mut c = self.conn.client.borrow_mut();
+        c.execute("SELECT pg_advisory_lock($1, $2)", &[&LOCK_MIGRATE.0, &LOCK_MIGRATE.1]).map_err(sql("waiting for a migration"))?;
+        let result = (|| {
+            c.batch_execute("CREATE TABLE IF NOT EXISTS schema_version (version BIGINT NOT NULL)")
+                .map_err(sql("reading the schema version"))?;
+            let version = c
+                .query_one("SELECT COALESCE(MAX(version), 0) FROM schema_version", &[])
+                .map_err(sql("reading the schema version"))?
+                .get::<_, i64>(0) as usize;
+            let known = pg_schema::MIGRATIONS.len();
+            if version > known {
+                return Err(StoreError::TooNew { found: version, known });
+            }
+            for (i, m) in pg_schema::MIGRATIONS.iter().enumerate().skip(version) {
+                let mut tx = c.transaction().map_err(sql("starting a migration"))?;
+                tx.batch_execute(m).map_err(sql("applying a migration"))?;
+                tx.execute("DELETE FROM schema_version", &[]).map_err(sql("recording the schema version"))?;
+                tx.execute("INSERT INTO schema_version(version) VALUES ($1)", &[&((i + 1) as i64)])
+                    .map_err(sql("recording the schema version"))?;
+                tx.commit().map_err(sql("committing a migration"))?;
+            }
+            Ok(())
+        })();
+        c.execute("SELECT pg_advisory_unlock($1, $2)", &[&LOCK_MIGRATE.0, &LOCK_MIGRATE.1]).map_err(sql("ending a migration"))?;
+        result
+    }
+
+    /// How long a statement waits for a lock another transaction holds.
+    pub(super) fn set_busy_timeout(&mut self, wait: std::time::Duration) -> Result<()> {
+        self.conn
+            .client
+            .borrow_mut()
+            .batch_execute(&format!("SET lock_timeout = {}", wait.as_millis()))
+            .map_err(sql("setting the lock timeout"))
+    }
+
+    pub(super) fn version(&self) -> Result<usize> {
+        let row = self.conn.one("reading the schema version", "SELECT COALESCE(MAX(version), 0) FROM schema_version", &[])?;
+        Ok(row.get::<_, i64>(0) as usize)
+    }
+
+    pub(super) fn latest_hash(&self, path: &str) -> Result<Option<String>> {
+        let row = self.conn.opt(
+            "looking up the latest revision",
+            "SELECT r.hash FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site = $1 AND p.path = $2 ORDER BY r.id DESC LIMIT 1",
+            &[&self.conn.site, &path],
+        )?;
+        Ok(row.map(|r| r.get(0)))
+    }
+
+    pub(super) fn has_revision(&self, path: &str, hash: &str) -> Result<bool> {
+        let row = self.conn.one(
+            "looking up a revision",
+            "SELECT EXISTS (SELECT 1 FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site = $1 AND p.path = $2 AND r.hash = $3)",
+            &[&self.conn.site, &path, &hash],
+        )?;
+        Ok(row.get(0))
+    }
+
+    pub(super) fn begin_attempt(&self, hash: &str, path: &str, at: &str) -> Result<u32> {
+        let row = self.conn.one(
+            "writing the attempt journal",
+            "INSERT INTO attempts(site, hash, path, started_at, tries) VALUES ($1, $2, $3, $4, 1)
+             ON CONFLICT (site, hash, path) DO UPDATE SET tries = attempts.tries + 1, started_at = EXCLUDED.started_at
+             RETURNING tries",
+            &[&self.conn.site, &hash, &path, &at],
+        )?;
+        Ok(row.get::<_, i64>(0).saturating_sub(1) as u32)
+    }
+
+    pub(super) fn finish_attempt(&self, hash: &str, path: &str) -> Result<()> {
+        self.conn.exec(
+            "writing the attempt journal",
+            "DELETE FROM attempts WHERE site = $1 AND hash = $2 AND path = $3",
+            &[&self.conn.site, &hash, &path],
+        )?;
+        Ok(())
+    }
+
+    pub(super) fn begin(&mut self) -> Result<PgTxn<'_>> {
+        self.conn.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
+        Ok(PgTxn { conn: &self.conn, done: Cell::new(false) })
+    }
+
+    pub(super) fn revision(&self, id: i64) -> Result<Option<RevisionInfo>> {
+        let row = self.conn.opt(
+            "reading a revision",
+            "SELECT r.id, p.path, p.role, m.name, COALESCE(r.name, p.name), p.dialect, r.hash, r.size, r.seen_at, r.encoding, r.status,
+                    (SELECT superseded_by FROM revision_marks k WHERE k.revision_id = r.id AND k.mark = 'partial'),
+                    c.original_revision_id, (SELECT op.path FROM revisions orv JOIN programs op ON op.id = orv.program_id WHERE orv.id = c.original_revision_id),
+                    c.rule, c.changes, pl.plan_json IS NOT NULL
+             FROM revisions r JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
+             LEFT JOIN comparisons c ON c.revision_id = r.id LEFT JOIN plans pl ON pl.revision_id = r.id
+             WHERE r.id = $1",
+            &[&id],
+        )?;
+        Ok(row.map(|r| RevisionInfo {
+            id: r.get(0),
+            path: r.get(1),
+            role: r.get(2),
+            machine: r.get(3),
+            name: r.get(4),
+            dialect: r.get(5),
+            hash: r.get(6),
+            size: r.get::<_, i64>(7) as u64,
+            seen_at: r.get(8),
+            encoding: r.get(9),
+            status: r.get(10),
+            partial_of: r.get(11),
+            original: match (r.get::<_, Option<i64>>(12), r.get::<_, Option<String>>(13)) {
+                (Some(id), Some(path)) => {
+                    Some((id, path, r.get::<_, Option<String>>(14).unwrap_or_default(), r.get::<_, Option<i64>>(15).unwrap_or(0) as usize))
+                }
+                _ => None,
+            },
+            has_plan: r.get(16),
+        }))
+    }
+
+    pub(super) fn revision_of_path(&self, path: &str, at: Option<&str>) -> Result<std::result::Result<Option<i64>, Vec<String>>> {
+        let escaped = path.replace('\\', "\\\\").replace('%', "\\%").replace('_', "\\_");
+        let found: Vec<(i64, String)> = self
+            .conn
+            .rows(
+                "looking up a path",
+                "SELECT id, path FROM programs WHERE path = $1 OR path LIKE '%/' || $2 ESCAPE '\\' ORDER BY path, site",
+                &[&path, &escaped],
+            )?
+            .iter()
+            .map(|r| (r.get(0), r.get(1)))
+            .collect();
+        let exact: Vec<(i64, String)> = found.iter().filter(|(_, p)| p == path).cloned().collect();
+        let program = match (exact.as_slice(), found.as_slice()) {
+            ([one], _) | ([], [one]) => one.0,
+            ([], []) => return Ok(Ok(None)),
+            _ => return Ok(Err(found.into_iter().map(|(_, p)| p).collect())),
+        };
+        let at = at.map(|a| if a.len() == 10 { format!("{a}T23:59:59.999Z") } else { a.to_owned() });
+        let row = self.conn.one(
+            "looking up a revision",
+            "SELECT MAX(id) FROM revisions WHERE program_id = $1 AND ($2::text IS NULL OR seen_at::timestamptz <= $2::timestamptz)",
+            &[&program, &at],
+        )?;
+        Ok(Ok(row.get(0)))
+    }
+
+    pub(super) fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
+        self.conn.source(revision)
+    }
+
+    pub(super) fn content(&self, revision: i64) -> Result<Option<Vec<u8>>> {
+        let row = self.conn.opt(
+            "reading program bytes",
+            "SELECT b.content FROM revisions r JOIN blobs b ON b.hash = r.hash WHERE r.id = $1",
+            &[&revision],
+        )?;
+        Ok(row.map(|r| r.get(0)))
+    }
+
+    pub(super) fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
+        let rows = self.conn.rows(
+            "reading findings",
+            "SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = $1 ORDER BY byte_start, id",
+            &[&revision],
+        )?;
+        Ok(rows
+            .iter()
+            .map(|r| StoredFinding { severity: r.get(0), code: r.get(1), line: r.get(2), col: r.get(3), message: r.get(4) })
+            .collect())
+    }
+
+    pub(super) fn changes(&self, revision: i64) -> Result<Vec<Change>> {
+        let rows = self.conn.rows(
+            "reading changes",
+            "SELECT workingstep, operation, kind, field, before, after, line, original_line,
+                    region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
+             FROM changes WHERE revision_id = $1 ORDER BY id",
+            &[&revision],
+        )?;
+        Ok(rows
+            .iter()
+            .map(|r| {
+                let kind: String = r.get(2);
+                Change {
+                    kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
+                    workingstep: r.get::<_, i64>(0) as u32,
+                    operation: r.get(1),
+                    field: r.get(3),
+                    before: r.get(4),
+                    after: r.get(5),
+                    line: r.get::<_, Option<i64>>(6).map(|l| l as u32),
+                    original_line: r.get::<_, Option<i64>>(7).map(|l| l as u32),
+                    region: match (r.get::<_, Option<f64>>(8), r.get::<_, Option<f64>>(11)) {
+                        (Some(_), Some(_)) => {
+                            Some(crate::plan::BBox { min: [r.get(8), r.get(9), r.get(10)], max: [r.get(11), r.get(12), r.get(13)] })
+                        }
+                        _ => None,
+                    },
+                    deviation: r.get(14),
+                }
+            })
+            .collect())
+    }
+
+    /// One statement in a read-only transaction (`SET TRANSACTION READ ONLY`).
+    pub(super) fn query_read_only(&self, sql_text: &str) -> std::result::Result<(Vec<String>, Vec<Vec<String>>), QueryError> {
+        let mut c = self.conn.client.borrow_mut();
+        c.batch_execute("BEGIN; SET TRANSACTION READ ONLY").map_err(|e| QueryError::Sql(plain(&e)))?;
+        let result = text_rows(&mut c, sql_text).map_err(|e| QueryError::Sql(plain(&e)));
+        let _ = c.batch_execute("ROLLBACK");
+        result
+    }
+
+    pub(super) fn query(&self, sql_text: &str) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+        text_rows(&mut self.conn.client.borrow_mut(), sql_text).map_err(sql("running the query"))
+    }
+}
+
+/// Runs `sql_text` and returns its columns and rows as text, as the SQLite backend renders
+/// them: NULL blank, BYTEA `<n bytes>`, a truth value 1 or 0.
+fn text_rows(c: &mut Client, sql_text: &str) -> std::result::Result<(Vec<String>, Vec<Vec<String>>), postgres::Error> {
+    let stmt = c.prepare(sql_text)?;
+    let names: Vec<String> = stmt.columns().iter().map(|c| c.name().to_owned()).collect();
+    let types: Vec<Type> = stmt.columns().iter().map(|c| c.type_().clone()).collect();
+    let mut out = Vec::new();
+    for m in c.simple_query(sql_text)? {
+        if let SimpleQueryMessage::Row(row) = m {
+            let mut cells = Vec::with_capacity(names.len());
+            for (i, t) in types.iter().enumerate() {
+                let v = row.get(i).unwrap_or("");
+                cells.push(if row.get(i).is_none() {
+                    String::new()
+                } else if *t == Type::BOOL {
+                    if v == "t" { "1".into() } else { "0".into() }
+                } else if *t == Type::BYTEA {
+                    format!("<{} bytes>", v.len().saturating_sub(2) / 2)
+                } else {
+                    v.to_owned()
+                });
+            }
+            out.push(cells);
+        }
+    }
+    Ok((names, out))
+}
+
+/// PostgreSQL's message, without its internals.
+fn plain(e: &postgres::Error) -> String {
+    match e.as_db_error() {
+        Some(db) if db.code() == &postgres::error::SqlState::READ_ONLY_SQL_TRANSACTION => "the query would write; queries only read".into(),
+        Some(db) if db.code() == &postgres::error::SqlState::QUERY_CANCELED => "the query ran past its time limit".into(),
+        Some(db) => db.message().to_owned(),
+        None => e.to_string(),
+    }
+}
+
+impl Conn {
+    fn statement(&self, about: &'static str, text: &'static str) -> Result<Statement> {
+        if let Some(s) = self.prepared.borrow().get(text) {
+            return Ok(s.clone());
+        }
+        let s = self.client.borrow_mut().prepare(text).map_err(sql(about))?;
+        self.prepared.borrow_mut().insert(text, s.clone());
+        Ok(s)
+    }
+
+    fn rows(&self, about: &'static str, text: &'static str, params: &[&(dyn ToSql + Sync)]) -> Result<Vec<Row>> {
+        let s = self.statement(about, text)?;
+        self.client.borrow_mut().query(&s, params).map_err(sql(about))
+    }
+
+    fn one(&self, about: &'static str, text: &'static str, params: &[&(dyn ToSql + Sync)]) -> Result<Row> {
+        let s = self.statement(about, text)?;
+        self.client.borrow_mut().query_one(&s, params).map_err(sql(about))
+    }
+
+    fn opt(&self, about: &'static str, text: &'static str, params: &[&(dyn ToSql + Sync)]) -> Result<Option<Row>> {
+        let s = self.statement(about, text)?;
+        self.client.borrow_mut().query_opt(&s, params).map_err(sql(about))
+    }
+
+    fn exec(&self, about: &'static str, text: &'static str, params: &[&(dyn ToSql + Sync)]) -> Result<u64> {
+        let s = self.statement(about, text)?;
+        self.client.borrow_mut().execute(&s, params).map_err(sql(about))
+    }
+
+    fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
+        let Some(r) = self.opt(
+            "reading a revision",
+            "SELECT p.path, p.dialect, r.status, pl.plan_json, pl.complete, r.hash FROM revisions r JOIN programs p ON p.id = r.program_id
+             LEFT JOIN plans pl ON pl.revision_id = r.id WHERE r.id = $1",
+            &[&revision],
+        )?
+        else {
+            return Ok(None);
+        };
+        let plan = r.get::<_, Option<String>>(3).map(|json| (json, r.get::<_, Option<i64>>(4).is_none_or(|c| c != 0)));
+        let hash: String = r.get(5);
+        let mut src = StoredSource { path: r.get(0), dialect: r.get(1), status: r.get(2), plan, bytes: None };
+        if !src.plan.as_ref().is_some_and(|(_, complete)| *complete) {
+            src.bytes = self.opt("reading program bytes", "SELECT content FROM blobs WHERE hash = $1", &[&hash])?.map(|r| r.get(0));
+        }
+        Ok(Some(src))
+    }
+
+    fn keys_of(&self, program_id: i64) -> Result<Vec<Key>> {
+        let rows = self.rows("reading program keys", "SELECT rule, key FROM program_keys WHERE program_id = $1", &[&program_id])?;
+        let mut keys: Vec<Key> =
+            rows.iter().filter_map(|r| Rule::parse(&r.get::<_, String>(0)).map(|rule| Key { rule, value: r.get(1) })).collect();
+        keys.sort_by_key(|k| k.rule);
+        Ok(keys)
+    }
+}
+
+/// A transaction on the connection: `BEGIN` … `COMMIT`, rolled back when dropped uncommitted.
+pub(super) struct PgTxn<'c> {
+    conn: &'c Conn,
+    done: Cell<bool>,
+}
+
+impl Drop for PgTxn<'_> {
+    fn drop(&mut self) {
+        if !self.done.get() {
+            let _ = self.conn.client.borrow_mut().batch_execute("ROLLBACK");
+        }
+    }
+}
+
+impl PgTxn<'_> {
+    pub(super) fn commit(self) -> Result<()> {
+        self.conn.client.borrow_mut().batch_execute("COMMIT").map_err(sql("committing a revision"))?;
+        self.done.set(true);
+        Ok(())
+    }
+
+    pub(super) fn latest(&self, path: &str, now: &str) -> Result<Option<Latest>> {
+        let c = self.conn;
+        c.exec(
+            "waiting for the program's other writers",
+            "SELECT pg_advisory_xact_lock($1, hashtext($2::text || '/' || $3::text))",
+            &[&LOCK_PATH, &c.site, &path],
+        )?;
+        let row = c.opt(
+            "looking up the latest revision",
+            "SELECT r.id, r.hash, r.size, EXTRACT(EPOCH FROM ($3::text::timestamptz - r.seen_at::timestamptz))::float8
+             FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site = $1 AND p.path = $2 ORDER BY r.id DESC LIMIT 1",
+            &[&c.site, &path, &now],
+        )?;
+        Ok(row.map(|r| Latest {
+            id: r.get(0),
+            hash: r.get(1),
+            size: r.get::<_, i64>(2) as u64,
+            age_s: r.get::<_, Option<f64>>(3).unwrap_or(f64::INFINITY),
+        }))
+    }
+
+    pub(super) fn blob(&self, hash: &str) -> Result<Option<Vec<u8>>> {
+        Ok(self.conn.opt("reading program bytes", "SELECT content FROM blobs WHERE hash = $1", &[&hash])?.map(|r| r.get(0)))
+    }
+
+    pub(super) fn insert_revision(&self, rev: &NewRevision<'_>) -> Result<i64> {
+        let c = self.conn;
+        let site = c.site.as_str();
+        // Writers of a program with one of these keys (its original, its edits) go one after the other.
+        let keys: Vec<&str> = rev.keys.iter().map(|k| k.value.as_str()).chain(std::iter::once(rev.stem)).collect();
+        c.exec(
+            "waiting for the writers of the same keys",
+            "SELECT pg_advisory_xact_lock($1, h) FROM (SELECT DISTINCT hashtext($2::text || '/' || k) AS h FROM unnest($3::text[]) k ORDER BY h) x",
+            &[&LOCK_KEY, &site, &keys],
+        )?;
+        let machine_id: Option<i64> = match rev.machine {
+            Some((name, dialect, folder)) => {
+                let known = c.opt(
+                    "recording a machine",
+                    "SELECT id FROM machines WHERE site = $1 AND name = $2 AND dialect = $3 AND folder = $4",
+                    &[&site, &name, &dialect, &folder],
+                )?;
+                Some(match known {
+                    Some(r) => r.get(0),
+                    None => c
+                        .one(
+                            "recording a machine",
+                            "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
+                             ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect, folder = EXCLUDED.folder RETURNING id",
+                            &[&site, &name, &dialect, &folder],
+                        )?
+                        .get(0),
+                })
+            }
+            None => None,
+        };
+        let first_key = rev.keys.first().map_or(rev.stem, |k| k.value.as_str());
+        let program_id: i64 = c
+            .one(
+                "recording a program",
+                "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                 ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role, machine_id = EXCLUDED.machine_id, name = EXCLUDED.name,
+                   program_key = EXCLUDED.program_key, stem = EXCLUDED.stem, dialect = EXCLUDED.dialect
+                 RETURNING id",
+                &[&site, &rev.path, &rev.role, &machine_id, &rev.name, &first_key, &rev.stem, &rev.dialect],
+            )?
+            .get(0);
+        c.exec("recording program keys", "DELETE FROM program_keys WHERE program_id = $1", &[&program_id])?;
+        let rules: Vec<&str> = rev.keys.iter().map(|k| k.rule.as_str()).collect();
+        let values: Vec<&str> = rev.keys.iter().map(|k| k.value.as_str()).collect();
+        c.exec(
+            "recording program keys",
+            "INSERT INTO program_keys(program_id, rule, key) SELECT $1, r, k FROM unnest($2::text[], $3::text[]) AS u(r, k) ON CONFLICT DO NOTHING",
+            &[&program_id, &rules, &values],
+        )?;
+        match rev.content {
+            Content::Bytes(bytes) => {
+                c.exec(
+                    "storing program bytes",
+                    "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, $3) ON CONFLICT (hash) DO NOTHING",
+                    &[&rev.hash, &(bytes.len() as i64), &bytes],
+                )?;
+            }
+            Content::File { path, size } => self.stream_blob(rev.hash, path, size)?,
+        }
+        let size = rev.content.len() as i64;
+        let revision_id: i64 = c
+            .one(
+                "recording a revision",
+                "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                 RETURNING id",
+                &[&program_id, &rev.hash, &size, &rev.mtime_ns, &rev.seen_at, &rev.encoding, &rev.status, &rev.name],
+            )?
+            .get(0);
+        c.exec("closing an attempt", "DELETE FROM attempts WHERE site = $1 AND hash = $2 AND path = $3", &[&site, &rev.hash, &rev.path])?;
+        if let Some(plan) = rev.plan_json {
+            c.exec(
+                "storing a plan",
+                "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete) VALUES ($1, $2, $3, $4, $5)",
+                &[&revision_id, &plan, &(rev.counts.0 as i64), &(rev.counts.1 as i64), &i64::from(rev.plan_complete)],
+            )?;
+            c.exec("storing workingsteps", pg_schema::FILL_WORKINGSTEPS, &[&revision_id])?;
+            c.exec("storing features", pg_schema::FILL_FEATURES, &[&revision_id])?;
+        }
+        self.insert_findings(revision_id, rev.diagnostics)?;
+        Ok(revision_id)
+    }
+
+    /// Copies the file into the blob `hash` in chunks of 1 MiB (the client holds one chunk),
+    /// checking that it still has that hash; the server joins them. Files over [`MAX_BLOB`]
+    /// keep an empty blob.
+    fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
+        use sha2::Digest as _;
+        use std::io::Read as _;
+        let c = self.conn;
+        if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&hash])?.is_some() {
+            return Ok(());
+        }
+        if size > MAX_BLOB {
+            c.exec(
+                "storing program bytes",
+                "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, '') ON CONFLICT (hash) DO NOTHING",
+                &[&hash, &(size as i64)],
+            )?;
+            return Ok(());
+        }
+        c.client
+            .borrow_mut()
+            .batch_execute(
+                "CREATE TEMPORARY TABLE IF NOT EXISTS blob_chunks (n BIGINT PRIMARY KEY, data BYTEA NOT NULL) ON COMMIT DELETE ROWS",
+            )
+            .map_err(sql("storing program bytes"))?;
+        c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
+        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+        let mut hasher = sha2::Sha256::new();
+        let mut buf = vec![0u8; 1 << 20];
+        let (mut copied, mut n) = (0u64, 0i64);
+        loop {
+            let got = file.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+            if got == 0 {
+                break;
+            }
+            if copied + got as u64 > size {
+                return Err(StoreError::ContentChanged);
+            }
+            hasher.update(&buf[..got]);
+            c.exec("storing program bytes", "INSERT INTO blob_chunks(n, data) VALUES ($1, $2)", &[&n, &&buf[..got]])?;
+            copied += got as u64;
+            n += 1;
+        }
+        if copied != size || format!("{:x}", hasher.finalize()) != hash {
+            return Err(StoreError::ContentChanged);
+        }
+        c.exec(
+            "storing program bytes",
+            "INSERT INTO blobs(hash, size, content) SELECT $1, $2, COALESCE(string_agg(data, ''::bytea ORDER BY n), ''::bytea) FROM blob_chunks
+             ON CONFLICT (hash) DO NOTHING",
+            &[&hash, &(size as i64)],
+        )?;
+        c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
+        Ok(())
+    }
+
+    pub(super) fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
+        self.conn.source(revision)
+    }
+
+    /// All findings of a revision in one statement, in their order (ids follow it).
+    fn insert_findings(&self, revision_id: i64, ds: &[DiagnosticJson]) -> Result<()> {
+        if ds.is_empty() {
+            return Ok(());
+        }
+        let code: Vec<&str> = ds.iter().map(|d| d.code).collect();
+        let severity: Vec<&str> = ds.iter().map(|d| d.severity.as_str()).collect();
+        let line: Vec<i64> = ds.iter().map(|d| d.line as i64).collect();
+        let col: Vec<i64> = ds.iter().map(|d| d.col as i64).collect();
+        let start: Vec<i64> = ds.iter().map(|d| d.start as i64).collect();
+        let end: Vec<i64> = ds.iter().map(|d| d.end as i64).collect();
+        let message: Vec<&str> = ds.iter().map(|d| d.message.as_str()).collect();
+        self.conn.exec(
+            "storing diagnostics",
+            "INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message)
+             SELECT $1, code, severity, line, col, s, e, message
+             FROM unnest($2::text[], $3::text[], $4::int8[], $5::int8[], $6::int8[], $7::int8[], $8::text[]) WITH ORDINALITY
+                  AS u(code, severity, line, col, s, e, message, n)
+             ORDER BY n",
+            &[&revision_id, &code, &severity, &line, &col, &start, &end, &message],
+        )?;
+        Ok(())
+    }
+
+    pub(super) fn add_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<bool> {
+        let known: bool = self
+            .conn
+            .one(
+                "looking up diagnostics",
+                "SELECT EXISTS (SELECT 1 FROM diagnostics WHERE revision_id = $1 AND code = $2 AND message = $3)",
+                &[&revision_id, &d.code, &d.message],
+            )?
+            .get(0);
+        if !known {
+            self.insert_findings(revision_id, std::slice::from_ref(d))?;
+        }
+        Ok(!known)
+    }
+
+    pub(super) fn mark_partial(&self, revision: i64, by: i64, at: &str) -> Result<()> {
+        self.conn.exec(
+            "marking a partial write",
+            "INSERT INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES ($1, 'partial', $2, $3) ON CONFLICT DO NOTHING",
+            &[&revision, &by, &at],
+        )?;
+        Ok(())
+    }
+
+    pub(super) fn originals(&self, key: &str) -> Result<Vec<Candidate>> {
+        const Q: &str = concat!(
+            "SELECT p.id, p.path, (SELECT MAX(r.id) FROM revisions r WHERE r.program_id = p.id AND ",
+            usable!(),
+            ") FROM programs p
+             WHERE p.role = 'cam' AND p.site = $2 AND p.id IN (SELECT program_id FROM program_keys WHERE key = $1)
+             ORDER BY p.path"
+        );
+        let rows = self.conn.rows("looking up CAM originals", Q, &[&key, &self.conn.site])?;
+        let mut out = Vec::new();
+        for r in rows {
+            if let Some(revision) = r.get::<_, Option<i64>>(2) {
+                out.push(Candidate { revision, path: r.get(1), keys: self.conn.keys_of(r.get(0))? });
+            }
+        }
+        Ok(out)
+    }
+
+    pub(super) fn uncompared(&self, key: Option<&str>) -> Result<Vec<Comparable>> {
+        const Q: &str = concat!(
+            "SELECT r.id, p.path, p.id FROM revisions r JOIN programs p ON p.id = r.program_id
+             WHERE p.role = 'machine' AND ",
+            usable!(),
+            "
+               AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id)
+               AND ($1::text IS NULL OR p.id IN (SELECT program_id FROM program_keys WHERE key = $1))
+               AND p.site = $2
+             ORDER BY r.id"
+        );
+        let rows = self.conn.rows("listing revisions to compare", Q, &[&key, &self.conn.site])?;
+        self.comparables(rows)
+    }
+
+    pub(super) fn compared_with(&self, original: i64) -> Result<Vec<Comparable>> {
+        let rows = self.conn.rows(
+            "listing revisions to compare",
+            "SELECT r.id, p.path, p.id FROM comparisons c JOIN revisions r ON r.id = c.revision_id
+             JOIN programs p ON p.id = r.program_id WHERE c.original_revision_id = $1 ORDER BY r.id",
+            &[&original],
+        )?;
+        self.comparables(rows)
+    }
+
+    fn comparables(&self, rows: Vec<Row>) -> Result<Vec<Comparable>> {
+        rows.iter().map(|r| Ok(Comparable { revision: r.get(0), path: r.get(1), keys: self.conn.keys_of(r.get(2))? })).collect()
+    }
+
+    pub(super) fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
+        let c = self.conn;
+        c.exec("replacing a comparison", "DELETE FROM changes WHERE revision_id = $1", &[&revision])?;
+        c.exec(
+            "recording a comparison",
+            "INSERT INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule) VALUES ($1, $2, $3, $4, $5)
+             ON CONFLICT (revision_id) DO UPDATE SET original_revision_id = EXCLUDED.original_revision_id,
+               compared_at = EXCLUDED.compared_at, changes = EXCLUDED.changes, rule = EXCLUDED.rule",
+            &[&revision, &original, &at, &(changes.len() as i64), &rule],
+        )?;
+        if changes.is_empty() {
+            return Ok(());
+        }
+        let ws: Vec<i64> = changes.iter().map(|c| c.workingstep as i64).collect();
+        let op: Vec<&str> = changes.iter().map(|c| c.operation.as_str()).collect();
+        let kind: Vec<&str> = changes.iter().map(|c| c.kind.as_str()).collect();
+        let field: Vec<&str> = changes.iter().map(|c| c.field.as_str()).collect();
+        let before: Vec<&str> = changes.iter().map(|c| c.before.as_str()).collect();
+        let after: Vec<&str> = changes.iter().map(|c| c.after.as_str()).collect();
+        let line: Vec<Option<i64>> = changes.iter().map(|c| c.line.map(i64::from)).collect();
+        let oline: Vec<Option<i64>> = changes.iter().map(|c| c.original_line.map(i64::from)).collect();
+        let corner = |f: fn(&crate::plan::BBox) -> f64| -> Vec<Option<f64>> { changes.iter().map(|c| c.region.as_ref().map(f)).collect() };
+        let (x0, y0, z0) = (corner(|b| b.min[0]), corner(|b| b.min[1]), corner(|b| b.min[2]));
+        let (x1, y1, z1) = (corner(|b| b.max[0]), corner(|b| b.max[1]), corner(|b| b.max[2]));
+        let dev: Vec<Option<f64>> = changes.iter().map(|c| c.deviation).collect();
+        c.exec(
+            "storing changes",
+            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                 original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
+             SELECT $1, $2, ws, op, kind, field, before, after, line, $3, oline, x0, y0, z0, x1, y1, z1, dev
+             FROM unnest($4::int8[], $5::text[], $6::text[], $7::text[], $8::text[], $9::text[], $10::int8[], $11::int8[],
+                         $12::float8[], $13::float8[], $14::float8[], $15::float8[], $16::float8[], $17::float8[], $18::float8[])
+                  WITH ORDINALITY AS u(ws, op, kind, field, before, after, line, oline, x0, y0, z0, x1, y1, z1, dev, n)
+             ORDER BY n",
+            &[&revision, &original, &at, &ws, &op, &kind, &field, &before, &after, &line, &oline, &x0, &y0, &z0, &x1, &y1, &z1, &dev],
+        )?;
+        Ok(())
+    }
+}
+
+/// What `ncplan migrate` did.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct CopySummary {
+    /// Revisions in the SQLite file.
+    pub revisions: usize,
+    /// Revisions copied by this run (the others were there from an earlier run).
+    pub copied: usize,
+    /// Comparisons copied by this run.
+    pub comparisons: usize,
+}
+
+/// One source revision with its program and machine.
+struct SourceRevision {
+    id: i64,
+    path: String,
+    role: String,
+    machine: Option<(String, String, String)>,
+    program: (String, String, String, String),
+    hash: String,
+    size: i64,
+    mtime_ns: Option<i64>,
+    seen_at: String,
+    encoding: String,
+    status: String,
+    name: Option<String>,
+}
+
+impl Pg {
+    /// Copies a SQLite file's history into this database as this site's: every revision in
+    /// its own transaction with its blob, plan and findings, then the comparisons with their
+    /// changes and the partial-write marks. A revision (the program's path, its hash and
+    /// when it was seen) or a comparison already here is left as it is, so a run that was
+    /// stopped resumes where it was.
+    pub(super) fn copy_from(&self, lite: &super::sqlite::Lite, progress: &dyn Fn(usize, usize)) -> Result<CopySummary> {
+        use rusqlite::OptionalExtension as _;
+        let lsql = |about: &'static str| move |e: rusqlite::Error| StoreError::Sql { about, source: Box::new(e) };
+        let src = &lite.conn;
+        let c = &self.conn;
+        let site = c.site.clone();
+        let revisions: Vec<SourceRevision> = {
+            let mut stmt = src
+                .prepare(
+                    "SELECT r.id, p.path, p.role, m.name, m.dialect, m.folder, p.name, p.program_key, p.stem, p.dialect,
+                            r.hash, r.size, r.mtime_ns, r.seen_at, r.encoding, r.status, r.name
+                     FROM revisions r JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id ORDER BY r.id",
+                )
+                .map_err(lsql("reading the SQLite revisions"))?;
+            let rows = stmt
+                .query_map([], |r| {
+                    Ok(SourceRevision {
+                        id: r.get(0)?,
+                        path: r.get(1)?,
+                        role: r.get(2)?,
+                        machine: match r.get::<_, Option<String>>(3)? {
+                            Some(name) => Some((name, r.get(4)?, r.get(5)?)),
+                            None => None,
+                        },
+                        program: (r.get(6)?, r.get(7)?, r.get(8)?, r.get(9)?),
+                        hash: r.get(10)?,
+                        size: r.get(11)?,
+                        mtime_ns: r.get(12)?,
+                        seen_at: r.get(13)?,
+                        encoding: r.get(14)?,
+                        status: r.get(15)?,
+                        name: r.get(16)?,
+                    })
+                })
+                .map_err(lsql("reading the SQLite revisions"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading the SQLite revisions"))?
+        };
+        let mut summary = CopySummary { revisions: revisions.len(), ..CopySummary::default() };
+        let mut ids: BTreeMap<i64, i64> = BTreeMap::new();
+        for (n, r) in revisions.iter().enumerate() {
+            c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
+            let tx = PgTxn { conn: c, done: Cell::new(false) };
+            let machine_id: Option<i64> = match &r.machine {
+                Some((name, dialect, folder)) => Some(
+                    c.one(
+                        "recording a machine",
+                        "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
+                         ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect RETURNING id",
+                        &[&site, name, dialect, folder],
+                    )?
+                    .get(0),
+                ),
+                None => None,
+            };
+            let (pname, key, stem, dialect) = &r.program;
+            let program_id: i64 = c
+                .one(
+                    "recording a program",
+                    "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                     ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role RETURNING id",
+                    &[&site, &r.path, &r.role, &machine_id, pname, key, stem, dialect],
+                )?
+                .get(0);
+            let found = c.opt(
+                "looking up a copied revision",
+                "SELECT id FROM revisions WHERE program_id = $1 AND hash = $2 AND seen_at = $3",
+                &[&program_id, &r.hash, &r.seen_at],
+            )?;
+            if let Some(row) = found {
+                ids.insert(r.id, row.get(0));
+                drop(tx);
+                progress(n + 1, revisions.len());
+                continue;
+            }
+            let keys: Vec<(String, String)> = {
+                let mut stmt = src
+                    .prepare_cached("SELECT k.rule, k.key FROM program_keys k JOIN programs p ON p.id = k.program_id WHERE p.path = ?1")
+                    .map_err(lsql("reading program keys"))?;
+                let rows = stmt.query_map([&r.path], |x| Ok((x.get(0)?, x.get(1)?))).map_err(lsql("reading program keys"))?;
+                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading program keys"))?
+            };
+            c.exec("recording program keys", "DELETE FROM program_keys WHERE program_id = $1", &[&program_id])?;
+            for (rule, key) in &keys {
+                c.exec(
+                    "recording program keys",
+                    "INSERT INTO program_keys(program_id, rule, key) VALUES ($1, $2, $3) ON CONFLICT DO NOTHING",
+                    &[&program_id, rule, key],
+                )?;
+            }
+            if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&r.hash])?.is_none() {
+                let blob: Option<(i64, Vec<u8>)> = src
+                    .query_row("SELECT size, content FROM blobs WHERE hash = ?1", [&r.hash], |x| Ok((x.get(0)?, x.get(1)?)))
+                    .optional()
+                    .map_err(lsql("reading program bytes"))?;
+                let (size, content) = blob.unwrap_or((r.size, Vec::new()));
+                c.exec(
+                    "storing program bytes",
+                    "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, $3) ON CONFLICT (hash) DO NOTHING",
+                    &[&r.hash, &size, &content],
+                )?;
+            }
+            let new_id: i64 = c
+                .one(
+                    "recording a revision",
+                    "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                     RETURNING id",
+                    &[&program_id, &r.hash, &r.size, &r.mtime_ns, &r.seen_at, &r.encoding, &r.status, &r.name],
+                )?
+                .get(0);
+            let plan: Option<(String, i64, i64, i64)> = src
+                .query_row("SELECT plan_json, workingsteps, tools, complete FROM plans WHERE revision_id = ?1", [r.id], |x| {
+                    Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?))
+                })
+                .optional()
+                .map_err(lsql("reading a plan"))?;
+            if let Some((json, ws, tools, complete)) = plan {
+                c.exec(
+                    "storing a plan",
+                    "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete) VALUES ($1, $2, $3, $4, $5)",
+                    &[&new_id, &json, &ws, &tools, &complete],
+                )?;
+                c.exec("storing workingsteps", pg_schema::FILL_WORKINGSTEPS, &[&new_id])?;
+                c.exec("storing features", pg_schema::FILL_FEATURES, &[&new_id])?;
+            }
+            let findings: Vec<(String, String, i64, i64, i64, i64, String)> = {
+                let mut stmt = src
+                    .prepare_cached(
+                        "SELECT code, severity, line, col, byte_start, byte_end, message FROM diagnostics WHERE revision_id = ?1 ORDER BY id",
+                    )
+                    .map_err(lsql("reading findings"))?;
+                let rows = stmt
+                    .query_map([r.id], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?, x.get(5)?, x.get(6)?)))
+                    .map_err(lsql("reading findings"))?;
+                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading findings"))?
+            };
+            for f in &findings {
+                c.exec(
+                    "storing diagnostics",
+                    "INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
+                    &[&new_id, &f.0, &f.1, &f.2, &f.3, &f.4, &f.5, &f.6],
+                )?;
+            }
+            tx.commit()?;
+            ids.insert(r.id, new_id);
+            summary.copied += 1;
+            progress(n + 1, revisions.len());
+        }
+        // Comparisons, their changes and the marks name revisions of any age: copied once all are.
+        type SourceComparison = (i64, i64, String, i64, Option<String>);
+        let comparisons: Vec<SourceComparison> = {
+            let mut stmt = src
+                .prepare("SELECT revision_id, original_revision_id, compared_at, changes, rule FROM comparisons ORDER BY revision_id")
+                .map_err(lsql("reading comparisons"))?;
+            let rows =
+                stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?))).map_err(lsql("reading comparisons"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading comparisons"))?
+        };
+        for (rev, orig, at, n, rule) in &comparisons {
+            let (Some(new_rev), Some(new_orig)) = (ids.get(rev), ids.get(orig)) else { continue };
+            if c.opt("looking up a comparison", "SELECT 1 FROM comparisons WHERE revision_id = $1", &[new_rev])?.is_some() {
+                continue;
+            }
+            c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
+            let tx = PgTxn { conn: c, done: Cell::new(false) };
+            c.exec(
+                "recording a comparison",
+                "INSERT INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule) VALUES ($1, $2, $3, $4, $5)",
+                &[new_rev, new_orig, at, n, rule],
+            )?;
+            let changes = super::sqlite::changes_of(src, *rev)?;
+            for ch in &changes {
+                c.exec(
+                    "storing changes",
+                    "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                         original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
+                     VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18)",
+                    &[
+                        new_rev, new_orig, &ch.workingstep, &ch.operation, &ch.kind, &ch.field, &ch.before, &ch.after, &ch.line,
+                        &ch.detected_at, &ch.original_line, &ch.region[0], &ch.region[1], &ch.region[2], &ch.region[3],
+                        &ch.region[4], &ch.region[5], &ch.deviation,
+                    ],
+                )?;
+            }
+            tx.commit()?;
+            summary.comparisons += 1;
+        }
+        let marks: Vec<(i64, String, i64, String)> = {
+            let mut stmt =
+                src.prepare("SELECT revision_id, mark, superseded_by, noted_at FROM revision_marks").map_err(lsql("reading marks"))?;
+            let rows = stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?))).map_err(lsql("reading marks"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading marks"))?
+        };
+        for (rev, mark, by, at) in &marks {
+            if let (Some(rev), Some(by)) = (ids.get(rev), ids.get(by)) {
+                c.exec(
+                    "copying a mark",
+                    "INSERT INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
+                    &[rev, mark, by, at],
+                )?;
+            }
+        }
+        Ok(summary)
+    }
+}
+
+/// The plant-scale queries `ncplan bench --simulate` times, by name.
+pub const PLANT_QUERIES: &[(&str, &str)] = &[
+    (
+        "one machine's changes of a week",
+        "SELECT machine, program, kind, before, after, detected_at FROM shopfloor_changes
+         WHERE site = 'SIM7' AND machine = 'M3' AND detected_at >= '2025-06-01' AND detected_at < '2025-06-08' ORDER BY detected_at DESC",
+    ),
+    (
+        "the plant's newest 50 changes",
+        "SELECT site, machine, program, kind, before, after FROM shopfloor_changes ORDER BY detected_at DESC LIMIT 50",
+    ),
+    (
+        "feed changes per machine of a site",
+        "SELECT machine, COUNT(*) FROM shopfloor_changes WHERE site = 'SIM42' AND kind = 'feed_changed' GROUP BY machine ORDER BY 2 DESC",
+    ),
+    (
+        "every revision of one program with its errors",
+        "SELECT r.id, r.seen_at, (SELECT COUNT(*) FROM diagnostics d WHERE d.revision_id = r.id AND d.severity = 'error')
+         FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site = 'SIM13' AND p.path = '/srv/share/M5/O7.nc' ORDER BY r.id",
+    ),
+];
+
+impl Pg {
+    /// Fills the database with a simulated plant of `revisions` machine revisions (sites
+    /// `SIM1`…`SIM100`, 10 machines each, 20 programs a machine, revisions three minutes
+    /// apart since 2024, two changes and a comparison each), unless it has them already;
+    /// returns how many simulated revisions there are.
+    pub(super) fn simulate_plant(&self, revisions: i64) -> Result<i64> {
+        let c = &self.conn;
+        let have: i64 = c
+            .one(
+                "counting the simulation",
+                "SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site LIKE 'SIM%'",
+                &[],
+            )?
+            .get(0);
+        if have >= revisions {
+            return Ok(have);
+        }
+        if have > 0 {
+            return Err(StoreError::Setup(format!(
+                "the database holds a smaller simulation ({have} revisions); simulate on an empty database"
+            )));
+        }
+        let mut client = c.client.borrow_mut();
+        let mut tx = client.transaction().map_err(sql("starting the simulation"))?;
+        tx.batch_execute(
+            "INSERT INTO machines(site, name, dialect, folder)
+               SELECT 'SIM' || s, 'M' || m, 'fanuc', '/srv/share/M' || m FROM generate_series(1, 100) s, generate_series(1, 10) m;
+             INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect)
+               SELECT m.site, '/srv/share/' || m.name || '/O' || p || '.nc', 'machine', m.id, 'O' || p, 'O' || p, 'O' || p, 'fanuc'
+               FROM machines m, generate_series(1, 20) p WHERE m.site LIKE 'SIM%';
+             INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect)
+               SELECT 'SIM' || s, '/srv/cam/O' || p || '.nc', 'cam', NULL, 'O' || p, 'O' || p, 'O' || p, 'fanuc'
+               FROM generate_series(1, 100) s, generate_series(1, 20) p;",
+        )
+        .map_err(sql("simulating programs"))?;
+        tx.execute(
+            "INSERT INTO blobs(hash, size, content) SELECT 'sim' || g, 12, convert_to('G1 X' || g, 'UTF8') FROM generate_series(1, $1::bigint) g",
+            &[&revisions],
+        )
+        .map_err(sql("simulating blobs"))?;
+        tx.execute(
+            "WITH mp AS (SELECT id, name, row_number() OVER (ORDER BY id) - 1 AS k FROM programs WHERE role = 'machine' AND site LIKE 'SIM%')
+             INSERT INTO revisions(program_id, hash, size, seen_at, encoding, status, name)
+             SELECT mp.id, 'sim' || g, 12,
+                    to_char(timestamp '2024-01-01' + g * interval '3 minutes', 'YYYY-MM-DD\"T\"HH24:MI:SS.MS\"Z\"'), 'utf-8', 'analysed', mp.name
+             FROM generate_series(1, $1::bigint) g JOIN mp ON mp.k = g % (SELECT COUNT(*) FROM mp)",
+            &[&revisions],
+        )
+        .map_err(sql("simulating revisions"))?;
+        tx.batch_execute(
+            "INSERT INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule)
+               SELECT r.id, r.id, r.seen_at, 2, 'file-name' FROM revisions r WHERE r.hash LIKE 'sim%';
+             INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at)
+               SELECT r.id, r.id, 1, 'plane finish milling', k.kind, k.field, k.before, (250 + r.id % 50)::text, 7, r.seen_at
+               FROM revisions r, (VALUES ('feed_changed', 'feed', '250'), ('spindle_speed_changed', 'spindle_speed', '1800')) k(kind, field, before)
+               WHERE r.hash LIKE 'sim%';
+             INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message)
+               SELECT r.id, 'interp::unknown-code', 'error', 3, 1, 10, 14, 'simulated' FROM revisions r WHERE r.hash LIKE 'sim%' AND r.id % 10 = 0;",
+        )
+        .map_err(sql("simulating comparisons"))?;
+        tx.commit().map_err(sql("committing the simulation"))?;
+        client.batch_execute("ANALYZE").map_err(sql("analysing the simulation"))?;
+        Ok(revisions)
+    }
+}
+
+impl Pg {
+    pub(super) fn queue_reanalysis(&self, version: &str, since: Option<&str>, dialect: Option<&str>) -> Result<usize> {
+        self.conn.exec(
+            "queueing revisions",
+            "INSERT INTO reanalysis_queue(revision_id, version)
+             SELECT r.id, $1 FROM revisions r JOIN programs p ON p.id = r.program_id
+             WHERE r.status = 'analysed' AND ($2::text IS NULL OR r.seen_at::timestamptz >= $2::text::timestamptz)
+               AND ($3::text IS NULL OR p.dialect = $3)
+               AND NOT EXISTS (SELECT 1 FROM analyses a WHERE a.revision_id = r.id AND a.version = $1)
+             ON CONFLICT DO NOTHING",
+            &[&version, &since, &dialect],
+        )?;
+        self.reanalysis_left(version)
+    }
+
+    pub(super) fn claim_reanalysis(&self, version: &str, worker: &str, n: usize, now: &str, lease_until: &str) -> Result<Vec<i64>> {
+        let rows = self.conn.rows(
+            "claiming revisions",
+            "UPDATE reanalysis_queue q SET worker = $1, lease_until = $2
+             FROM (SELECT revision_id FROM reanalysis_queue WHERE version = $3 AND (lease_until IS NULL OR lease_until < $4)
+                   ORDER BY revision_id LIMIT $5 FOR UPDATE SKIP LOCKED) c
+             WHERE q.revision_id = c.revision_id AND q.version = $3
+             RETURNING q.revision_id",
+            &[&worker, &lease_until, &version, &now, &(n as i64)],
+        )?;
+        let mut ids: Vec<i64> = rows.iter().map(|r| r.get(0)).collect();
+        ids.sort_unstable();
+        Ok(ids)
+    }
+
+    pub(super) fn reanalysis_left(&self, version: &str) -> Result<usize> {
+        let row = self.conn.one("counting the queue", "SELECT COUNT(*) FROM reanalysis_queue WHERE version = $1", &[&version])?;
+        Ok(row.get::<_, i64>(0) as usize)
+    }
+}
+
+impl PgTxn<'_> {
+    pub(super) fn comparison_of(&self, revision: i64) -> Result<Option<(i64, String)>> {
+        let row = self.conn.opt(
+            "reading a comparison",
+            "SELECT original_revision_id, COALESCE(rule, '') FROM comparisons WHERE revision_id = $1",
+            &[&revision],
+        )?;
+        Ok(row.map(|r| (r.get(0), r.get(1))))
+    }
+
+    pub(super) fn record_analysis(&self, a: &NewAnalysis<'_>) -> Result<Option<Reanalysed>> {
+        let c = self.conn;
+        // The queue entry's row lock: a worker whose lease ran out and one that took it over meet here.
+        c.exec(
+            "locking a queue entry",
+            "SELECT 1 FROM reanalysis_queue WHERE revision_id = $1 AND version = $2 FOR UPDATE",
+            &[&a.revision, &a.version],
+        )?;
+        let old = c
+            .opt("reading a plan", "SELECT plan_json, analysis FROM plans WHERE revision_id = $1", &[&a.revision])?
+            .map(|r| (r.get::<_, String>(0), r.get::<_, String>(1)));
+        let found: Vec<StoredFinding> = c
+            .rows(
+                "reading findings",
+                "SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = $1 ORDER BY byte_start, id",
+                &[&a.revision],
+            )?
+            .iter()
+            .map(|r| StoredFinding { severity: r.get(0), code: r.get(1), line: r.get(2), col: r.get(3), message: r.get(4) })
+            .collect();
+        let (old_json, old_set) = super::sqlite::findings_record(&found);
+        let outcome = super::sqlite::reanalysed(old.as_ref().map(|o| o.0.as_str()), &old_set, a);
+        let inserted = c.exec(
+            "recording an analysis",
+            "INSERT INTO analyses(revision_id, version, analysed_at, worker, previous, previous_plan, previous_findings,
+                                  plan_changed, new_findings, vanished_findings)
+             VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10) ON CONFLICT DO NOTHING",
+            &[
+                &a.revision,
+                &a.version,
+                &a.at,
+                &a.worker,
+                &old.as_ref().map_or("", |o| o.1.as_str()),
+                &old.as_ref().map(|o| o.0.as_str()),
+                &old_json,
+                &i64::from(outcome.plan_changed),
+                &(outcome.new_findings as i64),
+                &(outcome.vanished_findings as i64),
+            ],
+        )?;
+        if inserted == 0 {
+            return Ok(None);
+        }
+        c.exec("replacing an analysis", "DELETE FROM workingsteps WHERE revision_id = $1", &[&a.revision])?;
+        c.exec("replacing an analysis", "DELETE FROM features WHERE revision_id = $1", &[&a.revision])?;
+        c.exec("replacing an analysis", "DELETE FROM plans WHERE revision_id = $1", &[&a.revision])?;
+        c.exec("replacing an analysis", "DELETE FROM diagnostics WHERE revision_id = $1", &[&a.revision])?;
+        c.exec(
+            "storing a plan",
+            "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete, analysis) VALUES ($1, $2, $3, $4, 0, $5)",
+            &[&a.revision, &a.plan_json, &(a.counts.0 as i64), &(a.counts.1 as i64), &a.version],
+        )?;
+        c.exec("storing workingsteps", pg_schema::FILL_WORKINGSTEPS, &[&a.revision])?;
+        c.exec("storing features", pg_schema::FILL_FEATURES, &[&a.revision])?;
+        self.insert_findings(a.revision, a.diagnostics)?;
+        c.exec(
+            "closing a queue entry",
+            "DELETE FROM reanalysis_queue WHERE revision_id = $1 AND version = $2",
+            &[&a.revision, &a.version],
+        )?;
+        Ok(Some(outcome))
+    }
+}
+
+/// A row of `pages::CHANGE_ROWS`.
+fn change_row(r: &Row) -> super::ChangeRow {
+    let kind: String = r.get(8);
+    let region = match (r.get::<_, Option<f64>>(14), r.get::<_, Option<f64>>(17)) {
+        (Some(a), Some(b)) => Some(crate::plan::BBox {
+            min: [a, r.get::<_, Option<f64>>(15).unwrap_or(0.0), r.get::<_, Option<f64>>(16).unwrap_or(0.0)],
+            max: [b, r.get::<_, Option<f64>>(18).unwrap_or(0.0), r.get::<_, Option<f64>>(19).unwrap_or(0.0)],
+        }),
+        _ => None,
+    };
+    super::ChangeRow {
+        id: r.get(0),
+        revision_id: r.get(1),
+        original_revision_id: r.get(2),
+        machine: r.get(3),
+        program: r.get(4),
+        detected_at: r.get(5),
+        change: Change {
+            kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
+            workingstep: r.get::<_, i64>(6) as u32,
+            operation: r.get(7),
+            field: r.get(9),
+            before: r.get(10),
+            after: r.get(11),
+            line: r.get::<_, Option<i64>>(12).map(|l| l as u32),
+            original_line: r.get::<_, Option<i64>>(13).map(|l| l as u32),
+            region,
+            deviation: r.get(20),
+        },
+        marks: Vec::new(),
+    }
+}
+
+/// The workspace's change reads on PostgreSQL (what `report --format html|csv` needs).
+impl Pg {
+    fn with_marks(&self, mut rows: Vec<super::ChangeRow>) -> Result<Vec<super::ChangeRow>> {
+        if rows.is_empty() {
+            return Ok(rows);
+        }
+        let ids: Vec<i64> = rows.iter().map(|r| r.id).collect();
+        let marks = self.conn.rows(
+            "reading review marks",
+            "SELECT change_id, mark, note, marked_by, marked_at FROM review_marks WHERE change_id = ANY($1) ORDER BY id",
+            &[&ids],
+        )?;
+        let mut by_change: BTreeMap<i64, Vec<super::Mark>> = BTreeMap::new();
+        for r in marks {
+            by_change.entry(r.get(0)).or_default().push(super::Mark { mark: r.get(1), note: r.get(2), by: r.get(3), at: r.get(4) });
+        }
+        for row in &mut rows {
+            row.marks = by_change.remove(&row.id).unwrap_or_default();
+        }
+        Ok(rows)
+    }
+
+    pub(super) fn marks(&self, change_id: i64) -> Result<Vec<super::Mark>> {
+        let rows = self.conn.rows(
+            "reading review marks",
+            "SELECT mark, note, marked_by, marked_at FROM review_marks WHERE change_id = $1 ORDER BY id",
+            &[&change_id],
+        )?;
+        Ok(rows.iter().map(|r| super::Mark { mark: r.get(0), note: r.get(1), by: r.get(2), at: r.get(3) }).collect())
+    }
+
+    pub(super) fn search_changes(&self, filter: &super::ChangeFilter, limit: usize) -> Result<Vec<super::ChangeRow>> {
+        let program_number = filter.program.trim().trim_start_matches(['O', 'o']).parse::<u64>().ok().map(|n| format!("O{n}"));
+        let query = format!(
+            "{}
+               AND ($1 = '' OR COALESCE(r.name, p.name) LIKE '%' || $1 || '%' OR p.path LIKE '%' || $1 || '%' OR COALESCE(r.name, p.name) = $2)
+               AND ($3 = '' OR m.name = $3)
+               AND ($4 = '' OR c.detected_at::timestamptz >= $4::timestamptz)
+               AND ($5 = '' OR c.detected_at::timestamptz < ($5::date + 1)::timestamptz)
+               AND (NOT $6::bool OR {})
+               AND ($7 = '' OR c.kind = $7)
+             ORDER BY c.detected_at DESC, c.id DESC LIMIT $8",
+            super::pages::CHANGE_ROWS,
+            super::pages::UNMARKED
+        );
+        let rows = self
+            .conn
+            .client
+            .borrow_mut()
+            .query(
+                query.as_str(),
+                &[
+                    &filter.program.trim(),
+                    &program_number.unwrap_or_default(),
+                    &filter.machine.trim(),
+                    &filter.since.trim(),
+                    &filter.until.trim(),
+                    &filter.to_review,
+                    &filter.kind.trim(),
+                    &(limit as i64),
+                ],
+            )
+            .map_err(sql("searching changes"))?;
+        self.with_marks(rows.iter().map(change_row).collect())
+    }
+
+    pub(super) fn change_rows(&self, revision: i64) -> Result<Vec<super::ChangeRow>> {
+        let query = format!("{} AND c.revision_id = $1 ORDER BY c.id", super::pages::CHANGE_ROWS);
+        let rows = self.conn.client.borrow_mut().query(query.as_str(), &[&revision]).map_err(sql("reading changes"))?;
+        self.with_marks(rows.iter().map(change_row).collect())
+    }
+}

@@ -1,0 +1,637 @@
+//! The store on a real PostgreSQL server, which each test starts for itself (`initdb` in a
+//! temporary folder, as a non-root user, on a free local port) and stops at its end: the
+//! daemon and the read commands give what they give on SQLite; four daemons of four sites
+//! write to one database through bursts of edits and kills, and every revision is stored
+//! once and compared. Without PostgreSQL the tests say so and skip, unless
+//! `NCPLAN_REQUIRE_POSTGRES` is set (CI sets it).
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use ncplan::store::{Location, Store};
+
+/// A PostgreSQL cluster of one test.
+struct Cluster {
+    dir: tempfile::TempDir,
+    bin: PathBuf,
+    port: u16,
+    /// The user the server runs as when the tests run as root.
+    user: Option<&'static str>,
+}
+
+/// The folder holding `initdb` and `pg_ctl`: on the `PATH`, or Debian's `/usr/lib/postgresql/*/bin`.
+fn pg_bin() -> Option<PathBuf> {
+    let on_path = std::env::var_os("PATH")
+        .map(|p| std::env::split_paths(&p).collect::<Vec<_>>())
+        .unwrap_or_default()
+        .into_iter()
+        .find(|d| d.join("initdb").is_file() && d.join("pg_ctl").is_file());
+    if on_path.is_some() {
+        return on_path;
+    }
+    let mut debian: Vec<PathBuf> = std::fs::read_dir("/usr/lib/postgresql")
+        .ok()?
+        .flatten()
+        .map(|e| e.path().join("bin"))
+        .filter(|d| d.join("initdb").is_file() && d.join("pg_ctl").is_file())
+        .collect();
+    debian.sort();
+    debian.pop()
+}
+
+fn is_root() -> bool {
+    Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
+impl Cluster {
+    /// Starts a cluster, or says why `test` is skipped and returns `None`.
+    fn start(test: &str) -> Option<Cluster> {
+        let Some(bin) = pg_bin() else {
+            assert!(
+                std::env::var_os("NCPLAN_REQUIRE_POSTGRES").is_none(),
+                "NCPLAN_REQUIRE_POSTGRES is set but initdb and pg_ctl are neither on the PATH nor in /usr/lib/postgresql/*/bin"
+            );
+            crate::skip(test, "PostgreSQL is not installed (initdb, pg_ctl; Debian: apt-get install postgresql)");
+            return None;
+        };
+        let dir = tempfile::Builder::new().prefix("ncplan-pg").tempdir().unwrap();
+        // PostgreSQL refuses to run as root: the server runs as `nobody` then.
+        let user = is_root().then_some("nobody");
+        if let Some(u) = user {
+            let ok = Command::new("chown").args(["-R", u]).arg(dir.path()).status().unwrap().success();
+            assert!(ok, "cannot hand {} to {u}", dir.path().display());
+        }
+        let c = Cluster { dir, bin, port: free_port(), user };
+        let data = c.dir.path().join("data");
+        c.run("initdb", &["-D", data.to_str().unwrap(), "-U", "ncplan", "--auth=trust", "-E", "UTF8", "--locale=C", "--no-sync"]);
+        let opts = format!(
+            "-p {} -k {} -c listen_addresses=127.0.0.1 -c fsync=off -c synchronous_commit=off -c max_connections=200",
+            c.port,
+            c.dir.path().display()
+        );
+        let log = c.dir.path().join("server.log");
+        c.run("pg_ctl", &["-D", data.to_str().unwrap(), "-l", log.to_str().unwrap(), "-o", &opts, "-w", "-t", "60", "start"]);
+        Some(c)
+    }
+
+    fn run(&self, tool: &str, args: &[&str]) {
+        let exe = self.bin.join(tool);
+        let mut cmd = match self.user {
+            Some(u) => {
+                let mut c = Command::new("runuser");
+                c.args(["-u", u, "--"]).arg(&exe);
+                c
+            }
+            None => Command::new(&exe),
+        };
+        let out = cmd.args(args).current_dir(self.dir.path()).stdin(Stdio::null()).output().unwrap();
+        assert!(out.status.success(), "{tool} failed: {}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    }
+
+    /// The database URL (trust authentication on the loopback: no password).
+    fn url(&self) -> String {
+        format!("postgresql://ncplan@127.0.0.1:{}/postgres?sslmode=disable", self.port)
+    }
+
+    /// Rows of `sql`, read-only.
+    fn rows(&self, sql: &str) -> Vec<Vec<String>> {
+        Store::open_read_only(&Location::parse(&self.url())).unwrap().query(sql).unwrap().1
+    }
+
+    /// The one number `sql` gives.
+    fn count(&self, sql: &str) -> i64 {
+        self.rows(sql)[0][0].parse().unwrap()
+    }
+}
+
+impl Drop for Cluster {
+    fn drop(&mut self) {
+        let data = self.dir.path().join("data");
+        self.run("pg_ctl", &["-D", data.to_str().unwrap(), "-m", "immediate", "-w", "stop"]);
+    }
+}
+
+/// One DNC server: a CAM folder and a share `DMU50`, a config naming `site` and `database`.
+struct Server {
+    dir: tempfile::TempDir,
+}
+
+impl Server {
+    fn new(site: Option<&str>, database: &str) -> Server {
+        let dir = tempfile::tempdir().unwrap();
+        for d in ["cam", "share", "var"] {
+            std::fs::create_dir_all(dir.path().join(d)).unwrap();
+        }
+        let site = site.map(|s| format!("site = '{s}'\n")).unwrap_or_default();
+        std::fs::write(
+            dir.path().join("ncplan.toml"),
+            format!(
+                "{site}[database]\n{database}\n[daemon]\nsettle_ms = 150\nworkers = 2\n\
+                 [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
+                 [[machine]]\nname = 'DMU50'\npath = 'share'\ndialect = 'fanuc'\n"
+            ),
+        )
+        .unwrap();
+        Server { dir }
+    }
+
+    fn path(&self, rel: &str) -> PathBuf {
+        self.dir.path().join(rel)
+    }
+
+    fn start(&self) -> Daemon {
+        let log = std::fs::OpenOptions::new().create(true).append(true).open(self.path("daemon.log")).unwrap();
+        let child = Command::new(crate::bin())
+            .args(["watch", "--config"])
+            .arg(self.path("ncplan.toml"))
+            .env("NCPLAN_LOG", "info")
+            .stdout(Stdio::null())
+            .stderr(log)
+            .spawn()
+            .expect("start ncplan watch");
+        let before = self.log().matches("Catch-up scan queued").count();
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while self.log().matches("Catch-up scan queued").count() <= before {
+            assert!(Instant::now() < deadline, "the daemon did not start:\n{}", self.log());
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        Daemon(child)
+    }
+
+    fn log(&self) -> String {
+        std::fs::read_to_string(self.path("daemon.log")).unwrap_or_default()
+    }
+
+    /// Writes a program whole (a temporary name, then a rename), as a DNC transfer ends.
+    fn put(&self, rel: &str, text: &str) {
+        let tmp = self.path(&format!("{rel}.part"));
+        std::fs::write(&tmp, text).unwrap();
+        std::fs::rename(&tmp, self.path(rel)).unwrap();
+    }
+
+    fn ncplan(&self, args: &[&str]) -> (i32, String, String) {
+        let out = Command::new(crate::bin()).args(args).current_dir(self.dir.path()).output().unwrap();
+        (
+            out.status.code().unwrap_or(-1),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    }
+}
+
+struct Daemon(Child);
+
+impl Daemon {
+    fn kill(mut self) {
+        self.0.kill().unwrap();
+        self.0.wait().unwrap();
+    }
+}
+
+impl Drop for Daemon {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// A small Fanuc program: face with T1 at `feed` and spindle `speed`, numbered `number`.
+fn program(number: u32, feed: u32, speed: u32) -> String {
+    format!("%\nO{number} (FACE)\nG21 G90 G17\nT1 M6\nS{speed} M3\nG0 X-10 Y0 Z5\nG1 Z-1 F{feed}\nX110\nY20\nX-10\nG0 Z50\nM30\n%\n")
+}
+
+fn wait_until(what: &str, timeout: Duration, mut done: impl FnMut() -> bool) {
+    let deadline = Instant::now() + timeout;
+    while !done() {
+        assert!(Instant::now() < deadline, "timed out waiting until {what}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn sha256(text: &str) -> String {
+    ncplan::daemon::ingest::sha256_hex(text.as_bytes())
+}
+
+/// The rows the read commands give for the demo edit, on either engine.
+fn one_edit(server: &Server, db: &str, rows: impl Fn(&str) -> Vec<Vec<String>>) -> Vec<String> {
+    let daemon = server.start();
+    server.put("share/O1234.nc", &program(1234, 300, 2000));
+    server.put("cam/O1234.nc", &program(1234, 250, 1800));
+    wait_until("the edit is compared", Duration::from_secs(30), || {
+        rows("SELECT COUNT(*) FROM comparisons").first().is_some_and(|r| r[0] == "1")
+    });
+    daemon.kill();
+    let mut out = Vec::new();
+    for sql in [
+        "SELECT machine, program, kind, field, before, after, workingstep, operation, line, deviation, site FROM shopfloor_changes ORDER BY change_id",
+        "SELECT p.role, r.status, r.size, r.encoding, r.name, pl.workingsteps, pl.tools, pl.complete FROM revisions r JOIN programs p ON p.id = r.program_id LEFT JOIN plans pl ON pl.revision_id = r.id ORDER BY p.role, r.id",
+        "SELECT idx, operation, tool, feature, strategy, feed, spindle_speed, spindle, coolant, depth, first_line, last_line FROM workingsteps ORDER BY revision_id, idx",
+        "SELECT kind, x, y, z, depth, width, length, positions, top_inferred, workingsteps FROM features ORDER BY revision_id, id",
+        "SELECT code, severity, line, col, message FROM diagnostics ORDER BY revision_id, id",
+        "SELECT rule, changes FROM comparisons",
+        "SELECT m.name, m.dialect, m.site, p.site, k.rule, k.key FROM programs p LEFT JOIN machines m ON m.id = p.machine_id JOIN program_keys k ON k.program_id = p.id ORDER BY p.role, k.rule",
+    ] {
+        // Which of the two files was stored first is the watcher's timing, not the engine's.
+        let mut lines: Vec<String> = rows(sql).iter().map(|r| r.join("|")).collect();
+        lines.sort();
+        out.push(format!("{sql}\n{}", lines.join("\n")));
+    }
+    let (code, report, err) = server.ncplan(&["report", "--db", db]);
+    assert_eq!(code, 0, "{err}");
+    // The report names revisions and times; what it says of them is compared.
+    out.push(report.lines().filter(|l| l.starts_with("- ")).collect::<Vec<_>>().join("\n"));
+    // The CSV report (the workspace's change rows) without its ids and times.
+    let (code, csv, err) = server.ncplan(&["report", "--db", db, "--format", "csv", "--since", "2000-01-01"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(csv.lines().count() > 1, "{csv}");
+    out.push(
+        csv.lines()
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                [0, 1, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13].iter().filter_map(|&i| f.get(i).copied()).collect::<Vec<_>>().join(",")
+            })
+            .collect::<Vec<_>>()
+            .join("\n"),
+    );
+    let (code, show, err) = server.ncplan(&["show", "--db", db, "share/O1234.nc"]);
+    assert_eq!(code, 0, "{err}");
+    out.push(
+        show.lines()
+            .filter(|l| l.contains("change") || l.contains("finding") || l.starts_with("  "))
+            .map(redact_times)
+            .collect::<Vec<_>>()
+            .join("\n"),
+    );
+    out
+}
+
+/// A line of `show` without its paths, ids and times.
+fn redact_times(line: &str) -> String {
+    line.split_whitespace()
+        .filter(|w| !w.contains('/') && !w.contains(':') && !w.chars().all(|c| c.is_ascii_digit() || c == ','))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[test]
+fn the_daemon_and_the_read_commands_give_the_same_on_both_engines() {
+    let Some(pg) = Cluster::start("pg::the_daemon_and_the_read_commands_give_the_same_on_both_engines") else { return };
+    let lite = Server::new(Some("HALL1"), "path = 'var/ncplan.db'");
+    let lite_db = lite.path("var/ncplan.db");
+    let on_lite = one_edit(&lite, lite_db.to_str().unwrap(), |sql| crate::db_rows(&lite_db, sql));
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    let on_pg = one_edit(&server, &pg.url(), |sql| pg.rows(sql));
+    assert!(on_lite[0].lines().count() > 1, "the edit made changes: {}", on_lite[0]);
+    for (a, b) in on_lite.iter().zip(&on_pg) {
+        assert_eq!(a, b);
+    }
+    // The same schema version and view columns.
+    let store = Store::open_read_only(&Location::parse(&pg.url())).unwrap();
+    let lite_store = Store::open_read_only(&Location::Sqlite(lite_db.clone())).unwrap();
+    assert_eq!(store.version().unwrap(), lite_store.version().unwrap());
+    assert_eq!(store.query("SELECT * FROM shopfloor_changes").unwrap().0, lite_store.query("SELECT * FROM shopfloor_changes").unwrap().0);
+}
+
+#[test]
+fn query_on_postgres_reads_only_and_refuses_in_plain_words() {
+    let Some(pg) = Cluster::start("pg::query_on_postgres_reads_only_and_refuses_in_plain_words") else { return };
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    drop(Store::open(&Location::parse(&pg.url()), "HALL1").unwrap());
+    let url = pg.url();
+    let (code, out, err) = server.ncplan(&["query", "--db", &url, "SELECT COUNT(*) AS n, 1 = 1 AS yes FROM revisions"]);
+    assert_eq!((code, out.as_str()), (0, "n\tyes\n0\t1\n"), "{err}");
+    let (code, _, err) = server.ncplan(&["query", "--db", &url, "DROP TABLE changes"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("`DROP` is refused: queries only read"), "{err}");
+    let (code, _, err) =
+        server.ncplan(&["query", "--db", &url, "WITH gone AS (DELETE FROM changes RETURNING id) SELECT COUNT(*) FROM gone"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("the query would write; queries only read"), "{err}");
+    let (code, _, err) = server.ncplan(&["query", "--db", &url, "SELECT 1; DELETE FROM blobs"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("one statement at a time"), "{err}");
+    // Revisions and blobs are immutable on this engine too.
+    let (code, _, err) = server.ncplan(&["query", "--db", &url, "SELECT nosuchcolumn FROM revisions"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("nosuchcolumn") && err.contains("does not exist"), "{err}");
+}
+
+#[test]
+fn credentials_come_from_a_private_file_and_are_never_shown() {
+    use std::os::unix::fs::PermissionsExt as _;
+    let Some(pg) = Cluster::start("pg::credentials_come_from_a_private_file_and_are_never_shown") else { return };
+    let server = Server::new(Some("HALL1"), "url = 'x'");
+    let secret = server.path("db.password");
+    std::fs::write(&secret, "s3cret-pass\n").unwrap();
+    std::fs::set_permissions(&secret, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let config = format!(
+        "site = 'HALL1'\n[database]\nurl = '{}'\npassword_file = '{}'\n[[machine]]\nname = 'DMU50'\npath = 'share'\ndialect = 'fanuc'\n",
+        pg.url(),
+        secret.display()
+    );
+    std::fs::write(server.path("ncplan.toml"), &config).unwrap();
+    let (code, _, err) = server.ncplan(&["report", "--config", server.path("ncplan.toml").to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("may be read by others (mode 644)") && !err.contains("s3cret"), "{err}");
+    std::fs::set_permissions(&secret, std::fs::Permissions::from_mode(0o600)).unwrap();
+    // Trust authentication takes any password: the file is read and the report runs.
+    drop(Store::open(&Location::parse(&pg.url()), "HALL1").unwrap());
+    let (code, _, err) = server.ncplan(&["report", "--config", server.path("ncplan.toml").to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    // A password in a URL is never shown, not even when the server cannot be reached.
+    let dead = format!("postgresql://ncplan:hunter2@127.0.0.1:{}/x?sslmode=disable", free_port());
+    let (code, _, err) = server.ncplan(&["query", "--db", &dead, "SELECT 1"]);
+    assert_eq!(code, 2);
+    assert!(!err.contains("hunter2") && err.contains("PostgreSQL"), "{err}");
+    // sslmode is honoured: this test server offers no TLS, which `require` refuses and `prefer` accepts.
+    let with_mode = |mode: &str| pg.url().replace("sslmode=disable", &format!("sslmode={mode}"));
+    let (code, _, err) = server.ncplan(&["query", "--db", &with_mode("require"), "SELECT 1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("server does not support TLS"), "{err}");
+    let (code, out, err) = server.ncplan(&["query", "--db", &with_mode("prefer"), "SELECT 1 AS one"]);
+    assert_eq!((code, out.as_str()), (0, "one\n1\n"), "{err}");
+    let (code, _, err) = server.ncplan(&["query", "--db", &with_mode("bogus"), "SELECT 1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("sslmode `bogus` is not one of"), "{err}");
+    // A PostgreSQL database needs the site named.
+    std::fs::write(server.path("ncplan.toml"), config.replace("site = 'HALL1'\n", "")).unwrap();
+    let (code, _, err) = server.ncplan(&["watch", "--config", server.path("ncplan.toml").to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("name this one's site"), "{err}");
+}
+
+#[test]
+fn four_daemons_of_four_sites_store_every_revision_once_through_bursts_and_kills() {
+    let Some(pg) = Cluster::start("pg::four_daemons_of_four_sites_store_every_revision_once_through_bursts_and_kills") else { return };
+    let servers: Vec<Server> = (1..=4).map(|i| Server::new(Some(&format!("HALL{i}")), &format!("url = '{}'", pg.url()))).collect();
+    // Started one after the other would hide a migration race: all four at once.
+    let mut daemons: Vec<Option<Daemon>> = std::thread::scope(|s| {
+        let started: Vec<_> = servers.iter().map(|srv| s.spawn(move || srv.start())).collect();
+        started.into_iter().map(|h| Some(h.join().unwrap())).collect()
+    });
+    const PROGRAMS: u32 = 4;
+    const ROUNDS: u32 = 8;
+    // Half the originals come before their edits, half after the first edits.
+    for srv in &servers {
+        for n in 0..PROGRAMS / 2 {
+            srv.put(&format!("cam/O{}.nc", 100 + n), &program(100 + n, 250, 1800));
+        }
+    }
+    for round in 0..ROUNDS {
+        std::thread::scope(|s| {
+            for (i, srv) in servers.iter().enumerate() {
+                s.spawn(move || {
+                    for n in 0..PROGRAMS {
+                        // Each site's edit differs from every other, so equal contents never meet.
+                        srv.put(&format!("share/O{}.nc", 100 + n), &program(100 + n, 300 + round * 10 + i as u32, 2000));
+                    }
+                });
+            }
+        });
+        if round == 1 {
+            for srv in &servers {
+                for n in PROGRAMS / 2..PROGRAMS {
+                    srv.put(&format!("cam/O{}.nc", 100 + n), &program(100 + n, 250, 1800));
+                }
+            }
+        }
+        if round == 3 {
+            // Mid-burst: two daemons die.
+            daemons[1].take().unwrap().kill();
+            daemons[2].take().unwrap().kill();
+        }
+        if round == 5 {
+            daemons[1] = Some(servers[1].start());
+            daemons[2] = Some(servers[2].start());
+        }
+        std::thread::sleep(Duration::from_millis(if round % 2 == 0 { 60 } else { 400 }));
+    }
+    // Every file's final content ends up the newest revision of its path.
+    let finals: Vec<(String, String, String)> = servers
+        .iter()
+        .enumerate()
+        .flat_map(|(i, srv)| {
+            (0..PROGRAMS).flat_map(move |n| {
+                let share = srv.path(&format!("share/O{}.nc", 100 + n));
+                let cam = srv.path(&format!("cam/O{}.nc", 100 + n));
+                let site = format!("HALL{}", i + 1);
+                [share, cam].map(|p| (site.clone(), p.display().to_string(), sha256(&std::fs::read_to_string(&p).unwrap())))
+            })
+        })
+        .collect();
+    wait_until("every final content is stored and compared", Duration::from_secs(60), || {
+        let latest = pg.rows(
+            "SELECT p.site, p.path, r.hash FROM revisions r JOIN programs p ON p.id = r.program_id
+             WHERE r.id = (SELECT MAX(id) FROM revisions WHERE program_id = p.id)",
+        );
+        let stored = finals.iter().all(|(site, path, hash)| latest.iter().any(|r| &r[0] == site && &r[1] == path && &r[2] == hash));
+        stored && pg.count(UNCOMPARED) == 0
+    });
+    drop(daemons);
+    let revisions = pg.count("SELECT COUNT(*) FROM revisions");
+    // No content of a program is stored twice (no edit here returns to an earlier content).
+    assert_eq!(pg.count("SELECT COUNT(*) FROM (SELECT program_id, hash FROM revisions GROUP BY 1, 2 HAVING COUNT(*) > 1) d"), 0);
+    // Each site has its own DMU50 and its own programs; the same program numbers do not collide.
+    assert_eq!(
+        pg.rows("SELECT site, name FROM machines ORDER BY site"),
+        (1..=4).map(|i| vec![format!("HALL{i}"), "DMU50".into()]).collect::<Vec<_>>()
+    );
+    assert_eq!(pg.count("SELECT COUNT(*) FROM programs"), i64::from(4 * 2 * PROGRAMS));
+    // Every analysed edit is compared, with its own site's original and that original's newest content.
+    assert_eq!(pg.count(UNCOMPARED), 0);
+    assert_eq!(
+        pg.count(
+            "SELECT COUNT(*) FROM comparisons c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
+             JOIN revisions o ON o.id = c.original_revision_id JOIN programs op ON op.id = o.program_id
+             WHERE op.site <> p.site OR op.role <> 'cam' OR op.stem <> p.stem"
+        ),
+        0
+    );
+    // Every edit's changes name its own feed against the original's 250.
+    let wrong = pg.count(
+        "SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.role = 'machine' AND r.status = 'analysed'
+         AND NOT EXISTS (SELECT 1 FROM changes c WHERE c.revision_id = r.id AND c.kind = 'feed_changed' AND c.before LIKE '%250%')",
+    );
+    assert_eq!(wrong, 0);
+    // A kill mid-analysis is a revision stored as failed, never a revision lost or doubled.
+    let failed = pg.count("SELECT COUNT(*) FROM revisions WHERE status <> 'analysed'");
+    assert!(failed <= 2, "{failed} revisions not analysed");
+    assert!(revisions >= i64::from(4 * PROGRAMS * 2), "{revisions} revisions");
+    let blobs = pg.count("SELECT COUNT(*) FROM blobs");
+    let distinct = pg.count("SELECT COUNT(DISTINCT hash) FROM revisions");
+    assert_eq!(blobs, distinct, "blobs are shared across the plant by hash");
+    // The CAM originals are the same bytes on every site: one blob each.
+    assert_eq!(
+        pg.count("SELECT COUNT(DISTINCT r.hash) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.role = 'cam'"),
+        i64::from(PROGRAMS)
+    );
+    use std::io::Write as _;
+    let _ = writeln!(
+        std::io::stderr(),
+        "four daemons: {revisions} revisions of {} programs on 4 sites, {blobs} blobs, {failed} stored unanalysed after the kills",
+        4 * 2 * PROGRAMS
+    );
+}
+
+/// Usable edits without a comparison.
+const UNCOMPARED: &str = "SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id
+     WHERE p.role = 'machine' AND r.status = 'analysed'
+       AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = r.id)
+       AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id)";
+
+#[test]
+fn migrate_copies_a_servers_history_into_the_plant_database_and_resumes() {
+    let Some(pg) = Cluster::start("pg::migrate_copies_a_servers_history_into_the_plant_database_and_resumes") else { return };
+    let lite = Server::new(Some("HALL7"), "path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    let daemon = lite.start();
+    lite.put("cam/O1234.nc", &program(1234, 250, 1800));
+    lite.put("share/O1234.nc", &program(1234, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]);
+    daemon.kill();
+    let url = pg.url();
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("2 revisions, 2 copied now, 0 already there; 1 comparisons copied"), "{out}");
+    const SHOWN: &str = "SELECT machine, program, kind, before, after, line FROM shopfloor_changes ORDER BY change_id";
+    let copied = pg.rows(SHOWN);
+    assert!(!copied.is_empty());
+    assert_eq!(copied, crate::db_rows(&db, SHOWN));
+    assert_eq!(pg.rows("SELECT DISTINCT site FROM programs"), [["HALL7"]]);
+    // More history on the server, and migrate again: only what is new is copied.
+    let daemon = lite.start();
+    lite.put("share/O1234.nc", &program(1234, 320, 2000));
+    wait_until("the second edit is compared", Duration::from_secs(30), || {
+        crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["2"]]
+    });
+    daemon.kill();
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("3 revisions, 1 copied now, 2 already there; 1 comparisons copied"), "{out}");
+    assert_eq!(pg.rows(SHOWN), crate::db_rows(&db, SHOWN));
+    for table in ["revisions", "blobs", "plans", "diagnostics", "comparisons", "changes", "workingsteps", "features", "program_keys"] {
+        let sql = format!("SELECT COUNT(*) FROM {table}");
+        assert_eq!(pg.rows(&sql), crate::db_rows(&db, &sql), "{table}");
+    }
+    // History is copied as some site's: without one named, nothing is.
+    let (code, _, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url]);
+    assert_eq!(code, 2);
+    assert!(err.contains("name the site"), "{err}");
+}
+
+/// A store on each engine for a store test: SQLite in memory, and PostgreSQL on a cluster of
+/// its own when one can be started (the cluster stops when the engine is dropped).
+pub(crate) struct Engine {
+    pub(crate) store: Store,
+    _cluster: Option<Cluster>,
+}
+
+/// The engines `test` runs on.
+pub(crate) fn engines(test: &str) -> Vec<Engine> {
+    let mut out = vec![Engine { store: Store::open_in_memory().unwrap(), _cluster: None }];
+    if let Some(c) = Cluster::start(&format!("{test} on PostgreSQL")) {
+        out.push(Engine { store: Store::open(&Location::parse(&c.url()), "").unwrap(), _cluster: Some(c) });
+    }
+    out
+}
+
+/// A longer program, so that reading it again takes a moment: `rows` passes at `feed`.
+fn long_program(number: u32, feed: u32, rows: u32) -> String {
+    let mut p = format!("%\nO{number} (SURFACE)\nG21 G90 G17\nT1 M6\nS2000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F{feed}\n");
+    for r in 0..rows {
+        p.push_str(&format!("X100 Y{}\nX0 Y{}\n", r * 2, r * 2 + 1));
+    }
+    p.push_str("G0 Z50\nM30\n%\n");
+    p
+}
+
+#[test]
+fn three_workers_one_killed_mid_batch_read_every_revision_again_exactly_once() {
+    let Some(pg) = Cluster::start("pg::three_workers_one_killed_mid_batch_read_every_revision_again_exactly_once") else { return };
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    const PROGRAMS: u32 = 24;
+    let daemon = server.start();
+    for n in 0..PROGRAMS {
+        server.put(&format!("cam/O{}.nc", 200 + n), &long_program(200 + n, 250, 400));
+        server.put(&format!("share/O{}.nc", 200 + n), &long_program(200 + n, 300, 400));
+    }
+    wait_until("every edit is compared", Duration::from_secs(120), || pg.count("SELECT COUNT(*) FROM comparisons") == i64::from(PROGRAMS));
+    daemon.kill();
+    let config = server.path("ncplan.toml");
+    let args = |cmd: &str| -> Vec<String> {
+        [cmd, "--config", config.to_str().unwrap(), "--jobs", "1", "--lease", "3"].iter().map(|s| (*s).to_owned()).collect()
+    };
+    let spawn = |a: Vec<String>| Command::new(crate::bin()).args(a).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    // The first queues everything and starts; two workers join; the first dies holding a batch.
+    let mut first = spawn(args("reanalyze"));
+    wait_until("the archive is queued", Duration::from_secs(30), || pg.count("SELECT COUNT(*) FROM reanalysis_queue") > 0);
+    let second = spawn(args("worker"));
+    let third = spawn(args("worker"));
+    let holder = format!("%:{}/%", first.id());
+    wait_until("the first worker holds a batch", Duration::from_secs(30), || {
+        pg.count(&format!("SELECT COUNT(*) FROM reanalysis_queue WHERE worker LIKE '{holder}'")) > 0
+    });
+    first.kill().unwrap();
+    first.wait().unwrap();
+    let held = pg.count(&format!("SELECT COUNT(*) FROM reanalysis_queue WHERE worker LIKE '{holder}'"));
+    assert!(held > 0, "the killed worker held a batch");
+    let (a, b) = (second.wait_with_output().unwrap(), third.wait_with_output().unwrap());
+    for o in [&a, &b] {
+        assert!(o.status.success(), "{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    }
+    let revisions = i64::from(2 * PROGRAMS);
+    // Every revision once for this version, the killed worker's batch taken over after its lease.
+    assert_eq!(pg.count("SELECT COUNT(*) FROM reanalysis_queue"), 0);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM analyses"), revisions);
+    assert_eq!(pg.count("SELECT COUNT(DISTINCT version) FROM analyses"), 1);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM plans WHERE analysis <> ''"), revisions);
+    let by_others = pg.count(&format!("SELECT COUNT(*) FROM analyses WHERE worker NOT LIKE '{holder}'"));
+    assert!(by_others >= held, "{by_others} read by the survivors, {held} held by the killed one");
+    let read: usize = [&a, &b]
+        .iter()
+        .map(|o| {
+            let out = String::from_utf8_lossy(&o.stdout).into_owned();
+            out.split(": ")
+                .nth(1)
+                .and_then(|t| t.split_whitespace().next())
+                .and_then(|n| n.parse::<usize>().ok())
+                .unwrap_or_else(|| panic!("{out}"))
+        })
+        .sum();
+    assert_eq!(read as i64, by_others);
+    // The old results are kept, with the version that made them (the ingest's: ''); the
+    // comparisons were made again and still find the feed change.
+    assert_eq!(pg.count("SELECT COUNT(*) FROM analyses WHERE previous = '' AND previous_plan IS NOT NULL"), revisions);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM changes WHERE kind = 'feed_changed'"), i64::from(PROGRAMS));
+    // Nothing changed in the dictionary: same plans, no new or vanished findings.
+    assert_eq!(pg.count("SELECT COUNT(*) FROM analyses WHERE plan_changed = 1 OR new_findings > 0 OR vanished_findings > 0"), 0);
+    // Again: nothing is left to read for this version.
+    let (code, out, err) = server.ncplan(&args("reanalyze").iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": 0 revisions read again"), "{out}");
+}
+
+#[test]
+fn reanalyze_on_sqlite_reads_every_revision_again_once_and_keeps_the_old_results() {
+    let server = Server::new(None, "path = 'var/ncplan.db'");
+    let db = server.path("var/ncplan.db");
+    let daemon = server.start();
+    server.put("cam/O1.nc", &program(1, 250, 1800));
+    server.put("share/O1.nc", &program(1, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]);
+    daemon.kill();
+    let config = server.path("ncplan.toml");
+    let (code, out, err) = server.ncplan(&["reanalyze", "--config", config.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": 2 revisions read again, 0 plans changed, 0 new findings, 0 vanished; 1 comparisons made again"), "{out}");
+    assert_eq!(crate::db_rows(&db, "SELECT COUNT(*), COUNT(previous_plan) FROM analyses"), [["2", "2"]]);
+    assert_eq!(crate::db_rows(&db, "SELECT kind FROM shopfloor_changes ORDER BY change_id"), [["feed_changed"], ["spindle_speed_changed"]]);
+    let (code, out, _) = server.ncplan(&["reanalyze", "--config", config.to_str().unwrap(), "--since", "2000-01-01"]);
+    assert_eq!(code, 0);
+    assert!(out.contains(": 0 revisions read again"), "{out}");
+}
