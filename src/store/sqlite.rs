@@ -22,8 +22,14 @@ impl Lite {
     /// Opens (creating if needed) the database in WAL mode and applies migrations.
     pub(super) fn open(path: &Path, site: &str) -> Result<Lite> {
         let conn = Connection::open(path).map_err(sql("opening the database"))?;
-        conn.execute_batch("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON; PRAGMA busy_timeout=5000;")
-            .map_err(sql("setting pragmas"))?;
+        // A huge program's revision is one transaction, so the write-ahead log grows to its size;
+        // `journal_size_limit` gives that space back after the checkpoint instead of keeping a
+        // log as large as the largest program ever stored beside the database.
+        conn.execute_batch(
+            "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON; PRAGMA busy_timeout=5000; \
+             PRAGMA journal_size_limit=4194304;",
+        )
+        .map_err(sql("setting pragmas"))?;
         let mut s = Lite { conn, site: site.to_owned() };
         s.migrate()?;
         Ok(s)
@@ -122,8 +128,8 @@ impl Lite {
 
     /// Starts the one transaction in which a revision and everything it enables are recorded.
     pub(super) fn begin(&mut self) -> Result<LiteTxn<'_>> {
-        let tx = self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate).map_err(sql("starting a transaction"))?;
-        Ok(LiteTxn { tx, site: &self.site })
+        let tx = Transaction::new_unchecked(&self.conn, rusqlite::TransactionBehavior::Immediate).map_err(sql("starting a transaction"))?;
+        Ok(LiteTxn { tx, conn: &self.conn, site: &self.site, written: std::cell::Cell::new(0) })
     }
 
     /// One stored revision, for `ncplan show`.
@@ -361,13 +367,27 @@ pub(super) fn plain(e: &rusqlite::Error) -> String {
 /// every comparison it enables commit together or not at all.
 pub(super) struct LiteTxn<'c> {
     tx: Transaction<'c>,
+    conn: &'c Connection,
     site: &'c str,
+    /// Program bytes written in this transaction.
+    written: std::cell::Cell<usize>,
 }
 
+/// Above this many program bytes in one transaction, the commit is followed by a truncating
+/// checkpoint, so the write-ahead log does not stay as large as the program beside the database.
+const BIG_TRANSACTION: usize = 4 << 20;
+
 impl LiteTxn<'_> {
-    /// Commits.
+    /// Commits. After a huge program, the write-ahead log is checkpointed and truncated (best
+    /// effort: a reader that holds an old snapshot only delays it to the next one).
     pub(super) fn commit(self) -> Result<()> {
-        self.tx.commit().map_err(sql("committing a revision"))
+        let big = self.written.get() > BIG_TRANSACTION;
+        let conn = self.conn;
+        self.tx.commit().map_err(sql("committing a revision"))?;
+        if big {
+            let _ = conn.execute_batch("PRAGMA wal_checkpoint(TRUNCATE);");
+        }
+        Ok(())
     }
 
     /// The newest revision of the program at `path`, with its age at `now` (RFC 3339).
@@ -442,6 +462,7 @@ impl LiteTxn<'_> {
             Content::File { path, size } => self.stream_blob(rev.hash, path, size)?,
         }
         let size = rev.content.len() as i64;
+        self.written.set(self.written.get() + rev.content.len() as usize);
         tx.execute(
             "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
             params![program_id, rev.hash, size, rev.mtime_ns, rev.seen_at, rev.encoding, rev.status, rev.name],

@@ -610,3 +610,26 @@ fn a_site_named_later_still_pairs_with_the_originals_stored_before() {
     let rows = store.query("SELECT kind, before, after, site FROM shopfloor_changes").unwrap().1;
     assert_eq!(rows, [["feed_changed", "F300", "F250", "HALL2"]]);
 }
+
+#[test]
+fn a_huge_revision_leaves_no_log_of_its_size_beside_the_database() {
+    // The revision is one transaction, so its bytes pass through the write-ahead log; the
+    // log must give that space back while the daemon keeps the database open.
+    let site = Site::new("");
+    std::fs::create_dir_all(site.path("var")).unwrap();
+    let db = ncplan::store::Location::Sqlite(site.db());
+    let mut store = Store::open(&db, "").unwrap();
+    let mut text = String::from("%\nO30 (SURFACE)\nG21 G90 G17\nT1 M6\nS2000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F300\n");
+    for i in 0..600_000 {
+        text.push_str(&format!("X{}.{:03} Y{}\n", i % 100, i % 1000, i % 7));
+    }
+    text.push_str("G0 Z50\nM30\n%\n");
+    assert!(text.len() > 6 << 20, "{} bytes", text.len());
+    std::fs::write(site.path("cam/O30.nc"), &text).unwrap();
+    let out = ingest_at(&site, &mut store, "cam/O30.nc", "2026-12-01T10:00:00.000Z", None);
+    assert!(matches!(out, Outcome::Stored { .. }), "{out:?}");
+    let wal = std::fs::metadata(site.path("var/ncplan.db-wal")).map_or(0, |m| m.len());
+    assert!(wal < 1 << 20, "the write-ahead log kept {wal} bytes");
+    let db_len = std::fs::metadata(site.db()).unwrap().len();
+    assert!(db_len >= text.len() as u64, "the database holds the program: {db_len} bytes");
+}
