@@ -3,9 +3,9 @@
 use super::inherit;
 use super::xml::{self, Element};
 use super::{
-    AddressDef, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect, Directive,
-    KeywordRest, KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, NumberForms, ParamSpec, Role, SkipPosition, Statement,
-    Step, SystemVar, TapStyle, TimeUnit,
+    AddressDef, AxisIndexed, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect,
+    Directive, KeywordRest, KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, NumberForms, ParamSpec, Role, SkipPosition,
+    Statement, Step, SystemVar, TapStyle, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -293,6 +293,7 @@ impl Cx {
                 "numbers",
                 "system-variables",
                 "array",
+                "axis-indexed",
                 "comment",
                 "block-skip",
                 "block-number",
@@ -322,11 +323,13 @@ impl Cx {
             leading_block_number: false,
             assign_values: self.bool(el, "assign-values", false),
             axis_modes: None,
+            rotary_absolute: Vec::new(),
             label_suffix: None,
             string_quote: None,
             numbers: NumberForms::default(),
             system_variable_prefix: None,
             array_brackets: None,
+            axis_indexed: Vec::new(),
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             identifier_variables: self.bool(el, "identifier-variables", false),
             symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
@@ -353,9 +356,12 @@ impl Cx {
         for c in &el.children {
             match c.name.as_str() {
                 "axis-modes" => {
-                    self.shape(c, &["absolute", "incremental"], &[]);
+                    self.shape(c, &["absolute", "incremental", "rotary-absolute"], &[]);
                     if let (Some(a), Some(i)) = (self.required(c, "absolute"), self.required(c, "incremental")) {
                         lex.axis_modes = Some((a.to_ascii_uppercase(), i.to_ascii_uppercase()));
+                    }
+                    if let Some(r) = self.attr(c, "rotary-absolute") {
+                        lex.rotary_absolute = r.split_whitespace().map(str::to_ascii_uppercase).collect();
                     }
                 }
                 "label" => {
@@ -386,6 +392,23 @@ impl Cx {
                         && e.is_ascii()
                     {
                         lex.array_brackets = Some((o as u8, e as u8));
+                    }
+                }
+                "axis-indexed" => {
+                    self.shape(c, &["name", "meaning"], &[]);
+                    let moves = match self.attr(c, "meaning").unwrap_or("axis-setting") {
+                        "axis-word" => true,
+                        "axis-setting" => false,
+                        other => {
+                            self.error(Self::attr_range(c, "meaning"), format!("unknown axis-indexed meaning `{other}`"));
+                            false
+                        }
+                    };
+                    match self.attr(c, "name") {
+                        Some(n) if !n.is_empty() && n.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') => {
+                            lex.axis_indexed.push(AxisIndexed { name: n.to_ascii_uppercase(), moves });
+                        }
+                        _ => self.error(c.range, "an axis-indexed name is letters, digits and `_`".to_owned()),
                     }
                 }
                 "comment" => {

@@ -73,6 +73,15 @@ pub struct NumberForms {
     pub radix: Option<(char, char, char)>,
 }
 
+/// A name indexed by an axis: `AX[X]=10` moves X; `VELOLIM[A]=50` sets per-axis data.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AxisIndexed {
+    /// The name, upper case (`AX`).
+    pub name: String,
+    /// Whether the assignment is a move of that axis (`AX`, `POS`) rather than a setting.
+    pub moves: bool,
+}
+
 /// Lexical rules.
 #[derive(Clone, Debug)]
 pub struct Lexical {
@@ -84,6 +93,9 @@ pub struct Lexical {
     pub assign_values: bool,
     /// Per-word absolute and incremental wrappers (`X=AC(10)`, `Y=IC(5)`).
     pub axis_modes: Option<(String, String)>,
+    /// Wrappers that give a rotary axis an absolute position and the way to turn there
+    /// (`C=DC(90)` the shortest way, `ACP` positive, `ACN` negative), upper case.
+    pub rotary_absolute: Vec<String>,
     /// The character that ends a label at block start (`MARKE1:`).
     pub label_suffix: Option<char>,
     /// The string delimiter (`T="DRILL"`, `LBL "NAME"`).
@@ -102,6 +114,9 @@ pub struct Lexical {
     /// The brackets of an array element (`_RICH[0]`, `VAR5[R2]`) where they are not the
     /// expression brackets (Siemens: `[` and `]`).
     pub array_brackets: Option<(u8, u8)>,
+    /// Names whose bracketed index is an axis name, not a variable (`AX[X]=10`,
+    /// `VELOLIM[A]=50`), in dictionary order.
+    pub axis_indexed: Vec<AxisIndexed>,
     /// Whether `==`, `<>`, `<`, `>`, `<=`, `>=` compare in expressions (`R1>=5`).
     pub symbolic_comparisons: bool,
     /// Comment rules, tried in order.

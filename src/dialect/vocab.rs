@@ -520,6 +520,11 @@ impl Role {
         matches!(self, Role::Keyword | Role::Cycle)
     }
 
+    /// Whether the role is a machine axis (X Y Z, A B C, U V W).
+    pub fn is_axis(self) -> bool {
+        matches!(self, Role::X | Role::Y | Role::Z | Role::A | Role::B | Role::C | Role::U | Role::V | Role::W)
+    }
+
     /// Whether the decimal-point rule may scale this role.
     pub fn is_length(self) -> bool {
         matches!(self, Role::X | Role::Y | Role::Z | Role::U | Role::V | Role::W | Role::I | Role::J | Role::K | Role::R | Role::Q)

@@ -416,7 +416,7 @@ impl Lexer<'_, '_> {
                 return;
             }
         }
-        if self.keyword() || self.cycle_call() || self.variable_assignment() {
+        if self.axis_indexed() || self.keyword() || self.cycle_call() || self.variable_assignment() {
             return;
         }
         // Multi-letter addresses such as `CR=` (longest first).
@@ -527,13 +527,14 @@ impl Lexer<'_, '_> {
         if let Some((abs, inc)) = &self.dialect.lexical.axis_modes {
             let run = self.alpha_run();
             let word = &self.text[run.start as usize..run.end as usize];
-            let mode = if word.eq_ignore_ascii_case(abs) {
-                Some(WordMode::Absolute)
-            } else if word.eq_ignore_ascii_case(inc) {
-                Some(WordMode::Incremental)
-            } else {
-                None
-            };
+            let mode =
+                if word.eq_ignore_ascii_case(abs) || self.dialect.lexical.rotary_absolute.iter().any(|r| word.eq_ignore_ascii_case(r)) {
+                    Some(WordMode::Absolute)
+                } else if word.eq_ignore_ascii_case(inc) {
+                    Some(WordMode::Incremental)
+                } else {
+                    None
+                };
             if let Some(mode) = mode {
                 self.i = run.end as usize;
                 let e = self.unary(1)?;
@@ -758,6 +759,61 @@ impl Lexer<'_, '_> {
     fn at_system_variable(&self, at: usize) -> bool {
         self.b.get(at).is_some_and(|&c| Some(c as char) == self.dialect.lexical.system_variable_prefix)
             && self.b.get(at + 1).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_')
+    }
+
+    /// `AX[X]=10`, `POS[A]=DC(90)`, `VELOLIM[A]=50`: a dictionary name whose bracketed index
+    /// is an axis name. A move becomes that axis's word; a setting is read and has no effect on
+    /// the toolpath. An axis named by a variable (`AX[_X]`, an `AXIS` argument) is the
+    /// caller's: the word is left out, with a note.
+    fn axis_indexed(&mut self) -> bool {
+        let lex = &self.dialect.lexical;
+        let Some((open, close)) = lex.array_brackets else { return false };
+        let start = self.i;
+        let end = self.identifier_end(start);
+        if self.b.get(end) != Some(&open) {
+            return false;
+        }
+        let name = &self.text[start..end];
+        let Some(entry) = lex.axis_indexed.iter().find(|a| a.name.eq_ignore_ascii_case(name)) else { return false };
+        let inner = end + 1;
+        let Some(close_at) = self.b[inner..].iter().position(|&c| c == close || c == b'\n').map(|p| inner + p) else { return false };
+        if self.b[close_at] != close {
+            return false;
+        }
+        let axis = self.text[inner..close_at].trim();
+        let mut j = close_at + 1;
+        while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+            j += 1;
+        }
+        if self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
+            return false;
+        }
+        let moves = entry.moves;
+        let letter = match axis.as_bytes() {
+            [c] => Some(c.to_ascii_uppercase()),
+            _ => None,
+        };
+        let role = letter.and_then(|c| self.dialect.letter_role(c)).filter(|r| r.is_axis());
+        self.i = j + 1;
+        let value = self.assigned_value(start);
+        let range = TextRange::new(start, self.i);
+        match (role, letter, value) {
+            (Some(role), Some(letter), Some((value, mode))) if moves => {
+                self.block.words.push(Word { role, letter, value, range, mode, cycle_arg: false });
+            }
+            (None, _, _) if moves => {
+                let what = &self.text[start..close_at + 1];
+                self.diags.push(Diagnostic::new(
+                    Code::UnknownValue,
+                    range,
+                    format!(
+                        "`{what}` names its axis by `{axis}`, an axis the caller or the machine's data gives: the move along it is left out"
+                    ),
+                ));
+            }
+            _ => {}
+        }
+        true
     }
 
     /// `_X_HOME=0`, `LEN=LEN+1`: a variable assignment, where identifiers name variables. A

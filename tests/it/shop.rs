@@ -177,6 +177,38 @@ M30
     assert!(m[1].starts_with("STRAIGHT_FEED(10.0000, 20.0000, -1.0000"), "{m:?}");
 }
 
+/// `AX[X]=`, `POS[A]=` move the axis named in brackets; `VELOLIM[A]=`, `FA[A]=`, `ACC[X]=`
+/// set that axis's data; `DC`/`ACP`/`ACN` give a rotary axis an absolute position. None of
+/// them reads a variable; an axis named by a variable is the caller's, said in a note.
+#[test]
+fn siemens_axis_indexed_words_and_rotary_positions() {
+    let program = "\
+%_N_AXES_MPF
+G17 G90 G71
+T=\"F10\" M6
+S2000 M3
+G0 X0 Y0 Z5
+G1 Z-1 F200
+G1 AX[X]=20 AX[Y]=IC(5)
+POS[A]=DC(90) FA[A]=1000
+VELOLIM[A]=50 ACC[X]=80 JERKLIM[Y]=60
+G0 C=DC(270) B=ACP(10)
+G1 AX[_X]=5 Y7
+M30
+";
+    let (_, diags) = run("siemens", program);
+    assert!(diags.iter().all(|d| d.severity == Severity::Note), "{diags:?}");
+    let notes: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(notes[0].contains("`AX[_X]` names its axis by `_X`"), "{notes:?}");
+    let m = moves("siemens", program);
+    assert!(m[2].starts_with("STRAIGHT_FEED(20.0000, 5.0000, -1.0000, 0.0000"), "{m:?}");
+    assert!(m[3].starts_with("STRAIGHT_FEED(20.0000, 5.0000, -1.0000, 90.0000, 0.0000, 0.0000"), "{m:?}");
+    assert!(m[4].starts_with("STRAIGHT_TRAVERSE(20.0000, 5.0000, -1.0000, 90.0000, 10.0000, 270.0000"), "{m:?}");
+    // The known axis of the last block still moves.
+    assert!(m[5].starts_with("STRAIGHT_FEED(20.0000, 7.0000, -1.0000"), "{m:?}");
+}
+
 /// A call to a program that is neither in the file nor in the program directory may be one
 /// the control holds (a machine maker's cycle, a shop subprogram): a warning, in every
 /// dialect but LinuxCNC, which keeps rs274's error. The run goes on after it.

@@ -6,7 +6,10 @@ use std::path::Path;
 
 use ncplan::part21::schema::{self, Attr, Entity, Schema, Type};
 
-const EXPRESS: &str = "../shared/reference/stepnc/combined_schema_iso14649_bath_v9.exp";
+/// The schema, in the shared material beside the checkout.
+fn express() -> std::path::PathBuf {
+    crate::shared().join("reference/stepnc/combined_schema_iso14649_bath_v9.exp")
+}
 const TABLE: &str = "src/part21/iso14649_signatures.tsv";
 
 /// A small EXPRESS reader: entities (supertypes, explicit attributes, ABSTRACT) and defined
@@ -231,8 +234,18 @@ fn read_express(text: &str) -> Schema {
 
 #[test]
 fn signatures_are_generated_from_express() {
-    let Ok(text) = std::fs::read_to_string(EXPRESS) else {
-        panic!("{EXPRESS} is missing: the signature table is generated from it");
+    let path = express();
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        assert!(
+            std::env::var_os("NCPLAN_REQUIRE_SHARED").is_none(),
+            "NCPLAN_REQUIRE_SHARED is set but {} is absent: the signature table is generated from it",
+            path.display()
+        );
+        crate::skip(
+            "stepnc::signatures_are_generated_from_express",
+            &format!("{} is absent (clone the shared material beside the checkout to run it)", path.display()),
+        );
+        return;
     };
     let generated = read_express(&text).to_tsv("combined_schema_iso14649_bath_v9.exp");
     if std::env::var_os("UPDATE_EXPECT").is_some() {
