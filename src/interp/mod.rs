@@ -1965,7 +1965,23 @@ impl<'a> Interpreter<'a> {
                     *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, (self.st.pos[0], self.st.pos[1])));
                     return;
                 }
-                if radius.is_none() {
+                let register = match number.filter(|&d| d != 0) {
+                    Some(d) => Some(format!("D{d}")),
+                    None => (self.st.tool != 0).then(|| format!("tool {}", self.st.tool)),
+                };
+                if radius.is_none()
+                    && let Some(register) = register
+                {
+                    // `G41 D01`, `RL` after `TOOL CALL 5`, with no tool table: the radius is in
+                    // the control's offset table, machine data like any other; CAM posts that
+                    // compensate only wear write the tool centre's path, so the programmed path
+                    // is the plan.
+                    let msg = format!(
+                        "{}: the radius of {register} is in the control's tool offsets, unknown here; the programmed path is used",
+                        def.label()
+                    );
+                    self.limited(diags, "cutter-comp", Diagnostic::new(Code::UnknownValue, range, msg));
+                } else if radius.is_none() {
                     let msg = format!(
                         "{} without an offset: no D word and no tool diameter in the tool table; the programmed path is used",
                         def.label()

@@ -470,3 +470,26 @@ fn a_missing_decimal_point_is_one_finding_not_a_cascade_of_arcs() {
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(errors[0].starts_with("interp::bad-arc") && !errors[0].contains("follows from"), "{errors:?}");
 }
+
+/// `G41 D01` or `RL` after `TOOL CALL 5`, with no tool table: the radius is the control's
+/// offset, machine data: a note that names the register, not a warning on every CAM post
+/// that compensates in the control. Without any register (no D, no tool) it stays a warning.
+#[test]
+fn cutter_compensation_by_an_unknown_register_is_a_note() {
+    for (dialect, program, register) in [
+        ("fanuc", "T1 M6\nS1000 M3\nG0 X-10 Y-10\nG1 Z-2 F200\nG41 D01 X0 Y0\nX50\nG40 X60\nM30\n", "D1"),
+        (
+            "heidenhain",
+            "0 BEGIN PGM C MM\n1 TOOL CALL 5 Z S3000\n2 L X-10 Y-10 R0 FMAX M3\n3 L Z-2 F200\n4 L X+0 Y+0 RL\n5 L X+50\n6 L X+60 R0\n7 END PGM C MM\n",
+            "tool 5",
+        ),
+    ] {
+        let (_, diags) = run(dialect, program);
+        assert!(!has(&diags, "interp::comp-without-offset", Severity::Warning), "{dialect}: {diags:?}");
+        let note = diags.iter().find(|d| d.code.as_str() == "interp::unknown-value").unwrap_or_else(|| panic!("{dialect}: {diags:?}"));
+        assert_eq!(note.severity, Severity::Note);
+        assert!(note.message.contains(&format!("the radius of {register} is in the control's tool offsets")), "{}", note.message);
+    }
+    let (_, diags) = run("fanuc", "G0 X-10 Y-10\nG1 Z-2 F200\nG41 X0 Y0\nX50\nG40 X60\nM30\n");
+    assert!(has(&diags, "interp::comp-without-offset", Severity::Warning), "{diags:?}");
+}
