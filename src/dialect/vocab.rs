@@ -336,6 +336,9 @@ vocab! {
         CycleDefine = "cycle-define",
         /// Calls the defined cycle at the position reached by the block (`CYCL CALL`, `M99`).
         CycleCall = "cycle-call",
+        /// Calls the defined cycle at the position the block's own words give, the tool-axis
+        /// word being the surface (`CYCL CALL POS X+10 Y+20 Z+0 FMAX`).
+        CycleCallAt = "cycle-call-at",
         /// With a cycle in the block: call it after every later move (`MCALL CYCLE81(...)`); alone: stop that.
         CycleModal = "cycle-modal",
         /// Program start with a name and units (`BEGIN PGM name MM`); recorded.

@@ -113,7 +113,7 @@ impl Interpreter<'_> {
         if modal {
             self.st.cycle_modal = false;
         }
-        if has(self, Meaning::CycleCall) || (self.st.cycle_modal && self.motions != motions) {
+        if has(self, Meaning::CycleCall) || has(self, Meaning::CycleCallAt) || (self.st.cycle_modal && self.motions != motions) {
             self.call_defined(block_range, sink, diags);
         }
     }
@@ -178,8 +178,50 @@ impl Interpreter<'_> {
         self.filled = filled;
     }
 
+    /// `CYCL CALL POS X Y Z`: the position for the cycle the block calls. Below the set-up
+    /// clearance over the new surface, the tool first rises to it; then it moves in the plane.
+    /// The tool-axis word is the cycle's surface (the block's call, in [`Self::cycles_after`],
+    /// takes it).
+    pub(super) fn call_at_position(&mut self, sink: &mut dyn CanonSink) {
+        let (a0, a1, n) = self.st.plane.axes();
+        let target = |s: &Self, axis: usize| {
+            let role = Role::AXES[axis];
+            s.slot(role).map(|v| if s.incremental(role) { s.st.pos[axis] + v } else { v })
+        };
+        let surface = target(self, n);
+        let safety = self.defined_arg(Role::SafetyDistance).map_or(0.0, f64::abs);
+        let mut p = self.st.pos;
+        if let Some(top) = surface.map(|s| s + safety).filter(|&top| p[n] < top) {
+            p[n] = top;
+            self.emit(sink, CanonOp::StraightTraverse(p));
+        }
+        for axis in [a0, a1] {
+            if let Some(v) = target(self, axis) {
+                p[axis] = v;
+            }
+        }
+        if p != self.st.pos {
+            self.emit(sink, CanonOp::StraightTraverse(p));
+            self.st.pos = p;
+        }
+        self.call_surface = surface;
+    }
+
+    /// The value the defined cycle has for `role`: its own argument, or the parameter it reads.
+    fn defined_arg(&self, role: Role) -> Option<f64> {
+        let defined = self.st.defined_cycle.as_ref()?;
+        let cycle = &self.dialect.cycles[defined.cycle];
+        let param = cycle
+            .args
+            .iter()
+            .filter(|a| a.role == role)
+            .find_map(|a| a.param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v)));
+        param.or_else(|| defined.args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v))
+    }
+
     /// Runs the defined cycle at the current position.
     fn call_defined(&mut self, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let surface = self.call_surface.take();
         let Some(defined) = self.st.defined_cycle.clone() else {
             diags.push(Diagnostic::new(Code::CycleIncomplete, range, "a cycle call without a cycle defined before it"));
             return;
@@ -190,6 +232,9 @@ impl Interpreter<'_> {
             if let Some(v) = a.param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v)) {
                 args.push((a.role, v));
             }
+        }
+        if let Some(surface) = surface {
+            args.push((Role::ReferencePlane, surface));
         }
         let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
         for a in cycle.args.iter().filter(|a| a.required) {

@@ -466,6 +466,8 @@ pub struct Interpreter<'a> {
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
     block_cycle: Option<usize>,
     cycle_args: Vec<(Role, f64)>,
+    /// The surface a cycle call at a position gives the cycle (`CYCL CALL POS ... Z+0`).
+    call_surface: Option<f64>,
     /// Tool names met in `T="NAME"` that the tool table does not know, numbered from 10001.
     tool_names: Vec<String>,
     /// Why the file reads as a called program, once something shows it (see [`ProgramRole`]).
@@ -602,6 +604,7 @@ impl<'a> Interpreter<'a> {
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),
+            call_surface: None,
             tool_names: Vec::new(),
             called: (profile.role == ProgramRole::Called)
                 .then(|| "its role is given: the configuration, `--as` or its file name".to_owned()),
@@ -2329,6 +2332,7 @@ impl<'a> Interpreter<'a> {
             Meaning::FrameMirror => self.unsupported(def, range, diags),
             Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),
             Meaning::CycleCall | Meaning::CycleModal => {}
+            Meaning::CycleCallAt => self.call_at_position(sink),
             Meaning::MachineDataRead => {
                 let msg = format!(
                     "{} ({}) reads data only the machine has at run time: the parameter it sets keeps its value here, so what follows from it may differ on the machine",

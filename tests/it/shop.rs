@@ -493,3 +493,31 @@ fn cutter_compensation_by_an_unknown_register_is_a_note() {
     let (_, diags) = run("fanuc", "G0 X-10 Y-10\nG1 Z-2 F200\nG41 X0 Y0\nX50\nG40 X60\nM30\n");
     assert!(has(&diags, "interp::comp-without-offset", Severity::Warning), "{diags:?}");
 }
+
+/// `CYCL CALL POS X Y Z`: the defined cycle at that position, the tool-axis word being the
+/// surface instead of Q203; below the set-up clearance over it, the tool first rises.
+#[test]
+fn heidenhain_cycle_call_at_a_position_drills_from_its_own_surface() {
+    let program = "0 BEGIN PGM P MM\n1 TOOL CALL 12 Z S2500 F250\n2 L Z+50 R0 FMAX M3\n\
+        3 CYCL DEF 200 DRILLING ~\n  Q200=+2 ;SET-UP CLEARANCE ~\n  Q201=-20 ;DEPTH ~\n  Q206=+250 ;FEED ~\n\
+          Q202=+20 ;PLUNGING DEPTH ~\n  Q210=+0 ;DWELL ~\n  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=+50 ;2ND SET-UP CLEARANCE ~\n\
+          Q211=+0 ;DWELL AT DEPTH\n\
+        4 CYCL CALL POS X+10 Y+10 Z-5 FMAX\n5 L Z-10 R0 FMAX\n6 CYCL CALL POS X+30 Y+10 Z+0 FMAX\n7 END PGM P MM\n";
+    let (_, diags) = run("heidenhain", program);
+    assert!(diags.is_empty(), "{diags:?}");
+    let m = moves("heidenhain", program);
+    let want = [
+        "STRAIGHT_TRAVERSE(10.0000, 10.0000, 50.0000",
+        "STRAIGHT_TRAVERSE(10.0000, 10.0000, -3.0000",
+        "STRAIGHT_FEED(10.0000, 10.0000, -25.0000",
+        "STRAIGHT_TRAVERSE(10.0000, 10.0000, 45.0000",
+        // Below the next set-up clearance: up first, then across.
+        "STRAIGHT_TRAVERSE(10.0000, 10.0000, -10.0000",
+        "STRAIGHT_TRAVERSE(10.0000, 10.0000, 2.0000",
+        "STRAIGHT_TRAVERSE(30.0000, 10.0000, 2.0000",
+        "STRAIGHT_FEED(30.0000, 10.0000, -20.0000",
+    ];
+    for (i, w) in want.iter().enumerate() {
+        assert!(m.get(i + 1).is_some_and(|l| l.starts_with(w)), "move {}: want {w}\n{m:#?}", i + 1);
+    }
+}
