@@ -29,8 +29,15 @@ fn the_readme_demo_works_as_written() {
     let checkout = demo_checkout();
     let dir = checkout.path();
     let mut daemon = Command::new(crate::bin()).arg("watch").current_dir(dir).stdout(Stdio::piped()).stderr(Stdio::null()).spawn().unwrap();
-    // The daemon's own hint names this binary and `report --wait`.
-    std::thread::sleep(Duration::from_millis(300));
+    // A newcomer copies the edit from a second terminal, by which time the daemon has stored
+    // the CAM original (on a loaded machine that can take longer than a fixed pause).
+    let deadline = std::time::Instant::now() + Duration::from_secs(30);
+    while crate::db_rows(&dir.join("var/ncplan.db"), "SELECT COUNT(*) FROM revisions").first().and_then(|r| r.first()).map(String::as_str)
+        != Some("1")
+    {
+        assert!(std::time::Instant::now() < deadline, "the demo's CAM original was never stored");
+        std::thread::sleep(Duration::from_millis(20));
+    }
     std::fs::copy(dir.join("demo/examples/O1234_edited.nc"), dir.join("demo/shares/DMU50/O1234.nc")).unwrap();
     let (code, out, err) = ncplan_in(dir, &["report", "--wait"]);
     let _ = daemon.kill();
