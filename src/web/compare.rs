@@ -9,10 +9,11 @@ use anyhow::Result;
 use maud::{Markup, PreEscaped, html};
 
 use super::{Ctx, NotFound};
+use crate::daemon::ingest::Reader;
 use crate::diff::ChangeKind;
 use crate::plan::{BBox, ProcessPlan};
-use crate::store::{ChangeRow, RevisionInfo, Store, StoredFinding};
-use crate::view::picture::{self, Projection, Region, Stats};
+use crate::store::{ChangeRow, RevisionInfo, Store, StoredFinding, StoredSource};
+use crate::view::picture::{self, Pictures, Projection, Region};
 use crate::view::source::{self, LineState};
 
 /// Everything the comparison view shows.
@@ -26,27 +27,105 @@ pub(crate) struct Comparison {
     pub(crate) findings: (Vec<StoredFinding>, Vec<StoredFinding>),
 }
 
-/// Rebuilds the whole plan of a stored revision.
-pub(crate) type PlanOf<'a> = dyn Fn(&Store, i64) -> Result<Option<Arc<ProcessPlan>>> + 'a;
+/// Where whole plans come from: a cache of plans rebuilt before (the server's), and a
+/// reader of stored bytes.
+pub(crate) trait PlanSource: Sync {
+    /// A plan rebuilt before.
+    fn cached(&self, revision: i64) -> Option<Arc<ProcessPlan>>;
+    /// Keeps a plan just rebuilt.
+    fn keep(&self, revision: i64, plan: &Arc<ProcessPlan>);
+    /// Reads stored programs again.
+    fn reader(&self) -> Reader<'_>;
+}
 
-/// Loads the comparison of the edited revision `revision`; `plan` rebuilds a whole plan.
-pub(crate) fn load(store: &Store, revision: i64, plan: &PlanOf<'_>) -> Result<Comparison> {
+/// Plans rebuilt every time (the HTML report reads each comparison once).
+pub(crate) struct Uncached<'a>(pub(crate) Reader<'a>);
+
+impl PlanSource for Uncached<'_> {
+    fn cached(&self, _: i64) -> Option<Arc<ProcessPlan>> {
+        None
+    }
+
+    fn keep(&self, _: i64, _: &Arc<ProcessPlan>) {}
+
+    fn reader(&self) -> Reader<'_> {
+        Reader { config: self.0.config, registry: self.0.registry }
+    }
+}
+
+/// One side's program as read from the store, before its plan is rebuilt.
+enum Fetched {
+    /// The plan is at hand; the bytes are for the source view.
+    Cached(Arc<ProcessPlan>, Vec<u8>),
+    /// The plan is to be read again from these bytes, which the source view shows too.
+    Analyse(StoredSource),
+    /// A complete stored plan (or none), and the bytes.
+    Stored(Option<StoredSource>, Vec<u8>),
+}
+
+fn fetch(store: &Store, plans: &dyn PlanSource, id: i64) -> Result<Fetched> {
+    if let Some(p) = plans.cached(id) {
+        return Ok(Fetched::Cached(p, store.content(id)?.unwrap_or_default()));
+    }
+    let Some(src) = store.source(id)? else {
+        return Ok(Fetched::Stored(None, store.content(id)?.unwrap_or_default()));
+    };
+    if matches!(src.plan, Some((_, false))) && src.bytes.is_some() {
+        return Ok(Fetched::Analyse(src));
+    }
+    let bytes = store.content(id)?.unwrap_or_default();
+    Ok(Fetched::Stored(Some(src), bytes))
+}
+
+/// The plan and the text of one side: the program's bytes are decoded and analysed once.
+fn build(plans: &dyn PlanSource, id: i64, f: Fetched) -> Result<(Option<Arc<ProcessPlan>>, String)> {
+    let text = |b: &[u8]| crate::text::decode(b).0.text;
+    let reader = plans.reader();
+    let (plan, text) = match f {
+        Fetched::Cached(p, bytes) => return Ok((Some(p), text(&bytes))),
+        Fetched::Analyse(mut src) => {
+            let bytes = src.bytes.take().unwrap_or_default();
+            let a = reader.reanalyse(&src.path, &src.dialect, bytes)?;
+            (Some(a.plan), a.source.text)
+        }
+        Fetched::Stored(src, bytes) => (src.map(|s| reader.rebuild(s)).transpose()?.flatten(), text(&bytes)),
+    };
+    let plan = plan.map(Arc::new);
+    if let Some(p) = &plan {
+        plans.keep(id, p);
+    }
+    Ok((plan, text))
+}
+
+/// Loads the comparison of the edited revision `revision`. Both programs are read from the
+/// store first, then their plans are rebuilt side by side (two threads), each program's
+/// bytes decoded once for its plan and its source view.
+pub(crate) fn load(store: &Store, revision: i64, plans: &dyn PlanSource) -> Result<Comparison> {
     let edited = store.revision(revision)?.ok_or_else(|| NotFound(format!("no revision {revision}")))?;
     let Some((original_id, _, rule, _)) = edited.original.clone() else {
         return Err(NotFound(format!("revision {revision} was not compared with a CAM original")).into());
     };
     let original = store.revision(original_id)?.ok_or_else(|| NotFound(format!("no revision {original_id}")))?;
+    let (fo, fe) = (fetch(store, plans, original_id)?, fetch(store, plans, revision)?);
+    let ((po, to), (pe, te)) = if matches!((&fo, &fe), (Fetched::Analyse(_), Fetched::Analyse(_))) {
+        std::thread::scope(|s| {
+            let other = s.spawn(|| build(plans, original_id, fo));
+            let e = build(plans, revision, fe);
+            let o = other.join().map_err(|_| anyhow::anyhow!("rebuilding the original's plan failed"))?;
+            anyhow::Ok((o?, e?))
+        })?
+    } else {
+        (build(plans, original_id, fo)?, build(plans, revision, fe)?)
+    };
     let empty = || Arc::new(ProcessPlan::default());
-    let plans = (plan(store, original_id)?.unwrap_or_else(empty), plan(store, revision)?.unwrap_or_else(empty));
-    let text = |id: i64| -> Result<String> { Ok(crate::text::decode(&store.content(id)?.unwrap_or_default()).0.text.to_string()) };
     Ok(Comparison {
         rows: store.change_rows(revision)?,
-        texts: (text(original_id)?, text(revision)?),
+        texts: (to, te),
         findings: (store.findings(original_id)?, store.findings(revision)?),
+        plans: (po.unwrap_or_else(empty), pe.unwrap_or_else(empty)),
         edited,
         original,
         rule,
-        plans,
     })
 }
 
@@ -75,7 +154,7 @@ pub(crate) fn regions(rows: &[ChangeRow], original: &ProcessPlan) -> Vec<Region>
     let mut out = Vec::new();
     for r in rows {
         if let Some(b) = r.change.region {
-            out.push(Region { id: r.id, bbox: b });
+            out.push(Region { id: r.id, bbox: b, lines: (r.change.original_line, r.change.line) });
         } else if r.change.kind == ChangeKind::StartPointMoved
             && let Some(p0) = original.workingsteps.iter().find(|w| w.index == r.change.workingstep).and_then(|w| w.start_point)
         {
@@ -83,6 +162,7 @@ pub(crate) fn regions(rows: &[ChangeRow], original: &ProcessPlan) -> Vec<Region>
             let pad = 1.0;
             out.push(Region {
                 id: r.id,
+                lines: (None, None),
                 bbox: BBox {
                     min: [p0[0].min(p1[0]) - pad, p0[1].min(p1[1]) - pad, p0[2].min(p1[2]) - pad],
                     max: [p0[0].max(p1[0]) + pad, p0[1].max(p1[1]) + pad, p0[2].max(p1[2]) + pad],
@@ -93,17 +173,12 @@ pub(crate) fn regions(rows: &[ChangeRow], original: &ProcessPlan) -> Vec<Region>
     out
 }
 
-/// The three pictures' SVG (top, front, side) and what they hold.
-pub(crate) fn pictures(c: &Comparison) -> (Vec<(Projection, String)>, Stats) {
+/// The three pictures (top, front, side) and what they hold.
+pub(crate) fn pictures(c: &Comparison) -> Pictures {
     let regions = regions(&c.rows, &c.plans.0);
-    let mut stats = Stats::default();
     let sizes = [(640.0, 420.0), (640.0, 230.0), (460.0, 230.0)];
-    let svgs = Projection::ALL
-        .iter()
-        .zip(sizes)
-        .map(|(p, size)| (*p, picture::view_svg(*p, &c.plans.0, &c.plans.1, &regions, size, &mut stats)))
-        .collect();
-    (svgs, stats)
+    let views: Vec<(Projection, (f64, f64))> = Projection::ALL.into_iter().zip(sizes).collect();
+    picture::pictures(&c.plans.0, &c.plans.1, &regions, &views)
 }
 
 fn mark_pills(row: &ChangeRow) -> Markup {
@@ -177,7 +252,7 @@ pub(crate) fn sentences(c: &Comparison, ctx: Option<&Ctx>) -> Markup {
 
 /// The pictures with their legend and layer switches.
 pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
-    let (svgs, _) = pictures(c);
+    let pics = pictures(c);
     html! {
         p class="legend" {
             span { i style="background:#1f6fd1;height:5px;opacity:.45" {} "original (" (c.original.name) ", wide)" }
@@ -201,8 +276,14 @@ pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
                 span class="muted" { " · wheel to zoom, drag to pan, double-click to reset" }
             }
         }
+        @for r in pics.regions.iter().filter(|r| !r.exact()) {
+            p class="muted bounded" data-change=(r.id) {
+                "Change " (r.id) " has " (r.moves[0]) " moves in the original and " (r.moves[1]) " in the edited program: the first "
+                (picture::EXACT_MOVES) " of each are drawn exactly, the rest within a quarter pixel."
+            }
+        }
         div class="pictures" {
-            @for (p, svg) in &svgs {
+            @for (p, svg) in &pics.views {
                 figure { (PreEscaped(svg)) figcaption { (p.label()) } }
             }
         }
@@ -310,5 +391,24 @@ pub(crate) fn heading(c: &Comparison) -> Markup {
             "Compared with the CAM original " (c.original.path) " (revision " (c.original.id) "), paired by " (c.rule) "; "
             (c.rows.len()) " changes."
         }
+    }
+}
+
+impl PlanSource for super::Server {
+    fn cached(&self, revision: i64) -> Option<Arc<ProcessPlan>> {
+        let cache = self.plans.lock().ok()?;
+        cache.kept.iter().find(|(id, _)| *id == revision).map(|(_, p)| p.clone())
+    }
+
+    fn keep(&self, revision: i64, plan: &Arc<ProcessPlan>) {
+        if let Ok(mut cache) = self.plans.lock() {
+            cache.kept.retain(|(id, _)| *id != revision);
+            cache.kept.insert(0, (revision, plan.clone()));
+            cache.kept.truncate(super::PLANS_KEPT);
+        }
+    }
+
+    fn reader(&self) -> Reader<'_> {
+        Reader { config: &self.config, registry: &self.registry }
     }
 }

@@ -322,7 +322,7 @@ pub(super) fn program(s: &Server, ctx: &Ctx, store: &Store, id: i64) -> Result<M
 
 /// The comparison page.
 pub(super) fn comparison(s: &Server, ctx: &Ctx, store: &Store, revision: i64) -> Result<Markup> {
-    let c = compare::load(store, revision, &|st, id| s.plan(st, id))?;
+    let c = compare::load(store, revision, s)?;
     let program = store.program_of(revision)?;
     Ok(layout(
         Some(ctx),
