@@ -2,10 +2,13 @@
 //! workingstep, the toolpath pictures, the two sources side by side and both programs'
 //! findings. The server renders it with review forms; the HTML report without.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
 use anyhow::Result;
+use axum::extract::{Path, Query, State};
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Redirect, Response};
 use maud::{Markup, PreEscaped, html};
 
 use super::{Ctx, NotFound};
@@ -411,4 +414,213 @@ impl PlanSource for super::Server {
     fn reader(&self) -> Reader<'_> {
         Reader { config: &self.config, registry: &self.registry }
     }
+}
+
+/// The as-run program written for another control, as `ncplan translate --revision ID --to
+/// D` writes it (no machine's limits; units as the source's).
+pub(crate) struct Translated {
+    /// `{program}-r{revision}-{dialect}.{extension}`: letters, digits, `_`, `-` and `.` only.
+    pub(crate) filename: String,
+    /// The target dialect.
+    pub(crate) dialect: String,
+    /// The dialect the program was read in.
+    pub(crate) from: String,
+    /// The program text.
+    pub(crate) bytes: Vec<u8>,
+    /// What the writer says (cycles written as moves, what it could not write) and the
+    /// reading's errors and warnings, one line each.
+    pub(crate) notes: Vec<String>,
+    /// Whether any of them is an error.
+    pub(crate) errors: bool,
+}
+
+/// The dialects a program can be written in: those with output rules, by name.
+pub(crate) fn writable(registry: &crate::dialect::Registry) -> Vec<String> {
+    let mut names: Vec<String> =
+        registry.names().filter(|n| registry.get(n).is_some_and(|d| d.output.is_some())).map(str::to_owned).collect();
+    names.sort();
+    names
+}
+
+/// The dialect a revision was read in; told from its text where it was stored as `auto`.
+fn read_dialect(registry: &crate::dialect::Registry, stored: &str, bytes: &[u8], path: &str) -> String {
+    if stored != crate::config::AUTO_DIALECT && registry.get(stored).is_some() {
+        return stored.to_owned();
+    }
+    crate::pipeline::sniff(registry, bytes, std::path::Path::new(path)).dialect
+}
+
+/// The file name extension a dialect's programs have: its heaviest extension evidence, else `nc`.
+fn extension(d: &crate::dialect::Dialect) -> String {
+    d.recognise
+        .iter()
+        .filter(|e| !e.against)
+        .filter_map(|e| match &e.marker {
+            crate::dialect::sniff::Marker::Extension(x) => Some((e.weight, x)),
+            crate::dialect::sniff::Marker::Pattern(_) => None,
+        })
+        .fold(None::<(u32, &String)>, |best, (w, x)| if best.is_none_or(|b| w > b.0) { Some((w, x)) } else { best })
+        .map_or_else(|| "nc".to_owned(), |(_, x)| x.clone())
+}
+
+/// Letters, digits, `_` and `-`, at most 40: safe in a `Content-Disposition` header and as a file name.
+fn file_safe(s: &str) -> String {
+    let t: String = s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).take(40).collect();
+    if t.is_empty() { "program".into() } else { t }
+}
+
+/// Translates the as-run revision `revision` into `to` (by default the dialect of the CAM
+/// original it was compared with) through the post-processor.
+pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Option<&str>) -> Result<Translated> {
+    let registry = &s.registry;
+    let edited = store.revision(revision)?.ok_or_else(|| NotFound(format!("no revision {revision}")))?;
+    let bytes = store.content(revision)?.ok_or_else(|| NotFound(format!("revision {revision} has no stored program")))?;
+    let from = read_dialect(registry, &edited.dialect, &bytes, &edited.path);
+    let to = match to.filter(|t| !t.is_empty()) {
+        Some(t) => t.to_owned(),
+        None => match &edited.original {
+            Some((original_id, ..)) => {
+                let o = store.revision(*original_id)?.ok_or_else(|| NotFound(format!("no revision {original_id}")))?;
+                let ob = store.content(*original_id)?.unwrap_or_default();
+                read_dialect(registry, &o.dialect, &ob, &o.path)
+            }
+            None => from.clone(),
+        },
+    };
+    let target = registry.get(&to).ok_or_else(|| NotFound(format!("no dialect `{to}`; known: {}", writable(registry).join(", "))))?;
+    let source_dialect = registry.get(&from).ok_or_else(|| NotFound(format!("no dialect `{from}`")))?;
+    let (source, mut diags) = crate::text::decode_owned(bytes);
+    let stem = std::path::Path::new(&edited.path).file_stem().map(|x| x.to_string_lossy().into_owned());
+    let name = crate::pipeline::program_name(&source.text).or(stem).unwrap_or_else(|| "PROGRAM".into());
+    let profile = &s.config.profile;
+    let states_surface = target.output.as_ref().is_some_and(crate::post::states_surface);
+    let hole_tops = if states_surface && crate::post::needs_hole_tops(&source.text, &source_dialect, profile) {
+        crate::post::hole_tops(&crate::pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, profile).plan)
+    } else {
+        Vec::new()
+    };
+    let opts = crate::post::Options {
+        hole_tops,
+        peck_clearance: (0.0, 0.0),
+        length_at_tool_change: (false, false),
+        number: crate::post::program_number(&name),
+        name: crate::post::program_identifier(&name),
+        units: crate::canon::Units::Mm,
+        follow_source_units: true,
+        limits: crate::post::Limits::default(),
+    };
+    let mut out = Vec::new();
+    diags.extend(crate::post::translate(&source.text, &source_dialect, &target, profile, opts, |chunk| out.extend_from_slice(chunk)));
+    let idx = crate::text::LineIndex::new(&source.text);
+    let notes = diags
+        .iter()
+        .filter(|x| x.severity != crate::diag::Severity::Note || x.code.as_str().starts_with("post::"))
+        .map(|x| crate::diag::render_short(&edited.path, &source.text, &idx, x))
+        .collect();
+    Ok(Translated {
+        filename: format!("{}-r{revision}-{}.{}", file_safe(&name), file_safe(&to), file_safe(&extension(&target))),
+        errors: diags.iter().any(|x| x.is_error()),
+        dialect: to,
+        from,
+        bytes: out,
+        notes,
+    })
+}
+
+/// The form on the comparison page: the as-run program, translated into a chosen dialect
+/// (the CAM original's by default), as a download or with its notes.
+pub(crate) fn translate_form(s: &super::Server, c: &Comparison) -> Markup {
+    let names = writable(&s.registry);
+    let default = if names.contains(&c.original.dialect) { c.original.dialect.clone() } else { String::new() };
+    let action = format!("/compare/{}/translate", c.edited.id);
+    html! {
+        form method="get" action=(action) class="translate" id="translate" {
+            "The as-run program (revision " (c.edited.id) "), written for "
+            select name="to" aria-label="target dialect" {
+                @if default.is_empty() { option value="" selected { "the CAM original's dialect" } }
+                @for n in &names {
+                    option value=(n) selected[*n == default] { (n) @if *n == default { " (the CAM original's)" } }
+                }
+            }
+            " "
+            button type="submit" data-translate="download" { "Download" }
+            " "
+            button type="submit" formaction={(action) "/notes"} data-translate="notes" { "Show the notes" }
+        }
+        p class="muted" {
+            "Read in its own dialect and written by the target's output rules, as "
+            code { "ncplan translate --revision " (c.edited.id) " --to DIALECT" } " writes it: macros, loops and subprograms come out unrolled."
+        }
+    }
+}
+
+/// The notes page of a translation, with its download link.
+pub(crate) fn translate_notes(t: &Translated, revision: i64) -> Markup {
+    html! {
+        h1 { "Translation of revision " (revision) " into " (t.dialect) }
+        p {
+            "Read as " (t.from) ", written as " (t.dialect) ": " (t.bytes.len()) " bytes. "
+            a href={"/compare/" (revision) "/translate?to=" (t.dialect)} download=(t.filename) id="download" { "Download " (t.filename) }
+            " · " a href={"/compare/" (revision)} { "back to the comparison" }
+        }
+        @if t.errors { p class="bad" { "The program has errors: the notes say what was not written." } }
+        @if t.notes.is_empty() {
+            p id="notes" { "No notes: everything was written as it was read." }
+        } @else {
+            h2 { "Notes (" (t.notes.len()) ")" }
+            pre id="notes" class="finding" { @for n in &t.notes { (n) "\n" } }
+        }
+    }
+}
+
+/// `GET /compare/{revision}/translate?to=D`: the translated program as an attachment.
+pub(super) async fn download(
+    State(s): State<Arc<super::Server>>,
+    headers: HeaderMap,
+    Path(revision): Path<i64>,
+    Query(q): Query<BTreeMap<String, String>>,
+) -> Response {
+    if super::auth::context(&s, &headers).is_none() {
+        return Redirect::to("/login").into_response();
+    }
+    let to = q.get("to").cloned();
+    let result = tokio::task::spawn_blocking(move || {
+        let store = s.store()?;
+        translate(&s, &store, revision, to.as_deref())
+    })
+    .await;
+    let mut response = match result {
+        Ok(Ok(t)) => {
+            let disposition = format!("attachment; filename=\"{}\"", t.filename);
+            let mut r = t.bytes.into_response();
+            let h = r.headers_mut();
+            h.insert(header::CONTENT_TYPE, HeaderValue::from_static("text/plain; charset=utf-8"));
+            if let Ok(v) = HeaderValue::from_str(&disposition) {
+                h.insert(header::CONTENT_DISPOSITION, v);
+            }
+            // How many notes the translation has; the notes page shows them.
+            h.insert("x-ncplan-notes", HeaderValue::from(t.notes.len()));
+            r
+        }
+        Ok(Err(e)) if e.downcast_ref::<NotFound>().is_some() => (StatusCode::NOT_FOUND, format!("{e:#}")).into_response(),
+        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("{e:#}")).into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("the translation failed: {e}")).into_response(),
+    };
+    response.headers_mut().insert("x-content-type-options", HeaderValue::from_static("nosniff"));
+    response
+}
+
+/// `GET /compare/{revision}/translate/notes?to=D`: what the translation says, and its download link.
+pub(super) async fn notes(
+    State(s): State<Arc<super::Server>>,
+    headers: HeaderMap,
+    Path(revision): Path<i64>,
+    Query(q): Query<BTreeMap<String, String>>,
+) -> Response {
+    let to = q.get("to").cloned();
+    super::page(s, headers, move |s, ctx, store| {
+        let t = translate(s, store, revision, to.as_deref())?;
+        Ok(super::pages::layout(Some(ctx), &format!("Translation of revision {revision}"), translate_notes(&t, revision)))
+    })
+    .await
 }

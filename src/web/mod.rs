@@ -215,6 +215,8 @@ fn router(server: Arc<Server>) -> Router {
         .route("/machine/{name}", get(machine))
         .route("/program/{id}", get(program))
         .route("/compare/{revision}", get(compare))
+        .route("/compare/{revision}/translate", get(compare::download))
+        .route("/compare/{revision}/translate/notes", get(compare::notes))
         .route("/review/{change}", post(review))
         .route("/knowledge", get(knowledge_index))
         .route("/knowledge/{name}", get(knowledge))

@@ -259,6 +259,54 @@ fn sign_in_csrf_and_reports_without_a_browser() {
     assert!(head.starts_with("HTTP/1.1 200") && page.contains("Sign out") && page.contains("ada"), "{head}");
 }
 
+/// The header `name` of a response head (lower-case name), if present.
+fn header<'a>(head: &'a str, name: &str) -> Option<&'a str> {
+    head.lines().find_map(|l| l.split_once(':').filter(|(k, _)| k.trim().eq_ignore_ascii_case(name)).map(|(_, v)| v.trim()))
+}
+
+#[test]
+fn the_translate_download_reads_back_in_its_dialect() {
+    let site = Site::new();
+    site.build();
+    let (_serve, base) = serve(&site, &[]);
+    let revision = crate::db_rows(&site.db(), "SELECT revision_id FROM shopfloor_changes WHERE program = 'O1234' LIMIT 1")[0][0].clone();
+    // The comparison page offers it, the CAM original's dialect chosen.
+    let (_, page) = http(&base, &format!("GET /compare/{revision} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    assert!(page.contains(&format!("action=\"/compare/{revision}/translate\"")), "no translate form");
+    assert!(page.contains("<option value=\"fanuc\" selected>fanuc (the CAM original's)</option>"), "the original's dialect is not the default");
+    let get = |query: &str| http(&base, &format!("GET /compare/{revision}/translate{query} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    for (query, dialect, ext) in [("", "fanuc", "nc"), ("?to=siemens", "siemens", "mpf"), ("?to=heidenhain", "heidenhain", "h")] {
+        let (head, body) = get(query);
+        assert!(head.starts_with("HTTP/1.1 200"), "{query}: {head}");
+        let filename = format!("O1234-r{revision}-{dialect}.{ext}");
+        assert_eq!(header(&head, "content-disposition"), Some(format!("attachment; filename=\"{filename}\"").as_str()), "{head}");
+        assert_eq!(header(&head, "x-content-type-options"), Some("nosniff"));
+        // Deterministic: the same bytes again, and the same as `ncplan translate` writes.
+        assert!(body.lines().count() > 10, "{query}: {body}");
+        assert_eq!(get(query).1, body, "{query}: a second download differs");
+        let cli = Command::new(crate::bin())
+            .args(["translate", "--revision", &revision, "--to", dialect, "--config"])
+            .arg(site.path("ncplan.toml"))
+            .output()
+            .unwrap();
+        assert!(cli.status.success(), "{}", String::from_utf8_lossy(&cli.stderr));
+        assert_eq!(body.as_bytes(), cli.stdout.as_slice(), "{dialect}: the download is not what ncplan translate writes");
+        // It reads back in the target dialect without errors.
+        let file = site.path(&filename);
+        std::fs::write(&file, &body).unwrap();
+        let check = Command::new(crate::bin()).arg("check").arg(&file).args(["--dialect", dialect]).output().unwrap();
+        assert!(check.status.success(), "{dialect}: {}\n{body}", String::from_utf8_lossy(&check.stdout));
+        assert!(!String::from_utf8_lossy(&check.stdout).contains("error["), "{dialect}: {}", String::from_utf8_lossy(&check.stdout));
+    }
+    // The notes page says what was written and links the download.
+    let (head, notes) = http(&base, &format!("GET /compare/{revision}/translate/notes?to=siemens HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    assert!(head.starts_with("HTTP/1.1 200"), "{head}");
+    assert!(notes.contains("Read as fanuc, written as siemens") && notes.contains(&format!("O1234-r{revision}-siemens.mpf")), "{notes}");
+    // An unknown dialect is a 404 that names the known ones.
+    let (head, body) = get("?to=nonesuch");
+    assert!(head.starts_with("HTTP/1.1 404") && body.contains("siemens"), "{head}\n{body}");
+}
+
 #[test]
 fn the_workspace_in_chromium() {
     if !(have("chromium") && have("chromedriver")) {
