@@ -239,7 +239,7 @@ pub(crate) fn sentences(c: &Comparison, ctx: Option<&Ctx>) -> Markup {
                     li id={"change-" (r.id)} data-kind=(r.change.kind.as_str()) {
                         a class="change" href={"#change-" (r.id)} data-change=(r.id)
                             data-line=[r.change.line] data-oline=[r.change.original_line] {
-                            (r.change.phrase())
+                            (source::visible(&r.change.phrase()))
                         }
                         @if let Some(l) = r.change.line { span class="muted" { " · line " (l) } }
                         @if let Some(d) = r.change.deviation { span class="muted" { " · deviation " (crate::diff::num(d)) " mm" } }
@@ -326,8 +326,8 @@ fn listing(
                     span class="no" { (i + 1) }
                     @for (t, r) in source::colour(lines[i]) {
                         @match t.class() {
-                            Some(c) => span class=(c) { (lines[i][r].to_owned()) },
-                            None => (lines[i][r].to_owned()),
+                            Some(c) => span class=(c) { (source::visible(&lines[i][r])) },
+                            None => (source::visible(&lines[i][r])),
                         }
                     }
                 }
@@ -349,11 +349,11 @@ pub(crate) fn sources(c: &Comparison, whole: usize) -> Markup {
     html! {
         div class="sources" {
             div {
-                h3 { "Original " span class="muted" { (c.original.path) } }
+                h3 { "Original " span class="muted" { (source::visible(&c.original.path)) } }
                 div class="src" id="src-o" { (listing("o", "e", &a, &al.original, &ho, whole)) }
             }
             div {
-                h3 { "Edited " span class="muted" { (c.edited.path) } }
+                h3 { "Edited " span class="muted" { (source::visible(&c.edited.path)) } }
                 div class="src" id="src-e" { (listing("e", "o", &b, &al.edited, &he, whole)) }
             }
         }
@@ -375,8 +375,8 @@ pub(crate) fn findings(title: &str, text: &str, findings: &[StoredFinding]) -> M
             @let line = lines.get(&((f.line.max(1) - 1) as usize)).copied().unwrap_or("");
             @let col = line.chars().take((f.col.max(1) - 1) as usize).count();
             pre class="finding" {
-                span class=(if f.severity == "error" { "bad" } else { "muted" }) { (f.severity) "[" (f.code) "]" } ": " (f.message) "\n"
-                (format!("{:>5} | ", f.line)) (line) "\n"
+                span class=(if f.severity == "error" { "bad" } else { "muted" }) { (f.severity) "[" (f.code) "]" } ": " (source::visible(&f.message)) "\n"
+                (format!("{:>5} | ", f.line)) (source::visible(line)) "\n"
                 "      | " (" ".repeat(col)) span class="caret" { "^" }
             }
         }
@@ -391,7 +391,7 @@ pub(crate) fn heading(c: &Comparison) -> Markup {
             "Machine " strong { (c.edited.machine.as_deref().unwrap_or("?")) } ", program " strong { (c.edited.name) }
             ", revision " (c.edited.id) " seen " (c.edited.seen_at)
             br;
-            "Compared with the CAM original " (c.original.path) " (revision " (c.original.id) "), paired by " (c.rule) "; "
+            "Compared with the CAM original " (source::visible(&c.original.path)) " (revision " (c.original.id) "), paired by " (c.rule) "; "
             (c.rows.len()) " changes."
         }
     }
