@@ -624,3 +624,13 @@ pub(super) async fn notes(
     })
     .await
 }
+
+/// A rendered page with every bidirectional control written out (`[U+202E]`): the templates
+/// hold none, so any is program text (a name, a path, a query's result), and it is shown,
+/// never obeyed.
+pub(super) fn shown(html: String) -> String {
+    match source::visible(&html) {
+        std::borrow::Cow::Borrowed(_) => html,
+        std::borrow::Cow::Owned(o) => o,
+    }
+}

@@ -246,7 +246,7 @@ where
     })
     .await;
     let mut response = match result {
-        Ok(Ok(markup)) => Html(markup.into_string()).into_response(),
+        Ok(Ok(markup)) => Html(compare::shown(markup.into_string())).into_response(),
         Ok(Err(e)) if e.downcast_ref::<NotFound>().is_some() => {
             (StatusCode::NOT_FOUND, Html(pages::message("Not found", &format!("{e:#}")).into_string())).into_response()
         }

@@ -78,7 +78,7 @@ pub fn html(store: &Store, config: &Config, registry: &Registry, filter: &Filter
             }
         }
     };
-    Ok(page.into_string())
+    Ok(compare::shown(page.into_string()))
 }
 
 /// A CSV field, quoted where it must be.

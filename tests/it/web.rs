@@ -75,6 +75,14 @@ fn long_program(contour_feed: u32, hostile: bool) -> String {
     s
 }
 
+/// A file name that tries markup, a quote and a right-to-left override (shown as text).
+const HOSTILE_NAME: &str = "P\"<b>7<i>\u{202E}lmth.nc";
+
+/// A short program, O7777, with a cut at `feed`.
+fn small_program(feed: u32) -> String {
+    format!("%\nO7777\nG21 G90 G17 G54\nT1 M6\nS1000 M3\nG0 X0. Y0. Z5.\nG1 Z-1. F{feed}.\nX50.\nG0 Z5.\nM30\n%\n")
+}
+
 impl Site {
     fn new() -> Site {
         let dir = tempfile::tempdir().unwrap();
@@ -116,6 +124,7 @@ impl Site {
         let root = crate::root();
         std::fs::copy(root.join("demo/cam/O1234.nc"), self.path("cam/O1234.nc")).unwrap();
         std::fs::write(self.path("cam/O4321.nc"), long_program(400, false)).unwrap();
+        std::fs::write(self.path(&format!("cam/{HOSTILE_NAME}")), small_program(500)).unwrap();
         let log = std::fs::File::create(self.path("daemon.log")).unwrap();
         let daemon = Proc(
             Command::new(crate::bin())
@@ -126,11 +135,12 @@ impl Site {
                 .spawn()
                 .expect("start ncplan watch"),
         );
-        assert_eq!(self.wait_rows("SELECT id FROM revisions", 2).len(), 2, "the originals were not stored");
+        assert_eq!(self.wait_rows("SELECT id FROM revisions", 3).len(), 3, "the originals were not stored");
         std::fs::copy(root.join("demo/examples/O1234_edited.nc"), self.path("share/O1234.nc")).unwrap();
         std::fs::write(self.path("share/O4321.nc"), long_program(300, true)).unwrap();
-        let compared = self.wait_rows("SELECT revision_id FROM comparisons", 2);
-        assert_eq!(compared.len(), 2, "the edits were not compared: {}", std::fs::read_to_string(self.path("daemon.log")).unwrap());
+        std::fs::write(self.path(&format!("share/{HOSTILE_NAME}")), small_program(450)).unwrap();
+        let compared = self.wait_rows("SELECT revision_id FROM comparisons", 3);
+        assert_eq!(compared.len(), 3, "the edits were not compared: {}", std::fs::read_to_string(self.path("daemon.log")).unwrap());
         drop(daemon);
     }
 }
@@ -244,6 +254,11 @@ fn sign_in_csrf_and_reports_without_a_browser() {
     paths.push(format!("/compare/{revision}"));
     paths.push(format!("/compare/{revision}/translate/notes?to=siemens"));
     paths.push("/sql?q=SELECT%20%27%3Cscript%3Ewindow.pwned%3D4%3C%2Fscript%3E%27%20AS%20x".to_owned());
+    let named = crate::db_rows(&site.db(), "SELECT revision_id FROM shopfloor_changes WHERE program = 'O7777' LIMIT 1")[0][0].clone();
+    let named_program = crate::db_rows(&site.db(), &format!("SELECT program_id FROM revisions WHERE id = {named}"))[0][0].clone();
+    paths.push(format!("/compare/{named}"));
+    paths.push(format!("/program/{named_program}"));
+    paths.push("/sql?q=SELECT%20path%20FROM%20revisions".to_owned());
     for path in &paths {
         let (head, page) = http(&base, &format!("GET {path} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
         assert!(head.starts_with("HTTP/1.1 200"), "{path}: {head}");
@@ -251,7 +266,14 @@ fn sign_in_csrf_and_reports_without_a_browser() {
             assert!(!page.contains(markup), "{path}: program text reached the page as markup ({markup})");
         }
         assert_eq!(page.matches("<script").count(), 1, "{path}: only the app's script");
+        assert!(!page.contains('\u{202E}') && !page.contains('\u{2066}'), "{path}: a bidirectional control reached the page");
+        assert!(!page.contains("<b>7"), "{path}: the file name reached the page as markup");
     }
+    let (_, page) = http(&base, &format!("GET /compare/{named} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    assert!(
+        page.contains("P&quot;&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc") || page.contains("P\"&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc"),
+        "the file name is not shown as text"
+    );
     // The CSV report: a header and one row per change, commas quoted.
     let csv = Command::new(crate::bin())
         .args(["report", "--format", "csv", "--machine", "DMU50", "--config"])
@@ -610,9 +632,13 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
     assert!(!html.contains("<link") && !html.contains("<script") && !html.contains("src=\"http") && !html.contains("href=\"http"));
     assert!(html.contains("<style>") && html.contains("<svg"));
     assert!(html.contains("tool T1 renamed T8") && html.contains("&lt;script&gt;window.pwned=1"));
+    assert!(
+        !html.contains('\u{202E}') && html.contains("[U+202E]DESREVER") && html.contains("]]&gt; &lt;![CDATA["),
+        "hostile text in the report"
+    );
     c.goto(&format!("file://{}", report.display())).await?;
     assert!(text_of(c, "h1").await.contains("Shopfloor changes"));
-    assert_eq!(js(c, "return document.querySelectorAll('svg.toolpath').length").await, json!(6));
+    assert_eq!(js(c, "return document.querySelectorAll('svg.toolpath').length").await, json!(9), "three revisions, three views each");
     shot(c, "report").await?;
     Ok(())
 }
