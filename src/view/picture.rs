@@ -507,7 +507,7 @@ fn boxes(v: &mut View, regions: &[Region], drawn: &[RegionDrawn]) {
     for (k, d) in drawn.iter().filter(|d| !d.exact()).enumerate() {
         let _ = write!(
             v.out,
-            "<text class=\"note\" data-change=\"{id}\" x=\"6\" y=\"{y:.1}\">change {id}: {a} + {b} moves; exact up to {EXACT_MOVES} per program, the rest within a quarter pixel</text>",
+            "<text class=\"note\" data-change=\"{id}\" x=\"6\" y=\"{y:.1}\">change {id}: {a} + {b} moves, the first {EXACT_MOVES} of each exact</text>",
             id = d.id,
             a = d.moves[0],
             b = d.moves[1],
@@ -713,7 +713,7 @@ mod tests {
         let pics = pictures(&a, &b, &[all], &views);
         assert_eq!(pics.regions, vec![RegionDrawn { id: 8, moves: [n as usize, n as usize] }]);
         let svg = &pics.views[0].1;
-        assert!(svg.contains(&format!("change 8: {n} + {n} moves; exact up to {EXACT_MOVES} per program")), "{}", &svg[svg.len() - 400..]);
+        assert!(svg.contains(&format!("change 8: {n} + {n} moves, the first {EXACT_MOVES} of each exact")), "{}", &svg[svg.len() - 400..]);
         assert!(!svg.contains("class=\"e feed\""), "every move is drawn as changed");
         let drawn: std::collections::BTreeSet<(i64, i64)> = points(&path_of(svg, "e chg")).into_iter().collect();
         for q in ends(&b, &[&a, &b], &[all], views[0], 10..10 + EXACT_MOVES as u32) {
