@@ -487,7 +487,10 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
             None => from.clone(),
         },
     };
-    let target = registry.get(&to).ok_or_else(|| NotFound(format!("no dialect `{to}`; known: {}", writable(registry).join(", "))))?;
+    let target = registry
+        .get(&to)
+        .filter(|d| d.output.is_some())
+        .ok_or_else(|| NotFound(format!("ncplan cannot write programs in `{to}`; it writes {}", writable(registry).join(", "))))?;
     let source_dialect = registry.get(&from).ok_or_else(|| NotFound(format!("no dialect `{from}`")))?;
     let (source, mut diags) = crate::text::decode_owned(bytes);
     let stem = std::path::Path::new(&edited.path).file_stem().map(|x| x.to_string_lossy().into_owned());

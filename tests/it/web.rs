@@ -371,9 +371,11 @@ fn the_translate_download_reads_back_in_its_dialect() {
         http(&base, &format!("GET /compare/{revision}/translate/notes?to=siemens HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
     assert!(head.starts_with("HTTP/1.1 200"), "{head}");
     assert!(notes.contains("Read as fanuc, written as siemens") && notes.contains(&format!("O1234-r{revision}-siemens.mpf")), "{notes}");
-    // An unknown dialect is a 404 that names the known ones.
-    let (head, body) = get("?to=nonesuch");
-    assert!(head.starts_with("HTTP/1.1 404") && body.contains("siemens"), "{head}\n{body}");
+    // An unknown dialect, or one without output rules, is a 404 that names those it can write.
+    for to in ["nonesuch", "cldata"] {
+        let (head, body) = get(&format!("?to={to}"));
+        assert!(head.starts_with("HTTP/1.1 404") && body.contains("it writes") && body.contains("siemens"), "{to}: {head}\n{body}");
+    }
 }
 
 #[test]
