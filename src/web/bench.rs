@@ -273,12 +273,20 @@ fn huge(dir: &Path, rows: usize, registry: &crate::dialect::Registry, out: &mut 
         changes.len(),
         t.elapsed().as_secs_f64()
     )?;
-    let server = Server::new(config.clone(), registry.clone(), Arc::new(crate::daemon::SystemClock))?;
-    let store = server.store()?;
     let ctx = Ctx { user: None, csrf: "bench".into(), auth: false };
-    let t = Instant::now();
-    let page = pages::comparison(&server, &ctx, &store, e)?.into_string();
-    let cold = t.elapsed();
+    // A first view is a new server's (nothing cached): the best of three, each on its own
+    // server, as the other pages are the best of three.
+    let mut cold = Duration::MAX;
+    let mut first = None;
+    for _ in 0..3 {
+        let server = Server::new(config.clone(), registry.clone(), Arc::new(crate::daemon::SystemClock))?;
+        let store = server.store()?;
+        let t = Instant::now();
+        let page = pages::comparison(&server, &ctx, &store, e)?.into_string();
+        cold = cold.min(t.elapsed());
+        first = Some((server, store, page));
+    }
+    let (server, store, page) = first.context("no first view")?;
     let (warm, page2) = best(3, || pages::comparison(&server, &ctx, &store, e))?;
     // Where a first view's time goes: reading both programs and rebuilding their plans
     // (nothing cached), then each part of the page.
@@ -296,7 +304,7 @@ fn huge(dir: &Path, rows: usize, registry: &crate::dialect::Registry, out: &mut 
     std::fs::write(hdir.join("comparison.html"), &page)?;
     writeln!(
         out,
-        "web: 1M-move comparison page: {:.0} ms first view (plans rebuilt from the stored bytes), {:.0} ms with plans cached (target < 1 s); SVG {} bytes (target < 2 MB); page {} bytes; {} points drawn of {}",
+        "web: 1M-move comparison page: {:.0} ms first view (a new server's: plans rebuilt from the stored bytes; best of 3), {:.0} ms with plans cached (target < 1 s); SVG {} bytes (target < 2 MB); page {} bytes; {} points drawn of {}",
         cold.as_secs_f64() * 1e3,
         warm.as_secs_f64() * 1e3,
         svg,
