@@ -36,6 +36,29 @@ impl Token {
     }
 }
 
+/// Whether `c` is a Unicode bidirectional control (embeddings, overrides, isolates, marks),
+/// which would reorder what a reader sees of program text.
+fn bidi_control(c: char) -> bool {
+    matches!(c, '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}' | '\u{200E}' | '\u{200F}' | '\u{061C}')
+}
+
+/// Program text as it is to be shown: each bidirectional control written out as `[U+202E]`,
+/// so that it is seen and reorders nothing. Other text is borrowed as it is.
+pub fn visible(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(bidi_control) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 16);
+    for c in text.chars() {
+        if bidi_control(c) {
+            out.push_str(&format!("[U+{:04X}]", u32::from(c)));
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 /// Splits a line into coloured pieces (byte ranges that cover the line, in order).
 pub fn colour(line: &str) -> Vec<(Token, std::ops::Range<usize>)> {
     let b = line.as_bytes();
@@ -227,6 +250,12 @@ pub fn windows(total: usize, interest: &[usize], whole: usize, context: usize) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bidirectional_controls_are_written_out() {
+        assert_eq!(visible("(\u{202E}DESREVER\u{202C}) \u{2066}X\u{2069}"), "([U+202E]DESREVER[U+202C]) [U+2066]X[U+2069]");
+        assert!(matches!(visible("G1 X10 (ÄÖ)"), std::borrow::Cow::Borrowed(_)));
+    }
 
     #[test]
     fn colours_a_block() {

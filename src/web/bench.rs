@@ -273,27 +273,53 @@ fn huge(dir: &Path, rows: usize, registry: &crate::dialect::Registry, out: &mut 
         changes.len(),
         t.elapsed().as_secs_f64()
     )?;
-    let server = Server::new(config, registry.clone(), Arc::new(crate::daemon::SystemClock))?;
-    let store = server.store()?;
     let ctx = Ctx { user: None, csrf: "bench".into(), auth: false };
-    let t = Instant::now();
-    let page = pages::comparison(&server, &ctx, &store, e)?.into_string();
-    let cold = t.elapsed();
+    // A first view is a new server's (nothing cached): the best of three, each on its own
+    // server, as the other pages are the best of three.
+    let mut cold = Duration::MAX;
+    let mut first = None;
+    for _ in 0..3 {
+        let server = Server::new(config.clone(), registry.clone(), Arc::new(crate::daemon::SystemClock))?;
+        let store = server.store()?;
+        let t = Instant::now();
+        let page = pages::comparison(&server, &ctx, &store, e)?.into_string();
+        cold = cold.min(t.elapsed());
+        first = Some((server, store, page));
+    }
+    let (server, store, page) = first.context("no first view")?;
     let (warm, page2) = best(3, || pages::comparison(&server, &ctx, &store, e))?;
-    let c = compare::load(&store, e, &|st, id| server.plan(st, id))?;
+    // Where a first view's time goes: reading both programs and rebuilding their plans
+    // (nothing cached), then each part of the page.
+    let reader = crate::daemon::ingest::Reader { config: &config, registry };
+    let t = Instant::now();
+    let c = compare::load(&store, e, &compare::Uncached(crate::daemon::ingest::Reader { config: &config, registry }))?;
+    let load = t.elapsed();
+    let (read, _) = best(3, || Ok(store.source(e)?.and_then(|s| s.bytes).map_or(0, |b| b.len())))?;
+    let (analyse_one, _) = best(1, || {
+        Ok(reader.reanalyse(&c.edited.path, &c.edited.dialect, store.content(e)?.unwrap_or_default())?.plan.workingsteps.len())
+    })?;
     let (pic, pictures) = best(3, || Ok(compare::pictures(&c)))?;
-    let svg: usize = pictures.0.iter().map(|(_, s)| s.len()).sum();
+    let (sources, _) = best(3, || Ok(compare::sources(&c, 20_000).into_string().len()))?;
+    let svg: usize = pictures.views.iter().map(|(_, s)| s.len()).sum();
     std::fs::write(hdir.join("comparison.html"), &page)?;
     writeln!(
         out,
-        "web: 1M-move comparison page: {:.0} ms cold (plans rebuilt from the stored bytes), {:.0} ms with plans cached (target < 1 s); pictures {:.0} ms; SVG {} bytes (target < 2 MB); page {} bytes; {} points drawn of {}",
+        "web: 1M-move comparison page: {:.0} ms first view (a new server's: plans rebuilt from the stored bytes; best of 3), {:.0} ms with plans cached (target < 1 s); SVG {} bytes (target < 2 MB); page {} bytes; {} points drawn of {}",
         cold.as_secs_f64() * 1e3,
         warm.as_secs_f64() * 1e3,
-        pic.as_secs_f64() * 1e3,
         svg,
         page2.into_string().len(),
-        pictures.1.drawn,
-        pictures.1.points
+        pictures.stats.drawn,
+        pictures.stats.points
+    )?;
+    writeln!(
+        out,
+        "web: 1M-move first view, by part: read both programs and rebuild their plans {:.0} ms (one program's bytes read {:.0} ms, its plan rebuilt alone {:.0} ms); pictures {:.0} ms; sources {:.0} ms",
+        load.as_secs_f64() * 1e3,
+        read.as_secs_f64() * 1e3,
+        analyse_one.as_secs_f64() * 1e3,
+        pic.as_secs_f64() * 1e3,
+        sources.as_secs_f64() * 1e3,
     )?;
     Ok(())
 }

@@ -2,17 +2,21 @@
 //! workingstep, the toolpath pictures, the two sources side by side and both programs'
 //! findings. The server renders it with review forms; the HTML report without.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
 use anyhow::Result;
+use axum::extract::{Path, Query, State};
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Redirect, Response};
 use maud::{Markup, PreEscaped, html};
 
 use super::{Ctx, NotFound};
+use crate::daemon::ingest::Reader;
 use crate::diff::ChangeKind;
 use crate::plan::{BBox, ProcessPlan};
-use crate::store::{ChangeRow, RevisionInfo, Store, StoredFinding};
-use crate::view::picture::{self, Projection, Region, Stats};
+use crate::store::{ChangeRow, RevisionInfo, Store, StoredFinding, StoredSource};
+use crate::view::picture::{self, Pictures, Projection, Region};
 use crate::view::source::{self, LineState};
 
 /// Everything the comparison view shows.
@@ -26,27 +30,105 @@ pub(crate) struct Comparison {
     pub(crate) findings: (Vec<StoredFinding>, Vec<StoredFinding>),
 }
 
-/// Rebuilds the whole plan of a stored revision.
-pub(crate) type PlanOf<'a> = dyn Fn(&Store, i64) -> Result<Option<Arc<ProcessPlan>>> + 'a;
+/// Where whole plans come from: a cache of plans rebuilt before (the server's), and a
+/// reader of stored bytes.
+pub(crate) trait PlanSource: Sync {
+    /// A plan rebuilt before.
+    fn cached(&self, revision: i64) -> Option<Arc<ProcessPlan>>;
+    /// Keeps a plan just rebuilt.
+    fn keep(&self, revision: i64, plan: &Arc<ProcessPlan>);
+    /// Reads stored programs again.
+    fn reader(&self) -> Reader<'_>;
+}
 
-/// Loads the comparison of the edited revision `revision`; `plan` rebuilds a whole plan.
-pub(crate) fn load(store: &Store, revision: i64, plan: &PlanOf<'_>) -> Result<Comparison> {
+/// Plans rebuilt every time (the HTML report reads each comparison once).
+pub(crate) struct Uncached<'a>(pub(crate) Reader<'a>);
+
+impl PlanSource for Uncached<'_> {
+    fn cached(&self, _: i64) -> Option<Arc<ProcessPlan>> {
+        None
+    }
+
+    fn keep(&self, _: i64, _: &Arc<ProcessPlan>) {}
+
+    fn reader(&self) -> Reader<'_> {
+        Reader { config: self.0.config, registry: self.0.registry }
+    }
+}
+
+/// One side's program as read from the store, before its plan is rebuilt.
+enum Fetched {
+    /// The plan is at hand; the bytes are for the source view.
+    Cached(Arc<ProcessPlan>, Vec<u8>),
+    /// The plan is to be read again from these bytes, which the source view shows too.
+    Analyse(StoredSource),
+    /// A complete stored plan (or none), and the bytes.
+    Stored(Option<StoredSource>, Vec<u8>),
+}
+
+fn fetch(store: &Store, plans: &dyn PlanSource, id: i64) -> Result<Fetched> {
+    if let Some(p) = plans.cached(id) {
+        return Ok(Fetched::Cached(p, store.content(id)?.unwrap_or_default()));
+    }
+    let Some(src) = store.source(id)? else {
+        return Ok(Fetched::Stored(None, store.content(id)?.unwrap_or_default()));
+    };
+    if matches!(src.plan, Some((_, false))) && src.bytes.is_some() {
+        return Ok(Fetched::Analyse(src));
+    }
+    let bytes = store.content(id)?.unwrap_or_default();
+    Ok(Fetched::Stored(Some(src), bytes))
+}
+
+/// The plan and the text of one side: the program's bytes are decoded and analysed once.
+fn build(plans: &dyn PlanSource, id: i64, f: Fetched) -> Result<(Option<Arc<ProcessPlan>>, String)> {
+    let text = |b: &[u8]| crate::text::decode(b).0.text;
+    let reader = plans.reader();
+    let (plan, text) = match f {
+        Fetched::Cached(p, bytes) => return Ok((Some(p), text(&bytes))),
+        Fetched::Analyse(mut src) => {
+            let bytes = src.bytes.take().unwrap_or_default();
+            let a = reader.reanalyse(&src.path, &src.dialect, bytes)?;
+            (Some(a.plan), a.source.text)
+        }
+        Fetched::Stored(src, bytes) => (src.map(|s| reader.rebuild(s)).transpose()?.flatten(), text(&bytes)),
+    };
+    let plan = plan.map(Arc::new);
+    if let Some(p) = &plan {
+        plans.keep(id, p);
+    }
+    Ok((plan, text))
+}
+
+/// Loads the comparison of the edited revision `revision`. Both programs are read from the
+/// store first, then their plans are rebuilt side by side (two threads), each program's
+/// bytes decoded once for its plan and its source view.
+pub(crate) fn load(store: &Store, revision: i64, plans: &dyn PlanSource) -> Result<Comparison> {
     let edited = store.revision(revision)?.ok_or_else(|| NotFound(format!("no revision {revision}")))?;
     let Some((original_id, _, rule, _)) = edited.original.clone() else {
         return Err(NotFound(format!("revision {revision} was not compared with a CAM original")).into());
     };
     let original = store.revision(original_id)?.ok_or_else(|| NotFound(format!("no revision {original_id}")))?;
+    let (fo, fe) = (fetch(store, plans, original_id)?, fetch(store, plans, revision)?);
+    let ((po, to), (pe, te)) = if matches!((&fo, &fe), (Fetched::Analyse(_), Fetched::Analyse(_))) {
+        std::thread::scope(|s| {
+            let other = s.spawn(|| build(plans, original_id, fo));
+            let e = build(plans, revision, fe);
+            let o = other.join().map_err(|_| anyhow::anyhow!("rebuilding the original's plan failed"))?;
+            anyhow::Ok((o?, e?))
+        })?
+    } else {
+        (build(plans, original_id, fo)?, build(plans, revision, fe)?)
+    };
     let empty = || Arc::new(ProcessPlan::default());
-    let plans = (plan(store, original_id)?.unwrap_or_else(empty), plan(store, revision)?.unwrap_or_else(empty));
-    let text = |id: i64| -> Result<String> { Ok(crate::text::decode(&store.content(id)?.unwrap_or_default()).0.text.to_string()) };
     Ok(Comparison {
         rows: store.change_rows(revision)?,
-        texts: (text(original_id)?, text(revision)?),
+        texts: (to, te),
         findings: (store.findings(original_id)?, store.findings(revision)?),
+        plans: (po.unwrap_or_else(empty), pe.unwrap_or_else(empty)),
         edited,
         original,
         rule,
-        plans,
     })
 }
 
@@ -75,7 +157,7 @@ pub(crate) fn regions(rows: &[ChangeRow], original: &ProcessPlan) -> Vec<Region>
     let mut out = Vec::new();
     for r in rows {
         if let Some(b) = r.change.region {
-            out.push(Region { id: r.id, bbox: b });
+            out.push(Region { id: r.id, bbox: b, lines: (r.change.original_line, r.change.line) });
         } else if r.change.kind == ChangeKind::StartPointMoved
             && let Some(p0) = original.workingsteps.iter().find(|w| w.index == r.change.workingstep).and_then(|w| w.start_point)
         {
@@ -83,6 +165,7 @@ pub(crate) fn regions(rows: &[ChangeRow], original: &ProcessPlan) -> Vec<Region>
             let pad = 1.0;
             out.push(Region {
                 id: r.id,
+                lines: (None, None),
                 bbox: BBox {
                     min: [p0[0].min(p1[0]) - pad, p0[1].min(p1[1]) - pad, p0[2].min(p1[2]) - pad],
                     max: [p0[0].max(p1[0]) + pad, p0[1].max(p1[1]) + pad, p0[2].max(p1[2]) + pad],
@@ -93,17 +176,12 @@ pub(crate) fn regions(rows: &[ChangeRow], original: &ProcessPlan) -> Vec<Region>
     out
 }
 
-/// The three pictures' SVG (top, front, side) and what they hold.
-pub(crate) fn pictures(c: &Comparison) -> (Vec<(Projection, String)>, Stats) {
+/// The three pictures (top, front, side) and what they hold.
+pub(crate) fn pictures(c: &Comparison) -> Pictures {
     let regions = regions(&c.rows, &c.plans.0);
-    let mut stats = Stats::default();
     let sizes = [(640.0, 420.0), (640.0, 230.0), (460.0, 230.0)];
-    let svgs = Projection::ALL
-        .iter()
-        .zip(sizes)
-        .map(|(p, size)| (*p, picture::view_svg(*p, &c.plans.0, &c.plans.1, &regions, size, &mut stats)))
-        .collect();
-    (svgs, stats)
+    let views: Vec<(Projection, (f64, f64))> = Projection::ALL.into_iter().zip(sizes).collect();
+    picture::pictures(&c.plans.0, &c.plans.1, &regions, &views)
 }
 
 fn mark_pills(row: &ChangeRow) -> Markup {
@@ -161,7 +239,7 @@ pub(crate) fn sentences(c: &Comparison, ctx: Option<&Ctx>) -> Markup {
                     li id={"change-" (r.id)} data-kind=(r.change.kind.as_str()) {
                         a class="change" href={"#change-" (r.id)} data-change=(r.id)
                             data-line=[r.change.line] data-oline=[r.change.original_line] {
-                            (r.change.phrase())
+                            (source::visible(&r.change.phrase()))
                         }
                         @if let Some(l) = r.change.line { span class="muted" { " · line " (l) } }
                         @if let Some(d) = r.change.deviation { span class="muted" { " · deviation " (crate::diff::num(d)) " mm" } }
@@ -177,7 +255,7 @@ pub(crate) fn sentences(c: &Comparison, ctx: Option<&Ctx>) -> Markup {
 
 /// The pictures with their legend and layer switches.
 pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
-    let (svgs, _) = pictures(c);
+    let pics = pictures(c);
     html! {
         p class="legend" {
             span { i style="background:#1f6fd1;height:5px;opacity:.45" {} "original (" (c.original.name) ", wide)" }
@@ -201,8 +279,14 @@ pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
                 span class="muted" { " · wheel to zoom, drag to pan, double-click to reset" }
             }
         }
+        @for r in pics.regions.iter().filter(|r| !r.exact()) {
+            p class="muted bounded" data-change=(r.id) {
+                "Change " (r.id) " has " (r.moves[0]) " moves in the original and " (r.moves[1]) " in the edited program: the first "
+                (picture::EXACT_MOVES) " of each are drawn exactly, the rest within a quarter pixel."
+            }
+        }
         div class="pictures" {
-            @for (p, svg) in &svgs {
+            @for (p, svg) in &pics.views {
                 figure { (PreEscaped(svg)) figcaption { (p.label()) } }
             }
         }
@@ -242,8 +326,8 @@ fn listing(
                     span class="no" { (i + 1) }
                     @for (t, r) in source::colour(lines[i]) {
                         @match t.class() {
-                            Some(c) => span class=(c) { (lines[i][r].to_owned()) },
-                            None => (lines[i][r].to_owned()),
+                            Some(c) => span class=(c) { (source::visible(&lines[i][r])) },
+                            None => (source::visible(&lines[i][r])),
                         }
                     }
                 }
@@ -265,11 +349,11 @@ pub(crate) fn sources(c: &Comparison, whole: usize) -> Markup {
     html! {
         div class="sources" {
             div {
-                h3 { "Original " span class="muted" { (c.original.path) } }
+                h3 { "Original " span class="muted" { (source::visible(&c.original.path)) } }
                 div class="src" id="src-o" { (listing("o", "e", &a, &al.original, &ho, whole)) }
             }
             div {
-                h3 { "Edited " span class="muted" { (c.edited.path) } }
+                h3 { "Edited " span class="muted" { (source::visible(&c.edited.path)) } }
                 div class="src" id="src-e" { (listing("e", "o", &b, &al.edited, &he, whole)) }
             }
         }
@@ -291,8 +375,8 @@ pub(crate) fn findings(title: &str, text: &str, findings: &[StoredFinding]) -> M
             @let line = lines.get(&((f.line.max(1) - 1) as usize)).copied().unwrap_or("");
             @let col = line.chars().take((f.col.max(1) - 1) as usize).count();
             pre class="finding" {
-                span class=(if f.severity == "error" { "bad" } else { "muted" }) { (f.severity) "[" (f.code) "]" } ": " (f.message) "\n"
-                (format!("{:>5} | ", f.line)) (line) "\n"
+                span class=(if f.severity == "error" { "bad" } else { "muted" }) { (f.severity) "[" (f.code) "]" } ": " (source::visible(&f.message)) "\n"
+                (format!("{:>5} | ", f.line)) (source::visible(line)) "\n"
                 "      | " (" ".repeat(col)) span class="caret" { "^" }
             }
         }
@@ -307,8 +391,249 @@ pub(crate) fn heading(c: &Comparison) -> Markup {
             "Machine " strong { (c.edited.machine.as_deref().unwrap_or("?")) } ", program " strong { (c.edited.name) }
             ", revision " (c.edited.id) " seen " (c.edited.seen_at)
             br;
-            "Compared with the CAM original " (c.original.path) " (revision " (c.original.id) "), paired by " (c.rule) "; "
+            "Compared with the CAM original " (source::visible(&c.original.path)) " (revision " (c.original.id) "), paired by " (c.rule) "; "
             (c.rows.len()) " changes."
         }
+    }
+}
+
+impl PlanSource for super::Server {
+    fn cached(&self, revision: i64) -> Option<Arc<ProcessPlan>> {
+        let cache = self.plans.lock().ok()?;
+        cache.kept.iter().find(|(id, _)| *id == revision).map(|(_, p)| p.clone())
+    }
+
+    fn keep(&self, revision: i64, plan: &Arc<ProcessPlan>) {
+        if let Ok(mut cache) = self.plans.lock() {
+            cache.kept.retain(|(id, _)| *id != revision);
+            cache.kept.insert(0, (revision, plan.clone()));
+            cache.kept.truncate(super::PLANS_KEPT);
+        }
+    }
+
+    fn reader(&self) -> Reader<'_> {
+        Reader { config: &self.config, registry: &self.registry }
+    }
+}
+
+/// The as-run program written for another control, as `ncplan translate --revision ID --to
+/// D` writes it (no machine's limits; units as the source's).
+pub(crate) struct Translated {
+    /// `{program}-r{revision}-{dialect}.{extension}`: letters, digits, `_`, `-` and `.` only.
+    pub(crate) filename: String,
+    /// The target dialect.
+    pub(crate) dialect: String,
+    /// The dialect the program was read in.
+    pub(crate) from: String,
+    /// The program text.
+    pub(crate) bytes: Vec<u8>,
+    /// What the writer says (cycles written as moves, what it could not write) and the
+    /// reading's errors and warnings, one line each.
+    pub(crate) notes: Vec<String>,
+    /// Whether any of them is an error.
+    pub(crate) errors: bool,
+}
+
+/// The dialects a program can be written in: those with output rules, by name.
+pub(crate) fn writable(registry: &crate::dialect::Registry) -> Vec<String> {
+    let mut names: Vec<String> =
+        registry.names().filter(|n| registry.get(n).is_some_and(|d| d.output.is_some())).map(str::to_owned).collect();
+    names.sort();
+    names
+}
+
+/// The dialect a revision was read in; told from its text where it was stored as `auto`.
+fn read_dialect(registry: &crate::dialect::Registry, stored: &str, bytes: &[u8], path: &str) -> String {
+    if stored != crate::config::AUTO_DIALECT && registry.get(stored).is_some() {
+        return stored.to_owned();
+    }
+    crate::pipeline::sniff(registry, bytes, std::path::Path::new(path)).dialect
+}
+
+/// The file name extension a dialect's programs have: its heaviest extension evidence, else `nc`.
+fn extension(d: &crate::dialect::Dialect) -> String {
+    d.recognise
+        .iter()
+        .filter(|e| !e.against)
+        .filter_map(|e| match &e.marker {
+            crate::dialect::sniff::Marker::Extension(x) => Some((e.weight, x)),
+            crate::dialect::sniff::Marker::Pattern(_) => None,
+        })
+        .fold(None::<(u32, &String)>, |best, (w, x)| if best.is_none_or(|b| w > b.0) { Some((w, x)) } else { best })
+        .map_or_else(|| "nc".to_owned(), |(_, x)| x.clone())
+}
+
+/// Letters, digits, `_` and `-`, at most 40: safe in a `Content-Disposition` header and as a file name.
+fn file_safe(s: &str) -> String {
+    let t: String = s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).take(40).collect();
+    if t.is_empty() { "program".into() } else { t }
+}
+
+/// Translates the as-run revision `revision` into `to` (by default the dialect of the CAM
+/// original it was compared with) through the post-processor.
+pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Option<&str>) -> Result<Translated> {
+    let registry = &s.registry;
+    let edited = store.revision(revision)?.ok_or_else(|| NotFound(format!("no revision {revision}")))?;
+    let bytes = store.content(revision)?.ok_or_else(|| NotFound(format!("revision {revision} has no stored program")))?;
+    let from = read_dialect(registry, &edited.dialect, &bytes, &edited.path);
+    let to = match to.filter(|t| !t.is_empty()) {
+        Some(t) => t.to_owned(),
+        None => match &edited.original {
+            Some((original_id, ..)) => {
+                let o = store.revision(*original_id)?.ok_or_else(|| NotFound(format!("no revision {original_id}")))?;
+                let ob = store.content(*original_id)?.unwrap_or_default();
+                read_dialect(registry, &o.dialect, &ob, &o.path)
+            }
+            None => from.clone(),
+        },
+    };
+    let target = registry
+        .get(&to)
+        .filter(|d| d.output.is_some())
+        .ok_or_else(|| NotFound(format!("ncplan cannot write programs in `{to}`; it writes {}", writable(registry).join(", "))))?;
+    let source_dialect = registry.get(&from).ok_or_else(|| NotFound(format!("no dialect `{from}`")))?;
+    let (source, mut diags) = crate::text::decode_owned(bytes);
+    let stem = std::path::Path::new(&edited.path).file_stem().map(|x| x.to_string_lossy().into_owned());
+    let name = crate::pipeline::program_name(&source.text).or(stem).unwrap_or_else(|| "PROGRAM".into());
+    let profile = &s.config.profile;
+    let states_surface = target.output.as_ref().is_some_and(crate::post::states_surface);
+    let hole_tops = if states_surface && crate::post::needs_hole_tops(&source.text, &source_dialect, profile) {
+        crate::post::hole_tops(&crate::pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, profile).plan)
+    } else {
+        Vec::new()
+    };
+    let opts = crate::post::Options {
+        hole_tops,
+        peck_clearance: (0.0, 0.0),
+        length_at_tool_change: (false, false),
+        number: crate::post::program_number(&name),
+        name: crate::post::program_identifier(&name),
+        units: crate::canon::Units::Mm,
+        follow_source_units: true,
+        limits: crate::post::Limits::default(),
+    };
+    let mut out = Vec::new();
+    diags.extend(crate::post::translate(&source.text, &source_dialect, &target, profile, opts, |chunk| out.extend_from_slice(chunk)));
+    let idx = crate::text::LineIndex::new(&source.text);
+    let notes = diags
+        .iter()
+        .filter(|x| x.severity != crate::diag::Severity::Note || x.code.as_str().starts_with("post::"))
+        .map(|x| crate::diag::render_short(&edited.path, &source.text, &idx, x))
+        .collect();
+    Ok(Translated {
+        filename: format!("{}-r{revision}-{}.{}", file_safe(&name), file_safe(&to), file_safe(&extension(&target))),
+        errors: diags.iter().any(|x| x.is_error()),
+        dialect: to,
+        from,
+        bytes: out,
+        notes,
+    })
+}
+
+/// The form on the comparison page: the as-run program, translated into a chosen dialect
+/// (the CAM original's by default), as a download or with its notes.
+pub(crate) fn translate_form(s: &super::Server, c: &Comparison) -> Markup {
+    let names = writable(&s.registry);
+    let default = if names.contains(&c.original.dialect) { c.original.dialect.clone() } else { String::new() };
+    let action = format!("/compare/{}/translate", c.edited.id);
+    html! {
+        form method="get" action=(action) class="translate" id="translate" {
+            "The as-run program (revision " (c.edited.id) "), written for "
+            select name="to" aria-label="target dialect" {
+                @if default.is_empty() { option value="" selected { "the CAM original's dialect" } }
+                @for n in &names {
+                    option value=(n) selected[*n == default] { (n) @if *n == default { " (the CAM original's)" } }
+                }
+            }
+            " "
+            button type="submit" data-translate="download" { "Download" }
+            " "
+            button type="submit" formaction={(action) "/notes"} data-translate="notes" { "Show the notes" }
+        }
+        p class="muted" {
+            "Read in its own dialect and written by the target's output rules, as "
+            code { "ncplan translate --revision " (c.edited.id) " --to DIALECT" } " writes it: macros, loops and subprograms come out unrolled."
+        }
+    }
+}
+
+/// The notes page of a translation, with its download link.
+pub(crate) fn translate_notes(t: &Translated, revision: i64) -> Markup {
+    html! {
+        h1 { "Translation of revision " (revision) " into " (t.dialect) }
+        p {
+            "Read as " (t.from) ", written as " (t.dialect) ": " (t.bytes.len()) " bytes. "
+            a href={"/compare/" (revision) "/translate?to=" (t.dialect)} download=(t.filename) id="download" { "Download " (t.filename) }
+            " · " a href={"/compare/" (revision)} { "back to the comparison" }
+        }
+        @if t.errors { p class="bad" { "The program has errors: the notes say what was not written." } }
+        @if t.notes.is_empty() {
+            p id="notes" { "No notes: everything was written as it was read." }
+        } @else {
+            h2 { "Notes (" (t.notes.len()) ")" }
+            pre id="notes" class="finding" { @for n in &t.notes { (n) "\n" } }
+        }
+    }
+}
+
+/// `GET /compare/{revision}/translate?to=D`: the translated program as an attachment.
+pub(super) async fn download(
+    State(s): State<Arc<super::Server>>,
+    headers: HeaderMap,
+    Path(revision): Path<i64>,
+    Query(q): Query<BTreeMap<String, String>>,
+) -> Response {
+    if super::auth::context(&s, &headers).is_none() {
+        return Redirect::to("/login").into_response();
+    }
+    let to = q.get("to").cloned();
+    let result = tokio::task::spawn_blocking(move || {
+        let store = s.store()?;
+        translate(&s, &store, revision, to.as_deref())
+    })
+    .await;
+    let mut response = match result {
+        Ok(Ok(t)) => {
+            let disposition = format!("attachment; filename=\"{}\"", t.filename);
+            let mut r = t.bytes.into_response();
+            let h = r.headers_mut();
+            h.insert(header::CONTENT_TYPE, HeaderValue::from_static("text/plain; charset=utf-8"));
+            if let Ok(v) = HeaderValue::from_str(&disposition) {
+                h.insert(header::CONTENT_DISPOSITION, v);
+            }
+            // How many notes the translation has; the notes page shows them.
+            h.insert("x-ncplan-notes", HeaderValue::from(t.notes.len()));
+            r
+        }
+        Ok(Err(e)) if e.downcast_ref::<NotFound>().is_some() => (StatusCode::NOT_FOUND, format!("{e:#}")).into_response(),
+        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("{e:#}")).into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("the translation failed: {e}")).into_response(),
+    };
+    response.headers_mut().insert("x-content-type-options", HeaderValue::from_static("nosniff"));
+    response
+}
+
+/// `GET /compare/{revision}/translate/notes?to=D`: what the translation says, and its download link.
+pub(super) async fn notes(
+    State(s): State<Arc<super::Server>>,
+    headers: HeaderMap,
+    Path(revision): Path<i64>,
+    Query(q): Query<BTreeMap<String, String>>,
+) -> Response {
+    let to = q.get("to").cloned();
+    super::page(s, headers, move |s, ctx, store| {
+        let t = translate(s, store, revision, to.as_deref())?;
+        Ok(super::pages::layout(Some(ctx), &format!("Translation of revision {revision}"), translate_notes(&t, revision)))
+    })
+    .await
+}
+
+/// A rendered page with every bidirectional control written out (`[U+202E]`): the templates
+/// hold none, so any is program text (a name, a path, a query's result), and it is shown,
+/// never obeyed.
+pub(super) fn shown(html: String) -> String {
+    match source::visible(&html) {
+        std::borrow::Cow::Borrowed(_) => html,
+        std::borrow::Cow::Owned(o) => o,
     }
 }

@@ -215,6 +215,8 @@ fn router(server: Arc<Server>) -> Router {
         .route("/machine/{name}", get(machine))
         .route("/program/{id}", get(program))
         .route("/compare/{revision}", get(compare))
+        .route("/compare/{revision}/translate", get(compare::download))
+        .route("/compare/{revision}/translate/notes", get(compare::notes))
         .route("/review/{change}", post(review))
         .route("/knowledge", get(knowledge_index))
         .route("/knowledge/{name}", get(knowledge))
@@ -244,7 +246,7 @@ where
     })
     .await;
     let mut response = match result {
-        Ok(Ok(markup)) => Html(markup.into_string()).into_response(),
+        Ok(Ok(markup)) => Html(compare::shown(markup.into_string())).into_response(),
         Ok(Err(e)) if e.downcast_ref::<NotFound>().is_some() => {
             (StatusCode::NOT_FOUND, Html(pages::message("Not found", &format!("{e:#}")).into_string())).into_response()
         }

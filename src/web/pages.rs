@@ -322,7 +322,7 @@ pub(super) fn program(s: &Server, ctx: &Ctx, store: &Store, id: i64) -> Result<M
 
 /// The comparison page.
 pub(super) fn comparison(s: &Server, ctx: &Ctx, store: &Store, revision: i64) -> Result<Markup> {
-    let c = compare::load(store, revision, &|st, id| s.plan(st, id))?;
+    let c = compare::load(store, revision, s)?;
     let program = store.program_of(revision)?;
     Ok(layout(
         Some(ctx),
@@ -335,6 +335,7 @@ pub(super) fn comparison(s: &Server, ctx: &Ctx, store: &Store, revision: i64) ->
             (compare::heading(&c))
             section class="card" { h2 { "Changes" } (compare::sentences(&c, Some(ctx))) }
             section class="card" { h2 { "Toolpaths" } (compare::picture_block(&c, true)) }
+            section class="card" { h2 { "Translate" } (compare::translate_form(s, &c)) }
             section class="card" { h2 { "Source" } (compare::sources(&c, 20_000)) }
             section class="card" {
                 h2 { "Findings" }

@@ -3,7 +3,6 @@
 //! as CSV.
 
 use std::collections::BTreeMap;
-use std::sync::Arc;
 
 use anyhow::Result;
 use maud::{DOCTYPE, PreEscaped, html};
@@ -37,17 +36,14 @@ fn rows(store: &Store, filter: &Filter) -> Result<Vec<ChangeRow>> {
 /// The HTML report: per revision with changes, its comparison (sentences by workingstep,
 /// toolpath pictures, the lines around each change in both sources, its findings).
 pub fn html(store: &Store, config: &Config, registry: &Registry, filter: &Filter, generated_at: &str) -> Result<String> {
-    let reader = crate::daemon::ingest::Reader { config, registry };
-    let plan = |st: &Store, id: i64| -> Result<Option<Arc<crate::plan::ProcessPlan>>> {
-        Ok(st.source(id)?.map(|src| reader.rebuild(src)).transpose()?.flatten().map(Arc::new))
-    };
+    let plans = compare::Uncached(crate::daemon::ingest::Reader { config, registry });
     let mut revisions: BTreeMap<i64, ()> = BTreeMap::new();
     for r in rows(store, filter)? {
         revisions.insert(r.revision_id, ());
     }
     let mut sections = Vec::new();
     for id in revisions.keys() {
-        sections.push(compare::load(store, *id, &plan)?);
+        sections.push(compare::load(store, *id, &plans)?);
     }
     let scope = match (&filter.machine, &filter.since) {
         (Some(m), Some(s)) => format!("machine {m}, since {s}"),
@@ -82,7 +78,7 @@ pub fn html(store: &Store, config: &Config, registry: &Registry, filter: &Filter
             }
         }
     };
-    Ok(page.into_string())
+    Ok(compare::shown(page.into_string()))
 }
 
 /// A CSV field, quoted where it must be.

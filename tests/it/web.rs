@@ -41,18 +41,28 @@ struct Site {
 }
 
 /// The long program: a face milling and a contour at `contour_feed`, 160 lines of
-/// moves between them, and comments that try to inject script (they must stay text).
+/// moves between them; the hostile one (the edit) has one pass shortened, and comments that
+/// try to inject script or reorder text (they must stay text).
 fn long_program(contour_feed: u32, hostile: bool) -> String {
     let mut s = String::from("%\nO4321 (POCKET PLATE)\n");
     if hostile {
         s.push_str("(<script>window.pwned=1</script>)\n(\" onload=\"window.pwned=2)\n(<img src=x onerror=window.pwned=3>)\n");
+        // The end of a CDATA section, and bidirectional controls that would reorder the text.
+        s.push_str("(]]> <![CDATA[ <b>X</b> ]]>)\n(\u{202E}DESREVER\u{202C} \u{2066}ISOLATED\u{2069})\n");
     } else {
-        s.push_str("(POSTED BY CAM)\n(CHECK STOCK)\n(OPERATOR NOTES)\n");
+        s.push_str("(POSTED BY CAM)\n(CHECK STOCK)\n(OPERATOR NOTES)\n(FIXTURE A)\n(SETUP 2)\n");
     }
     s.push_str("G21 G90 G17 G54\n(T1 D=18 ENDMILL)\nT1 M6\nS2000 M3\nG0 X-10. Y0. Z5.\nG43 H1 Z5.\nG1 Z-1. F600.\n");
     for i in 0..40 {
         let y = f64::from(i) * 2.0;
-        let x = if i % 2 == 0 { 110.0 } else { -10.0 };
+        // The operator shortened one pass of the face milling (a toolpath change).
+        let x = if i % 2 == 1 {
+            -10.0
+        } else if hostile && i == 20 {
+            95.0
+        } else {
+            110.0
+        };
         s.push_str(&format!("X{x:.1}\nY{:.1}\n", y + 2.0));
     }
     s.push_str("G0 Z50.\n");
@@ -63,6 +73,14 @@ fn long_program(contour_feed: u32, hostile: bool) -> String {
         "(T2 D=10 ENDMILL)\nT2 M6\nS3500 M3\nG0 X20. Y20. Z5.\nG43 H2 Z5.\nG1 Z-5. F{contour_feed}.\nX80.\nY60.\nX20.\nY20.\nG0 Z50.\nM30\n%\n"
     ));
     s
+}
+
+/// A file name that tries markup, a quote and a right-to-left override (shown as text).
+const HOSTILE_NAME: &str = "P\"<b>7<i>\u{202E}lmth.nc";
+
+/// A short program, O7777, with a cut at `feed`.
+fn small_program(feed: u32) -> String {
+    format!("%\nO7777\nG21 G90 G17 G54\nT1 M6\nS1000 M3\nG0 X0. Y0. Z5.\nG1 Z-1. F{feed}.\nX50.\nG0 Z5.\nM30\n%\n")
 }
 
 impl Site {
@@ -106,6 +124,7 @@ impl Site {
         let root = crate::root();
         std::fs::copy(root.join("demo/cam/O1234.nc"), self.path("cam/O1234.nc")).unwrap();
         std::fs::write(self.path("cam/O4321.nc"), long_program(400, false)).unwrap();
+        std::fs::write(self.path(&format!("cam/{HOSTILE_NAME}")), small_program(500)).unwrap();
         let log = std::fs::File::create(self.path("daemon.log")).unwrap();
         let daemon = Proc(
             Command::new(crate::bin())
@@ -116,11 +135,12 @@ impl Site {
                 .spawn()
                 .expect("start ncplan watch"),
         );
-        assert_eq!(self.wait_rows("SELECT id FROM revisions", 2).len(), 2, "the originals were not stored");
+        assert_eq!(self.wait_rows("SELECT id FROM revisions", 3).len(), 3, "the originals were not stored");
         std::fs::copy(root.join("demo/examples/O1234_edited.nc"), self.path("share/O1234.nc")).unwrap();
         std::fs::write(self.path("share/O4321.nc"), long_program(300, true)).unwrap();
-        let compared = self.wait_rows("SELECT revision_id FROM comparisons", 2);
-        assert_eq!(compared.len(), 2, "the edits were not compared: {}", std::fs::read_to_string(self.path("daemon.log")).unwrap());
+        std::fs::write(self.path(&format!("share/{HOSTILE_NAME}")), small_program(450)).unwrap();
+        let compared = self.wait_rows("SELECT revision_id FROM comparisons", 3);
+        assert_eq!(compared.len(), 3, "the edits were not compared: {}", std::fs::read_to_string(self.path("daemon.log")).unwrap());
         drop(daemon);
     }
 }
@@ -211,6 +231,49 @@ fn sign_in_csrf_and_reports_without_a_browser() {
     assert!(page.contains("&lt;script&gt;window.pwned=1&lt;/script&gt;"), "the comment is not shown as text");
     assert!(!page.contains("<script>window") && !page.contains("<img src=x"), "program text reached the page as markup");
     assert_eq!(page.matches("<script").count(), 1, "only the app's script");
+    assert!(page.contains("(]]&gt; &lt;![CDATA[ &lt;b&gt;X&lt;/b&gt; ]]&gt;)"), "the CDATA comment is not shown as text");
+    assert!(page.contains("([U+202E]DESREVER[U+202C] [U+2066]ISOLATED[U+2069])"), "the bidirectional controls are not shown");
+    assert!(!page.contains('\u{202E}') && !page.contains('\u{2066}'), "a bidirectional control reached the page");
+    // Every page, with the hostile program stored: markup from program text never appears.
+    let program = crate::db_rows(&site.db(), &format!("SELECT program_id FROM revisions WHERE id = {revision}"))[0][0].clone();
+    let mut paths: Vec<String> = [
+        "/",
+        "/machine/DMU50",
+        "/search?program=O4321",
+        "/search?to_review=1",
+        "/knowledge",
+        "/knowledge/feeds",
+        "/knowledge/tools?sql",
+        "/knowledge/start-points",
+        "/knowledge/depths",
+    ]
+    .iter()
+    .map(|p| (*p).to_owned())
+    .collect();
+    paths.push(format!("/program/{program}"));
+    paths.push(format!("/compare/{revision}"));
+    paths.push(format!("/compare/{revision}/translate/notes?to=siemens"));
+    paths.push("/sql?q=SELECT%20%27%3Cscript%3Ewindow.pwned%3D4%3C%2Fscript%3E%27%20AS%20x".to_owned());
+    let named = crate::db_rows(&site.db(), "SELECT revision_id FROM shopfloor_changes WHERE program = 'O7777' LIMIT 1")[0][0].clone();
+    let named_program = crate::db_rows(&site.db(), &format!("SELECT program_id FROM revisions WHERE id = {named}"))[0][0].clone();
+    paths.push(format!("/compare/{named}"));
+    paths.push(format!("/program/{named_program}"));
+    paths.push("/sql?q=SELECT%20path%20FROM%20revisions".to_owned());
+    for path in &paths {
+        let (head, page) = http(&base, &format!("GET {path} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+        assert!(head.starts_with("HTTP/1.1 200"), "{path}: {head}");
+        for markup in ["<script>window", "<img src=x", "onload=\"window", "<![CDATA[", "<b>X"] {
+            assert!(!page.contains(markup), "{path}: program text reached the page as markup ({markup})");
+        }
+        assert_eq!(page.matches("<script").count(), 1, "{path}: only the app's script");
+        assert!(!page.contains('\u{202E}') && !page.contains('\u{2066}'), "{path}: a bidirectional control reached the page");
+        assert!(!page.contains("<b>7"), "{path}: the file name reached the page as markup");
+    }
+    let (_, page) = http(&base, &format!("GET /compare/{named} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    assert!(
+        page.contains("P&quot;&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc") || page.contains("P\"&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc"),
+        "the file name is not shown as text"
+    );
     // The CSV report: a header and one row per change, commas quoted.
     let csv = Command::new(crate::bin())
         .args(["report", "--format", "csv", "--machine", "DMU50", "--config"])
@@ -257,6 +320,62 @@ fn sign_in_csrf_and_reports_without_a_browser() {
     let token = cookie.split(';').next().unwrap();
     let (head, page) = http(&base, &format!("GET / HTTP/1.1\r\nHost: {{host}}\r\nCookie: {token}\r\nConnection: close\r\n\r\n"));
     assert!(head.starts_with("HTTP/1.1 200") && page.contains("Sign out") && page.contains("ada"), "{head}");
+}
+
+/// The header `name` of a response head (lower-case name), if present.
+fn header<'a>(head: &'a str, name: &str) -> Option<&'a str> {
+    head.lines().find_map(|l| l.split_once(':').filter(|(k, _)| k.trim().eq_ignore_ascii_case(name)).map(|(_, v)| v.trim()))
+}
+
+#[test]
+fn the_translate_download_reads_back_in_its_dialect() {
+    let site = Site::new();
+    site.build();
+    let (_serve, base) = serve(&site, &[]);
+    let revision = crate::db_rows(&site.db(), "SELECT revision_id FROM shopfloor_changes WHERE program = 'O1234' LIMIT 1")[0][0].clone();
+    // The comparison page offers it, the CAM original's dialect chosen.
+    let (_, page) = http(&base, &format!("GET /compare/{revision} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    assert!(page.contains(&format!("action=\"/compare/{revision}/translate\"")), "no translate form");
+    assert!(
+        page.contains("<option value=\"fanuc\" selected>fanuc (the CAM original's)</option>"),
+        "the original's dialect is not the default"
+    );
+    let get = |query: &str| {
+        http(&base, &format!("GET /compare/{revision}/translate{query} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"))
+    };
+    for (query, dialect, ext) in [("", "fanuc", "nc"), ("?to=siemens", "siemens", "mpf"), ("?to=heidenhain", "heidenhain", "h")] {
+        let (head, body) = get(query);
+        assert!(head.starts_with("HTTP/1.1 200"), "{query}: {head}");
+        let filename = format!("O1234-r{revision}-{dialect}.{ext}");
+        assert_eq!(header(&head, "content-disposition"), Some(format!("attachment; filename=\"{filename}\"").as_str()), "{head}");
+        assert_eq!(header(&head, "x-content-type-options"), Some("nosniff"));
+        // Deterministic: the same bytes again, and the same as `ncplan translate` writes.
+        assert!(body.lines().count() > 10, "{query}: {body}");
+        assert_eq!(get(query).1, body, "{query}: a second download differs");
+        let cli = Command::new(crate::bin())
+            .args(["translate", "--revision", &revision, "--to", dialect, "--config"])
+            .arg(site.path("ncplan.toml"))
+            .output()
+            .unwrap();
+        assert!(cli.status.success(), "{}", String::from_utf8_lossy(&cli.stderr));
+        assert_eq!(body.as_bytes(), cli.stdout.as_slice(), "{dialect}: the download is not what ncplan translate writes");
+        // It reads back in the target dialect without errors.
+        let file = site.path(&filename);
+        std::fs::write(&file, &body).unwrap();
+        let check = Command::new(crate::bin()).arg("check").arg(&file).args(["--dialect", dialect]).output().unwrap();
+        assert!(check.status.success(), "{dialect}: {}\n{body}", String::from_utf8_lossy(&check.stdout));
+        assert!(!String::from_utf8_lossy(&check.stdout).contains("error["), "{dialect}: {}", String::from_utf8_lossy(&check.stdout));
+    }
+    // The notes page says what was written and links the download.
+    let (head, notes) =
+        http(&base, &format!("GET /compare/{revision}/translate/notes?to=siemens HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
+    assert!(head.starts_with("HTTP/1.1 200"), "{head}");
+    assert!(notes.contains("Read as fanuc, written as siemens") && notes.contains(&format!("O1234-r{revision}-siemens.mpf")), "{notes}");
+    // An unknown dialect, or one without output rules, is a 404 that names those it can write.
+    for to in ["nonesuch", "cldata"] {
+        let (head, body) = get(&format!("?to={to}"));
+        assert!(head.starts_with("HTTP/1.1 404") && body.contains("it writes") && body.contains("siemens"), "{to}: {head}\n{body}");
+    }
 }
 
 #[test]
@@ -468,14 +587,60 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
     }
     shot(c, "comparison-scrolled").await?;
 
+    // The shortened pass is a toolpath change: boxed in every view, its moves drawn exactly.
+    let tp = c.find(Locator::Css("li[data-kind=toolpath_changed] a.change")).await?;
+    let change = tp.attr("data-change").await?.unwrap();
+    let count = |sel: String| async move { js(c, &format!("return document.querySelectorAll('{sel}').length")).await.as_u64().unwrap() };
+    for view in ["top", "front", "side"] {
+        assert_eq!(count(format!("svg[data-view={view}] rect#region-{view}-{change}")).await, 1, "{view}: the change's box");
+        assert!(count(format!("svg[data-view={view}] path.e.chg")).await > 0, "{view}: the edited changed moves");
+        assert!(count(format!("svg[data-view={view}] path.o.chg")).await > 0, "{view}: the original's changed moves");
+        assert_eq!(count(format!("svg[data-view={view}] text.note")).await, 0, "{view}: every changed move is exact");
+    }
+    // The region is X-10…110 Y40…42; the edited pass ends at X95 (Y40, then Y42), the
+    // original's at X110: each of those points is in its changed path, to a tenth of a pixel.
+    let drawn = |side: &str, x: f64, y: f64| {
+        format!(
+            "var r = document.getElementById('region-top-{change}');
+             var x0 = r.x.baseVal.value + 3, y0 = r.y.baseVal.value + 3, s = (r.width.baseVal.value - 6) / 120;
+             var want = [x0 + ({x} + 10) * s, y0 + (42 - {y}) * s];
+             var n = document.querySelector('svg[data-view=top] path.{side}.chg').getAttribute('d').replace(/[MLh]/g, ' ').trim().split(/\\s+/).map(Number);
+             for (var i = 0; i + 1 < n.length; i += 2) {{ if (Math.abs(n[i] - want[0]) < 0.2 && Math.abs(n[i + 1] - want[1]) < 0.2) return true; }}
+             return [want, n.slice(0, 40)];"
+        )
+    };
+    for (side, x, y) in [("e", 95.0, 40.0), ("e", 95.0, 42.0), ("o", 110.0, 40.0), ("o", 110.0, 42.0)] {
+        assert_eq!(js(c, &drawn(side, x, y)).await, json!(true), "{side}: X{x} Y{y} is not in the changed path");
+    }
+    tp.click().await?;
+    assert_eq!(
+        js(c, &format!("return document.querySelectorAll('svg rect.region.active[data-change=\"{change}\"]').length")).await,
+        json!(3)
+    );
+    shot(c, "comparison-toolpath-change").await?;
+
+    // The translate form: the CAM original's dialect by default; its notes page links the download.
+    assert_eq!(js(c, "return document.querySelector('#translate select').value").await, json!("fanuc"));
+    c.find(Locator::Css("#translate button[data-translate=notes]")).await?.click().await?;
+    let h1 = wait_text(c, "h1", "Translation of revision").await;
+    assert!(h1.starts_with(&format!("Translation of revision {long_rev} into fanuc")), "{h1}");
+    let href = c.find(Locator::Css("#download")).await?.attr("href").await?.unwrap();
+    assert_eq!(href, format!("/compare/{long_rev}/translate?to=fanuc"));
+    assert_eq!(js(c, "return window.pwned === undefined").await, json!(true), "script in a comment ran");
+    shot(c, "translate-notes").await?;
+
     // The HTML report: self-contained (no links to fetch), opened from a file.
     let html = std::fs::read_to_string(report).unwrap();
     assert!(!html.contains("<link") && !html.contains("<script") && !html.contains("src=\"http") && !html.contains("href=\"http"));
     assert!(html.contains("<style>") && html.contains("<svg"));
     assert!(html.contains("tool T1 renamed T8") && html.contains("&lt;script&gt;window.pwned=1"));
+    assert!(
+        !html.contains('\u{202E}') && html.contains("[U+202E]DESREVER") && html.contains("]]&gt; &lt;![CDATA["),
+        "hostile text in the report"
+    );
     c.goto(&format!("file://{}", report.display())).await?;
     assert!(text_of(c, "h1").await.contains("Shopfloor changes"));
-    assert_eq!(js(c, "return document.querySelectorAll('svg.toolpath').length").await, json!(6));
+    assert_eq!(js(c, "return document.querySelectorAll('svg.toolpath').length").await, json!(9), "three revisions, three views each");
     shot(c, "report").await?;
     Ok(())
 }
