@@ -521,3 +521,24 @@ fn heidenhain_cycle_call_at_a_position_drills_from_its_own_surface() {
         assert!(m.get(i + 1).is_some_and(|l| l.starts_with(w)), "move {}: want {w}\n{m:#?}", i + 1);
     }
 }
+
+/// What Fanuc-family CAM posts write around operations: AI contour control, high-precision
+/// contour control, look-ahead, tool centre point control, the tilted working plane. None is
+/// an unknown code; the tilted plane (which the analysis does not apply) is a warning, TCP
+/// applies the length offset. Fagor's G05/G08 are not these.
+#[test]
+fn fanuc_high_speed_and_five_axis_codes_of_cam_posts() {
+    let program = "%\nO1 (P)\nG21 G17 G90\nG05.1 Q1 R5\nG5 P10000\nG08 P1\nT1 M6\nS8000 M3\nG0 X0 Y0\nG43.4 H1 Z25.\n\
+        G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG1 Z-1. F500\nX10.\nG69\nG49\nG05.1 Q0\nG5 P0\nG8 P0\nM30\n%\n";
+    for dialect in ["fanuc", "haas", "mitsubishi", "mazak"] {
+        let (_, diags) = run(dialect, program);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        let warnings: Vec<&str> = diags.iter().filter(|d| d.severity == Severity::Warning).map(|d| d.message.as_str()).collect();
+        assert_eq!(warnings.len(), 1, "{dialect}: {warnings:?}");
+        assert!(warnings[0].contains("G68.2 (tilted working plane)"), "{warnings:?}");
+        let m = moves(dialect, program);
+        assert!(m.iter().any(|l| l.starts_with("STRAIGHT_FEED(10.0000, 0.0000, -1.0000")), "{dialect}: {m:?}");
+    }
+    let (_, diags) = run("fagor", "G90 G17\nG08 X10 Y10\nM30\n");
+    assert!(diags.iter().any(|d| d.code.as_str() == "syntax::unknown-code" && d.message.contains("G08")), "{diags:?}");
+}
