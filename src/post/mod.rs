@@ -206,7 +206,14 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     line_buf: String,
     /// Modal values of the block being rendered, written once the block is.
     staged: [Option<String>; 8],
+    /// The largest rounding of a written position (target units), and where it first
+    /// passed [`ROUNDED_NOTE`].
+    rounded: f64,
+    rounded_at: Option<crate::text::TextRange>,
 }
+
+/// A position rounded by more than this (mm) is said in a note: the diff's tolerance.
+const ROUNDED_NOTE: f64 = crate::diff::TOLERANCE;
 
 fn modal_slot(v: Value) -> Option<usize> {
     match v {
@@ -334,6 +341,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             word_buf: String::new(),
             line_buf: String::new(),
             staged: Default::default(),
+            rounded: 0.0,
+            rounded_at: None,
         }
     }
 
@@ -488,7 +497,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     let f = &self.out.formats[*fi];
                     self.word_buf.clear();
                     let mut wb = std::mem::take(&mut self.word_buf);
-                    format_number(&mut wb, f, x, self.opts.units == Units::Inch);
+                    let inch = self.opts.units == Units::Inch;
+                    format_number(&mut wb, f, x, inch);
+                    if matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
+                        self.rounding(f, x, inch);
+                    }
                     if let Some(slot) = modal_slot(*value) {
                         if f.modal && !force && self.written[slot].as_deref() == Some(wb.as_str()) {
                             self.word_buf = wb;
@@ -509,6 +522,25 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             }
         }
         !any_var || any_out
+    }
+
+    /// Keeps the largest rounding of a written position.
+    fn rounding(&mut self, f: &NumberFormat, x: f64, inch: bool) {
+        let decimals = if f.point == Point::Never && !f.increment {
+            0
+        } else if inch {
+            f.inch_decimals
+        } else {
+            f.decimals
+        };
+        let scale = 10f64.powi(i32::from(decimals));
+        let err = ((x * scale).round() / scale - x).abs();
+        if err > self.rounded {
+            self.rounded = err;
+            if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                self.rounded_at = Some(self.origin);
+            }
+        }
     }
 
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
@@ -925,6 +957,17 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if !self.buf.is_empty() {
             (self.sink)(&self.buf);
             self.buf.clear();
+        }
+        if let Some(at) = self.rounded_at {
+            let mm = self.rounded * self.opts.units.to_mm();
+            self.diags.push(Diagnostic::new(
+                Code::PostRounded,
+                at,
+                format!(
+                    "the program states positions finer than the target writes them: they are rounded to its resolution, up to {} mm off",
+                    format!("{:.5}", (mm * 1e5).ceil() / 1e5).trim_end_matches('0')
+                ),
+            ));
         }
         self.diags
     }

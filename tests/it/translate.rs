@@ -246,6 +246,13 @@ fn kind(k: u8) -> &'static str {
 /// The first way plan `b` differs from `a`, if any (the diff's tool renames of named tools,
 /// the documented convention, aside).
 fn plan_difference(a: &ProcessPlan, b: &ProcessPlan) -> Option<String> {
+    plan_difference_within(a, b, TOL, false)
+}
+
+/// [`plan_difference`] with positions compared within `tol`; with `rounded`, the diff's
+/// position changes (toolpath within `tol`, start point, depth) are taken as the rounding
+/// the toolpath comparison already bounded.
+fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: bool) -> Option<String> {
     if a.workingsteps.len() != b.workingsteps.len() {
         return Some(format!("{} workingsteps became {}", a.workingsteps.len(), b.workingsteps.len()));
     }
@@ -273,7 +280,7 @@ fn plan_difference(a: &ProcessPlan, b: &ProcessPlan) -> Option<String> {
         return Some(format!("{} features became {}", a.features.len(), b.features.len()));
     }
     for (f, g) in a.features.iter().zip(&b.features) {
-        if f.kind.label() != g.kind.label() || !near(f.placement, g.placement, 2.0 * TOL) || (f.depth - g.depth).abs() > 2.0 * TOL {
+        if f.kind.label() != g.kind.label() || !near(f.placement, g.placement, 2.0 * tol) || (f.depth - g.depth).abs() > 2.0 * tol {
             return Some(format!(
                 "feature {}: {} at {} depth {} became {} at {} depth {}",
                 f.id,
@@ -288,7 +295,15 @@ fn plan_difference(a: &ProcessPlan, b: &ProcessPlan) -> Option<String> {
     }
     let named = a.tools.iter().chain(&b.tools).any(|t| t.name.is_some());
     let changes = ncplan::diff::diff(a, b);
-    changes.iter().find(|c| !(c.kind == ChangeKind::ToolRenamed && named)).map(|c| format!("diff: {}", c.phrase()))
+    let by_rounding = |c: &ncplan::diff::Change| {
+        rounded
+            && match c.kind {
+                ChangeKind::ToolpathChanged => c.deviation.is_some_and(|d| d <= 2.0 * tol),
+                ChangeKind::StartPointMoved | ChangeKind::DepthChanged => true,
+                _ => false,
+            }
+    };
+    changes.iter().find(|c| !(c.kind == ChangeKind::ToolRenamed && named) && !by_rounding(c)).map(|c| format!("diff: {}", c.phrase()))
 }
 
 /// A source program read once: its canon moves and plan.
@@ -325,13 +340,40 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
     }
     // The LinuxCNC output has four decimals: the oracle's 1e-4 holds against the source.
     let tol = if to == "linuxcnc" { 1.0001e-4 } else { TOL };
-    if let Some(d) = toolpath_difference(&src.moves, &moves(&back.canon), tol) {
-        return (text, format!("toolpath: {d}"));
+    let back_moves = moves(&back.canon);
+    let verdict = if let Some(d) = toolpath_difference(&src.moves, &back_moves, tol) {
+        format!("toolpath: {d}")
+    } else if let Some(d) = plan_difference(&src.plan, &back.plan) {
+        format!("plan: {d}")
+    } else {
+        return (text, "equal".into());
+    };
+    // A difference the translation said: positions rounded to the target's resolution.
+    if let Some(r) = diags.iter().find(|d| d.code == ncplan::diag::Code::PostRounded) {
+        let tol = resolution(&target, &back.canon).max(tol);
+        if toolpath_difference(&src.moves, &back_moves, tol).is_none() && plan_difference_within(&src.plan, &back.plan, tol, true).is_none()
+        {
+            return (text, format!("rounded: {}: {verdict}", r.code.as_str()));
+        }
     }
-    if let Some(d) = plan_difference(&src.plan, &back.plan) {
-        return (text, format!("plan: {d}"));
+    // The same toolpath, stated otherwise: a cycle written as its moves, a loop unrolled; the
+    // plan read from the moves is not the one read from the cycle or loop.
+    if verdict.starts_with("plan:") {
+        let said = [ncplan::diag::Code::PostCycleAsMoves, ncplan::diag::Code::PostUnrolled];
+        if let Some(r) = diags.iter().find(|d| said.contains(&d.code)) {
+            return (text, format!("restated: {}: {verdict}", r.code.as_str()));
+        }
     }
-    (text, "equal".into())
+    (text, verdict)
+}
+
+/// How far (mm) a position the target writes may be from the one it was given: half its
+/// X format's last digit, in the units the translation is written in.
+fn resolution(target: &Dialect, canon: &[Canon]) -> f64 {
+    let inch = canon.iter().find_map(|c| if let CanonOp::UseLengthUnits(u) = c.op { Some(u) } else { None }) == Some(Units::Inch);
+    let Some(f) = target.output.as_ref().and_then(|o| o.formats.iter().find(|f| f.name == "X")) else { return TOL };
+    let d = if inch { f.inch_decimals } else { f.decimals };
+    0.5 * 10f64.powi(-i32::from(d)) * if inch { 25.4 } else { 1.0 } * (1.0 + 1e-6) + 1e-9
 }
 
 fn equivalence(name: &str) -> Vec<u8> {
