@@ -129,6 +129,14 @@ pub enum Value {
     Retract,
     /// Cycle: how far above the last peck the tool comes back down at rapid.
     PeckClearance,
+    /// Thread or rigid tap: the advance per spindle revolution.
+    Pitch,
+    /// Constant surface speed: the highest spindle speed (absent when none was set).
+    SpindleMax,
+    /// Spindle orientation: the angle, degrees.
+    Angle,
+    /// Spindle orientation: 0 the shorter way, 1 clockwise, 2 counterclockwise.
+    OrientDir,
 }
 
 const VALUES: &[(&str, Value)] = &[
@@ -171,6 +179,10 @@ const VALUES: &[(&str, Value)] = &[
     ("dwell", Value::CycleDwell),
     ("retract", Value::Retract),
     ("peck-clearance", Value::PeckClearance),
+    ("pitch", Value::Pitch),
+    ("smax", Value::SpindleMax),
+    ("angle", Value::Angle),
+    ("orient-dir", Value::OrientDir),
 ];
 
 impl Value {
@@ -276,6 +288,20 @@ pub const EVENTS: &[&str] = &[
     "units-mm",
     "units-inch",
     "work-offset",
+    "work-offset-1",
+    "work-offset-2",
+    "work-offset-3",
+    "work-offset-4",
+    "work-offset-5",
+    "work-offset-6",
+    "work-offset-7",
+    "work-offset-8",
+    "work-offset-9",
+    "thread",
+    "rigid-tap",
+    "css-on",
+    "css-off",
+    "spindle-orient",
     "feed-per-minute",
     "feed-per-rev",
     "comment",

@@ -45,9 +45,12 @@ pub struct Options {
 /// Whether the output rules write a cycle's workpiece surface (Siemens RFP, Heidenhain
 /// Q203), which a G8x source does not state.
 pub fn states_surface(out: &Output) -> bool {
-    out.cycles
-        .iter()
-        .any(|c| [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v)))
+    out.cycles.iter().any(states_surface_cycle)
+}
+
+/// Whether one output cycle writes the workpiece surface.
+fn states_surface_cycle(c: &CycleOut) -> bool {
+    [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v))
 }
 
 /// Whether the program has canned cycles that state no workpiece surface (G81's R level
@@ -135,7 +138,7 @@ pub fn translate(
 }
 
 const FLUSH_AT: usize = 64 * 1024;
-const NVALUES: usize = 40;
+const NVALUES: usize = 44;
 const EPS: f64 = 1e-9;
 
 /// Values for one event's template: numbers (NaN when absent) and texts.
@@ -210,6 +213,11 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// passed [`ROUNDED_NOTE`].
     rounded: f64,
     rounded_at: Option<crate::text::TextRange>,
+    /// The advance per spindle revolution of the moves in a spindle-synchronised run (target
+    /// units).
+    sync: Option<f64>,
+    /// Whether constant surface speed is in force.
+    css: bool,
 }
 
 /// A position rounded by more than this (mm) is said in a note: the diff's tolerance.
@@ -343,6 +351,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             staged: Default::default(),
             rounded: 0.0,
             rounded_at: None,
+            sync: None,
+            css: false,
         }
     }
 
@@ -546,6 +556,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
     /// (with its modal values unwritten), and its G code is left out when unchanged.
     fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
+        // The header (and the modal state it starts from) before the first block's words.
+        self.start();
         let mut s = String::new();
         for b in &t.0 {
             let mut line = std::mem::take(&mut self.line_buf);
@@ -748,6 +760,24 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.cancel_cycle();
         let mut vals = Vals::new();
         vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]);
+        // A feed synchronised with the spindle: the target's thread move, else said.
+        let event = match self.sync {
+            Some(pitch) if !rapid => {
+                vals.set(Value::Pitch, pitch);
+                if self.out.template("thread").is_none() {
+                    self.note(
+                        Code::PostUnwritable,
+                        canon,
+                        "thread",
+                        "a thread (G33: a feed synchronised with the spindle) is not written: the target's output rules have no `thread` template",
+                    );
+                    self.moved(q);
+                    return;
+                }
+                "thread"
+            }
+            _ => event,
+        };
         // Rotary axes in degrees, not scaled.
         vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
         if !rapid {
@@ -916,14 +946,41 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             .find(|h| (h[0] - intent.x * src_mm).abs() < 1e-3 && (h[1] - intent.y * src_mm).abs() < 1e-3)
             .map(|h| h[2] / self.opts.units.to_mm() + zoff);
         let surface = intent.surface.map(|v| v * s + zoff).or(found).filter(|v| *v <= r + 1e-9).unwrap_or(r);
+        // The level the pecks count from: the surface for a cycle that states it (Siemens,
+        // Heidenhain), the R level for a G8x cycle. A peck cycle counted from another level
+        // than the source's drills other depths: written as its moves.
+        let pecking = matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking);
+        let src_from = intent.surface.map_or(r, |v| v * s + zoff);
+        let dst_from = if states_surface_cycle(m) { surface } else { r };
+        if pecking && intent.peck.is_some_and(|p| p * s < src_from - bottom - 1e-9) && (src_from - dst_from).abs() > 1e-6 {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                "peck-level",
+                format!(
+                    "the target's {} cycle counts its pecks from {}, the source's from {}: written as the moves it makes",
+                    intent.kind.label(),
+                    if states_surface_cycle(m) { "the workpiece surface" } else { "the R level" },
+                    if intent.surface.is_some() { "the workpiece surface" } else { "the R level" },
+                ),
+            );
+            return;
+        }
         let peck = intent.peck.map_or(surface - bottom, |p| p * s);
         let dwell = intent.dwell.unwrap_or(0.0);
-        let params = [bottom, r, clear, surface, peck, dwell, self.feed];
+        // A rigid tap (G33.1) feeds its pitch per revolution: a tapping cycle states it as
+        // the feed per minute, pitch × speed.
+        let feed = match self.sync {
+            Some(p) if self.feed_mode == FeedMode::PerMinute && self.speed > 0.0 => p * self.speed,
+            _ => self.feed,
+        };
+        let params = [bottom, r, clear, surface, peck, dwell, feed];
         let mut vals = Vals::new();
         vals.set(Value::X, x).set(Value::Y, y).set(Value::Bottom, bottom).set(Value::RPlane, r).set(Value::Clear, clear);
         vals.set(Value::Surface, surface).set(Value::Sdis, r - surface).set(Value::Depth, bottom - surface);
         vals.set(Value::ClearDist, clear - surface).set(Value::Peck, peck).set(Value::CycleDwell, dwell);
-        vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, self.feed);
+        vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, feed);
         vals.set(Value::Seconds, dwell).set(Value::Millis, dwell * 1000.0).set(Value::PeckClearance, src_clear / self.opts.units.to_mm());
         let same =
             self.active.as_ref().is_some_and(|a| a.index == index && a.params.iter().zip(&params).all(|(p, q)| (p - q).abs() < 1e-9));
@@ -1073,8 +1130,24 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     self.wcs = Some(*i);
                     let mut vals = Vals::new();
                     vals.set(Value::Wcs, f64::from(*i)).set(Value::WcsCode, 53.0 + f64::from(*i));
-                    if !self.event("work-offset", &mut vals) && *i != 1 {
-                        self.note(Code::PostUnwritable, &canon, "work-offset", "the target's output rules have no `work-offset` template");
+                    // A work offset of its own (`work-offset-7`: G59.1, G507) before the
+                    // general rule, which states G54…G59 only; an empty one says the target
+                    // has no code for it.
+                    let own = format!("work-offset-{i}");
+                    let out = self.out;
+                    let wrote = match out.template(&own) {
+                        Some((t, _)) if t.0.is_empty() => false,
+                        Some(_) => self.event(&own, &mut vals),
+                        None if *i > 6 && out.template("work-offset").is_some_and(|(t, _)| t.uses(Value::WcsCode)) => false,
+                        None => self.event("work-offset", &mut vals),
+                    };
+                    if !wrote && *i != 1 {
+                        self.note(
+                            Code::PostUnwritable,
+                            &canon,
+                            &own,
+                            format!("the target's output rules have no code for work offset {i} (`{own}`, `work-offset`)"),
+                        );
                     }
                 }
             }
@@ -1234,7 +1307,102 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     }
                 }
             }
-            CanonOp::SetSpindleMode(None) => {}
+            CanonOp::StartSpeedFeedSync(p) => self.sync = Some(self.to_out(*p)),
+            CanonOp::StopSpeedFeedSync => {
+                self.sync = None;
+                // The thread's lead may have been written in the feed's address (Fanuc G33 F).
+                self.written[3] = None;
+                self.motion = None;
+            }
+            CanonOp::RigidTap(t) => {
+                let q = self.point(t);
+                if self.in_cycle {
+                    // The tapping cycle written for it drills it.
+                } else if self.out.template("rigid-tap").is_some() {
+                    let mut vals = Vals::new();
+                    vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]).set(Value::Pitch, self.sync.unwrap_or(0.0));
+                    self.event("rigid-tap", &mut vals);
+                    self.motion = None;
+                } else {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "rigid-tap",
+                        "a rigid tap (G33.1) is not written: the target has neither a tapping cycle nor a `rigid-tap` template",
+                    );
+                }
+            }
+            CanonOp::SetSpindleMode(max) => {
+                let on = max.is_some();
+                if on || self.css {
+                    let ev = if on { "css-on" } else { "css-off" };
+                    let mut vals = Vals::new();
+                    if let Some(m) = max.filter(|m| *m < crate::canon::NO_SPINDLE_LIMIT) {
+                        vals.set(Value::SpindleMax, m);
+                    }
+                    if self.event(ev, &mut vals) {
+                        self.css = on;
+                    } else {
+                        self.note(
+                            Code::PostUnwritable,
+                            &canon,
+                            ev,
+                            format!("constant surface speed (G96/G97) is not written: the target's output rules have no `{ev}` template"),
+                        );
+                    }
+                }
+            }
+            CanonOp::OrientSpindle { angle, mode } => {
+                self.spindle_on = false;
+                let t = self.out.template("spindle-orient").map(|(t, _)| (t.uses(Value::Angle), t.uses(Value::OrientDir)));
+                match t {
+                    Some((a, d)) if (a || angle.abs() < EPS) && (d || *mode == 0) => {
+                        let mut vals = Vals::new();
+                        vals.set(Value::Angle, *angle).set(Value::OrientDir, f64::from(*mode));
+                        self.event("spindle-orient", &mut vals);
+                    }
+                    Some(_) => self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "spindle-orient",
+                        format!(
+                            "a spindle orientation to {angle}° (direction {mode}) is not written: the target's `spindle-orient` states no angle or direction"
+                        ),
+                    ),
+                    None => self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "spindle-orient",
+                        "a spindle orientation (M19, SPOS) is not written: the target's output rules have no `spindle-orient` template",
+                    ),
+                }
+            }
+            CanonOp::ToolAxis(v) => {
+                let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
+                if !along_z {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "tool-axis",
+                        format!(
+                            "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
+                            v[0], v[1], v[2]
+                        ),
+                    );
+                }
+            }
+            CanonOp::NurbsFeed { points, end } => {
+                self.note(
+                    Code::PostUnwritable,
+                    &canon,
+                    "nurbs",
+                    format!(
+                        "a NURBS feed ({points} control points) is not written: the canonical ops keep its end point, not its control points and weights, so no target can state it as a spline"
+                    ),
+                );
+                let q = self.point(end);
+                self.moved(q);
+            }
             other => {
                 let name = format!("{other:?}");
                 let key = name.split(['(', ' ', '{']).next().unwrap_or("").to_owned();
