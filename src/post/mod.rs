@@ -40,6 +40,66 @@ pub struct Options {
     /// Whether the source's tool change puts the tool's length offset in force, and the
     /// target's (set by [`translate`] from the dictionaries).
     pub length_at_tool_change: (bool, bool),
+    /// Plan facts: the tools whose diameter the source's reading took from a tool table
+    /// (the shop's, or the program's own definitions), written as a tool comment the plan
+    /// reads back (`T4 D=10 END MILL`) before each change to them. See [`tool_facts`].
+    pub tools: Vec<ToolFact>,
+    /// How far the target lets an arc's start and end radii differ: mm, inch (set by
+    /// [`translate`] from the target's dictionary; 0: not at all).
+    pub arc_tolerance: (f64, f64),
+}
+
+/// What the writer says of a tool at its change.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolFact {
+    /// Tool number.
+    pub number: u32,
+    /// Diameter, mm.
+    pub diameter: f64,
+    /// Corner radius, mm.
+    pub corner_radius: Option<f64>,
+    /// Kind.
+    pub kind: crate::plan::ToolKind,
+}
+
+/// The tools of a plan whose facts came from a tool table, for [`Options::tools`]: a
+/// comment that names them reads back in every dialect's plan, a table may not be there.
+pub fn tool_facts(plan: &crate::plan::ProcessPlan) -> Vec<ToolFact> {
+    plan.tools
+        .iter()
+        .filter(|t| t.source == crate::plan::ToolSource::Table)
+        .filter_map(|t| {
+            let diameter = t.diameter.filter(|d| *d > 0.0)?;
+            Some(ToolFact { number: t.number, diameter, corner_radius: t.corner_radius, kind: t.kind })
+        })
+        .collect()
+}
+
+/// The tool comment for `f`, in the words `plan::parse_tool_comment` reads.
+fn tool_comment(f: &ToolFact) -> String {
+    use crate::plan::ToolKind as K;
+    let kind = match f.kind {
+        K::EndMill => "END MILL",
+        K::BallEndMill => "BALL END MILL",
+        K::BullnoseEndMill => "BULL END MILL",
+        K::FaceMill => "FACE MILL",
+        K::TwistDrill => "DRILL",
+        K::CenterDrill => "SPOT DRILL",
+        K::Reamer => "REAMER",
+        K::Tap => "TAP",
+        K::BoringTool => "BORING BAR",
+        K::Countersink => "CHAMFER MILL",
+        K::Unknown => "",
+    };
+    let mut s = format!("T{} D={}", f.number, crate::diff::num(f.diameter));
+    if let Some(r) = f.corner_radius.filter(|r| *r > 0.0) {
+        s.push_str(&format!(" R{}", crate::diff::num(r)));
+    }
+    if !kind.is_empty() {
+        s.push(' ');
+        s.push_str(kind);
+    }
+    s
 }
 
 /// Whether the output rules write a cycle's workpiece surface (Siemens RFP, Heidenhain
@@ -130,6 +190,7 @@ pub fn translate(
     let mut opts = opts;
     opts.peck_clearance = (from.behaviour.peck_clearance_mm, to.behaviour.peck_clearance_mm);
     opts.length_at_tool_change = (from.behaviour.tool_change_applies_length, to.behaviour.tool_change_applies_length);
+    opts.arc_tolerance = (to.behaviour.arc_tolerance_mm, to.behaviour.arc_tolerance_inch);
     let mut post = Post::new(out, opts, sink);
     let mut diags = crate::interp::interpret(text, from, profile, &mut post);
     diags.extend(post.finish());
@@ -207,8 +268,14 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     active: Option<ActiveCycle>,
     word_buf: String,
     line_buf: String,
+    /// One word being rendered.
+    scratch: String,
     /// Modal values of the block being rendered, written once the block is.
     staged: [Option<String>; 8],
+    /// The numbers (and formats) `written` and `staged` hold, where known (NaN: compare
+    /// the text): an unchanged value is left out without formatting it again.
+    written_val: [(f64, usize); 8],
+    staged_val: [(f64, usize); 8],
     /// The largest rounding of a written position (target units), and where it first
     /// passed [`ROUNDED_NOTE`].
     rounded: f64,
@@ -237,63 +304,102 @@ fn modal_slot(v: Value) -> Option<usize> {
     }
 }
 
-/// Writes `v` in format `f` (address included) onto `out`.
-pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) {
+const POW10: [u64; 20] = {
+    let mut t = [1u64; 20];
+    let mut i = 1;
+    while i < 20 {
+        t[i] = t[i - 1] * 10;
+        i += 1;
+    }
+    t
+};
+
+/// Writes `v` in format `f` (address included) onto `out`; returns how far the written
+/// number is from `v`. Formats into a stack buffer: no allocation, one append.
+pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) -> f64 {
     out.push_str(&f.address);
     let decimals = if f.point == Point::Never && !f.increment {
         0
     } else if inch {
-        f.inch_decimals as u32
+        f.inch_decimals as usize
     } else {
-        f.decimals as u32
+        f.decimals as usize
+    }
+    .min(15);
+    let p = POW10[decimals];
+    let x = v * p as f64;
+    // Half away from zero, by truncation (no libm call).
+    let n: i64 = if x >= 0.0 { (x + 0.5) as i64 } else { (x - 0.5) as i64 };
+    let err = (n as f64 / p as f64 - v).abs();
+    let neg = n < 0;
+    let a = n.unsigned_abs();
+    let mut b = [0u8; 48];
+    let mut len = 0;
+    let mut put = |c: u8, len: &mut usize| {
+        b[*len] = c;
+        *len += 1;
     };
-    let scale = 10f64.powi(decimals as i32);
-    let n = (v * scale).round();
-    let n = if n == 0.0 { 0.0 } else { n };
-    let neg = n < 0.0;
-    let a = n.abs() as u64;
     if neg {
-        out.push('-');
+        put(b'-', &mut len);
     } else if f.plus {
-        out.push('+');
+        put(b'+', &mut len);
     }
-    if f.increment {
-        push_u64(out, a);
-        return;
-    }
-    let p = 10u64.pow(decimals);
-    let (int, frac) = (a / p, a % p);
-    if decimals == 0 {
-        push_u64(out, int);
-        if f.point == Point::Always {
-            out.push('.');
+    let digits = |mut n: u64, out: &mut [u8; 20]| -> usize {
+        let mut i = 20;
+        loop {
+            i -= 1;
+            out[i] = b'0' + (n % 10) as u8;
+            n /= 10;
+            if n == 0 {
+                break;
+            }
         }
-        return;
+        i
+    };
+    let mut d = [0u8; 20];
+    if f.increment || decimals == 0 {
+        let i = digits(a, &mut d);
+        for &c in &d[i..] {
+            put(c, &mut len);
+        }
+        if !f.increment && f.point == Point::Always {
+            put(b'.', &mut len);
+        }
+        out.push_str(std::str::from_utf8(&b[..len]).unwrap_or(""));
+        return err;
     }
+    let (int, frac) = (a / p, a % p);
     // The fraction's digits, zero-padded, without trailing zeros unless the format keeps them.
     let mut fb = [b'0'; 20];
-    let mut n = frac;
-    for k in (0..decimals as usize).rev() {
-        fb[k] = b'0' + (n % 10) as u8;
-        n /= 10;
+    let mut m = frac;
+    for k in (0..decimals).rev() {
+        fb[k] = b'0' + (m % 10) as u8;
+        m /= 10;
     }
-    let mut len = decimals as usize;
+    let mut flen = decimals;
     if !f.trailing_zeros {
-        while len > 0 && fb[len - 1] == b'0' {
-            len -= 1;
+        while flen > 0 && fb[flen - 1] == b'0' {
+            flen -= 1;
         }
     }
-    if int != 0 || f.leading_zero || len == 0 {
-        push_u64(out, int);
+    if int != 0 || f.leading_zero || flen == 0 {
+        let i = digits(int, &mut d);
+        for &c in &d[i..] {
+            put(c, &mut len);
+        }
     }
-    if len > 0 || f.point == Point::Always {
-        out.push('.');
+    if flen > 0 || f.point == Point::Always {
+        put(b'.', &mut len);
     }
-    out.push_str(std::str::from_utf8(&fb[..len]).unwrap_or(""));
+    for &c in &fb[..flen] {
+        put(c, &mut len);
+    }
+    out.push_str(std::str::from_utf8(&b[..len]).unwrap_or(""));
+    err
 }
 
 /// Appends the decimal digits of `n` without allocating.
-fn push_u64(out: &mut String, mut n: u64) {
+fn push_u64(out: &mut Vec<u8>, mut n: u64) {
     let mut b = [0u8; 20];
     let mut i = 20;
     loop {
@@ -304,7 +410,7 @@ fn push_u64(out: &mut String, mut n: u64) {
             break;
         }
     }
-    out.push_str(std::str::from_utf8(&b[i..]).unwrap_or(""));
+    out.extend_from_slice(&b[i..]);
 }
 
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
@@ -348,7 +454,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             active: None,
             word_buf: String::new(),
             line_buf: String::new(),
+            scratch: String::new(),
             staged: Default::default(),
+            written_val: [(f64::NAN, 0); 8],
+            staged_val: [(f64::NAN, 0); 8],
             rounded: 0.0,
             rounded_at: None,
             sync: None,
@@ -505,18 +614,32 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         continue;
                     }
                     let f = &self.out.formats[*fi];
+                    let slot = modal_slot(*value);
+                    if let Some(k) = slot
+                        && f.modal
+                        && !force
+                        && self.written_val[k] == (x, *fi)
+                        && self.written[k].is_some()
+                    {
+                        continue;
+                    }
                     self.word_buf.clear();
                     let mut wb = std::mem::take(&mut self.word_buf);
-                    let inch = self.opts.units == Units::Inch;
-                    format_number(&mut wb, f, x, inch);
-                    if matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
-                        self.rounding(f, x, inch);
+                    let err = format_number(&mut wb, f, x, self.opts.units == Units::Inch);
+                    if err > self.rounded && matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
+                        self.rounded = err;
+                        if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                            self.rounded_at = Some(self.origin);
+                        }
                     }
-                    if let Some(slot) = modal_slot(*value) {
+                    if let Some(slot) = slot {
                         if f.modal && !force && self.written[slot].as_deref() == Some(wb.as_str()) {
+                            // The text written is this number's: the next time it is not formatted.
+                            self.written_val[slot] = (x, *fi);
                             self.word_buf = wb;
                             continue;
                         }
+                        self.staged_val[slot] = (x, *fi);
                         if !(3..5).contains(&slot) {
                             *moved += 1;
                         }
@@ -534,31 +657,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         !any_var || any_out
     }
 
-    /// Keeps the largest rounding of a written position.
-    fn rounding(&mut self, f: &NumberFormat, x: f64, inch: bool) {
-        let decimals = if f.point == Point::Never && !f.increment {
-            0
-        } else if inch {
-            f.inch_decimals
-        } else {
-            f.decimals
-        };
-        let scale = 10f64.powi(i32::from(decimals));
-        let err = ((x * scale).round() / scale - x).abs();
-        if err > self.rounded {
-            self.rounded = err;
-            if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
-                self.rounded_at = Some(self.origin);
-            }
-        }
-    }
-
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
     /// (with its modal values unwritten), and its G code is left out when unchanged.
     fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
         // The header (and the modal state it starts from) before the first block's words.
         self.start();
-        let mut s = String::new();
+        let mut s = std::mem::take(&mut self.scratch);
         for b in &t.0 {
             let mut line = std::mem::take(&mut self.line_buf);
             line.clear();
@@ -600,6 +704,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     w.clear();
                     w.push_str(x);
                     x.clear();
+                    self.written_val[k] = self.staged_val[k];
                 }
             }
             if let Some(c) = code {
@@ -614,6 +719,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.line(&line, b.raw, tool_change);
             self.line_buf = line;
         }
+        self.scratch = s;
     }
 
     fn line(&mut self, text: &str, raw: bool, tool_change: bool) {
@@ -631,9 +737,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         };
         if numbered {
             self.buf.extend_from_slice(self.out.number_address.as_bytes());
-            let mut n = String::new();
-            push_u64(&mut n, self.block);
-            self.buf.extend_from_slice(n.as_bytes());
+            push_u64(&mut self.buf, self.block);
             self.buf.extend_from_slice(self.out.separator.as_bytes());
             self.block += self.out.number_step;
         }
@@ -674,6 +778,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.tool = t;
             let mut vals = Vals::new();
             vals.set(Value::T, f64::from(t));
+            if let Some(f) = self.opts.tools.iter().find(|f| f.number == t) {
+                let text = tool_comment(f);
+                self.comment(&text, "comment");
+            }
             let uses_s = self.out.template("tool-change").is_some_and(|(t, _)| t.uses(Value::S));
             if uses_s && self.speed > 0.0 && (self.speed_dirty || self.written[4].is_none()) {
                 vals.set(Value::S, self.speed);
@@ -811,10 +919,19 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         // The source's tolerance let the two radii differ; the target's may not. The centre
         // goes onto the perpendicular bisector of the chord (moving it by about the radius
         // error), so both radii agree whatever the target checks.
+        // Where the target takes the difference, rounding of the written numbers included
+        // (two steps), the centre stays: moved onto the bisector of a short chord it would
+        // move far more than the radius error.
         let mut centre = centre;
         let (dx, dy) = (end[a] - start[a], end[b] - start[b]);
         let chord = dx.hypot(dy);
-        if chord > 1e-9 {
+        let step = self.out.formats.iter().find(|f| f.name == "X").map_or(1e-3, |f| {
+            let d = if self.opts.units == Units::Inch { f.inch_decimals } else { f.decimals };
+            10f64.powi(-i32::from(d))
+        });
+        let tolerance = if self.opts.units == Units::Inch { self.opts.arc_tolerance.1 } else { self.opts.arc_tolerance.0 };
+        let radius_error = ((start[a] - centre[a]).hypot(start[b] - centre[b]) - (end[a] - centre[a]).hypot(end[b] - centre[b])).abs();
+        if chord > 1e-9 && radius_error + 2.0 * step > tolerance {
             let (mx, my) = ((start[a] + end[a]) / 2.0, (start[b] + end[b]) / 2.0);
             let (ux, uy) = (-dy / chord, dx / chord);
             let t = (centre[a] - mx) * ux + (centre[b] - my) * uy;
@@ -877,6 +994,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
                     for k in 0..3 {
                         self.written[k] = None;
+                        self.written_val[k].0 = f64::NAN;
                     }
                     let keep = [to[a], to[b]];
                     let _ = keep;
@@ -1177,6 +1295,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 let mut vals = Vals::new();
                 vals.set(Value::S, self.speed);
                 self.written[4] = if self.speed_dirty { None } else { self.written[4].take() };
+                self.written_val[4].0 = f64::NAN;
                 self.speed_dirty = false;
                 self.spindle_on = true;
                 self.event(if cw { "spindle-cw" } else { "spindle-ccw" }, &mut vals);
@@ -1294,6 +1413,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                             format_number(&mut s, f, p[k], inch);
                             s
                         });
+                        self.written_val[k].0 = f64::NAN;
                     }
                 }
             }
@@ -1312,6 +1432,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.sync = None;
                 // The thread's lead may have been written in the feed's address (Fanuc G33 F).
                 self.written[3] = None;
+                self.written_val[3].0 = f64::NAN;
                 self.motion = None;
             }
             CanonOp::RigidTap(t) => {
