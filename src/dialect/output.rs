@@ -137,6 +137,10 @@ pub enum Value {
     Angle,
     /// Spindle orientation: 0 the shorter way, 1 clockwise, 2 counterclockwise.
     OrientDir,
+    /// A repeated block run: how many times it runs.
+    Count,
+    /// A repeated block run: its number in the program (1, 2, …).
+    Loop,
 }
 
 const VALUES: &[(&str, Value)] = &[
@@ -183,6 +187,8 @@ const VALUES: &[(&str, Value)] = &[
     ("smax", Value::SpindleMax),
     ("angle", Value::Angle),
     ("orient-dir", Value::OrientDir),
+    ("count", Value::Count),
+    ("loop", Value::Loop),
 ];
 
 impl Value {
@@ -302,6 +308,8 @@ pub const EVENTS: &[&str] = &[
     "css-on",
     "css-off",
     "spindle-orient",
+    "repeat-begin",
+    "repeat-end",
     "feed-per-minute",
     "feed-per-rev",
     "comment",

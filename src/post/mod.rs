@@ -199,7 +199,7 @@ pub fn translate(
 }
 
 const FLUSH_AT: usize = 64 * 1024;
-const NVALUES: usize = 44;
+const NVALUES: usize = 46;
 const EPS: f64 = 1e-9;
 
 /// Values for one event's template: numbers (NaN when absent) and texts.
@@ -285,7 +285,35 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     sync: Option<f64>,
     /// Whether constant surface speed is in force.
     css: bool,
+    /// Where each source line's text begins in `buf` (since the last hand-over): a run the
+    /// program repeats is found there.
+    line_offsets: Vec<(u32, usize)>,
+    /// The run of blocks being repeated, while each pass writes the same text.
+    repeat: Option<Repeat>,
+    /// Runs written as the target's loop so far.
+    loops: u32,
+    /// The source lines that have run, one bit each.
+    seen: Vec<u64>,
 }
+
+/// A run of blocks the source runs again, kept as one pass while the passes write the same.
+struct Repeat {
+    /// The source line the run starts at.
+    first: u32,
+    /// Its source lines.
+    lines: (u32, u32),
+    /// Where its first pass begins and ends in `buf`.
+    start: usize,
+    end: usize,
+    /// Passes that wrote the same text.
+    count: u32,
+    /// Whether the first pass, which differed, was left written before the loop.
+    shifted: bool,
+    origin: crate::text::TextRange,
+}
+
+/// A repeated run is given up (written unrolled) past this much text.
+const REPEAT_MAX: usize = 4 << 20;
 
 /// A position rounded by more than this (mm) is said in a note: the diff's tolerance.
 const ROUNDED_NOTE: f64 = crate::diff::TOLERANCE;
@@ -462,6 +490,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             rounded_at: None,
             sync: None,
             css: false,
+            line_offsets: Vec::new(),
+            repeat: None,
+            loops: 0,
+            seen: Vec::new(),
         }
     }
 
@@ -754,8 +786,14 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         self.buf.push(b'\n');
         if self.buf.len() >= FLUSH_AT {
+            if self.repeat.is_some() && self.buf.len() < REPEAT_MAX {
+                return;
+            }
+            // Too long to hold: the passes counted so far are written as a loop.
+            self.end_repeat();
             (self.sink)(&self.buf);
             self.buf.clear();
+            self.line_offsets.clear();
         }
     }
 
@@ -1123,6 +1161,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if let Some(p) = self.pending_move.take() {
             self.op(p);
         }
+        self.end_repeat();
         self.flush_tool();
         self.cancel_cycle();
         if !self.ended {
@@ -1177,13 +1216,8 @@ impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
     fn op(&mut self, canon: Canon) {
-        if canon.line < self.line && canon.line > 0 {
-            self.note(
-                Code::PostUnrolled,
-                &canon,
-                "unrolled",
-                "the program runs blocks again (a loop, a jump back or a subprogram): it is written as the path that runs, unrolled",
-            );
+        if canon.line != self.line && canon.line > 0 && !self.ended {
+            self.new_line(&canon);
         }
         self.line = canon.line;
         self.origin = canon.origin;
@@ -1535,6 +1569,116 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 );
             }
         }
+    }
+}
+
+impl<F: FnMut(&[u8])> Post<'_, F> {
+    /// Whether the target writes repeated runs as a loop: it has the templates, and its
+    /// blocks are not numbered (a pass's text must be the same each time).
+    fn writes_repeats(&self) -> bool {
+        self.out.numbered == Numbered::None && self.out.template("repeat-begin").is_some() && self.out.template("repeat-end").is_some()
+    }
+
+    /// The source moves to another line: a jump back to where a run began ends its pass.
+    fn new_line(&mut self, canon: &Canon) {
+        let line = canon.line;
+        if let Some(r) = &self.repeat {
+            if line == r.first {
+                self.pass_ended();
+                return;
+            }
+            if line < r.lines.0 || line > r.lines.1 {
+                self.end_repeat();
+            }
+        }
+        let (word, bit) = (line as usize / 64, 1u64 << (line % 64));
+        if self.seen.len() <= word {
+            self.seen.resize(word + 1, 0);
+        }
+        let again = self.seen[word] & bit != 0;
+        self.seen[word] |= bit;
+        if again && line < self.line && self.repeat.is_none() {
+            // A jump back to a line that ran: the run from its text to here may repeat.
+            let at = self.line_offsets.iter().rev().find(|(l, _)| *l == line).map(|(_, o)| *o);
+            match at {
+                Some(start) if self.writes_repeats() => {
+                    let seen = self.line_offsets.iter().filter(|(_, o)| *o >= start).map(|(l, _)| *l);
+                    let lines = seen.fold((line, line), |(lo, hi), l| (lo.min(l), hi.max(l)));
+                    self.repeat =
+                        Some(Repeat { first: line, lines, start, end: self.buf.len(), count: 1, shifted: false, origin: canon.origin });
+                    return;
+                }
+                _ => self.note_unrolled(canon.origin),
+            }
+        }
+        if self.line_offsets.last().is_none_or(|(l, _)| *l != line) {
+            self.line_offsets.push((line, self.buf.len()));
+        }
+    }
+
+    fn note_unrolled(&mut self, at: crate::text::TextRange) {
+        if self.noted.insert("unrolled".into()) {
+            self.diags.push(Diagnostic::new(
+                Code::PostUnrolled,
+                at,
+                "the program runs blocks again (a loop, a jump back or a subprogram) and its passes write other text: it is written as the path that runs, unrolled",
+            ));
+        }
+    }
+
+    /// A pass of the run ended: the same text as the first is dropped and counted; other
+    /// text ends the run (it stays written, unrolled).
+    fn pass_ended(&mut self) {
+        let Some(r) = self.repeat.as_mut() else { return };
+        let (start, end) = (r.start, r.end);
+        let len = end - start;
+        if self.buf.len() == end + len && self.buf[start..end] == self.buf[end..] {
+            self.buf.truncate(end);
+            r.count += 1;
+        } else if r.count == 1 && !r.shifted {
+            // The first pass may differ by what the blocks before it left in force (a feed
+            // written once): the second pass is the one the others are compared with.
+            r.start = end;
+            r.end = self.buf.len();
+            r.shifted = true;
+        } else {
+            let origin = r.origin;
+            self.end_repeat();
+            self.note_unrolled(origin);
+        }
+    }
+
+    /// The run is over: a last whole pass is counted, and a run of two passes or more is
+    /// written once between the target's loop blocks.
+    fn end_repeat(&mut self) {
+        let Some(r) = self.repeat.as_ref() else { return };
+        let (start, end) = (r.start, r.end);
+        if self.buf.len() == end + (end - start) && self.buf[start..end] == self.buf[end..] {
+            self.buf.truncate(end);
+            if let Some(r) = self.repeat.as_mut() {
+                r.count += 1;
+            }
+        }
+        let Some(r) = self.repeat.take() else { return };
+        if r.count < 2 || end == start {
+            if r.count >= 2 {
+                return;
+            }
+            self.note_unrolled(r.origin);
+            return;
+        }
+        self.loops += 1;
+        let tail = self.buf.split_off(r.end);
+        let mut vals = Vals::new();
+        vals.set(Value::Count, f64::from(r.count)).set(Value::Loop, f64::from(self.loops));
+        self.event("repeat-end", &mut vals);
+        let before = self.buf.len();
+        self.event("repeat-begin", &mut vals);
+        let n = self.buf.len() - before;
+        self.buf[r.start..].rotate_right(n);
+        self.buf.extend_from_slice(&tail);
+        // The text after the loop follows its last pass: the writer's state is that pass's end.
+        self.line_offsets.clear();
     }
 }
 

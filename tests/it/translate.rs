@@ -831,3 +831,30 @@ fn tool_facts_from_the_tool_table_read_back_from_the_tool_comment() {
     let kinds = format!("{:?}", src.plan.features[0].kind);
     assert!(kinds.contains("60") && kinds.contains("40"), "{kinds}");
 }
+
+/// Control flow both dialects can state stays control flow: a subprogram called three times
+/// (`M98 P1000 L3`) and a counted loop (`o100 repeat [3]`) written for LinuxCNC come out as
+/// its `repeat` loop when every pass writes the same blocks, and read back as the same
+/// toolpath; a loop whose passes differ in the target's absolute words is unrolled, with
+/// the note that says so.
+#[test]
+fn a_repeated_subprogram_or_loop_stays_a_loop_where_the_target_has_one() {
+    let sub = "%\nO0001\nG21 G90 G17\nT1 M6\nS1000 M3\nG0 X0. Y0. Z5.\nM98 P1000 L3\nG0 Z50.\nM30\nO1000\nG0 X10. Y10.\nG1 Z-2. F200.\nG1 X20.\nG0 Z5.\nM99\n%\n";
+    let repeat = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\no100 repeat [3]\nG1 Z-1 F100\nG1 X10\nG0 Z5\nG0 X0\no100 endrepeat\nM2\n";
+    let stepping = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\no100 repeat [3]\nG91 G1 Z-1 F100\nG90 G1 X10\nG0 X0\no100 endrepeat\nM2\n";
+    for (text, from, looped) in [(sub, "fanuc", true), (repeat, "linuxcnc", true), (stepping, "linuxcnc", false)] {
+        let src = Source::read(text.as_bytes(), dialect(from), "loop").unwrap();
+        let (out, diags) = translate_with(&src.text, &src.dialect, &dialect("linuxcnc"), "loop", &src.plan, None);
+        let unrolled = diags.iter().any(|d| d.code == ncplan::diag::Code::PostUnrolled);
+        assert_eq!(out.contains("repeat ["), looped, "{from}:\n{out}");
+        assert_eq!(unrolled, !looped, "{from}: {diags:?}");
+        if looped {
+            // The first pass follows the blocks before it (its feed and start are written
+            // there): it stays before the loop of the other two.
+            assert!(out.contains("o100 repeat [2]") && out.contains("o100 endrepeat"), "{from}:\n{out}");
+        }
+        let back = pipeline::analyze(out.as_bytes(), &dialect("linuxcnc"), &Profile::default());
+        assert!(!back.has_errors(), "{from}:\n{out}");
+        assert_eq!(toolpath_difference(&src.moves, &moves(&back.canon), 1e-4), None, "{from}:\n{out}");
+    }
+}
