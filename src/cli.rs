@@ -1020,11 +1020,10 @@ fn translate_command(
     // Plan facts for the writer: where each hole's top is (a G81 states only its R level).
     // Only a program with such cycles needs it: the plan holds the toolpath, and a program
     // without them is written in constant memory.
-    let states_surface = target.output.as_ref().is_some_and(crate::post::states_surface);
-    // Tool facts from the shop's tool table go into tool comments, which read back where
-    // the table is not: they need the plan too, only when the table has tools.
-    let needs_plan = (states_surface && crate::post::needs_hole_tops(&source.text, &source_dialect, &config.profile))
-        || config.profile.tools.values().any(|t| t.diameter.is_some());
+    // They are asked for when the first such cycle needs them. Tool facts from the shop's
+    // tool table go into tool comments, which read back where the table is not: they need
+    // the plan first, only when the table has tools.
+    let needs_plan = config.profile.tools.values().any(|t| t.diameter.is_some());
     let (hole_tops, tools) = if needs_plan {
         let plan = pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan;
         (crate::post::hole_tops(&plan), crate::post::tool_facts(&plan))
@@ -1052,7 +1051,8 @@ fn translate_command(
         None => Box::new(&mut *out),
     };
     let mut error: Option<std::io::Error> = None;
-    diags.extend(crate::post::translate(&source.text, &source_dialect, &target, &profile, opts, |chunk| {
+    let mut tops = || crate::post::hole_tops(&pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan);
+    diags.extend(crate::post::translate_with_facts(&source.text, &source_dialect, &target, &profile, opts, &mut tops, |chunk| {
         if error.is_none()
             && let Err(e) = file_out.write_all(chunk)
         {

@@ -180,6 +180,21 @@ pub fn translate(
     opts: Options,
     sink: impl FnMut(&[u8]),
 ) -> Vec<Diagnostic> {
+    translate_with_facts(text, from, to, profile, opts, &mut Vec::new, sink)
+}
+
+/// [`translate`], with the hole tops ([`Options::hole_tops`]) asked of `hole_tops` only when
+/// a cycle needs them (a G81 written as a cycle that states the surface): a program without
+/// such cycles is not analysed twice.
+pub fn translate_with_facts(
+    text: &str,
+    from: &crate::dialect::Dialect,
+    to: &crate::dialect::Dialect,
+    profile: &crate::interp::Profile,
+    opts: Options,
+    hole_tops: &mut dyn FnMut() -> Vec<[f64; 3]>,
+    sink: impl FnMut(&[u8]),
+) -> Vec<Diagnostic> {
     let Some(out) = &to.output else {
         return vec![Diagnostic::new(
             Code::PostUnwritable,
@@ -192,6 +207,7 @@ pub fn translate(
     opts.length_at_tool_change = (from.behaviour.tool_change_applies_length, to.behaviour.tool_change_applies_length);
     opts.arc_tolerance = (to.behaviour.arc_tolerance_mm, to.behaviour.arc_tolerance_inch);
     let mut post = Post::new(out, opts, sink);
+    post.tops_source = Some(hole_tops);
     let mut diags = crate::interp::interpret(text, from, profile, &mut post);
     diags.extend(post.finish());
     diags.sort_by_key(|d| (d.range.start, d.range.end));
@@ -228,6 +244,8 @@ struct ActiveCycle {
 /// The writer. Feed it with [`CanonSink::emit`], then call [`Post::finish`].
 pub struct Post<'a, F: FnMut(&[u8])> {
     out: &'a Output,
+    /// Where the hole tops come from when a cycle first needs them.
+    tops_source: Option<&'a mut dyn FnMut() -> Vec<[f64; 3]>>,
     opts: Options,
     sink: F,
     buf: Vec<u8>,
@@ -446,6 +464,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     pub fn new(out: &'a Output, opts: Options, sink: F) -> Post<'a, F> {
         Post {
             out,
+            tops_source: None,
             opts,
             sink,
             buf: Vec::with_capacity(FLUSH_AT + 4096),
@@ -1095,6 +1114,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let r = intent.r_plane * s + zoff;
         let clear = intent.clear * s + zoff;
         let src_mm = s * self.opts.units.to_mm();
+        if intent.surface.is_none() && self.opts.hole_tops.is_empty() && states_surface_cycle(m) {
+            if let Some(f) = self.tops_source.take() {
+                self.opts.hole_tops = f();
+            }
+        }
         let found = self
             .opts
             .hole_tops
