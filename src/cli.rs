@@ -1020,16 +1020,22 @@ fn translate_command(
     // Plan facts for the writer: where each hole's top is (a G81 states only its R level).
     // Only a program with such cycles needs it: the plan holds the toolpath, and a program
     // without them is written in constant memory.
-    let states_surface = target.output.as_ref().is_some_and(crate::post::states_surface);
-    let hole_tops = if states_surface && crate::post::needs_hole_tops(&source.text, &source_dialect, &config.profile) {
-        crate::post::hole_tops(&pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan)
+    // They are asked for when the first such cycle needs them. Tool facts from the shop's
+    // tool table go into tool comments, which read back where the table is not: they need
+    // the plan first, only when the table has tools.
+    let needs_plan = config.profile.tools.values().any(|t| t.diameter.is_some());
+    let (hole_tops, tools) = if needs_plan {
+        let plan = pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan;
+        (crate::post::hole_tops(&plan), crate::post::tool_facts(&plan))
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
     let opts = crate::post::Options {
         hole_tops,
+        tools,
         peck_clearance: (0.0, 0.0),
         length_at_tool_change: (false, false),
+        arc_tolerance: (0.0, 0.0),
         number: crate::post::program_number(&name),
         name: crate::post::program_identifier(&name),
         units: limits.units.unwrap_or(crate::canon::Units::Mm),
@@ -1045,7 +1051,8 @@ fn translate_command(
         None => Box::new(&mut *out),
     };
     let mut error: Option<std::io::Error> = None;
-    diags.extend(crate::post::translate(&source.text, &source_dialect, &target, &profile, opts, |chunk| {
+    let mut tops = || crate::post::hole_tops(&pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan);
+    diags.extend(crate::post::translate_with_facts(&source.text, &source_dialect, &target, &profile, opts, &mut tops, |chunk| {
         if error.is_none()
             && let Err(e) = file_out.write_all(chunk)
         {
@@ -1057,10 +1064,17 @@ fn translate_command(
     }
     file_out.flush()?;
     drop(file_out);
-    let idx = LineIndex::new(&source.text);
+    // Lines are counted only as far as the last finding shown: a million-line program with a
+    // note near its start is not indexed whole.
+    let shown_diags: Vec<&diag::Diagnostic> =
+        diags.iter().filter(|x| x.severity != diag::Severity::Note || x.code.as_str().starts_with("post::")).collect();
+    let last = shown_diags.iter().map(|x| x.range.end as usize).max().unwrap_or(0).min(source.text.len());
+    let upto = source.text.get(last..).and_then(|t| t.find('\n')).map_or(source.text.len(), |i| last + i + 1);
+    let text = source.text.get(..upto).unwrap_or(&source.text);
+    let idx = LineIndex::new(text);
     let shown = path.display().to_string();
-    for x in diags.iter().filter(|x| x.severity != diag::Severity::Note || x.code.as_str().starts_with("post::")) {
-        eprintln!("{}", diag::render_short(&shown, &source.text, &idx, x));
+    for x in shown_diags {
+        eprintln!("{}", diag::render_short(&shown, text, &idx, x));
     }
     Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }

@@ -228,6 +228,9 @@ codes! {
     PostMachineLimit = ("post::machine-limit", Warning),
     /// Inch input written in millimetres for a metric machine (or the reverse).
     PostUnitsConverted = ("post::units-converted", Note),
+    /// The source states positions finer than the target's number format writes them: they
+    /// are written rounded to the target's resolution.
+    PostRounded = ("post::rounded", Note),
 }
 
 /// One finding about one input.

@@ -129,6 +129,18 @@ pub enum Value {
     Retract,
     /// Cycle: how far above the last peck the tool comes back down at rapid.
     PeckClearance,
+    /// Thread or rigid tap: the advance per spindle revolution.
+    Pitch,
+    /// Constant surface speed: the highest spindle speed (absent when none was set).
+    SpindleMax,
+    /// Spindle orientation: the angle, degrees.
+    Angle,
+    /// Spindle orientation: 0 the shorter way, 1 clockwise, 2 counterclockwise.
+    OrientDir,
+    /// A repeated block run: how many times it runs.
+    Count,
+    /// A repeated block run: its number in the program (1, 2, …).
+    Loop,
 }
 
 const VALUES: &[(&str, Value)] = &[
@@ -171,6 +183,12 @@ const VALUES: &[(&str, Value)] = &[
     ("dwell", Value::CycleDwell),
     ("retract", Value::Retract),
     ("peck-clearance", Value::PeckClearance),
+    ("pitch", Value::Pitch),
+    ("smax", Value::SpindleMax),
+    ("angle", Value::Angle),
+    ("orient-dir", Value::OrientDir),
+    ("count", Value::Count),
+    ("loop", Value::Loop),
 ];
 
 impl Value {
@@ -276,6 +294,22 @@ pub const EVENTS: &[&str] = &[
     "units-mm",
     "units-inch",
     "work-offset",
+    "work-offset-1",
+    "work-offset-2",
+    "work-offset-3",
+    "work-offset-4",
+    "work-offset-5",
+    "work-offset-6",
+    "work-offset-7",
+    "work-offset-8",
+    "work-offset-9",
+    "thread",
+    "rigid-tap",
+    "css-on",
+    "css-off",
+    "spindle-orient",
+    "repeat-begin",
+    "repeat-end",
     "feed-per-minute",
     "feed-per-rev",
     "comment",

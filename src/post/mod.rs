@@ -40,14 +40,77 @@ pub struct Options {
     /// Whether the source's tool change puts the tool's length offset in force, and the
     /// target's (set by [`translate`] from the dictionaries).
     pub length_at_tool_change: (bool, bool),
+    /// Plan facts: the tools whose diameter the source's reading took from a tool table
+    /// (the shop's, or the program's own definitions), written as a tool comment the plan
+    /// reads back (`T4 D=10 END MILL`) before each change to them. See [`tool_facts`].
+    pub tools: Vec<ToolFact>,
+    /// How far the target lets an arc's start and end radii differ: mm, inch (set by
+    /// [`translate`] from the target's dictionary; 0: not at all).
+    pub arc_tolerance: (f64, f64),
+}
+
+/// What the writer says of a tool at its change.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolFact {
+    /// Tool number.
+    pub number: u32,
+    /// Diameter, mm.
+    pub diameter: f64,
+    /// Corner radius, mm.
+    pub corner_radius: Option<f64>,
+    /// Kind.
+    pub kind: crate::plan::ToolKind,
+}
+
+/// The tools of a plan whose facts came from a tool table, for [`Options::tools`]: a
+/// comment that names them reads back in every dialect's plan, a table may not be there.
+pub fn tool_facts(plan: &crate::plan::ProcessPlan) -> Vec<ToolFact> {
+    plan.tools
+        .iter()
+        .filter(|t| t.source == crate::plan::ToolSource::Table)
+        .filter_map(|t| {
+            let diameter = t.diameter.filter(|d| *d > 0.0)?;
+            Some(ToolFact { number: t.number, diameter, corner_radius: t.corner_radius, kind: t.kind })
+        })
+        .collect()
+}
+
+/// The tool comment for `f`, in the words `plan::parse_tool_comment` reads.
+fn tool_comment(f: &ToolFact) -> String {
+    use crate::plan::ToolKind as K;
+    let kind = match f.kind {
+        K::EndMill => "END MILL",
+        K::BallEndMill => "BALL END MILL",
+        K::BullnoseEndMill => "BULL END MILL",
+        K::FaceMill => "FACE MILL",
+        K::TwistDrill => "DRILL",
+        K::CenterDrill => "SPOT DRILL",
+        K::Reamer => "REAMER",
+        K::Tap => "TAP",
+        K::BoringTool => "BORING BAR",
+        K::Countersink => "CHAMFER MILL",
+        K::Unknown => "",
+    };
+    let mut s = format!("T{} D={}", f.number, crate::diff::num(f.diameter));
+    if let Some(r) = f.corner_radius.filter(|r| *r > 0.0) {
+        s.push_str(&format!(" R{}", crate::diff::num(r)));
+    }
+    if !kind.is_empty() {
+        s.push(' ');
+        s.push_str(kind);
+    }
+    s
 }
 
 /// Whether the output rules write a cycle's workpiece surface (Siemens RFP, Heidenhain
 /// Q203), which a G8x source does not state.
 pub fn states_surface(out: &Output) -> bool {
-    out.cycles
-        .iter()
-        .any(|c| [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v)))
+    out.cycles.iter().any(states_surface_cycle)
+}
+
+/// Whether one output cycle writes the workpiece surface.
+fn states_surface_cycle(c: &CycleOut) -> bool {
+    [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v))
 }
 
 /// Whether the program has canned cycles that state no workpiece surface (G81's R level
@@ -117,6 +180,21 @@ pub fn translate(
     opts: Options,
     sink: impl FnMut(&[u8]),
 ) -> Vec<Diagnostic> {
+    translate_with_facts(text, from, to, profile, opts, &mut Vec::new, sink)
+}
+
+/// [`translate`], with the hole tops ([`Options::hole_tops`]) asked of `hole_tops` only when
+/// a cycle needs them (a G81 written as a cycle that states the surface): a program without
+/// such cycles is not analysed twice.
+pub fn translate_with_facts(
+    text: &str,
+    from: &crate::dialect::Dialect,
+    to: &crate::dialect::Dialect,
+    profile: &crate::interp::Profile,
+    opts: Options,
+    hole_tops: &mut dyn FnMut() -> Vec<[f64; 3]>,
+    sink: impl FnMut(&[u8]),
+) -> Vec<Diagnostic> {
     let Some(out) = &to.output else {
         return vec![Diagnostic::new(
             Code::PostUnwritable,
@@ -127,7 +205,9 @@ pub fn translate(
     let mut opts = opts;
     opts.peck_clearance = (from.behaviour.peck_clearance_mm, to.behaviour.peck_clearance_mm);
     opts.length_at_tool_change = (from.behaviour.tool_change_applies_length, to.behaviour.tool_change_applies_length);
+    opts.arc_tolerance = (to.behaviour.arc_tolerance_mm, to.behaviour.arc_tolerance_inch);
     let mut post = Post::new(out, opts, sink);
+    post.tops_source = Some(hole_tops);
     let mut diags = crate::interp::interpret(text, from, profile, &mut post);
     diags.extend(post.finish());
     diags.sort_by_key(|d| (d.range.start, d.range.end));
@@ -135,7 +215,7 @@ pub fn translate(
 }
 
 const FLUSH_AT: usize = 64 * 1024;
-const NVALUES: usize = 40;
+const NVALUES: usize = 46;
 const EPS: f64 = 1e-9;
 
 /// Values for one event's template: numbers (NaN when absent) and texts.
@@ -164,6 +244,8 @@ struct ActiveCycle {
 /// The writer. Feed it with [`CanonSink::emit`], then call [`Post::finish`].
 pub struct Post<'a, F: FnMut(&[u8])> {
     out: &'a Output,
+    /// Where the hole tops come from when a cycle first needs them.
+    tops_source: Option<&'a mut dyn FnMut() -> Vec<[f64; 3]>>,
     opts: Options,
     sink: F,
     buf: Vec<u8>,
@@ -204,9 +286,55 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     active: Option<ActiveCycle>,
     word_buf: String,
     line_buf: String,
+    /// One word being rendered.
+    scratch: String,
     /// Modal values of the block being rendered, written once the block is.
     staged: [Option<String>; 8],
+    /// The numbers (and formats) `written` and `staged` hold, where known (NaN: compare
+    /// the text): an unchanged value is left out without formatting it again.
+    written_val: [(f64, usize); 8],
+    staged_val: [(f64, usize); 8],
+    /// The largest rounding of a written position (target units), and where it first
+    /// passed [`ROUNDED_NOTE`].
+    rounded: f64,
+    rounded_at: Option<crate::text::TextRange>,
+    /// The advance per spindle revolution of the moves in a spindle-synchronised run (target
+    /// units).
+    sync: Option<f64>,
+    /// Whether constant surface speed is in force.
+    css: bool,
+    /// Where each source line's text begins in `buf` (since the last hand-over): a run the
+    /// program repeats is found there.
+    line_offsets: Vec<(u32, usize)>,
+    /// The run of blocks being repeated, while each pass writes the same text.
+    repeat: Option<Repeat>,
+    /// Runs written as the target's loop so far.
+    loops: u32,
+    /// The source lines that have run, one bit each.
+    seen: Vec<u64>,
 }
+
+/// A run of blocks the source runs again, kept as one pass while the passes write the same.
+struct Repeat {
+    /// The source line the run starts at.
+    first: u32,
+    /// Its source lines.
+    lines: (u32, u32),
+    /// Where its first pass begins and ends in `buf`.
+    start: usize,
+    end: usize,
+    /// Passes that wrote the same text.
+    count: u32,
+    /// Whether the first pass, which differed, was left written before the loop.
+    shifted: bool,
+    origin: crate::text::TextRange,
+}
+
+/// A repeated run is given up (written unrolled) past this much text.
+const REPEAT_MAX: usize = 4 << 20;
+
+/// A position rounded by more than this (mm) is said in a note: the diff's tolerance.
+const ROUNDED_NOTE: f64 = crate::diff::TOLERANCE;
 
 fn modal_slot(v: Value) -> Option<usize> {
     match v {
@@ -222,63 +350,102 @@ fn modal_slot(v: Value) -> Option<usize> {
     }
 }
 
-/// Writes `v` in format `f` (address included) onto `out`.
-pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) {
+const POW10: [u64; 20] = {
+    let mut t = [1u64; 20];
+    let mut i = 1;
+    while i < 20 {
+        t[i] = t[i - 1] * 10;
+        i += 1;
+    }
+    t
+};
+
+/// Writes `v` in format `f` (address included) onto `out`; returns how far the written
+/// number is from `v`. Formats into a stack buffer: no allocation, one append.
+pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) -> f64 {
     out.push_str(&f.address);
     let decimals = if f.point == Point::Never && !f.increment {
         0
     } else if inch {
-        f.inch_decimals as u32
+        f.inch_decimals as usize
     } else {
-        f.decimals as u32
+        f.decimals as usize
+    }
+    .min(15);
+    let p = POW10[decimals];
+    let x = v * p as f64;
+    // Half away from zero, by truncation (no libm call).
+    let n: i64 = if x >= 0.0 { (x + 0.5) as i64 } else { (x - 0.5) as i64 };
+    let err = (n as f64 / p as f64 - v).abs();
+    let neg = n < 0;
+    let a = n.unsigned_abs();
+    let mut b = [0u8; 48];
+    let mut len = 0;
+    let mut put = |c: u8, len: &mut usize| {
+        b[*len] = c;
+        *len += 1;
     };
-    let scale = 10f64.powi(decimals as i32);
-    let n = (v * scale).round();
-    let n = if n == 0.0 { 0.0 } else { n };
-    let neg = n < 0.0;
-    let a = n.abs() as u64;
     if neg {
-        out.push('-');
+        put(b'-', &mut len);
     } else if f.plus {
-        out.push('+');
+        put(b'+', &mut len);
     }
-    if f.increment {
-        push_u64(out, a);
-        return;
-    }
-    let p = 10u64.pow(decimals);
-    let (int, frac) = (a / p, a % p);
-    if decimals == 0 {
-        push_u64(out, int);
-        if f.point == Point::Always {
-            out.push('.');
+    let digits = |mut n: u64, out: &mut [u8; 20]| -> usize {
+        let mut i = 20;
+        loop {
+            i -= 1;
+            out[i] = b'0' + (n % 10) as u8;
+            n /= 10;
+            if n == 0 {
+                break;
+            }
         }
-        return;
+        i
+    };
+    let mut d = [0u8; 20];
+    if f.increment || decimals == 0 {
+        let i = digits(a, &mut d);
+        for &c in &d[i..] {
+            put(c, &mut len);
+        }
+        if !f.increment && f.point == Point::Always {
+            put(b'.', &mut len);
+        }
+        out.push_str(std::str::from_utf8(&b[..len]).unwrap_or(""));
+        return err;
     }
+    let (int, frac) = (a / p, a % p);
     // The fraction's digits, zero-padded, without trailing zeros unless the format keeps them.
     let mut fb = [b'0'; 20];
-    let mut n = frac;
-    for k in (0..decimals as usize).rev() {
-        fb[k] = b'0' + (n % 10) as u8;
-        n /= 10;
+    let mut m = frac;
+    for k in (0..decimals).rev() {
+        fb[k] = b'0' + (m % 10) as u8;
+        m /= 10;
     }
-    let mut len = decimals as usize;
+    let mut flen = decimals;
     if !f.trailing_zeros {
-        while len > 0 && fb[len - 1] == b'0' {
-            len -= 1;
+        while flen > 0 && fb[flen - 1] == b'0' {
+            flen -= 1;
         }
     }
-    if int != 0 || f.leading_zero || len == 0 {
-        push_u64(out, int);
+    if int != 0 || f.leading_zero || flen == 0 {
+        let i = digits(int, &mut d);
+        for &c in &d[i..] {
+            put(c, &mut len);
+        }
     }
-    if len > 0 || f.point == Point::Always {
-        out.push('.');
+    if flen > 0 || f.point == Point::Always {
+        put(b'.', &mut len);
     }
-    out.push_str(std::str::from_utf8(&fb[..len]).unwrap_or(""));
+    for &c in &fb[..flen] {
+        put(c, &mut len);
+    }
+    out.push_str(std::str::from_utf8(&b[..len]).unwrap_or(""));
+    err
 }
 
 /// Appends the decimal digits of `n` without allocating.
-fn push_u64(out: &mut String, mut n: u64) {
+fn push_u64(out: &mut Vec<u8>, mut n: u64) {
     let mut b = [0u8; 20];
     let mut i = 20;
     loop {
@@ -289,7 +456,7 @@ fn push_u64(out: &mut String, mut n: u64) {
             break;
         }
     }
-    out.push_str(std::str::from_utf8(&b[i..]).unwrap_or(""));
+    out.extend_from_slice(&b[i..]);
 }
 
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
@@ -297,6 +464,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     pub fn new(out: &'a Output, opts: Options, sink: F) -> Post<'a, F> {
         Post {
             out,
+            tops_source: None,
             opts,
             sink,
             buf: Vec::with_capacity(FLUSH_AT + 4096),
@@ -333,7 +501,18 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             active: None,
             word_buf: String::new(),
             line_buf: String::new(),
+            scratch: String::new(),
             staged: Default::default(),
+            written_val: [(f64::NAN, 0); 8],
+            staged_val: [(f64::NAN, 0); 8],
+            rounded: 0.0,
+            rounded_at: None,
+            sync: None,
+            css: false,
+            line_offsets: Vec::new(),
+            repeat: None,
+            loops: 0,
+            seen: Vec::new(),
         }
     }
 
@@ -486,14 +665,32 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         continue;
                     }
                     let f = &self.out.formats[*fi];
+                    let slot = modal_slot(*value);
+                    if let Some(k) = slot
+                        && f.modal
+                        && !force
+                        && self.written_val[k] == (x, *fi)
+                        && self.written[k].is_some()
+                    {
+                        continue;
+                    }
                     self.word_buf.clear();
                     let mut wb = std::mem::take(&mut self.word_buf);
-                    format_number(&mut wb, f, x, self.opts.units == Units::Inch);
-                    if let Some(slot) = modal_slot(*value) {
+                    let err = format_number(&mut wb, f, x, self.opts.units == Units::Inch);
+                    if err > self.rounded && matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
+                        self.rounded = err;
+                        if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                            self.rounded_at = Some(self.origin);
+                        }
+                    }
+                    if let Some(slot) = slot {
                         if f.modal && !force && self.written[slot].as_deref() == Some(wb.as_str()) {
+                            // The text written is this number's: the next time it is not formatted.
+                            self.written_val[slot] = (x, *fi);
                             self.word_buf = wb;
                             continue;
                         }
+                        self.staged_val[slot] = (x, *fi);
                         if !(3..5).contains(&slot) {
                             *moved += 1;
                         }
@@ -514,7 +711,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
     /// (with its modal values unwritten), and its G code is left out when unchanged.
     fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
-        let mut s = String::new();
+        // The header (and the modal state it starts from) before the first block's words.
+        self.start();
+        let mut s = std::mem::take(&mut self.scratch);
         for b in &t.0 {
             let mut line = std::mem::take(&mut self.line_buf);
             line.clear();
@@ -556,6 +755,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     w.clear();
                     w.push_str(x);
                     x.clear();
+                    self.written_val[k] = self.staged_val[k];
                 }
             }
             if let Some(c) = code {
@@ -570,6 +770,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.line(&line, b.raw, tool_change);
             self.line_buf = line;
         }
+        self.scratch = s;
     }
 
     fn line(&mut self, text: &str, raw: bool, tool_change: bool) {
@@ -587,9 +788,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         };
         if numbered {
             self.buf.extend_from_slice(self.out.number_address.as_bytes());
-            let mut n = String::new();
-            push_u64(&mut n, self.block);
-            self.buf.extend_from_slice(n.as_bytes());
+            push_u64(&mut self.buf, self.block);
             self.buf.extend_from_slice(self.out.separator.as_bytes());
             self.block += self.out.number_step;
         }
@@ -606,8 +805,14 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         self.buf.push(b'\n');
         if self.buf.len() >= FLUSH_AT {
+            if self.repeat.is_some() && self.buf.len() < REPEAT_MAX {
+                return;
+            }
+            // Too long to hold: the passes counted so far are written as a loop.
+            self.end_repeat();
             (self.sink)(&self.buf);
             self.buf.clear();
+            self.line_offsets.clear();
         }
     }
 
@@ -630,6 +835,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.tool = t;
             let mut vals = Vals::new();
             vals.set(Value::T, f64::from(t));
+            if let Some(f) = self.opts.tools.iter().find(|f| f.number == t) {
+                let text = tool_comment(f);
+                self.comment(&text, "comment");
+            }
             let uses_s = self.out.template("tool-change").is_some_and(|(t, _)| t.uses(Value::S));
             if uses_s && self.speed > 0.0 && (self.speed_dirty || self.written[4].is_none()) {
                 vals.set(Value::S, self.speed);
@@ -716,6 +925,24 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.cancel_cycle();
         let mut vals = Vals::new();
         vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]);
+        // A feed synchronised with the spindle: the target's thread move, else said.
+        let event = match self.sync {
+            Some(pitch) if !rapid => {
+                vals.set(Value::Pitch, pitch);
+                if self.out.template("thread").is_none() {
+                    self.note(
+                        Code::PostUnwritable,
+                        canon,
+                        "thread",
+                        "a thread (G33: a feed synchronised with the spindle) is not written: the target's output rules have no `thread` template",
+                    );
+                    self.moved(q);
+                    return;
+                }
+                "thread"
+            }
+            _ => event,
+        };
         // Rotary axes in degrees, not scaled.
         vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
         if !rapid {
@@ -749,10 +976,19 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         // The source's tolerance let the two radii differ; the target's may not. The centre
         // goes onto the perpendicular bisector of the chord (moving it by about the radius
         // error), so both radii agree whatever the target checks.
+        // Where the target takes the difference, rounding of the written numbers included
+        // (two steps), the centre stays: moved onto the bisector of a short chord it would
+        // move far more than the radius error.
         let mut centre = centre;
         let (dx, dy) = (end[a] - start[a], end[b] - start[b]);
         let chord = dx.hypot(dy);
-        if chord > 1e-9 {
+        let step = self.out.formats.iter().find(|f| f.name == "X").map_or(1e-3, |f| {
+            let d = if self.opts.units == Units::Inch { f.inch_decimals } else { f.decimals };
+            10f64.powi(-i32::from(d))
+        });
+        let tolerance = if self.opts.units == Units::Inch { self.opts.arc_tolerance.1 } else { self.opts.arc_tolerance.0 };
+        let radius_error = ((start[a] - centre[a]).hypot(start[b] - centre[b]) - (end[a] - centre[a]).hypot(end[b] - centre[b])).abs();
+        if chord > 1e-9 && radius_error + 2.0 * step > tolerance {
             let (mx, my) = ((start[a] + end[a]) / 2.0, (start[b] + end[b]) / 2.0);
             let (ux, uy) = (-dy / chord, dx / chord);
             let t = (centre[a] - mx) * ux + (centre[b] - my) * uy;
@@ -815,6 +1051,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
                     for k in 0..3 {
                         self.written[k] = None;
+                        self.written_val[k].0 = f64::NAN;
                     }
                     let keep = [to[a], to[b]];
                     let _ = keep;
@@ -877,6 +1114,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let r = intent.r_plane * s + zoff;
         let clear = intent.clear * s + zoff;
         let src_mm = s * self.opts.units.to_mm();
+        if intent.surface.is_none() && self.opts.hole_tops.is_empty() && states_surface_cycle(m) {
+            if let Some(f) = self.tops_source.take() {
+                self.opts.hole_tops = f();
+            }
+        }
         let found = self
             .opts
             .hole_tops
@@ -884,14 +1126,41 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             .find(|h| (h[0] - intent.x * src_mm).abs() < 1e-3 && (h[1] - intent.y * src_mm).abs() < 1e-3)
             .map(|h| h[2] / self.opts.units.to_mm() + zoff);
         let surface = intent.surface.map(|v| v * s + zoff).or(found).filter(|v| *v <= r + 1e-9).unwrap_or(r);
+        // The level the pecks count from: the surface for a cycle that states it (Siemens,
+        // Heidenhain), the R level for a G8x cycle. A peck cycle counted from another level
+        // than the source's drills other depths: written as its moves.
+        let pecking = matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking);
+        let src_from = intent.surface.map_or(r, |v| v * s + zoff);
+        let dst_from = if states_surface_cycle(m) { surface } else { r };
+        if pecking && intent.peck.is_some_and(|p| p * s < src_from - bottom - 1e-9) && (src_from - dst_from).abs() > 1e-6 {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                "peck-level",
+                format!(
+                    "the target's {} cycle counts its pecks from {}, the source's from {}: written as the moves it makes",
+                    intent.kind.label(),
+                    if states_surface_cycle(m) { "the workpiece surface" } else { "the R level" },
+                    if intent.surface.is_some() { "the workpiece surface" } else { "the R level" },
+                ),
+            );
+            return;
+        }
         let peck = intent.peck.map_or(surface - bottom, |p| p * s);
         let dwell = intent.dwell.unwrap_or(0.0);
-        let params = [bottom, r, clear, surface, peck, dwell, self.feed];
+        // A rigid tap (G33.1) feeds its pitch per revolution: a tapping cycle states it as
+        // the feed per minute, pitch × speed.
+        let feed = match self.sync {
+            Some(p) if self.feed_mode == FeedMode::PerMinute && self.speed > 0.0 => p * self.speed,
+            _ => self.feed,
+        };
+        let params = [bottom, r, clear, surface, peck, dwell, feed];
         let mut vals = Vals::new();
         vals.set(Value::X, x).set(Value::Y, y).set(Value::Bottom, bottom).set(Value::RPlane, r).set(Value::Clear, clear);
         vals.set(Value::Surface, surface).set(Value::Sdis, r - surface).set(Value::Depth, bottom - surface);
         vals.set(Value::ClearDist, clear - surface).set(Value::Peck, peck).set(Value::CycleDwell, dwell);
-        vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, self.feed);
+        vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, feed);
         vals.set(Value::Seconds, dwell).set(Value::Millis, dwell * 1000.0).set(Value::PeckClearance, src_clear / self.opts.units.to_mm());
         let same =
             self.active.as_ref().is_some_and(|a| a.index == index && a.params.iter().zip(&params).all(|(p, q)| (p - q).abs() < 1e-9));
@@ -916,6 +1185,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if let Some(p) = self.pending_move.take() {
             self.op(p);
         }
+        self.end_repeat();
         self.flush_tool();
         self.cancel_cycle();
         if !self.ended {
@@ -925,6 +1195,17 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if !self.buf.is_empty() {
             (self.sink)(&self.buf);
             self.buf.clear();
+        }
+        if let Some(at) = self.rounded_at {
+            let mm = self.rounded * self.opts.units.to_mm();
+            self.diags.push(Diagnostic::new(
+                Code::PostRounded,
+                at,
+                format!(
+                    "the program states positions finer than the target writes them: they are rounded to its resolution, up to {} mm off",
+                    format!("{:.5}", (mm * 1e5).ceil() / 1e5).trim_end_matches('0')
+                ),
+            ));
         }
         self.diags
     }
@@ -959,13 +1240,8 @@ impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
     fn op(&mut self, canon: Canon) {
-        if canon.line < self.line && canon.line > 0 {
-            self.note(
-                Code::PostUnrolled,
-                &canon,
-                "unrolled",
-                "the program runs blocks again (a loop, a jump back or a subprogram): it is written as the path that runs, unrolled",
-            );
+        if canon.line != self.line && canon.line > 0 && !self.ended {
+            self.new_line(&canon);
         }
         self.line = canon.line;
         self.origin = canon.origin;
@@ -1030,8 +1306,24 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     self.wcs = Some(*i);
                     let mut vals = Vals::new();
                     vals.set(Value::Wcs, f64::from(*i)).set(Value::WcsCode, 53.0 + f64::from(*i));
-                    if !self.event("work-offset", &mut vals) && *i != 1 {
-                        self.note(Code::PostUnwritable, &canon, "work-offset", "the target's output rules have no `work-offset` template");
+                    // A work offset of its own (`work-offset-7`: G59.1, G507) before the
+                    // general rule, which states G54…G59 only; an empty one says the target
+                    // has no code for it.
+                    let own = format!("work-offset-{i}");
+                    let out = self.out;
+                    let wrote = match out.template(&own) {
+                        Some((t, _)) if t.0.is_empty() => false,
+                        Some(_) => self.event(&own, &mut vals),
+                        None if *i > 6 && out.template("work-offset").is_some_and(|(t, _)| t.uses(Value::WcsCode)) => false,
+                        None => self.event("work-offset", &mut vals),
+                    };
+                    if !wrote && *i != 1 {
+                        self.note(
+                            Code::PostUnwritable,
+                            &canon,
+                            &own,
+                            format!("the target's output rules have no code for work offset {i} (`{own}`, `work-offset`)"),
+                        );
                     }
                 }
             }
@@ -1061,6 +1353,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 let mut vals = Vals::new();
                 vals.set(Value::S, self.speed);
                 self.written[4] = if self.speed_dirty { None } else { self.written[4].take() };
+                self.written_val[4].0 = f64::NAN;
                 self.speed_dirty = false;
                 self.spindle_on = true;
                 self.event(if cw { "spindle-cw" } else { "spindle-ccw" }, &mut vals);
@@ -1178,6 +1471,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                             format_number(&mut s, f, p[k], inch);
                             s
                         });
+                        self.written_val[k].0 = f64::NAN;
                     }
                 }
             }
@@ -1191,7 +1485,103 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     }
                 }
             }
-            CanonOp::SetSpindleMode(None) => {}
+            CanonOp::StartSpeedFeedSync(p) => self.sync = Some(self.to_out(*p)),
+            CanonOp::StopSpeedFeedSync => {
+                self.sync = None;
+                // The thread's lead may have been written in the feed's address (Fanuc G33 F).
+                self.written[3] = None;
+                self.written_val[3].0 = f64::NAN;
+                self.motion = None;
+            }
+            CanonOp::RigidTap(t) => {
+                let q = self.point(t);
+                if self.in_cycle {
+                    // The tapping cycle written for it drills it.
+                } else if self.out.template("rigid-tap").is_some() {
+                    let mut vals = Vals::new();
+                    vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]).set(Value::Pitch, self.sync.unwrap_or(0.0));
+                    self.event("rigid-tap", &mut vals);
+                    self.motion = None;
+                } else {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "rigid-tap",
+                        "a rigid tap (G33.1) is not written: the target has neither a tapping cycle nor a `rigid-tap` template",
+                    );
+                }
+            }
+            CanonOp::SetSpindleMode(max) => {
+                let on = max.is_some();
+                if on || self.css {
+                    let ev = if on { "css-on" } else { "css-off" };
+                    let mut vals = Vals::new();
+                    if let Some(m) = max.filter(|m| *m < crate::canon::NO_SPINDLE_LIMIT) {
+                        vals.set(Value::SpindleMax, m);
+                    }
+                    if self.event(ev, &mut vals) {
+                        self.css = on;
+                    } else {
+                        self.note(
+                            Code::PostUnwritable,
+                            &canon,
+                            ev,
+                            format!("constant surface speed (G96/G97) is not written: the target's output rules have no `{ev}` template"),
+                        );
+                    }
+                }
+            }
+            CanonOp::OrientSpindle { angle, mode } => {
+                self.spindle_on = false;
+                let t = self.out.template("spindle-orient").map(|(t, _)| (t.uses(Value::Angle), t.uses(Value::OrientDir)));
+                match t {
+                    Some((a, d)) if (a || angle.abs() < EPS) && (d || *mode == 0) => {
+                        let mut vals = Vals::new();
+                        vals.set(Value::Angle, *angle).set(Value::OrientDir, f64::from(*mode));
+                        self.event("spindle-orient", &mut vals);
+                    }
+                    Some(_) => self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "spindle-orient",
+                        format!(
+                            "a spindle orientation to {angle}° (direction {mode}) is not written: the target's `spindle-orient` states no angle or direction"
+                        ),
+                    ),
+                    None => self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "spindle-orient",
+                        "a spindle orientation (M19, SPOS) is not written: the target's output rules have no `spindle-orient` template",
+                    ),
+                }
+            }
+            CanonOp::ToolAxis(v) => {
+                let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
+                if !along_z {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "tool-axis",
+                        format!(
+                            "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
+                            v[0], v[1], v[2]
+                        ),
+                    );
+                }
+            }
+            CanonOp::NurbsFeed { points, end } => {
+                self.note(
+                    Code::PostUnwritable,
+                    &canon,
+                    "nurbs",
+                    format!(
+                        "a NURBS feed ({points} control points) is not written: the canonical ops keep its end point, not its control points and weights, so no target can state it as a spline"
+                    ),
+                );
+                let q = self.point(end);
+                self.moved(q);
+            }
             other => {
                 let name = format!("{other:?}");
                 let key = name.split(['(', ' ', '{']).next().unwrap_or("").to_owned();
@@ -1203,6 +1593,116 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 );
             }
         }
+    }
+}
+
+impl<F: FnMut(&[u8])> Post<'_, F> {
+    /// Whether the target writes repeated runs as a loop: it has the templates, and its
+    /// blocks are not numbered (a pass's text must be the same each time).
+    fn writes_repeats(&self) -> bool {
+        self.out.numbered == Numbered::None && self.out.template("repeat-begin").is_some() && self.out.template("repeat-end").is_some()
+    }
+
+    /// The source moves to another line: a jump back to where a run began ends its pass.
+    fn new_line(&mut self, canon: &Canon) {
+        let line = canon.line;
+        if let Some(r) = &self.repeat {
+            if line == r.first {
+                self.pass_ended();
+                return;
+            }
+            if line < r.lines.0 || line > r.lines.1 {
+                self.end_repeat();
+            }
+        }
+        let (word, bit) = (line as usize / 64, 1u64 << (line % 64));
+        if self.seen.len() <= word {
+            self.seen.resize(word + 1, 0);
+        }
+        let again = self.seen[word] & bit != 0;
+        self.seen[word] |= bit;
+        if again && line < self.line && self.repeat.is_none() {
+            // A jump back to a line that ran: the run from its text to here may repeat.
+            let at = self.line_offsets.iter().rev().find(|(l, _)| *l == line).map(|(_, o)| *o);
+            match at {
+                Some(start) if self.writes_repeats() => {
+                    let seen = self.line_offsets.iter().filter(|(_, o)| *o >= start).map(|(l, _)| *l);
+                    let lines = seen.fold((line, line), |(lo, hi), l| (lo.min(l), hi.max(l)));
+                    self.repeat =
+                        Some(Repeat { first: line, lines, start, end: self.buf.len(), count: 1, shifted: false, origin: canon.origin });
+                    return;
+                }
+                _ => self.note_unrolled(canon.origin),
+            }
+        }
+        if self.line_offsets.last().is_none_or(|(l, _)| *l != line) {
+            self.line_offsets.push((line, self.buf.len()));
+        }
+    }
+
+    fn note_unrolled(&mut self, at: crate::text::TextRange) {
+        if self.noted.insert("unrolled".into()) {
+            self.diags.push(Diagnostic::new(
+                Code::PostUnrolled,
+                at,
+                "the program runs blocks again (a loop, a jump back or a subprogram) and its passes write other text: it is written as the path that runs, unrolled",
+            ));
+        }
+    }
+
+    /// A pass of the run ended: the same text as the first is dropped and counted; other
+    /// text ends the run (it stays written, unrolled).
+    fn pass_ended(&mut self) {
+        let Some(r) = self.repeat.as_mut() else { return };
+        let (start, end) = (r.start, r.end);
+        let len = end - start;
+        if self.buf.len() == end + len && self.buf[start..end] == self.buf[end..] {
+            self.buf.truncate(end);
+            r.count += 1;
+        } else if r.count == 1 && !r.shifted {
+            // The first pass may differ by what the blocks before it left in force (a feed
+            // written once): the second pass is the one the others are compared with.
+            r.start = end;
+            r.end = self.buf.len();
+            r.shifted = true;
+        } else {
+            let origin = r.origin;
+            self.end_repeat();
+            self.note_unrolled(origin);
+        }
+    }
+
+    /// The run is over: a last whole pass is counted, and a run of two passes or more is
+    /// written once between the target's loop blocks.
+    fn end_repeat(&mut self) {
+        let Some(r) = self.repeat.as_ref() else { return };
+        let (start, end) = (r.start, r.end);
+        if self.buf.len() == end + (end - start) && self.buf[start..end] == self.buf[end..] {
+            self.buf.truncate(end);
+            if let Some(r) = self.repeat.as_mut() {
+                r.count += 1;
+            }
+        }
+        let Some(r) = self.repeat.take() else { return };
+        if r.count < 2 || end == start {
+            if r.count >= 2 {
+                return;
+            }
+            self.note_unrolled(r.origin);
+            return;
+        }
+        self.loops += 1;
+        let tail = self.buf.split_off(r.end);
+        let mut vals = Vals::new();
+        vals.set(Value::Count, f64::from(r.count)).set(Value::Loop, f64::from(self.loops));
+        self.event("repeat-end", &mut vals);
+        let before = self.buf.len();
+        self.event("repeat-begin", &mut vals);
+        let n = self.buf.len() - before;
+        self.buf[r.start..].rotate_right(n);
+        self.buf.extend_from_slice(&tail);
+        // The text after the loop follows its last pass: the writer's state is that pass's end.
+        self.line_offsets.clear();
     }
 }
 
