@@ -207,6 +207,9 @@ enum Command {
         /// another than loopback needs users configured.
         #[arg(long, value_name = "ADDR")]
         listen: Option<String>,
+        /// The database instead of the configuration's: a SQLite file or a `postgresql://` URL.
+        #[arg(long, value_name = "FILE|URL")]
+        db: Option<String>,
     },
     /// Print one stored revision: what it is, its findings and its changes; with flags, its
     /// source or its plan.
@@ -739,8 +742,11 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Serve { config: given, listen } => {
-            let config = load_config(given.as_deref())?;
+        Command::Serve { config: given, listen, db } => {
+            let mut config = load_config(given.as_deref())?;
+            if let Some(db) = db {
+                config.database = Location::parse(&db);
+            }
             if !config.database.exists() {
                 bail!("no database at {} (has `ncplan watch` run?)", config.database);
             }

@@ -176,8 +176,10 @@ pub struct Knowledge {
     pub name: &'static str,
     /// Title.
     pub title: &'static str,
-    /// The SQL the page runs (read-only).
+    /// The SQL the page runs on SQLite (read-only).
     pub sql: &'static str,
+    /// Its twin on PostgreSQL: the same rows in the same order.
+    pub pg_sql: &'static str,
 }
 
 /// The knowledge pages.
@@ -197,33 +199,59 @@ LEFT JOIN workingsteps w ON w.revision_id = c.original_revision_id AND w.idx = c
 WHERE c.kind IN ('feed_changed', 'spindle_speed_changed')
   AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')
 ORDER BY c.kind, tool_kind, diameter, machine, program, c.id",
+        pg_sql: "SELECT kind, machine, program, tool_kind, diameter, posted, run FROM (
+SELECT c.kind, m.name AS machine, COALESCE(r.name, p.name) AS program,
+       (SELECT t->>'kind' FROM plans pl, json_array_elements(CASE json_typeof(pl.plan_json::json->'tools') WHEN 'array' THEN pl.plan_json::json->'tools' ELSE '[]'::json END) t
+         WHERE pl.revision_id = c.original_revision_id AND (t->>'number')::float8 = w.tool LIMIT 1) AS tool_kind,
+       (SELECT (t->>'diameter')::float8 FROM plans pl, json_array_elements(CASE json_typeof(pl.plan_json::json->'tools') WHEN 'array' THEN pl.plan_json::json->'tools' ELSE '[]'::json END) t
+         WHERE pl.revision_id = c.original_revision_id AND (t->>'number')::float8 = w.tool LIMIT 1) AS diameter,
+       c.before AS posted, c.after AS run, c.id
+FROM changes c
+JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
+LEFT JOIN workingsteps w ON w.revision_id = c.original_revision_id AND w.idx = c.workingstep
+WHERE c.kind IN ('feed_changed', 'spindle_speed_changed')
+  AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')) q
+ORDER BY kind COLLATE \"C\", tool_kind COLLATE \"C\" NULLS FIRST, diameter NULLS FIRST, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", id",
     },
     Knowledge {
         name: "tools",
         title: "Tool substitutions",
         sql: "SELECT before AS posted, after AS used, COUNT(*) AS times, COUNT(DISTINCT machine) AS machines,
-       COUNT(DISTINCT program) AS programs, group_concat(DISTINCT machine) AS on_machines
+       COUNT(DISTINCT program) AS programs, group_concat(DISTINCT machine ORDER BY machine) AS on_machines
 FROM shopfloor_changes WHERE kind = 'tool_renamed'
 GROUP BY before, after ORDER BY times DESC, before, after",
+        pg_sql: "SELECT before AS posted, after AS used, COUNT(*) AS times, COUNT(DISTINCT machine) AS machines,
+       COUNT(DISTINCT program) AS programs, string_agg(DISTINCT machine, ',' ORDER BY machine) AS on_machines
+FROM shopfloor_changes WHERE kind = 'tool_renamed'
+GROUP BY before, after ORDER BY times DESC, before COLLATE \"C\", after COLLATE \"C\"",
     },
     Knowledge {
         name: "start-points",
         title: "Start points that keep moving",
-        sql: "SELECT machine, program, workingstep, operation, COUNT(*) AS moves, COUNT(DISTINCT after) AS places,
-       group_concat(after, ' | ') AS moved_to, MAX(detected_at) AS last
+        sql: "SELECT machine, program, workingstep, MIN(operation) AS operation, COUNT(*) AS moves, COUNT(DISTINCT after) AS places,
+       group_concat(after, ' | ' ORDER BY change_id) AS moved_to, MAX(detected_at) AS last
 FROM shopfloor_changes WHERE kind = 'start_point_moved'
 GROUP BY machine, program, workingstep ORDER BY moves DESC, machine, program, workingstep",
+        pg_sql: "SELECT machine, program, workingstep, MIN(operation COLLATE \"C\") AS operation, COUNT(*) AS moves, COUNT(DISTINCT after) AS places,
+       string_agg(after, ' | ' ORDER BY change_id) AS moved_to, MAX(detected_at COLLATE \"C\") AS last
+FROM shopfloor_changes WHERE kind = 'start_point_moved'
+GROUP BY machine, program, workingstep ORDER BY moves DESC, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", workingstep",
     },
     Knowledge {
         name: "depths",
         title: "Depth changes",
-        sql: "SELECT machine, program, workingstep, operation, before AS posted, after AS run, COUNT(*) AS times, MAX(detected_at) AS last
+        sql: "SELECT machine, program, workingstep, MIN(operation) AS operation, before AS posted, after AS run, COUNT(*) AS times, MAX(detected_at) AS last
 FROM shopfloor_changes WHERE kind IN ('depth_changed', 'axial_depth_changed')
-GROUP BY machine, program, workingstep, before, after ORDER BY times DESC, machine, program, workingstep",
+GROUP BY machine, program, workingstep, before, after ORDER BY times DESC, machine, program, workingstep, before, after",
+        pg_sql: "SELECT machine, program, workingstep, MIN(operation COLLATE \"C\") AS operation, before AS posted, after AS run, COUNT(*) AS times,
+       MAX(detected_at COLLATE \"C\") AS last
+FROM shopfloor_changes WHERE kind IN ('depth_changed', 'axial_depth_changed')
+GROUP BY machine, program, workingstep, before, after
+ORDER BY times DESC, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", workingstep, before COLLATE \"C\", after COLLATE \"C\"",
     },
 ];
 
-/// Saved queries of the SQL console: a title and the SQL.
+/// Saved queries of the SQL console: a title and the SQL, which both engines run alike.
 pub const SAVED_QUERIES: &[(&str, &str)] = &[
     (
         "The newest changes",
@@ -231,13 +259,16 @@ pub const SAVED_QUERIES: &[(&str, &str)] = &[
     ),
     (
         "Programs whose feeds are changed most, per machine",
-        "SELECT machine, program, COUNT(*) n FROM shopfloor_changes WHERE kind = 'feed_changed' GROUP BY 1, 2 ORDER BY n DESC",
+        "SELECT machine, program, COUNT(*) n FROM shopfloor_changes WHERE kind = 'feed_changed' GROUP BY 1, 2 ORDER BY n DESC, 1, 2",
     ),
     (
         "Revisions with errors",
-        "SELECT r.id, p.path, r.seen_at, COUNT(*) errors FROM diagnostics d JOIN revisions r ON r.id = d.revision_id JOIN programs p ON p.id = r.program_id WHERE d.severity = 'error' GROUP BY r.id ORDER BY r.id DESC",
+        "SELECT r.id, p.path, r.seen_at, COUNT(*) errors FROM diagnostics d JOIN revisions r ON r.id = d.revision_id JOIN programs p ON p.id = r.program_id WHERE d.severity = 'error' GROUP BY r.id, p.path, r.seen_at ORDER BY r.id DESC",
     ),
-    ("Hole diameters drilled", "SELECT diameter, SUM(positions) holes FROM features WHERE kind = 'round_hole' GROUP BY 1 ORDER BY 2 DESC"),
+    (
+        "Hole diameters drilled",
+        "SELECT diameter, SUM(positions) holes FROM features WHERE kind = 'round_hole' GROUP BY 1 ORDER BY 2 DESC, 1",
+    ),
     (
         "Review marks",
         "SELECT change_id, revision_id, kind, before, after, mark, note, marked_by, marked_at FROM review_marks ORDER BY id DESC",
@@ -584,15 +615,7 @@ impl Lite {
         max_rows: usize,
         limit: std::time::Duration,
     ) -> std::result::Result<Limited, super::QueryError> {
-        let (first, rest) = super::split_statement(sql_text);
-        if !rest.is_empty() {
-            return Err(super::QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
-        }
-        let keyword = first.trim_start().split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("").to_ascii_uppercase();
-        if !matches!(keyword.as_str(), "SELECT" | "WITH" | "VALUES" | "EXPLAIN") {
-            let what = if keyword.is_empty() { "an empty statement".to_owned() } else { format!("`{keyword}`") };
-            return Err(super::QueryError::Refused(format!("{what} is refused: queries only read (SELECT, WITH, VALUES, EXPLAIN)")));
-        }
+        let first = super::one_reading_statement(sql_text)?;
         let started = std::time::Instant::now();
         self.conn.progress_handler(1000, Some(move || started.elapsed() > limit));
         let result = self.query_capped(first, max_rows);

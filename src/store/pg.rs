@@ -21,6 +21,8 @@ use super::pg_schema;
 use super::*;
 use crate::pairing::Rule;
 
+mod pages;
+
 fn sql(about: &'static str) -> impl FnOnce(postgres::Error) -> StoreError {
     move |source| StoreError::Sql { about, source: Box::new(source) }
 }
@@ -383,10 +385,16 @@ fn text_rows(c: &mut Client, sql_text: &str) -> std::result::Result<(Vec<String>
     let stmt = c.prepare(sql_text)?;
     let names: Vec<String> = stmt.columns().iter().map(|c| c.name().to_owned()).collect();
     let types: Vec<Type> = stmt.columns().iter().map(|c| c.type_().clone()).collect();
+    let out = text_cells(&c.simple_query(sql_text)?, &types);
+    Ok((names, out))
+}
+
+/// The rows among a simple query's messages as text, as [`text_rows`] gives them.
+fn text_cells(messages: &[SimpleQueryMessage], types: &[Type]) -> Vec<Vec<String>> {
     let mut out = Vec::new();
-    for m in c.simple_query(sql_text)? {
+    for m in messages {
         if let SimpleQueryMessage::Row(row) = m {
-            let mut cells = Vec::with_capacity(names.len());
+            let mut cells = Vec::with_capacity(types.len());
             for (i, t) in types.iter().enumerate() {
                 let v = row.get(i).unwrap_or("");
                 cells.push(if row.get(i).is_none() {
@@ -402,7 +410,7 @@ fn text_rows(c: &mut Client, sql_text: &str) -> std::result::Result<(Vec<String>
             out.push(cells);
         }
     }
-    Ok((names, out))
+    out
 }
 
 /// PostgreSQL's message, without its internals.
@@ -871,27 +879,37 @@ impl Pg {
         for (n, r) in revisions.iter().enumerate() {
             c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
             let tx = PgTxn { conn: c, done: Cell::new(false) };
+            // Looked up before they are written: an upsert would take a number from the
+            // sequence each time, and a database copied from one SQLite file keeps its ids.
             let machine_id: Option<i64> = match &r.machine {
-                Some((name, dialect, folder)) => Some(
-                    c.one(
-                        "recording a machine",
-                        "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
-                         ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect RETURNING id",
-                        &[&site, name, dialect, folder],
-                    )?
-                    .get(0),
-                ),
+                Some((name, dialect, folder)) => {
+                    Some(match c.opt("looking up a machine", "SELECT id FROM machines WHERE site = $1 AND name = $2", &[&site, name])? {
+                        Some(row) => row.get(0),
+                        None => c
+                            .one(
+                                "recording a machine",
+                                "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
+                                 ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect RETURNING id",
+                                &[&site, name, dialect, folder],
+                            )?
+                            .get(0),
+                    })
+                }
                 None => None,
             };
             let (pname, key, stem, dialect) = &r.program;
-            let program_id: i64 = c
-                .one(
-                    "recording a program",
-                    "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
-                     ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role RETURNING id",
-                    &[&site, &r.path, &r.role, &machine_id, pname, key, stem, dialect],
-                )?
-                .get(0);
+            let program_id: i64 =
+                match c.opt("looking up a program", "SELECT id FROM programs WHERE site = $1 AND path = $2", &[&site, &r.path])? {
+                    Some(row) => row.get(0),
+                    None => c
+                        .one(
+                            "recording a program",
+                            "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                             ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role RETURNING id",
+                            &[&site, &r.path, &r.role, &machine_id, pname, key, stem, dialect],
+                        )?
+                        .get(0),
+                };
             let found = c.opt(
                 "looking up a copied revision",
                 "SELECT id FROM revisions WHERE program_id = $1 AND hash = $2 AND seen_at = $3",
@@ -1229,111 +1247,5 @@ impl PgTxn<'_> {
             &[&a.revision, &a.version],
         )?;
         Ok(Some(outcome))
-    }
-}
-
-/// A row of `pages::CHANGE_ROWS`.
-fn change_row(r: &Row) -> super::ChangeRow {
-    let kind: String = r.get(8);
-    let region = match (r.get::<_, Option<f64>>(14), r.get::<_, Option<f64>>(17)) {
-        (Some(a), Some(b)) => Some(crate::plan::BBox {
-            min: [a, r.get::<_, Option<f64>>(15).unwrap_or(0.0), r.get::<_, Option<f64>>(16).unwrap_or(0.0)],
-            max: [b, r.get::<_, Option<f64>>(18).unwrap_or(0.0), r.get::<_, Option<f64>>(19).unwrap_or(0.0)],
-        }),
-        _ => None,
-    };
-    super::ChangeRow {
-        id: r.get(0),
-        revision_id: r.get(1),
-        original_revision_id: r.get(2),
-        machine: r.get(3),
-        program: r.get(4),
-        detected_at: r.get(5),
-        change: Change {
-            kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
-            workingstep: r.get::<_, i64>(6) as u32,
-            operation: r.get(7),
-            field: r.get(9),
-            before: r.get(10),
-            after: r.get(11),
-            line: r.get::<_, Option<i64>>(12).map(|l| l as u32),
-            original_line: r.get::<_, Option<i64>>(13).map(|l| l as u32),
-            region,
-            deviation: r.get(20),
-        },
-        marks: Vec::new(),
-    }
-}
-
-/// The workspace's change reads on PostgreSQL (what `report --format html|csv` needs).
-impl Pg {
-    fn with_marks(&self, mut rows: Vec<super::ChangeRow>) -> Result<Vec<super::ChangeRow>> {
-        if rows.is_empty() {
-            return Ok(rows);
-        }
-        let ids: Vec<i64> = rows.iter().map(|r| r.id).collect();
-        let marks = self.conn.rows(
-            "reading review marks",
-            "SELECT change_id, mark, note, marked_by, marked_at FROM review_marks WHERE change_id = ANY($1) ORDER BY id",
-            &[&ids],
-        )?;
-        let mut by_change: BTreeMap<i64, Vec<super::Mark>> = BTreeMap::new();
-        for r in marks {
-            by_change.entry(r.get(0)).or_default().push(super::Mark { mark: r.get(1), note: r.get(2), by: r.get(3), at: r.get(4) });
-        }
-        for row in &mut rows {
-            row.marks = by_change.remove(&row.id).unwrap_or_default();
-        }
-        Ok(rows)
-    }
-
-    pub(super) fn marks(&self, change_id: i64) -> Result<Vec<super::Mark>> {
-        let rows = self.conn.rows(
-            "reading review marks",
-            "SELECT mark, note, marked_by, marked_at FROM review_marks WHERE change_id = $1 ORDER BY id",
-            &[&change_id],
-        )?;
-        Ok(rows.iter().map(|r| super::Mark { mark: r.get(0), note: r.get(1), by: r.get(2), at: r.get(3) }).collect())
-    }
-
-    pub(super) fn search_changes(&self, filter: &super::ChangeFilter, limit: usize) -> Result<Vec<super::ChangeRow>> {
-        let program_number = filter.program.trim().trim_start_matches(['O', 'o']).parse::<u64>().ok().map(|n| format!("O{n}"));
-        let query = format!(
-            "{}
-               AND ($1 = '' OR COALESCE(r.name, p.name) LIKE '%' || $1 || '%' OR p.path LIKE '%' || $1 || '%' OR COALESCE(r.name, p.name) = $2)
-               AND ($3 = '' OR m.name = $3)
-               AND ($4 = '' OR c.detected_at::timestamptz >= $4::timestamptz)
-               AND ($5 = '' OR c.detected_at::timestamptz < ($5::date + 1)::timestamptz)
-               AND (NOT $6::bool OR {})
-               AND ($7 = '' OR c.kind = $7)
-             ORDER BY c.detected_at DESC, c.id DESC LIMIT $8",
-            super::pages::CHANGE_ROWS,
-            super::pages::UNMARKED
-        );
-        let rows = self
-            .conn
-            .client
-            .borrow_mut()
-            .query(
-                query.as_str(),
-                &[
-                    &filter.program.trim(),
-                    &program_number.unwrap_or_default(),
-                    &filter.machine.trim(),
-                    &filter.since.trim(),
-                    &filter.until.trim(),
-                    &filter.to_review,
-                    &filter.kind.trim(),
-                    &(limit as i64),
-                ],
-            )
-            .map_err(sql("searching changes"))?;
-        self.with_marks(rows.iter().map(change_row).collect())
-    }
-
-    pub(super) fn change_rows(&self, revision: i64) -> Result<Vec<super::ChangeRow>> {
-        let query = format!("{} AND c.revision_id = $1 ORDER BY c.id", super::pages::CHANGE_ROWS);
-        let rows = self.conn.client.borrow_mut().query(query.as_str(), &[&revision]).map_err(sql("reading changes"))?;
-        self.with_marks(rows.iter().map(change_row).collect())
     }
 }

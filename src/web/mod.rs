@@ -92,7 +92,13 @@ pub(crate) struct Server {
     secret: [u8; 32],
     sessions: Mutex<BTreeMap<String, String>>,
     plans: Mutex<PlanCache>,
+    /// Read-only connections that served a page and may serve the next (a PostgreSQL
+    /// connection costs a login each time).
+    idle: Mutex<Vec<Store>>,
 }
+
+/// Idle read-only connections kept.
+const IDLE_KEPT: usize = 4;
 
 impl Server {
     pub(crate) fn new(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<Server> {
@@ -104,11 +110,24 @@ impl Server {
             secret: auth::random()?,
             sessions: Mutex::new(BTreeMap::new()),
             plans: Mutex::new(PlanCache { kept: Vec::new() }),
+            idle: Mutex::new(Vec::new()),
         })
     }
 
     fn store(&self) -> Result<Store> {
+        if let Some(s) = self.idle.lock().ok().and_then(|mut idle| idle.pop()) {
+            return Ok(s);
+        }
         Store::open_read_only(&self.db).with_context(|| format!("cannot open the database {}", self.db))
+    }
+
+    /// Keeps a connection that served a page without an error for the next one.
+    fn give_back(&self, store: Store) {
+        if let Ok(mut idle) = self.idle.lock()
+            && idle.len() < IDLE_KEPT
+        {
+            idle.push(store);
+        }
     }
 
     /// The whole plan of a stored revision (cached).
@@ -176,9 +195,6 @@ impl std::error::Error for NotFound {}
 pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
     let addr = listen_address(options.listen.as_deref(), &options.config)?;
     // Review marks need migration 4; the daemon may not have run since this ncplan.
-    if options.config.database.file().is_none() {
-        anyhow::bail!("ncplan serve reads a SQLite database so far; on PostgreSQL, query, report and show work");
-    }
     Store::open(&options.config.database, &options.config.site)
         .with_context(|| format!("cannot open the database {}", options.config.database))?;
     let server = Arc::new(Server::new(options.config, options.registry, options.clock)?);
@@ -240,7 +256,11 @@ where
     };
     let result = tokio::task::spawn_blocking(move || {
         let store = s.store()?;
-        render(&s, &ctx, &store)
+        let page = render(&s, &ctx, &store);
+        if page.is_ok() {
+            s.give_back(store);
+        }
+        page
     })
     .await;
     let mut response = match result {

@@ -423,7 +423,8 @@ fn feeds(rows: &[Vec<String>]) -> Markup {
 pub(super) fn knowledge(s: &Server, ctx: &Ctx, store: &Store, name: &str, show_sql: bool) -> Result<Markup> {
     let _ = s;
     let k = KNOWLEDGE.iter().find(|k| k.name == name).ok_or_else(|| NotFound(format!("no knowledge page `{name}`")))?;
-    let (cols, rows) = store.query(k.sql)?;
+    let sql = store.knowledge_sql(k);
+    let (cols, rows) = store.query(sql)?;
     Ok(layout(
         Some(ctx),
         k.title,
@@ -431,9 +432,9 @@ pub(super) fn knowledge(s: &Server, ctx: &Ctx, store: &Store, name: &str, show_s
             h1 { (k.title) }
             p class="noprint" {
                 @if show_sql { a href={"/knowledge/" (k.name)} { "Hide the SQL" } } @else { a href={"/knowledge/" (k.name) "?sql"} class="show-sql" { "Show the SQL" } }
-                " · " a href={"/sql?q=" (urlencode(k.sql))} { "Open it in the SQL console" }
+                " · " a href={"/sql?q=" (urlencode(sql))} { "Open it in the SQL console" }
             }
-            @if show_sql { pre class="sql" { (k.sql) } }
+            @if show_sql { pre class="sql" { (sql) } }
             @if rows.is_empty() { p class="muted" { "Nothing recorded yet." } }
             @if k.name == "feeds" { (feeds(&rows)) }
             (table(&cols, &rows))

@@ -635,3 +635,193 @@ fn reanalyze_on_sqlite_reads_every_revision_again_once_and_keeps_the_old_results
     assert_eq!(code, 0);
     assert!(out.contains(": 0 revisions read again"), "{out}");
 }
+
+/// `ncplan serve` with `args`, until dropped; its base URL.
+fn serve(server: &Server, args: &[&str]) -> (Daemon, String) {
+    use std::io::BufRead as _;
+    let mut child = Command::new(crate::bin())
+        .args(["serve", "--config"])
+        .arg(server.path("ncplan.toml"))
+        .args(["--listen", "127.0.0.1:0"])
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("start ncplan serve");
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("serve said: {line}"));
+    let base = url.trim_end_matches('/').to_owned();
+    (Daemon(child), base)
+}
+
+/// One HTTP/1.1 exchange on a new connection: the head and the body.
+fn http(base: &str, request: &str) -> (String, String) {
+    use std::io::{Read as _, Write as _};
+    let addr = base.trim_start_matches("http://");
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    s.write_all(request.replace("{host}", addr).as_bytes()).unwrap();
+    let mut out = String::new();
+    s.read_to_string(&mut out).unwrap();
+    let (head, body) = out.split_once("\r\n\r\n").unwrap_or((&out, ""));
+    (head.to_owned(), body.to_owned())
+}
+
+const SESSION: &str = "ncplan_session=0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
+
+fn get(base: &str, path: &str) -> (String, String) {
+    http(base, &format!("GET {path} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nConnection: close\r\n\r\n"))
+}
+
+/// `text` with every `value="…"` after `name="csrf"` (the token is the session's and the
+/// server's secret's) and, with `sql`, every `/sql?q=…` link and `<pre class="sql">`
+/// (a knowledge page's SQL is in its engine's words) replaced by a mark.
+fn masked(text: &str, sql: bool) -> String {
+    let mut out = text.to_owned();
+    let mut cut = |from: &str, to: &str| {
+        let mut done = String::new();
+        let mut rest = out.as_str();
+        while let Some(i) = rest.find(from) {
+            let start = i + from.len();
+            let end = rest[start..].find(to).map_or(rest.len(), |j| start + j);
+            done.push_str(&rest[..start]);
+            done.push('…');
+            rest = &rest[end..];
+        }
+        done.push_str(rest);
+        out = done;
+    };
+    cut("name=\"csrf\" value=\"", "\"");
+    if sql {
+        cut("href=\"/sql?q=", "\"");
+        cut("<pre class=\"sql\">", "</pre>");
+    }
+    out
+}
+
+fn urlencode(s: &str) -> String {
+    s.bytes().map(|b| if b.is_ascii_alphanumeric() { (b as char).to_string() } else { format!("%{b:02X}") }).collect()
+}
+
+#[test]
+fn serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks() {
+    let Some(pg) = Cluster::start("pg::serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks") else { return };
+    // A real daemon on real folders builds the SQLite file: two originals, then their edits.
+    let lite = Server::new(Some("HALL1"), "path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    let root = crate::root();
+    let daemon = lite.start();
+    lite.put("cam/O1234.nc", &std::fs::read_to_string(root.join("demo/cam/O1234.nc")).unwrap());
+    lite.put("cam/O4321.nc", &long_program(4321, 400, 30));
+    wait_until("the originals are stored", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM revisions") == [["2"]]);
+    lite.put("share/O1234.nc", &std::fs::read_to_string(root.join("demo/examples/O1234_edited.nc")).unwrap());
+    wait_until("the first edit is compared", Duration::from_secs(30), || {
+        crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]
+    });
+    lite.put("share/O4321.nc", &long_program(4321, 300, 30).replace("S2000", "S2400"));
+    wait_until("the second edit is compared", Duration::from_secs(30), || {
+        crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["2"]]
+    });
+    daemon.kill();
+    // The same database on PostgreSQL, copied by `migrate`, keeps the ids the pages link by.
+    let url = pg.url();
+    let (code, _, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL1"]);
+    assert_eq!(code, 0, "{err}");
+    for ids in [
+        "SELECT id, path FROM programs ORDER BY id",
+        "SELECT id, hash, seen_at FROM revisions ORDER BY id",
+        "SELECT id, revision_id, kind, before, after FROM changes ORDER BY id",
+    ] {
+        assert_eq!(pg.rows(ids), crate::db_rows(&db, ids), "{ids}");
+    }
+    let changes = crate::db_rows(&db, "SELECT id, revision_id FROM changes ORDER BY id");
+    assert!(changes.len() >= 3, "{changes:?}");
+    let (_lite_serve, on_lite) = serve(&lite, &[]);
+    let (_pg_serve, on_pg) = serve(&lite, &["--db", &url]);
+    // Every page: the overview, the machine, each program and comparison, the knowledge
+    // pages with and without their SQL, the console with each saved query, searches.
+    let mut paths: Vec<String> =
+        ["/", "/machine/DMU50", "/knowledge", "/sql", "/search", "/search?program=o1234", "/search?to_review=1&machine=DMU50"]
+            .iter()
+            .map(|p| (*p).to_owned())
+            .collect();
+    paths.push("/search?kind=feed_changed&since=2000-01-01&until=2999-12-31".into());
+    paths.push("/search?until=2000-01-01".into());
+    for p in crate::db_rows(&db, "SELECT id FROM programs ORDER BY id") {
+        paths.push(format!("/program/{}", p[0]));
+    }
+    for r in crate::db_rows(&db, "SELECT revision_id FROM comparisons ORDER BY revision_id") {
+        paths.push(format!("/compare/{}", r[0]));
+    }
+    for k in ncplan::store::KNOWLEDGE {
+        paths.push(format!("/knowledge/{}", k.name));
+        paths.push(format!("/knowledge/{}?sql", k.name));
+    }
+    for (_, sql) in ncplan::store::SAVED_QUERIES {
+        paths.push(format!("/sql?q={}", urlencode(sql)));
+    }
+    paths.push(format!("/sql?q={}", urlencode("SELECT kind, COUNT(*) AS n FROM changes GROUP BY kind ORDER BY n DESC, kind")));
+    paths.push(format!("/sql?q={}", urlencode("DELETE FROM changes")));
+    paths.push(format!("/sql?q={}", urlencode("SELECT 1; DROP TABLE changes")));
+    let mut compared = 0;
+    for path in &paths {
+        let (head_l, page_l) = get(&on_lite, path);
+        let (head_p, page_p) = get(&on_pg, path);
+        assert!(head_l.starts_with("HTTP/1.1 200"), "{path} on SQLite: {head_l}\n{page_l}");
+        assert!(head_p.starts_with("HTTP/1.1 200"), "{path} on PostgreSQL: {head_p}\n{page_p}");
+        let sql = path.starts_with("/knowledge/");
+        let (a, b) = (masked(&page_l, sql), masked(&page_p, sql));
+        if a != b {
+            let line = a.lines().zip(b.lines()).position(|(x, y)| x != y).unwrap_or(0);
+            panic!(
+                "{path} differs from line {line}:\nSQLite:     {}\nPostgreSQL: {}",
+                a.lines().nth(line).unwrap_or(""),
+                b.lines().nth(line).unwrap_or("")
+            );
+        }
+        compared += 1;
+    }
+    assert_eq!(compared, paths.len());
+    let (_, overview) = get(&on_pg, "/");
+    assert!(overview.contains("O1234") && overview.contains("DMU50"), "{overview}");
+    let (_, feeds) = get(&on_pg, "/knowledge/feeds");
+    assert!(feeds.contains(">feed_changed<"), "the feeds page has rows: {feeds}");
+
+    // The console on PostgreSQL: a row cap, a time limit, writes refused in plain words.
+    let (_, page) = get(&on_pg, &format!("/sql?q={}", urlencode("SELECT generate_series(1, 5000) AS n")));
+    assert!(page.contains("1000 rows (more left off at the row limit)"), "{page}");
+    let (_, page) = get(&on_pg, &format!("/sql?q={}", urlencode("SELECT pg_sleep(10)")));
+    assert!(page.contains("the query ran past its time limit of 2000 ms and was stopped"), "{page}");
+    let (_, page) =
+        get(&on_pg, &format!("/sql?q={}", urlencode("WITH gone AS (DELETE FROM changes RETURNING id) SELECT COUNT(*) FROM gone")));
+    assert!(page.contains("the query would write; queries only read"), "{page}");
+    assert_eq!(pg.count("SELECT COUNT(*) FROM changes") as usize, changes.len());
+
+    // A review mark posted with the session's CSRF token lands in PostgreSQL.
+    let (change, revision) = (&changes[0][0], &changes[0][1]);
+    let (_, page) = get(&on_pg, &format!("/compare/{revision}"));
+    let token = page.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).expect("a CSRF token").to_owned();
+    let post = |token: &str| {
+        let body = format!("mark=note&note={}&by=ada&csrf={token}", urlencode("<b>feed</b> kept"));
+        http(
+            &on_pg,
+            &format!(
+                "POST /review/{change} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                body.len()
+            ),
+        )
+        .0
+    };
+    let head = post("forged");
+    assert!(head.starts_with("HTTP/1.1 403"), "{head}");
+    assert_eq!(pg.count("SELECT COUNT(*) FROM review_marks"), 0);
+    let head = post(&token);
+    assert!(head.starts_with("HTTP/1.1 303"), "{head}");
+    assert_eq!(
+        pg.rows("SELECT change_id, mark, note, marked_by FROM review_marks"),
+        [[change.clone(), "note".into(), "<b>feed</b> kept".into(), "ada".into()]]
+    );
+    assert!(crate::db_rows(&db, "SELECT id FROM review_marks").is_empty(), "the SQLite file is not written");
+    let (_, page) = get(&on_pg, &format!("/compare/{revision}"));
+    assert!(page.contains("&lt;b&gt;feed&lt;/b&gt; kept") && !page.contains("<b>feed</b>"), "the note shows as text");
+}
