@@ -323,6 +323,37 @@ fn split_statement_blank(s: &str) -> bool {
     }
 }
 
+/// A stored change as a comparison made again matches it: its id, workingstep, kind,
+/// field, before, after, and when it was detected.
+pub(crate) type OldChange = (i64, i64, String, String, String, String, String);
+
+/// For each of a comparison's `new` changes, the id and detection time of the stored change
+/// it continues: the first not yet taken with the same workingstep, kind, field, before and
+/// after (the change's stable key). A change found again keeps its id, so the review marks
+/// made on it stay on it, and the time it was first detected.
+pub(crate) fn continued(old: &[OldChange], new: &[Change]) -> Vec<Option<(i64, String)>> {
+    let mut taken = vec![false; old.len()];
+    new.iter()
+        .map(|c| {
+            let i = old.iter().enumerate().position(|(i, o)| {
+                !taken[i]
+                    && o.1 == i64::from(c.workingstep)
+                    && o.2 == c.kind.as_str()
+                    && o.3 == c.field
+                    && o.4 == c.before
+                    && o.5 == c.after
+            })?;
+            taken[i] = true;
+            Some((old[i].0, old[i].6.clone()))
+        })
+        .collect()
+}
+
+/// The columns `old_changes` copies from `changes` (after its own change_id, revision_id,
+/// original_revision_id, analysis, replaced_by and replaced_at).
+pub(crate) const OLD_CHANGE_COLUMNS: &str = "workingstep, operation, kind, field, before, after, line, detected_at, original_line,
+     region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation";
+
 /// A re-analysis to record ([`Txn::record_analysis`]).
 #[derive(Debug)]
 pub struct NewAnalysis<'a> {
@@ -640,7 +671,9 @@ impl Txn<'_> {
     }
 
     /// Records the comparison of `revision` with `original`, paired by `rule`, replacing an
-    /// earlier one of the same revision.
+    /// earlier one of the same revision: its change rows move to `old_changes` with the
+    /// analysis version that made them, and a change found again keeps its id ([`continued`]).
+    /// The new rows name the analysis of the revision's plan.
     pub fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
         on_tx!(self, e => e.record_comparison(revision, original, rule, changes, at))
     }

@@ -766,6 +766,22 @@ impl PgTxn<'_> {
 
     pub(super) fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
         let c = self.conn;
+        let analysis: String = c
+            .one("reading a plan's analysis", "SELECT COALESCE((SELECT analysis FROM plans WHERE revision_id = $1), '')", &[&revision])?
+            .get(0);
+        let old: Vec<OldChange> = c
+            .rows(
+                "reading changes",
+                "SELECT id, workingstep, kind, field, before, after, detected_at FROM changes WHERE revision_id = $1 ORDER BY id",
+                &[&revision],
+            )?
+            .iter()
+            .map(|r| (r.get(0), r.get(1), r.get(2), r.get(3), r.get(4), r.get(5), r.get(6)))
+            .collect();
+        let kept = continued(&old, changes);
+        if !old.is_empty() {
+            c.exec("keeping the old changes", KEEP_OLD_CHANGES, &[&revision, &analysis, &at])?;
+        }
         c.exec("replacing a comparison", "DELETE FROM changes WHERE revision_id = $1", &[&revision])?;
         c.exec(
             "recording a comparison",
@@ -789,20 +805,37 @@ impl PgTxn<'_> {
         let (x0, y0, z0) = (corner(|b| b.min[0]), corner(|b| b.min[1]), corner(|b| b.min[2]));
         let (x1, y1, z1) = (corner(|b| b.max[0]), corner(|b| b.max[1]), corner(|b| b.max[2]));
         let dev: Vec<Option<f64>> = changes.iter().map(|c| c.deviation).collect();
+        let id: Vec<Option<i64>> = kept.iter().map(|k| k.as_ref().map(|k| k.0)).collect();
+        let detected: Vec<&str> = kept.iter().map(|k| k.as_ref().map_or(at, |k| k.1.as_str())).collect();
         c.exec(
             "storing changes",
-            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
-                                 original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
-             SELECT $1, $2, ws, op, kind, field, before, after, line, $3, oline, x0, y0, z0, x1, y1, z1, dev
+            "INSERT INTO changes(id, revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                 original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
+                                 analysis)
+             SELECT COALESCE(id, nextval(pg_get_serial_sequence('changes', 'id'))), $1, $2, ws, op, kind, field, before, after, line, at,
+                    oline, x0, y0, z0, x1, y1, z1, dev, $3
              FROM unnest($4::int8[], $5::text[], $6::text[], $7::text[], $8::text[], $9::text[], $10::int8[], $11::int8[],
-                         $12::float8[], $13::float8[], $14::float8[], $15::float8[], $16::float8[], $17::float8[], $18::float8[])
-                  WITH ORDINALITY AS u(ws, op, kind, field, before, after, line, oline, x0, y0, z0, x1, y1, z1, dev, n)
+                         $12::float8[], $13::float8[], $14::float8[], $15::float8[], $16::float8[], $17::float8[], $18::float8[],
+                         $19::int8[], $20::text[])
+                  WITH ORDINALITY AS u(ws, op, kind, field, before, after, line, oline, x0, y0, z0, x1, y1, z1, dev, id, at, n)
              ORDER BY n",
-            &[&revision, &original, &at, &ws, &op, &kind, &field, &before, &after, &line, &oline, &x0, &y0, &z0, &x1, &y1, &z1, &dev],
+            &[
+                &revision, &original, &analysis, &ws, &op, &kind, &field, &before, &after, &line, &oline, &x0, &y0, &z0, &x1, &y1, &z1,
+                &dev, &id, &detected,
+            ],
         )?;
         Ok(())
     }
 }
+
+/// `record_comparison`'s copy of the rows it replaces (`$1` revision, `$2` the analysis that
+/// replaces them, `$3` when).
+const KEEP_OLD_CHANGES: &str = "INSERT INTO old_changes(change_id, revision_id, original_revision_id, analysis, replaced_by, replaced_at,
+        workingstep, operation, kind, field, before, after, line, detected_at, original_line,
+        region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
+ SELECT id, revision_id, original_revision_id, analysis, $2, $3, workingstep, operation, kind, field, before, after, line, detected_at,
+        original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
+ FROM changes WHERE revision_id = $1 ORDER BY id";
 
 /// What `ncplan migrate` did.
 #[derive(Debug, Default, Clone, Copy)]

@@ -825,3 +825,84 @@ fn serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks() 
     let (_, page) = get(&on_pg, &format!("/compare/{revision}"));
     assert!(page.contains("&lt;b&gt;feed&lt;/b&gt; kept") && !page.contains("<b>feed</b>"), "the note shows as text");
 }
+
+/// A re-analysis on `server`'s database `db`: the old changes are kept with the version that
+/// made them, a change found again keeps its id and its review marks, one the new analysis
+/// does not find leaves the pages with its marks, and the summary says what changed.
+fn reanalysis_keeps_old_changes_and_marks(server: &Server, db: &Location, rows: impl Fn(&str) -> Vec<Vec<String>>) {
+    let daemon = server.start();
+    server.put("cam/O1.nc", &program(1, 250, 1800));
+    server.put("share/O1.nc", &program(1, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || rows("SELECT COUNT(*) FROM comparisons") == [["1"]]);
+    daemon.kill();
+    let store = Store::open(db, "HALL1").unwrap();
+    // An older analysis also found a tool renamed, which today's does not find.
+    let (_, edit) = store.query("SELECT revision_id, original_revision_id FROM comparisons").unwrap();
+    let (edit, original) = (&edit[0][0], &edit[0][1]);
+    store
+        .query(&format!(
+            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, detected_at)
+             VALUES ({edit}, {original}, 1, 'plane finish milling', 'tool_renamed', 'tool', 'T1', 'T9', '2026-01-01T00:00:00.000Z')"
+        ))
+        .unwrap();
+    let id_of = |kind: &str| rows(&format!("SELECT id FROM changes WHERE kind = '{kind}'"))[0][0].parse::<i64>().unwrap();
+    let (feed, speed, renamed) = (id_of("feed_changed"), id_of("spindle_speed_changed"), id_of("tool_renamed"));
+    let detected = rows(&format!("SELECT detected_at FROM changes WHERE id = {feed}"));
+    store.add_mark(feed, "adopt", "", "ada", "2026-02-01T00:00:00.000Z").unwrap().unwrap();
+    store.add_mark(renamed, "reject", "", "ada", "2026-02-01T00:00:00.000Z").unwrap().unwrap();
+    drop(store);
+    let config = server.path("ncplan.toml");
+    let (code, out, err) = server.ncplan(&["reanalyze", "--config", config.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": 2 revisions read again, 0 plans changed, 0 new findings, 0 vanished; 1 comparisons made again"), "{out}");
+    let version = rows("SELECT DISTINCT version FROM analyses");
+    assert_eq!(version.len(), 1);
+    let version = &version[0][0];
+    // The newest analysis: the same two changes under their old ids, the rename gone.
+    assert_eq!(
+        rows("SELECT id, kind, analysis FROM changes ORDER BY id"),
+        [[feed.to_string(), "feed_changed".into(), version.clone()], [speed.to_string(), "spindle_speed_changed".into(), version.clone()]]
+    );
+    assert_eq!(rows(&format!("SELECT detected_at FROM changes WHERE id = {feed}")), detected, "a change found again keeps its time");
+    // The old rows are kept, with the version that made them and the one that replaced them.
+    assert_eq!(
+        rows("SELECT change_id, kind, analysis, replaced_by FROM old_changes ORDER BY change_id"),
+        [
+            [feed.to_string(), "feed_changed".into(), String::new(), version.clone()],
+            [speed.to_string(), "spindle_speed_changed".into(), String::new(), version.clone()],
+            [renamed.to_string(), "tool_renamed".into(), String::new(), version.clone()],
+        ]
+    );
+    // The marks stay on their changes: the adopted one is reviewed still, the rejected rename
+    // names a kept old row; only the speed change waits for review.
+    let store = Store::open_read_only(db).unwrap();
+    let queue = store.search_changes(&ncplan::store::ChangeFilter { to_review: true, ..Default::default() }, 10).unwrap();
+    assert_eq!(queue.iter().map(|c| c.id).collect::<Vec<_>>(), [speed]);
+    assert_eq!(store.marks(feed).unwrap()[0].mark, "adopt");
+    assert_eq!(store.change_rows(edit.parse().unwrap()).unwrap().len(), 2);
+    assert_eq!(
+        rows(&format!("SELECT COUNT(*) FROM old_changes o JOIN review_marks v ON v.change_id = o.change_id WHERE o.change_id = {renamed}")),
+        [["1"]]
+    );
+    let (code, show, err) = server.ncplan(&["show", "--db", &db.to_string(), "share/O1.nc"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(show.contains("feed") && !show.contains("T9"), "show tells the newest analysis: {show}");
+    // A new change after all that gets an id no change ever had.
+    let daemon = server.start();
+    server.put("share/O1.nc", &program(1, 320, 2000));
+    wait_until("the second edit is compared", Duration::from_secs(30), || rows("SELECT COUNT(*) FROM comparisons") == [["2"]]);
+    daemon.kill();
+    let newest =
+        rows("SELECT MIN(id) FROM changes WHERE revision_id <> (SELECT MIN(revision_id) FROM comparisons)")[0][0].parse::<i64>().unwrap();
+    assert!(newest > renamed.max(speed), "{newest}");
+}
+
+#[test]
+fn reanalysis_keeps_old_changes_and_marks_on_both_engines() {
+    let lite = Server::new(Some("HALL1"), "path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    reanalysis_keeps_old_changes_and_marks(&lite, &Location::Sqlite(db.clone()), |sql| crate::db_rows(&db, sql));
+    let Some(pg) = Cluster::start("pg::reanalysis_keeps_old_changes_and_marks_on_both_engines on PostgreSQL") else { return };
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    reanalysis_keeps_old_changes_and_marks(&server, &Location::parse(&pg.url()), |sql| pg.rows(sql));
+}
