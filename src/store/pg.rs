@@ -162,6 +162,23 @@ impl Pg {
 
     fn migrate(&self) -> Result<()> {
         let mut c = self.conn.client.borrow_mut();
+        // A current database is only read: a role that may only read (a deployment's
+        // read-only role) opens it too, and is refused when it writes.
+        let current = c
+            .query_one(
+                "SELECT CASE WHEN to_regclass('schema_version') IS NULL THEN -1 ELSE 0 END",
+                &[],
+            )
+            .map_err(sql("reading the schema version"))?
+            .get::<_, i32>(0)
+            == 0
+            && c.query_one("SELECT COALESCE(MAX(version), 0) FROM schema_version", &[])
+                .map_err(sql("reading the schema version"))?
+                .get::<_, i64>(0) as usize
+                == pg_schema::MIGRATIONS.len();
+        if current {
+            return Ok(());
+        }
         c.execute("SELECT pg_advisory_lock($1, $2)", &[&LOCK_MIGRATE.0, &LOCK_MIGRATE.1]).map_err(sql("waiting for a migration"))?;
         let result = (|| {
             c.batch_execute("CREATE TABLE IF NOT EXISTS schema_version (version BIGINT NOT NULL)")
@@ -418,6 +435,9 @@ fn plain(e: &postgres::Error) -> String {
     match e.as_db_error() {
         Some(db) if db.code() == &postgres::error::SqlState::READ_ONLY_SQL_TRANSACTION => "the query would write; queries only read".into(),
         Some(db) if db.code() == &postgres::error::SqlState::QUERY_CANCELED => "the query ran past its time limit".into(),
+        Some(db) if db.code() == &postgres::error::SqlState::INSUFFICIENT_PRIVILEGE => {
+            format!("the database role may not do this ({}); queries only read", db.message())
+        }
         Some(db) => db.message().to_owned(),
         None => e.to_string(),
     }

@@ -906,3 +906,64 @@ fn reanalysis_keeps_old_changes_and_marks_on_both_engines() {
     let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
     reanalysis_keeps_old_changes_and_marks(&server, &Location::parse(&pg.url()), |sql| pg.rows(sql));
 }
+
+/// The read-only role of README's deployment section, as its SQL creates it.
+const READER_ROLE: &str = "CREATE ROLE ncplan_reader LOGIN;
+GRANT CONNECT ON DATABASE postgres TO ncplan_reader;
+GRANT USAGE ON SCHEMA public TO ncplan_reader;
+GRANT SELECT ON ALL TABLES IN SCHEMA public TO ncplan_reader;
+ALTER DEFAULT PRIVILEGES IN SCHEMA public GRANT SELECT ON TABLES TO ncplan_reader;
+ALTER ROLE ncplan_reader SET default_transaction_read_only = on;";
+
+#[test]
+fn a_read_only_role_queries_and_is_refused_writes_in_plain_words() {
+    let Some(pg) = Cluster::start("pg::a_read_only_role_queries_and_is_refused_writes_in_plain_words") else { return };
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    let daemon = server.start();
+    server.put("cam/O1.nc", &program(1, 250, 1800));
+    server.put("share/O1.nc", &program(1, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || pg.count("SELECT COUNT(*) FROM comparisons") == 1);
+    daemon.kill();
+    let mut owner = postgres::Client::connect(&pg.url(), postgres::NoTls).unwrap();
+    owner.batch_execute(READER_ROLE).unwrap();
+    let reader = pg.url().replacen("ncplan@", "ncplan_reader@", 1);
+    // Reading works.
+    let (code, out, err) = server.ncplan(&["query", "--db", &reader, "SELECT kind FROM shopfloor_changes ORDER BY change_id"]);
+    assert_eq!((code, out.as_str()), (0, "kind\nfeed_changed\nspindle_speed_changed\n"), "{err}");
+    let (code, out, err) = server.ncplan(&["report", "--db", &reader, "--format", "csv", "--since", "2000-01-01"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 3, "{out}");
+    // Writes are refused, by ncplan and by the database, in plain words.
+    let (code, _, err) = server.ncplan(&["query", "--db", &reader, "DELETE FROM changes"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("`DELETE` is refused: queries only read"), "{err}");
+    let (code, _, err) = server.ncplan(&["query", "--db", &reader, "WITH g AS (DELETE FROM changes RETURNING id) SELECT COUNT(*) FROM g"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("the query would write; queries only read"), "{err}");
+    let store = Store::open(&Location::parse(&reader), "HALL1").expect("a current database opens with a role that only reads");
+    let change: i64 = pg.rows("SELECT MIN(id) FROM changes")[0][0].parse().unwrap();
+    let err = format!("{:#}", anyhow::Error::from(store.add_mark(change, "adopt", "", "ada", "2026-01-01T00:00:00.000Z").unwrap_err()));
+    assert!(err.contains("read-only transaction") || err.contains("permission denied"), "{err}");
+    // Past its default: a session that asks to write is still refused by the grants.
+    let mut direct = postgres::Client::connect(&reader, postgres::NoTls).unwrap();
+    direct.batch_execute("SET default_transaction_read_only = off").unwrap();
+    let e = direct.batch_execute("DELETE FROM changes").unwrap_err();
+    assert!(e.as_db_error().is_some_and(|d| d.message().contains("permission denied for table changes")), "{e:?}");
+    // The workspace reads through it; a review mark is refused and nothing is written.
+    let (_serve, base) = serve(&server, &["--db", &reader]);
+    let (head, page) = get(&base, "/");
+    assert!(head.starts_with("HTTP/1.1 200") && page.contains("DMU50"), "{head}\n{page}");
+    let (_, page) = get(&base, &format!("/compare/{}", pg.rows("SELECT revision_id FROM comparisons")[0][0]));
+    let token = page.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).expect("a CSRF token").to_owned();
+    let body = format!("mark=adopt&by=ada&csrf={token}");
+    let (head, body) = http(
+        &base,
+        &format!(
+            "POST /review/{change} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            body.len()
+        ),
+    );
+    assert!(head.starts_with("HTTP/1.1 500") && body.contains("cannot record the mark"), "{head}\n{body}");
+    assert_eq!(pg.count("SELECT COUNT(*) FROM review_marks"), 0);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM changes"), 2);
+}
