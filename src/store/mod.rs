@@ -21,7 +21,7 @@ use crate::pairing::{Candidate, Key};
 pub use location::Location;
 pub use pages::{
     ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow,
-    SAVED_QUERIES, TimelineRow,
+    SAVED_QUERIES, SavedQuery, TimelineRow,
 };
 pub use pg::{CopySummary, PLANT_QUERIES};
 pub use schema::MIGRATIONS;
@@ -773,6 +773,25 @@ impl Store {
     /// change belongs to, or `None` when there is no such change. Analysis tables are only read.
     pub fn add_mark(&self, change_id: i64, mark: &str, note: &str, by: &str, at: &str) -> Result<Option<i64>> {
         on!(self, e => e.add_mark(change_id, mark, note, by, at))
+    }
+
+    /// The queries planners saved in the SQL console, oldest first.
+    pub fn saved_queries(&self) -> Result<Vec<SavedQuery>> {
+        on!(self, e => e.saved_queries())
+    }
+
+    /// Saves a console query under `name` (who, when); the SQL must be one reading
+    /// statement. Returns its id. Analysis tables are only read.
+    pub fn save_query(&self, name: &str, sql_text: &str, by: &str, at: &str) -> std::result::Result<i64, QueryError> {
+        let name = name.trim();
+        if name.is_empty() {
+            return Err(QueryError::Refused("a saved query needs a name".into()));
+        }
+        if name.chars().count() > 200 {
+            return Err(QueryError::Refused("a saved query's name is at most 200 characters".into()));
+        }
+        let first = one_reading_statement(sql_text)?;
+        on!(self, e => e.save_query(name, first.trim(), by, at)).map_err(|e| QueryError::Sql(e.to_string()))
     }
 
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped

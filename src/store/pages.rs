@@ -166,6 +166,21 @@ pub struct ChangeFilter {
     pub to_review: bool,
 }
 
+/// A query a planner saved in the SQL console (`saved_queries`, migration 7).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SavedQuery {
+    /// `saved_queries.id`.
+    pub id: i64,
+    /// The name it was saved under (free text: shown as text).
+    pub name: String,
+    /// Its SQL.
+    pub sql: String,
+    /// Who saved it.
+    pub by: String,
+    /// When (RFC 3339).
+    pub at: String,
+}
+
 /// The SQL console's answer: the columns, the rows, and whether rows were left off.
 pub type Limited = (Vec<String>, Vec<Vec<String>>, bool);
 
@@ -606,6 +621,24 @@ impl Lite {
             .map_err(sql("recording a review mark"))
     }
 
+    /// The planners' saved queries, oldest first.
+    pub(super) fn saved_queries(&self) -> Result<Vec<SavedQuery>> {
+        self.rows("reading saved queries", "SELECT id, name, sql, saved_by, saved_at FROM saved_queries ORDER BY id", [], |r| {
+            Ok(SavedQuery { id: r.get(0)?, name: r.get(1)?, sql: r.get(2)?, by: r.get(3)?, at: r.get(4)? })
+        })
+    }
+
+    /// Saves a query under `name`; returns its id.
+    pub(super) fn save_query(&self, name: &str, sql_text: &str, by: &str, at: &str) -> Result<i64> {
+        self.conn
+            .query_row(
+                "INSERT INTO saved_queries(name, sql, saved_by, saved_at) VALUES (?1, ?2, ?3, ?4) RETURNING id",
+                params![name, sql_text, by, at],
+                |r| r.get(0),
+            )
+            .map_err(sql("saving a query"))
+    }
+
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
     /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
     /// whether rows were left off.
@@ -703,6 +736,20 @@ mod tests {
         // The change rows are as they were.
         let (_, changes) = s.query("SELECT kind, before, after FROM changes ORDER BY id").unwrap();
         assert_eq!(changes[0], vec!["tool_renamed", "T1", "T8"]);
+    }
+
+    #[test]
+    fn saved_queries_are_kept_with_who_and_when() {
+        let s = store_with_a_change();
+        assert!(s.saved_queries().unwrap().is_empty());
+        let id = s.save_query("<b>feeds</b>", "SELECT 1", "ada", "2026-11-03T00:00:00.000Z").unwrap();
+        s.save_query("second", "SELECT 2", "bob", "2026-11-04T00:00:00.000Z").unwrap();
+        let saved = s.saved_queries().unwrap();
+        assert_eq!(
+            saved[0],
+            SavedQuery { id, name: "<b>feeds</b>".into(), sql: "SELECT 1".into(), by: "ada".into(), at: "2026-11-03T00:00:00.000Z".into() }
+        );
+        assert_eq!(saved.iter().map(|q| q.name.as_str()).collect::<Vec<_>>(), ["<b>feeds</b>", "second"]);
     }
 
     #[test]

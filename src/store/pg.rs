@@ -165,10 +165,7 @@ impl Pg {
         // A current database is only read: a role that may only read (a deployment's
         // read-only role) opens it too, and is refused when it writes.
         let current = c
-            .query_one(
-                "SELECT CASE WHEN to_regclass('schema_version') IS NULL THEN -1 ELSE 0 END",
-                &[],
-            )
+            .query_one("SELECT CASE WHEN to_regclass('schema_version') IS NULL THEN -1 ELSE 0 END", &[])
             .map_err(sql("reading the schema version"))?
             .get::<_, i32>(0)
             == 0

@@ -235,6 +235,7 @@ fn router(server: Arc<Server>) -> Router {
         .route("/knowledge", get(knowledge_index))
         .route("/knowledge/{name}", get(knowledge))
         .route("/sql", get(sql_console))
+        .route("/sql/save", post(save_query))
         .route("/search", get(search))
         .route("/login", get(login_page).post(login))
         .route("/logout", post(logout))
@@ -363,6 +364,36 @@ async fn review(
         Ok(Ok(None)) => (StatusCode::NOT_FOUND, "no such change").into_response(),
         Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e:#}")).into_response(),
         Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e}")).into_response(),
+    }
+}
+
+/// Saves the console's query: `name`, `q` (the SQL, one reading statement), `csrf`, and `by`
+/// where nobody signs in. Back to the console, which lists it.
+async fn save_query(State(s): State<Arc<Server>>, headers: HeaderMap, Form(form): Form<BTreeMap<String, String>>) -> Response {
+    let Some((ctx, _)) = auth::context(&s, &headers) else { return Redirect::to("/login").into_response() };
+    if !auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str)) {
+        return (StatusCode::FORBIDDEN, "the form's CSRF token does not match this session; reload the page").into_response();
+    }
+    let name = form.get("name").cloned().unwrap_or_default();
+    let sql = form.get("q").cloned().unwrap_or_default();
+    let by = match &ctx.user {
+        Some(u) => u.clone(),
+        None => form.get("by").map(|b| b.trim().to_owned()).filter(|b| !b.is_empty()).unwrap_or_else(|| "planner".into()),
+    };
+    let s2 = s.clone();
+    let sql2 = sql.clone();
+    let result = tokio::task::spawn_blocking(move || -> Result<std::result::Result<i64, String>> {
+        let store = Store::open(&s2.db, &s2.config.site)?;
+        Ok(store.save_query(&name, &sql2, &by, &s2.clock.now()).map_err(|e| e.to_string()))
+    })
+    .await;
+    match result {
+        Ok(Ok(Ok(_))) => Redirect::to(&format!("/sql?q={}#saved", pages::urlencode(&sql))).into_response(),
+        Ok(Ok(Err(refused))) => {
+            Redirect::to(&format!("/sql?q={}&refused={}", pages::urlencode(&sql), pages::urlencode(&refused))).into_response()
+        }
+        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot save the query: {e:#}")).into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot save the query: {e}")).into_response(),
     }
 }
 

@@ -674,7 +674,7 @@ fn get(base: &str, path: &str) -> (String, String) {
 }
 
 /// `text` with every `value="…"` after `name="csrf"` (the token is the session's and the
-/// server's secret's) and, with `sql`, every `/sql?q=…` link and `<pre class="sql">`
+/// server's secret's), the console's list of the knowledge pages' queries, and, with `sql`, every `/sql?q=…` link and `<pre class="sql">`
 /// (a knowledge page's SQL is in its engine's words) replaced by a mark.
 fn masked(text: &str, sql: bool) -> String {
     let mut out = text.to_owned();
@@ -692,6 +692,8 @@ fn masked(text: &str, sql: bool) -> String {
         out = done;
     };
     cut("name=\"csrf\" value=\"", "\"");
+    // The console lists the knowledge pages' queries, each in its engine's words.
+    cut("<h3>The knowledge pages' queries</h3>", "<h3>");
     if sql {
         cut("href=\"/sql?q=", "\"");
         cut("<pre class=\"sql\">", "</pre>");
@@ -824,6 +826,57 @@ fn serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks() 
     assert!(crate::db_rows(&db, "SELECT id FROM review_marks").is_empty(), "the SQLite file is not written");
     let (_, page) = get(&on_pg, &format!("/compare/{revision}"));
     assert!(page.contains("&lt;b&gt;feed&lt;/b&gt; kept") && !page.contains("<b>feed</b>"), "the note shows as text");
+
+    // Saved queries: the console offers the knowledge pages' queries in its engine's words,
+    // and a planner's own, saved by a CSRF-protected POST, listed with who and when, runnable;
+    // a hostile name shows as text; a write is not saved.
+    let lite_rows = |sql: &str| crate::db_rows(&db, sql);
+    let pg_rows = |sql: &str| pg.rows(sql);
+    let engines: [(&String, &Rows<'_>); 2] = [(&on_lite, &lite_rows), (&on_pg, &pg_rows)];
+    for (base, rows) in engines {
+        let (_, console) = get(base, "/sql");
+        let engine_sql = if base == &on_pg { ncplan::store::KNOWLEDGE[1].pg_sql } else { ncplan::store::KNOWLEDGE[1].sql };
+        assert!(console.contains(&format!("href=\"/sql?q={}\"", pages_urlencode(engine_sql))), "{console}");
+        const SQL: &str = "SELECT kind, COUNT(*) AS n FROM changes GROUP BY kind ORDER BY n DESC, kind";
+        let (_, ran) = get(base, &format!("/sql?q={}", urlencode(SQL)));
+        assert!(ran.contains("Save this query"), "a query shown can be saved: {ran}");
+        let token = ran.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).unwrap().to_owned();
+        let save = |name: &str, sql: &str, token: &str| {
+            let body = format!("name={}&q={}&by=ada&csrf={token}", urlencode(name), urlencode(sql));
+            http(
+                base,
+                &format!(
+                    "POST /sql/save HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                    body.len()
+                ),
+            )
+            .0
+        };
+        let hostile = "<script>alert(1)</script> feeds";
+        assert!(save(hostile, SQL, "forged").starts_with("HTTP/1.1 403"));
+        assert_eq!(rows("SELECT COUNT(*) FROM saved_queries"), [["0"]]);
+        let head = save(hostile, SQL, &token);
+        assert!(head.starts_with("HTTP/1.1 303"), "{head}");
+        let head = save("wipe", "DELETE FROM changes", &token);
+        assert!(head.starts_with("HTTP/1.1 303") && head.contains("refused="), "{head}");
+        assert_eq!(rows("SELECT name, sql, saved_by FROM saved_queries"), [[hostile.to_owned(), SQL.to_owned(), "ada".to_owned()]]);
+        let (_, console) = get(base, "/sql");
+        assert!(console.contains("&lt;script&gt;alert(1)&lt;/script&gt; feeds") && !console.contains("<script>alert"), "{console}");
+        let link =
+            console.split("<ul id=\"saved\">").nth(1).and_then(|t| t.split("href=\"").nth(1)).and_then(|t| t.split('"').next()).unwrap();
+        let (_, ran) = get(base, &link.replace("&amp;", "&"));
+        assert!(ran.contains(" rows") && ran.contains(">feed_changed<"), "{ran}");
+    }
+}
+
+/// Rows of a query on one engine's database.
+type Rows<'a> = dyn Fn(&str) -> Vec<Vec<String>> + 'a;
+
+/// The workspace's URL encoding (`web::pages::urlencode`): unreserved characters kept.
+fn pages_urlencode(s: &str) -> String {
+    s.bytes()
+        .map(|b| if b.is_ascii_alphanumeric() || b"-_.~".contains(&b) { (b as char).to_string() } else { format!("%{b:02X}") })
+        .collect()
 }
 
 /// A re-analysis on `server`'s database `db`: the old changes are kept with the version that

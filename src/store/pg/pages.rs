@@ -12,7 +12,7 @@ use crate::diff::Change;
 use crate::store::pages::{CHANGE_ROWS, UNMARKED};
 use crate::store::{
     ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow, QueryError, Result,
-    TimelineRow,
+    SavedQuery, TimelineRow,
 };
 
 /// A row of `pages::CHANGE_ROWS`.
@@ -317,6 +317,21 @@ impl Pg {
             &[&change_id, &mark, &note, &by, &at],
         )?;
         Ok(row.map(|r| r.get(0)))
+    }
+
+    pub(in crate::store) fn saved_queries(&self) -> Result<Vec<SavedQuery>> {
+        let rows =
+            self.conn.rows("reading saved queries", "SELECT id, name, sql, saved_by, saved_at FROM saved_queries ORDER BY id", &[])?;
+        Ok(rows.iter().map(|r| SavedQuery { id: r.get(0), name: r.get(1), sql: r.get(2), by: r.get(3), at: r.get(4) }).collect())
+    }
+
+    pub(in crate::store) fn save_query(&self, name: &str, sql_text: &str, by: &str, at: &str) -> Result<i64> {
+        let row = self.conn.one(
+            "saving a query",
+            "INSERT INTO saved_queries(name, sql, saved_by, saved_at) VALUES ($1, $2, $3, $4) RETURNING id",
+            &[&name, &sql_text, &by, &at],
+        )?;
+        Ok(row.get(0))
     }
 
     /// The SQL console on PostgreSQL: one statement in a `READ ONLY` transaction that is
