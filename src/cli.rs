@@ -913,12 +913,13 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             bar.finish_and_clear();
             writeln!(
                 out,
-                "migrated {} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied",
+                "migrated {} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied; {} review marks",
                 from.display(),
                 summary.revisions,
                 summary.copied,
                 summary.revisions - summary.copied,
-                summary.comparisons
+                summary.comparisons,
+                summary.review_marks
             )?;
             out.flush()?;
             Ok(ExitCode::SUCCESS)

@@ -863,6 +863,8 @@ pub struct CopySummary {
     pub copied: usize,
     /// Comparisons copied by this run.
     pub comparisons: usize,
+    /// Review marks in the SQLite file whose change was copied (by this run or an earlier one).
+    pub review_marks: usize,
 }
 
 /// One source revision with its program and machine.
@@ -1054,11 +1056,32 @@ impl Pg {
                 stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?))).map_err(lsql("reading comparisons"))?;
             rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading comparisons"))?
         };
+        // Which analysis made each change (migration 7), and the change ids review marks name.
+        let has = |table: &str, column: &str| -> Result<bool> {
+            src.query_row(&format!("SELECT COUNT(*) FROM pragma_table_info('{table}') WHERE name = '{column}'"), [], |x| x.get::<_, i64>(0))
+                .map(|n| n > 0)
+                .map_err(lsql("reading the SQLite schema"))
+        };
+        let analysis_column = if has("changes", "analysis")? { "analysis" } else { "''" };
+        let lite_changes = |rev: i64| -> Result<Vec<(i64, String)>> {
+            let mut stmt = src
+                .prepare_cached(&format!("SELECT id, {analysis_column} FROM changes WHERE revision_id = ?1 ORDER BY id"))
+                .map_err(lsql("reading changes"))?;
+            let rows = stmt.query_map([rev], |x| Ok((x.get(0)?, x.get(1)?))).map_err(lsql("reading changes"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading changes"))
+        };
+        let mut change_ids: BTreeMap<i64, i64> = BTreeMap::new();
         for (rev, orig, at, n, rule) in &comparisons {
             let (Some(new_rev), Some(new_orig)) = (ids.get(rev), ids.get(orig)) else { continue };
             if c.opt("looking up a comparison", "SELECT 1 FROM comparisons WHERE revision_id = $1", &[new_rev])?.is_some() {
+                // Copied by an earlier run: its changes are in the same order.
+                let there = c.rows("reading changes", "SELECT id FROM changes WHERE revision_id = $1 ORDER BY id", &[new_rev])?;
+                for ((old, _), row) in lite_changes(*rev)?.iter().zip(&there) {
+                    change_ids.insert(*old, row.get(0));
+                }
                 continue;
             }
+            let old_ids = lite_changes(*rev)?;
             c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
             let tx = PgTxn { conn: c, done: Cell::new(false) };
             c.exec(
@@ -1067,18 +1090,22 @@ impl Pg {
                 &[new_rev, new_orig, at, n, rule],
             )?;
             let changes = super::sqlite::changes_of(src, *rev)?;
-            for ch in &changes {
-                c.exec(
-                    "storing changes",
-                    "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
-                                         original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
-                     VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18)",
-                    &[
-                        new_rev, new_orig, &ch.workingstep, &ch.operation, &ch.kind, &ch.field, &ch.before, &ch.after, &ch.line,
-                        &ch.detected_at, &ch.original_line, &ch.region[0], &ch.region[1], &ch.region[2], &ch.region[3],
-                        &ch.region[4], &ch.region[5], &ch.deviation,
-                    ],
-                )?;
+            for (ch, (old, analysis)) in changes.iter().zip(&old_ids) {
+                let id: i64 = c
+                    .one(
+                        "storing changes",
+                        "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                             original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
+                                             analysis)
+                         VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19) RETURNING id",
+                        &[
+                            new_rev, new_orig, &ch.workingstep, &ch.operation, &ch.kind, &ch.field, &ch.before, &ch.after, &ch.line,
+                            &ch.detected_at, &ch.original_line, &ch.region[0], &ch.region[1], &ch.region[2], &ch.region[3],
+                            &ch.region[4], &ch.region[5], &ch.deviation, analysis,
+                        ],
+                    )?
+                    .get(0);
+                change_ids.insert(*old, id);
             }
             tx.commit()?;
             summary.comparisons += 1;
@@ -1096,6 +1123,33 @@ impl Pg {
                     "INSERT INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
                     &[rev, mark, by, at],
                 )?;
+            }
+        }
+        // The planners' review marks, on the copied changes; a mark copied by an earlier run is
+        // not copied again. (A mark on a change a re-analysis replaced stays behind: see
+        // `old_changes`, which is not copied.)
+        if has("review_marks", "change_id")? {
+            type SourceMark = (i64, String, String, String, String, String, String, String);
+            let marks: Vec<SourceMark> = {
+                let mut stmt = src
+                    .prepare("SELECT change_id, kind, before, after, mark, note, marked_by, marked_at FROM review_marks ORDER BY id")
+                    .map_err(lsql("reading review marks"))?;
+                let rows = stmt
+                    .query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?, x.get(5)?, x.get(6)?, x.get(7)?)))
+                    .map_err(lsql("reading review marks"))?;
+                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading review marks"))?
+            };
+            for (change, kind, before, after, mark, note, by, at) in &marks {
+                let Some(id) = change_ids.get(change) else { continue };
+                c.exec(
+                    "copying a review mark",
+                    "INSERT INTO review_marks(change_id, revision_id, kind, before, after, mark, note, marked_by, marked_at)
+                     SELECT $1, c.revision_id, $2, $3, $4, $5, $6, $7, $8 FROM changes c WHERE c.id = $1
+                       AND NOT EXISTS (SELECT 1 FROM review_marks v WHERE v.change_id = $1 AND v.mark = $5 AND v.note = $6
+                                         AND v.marked_by = $7 AND v.marked_at = $8)",
+                    &[id, kind, before, after, mark, note, by, at],
+                )?;
+                summary.review_marks += 1;
             }
         }
         Ok(summary)

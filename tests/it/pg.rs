@@ -494,10 +494,20 @@ fn migrate_copies_a_servers_history_into_the_plant_database_and_resumes() {
     lite.put("share/O1234.nc", &program(1234, 300, 2000));
     wait_until("the edit is compared", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]);
     daemon.kill();
+    // A planner's review mark on the speed change goes along with it.
+    let speed: i64 = crate::db_rows(&db, "SELECT id FROM changes WHERE kind = 'spindle_speed_changed'")[0][0].parse().unwrap();
+    Store::open(&Location::Sqlite(db.clone()), "HALL7")
+        .unwrap()
+        .add_mark(speed, "adopt", "kept", "ada", "2026-03-01T00:00:00.000Z")
+        .unwrap();
     let url = pg.url();
     let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("2 revisions, 2 copied now, 0 already there; 1 comparisons copied"), "{out}");
+    assert!(out.contains("2 revisions, 2 copied now, 0 already there; 1 comparisons copied; 1 review marks"), "{out}");
+    const MARKS: &str = "SELECT c.kind, c.before, c.after, v.kind, v.mark, v.note, v.marked_by, v.marked_at
+                         FROM review_marks v JOIN changes c ON c.id = v.change_id AND c.revision_id = v.revision_id";
+    assert_eq!(pg.rows(MARKS), crate::db_rows(&db, MARKS));
+    assert_eq!(pg.rows(MARKS).len(), 1);
     const SHOWN: &str = "SELECT machine, program, kind, before, after, line FROM shopfloor_changes ORDER BY change_id";
     let copied = pg.rows(SHOWN);
     assert!(!copied.is_empty());
@@ -513,6 +523,7 @@ fn migrate_copies_a_servers_history_into_the_plant_database_and_resumes() {
     let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("3 revisions, 1 copied now, 2 already there; 1 comparisons copied"), "{out}");
+    assert_eq!(pg.rows(MARKS), crate::db_rows(&db, MARKS), "a mark is copied once");
     assert_eq!(pg.rows(SHOWN), crate::db_rows(&db, SHOWN));
     for table in ["revisions", "blobs", "plans", "diagnostics", "comparisons", "changes", "workingsteps", "features", "program_keys"] {
         let sql = format!("SELECT COUNT(*) FROM {table}");
