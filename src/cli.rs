@@ -258,8 +258,10 @@ enum Command {
         #[arg(long, conflicts_with = "daemon")]
         web: bool,
         /// Measure ingest throughput on SQLite and on this PostgreSQL database instead
-        /// (`--files` programs at once); the daemon writes as a site of its own.
-        #[arg(long, value_name = "URL", conflicts_with_all = ["daemon", "web"])]
+        /// (`--files` programs at once); the daemon writes as a site of its own. With --web:
+        /// the pages rendered on this database too (the same 10,000 revisions, copied in by
+        /// `migrate` as site WEBBENCH once; give it a database of its own).
+        #[arg(long, value_name = "URL", conflicts_with_all = ["daemon"])]
         postgres: Option<String>,
         /// With --postgres: time the report queries on a simulated plant of this many
         /// revisions instead (made once in that database).
@@ -589,14 +591,14 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
         Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web, postgres, simulate } => {
-            if let (Some(url), Some(n)) = (&postgres, simulate) {
+            if web {
+                crate::web::bench::run(&dir.join("web"), rows, postgres.as_deref(), &mut LineFlush(&mut out))?;
+            } else if let (Some(url), Some(n)) = (&postgres, simulate) {
                 crate::bench::run_simulation(url, n, &mut LineFlush(&mut out))?;
             } else if let Some(url) = postgres {
                 crate::bench::run_engines(&dir.join("engines"), &url, files, &mut LineFlush(&mut out))?;
             } else if let Some(corpus) = corpus {
                 crate::bench::run_corpus(&corpus, &mut LineFlush(&mut out))?;
-            } else if web {
-                crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;
             } else if daemon {
                 crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
             } else {

@@ -215,15 +215,16 @@ WHERE c.kind IN ('feed_changed', 'spindle_speed_changed')
   AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')
 ORDER BY c.kind, tool_kind, diameter, machine, program, c.id",
         pg_sql: "SELECT kind, machine, program, tool_kind, diameter, posted, run FROM (
-SELECT c.kind, m.name AS machine, COALESCE(r.name, p.name) AS program,
-       (SELECT t->>'kind' FROM plans pl, json_array_elements(CASE json_typeof(pl.plan_json::json->'tools') WHEN 'array' THEN pl.plan_json::json->'tools' ELSE '[]'::json END) t
-         WHERE pl.revision_id = c.original_revision_id AND (t->>'number')::float8 = w.tool LIMIT 1) AS tool_kind,
-       (SELECT (t->>'diameter')::float8 FROM plans pl, json_array_elements(CASE json_typeof(pl.plan_json::json->'tools') WHEN 'array' THEN pl.plan_json::json->'tools' ELSE '[]'::json END) t
-         WHERE pl.revision_id = c.original_revision_id AND (t->>'number')::float8 = w.tool LIMIT 1) AS diameter,
-       c.before AS posted, c.after AS run, c.id
+SELECT c.kind, m.name AS machine, COALESCE(r.name, p.name) AS program, t.kind AS tool_kind, t.diameter, c.before AS posted, c.after AS run, c.id
 FROM changes c
 JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
 LEFT JOIN workingsteps w ON w.revision_id = c.original_revision_id AND w.idx = c.workingstep
+LEFT JOIN (SELECT DISTINCT ON (pl.revision_id, (x.t->>'number')::float8) pl.revision_id, (x.t->>'number')::float8 AS number,
+                  x.t->>'kind' AS kind, (x.t->>'diameter')::float8 AS diameter
+           FROM plans pl, json_array_elements(CASE json_typeof(pl.plan_json::json->'tools') WHEN 'array' THEN pl.plan_json::json->'tools' ELSE '[]'::json END)
+                WITH ORDINALITY AS x(t, n)
+           WHERE pl.revision_id IN (SELECT original_revision_id FROM changes WHERE kind IN ('feed_changed', 'spindle_speed_changed'))
+           ORDER BY pl.revision_id, (x.t->>'number')::float8, x.n) t ON t.revision_id = c.original_revision_id AND t.number = w.tool
 WHERE c.kind IN ('feed_changed', 'spindle_speed_changed')
   AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')) q
 ORDER BY kind COLLATE \"C\", tool_kind COLLATE \"C\" NULLS FIRST, diameter NULLS FIRST, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", id",
@@ -248,7 +249,7 @@ GROUP BY before, after ORDER BY times DESC, before COLLATE \"C\", after COLLATE 
 FROM shopfloor_changes WHERE kind = 'start_point_moved'
 GROUP BY machine, program, workingstep ORDER BY moves DESC, machine, program, workingstep",
         pg_sql: "SELECT machine, program, workingstep, MIN(operation COLLATE \"C\") AS operation, COUNT(*) AS moves, COUNT(DISTINCT after) AS places,
-       string_agg(after, ' | ' ORDER BY change_id) AS moved_to, MAX(detected_at COLLATE \"C\") AS last
+       string_agg(after, ' | ' ORDER BY change_id) AS moved_to, MAX(detected_at) AS last
 FROM shopfloor_changes WHERE kind = 'start_point_moved'
 GROUP BY machine, program, workingstep ORDER BY moves DESC, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", workingstep",
     },
@@ -259,7 +260,7 @@ GROUP BY machine, program, workingstep ORDER BY moves DESC, machine COLLATE \"C\
 FROM shopfloor_changes WHERE kind IN ('depth_changed', 'axial_depth_changed')
 GROUP BY machine, program, workingstep, before, after ORDER BY times DESC, machine, program, workingstep, before, after",
         pg_sql: "SELECT machine, program, workingstep, MIN(operation COLLATE \"C\") AS operation, before AS posted, after AS run, COUNT(*) AS times,
-       MAX(detected_at COLLATE \"C\") AS last
+       MAX(detected_at) AS last
 FROM shopfloor_changes WHERE kind IN ('depth_changed', 'axial_depth_changed')
 GROUP BY machine, program, workingstep, before, after
 ORDER BY times DESC, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", workingstep, before COLLATE \"C\", after COLLATE \"C\"",
@@ -479,9 +480,14 @@ impl Lite {
 
     /// How often each change kind occurs, most often first.
     pub(super) fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
-        self.rows("counting change kinds", "SELECT kind, COUNT(*) FROM shopfloor_changes GROUP BY kind ORDER BY 2 DESC, 1", [], |r| {
-            Ok((r.get(0)?, r.get(1)?))
-        })
+        self.rows(
+            "counting change kinds",
+            "SELECT kind, COUNT(*) FROM changes c
+             WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')
+             GROUP BY kind ORDER BY 2 DESC, 1",
+            [],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )
     }
 
     /// The newest revisions whose analysis found errors.

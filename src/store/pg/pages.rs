@@ -1,7 +1,9 @@
 //! The workspace's read queries and review marks on PostgreSQL: the twin of each SQLite
 //! query in `store/pages.rs`, with the same rows in the same order (the same tie-breaks;
 //! text ordered by code point, `COLLATE "C"`, as SQLite orders it; NULLs first as SQLite
-//! puts them), so that `ncplan serve` renders the same pages on both engines.
+//! puts them), so that `ncplan serve` renders the same pages on both engines. Times are
+//! fixed-width RFC 3339 text, which every collation orders alike: they are compared without
+//! `COLLATE "C"`, so that the indexes on them serve.
 
 use std::collections::BTreeMap;
 
@@ -62,7 +64,7 @@ fn machine_summary(r: &Row) -> MachineSummary {
 
 /// The machines query of `pages.rs` (`UNMARKED` written out: the statement is prepared once).
 const MACHINES: &str = "WITH pr AS (SELECT machine_id AS mid, COUNT(*) AS n FROM programs GROUP BY machine_id),
-      rv AS (SELECT p.machine_id AS mid, COUNT(*) AS n, MAX(r.seen_at COLLATE \"C\") AS last
+      rv AS (SELECT p.machine_id AS mid, COUNT(*) AS n, MAX(r.seen_at) AS last
              FROM revisions r JOIN programs p ON p.id = r.program_id GROUP BY p.machine_id),
       q AS (SELECT p.machine_id AS mid, COUNT(*) AS n
             FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
@@ -112,11 +114,11 @@ impl Pg {
             "{CHANGE_ROWS}
                AND ($1 = '' OR COALESCE(r.name, p.name) ILIKE '%' || $1 || '%' OR p.path ILIKE '%' || $1 || '%' OR COALESCE(r.name, p.name) = $2)
                AND ($3 = '' OR m.name = $3)
-               AND ($4 = '' OR c.detected_at COLLATE \"C\" >= $4)
-               AND ($5 = '' OR c.detected_at COLLATE \"C\" < (CASE WHEN $5 ~ '^[0-9]{{4}}-[0-9]{{2}}-[0-9]{{2}}$' THEN to_char($5::date + 1, 'YYYY-MM-DD') END))
+               AND ($4 = '' OR c.detected_at >= $4)
+               AND ($5 = '' OR c.detected_at < (CASE WHEN $5 ~ '^[0-9]{{4}}-[0-9]{{2}}-[0-9]{{2}}$' THEN to_char($5::date + 1, 'YYYY-MM-DD') END))
                AND (NOT $6::bool OR {UNMARKED})
                AND ($7 = '' OR c.kind = $7)
-             ORDER BY c.detected_at COLLATE \"C\" DESC, c.id DESC LIMIT $8"
+             ORDER BY c.detected_at DESC, c.id DESC LIMIT $8"
         );
         let rows = self
             .conn
@@ -164,7 +166,7 @@ impl Pg {
                         FROM (SELECT (c.detected_at::timestamptz AT TIME ZONE 'UTC') AS t, COALESCE(m.name, '') AS machine
                               FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
                               LEFT JOIN machines m ON m.id = p.machine_id
-                              WHERE c.detected_at COLLATE \"C\" >= to_char(((SELECT MAX(detected_at COLLATE \"C\") FROM changes)::timestamptz
+                              WHERE c.detected_at >= to_char(((SELECT MAX(detected_at) FROM changes)::timestamptz
                                                                    AT TIME ZONE 'UTC')::date - ($1::bigint * 7)::int, 'YYYY-MM-DD')
                                 AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')) x),
                   last AS (SELECT DISTINCT week COLLATE \"C\" AS week FROM w ORDER BY 1 DESC LIMIT $1)
@@ -199,7 +201,9 @@ impl Pg {
     pub(in crate::store) fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
         let rows = self.conn.rows(
             "counting change kinds",
-            "SELECT kind, COUNT(*) FROM shopfloor_changes GROUP BY kind ORDER BY 2 DESC, kind COLLATE \"C\"",
+            "SELECT kind, COUNT(*) FROM changes c
+             WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')
+             GROUP BY kind ORDER BY 2 DESC, kind COLLATE \"C\"",
             &[],
         )?;
         Ok(rows.iter().map(|r| (r.get(0), r.get(1))).collect())
@@ -220,7 +224,7 @@ impl Pg {
     pub(in crate::store) fn last_seen_per_folder(&self) -> Result<Vec<(String, String)>> {
         let rows = self.conn.rows(
             "reading the last event per share",
-            "SELECT COALESCE(m.folder, 'cam') COLLATE \"C\", MAX(r.seen_at COLLATE \"C\") FROM revisions r JOIN programs p ON p.id = r.program_id
+            "SELECT COALESCE(m.folder, 'cam') COLLATE \"C\", MAX(r.seen_at) FROM revisions r JOIN programs p ON p.id = r.program_id
              LEFT JOIN machines m ON m.id = p.machine_id GROUP BY 1 ORDER BY 1",
             &[],
         )?;
