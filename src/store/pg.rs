@@ -631,8 +631,6 @@ impl PgTxn<'_> {
     /// checking that it still has that hash; the server joins them. Files over [`MAX_BLOB`]
     /// keep an empty blob.
     fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
-        use sha2::Digest as _;
-        use std::io::Read as _;
         let c = self.conn;
         if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&hash])?.is_some() {
             return Ok(());
@@ -645,6 +643,17 @@ impl PgTxn<'_> {
             )?;
             return Ok(());
         }
+        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+        self.stream_into_blob(hash, size, &mut file)
+    }
+
+    /// Stores `size` bytes read from `from` as the blob `hash`, 1 MiB at a time (the chunks
+    /// meet in a temporary table and are joined by the server), so memory stays bounded
+    /// whatever the size; bytes that are not `size` long or do not hash to `hash` are
+    /// [`StoreError::ContentChanged`].
+    fn stream_into_blob(&self, hash: &str, size: u64, from: &mut dyn std::io::Read) -> Result<()> {
+        use sha2::Digest as _;
+        let c = self.conn;
         c.client
             .borrow_mut()
             .batch_execute(
@@ -652,12 +661,11 @@ impl PgTxn<'_> {
             )
             .map_err(sql("storing program bytes"))?;
         c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
-        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
         let mut hasher = sha2::Sha256::new();
         let mut buf = vec![0u8; 1 << 20];
         let (mut copied, mut n) = (0u64, 0i64);
         loop {
-            let got = file.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+            let got = from.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
             if got == 0 {
                 break;
             }
@@ -989,16 +997,31 @@ impl Pg {
                 )?;
             }
             if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&r.hash])?.is_none() {
-                let blob: Option<(i64, Vec<u8>)> = src
-                    .query_row("SELECT size, content FROM blobs WHERE hash = ?1", [&r.hash], |x| Ok((x.get(0)?, x.get(1)?)))
+                // Streamed from SQLite's blob, 1 MiB at a time: a program of hundreds of
+                // megabytes is never in memory whole.
+                let found: Option<(i64, i64, i64)> = src
+                    .query_row("SELECT rowid, size, length(content) FROM blobs WHERE hash = ?1", [&r.hash], |x| {
+                        Ok((x.get(0)?, x.get(1)?, x.get(2)?))
+                    })
                     .optional()
                     .map_err(lsql("reading program bytes"))?;
-                let (size, content) = blob.unwrap_or((r.size, Vec::new()));
-                c.exec(
-                    "storing program bytes",
-                    "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, $3) ON CONFLICT (hash) DO NOTHING",
-                    &[&r.hash, &size, &content],
-                )?;
+                match found {
+                    Some((rowid, size, stored)) if stored > 0 && stored == size => {
+                        let mut blob = src
+                            .blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, true)
+                            .map_err(lsql("reading program bytes"))?;
+                        tx.stream_into_blob(&r.hash, size as u64, &mut blob)?;
+                    }
+                    // Kept without its bytes (over the size limit), or empty.
+                    other => {
+                        let size = other.map_or(r.size, |o| o.1);
+                        c.exec(
+                            "storing program bytes",
+                            "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, '') ON CONFLICT (hash) DO NOTHING",
+                            &[&r.hash, &size],
+                        )?;
+                    }
+                }
             }
             let new_id: i64 = c
                 .one(
