@@ -49,7 +49,8 @@ struct Conn {
 /// never, `prefer` (the default) when the server offers it, `require`, `verify-ca` and
 /// `verify-full` always, and always verifying the server's certificate and name.
 fn connect(target: &PgTarget) -> Result<Client> {
-    let (url, mode) = take_sslmode(&target.url)?;
+    let (url, root) = take_rootcert(&target.url);
+    let (url, mode) = take_sslmode(&url)?;
     let mut config: postgres::Config =
         url.parse().map_err(|_| StoreError::Setup(format!("the database URL {} cannot be read", target.shown())))?;
     if config.get_password().is_none()
@@ -67,7 +68,7 @@ fn connect(target: &PgTarget) -> Result<Client> {
         }
         SslMode::Prefer | SslMode::Require => {
             config.ssl_mode(if mode == SslMode::Prefer { postgres::config::SslMode::Prefer } else { postgres::config::SslMode::Require });
-            config.connect(tls()?)
+            config.connect(tls(root.as_deref())?)
         }
     };
     connected.map_err(|e| StoreError::Sql { about: "connecting to PostgreSQL", source: Box::new(e) })
@@ -101,10 +102,40 @@ fn take_sslmode(url: &str) -> Result<(String, SslMode)> {
     Ok((if kept.is_empty() { base.to_owned() } else { format!("{base}?{}", kept.join("&")) }, mode))
 }
 
-fn tls() -> Result<tokio_postgres_rustls::MakeRustlsConnect> {
+/// The URL without its `sslrootcert` parameter (libpq's name), and the file it names.
+fn take_rootcert(url: &str) -> (String, Option<String>) {
+    let Some((base, query)) = url.split_once('?') else { return (url.to_owned(), None) };
+    let mut root = None;
+    let mut kept = Vec::new();
+    for p in query.split('&') {
+        match p.strip_prefix("sslrootcert=") {
+            Some(file) => root = Some(file.to_owned()),
+            None => kept.push(p),
+        }
+    }
+    (if kept.is_empty() { base.to_owned() } else { format!("{base}?{}", kept.join("&")) }, root)
+}
+
+/// The TLS client: the system's trusted roots, and the certificates of `root` (a PEM file:
+/// the plant's CA, or a server's own self-signed certificate) when given.
+fn tls(root: Option<&str>) -> Result<tokio_postgres_rustls::MakeRustlsConnect> {
+    use rustls::pki_types::pem::PemObject as _;
     let mut roots = rustls::RootCertStore::empty();
     for cert in rustls_native_certs::load_native_certs().certs {
         let _ = roots.add(cert);
+    }
+    if let Some(file) = root {
+        let certs = rustls::pki_types::CertificateDer::pem_file_iter(file)
+            .map_err(|e| StoreError::Setup(format!("sslrootcert {file} cannot be read: {e}")))?;
+        let mut added = 0;
+        for cert in certs {
+            let cert = cert.map_err(|e| StoreError::Setup(format!("sslrootcert {file} is not a PEM certificate file: {e}")))?;
+            roots.add(cert).map_err(|e| StoreError::Setup(format!("sslrootcert {file}: {e}")))?;
+            added += 1;
+        }
+        if added == 0 {
+            return Err(StoreError::Setup(format!("sslrootcert {file} holds no certificate")));
+        }
     }
     let config = rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
         .with_safe_default_protocol_versions()

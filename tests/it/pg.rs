@@ -51,6 +51,12 @@ fn free_port() -> u16 {
 impl Cluster {
     /// Starts a cluster, or says why `test` is skipped and returns `None`.
     fn start(test: &str) -> Option<Cluster> {
+        Cluster::start_with(test, "", |_| {})
+    }
+
+    /// Starts a cluster with the server options `extra`, after `prepare` has put what they
+    /// name into the cluster's folder.
+    fn start_with(test: &str, extra: &str, prepare: impl FnOnce(&std::path::Path)) -> Option<Cluster> {
         let Some(bin) = pg_bin() else {
             assert!(
                 std::env::var_os("NCPLAN_REQUIRE_POSTGRES").is_none(),
@@ -69,8 +75,13 @@ impl Cluster {
         let c = Cluster { dir, bin, port: free_port(), user };
         let data = c.dir.path().join("data");
         c.run("initdb", &["-D", data.to_str().unwrap(), "-U", "ncplan", "--auth=trust", "-E", "UTF8", "--locale=C", "--no-sync"]);
+        prepare(c.dir.path());
+        if let Some(u) = user {
+            let ok = Command::new("chown").args(["-R", u]).arg(c.dir.path()).status().unwrap().success();
+            assert!(ok, "cannot hand {} to {u}", c.dir.path().display());
+        }
         let opts = format!(
-            "-p {} -k {} -c listen_addresses=127.0.0.1 -c fsync=off -c synchronous_commit=off -c max_connections=200",
+            "-p {} -k {} -c listen_addresses=127.0.0.1 -c fsync=off -c synchronous_commit=off -c max_connections=200 {extra}",
             c.port,
             c.dir.path().display()
         );
@@ -1030,4 +1041,65 @@ fn a_read_only_role_queries_and_is_refused_writes_in_plain_words() {
     assert!(head.starts_with("HTTP/1.1 500") && body.contains("cannot record the mark"), "{head}\n{body}");
     assert_eq!(pg.count("SELECT COUNT(*) FROM review_marks"), 0);
     assert_eq!(pg.count("SELECT COUNT(*) FROM changes"), 2);
+}
+
+#[test]
+fn sslmode_require_against_a_server_with_a_self_signed_certificate() {
+    const TEST: &str = "pg::sslmode_require_against_a_server_with_a_self_signed_certificate";
+    if Command::new("openssl").arg("version").stdout(Stdio::null()).status().is_err() {
+        crate::skip(TEST, "openssl is not installed: it makes the server's self-signed certificate");
+        return;
+    }
+    let certs = tempfile::tempdir().unwrap();
+    let (crt, key) = (certs.path().join("server.crt"), certs.path().join("server.key"));
+    let out = Command::new("openssl")
+        .args([
+            "req",
+            "-x509",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-days",
+            "2",
+            "-subj",
+            "/CN=127.0.0.1",
+            "-addext",
+            "subjectAltName=IP:127.0.0.1",
+            "-addext",
+            "basicConstraints=critical,CA:FALSE",
+        ])
+        .arg("-keyout")
+        .arg(&key)
+        .arg("-out")
+        .arg(&crt)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let prepare = |dir: &std::path::Path| {
+        use std::os::unix::fs::PermissionsExt as _;
+        // Relative names in the server's options are of its data folder.
+        let data = dir.join("data");
+        std::fs::copy(&crt, data.join("server.crt")).unwrap();
+        std::fs::copy(&key, data.join("server.key")).unwrap();
+        std::fs::set_permissions(data.join("server.key"), std::fs::Permissions::from_mode(0o600)).unwrap();
+    };
+    let Some(pg) = Cluster::start_with(TEST, "-c ssl=on -c ssl_cert_file=server.crt -c ssl_key_file=server.key", prepare) else { return };
+    let server = Server::new(Some("HALL1"), "path = 'var/ncplan.db'");
+    let url = |mode: &str| pg.url().replace("sslmode=disable", mode);
+    const SSL: &str = "SELECT ssl FROM pg_stat_ssl WHERE pid = pg_backend_pid()";
+    // Required, with the server's certificate trusted: the session is encrypted.
+    let trusted = url(&format!("sslmode=require&sslrootcert={}", crt.display()));
+    let (code, out, err) = server.ncplan(&["query", "--db", &trusted, SSL]);
+    assert_eq!((code, out.as_str()), (0, "ssl\n1\n"), "{err}");
+    // Required, without trusting it: refused, never sent in the clear.
+    let (code, _, err) = server.ncplan(&["query", "--db", &url("sslmode=require"), SSL]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("connecting to PostgreSQL"), "{err}");
+    // Disabled: in the clear, as asked.
+    let (code, out, err) = server.ncplan(&["query", "--db", &url("sslmode=disable"), SSL]);
+    assert_eq!((code, out.as_str()), (0, "ssl\n0\n"), "{err}");
+    // A root file that holds no certificate is named.
+    let (code, _, err) = server.ncplan(&["query", "--db", &url(&format!("sslmode=require&sslrootcert={}", key.display())), SSL]);
+    assert_eq!(code, 2);
+    assert!(err.contains("sslrootcert"), "{err}");
 }
