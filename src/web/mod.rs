@@ -3,7 +3,7 @@
 //! Its own room in the IO shell: axum on a current-thread tokio runtime, pages rendered by
 //! maud (compile-time checked, every interpolated value escaped: program text is untrusted),
 //! assets embedded. It reads through `store` on read-only connections, writes only review
-//! marks (their own table), and calls the pure core (`view`) for pictures and source views.
+//! marks and saved console queries (their own tables), and calls the pure core (`view`) for pictures and source views.
 //! The door is [`serve`]; [`report`] writes the same comparison views as one HTML file.
 //!
 //! Security: without `[[web.user]]` in the configuration the server listens on loopback only
