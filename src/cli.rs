@@ -207,6 +207,9 @@ enum Command {
         /// another than loopback needs users configured.
         #[arg(long, value_name = "ADDR")]
         listen: Option<String>,
+        /// The database instead of the configuration's: a SQLite file or a `postgresql://` URL.
+        #[arg(long, value_name = "FILE|URL")]
+        db: Option<String>,
     },
     /// Print one stored revision: what it is, its findings and its changes; with flags, its
     /// source or its plan.
@@ -255,8 +258,10 @@ enum Command {
         #[arg(long, conflicts_with = "daemon")]
         web: bool,
         /// Measure ingest throughput on SQLite and on this PostgreSQL database instead
-        /// (`--files` programs at once); the daemon writes as a site of its own.
-        #[arg(long, value_name = "URL", conflicts_with_all = ["daemon", "web"])]
+        /// (`--files` programs at once); the daemon writes as a site of its own. With --web:
+        /// the pages rendered on this database too (the same 10,000 revisions, copied in by
+        /// `migrate` as site WEBBENCH once; give it a database of its own).
+        #[arg(long, value_name = "URL", conflicts_with_all = ["daemon"])]
         postgres: Option<String>,
         /// With --postgres: time the report queries on a simulated plant of this many
         /// revisions instead (made once in that database).
@@ -586,14 +591,14 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             Ok(if with_errors > 0 || unreadable > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
         Command::Bench { dir, rows, runs, daemon, corpus, files, kills, web, postgres, simulate } => {
-            if let (Some(url), Some(n)) = (&postgres, simulate) {
+            if web {
+                crate::web::bench::run(&dir.join("web"), rows, postgres.as_deref(), &mut LineFlush(&mut out))?;
+            } else if let (Some(url), Some(n)) = (&postgres, simulate) {
                 crate::bench::run_simulation(url, n, &mut LineFlush(&mut out))?;
             } else if let Some(url) = postgres {
                 crate::bench::run_engines(&dir.join("engines"), &url, files, &mut LineFlush(&mut out))?;
             } else if let Some(corpus) = corpus {
                 crate::bench::run_corpus(&corpus, &mut LineFlush(&mut out))?;
-            } else if web {
-                crate::web::bench::run(&dir.join("web"), rows, &mut LineFlush(&mut out))?;
             } else if daemon {
                 crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
             } else {
@@ -739,8 +744,11 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Serve { config: given, listen } => {
-            let config = load_config(given.as_deref())?;
+        Command::Serve { config: given, listen, db } => {
+            let mut config = load_config(given.as_deref())?;
+            if let Some(db) = db {
+                config.database = Location::parse(&db);
+            }
             if !config.database.exists() {
                 bail!("no database at {} (has `ncplan watch` run?)", config.database);
             }
@@ -907,12 +915,13 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             bar.finish_and_clear();
             writeln!(
                 out,
-                "migrated {} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied",
+                "migrated {} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied; {} review marks",
                 from.display(),
                 summary.revisions,
                 summary.copied,
                 summary.revisions - summary.copied,
-                summary.comparisons
+                summary.comparisons,
+                summary.review_marks
             )?;
             out.flush()?;
             Ok(ExitCode::SUCCESS)

@@ -21,7 +21,7 @@ use crate::pairing::{Candidate, Key};
 pub use location::Location;
 pub use pages::{
     ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow,
-    SAVED_QUERIES, TimelineRow,
+    SAVED_QUERIES, SavedQuery, TimelineRow,
 };
 pub use pg::{CopySummary, PLANT_QUERIES};
 pub use schema::MIGRATIONS;
@@ -292,6 +292,22 @@ pub fn split_statement(sql: &str) -> (&str, &str) {
     (sql, "")
 }
 
+/// The one statement of `sql_text`, refused in plain words when more follow or it does not
+/// start as a reading statement does (`SELECT`, `WITH`, `VALUES`, `EXPLAIN`). The engine
+/// still runs it read-only: a `WITH` that deletes is refused there.
+pub(crate) fn one_reading_statement(sql_text: &str) -> std::result::Result<&str, QueryError> {
+    let (first, rest) = split_statement(sql_text);
+    if !rest.is_empty() {
+        return Err(QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
+    }
+    let keyword = first.trim_start().split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("").to_ascii_uppercase();
+    if !matches!(keyword.as_str(), "SELECT" | "WITH" | "VALUES" | "EXPLAIN") {
+        let what = if keyword.is_empty() { "an empty statement".to_owned() } else { format!("`{keyword}`") };
+        return Err(QueryError::Refused(format!("{what} is refused: queries only read (SELECT, WITH, VALUES, EXPLAIN)")));
+    }
+    Ok(first)
+}
+
 /// Whether `s` holds only blanks, semicolons and comments.
 fn split_statement_blank(s: &str) -> bool {
     let mut t = s.trim_start_matches(|c: char| c.is_whitespace() || c == ';');
@@ -306,6 +322,37 @@ fn split_statement_blank(s: &str) -> bool {
         t = t.trim_start_matches(|c: char| c.is_whitespace() || c == ';');
     }
 }
+
+/// A stored change as a comparison made again matches it: its id, workingstep, kind,
+/// field, before, after, and when it was detected.
+pub(crate) type OldChange = (i64, i64, String, String, String, String, String);
+
+/// For each of a comparison's `new` changes, the id and detection time of the stored change
+/// it continues: the first not yet taken with the same workingstep, kind, field, before and
+/// after (the change's stable key). A change found again keeps its id, so the review marks
+/// made on it stay on it, and the time it was first detected.
+pub(crate) fn continued(old: &[OldChange], new: &[Change]) -> Vec<Option<(i64, String)>> {
+    let mut taken = vec![false; old.len()];
+    new.iter()
+        .map(|c| {
+            let i = old.iter().enumerate().position(|(i, o)| {
+                !taken[i]
+                    && o.1 == i64::from(c.workingstep)
+                    && o.2 == c.kind.as_str()
+                    && o.3 == c.field
+                    && o.4 == c.before
+                    && o.5 == c.after
+            })?;
+            taken[i] = true;
+            Some((old[i].0, old[i].6.clone()))
+        })
+        .collect()
+}
+
+/// The columns `old_changes` copies from `changes` (after its own change_id, revision_id,
+/// original_revision_id, analysis, replaced_by and replaced_at).
+pub(crate) const OLD_CHANGE_COLUMNS: &str = "workingstep, operation, kind, field, before, after, line, detected_at, original_line,
+     region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation";
 
 /// A re-analysis to record ([`Txn::record_analysis`]).
 #[derive(Debug)]
@@ -458,6 +505,14 @@ impl Store {
         on!(self, e => e.reanalysis_left(version))
     }
 
+    /// The SQL a knowledge page runs on this engine.
+    pub fn knowledge_sql(&self, page: &Knowledge) -> &'static str {
+        match self.engine {
+            Engine::Lite(_) => page.sql,
+            Engine::Pg(_) => page.pg_sql,
+        }
+    }
+
     /// Which engine, for messages: `SQLite` or `PostgreSQL`.
     pub fn engine_name(&self) -> &'static str {
         match self.engine {
@@ -547,15 +602,7 @@ impl Store {
     /// Runs one read-only statement (`SELECT`, `WITH`, `VALUES`, `EXPLAIN`) for `ncplan query`,
     /// with refusals in plain words. On PostgreSQL it runs in a read-only transaction.
     pub fn query_read_only(&self, sql_text: &str) -> std::result::Result<(Vec<String>, Vec<Vec<String>>), QueryError> {
-        let (first, rest) = split_statement(sql_text);
-        if !rest.is_empty() {
-            return Err(QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
-        }
-        let keyword = first.trim_start().split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("").to_ascii_uppercase();
-        if !matches!(keyword.as_str(), "SELECT" | "WITH" | "VALUES" | "EXPLAIN") {
-            let what = if keyword.is_empty() { "an empty statement".to_owned() } else { format!("`{keyword}`") };
-            return Err(QueryError::Refused(format!("{what} is refused: queries only read (SELECT, WITH, VALUES, EXPLAIN)")));
-        }
+        let first = one_reading_statement(sql_text)?;
         on!(self, e => e.query_read_only(first))
     }
 
@@ -624,7 +671,9 @@ impl Txn<'_> {
     }
 
     /// Records the comparison of `revision` with `original`, paired by `rule`, replacing an
-    /// earlier one of the same revision.
+    /// earlier one of the same revision: its change rows move to `old_changes` with the
+    /// analysis version that made them, and a change found again keeps its id ([`continued`]).
+    /// The new rows name the analysis of the revision's plan.
     pub fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
         on_tx!(self, e => e.record_comparison(revision, original, rule, changes, at))
     }
@@ -643,147 +692,113 @@ impl Txn<'_> {
     }
 }
 
-/// What the workspace's pages say on PostgreSQL, which they do not read yet.
-const ON_SQLITE_ONLY: &str = "the web workspace's pages read a SQLite database; on PostgreSQL only query, report and show work so far";
-
 /// The planners' workspace (`ncplan serve`): its read queries and review marks (`pages.rs`).
 impl Store {
     /// The machines with their programs, revisions, newest revision and review queue.
     pub fn machines(&self) -> Result<Vec<MachineSummary>> {
-        match &self.engine {
-            Engine::Lite(e) => e.machines(),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.machines())
     }
 
     /// The review marks of a change, oldest first.
     pub fn marks(&self, change_id: i64) -> Result<Vec<Mark>> {
-        match &self.engine {
-            Engine::Lite(e) => e.marks(change_id),
-            Engine::Pg(e) => e.marks(change_id),
-        }
+        on!(self, e => e.marks(change_id))
     }
 
     /// The changes that match `filter`, newest first, at most `limit`.
     pub fn search_changes(&self, filter: &ChangeFilter, limit: usize) -> Result<Vec<ChangeRow>> {
-        match &self.engine {
-            Engine::Lite(e) => e.search_changes(filter, limit),
-            Engine::Pg(e) => e.search_changes(filter, limit),
-        }
+        on!(self, e => e.search_changes(filter, limit))
     }
 
     /// The changes of one edited revision, in their order.
     pub fn change_rows(&self, revision: i64) -> Result<Vec<ChangeRow>> {
-        match &self.engine {
-            Engine::Lite(e) => e.change_rows(revision),
-            Engine::Pg(e) => e.change_rows(revision),
-        }
+        on!(self, e => e.change_rows(revision))
     }
 
     /// Changes per ISO week (`YYYY-Www`) per machine, oldest week first, for the last `weeks` weeks with changes.
     pub fn changes_per_week(&self, weeks: usize) -> Result<Vec<(String, String, i64)>> {
-        match &self.engine {
-            Engine::Lite(e) => e.changes_per_week(weeks),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.changes_per_week(weeks))
     }
 
     /// The programs edited most: by revisions with changes.
     pub fn most_edited(&self, limit: usize) -> Result<Vec<EditedProgram>> {
-        match &self.engine {
-            Engine::Lite(e) => e.most_edited(limit),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.most_edited(limit))
     }
 
     /// How often each change kind occurs, most often first.
     pub fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
-        match &self.engine {
-            Engine::Lite(e) => e.kind_counts(),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.kind_counts())
     }
 
     /// The newest revisions whose analysis found errors.
     pub fn error_revisions(&self, limit: usize) -> Result<Vec<ErrorRevision>> {
-        match &self.engine {
-            Engine::Lite(e) => e.error_revisions(limit),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.error_revisions(limit))
     }
 
     /// When the newest revision of each CAM or machine folder was seen: `(folder, when)`.
     pub fn last_seen_per_folder(&self) -> Result<Vec<(String, String)>> {
-        match &self.engine {
-            Engine::Lite(e) => e.last_seen_per_folder(),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.last_seen_per_folder())
     }
 
     /// One machine.
     pub fn machine(&self, name: &str) -> Result<Option<MachineSummary>> {
-        match &self.engine {
-            Engine::Lite(e) => e.machine(name),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.machine(name))
     }
 
     /// A machine's programs with their newest revision.
     pub fn machine_programs(&self, machine: &str) -> Result<Vec<ProgramRow>> {
-        match &self.engine {
-            Engine::Lite(e) => e.machine_programs(machine),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.machine_programs(machine))
     }
 
     /// One program.
     pub fn program(&self, id: i64) -> Result<Option<ProgramInfo>> {
-        match &self.engine {
-            Engine::Lite(e) => e.program(id),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.program(id))
     }
 
     /// The program a revision belongs to.
     pub fn program_of(&self, revision: i64) -> Result<Option<i64>> {
-        match &self.engine {
-            Engine::Lite(e) => e.program_of(revision),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.program_of(revision))
     }
 
     /// Every revision of a program, oldest first.
     pub fn timeline(&self, program: i64) -> Result<Vec<TimelineRow>> {
-        match &self.engine {
-            Engine::Lite(e) => e.timeline(program),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.timeline(program))
     }
 
     /// The CAM originals a program's revisions were compared with: `(program id, path, newest revision)`.
     pub fn originals_of(&self, program: i64) -> Result<Vec<(i64, String, i64)>> {
-        match &self.engine {
-            Engine::Lite(e) => e.originals_of(program),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
-        }
+        on!(self, e => e.originals_of(program))
     }
 
     /// Adds a review mark to a change: `adopt`, `reject` or `note`. Returns the revision the
     /// change belongs to, or `None` when there is no such change. Analysis tables are only read.
     pub fn add_mark(&self, change_id: i64, mark: &str, note: &str, by: &str, at: &str) -> Result<Option<i64>> {
-        match &self.engine {
-            Engine::Lite(e) => e.add_mark(change_id, mark, note, by, at),
-            Engine::Pg(_) => Err(StoreError::Setup(ON_SQLITE_ONLY.into())),
+        on!(self, e => e.add_mark(change_id, mark, note, by, at))
+    }
+
+    /// The queries planners saved in the SQL console, oldest first.
+    pub fn saved_queries(&self) -> Result<Vec<SavedQuery>> {
+        on!(self, e => e.saved_queries())
+    }
+
+    /// Saves a console query under `name` (who, when); the SQL must be one reading
+    /// statement. Returns its id. Analysis tables are only read.
+    pub fn save_query(&self, name: &str, sql_text: &str, by: &str, at: &str) -> std::result::Result<i64, QueryError> {
+        let name = name.trim();
+        if name.is_empty() {
+            return Err(QueryError::Refused("a saved query needs a name".into()));
         }
+        if name.chars().count() > 200 {
+            return Err(QueryError::Refused("a saved query's name is at most 200 characters".into()));
+        }
+        let first = one_reading_statement(sql_text)?;
+        on!(self, e => e.save_query(name, first.trim(), by, at)).map_err(|e| QueryError::Sql(e.to_string()))
     }
 
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
     /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
     /// whether rows were left off.
     pub fn query_limited(&self, sql_text: &str, max_rows: usize, limit: std::time::Duration) -> std::result::Result<Limited, QueryError> {
-        match &self.engine {
-            Engine::Lite(e) => e.query_limited(sql_text, max_rows, limit),
-            Engine::Pg(_) => Err(QueryError::Refused(ON_SQLITE_ONLY.into())),
-        }
+        let first = one_reading_statement(sql_text)?;
+        on!(self, e => e.query_limited(first, max_rows, limit))
     }
 }

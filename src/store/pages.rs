@@ -166,6 +166,21 @@ pub struct ChangeFilter {
     pub to_review: bool,
 }
 
+/// A query a planner saved in the SQL console (`saved_queries`, migration 7).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SavedQuery {
+    /// `saved_queries.id`.
+    pub id: i64,
+    /// The name it was saved under (free text: shown as text).
+    pub name: String,
+    /// Its SQL.
+    pub sql: String,
+    /// Who saved it.
+    pub by: String,
+    /// When (RFC 3339).
+    pub at: String,
+}
+
 /// The SQL console's answer: the columns, the rows, and whether rows were left off.
 pub type Limited = (Vec<String>, Vec<Vec<String>>, bool);
 
@@ -176,8 +191,10 @@ pub struct Knowledge {
     pub name: &'static str,
     /// Title.
     pub title: &'static str,
-    /// The SQL the page runs (read-only).
+    /// The SQL the page runs on SQLite (read-only).
     pub sql: &'static str,
+    /// Its twin on PostgreSQL: the same rows in the same order.
+    pub pg_sql: &'static str,
 }
 
 /// The knowledge pages.
@@ -197,33 +214,60 @@ LEFT JOIN workingsteps w ON w.revision_id = c.original_revision_id AND w.idx = c
 WHERE c.kind IN ('feed_changed', 'spindle_speed_changed')
   AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')
 ORDER BY c.kind, tool_kind, diameter, machine, program, c.id",
+        pg_sql: "SELECT kind, machine, program, tool_kind, diameter, posted, run FROM (
+SELECT c.kind, m.name AS machine, COALESCE(r.name, p.name) AS program, t.kind AS tool_kind, t.diameter, c.before AS posted, c.after AS run, c.id
+FROM changes c
+JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
+LEFT JOIN workingsteps w ON w.revision_id = c.original_revision_id AND w.idx = c.workingstep
+LEFT JOIN (SELECT DISTINCT ON (pl.revision_id, (x.t->>'number')::float8) pl.revision_id, (x.t->>'number')::float8 AS number,
+                  x.t->>'kind' AS kind, (x.t->>'diameter')::float8 AS diameter
+           FROM plans pl, json_array_elements(CASE json_typeof(pl.plan_json::json->'tools') WHEN 'array' THEN pl.plan_json::json->'tools' ELSE '[]'::json END)
+                WITH ORDINALITY AS x(t, n)
+           WHERE pl.revision_id IN (SELECT original_revision_id FROM changes WHERE kind IN ('feed_changed', 'spindle_speed_changed'))
+           ORDER BY pl.revision_id, (x.t->>'number')::float8, x.n) t ON t.revision_id = c.original_revision_id AND t.number = w.tool
+WHERE c.kind IN ('feed_changed', 'spindle_speed_changed')
+  AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')) q
+ORDER BY kind COLLATE \"C\", tool_kind COLLATE \"C\" NULLS FIRST, diameter NULLS FIRST, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", id",
     },
     Knowledge {
         name: "tools",
         title: "Tool substitutions",
         sql: "SELECT before AS posted, after AS used, COUNT(*) AS times, COUNT(DISTINCT machine) AS machines,
-       COUNT(DISTINCT program) AS programs, group_concat(DISTINCT machine) AS on_machines
+       COUNT(DISTINCT program) AS programs, group_concat(DISTINCT machine ORDER BY machine) AS on_machines
 FROM shopfloor_changes WHERE kind = 'tool_renamed'
 GROUP BY before, after ORDER BY times DESC, before, after",
+        pg_sql: "SELECT before AS posted, after AS used, COUNT(*) AS times, COUNT(DISTINCT machine) AS machines,
+       COUNT(DISTINCT program) AS programs, string_agg(DISTINCT machine, ',' ORDER BY machine) AS on_machines
+FROM shopfloor_changes WHERE kind = 'tool_renamed'
+GROUP BY before, after ORDER BY times DESC, before COLLATE \"C\", after COLLATE \"C\"",
     },
     Knowledge {
         name: "start-points",
         title: "Start points that keep moving",
-        sql: "SELECT machine, program, workingstep, operation, COUNT(*) AS moves, COUNT(DISTINCT after) AS places,
-       group_concat(after, ' | ') AS moved_to, MAX(detected_at) AS last
+        sql: "SELECT machine, program, workingstep, MIN(operation) AS operation, COUNT(*) AS moves, COUNT(DISTINCT after) AS places,
+       group_concat(after, ' | ' ORDER BY change_id) AS moved_to, MAX(detected_at) AS last
 FROM shopfloor_changes WHERE kind = 'start_point_moved'
 GROUP BY machine, program, workingstep ORDER BY moves DESC, machine, program, workingstep",
+        pg_sql: "SELECT machine, program, workingstep, MIN(operation COLLATE \"C\") AS operation, COUNT(*) AS moves, COUNT(DISTINCT after) AS places,
+       string_agg(after, ' | ' ORDER BY change_id) AS moved_to, MAX(detected_at) AS last
+FROM shopfloor_changes WHERE kind = 'start_point_moved'
+GROUP BY machine, program, workingstep ORDER BY moves DESC, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", workingstep",
     },
     Knowledge {
         name: "depths",
         title: "Depth changes",
-        sql: "SELECT machine, program, workingstep, operation, before AS posted, after AS run, COUNT(*) AS times, MAX(detected_at) AS last
+        sql: "SELECT machine, program, workingstep, MIN(operation) AS operation, before AS posted, after AS run, COUNT(*) AS times, MAX(detected_at) AS last
 FROM shopfloor_changes WHERE kind IN ('depth_changed', 'axial_depth_changed')
-GROUP BY machine, program, workingstep, before, after ORDER BY times DESC, machine, program, workingstep",
+GROUP BY machine, program, workingstep, before, after ORDER BY times DESC, machine, program, workingstep, before, after",
+        pg_sql: "SELECT machine, program, workingstep, MIN(operation COLLATE \"C\") AS operation, before AS posted, after AS run, COUNT(*) AS times,
+       MAX(detected_at) AS last
+FROM shopfloor_changes WHERE kind IN ('depth_changed', 'axial_depth_changed')
+GROUP BY machine, program, workingstep, before, after
+ORDER BY times DESC, machine COLLATE \"C\" NULLS FIRST, program COLLATE \"C\", workingstep, before COLLATE \"C\", after COLLATE \"C\"",
     },
 ];
 
-/// Saved queries of the SQL console: a title and the SQL.
+/// Saved queries of the SQL console: a title and the SQL, which both engines run alike.
 pub const SAVED_QUERIES: &[(&str, &str)] = &[
     (
         "The newest changes",
@@ -231,13 +275,16 @@ pub const SAVED_QUERIES: &[(&str, &str)] = &[
     ),
     (
         "Programs whose feeds are changed most, per machine",
-        "SELECT machine, program, COUNT(*) n FROM shopfloor_changes WHERE kind = 'feed_changed' GROUP BY 1, 2 ORDER BY n DESC",
+        "SELECT machine, program, COUNT(*) n FROM shopfloor_changes WHERE kind = 'feed_changed' GROUP BY 1, 2 ORDER BY n DESC, 1, 2",
     ),
     (
         "Revisions with errors",
-        "SELECT r.id, p.path, r.seen_at, COUNT(*) errors FROM diagnostics d JOIN revisions r ON r.id = d.revision_id JOIN programs p ON p.id = r.program_id WHERE d.severity = 'error' GROUP BY r.id ORDER BY r.id DESC",
+        "SELECT r.id, p.path, r.seen_at, COUNT(*) errors FROM diagnostics d JOIN revisions r ON r.id = d.revision_id JOIN programs p ON p.id = r.program_id WHERE d.severity = 'error' GROUP BY r.id, p.path, r.seen_at ORDER BY r.id DESC",
     ),
-    ("Hole diameters drilled", "SELECT diameter, SUM(positions) holes FROM features WHERE kind = 'round_hole' GROUP BY 1 ORDER BY 2 DESC"),
+    (
+        "Hole diameters drilled",
+        "SELECT diameter, SUM(positions) holes FROM features WHERE kind = 'round_hole' GROUP BY 1 ORDER BY 2 DESC, 1",
+    ),
     (
         "Review marks",
         "SELECT change_id, revision_id, kind, before, after, mark, note, marked_by, marked_at FROM review_marks ORDER BY id DESC",
@@ -433,9 +480,14 @@ impl Lite {
 
     /// How often each change kind occurs, most often first.
     pub(super) fn kind_counts(&self) -> Result<Vec<(String, i64)>> {
-        self.rows("counting change kinds", "SELECT kind, COUNT(*) FROM shopfloor_changes GROUP BY kind ORDER BY 2 DESC, 1", [], |r| {
-            Ok((r.get(0)?, r.get(1)?))
-        })
+        self.rows(
+            "counting change kinds",
+            "SELECT kind, COUNT(*) FROM changes c
+             WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')
+             GROUP BY kind ORDER BY 2 DESC, 1",
+            [],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )
     }
 
     /// The newest revisions whose analysis found errors.
@@ -575,6 +627,24 @@ impl Lite {
             .map_err(sql("recording a review mark"))
     }
 
+    /// The planners' saved queries, oldest first.
+    pub(super) fn saved_queries(&self) -> Result<Vec<SavedQuery>> {
+        self.rows("reading saved queries", "SELECT id, name, sql, saved_by, saved_at FROM saved_queries ORDER BY id", [], |r| {
+            Ok(SavedQuery { id: r.get(0)?, name: r.get(1)?, sql: r.get(2)?, by: r.get(3)?, at: r.get(4)? })
+        })
+    }
+
+    /// Saves a query under `name`; returns its id.
+    pub(super) fn save_query(&self, name: &str, sql_text: &str, by: &str, at: &str) -> Result<i64> {
+        self.conn
+            .query_row(
+                "INSERT INTO saved_queries(name, sql, saved_by, saved_at) VALUES (?1, ?2, ?3, ?4) RETURNING id",
+                params![name, sql_text, by, at],
+                |r| r.get(0),
+            )
+            .map_err(sql("saving a query"))
+    }
+
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
     /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
     /// whether rows were left off.
@@ -584,15 +654,7 @@ impl Lite {
         max_rows: usize,
         limit: std::time::Duration,
     ) -> std::result::Result<Limited, super::QueryError> {
-        let (first, rest) = super::split_statement(sql_text);
-        if !rest.is_empty() {
-            return Err(super::QueryError::Refused(format!("one statement at a time: `{}` was not run", rest.trim())));
-        }
-        let keyword = first.trim_start().split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("").to_ascii_uppercase();
-        if !matches!(keyword.as_str(), "SELECT" | "WITH" | "VALUES" | "EXPLAIN") {
-            let what = if keyword.is_empty() { "an empty statement".to_owned() } else { format!("`{keyword}`") };
-            return Err(super::QueryError::Refused(format!("{what} is refused: queries only read (SELECT, WITH, VALUES, EXPLAIN)")));
-        }
+        let first = super::one_reading_statement(sql_text)?;
         let started = std::time::Instant::now();
         self.conn.progress_handler(1000, Some(move || started.elapsed() > limit));
         let result = self.query_capped(first, max_rows);
@@ -680,6 +742,20 @@ mod tests {
         // The change rows are as they were.
         let (_, changes) = s.query("SELECT kind, before, after FROM changes ORDER BY id").unwrap();
         assert_eq!(changes[0], vec!["tool_renamed", "T1", "T8"]);
+    }
+
+    #[test]
+    fn saved_queries_are_kept_with_who_and_when() {
+        let s = store_with_a_change();
+        assert!(s.saved_queries().unwrap().is_empty());
+        let id = s.save_query("<b>feeds</b>", "SELECT 1", "ada", "2026-11-03T00:00:00.000Z").unwrap();
+        s.save_query("second", "SELECT 2", "bob", "2026-11-04T00:00:00.000Z").unwrap();
+        let saved = s.saved_queries().unwrap();
+        assert_eq!(
+            saved[0],
+            SavedQuery { id, name: "<b>feeds</b>".into(), sql: "SELECT 1".into(), by: "ada".into(), at: "2026-11-03T00:00:00.000Z".into() }
+        );
+        assert_eq!(saved.iter().map(|q| q.name.as_str()).collect::<Vec<_>>(), ["<b>feeds</b>", "second"]);
     }
 
     #[test]

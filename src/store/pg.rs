@@ -21,6 +21,8 @@ use super::pg_schema;
 use super::*;
 use crate::pairing::Rule;
 
+mod pages;
+
 fn sql(about: &'static str) -> impl FnOnce(postgres::Error) -> StoreError {
     move |source| StoreError::Sql { about, source: Box::new(source) }
 }
@@ -47,7 +49,8 @@ struct Conn {
 /// never, `prefer` (the default) when the server offers it, `require`, `verify-ca` and
 /// `verify-full` always, and always verifying the server's certificate and name.
 fn connect(target: &PgTarget) -> Result<Client> {
-    let (url, mode) = take_sslmode(&target.url)?;
+    let (url, root) = take_rootcert(&target.url);
+    let (url, mode) = take_sslmode(&url)?;
     let mut config: postgres::Config =
         url.parse().map_err(|_| StoreError::Setup(format!("the database URL {} cannot be read", target.shown())))?;
     if config.get_password().is_none()
@@ -65,7 +68,7 @@ fn connect(target: &PgTarget) -> Result<Client> {
         }
         SslMode::Prefer | SslMode::Require => {
             config.ssl_mode(if mode == SslMode::Prefer { postgres::config::SslMode::Prefer } else { postgres::config::SslMode::Require });
-            config.connect(tls()?)
+            config.connect(tls(root.as_deref())?)
         }
     };
     connected.map_err(|e| StoreError::Sql { about: "connecting to PostgreSQL", source: Box::new(e) })
@@ -99,10 +102,40 @@ fn take_sslmode(url: &str) -> Result<(String, SslMode)> {
     Ok((if kept.is_empty() { base.to_owned() } else { format!("{base}?{}", kept.join("&")) }, mode))
 }
 
-fn tls() -> Result<tokio_postgres_rustls::MakeRustlsConnect> {
+/// The URL without its `sslrootcert` parameter (libpq's name), and the file it names.
+fn take_rootcert(url: &str) -> (String, Option<String>) {
+    let Some((base, query)) = url.split_once('?') else { return (url.to_owned(), None) };
+    let mut root = None;
+    let mut kept = Vec::new();
+    for p in query.split('&') {
+        match p.strip_prefix("sslrootcert=") {
+            Some(file) => root = Some(file.to_owned()),
+            None => kept.push(p),
+        }
+    }
+    (if kept.is_empty() { base.to_owned() } else { format!("{base}?{}", kept.join("&")) }, root)
+}
+
+/// The TLS client: the system's trusted roots, and the certificates of `root` (a PEM file:
+/// the plant's CA, or a server's own self-signed certificate) when given.
+fn tls(root: Option<&str>) -> Result<tokio_postgres_rustls::MakeRustlsConnect> {
+    use rustls::pki_types::pem::PemObject as _;
     let mut roots = rustls::RootCertStore::empty();
     for cert in rustls_native_certs::load_native_certs().certs {
         let _ = roots.add(cert);
+    }
+    if let Some(file) = root {
+        let certs = rustls::pki_types::CertificateDer::pem_file_iter(file)
+            .map_err(|e| StoreError::Setup(format!("sslrootcert {file} cannot be read: {e}")))?;
+        let mut added = 0;
+        for cert in certs {
+            let cert = cert.map_err(|e| StoreError::Setup(format!("sslrootcert {file} is not a PEM certificate file: {e}")))?;
+            roots.add(cert).map_err(|e| StoreError::Setup(format!("sslrootcert {file}: {e}")))?;
+            added += 1;
+        }
+        if added == 0 {
+            return Err(StoreError::Setup(format!("sslrootcert {file} holds no certificate")));
+        }
     }
     let config = rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
         .with_safe_default_protocol_versions()
@@ -160,6 +193,20 @@ impl Pg {
 
     fn migrate(&self) -> Result<()> {
         let mut c = self.conn.client.borrow_mut();
+        // A current database is only read: a role that may only read (a deployment's
+        // read-only role) opens it too, and is refused when it writes.
+        let current = c
+            .query_one("SELECT CASE WHEN to_regclass('schema_version') IS NULL THEN -1 ELSE 0 END", &[])
+            .map_err(sql("reading the schema version"))?
+            .get::<_, i32>(0)
+            == 0
+            && c.query_one("SELECT COALESCE(MAX(version), 0) FROM schema_version", &[])
+                .map_err(sql("reading the schema version"))?
+                .get::<_, i64>(0) as usize
+                == pg_schema::MIGRATIONS.len();
+        if current {
+            return Ok(());
+        }
         c.execute("SELECT pg_advisory_lock($1, $2)", &[&LOCK_MIGRATE.0, &LOCK_MIGRATE.1]).map_err(sql("waiting for a migration"))?;
         let result = (|| {
             c.batch_execute("CREATE TABLE IF NOT EXISTS schema_version (version BIGINT NOT NULL)")
@@ -383,10 +430,16 @@ fn text_rows(c: &mut Client, sql_text: &str) -> std::result::Result<(Vec<String>
     let stmt = c.prepare(sql_text)?;
     let names: Vec<String> = stmt.columns().iter().map(|c| c.name().to_owned()).collect();
     let types: Vec<Type> = stmt.columns().iter().map(|c| c.type_().clone()).collect();
+    let out = text_cells(&c.simple_query(sql_text)?, &types);
+    Ok((names, out))
+}
+
+/// The rows among a simple query's messages as text, as [`text_rows`] gives them.
+fn text_cells(messages: &[SimpleQueryMessage], types: &[Type]) -> Vec<Vec<String>> {
     let mut out = Vec::new();
-    for m in c.simple_query(sql_text)? {
+    for m in messages {
         if let SimpleQueryMessage::Row(row) = m {
-            let mut cells = Vec::with_capacity(names.len());
+            let mut cells = Vec::with_capacity(types.len());
             for (i, t) in types.iter().enumerate() {
                 let v = row.get(i).unwrap_or("");
                 cells.push(if row.get(i).is_none() {
@@ -402,7 +455,7 @@ fn text_rows(c: &mut Client, sql_text: &str) -> std::result::Result<(Vec<String>
             out.push(cells);
         }
     }
-    Ok((names, out))
+    out
 }
 
 /// PostgreSQL's message, without its internals.
@@ -410,6 +463,9 @@ fn plain(e: &postgres::Error) -> String {
     match e.as_db_error() {
         Some(db) if db.code() == &postgres::error::SqlState::READ_ONLY_SQL_TRANSACTION => "the query would write; queries only read".into(),
         Some(db) if db.code() == &postgres::error::SqlState::QUERY_CANCELED => "the query ran past its time limit".into(),
+        Some(db) if db.code() == &postgres::error::SqlState::INSUFFICIENT_PRIVILEGE => {
+            format!("the database role may not do this ({}); queries only read", db.message())
+        }
         Some(db) => db.message().to_owned(),
         None => e.to_string(),
     }
@@ -606,8 +662,6 @@ impl PgTxn<'_> {
     /// checking that it still has that hash; the server joins them. Files over [`MAX_BLOB`]
     /// keep an empty blob.
     fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
-        use sha2::Digest as _;
-        use std::io::Read as _;
         let c = self.conn;
         if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&hash])?.is_some() {
             return Ok(());
@@ -620,6 +674,17 @@ impl PgTxn<'_> {
             )?;
             return Ok(());
         }
+        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+        self.stream_into_blob(hash, size, &mut file)
+    }
+
+    /// Stores `size` bytes read from `from` as the blob `hash`, 1 MiB at a time (the chunks
+    /// meet in a temporary table and are joined by the server), so memory stays bounded
+    /// whatever the size; bytes that are not `size` long or do not hash to `hash` are
+    /// [`StoreError::ContentChanged`].
+    fn stream_into_blob(&self, hash: &str, size: u64, from: &mut dyn std::io::Read) -> Result<()> {
+        use sha2::Digest as _;
+        let c = self.conn;
         c.client
             .borrow_mut()
             .batch_execute(
@@ -627,12 +692,11 @@ impl PgTxn<'_> {
             )
             .map_err(sql("storing program bytes"))?;
         c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
-        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
         let mut hasher = sha2::Sha256::new();
         let mut buf = vec![0u8; 1 << 20];
         let (mut copied, mut n) = (0u64, 0i64);
         loop {
-            let got = file.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+            let got = from.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
             if got == 0 {
                 break;
             }
@@ -758,6 +822,22 @@ impl PgTxn<'_> {
 
     pub(super) fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
         let c = self.conn;
+        let analysis: String = c
+            .one("reading a plan's analysis", "SELECT COALESCE((SELECT analysis FROM plans WHERE revision_id = $1), '')", &[&revision])?
+            .get(0);
+        let old: Vec<OldChange> = c
+            .rows(
+                "reading changes",
+                "SELECT id, workingstep, kind, field, before, after, detected_at FROM changes WHERE revision_id = $1 ORDER BY id",
+                &[&revision],
+            )?
+            .iter()
+            .map(|r| (r.get(0), r.get(1), r.get(2), r.get(3), r.get(4), r.get(5), r.get(6)))
+            .collect();
+        let kept = continued(&old, changes);
+        if !old.is_empty() {
+            c.exec("keeping the old changes", KEEP_OLD_CHANGES, &[&revision, &analysis, &at])?;
+        }
         c.exec("replacing a comparison", "DELETE FROM changes WHERE revision_id = $1", &[&revision])?;
         c.exec(
             "recording a comparison",
@@ -781,20 +861,37 @@ impl PgTxn<'_> {
         let (x0, y0, z0) = (corner(|b| b.min[0]), corner(|b| b.min[1]), corner(|b| b.min[2]));
         let (x1, y1, z1) = (corner(|b| b.max[0]), corner(|b| b.max[1]), corner(|b| b.max[2]));
         let dev: Vec<Option<f64>> = changes.iter().map(|c| c.deviation).collect();
+        let id: Vec<Option<i64>> = kept.iter().map(|k| k.as_ref().map(|k| k.0)).collect();
+        let detected: Vec<&str> = kept.iter().map(|k| k.as_ref().map_or(at, |k| k.1.as_str())).collect();
         c.exec(
             "storing changes",
-            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
-                                 original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
-             SELECT $1, $2, ws, op, kind, field, before, after, line, $3, oline, x0, y0, z0, x1, y1, z1, dev
+            "INSERT INTO changes(id, revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                 original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
+                                 analysis)
+             SELECT COALESCE(id, nextval(pg_get_serial_sequence('changes', 'id'))), $1, $2, ws, op, kind, field, before, after, line, at,
+                    oline, x0, y0, z0, x1, y1, z1, dev, $3
              FROM unnest($4::int8[], $5::text[], $6::text[], $7::text[], $8::text[], $9::text[], $10::int8[], $11::int8[],
-                         $12::float8[], $13::float8[], $14::float8[], $15::float8[], $16::float8[], $17::float8[], $18::float8[])
-                  WITH ORDINALITY AS u(ws, op, kind, field, before, after, line, oline, x0, y0, z0, x1, y1, z1, dev, n)
+                         $12::float8[], $13::float8[], $14::float8[], $15::float8[], $16::float8[], $17::float8[], $18::float8[],
+                         $19::int8[], $20::text[])
+                  WITH ORDINALITY AS u(ws, op, kind, field, before, after, line, oline, x0, y0, z0, x1, y1, z1, dev, id, at, n)
              ORDER BY n",
-            &[&revision, &original, &at, &ws, &op, &kind, &field, &before, &after, &line, &oline, &x0, &y0, &z0, &x1, &y1, &z1, &dev],
+            &[
+                &revision, &original, &analysis, &ws, &op, &kind, &field, &before, &after, &line, &oline, &x0, &y0, &z0, &x1, &y1, &z1,
+                &dev, &id, &detected,
+            ],
         )?;
         Ok(())
     }
 }
+
+/// `record_comparison`'s copy of the rows it replaces (`$1` revision, `$2` the analysis that
+/// replaces them, `$3` when).
+const KEEP_OLD_CHANGES: &str = "INSERT INTO old_changes(change_id, revision_id, original_revision_id, analysis, replaced_by, replaced_at,
+        workingstep, operation, kind, field, before, after, line, detected_at, original_line,
+        region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
+ SELECT id, revision_id, original_revision_id, analysis, $2, $3, workingstep, operation, kind, field, before, after, line, detected_at,
+        original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
+ FROM changes WHERE revision_id = $1 ORDER BY id";
 
 /// What `ncplan migrate` did.
 #[derive(Debug, Default, Clone, Copy)]
@@ -805,6 +902,8 @@ pub struct CopySummary {
     pub copied: usize,
     /// Comparisons copied by this run.
     pub comparisons: usize,
+    /// Review marks in the SQLite file whose change was copied (by this run or an earlier one).
+    pub review_marks: usize,
 }
 
 /// One source revision with its program and machine.
@@ -871,27 +970,37 @@ impl Pg {
         for (n, r) in revisions.iter().enumerate() {
             c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
             let tx = PgTxn { conn: c, done: Cell::new(false) };
+            // Looked up before they are written: an upsert would take a number from the
+            // sequence each time, and a database copied from one SQLite file keeps its ids.
             let machine_id: Option<i64> = match &r.machine {
-                Some((name, dialect, folder)) => Some(
-                    c.one(
-                        "recording a machine",
-                        "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
-                         ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect RETURNING id",
-                        &[&site, name, dialect, folder],
-                    )?
-                    .get(0),
-                ),
+                Some((name, dialect, folder)) => {
+                    Some(match c.opt("looking up a machine", "SELECT id FROM machines WHERE site = $1 AND name = $2", &[&site, name])? {
+                        Some(row) => row.get(0),
+                        None => c
+                            .one(
+                                "recording a machine",
+                                "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
+                                 ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect RETURNING id",
+                                &[&site, name, dialect, folder],
+                            )?
+                            .get(0),
+                    })
+                }
                 None => None,
             };
             let (pname, key, stem, dialect) = &r.program;
-            let program_id: i64 = c
-                .one(
-                    "recording a program",
-                    "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
-                     ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role RETURNING id",
-                    &[&site, &r.path, &r.role, &machine_id, pname, key, stem, dialect],
-                )?
-                .get(0);
+            let program_id: i64 =
+                match c.opt("looking up a program", "SELECT id FROM programs WHERE site = $1 AND path = $2", &[&site, &r.path])? {
+                    Some(row) => row.get(0),
+                    None => c
+                        .one(
+                            "recording a program",
+                            "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
+                             ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role RETURNING id",
+                            &[&site, &r.path, &r.role, &machine_id, pname, key, stem, dialect],
+                        )?
+                        .get(0),
+                };
             let found = c.opt(
                 "looking up a copied revision",
                 "SELECT id FROM revisions WHERE program_id = $1 AND hash = $2 AND seen_at = $3",
@@ -919,16 +1028,31 @@ impl Pg {
                 )?;
             }
             if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&r.hash])?.is_none() {
-                let blob: Option<(i64, Vec<u8>)> = src
-                    .query_row("SELECT size, content FROM blobs WHERE hash = ?1", [&r.hash], |x| Ok((x.get(0)?, x.get(1)?)))
+                // Streamed from SQLite's blob, 1 MiB at a time: a program of hundreds of
+                // megabytes is never in memory whole.
+                let found: Option<(i64, i64, i64)> = src
+                    .query_row("SELECT rowid, size, length(content) FROM blobs WHERE hash = ?1", [&r.hash], |x| {
+                        Ok((x.get(0)?, x.get(1)?, x.get(2)?))
+                    })
                     .optional()
                     .map_err(lsql("reading program bytes"))?;
-                let (size, content) = blob.unwrap_or((r.size, Vec::new()));
-                c.exec(
-                    "storing program bytes",
-                    "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, $3) ON CONFLICT (hash) DO NOTHING",
-                    &[&r.hash, &size, &content],
-                )?;
+                match found {
+                    Some((rowid, size, stored)) if stored > 0 && stored == size => {
+                        let mut blob = src
+                            .blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, true)
+                            .map_err(lsql("reading program bytes"))?;
+                        tx.stream_into_blob(&r.hash, size as u64, &mut blob)?;
+                    }
+                    // Kept without its bytes (over the size limit), or empty.
+                    other => {
+                        let size = other.map_or(r.size, |o| o.1);
+                        c.exec(
+                            "storing program bytes",
+                            "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, '') ON CONFLICT (hash) DO NOTHING",
+                            &[&r.hash, &size],
+                        )?;
+                    }
+                }
             }
             let new_id: i64 = c
                 .one(
@@ -986,11 +1110,32 @@ impl Pg {
                 stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?))).map_err(lsql("reading comparisons"))?;
             rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading comparisons"))?
         };
+        // Which analysis made each change (migration 7), and the change ids review marks name.
+        let has = |table: &str, column: &str| -> Result<bool> {
+            src.query_row(&format!("SELECT COUNT(*) FROM pragma_table_info('{table}') WHERE name = '{column}'"), [], |x| x.get::<_, i64>(0))
+                .map(|n| n > 0)
+                .map_err(lsql("reading the SQLite schema"))
+        };
+        let analysis_column = if has("changes", "analysis")? { "analysis" } else { "''" };
+        let lite_changes = |rev: i64| -> Result<Vec<(i64, String)>> {
+            let mut stmt = src
+                .prepare_cached(&format!("SELECT id, {analysis_column} FROM changes WHERE revision_id = ?1 ORDER BY id"))
+                .map_err(lsql("reading changes"))?;
+            let rows = stmt.query_map([rev], |x| Ok((x.get(0)?, x.get(1)?))).map_err(lsql("reading changes"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading changes"))
+        };
+        let mut change_ids: BTreeMap<i64, i64> = BTreeMap::new();
         for (rev, orig, at, n, rule) in &comparisons {
             let (Some(new_rev), Some(new_orig)) = (ids.get(rev), ids.get(orig)) else { continue };
             if c.opt("looking up a comparison", "SELECT 1 FROM comparisons WHERE revision_id = $1", &[new_rev])?.is_some() {
+                // Copied by an earlier run: its changes are in the same order.
+                let there = c.rows("reading changes", "SELECT id FROM changes WHERE revision_id = $1 ORDER BY id", &[new_rev])?;
+                for ((old, _), row) in lite_changes(*rev)?.iter().zip(&there) {
+                    change_ids.insert(*old, row.get(0));
+                }
                 continue;
             }
+            let old_ids = lite_changes(*rev)?;
             c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
             let tx = PgTxn { conn: c, done: Cell::new(false) };
             c.exec(
@@ -999,18 +1144,22 @@ impl Pg {
                 &[new_rev, new_orig, at, n, rule],
             )?;
             let changes = super::sqlite::changes_of(src, *rev)?;
-            for ch in &changes {
-                c.exec(
-                    "storing changes",
-                    "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
-                                         original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
-                     VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18)",
-                    &[
-                        new_rev, new_orig, &ch.workingstep, &ch.operation, &ch.kind, &ch.field, &ch.before, &ch.after, &ch.line,
-                        &ch.detected_at, &ch.original_line, &ch.region[0], &ch.region[1], &ch.region[2], &ch.region[3],
-                        &ch.region[4], &ch.region[5], &ch.deviation,
-                    ],
-                )?;
+            for (ch, (old, analysis)) in changes.iter().zip(&old_ids) {
+                let id: i64 = c
+                    .one(
+                        "storing changes",
+                        "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
+                                             original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
+                                             analysis)
+                         VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19) RETURNING id",
+                        &[
+                            new_rev, new_orig, &ch.workingstep, &ch.operation, &ch.kind, &ch.field, &ch.before, &ch.after, &ch.line,
+                            &ch.detected_at, &ch.original_line, &ch.region[0], &ch.region[1], &ch.region[2], &ch.region[3],
+                            &ch.region[4], &ch.region[5], &ch.deviation, analysis,
+                        ],
+                    )?
+                    .get(0);
+                change_ids.insert(*old, id);
             }
             tx.commit()?;
             summary.comparisons += 1;
@@ -1028,6 +1177,33 @@ impl Pg {
                     "INSERT INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
                     &[rev, mark, by, at],
                 )?;
+            }
+        }
+        // The planners' review marks, on the copied changes; a mark copied by an earlier run is
+        // not copied again. (A mark on a change a re-analysis replaced stays behind: see
+        // `old_changes`, which is not copied.)
+        if has("review_marks", "change_id")? {
+            type SourceMark = (i64, String, String, String, String, String, String, String);
+            let marks: Vec<SourceMark> = {
+                let mut stmt = src
+                    .prepare("SELECT change_id, kind, before, after, mark, note, marked_by, marked_at FROM review_marks ORDER BY id")
+                    .map_err(lsql("reading review marks"))?;
+                let rows = stmt
+                    .query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?, x.get(5)?, x.get(6)?, x.get(7)?)))
+                    .map_err(lsql("reading review marks"))?;
+                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading review marks"))?
+            };
+            for (change, kind, before, after, mark, note, by, at) in &marks {
+                let Some(id) = change_ids.get(change) else { continue };
+                c.exec(
+                    "copying a review mark",
+                    "INSERT INTO review_marks(change_id, revision_id, kind, before, after, mark, note, marked_by, marked_at)
+                     SELECT $1, c.revision_id, $2, $3, $4, $5, $6, $7, $8 FROM changes c WHERE c.id = $1
+                       AND NOT EXISTS (SELECT 1 FROM review_marks v WHERE v.change_id = $1 AND v.mark = $5 AND v.note = $6
+                                         AND v.marked_by = $7 AND v.marked_at = $8)",
+                    &[id, kind, before, after, mark, note, by, at],
+                )?;
+                summary.review_marks += 1;
             }
         }
         Ok(summary)
@@ -1229,111 +1405,5 @@ impl PgTxn<'_> {
             &[&a.revision, &a.version],
         )?;
         Ok(Some(outcome))
-    }
-}
-
-/// A row of `pages::CHANGE_ROWS`.
-fn change_row(r: &Row) -> super::ChangeRow {
-    let kind: String = r.get(8);
-    let region = match (r.get::<_, Option<f64>>(14), r.get::<_, Option<f64>>(17)) {
-        (Some(a), Some(b)) => Some(crate::plan::BBox {
-            min: [a, r.get::<_, Option<f64>>(15).unwrap_or(0.0), r.get::<_, Option<f64>>(16).unwrap_or(0.0)],
-            max: [b, r.get::<_, Option<f64>>(18).unwrap_or(0.0), r.get::<_, Option<f64>>(19).unwrap_or(0.0)],
-        }),
-        _ => None,
-    };
-    super::ChangeRow {
-        id: r.get(0),
-        revision_id: r.get(1),
-        original_revision_id: r.get(2),
-        machine: r.get(3),
-        program: r.get(4),
-        detected_at: r.get(5),
-        change: Change {
-            kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
-            workingstep: r.get::<_, i64>(6) as u32,
-            operation: r.get(7),
-            field: r.get(9),
-            before: r.get(10),
-            after: r.get(11),
-            line: r.get::<_, Option<i64>>(12).map(|l| l as u32),
-            original_line: r.get::<_, Option<i64>>(13).map(|l| l as u32),
-            region,
-            deviation: r.get(20),
-        },
-        marks: Vec::new(),
-    }
-}
-
-/// The workspace's change reads on PostgreSQL (what `report --format html|csv` needs).
-impl Pg {
-    fn with_marks(&self, mut rows: Vec<super::ChangeRow>) -> Result<Vec<super::ChangeRow>> {
-        if rows.is_empty() {
-            return Ok(rows);
-        }
-        let ids: Vec<i64> = rows.iter().map(|r| r.id).collect();
-        let marks = self.conn.rows(
-            "reading review marks",
-            "SELECT change_id, mark, note, marked_by, marked_at FROM review_marks WHERE change_id = ANY($1) ORDER BY id",
-            &[&ids],
-        )?;
-        let mut by_change: BTreeMap<i64, Vec<super::Mark>> = BTreeMap::new();
-        for r in marks {
-            by_change.entry(r.get(0)).or_default().push(super::Mark { mark: r.get(1), note: r.get(2), by: r.get(3), at: r.get(4) });
-        }
-        for row in &mut rows {
-            row.marks = by_change.remove(&row.id).unwrap_or_default();
-        }
-        Ok(rows)
-    }
-
-    pub(super) fn marks(&self, change_id: i64) -> Result<Vec<super::Mark>> {
-        let rows = self.conn.rows(
-            "reading review marks",
-            "SELECT mark, note, marked_by, marked_at FROM review_marks WHERE change_id = $1 ORDER BY id",
-            &[&change_id],
-        )?;
-        Ok(rows.iter().map(|r| super::Mark { mark: r.get(0), note: r.get(1), by: r.get(2), at: r.get(3) }).collect())
-    }
-
-    pub(super) fn search_changes(&self, filter: &super::ChangeFilter, limit: usize) -> Result<Vec<super::ChangeRow>> {
-        let program_number = filter.program.trim().trim_start_matches(['O', 'o']).parse::<u64>().ok().map(|n| format!("O{n}"));
-        let query = format!(
-            "{}
-               AND ($1 = '' OR COALESCE(r.name, p.name) LIKE '%' || $1 || '%' OR p.path LIKE '%' || $1 || '%' OR COALESCE(r.name, p.name) = $2)
-               AND ($3 = '' OR m.name = $3)
-               AND ($4 = '' OR c.detected_at::timestamptz >= $4::timestamptz)
-               AND ($5 = '' OR c.detected_at::timestamptz < ($5::date + 1)::timestamptz)
-               AND (NOT $6::bool OR {})
-               AND ($7 = '' OR c.kind = $7)
-             ORDER BY c.detected_at DESC, c.id DESC LIMIT $8",
-            super::pages::CHANGE_ROWS,
-            super::pages::UNMARKED
-        );
-        let rows = self
-            .conn
-            .client
-            .borrow_mut()
-            .query(
-                query.as_str(),
-                &[
-                    &filter.program.trim(),
-                    &program_number.unwrap_or_default(),
-                    &filter.machine.trim(),
-                    &filter.since.trim(),
-                    &filter.until.trim(),
-                    &filter.to_review,
-                    &filter.kind.trim(),
-                    &(limit as i64),
-                ],
-            )
-            .map_err(sql("searching changes"))?;
-        self.with_marks(rows.iter().map(change_row).collect())
-    }
-
-    pub(super) fn change_rows(&self, revision: i64) -> Result<Vec<super::ChangeRow>> {
-        let query = format!("{} AND c.revision_id = $1 ORDER BY c.id", super::pages::CHANGE_ROWS);
-        let rows = self.conn.client.borrow_mut().query(query.as_str(), &[&revision]).map_err(sql("reading changes"))?;
-        self.with_marks(rows.iter().map(change_row).collect())
     }
 }

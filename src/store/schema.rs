@@ -350,6 +350,46 @@ CREATE TABLE reanalysis_queue (
 );
 ALTER TABLE plans ADD COLUMN analysis TEXT NOT NULL DEFAULT '';
 "#,
+    // 7: old analyses' changes kept (`old_changes`: the rows a comparison made again
+    // replaced, with the analysis version that made them and the one that replaced them; a
+    // change found again keeps its id, so its review marks stay on it), each change row names
+    // the analysis that made it, and the SQL console's saved queries (who saved which, when).
+    r#"
+ALTER TABLE changes ADD COLUMN analysis TEXT NOT NULL DEFAULT '';
+CREATE TABLE old_changes (
+    change_id            INTEGER NOT NULL,
+    revision_id          INTEGER NOT NULL REFERENCES revisions(id),
+    original_revision_id INTEGER NOT NULL REFERENCES revisions(id),
+    analysis             TEXT NOT NULL,
+    replaced_by          TEXT NOT NULL,
+    replaced_at          TEXT NOT NULL,
+    workingstep          INTEGER NOT NULL,
+    operation            TEXT NOT NULL,
+    kind                 TEXT NOT NULL,
+    field                TEXT NOT NULL,
+    before               TEXT NOT NULL,
+    after                TEXT NOT NULL,
+    line                 INTEGER,
+    detected_at          TEXT NOT NULL,
+    original_line        INTEGER,
+    region_min_x         REAL,
+    region_min_y         REAL,
+    region_min_z         REAL,
+    region_max_x         REAL,
+    region_max_y         REAL,
+    region_max_z         REAL,
+    deviation            REAL
+);
+CREATE INDEX old_changes_revision ON old_changes(revision_id);
+CREATE INDEX old_changes_change ON old_changes(change_id);
+CREATE TABLE saved_queries (
+    id       INTEGER PRIMARY KEY,
+    name     TEXT NOT NULL,
+    sql      TEXT NOT NULL,
+    saved_by TEXT NOT NULL,
+    saved_at TEXT NOT NULL
+);
+"#,
 ];
 
 #[cfg(test)]

@@ -648,7 +648,42 @@ impl LiteTxn<'_> {
     /// earlier one of the same revision.
     pub(super) fn record_comparison(&self, revision: i64, original: i64, rule: &str, changes: &[Change], at: &str) -> Result<()> {
         let tx = &self.tx;
+        let analysis: String = tx
+            .query_row("SELECT COALESCE((SELECT analysis FROM plans WHERE revision_id = ?1), '')", [revision], |r| r.get(0))
+            .map_err(sql("reading a plan's analysis"))?;
+        let old: Vec<super::OldChange> = {
+            let mut stmt = tx
+                .prepare_cached(
+                    "SELECT id, workingstep, kind, field, before, after, detected_at FROM changes WHERE revision_id = ?1 ORDER BY id",
+                )
+                .map_err(sql("reading changes"))?;
+            let rows = stmt
+                .query_map([revision], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?, r.get(6)?)))
+                .map_err(sql("reading changes"))?;
+            rows.collect::<std::result::Result<_, _>>().map_err(sql("reading changes"))?
+        };
+        let kept = super::continued(&old, changes);
+        if !old.is_empty() {
+            tx.execute(
+                &format!(
+                    "INSERT INTO old_changes(change_id, revision_id, original_revision_id, analysis, replaced_by, replaced_at, {cols})
+                     SELECT id, revision_id, original_revision_id, analysis, ?2, ?3, {cols} FROM changes WHERE revision_id = ?1 ORDER BY id",
+                    cols = super::OLD_CHANGE_COLUMNS
+                ),
+                params![revision, analysis, at],
+            )
+            .map_err(sql("keeping the old changes"))?;
+        }
         tx.execute("DELETE FROM changes WHERE revision_id = ?1", [revision]).map_err(sql("replacing a comparison"))?;
+        // New ids come after every id a change ever had, kept ones included: a mark on a
+        // vanished change never names a new one.
+        let mut next: i64 = tx
+            .query_row(
+                "SELECT MAX(COALESCE((SELECT MAX(id) FROM changes), 0), COALESCE((SELECT MAX(change_id) FROM old_changes), 0)) + 1",
+                [],
+                |r| r.get(0),
+            )
+            .map_err(sql("numbering changes"))?;
         tx.execute(
             "INSERT OR REPLACE INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule) VALUES (?1, ?2, ?3, ?4, ?5)",
             params![revision, original, at, changes.len() as i64, rule],
@@ -657,11 +692,19 @@ impl LiteTxn<'_> {
         let mut stmt = tx
             .prepare_cached(
                 "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
-                                     original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)",
+                                     original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
+                                     id, analysis)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)",
             )
             .map_err(sql("storing changes"))?;
-        for c in changes {
+        for (c, kept) in changes.iter().zip(kept) {
+            let (id, detected_at) = match kept {
+                Some((id, when)) => (id, when),
+                None => {
+                    next += 1;
+                    (next - 1, at.to_owned())
+                }
+            };
             let (lo, hi) = match &c.region {
                 Some(b) => (b.min.map(Some), b.max.map(Some)),
                 None => ([None; 3], [None; 3]),
@@ -676,7 +719,7 @@ impl LiteTxn<'_> {
                 c.before,
                 c.after,
                 c.line,
-                at,
+                detected_at,
                 c.original_line,
                 lo[0],
                 lo[1],
@@ -684,7 +727,9 @@ impl LiteTxn<'_> {
                 hi[0],
                 hi[1],
                 hi[2],
-                c.deviation
+                c.deviation,
+                id,
+                analysis
             ])
             .map_err(sql("storing changes"))?;
         }

@@ -1,6 +1,7 @@
 //! `ncplan bench --web`: every page's server-side render time on a generated database of
 //! 10,000 machine revisions across 20 machines, and the comparison page of a 1M-move program
-//! (its render time, cold and with its plans cached, and the size of its SVG).
+//! (its render time, cold and with its plans cached, and the size of its SVG). With
+//! `--postgres URL`, the same pages rendered on PostgreSQL too.
 //!
 //! The database is built through the store's own API (as the daemon records revisions), from
 //! generated programs analysed by the pure core; each distinct content is analysed once.
@@ -184,8 +185,10 @@ fn best<T>(runs: usize, mut f: impl FnMut() -> Result<T>) -> Result<(Duration, T
     Ok((best, out.context("no run")?))
 }
 
-/// Runs the web benchmark in `dir`; the 1M-move program has `rows` × 500 blocks.
-pub fn run(dir: &Path, rows: usize, out: &mut impl Write) -> Result<()> {
+/// Runs the web benchmark in `dir`; the 1M-move program has `rows` × 500 blocks. With
+/// `postgres`, the same pages are rendered on that PostgreSQL database too, with the same
+/// revisions copied into it (as site `WEBBENCH`, once).
+pub fn run(dir: &Path, rows: usize, postgres: Option<&str>, out: &mut impl Write) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let dir = std::path::absolute(dir)?;
     let config = config_for(&dir)?;
@@ -193,6 +196,30 @@ pub fn run(dir: &Path, rows: usize, out: &mut impl Write) -> Result<()> {
     let t = Instant::now();
     let n = build(&dir, &config, &registry)?;
     writeln!(out, "web: built {} ({n} machine revisions, {MACHINES} machines) in {:.1} s", config.database, t.elapsed().as_secs_f64())?;
+    let worst = time_pages(&config, &registry, "web:", out)?;
+    writeln!(out, "web: slowest page {:.1} ms (target < 200 ms)", worst.as_secs_f64() * 1e3)?;
+    if let Some(url) = postgres {
+        let at = crate::store::Location::parse(url);
+        let t = Instant::now();
+        let db = config.database.file().context("the web bench builds a SQLite database")?;
+        let copied = Store::open(&at, "WEBBENCH")?.copy_from_sqlite(db, &|_, _| {})?;
+        writeln!(
+            out,
+            "web on PostgreSQL: {} revisions copied into {at} ({} there already) in {:.1} s",
+            copied.copied,
+            copied.revisions - copied.copied,
+            t.elapsed().as_secs_f64()
+        )?;
+        let mut on_pg = config.clone();
+        on_pg.database = at;
+        let worst = time_pages(&on_pg, &registry, "web on PostgreSQL:", out)?;
+        writeln!(out, "web on PostgreSQL: slowest page {:.1} ms (target < 200 ms)", worst.as_secs_f64() * 1e3)?;
+    }
+    huge(&dir, rows, &registry, out)
+}
+
+/// Every page's best render time of three on `config`'s database; returns the slowest.
+fn time_pages(config: &Config, registry: &crate::dialect::Registry, label: &str, out: &mut impl Write) -> Result<Duration> {
     let server = Server::new(config.clone(), registry.clone(), Arc::new(crate::daemon::SystemClock))?;
     let store = server.store()?;
     let ctx = Ctx { user: None, csrf: "bench".into(), auth: false };
@@ -223,10 +250,9 @@ pub fn run(dir: &Path, rows: usize, out: &mut impl Write) -> Result<()> {
     for (name, f) in &list {
         let (d, page) = best(3, f)?;
         worst = worst.max(d);
-        writeln!(out, "web: page {name:<14} {:>7.1} ms  {:>8} bytes", d.as_secs_f64() * 1e3, page.into_string().len())?;
+        writeln!(out, "{label} page {name:<14} {:>7.1} ms  {:>8} bytes", d.as_secs_f64() * 1e3, page.into_string().len())?;
     }
-    writeln!(out, "web: slowest page {:.1} ms (target < 200 ms)", worst.as_secs_f64() * 1e3)?;
-    huge(&dir, rows, &registry, out)
+    Ok(worst)
 }
 
 /// The comparison page of a 1M-move program and an edit of one row.

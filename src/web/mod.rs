@@ -3,7 +3,7 @@
 //! Its own room in the IO shell: axum on a current-thread tokio runtime, pages rendered by
 //! maud (compile-time checked, every interpolated value escaped: program text is untrusted),
 //! assets embedded. It reads through `store` on read-only connections, writes only review
-//! marks (their own table), and calls the pure core (`view`) for pictures and source views.
+//! marks and saved console queries (their own tables), and calls the pure core (`view`) for pictures and source views.
 //! The door is [`serve`]; [`report`] writes the same comparison views as one HTML file.
 //!
 //! Security: without `[[web.user]]` in the configuration the server listens on loopback only
@@ -92,7 +92,13 @@ pub(crate) struct Server {
     secret: [u8; 32],
     sessions: Mutex<BTreeMap<String, String>>,
     plans: Mutex<PlanCache>,
+    /// Read-only connections that served a page and may serve the next (a PostgreSQL
+    /// connection costs a login each time).
+    idle: Mutex<Vec<Store>>,
 }
+
+/// Idle read-only connections kept.
+const IDLE_KEPT: usize = 4;
 
 impl Server {
     pub(crate) fn new(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<Server> {
@@ -104,11 +110,24 @@ impl Server {
             secret: auth::random()?,
             sessions: Mutex::new(BTreeMap::new()),
             plans: Mutex::new(PlanCache { kept: Vec::new() }),
+            idle: Mutex::new(Vec::new()),
         })
     }
 
     fn store(&self) -> Result<Store> {
+        if let Some(s) = self.idle.lock().ok().and_then(|mut idle| idle.pop()) {
+            return Ok(s);
+        }
         Store::open_read_only(&self.db).with_context(|| format!("cannot open the database {}", self.db))
+    }
+
+    /// Keeps a connection that served a page without an error for the next one.
+    fn give_back(&self, store: Store) {
+        if let Ok(mut idle) = self.idle.lock()
+            && idle.len() < IDLE_KEPT
+        {
+            idle.push(store);
+        }
     }
 
     /// The whole plan of a stored revision (cached).
@@ -176,9 +195,6 @@ impl std::error::Error for NotFound {}
 pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
     let addr = listen_address(options.listen.as_deref(), &options.config)?;
     // Review marks need migration 4; the daemon may not have run since this ncplan.
-    if options.config.database.file().is_none() {
-        anyhow::bail!("ncplan serve reads a SQLite database so far; on PostgreSQL, query, report and show work");
-    }
     Store::open(&options.config.database, &options.config.site)
         .with_context(|| format!("cannot open the database {}", options.config.database))?;
     let server = Arc::new(Server::new(options.config, options.registry, options.clock)?);
@@ -221,6 +237,7 @@ fn router(server: Arc<Server>) -> Router {
         .route("/knowledge", get(knowledge_index))
         .route("/knowledge/{name}", get(knowledge))
         .route("/sql", get(sql_console))
+        .route("/sql/save", post(save_query))
         .route("/search", get(search))
         .route("/login", get(login_page).post(login))
         .route("/logout", post(logout))
@@ -242,7 +259,11 @@ where
     };
     let result = tokio::task::spawn_blocking(move || {
         let store = s.store()?;
-        render(&s, &ctx, &store)
+        let page = render(&s, &ctx, &store);
+        if page.is_ok() {
+            s.give_back(store);
+        }
+        page
     })
     .await;
     let mut response = match result {
@@ -345,6 +366,36 @@ async fn review(
         Ok(Ok(None)) => (StatusCode::NOT_FOUND, "no such change").into_response(),
         Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e:#}")).into_response(),
         Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e}")).into_response(),
+    }
+}
+
+/// Saves the console's query: `name`, `q` (the SQL, one reading statement), `csrf`, and `by`
+/// where nobody signs in. Back to the console, which lists it.
+async fn save_query(State(s): State<Arc<Server>>, headers: HeaderMap, Form(form): Form<BTreeMap<String, String>>) -> Response {
+    let Some((ctx, _)) = auth::context(&s, &headers) else { return Redirect::to("/login").into_response() };
+    if !auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str)) {
+        return (StatusCode::FORBIDDEN, "the form's CSRF token does not match this session; reload the page").into_response();
+    }
+    let name = form.get("name").cloned().unwrap_or_default();
+    let sql = form.get("q").cloned().unwrap_or_default();
+    let by = match &ctx.user {
+        Some(u) => u.clone(),
+        None => form.get("by").map(|b| b.trim().to_owned()).filter(|b| !b.is_empty()).unwrap_or_else(|| "planner".into()),
+    };
+    let s2 = s.clone();
+    let sql2 = sql.clone();
+    let result = tokio::task::spawn_blocking(move || -> Result<std::result::Result<i64, String>> {
+        let store = Store::open(&s2.db, &s2.config.site)?;
+        Ok(store.save_query(&name, &sql2, &by, &s2.clock.now()).map_err(|e| e.to_string()))
+    })
+    .await;
+    match result {
+        Ok(Ok(Ok(_))) => Redirect::to(&format!("/sql?q={}#saved", pages::urlencode(&sql))).into_response(),
+        Ok(Ok(Err(refused))) => {
+            Redirect::to(&format!("/sql?q={}&refused={}", pages::urlencode(&sql), pages::urlencode(&refused))).into_response()
+        }
+        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot save the query: {e:#}")).into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot save the query: {e}")).into_response(),
     }
 }
 

@@ -424,7 +424,8 @@ fn feeds(rows: &[Vec<String>]) -> Markup {
 pub(super) fn knowledge(s: &Server, ctx: &Ctx, store: &Store, name: &str, show_sql: bool) -> Result<Markup> {
     let _ = s;
     let k = KNOWLEDGE.iter().find(|k| k.name == name).ok_or_else(|| NotFound(format!("no knowledge page `{name}`")))?;
-    let (cols, rows) = store.query(k.sql)?;
+    let sql = store.knowledge_sql(k);
+    let (cols, rows) = store.query(sql)?;
     Ok(layout(
         Some(ctx),
         k.title,
@@ -432,9 +433,9 @@ pub(super) fn knowledge(s: &Server, ctx: &Ctx, store: &Store, name: &str, show_s
             h1 { (k.title) }
             p class="noprint" {
                 @if show_sql { a href={"/knowledge/" (k.name)} { "Hide the SQL" } } @else { a href={"/knowledge/" (k.name) "?sql"} class="show-sql" { "Show the SQL" } }
-                " · " a href={"/sql?q=" (urlencode(k.sql))} { "Open it in the SQL console" }
+                " · " a href={"/sql?q=" (urlencode(sql))} { "Open it in the SQL console" }
             }
-            @if show_sql { pre class="sql" { (k.sql) } }
+            @if show_sql { pre class="sql" { (sql) } }
             @if rows.is_empty() { p class="muted" { "Nothing recorded yet." } }
             @if k.name == "feeds" { (feeds(&rows)) }
             (table(&cols, &rows))
@@ -442,13 +443,15 @@ pub(super) fn knowledge(s: &Server, ctx: &Ctx, store: &Store, name: &str, show_s
     ))
 }
 
-/// The read-only SQL console: saved queries, a row limit, a time limit.
+/// The read-only SQL console: saved queries (the built-in ones, the knowledge pages' and the
+/// planners'), a form to save the query shown, a row limit, a time limit.
 pub(super) fn sql_console(s: &Server, ctx: &Ctx, store: &Store, q: &BTreeMap<String, String>) -> Result<Markup> {
     let _ = s;
     const ROWS: usize = 1000;
     const TIME: std::time::Duration = std::time::Duration::from_secs(2);
     let query = q.get("q").map(String::as_str).unwrap_or("");
     let result = (!query.trim().is_empty()).then(|| store.query_limited(query, ROWS, TIME));
+    let saved = store.saved_queries()?;
     Ok(layout(
         Some(ctx),
         "SQL",
@@ -459,8 +462,27 @@ pub(super) fn sql_console(s: &Server, ctx: &Ctx, store: &Store, q: &BTreeMap<Str
                 textarea class="sql" name="q" { (query) }
                 button type="submit" { "Run" }
             }
+            @if !query.trim().is_empty() {
+                form method="post" action="/sql/save" class="save-query" {
+                    input type="hidden" name="csrf" value=(ctx.csrf);
+                    input type="hidden" name="q" value=(query);
+                    @if !ctx.auth { input type="text" name="by" placeholder="your name"; }
+                    input type="text" name="name" placeholder="name" required maxlength="200";
+                    button type="submit" { "Save this query" }
+                }
+            }
+            @if let Some(e) = q.get("refused") { p class="error" { "Not saved: " (e) } }
             h3 { "Saved queries" }
             ul { @for (title, sql) in SAVED_QUERIES { li { a href={"/sql?q=" (urlencode(sql))} { (title) } } } }
+            h3 { "The knowledge pages' queries" }
+            ul { @for k in KNOWLEDGE { li { a href={"/sql?q=" (urlencode(store.knowledge_sql(k)))} { (k.title) } } } }
+            h3 { "Saved by planners" }
+            @if saved.is_empty() { p class="muted" { "None yet." } }
+            ul id="saved" {
+                @for sq in &saved {
+                    li { a href={"/sql?q=" (urlencode(&sq.sql))} { (sq.name) } span class="muted" { " · " (sq.by) ", " (sq.at) } }
+                }
+            }
             @match &result {
                 Some(Ok((cols, rows, more))) => {
                     p { (rows.len()) " rows" @if *more { " (more left off at the row limit)" } }

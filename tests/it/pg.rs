@@ -51,6 +51,12 @@ fn free_port() -> u16 {
 impl Cluster {
     /// Starts a cluster, or says why `test` is skipped and returns `None`.
     fn start(test: &str) -> Option<Cluster> {
+        Cluster::start_with(test, "", |_| {})
+    }
+
+    /// Starts a cluster with the server options `extra`, after `prepare` has put what they
+    /// name into the cluster's folder.
+    fn start_with(test: &str, extra: &str, prepare: impl FnOnce(&std::path::Path)) -> Option<Cluster> {
         let Some(bin) = pg_bin() else {
             assert!(
                 std::env::var_os("NCPLAN_REQUIRE_POSTGRES").is_none(),
@@ -69,8 +75,13 @@ impl Cluster {
         let c = Cluster { dir, bin, port: free_port(), user };
         let data = c.dir.path().join("data");
         c.run("initdb", &["-D", data.to_str().unwrap(), "-U", "ncplan", "--auth=trust", "-E", "UTF8", "--locale=C", "--no-sync"]);
+        prepare(c.dir.path());
+        if let Some(u) = user {
+            let ok = Command::new("chown").args(["-R", u]).arg(c.dir.path()).status().unwrap().success();
+            assert!(ok, "cannot hand {} to {u}", c.dir.path().display());
+        }
         let opts = format!(
-            "-p {} -k {} -c listen_addresses=127.0.0.1 -c fsync=off -c synchronous_commit=off -c max_connections=200",
+            "-p {} -k {} -c listen_addresses=127.0.0.1 -c fsync=off -c synchronous_commit=off -c max_connections=200 {extra}",
             c.port,
             c.dir.path().display()
         );
@@ -494,10 +505,20 @@ fn migrate_copies_a_servers_history_into_the_plant_database_and_resumes() {
     lite.put("share/O1234.nc", &program(1234, 300, 2000));
     wait_until("the edit is compared", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]);
     daemon.kill();
+    // A planner's review mark on the speed change goes along with it.
+    let speed: i64 = crate::db_rows(&db, "SELECT id FROM changes WHERE kind = 'spindle_speed_changed'")[0][0].parse().unwrap();
+    Store::open(&Location::Sqlite(db.clone()), "HALL7")
+        .unwrap()
+        .add_mark(speed, "adopt", "kept", "ada", "2026-03-01T00:00:00.000Z")
+        .unwrap();
     let url = pg.url();
     let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("2 revisions, 2 copied now, 0 already there; 1 comparisons copied"), "{out}");
+    assert!(out.contains("2 revisions, 2 copied now, 0 already there; 1 comparisons copied; 1 review marks"), "{out}");
+    const MARKS: &str = "SELECT c.kind, c.before, c.after, v.kind, v.mark, v.note, v.marked_by, v.marked_at
+                         FROM review_marks v JOIN changes c ON c.id = v.change_id AND c.revision_id = v.revision_id";
+    assert_eq!(pg.rows(MARKS), crate::db_rows(&db, MARKS));
+    assert_eq!(pg.rows(MARKS).len(), 1);
     const SHOWN: &str = "SELECT machine, program, kind, before, after, line FROM shopfloor_changes ORDER BY change_id";
     let copied = pg.rows(SHOWN);
     assert!(!copied.is_empty());
@@ -513,6 +534,7 @@ fn migrate_copies_a_servers_history_into_the_plant_database_and_resumes() {
     let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("3 revisions, 1 copied now, 2 already there; 1 comparisons copied"), "{out}");
+    assert_eq!(pg.rows(MARKS), crate::db_rows(&db, MARKS), "a mark is copied once");
     assert_eq!(pg.rows(SHOWN), crate::db_rows(&db, SHOWN));
     for table in ["revisions", "blobs", "plans", "diagnostics", "comparisons", "changes", "workingsteps", "features", "program_keys"] {
         let sql = format!("SELECT COUNT(*) FROM {table}");
@@ -634,4 +656,450 @@ fn reanalyze_on_sqlite_reads_every_revision_again_once_and_keeps_the_old_results
     let (code, out, _) = server.ncplan(&["reanalyze", "--config", config.to_str().unwrap(), "--since", "2000-01-01"]);
     assert_eq!(code, 0);
     assert!(out.contains(": 0 revisions read again"), "{out}");
+}
+
+/// `ncplan serve` with `args`, until dropped; its base URL.
+fn serve(server: &Server, args: &[&str]) -> (Daemon, String) {
+    use std::io::BufRead as _;
+    let mut child = Command::new(crate::bin())
+        .args(["serve", "--config"])
+        .arg(server.path("ncplan.toml"))
+        .args(["--listen", "127.0.0.1:0"])
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("start ncplan serve");
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("serve said: {line}"));
+    let base = url.trim_end_matches('/').to_owned();
+    (Daemon(child), base)
+}
+
+/// One HTTP/1.1 exchange on a new connection: the head and the body.
+fn http(base: &str, request: &str) -> (String, String) {
+    use std::io::{Read as _, Write as _};
+    let addr = base.trim_start_matches("http://");
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    s.write_all(request.replace("{host}", addr).as_bytes()).unwrap();
+    let mut out = String::new();
+    s.read_to_string(&mut out).unwrap();
+    let (head, body) = out.split_once("\r\n\r\n").unwrap_or((&out, ""));
+    (head.to_owned(), body.to_owned())
+}
+
+const SESSION: &str = "ncplan_session=0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
+
+fn get(base: &str, path: &str) -> (String, String) {
+    http(base, &format!("GET {path} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nConnection: close\r\n\r\n"))
+}
+
+/// `text` with every `value="…"` after `name="csrf"` (the token is the session's and the
+/// server's secret's), the console's list of the knowledge pages' queries, and, with `sql`, every `/sql?q=…` link and `<pre class="sql">`
+/// (a knowledge page's SQL is in its engine's words) replaced by a mark.
+fn masked(text: &str, sql: bool) -> String {
+    let mut out = text.to_owned();
+    let mut cut = |from: &str, to: &str| {
+        let mut done = String::new();
+        let mut rest = out.as_str();
+        while let Some(i) = rest.find(from) {
+            let start = i + from.len();
+            let end = rest[start..].find(to).map_or(rest.len(), |j| start + j);
+            done.push_str(&rest[..start]);
+            done.push('…');
+            rest = &rest[end..];
+        }
+        done.push_str(rest);
+        out = done;
+    };
+    cut("name=\"csrf\" value=\"", "\"");
+    // The console lists the knowledge pages' queries, each in its engine's words.
+    cut("<h3>The knowledge pages' queries</h3>", "<h3>");
+    if sql {
+        cut("href=\"/sql?q=", "\"");
+        cut("<pre class=\"sql\">", "</pre>");
+    }
+    out
+}
+
+fn urlencode(s: &str) -> String {
+    s.bytes().map(|b| if b.is_ascii_alphanumeric() { (b as char).to_string() } else { format!("%{b:02X}") }).collect()
+}
+
+#[test]
+fn serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks() {
+    let Some(pg) = Cluster::start("pg::serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks") else { return };
+    // A real daemon on real folders builds the SQLite file: two originals, then their edits.
+    let lite = Server::new(Some("HALL1"), "path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    let root = crate::root();
+    let daemon = lite.start();
+    lite.put("cam/O1234.nc", &std::fs::read_to_string(root.join("demo/cam/O1234.nc")).unwrap());
+    lite.put("cam/O4321.nc", &long_program(4321, 400, 30));
+    wait_until("the originals are stored", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM revisions") == [["2"]]);
+    lite.put("share/O1234.nc", &std::fs::read_to_string(root.join("demo/examples/O1234_edited.nc")).unwrap());
+    wait_until("the first edit is compared", Duration::from_secs(30), || {
+        crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["1"]]
+    });
+    lite.put("share/O4321.nc", &long_program(4321, 300, 30).replace("S2000", "S2400"));
+    wait_until("the second edit is compared", Duration::from_secs(30), || {
+        crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["2"]]
+    });
+    daemon.kill();
+    // The same database on PostgreSQL, copied by `migrate`, keeps the ids the pages link by.
+    let url = pg.url();
+    let (code, _, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL1"]);
+    assert_eq!(code, 0, "{err}");
+    for ids in [
+        "SELECT id, path FROM programs ORDER BY id",
+        "SELECT id, hash, seen_at FROM revisions ORDER BY id",
+        "SELECT id, revision_id, kind, before, after FROM changes ORDER BY id",
+    ] {
+        assert_eq!(pg.rows(ids), crate::db_rows(&db, ids), "{ids}");
+    }
+    let changes = crate::db_rows(&db, "SELECT id, revision_id FROM changes ORDER BY id");
+    assert!(changes.len() >= 3, "{changes:?}");
+    let (_lite_serve, on_lite) = serve(&lite, &[]);
+    let (_pg_serve, on_pg) = serve(&lite, &["--db", &url]);
+    // Every page: the overview, the machine, each program and comparison, the knowledge
+    // pages with and without their SQL, the console with each saved query, searches.
+    let mut paths: Vec<String> =
+        ["/", "/machine/DMU50", "/knowledge", "/sql", "/search", "/search?program=o1234", "/search?to_review=1&machine=DMU50"]
+            .iter()
+            .map(|p| (*p).to_owned())
+            .collect();
+    paths.push("/search?kind=feed_changed&since=2000-01-01&until=2999-12-31".into());
+    paths.push("/search?until=2000-01-01".into());
+    for p in crate::db_rows(&db, "SELECT id FROM programs ORDER BY id") {
+        paths.push(format!("/program/{}", p[0]));
+    }
+    for r in crate::db_rows(&db, "SELECT revision_id FROM comparisons ORDER BY revision_id") {
+        paths.push(format!("/compare/{}", r[0]));
+    }
+    for k in ncplan::store::KNOWLEDGE {
+        paths.push(format!("/knowledge/{}", k.name));
+        paths.push(format!("/knowledge/{}?sql", k.name));
+    }
+    for (_, sql) in ncplan::store::SAVED_QUERIES {
+        paths.push(format!("/sql?q={}", urlencode(sql)));
+    }
+    paths.push(format!("/sql?q={}", urlencode("SELECT kind, COUNT(*) AS n FROM changes GROUP BY kind ORDER BY n DESC, kind")));
+    paths.push(format!("/sql?q={}", urlencode("DELETE FROM changes")));
+    paths.push(format!("/sql?q={}", urlencode("SELECT 1; DROP TABLE changes")));
+    let mut compared = 0;
+    for path in &paths {
+        let (head_l, page_l) = get(&on_lite, path);
+        let (head_p, page_p) = get(&on_pg, path);
+        assert!(head_l.starts_with("HTTP/1.1 200"), "{path} on SQLite: {head_l}\n{page_l}");
+        assert!(head_p.starts_with("HTTP/1.1 200"), "{path} on PostgreSQL: {head_p}\n{page_p}");
+        let sql = path.starts_with("/knowledge/");
+        let (a, b) = (masked(&page_l, sql), masked(&page_p, sql));
+        if a != b {
+            let line = a.lines().zip(b.lines()).position(|(x, y)| x != y).unwrap_or(0);
+            panic!(
+                "{path} differs from line {line}:\nSQLite:     {}\nPostgreSQL: {}",
+                a.lines().nth(line).unwrap_or(""),
+                b.lines().nth(line).unwrap_or("")
+            );
+        }
+        compared += 1;
+    }
+    assert_eq!(compared, paths.len());
+    let (_, overview) = get(&on_pg, "/");
+    assert!(overview.contains("O1234") && overview.contains("DMU50"), "{overview}");
+    let (_, feeds) = get(&on_pg, "/knowledge/feeds");
+    assert!(feeds.contains(">feed_changed<"), "the feeds page has rows: {feeds}");
+
+    // The console on PostgreSQL: a row cap, a time limit, writes refused in plain words.
+    let (_, page) = get(&on_pg, &format!("/sql?q={}", urlencode("SELECT generate_series(1, 5000) AS n")));
+    assert!(page.contains("1000 rows (more left off at the row limit)"), "{page}");
+    let (_, page) = get(&on_pg, &format!("/sql?q={}", urlencode("SELECT pg_sleep(10)")));
+    assert!(page.contains("the query ran past its time limit of 2000 ms and was stopped"), "{page}");
+    let (_, page) =
+        get(&on_pg, &format!("/sql?q={}", urlencode("WITH gone AS (DELETE FROM changes RETURNING id) SELECT COUNT(*) FROM gone")));
+    assert!(page.contains("the query would write; queries only read"), "{page}");
+    assert_eq!(pg.count("SELECT COUNT(*) FROM changes") as usize, changes.len());
+
+    // A review mark posted with the session's CSRF token lands in PostgreSQL.
+    let (change, revision) = (&changes[0][0], &changes[0][1]);
+    let (_, page) = get(&on_pg, &format!("/compare/{revision}"));
+    let token = page.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).expect("a CSRF token").to_owned();
+    let post = |token: &str| {
+        let body = format!("mark=note&note={}&by=ada&csrf={token}", urlencode("<b>feed</b> kept"));
+        http(
+            &on_pg,
+            &format!(
+                "POST /review/{change} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                body.len()
+            ),
+        )
+        .0
+    };
+    let head = post("forged");
+    assert!(head.starts_with("HTTP/1.1 403"), "{head}");
+    assert_eq!(pg.count("SELECT COUNT(*) FROM review_marks"), 0);
+    let head = post(&token);
+    assert!(head.starts_with("HTTP/1.1 303"), "{head}");
+    assert_eq!(
+        pg.rows("SELECT change_id, mark, note, marked_by FROM review_marks"),
+        [[change.clone(), "note".into(), "<b>feed</b> kept".into(), "ada".into()]]
+    );
+    assert!(crate::db_rows(&db, "SELECT id FROM review_marks").is_empty(), "the SQLite file is not written");
+    let (_, page) = get(&on_pg, &format!("/compare/{revision}"));
+    assert!(page.contains("&lt;b&gt;feed&lt;/b&gt; kept") && !page.contains("<b>feed</b>"), "the note shows as text");
+
+    // Saved queries: the console offers the knowledge pages' queries in its engine's words,
+    // and a planner's own, saved by a CSRF-protected POST, listed with who and when, runnable;
+    // a hostile name shows as text; a write is not saved.
+    let lite_rows = |sql: &str| crate::db_rows(&db, sql);
+    let pg_rows = |sql: &str| pg.rows(sql);
+    let engines: [(&String, &Rows<'_>); 2] = [(&on_lite, &lite_rows), (&on_pg, &pg_rows)];
+    for (base, rows) in engines {
+        let (_, console) = get(base, "/sql");
+        let engine_sql = if base == &on_pg { ncplan::store::KNOWLEDGE[1].pg_sql } else { ncplan::store::KNOWLEDGE[1].sql };
+        assert!(console.contains(&format!("href=\"/sql?q={}\"", pages_urlencode(engine_sql))), "{console}");
+        const SQL: &str = "SELECT kind, COUNT(*) AS n FROM changes GROUP BY kind ORDER BY n DESC, kind";
+        let (_, ran) = get(base, &format!("/sql?q={}", urlencode(SQL)));
+        assert!(ran.contains("Save this query"), "a query shown can be saved: {ran}");
+        let token = ran.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).unwrap().to_owned();
+        let save = |name: &str, sql: &str, token: &str| {
+            let body = format!("name={}&q={}&by=ada&csrf={token}", urlencode(name), urlencode(sql));
+            http(
+                base,
+                &format!(
+                    "POST /sql/save HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                    body.len()
+                ),
+            )
+            .0
+        };
+        let hostile = "<script>alert(1)</script> feeds";
+        assert!(save(hostile, SQL, "forged").starts_with("HTTP/1.1 403"));
+        assert_eq!(rows("SELECT COUNT(*) FROM saved_queries"), [["0"]]);
+        let head = save(hostile, SQL, &token);
+        assert!(head.starts_with("HTTP/1.1 303"), "{head}");
+        let head = save("wipe", "DELETE FROM changes", &token);
+        assert!(head.starts_with("HTTP/1.1 303") && head.contains("refused="), "{head}");
+        assert_eq!(rows("SELECT name, sql, saved_by FROM saved_queries"), [[hostile.to_owned(), SQL.to_owned(), "ada".to_owned()]]);
+        let (_, console) = get(base, "/sql");
+        assert!(console.contains("&lt;script&gt;alert(1)&lt;/script&gt; feeds") && !console.contains("<script>alert"), "{console}");
+        let link =
+            console.split("<ul id=\"saved\">").nth(1).and_then(|t| t.split("href=\"").nth(1)).and_then(|t| t.split('"').next()).unwrap();
+        let (_, ran) = get(base, &link.replace("&amp;", "&"));
+        assert!(ran.contains(" rows") && ran.contains(">feed_changed<"), "{ran}");
+    }
+}
+
+/// Rows of a query on one engine's database.
+type Rows<'a> = dyn Fn(&str) -> Vec<Vec<String>> + 'a;
+
+/// The workspace's URL encoding (`web::pages::urlencode`): unreserved characters kept.
+fn pages_urlencode(s: &str) -> String {
+    s.bytes()
+        .map(|b| if b.is_ascii_alphanumeric() || b"-_.~".contains(&b) { (b as char).to_string() } else { format!("%{b:02X}") })
+        .collect()
+}
+
+/// A re-analysis on `server`'s database `db`: the old changes are kept with the version that
+/// made them, a change found again keeps its id and its review marks, one the new analysis
+/// does not find leaves the pages with its marks, and the summary says what changed.
+fn reanalysis_keeps_old_changes_and_marks(server: &Server, db: &Location, rows: impl Fn(&str) -> Vec<Vec<String>>) {
+    let daemon = server.start();
+    server.put("cam/O1.nc", &program(1, 250, 1800));
+    server.put("share/O1.nc", &program(1, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || rows("SELECT COUNT(*) FROM comparisons") == [["1"]]);
+    daemon.kill();
+    let store = Store::open(db, "HALL1").unwrap();
+    // An older analysis also found a tool renamed, which today's does not find.
+    let (_, edit) = store.query("SELECT revision_id, original_revision_id FROM comparisons").unwrap();
+    let (edit, original) = (&edit[0][0], &edit[0][1]);
+    store
+        .query(&format!(
+            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, detected_at)
+             VALUES ({edit}, {original}, 1, 'plane finish milling', 'tool_renamed', 'tool', 'T1', 'T9', '2026-01-01T00:00:00.000Z')"
+        ))
+        .unwrap();
+    let id_of = |kind: &str| rows(&format!("SELECT id FROM changes WHERE kind = '{kind}'"))[0][0].parse::<i64>().unwrap();
+    let (feed, speed, renamed) = (id_of("feed_changed"), id_of("spindle_speed_changed"), id_of("tool_renamed"));
+    let detected = rows(&format!("SELECT detected_at FROM changes WHERE id = {feed}"));
+    store.add_mark(feed, "adopt", "", "ada", "2026-02-01T00:00:00.000Z").unwrap().unwrap();
+    store.add_mark(renamed, "reject", "", "ada", "2026-02-01T00:00:00.000Z").unwrap().unwrap();
+    drop(store);
+    let config = server.path("ncplan.toml");
+    let (code, out, err) = server.ncplan(&["reanalyze", "--config", config.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": 2 revisions read again, 0 plans changed, 0 new findings, 0 vanished; 1 comparisons made again"), "{out}");
+    let version = rows("SELECT DISTINCT version FROM analyses");
+    assert_eq!(version.len(), 1);
+    let version = &version[0][0];
+    // The newest analysis: the same two changes under their old ids, the rename gone.
+    assert_eq!(
+        rows("SELECT id, kind, analysis FROM changes ORDER BY id"),
+        [[feed.to_string(), "feed_changed".into(), version.clone()], [speed.to_string(), "spindle_speed_changed".into(), version.clone()]]
+    );
+    assert_eq!(rows(&format!("SELECT detected_at FROM changes WHERE id = {feed}")), detected, "a change found again keeps its time");
+    // The old rows are kept, with the version that made them and the one that replaced them.
+    assert_eq!(
+        rows("SELECT change_id, kind, analysis, replaced_by FROM old_changes ORDER BY change_id"),
+        [
+            [feed.to_string(), "feed_changed".into(), String::new(), version.clone()],
+            [speed.to_string(), "spindle_speed_changed".into(), String::new(), version.clone()],
+            [renamed.to_string(), "tool_renamed".into(), String::new(), version.clone()],
+        ]
+    );
+    // The marks stay on their changes: the adopted one is reviewed still, the rejected rename
+    // names a kept old row; only the speed change waits for review.
+    let store = Store::open_read_only(db).unwrap();
+    let queue = store.search_changes(&ncplan::store::ChangeFilter { to_review: true, ..Default::default() }, 10).unwrap();
+    assert_eq!(queue.iter().map(|c| c.id).collect::<Vec<_>>(), [speed]);
+    assert_eq!(store.marks(feed).unwrap()[0].mark, "adopt");
+    assert_eq!(store.change_rows(edit.parse().unwrap()).unwrap().len(), 2);
+    assert_eq!(
+        rows(&format!("SELECT COUNT(*) FROM old_changes o JOIN review_marks v ON v.change_id = o.change_id WHERE o.change_id = {renamed}")),
+        [["1"]]
+    );
+    let (code, show, err) = server.ncplan(&["show", "--db", &db.to_string(), "share/O1.nc"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(show.contains("feed") && !show.contains("T9"), "show tells the newest analysis: {show}");
+    // A new change after all that gets an id no change ever had.
+    let daemon = server.start();
+    server.put("share/O1.nc", &program(1, 320, 2000));
+    wait_until("the second edit is compared", Duration::from_secs(30), || rows("SELECT COUNT(*) FROM comparisons") == [["2"]]);
+    daemon.kill();
+    let newest =
+        rows("SELECT MIN(id) FROM changes WHERE revision_id <> (SELECT MIN(revision_id) FROM comparisons)")[0][0].parse::<i64>().unwrap();
+    assert!(newest > renamed.max(speed), "{newest}");
+}
+
+#[test]
+fn reanalysis_keeps_old_changes_and_marks_on_both_engines() {
+    let lite = Server::new(Some("HALL1"), "path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    reanalysis_keeps_old_changes_and_marks(&lite, &Location::Sqlite(db.clone()), |sql| crate::db_rows(&db, sql));
+    let Some(pg) = Cluster::start("pg::reanalysis_keeps_old_changes_and_marks_on_both_engines on PostgreSQL") else { return };
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    reanalysis_keeps_old_changes_and_marks(&server, &Location::parse(&pg.url()), |sql| pg.rows(sql));
+}
+
+/// The read-only role of README's deployment section, as its SQL creates it.
+const READER_ROLE: &str = "CREATE ROLE ncplan_reader LOGIN;
+GRANT CONNECT ON DATABASE postgres TO ncplan_reader;
+GRANT USAGE ON SCHEMA public TO ncplan_reader;
+GRANT SELECT ON ALL TABLES IN SCHEMA public TO ncplan_reader;
+ALTER DEFAULT PRIVILEGES IN SCHEMA public GRANT SELECT ON TABLES TO ncplan_reader;
+ALTER ROLE ncplan_reader SET default_transaction_read_only = on;";
+
+#[test]
+fn a_read_only_role_queries_and_is_refused_writes_in_plain_words() {
+    let Some(pg) = Cluster::start("pg::a_read_only_role_queries_and_is_refused_writes_in_plain_words") else { return };
+    let server = Server::new(Some("HALL1"), &format!("url = '{}'", pg.url()));
+    let daemon = server.start();
+    server.put("cam/O1.nc", &program(1, 250, 1800));
+    server.put("share/O1.nc", &program(1, 300, 2000));
+    wait_until("the edit is compared", Duration::from_secs(30), || pg.count("SELECT COUNT(*) FROM comparisons") == 1);
+    daemon.kill();
+    let mut owner = postgres::Client::connect(&pg.url(), postgres::NoTls).unwrap();
+    owner.batch_execute(READER_ROLE).unwrap();
+    let reader = pg.url().replacen("ncplan@", "ncplan_reader@", 1);
+    // Reading works.
+    let (code, out, err) = server.ncplan(&["query", "--db", &reader, "SELECT kind FROM shopfloor_changes ORDER BY change_id"]);
+    assert_eq!((code, out.as_str()), (0, "kind\nfeed_changed\nspindle_speed_changed\n"), "{err}");
+    let (code, out, err) = server.ncplan(&["report", "--db", &reader, "--format", "csv", "--since", "2000-01-01"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 3, "{out}");
+    // Writes are refused, by ncplan and by the database, in plain words.
+    let (code, _, err) = server.ncplan(&["query", "--db", &reader, "DELETE FROM changes"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("`DELETE` is refused: queries only read"), "{err}");
+    let (code, _, err) = server.ncplan(&["query", "--db", &reader, "WITH g AS (DELETE FROM changes RETURNING id) SELECT COUNT(*) FROM g"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("the query would write; queries only read"), "{err}");
+    let store = Store::open(&Location::parse(&reader), "HALL1").expect("a current database opens with a role that only reads");
+    let change: i64 = pg.rows("SELECT MIN(id) FROM changes")[0][0].parse().unwrap();
+    let err = format!("{:#}", anyhow::Error::from(store.add_mark(change, "adopt", "", "ada", "2026-01-01T00:00:00.000Z").unwrap_err()));
+    assert!(err.contains("read-only transaction") || err.contains("permission denied"), "{err}");
+    // Past its default: a session that asks to write is still refused by the grants.
+    let mut direct = postgres::Client::connect(&reader, postgres::NoTls).unwrap();
+    direct.batch_execute("SET default_transaction_read_only = off").unwrap();
+    let e = direct.batch_execute("DELETE FROM changes").unwrap_err();
+    assert!(e.as_db_error().is_some_and(|d| d.message().contains("permission denied for table changes")), "{e:?}");
+    // The workspace reads through it; a review mark is refused and nothing is written.
+    let (_serve, base) = serve(&server, &["--db", &reader]);
+    let (head, page) = get(&base, "/");
+    assert!(head.starts_with("HTTP/1.1 200") && page.contains("DMU50"), "{head}\n{page}");
+    let (_, page) = get(&base, &format!("/compare/{}", pg.rows("SELECT revision_id FROM comparisons")[0][0]));
+    let token = page.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).expect("a CSRF token").to_owned();
+    let body = format!("mark=adopt&by=ada&csrf={token}");
+    let (head, body) = http(
+        &base,
+        &format!(
+            "POST /review/{change} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            body.len()
+        ),
+    );
+    assert!(head.starts_with("HTTP/1.1 500") && body.contains("cannot record the mark"), "{head}\n{body}");
+    assert_eq!(pg.count("SELECT COUNT(*) FROM review_marks"), 0);
+    assert_eq!(pg.count("SELECT COUNT(*) FROM changes"), 2);
+}
+
+#[test]
+fn sslmode_require_against_a_server_with_a_self_signed_certificate() {
+    const TEST: &str = "pg::sslmode_require_against_a_server_with_a_self_signed_certificate";
+    if Command::new("openssl").arg("version").stdout(Stdio::null()).status().is_err() {
+        crate::skip(TEST, "openssl is not installed: it makes the server's self-signed certificate");
+        return;
+    }
+    let certs = tempfile::tempdir().unwrap();
+    let (crt, key) = (certs.path().join("server.crt"), certs.path().join("server.key"));
+    let out = Command::new("openssl")
+        .args([
+            "req",
+            "-x509",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-days",
+            "2",
+            "-subj",
+            "/CN=127.0.0.1",
+            "-addext",
+            "subjectAltName=IP:127.0.0.1",
+            "-addext",
+            "basicConstraints=critical,CA:FALSE",
+        ])
+        .arg("-keyout")
+        .arg(&key)
+        .arg("-out")
+        .arg(&crt)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let prepare = |dir: &std::path::Path| {
+        use std::os::unix::fs::PermissionsExt as _;
+        // Relative names in the server's options are of its data folder.
+        let data = dir.join("data");
+        std::fs::copy(&crt, data.join("server.crt")).unwrap();
+        std::fs::copy(&key, data.join("server.key")).unwrap();
+        std::fs::set_permissions(data.join("server.key"), std::fs::Permissions::from_mode(0o600)).unwrap();
+    };
+    let Some(pg) = Cluster::start_with(TEST, "-c ssl=on -c ssl_cert_file=server.crt -c ssl_key_file=server.key", prepare) else { return };
+    let server = Server::new(Some("HALL1"), "path = 'var/ncplan.db'");
+    let url = |mode: &str| pg.url().replace("sslmode=disable", mode);
+    const SSL: &str = "SELECT ssl FROM pg_stat_ssl WHERE pid = pg_backend_pid()";
+    // Required, with the server's certificate trusted: the session is encrypted.
+    let trusted = url(&format!("sslmode=require&sslrootcert={}", crt.display()));
+    let (code, out, err) = server.ncplan(&["query", "--db", &trusted, SSL]);
+    assert_eq!((code, out.as_str()), (0, "ssl\n1\n"), "{err}");
+    // Required, without trusting it: refused, never sent in the clear.
+    let (code, _, err) = server.ncplan(&["query", "--db", &url("sslmode=require"), SSL]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("connecting to PostgreSQL"), "{err}");
+    // Disabled: in the clear, as asked.
+    let (code, out, err) = server.ncplan(&["query", "--db", &url("sslmode=disable"), SSL]);
+    assert_eq!((code, out.as_str()), (0, "ssl\n0\n"), "{err}");
+    // A root file that holds no certificate is named.
+    let (code, _, err) = server.ncplan(&["query", "--db", &url(&format!("sslmode=require&sslrootcert={}", key.display())), SSL]);
+    assert_eq!(code, 2);
+    assert!(err.contains("sslrootcert"), "{err}");
 }
