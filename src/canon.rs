@@ -161,6 +161,13 @@ pub enum Setting {
     ToolName(u32, String),
 }
 
+/// Work offset indexes above this one are the additional work offsets: `EXTENDED_WCS + n` is
+/// `G54.1 Pn` (Fanuc), `G154 Pn` (Haas), `G15 Hn` (Okuma).
+pub const EXTENDED_WCS: u16 = 100;
+
+/// The most additional work offsets a control has (Fanuc's G54.1 P1 to P300).
+pub const MAX_EXTENDED_WCS: u16 = 300;
+
 /// A canonical machining function, or a marker.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CanonOp {
@@ -168,8 +175,9 @@ pub enum CanonOp {
     UseLengthUnits(Units),
     /// `SELECT_PLANE`
     SelectPlane(Plane),
-    /// `SET_G5X_OFFSET(index, x, y, z, a, b, c)`
-    SetG5xOffset(u8, [f64; 6]),
+    /// `SET_G5X_OFFSET(index, x, y, z, a, b, c)`: 1 to 9 for G54 to G59.3; from
+    /// [`EXTENDED_WCS`] + 1 on, the additional work offsets (`G54.1 P1`, `G154 P1`, `G15 H1`).
+    SetG5xOffset(u16, [f64; 6]),
     /// `SET_G92_OFFSET(x, y, z, a, b, c)`
     SetG92Offset([f64; 6]),
     /// `SET_FEED_RATE`

@@ -21,7 +21,7 @@ pub(super) struct Context {
     spindle: Spindle,
     mist: bool,
     flood: bool,
-    wcs: u8,
+    wcs: u16,
     retract: Retract,
     /// Restored when the call that saved it returns (M73).
     autorestore: bool,

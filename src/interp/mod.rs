@@ -305,10 +305,14 @@ struct State {
     tool: u32,
     motion_code: Option<usize>,
     retract: Retract,
-    wcs: u8,
+    /// The active work coordinate system: 1 to 9, or an additional one (see
+    /// [`crate::canon::EXTENDED_WCS`]).
+    wcs: u16,
     wcs_offsets: [[f64; 6]; 9],
     /// Rotation of each work coordinate system about its origin in XY (G10 L2 R), degrees.
     wcs_rotation: [f64; 9],
+    /// The additional work offsets a program set (`G10 L20 P..`), by index; the others are 0.
+    wcs_extended: std::collections::BTreeMap<u16, [f64; 6]>,
     /// The registered G66 modal macro call.
     modal_macro: Option<ModalMacro>,
     /// G28 and G30 reference positions, machine coordinates, mm (from the profile; G28.1
@@ -384,6 +388,37 @@ struct State {
     feed_unknown: bool,
     /// Whether the spindle is the caller's (a called program that has not set it).
     spindle_unknown: bool,
+}
+
+impl State {
+    /// The offsets of work coordinate system `wcs` (1 for G54; an additional one is 0 until
+    /// the program sets it).
+    fn offset(&self, wcs: u16) -> [f64; 6] {
+        match wcs {
+            1..=9 => self.wcs_offsets[wcs as usize - 1],
+            _ => self.wcs_extended.get(&wcs).copied().unwrap_or([0.0; 6]),
+        }
+    }
+
+    /// The rotation of work coordinate system `wcs` (the additional ones have none).
+    fn rotation(&self, wcs: u16) -> f64 {
+        match wcs {
+            1..=9 => self.wcs_rotation[wcs as usize - 1],
+            _ => 0.0,
+        }
+    }
+
+    fn set_offset(&mut self, wcs: u16, off: [f64; 6], rotation: f64) {
+        match wcs {
+            1..=9 => {
+                self.wcs_offsets[wcs as usize - 1] = off;
+                self.wcs_rotation[wcs as usize - 1] = rotation;
+            }
+            _ => {
+                self.wcs_extended.insert(wcs, off);
+            }
+        }
+    }
 }
 
 /// What decides how a run goes on from a point: the parameters, the modes, the saved modes
@@ -502,6 +537,7 @@ impl<'a> Interpreter<'a> {
                 retract: if dialect.behaviour.initial_retract_r { Retract::RPlane } else { Retract::Initial },
                 wcs: 1,
                 wcs_offsets: [[0.0; 6]; 9],
+                wcs_extended: std::collections::BTreeMap::new(),
                 wcs_rotation: [0.0; 9],
                 modal_macro: None,
                 home1: profile.home1,
@@ -2017,8 +2053,8 @@ impl<'a> Interpreter<'a> {
                 self.use_tool_offset([0.0; 3], sink);
             }
             Meaning::Wcs => {
-                if def.index != self.st.wcs {
-                    self.select_wcs(def.index, sink);
+                if u16::from(def.index) != self.st.wcs {
+                    self.select_wcs(u16::from(def.index), sink);
                 }
             }
             Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
@@ -2111,30 +2147,22 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::ScalingCancel => self.st.scaling = None,
             Meaning::WcsExtended => {
-                // G54.1 Pn, G15 Hn: the additional work offsets have no table here; use G54's
-                // with a note.
-                let (letter, p) = match (self.slot(Role::P), self.slot(Role::H)) {
-                    (Some(p), _) => ('P', p),
-                    (None, Some(h)) => ('H', h),
-                    (None, None) => ('P', 1.0),
-                };
-                self.limited(
-                    diags,
-                    "wcs-extended",
-                    Diagnostic::new(
-                        Code::Unsupported,
-                        range,
-                        format!(
-                            "{} {letter}{p}: additional work offsets are not in the machine profile; G54's offsets are used",
-                            def.label()
-                        ),
-                    ),
-                );
-                if self.st.wcs != 1 {
-                    let new = self.st.wcs_offsets[0];
-                    self.switch_wcs(|st| st.wcs = 1);
-                    self.emit(sink, CanonOp::SetG5xOffset(1, new));
-                    self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
+                // G54.1 Pn, G154 Pn, G15 Hn: additional work offset n, its own system (0 until
+                // the program sets it, as every offset here), so that a change of fixture
+                // offset is seen as one. Without a number: the first.
+                let n = self.slot(Role::P).or(self.slot(Role::H)).or(Some(1.0));
+                match self.extended_wcs(n) {
+                    Some(index) if index != self.st.wcs => self.select_wcs(index, sink),
+                    Some(_) => {}
+                    None => {
+                        // `G15 H=VC32` with the variable 0 here: the machine's value is not.
+                        let msg = format!(
+                            "{}: an additional work offset is numbered 1 to {}; the system in force stays",
+                            def.label(),
+                            crate::canon::MAX_EXTENDED_WCS
+                        );
+                        self.limited(diags, "wcs-extended", Diagnostic::new(Code::Unsupported, range, msg));
+                    }
                 }
             }
             Meaning::LocalOffset => {
@@ -2401,7 +2429,7 @@ impl<'a> Interpreter<'a> {
         for i in 0..3 {
             self.st.pos[i] *= k;
             self.st.g92[i] *= k;
-            for w in &mut self.st.wcs_offsets {
+            for w in self.st.wcs_offsets.iter_mut().chain(self.st.wcs_extended.values_mut()) {
                 w[i] *= k;
             }
         }
@@ -2416,7 +2444,7 @@ impl<'a> Interpreter<'a> {
     fn use_tool_offset(&mut self, offsets: [f64; 3], sink: &mut dyn CanonSink) {
         // The offsets are along the machine's axes; a rotated system sees X and Y turned.
         let mut delta: [f64; 3] = std::array::from_fn(|i| offsets[i] - self.st.tool_offset[i]);
-        let rotation = self.st.wcs_rotation[self.st.wcs as usize - 1];
+        let rotation = self.st.rotation(self.st.wcs);
         if rotation != 0.0 {
             [delta[0], delta[1]] = rotate([delta[0], delta[1]], -rotation);
         }
@@ -2491,10 +2519,17 @@ impl<'a> Interpreter<'a> {
         let form = def.forms.iter().find(|(n, _)| f64::from(*n) == l).map(|&(_, f)| f);
         match form {
             Some(DataForm::Wcs | DataForm::WcsHere) => self.set_wcs(def, form == Some(DataForm::WcsHere), range, sink, diags),
-            Some(DataForm::WcsExtended) => {
-                let msg = format!("{} L{l}: additional work offsets are not in the machine profile; the setting is not kept", def.label());
-                self.limited(diags, "wcs-extended", Diagnostic::new(Code::Unsupported, range, msg));
-            }
+            Some(DataForm::WcsExtended) => match self.extended_wcs(self.slot(Role::P)) {
+                Some(index) => self.set_wcs_offsets(index, false, sink),
+                None => {
+                    let msg = format!(
+                        "{} L{l}: an additional work offset is numbered 1 to {}; the setting is not kept",
+                        def.label(),
+                        crate::canon::MAX_EXTENDED_WCS
+                    );
+                    self.limited(diags, "wcs-extended", Diagnostic::new(Code::Unsupported, range, msg));
+                }
+            },
             Some(f) => self.set_tool_data(def, f, range, diags),
             None => {
                 let known: Vec<String> = def.forms.iter().map(|(n, _)| format!("L{n}")).collect();
@@ -2532,8 +2567,8 @@ impl<'a> Interpreter<'a> {
         // that system's (perhaps rotated) axes, an axis not given keeping the tool's offset,
         // and turned back to the machine's axes, as rs274 does.
         let here = {
-            let (w, g92) = if form == DataForm::ToolHereFixture { (8, false) } else { (self.st.wcs as usize - 1, true) };
-            let rotation = self.st.wcs_rotation[w];
+            let (w, g92) = if form == DataForm::ToolHereFixture { (9, false) } else { (self.st.wcs, true) };
+            let rotation = self.st.rotation(w);
             let machine = self.machine_pos();
             let spindle: [f64; 6] = std::array::from_fn(|i| machine[i] + if i < 3 { self.st.tool_offset[i] } else { 0.0 });
             let q = self.machine_to_system(spindle, w, g92);
@@ -2594,11 +2629,16 @@ impl<'a> Interpreter<'a> {
             self.unsupported(def, range, diags);
             return;
         }
+        let index = if p == 0 { self.st.wcs } else { p as u16 };
+        self.set_wcs_offsets(index, here, sink);
+    }
+
+    /// Work offset `index` from the block's axis words: the values (L2, `G10 L20 Pn` on
+    /// Fanuc), or, `here`, those that make the current point read them (LinuxCNC's L20).
+    fn set_wcs_offsets(&mut self, index: u16, here: bool, sink: &mut dyn CanonSink) {
         let l = if here { 20 } else { 2 };
-        let index = if p == 0 { self.st.wcs } else { p as u8 };
-        let slot = index as usize - 1;
-        let rotation = self.slot(Role::R).unwrap_or(self.st.wcs_rotation[slot]);
-        let mut off = self.st.wcs_offsets[slot];
+        let rotation = self.slot(Role::R).unwrap_or(self.st.rotation(index));
+        let mut off = self.st.offset(index);
         if l == 20 {
             // L20: the current point becomes the given coordinates in that system, whose
             // rotation applies to them (machine = offset + R·(program + G92)).
@@ -2627,14 +2667,10 @@ impl<'a> Interpreter<'a> {
             }
         }
         if index == self.st.wcs {
-            self.switch_wcs(|st| {
-                st.wcs_offsets[slot] = off;
-                st.wcs_rotation[slot] = rotation;
-            });
+            self.switch_wcs(|st| st.set_offset(index, off, rotation));
             self.emit(sink, CanonOp::SetG5xOffset(index, off));
         } else {
-            self.st.wcs_offsets[slot] = off;
-            self.st.wcs_rotation[slot] = rotation;
+            self.st.set_offset(index, off, rotation);
         }
     }
 
@@ -2645,8 +2681,7 @@ impl<'a> Interpreter<'a> {
 
     /// A program position in machine coordinates: offset + R(rotation)·(program + G92).
     fn to_machine(&self, pos: [f64; 6]) -> [f64; 6] {
-        let w = self.st.wcs as usize - 1;
-        let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+        let (off, rotation) = (self.st.offset(self.st.wcs), self.st.rotation(self.st.wcs));
         let mut m: [f64; 6] = std::array::from_fn(|i| pos[i] + self.st.g92[i]);
         if rotation != 0.0 {
             [m[0], m[1]] = rotate([m[0], m[1]], rotation);
@@ -2656,13 +2691,13 @@ impl<'a> Interpreter<'a> {
 
     /// Program coordinates of a machine position in the active system.
     pub(super) fn program_pos(&self, machine: [f64; 6]) -> [f64; 6] {
-        self.machine_to_system(machine, self.st.wcs as usize - 1, true)
+        self.machine_to_system(machine, self.st.wcs, true)
     }
 
-    /// A machine position in work coordinate system `w` (0 for G54), with or without the G92
-    /// shift.
-    fn machine_to_system(&self, machine: [f64; 6], w: usize, g92: bool) -> [f64; 6] {
-        let (off, rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+    /// A machine position in work coordinate system `wcs` (1 for G54), with or without the
+    /// G92 shift.
+    fn machine_to_system(&self, machine: [f64; 6], wcs: u16, g92: bool) -> [f64; 6] {
+        let (off, rotation) = (self.st.offset(wcs), self.st.rotation(wcs));
         let mut p: [f64; 6] = std::array::from_fn(|i| machine[i] - off[i]);
         if rotation != 0.0 {
             [p[0], p[1]] = rotate([p[0], p[1]], -rotation);
@@ -2670,9 +2705,15 @@ impl<'a> Interpreter<'a> {
         std::array::from_fn(|i| p[i] - if g92 { self.st.g92[i] } else { 0.0 })
     }
 
+    /// The index of additional work offset `n` (`G54.1 P3`: [`crate::canon::EXTENDED_WCS`] + 3).
+    fn extended_wcs(&self, n: Option<f64>) -> Option<u16> {
+        let n = n?;
+        (n.fract() == 0.0 && (1.0..=f64::from(crate::canon::MAX_EXTENDED_WCS)).contains(&n)).then(|| crate::canon::EXTENDED_WCS + n as u16)
+    }
+
     /// Makes work coordinate system `index` (1 for G54) the active one.
-    fn select_wcs(&mut self, index: u8, sink: &mut dyn CanonSink) {
-        let new = self.st.wcs_offsets[index as usize - 1];
+    fn select_wcs(&mut self, index: u16, sink: &mut dyn CanonSink) {
+        let new = self.st.offset(index);
         self.switch_wcs(|st| st.wcs = index);
         self.emit(sink, CanonOp::SetG5xOffset(index, new));
         // LinuxCNC restates the G92 offset with every switch of system.
@@ -2682,12 +2723,10 @@ impl<'a> Interpreter<'a> {
     /// Changes the active coordinate system (which one, its offsets or rotation) keeping the
     /// machine position.
     fn switch_wcs(&mut self, change: impl FnOnce(&mut State)) {
-        let w = self.st.wcs as usize - 1;
-        let (old, old_rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+        let (old, old_rotation) = (self.st.offset(self.st.wcs), self.st.rotation(self.st.wcs));
         let machine = self.machine_pos();
         change(&mut self.st);
-        let w = self.st.wcs as usize - 1;
-        let (new, new_rotation) = (self.st.wcs_offsets[w], self.st.wcs_rotation[w]);
+        let (new, new_rotation) = (self.st.offset(self.st.wcs), self.st.rotation(self.st.wcs));
         if old_rotation == 0.0 && new_rotation == 0.0 {
             self.shift_origin(old, new);
         } else {
@@ -2726,7 +2765,7 @@ impl<'a> Interpreter<'a> {
         let mut end = mid;
         let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();
         let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
-        if self.st.wcs_rotation[self.st.wcs as usize - 1] != 0.0 {
+        if self.st.rotation(self.st.wcs) != 0.0 {
             let mut m = self.to_machine(mid);
             for (i, v) in m.iter_mut().enumerate() {
                 if moves(i) {
@@ -2737,7 +2776,7 @@ impl<'a> Interpreter<'a> {
         } else {
             for i in 0..6 {
                 if moves(i) {
-                    end[i] = home[i] * k(i) - self.st.wcs_offsets[self.st.wcs as usize - 1][i] - self.st.g92[i];
+                    end[i] = home[i] * k(i) - self.st.offset(self.st.wcs)[i] - self.st.g92[i];
                 }
             }
         }

@@ -694,7 +694,7 @@ pub struct CompUse {
 pub struct MachineState {
     /// Work offset in force while cutting: 1 for G54 (the default) to 6 for G59, more for
     /// the extended ones.
-    pub work_offset: u8,
+    pub work_offset: u16,
     /// Length offset numbers (H) in force while cutting that are not the tool's own, in order
     /// of first use; 0 is none (`H0`, or cancelled by G49).
     #[serde(skip_serializing_if = "Vec::is_empty", default)]

@@ -380,7 +380,7 @@ struct Recovery<'p> {
     surface: Option<f64>,
     stock: Option<[P3; 2]>,
     /// Work offset in force (1 for G54).
-    wcs: u8,
+    wcs: u16,
     /// Length offset number in force.
     h: Option<u32>,
     /// Cutter compensation in force.

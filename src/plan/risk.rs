@@ -15,11 +15,14 @@ pub struct Risk {
     pub message: String,
 }
 
-/// The name of work offset `index` (1 for G54).
-pub fn work_offset_name(index: u8) -> String {
+/// The name of work offset `index` (1 for G54; an additional one by its number, as
+/// `G54.1 P3`, `G154 P3` and `G15 H3` all say).
+pub fn work_offset_name(index: u16) -> String {
+    let extended = crate::canon::EXTENDED_WCS;
     match index {
         1..=6 => format!("G{}", 53 + u32::from(index)),
         7..=9 => format!("G59.{}", index - 6),
+        n if n > extended => format!("additional work offset {}", n - extended),
         n => format!("work offset {n}"),
     }
 }
@@ -46,11 +49,11 @@ pub fn risks(plan: &ProcessPlan) -> Vec<Risk> {
         }
     }
     // A work offset one workingstep uses while every other one uses another.
-    let offsets: Vec<u8> = plan.workingsteps.iter().map(|w| w.state.work_offset).collect();
+    let offsets: Vec<u16> = plan.workingsteps.iter().map(|w| w.state.work_offset).collect();
     if offsets.len() >= 3 {
         for ws in &plan.workingsteps {
             let w = ws.state.work_offset;
-            let others: Vec<u8> = offsets.iter().copied().filter(|o| *o != w).collect();
+            let others: Vec<u16> = offsets.iter().copied().filter(|o| *o != w).collect();
             if others.len() + 1 == offsets.len() && others.windows(2).all(|p| p[0] == p[1]) {
                 out.push(Risk {
                     workingstep: ws.index,

@@ -258,7 +258,7 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     scale: f64,
     g92: [f64; 3],
     plane: Plane,
-    wcs: Option<u8>,
+    wcs: Option<u16>,
     feed_mode: FeedMode,
     /// The machine position (target units, work offset frame).
     pos: [f64; 3],

@@ -297,10 +297,16 @@ fn g10_sets_what_each_dialect_says_its_l_values_set() {
     // LinuxCNC: L1 sets tool P's length, L10 so that the current Z reads as given.
     let linuxcnc = "G21 G90\nG10 L1 P5 Z100\nG43 H5\nG0 Z10\nG10 L10 P5 Z0\nG43 H5\nM2\n";
     assert_eq!(offsets("linuxcnc", linuxcnc), ["100.0000", "110.0000"]);
-    // Fanuc's L20 is an extended work offset, not LinuxCNC's "set from here".
+    // Fanuc's L20 sets an additional work offset (`G54.1 P1`), not LinuxCNC's "set from here":
+    // the move after selecting it lands 10 further in machine X and Y.
     let d = Registry::shipped().get("fanuc").unwrap();
-    let diags = interpret("G21 G90\nG10 L20 P1 X10. Y10.\nM30\n", &d, &Profile::default(), &mut Vec::new());
-    assert!(diags.iter().any(|d| d.message.contains("L20: additional work offsets")), "{diags:?}");
+    let mut canon = Vec::new();
+    let diags = interpret("G21 G90\nG10 L20 P1 X10. Y10.\nG54.1 P1\nG0 X0 Y0\nG54\nG0 X0 Y0\nM30\n", &d, &Profile::default(), &mut canon);
+    assert!(diags.iter().all(|d| !d.is_error() && d.severity != ncplan::diag::Severity::Warning), "{diags:?}");
+    let offsets: Vec<(u16, f64)> =
+        canon.iter().filter_map(|c| if let CanonOp::SetG5xOffset(i, v) = c.op { Some((i, v[0])) } else { None }).collect();
+    assert!(offsets.contains(&(ncplan::canon::EXTENDED_WCS + 1, 10.0)), "{offsets:?}");
+    assert!(offsets.contains(&(1, 0.0)), "{offsets:?}");
     // An L the dialect does not list is named.
     let diags = interpret("G21 G90\nG10 L50 P1\nM30\n", &d, &Profile::default(), &mut Vec::new());
     assert!(diags.iter().any(|d| d.message.contains("G10 L50 is not a data-setting form of the fanuc dialect")), "{diags:?}");

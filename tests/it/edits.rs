@@ -101,6 +101,22 @@ fn work_offset() {
     );
 }
 
+/// An additional work offset (Fanuc `G54.1 P`, Haas `G154 P`) is a system of its own: the
+/// operator who moves a fixture from P20 to P21 is seen.
+#[test]
+fn additional_work_offset() {
+    let program =
+        |p: u32| format!("%\nO1\nG21 G90 G17\nT1 M6\nS2000 M3\nG154 P{p} G0 X0 Y0\nG43 H1 Z5.\nG1 Z-1. F300.\nX50.\nG0 Z50.\nM30\n%\n");
+    let got = changes(&program(20), &program(21), "haas");
+    expect![[r#"
+        work_offset_changed | work_offset | additional work offset 20 | additional work offset 21 | 6 | 6
+          work offset changed from additional work offset 20 to additional work offset 21
+    "#]]
+    .assert_eq(&rows(&got));
+    let fanuc = |w: &str| format!("%\nO1\nG21 G90 G17\nT1 M6\nS2000 M3\n{w} G0 X0 Y0\nG43 H1 Z5.\nG1 Z-1. F300.\nX50.\nG0 Z50.\nM30\n%\n");
+    assert!(changes(&fanuc("G54"), &fanuc("G54.1 P1"), "fanuc").iter().any(|c| c.after == "additional work offset 1"));
+}
+
 #[test]
 fn length_offset_of_another_tool() {
     edit(
