@@ -298,6 +298,10 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// passed [`ROUNDED_NOTE`].
     rounded: f64,
     rounded_at: Option<crate::text::TextRange>,
+    /// The same for a written feed (target units per minute or revolution): an inch
+    /// program's four decimals cannot state every millimetre feed.
+    rounded_feed: f64,
+    rounded_feed_at: Option<crate::text::TextRange>,
     /// The advance per spindle revolution of the moves in a spindle-synchronised run (target
     /// units).
     sync: Option<f64>,
@@ -507,6 +511,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             staged_val: [(f64::NAN, 0); 8],
             rounded: 0.0,
             rounded_at: None,
+            rounded_feed: 0.0,
+            rounded_feed_at: None,
             sync: None,
             css: false,
             line_offsets: Vec::new(),
@@ -681,6 +687,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         self.rounded = err;
                         if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
                             self.rounded_at = Some(self.origin);
+                        }
+                    }
+                    if *value == Value::F && err > self.rounded_feed {
+                        self.rounded_feed = err;
+                        if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                            self.rounded_feed_at = Some(self.origin);
                         }
                     }
                     if let Some(slot) = slot {
@@ -1125,7 +1137,13 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             .iter()
             .find(|h| (h[0] - intent.x * src_mm).abs() < 1e-3 && (h[1] - intent.y * src_mm).abs() < 1e-3)
             .map(|h| h[2] / self.opts.units.to_mm() + zoff);
-        let surface = intent.surface.map(|v| v * s + zoff).or(found).filter(|v| *v <= r + 1e-9).unwrap_or(r);
+        // A surface at or below the bottom (a hole top the plan put under a cycle drilling
+        // above it) would make a depth stated from the surface positive, which such a cycle
+        // reads as reversed: the R level is the surface then. A cycle stating its bottom
+        // absolutely keeps that surface.
+        let relative = m.define.uses(Value::Depth);
+        let surface =
+            intent.surface.map(|v| v * s + zoff).or(found).filter(|v| *v <= r + 1e-9 && (!relative || *v > bottom + 1e-9)).unwrap_or(r);
         // The level the pecks count from: the surface for a cycle that states it (Siemens,
         // Heidenhain), the R level for a G8x cycle. A peck cycle counted from another level
         // than the source's drills other depths: written as its moves.
@@ -1207,6 +1225,17 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 ),
             ));
         }
+        if let Some(at) = self.rounded_feed_at {
+            let mm = self.rounded_feed * self.opts.units.to_mm();
+            self.diags.push(Diagnostic::new(
+                Code::PostRounded,
+                at,
+                format!(
+                    "the program states feeds finer than the target writes them: they are rounded to its format, up to {} mm per minute (or revolution) off",
+                    format!("{:.5}", (mm * 1e5).ceil() / 1e5).trim_end_matches('0')
+                ),
+            ));
+        }
         self.diags
     }
 }
@@ -1271,7 +1300,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
         match &canon.op {
             CanonOp::UseLengthUnits(u) => {
-                if self.opts.follow_source_units && !self.started {
+                if self.opts.follow_source_units && !self.started && *u != self.opts.units {
+                    // What was set before the units (a feed: `G20 F60` sets F first, in
+                    // the units then in force) is held in the target's units: it changes
+                    // units with them, so that F60 mm/min comes out as F2.3622 inch/min.
+                    let k = self.opts.units.to_mm() / u.to_mm();
+                    self.feed *= k;
+                    self.g92 = self.g92.map(|v| v * k);
+                    self.pos = self.pos.map(|v| v * k);
                     self.opts.units = *u;
                 }
                 self.scale = u.to_mm() / self.opts.units.to_mm();
@@ -1388,7 +1424,23 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     Some((left, d)) => {
                         self.comp_d = d.unwrap_or(self.tool);
                         vals.set(Value::D, f64::from(self.comp_d));
-                        if *left { "comp-left" } else { "comp-right" }
+                        let ev = if *left { "comp-left" } else { "comp-right" };
+                        // A target whose compensation takes the tool's own radius (no D
+                        // word) cannot compensate by another offset's radius.
+                        let tool = self.pending_tool.unwrap_or(self.tool);
+                        let states_d = self.out.template(ev).is_some_and(|(t, _)| t.uses(Value::D));
+                        if !states_d && d.is_some_and(|d| d != tool) {
+                            self.note(
+                                Code::PostUnwritable,
+                                &canon,
+                                "comp-offset",
+                                format!(
+                                    "cutter compensation by offset D{} while tool T{tool} is in the spindle: the target's `{ev}` takes the tool's own radius",
+                                    self.comp_d
+                                ),
+                            );
+                        }
+                        ev
                     }
                     None => "comp-off",
                 };

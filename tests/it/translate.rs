@@ -248,13 +248,14 @@ fn kind(k: u8) -> &'static str {
 /// The first way plan `b` differs from `a`, if any (the diff's tool renames of named tools,
 /// the documented convention, aside).
 fn plan_difference(a: &ProcessPlan, b: &ProcessPlan) -> Option<String> {
-    plan_difference_within(a, b, TOL, false)
+    plan_difference_within(a, b, TOL, false, false)
 }
 
 /// [`plan_difference`] with positions compared within `tol`; with `rounded`, the diff's
 /// position changes (toolpath within `tol`, start point, depth) are taken as the rounding
-/// the toolpath comparison already bounded.
-fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: bool) -> Option<String> {
+/// the toolpath comparison already bounded; with `feeds` too, a feed change the workingsteps'
+/// feeds (compared within 0.1 %) bound, the translation having said its feeds were rounded.
+fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: bool, feeds: bool) -> Option<String> {
     if a.workingsteps.len() != b.workingsteps.len() {
         return Some(format!("{} workingsteps became {}", a.workingsteps.len(), b.workingsteps.len()));
     }
@@ -302,6 +303,10 @@ fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: b
             && match c.kind {
                 ChangeKind::ToolpathChanged => c.deviation.is_some_and(|d| d <= 2.0 * tol),
                 ChangeKind::StartPointMoved | ChangeKind::DepthChanged => true,
+                ChangeKind::FeedChanged => feeds,
+                // A dimension rounded as the positions were: the planner's own figures of it
+                // are the same.
+                ChangeKind::FeatureChanged => c.before == c.after,
                 _ => false,
             }
     };
@@ -353,7 +358,9 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
     // A difference the translation said: positions rounded to the target's resolution.
     if let Some(r) = diags.iter().find(|d| d.code == ncplan::diag::Code::PostRounded) {
         let tol = resolution(&target, &back.canon).max(tol);
-        if toolpath_difference(&src.moves, &back_moves, tol).is_none() && plan_difference_within(&src.plan, &back.plan, tol, true).is_none()
+        let feeds = diags.iter().any(|d| d.code == ncplan::diag::Code::PostRounded && d.message.contains("feeds"));
+        if toolpath_difference(&src.moves, &back_moves, tol).is_none()
+            && plan_difference_within(&src.plan, &back.plan, tol, true, feeds).is_none()
         {
             return (text, format!("rounded: {}: {verdict}", r.code.as_str()));
         }
@@ -857,4 +864,59 @@ fn a_repeated_subprogram_or_loop_stays_a_loop_where_the_target_has_one() {
         assert!(!back.has_errors(), "{from}:\n{out}");
         assert_eq!(toolpath_difference(&src.moves, &moves(&back.canon), 1e-4), None, "{from}:\n{out}");
     }
+}
+
+#[test]
+fn a_feed_set_before_the_inch_units_stays_the_same_feed() {
+    // LinuxCNC sets F before G20 in one block: F60 is 60 mm/min, written in the inch
+    // program that follows the source's units as F2.3622.
+    let text = "g20 f60\ng0 x0 y.5 z.25\ng1 x.25\nx.75\nm2\n";
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "zchanges").unwrap();
+    for to in ["fanuc", "heidenhain", "siemens"] {
+        let (out, verdict) = round_trip(&src, to);
+        // 60 / 25.4 has no four-decimal inch feed: 0.00012 mm/min off, said as rounded.
+        assert!(verdict.starts_with("rounded: post::rounded"), "{to}: {verdict}\n{out}");
+        assert!(out.contains("F2.3622"), "{to}:\n{out}");
+        let back = pipeline::analyze(out.as_bytes(), &dialect(to), &Profile::default());
+        let feeds: Vec<f64> = back.plan.workingsteps.iter().map(|w| w.technology.feed).collect();
+        assert!(feeds.len() == 1 && (feeds[0] - 60.0).abs() < 0.01, "{to}: {feeds:?}");
+    }
+    let (_, diags) = translate(text, &dialect("linuxcnc"), &dialect("fanuc"), "zchanges");
+    assert!(diags.iter().any(|d| d.code == ncplan::diag::Code::PostRounded && d.message.contains("feeds")), "{diags:?}");
+}
+
+#[test]
+fn a_cycle_drilling_above_the_hole_top_keeps_a_negative_depth() {
+    // The second hole's bottom (Z0.5) is above the top the plan finds (Z0): written from
+    // that top, the depth would be positive and read back reversed (Z-0.5).
+    let text = "g17 g98 g90 g20\nf10\ng0 x0 y0 z2\ng81 x1 y1 z-1 r1\ng81 x1 y2 z0.5 r3\nm2\n";
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "g81").unwrap();
+    let (out, verdict) = round_trip(&src, "heidenhain");
+    assert_eq!(verdict, "equal", "{out}");
+    assert!(!out.contains("Q201=+"), "{out}");
+}
+
+#[test]
+fn a_pocket_rounded_to_the_target_says_so() {
+    // Six-decimal inch corners written with four: the pocket's width moves by the rounding
+    // (0.0011 mm), which the diff sees but the planner's figures (1 in) do not.
+    let text = "g20\ng0 x0 y0 z0\ng1 x1.000044 y0 f10\nx1.000044 y0.500044\nx0 y0.500044\nx0 y0\nm2\n";
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "pocket").unwrap();
+    let (out, verdict) = round_trip(&src, "fanuc");
+    assert!(verdict.starts_with("rounded: post::rounded: "), "{verdict}\n{out}");
+    assert!(out.contains("X1.") && out.contains("Y0.5\n"), "{out}");
+}
+
+#[test]
+fn compensation_by_another_offset_is_unwritable_where_the_target_takes_the_tool_radius() {
+    let text = "g20 f60\ng0 x0 y.5 z.25\ng1 x.25\ng41 g2 d2 x.5 y.75 i.25\ng1 x.75\ng40 x1\nm2\n";
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "comp").unwrap();
+    for to in ["heidenhain", "siemens"] {
+        let (out, verdict) = round_trip(&src, to);
+        assert!(verdict.starts_with("untranslatable: post::unwritable: cutter compensation by offset D2"), "{to}: {verdict}\n{out}");
+    }
+    // A target with a D word states it.
+    let (out, verdict) = round_trip(&src, "fanuc");
+    assert!(out.contains("G41 D2"), "{out}");
+    assert!(!verdict.starts_with("untranslatable"), "{verdict}");
 }
