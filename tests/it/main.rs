@@ -23,6 +23,7 @@ mod plan;
 mod robustness;
 mod shop;
 mod stepnc;
+mod tool_comments;
 mod translate;
 mod web;
 
