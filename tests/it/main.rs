@@ -13,6 +13,7 @@ mod edits;
 mod encodings;
 mod equivalence;
 mod express;
+mod fagor;
 mod faults;
 mod first_start;
 mod flow;
