@@ -17,6 +17,10 @@ pub enum RecordAction {
     Text,
     /// The program's name in raw text (`PARTNO/MFG0004`): a comment, and the name pairing uses.
     Name,
+    /// The whole record, major word included, is kept as a comment (`TLDATA/MILL,10,0.5,75,0,0`,
+    /// `CUTTER/10,0.5`): a statement about the tool the comment reader reads as it reads a
+    /// tool comment, its numbers in the order the statement defines.
+    Statement,
     /// Read and ignored: display or post-processor selection only (`PAINT/COLOR,42`).
     Ignore,
     /// A move to the point `x,y,z`, with the tool axis `i,j,k` where six numbers are given:
@@ -46,6 +50,7 @@ impl RecordAction {
         ("words", RecordAction::Words),
         ("text", RecordAction::Text),
         ("name", RecordAction::Name),
+        ("statement", RecordAction::Statement),
         ("ignore", RecordAction::Ignore),
         ("goto", RecordAction::Goto),
         ("delta", RecordAction::Delta),

@@ -81,7 +81,9 @@ impl Interpreter<'_> {
         if let Some(q) = self.slot(Role::Q) {
             self.st.sticky_q = Some(q);
         }
-        if let Some(p) = self.slot(Role::P) {
+        // The dwell's word: the one the code's `args` give the role `p` (Fagor `K:p`), else P.
+        let dwell_word = def.args.iter().find(|(_, to)| *to == Role::P).map_or(Role::P, |(from, _)| *from);
+        if let Some(p) = self.slot(dwell_word) {
             self.st.sticky_p = Some(p);
         }
         // Without R, Fanuc-family controls feed from the initial level (where the tool is when
@@ -139,7 +141,7 @@ impl Interpreter<'_> {
         .then(|| self.dwell_seconds(self.st.sticky_p.unwrap_or(0.0)));
         // The shift of fine and back boring: Q along +X (parameter 5101 RD1 = RD2 = 0).
         let shift = if matches!(kind, CycleKind::FineBoring | CycleKind::BackBoring) { self.st.sticky_q.unwrap_or(0.0).abs() } else { 0.0 };
-        let repeats = self.slot(Role::L).or(self.slot(Role::K)).unwrap_or(1.0);
+        let repeats = self.slot(Role::L).or(self.slot(Role::K).filter(|_| dwell_word != Role::K)).unwrap_or(1.0);
         if repeats < 0.0 || repeats.fract() != 0.0 {
             diags.push(Diagnostic::new(Code::MalformedNumber, block.range, "the repeat count must be a whole number"));
             return;

@@ -146,13 +146,24 @@ fn infer_tool_kinds(plan: &mut ProcessPlan) {
     }
 }
 
-/// The tool a tool-list comment names: `T3 D=10. ...`, `T3 - 10MM ENDMILL`, `T03: ...`.
+/// The tool a tool-list comment names: `T3 D=10. ...`, `T3 - 10MM ENDMILL`, `T03: ...`,
+/// `TOOL 3 ...`, `TOOL: 3`, `LOAD/TOOL,3`.
 fn listed_tool(comment: &str) -> Option<u32> {
-    let s = comment.trim_start();
-    let rest = s.strip_prefix('T').or_else(|| s.strip_prefix('t'))?;
+    let s = comment.trim_start().trim_start_matches(['(', '|', ' ']);
+    let up = s.to_ascii_uppercase();
+    let after_tool = up.strip_prefix("LOAD/TOOL").or_else(|| up.strip_prefix("TOOL"));
+    let rest = match after_tool {
+        Some(r) => {
+            let r = r.trim_start_matches([' ', ':', '#', '=', ',']);
+            r.strip_prefix("NO.").or_else(|| r.strip_prefix("NO")).unwrap_or(r).trim_start_matches([' ', '.', '#'])
+        }
+        None => up.strip_prefix('T')?,
+    };
     let end = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
     let after = rest[end..].chars().next();
-    (end > 0 && after.is_none_or(|c| c.is_whitespace() || matches!(c, ':' | '-' | '=' | ','))).then(|| rest[..end].parse().ok()).flatten()
+    (end > 0 && after.is_none_or(|c| c.is_whitespace() || matches!(c, ':' | '-' | '=' | ',' | '|' | ')')))
+        .then(|| rest[..end].parse().ok())
+        .flatten()
 }
 
 /// What a CAM tool comment states.
@@ -172,6 +183,9 @@ pub struct ToolFacts {
 /// `T3 DIA 10.5 DRILL` or `10MM 4FL BULL R0.5`.
 pub fn parse_tool_comment(text: &str) -> ToolFacts {
     let up = text.to_ascii_uppercase();
+    if let Some(f) = apt_tool_statement(&up) {
+        return f;
+    }
     let compact: String = up.chars().filter(|c| !c.is_whitespace() && *c != '-' && *c != '_').collect();
     let has = |k: &str| compact.contains(k);
     let kind = if has("BALL") {
@@ -235,6 +249,42 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
     ToolFacts { diameter: comment_diameter(&up), kind, corner_radius, flutes }
 }
 
+/// The facts of an APT tool statement: `TLDATA/MILL,d,r,length,taper,tip` (NX; `DRILL`
+/// for a drill) or the cutter `CUTTER/d,r,e,f,a,b,h` (ISO 4343), diameter first and corner
+/// radius second. A corner radius of half the diameter is a ball end mill, a smaller one a
+/// bull nose; a `CUTTER` with a bottom angle and no radius is a drill.
+fn apt_tool_statement(up: &str) -> Option<ToolFacts> {
+    let (major, rest) = up.split_once('/')?;
+    let major = major.trim();
+    if major != "TLDATA" && major != "CUTTER" {
+        return None;
+    }
+    let mut words = Vec::new();
+    let mut nums = Vec::new();
+    for field in rest.split(',').map(str::trim).filter(|f| !f.is_empty()) {
+        match field.parse::<f64>() {
+            Ok(v) => nums.push(v),
+            Err(_) if nums.is_empty() => words.push(field),
+            Err(_) => {}
+        }
+    }
+    let d = nums.first().copied().filter(|d| *d > 0.0 && *d < 1000.0)?;
+    let r = nums.get(1).copied().filter(|r| *r >= 0.0 && *r <= d / 2.0 + 1e-6);
+    let round = r.filter(|r| *r > 1e-6);
+    let kind = if round.is_some_and(|r| (r - d / 2.0).abs() < 1e-6) {
+        Some(ToolKind::BallEndMill)
+    } else if round.is_some() {
+        Some(ToolKind::BullnoseEndMill)
+    } else if words.first() == Some(&"DRILL") || major == "CUTTER" && nums.get(4).is_some_and(|a| *a > 0.0) {
+        Some(ToolKind::TwistDrill)
+    } else if words.first() == Some(&"MILL") {
+        Some(ToolKind::EndMill)
+    } else {
+        None
+    };
+    Some(ToolFacts { diameter: Some(d), kind, corner_radius: r, flutes: None })
+}
+
 /// The diameter of a short end-mill name (`EM10`, `EM12.5`).
 fn em_word(up: &str) -> Option<f64> {
     up.split(|c: char| !(c.is_ascii_alphanumeric() || c == '.')).find_map(|w| {
@@ -256,6 +306,17 @@ fn comment_diameter(up: &str) -> Option<f64> {
             }
         }
     }
+    // A bare number naming the tool before its kind (Mastercam `T1 | 10. FLAT ENDMILL | H1 | D1`).
+    let words: Vec<&str> = up.split(|c: char| c.is_whitespace() || matches!(c, '|' | '(' | ')' | ',')).filter(|w| !w.is_empty()).collect();
+    const KINDS: [&str; 13] = ["FLAT", "END", "BALL", "BULL", "DRILL", "SPOT", "CENTER", "CHAMFER", "FACE", "REAM", "TAP", "BORE", "MILL"];
+    for w in words.windows(2) {
+        if w[0].chars().all(|c| c.is_ascii_digit() || c == '.')
+            && KINDS.iter().any(|k| w[1].starts_with(k))
+            && let Some(v) = number(w[0])
+        {
+            return Some(v);
+        }
+    }
     // `D18` as a word of its own (`DRILL-D8.5`, `REAMER_22MM`, `SPIRAL_DRILL_20MM`).
     for word in up.split(|c: char| c.is_whitespace() || matches!(c, ',' | '-' | '_' | '(' | ')' | '"' | '\'' | ';')) {
         if let Some(rest) = word.strip_prefix('D') {
@@ -273,6 +334,9 @@ fn comment_diameter(up: &str) -> Option<f64> {
     }
     em_word(up)
 }
+
+/// How many comments since the previous operation the next tool change looks at.
+const MAX_COMMENTS: usize = 256;
 
 struct Builder {
     operation: Operation,
@@ -549,29 +613,37 @@ impl<'p> Recovery<'p> {
                     self.name_tool(&name);
                     self.name_pending = false;
                 }
-                // A comment on the tool-change block or the one before names the tool.
-                // A comment on the tool-change block or up to three lines before names the tool.
-                // The closest one stating a diameter or a kind wins, else the closest.
-                // A comment that names another tool (`T2 ...` of a header tool list) is not
-                // this one's; without a near comment stating facts, the tool list's line is.
-                let near: Vec<&String> = self
+                // The comments since the previous operation (or the program start) that
+                // name this tool or no tool are this tool's: a comment naming another tool
+                // (`T2 ...` of a header tool list) is not. Nearest first.
+                let here: Vec<(u32, &String)> = self
                     .comments
                     .iter()
                     .rev()
-                    .filter(|(l, s)| *l + 3 >= c.line && listed_tool(s).is_none_or(|n| n == *t))
-                    .map(|(_, s)| s)
+                    .filter_map(|(l, s)| {
+                        let named = listed_tool(s);
+                        named.is_none_or(|n| n == *t).then_some((*l, s))
+                    })
                     .collect();
+                // Up to three lines before the change (or on its block) is near.
+                let near: Vec<&String> = here.iter().filter(|(l, _)| *l + 3 >= c.line).map(|(_, s)| *s).collect();
+                let diameter = |s: &&String| parse_tool_comment(s).diameter.is_some();
                 let states = |s: &str| {
                     let f = parse_tool_comment(s);
                     f.diameter.is_some() || f.kind.is_some()
                 };
-                // A diameter near the change first, then the tool list, then a kind near it
-                // (an operation's name, `DRILL1`, says less than the list).
+                // A diameter near the change first, then the nearest comment naming this tool
+                // with a diameter (`( T1 | 10. FLAT ENDMILL | H1 | D1 )` further up, an
+                // operation header), then the tool list, then the nearest diameter further
+                // up, then a kind near it (an operation's name, `DRILL1`, says less than the
+                // list).
                 let best = near
                     .iter()
-                    .find(|s| parse_tool_comment(s).diameter.is_some())
+                    .find(|s| diameter(s))
                     .map(|s| s.to_string())
+                    .or_else(|| here.iter().map(|(_, s)| *s).find(|s| listed_tool(s).is_some() && diameter(s)).cloned())
                     .or_else(|| self.listed.get(t).cloned())
+                    .or_else(|| here.iter().map(|(_, s)| *s).find(diameter).cloned())
                     .or_else(|| near.iter().find(|s| states(s)).map(|s| s.to_string()))
                     .or(near.first().map(|s| s.to_string()));
                 self.comments.clear();
@@ -624,7 +696,7 @@ impl<'p> Recovery<'p> {
                     }
                 }
                 self.comments.push((c.line, s.trim().to_owned()));
-                if self.comments.len() > 4 {
+                if self.comments.len() > MAX_COMMENTS {
                     self.comments.remove(0);
                 }
                 if self.name_pending {
@@ -692,7 +764,12 @@ impl<'p> Recovery<'p> {
             && (t.name.is_none() || t.source == ToolSource::Unknown)
         {
             t.name.get_or_insert_with(|| comment.to_owned());
-            let facts = parse_tool_comment(comment);
+            let mut facts = parse_tool_comment(comment);
+            // A tool statement's numbers are in the program's units.
+            if apt_tool_statement(&comment.to_ascii_uppercase()).is_some() {
+                facts.diameter = facts.diameter.map(|d| round_sig(d * self.k));
+                facts.corner_radius = facts.corner_radius.map(|r| round_sig(r * self.k));
+            }
             if t.diameter.is_none() && facts.diameter.is_some() {
                 t.diameter = facts.diameter;
                 t.corner_radius = t.corner_radius.or(facts.corner_radius);
@@ -717,6 +794,8 @@ impl<'p> Recovery<'p> {
     }
 
     fn cut(&mut self, mv: Move, c: &Canon) {
+        // Comments before a cut are the operation's, not the next tool's.
+        self.comments.clear();
         let tool_kind = self.tools.get(&self.tool).map_or(ToolKind::Unknown, |t| t.kind);
         let operation = self.in_cycle.map_or(Operation::FreeformMilling, |k| Operation::from_cycle(k, tool_kind));
         let tech = self.technology();
@@ -1170,6 +1249,39 @@ mod tests {
         assert_eq!(parse_tool_comment("D=10. CR=0.").corner_radius, Some(0.0));
         assert_eq!(f("EM10"), (Some(ToolKind::EndMill), Some(10.0)));
         assert_eq!(f("T=\"EM10\""), (Some(ToolKind::EndMill), Some(10.0)));
+        // Mastercam's tool list: the number before the kind; `D1` there is the offset.
+        assert_eq!(f("T1 | 10. FLAT ENDMILL | H1 | D1"), (Some(ToolKind::EndMill), Some(10.0)));
+    }
+
+    #[test]
+    fn apt_tool_statements() {
+        let f = |s: &str| {
+            let f = parse_tool_comment(s);
+            (f.kind, f.diameter, f.corner_radius)
+        };
+        assert_eq!(f("TLDATA/MILL,10.0000,0.0000,75.0000,0.0000,0.0000"), (Some(ToolKind::EndMill), Some(10.0), Some(0.0)));
+        assert_eq!(f("TLDATA/MILL,0.7500,0.1200,4.0000,0.0000,0.0000"), (Some(ToolKind::BullnoseEndMill), Some(0.75), Some(0.12)));
+        assert_eq!(f("TLDATA/DRILL,MILL,6.8,0,80,118,40"), (Some(ToolKind::TwistDrill), Some(6.8), Some(0.0)));
+        assert_eq!(f("CUTTER/ 12.0, 6.0, 0, 6.0, 0, 0, 50"), (Some(ToolKind::BallEndMill), Some(12.0), Some(6.0)));
+        assert_eq!(f("CUTTER/2.4,0,1.2,.721033,31.,0,60."), (Some(ToolKind::TwistDrill), Some(2.4), Some(0.0)));
+        assert_eq!(
+            f("CUTTER/ 6.000000,0.000000,3.000000,1.802582,31.000000,0.000000,102.000000,"),
+            (Some(ToolKind::TwistDrill), Some(6.0), Some(0.0))
+        );
+        assert_eq!(f("CUTTER/50.,0,25.,0,0,0,40."), (None, Some(50.0), Some(0.0)));
+        assert_eq!(f("CUTTER/10"), (None, Some(10.0), None));
+    }
+
+    #[test]
+    fn tools_a_comment_names() {
+        for (s, n) in
+            [("T1 | 10. FLAT ENDMILL", Some(1)), ("TOOL 4 - D10", Some(4)), ("TOOL: 12 DRILL", Some(12)), ("LOAD/TOOL,3", Some(3))]
+        {
+            assert_eq!(super::listed_tool(s), n, "{s}");
+        }
+        for s in ["TOOL PATH/POCKET_4,TOOL,ENDMILL_D10", "TAP M8", "TOOLS", "T12X"] {
+            assert_eq!(super::listed_tool(s), None, "{s}");
+        }
     }
 
     #[test]

@@ -324,6 +324,10 @@ fn record(st: &mut RecordState, recs: &Records, dialect: &Dialect, block: &mut B
             }
             push_codes(block, &def.codes);
         }
+        RecordAction::Statement => {
+            block.comments.push(st.range(lead, body.len()));
+            push_codes(block, &def.codes);
+        }
         RecordAction::Ignore => {}
         action => {
             let toks = tokens(st, &buf, rest_at);
@@ -370,7 +374,7 @@ fn record(st: &mut RecordState, recs: &Records, dialect: &Dialect, block: &mut B
                         st.prev = None;
                     }
                 }
-                RecordAction::Text | RecordAction::Name | RecordAction::Ignore => {}
+                RecordAction::Text | RecordAction::Name | RecordAction::Statement | RecordAction::Ignore => {}
             }
         }
     }

@@ -440,7 +440,10 @@ fn the_daemon_compares_a_shop_program_with_its_cl_original() {
     assert_eq!(wait_for("SELECT id FROM revisions", 3).len(), 3);
     // The operator slows the pocket's contour feed from 600 to 450; the drilling program
     // goes to the machine as posted.
-    let pocket = std::fs::read_to_string(programs.join("pocket.nc")).unwrap().replace("F600.", "F450.");
+    // The CL file states its tool (`TLDATA/MILL,10,...`); the posted program says it in
+    // the tool-change comment, as posts write it, so both plans know the D10 end mill.
+    let pocket =
+        std::fs::read_to_string(programs.join("pocket.nc")).unwrap().replace("F600.", "F450.").replace("T4 M6\n", "T4 M6 (D10 ENDMILL)\n");
     std::fs::write(path("share/POCKET.nc"), pocket).unwrap();
     std::fs::copy(programs.join("drill_ream.nc"), path("share/DRILL_REAM.nc")).unwrap();
     std::fs::copy(programs.join("profile.nc"), path("share/PROFILE.nc")).unwrap();
@@ -670,4 +673,27 @@ fn the_tool_axis_of_a_5_axis_cl_file_is_what_its_post_made_b_and_c_of() {
         }
     }
     assert!(tilted > 300, "{tilted}");
+}
+
+/// The plan of a CL file with no tool table: what the file itself says about its tools.
+fn read_bare(file: &str) -> Analysis {
+    let path = crate::root().join("tests/programs/cldata").join(file);
+    analyze(&std::fs::read(&path).unwrap(), &Registry::shipped().get("cldata").unwrap(), &Profile::default())
+}
+
+#[test]
+fn the_tool_statements_give_the_tool_s_geometry() {
+    // NX `TLDATA/MILL,10,0,75,0,0` before `LOAD/TOOL,4`: a D10 end mill, so the pocket its
+    // centre line runs around is 60 x 40 with the tool's radius as its corner radius.
+    for file in ["pocket_nx.cls", "pocket_catia.aptsource"] {
+        let a = read_bare(file);
+        assert!(findings(&a).is_empty(), "{file}: {:#?}", findings(&a));
+        let t = &a.plan.tools[0];
+        assert_eq!((t.number, t.diameter, t.corner_radius), (4, Some(10.0), Some(0.0)), "{file}");
+        let f = a.plan.features.iter().find(|f| matches!(f.kind, ncplan::plan::FeatureKind::ClosedPocket { .. })).expect(file);
+        let ncplan::plan::FeatureKind::ClosedPocket { rectangle, .. } = &f.kind else { unreachable!() };
+        assert_eq!(*rectangle, Some((60.0, 40.0)), "{file}");
+        // The same plan as with the shop's tool table.
+        assert_eq!(a.plan.features, read(file, "cldata").plan.features, "{file}");
+    }
 }

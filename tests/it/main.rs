@@ -13,6 +13,7 @@ mod edits;
 mod encodings;
 mod equivalence;
 mod express;
+mod fagor;
 mod faults;
 mod first_start;
 mod flow;
@@ -23,6 +24,7 @@ mod plan;
 mod robustness;
 mod shop;
 mod stepnc;
+mod tool_comments;
 mod translate;
 mod web;
 

@@ -1,0 +1,164 @@
+//! Tool comments further from the change: a comment that names the tool being changed to
+//! (`T1 ...`, `TOOL 1 ...`), or names no tool, anywhere before the change since the previous
+//! operation (or in the program's header) gives that tool's facts; the nearest one wins,
+//! and a comment naming another tool is never this one's.
+
+use ncplan::diag::Severity;
+use ncplan::dialect::Registry;
+use ncplan::interp::Profile;
+use ncplan::pipeline::{self, Analysis};
+use ncplan::plan::ToolKind;
+
+fn analyze(dialect: &str, program: &str) -> Analysis {
+    pipeline::analyze(program.as_bytes(), &Registry::shipped().get(dialect).unwrap(), &Profile::default())
+}
+
+/// (tool number, diameter, kind) of every tool the plan uses.
+fn tools(a: &Analysis) -> Vec<(u32, Option<f64>, ToolKind)> {
+    let errors: Vec<String> = a.diagnostics.iter().filter(|d| d.severity == Severity::Error).map(|d| d.message.clone()).collect();
+    assert!(errors.is_empty(), "{errors:#?}");
+    a.plan.tools.iter().map(|t| (t.number, t.diameter, t.kind)).collect()
+}
+
+#[test]
+fn a_mastercam_header_lists_every_tool_for_haas() {
+    // The `D1` of the list is the radius offset, not the diameter.
+    let program = "%
+O0100 (BRACKET)
+(DATE=DD-MM-YY - 02-12-26 TIME=HH:MM - 07:00)
+(MCX FILE - BRACKET.MCAM)
+(NC FILE - O0100.NC)
+(MATERIAL - ALUMINUM MM - 2024)
+( T1 | 10. FLAT ENDMILL | H1 | D1 )
+( T2 | 6.8 DRILL | H2 )
+G21
+G0 G17 G40 G49 G80 G90
+T1 M6
+G0 G90 G54 X0. Y0. S3000 M3
+G43 H1 Z50.
+G1 Z-2. F100.
+X50.
+G0 Z50.
+M5
+T2 M6
+G0 G90 G54 X10. Y10. S2000 M3
+G43 H2 Z50.
+G98 G81 X10. Y10. Z-10. R2. F80.
+G80
+M5
+M30
+%
+";
+    let a = analyze("haas", program);
+    assert_eq!(tools(&a), [(1, Some(10.0), ToolKind::EndMill), (2, Some(6.8), ToolKind::TwistDrill)]);
+}
+
+#[test]
+fn a_fusion_header_and_an_operation_comment_further_up_for_fanuc() {
+    // Tool 1 from the header's list; tool 2 from the operation's comment five lines
+    // above its change; a comment in the middle of the first operation is not tool 2's.
+    let program = "%
+O0200
+(T1 D=12. CR=0. - ZMIN=-10. - FLAT END MILL)
+(T3 D=20. CR=0. - ZMIN=-2. - FACE MILL)
+G90 G94 G17
+G21
+(ADAPTIVE1)
+T1 M6
+S5000 M3
+G54
+G0 X0. Y0.
+G43 Z15. H1
+G1 Z-2. F300.
+(ROUGH 16MM FINISH PASS)
+X40.
+Y20.
+G0 Z15.
+M5
+(DRILL2 - TOOL 2 - D8.5 DRILL)
+G28 G91 Z0.
+G90
+(COMMENT WITHOUT FACTS)
+(SECOND LINE)
+(THIRD LINE)
+T2 M6
+S2000 M3
+G0 X10. Y10.
+G43 Z15. H2
+G98 G81 X10. Y10. Z-10. R2. F80.
+G80
+M30
+%
+";
+    let a = analyze("fanuc", program);
+    assert_eq!(tools(&a), [(1, Some(12.0), ToolKind::EndMill), (2, Some(8.5), ToolKind::TwistDrill)]);
+}
+
+#[test]
+fn a_siemens_operation_header_names_its_tool_further_up() {
+    let program = "; TOOL 3 - 16MM END MILL
+; OPERATION 1: ROUGH POCKET
+; MACHINE: DMU 50
+; CLEARANCE 50
+; STOCK TO LEAVE 0.2
+G17 G90 G71
+T3 M6
+S4000 M3
+G0 X0 Y0 Z50
+G1 Z-3 F200
+X30
+G0 Z50
+; TOOL 4 - 6MM BALL END MILL
+; OPERATION 2: FINISH
+G0 Z100
+G0 X0 Y0
+T4 M6
+S8000 M3
+G0 X0 Y0 Z50
+G1 Z-1 F500
+X30
+M30
+";
+    let a = analyze("siemens", program);
+    assert_eq!(tools(&a), [(3, Some(16.0), ToolKind::EndMill), (4, Some(6.0), ToolKind::BallEndMill)]);
+}
+
+#[test]
+fn an_nx_operation_header_names_its_tool_further_up() {
+    // No TLDATA: the operation's header `TOOL PATH/...,TOOL,ENDMILL_D10` seven lines up
+    // names the tool; the second operation's header after the first one's cuts is tool 2's.
+    let program = "TOOL PATH/POCKET_4,TOOL,ENDMILL_D10
+MSYS/0.0000,0.0000,0.0000,1.0000000,0.0000000,0.0000000,0.0000000,1.0000000,0.0000000
+$$ centerline data
+PAINT/PATH
+PAINT/SPEED,10
+PAINT/COLOR,186
+LOAD/TOOL,4,ADJUST,4
+SPINDL/RPM,3000.0000,CLW
+RAPID
+GOTO/0.0000,0.0000,50.0000
+FEDRAT/MMPM,200.0000
+GOTO/0.0000,0.0000,-2.0000
+GOTO/40.0000,0.0000,-2.0000
+RAPID
+GOTO/40.0000,0.0000,50.0000
+END-OF-PATH
+TOOL PATH/DRILLING,TOOL,DRILL_D6.8
+PAINT/PATH
+PAINT/SPEED,10
+PAINT/COLOR,186
+PAINT/COLOR,211
+LOAD/TOOL,2,ADJUST,2
+SPINDL/RPM,2000.0000,CLW
+RAPID
+GOTO/10.0000,10.0000,50.0000
+FEDRAT/MMPM,80.0000
+GOTO/10.0000,10.0000,-10.0000
+RAPID
+GOTO/10.0000,10.0000,50.0000
+END-OF-PATH
+FINI
+";
+    let a = analyze("cldata", program);
+    assert_eq!(tools(&a), [(2, Some(6.8), ToolKind::TwistDrill), (4, Some(10.0), ToolKind::EndMill)]);
+}
