@@ -1032,13 +1032,7 @@ fn translate_command(
     // They are asked for when the first such cycle needs them. Tool facts from the shop's
     // tool table go into tool comments, which read back where the table is not: they need
     // the plan first, only when the table has tools.
-    let needs_plan = config.profile.tools.values().any(|t| t.diameter.is_some());
-    let (hole_tops, tools) = if needs_plan {
-        let plan = pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan;
-        (crate::post::hole_tops(&plan), crate::post::tool_facts(&plan))
-    } else {
-        (Vec::new(), Vec::new())
-    };
+    let (hole_tops, tools) = pipeline::translation_facts(&source.text, &source_dialect, &config.profile);
     let opts = crate::post::Options {
         hole_tops,
         tools,

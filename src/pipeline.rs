@@ -46,6 +46,18 @@ pub fn analyze_plan(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analy
     plan_of(text::decode(bytes), dialect, profile)
 }
 
+/// Plan facts the post-processor writes from (`ncplan translate`, the web download): hole tops
+/// and tool facts from the shop's tool table. Only a tool table with diameters needs the plan
+/// first; otherwise the writer asks for hole tops itself when a cycle needs them.
+pub fn translation_facts(text: &str, dialect: &Dialect, profile: &Profile) -> (Vec<[f64; 3]>, Vec<crate::post::ToolFact>) {
+    if profile.tools.values().any(|t| t.diameter.is_some()) {
+        let plan = analyze_plan(text.as_bytes(), dialect, profile).plan;
+        (crate::post::hole_tops(&plan), crate::post::tool_facts(&plan))
+    } else {
+        (Vec::new(), Vec::new())
+    }
+}
+
 /// [`analyze_plan`] of bytes it may take: decoding reuses them, so the text is not a copy.
 pub fn analyze_plan_owned(bytes: Vec<u8>, dialect: &Dialect, profile: &Profile) -> Analysis {
     plan_of(text::decode_owned(bytes), dialect, profile)

@@ -511,6 +511,27 @@ vocab! {
     }
 }
 
+impl Meaning {
+    /// Whether the meaning is a canned drilling or boring cycle.
+    pub fn is_cycle(self) -> bool {
+        matches!(
+            self,
+            Meaning::CycleDrill
+                | Meaning::CycleDrillDwell
+                | Meaning::CyclePeckDrill
+                | Meaning::CycleChipBreak
+                | Meaning::CycleTap
+                | Meaning::CycleTapLeft
+                | Meaning::CycleBore
+                | Meaning::CycleBoreStop
+                | Meaning::CycleBackBore
+                | Meaning::CycleBoreManual
+                | Meaning::CycleBoreDwell
+                | Meaning::CycleFineBore
+        )
+    }
+}
+
 impl Role {
     /// Number of roles, for role-indexed arrays.
     pub const COUNT: usize = Role::ALL.len();

@@ -207,16 +207,23 @@ impl Interpreter<'_> {
         self.call_surface = surface;
     }
 
-    /// The value the defined cycle has for `role`: its own argument, or the parameter it reads.
-    fn defined_arg(&self, role: Role) -> Option<f64> {
-        let defined = self.st.defined_cycle.as_ref()?;
+    /// The defined cycle's values: its own arguments, then the parameters it reads (the
+    /// last value of a role is the one in force).
+    fn defined_values(&self, defined: &Defined) -> Vec<(Role, f64)> {
         let cycle = &self.dialect.cycles[defined.cycle];
-        let param = cycle
-            .args
-            .iter()
-            .filter(|a| a.role == role)
-            .find_map(|a| a.param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v)));
-        param.or_else(|| defined.args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v))
+        let mut args = defined.args.clone();
+        for a in cycle.args.iter().filter(|a| a.param.is_some()) {
+            if let Some(v) = a.param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v)) {
+                args.push((a.role, v));
+            }
+        }
+        args
+    }
+
+    /// The value the defined cycle has for `role`.
+    fn defined_arg(&self, role: Role) -> Option<f64> {
+        let args = self.defined_values(self.st.defined_cycle.as_ref()?);
+        args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v)
     }
 
     /// Runs the defined cycle at the current position.
@@ -227,12 +234,7 @@ impl Interpreter<'_> {
             return;
         };
         let cycle = &self.dialect.cycles[defined.cycle];
-        let mut args = defined.args.clone();
-        for a in cycle.args.iter().filter(|a| a.param.is_some()) {
-            if let Some(v) = a.param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v)) {
-                args.push((a.role, v));
-            }
-        }
+        let mut args = self.defined_values(&defined);
         if let Some(surface) = surface {
             args.push((Role::ReferencePlane, surface));
         }

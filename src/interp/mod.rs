@@ -2814,26 +2814,5 @@ impl<'a> Interpreter<'a> {
     }
 }
 
-impl Meaning {
-    /// Whether the meaning is a canned drilling or boring cycle.
-    pub fn is_cycle(self) -> bool {
-        matches!(
-            self,
-            Meaning::CycleDrill
-                | Meaning::CycleDrillDwell
-                | Meaning::CyclePeckDrill
-                | Meaning::CycleChipBreak
-                | Meaning::CycleTap
-                | Meaning::CycleTapLeft
-                | Meaning::CycleBore
-                | Meaning::CycleBoreStop
-                | Meaning::CycleBackBore
-                | Meaning::CycleBoreManual
-                | Meaning::CycleBoreDwell
-                | Meaning::CycleFineBore
-        )
-    }
-}
-
 // Role and step sets are bit masks.
 const _: () = assert!(Role::COUNT <= 128 && Step::ALL.len() <= 32);

@@ -102,32 +102,9 @@ fn tool_comment(f: &ToolFact) -> String {
     s
 }
 
-/// Whether the output rules write a cycle's workpiece surface (Siemens RFP, Heidenhain
-/// Q203), which a G8x source does not state.
-pub fn states_surface(out: &Output) -> bool {
-    out.cycles.iter().any(states_surface_cycle)
-}
-
 /// Whether one output cycle writes the workpiece surface.
 fn states_surface_cycle(c: &CycleOut) -> bool {
     [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v))
-}
-
-/// Whether the program has canned cycles that state no workpiece surface (G81's R level
-/// only), for which the writer wants [`hole_tops`] from the plan. Runs the interpreter with
-/// a sink that keeps nothing.
-pub fn needs_hole_tops(text: &str, dialect: &crate::dialect::Dialect, profile: &crate::interp::Profile) -> bool {
-    struct Scan(bool);
-    impl CanonSink for Scan {
-        fn emit(&mut self, canon: Canon) {
-            if let CanonOp::CycleBegin(i) = &canon.op {
-                self.0 |= i.surface.is_none();
-            }
-        }
-    }
-    let mut scan = Scan(false);
-    crate::interp::interpret(text, dialect, profile, &mut scan);
-    scan.0
 }
 
 /// The hole tops of a plan, for [`Options::hole_tops`].

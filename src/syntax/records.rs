@@ -715,24 +715,6 @@ fn arc(st: &mut RecordState, recs: &Records, dialect: &Dialect, c: Circle, end: 
     st.pos = Some(end);
 }
 
-fn is_cycle(m: Meaning) -> bool {
-    matches!(
-        m,
-        Meaning::CycleDrill
-            | Meaning::CycleDrillDwell
-            | Meaning::CyclePeckDrill
-            | Meaning::CycleChipBreak
-            | Meaning::CycleTap
-            | Meaning::CycleTapLeft
-            | Meaning::CycleBore
-            | Meaning::CycleBoreStop
-            | Meaning::CycleBackBore
-            | Meaning::CycleBoreManual
-            | Meaning::CycleBoreDwell
-            | Meaning::CycleFineBore
-    )
-}
-
 fn cycle(
     st: &mut RecordState,
     def: &RecordDef,
@@ -754,7 +736,7 @@ fn cycle(
                     for &c in &m.codes {
                         match dialect.codes[c].meaning {
                             Meaning::CycleCancel => cancel = Some(c),
-                            x if is_cycle(x) => kind = Some(c),
+                            x if x.is_cycle() => kind = Some(c),
                             _ => codes.push(c),
                         }
                     }

@@ -496,14 +496,7 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
     let stem = std::path::Path::new(&edited.path).file_stem().map(|x| x.to_string_lossy().into_owned());
     let name = crate::pipeline::program_name(&source.text).or(stem).unwrap_or_else(|| "PROGRAM".into());
     let profile = &s.config.profile;
-    // As `ncplan translate --revision`: hole tops are asked for by the writer when a cycle
-    // needs them; tool facts from the shop's tool table need the plan first.
-    let (hole_tops, tools) = if profile.tools.values().any(|t| t.diameter.is_some()) {
-        let plan = crate::pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, profile).plan;
-        (crate::post::hole_tops(&plan), crate::post::tool_facts(&plan))
-    } else {
-        (Vec::new(), Vec::new())
-    };
+    let (hole_tops, tools) = crate::pipeline::translation_facts(&source.text, &source_dialect, profile);
     let opts = crate::post::Options {
         hole_tops,
         tools,
