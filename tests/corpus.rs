@@ -35,7 +35,7 @@ fn folder_dialect(folder: &str) -> Option<&'static str> {
         "mazak" => Some("mazak"),
         // Fanuc and Okuma folders hold machining-centre and lathe programs: told from each program.
         "siemens" => Some("siemens"),
-        "heidenhain" => Some("heidenhain"),
+        // Klartext and DIN/ISO programs: told from each program (the family stays heidenhain).
         "linuxcnc" => Some("linuxcnc"),
         "centroid" => Some("centroid"),
         _ => None,

@@ -339,6 +339,7 @@ impl Cx {
             program_delimiter: None,
             leader_skipped: false,
             delimiter_first_line: false,
+            header_words: false,
             expression: None,
             parameter: None,
             block_end: None,
@@ -480,10 +481,11 @@ impl Cx {
                     }
                 }
                 "program-delimiter" => {
-                    self.shape(c, &["char", "opening", "leader"], &[]);
+                    self.shape(c, &["char", "opening", "leader", "header"], &[]);
                     lex.program_delimiter = self.char_attr(c, "char");
                     lex.leader_skipped = self.either(c, "leader", "read", "skipped");
                     lex.delimiter_first_line = self.either(c, "opening", "anywhere", "first-line");
+                    lex.header_words = self.either(c, "header", "skipped", "words");
                 }
                 "expression" => {
                     self.shape(c, &["open", "close"], &[]);
@@ -563,6 +565,7 @@ impl Cx {
             machine_m_codes: false,
             resident_programs: false,
             tool_word_changes: false,
+            arc_centres_pole: false,
             initial_feed_per_rev: false,
             tapping: TapStyle::RPlane,
             magnitude_rounding: false,
@@ -600,6 +603,7 @@ impl Cx {
                 "machine-m-codes",
                 "resident-programs",
                 "tool-word-changes",
+                "arc-centres",
                 "initial-feed",
                 "tap-retract",
                 "integer-rounding",
@@ -649,6 +653,7 @@ impl Cx {
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
         b.resident_programs = self.bool(el, "resident-programs", false);
         b.tool_word_changes = self.bool(el, "tool-word-changes", false);
+        b.arc_centres_pole = self.either(el, "arc-centres", "offsets", "pole");
         b.initial_feed_per_rev = self.either(el, "initial-feed", "per-minute", "per-rev");
         b.motion_in_place = self.either(el, "motion-without-axes", "mode-only", "in-place");
         b.magnitude_rounding = self.either(el, "integer-rounding", "floor-ceiling", "toward-zero");
@@ -1018,7 +1023,8 @@ impl Cx {
                 let forms = self.forms(c);
                 let gives_way = self.bool(c, "gives-way", false);
                 let args = self.code_args(c, addresses, &params);
-                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms, gives_way, args });
+                let named = keyword.is_none() && self.attr(c, "rest") == Some("words");
+                codes.push(CodeDef { letter, number, meaning, index, name, group: gi, params, keyword, forms, gives_way, args, named });
             }
         }
         (groups, codes)

@@ -138,6 +138,9 @@ pub struct Lexical {
     /// and one anywhere else without that opening is an error (LinuxCNC), rather than
     /// delimiting wherever it stands (tape format).
     pub delimiter_first_line: bool,
+    /// Whether a delimiter line with a name after the mark (`%123 G71 *`, or after a block
+    /// number) names the program and has the words after the name read (Heidenhain ISO).
+    pub header_words: bool,
     /// Expression brackets, such as `[` `]`.
     pub expression: Option<(char, char)>,
     /// Parameter sigil (`#`), and whether `#<name>` names are allowed.
@@ -314,6 +317,10 @@ pub struct Behaviour {
     /// Whether the T word changes the tool at once (a lathe turret indexes on `T0202`, with
     /// no M6) and puts its offset in force.
     pub tool_word_changes: bool,
+    /// Whether I, J and K are the circle centre, absolute unless G91, kept as the pole for
+    /// the arcs and polar moves after, and an arc without them turns about the pole
+    /// (Heidenhain ISO, `arc-centres="pole"`).
+    pub arc_centres_pole: bool,
     /// Whether F is a feed per revolution from the start (a lathe's power-on G99).
     pub initial_feed_per_rev: bool,
     /// How a tapping cycle leaves the hole.
@@ -580,6 +587,9 @@ pub struct CodeDef {
     /// The roles the code gives its words' values (`I:pattern-radius`: Haas G70's I is the
     /// radius of its bolt circle, whatever I means elsewhere).
     pub args: Vec<(Role, Role)>,
+    /// Whether a G or M code is followed by its display name in the control's language
+    /// (Heidenhain ISO's `G200 DRILLING`, `rest="words"`), which is read past.
+    pub named: bool,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.

@@ -16,6 +16,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("siemens.xml", include_str!("../../dialects/siemens.xml")),
     ("heidenhain.xml", include_str!("../../dialects/heidenhain.xml")),
     // Derived dialects come after their bases.
+    ("heidenhain_iso.xml", include_str!("../../dialects/heidenhain_iso.xml")),
     ("haas.xml", include_str!("../../dialects/haas.xml")),
     ("mitsubishi.xml", include_str!("../../dialects/mitsubishi.xml")),
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),

@@ -31,7 +31,9 @@ impl Interpreter<'_> {
     /// `CYCL DEF 200`: remembers cycle 200 for later calls; a cycle that acts where it is
     /// written (`CYCL DEF 7.1 X+10`, a datum shift) acts now.
     pub(super) fn define_numbered_cycle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let Some(number) = self.slot(Role::CycleNumber) else {
+        // `CYCL DEF 200` gives the number as its value; a G code (`G200`) is the number.
+        let own = def.keyword.is_none().then(|| f64::from(def.number) / 10.0);
+        let Some(number) = self.slot(Role::CycleNumber).or(own) else {
             diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs a cycle number", def.label())));
             return;
         };

@@ -1333,6 +1333,27 @@ impl<'a> Interpreter<'a> {
             self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
             self.filled |= 1 << role as u32;
         }
+        // A motion code may give a word the role of a polar coordinate (Heidenhain ISO's
+        // `G11 R+20 H+30`: R is the polar radius there, an arc's radius elsewhere).
+        if let Some(c) = self.active_motion_code() {
+            let def = self.code(c);
+            for &(from, to) in &def.args {
+                if matches!(to, Role::PolarRadius | Role::PolarAngle) && self.slots[to as usize].is_none() {
+                    if let Some(s) = self.slots[from as usize].take() {
+                        self.slots[to as usize] = Some(s);
+                        self.filled |= 1 << to as u32;
+                    }
+                }
+            }
+        }
+        // Where I J K are the circle centre and the pole (Heidenhain ISO), a block that
+        // writes them sets the pole, with or without an arc.
+        if self.dialect.behaviour.arc_centres_pole {
+            let (a0, a1, _) = self.st.plane.axes();
+            if let Some(c) = self.centre_words(a0, a1, self.st.pos) {
+                self.st.pole = c;
+            }
+        }
         // Polar words (`PA+90`) name an end point as axis words do.
         const POSITION: u128 = {
             let mut m = 1 << Role::PolarRadius as u32 | 1 << Role::PolarAngle as u32;
@@ -1466,6 +1487,10 @@ impl<'a> Interpreter<'a> {
         let mut motion = None;
         for w in &block.words {
             if !matches!(w.role, Role::P | Role::Q | Role::L | Role::R | Role::I | Role::J | Role::K | Role::H | Role::D | Role::E) {
+                continue;
+            }
+            // The centre words set the pole in any block.
+            if self.dialect.behaviour.arc_centres_pole && matches!(w.role, Role::I | Role::J | Role::K) {
                 continue;
             }
             let motion = *motion.get_or_insert_with(|| self.active_motion_code());

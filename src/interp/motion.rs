@@ -77,7 +77,7 @@ impl Interpreter<'_> {
     /// The arc centre the block's I, J or K words give in the plane of axes `a0`, `a1`: they are
     /// incremental from the start (G91.1) or absolute (G90.1), or per word (`I=AC(28)`).
     /// `None` when the block has none in that plane.
-    fn centre_words(&self, a0: usize, a1: usize, start: [f64; 6]) -> Option<(f64, f64)> {
+    pub(super) fn centre_words(&self, a0: usize, a1: usize, start: [f64; 6]) -> Option<(f64, f64)> {
         let off = |axis: usize| self.slot(OFFSETS[axis]);
         if off(a0).is_none() && off(a1).is_none() {
             return None;
@@ -87,6 +87,8 @@ impl Interpreter<'_> {
             let incremental = match self.slots[OFFSETS[axis] as usize].map(|s| s.mode) {
                 Some(WordMode::Absolute) => false,
                 Some(WordMode::Incremental) => true,
+                // Where the centre is the pole (Heidenhain ISO), G91 makes it incremental.
+                _ if self.dialect.behaviour.arc_centres_pole => self.st.distance == DistanceMode::Incremental,
                 _ => self.st.arc_incremental,
             };
             if incremental { start[axis] + o } else { o }
@@ -647,6 +649,14 @@ impl Interpreter<'_> {
             } else {
                 diags.push(Diagnostic::new(Code::MissingParameter, block.range, "AR= needs an end point or a centre (I, J, K)"));
                 return;
+            }
+        }
+        if self.dialect.behaviour.arc_centres_pole && given_centre.is_none() && matches!(def.meaning, Meaning::ArcCw | Meaning::ArcCcw) {
+            // I J K are the circle centre and stay the pole; without them (and without R) the
+            // arc turns about the pole.
+            given_centre = self.centre_words(a0, a1, start).or_else(|| self.slot(Role::R).is_none().then_some(self.st.pole));
+            if let Some(c) = given_centre {
+                self.st.pole = c;
             }
         }
         let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);

@@ -164,8 +164,12 @@ impl Lexer<'_, '_> {
             let end = self.line_end();
             let rest = self.text[self.i + 1..end].trim_start();
             self.block.delimiter = rest.is_empty() || lex.comments.iter().any(|r| rest.starts_with(r.open));
-            self.i = end;
-            return self.i;
+            if lex.header_words && !self.block.delimiter {
+                self.header_name();
+            } else {
+                self.i = end;
+                return self.i;
+            }
         }
         if lex.leading_block_number && self.peek().is_some_and(|c| c.is_ascii_digit()) {
             let start = self.i;
@@ -198,6 +202,11 @@ impl Lexer<'_, '_> {
             if lex.block_end == Some(c as char) {
                 let end = self.i;
                 return end;
+            }
+            if lex.header_words && lex.program_delimiter == Some(c as char) && self.block.words.is_empty() && self.block.number.is_some() {
+                // `N99999999 %123 G71 *`: the program's end names it again.
+                self.header_name();
+                continue;
             }
             let at_start = |b: &Block| b.words.is_empty() && b.assigns.is_empty() && b.control.is_none();
             if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (!r.block_start || at_start(self.block))) {
@@ -384,6 +393,14 @@ impl Lexer<'_, '_> {
             mode: WordMode::Modal,
             cycle_arg: false,
         });
+        // `G200 DRILLING`: a code the dictionary names in the block after it.
+        if matches!(role, Role::G | Role::M)
+            && value >= 0.0
+            && value < 10_000.0
+            && self.dialect.code(b[start].to_ascii_uppercase() as char, (value * 10.0).round() as u32).is_some_and(|c| c.named)
+        {
+            self.display_name();
+        }
         true
     }
 
@@ -658,7 +675,15 @@ impl Lexer<'_, '_> {
                 }
             }
             KeywordRest::Line => self.i = self.line_end(),
-            KeywordRest::Words => loop {
+            KeywordRest::Words => self.display_name(),
+        }
+        true
+    }
+
+    /// A display name after a code, in the control's language (`DRILLING`, `DATUM SHIFT`,
+    /// `PLAN D'USINAGE`), read past up to the first address word.
+    fn display_name(&mut self) {
+        loop {
                 self.skip_blanks();
                 let from = self.i;
                 let end = self.b[from..]
@@ -681,9 +706,17 @@ impl Lexer<'_, '_> {
                     self.i += 1;
                     let _ = self.number();
                 }
-            },
         }
-        true
+    }
+
+    /// Past a header's `%` and the program name after it (`%123`, `% 123`), where the dialect
+    /// reads the words after the name (`G71`).
+    fn header_name(&mut self) {
+        self.i += 1;
+        self.skip_blanks();
+        while self.peek().is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_') {
+            self.i += 1;
+        }
     }
 
     /// The end of an identifier (letters, digits, `_`) starting at `at`.
