@@ -337,6 +337,7 @@ impl Cx {
             block_skip: None,
             block_number: None,
             program_delimiter: None,
+            block_skip_levels: false,
             leader_skipped: false,
             delimiter_first_line: false,
             header_words: false,
@@ -461,7 +462,8 @@ impl Cx {
                     }
                 }
                 "block-skip" => {
-                    self.shape(c, &["char", "position"], &[]);
+                    self.shape(c, &["char", "position", "levels"], &[]);
+                    lex.block_skip_levels = self.bool(c, "levels", false);
                     let pos = match self.attr(c, "position").unwrap_or("line-start") {
                         "line-start" => SkipPosition::LineStart,
                         "line-start-or-after-number" => SkipPosition::LineStartOrAfterNumber,

@@ -123,6 +123,9 @@ pub struct Lexical {
     pub comments: Vec<CommentRule>,
     /// Block-skip (block-delete) character.
     pub block_skip: Option<(char, SkipPosition)>,
+    /// Whether a digit may follow the block-skip character (`/2`: the second skip switch's
+    /// blocks, Fanuc's additional optional block skip); the block is read as any skipped one.
+    pub block_skip_levels: bool,
     /// Address letter of block numbers (`N`).
     pub block_number: Option<char>,
     /// Characters that mark a statement keyword (`#CALL`, `$IF`, `%L 100`).

@@ -153,6 +153,9 @@ impl Lexer<'_, '_> {
         {
             self.block.skip = true;
             self.i += 1;
+            if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
+                self.i += 1; // `/2`: the second switch
+            }
             self.skip_blanks();
         }
         if let Some(d) = lex.program_delimiter
@@ -496,6 +499,9 @@ impl Lexer<'_, '_> {
                 if self.peek() == Some(skip as u8) {
                     self.block.skip = true;
                     self.i += 1;
+                    if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
+                        self.i += 1;
+                    }
                 }
             }
             return;

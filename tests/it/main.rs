@@ -9,6 +9,7 @@ mod cycles;
 mod daemon;
 mod derived;
 mod dialects;
+mod dialects_more;
 mod edits;
 mod encodings;
 mod equivalence;

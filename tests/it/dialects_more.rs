@@ -1,0 +1,154 @@
+//! Dialects and readings real shop programs needed (issue 17): Heidenhain TNC programs in
+//! DIN/ISO format, numbered block-skip switches, a lathe's roughing cycle under tool-nose
+//! compensation. Small programs of our own in each control's style.
+
+use ncplan::canon::write_call;
+use ncplan::diag::{Diagnostic, Severity};
+use ncplan::dialect::Registry;
+use ncplan::interp::{Profile, interpret};
+
+fn program(name: &str) -> String {
+    std::fs::read_to_string(crate::root().join("tests/programs/dialects_more").join(name)).unwrap()
+}
+
+/// The canonical calls of `text` in `dialect` (one per line), and the findings.
+fn run_with(dialect: &str, text: &str, profile: &Profile) -> (Vec<String>, Vec<Diagnostic>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(text, &d, profile, &mut out);
+    let calls = out
+        .iter()
+        .map(|c| {
+            let mut t = String::new();
+            write_call(&mut t, &c.op);
+            t.trim().to_owned()
+        })
+        .collect();
+    (calls, diags)
+}
+
+fn run(dialect: &str, text: &str) -> (Vec<String>, Vec<Diagnostic>) {
+    run_with(dialect, text, &Profile::default())
+}
+
+fn moves(calls: &[String]) -> Vec<&str> {
+    calls.iter().map(String::as_str).filter(|c| c.starts_with("STRAIGHT_") || c.starts_with("ARC_FEED")).collect()
+}
+
+fn errors(diags: &[Diagnostic]) -> Vec<String> {
+    diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect()
+}
+
+// ---- Heidenhain DIN/ISO ----
+
+/// A TNC program in ISO: the `%NAME G71` header, N blocks ending in `*`, G30/G31 blank,
+/// G99 tool definition, `T1 G17 S` tool call, absolute I J centres kept as the pole (a
+/// G02 without them turns about it, a block of I J alone moves it), G11/G13 polar moves
+/// with R and H, G91, a G200 cycle defined by the Q lines after it and called by M99 and G79.
+#[test]
+fn a_tnc_iso_program_reads_its_arcs_polar_moves_and_cycles() {
+    let (calls, diags) = run("heidenhain_iso", &program("tnc_iso_pocket.i"));
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(!diags.iter().any(|d| d.code.as_str() == "syntax::unused-word"), "{diags:?}");
+    assert!(calls.iter().any(|c| c == "USE_LENGTH_UNITS(CANON_UNITS_MM)"), "{calls:?}");
+    assert!(calls.iter().any(|c| c == "CHANGE_TOOL(1)"), "{calls:?}");
+    assert!(calls.iter().any(|c| c == "SET_SPINDLE_SPEED(0, 3000.0000)"), "{calls:?}");
+    let m = moves(&calls);
+    let want = [
+        // G02 X+70 Y+50 I+50 J+50: clockwise about (50, 50); then G02 X+30 Y+50 about the same pole
+        "ARC_FEED(70.0000, 50.0000, 50.0000, 50.0000, -1, -5.0000, 0.0000, 0.0000, 0.0000)",
+        "ARC_FEED(30.0000, 50.0000, 50.0000, 50.0000, -1, -5.0000, 0.0000, 0.0000, 0.0000)",
+        // I+40 J+50 alone moves the pole; G11 R+20 H+0 is 20 mm from it at 0°
+        "STRAIGHT_FEED(60.0000, 50.0000, 50.0000, 0.0000, 0.0000, 0.0000)",
+        // G13 H+90: counter-clockwise about the pole to 90°
+        "ARC_FEED(40.0000, 70.0000, 40.0000, 50.0000, 1, 50.0000, 0.0000, 0.0000, 0.0000)",
+        // G91 G01 X-10
+        "STRAIGHT_FEED(30.0000, 70.0000, 50.0000, 0.0000, 0.0000, 0.0000)",
+    ];
+    let mut at = 0;
+    for w in want {
+        let k = m[at..].iter().position(|c| *c == w).unwrap_or_else(|| panic!("{w} not after move {at}: {m:#?}"));
+        at += k + 1;
+    }
+    // Cycle 200 at X10 Y10 (M99), X90 Y10 (G79): from the set-up clearance to Q201 below Q203.
+    for (x, y) in [("10", "10"), ("90", "10")] {
+        let hole = format!("STRAIGHT_FEED({x}.0000, {y}.0000, -15.0000, 0.0000, 0.0000, 0.0000)");
+        let clear = format!("STRAIGHT_TRAVERSE({x}.0000, {y}.0000, 2.0000, 0.0000, 0.0000, 0.0000)");
+        assert!(m.contains(&hole.as_str()) && m.contains(&clear.as_str()), "{hole}: {m:#?}");
+    }
+    assert_eq!(calls.iter().filter(|c| c.starts_with("STRAIGHT_FEED") && c.contains("-15.0000")).count(), 2, "{m:#?}");
+    assert!(calls.iter().any(|c| c == "PROGRAM_END()"), "{calls:?}");
+}
+
+/// `%1 G70 *` opens an inch program: the header's units are read.
+#[test]
+fn a_tnc_iso_header_gives_the_units() {
+    let (calls, diags) = run("heidenhain_iso", "%1 G70 *\nN10 G00 G90 X+1 Y+1 Z+1 *\nN20 M30 *\nN99999999 %1 G70 *\n");
+    assert!(diags.is_empty(), "{diags:?}");
+    assert_eq!(calls[0], "USE_LENGTH_UNITS(CANON_UNITS_INCHES)", "{calls:?}");
+    assert_eq!(moves(&calls), ["STRAIGHT_TRAVERSE(1.0000, 1.0000, 1.0000, 0.0000, 0.0000, 0.0000)"]);
+}
+
+/// Told from its text: an ISO program is heidenhain_iso, a Klartext one heidenhain, both of
+/// the heidenhain family; a Fanuc program is neither.
+#[test]
+fn tnc_iso_is_told_from_klartext_and_from_fanuc() {
+    let r = Registry::shipped();
+    let iso = program("tnc_iso_pocket.i");
+    let s = r.sniff(&iso, Some("POCKET.I"), "linuxcnc");
+    assert_eq!(s.dialect, "heidenhain_iso", "{s:?}");
+    let s = r.sniff(&iso, Some("pocket.nc"), "linuxcnc");
+    assert_eq!(s.dialect, "heidenhain_iso", "{s:?}");
+    assert_eq!(r.get("heidenhain_iso").unwrap().family, "heidenhain");
+    let klartext = "0 BEGIN PGM P1 MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-20\n2 TOOL CALL 1 Z S3000\n3 L X+10 Y+10 R0 FMAX M3\n\
+                    4 CYCL DEF 200 DRILLING ~\n  Q200=+2 ;SET-UP CLEARANCE ~\n  Q201=-10 ;DEPTH\n5 L X+20 FMAX M99\n6 END PGM P1 MM\n";
+    assert_eq!(r.sniff(klartext, Some("P1.H"), "linuxcnc").dialect, "heidenhain");
+    let fanuc = "%\nO1234\nG90 G54 G0 X10. Y5.\nG43 H1 Z5.\nG81 Z-5. R2. F100.\nM30\n%\n";
+    assert_eq!(r.sniff(fanuc, Some("p.nc"), "linuxcnc").dialect, "fanuc");
+}
+
+// ---- numbered block skip ----
+
+/// `/1`-`/9` name the optional block skip switches (Fanuc's additional block skip, in
+/// Mazak's EIA and Haas programs too): each such block is a skipped block, read when the
+/// switch is off and left out when it is on.
+#[test]
+fn numbered_block_skips_are_skipped_blocks() {
+    let text = program("bskip_flags.eia");
+    for dialect in ["mazak", "fanuc", "haas"] {
+        let (calls, diags) = run(dialect, &text);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        assert!(moves(&calls).contains(&"STRAIGHT_TRAVERSE(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"), "{dialect}: {calls:?}");
+        let on = Profile { block_delete: true, ..Profile::default() };
+        let (calls, diags) = run_with(dialect, &text, &on);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        assert!(moves(&calls).contains(&"STRAIGHT_TRAVERSE(1.0000, 1.0000, 1.0000, 0.0000, 0.0000, 0.0000)"), "{dialect}: {calls:?}");
+    }
+    // LinuxCNC has no switch numbers: `/1` is a block delete followed by a stray number.
+    let (_, diags) = run("linuxcnc", "G0 X0\n/1 G0 X1\nM2\n");
+    assert!(diags.iter().any(|d| d.is_error()), "{diags:?}");
+}
+
+// ---- a lathe's roughing cycle under tool-nose compensation ----
+
+/// G42 in force before a Fanuc-style G71/G70: the cycle runs (passes along Z, then the
+/// finishing pass), with the tool-nose radius in the control's offsets a note, not an error.
+#[test]
+fn a_lathe_roughing_cycle_runs_under_tool_nose_compensation() {
+    let text = program("turn_g71_nose_comp.nc");
+    let (calls, diags) = run("fanuc_lathe", &text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(diags.iter().any(|d| d.code.as_str() == "interp::unknown-value" && d.severity == Severity::Note), "{diags:?}");
+    let m = moves(&calls);
+    // The first pass, 2 mm deep on the diameter from X52: X48 (radius 24) to the allowance.
+    assert!(m.contains(&"STRAIGHT_FEED(24.0000, 0.0000, -49.9000, 0.0000, 0.0000, 0.0000)"), "{m:#?}");
+    // The roughing's last pass follows the contour shifted by U0.4 W0.1.
+    assert!(m.contains(&"STRAIGHT_FEED(20.2000, 0.0000, -29.9000, 0.0000, 0.0000, 0.0000)"), "{m:#?}");
+    // G70 then finishes on the contour itself.
+    assert!(m.contains(&"STRAIGHT_FEED(20.0000, 0.0000, -30.0000, 0.0000, 0.0000, 0.0000)"), "{m:#?}");
+    // Haas's one-block G71 under G41/G42 reads the same way.
+    let haas = text.replace("G71 U2. R0.5\nG71 P100 Q200 U0.4 W0.1 F0.25", "G71 P100 Q200 U0.4 W0.1 D2. F0.25");
+    let (calls, diags) = run("haas_lathe", &haas);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(moves(&calls).contains(&"STRAIGHT_FEED(20.2000, 0.0000, -29.9000, 0.0000, 0.0000, 0.0000)"), "{calls:#?}");
+}
