@@ -398,8 +398,7 @@ impl Lexer<'_, '_> {
         });
         // `G200 DRILLING`: a code the dictionary names in the block after it.
         if matches!(role, Role::G | Role::M)
-            && value >= 0.0
-            && value < 10_000.0
+            && (0.0..10_000.0).contains(&value)
             && self.dialect.code(b[start].to_ascii_uppercase() as char, (value * 10.0).round() as u32).is_some_and(|c| c.named)
         {
             self.display_name();
@@ -690,28 +689,28 @@ impl Lexer<'_, '_> {
     /// `PLAN D'USINAGE`), read past up to the first address word.
     fn display_name(&mut self) {
         loop {
-                self.skip_blanks();
-                let from = self.i;
-                let end = self.b[from..]
-                    .iter()
-                    .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/' | b'\'') || *c >= 0x80))
-                    .map_or(self.b.len(), |p| from + p);
-                let word = &self.b[from..end];
-                // A display name in the control's language (`DRILLING`, `DATUM SHIFT`,
-                // `PLAN D'USINAGE`, `PERÇAGE`) or a plain number; not an address
-                // word such as `X+0`, `Q200=2` or a lone axis letter.
-                let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
-                let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
-                let plain = !word.is_empty() && !mixed && !single_letter && !matches!(self.b.get(end), Some(b'=' | b'+'));
-                if !plain {
-                    break;
-                }
-                self.i = end;
-                // A setting shown with its value (`HSC-MODE:0` in cycle 32).
-                if self.peek() == Some(b':') && self.b.get(self.i + 1).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-')) {
-                    self.i += 1;
-                    let _ = self.number();
-                }
+            self.skip_blanks();
+            let from = self.i;
+            let end = self.b[from..]
+                .iter()
+                .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/' | b'\'') || *c >= 0x80))
+                .map_or(self.b.len(), |p| from + p);
+            let word = &self.b[from..end];
+            // A display name in the control's language (`DRILLING`, `DATUM SHIFT`,
+            // `PLAN D'USINAGE`, `PERÇAGE`) or a plain number; not an address
+            // word such as `X+0`, `Q200=2` or a lone axis letter.
+            let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
+            let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
+            let plain = !word.is_empty() && !mixed && !single_letter && !matches!(self.b.get(end), Some(b'=' | b'+'));
+            if !plain {
+                break;
+            }
+            self.i = end;
+            // A setting shown with its value (`HSC-MODE:0` in cycle 32).
+            if self.peek() == Some(b':') && self.b.get(self.i + 1).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-')) {
+                self.i += 1;
+                let _ = self.number();
+            }
         }
     }
 
