@@ -1617,6 +1617,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     ),
                 }
             }
+            // The wait for the orientation (LinuxCNC's `M19 Q`): every target's orientation code
+            // ends once the spindle is oriented, before the next block runs.
+            CanonOp::WaitOrientComplete(_) => {}
             CanonOp::ToolAxis(v) => {
                 let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
                 if !along_z {
@@ -1822,7 +1825,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     fn end_repeat(&mut self) {
         let Some(r) = self.repeat.as_ref() else { return };
         let (start, end, bs, be) = (r.start, r.end, r.block_start, r.block_end);
-        if self.buf.len() > end && self.same_pass(start, end, bs, be) {
+        if self.same_pass(start, end, bs, be) {
             self.buf.truncate(end);
             self.block = be;
             if let Some(r) = self.repeat.as_mut() {

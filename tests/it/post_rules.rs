@@ -89,6 +89,11 @@ fn an_additional_work_offset_is_written_by_its_number_where_the_target_has_them(
             "{to}: {verdict}\n{out}"
         );
     }
+    // Heidenhain selects a preset table row with cycle 247, read back as that work offset.
+    let g55 = fanuc.replace("G54.1 P12", "G55");
+    let (out, verdict) = round_trip(&source(&g55, "fanuc"), "heidenhain");
+    assert!(out.contains(" CYCL DEF 247 DATUM SETTING ~\nQ339=+2 ;DATUM NUMBER\n"), "{out}");
+    assert_eq!(verdict, "equal", "{out}");
     // Haas's G154 P5 goes to Fanuc's G54.1 P5.
     let haas = fanuc.replace("G54.1 P12", "G154 P5");
     let (out, verdict) = round_trip(&source(&haas, "haas"), "fanuc");
