@@ -56,13 +56,20 @@ fn a_repeated_run_is_the_targets_subprogram_call_or_section_repeat() {
             assert_eq!(out.matches("X10").count() + out.matches("X+10").count(), at, "{name} → {to}:\n{out}");
         }
     }
-    // Numbered blocks stay in order around and inside the section.
-    let (out, _) = round_trip(&source(WHILE, "fanuc"), "heidenhain");
-    let numbers: Vec<u64> = out.lines().filter_map(|l| l.split(' ').next()?.parse().ok()).collect();
-    assert!(numbers.windows(2).all(|w| w[1] == w[0] + 1), "{out}");
-    let (out, _) = round_trip(&source(WHILE, "fanuc"), "siemens");
-    let numbers: Vec<u64> = out.lines().filter_map(|l| l.strip_prefix('N')?.split(' ').next()?.parse().ok()).collect();
-    assert!(numbers.windows(2).all(|w| w[1] == w[0] + 10), "{out}");
+    // Numbered blocks stay in order around and inside the section, also where the first
+    // pass stays before it, and where passes that differ are written unrolled.
+    let stepping = "%\nO0004\nG21 G90 G17\nT1 M6\nS1000 M3\nG0 X0. Y0. Z5.\nG1 Z0. F100.\n#1=0\nWHILE [#1 LT 3] DO1\nG91 G1 Z-1.\nG90 G1 X10.\nG1 X0.\n#1=#1+1\nEND1\nG0 Z50.\nM30\n%\n";
+    for text in [SUB, WHILE, stepping] {
+        let (out, verdict) = round_trip(&source(text, "fanuc"), "heidenhain");
+        let numbers: Vec<u64> = out.lines().filter_map(|l| l.split(' ').next()?.parse().ok()).collect();
+        assert!(numbers.windows(2).all(|w| w[1] == w[0] + 1), "{out}");
+        assert!(same_toolpath(&verdict), "{verdict}\n{out}");
+        let (out, verdict) = round_trip(&source(text, "fanuc"), "siemens");
+        let numbers: Vec<u64> = out.lines().filter_map(|l| l.strip_prefix('N')?.split(' ').next()?.parse().ok()).collect();
+        assert!(numbers.windows(2).all(|w| w[1] == w[0] + 10), "{out}");
+        assert!(same_toolpath(&verdict), "{verdict}\n{out}");
+        assert_eq!(out.contains("REPEAT MARK1"), text != stepping, "{out}");
+    }
     // Fagor reads no M98 and has no counted loop here: written unrolled, with the note.
     let (out, verdict) = round_trip(&source(WHILE, "fanuc"), "fagor");
     assert_eq!(out.matches("X10").count(), 3, "{out}");
