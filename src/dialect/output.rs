@@ -93,7 +93,8 @@ pub enum Value {
     Seconds,
     /// Dwell, milliseconds.
     Millis,
-    /// Work offset index (1 = the first, G54).
+    /// Work offset index (1 = the first, G54); in `work-offset-extended`, the additional
+    /// offset's own number (`G54.1 P{wcs}`).
     Wcs,
     /// Work offset G number (54 … 59).
     WcsCode,
@@ -141,6 +142,12 @@ pub enum Value {
     Count,
     /// A repeated block run: its number in the program (1, 2, …).
     Loop,
+    /// A repeated block run: how many times it runs again after the first (`CALL LBL 1 REP
+    /// {again}`, `REPEAT LOOP1 P={again}`).
+    Again,
+    /// A repeated block run written as a subprogram: the subprogram's number (`O{sub}`,
+    /// `M98 P{sub}`), above the main program's and 1000.
+    Sub,
 }
 
 const VALUES: &[(&str, Value)] = &[
@@ -189,6 +196,8 @@ const VALUES: &[(&str, Value)] = &[
     ("orient-dir", Value::OrientDir),
     ("count", Value::Count),
     ("loop", Value::Loop),
+    ("again", Value::Again),
+    ("sub", Value::Sub),
 ];
 
 impl Value {
@@ -303,6 +312,7 @@ pub const EVENTS: &[&str] = &[
     "work-offset-7",
     "work-offset-8",
     "work-offset-9",
+    "work-offset-extended",
     "thread",
     "rigid-tap",
     "css-on",
@@ -310,6 +320,9 @@ pub const EVENTS: &[&str] = &[
     "spindle-orient",
     "repeat-begin",
     "repeat-end",
+    "repeat-call",
+    "sub-begin",
+    "sub-end",
     "feed-per-minute",
     "feed-per-rev",
     "comment",

@@ -65,6 +65,7 @@ impl Interpreter<'_> {
         }
         match cycle.meaning {
             Meaning::LocalOffset => self.datum_shift(sink),
+            Meaning::Wcs => self.select_preset(ci, &name, range, sink, diags),
             Meaning::Other => {}
             _ => {
                 let d = Diagnostic::new(
@@ -73,6 +74,24 @@ impl Interpreter<'_> {
                     format!("{} {name} ({}) is not supported yet; skipped", def.label(), cycle.meaning.as_str()),
                 );
                 self.limited(diags, "cycle-unsupported", d);
+            }
+        }
+    }
+
+    /// `CYCL DEF 247 DATUM SETTING ~ Q339=+2`: selects the work offset (preset row) its
+    /// parameter numbers, 1 to 9 as G54 to G59.3 are.
+    fn select_preset(&mut self, ci: usize, name: &str, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let param = self.dialect.cycles[ci].args.iter().find_map(|a| a.param);
+        let n = param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v));
+        match n {
+            Some(n) if n.fract() == 0.0 && (1.0..=9.0).contains(&n) => {
+                if n as u16 != self.st.wcs {
+                    self.select_wcs(n as u16, sink);
+                }
+            }
+            _ => {
+                let msg = format!("cycle {name} names no work offset from 1 to 9; the system in force stays");
+                self.limited(diags, "cycle-wcs", Diagnostic::new(Code::Unsupported, range, msg));
             }
         }
     }

@@ -192,7 +192,7 @@ pub fn translate_with_facts(
 }
 
 const FLUSH_AT: usize = 64 * 1024;
-const NVALUES: usize = 46;
+const NVALUES: usize = 48;
 const EPS: f64 = 1e-9;
 
 /// Values for one event's template: numbers (NaN when absent) and texts.
@@ -286,11 +286,14 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     css: bool,
     /// Where each source line's text begins in `buf` (since the last hand-over): a run the
     /// program repeats is found there.
-    line_offsets: Vec<(u32, usize)>,
+    line_offsets: Vec<(u32, usize, u64)>,
     /// The run of blocks being repeated, while each pass writes the same text.
     repeat: Option<Repeat>,
     /// Runs written as the target's loop so far.
     loops: u32,
+    /// Runs written as subprograms, written after the program's end: the subprogram's
+    /// number, its text and the block number that text starts at.
+    subs: Vec<(u32, Vec<u8>, u64)>,
     /// The source lines that have run, one bit each.
     seen: Vec<u64>,
 }
@@ -308,6 +311,9 @@ struct Repeat {
     count: u32,
     /// Whether the first pass, which differed, was left written before the loop.
     shifted: bool,
+    /// The block numbers the first pass starts and ends at (the next one after it).
+    block_start: u64,
+    block_end: u64,
     origin: crate::text::TextRange,
 }
 
@@ -495,6 +501,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             line_offsets: Vec::new(),
             repeat: None,
             loops: 0,
+            subs: Vec::new(),
             seen: Vec::new(),
         }
     }
@@ -1186,6 +1193,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if !self.ended {
             self.event("end", &mut Vals::new());
         }
+        self.write_subs();
         self.event("footer", &mut Vals::new());
         if !self.buf.is_empty() {
             (self.sink)(&self.buf);
@@ -1322,15 +1330,29 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     // A work offset of its own (`work-offset-7`: G59.1, G507) before the
                     // general rule, which states G54…G59 only; an empty one says the target
                     // has no code for it.
-                    let own = format!("work-offset-{i}");
+                    let extended = *i > crate::canon::EXTENDED_WCS;
+                    // An additional work offset (`G54.1 P12`) by its own number.
+                    let own = if extended { "work-offset-extended".to_owned() } else { format!("work-offset-{i}") };
+                    if extended {
+                        vals.set(Value::Wcs, f64::from(*i - crate::canon::EXTENDED_WCS));
+                    }
                     let out = self.out;
                     let wrote = match out.template(&own) {
                         Some((t, _)) if t.0.is_empty() => false,
                         Some(_) => self.event(&own, &mut vals),
+                        None if extended => false,
                         None if *i > 6 && out.template("work-offset").is_some_and(|(t, _)| t.uses(Value::WcsCode)) => false,
                         None => self.event("work-offset", &mut vals),
                     };
-                    if !wrote && *i != 1 {
+                    if !wrote && extended {
+                        let n = *i - crate::canon::EXTENDED_WCS;
+                        self.note(
+                            Code::PostUnwritable,
+                            &canon,
+                            &own,
+                            format!("the target's output rules have no code for additional work offset {n} (G54.1 P{n}: `{own}`)"),
+                        );
+                    } else if !wrote && *i != 1 {
                         self.note(
                             Code::PostUnwritable,
                             &canon,
@@ -1545,10 +1567,20 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 if on || self.css {
                     let ev = if on { "css-on" } else { "css-off" };
                     let mut vals = Vals::new();
-                    if let Some(m) = max.filter(|m| *m < crate::canon::NO_SPINDLE_LIMIT) {
+                    let limit = max.filter(|m| *m < crate::canon::NO_SPINDLE_LIMIT);
+                    if let Some(m) = limit {
                         vals.set(Value::SpindleMax, m);
                     }
-                    if self.event(ev, &mut vals) {
+                    let states_limit = self.out.template(ev).is_some_and(|(t, _)| t.uses(Value::SpindleMax));
+                    if let Some(m) = limit.filter(|_| on && !states_limit && self.out.template(ev).is_some()) {
+                        // Written without it, the limit would be lost without a word.
+                        self.note(
+                            Code::PostUnwritable,
+                            &canon,
+                            "css-limit",
+                            format!("constant surface speed up to S{m}: the target's `css-on` states no spindle speed limit"),
+                        );
+                    } else if self.event(ev, &mut vals) {
                         self.css = on;
                     } else {
                         self.note(
@@ -1585,6 +1617,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     ),
                 }
             }
+            // The wait for the orientation (LinuxCNC's `M19 Q`): every target's orientation code
+            // ends once the spindle is oriented, before the next block runs.
+            CanonOp::WaitOrientComplete(_) => {}
             CanonOp::ToolAxis(v) => {
                 let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
                 if !along_z {
@@ -1626,10 +1661,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
 }
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
-    /// Whether the target writes repeated runs as a loop: it has the templates, and its
-    /// blocks are not numbered (a pass's text must be the same each time).
+    /// Whether the target writes repeated runs as a loop where they run (`repeat-begin` …
+    /// `repeat-end`) or as a subprogram it calls there (`repeat-call`, `sub-begin` …
+    /// `sub-end`). Numbered blocks are compared without their numbers and renumbered.
     fn writes_repeats(&self) -> bool {
-        self.out.numbered == Numbered::None && self.out.template("repeat-begin").is_some() && self.out.template("repeat-end").is_some()
+        let has = |e: &str| self.out.template(e).is_some();
+        (has("repeat-begin") && has("repeat-end")) || self.writes_calls()
+    }
+
+    /// Whether the target writes a repeated run as a subprogram after the program's end.
+    fn writes_calls(&self) -> bool {
+        let has = |e: &str| self.out.template(e).is_some();
+        has("repeat-call") && has("sub-begin") && has("sub-end")
     }
 
     /// The source moves to another line: a jump back to where a run began ends its pass.
@@ -1652,21 +1695,36 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         self.seen[word] |= bit;
         if again && line < self.line && self.repeat.is_none() {
             // A jump back to a line that ran: the run from its text to here may repeat.
-            let at = self.line_offsets.iter().rev().find(|(l, _)| *l == line).map(|(_, o)| *o);
+            let at = self.line_offsets.iter().rev().find(|(l, _, _)| *l == line).map(|(_, o, b)| (*o, *b));
             match at {
-                Some(start) if self.writes_repeats() => {
-                    let seen = self.line_offsets.iter().filter(|(_, o)| *o >= start).map(|(l, _)| *l);
+                Some((start, block_start)) if self.writes_repeats() => {
+                    let seen = self.line_offsets.iter().filter(|(_, o, _)| *o >= start).map(|(l, _, _)| *l);
                     let lines = seen.fold((line, line), |(lo, hi), l| (lo.min(l), hi.max(l)));
-                    self.repeat =
-                        Some(Repeat { first: line, lines, start, end: self.buf.len(), count: 1, shifted: false, origin: canon.origin });
+                    self.repeat = Some(Repeat {
+                        first: line,
+                        lines,
+                        start,
+                        end: self.buf.len(),
+                        count: 1,
+                        shifted: false,
+                        block_start,
+                        block_end: self.next_block(),
+                        origin: canon.origin,
+                    });
                     return;
                 }
                 _ => self.note_unrolled(canon.origin),
             }
         }
-        if self.line_offsets.last().is_none_or(|(l, _)| *l != line) {
-            self.line_offsets.push((line, self.buf.len()));
+        if self.line_offsets.last().is_none_or(|(l, _, _)| *l != line) {
+            let block = self.next_block();
+            self.line_offsets.push((line, self.buf.len(), block));
         }
+    }
+
+    /// The number the next numbered block gets.
+    fn next_block(&self) -> u64 {
+        if self.started { self.block } else { self.out.number_start }
     }
 
     fn note_unrolled(&mut self, at: crate::text::TextRange) {
@@ -1679,21 +1737,82 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
     }
 
+    /// Whether the text written from `b` on is the pass at `a..b` again (numbered from
+    /// `na` and `nb`): the same lines but for their block numbers.
+    fn same_pass(&self, a: usize, b: usize, na: u64, nb: u64) -> bool {
+        let (x, y) = (&self.buf[a..b], &self.buf[b..]);
+        if self.out.numbered == Numbered::None {
+            return x == y;
+        }
+        let (mut xs, mut ys) = (x.split_inclusive(|c| *c == b'\n'), y.split_inclusive(|c| *c == b'\n'));
+        let (mut na, mut nb) = (na, nb);
+        loop {
+            match (xs.next(), ys.next()) {
+                (None, None) => return true,
+                (Some(p), Some(q)) => {
+                    let (p, q) = (split_number(self.out, p, na), split_number(self.out, q, nb));
+                    if p != q {
+                        return false;
+                    }
+                    if p.1 {
+                        na += self.out.number_step;
+                        nb += self.out.number_step;
+                    }
+                }
+                _ => return false,
+            }
+        }
+    }
+
+    /// Appends `text`, written with block numbers from `from` on, numbered from the next
+    /// block number on.
+    fn push_renumbered(&mut self, text: &[u8], from: u64) {
+        if self.out.numbered == Numbered::None {
+            self.buf.extend_from_slice(text);
+            return;
+        }
+        let mut n = from;
+        for l in text.split_inclusive(|c| *c == b'\n') {
+            let (slash, numbered, rest) = split_number(self.out, l, n);
+            if !numbered {
+                self.buf.extend_from_slice(l);
+                continue;
+            }
+            if slash {
+                self.buf.push(b'/');
+            }
+            self.buf.extend_from_slice(self.out.number_address.as_bytes());
+            push_u64(&mut self.buf, self.block);
+            self.buf.extend_from_slice(self.out.separator.as_bytes());
+            self.buf.extend_from_slice(rest);
+            self.block += self.out.number_step;
+            n += self.out.number_step;
+        }
+    }
+
     /// A pass of the run ended: the same text as the first is dropped and counted; other
     /// text ends the run (it stays written, unrolled).
     fn pass_ended(&mut self) {
-        let Some(r) = self.repeat.as_mut() else { return };
-        let (start, end) = (r.start, r.end);
-        let len = end - start;
-        if self.buf.len() == end + len && self.buf[start..end] == self.buf[end..] {
+        let Some(r) = self.repeat.as_ref() else { return };
+        let (start, end, bs, be) = (r.start, r.end, r.block_start, r.block_end);
+        if self.same_pass(start, end, bs, be) {
             self.buf.truncate(end);
-            r.count += 1;
+            self.block = be;
+            if let Some(r) = self.repeat.as_mut() {
+                r.count += 1;
+            }
         } else if r.count == 1 && !r.shifted {
             // The first pass may differ by what the blocks before it left in force (a feed
             // written once): the second pass is the one the others are compared with.
-            r.start = end;
-            r.end = self.buf.len();
-            r.shifted = true;
+            let next = self.block;
+            let len = self.buf.len();
+            if let Some(r) = self.repeat.as_mut() {
+                r.start = end;
+                r.end = len;
+                r.block_start = be;
+                r.block_end = next;
+                r.shifted = true;
+            }
         } else {
             let origin = r.origin;
             self.end_repeat();
@@ -1702,12 +1821,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     }
 
     /// The run is over: a last whole pass is counted, and a run of two passes or more is
-    /// written once between the target's loop blocks.
+    /// written once between the target's loop blocks, or as a subprogram called where it ran.
     fn end_repeat(&mut self) {
         let Some(r) = self.repeat.as_ref() else { return };
-        let (start, end) = (r.start, r.end);
-        if self.buf.len() == end + (end - start) && self.buf[start..end] == self.buf[end..] {
+        let (start, end, bs, be) = (r.start, r.end, r.block_start, r.block_end);
+        if self.same_pass(start, end, bs, be) {
             self.buf.truncate(end);
+            self.block = be;
             if let Some(r) = self.repeat.as_mut() {
                 r.count += 1;
             }
@@ -1720,18 +1840,61 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             self.note_unrolled(r.origin);
             return;
         }
+        let call = self.writes_calls();
+        let sub = self.opts.number.max(1000) + self.loops + 1;
+        if call && sub > 9999 {
+            // No number left for the subprogram: the passes stay written.
+            self.note_unrolled(r.origin);
+            return;
+        }
         self.loops += 1;
         let tail = self.buf.split_off(r.end);
+        let body = self.buf.split_off(r.start);
+        self.block = r.block_start;
         let mut vals = Vals::new();
         vals.set(Value::Count, f64::from(r.count)).set(Value::Loop, f64::from(self.loops));
-        self.event("repeat-end", &mut vals);
-        let before = self.buf.len();
-        self.event("repeat-begin", &mut vals);
-        let n = self.buf.len() - before;
-        self.buf[r.start..].rotate_right(n);
-        self.buf.extend_from_slice(&tail);
+        vals.set(Value::Again, f64::from(r.count - 1)).set(Value::Sub, f64::from(sub));
+        // The loop's own blocks are no optional blocks, whatever the line they are written at.
+        let optional = self.optional_line.take();
+        if call {
+            self.event("repeat-call", &mut vals);
+            self.subs.push((sub, body, r.block_start));
+        } else {
+            self.event("repeat-begin", &mut vals);
+            self.push_renumbered(&body, r.block_start);
+            self.event("repeat-end", &mut vals);
+        }
+        self.optional_line = optional;
+        self.push_renumbered(&tail, r.block_end);
         // The text after the loop follows its last pass: the writer's state is that pass's end.
         self.line_offsets.clear();
+    }
+
+    /// The subprograms the repeated runs became, after the program's end.
+    fn write_subs(&mut self) {
+        for (sub, body, from) in std::mem::take(&mut self.subs) {
+            let mut vals = Vals::new();
+            vals.set(Value::Sub, f64::from(sub));
+            self.event("sub-begin", &mut vals);
+            self.push_renumbered(&body, from);
+            self.event("sub-end", &mut vals);
+        }
+    }
+}
+
+/// A written line: whether it starts with `/`, whether block number `n` follows, and the
+/// rest after that number.
+fn split_number<'b>(out: &Output, line: &'b [u8], n: u64) -> (bool, bool, &'b [u8]) {
+    let (slash, l) = match line.strip_prefix(b"/") {
+        Some(r) => (true, r),
+        None => (false, line),
+    };
+    let Some(rest) = l.strip_prefix(out.number_address.as_bytes()) else { return (slash, false, l) };
+    let mut digits = Vec::with_capacity(20);
+    push_u64(&mut digits, n);
+    match rest.strip_prefix(digits.as_slice()).and_then(|r| r.strip_prefix(out.separator.as_bytes())) {
+        Some(r) => (slash, true, r),
+        None => (slash, false, l),
     }
 }
 

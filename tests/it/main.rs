@@ -22,6 +22,7 @@ mod macros;
 mod parity;
 mod pg;
 mod plan;
+mod post_rules;
 mod robustness;
 mod shop;
 mod stepnc;
