@@ -23,6 +23,7 @@ mod pg;
 mod plan;
 mod robustness;
 mod shop;
+mod speed;
 mod stepnc;
 mod tool_comments;
 mod translate;
