@@ -471,7 +471,8 @@ fn push_digits(out: &mut String, f: &NumberFormat, a: u64, neg: bool, p: u64, de
     } else if f.plus {
         put(&mut b, &mut i, b'+');
     }
-    out.push_str(std::str::from_utf8(&b[i..]).unwrap_or(""));
+    // ASCII: each byte is a char (no UTF-8 check).
+    out.extend(b[i..].iter().map(|&c| char::from(c)));
 }
 
 /// Appends the decimal digits of `n` without allocating.
@@ -747,6 +748,27 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         !any_var || any_out
     }
 
+    /// Whether word `w` comes out empty for `vals` without rendering it (the common case of a
+    /// move's absent axes and unchanged modal values): its one placeholder is a number that is
+    /// absent, a modal number unchanged since written, or the words put off to a move when
+    /// none wait. [`Post::word`] gives false for such a word and changes nothing.
+    fn writes_nothing(&self, w: &crate::dialect::output::Word, vals: &Vals) -> bool {
+        let [Piece::Var { value, format, force }] = w.0.as_slice() else { return false };
+        if *value == Value::Mods {
+            return self.mods.is_empty();
+        }
+        if value.is_text() {
+            return false;
+        }
+        let x = vals.num[*value as usize];
+        let Some(fi) = format else { return true };
+        if x.is_nan() {
+            return true;
+        }
+        modal_slot(*value)
+            .is_some_and(|k| self.out.formats[*fi].modal && !force && self.written_val[k] == (x, *fi) && self.written[k].is_some())
+    }
+
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
     /// (with its modal values unwritten), and its G code is left out when unchanged.
     fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
@@ -766,6 +788,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         }
                         code = Some(l);
                     }
+                }
+                if self.writes_nothing(w, vals) {
+                    continue;
                 }
                 // Written in place after the separator, and taken back when it comes out empty.
                 let mark = line.len();

@@ -84,7 +84,7 @@ fn numbers_agree_with_the_formats_definition() {
         0.1 + 0.2,
         1e-9,
         -1e-9,
-        3.14159265,
+        7.6543215,
         25.4,
         0.039370078740157,
         1e9,
