@@ -185,10 +185,68 @@ pub fn translate_with_facts(
     opts.arc_tolerance = (to.behaviour.arc_tolerance_mm, to.behaviour.arc_tolerance_inch);
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
-    let mut diags = crate::interp::interpret(text, from, profile, &mut post);
+    let mut diags = interpret_beside(text, from, profile, &mut post);
     diags.extend(post.finish());
     diags.sort_by_key(|d| (d.range.start, d.range.end));
     diags
+}
+
+/// Ops handed from the reading thread to the writing one at a time.
+const BATCH: usize = 2048;
+/// Batches under way at once: what the reader may run ahead of the writer.
+const BATCHES: usize = 4;
+
+/// Interprets `text` into `sink` as [`crate::interp::interpret`] does, with the reading on a
+/// thread of its own: the interpreter sends its ops in batches, in order, through a bounded
+/// channel, and `sink` takes them on this thread while the next batch is read. The ops, and
+/// so the text written, are the same as a serial run's; memory holds at most a few batches.
+fn interpret_beside(
+    text: &str,
+    from: &crate::dialect::Dialect,
+    profile: &crate::interp::Profile,
+    sink: &mut dyn CanonSink,
+) -> Vec<Diagnostic> {
+    use std::sync::mpsc;
+    let (full, filled) = mpsc::sync_channel::<Vec<Canon>>(BATCHES);
+    let (empty, emptied) = mpsc::channel::<Vec<Canon>>();
+    std::thread::scope(|scope| {
+        let reader = scope.spawn(move || {
+            let mut batcher = Batcher { batch: Vec::with_capacity(BATCH), full, emptied };
+            let diags = crate::interp::interpret(text, from, profile, &mut batcher);
+            let last = std::mem::take(&mut batcher.batch);
+            if !last.is_empty() {
+                let _ = batcher.full.send(last);
+            }
+            diags
+        });
+        for mut batch in filled {
+            for canon in batch.drain(..) {
+                sink.emit(canon);
+            }
+            // The emptied batch goes back to the reader, which refills it without allocating.
+            let _ = empty.send(batch);
+        }
+        reader.join().unwrap_or_else(|e| std::panic::resume_unwind(e))
+    })
+}
+
+/// The reading thread's sink: collects ops into batches and sends each full one.
+struct Batcher {
+    batch: Vec<Canon>,
+    full: std::sync::mpsc::SyncSender<Vec<Canon>>,
+    emptied: std::sync::mpsc::Receiver<Vec<Canon>>,
+}
+
+impl CanonSink for Batcher {
+    fn emit(&mut self, canon: Canon) {
+        self.batch.push(canon);
+        if self.batch.len() >= BATCH {
+            let next = self.emptied.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
+            let batch = std::mem::replace(&mut self.batch, next);
+            // The writer gone (it panicked): the panic comes out of the join.
+            let _ = self.full.send(batch);
+        }
+    }
 }
 
 const FLUSH_AT: usize = 64 * 1024;
@@ -263,8 +321,6 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     active: Option<ActiveCycle>,
     word_buf: String,
     line_buf: String,
-    /// One word being rendered.
-    scratch: String,
     /// Modal values of the block being rendered, written once the block is.
     staged: [Option<String>; 8],
     /// The numbers (and formats) `written` and `staged` hold, where known (NaN: compare
@@ -366,69 +422,63 @@ pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) -> 
     let err = (n as f64 / p as f64 - v).abs();
     let neg = n < 0;
     let a = n.unsigned_abs();
-    let mut b = [0u8; 48];
-    let mut len = 0;
-    let mut put = |c: u8, len: &mut usize| {
-        b[*len] = c;
-        *len += 1;
-    };
-    if neg {
-        put(b'-', &mut len);
-    } else if f.plus {
-        put(b'+', &mut len);
+    push_digits(out, f, a, neg, p, decimals);
+    err
+}
+
+/// The text of the rounded scaled number `a` (its sign `neg`, `decimals` of its digits after
+/// the point, `p` = 10^decimals) in format `f`, by integer arithmetic: the characters are
+/// put into a stack buffer from the right and appended at once.
+fn push_digits(out: &mut String, f: &NumberFormat, a: u64, neg: bool, p: u64, decimals: usize) {
+    // A sign, 20 digits, a point and 15 decimals at most.
+    let mut b = [0u8; 40];
+    let mut i = b.len();
+    fn put(b: &mut [u8; 40], i: &mut usize, c: u8) {
+        *i -= 1;
+        b[*i] = c;
     }
-    let digits = |mut n: u64, out: &mut [u8; 20]| -> usize {
-        let mut i = 20;
+    fn digits(b: &mut [u8; 40], i: &mut usize, mut n: u64) {
         loop {
-            i -= 1;
-            out[i] = b'0' + (n % 10) as u8;
+            put(b, i, b'0' + (n % 10) as u8);
             n /= 10;
             if n == 0 {
                 break;
             }
         }
-        i
-    };
-    let mut d = [0u8; 20];
+    }
     if f.increment || decimals == 0 {
-        let i = digits(a, &mut d);
-        for &c in &d[i..] {
-            put(c, &mut len);
-        }
         if !f.increment && f.point == Point::Always {
-            put(b'.', &mut len);
+            put(&mut b, &mut i, b'.');
         }
-        out.push_str(std::str::from_utf8(&b[..len]).unwrap_or(""));
-        return err;
-    }
-    let (int, frac) = (a / p, a % p);
-    // The fraction's digits, zero-padded, without trailing zeros unless the format keeps them.
-    let mut fb = [b'0'; 20];
-    let mut m = frac;
-    for k in (0..decimals).rev() {
-        fb[k] = b'0' + (m % 10) as u8;
-        m /= 10;
-    }
-    let mut flen = decimals;
-    if !f.trailing_zeros {
-        while flen > 0 && fb[flen - 1] == b'0' {
-            flen -= 1;
+        digits(&mut b, &mut i, a);
+    } else {
+        let (int, mut frac) = (a / p, a % p);
+        // The fraction's digits, zero-padded, without trailing zeros unless the format keeps them.
+        let mut flen = decimals;
+        if !f.trailing_zeros {
+            while flen > 0 && frac % 10 == 0 {
+                frac /= 10;
+                flen -= 1;
+            }
+        }
+        for _ in 0..flen {
+            put(&mut b, &mut i, b'0' + (frac % 10) as u8);
+            frac /= 10;
+        }
+        if flen > 0 || f.point == Point::Always {
+            put(&mut b, &mut i, b'.');
+        }
+        if int != 0 || f.leading_zero || flen == 0 {
+            digits(&mut b, &mut i, int);
         }
     }
-    if int != 0 || f.leading_zero || flen == 0 {
-        let i = digits(int, &mut d);
-        for &c in &d[i..] {
-            put(c, &mut len);
-        }
+    if neg {
+        put(&mut b, &mut i, b'-');
+    } else if f.plus {
+        put(&mut b, &mut i, b'+');
     }
-    if flen > 0 || f.point == Point::Always {
-        put(b'.', &mut len);
-    }
-    for &c in &fb[..flen] {
-        put(c, &mut len);
-    }
-    out.push_str(std::str::from_utf8(&b[..len]).unwrap_or(""));
-    err
+    // ASCII: each byte is a char (no UTF-8 check).
+    out.extend(b[i..].iter().map(|&c| char::from(c)));
 }
 
 /// Appends the decimal digits of `n` without allocating.
@@ -488,7 +538,6 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             active: None,
             word_buf: String::new(),
             line_buf: String::new(),
-            scratch: String::new(),
             staged: Default::default(),
             written_val: [(f64::NAN, 0); 8],
             staged_val: [(f64::NAN, 0); 8],
@@ -627,6 +676,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     any_var = true;
                     if value.is_text() {
                         let t = match value {
+                            // Nothing waiting (the common move): nothing to gather.
+                            Value::Mods if self.mods.is_empty() => continue,
                             Value::Mods => {
                                 std::mem::take(&mut self.mods).into_iter().map(|(_, t)| t).collect::<Vec<_>>().join(&self.out.separator)
                             }
@@ -704,12 +755,32 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         !any_var || any_out
     }
 
+    /// Whether word `w` comes out empty for `vals` without rendering it (the common case of a
+    /// move's absent axes and unchanged modal values): its one placeholder is a number that is
+    /// absent, a modal number unchanged since written, or the words put off to a move when
+    /// none wait. [`Post::word`] gives false for such a word and changes nothing.
+    fn writes_nothing(&self, w: &crate::dialect::output::Word, vals: &Vals) -> bool {
+        let [Piece::Var { value, format, force }] = w.0.as_slice() else { return false };
+        if *value == Value::Mods {
+            return self.mods.is_empty();
+        }
+        if value.is_text() {
+            return false;
+        }
+        let x = vals.num[*value as usize];
+        let Some(fi) = format else { return true };
+        if x.is_nan() {
+            return true;
+        }
+        modal_slot(*value)
+            .is_some_and(|k| self.out.formats[*fi].modal && !force && self.written_val[k] == (x, *fi) && self.written[k].is_some())
+    }
+
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
     /// (with its modal values unwritten), and its G code is left out when unchanged.
     fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
         // The header (and the modal state it starts from) before the first block's words.
         self.start();
-        let mut s = std::mem::take(&mut self.scratch);
         for b in &t.0 {
             let mut line = std::mem::take(&mut self.line_buf);
             line.clear();
@@ -725,18 +796,25 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         code = Some(l);
                     }
                 }
-                s.clear();
-                if self.word(w, vals, &mut s, &mut moved) && !s.is_empty() {
-                    if !first {
-                        line.push_str(&self.out.separator);
-                    }
+                if self.writes_nothing(w, vals) {
+                    continue;
+                }
+                // Written in place after the separator, and taken back when it comes out empty.
+                let mark = line.len();
+                if !first {
+                    line.push_str(&self.out.separator);
+                }
+                let at = line.len();
+                if self.word(w, vals, &mut line, &mut moved) && line.len() > at {
                     first = false;
-                    line.push_str(&s);
+                } else {
+                    line.truncate(mark);
                 }
             }
-            let positions =
-                b.words.iter().flat_map(|w| &w.0).any(|p| matches!(p, Piece::Var { value: Value::X | Value::Y | Value::Z, .. }));
-            if motion && positions && moved == 0 {
+            if motion
+                && moved == 0
+                && b.words.iter().flat_map(|w| &w.0).any(|p| matches!(p, Piece::Var { value: Value::X | Value::Y | Value::Z, .. }))
+            {
                 for st in &mut self.staged {
                     if let Some(x) = st.as_mut() {
                         x.clear();
@@ -747,9 +825,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             }
             for k in 0..8 {
                 if let Some(x) = self.staged[k].as_mut().filter(|x| !x.is_empty()) {
+                    // The staged text becomes the written one; the old buffer is staged next.
                     let w = self.written[k].get_or_insert_with(String::new);
-                    w.clear();
-                    w.push_str(x);
+                    std::mem::swap(w, x);
                     x.clear();
                     self.written_val[k] = self.staged_val[k];
                 }
@@ -766,7 +844,6 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.line(&line, b.raw, tool_change);
             self.line_buf = line;
         }
-        self.scratch = s;
     }
 
     fn line(&mut self, text: &str, raw: bool, tool_change: bool) {

@@ -25,6 +25,7 @@ mod plan;
 mod post_rules;
 mod robustness;
 mod shop;
+mod speed;
 mod stepnc;
 mod tool_comments;
 mod translate;
