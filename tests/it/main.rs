@@ -23,9 +23,11 @@ mod pg;
 mod plan;
 mod robustness;
 mod shop;
+mod siemens_axes;
 mod stepnc;
 mod tool_comments;
 mod translate;
+mod unknown_values;
 mod web;
 
 use std::path::{Path, PathBuf};
