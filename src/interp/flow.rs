@@ -702,6 +702,9 @@ impl<'a> Driver<'a, '_> {
                 if self.is_alarm(&b, text) {
                     return Way::Alarm;
                 }
+                if self.ends_program(&b) {
+                    return Way::On;
+                }
                 continue;
             };
             let jump = matches!(
@@ -727,6 +730,20 @@ impl<'a> Driver<'a, '_> {
             };
         }
         Way::On
+    }
+
+    /// Whether `b` ends the program (`M30`, `M2`): a way that gets there raises no alarm.
+    fn ends_program(&self, b: &Block) -> bool {
+        b.words.iter().any(|w| {
+            let crate::syntax::Value::Number { value, .. } = w.value else { return false };
+            let code = match w.role {
+                crate::dialect::Role::Keyword => Some(value as usize),
+                crate::dialect::Role::M if value >= 0.0 && value.fract() == 0.0 => self.dialect.code_id('M', (value * 10.0) as u32),
+                _ => None,
+            };
+            code.and_then(|i| self.dialect.codes.get(i))
+                .is_some_and(|c| matches!(c.meaning, crate::dialect::Meaning::ProgramEnd | crate::dialect::Meaning::ProgramEndRewind))
+        })
     }
 
     /// Whether `b` raises an alarm: it sets the alarm variable (`#3000 = 1`), names an error

@@ -1638,17 +1638,25 @@ impl<'a> Interpreter<'a> {
         range: TextRange,
         diags: &mut Vec<Diagnostic>,
     ) -> Option<u8> {
-        let v = match self.eval(block, index, self.text, range, diags) {
+        // An undeclared name is said once, by the note below.
+        let mut read = Vec::new();
+        let v = match self.eval(block, index, self.text, range, &mut read) {
             Ok(v) => v,
             Err(e) => {
+                diags.append(&mut read);
                 diags.push(self.eval_diag(e, range));
                 return None;
             }
         };
+        if !eval::is_unknown(v) {
+            diags.append(&mut read);
+        }
         if let Some(letter) = crate::syntax::axis_of(v).filter(|&c| self.dialect.letter_role(c).is_some_and(|r| r.is_axis())) {
             return Some(letter);
         }
-        let shown = self.text[range.start as usize..range.end as usize].trim().to_owned();
+        let shown = self.text[range.start as usize..range.end as usize].trim();
+        // The name with its index (`AX[_X]`), without the value.
+        let shown = shown.find(']').map_or(shown, |i| &shown[..=i]).to_owned();
         if eval::is_unknown(v) {
             let what = self.unknown_what();
             let msg = format!("`{shown}` names its axis by {what}: the move along it is left out");
