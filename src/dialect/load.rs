@@ -778,6 +778,7 @@ impl Cx {
                 "called-programs",
                 "called-extensions",
                 "unknown-conditions",
+                "unlisted-tools",
                 "return-tells-called",
             ],
             &["statement", "arguments", "system-variable"],
@@ -803,6 +804,7 @@ impl Cx {
             }
         }
         m.unknown_conditions = self.either(el, "unknown-conditions", "false", "true");
+        m.unlisted_tools_unknown = self.either(el, "unlisted-tools", "zero", "unknown");
         m.return_tells_called = self.bool(el, "return-tells-called", true);
         let highest = self.number(el, "highest-variable", 9999.0);
         m.highest_variable = if (0.0..crate::interp::eval::MAX_HIGH_PARAM as f64).contains(&highest) {
@@ -949,6 +951,7 @@ impl Cx {
                         "value",
                         "keyword",
                         "value-role",
+                        "value-form",
                         "rest",
                         "meaning",
                         "index",
@@ -1090,7 +1093,8 @@ impl Cx {
                 KeywordRest::None
             }
         };
-        Some(KeywordSpec { text, value_role, rest })
+        let assigned = self.either(c, "value-form", "bare", "assign");
+        Some(KeywordSpec { text, value_role, rest, assigned })
     }
 
     fn role_list(&mut self, el: &Element, attr: &str, list: &str, addresses: &[AddressDef]) -> Vec<Role> {

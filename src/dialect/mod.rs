@@ -416,6 +416,10 @@ pub struct Macros {
     /// How a condition on an unknown value is taken when neither way leads to an alarm:
     /// true or false (the dictionary's choice; the config may override it).
     pub unknown_conditions: bool,
+    /// Whether the tool-data system variables (Heidenhain Q108, the tool radius) of a tool the
+    /// configured tool table does not list are unknown (the machine's tool table holds it)
+    /// rather than 0 (`unlisted-tools`).
+    pub unlisted_tools_unknown: bool,
     /// The address that names the block a subprogram call starts at (`M98 P100 H20`), if any.
     pub call_start: Option<u8>,
     /// What a return in the main program does.
@@ -461,6 +465,7 @@ impl Default for Macros {
             return_tells_called: true,
             called_extensions: Vec::new(),
             unknown_conditions: false,
+            unlisted_tools_unknown: false,
             main_return: MainReturn::Error,
             return_value: None,
         }
@@ -541,6 +546,9 @@ pub struct KeywordSpec {
     pub value_role: Option<Role>,
     /// What follows that value.
     pub rest: KeywordRest,
+    /// Whether the value follows `=`, after an optional bracketed index (`SPOS=90`,
+    /// `SPOS[1]=DC(45)`: the spindle's number), as an assigned value.
+    pub assigned: bool,
 }
 
 /// Parameters a command takes.

@@ -54,6 +54,9 @@ pub struct Params {
     /// The first unknown value read since [`Params::take_unknown_read`] (the interpreter
     /// names it in its notes).
     unknown_read: std::cell::RefCell<Option<UnknownSource>>,
+    /// Where the unknown value a parameter holds came from, when the program set it from
+    /// one (`Q1930 = Q1900 - Q108`: from Q108), so that a message names the outside value.
+    origins: BTreeMap<UnknownSource, UnknownSource>,
 }
 
 impl Default for Params {
@@ -99,6 +102,7 @@ impl Params {
             named: BTreeMap::new(),
             magnitude_rounding: false,
             unknown_read: std::cell::RefCell::new(None),
+            origins: BTreeMap::new(),
         }
     }
 
@@ -127,6 +131,26 @@ impl Params {
     /// The first unknown value read since the last call, and forgets it.
     pub fn take_unknown_read(&self) -> Option<UnknownSource> {
         self.unknown_read.borrow_mut().take()
+    }
+
+    /// The outside value the unknown value of `key` came from: `key` itself unless the
+    /// program set it from another ([`Params::derive`]).
+    fn origin(&self, key: UnknownSource) -> UnknownSource {
+        self.origins.get(&key).cloned().unwrap_or(key)
+    }
+
+    /// Records that parameter `target` was just set from the unknown value `from` came from
+    /// (`None`: from none, or a known value).
+    pub fn derive(&mut self, target: UnknownSource, from: Option<UnknownSource>) {
+        match from {
+            Some(from) if from != target => {
+                self.origins.insert(target, from);
+            }
+            _ if !self.origins.is_empty() => {
+                self.origins.remove(&target);
+            }
+            _ => {}
+        }
     }
 
     fn note_unknown(&self, source: impl FnOnce() -> UnknownSource) {
@@ -179,7 +203,7 @@ impl Params {
             }
         };
         if is_unknown(v) {
-            self.note_unknown(|| UnknownSource::Numbered(i as u32));
+            self.note_unknown(|| self.origin(UnknownSource::Numbered(i as u32)));
         }
         Ok(v)
     }
@@ -199,7 +223,7 @@ impl Params {
     pub fn get_named(&self, name: &str) -> Result<f64, EvalError> {
         let v = self.named.get(name).copied().ok_or_else(|| EvalError::Undefined(name.to_owned()))?;
         if is_unknown(v) {
-            self.note_unknown(|| UnknownSource::Named(name.to_owned()));
+            self.note_unknown(|| self.origin(UnknownSource::Named(name.to_owned())));
         }
         Ok(v)
     }

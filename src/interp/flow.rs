@@ -265,6 +265,30 @@ struct Lexed {
 /// Most blocks kept lexed (a few megabytes at most).
 const BLOCK_CACHE: usize = 16_384;
 
+/// How many blocks [`Driver::fall_through`] reads along the way a condition does not jump.
+const ALARM_SCAN: usize = 256;
+
+/// Where the way on from a conditional jump goes ([`Driver::fall_through`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Way {
+    /// Into an alarm (`#3000 = 1`, `FN 14: ERROR=`).
+    Alarm,
+    /// Back to the condition or before it: round a loop again.
+    Back,
+    /// Elsewhere, or where the analysis cannot tell.
+    On,
+}
+
+/// Whether expression `e` reads no parameter (`+0 EQU +0`).
+fn constant(b: &Block, e: ExprId) -> bool {
+    match b.exprs.get(e as usize) {
+        Some(Expr::Num(_)) => true,
+        Some(&Expr::Unary(_, x)) => constant(b, x),
+        Some(&Expr::Atan2(x, y) | &Expr::Binary(_, x, y)) => constant(b, x) && constant(b, y),
+        _ => false,
+    }
+}
+
 /// Whether a statement decides where the run goes (a condition, a jump, a loop): one the
 /// lexer could not read is skipped rather than carried out on what was left of it.
 fn branches(st: Statement) -> bool {
@@ -589,7 +613,12 @@ impl<'a> Driver<'a, '_> {
                 Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
                 target => {
                     let at_target = target.is_some_and(|t| self.alarm_at(t));
-                    self.alarm_choice(at_target, self.alarm_at(here), choice)
+                    match self.fall_through(here, interp) {
+                        // Not jumping goes round the loop again (`IF [found] GOTO 20` …
+                        // `GOTO 10`): the jump leaves the loop, as a run that ends does.
+                        Way::Back if !at_target => (true, "the jump leaves the loop: a run that ends leaves its loops"),
+                        way => self.alarm_choice(at_target, self.alarm_at(here) || way == Way::Alarm, choice),
+                    }
                 }
             },
             Some(Statement::If | Statement::ElseIf) => self.alarm_choice(self.alarm_at(here), false, choice),
@@ -613,9 +642,15 @@ impl<'a> Driver<'a, '_> {
 
     /// Where a conditional jump goes, without going there (block numbers and labels).
     fn jump_target(&mut self, c: &Control, block: &Block, interp: &mut Interpreter<'a>) -> Option<Pos> {
-        let here = self.pos();
+        self.jump_target_from(c, block, interp, self.pos())
+    }
+
+    /// Where a jump at `here` goes: the first target at or after it, else the first.
+    fn jump_target_from(&mut self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, here: Pos) -> Option<Pos> {
         let mut scratch = Vec::new();
-        if c.name.is_none() {
+        // `GOTO LBL 99` names a label by a number; `GOTO 99` a block.
+        let label = c.then == Some(Statement::GotoLabel) || c.statement == Some(Statement::GotoLabel);
+        if c.name.is_none() && !label {
             let e = c.target?;
             let v = self.value(interp, block, e, &mut scratch)?;
             if eval::is_null(v) || v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
@@ -644,11 +679,71 @@ impl<'a> Driver<'a, '_> {
             if b.control.is_none() && self.is_alarm(&b, text) {
                 return true;
             }
-            if !b.words.is_empty() || !b.assigns.is_empty() || b.control.is_some() {
+            if !b.words.is_empty() || !b.assigns.is_empty() || b.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Label)) {
                 return false;
             }
         }
         false
+    }
+
+    /// Where the way on from `from` goes, block after block, up to its first statement
+    /// (at most [`ALARM_SCAN`] blocks): into an alarm, back to `from` or before it by a jump
+    /// that is always taken (`GOTO 10`, `FN 9: IF +0 EQU +0 GOTO LBL 1`), or elsewhere.
+    fn fall_through(&mut self, from: Pos, interp: &mut Interpreter<'a>) -> Way {
+        let text = self.sources[self.cur].text;
+        let mut p = Parser::new(text, self.dialect);
+        p.seek(from.at, from.line);
+        let (mut b, mut scratch) = (Block::default(), Vec::new());
+        for _ in 0..ALARM_SCAN {
+            if !p.next_block(&mut b, &mut scratch) {
+                return Way::On;
+            }
+            let Some(c) = b.control.clone() else {
+                if self.is_alarm(&b, text) {
+                    return Way::Alarm;
+                }
+                if self.ends_program(&b) {
+                    return Way::On;
+                }
+                continue;
+            };
+            let jump = matches!(
+                c.then,
+                Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
+            );
+            let always = match c.statement {
+                Some(Statement::Label) => continue,
+                Some(Statement::Goto | Statement::GotoBack | Statement::GotoLabel) => true,
+                Some(Statement::If) if jump => c.args.first().is_some_and(|&e| {
+                    constant(&b, e) && interp.eval(&b, e, text, b.range, &mut scratch).is_ok_and(|v| !eval::is_null(v) && v != 0.0)
+                }),
+                _ => false,
+            };
+            if !always {
+                return Way::On;
+            }
+            // Where it jumps to, seen from the jump's own block.
+            let at = Pos { at: p.offset(), line: p.line() };
+            return match self.jump_target_from(&c, &b, interp, at) {
+                Some(t) if t.at <= from.at => Way::Back,
+                _ => Way::On,
+            };
+        }
+        Way::On
+    }
+
+    /// Whether `b` ends the program (`M30`, `M2`): a way that gets there raises no alarm.
+    fn ends_program(&self, b: &Block) -> bool {
+        b.words.iter().any(|w| {
+            let crate::syntax::Value::Number { value, .. } = w.value else { return false };
+            let code = match w.role {
+                crate::dialect::Role::Keyword => Some(value as usize),
+                crate::dialect::Role::M if value >= 0.0 && value.fract() == 0.0 => self.dialect.code_id('M', (value * 10.0) as u32),
+                _ => None,
+            };
+            code.and_then(|i| self.dialect.codes.get(i))
+                .is_some_and(|c| matches!(c.meaning, crate::dialect::Meaning::ProgramEnd | crate::dialect::Meaning::ProgramEndRewind))
+        })
     }
 
     /// Whether `b` raises an alarm: it sets the alarm variable (`#3000 = 1`), names an error

@@ -449,6 +449,8 @@ pub struct Interpreter<'a> {
     code_steps: u32,
     /// Bit per role whose word in the block has an unknown value (left out of the slots).
     unknown_roles: u128,
+    /// How many words with unknown values the run has left out.
+    unknown_words: u32,
     /// Whether the block being executed has axis words (set by `read`).
     has_axes: bool,
     codes: Vec<(usize, TextRange)>,
@@ -598,6 +600,7 @@ impl<'a> Interpreter<'a> {
             filled: 0,
             tool_axis: [0.0, 0.0, 1.0],
             unknown_roles: 0,
+            unknown_words: 0,
             code_steps: 0,
             has_axes: false,
             codes: Vec::new(),
@@ -875,6 +878,8 @@ impl<'a> Interpreter<'a> {
     /// Writes the readable system variables (position, tool, feed, speed) into the table
     /// before a block reads parameters.
     pub(super) fn refresh_system_vars(&mut self) {
+        // A tool the tool table does not list: its radius is the machine's.
+        let unlisted = if self.dialect.macros.unlisted_tools_unknown { eval::UNKNOWN } else { 0.0 };
         for &(n, var) in &self.dialect.macros.system {
             let v = match var {
                 SystemVar::PositionX => self.st.pos[0],
@@ -883,8 +888,8 @@ impl<'a> Interpreter<'a> {
                 SystemVar::Tool => f64::from(self.st.tool),
                 SystemVar::Feed => self.st.feed,
                 SystemVar::Speed => self.st.speed,
-                SystemVar::ToolRadius => self.tool_diameter(self.st.tool).unwrap_or(0.0) / 2.0 / self.st.units.to_mm(),
-                SystemVar::ToolDiameter => self.tool_diameter(self.st.tool).unwrap_or(0.0) / self.st.units.to_mm(),
+                SystemVar::ToolRadius => self.tool_diameter(self.st.tool).map_or(unlisted, |d| d / 2.0 / self.st.units.to_mm()),
+                SystemVar::ToolDiameter => self.tool_diameter(self.st.tool).map_or(unlisted, |d| d / self.st.units.to_mm()),
                 // The probe results are written when a probe move ends, and the program
                 // may write them too, as any parameter.
                 SystemVar::ProbeX | SystemVar::ProbeY | SystemVar::ProbeZ | SystemVar::ProbeTripped => continue,
@@ -963,8 +968,13 @@ impl<'a> Interpreter<'a> {
     fn corner_report(&mut self, diags: &mut Vec<Diagnostic>) {
         let problem = self.corners.get_mut().as_mut().and_then(|k| k.problem.take());
         if let Some(p) = problem {
-            let msg = format!("the corner is left sharp: {}", p.describe());
-            diags.push(Diagnostic::new(Code::BadArc, self.origin, msg));
+            let mut d = Diagnostic::new(Code::BadArc, self.origin, format!("the corner is left sharp: {}", p.describe()));
+            if self.unknown_words > 0 {
+                // A move before it kept a position for an axis whose value is unknown here.
+                d.severity = Severity::Note;
+                d.message.push_str("; moves before it left out words whose values come from outside the file, so the machine may make it");
+            }
+            diags.push(d);
         }
     }
 
@@ -1227,10 +1237,21 @@ impl<'a> Interpreter<'a> {
         };
         let k_counts = self.codes.iter().any(|&(c, _)| is_hole_cycle(self.code(c).meaning))
             || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
-        for w in &block.words {
+        for (k, w) in block.words.iter().enumerate() {
             if matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
                 continue;
             }
+            let mut w = *w;
+            if let Some(&(_, index)) = block.axis_refs.iter().find(|&&(i, _)| i == k) {
+                match self.axis_by_variable(block, index, w.range, diags) {
+                    Some(letter) => {
+                        w.letter = letter;
+                        w.role = self.dialect.letter_role(letter).unwrap_or(Role::Extra);
+                    }
+                    None => continue,
+                }
+            }
+            let w = &w;
             if w.cycle_arg {
                 match self.value(block, w.value, w.range, diags) {
                     Some(v) if eval::is_unknown(v) => self.unknown_word(w.range, diags),
@@ -1494,8 +1515,9 @@ impl<'a> Interpreter<'a> {
                 continue;
             }
             let motion = *motion.get_or_insert_with(|| self.active_motion_code());
-            let taken = self.codes.iter().any(|&(c, _)| self.code(c).params.takes(w.role))
-                || motion.is_some_and(|c| self.code(c).params.takes(w.role));
+            // A keyword code takes the value it is written with (`SPOS=90`).
+            let takes = |c: &CodeDef, r: Role| c.params.takes(r) || c.keyword.as_ref().is_some_and(|k| k.value_role == Some(r));
+            let taken = self.codes.iter().any(|&(c, _)| takes(self.code(c), w.role)) || motion.is_some_and(|c| takes(self.code(c), w.role));
             if !taken {
                 let shown = &self.text[w.range.start as usize..w.range.end as usize];
                 let d =
@@ -1603,7 +1625,14 @@ impl<'a> Interpreter<'a> {
             }
             Some(eval::UnknownSource::Numbered(n)) => {
                 let sigil = self.dialect.lexical.parameter.map_or('#', |(c, _)| c);
-                format!("{sigil}{n}, which is set outside this file (retained, or machine data)")
+                match self.dialect.macros.system_var(n) {
+                    Some(SystemVar::ToolRadius | SystemVar::ToolDiameter) => {
+                        format!(
+                            "{sigil}{n}, the tool's size, which the configured tool table does not give (the machine's tool table holds it)"
+                        )
+                    }
+                    _ => format!("{sigil}{n}, which is set outside this file (retained, or machine data)"),
+                }
             }
             Some(eval::UnknownSource::Named(name)) => format!("`{name}`, which the caller or the control's global data sets"),
             None => "a value set outside this file".to_owned(),
@@ -1613,6 +1642,7 @@ impl<'a> Interpreter<'a> {
     /// A word whose value is unknown: omitted, as a vacant one is, so that a move keeps its
     /// known axes; said once per block.
     fn unknown_word(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        self.unknown_words += 1;
         let shown = self.text[range.start as usize..range.end as usize].to_owned();
         let what = self.unknown_what();
         let msg = format!("`{shown}` reads {what}; the word is left out and the block keeps its known words");
@@ -1621,6 +1651,48 @@ impl<'a> Interpreter<'a> {
             d.severity = Severity::Warning;
         }
         self.limited(diags, "unknown-value", d);
+    }
+
+    /// The axis an axis variable names (`AX[_X]=10` after `DEF AXIS _X=X`); none, with a
+    /// note, when its value comes from outside the file (a `PROC`'s `AXIS` argument) or is
+    /// no axis.
+    fn axis_by_variable(
+        &mut self,
+        block: &Block,
+        index: crate::syntax::ExprId,
+        range: TextRange,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<u8> {
+        // An undeclared name is said once, by the note below.
+        let mut read = Vec::new();
+        let v = match self.eval(block, index, self.text, range, &mut read) {
+            Ok(v) => v,
+            Err(e) => {
+                diags.append(&mut read);
+                diags.push(self.eval_diag(e, range));
+                return None;
+            }
+        };
+        if !eval::is_unknown(v) {
+            diags.append(&mut read);
+        }
+        if let Some(letter) = crate::syntax::axis_of(v).filter(|&c| self.dialect.letter_role(c).is_some_and(|r| r.is_axis())) {
+            return Some(letter);
+        }
+        let shown = self.text[range.start as usize..range.end as usize].trim();
+        // The name with its index (`AX[_X]`), without the value.
+        let shown = shown.find(']').map_or(shown, |i| &shown[..=i]).to_owned();
+        if eval::is_unknown(v) {
+            let what = self.unknown_what();
+            let msg = format!("`{shown}` names its axis by {what}: the move along it is left out");
+            self.limited(diags, "unknown-value", Diagnostic::new(Code::UnknownValue, range, msg));
+        } else {
+            let msg = format!("`{shown}`: the variable holds no axis here; the word is left out");
+            let mut d = Diagnostic::new(Code::BadValue, range, msg);
+            d.severity = Severity::Warning;
+            self.limited(diags, "axis-variable", d);
+        }
+        None
     }
 
     /// Whether code `c` takes one of the axis words the block has.
@@ -1632,9 +1704,15 @@ impl<'a> Interpreter<'a> {
         // All reads of a block happen before its assignments take effect.
         let mut pending = std::mem::take(&mut self.pending);
         pending.clear();
+        // Where each unknown value assigned came from, by the pending assignment.
+        let mut origins = Vec::new();
         for a in &block.assigns {
             let value = match self.eval(block, a.value, self.text, a.range, diags) {
-                Ok(v) => v,
+                Ok(v) => {
+                    origins.resize(pending.len(), None);
+                    origins.push(if eval::is_unknown(v) { self.params.unknown_read_peek() } else { None });
+                    v
+                }
                 Err(e) => {
                     diags.push(self.eval_diag(e, a.range));
                     continue;
@@ -1654,7 +1732,8 @@ impl<'a> Interpreter<'a> {
                 },
             }
         }
-        for &PendingAssign { number, name, index, value, range } in &pending {
+        for (k, &PendingAssign { number, name, index, value, range }) in pending.iter().enumerate() {
+            let origin = origins.get(k).cloned().flatten();
             match number {
                 Some(n) => {
                     let system = if n >= 0.0 && n.fract() == 0.0 { self.dialect.macros.system_var(n as u32) } else { None };
@@ -1671,6 +1750,8 @@ impl<'a> Interpreter<'a> {
                         _ => {
                             if let Err(e) = self.params.set(n, value) {
                                 diags.push(self.eval_diag(e, range));
+                            } else if n >= 0.0 && n.fract() == 0.0 {
+                                self.params.derive(eval::UnknownSource::Numbered(n as u32), origin);
                             }
                         }
                     }
@@ -1680,7 +1761,10 @@ impl<'a> Interpreter<'a> {
                     match index {
                         // The key a read of `name[i]` looks up (`eval`).
                         Some(i) => self.params.set_named(&format!("{name}[{i}]"), value),
-                        None => self.params.set_named(&name, value),
+                        None => {
+                            self.params.set_named(&name, value);
+                            self.params.derive(eval::UnknownSource::Named(name.into_owned()), origin);
+                        }
                     }
                 }
             }
@@ -2356,6 +2440,11 @@ impl<'a> Interpreter<'a> {
                             k.mark(corner, self.origin, self.line);
                         }
                     }
+                    // An unknown size (the tool radius, `RND RQ108`): the word was left out
+                    // and said so; the corner stays sharp.
+                    None if self.unknown_roles
+                        & (1 << (if def.meaning == Meaning::CornerRound { Role::R } else { Role::Geometry }) as u32)
+                        != 0 => {}
                     _ => diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs a size above zero", def.label()))),
                 }
             }

@@ -155,7 +155,24 @@ pub struct Block {
     pub control: Option<Control>,
     /// Expression arena for this block.
     pub exprs: Vec<Expr>,
+    /// Words whose axis a variable names (`AX[_X]=10`): the word's index in `words` and the
+    /// expression of the variable, read when the block runs ([`axis_of`]).
+    pub axis_refs: Vec<(usize, ExprId)>,
 }
+
+/// The value an axis variable holds (`DEF AXIS _X=X`): a NaN whose payload names the axis
+/// letter, so that it travels through the parameter table as a number does.
+pub fn axis_value(letter: u8) -> f64 {
+    f64::from_bits(AXIS_BITS | u64::from(letter.to_ascii_uppercase()))
+}
+
+/// The axis letter value `v` names, if it is an [`axis_value`].
+pub fn axis_of(v: f64) -> Option<u8> {
+    let bits = v.to_bits();
+    (bits & !0xFF == AXIS_BITS && (bits as u8).is_ascii_uppercase()).then_some(bits as u8)
+}
+
+const AXIS_BITS: u64 = 0x7FF8_0000_A715_0000;
 
 impl Block {
     fn clear(&mut self) {
@@ -173,6 +190,7 @@ impl Block {
         self.comments.clear();
         self.control = None;
         self.exprs.clear();
+        self.axis_refs.clear();
     }
 
     /// True when the block holds nothing to execute.

@@ -615,6 +615,46 @@ impl Lexer<'_, '_> {
 
     /// A keyword code at the cursor (`TRANS`, `TOOL CALL 5`, `DR+`), longest first. Blanks in
     /// a keyword match any run of blanks; the keyword must end at a word boundary.
+    /// A keyword code whose value is assigned (`SPOS=90`, `SPOS[1]=DC(45)`, `SPOSA=IC(90)`):
+    /// the code's word and the value's; without `=` after it the text is no such keyword.
+    fn assigned_keyword(&mut self, start: usize, end: usize, idx: usize, role: Option<Role>) -> bool {
+        let mut j = end;
+        let skip = |b: &[u8], mut j: usize| {
+            while matches!(b.get(j), Some(b' ' | b'\t')) {
+                j += 1;
+            }
+            j
+        };
+        j = skip(self.b, j);
+        // The spindle's number in brackets: there is one spindle in the toolpath.
+        if let Some((open, close)) = self.dialect.lexical.array_brackets
+            && self.b.get(j) == Some(&open)
+        {
+            match self.b[j..].iter().position(|&c| c == close || c == b'\n') {
+                Some(p) if self.b[j + p] == close => j = skip(self.b, j + p + 1),
+                _ => return false,
+            }
+        }
+        if self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
+            return false;
+        }
+        let letter = self.b[start].to_ascii_uppercase();
+        let value = Value::Number { value: idx as f64, decimal: false };
+        self.block.words.push(Word {
+            role: Role::Keyword,
+            letter,
+            value,
+            range: TextRange::new(start, end),
+            mode: WordMode::Modal,
+            cycle_arg: false,
+        });
+        self.i = j + 1;
+        if let (Some(role), Some((value, mode))) = (role, self.assigned_value(start)) {
+            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
+        }
+        true
+    }
+
     fn keyword(&mut self) -> bool {
         if self.dialect.keyword_codes().next().is_none() {
             return false;
@@ -622,12 +662,23 @@ impl Lexer<'_, '_> {
         let start = self.i;
         let mut found = None;
         for (idx, k) in self.dialect.keyword_codes() {
-            if let Some(end) = self.match_keyword(start, &k.text, k.value_role.is_some()) {
-                found = Some((idx, end, k.value_role, k.rest));
+            let end = if k.assigned {
+                // `SPOS=90`, `SPOS[1]=`: the name runs into `=` or its index.
+                let end = start + k.text.len();
+                let named = self.b.get(start..end).is_some_and(|t| t.eq_ignore_ascii_case(k.text.as_bytes()));
+                (named && matches!(self.b.get(end), Some(b'=' | b'[' | b' ' | b'\t'))).then_some(end)
+            } else {
+                self.match_keyword(start, &k.text, k.value_role.is_some())
+            };
+            if let Some(end) = end {
+                found = Some((idx, end, k.value_role, k.rest, k.assigned));
                 break;
             }
         }
-        let Some((idx, end, value_role, rest)) = found else { return false };
+        let Some((idx, end, value_role, rest, assigned)) = found else { return false };
+        if assigned && value_role.is_some() {
+            return self.assigned_keyword(start, end, idx, value_role);
+        }
         let letter = self.b[start].to_ascii_uppercase();
         let value = Value::Number { value: idx as f64, decimal: false };
         self.block.words.push(Word {
@@ -832,12 +883,26 @@ impl Lexer<'_, '_> {
             _ => None,
         };
         let role = letter.and_then(|c| self.dialect.letter_role(c)).filter(|r| r.is_axis());
+        // `AX[_X]`: the axis a variable holds, read when the block runs.
+        let by_variable = if role.is_none() && moves && self.dialect.lexical.identifier_variables {
+            self.i = inner;
+            let e = self.expr(1, 0);
+            self.skip_blanks();
+            e.filter(|_| self.i == close_at)
+        } else {
+            None
+        };
         self.i = j + 1;
         let value = self.assigned_value(start);
         let range = TextRange::new(start, self.i);
         match (role, letter, value) {
             (Some(role), Some(letter), Some((value, mode))) if moves => {
                 self.block.words.push(Word { role, letter, value, range, mode, cycle_arg: false });
+            }
+            (None, _, Some((value, mode))) if by_variable.is_some() => {
+                let index = by_variable.unwrap_or_default();
+                self.block.axis_refs.push((self.block.words.len(), index));
+                self.block.words.push(Word { role: Role::Extra, letter: b'#', value, range, mode, cycle_arg: false });
             }
             (None, _, _) if moves => {
                 let what = &self.text[start..close_at + 1];
@@ -2068,6 +2133,18 @@ impl Lexer<'_, '_> {
             {
                 let end = self.identifier_end(self.i);
                 let r = TextRange::new(self.i, end);
+                // A lone axis letter (`DEF AXIS _X=X`, `_AX1=Z`, `MOVE(Y, 10)`) is that axis, as an
+                // axis variable's value: a single letter is never a variable.
+                let after = self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).copied();
+                if end == self.i + 1
+                    && self.dialect.letter_role(self.b[self.i].to_ascii_uppercase()).is_some_and(|r| r.is_axis())
+                    && !matches!(after, Some(b'[' | b'=' | b'('))
+                    && after != expr_open
+                {
+                    let letter = self.b[self.i];
+                    self.i = end;
+                    return Some(self.push(Expr::Num(super::axis_value(letter))));
+                }
                 self.i = end;
                 if self.peek().is_some() && self.peek() == expr_open {
                     // `VTOFD[1]`: an element of a named array.

@@ -891,12 +891,16 @@ fn call_text(op: &CanonOp) -> String {
 
 #[test]
 fn arithmetic_on_data_read_from_the_machine_is_a_warning_that_says_so() {
-    // Q5 stays 0 here: on the machine FN 18 fills Q11 from a position the operator jogged to.
-    let read = "BEGIN PGM P MM\nFN18 : SYSREAD Q11 = ID240 NR1 IDX1\nQ5 = Q11 - 0\nQ7 = 10 / Q5\nEND PGM P MM\n";
+    // Q5 stays 0 here: on the machine FN 18 fills Q311 from a position the operator jogged to.
+    let read = "BEGIN PGM P MM\nFN18 : SYSREAD Q311 = ID240 NR1 IDX1\nQ5 = Q311 - 0\nQ7 = 10 / Q5\nEND PGM P MM\n";
     let (_, diags) = every_call("heidenhain", read);
     let codes: Vec<_> = diags.iter().map(|d| (d.code.as_str(), d.is_error())).collect();
     assert_eq!(codes, [("interp::unsupported", false), ("interp::arithmetic", false)], "{diags:?}");
     assert!(diags[0].message.contains("reads data only the machine has at run time"), "{diags:?}");
+    // A global Q parameter (Q0-Q199) read before the program sets it is unknown: the
+    // division by it is unknown too, no finding.
+    let (_, diags) = every_call("heidenhain", &read.replace("Q311", "Q11"));
+    assert_eq!(diags.iter().map(|d| d.code.as_str()).collect::<Vec<_>>(), ["interp::unsupported"], "{diags:?}");
     // Without the read, the same division is the program's own fault.
     let (_, diags) = every_call("heidenhain", "BEGIN PGM P MM\nQ5 = 0\nQ7 = 10 / Q5\nEND PGM P MM\n");
     assert_eq!(diags.iter().map(|d| (d.code.as_str(), d.is_error())).collect::<Vec<_>>(), [("interp::arithmetic", true)]);

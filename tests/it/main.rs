@@ -25,10 +25,12 @@ mod plan;
 mod post_rules;
 mod robustness;
 mod shop;
+mod siemens_axes;
 mod speed;
 mod stepnc;
 mod tool_comments;
 mod translate;
+mod unknown_values;
 mod web;
 
 use std::path::{Path, PathBuf};

@@ -200,7 +200,7 @@ M30
     assert!(diags.iter().all(|d| d.severity == Severity::Note), "{diags:?}");
     let notes: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
     assert_eq!(notes.len(), 1, "{notes:?}");
-    assert!(notes[0].contains("`AX[_X]` names its axis by `_X`"), "{notes:?}");
+    assert!(notes[0].contains("`AX[_X]` names its axis by `_x`, which the caller"), "{notes:?}");
     let m = moves("siemens", program);
     assert!(m[2].starts_with("STRAIGHT_FEED(20.0000, 5.0000, -1.0000, 0.0000"), "{m:?}");
     assert!(m[3].starts_with("STRAIGHT_FEED(20.0000, 5.0000, -1.0000, 90.0000, 0.0000, 0.0000"), "{m:?}");

@@ -1,0 +1,255 @@
+//! Values from outside the file (issue 17): probe results, pallet numbers, the tool
+//! radius of the machine's tool table, a caller's Q parameters. A condition on such a value
+//! takes the way a successful run goes, with a note naming it; the same program with the
+//! value set in it still raises its alarm, as an error. Small programs in shop styles.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use ncplan::canon::{CanonOp, write_call};
+use ncplan::diag::{Diagnostic, Severity};
+use ncplan::dialect::Registry;
+use ncplan::interp::{Profile, ProgramSource, ToolData, interpret};
+
+/// The moves of `program` in `dialect` under `profile`, one per line, and its findings.
+fn run_with(dialect: &str, program: &str, profile: &Profile) -> (Vec<String>, Vec<Diagnostic>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(program, &d, profile, &mut out);
+    let mut lines = Vec::new();
+    for c in &out {
+        if matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }) {
+            let mut t = String::new();
+            write_call(&mut t, &c.op);
+            lines.push(t.trim().to_owned());
+        }
+    }
+    (lines, diags)
+}
+
+fn run(dialect: &str, program: &str) -> (Vec<String>, Vec<Diagnostic>) {
+    run_with(dialect, program, &Profile::default())
+}
+
+fn errors(diags: &[Diagnostic]) -> Vec<String> {
+    diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect()
+}
+
+/// The messages of the findings with `code`.
+fn said(diags: &[Diagnostic], code: &str) -> Vec<String> {
+    diags.iter().filter(|d| d.code.as_str() == code).map(|d| d.message.clone()).collect()
+}
+
+/// Programs by name, as a program directory would give them.
+struct Programs(BTreeMap<String, String>);
+
+impl ProgramSource for Programs {
+    fn load(&self, name: &str) -> Option<String> {
+        let stem = name.rsplit(['\\', '/', ':']).next().unwrap_or(name);
+        self.0.get(stem).cloned()
+    }
+}
+
+/// A Haas/Fanuc probing macro in the style of a CAM probing post: probe down, and if the
+/// skip position #5063 shows nothing was found, try again further left; when the tries run
+/// out, `#3000` alarms. The skip position is machine data.
+const PROBE_SEARCH: &str = "\
+O1000 (EDGE SEARCH)
+G90 G54 G0 X0 Y0 Z10.
+#103 = 3
+N10
+IF [#103 LE 0] GOTO 30
+G91 G1 X-1. F600.
+G90 G31 Z-2. F60.
+IF [#5063 LT -0.08] GOTO 40
+G90 G1 Z1. F600.
+#103 = #103 - 1
+GOTO 10
+N30
+#3000 = 101 (EDGE NOT FOUND)
+N40
+G90 G1 Z5. F600.
+G0 X20.
+M30
+";
+
+#[test]
+fn a_probe_search_that_finds_its_edge_is_the_run_taken() {
+    let (moves, diags) = run("haas", PROBE_SEARCH);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let notes = said(&diags, "flow::unknown-condition");
+    assert!(
+        notes.iter().any(|m| m.contains("IF [#5063 LT -0.08] GOTO 40")
+            && m.contains("#5063")
+            && m.contains("taken as true")
+            && m.contains("leaves the loop")),
+        "{notes:?}"
+    );
+    // One try (left 1, probe down), then the found branch: up and away.
+    assert_eq!(moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED(-1.0000, 0.0000, 10.0000")).count(), 1, "{moves:?}");
+    assert!(!moves.iter().any(|m| m.contains("(-2.0000, 0.0000")), "no second try: {moves:?}");
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_FEED(-1.0000, 0.0000, 5.0000")), "{moves:?}");
+    assert!(moves.last().is_some_and(|m| m.starts_with("STRAIGHT_TRAVERSE(20.0000")), "{moves:?}");
+}
+
+/// The same macro with the skip position set in the program to a miss: the search runs
+/// out and the alarm is an error.
+#[test]
+fn a_probe_search_with_a_known_miss_still_alarms() {
+    let program = PROBE_SEARCH.replace("IF [#5063 LT -0.08]", "#5063 = 0\nIF [#5063 LT -0.08]");
+    let (_, diags) = run("haas", &program);
+    let errors = errors(&diags);
+    assert!(errors.iter().any(|e| e.starts_with("interp::alarm") && e.contains("EDGE NOT FOUND")), "{errors:?}");
+    assert!(said(&diags, "flow::unknown-condition").is_empty());
+}
+
+/// A Fanuc probing macro in the Renishaw style: out of tolerance goes to the alarm, within
+/// it the macro goes on.
+#[test]
+fn an_out_of_range_probe_result_alarm_is_not_taken() {
+    let program = "\
+%
+O9810 (PROTECTED MOVE)
+G90 G31 Z-10. F500.
+IF [#5063 LT -5.] GOTO 99
+G0 Z20.
+GOTO 100
+N99 #3000 = 1 (PROBE TRIGGERED EARLY)
+N100 M99
+%
+";
+    let (moves, diags) = run("fanuc", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let notes = said(&diags, "flow::unknown-condition");
+    assert!(notes.iter().any(|m| m.contains("#5063") && m.contains("taken as false") && m.contains("alarm")), "{notes:?}");
+    assert!(moves.iter().any(|m| m.contains("20.0000, 0.0000, 0.0000, 0.0000)")), "{moves:?}");
+    let known = program.replace("G90 G31", "#5063 = -7.\nG90 G31");
+    let (_, diags) = run("fanuc", &known);
+    assert!(errors(&diags).iter().any(|e| e.starts_with("interp::alarm")), "{:?}", errors(&diags));
+}
+
+/// A Heidenhain cycle library: its parameter check jumps to an `FN 14` error label when a
+/// caller's Q parameter is missing. Run on its own, the caller's Q1 is unknown and the
+/// check passes.
+const CYCLE_LIBRARY: &str = "\
+0 BEGIN PGM POCKET MM
+1 FN 9: IF +Q1 EQU +0 GOTO LBL 99
+2 FN 12: IF +Q2 LT +0 GOTO LBL 98
+3 L X+10 Y+10 R0 FMAX
+4 L Z-Q2 R0 F200
+5 L X+40 R0 F500
+6 L Z+50 R0 FMAX
+7 FN 9: IF +0 EQU +0 GOTO LBL 100
+8 LBL 98
+9 FN 14: ERROR= 1001
+10 LBL 99
+11 FN 14: ERROR= 1000
+12 LBL 100
+13 END PGM POCKET MM
+";
+
+#[test]
+fn a_cycle_librarys_parameter_check_passes_without_its_caller() {
+    let (moves, diags) = run("heidenhain", CYCLE_LIBRARY);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let notes = said(&diags, "flow::unknown-condition");
+    assert!(notes.iter().any(|m| m.contains("IF +Q1 EQU +0 GOTO LBL 99") && m.contains("Q1") && m.contains("taken as false")), "{notes:?}");
+    assert!(notes.iter().any(|m| m.contains("IF +Q2 LT +0 GOTO LBL 98") && m.contains("raises the program's alarm")), "{notes:?}");
+    // The depth is the caller's: the plunge keeps its known axes and says so.
+    assert!(said(&diags, "interp::unknown-value").iter().any(|m| m.contains("Q2")), "{diags:?}");
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_FEED(40.0000, 10.0000")), "{moves:?}");
+    assert!(moves.last().is_some_and(|m| m.contains("40.0000, 10.0000, 50.0000")), "{moves:?}");
+}
+
+#[test]
+fn a_cycle_library_given_a_bad_parameter_raises_its_error() {
+    let program = CYCLE_LIBRARY.replace("1 FN 9:", "1 Q1 = 0\n1 FN 9:");
+    let (_, diags) = run("heidenhain", &program);
+    let errors = errors(&diags);
+    assert!(errors.iter().any(|e| e.starts_with("interp::alarm") && e.contains("1000")), "{errors:?}");
+}
+
+/// A loop over the tool radius, Q108: the machine's tool table holds it. Without a tool
+/// table entry it is unknown, the loop ends after one pass with a note, and no division by
+/// zero is reported; with the tool in the table the loop runs its passes.
+const RADIUS_LOOP: &str = "\
+0 BEGIN PGM STEPS MM
+1 TOOL CALL 5 Z S3000
+2 Q3 = 0
+3 Q4 = 20 / Q108
+4 L X+0 Y+0 Z+5 R0 FMAX M3
+5 LBL 1
+6 Q3 = Q3 + 1
+7 L X+Q3 R0 F300
+8 FN 12: IF +Q3 LT +Q108 GOTO LBL 1
+9 L Z+50 R0 FMAX
+10 END PGM STEPS MM
+";
+
+#[test]
+fn a_loop_over_an_unknown_tool_radius_ends_with_a_note() {
+    let (moves, diags) = run("heidenhain", RADIUS_LOOP);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(said(&diags, "interp::arithmetic").is_empty(), "division by an unknown radius is unknown, not by zero");
+    let notes = said(&diags, "flow::unknown-condition");
+    assert!(notes.iter().any(|m| m.contains("Q108") && m.contains("tool table") && m.contains("jump back is not taken")), "{notes:?}");
+    let feeds: Vec<_> = moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).collect();
+    assert_eq!(feeds.len(), 1, "{moves:?}");
+
+    let mut tools = BTreeMap::new();
+    tools.insert(5, ToolData { diameter: Some(6.0), ..ToolData::default() });
+    let profile = Profile { tools, ..Profile::default() };
+    let (moves, diags) = run_with("heidenhain", RADIUS_LOOP, &profile);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(said(&diags, "flow::unknown-condition").is_empty());
+    assert_eq!(moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).count(), 3, "{moves:?}");
+}
+
+/// A main program that sets the library's Q parameters and calls it: the check reads known
+/// values, and a bad one raises the library's error.
+#[test]
+fn a_caller_that_sets_the_parameters_gets_the_librarys_check() {
+    let mut programs = BTreeMap::new();
+    programs.insert("POCKET.H".to_owned(), CYCLE_LIBRARY.to_owned());
+    let profile = Profile { programs: Some(Arc::new(Programs(programs))), ..Profile::default() };
+    let main = "0 BEGIN PGM MAIN MM\n1 Q1 = 1\n2 Q2 = 4\n3 CALL PGM TNC:\\POCKET.H\n4 END PGM MAIN MM\n";
+    let (moves, diags) = run_with("heidenhain", main, &profile);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(said(&diags, "flow::unknown-condition").is_empty(), "{diags:?}");
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_FEED(10.0000, 10.0000, -4.0000")), "{moves:?}");
+    let bad = main.replace("Q2 = 4", "Q2 = -4");
+    let (_, diags) = run_with("heidenhain", &bad, &profile);
+    assert!(errors(&diags).iter().any(|e| e.contains("1001")), "{:?}", errors(&diags));
+}
+
+/// A Mazak pallet-changer macro reads the machine's pallet variable (#51998, beyond Fanuc's
+/// #9999): unknown, never an out-of-range parameter; a Fanuc-style `#1000`-range input reads
+/// the same way.
+#[test]
+fn pallet_macros_read_machine_variables_as_unknown() {
+    let program = "\
+O9100 (PALLET SWAP)
+IF [#51998 EQ 1.] GOTO 10
+M911
+GOTO 20
+N10 M912
+N20 IF [#1004 EQ 0] GOTO 30
+#3000 = 12 (PALLET NOT CLAMPED)
+N30 M99
+";
+    let (_, diags) = run("mazak", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let notes = said(&diags, "flow::unknown-condition");
+    assert!(notes.iter().any(|m| m.contains("#51998") && m.contains("outside this file")), "{notes:?}");
+    assert!(notes.iter().any(|m| m.contains("#1004") && m.contains("taken as true") && m.contains("alarm")), "{notes:?}");
+    let known = program.replace("(PALLET SWAP)", "(PALLET SWAP)\n#1004 = 1");
+    let (_, diags) = run("mazak", &known);
+    assert!(errors(&diags).iter().any(|e| e.starts_with("interp::alarm") && e.contains("PALLET NOT CLAMPED")), "{:?}", errors(&diags));
+}
+
+/// The notes of an unknown condition are notes, not warnings or errors.
+#[test]
+fn unknown_conditions_are_notes() {
+    let (_, diags) = run("heidenhain", CYCLE_LIBRARY);
+    assert!(diags.iter().filter(|d| d.code.as_str() == "flow::unknown-condition").all(|d| d.severity == Severity::Note));
+}
