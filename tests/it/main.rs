@@ -22,6 +22,7 @@ mod parity;
 mod pg;
 mod plan;
 mod robustness;
+mod round_trip_causes;
 mod shop;
 mod stepnc;
 mod tool_comments;
