@@ -363,10 +363,25 @@ fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: b
                 // A dimension rounded as the positions were: the planner's own figures of it
                 // are the same.
                 ChangeKind::FeatureChanged => c.before == c.after,
+                // A depth of cut measured between rounded positions: within both ends' rounding.
+                ChangeKind::StepoverChanged | ChangeKind::AxialDepthChanged => {
+                    matches!((length_mm(&c.before), length_mm(&c.after)), (Some(x), Some(y)) if (x - y).abs() <= 2.0 * tol)
+                }
                 _ => false,
             }
     };
     changes.iter().find(|c| !(by_rounding(c) || c.kind == ChangeKind::ToolRenamed && named)).map(|c| format!("diff: {}", c.phrase()))
+}
+
+/// A length as the diff writes it (`0.625 mm`, `0.0246 in`), in millimetres.
+fn length_mm(s: &str) -> Option<f64> {
+    let (v, unit) = s.split_once(' ')?;
+    let v: f64 = v.parse().ok()?;
+    match unit {
+        "mm" => Some(v),
+        "in" => Some(v * 25.4),
+        _ => None,
+    }
 }
 
 /// A source program read once: its canon moves and plan.
