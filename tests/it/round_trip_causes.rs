@@ -81,10 +81,10 @@ fn a_g92_shift_is_written_into_the_positions_and_said() {
 }
 
 /// A face cleared in passes 0.6251 mm apart, written with four decimals: rounded to three,
-/// the stepover the plan measures between passes comes back a few microns off, within the two
-/// ends' rounding (`post::rounded`), not an operator's change of stepover.
+/// the width the plan measures between passes comes back 3.126 mm for 3.1255 mm, within the
+/// two ends' rounding (`post::rounded`), not an operator's change of the feature.
 #[test]
-fn a_stepover_between_rounded_passes_is_rounding() {
+fn a_dimension_between_rounded_passes_is_rounding() {
     let mut text = String::from("G21 G90 G17\nT3 M6\nS1000 M3\nF100\nG0 X4.1011 Y1.7552 Z1\nG1 Z-0.485\n");
     for i in 0..6 {
         let y = 1.7552 + 0.6251 * f64::from(i);
@@ -94,4 +94,6 @@ fn a_stepover_between_rounded_passes_is_rounding() {
     text.push_str("G0 Z1\nM2\n");
     let bad = failures(&text, "linuxcnc", |_, v| v == "equal" || v.starts_with("rounded: post::rounded: "));
     assert!(bad.is_empty(), "{}", bad.join("\n"));
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "cause").unwrap();
+    assert!(round_trip(&src, "fanuc").1.starts_with("rounded: post::rounded: "), "{}", round_trip(&src, "fanuc").1);
 }

@@ -361,11 +361,11 @@ fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: b
                 ChangeKind::StartPointMoved | ChangeKind::DepthChanged => true,
                 ChangeKind::FeedChanged => feeds,
                 // A dimension rounded as the positions were: the planner's own figures of it
-                // are the same.
-                ChangeKind::FeatureChanged => c.before == c.after,
-                // A depth of cut measured between rounded positions: within both ends' rounding.
-                ChangeKind::StepoverChanged | ChangeKind::AxialDepthChanged => {
-                    matches!((length_mm(&c.before), length_mm(&c.after)), (Some(x), Some(y)) if (x - y).abs() <= 2.0 * tol)
+                // are the same, or, measured between rounded positions (a width, a depth of
+                // cut), within both ends' rounding.
+                ChangeKind::FeatureChanged | ChangeKind::StepoverChanged | ChangeKind::AxialDepthChanged => {
+                    c.before == c.after
+                        || matches!((length_mm(&c.before), length_mm(&c.after)), (Some(x), Some(y)) if (x - y).abs() <= 2.0 * tol)
                 }
                 _ => false,
             }
