@@ -231,6 +231,14 @@ codes! {
     /// The source states positions finer than the target's number format writes them: they
     /// are written rounded to the target's resolution.
     PostRounded = ("post::rounded", Note),
+    /// A G92-style shift (LinuxCNC `G92`, a Heidenhain datum shift) is written into the
+    /// positions: the machine makes the same moves, but the program states them in the work
+    /// offset's frame, so the plan read back is in that frame.
+    PostShiftApplied = ("post::shift-applied", Note),
+    /// An arc whose radii at its start and end differ by more than the target's tolerance:
+    /// its centre is moved onto the chord's bisector so that both agree, and its path moves
+    /// by up to the radius difference.
+    PostArcCentre = ("post::arc-centre", Note),
 }
 
 /// One finding about one input.

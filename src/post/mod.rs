@@ -309,7 +309,12 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     spindle_on: bool,
     feed: f64,
     coolant: bool,
+    /// The length offset in force; `u32::MAX` until the source states one, so that a
+    /// cancel the source says (`G49`, read by the plan as "none") is said in the target too.
     length: u32,
+    /// The source cut with its length offset cancelled, which the target's tool change puts
+    /// in force and the target cannot cancel: said at the first cut.
+    length_unsaid: bool,
     comp_d: u32,
     comp: Option<(bool, Option<u32>)>,
     pending_move: Option<Canon>,
@@ -527,7 +532,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             spindle_on: false,
             feed: 0.0,
             coolant: false,
-            length: 0,
+            length: u32::MAX,
+            length_unsaid: false,
             comp_d: 0,
             comp: None,
             pending_move: None,
@@ -925,6 +931,14 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 vals.set(Value::H, f64::from(t));
                 self.length = t;
                 self.event("length-offset", &mut vals);
+            } else if self.opts.length_at_tool_change == (false, true) && self.length == 0 {
+                // The source cancelled the length offset and its tool change leaves it so; the
+                // target's tool change puts the tool's length in force: cancel it again.
+                if self.out.template("length-offset-off").is_some() {
+                    self.event("length-offset-off", &mut Vals::new());
+                } else {
+                    self.length_unsaid = true;
+                }
             }
         }
     }
@@ -1067,6 +1081,17 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             let t = (centre[a] - mx) * ux + (centre[b] - my) * uy;
             centre[a] = mx + t * ux;
             centre[b] = my + t * uy;
+            let mm = radius_error * self.opts.units.to_mm();
+            if mm > ROUNDED_NOTE {
+                self.note(
+                    Code::PostArcCentre,
+                    canon,
+                    "arc-centre",
+                    format!(
+                        "the arc's radii at start and end differ by {mm:.4} mm, more than the target takes: its centre is moved so that both agree, and its path by up to that much (the first such arc; others may follow)"
+                    ),
+                );
+            }
         }
         let r = ((start[a] - centre[a]).hypot(start[b] - centre[b])).max(EPS);
         let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
@@ -1357,7 +1382,17 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::Setting(_)
             | CanonOp::SelectTool(_)
             | CanonOp::ChangeTool(_) => {}
-            CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::CycleBegin(_) => self.flush_speed(true),
+            CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::CycleBegin(_) => {
+                self.flush_speed(true);
+                if self.length_unsaid && self.tool != 0 {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "length-offset-off",
+                        "the program cuts with the length offset cancelled (G49), but the target's tool change puts the tool's length in force and its output rules have no `length-offset-off` to cancel it",
+                    );
+                }
+            }
             _ => self.flush_speed(false),
         }
         match &canon.op {
@@ -1441,6 +1476,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             CanonOp::SetG92Offset(o) => {
                 self.g92 = [self.to_out(o[0]), self.to_out(o[1]), self.to_out(o[2])];
+                if self.g92.iter().any(|v| v.abs() * self.opts.units.to_mm() > ROUNDED_NOTE) {
+                    self.note(
+                        Code::PostShiftApplied,
+                        &canon,
+                        "shift",
+                        "the program shifts its coordinates (G92, a datum shift): the positions are written with the shift added, in the work offset's frame",
+                    );
+                }
             }
             CanonOp::SetFeedRate(f) => {
                 self.feed = self.to_out(*f);
@@ -1488,6 +1531,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Setting(Setting::LengthOffset(h)) if *h == self.length => {}
             CanonOp::Setting(Setting::LengthOffset(h)) => {
                 self.length = *h;
+                // A cancel where the target's tool change applies the length it cannot cancel.
+                let unsaid = self.opts.length_at_tool_change.1 && self.out.template("length-offset-off").is_none();
+                self.length_unsaid = *h == 0 && unsaid;
                 let mut vals = Vals::new();
                 vals.set(Value::H, f64::from(*h));
                 self.event(if *h == 0 { "length-offset-off" } else { "length-offset" }, &mut vals);

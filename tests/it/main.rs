@@ -24,6 +24,7 @@ mod pg;
 mod plan;
 mod post_rules;
 mod robustness;
+mod round_trip_causes;
 mod shop;
 mod siemens_axes;
 mod speed;

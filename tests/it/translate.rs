@@ -32,7 +32,7 @@ fn registry() -> &'static Registry {
     R.get_or_init(Registry::shipped)
 }
 
-fn dialect(name: &str) -> Arc<Dialect> {
+pub(crate) fn dialect(name: &str) -> Arc<Dialect> {
     registry().get(name).unwrap_or_else(|| panic!("no dialect {name}"))
 }
 
@@ -76,6 +76,9 @@ fn translate_with(
 struct Mv {
     /// 0 rapid, 1 feed, 2 clockwise arc, 3 counter-clockwise arc.
     kind: u8,
+    /// Where the move starts, and for an arc the plane's axes (first, second, normal).
+    from: [f64; 3],
+    axes: (usize, usize, usize),
     to: [f64; 3],
     /// Rotary axes at the end, degrees.
     abc: [f64; 3],
@@ -132,6 +135,8 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                 rot = abc;
                 out.push(Mv {
                     kind: u8::from(!rapid),
+                    from: pos,
+                    axes: (0, 1, 2),
                     to,
                     abc,
                     centre: [0.0; 3],
@@ -171,6 +176,8 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                 let slack = ((pos[a] - centre[a]).hypot(pos[b] - centre[b]) - (to[a] - centre[a]).hypot(to[b] - centre[b])).abs();
                 out.push(Mv {
                     kind: if *rotation > 0 { 3 } else { 2 },
+                    from: pos,
+                    axes: (a, b, n),
                     to,
                     abc: rot,
                     centre,
@@ -221,24 +228,73 @@ fn toolpath_difference(a: &[Mv], b: &[Mv], tol: f64) -> Option<String> {
             j += 1;
             continue;
         }
-        // An arc may come back in pieces (whole turns, halves): same centre and direction.
+        // An arc may come back in pieces (whole turns, halves): same direction, and each piece
+        // about the same centre or, where the centre is ill-conditioned (a long radius over a
+        // short chord, radii that differ at the ends), on the same path within `tol` and the
+        // source's own radius difference.
+        let (a0, b0, _) = m.axes;
+        let r0 = (m.from[a0] - m.centre[a0]).hypot(m.from[b0] - m.centre[b0]);
+        let angle_tol = (2.0 * tol + m.slack) / r0.max(1e-9) + 1e-3;
         let mut swept = 0.0;
         loop {
             let Some(n) = b.get(j) else { return Some(format!("the translation ends within the arc of line {}", m.line)) };
-            if n.kind != m.kind || !near(n.centre, m.centre, 2.0 * tol + m.slack) {
+            let same_centre = near(n.centre, m.centre, 2.0 * tol + m.slack);
+            if n.kind != m.kind || !(same_centre || arc_deviation(m, n) <= tol + m.slack) {
                 return Some(format!("line {}: arc about {} became {} about {}", m.line, fmt(m.centre), kind(n.kind), fmt(n.centre)));
             }
             swept += n.sweep;
             j += 1;
-            if swept >= m.sweep - 1e-3 {
-                if !near(n.to, m.to, tol) || (swept - m.sweep).abs() > 1e-2 {
-                    return Some(format!("line {}: arc to {} became one to {}", m.line, fmt(m.to), fmt(n.to)));
-                }
+            // Done at the source's end point with its sweep; the pieces past its sweep without
+            // reaching it are another arc.
+            if near(n.to, m.to, tol) && (swept - m.sweep).abs() <= angle_tol.max(1e-2) {
                 break;
+            }
+            if swept >= m.sweep - 1e-3 {
+                return Some(format!("line {}: arc to {} became one to {}", m.line, fmt(m.to), fmt(n.to)));
             }
         }
     }
     b.get(j).map(|n| format!("the translation has more moves: {} to {}", kind(n.kind), fmt(n.to)))
+}
+
+/// How far piece `n` of a translated arc strays from the source's arc `m` (infinite when `m`
+/// turns more than once): `m` runs from its start radius to its end radius and along its
+/// axis in proportion to the angle, as controls that take differing radii move.
+fn arc_deviation(m: &Mv, n: &Mv) -> f64 {
+    let tau = std::f64::consts::TAU;
+    if m.sweep > tau + 1e-9 || n.axes != m.axes {
+        return f64::INFINITY;
+    }
+    let (a, b, k) = m.axes;
+    let ang = |p: [f64; 3], c: [f64; 3]| (p[b] - c[b]).atan2(p[a] - c[a]);
+    let dir = if m.kind == 3 { 1.0 } else { -1.0 };
+    let r = |p: [f64; 3], c: [f64; 3]| (p[a] - c[a]).hypot(p[b] - c[b]);
+    let (r0, r1) = (r(m.from, m.centre), r(m.to, m.centre));
+    let (s0, rn) = (ang(n.from, n.centre), r(n.from, n.centre));
+    let rn1 = r(n.to, n.centre);
+    let mut worst: f64 = 0.0;
+    for i in 0..=32 {
+        let f = f64::from(i) / 32.0;
+        let t = s0 + dir * n.sweep * f;
+        let rr = rn + (rn1 - rn) * f;
+        let mut q = [0.0; 3];
+        q[a] = n.centre[a] + rr * t.cos();
+        q[b] = n.centre[b] + rr * t.sin();
+        q[k] = n.from[k] + (n.to[k] - n.from[k]) * f;
+        // The point's angle along `m`, from its start in its direction.
+        let theta = (dir * (ang(q, m.centre) - ang(m.from, m.centre))).rem_euclid(tau);
+        let d = if theta <= m.sweep + 1e-9 {
+            let g = if m.sweep > 0.0 { theta / m.sweep } else { 0.0 };
+            let radial = r(q, m.centre) - (r0 + (r1 - r0) * g);
+            let axial = q[k] - (m.from[k] + (m.to[k] - m.from[k]) * g);
+            radial.hypot(axial)
+        } else {
+            let dist = |p: [f64; 3]| (0..3).map(|x| (q[x] - p[x]).powi(2)).sum::<f64>().sqrt();
+            dist(m.from).min(dist(m.to))
+        };
+        worst = worst.max(d);
+    }
+    worst
 }
 
 fn kind(k: u8) -> &'static str {
@@ -305,12 +361,27 @@ fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: b
                 ChangeKind::StartPointMoved | ChangeKind::DepthChanged => true,
                 ChangeKind::FeedChanged => feeds,
                 // A dimension rounded as the positions were: the planner's own figures of it
-                // are the same.
-                ChangeKind::FeatureChanged => c.before == c.after,
+                // are the same, or, measured between rounded positions (a width, a depth of
+                // cut), within both ends' rounding.
+                ChangeKind::FeatureChanged | ChangeKind::StepoverChanged | ChangeKind::AxialDepthChanged => {
+                    c.before == c.after
+                        || matches!((length_mm(&c.before), length_mm(&c.after)), (Some(x), Some(y)) if (x - y).abs() <= 2.0 * tol)
+                }
                 _ => false,
             }
     };
     changes.iter().find(|c| !(by_rounding(c) || c.kind == ChangeKind::ToolRenamed && named)).map(|c| format!("diff: {}", c.phrase()))
+}
+
+/// A length as the diff writes it (`0.625 mm`, `0.0246 in`), in millimetres.
+fn length_mm(s: &str) -> Option<f64> {
+    let (v, unit) = s.split_once(' ')?;
+    let v: f64 = v.parse().ok()?;
+    match unit {
+        "mm" => Some(v),
+        "in" => Some(v * 25.4),
+        _ => None,
+    }
 }
 
 /// A source program read once: its canon moves and plan.
@@ -365,10 +436,23 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
             return (text, format!("rounded: {}: {verdict}", r.code.as_str()));
         }
     }
-    // The same toolpath, stated otherwise: a cycle written as its moves, a loop unrolled; the
-    // plan read from the moves is not the one read from the cycle or loop.
+    // Arcs whose radii differed more than the target takes, their centres moved (said): the
+    // toolpath within the source's radius differences, which bound the plan's changes too.
+    if let Some(r) = diags.iter().find(|d| d.code == ncplan::diag::Code::PostArcCentre) {
+        let slack = src.moves.iter().map(|m| m.slack).fold(0.0, f64::max);
+        let tol = resolution(&target, &back.canon).max(tol);
+        let feeds = diags.iter().any(|d| d.code == ncplan::diag::Code::PostRounded && d.message.contains("feeds"));
+        if toolpath_difference(&src.moves, &back_moves, tol).is_none()
+            && plan_difference_within(&src.plan, &back.plan, tol + slack, true, feeds).is_none()
+        {
+            return (text, format!("rounded: {}: {verdict}", r.code.as_str()));
+        }
+    }
+    // The same toolpath, stated otherwise: a cycle written as its moves, a loop unrolled, a
+    // shift written into the positions; the plan read from the moves is not the one read from
+    // the cycle, the loop or the shifted frame.
     if verdict.starts_with("plan:") {
-        let said = [ncplan::diag::Code::PostCycleAsMoves, ncplan::diag::Code::PostUnrolled];
+        let said = [ncplan::diag::Code::PostCycleAsMoves, ncplan::diag::Code::PostUnrolled, ncplan::diag::Code::PostShiftApplied];
         if let Some(r) = diags.iter().find(|d| said.contains(&d.code)) {
             return (text, format!("restated: {}: {verdict}", r.code.as_str()));
         }

@@ -1,0 +1,99 @@
+//! The general causes of round trips that came back different (issue 21), one small program
+//! each in the style that showed the cause, translated to every other mill dialect and read
+//! back (`translate::round_trip`): equal, or explained by the code that says why.
+
+use crate::translate::{MILLS, Source, dialect, round_trip};
+
+/// Every target but the source's own: the verdicts that are not `want`.
+fn failures(text: &str, from: &str, want: impl Fn(&str, &str) -> bool) -> Vec<String> {
+    let src = Source::read(text.as_bytes(), dialect(from), "cause").expect("the program reads without errors");
+    let mut out = Vec::new();
+    for to in MILLS.iter().copied().filter(|t| *t != from) {
+        let (written, verdict) = round_trip(&src, to);
+        if !want(to, &verdict) {
+            out.push(format!("{from} → {to}: {verdict}\n{written}"));
+        }
+    }
+    out
+}
+
+/// A post's safe start that cancels the length offset (`G49`) before the tool change and no
+/// `G43` after it (a LinuxCNC post relying on the tool table's zero lengths): the plan reads
+/// "no length offset", and the translation says the cancel too, so the plan read back is not
+/// "the tool's own".
+#[test]
+fn a_length_offset_the_source_cancels_stays_cancelled() {
+    let text = "G21 G90 G17\nG40 G49 G80\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG1 Y10\nG0 Z5\nM2\n";
+    let bad = failures(text, "linuxcnc", |to, v| {
+        v == "equal"
+            || (["siemens", "heidenhain"].contains(&to)
+                && v.starts_with("untranslatable: post::unwritable: the program cuts with the length offset cancelled"))
+    });
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A LinuxCNC arc whose radii at start and end differ by 0.014 mm (LinuxCNC takes up to
+/// 0.028 mm): stricter targets get the centre on the chord's bisector, the path moving by
+/// less than the difference, and the translation says so (`post::arc-centre`).
+#[test]
+fn an_arc_whose_radii_differ_moves_its_centre_and_says_so() {
+    let text = "G21 G90 G17\nT1 M6\nS1000 M3\nF100\nG0 X0 Y0 Z5\nG1 Z-1\nG2 X50 Y0 I24.986 J0\nG0 Z5\nM2\n";
+    let bad = failures(text, "linuxcnc", |_, v| v == "equal" || v.starts_with("rounded: post::arc-centre: "));
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    // Heidenhain and Fanuc check the radii to 0.002 mm: the centre moves there.
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "cause").unwrap();
+    for to in ["heidenhain", "fanuc"] {
+        assert!(round_trip(&src, to).1.starts_with("rounded: post::arc-centre: "), "{to}");
+    }
+}
+
+/// A long arc over a short chord (a CAM's near-straight arc, radius 1274.7 mm over 32.7 mm):
+/// the centre written to three decimals and put on the bisector is 0.005 mm from the
+/// source's, yet every point of the path is within the resolution. The toolpath is compared
+/// by the path, not by the ill-conditioned centre.
+#[test]
+fn a_long_radius_over_a_short_chord_is_the_same_path() {
+    let text = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X-1.974 Y8.147 Z6.\nG1 Z-1. F1200.\nG2 X-1.346 Y40.813 I1274.739 J-8.173 F3600.\nG1 X-1.246 Y43.543\nG0 Z6.\nM2\n";
+    let bad = failures(text, "linuxcnc", |_, v| v == "equal" || v.starts_with("rounded: post::"));
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A small arc (radius 0.125 mm) in a four-decimal program written with three decimals:
+/// rounding the end moves its angle by 0.004 rad, a few microns along the path, within the
+/// resolution the translation says (`post::rounded`).
+#[test]
+fn a_small_arc_rounded_to_three_decimals_is_the_same_arc() {
+    let text = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X3.8605 Y1.5828 Z1.\nG1 Z-0.485 F100.\nG3 X3.9761 Y1.5052 I0.1157 J0.0474 F400.\nG1 X10.3461\nG0 Z1.\nM2\n";
+    let bad = failures(text, "linuxcnc", |_, v| v == "equal" || v.starts_with("rounded: post::rounded: "));
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A `G92` shift (LinuxCNC) is written into the positions: the machine makes the same moves
+/// (the toolpath is equal), the plan read back is in the work offset's frame, and the
+/// translation says so (`post::shift-applied`).
+#[test]
+fn a_g92_shift_is_written_into_the_positions_and_said() {
+    let text = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z25\nG92 Z12.7\nG0 X2 Y0\nG1 Z-1 F100\nG1 X20\nG1 Y10\nG0 Z5\nG92.1\nM2\n";
+    let bad = failures(text, "linuxcnc", |_, v| v == "equal" || v.starts_with("restated: post::shift-applied: plan: "));
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "cause").unwrap();
+    assert!(round_trip(&src, "fanuc").1.starts_with("restated: post::shift-applied: "), "{}", round_trip(&src, "fanuc").1);
+}
+
+/// A face cleared in passes 0.6251 mm apart, written with four decimals: rounded to three,
+/// the width the plan measures between passes comes back 3.126 mm for 3.1255 mm, within the
+/// two ends' rounding (`post::rounded`), not an operator's change of the feature.
+#[test]
+fn a_dimension_between_rounded_passes_is_rounding() {
+    let mut text = String::from("G21 G90 G17\nT3 M6\nS1000 M3\nF100\nG0 X4.1011 Y1.7552 Z1\nG1 Z-0.485\n");
+    for i in 0..6 {
+        let y = 1.7552 + 0.6251 * f64::from(i);
+        let (x0, x1) = if i % 2 == 0 { (4.1011, 10.3461) } else { (10.3461, 4.1011) };
+        text.push_str(&format!("G1 X{x0:.4} Y{y:.4}\nG1 X{x1:.4}\n"));
+    }
+    text.push_str("G0 Z1\nM2\n");
+    let bad = failures(&text, "linuxcnc", |_, v| v == "equal" || v.starts_with("rounded: post::rounded: "));
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "cause").unwrap();
+    assert!(round_trip(&src, "fanuc").1.starts_with("rounded: post::rounded: "), "{}", round_trip(&src, "fanuc").1);
+}
