@@ -1582,11 +1582,12 @@ impl<'a> Interpreter<'a> {
         loop {
             match eval::eval(block, e, &self.params, text) {
                 Err(EvalError::Undefined(name)) if self.dialect.lexical.system_variable_prefix.is_some_and(|p| name.starts_with(p)) => {
-                    // The control's own data: unknown here, and what follows may differ on the machine.
-                    let msg = format!("system variable `{name}` is the control's data, unknown here; taken as 0");
-                    diags.push(Diagnostic::new(Code::UnsetVariable, range, msg));
+                    // The control's own data (`$P_TOOLNO`, `$AA_IM[X]`, `$TC_DP6[1,1]`): a value
+                    // the machine has and this file does not, so unknown, never a made-up 0.
+                    let msg = format!("system variable `{name}` is the control's data, unknown here");
+                    self.limited(diags, "unknown-variable", Diagnostic::new(Code::UnknownValue, range, msg));
                     self.st.machine_data_read = true;
-                    self.params.set_named(&name, 0.0);
+                    self.params.set_named(&name, eval::UNKNOWN);
                 }
                 Err(EvalError::Undefined(name)) if self.dialect.macros.unset_unknown => {
                     // Global user data (Siemens GUD) or the caller's: it has a value, unknown here.

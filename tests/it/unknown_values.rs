@@ -253,3 +253,31 @@ fn unknown_conditions_are_notes() {
     let (_, diags) = run("heidenhain", CYCLE_LIBRARY);
     assert!(diags.iter().filter(|d| d.code.as_str() == "flow::unknown-condition").all(|d| d.severity == Severity::Note));
 }
+
+/// A Siemens tool check in the style of a machine builder's cycle: the active tool number
+/// `$P_TOOLNO` and the tool's length `$TC_DP3[…]` are the control's data. A run that
+/// succeeds has the right tool, so `SETAL` is not taken; the values are unknown, never 0.
+const SIEMENS_TOOL_CHECK: &str = "\
+G90 G54 G17
+T=\"DRILL8\" M6
+IF $P_TOOLNO==0 GOTOF NO_TOOL
+R1=$TC_DP3[$P_TOOLNO,1]
+IF R1<=0 GOTOF NO_TOOL
+G0 X10 Y20 Z5 S2000 M3
+G1 Z-5 F150
+G0 Z50
+M30
+NO_TOOL:
+SETAL(61001)
+M0
+";
+
+#[test]
+fn siemens_system_variables_are_unknown_and_the_check_passes() {
+    let (moves, diags) = run("siemens", SIEMENS_TOOL_CHECK);
+    assert_eq!(errors(&diags), Vec::<String>::new(), "{diags:?}");
+    let unknown = said(&diags, "interp::unknown-value");
+    assert!(unknown.iter().any(|m| m.to_ascii_uppercase().contains("$P_TOOLNO")), "{diags:?}");
+    assert!(said(&diags, "interp::unset-variable").iter().all(|m| !m.to_ascii_uppercase().contains("$P_TOOLNO")), "not taken as 0: {diags:?}");
+    assert!(moves.iter().any(|m| m.contains("STRAIGHT_FEED") && m.contains("-5.0000")), "the drilling move is made: {moves:?}");
+}
