@@ -278,6 +278,9 @@ fn siemens_system_variables_are_unknown_and_the_check_passes() {
     assert_eq!(errors(&diags), Vec::<String>::new(), "{diags:?}");
     let unknown = said(&diags, "interp::unknown-value");
     assert!(unknown.iter().any(|m| m.to_ascii_uppercase().contains("$P_TOOLNO")), "{diags:?}");
-    assert!(said(&diags, "interp::unset-variable").iter().all(|m| !m.to_ascii_uppercase().contains("$P_TOOLNO")), "not taken as 0: {diags:?}");
+    assert!(
+        said(&diags, "interp::unset-variable").iter().all(|m| !m.to_ascii_uppercase().contains("$P_TOOLNO")),
+        "not taken as 0: {diags:?}"
+    );
     assert!(moves.iter().any(|m| m.contains("STRAIGHT_FEED") && m.contains("-5.0000")), "the drilling move is made: {moves:?}");
 }
