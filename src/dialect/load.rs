@@ -1132,13 +1132,23 @@ impl Cx {
             };
             let mut args = Vec::new();
             for a in c.children.iter().filter(|a| a.name == "arg") {
-                self.shape(a, &["name", "role", "use", "param"], &[]);
+                self.shape(a, &["name", "role", "use", "param", "sub"], &[]);
                 let param = match self.attr(a, "param") {
                     None => None,
                     Some(p) => match p.parse::<u32>() {
                         Ok(n) => Some(n),
                         Err(_) => {
                             self.error(Self::attr_range(a, "param"), format!("`param` must be a parameter number, not `{p}`"));
+                            None
+                        }
+                    },
+                };
+                let sub = match self.attr(a, "sub") {
+                    None => None,
+                    Some(p) => match p.parse::<u32>() {
+                        Ok(n) if (1..=9).contains(&n) => Some(n),
+                        _ => {
+                            self.error(Self::attr_range(a, "sub"), format!("`sub` must be a sub-block number 1-9, not `{p}`"));
                             None
                         }
                     },
@@ -1156,7 +1166,7 @@ impl Cx {
                         false
                     }
                 };
-                args.push(CycleArg { name: n.to_owned(), role, required, param });
+                args.push(CycleArg { name: n.to_owned(), role, required, param, sub });
             }
             out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate, surface_below_start });
         }

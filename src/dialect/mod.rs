@@ -676,6 +676,9 @@ pub struct CycleArg {
     /// The parameter the value is read from when the cycle is called (`Q200`), for cycles
     /// defined by parameter assignments rather than positional arguments.
     pub param: Option<u32>,
+    /// The sub-block of a legacy cycle that carries this argument as the value after its
+    /// name (`CYCL DEF 1.2 DEPTH -15`: sub-block 2), whatever the name's language.
+    pub sub: Option<u32>,
 }
 
 /// A named cycle with positional parameters.
