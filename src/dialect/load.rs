@@ -779,6 +779,8 @@ impl Cx {
                 "called-extensions",
                 "unknown-conditions",
                 "return-tells-called",
+                "definition-start",
+                "definition-end",
             ],
             &["statement", "arguments", "system-variable"],
         );
@@ -787,6 +789,16 @@ impl Cx {
             repeat_in_p: self.bool(el, "repeat-in-p", false),
             call_by_name: self.bool(el, "call-by-name", false),
             end_label: self.attr(el, "end-label").map(|l| l.trim().to_ascii_lowercase()),
+            definition_block: match (self.attr(el, "definition-start"), self.attr(el, "definition-end")) {
+                (Some(a), Some(b)) if !a.trim().is_empty() && !b.trim().is_empty() => {
+                    Some((a.trim().to_ascii_uppercase(), b.trim().to_ascii_uppercase()))
+                }
+                (None, None) => None,
+                _ => {
+                    self.error(el.range, "`definition-start` and `definition-end` go together".to_owned());
+                    None
+                }
+            },
             call_repeat: self.attr(el, "call-repeat").map(|w| w.trim().to_ascii_uppercase()),
             call_start: self.letter_attr(el, "call-start").map(|c| c as u8),
             bare_if_jump: self.bool(el, "bare-if-jump", false),

@@ -17,6 +17,7 @@ mod express;
 mod fagor;
 mod faults;
 mod first_start;
+mod legacy_blocks;
 mod flow;
 mod macros;
 mod parity;
