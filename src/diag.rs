@@ -159,6 +159,8 @@ codes! {
     /// A condition on a value from outside the file: it took the way a run without alarm
     /// goes (or the dictionary's or config's choice), and the note names it.
     UnknownCondition = ("flow::unknown-condition", Note),
+    /// A definition block (Okuma `DEF WORK` ... `END`): data for the control, skipped by the run.
+    DefinitionSkipped = ("flow::definition-skipped", Note),
     /// A control statement that could not be read (a condition cut short, a jump left
     /// without its IF): it is skipped instead of acting on what was left of it (the control
     /// alarms at it).

@@ -780,6 +780,8 @@ impl Cx {
                 "unknown-conditions",
                 "unlisted-tools",
                 "return-tells-called",
+                "definition-start",
+                "definition-end",
             ],
             &["statement", "arguments", "system-variable"],
         );
@@ -788,6 +790,16 @@ impl Cx {
             repeat_in_p: self.bool(el, "repeat-in-p", false),
             call_by_name: self.bool(el, "call-by-name", false),
             end_label: self.attr(el, "end-label").map(|l| l.trim().to_ascii_lowercase()),
+            definition_block: match (self.attr(el, "definition-start"), self.attr(el, "definition-end")) {
+                (Some(a), Some(b)) if !a.trim().is_empty() && !b.trim().is_empty() => {
+                    Some((a.trim().to_ascii_uppercase(), b.trim().to_ascii_uppercase()))
+                }
+                (None, None) => None,
+                _ => {
+                    self.error(el.range, "`definition-start` and `definition-end` go together".to_owned());
+                    None
+                }
+            },
             call_repeat: self.attr(el, "call-repeat").map(|w| w.trim().to_ascii_uppercase()),
             call_start: self.letter_attr(el, "call-start").map(|c| c as u8),
             bare_if_jump: self.bool(el, "bare-if-jump", false),
@@ -1136,13 +1148,23 @@ impl Cx {
             };
             let mut args = Vec::new();
             for a in c.children.iter().filter(|a| a.name == "arg") {
-                self.shape(a, &["name", "role", "use", "param"], &[]);
+                self.shape(a, &["name", "role", "use", "param", "sub"], &[]);
                 let param = match self.attr(a, "param") {
                     None => None,
                     Some(p) => match p.parse::<u32>() {
                         Ok(n) => Some(n),
                         Err(_) => {
                             self.error(Self::attr_range(a, "param"), format!("`param` must be a parameter number, not `{p}`"));
+                            None
+                        }
+                    },
+                };
+                let sub = match self.attr(a, "sub") {
+                    None => None,
+                    Some(p) => match p.parse::<u32>() {
+                        Ok(n) if (1..=9).contains(&n) => Some(n),
+                        _ => {
+                            self.error(Self::attr_range(a, "sub"), format!("`sub` must be a sub-block number 1-9, not `{p}`"));
                             None
                         }
                     },
@@ -1160,7 +1182,7 @@ impl Cx {
                         false
                     }
                 };
-                args.push(CycleArg { name: n.to_owned(), role, required, param });
+                args.push(CycleArg { name: n.to_owned(), role, required, param, sub });
             }
             out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate, surface_below_start });
         }

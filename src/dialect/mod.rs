@@ -387,6 +387,9 @@ pub struct Macros {
     pub bare_conditions: bool,
     /// The label whose definition ends a label call (`LBL 0`), normalised.
     pub end_label: Option<String>,
+    /// A definition block's start and end keywords (upper case): the lines between are data
+    /// for the control (Okuma `DEF WORK` ... `END`), skipped by the run.
+    pub definition_block: Option<(String, String)>,
     /// Whether a block that starts with an unknown name calls the program of that name.
     pub call_by_name: bool,
     /// The word that repeats a call (`P`, `REP`), upper case.
@@ -452,6 +455,7 @@ impl Default for Macros {
             repeat_in_p: false,
             bare_conditions: false,
             end_label: None,
+            definition_block: None,
             call_by_name: false,
             call_repeat: None,
             call_repeat_additional: false,
@@ -684,6 +688,9 @@ pub struct CycleArg {
     /// The parameter the value is read from when the cycle is called (`Q200`), for cycles
     /// defined by parameter assignments rather than positional arguments.
     pub param: Option<u32>,
+    /// The sub-block of a legacy cycle that carries this argument as the value after its
+    /// name (`CYCL DEF 1.2 DEPTH -15`: sub-block 2), whatever the name's language.
+    pub sub: Option<u32>,
 }
 
 /// A named cycle with positional parameters.

@@ -508,6 +508,9 @@ vocab! {
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).
         Cycle = "cycle",
+        /// The value after a legacy cycle's sub-block name (internal: `CYCL DEF 1.1 SET UP 2`
+        /// gives 2; the sub-block's number says which argument it is).
+        CycleValue = "cycle-value",
     }
 }
 
@@ -541,7 +544,7 @@ impl Role {
 
     /// Roles the parser gives words itself (keyword codes, named cycles); a dialect file may not use them.
     pub fn is_internal(self) -> bool {
-        matches!(self, Role::Keyword | Role::Cycle)
+        matches!(self, Role::Keyword | Role::Cycle | Role::CycleValue)
     }
 
     /// Whether the role is a machine axis (X Y Z, A B C, U V W).

@@ -56,8 +56,15 @@ impl Interpreter<'_> {
             if sub == 0.0 || !same {
                 self.st.defined_cycle = Some(Defined { cycle: ci, args: Vec::new(), range });
             }
-            let words: Vec<(Role, f64)> =
+            let mut words: Vec<(Role, f64)> =
                 cycle.args.iter().filter(|a| a.param.is_none()).filter_map(|a| self.slot(a.role).map(|v| (a.role, v))).collect();
+            // `CYCL DEF 1.2 DEPTH -15`: the value after the name is the sub-block's argument.
+            if let Some(v) = self.slot(Role::CycleValue) {
+                let arg = cycle.args.iter().find(|a| a.sub.is_some_and(|s| f64::from(s) == sub));
+                if let Some(a) = arg.filter(|a| !words.iter().any(|(r, _)| *r == a.role)) {
+                    words.push((a.role, v));
+                }
+            }
             if let Some(d) = self.st.defined_cycle.as_mut() {
                 d.args.extend(words);
             }

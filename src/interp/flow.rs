@@ -74,6 +74,7 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         broken_blocks: BTreeSet::new(),
         broken: false,
         repeated: 0,
+        definition: None,
     };
     let mut interp = Interpreter::new(dialect, profile, text);
     interp.start(sink);
@@ -253,6 +254,9 @@ struct Driver<'a, 'p> {
     broken: bool,
     /// Blocks run again so far (see [`Profile::max_repeated_blocks`]).
     repeated: u64,
+    /// Inside a definition block (see [`crate::dialect::Macros::definition_block`]): where it
+    /// started.
+    definition: Option<TextRange>,
 }
 
 /// A block as the parser left it, and where the next one starts. Its lexical findings are
@@ -339,10 +343,17 @@ impl<'a> Driver<'a, '_> {
             let src = self.cur;
             let mark = diags.len();
             if !self.next_block(&mut block, start, diags) {
+                if let Some(range) = self.definition.take() {
+                    let msg = "the definition block is not closed: the rest of the file was read as its data";
+                    diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
+                }
                 if !self.end_of_source(interp, diags) {
                     self.end_of_main(interp, diags);
                     break;
                 }
+                continue;
+            }
+            if self.definition_block(&block, mark, diags) {
                 continue;
             }
             if block.control.is_some() {
@@ -434,6 +445,34 @@ impl<'a> Driver<'a, '_> {
                 break;
             }
         }
+    }
+
+    /// Whether the block belongs to a definition block (Okuma `DEF WORK` / `PT ...` / `END`):
+    /// its lines are data for the control, not statements, so they are skipped (with their
+    /// lexical findings) and the start says so once.
+    fn definition_block(&mut self, block: &Block, mark: usize, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some((start_kw, end_kw)) = self.dialect.macros.definition_block.as_ref() else { return false };
+        let text = self.sources[self.cur].text[block.range.start as usize..block.range.end as usize].trim_start();
+        let starts = |kw: &str| {
+            text.get(..kw.len()).is_some_and(|h| h.eq_ignore_ascii_case(kw))
+                && !text[kw.len()..].chars().next().is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
+        };
+        if self.definition.is_some() {
+            diags.truncate(mark);
+            if starts(end_kw) {
+                self.definition = None;
+            }
+            return true;
+        }
+        if !starts(start_kw) {
+            return false;
+        }
+        diags.truncate(mark);
+        self.definition = Some(block.range);
+        let head = text.lines().next().unwrap_or("").trim();
+        let msg = format!("`{head}` opens a definition (data for the control, up to `{end_kw}`): skipped, no motion");
+        diags.push(Diagnostic::new(Code::DefinitionSkipped, block.range, msg));
+        true
     }
 
     /// The block at `start` of the current source: lexed by the parser, or, when it has run

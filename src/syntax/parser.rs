@@ -731,14 +731,57 @@ impl Lexer<'_, '_> {
                 }
             }
             KeywordRest::Line => self.i = self.line_end(),
-            KeywordRest::Words => self.display_name(),
+            KeywordRest::Words => {
+                let named = self.display_name();
+                if named && value_role.is_some() {
+                    self.value_after_name();
+                }
+            }
         }
         true
     }
 
+    /// The value after a numbered code's display name (`CYCL DEF 1.1 SET UP .1181`,
+    /// `1.2 DEPTH -15`): a bare number, sign optional, the last word of the line. A legacy
+    /// cycle's sub-block number says which argument it is.
+    fn value_after_name(&mut self) {
+        let vstart = self.i;
+        if !self.bare_number_ends_line(vstart) {
+            return;
+        }
+        if let Some((value, decimal)) = self.number() {
+            self.block.words.push(Word {
+                role: Role::CycleValue,
+                letter: b'#',
+                value: Value::Number { value, decimal },
+                range: TextRange::new(vstart, self.i),
+                mode: WordMode::Modal,
+                cycle_arg: false,
+            });
+        }
+    }
+
+    /// Whether a bare number (`5`, `-15`, `.1181`, `+0.5`) starts at `at` and only blanks
+    /// follow it on the line.
+    fn bare_number_ends_line(&self, at: usize) -> bool {
+        let eol = self.b[at..].iter().position(|&c| c == b'\n' || c == b'\r').map_or(self.b.len(), |p| at + p);
+        // Up to a comment at the end of the block (`1.2 DEPTH -15 ; hole`).
+        let comments = &self.dialect.lexical.comments;
+        let end = (at..eol).find(|&p| comments.iter().any(|r| self.b[p] == r.open as u8)).unwrap_or(eol);
+        let word = self.b[at..end].trim_ascii_end();
+        let digits = word.strip_prefix(b"+").or_else(|| word.strip_prefix(b"-")).unwrap_or(word);
+        !digits.is_empty()
+            && digits.iter().any(u8::is_ascii_digit)
+            && digits.iter().all(|c| c.is_ascii_digit() || *c == b'.')
+            && digits.iter().filter(|c| **c == b'.').count() <= 1
+    }
+
     /// A display name after a code, in the control's language (`DRILLING`, `DATUM SHIFT`,
-    /// `PLAN D'USINAGE`), read past up to the first address word.
-    fn display_name(&mut self) {
+    /// `PLAN D'USINAGE`), read past up to the first address word, or up to a bare number
+    /// that ends the line after a name (`SET UP .1181`: the name's value). Whether a name
+    /// was read.
+    fn display_name(&mut self) -> bool {
+        let mut named = false;
         loop {
             self.skip_blanks();
             let from = self.i;
@@ -753,9 +796,10 @@ impl Lexer<'_, '_> {
             let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
             let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
             let plain = !word.is_empty() && !mixed && !single_letter && !matches!(self.b.get(end), Some(b'=' | b'+'));
-            if !plain {
+            if !plain || (named && self.bare_number_ends_line(from)) {
                 break;
             }
+            named |= !word.first().is_some_and(u8::is_ascii_digit);
             self.i = end;
             // A setting shown with its value (`HSC-MODE:0` in cycle 32).
             if self.peek() == Some(b':') && self.b.get(self.i + 1).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-')) {
@@ -763,6 +807,7 @@ impl Lexer<'_, '_> {
                 let _ = self.number();
             }
         }
+        named
     }
 
     /// Past a header's `%` and the program name after it (`%123`, `% 123`), where the dialect

@@ -18,6 +18,7 @@ mod fagor;
 mod faults;
 mod first_start;
 mod flow;
+mod legacy_blocks;
 mod macros;
 mod parity;
 mod pg;
