@@ -638,6 +638,16 @@ impl Lexer<'_, '_> {
         if self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
             return false;
         }
+        let letter = self.push_keyword(start, end, idx);
+        self.i = j + 1;
+        if let (Some(role), Some((value, mode))) = (role, self.assigned_value(start)) {
+            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
+        }
+        true
+    }
+
+    /// Pushes the keyword code `idx` spelled at `start..end`; its first letter, upper case.
+    fn push_keyword(&mut self, start: usize, end: usize, idx: usize) -> u8 {
         let letter = self.b[start].to_ascii_uppercase();
         let value = Value::Number { value: idx as f64, decimal: false };
         self.block.words.push(Word {
@@ -648,11 +658,7 @@ impl Lexer<'_, '_> {
             mode: WordMode::Modal,
             cycle_arg: false,
         });
-        self.i = j + 1;
-        if let (Some(role), Some((value, mode))) = (role, self.assigned_value(start)) {
-            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
-        }
-        true
+        letter
     }
 
     fn keyword(&mut self) -> bool {
@@ -679,16 +685,7 @@ impl Lexer<'_, '_> {
         if assigned && value_role.is_some() {
             return self.assigned_keyword(start, end, idx, value_role);
         }
-        let letter = self.b[start].to_ascii_uppercase();
-        let value = Value::Number { value: idx as f64, decimal: false };
-        self.block.words.push(Word {
-            role: Role::Keyword,
-            letter,
-            value,
-            range: TextRange::new(start, end),
-            mode: WordMode::Modal,
-            cycle_arg: false,
-        });
+        self.push_keyword(start, end, idx);
         self.i = end;
         self.skip_blanks();
         if let Some(role) = value_role {

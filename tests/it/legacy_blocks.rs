@@ -3,25 +3,13 @@
 //! the Okuma definition block (`DEF WORK` ... `END`, data for the control's drawing).
 //! Small programs of our own in the styles of the posts and operators that write them.
 
-use ncplan::canon::{CanonOp, write_call};
 use ncplan::diag::Diagnostic;
 use ncplan::dialect::Registry;
-use ncplan::interp::{Profile, interpret};
+use ncplan::interp::Profile;
 
 /// The moves of `program` in `dialect`, one per line, and its findings.
 fn run(dialect: &str, program: &str) -> (Vec<String>, Vec<Diagnostic>) {
-    let d = Registry::shipped().get(dialect).unwrap();
-    let mut out = Vec::new();
-    let diags = interpret(program, &d, &Profile::default(), &mut out);
-    let mut lines = Vec::new();
-    for c in &out {
-        if matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }) {
-            let mut t = String::new();
-            write_call(&mut t, &c.op);
-            lines.push(t.trim().to_owned());
-        }
-    }
-    (lines, diags)
+    crate::moves_and_findings(dialect, program, &Profile::default())
 }
 
 fn errors(diags: &[Diagnostic]) -> Vec<String> {

@@ -83,3 +83,21 @@ pub fn bin() -> &'static Path {
     static BIN: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
     BIN.get_or_init(|| std::env::var_os("NCPLAN_TEST_BIN").map_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_ncplan")), PathBuf::from))
 }
+
+/// The moves (straight and arc calls, one per line, as rs274 prints them) of `program` in the
+/// shipped `dialect` under `profile`, and its findings.
+pub fn moves_and_findings(dialect: &str, program: &str, profile: &ncplan::interp::Profile) -> (Vec<String>, Vec<ncplan::diag::Diagnostic>) {
+    use ncplan::canon::{CanonOp, write_call};
+    let d = ncplan::dialect::Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = ncplan::interp::interpret(program, &d, profile, &mut out);
+    let mut lines = Vec::new();
+    for c in &out {
+        if matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }) {
+            let mut t = String::new();
+            write_call(&mut t, &c.op);
+            lines.push(t.trim().to_owned());
+        }
+    }
+    (lines, diags)
+}

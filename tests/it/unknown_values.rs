@@ -6,25 +6,12 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use ncplan::canon::{CanonOp, write_call};
 use ncplan::diag::{Diagnostic, Severity};
-use ncplan::dialect::Registry;
-use ncplan::interp::{Profile, ProgramSource, ToolData, interpret};
+use ncplan::interp::{Profile, ProgramSource, ToolData};
 
 /// The moves of `program` in `dialect` under `profile`, one per line, and its findings.
 fn run_with(dialect: &str, program: &str, profile: &Profile) -> (Vec<String>, Vec<Diagnostic>) {
-    let d = Registry::shipped().get(dialect).unwrap();
-    let mut out = Vec::new();
-    let diags = interpret(program, &d, profile, &mut out);
-    let mut lines = Vec::new();
-    for c in &out {
-        if matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }) {
-            let mut t = String::new();
-            write_call(&mut t, &c.op);
-            lines.push(t.trim().to_owned());
-        }
-    }
-    (lines, diags)
+    crate::moves_and_findings(dialect, program, profile)
 }
 
 fn run(dialect: &str, program: &str) -> (Vec<String>, Vec<Diagnostic>) {
