@@ -448,6 +448,20 @@ pub struct Output {
     pub cycles: Vec<CycleOut>,
     /// Conditional rules.
     pub rules: Vec<Rule>,
+    /// The values a format's address takes (`<format min max>`: Haas `G154 P1`–`P99`), by
+    /// format index: a template that would write another value is not written.
+    pub bounds: Vec<Bound>,
+}
+
+/// The values one number format takes, both ends included.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bound {
+    /// The format (an index into [`Output::formats`]).
+    pub format: usize,
+    /// The least value.
+    pub min: f64,
+    /// The greatest value.
+    pub max: f64,
 }
 
 impl Output {
@@ -459,6 +473,21 @@ impl Output {
     /// The cycle mapping for `kind`.
     pub fn cycle(&self, kind: CycleKind) -> Option<&CycleOut> {
         self.cycles.iter().find(|c| c.kinds.contains(&kind))
+    }
+
+    /// Whether every number `t` would write (`value` gives it; NaN: absent) is one its
+    /// format's address takes ([`Output::bounds`]).
+    pub fn fits(&self, t: &Template, value: impl Fn(Value) -> f64) -> bool {
+        if self.bounds.is_empty() {
+            return true;
+        }
+        t.0.iter().flat_map(|b| &b.words).flat_map(|w| &w.0).all(|p| match p {
+            Piece::Var { value: v, format: Some(fi), .. } => {
+                let x = value(*v);
+                x.is_nan() || self.bounds.iter().filter(|b| b.format == *fi).all(|b| x >= b.min && x <= b.max)
+            }
+            _ => true,
+        })
     }
 }
 
@@ -537,12 +566,26 @@ pub(super) fn load(el: &Element, errors: &mut Errors) -> Output {
         templates: Vec::new(),
         cycles: Vec::new(),
         rules: Vec::new(),
+        bounds: Vec::new(),
     };
     // Formats first: templates refer to them.
     for c in el.children.iter().filter(|c| c.name == "format") {
         shape(
             c,
-            &["name", "address", "decimals", "point", "trailing-zeros", "leading-zero", "plus", "increment", "modal", "inch-decimals"],
+            &[
+                "name",
+                "address",
+                "decimals",
+                "point",
+                "trailing-zeros",
+                "leading-zero",
+                "plus",
+                "increment",
+                "modal",
+                "inch-decimals",
+                "min",
+                "max",
+            ],
             errors,
         );
         let Some(name) = attr(c, "name") else {
@@ -559,6 +602,20 @@ pub(super) fn load(el: &Element, errors: &mut Errors) -> Output {
             }
         };
         let decimals = count(c, "decimals", if point == Point::Never { 0 } else { 3 }, errors);
+        let end = |which: &str, default: f64, errors: &mut Errors| match attr(c, which) {
+            None => default,
+            Some(v) => v.parse::<f64>().ok().filter(|x| x.is_finite()).unwrap_or_else(|| {
+                errors.push((range(c, which), format!("`{which}` must be a number, not `{v}`")));
+                default
+            }),
+        };
+        if attr(c, "min").is_some() || attr(c, "max").is_some() {
+            let (min, max) = (end("min", f64::NEG_INFINITY, errors), end("max", f64::INFINITY, errors));
+            if min > max {
+                errors.push((range(c, "max"), format!("`max` ({max}) is below `min` ({min})")));
+            }
+            out.bounds.push(Bound { format: out.formats.len(), min, max });
+        }
         if decimals > 6 {
             errors.push((range(c, "decimals"), "`decimals` is at most 6".into()));
         }
@@ -903,5 +960,66 @@ mod tests {
         assert_eq!(errors.len(), 2, "{errors:?}");
         assert!(errors[0].1.contains("names no value"));
         assert!(errors[1].1.contains("no <format> defines"));
+    }
+
+    /// Haas's G154 takes P1-P99, as its dictionary says (`<format min max>`): an additional
+    /// work offset beyond it is unwritable for a Haas, not a `G154 P120` the control rejects;
+    /// Fanuc's `G54.1 P` states no range and writes it.
+    #[test]
+    fn a_number_outside_its_formats_range_is_unwritable() {
+        let registry = crate::dialect::Registry::shipped();
+        let (fanuc, haas) = (registry.get("fanuc").unwrap(), registry.get("haas").unwrap());
+        let out = haas.output.as_ref().unwrap();
+        let p154 = out.formats.iter().position(|f| f.name == "P154").unwrap();
+        assert_eq!(out.bounds, vec![Bound { format: p154, min: 1.0, max: 99.0 }]);
+        assert!(fanuc.output.as_ref().unwrap().bounds.is_empty());
+        let write = |p: u32, to: &crate::dialect::Dialect| {
+            let text = format!("%\nO0003\nG21 G90 G17\nT1 M6\nS1000 M3\nG54.1 P{p}\nG0 X10. Y10. Z5.\nG1 Z-1. F100.\nG0 Z50.\nM30\n%\n");
+            let mut bytes = Vec::new();
+            let opts = crate::post::Options {
+                name: "O0003".into(),
+                number: 3,
+                units: crate::canon::Units::Mm,
+                follow_source_units: true,
+                limits: crate::post::Limits::default(),
+                hole_tops: Vec::new(),
+                peck_clearance: (0.0, 0.0),
+                length_at_tool_change: (false, false),
+                tools: Vec::new(),
+                arc_tolerance: (0.0, 0.0),
+            };
+            let diags = crate::post::translate(&text, &fanuc, to, &crate::interp::Profile::default(), opts, |b| bytes.extend_from_slice(b));
+            let errors: Vec<String> =
+                diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect();
+            (String::from_utf8(bytes).unwrap(), errors)
+        };
+        for p in [1, 99] {
+            let (text, errors) = write(p, &haas);
+            assert!(text.contains(&format!("\nG154 P{p}\n")) && errors.is_empty(), "P{p}: {errors:?}\n{text}");
+        }
+        for p in [100, 120] {
+            let (text, errors) = write(p, &haas);
+            assert!(!text.contains("G154"), "P{p}:\n{text}");
+            assert_eq!(
+                errors,
+                [format!(
+                    "post::unwritable: the target's output rules have no code for additional work offset {p} (G54.1 P{p}: `work-offset-extended`)"
+                )],
+                "{text}"
+            );
+            let (text, errors) = write(p, &fanuc);
+            assert!(text.contains(&format!("\nG54.1 P{p}\n")) && errors.is_empty(), "fanuc P{p}: {errors:?}\n{text}");
+        }
+    }
+
+    #[test]
+    fn a_range_is_checked_where_the_dictionary_states_it() {
+        let text = r#"<output><format name="P" point="never" min="5" max="x"/><format name="Q" min="3" max="2"/></output>"#;
+        let tree = crate::dialect::xml::parse(text).unwrap();
+        let mut errors = Vec::new();
+        let out = load(&tree, &mut errors);
+        let messages: Vec<&str> = errors.iter().map(|e| e.1.as_str()).collect();
+        assert_eq!(messages, ["`max` must be a number, not `x`", "`max` (2) is below `min` (3)"]);
+        assert_eq!(out.bounds[0], Bound { format: 0, min: 5.0, max: f64::INFINITY });
     }
 }

@@ -602,6 +602,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// Renders `event`'s template (and the rules around it); false when it has none.
     fn event(&mut self, event: &str, vals: &mut Vals) -> bool {
         let out = self.out;
+        // A number its address does not take (`<format min max>`): the event is unwritable.
+        if out.template(event).is_some_and(|(t, _)| !out.fits(t, |v| vals.num[v as usize])) {
+            return false;
+        }
         self.rules(event, true);
         let found = match out.template(event) {
             Some((t, true)) => {
