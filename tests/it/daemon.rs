@@ -2,28 +2,13 @@
 //! a restart.
 
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-struct Daemon(Child);
+use crate::support::{Proc, wait_rows, watch};
 
-impl Drop for Daemon {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn start(config: &Path) -> Daemon {
-    let child = Command::new(crate::bin())
-        .args(["watch", "--config"])
-        .arg(config)
-        .env("NCPLAN_LOG", "debug")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start ncplan watch");
-    Daemon(child)
+fn start(config: &Path) -> Proc {
+    watch(config, "debug", Stdio::null())
 }
 
 fn rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
@@ -31,14 +16,7 @@ fn rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
 }
 
 fn wait_for(db: &Path, sql: &str, want: usize) -> Vec<Vec<String>> {
-    let deadline = Instant::now() + Duration::from_secs(20);
-    loop {
-        let r = rows(db, sql);
-        if r.len() >= want || Instant::now() > deadline {
-            return r;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    wait_rows(db, sql, want, Duration::from_secs(20))
 }
 
 #[test]
@@ -94,9 +72,7 @@ fn edited_program_yields_exactly_the_two_changes_and_survives_sigkill() {
     );
 
     // SIGKILL mid-run, with more files arriving while it is down.
-    let mut daemon = daemon;
-    daemon.0.kill().unwrap();
-    daemon.0.wait().unwrap();
+    daemon.kill();
     let edited = std::fs::read_to_string(demo.join("examples/O1234_edited.nc")).unwrap();
     std::fs::write(share.join("O1234.nc"), edited.replace("F240.", "F200.")).unwrap();
     std::fs::write(share.join("O5555.nc"), "%\nO5555\nT2 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nX10\nM30\n%\n").unwrap();

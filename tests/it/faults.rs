@@ -5,13 +5,15 @@
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use ncplan::config::Config;
 use ncplan::daemon::{Outcome, Snapshot, ingest};
 use ncplan::dialect::Registry;
 use ncplan::store::Store;
+
+use crate::support::{Proc, wait_rows, watch};
 
 /// A temporary DNC server: a CAM folder, one machine share, a config and a database.
 struct Site {
@@ -52,17 +54,9 @@ impl Site {
         Config::parse(&text, self.dir.path()).unwrap()
     }
 
-    fn start(&self) -> Daemon {
+    fn start(&self) -> Proc {
         let log = std::fs::File::create(self.path("daemon.log")).unwrap();
-        let child = Command::new(crate::bin())
-            .args(["watch", "--config"])
-            .arg(self.path("ncplan.toml"))
-            .env("NCPLAN_LOG", "debug")
-            .stdout(Stdio::null())
-            .stderr(log)
-            .spawn()
-            .expect("start ncplan watch");
-        let d = Daemon(child);
+        let d = watch(&self.path("ncplan.toml"), "debug", log);
         // Ready once the catch-up scan has been queued.
         self.wait_log("Catch-up scan queued", 1);
         d
@@ -88,14 +82,7 @@ impl Site {
     }
 
     fn wait_for(&self, sql: &str, want: usize) -> Vec<Vec<String>> {
-        let deadline = Instant::now() + Duration::from_secs(30);
-        loop {
-            let r = self.rows(sql);
-            if r.len() >= want || Instant::now() > deadline {
-                return r;
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
+        wait_rows(&self.db(), sql, want, Duration::from_secs(30))
     }
 }
 
@@ -103,25 +90,9 @@ fn rows(db: &Path, sql: &str) -> Vec<Vec<String>> {
     crate::db_rows(db, sql)
 }
 
-struct Daemon(Child);
-
-impl Daemon {
-    fn kill(mut self) {
-        self.0.kill().unwrap();
-        self.0.wait().unwrap();
-    }
-}
-
-impl Drop for Daemon {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 /// A small Fanuc program: face with T1 at `feed`, numbered `number`.
 fn program(number: u32, feed: u32) -> String {
-    format!("%\nO{number} (FACE)\nG21 G90 G17\nT1 M6\nS2000 M3\nG0 X-10 Y0 Z5\nG1 Z-1 F{feed}\nX110\nY20\nX-10\nG0 Z50\nM30\n%\n")
+    crate::support::program(number, feed, 2000)
 }
 
 fn siemens(name: &str, drill_feed: u32, depth: &str) -> String {

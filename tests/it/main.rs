@@ -30,6 +30,7 @@ mod shop;
 mod siemens_axes;
 mod speed;
 mod stepnc;
+mod support;
 mod tool_comments;
 mod translate;
 mod unknown_values;

@@ -6,10 +6,12 @@
 //! `NCPLAN_REQUIRE_POSTGRES` is set (CI sets it).
 
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use ncplan::store::{Location, Store};
+
+use crate::support::{Proc, free_port, http, program, urlencode, wait_until, watch};
 
 /// A PostgreSQL cluster of one test.
 struct Cluster {
@@ -42,10 +44,6 @@ fn pg_bin() -> Option<PathBuf> {
 
 fn is_root() -> bool {
     Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-}
-
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
 }
 
 impl Cluster {
@@ -155,23 +153,16 @@ impl Server {
         self.dir.path().join(rel)
     }
 
-    fn start(&self) -> Daemon {
+    fn start(&self) -> Proc {
         let log = std::fs::OpenOptions::new().create(true).append(true).open(self.path("daemon.log")).unwrap();
-        let child = Command::new(crate::bin())
-            .args(["watch", "--config"])
-            .arg(self.path("ncplan.toml"))
-            .env("NCPLAN_LOG", "info")
-            .stdout(Stdio::null())
-            .stderr(log)
-            .spawn()
-            .expect("start ncplan watch");
         let before = self.log().matches("Catch-up scan queued").count();
+        let daemon = watch(&self.path("ncplan.toml"), "info", log);
         let deadline = Instant::now() + Duration::from_secs(30);
         while self.log().matches("Catch-up scan queued").count() <= before {
             assert!(Instant::now() < deadline, "the daemon did not start:\n{}", self.log());
             std::thread::sleep(Duration::from_millis(20));
         }
-        Daemon(child)
+        daemon
     }
 
     fn log(&self) -> String {
@@ -192,35 +183,6 @@ impl Server {
             String::from_utf8_lossy(&out.stdout).into_owned(),
             String::from_utf8_lossy(&out.stderr).into_owned(),
         )
-    }
-}
-
-struct Daemon(Child);
-
-impl Daemon {
-    fn kill(mut self) {
-        self.0.kill().unwrap();
-        self.0.wait().unwrap();
-    }
-}
-
-impl Drop for Daemon {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// A small Fanuc program: face with T1 at `feed` and spindle `speed`, numbered `number`.
-fn program(number: u32, feed: u32, speed: u32) -> String {
-    format!("%\nO{number} (FACE)\nG21 G90 G17\nT1 M6\nS{speed} M3\nG0 X-10 Y0 Z5\nG1 Z-1 F{feed}\nX110\nY20\nX-10\nG0 Z50\nM30\n%\n")
-}
-
-fn wait_until(what: &str, timeout: Duration, mut done: impl FnMut() -> bool) {
-    let deadline = Instant::now() + timeout;
-    while !done() {
-        assert!(Instant::now() < deadline, "timed out waiting until {what}");
-        std::thread::sleep(Duration::from_millis(50));
     }
 }
 
@@ -381,7 +343,7 @@ fn four_daemons_of_four_sites_store_every_revision_once_through_bursts_and_kills
     let Some(pg) = Cluster::start("pg::four_daemons_of_four_sites_store_every_revision_once_through_bursts_and_kills") else { return };
     let servers: Vec<Server> = (1..=4).map(|i| Server::new(Some(&format!("HALL{i}")), &format!("url = '{}'", pg.url()))).collect();
     // Started one after the other would hide a migration race: all four at once.
-    let mut daemons: Vec<Option<Daemon>> = std::thread::scope(|s| {
+    let mut daemons: Vec<Option<Proc>> = std::thread::scope(|s| {
         let started: Vec<_> = servers.iter().map(|srv| s.spawn(move || srv.start())).collect();
         started.into_iter().map(|h| Some(h.join().unwrap())).collect()
     });
@@ -659,34 +621,8 @@ fn reanalyze_on_sqlite_reads_every_revision_again_once_and_keeps_the_old_results
 }
 
 /// `ncplan serve` with `args`, until dropped; its base URL.
-fn serve(server: &Server, args: &[&str]) -> (Daemon, String) {
-    use std::io::BufRead as _;
-    let mut child = Command::new(crate::bin())
-        .args(["serve", "--config"])
-        .arg(server.path("ncplan.toml"))
-        .args(["--listen", "127.0.0.1:0"])
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("start ncplan serve");
-    let mut line = String::new();
-    std::io::BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
-    let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("serve said: {line}"));
-    let base = url.trim_end_matches('/').to_owned();
-    (Daemon(child), base)
-}
-
-/// One HTTP/1.1 exchange on a new connection: the head and the body.
-fn http(base: &str, request: &str) -> (String, String) {
-    use std::io::{Read as _, Write as _};
-    let addr = base.trim_start_matches("http://");
-    let mut s = std::net::TcpStream::connect(addr).unwrap();
-    s.write_all(request.replace("{host}", addr).as_bytes()).unwrap();
-    let mut out = String::new();
-    s.read_to_string(&mut out).unwrap();
-    let (head, body) = out.split_once("\r\n\r\n").unwrap_or((&out, ""));
-    (head.to_owned(), body.to_owned())
+fn serve(server: &Server, args: &[&str]) -> (Proc, String) {
+    crate::support::serve(&server.path("ncplan.toml"), args)
 }
 
 const SESSION: &str = "ncplan_session=0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
@@ -721,10 +657,6 @@ fn masked(text: &str, sql: bool) -> String {
         cut("<pre class=\"sql\">", "</pre>");
     }
     out
-}
-
-fn urlencode(s: &str) -> String {
-    s.bytes().map(|b| if b.is_ascii_alphanumeric() { (b as char).to_string() } else { format!("%{b:02X}") }).collect()
 }
 
 #[test]

@@ -6,24 +6,15 @@
 //! Without chromium and chromedriver the browser test says it is skipped, unless
 //! `NCPLAN_REQUIRE_CHROMIUM` is set (CI sets it), which makes their absence a failure.
 
-use std::io::{BufRead as _, Read as _, Write as _};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::json;
 
-/// A child process killed when dropped.
-struct Proc(Child);
-
-impl Drop for Proc {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use crate::support::{Proc, free_port, http, wait_rows, watch};
 
 /// A process group led by a child: the whole group is ended when dropped.
 struct Group(Proc);
@@ -109,14 +100,7 @@ impl Site {
     }
 
     fn wait_rows(&self, sql: &str, want: usize) -> Vec<Vec<String>> {
-        let deadline = Instant::now() + Duration::from_secs(30);
-        loop {
-            let r = crate::db_rows(&self.db(), sql);
-            if r.len() >= want || Instant::now() > deadline {
-                return r;
-            }
-            std::thread::sleep(Duration::from_millis(25));
-        }
+        wait_rows(&self.db(), sql, want, Duration::from_secs(30))
     }
 
     /// Runs the real daemon over the demo edit and the hostile program, then stops it.
@@ -126,15 +110,7 @@ impl Site {
         std::fs::write(self.path("cam/O4321.nc"), long_program(400, false)).unwrap();
         std::fs::write(self.path(&format!("cam/{HOSTILE_NAME}")), small_program(500)).unwrap();
         let log = std::fs::File::create(self.path("daemon.log")).unwrap();
-        let daemon = Proc(
-            Command::new(crate::bin())
-                .args(["watch", "--config"])
-                .arg(self.path("ncplan.toml"))
-                .stdout(Stdio::null())
-                .stderr(log)
-                .spawn()
-                .expect("start ncplan watch"),
-        );
+        let daemon = watch(&self.path("ncplan.toml"), "info", log);
         assert_eq!(self.wait_rows("SELECT id FROM revisions", 3).len(), 3, "the originals were not stored");
         std::fs::copy(root.join("demo/examples/O1234_edited.nc"), self.path("share/O1234.nc")).unwrap();
         std::fs::write(self.path("share/O4321.nc"), long_program(300, true)).unwrap();
@@ -145,37 +121,9 @@ impl Site {
     }
 }
 
-/// A free local port.
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
-}
-
 /// Starts `ncplan serve` on a free port; returns it and its base URL.
 fn serve(site: &Site, extra: &[&str]) -> (Proc, String) {
-    let mut child = Command::new(crate::bin())
-        .args(["serve", "--config"])
-        .arg(site.path("ncplan.toml"))
-        .args(["--listen", "127.0.0.1:0"])
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("start ncplan serve");
-    let mut line = String::new();
-    std::io::BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
-    let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("serve said: {line}"));
-    (Proc(child), url.trim_end_matches('/').to_owned())
-}
-
-/// A raw HTTP/1.1 exchange: the status line and headers, and the body.
-fn http(base: &str, request: &str) -> (String, String) {
-    let addr = base.trim_start_matches("http://");
-    let mut s = TcpStream::connect(addr).unwrap();
-    s.write_all(request.replace("{host}", addr).as_bytes()).unwrap();
-    let mut out = String::new();
-    s.read_to_string(&mut out).unwrap();
-    let (head, body) = out.split_once("\r\n\r\n").unwrap_or((&out, ""));
-    (head.to_owned(), body.to_owned())
+    crate::support::serve(&site.path("ncplan.toml"), extra)
 }
 
 fn have(program: &str) -> bool {
