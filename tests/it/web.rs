@@ -270,6 +270,119 @@ fn sign_in_csrf_and_reports_without_a_browser() {
     assert!(head.starts_with("HTTP/1.1 200") && page.contains("Sign out") && page.contains("ada"), "{head}");
 }
 
+/// The cells of CSV text (RFC 4180: quoted cells, `""` a quote inside them), by row.
+fn csv_cells(text: &str) -> Vec<Vec<String>> {
+    let mut rows = vec![Vec::new()];
+    let mut cell = String::new();
+    let (mut quoted, mut chars) = (false, text.chars().peekable());
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                cell.push('"');
+            }
+            (true, '"') => quoted = false,
+            (true, c) => cell.push(c),
+            (false, '"') => quoted = true,
+            (false, ',') => rows.last_mut().unwrap().push(std::mem::take(&mut cell)),
+            (false, '\r') if chars.peek() == Some(&'\n') => {}
+            (false, '\n') => {
+                rows.last_mut().unwrap().push(std::mem::take(&mut cell));
+                rows.push(Vec::new());
+            }
+            (false, c) => cell.push(c),
+        }
+    }
+    if rows.last().is_some_and(Vec::is_empty) {
+        rows.pop();
+    }
+    rows
+}
+
+/// Names a spreadsheet would run as formulas: the machine's (configured), a program's (its
+/// file name, which has no `/`), a reviewer's (typed into the review form). In the CSV report
+/// each is a text cell with a `'` before it; a program named `-12.5` stays the number it is.
+#[test]
+fn the_csv_report_neutralises_formulas_in_hostile_names() {
+    const MACHINE: &str = "=HYPERLINK(\"http://evil.example/\",\"DMU50\")";
+    const PROGRAM: &str = "@SUM(1+1)*cmd|' \\C calc'!A0";
+    const REVIEWER: &str = "-2+3+cmd|' /C calc'!A0";
+    let dir = tempfile::tempdir().unwrap();
+    for d in ["cam", "share"] {
+        std::fs::create_dir_all(dir.path().join(d)).unwrap();
+    }
+    let config = dir.path().join("ncplan.toml");
+    std::fs::write(
+        &config,
+        format!(
+            "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 150\n\
+             [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
+             [[machine]]\nname = '{MACHINE}'\npath = 'share'\ndialect = 'fanuc'\n"
+        ),
+    )
+    .unwrap();
+    let db = dir.path().join("var/ncplan.db");
+    // Without an O number the program is named by its file.
+    let unnamed = |feed: u32| crate::support::program(1, feed, 2000).replace("O1 (FACE)", "(FACE)");
+    let daemon = watch(&config, "info", std::fs::File::create(dir.path().join("daemon.log")).unwrap());
+    for name in [PROGRAM, "-12.5"] {
+        std::fs::write(dir.path().join(format!("cam/{name}.nc")), unnamed(250)).unwrap();
+    }
+    assert_eq!(wait_rows(&db, "SELECT id FROM revisions", 2, Duration::from_secs(30)).len(), 2);
+    for name in [PROGRAM, "-12.5"] {
+        std::fs::write(dir.path().join(format!("share/{name}.nc")), unnamed(300)).unwrap();
+    }
+    let compared = wait_rows(&db, "SELECT revision_id FROM comparisons ORDER BY revision_id", 2, Duration::from_secs(30));
+    assert_eq!(compared.len(), 2, "{}", std::fs::read_to_string(dir.path().join("daemon.log")).unwrap());
+    daemon.kill();
+    let hostile = PROGRAM.to_ascii_uppercase();
+    let programs = crate::db_rows(&db, "SELECT DISTINCT machine, program FROM shopfloor_changes ORDER BY program");
+    assert_eq!(programs, [[MACHINE, "-12.5"], [MACHINE, hostile.as_str()]]);
+    // The reviewer's name comes through the review form of the real server.
+    let (_serve, base) = crate::support::serve(&config, &[]);
+    let cookie = format!("ncplan_session={}", "cd".repeat(32));
+    let revision = &compared[0][0];
+    let change = crate::db_rows(&db, &format!("SELECT id FROM changes WHERE revision_id = {revision} ORDER BY id LIMIT 1"))[0][0].clone();
+    let (_, page) =
+        http(&base, &format!("GET /compare/{revision} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {cookie}\r\nConnection: close\r\n\r\n"));
+    let csrf = page.split("name=\"csrf\" value=\"").nth(1).and_then(|r| r.split('"').next()).expect("a review form").to_owned();
+    let body = format!("mark=adopt&csrf={csrf}&by={}", crate::support::urlencode(REVIEWER));
+    let (head, _) = http(
+        &base,
+        &format!(
+            "POST /review/{change} HTTP/1.1\r\nHost: {{host}}\r\nCookie: {cookie}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            body.len()
+        ),
+    );
+    assert!(head.starts_with("HTTP/1.1 303"), "{head}");
+    assert_eq!(crate::db_rows(&db, "SELECT marked_by FROM review_marks"), [[REVIEWER]]);
+    let out = Command::new(crate::bin()).args(["report", "--format", "csv", "--config"]).arg(&config).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = String::from_utf8(out.stdout).unwrap();
+    let rows = csv_cells(&csv);
+    let n = crate::db_rows(&db, "SELECT change_id FROM shopfloor_changes").len();
+    assert_eq!(rows.len(), n + 1, "{csv}");
+    let column = |name: &str| rows[0].iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"));
+    let (machine, program, reviewer) = (column("machine"), column("program"), column("reviewed_by"));
+    // Every cell a spreadsheet would read as a formula is text now; the numbers are numbers.
+    for row in &rows[1..] {
+        assert_eq!(row.len(), rows[0].len(), "{row:?}");
+        for cell in row {
+            assert!(
+                !cell.starts_with(['=', '+', '-', '@', '\t', '\r']) || cell.parse::<f64>().is_ok(),
+                "a cell a spreadsheet would run: {cell:?}\n{csv}"
+            );
+        }
+        assert_eq!(row[machine], format!("'{MACHINE}"));
+        assert!(row[program] == format!("'{hostile}") || row[program] == "-12.5", "{row:?}");
+    }
+    let reviewed: Vec<&str> = rows[1..].iter().map(|r| r[reviewer].as_str()).filter(|r| !r.is_empty()).collect();
+    assert_eq!(reviewed, [format!("'{REVIEWER}")]);
+    // As written: quoted, with the quote doubled inside; the number bare.
+    assert!(csv.contains(&format!("\"'{}\"", MACHINE.replace('"', "\"\""))), "{csv}");
+    assert!(csv.contains(",-12.5,"), "{csv}");
+}
+
 /// The header `name` of a response head (lower-case name), if present.
 fn header<'a>(head: &'a str, name: &str) -> Option<&'a str> {
     head.lines().find_map(|l| l.split_once(':').filter(|(k, _)| k.trim().eq_ignore_ascii_case(name)).map(|(_, v)| v.trim()))
