@@ -306,15 +306,18 @@ enum Command {
         #[command(flatten)]
         work: WorkArgs,
     },
-    /// Copy a server's SQLite history into the plant's PostgreSQL database as its site's;
-    /// run again after a stop, it goes on where it was.
+    /// Copy a site's history, every table of it: a server's SQLite file into the plant's
+    /// PostgreSQL database as its site's, or the site's rows of the plant back into a SQLite
+    /// file. Ids are kept where the target has them free; run again after a stop, it goes on
+    /// where it was.
     Migrate {
-        /// The SQLite file (`var/ncplan.db`).
-        #[arg(long, value_name = "FILE")]
-        from: PathBuf,
-        /// The PostgreSQL database (`postgresql://user@host/db`; the password from
-        /// NCPLAN_DB_PASSWORD or the file NCPLAN_DB_PASSWORD_FILE names).
-        #[arg(long, value_name = "URL")]
+        /// Where the history is: a SQLite file (`var/ncplan.db`) or a PostgreSQL database
+        /// (`postgresql://user@host/db`; the password from NCPLAN_DB_PASSWORD or the file
+        /// NCPLAN_DB_PASSWORD_FILE names).
+        #[arg(long, value_name = "FILE|URL")]
+        from: String,
+        /// Where it goes: a PostgreSQL database, or a SQLite file (created when absent).
+        #[arg(long, value_name = "URL|FILE")]
         to: String,
         /// The site the history belongs to; by default the configuration's `site`.
         #[arg(long)]
@@ -899,8 +902,13 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 !site.trim().is_empty(),
                 "name the site the history belongs to: --site HALL2 (or --config with site = \"HALL2\")"
             );
-            let target = Location::parse(&to);
-            anyhow::ensure!(target.file().is_none(), "--to takes a postgresql:// URL");
+            let (source, target) = (Location::parse(&from), Location::parse(&to));
+            anyhow::ensure!(source.to_string() != target.to_string(), "--from and --to name the same database");
+            if let Some(file) = source.file() {
+                anyhow::ensure!(file.is_file(), "no SQLite database at {}", file.display());
+            }
+            // The source is only read (a SQLite file keeps its schema version).
+            let source_store = Store::open_read_only(&source).with_context(|| format!("cannot open the database {source}"))?;
             let store = Store::open(&target, &site).with_context(|| format!("cannot open the database {target}"))?;
             let bar = indicatif::ProgressBar::new(0);
             bar.set_style(
@@ -911,17 +919,18 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
             };
-            let summary = store.copy_from_sqlite(&from, &progress)?;
+            let summary = store.copy_from(&source_store, &site, &progress)?;
             bar.finish_and_clear();
+            let rows: Vec<String> = summary.rows.iter().map(|(t, n)| format!("{t} {n}")).collect();
             writeln!(
                 out,
-                "migrated {} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied; {} review marks",
-                from.display(),
+                "migrated {source} into {target} as site {site}: {} revisions, {} copied now, {} already there; {} comparisons copied; {} review marks; rows copied now: {}",
                 summary.revisions,
                 summary.copied,
                 summary.revisions - summary.copied,
                 summary.comparisons,
-                summary.review_marks
+                summary.review_marks,
+                if rows.is_empty() { "none".to_owned() } else { rows.join(", ") }
             )?;
             out.flush()?;
             Ok(ExitCode::SUCCESS)

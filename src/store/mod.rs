@@ -8,6 +8,7 @@
 //! revision is recorded with its plan, diagnostics and changes in one transaction, so a
 //! crash leaves either all of it or none of it, and the next scan picks the file up again.
 
+mod copy;
 pub mod location;
 mod pages;
 mod pg;
@@ -18,12 +19,13 @@ mod sqlite;
 use std::path::Path;
 
 use crate::pairing::{Candidate, Key};
+pub use copy::CopySummary;
 pub use location::Location;
 pub use pages::{
     ChangeFilter, ChangeRow, EditedProgram, ErrorRevision, KNOWLEDGE, Knowledge, Limited, MachineSummary, Mark, ProgramInfo, ProgramRow,
     SAVED_QUERIES, SavedQuery, TimelineRow,
 };
-pub use pg::{CopySummary, PLANT_QUERIES};
+pub use pg::PLANT_QUERIES;
 pub use schema::MIGRATIONS;
 
 use crate::diag::DiagnosticJson;
@@ -458,24 +460,30 @@ impl Store {
         self
     }
 
-    /// Copies the history of the SQLite file `from` into this PostgreSQL database as this
-    /// store's site (`ncplan migrate`), resumably; `progress` hears (done, of) revisions.
-    pub fn copy_from_sqlite(&self, from: &Path, progress: &dyn Fn(usize, usize)) -> Result<CopySummary> {
-        let Engine::Pg(pg) = &self.engine else {
-            return Err(StoreError::Setup("ncplan migrate copies into a PostgreSQL database (--to postgresql://…)".into()));
-        };
-        if !from.is_file() {
-            return Err(StoreError::Setup(format!("no SQLite database at {}", from.display())));
+    /// Copies the history of `site` from `from` into this database (`ncplan migrate`): from
+    /// a PostgreSQL database the site's rows, from a SQLite file (one server's) all of them,
+    /// written as `site`'s. Every table is copied; ids are kept where this database has them
+    /// free, and references follow where not; what is here already is left as it is, so a
+    /// stopped run goes on where it was. `progress` hears (done, of) revisions.
+    pub fn copy_from(&self, from: &Store, site: &str, progress: &dyn Fn(usize, usize)) -> Result<CopySummary> {
+        if let Engine::Lite(lite) = &from.engine {
+            let version = lite.version()?;
+            if version < 3 {
+                return Err(StoreError::Setup(format!(
+                    "the SQLite database has schema version {version}; run this ncplan's `watch` on it once to bring it to the current one"
+                )));
+            }
         }
-        let lite = sqlite::Lite::open_read_only(from)?;
-        let version = lite.version()?;
-        if version < 3 {
-            return Err(StoreError::Setup(format!(
-                "{} has schema version {version}; run this ncplan's `watch` on it once to bring it to the current one",
-                from.display()
-            )));
+        let (src, dst) = (from.end(), self.end());
+        copy::copy(src.as_ref(), dst.as_ref(), site, progress)
+    }
+
+    /// This database as an end of [`Store::copy_from`].
+    fn end(&self) -> Box<dyn copy::End + '_> {
+        match &self.engine {
+            Engine::Lite(e) => Box::new(sqlite::LiteEnd(&e.conn)),
+            Engine::Pg(e) => Box::new(e.end()),
         }
-        pg.copy_from(&lite, progress)
     }
 
     /// Fills a PostgreSQL database with a simulated plant of `revisions` revisions (see
@@ -792,6 +800,23 @@ impl Store {
         }
         let first = one_reading_statement(sql_text)?;
         on!(self, e => e.save_query(name, first.trim(), by, at)).map_err(|e| QueryError::Sql(e.to_string()))
+    }
+
+    /// Records a planner's sign-in session until `expires_at` (RFC 3339), by the SHA-256 of
+    /// its cookie's token (`token_hash`: the database holds no cookie that works), and forgets
+    /// the sessions that had ended by `created_at`.
+    pub fn start_session(&self, token_hash: &str, user: &str, created_at: &str, expires_at: &str) -> Result<()> {
+        on!(self, e => e.start_session(token_hash, user, created_at, expires_at))
+    }
+
+    /// The planner whose session's token hashes to `token_hash`, unless it had ended by `now`.
+    pub fn session_user(&self, token_hash: &str, now: &str) -> Result<Option<String>> {
+        on!(self, e => e.session_user(token_hash, now))
+    }
+
+    /// Ends a session (the planner signed out).
+    pub fn end_session(&self, token_hash: &str) -> Result<()> {
+        on!(self, e => e.end_session(token_hash))
     }
 
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped

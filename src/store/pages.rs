@@ -645,6 +645,33 @@ impl Lite {
             .map_err(sql("saving a query"))
     }
 
+    /// Records a sign-in session (by its token's hash) until `expires_at`, and forgets the
+    /// sessions that ended by `created_at`.
+    pub(super) fn start_session(&self, token_hash: &str, user: &str, created_at: &str, expires_at: &str) -> Result<()> {
+        self.conn.execute("DELETE FROM web_sessions WHERE expires_at <= ?1", [created_at]).map_err(sql("forgetting ended sessions"))?;
+        self.conn
+            .execute(
+                "INSERT INTO web_sessions(token_hash, user_name, created_at, expires_at) VALUES (?1, ?2, ?3, ?4)",
+                params![token_hash, user, created_at, expires_at],
+            )
+            .map_err(sql("recording a session"))?;
+        Ok(())
+    }
+
+    /// The planner of the session whose token hashes to `token_hash`, unless it ended by `now`.
+    pub(super) fn session_user(&self, token_hash: &str, now: &str) -> Result<Option<String>> {
+        self.conn
+            .query_row("SELECT user_name FROM web_sessions WHERE token_hash = ?1 AND expires_at > ?2", [token_hash, now], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading a session"))
+    }
+
+    /// Ends a session.
+    pub(super) fn end_session(&self, token_hash: &str) -> Result<()> {
+        self.conn.execute("DELETE FROM web_sessions WHERE token_hash = ?1", [token_hash]).map_err(sql("ending a session"))?;
+        Ok(())
+    }
+
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
     /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
     /// whether rows were left off.

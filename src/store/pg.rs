@@ -16,6 +16,7 @@ use std::sync::Arc;
 use postgres::types::{ToSql, Type};
 use postgres::{Client, Row, SimpleQueryMessage, Statement};
 
+use super::copy::{End as _, Val};
 use super::location::{PASSWORD_ENV, PASSWORD_FILE_ENV, PgTarget};
 use super::pg_schema;
 use super::*;
@@ -520,6 +521,49 @@ impl Conn {
         Ok(Some(src))
     }
 
+    /// Stores `size` bytes read from `from` as the blob `hash`, 1 MiB at a time (the chunks
+    /// meet in a temporary table and are joined by the server), so memory stays bounded
+    /// whatever the size; bytes that are not `size` long or do not hash to `hash` are
+    /// [`StoreError::ContentChanged`].
+    fn stream_into_blob(&self, hash: &str, size: u64, from: &mut dyn std::io::Read) -> Result<()> {
+        use sha2::Digest as _;
+        let c = self;
+        c.client
+            .borrow_mut()
+            .batch_execute(
+                "CREATE TEMPORARY TABLE IF NOT EXISTS blob_chunks (n BIGINT PRIMARY KEY, data BYTEA NOT NULL) ON COMMIT DELETE ROWS",
+            )
+            .map_err(sql("storing program bytes"))?;
+        c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
+        let mut hasher = sha2::Sha256::new();
+        let mut buf = vec![0u8; 1 << 20];
+        let (mut copied, mut n) = (0u64, 0i64);
+        loop {
+            let got = from.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+            if got == 0 {
+                break;
+            }
+            if copied + got as u64 > size {
+                return Err(StoreError::ContentChanged);
+            }
+            hasher.update(&buf[..got]);
+            c.exec("storing program bytes", "INSERT INTO blob_chunks(n, data) VALUES ($1, $2)", &[&n, &&buf[..got]])?;
+            copied += got as u64;
+            n += 1;
+        }
+        if copied != size || format!("{:x}", hasher.finalize()) != hash {
+            return Err(StoreError::ContentChanged);
+        }
+        c.exec(
+            "storing program bytes",
+            "INSERT INTO blobs(hash, size, content) SELECT $1, $2, COALESCE(string_agg(data, ''::bytea ORDER BY n), ''::bytea) FROM blob_chunks
+             ON CONFLICT (hash) DO NOTHING",
+            &[&hash, &(size as i64)],
+        )?;
+        c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
+        Ok(())
+    }
+
     fn keys_of(&self, program_id: i64) -> Result<Vec<Key>> {
         let rows = self.rows("reading program keys", "SELECT rule, key FROM program_keys WHERE program_id = $1", &[&program_id])?;
         let mut keys: Vec<Key> =
@@ -675,50 +719,7 @@ impl PgTxn<'_> {
             return Ok(());
         }
         let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-        self.stream_into_blob(hash, size, &mut file)
-    }
-
-    /// Stores `size` bytes read from `from` as the blob `hash`, 1 MiB at a time (the chunks
-    /// meet in a temporary table and are joined by the server), so memory stays bounded
-    /// whatever the size; bytes that are not `size` long or do not hash to `hash` are
-    /// [`StoreError::ContentChanged`].
-    fn stream_into_blob(&self, hash: &str, size: u64, from: &mut dyn std::io::Read) -> Result<()> {
-        use sha2::Digest as _;
-        let c = self.conn;
-        c.client
-            .borrow_mut()
-            .batch_execute(
-                "CREATE TEMPORARY TABLE IF NOT EXISTS blob_chunks (n BIGINT PRIMARY KEY, data BYTEA NOT NULL) ON COMMIT DELETE ROWS",
-            )
-            .map_err(sql("storing program bytes"))?;
-        c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
-        let mut hasher = sha2::Sha256::new();
-        let mut buf = vec![0u8; 1 << 20];
-        let (mut copied, mut n) = (0u64, 0i64);
-        loop {
-            let got = from.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-            if got == 0 {
-                break;
-            }
-            if copied + got as u64 > size {
-                return Err(StoreError::ContentChanged);
-            }
-            hasher.update(&buf[..got]);
-            c.exec("storing program bytes", "INSERT INTO blob_chunks(n, data) VALUES ($1, $2)", &[&n, &&buf[..got]])?;
-            copied += got as u64;
-            n += 1;
-        }
-        if copied != size || format!("{:x}", hasher.finalize()) != hash {
-            return Err(StoreError::ContentChanged);
-        }
-        c.exec(
-            "storing program bytes",
-            "INSERT INTO blobs(hash, size, content) SELECT $1, $2, COALESCE(string_agg(data, ''::bytea ORDER BY n), ''::bytea) FROM blob_chunks
-             ON CONFLICT (hash) DO NOTHING",
-            &[&hash, &(size as i64)],
-        )?;
-        c.exec("storing program bytes", "DELETE FROM blob_chunks", &[])?;
-        Ok(())
+        self.conn.stream_into_blob(hash, size, &mut file)
     }
 
     pub(super) fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
@@ -892,323 +893,6 @@ const KEEP_OLD_CHANGES: &str = "INSERT INTO old_changes(change_id, revision_id, 
  SELECT id, revision_id, original_revision_id, analysis, $2, $3, workingstep, operation, kind, field, before, after, line, detected_at,
         original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
  FROM changes WHERE revision_id = $1 ORDER BY id";
-
-/// What `ncplan migrate` did.
-#[derive(Debug, Default, Clone, Copy)]
-pub struct CopySummary {
-    /// Revisions in the SQLite file.
-    pub revisions: usize,
-    /// Revisions copied by this run (the others were there from an earlier run).
-    pub copied: usize,
-    /// Comparisons copied by this run.
-    pub comparisons: usize,
-    /// Review marks in the SQLite file whose change was copied (by this run or an earlier one).
-    pub review_marks: usize,
-}
-
-/// One source revision with its program and machine.
-struct SourceRevision {
-    id: i64,
-    path: String,
-    role: String,
-    machine: Option<(String, String, String)>,
-    program: (String, String, String, String),
-    hash: String,
-    size: i64,
-    mtime_ns: Option<i64>,
-    seen_at: String,
-    encoding: String,
-    status: String,
-    name: Option<String>,
-}
-
-impl Pg {
-    /// Copies a SQLite file's history into this database as this site's: every revision in
-    /// its own transaction with its blob, plan and findings, then the comparisons with their
-    /// changes and the partial-write marks. A revision (the program's path, its hash and
-    /// when it was seen) or a comparison already here is left as it is, so a run that was
-    /// stopped resumes where it was.
-    pub(super) fn copy_from(&self, lite: &super::sqlite::Lite, progress: &dyn Fn(usize, usize)) -> Result<CopySummary> {
-        use rusqlite::OptionalExtension as _;
-        let lsql = |about: &'static str| move |e: rusqlite::Error| StoreError::Sql { about, source: Box::new(e) };
-        let src = &lite.conn;
-        let c = &self.conn;
-        let site = c.site.clone();
-        let revisions: Vec<SourceRevision> = {
-            let mut stmt = src
-                .prepare(
-                    "SELECT r.id, p.path, p.role, m.name, m.dialect, m.folder, p.name, p.program_key, p.stem, p.dialect,
-                            r.hash, r.size, r.mtime_ns, r.seen_at, r.encoding, r.status, r.name
-                     FROM revisions r JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id ORDER BY r.id",
-                )
-                .map_err(lsql("reading the SQLite revisions"))?;
-            let rows = stmt
-                .query_map([], |r| {
-                    Ok(SourceRevision {
-                        id: r.get(0)?,
-                        path: r.get(1)?,
-                        role: r.get(2)?,
-                        machine: match r.get::<_, Option<String>>(3)? {
-                            Some(name) => Some((name, r.get(4)?, r.get(5)?)),
-                            None => None,
-                        },
-                        program: (r.get(6)?, r.get(7)?, r.get(8)?, r.get(9)?),
-                        hash: r.get(10)?,
-                        size: r.get(11)?,
-                        mtime_ns: r.get(12)?,
-                        seen_at: r.get(13)?,
-                        encoding: r.get(14)?,
-                        status: r.get(15)?,
-                        name: r.get(16)?,
-                    })
-                })
-                .map_err(lsql("reading the SQLite revisions"))?;
-            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading the SQLite revisions"))?
-        };
-        let mut summary = CopySummary { revisions: revisions.len(), ..CopySummary::default() };
-        let mut ids: BTreeMap<i64, i64> = BTreeMap::new();
-        for (n, r) in revisions.iter().enumerate() {
-            c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
-            let tx = PgTxn { conn: c, done: Cell::new(false) };
-            // Looked up before they are written: an upsert would take a number from the
-            // sequence each time, and a database copied from one SQLite file keeps its ids.
-            let machine_id: Option<i64> = match &r.machine {
-                Some((name, dialect, folder)) => {
-                    Some(match c.opt("looking up a machine", "SELECT id FROM machines WHERE site = $1 AND name = $2", &[&site, name])? {
-                        Some(row) => row.get(0),
-                        None => c
-                            .one(
-                                "recording a machine",
-                                "INSERT INTO machines(site, name, dialect, folder) VALUES ($1, $2, $3, $4)
-                                 ON CONFLICT (site, name) DO UPDATE SET dialect = EXCLUDED.dialect RETURNING id",
-                                &[&site, name, dialect, folder],
-                            )?
-                            .get(0),
-                    })
-                }
-                None => None,
-            };
-            let (pname, key, stem, dialect) = &r.program;
-            let program_id: i64 =
-                match c.opt("looking up a program", "SELECT id FROM programs WHERE site = $1 AND path = $2", &[&site, &r.path])? {
-                    Some(row) => row.get(0),
-                    None => c
-                        .one(
-                            "recording a program",
-                            "INSERT INTO programs(site, path, role, machine_id, name, program_key, stem, dialect) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
-                             ON CONFLICT (site, path) DO UPDATE SET role = EXCLUDED.role RETURNING id",
-                            &[&site, &r.path, &r.role, &machine_id, pname, key, stem, dialect],
-                        )?
-                        .get(0),
-                };
-            let found = c.opt(
-                "looking up a copied revision",
-                "SELECT id FROM revisions WHERE program_id = $1 AND hash = $2 AND seen_at = $3",
-                &[&program_id, &r.hash, &r.seen_at],
-            )?;
-            if let Some(row) = found {
-                ids.insert(r.id, row.get(0));
-                drop(tx);
-                progress(n + 1, revisions.len());
-                continue;
-            }
-            let keys: Vec<(String, String)> = {
-                let mut stmt = src
-                    .prepare_cached("SELECT k.rule, k.key FROM program_keys k JOIN programs p ON p.id = k.program_id WHERE p.path = ?1")
-                    .map_err(lsql("reading program keys"))?;
-                let rows = stmt.query_map([&r.path], |x| Ok((x.get(0)?, x.get(1)?))).map_err(lsql("reading program keys"))?;
-                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading program keys"))?
-            };
-            c.exec("recording program keys", "DELETE FROM program_keys WHERE program_id = $1", &[&program_id])?;
-            for (rule, key) in &keys {
-                c.exec(
-                    "recording program keys",
-                    "INSERT INTO program_keys(program_id, rule, key) VALUES ($1, $2, $3) ON CONFLICT DO NOTHING",
-                    &[&program_id, rule, key],
-                )?;
-            }
-            if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&r.hash])?.is_none() {
-                // Streamed from SQLite's blob, 1 MiB at a time: a program of hundreds of
-                // megabytes is never in memory whole.
-                let found: Option<(i64, i64, i64)> = src
-                    .query_row("SELECT rowid, size, length(content) FROM blobs WHERE hash = ?1", [&r.hash], |x| {
-                        Ok((x.get(0)?, x.get(1)?, x.get(2)?))
-                    })
-                    .optional()
-                    .map_err(lsql("reading program bytes"))?;
-                match found {
-                    Some((rowid, size, stored)) if stored > 0 && stored == size => {
-                        let mut blob = src
-                            .blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, true)
-                            .map_err(lsql("reading program bytes"))?;
-                        tx.stream_into_blob(&r.hash, size as u64, &mut blob)?;
-                    }
-                    // Kept without its bytes (over the size limit), or empty.
-                    other => {
-                        let size = other.map_or(r.size, |o| o.1);
-                        c.exec(
-                            "storing program bytes",
-                            "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, '') ON CONFLICT (hash) DO NOTHING",
-                            &[&r.hash, &size],
-                        )?;
-                    }
-                }
-            }
-            let new_id: i64 = c
-                .one(
-                    "recording a revision",
-                    "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)
-                     RETURNING id",
-                    &[&program_id, &r.hash, &r.size, &r.mtime_ns, &r.seen_at, &r.encoding, &r.status, &r.name],
-                )?
-                .get(0);
-            let plan: Option<(String, i64, i64, i64)> = src
-                .query_row("SELECT plan_json, workingsteps, tools, complete FROM plans WHERE revision_id = ?1", [r.id], |x| {
-                    Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?))
-                })
-                .optional()
-                .map_err(lsql("reading a plan"))?;
-            if let Some((json, ws, tools, complete)) = plan {
-                c.exec(
-                    "storing a plan",
-                    "INSERT INTO plans(revision_id, plan_json, workingsteps, tools, complete) VALUES ($1, $2, $3, $4, $5)",
-                    &[&new_id, &json, &ws, &tools, &complete],
-                )?;
-                c.exec("storing workingsteps", pg_schema::FILL_WORKINGSTEPS, &[&new_id])?;
-                c.exec("storing features", pg_schema::FILL_FEATURES, &[&new_id])?;
-            }
-            let findings: Vec<(String, String, i64, i64, i64, i64, String)> = {
-                let mut stmt = src
-                    .prepare_cached(
-                        "SELECT code, severity, line, col, byte_start, byte_end, message FROM diagnostics WHERE revision_id = ?1 ORDER BY id",
-                    )
-                    .map_err(lsql("reading findings"))?;
-                let rows = stmt
-                    .query_map([r.id], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?, x.get(5)?, x.get(6)?)))
-                    .map_err(lsql("reading findings"))?;
-                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading findings"))?
-            };
-            for f in &findings {
-                c.exec(
-                    "storing diagnostics",
-                    "INSERT INTO diagnostics(revision_id, code, severity, line, col, byte_start, byte_end, message) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
-                    &[&new_id, &f.0, &f.1, &f.2, &f.3, &f.4, &f.5, &f.6],
-                )?;
-            }
-            tx.commit()?;
-            ids.insert(r.id, new_id);
-            summary.copied += 1;
-            progress(n + 1, revisions.len());
-        }
-        // Comparisons, their changes and the marks name revisions of any age: copied once all are.
-        type SourceComparison = (i64, i64, String, i64, Option<String>);
-        let comparisons: Vec<SourceComparison> = {
-            let mut stmt = src
-                .prepare("SELECT revision_id, original_revision_id, compared_at, changes, rule FROM comparisons ORDER BY revision_id")
-                .map_err(lsql("reading comparisons"))?;
-            let rows =
-                stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?))).map_err(lsql("reading comparisons"))?;
-            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading comparisons"))?
-        };
-        // Which analysis made each change (migration 7), and the change ids review marks name.
-        let has = |table: &str, column: &str| -> Result<bool> {
-            src.query_row(&format!("SELECT COUNT(*) FROM pragma_table_info('{table}') WHERE name = '{column}'"), [], |x| x.get::<_, i64>(0))
-                .map(|n| n > 0)
-                .map_err(lsql("reading the SQLite schema"))
-        };
-        let analysis_column = if has("changes", "analysis")? { "analysis" } else { "''" };
-        let lite_changes = |rev: i64| -> Result<Vec<(i64, String)>> {
-            let mut stmt = src
-                .prepare_cached(&format!("SELECT id, {analysis_column} FROM changes WHERE revision_id = ?1 ORDER BY id"))
-                .map_err(lsql("reading changes"))?;
-            let rows = stmt.query_map([rev], |x| Ok((x.get(0)?, x.get(1)?))).map_err(lsql("reading changes"))?;
-            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading changes"))
-        };
-        let mut change_ids: BTreeMap<i64, i64> = BTreeMap::new();
-        for (rev, orig, at, n, rule) in &comparisons {
-            let (Some(new_rev), Some(new_orig)) = (ids.get(rev), ids.get(orig)) else { continue };
-            if c.opt("looking up a comparison", "SELECT 1 FROM comparisons WHERE revision_id = $1", &[new_rev])?.is_some() {
-                // Copied by an earlier run: its changes are in the same order.
-                let there = c.rows("reading changes", "SELECT id FROM changes WHERE revision_id = $1 ORDER BY id", &[new_rev])?;
-                for ((old, _), row) in lite_changes(*rev)?.iter().zip(&there) {
-                    change_ids.insert(*old, row.get(0));
-                }
-                continue;
-            }
-            let old_ids = lite_changes(*rev)?;
-            c.client.borrow_mut().batch_execute("BEGIN").map_err(sql("starting a transaction"))?;
-            let tx = PgTxn { conn: c, done: Cell::new(false) };
-            c.exec(
-                "recording a comparison",
-                "INSERT INTO comparisons(revision_id, original_revision_id, compared_at, changes, rule) VALUES ($1, $2, $3, $4, $5)",
-                &[new_rev, new_orig, at, n, rule],
-            )?;
-            let changes = super::sqlite::changes_of(src, *rev)?;
-            for (ch, (old, analysis)) in changes.iter().zip(&old_ids) {
-                let id: i64 = c
-                    .one(
-                        "storing changes",
-                        "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
-                                             original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
-                                             analysis)
-                         VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19) RETURNING id",
-                        &[
-                            new_rev, new_orig, &ch.workingstep, &ch.operation, &ch.kind, &ch.field, &ch.before, &ch.after, &ch.line,
-                            &ch.detected_at, &ch.original_line, &ch.region[0], &ch.region[1], &ch.region[2], &ch.region[3],
-                            &ch.region[4], &ch.region[5], &ch.deviation, analysis,
-                        ],
-                    )?
-                    .get(0);
-                change_ids.insert(*old, id);
-            }
-            tx.commit()?;
-            summary.comparisons += 1;
-        }
-        let marks: Vec<(i64, String, i64, String)> = {
-            let mut stmt =
-                src.prepare("SELECT revision_id, mark, superseded_by, noted_at FROM revision_marks").map_err(lsql("reading marks"))?;
-            let rows = stmt.query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?))).map_err(lsql("reading marks"))?;
-            rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading marks"))?
-        };
-        for (rev, mark, by, at) in &marks {
-            if let (Some(rev), Some(by)) = (ids.get(rev), ids.get(by)) {
-                c.exec(
-                    "copying a mark",
-                    "INSERT INTO revision_marks(revision_id, mark, superseded_by, noted_at) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
-                    &[rev, mark, by, at],
-                )?;
-            }
-        }
-        // The planners' review marks, on the copied changes; a mark copied by an earlier run is
-        // not copied again. (A mark on a change a re-analysis replaced stays behind: see
-        // `old_changes`, which is not copied.)
-        if has("review_marks", "change_id")? {
-            type SourceMark = (i64, String, String, String, String, String, String, String);
-            let marks: Vec<SourceMark> = {
-                let mut stmt = src
-                    .prepare("SELECT change_id, kind, before, after, mark, note, marked_by, marked_at FROM review_marks ORDER BY id")
-                    .map_err(lsql("reading review marks"))?;
-                let rows = stmt
-                    .query_map([], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?, x.get(4)?, x.get(5)?, x.get(6)?, x.get(7)?)))
-                    .map_err(lsql("reading review marks"))?;
-                rows.collect::<std::result::Result<_, _>>().map_err(lsql("reading review marks"))?
-            };
-            for (change, kind, before, after, mark, note, by, at) in &marks {
-                let Some(id) = change_ids.get(change) else { continue };
-                c.exec(
-                    "copying a review mark",
-                    "INSERT INTO review_marks(change_id, revision_id, kind, before, after, mark, note, marked_by, marked_at)
-                     SELECT $1, c.revision_id, $2, $3, $4, $5, $6, $7, $8 FROM changes c WHERE c.id = $1
-                       AND NOT EXISTS (SELECT 1 FROM review_marks v WHERE v.change_id = $1 AND v.mark = $5 AND v.note = $6
-                                         AND v.marked_by = $7 AND v.marked_at = $8)",
-                    &[id, kind, before, after, mark, note, by, at],
-                )?;
-                summary.review_marks += 1;
-            }
-        }
-        Ok(summary)
-    }
-}
 
 /// The plant-scale queries `ncplan bench --simulate` times, by name.
 pub const PLANT_QUERIES: &[(&str, &str)] = &[
@@ -1405,5 +1089,196 @@ impl PgTxn<'_> {
             &[&a.revision, &a.version],
         )?;
         Ok(Some(outcome))
+    }
+}
+
+/// A PostgreSQL database as an end of `ncplan migrate` ([`super::copy`]): its statements
+/// prepared once each, cells converted to the types the server asks for.
+pub(super) struct PgEnd<'a> {
+    conn: &'a Conn,
+    prepared: RefCell<BTreeMap<String, Statement>>,
+}
+
+impl Pg {
+    /// This database as an end of `ncplan migrate`.
+    pub(super) fn end(&self) -> PgEnd<'_> {
+        PgEnd { conn: &self.conn, prepared: RefCell::default() }
+    }
+}
+
+impl PgEnd<'_> {
+    /// `sql_text` with `?1` written `$1`, prepared.
+    fn statement(&self, sql_text: &str) -> Result<Statement> {
+        if let Some(s) = self.prepared.borrow().get(sql_text) {
+            return Ok(s.clone());
+        }
+        let mut text = String::with_capacity(sql_text.len());
+        let mut chars = sql_text.chars().peekable();
+        while let Some(c) = chars.next() {
+            text.push(if c == '?' && chars.peek().is_some_and(char::is_ascii_digit) { '$' } else { c });
+        }
+        let s = self.conn.client.borrow_mut().prepare(&text).map_err(sql("preparing a copy"))?;
+        self.prepared.borrow_mut().insert(sql_text.to_owned(), s.clone());
+        Ok(s)
+    }
+
+    /// The parameters of `s` from `params`, each as the type the server asks for.
+    fn params(s: &Statement, params: &[Val]) -> Result<Vec<Box<dyn ToSql + Sync>>> {
+        s.params()
+            .iter()
+            .zip(params)
+            .map(|(ty, v)| -> Result<Box<dyn ToSql + Sync>> {
+                Ok(match (v, ty) {
+                    (Val::Null, &Type::INT8) => Box::new(None::<i64>),
+                    (Val::Null, &Type::INT4) => Box::new(None::<i32>),
+                    (Val::Null, &Type::FLOAT8) => Box::new(None::<f64>),
+                    (Val::Null, &Type::BYTEA) => Box::new(None::<Vec<u8>>),
+                    (Val::Null, _) => Box::new(None::<String>),
+                    (Val::Int(i), &Type::INT8) => Box::new(*i),
+                    (Val::Int(i), &Type::INT4) => Box::new(i32::try_from(*i).map_err(|_| mismatch(v, ty))?),
+                    (Val::Int(i), &Type::FLOAT8) => Box::new(*i as f64),
+                    (Val::Int(i), &Type::TEXT | &Type::VARCHAR) => Box::new(i.to_string()),
+                    (Val::Real(x), &Type::FLOAT8) => Box::new(*x),
+                    (Val::Real(x), &Type::INT8) if x.fract() == 0.0 => Box::new(*x as i64),
+                    (Val::Text(t), &Type::TEXT | &Type::VARCHAR | &Type::NAME | &Type::BPCHAR) => Box::new(t.clone()),
+                    (Val::Bytes(b), &Type::BYTEA) => Box::new(b.clone()),
+                    (Val::Bytes(b), &Type::TEXT) => Box::new(String::from_utf8(b.clone()).map_err(|_| mismatch(v, ty))?),
+                    _ => return Err(mismatch(v, ty)),
+                })
+            })
+            .collect()
+    }
+}
+
+/// A cell whose value the column's type cannot hold.
+fn mismatch(v: &Val, ty: &Type) -> StoreError {
+    StoreError::Setup(format!("a value {v:?} cannot be copied into a column of type {ty}"))
+}
+
+/// The cells of a row, by the types of its columns.
+fn vals(row: &Row) -> Result<Vec<Val>> {
+    let cell = |i: usize, ty: &Type| -> std::result::Result<Val, postgres::Error> {
+        Ok(match *ty {
+            Type::INT8 => row.try_get::<_, Option<i64>>(i)?.map_or(Val::Null, Val::Int),
+            Type::INT4 => row.try_get::<_, Option<i32>>(i)?.map_or(Val::Null, |x| Val::Int(x.into())),
+            Type::INT2 => row.try_get::<_, Option<i16>>(i)?.map_or(Val::Null, |x| Val::Int(x.into())),
+            Type::FLOAT8 => row.try_get::<_, Option<f64>>(i)?.map_or(Val::Null, Val::Real),
+            Type::FLOAT4 => row.try_get::<_, Option<f32>>(i)?.map_or(Val::Null, |x| Val::Real(x.into())),
+            Type::BOOL => row.try_get::<_, Option<bool>>(i)?.map_or(Val::Null, |x| Val::Int(x.into())),
+            Type::BYTEA => row.try_get::<_, Option<Vec<u8>>>(i)?.map_or(Val::Null, Val::Bytes),
+            _ => row.try_get::<_, Option<String>>(i)?.map_or(Val::Null, Val::Text),
+        })
+    };
+    row.columns().iter().enumerate().map(|(i, c)| cell(i, c.type_()).map_err(sql("reading rows to copy"))).collect()
+}
+
+impl super::copy::End for PgEnd<'_> {
+    fn by_site(&self) -> bool {
+        true
+    }
+
+    fn rows(&self, sql_text: &str, params: &[Val]) -> Result<Vec<Vec<Val>>> {
+        let s = self.statement(sql_text)?;
+        let p = Self::params(&s, params)?;
+        let refs: Vec<&(dyn ToSql + Sync)> = p.iter().map(|b| b.as_ref()).collect();
+        let rows = self.conn.client.borrow_mut().query(&s, &refs).map_err(sql("reading rows to copy"))?;
+        rows.iter().map(vals).collect()
+    }
+
+    fn exec(&self, sql_text: &str, params: &[Val]) -> Result<u64> {
+        let s = self.statement(sql_text)?;
+        let p = Self::params(&s, params)?;
+        let refs: Vec<&(dyn ToSql + Sync)> = p.iter().map(|b| b.as_ref()).collect();
+        self.conn.client.borrow_mut().execute(&s, &refs).map_err(sql("copying rows"))
+    }
+
+    fn batch(&self, sql_text: &str) -> Result<()> {
+        self.conn.client.borrow_mut().batch_execute(sql_text).map_err(sql("copying rows"))
+    }
+
+    fn columns(&self, table: &str) -> Result<Vec<String>> {
+        let rows = self.rows(
+            "SELECT column_name::text FROM information_schema.columns WHERE table_schema = current_schema() AND table_name = ?1
+             ORDER BY ordinal_position",
+            &[Val::Text(table.to_owned())],
+        )?;
+        Ok(rows
+            .into_iter()
+            .filter_map(|r| match r.into_iter().next() {
+                Some(Val::Text(t)) => Some(t),
+                _ => None,
+            })
+            .collect())
+    }
+
+    fn same(&self, column: &str, n: usize) -> String {
+        format!("{column} IS NOT DISTINCT FROM ?{n}")
+    }
+
+    fn blob(&self, hash: &str) -> Result<Option<super::copy::Blob<'_>>> {
+        let found = self.rows("SELECT size, length(content)::bigint FROM blobs WHERE hash = ?1", &[Val::Text(hash.to_owned())])?;
+        let Some([Val::Int(size), Val::Int(stored)]) = found.first().map(Vec::as_slice) else { return Ok(None) };
+        let reader = BlobReader { end: self, hash: hash.to_owned(), at: 0, stored: *stored };
+        Ok(Some((*size, *stored, Box::new(reader))))
+    }
+
+    fn write_blob(&self, hash: &str, size: i64, stored: i64, from: &mut dyn std::io::Read) -> Result<()> {
+        if stored == size {
+            return self.conn.stream_into_blob(hash, size as u64, from);
+        }
+        // Kept without its bytes (over the size limit).
+        self.conn.exec(
+            "storing program bytes",
+            "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, '') ON CONFLICT (hash) DO NOTHING",
+            &[&hash, &size],
+        )?;
+        Ok(())
+    }
+
+    fn reserve_ids(&self, table: &str, at_least: i64) -> Result<()> {
+        self.rows(
+            "SELECT setval(pg_get_serial_sequence(?1, 'id'), GREATEST(nextval(pg_get_serial_sequence(?1, 'id')), ?2))",
+            &[Val::Text(table.to_owned()), Val::Int(at_least)],
+        )?;
+        Ok(())
+    }
+
+    fn new_id(&self, table: &str, above: i64) -> Result<i64> {
+        let row = self.rows("SELECT nextval(pg_get_serial_sequence(?1, 'id'))", &[Val::Text(table.to_owned())])?;
+        match row.first().map(Vec::as_slice) {
+            // The sequence was set past the source's ids when the copy began.
+            Some([Val::Int(i)]) if *i > above => Ok(*i),
+            _ => Err(StoreError::Setup(format!("the identity of {table} gave no id above {above}"))),
+        }
+    }
+}
+
+/// A blob's stored bytes read 1 MiB at a time.
+struct BlobReader<'a> {
+    end: &'a PgEnd<'a>,
+    hash: String,
+    at: i64,
+    stored: i64,
+}
+
+impl std::io::Read for BlobReader<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let want = (self.stored - self.at).min(buf.len() as i64).min(1 << 20);
+        if want <= 0 {
+            return Ok(0);
+        }
+        let rows = self
+            .end
+            .rows(
+                "SELECT substring(content FROM ?2 FOR ?3) FROM blobs WHERE hash = ?1",
+                &[Val::Text(self.hash.clone()), Val::Int(self.at + 1), Val::Int(want)],
+            )
+            .map_err(std::io::Error::other)?;
+        let Some(Val::Bytes(b)) = rows.into_iter().next().and_then(|r| r.into_iter().next()) else {
+            return Err(std::io::Error::other(format!("the blob {} went away", self.hash)));
+        };
+        buf[..b.len()].copy_from_slice(&b);
+        self.at += b.len() as i64;
+        Ok(b.len())
     }
 }

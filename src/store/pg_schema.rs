@@ -378,6 +378,16 @@ CREATE TABLE saved_queries (
     saved_at TEXT NOT NULL
 );
 "#,
+    // 8: as SQLite's 8, the planners' sign-in sessions by the SHA-256 of their token, with expiry.
+    r#"
+CREATE TABLE web_sessions (
+    token_hash TEXT PRIMARY KEY,
+    user_name  TEXT NOT NULL,
+    created_at TEXT NOT NULL,
+    expires_at TEXT NOT NULL
+);
+CREATE INDEX web_sessions_expiry ON web_sessions(expires_at);
+"#,
 ];
 
 #[cfg(test)]

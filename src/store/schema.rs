@@ -390,6 +390,19 @@ CREATE TABLE saved_queries (
     saved_at TEXT NOT NULL
 );
 "#,
+    // 8: the planners' sign-in sessions (`ncplan serve` with `[[web.user]]`), so that a restart
+    // of the server signs no one out. A session is named by the SHA-256 of its cookie's token:
+    // the database (which the SQL console reads) never holds a cookie that works. It ends at
+    // `expires_at`, or when its planner signs out.
+    r#"
+CREATE TABLE web_sessions (
+    token_hash TEXT PRIMARY KEY,
+    user_name  TEXT NOT NULL,
+    created_at TEXT NOT NULL,
+    expires_at TEXT NOT NULL
+);
+CREATE INDEX web_sessions_expiry ON web_sessions(expires_at);
+"#,
 ];
 
 #[cfg(test)]

@@ -4,6 +4,7 @@ use std::path::Path;
 
 use rusqlite::{Connection, OpenFlags, OptionalExtension, Transaction, params};
 
+use super::copy::Val;
 use super::schema;
 use super::*;
 use crate::pairing::{Candidate, Key, Rule};
@@ -488,43 +489,9 @@ impl LiteTxn<'_> {
     /// Copies the file into the blob `hash` in chunks, checking on the way that it still has
     /// that hash. Files over [`MAX_BLOB`] keep an empty blob (their size and hash are kept).
     fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
-        use sha2::Digest as _;
-        use std::io::{Read as _, Write as _};
         let kept = if size > MAX_BLOB { 0 } else { size };
-        let inserted = self
-            .tx
-            .execute(
-                "INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, zeroblob(?3))",
-                params![hash, size as i64, kept as i64],
-            )
-            .map_err(sql("storing program bytes"))?;
-        if inserted == 0 || kept == 0 {
-            return Ok(());
-        }
-        let rowid: i64 =
-            self.tx.query_row("SELECT rowid FROM blobs WHERE hash = ?1", [hash], |r| r.get(0)).map_err(sql("storing program bytes"))?;
-        let mut blob =
-            self.tx.blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, false).map_err(sql("storing program bytes"))?;
         let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-        let mut hasher = sha2::Sha256::new();
-        let mut buf = vec![0u8; 1 << 20];
-        let mut copied = 0u64;
-        loop {
-            let n = file.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-            if n == 0 {
-                break;
-            }
-            if copied + n as u64 > size {
-                return Err(StoreError::ContentChanged);
-            }
-            hasher.update(&buf[..n]);
-            blob.write_all(&buf[..n]).map_err(|e| StoreError::Io { about: "storing program bytes", source: e })?;
-            copied += n as u64;
-        }
-        if copied != size || format!("{:x}", hasher.finalize()) != hash {
-            return Err(StoreError::ContentChanged);
-        }
-        Ok(())
+        write_blob(&self.tx, hash, size, kept, &mut file)
     }
 
     /// A stored revision's program and plan, to rebuild its whole plan from.
@@ -737,50 +704,6 @@ impl LiteTxn<'_> {
     }
 }
 
-/// A stored change row as it is, for copying.
-pub(super) struct ChangeRow {
-    pub(super) workingstep: i64,
-    pub(super) operation: String,
-    pub(super) kind: String,
-    pub(super) field: String,
-    pub(super) before: String,
-    pub(super) after: String,
-    pub(super) line: Option<i64>,
-    pub(super) detected_at: String,
-    pub(super) original_line: Option<i64>,
-    pub(super) region: [Option<f64>; 6],
-    pub(super) deviation: Option<f64>,
-}
-
-/// The change rows of a revision, in their order.
-pub(super) fn changes_of(conn: &Connection, revision: i64) -> Result<Vec<ChangeRow>> {
-    let mut stmt = conn
-        .prepare_cached(
-            "SELECT workingstep, operation, kind, field, before, after, line, detected_at, original_line,
-                    region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
-             FROM changes WHERE revision_id = ?1 ORDER BY id",
-        )
-        .map_err(sql("reading changes"))?;
-    let rows = stmt
-        .query_map([revision], |r| {
-            Ok(ChangeRow {
-                workingstep: r.get(0)?,
-                operation: r.get(1)?,
-                kind: r.get(2)?,
-                field: r.get(3)?,
-                before: r.get(4)?,
-                after: r.get(5)?,
-                line: r.get(6)?,
-                detected_at: r.get(7)?,
-                original_line: r.get(8)?,
-                region: [r.get(9)?, r.get(10)?, r.get(11)?, r.get(12)?, r.get(13)?, r.get(14)?],
-                deviation: r.get(15)?,
-            })
-        })
-        .map_err(sql("reading changes"))?;
-    rows.collect::<std::result::Result<_, _>>().map_err(sql("reading changes"))
-}
-
 /// Findings as the re-analysis keeps and compares them: JSON of (severity, code, line, col,
 /// message), and the set of (code, message).
 pub(super) fn findings_record(found: &[StoredFinding]) -> (String, std::collections::BTreeSet<(String, String)>) {
@@ -905,5 +828,152 @@ impl LiteTxn<'_> {
         tx.execute("DELETE FROM reanalysis_queue WHERE revision_id = ?1 AND version = ?2", params![a.revision, a.version])
             .map_err(sql("closing a queue entry"))?;
         Ok(Some(outcome))
+    }
+}
+
+/// Stores `kept` bytes read from `from` as the blob `hash` of a file of `size` bytes, unless
+/// the blob is there: in chunks (bounded memory), checking that bytes kept whole still hash
+/// to `hash` ([`StoreError::ContentChanged`] if not).
+fn write_blob(conn: &Connection, hash: &str, size: u64, kept: u64, from: &mut dyn std::io::Read) -> Result<()> {
+    use sha2::Digest as _;
+    use std::io::Write as _;
+    let inserted = conn
+        .execute("INSERT OR IGNORE INTO blobs(hash, size, content) VALUES (?1, ?2, zeroblob(?3))", params![hash, size as i64, kept as i64])
+        .map_err(sql("storing program bytes"))?;
+    if inserted == 0 || kept == 0 {
+        return Ok(());
+    }
+    let rowid: i64 =
+        conn.query_row("SELECT rowid FROM blobs WHERE hash = ?1", [hash], |r| r.get(0)).map_err(sql("storing program bytes"))?;
+    let mut blob = conn.blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, false).map_err(sql("storing program bytes"))?;
+    let mut hasher = sha2::Sha256::new();
+    let mut buf = vec![0u8; 1 << 20];
+    let mut copied = 0u64;
+    loop {
+        let n = from.read(&mut buf).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
+        if n == 0 {
+            break;
+        }
+        if copied + n as u64 > kept {
+            return Err(StoreError::ContentChanged);
+        }
+        hasher.update(&buf[..n]);
+        blob.write_all(&buf[..n]).map_err(|e| StoreError::Io { about: "storing program bytes", source: e })?;
+        copied += n as u64;
+    }
+    if copied != kept || (kept == size && format!("{:x}", hasher.finalize()) != hash) {
+        return Err(StoreError::ContentChanged);
+    }
+    Ok(())
+}
+
+/// A SQLite database as an end of `ncplan migrate` ([`super::copy`]).
+pub(super) struct LiteEnd<'a>(pub(super) &'a Connection);
+
+impl super::copy::End for LiteEnd<'_> {
+    fn by_site(&self) -> bool {
+        false
+    }
+
+    fn rows(&self, sql_text: &str, params: &[Val]) -> Result<Vec<Vec<Val>>> {
+        let mut stmt = self.0.prepare_cached(sql_text).map_err(sql("reading rows to copy"))?;
+        let n = stmt.column_count();
+        let mut rows = stmt.query(rusqlite::params_from_iter(params.iter().map(lite_value))).map_err(sql("reading rows to copy"))?;
+        let mut out = Vec::new();
+        while let Some(row) = rows.next().map_err(sql("reading rows to copy"))? {
+            let mut cells = Vec::with_capacity(n);
+            for i in 0..n {
+                use rusqlite::types::ValueRef;
+                cells.push(match row.get_ref(i).map_err(sql("reading rows to copy"))? {
+                    ValueRef::Null => Val::Null,
+                    ValueRef::Integer(x) => Val::Int(x),
+                    ValueRef::Real(x) => Val::Real(x),
+                    ValueRef::Text(t) => Val::Text(String::from_utf8_lossy(t).into_owned()),
+                    ValueRef::Blob(b) => Val::Bytes(b.to_vec()),
+                });
+            }
+            out.push(cells);
+        }
+        Ok(out)
+    }
+
+    fn exec(&self, sql_text: &str, params: &[Val]) -> Result<u64> {
+        let mut stmt = self.0.prepare_cached(sql_text).map_err(sql("copying rows"))?;
+        Ok(stmt.execute(rusqlite::params_from_iter(params.iter().map(lite_value))).map_err(sql("copying rows"))? as u64)
+    }
+
+    fn batch(&self, sql_text: &str) -> Result<()> {
+        // One writer at a time: the transaction takes the write lock at its start.
+        let sql_text = if sql_text == "BEGIN" { "BEGIN IMMEDIATE" } else { sql_text };
+        self.0.execute_batch(sql_text).map_err(sql("copying rows"))
+    }
+
+    fn columns(&self, table: &str) -> Result<Vec<String>> {
+        let rows = self.rows("SELECT name FROM pragma_table_info(?1) ORDER BY cid", &[Val::Text(table.to_owned())])?;
+        Ok(rows
+            .into_iter()
+            .filter_map(|r| match r.into_iter().next() {
+                Some(Val::Text(t)) => Some(t),
+                _ => None,
+            })
+            .collect())
+    }
+
+    fn same(&self, column: &str, n: usize) -> String {
+        format!("{column} IS ?{n}")
+    }
+
+    fn blob(&self, hash: &str) -> Result<Option<super::copy::Blob<'_>>> {
+        let found: Option<(i64, i64, i64)> = self
+            .0
+            .query_row("SELECT rowid, size, length(content) FROM blobs WHERE hash = ?1", [hash], |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?)))
+            .optional()
+            .map_err(sql("reading program bytes"))?;
+        let Some((rowid, size, stored)) = found else { return Ok(None) };
+        if stored == 0 {
+            return Ok(Some((size, 0, Box::new(std::io::empty()))));
+        }
+        let blob = self.0.blob_open(rusqlite::DatabaseName::Main, "blobs", "content", rowid, true).map_err(sql("reading program bytes"))?;
+        Ok(Some((size, stored, Box::new(blob))))
+    }
+
+    fn write_blob(&self, hash: &str, size: i64, stored: i64, from: &mut dyn std::io::Read) -> Result<()> {
+        write_blob(self.0, hash, size as u64, stored as u64, from)
+    }
+
+    fn reserve_ids(&self, _table: &str, _at_least: i64) -> Result<()> {
+        // SQLite numbers a row it is given no id for after the greatest there.
+        Ok(())
+    }
+
+    fn new_id(&self, table: &str, above: i64) -> Result<i64> {
+        let max = |sql_text: &str| -> Result<i64> {
+            Ok(self
+                .rows(sql_text, &[])?
+                .first()
+                .and_then(|r| match r[0] {
+                    Val::Int(i) => Some(i),
+                    _ => None,
+                })
+                .unwrap_or(0))
+        };
+        let mut m = max(&format!("SELECT MAX(id) FROM {table}"))?;
+        if table == "changes" {
+            // A change's id is never one an old change had.
+            m = m.max(max("SELECT MAX(change_id) FROM old_changes")?);
+        }
+        Ok(m.max(above) + 1)
+    }
+}
+
+/// A cell as SQLite takes it.
+fn lite_value(v: &Val) -> rusqlite::types::Value {
+    use rusqlite::types::Value;
+    match v {
+        Val::Null => Value::Null,
+        Val::Int(i) => Value::Integer(*i),
+        Val::Real(x) => Value::Real(*x),
+        Val::Text(t) => Value::Text(t.clone()),
+        Val::Bytes(b) => Value::Blob(b.clone()),
     }
 }

@@ -1,10 +1,13 @@
 //! Sign-in, sessions and CSRF tokens for `ncplan serve`.
 //!
 //! Every visitor has a session cookie (`ncplan_session`, HttpOnly, SameSite=Strict): a random
-//! token. Where users are configured, the token is known to the server only after a password
-//! check (argon2); without users, any token is an anonymous session. A form's CSRF token is
-//! the SHA-256 of the process's secret and the session token, so a page of another site can
-//! neither read nor forge it.
+//! token. Where users are configured, the token is a session only once a password check
+//! (argon2) has recorded it in the store (`web_sessions`, by the token's SHA-256: the
+//! database holds no cookie that works), for [`SESSION_HOURS`] or until its planner signs
+//! out, and only while its planner is still configured; a restart of the server signs no one
+//! out. Without users, any token is an anonymous session. A form's CSRF token is the SHA-256
+//! of the session token and, without users, a per-process secret (a client-chosen token is
+//! not enough to make it); a page of another site can neither read nor forge it.
 
 use axum::http::{HeaderMap, header};
 use sha2::Digest as _;
@@ -13,6 +16,9 @@ use super::{Ctx, Server};
 use crate::config::WebUser;
 
 const COOKIE: &str = "ncplan_session";
+
+/// How long a sign-in lasts: a working day and then some.
+pub(super) const SESSION_HOURS: i64 = 12;
 
 /// 32 random bytes from the kernel.
 pub(super) fn random() -> anyhow::Result<[u8; 32]> {
@@ -49,18 +55,38 @@ fn set_cookie(token: &str) -> String {
 
 fn csrf_of(s: &Server, token: &str) -> String {
     let mut h = sha2::Sha256::new();
-    h.update(s.secret);
+    if s.auth_required() {
+        // A session the store knows: its token, unguessable and never stored, is enough, and
+        // the forms of a page stay good across a restart of the server.
+        h.update(b"ncplan csrf\0");
+    } else {
+        h.update(s.secret);
+    }
     h.update(token.as_bytes());
     format!("{:x}", h.finalize())
 }
 
+/// The name of a session in the store: its token's SHA-256.
+fn token_hash(token: &str) -> String {
+    format!("{:x}", sha2::Sha256::digest(token.as_bytes()))
+}
+
 /// The visitor's context and, for a new visitor, the cookie to set; `None` when users are
-/// configured and the visitor has not signed in.
-pub(super) fn context(s: &Server, headers: &HeaderMap) -> Option<(Ctx, Option<String>)> {
+/// configured and the visitor has no session (never signed in, signed out, expired, or no
+/// longer a configured user). A session is looked up in the store on the blocking pool.
+pub(super) async fn context(s: &std::sync::Arc<Server>, headers: &HeaderMap) -> Option<(Ctx, Option<String>)> {
     let token = cookie_value(headers);
     if s.auth_required() {
         let token = token?;
-        let user = s.sessions.lock().ok()?.get(&token).cloned()?;
+        let (server, hash) = (s.clone(), token_hash(&token));
+        let user = match tokio::task::spawn_blocking(move || server.session_user(&hash)).await {
+            Ok(Ok(user)) => user?,
+            Ok(Err(e)) => {
+                tracing::warn!(error = format!("{e:#}"), "cannot read the session");
+                return None;
+            }
+            Err(_) => return None,
+        };
         return Some((Ctx { user: Some(user), csrf: csrf_of(s, &token), auth: true }, None));
     }
     match token {
@@ -98,18 +124,43 @@ pub(super) fn check_password(users: &[WebUser], name: &str, password: &str) -> b
     argon2::Argon2::default().verify_password(password.as_bytes(), &hash).is_ok()
 }
 
-/// A new session for `name`: its cookie.
+/// A new session for `name`, recorded in the store until [`SESSION_HOURS`] from now: its
+/// cookie. Blocks (the store's write).
 pub(super) fn start_session(s: &Server, name: &str) -> anyhow::Result<String> {
     let token = hex(&random()?);
-    s.sessions.lock().map_err(|_| anyhow::anyhow!("the session table is poisoned"))?.insert(token.clone(), name.to_owned());
+    let now = s.clock.now();
+    let until = later(&now, SESSION_HOURS * 3600).ok_or_else(|| anyhow::anyhow!("the clock says `{now}`, not an RFC 3339 time"))?;
+    s.writer()?.start_session(&token_hash(&token), name, &now, &until)?;
     Ok(set_cookie(&token))
 }
 
-/// Ends the visitor's session.
-pub(super) fn end_session(s: &Server, headers: &HeaderMap) {
-    if let (Some(t), Ok(mut sessions)) = (cookie_value(headers), s.sessions.lock()) {
-        sessions.remove(&t);
+/// Ends the visitor's session. Blocks (the store's write).
+pub(super) fn end_session(s: &Server, headers: &HeaderMap) -> anyhow::Result<()> {
+    if let Some(t) = cookie_value(headers) {
+        s.writer()?.end_session(&token_hash(&t))?;
     }
+    Ok(())
+}
+
+/// `now` (`YYYY-MM-DDTHH:MM:SS.mmmZ`, as the clock gives it) `secs` seconds later, in the
+/// same form: such times compare as text.
+fn later(now: &str, secs: i64) -> Option<String> {
+    let b = now.as_bytes();
+    if b.len() < 20 || b[4] != b'-' || b[7] != b'-' || b[10] != b'T' || b[13] != b':' || b[16] != b':' || !now.ends_with('Z') {
+        return None;
+    }
+    let num = |r: std::ops::Range<usize>| now.get(r)?.parse::<i64>().ok();
+    let (y, m, d) = (num(0..4)?, num(5..7)?, num(8..10)?);
+    let millis = if b[19] == b'.' { num(20..23)? } else { 0 };
+    // Days since 1970-01-01 of a civil date (Howard Hinnant's algorithm).
+    let y = if m <= 2 { y - 1 } else { y };
+    let era = y.div_euclid(400);
+    let yoe = y - era * 400;
+    let doy = (153 * (if m > 2 { m - 3 } else { m + 9 }) + 2) / 5 + d - 1;
+    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    let days = era * 146_097 + doe - 719_468;
+    let t = days * 86_400 + num(11..13)? * 3600 + num(14..16)? * 60 + num(17..19)? + secs;
+    Some(crate::daemon::rfc3339(t, millis as u32))
 }
 
 #[cfg(test)]
@@ -135,5 +186,18 @@ mod tests {
         h.insert(header::COOKIE, format!("{COOKIE}=\"><script>").parse().unwrap());
         assert_eq!(cookie_value(&h), None);
         assert!(set_cookie("x").contains("HttpOnly; SameSite=Strict"));
+    }
+
+    #[test]
+    fn a_session_ends_hours_after_it_starts_in_the_clocks_own_form() {
+        assert_eq!(later("2026-03-01T00:00:00.000Z", 12 * 3600).as_deref(), Some("2026-03-01T12:00:00.000Z"));
+        assert_eq!(later("2024-02-28T20:30:15.250Z", 12 * 3600).as_deref(), Some("2024-02-29T08:30:15.250Z"));
+        assert_eq!(later("2025-12-31T23:59:59.999Z", 1).as_deref(), Some("2026-01-01T00:00:00.999Z"));
+        assert_eq!(later("1970-01-01T00:00:00Z", 0).as_deref(), Some("1970-01-01T00:00:00.000Z"));
+        assert_eq!(later("yesterday", 1), None);
+        // The store's session is the token's hash, never the token.
+        let token = "ab".repeat(32);
+        assert_eq!(token_hash(&token).len(), 64);
+        assert_ne!(token_hash(&token), token);
     }
 }

@@ -201,8 +201,9 @@ pub fn run(dir: &Path, rows: usize, postgres: Option<&str>, out: &mut impl Write
     if let Some(url) = postgres {
         let at = crate::store::Location::parse(url);
         let t = Instant::now();
-        let db = config.database.file().context("the web bench builds a SQLite database")?;
-        let copied = Store::open(&at, "WEBBENCH")?.copy_from_sqlite(db, &|_, _| {})?;
+        config.database.file().context("the web bench builds a SQLite database")?;
+        let source = Store::open_read_only(&config.database)?;
+        let copied = Store::open(&at, "WEBBENCH")?.copy_from(&source, "WEBBENCH", &|_, _| {})?;
         writeln!(
             out,
             "web on PostgreSQL: {} revisions copied into {at} ({} there already) in {:.1} s",

@@ -580,7 +580,7 @@ pub(super) async fn download(
     Path(revision): Path<i64>,
     Query(q): Query<BTreeMap<String, String>>,
 ) -> Response {
-    if super::auth::context(&s, &headers).is_none() {
+    if super::auth::context(&s, &headers).await.is_none() {
         return Redirect::to("/login").into_response();
     }
     let to = q.get("to").cloned();

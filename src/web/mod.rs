@@ -3,13 +3,14 @@
 //! Its own room in the IO shell: axum on a current-thread tokio runtime, pages rendered by
 //! maud (compile-time checked, every interpolated value escaped: program text is untrusted),
 //! assets embedded. It reads through `store` on read-only connections, writes only review
-//! marks and saved console queries (their own tables), and calls the pure core (`view`) for pictures and source views.
+//! marks, saved console queries and sign-in sessions (their own tables), and calls the pure core (`view`) for pictures and source views.
 //! The door is [`serve`]; [`report`] writes the same comparison views as one HTML file.
 //!
 //! Security: without `[[web.user]]` in the configuration the server listens on loopback only
 //! (a non-local address is refused); with users, every page asks for a session (argon2
-//! password check, an HttpOnly SameSite=Strict cookie). Every POST carries a CSRF token
-//! derived from the session cookie and a per-process secret.
+//! password check, an HttpOnly SameSite=Strict cookie, the session kept in the store with
+//! its expiry, so that a restart signs no one out). Every POST carries a CSRF token derived
+//! from the session cookie.
 
 mod auth;
 pub mod bench;
@@ -89,8 +90,8 @@ pub(crate) struct Server {
     config: Config,
     registry: Registry,
     clock: Arc<dyn Clock>,
+    /// The CSRF tokens' secret where no one signs in (anonymous sessions).
     secret: [u8; 32],
-    sessions: Mutex<BTreeMap<String, String>>,
     plans: Mutex<PlanCache>,
     /// Read-only connections that served a page and may serve the next (a PostgreSQL
     /// connection costs a login each time).
@@ -108,7 +109,6 @@ impl Server {
             registry,
             clock,
             secret: auth::random()?,
-            sessions: Mutex::new(BTreeMap::new()),
             plans: Mutex::new(PlanCache { kept: Vec::new() }),
             idle: Mutex::new(Vec::new()),
         })
@@ -167,6 +167,20 @@ impl Server {
 
     fn auth_required(&self) -> bool {
         !self.config.web_users.is_empty()
+    }
+
+    /// A connection that may write (review marks, saved queries, sessions).
+    fn writer(&self) -> Result<Store> {
+        Store::open(&self.db, &self.config.site).with_context(|| format!("cannot open the database {}", self.db))
+    }
+
+    /// The planner of the stored session whose token hashes to `token_hash`: while it has not
+    /// expired and its planner is still among the configured users.
+    fn session_user(&self, token_hash: &str) -> Result<Option<String>> {
+        let store = self.store()?;
+        let user = store.session_user(token_hash, &self.clock.now())?;
+        self.give_back(store);
+        Ok(user.filter(|u| self.config.web_users.iter().any(|w| &w.name == u)))
     }
 }
 
@@ -253,7 +267,7 @@ async fn page<F>(s: Arc<Server>, headers: HeaderMap, render: F) -> Response
 where
     F: FnOnce(&Server, &Ctx, &Store) -> Result<Markup> + Send + 'static,
 {
-    let (ctx, cookie) = match auth::context(&s, &headers) {
+    let (ctx, cookie) = match auth::context(&s, &headers).await {
         Some(found) => found,
         None => return Redirect::to("/login").into_response(),
     };
@@ -334,7 +348,7 @@ async fn review(
     Path(change): Path<i64>,
     Form(form): Form<BTreeMap<String, String>>,
 ) -> Response {
-    let Some((ctx, _)) = auth::context(&s, &headers) else { return Redirect::to("/login").into_response() };
+    let Some((ctx, _)) = auth::context(&s, &headers).await else { return Redirect::to("/login").into_response() };
     if !auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str)) {
         return (StatusCode::FORBIDDEN, "the form's CSRF token does not match this session; reload the page").into_response();
     }
@@ -353,7 +367,7 @@ async fn review(
     let mark = mark.to_owned();
     let s2 = s.clone();
     let result = tokio::task::spawn_blocking(move || -> Result<Option<i64>> {
-        let store = Store::open(&s2.db, &s2.config.site)?;
+        let store = s2.writer()?;
         let at = s2.clock.now();
         Ok(store.add_mark(change, &mark, &note, &by, &at)?)
     })
@@ -372,7 +386,7 @@ async fn review(
 /// Saves the console's query: `name`, `q` (the SQL, one reading statement), `csrf`, and `by`
 /// where nobody signs in. Back to the console, which lists it.
 async fn save_query(State(s): State<Arc<Server>>, headers: HeaderMap, Form(form): Form<BTreeMap<String, String>>) -> Response {
-    let Some((ctx, _)) = auth::context(&s, &headers) else { return Redirect::to("/login").into_response() };
+    let Some((ctx, _)) = auth::context(&s, &headers).await else { return Redirect::to("/login").into_response() };
     if !auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str)) {
         return (StatusCode::FORBIDDEN, "the form's CSRF token does not match this session; reload the page").into_response();
     }
@@ -385,7 +399,7 @@ async fn save_query(State(s): State<Arc<Server>>, headers: HeaderMap, Form(form)
     let s2 = s.clone();
     let sql2 = sql.clone();
     let result = tokio::task::spawn_blocking(move || -> Result<std::result::Result<i64, String>> {
-        let store = Store::open(&s2.db, &s2.config.site)?;
+        let store = s2.writer()?;
         Ok(store.save_query(&name, &sql2, &by, &s2.clock.now()).map_err(|e| e.to_string()))
     })
     .await;
@@ -407,30 +421,35 @@ async fn login(State(s): State<Arc<Server>>, Form(form): Form<BTreeMap<String, S
     let name = form.get("name").cloned().unwrap_or_default();
     let password = form.get("password").cloned().unwrap_or_default();
     let s2 = s.clone();
-    let ok = tokio::task::spawn_blocking(move || auth::check_password(&s2.config.web_users, &name, &password).then_some(name))
-        .await
-        .ok()
-        .flatten();
-    match ok {
-        Some(name) => match auth::start_session(&s, &name) {
-            Ok(cookie) => {
-                let mut r = Redirect::to("/").into_response();
-                if let Ok(v) = HeaderValue::from_str(&cookie) {
-                    r.headers_mut().append(header::SET_COOKIE, v);
-                }
-                r
+    // The password check and the session's write, on the blocking pool.
+    let started = tokio::task::spawn_blocking(move || {
+        auth::check_password(&s2.config.web_users, &name, &password).then(|| auth::start_session(&s2, &name))
+    })
+    .await;
+    match started {
+        Ok(Some(Ok(cookie))) => {
+            let mut r = Redirect::to("/").into_response();
+            if let Ok(v) = HeaderValue::from_str(&cookie) {
+                r.headers_mut().append(header::SET_COOKIE, v);
             }
-            Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot start a session: {e:#}")).into_response(),
-        },
-        None => Redirect::to("/login?failed").into_response(),
+            r
+        }
+        Ok(Some(Err(e))) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot start a session: {e:#}")).into_response(),
+        Ok(None) => Redirect::to("/login?failed").into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot start a session: {e}")).into_response(),
     }
 }
 
 async fn logout(State(s): State<Arc<Server>>, headers: HeaderMap, Form(form): Form<BTreeMap<String, String>>) -> Response {
-    if let Some((ctx, _)) = auth::context(&s, &headers)
+    if let Some((ctx, _)) = auth::context(&s, &headers).await
         && auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str))
     {
-        auth::end_session(&s, &headers);
+        let s2 = s.clone();
+        match tokio::task::spawn_blocking(move || auth::end_session(&s2, &headers)).await {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot end the session: {e:#}")).into_response(),
+            Err(e) => return (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot end the session: {e}")).into_response(),
+        }
     }
     let mut r = Redirect::to("/login").into_response();
     r.headers_mut().append(header::SET_COOKIE, HeaderValue::from_static("ncplan_session=; Max-Age=0; Path=/; HttpOnly; SameSite=Strict"));

@@ -1035,3 +1035,225 @@ fn sslmode_require_against_a_server_with_a_self_signed_certificate() {
     assert_eq!(code, 2);
     assert!(err.contains("sslrootcert"), "{err}");
 }
+
+/// The web's sign-in sessions on both engines: kept by their token's hash until their
+/// expiry (the server restarts in between: they are in the store), forgotten by a later
+/// sign-in once ended, gone at sign-out.
+#[test]
+fn sign_in_sessions_are_kept_until_they_expire_on_both_engines() {
+    for engine in engines("pg::sign_in_sessions_are_kept_until_they_expire_on_both_engines") {
+        let s = &engine.store;
+        let name = s.engine_name();
+        s.start_session("h1", "ada", "2026-03-01T08:00:00.000Z", "2026-03-01T20:00:00.000Z").unwrap();
+        assert_eq!(s.session_user("h1", "2026-03-01T19:59:59.999Z").unwrap().as_deref(), Some("ada"), "{name}");
+        assert_eq!(s.session_user("h1", "2026-03-01T20:00:00.000Z").unwrap(), None, "{name}: ended at its expiry");
+        assert_eq!(s.session_user("ada", "2026-03-01T09:00:00.000Z").unwrap(), None, "{name}: no such session");
+        s.start_session("h2", "bob", "2026-03-02T08:00:00.000Z", "2026-03-02T20:00:00.000Z").unwrap();
+        assert_eq!(s.query("SELECT token_hash, user_name FROM web_sessions").unwrap().1, [["h2", "bob"]], "{name}: h1 forgotten");
+        s.end_session("h2").unwrap();
+        assert_eq!(s.session_user("h2", "2026-03-02T09:00:00.000Z").unwrap(), None, "{name}: signed out");
+        assert!(s.query("SELECT * FROM web_sessions").unwrap().1.is_empty(), "{name}");
+    }
+}
+
+/// Every row of every table of `db` (a SQLite file), each cell with its type (a blob as hex),
+/// by table, in a fixed order.
+fn every_row(db: &std::path::Path) -> Vec<(String, Vec<Vec<String>>)> {
+    let tables = crate::db_rows(db, "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' ORDER BY name");
+    tables
+        .iter()
+        .map(|t| {
+            let cols = crate::db_rows(db, &format!("SELECT name FROM pragma_table_info('{}') ORDER BY cid", t[0]));
+            let cells: Vec<String> =
+                cols.iter().map(|c| format!("typeof({0}), CASE WHEN typeof({0}) = 'blob' THEN hex({0}) ELSE {0} END", c[0])).collect();
+            let order: Vec<String> = (1..=2 * cols.len()).map(|i| i.to_string()).collect();
+            let sql = format!("SELECT {} FROM {} ORDER BY {}", cells.join(", "), t[0], order.join(", "));
+            (t[0].clone(), crate::db_rows(db, &sql))
+        })
+        .collect()
+}
+
+/// A server's whole history, every table of it filled (edits compared, an old analysis's
+/// changes kept by a re-analysis, review marks on kept and vanished changes, a partial write,
+/// a queue left for the next analysis, an attempt in progress, a saved query, a session),
+/// migrated into PostgreSQL and back into a new SQLite file: every row of every table comes
+/// back the same, ids included; PostgreSQL has them under the same ids; a second run of
+/// each copies nothing.
+#[test]
+fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
+    let Some(pg) = Cluster::start("pg::migrate_round_trips_every_table_from_sqlite_to_postgres_and_back") else { return };
+    let lite = Server::new(Some("HALL7"), "path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    let at = Location::Sqlite(db.clone());
+    let daemon = lite.start();
+    lite.put("cam/O1.nc", &program(1, 250, 1800));
+    lite.put("share/O1.nc", &program(1, 300, 2000));
+    // O2 cuts before any tool change: findings to copy.
+    lite.put("cam/O2.nc", &program(2, 250, 1800).replace("T1 M6\n", ""));
+    lite.put("share/O2.nc", &program(2, 300, 2000).replace("T1 M6\n", ""));
+    wait_until("both edits are compared", Duration::from_secs(30), || crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["2"]]);
+    daemon.kill();
+    // An older analysis found a rename today's does not; marks on it and on a kept change.
+    let store = Store::open(&at, "HALL7").unwrap();
+    let edit = crate::db_rows(&db, "SELECT revision_id, original_revision_id FROM comparisons ORDER BY revision_id LIMIT 1");
+    let (edit, original) = (&edit[0][0], &edit[0][1]);
+    store
+        .query(&format!(
+            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, detected_at)
+             VALUES ({edit}, {original}, 1, 'plane finish milling', 'tool_renamed', 'tool', 'T1', 'T9', '2026-01-01T00:00:00.000Z')"
+        ))
+        .unwrap();
+    let id_of =
+        |kind: &str| crate::db_rows(&db, &format!("SELECT MIN(id) FROM changes WHERE kind = '{kind}'"))[0][0].parse::<i64>().unwrap();
+    store.add_mark(id_of("feed_changed"), "adopt", "", "ada", "2026-02-01T00:00:00.000Z").unwrap().unwrap();
+    store.add_mark(id_of("tool_renamed"), "reject", "", "ada", "2026-02-01T00:00:00.000Z").unwrap().unwrap();
+    store.add_mark(id_of("spindle_speed_changed"), "note", "check the chatter", "bob", "2026-02-02T00:00:00.000Z").unwrap().unwrap();
+    drop(store);
+    let config = lite.path("ncplan.toml");
+    let (code, _, err) = lite.ncplan(&["reanalyze", "--config", config.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    // A later edit of O1: its changes get ids after every id a change had.
+    let daemon = lite.start();
+    lite.put("share/O1.nc", &program(1, 320, 2000));
+    wait_until("the later edit is compared", Duration::from_secs(30), || {
+        crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["3"]]
+    });
+    daemon.kill();
+    // The rest of the schema: a partial write, a queue, an attempt, a saved query, a session.
+    let mut store = Store::open(&at, "HALL7").unwrap();
+    let edits = crate::db_rows(&db, "SELECT revision_id FROM comparisons ORDER BY revision_id");
+    let tx = store.begin().unwrap();
+    tx.mark_partial(edits[0][0].parse().unwrap(), edits[2][0].parse().unwrap(), "2026-02-03T00:00:00.000Z").unwrap();
+    tx.commit().unwrap();
+    assert!(store.queue_reanalysis("next-version", None, None).unwrap() > 0);
+    store.begin_attempt(&sha256("in progress"), "/share/O3.nc", "2026-02-04T00:00:00.000Z").unwrap();
+    store
+        .save_query(
+            "feeds by machine",
+            "SELECT machine, COUNT(*) FROM shopfloor_changes GROUP BY machine",
+            "ada",
+            "2026-02-05T00:00:00.000Z",
+        )
+        .unwrap();
+    store.start_session(&sha256("a token"), "ada", "2026-02-06T08:00:00.000Z", "2026-02-06T20:00:00.000Z").unwrap();
+    drop(store);
+    let before = every_row(&db);
+    let empty: Vec<&str> = before.iter().filter(|(_, rows)| rows.is_empty()).map(|(t, _)| t.as_str()).collect();
+    assert!(empty.is_empty(), "every table has rows to copy; empty: {empty:?}");
+    assert_eq!(crate::db_rows(&db, "SELECT COUNT(*) FROM old_changes WHERE change_id NOT IN (SELECT id FROM changes)"), [["1"]]);
+
+    // Into PostgreSQL: every table, under the same ids.
+    let url = pg.url();
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("5 revisions, 5 copied now, 0 already there; 3 comparisons copied; 3 review marks"), "{out}");
+    for (table, rows) in &before {
+        assert_eq!(pg.count(&format!("SELECT COUNT(*) FROM {table}")), rows.len() as i64, "{table} on PostgreSQL");
+    }
+    for ids in [
+        "SELECT id, name FROM machines ORDER BY id",
+        "SELECT id, path FROM programs ORDER BY id",
+        "SELECT id, hash, seen_at FROM revisions ORDER BY id",
+        "SELECT id, revision_id, code FROM diagnostics ORDER BY id",
+        "SELECT id, revision_id, kind, before, after FROM changes ORDER BY id",
+        "SELECT change_id, revision_id, kind, replaced_by FROM old_changes ORDER BY change_id, replaced_at",
+        "SELECT id, change_id, revision_id, mark, marked_by FROM review_marks ORDER BY id",
+        "SELECT revision_id, superseded_by FROM revision_marks",
+        "SELECT id, name FROM saved_queries ORDER BY id",
+    ] {
+        assert_eq!(pg.rows(ids), crate::db_rows(&db, ids), "{ids}");
+    }
+    assert_eq!(pg.rows("SELECT DISTINCT site FROM programs UNION SELECT DISTINCT site FROM attempts"), [["HALL7"]]);
+    // Again: everything is there already.
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("5 revisions, 0 copied now, 5 already there; 0 comparisons copied; 3 review marks; rows copied now: none"),
+        "{out}"
+    );
+
+    // And back into a new SQLite file: every row of every table as it was.
+    let back = lite.path("var/back.db");
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", &url, "--to", back.to_str().unwrap(), "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("5 revisions, 5 copied now"), "{out}");
+    let after = every_row(&back);
+    assert_eq!(after.iter().map(|(t, _)| t).collect::<Vec<_>>(), before.iter().map(|(t, _)| t).collect::<Vec<_>>());
+    for ((table, a), (_, b)) in before.iter().zip(&after) {
+        assert_eq!(a, b, "{table}");
+    }
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", &url, "--to", back.to_str().unwrap(), "--site", "HALL7"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("rows copied now: none"), "{out}");
+    assert_eq!(every_row(&back), before, "a second run copies nothing twice");
+    // Another site's history is not this one's.
+    let (code, out, err) =
+        lite.ncplan(&["migrate", "--from", &url, "--to", lite.path("var/other.db").to_str().unwrap(), "--site", "HALL8"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(": 0 revisions, 0 copied now"), "{out}");
+
+    // The same history as a second site of the plant: every id is taken, so every row gets a
+    // new one and every reference follows; back in SQLite it says all it said.
+    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL9"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("5 revisions, 5 copied now"), "{out}");
+    assert_eq!(
+        pg.count("SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site = 'HALL9' AND r.id <= 5"),
+        0,
+        "new ids"
+    );
+    let renumbered = lite.path("var/hall9.db");
+    let (code, _, err) = lite.ncplan(&["migrate", "--from", &url, "--to", renumbered.to_str().unwrap(), "--site", "HALL9"]);
+    assert_eq!(code, 0, "{err}");
+    for sql in SAID {
+        let mut a = crate::db_rows(&db, sql);
+        let mut b = crate::db_rows(&renumbered, sql);
+        a.sort();
+        b.sort();
+        assert!(!a.is_empty(), "{sql}");
+        assert_eq!(a, b, "{sql}");
+    }
+}
+
+/// What a history says, every reference followed to what it names (a program's path, a
+/// revision's program and time, a change's words): the same whatever the ids.
+const SAID: &[&str] = &[
+    "SELECT m.name, m.dialect, m.folder, p.path, p.role, p.name, p.program_key, p.stem, p.dialect
+     FROM programs p LEFT JOIN machines m ON m.id = p.machine_id",
+    "SELECT p.path, k.rule, k.key FROM program_keys k JOIN programs p ON p.id = k.program_id",
+    "SELECT p.path, r.hash, r.size, r.mtime_ns, r.seen_at, r.encoding, r.status, r.name, hex(b.content)
+     FROM revisions r JOIN programs p ON p.id = r.program_id JOIN blobs b ON b.hash = r.hash",
+    "SELECT p.path, r.seen_at, l.plan_json, l.workingsteps, l.tools, l.complete, l.analysis FROM plans l
+     JOIN revisions r ON r.id = l.revision_id JOIN programs p ON p.id = r.program_id",
+    "SELECT p.path, r.seen_at, d.code, d.severity, d.line, d.col, d.byte_start, d.byte_end, d.message FROM diagnostics d
+     JOIN revisions r ON r.id = d.revision_id JOIN programs p ON p.id = r.program_id",
+    "SELECT p.path, r.seen_at, w.idx, w.operation, w.tool, w.feed, w.spindle_speed, w.depth, w.first_line FROM workingsteps w
+     JOIN revisions r ON r.id = w.revision_id JOIN programs p ON p.id = r.program_id",
+    "SELECT p.path, r.seen_at, f.id, f.kind, f.x, f.y, f.z, f.depth, f.workingsteps FROM features f
+     JOIN revisions r ON r.id = f.revision_id JOIN programs p ON p.id = r.program_id",
+    "SELECT p.path, r.seen_at, a.version, a.worker, a.previous, a.previous_plan, a.previous_findings, a.plan_changed FROM analyses a
+     JOIN revisions r ON r.id = a.revision_id JOIN programs p ON p.id = r.program_id",
+    "SELECT p.path, r.seen_at, q.version, q.worker, q.lease_until FROM reanalysis_queue q
+     JOIN revisions r ON r.id = q.revision_id JOIN programs p ON p.id = r.program_id",
+    "SELECT p.path, r.seen_at, k.mark, sp.path, s.seen_at, k.noted_at FROM revision_marks k
+     JOIN revisions r ON r.id = k.revision_id JOIN programs p ON p.id = r.program_id
+     JOIN revisions s ON s.id = k.superseded_by JOIN programs sp ON sp.id = s.program_id",
+    "SELECT p.path, r.seen_at, op.path, o.seen_at, c.compared_at, c.changes, c.rule FROM comparisons c
+     JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
+     JOIN revisions o ON o.id = c.original_revision_id JOIN programs op ON op.id = o.program_id",
+    "SELECT p.path, r.seen_at, op.path, c.workingstep, c.kind, c.field, c.before, c.after, c.line, c.detected_at, c.deviation, c.analysis
+     FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
+     JOIN revisions o ON o.id = c.original_revision_id JOIN programs op ON op.id = o.program_id",
+    // An old change keeps the id of the change it was, where that change is still current.
+    "SELECT p.path, r.seen_at, x.kind, x.before, x.after, x.analysis, x.replaced_by,
+            (SELECT k.kind || ' ' || k.after FROM changes k WHERE k.id = x.change_id)
+     FROM old_changes x JOIN revisions r ON r.id = x.revision_id JOIN programs p ON p.id = r.program_id",
+    // A mark names its change (current or old) and its revision.
+    "SELECT p.path, r.seen_at, v.kind, v.before, v.after, v.mark, v.note, v.marked_by, v.marked_at,
+            COALESCE((SELECT k.kind || ' ' || k.after FROM changes k WHERE k.id = v.change_id),
+                     (SELECT 'old ' || k.kind || ' ' || k.after FROM old_changes k WHERE k.change_id = v.change_id LIMIT 1))
+     FROM review_marks v JOIN revisions r ON r.id = v.revision_id JOIN programs p ON p.id = r.program_id",
+    "SELECT name, sql, saved_by, saved_at FROM saved_queries",
+    "SELECT token_hash, user_name, created_at, expires_at FROM web_sessions",
+    "SELECT hash, path, started_at, tries FROM attempts",
+];

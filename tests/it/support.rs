@@ -39,14 +39,15 @@ pub(crate) fn watch(config: &Path, level: &str, stderr: impl Into<Stdio>) -> Pro
     Proc(child)
 }
 
-/// Starts `ncplan serve --config config` with `args` on a free loopback port; returns it and
-/// its base URL (`http://127.0.0.1:PORT`), once it listens.
+/// Starts `ncplan serve --config config` with `args`, on a free loopback port unless they
+/// give `--listen`; returns it and its base URL (`http://127.0.0.1:PORT`), once it listens.
 pub(crate) fn serve(config: &Path, args: &[&str]) -> (Proc, String) {
     use std::io::BufRead as _;
+    let listen: &[&str] = if args.contains(&"--listen") { &[] } else { &["--listen", "127.0.0.1:0"] };
     let mut child = Command::new(crate::bin())
         .args(["serve", "--config"])
         .arg(config)
-        .args(["--listen", "127.0.0.1:0"])
+        .args(listen)
         .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())

@@ -103,6 +103,20 @@ impl Site {
         wait_rows(&self.db(), sql, want, Duration::from_secs(30))
     }
 
+    /// Configures the users `(name, password)` (argon2 hashes), in place of any before.
+    fn users(&self, users: &[(&str, &str)]) {
+        use argon2::PasswordHasher as _;
+        let salt = argon2::password_hash::SaltString::encode_b64(b"web-test-salt-16").unwrap();
+        let cfg = std::fs::read_to_string(self.path("ncplan.toml")).unwrap();
+        let mut cfg = cfg.split("[web]\n").next().unwrap().to_owned();
+        cfg.push_str("[web]\n");
+        for (name, password) in users {
+            let hash = argon2::Argon2::default().hash_password(password.as_bytes(), &salt).unwrap().to_string();
+            cfg.push_str(&format!("[[web.user]]\nname = '{name}'\npassword_hash = '{hash}'\n"));
+        }
+        std::fs::write(self.path("ncplan.toml"), cfg).unwrap();
+    }
+
     /// Runs the real daemon over the demo edit and the hostile program, then stops it.
     fn build(&self) {
         let root = crate::root();
@@ -237,12 +251,7 @@ fn sign_in_csrf_and_reports_without_a_browser() {
     drop(_serve);
 
     // With a user: pages ask to sign in; a wrong password is refused, the right one signs in.
-    use argon2::PasswordHasher as _;
-    let salt = argon2::password_hash::SaltString::encode_b64(b"web-test-salt-16").unwrap();
-    let hash = argon2::Argon2::default().hash_password(b"planner-pw", &salt).unwrap().to_string();
-    let mut cfg = std::fs::read_to_string(site.path("ncplan.toml")).unwrap();
-    cfg.push_str(&format!("[web]\n[[web.user]]\nname = 'ada'\npassword_hash = '{hash}'\n"));
-    std::fs::write(site.path("ncplan.toml"), cfg).unwrap();
+    site.users(&[("ada", "planner-pw")]);
     let (_serve, base) = serve(&site, &[]);
     let (head, _) = http(&base, "GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n");
     assert!(head.starts_with("HTTP/1.1 303") && head.to_ascii_lowercase().contains("location: /login"), "{head}");
@@ -439,26 +448,20 @@ fn the_translate_download_reads_back_in_its_dialect() {
     }
 }
 
-#[test]
-fn the_workspace_in_chromium() {
+/// chromedriver on a free port, in a process group of its own (the browser it starts goes
+/// with it even when an assertion ends the test before the session is closed); `None` after
+/// saying why `test` is skipped when chromium or chromedriver is not installed.
+fn chromedriver(test: &str) -> Option<(Group, u16)> {
     if !(have("chromium") && have("chromedriver")) {
         assert!(
             std::env::var_os("NCPLAN_REQUIRE_CHROMIUM").is_none(),
             "NCPLAN_REQUIRE_CHROMIUM is set but chromium or chromedriver is missing (apt-get install chromium chromium-driver)"
         );
-        crate::skip(
-            "web::the_workspace_in_chromium",
-            "chromium or chromedriver is not installed (apt-get install chromium chromium-driver)",
-        );
-        return;
+        crate::skip(test, "chromium or chromedriver is not installed (apt-get install chromium chromium-driver)");
+        return None;
     }
-    let site = Site::new();
-    site.build();
-    let (_serve, base) = serve(&site, &[]);
     let port = free_port();
-    // In a process group of its own, so that the browser it starts goes with it even when
-    // an assertion ends the test before the session is closed.
-    let _driver = Group(Proc({
+    let driver = Group(Proc({
         use std::os::unix::process::CommandExt as _;
         Command::new("chromedriver")
             .arg(format!("--port={port}"))
@@ -473,6 +476,29 @@ fn the_workspace_in_chromium() {
         assert!(Instant::now() < deadline, "chromedriver did not start");
         std::thread::sleep(Duration::from_millis(50));
     }
+    Some((driver, port))
+}
+
+/// A headless chromium session through the chromedriver on `port`.
+async fn browser(port: u16) -> Client {
+    let mut caps = serde_json::Map::new();
+    caps.insert(
+        "goog:chromeOptions".into(),
+        json!({ "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1400,1100"] }),
+    );
+    ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+        .capabilities(caps)
+        .connect(&format!("http://127.0.0.1:{port}"))
+        .await
+        .expect("connect to chromedriver")
+}
+
+#[test]
+fn the_workspace_in_chromium() {
+    let Some((_driver, port)) = chromedriver("web::the_workspace_in_chromium") else { return };
+    let site = Site::new();
+    site.build();
+    let (_serve, base) = serve(&site, &[]);
     // The HTML report, for the browser to open.
     let report = screenshots().join("report.html");
     let out = Command::new(crate::bin())
@@ -485,20 +511,104 @@ fn the_workspace_in_chromium() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let rt = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
     rt.block_on(async {
-        let mut caps = serde_json::Map::new();
-        caps.insert(
-            "goog:chromeOptions".into(),
-            json!({ "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1400,1100"] }),
-        );
-        let c = ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
-            .capabilities(caps)
-            .connect(&format!("http://127.0.0.1:{port}"))
-            .await
-            .expect("connect to chromedriver");
+        let c = browser(port).await;
         let result = walk(&c, &base, &site, &report).await;
         let _ = c.close().await;
         result.unwrap();
     });
+}
+
+/// A planner signed in with the browser stays signed in when `ncplan serve` is killed and
+/// started again: the session is in the store (by its token's hash), and the review form of a
+/// page loaded before the restart still records a mark. It ends at its expiry, at sign-out,
+/// and when its planner is no longer configured.
+#[test]
+fn a_signed_in_planner_stays_signed_in_across_a_restart_of_the_server() {
+    let test = "web::a_signed_in_planner_stays_signed_in_across_a_restart_of_the_server";
+    let Some((_driver, port)) = chromedriver(test) else { return };
+    let site = Site::new();
+    site.build();
+    site.users(&[("ada", "planner-pw")]);
+    let listen = format!("127.0.0.1:{}", free_port());
+    let rt = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+    rt.block_on(async {
+        let c = browser(port).await;
+        let result = restarts(&c, &site, &listen).await;
+        let _ = c.close().await;
+        result.unwrap();
+    });
+}
+
+/// Signs in as `name` on the sign-in page, as a planner does.
+async fn sign_in(c: &Client, base: &str, name: &str, password: &str) -> Result<(), fantoccini::error::CmdError> {
+    c.goto(&format!("{base}/login")).await?;
+    c.find(Locator::Css("input[name=name]")).await?.send_keys(name).await?;
+    c.find(Locator::Css("input[name=password]")).await?.send_keys(password).await?;
+    c.find(Locator::Css("form[action=\"/login\"] button")).await?.click().await?;
+    let who = wait_text(c, "header.top form span", name).await;
+    assert_eq!(who.trim(), name);
+    Ok(())
+}
+
+async fn restarts(c: &Client, site: &Site, listen: &str) -> Result<(), fantoccini::error::CmdError> {
+    let db = site.db();
+    let (server, base) = serve(site, &["--listen", listen]);
+    let sessions = || crate::db_rows(&db, "SELECT token_hash, user_name, created_at, expires_at FROM web_sessions");
+    c.goto(&format!("{base}/")).await?;
+    assert_eq!(text_of(c, "h1").await, "Sign in");
+    sign_in(c, &base, "ada", "planner-pw").await?;
+    // The store holds the token's SHA-256, never the cookie itself.
+    let token = c.get_named_cookie("ncplan_session").await?.value().to_owned();
+    let stored = sessions();
+    assert_eq!(stored.len(), 1, "{stored:?}");
+    assert_eq!(stored[0][0], ncplan::daemon::ingest::sha256_hex(token.as_bytes()));
+    assert_ne!(stored[0][0], token);
+    assert_eq!(stored[0][1], "ada");
+    assert!(stored[0][3] > stored[0][2], "{stored:?}");
+    let demo_rev = crate::db_rows(&db, "SELECT revision_id FROM shopfloor_changes WHERE program = 'O1234' LIMIT 1")[0][0].clone();
+    c.goto(&format!("{base}/compare/{demo_rev}")).await?;
+    assert!(text_of(c, "section.card").await.contains("tool T1 renamed T8"));
+
+    // The server is killed and started again on the same address.
+    server.kill();
+    let (server, again) = serve(site, &["--listen", listen]);
+    assert_eq!(again, base);
+    // The review form of the page loaded before the restart records the mark as ada's.
+    c.find(Locator::Css("li[data-kind=tool_renamed] button[data-mark=adopt]")).await?.click().await?;
+    let li = wait_text(c, "li[data-kind=tool_renamed]", "adopt by ada").await;
+    assert!(li.contains("adopt by ada"), "{li}");
+    assert_eq!(crate::db_rows(&db, "SELECT mark, marked_by, kind FROM review_marks"), [["adopt", "ada", "tool_renamed"]]);
+    // Every page still knows ada.
+    c.goto(&format!("{base}/")).await?;
+    assert_ne!(text_of(c, "h1").await, "Sign in");
+    assert_eq!(text_of(c, "header.top form span").await.trim(), "ada");
+
+    // At its expiry the session ends: sign in again.
+    let conn = rusqlite::Connection::open(&db).unwrap();
+    conn.execute("UPDATE web_sessions SET expires_at = '2000-01-01T00:00:00.000Z'", []).unwrap();
+    c.goto(&format!("{base}/")).await?;
+    assert_eq!(text_of(c, "h1").await, "Sign in");
+    sign_in(c, &base, "ada", "planner-pw").await?;
+    // The sign-in forgot the session that had ended.
+    assert_eq!(sessions().iter().map(|r| r[1].as_str()).collect::<Vec<_>>(), ["ada"]);
+    // Signing out ends it; its cookie no longer opens a page.
+    let token = c.get_named_cookie("ncplan_session").await?.value().to_owned();
+    c.find(Locator::Css("form[action=\"/logout\"] button")).await?.click().await?;
+    assert_eq!(wait_text(c, "h1", "Sign in").await, "Sign in");
+    assert!(sessions().is_empty(), "{:?}", sessions());
+    let (head, _) =
+        http(&base, &format!("GET / HTTP/1.1\r\nHost: {{host}}\r\nCookie: ncplan_session={token}\r\nConnection: close\r\n\r\n"));
+    assert!(head.starts_with("HTTP/1.1 303") && head.to_ascii_lowercase().contains("location: /login"), "{head}");
+
+    // A planner no longer configured is signed out by the restart that drops them.
+    sign_in(c, &base, "ada", "planner-pw").await?;
+    server.kill();
+    site.users(&[("bob", "other-pw")]);
+    let (_server, _) = serve(site, &["--listen", listen]);
+    c.goto(&format!("{base}/")).await?;
+    assert_eq!(text_of(c, "h1").await, "Sign in");
+    assert_eq!(sessions().len(), 1, "the row stays until it expires or a sign-in forgets it");
+    Ok(())
 }
 
 async fn shot(c: &Client, name: &str) -> Result<(), fantoccini::error::CmdError> {

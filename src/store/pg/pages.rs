@@ -338,6 +338,30 @@ impl Pg {
         Ok(row.get(0))
     }
 
+    pub(in crate::store) fn start_session(&self, token_hash: &str, user: &str, created_at: &str, expires_at: &str) -> Result<()> {
+        self.conn.exec("forgetting ended sessions", "DELETE FROM web_sessions WHERE expires_at <= $1", &[&created_at])?;
+        self.conn.exec(
+            "recording a session",
+            "INSERT INTO web_sessions(token_hash, user_name, created_at, expires_at) VALUES ($1, $2, $3, $4)",
+            &[&token_hash, &user, &created_at, &expires_at],
+        )?;
+        Ok(())
+    }
+
+    pub(in crate::store) fn session_user(&self, token_hash: &str, now: &str) -> Result<Option<String>> {
+        let row = self.conn.opt(
+            "reading a session",
+            "SELECT user_name FROM web_sessions WHERE token_hash = $1 AND expires_at > $2",
+            &[&token_hash, &now],
+        )?;
+        Ok(row.map(|r| r.get(0)))
+    }
+
+    pub(in crate::store) fn end_session(&self, token_hash: &str) -> Result<()> {
+        self.conn.exec("ending a session", "DELETE FROM web_sessions WHERE token_hash = $1", &[&token_hash])?;
+        Ok(())
+    }
+
     /// The SQL console on PostgreSQL: one statement in a `READ ONLY` transaction that is
     /// rolled back, `statement_timeout` as the time limit, and at most `max_rows` rows fetched
     /// from a cursor (so that a huge answer is not read whole).
