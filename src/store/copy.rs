@@ -83,8 +83,19 @@ pub(super) trait End {
     fn exec(&self, sql: &str, params: &[Val]) -> Result<u64>;
     /// Starts, commits or rolls back a transaction (`BEGIN`, `COMMIT`, `ROLLBACK`).
     fn batch(&self, sql: &str) -> Result<()>;
+    /// SQL giving the column names of the table `?1`, in order.
+    fn columns_sql(&self) -> &'static str;
     /// The columns of `table`, in order; none when it does not exist (an older schema).
-    fn columns(&self, table: &str) -> Result<Vec<String>>;
+    fn columns(&self, table: &str) -> Result<Vec<String>> {
+        let rows = self.rows(self.columns_sql(), &[Val::Text(table.to_owned())])?;
+        Ok(rows
+            .into_iter()
+            .filter_map(|r| match r.into_iter().next() {
+                Some(Val::Text(t)) => Some(t),
+                _ => None,
+            })
+            .collect())
+    }
     /// A NULL-safe equality of `column` and parameter `?n`.
     fn same(&self, column: &str, n: usize) -> String;
     /// The blob `hash`.
@@ -400,6 +411,15 @@ impl Copy<'_> {
         Ok(())
     }
 
+    /// Whether the target has a row of `table` whose `key` columns are those of `row`.
+    fn has(&self, table: &str, row: &[Val], key: &[&str]) -> Result<bool> {
+        let cols = self.cols(table);
+        let key: Vec<usize> = key.iter().filter_map(|k| at(cols, k)).collect();
+        let same: Vec<String> = key.iter().enumerate().map(|(n, i)| self.dst.same(&cols[*i], n + 1)).collect();
+        let params: Vec<Val> = key.iter().map(|i| row[*i].clone()).collect();
+        Ok(!self.dst.rows(&format!("SELECT 1 FROM {table} WHERE {}", same.join(" AND ")), &params)?.is_empty())
+    }
+
     /// Inserts `row` of `table` unless the target has a row with the same `key` columns (after
     /// its references are followed). False when it names a row that was not copied.
     fn insert_missing(&mut self, table: &'static str, mut row: Vec<Val>, key: &[&str]) -> Result<bool> {
@@ -415,11 +435,7 @@ impl Copy<'_> {
             }
         }
         self.own(&cols, &mut row);
-        let key: Vec<usize> = key.iter().filter_map(|k| at(&cols, k)).collect();
-        let same: Vec<String> = key.iter().enumerate().map(|(n, i)| self.dst.same(&cols[*i], n + 1)).collect();
-        let params: Vec<Val> = key.iter().map(|i| row[*i].clone()).collect();
-        let there = self.dst.rows(&format!("SELECT 1 FROM {table} WHERE {}", same.join(" AND ")), &params)?;
-        if there.is_empty() {
+        if !self.has(table, &row, key)? {
             self.insert(table, &row)?;
         }
         Ok(true)
@@ -539,10 +555,7 @@ impl Copy<'_> {
                         continue;
                     }
                     self.summary.review_marks += 1;
-                    let key = ["change_id", "revision_id", "mark", "note", "marked_by", "marked_at"];
-                    let same: Vec<String> = key.iter().enumerate().map(|(n, k)| self.dst.same(k, n + 1)).collect();
-                    let params: Vec<Val> = key.iter().filter_map(|k| at(&mcols, k).map(|j| probe[j].clone())).collect();
-                    if !self.dst.rows(&format!("SELECT 1 FROM review_marks WHERE {}", same.join(" AND ")), &params)?.is_empty() {
+                    if self.has("review_marks", &probe, &["change_id", "revision_id", "mark", "note", "marked_by", "marked_at"])? {
                         continue;
                     }
                     let source_id = row[id].int().unwrap_or(0);
@@ -554,11 +567,9 @@ impl Copy<'_> {
         // Saved queries (the plant's, whichever site), sessions, the attempt journal.
         let scols = self.cols("saved_queries").to_vec();
         if let Some(id) = at(&scols, "id") {
+            let key: Vec<&str> = scols.iter().map(String::as_str).filter(|c| *c != "id").collect();
             for mut row in self.select("saved_queries", "1 = 1", &[], "id")? {
-                let key: Vec<&str> = scols.iter().map(String::as_str).filter(|c| *c != "id").collect();
-                let same: Vec<String> = key.iter().enumerate().map(|(n, k)| self.dst.same(k, n + 1)).collect();
-                let params: Vec<Val> = key.iter().filter_map(|k| at(&scols, k).map(|j| row[j].clone())).collect();
-                if !self.dst.rows(&format!("SELECT 1 FROM saved_queries WHERE {}", same.join(" AND ")), &params)?.is_empty() {
+                if self.has("saved_queries", &row, &key)? {
                     continue;
                 }
                 let source_id = row[id].int().unwrap_or(0);

@@ -1196,19 +1196,9 @@ impl super::copy::End for PgEnd<'_> {
         self.conn.client.borrow_mut().batch_execute(sql_text).map_err(sql("copying rows"))
     }
 
-    fn columns(&self, table: &str) -> Result<Vec<String>> {
-        let rows = self.rows(
-            "SELECT column_name::text FROM information_schema.columns WHERE table_schema = current_schema() AND table_name = ?1
-             ORDER BY ordinal_position",
-            &[Val::Text(table.to_owned())],
-        )?;
-        Ok(rows
-            .into_iter()
-            .filter_map(|r| match r.into_iter().next() {
-                Some(Val::Text(t)) => Some(t),
-                _ => None,
-            })
-            .collect())
+    fn columns_sql(&self) -> &'static str {
+        "SELECT column_name::text FROM information_schema.columns WHERE table_schema = current_schema() AND table_name = ?1
+         ORDER BY ordinal_position"
     }
 
     fn same(&self, column: &str, n: usize) -> String {

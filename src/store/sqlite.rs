@@ -908,15 +908,8 @@ impl super::copy::End for LiteEnd<'_> {
         self.0.execute_batch(sql_text).map_err(sql("copying rows"))
     }
 
-    fn columns(&self, table: &str) -> Result<Vec<String>> {
-        let rows = self.rows("SELECT name FROM pragma_table_info(?1) ORDER BY cid", &[Val::Text(table.to_owned())])?;
-        Ok(rows
-            .into_iter()
-            .filter_map(|r| match r.into_iter().next() {
-                Some(Val::Text(t)) => Some(t),
-                _ => None,
-            })
-            .collect())
+    fn columns_sql(&self) -> &'static str {
+        "SELECT name FROM pragma_table_info(?1) ORDER BY cid"
     }
 
     fn same(&self, column: &str, n: usize) -> String {

@@ -1144,8 +1144,12 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
 
     // Into PostgreSQL: every table, under the same ids.
     let url = pg.url();
-    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
-    assert_eq!(code, 0, "{err}");
+    let migrate = |from: &str, to: &str, site: &str| {
+        let (code, out, err) = lite.ncplan(&["migrate", "--from", from, "--to", to, "--site", site]);
+        assert_eq!(code, 0, "{err}");
+        out
+    };
+    let out = migrate(db.to_str().unwrap(), &url, "HALL7");
     assert!(out.contains("5 revisions, 5 copied now, 0 already there; 3 comparisons copied; 3 review marks"), "{out}");
     for (table, rows) in &before {
         assert_eq!(pg.count(&format!("SELECT COUNT(*) FROM {table}")), rows.len() as i64, "{table} on PostgreSQL");
@@ -1165,8 +1169,7 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
     }
     assert_eq!(pg.rows("SELECT DISTINCT site FROM programs UNION SELECT DISTINCT site FROM attempts"), [["HALL7"]]);
     // Again: everything is there already.
-    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL7"]);
-    assert_eq!(code, 0, "{err}");
+    let out = migrate(db.to_str().unwrap(), &url, "HALL7");
     assert!(
         out.contains("5 revisions, 0 copied now, 5 already there; 0 comparisons copied; 3 review marks; rows copied now: none"),
         "{out}"
@@ -1174,28 +1177,23 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
 
     // And back into a new SQLite file: every row of every table as it was.
     let back = lite.path("var/back.db");
-    let (code, out, err) = lite.ncplan(&["migrate", "--from", &url, "--to", back.to_str().unwrap(), "--site", "HALL7"]);
-    assert_eq!(code, 0, "{err}");
+    let out = migrate(&url, back.to_str().unwrap(), "HALL7");
     assert!(out.contains("5 revisions, 5 copied now"), "{out}");
     let after = every_row(&back);
     assert_eq!(after.iter().map(|(t, _)| t).collect::<Vec<_>>(), before.iter().map(|(t, _)| t).collect::<Vec<_>>());
     for ((table, a), (_, b)) in before.iter().zip(&after) {
         assert_eq!(a, b, "{table}");
     }
-    let (code, out, err) = lite.ncplan(&["migrate", "--from", &url, "--to", back.to_str().unwrap(), "--site", "HALL7"]);
-    assert_eq!(code, 0, "{err}");
+    let out = migrate(&url, back.to_str().unwrap(), "HALL7");
     assert!(out.contains("rows copied now: none"), "{out}");
     assert_eq!(every_row(&back), before, "a second run copies nothing twice");
     // Another site's history is not this one's.
-    let (code, out, err) =
-        lite.ncplan(&["migrate", "--from", &url, "--to", lite.path("var/other.db").to_str().unwrap(), "--site", "HALL8"]);
-    assert_eq!(code, 0, "{err}");
+    let out = migrate(&url, lite.path("var/other.db").to_str().unwrap(), "HALL8");
     assert!(out.contains(": 0 revisions, 0 copied now"), "{out}");
 
     // The same history as a second site of the plant: every id is taken, so every row gets a
     // new one and every reference follows; back in SQLite it says all it said.
-    let (code, out, err) = lite.ncplan(&["migrate", "--from", db.to_str().unwrap(), "--to", &url, "--site", "HALL9"]);
-    assert_eq!(code, 0, "{err}");
+    let out = migrate(db.to_str().unwrap(), &url, "HALL9");
     assert!(out.contains("5 revisions, 5 copied now"), "{out}");
     assert_eq!(
         pg.count("SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.site = 'HALL9' AND r.id <= 5"),
@@ -1203,8 +1201,7 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
         "new ids"
     );
     let renumbered = lite.path("var/hall9.db");
-    let (code, _, err) = lite.ncplan(&["migrate", "--from", &url, "--to", renumbered.to_str().unwrap(), "--site", "HALL9"]);
-    assert_eq!(code, 0, "{err}");
+    migrate(&url, renumbered.to_str().unwrap(), "HALL9");
     for sql in SAID {
         let mut a = crate::db_rows(&db, sql);
         let mut b = crate::db_rows(&renumbered, sql);
