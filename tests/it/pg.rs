@@ -833,6 +833,20 @@ fn pages_urlencode(s: &str) -> String {
         .collect()
 }
 
+/// A change an older analysis found in the first compared edit and today's does not (its
+/// tool renamed T1 → T9), as a re-analysis meets it; the edit's revision id.
+fn add_older_rename(store: &Store) -> String {
+    let (_, edit) = store.query("SELECT revision_id, original_revision_id FROM comparisons ORDER BY revision_id LIMIT 1").unwrap();
+    let (edit, original) = (&edit[0][0], &edit[0][1]);
+    store
+        .query(&format!(
+            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, detected_at)
+             VALUES ({edit}, {original}, 1, 'plane finish milling', 'tool_renamed', 'tool', 'T1', 'T9', '2026-01-01T00:00:00.000Z')"
+        ))
+        .unwrap();
+    edit.clone()
+}
+
 /// A re-analysis on `server`'s database `db`: the old changes are kept with the version that
 /// made them, a change found again keeps its id and its review marks, one the new analysis
 /// does not find leaves the pages with its marks, and the summary says what changed.
@@ -844,14 +858,7 @@ fn reanalysis_keeps_old_changes_and_marks(server: &Server, db: &Location, rows: 
     daemon.kill();
     let store = Store::open(db, "HALL1").unwrap();
     // An older analysis also found a tool renamed, which today's does not find.
-    let (_, edit) = store.query("SELECT revision_id, original_revision_id FROM comparisons").unwrap();
-    let (edit, original) = (&edit[0][0], &edit[0][1]);
-    store
-        .query(&format!(
-            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, detected_at)
-             VALUES ({edit}, {original}, 1, 'plane finish milling', 'tool_renamed', 'tool', 'T1', 'T9', '2026-01-01T00:00:00.000Z')"
-        ))
-        .unwrap();
+    let edit = add_older_rename(&store);
     let id_of = |kind: &str| rows(&format!("SELECT id FROM changes WHERE kind = '{kind}'"))[0][0].parse::<i64>().unwrap();
     let (feed, speed, renamed) = (id_of("feed_changed"), id_of("spindle_speed_changed"), id_of("tool_renamed"));
     let detected = rows(&format!("SELECT detected_at FROM changes WHERE id = {feed}"));
@@ -1095,14 +1102,7 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
     daemon.kill();
     // An older analysis found a rename today's does not; marks on it and on a kept change.
     let store = Store::open(&at, "HALL7").unwrap();
-    let edit = crate::db_rows(&db, "SELECT revision_id, original_revision_id FROM comparisons ORDER BY revision_id LIMIT 1");
-    let (edit, original) = (&edit[0][0], &edit[0][1]);
-    store
-        .query(&format!(
-            "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, detected_at)
-             VALUES ({edit}, {original}, 1, 'plane finish milling', 'tool_renamed', 'tool', 'T1', 'T9', '2026-01-01T00:00:00.000Z')"
-        ))
-        .unwrap();
+    add_older_rename(&store);
     let id_of =
         |kind: &str| crate::db_rows(&db, &format!("SELECT MIN(id) FROM changes WHERE kind = '{kind}'"))[0][0].parse::<i64>().unwrap();
     store.add_mark(id_of("feed_changed"), "adopt", "", "ada", "2026-02-01T00:00:00.000Z").unwrap().unwrap();
