@@ -5,7 +5,8 @@
 //! (argon2) has recorded it in the store (`web_sessions`, by the token's SHA-256: the
 //! database holds no cookie that works), for [`SESSION_HOURS`] or until its planner signs
 //! out, and only while its planner is still configured; a restart of the server signs no one
-//! out. Without users, any token is an anonymous session. A form's CSRF token is the SHA-256
+//! out. (Through a database role that only reads, the server keeps its sessions itself, until
+//! it stops.) Without users, any token is an anonymous session. A form's CSRF token is the SHA-256
 //! of the session token and, without users, a per-process secret (a client-chosen token is
 //! not enough to make it); a page of another site can neither read nor forge it.
 
@@ -125,19 +126,28 @@ pub(super) fn check_password(users: &[WebUser], name: &str, password: &str) -> b
 }
 
 /// A new session for `name`, recorded in the store until [`SESSION_HOURS`] from now: its
-/// cookie. Blocks (the store's write).
+/// cookie. Where the store does not take it (a database role that only reads), the session is
+/// kept by this process alone, and said. Blocks (the store's write).
 pub(super) fn start_session(s: &Server, name: &str) -> anyhow::Result<String> {
     let token = hex(&random()?);
     let now = s.clock.now();
     let until = later(&now, SESSION_HOURS * 3600).ok_or_else(|| anyhow::anyhow!("the clock says `{now}`, not an RFC 3339 time"))?;
-    s.writer()?.start_session(&token_hash(&token), name, &now, &until)?;
+    let hash = token_hash(&token);
+    if let Err(e) = s.writer().and_then(|w| Ok(w.start_session(&hash, name, &now, &until)?)) {
+        tracing::warn!(error = format!("{e:#}"), "the database does not keep the session; it lasts while this server runs");
+        s.unstored.lock().map_err(|_| anyhow::anyhow!("the session table is poisoned"))?.insert(hash, (name.to_owned(), until));
+    }
     Ok(set_cookie(&token))
 }
 
 /// Ends the visitor's session. Blocks (the store's write).
 pub(super) fn end_session(s: &Server, headers: &HeaderMap) -> anyhow::Result<()> {
     if let Some(t) = cookie_value(headers) {
-        s.writer()?.end_session(&token_hash(&t))?;
+        let hash = token_hash(&t);
+        let unstored = s.unstored.lock().ok().and_then(|mut m| m.remove(&hash));
+        if unstored.is_none() {
+            s.writer()?.end_session(&hash)?;
+        }
     }
     Ok(())
 }

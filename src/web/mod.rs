@@ -92,6 +92,9 @@ pub(crate) struct Server {
     clock: Arc<dyn Clock>,
     /// The CSRF tokens' secret where no one signs in (anonymous sessions).
     secret: [u8; 32],
+    /// Sessions the store would not keep (a database role that only reads): token hash →
+    /// (user, expiry). They end with the process.
+    unstored: Mutex<BTreeMap<String, (String, String)>>,
     plans: Mutex<PlanCache>,
     /// Read-only connections that served a page and may serve the next (a PostgreSQL
     /// connection costs a login each time).
@@ -109,6 +112,7 @@ impl Server {
             registry,
             clock,
             secret: auth::random()?,
+            unstored: Mutex::new(BTreeMap::new()),
             plans: Mutex::new(PlanCache { kept: Vec::new() }),
             idle: Mutex::new(Vec::new()),
         })
@@ -177,9 +181,17 @@ impl Server {
     /// The planner of the stored session whose token hashes to `token_hash`: while it has not
     /// expired and its planner is still among the configured users.
     fn session_user(&self, token_hash: &str) -> Result<Option<String>> {
-        let store = self.store()?;
-        let user = store.session_user(token_hash, &self.clock.now())?;
-        self.give_back(store);
+        let now = self.clock.now();
+        let unstored = self.unstored.lock().ok().and_then(|m| m.get(token_hash).cloned());
+        let user = match unstored {
+            Some((user, until)) => (until > now).then_some(user),
+            None => {
+                let store = self.store()?;
+                let user = store.session_user(token_hash, &now)?;
+                self.give_back(store);
+                user
+            }
+        };
         Ok(user.filter(|u| self.config.web_users.iter().any(|w| &w.name == u)))
     }
 }

@@ -980,6 +980,16 @@ fn a_read_only_role_queries_and_is_refused_writes_in_plain_words() {
     assert!(head.starts_with("HTTP/1.1 500") && body.contains("cannot record the mark"), "{head}\n{body}");
     assert_eq!(pg.count("SELECT COUNT(*) FROM review_marks"), 0);
     assert_eq!(pg.count("SELECT COUNT(*) FROM changes"), 2);
+    // Planners still sign in through it: the server keeps their sessions itself.
+    drop(_serve);
+    let mut cfg = std::fs::read_to_string(server.path("ncplan.toml")).unwrap();
+    cfg.push_str(&crate::support::web_users(&[("ada", "planner-pw")]));
+    std::fs::write(server.path("ncplan.toml"), cfg).unwrap();
+    let (_serve, base) = serve(&server, &["--db", &reader]);
+    let cookie = crate::support::sign_in(&base, "ada", "planner-pw");
+    let (head, page) = http(&base, &format!("GET / HTTP/1.1\r\nHost: {{host}}\r\nCookie: {cookie}\r\nConnection: close\r\n\r\n"));
+    assert!(head.starts_with("HTTP/1.1 200") && page.contains("Sign out") && page.contains("DMU50"), "{head}\n{page}");
+    assert_eq!(pg.count("SELECT COUNT(*) FROM web_sessions"), 0);
 }
 
 #[test]

@@ -104,6 +104,36 @@ pub(crate) fn wait_until(what: &str, timeout: Duration, mut done: impl FnMut() -
     }
 }
 
+/// A configuration's `[web]` section with the users `(name, password)` (argon2 hashes).
+pub(crate) fn web_users(users: &[(&str, &str)]) -> String {
+    use argon2::PasswordHasher as _;
+    let salt = argon2::password_hash::SaltString::encode_b64(b"web-test-salt-16").unwrap();
+    let mut cfg = String::from("[web]\n");
+    for (name, password) in users {
+        let hash = argon2::Argon2::default().hash_password(password.as_bytes(), &salt).unwrap().to_string();
+        cfg.push_str(&format!("[[web.user]]\nname = '{name}'\npassword_hash = '{hash}'\n"));
+    }
+    cfg
+}
+
+/// Signs in at `base` with a raw `POST /login`; the session cookie (`ncplan_session=…`).
+pub(crate) fn sign_in(base: &str, name: &str, password: &str) -> String {
+    let body = format!("name={name}&password={password}");
+    let (head, _) = http(
+        base,
+        &format!(
+            "POST /login HTTP/1.1\r\nHost: {{host}}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            body.len()
+        ),
+    );
+    assert!(head.starts_with("HTTP/1.1 303") && head.lines().any(|l| l.trim().eq_ignore_ascii_case("location: /")), "{head}");
+    head.lines()
+        .find_map(|l| l.strip_prefix("set-cookie: ").or_else(|| l.strip_prefix("Set-Cookie: ")))
+        .and_then(|c| c.split(';').next())
+        .expect("a session cookie")
+        .to_owned()
+}
+
 /// A small Fanuc program: face with T1 at `feed` and spindle `speed`, numbered `number`.
 pub(crate) fn program(number: u32, feed: u32, speed: u32) -> String {
     format!("%\nO{number} (FACE)\nG21 G90 G17\nT1 M6\nS{speed} M3\nG0 X-10 Y0 Z5\nG1 Z-1 F{feed}\nX110\nY20\nX-10\nG0 Z50\nM30\n%\n")

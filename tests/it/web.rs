@@ -105,15 +105,8 @@ impl Site {
 
     /// Configures the users `(name, password)` (argon2 hashes), in place of any before.
     fn users(&self, users: &[(&str, &str)]) {
-        use argon2::PasswordHasher as _;
-        let salt = argon2::password_hash::SaltString::encode_b64(b"web-test-salt-16").unwrap();
         let cfg = std::fs::read_to_string(self.path("ncplan.toml")).unwrap();
-        let mut cfg = cfg.split("[web]\n").next().unwrap().to_owned();
-        cfg.push_str("[web]\n");
-        for (name, password) in users {
-            let hash = argon2::Argon2::default().hash_password(password.as_bytes(), &salt).unwrap().to_string();
-            cfg.push_str(&format!("[[web.user]]\nname = '{name}'\npassword_hash = '{hash}'\n"));
-        }
+        let cfg = cfg.split("[web]\n").next().unwrap().to_owned() + &crate::support::web_users(users);
         std::fs::write(self.path("ncplan.toml"), cfg).unwrap();
     }
 
