@@ -69,6 +69,20 @@ pub fn sample(m: &Move, out: &mut Vec<P3>) {
     }
 }
 
+/// The point at fraction `f` (0 to 1) of a move's way: along a line, or by angle (and rise)
+/// along an arc.
+pub fn point_at(m: &Move, f: f64) -> P3 {
+    let lerp = |a: P3, b: P3| -> P3 { std::array::from_fn(|i| a[i] + (b[i] - a[i]) * f) };
+    let (Some(c), Some(axis), MoveKind::Arc) = (m.center(), m.axis(), m.kind) else { return lerp(m.from, m.to) };
+    if f >= 1.0 {
+        return m.to;
+    }
+    let axis_v = Vector3::from(axis);
+    let rise = (p(m.to) - p(m.from)).dot(&axis_v);
+    let q = p(c) + Rotation3::from_axis_angle(&Unit::new_normalize(axis_v), sweep(m) * f) * (p(m.from) - p(c)) + axis_v * (rise * f);
+    [q.x, q.y, q.z]
+}
+
 /// Grows `bbox` to hold `pt`.
 pub fn extend(bbox: &mut Option<BBox>, pt: P3) {
     match bbox {
