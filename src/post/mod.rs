@@ -357,6 +357,9 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     subs: Vec<(u32, Vec<u8>, u64)>,
     /// The source lines that have run, one bit each.
     seen: Vec<u64>,
+    /// Whether the work offset in force has values (the program set them, G10 L2/L20: the
+    /// reading starts with every offset at zero, the machine's own values unknown).
+    wcs_set: bool,
 }
 
 /// A run of blocks the source runs again, kept as one pass while the passes write the same.
@@ -558,6 +561,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             loops: 0,
             subs: Vec::new(),
             seen: Vec::new(),
+            wcs_set: false,
         }
     }
 
@@ -724,9 +728,13 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     self.word_buf.clear();
                     let mut wb = std::mem::take(&mut self.word_buf);
                     let err = format_number(&mut wb, f, x, self.opts.units == Units::Inch);
-                    if err > self.rounded && matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
-                        self.rounded = err;
-                        if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                    // A centre off by `err` in each axis moves the arc through the start that
+                    // stays by up to 2√2 times that.
+                    let centre = matches!(value, Value::I | Value::J | Value::K | Value::Cx | Value::Cy | Value::Cz);
+                    let off = if centre { err * 2.0 * std::f64::consts::SQRT_2 } else { err };
+                    if off > self.rounded && (centre || matches!(value, Value::X | Value::Y | Value::Z | Value::R)) {
+                        self.rounded = off;
+                        if self.rounded_at.is_none() && off * self.opts.units.to_mm() > ROUNDED_NOTE {
                             self.rounded_at = Some(self.origin);
                         }
                     }
@@ -1384,6 +1392,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::ChangeTool(_) => {}
             CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::CycleBegin(_) => {
                 self.flush_speed(true);
+                if self.wcs_set {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "work-offset-set",
+                        "the program sets the values of the work offset it cuts in (G10 L2/L20): the translation is written in that offset's frame, and the target's output rules cannot set them",
+                    );
+                }
                 if self.length_unsaid && self.tool != 0 {
                     self.note(
                         Code::PostUnwritable,
@@ -1434,7 +1450,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     }
                 }
             }
-            CanonOp::SetG5xOffset(i, _) => {
+            CanonOp::SetG5xOffset(i, v) => {
+                self.wcs_set = v.iter().any(|x| x.abs() > 1e-9);
                 if self.wcs != Some(*i) {
                     self.wcs = Some(*i);
                     let mut vals = Vals::new();
@@ -1536,6 +1553,17 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.length_unsaid = *h == 0 && unsaid;
                 let mut vals = Vals::new();
                 vals.set(Value::H, f64::from(*h));
+                // A target whose tool change applies the tool's own length (no `{h}` to
+                // write) cannot apply another offset's length.
+                let tool = self.pending_tool.unwrap_or(self.tool);
+                if *h != 0 && *h != tool && !self.out.template("length-offset").is_some_and(|(t, _)| t.uses(Value::H)) {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "length-offset",
+                        format!("the length offset H{h} while tool T{tool} is in the spindle: the target applies the tool's own length"),
+                    );
+                }
                 self.event(if *h == 0 { "length-offset-off" } else { "length-offset" }, &mut vals);
             }
             CanonOp::Setting(Setting::CutterComp(c)) if *c == self.comp => {}
