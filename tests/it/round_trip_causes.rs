@@ -97,3 +97,88 @@ fn a_dimension_between_rounded_passes_is_rounding() {
     let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "cause").unwrap();
     assert!(round_trip(&src, "fanuc").1.starts_with("rounded: post::rounded: "), "{}", round_trip(&src, "fanuc").1);
 }
+
+/// The diff measures how far a path moved to the arcs themselves, not to chords of them: a
+/// 60° arc by R (centre X18.6603 Y-5) whose centre is written to three decimals moves by
+/// 0.0003 mm, not by the 0.04 mm between two samplings of it 10° apart.
+#[test]
+fn an_arc_whose_centre_is_rounded_moves_by_the_rounding() {
+    let text = "G21 G90 G17\nT1 M6\nS1000 M3\nF1000\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X10\nG3 Y-10 R10\nG0 Z5\nM2\n";
+    let bad = failures(text, "linuxcnc", |_, v| v == "equal" || v.starts_with("rounded: post::rounded: "));
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    // The diff of the two plans is that rounding, no more.
+    let src = Source::read(text.as_bytes(), dialect("linuxcnc"), "cause").unwrap();
+    let (written, _) = round_trip(&src, "fanuc");
+    let a = ncplan::pipeline::analyze_plan(text.as_bytes(), &dialect("linuxcnc"), &ncplan::interp::Profile::default()).plan;
+    let b = ncplan::pipeline::analyze_plan(written.as_bytes(), &dialect("fanuc"), &ncplan::interp::Profile::default()).plan;
+    let changes = ncplan::diff::diff(&a, &b);
+    assert!(changes.iter().all(|c| c.deviation.is_some_and(|d| d < 0.001)), "{changes:?}\n{written}");
+}
+
+/// A LinuxCNC arc of two and a quarter turns (`P3`) is written as its whole turns and the
+/// rest, or two halves per turn where the target states arcs by R: the same path the same
+/// way, which the diff does not take for a change.
+#[test]
+fn an_arc_written_in_turns_is_the_same_toolpath() {
+    let text = "G21 G90 G17\nT1 M6\nS1000 M3\nF500\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X20\nG3 X30 Y10 I0 J10 P3\nG0 Z5\nM2\n";
+    let bad = failures(text, "linuxcnc", |_, v| v == "equal");
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A thread (`G33 K`) and a rigid tap (`G33.1 K`) feed their pitch per revolution: the
+/// feed rate set before (or none) does not apply, and a Fanuc-family target's `G33 F` (the
+/// lead in F) and tapping cycle at pitch × speed per minute make the same moves. A tap's
+/// plan is a tapping workingstep whose first plunge is a cut, without a dwell, however the
+/// tap is written. Siemens and Heidenhain have no thread or tap output rules yet.
+#[test]
+fn threads_and_rigid_taps_feed_their_pitch() {
+    let thread = "G20 G90\nG0 X1 Z0.1\nS100 M3\nG33 Z-2 K0.025\nG0 X1.25\nZ0.1\nM5\nM2\n";
+    let bad = failures(thread, "linuxcnc", |to, v| {
+        v == "equal" || to == "heidenhain" && v.starts_with("untranslatable: post::unwritable: a thread (G33")
+    });
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    let tap = "G20 G90 G40\nM3 S200\nG0 X1 Y1 Z0.1\nG33.1 Z-0.75 K0.05\nG0 X2 Y1 Z0.1\nS500\nG33.1 Z-0.75 K0.05\nM5\nM2\n";
+    let bad = failures(tap, "linuxcnc", |to, v| {
+        v == "equal" || ["siemens", "heidenhain"].contains(&to) && v.starts_with("untranslatable: post::unwritable: a rigid tap (G33.1)")
+    });
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A feed to where the tool already is (a post's repeated `G1 X0` at X0, a move of 1e-9
+/// inch) cuts nothing: the plan has no workingstep for it, whether the translation writes
+/// it or leaves it out.
+#[test]
+fn a_feed_that_goes_nowhere_is_no_cut() {
+    let text = "G20 G90 G17\nG0 X0 Y0 Z0\nG0 X0.1\nG0 X0\nG1 X0.000000001 F100\nG1 X0\nM30\n";
+    let bad = failures(text, "linuxcnc", |_, v| v == "equal");
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    let cut = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG1 X10\nG1 Y10\nG0 Z5\nM2\n";
+    let bad = failures(cut, "linuxcnc", |_, v| v == "equal");
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A Fanuc program that cuts with another tool's length offset (`G43 H3` with no tool
+/// change, the operator loading the tool): Siemens and Heidenhain apply the length of the
+/// tool called, so the translation says it cannot state H3; the G-code targets write it.
+#[test]
+fn another_tools_length_offset_is_unwritable_where_the_tool_call_applies_the_length() {
+    let text = "%\nO0097\nG55 G40 G0 X2. Y0 M3 S580\nG43 H3 Z39. M8\nG1 Z29.88 F39\nX-114. F117\nG0 Z39.\nM30\n%\n";
+    let bad = failures(text, "fanuc", |to, v| {
+        v == "equal"
+            || ["siemens", "heidenhain"].contains(&to)
+                && v == "untranslatable: post::unwritable: the length offset H3 while tool T0 is in the spindle: the target applies the tool's own length"
+    });
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A program that sets the values of the work offset it cuts in (`G10 L20` while G54 is in
+/// force) moves the machine as a shift would; the translation, written in the offset's
+/// frame, cannot set them and says so rather than losing the moves.
+#[test]
+fn setting_the_active_work_offset_is_said() {
+    let text = "G21 G90 G17 G54\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG10 L20 P1 X-10\nG1 X0\nG0 Z5\nM2\n";
+    let bad = failures(text, "linuxcnc", |_, v| {
+        v.starts_with("untranslatable: post::unwritable: the program sets the values of the work offset it cuts in")
+    });
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}

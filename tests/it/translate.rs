@@ -101,6 +101,11 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
     let mut pos = [0.0f64; 3];
     let mut rot = [0.0f64; 3];
     let (mut feed, mut speed, mut spindle, mut coolant, mut tool) = (0.0, 0.0, 0i8, 0u8, 0u32);
+    // The advance per revolution of a spindle-synchronised run (a thread, a rigid tap), mm:
+    // its moves feed that times the speed, whatever feed rate is set.
+    let mut sync: Option<f64> = None;
+    // The G92 shift and the work offset's values (mm).
+    let mut shifts = [[0.0f64; 3]; 2];
     let mut ended = false;
     for c in canon {
         if ended {
@@ -110,7 +115,16 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
         match &c.op {
             CanonOp::UseLengthUnits(u) => scale = u.to_mm(),
             CanonOp::SelectPlane(p) => plane = *p,
-            CanonOp::SetG92Offset(o) => g92 = [o[0] * scale, o[1] * scale, o[2] * scale],
+            CanonOp::SetG92Offset(o) => {
+                shifts[0] = [o[0] * scale, o[1] * scale, o[2] * scale];
+                g92 = std::array::from_fn(|k| shifts[0][k] + shifts[1][k]);
+            }
+            // A work offset whose values the program sets (G10 L2/L20; every offset is zero
+            // when the reading starts) moves the machine as a shift would.
+            CanonOp::SetG5xOffset(_, v) => {
+                shifts[1] = std::array::from_fn(|k| v[k] * scale);
+                g92 = std::array::from_fn(|k| shifts[0][k] + shifts[1][k]);
+            }
             CanonOp::SetFeedRate(f) => feed = f * scale,
             CanonOp::SetSpindleSpeed(s) => speed = *s,
             CanonOp::StartSpindleClockwise => spindle = 1,
@@ -124,6 +138,32 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
             CanonOp::FloodOff => coolant &= !1,
             CanonOp::MistOff => coolant &= !2,
             CanonOp::ProgramEnd => ended = true,
+            CanonOp::StartSpeedFeedSync(p) => sync = Some(p * scale),
+            CanonOp::StopSpeedFeedSync => sync = None,
+            CanonOp::RigidTap(p) => {
+                // In to the point at the pitch and back out with the spindle reversed, as a
+                // tapping cycle's moves go.
+                let to = [mm(p[0], 0, &g92, scale), mm(p[1], 1, &g92, scale), mm(p[2], 2, &g92, scale)];
+                let feed = sync.map_or(feed, |k| k * speed);
+                for (from, to, spindle) in [(pos, to, spindle), (to, pos, -spindle)] {
+                    out.push(Mv {
+                        kind: 1,
+                        from,
+                        axes: (0, 1, 2),
+                        to,
+                        abc: rot,
+                        centre: [0.0; 3],
+                        sweep: 0.0,
+                        slack: 0.0,
+                        feed,
+                        speed,
+                        spindle,
+                        coolant,
+                        tool,
+                        line: c.line,
+                    });
+                }
+            }
             CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => {
                 let to = [mm(p[0], 0, &g92, scale), mm(p[1], 1, &g92, scale), mm(p[2], 2, &g92, scale)];
                 let rapid = matches!(c.op, CanonOp::StraightTraverse(_));
@@ -142,7 +182,7 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                     centre: [0.0; 3],
                     sweep: 0.0,
                     slack: 0.0,
-                    feed,
+                    feed: sync.map_or(feed, |k| k * speed),
                     speed,
                     spindle,
                     coolant,
