@@ -241,6 +241,10 @@ codes! {
     /// its centre is moved onto the chord's bisector so that both agree, and its path moves
     /// by up to the radius difference.
     PostArcCentre = ("post::arc-centre", Note),
+    /// A cycle that states the workpiece surface (Siemens RFP, Heidenhain Q203) written as a
+    /// cycle that cannot (a G8x cycle): the machine makes the same moves, but the plan read
+    /// back takes the holes' top from elsewhere.
+    PostSurfaceUnstated = ("post::surface-unstated", Note),
 }
 
 /// One finding about one input.

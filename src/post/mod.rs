@@ -47,6 +47,10 @@ pub struct Options {
     /// How far the target lets an arc's start and end radii differ: mm, inch (set by
     /// [`translate`] from the target's dictionary; 0: not at all).
     pub arc_tolerance: (f64, f64),
+    /// Whether the source's tapping cycle feeds out of the hole all the way to the clear
+    /// level (RS274NGC G84), and the target's; otherwise it feeds out to R and rapids on
+    /// (Fanuc). Set by [`translate`] from the dictionaries.
+    pub tap_to_clear: (bool, bool),
 }
 
 /// What the writer says of a tool at its change.
@@ -183,6 +187,8 @@ pub fn translate_with_facts(
     opts.peck_clearance = (from.behaviour.peck_clearance_mm, to.behaviour.peck_clearance_mm);
     opts.length_at_tool_change = (from.behaviour.tool_change_applies_length, to.behaviour.tool_change_applies_length);
     opts.arc_tolerance = (to.behaviour.arc_tolerance_mm, to.behaviour.arc_tolerance_inch);
+    let clear = |d: &crate::dialect::Dialect| d.behaviour.tapping == crate::dialect::TapStyle::Clear;
+    opts.tap_to_clear = (clear(from), clear(to));
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
     let mut diags = interpret_beside(text, from, profile, &mut post);
@@ -357,9 +363,13 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     subs: Vec<(u32, Vec<u8>, u64)>,
     /// The source lines that have run, one bit each.
     seen: Vec<u64>,
-    /// Whether the work offset in force has values (the program set them, G10 L2/L20: the
-    /// reading starts with every offset at zero, the machine's own values unknown).
-    wcs_set: bool,
+    /// The values of the work offset in force, and of each offset as the first move in it
+    /// found them: the translation is written in that frame, so values the program changes
+    /// after it moved in the offset (G10 L2/L20 while active) cannot be followed.
+    wcs_now: [f64; 6],
+    wcs_values: Vec<(u16, [f64; 6])>,
+    /// The rotary axes where the moves so far left them (degrees).
+    abc: [f64; 3],
 }
 
 /// A run of blocks the source runs again, kept as one pass while the passes write the same.
@@ -561,7 +571,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             loops: 0,
             subs: Vec::new(),
             seen: Vec::new(),
-            wcs_set: false,
+            wcs_now: [0.0; 6],
+            wcs_values: Vec::new(),
+            abc: [0.0; 3],
         }
     }
 
@@ -738,7 +750,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                             self.rounded_at = Some(self.origin);
                         }
                     }
-                    if *value == Value::F && err > self.rounded_feed {
+                    if matches!(value, Value::F | Value::Pitch) && err > self.rounded_feed {
                         self.rounded_feed = err;
                         if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
                             self.rounded_feed_at = Some(self.origin);
@@ -1219,6 +1231,24 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let bottom = intent.bottom * s + zoff;
         let r = intent.r_plane * s + zoff;
         let clear = intent.clear * s + zoff;
+        // A tap fed out to the clear level where the target's cycle feeds out to R and rapids
+        // on (or the reverse) is another move above R: written as the moves.
+        let tapping = matches!(intent.kind, CycleKind::Tapping | CycleKind::LeftTapping);
+        if tapping && self.opts.tap_to_clear.0 != self.opts.tap_to_clear.1 && (clear - r).abs() > 1e-9 {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                "tap-retract",
+                format!(
+                    "the target's {} cycle feeds out of the hole {}, the source's {}: written as the moves it makes",
+                    intent.kind.label(),
+                    if self.opts.tap_to_clear.1 { "to the clear level" } else { "to R and rapids on" },
+                    if self.opts.tap_to_clear.0 { "to the clear level" } else { "to R and rapids on" },
+                ),
+            );
+            return;
+        }
         let src_mm = s * self.opts.units.to_mm();
         if intent.surface.is_none() && self.opts.hole_tops.is_empty() && states_surface_cycle(m) {
             if let Some(f) = self.tops_source.take() {
@@ -1280,6 +1310,49 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.render(&m.at, &mut vals, false, false);
         } else {
             self.cancel_cycle();
+            // A cycle that returns to its initial level (G98) returns to where it began: a
+            // clear level below the tool is reached first, one above it cannot be; nor can
+            // one below R (G99 returns to R; Heidenhain's second set-up clearance counts only
+            // above the first) unless the target states the clear level itself.
+            let below_r = clear < r - 1e-6 && !m.define.uses(Value::Clear);
+            if below_r || m.define.uses(Value::Retract) && clear > r + 1e-6 && (self.pos[2] - clear).abs() > 1e-6 {
+                if below_r || self.pos[2] < clear {
+                    self.note(
+                        Code::PostCycleAsMoves,
+                        canon,
+                        "initial-level",
+                        format!(
+                            "the source's {} cycle returns {}; the target's returns to its initial level or R: written as the moves it makes",
+                            intent.kind.label(),
+                            if below_r { "below its R level" } else { "above where it begins" }
+                        ),
+                    );
+                    self.motion = None;
+                    return;
+                }
+                if let Some((t, _)) = self.out.template("rapid") {
+                    let to = [self.pos[0], self.pos[1], clear];
+                    let mut v = Vals::new();
+                    v.set(Value::X, to[0]).set(Value::Y, to[1]).set(Value::Z, to[2]);
+                    self.rules("rapid", true);
+                    self.render(t, &mut v, false, true);
+                    self.rules("rapid", false);
+                    self.moved(to);
+                }
+            }
+            // The surface the source's cycle states, where the target's cycle has no word for it.
+            let states = [Value::Surface, Value::Depth, Value::ClearDist, Value::Sdis].iter().any(|v| m.define.uses(*v));
+            if !states && intent.surface.is_some_and(|v| (v * s + zoff - r).abs() > 1e-6) {
+                self.note(
+                    Code::PostSurfaceUnstated,
+                    canon,
+                    "surface-unstated",
+                    format!(
+                        "the source's {} cycle states the workpiece surface, which the target's cannot: the plan read back takes the holes' top from elsewhere",
+                        intent.kind.label()
+                    ),
+                );
+            }
             self.render(&m.define, &mut vals, false, false);
             if !m.inline {
                 self.render(&m.at, &mut vals, false, false);
@@ -1341,8 +1414,12 @@ impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
         // hole of a modal cycle (`MCALL`, `M99`): it waits for the op after it.
         if let Some(p) = self.pending_move.take() {
             let positions = match (&p.op, &canon.op) {
+                // Not one that turns a rotary axis too: the cycle's hole position cannot say it.
                 (CanonOp::StraightTraverse(q), CanonOp::CycleBegin(i)) => {
-                    i.positioned && (q[0] - i.x).abs() < 1e-9 && (q[1] - i.y).abs() < 1e-9
+                    i.positioned
+                        && (q[0] - i.x).abs() < 1e-9
+                        && (q[1] - i.y).abs() < 1e-9
+                        && (0..3).all(|k| (q[3 + k] - self.abc[k]).abs() < 1e-9)
                 }
                 _ => false,
             };
@@ -1364,6 +1441,11 @@ impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
     fn op(&mut self, canon: Canon) {
+        match &canon.op {
+            CanonOp::StraightTraverse(q) | CanonOp::StraightFeed(q) => self.abc = [q[3], q[4], q[5]],
+            CanonOp::ArcFeed { abc, .. } => self.abc = *abc,
+            _ => {}
+        }
         if canon.line != self.line && canon.line > 0 && !self.ended {
             self.new_line(&canon);
         }
@@ -1382,6 +1464,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::SetFeedRate(_) => {}
             _ => self.flush_tool(),
         }
+        if matches!(
+            canon.op,
+            CanonOp::StraightTraverse(_)
+                | CanonOp::StraightFeed(_)
+                | CanonOp::ArcFeed { .. }
+                | CanonOp::CycleBegin(_)
+                | CanonOp::RigidTap(_)
+                | CanonOp::NurbsFeed { .. }
+                | CanonOp::StraightProbe(_)
+        ) {
+            self.check_work_offset(&canon);
+        }
         match &canon.op {
             CanonOp::SetSpindleSpeed(_)
             | CanonOp::StartSpindleClockwise
@@ -1392,14 +1486,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::ChangeTool(_) => {}
             CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::CycleBegin(_) => {
                 self.flush_speed(true);
-                if self.wcs_set {
-                    self.note(
-                        Code::PostUnwritable,
-                        &canon,
-                        "work-offset-set",
-                        "the program sets the values of the work offset it cuts in (G10 L2/L20): the translation is written in that offset's frame, and the target's output rules cannot set them",
-                    );
-                }
                 if self.length_unsaid && self.tool != 0 {
                     self.note(
                         Code::PostUnwritable,
@@ -1451,7 +1537,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 }
             }
             CanonOp::SetG5xOffset(i, v) => {
-                self.wcs_set = v.iter().any(|x| x.abs() > 1e-9);
+                self.wcs_now = *v;
                 if self.wcs != Some(*i) {
                     self.wcs = Some(*i);
                     let mut vals = Vals::new();
@@ -1513,6 +1599,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.speed = *s;
                 self.check_limits(&canon);
             }
+            // A cycle written as a cycle turns the spindle as it does (a tapping cycle's
+            // reversal at the bottom): its expansion's spindle calls are not written.
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning if self.in_cycle => {}
             CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise => {
                 let cw = matches!(canon.op, CanonOp::StartSpindleClockwise);
                 let ev = if cw { "spindle-cw" } else { "spindle-ccw" };
@@ -1876,6 +1965,23 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// The number the next numbered block gets.
     fn next_block(&self) -> u64 {
         if self.started { self.block } else { self.out.number_start }
+    }
+
+    /// A move in the work offset in force: its values are the frame the translation is
+    /// written in, unless the program changed them after moving in it.
+    fn check_work_offset(&mut self, canon: &Canon) {
+        let i = self.wcs.unwrap_or(1);
+        let now = self.wcs_now;
+        match self.wcs_values.iter().find(|(k, _)| *k == i) {
+            None => self.wcs_values.push((i, now)),
+            Some((_, first)) if first.iter().zip(&now).any(|(a, b)| (a - b).abs() > 1e-9) => self.note(
+                Code::PostUnwritable,
+                canon,
+                "work-offset-set",
+                "the program changes the values of the work offset it moves in (G10 L2/L20 while active): the translation is written in the offset's frame as the program first used it, and the target's output rules cannot change it",
+            ),
+            Some(_) => {}
+        }
     }
 
     fn note_unrolled(&mut self, at: crate::text::TextRange) {
