@@ -1065,7 +1065,7 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surf
         cutting_length += geom::length(&m);
         samples.clear();
         geom::extend(&mut bbox, m.from);
-        geom::sample(&m, &mut samples);
+        geom::extremes(&m, &mut samples);
         for &pt in &samples {
             geom::extend(&mut bbox, pt);
             depth = Some(depth.map_or(pt[2], |d: f64| d.min(pt[2])));
