@@ -741,10 +741,24 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     let mut wb = std::mem::take(&mut self.word_buf);
                     let err = format_number(&mut wb, f, x, self.opts.units == Units::Inch);
                     // A centre off by `err` in each axis moves the arc through the start that
-                    // stays by up to 2√2 times that.
+                    // stays by up to 2√2 times that. A cycle's levels are positions too.
                     let centre = matches!(value, Value::I | Value::J | Value::K | Value::Cx | Value::Cy | Value::Cz);
                     let off = if centre { err * 2.0 * std::f64::consts::SQRT_2 } else { err };
-                    if off > self.rounded && (centre || matches!(value, Value::X | Value::Y | Value::Z | Value::R)) {
+                    if off > self.rounded
+                        && (centre
+                            || matches!(value, Value::X | Value::Y | Value::Z | Value::R)
+                            || matches!(
+                                value,
+                                Value::Bottom
+                                    | Value::RPlane
+                                    | Value::Clear
+                                    | Value::Surface
+                                    | Value::Sdis
+                                    | Value::Depth
+                                    | Value::ClearDist
+                                    | Value::Peck
+                            ))
+                    {
                         self.rounded = off;
                         if self.rounded_at.is_none() && off * self.opts.units.to_mm() > ROUNDED_NOTE {
                             self.rounded_at = Some(self.origin);
@@ -1208,6 +1222,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         let m: &CycleOut = &out.cycles[index];
         let (src_clear, dst_clear) = self.opts.peck_clearance;
+        // The distance the source's cycle itself states (Siemens _DIS1), mm.
+        let src_clear = intent.peck_clearance.map_or(src_clear, |c| c * self.scale * self.opts.units.to_mm());
         if matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking)
             && !m.define.uses(Value::PeckClearance)
             && (src_clear - dst_clear).abs() > 1e-9
@@ -1266,8 +1282,18 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         // reads as reversed: the R level is the surface then. A cycle stating its bottom
         // absolutely keeps that surface.
         let relative = m.define.uses(Value::Depth);
-        let surface =
-            intent.surface.map(|v| v * s + zoff).or(found).filter(|v| *v <= r + 1e-9 && (!relative || *v > bottom + 1e-9)).unwrap_or(r);
+        let stated = intent.surface.map(|v| v * s + zoff).or(found);
+        let surface = stated.filter(|v| *v <= r + 1e-9 && (!relative || *v > bottom + 1e-9)).unwrap_or(r);
+        // Where the surface goes another way than the source's plan has it (see
+        // `post::surface-restated`).
+        let restated = if states_surface_cycle(m) {
+            stated.is_none_or(|v| (v - surface).abs() > 1e-6).then_some("the target's cycle states a workpiece surface the source's plan has none for above the hole's bottom: the R level is written for it")
+        } else {
+            intent
+                .surface
+                .is_some_and(|v| (v * s + zoff - r).abs() > 1e-6)
+                .then_some("the source's cycle states the workpiece surface, which the target's cannot")
+        };
         // The level the pecks count from: the surface for a cycle that states it (Siemens,
         // Heidenhain), the R level for a G8x cycle. A peck cycle counted from another level
         // than the source's drills other depths: written as its moves.
@@ -1340,17 +1366,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     self.moved(to);
                 }
             }
-            // The surface the source's cycle states, where the target's cycle has no word for it.
-            let states = [Value::Surface, Value::Depth, Value::ClearDist, Value::Sdis].iter().any(|v| m.define.uses(*v));
-            if !states && intent.surface.is_some_and(|v| (v * s + zoff - r).abs() > 1e-6) {
+            if let Some(why) = restated {
                 self.note(
-                    Code::PostSurfaceUnstated,
+                    Code::PostSurfaceRestated,
                     canon,
-                    "surface-unstated",
-                    format!(
-                        "the source's {} cycle states the workpiece surface, which the target's cannot: the plan read back takes the holes' top from elsewhere",
-                        intent.kind.label()
-                    ),
+                    "surface-restated",
+                    format!("{why} ({}): the plan read back takes the holes' top from elsewhere", intent.kind.label()),
                 );
             }
             self.render(&m.define, &mut vals, false, false);
