@@ -1075,8 +1075,10 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surf
     ws.depth = depth;
     ws.cutting_length = cutting_length;
     ws.start_point = ws.toolpath.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
-    // A dwell of no time is none (a Fanuc tapping cycle without P, a rigid tap).
-    let dwell = dwell.filter(|d| *d > 0.0);
+    // A dwell of no time is none (a Fanuc tapping cycle without P, a rigid tap), and so is
+    // one under half a millisecond, the step controls state dwells in (Haas `P.01` read as
+    // 0.01 ms is written `P0`).
+    let dwell = dwell.filter(|d| *d >= 5e-4);
     ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, surface, &ws.state.optional_lines) } else { Vec::new() };
     let mut feeds = vec![ws.technology.feed];
     for m in ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid) {
