@@ -537,7 +537,7 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
             ncplan::diag::Code::PostCycleAsMoves,
             ncplan::diag::Code::PostUnrolled,
             ncplan::diag::Code::PostShiftApplied,
-            ncplan::diag::Code::PostSurfaceUnstated,
+            ncplan::diag::Code::PostSurfaceRestated,
         ];
         if let Some(r) = diags.iter().find(|d| said.contains(&d.code)) {
             return (text, format!("restated: {}: {verdict}", r.code.as_str()));
