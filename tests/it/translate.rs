@@ -110,6 +110,8 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
     let mut shifts = [[0.0f64; 3]; 2];
     let mut wcs: (u16, [f64; 6]) = (1, [0.0; 6]);
     let mut frames: Vec<(u16, [f64; 6])> = Vec::new();
+    // The points a merged rapid passes through.
+    let mut chain: Vec<[f64; 3]> = Vec::new();
     let mut ended = false;
     for c in canon {
         if ended {
@@ -184,16 +186,24 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                     pos = to;
                     continue;
                 }
-                // A rapid on along the line of the rapid before (a writer stopping at the
-                // level its cycle returns to) goes the same way: one rapid.
+                // A rapid on along the line of the rapids before (a writer stopping at the
+                // level its cycle returns to, a run of short rapids written rounded) goes the
+                // same way: one rapid, every point between within the resolution of it.
                 if let Some(last) = out.last_mut().filter(|l: &&mut Mv| {
-                    let (u, v) = (sub(l.to, l.from), sub(to, pos));
-                    rapid && l.kind == 0 && l.abc == abc && l.to == pos && dot(u, v) > 0.0 && norm(cross(u, v)) <= 1e-9 * norm(u) * norm(v)
+                    let (u, v) = (sub(to, l.from), sub(to, pos));
+                    rapid
+                        && l.kind == 0
+                        && l.abc == abc
+                        && l.to == pos
+                        && dot(sub(pos, l.from), v) > 0.0
+                        && chain.iter().chain([&pos]).all(|q| norm(cross(u, sub(*q, l.from))) <= TOL * norm(u))
                 }) {
                     last.to = to;
+                    chain.push(pos);
                     pos = to;
                     continue;
                 }
+                chain.clear();
                 rot = abc;
                 out.push(Mv {
                     kind: u8::from(!rapid),
