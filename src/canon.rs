@@ -134,6 +134,10 @@ pub struct CycleIntent {
     /// `Q203`): the hole's top. G8x cycles state only the R level, which is above it.
     #[serde(default)]
     pub surface: Option<f64>,
+    /// How far above the last peck a peck cycle re-approaches before feeding on (Siemens
+    /// `_DIS1`, Heidenhain `Q258`, else the dictionary's `peck-clearance`), where it pecks.
+    #[serde(default)]
+    pub peck_clearance: Option<f64>,
 }
 
 /// Distance mode (a marker; the canonical interface itself has none).

@@ -1048,6 +1048,7 @@ fn translate_command(
         peck_clearance: (0.0, 0.0),
         length_at_tool_change: (false, false),
         arc_tolerance: (0.0, 0.0),
+        tap_to_clear: (false, false),
         number: crate::post::program_number(&name),
         name: crate::post::program_identifier(&name),
         units: limits.units.unwrap_or(crate::canon::Units::Mm),

@@ -241,6 +241,12 @@ codes! {
     /// its centre is moved onto the chord's bisector so that both agree, and its path moves
     /// by up to the radius difference.
     PostArcCentre = ("post::arc-centre", Note),
+    /// A cycle's workpiece surface stated otherwise: a cycle that states it (Siemens RFP,
+    /// Heidenhain Q203) written as one that cannot (a G8x cycle), or one that does not written
+    /// as one that must, where the source's plan has no top above the hole's bottom (the R
+    /// level is written). The machine makes the same moves; the plan read back takes the
+    /// holes' top from elsewhere.
+    PostSurfaceRestated = ("post::surface-restated", Note),
 }
 
 /// One finding about one input.

@@ -841,19 +841,33 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     }
     // The differing moves of each side, as index ranges.
     let (ma, mb) = (p..na - s, p..nb - s);
+    // The same way along the same path, in other pieces (an arc written in turns or halves,
+    // a line in two): no change.
+    if same_trace(&ca, ma.clone(), &cb, mb.clone(), &map_z) {
+        return None;
+    }
     // The paths around the difference: from where the shared start ends to where the shared
     // end begins, so that a removed move is measured against the path that replaces it.
-    let path = |all: &Cuts<'_>, from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Vec<P3> {
+    let path = |all: &Cuts<'_>, from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Path {
         let mut pts = Vec::new();
+        let mut arcs = vec![None];
         let start = if from > 0 { at(all, from - 1).to } else { all.get(from).map_or([0.0; 3], |m| m.from) };
         pts.push([start[0], start[1], z(start[2])]);
         let mut buf = Vec::new();
         for m in all.iter().take(to.min(all.len()) + 1).skip(from) {
+            let piece = m.arc.map(|a| (a.center, a.axis));
+            // An arc's pieces start at its start (after rapids, the last cut ended elsewhere).
+            let start = [m.from[0], m.from[1], z(m.from[2])];
+            if piece.is_some() && pts.last().is_some_and(|q| geom::dist(*q, start) > 1e-9) {
+                pts.push(start);
+                arcs.push(None);
+            }
             buf.clear();
             geom::sample(&m, &mut buf);
             pts.extend(buf.iter().map(|q| [q[0], q[1], z(q[2])]));
+            arcs.extend(buf.iter().map(|_| piece));
         }
-        pts
+        Path { pts, arcs }
     };
     let ident = |z: f64| z;
     // Original points in edited Z (the depth change mapped), so depth is not counted again.
@@ -861,7 +875,7 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     let pb = path(&cb, p, nb - s, &ident);
     let deviation = hausdorff(&pa, &pb);
     let mut region = None;
-    for q in pa.iter().chain(&pb) {
+    for q in pa.pts.iter().chain(&pb.pts) {
         geom::extend(&mut region, *q);
     }
     let first_line = |m: &std::ops::Range<usize>, all: &Cuts<'_>| {
@@ -900,6 +914,64 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     Some(ToolpathDifference { before, after, lines, region, deviation: (deviation * 1e6).round() / 1e6 })
 }
 
+/// Whether moves `ra` of `a` and `rb` of `b` go the same way along the same path: every
+/// point either side samples is within [`TOLERANCE`] of the other side's point as far along
+/// its way, and the two ways are as long. Gaps between the cuts (rapids) count for nothing.
+/// Passes over the toolpaths; no moves are collected.
+fn same_trace(a: &Cuts<'_>, ra: std::ops::Range<usize>, b: &Cuts<'_>, rb: std::ops::Range<usize>, map_z: &dyn Fn(f64) -> f64) -> bool {
+    let total = |t: &Cuts<'_>, r: &std::ops::Range<usize>| t.iter().skip(r.start).take(r.len()).map(|m| geom::length(&m)).sum::<f64>();
+    if ra.is_empty() || rb.is_empty() || (total(a, &ra) - total(b, &rb)).abs() > TOLERANCE {
+        return false;
+    }
+    let za = |q: P3| [q[0], q[1], map_z(q[2])];
+    let ident = |q: P3| q;
+    follows(a, &ra, &za, b, &rb, &ident) && follows(b, &rb, &ident, a, &ra, &za)
+}
+
+/// Whether every point moves `rx` of `x` sample (starts, arc samples, ends) lies within
+/// [`TOLERANCE`] of the point as far along moves `ry` of `y`.
+fn follows(
+    x: &Cuts<'_>,
+    rx: &std::ops::Range<usize>,
+    xz: &dyn Fn(P3) -> P3,
+    y: &Cuts<'_>,
+    ry: &std::ops::Range<usize>,
+    yz: &dyn Fn(P3) -> P3,
+) -> bool {
+    let mut ys = y.iter().skip(ry.start).take(ry.len());
+    let Some(first) = ys.next() else { return false };
+    // The move of `y` in hand and where along the way it starts and ends.
+    let (mut cur, mut s0) = (first, 0.0);
+    let mut s1 = geom::length(&cur);
+    let mut next = ys.next();
+    let mut xs = 0.0;
+    let mut buf = Vec::new();
+    for m in x.iter().skip(rx.start).take(rx.len()) {
+        let len = geom::length(&m);
+        buf.clear();
+        buf.push(m.from);
+        geom::sample(&m, &mut buf);
+        let n = (buf.len() - 1).max(1) as f64;
+        for (k, q) in buf.iter().enumerate() {
+            // Samples are evenly spaced along the move (by angle on an arc).
+            let s = xs + len * (k as f64 / n).min(1.0);
+            // A move's start goes with the `y` move that starts there (after a gap), its
+            // other points with the one they fall within.
+            while let Some(nm) = next.filter(|_| if k == 0 { s >= s1 - 1e-9 } else { s > s1 + 1e-9 }) {
+                (cur, s0) = (nm, s1);
+                s1 += geom::length(&cur);
+                next = ys.next();
+            }
+            let f = if s1 > s0 { ((s - s0) / (s1 - s0)).clamp(0.0, 1.0) } else { 1.0 };
+            if geom::dist(xz(*q), yz(geom::point_at(&cur, f))) > TOLERANCE {
+                return false;
+            }
+        }
+        xs += len;
+    }
+    true
+}
+
 /// The cutting moves of a workingstep, by index into its toolpath: 4 bytes a move, so two
 /// million-move toolpaths are compared without copies of them.
 struct Cuts<'a> {
@@ -936,20 +1008,63 @@ impl<'a> Cuts<'a> {
     }
 }
 
-/// The larger of the two directed distances between point chains (polylines), each point
-/// measured to the nearest segment of the other chain.
-fn hausdorff(a: &[P3], b: &[P3]) -> f64 {
+/// A path as points along it (arcs sampled) and, for the piece ending at each point, the
+/// arc it lies on (centre and axis), so that distances to it are taken to the arc itself and
+/// not to a chord: two samplings of the same arc are then the same path.
+struct Path {
+    pts: Vec<P3>,
+    arcs: Vec<Option<(P3, P3)>>,
+}
+
+/// The larger of the two directed distances between paths, each point of one measured to
+/// the nearest piece (segment or arc piece) of the other.
+fn hausdorff(a: &Path, b: &Path) -> f64 {
     directed(a, b).max(directed(b, a))
 }
 
-fn directed(from: &[P3], to: &[P3]) -> f64 {
-    let grid = Grid::new(to);
-    from.iter().map(|p| grid.nearest(*p)).fold(0.0, f64::max)
+fn directed(from: &Path, to: &Path) -> f64 {
+    let grid = Grid::new(&to.pts, &to.arcs);
+    from.pts.iter().map(|p| grid.nearest(*p)).fold(0.0, f64::max)
 }
 
-/// Segments of a polyline binned in XY cells, for nearest-segment queries.
+/// Where piece `a`–`b` of an arc about `c` (axis `n`) is at the fraction `t` of its angle,
+/// the radius and the height along the axis going from `a`'s to `b`'s in proportion; `None`
+/// where the piece has no angle to speak of (a point at the centre, a piece of no sweep).
+fn arc_point(a: P3, b: P3, (c, n): (P3, P3), p: Option<P3>, t: f64) -> Option<(P3, f64)> {
+    let sub = |x: P3, y: P3| [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
+    let dot = |x: P3, y: P3| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+    let cross = |x: P3, y: P3| [x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]];
+    let flat = |x: P3| {
+        let v = sub(x, c);
+        let h = dot(v, n);
+        ([v[0] - h * n[0], v[1] - h * n[1], v[2] - h * n[2]], h)
+    };
+    let ((wa, ha), (wb, hb)) = (flat(a), flat(b));
+    let (ra, rb) = (dot(wa, wa).sqrt(), dot(wb, wb).sqrt());
+    let phi = dot(n, cross(wa, wb)).atan2(dot(wa, wb));
+    if ra < 1e-9 || rb < 1e-9 || phi.abs() < 1e-12 {
+        return None;
+    }
+    // The fraction of the piece's angle at which `p` lies, if given.
+    let t = match p {
+        Some(p) => {
+            let (wp, _) = flat(p);
+            dot(n, cross(wa, wp)).atan2(dot(wa, wp)) / phi
+        }
+        None => t,
+    };
+    let theta = phi * t;
+    let u = [wa[0] / ra, wa[1] / ra, wa[2] / ra];
+    let v = cross(n, u);
+    let (r, h) = (ra + (rb - ra) * t, ha + (hb - ha) * t);
+    let (s, k) = theta.sin_cos();
+    Some((std::array::from_fn(|i| c[i] + r * (u[i] * k + v[i] * s) + h * n[i]), t))
+}
+
+/// Pieces of a path binned in XY cells, for nearest-piece queries.
 struct Grid<'a> {
     pts: &'a [P3],
+    arcs: &'a [Option<(P3, P3)>],
     cell: f64,
     min: [f64; 2],
     cols: i64,
@@ -959,7 +1074,7 @@ struct Grid<'a> {
 }
 
 impl<'a> Grid<'a> {
-    fn new(pts: &'a [P3]) -> Grid<'a> {
+    fn new(pts: &'a [P3], arcs: &'a [Option<(P3, P3)>]) -> Grid<'a> {
         let mut min = [f64::INFINITY; 2];
         let mut max = [f64::NEG_INFINITY; 2];
         for p in pts {
@@ -974,15 +1089,19 @@ impl<'a> Grid<'a> {
         let cell = (total / n).max(extent / n.sqrt()).max(1e-3);
         let cols = ((max[0] - min[0]) / cell).floor() as i64 + 1;
         let rows = ((max[1] - min[1]) / cell).floor() as i64 + 1;
-        let mut g = Grid { pts, cell, min, cols, rows, bins: Vec::with_capacity(pts.len()) };
+        let mut g = Grid { pts, arcs, cell, min, cols, rows, bins: Vec::with_capacity(pts.len()) };
         if pts.len() == 1 {
             g.bins.push(((0, 0), 0));
         }
         for i in 0..pts.len().saturating_sub(1) {
             let (c0, r0) = g.at(pts[i]);
             let (c1, r1) = g.at(pts[i + 1]);
-            for c in c0.min(c1)..=c0.max(c1) {
-                for r in r0.min(r1)..=r0.max(r1) {
+            // An arc piece bulges past its chord: its middle point widens the cells.
+            let mid = g.piece(i).and_then(|arc| arc_point(pts[i], pts[i + 1], arc, None, 0.5)).map_or((c0, r0), |(q, _)| g.at(q));
+            let (clo, chi) = (c0.min(c1).min(mid.0), c0.max(c1).max(mid.0));
+            let (rlo, rhi) = (r0.min(r1).min(mid.1), r0.max(r1).max(mid.1));
+            for c in clo..=chi {
+                for r in rlo..=rhi {
                     g.bins.push(((c, r), i as u32));
                 }
             }
@@ -995,9 +1114,27 @@ impl<'a> Grid<'a> {
         (((p[0] - self.min[0]) / self.cell).floor() as i64, ((p[1] - self.min[1]) / self.cell).floor() as i64)
     }
 
+    /// The arc piece `i` (from point `i` to point `i + 1`) lies on, if any.
+    fn piece(&self, i: usize) -> Option<(P3, P3)> {
+        self.arcs.get(i + 1).copied().flatten()
+    }
+
     fn seg_dist(&self, i: usize, p: P3) -> f64 {
         let a = self.pts[i];
         let b = *self.pts.get(i + 1).unwrap_or(&a);
+        if let Some(arc) = self.piece(i).filter(|_| i + 1 < self.pts.len()) {
+            // To the arc at `p`'s angle where that is within the piece, else to its nearer end.
+            return match arc_point(a, b, arc, Some(p), 0.0) {
+                Some((q, t)) if (0.0..=1.0).contains(&t) => geom::dist(p, q),
+                Some(_) => geom::dist(p, a).min(geom::dist(p, b)),
+                None => Self::chord_dist(a, b, p),
+            };
+        }
+        Self::chord_dist(a, b, p)
+    }
+
+    /// Distance from `p` to the segment `a`–`b`.
+    fn chord_dist(a: P3, b: P3, p: P3) -> f64 {
         let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         let t = if l2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2]) / l2).clamp(0.0, 1.0) } else { 0.0 };

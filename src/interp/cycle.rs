@@ -196,6 +196,7 @@ impl Interpreter<'_> {
                 dwell,
                 positioned: still,
                 surface: run.surface,
+                peck_clearance: peck.map(|_| clearance),
             };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             let place = |first: f64, z: f64| {

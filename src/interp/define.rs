@@ -72,6 +72,12 @@ impl Interpreter<'_> {
         }
         match cycle.meaning {
             Meaning::LocalOffset => self.datum_shift(sink),
+            // `CYCL DEF 9.1 DWELL 1.5`: the sub-block's value, seconds.
+            Meaning::Dwell => {
+                if let Some(seconds) = self.slot(Role::CycleValue) {
+                    self.emit(sink, CanonOp::Dwell(seconds));
+                }
+            }
             Meaning::Wcs => self.select_preset(ci, &name, range, sink, diags),
             Meaning::Other => {}
             _ => {

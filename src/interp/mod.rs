@@ -2001,6 +2001,9 @@ impl<'a> Interpreter<'a> {
                     self.emit(sink, CanonOp::SetFeedMode(FeedMode::PerMinute));
                 }
             }
+            // A tool call whose keyword names no tool (`TOOL CALL Z S2000`) changes only what
+            // else its block says (the speed): no tool change.
+            Meaning::ToolChange if def.keyword.as_ref().is_some_and(|k| k.value_role == Some(Role::T)) && self.slot(Role::T).is_none() => {}
             Meaning::ToolChange => {
                 if self.dialect.behaviour.tool_change_stops_spindle {
                     self.emit(sink, CanonOp::StopSpindleTurning);

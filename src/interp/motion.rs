@@ -191,6 +191,7 @@ impl Interpreter<'_> {
                 dwell: None,
                 positioned: false,
                 surface: None,
+                peck_clearance: None,
             };
             self.emit(sink, CanonOp::CycleBegin(Box::new(intent)));
             self.emit(sink, CanonOp::RigidTap([t[0], t[1], t[2]]));

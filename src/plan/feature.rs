@@ -417,10 +417,17 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             continue;
         }
         let joined = prev_end.is_some_and(|p| (p[0] - m.from[0]).abs() < 1e-4 && (p[1] - m.from[1]).abs() < 1e-4);
-        match chains.last_mut() {
-            Some(c) if joined => c.push(piece),
-            _ => chains.push(vec![piece]),
+        if !joined {
+            chains.push(Vec::new());
         }
+        let Some(c) = chains.last_mut() else { continue };
+        // An arc of several turns is its whole turns, then the rest: the same pieces as
+        // when the turns are written one by one.
+        let whole = if arc.is_some() { m.turns().map_or(0, |t| t.unsigned_abs().saturating_sub(1)) } else { 0 };
+        for _ in 0..whole {
+            c.push(Piece { to: piece.from, ..piece });
+        }
+        c.push(piece);
         prev_end = Some(m.to);
     }
     if chains.is_empty() {

@@ -423,6 +423,8 @@ struct Recovery<'p> {
     first_units: Option<Units>,
     plane: Plane,
     pos: P3,
+    /// The rotary axes where the last move left them, degrees.
+    abc: [f64; 3],
     tool: u32,
     feed: f64,
     /// Feed per spindle revolution (G95): the feed rate is then F times the speed.
@@ -474,6 +476,7 @@ impl<'p> Recovery<'p> {
             first_units: None,
             plane: Plane::Xy,
             pos: [0.0; 3],
+            abc: [0.0; 3],
             tool: 0,
             feed: 0.0,
             per_rev: false,
@@ -722,6 +725,7 @@ impl<'p> Recovery<'p> {
             // A probe move measures; it positions like a rapid and cuts nothing.
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
                 let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
+                self.abc = [p[3], p[4], p[5]];
                 let mv = self.mv(MoveKind::Rapid, to, c.line);
                 if self.in_cycle.is_some() {
                     self.cut(mv, c);
@@ -732,10 +736,18 @@ impl<'p> Recovery<'p> {
             // A spline is followed by its chord: the plan keeps where it cuts to.
             CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => {
                 let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
+                // A feed that goes nowhere (a post's repeated position, `G1 X0` at X0) cuts
+                // nothing: written or left out, the toolpath is the same.
+                let abc = [p[3], p[4], p[5]];
+                if geom::dist(to, self.pos) < EPS && abc.iter().zip(&self.abc).all(|(a, b)| (a - b).abs() < EPS) {
+                    return;
+                }
+                self.abc = abc;
                 let mv = self.mv(MoveKind::Line, to, c.line);
                 self.cut(mv, c);
             }
-            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
+            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
+                self.abc = *abc;
                 let (a0, a1, n) = self.plane.axes();
                 let mut to = [0.0; 3];
                 to[a0] = self.mm(*first_end);
@@ -998,7 +1010,7 @@ impl<'p> Recovery<'p> {
     }
 
     fn finish(&mut self, mut b: Builder) {
-        refine_phases(&mut b.moves);
+        refine_phases(&mut b.moves, b.operation.is_hole());
         // The highest rapid on the way in or between cuts; the retract may go home.
         let rapid_z = |phases: &[Phase]| {
             b.moves.iter().filter(|m| m.kind == MoveKind::Rapid && phases.contains(&m.phase)).map(|m| m.to[2]).reduce(f64::max)
@@ -1053,7 +1065,7 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surf
         cutting_length += geom::length(&m);
         samples.clear();
         geom::extend(&mut bbox, m.from);
-        geom::sample(&m, &mut samples);
+        geom::extremes(&m, &mut samples);
         for &pt in &samples {
             geom::extend(&mut bbox, pt);
             depth = Some(depth.map_or(pt[2], |d: f64| d.min(pt[2])));
@@ -1063,6 +1075,10 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surf
     ws.depth = depth;
     ws.cutting_length = cutting_length;
     ws.start_point = ws.toolpath.iter().find(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from);
+    // A dwell of no time is none (a Fanuc tapping cycle without P, a rigid tap), and so is
+    // one under half a millisecond, the step controls state dwells in (Haas `P.01` read as
+    // 0.01 ms is written `P0`).
+    let dwell = dwell.filter(|d| *d >= 5e-4);
     ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, surface, &ws.state.optional_lines) } else { Vec::new() };
     let mut feeds = vec![ws.technology.feed];
     for m in ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid) {
@@ -1091,8 +1107,10 @@ fn is_plunge(m: &Move) -> bool {
 
 /// Leading entries (plunges, ramps, helices down) join the approach; trailing lifts join
 /// the retract.
-fn refine_phases(moves: &mut Toolpath) {
-    let first_cut = moves.iter().position(|m| m.phase == Phase::Cut);
+fn refine_phases(moves: &mut Toolpath, hole: bool) {
+    // In hole making every feed makes the hole, the first plunge too (as a cycle's moves
+    // after its own positioning rapid, so that a cycle that does not position is the same).
+    let first_cut = moves.iter().position(|m| m.phase == Phase::Cut).filter(|_| !hole);
     if let Some(first) = first_cut {
         for i in first..moves.len() {
             match moves.get(i) {

@@ -47,6 +47,10 @@ pub struct Options {
     /// How far the target lets an arc's start and end radii differ: mm, inch (set by
     /// [`translate`] from the target's dictionary; 0: not at all).
     pub arc_tolerance: (f64, f64),
+    /// Whether the source's tapping cycle feeds out of the hole all the way to the clear
+    /// level (RS274NGC G84), and the target's; otherwise it feeds out to R and rapids on
+    /// (Fanuc). Set by [`translate`] from the dictionaries.
+    pub tap_to_clear: (bool, bool),
 }
 
 /// What the writer says of a tool at its change.
@@ -183,6 +187,8 @@ pub fn translate_with_facts(
     opts.peck_clearance = (from.behaviour.peck_clearance_mm, to.behaviour.peck_clearance_mm);
     opts.length_at_tool_change = (from.behaviour.tool_change_applies_length, to.behaviour.tool_change_applies_length);
     opts.arc_tolerance = (to.behaviour.arc_tolerance_mm, to.behaviour.arc_tolerance_inch);
+    let clear = |d: &crate::dialect::Dialect| d.behaviour.tapping == crate::dialect::TapStyle::Clear;
+    opts.tap_to_clear = (clear(from), clear(to));
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
     let mut diags = interpret_beside(text, from, profile, &mut post);
@@ -357,6 +363,13 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     subs: Vec<(u32, Vec<u8>, u64)>,
     /// The source lines that have run, one bit each.
     seen: Vec<u64>,
+    /// The values of the work offset in force, and of each offset as the first move in it
+    /// found them: the translation is written in that frame, so values the program changes
+    /// after it moved in the offset (G10 L2/L20 while active) cannot be followed.
+    wcs_now: [f64; 6],
+    wcs_values: Vec<(u16, [f64; 6])>,
+    /// The rotary axes where the moves so far left them (degrees).
+    abc: [f64; 3],
 }
 
 /// A run of blocks the source runs again, kept as one pass while the passes write the same.
@@ -558,6 +571,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             loops: 0,
             subs: Vec::new(),
             seen: Vec::new(),
+            wcs_now: [0.0; 6],
+            wcs_values: Vec::new(),
+            abc: [0.0; 3],
         }
     }
 
@@ -728,13 +744,31 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     self.word_buf.clear();
                     let mut wb = std::mem::take(&mut self.word_buf);
                     let err = format_number(&mut wb, f, x, self.opts.units == Units::Inch);
-                    if err > self.rounded && matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
-                        self.rounded = err;
-                        if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                    // A centre off by `err` in each axis moves the arc through the start that
+                    // stays by up to 2√2 times that. A cycle's levels are positions too.
+                    let centre = matches!(value, Value::I | Value::J | Value::K | Value::Cx | Value::Cy | Value::Cz);
+                    let off = if centre { err * 2.0 * std::f64::consts::SQRT_2 } else { err };
+                    if off > self.rounded
+                        && (centre
+                            || matches!(value, Value::X | Value::Y | Value::Z | Value::R)
+                            || matches!(
+                                value,
+                                Value::Bottom
+                                    | Value::RPlane
+                                    | Value::Clear
+                                    | Value::Surface
+                                    | Value::Sdis
+                                    | Value::Depth
+                                    | Value::ClearDist
+                                    | Value::Peck
+                            ))
+                    {
+                        self.rounded = off;
+                        if self.rounded_at.is_none() && off * self.opts.units.to_mm() > ROUNDED_NOTE {
                             self.rounded_at = Some(self.origin);
                         }
                     }
-                    if *value == Value::F && err > self.rounded_feed {
+                    if matches!(value, Value::F | Value::Pitch) && err > self.rounded_feed {
                         self.rounded_feed = err;
                         if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
                             self.rounded_feed_at = Some(self.origin);
@@ -1192,6 +1226,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
         let m: &CycleOut = &out.cycles[index];
         let (src_clear, dst_clear) = self.opts.peck_clearance;
+        // The distance the source's cycle itself states (Siemens _DIS1), mm.
+        let src_clear = intent.peck_clearance.map_or(src_clear, |c| c * self.scale * self.opts.units.to_mm());
         if matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking)
             && !m.define.uses(Value::PeckClearance)
             && (src_clear - dst_clear).abs() > 1e-9
@@ -1215,6 +1251,24 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let bottom = intent.bottom * s + zoff;
         let r = intent.r_plane * s + zoff;
         let clear = intent.clear * s + zoff;
+        // A tap fed out to the clear level where the target's cycle feeds out to R and rapids
+        // on (or the reverse) is another move above R: written as the moves.
+        let tapping = matches!(intent.kind, CycleKind::Tapping | CycleKind::LeftTapping);
+        if tapping && self.opts.tap_to_clear.0 != self.opts.tap_to_clear.1 && (clear - r).abs() > 1e-9 {
+            self.cancel_cycle();
+            self.note(
+                Code::PostCycleAsMoves,
+                canon,
+                "tap-retract",
+                format!(
+                    "the target's {} cycle feeds out of the hole {}, the source's {}: written as the moves it makes",
+                    intent.kind.label(),
+                    if self.opts.tap_to_clear.1 { "to the clear level" } else { "to R and rapids on" },
+                    if self.opts.tap_to_clear.0 { "to the clear level" } else { "to R and rapids on" },
+                ),
+            );
+            return;
+        }
         let src_mm = s * self.opts.units.to_mm();
         if intent.surface.is_none() && self.opts.hole_tops.is_empty() && states_surface_cycle(m) {
             if let Some(f) = self.tops_source.take() {
@@ -1232,8 +1286,18 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         // reads as reversed: the R level is the surface then. A cycle stating its bottom
         // absolutely keeps that surface.
         let relative = m.define.uses(Value::Depth);
-        let surface =
-            intent.surface.map(|v| v * s + zoff).or(found).filter(|v| *v <= r + 1e-9 && (!relative || *v > bottom + 1e-9)).unwrap_or(r);
+        let stated = intent.surface.map(|v| v * s + zoff).or(found);
+        let surface = stated.filter(|v| *v <= r + 1e-9 && (!relative || *v > bottom + 1e-9)).unwrap_or(r);
+        // Where the surface goes another way than the source's plan has it (see
+        // `post::surface-restated`).
+        let restated = if states_surface_cycle(m) {
+            stated.is_none_or(|v| (v - surface).abs() > 1e-6).then_some("the target's cycle states a workpiece surface the source's plan has none for above the hole's bottom: the R level is written for it")
+        } else {
+            intent
+                .surface
+                .is_some_and(|v| (v * s + zoff - r).abs() > 1e-6)
+                .then_some("the source's cycle states the workpiece surface, which the target's cannot")
+        };
         // The level the pecks count from: the surface for a cycle that states it (Siemens,
         // Heidenhain), the R level for a G8x cycle. A peck cycle counted from another level
         // than the source's drills other depths: written as its moves.
@@ -1276,6 +1340,44 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             self.render(&m.at, &mut vals, false, false);
         } else {
             self.cancel_cycle();
+            // A cycle that returns to its initial level (G98) returns to where it began: a
+            // clear level below the tool is reached first, one above it cannot be; nor can
+            // one below R (G99 returns to R; Heidenhain's second set-up clearance counts only
+            // above the first) unless the target states the clear level itself.
+            let below_r = clear < r - 1e-6 && !m.define.uses(Value::Clear);
+            if below_r || m.define.uses(Value::Retract) && clear > r + 1e-6 && (self.pos[2] - clear).abs() > 1e-6 {
+                if below_r || self.pos[2] < clear {
+                    self.note(
+                        Code::PostCycleAsMoves,
+                        canon,
+                        "initial-level",
+                        format!(
+                            "the source's {} cycle returns {}; the target's returns to its initial level or R: written as the moves it makes",
+                            intent.kind.label(),
+                            if below_r { "below its R level" } else { "above where it begins" }
+                        ),
+                    );
+                    self.motion = None;
+                    return;
+                }
+                if let Some((t, _)) = self.out.template("rapid") {
+                    let to = [self.pos[0], self.pos[1], clear];
+                    let mut v = Vals::new();
+                    v.set(Value::X, to[0]).set(Value::Y, to[1]).set(Value::Z, to[2]);
+                    self.rules("rapid", true);
+                    self.render(t, &mut v, false, true);
+                    self.rules("rapid", false);
+                    self.moved(to);
+                }
+            }
+            if let Some(why) = restated {
+                self.note(
+                    Code::PostSurfaceRestated,
+                    canon,
+                    "surface-restated",
+                    format!("{why} ({}): the plan read back takes the holes' top from elsewhere", intent.kind.label()),
+                );
+            }
             self.render(&m.define, &mut vals, false, false);
             if !m.inline {
                 self.render(&m.at, &mut vals, false, false);
@@ -1337,8 +1439,12 @@ impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
         // hole of a modal cycle (`MCALL`, `M99`): it waits for the op after it.
         if let Some(p) = self.pending_move.take() {
             let positions = match (&p.op, &canon.op) {
+                // Not one that turns a rotary axis too: the cycle's hole position cannot say it.
                 (CanonOp::StraightTraverse(q), CanonOp::CycleBegin(i)) => {
-                    i.positioned && (q[0] - i.x).abs() < 1e-9 && (q[1] - i.y).abs() < 1e-9
+                    i.positioned
+                        && (q[0] - i.x).abs() < 1e-9
+                        && (q[1] - i.y).abs() < 1e-9
+                        && (0..3).all(|k| (q[3 + k] - self.abc[k]).abs() < 1e-9)
                 }
                 _ => false,
             };
@@ -1360,6 +1466,11 @@ impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
     fn op(&mut self, canon: Canon) {
+        match &canon.op {
+            CanonOp::StraightTraverse(q) | CanonOp::StraightFeed(q) => self.abc = [q[3], q[4], q[5]],
+            CanonOp::ArcFeed { abc, .. } => self.abc = *abc,
+            _ => {}
+        }
         if canon.line != self.line && canon.line > 0 && !self.ended {
             self.new_line(&canon);
         }
@@ -1377,6 +1488,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::UseToolLengthOffset(_)
             | CanonOp::SetFeedRate(_) => {}
             _ => self.flush_tool(),
+        }
+        if matches!(
+            canon.op,
+            CanonOp::StraightTraverse(_)
+                | CanonOp::StraightFeed(_)
+                | CanonOp::ArcFeed { .. }
+                | CanonOp::CycleBegin(_)
+                | CanonOp::RigidTap(_)
+                | CanonOp::NurbsFeed { .. }
+                | CanonOp::StraightProbe(_)
+        ) {
+            self.check_work_offset(&canon);
         }
         match &canon.op {
             CanonOp::SetSpindleSpeed(_)
@@ -1438,7 +1561,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     }
                 }
             }
-            CanonOp::SetG5xOffset(i, _) => {
+            CanonOp::SetG5xOffset(i, v) => {
+                self.wcs_now = *v;
                 if self.wcs != Some(*i) {
                     self.wcs = Some(*i);
                     let mut vals = Vals::new();
@@ -1500,6 +1624,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.speed = *s;
                 self.check_limits(&canon);
             }
+            // A cycle written as a cycle turns the spindle as it does (a tapping cycle's
+            // reversal at the bottom): its expansion's spindle calls are not written.
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning if self.in_cycle => {}
             CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise => {
                 let cw = matches!(canon.op, CanonOp::StartSpindleClockwise);
                 let ev = if cw { "spindle-cw" } else { "spindle-ccw" };
@@ -1540,6 +1667,17 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.length_unsaid = *h == 0 && unsaid;
                 let mut vals = Vals::new();
                 vals.set(Value::H, f64::from(*h));
+                // A target whose tool change applies the tool's own length (no `{h}` to
+                // write) cannot apply another offset's length.
+                let tool = self.pending_tool.unwrap_or(self.tool);
+                if *h != 0 && *h != tool && !self.out.template("length-offset").is_some_and(|(t, _)| t.uses(Value::H)) {
+                    self.note(
+                        Code::PostUnwritable,
+                        &canon,
+                        "length-offset",
+                        format!("the length offset H{h} while tool T{tool} is in the spindle: the target applies the tool's own length"),
+                    );
+                }
                 self.event(if *h == 0 { "length-offset-off" } else { "length-offset" }, &mut vals);
             }
             CanonOp::Setting(Setting::CutterComp(c)) if *c == self.comp => {}
@@ -1852,6 +1990,23 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// The number the next numbered block gets.
     fn next_block(&self) -> u64 {
         if self.started { self.block } else { self.out.number_start }
+    }
+
+    /// A move in the work offset in force: its values are the frame the translation is
+    /// written in, unless the program changed them after moving in it.
+    fn check_work_offset(&mut self, canon: &Canon) {
+        let i = self.wcs.unwrap_or(1);
+        let now = self.wcs_now;
+        match self.wcs_values.iter().find(|(k, _)| *k == i) {
+            None => self.wcs_values.push((i, now)),
+            Some((_, first)) if first.iter().zip(&now).any(|(a, b)| (a - b).abs() > 1e-9) => self.note(
+                Code::PostUnwritable,
+                canon,
+                "work-offset-set",
+                "the program changes the values of the work offset it moves in (G10 L2/L20 while active): the translation is written in the offset's frame as the program first used it, and the target's output rules cannot change it",
+            ),
+            Some(_) => {}
+        }
     }
 
     fn note_unrolled(&mut self, at: crate::text::TextRange) {

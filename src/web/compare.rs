@@ -503,6 +503,7 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
         peck_clearance: (0.0, 0.0),
         length_at_tool_change: (false, false),
         arc_tolerance: (0.0, 0.0),
+        tap_to_clear: (false, false),
         number: crate::post::program_number(&name),
         name: crate::post::program_identifier(&name),
         units: crate::canon::Units::Mm,

@@ -65,6 +65,7 @@ fn translate_with(
         peck_clearance: (0.0, 0.0),
         length_at_tool_change: (false, false),
         arc_tolerance: (0.0, 0.0),
+        tap_to_clear: (false, false),
     };
     let diags = post::translate(text, from, to, &Profile::default(), opts, |b| out.extend_from_slice(b));
     (String::from_utf8(out).expect("the writer writes UTF-8"), diags)
@@ -101,16 +102,43 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
     let mut pos = [0.0f64; 3];
     let mut rot = [0.0f64; 3];
     let (mut feed, mut speed, mut spindle, mut coolant, mut tool) = (0.0, 0.0, 0i8, 0u8, 0u32);
+    // The advance per revolution of a spindle-synchronised run (a thread, a rigid tap), mm:
+    // its moves feed that times the speed, whatever feed rate is set.
+    let mut sync: Option<f64> = None;
+    // The G92 shift and the work offset's change (mm); the offset in force and its values,
+    // and each offset's values when first moved in.
+    let mut shifts = [[0.0f64; 3]; 2];
+    let mut wcs: (u16, [f64; 6]) = (1, [0.0; 6]);
+    let mut frames: Vec<(u16, [f64; 6])> = Vec::new();
+    // The points a merged rapid passes through.
+    let mut chain: Vec<[f64; 3]> = Vec::new();
     let mut ended = false;
     for c in canon {
         if ended {
             break;
         }
         let mm = |v: f64, k: usize, g92: &[f64; 3], scale: f64| v * scale + g92[k];
+        let moving =
+            matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::RigidTap(_));
+        if moving && !frames.iter().any(|(k, _)| *k == wcs.0) {
+            frames.push(wcs);
+        }
         match &c.op {
             CanonOp::UseLengthUnits(u) => scale = u.to_mm(),
             CanonOp::SelectPlane(p) => plane = *p,
-            CanonOp::SetG92Offset(o) => g92 = [o[0] * scale, o[1] * scale, o[2] * scale],
+            CanonOp::SetG92Offset(o) => {
+                shifts[0] = [o[0] * scale, o[1] * scale, o[2] * scale];
+                g92 = std::array::from_fn(|k| shifts[0][k] + shifts[1][k]);
+            }
+            // The work offset's values as the first move in it found them are the frame;
+            // values the program changes after that (G10 L20 while active) move the machine
+            // as a shift would.
+            CanonOp::SetG5xOffset(i, v) => {
+                wcs = (*i, *v);
+                let first = frames.iter().find(|(k, _)| *k == *i).map_or(*v, |(_, f)| *f);
+                shifts[1] = std::array::from_fn(|k| (v[k] - first[k]) * scale);
+                g92 = std::array::from_fn(|k| shifts[0][k] + shifts[1][k]);
+            }
             CanonOp::SetFeedRate(f) => feed = f * scale,
             CanonOp::SetSpindleSpeed(s) => speed = *s,
             CanonOp::StartSpindleClockwise => spindle = 1,
@@ -124,6 +152,32 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
             CanonOp::FloodOff => coolant &= !1,
             CanonOp::MistOff => coolant &= !2,
             CanonOp::ProgramEnd => ended = true,
+            CanonOp::StartSpeedFeedSync(p) => sync = Some(p * scale),
+            CanonOp::StopSpeedFeedSync => sync = None,
+            CanonOp::RigidTap(p) => {
+                // In to the point at the pitch and back out with the spindle reversed, as a
+                // tapping cycle's moves go.
+                let to = [mm(p[0], 0, &g92, scale), mm(p[1], 1, &g92, scale), mm(p[2], 2, &g92, scale)];
+                let feed = sync.map_or(feed, |k| k * speed);
+                for (from, to, spindle) in [(pos, to, spindle), (to, pos, -spindle)] {
+                    out.push(Mv {
+                        kind: 1,
+                        from,
+                        axes: (0, 1, 2),
+                        to,
+                        abc: rot,
+                        centre: [0.0; 3],
+                        sweep: 0.0,
+                        slack: 0.0,
+                        feed,
+                        speed,
+                        spindle,
+                        coolant,
+                        tool,
+                        line: c.line,
+                    });
+                }
+            }
             CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => {
                 let to = [mm(p[0], 0, &g92, scale), mm(p[1], 1, &g92, scale), mm(p[2], 2, &g92, scale)];
                 let rapid = matches!(c.op, CanonOp::StraightTraverse(_));
@@ -132,6 +186,24 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                     pos = to;
                     continue;
                 }
+                // A rapid on along the line of the rapids before (a writer stopping at the
+                // level its cycle returns to, a run of short rapids written rounded) goes the
+                // same way: one rapid, every point between within the resolution of it.
+                if let Some(last) = out.last_mut().filter(|l: &&mut Mv| {
+                    let (u, v) = (sub(to, l.from), sub(to, pos));
+                    rapid
+                        && l.kind == 0
+                        && l.abc == abc
+                        && l.to == pos
+                        && dot(sub(pos, l.from), v) > 0.0
+                        && chain.iter().chain([&pos]).all(|q| norm(cross(u, sub(*q, l.from))) <= TOL * norm(u))
+                }) {
+                    last.to = to;
+                    chain.push(pos);
+                    pos = to;
+                    continue;
+                }
+                chain.clear();
                 rot = abc;
                 out.push(Mv {
                     kind: u8::from(!rapid),
@@ -142,7 +214,7 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
                     centre: [0.0; 3],
                     sweep: 0.0,
                     slack: 0.0,
-                    feed,
+                    feed: sync.map_or(feed, |k| k * speed),
                     speed,
                     spindle,
                     coolant,
@@ -198,6 +270,22 @@ fn moves(canon: &[Canon]) -> Vec<Mv> {
     out
 }
 
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
 fn near(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
     (0..3).all(|k| (a[k] - b[k]).abs() <= tol)
 }
@@ -211,9 +299,12 @@ fn toolpath_difference(a: &[Mv], b: &[Mv], tol: f64) -> Option<String> {
     let mut j = 0;
     for m in a {
         let Some(n) = b.get(j) else { return Some(format!("the translation ends before the move of line {} to {}", m.line, fmt(m.to))) };
-        let state = |x: &Mv| (x.spindle, x.coolant, x.tool);
-        if state(m) != state(n)
-            || (m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
+        // The spindle, its speed and the coolant as they cut: on a rapid they make nothing
+        // (a target whose tool change stops the spindle positions with it stopped).
+        let state = |x: &Mv| (x.spindle, x.coolant);
+        if m.tool != n.tool
+            || (m.kind != 0 && state(m) != state(n))
+            || (m.kind != 0 && m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
             || (m.kind != 0 && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0))
         {
             return Some(format!(
@@ -452,7 +543,12 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
     // shift written into the positions; the plan read from the moves is not the one read from
     // the cycle, the loop or the shifted frame.
     if verdict.starts_with("plan:") {
-        let said = [ncplan::diag::Code::PostCycleAsMoves, ncplan::diag::Code::PostUnrolled, ncplan::diag::Code::PostShiftApplied];
+        let said = [
+            ncplan::diag::Code::PostCycleAsMoves,
+            ncplan::diag::Code::PostUnrolled,
+            ncplan::diag::Code::PostShiftApplied,
+            ncplan::diag::Code::PostSurfaceRestated,
+        ];
         if let Some(r) = diags.iter().find(|d| said.contains(&d.code)) {
             return (text, format!("restated: {}: {verdict}", r.code.as_str()));
         }
@@ -900,6 +996,7 @@ fn tool_facts_from_the_tool_table_read_back_from_the_tool_comment() {
                 peck_clearance: (0.0, 0.0),
                 length_at_tool_change: (false, false),
                 arc_tolerance: (0.0, 0.0),
+                tap_to_clear: (false, false),
             };
             let mut out = Vec::new();
             let diags = post::translate(&src.source.text, &cl, &target, &table, opts, |b| out.extend_from_slice(b));

@@ -420,7 +420,14 @@ fn the_translate_download_reads_back_in_its_dialect() {
             .arg(site.path("ncplan.toml"))
             .output()
             .unwrap();
-        assert!(cli.status.success(), "{}", String::from_utf8_lossy(&cli.stderr));
+        // The edit cuts with T8 on H1's length: Siemens and Heidenhain apply the tool's own,
+        // which the translation says (the text is still written).
+        if dialect == "fanuc" {
+            assert!(cli.status.success(), "{}", String::from_utf8_lossy(&cli.stderr));
+        } else {
+            let err = String::from_utf8_lossy(&cli.stderr);
+            assert!(!cli.status.success() && err.contains("the length offset H1 while tool T8 is in the spindle"), "{dialect}: {err}");
+        }
         assert_eq!(body.as_bytes(), cli.stdout.as_slice(), "{dialect}: the download is not what ncplan translate writes");
         // It reads back in the target dialect without errors.
         let file = site.path(&filename);
