@@ -4,7 +4,7 @@ use super::expr::{BinOp, Expr, ExprId, Func};
 use super::{Assign, Block, CaseBranch, Control, ParamTarget, Value, Word, WordMode};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CommentClose, Dialect, KeywordRest, Role, SkipPosition, Statement};
-use crate::text::TextRange;
+use crate::text::{Text, TextRange};
 
 /// Nesting limit for brackets, against stack exhaustion on hostile input.
 const MAX_DEPTH: u32 = 64;
@@ -12,27 +12,56 @@ const MAX_DEPTH: u32 = 64;
 /// The tape leader the dialect skips: the text before the first line that is only the
 /// program delimiter (`%`) with program text after it, when there is text before it (an NX
 /// listing header, a title), and the 1-based line the program starts on.
-pub fn leader(text: &str, dialect: &Dialect) -> Option<(TextRange, u32)> {
+pub fn leader<'t>(text: impl Into<Text<'t>>, dialect: &Dialect) -> Option<(TextRange, u32)> {
     let d = dialect.lexical.program_delimiter.filter(|_| dialect.lexical.leader_skipped)?;
-    let head = &text[..text.len().min(64 * 1024)];
+    let text = text.into();
+    let head = text.head();
+    let blank = |s: &str| s.chars().all(|c| c.is_whitespace() || c == '\u{feff}' || c == d);
     let mut at = 0;
     for (n, line) in head.split_inclusive('\n').enumerate() {
         let t = line.trim().trim_start_matches('\u{feff}');
         if t.len() == d.len_utf8() && t.starts_with(d) {
-            let before = &text[..at];
-            let after = &text[at + line.len()..];
-            let blank = |s: &str| s.chars().all(|c| c.is_whitespace() || c == '\u{feff}' || c == d);
-            return (!blank(before) && !blank(after)).then(|| (TextRange::new(0, at), n as u32 + 1));
+            let before = &head[..at];
+            let after = at + line.len();
+            // Program text after the line: in the head, or else anywhere after it.
+            let text_after = !blank(&head[after..]) || (head.len() < text.len() && !rest_blank(text, head.len(), &blank));
+            return (!blank(before) && text_after).then(|| (TextRange::new(0, at), n as u32 + 1));
         }
         at += line.len();
     }
     None
 }
 
+/// Whether the text from `from` on is all `blank`, read piece by piece.
+fn rest_blank(text: Text<'_>, mut from: usize, blank: &dyn Fn(&str) -> bool) -> bool {
+    while from < text.len() {
+        let piece = text.piece(from, 64 * 1024);
+        if piece.is_empty() {
+            return true;
+        }
+        if !blank(&piece) {
+            return false;
+        }
+        from += piece.len();
+    }
+    true
+}
+
 /// A cursor over a program text that yields one block at a time.
+///
+/// A text read piece by piece ([`Text::Read`]) is lexed in a window that holds the text from
+/// the current block on: refilled as the cursor passes its end, grown when a block runs past
+/// it (a block is lexed again, whole, from a larger window), and read again from the file
+/// after a seek outside it. Ranges and lines are those of the whole text either way.
 pub struct Parser<'a> {
-    text: &'a str,
-    bytes: &'a [u8],
+    text: Text<'a>,
+    /// The window of a read text: its text from `base` on.
+    win: String,
+    base: usize,
+    /// How much the next refill reads: doubling up to the reader's window.
+    span: usize,
+    /// Where the text ends (or where it could no longer be read).
+    end: usize,
     pos: usize,
     line: u32,
     dialect: &'a Dialect,
@@ -41,11 +70,19 @@ pub struct Parser<'a> {
 }
 
 impl<'a> Parser<'a> {
-    /// A parser at the start of `text`.
-    pub fn new(text: &'a str, dialect: &'a Dialect) -> Parser<'a> {
+    /// A parser at the start of `text` (after its tape leader, where the dialect skips one).
+    pub fn new(text: impl Into<Text<'a>>, dialect: &'a Dialect) -> Parser<'a> {
+        let text = text.into();
         let (pos, line) = leader(text, dialect).map_or((0, 1), |(r, line)| (r.end as usize, line));
+        Parser::at(text, dialect, pos, line)
+    }
+
+    /// A parser at `offset` (a block start seen before) on 1-based `line`.
+    pub fn at(text: impl Into<Text<'a>>, dialect: &'a Dialect, offset: usize, line: u32) -> Parser<'a> {
+        let text = text.into();
         let records = dialect.records.as_ref().map(|_| Box::default());
-        Parser { text, bytes: text.as_bytes(), pos, line, dialect, records }
+        let end = text.len();
+        Parser { text, win: String::new(), base: 0, span: 0, end, pos: offset.min(end), line, dialect, records }
     }
 
     /// The byte offset of the next block.
@@ -58,58 +95,176 @@ impl<'a> Parser<'a> {
         self.line
     }
 
+    /// The text the parser reads.
+    pub fn text(&self) -> Text<'a> {
+        self.text
+    }
+
     /// Moves the cursor to `offset` (a block start previously seen) on 1-based `line`.
     pub fn seek(&mut self, offset: usize, line: u32) {
-        self.pos = offset.min(self.bytes.len());
+        self.pos = offset.min(self.end);
         self.line = line;
+    }
+
+    /// The window and the offset of its first byte.
+    fn window(&self) -> (&str, usize) {
+        match self.text {
+            Text::Whole(s) => (s, 0),
+            Text::Read(_) => (&self.win, self.base),
+        }
+    }
+
+    /// Makes the window of a read text start at the cursor; with `more`, hold more than it
+    /// does. False when it holds no more than before.
+    fn fill(&mut self, more: bool) -> bool {
+        let Text::Read(r) = self.text else { return false };
+        if (self.base..=self.base + self.win.len()).contains(&self.pos) {
+            self.win.drain(..self.pos - self.base);
+        } else {
+            self.win.clear();
+        }
+        self.base = self.pos;
+        let held = self.win.len();
+        let max = r.window().max(1);
+        self.span = if self.span == 0 { max.min(4096) } else { self.span.saturating_mul(2).min(max) };
+        if more {
+            self.span = self.span.max(held.saturating_mul(2)).max(held + 1);
+        }
+        while self.win.len() < self.span && self.base + self.win.len() < self.end {
+            let at = self.base + self.win.len();
+            let before = self.win.len();
+            let start = r.read(at, self.span - before, &mut self.win);
+            if self.win.len() == before || start != at {
+                // The text could not be read on (the shell reports why): it ends here.
+                self.win.truncate(before);
+                self.end = at;
+            }
+        }
+        self.win.len() > held
+    }
+
+    /// Whether the window of a read text lacks the cursor's text.
+    fn outside(&self) -> bool {
+        matches!(self.text, Text::Read(_)) && (self.pos < self.base || self.pos >= self.base + self.win.len())
     }
 
     /// Reads the next block into `block`. Returns false at the end of the text.
     pub fn next_block(&mut self, block: &mut Block, diags: &mut Vec<Diagnostic>) -> bool {
-        if let Some(st) = self.records.as_deref_mut() {
-            return super::records::next_record(st, self.text, &mut self.pos, &mut self.line, self.dialect, block, diags);
+        if self.records.is_some() {
+            return self.next_record(block, diags);
         }
-        if self.pos >= self.bytes.len() {
-            return false;
-        }
-        block.clear();
-        block.line = self.line;
-        let start = self.pos;
-        let mut lx = Lexer { text: self.text, b: self.bytes, i: start, dialect: self.dialect, block, diags };
-        let end = lx.block();
-        let mut i = lx.i;
-        block.range = TextRange::new(start, end);
-        self.line += block.extra_lines;
-        match self.bytes.get(i) {
-            Some(b'\r') => {
-                i += 1;
-                if self.bytes.get(i) == Some(&b'\n') {
+        loop {
+            if self.pos >= self.end {
+                return false;
+            }
+            if self.outside() {
+                self.fill(false);
+                continue;
+            }
+            let mark = diags.len();
+            let dialect = self.dialect;
+            let (win, base) = self.window();
+            let bytes = win.as_bytes();
+            block.clear();
+            block.line = self.line;
+            let start = self.pos - base;
+            let mut lx = Lexer { text: win, b: bytes, i: start, base, dialect, block, diags };
+            let end = lx.block();
+            let mut i = lx.i;
+            let mut lines = block.extra_lines;
+            match bytes.get(i) {
+                Some(b'\r') => {
                     i += 1;
+                    if bytes.get(i) == Some(&b'\n') {
+                        i += 1;
+                    }
+                    lines += 1;
                 }
-                self.line += 1;
+                Some(b'\n') => {
+                    i += 1;
+                    lines += 1;
+                }
+                Some(_) => i += 1, // the end-of-block character
+                None => {}
             }
-            Some(b'\n') => {
-                i += 1;
-                self.line += 1;
+            // A block that reached the window's end may go on past it: lexed again from more.
+            if i >= bytes.len() && base + bytes.len() < self.end {
+                diags.truncate(mark);
+                if !self.fill(true) {
+                    self.end = self.base + self.win.len();
+                }
+                continue;
             }
-            Some(_) => i += 1, // the end-of-block character
-            None => {}
+            block.range = TextRange::new(base + start, base + end);
+            block.set_source(&win[start..end.max(start)]);
+            self.line += lines;
+            self.pos = base + i;
+            return true;
         }
-        self.pos = i;
-        true
+    }
+
+    /// The next record of a record-form text (CLDATA).
+    fn next_record(&mut self, block: &mut Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let dialect = self.dialect;
+        let Some(recs) = dialect.records.as_deref() else { return false };
+        if self.records.as_deref().is_some_and(|st| !st.started()) {
+            let head = self.text.head();
+            if let Some(st) = self.records.as_deref_mut() {
+                st.start(&head, recs, dialect, diags);
+            }
+        }
+        loop {
+            let Some(st) = self.records.as_deref_mut() else { return false };
+            if self.pos >= self.end {
+                super::records::finish(st, recs, diags);
+                return false;
+            }
+            if self.outside() {
+                self.fill(false);
+                continue;
+            }
+            let (win, base) = match self.text {
+                Text::Whole(s) => (s, 0),
+                Text::Read(_) => (self.win.as_str(), self.base),
+            };
+            let Some(st) = self.records.as_deref_mut() else { return false };
+            let (next, line) = super::records::gather(st, recs, win, base, self.pos, self.line, block);
+            if next - base >= win.len() && base + win.len() < self.end {
+                if !self.fill(true) {
+                    self.end = self.base + self.win.len();
+                }
+                continue;
+            }
+            block.set_source(&win[block.range.start as usize - base..block.range.end as usize - base]);
+            (self.pos, self.line) = (next, line);
+            super::records::finish_record(st, recs, dialect, block, diags);
+            return true;
+        }
     }
 }
 
 struct Lexer<'t, 'b> {
+    /// The window: the text from `base` on. Indices are into it; ranges add `base`.
     text: &'t str,
     b: &'t [u8],
     i: usize,
+    base: usize,
     dialect: &'t Dialect,
     block: &'b mut Block,
     diags: &'b mut Vec<Diagnostic>,
 }
 
 impl Lexer<'_, '_> {
+    /// The range of `start..end` in the window, in the whole text.
+    fn range(&self, start: usize, end: usize) -> TextRange {
+        TextRange::new(self.base + start, self.base + end)
+    }
+
+    /// A range in the window (see [`Lexer::alpha_run`]) as a range in the whole text.
+    fn abs(&self, r: TextRange) -> TextRange {
+        self.range(r.start as usize, r.end as usize)
+    }
+
     fn peek(&self) -> Option<u8> {
         self.b.get(self.i).copied()
     }
@@ -131,7 +286,7 @@ impl Lexer<'_, '_> {
         while !self.text.is_char_boundary(end) {
             end += 1;
         }
-        self.diags.push(Diagnostic::new(code, TextRange::new(start, end), msg));
+        self.diags.push(Diagnostic::new(code, self.range(start, end), msg));
     }
 
     /// Index of the end of the physical line from `i`.
@@ -247,7 +402,7 @@ impl Lexer<'_, '_> {
                 // A symbol address (`@-.0025 ^4.5`).
                 self.i += 1;
                 if let Some(value) = self.value(start) {
-                    let range = TextRange::new(start, self.i);
+                    let range = self.range(start, self.i);
                     self.block.words.push(Word { role, letter: c, value, range, mode: WordMode::Modal, cycle_arg: false });
                 }
                 continue;
@@ -291,7 +446,7 @@ impl Lexer<'_, '_> {
             let text = &self.b[from..eol];
             let trimmed = text.len() - text.iter().rev().take_while(|c| matches!(c, b' ' | b'\t')).count();
             let cont = trimmed > 0 && text[trimmed - 1] == k;
-            self.block.comments.push(TextRange::new(from, if cont { from + trimmed - 1 } else { eol }));
+            self.block.comments.push(self.range(from, if cont { from + trimmed - 1 } else { eol }));
             self.i = eol;
             if !cont || !self.continue_line() {
                 return;
@@ -314,7 +469,7 @@ impl Lexer<'_, '_> {
                 let trimmed = text.len() - text.iter().rev().take_while(|c| matches!(c, b' ' | b'\t')).count();
                 let cont = self.dialect.lexical.continuation.is_some_and(|k| trimmed > 0 && text[trimmed - 1] == k as u8);
                 let end = if cont { open + trimmed } else { eol };
-                self.block.comments.push(TextRange::new(open + 1, end));
+                self.block.comments.push(self.range(open + 1, end));
                 self.i = eol;
                 if cont {
                     self.continue_line();
@@ -343,11 +498,11 @@ impl Lexer<'_, '_> {
                 };
                 match rest.iter().position(|&x| closing(x)) {
                     Some(p) => {
-                        self.block.comments.push(TextRange::new(self.i, self.i + p));
+                        self.block.comments.push(self.range(self.i, self.i + p));
                         self.i += p + 1;
                     }
                     None => {
-                        self.block.comments.push(TextRange::new(self.i, eol));
+                        self.block.comments.push(self.range(self.i, eol));
                         self.error(
                             Code::UnterminatedComment,
                             open,
@@ -392,7 +547,7 @@ impl Lexer<'_, '_> {
             role,
             letter: b[start].to_ascii_uppercase(),
             value: Value::Number { value, decimal },
-            range: TextRange::new(start, self.i),
+            range: self.range(start, self.i),
             mode: WordMode::Modal,
             cycle_arg: false,
         });
@@ -412,7 +567,7 @@ impl Lexer<'_, '_> {
         if let Some(suffix) = lex.label_suffix {
             let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
             if self.b.get(end) == Some(&(suffix as u8)) && end - start >= 2 && self.block.label.is_none() && self.block.words.is_empty() {
-                self.block.label = Some(TextRange::new(start, end));
+                self.block.label = Some(self.range(start, end));
                 self.i = end + 1;
                 return;
             }
@@ -425,12 +580,12 @@ impl Lexer<'_, '_> {
             // `NLAB=1` assigns a variable of that name instead.
             let assigned = self.b[end..].iter().find(|c| !matches!(c, b' ' | b'\t')) == Some(&b'=');
             if lex.named_blocks && letter == lex.block_number && !assigned {
-                self.block.label = Some(TextRange::new(start, end));
+                self.block.label = Some(self.range(start, end));
                 self.i = end;
                 return;
             }
             if lex.named_programs && letter == lex.program_number && self.block.assigns.is_empty() && !assigned {
-                self.block.program_name = Some(TextRange::new(start, end));
+                self.block.program_name = Some(self.range(start, end));
                 self.i = end;
                 return;
             }
@@ -455,14 +610,7 @@ impl Lexer<'_, '_> {
                     let value = if a.assign { self.assigned_value(start) } else { self.value(start).map(|v| (v, WordMode::Modal)) };
                     if let Some((value, wrapped)) = value {
                         let m = if wrapped == WordMode::Modal { mode } else { wrapped };
-                        self.block.words.push(Word {
-                            role,
-                            letter,
-                            value,
-                            range: TextRange::new(start, self.i),
-                            mode: m,
-                            cycle_arg: false,
-                        });
+                        self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode: m, cycle_arg: false });
                     }
                     return;
                 }
@@ -533,7 +681,7 @@ impl Lexer<'_, '_> {
         if let Some((value, mode)) = value {
             // A letter that is always incremental (a lathe's `U`) marks its words so.
             let mode = if mode == WordMode::Modal && self.dialect.letter_incremental(letter) { WordMode::Incremental } else { mode };
-            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
+            self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode, cycle_arg: false });
         }
     }
 
@@ -603,7 +751,7 @@ impl Lexer<'_, '_> {
         match self.b[from..eol].iter().position(|&c| c == q) {
             Some(p) => {
                 self.i = from + p + 1;
-                Some(TextRange::new(from, from + p))
+                Some(self.range(from, from + p))
             }
             None => {
                 self.error(Code::MalformedExpression, start, eol, format!("the string is not closed with `{}`", q as char));
@@ -641,7 +789,7 @@ impl Lexer<'_, '_> {
         let letter = self.push_keyword(start, end, idx);
         self.i = j + 1;
         if let (Some(role), Some((value, mode))) = (role, self.assigned_value(start)) {
-            self.block.words.push(Word { role, letter, value, range: TextRange::new(start, self.i), mode, cycle_arg: false });
+            self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode, cycle_arg: false });
         }
         true
     }
@@ -654,7 +802,7 @@ impl Lexer<'_, '_> {
             role: Role::Keyword,
             letter,
             value,
-            range: TextRange::new(start, end),
+            range: self.range(start, end),
             mode: WordMode::Modal,
             cycle_arg: false,
         });
@@ -709,7 +857,7 @@ impl Lexer<'_, '_> {
                     role,
                     letter: b'#',
                     value,
-                    range: TextRange::new(vstart, self.i),
+                    range: self.range(vstart, self.i),
                     mode: WordMode::Modal,
                     cycle_arg: false,
                 });
@@ -751,7 +899,7 @@ impl Lexer<'_, '_> {
                 role: Role::CycleValue,
                 letter: b'#',
                 value: Value::Number { value, decimal },
-                range: TextRange::new(vstart, self.i),
+                range: self.range(vstart, self.i),
                 mode: WordMode::Modal,
                 cycle_arg: false,
             });
@@ -936,7 +1084,7 @@ impl Lexer<'_, '_> {
         };
         self.i = j + 1;
         let value = self.assigned_value(start);
-        let range = TextRange::new(start, self.i);
+        let range = self.range(start, self.i);
         match (role, letter, value) {
             (Some(role), Some(letter), Some((value, mode))) if moves => {
                 self.block.words.push(Word { role, letter, value, range, mode, cycle_arg: false });
@@ -1026,11 +1174,11 @@ impl Lexer<'_, '_> {
             self.i = self.line_end();
             return true;
         };
-        let name = TextRange::new(start, end);
+        let name = self.range(start, end);
         self.block.assigns.push(Assign {
             target: index.map_or(ParamTarget::Named(name), |i| ParamTarget::NamedIndex(name, i)),
             value,
-            range: TextRange::new(start, self.i),
+            range: self.range(start, self.i),
         });
         true
     }
@@ -1067,7 +1215,7 @@ impl Lexer<'_, '_> {
                 let size = self.text[inner..stop].trim().parse::<u32>().ok().filter(|n| (1..=1000).contains(n));
                 let after = self.b[(stop + 1).min(self.b.len())..].iter().find(|c| !matches!(c, b' ' | b'\t')).copied();
                 if let Some(n) = size.filter(|_| self.b.get(stop) == Some(&close) && after != Some(open)) {
-                    let name = TextRange::new(start, end);
+                    let name = self.range(start, end);
                     for k in 0..n {
                         let (index, zero) = (self.push(Expr::Num(f64::from(k))), self.push(Expr::Num(0.0)));
                         self.block.assigns.push(Assign { target: ParamTarget::NamedIndex(name, index), value: zero, range: name });
@@ -1077,7 +1225,7 @@ impl Lexer<'_, '_> {
                     if self.peek() == Some(b'=') {
                         let d = Diagnostic::new(
                             Code::Unsupported,
-                            TextRange::new(start, end),
+                            self.range(start, end),
                             "an array's initial values are not read: its elements start at 0 here",
                         );
                         self.diags.push(d);
@@ -1094,7 +1242,7 @@ impl Lexer<'_, '_> {
             if self.peek() == Some(b'[') {
                 let d = Diagnostic::new(
                     Code::Unsupported,
-                    TextRange::new(start, end),
+                    self.range(start, end),
                     "array variables are not supported; the declaration is skipped",
                 );
                 self.diags.push(d);
@@ -1113,11 +1261,7 @@ impl Lexer<'_, '_> {
             } else {
                 self.push(Expr::Num(0.0))
             };
-            self.block.assigns.push(Assign {
-                target: ParamTarget::Named(TextRange::new(start, end)),
-                value,
-                range: TextRange::new(start, self.i),
-            });
+            self.block.assigns.push(Assign { target: ParamTarget::Named(self.range(start, end)), value, range: self.range(start, self.i) });
             self.skip_blanks();
             if self.peek() == Some(b',') {
                 self.i += 1;
@@ -1186,7 +1330,7 @@ impl Lexer<'_, '_> {
             role: Role::Cycle,
             letter,
             value: Value::Number { value: ci as f64, decimal: false },
-            range: TextRange::new(start, end),
+            range: self.range(start, end),
             mode: WordMode::Modal,
             cycle_arg: false,
         });
@@ -1231,7 +1375,7 @@ impl Lexer<'_, '_> {
                     role: a.role,
                     letter: a.name.as_bytes()[0],
                     value,
-                    range: TextRange::new(from, self.i),
+                    range: self.range(from, self.i),
                     mode: WordMode::Modal,
                     cycle_arg: true,
                 }),
@@ -1264,15 +1408,16 @@ impl Lexer<'_, '_> {
         true
     }
 
-    /// An alphabetic run at the cursor, as a range.
+    /// An alphabetic run at the cursor, as a range in the window (not the whole text).
     fn alpha_run(&self) -> TextRange {
         let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
-        TextRange::new(self.i, end)
+        TextRange { start: self.i as u32, end: end as u32 }
     }
 
     /// The keyword of a control word at the cursor and its statement. Blanks do not count
     /// in RS274NGC, so `o100 end sub` is `endsub` and `o1 else if` is `elseif`: the longest
-    /// run of blank-separated letter runs that spells a statement wins.
+    /// run of blank-separated letter runs that spells a statement wins. The range is in the
+    /// window, as [`Lexer::alpha_run`]'s.
     fn control_keyword(&self) -> (TextRange, Option<Statement>) {
         let first = self.alpha_run();
         let mut best = (first, self.dialect.macros.statement(&self.text[first.start as usize..first.end as usize]));
@@ -1287,7 +1432,7 @@ impl Lexer<'_, '_> {
             joined.push_str(&self.text[next..end]);
             at = end;
             if let Some(st) = self.dialect.macros.statement(&joined) {
-                best = (TextRange::new(first.start as usize, end), Some(st));
+                best = (TextRange { start: first.start, end: end as u32 }, Some(st));
             }
         }
         best
@@ -1304,7 +1449,7 @@ impl Lexer<'_, '_> {
             match self.b[from..eol].iter().position(|&c| c == b'>') {
                 Some(p) => {
                     self.i = from + p + 1;
-                    Some(TextRange::new(from, from + p))
+                    Some(self.range(from, from + p))
                 }
                 None => {
                     self.error(Code::MalformedExpression, start, eol, "label name is not closed with `>`");
@@ -1322,13 +1467,13 @@ impl Lexer<'_, '_> {
                 self.i = self.line_end();
                 return;
             }
-            Some(TextRange::new(from, self.i))
+            Some(self.range(from, self.i))
         } else {
             let from = self.i;
             while self.peek().is_some_and(|c| c.is_ascii_digit()) {
                 self.i += 1;
             }
-            (self.i > from).then(|| TextRange::new(from, self.i))
+            (self.i > from).then(|| self.range(from, self.i))
         };
         if label.is_none() {
             self.error(Code::MalformedNumber, start, self.i.max(start + 1), "a control word needs a label such as o100 or o<name>");
@@ -1339,7 +1484,7 @@ impl Lexer<'_, '_> {
         let (kw, statement) = self.control_keyword();
         let mut control = Control { label, label_expr, ..Control::default() };
         if !kw.is_empty() {
-            control.keyword = Some(kw);
+            control.keyword = Some(self.abs(kw));
             control.statement = statement;
             self.i = kw.end as usize;
             if control.statement.is_none() {
@@ -1347,7 +1492,7 @@ impl Lexer<'_, '_> {
             }
             self.operands(&mut control);
         }
-        control.range = TextRange::new(start, self.i);
+        control.range = self.range(start, self.i);
         self.block.control = Some(control);
     }
 
@@ -1366,7 +1511,7 @@ impl Lexer<'_, '_> {
                 if pair.contains(&st) && pair.iter().all(|&p| self.dialect.macros.has_statement(p)) {
                     st = if self.label_follows() { Statement::RepeatSection } else { Statement::RepeatUntil };
                 }
-                control.keyword = Some(TextRange::new(start, end));
+                control.keyword = Some(self.range(start, end));
                 control.statement = Some(st);
                 match st {
                     Statement::Declare => {
@@ -1379,7 +1524,7 @@ impl Lexer<'_, '_> {
                         if st == Statement::Procedure {
                             self.skip_blanks();
                             let end = self.identifier_end(self.i);
-                            control.name = (end > self.i).then(|| TextRange::new(self.i, end));
+                            control.name = (end > self.i).then(|| self.range(self.i, end));
                         }
                         let end = self.line_end();
                         let lex = &self.dialect.lexical;
@@ -1396,11 +1541,11 @@ impl Lexer<'_, '_> {
                 let end = self.line_end();
                 let lex = &self.dialect.lexical;
                 let end = self.text[start..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| start + p);
-                control.keyword = Some(self.alpha_run());
+                control.keyword = Some(self.abs(self.alpha_run()));
                 self.i = end;
             }
         }
-        control.range = TextRange::new(start, self.i);
+        control.range = self.range(start, self.i);
         self.block.control = Some(control);
     }
 
@@ -1480,7 +1625,7 @@ impl Lexer<'_, '_> {
             let end = self.identifier_end(self.i);
             let word = &self.text[self.i..end];
             if !word.eq_ignore_ascii_case(repeat_word) {
-                control.label = Some(TextRange::new(self.i, end));
+                control.label = Some(self.range(self.i, end));
                 self.i = end;
             }
         }
@@ -1588,8 +1733,8 @@ impl Lexer<'_, '_> {
             control.repeat = None;
             return false;
         }
-        control.keyword = Some(TextRange::new(start, end));
-        control.name = Some(TextRange::new(start, end));
+        control.keyword = Some(self.range(start, end));
+        control.name = Some(self.range(start, end));
         control.statement = Some(Statement::CallProgram);
         true
     }
@@ -1642,14 +1787,14 @@ impl Lexer<'_, '_> {
             while self.peek().is_some_and(|c| !matches!(c, b' ' | b'\t' | b'\r' | b'\n')) && !self.at_block_end() {
                 self.i += self.char_len(self.i);
             }
-            control.name = Some(TextRange::new(from, self.i));
+            control.name = Some(self.range(from, self.i));
         } else if c.is_ascii_alphabetic() || c == b'_' {
             let param = Some(c.to_ascii_uppercase()) == sigil && self.b.get(self.i + 1).is_some_and(u8::is_ascii_digit);
             if param {
                 control.target = self.unary(1);
             } else {
                 let end = self.identifier_end(self.i);
-                control.name = Some(TextRange::new(self.i, end));
+                control.name = Some(self.range(self.i, end));
                 self.i = end;
             }
         } else if c.is_ascii_digit() || matches!(c, b'+' | b'-' | b'.') || Some(c) == self.expr_open() || Some(c) == sigil {
@@ -2174,7 +2319,7 @@ impl Lexer<'_, '_> {
                 } =>
             {
                 let end = self.identifier_end(self.i);
-                let r = TextRange::new(self.i, end);
+                let r = self.range(self.i, end);
                 // A lone axis letter (`DEF AXIS _X=X`, `_AX1=Z`, `MOVE(Y, 10)`) is that axis, as an
                 // axis variable's value: a single letter is never a variable.
                 let after = self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).copied();
@@ -2317,7 +2462,7 @@ impl Lexer<'_, '_> {
         match self.b[self.i..eol].iter().position(|&c| c == b'>') {
             Some(p) => {
                 self.i += p + 1;
-                Some(TextRange::new(from, from + p))
+                Some(self.range(from, from + p))
             }
             None => {
                 self.error(Code::MalformedExpression, start, eol, "parameter name is not closed with `>`");
@@ -2356,7 +2501,7 @@ impl Lexer<'_, '_> {
             self.i = self.line_end();
             return;
         };
-        self.block.assigns.push(Assign { target, value, range: TextRange::new(start, self.i) });
+        self.block.assigns.push(Assign { target, value, range: self.range(start, self.i) });
     }
 }
 
