@@ -735,10 +735,19 @@ impl Layout {
         // Up to 3 bytes to the first boundary, the end of the last character and the byte after
         // it (is a `\r` alone?) lie within 8 more bytes.
         let len = (want as u64 + 8).min(self.body_len - at as u64) as usize;
-        let mut buf = vec![0u8; len];
-        if read_full(read_at, self.bom + at as u64, &mut buf) < len {
+        // Read into the text's own bytes: no buffer between.
+        let mut bytes = std::mem::take(out).into_bytes();
+        let kept = bytes.len();
+        bytes.resize(kept + len, 0);
+        let restore = |mut bytes: Vec<u8>, out: &mut String| {
+            bytes.truncate(kept);
+            *out = String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+        };
+        if read_full(read_at, self.bom + at as u64, &mut bytes[kept..]) < len {
+            restore(bytes, out);
             return Err(Changed);
         }
+        let buf = &mut bytes[kept..];
         let start = buf.iter().take(3).take_while(|&&c| c & 0xC0 == 0x80).count();
         let mut end = (start + want).min(len);
         while end < len && buf[end] & 0xC0 == 0x80 {
@@ -755,8 +764,15 @@ impl Layout {
                 from = p + 1;
             }
         }
-        let s = std::str::from_utf8(&buf[start..end]).map_err(|_| Changed)?;
-        out.push_str(s);
+        bytes.truncate(kept + end);
+        bytes.drain(kept..kept + start);
+        match String::from_utf8(bytes) {
+            Ok(s) => *out = s,
+            Err(e) => {
+                restore(e.into_bytes(), out);
+                return Err(Changed);
+            }
+        }
         Ok(at + start)
     }
 

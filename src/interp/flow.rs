@@ -61,7 +61,11 @@ pub fn run<'t>(
         arena: &arena,
         sources: vec![Source::new(text, String::new())],
         cur: 0,
-        parser: Parser::new(text, dialect),
+        parser: {
+            let mut p = Parser::new(text, dialect);
+            p.set_fast_path(profile.fast_lane);
+            p
+        },
         frames: Vec::new(),
         loops: Vec::new(),
         back_jumps: BTreeMap::new(),
@@ -559,6 +563,7 @@ impl<'a> Driver<'a, '_> {
         if source != self.cur {
             self.cur = source;
             self.parser = Parser::at(self.sources[source].text, self.dialect, pos.at, pos.line);
+            self.parser.set_fast_path(self.profile.fast_lane);
             interp.origin_override = if source == 0 { None } else { self.external_call() };
         }
         self.parser.seek(pos.at, pos.line);

@@ -71,7 +71,8 @@ pub struct Profile {
     /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
     pub stock: Option<[[f64; 3]; 2]>,
     /// Whether the fast paths are on: plain moves (`X.. Y.. Z..` under a modal G0 or G1) take
-    /// the fast lane, and a block that runs a third time (a loop body) is not lexed again.
+    /// the fast lane, a block of plain words is lexed by the lexer's fast path, and a block
+    /// that runs a third time (a loop body) is not lexed again.
     /// Off, every block is lexed and goes the general way; both give the same result, and
     /// tests check it.
     pub fast_lane: bool,

@@ -65,6 +65,14 @@ pub struct Parser<'a> {
     pos: usize,
     line: u32,
     dialect: &'a Dialect,
+    /// The role of each byte that starts a plain word (`X1.5`), in either case: see
+    /// [`Dialect::plain_role`].
+    plain: [Option<Role>; 256],
+    /// The block-number letter where a block number needs no general rule
+    /// ([`plain_block_number`]).
+    number: Option<u8>,
+    /// Whether blocks of plain words take the fast path ([`plain_block`]).
+    fast: bool,
     /// The record reader's state, where the dialect's programs are records (CLDATA).
     records: Option<Box<super::records::RecordState>>,
 }
@@ -82,7 +90,12 @@ impl<'a> Parser<'a> {
         let text = text.into();
         let records = dialect.records.as_ref().map(|_| Box::default());
         let end = text.len();
-        Parser { text, win: String::new(), base: 0, span: 0, end, pos: offset.min(end), line, dialect, records }
+        let mut plain = [None; 256];
+        for c in 0..128u8 {
+            plain[c as usize] = dialect.plain_role(c);
+        }
+        let number = plain_block_number(dialect);
+        Parser { text, win: String::new(), base: 0, span: 0, end, pos: offset.min(end), line, dialect, plain, number, fast: true, records }
     }
 
     /// The byte offset of the next block.
@@ -98,6 +111,12 @@ impl<'a> Parser<'a> {
     /// The text the parser reads.
     pub fn text(&self) -> Text<'a> {
         self.text
+    }
+
+    /// Turns the fast path for blocks of plain words on or off (on by default); off, every
+    /// block goes the general way, which gives the same blocks and findings.
+    pub fn set_fast_path(&mut self, on: bool) {
+        self.fast = on;
     }
 
     /// Moves the cursor to `offset` (a block start previously seen) on 1-based `line`.
@@ -168,9 +187,17 @@ impl<'a> Parser<'a> {
             block.clear();
             block.line = self.line;
             let start = self.pos - base;
-            let mut lx = Lexer { text: win, b: bytes, i: start, base, dialect, block, diags };
-            let end = lx.block();
-            let mut i = lx.i;
+            let plain = if self.fast { plain_block(&self.plain, self.number, dialect, bytes, start, base, block) } else { None };
+            let (end, mut i) = match plain {
+                Some(end) => (end, end),
+                None => {
+                    block.clear();
+                    block.line = self.line;
+                    let mut lx = Lexer { text: win, b: bytes, i: start, base, dialect, block, diags };
+                    let end = lx.block();
+                    (end, lx.i)
+                }
+            };
             let mut lines = block.extra_lines;
             match bytes.get(i) {
                 Some(b'\r') => {
@@ -240,6 +267,105 @@ impl<'a> Parser<'a> {
             super::records::finish_record(st, recs, dialect, block, diags);
             return true;
         }
+    }
+}
+
+/// The block-number letter (`N`) when `N` and digits can only be a block number in `d`, as
+/// [`Dialect::plain_role`] tells plain words: no label, variable, keyword, cycle, long address,
+/// axis setting, call by name or lexer mark can start with the letter.
+fn plain_block_number(d: &Dialect) -> Option<u8> {
+    let lex = &d.lexical;
+    let n = lex.block_number.filter(char::is_ascii_uppercase)?;
+    let starts = |s: &str| s.chars().next().is_some_and(|c| c.eq_ignore_ascii_case(&n));
+    let marks = [
+        lex.continuation,
+        lex.block_end,
+        lex.program_delimiter,
+        lex.block_skip.map(|(k, _)| k),
+        lex.control_word,
+        lex.program_number,
+        lex.program_number_alt,
+        lex.system_variable_prefix,
+        lex.parameter.map(|(s, _)| s),
+    ];
+    let mark = marks.iter().flatten().any(|c| c.eq_ignore_ascii_case(&n))
+        || lex.statement_prefix.iter().any(|c| c.eq_ignore_ascii_case(&(n as u8)))
+        || lex.comments.iter().any(|r| r.open.eq_ignore_ascii_case(&n));
+    let named = d.codes.iter().filter_map(|k| k.keyword.as_ref()).any(|k| starts(&k.text))
+        || d.cycles.iter().any(|c| starts(&c.name))
+        || d.addresses.iter().any(|a| a.name.len() > 1 && starts(&a.name))
+        || lex.axis_indexed.iter().any(|a| starts(&a.name));
+    let call = d.macros.call_by_name && d.letter_role(n as u8).is_none();
+    (lex.label_suffix.is_none() && !lex.identifier_variables && !mark && !named && !call).then_some(n as u8)
+}
+
+/// The common block, plain words only (`X1.5 Y-2 Z0.25`), perhaps after a block number
+/// (`N120`, where `number` is the letter), read in one tight loop: its words into `block` and
+/// where its text ends (at its line end), as the general lexer reads them; `None` at anything
+/// else (a comment, an expression, a named code, a malformed number: the general lexer reads
+/// the block again from its start).
+#[inline]
+fn plain_block(
+    plain: &[Option<Role>; 256],
+    number: Option<u8>,
+    dialect: &Dialect,
+    b: &[u8],
+    start: usize,
+    base: usize,
+    block: &mut Block,
+) -> Option<usize> {
+    let blanks = |i: usize| i + b.get(i..).unwrap_or_default().iter().take_while(|&&c| matches!(c, b' ' | b'\t' | 0x0c)).count();
+    let mut i = blanks(start);
+    if let Some(n) = number
+        && b.get(i).is_some_and(|c| c.to_ascii_uppercase() == n)
+        && b.get(i + 1).is_some_and(u8::is_ascii_digit)
+    {
+        // `N120`: up to nine digits, no point, not followed by a block skip.
+        let mut j = i + 1;
+        let mut v = 0u32;
+        while let Some(&c) = b.get(j).filter(|c| c.is_ascii_digit())
+            && j - i <= 9
+        {
+            v = v * 10 + u32::from(c - b'0');
+            j += 1;
+        }
+        if matches!(b.get(j), Some(b'0'..=b'9' | b'.')) {
+            return None;
+        }
+        if let Some((skip, SkipPosition::LineStartOrAfterNumber)) = dialect.lexical.block_skip
+            && b.get(blanks(j)) == Some(&(skip as u8))
+        {
+            return None;
+        }
+        block.number = Some(v);
+        i = j;
+    }
+    loop {
+        i = blanks(i);
+        let Some(&c) = b.get(i) else { return Some(i) };
+        let Some(role) = plain[c as usize] else { return matches!(c, b'\n' | b'\r').then_some(i) };
+        let signed = matches!(b.get(i + 1), Some(b'-' | b'+'));
+        // Blanks inside a number (`X1 5`, where the dialect allows them) need not be looked for
+        // here: a digit after blanks is no plain word, and the general lexer reads the block.
+        let (v, end, decimal) = plain_number(b, i + 1 + usize::from(signed), false)?;
+        let value = if signed && b[i + 1] == b'-' { -v } else { v };
+        let letter = c.to_ascii_uppercase();
+        // `G200 DRILLING`: a code the dictionary names in the block after it.
+        if matches!(role, Role::G | Role::M)
+            && (0.0..10_000.0).contains(&value)
+            && dialect.code(letter as char, (value * 10.0).round() as u32).is_some_and(|c| c.named)
+        {
+            return None;
+        }
+        block.words.push(Word {
+            role,
+            letter,
+            value: Value::Number { value, decimal },
+            range: TextRange::new(base + i, base + end),
+            mode: WordMode::Modal,
+            cycle_arg: false,
+        });
+        i = end;
     }
 }
 
@@ -522,20 +648,20 @@ impl Lexer<'_, '_> {
     fn plain_word(&mut self, role: Role) -> bool {
         let start = self.i;
         let b = self.b;
-        let digit_at = |j: usize| b.get(j).is_some_and(|&c| c.is_ascii_digit() || c == b'.');
         let signed = matches!(b.get(start + 1), Some(b'-' | b'+'));
-        if !(digit_at(start + 1) || signed && digit_at(start + 2)) {
-            return false;
-        }
         let spaces = self.dialect.lexical.spaces_in_numbers;
         // The common case in one pass; anything unusual goes through `number`, which also
         // reports what is wrong with it.
         let (value, decimal) = match plain_number(b, start + 1 + usize::from(signed), spaces) {
             Some((v, end, point)) => {
                 self.i = end;
-                (if b[start + 1] == b'-' { -v } else { v }, point)
+                (if signed && b[start + 1] == b'-' { -v } else { v }, point)
             }
             None => {
+                let digit_at = |j: usize| b.get(j).is_some_and(|&c| c.is_ascii_digit() || c == b'.');
+                if !(digit_at(start + 1) || signed && digit_at(start + 2)) {
+                    return false;
+                }
                 self.i += 1;
                 match self.number() {
                     Some(n) => n,
@@ -2505,40 +2631,45 @@ impl Lexer<'_, '_> {
     }
 }
 
-/// The digits at the start of `b`: their value (exact for up to 19 digits) and count.
-#[inline]
-fn digit_run(b: &[u8]) -> (u64, usize) {
-    let mut m = 0u64;
-    for (n, &c) in b.iter().enumerate() {
+/// Reads the digits from `*j` on into `m` (ten times `m` plus each digit, wrapping past 19
+/// digits) and steps past them. (Eight digits at a time in one word, tried, was no faster on
+/// CNC numbers of two to seven digits: the loop's branches are predicted.)
+#[inline(always)]
+fn digits(b: &[u8], j: &mut usize, m: &mut u64) {
+    let (mut v, mut k) = (*m, *j);
+    for &c in b.get(k..).unwrap_or_default() {
         let d = c.wrapping_sub(b'0');
         if d > 9 {
-            return (m, n);
+            break;
         }
-        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+        v = v.wrapping_mul(10).wrapping_add(u64::from(d));
+        k += 1;
     }
-    (m, b.len())
+    (*m, *j) = (v, k);
 }
 
 /// A number of plain digits with at most one point, at most 18 digits, and a byte after it
 /// that cannot continue it: its value, end and whether it has a point. `None` sends the
 /// caller to the general path.
-#[inline]
+///
+/// The digits before and after the point make one mantissa below 2^53, exactly a double,
+/// divided by a power of ten up to 10^18, also exact: the one rounding of the division gives
+/// the double nearest to the decimal, as `str::parse` does.
+#[inline(always)]
 fn plain_number(b: &[u8], i: usize, spaces: bool) -> Option<(f64, usize, bool)> {
-    let (int, n_int) = digit_run(&b[i..]);
-    let mut end = i + n_int;
+    let mut end = i;
+    let mut m = 0u64;
+    digits(b, &mut end, &mut m);
+    let n_int = end - i;
     let point = b.get(end) == Some(&b'.');
-    let (mut m, mut n_frac) = (int, 0);
+    let mut n_frac = 0;
     if point {
-        let (frac, n) = digit_run(&b[end + 1..]);
-        if n_int + n > 18 {
-            return None;
-        }
-        m = int * POW10_U64[n] + frac;
-        n_frac = n;
-        end += 1 + n;
+        end += 1;
+        digits(b, &mut end, &mut m);
+        n_frac = end - i - n_int - 1;
     }
     // Past 2^53 the mantissa is no longer exact as a float; the general path parses it.
-    if n_int + n_frac == 0 || n_int > 18 || m >= 1 << 53 {
+    if n_int + n_frac == 0 || n_int + n_frac > 18 || m >= 1 << 53 {
         return None;
     }
     match b.get(end) {
@@ -2555,15 +2686,122 @@ fn plain_number(b: &[u8], i: usize, spaces: bool) -> Option<(f64, usize, bool)> 
     Some((m as f64 / POW10[n_frac], end, point))
 }
 
-const POW10_U64: [u64; 19] = {
-    let mut t = [1u64; 19];
-    let mut k = 1;
-    while k < 19 {
-        t[k] = t[k - 1] * 10;
-        k += 1;
-    }
-    t
-};
-
 const POW10: [f64; 23] =
     [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::Registry;
+
+    /// The decimal `int.frac` as `str::parse` reads it (an empty side is a zero).
+    fn parsed(int: &str, frac: Option<&str>) -> f64 {
+        let int = if int.is_empty() { "0" } else { int };
+        match frac {
+            Some(f) => format!("{int}.{f}0").parse().unwrap(),
+            None => int.parse().unwrap(),
+        }
+    }
+
+    #[test]
+    fn the_plain_block_path_takes_numbered_blocks_of_plain_words() {
+        let registry = Registry::shipped();
+        for name in ["fanuc", "linuxcnc", "haas", "mazak"] {
+            let d = registry.get(name).unwrap();
+            let p = Parser::new("", &d);
+            let text = b"N9920X-222.899Y96.966 Z.5\nG1";
+            let mut block = Block::default();
+            assert_eq!(plain_block(&p.plain, p.number, &d, text, 0, 0, &mut block), Some(25), "{name}");
+            assert_eq!((block.number, block.words.len()), (Some(9920), 3), "{name}");
+            // A comment, an expression: the general lexer's.
+            for other in [&b"N10 X1 (HOLE)\n"[..], b"X[1+2]\n", b"G1 X#1\n"] {
+                assert_eq!(plain_block(&p.plain, p.number, &d, other, 0, 0, &mut Block::default()), None, "{name}");
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// The fast path gives the very double `str::parse` gives, or declines.
+        #[test]
+        fn plain_numbers_are_the_doubles_parse_gives(
+            int in "[0-9]{0,20}",
+            frac in proptest::option::of("[0-9]{0,20}"),
+            after in "[ \n\tXY;)(]",
+            spaces: bool,
+        ) {
+            let text = format!("{int}{}{after}", frac.as_ref().map_or(String::new(), |f| format!(".{f}")));
+            let digits = int.len() + frac.as_ref().map_or(0, String::len);
+            match plain_number(text.as_bytes(), 0, spaces) {
+                Some((v, end, point)) => {
+                    proptest::prop_assert_eq!(v.to_bits(), parsed(&int, frac.as_deref()).to_bits(), "{}", text);
+                    proptest::prop_assert_eq!(end, text.len() - 1);
+                    proptest::prop_assert_eq!(point, frac.is_some());
+                }
+                None => proptest::prop_assert!(digits == 0 || digits > 15, "{} declined", text),
+            }
+        }
+
+        /// Blocks of plain words (perhaps numbered) read by the fast path are the blocks, with
+        /// the findings, the general lexer reads, in every dialect.
+        #[test]
+        fn the_plain_block_path_reads_what_the_general_lexer_reads(parts in proptest::collection::vec(proptest::prop_oneof![
+            proptest::strategy::Just("N10"), proptest::strategy::Just("N0100"), proptest::strategy::Just("n5"),
+            proptest::strategy::Just("N123456789"), proptest::strategy::Just("N1234567890"), proptest::strategy::Just("N10.5"),
+            proptest::strategy::Just("N 10"), proptest::strategy::Just("X1.5"), proptest::strategy::Just("x-2"),
+            proptest::strategy::Just("Y.5"), proptest::strategy::Just("Z-0.25"), proptest::strategy::Just("Z+3."),
+            proptest::strategy::Just("G1"), proptest::strategy::Just("G01"), proptest::strategy::Just("M3"),
+            proptest::strategy::Just("G200"), proptest::strategy::Just("G200 DRILLING"), proptest::strategy::Just("F100."),
+            proptest::strategy::Just("S12000"), proptest::strategy::Just("T1"), proptest::strategy::Just(" "),
+            proptest::strategy::Just("\t"), proptest::strategy::Just("(c)"), proptest::strategy::Just(";c"),
+            proptest::strategy::Just("/"), proptest::strategy::Just("%"), proptest::strategy::Just("X1 5"),
+            proptest::strategy::Just("#1=2"), proptest::strategy::Just("\r\n"), proptest::strategy::Just("\n"),
+            proptest::strategy::Just("\r"), proptest::strategy::Just("X"), proptest::strategy::Just("-"),
+            proptest::strategy::Just("."), proptest::strategy::Just("X1..5"), proptest::strategy::Just("Q200=2"),
+            proptest::strategy::Just("L10"), proptest::strategy::Just("R1=5"), proptest::strategy::Just("X12345678901234567890"),
+            proptest::strategy::Just("CYCLE81(1,2)"), proptest::strategy::Just("Xnan"), proptest::strategy::Just("é"),
+            proptest::strategy::Just("~"), proptest::strategy::Just("*"), proptest::strategy::Just("O1234"),
+        ], 0..24)) {
+            static REGISTRY: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
+            let registry = REGISTRY.get_or_init(Registry::shipped);
+            let text = parts.concat();
+            for name in registry.names() {
+                let d = registry.get(name).unwrap();
+                let read = |fast: bool| {
+                    let mut p = Parser::new(text.as_str(), &d);
+                    p.set_fast_path(fast);
+                    let (mut block, mut diags, mut out) = (Block::default(), Vec::new(), Vec::new());
+                    while p.next_block(&mut block, &mut diags) {
+                        out.push(format!("{block:?} next {} line {}", p.offset(), p.line()));
+                    }
+                    (out, format!("{diags:?}"))
+                };
+                proptest::prop_assert_eq!(read(true), read(false), "{:?} in {}", text, name);
+            }
+        }
+
+        /// Whatever path a word's number takes (the fast one, or the general one for long
+        /// numbers), its value is the double `str::parse` gives.
+        #[test]
+        fn word_values_are_the_doubles_parse_gives(int in "[0-9]{0,24}", frac in proptest::option::of("[0-9]{0,24}"), neg: bool) {
+            proptest::prop_assume!(!int.is_empty() || frac.as_ref().is_some_and(|f| !f.is_empty()));
+            static REGISTRY: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
+            let registry = REGISTRY.get_or_init(Registry::shipped);
+            for name in ["linuxcnc", "fanuc", "siemens", "heidenhain"] {
+                let d = registry.get(name).unwrap();
+                let number = format!("{}{int}{}", if neg { "-" } else { "" }, frac.as_ref().map_or(String::new(), |f| format!(".{f}")));
+                let text = format!("X{number}\n");
+                let mut p = Parser::new(text.as_str(), &d);
+                let (mut block, mut diags) = (Block::default(), Vec::new());
+                proptest::prop_assert!(p.next_block(&mut block, &mut diags));
+                let want = parsed(&int, frac.as_deref()) * if neg { -1.0 } else { 1.0 };
+                match block.words.first().map(|w| w.value) {
+                    Some(Value::Number { value, decimal }) => {
+                        proptest::prop_assert_eq!(value.to_bits(), want.to_bits(), "{} in {}", text, name);
+                        proptest::prop_assert_eq!(decimal, frac.is_some());
+                    }
+                    other => proptest::prop_assert!(false, "{} in {}: {:?} {:?}", text, name, other, diags),
+                }
+            }
+        }
+    }
+}
