@@ -163,3 +163,46 @@ impl TextReader for FileText {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read_all(t: Text<'_>) -> String {
+        t.piece(0, t.len()).into_owned()
+    }
+
+    #[test]
+    fn a_file_reads_as_its_decoded_text() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.nc");
+        let bytes = b"\xEF\xBB\xBFG0 X1\r\n(caf\xe9 \x80)\rG1 X2\nM2\n".to_vec();
+        std::fs::write(&path, &bytes).unwrap();
+        let (program, diags) = Program::open(&path).unwrap();
+        let (whole, want) = crate::text::decode(&bytes);
+        assert_eq!((read_all(program.text()), diags), (whole.text, want));
+        assert_eq!(program.head_bytes(), &bytes[..]);
+        assert_eq!(program.trouble(), None);
+    }
+
+    #[test]
+    fn a_file_cut_short_or_grown_while_it_is_read_is_trouble() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.nc");
+        let text: String = (0..2000).map(|i| format!("N{i} X{i}.5 Y-2\n")).collect();
+        std::fs::write(&path, &text).unwrap();
+        let (program, _) = Program::open(&path).unwrap();
+        assert_eq!(read_all(program.text()), text);
+        // Cut short by a writer: reading past its new end fails, and says why.
+        std::fs::OpenOptions::new().write(true).open(&path).unwrap().set_len(100).unwrap();
+        let t = program.text();
+        let tail = t.piece(text.len() - 50, 50);
+        assert!(tail.is_empty(), "{tail:?}");
+        assert!(program.trouble().is_some_and(|w| w.contains("p.nc")), "{:?}", program.trouble());
+        // Grown after the survey: its size is not the one surveyed.
+        std::fs::write(&path, &text).unwrap();
+        let (program, _) = Program::open(&path).unwrap();
+        std::fs::OpenOptions::new().append(true).open(&path).unwrap().write_all_at(b"M30\n", text.len() as u64).unwrap();
+        assert!(program.trouble().is_some_and(|w| w.contains("changed while it was read")), "{:?}", program.trouble());
+    }
+}

@@ -562,8 +562,7 @@ impl<'a> Driver<'a, '_> {
     fn switch_to(&mut self, source: usize, pos: Pos, interp: &mut Interpreter<'a>) {
         if source != self.cur {
             self.cur = source;
-            self.parser = Parser::at(self.sources[source].text, self.dialect, pos.at, pos.line);
-            self.parser.set_fast_path(self.profile.fast_lane);
+            self.parser = self.parser.fork(self.sources[source].text, pos.at, pos.line);
             interp.origin_override = if source == 0 { None } else { self.external_call() };
         }
         self.parser.seek(pos.at, pos.line);
@@ -721,7 +720,7 @@ impl<'a> Driver<'a, '_> {
 
     /// Whether the first block with content at `at` (of the next few) raises an alarm.
     fn alarm_at(&self, at: Pos) -> bool {
-        let mut p = Parser::at(self.sources[self.cur].text, self.dialect, at.at, at.line);
+        let mut p = self.parser.fork(self.sources[self.cur].text, at.at, at.line);
         let (mut b, mut scratch) = (Block::default(), Vec::new());
         for _ in 0..4 {
             if !p.next_block(&mut b, &mut scratch) {
@@ -742,7 +741,7 @@ impl<'a> Driver<'a, '_> {
     /// (at most [`ALARM_SCAN`] blocks): into an alarm, back to `from` or before it by a jump
     /// that is always taken (`GOTO 10`, `FN 9: IF +0 EQU +0 GOTO LBL 1`), or elsewhere.
     fn fall_through(&mut self, from: Pos, interp: &mut Interpreter<'a>) -> Way {
-        let mut p = Parser::at(self.sources[self.cur].text, self.dialect, from.at, from.line);
+        let mut p = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let (mut b, mut scratch) = (Block::default(), Vec::new());
         for _ in 0..ALARM_SCAN {
             if !p.next_block(&mut b, &mut scratch) {
@@ -1955,7 +1954,7 @@ impl<'a> Driver<'a, '_> {
             let corners = interp.corners.replace(None);
             (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take())
         });
-        let mut parser = Parser::at(self.sources[self.cur].text, self.dialect, from.at, from.line);
+        let mut parser = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let mut shape: Vec<Canon> = Vec::new();
         let mut b = Block::default();
         let mut end = None;
@@ -2032,7 +2031,7 @@ impl<'a> Driver<'a, '_> {
         (interp.st.pos[0], interp.st.pos[2]) = (cycle.x, cycle.z);
         // The cycle's move to its start point leaves G0 in force for the profile's blocks.
         interp.st.motion_code = self.dialect.codes.iter().position(|c| c.letter == 'G' && c.meaning == crate::dialect::Meaning::Rapid);
-        let mut parser = Parser::at(self.sources[source].text, self.dialect, body.at, body.line);
+        let mut parser = self.parser.fork(self.sources[source].text, body.at, body.line);
         let mut shape: Vec<Canon> = Vec::new();
         let mut finishes = Vec::new();
         let mut b = Block::default();

@@ -98,6 +98,28 @@ impl<'a> Parser<'a> {
         Parser { text, win: String::new(), base: 0, span: 0, end, pos: offset.min(end), line, dialect, plain, number, fast: true, records }
     }
 
+    /// A parser of `text` at `offset` on `line` in this one's dialect, with its fast path
+    /// setting, without working out again what the dialect's letters are (a look-ahead made
+    /// many times costs little).
+    pub fn fork(&self, text: impl Into<Text<'a>>, offset: usize, line: u32) -> Parser<'a> {
+        let text = text.into();
+        let end = text.len();
+        Parser {
+            text,
+            win: String::new(),
+            base: 0,
+            span: 0,
+            end,
+            pos: offset.min(end),
+            line,
+            dialect: self.dialect,
+            plain: self.plain,
+            number: self.number,
+            fast: self.fast,
+            records: self.dialect.records.as_ref().map(|_| Box::default()),
+        }
+    }
+
     /// The byte offset of the next block.
     pub fn offset(&self) -> usize {
         self.pos
