@@ -141,10 +141,15 @@ impl<'a> Parser<'a> {
         self.fast = on;
     }
 
-    /// Moves the cursor to `offset` (a block start previously seen) on 1-based `line`.
+    /// Moves the cursor to `offset` (a block start previously seen) on 1-based `line`. Outside
+    /// the window of a read text, the next refill reads little and grows again as reading goes
+    /// on: a jump to a subprogram and back costs a few kilobytes, not two windows.
     pub fn seek(&mut self, offset: usize, line: u32) {
         self.pos = offset.min(self.end);
         self.line = line;
+        if self.outside() {
+            self.span = 0;
+        }
     }
 
     /// The window and the offset of its first byte.

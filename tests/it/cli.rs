@@ -127,12 +127,13 @@ fn canon_prints_rs274_calls() {
 fn canon_reads_a_file_piece_by_piece_as_it_reads_a_pipe_whole() {
     let tmp = tempfile::tempdir().unwrap();
     let f = tmp.path().join("a.ngc");
-    // A byte-order mark, Windows-1252 text, line ends of three kinds, an error on line 4.
+    // A byte-order mark, Windows-1252 text, CRLF and LF line ends and a stray CR (a blank in a
+    // file with LF), an error on line 3.
     std::fs::write(&f, b"\xEF\xBB\xBFG21 F100\r\n(caf\xe9)\rG0 X1\nG1 X2 E5\nM2\n").unwrap();
     let (code, out, err) = ncplan(&["canon", "-d", "linuxcnc", f.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("STRAIGHT_TRAVERSE(1.0000") && out.contains("PROGRAM_END()"), "{out}");
-    assert!(err.contains("a.ngc:4:"), "{err}");
+    assert!(err.contains("a.ngc:3:7: error"), "{err}");
     let piped = Command::new(crate::bin())
         .args(["canon", "-d", "linuxcnc", "/dev/stdin"])
         .stdin(std::fs::File::open(&f).unwrap())
