@@ -157,7 +157,38 @@ pub fn run(dir: &Path, rows: usize, runs: u32, out: &mut impl std::io::Write) ->
         )?;
     }
     writeln!(out)?;
+    memory_by_size(dir, &exe, rows, out)?;
+    writeln!(out)?;
     writeln!(out, "side by side: hyperfine -w1 '{exe} canon {0}/surface.ngc' 'rs274 -g -t {0}/zero.tbl {0}/surface.ngc'", dir.display())?;
+    Ok(())
+}
+
+/// Peak memory of `canon` and of `translate --to fanuc` on the surfacing program at a quarter,
+/// half, once and twice its size: both read the file piece by piece, so the peak is flat in
+/// the program's length (what grows is the file, not the process).
+fn memory_by_size(dir: &Path, exe: &str, rows: usize, out: &mut impl std::io::Write) -> Result<()> {
+    writeln!(out, "peak memory by program size (surfacing)   size        canon               translate --to fanuc")?;
+    for (label, r) in [("1/4", rows / 4), ("1/2", rows / 2), ("1", rows), ("2", rows * 2)] {
+        let r = r.max(1);
+        let path = dir.join(format!("surface_{r}.ngc"));
+        std::fs::write(&path, surfacing_program(r)).with_context(|| format!("cannot write {}", path.display()))?;
+        let p = path.to_string_lossy().into_owned();
+        let target = dir.join(format!("surface_{r}.fanuc")).to_string_lossy().into_owned();
+        let (tc, canon) = measured(exe, &["canon", "-d", "linuxcnc", &p])?;
+        let (tt, translate) = measured(exe, &["translate", &p, "-d", "linuxcnc", "--to", "fanuc", "-o", &target])?;
+        let size = std::fs::metadata(&path)?.len() as f64 / 1e6;
+        writeln!(
+            out,
+            "  {label:<3} ({:>7} blocks)                {size:6.1} MB   {:6.1} MB {:6.3} s    {:6.1} MB {:6.3} s",
+            r * 500 + r / 10,
+            canon as f64 / 1e6,
+            tc.as_secs_f64(),
+            translate as f64 / 1e6,
+            tt.as_secs_f64()
+        )?;
+        std::fs::remove_file(&path)?;
+        std::fs::remove_file(&target)?;
+    }
     Ok(())
 }
 

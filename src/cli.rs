@@ -21,7 +21,8 @@ use crate::dialect::{Dialect, Registry};
 use crate::diff;
 use crate::pipeline;
 use crate::store::{Location, Store};
-use crate::text::LineIndex;
+use crate::text::{LineIndex, Text};
+use crate::textfile;
 
 /// Recover process plans from CNC programs, diff them against the CAM original, keep the
 /// shopfloor's changes.
@@ -462,6 +463,38 @@ fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
     Ok((d, config, bytes))
 }
 
+/// [`input_setup`] for the commands that stream (`canon`): the program is read piece by piece
+/// ([`textfile::Program`]), with the findings of decoding it.
+fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, textfile::Program, Vec<diag::Diagnostic>)> {
+    let mut config = analysis_config(input.config.as_deref())?;
+    config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
+    let registry = registry_for(Some(&config))?;
+    let (program, diags) = textfile::Program::open(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
+    let name = match &input.dialect {
+        Some(n) => n.clone(),
+        None => {
+            let s = pipeline::sniff(&registry, program.head_bytes(), &input.file);
+            eprintln!("{}", sniff_report(&s));
+            s.dialect
+        }
+    };
+    let d = dialect(&registry, &name)?;
+    Ok((d, config, program, diags))
+}
+
+/// Prints `shown` findings on stderr as `path:line:col: ...`, in their order; their lines are
+/// counted in one pass over the text, up to the last of them.
+fn print_short(path: &str, text: Text<'_>, shown: &[&diag::Diagnostic]) {
+    let mut offsets: Vec<u32> = shown.iter().map(|d| d.range.start).collect();
+    offsets.sort_unstable();
+    offsets.dedup();
+    let places = crate::text::locate(text, &offsets);
+    for d in shown {
+        let k = offsets.binary_search(&d.range.start).unwrap_or(0);
+        eprintln!("{}", diag::render_short_at(path, places[k], d));
+    }
+}
+
 fn sniff_report(s: &crate::dialect::sniff::Sniffed) -> String {
     let why = if s.evidence.is_empty() { "no evidence; the default".to_owned() } else { s.evidence.join(", ") };
     let next = s.runner_up.as_ref().map(|(n, score)| format!("; next: {n} ({score})")).unwrap_or_default();
@@ -611,8 +644,8 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Canon { input, lines } => {
-            let (d, config, bytes) = input_setup(&input)?;
-            let (source, mut diags) = crate::text::decode_owned(bytes);
+            // Read piece by piece: memory does not grow with the program.
+            let (d, config, program, mut diags) = input_program(&input)?;
             let mut printer = Printer {
                 out: &mut out,
                 buf: Vec::with_capacity(Printer::<Vec<u8>>::CHUNK + 256),
@@ -620,19 +653,17 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 lines,
                 error: None,
             };
-            diags.extend(crate::interp::interpret(&source.text, &d, &config.profile, &mut printer));
+            diags.extend(crate::interp::interpret(program.text(), &d, &config.profile, &mut printer));
             printer.flush();
             if let Some(e) = printer.error.take() {
                 return Err(e.into());
             }
             out.flush()?;
-            if diags.iter().any(|x| x.is_error()) {
-                let idx = LineIndex::new(&source.text);
-                let path = input.file.display().to_string();
-                for x in diags.iter().filter(|x| x.is_error()) {
-                    eprintln!("{}", diag::render_short(&path, &source.text, &idx, x));
-                }
+            if let Some(why) = program.trouble() {
+                bail!("{why}");
             }
+            let errors: Vec<&diag::Diagnostic> = diags.iter().filter(|x| x.is_error()).collect();
+            print_short(&input.file.display().to_string(), program.text(), &errors);
             Ok(ExitCode::SUCCESS)
         }
         Command::Plan { input, format } => {
@@ -989,7 +1020,8 @@ fn translate_command(
         ),
         None => None,
     };
-    let (bytes, path, stored_dialect) = match (revision, &file) {
+    // A file is read piece by piece: memory does not grow with the program.
+    let ((program, mut diags), path, stored_dialect) = match (revision, &file) {
         (Some(id), _) => {
             let store = Store::open_read_only(&db_path(store_args)?)?;
             let Some(src) = store.source(id)? else { bail!("no revision {id}") };
@@ -997,16 +1029,16 @@ fn translate_command(
                 Some(b) => b,
                 None => store.content(id)?.unwrap_or_default(),
             };
-            (bytes, PathBuf::from(&src.path), Some(src.dialect))
+            (textfile::Program::from_bytes(bytes), PathBuf::from(&src.path), Some(src.dialect))
         }
-        (None, Some(f)) => (std::fs::read(f).with_context(|| format!("cannot read {}", f.display()))?, f.clone(), None),
+        (None, Some(f)) => (textfile::Program::open(f).with_context(|| format!("cannot read {}", f.display()))?, f.clone(), None),
         (None, None) => bail!("give a program file or --revision"),
     };
     let from_name = match (from, stored_dialect) {
         (Some(n), _) => n,
         (None, Some(n)) if n != config::AUTO_DIALECT => n,
         _ => {
-            let s = pipeline::sniff(&registry, &bytes, &path);
+            let s = pipeline::sniff(&registry, program.head_bytes(), &path);
             eprintln!("{}", sniff_report(&s));
             s.dialect
         }
@@ -1030,8 +1062,8 @@ fn translate_command(
             }
         }
     }
-    let (source, mut diags) = crate::text::decode_owned(bytes);
-    let name = pipeline::program_name(&source.text)
+    let text = program.text();
+    let name = pipeline::program_name(&text.head())
         .or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
         .unwrap_or_else(|| "PROGRAM".into());
     let limits = folder.map(|f| f.limits.clone()).unwrap_or_default();
@@ -1041,7 +1073,7 @@ fn translate_command(
     // They are asked for when the first such cycle needs them. Tool facts from the shop's
     // tool table go into tool comments, which read back where the table is not: they need
     // the plan first, only when the table has tools.
-    let (hole_tops, tools) = pipeline::translation_facts(&source.text, &source_dialect, &config.profile);
+    let (hole_tops, tools) = pipeline::translation_facts(text, &source_dialect, &config.profile);
     let opts = crate::post::Options {
         hole_tops,
         tools,
@@ -1059,36 +1091,48 @@ fn translate_command(
     if let Some(f) = &file {
         profile = config::DirPrograms::beside(&profile, f, config.max_file_bytes);
     }
-    let mut file_out: Box<dyn Write> = match &output {
-        Some(o) => Box::new(BufWriter::new(std::fs::File::create(o).with_context(|| format!("cannot write {}", o.display()))?)),
+    // A file is written beside its place and renamed when done: a run that fails (the input
+    // changed while it was read, a full disk) leaves no half file, and an earlier one stays.
+    let partial =
+        output.as_ref().map(|o| o.with_file_name(format!(".{}.partial", o.file_name().map(|n| n.to_string_lossy()).unwrap_or_default())));
+    let mut file_out: Box<dyn Write> = match &partial {
+        Some(p) => Box::new(BufWriter::new(std::fs::File::create(p).with_context(|| format!("cannot write {}", p.display()))?)),
         None => Box::new(&mut *out),
     };
     let mut error: Option<std::io::Error> = None;
-    let mut tops = || crate::post::hole_tops(&pipeline::analyze_plan(source.text.as_bytes(), &source_dialect, &config.profile).plan);
-    diags.extend(crate::post::translate_with_facts(&source.text, &source_dialect, &target, &profile, opts, &mut tops, |chunk| {
+    let mut tops = || crate::post::hole_tops(&pipeline::plan_of_text(text, &source_dialect, &config.profile).0);
+    diags.extend(crate::post::translate_with_facts(text, &source_dialect, &target, &profile, opts, &mut tops, |chunk| {
         if error.is_none()
             && let Err(e) = file_out.write_all(chunk)
         {
             error = Some(e);
         }
     }));
-    if let Some(e) = error {
-        return Err(e.into());
-    }
-    file_out.flush()?;
+    let flushed = match error {
+        Some(e) => Err(e),
+        None => file_out.flush(),
+    };
     drop(file_out);
+    let failed = match (flushed, program.trouble()) {
+        (Err(e), _) => Some(anyhow::Error::from(e)),
+        (Ok(()), Some(why)) => Some(anyhow::anyhow!("{why}; nothing was written")),
+        (Ok(()), None) => None,
+    };
+    if let (Some(p), Some(o)) = (&partial, &output) {
+        if failed.is_some() {
+            let _ = std::fs::remove_file(p);
+        } else {
+            std::fs::rename(p, o).with_context(|| format!("cannot write {}", o.display()))?;
+        }
+    }
+    if let Some(e) = failed {
+        return Err(e);
+    }
     // Lines are counted only as far as the last finding shown: a million-line program with a
-    // note near its start is not indexed whole.
+    // note near its start is not read to its end again.
     let shown_diags: Vec<&diag::Diagnostic> =
         diags.iter().filter(|x| x.severity != diag::Severity::Note || x.code.as_str().starts_with("post::")).collect();
-    let last = shown_diags.iter().map(|x| x.range.end as usize).max().unwrap_or(0).min(source.text.len());
-    let upto = source.text.get(last..).and_then(|t| t.find('\n')).map_or(source.text.len(), |i| last + i + 1);
-    let text = source.text.get(..upto).unwrap_or(&source.text);
-    let idx = LineIndex::new(text);
-    let shown = path.display().to_string();
-    for x in shown_diags {
-        eprintln!("{}", diag::render_short(&shown, text, &idx, x));
-    }
+    print_short(&path.display().to_string(), text, &shown_diags);
     Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 

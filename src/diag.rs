@@ -311,7 +311,12 @@ impl DiagnosticJson {
 
 /// `path:line:col: severity[code]: message`
 pub fn render_short(path: &str, text: &str, index: &LineIndex, d: &Diagnostic) -> String {
-    let lc = index.line_col(text, d.range.start);
+    render_short_at(path, index.line_col(text, d.range.start), d)
+}
+
+/// [`render_short`] with the line and column of the finding's start already known (see
+/// [`crate::text::locate`]).
+pub fn render_short_at(path: &str, lc: crate::text::LineCol, d: &Diagnostic) -> String {
     format!("{path}:{}:{}: {}[{}]: {}", lc.line, lc.col, d.severity.as_str(), d.code.as_str(), d.message)
 }
 

@@ -2,8 +2,8 @@
 //! and keep the shopfloor's changes.
 //!
 //! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`, `part21`,
-//! `diff`, `pipeline`, `view`) does no IO. The shell around it (`config`, `store`, `daemon`, `web`, `cli`, `bench`)
-//! reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
+//! `diff`, `pipeline`, `view`) does no IO. The shell around it (`config`, `store`, `daemon`, `web`, `cli`, `bench`,
+//! `textfile`) reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
 
@@ -26,5 +26,6 @@ pub mod reanalyze;
 pub mod store;
 pub mod syntax;
 pub mod text;
+pub mod textfile;
 pub mod view;
 pub mod web;

@@ -6,7 +6,7 @@ use crate::diag::{Code, Diagnostic};
 use crate::dialect::Dialect;
 use crate::interp::{self, Profile};
 use crate::plan::{self, ProcessPlan};
-use crate::text::{self, SourceText, TextRange};
+use crate::text::{self, SourceText, Text, TextRange};
 
 /// Everything known about one program.
 #[derive(Debug)]
@@ -33,7 +33,7 @@ pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
     let (source, mut diagnostics) = text::decode(bytes);
     let mut canon = Vec::new();
     diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut canon));
-    let (plan, plan_diags) = plan::recover(&canon, profile, name_of(&source.text, dialect));
+    let (plan, plan_diags) = plan::recover(&canon, profile, name_of(Text::Whole(&source.text), dialect));
     diagnostics.extend(plan_diags);
     diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
     Analysis { source, canon, plan, diagnostics }
@@ -49,9 +49,13 @@ pub fn analyze_plan(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analy
 /// Plan facts the post-processor writes from (`ncplan translate`, the web download): hole tops
 /// and tool facts from the shop's tool table. Only a tool table with diameters needs the plan
 /// first; otherwise the writer asks for hole tops itself when a cycle needs them.
-pub fn translation_facts(text: &str, dialect: &Dialect, profile: &Profile) -> (Vec<[f64; 3]>, Vec<crate::post::ToolFact>) {
+pub fn translation_facts<'t>(
+    text: impl Into<Text<'t>>,
+    dialect: &Dialect,
+    profile: &Profile,
+) -> (Vec<[f64; 3]>, Vec<crate::post::ToolFact>) {
     if profile.tools.values().any(|t| t.diameter.is_some()) {
-        let plan = analyze_plan(text.as_bytes(), dialect, profile).plan;
+        let plan = plan_of_text(text.into(), dialect, profile).0;
         (crate::post::hole_tops(&plan), crate::post::tool_facts(&plan))
     } else {
         (Vec::new(), Vec::new())
@@ -64,17 +68,26 @@ pub fn analyze_plan_owned(bytes: Vec<u8>, dialect: &Dialect, profile: &Profile) 
 }
 
 fn plan_of((source, mut diagnostics): (SourceText, Vec<Diagnostic>), dialect: &Dialect, profile: &Profile) -> Analysis {
-    let mut recoverer = plan::Recoverer::new(profile);
-    diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut recoverer));
-    let (plan, plan_diags) = recoverer.finish(name_of(&source.text, dialect));
-    diagnostics.extend(plan_diags);
+    let (plan, found) = plan_of_text(Text::Whole(&source.text), dialect, profile);
+    diagnostics.extend(found);
     diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
     Analysis { source, canon: Vec::new(), plan, diagnostics }
 }
 
+/// The plan of a decoded text (whole or read piece by piece) and the findings of the run and
+/// of plan recovery, as [`analyze_plan`] makes them: the ops go into plan recovery as they
+/// come.
+pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (ProcessPlan, Vec<Diagnostic>) {
+    let mut recoverer = plan::Recoverer::new(profile);
+    let mut diagnostics = interp::interpret(text, dialect, profile, &mut recoverer);
+    let (plan, plan_diags) = recoverer.finish(name_of(text, dialect));
+    diagnostics.extend(plan_diags);
+    (plan, diagnostics)
+}
+
 /// The program's name: the record the dictionary names it by (CLDATA `PARTNO`), or the header's.
-fn name_of(text: &str, dialect: &Dialect) -> Option<String> {
-    crate::syntax::record_program_name(text, dialect).or_else(|| program_name(text))
+fn name_of(text: Text<'_>, dialect: &Dialect) -> Option<String> {
+    crate::syntax::record_program_name(text, dialect).or_else(|| program_name(&text.head()))
 }
 
 /// A diagnostic for input over the size limit, for callers that refuse to read it whole.
@@ -87,7 +100,8 @@ pub fn too_large(size: u64, limit: u64) -> Diagnostic {
 }
 
 /// The program's own name or number, as its header states it: `O1234`, `%_N_NAME_MPF`,
-/// `BEGIN PGM NAME MM`. Looks at the first non-blank lines only.
+/// `BEGIN PGM NAME MM`. Looks at the first non-blank lines only (of a long text, within its
+/// head: [`Text::head`]).
 pub fn program_name(text: &str) -> Option<String> {
     for line in text.lines().map(str::trim).filter(|l| !l.is_empty()).take(5) {
         let up = line.to_ascii_uppercase();

@@ -4,7 +4,8 @@
 //!   without panicking, and its diagnostics point inside the text; its plan, written as
 //!   STEP-NC CC1 and CC2, conforms to the ISO 14649 signatures and reads back unchanged;
 //!   the interpreter's fast paths (the lane for plain moves, the cache of lexed loop
-//!   bodies) change nothing in its calls or findings.
+//!   bodies) change nothing in its calls or findings, and neither does reading its text
+//!   piece by piece through a window of a few bytes.
 //! - `canon/<file>`: `ncplan canon` agrees with LinuxCNC's `rs274 -g` (goldens in
 //!   `tests/golden/rs274`, made by `tests/golden/regen.sh`) to 1e-4, ignoring calls that
 //!   are LinuxCNC-internal. Programs listed in `tests/golden/rs274/KNOWN_DIFFERENCES` are
@@ -361,6 +362,7 @@ fn check(path: &Path, dialect: &ncplan::dialect::Dialect, expected: Option<(Stri
         _ => {}
     }
     fast_lane_changes_nothing(&a.source.text, dialect, path)?;
+    piecewise_reading_changes_nothing(&bytes, &a.source.text, dialect, path)?;
     let len = a.source.text.len() as u32;
     for d in &a.diagnostics {
         if d.range.end > len || !a.source.text.is_char_boundary(d.range.start as usize) {
@@ -404,6 +406,30 @@ fn fast_lane_changes_nothing(text: &str, dialect: &ncplan::dialect::Dialect, pat
     if fast_diags != general_diags {
         let i = fast_diags.iter().zip(&general_diags).position(|(a, b)| a != b).unwrap_or(fast_diags.len().min(general_diags.len()));
         return Err(format!("fast lane: finding {i} is {:?}, the general path gives {:?}", fast_diags.get(i), general_diags.get(i)).into());
+    }
+    Ok(())
+}
+
+/// Reading the text piece by piece ([`ncplan::text::Text::Read`], as `canon` and `translate`
+/// read files) gives what the whole text gives: the same calls with their source ranges, and
+/// the same findings. A window of 13 bytes is refilled at almost every block and grown for
+/// most, and every jump back reads the text again.
+fn piecewise_reading_changes_nothing(bytes: &[u8], text: &str, dialect: &ncplan::dialect::Dialect, path: &Path) -> Result<(), Failed> {
+    use ncplan::text::{BytesReader, Text};
+    let (reader, _) = BytesReader::new(bytes.to_vec(), 4096, 13);
+    let run = |text: Text<'_>| {
+        let mut canon = Vec::new();
+        let diags = ncplan::interp::interpret(text, dialect, &FlatCorpus::profile(path), &mut canon);
+        (canon.iter().map(|c| format!("{c:?}")).collect::<Vec<_>>(), diags.iter().map(|d| format!("{d:?}")).collect::<Vec<_>>())
+    };
+    let ((whole, whole_diags), (read, read_diags)) = (run(Text::Whole(text)), run(Text::Read(&reader)));
+    if let Some(i) = (0..whole.len().max(read.len())).find(|&i| whole.get(i) != read.get(i)) {
+        return Err(format!("read piece by piece: call {i} is {:?}, the whole text gives {:?}", read.get(i), whole.get(i)).into());
+    }
+    if let Some(i) = (0..whole_diags.len().max(read_diags.len())).find(|&i| whole_diags.get(i) != read_diags.get(i)) {
+        return Err(
+            format!("read piece by piece: finding {i} is {:?}, the whole text gives {:?}", read_diags.get(i), whole_diags.get(i)).into()
+        );
     }
     Ok(())
 }

@@ -266,42 +266,42 @@ pub(crate) fn normalised(raw: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
-/// Evaluates expression `id` of `block` against `params`; `text` is the program text.
-pub fn eval(block: &Block, id: ExprId, params: &Params, text: &str) -> Result<f64, EvalError> {
+/// Evaluates expression `id` of `block` against `params`.
+pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError> {
     let Some(e) = block.exprs.get(id as usize) else { return Err(EvalError::Domain("invalid expression")) };
     Ok(match *e {
         Expr::Num(v) => v,
         Expr::Param(inner) => {
-            let n = eval(block, inner, params, text)?;
+            let n = eval(block, inner, params)?;
             // `#[#1]` with #1 unknown: which parameter is read is unknown, and so is its value.
             if is_unknown(n) { UNKNOWN } else { params.get(n)? }
         }
-        Expr::Named(r) => params.get_named(&normalised(&text[r.start as usize..r.end as usize]))?,
+        Expr::Named(r) => params.get_named(&normalised(block.text(r)))?,
         Expr::NamedIndex(r, index) => {
-            let i = eval(block, index, params, text)?;
-            params.get_named(&format!("{}[{}]", normalised(&text[r.start as usize..r.end as usize]), i))?
+            let i = eval(block, index, params)?;
+            params.get_named(&format!("{}[{}]", normalised(block.text(r)), i))?
         }
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
-            Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalised(&text[r.start as usize..r.end as usize])))),
+            Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalised(block.text(*r))))),
             // The parameter number itself must evaluate (`EXISTS[###2]` reads `##2`).
-            Some(&Expr::Param(i)) => f64::from(u8::from(index(eval(block, i, params, text)?, params.highest).is_ok_and(|i| i >= 1))),
+            Some(&Expr::Param(i)) => f64::from(u8::from(index(eval(block, i, params)?, params.highest).is_ok_and(|i| i >= 1))),
             _ => 0.0,
         },
-        Expr::Unary(f, inner) if f != Func::Exists && is_unknown(eval(block, inner, params, text)?) => UNKNOWN,
-        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => zero_if_null(eval(block, inner, params, text)?).trunc(),
+        Expr::Unary(f, inner) if f != Func::Exists && is_unknown(eval(block, inner, params)?) => UNKNOWN,
+        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => zero_if_null(eval(block, inner, params)?).trunc(),
         Expr::Unary(Func::Fup, inner) if params.magnitude_rounding => {
-            let x = zero_if_null(eval(block, inner, params, text)?);
+            let x = zero_if_null(eval(block, inner, params)?);
             if x < 0.0 { x.floor() } else { x.ceil() }
         }
-        Expr::Unary(f, inner) => unary(f, zero_if_null(eval(block, inner, params, text)?))?,
+        Expr::Unary(f, inner) => unary(f, zero_if_null(eval(block, inner, params)?))?,
         Expr::Atan2(y, x) => {
-            let (y, x) = (eval(block, y, params, text)?, eval(block, x, params, text)?);
+            let (y, x) = (eval(block, y, params)?, eval(block, x, params)?);
             if is_unknown(y) || is_unknown(x) {
                 return Ok(UNKNOWN);
             }
             zero_if_null(y).atan2(zero_if_null(x)).to_degrees()
         }
-        Expr::Binary(op, a, b) => binary(op, eval(block, a, params, text)?, eval(block, b, params, text)?)?,
+        Expr::Binary(op, a, b) => binary(op, eval(block, a, params)?, eval(block, b, params)?)?,
     })
 }
 

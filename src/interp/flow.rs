@@ -21,7 +21,7 @@ use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{Dialect, MainReturn, Statement};
 use crate::syntax::{Block, Control, Expr, ExprId, Parser};
-use crate::text::{LineIndex, TextRange};
+use crate::text::{LineIndex, Text, TextRange};
 
 /// Why a loop that changes nothing is stopped.
 const ENDLESS: &str = "with every parameter and mode as the round before left them, so it would never end";
@@ -44,7 +44,14 @@ impl ProgramSource for NoPrograms {
 }
 
 /// Interprets `text` with its subprograms, pushing canonical ops into `sink`.
-pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn ProgramSource, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
+pub fn run<'t>(
+    text: impl Into<Text<'t>>,
+    dialect: &Dialect,
+    profile: &Profile,
+    programs: &dyn ProgramSource,
+    sink: &mut dyn CanonSink,
+) -> Vec<Diagnostic> {
+    let text = text.into();
     let arena = Arena::new();
     let mut diags = Vec::new();
     let mut driver = Driver {
@@ -54,7 +61,11 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         arena: &arena,
         sources: vec![Source::new(text, String::new())],
         cur: 0,
-        parser: Parser::new(text, dialect),
+        parser: {
+            let mut p = Parser::new(text, dialect);
+            p.set_fast_path(profile.fast_lane);
+            p
+        },
         frames: Vec::new(),
         loops: Vec::new(),
         back_jumps: BTreeMap::new(),
@@ -76,7 +87,7 @@ pub fn run(text: &str, dialect: &Dialect, profile: &Profile, programs: &dyn Prog
         repeated: 0,
         definition: None,
     };
-    let mut interp = Interpreter::new(dialect, profile, text);
+    let mut interp = Interpreter::new(dialect, profile);
     interp.start(sink);
     driver.drive(&mut interp, sink, &mut diags);
     interp.flush(sink);
@@ -111,7 +122,7 @@ struct Mark {
 }
 
 struct Source<'a> {
-    text: &'a str,
+    text: Text<'a>,
     /// Empty for the main program.
     name: String,
     marks: Option<Vec<Mark>>,
@@ -120,8 +131,17 @@ struct Source<'a> {
 }
 
 impl<'a> Source<'a> {
-    fn new(text: &'a str, name: String) -> Source<'a> {
+    fn new(text: Text<'a>, name: String) -> Source<'a> {
         Source { text, name, marks: None, numbers: BTreeMap::new(), lines: None }
+    }
+
+    /// The line and column of `offset`: by an index of its lines for a text in memory (a
+    /// called program's file), else by reading up to it.
+    fn line_col(&mut self, offset: u32) -> crate::text::LineCol {
+        match self.text {
+            Text::Whole(t) => self.lines.get_or_insert_with(|| LineIndex::new(t)).line_col(t, offset),
+            Text::Read(_) => crate::text::locate(self.text, &[offset])[0],
+        }
     }
 }
 
@@ -312,8 +332,8 @@ fn branches(st: Statement) -> bool {
 }
 
 /// The first 40 characters of a control statement, for a message.
-fn statement_head<'t>(text: &'t str, c: &Control) -> &'t str {
-    let t = &text[c.range.start as usize..c.range.end as usize];
+fn statement_head<'t>(block: &'t Block, c: &Control) -> &'t str {
+    let t = block.text(c.range);
     t.char_indices().nth(40).map_or(t, |(i, _)| &t[..i]).trim()
 }
 
@@ -412,8 +432,7 @@ impl<'a> Driver<'a, '_> {
                     self.delimiters += 1;
                 } else if !self.main_work {
                     // Settled by the first blocks of a program; not looked at again.
-                    self.started =
-                        self.started || !self.sources[0].text[block.range.start as usize..block.range.end as usize].trim().is_empty();
+                    self.started = self.started || !block.source().trim().is_empty();
                     self.main_work = !block.words.is_empty()
                         || !block.assigns.is_empty()
                         || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
@@ -423,7 +442,7 @@ impl<'a> Driver<'a, '_> {
                 // The lexer could not read the statement: what it kept of it (a condition cut
                 // short, a jump without its IF) is not what the program says, and the control
                 // stops with an alarm at a block it cannot read.
-                let head = statement_head(self.sources[self.cur].text, control);
+                let head = statement_head(&block, control);
                 let msg = format!(
                     "the statement `{head}` could not be read and is skipped: no jump, branch or loop is taken on what was left of it (the control alarms here)"
                 );
@@ -452,7 +471,7 @@ impl<'a> Driver<'a, '_> {
     /// lexical findings) and the start says so once.
     fn definition_block(&mut self, block: &Block, mark: usize, diags: &mut Vec<Diagnostic>) -> bool {
         let Some((start_kw, end_kw)) = self.dialect.macros.definition_block.as_ref() else { return false };
-        let text = self.sources[self.cur].text[block.range.start as usize..block.range.end as usize].trim_start();
+        let text = block.source().trim_start();
         let starts = |kw: &str| {
             text.get(..kw.len()).is_some_and(|h| h.eq_ignore_ascii_case(kw))
                 && !text[kw.len()..].chars().next().is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
@@ -514,10 +533,9 @@ impl<'a> Driver<'a, '_> {
         if src != 0 {
             let call = self.external_call().map_or(TextRange::default(), |c| c.0);
             let source = &mut self.sources[src];
-            let lines = source.lines.get_or_insert_with(|| LineIndex::new(source.text));
             for d in &mut diags[mark..] {
                 if d.range != call {
-                    let lc = lines.line_col(source.text, d.range.start);
+                    let lc = source.line_col(d.range.start);
                     d.message = format!("in {}:{}:{}: {}", source.name, lc.line, lc.col, d.message);
                     d.range = call;
                 }
@@ -544,8 +562,7 @@ impl<'a> Driver<'a, '_> {
     fn switch_to(&mut self, source: usize, pos: Pos, interp: &mut Interpreter<'a>) {
         if source != self.cur {
             self.cur = source;
-            self.parser = Parser::new(self.sources[source].text, self.dialect);
-            interp.text = self.sources[source].text;
+            self.parser = self.parser.fork(self.sources[source].text, pos.at, pos.line);
             interp.origin_override = if source == 0 { None } else { self.external_call() };
         }
         self.parser.seek(pos.at, pos.line);
@@ -601,8 +618,8 @@ impl<'a> Driver<'a, '_> {
         marks[from..].iter().find(|m| pred(m)).cloned()
     }
 
-    fn label_text(&self, control: &Control) -> Option<String> {
-        control.label.map(|r| normalise_label(&self.sources[self.cur].text[r.start as usize..r.end as usize]))
+    fn label_text(&self, block: &Block, control: &Control) -> Option<String> {
+        control.label.map(|r| normalise_label(block.text(r)))
     }
 
     /// Evaluates operand `e` of a control block with the interpreter's parameters.
@@ -611,7 +628,7 @@ impl<'a> Driver<'a, '_> {
         if !self.dialect.macros.system.is_empty() {
             interp.refresh_system_vars();
         }
-        match interp.eval(block, e, self.sources[self.cur].text, block.range, diags) {
+        match interp.eval(block, e, block.range, diags) {
             Ok(v) => Some(v),
             Err(err) => {
                 diags.push(interp.eval_diag(err, block.range));
@@ -636,7 +653,6 @@ impl<'a> Driver<'a, '_> {
     /// a loop, the way out of it (a successful run ends its loops); else the config's or the
     /// dictionary's choice (`unknown-conditions`). A note names the condition.
     fn unknown_condition(&mut self, interp: &mut Interpreter<'a>, c: &Control, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
-        let text = self.sources[self.cur].text;
         let here = self.pos();
         let what = interp.unknown_what();
         let choice = self.profile.unknown_conditions.unwrap_or(self.dialect.macros.unknown_conditions);
@@ -645,9 +661,7 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
         );
         let (value, why) = match c.statement {
-            Some(Statement::If) if c.then == Some(Statement::Then) => {
-                self.alarm_choice(self.is_alarm(block, text), self.alarm_at(here), choice)
-            }
+            Some(Statement::If) if c.then == Some(Statement::Then) => self.alarm_choice(self.is_alarm(block), self.alarm_at(here), choice),
             Some(Statement::If) if jump => match self.jump_target(c, block, interp) {
                 Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
                 target => {
@@ -664,7 +678,7 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::Until) => (true, "the loop is left: a run that ends leaves its loops"),
             _ => (false, "the loop is left: a run that ends leaves its loops"),
         };
-        let head = statement_head(text, c);
+        let head = statement_head(block, c);
         let msg = format!("the condition of `{head}` reads {what}; taken as {value}: {why}");
         diags.push(Diagnostic::new(Code::UnknownCondition, c.range, msg));
         value
@@ -706,16 +720,14 @@ impl<'a> Driver<'a, '_> {
 
     /// Whether the first block with content at `at` (of the next few) raises an alarm.
     fn alarm_at(&self, at: Pos) -> bool {
-        let text = self.sources[self.cur].text;
-        let mut p = Parser::new(text, self.dialect);
-        p.seek(at.at, at.line);
+        let mut p = self.parser.fork(self.sources[self.cur].text, at.at, at.line);
         let (mut b, mut scratch) = (Block::default(), Vec::new());
         for _ in 0..4 {
             if !p.next_block(&mut b, &mut scratch) {
                 return false;
             }
             // A conditional alarm (`IF [..] THEN #3000=1`) is another question, not this way's end.
-            if b.control.is_none() && self.is_alarm(&b, text) {
+            if b.control.is_none() && self.is_alarm(&b) {
                 return true;
             }
             if !b.words.is_empty() || !b.assigns.is_empty() || b.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Label)) {
@@ -729,16 +741,14 @@ impl<'a> Driver<'a, '_> {
     /// (at most [`ALARM_SCAN`] blocks): into an alarm, back to `from` or before it by a jump
     /// that is always taken (`GOTO 10`, `FN 9: IF +0 EQU +0 GOTO LBL 1`), or elsewhere.
     fn fall_through(&mut self, from: Pos, interp: &mut Interpreter<'a>) -> Way {
-        let text = self.sources[self.cur].text;
-        let mut p = Parser::new(text, self.dialect);
-        p.seek(from.at, from.line);
+        let mut p = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let (mut b, mut scratch) = (Block::default(), Vec::new());
         for _ in 0..ALARM_SCAN {
             if !p.next_block(&mut b, &mut scratch) {
                 return Way::On;
             }
             let Some(c) = b.control.clone() else {
-                if self.is_alarm(&b, text) {
+                if self.is_alarm(&b) {
                     return Way::Alarm;
                 }
                 if self.ends_program(&b) {
@@ -754,7 +764,7 @@ impl<'a> Driver<'a, '_> {
                 Some(Statement::Label) => continue,
                 Some(Statement::Goto | Statement::GotoBack | Statement::GotoLabel) => true,
                 Some(Statement::If) if jump => c.args.first().is_some_and(|&e| {
-                    constant(&b, e) && interp.eval(&b, e, text, b.range, &mut scratch).is_ok_and(|v| !eval::is_null(v) && v != 0.0)
+                    constant(&b, e) && interp.eval(&b, e, b.range, &mut scratch).is_ok_and(|v| !eval::is_null(v) && v != 0.0)
                 }),
                 _ => false,
             };
@@ -787,7 +797,7 @@ impl<'a> Driver<'a, '_> {
 
     /// Whether `b` raises an alarm: it sets the alarm variable (`#3000 = 1`), names an error
     /// (`FN 14: ERROR=`), or aborts in a comment (`(abort, …)`).
-    fn is_alarm(&self, b: &Block, text: &str) -> bool {
+    fn is_alarm(&self, b: &Block) -> bool {
         let alarm_var = |e: ExprId| match b.exprs.get(e as usize) {
             Some(&Expr::Num(n)) if n >= 0.0 && n.fract() == 0.0 => {
                 self.dialect.macros.system_var(n as u32) == Some(crate::dialect::SystemVar::Alarm)
@@ -796,12 +806,7 @@ impl<'a> Driver<'a, '_> {
         };
         b.assigns.iter().any(|a| matches!(a.target, crate::syntax::ParamTarget::Numbered(e) if alarm_var(e)))
             || b.words.iter().any(|w| w.role == crate::dialect::Role::AlarmNumber)
-            || b.comments.iter().any(|r| {
-                matches!(
-                    self.dialect.lexical.directive(&text[r.start as usize..r.end as usize]),
-                    Some((crate::dialect::Directive::Abort, _))
-                )
-            })
+            || b.comments.iter().any(|r| matches!(self.dialect.lexical.directive(b.text(*r)), Some((crate::dialect::Directive::Abort, _))))
     }
 
     fn count_iteration(&mut self, k: usize, range: TextRange, interp: &Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
@@ -838,11 +843,10 @@ impl<'a> Driver<'a, '_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let here = self.pos();
-        let text = self.sources[self.cur].text;
         let Some(statement) = c.statement else {
             if let Some(k) = c.keyword {
-                let word = &text[k.start as usize..k.end as usize];
-                let head = statement_head(text, c);
+                let word = block.text(k);
+                let head = statement_head(block, c);
                 interp.limited(
                     diags,
                     "statement",
@@ -865,7 +869,7 @@ impl<'a> Driver<'a, '_> {
                 }
                 None => return,
             },
-            None => self.label_text(c),
+            None => self.label_text(block, c),
         };
         let same_label = |m: &Mark, sts: &[Statement]| m.label == label && m.statement.is_some_and(|s| sts.contains(&s));
         match statement {
@@ -911,8 +915,8 @@ impl<'a> Driver<'a, '_> {
             }
             Statement::EndIf | Statement::Then | Statement::Output | Statement::Declare => {}
             Statement::Print => {
-                let head = c.keyword.map_or(c.range.start, |k| k.end) as usize;
-                let format = &text[head..c.range.end as usize];
+                let head = c.keyword.map_or(c.range.start, |k| k.end);
+                let format = block.text(TextRange { start: head, end: c.range.end });
                 let message = print_format(format, |n| interp.params.get(f64::from(n)).ok());
                 sink.emit(Canon { op: CanonOp::Message(message), origin: block.range, line: block.line });
             }
@@ -1102,12 +1106,12 @@ impl<'a> Driver<'a, '_> {
             Statement::Case => self.case(c, block, start, interp, diags),
             Statement::RepeatSection | Statement::RepeatBlock => self.repeat_section(statement, c, block, start, interp, diags),
             Statement::CallProgram => self.call_program(c, block, start, interp, diags),
-            Statement::Procedure => self.procedure(c, interp),
+            Statement::Procedure => self.procedure(c, block, interp),
             Statement::Inert => {}
             Statement::Unsupported => {
-                let msg = format!("`{}` is not simulated; it was skipped", statement_head(text, c));
+                let msg = format!("`{}` is not simulated; it was skipped", statement_head(block, c));
                 // Counted per keyword: each kind of statement is named at least once.
-                let key = format!("statement {}", c.keyword.map_or("", |k| &text[k.start as usize..k.end as usize]).to_ascii_uppercase());
+                let key = format!("statement {}", c.keyword.map_or("", |k| block.text(k)).to_ascii_uppercase());
                 interp.limited(diags, &key, Diagnostic::new(Code::Unsupported, c.range, msg));
             }
         }
@@ -1116,7 +1120,7 @@ impl<'a> Driver<'a, '_> {
     /// The label a statement names: its string or name, or its number (`LBL 5`, `GOTO LBL 5`).
     fn target_label(&self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> Option<String> {
         if let Some(r) = c.name {
-            return Some(normalise_label(&self.sources[self.cur].text[r.start as usize..r.end as usize]));
+            return Some(normalise_label(block.text(r)));
         }
         let v = self.value(interp, block, c.target?, diags)?;
         (!eval::is_null(v) && v.fract() == 0.0 && v.abs() < 1e9).then(|| normalise_label(&format!("{}", v as i64)))
@@ -1270,7 +1274,7 @@ impl<'a> Driver<'a, '_> {
             None => self.value(interp, block, *first, diags),
         };
         let (Some(value), Some(last)) = (value, self.value(interp, block, *last, diags)) else { return };
-        if let Err(e) = set_variable(interp, block, var, value, self.sources[self.cur].text) {
+        if let Err(e) = set_variable(interp, block, var, value) {
             diags.push(interp.eval_diag(e, c.range));
             return;
         }
@@ -1365,7 +1369,7 @@ impl<'a> Driver<'a, '_> {
         let until = match (st, c.label) {
             (Statement::RepeatBlock, _) => first.next.at,
             (_, Some(r)) => {
-                let last = normalise_label(&self.sources[self.cur].text[r.start as usize..r.end as usize]);
+                let last = normalise_label(block.text(r));
                 let Some(m) = self.marks(self.cur).iter().find(|m| before(m, &last, first.start.at)) else {
                     let msg = format!("no label `{last}` between `{name}` and this repeat; the run stops here");
                     self.error(diags, Code::MissingLabel, block.range, msg);
@@ -1401,9 +1405,8 @@ impl<'a> Driver<'a, '_> {
     /// `CALL PGM NAME`, `L123 P2`, `NAME(1.5, 3)`: runs the program of that name, from a
     /// `PROC NAME` in this file or from the program directory.
     fn call_program(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
-        let text = self.sources[self.cur].text;
         let written = match c.name {
-            Some(r) => &text[r.start as usize..r.end as usize],
+            Some(r) => block.text(r),
             None => {
                 self.error(diags, Code::MissingLabel, block.range, "the call names no program");
                 return;
@@ -1425,7 +1428,7 @@ impl<'a> Driver<'a, '_> {
         let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
         let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
         let Some((source, body)) = self.locate(file, starts) else {
-            let keyword = c.keyword.map_or(written, |k| &text[k.start as usize..k.end as usize]);
+            let keyword = c.keyword.map_or(written, |k| block.text(k));
             let d = if c.keyword == c.name {
                 // A bare name may be a statement this dialect file lacks as well as a program
                 // (a machine maker's cycle, `T_INI`): a warning where the control keeps such.
@@ -1460,9 +1463,8 @@ impl<'a> Driver<'a, '_> {
 
     /// `PROC NAME(REAL A, INT B=2) SAVE`: binds the call's arguments to the parameter names,
     /// in order (a missing one keeps its default, else 0).
-    fn procedure(&mut self, c: &Control, interp: &mut Interpreter<'a>) {
-        let text = self.sources[self.cur].text;
-        let line = &text[c.range.start as usize..c.range.end as usize];
+    fn procedure(&mut self, c: &Control, block: &Block, interp: &mut Interpreter<'a>) {
+        let line = block.text(c.range);
         let alone = self.frames.is_empty();
         if alone {
             interp.called_by(|| "it starts with a PROC header".to_owned());
@@ -1823,7 +1825,7 @@ impl<'a> Driver<'a, '_> {
             return None;
         };
         let text: &'a str = self.arena.alloc(text);
-        self.sources.push(Source::new(text, name.to_owned()));
+        self.sources.push(Source::new(Text::Whole(text), name.to_owned()));
         Some(self.sources.len() - 1)
     }
 
@@ -1952,8 +1954,7 @@ impl<'a> Driver<'a, '_> {
             let corners = interp.corners.replace(None);
             (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take())
         });
-        let mut parser = Parser::new(self.sources[self.cur].text, self.dialect);
-        parser.seek(from.at, from.line);
+        let mut parser = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let mut shape: Vec<Canon> = Vec::new();
         let mut b = Block::default();
         let mut end = None;
@@ -2030,8 +2031,7 @@ impl<'a> Driver<'a, '_> {
         (interp.st.pos[0], interp.st.pos[2]) = (cycle.x, cycle.z);
         // The cycle's move to its start point leaves G0 in force for the profile's blocks.
         interp.st.motion_code = self.dialect.codes.iter().position(|c| c.letter == 'G' && c.meaning == crate::dialect::Meaning::Rapid);
-        let mut parser = Parser::new(self.sources[source].text, self.dialect);
-        parser.seek(body.at, body.line);
+        let mut parser = self.parser.fork(self.sources[source].text, body.at, body.line);
         let mut shape: Vec<Canon> = Vec::new();
         let mut finishes = Vec::new();
         let mut b = Block::default();
@@ -2153,7 +2153,7 @@ impl<'a> Driver<'a, '_> {
         if !self.dialect.behaviour.end_required || interp.is_called() {
             return;
         }
-        let end = self.sources[0].text.trim_end().len();
+        let end = self.sources[0].text.trimmed_end();
         let msg = if self.delimiters > 0 {
             "the file ends without the `%` that closes the program opened by the first line"
         } else {
@@ -2174,7 +2174,8 @@ impl<'a> Driver<'a, '_> {
         };
         let (range, _) = f.call;
         diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
-        let block = Block { range, line: self.pos().line, ..Block::default() };
+        let mut block = Block::default();
+        (block.range, block.line) = (range, self.pos().line);
         if let Some(f) = self.frames.last_mut() {
             f.repeats_left = 1;
         }
@@ -2184,14 +2185,14 @@ impl<'a> Driver<'a, '_> {
 }
 
 /// Sets the variable expression `var` (`R1`, `#5`, `COUNT`) to `v`.
-fn set_variable(interp: &mut Interpreter<'_>, block: &Block, var: ExprId, v: f64, text: &str) -> Result<(), eval::EvalError> {
+fn set_variable(interp: &mut Interpreter<'_>, block: &Block, var: ExprId, v: f64) -> Result<(), eval::EvalError> {
     match block.exprs.get(var as usize) {
         Some(&Expr::Param(n)) => {
-            let n = eval::eval(block, n, &interp.params, text)?;
+            let n = eval::eval(block, n, &interp.params)?;
             interp.params.set(n, v)
         }
         Some(&Expr::Named(r)) => {
-            interp.params.set_named(&eval::normalised(&text[r.start as usize..r.end as usize]), v);
+            interp.params.set_named(&eval::normalised(block.text(r)), v);
             Ok(())
         }
         _ => Err(eval::EvalError::Domain("the loop counter is not a variable")),
@@ -2199,7 +2200,7 @@ fn set_variable(interp: &mut Interpreter<'_>, block: &Block, var: ExprId, v: f64
 }
 
 /// Indexes the control statements and program numbers of `text`.
-fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
+fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
     let mut scratch = Vec::new();
@@ -2228,11 +2229,11 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
             _ => None,
         };
         let name = c.and_then(|c| {
-            let n = &text[c.name?.start as usize..c.name?.end as usize];
+            let n = block.text(c.name?);
             // A procedure named by a number takes its keyword's name too: `%L 100` is `L100`.
             match c.keyword {
                 Some(k) if c.statement == Some(Statement::Procedure) && n.starts_with(|ch: char| ch.is_ascii_digit()) => {
-                    Some(normalise_label(&format!("{}{n}", &text[k.start as usize..k.end as usize])))
+                    Some(normalise_label(&format!("{}{n}", block.text(k))))
                 }
                 _ => Some(normalise_label(n)),
             }
@@ -2241,10 +2242,10 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
             Some(c) if c.statement == Some(Statement::Label) => {
                 name.clone().or_else(|| literal(c.target).map(|n| normalise_label(&n.to_string())))
             }
-            _ => block.label.map(|r| normalise_label(&text[r.start as usize..r.end as usize])),
+            _ => block.label.map(|r| normalise_label(block.text(r))),
         };
         marks.push(Mark {
-            label: c.and_then(|c| c.label).map(|r| normalise_label(&text[r.start as usize..r.end as usize])),
+            label: c.and_then(|c| c.label).map(|r| normalise_label(block.text(r))),
             defines,
             name,
             statement: c.and_then(|c| c.statement),
@@ -2256,9 +2257,9 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
                 if c.keyword.is_some() {
                     return None;
                 }
-                text[c.label?.start as usize..c.label?.end as usize].parse().ok()
+                block.text(c.label?).parse().ok()
             }),
-            program_name: block.program_name.map(|r| normalise_label(&text[r.start as usize..r.end as usize])),
+            program_name: block.program_name.map(|r| normalise_label(block.text(r))),
             start,
             next,
         });
@@ -2267,7 +2268,7 @@ fn index(text: &str, dialect: &Dialect) -> Vec<Mark> {
 }
 
 /// The blocks of `text` numbered `n`.
-fn numbered(text: &str, dialect: &Dialect, n: u32) -> Vec<Pos> {
+fn numbered(text: Text<'_>, dialect: &Dialect, n: u32) -> Vec<Pos> {
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
     let mut scratch = Vec::new();

@@ -26,7 +26,7 @@ use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Set
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{CodeDef, DecimalInput, Dialect, Directive, Meaning, Role, Step, SystemVar, TimeUnit};
 use crate::syntax::{Block, ParamTarget, Value, WordMode};
-use crate::text::TextRange;
+use crate::text::{Text, TextRange};
 use eval::{EvalError, Params};
 
 /// What the interpreter knows about one tool (lengths in mm).
@@ -71,7 +71,8 @@ pub struct Profile {
     /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
     pub stock: Option<[[f64; 3]; 2]>,
     /// Whether the fast paths are on: plain moves (`X.. Y.. Z..` under a modal G0 or G1) take
-    /// the fast lane, and a block that runs a third time (a loop body) is not lexed again.
+    /// the fast lane, a block of plain words is lexed by the lexer's fast path, and a block
+    /// that runs a third time (a loop body) is not lexed again.
     /// Off, every block is lexed and goes the general way; both give the same result, and
     /// tests check it.
     pub fast_lane: bool,
@@ -150,9 +151,12 @@ fn rotate(p: [f64; 2], degrees: f64) -> [f64; 2] {
 
 /// Interprets a whole program text, pushing canonical ops into `sink`. Subprograms come from
 /// the same text or from the profile's [`ProgramSource`]. Streams: memory does not grow
-/// with the program's length.
-pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
-    if let Some(d) = foreign(text, dialect) {
+/// with the program's length, and a text read piece by piece is never held whole.
+pub fn interpret<'t>(text: impl Into<Text<'t>>, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
+    let text = text.into();
+    if !dialect.lexical.foreign.is_empty()
+        && let Some(d) = foreign(&text.head(), dialect)
+    {
         return vec![d];
     }
     let mut diags = match &profile.programs {
@@ -167,14 +171,12 @@ pub fn interpret(text: &str, dialect: &Dialect, profile: &Profile, sink: &mut dy
 }
 
 /// A program in a format the dialect names as foreign (Mazatrol unit blocks in a Mazak
-/// folder): one error at the evidence instead of a finding for every block.
-fn foreign(text: &str, dialect: &Dialect) -> Option<Diagnostic> {
-    let mut end = text.len().min(64 * 1024);
-    while !text.is_char_boundary(end) {
-        end -= 1;
-    }
+/// folder), in the text's `head`: one error at the evidence instead of a finding for every
+/// block.
+fn foreign(head: &str, dialect: &Dialect) -> Option<Diagnostic> {
+    let text = head;
     dialect.lexical.foreign.iter().find_map(|(re, name)| {
-        let m = re.regex().find(&text.as_bytes()[..end])?;
+        let m = re.regex().find(text.as_bytes())?;
         // An ASCII pattern can match part of a character; the range covers whole ones.
         let (mut start, mut stop) = (m.start(), m.end());
         while !text.is_char_boundary(start) {
@@ -436,7 +438,6 @@ pub(super) struct RoundState {
 pub struct Interpreter<'a> {
     dialect: &'a Dialect,
     profile: &'a Profile,
-    text: &'a str,
     st: State,
     params: Params,
     slots: [Option<Slot>; Role::COUNT],
@@ -518,11 +519,10 @@ const NOTE_LIMIT: u32 = 3;
 
 impl<'a> Interpreter<'a> {
     /// A fresh interpreter in the control's power-on state.
-    pub fn new(dialect: &'a Dialect, profile: &'a Profile, text: &'a str) -> Interpreter<'a> {
+    pub fn new(dialect: &'a Dialect, profile: &'a Profile) -> Interpreter<'a> {
         Interpreter {
             dialect,
             profile,
-            text,
             st: State {
                 units: Units::Mm,
                 plane: dialect.behaviour.initial_plane,
@@ -1170,7 +1170,7 @@ impl<'a> Interpreter<'a> {
                 continue;
             };
             if eval::is_unknown(v) {
-                self.unknown_word(w.range, diags);
+                self.unknown_word(block, w.range, diags);
                 continue;
             }
             if eval::is_null(v) {
@@ -1184,7 +1184,7 @@ impl<'a> Interpreter<'a> {
                 None
             };
             let Some(idx) = found else {
-                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                let shown = block.text(w.range);
                 if letter == 'M' && self.dialect.behaviour.machine_m_codes && (0.0..10_000.0).contains(&x10) {
                     let d = Diagnostic::new(
                         Code::MachineCode,
@@ -1254,7 +1254,7 @@ impl<'a> Interpreter<'a> {
             let w = &w;
             if w.cycle_arg {
                 match self.value(block, w.value, w.range, diags) {
-                    Some(v) if eval::is_unknown(v) => self.unknown_word(w.range, diags),
+                    Some(v) if eval::is_unknown(v) => self.unknown_word(block, w.range, diags),
                     Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),
                     Some(_) => {}
                     None => ok = false,
@@ -1270,7 +1270,7 @@ impl<'a> Interpreter<'a> {
                 }
             }
             if self.slots[role as usize].is_some() {
-                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                let shown = block.text(w.range);
                 diags.push(Diagnostic::new(
                     Code::DuplicateWord,
                     w.range,
@@ -1281,7 +1281,7 @@ impl<'a> Interpreter<'a> {
             }
             let mut v = match w.value {
                 Value::Number { value, .. } => value,
-                Value::Text(r) => match self.text_value(role, r, w.range, diags) {
+                Value::Text(r) => match self.text_value(block, role, r, w.range, diags) {
                     Some(v) => v,
                     None => {
                         ok = false;
@@ -1296,7 +1296,7 @@ impl<'a> Interpreter<'a> {
                             self.st.feed = self.st.feed.max(0.0);
                         }
                         self.unknown_roles |= 1 << role as u32;
-                        self.unknown_word(w.range, diags);
+                        self.unknown_word(block, w.range, diags);
                         continue;
                     }
                     Some(v) if eval::is_null(v) => continue,
@@ -1325,7 +1325,7 @@ impl<'a> Interpreter<'a> {
                     }
                 } else {
                     if v != 0.0 && self.st.length_points {
-                        let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                        let shown = block.text(w.range);
                         let unit = if units == Units::Mm { "mm" } else { "inch" };
                         let scaled_to = (v * if units == Units::Mm { *mm } else { *inch } * 1e9).round() / 1e9;
                         let msg = format!(
@@ -1423,8 +1423,8 @@ impl<'a> Interpreter<'a> {
 
     /// A quoted value: a tool name (`T="DRILL_8"`) becomes the number the tool table gives
     /// it, or a number from 10001 on in the order names first appear.
-    fn text_value(&mut self, role: Role, r: TextRange, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
-        let name = &self.text[r.start as usize..r.end as usize];
+    fn text_value(&mut self, block: &Block, role: Role, r: TextRange, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+        let name = block.text(r);
         if role == Role::Extra {
             return Some(0.0); // a name the engine only records (`LBL "NAME"`)
         }
@@ -1452,7 +1452,7 @@ impl<'a> Interpreter<'a> {
                 diags.push(Diagnostic::new(Code::MalformedNumber, range, "text where a number is needed"));
                 None
             }
-            Value::Expr(e) => match self.eval(block, e, self.text, range, diags) {
+            Value::Expr(e) => match self.eval(block, e, range, diags) {
                 Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) || eval::is_unknown(x) => Some(x),
                 Ok(_) => {
                     diags.push(Diagnostic::new(Code::ArithmeticError, range, "the expression has no finite value"));
@@ -1519,7 +1519,7 @@ impl<'a> Interpreter<'a> {
             let takes = |c: &CodeDef, r: Role| c.params.takes(r) || c.keyword.as_ref().is_some_and(|k| k.value_role == Some(r));
             let taken = self.codes.iter().any(|&(c, _)| takes(self.code(c), w.role)) || motion.is_some_and(|c| takes(self.code(c), w.role));
             if !taken {
-                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                let shown = block.text(w.range);
                 let d =
                     Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}`: no command in this block takes {}", w.letter as char));
                 diags.push(self.unused(d));
@@ -1568,19 +1568,18 @@ impl<'a> Interpreter<'a> {
         if self.has_axes && !claimed { self.st.motion_code } else { None }
     }
 
-    /// Evaluates `e` of `block` (in `text`). On a control where an unset variable reads as 0,
+    /// Evaluates `e` of `block`. On a control where an unset variable reads as 0,
     /// each one met is set to 0, with a note, and the expression evaluated again.
     pub(super) fn eval(
         &mut self,
         block: &Block,
         e: crate::syntax::ExprId,
-        text: &str,
         range: TextRange,
         diags: &mut Vec<Diagnostic>,
     ) -> Result<f64, EvalError> {
         self.params.take_unknown_read();
         loop {
-            match eval::eval(block, e, &self.params, text) {
+            match eval::eval(block, e, &self.params) {
                 Err(EvalError::Undefined(name)) if self.dialect.lexical.system_variable_prefix.is_some_and(|p| name.starts_with(p)) => {
                     // The control's own data (`$P_TOOLNO`, `$AA_IM[X]`, `$TC_DP6[1,1]`): a value
                     // the machine has and this file does not, so unknown, never a made-up 0.
@@ -1642,9 +1641,9 @@ impl<'a> Interpreter<'a> {
 
     /// A word whose value is unknown: omitted, as a vacant one is, so that a move keeps its
     /// known axes; said once per block.
-    fn unknown_word(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
+    fn unknown_word(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) {
         self.unknown_words += 1;
-        let shown = self.text[range.start as usize..range.end as usize].to_owned();
+        let shown = block.text(range).to_owned();
         let what = self.unknown_what();
         let msg = format!("`{shown}` reads {what}; the word is left out and the block keeps its known words");
         let mut d = Diagnostic::new(Code::UnknownValue, range, msg);
@@ -1666,7 +1665,7 @@ impl<'a> Interpreter<'a> {
     ) -> Option<u8> {
         // An undeclared name is said once, by the note below.
         let mut read = Vec::new();
-        let v = match self.eval(block, index, self.text, range, &mut read) {
+        let v = match self.eval(block, index, range, &mut read) {
             Ok(v) => v,
             Err(e) => {
                 diags.append(&mut read);
@@ -1680,7 +1679,7 @@ impl<'a> Interpreter<'a> {
         if let Some(letter) = crate::syntax::axis_of(v).filter(|&c| self.dialect.letter_role(c).is_some_and(|r| r.is_axis())) {
             return Some(letter);
         }
-        let shown = self.text[range.start as usize..range.end as usize].trim();
+        let shown = block.text(range).trim();
         // The name with its index (`AX[_X]`), without the value.
         let shown = shown.find(']').map_or(shown, |i| &shown[..=i]).to_owned();
         if eval::is_unknown(v) {
@@ -1708,7 +1707,7 @@ impl<'a> Interpreter<'a> {
         // Where each unknown value assigned came from, by the pending assignment.
         let mut origins = Vec::new();
         for a in &block.assigns {
-            let value = match self.eval(block, a.value, self.text, a.range, diags) {
+            let value = match self.eval(block, a.value, a.range, diags) {
                 Ok(v) => {
                     origins.resize(pending.len(), None);
                     origins.push(if eval::is_unknown(v) { self.params.unknown_read_peek() } else { None });
@@ -1720,14 +1719,14 @@ impl<'a> Interpreter<'a> {
                 }
             };
             match a.target {
-                ParamTarget::Numbered(e) => match self.eval(block, e, self.text, a.range, diags) {
+                ParamTarget::Numbered(e) => match self.eval(block, e, a.range, diags) {
                     Ok(n) => {
                         pending.push(PendingAssign { number: Some(n), name: TextRange::default(), index: None, value, range: a.range })
                     }
                     Err(e) => diags.push(self.eval_diag(e, a.range)),
                 },
                 ParamTarget::Named(name) => pending.push(PendingAssign { number: None, name, index: None, value, range: a.range }),
-                ParamTarget::NamedIndex(name, e) => match self.eval(block, e, self.text, a.range, diags) {
+                ParamTarget::NamedIndex(name, e) => match self.eval(block, e, a.range, diags) {
                     Ok(i) => pending.push(PendingAssign { number: None, name, index: Some(i), value, range: a.range }),
                     Err(e) => diags.push(self.eval_diag(e, a.range)),
                 },
@@ -1758,7 +1757,7 @@ impl<'a> Interpreter<'a> {
                     }
                 }
                 None => {
-                    let name = eval::normalised(&self.text[name.start as usize..name.end as usize]);
+                    let name = eval::normalised(block.text(name));
                     match index {
                         // The key a read of `name[i]` looks up (`eval`).
                         Some(i) => self.params.set_named(&format!("{name}[{i}]"), value),
@@ -1775,7 +1774,7 @@ impl<'a> Interpreter<'a> {
 
     /// The text of the block's first comment, or an empty string.
     fn block_comment(&self, block: &Block) -> String {
-        block.comments.first().map(|r| self.text[r.start as usize..r.end as usize].trim().to_owned()).unwrap_or_default()
+        block.comments.first().map(|r| block.text(*r).trim().to_owned()).unwrap_or_default()
     }
 
     /// `#3000 = n (MESSAGE)`: the control stops with an alarm.
@@ -1806,7 +1805,7 @@ impl<'a> Interpreter<'a> {
                 continue;
             }
             let Some(local) = self.dialect.macros.arguments.get((w.letter.wrapping_sub(b'A')) as usize).copied().flatten() else {
-                let shown = &self.text[w.range.start as usize..w.range.end as usize];
+                let shown = block.text(w.range);
                 diags.push(Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}` is not a macro argument in this dialect")));
                 continue;
             };
@@ -1846,7 +1845,7 @@ impl<'a> Interpreter<'a> {
         match step {
             Step::Comment => {
                 for r in &block.comments {
-                    let text = &self.text[r.start as usize..r.end as usize];
+                    let text = block.text(*r);
                     let op = match self.dialect.lexical.directive(text) {
                         Some((Directive::Message, m)) => CanonOp::Message(m.to_owned()),
                         Some((Directive::Abort, m)) => {

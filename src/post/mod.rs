@@ -153,8 +153,8 @@ pub fn program_identifier(name: &str) -> String {
 /// Translates program `text`, read in `from`, into `to`'s dialect, handing the text to
 /// `sink` as it is written. Returns the findings of reading and writing. Never fails: a
 /// target without output rules gets an error diagnostic and no text.
-pub fn translate(
-    text: &str,
+pub fn translate<'t>(
+    text: impl Into<crate::text::Text<'t>>,
     from: &crate::dialect::Dialect,
     to: &crate::dialect::Dialect,
     profile: &crate::interp::Profile,
@@ -167,8 +167,8 @@ pub fn translate(
 /// [`translate`], with the hole tops ([`Options::hole_tops`]) asked of `hole_tops` only when
 /// a cycle needs them (a G81 written as a cycle that states the surface): a program without
 /// such cycles is not analysed twice.
-pub fn translate_with_facts(
-    text: &str,
+pub fn translate_with_facts<'t>(
+    text: impl Into<crate::text::Text<'t>>,
     from: &crate::dialect::Dialect,
     to: &crate::dialect::Dialect,
     profile: &crate::interp::Profile,
@@ -191,7 +191,7 @@ pub fn translate_with_facts(
     opts.tap_to_clear = (clear(from), clear(to));
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
-    let mut diags = interpret_beside(text, from, profile, &mut post);
+    let mut diags = interpret_beside(text.into(), from, profile, &mut post);
     diags.extend(post.finish());
     diags.sort_by_key(|d| (d.range.start, d.range.end));
     diags
@@ -207,7 +207,7 @@ const BATCHES: usize = 4;
 /// channel, and `sink` takes them on this thread while the next batch is read. The ops, and
 /// so the text written, are the same as a serial run's; memory holds at most a few batches.
 fn interpret_beside(
-    text: &str,
+    text: crate::text::Text<'_>,
     from: &crate::dialect::Dialect,
     profile: &crate::interp::Profile,
     sink: &mut dyn CanonSink,

@@ -2,7 +2,8 @@
 //!
 //! The parser is a streaming cursor: [`Parser::next_block`] refills one reusable [`Block`]
 //! per call, so memory does not grow with program length. It never fails; findings go to a
-//! diagnostics vector and the block keeps what could be read.
+//! diagnostics vector and the block keeps what could be read. A block carries its own text
+//! ([`Block::text`]): what reads it needs no more of the program than the block.
 
 mod expr;
 mod parser;
@@ -158,6 +159,8 @@ pub struct Block {
     /// Words whose axis a variable names (`AX[_X]=10`): the word's index in `words` and the
     /// expression of the variable, read when the block runs ([`axis_of`]).
     pub axis_refs: Vec<(usize, ExprId)>,
+    /// The text of `range`.
+    source: String,
 }
 
 /// The value an axis variable holds (`DEF AXIS _X=X`): a NaN whose payload names the axis
@@ -175,6 +178,26 @@ pub fn axis_of(v: f64) -> Option<u8> {
 const AXIS_BITS: u64 = 0x7FF8_0000_A715_0000;
 
 impl Block {
+    /// The text of `r`, a range within the block (a word's, a comment's, a name's); empty
+    /// for a range outside it.
+    pub fn text(&self, r: TextRange) -> &str {
+        let from = r.start.wrapping_sub(self.range.start) as usize;
+        let to = r.end.wrapping_sub(self.range.start) as usize;
+        debug_assert!(r.start >= self.range.start && to <= self.source.len(), "{r:?} outside the block {:?}", self.range);
+        self.source.get(from..to).unwrap_or("")
+    }
+
+    /// The block's text (its range's).
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// Sets the text of the block's range.
+    fn set_source(&mut self, text: &str) {
+        self.source.clear();
+        self.source.push_str(text);
+    }
+
     fn clear(&mut self) {
         self.range = TextRange::default();
         self.line = 0;

@@ -14,7 +14,7 @@ use super::{Block, Value, Word, WordMode};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::records::{CircleSense, RecordAction, RecordDef, Records};
 use crate::dialect::{Dialect, Meaning, Role};
-use crate::text::TextRange;
+use crate::text::{Text, TextRange};
 
 /// A circle a `CIRCLE` record described, waiting for the motion record that ends its arc.
 #[derive(Clone, Debug)]
@@ -113,22 +113,18 @@ impl RecordState {
     }
 }
 
-/// Reads the next record of `text` at `*pos` into `block`. False at the end of the text.
-pub(super) fn next_record(
-    st: &mut RecordState,
-    text: &str,
-    pos: &mut usize,
-    line: &mut u32,
-    dialect: &Dialect,
-    block: &mut Block,
-    diags: &mut Vec<Diagnostic>,
-) -> bool {
-    let Some(recs) = dialect.records.as_deref() else { return false };
-    if !st.started {
-        st.started = true;
-        let head = &text.as_bytes()[..text.len().min(64 * 1024)];
-        if let Some((p, evidence)) = recs.producer(head) {
-            st.producer = Some(p);
+impl RecordState {
+    /// Whether the first record has been read (the producer told).
+    pub(super) fn started(&self) -> bool {
+        self.started
+    }
+
+    /// Before the first record: tells the producer from the text's `head` (its first 64
+    /// KiB), and the units the file states first.
+    pub(super) fn start(&mut self, head: &str, recs: &Records, dialect: &Dialect, diags: &mut Vec<Diagnostic>) {
+        self.started = true;
+        if let Some((p, evidence)) = recs.producer(head.as_bytes()) {
+            self.producer = Some(p);
             let name = &recs.producers[p].name;
             let sense = match recs.producers[p].circle {
                 CircleSense::Clockwise => "clockwise",
@@ -141,24 +137,38 @@ pub(super) fn next_record(
                 format!("read as a CL file written by {name} ({why}); its circles turn {sense} about their axis"),
             ));
         }
-        st.units_first = first_units(recs, st.producer, dialect, &text[..text.len().min(64 * 1024)]);
-        st.units_seen = st.units_first.is_some();
+        self.units_first = first_units(recs, self.producer, dialect, head);
+        self.units_seen = self.units_first.is_some();
     }
-    let bytes = text.as_bytes();
-    if *pos >= bytes.len() {
-        settle(st, recs, None, diags);
-        if let Some(c) = st.circle.take() {
-            diags.push(Diagnostic::new(
-                Code::CircleWithoutMove,
-                c.range,
-                "no motion record ends this circle's arc before the end of the file",
-            ));
-        }
-        return false;
+}
+
+/// At the end of the text: what records that wait for others still lack.
+pub(super) fn finish(st: &mut RecordState, recs: &Records, diags: &mut Vec<Diagnostic>) {
+    settle(st, recs, None, diags);
+    if let Some(c) = st.circle.take() {
+        diags.push(Diagnostic::new(Code::CircleWithoutMove, c.range, "no motion record ends this circle's arc before the end of the file"));
     }
+}
+
+/// Gathers the logical record at `pos` (an offset in the whole text) from `text`, the text
+/// from `base` on, into `st.buf` and `block` (its range, comments, lines); where the next
+/// record starts and its line. A record that runs to the end of `text` may go on past it:
+/// the caller reads it again from more text before it is interpreted
+/// ([`finish_record`]).
+pub(super) fn gather(
+    st: &mut RecordState,
+    recs: &Records,
+    text: &str,
+    base: usize,
+    pos: usize,
+    line: u32,
+    block: &mut Block,
+) -> (usize, u32) {
+    let mut line = line;
     block.clear();
-    block.line = *line;
-    let start = *pos;
+    block.line = line;
+    let bytes = text.as_bytes();
+    let start = pos - base;
     st.buf.clear();
     st.segs.clear();
     let mut cur = start;
@@ -166,8 +176,9 @@ pub(super) fn next_record(
     let mut comment_continues = false;
     // Whether the comment being continued is a CAM command (`$$-> CSYS ... $`), not kept.
     let mut command = false;
+    let range = |a: usize, b: usize| TextRange::new(base + a, base + b);
     for _ in 0..CONTINUED_LIMIT {
-        let le = text[cur..].find('\n').map_or(bytes.len(), |i| cur + i);
+        let le = memchr::memchr(b'\n', &bytes[cur..]).map_or(bytes.len(), |i| cur + i);
         let next = if le < bytes.len() { le + 1 } else { le };
         let le = if le > cur && bytes[le - 1] == b'\r' { le - 1 } else { le };
         let phys = &text[cur..le];
@@ -175,10 +186,10 @@ pub(super) fn next_record(
         let at_end = next >= bytes.len();
         if comment_continues {
             if !command {
-                block.comments.push(TextRange::new(cur, le));
+                block.comments.push(range(cur, le));
             }
             comment_continues = phys.trim_end().ends_with(recs.continuation);
-            *line += 1;
+            line += 1;
             cur = next;
             if comment_continues && !at_end {
                 block.extra_lines += 1;
@@ -193,14 +204,14 @@ pub(super) fn next_record(
         if let Some(i) = comment {
             command = recs.command.as_deref().is_some_and(|c| phys[i..].starts_with(c));
             if !command {
-                block.comments.push(TextRange::new(cur + i + recs.comment.len(), le));
+                block.comments.push(range(cur + i + recs.comment.len(), le));
             }
         }
         let code_t = code.trim_end();
         if code_t.ends_with(recs.continuation) && !code_t.trim().is_empty() {
-            st.segs.push((st.buf.len(), cur));
+            st.segs.push((st.buf.len(), base + cur));
             st.buf.push_str(&code_t[..code_t.len() - recs.continuation.len_utf8()]);
-            *line += 1;
+            line += 1;
             cur = next;
             if at_end {
                 break;
@@ -208,9 +219,9 @@ pub(super) fn next_record(
             block.extra_lines += 1;
             continue;
         }
-        st.segs.push((st.buf.len(), cur));
+        st.segs.push((st.buf.len(), base + cur));
         st.buf.push_str(code);
-        *line += 1;
+        line += 1;
         cur = next;
         if code.trim().is_empty()
             && comment.is_some()
@@ -225,17 +236,20 @@ pub(super) fn next_record(
         }
         break;
     }
-    if bytes.get(end).is_none() && *line > block.line {
+    if bytes.get(end).is_none() && line > block.line {
         // The last line had no terminator: it was not a line more.
-        *line -= 1;
+        line -= 1;
     }
-    block.range = TextRange::new(start, end);
-    *pos = cur;
+    block.range = range(start, end);
+    (base + cur, line)
+}
+
+/// Interprets the record [`gather`] read into `block`.
+pub(super) fn finish_record(st: &mut RecordState, recs: &Records, dialect: &Dialect, block: &mut Block, diags: &mut Vec<Diagnostic>) {
     if let Some(u) = st.units_first.take() {
         push_codes(block, &[u]);
     }
     record(st, recs, dialect, block, diags);
-    true
 }
 
 /// The first units code a record in `head` states through a minor word (`UNITS/MM`,
@@ -806,13 +820,10 @@ fn hole(st: &mut RecordState, dialect: &Dialect, c: &Cycle, p: [f64; 3], block: 
 /// The program's name a record-form text states (the first record whose action is
 /// [`RecordAction::Name`]: `PARTNO/MFG0004`, `PARTNO PART 1`), quotes taken off; `None` for
 /// a dialect of words or a text without one. Looks at the first 64 KiB.
-pub fn record_program_name(text: &str, dialect: &Dialect) -> Option<String> {
+pub fn record_program_name<'t>(text: impl Into<Text<'t>>, dialect: &Dialect) -> Option<String> {
     let recs = dialect.records.as_deref()?;
-    let mut end = text.len().min(64 * 1024);
-    while !text.is_char_boundary(end) {
-        end -= 1;
-    }
-    for line in text[..end].lines() {
+    let head = text.into().head();
+    for line in head.lines() {
         let code = line.split(recs.comment.as_str()).next().unwrap_or("").trim();
         let (major, rest) = match code.split_once('/') {
             Some((m, r)) => (m, r),

@@ -124,6 +124,39 @@ fn canon_prints_rs274_calls() {
 }
 
 #[test]
+fn canon_reads_a_file_piece_by_piece_as_it_reads_a_pipe_whole() {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = tmp.path().join("a.ngc");
+    // A byte-order mark, Windows-1252 text, CRLF and LF line ends and a stray CR (a blank in a
+    // file with LF), an error on line 3.
+    std::fs::write(&f, b"\xEF\xBB\xBFG21 F100\r\n(caf\xe9)\rG0 X1\nG1 X2 E5\nM2\n").unwrap();
+    let (code, out, err) = ncplan(&["canon", "-d", "linuxcnc", f.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("STRAIGHT_TRAVERSE(1.0000") && out.contains("PROGRAM_END()"), "{out}");
+    assert!(err.contains("a.ngc:3:7: error"), "{err}");
+    let piped = Command::new(crate::bin())
+        .args(["canon", "-d", "linuxcnc", "/dev/stdin"])
+        .stdin(std::fs::File::open(&f).unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8_lossy(&piped.stdout), out);
+    assert_eq!(String::from_utf8_lossy(&piped.stderr).replace("/dev/stdin", "a.ngc"), err.replace(f.to_str().unwrap(), "a.ngc"));
+}
+
+#[test]
+fn translate_to_a_file_leaves_no_partial_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = tmp.path().join("out.nc");
+    let (code, _, err) =
+        ncplan(&["translate", "tests/programs/equivalence/drill_ream.nc", "-d", "fanuc", "--to", "siemens", "-o", o.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let names: Vec<String> =
+        std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(names, ["out.nc"]);
+    assert!(std::fs::read_to_string(&o).unwrap().contains("M30"));
+}
+
+#[test]
 fn stepnc_writes_part21_to_stdout_and_needs_a_class() {
     let (code, out, err) = ncplan(&["stepnc", "-d", "fanuc", "demo/cam/O1234.nc", "--cc2", "--timestamp", "2026-01-01T00:00:00"]);
     assert_eq!(code, 0, "{err}");

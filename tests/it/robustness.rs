@@ -120,6 +120,59 @@ proptest! {
     }
 }
 
+/// Reading the text piece by piece (a window of `window` bytes, refilled and grown as blocks
+/// need; jumps back read again) gives what the whole text gives, in every dialect: the same
+/// calls with their source ranges, and the same findings.
+fn piecewise_agrees(bytes: &[u8], window: usize) {
+    use ncplan::text::{BytesReader, Text};
+    let (whole, _) = ncplan::text::decode(bytes);
+    let (reader, _) = BytesReader::new(bytes.to_vec(), 7, window);
+    for d in dialects() {
+        let run = |text: Text<'_>| {
+            let mut canon = Vec::new();
+            let diags = ncplan::interp::interpret(text, &d, &profile(), &mut canon);
+            (canon.iter().map(|c| format!("{c:?}")).collect::<Vec<_>>(), diags.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>())
+        };
+        assert_eq!(run(Text::Whole(&whole.text)), run(Text::Read(&reader)), "{} with a window of {window}", d.name);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: std::env::var("NCPLAN_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(48), ..ProptestConfig::default() })]
+
+    #[test]
+    fn reading_piece_by_piece_changes_nothing(window in 1usize..40, parts in proptest::collection::vec(prop_oneof![
+        Just("IF [#1 LT 3] GOTO 10\n".to_owned()), Just("WHILE [#1 LT 5] DO 1\n".to_owned()), Just("END 1\n".to_owned()), Just("GOTO 10\n".to_owned()), Just("N10 #1=#1+1\n".to_owned()),
+        Just("M98 P1000 L2\n".to_owned()), Just("M99\n".to_owned()), Just("O1000\n".to_owned()), Just("o1 sub\n".to_owned()), Just("o1 endsub\n".to_owned()), Just("o1 call [1] [2]\n".to_owned()),
+        Just("o2 while [#1 LT 4]\n".to_owned()), Just("o2 endwhile\n".to_owned()), Just("G1 X#1 Y[#2*2] F100\n".to_owned()), Just("%\n".to_owned()), Just("M30\n".to_owned()),
+        Just("G1 X1.5 Y-2 (a comment é)\r\n".to_owned()), Just("Q200=2 ;CLEARANCE ~\n".to_owned()), Just("  X1 ~\n".to_owned()), Just("\r".to_owned()), Just("\n".to_owned()),
+        Just("LBL 1\n".to_owned()), Just("CALL LBL 1 REP 2\n".to_owned()), Just("MARKE1:\n".to_owned()), Just("GOTOB MARKE1\n".to_owned()), Just("R1=R1+1 IF R1<3 GOTOB MARKE1\n".to_owned()),
+        Just("GOTO/1,2,3\n".to_owned()), Just("CIRCLE/0,0,0,0,0,1,5\n".to_owned()), Just("FEDRAT/100,$\n 200\n".to_owned()), Just("$$ note\n".to_owned()),
+        "[ -~]{0,30}\n".prop_map(|s: String| s),
+    ], 0..40)) {
+        piecewise_agrees(parts.concat().as_bytes(), window);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: std::env::var("NCPLAN_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(16), ..ProptestConfig::default() })]
+
+    #[test]
+    fn reading_mutated_corpus_programs_piece_by_piece_changes_nothing(window in 1usize..200, pick in any::<prop::sample::Index>(), edits in proptest::collection::vec((any::<u32>(), any::<u8>()), 0..8)) {
+        let files = corpus_files();
+        if files.is_empty() {
+            return Ok(());
+        }
+        let mut bytes = std::fs::read(pick.get(&files)).unwrap();
+        bytes.truncate(16 * 1024);
+        for (pos, b) in edits {
+            let at = pos as usize % (bytes.len() + 1);
+            bytes.insert(at, b);
+        }
+        piecewise_agrees(&bytes, window);
+    }
+}
+
 /// Runs `text` with and without the interpreter's fast paths (the lane for plain moves, the
 /// cache of lexed loop bodies); both ways must give the same calls (with their source ranges)
 /// and the same findings.
