@@ -12,6 +12,9 @@
 
 use std::collections::BTreeSet;
 
+mod layout;
+use layout::{Layout, NO_SLOT, Part};
+
 use crate::canon::{Canon, CanonOp, CanonSink, CycleIntent, CycleKind, FeedMode, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::output::{Cmp, CycleOut, Expr, NumberFormat, Numbered, Output, Piece, Point, StateVar, Template, Value};
@@ -297,8 +300,12 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     feed_mode: FeedMode,
     /// The machine position (target units, work offset frame).
     pos: [f64; 3],
-    /// Last written text of the modal values X, Y, Z, F, S.
-    written: [Option<String>; 8],
+    /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
+    /// number known to be written so (NaN: none): that number again is left out at once.
+    written: [Option<(Key, f64)>; 8],
+    /// For each modal slot, the number (and format) [`Post::written`] knows to be written so,
+    /// for the check of an unchanged word; the ninth never matches ([`NO_SLOT`]).
+    last: [(f64, usize); 9],
     motion: Option<String>,
     mods: Vec<(String, String)>,
     tool: u32,
@@ -324,14 +331,15 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// The cycle being drilled as a cycle (its moves are not written).
     in_cycle: bool,
     active: Option<ActiveCycle>,
-    word_buf: String,
-    line_buf: String,
     /// Modal values of the block being rendered, written once the block is.
-    staged: [Option<String>; 8],
-    /// The numbers (and formats) `written` and `staged` hold, where known (NaN: compare
-    /// the text): an unchanged value is left out without formatting it again.
-    written_val: [(f64, usize); 8],
-    staged_val: [(f64, usize); 8],
+    staged: [(Key, f64); 8],
+    /// The slots staged, one bit each.
+    staged_mask: u8,
+    /// The `rapid` and `feed` templates.
+    moves: (Option<&'a Template>, Option<&'a Template>),
+    /// The templates' layouts, by the template's address (and whether it renders a move),
+    /// made at their first use; `None` while in use.
+    layouts: Vec<(usize, bool, Option<Layout>)>,
     /// The largest rounding of a written position (target units), and where it first
     /// passed [`ROUNDED_NOTE`].
     rounded: f64,
@@ -378,6 +386,16 @@ struct Repeat {
     origin: crate::text::TextRange,
 }
 
+/// A modal word's text: number format `fi` (with its inch decimals or not) applied to the
+/// rounded number `n` ([`round`]). One format writes distinct numbers as distinct texts, so
+/// an unchanged word is told by its key, without writing or comparing text.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Key {
+    fi: usize,
+    inch: bool,
+    n: i64,
+}
+
 /// A repeated run is given up (written unrolled) past this much text.
 const REPEAT_MAX: usize = 4 << 20;
 
@@ -411,79 +429,110 @@ const POW10: [u64; 20] = {
 /// Writes `v` in format `f` (address included) onto `out`; returns how far the written
 /// number is from `v`. Formats into a stack buffer: no allocation, one append.
 pub fn format_number(out: &mut String, f: &NumberFormat, v: f64, inch: bool) -> f64 {
-    out.push_str(&f.address);
-    let decimals = if f.point == Point::Never && !f.increment {
+    let (n, err) = round(f, v, inch);
+    let mut b = Vec::with_capacity(f.address.len() + 40);
+    push_number(&mut b, f, n, inch);
+    // Only the address's text and ASCII digits: always UTF-8.
+    out.push_str(&String::from_utf8_lossy(&b));
+    err
+}
+
+/// The decimals `f` writes (in an inch program or not).
+fn decimals(f: &NumberFormat, inch: bool) -> usize {
+    if f.point == Point::Never && !f.increment {
         0
     } else if inch {
         f.inch_decimals as usize
     } else {
         f.decimals as usize
     }
-    .min(15);
-    let p = POW10[decimals];
+    .min(15)
+}
+
+/// `v` rounded for format `f`: the integer count of its last decimal's steps (half away from
+/// zero), which the text is written from, and how far that is from `v`.
+fn round(f: &NumberFormat, v: f64, inch: bool) -> (i64, f64) {
+    let p = POW10[decimals(f, inch)];
     let x = v * p as f64;
     // Half away from zero, by truncation (no libm call).
     let n: i64 = if x >= 0.0 { (x + 0.5) as i64 } else { (x - 0.5) as i64 };
-    let err = (n as f64 / p as f64 - v).abs();
-    let neg = n < 0;
-    let a = n.unsigned_abs();
-    push_digits(out, f, a, neg, p, decimals);
-    err
+    (n, (n as f64 / p as f64 - v).abs())
 }
 
-/// The text of the rounded scaled number `a` (its sign `neg`, `decimals` of its digits after
-/// the point, `p` = 10^decimals) in format `f`, by integer arithmetic: the characters are
-/// put into a stack buffer from the right and appended at once.
-fn push_digits(out: &mut String, f: &NumberFormat, a: u64, neg: bool, p: u64, decimals: usize) {
-    // A sign, 20 digits, a point and 15 decimals at most.
-    let mut b = [0u8; 40];
+/// The text of the rounded number `n` (from [`round`]) in format `f`, address included, by
+/// integer arithmetic: the characters are put into a stack buffer from the right and
+/// appended at once. One format writes distinct numbers as distinct texts.
+fn push_number(out: &mut Vec<u8>, f: &NumberFormat, n: i64, inch: bool) {
+    let decimals = decimals(f, inch);
+    // A short address, a sign, 20 digits, a point and 15 decimals at most.
+    let mut b = [0u8; 48];
     let mut i = b.len();
-    fn put(b: &mut [u8; 40], i: &mut usize, c: u8) {
+    fn put(b: &mut [u8; 48], i: &mut usize, c: u8) {
         *i -= 1;
         b[*i] = c;
     }
-    fn digits(b: &mut [u8; 40], i: &mut usize, mut n: u64) {
-        loop {
-            put(b, i, b'0' + (n % 10) as u8);
-            n /= 10;
-            if n == 0 {
-                break;
-            }
-        }
-    }
+    // Digits by division by ten only (a constant: no divide instruction).
+    let mut int = n.unsigned_abs();
+    let mut whole = true;
     if f.increment || decimals == 0 {
         if !f.increment && f.point == Point::Always {
             put(&mut b, &mut i, b'.');
         }
-        digits(&mut b, &mut i, a);
     } else {
-        let (int, mut frac) = (a / p, a % p);
-        // The fraction's digits, zero-padded, without trailing zeros unless the format keeps them.
-        let mut flen = decimals;
-        if !f.trailing_zeros {
-            while flen > 0 && frac % 10 == 0 {
-                frac /= 10;
-                flen -= 1;
+        // The fraction's digits from the right, without trailing zeros unless the format
+        // keeps them.
+        let mut trailing = !f.trailing_zeros;
+        let mut flen = 0;
+        for _ in 0..decimals {
+            let d = (int % 10) as u8;
+            int /= 10;
+            if trailing && d == 0 {
+                continue;
             }
-        }
-        for _ in 0..flen {
-            put(&mut b, &mut i, b'0' + (frac % 10) as u8);
-            frac /= 10;
+            trailing = false;
+            put(&mut b, &mut i, b'0' + d);
+            flen += 1;
         }
         if flen > 0 || f.point == Point::Always {
             put(&mut b, &mut i, b'.');
         }
-        if int != 0 || f.leading_zero || flen == 0 {
-            digits(&mut b, &mut i, int);
+        // `.5`: no digit before the point.
+        whole = int != 0 || f.leading_zero || flen == 0;
+    }
+    if whole {
+        loop {
+            put(&mut b, &mut i, b'0' + (int % 10) as u8);
+            int /= 10;
+            if int == 0 {
+                break;
+            }
         }
     }
-    if neg {
+    if n < 0 {
         put(&mut b, &mut i, b'-');
     } else if f.plus {
         put(&mut b, &mut i, b'+');
     }
-    // ASCII: each byte is a char (no UTF-8 check).
-    out.extend(b[i..].iter().map(|&c| char::from(c)));
+    // The address goes before it in the same buffer: one append.
+    let address = f.address.as_bytes();
+    if address.len() <= 8 {
+        for &c in address.iter().rev() {
+            put(&mut b, &mut i, c);
+        }
+    } else {
+        out.extend_from_slice(address);
+    }
+    out.extend_from_slice(&b[i..]);
+}
+
+/// Appends `s`; a single byte (a separator) or nothing without a call to copy.
+#[inline]
+fn append(buf: &mut Vec<u8>, s: &[u8]) {
+    match s {
+        [] => {}
+        [c] => buf.push(*c),
+        _ => buf.extend_from_slice(s),
+    }
 }
 
 /// Appends the decimal digits of `n` without allocating.
@@ -522,6 +571,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             feed_mode: FeedMode::PerMinute,
             pos: [0.0; 3],
             written: Default::default(),
+            last: [(f64::NAN, usize::MAX); 9],
             motion: None,
             mods: Vec::new(),
             tool: 0,
@@ -542,11 +592,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             origin: Default::default(),
             in_cycle: false,
             active: None,
-            word_buf: String::new(),
-            line_buf: String::new(),
-            staged: Default::default(),
-            written_val: [(f64::NAN, 0); 8],
-            staged_val: [(f64::NAN, 0); 8],
+            staged: [(Key { fi: 0, inch: false, n: 0 }, 0.0); 8],
+            staged_mask: 0,
+            layouts: Vec::new(),
+            moves: (out.template("rapid").map(|(t, _)| t), out.template("feed").map(|(t, _)| t)),
             rounded: 0.0,
             rounded_at: None,
             rounded_feed: 0.0,
@@ -567,6 +616,34 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
+    /// The key of `v` written in the format named `name`, if there is one.
+    fn key_of(&self, name: &str, v: f64) -> Option<(Key, f64)> {
+        let inch = self.opts.units == Units::Inch;
+        let fi = self.out.formats.iter().position(|x| x.name == name)?;
+        Some((Key { fi, inch, n: round(&self.out.formats[fi], v, inch).0 }, v))
+    }
+
+    /// Sets what modal slot `k` has written.
+    fn set_written(&mut self, k: usize, w: Option<(Key, f64)>) {
+        self.written[k] = w;
+        let inch = self.opts.units == Units::Inch;
+        self.last[k] = match w {
+            Some((key, v)) if key.inch == inch => (v, key.fi),
+            _ => (f64::NAN, usize::MAX),
+        };
+    }
+
+    /// Whether two modal words' texts are the same.
+    fn same_text(&self, a: Key, b: Key) -> bool {
+        if a.fi == b.fi && a.inch == b.inch {
+            return a.n == b.n;
+        }
+        let (mut x, mut y) = (Vec::new(), Vec::new());
+        push_number(&mut x, &self.out.formats[a.fi], a.n, a.inch);
+        push_number(&mut y, &self.out.formats[b.fi], b.n, b.inch);
+        x == y
+    }
+
     fn to_out(&self, v: f64) -> f64 {
         v * self.scale
     }
@@ -584,11 +661,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         // The tool starts at the program zero, as the interpreter has it: a first move
         // leaves out the axes it does not change, as the source did.
         for (k, f) in ["X", "Y", "Z", "", "", "A", "B", "C"].iter().enumerate() {
-            self.written[k] = self.out.formats.iter().find(|x| x.name == *f).map(|f| {
-                let mut s = String::new();
-                format_number(&mut s, f, 0.0, self.opts.units == Units::Inch);
-                s
-            });
+            let w = self.key_of(f, 0.0);
+            self.set_written(k, w);
         }
         let units = match self.opts.units {
             Units::Mm => "units-mm",
@@ -608,12 +682,13 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 let mut text = String::new();
                 for b in &t.0 {
                     for w in &b.words {
-                        let mut s = String::new();
+                        let mut s = Vec::new();
                         if self.word(w, vals, &mut s, &mut 0) {
                             if !text.is_empty() {
                                 text.push_str(&out.separator);
                             }
-                            text.push_str(&s);
+                            // The words' texts and ASCII numbers: UTF-8.
+                            text.push_str(&String::from_utf8_lossy(&s));
                         }
                     }
                 }
@@ -635,6 +710,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         found
     }
 
+    #[inline]
     fn rules(&mut self, event: &str, before: bool) {
         let out = self.out;
         for r in &out.rules {
@@ -670,14 +746,78 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
-    /// Renders one word into `s`; false when it comes out empty (every placeholder absent or
+    /// The rounded number ([`round`]) to write for placeholder `value` with `x` in format
+    /// `fi`, or `None` when it is left out: a modal value (`slot`, `modal`) whose text is
+    /// unchanged. Keeps the largest rounding, stages modal values and counts the moving ones
+    /// in `moved`.
+    fn number(&mut self, value: Value, fi: usize, slot: usize, modal: bool, x: f64, moved: &mut u32) -> Option<i64> {
+        let f = &self.out.formats[fi];
+        let inch = self.opts.units == Units::Inch;
+        let (n, err) = round(f, x, inch);
+        if err > self.rounded && matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
+            self.rounded = err;
+            if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                self.rounded_at = Some(self.origin);
+            }
+        }
+        if value == Value::F && err > self.rounded_feed {
+            self.rounded_feed = err;
+            if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                self.rounded_feed_at = Some(self.origin);
+            }
+        }
+        if slot != NO_SLOT {
+            let key = Key { fi, inch, n };
+            if modal
+                && let Some((w, _)) = self.written[slot]
+                && self.same_text(w, key)
+            {
+                // The text written is this number's (in this format): the next time it is not
+                // rounded.
+                self.set_written(slot, Some((key, x)));
+                return None;
+            }
+            if !(3..5).contains(&slot) {
+                *moved += 1;
+            }
+            // Staged: it counts as written once the block is.
+            self.staged[slot] = (key, x);
+            self.staged_mask |= 1 << slot;
+        }
+        Some(n)
+    }
+
+    /// Whether modal placeholder `slot` with `x` in format `fi` is the number written last:
+    /// its text again, left out at once (the common case of a move's unchanged axes).
+    #[inline]
+    fn unchanged(&self, slot: usize, modal: bool, fi: usize, x: f64) -> bool {
+        modal && self.last[slot] == (x, fi)
+    }
+
+    /// Writes number placeholder `value` with `x` in format `fi` onto `s`, unless it is left
+    /// out; whether it was written.
+    #[inline]
+    fn push_value(&mut self, s: &mut Vec<u8>, value: Value, fi: usize, slot: usize, modal: bool, x: f64, moved: &mut u32) -> bool {
+        if x.is_nan() || self.unchanged(slot, modal, fi, x) {
+            return false;
+        }
+        match self.number(value, fi, slot, modal, x, moved) {
+            Some(n) => {
+                push_number(s, &self.out.formats[fi], n, self.opts.units == Units::Inch);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Renders one word onto `s`; false when it comes out empty (every placeholder absent or
     /// unchanged). Counts the modal values written in `moved`.
-    fn word(&mut self, w: &crate::dialect::output::Word, vals: &Vals, s: &mut String, moved: &mut u32) -> bool {
+    fn word(&mut self, w: &crate::dialect::output::Word, vals: &Vals, s: &mut Vec<u8>, moved: &mut u32) -> bool {
         let mut any_var = false;
         let mut any_out = false;
         for p in &w.0 {
             match p {
-                Piece::Lit(l) => s.push_str(l),
+                Piece::Lit(l) => s.extend_from_slice(l.as_bytes()),
                 Piece::Var { value, format, force } => {
                     any_var = true;
                     if value.is_text() {
@@ -702,163 +842,136 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                                 // Words put off to a move are written with it, moving or not.
                                 *moved += 1;
                             }
-                            s.push_str(&t);
+                            s.extend_from_slice(t.as_bytes());
                         }
                         continue;
                     }
-                    let x = vals.num[*value as usize];
-                    let Some(fi) = format else { continue };
-                    if x.is_nan() {
-                        continue;
-                    }
-                    let f = &self.out.formats[*fi];
-                    let slot = modal_slot(*value);
-                    if let Some(k) = slot
-                        && f.modal
-                        && !force
-                        && self.written_val[k] == (x, *fi)
-                        && self.written[k].is_some()
-                    {
-                        continue;
-                    }
-                    self.word_buf.clear();
-                    let mut wb = std::mem::take(&mut self.word_buf);
-                    let err = format_number(&mut wb, f, x, self.opts.units == Units::Inch);
-                    if err > self.rounded && matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
-                        self.rounded = err;
-                        if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
-                            self.rounded_at = Some(self.origin);
-                        }
-                    }
-                    if *value == Value::F && err > self.rounded_feed {
-                        self.rounded_feed = err;
-                        if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
-                            self.rounded_feed_at = Some(self.origin);
-                        }
-                    }
-                    if let Some(slot) = slot {
-                        if f.modal && !force && self.written[slot].as_deref() == Some(wb.as_str()) {
-                            // The text written is this number's: the next time it is not formatted.
-                            self.written_val[slot] = (x, *fi);
-                            self.word_buf = wb;
-                            continue;
-                        }
-                        self.staged_val[slot] = (x, *fi);
-                        if !(3..5).contains(&slot) {
-                            *moved += 1;
-                        }
-                        // Staged: it counts as written once the block is.
-                        let staged = self.staged[slot].get_or_insert_with(String::new);
-                        staged.clear();
-                        staged.push_str(&wb);
-                    }
-                    s.push_str(&wb);
-                    self.word_buf = wb;
-                    any_out = true;
+                    let Some(fi) = *format else { continue };
+                    let slot = modal_slot(*value).unwrap_or(NO_SLOT);
+                    let modal = self.out.formats[fi].modal && !force;
+                    any_out |= self.push_value(s, *value, fi, slot, modal, vals.num[*value as usize], moved);
                 }
             }
         }
         !any_var || any_out
     }
 
-    /// Whether word `w` comes out empty for `vals` without rendering it (the common case of a
-    /// move's absent axes and unchanged modal values): its one placeholder is a number that is
-    /// absent, a modal number unchanged since written, or the words put off to a move when
-    /// none wait. [`Post::word`] gives false for such a word and changes nothing.
-    fn writes_nothing(&self, w: &crate::dialect::output::Word, vals: &Vals) -> bool {
-        let [Piece::Var { value, format, force }] = w.0.as_slice() else { return false };
-        if *value == Value::Mods {
-            return self.mods.is_empty();
+    /// The layout of template `t` ([`Layout`]), made at its first use and kept.
+    fn layout(&mut self, t: &Template, motion: bool) -> Layout {
+        let key = (std::ptr::from_ref(t) as usize, motion);
+        if let Some(k) = self.layouts.iter().position(|(at, m, _)| (*at, *m) == key) {
+            if let Some(l) = self.layouts[k].2.take() {
+                return l;
+            }
+            // In use further up (rendered again while it renders): a copy of its own.
+            return Layout::of(t, self.out, motion);
         }
-        if value.is_text() {
-            return false;
+        self.layouts.push((key.0, key.1, None));
+        Layout::of(t, self.out, motion)
+    }
+
+    /// Keeps `layout` for template `t` again, after [`Post::layout`].
+    fn layout_done(&mut self, t: &Template, motion: bool, layout: Layout) {
+        let key = (std::ptr::from_ref(t) as usize, motion);
+        if let Some(entry) = self.layouts.iter_mut().find(|(at, m, _)| (*at, *m) == key) {
+            entry.2.get_or_insert(layout);
         }
-        let x = vals.num[*value as usize];
-        let Some(fi) = format else { return true };
-        if x.is_nan() {
-            return true;
-        }
-        modal_slot(*value)
-            .is_some_and(|k| self.out.formats[*fi].modal && !force && self.written_val[k] == (x, *fi) && self.written[k].is_some())
     }
 
     /// Writes the blocks of `t`. A motion template's block that moves no axis is left out
-    /// (with its modal values unwritten), and its G code is left out when unchanged.
-    fn render(&mut self, t: &Template, vals: &mut Vals, tool_change: bool, motion: bool) {
+    /// (with its modal values unwritten), and its G code is left out when unchanged. Each
+    /// block is written in place at the end of the buffer (its number first) and taken back
+    /// when it comes out empty.
+    fn render(&mut self, t: &'a Template, vals: &mut Vals, tool_change: bool, motion: bool) {
         // The header (and the modal state it starts from) before the first block's words.
         self.start();
-        for b in &t.0 {
-            let mut line = std::mem::take(&mut self.line_buf);
-            line.clear();
+        let layout = self.layout(t, motion);
+        let sep = self.out.separator.as_bytes();
+        for (b, lb) in t.0.iter().zip(&layout.0) {
+            let mut buf = std::mem::take(&mut self.buf);
+            let start = buf.len();
+            let numbered = self.block_start(&mut buf, lb.raw, tool_change);
+            let body = buf.len();
             let mut moved = 0;
-            let mut first = true;
             let mut code: Option<&str> = None;
-            for (wi, w) in b.words.iter().enumerate() {
-                if motion && wi == 0 && self.out.modal_motion {
-                    if let [Piece::Lit(l)] = w.0.as_slice() {
-                        if self.motion.as_deref() == Some(l.as_str()) {
+            for part in &lb.parts {
+                let w = match *part {
+                    Part::Code(ref c) => {
+                        if self.motion.as_deref() == Some(c.as_str()) {
                             continue;
                         }
-                        code = Some(l);
+                        code = Some(c);
+                        if !c.is_empty() {
+                            if buf.len() > body {
+                                append(&mut buf, sep);
+                            }
+                            buf.extend_from_slice(c.as_bytes());
+                        }
+                        continue;
                     }
-                }
-                if self.writes_nothing(w, vals) {
-                    continue;
-                }
+                    // The common word, one number: absent, unchanged, or written here.
+                    Part::Num { value, fi, slot, modal } => {
+                        let x = vals.num[value as usize];
+                        if x.is_nan() || self.unchanged(slot, modal, fi, x) {
+                            continue;
+                        }
+                        let mark = buf.len();
+                        if mark > body {
+                            append(&mut buf, sep);
+                        }
+                        if !self.push_value(&mut buf, value, fi, slot, modal, x, &mut moved) {
+                            buf.truncate(mark);
+                        }
+                        continue;
+                    }
+                    Part::Mods(_) if self.mods.is_empty() => continue,
+                    Part::Mods(wi) | Part::Word(wi) => &b.words[wi],
+                };
                 // Written in place after the separator, and taken back when it comes out empty.
-                let mark = line.len();
-                if !first {
-                    line.push_str(&self.out.separator);
+                let mark = buf.len();
+                if mark > body {
+                    append(&mut buf, sep);
                 }
-                let at = line.len();
-                if self.word(w, vals, &mut line, &mut moved) && line.len() > at {
-                    first = false;
-                } else {
-                    line.truncate(mark);
+                let at = buf.len();
+                if !(self.word(w, vals, &mut buf, &mut moved) && buf.len() > at) {
+                    buf.truncate(mark);
                 }
             }
-            if motion
-                && moved == 0
-                && b.words.iter().flat_map(|w| &w.0).any(|p| matches!(p, Piece::Var { value: Value::X | Value::Y | Value::Z, .. }))
-            {
-                for st in &mut self.staged {
-                    if let Some(x) = st.as_mut() {
-                        x.clear();
-                    }
-                }
-                self.line_buf = line;
+            if motion && moved == 0 && lb.moves {
+                self.staged_mask = 0;
+                buf.truncate(start);
+                self.buf = buf;
                 continue;
             }
-            for k in 0..8 {
-                if let Some(x) = self.staged[k].as_mut().filter(|x| !x.is_empty()) {
-                    // The staged text becomes the written one; the old buffer is staged next.
-                    let w = self.written[k].get_or_insert_with(String::new);
-                    std::mem::swap(w, x);
-                    x.clear();
-                    self.written_val[k] = self.staged_val[k];
-                }
+            let mut staged = std::mem::take(&mut self.staged_mask);
+            while staged != 0 {
+                let k = staged.trailing_zeros() as usize;
+                self.set_written(k, Some(self.staged[k]));
+                staged &= staged - 1;
             }
             if let Some(c) = code {
                 if self.motion.as_deref() != Some(c) {
                     self.motion = Some(c.to_owned());
                 }
             }
-            if line.is_empty() {
-                self.line_buf = line;
-                continue;
+            let empty = buf.len() == body;
+            if empty {
+                buf.truncate(start);
             }
-            self.line(&line, b.raw, tool_change);
-            self.line_buf = line;
+            self.buf = buf;
+            if !empty {
+                self.line_end(start, lb.raw, numbered);
+            }
         }
+        self.layout_done(t, motion, layout);
     }
 
-    fn line(&mut self, text: &str, raw: bool, tool_change: bool) {
-        // The header waits for the first block, so that the units the source starts in are
-        // known.
-        self.start();
-        let start = self.buf.len();
+    /// Starts a block at the end of `buf`: the optional block's `/` and the block number where
+    /// the target numbers it (counted once the block is written, [`Post::line_end`]); whether
+    /// it is numbered.
+    fn block_start(&self, buf: &mut Vec<u8>, raw: bool, tool_change: bool) -> bool {
         if !raw && self.optional_line == Some(self.line) {
-            self.buf.push(b'/');
+            buf.push(b'/');
         }
         let numbered = match self.out.numbered {
             Numbered::All => !raw,
@@ -866,14 +979,21 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             Numbered::None => false,
         };
         if numbered {
-            self.buf.extend_from_slice(self.out.number_address.as_bytes());
-            push_u64(&mut self.buf, self.block);
-            self.buf.extend_from_slice(self.out.separator.as_bytes());
+            append(buf, self.out.number_address.as_bytes());
+            push_u64(buf, self.block);
+            append(buf, self.out.separator.as_bytes());
+        }
+        numbered
+    }
+
+    /// Ends the block that starts at `start` in the buffer, and hands the buffer over when
+    /// it is full.
+    fn line_end(&mut self, start: usize, raw: bool, numbered: bool) {
+        if numbered {
             self.block += self.out.number_step;
         }
-        self.buf.extend_from_slice(text.as_bytes());
         if !raw {
-            self.buf.extend_from_slice(self.out.end_of_block.as_bytes());
+            append(&mut self.buf, self.out.end_of_block.as_bytes());
         }
         if self.out.max_line > 0 && self.buf.len() - start > self.out.max_line && self.noted.insert("line-too-long".into()) {
             self.diags.push(Diagnostic::new(
@@ -1013,8 +1133,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let mut vals = Vals::new();
         vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]);
         // A feed synchronised with the spindle: the target's thread move, else said.
+        let mut thread = false;
         let event = match self.sync {
             Some(pitch) if !rapid => {
+                thread = true;
                 vals.set(Value::Pitch, pitch);
                 if self.out.template("thread").is_none() {
                     self.note(
@@ -1035,7 +1157,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if !rapid {
             vals.set(Value::F, self.feed);
         }
-        if let Some((t, _)) = self.out.template(event) {
+        let template = match (thread, rapid) {
+            (true, _) => self.out.template(event).map(|(t, _)| t),
+            (false, true) => self.moves.0,
+            (false, false) => self.moves.1,
+        };
+        if let Some(t) = template {
             self.rules(event, true);
             self.render(t, &mut vals, false, true);
             self.rules(event, false);
@@ -1148,8 +1275,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 // A full circle: its end words must be written even though unchanged.
                 if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
                     for k in 0..3 {
-                        self.written[k] = None;
-                        self.written_val[k].0 = f64::NAN;
+                        self.set_written(k, None);
                     }
                     let keep = [to[a], to[b]];
                     let _ = keep;
@@ -1406,6 +1532,11 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     self.g92 = self.g92.map(|v| v * k);
                     self.pos = self.pos.map(|v| v * k);
                     self.opts.units = *u;
+                    // What was written, known in the other units, is rounded again.
+                    for k in 0..8 {
+                        let w = self.written[k];
+                        self.set_written(k, w);
+                    }
                 }
                 self.scale = u.to_mm() / self.opts.units.to_mm();
                 if *u != self.opts.units {
@@ -1507,8 +1638,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 }
                 let mut vals = Vals::new();
                 vals.set(Value::S, self.speed);
-                self.written[4] = if self.speed_dirty { None } else { self.written[4].take() };
-                self.written_val[4].0 = f64::NAN;
+                if self.speed_dirty {
+                    self.set_written(4, None);
+                }
                 self.speed_dirty = false;
                 self.spindle_on = true;
                 self.event(if cw { "spindle-cw" } else { "spindle-ccw" }, &mut vals);
@@ -1637,15 +1769,10 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 if self.in_cycle {
                     self.in_cycle = false;
                     let p = self.pos;
-                    let out = self.out;
-                    let inch = self.opts.units == Units::Inch;
                     for (k, f) in ["X", "Y", "Z"].iter().enumerate() {
-                        self.written[k] = out.formats.iter().find(|x| x.name == *f).map(|f| {
-                            let mut s = String::new();
-                            format_number(&mut s, f, p[k], inch);
-                            s
-                        });
-                        self.written_val[k].0 = f64::NAN;
+                        // Its rounding not yet kept: the next move rounds it again.
+                        let w = self.key_of(f, p[k]).map(|(key, _)| (key, f64::NAN));
+                        self.set_written(k, w);
                     }
                 }
             }
@@ -1663,8 +1790,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::StopSpeedFeedSync => {
                 self.sync = None;
                 // The thread's lead may have been written in the feed's address (Fanuc G33 F).
-                self.written[3] = None;
-                self.written_val[3].0 = f64::NAN;
+                self.set_written(3, None);
                 self.motion = None;
             }
             CanonOp::RigidTap(t) => {
