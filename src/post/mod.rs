@@ -335,6 +335,11 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     staged: [(Key, f64); 8],
     /// The slots staged, one bit each.
     staged_mask: u8,
+    /// The text of a block number: its digits at `.0[.1..20]` (16 bytes after them for
+    /// [`append_tail`]), and the number (`u64::MAX`: none yet).
+    number_text: ([u8; 36], usize, u64),
+    /// The values of a straight move, kept for the next (see [`Post::straight`]).
+    move_vals: Option<Box<Vals>>,
     /// The `rapid` and `feed` templates.
     moves: (Option<&'a Template>, Option<&'a Template>),
     /// The templates' layouts, by the template's address (and whether it renders a move),
@@ -453,76 +458,233 @@ fn decimals(f: &NumberFormat, inch: bool) -> usize {
 /// zero), which the text is written from, and how far that is from `v`.
 fn round(f: &NumberFormat, v: f64, inch: bool) -> (i64, f64) {
     let p = POW10[decimals(f, inch)];
-    let x = v * p as f64;
-    // Half away from zero, by truncation (no libm call).
-    let n: i64 = if x >= 0.0 { (x + 0.5) as i64 } else { (x - 0.5) as i64 };
+    let n = round_scaled(v * p as f64);
     (n, (n as f64 / p as f64 - v).abs())
 }
 
+/// A scaled number rounded half away from zero, by truncation (no libm call).
+#[inline]
+fn round_scaled(x: f64) -> i64 {
+    if x >= 0.0 { (x + 0.5) as i64 } else { (x - 0.5) as i64 }
+}
+
+/// 10^-k, for [`below`].
+const INV_POW10: [f64; 16] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15];
+
+/// Whether the error [`round`] gives for `v` (scaled by 10^`d` to `scaled`, rounded to `n`)
+/// is surely not above `kept`, told without a division: |n − scaled| / 10^d with a margin
+/// far above the rounding of either computation (a few units in the last place of `v`).
+#[inline]
+fn below(n: i64, scaled: f64, v: f64, d: usize, kept: f64) -> bool {
+    (n as f64 - scaled).abs() * INV_POW10[d] + 1e-12 * (v.abs() + 1.0) < kept
+}
+
+/// The two-digit numbers `00` to `99`, for writing digits two at a time.
+const DIGITS2: [u8; 200] = {
+    let mut t = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        t[2 * i] = b'0' + (i / 10) as u8;
+        t[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    t
+};
+
+/// For each fraction 0 to 999 of a three-decimal number: its three digits, and how many are
+/// left without its trailing zeros (none for 0).
+const FRAC3: [[u8; 4]; 1000] = {
+    let mut t = [[0u8; 4]; 1000];
+    let mut i = 0;
+    while i < 1000 {
+        let d = [b'0' + (i / 100) as u8, b'0' + (i / 10 % 10) as u8, b'0' + (i % 10) as u8];
+        let len = if i == 0 {
+            0
+        } else if i % 100 == 0 {
+            1
+        } else if i % 10 == 0 {
+            2
+        } else {
+            3
+        };
+        t[i] = [d[0], d[1], d[2], len];
+        i += 1;
+    }
+    t
+};
+
+/// For each whole number 0 to 999: its digits without leading zeros, from the left, and
+/// their count.
+const INT3: [[u8; 4]; 1000] = {
+    let mut t = [[0u8; 4]; 1000];
+    let mut i = 0;
+    while i < 1000 {
+        let (a, b, c) = (b'0' + (i / 100) as u8, b'0' + (i / 10 % 10) as u8, b'0' + (i % 10) as u8);
+        t[i] = if i >= 100 {
+            [a, b, c, 3]
+        } else if i >= 10 {
+            [b, c, 0, 2]
+        } else {
+            [c, 0, 0, 1]
+        };
+        i += 1;
+    }
+    t
+};
+
+/// [`push_number`] for the usual number: three decimals, a short address and under 1000
+/// before the point, put together from the tables [`INT3`] and [`FRAC3`]; false for any
+/// other, left to the general way.
+#[inline]
+fn push_three_decimals(out: &mut Vec<u8>, f: &NumberFormat, n: i64, decimals: usize) -> bool {
+    let a = n.unsigned_abs();
+    let address = f.address.as_bytes();
+    if decimals != 3 || f.increment || a >= 1_000_000 || address.len() > 8 {
+        return false;
+    }
+    let (whole, frac) = ((a / 1000) as usize, (a % 1000) as usize);
+    let fr = FRAC3[frac];
+    let flen = if f.trailing_zeros { 3 } else { usize::from(fr[3]) };
+    // Address, sign, three digits, point, three digits: 16 at most.
+    let mut t = [0u8; 32];
+    t[..address.len()].copy_from_slice(address);
+    let mut k = address.len();
+    if n < 0 {
+        t[k] = b'-';
+        k += 1;
+    } else if f.plus {
+        t[k] = b'+';
+        k += 1;
+    }
+    if whole != 0 || f.leading_zero || flen == 0 {
+        let w = INT3[whole];
+        t[k..k + 3].copy_from_slice(&w[..3]);
+        k += usize::from(w[3]);
+    }
+    if flen > 0 || f.point == Point::Always {
+        t[k] = b'.';
+        k += 1;
+    }
+    t[k..k + 3].copy_from_slice(&fr[..3]);
+    k += flen;
+    let at = out.len();
+    out.extend_from_slice(&t[..16]);
+    out.truncate(at + k);
+    true
+}
+
+/// `a` split at `decimals` decimal digits: the whole part and the fraction's digits. The
+/// usual counts divide by a constant (a multiplication, no divide instruction).
+fn split_decimals(a: u64, decimals: usize) -> (u64, u64) {
+    match decimals {
+        1 => (a / 10, a % 10),
+        2 => (a / 100, a % 100),
+        3 => (a / 1000, a % 1000),
+        4 => (a / 10_000, a % 10_000),
+        5 => (a / 100_000, a % 100_000),
+        6 => (a / 1_000_000, a % 1_000_000),
+        d => (a / POW10[d], a % POW10[d]),
+    }
+}
+
 /// The text of the rounded number `n` (from [`round`]) in format `f`, address included, by
-/// integer arithmetic: the characters are put into a stack buffer from the right and
-/// appended at once. One format writes distinct numbers as distinct texts.
+/// integer arithmetic: the characters are put into a stack buffer from the right, two digits
+/// at a time, and appended at once. One format writes distinct numbers as distinct texts.
 fn push_number(out: &mut Vec<u8>, f: &NumberFormat, n: i64, inch: bool) {
     let decimals = decimals(f, inch);
-    // A short address, a sign, 20 digits, a point and 15 decimals at most.
-    let mut b = [0u8; 48];
-    let mut i = b.len();
-    fn put(b: &mut [u8; 48], i: &mut usize, c: u8) {
-        *i -= 1;
-        b[*i] = c;
+    if push_three_decimals(out, f, n, decimals) {
+        return;
     }
-    // Digits by division by ten only (a constant: no divide instruction).
+    // A short address, a sign, 20 digits, a point and 15 decimals at most, ending at 48; the
+    // 16 bytes after it let a short text be copied as a fixed 16 ([`append_tail`]).
+    let mut b = [0u8; 64];
+    let mut i = 48;
     let mut int = n.unsigned_abs();
     let mut whole = true;
     if f.increment || decimals == 0 {
         if !f.increment && f.point == Point::Always {
-            put(&mut b, &mut i, b'.');
+            i -= 1;
+            b[i] = b'.';
         }
     } else {
-        // The fraction's digits from the right, without trailing zeros unless the format
-        // keeps them.
-        let mut trailing = !f.trailing_zeros;
-        let mut flen = 0;
-        for _ in 0..decimals {
-            let d = (int % 10) as u8;
-            int /= 10;
-            if trailing && d == 0 {
-                continue;
+        let (q, mut frac) = split_decimals(int, decimals);
+        int = q;
+        // The fraction's digits, without trailing zeros unless the format keeps them.
+        let mut flen = decimals;
+        if !f.trailing_zeros {
+            if frac == 0 {
+                flen = 0;
+            } else {
+                while frac % 10 == 0 {
+                    frac /= 10;
+                    flen -= 1;
+                }
             }
-            trailing = false;
-            put(&mut b, &mut i, b'0' + d);
-            flen += 1;
+        }
+        let mut k = flen;
+        while k >= 2 {
+            let d = (frac % 100) as usize * 2;
+            frac /= 100;
+            i -= 2;
+            b[i..i + 2].copy_from_slice(&DIGITS2[d..d + 2]);
+            k -= 2;
+        }
+        if k == 1 {
+            i -= 1;
+            b[i] = b'0' + frac as u8;
         }
         if flen > 0 || f.point == Point::Always {
-            put(&mut b, &mut i, b'.');
+            i -= 1;
+            b[i] = b'.';
         }
         // `.5`: no digit before the point.
         whole = int != 0 || f.leading_zero || flen == 0;
     }
     if whole {
-        loop {
-            put(&mut b, &mut i, b'0' + (int % 10) as u8);
-            int /= 10;
-            if int == 0 {
-                break;
-            }
+        while int >= 100 {
+            let d = (int % 100) as usize * 2;
+            int /= 100;
+            i -= 2;
+            b[i..i + 2].copy_from_slice(&DIGITS2[d..d + 2]);
+        }
+        if int >= 10 {
+            let d = int as usize * 2;
+            i -= 2;
+            b[i..i + 2].copy_from_slice(&DIGITS2[d..d + 2]);
+        } else {
+            i -= 1;
+            b[i] = b'0' + int as u8;
         }
     }
     if n < 0 {
-        put(&mut b, &mut i, b'-');
+        i -= 1;
+        b[i] = b'-';
     } else if f.plus {
-        put(&mut b, &mut i, b'+');
+        i -= 1;
+        b[i] = b'+';
     }
     // The address goes before it in the same buffer: one append.
     let address = f.address.as_bytes();
     if address.len() <= 8 {
-        for &c in address.iter().rev() {
-            put(&mut b, &mut i, c);
-        }
+        i -= address.len();
+        b[i..i + address.len()].copy_from_slice(address);
     } else {
         out.extend_from_slice(address);
     }
-    out.extend_from_slice(&b[i..]);
+    append_tail(out, &b, i, 48);
+}
+
+/// Appends `b[i..end]`; a text of 16 bytes or less as a copy of a fixed 16 taken back to its
+/// length (no call to copy: most numbers are short). `b` has 16 bytes after `end`.
+#[inline]
+fn append_tail(out: &mut Vec<u8>, b: &[u8], i: usize, end: usize) {
+    if end - i <= 16 {
+        let at = out.len();
+        out.extend_from_slice(&b[i..i + 16]);
+        out.truncate(at + end - i);
+    } else {
+        out.extend_from_slice(&b[i..end]);
+    }
 }
 
 /// Appends `s`; a single byte (a separator) or nothing without a call to copy.
@@ -537,7 +699,7 @@ fn append(buf: &mut Vec<u8>, s: &[u8]) {
 
 /// Appends the decimal digits of `n` without allocating.
 fn push_u64(out: &mut Vec<u8>, mut n: u64) {
-    let mut b = [0u8; 20];
+    let mut b = [0u8; 36];
     let mut i = 20;
     loop {
         i -= 1;
@@ -547,7 +709,7 @@ fn push_u64(out: &mut Vec<u8>, mut n: u64) {
             break;
         }
     }
-    out.extend_from_slice(&b[i..]);
+    append_tail(out, &b, i, 20);
 }
 
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
@@ -595,6 +757,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             staged: [(Key { fi: 0, inch: false, n: 0 }, 0.0); 8],
             staged_mask: 0,
             layouts: Vec::new(),
+            number_text: ([0; 36], 20, u64::MAX),
+            move_vals: None,
             moves: (out.template("rapid").map(|(t, _)| t), out.template("feed").map(|(t, _)| t)),
             rounded: 0.0,
             rounded_at: None,
@@ -753,17 +917,26 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     fn number(&mut self, value: Value, fi: usize, slot: usize, modal: bool, x: f64, moved: &mut u32) -> Option<i64> {
         let f = &self.out.formats[fi];
         let inch = self.opts.units == Units::Inch;
-        let (n, err) = round(f, x, inch);
-        if err > self.rounded && matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R) {
-            self.rounded = err;
-            if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
-                self.rounded_at = Some(self.origin);
+        let d = decimals(f, inch);
+        let scaled = x * POW10[d] as f64;
+        let n = round_scaled(scaled);
+        // The largest rounding of positions and of feeds: `round`'s error, worked out only
+        // where it may pass the largest so far.
+        let position = matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R);
+        let kept = if position { self.rounded } else { self.rounded_feed };
+        if (position || value == Value::F) && !below(n, scaled, x, d, kept) {
+            let err = (n as f64 / POW10[d] as f64 - x).abs();
+            if position && err > self.rounded {
+                self.rounded = err;
+                if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                    self.rounded_at = Some(self.origin);
+                }
             }
-        }
-        if value == Value::F && err > self.rounded_feed {
-            self.rounded_feed = err;
-            if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
-                self.rounded_feed_at = Some(self.origin);
+            if value == Value::F && err > self.rounded_feed {
+                self.rounded_feed = err;
+                if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                    self.rounded_feed_at = Some(self.origin);
+                }
             }
         }
         if slot != NO_SLOT {
@@ -860,6 +1033,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     fn layout(&mut self, t: &Template, motion: bool) -> Layout {
         let key = (std::ptr::from_ref(t) as usize, motion);
         if let Some(k) = self.layouts.iter().position(|(at, m, _)| (*at, *m) == key) {
+            // The most used (the moves') come first.
+            if k > 0 {
+                self.layouts.swap(k, k - 1);
+            }
+            let k = k.saturating_sub(1);
             if let Some(l) = self.layouts[k].2.take() {
                 return l;
             }
@@ -969,7 +1147,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// Starts a block at the end of `buf`: the optional block's `/` and the block number where
     /// the target numbers it (counted once the block is written, [`Post::line_end`]); whether
     /// it is numbered.
-    fn block_start(&self, buf: &mut Vec<u8>, raw: bool, tool_change: bool) -> bool {
+    fn block_start(&mut self, buf: &mut Vec<u8>, raw: bool, tool_change: bool) -> bool {
         if !raw && self.optional_line == Some(self.line) {
             buf.push(b'/');
         }
@@ -980,10 +1158,47 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         };
         if numbered {
             append(buf, self.out.number_address.as_bytes());
-            push_u64(buf, self.block);
+            self.push_block_number(buf);
             append(buf, self.out.separator.as_bytes());
         }
         numbered
+    }
+
+    /// Appends the block number [`Post::block`]: the digits of the last one written, counted
+    /// on by the step in place (the next block's number is the last one's plus the step).
+    fn push_block_number(&mut self, buf: &mut Vec<u8>) {
+        let n = self.block;
+        let (b, i, of) = &mut self.number_text;
+        if n != *of {
+            if n > *of && n - *of <= 1000 {
+                // Decimal addition of the step, digit by digit with the carry.
+                let (mut add, mut carry, mut k) = (n - *of, 0, 20);
+                while add > 0 || carry > 0 {
+                    k -= 1;
+                    if k < *i {
+                        *i = k;
+                        b[k] = b'0';
+                    }
+                    let sum = u64::from(b[k] - b'0') + add % 10 + carry;
+                    b[k] = b'0' + (sum % 10) as u8;
+                    carry = sum / 10;
+                    add /= 10;
+                }
+            } else {
+                let mut m = n;
+                *i = 20;
+                loop {
+                    *i -= 1;
+                    b[*i] = b'0' + (m % 10) as u8;
+                    m /= 10;
+                    if m == 0 {
+                        break;
+                    }
+                }
+            }
+            *of = n;
+        }
+        append_tail(buf, &self.number_text.0, self.number_text.1, 20);
     }
 
     /// Ends the block that starts at `start` in the buffer, and hands the buffer over when
@@ -1130,8 +1345,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             return;
         }
         self.cancel_cycle();
-        let mut vals = Vals::new();
-        vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]);
+        // The moves' values, kept between moves: each sets all it uses (NaN: absent).
+        let mut vals = self.move_vals.take().unwrap_or_else(|| Box::new(Vals::new()));
+        vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]).set(Value::Pitch, f64::NAN);
         // A feed synchronised with the spindle: the target's thread move, else said.
         let mut thread = false;
         let event = match self.sync {
@@ -1154,9 +1370,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         };
         // Rotary axes in degrees, not scaled.
         vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
-        if !rapid {
-            vals.set(Value::F, self.feed);
-        }
+        vals.set(Value::F, if rapid { f64::NAN } else { self.feed });
         let template = match (thread, rapid) {
             (true, _) => self.out.template(event).map(|(t, _)| t),
             (false, true) => self.moves.0,
@@ -1169,6 +1383,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         } else {
             self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
         }
+        self.move_vals = Some(vals);
         self.moved(q);
     }
 
@@ -1521,6 +1736,17 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             _ => self.flush_speed(false),
         }
+        // The common op, a straight move, apart from the rest (a small frame for it).
+        match &canon.op {
+            CanonOp::StraightTraverse(p) => self.straight(&canon, p, true),
+            CanonOp::StraightFeed(p) => self.straight(&canon, p, false),
+            _ => self.other_op(canon),
+        }
+    }
+
+    /// [`Post::op`] for the ops other than straight moves.
+    #[inline(never)]
+    fn other_op(&mut self, canon: Canon) {
         match &canon.op {
             CanonOp::UseLengthUnits(u) => {
                 if self.opts.follow_source_units && !self.started && *u != self.opts.units {
