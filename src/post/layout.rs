@@ -15,20 +15,32 @@ pub(super) enum Part {
     /// A motion block's first word, its G code: left out while the same code is in force.
     Code(String),
     /// A word of one number placeholder.
-    Num {
-        /// The value.
-        value: Value,
-        /// Its number format.
-        fi: usize,
-        /// The modal slot ([`super::modal_slot`]), or [`NO_SLOT`].
-        slot: usize,
-        /// Whether it is left out when its text is unchanged: a modal format, not forced.
-        modal: bool,
-    },
+    Num(Num),
     /// The words put off to a move, alone in their word (`{mods}`); the word's index.
     Mods(usize),
     /// Any other word, by its index in the block.
     Word(usize),
+}
+
+/// A number placeholder, sorted.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Num {
+    /// The value.
+    pub value: Value,
+    /// Its number format.
+    pub fi: usize,
+    /// The modal slot ([`super::modal_slot`]), or [`NO_SLOT`].
+    pub slot: usize,
+    /// Whether it is left out when its text is unchanged: a modal format, not forced.
+    pub modal: bool,
+}
+
+impl Num {
+    /// Placeholder `value` in format `fi` of `out`, forced (`{x!}`) or not.
+    pub(super) fn new(value: Value, fi: usize, force: bool, out: &Output) -> Num {
+        let slot = super::modal_slot(value).unwrap_or(NO_SLOT);
+        Num { value, fi, slot, modal: out.formats[fi].modal && !force }
+    }
 }
 
 /// No modal slot.
@@ -65,8 +77,7 @@ impl Layout {
                             [Piece::Var { value, format, force }] if !value.is_text() => {
                                 // Without a format, the word writes nothing.
                                 let Some(fi) = *format else { continue };
-                                let slot = super::modal_slot(*value).unwrap_or(NO_SLOT);
-                                Part::Num { value: *value, fi, slot, modal: out.formats[fi].modal && !force }
+                                Part::Num(Num::new(*value, fi, *force, out))
                             }
                             _ => Part::Word(wi),
                         };

@@ -13,7 +13,7 @@
 use std::collections::BTreeSet;
 
 mod layout;
-use layout::{Layout, NO_SLOT, Part};
+use layout::{Layout, NO_SLOT, Num, Part};
 
 use crate::canon::{Canon, CanonOp, CanonSink, CycleIntent, CycleKind, FeedMode, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic};
@@ -457,9 +457,9 @@ fn decimals(f: &NumberFormat, inch: bool) -> usize {
 /// `v` rounded for format `f`: the integer count of its last decimal's steps (half away from
 /// zero), which the text is written from, and how far that is from `v`.
 fn round(f: &NumberFormat, v: f64, inch: bool) -> (i64, f64) {
-    let p = POW10[decimals(f, inch)];
-    let n = round_scaled(v * p as f64);
-    (n, (n as f64 / p as f64 - v).abs())
+    let p = POW10F[decimals(f, inch)];
+    let n = round_scaled(v * p);
+    (n, (n as f64 / p - v).abs())
 }
 
 /// A scaled number rounded half away from zero, by truncation (no libm call).
@@ -467,6 +467,9 @@ fn round(f: &NumberFormat, v: f64, inch: bool) -> (i64, f64) {
 fn round_scaled(x: f64) -> i64 {
     if x >= 0.0 { (x + 0.5) as i64 } else { (x - 0.5) as i64 }
 }
+
+/// 10^k as a float (exact: below 2^53), for the scaling by the decimals [`decimals`] gives.
+const POW10F: [f64; 16] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15];
 
 /// 10^-k, for [`below`].
 const INV_POW10: [f64; 16] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15];
@@ -874,8 +877,16 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         found
     }
 
+    /// Writes the blocks of the rules that hold at `event`, before or after its own.
     #[inline]
     fn rules(&mut self, event: &str, before: bool) {
+        // Most targets have none: no call for every move.
+        if !self.out.rules.is_empty() {
+            self.rules_at(event, before);
+        }
+    }
+
+    fn rules_at(&mut self, event: &str, before: bool) {
         let out = self.out;
         for r in &out.rules {
             if self.holds(&r.when, event) {
@@ -914,18 +925,19 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// `fi`, or `None` when it is left out: a modal value (`slot`, `modal`) whose text is
     /// unchanged. Keeps the largest rounding, stages modal values and counts the moving ones
     /// in `moved`.
-    fn number(&mut self, value: Value, fi: usize, slot: usize, modal: bool, x: f64, moved: &mut u32) -> Option<i64> {
+    fn number(&mut self, num: Num, x: f64, moved: &mut u32) -> Option<i64> {
+        let Num { value, fi, slot, modal } = num;
         let f = &self.out.formats[fi];
         let inch = self.opts.units == Units::Inch;
         let d = decimals(f, inch);
-        let scaled = x * POW10[d] as f64;
+        let scaled = x * POW10F[d];
         let n = round_scaled(scaled);
         // The largest rounding of positions and of feeds: `round`'s error, worked out only
         // where it may pass the largest so far.
         let position = matches!(value, Value::X | Value::Y | Value::Z | Value::I | Value::J | Value::K | Value::R);
         let kept = if position { self.rounded } else { self.rounded_feed };
         if (position || value == Value::F) && !below(n, scaled, x, d, kept) {
-            let err = (n as f64 / POW10[d] as f64 - x).abs();
+            let err = (n as f64 / POW10F[d] - x).abs();
             if position && err > self.rounded {
                 self.rounded = err;
                 if self.rounded_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
@@ -963,20 +975,20 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// Whether modal placeholder `slot` with `x` in format `fi` is the number written last:
     /// its text again, left out at once (the common case of a move's unchanged axes).
     #[inline]
-    fn unchanged(&self, slot: usize, modal: bool, fi: usize, x: f64) -> bool {
-        modal && self.last[slot] == (x, fi)
+    fn unchanged(&self, num: Num, x: f64) -> bool {
+        num.modal && self.last[num.slot] == (x, num.fi)
     }
 
     /// Writes number placeholder `value` with `x` in format `fi` onto `s`, unless it is left
     /// out; whether it was written.
     #[inline]
-    fn push_value(&mut self, s: &mut Vec<u8>, value: Value, fi: usize, slot: usize, modal: bool, x: f64, moved: &mut u32) -> bool {
-        if x.is_nan() || self.unchanged(slot, modal, fi, x) {
+    fn push_value(&mut self, s: &mut Vec<u8>, num: Num, x: f64, moved: &mut u32) -> bool {
+        if x.is_nan() || self.unchanged(num, x) {
             return false;
         }
-        match self.number(value, fi, slot, modal, x, moved) {
+        match self.number(num, x, moved) {
             Some(n) => {
-                push_number(s, &self.out.formats[fi], n, self.opts.units == Units::Inch);
+                push_number(s, &self.out.formats[num.fi], n, self.opts.units == Units::Inch);
                 true
             }
             None => false,
@@ -1020,9 +1032,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         continue;
                     }
                     let Some(fi) = *format else { continue };
-                    let slot = modal_slot(*value).unwrap_or(NO_SLOT);
-                    let modal = self.out.formats[fi].modal && !force;
-                    any_out |= self.push_value(s, *value, fi, slot, modal, vals.num[*value as usize], moved);
+                    any_out |= self.push_value(s, Num::new(*value, fi, *force, self.out), vals.num[*value as usize], moved);
                 }
             }
         }
@@ -1088,16 +1098,16 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                         continue;
                     }
                     // The common word, one number: absent, unchanged, or written here.
-                    Part::Num { value, fi, slot, modal } => {
-                        let x = vals.num[value as usize];
-                        if x.is_nan() || self.unchanged(slot, modal, fi, x) {
+                    Part::Num(num) => {
+                        let x = vals.num[num.value as usize];
+                        if x.is_nan() || self.unchanged(num, x) {
                             continue;
                         }
                         let mark = buf.len();
                         if mark > body {
                             append(&mut buf, sep);
                         }
-                        if !self.push_value(&mut buf, value, fi, slot, modal, x, &mut moved) {
+                        if !self.push_value(&mut buf, num, x, &mut moved) {
                             buf.truncate(mark);
                         }
                         continue;
@@ -2417,5 +2427,80 @@ mod tests {
         assert_eq!(s(&f(Point::Always, 3, true, false, false, false), 0.5), "X.500");
         assert_eq!(s(&f(Point::Needed, 3, false, true, false, true), 10.0), "X10000");
         assert_eq!(s(&f(Point::Never, 0, false, true, false, false), 1500.4), "X1500");
+    }
+
+    fn options() -> Options {
+        Options {
+            name: "T".into(),
+            number: 1,
+            units: Units::Mm,
+            follow_source_units: true,
+            limits: Limits::default(),
+            hole_tops: Vec::new(),
+            tools: Vec::new(),
+            peck_clearance: (0.0, 0.0),
+            length_at_tool_change: (false, false),
+            arc_tolerance: (0.0, 0.0),
+        }
+    }
+
+    #[test]
+    fn block_numbers_counted_on_in_place_are_the_numbers() {
+        let siemens = crate::dialect::Registry::shipped().get("siemens").expect("siemens");
+        let out = siemens.output.as_ref().expect("output rules");
+        let mut post = Post::new(out, options(), |_: &[u8]| {});
+        let want = |n: u64| {
+            let mut v = Vec::new();
+            push_u64(&mut v, n);
+            v
+        };
+        let mut checked = 0;
+        // Steps over every carry (9 to 10, 99 to 100, 9990 to 10000 …), jumps back and far.
+        let starts = [0u64, 1, 5, 90, 95, 990, 9_990, 99_995, 999_999_990, u64::MAX - 2_000];
+        for &start in &starts {
+            for step in [1u64, 2, 7, 10, 100, 999] {
+                let mut n = start;
+                for _ in 0..300 {
+                    post.block = n;
+                    let mut got = vec![b'N'];
+                    post.push_block_number(&mut got);
+                    assert_eq!(got[1..], want(n)[..], "{n} after {start} by {step}");
+                    checked += 1;
+                    n = n.saturating_add(step);
+                }
+            }
+        }
+        assert_eq!(checked, starts.len() * 6 * 300);
+    }
+
+    #[test]
+    fn the_rounding_left_unworked_is_never_above_the_largest() {
+        // `below` says an error is not above the largest kept without dividing; whenever it
+        // says so, the error `round` works out is not above it.
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut shortcuts = 0;
+        for k in 0..200_000 {
+            let d = (next() % 7) as usize;
+            let magnitude = [1e-6, 1e-3, 1.0, 25.4, 1e3, 1e6, 1e9][(next() % 7) as usize];
+            let v = ((next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2.0 * magnitude;
+            // An exact number at the format's resolution now and then.
+            let v = if k % 5 == 0 { (v * POW10F[d]).round() / POW10F[d] } else { v };
+            let scaled = v * POW10F[d];
+            let n = round_scaled(scaled);
+            let err = (n as f64 / POW10F[d] - v).abs();
+            for kept in [0.0, err * 0.999_999, err, err * 1.000_001, err + 1e-9, 0.5 / POW10F[d], 1.0] {
+                if below(n, scaled, v, d, kept) {
+                    assert!(err <= kept, "{v} at {d} decimals: error {err} above {kept}");
+                    shortcuts += 1;
+                }
+            }
+        }
+        assert!(shortcuts > 100_000, "the shortcut is taken ({shortcuts})");
     }
 }
