@@ -730,6 +730,11 @@ impl<'a> Interpreter<'a> {
         }
         let op = if self.st.rotation.is_some() || self.st.scaling.is_some() { self.transform(op) } else { op };
         let canon = Canon { op, origin, line };
+        // Neither corners nor compensation (the common case): the op goes straight out.
+        if self.comp.borrow().is_none() && self.corners.borrow().is_none() {
+            sink.emit(canon);
+            return;
+        }
         let mut corners = self.corners.borrow_mut();
         match corners.as_mut() {
             None => self.compensate(canon, sink),

@@ -508,10 +508,18 @@ impl Interpreter<'_> {
         true
     }
 
+    #[inline]
     pub(super) fn check_technology(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        if self.st.tech_warned {
+        // Warned already, or a feed and a turning spindle (the common cut): nothing to say.
+        let unfed = self.st.feed <= 0.0 && !self.st.inverse_time;
+        if self.st.tech_warned || (!unfed && self.st.spindle != Spindle::Stopped) {
             return;
         }
+        self.check_technology_once(def, range, diags);
+    }
+
+    /// [`Interpreter::check_technology`] until a warning is given.
+    fn check_technology_once(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
         // In inverse time each feed move brings its own F (see `inverse_time_feed`).
         let problem = if self.st.feed <= 0.0 && !self.st.inverse_time {
             Some((Code::NoFeed, "the feed rate is zero", self.st.feed_unknown, "feed"))
@@ -595,6 +603,7 @@ impl Interpreter<'_> {
         self.st.pos = to;
     }
 
+    #[inline]
     pub(super) fn note_tangent(&mut self, t: [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (d1, d2) = (t[a0] - self.st.pos[a0], t[a1] - self.st.pos[a1]);
