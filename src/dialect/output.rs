@@ -987,6 +987,7 @@ mod tests {
                 length_at_tool_change: (false, false),
                 tools: Vec::new(),
                 arc_tolerance: (0.0, 0.0),
+                tap_to_clear: (false, false),
             };
             let diags = crate::post::translate(&text, &fanuc, to, &crate::interp::Profile::default(), opts, |b| bytes.extend_from_slice(b));
             let errors: Vec<String> =

@@ -2603,6 +2603,7 @@ mod tests {
             peck_clearance: (0.0, 0.0),
             length_at_tool_change: (false, false),
             arc_tolerance: (0.0, 0.0),
+            tap_to_clear: (false, false),
         }
     }
 
