@@ -1077,15 +1077,10 @@ fn translate_command(
     let opts = crate::post::Options {
         hole_tops,
         tools,
-        peck_clearance: (0.0, 0.0),
-        length_at_tool_change: (false, false),
-        arc_tolerance: (0.0, 0.0),
-        tap_to_clear: (false, false),
-        number: crate::post::program_number(&name),
-        name: crate::post::program_identifier(&name),
         units: limits.units.unwrap_or(crate::canon::Units::Mm),
         follow_source_units: limits.units.is_none(),
         limits: crate::post::Limits { max_spindle_speed: limits.max_spindle_speed, max_feed: limits.max_feed, travel: limits.travel },
+        ..crate::post::Options::for_program(&name)
     };
     let mut profile = config.profile.clone();
     if let Some(f) = &file {

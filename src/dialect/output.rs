@@ -976,19 +976,7 @@ mod tests {
         let write = |p: u32, to: &crate::dialect::Dialect| {
             let text = format!("%\nO0003\nG21 G90 G17\nT1 M6\nS1000 M3\nG54.1 P{p}\nG0 X10. Y10. Z5.\nG1 Z-1. F100.\nG0 Z50.\nM30\n%\n");
             let mut bytes = Vec::new();
-            let opts = crate::post::Options {
-                name: "O0003".into(),
-                number: 3,
-                units: crate::canon::Units::Mm,
-                follow_source_units: true,
-                limits: crate::post::Limits::default(),
-                hole_tops: Vec::new(),
-                peck_clearance: (0.0, 0.0),
-                length_at_tool_change: (false, false),
-                tools: Vec::new(),
-                arc_tolerance: (0.0, 0.0),
-                tap_to_clear: (false, false),
-            };
+            let opts = crate::post::Options::for_program("O0003");
             let diags = crate::post::translate(&text, &fanuc, to, &crate::interp::Profile::default(), opts, |b| bytes.extend_from_slice(b));
             let errors: Vec<String> =
                 diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect();

@@ -56,6 +56,27 @@ pub struct Options {
     pub tap_to_clear: (bool, bool),
 }
 
+impl Options {
+    /// Options for a program named `name` ([`program_identifier`], [`program_number`]),
+    /// written in the units it starts in, without machine limits or plan facts. The fields
+    /// [`translate`] sets from the dictionaries start neutral.
+    pub fn for_program(name: &str) -> Options {
+        Options {
+            name: program_identifier(name),
+            number: program_number(name),
+            units: Units::Mm,
+            follow_source_units: true,
+            limits: Limits::default(),
+            hole_tops: Vec::new(),
+            peck_clearance: (0.0, 0.0),
+            length_at_tool_change: (false, false),
+            tools: Vec::new(),
+            arc_tolerance: (0.0, 0.0),
+            tap_to_clear: (false, false),
+        }
+    }
+}
+
 /// What the writer says of a tool at its change.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ToolFact {
@@ -2592,19 +2613,7 @@ mod tests {
     }
 
     fn options() -> Options {
-        Options {
-            name: "T".into(),
-            number: 1,
-            units: Units::Mm,
-            follow_source_units: true,
-            limits: Limits::default(),
-            hole_tops: Vec::new(),
-            tools: Vec::new(),
-            peck_clearance: (0.0, 0.0),
-            length_at_tool_change: (false, false),
-            arc_tolerance: (0.0, 0.0),
-            tap_to_clear: (false, false),
-        }
+        Options { name: "T".into(), ..Options::for_program("T") }
     }
 
     #[test]

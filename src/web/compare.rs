@@ -497,19 +497,7 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
     let name = crate::pipeline::program_name(&source.text).or(stem).unwrap_or_else(|| "PROGRAM".into());
     let profile = &s.config.profile;
     let (hole_tops, tools) = crate::pipeline::translation_facts(&source.text, &source_dialect, profile);
-    let opts = crate::post::Options {
-        hole_tops,
-        tools,
-        peck_clearance: (0.0, 0.0),
-        length_at_tool_change: (false, false),
-        arc_tolerance: (0.0, 0.0),
-        tap_to_clear: (false, false),
-        number: crate::post::program_number(&name),
-        name: crate::post::program_identifier(&name),
-        units: crate::canon::Units::Mm,
-        follow_source_units: true,
-        limits: crate::post::Limits::default(),
-    };
+    let opts = crate::post::Options { hole_tops, tools, ..crate::post::Options::for_program(&name) };
     let mut out = Vec::new();
     diags.extend(crate::post::translate(&source.text, &source_dialect, &target, profile, opts, |chunk| out.extend_from_slice(chunk)));
     let idx = crate::text::LineIndex::new(&source.text);

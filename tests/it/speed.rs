@@ -4,11 +4,10 @@
 
 use std::sync::Arc;
 
-use ncplan::canon::Units;
 use ncplan::dialect::output::{NumberFormat, Point};
 use ncplan::dialect::{Dialect, Registry};
 use ncplan::interp::{self, Profile};
-use ncplan::post::{self, Limits, Options, Post};
+use ncplan::post::{self, Options, Post};
 
 fn dialect(name: &str) -> Arc<Dialect> {
     static R: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
@@ -159,19 +158,7 @@ fn program() -> String {
 }
 
 fn options() -> Options {
-    Options {
-        name: "SPEED".into(),
-        number: 21,
-        units: Units::Mm,
-        follow_source_units: true,
-        limits: Limits::default(),
-        hole_tops: Vec::new(),
-        tools: Vec::new(),
-        peck_clearance: (0.0, 0.0),
-        length_at_tool_change: (false, false),
-        arc_tolerance: (0.0, 0.0),
-        tap_to_clear: (false, false),
-    }
+    Options { number: 21, ..Options::for_program("SPEED") }
 }
 
 #[test]

@@ -19,7 +19,7 @@ use ncplan::diff::ChangeKind;
 use ncplan::interp::Profile;
 use ncplan::pipeline;
 use ncplan::plan::ProcessPlan;
-use ncplan::post::{self, Limits, Options};
+use ncplan::post::{self, Options};
 
 /// The shipped mill dialects with output rules.
 pub(crate) const MILLS: [&str; 9] = ["fanuc", "haas", "mitsubishi", "mazak", "okuma", "fagor", "siemens", "heidenhain", "linuxcnc"];
@@ -55,17 +55,11 @@ fn translate_with(
 ) -> (String, Vec<Diagnostic>) {
     let mut out = Vec::new();
     let opts = Options {
-        name: post::program_identifier(name),
-        number: post::program_number(name),
         units: units.unwrap_or(Units::Mm),
         follow_source_units: units.is_none(),
-        limits: Limits::default(),
         hole_tops: post::hole_tops(plan),
         tools: post::tool_facts(plan),
-        peck_clearance: (0.0, 0.0),
-        length_at_tool_change: (false, false),
-        arc_tolerance: (0.0, 0.0),
-        tap_to_clear: (false, false),
+        ..Options::for_program(name)
     };
     let diags = post::translate(text, from, to, &Profile::default(), opts, |b| out.extend_from_slice(b));
     (String::from_utf8(out).expect("the writer writes UTF-8"), diags)
@@ -986,17 +980,10 @@ fn tool_facts_from_the_tool_table_read_back_from_the_tool_comment() {
         for to in ["fanuc", "siemens", "heidenhain"] {
             let target = dialect(to);
             let opts = Options {
-                name: "PART".into(),
-                number: 1,
-                units: Units::Mm,
                 follow_source_units: false,
-                limits: Limits::default(),
                 hole_tops: post::hole_tops(&src.plan),
                 tools: post::tool_facts(&src.plan),
-                peck_clearance: (0.0, 0.0),
-                length_at_tool_change: (false, false),
-                arc_tolerance: (0.0, 0.0),
-                tap_to_clear: (false, false),
+                ..Options::for_program("PART")
             };
             let mut out = Vec::new();
             let diags = post::translate(&src.source.text, &cl, &target, &table, opts, |b| out.extend_from_slice(b));
