@@ -28,23 +28,60 @@ pub(super) struct Num {
     /// The value.
     pub value: Value,
     /// Its number format.
-    pub fi: usize,
+    pub fi: u32,
     /// The modal slot ([`super::modal_slot`]), or [`NO_SLOT`].
-    pub slot: usize,
+    pub slot: u8,
     /// Whether it is left out when its text is unchanged: a modal format, not forced.
     pub modal: bool,
+    /// What its rounding counts towards.
+    pub class: Class,
+}
+
+/// What a number's rounding counts towards: the largest rounding of positions (a centre's
+/// by 2√2 times its own, as it moves the arc through the start that stays by up to that),
+/// of feeds, or neither.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Class {
+    Other,
+    Position,
+    Centre,
+    Feed,
+}
+
+impl Class {
+    fn of(value: Value) -> Class {
+        match value {
+            Value::I | Value::J | Value::K | Value::Cx | Value::Cy | Value::Cz => Class::Centre,
+            // A cycle's levels are positions too.
+            Value::X
+            | Value::Y
+            | Value::Z
+            | Value::R
+            | Value::Bottom
+            | Value::RPlane
+            | Value::Clear
+            | Value::Surface
+            | Value::Sdis
+            | Value::Depth
+            | Value::ClearDist
+            | Value::Peck => Class::Position,
+            Value::F | Value::Pitch => Class::Feed,
+            _ => Class::Other,
+        }
+    }
 }
 
 impl Num {
     /// Placeholder `value` in format `fi` of `out`, forced (`{x!}`) or not.
     pub(super) fn new(value: Value, fi: usize, force: bool, out: &Output) -> Num {
-        let slot = super::modal_slot(value).unwrap_or(NO_SLOT);
-        Num { value, fi, slot, modal: out.formats[fi].modal && !force }
+        let slot = super::modal_slot(value).map_or(NO_SLOT, |k| k as u8);
+        let index = u32::try_from(fi).expect("a dictionary has fewer than 2^32 number formats");
+        Num { value, fi: index, slot, modal: out.formats[fi].modal && !force, class: Class::of(value) }
     }
 }
 
 /// No modal slot.
-pub(super) const NO_SLOT: usize = 8;
+pub(super) const NO_SLOT: u8 = 8;
 
 /// One block of a [`Layout`].
 #[derive(Debug)]
@@ -56,6 +93,39 @@ pub(super) struct LayoutBlock {
     pub moves: bool,
     /// Its words' parts.
     pub parts: Vec<Part>,
+    /// The same parts when they are the common move's: perhaps its motion code, perhaps the
+    /// words put off to a move, then numbers only (`G1 {mods} {x} {y} {z} {f}`).
+    pub simple: Option<Simple>,
+}
+
+/// A block of [`Part`]s in the common move's order, for a loop without the general cases.
+#[derive(Debug)]
+pub(super) struct Simple {
+    /// The motion code, when the block starts with one ([`Part::Code`]).
+    pub code: Option<String>,
+    /// Whether the words put off to a move come next ([`Part::Mods`]).
+    pub mods: bool,
+    /// The numbers, in order.
+    pub nums: Vec<Num>,
+}
+
+impl Simple {
+    fn of(parts: &[Part]) -> Option<Simple> {
+        let mut rest = parts;
+        let code = match rest.first() {
+            Some(Part::Code(c)) => {
+                rest = &rest[1..];
+                Some(c.clone())
+            }
+            _ => None,
+        };
+        let mods = matches!(rest.first(), Some(Part::Mods(_)));
+        if mods {
+            rest = &rest[1..];
+        }
+        let nums = rest.iter().map(|p| if let Part::Num(n) = p { Some(*n) } else { None }).collect::<Option<Vec<Num>>>()?;
+        Some(Simple { code, mods, nums })
+    }
 }
 
 /// A template's blocks, sorted into parts.
@@ -85,7 +155,8 @@ impl Layout {
                     }
                     let moves =
                         b.words.iter().flat_map(|w| &w.0).any(|p| matches!(p, Piece::Var { value: Value::X | Value::Y | Value::Z, .. }));
-                    LayoutBlock { raw: b.raw, moves, parts }
+                    let simple = Simple::of(&parts);
+                    LayoutBlock { raw: b.raw, moves, parts, simple }
                 })
                 .collect();
         Layout(blocks)
