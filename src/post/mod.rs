@@ -2640,8 +2640,7 @@ mod tests {
         let mut checked = 0;
         // Every digit count, each power of ten and its neighbours, the largest numbers.
         let mut ns: Vec<u64> = (0..1_000).collect();
-        for k in 1..20 {
-            let p = POW10[k];
+        for &p in &POW10[1..] {
             ns.extend([p - 1, p, p + 1, p.saturating_mul(9).saturating_add(99)]);
         }
         ns.extend([u64::MAX - 1, u64::MAX]);
