@@ -6,16 +6,17 @@
 //! expressions, no parameter checks, no cycle or macro after it. The lane does exactly what
 //! `read`, `step(Feed)`, `step(Motion)` and `motion` do for it, in the same order and with the
 //! same state changes, and turns down anything else, which then goes the general way.
-//! Emitting still goes through `emit`, so transforms, corners and cutter compensation apply
-//! as usual.
+//! Its op goes through `emit_straight`, which sends it straight to the sink unless a
+//! transform, corners or cutter compensation apply, and then goes the usual way (`emit`). The
+//! block's words are not put in the slots: nothing after a plain move reads them.
 //!
 //! `Profile::fast_lane` switches it off; the corpus test `fast_lane_changes_nothing` runs
 //! every program both ways and compares the canonical text and the findings.
 
-use super::{Interpreter, Slot};
+use super::Interpreter;
 use crate::canon::{CanonOp, CanonSink, DistanceMode};
 use crate::diag::Diagnostic;
-use crate::dialect::{DecimalInput, Meaning, Role, Step};
+use crate::dialect::{Meaning, Role, Step};
 use crate::syntax::{Block, Value, WordMode};
 
 impl Interpreter<'_> {
@@ -34,7 +35,7 @@ impl Interpreter<'_> {
             return false;
         }
         // Integers that count increments (`X10` is 10 µm on such a control) go the general way.
-        let integers_scale = matches!(self.dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. });
+        let integers_scale = self.integers_scale;
         let incremental = self.st.distance == DistanceMode::Incremental;
         let mut to = self.st.pos;
         let (mut axes, mut code, mut feed) = (0u32, None, None);
@@ -76,17 +77,12 @@ impl Interpreter<'_> {
             return false;
         }
 
-        // The block's words and code, as `read` leaves them for whatever looks at them next.
-        self.clear_block();
-        for w in &block.words {
-            let Value::Number { value, .. } = w.value else { unreachable!("checked above") };
-            if w.role == Role::G {
-                self.codes.push((c, w.range));
-                self.code_steps |= 1 << self.dialect.groups[def.group].step as u32;
-            } else {
-                self.slots[w.role as usize] = Some(Slot { value, range: w.range, mode: w.mode });
-                self.filled |= 1 << w.role as u32;
-            }
+        // The block's words and code are not put in the slots: nothing after a plain move
+        // reads them (a profile's moves look for A and C words, which go the general way), and
+        // the next block's `read` clears them. What `read` left of a block before is cleared.
+        if self.block_read {
+            self.clear_block();
+            self.block_read = false;
         }
         self.has_axes = true;
         if integers_scale {
@@ -109,14 +105,11 @@ impl Interpreter<'_> {
         self.st.motion_code = Some(c);
         self.motions += 1;
         self.st.leaving_comp = false;
-        if rapid {
-            self.note_tangent(to);
-            self.emit(sink, CanonOp::StraightTraverse(to));
-        } else {
+        if !rapid {
             self.check_technology(def, block.range, diags);
-            self.note_tangent(to);
-            self.emit(sink, CanonOp::StraightFeed(to));
         }
+        self.note_tangent(to);
+        self.emit_straight(sink, rapid, to);
         self.st.pos = to;
         true
     }

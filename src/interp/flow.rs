@@ -529,7 +529,16 @@ impl<'a> Driver<'a, '_> {
 
     /// Post-processes the diagnostics of one block: those from another file point at the
     /// call in the main program; a block that runs again does not repeat its findings.
+    /// (Nothing to do in the main program's first run, the bulk of the blocks.)
+    #[inline(always)]
     fn tidy(&mut self, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) {
+        if src != 0 || self.replaying {
+            self.tidy_findings(src, mark, diags);
+        }
+    }
+
+    /// [`Driver::tidy`] where there is something to do.
+    fn tidy_findings(&mut self, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) {
         if src != 0 {
             let call = self.external_call().map_or(TextRange::default(), |c| c.0);
             let source = &mut self.sources[src];

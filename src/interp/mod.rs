@@ -454,6 +454,9 @@ pub struct Interpreter<'a> {
     unknown_words: u32,
     /// Whether the block being executed has axis words (set by `read`).
     has_axes: bool,
+    /// Whether `read` has filled the block's slots, codes or cycle arguments since they were
+    /// last cleared (the fast lane leaves them empty, so the next plain move need not clear).
+    block_read: bool,
     codes: Vec<(usize, TextRange)>,
     origin: TextRange,
     line: u32,
@@ -473,6 +476,9 @@ pub struct Interpreter<'a> {
     /// Motion commands executed so far (to tell whether a block moved).
     motions: u64,
     /// Whether the dialect sets the feed before it moves (the fast lane takes F only then).
+    /// Whether integers count least increments (`X10` is 10 µm): the dictionary's
+    /// `decimal-input`, looked at by every plain move.
+    integers_scale: bool,
     feed_before_motion: bool,
     /// Assignments of the block being executed, waiting for its reads (reused).
     pending: Vec<PendingAssign>,
@@ -603,6 +609,7 @@ impl<'a> Interpreter<'a> {
             unknown_words: 0,
             code_steps: 0,
             has_axes: false,
+            block_read: false,
             codes: Vec::new(),
             origin: TextRange::default(),
             line: 0,
@@ -615,6 +622,7 @@ impl<'a> Interpreter<'a> {
             left_level: None,
             motions: 0,
             pending: Vec::new(),
+            integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }),
             feed_before_motion: {
                 let at = |step: Step| dialect.execution_order.iter().position(|&s| s == step);
                 matches!((at(Step::Feed), at(Step::Motion)), (Some(f), Some(m)) if f < m)
@@ -745,6 +753,24 @@ impl<'a> Interpreter<'a> {
                 }
             }
         }
+    }
+
+    /// A straight move to `to`, as [`Interpreter::emit`] sends it: straight to the sink where
+    /// no stage stands between (no call's origin, rotation, scaling, corners or compensation),
+    /// without moving the op through the general way.
+    #[inline]
+    fn emit_straight(&self, sink: &mut dyn CanonSink, rapid: bool, to: [f64; 6]) {
+        let op = |to| if rapid { CanonOp::StraightTraverse(to) } else { CanonOp::StraightFeed(to) };
+        if self.origin_override.is_some()
+            || self.st.rotation.is_some()
+            || self.st.scaling.is_some()
+            || self.comp.borrow().is_some()
+            || self.corners.borrow().is_some()
+        {
+            return self.emit(sink, op(to));
+        }
+        self.sent.set(to);
+        sink.emit(Canon { op: op(to), origin: self.origin, line: self.line });
     }
 
     /// The stage after corners: cutter compensation when it is on, else the sink.
@@ -1148,6 +1174,7 @@ impl<'a> Interpreter<'a> {
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
     fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         self.clear_block();
+        self.block_read = true;
         self.misread_before = self.misread;
         self.block_misread = false;
         let mut ok = true;

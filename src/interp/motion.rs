@@ -603,7 +603,7 @@ impl Interpreter<'_> {
         self.st.pos = to;
     }
 
-    #[inline]
+    #[inline(always)]
     pub(super) fn note_tangent(&mut self, t: [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (d1, d2) = (t[a0] - self.st.pos[a0], t[a1] - self.st.pos[a1]);

@@ -341,7 +341,12 @@ fn plain_block(
     base: usize,
     block: &mut Block,
 ) -> Option<usize> {
-    let blanks = |i: usize| i + b.get(i..).unwrap_or_default().iter().take_while(|&&c| matches!(c, b' ' | b'\t' | 0x0c)).count();
+    let blanks = |mut i: usize| {
+        while let Some(b' ' | b'\t' | 0x0c) = b.get(i) {
+            i += 1;
+        }
+        i
+    };
     let mut i = blanks(start);
     if let Some(n) = number
         && b.get(i).is_some_and(|c| c.to_ascii_uppercase() == n)
@@ -371,11 +376,12 @@ fn plain_block(
         i = blanks(i);
         let Some(&c) = b.get(i) else { return Some(i) };
         let Some(role) = plain[c as usize] else { return matches!(c, b'\n' | b'\r').then_some(i) };
-        let signed = matches!(b.get(i + 1), Some(b'-' | b'+'));
+        let sign = b.get(i + 1).copied();
+        let signed = matches!(sign, Some(b'-' | b'+'));
         // Blanks inside a number (`X1 5`, where the dialect allows them) need not be looked for
         // here: a digit after blanks is no plain word, and the general lexer reads the block.
         let (v, end, decimal) = plain_number(b, i + 1 + usize::from(signed), false)?;
-        let value = if signed && b[i + 1] == b'-' { -v } else { v };
+        let value = if sign == Some(b'-') { -v } else { v };
         let letter = c.to_ascii_uppercase();
         // `G200 DRILLING`: a code the dictionary names in the block after it.
         if matches!(role, Role::G | Role::M)
@@ -2659,8 +2665,7 @@ impl Lexer<'_, '_> {
 }
 
 /// Reads the digits from `*j` on into `m` (ten times `m` plus each digit, wrapping past 19
-/// digits) and steps past them. (Eight digits at a time in one word, tried, was no faster on
-/// CNC numbers of two to seven digits: the loop's branches are predicted.)
+/// digits) and steps past them.
 #[inline(always)]
 fn digits(b: &[u8], j: &mut usize, m: &mut u64) {
     let (mut v, mut k) = (*m, *j);
@@ -2675,6 +2680,54 @@ fn digits(b: &[u8], j: &mut usize, m: &mut u64) {
     (*m, *j) = (v, k);
 }
 
+/// The top bit of every byte of `x` (a word of bytes less `0`) that is no digit: 10 and up
+/// with 0x76 added, or wrapped round below zero. Only the lowest such byte is exact: a borrow
+/// or carry goes to the bytes after it.
+#[inline(always)]
+fn not_digits(x: u64) -> u64 {
+    (x.wrapping_add(0x7676_7676_7676_7676) | x) & 0x8080_8080_8080_8080
+}
+
+/// The number eight digit values (0 to 9, one a byte, the first at the lowest address) spell:
+/// pairs of bytes into two-digit numbers, pairs of those into four-digit ones, and the two
+/// halves into one; no lane overflows into the next.
+#[inline(always)]
+fn eight_digits(d: u64) -> u64 {
+    let d = (d.wrapping_mul(10).wrapping_add(d >> 8)) & 0x00FF_00FF_00FF_00FF;
+    let d = (d.wrapping_mul(100).wrapping_add(d >> 16)) & 0x0000_FFFF_0000_FFFF;
+    (d.wrapping_mul(10_000).wrapping_add(d >> 32)) & 0xFFFF_FFFF
+}
+
+/// A number that ends, with at most one point, within the eight bytes from `i` (`0.9950`,
+/// `-222.899` after its sign, `1500`), read from one word: its mantissa, digits before and
+/// after the point, whether it has one, and its end. `None` for any other (longer, or no
+/// digit), which the byte-by-byte way reads.
+#[inline(always)]
+fn short_number(b: &[u8], i: usize) -> Option<(u64, usize, usize, bool, usize)> {
+    const ZEROS: u64 = 0x3030_3030_3030_3030;
+    let w = u64::from_le_bytes(b.get(i..i.checked_add(8)?)?.try_into().ok()?);
+    let x = w.wrapping_sub(ZEROS);
+    let at = (not_digits(x).trailing_zeros() / 8) as usize;
+    if at == 8 {
+        return None;
+    }
+    if (w >> (8 * at)) as u8 != b'.' {
+        // Digits only: they sit at the top of the word, zeros (leading zeros) below.
+        return (at > 0).then(|| (eight_digits(x << (8 * (8 - at))), at, 0, false, i + at));
+    }
+    // The point as a `0` (no carry: `.` is two below it), so the digits after it read on;
+    // then the bytes above it moved down one, over it.
+    let x = (w + (2 << (8 * at))).wrapping_sub(ZEROS);
+    let end = (not_digits(x).trailing_zeros() / 8) as usize;
+    let n = end - 1;
+    if end == 8 || n == 0 {
+        return None;
+    }
+    let below = (1u64 << (8 * at)) - 1;
+    let d = (x & below) | ((x >> 8) & !below);
+    Some((eight_digits(d << (8 * (8 - n))), at, n - at, true, i + end))
+}
+
 /// A number of plain digits with at most one point, at most 18 digits, and a byte after it
 /// that cannot continue it: its value, end and whether it has a point. `None` sends the
 /// caller to the general path.
@@ -2684,17 +2737,23 @@ fn digits(b: &[u8], j: &mut usize, m: &mut u64) {
 /// the double nearest to the decimal, as `str::parse` does.
 #[inline(always)]
 fn plain_number(b: &[u8], i: usize, spaces: bool) -> Option<(f64, usize, bool)> {
-    let mut end = i;
-    let mut m = 0u64;
-    digits(b, &mut end, &mut m);
-    let n_int = end - i;
-    let point = b.get(end) == Some(&b'.');
-    let mut n_frac = 0;
-    if point {
-        end += 1;
-        digits(b, &mut end, &mut m);
-        n_frac = end - i - n_int - 1;
-    }
+    let (m, n_int, n_frac, point, end) = match short_number(b, i) {
+        Some(n) => n,
+        None => {
+            let mut end = i;
+            let mut m = 0u64;
+            digits(b, &mut end, &mut m);
+            let n_int = end - i;
+            let point = b.get(end) == Some(&b'.');
+            let mut n_frac = 0;
+            if point {
+                end += 1;
+                digits(b, &mut end, &mut m);
+                n_frac = end - i - n_int - 1;
+            }
+            (m, n_int, n_frac, point, end)
+        }
+    };
     // Past 2^53 the mantissa is no longer exact as a float; the general path parses it.
     if n_int + n_frac == 0 || n_int + n_frac > 18 || m >= 1 << 53 {
         return None;
@@ -2745,6 +2804,51 @@ mod tests {
                 assert_eq!(plain_block(&p.plain, p.number, &d, other, 0, 0, &mut Block::default()), None, "{name}");
             }
         }
+    }
+
+    #[test]
+    fn short_numbers_read_from_one_word_as_byte_by_byte() {
+        // Byte by byte, as `plain_number` reads a number that does not fit in a word.
+        let slow = |b: &[u8], i: usize| {
+            let (mut end, mut m) = (i, 0u64);
+            digits(b, &mut end, &mut m);
+            let n_int = end - i;
+            let point = b.get(end) == Some(&b'.');
+            if point {
+                end += 1;
+                digits(b, &mut end, &mut m);
+            }
+            (m, n_int, end - i - n_int - usize::from(point), point, end)
+        };
+        let stops = ["", "/", ":", ".", "..", " ", "X", "\n", "\u{e9}", "\u{ff}", "-", "+"];
+        let mut read = 0;
+        for int in 0..9 {
+            for frac in [None, Some(0), Some(1), Some(3), Some(4), Some(6), Some(7), Some(8)] {
+                for stop in stops {
+                    for from in 0..3 {
+                        let digit = |k: usize| char::from(b'0' + ((k * 7 + int) % 10) as u8);
+                        let mut text: String = "X9."[..from].into();
+                        text.extend((0..int).map(digit));
+                        if let Some(f) = frac {
+                            text.push('.');
+                            text.extend((0..f).map(|k| digit(k + 3)));
+                        }
+                        text.push_str(stop);
+                        text.push_str("Y-1.25 Z0.5");
+                        let b = text.as_bytes();
+                        if let Some(n) = short_number(b, from) {
+                            assert_eq!(n, slow(b, from), "{text:?} from {from}");
+                            read += 1;
+                        } else {
+                            // Only what does not fit, or holds no digit, is left to the bytes.
+                            let (_, n_int, n_frac, point, end) = slow(b, from);
+                            assert!(end - from >= 8 || n_int + n_frac == 0, "{text:?} from {from}: {point}");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(read > 900, "{read}");
     }
 
     proptest::proptest! {
