@@ -734,6 +734,18 @@ fn append_tail(out: &mut Vec<u8>, b: &[u8], i: usize, end: usize) {
     }
 }
 
+/// Appends motion code `c` after the separator `sep` (none at the block's `body` start); an
+/// empty code writes nothing.
+#[inline]
+fn push_code(buf: &mut Vec<u8>, body: usize, sep: &[u8], c: &str) {
+    if !c.is_empty() {
+        if buf.len() > body {
+            append(buf, sep);
+        }
+        buf.extend_from_slice(c.as_bytes());
+    }
+}
+
 /// Appends `s`; a single byte (a separator) or nothing without a call to copy.
 #[inline]
 fn append(buf: &mut Vec<u8>, s: &[u8]) {
@@ -1045,6 +1057,24 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         num.modal && self.last[usize::from(num.slot)] == (x, num.fi)
     }
 
+    /// Writes number part `num` of `vals` after the separator `sep` (none at the block's
+    /// `body` start): the common word, one number, absent, unchanged, or written here (and
+    /// taken back when it writes nothing).
+    #[inline(always)]
+    fn put_num(&mut self, buf: &mut Vec<u8>, body: usize, sep: &[u8], num: Num, vals: &Vals, moved: &mut u32) {
+        let x = vals.num[num.value as usize];
+        if x.is_nan() || self.unchanged(num, x) {
+            return;
+        }
+        let mark = buf.len();
+        if mark > body {
+            append(buf, sep);
+        }
+        if !self.write_value(buf, num, x, moved) {
+            buf.truncate(mark);
+        }
+    }
+
     /// Writes number placeholder `value` with `x` in format `fi` onto `s`, unless it is left
     /// out; whether it was written.
     #[inline]
@@ -1164,25 +1194,10 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     && self.motion.as_deref() != Some(c.as_str())
                 {
                     code = Some(c);
-                    if !c.is_empty() {
-                        if buf.len() > body {
-                            append(&mut buf, sep);
-                        }
-                        buf.extend_from_slice(c.as_bytes());
-                    }
+                    push_code(&mut buf, body, sep, c);
                 }
                 for &num in &simple.nums {
-                    let x = vals.num[num.value as usize];
-                    if x.is_nan() || self.unchanged(num, x) {
-                        continue;
-                    }
-                    let mark = buf.len();
-                    if mark > body {
-                        append(&mut buf, sep);
-                    }
-                    if !self.write_value(&mut buf, num, x, &mut moved) {
-                        buf.truncate(mark);
-                    }
+                    self.put_num(&mut buf, body, sep, num, vals, &mut moved);
                 }
             } else {
                 for part in &lb.parts {
@@ -1192,27 +1207,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                                 continue;
                             }
                             code = Some(c);
-                            if !c.is_empty() {
-                                if buf.len() > body {
-                                    append(&mut buf, sep);
-                                }
-                                buf.extend_from_slice(c.as_bytes());
-                            }
+                            push_code(&mut buf, body, sep, c);
                             continue;
                         }
-                        // The common word, one number: absent, unchanged, or written here.
                         Part::Num(num) => {
-                            let x = vals.num[num.value as usize];
-                            if x.is_nan() || self.unchanged(num, x) {
-                                continue;
-                            }
-                            let mark = buf.len();
-                            if mark > body {
-                                append(&mut buf, sep);
-                            }
-                            if !self.push_value(&mut buf, num, x, &mut moved) {
-                                buf.truncate(mark);
-                            }
+                            self.put_num(&mut buf, body, sep, num, vals, &mut moved);
                             continue;
                         }
                         Part::Mods(_) if self.mods.is_empty() => continue,
