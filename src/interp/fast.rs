@@ -17,16 +17,55 @@ use super::Interpreter;
 use crate::canon::{CanonOp, CanonSink, DistanceMode};
 use crate::diag::Diagnostic;
 use crate::dialect::{Meaning, Role, Step};
-use crate::syntax::{Block, Value, WordMode};
+use crate::syntax::{Block, PlainLine, Value, WordMode};
+use crate::text::TextRange;
 
 impl Interpreter<'_> {
     /// Executes `block` when it is a plain move; false, with nothing changed, when it is not.
     pub(super) fn fast_move(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
-        if !block.comments.is_empty()
-            || !block.assigns.is_empty()
-            || !block.exprs.is_empty()
-            || block.control.is_some()
-            || self.st.cycle_modal
+        if !block.comments.is_empty() || !block.assigns.is_empty() || !block.exprs.is_empty() || block.control.is_some() {
+            return false;
+        }
+        let words = block.words.iter().map(|w| match w.value {
+            Value::Number { value, decimal } if w.mode == WordMode::Modal => Some((w.role, value, decimal)),
+            _ => None,
+        });
+        self.plain_move(words, block.range, sink, diags)
+    }
+
+    /// Runs `line`, a block of plain words the driver read without a [`Block`], exactly as
+    /// `execute` runs the same block; false, with nothing changed, when it is no plain move
+    /// (it then goes the general way).
+    pub fn run_plain(&mut self, line: &PlainLine, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
+        if self.st.ended || !self.profile.fast_lane {
+            return false;
+        }
+        let (origin, source_line) = (self.origin, self.line);
+        self.origin = line.range;
+        self.line = line.line;
+        if !self.plain_move(line.words().iter().map(|w| Some((w.role, w.value, w.decimal))), line.range, sink, diags) {
+            (self.origin, self.line) = (origin, source_line);
+            return false;
+        }
+        // What `execute` does after its block.
+        if self.comp_problem.get().is_some() {
+            self.comp_report(diags);
+        }
+        self.corner_report(diags);
+        true
+    }
+
+    /// The plain move of `words` (role, value, whether written with a point; `None` for a
+    /// word that is no literal number) in the block at `range`.
+    #[inline(always)]
+    fn plain_move(
+        &mut self,
+        words: impl Iterator<Item = Option<(Role, f64, bool)>>,
+        range: TextRange,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
+        if self.st.cycle_modal
             || self.st.modal_macro.is_some()
             || self.stop_message.is_some()
             || self.st.diameter
@@ -39,12 +78,12 @@ impl Interpreter<'_> {
         let incremental = self.st.distance == DistanceMode::Incremental;
         let mut to = self.st.pos;
         let (mut axes, mut code, mut feed) = (0u32, None, None);
-        for w in &block.words {
-            let Value::Number { value, decimal } = w.value else { return false };
-            if w.mode != WordMode::Modal || (integers_scale && !decimal) {
+        for w in words {
+            let Some((role, value, decimal)) = w else { return false };
+            if integers_scale && !decimal {
                 return false;
             }
-            let axis = match w.role {
+            let axis = match role {
                 Role::X => 0,
                 Role::Y => 1,
                 Role::Z => 2,
@@ -106,7 +145,7 @@ impl Interpreter<'_> {
         self.motions += 1;
         self.st.leaving_comp = false;
         if !rapid {
-            self.check_technology(def, block.range, diags);
+            self.check_technology(def, range, diags);
         }
         self.note_tangent(to);
         self.emit_straight(sink, rapid, to);

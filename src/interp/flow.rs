@@ -20,7 +20,7 @@ use super::{Interpreter, Profile, Request};
 use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{Dialect, MainReturn, Statement};
-use crate::syntax::{Block, Control, Expr, ExprId, Parser};
+use crate::syntax::{Block, Control, Expr, ExprId, Parser, PlainLine};
 use crate::text::{LineIndex, Text, TextRange};
 
 /// Why a loop that changes nothing is stopped.
@@ -354,10 +354,17 @@ impl<'a> Driver<'a, '_> {
 
     fn drive(&mut self, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let mut block = Block::default();
+        let mut plain = PlainLine::default();
         loop {
             if let Some(level) = interp.left_level.take() {
                 // A call returned; the state it saved with M73 comes back first.
                 interp.leave_level(level, sink);
+            }
+            if self.plain_lane_open() && self.parser.plain_line(&mut plain) && self.run_plain(&plain, interp, sink, diags) {
+                if interp.finished() {
+                    break;
+                }
+                continue;
             }
             let start = self.pos();
             let src = self.cur;
@@ -464,6 +471,45 @@ impl<'a> Driver<'a, '_> {
                 break;
             }
         }
+    }
+
+    /// Whether the next block may take the plain lane (a line of plain words, read and run
+    /// without a [`Block`]): in the main program's first run, past its first blocks, outside
+    /// any call, loop or definition block, where the general way would do nothing for such a
+    /// block but run it (no frame to return from, no findings to tidy, no repeat to count).
+    #[inline(always)]
+    fn plain_lane_open(&self) -> bool {
+        self.cur == 0
+            && self.main_work
+            && !self.replaying
+            && !self.stop
+            && self.frames.is_empty()
+            && self.definition.is_none()
+            && self.dialect.macros.definition_block.is_none()
+    }
+
+    /// Runs `line`, the plain line at the cursor, as the general way runs its block, and
+    /// moves past it; false, with nothing changed, when it must go the general way (it ran
+    /// before, a block budget ends here, or it is no plain move).
+    #[inline(always)]
+    fn run_plain(&mut self, line: &PlainLine, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
+        let reached = self.reached.get(self.cur).copied().unwrap_or(0);
+        if self.parser.offset() < reached
+            || self.executed >= self.profile.max_blocks
+            || self.repeated > self.profile.max_repeated_blocks
+            || !interp.run_plain(line, sink, diags)
+        {
+            return false;
+        }
+        self.parser.take_plain(line);
+        // As `next_block` and `drive` keep count for the block.
+        if self.reached.len() <= self.cur {
+            self.reached.resize(self.cur + 1, 0);
+        }
+        self.reached[self.cur] = self.parser.offset();
+        self.executed += 1;
+        self.broken = false;
+        true
     }
 
     /// Whether the block belongs to a definition block (Okuma `DEF WORK` / `PT ...` / `END`):

@@ -10,7 +10,7 @@ mod parser;
 mod records;
 
 pub use expr::{BinOp, Expr, ExprId, Func};
-pub use parser::{Parser, leader};
+pub use parser::{Parser, PlainLine, PlainWord, leader};
 pub use records::record_program_name;
 
 use crate::dialect::{Role, Statement};

@@ -257,6 +257,42 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// Reads the next block into `line` when it is a line of plain words wholly in the
+    /// window (see [`plain_block`]), without moving on: [`Parser::take_plain`] then moves past
+    /// it. False for any other block, which [`Parser::next_block`] reads as a [`Block`]. The
+    /// words, range and line are those `next_block` would give; the block number is not kept.
+    #[inline]
+    pub fn plain_line(&self, line: &mut PlainLine) -> bool {
+        if !self.fast || self.records.is_some() || self.pos >= self.end || self.outside() {
+            return false;
+        }
+        let (win, base) = self.window();
+        let bytes = win.as_bytes();
+        let start = self.pos - base;
+        line.len = 0;
+        let Some(end) = plain_block(&self.plain, self.number, self.dialect, bytes, start, base, line) else { return false };
+        let (next, lines) = match bytes.get(end) {
+            Some(b'\r') if bytes.get(end + 1) == Some(&b'\n') => (end + 2, 1),
+            Some(b'\r' | b'\n') => (end + 1, 1),
+            _ => return false,
+        };
+        // A line that ends at the window's end may go on past it: read the general way.
+        if next >= bytes.len() && base + bytes.len() < self.end {
+            return false;
+        }
+        line.range = TextRange::new(base + start, base + end);
+        line.line = self.line;
+        (line.next, line.lines) = (base + next, lines);
+        true
+    }
+
+    /// Moves past the block [`Parser::plain_line`] read into `line`.
+    #[inline]
+    pub fn take_plain(&mut self, line: &PlainLine) {
+        self.pos = line.next;
+        self.line += line.lines;
+    }
+
     /// The next record of a record-form text (CLDATA).
     fn next_record(&mut self, block: &mut Block, diags: &mut Vec<Diagnostic>) -> bool {
         let dialect = self.dialect;
@@ -331,7 +367,7 @@ fn plain_block_number(d: &Dialect) -> Option<u8> {
 /// where its text ends (at its line end), as the general lexer reads them; `None` at anything
 /// else (a comment, an expression, a named code, a malformed number: the general lexer reads
 /// the block again from its start).
-#[inline]
+#[inline(always)]
 fn plain_block(
     plain: &[Option<Role>; 256],
     number: Option<u8>,
@@ -339,7 +375,7 @@ fn plain_block(
     b: &[u8],
     start: usize,
     base: usize,
-    block: &mut Block,
+    out: &mut impl PlainWords,
 ) -> Option<usize> {
     let blanks = |mut i: usize| {
         while let Some(b' ' | b'\t' | 0x0c) = b.get(i) {
@@ -369,7 +405,7 @@ fn plain_block(
         {
             return None;
         }
-        block.number = Some(v);
+        out.number(v);
         i = j;
     }
     loop {
@@ -390,15 +426,87 @@ fn plain_block(
         {
             return None;
         }
-        block.words.push(Word {
-            role,
-            letter,
-            value: Value::Number { value, decimal },
-            range: TextRange::new(base + i, base + end),
-            mode: WordMode::Modal,
-            cycle_arg: false,
-        });
+        if !out.word(role, letter, value, decimal, TextRange::new(base + i, base + end)) {
+            return None;
+        }
         i = end;
+    }
+}
+
+/// Where [`plain_block`] puts what it reads.
+trait PlainWords {
+    /// The block number.
+    fn number(&mut self, n: u32);
+    /// A word; false when it cannot be taken (the block then goes the general way).
+    fn word(&mut self, role: Role, letter: u8, value: f64, decimal: bool, range: TextRange) -> bool;
+}
+
+impl PlainWords for Block {
+    #[inline(always)]
+    fn number(&mut self, n: u32) {
+        self.number = Some(n);
+    }
+
+    #[inline(always)]
+    fn word(&mut self, role: Role, letter: u8, value: f64, decimal: bool, range: TextRange) -> bool {
+        self.words.push(Word { role, letter, value: Value::Number { value, decimal }, range, mode: WordMode::Modal, cycle_arg: false });
+        true
+    }
+}
+
+impl PlainWords for PlainLine {
+    #[inline(always)]
+    fn number(&mut self, _: u32) {}
+
+    #[inline(always)]
+    fn word(&mut self, role: Role, _: u8, value: f64, decimal: bool, _: TextRange) -> bool {
+        let Some(w) = self.words.get_mut(self.len) else { return false };
+        *w = PlainWord { role, value, decimal };
+        self.len += 1;
+        true
+    }
+}
+
+/// A line of plain words read by [`Parser::plain_line`] without a [`Block`]: the block that
+/// makes up most of a CAM program (`X12.5 Y-3.2 Z-1.05`), for the interpreter's plain lane.
+#[derive(Clone, Debug)]
+pub struct PlainLine {
+    words: [PlainWord; PLAIN_WORDS],
+    len: usize,
+    /// Source range of the block, without its line terminator.
+    pub range: TextRange,
+    /// 1-based line of the block.
+    pub line: u32,
+    /// Where the next block starts, and the lines to it.
+    next: usize,
+    lines: u32,
+}
+
+/// The most words a [`PlainLine`] holds; a longer block goes the general way.
+const PLAIN_WORDS: usize = 8;
+
+/// One word of a [`PlainLine`]: a letter with a literal number.
+#[derive(Clone, Copy, Debug)]
+pub struct PlainWord {
+    /// What the value means to the engine.
+    pub role: Role,
+    /// The number as written.
+    pub value: f64,
+    /// Whether it was written with a decimal point.
+    pub decimal: bool,
+}
+
+impl Default for PlainLine {
+    fn default() -> PlainLine {
+        let w = PlainWord { role: Role::X, value: 0.0, decimal: false };
+        PlainLine { words: [w; PLAIN_WORDS], len: 0, range: TextRange::default(), line: 0, next: 0, lines: 0 }
+    }
+}
+
+impl PlainLine {
+    /// The words in source order.
+    pub fn words(&self) -> &[PlainWord] {
+        &self.words[..self.len]
     }
 }
 
