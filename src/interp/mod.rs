@@ -996,7 +996,11 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Reports a corner block that could not be made while emitting the last block.
+    #[inline]
     fn corner_report(&mut self, diags: &mut Vec<Diagnostic>) {
+        if self.corners.get_mut().is_none() {
+            return;
+        }
         let problem = self.corners.get_mut().as_mut().and_then(|k| k.problem.take());
         if let Some(p) = problem {
             let mut d = Diagnostic::new(Code::BadArc, self.origin, format!("the corner is left sharp: {}", p.describe()));

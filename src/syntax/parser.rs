@@ -2845,8 +2845,9 @@ fn short_number(b: &[u8], i: usize) -> Option<(u64, usize, usize, bool, usize)> 
 /// the double nearest to the decimal, as `str::parse` does.
 #[inline(always)]
 fn plain_number(b: &[u8], i: usize, spaces: bool) -> Option<(f64, usize, bool)> {
-    let (m, n_int, n_frac, point, end) = match short_number(b, i) {
-        Some(n) => n,
+    // A short number has one to seven digits: its mantissa is exact.
+    let (m, n_frac, point, end) = match short_number(b, i) {
+        Some((m, _, n_frac, point, end)) => (m, n_frac, point, end),
         None => {
             let mut end = i;
             let mut m = 0u64;
@@ -2859,13 +2860,13 @@ fn plain_number(b: &[u8], i: usize, spaces: bool) -> Option<(f64, usize, bool)> 
                 digits(b, &mut end, &mut m);
                 n_frac = end - i - n_int - 1;
             }
-            (m, n_int, n_frac, point, end)
+            // Past 2^53 the mantissa is no longer exact as a float; the general path parses it.
+            if n_int + n_frac == 0 || n_int + n_frac > 18 || m >= 1 << 53 {
+                return None;
+            }
+            (m, n_frac, point, end)
         }
     };
-    // Past 2^53 the mantissa is no longer exact as a float; the general path parses it.
-    if n_int + n_frac == 0 || n_int + n_frac > 18 || m >= 1 << 53 {
-        return None;
-    }
     match b.get(end) {
         Some(b'.') => return None,
         Some(b' ' | b'\t') if spaces => {
