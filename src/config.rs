@@ -612,6 +612,34 @@ mod tests {
         assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("decimal_input"));
     }
 
+    /// A folder of dialect files extends shipped dialects and replaces them by name; the
+    /// shipped ones are loaded only as they are needed.
+    #[test]
+    fn a_dialects_folder_extends_and_replaces_shipped_dialects() {
+        let dir = tempfile::tempdir().unwrap();
+        let ns = "xmlns=\"urn:ncplan:dialect:1\"";
+        let files = [
+            ("a.xml", format!("<dialect {ns} name=\"shop_vf2\" extends=\"shop_haas\"/>")),
+            ("b.xml", format!("<dialect {ns} name=\"shop_haas\" extends=\"haas\"><behaviour decimal-input=\"calculator\"/></dialect>")),
+            ("c.xml", format!("<dialect {ns} name=\"siemens\" extends=\"siemens\" title=\"Our Siemens\"/>")),
+        ];
+        for (name, text) in &files {
+            std::fs::write(dir.path().join(name), text).unwrap();
+        }
+        let reg = dialect_registry(Some(dir.path())).unwrap();
+        let shipped = dialect_registry(None).unwrap();
+        let mut names: Vec<&str> = shipped.names().chain(["shop_haas", "shop_vf2"]).collect();
+        names.sort_unstable();
+        assert_eq!(reg.names().collect::<Vec<_>>(), names);
+        let vf2 = reg.get("shop_vf2").unwrap();
+        assert_eq!((vf2.family.as_str(), &vf2.behaviour.decimal_input), ("haas", &crate::dialect::DecimalInput::Calculator));
+        assert_eq!(reg.get("siemens").unwrap().title, "Our Siemens");
+        assert_ne!(shipped.get("siemens").unwrap().title, "Our Siemens");
+        assert_eq!(format!("{:?}", reg.get("fanuc_lathe")), format!("{:?}", shipped.get("fanuc_lathe")));
+        std::fs::write(dir.path().join("d.xml"), format!("<dialect {ns} name=\"x\" extends=\"nosuch\"/>")).unwrap();
+        assert!(dialect_registry(Some(dir.path())).unwrap_err().to_string().contains("d.xml:1:"));
+    }
+
     #[test]
     fn folders_say_whether_they_hold_called_programs_and_analysis_limits_are_set() {
         use crate::interp::ProgramRole;
