@@ -283,16 +283,16 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         self.origin = canon.origin;
         let q = self.point(p);
         let feed = if k == 0 { f64::NAN } else { self.feed };
-        self.lane_block(lane, &[q[0], q[1], q[2], p[3], p[4], p[5], feed]);
+        self.lane_block(lane, &[q[0], q[1], q[2], p[3], p[4], p[5], feed, f64::NAN]);
         self.lanes = Some(lanes);
         self.moved(q);
         true
     }
 
     /// [`Post::render`]'s block, for `lane` with the values `xs` (X, Y, Z, A, B, C, F; NaN
-    /// where absent).
+    /// where absent; an eighth that no word uses).
     #[inline(always)]
-    fn lane_block(&mut self, lane: &Lane, xs: &[f64; 7]) {
+    fn lane_block(&mut self, lane: &Lane, xs: &[f64; 8]) {
         let mut buf = std::mem::take(&mut self.buf);
         let start = buf.len();
         self.start_block(&mut buf, lane.raw, lane.numbered);
@@ -302,7 +302,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         let mut moved = false;
         for w in &lane.words {
             match w {
-                Word::Num(num) => moved |= self.lane_num(&mut buf, body, sep, num, xs[num.at], inch, moved),
+                Word::Num(num) => moved |= self.lane_num(&mut buf, body, sep, num, xs[num.at & 7], inch, moved),
                 Word::Lit(text, len) => {
                     if buf.len() > body {
                         super::append(&mut buf, sep);
@@ -338,7 +338,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn lane_num(&mut self, buf: &mut Vec<u8>, body: usize, sep: &[u8], num: &LaneNum, x: f64, inch: bool, moved: bool) -> bool {
-        if x.is_nan() || num.modal && self.last[num.slot] == (x, num.fi) {
+        // A lane's slots are X to C, 0 to 7 (the mask only spares the bounds check).
+        if num.modal && self.last[num.slot & 7] == (x, num.fi) || x.is_nan() {
             return false;
         }
         let d = num.decimals[usize::from(inch)];

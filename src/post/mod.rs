@@ -364,6 +364,9 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     staged: [(Key, f64); 8],
     /// The slots staged, one bit each.
     staged_mask: u8,
+    /// The text of the block number written last ([`Post::push_block_number`]): its digits
+    /// (room for 20, and 16 bytes after them for [`append_tail`]), their count, the number.
+    number_text: ([u8; 36], usize, u64),
     /// The values of a straight move, kept for the next (see [`Post::straight`]).
     move_vals: Option<Box<Vals>>,
     /// The `rapid` and `feed` templates.
@@ -775,14 +778,20 @@ fn numbered(out: &Output, raw: bool, tool_change: bool) -> bool {
     }
 }
 
-/// Appends the decimal digits of `n` without allocating: their count first, then the digits
-/// written two at a time from the right straight into `out` (a block number, every block).
-#[inline]
-fn push_u64(out: &mut Vec<u8>, mut n: u64) {
-    let len = n.checked_ilog10().map_or(1, |k| k as usize + 1);
+/// Appends the decimal digits of `n` without allocating: written straight into `out`
+/// ([`write_u64`]).
+fn push_u64(out: &mut Vec<u8>, n: u64) {
     let at = out.len();
     out.extend_from_slice(&[b'0'; 20]);
-    let digits = &mut out[at..at + len];
+    let len = write_u64(&mut out[at..], n);
+    out.truncate(at + len);
+}
+
+/// Writes the decimal digits of `n` at the start of `digits` (20 bytes at least): their count
+/// first, then the digits two at a time from the right; returns the count.
+fn write_u64(digits: &mut [u8], mut n: u64) -> usize {
+    let len = n.checked_ilog10().map_or(1, |k| k as usize + 1);
+    let digits = &mut digits[..len];
     let mut i = len;
     while i >= 2 {
         let d = (n % 100) as usize * 2;
@@ -793,7 +802,29 @@ fn push_u64(out: &mut Vec<u8>, mut n: u64) {
     if i == 1 {
         digits[0] = b'0' + n as u8;
     }
-    out.truncate(at + len);
+    len
+}
+
+/// Adds `delta` to the decimal number written in `digits`, in place, from its last digit
+/// (the block numbers' step: a digit or two); false, the digits spoilt, when the sum has
+/// more digits.
+fn count_on(digits: &mut [u8], mut delta: u64) -> bool {
+    let mut i = digits.len();
+    while delta != 0 {
+        if i == 0 {
+            return false;
+        }
+        i -= 1;
+        let d = u64::from(digits[i] - b'0') + delta % 10;
+        delta /= 10;
+        if d >= 10 {
+            digits[i] = b'0' + (d - 10) as u8;
+            delta += 1;
+        } else {
+            digits[i] = b'0' + d as u8;
+        }
+    }
+    true
 }
 
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
@@ -841,6 +872,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             staged: [(Key { fi: 0, inch: false, n: 0 }, 0.0); 8],
             staged_mask: 0,
             layouts: Vec::new(),
+            number_text: ([b'0'; 36], 1, 0),
             move_vals: None,
             moves: (out.template("rapid").map(|(t, _)| t), out.template("feed").map(|(t, _)| t)),
             rounded: 0.0,
@@ -1328,10 +1360,18 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
-    /// Appends the block number [`Post::block`].
+    /// Appends the block number [`Post::block`]: the last one's text counted on by the
+    /// difference ([`count_on`]), else written afresh.
     #[inline]
     fn push_block_number(&mut self, buf: &mut Vec<u8>) {
-        push_u64(buf, self.block);
+        let (digits, len, n) = &mut self.number_text;
+        if *n != self.block {
+            if !(self.block > *n && count_on(&mut digits[..*len], self.block - *n)) {
+                *len = write_u64(digits, self.block);
+            }
+            *n = self.block;
+        }
+        append_tail(buf, digits, 0, *len);
     }
 
     /// Ends the block that starts at `start` in the buffer, and hands the buffer over when
