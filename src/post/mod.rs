@@ -12,7 +12,9 @@
 
 use std::collections::BTreeSet;
 
+mod lane;
 mod layout;
+use lane::Lane;
 use layout::{Class, Layout, NO_SLOT, Num, Part};
 
 use crate::canon::{Canon, CanonOp, CanonSink, CycleIntent, CycleKind, FeedMode, Plane, Setting, Units};
@@ -362,8 +364,9 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     staged: [(Key, f64); 8],
     /// The slots staged, one bit each.
     staged_mask: u8,
-    /// The text of a block number: its digits at `.0[.1..20]` (16 bytes after them for
-    /// [`append_tail`]), and the number (`u64::MAX`: none yet).
+    /// The text of the block number written last ([`Post::push_block_number`]): its digits
+    /// (room for 20, and 16 bytes after them for [`append_tail`]), their count, the number.
+    number_text: ([u8; 36], usize, u64),
     /// The values of a straight move, kept for the next (see [`Post::straight`]).
     move_vals: Option<Box<Vals>>,
     /// The `rapid` and `feed` templates.
@@ -406,6 +409,11 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     wcs_checked: bool,
     /// The rotary axes where the moves so far left them (degrees).
     abc: [f64; 3],
+    /// The `rapid` and `feed` templates as the steady lane writes them ([`lane`]).
+    lanes: Option<Box<[Lane; 2]>>,
+    /// Whether the steady lane takes the next rapid (bit 0) or feed (bit 1): the writer is
+    /// in the steady state ([`Post::refresh_lane`]).
+    lane_ready: u8,
 }
 
 /// A run of blocks the source runs again, kept as one pass while the passes write the same.
@@ -442,6 +450,10 @@ const REPEAT_MAX: usize = 4 << 20;
 
 /// A position rounded by more than this (mm) is said in a note: the diff's tolerance.
 const ROUNDED_NOTE: f64 = crate::diff::TOLERANCE;
+
+/// How far an arc's rounded centre moves its path, per unit of the centre's rounding: by up
+/// to 2√2 times it, through the start that stays ([`Class::Centre`]).
+const CENTRE_FACTOR: f64 = 2.0 * std::f64::consts::SQRT_2;
 
 fn modal_slot(v: Value) -> Option<usize> {
     match v {
@@ -756,13 +768,30 @@ fn append(buf: &mut Vec<u8>, s: &[u8]) {
     }
 }
 
-/// Appends the decimal digits of `n` without allocating: their count first, then the digits
-/// written two at a time from the right straight into `out` (a block number, every block).
-fn push_u64(out: &mut Vec<u8>, mut n: u64) {
-    let len = POW10[1..].iter().position(|&p| n < p).map_or(20, |k| k + 1);
+/// Whether a block (without number: `raw`; of a tool change or not) gets a block number.
+#[inline]
+fn numbered(out: &Output, raw: bool, tool_change: bool) -> bool {
+    match out.numbered {
+        Numbered::All => !raw,
+        Numbered::ToolChange => tool_change && !raw,
+        Numbered::None => false,
+    }
+}
+
+/// Appends the decimal digits of `n` without allocating: written straight into `out`
+/// ([`write_u64`]).
+fn push_u64(out: &mut Vec<u8>, n: u64) {
     let at = out.len();
     out.extend_from_slice(&[b'0'; 20]);
-    let digits = &mut out[at..at + len];
+    let len = write_u64(&mut out[at..], n);
+    out.truncate(at + len);
+}
+
+/// Writes the decimal digits of `n` at the start of `digits` (20 bytes at least): their count
+/// first, then the digits two at a time from the right; returns the count.
+fn write_u64(digits: &mut [u8], mut n: u64) -> usize {
+    let len = n.checked_ilog10().map_or(1, |k| k as usize + 1);
+    let digits = &mut digits[..len];
     let mut i = len;
     while i >= 2 {
         let d = (n % 100) as usize * 2;
@@ -773,7 +802,29 @@ fn push_u64(out: &mut Vec<u8>, mut n: u64) {
     if i == 1 {
         digits[0] = b'0' + n as u8;
     }
-    out.truncate(at + len);
+    len
+}
+
+/// Adds `delta` to the decimal number written in `digits`, in place, from its last digit
+/// (the block numbers' step: a digit or two); false, the digits spoilt, when the sum has
+/// more digits.
+fn count_on(digits: &mut [u8], mut delta: u64) -> bool {
+    let mut i = digits.len();
+    while delta != 0 {
+        if i == 0 {
+            return false;
+        }
+        i -= 1;
+        let d = u64::from(digits[i] - b'0') + delta % 10;
+        delta /= 10;
+        if d >= 10 {
+            digits[i] = b'0' + (d - 10) as u8;
+            delta += 1;
+        } else {
+            digits[i] = b'0' + d as u8;
+        }
+    }
+    true
 }
 
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
@@ -821,6 +872,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             staged: [(Key { fi: 0, inch: false, n: 0 }, 0.0); 8],
             staged_mask: 0,
             layouts: Vec::new(),
+            number_text: ([b'0'; 36], 1, 0),
             move_vals: None,
             moves: (out.template("rapid").map(|(t, _)| t), out.template("feed").map(|(t, _)| t)),
             rounded: 0.0,
@@ -838,6 +890,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             wcs_values: Vec::new(),
             wcs_checked: false,
             abc: [0.0; 3],
+            lanes: Some(Box::new([
+                Lane::of(out.template("rapid").map(|(t, _)| t), out),
+                Lane::of(out.template("feed").map(|(t, _)| t), out),
+            ])),
+            lane_ready: 0,
         }
     }
 
@@ -1006,28 +1063,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let inch = self.opts.units == Units::Inch;
         let scaled = x * POW10F[d];
         let n = round_scaled(scaled);
-        // The largest rounding of positions and of feeds ([`Class`]): `round`'s error, worked
-        // out only where it may pass the largest so far.
-        let position = matches!(class, Class::Position | Class::Centre);
-        let feed = class == Class::Feed;
-        let factor = if class == Class::Centre { 2.0 * std::f64::consts::SQRT_2 } else { 1.0 };
-        let kept = if position { self.rounded / factor } else { self.rounded_feed };
-        if (position || feed) && !below(n, scaled, x, d, kept) {
-            let err = (n as f64 / POW10F[d] - x).abs();
-            let off = err * factor;
-            if position && off > self.rounded {
-                self.rounded = off;
-                if self.rounded_at.is_none() && off * self.opts.units.to_mm() > ROUNDED_NOTE {
-                    self.rounded_at = Some(self.origin);
-                }
-            }
-            if feed && err > self.rounded_feed {
-                self.rounded_feed = err;
-                if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
-                    self.rounded_feed_at = Some(self.origin);
-                }
-            }
-        }
+        self.count_rounding(class, n, scaled, x, d);
         if num.slot != NO_SLOT {
             let slot = usize::from(num.slot);
             let key = Key { fi, inch, n };
@@ -1050,6 +1086,44 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         Some(n)
     }
 
+    /// Keeps the largest rounding of positions and of feeds ([`Class`]) with that of `x`
+    /// (scaled by 10^`d` to `scaled`, rounded to `n`): `round`'s error, worked out only where
+    /// it may pass the largest so far.
+    #[inline(always)]
+    fn count_rounding(&mut self, class: Class, n: i64, scaled: f64, x: f64, d: usize) {
+        let kept = match class {
+            Class::Position => self.rounded,
+            Class::Centre => self.rounded / CENTRE_FACTOR,
+            Class::Feed => self.rounded_feed,
+            Class::Other => return,
+        };
+        if !below(n, scaled, x, d, kept) {
+            self.keep_rounding(class, n, x, d);
+        }
+    }
+
+    /// [`Post::count_rounding`] for a rounding that may pass the largest so far.
+    #[inline(never)]
+    fn keep_rounding(&mut self, class: Class, n: i64, x: f64, d: usize) {
+        let err = (n as f64 / POW10F[d] - x).abs();
+        if class == Class::Feed {
+            if err > self.rounded_feed {
+                self.rounded_feed = err;
+                if self.rounded_feed_at.is_none() && err * self.opts.units.to_mm() > ROUNDED_NOTE {
+                    self.rounded_feed_at = Some(self.origin);
+                }
+            }
+            return;
+        }
+        let off = if class == Class::Centre { err * CENTRE_FACTOR } else { err };
+        if off > self.rounded {
+            self.rounded = off;
+            if self.rounded_at.is_none() && off * self.opts.units.to_mm() > ROUNDED_NOTE {
+                self.rounded_at = Some(self.origin);
+            }
+        }
+    }
+
     /// Whether modal placeholder `slot` with `x` in format `fi` is the number written last:
     /// its text again, left out at once (the common case of a move's unchanged axes).
     #[inline]
@@ -1057,12 +1131,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         num.modal && self.last[usize::from(num.slot)] == (x, num.fi)
     }
 
-    /// Writes number part `num` of `vals` after the separator `sep` (none at the block's
-    /// `body` start): the common word, one number, absent, unchanged, or written here (and
-    /// taken back when it writes nothing).
+    /// Writes number part `num` with value `x` after the separator `sep` (none at the block's
+    /// `body` start): the common word, one number, absent (NaN), unchanged, or written here
+    /// (and taken back when it writes nothing).
     #[inline(always)]
-    fn put_num(&mut self, buf: &mut Vec<u8>, body: usize, sep: &[u8], num: Num, vals: &Vals, moved: &mut u32) {
-        let x = vals.num[num.value as usize];
+    fn put_num(&mut self, buf: &mut Vec<u8>, body: usize, sep: &[u8], num: Num, x: f64, moved: &mut u32) {
         if x.is_nan() || self.unchanged(num, x) {
             return;
         }
@@ -1197,7 +1270,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                     push_code(&mut buf, body, sep, c);
                 }
                 for &num in &simple.nums {
-                    self.put_num(&mut buf, body, sep, num, vals, &mut moved);
+                    self.put_num(&mut buf, body, sep, num, vals.num[num.value as usize], &mut moved);
                 }
             } else {
                 for part in &lb.parts {
@@ -1211,7 +1284,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                             continue;
                         }
                         Part::Num(num) => {
-                            self.put_num(&mut buf, body, sep, num, vals, &mut moved);
+                            self.put_num(&mut buf, body, sep, num, vals.num[num.value as usize], &mut moved);
                             continue;
                         }
                         Part::Mods(_) if self.mods.is_empty() => continue,
@@ -1234,12 +1307,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
                 self.buf = buf;
                 continue;
             }
-            let mut staged = std::mem::take(&mut self.staged_mask);
-            while staged != 0 {
-                let k = staged.trailing_zeros() as usize;
-                self.set_written(k, Some(self.staged[k]));
-                staged &= staged - 1;
-            }
+            self.commit_staged();
             if let Some(c) = code {
                 if self.motion.as_deref() != Some(c) {
                     self.motion = Some(c.to_owned());
@@ -1257,34 +1325,58 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.layout_done(t, motion, layout);
     }
 
+    /// The modal values staged while a block was rendered ([`Post::number`]) count as
+    /// written: the block is.
+    #[inline]
+    fn commit_staged(&mut self) {
+        let mut staged = std::mem::take(&mut self.staged_mask);
+        while staged != 0 {
+            let k = staged.trailing_zeros() as usize;
+            self.set_written(k, Some(self.staged[k]));
+            staged &= staged - 1;
+        }
+    }
+
     /// Starts a block at the end of `buf`: the optional block's `/` and the block number where
     /// the target numbers it (counted once the block is written, [`Post::line_end`]); whether
     /// it is numbered.
+    #[inline]
     fn block_start(&mut self, buf: &mut Vec<u8>, raw: bool, tool_change: bool) -> bool {
+        let numbered = numbered(self.out, raw, tool_change);
+        self.start_block(buf, raw, numbered);
+        numbered
+    }
+
+    /// [`Post::block_start`] with whether the block is numbered ([`numbered`]) known.
+    #[inline(always)]
+    fn start_block(&mut self, buf: &mut Vec<u8>, raw: bool, numbered: bool) {
         if !raw && self.optional_line == Some(self.line) {
             buf.push(b'/');
         }
-        let numbered = match self.out.numbered {
-            Numbered::All => !raw,
-            Numbered::ToolChange => tool_change && !raw,
-            Numbered::None => false,
-        };
         if numbered {
             append(buf, self.out.number_address.as_bytes());
             self.push_block_number(buf);
             append(buf, self.out.separator.as_bytes());
         }
-        numbered
     }
 
-    /// Appends the block number [`Post::block`].
+    /// Appends the block number [`Post::block`]: the last one's text counted on by the
+    /// difference ([`count_on`]), else written afresh.
     #[inline]
     fn push_block_number(&mut self, buf: &mut Vec<u8>) {
-        push_u64(buf, self.block);
+        let (digits, len, n) = &mut self.number_text;
+        if *n != self.block {
+            if !(self.block > *n && count_on(&mut digits[..*len], self.block - *n)) {
+                *len = write_u64(digits, self.block);
+            }
+            *n = self.block;
+        }
+        append_tail(buf, digits, 0, *len);
     }
 
     /// Ends the block that starts at `start` in the buffer, and hands the buffer over when
     /// it is full.
+    #[inline]
     fn line_end(&mut self, start: usize, raw: bool, numbered: bool) {
         if numbered {
             self.block += self.out.number_step;
@@ -1292,24 +1384,38 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if !raw {
             append(&mut self.buf, self.out.end_of_block.as_bytes());
         }
-        if self.out.max_line > 0 && self.buf.len() - start > self.out.max_line && self.noted.insert("line-too-long".into()) {
+        if self.out.max_line > 0 && self.buf.len() - start > self.out.max_line {
+            self.line_too_long(start);
+        }
+        self.buf.push(b'\n');
+        if self.buf.len() >= FLUSH_AT {
+            self.hand_over();
+        }
+    }
+
+    /// The block at `start` is longer than the target takes: said once.
+    #[inline(never)]
+    fn line_too_long(&mut self, start: usize) {
+        if self.noted.insert("line-too-long".into()) {
             self.diags.push(Diagnostic::new(
                 Code::PostLineTooLong,
                 Default::default(),
                 format!("a written line has {} characters, over the {} the target takes", self.buf.len() - start, self.out.max_line),
             ));
         }
-        self.buf.push(b'\n');
-        if self.buf.len() >= FLUSH_AT {
-            if self.repeat.is_some() && self.buf.len() < REPEAT_MAX {
-                return;
-            }
-            // Too long to hold: the passes counted so far are written as a loop.
-            self.end_repeat();
-            (self.sink)(&self.buf);
-            self.buf.clear();
-            self.line_offsets.clear();
+    }
+
+    /// Hands the full buffer over ([`Post::line_end`]), unless a repeated run still fits.
+    #[inline(never)]
+    fn hand_over(&mut self) {
+        if self.repeat.is_some() && self.buf.len() < REPEAT_MAX {
+            return;
         }
+        // Too long to hold: the passes counted so far are written as a loop.
+        self.end_repeat();
+        (self.sink)(&self.buf);
+        self.buf.clear();
+        self.line_offsets.clear();
     }
 
     fn comment(&mut self, text: &str, event: &str) {
@@ -1379,8 +1485,17 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
+    /// The tool moved to `p`: kept, and checked against the machine's travel.
+    #[inline]
     fn moved(&mut self, p: [f64; 3]) {
         self.pos = p;
+        if self.opts.limits.travel.is_some() {
+            self.check_travel(p);
+        }
+    }
+
+    #[inline(never)]
+    fn check_travel(&mut self, p: [f64; 3]) {
         if let Some((lo, hi)) = self.opts.limits.travel {
             let mm = self.opts.units.to_mm();
             if (0..3).any(|k| p[k] * mm < lo[k] - 1e-6 || p[k] * mm > hi[k] + 1e-6) && self.noted.insert("travel".into()) {
@@ -1820,6 +1935,19 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
 
 impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
     fn emit(&mut self, canon: Canon) {
+        // The common straight move in the steady state ([`lane`]); else the general path,
+        // after which the steady state is worked out again.
+        if self.lane_ready != 0 && self.steady_move(&canon) {
+            return;
+        }
+        self.emit_general(canon);
+        self.refresh_lane();
+    }
+}
+
+impl<F: FnMut(&[u8])> Post<'_, F> {
+    /// [`CanonSink::emit`] by the general path.
+    fn emit_general(&mut self, canon: Canon) {
         // A rapid while an output cycle is in force may be the positioning before the next
         // hole of a modal cycle (`MCALL`, `M99`): it waits for the op after it.
         if let Some(p) = self.pending_move.take() {
@@ -2349,12 +2477,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.end_repeat();
             }
         }
-        let (word, bit) = (line as usize / 64, 1u64 << (line % 64));
-        if self.seen.len() <= word {
-            self.seen.resize(word + 1, 0);
-        }
-        let again = self.seen[word] & bit != 0;
-        self.seen[word] |= bit;
+        let again = self.mark_seen(line);
         if again && line < self.line && self.repeat.is_none() {
             // A jump back to a line that ran: the run from its text to here may repeat.
             let at = self.line_offsets.iter().rev().find(|(l, _, _)| *l == line).map(|(_, o, b)| (*o, *b));
@@ -2378,6 +2501,30 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 _ => self.note_unrolled(canon.origin),
             }
         }
+        self.line_starts(line);
+    }
+
+    /// Marks source line `line` as run ([`Post::seen`]); whether it had run before.
+    #[inline]
+    fn mark_seen(&mut self, line: u32) -> bool {
+        let (word, bit) = (line as usize / 64, 1u64 << (line % 64));
+        if self.seen.len() <= word {
+            self.seen.resize(word + 1, 0);
+        }
+        let again = self.seen[word] & bit != 0;
+        self.seen[word] |= bit;
+        again
+    }
+
+    /// Whether source line `line` has run ([`Post::mark_seen`]).
+    #[inline]
+    fn has_run(&self, line: u32) -> bool {
+        self.seen.get(line as usize / 64).is_some_and(|w| w & (1 << (line % 64)) != 0)
+    }
+
+    /// Records where source line `line`'s text begins ([`Post::line_offsets`]).
+    #[inline]
+    fn line_starts(&mut self, line: u32) {
         if self.line_offsets.last().is_none_or(|(l, _, _)| *l != line) {
             let block = self.next_block();
             self.line_offsets.push((line, self.buf.len(), block));
