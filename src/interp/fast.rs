@@ -40,18 +40,20 @@ impl Interpreter<'_> {
         if self.st.ended || !self.profile.fast_lane {
             return false;
         }
-        let (origin, source_line) = (self.origin, self.line);
+        // The op's origin, as `execute` sets it first (and sets it again for a block it runs
+        // the general way).
         self.origin = line.range;
         self.line = line.line;
         if !self.plain_move(line.words().iter().map(|w| Some((w.role, w.value, w.decimal))), line.range, sink, diags) {
-            (self.origin, self.line) = (origin, source_line);
             return false;
         }
         // What `execute` does after its block.
         if self.comp_problem.get().is_some() {
             self.comp_report(diags);
         }
-        self.corner_report(diags);
+        if self.corners.get_mut().is_some() {
+            self.corner_report(diags);
+        }
         true
     }
 

@@ -2813,7 +2813,7 @@ fn eight_digits(d: u64) -> u64 {
 #[inline(always)]
 fn short_number(b: &[u8], i: usize) -> Option<(u64, usize, usize, bool, usize)> {
     const ZEROS: u64 = 0x3030_3030_3030_3030;
-    let w = u64::from_le_bytes(b.get(i..i.checked_add(8)?)?.try_into().ok()?);
+    let w = u64::from_le_bytes(*b.get(i..)?.first_chunk::<8>()?);
     let x = w.wrapping_sub(ZEROS);
     let at = (not_digits(x).trailing_zeros() / 8) as usize;
     if at == 8 {
