@@ -21,9 +21,9 @@
 //! every unusual case is handled.
 
 use super::layout::{Class, Layout, Part};
-use super::{CanonOp, EPS, FRAC3, INT3, Key, POW10F, Post, push_number_in, round_scaled};
+use super::{CanonOp, EPS, Key, POW10F, Post, ThreeDecimals, push_number_in, round_scaled};
 use crate::canon::{Canon, Units};
-use crate::dialect::output::{Output, Piece, Point, Template, Value};
+use crate::dialect::output::{Output, Piece, Template, Value};
 
 /// A move template (one block) as the steady lane writes it, made once from its
 /// [`Layout`]. Empty (no words) when the template cannot be written so.
@@ -74,58 +74,9 @@ struct LaneNum {
     class: Class,
     /// The decimals the format writes in a millimetre and an inch program ([`super::decimals`]).
     decimals: [usize; 2],
-    /// Whether those are written as three decimals after a short address (the usual
-    /// format), by [`LaneNum::push_three`], in each units; else by [`push_number_in`].
-    three: [bool; 2],
-    /// The format's address (8 bytes at most for [`LaneNum::three`]), its length and its
-    /// flags.
-    address: [u8; 8],
-    address_len: usize,
-    plus: bool,
-    trailing_zeros: bool,
-    leading_zero: bool,
-    point_always: bool,
-}
-
-impl LaneNum {
-    /// [`super::push_three_decimals`] with the format's facts at hand: `n` (three decimals)
-    /// onto `buf`; false for a number of a million steps or more, left to the general way.
-    #[inline(always)]
-    fn push_three(&self, buf: &mut Vec<u8>, n: i64) -> bool {
-        let a = n.unsigned_abs();
-        if a >= 1_000_000 {
-            return false;
-        }
-        let (whole, frac) = ((a / 1000) as usize, (a % 1000) as usize);
-        let fr = FRAC3[frac];
-        let flen = if self.trailing_zeros { 3 } else { usize::from(fr[3]) };
-        // Address, sign, three digits, point, three digits: 16 at most.
-        let mut t = [0u8; 32];
-        t[..8].copy_from_slice(&self.address);
-        let mut k = self.address_len;
-        if n < 0 {
-            t[k] = b'-';
-            k += 1;
-        } else if self.plus {
-            t[k] = b'+';
-            k += 1;
-        }
-        if whole != 0 || self.leading_zero || flen == 0 {
-            let w = INT3[whole];
-            t[k..k + 3].copy_from_slice(&w[..3]);
-            k += usize::from(w[3]);
-        }
-        if flen > 0 || self.point_always {
-            t[k] = b'.';
-            k += 1;
-        }
-        t[k..k + 3].copy_from_slice(&fr[..3]);
-        k += flen;
-        let at = buf.len();
-        buf.extend_from_slice(&t[..16]);
-        buf.truncate(at + k);
-        true
-    }
+    /// The format as [`ThreeDecimals`], in each units, where it writes three decimals after
+    /// a short address (the usual format); else the number goes by [`push_number_in`].
+    three: [Option<ThreeDecimals>; 2],
 }
 
 impl Lane {
@@ -171,11 +122,7 @@ impl Lane {
                     slots |= 1 << num.slot;
                     let f = &out.formats[num.fi as usize];
                     let decimals = [super::decimals(f, false), super::decimals(f, true)];
-                    let short = f.address.len() <= 8 && !f.increment;
-                    let mut address = [0u8; 8];
-                    if short {
-                        address[..f.address.len()].copy_from_slice(f.address.as_bytes());
-                    }
+                    let three = ThreeDecimals::of(f);
                     lane.words.push(Word::Num(LaneNum {
                         at,
                         slot: usize::from(num.slot),
@@ -184,13 +131,7 @@ impl Lane {
                         moves: !(3..5).contains(&num.slot),
                         class: num.class,
                         decimals,
-                        three: decimals.map(|d| short && d == 3),
-                        address,
-                        address_len: f.address.len(),
-                        plus: f.plus,
-                        trailing_zeros: f.trailing_zeros,
-                        leading_zero: f.leading_zero,
-                        point_always: f.point == Point::Always,
+                        three: decimals.map(|d| three.filter(|_| d == 3)),
                     }));
                 }
                 Part::Word(wi) => {
@@ -365,7 +306,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         if buf.len() > body {
             super::append(buf, sep);
         }
-        if !(num.three[usize::from(inch)] && num.push_three(buf, n)) {
+        if !num.three[usize::from(inch)].is_some_and(|t| t.push(buf, n)) {
             push_number_in(buf, &self.out.formats[num.fi as usize], n, d);
         }
         num.moves

@@ -583,48 +583,78 @@ const INT3: [[u8; 4]; 1000] = {
     t
 };
 
-/// [`push_number`] for the usual number: three decimals, a short address and under 1000
-/// before the point, put together from the tables [`INT3`] and [`FRAC3`]; false for any
-/// other, left to the general way.
-#[inline]
-fn push_three_decimals(out: &mut Vec<u8>, f: &NumberFormat, n: i64, decimals: usize) -> bool {
-    let a = n.unsigned_abs();
-    let address = f.address.as_bytes();
-    if decimals != 3 || f.increment || a >= 1_000_000 || address.len() > 8 {
-        return false;
+/// The usual number format, three decimals after a short address, with what writing it
+/// needs at hand ([`ThreeDecimals::push`]): made once per format by the writer's steady lane,
+/// on the spot by [`push_number`].
+#[derive(Clone, Copy, Debug, Default)]
+struct ThreeDecimals {
+    /// The address (8 bytes at most) and its length.
+    address: [u8; 8],
+    address_len: usize,
+    plus: bool,
+    trailing_zeros: bool,
+    leading_zero: bool,
+    point_always: bool,
+}
+
+impl ThreeDecimals {
+    /// Format `f` as such, if its address is short and it is no least-increment format.
+    #[inline]
+    fn of(f: &NumberFormat) -> Option<ThreeDecimals> {
+        let a = f.address.as_bytes();
+        if a.len() > 8 || f.increment {
+            return None;
+        }
+        let mut address = [0u8; 8];
+        address[..a.len()].copy_from_slice(a);
+        Some(ThreeDecimals {
+            address,
+            address_len: a.len(),
+            plus: f.plus,
+            trailing_zeros: f.trailing_zeros,
+            leading_zero: f.leading_zero,
+            point_always: f.point == Point::Always,
+        })
     }
-    let (whole, frac) = ((a / 1000) as usize, (a % 1000) as usize);
-    let fr = FRAC3[frac];
-    let flen = if f.trailing_zeros { 3 } else { usize::from(fr[3]) };
-    // Address, sign, three digits, point, three digits: 16 at most.
-    let mut t = [0u8; 32];
-    match address {
-        [c] => t[0] = *c,
-        _ => t[..address.len()].copy_from_slice(address),
+
+    /// [`push_number`] of `n` (in thousandths) onto `out`, put together from the tables
+    /// [`INT3`] and [`FRAC3`]; false for a million thousandths or more, left to the general way.
+    #[inline(always)]
+    fn push(&self, out: &mut Vec<u8>, n: i64) -> bool {
+        let a = n.unsigned_abs();
+        if a >= 1_000_000 {
+            return false;
+        }
+        let (whole, frac) = ((a / 1000) as usize, (a % 1000) as usize);
+        let fr = FRAC3[frac];
+        let flen = if self.trailing_zeros { 3 } else { usize::from(fr[3]) };
+        // Address, sign, three digits, point, three digits: 16 at most.
+        let mut t = [0u8; 32];
+        t[..8].copy_from_slice(&self.address);
+        let mut k = self.address_len;
+        if n < 0 {
+            t[k] = b'-';
+            k += 1;
+        } else if self.plus {
+            t[k] = b'+';
+            k += 1;
+        }
+        if whole != 0 || self.leading_zero || flen == 0 {
+            let w = INT3[whole];
+            t[k..k + 3].copy_from_slice(&w[..3]);
+            k += usize::from(w[3]);
+        }
+        if flen > 0 || self.point_always {
+            t[k] = b'.';
+            k += 1;
+        }
+        t[k..k + 3].copy_from_slice(&fr[..3]);
+        k += flen;
+        let at = out.len();
+        out.extend_from_slice(&t[..16]);
+        out.truncate(at + k);
+        true
     }
-    let mut k = address.len();
-    if n < 0 {
-        t[k] = b'-';
-        k += 1;
-    } else if f.plus {
-        t[k] = b'+';
-        k += 1;
-    }
-    if whole != 0 || f.leading_zero || flen == 0 {
-        let w = INT3[whole];
-        t[k..k + 3].copy_from_slice(&w[..3]);
-        k += usize::from(w[3]);
-    }
-    if flen > 0 || f.point == Point::Always {
-        t[k] = b'.';
-        k += 1;
-    }
-    t[k..k + 3].copy_from_slice(&fr[..3]);
-    k += flen;
-    let at = out.len();
-    out.extend_from_slice(&t[..16]);
-    out.truncate(at + k);
-    true
 }
 
 /// `a` split at `decimals` decimal digits: the whole part and the fraction's digits. The
@@ -651,7 +681,7 @@ fn push_number(out: &mut Vec<u8>, f: &NumberFormat, n: i64, inch: bool) {
 /// [`push_number`] with the format's decimals for the units in force, [`decimals`].
 #[inline]
 fn push_number_in(out: &mut Vec<u8>, f: &NumberFormat, n: i64, decimals: usize) {
-    if push_three_decimals(out, f, n, decimals) {
+    if decimals == 3 && ThreeDecimals::of(f).is_some_and(|t| t.push(out, n)) {
         return;
     }
     // A short address, a sign, 20 digits, a point and 15 decimals at most, ending at 48; the
