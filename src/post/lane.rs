@@ -297,8 +297,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             return false;
         }
         if num.moves || moved {
-            self.written[num.slot] = Some((key, x));
-            self.last[num.slot] = (x, num.fi);
+            self.set_written(num.slot, Some((key, x)));
         } else {
             self.staged[num.slot] = (key, x);
             self.staged_mask |= 1 << num.slot;
