@@ -20,61 +20,85 @@ use crate::dialect::{Meaning, Role, Step};
 use crate::syntax::{Block, PlainLine, Value, WordMode};
 use crate::text::TextRange;
 
+/// What a run of plain lines may take for granted ([`Interpreter::plain_ready`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PlainRun {
+    /// Whether a stage stands between a move and the sink ([`Interpreter::staged`]).
+    staged: bool,
+}
+
 impl Interpreter<'_> {
     /// Executes `block` when it is a plain move; false, with nothing changed, when it is not.
     pub(super) fn fast_move(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
         if !block.comments.is_empty() || !block.assigns.is_empty() || !block.exprs.is_empty() || block.control.is_some() {
             return false;
         }
+        if !self.plain_state() {
+            return false;
+        }
         let words = block.words.iter().map(|w| match w.value {
             Value::Number { value, decimal } if w.mode == WordMode::Modal => Some((w.role, value, decimal)),
             _ => None,
         });
-        self.plain_move(words, block.range, sink, diags)
+        self.plain_move(words, block.range, self.staged(), sink, diags)
+    }
+
+    /// Whether lines of plain words may run by [`Interpreter::run_plain`] now, and what they
+    /// may take for granted. A plain move changes nothing this looks at, so the driver asks
+    /// once for a run of them.
+    pub fn plain_ready(&self) -> Option<PlainRun> {
+        (!self.st.ended && self.profile.fast_lane && self.plain_state()).then(|| PlainRun { staged: self.staged() })
+    }
+
+    /// Whether the state lets a block be a plain move at all: no modal cycle or macro, no
+    /// message waiting for a stop, no diameter programming, no NURBS curve under way.
+    #[inline(always)]
+    fn plain_state(&self) -> bool {
+        !(self.st.cycle_modal
+            || self.st.modal_macro.is_some()
+            || self.stop_message.is_some()
+            || self.st.diameter
+            || self.st.nurbs.is_some())
     }
 
     /// Runs `line`, a block of plain words the driver read without a [`Block`], exactly as
     /// `execute` runs the same block; false, with nothing changed, when it is no plain move
-    /// (it then goes the general way).
-    pub fn run_plain(&mut self, line: &PlainLine, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
-        if self.st.ended || !self.profile.fast_lane {
-            return false;
-        }
+    /// (it then goes the general way). Only where [`Interpreter::plain_ready`] says so.
+    #[inline(always)]
+    pub fn run_plain(&mut self, run: PlainRun, line: &PlainLine, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
+        debug_assert!(self.plain_ready().is_some_and(|r| r.staged == run.staged));
         // The op's origin, as `execute` sets it first (and sets it again for a block it runs
         // the general way).
         self.origin = line.range;
         self.line = line.line;
-        if !self.plain_move(line.words().iter().map(|w| Some((w.role, w.value, w.decimal))), line.range, sink, diags) {
+        let words = line.words().iter().map(|w| Some((w.role, w.value, w.decimal)));
+        if !self.plain_move(words, line.range, run.staged, sink, diags) {
             return false;
         }
-        // What `execute` does after its block.
-        if self.comp_problem.get().is_some() {
-            self.comp_report(diags);
-        }
-        if self.corners.get_mut().is_some() {
-            self.corner_report(diags);
+        // What `execute` does after its block; without stages there is nothing to report.
+        if run.staged {
+            if self.comp_problem.get().is_some() {
+                self.comp_report(diags);
+            }
+            if self.corners.get_mut().is_some() {
+                self.corner_report(diags);
+            }
         }
         true
     }
 
     /// The plain move of `words` (role, value, whether written with a point; `None` for a
-    /// word that is no literal number) in the block at `range`.
+    /// word that is no literal number) in the block at `range`, in a state that admits one
+    /// ([`Interpreter::plain_state`]); `staged` as [`Interpreter::staged`] says.
     #[inline(always)]
     fn plain_move(
         &mut self,
         words: impl Iterator<Item = Option<(Role, f64, bool)>>,
         range: TextRange,
+        staged: bool,
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) -> bool {
-        if self.st.cycle_modal
-            || self.st.modal_macro.is_some()
-            || self.stop_message.is_some()
-            || self.st.diameter
-            || self.st.nurbs.is_some()
-        {
-            return false;
-        }
         // Integers that count increments (`X10` is 10 µm on such a control) go the general way.
         let integers_scale = self.integers_scale;
         let incremental = self.st.distance == DistanceMode::Incremental;
@@ -150,7 +174,7 @@ impl Interpreter<'_> {
             self.check_technology(def, range, diags);
         }
         self.note_tangent(to);
-        self.emit_straight(sink, rapid, to);
+        self.emit_straight(sink, rapid, to, staged);
         self.st.pos = to;
         true
     }

@@ -360,7 +360,7 @@ impl<'a> Driver<'a, '_> {
                 // A call returned; the state it saved with M73 comes back first.
                 interp.leave_level(level, sink);
             }
-            if self.plain_lane_open() && self.parser.plain_line(&mut plain) && self.run_plain(&plain, interp, sink, diags) {
+            if self.run_plain(&mut plain, interp, sink, diags) {
                 if interp.finished() {
                     break;
                 }
@@ -488,26 +488,39 @@ impl<'a> Driver<'a, '_> {
             && self.dialect.macros.definition_block.is_none()
     }
 
-    /// Runs `line`, the plain line at the cursor, as the general way runs its block, and
-    /// moves past it; false, with nothing changed, when it must go the general way (it ran
-    /// before, a block budget ends here, or it is no plain move).
-    #[inline(always)]
-    fn run_plain(&mut self, line: &PlainLine, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
+    /// Runs the plain lines from the cursor on (see [`Parser::plain_line`]) as the general way
+    /// runs their blocks, and moves past them, up to the first that must go the general way
+    /// (it is no plain move, or a block budget ends there); false, with nothing changed, when
+    /// none ran. What a plain move cannot change (the lane is open, the run is a first one, the
+    /// interpreter's state admits plain moves) is asked once for the whole run.
+    #[inline(never)]
+    fn run_plain(
+        &mut self,
+        line: &mut PlainLine,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
         let reached = self.reached.get(self.cur).copied().unwrap_or(0);
-        if self.parser.offset() < reached
-            || self.executed >= self.profile.max_blocks
-            || self.repeated > self.profile.max_repeated_blocks
-            || !interp.run_plain(line, sink, diags)
-        {
+        if !self.plain_lane_open() || self.parser.offset() < reached || self.repeated > self.profile.max_repeated_blocks {
             return false;
         }
-        self.parser.take_plain(line);
-        // As `next_block` and `drive` keep count for the block.
+        let Some(run) = interp.plain_ready() else { return false };
+        let room = self.profile.max_blocks.saturating_sub(self.executed);
+        let mut ran = 0;
+        while ran < room && self.parser.plain_line(line) && interp.run_plain(run, line, sink, diags) {
+            self.parser.take_plain(line);
+            ran += 1;
+        }
+        if ran == 0 {
+            return false;
+        }
+        // As `next_block` and `drive` keep count for each block.
         if self.reached.len() <= self.cur {
             self.reached.resize(self.cur + 1, 0);
         }
         self.reached[self.cur] = self.parser.offset();
-        self.executed += 1;
+        self.executed += ran;
         self.broken = false;
         true
     }

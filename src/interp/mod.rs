@@ -755,18 +755,23 @@ impl<'a> Interpreter<'a> {
         }
     }
 
-    /// A straight move to `to`, as [`Interpreter::emit`] sends it: straight to the sink where
-    /// no stage stands between (no call's origin, rotation, scaling, corners or compensation),
-    /// without moving the op through the general way.
-    #[inline]
-    fn emit_straight(&self, sink: &mut dyn CanonSink, rapid: bool, to: [f64; 6]) {
-        let op = |to| if rapid { CanonOp::StraightTraverse(to) } else { CanonOp::StraightFeed(to) };
-        if self.origin_override.is_some()
+    /// Whether a stage stands between a move and the sink: a call's origin, rotation,
+    /// scaling, corners or compensation. Only the general way turns one on or off.
+    fn staged(&self) -> bool {
+        self.origin_override.is_some()
             || self.st.rotation.is_some()
             || self.st.scaling.is_some()
             || self.comp.borrow().is_some()
             || self.corners.borrow().is_some()
-        {
+    }
+
+    /// A straight move to `to`, as [`Interpreter::emit`] sends it: where no stage stands
+    /// between (`staged`, as [`Interpreter::staged`] says), straight to the sink without
+    /// moving the op through the general way.
+    #[inline(always)]
+    fn emit_straight(&self, sink: &mut dyn CanonSink, rapid: bool, to: [f64; 6], staged: bool) {
+        let op = |to| if rapid { CanonOp::StraightTraverse(to) } else { CanonOp::StraightFeed(to) };
+        if staged {
             return self.emit(sink, op(to));
         }
         self.sent.set(to);

@@ -273,11 +273,21 @@ impl CanonSink for Batcher {
     fn emit(&mut self, canon: Canon) {
         self.batch.push(canon);
         if self.batch.len() >= BATCH {
-            let next = self.emptied.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
-            let batch = std::mem::replace(&mut self.batch, next);
-            // The writer gone (it panicked): the panic comes out of the join.
-            let _ = self.full.send(batch);
+            self.send();
         }
+    }
+}
+
+impl Batcher {
+    /// Sends the full batch on, and takes an emptied one back (or a new one) to fill. Out of
+    /// line: `emit` is then a push and a test, with nothing to save around them.
+    #[cold]
+    #[inline(never)]
+    fn send(&mut self) {
+        let next = self.emptied.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
+        let batch = std::mem::replace(&mut self.batch, next);
+        // The writer gone (it panicked): the panic comes out of the join.
+        let _ = self.full.send(batch);
     }
 }
 
