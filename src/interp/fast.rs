@@ -64,7 +64,10 @@ impl Interpreter<'_> {
     /// Runs `line`, a block of plain words the driver read without a [`Block`], exactly as
     /// `execute` runs the same block; false, with nothing changed, when it is no plain move
     /// (it then goes the general way). Only where [`Interpreter::plain_ready`] says so.
-    #[inline(always)]
+    ///
+    /// Not inlined: the parser's loop that calls it for each line keeps its own values in
+    /// registers.
+    #[inline(never)]
     pub fn run_plain(&mut self, run: PlainRun, line: &PlainLine, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
         debug_assert!(self.plain_ready().is_some_and(|r| r.staged == run.staged));
         // The op's origin, as `execute` sets it first (and sets it again for a block it runs

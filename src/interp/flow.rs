@@ -488,7 +488,7 @@ impl<'a> Driver<'a, '_> {
             && self.dialect.macros.definition_block.is_none()
     }
 
-    /// Runs the plain lines from the cursor on (see [`Parser::plain_line`]) as the general way
+    /// Runs the plain lines from the cursor on (see [`Parser::plain_lines`]) as the general way
     /// runs their blocks, and moves past them, up to the first that must go the general way
     /// (it is no plain move, or a block budget ends there); false, with nothing changed, when
     /// none ran. What a plain move cannot change (the lane is open, the run is a first one, the
@@ -507,11 +507,7 @@ impl<'a> Driver<'a, '_> {
         }
         let Some(run) = interp.plain_ready() else { return false };
         let room = self.profile.max_blocks.saturating_sub(self.executed);
-        let mut ran = 0;
-        while ran < room && self.parser.plain_line(line) && interp.run_plain(run, line, sink, diags) {
-            self.parser.take_plain(line);
-            ran += 1;
-        }
+        let ran = self.parser.plain_lines(line, room, |line| interp.run_plain(run, line, sink, diags));
         if ran == 0 {
             return false;
         }

@@ -257,43 +257,51 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// Reads the next block into `line` when it is a line of plain words wholly in the
-    /// window (see [`plain_block`]), without moving on: [`Parser::take_plain`] then moves past
-    /// it. False for any other block, which [`Parser::next_block`] reads as a [`Block`]. The
-    /// words, range and line are those `next_block` would give; the block number is not kept.
+    /// Reads the lines of plain words from the cursor on, each wholly in the window (see
+    /// [`plain_block`]), into `line` one by one, and hands each to `run`. It moves past each
+    /// line `run` takes (true), and stops at the first it turns down, at the first other block
+    /// (which [`Parser::next_block`] reads as a [`Block`]), or after `max` lines; the number
+    /// taken. A line's words, range and line are those `next_block` would give; its block
+    /// number is not kept.
     ///
-    /// Not inlined: its word loop keeps its values in registers, where inlined into the
-    /// driver's loop it spilled them.
-    #[inline(never)]
-    pub fn plain_line(&self, line: &mut PlainLine) -> bool {
-        if !self.fast || self.records.is_some() || self.pos >= self.end || self.outside() {
-            return false;
+    /// Reading plain lines never moves the window, so it is looked up once for them all.
+    pub fn plain_lines(&mut self, line: &mut PlainLine, max: u64, mut run: impl FnMut(&PlainLine) -> bool) -> u64 {
+        if !self.fast || self.records.is_some() || self.outside() {
+            return 0;
         }
         let (win, base) = self.window();
         let bytes = win.as_bytes();
-        let start = self.pos - base;
+        let (mut pos, mut number, mut taken) = (self.pos, self.line, 0);
+        while taken < max && pos < self.end {
+            let Some((next, lines)) = self.plain_at(bytes, base, pos, line) else { break };
+            line.line = number;
+            if !run(line) {
+                break;
+            }
+            (pos, number, taken) = (next, number + lines, taken + 1);
+        }
+        (self.pos, self.line) = (pos, number);
+        taken
+    }
+
+    /// The line of plain words at `pos`, in the window `bytes` that starts at `base`, into
+    /// `line` (all but its line number); where the next block starts, and the lines to it.
+    #[inline(always)]
+    fn plain_at(&self, bytes: &[u8], base: usize, pos: usize, line: &mut PlainLine) -> Option<(usize, u32)> {
+        let start = pos - base;
         line.len = 0;
-        let Some(end) = plain_block(&self.plain, self.number, self.dialect, bytes, start, base, line) else { return false };
+        let end = plain_block(&self.plain, self.number, self.dialect, bytes, start, base, line)?;
         let (next, lines) = match bytes.get(end) {
             Some(b'\r') if bytes.get(end + 1) == Some(&b'\n') => (end + 2, 1),
             Some(b'\r' | b'\n') => (end + 1, 1),
-            _ => return false,
+            _ => return None,
         };
         // A line that ends at the window's end may go on past it: read the general way.
         if next >= bytes.len() && base + bytes.len() < self.end {
-            return false;
+            return None;
         }
         line.range = TextRange::new(base + start, base + end);
-        line.line = self.line;
-        (line.next, line.lines) = (base + next, lines);
-        true
-    }
-
-    /// Moves past the block [`Parser::plain_line`] read into `line`.
-    #[inline]
-    pub fn take_plain(&mut self, line: &PlainLine) {
-        self.pos = line.next;
-        self.line += line.lines;
+        Some((base + next, lines))
     }
 
     /// The next record of a record-form text (CLDATA).
@@ -478,7 +486,7 @@ impl PlainWords for PlainLine {
     }
 }
 
-/// A line of plain words read by [`Parser::plain_line`] without a [`Block`]: the block that
+/// A line of plain words read by [`Parser::plain_lines`] without a [`Block`]: the block that
 /// makes up most of a CAM program (`X12.5 Y-3.2 Z-1.05`), for the interpreter's plain lane.
 #[derive(Clone, Debug)]
 pub struct PlainLine {
@@ -488,9 +496,6 @@ pub struct PlainLine {
     pub range: TextRange,
     /// 1-based line of the block.
     pub line: u32,
-    /// Where the next block starts, and the lines to it.
-    next: usize,
-    lines: u32,
 }
 
 /// The most words a [`PlainLine`] holds; a longer block goes the general way.
@@ -510,7 +515,7 @@ pub struct PlainWord {
 impl Default for PlainLine {
     fn default() -> PlainLine {
         let w = PlainWord { role: Role::X, value: 0.0, decimal: false };
-        PlainLine { words: [w; PLAIN_WORDS], len: 0, range: TextRange::default(), line: 0, next: 0, lines: 0 }
+        PlainLine { words: [w; PLAIN_WORDS], len: 0, range: TextRange::default(), line: 0 }
     }
 }
 
