@@ -25,9 +25,14 @@ use super::{CanonOp, EPS, Key, POW10F, Post, ThreeDecimals, push_number_in, roun
 use crate::canon::{Canon, Units};
 use crate::dialect::output::{Output, Piece, Template, Value};
 
+/// The most words a [`Lane`] has: one bit each in [`Lane::words_of`].
+const MAX_WORDS: usize = 16;
+
+/// In [`Lane::formats`], a slot the lane has no word for.
+const NO_WORD: u32 = u32::MAX - 1;
+
 /// A move template (one block) as the steady lane writes it, made once from its
 /// [`Layout`]. Empty (no words) when the template cannot be written so.
-#[derive(Default)]
 pub(super) struct Lane {
     /// The motion code that starts the block: the lane writes only while it is in force.
     pub code: Option<String>,
@@ -43,15 +48,42 @@ pub(super) struct Lane {
     /// Whether it writes all three (nothing to check).
     all_rotary: bool,
     /// The block's words, in order, without its motion code and the words put off to a move
-    /// (none while the lane is taken).
-    words: Vec<Word>,
+    /// (none while the lane is taken); [`MAX_WORDS`] at most.
+    words: Box<[Word]>,
+    /// For each modal slot X to C, the format of the lane's word, or [`NO_WORD`].
+    formats: [u32; 8],
+    /// The slots of the words left out when unchanged (one bit each).
+    modal: u8,
+    /// For each set of slots whose number is the one written last (bit k: slot k), the words
+    /// the block may write (bit j: word j): all but the modal words of those slots. A block
+    /// goes through those alone.
+    words_of: Box<[u16; 256]>,
+}
+
+impl Default for Lane {
+    /// The empty lane, never taken.
+    fn default() -> Lane {
+        Lane {
+            code: None,
+            raw: false,
+            numbered: false,
+            moves: false,
+            rotary: [false; 3],
+            all_rotary: false,
+            words: Box::default(),
+            formats: [NO_WORD; 8],
+            modal: 0,
+            words_of: Box::new([0; 256]),
+        }
+    }
 }
 
 /// One word of a [`Lane`].
 enum Word {
-    /// Text written as it is (Heidenhain's `L`, `FMAX`): its bytes, with at least 16 after
-    /// them (zeros) for a copy of a fixed 16 taken back to its length, and that length.
-    Lit(Box<[u8]>, usize),
+    /// Text written as it is (Heidenhain's `L`, `FMAX`): the separator and the text, with at
+    /// least 16 bytes after them (zeros) for a copy of a fixed 16 taken back to its length;
+    /// where the text starts (after the separator) and where it ends.
+    Lit(Box<[u8]>, usize, usize),
     /// A number.
     Num(LaneNum),
 }
@@ -60,9 +92,8 @@ enum Word {
 /// block ([`super::layout::Num`], its [`crate::dialect::output::NumberFormat`]) worked out once.
 #[derive(Clone, Copy)]
 struct LaneNum {
-    /// The index of its value in [`Post::steady_move`]'s list (X, Y, Z, A, B, C, F).
-    at: usize,
-    /// The modal slot ([`super::modal_slot`]).
+    /// The modal slot ([`super::modal_slot`]), which is also the index of its value in
+    /// [`Post::lane_block`]'s list.
     slot: usize,
     /// Its number format.
     fi: u32,
@@ -74,68 +105,75 @@ struct LaneNum {
     class: Class,
     /// The decimals the format writes in a millimetre and an inch program ([`super::decimals`]).
     decimals: [usize; 2],
-    /// The format as [`ThreeDecimals`], in each units, where it writes three decimals after
-    /// a short address (the usual format); else the number goes by [`push_number_in`].
-    three: [Option<ThreeDecimals>; 2],
+    /// 10 to the power of each.
+    scale: [f64; 2],
+    /// The format as [`ThreeDecimals`], in each units, as the block's first word and after
+    /// another (the separator before it), where it writes three decimals after a short
+    /// address (the usual format); else the number goes by [`push_number_in`].
+    three: [[Option<ThreeDecimals>; 2]; 2],
 }
 
 impl Lane {
+    /// The lanes of the `rapid` and `feed` templates of `out` ([`Lane::of`]). Where the two
+    /// write a value in formats of their own, neither is taken: a block of either finds the
+    /// number written last in its own format ([`Post::refresh_lane`]).
+    pub(super) fn pair(out: &Output) -> Box<[Lane; 2]> {
+        let lanes = [Lane::of(out.template("rapid").map(|(t, _)| t), out), Lane::of(out.template("feed").map(|(t, _)| t), out)];
+        let [r, f] = &lanes;
+        if r.formats.iter().zip(&f.formats).any(|(a, b)| *a != NO_WORD && *b != NO_WORD && a != b) {
+            return Box::default();
+        }
+        Box::new(lanes)
+    }
+
     /// The lane of move template `t`, if it has one block whose words are a motion code,
     /// the words put off to a move, literal text and numbers of the values a straight move
-    /// sets; otherwise an empty lane (never taken).
-    pub(super) fn of(t: Option<&Template>, out: &Output) -> Lane {
+    /// sets, [`MAX_WORDS`] at most; otherwise an empty lane (never taken).
+    fn of(t: Option<&Template>, out: &Output) -> Lane {
         let Some(t) = t else { return Lane::default() };
         let [block] = t.0.as_slice() else { return Lane::default() };
         let layout = Layout::of(t, out, true);
         let [lb] = layout.0.as_slice() else { return Lane::default() };
         let rotary = [Value::A, Value::B, Value::C].map(|v| t.uses(v));
-        let mut lane = Lane {
-            code: None,
-            raw: lb.raw,
-            numbered: super::numbered(out, lb.raw, false),
-            moves: lb.moves,
-            rotary,
-            all_rotary: rotary.iter().all(|r| *r),
-            words: Vec::with_capacity(lb.parts.len()),
-        };
-        // The slots written so far: a value written twice in the block is left to the general
-        // path, which stages the first until the block is written.
-        let mut slots = 0u16;
+        let sep = out.separator.as_bytes();
+        let mut code = None;
+        let mut words = Vec::with_capacity(lb.parts.len());
+        let mut formats = [NO_WORD; 8];
+        let mut modal = 0u8;
         for (i, part) in lb.parts.iter().enumerate() {
             match part {
-                Part::Code(c) if i == 0 => lane.code = Some(c.clone()),
+                Part::Code(c) if i == 0 => code = Some(c.clone()),
                 Part::Mods(_) => {}
                 Part::Num(num) => {
-                    let at = match num.value {
-                        Value::X => 0,
-                        Value::Y => 1,
-                        Value::Z => 2,
-                        Value::A => 3,
-                        Value::B => 4,
-                        Value::C => 5,
-                        Value::F => 6,
-                        _ => return Lane::default(),
-                    };
-                    if slots & (1 << num.slot) != 0 {
+                    if !matches!(num.value, Value::X | Value::Y | Value::Z | Value::A | Value::B | Value::C | Value::F) {
                         return Lane::default();
                     }
-                    slots |= 1 << num.slot;
+                    let slot = usize::from(num.slot);
+                    // A value written twice in the block is left to the general path, which
+                    // stages the first until the block is written.
+                    if formats[slot] != NO_WORD {
+                        return Lane::default();
+                    }
+                    formats[slot] = num.fi;
+                    if num.modal {
+                        modal |= 1 << slot;
+                    }
                     let f = &out.formats[num.fi as usize];
                     let decimals = [super::decimals(f, false), super::decimals(f, true)];
-                    let three = ThreeDecimals::of(f);
-                    lane.words.push(Word::Num(LaneNum {
-                        at,
-                        slot: usize::from(num.slot),
+                    let three = [ThreeDecimals::of(f), ThreeDecimals::after(f, sep)];
+                    words.push(Word::Num(LaneNum {
+                        slot,
                         fi: num.fi,
                         modal: num.modal,
-                        moves: !(3..5).contains(&num.slot),
+                        moves: !(3..5).contains(&slot),
                         class: num.class,
                         decimals,
-                        three: decimals.map(|d| three.filter(|_| d == 3)),
+                        scale: decimals.map(|d| POW10F[d]),
+                        three: decimals.map(|d| three.map(|t| t.filter(|_| d == 3))),
                     }));
                 }
                 Part::Word(wi) => {
-                    let mut text = Vec::new();
+                    let mut text = sep.to_vec();
                     for p in &block.words[*wi].0 {
                         match p {
                             Piece::Lit(l) => text.extend_from_slice(l.as_bytes()),
@@ -143,27 +181,49 @@ impl Lane {
                         }
                     }
                     // An empty word is taken back: nothing to write.
-                    if !text.is_empty() {
-                        let len = text.len();
-                        text.resize(len + 16, 0);
-                        lane.words.push(Word::Lit(text.into(), len));
+                    if text.len() > sep.len() {
+                        let end = text.len();
+                        text.resize(end + 16, 0);
+                        words.push(Word::Lit(text.into(), sep.len(), end));
                     }
                 }
                 Part::Code(_) => return Lane::default(),
             }
         }
-        if lane.words.is_empty() {
+        if words.is_empty() || words.len() > MAX_WORDS {
             return Lane::default();
         }
-        lane
+        let mut words_of = Box::new([0u16; 256]);
+        for (same, written) in words_of.iter_mut().enumerate() {
+            for (j, w) in words.iter().enumerate() {
+                if !matches!(w, Word::Num(num) if num.modal && same & (1 << num.slot) != 0) {
+                    *written |= 1 << j;
+                }
+            }
+        }
+        Lane {
+            code,
+            raw: lb.raw,
+            numbered: super::numbered(out, lb.raw, false),
+            moves: lb.moves,
+            rotary,
+            all_rotary: rotary.iter().all(|r| *r),
+            words: words.into(),
+            formats,
+            modal,
+            words_of,
+        }
     }
 }
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
     /// Works out [`Post::lane_ready`] after an op the general path took: bit 0 for rapids,
-    /// bit 1 for feeds, set where the writer is in the steady state and the template's motion
-    /// code (if it has one) is in force.
-    pub(super) fn refresh_lane(&mut self) {
+    /// bit 1 for feeds, set where the writer is in the steady state, the template's motion
+    /// code (if it has one) is in force, and the numbers written last of the lane's modal
+    /// words are in the words' formats (or none is): a block then tells an unchanged word by
+    /// its number alone ([`Post::lane_block`]). The lanes keep it so: their words write
+    /// each value in one format ([`Lane::pair`]).
+    pub(super) fn refresh_lane(&mut self, lanes: &[Lane; 2]) {
         let steady = self.started
             && !self.ended
             && self.pending_move.is_none()
@@ -178,12 +238,11 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             && self.repeat.is_none()
             && self.out.rules.is_empty();
         self.lane_ready = 0;
-        if let Some(lanes) = self.lanes.as_deref()
-            && steady
-        {
+        if steady {
             for (k, lane) in lanes.iter().enumerate() {
                 let in_force = lane.code.is_none() || lane.code.as_deref() == self.motion.as_deref();
-                if !lane.words.is_empty() && in_force {
+                let formats = (0..8).all(|s| lane.modal & (1 << s) == 0 || [lane.formats[s], u32::MAX].contains(&self.last_fi[s]));
+                if !lane.words.is_empty() && in_force && formats {
                     self.lane_ready |= 1 << k;
                 }
             }
@@ -191,9 +250,10 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     }
 
     /// [`Post::op`] for a straight move while [`Post::lane_ready`] says the steady state
-    /// holds; false, having done nothing, when the move takes the general path.
-    #[inline]
-    pub(super) fn steady_move(&mut self, canon: &Canon) -> bool {
+    /// holds, by its lane of `lanes`; false, having done nothing, when the move takes the
+    /// general path.
+    #[inline(always)]
+    pub(super) fn steady_move(&mut self, lanes: &[Lane; 2], canon: &Canon) -> bool {
         let (p, k) = match &canon.op {
             CanonOp::StraightTraverse(p) => (p, 0),
             CanonOp::StraightFeed(p) => (p, 1),
@@ -202,7 +262,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         if self.lane_ready & (1 << k) == 0 {
             return false;
         }
-        let Some(lanes) = self.lanes.take() else { return false };
         let lane = &lanes[k];
         // A rotary axis the template does not write is said; a jump back to a line that ran
         // may start a repeated run.
@@ -210,7 +269,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         let new_line = line != self.line && line > 0;
         if !lane.all_rotary && (0..3).any(|r| p[3 + r].abs() > EPS && !lane.rotary[r]) || new_line && line < self.line && self.has_run(line)
         {
-            self.lanes = Some(lanes);
             return false;
         }
         // From here, what the general path does for this move ([`Post::op`], [`Post::new_line`],
@@ -224,72 +282,75 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         self.origin = canon.origin;
         let q = self.point(p);
         let feed = if k == 0 { f64::NAN } else { self.feed };
-        self.lane_block(lane, &[q[0], q[1], q[2], p[3], p[4], p[5], feed, f64::NAN]);
-        self.lanes = Some(lanes);
+        self.lane_block(lane, &[q[0], q[1], q[2], feed, f64::NAN, p[3], p[4], p[5]]);
         self.moved(q);
         true
     }
 
-    /// [`Post::render`]'s block, for `lane` with the values `xs` (X, Y, Z, A, B, C, F; NaN
-    /// where absent; an eighth that no word uses).
+    /// [`Post::render`]'s block, for `lane` with the values `xs` by modal slot (X, Y, Z, F,
+    /// S, A, B, C; NaN where absent, as S always is).
     #[inline(always)]
     fn lane_block(&mut self, lane: &Lane, xs: &[f64; 8]) {
-        let mut buf = std::mem::take(&mut self.buf);
-        let start = buf.len();
-        self.start_block(&mut buf, lane.raw, lane.numbered);
-        let body = buf.len();
-        let sep = self.out.separator.as_bytes();
+        // The slots whose number is the one written last, found for all eight at once: with
+        // the formats kept ([`Post::refresh_lane`]), their modal words are left out unchanged
+        // ([`Post::unchanged`]). Compared by their bits: the same number, but for 0 and -0,
+        // which go the longer way and find their text the one written.
+        let mut same = 0;
+        for (k, (x, last)) in xs.iter().zip(&self.last).enumerate() {
+            same |= usize::from(x.to_bits() == last.to_bits()) << k;
+        }
+        let mut todo = lane.words_of[same];
+        let start = self.buf.len();
+        self.start_block(lane.raw, lane.numbered);
+        let body = self.buf.len();
         let inch = self.opts.units == Units::Inch;
         let mut moved = false;
-        for w in &lane.words {
-            match w {
-                Word::Num(num) => moved |= self.lane_num(&mut buf, body, sep, num, xs[num.at & 7], inch, moved),
-                Word::Lit(text, len) => {
-                    if buf.len() > body {
-                        super::append(&mut buf, sep);
-                    }
-                    super::append_tail(&mut buf, text, 0, *len);
+        while todo != 0 {
+            let j = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            match &lane.words[j] {
+                Word::Num(num) => moved |= self.lane_num(body, num, xs[num.slot & 7], inch, moved),
+                Word::Lit(text, at, end) => {
+                    let from = if self.buf.len() > body { 0 } else { *at };
+                    super::append_tail(&mut self.buf, text, from, *end);
                 }
             }
         }
         if !moved && lane.moves {
             self.staged_mask = 0;
-            buf.truncate(start);
-            self.buf = buf;
+            self.buf.truncate(start);
             return;
         }
         // What was staged before the first word that moves (a feed written first).
         if self.staged_mask != 0 {
             self.commit_staged();
         }
-        let empty = buf.len() == body;
-        if empty {
-            buf.truncate(start);
-        }
-        self.buf = buf;
-        if !empty {
+        if self.buf.len() == body {
+            self.buf.truncate(start);
+        } else {
             self.line_end(start, lane.raw, lane.numbered);
         }
     }
 
-    /// [`Post::put_num`] for number `num` of a lane with `x`: left out when absent or
-    /// unchanged, else rounded (the rounding kept) and written after the separator; whether
-    /// it moves the block. Its modal value counts as written at once when the block is sure
-    /// to be written (it moves, or a word before it did: `moved`), else it is staged.
-    #[allow(clippy::too_many_arguments)]
+    /// [`Post::put_num`] for number `num` of a lane with `x`, not left out unchanged: left out
+    /// when absent or when its text is the one written, else rounded (the rounding kept) and
+    /// written, after the separator unless it is the first word after the block's `body`
+    /// start; whether it moves the block. Its modal value counts as written at once when the
+    /// block is sure to be written (it moves, or a word before it did: `moved`), else it is
+    /// staged.
     #[inline(always)]
-    fn lane_num(&mut self, buf: &mut Vec<u8>, body: usize, sep: &[u8], num: &LaneNum, x: f64, inch: bool, moved: bool) -> bool {
-        // A lane's slots are X to C, 0 to 7 (the mask only spares the bounds check).
-        if num.modal && self.last[num.slot & 7] == (x, num.fi) || x.is_nan() {
+    fn lane_num(&mut self, body: usize, num: &LaneNum, x: f64, inch: bool, moved: bool) -> bool {
+        if x.is_nan() {
             return false;
         }
-        let d = num.decimals[usize::from(inch)];
-        let scaled = x * POW10F[d];
+        let u = usize::from(inch);
+        let d = num.decimals[u];
+        let scaled = x * num.scale[u];
         let n = round_scaled(scaled);
         self.count_rounding(num.class, n, scaled, x, d);
         let key = Key { fi: num.fi, inch, n };
         if num.modal
-            && let Some((w, _)) = self.written[num.slot]
+            && let Some((w, _)) = self.written[num.slot & 7]
             && self.same_text(w, key)
         {
             // The text written is this number's: the next time it is not rounded.
@@ -299,14 +360,16 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         if num.moves || moved {
             self.set_written(num.slot, Some((key, x)));
         } else {
-            self.staged[num.slot] = (key, x);
+            self.staged[num.slot & 7] = (key, x);
             self.staged_mask |= 1 << num.slot;
         }
-        if buf.len() > body {
-            super::append(buf, sep);
-        }
-        if !num.three[usize::from(inch)].is_some_and(|t| t.push(buf, n)) {
-            push_number_in(buf, &self.out.formats[num.fi as usize], n, d);
+        let after = self.buf.len() > body;
+        if !num.three[u][usize::from(after)].is_some_and(|t| t.push(&mut self.buf, n)) {
+            let out = self.out;
+            if after {
+                super::append(&mut self.buf, out.separator.as_bytes());
+            }
+            push_number_in(&mut self.buf, &out.formats[num.fi as usize], n, d);
         }
         num.moves
     }

@@ -228,15 +228,16 @@ const BATCH: usize = 2048;
 /// Batches under way at once: what the reader may run ahead of the writer.
 const BATCHES: usize = 4;
 
-/// Interprets `text` into `sink` as [`crate::interp::interpret`] does, with the reading on a
+/// Interprets `text` into `post` as [`crate::interp::interpret`] does, with the reading on a
 /// thread of its own: the interpreter sends its ops in batches, in order, through a bounded
-/// channel, and `sink` takes them on this thread while the next batch is read. The ops, and
-/// so the text written, are the same as a serial run's; memory holds at most a few batches.
-fn interpret_beside(
+/// channel, and `post` takes each batch on this thread ([`Post::emit_all`], the ops read
+/// where they lie) while the next is read. The ops, and so the text written, are the same
+/// as a serial run's; memory holds at most a few batches.
+fn interpret_beside<F: FnMut(&[u8])>(
     text: crate::text::Text<'_>,
     from: &crate::dialect::Dialect,
     profile: &crate::interp::Profile,
-    sink: &mut dyn CanonSink,
+    post: &mut Post<'_, F>,
 ) -> Vec<Diagnostic> {
     use std::sync::mpsc;
     let (full, filled) = mpsc::sync_channel::<Vec<Canon>>(BATCHES);
@@ -252,10 +253,9 @@ fn interpret_beside(
             diags
         });
         for mut batch in filled {
-            for canon in batch.drain(..) {
-                sink.emit(canon);
-            }
+            post.emit_all(&batch);
             // The emptied batch goes back to the reader, which refills it without allocating.
+            batch.clear();
             let _ = empty.send(batch);
         }
         reader.join().unwrap_or_else(|e| std::panic::resume_unwind(e))
@@ -342,9 +342,12 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
     /// number known to be written so (NaN: none): that number again is left out at once.
     written: [Option<(Key, f64)>; 8],
-    /// For each modal slot, the number (and format) [`Post::written`] knows to be written so,
-    /// for the check of an unchanged word; the ninth never matches ([`NO_SLOT`]).
-    last: [(f64, u32); 9],
+    /// For each modal slot, the number [`Post::written`] knows to be written so, for the check
+    /// of an unchanged word (NaN: none); the ninth never matches ([`NO_SLOT`]).
+    last: [f64; 9],
+    /// The format [`Post::last`]'s number is written in (`u32::MAX`: none): the numbers and
+    /// their formats apart, so that the steady lane compares all its slots at once.
+    last_fi: [u32; 9],
     motion: Option<String>,
     mods: Vec<(String, String)>,
     tool: u32,
@@ -552,10 +555,11 @@ const DIGITS2: [u8; 200] = {
     t
 };
 
-/// For each fraction 0 to 999 of a three-decimal number: its three digits, and how many are
-/// left without its trailing zeros (none for 0).
-const FRAC3: [[u8; 4]; 1000] = {
-    let mut t = [[0u8; 4]; 1000];
+/// For each fraction 0 to 999 of a three-decimal number: its three digits (the first in the
+/// lowest byte), and in the highest byte how many are left without its trailing zeros (none
+/// for 0).
+const FRAC3: [u32; 1000] = {
+    let mut t = [0u32; 1000];
     let mut i = 0;
     while i < 1000 {
         let d = [b'0' + (i / 100) as u8, b'0' + (i / 10 % 10) as u8, b'0' + (i % 10) as u8];
@@ -568,26 +572,26 @@ const FRAC3: [[u8; 4]; 1000] = {
         } else {
             3
         };
-        t[i] = [d[0], d[1], d[2], len];
+        t[i] = u32::from_le_bytes([d[0], d[1], d[2], len]);
         i += 1;
     }
     t
 };
 
-/// For each whole number 0 to 999: its digits without leading zeros, from the left, and
-/// their count.
-const INT3: [[u8; 4]; 1000] = {
-    let mut t = [[0u8; 4]; 1000];
+/// For each whole number 0 to 999: its digits without leading zeros (the first in the lowest
+/// byte), and in the highest byte their count.
+const INT3: [u32; 1000] = {
+    let mut t = [0u32; 1000];
     let mut i = 0;
     while i < 1000 {
         let (a, b, c) = (b'0' + (i / 100) as u8, b'0' + (i / 10 % 10) as u8, b'0' + (i % 10) as u8);
-        t[i] = if i >= 100 {
+        t[i] = u32::from_le_bytes(if i >= 100 {
             [a, b, c, 3]
         } else if i >= 10 {
             [b, c, 0, 2]
         } else {
             [c, 0, 0, 1]
-        };
+        });
         i += 1;
     }
     t
@@ -598,7 +602,8 @@ const INT3: [[u8; 4]; 1000] = {
 /// on the spot by [`push_number`].
 #[derive(Clone, Copy, Debug, Default)]
 struct ThreeDecimals {
-    /// The address (8 bytes at most) and its length.
+    /// The address (8 bytes at most) and its length. The steady lane puts the separator
+    /// before it, for a word written after another ([`ThreeDecimals::after`]).
     address: [u8; 8],
     address_len: usize,
     plus: bool,
@@ -611,15 +616,21 @@ impl ThreeDecimals {
     /// Format `f` as such, if its address is short and it is no least-increment format.
     #[inline]
     fn of(f: &NumberFormat) -> Option<ThreeDecimals> {
+        Self::after(f, b"")
+    }
+
+    /// [`ThreeDecimals::of`] with `sep` written before the address, if both together are short.
+    fn after(f: &NumberFormat, sep: &[u8]) -> Option<ThreeDecimals> {
         let a = f.address.as_bytes();
-        if a.len() > 8 || f.increment {
+        if sep.len() + a.len() > 8 || f.increment {
             return None;
         }
         let mut address = [0u8; 8];
-        address[..a.len()].copy_from_slice(a);
+        address[..sep.len()].copy_from_slice(sep);
+        address[sep.len()..sep.len() + a.len()].copy_from_slice(a);
         Some(ThreeDecimals {
             address,
-            address_len: a.len(),
+            address_len: sep.len() + a.len(),
             plus: f.plus,
             trailing_zeros: f.trailing_zeros,
             leading_zero: f.leading_zero,
@@ -637,32 +648,38 @@ impl ThreeDecimals {
         }
         let (whole, frac) = ((a / 1000) as usize, (a % 1000) as usize);
         let fr = FRAC3[frac];
-        let flen = if self.trailing_zeros { 3 } else { usize::from(fr[3]) };
-        // Address, sign, three digits, point, three digits: 16 at most.
-        let mut t = [0u8; 32];
-        t[..8].copy_from_slice(&self.address);
-        let mut k = self.address_len;
+        let flen = if self.trailing_zeros { 3 } else { fr >> 24 };
+        // Sign, three digits, point, three digits: 8 bytes at most, put together in a word
+        // (the first byte lowest), `k` bits of it written so far.
+        let mut v = 0u64;
+        let mut k = 0;
         if n < 0 {
-            t[k] = b'-';
-            k += 1;
+            v = u64::from(b'-');
+            k = 8;
         } else if self.plus {
-            t[k] = b'+';
-            k += 1;
+            v = u64::from(b'+');
+            k = 8;
         }
         if whole != 0 || self.leading_zero || flen == 0 {
             let w = INT3[whole];
-            t[k..k + 3].copy_from_slice(&w[..3]);
-            k += usize::from(w[3]);
+            v |= u64::from(w & 0xff_ffff) << k;
+            k += 8 * (w >> 24);
         }
         if flen > 0 || self.point_always {
-            t[k] = b'.';
-            k += 1;
+            v |= u64::from(b'.') << k;
+            k += 8;
         }
-        t[k..k + 3].copy_from_slice(&fr[..3]);
-        k += flen;
-        let at = out.len();
+        // At most 40 bits so far: the three digits fit.
+        v |= u64::from(fr & 0xff_ffff) << k;
+        k += 8 * flen;
+        // The address, then the number: 16 bytes copied at once, taken back to their length.
+        let mut t = [0u8; 24];
+        let at = self.address_len & 15;
+        t[..8].copy_from_slice(&self.address);
+        t[at..at + 8].copy_from_slice(&v.to_le_bytes());
+        let len = out.len();
         out.extend_from_slice(&t[..16]);
-        out.truncate(at + k);
+        out.truncate(len + at + k as usize / 8);
         true
     }
 }
@@ -888,7 +905,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             feed_mode: FeedMode::PerMinute,
             pos: [0.0; 3],
             written: Default::default(),
-            last: [(f64::NAN, u32::MAX); 9],
+            last: [f64::NAN; 9],
+            last_fi: [u32::MAX; 9],
             motion: None,
             mods: Vec::new(),
             tool: 0,
@@ -930,10 +948,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             wcs_values: Vec::new(),
             wcs_checked: false,
             abc: [0.0; 3],
-            lanes: Some(Box::new([
-                Lane::of(out.template("rapid").map(|(t, _)| t), out),
-                Lane::of(out.template("feed").map(|(t, _)| t), out),
-            ])),
+            lanes: Some(Lane::pair(out)),
             lane_ready: 0,
         }
     }
@@ -955,7 +970,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     fn set_written(&mut self, k: usize, w: Option<(Key, f64)>) {
         self.written[k] = w;
         let inch = self.opts.units == Units::Inch;
-        self.last[k] = match w {
+        (self.last[k], self.last_fi[k]) = match w {
             Some((key, v)) if key.inch == inch => (v, key.fi),
             _ => (f64::NAN, u32::MAX),
         };
@@ -1168,7 +1183,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// its text again, left out at once (the common case of a move's unchanged axes).
     #[inline]
     fn unchanged(&self, num: Num, x: f64) -> bool {
-        num.modal && self.last[usize::from(num.slot)] == (x, num.fi)
+        let k = usize::from(num.slot);
+        num.modal && self.last[k] == x && self.last_fi[k] == num.fi
     }
 
     /// Writes number part `num` with value `x` after the separator `sep` (none at the block's
@@ -1293,9 +1309,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let layout = self.layout(t, motion);
         let sep = self.out.separator.as_bytes();
         for (b, lb) in t.0.iter().zip(&layout.0) {
+            let start = self.buf.len();
+            let numbered = self.block_start(lb.raw, tool_change);
             let mut buf = std::mem::take(&mut self.buf);
-            let start = buf.len();
-            let numbered = self.block_start(&mut buf, lb.raw, tool_change);
             let body = buf.len();
             let mut moved = 0;
             let mut code: Option<&str> = None;
@@ -1377,33 +1393,34 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
-    /// Starts a block at the end of `buf`: the optional block's `/` and the block number where
-    /// the target numbers it (counted once the block is written, [`Post::line_end`]); whether
-    /// it is numbered.
+    /// Starts a block at the end of the buffer: the optional block's `/` and the block number
+    /// where the target numbers it (counted once the block is written, [`Post::line_end`]);
+    /// whether it is numbered.
     #[inline]
-    fn block_start(&mut self, buf: &mut Vec<u8>, raw: bool, tool_change: bool) -> bool {
+    fn block_start(&mut self, raw: bool, tool_change: bool) -> bool {
         let numbered = numbered(self.out, raw, tool_change);
-        self.start_block(buf, raw, numbered);
+        self.start_block(raw, numbered);
         numbered
     }
 
     /// [`Post::block_start`] with whether the block is numbered ([`numbered`]) known.
     #[inline(always)]
-    fn start_block(&mut self, buf: &mut Vec<u8>, raw: bool, numbered: bool) {
+    fn start_block(&mut self, raw: bool, numbered: bool) {
         if !raw && self.optional_line == Some(self.line) {
-            buf.push(b'/');
+            self.buf.push(b'/');
         }
         if numbered {
-            append(buf, self.out.number_address.as_bytes());
-            self.push_block_number(buf);
-            append(buf, self.out.separator.as_bytes());
+            let out = self.out;
+            append(&mut self.buf, out.number_address.as_bytes());
+            self.push_block_number();
+            append(&mut self.buf, out.separator.as_bytes());
         }
     }
 
     /// Appends the block number [`Post::block`]: the last one's text counted on by the
     /// difference ([`count_on`]), else written afresh.
     #[inline]
-    fn push_block_number(&mut self, buf: &mut Vec<u8>) {
+    fn push_block_number(&mut self) {
         let (digits, len, n) = &mut self.number_text;
         if *n != self.block {
             if !(self.block > *n && count_on(&mut digits[..*len], self.block - *n)) {
@@ -1411,7 +1428,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             }
             *n = self.block;
         }
-        append_tail(buf, digits, 0, *len);
+        append_tail(&mut self.buf, digits, 0, *len);
     }
 
     /// Ends the block that starts at `start` in the buffer, and hands the buffer over when
@@ -1933,7 +1950,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     pub fn finish(mut self) -> Vec<Diagnostic> {
         self.start();
         if let Some(p) = self.pending_move.take() {
-            self.op(p);
+            self.op(&p);
         }
         self.end_repeat();
         self.flush_tool();
@@ -1975,19 +1992,32 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
 
 impl<F: FnMut(&[u8])> CanonSink for Post<'_, F> {
     fn emit(&mut self, canon: Canon) {
-        // The common straight move in the steady state ([`lane`]); else the general path,
-        // after which the steady state is worked out again.
-        if self.lane_ready != 0 && self.steady_move(&canon) {
-            return;
-        }
-        self.emit_general(canon);
-        self.refresh_lane();
+        self.emit_all(std::slice::from_ref(&canon));
     }
 }
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
+    /// [`CanonSink::emit`] for each op of `batch`, in order, read where it lies: the common
+    /// straight move in the steady state by the steady lane ([`lane`]), else by the general
+    /// path, after which the steady state is worked out again. The lanes are taken out of
+    /// the writer once for the batch, not for every move.
+    fn emit_all(&mut self, batch: &[Canon]) {
+        let Some(lanes) = self.lanes.take() else {
+            batch.iter().for_each(|canon| self.emit_general(canon));
+            return;
+        };
+        for canon in batch {
+            if self.lane_ready != 0 && self.steady_move(&lanes, canon) {
+                continue;
+            }
+            self.emit_general(canon);
+            self.refresh_lane(&lanes);
+        }
+        self.lanes = Some(lanes);
+    }
+
     /// [`CanonSink::emit`] by the general path.
-    fn emit_general(&mut self, canon: Canon) {
+    fn emit_general(&mut self, canon: &Canon) {
         // A rapid while an output cycle is in force may be the positioning before the next
         // hole of a modal cycle (`MCALL`, `M99`): it waits for the op after it.
         if let Some(p) = self.pending_move.take() {
@@ -2002,13 +2032,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 _ => false,
             };
             if !positions {
-                self.op(p);
+                self.op(&p);
             }
         }
         if self.active.is_some() && !self.in_cycle && !self.ended {
             if let CanonOp::StraightTraverse(q) = &canon.op {
                 if (self.point(q)[2] - self.pos[2]).abs() < 1e-9 {
-                    self.pending_move = Some(canon);
+                    self.pending_move = Some(canon.clone());
                     return;
                 }
             }
@@ -2018,14 +2048,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
 }
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
-    fn op(&mut self, canon: Canon) {
+    fn op(&mut self, canon: &Canon) {
         match &canon.op {
             CanonOp::StraightTraverse(q) | CanonOp::StraightFeed(q) => self.abc = [q[3], q[4], q[5]],
             CanonOp::ArcFeed { abc, .. } => self.abc = *abc,
             _ => {}
         }
         if canon.line != self.line && canon.line > 0 && !self.ended {
-            self.new_line(&canon);
+            self.new_line(canon);
         }
         self.line = canon.line;
         self.origin = canon.origin;
@@ -2052,7 +2082,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 | CanonOp::NurbsFeed { .. }
                 | CanonOp::StraightProbe(_)
         ) {
-            self.check_work_offset(&canon);
+            self.check_work_offset(canon);
         }
         match &canon.op {
             CanonOp::SetSpindleSpeed(_)
@@ -2067,7 +2097,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 if self.length_unsaid && self.tool != 0 {
                     self.note(
                         Code::PostUnwritable,
-                        &canon,
+                        canon,
                         "length-offset-off",
                         "the program cuts with the length offset cancelled (G49), but the target's tool change puts the tool's length in force and its output rules have no `length-offset-off` to cancel it",
                     );
@@ -2077,15 +2107,15 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
         // The common op, a straight move, apart from the rest (a small frame for it).
         match &canon.op {
-            CanonOp::StraightTraverse(p) => self.straight(&canon, p, true),
-            CanonOp::StraightFeed(p) => self.straight(&canon, p, false),
+            CanonOp::StraightTraverse(p) => self.straight(canon, p, true),
+            CanonOp::StraightFeed(p) => self.straight(canon, p, false),
             _ => self.other_op(canon),
         }
     }
 
     /// [`Post::op`] for the ops other than straight moves.
     #[inline(never)]
-    fn other_op(&mut self, canon: Canon) {
+    fn other_op(&mut self, canon: &Canon) {
         match &canon.op {
             CanonOp::UseLengthUnits(u) => {
                 if self.opts.follow_source_units && !self.started && *u != self.opts.units {
@@ -2107,7 +2137,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 if *u != self.opts.units {
                     self.note(
                         Code::PostUnitsConverted,
-                        &canon,
+                        canon,
                         "units",
                         format!(
                             "the program is in {}; it is written in {} for the target machine",
@@ -2126,7 +2156,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                         Plane::Yz => "plane-yz",
                     };
                     if !self.event(ev, &mut Vals::new()) {
-                        self.note(Code::PostUnwritable, &canon, ev, format!("the target's output rules have no `{ev}` template"));
+                        self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
                     }
                 }
             }
@@ -2158,14 +2188,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                         let n = *i - crate::canon::EXTENDED_WCS;
                         self.note(
                             Code::PostUnwritable,
-                            &canon,
+                            canon,
                             &own,
                             format!("the target's output rules have no code for additional work offset {n} (G54.1 P{n}: `{own}`)"),
                         );
                     } else if !wrote && *i != 1 {
                         self.note(
                             Code::PostUnwritable,
-                            &canon,
+                            canon,
                             &own,
                             format!("the target's output rules have no code for work offset {i} (`{own}`, `work-offset`)"),
                         );
@@ -2177,7 +2207,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 if self.g92.iter().any(|v| v.abs() * self.opts.units.to_mm() > ROUNDED_NOTE) {
                     self.note(
                         Code::PostShiftApplied,
-                        &canon,
+                        canon,
                         "shift",
                         "the program shifts its coordinates (G92, a datum shift): the positions are written with the shift added, in the work offset's frame",
                     );
@@ -2185,14 +2215,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             CanonOp::SetFeedRate(f) => {
                 self.feed = self.to_out(*f);
-                self.check_limits(&canon);
+                self.check_limits(canon);
             }
             CanonOp::SetSpindleSpeed(s) => {
                 if (*s - self.speed).abs() > EPS {
                     self.speed_dirty = true;
                 }
                 self.speed = *s;
-                self.check_limits(&canon);
+                self.check_limits(canon);
             }
             // A cycle written as a cycle turns the spindle as it does (a tapping cycle's
             // reversal at the bottom): its expansion's spindle calls are not written.
@@ -2244,7 +2274,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 if *h != 0 && *h != tool && !self.out.template("length-offset").is_some_and(|(t, _)| t.uses(Value::H)) {
                     self.note(
                         Code::PostUnwritable,
-                        &canon,
+                        canon,
                         "length-offset",
                         format!("the length offset H{h} while tool T{tool} is in the spindle: the target applies the tool's own length"),
                     );
@@ -2267,7 +2297,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                         if !states_d && d.is_some_and(|d| d != tool) {
                             self.note(
                                 Code::PostUnwritable,
-                                &canon,
+                                canon,
                                 "comp-offset",
                                 format!(
                                     "cutter compensation by offset D{} while tool T{tool} is in the spindle: the target's `{ev}` takes the tool's own radius",
@@ -2280,13 +2310,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     None => "comp-off",
                 };
                 if !self.event(ev, &mut vals) {
-                    self.note(Code::PostUnwritable, &canon, ev, format!("the target's output rules have no `{ev}` template"));
+                    self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
                 }
             }
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
             CanonOp::UseToolLengthOffset(_) | CanonOp::DistanceMode(_) | CanonOp::Finish => {}
-            CanonOp::StraightTraverse(p) => self.straight(&canon, p, true),
-            CanonOp::StraightFeed(p) => self.straight(&canon, p, false),
+            CanonOp::StraightTraverse(p) => self.straight(canon, p, true),
+            CanonOp::StraightFeed(p) => self.straight(canon, p, false),
             CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
                 let (a, b, n) = self.plane.axes();
                 let mut end = [0.0; 3];
@@ -2297,13 +2327,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 centre[a] = self.to_out(*first_axis) + self.g92[a];
                 centre[b] = self.to_out(*second_axis) + self.g92[b];
                 centre[n] = end[n];
-                self.arc(&canon, end, centre, *rotation > 0, rotation.unsigned_abs());
+                self.arc(canon, end, centre, *rotation > 0, rotation.unsigned_abs());
             }
             CanonOp::Dwell(s) => {
                 let mut vals = Vals::new();
                 vals.set(Value::Seconds, *s).set(Value::Millis, s * 1000.0);
                 if !self.in_cycle && !self.event("dwell", &mut vals) {
-                    self.note(Code::PostUnwritable, &canon, "dwell", "the target's output rules have no `dwell` template");
+                    self.note(Code::PostUnwritable, canon, "dwell", "the target's output rules have no `dwell` template");
                 }
             }
             CanonOp::FloodOn | CanonOp::MistOn => {
@@ -2344,7 +2374,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             CanonOp::CycleBegin(intent) => {
                 let intent = intent.clone();
-                self.cycle_begin(&canon, &intent);
+                self.cycle_begin(canon, &intent);
             }
             CanonOp::CycleEnd => {
                 if self.in_cycle {
@@ -2363,7 +2393,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     self.feed_mode = *m;
                     let ev = if *m == FeedMode::PerMinute { "feed-per-minute" } else { "feed-per-rev" };
                     if !self.event(ev, &mut Vals::new()) {
-                        self.note(Code::PostUnwritable, &canon, ev, format!("the target's output rules have no `{ev}` template"));
+                        self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
                     }
                 }
             }
@@ -2386,7 +2416,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 } else {
                     self.note(
                         Code::PostUnwritable,
-                        &canon,
+                        canon,
                         "rigid-tap",
                         "a rigid tap (G33.1) is not written: the target has neither a tapping cycle nor a `rigid-tap` template",
                     );
@@ -2406,7 +2436,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                         // Written without it, the limit would be lost without a word.
                         self.note(
                             Code::PostUnwritable,
-                            &canon,
+                            canon,
                             "css-limit",
                             format!("constant surface speed up to S{m}: the target's `css-on` states no spindle speed limit"),
                         );
@@ -2415,7 +2445,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     } else {
                         self.note(
                             Code::PostUnwritable,
-                            &canon,
+                            canon,
                             ev,
                             format!("constant surface speed (G96/G97) is not written: the target's output rules have no `{ev}` template"),
                         );
@@ -2433,7 +2463,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     }
                     Some(_) => self.note(
                         Code::PostUnwritable,
-                        &canon,
+                        canon,
                         "spindle-orient",
                         format!(
                             "a spindle orientation to {angle}° (direction {mode}) is not written: the target's `spindle-orient` states no angle or direction"
@@ -2441,7 +2471,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     ),
                     None => self.note(
                         Code::PostUnwritable,
-                        &canon,
+                        canon,
                         "spindle-orient",
                         "a spindle orientation (M19, SPOS) is not written: the target's output rules have no `spindle-orient` template",
                     ),
@@ -2455,7 +2485,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 if !along_z {
                     self.note(
                         Code::PostUnwritable,
-                        &canon,
+                        canon,
                         "tool-axis",
                         format!(
                             "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
@@ -2467,7 +2497,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::NurbsFeed { points, end } => {
                 self.note(
                     Code::PostUnwritable,
-                    &canon,
+                    canon,
                     "nurbs",
                     format!(
                         "a NURBS feed ({points} control points) is not written: the canonical ops keep its end point, not its control points and weights, so no target can state it as a spline"
@@ -2481,7 +2511,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 let key = name.split(['(', ' ', '{']).next().unwrap_or("").to_owned();
                 self.note(
                     Code::PostUnwritable,
-                    &canon,
+                    canon,
                     &key,
                     format!("`{key}` is not written: the target's output rules have nothing for it"),
                 );
@@ -2832,9 +2862,9 @@ mod tests {
         ns.extend([u64::MAX - 1, u64::MAX]);
         for &n in &ns {
             post.block = n;
-            let mut got = b"N".to_vec();
-            post.push_block_number(&mut got);
-            assert_eq!(String::from_utf8(got).unwrap(), format!("N{n}"));
+            post.buf = b"N".to_vec();
+            post.push_block_number();
+            assert_eq!(String::from_utf8(std::mem::take(&mut post.buf)).unwrap(), format!("N{n}"));
             checked += 1;
         }
         assert_eq!(checked, ns.len());
