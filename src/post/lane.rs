@@ -48,8 +48,10 @@ pub(super) struct Lane {
     /// Whether it writes all three (nothing to check).
     all_rotary: bool,
     /// The block's words, in order, without its motion code and the words put off to a move
-    /// (none while the lane is taken); [`MAX_WORDS`] at most.
-    words: Box<[Word]>,
+    /// (none while the lane is taken), then empty text up to [`MAX_WORDS`] (a word's index
+    /// needs no check): as a millimetre and as an inch program writes them. How many there are.
+    words: [[Word; MAX_WORDS]; 2],
+    len: usize,
     /// For each modal slot X to C, the format of the lane's word, or [`NO_WORD`].
     formats: [u32; 8],
     /// The slots of the words left out when unchanged (one bit each).
@@ -70,7 +72,8 @@ impl Default for Lane {
             moves: false,
             rotary: [false; 3],
             all_rotary: false,
-            words: Box::default(),
+            words: [(); 2].map(|_| std::array::from_fn(|_| Word::Lit(Box::default(), 0, 0))),
+            len: 0,
             formats: [NO_WORD; 8],
             modal: 0,
             words_of: Box::new([0; 256]),
@@ -89,7 +92,8 @@ enum Word {
 }
 
 /// A number placeholder of a [`Lane`], with what the general path works out for it at every
-/// block ([`super::layout::Num`], its [`crate::dialect::output::NumberFormat`]) worked out once.
+/// block ([`super::layout::Num`], its [`crate::dialect::output::NumberFormat`] in the units
+/// of the program) worked out once.
 #[derive(Clone, Copy)]
 struct LaneNum {
     /// The modal slot ([`super::modal_slot`]), which is also the index of its value in
@@ -103,14 +107,14 @@ struct LaneNum {
     moves: bool,
     /// What its rounding counts towards.
     class: Class,
-    /// The decimals the format writes in a millimetre and an inch program ([`super::decimals`]).
-    decimals: [usize; 2],
-    /// 10 to the power of each.
-    scale: [f64; 2],
-    /// The format as [`ThreeDecimals`], in each units, as the block's first word and after
-    /// another (the separator before it), where it writes three decimals after a short
-    /// address (the usual format); else the number goes by [`push_number_in`].
-    three: [[Option<ThreeDecimals>; 2]; 2],
+    /// The decimals the format writes ([`super::decimals`]).
+    decimals: usize,
+    /// 10 to the power of that.
+    scale: f64,
+    /// The format as [`ThreeDecimals`], as the block's first word and after another (the
+    /// separator before it), where it writes three decimals after a short address (the usual
+    /// format); else the number goes by [`push_number_in`].
+    three: [Option<ThreeDecimals>; 2],
 }
 
 impl Lane {
@@ -137,7 +141,7 @@ impl Lane {
         let rotary = [Value::A, Value::B, Value::C].map(|v| t.uses(v));
         let sep = out.separator.as_bytes();
         let mut code = None;
-        let mut words = Vec::with_capacity(lb.parts.len());
+        let mut words = [Vec::with_capacity(lb.parts.len()), Vec::with_capacity(lb.parts.len())];
         let mut formats = [NO_WORD; 8];
         let mut modal = 0u8;
         for (i, part) in lb.parts.iter().enumerate() {
@@ -159,18 +163,20 @@ impl Lane {
                         modal |= 1 << slot;
                     }
                     let f = &out.formats[num.fi as usize];
-                    let decimals = [super::decimals(f, false), super::decimals(f, true)];
                     let three = [ThreeDecimals::of(f), ThreeDecimals::after(f, sep)];
-                    words.push(Word::Num(LaneNum {
-                        slot,
-                        fi: num.fi,
-                        modal: num.modal,
-                        moves: !(3..5).contains(&slot),
-                        class: num.class,
-                        decimals,
-                        scale: decimals.map(|d| POW10F[d]),
-                        three: decimals.map(|d| three.map(|t| t.filter(|_| d == 3))),
-                    }));
+                    for (inch, words) in words.iter_mut().enumerate() {
+                        let decimals = super::decimals(f, inch == 1);
+                        words.push(Word::Num(LaneNum {
+                            slot,
+                            fi: num.fi,
+                            modal: num.modal,
+                            moves: !(3..5).contains(&slot),
+                            class: num.class,
+                            decimals,
+                            scale: POW10F[decimals],
+                            three: three.map(|t| t.filter(|_| decimals == 3)),
+                        }));
+                    }
                 }
                 Part::Word(wi) => {
                     let mut text = sep.to_vec();
@@ -184,18 +190,21 @@ impl Lane {
                     if text.len() > sep.len() {
                         let end = text.len();
                         text.resize(end + 16, 0);
-                        words.push(Word::Lit(text.into(), sep.len(), end));
+                        for words in &mut words {
+                            words.push(Word::Lit(text.clone().into(), sep.len(), end));
+                        }
                     }
                 }
                 Part::Code(_) => return Lane::default(),
             }
         }
-        if words.is_empty() || words.len() > MAX_WORDS {
+        let len = words[0].len();
+        if len == 0 || len > MAX_WORDS {
             return Lane::default();
         }
         let mut words_of = Box::new([0u16; 256]);
         for (same, written) in words_of.iter_mut().enumerate() {
-            for (j, w) in words.iter().enumerate() {
+            for (j, w) in words[0].iter().enumerate() {
                 if !matches!(w, Word::Num(num) if num.modal && same & (1 << num.slot) != 0) {
                     *written |= 1 << j;
                 }
@@ -208,7 +217,11 @@ impl Lane {
             moves: lb.moves,
             rotary,
             all_rotary: rotary.iter().all(|r| *r),
-            words: words.into(),
+            words: words.map(|words| {
+                let mut words = words.into_iter();
+                std::array::from_fn(|_| words.next().unwrap_or(Word::Lit(Box::default(), 0, 0)))
+            }),
+            len,
             formats,
             modal,
             words_of,
@@ -242,7 +255,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             for (k, lane) in lanes.iter().enumerate() {
                 let in_force = lane.code.is_none() || lane.code.as_deref() == self.motion.as_deref();
                 let formats = (0..8).all(|s| lane.modal & (1 << s) == 0 || [lane.formats[s], u32::MAX].contains(&self.last_fi[s]));
-                if !lane.words.is_empty() && in_force && formats {
+                if lane.len > 0 && in_force && formats {
                     self.lane_ready |= 1 << k;
                 }
             }
@@ -276,7 +289,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         self.abc = [p[3], p[4], p[5]];
         if new_line {
             self.mark_seen(line);
-            self.line_starts(line);
+            self.line_starts(line, self.block);
         }
         self.line = line;
         self.origin = canon.origin;
@@ -291,24 +304,24 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// S, A, B, C; NaN where absent, as S always is).
     #[inline(always)]
     fn lane_block(&mut self, lane: &Lane, xs: &[f64; 8]) {
-        // The slots whose number is the one written last, found for all eight at once: with
-        // the formats kept ([`Post::refresh_lane`]), their modal words are left out unchanged
-        // ([`Post::unchanged`]). Compared by their bits: the same number, but for 0 and -0,
-        // which go the longer way and find their text the one written.
-        let mut same = 0;
-        for (k, (x, last)) in xs.iter().zip(&self.last).enumerate() {
-            same |= usize::from(x.to_bits() == last.to_bits()) << k;
-        }
+        // The slots whose number is the one written last: with the formats kept
+        // ([`Post::refresh_lane`]), their modal words are left out unchanged
+        // ([`Post::unchanged`]). All eight are compared at once (two at a time by the
+        // machine), a byte each, gathered into a bit each by a multiplication: byte k of the
+        // eight lands on bit 56 + k of the product, and nothing else does.
+        let eq: [u8; 8] = std::array::from_fn(|k| u8::from(xs[k] == self.last[k]));
+        let same = (u64::from_le_bytes(eq).wrapping_mul(0x0102_0408_1020_4080) >> 56) as usize;
         let mut todo = lane.words_of[same];
         let start = self.buf.len();
         self.start_block(lane.raw, lane.numbered);
         let body = self.buf.len();
         let inch = self.opts.units == Units::Inch;
+        let words = &lane.words[usize::from(inch)];
         let mut moved = false;
         while todo != 0 {
-            let j = todo.trailing_zeros() as usize;
+            let j = todo.trailing_zeros() as usize % MAX_WORDS;
             todo &= todo - 1;
-            match &lane.words[j] {
+            match &words[j] {
                 Word::Num(num) => moved |= self.lane_num(body, num, xs[num.slot & 7], inch, moved),
                 Word::Lit(text, at, end) => {
                     let from = if self.buf.len() > body { 0 } else { *at };
@@ -343,28 +356,27 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         if x.is_nan() {
             return false;
         }
-        let u = usize::from(inch);
-        let d = num.decimals[u];
-        let scaled = x * num.scale[u];
+        let d = num.decimals;
+        let scaled = x * num.scale;
         let n = round_scaled(scaled);
         self.count_rounding(num.class, n, scaled, x, d);
         let key = Key { fi: num.fi, inch, n };
         if num.modal
-            && let Some((w, _)) = self.written[num.slot & 7]
-            && self.same_text(w, key)
+            && let Some((w, _)) = &self.written[num.slot & 7]
+            && self.same_text(*w, key)
         {
             // The text written is this number's: the next time it is not rounded.
-            self.set_written(num.slot, Some((key, x)));
+            self.set_written(num.slot & 7, Some((key, x)));
             return false;
         }
         if num.moves || moved {
-            self.set_written(num.slot, Some((key, x)));
+            self.set_written(num.slot & 7, Some((key, x)));
         } else {
             self.staged[num.slot & 7] = (key, x);
             self.staged_mask |= 1 << num.slot;
         }
         let after = self.buf.len() > body;
-        if !num.three[u][usize::from(after)].is_some_and(|t| t.push(&mut self.buf, n)) {
+        if !num.three[usize::from(after)].as_ref().is_some_and(|t| t.push(&mut self.buf, n)) {
             let out = self.out;
             if after {
                 super::append(&mut self.buf, out.separator.as_bytes());

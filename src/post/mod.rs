@@ -427,6 +427,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// Whether the steady lane takes the next rapid (bit 0) or feed (bit 1): the writer is
     /// in the steady state ([`Post::refresh_lane`]).
     lane_ready: u8,
+    /// The longest block the target takes (`usize::MAX`: any), for [`Post::line_end`].
+    max_line: usize,
 }
 
 /// A run of blocks the source runs again, kept as one pass while the passes write the same.
@@ -540,7 +542,8 @@ const INV_POW10: [f64; 16] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-
 /// far above the rounding of either computation (a few units in the last place of `v`).
 #[inline]
 fn below(n: i64, scaled: f64, v: f64, d: usize, kept: f64) -> bool {
-    (n as f64 - scaled).abs() * INV_POW10[d] + 1e-12 * (v.abs() + 1.0) < kept
+    // `d` is 15 at most ([`decimals`]): the mask spares the bounds check.
+    (n as f64 - scaled).abs() * INV_POW10[d & 15] + 1e-12 * (v.abs() + 1.0) < kept
 }
 
 /// The two-digit numbers `00` to `99`, for writing digits two at a time.
@@ -555,24 +558,24 @@ const DIGITS2: [u8; 200] = {
     t
 };
 
-/// For each fraction 0 to 999 of a three-decimal number: its three digits (the first in the
-/// lowest byte), and in the highest byte how many are left without its trailing zeros (none
-/// for 0).
-const FRAC3: [u32; 1000] = {
-    let mut t = [0u32; 1000];
+/// For each fraction 0 to 999 of a three-decimal number: the point and its three digits (the
+/// point in the lowest byte), and above them how many of the four are left without the
+/// digits' trailing zeros (none for 0, not even the point).
+const FRAC3: [u64; 1000] = {
+    let mut t = [0u64; 1000];
     let mut i = 0;
     while i < 1000 {
         let d = [b'0' + (i / 100) as u8, b'0' + (i / 10 % 10) as u8, b'0' + (i % 10) as u8];
         let len = if i == 0 {
             0
         } else if i % 100 == 0 {
-            1
-        } else if i % 10 == 0 {
             2
-        } else {
+        } else if i % 10 == 0 {
             3
+        } else {
+            4
         };
-        t[i] = u32::from_le_bytes([d[0], d[1], d[2], len]);
+        t[i] = u64::from_le_bytes([b'.', d[0], d[1], d[2], len, 0, 0, 0]);
         i += 1;
     }
     t
@@ -602,11 +605,11 @@ const INT3: [u32; 1000] = {
 /// on the spot by [`push_number`].
 #[derive(Clone, Copy, Debug, Default)]
 struct ThreeDecimals {
-    /// The address (8 bytes at most) and its length. The steady lane puts the separator
-    /// before it, for a word written after another ([`ThreeDecimals::after`]).
-    address: [u8; 8],
-    address_len: usize,
-    plus: bool,
+    /// What goes before the digits, for a number not below zero and for one below: the
+    /// address and the sign (`X`, `X-`; `X+`, `X-` where the format writes a plus), 8 bytes
+    /// at most (the first in the lowest byte), and their length in bits. The steady lane puts
+    /// the separator before them, for a word written after another ([`ThreeDecimals::after`]).
+    prefix: [(u64, u32); 2],
     trailing_zeros: bool,
     leading_zero: bool,
     point_always: bool,
@@ -621,17 +624,20 @@ impl ThreeDecimals {
 
     /// [`ThreeDecimals::of`] with `sep` written before the address, if both together are short.
     fn after(f: &NumberFormat, sep: &[u8]) -> Option<ThreeDecimals> {
-        let a = f.address.as_bytes();
-        if sep.len() + a.len() > 8 || f.increment {
+        if f.increment {
             return None;
         }
-        let mut address = [0u8; 8];
-        address[..sep.len()].copy_from_slice(sep);
-        address[sep.len()..sep.len() + a.len()].copy_from_slice(a);
+        let prefix = |sign: &[u8]| {
+            let mut bytes = [0u8; 8];
+            let mut len = 0;
+            for part in [sep, f.address.as_bytes(), sign] {
+                bytes.get_mut(len..len + part.len())?.copy_from_slice(part);
+                len += part.len();
+            }
+            Some((u64::from_le_bytes(bytes), 8 * len as u32))
+        };
         Some(ThreeDecimals {
-            address,
-            address_len: sep.len() + a.len(),
-            plus: f.plus,
+            prefix: [prefix(if f.plus { b"+" } else { b"" })?, prefix(b"-")?],
             trailing_zeros: f.trailing_zeros,
             leading_zero: f.leading_zero,
             point_always: f.point == Point::Always,
@@ -648,38 +654,30 @@ impl ThreeDecimals {
         }
         let (whole, frac) = ((a / 1000) as usize, (a % 1000) as usize);
         let fr = FRAC3[frac];
-        let flen = if self.trailing_zeros { 3 } else { fr >> 24 };
-        // Sign, three digits, point, three digits: 8 bytes at most, put together in a word
-        // (the first byte lowest), `k` bits of it written so far.
+        // The fraction written: all of the point and its digits where the format keeps
+        // trailing zeros, else those left, or the point alone where it is always written.
+        let no_digits = frac == 0 && !self.trailing_zeros;
+        let flen = if self.trailing_zeros { 4 } else { (fr >> 32).max(u64::from(self.point_always)) };
+        // Three digits, point, three digits: 7 bytes at most, put together in a word (the
+        // first byte lowest), `k` bits of it written so far.
         let mut v = 0u64;
         let mut k = 0;
-        if n < 0 {
-            v = u64::from(b'-');
-            k = 8;
-        } else if self.plus {
-            v = u64::from(b'+');
-            k = 8;
-        }
-        if whole != 0 || self.leading_zero || flen == 0 {
+        // `.5`: no digit before the point.
+        if whole != 0 || self.leading_zero || no_digits {
             let w = INT3[whole];
-            v |= u64::from(w & 0xff_ffff) << k;
-            k += 8 * (w >> 24);
+            v = u64::from(w & 0xff_ffff);
+            k = 8 * u64::from(w >> 24);
         }
-        if flen > 0 || self.point_always {
-            v |= u64::from(b'.') << k;
-            k += 8;
-        }
-        // At most 40 bits so far: the three digits fit.
-        v |= u64::from(fr & 0xff_ffff) << k;
+        // At most 24 bits so far: the point and three digits fit.
+        v |= (fr & 0xffff_ffff) << k;
         k += 8 * flen;
-        // The address, then the number: 16 bytes copied at once, taken back to their length.
-        let mut t = [0u8; 24];
-        let at = self.address_len & 15;
-        t[..8].copy_from_slice(&self.address);
-        t[at..at + 8].copy_from_slice(&v.to_le_bytes());
+        // The address and sign, then the number: 16 bytes written at once, taken back to
+        // their length.
+        let (prefix, bits) = self.prefix[usize::from(n < 0)];
+        let text = u128::from(prefix) | u128::from(v) << bits;
         let len = out.len();
-        out.extend_from_slice(&t[..16]);
-        out.truncate(len + at + k as usize / 8);
+        out.extend_from_slice(&text.to_le_bytes());
+        out.truncate(len + (u64::from(bits) + k) as usize / 8);
         true
     }
 }
@@ -950,6 +948,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             abc: [0.0; 3],
             lanes: Some(Lane::pair(out)),
             lane_ready: 0,
+            max_line: if out.max_line > 0 { out.max_line } else { usize::MAX },
         }
     }
 
@@ -1146,11 +1145,24 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// it may pass the largest so far.
     #[inline(always)]
     fn count_rounding(&mut self, class: Class, n: i64, scaled: f64, x: f64, d: usize) {
+        // A position, the common number, here; the others apart (no jump through a table
+        // for every number).
+        if class == Class::Position {
+            if !below(n, scaled, x, d, self.rounded) {
+                self.keep_rounding(class, n, x, d);
+            }
+        } else {
+            self.count_rounding_apart(class, n, scaled, x, d);
+        }
+    }
+
+    /// [`Post::count_rounding`] for a number that is no position.
+    #[inline(never)]
+    fn count_rounding_apart(&mut self, class: Class, n: i64, scaled: f64, x: f64, d: usize) {
         let kept = match class {
-            Class::Position => self.rounded,
-            Class::Centre => self.rounded / CENTRE_FACTOR,
             Class::Feed => self.rounded_feed,
-            Class::Other => return,
+            Class::Centre => self.rounded / CENTRE_FACTOR,
+            Class::Position | Class::Other => return,
         };
         if !below(n, scaled, x, d, kept) {
             self.keep_rounding(class, n, x, d);
@@ -1441,8 +1453,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         if !raw {
             append(&mut self.buf, self.out.end_of_block.as_bytes());
         }
-        if self.out.max_line > 0 && self.buf.len() - start > self.out.max_line {
-            self.line_too_long(start);
+        let line = self.buf.len() - start;
+        if line > self.max_line {
+            self.line_too_long(line);
         }
         self.buf.push(b'\n');
         if self.buf.len() >= FLUSH_AT {
@@ -1450,14 +1463,14 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
-    /// The block at `start` is longer than the target takes: said once.
+    /// A block of `len` characters is longer than the target takes: said once.
     #[inline(never)]
-    fn line_too_long(&mut self, start: usize) {
+    fn line_too_long(&mut self, len: usize) {
         if self.noted.insert("line-too-long".into()) {
             self.diags.push(Diagnostic::new(
                 Code::PostLineTooLong,
                 Default::default(),
-                format!("a written line has {} characters, over the {} the target takes", self.buf.len() - start, self.out.max_line),
+                format!("a written line has {len} characters, over the {} the target takes", self.out.max_line),
             ));
         }
     }
@@ -2571,18 +2584,20 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 _ => self.note_unrolled(canon.origin),
             }
         }
-        self.line_starts(line);
+        self.line_starts(line, self.next_block());
     }
 
     /// Marks source line `line` as run ([`Post::seen`]); whether it had run before.
     #[inline]
     fn mark_seen(&mut self, line: u32) -> bool {
         let (word, bit) = (line as usize / 64, 1u64 << (line % 64));
-        if self.seen.len() <= word {
+        let Some(w) = self.seen.get_mut(word) else {
             self.seen.resize(word + 1, 0);
-        }
-        let again = self.seen[word] & bit != 0;
-        self.seen[word] |= bit;
+            self.seen[word] = bit;
+            return false;
+        };
+        let again = *w & bit != 0;
+        *w |= bit;
         again
     }
 
@@ -2592,11 +2607,11 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         self.seen.get(line as usize / 64).is_some_and(|w| w & (1 << (line % 64)) != 0)
     }
 
-    /// Records where source line `line`'s text begins ([`Post::line_offsets`]).
+    /// Records where source line `line`'s text begins ([`Post::line_offsets`]), at the block
+    /// numbered `block` ([`Post::next_block`]).
     #[inline]
-    fn line_starts(&mut self, line: u32) {
+    fn line_starts(&mut self, line: u32, block: u64) {
         if self.line_offsets.last().is_none_or(|(l, _, _)| *l != line) {
-            let block = self.next_block();
             self.line_offsets.push((line, self.buf.len(), block));
         }
     }
