@@ -428,6 +428,20 @@ fn dialect(registry: &Registry, name: &str) -> Result<Arc<Dialect>> {
     registry.get(name).with_context(|| format!("unknown dialect `{name}`; known: {}", registry.names().collect::<Vec<_>>().join(", ")))
 }
 
+/// Opens the program file `path` while the dialects `names` load on another thread: a large
+/// file's survey ([`textfile::Program::open`]) and the reading of the dictionary files go on
+/// at once, not one after the other. A dialect that does not load says so when it is asked for.
+fn open_while_loading(
+    registry: &Registry,
+    names: &[Option<&str>],
+    path: &Path,
+) -> std::io::Result<(textfile::Program, Vec<diag::Diagnostic>)> {
+    std::thread::scope(|s| {
+        s.spawn(|| names.iter().flatten().for_each(|n| drop(registry.get(n))));
+        textfile::Program::open(path)
+    })
+}
+
 /// The config for commands that analyse files: the given one, or an empty tool table.
 fn analysis_config(path: Option<&Path>) -> Result<Config> {
     match path {
@@ -469,7 +483,8 @@ fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, textfile::Progr
     let mut config = analysis_config(input.config.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
     let registry = registry_for(Some(&config))?;
-    let (program, diags) = textfile::Program::open(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
+    let opened = open_while_loading(&registry, &[input.dialect.as_deref()], &input.file);
+    let (program, diags) = opened.with_context(|| format!("cannot read {}", input.file.display()))?;
     let name = match &input.dialect {
         Some(n) => n.clone(),
         None => {
@@ -1031,7 +1046,11 @@ fn translate_command(
             };
             (textfile::Program::from_bytes(bytes), PathBuf::from(&src.path), Some(src.dialect))
         }
-        (None, Some(f)) => (textfile::Program::open(f).with_context(|| format!("cannot read {}", f.display()))?, f.clone(), None),
+        (None, Some(f)) => {
+            let names = [from.as_deref(), to.as_deref().or(folder.map(|f| f.dialect.as_str()))];
+            let opened = open_while_loading(&registry, &names, f);
+            (opened.with_context(|| format!("cannot read {}", f.display()))?, f.clone(), None)
+        }
         (None, None) => bail!("give a program file or --revision"),
     };
     let from_name = match (from, stored_dialect) {

@@ -396,7 +396,8 @@ pub fn locate(text: Text<'_>, offsets: &[u32]) -> Vec<LineCol> {
             let mut buf = String::new();
             loop {
                 buf.clear();
-                let start = r.read(at, 1 << 20, &mut buf);
+                // No more than the pieces up to one past the last offset.
+                let start = r.read(at, (last + 2 - at).clamp(4096, 1 << 20), &mut buf);
                 if buf.is_empty() || start != at {
                     break;
                 }
