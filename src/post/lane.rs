@@ -16,12 +16,13 @@
 //! number, by the same steps the general path takes ([`Post::put_num`]: left out when
 //! unchanged, rounded, the rounding kept, staged; the block left out when it moves nothing;
 //! [`Post::block_start`], [`Post::line_end`], [`Post::new_line`], [`Post::moved`]), so that
-//! the text, the modal state and the findings are the general path's. Anything else, and
+//! the text, the modal state and the findings are the general path's. The block's text is put
+//! together apart, where no word needs a check of room, and appended to the buffer at once. Anything else, and
 //! any move while the flag is clear, takes the general path, which stays the one place
 //! every unusual case is handled.
 
 use super::layout::{Class, Layout, Part};
-use super::{CanonOp, EPS, Key, POW10F, Post, ThreeDecimals, push_number_in, round_scaled};
+use super::{CanonOp, EPS, FLUSH_AT, Key, POW10F, Post, ThreeDecimals, number_text, round_scaled};
 use crate::canon::{Canon, Units};
 use crate::dialect::output::{Output, Piece, Template, Value};
 
@@ -30,6 +31,10 @@ const MAX_WORDS: usize = 16;
 
 /// In [`Lane::formats`], a slot the lane has no word for.
 const NO_WORD: u32 = u32::MAX - 1;
+
+/// The room for a block's text in [`Post::lane_text`]: a template whose longest block, with
+/// 64 bytes to spare for the copies of fixed length, passes it has no lane.
+pub(super) const LANE_TEXT: usize = 512;
 
 /// A move template (one block) as the steady lane writes it, made once from its
 /// [`Layout`]. Empty (no words) when the template cannot be written so.
@@ -144,6 +149,10 @@ impl Lane {
         let mut words = [Vec::with_capacity(lb.parts.len()), Vec::with_capacity(lb.parts.len())];
         let mut formats = [NO_WORD; 8];
         let mut modal = 0u8;
+        // The longest text of the block: the optional block's `/`, the block number (20
+        // digits at most) and the separator after it, the words, the end of block and the
+        // line's end.
+        let mut longest = 1 + out.number_address.len() + 20 + sep.len() + out.end_of_block.len() + 1;
         for (i, part) in lb.parts.iter().enumerate() {
             match part {
                 Part::Code(c) if i == 0 => code = Some(c.clone()),
@@ -163,6 +172,9 @@ impl Lane {
                         modal |= 1 << slot;
                     }
                     let f = &out.formats[num.fi as usize];
+                    // The separator, the address, a sign, 20 digits, the point and 15
+                    // decimals at most ([`number_text`]).
+                    longest += sep.len() + f.address.len() + 37;
                     let three = [ThreeDecimals::of(f), ThreeDecimals::after(f, sep)];
                     for (inch, words) in words.iter_mut().enumerate() {
                         let decimals = super::decimals(f, inch == 1);
@@ -189,6 +201,7 @@ impl Lane {
                     // An empty word is taken back: nothing to write.
                     if text.len() > sep.len() {
                         let end = text.len();
+                        longest += end;
                         text.resize(end + 16, 0);
                         for words in &mut words {
                             words.push(Word::Lit(text.clone().into(), sep.len(), end));
@@ -199,7 +212,7 @@ impl Lane {
             }
         }
         let len = words[0].len();
-        if len == 0 || len > MAX_WORDS {
+        if len == 0 || len > MAX_WORDS || longest + 64 > LANE_TEXT {
             return Lane::default();
         }
         let mut words_of = Box::new([0u16; 256]);
@@ -301,20 +314,27 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     }
 
     /// [`Post::render`]'s block, for `lane` with the values `xs` by modal slot (X, Y, Z, F,
-    /// S, A, B, C; NaN where absent, as S always is).
+    /// S, A, B, C; NaN where absent, as S always is). The block's text is put together in
+    /// [`Post::lane_text`] (from its start, with no check of room: the lane's longest block
+    /// fits, [`LANE_TEXT`]) and appended to the buffer at once when it is written.
     #[inline(always)]
     fn lane_block(&mut self, lane: &Lane, xs: &[f64; 8]) {
         // The slots whose number is the one written last: with the formats kept
         // ([`Post::refresh_lane`]), their modal words are left out unchanged
-        // ([`Post::unchanged`]). All eight are compared at once (two at a time by the
-        // machine), a byte each, gathered into a bit each by a multiplication: byte k of the
-        // eight lands on bit 56 + k of the product, and nothing else does.
-        let eq: [u8; 8] = std::array::from_fn(|k| u8::from(xs[k] == self.last[k]));
-        let same = (u64::from_le_bytes(eq).wrapping_mul(0x0102_0408_1020_4080) >> 56) as usize;
+        // ([`Post::unchanged`]). Only the slots of the lane's modal words matter
+        // ([`Lane::words_of`]): X, Y, Z and F, and A, B, C where it has one of them (S is
+        // never written by a move, its value NaN).
+        let last = &self.last;
+        let mut same = usize::from(xs[0] == last[0])
+            | usize::from(xs[1] == last[1]) << 1
+            | usize::from(xs[2] == last[2]) << 2
+            | usize::from(xs[3] == last[3]) << 3;
+        if lane.modal & 0xe0 != 0 {
+            same |= usize::from(xs[5] == last[5]) << 5 | usize::from(xs[6] == last[6]) << 6 | usize::from(xs[7] == last[7]) << 7;
+        }
         let mut todo = lane.words_of[same];
-        let start = self.buf.len();
-        self.start_block(lane.raw, lane.numbered);
-        let body = self.buf.len();
+        let body = self.lane_start(lane.raw, lane.numbered);
+        let mut at = body;
         let inch = self.opts.units == Units::Inch;
         let words = &lane.words[usize::from(inch)];
         let mut moved = false;
@@ -322,67 +342,166 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             let j = todo.trailing_zeros() as usize % MAX_WORDS;
             todo &= todo - 1;
             match &words[j] {
-                Word::Num(num) => moved |= self.lane_num(body, num, xs[num.slot & 7], inch, moved),
-                Word::Lit(text, at, end) => {
-                    let from = if self.buf.len() > body { 0 } else { *at };
-                    super::append_tail(&mut self.buf, text, from, *end);
+                Word::Num(num) => {
+                    if let Some(end) = self.lane_num(at, at > body, num, xs[num.slot & 7], inch, moved) {
+                        at = end;
+                        moved |= num.moves;
+                    }
+                }
+                Word::Lit(text, from, end) => {
+                    let from = if at > body { 0 } else { *from };
+                    at = self.lane_put_tail(at, text, from, *end);
                 }
             }
         }
         if !moved && lane.moves {
             self.staged_mask = 0;
-            self.buf.truncate(start);
             return;
         }
         // What was staged before the first word that moves (a feed written first).
         if self.staged_mask != 0 {
             self.commit_staged();
         }
-        if self.buf.len() == body {
-            self.buf.truncate(start);
-        } else {
-            self.line_end(start, lane.raw, lane.numbered);
+        if at > body {
+            self.lane_end(at, lane.raw, lane.numbered);
         }
+    }
+
+    /// [`Post::start_block`] in [`Post::lane_text`]: where the block's words start.
+    #[inline(always)]
+    fn lane_start(&mut self, raw: bool, numbered: bool) -> usize {
+        let mut at = 0;
+        if !raw && self.optional_line == Some(self.line) {
+            self.lane_text[0] = b'/';
+            at = 1;
+        }
+        if numbered {
+            let out = self.out;
+            at = self.lane_put(at, out.number_address.as_bytes());
+            let len = self.block_digits();
+            let (text, digits) = (&mut self.lane_text, &self.number_text.0);
+            text[at..at + 16].copy_from_slice(&digits[..16]);
+            if len > 16 {
+                text[at + 16..at + len].copy_from_slice(&digits[16..len]);
+            }
+            at = self.lane_put(at + len, out.separator.as_bytes());
+        }
+        at
+    }
+
+    /// [`Post::line_end`] for the block of `at` bytes in [`Post::lane_text`], which it appends
+    /// to the buffer: one copy, of a fixed 64 bytes taken back to its length where it is no
+    /// longer.
+    #[inline(always)]
+    fn lane_end(&mut self, at: usize, raw: bool, numbered: bool) {
+        let out = self.out;
+        if numbered {
+            self.block += out.number_step;
+        }
+        let mut at = at;
+        if !raw {
+            at = self.lane_put(at, out.end_of_block.as_bytes());
+        }
+        if at > self.max_line {
+            self.line_too_long(at);
+        }
+        self.lane_text[at] = b'\n';
+        at += 1;
+        let len = self.buf.len();
+        if at <= 64 {
+            self.buf.extend_from_slice(&self.lane_text[..64]);
+            self.buf.truncate(len + at);
+        } else {
+            self.buf.extend_from_slice(&self.lane_text[..at]);
+        }
+        if self.buf.len() >= FLUSH_AT {
+            self.hand_over();
+        }
+    }
+
+    /// Puts `s` in [`Post::lane_text`] at `at`; where it ends. A single byte (a separator)
+    /// or nothing without a call to copy.
+    #[inline(always)]
+    fn lane_put(&mut self, at: usize, s: &[u8]) -> usize {
+        match s {
+            [] => {}
+            [c] => self.lane_text[at] = *c,
+            _ => self.lane_text[at..at + s.len()].copy_from_slice(s),
+        }
+        at + s.len()
+    }
+
+    /// Puts `b[i..end]` in [`Post::lane_text`] at `at`, as a copy of a fixed 16 where it is
+    /// no longer (`b` has 16 bytes after `end`, [`super::append_tail`]); where it ends.
+    #[inline(always)]
+    fn lane_put_tail(&mut self, at: usize, b: &[u8], i: usize, end: usize) -> usize {
+        let len = end - i;
+        if len <= 16 {
+            self.lane_text[at..at + 16].copy_from_slice(&b[i..i + 16]);
+        } else {
+            self.lane_text[at..at + len].copy_from_slice(&b[i..end]);
+        }
+        at + len
     }
 
     /// [`Post::put_num`] for number `num` of a lane with `x`, not left out unchanged: left out
     /// when absent or when its text is the one written, else rounded (the rounding kept) and
-    /// written, after the separator unless it is the first word after the block's `body`
-    /// start; whether it moves the block. Its modal value counts as written at once when the
-    /// block is sure to be written (it moves, or a word before it did: `moved`), else it is
-    /// staged.
+    /// put in [`Post::lane_text`] at `at`, after the separator if a word came before it
+    /// (`after`); where it ends, or none when it is left out. Its modal value counts as
+    /// written at once when the block is sure to be written (it moves, or a word before it
+    /// did: `moved`), else it is staged.
     #[inline(always)]
-    fn lane_num(&mut self, body: usize, num: &LaneNum, x: f64, inch: bool, moved: bool) -> bool {
+    fn lane_num(&mut self, at: usize, after: bool, num: &LaneNum, x: f64, inch: bool, moved: bool) -> Option<usize> {
         if x.is_nan() {
-            return false;
+            return None;
         }
         let d = num.decimals;
         let scaled = x * num.scale;
         let n = round_scaled(scaled);
         self.count_rounding(num.class, n, scaled, x, d);
         let key = Key { fi: num.fi, inch, n };
+        let k = num.slot & 7;
         if num.modal
-            && let Some((w, _)) = &self.written[num.slot & 7]
+            && let Some((w, _)) = &self.written[k]
             && self.same_text(*w, key)
         {
             // The text written is this number's: the next time it is not rounded.
-            self.set_written(num.slot & 7, Some((key, x)));
-            return false;
+            self.lane_written(k, key, x);
+            return None;
         }
         if num.moves || moved {
-            self.set_written(num.slot & 7, Some((key, x)));
+            self.lane_written(k, key, x);
         } else {
-            self.staged[num.slot & 7] = (key, x);
-            self.staged_mask |= 1 << num.slot;
+            self.staged[k] = (key, x);
+            self.staged_mask |= 1 << k;
         }
-        let after = self.buf.len() > body;
-        if !num.three[usize::from(after)].as_ref().is_some_and(|t| t.push(&mut self.buf, n)) {
-            let out = self.out;
-            if after {
-                super::append(&mut self.buf, out.separator.as_bytes());
-            }
-            push_number_in(&mut self.buf, &out.formats[num.fi as usize], n, d);
+        if let Some(t) = &num.three[usize::from(after)]
+            && let Some((prefix, plen, digits, dlen)) = t.parts(n)
+        {
+            self.lane_text[at..at + 8].copy_from_slice(&prefix.to_le_bytes());
+            self.lane_text[at + plen..at + plen + 8].copy_from_slice(&digits.to_le_bytes());
+            return Some(at + plen + dlen);
         }
-        num.moves
+        let out = self.out;
+        let mut at = at;
+        if after {
+            at = self.lane_put(at, out.separator.as_bytes());
+        }
+        let f = &out.formats[num.fi as usize];
+        if f.address.len() > 8 {
+            at = self.lane_put(at, f.address.as_bytes());
+        }
+        let mut b = [0u8; 64];
+        let i = number_text(&mut b, f, n, d);
+        Some(self.lane_put_tail(at, &b, i, 48))
+    }
+
+    /// [`Post::set_written`] of slot `k` with `key` in the units of the program (as a lane's
+    /// keys are): its number and format are the ones written last at once.
+    #[inline(always)]
+    fn lane_written(&mut self, k: usize, key: Key, x: f64) {
+        self.written[k] = Some((key, x));
+        self.last[k] = x;
+        self.last_fi[k] = key.fi;
     }
 }
