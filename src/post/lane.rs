@@ -22,7 +22,7 @@
 //! every unusual case is handled.
 
 use super::layout::{Class, Layout, Part};
-use super::{CanonOp, EPS, FLUSH_AT, Key, POW10F, Post, ThreeDecimals, number_text, round_scaled};
+use super::{CanonOp, EPS, FLUSH_AT, INV_POW10, Key, POW10F, Post, ThreeDecimals, below_by, number_text, round_scaled};
 use crate::canon::{Canon, Units};
 use crate::dialect::output::{Output, Piece, Template, Value};
 
@@ -45,6 +45,11 @@ pub(super) struct Lane {
     raw: bool,
     /// Whether it is numbered ([`super::numbered`]).
     numbered: bool,
+    /// What ends its block: the end of block (unless it is raw) and the line's end, 16 bytes
+    /// at most (a template whose end is longer has no lane), written as a copy of a fixed 16;
+    /// their length.
+    tail: [u8; 16],
+    tail_len: usize,
     /// Whether the block is left out when it moves no axis ([`super::layout::LayoutBlock::moves`]).
     moves: bool,
     /// Whether the template writes A, B, C: a move of one it does not write is said, by the
@@ -74,6 +79,8 @@ impl Default for Lane {
             code: None,
             raw: false,
             numbered: false,
+            tail: [0; 16],
+            tail_len: 0,
             moves: false,
             rotary: [false; 3],
             all_rotary: false,
@@ -114,8 +121,9 @@ struct LaneNum {
     class: Class,
     /// The decimals the format writes ([`super::decimals`]).
     decimals: usize,
-    /// 10 to the power of that.
+    /// 10 to the power of that, and its inverse.
     scale: f64,
+    inv: f64,
     /// The format as [`ThreeDecimals`], as the block's first word and after another (the
     /// separator before it), where it writes three decimals after a short address (the usual
     /// format); else the number goes by [`push_number_in`].
@@ -186,6 +194,7 @@ impl Lane {
                             class: num.class,
                             decimals,
                             scale: POW10F[decimals],
+                            inv: INV_POW10[decimals],
                             three: three.map(|t| t.filter(|_| decimals == 3)),
                         }));
                     }
@@ -215,6 +224,11 @@ impl Lane {
         if len == 0 || len > MAX_WORDS || longest + 64 > LANE_TEXT {
             return Lane::default();
         }
+        let mut tail = if lb.raw { Vec::new() } else { out.end_of_block.as_bytes().to_vec() };
+        tail.push(b'\n');
+        let tail_len = tail.len();
+        tail.resize(16, 0);
+        let Ok(tail) = <[u8; 16]>::try_from(tail) else { return Lane::default() };
         let mut words_of = Box::new([0u16; 256]);
         for (same, written) in words_of.iter_mut().enumerate() {
             for (j, w) in words[0].iter().enumerate() {
@@ -227,6 +241,8 @@ impl Lane {
             code,
             raw: lb.raw,
             numbered: super::numbered(out, lb.raw, false),
+            tail,
+            tail_len,
             moves: lb.moves,
             rotary,
             all_rotary: rotary.iter().all(|r| *r),
@@ -363,7 +379,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             self.commit_staged();
         }
         if at > body {
-            self.lane_end(at, lane.raw, lane.numbered);
+            self.lane_end(at, lane);
         }
     }
 
@@ -389,26 +405,26 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         at
     }
 
-    /// [`Post::line_end`] for the block of `at` bytes in [`Post::lane_text`], which it appends
-    /// to the buffer: one copy, of a fixed 64 bytes taken back to its length where it is no
-    /// longer.
+    /// [`Post::line_end`] for the block of `at` bytes in [`Post::lane_text`] by `lane`, which
+    /// it appends to the buffer: one copy, of a fixed 32 or 64 bytes taken back to its length
+    /// where it is no longer.
     #[inline(always)]
-    fn lane_end(&mut self, at: usize, raw: bool, numbered: bool) {
-        let out = self.out;
-        if numbered {
-            self.block += out.number_step;
+    fn lane_end(&mut self, at: usize, lane: &Lane) {
+        if lane.numbered {
+            self.block += self.out.number_step;
         }
-        let mut at = at;
-        if !raw {
-            at = self.lane_put(at, out.end_of_block.as_bytes());
+        // The line's length, without its end.
+        let line = at + lane.tail_len - 1;
+        if line > self.max_line {
+            self.line_too_long(line);
         }
-        if at > self.max_line {
-            self.line_too_long(at);
-        }
-        self.lane_text[at] = b'\n';
-        at += 1;
+        self.lane_text[at..at + 16].copy_from_slice(&lane.tail);
+        let at = at + lane.tail_len;
         let len = self.buf.len();
-        if at <= 64 {
+        if at <= 32 {
+            self.buf.extend_from_slice(&self.lane_text[..32]);
+            self.buf.truncate(len + at);
+        } else if at <= 64 {
             self.buf.extend_from_slice(&self.lane_text[..64]);
             self.buf.truncate(len + at);
         } else {
@@ -458,7 +474,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         let d = num.decimals;
         let scaled = x * num.scale;
         let n = round_scaled(scaled);
-        self.count_rounding(num.class, n, scaled, x, d);
+        // [`Post::count_rounding`], with the inverse scale at hand.
+        if num.class == Class::Position {
+            if !below_by(n, scaled, x, num.inv, self.rounded) {
+                self.keep_rounding(num.class, n, x, d);
+            }
+        } else {
+            self.count_rounding_apart(num.class, n, scaled, x, d);
+        }
         let key = Key { fi: num.fi, inch, n };
         let k = num.slot & 7;
         if num.modal

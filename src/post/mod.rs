@@ -546,7 +546,13 @@ const INV_POW10: [f64; 16] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-
 #[inline]
 fn below(n: i64, scaled: f64, v: f64, d: usize, kept: f64) -> bool {
     // `d` is 15 at most ([`decimals`]): the mask spares the bounds check.
-    (n as f64 - scaled).abs() * INV_POW10[d & 15] + 1e-12 * (v.abs() + 1.0) < kept
+    below_by(n, scaled, v, INV_POW10[d & 15], kept)
+}
+
+/// [`below`] with 10^-d given (`inv`).
+#[inline(always)]
+fn below_by(n: i64, scaled: f64, v: f64, inv: f64, kept: f64) -> bool {
+    (n as f64 - scaled).abs() * inv + 1e-12 * (v.abs() + 1.0) < kept
 }
 
 /// The two-digit numbers `00` to `99`, for writing digits two at a time.
@@ -1464,18 +1470,37 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         append_tail(&mut self.buf, &self.number_text.0, 0, len);
     }
 
-    /// Brings the text of [`Post::number_text`] to the block number [`Post::block`]: the
-    /// last one's text counted on by the difference ([`count_on`]), else written afresh; how
-    /// many digits it has.
+    /// Brings the text of [`Post::number_text`] to the block number [`Post::block`]; how many
+    /// digits it has. The usual step, one that leaves the digits before the last two as they
+    /// are, is counted on in those two at once; any other by [`Post::block_digits_apart`].
     #[inline]
     fn block_digits(&mut self) -> usize {
         let (digits, len, n) = &mut self.number_text;
-        if *n != self.block {
-            if !(self.block > *n && count_on(&mut digits[..*len], self.block - *n)) {
-                *len = write_u64(digits, self.block);
-            }
-            *n = self.block;
+        let l = *len;
+        if *n == self.block {
+            return l;
         }
+        let delta = self.block.wrapping_sub(*n);
+        if self.block > *n && delta < 100 && l >= 2 {
+            let v = usize::from(digits[l - 2] - b'0') * 10 + usize::from(digits[l - 1] - b'0') + delta as usize;
+            if v < 100 {
+                digits[l - 2..l].copy_from_slice(&DIGITS2[2 * v..2 * v + 2]);
+                *n = self.block;
+                return l;
+            }
+        }
+        self.block_digits_apart()
+    }
+
+    /// [`Post::block_digits`] for any step: the last number's text counted on by the
+    /// difference ([`count_on`]), else written afresh.
+    #[inline(never)]
+    fn block_digits_apart(&mut self) -> usize {
+        let (digits, len, n) = &mut self.number_text;
+        if !(self.block > *n && count_on(&mut digits[..*len], self.block - *n)) {
+            *len = write_u64(digits, self.block);
+        }
+        *n = self.block;
         *len
     }
 
