@@ -36,6 +36,10 @@ const NO_WORD: u32 = u32::MAX - 1;
 /// 64 bytes to spare for the copies of fixed length, passes it has no lane.
 pub(super) const LANE_TEXT: usize = 512;
 
+/// Where a block's words start in [`Post::lane_text`]: what goes before them (the optional
+/// block's `/`, the block number, the lead) is put right before, from the end back.
+const WORDS_AT: usize = 64;
+
 /// A move template (one block) as the steady lane writes it, made once from its
 /// [`Layout`]. Empty (no words) when the template cannot be written so.
 pub(super) struct Lane {
@@ -45,6 +49,14 @@ pub(super) struct Lane {
     raw: bool,
     /// Whether it is numbered ([`super::numbered`]).
     numbered: bool,
+    /// The literal words the block starts with (Heidenhain's `L`), as long as they fit in 16
+    /// bytes, written as a copy of a fixed 16 and taken out of [`Lane::words`], each after
+    /// the separator but for the block's first word; their length.
+    lead: [u8; 16],
+    lead_len: usize,
+    /// The length of the separator the block's first word is written with and that is left
+    /// out of the block's text (none where a number or the lead comes before the words).
+    drop: usize,
     /// What ends its block: the end of block (unless it is raw) and the line's end, 16 bytes
     /// at most (a template whose end is longer has no lane), written as a copy of a fixed 16;
     /// their length.
@@ -79,6 +91,9 @@ impl Default for Lane {
             code: None,
             raw: false,
             numbered: false,
+            lead: [0; 16],
+            lead_len: 0,
+            drop: 0,
             tail: [0; 16],
             tail_len: 0,
             moves: false,
@@ -124,10 +139,10 @@ struct LaneNum {
     /// 10 to the power of that, and its inverse.
     scale: f64,
     inv: f64,
-    /// The format as [`ThreeDecimals`], as the block's first word and after another (the
-    /// separator before it), where it writes three decimals after a short address (the usual
-    /// format); else the number goes by [`push_number_in`].
-    three: [Option<ThreeDecimals>; 2],
+    /// The format as [`ThreeDecimals`] with the separator before it (every word of a lane is
+    /// written after it, [`Lane::drop`]), where it writes three decimals after a short address
+    /// (the usual format); else the number goes by [`number_text`].
+    three: Option<ThreeDecimals>,
 }
 
 impl Lane {
@@ -183,7 +198,7 @@ impl Lane {
                     // The separator, the address, a sign, 20 digits, the point and 15
                     // decimals at most ([`number_text`]).
                     longest += sep.len() + f.address.len() + 37;
-                    let three = [ThreeDecimals::of(f), ThreeDecimals::after(f, sep)];
+                    let three = ThreeDecimals::after(f, sep);
                     for (inch, words) in words.iter_mut().enumerate() {
                         let decimals = super::decimals(f, inch == 1);
                         words.push(Word::Num(LaneNum {
@@ -195,7 +210,7 @@ impl Lane {
                             decimals,
                             scale: POW10F[decimals],
                             inv: INV_POW10[decimals],
-                            three: three.map(|t| t.filter(|_| decimals == 3)),
+                            three: three.filter(|_| decimals == 3),
                         }));
                     }
                 }
@@ -220,10 +235,33 @@ impl Lane {
                 Part::Code(_) => return Lane::default(),
             }
         }
-        let len = words[0].len();
-        if len == 0 || len > MAX_WORDS || longest + 64 > LANE_TEXT {
+        // Room for what goes before the words: the block number (20 digits at most) and the
+        // lead, and the `/` before them.
+        if words[0].is_empty()
+            || words[0].len() > MAX_WORDS
+            || longest + 64 + WORDS_AT > LANE_TEXT
+            || 1 + out.number_address.len() + 20 + 16 > WORDS_AT
+        {
             return Lane::default();
         }
+        let numbered = super::numbered(out, lb.raw, false);
+        // The literal words the block starts with go into its lead, while it is short.
+        let mut lead = Vec::new();
+        while let Some(Word::Lit(text, at, end)) = words[0].first() {
+            let from = if lead.is_empty() && !numbered { *at } else { 0 };
+            if lead.len() + end - from > 16 {
+                break;
+            }
+            lead.extend_from_slice(&text[from..*end]);
+            for words in &mut words {
+                words.remove(0);
+            }
+        }
+        let lead_len = lead.len();
+        let drop = if numbered || lead_len > 0 { 0 } else { sep.len() };
+        lead.resize(16, 0);
+        let Ok(lead) = <[u8; 16]>::try_from(lead) else { return Lane::default() };
+        let len = words[0].len();
         let mut tail = if lb.raw { Vec::new() } else { out.end_of_block.as_bytes().to_vec() };
         tail.push(b'\n');
         let tail_len = tail.len();
@@ -240,7 +278,10 @@ impl Lane {
         Lane {
             code,
             raw: lb.raw,
-            numbered: super::numbered(out, lb.raw, false),
+            numbered,
+            lead,
+            lead_len,
+            drop,
             tail,
             tail_len,
             moves: lb.moves,
@@ -349,8 +390,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             same |= usize::from(xs[5] == last[5]) << 5 | usize::from(xs[6] == last[6]) << 6 | usize::from(xs[7] == last[7]) << 7;
         }
         let mut todo = lane.words_of[same];
-        let body = self.lane_start(lane.raw, lane.numbered);
-        let mut at = body;
+        // The block number and the lead, before the words.
+        let head = if lane.numbered || lane.lead_len > 0 { self.lane_head(lane) } else { 0 };
+        let mut at = WORDS_AT;
         let inch = self.opts.units == Units::Inch;
         let words = &lane.words[usize::from(inch)];
         let mut moved = false;
@@ -359,15 +401,12 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             todo &= todo - 1;
             match &words[j] {
                 Word::Num(num) => {
-                    if let Some(end) = self.lane_num(at, at > body, num, xs[num.slot & 7], inch, moved) {
+                    if let Some(end) = self.lane_num(at, num, xs[num.slot & 7], inch, moved) {
                         at = end;
                         moved |= num.moves;
                     }
                 }
-                Word::Lit(text, from, end) => {
-                    let from = if at > body { 0 } else { *from };
-                    at = self.lane_put_tail(at, text, from, *end);
-                }
+                Word::Lit(text, _, end) => at = self.lane_put_tail(at, text, 0, *end),
             }
         }
         if !moved && lane.moves {
@@ -378,57 +417,66 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         if self.staged_mask != 0 {
             self.commit_staged();
         }
-        if at > body {
-            self.lane_end(at, lane);
-        }
-    }
-
-    /// [`Post::start_block`] in [`Post::lane_text`]: where the block's words start.
-    #[inline(always)]
-    fn lane_start(&mut self, raw: bool, numbered: bool) -> usize {
-        let mut at = 0;
-        if !raw && self.optional_line == Some(self.line) {
-            self.lane_text[0] = b'/';
-            at = 1;
-        }
-        if numbered {
-            let out = self.out;
-            at = self.lane_put(at, out.number_address.as_bytes());
-            let len = self.block_digits();
-            let (text, digits) = (&mut self.lane_text, &self.number_text.0);
-            text[at..at + 16].copy_from_slice(&digits[..16]);
-            if len > 16 {
-                text[at + 16..at + len].copy_from_slice(&digits[16..len]);
+        if at > WORDS_AT || lane.lead_len > 0 {
+            // The first word's separator left out where nothing comes before it; the
+            // optional block's `/` before all.
+            let mut start = WORDS_AT + lane.drop - head;
+            if !lane.raw && self.optional_line == Some(self.line) {
+                start -= 1;
+                self.lane_text[start] = b'/';
             }
-            at = self.lane_put(at + len, out.separator.as_bytes());
+            self.lane_end(start, at, lane);
         }
-        at
     }
 
-    /// [`Post::line_end`] for the block of `at` bytes in [`Post::lane_text`] by `lane`, which
-    /// it appends to the buffer: one copy, of a fixed 32 or 64 bytes taken back to its length
-    /// where it is no longer.
+    /// [`Post::start_block`] in [`Post::lane_text`] for `lane`, but for the `/`: its block
+    /// number where it is numbered, and its lead ([`Lane::lead`]), ending at [`WORDS_AT`];
+    /// their length.
     #[inline(always)]
-    fn lane_end(&mut self, at: usize, lane: &Lane) {
+    fn lane_head(&mut self, lane: &Lane) -> usize {
+        let mut len = lane.lead_len;
+        if lane.numbered {
+            let address = self.out.number_address.as_bytes();
+            let digits = self.block_digits();
+            len += address.len() + digits;
+            let at = self.lane_put(WORDS_AT - len, address);
+            let (text, number) = (&mut self.lane_text, &self.number_text.0);
+            text[at..at + 16].copy_from_slice(&number[..16]);
+            if digits > 16 {
+                text[at + 16..at + digits].copy_from_slice(&number[16..digits]);
+            }
+        }
+        if lane.lead_len > 0 {
+            let at = WORDS_AT - lane.lead_len;
+            self.lane_text[at..at + 16].copy_from_slice(&lane.lead);
+        }
+        len
+    }
+
+    /// [`Post::line_end`] for the block from `start` to `at` in [`Post::lane_text`] by
+    /// `lane`, which it appends to the buffer: one copy, of a fixed 32 or 64 bytes taken back
+    /// to its length where it is no longer.
+    #[inline(always)]
+    fn lane_end(&mut self, start: usize, at: usize, lane: &Lane) {
         if lane.numbered {
             self.block += self.out.number_step;
         }
         // The line's length, without its end.
-        let line = at + lane.tail_len - 1;
+        let line = at - start + lane.tail_len - 1;
         if line > self.max_line {
             self.line_too_long(line);
         }
         self.lane_text[at..at + 16].copy_from_slice(&lane.tail);
-        let at = at + lane.tail_len;
-        let len = self.buf.len();
-        if at <= 32 {
-            self.buf.extend_from_slice(&self.lane_text[..32]);
-            self.buf.truncate(len + at);
-        } else if at <= 64 {
-            self.buf.extend_from_slice(&self.lane_text[..64]);
-            self.buf.truncate(len + at);
+        let len = at + lane.tail_len - start;
+        let was = self.buf.len();
+        if len <= 32 {
+            self.buf.extend_from_slice(&self.lane_text[start..start + 32]);
+            self.buf.truncate(was + len);
+        } else if len <= 64 {
+            self.buf.extend_from_slice(&self.lane_text[start..start + 64]);
+            self.buf.truncate(was + len);
         } else {
-            self.buf.extend_from_slice(&self.lane_text[..at]);
+            self.buf.extend_from_slice(&self.lane_text[start..start + len]);
         }
         if self.buf.len() >= FLUSH_AT {
             self.hand_over();
@@ -462,12 +510,12 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
 
     /// [`Post::put_num`] for number `num` of a lane with `x`, not left out unchanged: left out
     /// when absent or when its text is the one written, else rounded (the rounding kept) and
-    /// put in [`Post::lane_text`] at `at`, after the separator if a word came before it
-    /// (`after`); where it ends, or none when it is left out. Its modal value counts as
+    /// put in [`Post::lane_text`] at `at`, after the separator; where it ends, or none when it
+    /// is left out. Its modal value counts as
     /// written at once when the block is sure to be written (it moves, or a word before it
     /// did: `moved`), else it is staged.
     #[inline(always)]
-    fn lane_num(&mut self, at: usize, after: bool, num: &LaneNum, x: f64, inch: bool, moved: bool) -> Option<usize> {
+    fn lane_num(&mut self, at: usize, num: &LaneNum, x: f64, inch: bool, moved: bool) -> Option<usize> {
         if x.is_nan() {
             return None;
         }
@@ -498,7 +546,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             self.staged[k] = (key, x);
             self.staged_mask |= 1 << k;
         }
-        if let Some(t) = &num.three[usize::from(after)]
+        if let Some(t) = &num.three
             && let Some((prefix, plen, digits, dlen)) = t.parts(n)
         {
             self.lane_text[at..at + 8].copy_from_slice(&prefix.to_le_bytes());
@@ -506,10 +554,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             return Some(at + plen + dlen);
         }
         let out = self.out;
-        let mut at = at;
-        if after {
-            at = self.lane_put(at, out.separator.as_bytes());
-        }
+        let mut at = self.lane_put(at, out.separator.as_bytes());
         let f = &out.formats[num.fi as usize];
         if f.address.len() > 8 {
             at = self.lane_put(at, f.address.as_bytes());
