@@ -16,12 +16,13 @@
 //! number, by the same steps the general path takes ([`Post::put_num`]: left out when
 //! unchanged, rounded, the rounding kept, staged; the block left out when it moves nothing;
 //! [`Post::block_start`], [`Post::line_end`], [`Post::new_line`], [`Post::moved`]), so that
-//! the text, the modal state and the findings are the general path's. Anything else, and
+//! the text, the modal state and the findings are the general path's. The block's text is put
+//! together apart, where no word needs a check of room, and appended to the buffer at once. Anything else, and
 //! any move while the flag is clear, takes the general path, which stays the one place
 //! every unusual case is handled.
 
 use super::layout::{Class, Layout, Part};
-use super::{CanonOp, EPS, Key, POW10F, Post, ThreeDecimals, push_number_in, round_scaled};
+use super::{CanonOp, EPS, FLUSH_AT, INV_POW10, Key, POW10F, Post, ThreeDecimals, below_by, number_text, round_scaled};
 use crate::canon::{Canon, Units};
 use crate::dialect::output::{Output, Piece, Template, Value};
 
@@ -30,6 +31,14 @@ const MAX_WORDS: usize = 16;
 
 /// In [`Lane::formats`], a slot the lane has no word for.
 const NO_WORD: u32 = u32::MAX - 1;
+
+/// The room for a block's text in [`Post::lane_text`]: a template whose longest block, with
+/// 64 bytes to spare for the copies of fixed length, passes it has no lane.
+pub(super) const LANE_TEXT: usize = 512;
+
+/// Where a block's words start in [`Post::lane_text`]: what goes before them (the optional
+/// block's `/`, the block number, the lead) is put right before, from the end back.
+const WORDS_AT: usize = 64;
 
 /// A move template (one block) as the steady lane writes it, made once from its
 /// [`Layout`]. Empty (no words) when the template cannot be written so.
@@ -40,6 +49,19 @@ pub(super) struct Lane {
     raw: bool,
     /// Whether it is numbered ([`super::numbered`]).
     numbered: bool,
+    /// The literal words the block starts with (Heidenhain's `L`), as long as they fit in 16
+    /// bytes, written as a copy of a fixed 16 and taken out of [`Lane::words`], each after
+    /// the separator but for the block's first word; their length.
+    lead: [u8; 16],
+    lead_len: usize,
+    /// The length of the separator the block's first word is written with and that is left
+    /// out of the block's text (none where a number or the lead comes before the words).
+    drop: usize,
+    /// What ends its block: the end of block (unless it is raw) and the line's end, 16 bytes
+    /// at most (a template whose end is longer has no lane), written as a copy of a fixed 16;
+    /// their length.
+    tail: [u8; 16],
+    tail_len: usize,
     /// Whether the block is left out when it moves no axis ([`super::layout::LayoutBlock::moves`]).
     moves: bool,
     /// Whether the template writes A, B, C: a move of one it does not write is said, by the
@@ -69,6 +91,11 @@ impl Default for Lane {
             code: None,
             raw: false,
             numbered: false,
+            lead: [0; 16],
+            lead_len: 0,
+            drop: 0,
+            tail: [0; 16],
+            tail_len: 0,
             moves: false,
             rotary: [false; 3],
             all_rotary: false,
@@ -109,12 +136,13 @@ struct LaneNum {
     class: Class,
     /// The decimals the format writes ([`super::decimals`]).
     decimals: usize,
-    /// 10 to the power of that.
+    /// 10 to the power of that, and its inverse.
     scale: f64,
-    /// The format as [`ThreeDecimals`], as the block's first word and after another (the
-    /// separator before it), where it writes three decimals after a short address (the usual
-    /// format); else the number goes by [`push_number_in`].
-    three: [Option<ThreeDecimals>; 2],
+    inv: f64,
+    /// The format as [`ThreeDecimals`] with the separator before it (every word of a lane is
+    /// written after it, [`Lane::drop`]), where it writes three decimals after a short address
+    /// (the usual format); else the number goes by [`number_text`].
+    three: Option<ThreeDecimals>,
 }
 
 impl Lane {
@@ -144,6 +172,10 @@ impl Lane {
         let mut words = [Vec::with_capacity(lb.parts.len()), Vec::with_capacity(lb.parts.len())];
         let mut formats = [NO_WORD; 8];
         let mut modal = 0u8;
+        // The longest text of the block: the optional block's `/`, the block number (20
+        // digits at most) and the separator after it, the words, the end of block and the
+        // line's end.
+        let mut longest = 1 + out.number_address.len() + 20 + sep.len() + out.end_of_block.len() + 1;
         for (i, part) in lb.parts.iter().enumerate() {
             match part {
                 Part::Code(c) if i == 0 => code = Some(c.clone()),
@@ -163,7 +195,10 @@ impl Lane {
                         modal |= 1 << slot;
                     }
                     let f = &out.formats[num.fi as usize];
-                    let three = [ThreeDecimals::of(f), ThreeDecimals::after(f, sep)];
+                    // The separator, the address, a sign, 20 digits, the point and 15
+                    // decimals at most ([`number_text`]).
+                    longest += sep.len() + f.address.len() + 37;
+                    let three = ThreeDecimals::after(f, sep);
                     for (inch, words) in words.iter_mut().enumerate() {
                         let decimals = super::decimals(f, inch == 1);
                         words.push(Word::Num(LaneNum {
@@ -174,7 +209,8 @@ impl Lane {
                             class: num.class,
                             decimals,
                             scale: POW10F[decimals],
-                            three: three.map(|t| t.filter(|_| decimals == 3)),
+                            inv: INV_POW10[decimals],
+                            three: three.filter(|_| decimals == 3),
                         }));
                     }
                 }
@@ -189,6 +225,7 @@ impl Lane {
                     // An empty word is taken back: nothing to write.
                     if text.len() > sep.len() {
                         let end = text.len();
+                        longest += end;
                         text.resize(end + 16, 0);
                         for words in &mut words {
                             words.push(Word::Lit(text.clone().into(), sep.len(), end));
@@ -198,10 +235,38 @@ impl Lane {
                 Part::Code(_) => return Lane::default(),
             }
         }
-        let len = words[0].len();
-        if len == 0 || len > MAX_WORDS {
+        // Room for what goes before the words: the block number (20 digits at most) and the
+        // lead, and the `/` before them.
+        if words[0].is_empty()
+            || words[0].len() > MAX_WORDS
+            || longest + 64 + WORDS_AT > LANE_TEXT
+            || 1 + out.number_address.len() + 20 + 16 > WORDS_AT
+        {
             return Lane::default();
         }
+        let numbered = super::numbered(out, lb.raw, false);
+        // The literal words the block starts with go into its lead, while it is short.
+        let mut lead = Vec::new();
+        while let Some(Word::Lit(text, at, end)) = words[0].first() {
+            let from = if lead.is_empty() && !numbered { *at } else { 0 };
+            if lead.len() + end - from > 16 {
+                break;
+            }
+            lead.extend_from_slice(&text[from..*end]);
+            for words in &mut words {
+                words.remove(0);
+            }
+        }
+        let lead_len = lead.len();
+        let drop = if numbered || lead_len > 0 { 0 } else { sep.len() };
+        lead.resize(16, 0);
+        let Ok(lead) = <[u8; 16]>::try_from(lead) else { return Lane::default() };
+        let len = words[0].len();
+        let mut tail = if lb.raw { Vec::new() } else { out.end_of_block.as_bytes().to_vec() };
+        tail.push(b'\n');
+        let tail_len = tail.len();
+        tail.resize(16, 0);
+        let Ok(tail) = <[u8; 16]>::try_from(tail) else { return Lane::default() };
         let mut words_of = Box::new([0u16; 256]);
         for (same, written) in words_of.iter_mut().enumerate() {
             for (j, w) in words[0].iter().enumerate() {
@@ -213,7 +278,12 @@ impl Lane {
         Lane {
             code,
             raw: lb.raw,
-            numbered: super::numbered(out, lb.raw, false),
+            numbered,
+            lead,
+            lead_len,
+            drop,
+            tail,
+            tail_len,
             moves: lb.moves,
             rotary,
             all_rotary: rotary.iter().all(|r| *r),
@@ -301,20 +371,28 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     }
 
     /// [`Post::render`]'s block, for `lane` with the values `xs` by modal slot (X, Y, Z, F,
-    /// S, A, B, C; NaN where absent, as S always is).
+    /// S, A, B, C; NaN where absent, as S always is). The block's text is put together in
+    /// [`Post::lane_text`] (from its start, with no check of room: the lane's longest block
+    /// fits, [`LANE_TEXT`]) and appended to the buffer at once when it is written.
     #[inline(always)]
     fn lane_block(&mut self, lane: &Lane, xs: &[f64; 8]) {
         // The slots whose number is the one written last: with the formats kept
         // ([`Post::refresh_lane`]), their modal words are left out unchanged
-        // ([`Post::unchanged`]). All eight are compared at once (two at a time by the
-        // machine), a byte each, gathered into a bit each by a multiplication: byte k of the
-        // eight lands on bit 56 + k of the product, and nothing else does.
-        let eq: [u8; 8] = std::array::from_fn(|k| u8::from(xs[k] == self.last[k]));
-        let same = (u64::from_le_bytes(eq).wrapping_mul(0x0102_0408_1020_4080) >> 56) as usize;
+        // ([`Post::unchanged`]). Only the slots of the lane's modal words matter
+        // ([`Lane::words_of`]): X, Y, Z and F, and A, B, C where it has one of them (S is
+        // never written by a move, its value NaN).
+        let last = &self.last;
+        let mut same = usize::from(xs[0] == last[0])
+            | usize::from(xs[1] == last[1]) << 1
+            | usize::from(xs[2] == last[2]) << 2
+            | usize::from(xs[3] == last[3]) << 3;
+        if lane.modal & 0xe0 != 0 {
+            same |= usize::from(xs[5] == last[5]) << 5 | usize::from(xs[6] == last[6]) << 6 | usize::from(xs[7] == last[7]) << 7;
+        }
         let mut todo = lane.words_of[same];
-        let start = self.buf.len();
-        self.start_block(lane.raw, lane.numbered);
-        let body = self.buf.len();
+        // The block number and the lead, before the words.
+        let head = if lane.numbered || lane.lead_len > 0 { self.lane_head(lane) } else { 0 };
+        let mut at = WORDS_AT;
         let inch = self.opts.units == Units::Inch;
         let words = &lane.words[usize::from(inch)];
         let mut moved = false;
@@ -322,67 +400,176 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             let j = todo.trailing_zeros() as usize % MAX_WORDS;
             todo &= todo - 1;
             match &words[j] {
-                Word::Num(num) => moved |= self.lane_num(body, num, xs[num.slot & 7], inch, moved),
-                Word::Lit(text, at, end) => {
-                    let from = if self.buf.len() > body { 0 } else { *at };
-                    super::append_tail(&mut self.buf, text, from, *end);
+                Word::Num(num) => {
+                    if let Some(end) = self.lane_num(at, num, xs[num.slot & 7], inch, moved) {
+                        at = end;
+                        moved |= num.moves;
+                    }
                 }
+                Word::Lit(text, _, end) => at = self.lane_put_tail(at, text, 0, *end),
             }
         }
         if !moved && lane.moves {
             self.staged_mask = 0;
-            self.buf.truncate(start);
             return;
         }
         // What was staged before the first word that moves (a feed written first).
         if self.staged_mask != 0 {
             self.commit_staged();
         }
-        if self.buf.len() == body {
-            self.buf.truncate(start);
-        } else {
-            self.line_end(start, lane.raw, lane.numbered);
+        if at > WORDS_AT || lane.lead_len > 0 {
+            // The first word's separator left out where nothing comes before it; the
+            // optional block's `/` before all.
+            let mut start = WORDS_AT + lane.drop - head;
+            if !lane.raw && self.optional_line == Some(self.line) {
+                start -= 1;
+                self.lane_text[start] = b'/';
+            }
+            self.lane_end(start, at, lane);
         }
+    }
+
+    /// [`Post::start_block`] in [`Post::lane_text`] for `lane`, but for the `/`: its block
+    /// number where it is numbered, and its lead ([`Lane::lead`]), ending at [`WORDS_AT`];
+    /// their length.
+    #[inline(always)]
+    fn lane_head(&mut self, lane: &Lane) -> usize {
+        let mut len = lane.lead_len;
+        if lane.numbered {
+            let address = self.out.number_address.as_bytes();
+            let digits = self.block_digits();
+            len += address.len() + digits;
+            let at = self.lane_put(WORDS_AT - len, address);
+            let (text, number) = (&mut self.lane_text, &self.number_text.0);
+            text[at..at + 16].copy_from_slice(&number[..16]);
+            if digits > 16 {
+                text[at + 16..at + digits].copy_from_slice(&number[16..digits]);
+            }
+        }
+        if lane.lead_len > 0 {
+            let at = WORDS_AT - lane.lead_len;
+            self.lane_text[at..at + 16].copy_from_slice(&lane.lead);
+        }
+        len
+    }
+
+    /// [`Post::line_end`] for the block from `start` to `at` in [`Post::lane_text`] by
+    /// `lane`, which it appends to the buffer: one copy, of a fixed 32 or 64 bytes taken back
+    /// to its length where it is no longer.
+    #[inline(always)]
+    fn lane_end(&mut self, start: usize, at: usize, lane: &Lane) {
+        if lane.numbered {
+            self.block += self.out.number_step;
+        }
+        // The line's length, without its end.
+        let line = at - start + lane.tail_len - 1;
+        if line > self.max_line {
+            self.line_too_long(line);
+        }
+        self.lane_text[at..at + 16].copy_from_slice(&lane.tail);
+        let len = at + lane.tail_len - start;
+        let was = self.buf.len();
+        if len <= 32 {
+            self.buf.extend_from_slice(&self.lane_text[start..start + 32]);
+            self.buf.truncate(was + len);
+        } else if len <= 64 {
+            self.buf.extend_from_slice(&self.lane_text[start..start + 64]);
+            self.buf.truncate(was + len);
+        } else {
+            self.buf.extend_from_slice(&self.lane_text[start..start + len]);
+        }
+        if self.buf.len() >= FLUSH_AT {
+            self.hand_over();
+        }
+    }
+
+    /// Puts `s` in [`Post::lane_text`] at `at`; where it ends. A single byte (a separator)
+    /// or nothing without a call to copy.
+    #[inline(always)]
+    fn lane_put(&mut self, at: usize, s: &[u8]) -> usize {
+        match s {
+            [] => {}
+            [c] => self.lane_text[at] = *c,
+            _ => self.lane_text[at..at + s.len()].copy_from_slice(s),
+        }
+        at + s.len()
+    }
+
+    /// Puts `b[i..end]` in [`Post::lane_text`] at `at`, as a copy of a fixed 16 where it is
+    /// no longer (`b` has 16 bytes after `end`, [`super::append_tail`]); where it ends.
+    #[inline(always)]
+    fn lane_put_tail(&mut self, at: usize, b: &[u8], i: usize, end: usize) -> usize {
+        let len = end - i;
+        if len <= 16 {
+            self.lane_text[at..at + 16].copy_from_slice(&b[i..i + 16]);
+        } else {
+            self.lane_text[at..at + len].copy_from_slice(&b[i..end]);
+        }
+        at + len
     }
 
     /// [`Post::put_num`] for number `num` of a lane with `x`, not left out unchanged: left out
     /// when absent or when its text is the one written, else rounded (the rounding kept) and
-    /// written, after the separator unless it is the first word after the block's `body`
-    /// start; whether it moves the block. Its modal value counts as written at once when the
-    /// block is sure to be written (it moves, or a word before it did: `moved`), else it is
-    /// staged.
+    /// put in [`Post::lane_text`] at `at`, after the separator; where it ends, or none when it
+    /// is left out. Its modal value counts as
+    /// written at once when the block is sure to be written (it moves, or a word before it
+    /// did: `moved`), else it is staged.
     #[inline(always)]
-    fn lane_num(&mut self, body: usize, num: &LaneNum, x: f64, inch: bool, moved: bool) -> bool {
+    fn lane_num(&mut self, at: usize, num: &LaneNum, x: f64, inch: bool, moved: bool) -> Option<usize> {
         if x.is_nan() {
-            return false;
+            return None;
         }
         let d = num.decimals;
         let scaled = x * num.scale;
         let n = round_scaled(scaled);
-        self.count_rounding(num.class, n, scaled, x, d);
+        // [`Post::count_rounding`], with the inverse scale at hand.
+        if num.class == Class::Position {
+            if !below_by(n, scaled, x, num.inv, self.rounded) {
+                self.keep_rounding(num.class, n, x, d);
+            }
+        } else {
+            self.count_rounding_apart(num.class, n, scaled, x, d);
+        }
         let key = Key { fi: num.fi, inch, n };
+        let k = num.slot & 7;
         if num.modal
-            && let Some((w, _)) = &self.written[num.slot & 7]
+            && let Some((w, _)) = &self.written[k]
             && self.same_text(*w, key)
         {
             // The text written is this number's: the next time it is not rounded.
-            self.set_written(num.slot & 7, Some((key, x)));
-            return false;
+            self.lane_written(k, key, x);
+            return None;
         }
         if num.moves || moved {
-            self.set_written(num.slot & 7, Some((key, x)));
+            self.lane_written(k, key, x);
         } else {
-            self.staged[num.slot & 7] = (key, x);
-            self.staged_mask |= 1 << num.slot;
+            self.staged[k] = (key, x);
+            self.staged_mask |= 1 << k;
         }
-        let after = self.buf.len() > body;
-        if !num.three[usize::from(after)].as_ref().is_some_and(|t| t.push(&mut self.buf, n)) {
-            let out = self.out;
-            if after {
-                super::append(&mut self.buf, out.separator.as_bytes());
-            }
-            push_number_in(&mut self.buf, &out.formats[num.fi as usize], n, d);
+        if let Some(t) = &num.three
+            && let Some((prefix, plen, digits, dlen)) = t.parts(n)
+        {
+            self.lane_text[at..at + 8].copy_from_slice(&prefix.to_le_bytes());
+            self.lane_text[at + plen..at + plen + 8].copy_from_slice(&digits.to_le_bytes());
+            return Some(at + plen + dlen);
         }
-        num.moves
+        let out = self.out;
+        let mut at = self.lane_put(at, out.separator.as_bytes());
+        let f = &out.formats[num.fi as usize];
+        if f.address.len() > 8 {
+            at = self.lane_put(at, f.address.as_bytes());
+        }
+        let mut b = [0u8; 64];
+        let i = number_text(&mut b, f, n, d);
+        Some(self.lane_put_tail(at, &b, i, 48))
+    }
+
+    /// [`Post::set_written`] of slot `k` with `key` in the units of the program (as a lane's
+    /// keys are): its number and format are the ones written last at once.
+    #[inline(always)]
+    fn lane_written(&mut self, k: usize, key: Key, x: f64) {
+        self.written[k] = Some((key, x));
+        self.last[k] = x;
+        self.last_fi[k] = key.fi;
     }
 }

@@ -429,6 +429,9 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     lane_ready: u8,
     /// The longest block the target takes (`usize::MAX`: any), for [`Post::line_end`].
     max_line: usize,
+    /// Where the steady lane puts a block's text together before it appends it at once
+    /// ([`Post::lane_block`]).
+    lane_text: [u8; lane::LANE_TEXT],
 }
 
 /// A run of blocks the source runs again, kept as one pass while the passes write the same.
@@ -543,7 +546,13 @@ const INV_POW10: [f64; 16] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-
 #[inline]
 fn below(n: i64, scaled: f64, v: f64, d: usize, kept: f64) -> bool {
     // `d` is 15 at most ([`decimals`]): the mask spares the bounds check.
-    (n as f64 - scaled).abs() * INV_POW10[d & 15] + 1e-12 * (v.abs() + 1.0) < kept
+    below_by(n, scaled, v, INV_POW10[d & 15], kept)
+}
+
+/// [`below`] with 10^-d given (`inv`).
+#[inline(always)]
+fn below_by(n: i64, scaled: f64, v: f64, inv: f64, kept: f64) -> bool {
+    (n as f64 - scaled).abs() * inv + 1e-12 * (v.abs() + 1.0) < kept
 }
 
 /// The two-digit numbers `00` to `99`, for writing digits two at a time.
@@ -607,12 +616,14 @@ const INT3: [u32; 1000] = {
 struct ThreeDecimals {
     /// What goes before the digits, for a number not below zero and for one below: the
     /// address and the sign (`X`, `X-`; `X+`, `X-` where the format writes a plus), 8 bytes
-    /// at most (the first in the lowest byte), and their length in bits. The steady lane puts
+    /// at most (the first in the lowest byte), and their length in bytes. The steady lane puts
     /// the separator before them, for a word written after another ([`ThreeDecimals::after`]).
-    prefix: [(u64, u32); 2],
+    prefix: [(u64, usize); 2],
     trailing_zeros: bool,
     leading_zero: bool,
-    point_always: bool,
+    /// The fewest bytes of the point and its digits written: 4 where the format keeps
+    /// trailing zeros, 1 (the point) where it always writes the point, else none.
+    least_fraction: u64,
 }
 
 impl ThreeDecimals {
@@ -634,30 +645,34 @@ impl ThreeDecimals {
                 bytes.get_mut(len..len + part.len())?.copy_from_slice(part);
                 len += part.len();
             }
-            Some((u64::from_le_bytes(bytes), 8 * len as u32))
+            Some((u64::from_le_bytes(bytes), len))
         };
         Some(ThreeDecimals {
             prefix: [prefix(if f.plus { b"+" } else { b"" })?, prefix(b"-")?],
             trailing_zeros: f.trailing_zeros,
             leading_zero: f.leading_zero,
-            point_always: f.point == Point::Always,
+            least_fraction: if f.trailing_zeros { 4 } else { u64::from(f.point == Point::Always) },
         })
     }
 
-    /// [`push_number`] of `n` (in thousandths) onto `out`, put together from the tables
-    /// [`INT3`] and [`FRAC3`]; false for a million thousandths or more, left to the general way.
+    /// The text [`ThreeDecimals::push`] writes for `n` (in thousandths), in two words (the
+    /// first byte lowest), each with its length in bytes: the address and sign, and the
+    /// number (7 bytes at most), put together from the tables [`INT3`] and [`FRAC3`]; none for
+    /// a million thousandths or more, left to the general way. The bytes of either word past
+    /// its length are not the text's.
     #[inline(always)]
-    fn push(&self, out: &mut Vec<u8>, n: i64) -> bool {
+    fn parts(&self, n: i64) -> Option<(u64, usize, u64, usize)> {
         let a = n.unsigned_abs();
         if a >= 1_000_000 {
-            return false;
+            return None;
         }
         let (whole, frac) = ((a / 1000) as usize, (a % 1000) as usize);
         let fr = FRAC3[frac];
         // The fraction written: all of the point and its digits where the format keeps
-        // trailing zeros, else those left, or the point alone where it is always written.
+        // trailing zeros (4 is the most the table says), else those left, or the point alone
+        // where it is always written.
         let no_digits = frac == 0 && !self.trailing_zeros;
-        let flen = if self.trailing_zeros { 4 } else { (fr >> 32).max(u64::from(self.point_always)) };
+        let flen = (fr >> 32).max(self.least_fraction);
         // Three digits, point, three digits: 7 bytes at most, put together in a word (the
         // first byte lowest), `k` bits of it written so far.
         let mut v = 0u64;
@@ -671,13 +686,21 @@ impl ThreeDecimals {
         // At most 24 bits so far: the point and three digits fit.
         v |= (fr & 0xffff_ffff) << k;
         k += 8 * flen;
+        let (prefix, len) = self.prefix[usize::from(n < 0)];
+        Some((prefix, len, v, k as usize / 8))
+    }
+
+    /// [`push_number`] of `n` (in thousandths) onto `out` ([`ThreeDecimals::parts`]); false
+    /// for a million thousandths or more, left to the general way.
+    #[inline(always)]
+    fn push(&self, out: &mut Vec<u8>, n: i64) -> bool {
+        let Some((prefix, plen, v, vlen)) = self.parts(n) else { return false };
         // The address and sign, then the number: 16 bytes written at once, taken back to
         // their length.
-        let (prefix, bits) = self.prefix[usize::from(n < 0)];
-        let text = u128::from(prefix) | u128::from(v) << bits;
+        let text = u128::from(prefix) | u128::from(v) << (8 * plen);
         let len = out.len();
         out.extend_from_slice(&text.to_le_bytes());
-        out.truncate(len + (u64::from(bits) + k) as usize / 8);
+        out.truncate(len + plen + vlen);
         true
     }
 }
@@ -709,9 +732,21 @@ fn push_number_in(out: &mut Vec<u8>, f: &NumberFormat, n: i64, decimals: usize) 
     if decimals == 3 && ThreeDecimals::of(f).is_some_and(|t| t.push(out, n)) {
         return;
     }
-    // A short address, a sign, 20 digits, a point and 15 decimals at most, ending at 48; the
-    // 16 bytes after it let a short text be copied as a fixed 16 ([`append_tail`]).
+    // An address too long for the buffer goes first on its own.
+    if f.address.len() > 8 {
+        out.extend_from_slice(f.address.as_bytes());
+    }
     let mut b = [0u8; 64];
+    let i = number_text(&mut b, f, n, decimals);
+    append_tail(out, &b, i, 48);
+}
+
+/// The text of [`push_number_in`] put together in `b` from the right, ending at 48 (the 16
+/// bytes after it let a short text be copied as a fixed 16, [`append_tail`]); where it
+/// starts. The address is in it when it is 8 bytes or shorter; a longer one is the caller's
+/// to write first.
+fn number_text(b: &mut [u8; 64], f: &NumberFormat, n: i64, decimals: usize) -> usize {
+    // A sign, 20 digits, a point and 15 decimals at most, and the short address.
     let mut i = 48;
     let mut int = n.unsigned_abs();
     let mut whole = true;
@@ -782,10 +817,8 @@ fn push_number_in(out: &mut Vec<u8>, f: &NumberFormat, n: i64, decimals: usize) 
     if address.len() <= 8 {
         i -= address.len();
         b[i..i + address.len()].copy_from_slice(address);
-    } else {
-        out.extend_from_slice(address);
     }
-    append_tail(out, &b, i, 48);
+    i
 }
 
 /// Appends `b[i..end]`; a text of 16 bytes or less as a copy of a fixed 16 taken back to its
@@ -949,6 +982,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             lanes: Some(Lane::pair(out)),
             lane_ready: 0,
             max_line: if out.max_line > 0 { out.max_line } else { usize::MAX },
+            lane_text: [0; lane::LANE_TEXT],
         }
     }
 
@@ -1429,18 +1463,45 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
-    /// Appends the block number [`Post::block`]: the last one's text counted on by the
-    /// difference ([`count_on`]), else written afresh.
+    /// Appends the block number [`Post::block`] ([`Post::block_digits`]).
     #[inline]
     fn push_block_number(&mut self) {
+        let len = self.block_digits();
+        append_tail(&mut self.buf, &self.number_text.0, 0, len);
+    }
+
+    /// Brings the text of [`Post::number_text`] to the block number [`Post::block`]; how many
+    /// digits it has. The usual step, one that leaves the digits before the last two as they
+    /// are, is counted on in those two at once; any other by [`Post::block_digits_apart`].
+    #[inline]
+    fn block_digits(&mut self) -> usize {
         let (digits, len, n) = &mut self.number_text;
-        if *n != self.block {
-            if !(self.block > *n && count_on(&mut digits[..*len], self.block - *n)) {
-                *len = write_u64(digits, self.block);
-            }
-            *n = self.block;
+        let l = *len;
+        if *n == self.block {
+            return l;
         }
-        append_tail(&mut self.buf, digits, 0, *len);
+        let delta = self.block.wrapping_sub(*n);
+        if self.block > *n && delta < 100 && l >= 2 {
+            let v = usize::from(digits[l - 2] - b'0') * 10 + usize::from(digits[l - 1] - b'0') + delta as usize;
+            if v < 100 {
+                digits[l - 2..l].copy_from_slice(&DIGITS2[2 * v..2 * v + 2]);
+                *n = self.block;
+                return l;
+            }
+        }
+        self.block_digits_apart()
+    }
+
+    /// [`Post::block_digits`] for any step: the last number's text counted on by the
+    /// difference ([`count_on`]), else written afresh.
+    #[inline(never)]
+    fn block_digits_apart(&mut self) -> usize {
+        let (digits, len, n) = &mut self.number_text;
+        if !(self.block > *n && count_on(&mut digits[..*len], self.block - *n)) {
+            *len = write_u64(digits, self.block);
+        }
+        *n = self.block;
+        *len
     }
 
     /// Ends the block that starts at `start` in the buffer, and hands the buffer over when
