@@ -281,8 +281,6 @@ fn cpu_time(pid: u32) -> Option<Duration> {
     Some(Duration::from_millis(ticks * 10))
 }
 
-/// Runs `exe args` with `NCPLAN_REPORT_PEAK` set and returns its wall time and the peak
-/// resident memory it reports of itself.
 /// Removes `path` if it is there.
 fn remove_if_there(path: &Path) -> Result<()> {
     match std::fs::remove_file(path) {
@@ -291,6 +289,8 @@ fn remove_if_there(path: &Path) -> Result<()> {
     }
 }
 
+/// Runs `exe args` with `NCPLAN_REPORT_PEAK` set and returns its wall time and the peak
+/// resident memory it reports of itself.
 fn measured(exe: &str, args: &[&str]) -> Result<(Duration, u64)> {
     let t = Instant::now();
     let out = Command::new(exe).args(args).env("NCPLAN_REPORT_PEAK", "1").stdout(Stdio::null()).stderr(Stdio::piped()).output()?;
