@@ -22,7 +22,7 @@
 //! every unusual case is handled.
 
 use super::layout::{Class, Layout, Part};
-use super::{CanonOp, EPS, FLUSH_AT, INV_POW10, Key, POW10F, Post, ThreeDecimals, below_by, number_text, round_scaled};
+use super::{CanonOp, EPS, FLUSH_AT, INV_POW10, Key, POW10F, Post, ThreeDecimals, number_text, round_scaled};
 use crate::canon::{Canon, Units};
 use crate::dialect::output::{Output, Piece, Template, Value};
 
@@ -522,14 +522,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         let d = num.decimals;
         let scaled = x * num.scale;
         let n = round_scaled(scaled);
-        // [`Post::count_rounding`], with the inverse scale at hand.
-        if num.class == Class::Position {
-            if !below_by(n, scaled, x, num.inv, self.rounded) {
-                self.keep_rounding(num.class, n, x, d);
-            }
-        } else {
-            self.count_rounding_apart(num.class, n, scaled, x, d);
-        }
+        self.count_rounding(num.class, n, scaled, x, d, num.inv);
         let key = Key { fi: num.fi, inch, n };
         let k = num.slot & 7;
         if num.modal

@@ -1151,7 +1151,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         let inch = self.opts.units == Units::Inch;
         let scaled = x * POW10F[d];
         let n = round_scaled(scaled);
-        self.count_rounding(class, n, scaled, x, d);
+        self.count_rounding(class, n, scaled, x, d, INV_POW10[d & 15]);
         if num.slot != NO_SLOT {
             let slot = usize::from(num.slot);
             let key = Key { fi, inch, n };
@@ -1176,13 +1176,13 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
 
     /// Keeps the largest rounding of positions and of feeds ([`Class`]) with that of `x`
     /// (scaled by 10^`d` to `scaled`, rounded to `n`): `round`'s error, worked out only where
-    /// it may pass the largest so far.
+    /// it may pass the largest so far. `inv` is 10^-`d`.
     #[inline(always)]
-    fn count_rounding(&mut self, class: Class, n: i64, scaled: f64, x: f64, d: usize) {
+    fn count_rounding(&mut self, class: Class, n: i64, scaled: f64, x: f64, d: usize, inv: f64) {
         // A position, the common number, here; the others apart (no jump through a table
         // for every number).
         if class == Class::Position {
-            if !below(n, scaled, x, d, self.rounded) {
+            if !below_by(n, scaled, x, inv, self.rounded) {
                 self.keep_rounding(class, n, x, d);
             }
         } else {
