@@ -44,8 +44,11 @@ impl Interpreter<'_> {
     }
 
     /// Whether lines of plain words may run by [`Interpreter::run_plain`] now, and what they
-    /// may take for granted. A plain move changes nothing this looks at, so the driver asks
-    /// once for a run of them.
+    /// may take for granted. A plain move turns on nothing this looks at, so the driver asks
+    /// once for a run of them. It may turn one stage off: compensation stops at a move it
+    /// cannot compensate. The rest of the run, still counted as staged, then sends its moves
+    /// through [`Interpreter::emit`], which finds no stage and sends them as they are: the same
+    /// ops.
     pub fn plain_ready(&self) -> Option<PlainRun> {
         (!self.st.ended && self.profile.fast_lane && self.plain_state()).then(|| PlainRun { staged: self.staged() })
     }
@@ -69,7 +72,8 @@ impl Interpreter<'_> {
     /// registers.
     #[inline(never)]
     pub fn run_plain(&mut self, run: PlainRun, line: &PlainLine, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
-        debug_assert!(self.plain_ready().is_some_and(|r| r.staged == run.staged));
+        // Stages only go off during a run ([`Interpreter::plain_ready`]).
+        debug_assert!(self.plain_ready().is_some_and(|r| run.staged || !r.staged));
         // The op's origin, as `execute` sets it first (and sets it again for a block it runs
         // the general way).
         self.origin = line.range;

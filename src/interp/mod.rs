@@ -756,7 +756,8 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Whether a stage stands between a move and the sink: a call's origin, rotation,
-    /// scaling, corners or compensation. Only the general way turns one on or off.
+    /// scaling, corners or compensation. Only the general way turns one on; compensation
+    /// turns itself off at a move it cannot compensate.
     fn staged(&self) -> bool {
         self.origin_override.is_some()
             || self.st.rotation.is_some()
