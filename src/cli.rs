@@ -164,7 +164,7 @@ enum Command {
         config: Option<PathBuf>,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
-        /// Exit 1 when there are changes.
+        /// Exit 1 when there are machining changes (not only messages or output).
         #[arg(long)]
         exit_code: bool,
     },
@@ -744,9 +744,15 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             };
             let da = pick(dname.as_deref(), &original, &bytes_a)?;
             let db = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
-            let a = pipeline::analyze_plan_owned(bytes_a, &da, &config.profile);
-            let b = pipeline::analyze_plan_owned(bytes_b, &db, &config.profile);
-            let changes = diff::diff(&a.plan, &b.plan);
+            // Each program with the subprograms kept beside it.
+            let beside = |p: &Path| config::DirPrograms::beside(&config.profile, p, config.max_file_bytes);
+            let a = pipeline::analyze_plan_owned(bytes_a, &da, &beside(&original));
+            let b = pipeline::analyze_plan_owned(bytes_b, &db, &beside(&edited));
+            let changes = diff::compare(
+                diff::Program { plan: &a.plan, text: &a.source.text, dialect: &da },
+                diff::Program { plan: &b.plan, text: &b.source.text, dialect: &db },
+            );
+            let machining = changes.iter().any(diff::Change::is_machining);
             match format {
                 Format::Json => {
                     serde_json::to_writer_pretty(&mut out, &changes)?;
@@ -755,6 +761,8 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 Format::Text => {
                     if changes.is_empty() {
                         writeln!(out, "no semantic changes")?;
+                    } else if !machining {
+                        writeln!(out, "no machining changes; only what the program shows or writes:")?;
                     }
                     for line in diff::render_plain(&changes) {
                         writeln!(out, "{line}")?;
@@ -762,7 +770,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
                 }
             }
             out.flush()?;
-            Ok(if exit_code && !changes.is_empty() { ExitCode::from(1) } else { ExitCode::SUCCESS })
+            Ok(if exit_code && machining { ExitCode::from(1) } else { ExitCode::SUCCESS })
         }
         Command::Query { sql, store, format } => {
             let db = db_path(&store)?;

@@ -184,9 +184,11 @@ fn reread(
     // An edit compared before is compared again, with its original's plan as it reads today.
     let mut compared = false;
     if let Some((original, rule)) = tx.comparison_of(id)?
-        && let Some(op) = reader.plan(&tx, original)?
+        && let Some(op) = reader.program(&tx, original, None)?
     {
-        let changes = crate::diff::diff(&op, &a.plan);
+        let d = reader.dialect_of(&src.path, &src.dialect)?;
+        let edited = crate::diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d };
+        let changes = crate::diff::compare(op.program(), edited);
         tx.record_comparison(id, original, &rule, &changes, now)?;
         compared = true;
     }

@@ -430,6 +430,32 @@ impl Reader<'_> {
         profile
     }
 
+    /// A stored revision as the diff reads it: its whole plan, its text and its dialect.
+    /// `None` when it was never analysed.
+    pub fn program(&self, tx: &Txn<'_>, revision: i64, known: Option<&ProcessPlan>) -> Result<Option<Stored>> {
+        let Some(src) = tx.source(revision)? else { return Ok(None) };
+        let Some(bytes) = tx.content(revision)? else { return Ok(None) };
+        let dialect = self.dialect_of(&src.path, &src.dialect)?;
+        let plan = match known {
+            Some(p) => p.clone(),
+            None => match self.rebuild(src)? {
+                Some(p) => p,
+                None => return Ok(None),
+            },
+        };
+        Ok(Some(Stored { plan, text: crate::text::decode_owned(bytes).0.text, dialect }))
+    }
+
+    /// The dialect a stored program of `path` is read in: its folder's, with the folder's
+    /// overrides; a folder no longer configured: the stored one.
+    pub fn dialect_of(&self, path: &str, dialect: &str) -> Result<std::sync::Arc<crate::dialect::Dialect>> {
+        let base = self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?;
+        Ok(match self.config.folder_at(Path::new(path)) {
+            Some(i) => self.config.folders[i].dialect_for(base),
+            None => base,
+        })
+    }
+
     /// The whole plan of a stored revision: the stored one when it is complete (older
     /// revisions), else rebuilt from its bytes. `None` when it was never analysed.
     pub fn plan(&self, tx: &Txn<'_>, revision: i64) -> Result<Option<ProcessPlan>> {
@@ -471,6 +497,23 @@ impl Reader<'_> {
     }
 }
 
+/// A stored program as the diff reads it.
+pub struct Stored {
+    /// Its whole plan.
+    pub plan: ProcessPlan,
+    /// Its decoded text.
+    pub text: String,
+    /// The dialect it is read in.
+    pub dialect: std::sync::Arc<crate::dialect::Dialect>,
+}
+
+impl Stored {
+    /// The program for [`diff::compare`].
+    pub fn program(&self) -> diff::Program<'_> {
+        diff::Program { plan: &self.plan, text: &self.text, dialect: &self.dialect }
+    }
+}
+
 /// A plan at hand, so that it need not be read back from the store.
 #[derive(Clone, Copy)]
 struct Known<'a> {
@@ -490,12 +533,9 @@ fn settle(tx: &Txn<'_>, reader: &Reader<'_>, revision: i64, pairing: &Pairing, k
         }
         Pairing::Paired { revision: original, rule, .. } => {
             let original = *original;
-            use std::borrow::Cow;
-            let load = |id: i64| -> Result<Option<Cow<'_, ProcessPlan>>> {
-                if id == known.revision { Ok(Some(Cow::Borrowed(known.plan))) } else { Ok(reader.plan(tx, id)?.map(Cow::Owned)) }
-            };
+            let load = |id: i64| reader.program(tx, id, (id == known.revision).then_some(known.plan));
             let (Some(before), Some(after)) = (load(original)?, load(revision)?) else { return Ok(None) };
-            let changes = diff::diff(&before, &after);
+            let changes = diff::compare(before.program(), after.program());
             tx.record_comparison(revision, original, rule, &changes, now)?;
             Ok(Some(changes.len()))
         }

@@ -652,6 +652,11 @@ impl Txn<'_> {
         on_tx!(self, e => e.source(revision))
     }
 
+    /// The stored bytes of a revision.
+    pub fn content(&self, revision: i64) -> Result<Option<Vec<u8>>> {
+        on_tx!(self, e => e.content(revision))
+    }
+
     /// Adds a finding to a stored revision, unless it has the same one (code and message).
     pub fn add_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<bool> {
         on_tx!(self, e => e.add_finding(revision_id, d))

@@ -406,6 +406,10 @@ impl Pg {
                         _ => None,
                     },
                     deviation: r.get(14),
+                    at: Vec::new(),
+                    effect: None,
+                    line_end: None,
+                    original_line_end: None,
                 }
             })
             .collect())
@@ -724,6 +728,15 @@ impl PgTxn<'_> {
 
     pub(super) fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
         self.conn.source(revision)
+    }
+
+    pub(super) fn content(&self, revision: i64) -> Result<Option<Vec<u8>>> {
+        let row = self.conn.opt(
+            "reading program bytes",
+            "SELECT b.content FROM revisions r JOIN blobs b ON b.hash = r.hash WHERE r.id = $1",
+            &[&revision],
+        )?;
+        Ok(row.map(|r| r.get(0)))
     }
 
     /// All findings of a revision in one statement, in their order (ids follow it).

@@ -260,6 +260,10 @@ impl Lite {
                         _ => None,
                     },
                     deviation: r.get(14)?,
+                    at: Vec::new(),
+                    effect: None,
+                    line_end: None,
+                    original_line_end: None,
                 })
             })
             .map_err(sql("reading changes"))?;
@@ -497,6 +501,13 @@ impl LiteTxn<'_> {
     /// A stored revision's program and plan, to rebuild its whole plan from.
     pub(super) fn source(&self, revision: i64) -> Result<Option<StoredSource>> {
         source_of(&self.tx, revision)
+    }
+
+    pub(super) fn content(&self, revision: i64) -> Result<Option<Vec<u8>>> {
+        self.tx
+            .query_row("SELECT b.content FROM revisions r JOIN blobs b ON b.hash = r.hash WHERE r.id = ?1", [revision], |r| r.get(0))
+            .optional()
+            .map_err(sql("reading program bytes"))
     }
 
     fn insert_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<()> {

@@ -20,7 +20,17 @@ fn changes(a: &str, b: &str, dialect: &str) -> Vec<Change> {
     let profile = Profile::default();
     let pa = pipeline::analyze(a.as_bytes(), &d, &profile);
     let pb = pipeline::analyze(b.as_bytes(), &d, &profile);
-    diff::diff(&pa.plan, &pb.plan)
+    let got = diff::compare(
+        diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+    );
+    let missing = diff::unaccounted(
+        diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+        &got,
+    );
+    assert!(missing.is_empty(), "differing statements no change names: {missing:?}");
+    got
 }
 
 fn rows(changes: &[Change]) -> String {

@@ -10,6 +10,9 @@
 //! toolpaths, localised to the moves that differ. Every value is written in the original
 //! program's units, so one report speaks one unit system.
 
+mod account;
+pub mod statement;
+
 use std::collections::BTreeSet;
 
 use serde::{Deserialize, Serialize};
@@ -81,6 +84,12 @@ pub enum ChangeKind {
     StrategyChanged,
     /// The edited program has a risky setting the original has not.
     RiskyEdit,
+    /// The height of the rapids between cuts (ISO 14649's security plane) changed.
+    ClearanceChanged,
+    /// A statement differs in program terms: a variable, a call's argument, a word, a jump.
+    StatementChanged,
+    /// A statement that only shows or writes text (a message, `DPRNT`) or names the program.
+    OutputChanged,
 }
 
 impl ChangeKind {
@@ -115,6 +124,9 @@ impl ChangeKind {
             ChangeKind::AxialDepthChanged => "axial_depth_changed",
             ChangeKind::StrategyChanged => "strategy_changed",
             ChangeKind::RiskyEdit => "risky_edit",
+            ChangeKind::ClearanceChanged => "clearance_changed",
+            ChangeKind::StatementChanged => "statement_changed",
+            ChangeKind::OutputChanged => "output_changed",
         }
     }
 }
@@ -146,6 +158,19 @@ pub struct Change {
     /// other where they differ, mm.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub deviation: Option<f64>,
+    /// The differing statements the change is seen at, as (original line, edited line); one
+    /// side `None` for a statement only the other program has.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub at: Vec<(Option<u32>, Option<u32>)>,
+    /// For a statement change: the plan changes no statement explains, which it may cause.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub effect: Option<String>,
+    /// Last line of a run of statements in the edited program, from `line`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_end: Option<u32>,
+    /// Last line of a run of statements in the original, from `original_line`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub original_line_end: Option<u32>,
 }
 
 impl Change {
@@ -153,17 +178,20 @@ impl Change {
     pub fn phrase(&self) -> String {
         let field = self.field.replace('_', " ");
         let at = |l: Option<u32>| l.map_or(String::new(), |l| format!(" at line {l}"));
-        match self.kind {
+        let core = match self.kind {
             ChangeKind::ToolRenamed => format!("tool {} renamed {}", self.before, self.after),
             ChangeKind::StartPointMoved => format!("start point moved from {} to {}", self.before, self.after),
             ChangeKind::WorkingstepAdded => format!("workingstep added ({})", self.after),
             ChangeKind::WorkingstepRemoved => format!("workingstep removed ({})", self.before),
-            ChangeKind::StopAdded => format!("{} added{}", self.after, at(self.line)),
-            ChangeKind::StopRemoved => format!("{} removed{}", self.before, at(self.original_line).replace("line", "original line")),
+            ChangeKind::StopAdded => return format!("{} added{}", self.after, at(self.line)),
+            ChangeKind::StopRemoved => {
+                return format!("{} removed{}", self.before, at(self.original_line).replace("line", "original line"));
+            }
             ChangeKind::HoleAdded => format!("hole added at {}", self.after),
             ChangeKind::HoleRemoved => format!("hole at {} removed", self.before),
-            ChangeKind::RiskyEdit => format!("warning: {}", self.after),
+            ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
+            ChangeKind::ClearanceChanged => format!("clearance height changed from {} to {}", self.before, self.after),
             ChangeKind::ToolpathChanged => {
                 let mut s = format!("toolpath changed{}", at(self.line));
                 if let Some(l) = self.original_line
@@ -171,12 +199,79 @@ impl Change {
                 {
                     s.push_str(&format!(" (line {l} in the original)"));
                 }
-                format!("{s}: {} became {}", self.before, self.after)
+                return format!("{s}: {} became {}", self.before, self.after);
             }
-            _ if self.before.is_empty() => format!("{field} {} added{}", self.after, at(self.line)),
+            ChangeKind::StatementChanged | ChangeKind::OutputChanged => return self.statement_phrase(),
+            _ if self.before.is_empty() => format!("{field} {} added", self.after),
             _ if self.after.is_empty() => format!("{field} {} removed", self.before),
             _ => format!("{field} changed from {} to {}", self.before, self.after),
+        };
+        format!("{core}{}", self.located())
+    }
+
+    /// Where a located plan change is seen: ` at line 12`, ` at lines 12, 18 and 24`,
+    /// ` at original line 7` for a statement only the original has.
+    fn located(&self) -> String {
+        let one = |&(o, e): &(Option<u32>, Option<u32>)| match (o, e) {
+            (_, Some(e)) => e.to_string(),
+            (Some(o), None) => format!("original {o}"),
+            (None, None) => String::new(),
+        };
+        let shown: Vec<String> = self.at.iter().take(3).map(one).filter(|s| !s.is_empty()).collect();
+        let more = self.at.len().saturating_sub(3);
+        match (shown.len(), more) {
+            (0, _) => String::new(),
+            (1, 0) => format!(" at line {}", shown[0]),
+            (n, 0) => format!(" at lines {} and {}", shown[..n - 1].join(", "), shown[n - 1]),
+            _ => format!(" at lines {} and {more} more", shown.join(", ")),
         }
+    }
+
+    /// A statement change in program terms.
+    fn statement_phrase(&self) -> String {
+        let loc = match (self.original_line, self.line) {
+            (Some(o), Some(e)) if o != e => format!(" at line {e} (line {o} in the original)"),
+            (_, Some(e)) => format!(" at line {e}"),
+            (Some(o), None) => format!(" at original line {o}"),
+            (None, None) => String::new(),
+        };
+        let (b, a) = (&self.before, &self.after);
+        let mut s = if let Some(var) = self.field.strip_prefix("variable ") {
+            match (b.is_empty(), a.is_empty()) {
+                (false, false) => format!("variable `{var}` set to {a} instead of {b}{loc}"),
+                (true, _) => format!("variable `{var}` set to {a}{loc}"),
+                (false, true) => format!("`{var}={b}` removed{loc}"),
+            }
+        } else if let Some(call) = self.field.strip_prefix("call ") {
+            let (name, arg) = call.rsplit_once(" argument ").unwrap_or((call, "?"));
+            format!("call `{name}` argument {arg}: {a} instead of {b}{loc}")
+        } else if self.field == "statements" {
+            let from = match (self.original_line, self.original_line_end) {
+                (Some(f), Some(l)) if f != l => format!(" at original lines {f}–{l}"),
+                (Some(f), _) => format!(" at original line {f}"),
+                _ => String::new(),
+            };
+            format!("{a} in place of {b}{}", if from.is_empty() { String::new() } else { format!(" ({})", from.trim_start()) })
+        } else {
+            match (b.is_empty(), a.is_empty()) {
+                (false, false) => format!("`{a}` instead of `{b}`{loc}"),
+                (true, false) => format!("`{a}` added{loc}"),
+                (false, true) => format!("`{b}` removed{loc}"),
+                (true, true) => format!("statement changed{loc}"),
+            }
+        };
+        if self.kind == ChangeKind::OutputChanged {
+            s.push_str(" (output only)");
+        }
+        if let Some(e) = &self.effect {
+            s.push_str(&format!("; its effect: {e}"));
+        }
+        s
+    }
+
+    /// Whether the change is about what the machine does (not only what it shows or writes).
+    pub fn is_machining(&self) -> bool {
+        self.kind != ChangeKind::OutputChanged
     }
 }
 
@@ -221,8 +316,36 @@ impl Fmt {
     }
 }
 
-/// The changes from `original` to `edited`, in workingstep order.
+pub use account::Program;
+
+/// The changes from `original` to `edited`: the plan's changes, each located at the
+/// statements that show it, and a statement change for every other statement that differs
+/// after the cosmetic normalisation (block numbers, comments, blanks, case, number
+/// spellings). Every differing statement is named by at least one change; debug builds
+/// check it.
+pub fn compare(original: Program<'_>, edited: Program<'_>) -> Vec<Change> {
+    let (mut changes, pairs) = plan_changes(original.plan, edited.plan);
+    account::account(original, edited, &pairs, &mut changes);
+    changes
+}
+
+/// The differing statements of two programs no change in `changes` names, as (original
+/// line, edited line): empty when the comparison accounts for every edit.
+pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change]) -> Vec<(Option<u32>, Option<u32>)> {
+    let (sa, sb) = (statement::statements(original.text, original.dialect), statement::statements(edited.text, edited.dialect));
+    account::uncovered(changes, &statement::hunks(&sa, &sb), &sa, &sb)
+}
+
+/// The changes from `original` to `edited` the plans alone show, in workingstep order
+/// (for plans whose programs are not at hand).
 pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
+    plan_changes(original, edited).0
+}
+
+/// Aligned workingsteps: positions in the original's and the edited plan's list.
+type Pairs = Vec<(Option<usize>, Option<usize>)>;
+
+fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, Pairs) {
     let (a, b) = (&original.workingsteps, &edited.workingsteps);
     let u = Fmt { inch: original.units == Some(Units::Inch) };
     let pairs = align(original, edited);
@@ -230,7 +353,7 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
     let mut features_seen = BTreeSet::new();
     for &(i, j) in &pairs {
         match (i, j) {
-            (Some(i), Some(j)) => compare(original, &a[i], edited, &b[j], u, &mut features_seen, &mut out),
+            (Some(i), Some(j)) => compare_workingsteps(original, &a[i], edited, &b[j], u, &mut features_seen, &mut out),
             (Some(i), None) => out.push(Change {
                 kind: ChangeKind::WorkingstepRemoved,
                 workingstep: a[i].index,
@@ -242,6 +365,10 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
                 original_line: Some(a[i].lines.0),
                 region: None,
                 deviation: None,
+                at: Vec::new(),
+                effect: None,
+                line_end: None,
+                original_line_end: None,
             }),
             (None, Some(j)) => out.push(Change {
                 kind: ChangeKind::WorkingstepAdded,
@@ -254,6 +381,10 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
                 original_line: None,
                 region: None,
                 deviation: None,
+                at: Vec::new(),
+                effect: None,
+                line_end: None,
+                original_line_end: None,
             }),
             (None, None) => {}
         }
@@ -281,9 +412,13 @@ pub fn diff(original: &ProcessPlan, edited: &ProcessPlan) -> Vec<Change> {
             original_line: orig.map(|i| a[i].lines.0),
             region: None,
             deviation: None,
+            at: Vec::new(),
+            effect: None,
+            line_end: None,
+            original_line_end: None,
         });
     }
-    out
+    (out, pairs)
 }
 
 fn summary(plan: &ProcessPlan, ws: &Workingstep, u: Fmt) -> String {
@@ -434,7 +569,7 @@ fn comp_words(list: &[crate::plan::CompUse], tool: u32) -> String {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn compare(
+fn compare_workingsteps(
     pa: &ProcessPlan,
     a: &Workingstep,
     pb: &ProcessPlan,
@@ -455,6 +590,10 @@ fn compare(
             original_line: lines.0,
             region: None,
             deviation: None,
+            at: Vec::new(),
+            effect: None,
+            line_end: None,
+            original_line_end: None,
         });
     };
     let at_start = (Some(a.lines.0), Some(b.lines.0));
@@ -634,6 +773,10 @@ fn compare(
             original_line: tp.lines.0,
             region: tp.region,
             deviation: Some(tp.deviation),
+            at: Vec::new(),
+            effect: None,
+            line_end: None,
+            original_line_end: None,
         });
     }
 }
@@ -1188,7 +1331,11 @@ pub fn render_plain(changes: &[Change]) -> Vec<String> {
             phrases.push(changes[j].phrase());
             j += 1;
         }
-        lines.push(format!("workingstep {} ({}): {}", c.workingstep, c.operation, phrases.join("; ")));
+        if c.workingstep == 0 {
+            lines.push(format!("program: {}", phrases.join("; ")));
+        } else {
+            lines.push(format!("workingstep {} ({}): {}", c.workingstep, c.operation, phrases.join("; ")));
+        }
         i = j;
     }
     lines

@@ -1,0 +1,456 @@
+//! The accounting of a comparison: every statement that differs between the two programs is
+//! named by at least one change.
+//!
+//! A plan change is *located* at the differing statements of its workingstep whose words say
+//! what it is about (a feed change at the statements whose `F` differs, a depth change at
+//! those whose axis words do). A differing statement no plan change is located at becomes a
+//! *statement change* in program terms: a variable set to another value, an argument of a
+//! call, a word added or removed. So is every change of a variable, a call or a jump, which
+//! the plan sees, if at all, only through what it drives: such a statement change names the
+//! plan changes no statement explains as its effect. A statement that only shows or writes
+//! text is an [`ChangeKind::OutputChanged`], which reports may leave out.
+
+use std::ops::RangeInclusive;
+
+use super::statement::{self, Class, Hunk, Sort, Stmt, Token};
+use super::{Change, ChangeKind};
+use crate::dialect::Dialect;
+use crate::plan::{ProcessPlan, Workingstep};
+
+/// One program as the diff reads it: its plan, and its text in its dialect for the statements.
+#[derive(Clone, Copy)]
+pub struct Program<'a> {
+    /// The recovered plan.
+    pub plan: &'a ProcessPlan,
+    /// The decoded text.
+    pub text: &'a str,
+    /// The dialect it was read in.
+    pub dialect: &'a Dialect,
+}
+
+/// Hunks with more statements than this on either side are reported as one change.
+const DETAILED: usize = 24;
+
+/// A differing statement, or a pair of them, and how their tokens differ.
+struct Item {
+    original: Option<usize>,
+    edited: Option<usize>,
+    /// Token differences: (before, after); one side `None` for an added or removed token.
+    diffs: Vec<(Option<Token>, Option<Token>)>,
+    class: Class,
+    /// Whether a plan change is located here.
+    located: bool,
+}
+
+/// A hunk too large to tell statement by statement.
+struct Bulk {
+    hunk: Hunk,
+    class: Class,
+}
+
+/// Locates `changes` (the plan's, aligned by `pairs`) at the statements that differ between
+/// `a` and `b`, and adds a statement change for every differing statement none is located
+/// at.
+pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, Option<usize>)], changes: &mut Vec<Change>) {
+    let (sa, sb) = (statement::statements(a.text, a.dialect), statement::statements(b.text, b.dialect));
+    let hunks = statement::hunks(&sa, &sb);
+    if hunks.is_empty() {
+        return;
+    }
+    let (mut items, bulks) = itemize(&hunks, a, b, &sa, &sb);
+    let spans_a = spans(&a.plan.workingsteps);
+    let spans_b = spans(&b.plan.workingsteps);
+    let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
+    // Locate each plan change at the statements of its workingstep that show it.
+    let mut explained = vec![false; changes.len()];
+    for (n, c) in changes.iter_mut().enumerate() {
+        let Some((i, j)) = pair_of(c, a.plan, b.plan, pairs) else { continue };
+        let in_a = |l: u32| i.is_some_and(|i| spans_a[i].contains(&l));
+        let in_b = |l: u32| j.is_some_and(|j| spans_b[j].contains(&l));
+        let mut at: Vec<(Option<u32>, Option<u32>)> = Vec::new();
+        for it in items.iter_mut() {
+            let (lo, le) = (line(&sa, it.original), line(&sb, it.edited));
+            if !(lo.is_some_and(in_a) || le.is_some_and(in_b)) {
+                continue;
+            }
+            if it.diffs.iter().any(|d| shows(c.kind, d)) {
+                it.located = true;
+                at.push((lo, le));
+            }
+        }
+        for bk in &bulks {
+            let lo = bk.hunk.original.clone().map(|k| sa[k].line).find(|l| in_a(*l));
+            let le = bk.hunk.edited.clone().map(|k| sb[k].line).find(|l| in_b(*l));
+            if lo.is_some() || le.is_some() {
+                at.push((lo, le));
+            }
+        }
+        if at.is_empty() {
+            continue;
+        }
+        explained[n] = true;
+        at.sort_by_key(|&(o, e)| (e.or(o), o));
+        at.dedup();
+        if !at.iter().any(|&(o, e)| (e.is_some() && e == c.line) || (e.is_none() && o.is_some() && o == c.original_line)) {
+            (c.original_line, c.line) = at[0];
+        }
+        c.at = at;
+    }
+    // What no statement explains: the effects of changed variables, calls and jumps.
+    let effects: Vec<String> = changes
+        .iter()
+        .zip(&explained)
+        .filter(|(c, e)| !**e && c.kind != ChangeKind::RiskyEdit)
+        .map(|(c, _)| format!("workingstep {}: {}", c.workingstep, c.phrase()))
+        .collect();
+    let effect = match effects.len() {
+        0 => None,
+        1..=2 => Some(effects.join("; ")),
+        n => Some(format!("{}; and {} more", effects[..2].join("; "), n - 2)),
+    };
+    let mut added = Vec::new();
+    for it in &items {
+        let lo = line(&sa, it.original);
+        let le = line(&sb, it.edited);
+        let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
+        for mut c in statement_changes(it, lo, le, ws) {
+            if it.class == Class::Machining {
+                c.effect.clone_from(&effect);
+            }
+            added.push(c);
+        }
+    }
+    for bk in &bulks {
+        let (ra, rb) = (&bk.hunk.original, &bk.hunk.edited);
+        let first = |s: &[Stmt], r: &std::ops::Range<usize>| (!r.is_empty()).then(|| s[r.start].line);
+        let last = |s: &[Stmt], r: &std::ops::Range<usize>| (!r.is_empty()).then(|| s[r.end - 1].last);
+        let (lo, le) = (first(&sa, ra), first(&sb, rb));
+        let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
+        let lines = |n: usize, f: Option<u32>, l: Option<u32>| match (f, l) {
+            (Some(f), Some(l)) if f != l => format!("{n} statements at lines {f}–{l}"),
+            (Some(f), _) => format!("{n} statement{} at line {f}", if n == 1 { "" } else { "s" }),
+            _ => "nothing".to_owned(),
+        };
+        let mut c = blank(if bk.class == Class::Output { ChangeKind::OutputChanged } else { ChangeKind::StatementChanged }, ws);
+        c.field = "statements".into();
+        c.before = lines(ra.len(), lo, last(&sa, ra));
+        c.after = lines(rb.len(), le, last(&sb, rb));
+        (c.original_line, c.line) = (lo, le);
+        c.original_line_end = last(&sa, ra);
+        c.line_end = last(&sb, rb);
+        c.at = vec![(lo, le)];
+        if bk.class == Class::Machining {
+            c.effect.clone_from(&effect);
+        }
+        added.push(c);
+    }
+    changes.extend(added);
+    // Stable: the plan's changes first within a workingstep, statements by line.
+    changes.sort_by_key(|c| c.workingstep);
+    if cfg!(debug_assertions) {
+        let missing = uncovered(changes, &hunks, &sa, &sb);
+        assert!(missing.is_empty(), "differing statements no change names (original, edited line): {missing:?}");
+    }
+}
+
+/// The differing statements no change names: (original line, edited line), one side `None`.
+pub(super) fn uncovered(changes: &[Change], hunks: &[Hunk], sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+    let names = |side: usize, line: u32| {
+        changes.iter().any(|c| {
+            let (first, end) = if side == 0 { (c.original_line, c.original_line_end) } else { (c.line, c.line_end) };
+            let in_range = first.is_some_and(|f| line >= f && line <= end.unwrap_or(f));
+            in_range || c.at.iter().any(|&(o, e)| if side == 0 { o == Some(line) } else { e == Some(line) })
+        })
+    };
+    let mut out = Vec::new();
+    for h in hunks {
+        for k in h.original.clone() {
+            if !names(0, sa[k].line) {
+                out.push((Some(sa[k].line), None));
+            }
+        }
+        for k in h.edited.clone() {
+            if !names(1, sb[k].line) {
+                out.push((None, Some(sb[k].line)));
+            }
+        }
+    }
+    out
+}
+
+/// Each hunk's statements paired and their tokens compared, or the hunk whole where large.
+fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> (Vec<Item>, Vec<Bulk>) {
+    let mut items = Vec::new();
+    let mut bulks = Vec::new();
+    for h in hunks {
+        let class_of = |s: &[Stmt], r: &std::ops::Range<usize>| r.clone().all(|k| s[k].class == Class::Output);
+        if h.original.len() > DETAILED || h.edited.len() > DETAILED {
+            let output = class_of(sa, &h.original) && class_of(sb, &h.edited);
+            bulks.push(Bulk { hunk: h.clone(), class: if output { Class::Output } else { Class::Machining } });
+            continue;
+        }
+        let ta: Vec<Vec<Token>> = h.original.clone().map(|k| statement::tokens(&statement::text_of(a.text, a.dialect, &sa[k]))).collect();
+        let tb: Vec<Vec<Token>> = h.edited.clone().map(|k| statement::tokens(&statement::text_of(b.text, b.dialect, &sb[k]))).collect();
+        for (x, y) in pair_statements(&ta, &tb) {
+            let diffs = match (x, y) {
+                (Some(x), Some(y)) => token_diffs(&ta[x], &tb[y]),
+                (Some(x), None) => ta[x].iter().map(|t| (Some(t.clone()), None)).collect(),
+                (None, Some(y)) => tb[y].iter().map(|t| (None, Some(t.clone()))).collect(),
+                (None, None) => Vec::new(),
+            };
+            let oi = x.map(|x| h.original.start + x);
+            let ei = y.map(|y| h.edited.start + y);
+            let output = oi.is_none_or(|k| sa[k].class == Class::Output) && ei.is_none_or(|k| sb[k].class == Class::Output);
+            let class = if output { Class::Output } else { Class::Machining };
+            let diffs = if diffs.is_empty() {
+                // Equal tokens, other text (a blank inside a name): the statements whole.
+                let whole = |t: &[Token]| Token {
+                    key: String::new(),
+                    value: String::new(),
+                    text: t.iter().map(|t| t.text.as_str()).collect::<Vec<_>>().join(" "),
+                    sort: Sort::Other,
+                };
+                vec![(x.map(|x| whole(&ta[x])), y.map(|y| whole(&tb[y])))]
+            } else {
+                diffs
+            };
+            items.push(Item { original: oi, edited: ei, diffs, class, located: false });
+        }
+    }
+    (items, bulks)
+}
+
+/// The statements of a hunk paired: first those whose first token has the same key (in
+/// order, by a longest common subsequence), then the rest between them in order.
+fn pair_statements(a: &[Vec<Token>], b: &[Vec<Token>]) -> Vec<(Option<usize>, Option<usize>)> {
+    let key = |t: &[Token]| t.first().map(|t| t.key.clone()).unwrap_or_default();
+    let (ka, kb): (Vec<String>, Vec<String>) = (a.iter().map(|t| key(t)).collect(), b.iter().map(|t| key(t)).collect());
+    let w = kb.len() + 1;
+    let mut t = vec![0u16; (ka.len() + 1) * w];
+    for i in (0..ka.len()).rev() {
+        for j in (0..kb.len()).rev() {
+            t[i * w + j] = if ka[i] == kb[j] { t[(i + 1) * w + j + 1] + 1 } else { t[(i + 1) * w + j].max(t[i * w + j + 1]) };
+        }
+    }
+    let mut anchors = Vec::new();
+    let (mut i, mut j) = (0, 0);
+    while i < ka.len() && j < kb.len() {
+        if ka[i] == kb[j] {
+            anchors.push((i, j));
+            i += 1;
+            j += 1;
+        } else if t[(i + 1) * w + j] >= t[i * w + j + 1] {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    let mut out = Vec::new();
+    let (mut pi, mut pj) = (0, 0);
+    for (x, y) in anchors.into_iter().chain(std::iter::once((a.len(), b.len()))) {
+        let (n, m) = (x - pi, y - pj);
+        for k in 0..n.max(m) {
+            out.push(((k < n).then_some(pi + k), (k < m).then_some(pj + k)));
+        }
+        if x < a.len() && y < b.len() {
+            out.push((Some(x), Some(y)));
+        }
+        (pi, pj) = (x + 1, y + 1);
+    }
+    out
+}
+
+/// How the tokens of two statements differ: each token of `a` matched to the first unused
+/// one of `b` with the same key.
+fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> {
+    let mut used = vec![false; b.len()];
+    let mut out = Vec::new();
+    for x in a {
+        match (0..b.len()).find(|&j| !used[j] && b[j].key == x.key && b[j].sort == x.sort) {
+            Some(j) => {
+                used[j] = true;
+                if b[j].text != x.text {
+                    out.push((Some(x.clone()), Some(b[j].clone())));
+                }
+            }
+            None => out.push((Some(x.clone()), None)),
+        }
+    }
+    for (y, u) in b.iter().zip(&used) {
+        if !u {
+            out.push((None, Some(y.clone())));
+        }
+    }
+    out
+}
+
+/// Whether a token difference shows a plan change of `kind`: a word whose address belongs to
+/// what the change is about. Variables, calls and jumps show no plan change by themselves.
+fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>)) -> bool {
+    let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
+    if tok.sort != Sort::Word && tok.sort != Sort::Other {
+        return false;
+    }
+    let k = tok.key.as_str();
+    let code = |list: &[&str]| list.contains(&k);
+    let technology = |k: &str| {
+        matches!(k, "F" | "S" | "T" | "H" | "D" | "E")
+            || (k.starts_with('M') && k[1..].bytes().all(|c| c.is_ascii_digit()) && k.len() > 1)
+            || code(&["G40", "G41", "G42", "G43", "G44", "G49", "G96", "G97", "G93", "G94", "G95", "RL", "RR"])
+    };
+    use ChangeKind as K;
+    match kind {
+        K::FeedChanged => code(&["F", "E", "G93", "G94", "G95", "FMAX"]),
+        K::SpindleSpeedChanged | K::SpindleModeChanged => code(&["S", "G96", "G97", "G50", "G92"]),
+        K::SpindleDirectionChanged => code(&["M3", "M4", "M5", "M13", "M14", "M19"]),
+        K::CoolantChanged => code(&["M7", "M8", "M9", "M50", "M51", "M88", "M89", "M13", "M14"]),
+        K::ToolRenamed => code(&["T", "M6", "TOOL", "D"]),
+        K::LengthOffsetChanged => code(&["G43", "G44", "G49", "H"]),
+        K::CutterCompChanged => code(&["G40", "G41", "G42", "D", "RL", "RR", "R0"]),
+        K::WorkOffsetChanged => k.starts_with("G5") || code(&["P"]),
+        K::StopAdded | K::StopRemoved => code(&["M0", "M1", "M00", "M01", "STOP"]),
+        K::DwellChanged => code(&["G4", "P", "X", "U", "F"]),
+        K::FeedOverrideChanged => code(&["M48", "M49", "M50"]),
+        K::OptionalBlockChanged => tok.text.starts_with('/'),
+        K::RiskyEdit => false,
+        K::WorkingstepAdded | K::WorkingstepRemoved => true,
+        K::StatementChanged | K::OutputChanged => false,
+        // Geometry: anything but technology.
+        _ => !technology(k),
+    }
+}
+
+/// Each workingstep's lines and those before it up to the last one's end; the last one's
+/// run on to the end.
+fn spans(ws: &[Workingstep]) -> Vec<RangeInclusive<u32>> {
+    let mut out = Vec::with_capacity(ws.len());
+    let mut from = 1;
+    for (k, w) in ws.iter().enumerate() {
+        let end = if k + 1 == ws.len() { u32::MAX } else { w.lines.1.max(from) };
+        out.push(from..=end);
+        from = end.saturating_add(1);
+    }
+    out
+}
+
+/// The positions of a change's workingstep in the two plans.
+fn pair_of(c: &Change, a: &ProcessPlan, b: &ProcessPlan, pairs: &[(Option<usize>, Option<usize>)]) -> Option<(Option<usize>, Option<usize>)> {
+    if c.kind == ChangeKind::WorkingstepAdded {
+        let j = b.workingsteps.iter().position(|w| w.index == c.workingstep)?;
+        return pairs.iter().find(|p| p.1 == Some(j)).copied();
+    }
+    let i = a.workingsteps.iter().position(|w| w.index == c.workingstep)?;
+    pairs.iter().find(|p| p.0 == Some(i)).copied()
+}
+
+/// The workingstep (the original's index and label) a statement at these lines belongs to;
+/// 0 and `program` before any.
+fn workingstep_at(
+    lo: Option<u32>,
+    le: Option<u32>,
+    a: &ProcessPlan,
+    b: &ProcessPlan,
+    spans_a: &[RangeInclusive<u32>],
+    spans_b: &[RangeInclusive<u32>],
+    pairs: &[(Option<usize>, Option<usize>)],
+) -> (u32, String) {
+    if let Some(l) = lo
+        && let Some(i) = spans_a.iter().position(|s| s.contains(&l))
+    {
+        let w = &a.workingsteps[i];
+        return (w.index, w.operation.label().into());
+    }
+    if let Some(l) = le
+        && let Some(j) = spans_b.iter().position(|s| s.contains(&l))
+    {
+        let orig = pairs.iter().find(|p| p.1 == Some(j)).and_then(|p| p.0);
+        return match orig {
+            Some(i) => (a.workingsteps[i].index, a.workingsteps[i].operation.label().into()),
+            None => (b.workingsteps[j].index, b.workingsteps[j].operation.label().into()),
+        };
+    }
+    (0, "program".into())
+}
+
+fn blank(kind: ChangeKind, (workingstep, operation): (u32, String)) -> Change {
+    Change {
+        kind,
+        workingstep,
+        operation,
+        field: String::new(),
+        before: String::new(),
+        after: String::new(),
+        line: None,
+        original_line: None,
+        region: None,
+        deviation: None,
+        at: Vec::new(),
+        effect: None,
+        line_end: None,
+        original_line_end: None,
+    }
+}
+
+/// The statement changes of one item: those of its variables and calls always, the rest
+/// where no plan change is located at it.
+fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, String)) -> Vec<Change> {
+    let kind = if it.class == Class::Output { ChangeKind::OutputChanged } else { ChangeKind::StatementChanged };
+    let mut out = Vec::new();
+    let mut words: (Vec<&str>, Vec<&str>) = (Vec::new(), Vec::new());
+    let mut plain = false;
+    for (x, y) in &it.diffs {
+        let sort = y.as_ref().or(x.as_ref()).map_or(Sort::Other, |t| t.sort);
+        match (sort, x, y) {
+            (Sort::Assign, _, _) => {
+                let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
+                let mut c = blank(kind, ws.clone());
+                c.field = format!("variable {key}");
+                c.before = x.as_ref().map(|t| t.value.clone()).unwrap_or_default();
+                c.after = y.as_ref().map(|t| t.value.clone()).unwrap_or_default();
+                out.push(c);
+            }
+            (Sort::Call, Some(x), Some(y)) if x.key == y.key => {
+                let (pa, pb) = (statement::arguments(&x.value), statement::arguments(&y.value));
+                for k in 0..pa.len().max(pb.len()) {
+                    let (va, vb) = (pa.get(k), pb.get(k));
+                    if va == vb {
+                        continue;
+                    }
+                    let mut c = blank(kind, ws.clone());
+                    c.field = format!("call {} argument {}", x.key, k + 1);
+                    c.before = va.map_or_else(|| "none".to_owned(), |v| if v.is_empty() { "empty".into() } else { v.clone() });
+                    c.after = vb.map_or_else(|| "none".to_owned(), |v| if v.is_empty() { "empty".into() } else { v.clone() });
+                    out.push(c);
+                }
+            }
+            (Sort::Word, _, _) | (Sort::Other, _, _) if it.located => {}
+            _ => {
+                plain = true;
+                if let Some(x) = x {
+                    words.0.push(&x.text);
+                }
+                if let Some(y) = y {
+                    words.1.push(&y.text);
+                }
+            }
+        }
+    }
+    if plain {
+        let mut c = blank(kind, ws.clone());
+        c.field = "statement".into();
+        c.before = words.0.join(" ");
+        c.after = words.1.join(" ");
+        out.push(c);
+    }
+    if out.is_empty() && !it.located {
+        // Nothing to tell apart: the statement whole.
+        let mut c = blank(kind, ws);
+        c.field = "statement".into();
+        out.push(c);
+    }
+    for c in &mut out {
+        (c.original_line, c.line) = (lo, le);
+        c.at = vec![(lo, le)];
+    }
+    out
+}

@@ -1,0 +1,634 @@
+//! Statements: a program's blocks as the machine reads them, and where two programs differ.
+//!
+//! Each block is read by the dialect's parser and written in one spelling: no block number,
+//! no comments (but the messages a control shows), no blanks except between two words of
+//! letters (`FMAX M3`), upper case outside quotes, and numbers without leading or trailing
+//! zeros or a plus sign (`X+010.50` is `X10.5`). A dialect whose integers count least
+//! increments (`X10` is 0.01 mm) keeps the point of a whole number (`X10.` is not `X10`).
+//! What is left after that is a *statement*; two programs differ where their statements do.
+//!
+//! The statements are aligned by a longest common subsequence where the differing middle is
+//! small enough, and by patience anchors (statements that occur once on each side) where it
+//! is not, so that the time stays near-linear whatever the edit.
+
+use std::hash::{Hash, Hasher};
+use std::ops::Range;
+
+use crate::dialect::{DecimalInput, Dialect, Directive, Statement};
+use crate::syntax::{Block, Parser};
+
+/// What a statement does for the machining.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Class {
+    /// It moves, sets or decides something.
+    Machining,
+    /// It only shows or writes text (a message, `DPRNT`) or names the program.
+    Output,
+}
+
+/// One statement: where it is and a hash of its normalised text.
+#[derive(Clone, Copy, Debug)]
+pub struct Stmt {
+    /// 1-based first line.
+    pub line: u32,
+    /// 1-based last line (a block continued over lines).
+    pub last: u32,
+    /// Byte offset of the block in the text.
+    pub offset: u32,
+    /// Hash of the normalised text.
+    pub hash: u64,
+    /// What it does.
+    pub class: Class,
+}
+
+/// The statements of `text` in `dialect`, in order. Blocks with nothing the machine reads
+/// (blank, comment, block number alone, `%`) are not statements.
+pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
+    let mut parser = Parser::new(text, dialect);
+    let mut block = Block::default();
+    let mut diags = Vec::new();
+    let mut out = Vec::new();
+    let mut buf = String::new();
+    loop {
+        let offset = parser.offset();
+        if !parser.next_block(&mut block, &mut diags) {
+            break;
+        }
+        diags.clear();
+        buf.clear();
+        let Some(class) = normalize(&block, dialect, &mut buf) else { continue };
+        let mut h = std::hash::DefaultHasher::new();
+        buf.hash(&mut h);
+        let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
+        out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class });
+    }
+    out
+}
+
+/// The normalised text of the statement at `stmt`, read again from `text`.
+pub fn text_of(text: &str, dialect: &Dialect, stmt: &Stmt) -> String {
+    let mut parser = Parser::at(text, dialect, stmt.offset as usize, stmt.line);
+    let mut block = Block::default();
+    let mut diags = Vec::new();
+    let mut buf = String::new();
+    // The first block at or after the offset that is a statement (the offset is its start).
+    while parser.next_block(&mut block, &mut diags) {
+        buf.clear();
+        if normalize(&block, dialect, &mut buf).is_some() {
+            return buf;
+        }
+        if parser.line() > stmt.last + 1 {
+            break;
+        }
+    }
+    String::new()
+}
+
+/// Writes the normalised text of `block` into `out`; `None` when nothing is left.
+fn normalize(block: &Block, dialect: &Dialect, out: &mut String) -> Option<Class> {
+    if block.delimiter && block.words.is_empty() && block.assigns.is_empty() && block.control.is_none() {
+        return None;
+    }
+    let src = block.source();
+    let base = block.range.start;
+    // The comments' spans, each widened to its delimiters; messages are kept.
+    let mut cut: Vec<Range<usize>> = Vec::new();
+    let mut messages: Vec<&str> = Vec::new();
+    for r in &block.comments {
+        let (mut s, mut e) = ((r.start - base) as usize, (r.end - base) as usize);
+        if s > src.len() || e > src.len() {
+            continue;
+        }
+        let inside = &src[s..e];
+        match dialect.lexical.directive(inside) {
+            Some((Directive::Message, m)) => messages.push(m.trim()),
+            Some((Directive::Abort, _)) => messages.push(inside.trim()),
+            None => {}
+        }
+        if s > 0 && src[..s].ends_with(|c: char| dialect.lexical.comments.iter().any(|k| k.open == c)) {
+            s -= src[..s].chars().next_back().map_or(0, char::len_utf8);
+        }
+        if let Some(c) = src[e..].chars().next()
+            && dialect.lexical.comments.iter().any(|k| matches!(k.close, crate::dialect::CommentClose::Char(x) if x == c))
+        {
+            e += c.len_utf8();
+        }
+        cut.push(s..e);
+    }
+    cut.sort_by_key(|r| r.start);
+    // The text outside comments.
+    let mut rest = String::with_capacity(src.len());
+    let mut at = 0;
+    for r in &cut {
+        if r.start >= at {
+            rest.push_str(&src[at..r.start]);
+            rest.push(' ');
+            at = r.end;
+        } else {
+            at = at.max(r.end);
+        }
+    }
+    rest.push_str(&src[at.min(src.len())..]);
+    let mut body = rest.trim_start();
+    let skip = body.starts_with('/');
+    if skip {
+        body = body[1..].trim_start();
+    }
+    if block.number.is_some() {
+        let t = body.strip_prefix(['N', 'n']).unwrap_or(body);
+        let digits = t.bytes().take_while(u8::is_ascii_digit).count();
+        if digits > 0 {
+            body = &t[digits..];
+        }
+    }
+    let keep_point = matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. });
+    if skip {
+        out.push('/');
+    }
+    canon(body, keep_point, out);
+    if block.delimiter && out.trim_matches(['%', '/']).is_empty() {
+        out.clear();
+    }
+    let logging = messages.iter().any(|m| !m.is_empty());
+    if out.is_empty() && !logging {
+        return None;
+    }
+    let header = block.program_number.is_some() || block.program_name.is_some();
+    let prints = block.words.is_empty()
+        && block.assigns.is_empty()
+        && block.control.as_ref().and_then(|c| c.statement).is_some_and(|s| matches!(s, Statement::Print | Statement::Output));
+    let class = if out.is_empty() || (header && block.words.is_empty()) || prints { Class::Output } else { Class::Machining };
+    for m in messages {
+        if !out.is_empty() {
+            out.push(' ');
+        }
+        out.push_str("(MSG,");
+        out.push_str(m);
+        out.push(')');
+    }
+    Some(class)
+}
+
+/// Writes `s` in one spelling (see the module's doc) after `out`.
+fn canon(s: &str, keep_point: bool, out: &mut String) {
+    let b = s.as_bytes();
+    let mut i = 0;
+    let mut quoted = false;
+    let mut space = false;
+    let ident = |c: Option<char>| c.is_some_and(|c| c.is_alphabetic() || c == '_');
+    while i < b.len() {
+        let c = b[i];
+        if c == b'"' {
+            quoted = !quoted;
+            out.push('"');
+            i += 1;
+            continue;
+        }
+        if quoted || c >= 0x80 {
+            let ch = s[i..].chars().next().unwrap_or(' ');
+            if !quoted && ch.is_whitespace() {
+                space = true;
+            } else {
+                flush_space(out, &mut space, ch);
+                out.push(ch);
+            }
+            i += ch.len_utf8();
+            continue;
+        }
+        if c.is_ascii_whitespace() {
+            space = true;
+            i += 1;
+            continue;
+        }
+        let ch = (c as char).to_ascii_uppercase();
+        flush_space(out, &mut space, ch);
+        let starts_number = c.is_ascii_digit() || (c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
+        if starts_number {
+            let mut rev = out.chars().rev();
+            let (last, prev) = (rev.next(), rev.next());
+            let numeric = match last {
+                None => true,
+                Some(l) if l.is_ascii_alphabetic() => !ident(prev),
+                Some(l) => !(l.is_alphanumeric() || l == '_' || l == '.'),
+            };
+            let end = i + b[i..].iter().take_while(|x| x.is_ascii_digit() || **x == b'.').count();
+            let run = &s[i..end];
+            if numeric && run.matches('.').count() <= 1 {
+                number(run, keep_point, out);
+            } else {
+                out.push_str(run);
+            }
+            i = end;
+            continue;
+        }
+        // A plus sign before a number after an address says nothing.
+        if c == b'+' && b.get(i + 1).is_some_and(|n| n.is_ascii_digit() || *n == b'.') && out.ends_with(|l: char| l.is_ascii_alphabetic() || l == '=')
+        {
+            i += 1;
+            continue;
+        }
+        out.push(ch);
+        i += 1;
+    }
+}
+
+/// A blank between two words of letters is kept (`FMAX M3`); any other is not.
+fn flush_space(out: &mut String, space: &mut bool, next: char) {
+    if std::mem::take(space) && (next.is_alphabetic() || next == '_') && out.ends_with(|c: char| c.is_alphabetic() || c == '_') {
+        out.push(' ');
+    }
+}
+
+/// A number run (`010.500`) in one spelling (`10.5`); a whole number keeps its point where
+/// `keep_point` (`10.` and `10.000` are `10.`, `10` is `10`).
+fn number(run: &str, keep_point: bool, out: &mut String) {
+    let (int, frac) = match run.split_once('.') {
+        Some((i, f)) => (i, Some(f)),
+        None => (run, None),
+    };
+    let int = int.trim_start_matches('0');
+    let frac = frac.map(|f| f.trim_end_matches('0'));
+    out.push_str(if int.is_empty() { "0" } else { int });
+    match frac {
+        Some(f) if !f.is_empty() => {
+            out.push('.');
+            out.push_str(f);
+        }
+        Some(_) if keep_point => out.push('.'),
+        _ => {}
+    }
+}
+
+/// A run of differing statements: indices into each side's statements.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Hunk {
+    /// In the original.
+    pub original: Range<usize>,
+    /// In the edited program.
+    pub edited: Range<usize>,
+}
+
+/// The largest differing middle (product of both counts) aligned by a full longest common
+/// subsequence; larger ones are cut at patience anchors first.
+const LCS_CELLS: usize = 1 << 22;
+
+/// The runs of statements that differ between `a` and `b`, in order.
+pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
+    let (ha, hb): (Vec<u64>, Vec<u64>) = (a.iter().map(|s| s.hash).collect(), b.iter().map(|s| s.hash).collect());
+    let pairs = matches(&ha, &hb);
+    let mut out = Vec::new();
+    let (mut i, mut j) = (0, 0);
+    for &(x, y) in pairs.iter().chain(std::iter::once(&(a.len(), b.len()))) {
+        if x > i || y > j {
+            out.push(Hunk { original: i..x, edited: j..y });
+        }
+        (i, j) = (x + 1, y + 1);
+    }
+    out
+}
+
+/// Matched index pairs of equal items, increasing on both sides.
+fn matches(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    // Work: (range of a, range of b), taken in order.
+    let mut work = vec![(0..a.len(), 0..b.len())];
+    let mut found: Vec<(usize, usize)> = Vec::new();
+    while let Some((ra, rb)) = work.pop() {
+        let (mut ra, mut rb) = (ra, rb);
+        while !ra.is_empty() && !rb.is_empty() && a[ra.start] == b[rb.start] {
+            found.push((ra.start, rb.start));
+            ra.start += 1;
+            rb.start += 1;
+        }
+        while !ra.is_empty() && !rb.is_empty() && a[ra.end - 1] == b[rb.end - 1] {
+            found.push((ra.end - 1, rb.end - 1));
+            ra.end -= 1;
+            rb.end -= 1;
+        }
+        if ra.is_empty() || rb.is_empty() {
+            continue;
+        }
+        if ra.len().saturating_mul(rb.len()) <= LCS_CELLS {
+            lcs(&a[ra.clone()], &b[rb.clone()], ra.start, rb.start, &mut found);
+            continue;
+        }
+        let anchors = patience(&a[ra.clone()], &b[rb.clone()]);
+        if anchors.is_empty() {
+            // Nothing occurs once on each side: the middle is taken as replaced.
+            continue;
+        }
+        let (mut pa, mut pb) = (ra.start, rb.start);
+        for (x, y) in anchors {
+            let (x, y) = (ra.start + x, rb.start + y);
+            found.push((x, y));
+            work.push((pa..x, pb..y));
+            (pa, pb) = (x + 1, y + 1);
+        }
+        work.push((pa..ra.end, pb..rb.end));
+    }
+    found.sort_unstable();
+    out.extend(found);
+    out
+}
+
+/// A longest common subsequence of `a` and `b` by the full table, pairs offset by `oa`/`ob`.
+fn lcs(a: &[u64], b: &[u64], oa: usize, ob: usize, out: &mut Vec<(usize, usize)>) {
+    let w = b.len() + 1;
+    let mut t = vec![0u32; (a.len() + 1) * w];
+    for i in (0..a.len()).rev() {
+        for j in (0..b.len()).rev() {
+            t[i * w + j] = if a[i] == b[j] { t[(i + 1) * w + j + 1] + 1 } else { t[(i + 1) * w + j].max(t[i * w + j + 1]) };
+        }
+    }
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if a[i] == b[j] {
+            out.push((oa + i, ob + j));
+            i += 1;
+            j += 1;
+        } else if t[(i + 1) * w + j] >= t[i * w + j + 1] {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+}
+
+/// The items that occur exactly once in each of `a` and `b`, as index pairs in a longest
+/// increasing run (patience sorting).
+fn patience(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
+    let once = |v: &[u64]| -> Vec<(u64, usize)> {
+        let mut s: Vec<(u64, usize)> = v.iter().copied().zip(0..).collect();
+        s.sort_unstable();
+        let mut out = Vec::new();
+        let mut k = 0;
+        while k < s.len() {
+            let mut e = k + 1;
+            while e < s.len() && s[e].0 == s[k].0 {
+                e += 1;
+            }
+            if e == k + 1 {
+                out.push(s[k]);
+            }
+            k = e;
+        }
+        out
+    };
+    let (ua, ub) = (once(a), once(b));
+    // Pairs by hash, in the order of `a`.
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    let mut k = 0;
+    for &(h, i) in &ua {
+        while k < ub.len() && ub[k].0 < h {
+            k += 1;
+        }
+        if k < ub.len() && ub[k].0 == h {
+            pairs.push((i, ub[k].1));
+        }
+    }
+    pairs.sort_unstable();
+    // Longest increasing run of the `b` indices.
+    let mut tails: Vec<usize> = Vec::new();
+    let mut back: Vec<Option<usize>> = vec![None; pairs.len()];
+    for (n, &(_, y)) in pairs.iter().enumerate() {
+        let pos = tails.partition_point(|&t| pairs[t].1 < y);
+        back[n] = pos.checked_sub(1).map(|p| tails[p]);
+        if pos == tails.len() {
+            tails.push(n);
+        } else {
+            tails[pos] = n;
+        }
+    }
+    let mut out = Vec::new();
+    let mut cur = tails.last().copied();
+    while let Some(n) = cur {
+        out.push(pairs[n]);
+        cur = back[n];
+    }
+    out.reverse();
+    out
+}
+
+/// One piece of a statement: an address and its value (`X10`), an assignment
+/// (`#<_Z>=1`), a call with its arguments (`_DRESSING(22,20)`), a keyword.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Token {
+    /// What it sets or names: the address (`X`), the code (`G1`, `M5`), the variable, the
+    /// call's name.
+    pub key: String,
+    /// Its value as written after the key.
+    pub value: String,
+    /// The token's whole text.
+    pub text: String,
+    /// What sort of token.
+    pub sort: Sort,
+}
+
+/// What sort of token.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sort {
+    /// An address and a value, or a code.
+    Word,
+    /// A variable set to a value.
+    Assign,
+    /// A call or cycle with arguments.
+    Call,
+    /// Anything else: keywords, labels, jumps.
+    Other,
+}
+
+/// The tokens of a normalised statement.
+pub fn tokens(s: &str) -> Vec<Token> {
+    let b = s.as_bytes();
+    let mut pieces: Vec<&str> = Vec::new();
+    let mut start = 0;
+    let mut depth = 0i32;
+    let mut quoted = false;
+    for (i, &c) in b.iter().enumerate() {
+        match c {
+            b'"' => quoted = !quoted,
+            _ if quoted => {}
+            b'[' | b'(' | b'<' => depth += 1,
+            b']' | b')' | b'>' => depth -= 1,
+            b' ' if depth <= 0 => {
+                if i > start {
+                    pieces.push(&s[start..i]);
+                }
+                start = i + 1;
+            }
+            _ if depth <= 0 && c.is_ascii_alphabetic() && i > start => {
+                let p = b[i - 1];
+                if p.is_ascii_digit() || matches!(p, b']' | b')' | b'.') {
+                    pieces.push(&s[start..i]);
+                    start = i;
+                }
+            }
+            _ => {}
+        }
+    }
+    if start < s.len() {
+        pieces.push(&s[start..]);
+    }
+    pieces.into_iter().map(token).collect()
+}
+
+fn token(t: &str) -> Token {
+    let text = t.to_owned();
+    // An assignment: `LHS=RHS` at depth 0.
+    let mut depth = 0i32;
+    for (i, c) in t.char_indices() {
+        match c {
+            '[' | '(' | '<' => depth += 1,
+            ']' | ')' | '>' => depth -= 1,
+            '=' if depth == 0 && i > 0 && !t[i + 1..].starts_with('=') => {
+                return Token { key: t[..i].to_owned(), value: t[i + 1..].to_owned(), text, sort: Sort::Assign };
+            }
+            _ => {}
+        }
+    }
+    // A call: a name then a bracketed or parenthesised list.
+    if let Some(open) = t.find(['(', '['])
+        && open > 0
+        && t.ends_with([')', ']'])
+        && t[..open].chars().any(|c| c.is_ascii_alphabetic())
+    {
+        // `O<NAME>CALL[…]`: the name without its keyword.
+        let head = &t[..open];
+        let name = head.strip_suffix("CALL").filter(|h| h.ends_with('>') || h.ends_with(|c: char| c.is_ascii_digit())).unwrap_or(head);
+        return Token { key: name.to_owned(), value: t[open..].to_owned(), text, sort: Sort::Call };
+    }
+    let letters = t.bytes().take_while(u8::is_ascii_alphabetic).count();
+    let rest = &t[letters..];
+    if letters >= 1 && !rest.is_empty() && rest.bytes().all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'-' | b'#' | b'<' | b'>' | b'_'))
+        || letters >= 1 && rest.starts_with(['[', '#', '-'])
+    {
+        let key = &t[..letters];
+        if (key == "G" || key == "M") && rest.bytes().all(|c| c.is_ascii_digit() || c == b'.') {
+            return Token { key: t.to_owned(), value: String::new(), text, sort: Sort::Word };
+        }
+        return Token { key: key.to_owned(), value: rest.to_owned(), text, sort: Sort::Word };
+    }
+    Token { key: t.to_owned(), value: String::new(), text, sort: Sort::Other }
+}
+
+/// The arguments of a call's value (`(22,20,,2)` or `[0.75][1]`), as written.
+pub fn arguments(value: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    if value.starts_with('(') {
+        let inner = value.strip_prefix('(').and_then(|v| v.strip_suffix(')')).unwrap_or(value);
+        let mut depth = 0i32;
+        let mut cur = String::new();
+        for c in inner.chars() {
+            match c {
+                '(' | '[' => depth += 1,
+                ')' | ']' => depth -= 1,
+                ',' if depth == 0 => {
+                    out.push(std::mem::take(&mut cur));
+                    continue;
+                }
+                _ => {}
+            }
+            cur.push(c);
+        }
+        out.push(cur);
+    } else {
+        let mut depth = 0i32;
+        let mut cur = String::new();
+        for c in value.chars() {
+            match c {
+                '[' => {
+                    depth += 1;
+                    if depth == 1 {
+                        continue;
+                    }
+                }
+                ']' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        out.push(std::mem::take(&mut cur));
+                        continue;
+                    }
+                }
+                _ => {}
+            }
+            if depth > 0 {
+                cur.push(c);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::Registry;
+
+    fn norm(dialect: &str, text: &str) -> Vec<String> {
+        let d = Registry::shipped().get(dialect).unwrap();
+        statements(text, &d).iter().map(|s| text_of(text, &d, s)).collect()
+    }
+
+    #[test]
+    fn cosmetic_differences_vanish() {
+        let a = norm("fanuc", "%\nO1234 (PART)\nN10 G01 X+10.500 Y-5. F800.\nN20 g0 z2.0 (UP)\n(JUST A COMMENT)\n\nM30\n%\n");
+        let b = norm("fanuc", "%\nO1234\nN100G1X10.5Y-5.0F800.000;\nG00  Z2.\nM30\n%\n");
+        assert_eq!(a, b);
+        assert_eq!(a, ["O1234", "G1X10.5Y-5.F800.", "G0Z2.", "M30"]);
+    }
+
+    #[test]
+    fn fanuc_keeps_the_point_of_whole_numbers() {
+        // X10 is ten least increments on a Fanuc, X10. ten millimetres.
+        assert_ne!(norm("fanuc", "G1 X10\n"), norm("fanuc", "G1 X10.\n"));
+        assert_eq!(norm("linuxcnc", "G1 X10\n"), norm("linuxcnc", "G1 X10.\n"));
+    }
+
+    #[test]
+    fn klartext_words_keep_their_blanks_and_lose_block_numbers() {
+        let a = norm("heidenhain", "0 BEGIN PGM X MM\n5 L X+10 Y+5 R0 FMAX M3\n6 Q200=2 ;SET-UP CLEARANCE\n");
+        let b = norm("heidenhain", "0 BEGIN PGM X MM\n15 L  X10  Y+5.0 R0 FMAX M3\n16 Q200=+2.000\n");
+        assert_eq!(a, b);
+        assert_eq!(a[1], "L X10Y5R0 FMAX M3");
+    }
+
+    #[test]
+    fn messages_are_statements_of_their_own() {
+        let d = Registry::shipped().get("linuxcnc").unwrap();
+        let s = statements("(msg, part 2)\n(just a note)\nG0 X1\n", &d);
+        assert_eq!(s.len(), 2);
+        assert_eq!(s[0].class, Class::Output);
+        assert_eq!(s[1].class, Class::Machining);
+    }
+
+    #[test]
+    fn tokens_of_a_statement() {
+        let t = tokens("G1X10.5Y-5F800");
+        assert_eq!(t.iter().map(|t| t.text.as_str()).collect::<Vec<_>>(), ["G1", "X10.5", "Y-5", "F800"]);
+        assert_eq!(t[1].key, "X");
+        assert_eq!(t[0].key, "G1");
+        let t = tokens("O<POCKET_CIRC>CALL[0.75][1.5]");
+        assert_eq!(t.len(), 1);
+        assert_eq!(t[0].sort, Sort::Call);
+        assert_eq!(arguments(&t[0].value), ["0.75", "1.5"]);
+        let t = tokens("_DRESSING(22,20,,2)");
+        assert_eq!(arguments(&t[0].value), ["22", "20", "", "2"]);
+        let t = tokens("#<_Z_CLEARANCE>=-0.1");
+        assert_eq!((t[0].sort, t[0].key.as_str(), t[0].value.as_str()), (Sort::Assign, "#<_Z_CLEARANCE>", "-0.1"));
+        assert_eq!(tokens("L X10Y5R0 FMAX M3").iter().map(|t| t.text.as_str()).collect::<Vec<_>>(), ["L", "X10", "Y5", "R0", "FMAX", "M3"]);
+    }
+
+    #[test]
+    fn hunks_of_an_edit() {
+        let s = |v: &[u64]| v.iter().map(|&h| Stmt { line: 0, last: 0, offset: 0, hash: h, class: Class::Machining }).collect::<Vec<_>>();
+        let h = hunks(&s(&[1, 2, 3, 4, 5]), &s(&[1, 9, 3, 5, 6]));
+        assert_eq!(h, [Hunk { original: 1..2, edited: 1..2 }, Hunk { original: 3..4, edited: 3..3 }, Hunk { original: 5..5, edited: 4..5 }]);
+        // A large middle goes by unique anchors.
+        let a: Vec<u64> = (0..5000).collect();
+        let mut b = a.clone();
+        b[2500] = 99_999;
+        b.insert(100, 77_777);
+        let h = hunks(&s(&a), &s(&b));
+        assert_eq!(h, [Hunk { original: 100..100, edited: 100..101 }, Hunk { original: 2500..2501, edited: 2501..2502 }]);
+    }
+}
