@@ -442,10 +442,11 @@ impl Cx {
                     let meaning = match self.required(c, "meaning") {
                         Some("message") => Some(Directive::Message),
                         Some("abort") => Some(Directive::Abort),
+                        Some("log") => Some(Directive::Log),
                         Some(other) => {
                             self.error(
                                 Self::attr_range(c, "meaning"),
-                                format!("a comment directive's meaning is message or abort, not `{other}`"),
+                                format!("a comment directive's meaning is message, abort or log, not `{other}`"),
                             );
                             None
                         }

@@ -177,6 +177,9 @@ pub enum Directive {
     Message,
     /// Stops the program with the rest of the comment as its error.
     Abort,
+    /// Writes the rest of the comment to a log or a console (`(DEBUG, …)`, `(PRINT, …)`):
+    /// nothing the machine does; a comment to the interpreter.
+    Log,
 }
 
 impl Lexical {

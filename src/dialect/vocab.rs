@@ -361,6 +361,9 @@ vocab! {
         Stock = "stock",
         /// Machine-specific function the interpreter records but does not model.
         Other = "other",
+        /// Writes text to a printer, a file or the screen (Heidenhain `FN 15: PRINT`):
+        /// nothing the machine does.
+        Output = "output",
     }
 }
 

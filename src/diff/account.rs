@@ -320,17 +320,17 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>)) -> bool {
     }
 }
 
-/// Each workingstep's lines and those before it up to the last one's end; the last one's
-/// run on to the end.
+/// The lines each workingstep may be seen at: its own, and those between it and its
+/// neighbours (a stop or a feed set between two workingsteps may belong to either); the
+/// first's run from the start, the last's to the end.
 fn spans(ws: &[Workingstep]) -> Vec<RangeInclusive<u32>> {
-    let mut out = Vec::with_capacity(ws.len());
-    let mut from = 1;
-    for (k, w) in ws.iter().enumerate() {
-        let end = if k + 1 == ws.len() { u32::MAX } else { w.lines.1.max(from) };
-        out.push(from..=end);
-        from = end.saturating_add(1);
-    }
-    out
+    (0..ws.len())
+        .map(|k| {
+            let from = if k == 0 { 1 } else { ws[k - 1].lines.1.saturating_add(1).min(ws[k].lines.0) };
+            let to = if k + 1 == ws.len() { u32::MAX } else { ws[k + 1].lines.0.saturating_sub(1).max(ws[k].lines.1) };
+            from..=to
+        })
+        .collect()
 }
 
 /// The positions of a change's workingstep in the two plans.

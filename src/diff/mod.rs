@@ -86,6 +86,12 @@ pub enum ChangeKind {
     RiskyEdit,
     /// The height of the rapids between cuts (ISO 14649's security plane) changed.
     ClearanceChanged,
+    /// The height the tool comes down to in rapid before it feeds changed.
+    ApproachChanged,
+    /// The height the tool leaves to after its last cut (the retract plane) changed.
+    RetractChanged,
+    /// The feed of the moves straight down changed, the cutting feeds not.
+    PlungeFeedChanged,
     /// A statement differs in program terms: a variable, a call's argument, a word, a jump.
     StatementChanged,
     /// A statement that only shows or writes text (a message, `DPRNT`) or names the program.
@@ -125,6 +131,9 @@ impl ChangeKind {
             ChangeKind::StrategyChanged => "strategy_changed",
             ChangeKind::RiskyEdit => "risky_edit",
             ChangeKind::ClearanceChanged => "clearance_changed",
+            ChangeKind::ApproachChanged => "approach_changed",
+            ChangeKind::RetractChanged => "retract_changed",
+            ChangeKind::PlungeFeedChanged => "plunge_feed_changed",
             ChangeKind::StatementChanged => "statement_changed",
             ChangeKind::OutputChanged => "output_changed",
         }
@@ -191,7 +200,7 @@ impl Change {
             ChangeKind::HoleRemoved => format!("hole at {} removed", self.before),
             ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
-            ChangeKind::ClearanceChanged => format!("clearance height changed from {} to {}", self.before, self.after),
+            ChangeKind::ClearanceChanged => format!("clearance height between cuts changed from {} to {}", self.before, self.after),
             ChangeKind::ToolpathChanged => {
                 let mut s = format!("toolpath changed{}", at(self.line));
                 if let Some(l) = self.original_line
@@ -210,20 +219,21 @@ impl Change {
     }
 
     /// Where a located plan change is seen: ` at line 12`, ` at lines 12, 18 and 24`,
-    /// ` at original line 7` for a statement only the original has.
+    /// ` at original line 7` where only the original has the statements.
     fn located(&self) -> String {
-        let one = |&(o, e): &(Option<u32>, Option<u32>)| match (o, e) {
-            (_, Some(e)) => e.to_string(),
-            (Some(o), None) => format!("original {o}"),
-            (None, None) => String::new(),
+        let edited: Vec<u32> = self.at.iter().filter_map(|a| a.1).collect();
+        let (lines, prefix) = if edited.is_empty() {
+            (self.at.iter().filter_map(|a| a.0).collect::<Vec<u32>>(), " at original line")
+        } else {
+            (edited, " at line")
         };
-        let shown: Vec<String> = self.at.iter().take(3).map(one).filter(|s| !s.is_empty()).collect();
-        let more = self.at.len().saturating_sub(3);
+        let shown: Vec<String> = lines.iter().take(3).map(u32::to_string).collect();
+        let more = lines.len().saturating_sub(3);
         match (shown.len(), more) {
             (0, _) => String::new(),
-            (1, 0) => format!(" at line {}", shown[0]),
-            (n, 0) => format!(" at lines {} and {}", shown[..n - 1].join(", "), shown[n - 1]),
-            _ => format!(" at lines {} and {more} more", shown.join(", ")),
+            (1, _) => format!("{prefix} {}", shown[0]),
+            (n, 0) => format!("{prefix}s {} and {}", shown[..n - 1].join(", "), shown[n - 1]),
+            _ => format!("{prefix}s {} and {more} more", shown.join(", ")),
         }
     }
 
@@ -721,6 +731,10 @@ fn compare_workingsteps(
     if let Some((x, y)) = depth_change {
         push(ChangeKind::DepthChanged, "depth", format!("Z{}", u.c(x)), format!("Z{}", u.c(y)), at_start);
     }
+    // Heights and feeds beside the cutting ones, where no canned cycle's parameters say them.
+    if a.holes.is_empty() && b.holes.is_empty() {
+        heights(a, b, feeds_differ, u, &mut push, at_start);
+    }
     let mut explained = false;
     // Holes and their cycle parameters.
     if a.operation.is_hole() || b.operation.is_hole() {
@@ -782,6 +796,74 @@ fn compare_workingsteps(
 }
 
 type Push<'a> = dyn FnMut(ChangeKind, &str, String, String, (Option<u32>, Option<u32>)) + 'a;
+
+/// The heights a workingstep moves at between its cuts (ISO 14649's security plane), comes
+/// down to before it feeds (the approach height) and leaves to (the retract plane), and the
+/// feeds it plunges at, where the cutting feeds did not change.
+fn heights(a: &Workingstep, b: &Workingstep, feeds_differ: bool, u: Fmt, push: &mut Push<'_>, at: (Option<u32>, Option<u32>)) {
+    let z = |v: f64| format!("Z{}", u.c(v));
+    let differs = |x: Option<f64>, y: Option<f64>| match (x, y) {
+        (Some(x), Some(y)) => (x - y).abs() > TOLERANCE,
+        _ => false,
+    };
+    let (ca, cb) = (clearance(a), clearance(b));
+    if differs(ca, cb) {
+        push(ChangeKind::ClearanceChanged, "clearance_height", z(ca.unwrap_or_default()), z(cb.unwrap_or_default()), at);
+    }
+    let (pa, pb) = (approach(a), approach(b));
+    if differs(pa.map(|p| p.0), pb.map(|p| p.0)) {
+        let (x, y) = (pa.expect("compared"), pb.expect("compared"));
+        push(ChangeKind::ApproachChanged, "approach_height", z(x.0), z(y.0), (Some(x.1), Some(y.1)));
+    }
+    let (ra, rb) = (retract(a), retract(b));
+    if differs(ra.map(|r| r.0), rb.map(|r| r.0)) {
+        let (x, y) = (ra.expect("compared"), rb.expect("compared"));
+        push(ChangeKind::RetractChanged, "retract_height", z(x.0), z(y.0), (Some(x.1), Some(y.1)));
+    }
+    let (fa, fb) = (plunge_feeds(a), plunge_feeds(b));
+    if !feeds_differ && !fa.is_empty() && !fb.is_empty() && (fa.len() != fb.len() || fa.iter().zip(&fb).any(|(x, y)| (x - y).abs() > TOLERANCE)) {
+        let f = |v: &[f64]| v.iter().map(|x| u.feed(*x)).collect::<Vec<_>>().join(", ");
+        push(ChangeKind::PlungeFeedChanged, "plunge_feed", f(&fa), f(&fb), at);
+    }
+}
+
+/// The security plane: the highest rapid between the cuts, where the workingstep has more
+/// than one cut to go between.
+fn clearance(w: &Workingstep) -> Option<f64> {
+    let between = w.toolpath.iter().any(|m| m.phase == Phase::Connect);
+    between.then_some(w.security_plane)
+}
+
+/// The height the tool comes down to in rapid before its first feed, and that line.
+fn approach(w: &Workingstep) -> Option<(f64, u32)> {
+    let mut last_rapid = None;
+    for m in w.toolpath.iter() {
+        if m.kind == MoveKind::Rapid {
+            last_rapid = Some(m);
+        } else {
+            return last_rapid.filter(|r| r.to[2] > m.to[2] + TOLERANCE).map(|r| (r.to[2], r.line));
+        }
+    }
+    None
+}
+
+/// The height the tool leaves to after its last cut, and that line.
+fn retract(w: &Workingstep) -> Option<(f64, u32)> {
+    let last_cut = w.toolpath.iter().rposition(|m| m.phase == Phase::Cut)?;
+    w.toolpath.iter().skip(last_cut + 1).filter(|m| m.to[2] > m.from[2] + TOLERANCE).map(|m| (m.to[2], m.line)).next()
+}
+
+/// The distinct feeds of the moves straight down along Z, in order of first use.
+fn plunge_feeds(w: &Workingstep) -> Vec<f64> {
+    let mut out: Vec<f64> = Vec::new();
+    for m in w.toolpath.iter() {
+        let down = m.kind == MoveKind::Line && (m.to[0] - m.from[0]).abs() <= TOLERANCE && (m.to[1] - m.from[1]).abs() <= TOLERANCE;
+        if down && m.to[2] < m.from[2] - TOLERANCE && !out.iter().any(|f| (f - m.feed).abs() <= TOLERANCE) {
+            out.push(m.feed);
+        }
+    }
+    out
+}
 
 /// The items of `a` and `b` that have no counterpart: first paired by `key`, then what is
 /// left by `kind` in order (the same stop after a toolpath that changed before it).
@@ -1293,16 +1375,31 @@ impl<'a> Grid<'a> {
         let outside = |v: i64, n: i64| (-v).max(v - (n - 1)).max(0);
         let first = outside(c, self.cols).max(outside(r, self.rows));
         let far = first + self.cols.max(self.rows);
+        let visit = |key: (i64, i64), best: &mut f64| {
+            let from = self.bins.partition_point(|b| b.0 < key);
+            for &(_, i) in self.bins[from..].iter().take_while(|b| b.0 == key) {
+                *best = best.min(self.seg_dist(i as usize, p));
+            }
+        };
+        // Only the cells of each ring that lie within the grid: a point far outside it (a
+        // program rewritten in other units) costs the rings' width, not their area.
         for ring in first..=far {
-            for dc in -ring..=ring {
-                for dr in -ring..=ring {
-                    if dc.abs() != ring && dr.abs() != ring {
-                        continue;
+            let (c0, c1) = ((c - ring).max(0), (c + ring).min(self.cols - 1));
+            for row in [r - ring, r + ring] {
+                if (0..self.rows).contains(&row) {
+                    for col in c0..=c1 {
+                        visit((col, row), &mut best);
                     }
-                    let key = (c + dc, r + dr);
-                    let from = self.bins.partition_point(|b| b.0 < key);
-                    for &(_, i) in self.bins[from..].iter().take_while(|b| b.0 == key) {
-                        best = best.min(self.seg_dist(i as usize, p));
+                    if ring == 0 {
+                        break;
+                    }
+                }
+            }
+            let (r0, r1) = ((r - ring + 1).max(0), (r + ring - 1).min(self.rows - 1));
+            for col in [c - ring, c + ring] {
+                if ring > 0 && (0..self.cols).contains(&col) {
+                    for row in r0..=r1 {
+                        visit((col, row), &mut best);
                     }
                 }
             }

@@ -14,7 +14,7 @@
 use std::hash::{Hash, Hasher};
 use std::ops::Range;
 
-use crate::dialect::{DecimalInput, Dialect, Directive, Statement};
+use crate::dialect::{DecimalInput, Dialect, Directive, KeywordRest, Meaning, Statement};
 use crate::syntax::{Block, Parser};
 
 /// What a statement does for the machining.
@@ -44,6 +44,7 @@ pub struct Stmt {
 /// The statements of `text` in `dialect`, in order. Blocks with nothing the machine reads
 /// (blank, comment, block number alone, `%`) are not statements.
 pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
+    let keywords = Keywords::of(dialect);
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
     let mut diags = Vec::new();
@@ -56,7 +57,7 @@ pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
         }
         diags.clear();
         buf.clear();
-        let Some(class) = normalize(&block, dialect, &mut buf) else { continue };
+        let Some(class) = normalize(&block, dialect, &keywords, &mut buf) else { continue };
         let mut h = std::hash::DefaultHasher::new();
         buf.hash(&mut h);
         let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
@@ -67,6 +68,7 @@ pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
 
 /// The normalised text of the statement at `stmt`, read again from `text`.
 pub fn text_of(text: &str, dialect: &Dialect, stmt: &Stmt) -> String {
+    let keywords = Keywords::of(dialect);
     let mut parser = Parser::at(text, dialect, stmt.offset as usize, stmt.line);
     let mut block = Block::default();
     let mut diags = Vec::new();
@@ -74,7 +76,7 @@ pub fn text_of(text: &str, dialect: &Dialect, stmt: &Stmt) -> String {
     // The first block at or after the offset that is a statement (the offset is its start).
     while parser.next_block(&mut block, &mut diags) {
         buf.clear();
-        if normalize(&block, dialect, &mut buf).is_some() {
+        if normalize(&block, dialect, &keywords, &mut buf).is_some() {
             return buf;
         }
         if parser.line() > stmt.last + 1 {
@@ -84,8 +86,41 @@ pub fn text_of(text: &str, dialect: &Dialect, stmt: &Stmt) -> String {
     String::new()
 }
 
+/// The dialect's keyword codes that decide how a statement counts: those that begin a
+/// program (`BEGIN PGM`: its name says nothing the machine does), end one by name (`END
+/// PGM`: the name is the program's again), and those that only write text (`FN 15: PRINT`).
+struct Keywords {
+    header: Vec<String>,
+    named_end: Vec<String>,
+    output: Vec<String>,
+}
+
+impl Keywords {
+    fn of(dialect: &Dialect) -> Keywords {
+        let mut k = Keywords { header: Vec::new(), named_end: Vec::new(), output: Vec::new() };
+        for (i, spec) in dialect.keyword_codes() {
+            match (dialect.codes[i].meaning, spec.rest) {
+                (Meaning::ProgramBegin, _) => k.header.push(spec.text.clone()),
+                (Meaning::SubprogramReturn, KeywordRest::Name) => k.named_end.push(spec.text.clone()),
+                (Meaning::Output, _) => k.output.push(spec.text.clone()),
+                _ => {}
+            }
+        }
+        k
+    }
+}
+
+/// Whether `body` (upper case) has the keyword `k` as words of its own.
+fn has_keyword(body: &str, k: &str) -> bool {
+    body.match_indices(k).any(|(i, _)| {
+        let before = body[..i].chars().next_back().is_none_or(|c| !c.is_ascii_alphanumeric());
+        let after = body[i + k.len()..].chars().next().is_none_or(|c| !c.is_ascii_alphanumeric() && c != '-');
+        before && after
+    })
+}
+
 /// Writes the normalised text of `block` into `out`; `None` when nothing is left.
-fn normalize(block: &Block, dialect: &Dialect, out: &mut String) -> Option<Class> {
+fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut String) -> Option<Class> {
     if block.delimiter && block.words.is_empty() && block.assigns.is_empty() && block.control.is_none() {
         return None;
     }
@@ -94,6 +129,7 @@ fn normalize(block: &Block, dialect: &Dialect, out: &mut String) -> Option<Class
     // The comments' spans, each widened to its delimiters; messages are kept.
     let mut cut: Vec<Range<usize>> = Vec::new();
     let mut messages: Vec<&str> = Vec::new();
+    let mut aborts: Vec<&str> = Vec::new();
     for r in &block.comments {
         let (mut s, mut e) = ((r.start - base) as usize, (r.end - base) as usize);
         if s > src.len() || e > src.len() {
@@ -101,8 +137,8 @@ fn normalize(block: &Block, dialect: &Dialect, out: &mut String) -> Option<Class
         }
         let inside = &src[s..e];
         match dialect.lexical.directive(inside) {
-            Some((Directive::Message, m)) => messages.push(m.trim()),
-            Some((Directive::Abort, _)) => messages.push(inside.trim()),
+            Some((Directive::Message | Directive::Log, _)) => messages.push(inside.trim()),
+            Some((Directive::Abort, _)) => aborts.push(inside.trim()),
             None => {}
         }
         if s > 0 && src[..s].ends_with(|c: char| dialect.lexical.comments.iter().any(|k| k.open == c)) {
@@ -141,6 +177,19 @@ fn normalize(block: &Block, dialect: &Dialect, out: &mut String) -> Option<Class
             body = &t[digits..];
         }
     }
+    let mut output = false;
+    if !keywords.header.is_empty() || !keywords.output.is_empty() || !keywords.named_end.is_empty() {
+        let up = body.to_ascii_uppercase();
+        if keywords.header.iter().any(|k| has_keyword(&up, k)) {
+            return None;
+        }
+        output = keywords.output.iter().any(|k| has_keyword(&up, k));
+        if let Some(k) = keywords.named_end.iter().find(|k| up.trim_start().starts_with(k.as_str())) {
+            // `END PGM NAME MM`: the keyword alone.
+            out.push_str(k);
+            return Some(Class::Machining);
+        }
+    }
     let keep_point = matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. });
     if skip {
         out.push('/');
@@ -149,21 +198,23 @@ fn normalize(block: &Block, dialect: &Dialect, out: &mut String) -> Option<Class
     if block.delimiter && out.trim_matches(['%', '/']).is_empty() {
         out.clear();
     }
-    let logging = messages.iter().any(|m| !m.is_empty());
-    if out.is_empty() && !logging {
+    // The program's own name or number says nothing the machine does.
+    if (block.program_number.is_some() || block.program_name.is_some()) && block.words.is_empty() && block.assigns.is_empty() {
+        out.clear();
+    }
+    if out.is_empty() && messages.is_empty() && aborts.is_empty() {
         return None;
     }
-    let header = block.program_number.is_some() || block.program_name.is_some();
     let prints = block.words.is_empty()
         && block.assigns.is_empty()
         && block.control.as_ref().and_then(|c| c.statement).is_some_and(|s| matches!(s, Statement::Print | Statement::Output));
-    let class = if out.is_empty() || (header && block.words.is_empty()) || prints { Class::Output } else { Class::Machining };
-    for m in messages {
+    let class = if aborts.is_empty() && (out.is_empty() || prints || output) { Class::Output } else { Class::Machining };
+    for m in messages.into_iter().chain(aborts) {
         if !out.is_empty() {
             out.push(' ');
         }
-        out.push_str("(MSG,");
-        out.push_str(m);
+        out.push('(');
+        canon(m, false, out);
         out.push(')');
     }
     Some(class)
@@ -458,7 +509,9 @@ pub fn tokens(s: &str) -> Vec<Token> {
             }
             _ if depth <= 0 && c.is_ascii_alphabetic() && i > start => {
                 let p = b[i - 1];
-                if p.is_ascii_digit() || matches!(p, b']' | b')' | b'.') {
+                // `O100WHILE[…]`, `O200CALL[…]`: an O-word and its keyword are one statement.
+                let o_word = b[start] == b'O' && b[start + 1..i].iter().all(u8::is_ascii_digit);
+                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.')) {
                     pieces.push(&s[start..i]);
                     start = i;
                 }
@@ -574,7 +627,7 @@ mod tests {
         let a = norm("fanuc", "%\nO1234 (PART)\nN10 G01 X+10.500 Y-5. F800.\nN20 g0 z2.0 (UP)\n(JUST A COMMENT)\n\nM30\n%\n");
         let b = norm("fanuc", "%\nO1234\nN100G1X10.5Y-5.0F800.000;\nG00  Z2.\nM30\n%\n");
         assert_eq!(a, b);
-        assert_eq!(a, ["O1234", "G1X10.5Y-5.F800.", "G0Z2.", "M30"]);
+        assert_eq!(a, ["G1X10.5Y-5.F800.", "G0Z2.", "M30"]);
     }
 
     #[test]
@@ -611,6 +664,8 @@ mod tests {
         assert_eq!(t.len(), 1);
         assert_eq!(t[0].sort, Sort::Call);
         assert_eq!(arguments(&t[0].value), ["0.75", "1.5"]);
+        let t = tokens("O200CALL[20]");
+        assert_eq!((t.len(), t[0].key.as_str()), (1, "O200"));
         let t = tokens("_DRESSING(22,20,,2)");
         assert_eq!(arguments(&t[0].value), ["22", "20", "", "2"]);
         let t = tokens("#<_Z_CLEARANCE>=-0.1");

@@ -79,7 +79,7 @@ impl Interpreter<'_> {
                 }
             }
             Meaning::Wcs => self.select_preset(ci, &name, range, sink, diags),
-            Meaning::Other => {}
+            Meaning::Other | Meaning::Output => {}
             _ => {
                 let d = Diagnostic::new(
                     Code::Unsupported,
@@ -289,7 +289,7 @@ impl Interpreter<'_> {
             Meaning::CycleTap => CycleKind::Tapping,
             Meaning::CycleTapLeft => CycleKind::LeftTapping,
             Meaning::CycleFineBore => CycleKind::FineBoring,
-            Meaning::Other => return,
+            Meaning::Other | Meaning::Output => return,
             m => {
                 let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", cycle.name, m.as_str());
                 self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));

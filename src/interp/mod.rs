@@ -1896,7 +1896,7 @@ impl<'a> Interpreter<'a> {
                             self.st.ended = true;
                             return;
                         }
-                        None => CanonOp::Comment(text.to_owned()),
+                        Some((Directive::Log, _)) | None => CanonOp::Comment(text.to_owned()),
                     };
                     self.emit(sink, op);
                 }
@@ -2466,7 +2466,7 @@ impl<'a> Interpreter<'a> {
             }
             Meaning::DiameterMode => self.st.diameter = true,
             Meaning::RadiusMode => self.st.diameter = false,
-            Meaning::Other | Meaning::ProgramBegin => {}
+            Meaning::Other | Meaning::Output | Meaning::ProgramBegin => {}
             Meaning::Stock => self.stock_corner(sink),
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
             Meaning::ApproachTangent

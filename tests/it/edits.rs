@@ -103,8 +103,8 @@ fn work_offset() {
         "N195 G54",
         "N195 G55",
         expect![[r#"
-            work_offset_changed | work_offset | G54 | G55 | 48 | 48
-              work offset changed from G54 to G55
+            work_offset_changed | work_offset | G54 | G55 | 47 | 47
+              work offset changed from G54 to G55 at line 47
             risky_edit | lone-work-offset |  | workingstep 3 cuts in G55, which the rest of the program never uses (it cuts in G54) | 48 | 48
               warning: workingstep 3 cuts in G55, which the rest of the program never uses (it cuts in G54)
         "#]],
@@ -120,7 +120,7 @@ fn additional_work_offset() {
     let got = changes(&program(20), &program(21), "haas");
     expect![[r#"
         work_offset_changed | work_offset | additional work offset 20 | additional work offset 21 | 6 | 6
-          work offset changed from additional work offset 20 to additional work offset 21
+          work offset changed from additional work offset 20 to additional work offset 21 at line 6
     "#]]
     .assert_eq(&rows(&got));
     let fanuc = |w: &str| format!("%\nO1\nG21 G90 G17\nT1 M6\nS2000 M3\n{w} G0 X0 Y0\nG43 H1 Z5.\nG1 Z-1. F300.\nX50.\nG0 Z50.\nM30\n%\n");
@@ -133,8 +133,8 @@ fn length_offset_of_another_tool() {
         "G43 Z15. H03",
         "G43 Z15. H02",
         expect![[r#"
-            length_offset_changed | length_offset | the tool's own (H3) | H2 | 48 | 48
-              length offset changed from the tool's own (H3) to H2
+            length_offset_changed | length_offset | the tool's own (H3) | H2 | 49 | 49
+              length offset changed from the tool's own (H3) to H2 at line 49
             risky_edit | foreign-length-offset |  | T3 cuts with the length offset of tool T2 (H2) | 48 | 48
               warning: T3 cuts with the length offset of tool T2 (H2)
         "#]],
@@ -147,11 +147,11 @@ fn no_length_offset_while_cutting() {
         "G43 Z15. H02",
         "G43 Z15. H00",
         expect![[r#"
-        length_offset_changed | length_offset | the tool's own (H2) | none (H0) | 34 | 34
-          length offset changed from the tool's own (H2) to none (H0)
-        risky_edit | no-length-offset |  | T2 cuts with no length offset (H0), while the rest of the program uses them | 34 | 34
-          warning: T2 cuts with no length offset (H0), while the rest of the program uses them
-    "#]],
+            length_offset_changed | length_offset | the tool's own (H2) | none (H0) | 35 | 35
+              length offset changed from the tool's own (H2) to none (H0) at line 35
+            risky_edit | no-length-offset |  | T2 cuts with no length offset (H0), while the rest of the program uses them | 34 | 34
+              warning: T2 cuts with no length offset (H0), while the rest of the program uses them
+        "#]],
     );
 }
 
@@ -161,8 +161,8 @@ fn cutter_compensation_side() {
         "G41 D03",
         "G42 D03",
         expect![[r#"
-            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | right (G42) with the tool's own D3 | 48 | 48
-              cutter compensation changed from left (G41) with the tool's own D3 to right (G42) with the tool's own D3
+            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | right (G42) with the tool's own D3 | 53 | 53
+              cutter compensation changed from left (G41) with the tool's own D3 to right (G42) with the tool's own D3 at line 53
         "#]],
     );
 }
@@ -173,8 +173,8 @@ fn compensation_number() {
         "G41 D03",
         "G41 D13",
         expect![[r#"
-            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | left (G41) with D13 | 48 | 48
-              cutter compensation changed from left (G41) with the tool's own D3 to left (G41) with D13
+            cutter_comp_changed | cutter_compensation | left (G41) with the tool's own D3 | left (G41) with D13 | 53 | 53
+              cutter compensation changed from left (G41) with the tool's own D3 to left (G41) with D13 at line 53
         "#]],
     );
 }
@@ -197,9 +197,9 @@ fn optional_stop_removed() {
         "N115 M01\n",
         "",
         expect![[r#"
-        stop_removed | stop | optional stop (M01) |  | - | 29
-          optional stop (M01) removed at original line 29
-    "#]],
+            stop_removed | stop | optional stop (M01) |  | - | 29
+              optional stop (M01) removed at original line 29
+        "#]],
     );
 }
 
@@ -221,9 +221,9 @@ fn block_delete_on_a_hole() {
         "N160 Y40.",
         "/N160 Y40.",
         expect![[r#"
-        optional_block_changed | optional_block | the hole at X80 Y40 | now depends on the block-delete switch | - | -
-          the hole at X80 Y40 now depends on the block-delete switch
-    "#]],
+            optional_block_changed | optional_block | the hole at X80 Y40 | now depends on the block-delete switch | 39 | 39
+              the hole at X80 Y40 now depends on the block-delete switch at line 39
+        "#]],
     );
 }
 
@@ -233,9 +233,9 @@ fn block_delete_on_a_pass() {
         "N85 Y50.\nN90 X130.",
         "/N85 Y50.\n/N90 X130.",
         expect![[r#"
-        optional_block_changed | optional_block | the moves at lines 23–24 | now depend on the block-delete switch | 23 | -
-          the moves at lines 23–24 now depend on the block-delete switch
-    "#]],
+            optional_block_changed | optional_block | the moves at lines 23–24 | now depend on the block-delete switch | 23 | -
+              the moves at lines 23–24 now depend on the block-delete switch at lines 23 and 24
+        "#]],
     );
 }
 
@@ -245,9 +245,9 @@ fn peck_depth() {
         "Q4.",
         "Q2.",
         expect![[r#"
-        cycle_parameter_changed | peck | Q4 | Q2 | - | -
-          peck changed from Q4 to Q2
-    "#]],
+            cycle_parameter_changed | peck | Q4 | Q2 | 37 | 37
+              peck changed from Q4 to Q2 at line 37
+        "#]],
     );
 }
 
@@ -257,8 +257,8 @@ fn r_level() {
         "R3.",
         "R5.",
         expect![[r#"
-            cycle_parameter_changed | r_level | Z3 | Z5 | - | -
-              r level changed from Z3 to Z5
+            cycle_parameter_changed | r_level | Z3 | Z5 | 37 | 37
+              r level changed from Z3 to Z5 at line 37
         "#]],
     );
 }
@@ -269,9 +269,9 @@ fn retract_plane() {
         "G98 G83",
         "G99 G83",
         expect![[r#"
-        cycle_parameter_changed | retract_plane | Z15 | Z3 | - | -
-          retract plane changed from Z15 to Z3
-    "#]],
+            cycle_parameter_changed | retract_plane | Z15 | Z3 | 37 | 37
+              retract plane changed from Z15 to Z3 at line 37
+        "#]],
     );
 }
 
@@ -281,9 +281,9 @@ fn hole_added() {
         "N160 Y40.\n",
         "N160 Y40.\nN161 X50.\n",
         expect![[r#"
-        hole_added | hole |  | X50 Y40 | - | -
-          hole added at X50 Y40
-    "#]],
+            hole_added | hole |  | X50 Y40 | 40 | -
+              hole added at X50 Y40 at line 40
+        "#]],
     );
 }
 
@@ -293,13 +293,13 @@ fn hole_removed() {
         "N155 X80.\n",
         "",
         expect![[r#"
-        hole_removed | hole | X80 Y20 |  | - | -
-          hole at X80 Y20 removed
-        hole_removed | hole | X80 Y40 |  | - | -
-          hole at X80 Y40 removed
-        hole_added | hole |  | X20 Y40 | - | -
-          hole added at X20 Y40
-    "#]],
+            hole_removed | hole | X80 Y20 |  | - | 38
+              hole at X80 Y20 removed at original line 38
+            hole_removed | hole | X80 Y40 |  | - | 38
+              hole at X80 Y40 removed at original line 38
+            hole_added | hole |  | X20 Y40 | - | 38
+              hole added at X20 Y40 at original line 38
+        "#]],
     );
 }
 
@@ -309,9 +309,9 @@ fn hole_depth() {
         "Z-20. R3.",
         "Z-18. R3.",
         expect![[r#"
-        depth_changed | depth | Z-20 | Z-18 | 34 | 34
-          depth changed from Z-20 to Z-18
-    "#]],
+            depth_changed | depth | Z-20 | Z-18 | 37 | 37
+              depth changed from Z-20 to Z-18 at line 37
+        "#]],
     );
 }
 
@@ -345,9 +345,9 @@ fn constant_surface_speed() {
         "S8000 M03",
         "G96 S200 M03",
         expect![[r#"
-        spindle_mode_changed | spindle_mode | S8000 1/min (G97) | constant surface speed 200 m/min (G96) | 48 | 48
-          spindle mode changed from S8000 1/min (G97) to constant surface speed 200 m/min (G96)
-    "#]],
+            spindle_mode_changed | spindle_mode | S8000 1/min (G97) | constant surface speed 200 m/min (G96) | 46 | 46
+              spindle mode changed from S8000 1/min (G97) to constant surface speed 200 m/min (G96) at line 46
+        "#]],
     );
 }
 
@@ -357,9 +357,9 @@ fn feed_and_speed() {
         "X60. F1200.",
         "X60. F1000.",
         expect![[r#"
-        feed_changed | feed | F300, F1200 | F300, F1000 | 48 | 48
-          feed changed from F300, F1200 to F300, F1000
-    "#]],
+            feed_changed | feed | F300, F1200 | F300, F1000 | 53 | 53
+              feed changed from F300, F1200 to F300, F1000 at line 53
+        "#]],
     );
 }
 
@@ -369,8 +369,8 @@ fn spindle_and_coolant() {
         "N190 S8000 M03",
         "N190 S8000 M04",
         expect![[r#"
-            spindle_direction_changed | spindle_direction | clockwise (M3) | counter-clockwise (M4) | 48 | 48
-              spindle direction changed from clockwise (M3) to counter-clockwise (M4)
+            spindle_direction_changed | spindle_direction | clockwise (M3) | counter-clockwise (M4) | 46 | 46
+              spindle direction changed from clockwise (M3) to counter-clockwise (M4) at line 46
         "#]],
     );
 }
@@ -381,8 +381,8 @@ fn pocket_wall_moved() {
         "N235 X40.",
         "N235 X44.",
         expect![[r#"
-            feature_changed | pocket_width | 20 mm | 16 mm | 48 | 48
-              pocket width changed from 20 mm to 16 mm
+            feature_changed | pocket_width | 20 mm | 16 mm | 55 | 55
+              pocket width changed from 20 mm to 16 mm at line 55
         "#]],
     );
 }
@@ -393,8 +393,8 @@ fn inch_program_in_inches() {
     let a = "%\nO2 (INCH)\n(T1 D=0.5 FLAT END MILL)\nG20 G17 G40 G49 G80 G90\nT1 M06\nS6000 M03\nG54 G00 X-0.3 Y0.\nG43 Z1. H01\nZ0.1\nG01 Z-0.05 F20.\nX4.3 F40.\nY0.4\nX-0.3\nY0.8\nX4.3\nG00 Z1.\nM30\n%\n";
     let b = a.replace("Y0.8\nX4.3\n", "Y0.8\nX3.8 F30.\n");
     expect![[r#"
-        feed_changed | feed | F20, F40 | F20, F40, F30 | 7 | 7
-          feed changed from F20, F40 to F20, F40, F30
+        feed_changed | feed | F20, F40 | F20, F40, F30 | 15 | 15
+          feed changed from F20, F40 to F20, F40, F30 at line 15
         toolpath_changed | toolpath | the cut at line 15 to X4.3 Y0.8 | the cut at line 15 to X3.8 Y0.8 (0.5 in shorter), in X-0.3…4.3 Y0.8…0.8, at most 0.5 in from the original path | 15 | 15
           toolpath changed at line 15: the cut at line 15 to X4.3 Y0.8 became the cut at line 15 to X3.8 Y0.8 (0.5 in shorter), in X-0.3…4.3 Y0.8…0.8, at most 0.5 in from the original path
     "#]].assert_eq(&rows(&changes(a, &b, "fanuc")));
@@ -479,9 +479,9 @@ fn stepover() {
     pocket_edit(
         "stepover",
         expect![[r#"
-        stepover_changed | stepover | 5 mm | 4 mm | 12 | 12
-          stepover changed from 5 mm to 4 mm
-    "#]],
+            stepover_changed | stepover | 5 mm | 4 mm | 17 | 17
+              stepover changed from 5 mm to 4 mm at lines 17, 18, 19 and 19 more
+        "#]],
     );
 }
 
@@ -490,9 +490,9 @@ fn allowance() {
     pocket_edit(
         "allowance",
         expect![[r#"
-        allowance_changed | wall_allowance | 0.3 mm | 0.5 mm | 12 | 12
-          wall allowance changed from 0.3 mm to 0.5 mm
-    "#]],
+            allowance_changed | wall_allowance | 0.3 mm | 0.5 mm | 17 | 17
+              wall allowance changed from 0.3 mm to 0.5 mm at lines 17, 18, 19 and 17 more
+        "#]],
     );
 }
 
@@ -501,9 +501,9 @@ fn axial_depth() {
     pocket_edit(
         "axial_depth",
         expect![[r#"
-        axial_depth_changed | axial_depth | 3 mm | 2 mm | 12 | 12
-          axial depth changed from 3 mm to 2 mm
-    "#]],
+            axial_depth_changed | axial_depth | 3 mm | 2 mm | 15 | 15
+              axial depth changed from 3 mm to 2 mm at lines 15, 16, 29 and 16 more
+        "#]],
     );
 }
 
@@ -514,12 +514,18 @@ fn the_feed_override_turned_off_is_a_change() {
     for off in ["M49", "M50 P0"] {
         let b = a.replace("G1 Z-2 F400\n", &format!("{off}\nG1 Z-2 F400\n"));
         expect![[r#"
-            feed_override_changed | feed_override | on | off (the programmed feed, whatever the dial) | 4 | 4
-              feed override changed from on to off (the programmed feed, whatever the dial)
+            feed_override_changed | feed_override | on | off (the programmed feed, whatever the dial) | 5 | -
+              feed override changed from on to off (the programmed feed, whatever the dial) at line 5
         "#]]
         .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
     }
-    // Turned on again before the cut: no change.
+    // Turned on again before the cut: no plan change; the two statements are still named.
     let b = a.replace("G1 Z-2 F400\n", "M49\nM48\nG1 Z-2 F400\n");
-    assert_eq!(rows(&changes(a, &b, "linuxcnc")), "");
+    expect![[r#"
+        statement_changed | statement |  | M49 | 5 | -
+          `M49` added at line 5
+        statement_changed | statement |  | M48 | 6 | -
+          `M48` added at line 6
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
 }

@@ -23,6 +23,7 @@ mod macros;
 mod parity;
 mod pg;
 mod plan;
+mod revisions;
 mod post_rules;
 mod robustness;
 mod round_trip_causes;

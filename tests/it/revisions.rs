@@ -1,0 +1,171 @@
+//! Revision pairs with hand-written expectations (issue 32): `tests/revisions/own/<id>/`
+//! (pairs written here, each `original.*`, `edited.*` and `expect.toml`), and, where
+//! `NCPLAN_REVISIONS_REAL` names a folder that `tests/revisions/real/extract.sh` filled, the
+//! real pairs of `tests/revisions/real/<id>.toml` (their texts are not committed).
+//!
+//! Each pair is held to what its expectation says, written by hand from the two texts:
+//! - `cosmetic`: no change; `logging`: no machining change; `machining`: at least one;
+//! - every line listed in `original_lines` / `edited_lines` is named by a change;
+//! - every differing statement is named by a change (the accounting invariant).
+
+use std::path::{Path, PathBuf};
+
+use ncplan::dialect::Registry;
+use ncplan::diff::{self, Change};
+use ncplan::interp::Profile;
+use ncplan::pipeline;
+
+#[derive(serde::Deserialize)]
+struct Expect {
+    dialect: String,
+    class: String,
+    #[serde(default)]
+    what: String,
+    #[serde(default)]
+    original_lines: Vec<u32>,
+    #[serde(default)]
+    edited_lines: Vec<u32>,
+}
+
+struct Pair {
+    id: String,
+    expect: Expect,
+    original: PathBuf,
+    edited: PathBuf,
+}
+
+fn file_in(dir: &Path, stem: &str) -> Option<PathBuf> {
+    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.file_stem().is_some_and(|s| s == stem))
+        .collect();
+    found.sort();
+    found.into_iter().next()
+}
+
+fn own_pairs() -> Vec<Pair> {
+    let dir = crate::root().join("tests/revisions/own");
+    let mut ids: Vec<PathBuf> = std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
+    ids.sort();
+    ids.into_iter()
+        .map(|d| Pair {
+            id: d.file_name().unwrap().to_string_lossy().into_owned(),
+            expect: toml::from_str(&std::fs::read_to_string(d.join("expect.toml")).unwrap()).unwrap(),
+            original: file_in(&d, "original").unwrap(),
+            edited: file_in(&d, "edited").unwrap(),
+        })
+        .collect()
+}
+
+fn real_pairs(texts: &Path) -> Vec<Pair> {
+    let dir = crate::root().join("tests/revisions/real");
+    let mut tomls: Vec<PathBuf> =
+        std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    tomls.sort();
+    tomls
+        .into_iter()
+        .filter_map(|t| {
+            let id = t.file_stem().unwrap().to_string_lossy().into_owned();
+            let d = texts.join(&id);
+            Some(Pair {
+                expect: toml::from_str(&std::fs::read_to_string(&t).unwrap()).unwrap(),
+                original: file_in(&d, "original")?,
+                edited: file_in(&d, "edited")?,
+                id,
+            })
+        })
+        .collect()
+}
+
+/// What a pair gave, and what is wrong with it.
+struct Outcome {
+    changes: Vec<Change>,
+    problems: Vec<String>,
+}
+
+fn run(pair: &Pair) -> Outcome {
+    let registry = Registry::shipped();
+    let d = registry.get(&pair.expect.dialect).unwrap_or_else(|| panic!("{}: unknown dialect {}", pair.id, pair.expect.dialect));
+    let read = |p: &Path| std::fs::read(p).unwrap();
+    let beside = |p: &Path| ncplan::config::DirPrograms::beside(&Profile::default(), p, 1 << 20);
+    let a = pipeline::analyze_plan_owned(read(&pair.original), &d, &beside(&pair.original));
+    let b = pipeline::analyze_plan_owned(read(&pair.edited), &d, &beside(&pair.edited));
+    let pa = diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d };
+    let pb = diff::Program { plan: &b.plan, text: &b.source.text, dialect: &d };
+    let changes = diff::compare(pa, pb);
+    let mut problems = Vec::new();
+    let missing = diff::unaccounted(pa, pb, &changes);
+    if !missing.is_empty() {
+        problems.push(format!("differing statements no change names: {missing:?}"));
+    }
+    let machining = changes.iter().filter(|c| c.is_machining()).count();
+    match pair.expect.class.as_str() {
+        "cosmetic" if !changes.is_empty() => problems.push(format!("cosmetic, yet {} changes", changes.len())),
+        "logging" if machining > 0 => problems.push(format!("logging only, yet {machining} machining changes")),
+        "machining" if machining == 0 => problems.push("machining, yet no machining change".into()),
+        _ => {}
+    }
+    let names = |line: u32, original: bool| {
+        changes.iter().any(|c| {
+            let (first, end) = if original { (c.original_line, c.original_line_end) } else { (c.line, c.line_end) };
+            first.is_some_and(|f| line >= f && line <= end.unwrap_or(f))
+                || c.at.iter().any(|&(o, e)| if original { o == Some(line) } else { e == Some(line) })
+        })
+    };
+    let lost_o: Vec<u32> = pair.expect.original_lines.iter().copied().filter(|l| !names(*l, true)).collect();
+    let lost_e: Vec<u32> = pair.expect.edited_lines.iter().copied().filter(|l| !names(*l, false)).collect();
+    if !lost_o.is_empty() || !lost_e.is_empty() {
+        problems.push(format!("lines not named: original {lost_o:?}, edited {lost_e:?}"));
+    }
+    Outcome { changes, problems }
+}
+
+fn report(pairs: &[Pair]) -> (String, usize) {
+    let mut table = String::from("id | class | lines given | changes (machining) | verdict\n");
+    let mut failed = 0;
+    for p in pairs {
+        let o = std::panic::catch_unwind(|| run(p)).unwrap_or_else(|e| Outcome {
+            changes: Vec::new(),
+            problems: vec![format!("panicked: {}", e.downcast_ref::<String>().cloned().unwrap_or_default())],
+        });
+        let machining = o.changes.iter().filter(|c| c.is_machining()).count();
+        let located = !(p.expect.original_lines.is_empty() && p.expect.edited_lines.is_empty());
+        let verdict = if o.problems.is_empty() { "ok".to_owned() } else { o.problems.join("; ") };
+        failed += usize::from(!o.problems.is_empty());
+        table.push_str(&format!(
+            "{} | {} | {} | {} ({machining}) | {verdict}\n",
+            p.id,
+            p.expect.class,
+            if located { "yes" } else { "no" },
+            o.changes.len()
+        ));
+        if !o.problems.is_empty() {
+            table.push_str(&format!("    what: {}\n", p.expect.what));
+            for c in o.changes.iter().take(6) {
+                table.push_str(&format!("    - {}\n", c.phrase()));
+            }
+        }
+    }
+    (table, failed)
+}
+
+#[test]
+fn own_revision_pairs_are_accounted_for() {
+    let pairs = own_pairs();
+    assert!(pairs.len() >= 20, "the own pairs are there");
+    let (table, failed) = report(&pairs);
+    assert_eq!(failed, 0, "\n{table}");
+}
+
+/// The real pairs, where their texts were extracted (`NCPLAN_REVISIONS_REAL`); the table goes
+/// to `target/revisions-real.txt`.
+#[test]
+fn real_revision_pairs_are_accounted_for() {
+    let Some(texts) = std::env::var_os("NCPLAN_REVISIONS_REAL") else { return };
+    let pairs = real_pairs(Path::new(&texts));
+    let (table, failed) = report(&pairs);
+    let out = crate::root().join("target/revisions-real.txt");
+    std::fs::write(&out, format!("{table}\n{failed} of {} pairs with problems\n", pairs.len())).unwrap();
+    assert_eq!(failed, 0, "see {}", out.display());
+}
