@@ -28,6 +28,13 @@ use crate::text::{Encoding, LineIndex, TextRange};
 /// was a partial write.
 pub const PARTIAL_WINDOW_S: f64 = 30.0;
 
+/// How many analyses of one content must have ended the process before it is stored without
+/// analysis. One unfinished analysis is no evidence against the content: a kill from outside
+/// (an operator, a stop that timed out, a power cut) lands on whatever is being analysed, and
+/// a revision stored unanalysed is final, so an original would never serve its waiting edits.
+/// A content that ends the process again when it is tried again is the cause.
+pub const UNFINISHED_ANALYSES: u32 = 2;
+
 /// What happened to a file.
 #[derive(Debug, PartialEq, Eq)]
 pub enum Outcome {
@@ -147,9 +154,11 @@ pub fn ingest(
     journaled(path, path, folder, config, registry, store, now, bytes, &hash, &meta)
 }
 
-/// [`record`] with the attempt journal around it: an analysis of this content that never
-/// finished (the process was killed) is not tried again. A stored revision closes the
-/// journal in its own transaction; any other end closes it here.
+/// [`record`] with the attempt journal around it: a content whose analysis ended the process
+/// [`UNFINISHED_ANALYSES`] times is not tried again. The journal covers the content's own
+/// analysis only: `record` closes it as soon as the analysis returns, before it waits for the
+/// store and compares other programs, so a kill there never counts against this content. Any
+/// other end closes it here.
 #[allow(clippy::too_many_arguments)]
 fn journaled(
     path: &Path,
@@ -264,8 +273,8 @@ fn mtime_ns(meta: &std::fs::Metadata) -> Option<i64> {
     meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_nanos() as i64)
 }
 
-/// Analyses the bytes (unless an earlier analysis of them never finished) and records the
-/// revision with everything it enables, in one transaction.
+/// Analyses the bytes (unless analyses of them ended the process [`UNFINISHED_ANALYSES`] times) and
+/// records the revision with everything it enables, in one transaction.
 #[allow(clippy::too_many_arguments)]
 fn record(
     path: &Path,
@@ -295,7 +304,7 @@ fn record(
         let what = if bytes.is_empty() { "empty".to_owned() } else { format!("{} bytes of blanks or NUL bytes", bytes.len()) };
         let message = format!("the file holds no program ({what}): a truncated save or an aborted copy; stored, never compared");
         (None, vec![finding(Code::EmptyFile, message)], "empty")
-    } else if earlier > 0 {
+    } else if earlier >= UNFINISHED_ANALYSES {
         let message = format!(
             "analysing this content ended the process {earlier} time(s) before (out of memory, a memory limit or a crash); stored, not analysed"
         );
@@ -303,6 +312,9 @@ fn record(
         (None, vec![finding(Code::AnalysisFailed, message)], "failed")
     } else {
         let a = reader.analyse(path, folder, &dialect_name, &bytes)?;
+        // The analysis finished: what follows (waiting for the store, comparing the edits that
+        // waited for this original) is no fault of this content's if the process ends there.
+        store.finish_attempt(hash, &path_str)?;
         let idx = LineIndex::new(&a.source.text);
         let ds = a.diagnostics.iter().map(|d| DiagnosticJson::new(d, &a.source.text, &idx)).collect();
         (Some(a), ds, "analysed")

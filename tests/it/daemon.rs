@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::support::{Proc, wait_rows, watch};
+use crate::support::{Proc, program, wait_rows, watch};
 
 fn start(config: &Path) -> Proc {
     watch(config, "debug", Stdio::null())
@@ -118,4 +118,78 @@ fn sigterm_stops_gracefully() {
         std::thread::sleep(Duration::from_millis(50));
     };
     assert!(status.success(), "{status:?}");
+}
+
+/// Issue 32 §6: edited programs that wait for their CAM originals are all compared, however
+/// many SIGKILLs land while many late originals arrive at once, whatever the moment. A kill
+/// lands on whatever is being analysed or stored; none of it may leave an original stored
+/// unanalysed (it would never serve its edits) or an edit uncompared.
+#[test]
+fn waiting_edits_are_all_compared_across_kills_while_late_originals_arrive() {
+    const MACHINES: u32 = 4;
+    const ORIGINALS: u32 = 60;
+    let tmp = tempfile::tempdir().unwrap();
+    let (cam, stage) = (tmp.path().join("cam"), tmp.path().join("stage"));
+    std::fs::create_dir_all(&cam).unwrap();
+    std::fs::create_dir_all(&stage).unwrap();
+    let mut text =
+        String::from("[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 100\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n");
+    let numbers: Vec<u32> = (1001..1001 + ORIGINALS).collect();
+    for m in 0..MACHINES {
+        let share = tmp.path().join(format!("m{m}"));
+        std::fs::create_dir_all(&share).unwrap();
+        text.push_str(&format!("[[machine]]\nname = 'M{m}'\npath = 'm{m}'\ndialect = 'fanuc'\n"));
+        // Each machine's operator changed the feed of every program.
+        for &n in &numbers {
+            std::fs::write(share.join(format!("O{n}.nc")), program(n, 205 + 10 * m, 1000 + n % 7)).unwrap();
+        }
+    }
+    let config = tmp.path().join("ncplan.toml");
+    std::fs::write(&config, text).unwrap();
+    let db = tmp.path().join("var/ncplan.db");
+    let edits = (MACHINES * ORIGINALS) as usize;
+
+    // The edits are stored first, each waiting for its original.
+    let mut daemon = start(&config);
+    assert_eq!(wait_rows(&db, "SELECT id FROM revisions", edits, Duration::from_secs(60)).len(), edits);
+    assert!(rows(&db, "SELECT revision_id FROM comparisons").is_empty());
+
+    // The originals arrive at once (posted elsewhere, moved into the CAM folder), each the
+    // original of one program on every machine; the daemon is killed at varied moments of the
+    // first second, as they arrive and after each restart.
+    for &n in &numbers {
+        std::fs::write(stage.join(format!("O{n}.nc")), program(n, 250, 1000 + n % 7)).unwrap();
+    }
+    for &n in &numbers {
+        std::fs::rename(stage.join(format!("O{n}.nc")), cam.join(format!("O{n}.nc"))).unwrap();
+    }
+    let moments = [130, 240, 350, 460, 570, 680, 790, 900, 60, 300, 520, 740, 180, 410, 630, 850];
+    for ms in moments {
+        std::thread::sleep(Duration::from_millis(ms));
+        daemon.kill();
+        daemon = start(&config);
+    }
+
+    // The last start runs undisturbed: every edit is compared with its original.
+    let uncompared = "SELECT p.path, r.status FROM revisions r JOIN programs p ON p.id = r.program_id
+                      WHERE p.role = 'machine' AND NOT EXISTS (SELECT 1 FROM comparisons c WHERE c.revision_id = r.id) ORDER BY r.id";
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < deadline
+        && (rows(&db, "SELECT id FROM revisions").len() < edits + numbers.len() || !rows(&db, uncompared).is_empty())
+    {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    drop(daemon);
+    let originals = rows(
+        &db,
+        "SELECT p.path, r.status FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.role = 'cam' AND r.status <> 'analysed'",
+    );
+    assert!(originals.is_empty(), "originals stored unanalysed after {} kills: {originals:?}", moments.len());
+    let left = rows(&db, uncompared);
+    assert!(left.is_empty(), "{} of {edits} edits uncompared after {} kills: {left:?}", left.len(), moments.len());
+    // Every revision once, nothing left in the attempt journal, nothing written into a watched folder.
+    assert_eq!(rows(&db, "SELECT id FROM revisions").len(), edits + numbers.len());
+    assert_eq!(rows(&db, "SELECT revision_id FROM comparisons").len(), edits);
+    assert!(rows(&db, "SELECT * FROM attempts").is_empty());
+    assert_eq!(std::fs::read_dir(&cam).unwrap().count(), numbers.len());
 }

@@ -515,17 +515,36 @@ fn content_whose_analysis_killed_the_process_is_stored_once_without_analysis() {
     for mut engine in crate::pg::engines("faults::content_whose_analysis_killed_the_process_is_stored_once_without_analysis") {
         let store = &mut engine.store;
         let site = Site::new("");
+        // One analysis that never finished is no evidence against the content: a kill from
+        // outside lands on whatever is being analysed. It is analysed again, and stored so.
+        let once = program(11, 300);
+        std::fs::write(site.path("share/O11.nc"), &once).unwrap();
+        let at = site.path("share/O11.nc").to_string_lossy().into_owned();
+        let hash = ncplan::daemon::ingest::sha256_hex(once.as_bytes());
+        assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:00:00.000Z").unwrap(), 0);
+        ingest_at(&site, store, "share/O11.nc", "2026-12-01T09:30:00.000Z", None);
+        let rows = store.query("SELECT r.status FROM revisions r").unwrap().1;
+        assert_eq!(rows, [["analysed"]]);
+        assert!(store.query("SELECT * FROM attempts").unwrap().1.is_empty(), "the journal is closed once the analysis returns");
+
         let text = program(12, 300);
         std::fs::write(site.path("share/O12.nc"), &text).unwrap();
-        // An earlier run began analysing this content and never finished (killed by a memory limit).
+        // Earlier runs began analysing this content twice and never finished (killed by a memory limit).
         let hash = ncplan::daemon::ingest::sha256_hex(text.as_bytes());
         let at = site.path("share/O12.nc").to_string_lossy().into_owned();
         assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:00:00.000Z").unwrap(), 0);
+        assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:10:00.000Z").unwrap(), 1);
         let out = ingest_at(&site, store, "share/O12.nc", "2026-12-01T10:00:00.000Z", None);
         assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
-        let rows = store.query("SELECT r.status, d.code, d.message FROM revisions r JOIN diagnostics d ON d.revision_id = r.id").unwrap().1;
+        let rows = store
+            .query(
+                "SELECT r.status, d.code, d.message FROM revisions r JOIN programs p ON p.id = r.program_id
+                 JOIN diagnostics d ON d.revision_id = r.id WHERE p.path LIKE '%O12.nc'",
+            )
+            .unwrap()
+            .1;
         assert_eq!(rows[0][..2], ["failed", "text::analysis-failed"]);
-        assert!(rows[0][2].contains("ended the process 1 time(s) before"), "{rows:?}");
+        assert!(rows[0][2].contains("ended the process 2 time(s) before"), "{rows:?}");
         assert!(store.query("SELECT * FROM attempts").unwrap().1.is_empty(), "the journal is closed with the revision");
         // It is not retried: the same content again is unchanged.
         assert_eq!(ingest_at(&site, store, "share/O12.nc", "2026-12-01T10:01:00.000Z", None), Outcome::Unchanged);
