@@ -172,7 +172,97 @@ pub fn run(dir: &Path, rows: usize, runs: u32, out: &mut impl std::io::Write) ->
     writeln!(out)?;
     memory_by_size(dir, &exe, rows, out)?;
     writeln!(out)?;
+    diff_pairs(dir, &exe, runs, out)?;
+    writeln!(out)?;
     writeln!(out, "side by side: hyperfine -w1 '{exe} canon {0}/surface.ngc' 'rs274 -g -t {0}/zero.tbl {0}/surface.ngc'", dir.display())?;
+    Ok(())
+}
+
+/// A pocket cleared in zig-zag passes `step` apart, then its outline: one program of a
+/// shop, `units` 21 (mm) or 20 (values divided by `scale`).
+fn pocket_program(step: f64, units: u8, scale: f64) -> String {
+    let mut s = format!("%\nO2000 (POCKET)\nG{units} G90 G17 G40 G80\nT3 M6\nS6000 M3\nG54 G0 X0. Y0.\nG43 H3 Z5.\n");
+    let c = |v: f64| format!("{:.4}", v / scale);
+    for layer in 1..=4 {
+        let _ = writeln!(s, "G1 Z{} F300.", c(-f64::from(layer)));
+        let mut y = 0.0;
+        let mut forward = true;
+        while y <= 60.0 {
+            let _ = writeln!(s, "G1 X{} Y{} F1200.", c(if forward { 100.0 } else { 0.0 }), c(y));
+            y += step;
+            let _ = writeln!(s, "Y{}", c(y.min(60.0)));
+            forward = !forward;
+        }
+        let _ = writeln!(s, "G0 Z5.\nX0. Y0.");
+    }
+    let _ = writeln!(s, "G1 Z-4. F300.\nG41 D3 X5. Y5.\nX95.\nY55.\nX5.\nY5.\nG40 X0. Y0.\nG0 Z50.\nM30\n%");
+    s
+}
+
+/// The pairs of programs under 64 KB that are hardest to diff: a unit switch with the
+/// contour rewritten, a program regenerated with another stepover, two operations swapped,
+/// every block shuffled; and the surfacing program against itself with one line changed.
+/// Prints each pair's time and peak memory, and the slowest.
+fn diff_pairs(dir: &Path, exe: &str, runs: u32, out: &mut impl std::io::Write) -> Result<()> {
+    let pocket = pocket_program(5.0, 21, 1.0);
+    let swapped = {
+        let body: Vec<&str> = pocket.lines().collect();
+        let cut = body.iter().position(|l| l.starts_with("G1 Z-3.")).unwrap_or(body.len() / 2);
+        let end = body.iter().position(|l| l.starts_with("G1 Z-4.")).unwrap_or(body.len());
+        let mut v: Vec<&str> = body[..8].to_vec();
+        v.extend(&body[cut..end]);
+        v.extend(&body[8..cut]);
+        v.extend(&body[end..]);
+        v.join("\n") + "\n"
+    };
+    let shuffled = {
+        let mut v: Vec<&str> = pocket.lines().collect();
+        // A fixed permutation: every 7th line first, and so on.
+        v.sort_by_key(|l| l.len() % 7);
+        v.join("\n") + "\n"
+    };
+    let pairs: [(&str, String, String); 4] = [
+        ("units switched, contour rewritten", pocket.clone(), pocket_program(5.0, 20, 25.4)),
+        ("regenerated, other stepover", pocket.clone(), pocket_program(4.0, 21, 1.0)),
+        ("two operations swapped", pocket.clone(), swapped),
+        ("every block shuffled", pocket.clone(), shuffled),
+    ];
+    writeln!(out, "diff (pairs under 64 KB)                 bytes          time     peak memory")?;
+    let mut slowest = (Duration::ZERO, String::new());
+    for (k, (what, a, b)) in pairs.iter().enumerate() {
+        let (pa, pb) = (dir.join(format!("diff{k}_a.nc")), dir.join(format!("diff{k}_b.nc")));
+        std::fs::write(&pa, a)?;
+        std::fs::write(&pb, b)?;
+        let args = ["diff", "-d", "fanuc", &pa.to_string_lossy(), &pb.to_string_lossy()].map(str::to_owned);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let mut best: Option<(Duration, u64)> = None;
+        for _ in 0..runs {
+            let m = measured(exe, &args)?;
+            best = Some(best.map_or(m, |b| if m.0 < b.0 { m } else { b }));
+        }
+        let (t, peak) = best.context("no run")?;
+        if t > slowest.0 {
+            slowest = (t, (*what).to_owned());
+        }
+        writeln!(out, "  {what:<38} {:>5} / {:>5}  {:6.3} s  {:6.1} MB", a.len(), b.len(), t.as_secs_f64(), peak as f64 / 1e6)?;
+    }
+    writeln!(out, "  slowest: {} ({:.3} s)", slowest.1, slowest.0.as_secs_f64())?;
+    // The surfacing program against itself with one line changed: the diff of 1M blocks.
+    let surface = dir.join("surface.ngc");
+    let edited = dir.join("surface_edited.ngc");
+    let text = std::fs::read_to_string(&surface)?;
+    let middle = text.len() / 2;
+    let at = middle + text[middle..].find('\n').map_or(0, |i| i + 1);
+    let line_end = at + text[at..].find('\n').unwrap_or(0);
+    std::fs::write(&edited, format!("{}X50.05 Y1.0 Z-1.2{}", &text[..at], &text[line_end..]))?;
+    let (t, peak) = measured(exe, &["diff", "-d", "linuxcnc", &surface.to_string_lossy(), &edited.to_string_lossy()])?;
+    writeln!(
+        out,
+        "  surfacing, one line changed            {:>5.1} MB each  {:6.3} s  {:6.1} MB",
+        text.len() as f64 / 1e6,
+        t.as_secs_f64(),
+        peak as f64 / 1e6
+    )?;
     Ok(())
 }
 

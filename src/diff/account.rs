@@ -55,6 +55,9 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
     let (sa, sb) = (statement::statements(a.text, a.dialect), statement::statements(b.text, b.dialect));
     let hunks = statement::hunks(&sa, &sb);
     if hunks.is_empty() {
+        // The machine reads the same statements: what recognition took from comments (a
+        // stock, a tool's size) changed, not the machining. Called programs may still have.
+        changes.retain(|c| !derived(c.kind));
         return;
     }
     let (mut items, bulks) = itemize(&hunks, a, b, &sa, &sb);
@@ -108,15 +111,19 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
         1..=2 => Some(effects.join("; ")),
         n => Some(format!("{}; and {} more", effects[..2].join("; "), n - 2)),
     };
+    merge_repeats(changes);
     let mut added = Vec::new();
     for it in &items {
         let lo = line(&sa, it.original);
         let le = line(&sb, it.edited);
         let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
+        // A statement over several lines (`CYCL DEF 200 ~`) is named whole.
+        let last = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].last).filter(|&l| Some(l) != line(s, i));
         for mut c in statement_changes(it, lo, le, ws) {
             if it.class == Class::Machining {
                 c.effect.clone_from(&effect);
             }
+            (c.original_line_end, c.line_end) = (last(&sa, it.original), last(&sb, it.edited));
             added.push(c);
         }
     }
@@ -150,6 +157,44 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
     if cfg!(debug_assertions) {
         let missing = uncovered(changes, &hunks, &sa, &sb);
         assert!(missing.is_empty(), "differing statements no change names (original, edited line): {missing:?}");
+    }
+}
+
+/// Kinds that feature recognition derives, which comments (stock and tool sizes) feed.
+fn derived(kind: ChangeKind) -> bool {
+    use ChangeKind as K;
+    matches!(kind, K::FeatureChanged | K::AxialDepthChanged | K::StepoverChanged | K::AllowanceChanged | K::StrategyChanged)
+}
+
+/// The same plan change in several places seen at the same statements, or carried on into
+/// later workingsteps from where it is seen (one `M7` for the whole program, one dwell in a
+/// loop): told once, naming the other workingsteps.
+fn merge_repeats(changes: &mut Vec<Change>) {
+    let mut k = 0;
+    while k < changes.len() {
+        if changes[k].at.is_empty() {
+            k += 1;
+            continue;
+        }
+        let mut also = Vec::new();
+        let mut j = k + 1;
+        while j < changes.len() {
+            let (c, d) = (&changes[k], &changes[j]);
+            let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
+            if same && (d.at == c.at || (d.at.is_empty() && d.workingstep > c.workingstep)) {
+                if d.workingstep != c.workingstep && !also.contains(&d.workingstep) {
+                    also.push(d.workingstep);
+                }
+                changes.remove(j);
+            } else {
+                j += 1;
+            }
+        }
+        if !also.is_empty() {
+            let list = also.iter().map(u32::to_string).collect::<Vec<_>>().join(", ");
+            changes[k].after.push_str(&format!(" (also in workingstep{} {list})", if also.len() == 1 { "" } else { "s" }));
+        }
+        k += 1;
     }
 }
 
@@ -288,7 +333,7 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
 /// what the change is about. Variables, calls and jumps show no plan change by themselves.
 fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>)) -> bool {
     let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
-    if tok.sort != Sort::Word && tok.sort != Sort::Other {
+    if !tok.is_address() {
         return false;
     }
     let k = tok.key.as_str();
@@ -334,7 +379,12 @@ fn spans(ws: &[Workingstep]) -> Vec<RangeInclusive<u32>> {
 }
 
 /// The positions of a change's workingstep in the two plans.
-fn pair_of(c: &Change, a: &ProcessPlan, b: &ProcessPlan, pairs: &[(Option<usize>, Option<usize>)]) -> Option<(Option<usize>, Option<usize>)> {
+fn pair_of(
+    c: &Change,
+    a: &ProcessPlan,
+    b: &ProcessPlan,
+    pairs: &[(Option<usize>, Option<usize>)],
+) -> Option<(Option<usize>, Option<usize>)> {
     if c.kind == ChangeKind::WorkingstepAdded {
         let j = b.workingsteps.iter().position(|w| w.index == c.workingstep)?;
         return pairs.iter().find(|p| p.1 == Some(j)).copied();
@@ -354,14 +404,21 @@ fn workingstep_at(
     spans_b: &[RangeInclusive<u32>],
     pairs: &[(Option<usize>, Option<usize>)],
 ) -> (u32, String) {
+    // Its own workingstep's lines, else the next one's setup, else the last one's end.
+    let find = |ws: &[Workingstep], spans: &[RangeInclusive<u32>], l: u32| {
+        ws.iter()
+            .position(|w| (w.lines.0..=w.lines.1).contains(&l))
+            .or_else(|| ws.iter().position(|w| w.lines.0 > l))
+            .or_else(|| spans.iter().position(|s| s.contains(&l)))
+    };
     if let Some(l) = lo
-        && let Some(i) = spans_a.iter().position(|s| s.contains(&l))
+        && let Some(i) = find(&a.workingsteps, spans_a, l)
     {
         let w = &a.workingsteps[i];
         return (w.index, w.operation.label().into());
     }
     if let Some(l) = le
-        && let Some(j) = spans_b.iter().position(|s| s.contains(&l))
+        && let Some(j) = find(&b.workingsteps, spans_b, l)
     {
         let orig = pairs.iter().find(|p| p.1 == Some(j)).and_then(|p| p.0);
         return match orig {
@@ -401,7 +458,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
     for (x, y) in &it.diffs {
         let sort = y.as_ref().or(x.as_ref()).map_or(Sort::Other, |t| t.sort);
         match (sort, x, y) {
-            (Sort::Assign, _, _) => {
+            (Sort::Assign, _, _) if !y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
                 let mut c = blank(kind, ws.clone());
                 c.field = format!("variable {key}");
@@ -423,7 +480,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                     out.push(c);
                 }
             }
-            (Sort::Word, _, _) | (Sort::Other, _, _) if it.located => {}
+            _ if it.located && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
             _ => {
                 plain = true;
                 if let Some(x) = x {

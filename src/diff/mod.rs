@@ -335,13 +335,20 @@ pub use account::Program;
 /// check it.
 pub fn compare(original: Program<'_>, edited: Program<'_>) -> Vec<Change> {
     let (mut changes, pairs) = plan_changes(original.plan, edited.plan);
-    account::account(original, edited, &pairs, &mut changes);
+    // Statements compare within one language; a program and its translation, or a CL file
+    // and its post, compare by their plans.
+    if original.dialect.name == edited.dialect.name {
+        account::account(original, edited, &pairs, &mut changes);
+    }
     changes
 }
 
 /// The differing statements of two programs no change in `changes` names, as (original
 /// line, edited line): empty when the comparison accounts for every edit.
 pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change]) -> Vec<(Option<u32>, Option<u32>)> {
+    if original.dialect.name != edited.dialect.name {
+        return Vec::new();
+    }
     let (sa, sb) = (statement::statements(original.text, original.dialect), statement::statements(edited.text, edited.dialect));
     account::uncovered(changes, &statement::hunks(&sa, &sb), &sa, &sb)
 }
@@ -588,6 +595,7 @@ fn compare_workingsteps(
     features_seen: &mut BTreeSet<(u32, u32)>,
     out: &mut Vec<Change>,
 ) {
+    let first = out.len();
     let mut push = |kind: ChangeKind, field: &str, before: String, after: String, lines: (Option<u32>, Option<u32>)| {
         out.push(Change {
             kind,
@@ -793,6 +801,37 @@ fn compare_workingsteps(
             original_line_end: None,
         });
     }
+    fold_into_start_point(a, b, depth_change, u, first, out);
+}
+
+/// A start point moved with the cuts otherwise the same: a feature that grows or shrinks by
+/// it only restates it. The feature changes go, and the start point's change says what the
+/// move means (`the first cut now starts 14 mm further out, in air`).
+fn fold_into_start_point(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64)>, u: Fmt, first: usize, out: &mut Vec<Change>) {
+    let Some(k) = (first..out.len()).find(|&k| out[k].kind == ChangeKind::StartPointMoved) else { return };
+    if !out[first..].iter().any(|c| c.kind == ChangeKind::FeatureChanged) || toolpath_difference(a, b, depth, u).is_some() {
+        return;
+    }
+    let (Some(x), Some(y)) = (a.start_point, b.start_point) else { return };
+    let d = ((y[0] - x[0]).powi(2) + (y[1] - x[1]).powi(2)).sqrt();
+    let mut note = format!(" (the first cut now starts {}", u.len(d));
+    if let Some(bb) = a.bbox {
+        let centre = [(bb.min[0] + bb.max[0]) / 2.0, (bb.min[1] + bb.max[1]) / 2.0];
+        let from_centre = |p: P3| (p[0] - centre[0]).hypot(p[1] - centre[1]);
+        note.push_str(if from_centre(y) > from_centre(x) { " further out" } else { " further in" });
+        let inside = (0..2).all(|i| y[i] >= bb.min[i] - TOLERANCE && y[i] <= bb.max[i] + TOLERANCE);
+        if !inside {
+            note.push_str(", in air");
+        }
+    }
+    note.push(')');
+    out[k].after.push_str(&note);
+    let mut i = 0;
+    out.retain(|c| {
+        let keep = i < first || c.kind != ChangeKind::FeatureChanged;
+        i += 1;
+        keep
+    });
 }
 
 type Push<'a> = dyn FnMut(ChangeKind, &str, String, String, (Option<u32>, Option<u32>)) + 'a;
@@ -802,8 +841,9 @@ type Push<'a> = dyn FnMut(ChangeKind, &str, String, String, (Option<u32>, Option
 /// feeds it plunges at, where the cutting feeds did not change.
 fn heights(a: &Workingstep, b: &Workingstep, feeds_differ: bool, u: Fmt, push: &mut Push<'_>, at: (Option<u32>, Option<u32>)) {
     let z = |v: f64| format!("Z{}", u.c(v));
+    // Heights that read the same in the program's units are the same (a rounding).
     let differs = |x: Option<f64>, y: Option<f64>| match (x, y) {
-        (Some(x), Some(y)) => (x - y).abs() > TOLERANCE,
+        (Some(x), Some(y)) => (x - y).abs() > TOLERANCE && z(x) != z(y),
         _ => false,
     };
     let (ca, cb) = (clearance(a), clearance(b));
@@ -821,7 +861,11 @@ fn heights(a: &Workingstep, b: &Workingstep, feeds_differ: bool, u: Fmt, push: &
         push(ChangeKind::RetractChanged, "retract_height", z(x.0), z(y.0), (Some(x.1), Some(y.1)));
     }
     let (fa, fb) = (plunge_feeds(a), plunge_feeds(b));
-    if !feeds_differ && !fa.is_empty() && !fb.is_empty() && (fa.len() != fb.len() || fa.iter().zip(&fb).any(|(x, y)| (x - y).abs() > TOLERANCE)) {
+    if !feeds_differ
+        && !fa.is_empty()
+        && !fb.is_empty()
+        && (fa.len() != fb.len() || fa.iter().zip(&fb).any(|(x, y)| (x - y).abs() > TOLERANCE))
+    {
         let f = |v: &[f64]| v.iter().map(|x| u.feed(*x)).collect::<Vec<_>>().join(", ");
         push(ChangeKind::PlungeFeedChanged, "plunge_feed", f(&fa), f(&fb), at);
     }

@@ -165,6 +165,9 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
         }
     }
     rest.push_str(&src[at.min(src.len())..]);
+    if let Some(c) = dialect.lexical.continuation.filter(|_| block.extra_lines > 0) {
+        rest = rest.replace(c, " ");
+    }
     let mut body = rest.trim_start();
     let skip = body.starts_with('/');
     if skip {
@@ -214,7 +217,7 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
             out.push(' ');
         }
         out.push('(');
-        canon(m, false, out);
+        out.push_str(&m.split_whitespace().collect::<Vec<_>>().join(" "));
         out.push(')');
     }
     Some(class)
@@ -273,7 +276,9 @@ fn canon(s: &str, keep_point: bool, out: &mut String) {
             continue;
         }
         // A plus sign before a number after an address says nothing.
-        if c == b'+' && b.get(i + 1).is_some_and(|n| n.is_ascii_digit() || *n == b'.') && out.ends_with(|l: char| l.is_ascii_alphabetic() || l == '=')
+        if c == b'+'
+            && b.get(i + 1).is_some_and(|n| n.is_ascii_digit() || *n == b'.')
+            && out.ends_with(|l: char| l.is_ascii_alphabetic() || l == '=')
         {
             i += 1;
             continue;
@@ -305,7 +310,8 @@ fn number(run: &str, keep_point: bool, out: &mut String) {
             out.push('.');
             out.push_str(f);
         }
-        Some(_) if keep_point => out.push('.'),
+        // Zero is zero whichever way it counts.
+        Some(_) if keep_point && !int.is_empty() => out.push('.'),
         _ => {}
     }
 }
@@ -497,7 +503,14 @@ pub fn tokens(s: &str) -> Vec<Token> {
     let mut quoted = false;
     for (i, &c) in b.iter().enumerate() {
         match c {
-            b'"' => quoted = !quoted,
+            b'"' => {
+                quoted = !quoted;
+                // A word after a closing quote: `T="EM10"D2`.
+                if !quoted && b.get(i + 1).is_some_and(u8::is_ascii_alphabetic) && depth <= 0 {
+                    pieces.push(&s[start..=i]);
+                    start = i + 1;
+                }
+            }
             _ if quoted => {}
             b'[' | b'(' | b'<' => depth += 1,
             b']' | b')' | b'>' => depth -= 1,
@@ -511,7 +524,7 @@ pub fn tokens(s: &str) -> Vec<Token> {
                 let p = b[i - 1];
                 // `O100WHILE[…]`, `O200CALL[…]`: an O-word and its keyword are one statement.
                 let o_word = b[start] == b'O' && b[start + 1..i].iter().all(u8::is_ascii_digit);
-                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.')) {
+                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.' | b'"')) {
                     pieces.push(&s[start..i]);
                     start = i;
                 }
@@ -562,6 +575,18 @@ fn token(t: &str) -> Token {
         return Token { key: key.to_owned(), value: rest.to_owned(), text, sort: Sort::Word };
     }
     Token { key: t.to_owned(), value: String::new(), text, sort: Sort::Other }
+}
+
+impl Token {
+    /// Whether the token sets an address (`X10`, `M5`) or a value written as an address with
+    /// `=` (`T="EM10"`, `CR=5`), not a variable.
+    pub fn is_address(&self) -> bool {
+        match self.sort {
+            Sort::Word | Sort::Other => true,
+            Sort::Assign => self.key.len() <= 3 && self.key.bytes().all(|c| c.is_ascii_alphabetic()),
+            Sort::Call => false,
+        }
+    }
 }
 
 /// The arguments of a call's value (`(22,20,,2)` or `[0.75][1]`), as written.
@@ -634,6 +659,7 @@ mod tests {
     fn fanuc_keeps_the_point_of_whole_numbers() {
         // X10 is ten least increments on a Fanuc, X10. ten millimetres.
         assert_ne!(norm("fanuc", "G1 X10\n"), norm("fanuc", "G1 X10.\n"));
+        assert_eq!(norm("fanuc", "G1 X0\n"), norm("fanuc", "G1 X0.000\n"));
         assert_eq!(norm("linuxcnc", "G1 X10\n"), norm("linuxcnc", "G1 X10.\n"));
     }
 
@@ -642,7 +668,7 @@ mod tests {
         let a = norm("heidenhain", "0 BEGIN PGM X MM\n5 L X+10 Y+5 R0 FMAX M3\n6 Q200=2 ;SET-UP CLEARANCE\n");
         let b = norm("heidenhain", "0 BEGIN PGM X MM\n15 L  X10  Y+5.0 R0 FMAX M3\n16 Q200=+2.000\n");
         assert_eq!(a, b);
-        assert_eq!(a[1], "L X10Y5R0 FMAX M3");
+        assert_eq!(a[0], "L X10Y5R0 FMAX M3");
     }
 
     #[test]
@@ -666,6 +692,9 @@ mod tests {
         assert_eq!(arguments(&t[0].value), ["0.75", "1.5"]);
         let t = tokens("O200CALL[20]");
         assert_eq!((t.len(), t[0].key.as_str()), (1, "O200"));
+        let t = tokens("T=\"EM_D10\"D2");
+        assert_eq!(t.iter().map(|t| t.text.as_str()).collect::<Vec<_>>(), ["T=\"EM_D10\"", "D2"]);
+        assert!(t[0].is_address());
         let t = tokens("_DRESSING(22,20,,2)");
         assert_eq!(arguments(&t[0].value), ["22", "20", "", "2"]);
         let t = tokens("#<_Z_CLEARANCE>=-0.1");
@@ -677,7 +706,10 @@ mod tests {
     fn hunks_of_an_edit() {
         let s = |v: &[u64]| v.iter().map(|&h| Stmt { line: 0, last: 0, offset: 0, hash: h, class: Class::Machining }).collect::<Vec<_>>();
         let h = hunks(&s(&[1, 2, 3, 4, 5]), &s(&[1, 9, 3, 5, 6]));
-        assert_eq!(h, [Hunk { original: 1..2, edited: 1..2 }, Hunk { original: 3..4, edited: 3..3 }, Hunk { original: 5..5, edited: 4..5 }]);
+        assert_eq!(
+            h,
+            [Hunk { original: 1..2, edited: 1..2 }, Hunk { original: 3..4, edited: 3..3 }, Hunk { original: 5..5, edited: 4..5 }]
+        );
         // A large middle goes by unique anchors.
         let a: Vec<u64> = (0..5000).collect();
         let mut b = a.clone();

@@ -15,11 +15,17 @@ fn diff_ignores_renumbering_comments_case_and_number_spelling() {
     std::fs::write(&a, "O1 (ROUGH)\nN10 T1 M6\nN20 S1000 M3\nN30 G0 X10. Y0 Z5.\nN40 G1 Z-1. F100.\nN50 X20.\nN60 M30\n").unwrap();
     std::fs::write(
         &b,
-        "o1 (rough, checked by Ann)\nn1 t1 m06\nn2 s1000 m03\nn3 g00 x10.000 y0.0 z5\nn4 g01 z-1.0 f100.00\nn5   x20.00\nn6 m30\n",
+        "o1 (rough, checked by Ann)\nn1 t1 m06\nn2 s1000 m03\nn3 g00 x10.000 y0.0 z5.0\nn4 g01 z-1.0 f100.00\nn5   x20.00\nn6 m30\n",
     )
     .unwrap();
     let (code, out, _) = ncplan(&["diff", "-d", "fanuc", a.to_str().unwrap(), b.to_str().unwrap(), "--format", "json", "--exit-code"]);
     assert_eq!((code, out.trim()), (0, "[]"));
+    // On a Fanuc a whole number without its point counts least increments: `z5` is 0.005 mm,
+    // not the `Z5.` of the original.
+    let text = std::fs::read_to_string(&b).unwrap().replace("z5.0", "z5");
+    std::fs::write(&b, text).unwrap();
+    let (code, out, _) = ncplan(&["diff", "-d", "fanuc", a.to_str().unwrap(), b.to_str().unwrap(), "--exit-code"]);
+    assert_eq!((code, out.trim()), (1, "workingstep 1 (freeform milling): approach height changed from Z5 to Z0.005 at line 4"));
 }
 
 #[test]
@@ -28,7 +34,7 @@ fn diff_reports_typed_changes_as_json_and_sentences() {
     assert_eq!(code, 1);
     assert_eq!(
         out.trim(),
-        "workingstep 1 (plane finish milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20; \
+        "workingstep 1 (plane finish milling): tool T1 renamed T8 at line 5; start point moved from X90 Y20 to X83 Y20 at line 6; \
          warning: T8 cuts with the length offset H1, not its own H8"
     );
     let (_, json, _) = ncplan(&["diff", "-d", "fanuc", "demo/cam/O1234.nc", "demo/examples/O1234_edited.nc", "--format", "json"]);

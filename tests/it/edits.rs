@@ -501,6 +501,8 @@ fn axial_depth() {
     pocket_edit(
         "axial_depth",
         expect![[r#"
+            approach_changed | approach_height | Z2 | Z3 | 15 | 15
+              approach height changed from Z2 to Z3 at lines 15, 16, 29 and 16 more
             axial_depth_changed | axial_depth | 3 mm | 2 mm | 15 | 15
               axial depth changed from 3 mm to 2 mm at lines 15, 16, 29 and 16 more
         "#]],

@@ -1,5 +1,6 @@
 //! Integration tests: one binary (matklad's advice), one module per area.
 
+mod accounting;
 mod arch;
 mod called;
 mod cam_suite;
@@ -23,8 +24,8 @@ mod macros;
 mod parity;
 mod pg;
 mod plan;
-mod revisions;
 mod post_rules;
+mod revisions;
 mod robustness;
 mod round_trip_causes;
 mod shop;

@@ -443,8 +443,12 @@ fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: b
         rounded
             && match c.kind {
                 ChangeKind::ToolpathChanged => c.deviation.is_some_and(|d| d <= 2.0 * tol),
-                ChangeKind::StartPointMoved | ChangeKind::DepthChanged => true,
-                ChangeKind::FeedChanged => feeds,
+                ChangeKind::StartPointMoved
+                | ChangeKind::DepthChanged
+                | ChangeKind::ApproachChanged
+                | ChangeKind::RetractChanged
+                | ChangeKind::ClearanceChanged => true,
+                ChangeKind::FeedChanged | ChangeKind::PlungeFeedChanged => feeds,
                 // A dimension rounded as the positions were: the planner's own figures of it
                 // are the same, or, measured between rounded positions (a width, a depth of
                 // cut), within both ends' rounding.
