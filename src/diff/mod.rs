@@ -140,6 +140,10 @@ impl ChangeKind {
     }
 }
 
+/// Where a change is seen: its line in the original and in the edited program; one side
+/// `None` for a statement only the other program has.
+pub type Located = (Option<u32>, Option<u32>);
+
 /// One semantic change.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Change {
@@ -170,7 +174,7 @@ pub struct Change {
     /// The differing statements the change is seen at, as (original line, edited line); one
     /// side `None` for a statement only the other program has.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub at: Vec<(Option<u32>, Option<u32>)>,
+    pub at: Vec<Located>,
     /// For a statement change: the plan changes no statement explains, which it may cause.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub effect: Option<String>,
@@ -345,7 +349,7 @@ pub fn compare(original: Program<'_>, edited: Program<'_>) -> Vec<Change> {
 
 /// The differing statements of two programs no change in `changes` names, as (original
 /// line, edited line): empty when the comparison accounts for every edit.
-pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change]) -> Vec<(Option<u32>, Option<u32>)> {
+pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change]) -> Vec<Located> {
     if original.dialect.name != edited.dialect.name {
         return Vec::new();
     }

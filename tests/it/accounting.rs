@@ -104,7 +104,7 @@ fn write(lines: &[Line], s: Style) -> String {
     out
 }
 
-fn compare(a: &str, b: &str) -> (Vec<Change>, Vec<(Option<u32>, Option<u32>)>) {
+fn compare(a: &str, b: &str) -> (Vec<Change>, Vec<diff::Located>) {
     let d = Registry::shipped().get("fanuc").unwrap();
     let profile = Profile::default();
     let pa = pipeline::analyze_plan(a.as_bytes(), &d, &profile);
