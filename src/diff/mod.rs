@@ -186,7 +186,41 @@ pub struct Change {
     pub original_line_end: Option<u32>,
 }
 
+/// What a change says beyond its row's columns: where else it is seen, what it causes, where
+/// its run of statements ends. Stored as JSON beside the row.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Detail {
+    /// [`Change::at`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub at: Vec<Located>,
+    /// [`Change::effect`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub effect: Option<String>,
+    /// [`Change::line_end`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_end: Option<u32>,
+    /// [`Change::original_line_end`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub original_line_end: Option<u32>,
+}
+
 impl Change {
+    /// The change's detail as stored: JSON, or empty when it has none.
+    pub fn detail_json(&self) -> String {
+        let d =
+            Detail { at: self.at.clone(), effect: self.effect.clone(), line_end: self.line_end, original_line_end: self.original_line_end };
+        if d == Detail::default() { String::new() } else { serde_json::to_string(&d).unwrap_or_default() }
+    }
+
+    /// Sets the detail from its stored JSON (empty or unreadable: none).
+    pub fn set_detail(&mut self, json: &str) {
+        if json.is_empty() {
+            return;
+        }
+        let d: Detail = serde_json::from_str(json).unwrap_or_default();
+        (self.at, self.effect, self.line_end, self.original_line_end) = (d.at, d.effect, d.line_end, d.original_line_end);
+    }
+
     /// The change as a planner reads it: `tool T1 renamed T8`.
     pub fn phrase(&self) -> String {
         let field = self.field.replace('_', " ");

@@ -295,7 +295,7 @@ pub const SAVED_QUERIES: &[(&str, &str)] = &[
 pub(super) const CHANGE_ROWS: &str =
     "SELECT c.id, c.revision_id, c.original_revision_id, COALESCE(m.name, ''), COALESCE(r.name, p.name), c.detected_at,
         c.workingstep, c.operation, c.kind, c.field, c.before, c.after, c.line, c.original_line,
-        c.region_min_x, c.region_min_y, c.region_min_z, c.region_max_x, c.region_max_y, c.region_max_z, c.deviation
+        c.region_min_x, c.region_min_y, c.region_min_z, c.region_max_x, c.region_max_y, c.region_max_z, c.deviation, c.detail
  FROM changes c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id LEFT JOIN machines m ON m.id = p.machine_id
  WHERE NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial')";
 
@@ -311,7 +311,7 @@ fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
         }),
         _ => None,
     };
-    Ok(ChangeRow {
+    let mut row = ChangeRow {
         id: r.get(0)?,
         revision_id: r.get(1)?,
         original_revision_id: r.get(2)?,
@@ -335,7 +335,9 @@ fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
             original_line_end: None,
         },
         marks: Vec::new(),
-    })
+    };
+    row.change.set_detail(&r.get::<_, String>(21)?);
+    Ok(row)
 }
 
 impl Lite {

@@ -382,7 +382,7 @@ impl Pg {
         let rows = self.conn.rows(
             "reading changes",
             "SELECT workingstep, operation, kind, field, before, after, line, original_line,
-                    region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
+                    region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation, detail
              FROM changes WHERE revision_id = $1 ORDER BY id",
             &[&revision],
         )?;
@@ -390,7 +390,7 @@ impl Pg {
             .iter()
             .map(|r| {
                 let kind: String = r.get(2);
-                Change {
+                let mut c = Change {
                     kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
                     workingstep: r.get::<_, i64>(0) as u32,
                     operation: r.get(1),
@@ -410,7 +410,9 @@ impl Pg {
                     effect: None,
                     line_end: None,
                     original_line_end: None,
-                }
+                };
+                c.set_detail(&r.get::<_, String>(15));
+                c
             })
             .collect())
     }
@@ -877,21 +879,22 @@ impl PgTxn<'_> {
         let dev: Vec<Option<f64>> = changes.iter().map(|c| c.deviation).collect();
         let id: Vec<Option<i64>> = kept.iter().map(|k| k.as_ref().map(|k| k.0)).collect();
         let detected: Vec<&str> = kept.iter().map(|k| k.as_ref().map_or(at, |k| k.1.as_str())).collect();
+        let detail: Vec<String> = changes.iter().map(Change::detail_json).collect();
         c.exec(
             "storing changes",
             "INSERT INTO changes(id, revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
                                  original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
-                                 analysis)
+                                 analysis, detail)
              SELECT COALESCE(id, nextval(pg_get_serial_sequence('changes', 'id'))), $1, $2, ws, op, kind, field, before, after, line, at,
-                    oline, x0, y0, z0, x1, y1, z1, dev, $3
+                    oline, x0, y0, z0, x1, y1, z1, dev, $3, detail
              FROM unnest($4::int8[], $5::text[], $6::text[], $7::text[], $8::text[], $9::text[], $10::int8[], $11::int8[],
                          $12::float8[], $13::float8[], $14::float8[], $15::float8[], $16::float8[], $17::float8[], $18::float8[],
-                         $19::int8[], $20::text[])
-                  WITH ORDINALITY AS u(ws, op, kind, field, before, after, line, oline, x0, y0, z0, x1, y1, z1, dev, id, at, n)
+                         $19::int8[], $20::text[], $21::text[])
+                  WITH ORDINALITY AS u(ws, op, kind, field, before, after, line, oline, x0, y0, z0, x1, y1, z1, dev, id, at, detail, n)
              ORDER BY n",
             &[
                 &revision, &original, &analysis, &ws, &op, &kind, &field, &before, &after, &line, &oline, &x0, &y0, &z0, &x1, &y1, &z1,
-                &dev, &id, &detected,
+                &dev, &id, &detected, &detail,
             ],
         )?;
         Ok(())

@@ -403,6 +403,11 @@ CREATE TABLE web_sessions (
 );
 CREATE INDEX web_sessions_expiry ON web_sessions(expires_at);
 "#,
+    // 9: where a change is seen beyond its first line, and what a statement change causes
+    // (issue 32): JSON of `diff::Detail`, empty when it has none.
+    r#"
+ALTER TABLE changes ADD COLUMN detail TEXT NOT NULL DEFAULT '';
+"#,
 ];
 
 #[cfg(test)]

@@ -237,14 +237,15 @@ impl Lite {
             .conn
             .prepare(
                 "SELECT workingstep, operation, kind, field, before, after, line, original_line,
-                        region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation
+                        region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation, detail
                  FROM changes WHERE revision_id = ?1 ORDER BY id",
             )
             .map_err(sql("preparing a query"))?;
         let rows = stmt
             .query_map([revision], |r| {
                 let kind: String = r.get(2)?;
-                Ok(Change {
+                let detail: String = r.get(15)?;
+                let mut c = Change {
                     kind: serde_json::from_value(serde_json::Value::String(kind)).unwrap_or(crate::diff::ChangeKind::ToolpathChanged),
                     workingstep: r.get(0)?,
                     operation: r.get(1)?,
@@ -264,7 +265,9 @@ impl Lite {
                     effect: None,
                     line_end: None,
                     original_line_end: None,
-                })
+                };
+                c.set_detail(&detail);
+                Ok(c)
             })
             .map_err(sql("reading changes"))?;
         rows.collect::<std::result::Result<_, _>>().map_err(sql("reading changes"))
@@ -671,8 +674,8 @@ impl LiteTxn<'_> {
             .prepare_cached(
                 "INSERT INTO changes(revision_id, original_revision_id, workingstep, operation, kind, field, before, after, line, detected_at,
                                      original_line, region_min_x, region_min_y, region_min_z, region_max_x, region_max_y, region_max_z, deviation,
-                                     id, analysis)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)",
+                                     id, analysis, detail)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21)",
             )
             .map_err(sql("storing changes"))?;
         for (c, kept) in changes.iter().zip(kept) {
@@ -707,7 +710,8 @@ impl LiteTxn<'_> {
                 hi[2],
                 c.deviation,
                 id,
-                analysis
+                analysis,
+                c.detail_json()
             ])
             .map_err(sql("storing changes"))?;
         }

@@ -44,7 +44,9 @@ fn the_readme_demo_works_as_written() {
     let output = daemon.wait_with_output().unwrap();
     assert_eq!(code, 0, "{err}");
     assert!(
-        out.contains("workingstep 1 (plane finish milling): tool T1 renamed T8; start point moved from X90 Y20 to X83 Y20"),
+        out.contains(
+            "workingstep 1 (plane finish milling): tool T1 renamed T8 at line 5; start point moved from X90 Y20 to X83 Y20 at line 6"
+        ),
         "{out}\n{err}"
     );
     let banner = String::from_utf8_lossy(&output.stdout);

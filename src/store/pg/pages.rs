@@ -27,7 +27,7 @@ fn change_row(r: &Row) -> ChangeRow {
         }),
         _ => None,
     };
-    ChangeRow {
+    let mut row = ChangeRow {
         id: r.get(0),
         revision_id: r.get(1),
         original_revision_id: r.get(2),
@@ -51,7 +51,9 @@ fn change_row(r: &Row) -> ChangeRow {
             original_line_end: None,
         },
         marks: Vec::new(),
-    }
+    };
+    row.change.set_detail(&r.get::<_, String>(21));
+    row
 }
 
 fn machine_summary(r: &Row) -> MachineSummary {
