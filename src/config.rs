@@ -735,6 +735,16 @@ impl DirPrograms {
     }
 }
 
+/// Subprograms from the first of several sources that has them: beside the program, then the
+/// CAM folders (a post keeps its subprograms beside the main program it writes).
+pub struct FirstFound(pub Vec<std::sync::Arc<dyn crate::interp::ProgramSource + Send + Sync>>);
+
+impl crate::interp::ProgramSource for FirstFound {
+    fn load(&self, name: &str) -> Option<String> {
+        self.0.iter().find_map(|p| p.load(name))
+    }
+}
+
 /// The file names a call of `name` may mean, without extension, best first: the name with
 /// any drive and folders of the control taken off (`TNC:\Plan.h` is `Plan.h`), and a program
 /// number without its O and leading zeros (`O0100` is also `100`).

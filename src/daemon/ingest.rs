@@ -438,6 +438,17 @@ impl Reader<'_> {
     /// name says (`.SPF`), else as its form tells.
     fn profile(&self, path: &Path, folder: &Folder, dialect: &crate::dialect::Dialect) -> crate::interp::Profile {
         let mut profile = crate::config::DirPrograms::beside(&self.config.profile, path, self.config.max_file_bytes);
+        // Without a configured program directory: beside the program, then in the CAM folders.
+        if self.config.profile.programs.is_none() {
+            let beside = path.parent().map(Path::to_path_buf).unwrap_or_default();
+            let mut sources: Vec<std::sync::Arc<dyn crate::interp::ProgramSource + Send + Sync>> = Vec::new();
+            let dirs = std::iter::once(beside.clone())
+                .chain(self.config.folders.iter().filter(|f| f.role == Role::Cam && f.path != beside).map(|f| f.path.clone()));
+            for dir in dirs {
+                sources.push(std::sync::Arc::new(crate::config::DirPrograms { dir, max_bytes: self.config.max_file_bytes }));
+            }
+            profile.programs = Some(std::sync::Arc::new(crate::config::FirstFound(sources)));
+        }
         profile.role = crate::interp::role_for(folder.program_role, path, dialect);
         profile
     }

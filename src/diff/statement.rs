@@ -668,7 +668,7 @@ mod tests {
         let a = norm("heidenhain", "0 BEGIN PGM X MM\n5 L X+10 Y+5 R0 FMAX M3\n6 Q200=2 ;SET-UP CLEARANCE\n");
         let b = norm("heidenhain", "0 BEGIN PGM X MM\n15 L  X10  Y+5.0 R0 FMAX M3\n16 Q200=+2.000\n");
         assert_eq!(a, b);
-        assert_eq!(a[0], "L X10Y5R0 FMAX M3");
+        assert_eq!(a[0], "L X10Y5R0FMAX M3");
     }
 
     #[test]
