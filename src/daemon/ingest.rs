@@ -300,6 +300,7 @@ fn record(
     };
     let reader = Reader { config, registry };
     let blank = is_blank(&bytes);
+    let mut calls: Vec<String> = Vec::new();
     let (analysis, diagnostics, status) = if blank {
         let what = if bytes.is_empty() { "empty".to_owned() } else { format!("{} bytes of blanks or NUL bytes", bytes.len()) };
         let message = format!("the file holds no program ({what}): a truncated save or an aborted copy; stored, never compared");
@@ -311,7 +312,8 @@ fn record(
         tracing::error!(path = %path.display(), hash, "An earlier analysis of this content never finished; storing it without analysis.");
         (None, vec![finding(Code::AnalysisFailed, message)], "failed")
     } else {
-        let a = reader.analyse(path, folder, &dialect_name, &bytes)?;
+        let (a, called) = reader.analyse(path, folder, &dialect_name, &bytes)?;
+        calls = called;
         // The analysis finished: what follows (waiting for the store, comparing the edits that
         // waited for this original) is no fault of this content's if the process ends there.
         store.finish_attempt(hash, &path_str)?;
@@ -360,6 +362,7 @@ fn record(
         counts: plan.as_ref().map_or((0, 0), |p| (p.workingsteps.len(), p.tools.len())),
         diagnostics: &diagnostics,
     })?;
+    tx.add_calls(revision, &calls)?;
     // The revision before, if it is this one's start and came seconds earlier, was a partial write.
     let mut recompare = Vec::new();
     if let Some(p) = &previous
@@ -401,6 +404,10 @@ fn record(
             }
         }
     }
+    // A changed subprogram: the programs that call it are compared again.
+    if plan.is_some() {
+        compared += recompare_callers(&tx, &reader, &stem, revision, now)?;
+    }
     tx.commit()?;
     Ok(Outcome::Stored { revision, changes, compared })
 }
@@ -428,9 +435,15 @@ pub struct Reader<'a> {
 
 impl Reader<'_> {
     /// Analyses `bytes` of `path` in `folder` read in `dialect`; the canonical ops are not kept.
-    pub fn analyse(&self, path: &Path, folder: &Folder, dialect: &str, bytes: &[u8]) -> Result<pipeline::Analysis> {
+    /// Also gives the programs the run called from outside its text, as lower-case file stems.
+    pub fn analyse(&self, path: &Path, folder: &Folder, dialect: &str, bytes: &[u8]) -> Result<(pipeline::Analysis, Vec<String>)> {
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
-        Ok(pipeline::analyze_plan(bytes, &d, &self.profile(path, folder, &d)))
+        let mut profile = self.profile(path, folder, &d);
+        let recording = profile.programs.take().map(|inner| std::sync::Arc::new(Recording { inner, asked: Default::default() }));
+        profile.programs = recording.clone().map(|r| r as std::sync::Arc<dyn crate::interp::ProgramSource + Send + Sync>);
+        let a = pipeline::analyze_plan(bytes, &d, &profile);
+        let called = recording.map(|r| r.asked.lock().map(|s| s.iter().cloned().collect()).unwrap_or_default()).unwrap_or_default();
+        Ok((a, called))
     }
 
     /// The profile a program of `folder` is read with: called programs from the configured
@@ -518,6 +531,45 @@ impl Reader<'_> {
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
         Ok(pipeline::analyze_plan_owned(bytes, &d, &self.profile(path, &folder, &d)))
     }
+}
+
+/// A program source that notes the names asked of it, as the file stems they may mean.
+struct Recording {
+    inner: std::sync::Arc<dyn crate::interp::ProgramSource + Send + Sync>,
+    asked: std::sync::Mutex<std::collections::BTreeSet<String>>,
+}
+
+impl crate::interp::ProgramSource for Recording {
+    fn load(&self, name: &str) -> Option<String> {
+        if let Ok(mut asked) = self.asked.lock() {
+            asked.extend(crate::config::program_file_stems(name).into_iter().map(|s| s.to_lowercase()));
+        }
+        self.inner.load(name)
+    }
+}
+
+/// The programs that call the program stored as `revision` under `stem` (a changed
+/// subprogram), and were compared before, compared again with it, naming it as the cause.
+fn recompare_callers(tx: &Txn<'_>, reader: &Reader<'_>, stem: &str, revision: i64, now: &str) -> Result<usize> {
+    let mut n = 0;
+    for caller in tx.callers(&stem.to_lowercase())? {
+        if caller == revision {
+            continue;
+        }
+        let Some((original, rule)) = tx.comparison_of(caller)? else { continue };
+        let (Some(src), Some(bytes)) = (tx.source(caller)?, tx.content(caller)?) else { continue };
+        // Read again as today: its called programs from where they lie now.
+        let a = reader.reanalyse(&src.path, &src.dialect, bytes)?;
+        let d = reader.dialect_of(&src.path, &src.dialect)?;
+        let Some(op) = reader.program(tx, original, None)? else { continue };
+        let changes = diff::compare(op.program(), diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d });
+        let base = rule.split("; recomputed:").next().unwrap_or_default();
+        let rule = format!("{base}; recomputed: the called program {stem} changed (revision {revision})");
+        tx.record_comparison(caller, original, &rule, &changes, now)?;
+        tracing::info!(caller, called = stem, revision, "A program that calls a changed program was compared again.");
+        n += 1;
+    }
+    Ok(n)
 }
 
 /// A stored program as the diff reads it.

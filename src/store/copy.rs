@@ -42,6 +42,7 @@ pub(super) const COPIED: &[&str] = &[
     "saved_queries",
     "web_sessions",
     "attempts",
+    "calls",
 ];
 
 /// A cell, as both engines keep it.

@@ -678,6 +678,17 @@ impl Txn<'_> {
         on_tx!(self, e => e.uncompared(key))
     }
 
+    /// Records the programs `revision` called from outside its text (lower-case file stems).
+    pub fn add_calls(&self, revision: i64, names: &[String]) -> Result<()> {
+        on_tx!(self, e => e.add_calls(revision, names))
+    }
+
+    /// The newest revisions of programs that call `name` (a lower-case file stem) and have a
+    /// comparison.
+    pub fn callers(&self, name: &str) -> Result<Vec<i64>> {
+        on_tx!(self, e => e.callers(name))
+    }
+
     /// Machine revisions compared with `original`.
     pub fn compared_with(&self, original: i64) -> Result<Vec<Comparable>> {
         on_tx!(self, e => e.compared_with(original))

@@ -822,6 +822,24 @@ impl PgTxn<'_> {
         self.comparables(rows)
     }
 
+    pub(super) fn add_calls(&self, revision: i64, names: &[String]) -> Result<()> {
+        for n in names {
+            self.conn.exec("storing calls", "INSERT INTO calls(revision_id, name) VALUES ($1, $2)", &[&revision, n])?;
+        }
+        Ok(())
+    }
+
+    pub(super) fn callers(&self, name: &str) -> Result<Vec<i64>> {
+        let rows = self.conn.rows(
+            "listing callers",
+            "SELECT DISTINCT k.revision_id FROM calls k JOIN comparisons c ON c.revision_id = k.revision_id
+             JOIN revisions r ON r.id = k.revision_id
+             WHERE k.name = $1 AND r.id = (SELECT MAX(id) FROM revisions WHERE program_id = r.program_id) ORDER BY k.revision_id",
+            &[&name],
+        )?;
+        Ok(rows.iter().map(|r| r.get(0)).collect())
+    }
+
     pub(super) fn compared_with(&self, original: i64) -> Result<Vec<Comparable>> {
         let rows = self.conn.rows(
             "listing revisions to compare",

@@ -393,6 +393,15 @@ CREATE INDEX web_sessions_expiry ON web_sessions(expires_at);
     r#"
 ALTER TABLE changes ADD COLUMN detail TEXT NOT NULL DEFAULT '';
 "#,
+    // 10: the programs each revision called from outside its text (lower-case file stems), so
+    // that when a called program changes, the programs that call it are compared again.
+    r#"
+CREATE TABLE calls (
+    revision_id BIGINT NOT NULL REFERENCES revisions(id),
+    name        TEXT NOT NULL
+);
+CREATE INDEX calls_name ON calls(name);
+"#,
 ];
 
 #[cfg(test)]

@@ -608,6 +608,27 @@ impl LiteTxn<'_> {
     }
 
     /// Machine revisions compared with `original`.
+    pub(super) fn add_calls(&self, revision: i64, names: &[String]) -> Result<()> {
+        let mut stmt = self.tx.prepare_cached("INSERT INTO calls(revision_id, name) VALUES (?1, ?2)").map_err(sql("storing calls"))?;
+        for n in names {
+            stmt.execute(params![revision, n]).map_err(sql("storing calls"))?;
+        }
+        Ok(())
+    }
+
+    pub(super) fn callers(&self, name: &str) -> Result<Vec<i64>> {
+        let mut stmt = self
+            .tx
+            .prepare_cached(
+                "SELECT DISTINCT k.revision_id FROM calls k JOIN comparisons c ON c.revision_id = k.revision_id
+                 JOIN revisions r ON r.id = k.revision_id
+                 WHERE k.name = ?1 AND r.id = (SELECT MAX(id) FROM revisions WHERE program_id = r.program_id) ORDER BY k.revision_id",
+            )
+            .map_err(sql("preparing a query"))?;
+        let rows = stmt.query_map([name], |r| r.get(0)).map_err(sql("listing callers"))?;
+        rows.collect::<std::result::Result<_, _>>().map_err(sql("listing callers"))
+    }
+
     pub(super) fn compared_with(&self, original: i64) -> Result<Vec<Comparable>> {
         let query = "SELECT r.id, p.path, p.id FROM comparisons c JOIN revisions r ON r.id = c.revision_id
                      JOIN programs p ON p.id = r.program_id WHERE c.original_revision_id = ?1 ORDER BY r.id";

@@ -193,3 +193,47 @@ fn waiting_edits_are_all_compared_across_kills_while_late_originals_arrive() {
     assert!(rows(&db, "SELECT * FROM attempts").is_empty());
     assert_eq!(std::fs::read_dir(&cam).unwrap().count(), numbers.len());
 }
+
+/// A program that calls a subprogram kept beside it is read with it; when the subprogram is
+/// edited on its own, the caller's comparison is made again and names it as the cause.
+#[test]
+fn an_edited_subprogram_recompares_the_programs_that_call_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (cam, share, var) = (tmp.path().join("cam"), tmp.path().join("share"), tmp.path().join("var"));
+    std::fs::create_dir_all(&cam).unwrap();
+    std::fs::create_dir_all(&share).unwrap();
+    let config = tmp.path().join("ncplan.toml");
+    std::fs::write(
+        &config,
+        "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 200\n\
+         [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
+         [[machine]]\nname = 'VF2'\npath = 'share'\ndialect = 'fanuc'\n",
+    )
+    .unwrap();
+    let db = var.join("ncplan.db");
+    let main = "%\nO1000 (CONTOUR)\nG21 G90 G17\nT1 M6\nS3000 M3\nG54 G0 X0. Y0.\nG43 H1 Z5.\nM98 P2000\nG0 Z50.\nM30\n%\n";
+    let sub = |feed: &str| format!("%\nO2000 (PASS)\nG1 Z-2. F100.\nX50. F{feed}\nY30.\nX0.\nY0.\nG0 Z5.\nM99\n%\n");
+    let _daemon = start(&config);
+    std::fs::write(cam.join("O2000.nc"), sub("300.")).unwrap();
+    std::fs::write(cam.join("O1000.nc"), main).unwrap();
+    wait_for(&db, "SELECT id FROM revisions", 2);
+    std::fs::write(share.join("O2000.nc"), sub("300.")).unwrap();
+    std::fs::write(share.join("O1000.nc"), main).unwrap();
+    wait_for(&db, "SELECT revision_id FROM comparisons", 2);
+    assert!(rows(&db, "SELECT * FROM shopfloor_changes").is_empty(), "the same programs");
+    // The operator slows the subprogram's contour down.
+    std::fs::write(share.join("O2000.nc"), sub("200.")).unwrap();
+    let got = wait_for(
+        &db,
+        "SELECT p.name, c.kind, c.before, c.after FROM changes c JOIN revisions r ON r.id = c.revision_id
+         JOIN programs p ON p.id = r.program_id WHERE p.path LIKE '%O1000.nc' AND c.kind = 'feed_changed'",
+        1,
+    );
+    assert_eq!(got, vec![vec!["O1000", "feed_changed", "F100, F300", "F100, F200"]]);
+    let rule = rows(
+        &db,
+        "SELECT c.rule FROM comparisons c JOIN revisions r ON r.id = c.revision_id JOIN programs p ON p.id = r.program_id
+         WHERE p.path LIKE '%share%O1000.nc'",
+    );
+    assert!(rule[0][0].contains("recomputed: the called program O2000 changed"), "{rule:?}");
+}
