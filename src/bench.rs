@@ -204,7 +204,8 @@ fn pocket_program(step: f64, units: u8, scale: f64) -> String {
 /// every block shuffled; and the surfacing program against itself with one line changed.
 /// Prints each pair's time and peak memory, and the slowest.
 fn diff_pairs(dir: &Path, exe: &str, runs: u32, out: &mut impl std::io::Write) -> Result<()> {
-    let pocket = pocket_program(5.0, 21, 1.0);
+    // About 40 KB each: 200 passes over four layers.
+    let pocket = pocket_program(0.3, 21, 1.0);
     let swapped = {
         let body: Vec<&str> = pocket.lines().collect();
         let cut = body.iter().position(|l| l.starts_with("G1 Z-3.")).unwrap_or(body.len() / 2);
@@ -222,8 +223,8 @@ fn diff_pairs(dir: &Path, exe: &str, runs: u32, out: &mut impl std::io::Write) -
         v.join("\n") + "\n"
     };
     let pairs: [(&str, String, String); 4] = [
-        ("units switched, contour rewritten", pocket.clone(), pocket_program(5.0, 20, 25.4)),
-        ("regenerated, other stepover", pocket.clone(), pocket_program(4.0, 21, 1.0)),
+        ("units switched, contour rewritten", pocket.clone(), pocket_program(0.3, 20, 25.4)),
+        ("regenerated, other stepover", pocket.clone(), pocket_program(0.25, 21, 1.0)),
         ("two operations swapped", pocket.clone(), swapped),
         ("every block shuffled", pocket.clone(), shuffled),
     ];
