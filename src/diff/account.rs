@@ -38,6 +38,8 @@ struct Item {
     /// Token differences: (before, after); one side `None` for an added or removed token.
     diffs: Vec<(Option<Token>, Option<Token>)>,
     class: Class,
+    /// What its statements move ([`statement::RETURN_MOVE`], [`statement::ROTARY_MOVE`]).
+    moves: u8,
     /// Whether a plan change is located here.
     located: bool,
 }
@@ -259,7 +261,8 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             } else {
                 diffs
             };
-            items.push(Item { original: oi, edited: ei, diffs, class, located: false });
+            let moves = oi.map_or(0, |k| sa[k].moves) | ei.map_or(0, |k| sb[k].moves);
+            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false });
         }
     }
     (items, bulks)
@@ -359,7 +362,7 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>)) -> bool {
         K::OptionalBlockChanged => tok.text.starts_with('/'),
         K::RiskyEdit => false,
         K::WorkingstepAdded | K::WorkingstepRemoved => true,
-        K::StatementChanged | K::OutputChanged => false,
+        K::StatementChanged | K::OutputChanged | K::ReturnMoveChanged | K::RotaryMoveChanged => false,
         // Geometry: anything but technology.
         _ => !technology(k),
     }
@@ -451,7 +454,15 @@ fn blank(kind: ChangeKind, (workingstep, operation): (u32, String)) -> Change {
 /// The statement changes of one item: those of its variables and calls always, the rest
 /// where no plan change is located at it.
 fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, String)) -> Vec<Change> {
-    let kind = if it.class == Class::Output { ChangeKind::OutputChanged } else { ChangeKind::StatementChanged };
+    let kind = if it.class == Class::Output {
+        ChangeKind::OutputChanged
+    } else if it.moves & statement::RETURN_MOVE != 0 {
+        ChangeKind::ReturnMoveChanged
+    } else if it.moves & statement::ROTARY_MOVE != 0 {
+        ChangeKind::RotaryMoveChanged
+    } else {
+        ChangeKind::StatementChanged
+    };
     let mut out = Vec::new();
     let mut words: (Vec<&str>, Vec<&str>) = (Vec::new(), Vec::new());
     let mut plain = false;

@@ -96,6 +96,10 @@ pub enum ChangeKind {
     StatementChanged,
     /// A statement that only shows or writes text (a message, `DPRNT`) or names the program.
     OutputChanged,
+    /// A return-point or machine-coordinate move (`G28`, `G30`, `G53`) added, removed or changed.
+    ReturnMoveChanged,
+    /// A move of a rotary axis (`G0 A90.`) added, removed or changed.
+    RotaryMoveChanged,
 }
 
 impl ChangeKind {
@@ -136,6 +140,8 @@ impl ChangeKind {
             ChangeKind::PlungeFeedChanged => "plunge_feed_changed",
             ChangeKind::StatementChanged => "statement_changed",
             ChangeKind::OutputChanged => "output_changed",
+            ChangeKind::ReturnMoveChanged => "return_move_changed",
+            ChangeKind::RotaryMoveChanged => "rotary_move_changed",
         }
     }
 }
@@ -249,6 +255,8 @@ impl Change {
                 return format!("{s}: {} became {}", self.before, self.after);
             }
             ChangeKind::StatementChanged | ChangeKind::OutputChanged => return self.statement_phrase(),
+            ChangeKind::ReturnMoveChanged => return format!("return move: {}", self.statement_phrase()),
+            ChangeKind::RotaryMoveChanged => return format!("rotary axis move: {}", self.statement_phrase()),
             _ if self.before.is_empty() => format!("{field} {} added", self.after),
             _ if self.after.is_empty() => format!("{field} {} removed", self.before),
             _ => format!("{field} changed from {} to {}", self.before, self.after),

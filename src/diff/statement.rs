@@ -14,7 +14,7 @@
 use std::hash::{Hash, Hasher};
 use std::ops::Range;
 
-use crate::dialect::{DecimalInput, Dialect, Directive, KeywordRest, Meaning, Statement};
+use crate::dialect::{DecimalInput, Dialect, Directive, KeywordRest, Meaning, Role, Statement};
 use crate::syntax::{Block, Parser};
 
 /// What a statement does for the machining.
@@ -39,6 +39,30 @@ pub struct Stmt {
     pub hash: u64,
     /// What it does.
     pub class: Class,
+    /// What its words move: [`RETURN_MOVE`], [`ROTARY_MOVE`].
+    pub moves: u8,
+}
+
+/// A statement with a return-point or machine-coordinate move (`G28`, `G30`, `G53`).
+pub const RETURN_MOVE: u8 = 1;
+/// A statement with a word of a rotary axis (`A`, `B`, `C`).
+pub const ROTARY_MOVE: u8 = 2;
+
+/// What the words of `block` move, by the dictionary's meanings and roles.
+fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
+    let mut m = 0;
+    for w in &block.words {
+        if matches!(w.role, Role::A | Role::B | Role::C) {
+            m |= ROTARY_MOVE;
+        }
+        if let (b'G', crate::syntax::Value::Number { value, .. }) = (w.letter, w.value)
+            && let Some(code) = dialect.code('G', (value * 10.0).round().max(0.0) as u32)
+            && matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)
+        {
+            m |= RETURN_MOVE;
+        }
+    }
+    m
 }
 
 /// The statements of `text` in `dialect`, in order. Blocks with nothing the machine reads
@@ -61,7 +85,8 @@ pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
         let mut h = std::hash::DefaultHasher::new();
         buf.hash(&mut h);
         let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
-        out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class });
+        let moves = moves_of(&block, dialect);
+        out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class, moves });
     }
     out
 }
@@ -704,7 +729,9 @@ mod tests {
 
     #[test]
     fn hunks_of_an_edit() {
-        let s = |v: &[u64]| v.iter().map(|&h| Stmt { line: 0, last: 0, offset: 0, hash: h, class: Class::Machining }).collect::<Vec<_>>();
+        let s = |v: &[u64]| {
+            v.iter().map(|&h| Stmt { line: 0, last: 0, offset: 0, hash: h, class: Class::Machining, moves: 0 }).collect::<Vec<_>>()
+        };
         let h = hunks(&s(&[1, 2, 3, 4, 5]), &s(&[1, 9, 3, 5, 6]));
         assert_eq!(
             h,

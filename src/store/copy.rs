@@ -396,7 +396,9 @@ impl Copy<'_> {
         let to = self.id_for("revisions", source_id)?;
         row[at(&cols, "id").unwrap_or(0)] = Val::Int(to);
         self.insert("revisions", &row)?;
-        for (table, order) in [("plans", "revision_id"), ("diagnostics", "id"), ("workingsteps", "idx"), ("features", "id")] {
+        for (table, order) in
+            [("plans", "revision_id"), ("diagnostics", "id"), ("workingsteps", "idx"), ("features", "id"), ("calls", "name")]
+        {
             let tcols = self.cols(table).to_vec();
             for mut r in self.select(table, "revision_id = ?1", &[Val::Int(source_id)], order)? {
                 r[at(&tcols, "revision_id").unwrap_or(0)] = Val::Int(to);

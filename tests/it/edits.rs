@@ -531,3 +531,18 @@ fn the_feed_override_turned_off_is_a_change() {
     "#]]
     .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
 }
+
+#[test]
+fn return_and_rotary_moves_are_their_own_kinds() {
+    let a = "%\nO1\nG21 G90 G17\nT1 M6\nS2000 M3\nG54 G0 X0. Y0.\nG43 H1 Z5.\nG1 Z-1. F300.\nX50.\nG0 Z50.\nM30\n%\n";
+    let b = a.replace("G54 G0 X0. Y0.\n", "G91 G28 Z0.\nG90\nG54 G0 X0. Y0.\nG0 A90.\n");
+    expect![[r#"
+        return_move_changed | statement |  | G91 G28 Z0 | 6 | -
+          return move: `G91 G28 Z0` added at line 6
+        statement_changed | statement |  | G90 | 7 | -
+          `G90` added at line 7
+        rotary_move_changed | statement |  | G0 A90. | 9 | -
+          rotary axis move: `G0 A90.` added at line 9
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "fanuc")));
+}

@@ -1129,11 +1129,13 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
         crate::db_rows(&db, "SELECT COUNT(*) FROM comparisons") == [["3"]]
     });
     daemon.kill();
-    // The rest of the schema: a partial write, a queue, an attempt, a saved query, a session.
+    // The rest of the schema: a partial write, a call, a queue, an attempt, a saved query, a session.
     let mut store = Store::open(&at, "HALL7").unwrap();
     let edits = crate::db_rows(&db, "SELECT revision_id FROM comparisons ORDER BY revision_id");
     let tx = store.begin().unwrap();
     tx.mark_partial(edits[0][0].parse().unwrap(), edits[2][0].parse().unwrap(), "2026-02-03T00:00:00.000Z").unwrap();
+    // A subprogram the edit calls, which is not there.
+    tx.add_calls(edits[0][0].parse().unwrap(), &["o9000".to_owned(), "9000".to_owned()]).unwrap();
     tx.commit().unwrap();
     assert!(store.queue_reanalysis("next-version", None, None).unwrap() > 0);
     store.begin_attempt(&sha256("in progress"), "/share/O3.nc", "2026-02-04T00:00:00.000Z").unwrap();
