@@ -197,6 +197,10 @@ enum Command {
         /// Only changes of this machine (html and csv).
         #[arg(long, value_name = "NAME")]
         machine: Option<String>,
+        /// Leave out changes of what a program only shows or writes (messages, prints:
+        /// `output_changed`).
+        #[arg(long)]
+        machining_only: bool,
     },
     /// Serve the planners' workspace: overview, machines, programs, comparisons with toolpath
     /// pictures, review, knowledge pages, SQL console and search.
@@ -818,7 +822,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             })?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Report { store, wait, format, output, since, machine } => {
+        Command::Report { store, wait, format, output, since, machine, machining_only } => {
             if let Some(seconds) = wait {
                 let config = match &store.config {
                     Some(p) => load_config(Some(p))?,
@@ -835,11 +839,11 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             let db = db_path(&store)?;
             let config_path = store.config.clone();
             let store = Store::open_read_only(&db)?;
-            let filter = crate::web::report::Filter { since, machine };
+            let filter = crate::web::report::Filter { since, machine, machining_only };
             let text = match format {
                 ReportFormat::Markdown => {
                     let mut buf = Vec::new();
-                    write_report(&mut buf, &store)?;
+                    write_report(&mut buf, &store, machining_only)?;
                     buf
                 }
                 ReportFormat::Html => {
@@ -1494,7 +1498,7 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
     Ok(())
 }
 
-fn write_report(out: &mut impl Write, store: &Store) -> Result<()> {
+fn write_report(out: &mut impl Write, store: &Store, machining_only: bool) -> Result<()> {
     let (_, rows) = store.query(
         "SELECT machine, program, original_path, edited_path, revision_id, workingstep, kind, field, before, after, detected_at, operation
          FROM shopfloor_changes ORDER BY machine, program, revision_id, change_id",
@@ -1513,7 +1517,13 @@ fn write_report(out: &mut impl Write, store: &Store) -> Result<()> {
         while i < rows.len() && rows[i][4] == r[4] {
             i += 1;
         }
-        let changes = store.changes(revision)?;
+        let mut changes = store.changes(revision)?;
+        if machining_only {
+            changes.retain(diff::Change::is_machining);
+            if changes.is_empty() {
+                continue;
+            }
+        }
         for line in diff::render_plain(&changes) {
             writeln!(out, "- {line}")?;
         }

@@ -307,6 +307,9 @@ pub struct Config {
     pub max_file_bytes: u64,
     /// Most files analysed at once (each worker also takes a core).
     pub workers: usize,
+    /// The ncplan executable that reads a suspect content in a process of its own (one whose
+    /// analyses were cut short before); `None`: this process's own. Not read from the file.
+    pub probe_exe: Option<PathBuf>,
     /// Ignore globs matched against file names.
     pub ignore: Vec<String>,
     /// Optional regex with a `key` group that extracts the matching key from a file name.
@@ -484,6 +487,7 @@ impl Config {
             rescan_s: raw.daemon.rescan_s,
             max_file_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20),
             workers: raw.daemon.workers,
+            probe_exe: None,
             ignore: raw.daemon.ignore,
             pattern,
             profile,

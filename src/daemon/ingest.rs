@@ -305,7 +305,7 @@ fn record(
         let what = if bytes.is_empty() { "empty".to_owned() } else { format!("{} bytes of blanks or NUL bytes", bytes.len()) };
         let message = format!("the file holds no program ({what}): a truncated save or an aborted copy; stored, never compared");
         (None, vec![finding(Code::EmptyFile, message)], "empty")
-    } else if earlier >= UNFINISHED_ANALYSES {
+    } else if earlier >= UNFINISHED_ANALYSES && ends_a_process(config, &bytes, &dialect_name, path) {
         let message = format!(
             "analysing this content ended the process {earlier} time(s) before (out of memory, a memory limit or a crash); stored, not analysed"
         );
@@ -531,6 +531,53 @@ impl Reader<'_> {
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
         Ok(pipeline::analyze_plan_owned(bytes, &d, &self.profile(path, &folder, &d)))
     }
+}
+
+/// The longest a suspect content's trial in a process of its own may take.
+const PROBE_LIMIT: std::time::Duration = std::time::Duration::from_secs(120);
+
+/// Whether reading `bytes` ends a process: a child `ncplan plan` reads a private copy (in the
+/// temporary directory, never a watched folder) and dies by a signal (a crash, a memory
+/// limit) or runs past [`PROBE_LIMIT`]. Analyses this daemon began and never finished are no
+/// proof: kills from outside land on whatever is being analysed, and after a restart on the
+/// same content again. When no trial can be made, the unfinished analyses decide.
+fn ends_a_process(config: &Config, bytes: &[u8], dialect: &str, path: &Path) -> bool {
+    let exe = match config.probe_exe.clone().map_or_else(std::env::current_exe, Ok) {
+        Ok(e) => e,
+        Err(_) => return true,
+    };
+    let ext = path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
+    let copy = std::env::temp_dir().join(format!("ncplan-trial-{}-{}.{ext}", std::process::id(), &sha256_hex(bytes)[..16]));
+    if std::fs::write(&copy, bytes).is_err() {
+        return true;
+    }
+    let child = std::process::Command::new(&exe)
+        .args(["plan", "-d", dialect])
+        .arg(&copy)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn();
+    let verdict = match child {
+        Err(_) => true,
+        Ok(mut child) => {
+            let started = std::time::Instant::now();
+            loop {
+                match child.try_wait() {
+                    Ok(Some(status)) => break status.code().is_none(),
+                    Ok(None) if started.elapsed() < PROBE_LIMIT => std::thread::sleep(std::time::Duration::from_millis(20)),
+                    _ => {
+                        let _ = child.kill();
+                        let _ = child.wait();
+                        break true;
+                    }
+                }
+            }
+        }
+    };
+    let _ = std::fs::remove_file(&copy);
+    tracing::info!(path = %path.display(), ends_a_process = verdict, "A content whose analyses were cut short was tried in a process of its own.");
+    verdict
 }
 
 /// A program source that notes the names asked of it, as the file stems they may mean.

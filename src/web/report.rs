@@ -19,6 +19,8 @@ pub struct Filter {
     pub since: Option<String>,
     /// Of this machine only.
     pub machine: Option<String>,
+    /// Leave out what only shows or writes text (`output_changed`).
+    pub machining_only: bool,
 }
 
 /// Every change the filter lets through, oldest first.
@@ -29,6 +31,9 @@ fn rows(store: &Store, filter: &Filter) -> Result<Vec<ChangeRow>> {
         ..ChangeFilter::default()
     };
     let mut rows = store.search_changes(&f, usize::MAX >> 1)?;
+    if filter.machining_only {
+        rows.retain(|r| r.change.is_machining());
+    }
     rows.reverse();
     Ok(rows)
 }

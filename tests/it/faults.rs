@@ -260,7 +260,12 @@ fn a_writer_that_pauses_with_the_file_open_is_not_stored_half_written() {
 
 /// Ingests `rel` of `site` with the clock reading `now`, as the worker does.
 fn ingest_at(site: &Site, store: &mut Store, rel: &str, now: &str, expected: Option<Snapshot>) -> Outcome {
-    let config = site.config();
+    let mut config = site.config();
+    config.probe_exe = Some(crate::bin().to_path_buf());
+    ingest_with(site, store, rel, now, expected, config)
+}
+
+fn ingest_with(site: &Site, store: &mut Store, rel: &str, now: &str, expected: Option<Snapshot>, config: Config) -> Outcome {
     let path = site.path(rel);
     let folder = if rel.starts_with("cam/") { 0 } else { 1 };
     let root = std::fs::canonicalize(&config.folders[folder].path).unwrap();
@@ -529,12 +534,18 @@ fn content_whose_analysis_killed_the_process_is_stored_once_without_analysis() {
 
         let text = program(12, 300);
         std::fs::write(site.path("share/O12.nc"), &text).unwrap();
-        // Earlier runs began analysing this content twice and never finished (killed by a memory limit).
+        // Earlier runs began analysing this content twice and never finished (killed by a memory
+        // limit), and a trial in a process of its own dies too (a stand-in that kills itself).
         let hash = ncplan::daemon::ingest::sha256_hex(text.as_bytes());
         let at = site.path("share/O12.nc").to_string_lossy().into_owned();
         assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:00:00.000Z").unwrap(), 0);
         assert_eq!(store.begin_attempt(&hash, &at, "2026-12-01T09:10:00.000Z").unwrap(), 1);
-        let out = ingest_at(&site, store, "share/O12.nc", "2026-12-01T10:00:00.000Z", None);
+        let dies = site.path("dies.sh");
+        std::fs::write(&dies, "#!/bin/sh\nkill -9 $$\n").unwrap();
+        std::fs::set_permissions(&dies, std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
+        let mut config = site.config();
+        config.probe_exe = Some(dies);
+        let out = ingest_with(&site, store, "share/O12.nc", "2026-12-01T10:00:00.000Z", None, config);
         assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
         let rows = store
             .query(
@@ -556,6 +567,19 @@ fn content_whose_analysis_killed_the_process_is_stored_once_without_analysis() {
             .unwrap()
             .1;
         assert_eq!(copy, [["analysed"]]);
+
+        // Two analyses cut short by kills from outside, and the trial reads it through: the
+        // content is analysed (a kill loop never loses an original this way).
+        let text = program(13, 300);
+        std::fs::write(site.path("share/O13.nc"), &text).unwrap();
+        let hash = ncplan::daemon::ingest::sha256_hex(text.as_bytes());
+        let at = site.path("share/O13.nc").to_string_lossy().into_owned();
+        store.begin_attempt(&hash, &at, "2026-12-01T11:00:00.000Z").unwrap();
+        store.begin_attempt(&hash, &at, "2026-12-01T11:01:00.000Z").unwrap();
+        ingest_at(&site, store, "share/O13.nc", "2026-12-01T11:02:00.000Z", None);
+        let rows =
+            store.query("SELECT r.status FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.path LIKE '%O13.nc'").unwrap().1;
+        assert_eq!(rows, [["analysed"]]);
     }
 }
 
