@@ -344,8 +344,19 @@ fn listing(
 pub(crate) fn sources(c: &Comparison, whole: usize) -> Markup {
     let (a, b): (Vec<&str>, Vec<&str>) = (c.texts.0.lines().collect(), c.texts.1.lines().collect());
     let al = source::align(&a, &b);
-    let ho: BTreeSet<usize> = c.rows.iter().filter_map(|r| r.change.original_line.map(|l| l as usize)).collect();
-    let he: BTreeSet<usize> = c.rows.iter().filter_map(|r| r.change.line.map(|l| l as usize)).collect();
+    // Every line a change is seen at: its first, the rest of its run, the other statements.
+    let lines_of = |first: Option<u32>, end: Option<u32>, at: &mut dyn Iterator<Item = Option<u32>>| -> Vec<usize> {
+        let mut v: Vec<usize> = first.map(|f| (f..=end.unwrap_or(f).max(f)).take(200).map(|l| l as usize).collect()).unwrap_or_default();
+        v.extend(at.flatten().map(|l| l as usize));
+        v
+    };
+    let ho: BTreeSet<usize> = c
+        .rows
+        .iter()
+        .flat_map(|r| lines_of(r.change.original_line, r.change.original_line_end, &mut r.change.at.iter().map(|a| a.0)))
+        .collect();
+    let he: BTreeSet<usize> =
+        c.rows.iter().flat_map(|r| lines_of(r.change.line, r.change.line_end, &mut r.change.at.iter().map(|a| a.1))).collect();
     html! {
         div class="sources" {
             div {

@@ -180,3 +180,49 @@ proptest! {
         prop_assert_eq!(changes.is_empty(), same, "{:?}", changes.iter().map(Change::phrase).collect::<Vec<_>>());
     }
 }
+
+/// Lines of any dialect's look, valid or not.
+fn rough_line() -> impl Strategy<Value = String> {
+    let word = prop_oneof![
+        Just("G0".to_owned()),
+        Just("G1".to_owned()),
+        Just("G2".to_owned()),
+        Just("M3".to_owned()),
+        Just("M30".to_owned()),
+        Just("L".to_owned()),
+        Just("FMAX".to_owned()),
+        Just("CYCLE81(10,0,2,-5)".to_owned()),
+        Just("o<sub> call [1] [2]".to_owned()),
+        Just("#1=[#1+1]".to_owned()),
+        Just("IF [#1 GT 2] GOTO 10".to_owned()),
+        Just("(comment (nested) )".to_owned()),
+        Just("; note".to_owned()),
+        Just("~".to_owned()),
+        Just("\"".to_owned()),
+        ("[XYZFSTQR]", -100i32..100).prop_map(|(a, v)| format!("{a}{}", f64::from(v) / 4.0)),
+    ];
+    proptest::collection::vec(word, 0..6).prop_map(|w| w.join(" "))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: std::env::var("NCPLAN_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64), ..ProptestConfig::default() })]
+
+    /// Whatever two texts are compared, in whichever dialect, the diff returns and names
+    /// every differing statement.
+    #[test]
+    fn any_two_texts_are_accounted_for(
+        a in proptest::collection::vec(rough_line(), 0..20),
+        b in proptest::collection::vec(rough_line(), 0..20),
+        dialect in prop_oneof![Just("fanuc"), Just("linuxcnc"), Just("siemens"), Just("heidenhain")],
+    ) {
+        let d = Registry::shipped().get(dialect).unwrap();
+        let profile = Profile::default();
+        let (a, b) = (a.join("\n"), b.join("\n"));
+        let pa = pipeline::analyze_plan(a.as_bytes(), &d, &profile);
+        let pb = pipeline::analyze_plan(b.as_bytes(), &d, &profile);
+        let x = diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d };
+        let y = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
+        let changes = diff::compare(x, y);
+        prop_assert!(diff::unaccounted(x, y, &changes).is_empty());
+    }
+}
