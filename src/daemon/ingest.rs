@@ -406,7 +406,7 @@ fn record(
     }
     // A changed subprogram: the programs that call it are compared again.
     if plan.is_some() {
-        compared += recompare_callers(&tx, &reader, &stem, revision, now)?;
+        compared += recompare_callers(&tx, &reader, (stored_as, folder.role), &stem, revision, now)?;
     }
     tx.commit()?;
     Ok(Outcome::Stored { revision, changes, compared })
@@ -596,15 +596,21 @@ impl crate::interp::ProgramSource for Recording {
 }
 
 /// The programs that call the program stored as `revision` under `stem` (a changed
-/// subprogram), and were compared before, compared again with it, naming it as the cause.
-fn recompare_callers(tx: &Txn<'_>, reader: &Reader<'_>, stem: &str, revision: i64, now: &str) -> Result<usize> {
+/// subprogram at `path`), and were compared before, compared again with it, naming it as the
+/// cause: those beside it, or every caller when it is a CAM original's (the originals read
+/// their subprograms from there).
+fn recompare_callers(tx: &Txn<'_>, reader: &Reader<'_>, at: (&Path, Role), stem: &str, revision: i64, now: &str) -> Result<usize> {
     let mut n = 0;
     for caller in tx.callers(&stem.to_lowercase())? {
         if caller == revision {
             continue;
         }
         let Some((original, rule)) = tx.comparison_of(caller)? else { continue };
-        let (Some(src), Some(bytes)) = (tx.source(caller)?, tx.content(caller)?) else { continue };
+        let Some(src) = tx.source(caller)? else { continue };
+        if at.1 != Role::Cam && Path::new(&src.path).parent() != at.0.parent() {
+            continue;
+        }
+        let Some(bytes) = tx.content(caller)? else { continue };
         // Read again as today: its called programs from where they lie now.
         let a = reader.reanalyse(&src.path, &src.dialect, bytes)?;
         let d = reader.dialect_of(&src.path, &src.dialect)?;
