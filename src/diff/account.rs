@@ -14,7 +14,7 @@ use std::ops::RangeInclusive;
 
 use super::statement::{self, Class, Hunk, Sort, Stmt, Token};
 use super::{Change, ChangeKind};
-use crate::dialect::Dialect;
+use crate::dialect::{Dialect, Meaning, Role};
 use crate::plan::{ProcessPlan, Workingstep};
 
 /// One program as the diff reads it: its plan, and its text in its dialect for the statements.
@@ -78,7 +78,7 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
             if !(lo.is_some_and(in_a) || le.is_some_and(in_b)) {
                 continue;
             }
-            if it.diffs.iter().any(|d| shows(c.kind, d)) {
+            if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect)) {
                 it.located = true;
                 at.push((lo, le));
             }
@@ -332,39 +332,76 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
     out
 }
 
-/// Whether a token difference shows a plan change of `kind`: a word whose address belongs to
-/// what the change is about. Variables, calls and jumps show no plan change by themselves.
-fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>)) -> bool {
+/// What a token is about, by the dictionary: its code's meaning (`M8`: coolant-flood, `RL`:
+/// comp-left) or its address's role (`F`: feed).
+#[derive(Clone, Copy, PartialEq)]
+enum About {
+    Code(Meaning),
+    Address(Role),
+    Unknown,
+}
+
+fn about(tok: &Token, d: &Dialect) -> About {
+    let k = tok.key.as_str();
+    // A G or M code: the token's key is the code (`G43`, `M8`).
+    if let Some(letter @ ('G' | 'M')) = k.chars().next()
+        && let Ok(n) = k[1..].parse::<f64>()
+    {
+        return d.code(letter, (n * 10.0).round().max(0.0) as u32).map_or(About::Unknown, |c| About::Code(c.meaning));
+    }
+    if let Some(a) = d.addresses.iter().find(|a| a.name == k) {
+        return About::Address(a.role);
+    }
+    // A keyword code (`FMAX`, `RL`, `TOOL CALL`), by its first word.
+    d.keyword_codes()
+        .find(|(_, spec)| spec.text.split(' ').next() == Some(k))
+        .map_or(About::Unknown, |(i, _)| About::Code(d.codes[i].meaning))
+}
+
+/// Whether a token difference shows a plan change of `kind`: a word whose code or address the
+/// dictionary says is about what the change is about. Variables, calls and jumps show no
+/// plan change by themselves.
+fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect) -> bool {
     let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
     if !tok.is_address() {
         return false;
     }
-    let k = tok.key.as_str();
-    let code = |list: &[&str]| list.contains(&k);
-    let technology = |k: &str| {
-        matches!(k, "F" | "S" | "T" | "H" | "D" | "E")
-            || (k.starts_with('M') && k[1..].bytes().all(|c| c.is_ascii_digit()) && k.len() > 1)
-            || code(&["G40", "G41", "G42", "G43", "G44", "G49", "G96", "G97", "G93", "G94", "G95", "RL", "RR"])
-    };
     use ChangeKind as K;
+    use Meaning as M;
+    use Role as R;
+    let a = about(tok, dialect);
+    let code = |list: &[Meaning]| matches!(a, About::Code(m) if list.contains(&m));
+    let address = |list: &[Role]| matches!(a, About::Address(r) if list.contains(&r));
+    const FEED: [Meaning; 4] = [M::FeedInverseTime, M::FeedPerMinute, M::FeedPerRev, M::RapidBlock];
+    const SPEED: [Meaning; 3] = [M::SpindleCss, M::SpindleRpm, M::SpindleLimit];
+    const SPINDLE: [Meaning; 4] = [M::SpindleCw, M::SpindleCcw, M::SpindleStop, M::SpindleOrient];
+    const COOLANT: [Meaning; 3] = [M::CoolantMist, M::CoolantFlood, M::CoolantOff];
+    const LENGTH: [Meaning; 4] = [M::LengthCompPlus, M::LengthCompDynamic, M::LengthCompMinus, M::LengthCompCancel];
+    const COMP: [Meaning; 5] = [M::CompOff, M::CompLeft, M::CompRight, M::CompLeftDiameter, M::CompRightDiameter];
+    const STOPS: [Meaning; 2] = [M::ProgramStop, M::OptionalStop];
+    const OVERRIDES: [Meaning; 3] = [M::OverridesOn, M::OverridesOff, M::FeedOverrideSwitch];
     match kind {
-        K::FeedChanged => code(&["F", "E", "G93", "G94", "G95", "FMAX"]),
-        K::SpindleSpeedChanged | K::SpindleModeChanged => code(&["S", "G96", "G97", "G50", "G92"]),
-        K::SpindleDirectionChanged => code(&["M3", "M4", "M5", "M13", "M14", "M19"]),
-        K::CoolantChanged => code(&["M7", "M8", "M9", "M50", "M51", "M88", "M89", "M13", "M14"]),
-        K::ToolRenamed => code(&["T", "M6", "TOOL", "D"]),
-        K::LengthOffsetChanged => code(&["G43", "G44", "G49", "H"]),
-        K::CutterCompChanged => code(&["G40", "G41", "G42", "D", "RL", "RR", "R0"]),
-        K::WorkOffsetChanged => k.starts_with("G5") || code(&["P"]),
-        K::StopAdded | K::StopRemoved => code(&["M0", "M1", "M00", "M01", "STOP"]),
-        K::DwellChanged => code(&["G4", "P", "X", "U", "F"]),
-        K::FeedOverrideChanged => code(&["M48", "M49", "M50"]),
+        K::FeedChanged => address(&[R::F, R::E, R::PlungeFeed]) || code(&FEED),
+        K::SpindleSpeedChanged | K::SpindleModeChanged => address(&[R::S]) || code(&SPEED),
+        K::SpindleDirectionChanged => code(&SPINDLE),
+        K::CoolantChanged => code(&COOLANT),
+        K::ToolRenamed => address(&[R::T, R::D, R::NextTool]) || code(&[M::ToolChange]),
+        K::LengthOffsetChanged => address(&[R::H]) || code(&LENGTH),
+        K::CutterCompChanged => address(&[R::D]) || code(&COMP),
+        K::WorkOffsetChanged => address(&[R::P]) || code(&[M::Wcs, M::WcsExtended]),
+        K::StopAdded | K::StopRemoved => code(&STOPS),
+        K::DwellChanged => address(&[R::P, R::DwellTime]) || code(&[M::Dwell]),
+        K::FeedOverrideChanged => code(&OVERRIDES),
         K::OptionalBlockChanged => tok.text.starts_with('/'),
         K::RiskyEdit => false,
         K::WorkingstepAdded | K::WorkingstepRemoved => true,
         K::StatementChanged | K::OutputChanged | K::ReturnMoveChanged | K::RotaryMoveChanged => false,
         // Geometry: anything but technology.
-        _ => !technology(k),
+        _ => {
+            let codes: [&[Meaning]; 8] = [&FEED, &SPEED, &SPINDLE, &COOLANT, &LENGTH, &COMP, &STOPS, &OVERRIDES];
+            let technology = codes.iter().any(|l| code(l)) || address(&[R::F, R::S, R::T, R::H, R::D, R::E]);
+            !technology
+        }
     }
 }
 
