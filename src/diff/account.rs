@@ -273,26 +273,8 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
 fn pair_statements(a: &[Vec<Token>], b: &[Vec<Token>]) -> Vec<(Option<usize>, Option<usize>)> {
     let key = |t: &[Token]| t.first().map(|t| t.key.clone()).unwrap_or_default();
     let (ka, kb): (Vec<String>, Vec<String>) = (a.iter().map(|t| key(t)).collect(), b.iter().map(|t| key(t)).collect());
-    let w = kb.len() + 1;
-    let mut t = vec![0u16; (ka.len() + 1) * w];
-    for i in (0..ka.len()).rev() {
-        for j in (0..kb.len()).rev() {
-            t[i * w + j] = if ka[i] == kb[j] { t[(i + 1) * w + j + 1] + 1 } else { t[(i + 1) * w + j].max(t[i * w + j + 1]) };
-        }
-    }
     let mut anchors = Vec::new();
-    let (mut i, mut j) = (0, 0);
-    while i < ka.len() && j < kb.len() {
-        if ka[i] == kb[j] {
-            anchors.push((i, j));
-            i += 1;
-            j += 1;
-        } else if t[(i + 1) * w + j] >= t[i * w + j + 1] {
-            i += 1;
-        } else {
-            j += 1;
-        }
-    }
+    statement::lcs(&ka, &kb, 0, 0, &mut anchors);
     let mut out = Vec::new();
     let (mut pi, mut pj) = (0, 0);
     for (x, y) in anchors.into_iter().chain(std::iter::once((a.len(), b.len()))) {

@@ -414,7 +414,7 @@ fn matches(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
 }
 
 /// A longest common subsequence of `a` and `b` by the full table, pairs offset by `oa`/`ob`.
-fn lcs(a: &[u64], b: &[u64], oa: usize, ob: usize, out: &mut Vec<(usize, usize)>) {
+pub(super) fn lcs<T: PartialEq>(a: &[T], b: &[T], oa: usize, ob: usize, out: &mut Vec<(usize, usize)>) {
     let w = b.len() + 1;
     let mut t = vec![0u32; (a.len() + 1) * w];
     for i in (0..a.len()).rev() {
