@@ -99,7 +99,7 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
         if !at.iter().any(|&(o, e)| (e.is_some() && e == c.line) || (e.is_none() && o.is_some() && o == c.original_line)) {
             (c.original_line, c.line) = at[0];
         }
-        c.at = at;
+        c.detail.at = at;
     }
     // What no statement explains: the effects of changed variables, calls and jumps.
     let effects: Vec<String> = changes
@@ -123,9 +123,9 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
         let last = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].last).filter(|&l| Some(l) != line(s, i));
         for mut c in statement_changes(it, lo, le, ws) {
             if it.class == Class::Machining {
-                c.effect.clone_from(&effect);
+                c.detail.effect.clone_from(&effect);
             }
-            (c.original_line_end, c.line_end) = (last(&sa, it.original), last(&sb, it.edited));
+            (c.detail.original_line_end, c.detail.line_end) = (last(&sa, it.original), last(&sb, it.edited));
             added.push(c);
         }
     }
@@ -145,11 +145,11 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
         c.before = lines(ra.len(), lo, last(&sa, ra));
         c.after = lines(rb.len(), le, last(&sb, rb));
         (c.original_line, c.line) = (lo, le);
-        c.original_line_end = last(&sa, ra);
-        c.line_end = last(&sb, rb);
-        c.at = vec![(lo, le)];
+        c.detail.original_line_end = last(&sa, ra);
+        c.detail.line_end = last(&sb, rb);
+        c.detail.at = vec![(lo, le)];
         if bk.class == Class::Machining {
-            c.effect.clone_from(&effect);
+            c.detail.effect.clone_from(&effect);
         }
         added.push(c);
     }
@@ -174,7 +174,7 @@ fn derived(kind: ChangeKind) -> bool {
 fn merge_repeats(changes: &mut Vec<Change>) {
     let mut k = 0;
     while k < changes.len() {
-        if changes[k].at.is_empty() {
+        if changes[k].detail.at.is_empty() {
             k += 1;
             continue;
         }
@@ -183,7 +183,7 @@ fn merge_repeats(changes: &mut Vec<Change>) {
         while j < changes.len() {
             let (c, d) = (&changes[k], &changes[j]);
             let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
-            if same && (d.at == c.at || (d.at.is_empty() && d.workingstep > c.workingstep)) {
+            if same && (d.detail.at == c.detail.at || (d.detail.at.is_empty() && d.workingstep > c.workingstep)) {
                 if d.workingstep != c.workingstep && !also.contains(&d.workingstep) {
                     also.push(d.workingstep);
                 }
@@ -204,9 +204,9 @@ fn merge_repeats(changes: &mut Vec<Change>) {
 pub(super) fn uncovered(changes: &[Change], hunks: &[Hunk], sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
     let names = |side: usize, line: u32| {
         changes.iter().any(|c| {
-            let (first, end) = if side == 0 { (c.original_line, c.original_line_end) } else { (c.line, c.line_end) };
+            let (first, end) = if side == 0 { (c.original_line, c.detail.original_line_end) } else { (c.line, c.detail.line_end) };
             let in_range = first.is_some_and(|f| line >= f && line <= end.unwrap_or(f));
-            in_range || c.at.iter().any(|&(o, e)| if side == 0 { o == Some(line) } else { e == Some(line) })
+            in_range || c.detail.at.iter().any(|&(o, e)| if side == 0 { o == Some(line) } else { e == Some(line) })
         })
     };
     let mut out = Vec::new();
@@ -463,10 +463,7 @@ fn blank(kind: ChangeKind, (workingstep, operation): (u32, String)) -> Change {
         original_line: None,
         region: None,
         deviation: None,
-        at: Vec::new(),
-        effect: None,
-        line_end: None,
-        original_line_end: None,
+        detail: crate::diff::Detail::default(),
     }
 }
 
@@ -537,7 +534,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
     }
     for c in &mut out {
         (c.original_line, c.line) = (lo, le);
-        c.at = vec![(lo, le)];
+        c.detail.at = vec![(lo, le)];
     }
     out
 }

@@ -177,6 +177,15 @@ pub struct Change {
     /// other where they differ, mm.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub deviation: Option<f64>,
+    /// Where else it is seen, what it may cause, where its statements end.
+    #[serde(flatten)]
+    pub detail: Detail,
+}
+
+/// What a change says beyond its row's columns: where else it is seen, what it causes, where
+/// its run of statements ends. Stored as JSON beside the row.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Detail {
     /// The differing statements the change is seen at, as (original line, edited line); one
     /// side `None` for a statement only the other program has.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -192,39 +201,17 @@ pub struct Change {
     pub original_line_end: Option<u32>,
 }
 
-/// What a change says beyond its row's columns: where else it is seen, what it causes, where
-/// its run of statements ends. Stored as JSON beside the row.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Detail {
-    /// [`Change::at`].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub at: Vec<Located>,
-    /// [`Change::effect`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub effect: Option<String>,
-    /// [`Change::line_end`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub line_end: Option<u32>,
-    /// [`Change::original_line_end`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub original_line_end: Option<u32>,
-}
-
 impl Change {
     /// The change's detail as stored: JSON, or empty when it has none.
     pub fn detail_json(&self) -> String {
-        let d =
-            Detail { at: self.at.clone(), effect: self.effect.clone(), line_end: self.line_end, original_line_end: self.original_line_end };
-        if d == Detail::default() { String::new() } else { serde_json::to_string(&d).unwrap_or_default() }
+        if self.detail == Detail::default() { String::new() } else { serde_json::to_string(&self.detail).unwrap_or_default() }
     }
 
     /// Sets the detail from its stored JSON (empty or unreadable: none).
     pub fn set_detail(&mut self, json: &str) {
-        if json.is_empty() {
-            return;
+        if !json.is_empty() {
+            self.detail = serde_json::from_str(json).unwrap_or_default();
         }
-        let d: Detail = serde_json::from_str(json).unwrap_or_default();
-        (self.at, self.effect, self.line_end, self.original_line_end) = (d.at, d.effect, d.line_end, d.original_line_end);
     }
 
     /// The change as a planner reads it: `tool T1 renamed T8`.
@@ -267,9 +254,9 @@ impl Change {
     /// Where a located plan change is seen: ` at line 12`, ` at lines 12, 18 and 24`,
     /// ` at original line 7` where only the original has the statements.
     fn located(&self) -> String {
-        let edited: Vec<u32> = self.at.iter().filter_map(|a| a.1).collect();
+        let edited: Vec<u32> = self.detail.at.iter().filter_map(|a| a.1).collect();
         let (lines, prefix) = if edited.is_empty() {
-            (self.at.iter().filter_map(|a| a.0).collect::<Vec<u32>>(), " at original line")
+            (self.detail.at.iter().filter_map(|a| a.0).collect::<Vec<u32>>(), " at original line")
         } else {
             (edited, " at line")
         };
@@ -302,7 +289,7 @@ impl Change {
             let (name, arg) = call.rsplit_once(" argument ").unwrap_or((call, "?"));
             format!("call `{name}` argument {arg}: {a} instead of {b}{loc}")
         } else if self.field == "statements" {
-            let from = match (self.original_line, self.original_line_end) {
+            let from = match (self.original_line, self.detail.original_line_end) {
                 (Some(f), Some(l)) if f != l => format!(" at original lines {f}–{l}"),
                 (Some(f), _) => format!(" at original line {f}"),
                 _ => String::new(),
@@ -319,7 +306,7 @@ impl Change {
         if self.kind == ChangeKind::OutputChanged {
             s.push_str(" (output only)");
         }
-        if let Some(e) = &self.effect {
+        if let Some(e) = &self.detail.effect {
             s.push_str(&format!("; its effect: {e}"));
         }
         s
@@ -428,10 +415,7 @@ fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, P
                 original_line: Some(a[i].lines.0),
                 region: None,
                 deviation: None,
-                at: Vec::new(),
-                effect: None,
-                line_end: None,
-                original_line_end: None,
+                detail: crate::diff::Detail::default(),
             }),
             (None, Some(j)) => out.push(Change {
                 kind: ChangeKind::WorkingstepAdded,
@@ -444,10 +428,7 @@ fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, P
                 original_line: None,
                 region: None,
                 deviation: None,
-                at: Vec::new(),
-                effect: None,
-                line_end: None,
-                original_line_end: None,
+                detail: crate::diff::Detail::default(),
             }),
             (None, None) => {}
         }
@@ -475,10 +456,7 @@ fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, P
             original_line: orig.map(|i| a[i].lines.0),
             region: None,
             deviation: None,
-            at: Vec::new(),
-            effect: None,
-            line_end: None,
-            original_line_end: None,
+            detail: crate::diff::Detail::default(),
         });
     }
     (out, pairs)
@@ -654,10 +632,7 @@ fn compare_workingsteps(
             original_line: lines.0,
             region: None,
             deviation: None,
-            at: Vec::new(),
-            effect: None,
-            line_end: None,
-            original_line_end: None,
+            detail: crate::diff::Detail::default(),
         });
     };
     let at_start = (Some(a.lines.0), Some(b.lines.0));
@@ -841,10 +816,7 @@ fn compare_workingsteps(
             original_line: tp.lines.0,
             region: tp.region,
             deviation: Some(tp.deviation),
-            at: Vec::new(),
-            effect: None,
-            line_end: None,
-            original_line_end: None,
+            detail: crate::diff::Detail::default(),
         });
     }
     fold_into_start_point(a, b, depth_change, u, first, out);

@@ -329,10 +329,7 @@ fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
             original_line: r.get(13)?,
             region,
             deviation: r.get(20)?,
-            at: Vec::new(),
-            effect: None,
-            line_end: None,
-            original_line_end: None,
+            detail: crate::diff::Detail::default(),
         },
         marks: Vec::new(),
     };

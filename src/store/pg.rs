@@ -406,10 +406,7 @@ impl Pg {
                         _ => None,
                     },
                     deviation: r.get(14),
-                    at: Vec::new(),
-                    effect: None,
-                    line_end: None,
-                    original_line_end: None,
+                    detail: crate::diff::Detail::default(),
                 };
                 c.set_detail(&r.get::<_, String>(15));
                 c

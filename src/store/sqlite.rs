@@ -261,10 +261,7 @@ impl Lite {
                         _ => None,
                     },
                     deviation: r.get(14)?,
-                    at: Vec::new(),
-                    effect: None,
-                    line_end: None,
-                    original_line_end: None,
+                    detail: crate::diff::Detail::default(),
                 };
                 c.set_detail(&detail);
                 Ok(c)

@@ -353,10 +353,13 @@ pub(crate) fn sources(c: &Comparison, whole: usize) -> Markup {
     let ho: BTreeSet<usize> = c
         .rows
         .iter()
-        .flat_map(|r| lines_of(r.change.original_line, r.change.original_line_end, &mut r.change.at.iter().map(|a| a.0)))
+        .flat_map(|r| lines_of(r.change.original_line, r.change.detail.original_line_end, &mut r.change.detail.at.iter().map(|a| a.0)))
         .collect();
-    let he: BTreeSet<usize> =
-        c.rows.iter().flat_map(|r| lines_of(r.change.line, r.change.line_end, &mut r.change.at.iter().map(|a| a.1))).collect();
+    let he: BTreeSet<usize> = c
+        .rows
+        .iter()
+        .flat_map(|r| lines_of(r.change.line, r.change.detail.line_end, &mut r.change.detail.at.iter().map(|a| a.1)))
+        .collect();
     html! {
         div class="sources" {
             div {

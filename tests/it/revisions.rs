@@ -111,9 +111,9 @@ fn run(pair: &Pair) -> Outcome {
     }
     let names = |line: u32, original: bool| {
         changes.iter().any(|c| {
-            let (first, end) = if original { (c.original_line, c.original_line_end) } else { (c.line, c.line_end) };
+            let (first, end) = if original { (c.original_line, c.detail.original_line_end) } else { (c.line, c.detail.line_end) };
             first.is_some_and(|f| line >= f && line <= end.unwrap_or(f))
-                || c.at.iter().any(|&(o, e)| if original { o == Some(line) } else { e == Some(line) })
+                || c.detail.at.iter().any(|&(o, e)| if original { o == Some(line) } else { e == Some(line) })
         })
     };
     let lost_o: Vec<u32> = pair.expect.original_lines.iter().copied().filter(|l| !names(*l, true)).collect();

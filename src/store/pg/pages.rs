@@ -45,10 +45,7 @@ fn change_row(r: &Row) -> ChangeRow {
             original_line: r.get::<_, Option<i64>>(13).map(|l| l as u32),
             region,
             deviation: r.get(20),
-            at: Vec::new(),
-            effect: None,
-            line_end: None,
-            original_line_end: None,
+            detail: crate::diff::Detail::default(),
         },
         marks: Vec::new(),
     };
