@@ -57,6 +57,10 @@ struct Input {
     /// Configuration (for the tool table and extra dialects).
     #[arg(long)]
     config: Option<PathBuf>,
+    /// A tool table whose diameters, corner radii and point angles the plan uses (LinuxCNC
+    /// `tool.tbl`, Heidenhain `TOOL.T`, Fanuc `G10` offsets), over the configuration's tools.
+    #[arg(long, value_name = "FILE")]
+    tool_table: Option<PathBuf>,
 }
 
 /// Where the database is.
@@ -162,6 +166,10 @@ enum Command {
         edited_dialect: Option<String>,
         #[arg(long)]
         config: Option<PathBuf>,
+        /// A tool table for both programs (LinuxCNC `tool.tbl`, Heidenhain `TOOL.T`, Fanuc
+        /// `G10` offsets), over the configuration's tools.
+        #[arg(long, value_name = "FILE")]
+        tool_table: Option<PathBuf>,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
         /// Exit 1 when there are machining changes (not only messages or output).
@@ -464,8 +472,17 @@ enum RoleArg {
     Called,
 }
 
+/// Puts the tools of a `--tool-table` file over the configuration's.
+fn with_tool_table(config: &mut Config, table: Option<&Path>) -> Result<()> {
+    if let Some(path) = table {
+        config.profile.tools.extend(config::read_tool_table(path)?);
+    }
+    Ok(())
+}
+
 fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
     let mut config = analysis_config(input.config.as_deref())?;
+    with_tool_table(&mut config, input.tool_table.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
     let registry = registry_for(Some(&config))?;
     let bytes = std::fs::read(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
@@ -485,6 +502,7 @@ fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
 /// ([`textfile::Program`]), with the findings of decoding it.
 fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, textfile::Program, Vec<diag::Diagnostic>)> {
     let mut config = analysis_config(input.config.as_deref())?;
+    with_tool_table(&mut config, input.tool_table.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
     let registry = registry_for(Some(&config))?;
     let opened = open_while_loading(&registry, &[input.dialect.as_deref()], &input.file);
@@ -733,8 +751,9 @@ fn dispatch(command: Command) -> Result<ExitCode> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Diff { original, edited, dialect: dname, edited_dialect, config, format, exit_code } => {
-            let config = analysis_config(config.as_deref())?;
+        Command::Diff { original, edited, dialect: dname, edited_dialect, config, tool_table, format, exit_code } => {
+            let mut config = analysis_config(config.as_deref())?;
+            with_tool_table(&mut config, tool_table.as_deref())?;
             let registry = registry_for(Some(&config))?;
             let read = |p: &Path| std::fs::read(p).with_context(|| format!("cannot read {}", p.display()));
             let (bytes_a, bytes_b) = (read(&original)?, read(&edited)?);
@@ -1360,6 +1379,27 @@ impl<W: Write> CanonSink for Printer<'_, W> {
     }
 }
 
+/// Where a feature's numbers came from, in words: `size from the tool table, top from the
+/// stock`, or the tool-centre path when the size is unknown.
+fn feature_sources(f: &crate::plan::Feature) -> String {
+    use crate::diff::num;
+    use crate::plan::Source;
+    let size = match (f.sources.size, f.centre_path) {
+        (Source::Unknown, Some((w, l))) => {
+            format!("size unknown (the tool's diameter is not known; the tool-centre path spans {} x {})", num(w), num(l))
+        }
+        (Source::Unknown, None) => "size unknown (the tool's diameter is not known)".to_owned(),
+        (Source::Program, _) => "size from the program (the contour as programmed)".to_owned(),
+        (s, _) => format!("size from {}", s.words()),
+    };
+    let angle = match f.sources.point_angle {
+        Some(Source::Assumption) => ", point angle assumed (the tool's is not known)".to_owned(),
+        Some(s) => format!(", point angle from {}", s.words()),
+        None => String::new(),
+    };
+    format!("{size}, top from {}{angle}", f.sources.top.words())
+}
+
 fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<()> {
     use crate::diff::num;
     writeln!(out, "program {}", plan.program.as_deref().unwrap_or("(unnamed)"))?;
@@ -1400,7 +1440,10 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
                 };
                 format!(" D{} x{} {bottom}", diameter.map_or("?".into(), num), positions.len())
             }
-            crate::plan::FeatureKind::ClosedPocket { rectangle: Some((w, l)), .. } => format!(" {} x {}", num(*w), num(*l)),
+            crate::plan::FeatureKind::ClosedPocket { rectangle: Some((w, l)), corner_radius, .. }
+            | crate::plan::FeatureKind::OutsideProfile { rectangle: Some((w, l)), corner_radius, .. } => {
+                format!(" {} x {}{}", num(*w), num(*l), corner_radius.map(|r| format!(" r{}", num(r))).unwrap_or_default())
+            }
             crate::plan::FeatureKind::Slot { width, .. } | crate::plan::FeatureKind::Step { width, .. } => {
                 format!(" width {}", num(*width))
             }
@@ -1418,6 +1461,9 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
             if f.top_inferred { " (top inferred)" } else { "" },
             ws.join(", ")
         )?;
+        if !matches!(f.kind, crate::plan::FeatureKind::Toolpath) {
+            writeln!(out, "  {}", feature_sources(f))?;
+        }
     }
     for w in &plan.workingsteps {
         let t = &w.technology;

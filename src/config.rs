@@ -21,6 +21,53 @@ fn program_role(role: Option<&str>, folder: &str) -> Result<crate::interp::Progr
     })
 }
 
+/// Reads a tool table file (LinuxCNC `tool.tbl`, Heidenhain `TOOL.T`, Fanuc `G10` offsets;
+/// see [`crate::plan::tooltable`]), in millimetres.
+pub fn read_tool_table(path: &Path) -> Result<crate::plan::tooltable::Tools> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read the tool table {}", path.display()))?;
+    let (text, _) = crate::text::decode(&bytes);
+    let (_, tools) = crate::plan::tooltable::read(&text.text, false)
+        .map_err(|e| anyhow::anyhow!("{e}"))
+        .with_context(|| format!("in the tool table {}", path.display()))?;
+    Ok(tools)
+}
+
+/// `[[tool]]` entries (of the configuration, or of one `[[machine]]`, named by `whose`).
+fn configured_tools(raw: &[RawTool], whose: &str) -> Result<crate::plan::tooltable::Tools> {
+    let mut tools = crate::plan::tooltable::Tools::new();
+    for t in raw {
+        if let Some(k) = &t.kind
+            && crate::plan::ToolKind::parse(k).is_none()
+        {
+            let kinds: Vec<&str> = crate::plan::ToolKind::ALL.iter().map(|k| k.as_str()).collect();
+            bail!("{whose}[[tool]] {}: kind {k:?} is not one of {}", t.number, kinds.join(", "));
+        }
+        tools.insert(
+            t.number,
+            ToolData {
+                diameter: t.diameter,
+                length: t.length.unwrap_or(0.0),
+                name: t.name.clone(),
+                kind: t.kind.clone(),
+                corner_radius: t.corner_radius,
+                flutes: t.flutes,
+                point_angle: t.point_angle,
+            },
+        );
+    }
+    Ok(tools)
+}
+
+/// A folder's own tools: its table, then its `[[tool]]` entries over it.
+fn folder_tools(table: Option<&Path>, raw: &[RawTool], name: &str) -> Result<crate::plan::tooltable::Tools> {
+    let mut tools = match table {
+        Some(p) => read_tool_table(p)?,
+        None => Default::default(),
+    };
+    tools.extend(configured_tools(raw, &format!("machine `{name}`: "))?);
+    Ok(tools)
+}
+
 /// The least settle window: below it, a file being copied looks settled between writes.
 pub const MIN_SETTLE_MS: u64 = 50;
 /// The least interval between full rescans.
@@ -49,6 +96,7 @@ struct RawConfig {
     machine: Vec<RawMachine>,
     #[serde(default)]
     tool: Vec<RawTool>,
+    tool_table: Option<String>,
     #[serde(default)]
     reference: RawReference,
     stock: Option<RawStock>,
@@ -151,6 +199,8 @@ struct RawFolder {
     /// Whether the folder holds main programs, called ones (subprograms, macros, cycles), or
     /// each file says (`auto`, the default).
     role: Option<String>,
+    /// A tool table file for this folder's programs.
+    tool_table: Option<String>,
     #[serde(default)]
     poll: bool,
     poll_ms: Option<u64>,
@@ -180,6 +230,11 @@ struct RawMachine {
     travel_min: Option<[f64; 3]>,
     /// Travel: the highest X, Y, Z.
     travel_max: Option<[f64; 3]>,
+    /// The machine's own tool table file (LinuxCNC, Heidenhain TOOL.T, Fanuc G10 offsets).
+    tool_table: Option<String>,
+    /// The machine's own tools, over its table.
+    #[serde(default)]
+    tool: Vec<RawTool>,
 }
 
 /// What a machine can do, for `translate --machine`: its units and limits.
@@ -205,6 +260,8 @@ struct RawTool {
     kind: Option<String>,
     corner_radius: Option<f64>,
     flutes: Option<u32>,
+    /// A drill's included point angle, degrees.
+    point_angle: Option<f64>,
 }
 
 /// The raw stock: two corners in program coordinates, mm.
@@ -255,6 +312,8 @@ pub struct Folder {
     pub program_role: crate::interp::ProgramRole,
     /// The machine's units and limits (machines only).
     pub limits: MachineLimits,
+    /// This folder's own tools (`tool_table`, `[[machine.tool]]`), over the configuration's.
+    pub tools: crate::plan::tooltable::Tools,
 }
 
 /// The folder dialect that means "tell each program's dialect from its text".
@@ -339,6 +398,7 @@ impl Config {
                 decimal_input: None,
                 program_role: program_role(f.role.as_deref(), &f.path)?,
                 limits: MachineLimits::default(),
+                tools: folder_tools(f.tool_table.as_deref().map(abs).as_deref(), &[], &f.path)?,
             });
         }
         for m in &raw.machine {
@@ -376,6 +436,7 @@ impl Config {
                 poll_ms: m.poll_ms.unwrap_or(2000),
                 decimal_input,
                 program_role: program_role(m.role.as_deref(), &m.name)?,
+                tools: folder_tools(m.tool_table.as_deref().map(abs).as_deref(), &m.tool, &m.name)?,
             });
         }
         let database = match (&raw.database.path, &raw.database.url) {
@@ -441,25 +502,10 @@ impl Config {
             profile.programs =
                 Some(std::sync::Arc::new(DirPrograms { dir: abs(dir), max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20) }));
         }
-        for t in raw.tool {
-            if let Some(k) = &t.kind
-                && crate::plan::ToolKind::parse(k).is_none()
-            {
-                let kinds: Vec<&str> = crate::plan::ToolKind::ALL.iter().map(|k| k.as_str()).collect();
-                bail!("[[tool]] {}: kind {k:?} is not one of {}", t.number, kinds.join(", "));
-            }
-            profile.tools.insert(
-                t.number,
-                ToolData {
-                    diameter: t.diameter,
-                    length: t.length.unwrap_or(0.0),
-                    name: t.name,
-                    kind: t.kind,
-                    corner_radius: t.corner_radius,
-                    flutes: t.flutes,
-                },
-            );
+        if let Some(table) = &raw.tool_table {
+            profile.tools = read_tool_table(&abs(table))?;
         }
+        profile.tools.extend(configured_tools(&raw.tool, "")?);
         if let Some(st) = &raw.stock {
             if st.min.iter().zip(&st.max).any(|(a, b)| a >= b || !a.is_finite() || !b.is_finite()) {
                 bail!("[stock] min must be below max on every axis");

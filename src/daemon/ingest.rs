@@ -463,6 +463,7 @@ impl Reader<'_> {
             profile.programs = Some(std::sync::Arc::new(crate::config::FirstFound(sources)));
         }
         profile.role = crate::interp::role_for(folder.program_role, path, dialect);
+        profile.tools.extend(folder.tools.iter().map(|(n, t)| (*n, t.clone())));
         profile
     }
 
@@ -526,6 +527,7 @@ impl Reader<'_> {
                 decimal_input: None,
                 program_role: crate::interp::ProgramRole::Auto,
                 limits: Default::default(),
+                tools: Default::default(),
             },
         };
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);

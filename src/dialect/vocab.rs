@@ -500,6 +500,21 @@ vocab! {
         PatternRadius = "pattern-radius",
         /// The angle between positions on a circle, in degrees (0: the full circle shared evenly).
         PatternStepAngle = "pattern-step-angle",
+        /// A blank definition's flags saying which of its numbers are absolute (Siemens
+        /// `WORKPIECE`: bit 4 X, bit 5 Y, bit 6 the bottom, bit 7 the machining limit).
+        BlankFlags = "blank-flags",
+        /// A blank's top along the tool axis.
+        BlankTop = "blank-top",
+        /// A blank's bottom (absolute, or incremental from the top).
+        BlankBottom = "blank-bottom",
+        /// A blank's first corner along the plane's first axis (a centred blank: its length).
+        BlankX0 = "blank-x0",
+        /// A blank's first corner along the plane's second axis (a centred blank: its width).
+        BlankY0 = "blank-y0",
+        /// A blank's second corner along the plane's first axis (absolute, or incremental from the first).
+        BlankX1 = "blank-x1",
+        /// A blank's second corner along the plane's second axis.
+        BlankY1 = "blank-y1",
         /// The tool axis vector's X component, from the tool tip towards the holder (CLDATA
         /// `GOTO/x,y,z,i,j,k`); kept in the canon as `ToolAxis`.
         ToolAxisI = "tool-axis-i",

@@ -135,6 +135,11 @@ impl Interpreter<'_> {
             self.run_pattern(ci, &args, block_range, sink, diags);
             return;
         }
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::Stock).is_some() {
+            let args = std::mem::take(&mut self.cycle_args);
+            self.blank(&args, sink);
+            return;
+        }
         if let Some(ci) = self.block_cycle.take() {
             self.st.defined_cycle = Some(Defined { cycle: ci, args: std::mem::take(&mut self.cycle_args), range: block_range });
             if modal {
@@ -150,6 +155,35 @@ impl Interpreter<'_> {
         if has(self, Meaning::CycleCall) || has(self, Meaning::CycleCallAt) || (self.st.cycle_modal && self.motions != motions) {
             self.call_defined(block_range, sink, diags);
         }
+    }
+
+    /// A blank the program defines by arguments (Siemens `WORKPIECE`): its corners, passed on
+    /// as the stock comment that plan recovery reads (as `BLK FORM` is). A blank with no
+    /// second corner is centred on the origin, its first numbers its length and width.
+    fn blank(&mut self, args: &[(Role, f64)], sink: &mut dyn CanonSink) {
+        let get = |r: Role| args.iter().find(|(a, _)| *a == r).map(|(_, v)| *v);
+        let flags = get(Role::BlankFlags).unwrap_or(0.0) as u32;
+        let absolute = |bit: u32| flags & (1 << bit) != 0;
+        let (Some(top), Some(z1), Some(x0), Some(y0)) = (get(Role::BlankTop), get(Role::BlankBottom), get(Role::BlankX0), get(Role::BlankY0))
+        else {
+            return;
+        };
+        let bottom = if absolute(6) { z1 } else { top - z1.abs() };
+        let (x, y) = match (get(Role::BlankX1), get(Role::BlankY1)) {
+            (Some(x1), Some(y1)) => {
+                let x1 = if absolute(4) { x1 } else { x0 + x1 };
+                let y1 = if absolute(5) { y1 } else { y0 + y1 };
+                ([x0.min(x1), x0.max(x1)], [y0.min(y1), y0.max(y1)])
+            }
+            _ => ([-x0.abs() / 2.0, x0.abs() / 2.0], [-y0.abs() / 2.0, y0.abs() / 2.0]),
+        };
+        let z = [bottom.min(top), bottom.max(top)];
+        if x[0] >= x[1] || y[0] >= y[1] || z[0] >= z[1] {
+            return;
+        }
+        let n = |v: f64| format!("{}", v + 0.0);
+        let text = format!("STOCK X{} Y{} Z{} X{} Y{} Z{}", n(x[0]), n(y[0]), n(z[0]), n(x[1]), n(y[1]), n(z[1]));
+        self.emit(sink, CanonOp::Comment(text));
     }
 
     /// `HOLES1(...)`, `HOLES2(...)`, `CYCLE801(...)`: to each position of the pattern at the

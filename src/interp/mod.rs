@@ -44,6 +44,8 @@ pub struct ToolData {
     pub corner_radius: Option<f64>,
     /// Number of flutes.
     pub flutes: Option<u32>,
+    /// Included point angle of a drill, degrees.
+    pub point_angle: Option<f64>,
 }
 
 /// Machine settings that are not part of the dialect (from config).

@@ -234,6 +234,8 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             workingsteps: vec![ws.index],
             source: ws.source,
             lines: ws.lines,
+            sources: Sources::default(),
+            centre_path: None,
         });
         p.workingsteps.push(ws);
     }
@@ -384,6 +386,9 @@ impl<W: std::io::Write> Writer<W> {
             vec![Value::Real(t.length_offset.unwrap_or(0.0)), Value::Null, Value::Null, Value::Null, Value::Null],
         );
         let mut id = format!("T{} kind={} kind_source={} source={}", t.number, t.kind.as_str(), t.kind_source.as_str(), t.source.as_str());
+        if let Some(a) = t.point_angle {
+            id.push_str(&format!(" point_angle={a}"));
+        }
         if let Some(n) = &t.name {
             id.push_str(" name=");
             id.push_str(n);
@@ -656,6 +661,13 @@ impl<W: std::io::Write> Writer<W> {
         if let FeatureKind::Step { width, .. } = &f.kind {
             id.push_str(&format!(" width={width}"));
         }
+        id.push_str(&format!(" size_from={} top_from={}", f.sources.size.as_str(), f.sources.top.as_str()));
+        if let Some(p) = f.sources.point_angle {
+            id.push_str(&format!(" point_angle_from={}", p.as_str()));
+        }
+        if let Some((w, l)) = f.centre_path {
+            id.push_str(&format!(" centre_path={w}x{l}"));
+        }
         let common = |w: &mut Writer<W>, placement: P3, depth: f64, ops: Vec<Value>| {
             let place = w.placement(placement, Some([0.0, 0.0, 1.0]));
             let depth = w.plane("depth", [0.0, 0.0, -depth]);
@@ -746,7 +758,7 @@ impl<W: std::io::Write> Writer<W> {
                 attrs.extend([edge, Value::Null, Value::List(vec![])]);
                 self.b.add("STEP", attrs)
             }
-            FeatureKind::OutsideProfile { boundary } => {
+            FeatureKind::OutsideProfile { boundary, .. } => {
                 let mut attrs = common(self, f.placement, f.depth, ops);
                 let len = self.tlm(f.depth);
                 let down = self.direction([0.0, 0.0, -1.0]);
@@ -947,6 +959,7 @@ impl Reader<'_> {
             corner_radius: self.opt_real(dim, 4)?,
             flutes,
             length_offset: (offset != 0.0).then_some(offset),
+            point_angle: w.get("point_angle").and_then(|v| v.parse().ok()),
             source: parse_source("source"),
         })
     }
@@ -1268,6 +1281,15 @@ impl Reader<'_> {
             workingsteps: Vec::new(),
             source: TextRange::default(),
             lines: (0, 0),
+            sources: Sources {
+                size: w.get("size_from").and_then(|v| Source::parse(v)).unwrap_or_default(),
+                top: w.get("top_from").and_then(|v| Source::parse(v)).unwrap_or_default(),
+                point_angle: w.get("point_angle_from").and_then(|v| Source::parse(v)),
+            },
+            centre_path: w.get("centre_path").and_then(|v| {
+                let (a, b) = v.split_once('x')?;
+                Some((a.parse().ok()?, b.parse().ok()?))
+            }),
         };
         let hole = |h: &Instance, positions: Vec<P2>| -> Result<FeatureKind, String> {
             let d = self.tlm(self.attr(h, 5)?)?;
@@ -1334,7 +1356,9 @@ impl Reader<'_> {
             }
             "GENERAL_OUTSIDE_PROFILE" => {
                 let profile = self.inst(self.attr(f, 6)?)?;
-                FeatureKind::OutsideProfile { boundary: self.contour(self.attr(profile, 1)?)? }
+                let boundary = self.contour(self.attr(profile, 1)?)?;
+                let (rectangle, corner_radius) = plan::feature::rectangle_of(&boundary).map_or((None, None), |(r, c)| (Some(r), c));
+                FeatureKind::OutsideProfile { boundary, rectangle, corner_radius }
             }
             "TOOLPATH_FEATURE" => FeatureKind::Toolpath,
             other => return Err(format!("unknown feature {other}")),

@@ -89,6 +89,8 @@ pub fn recognise(plan: &mut ProcessPlan) {
                     workingsteps: vec![ws.index],
                     source: ws.source,
                     lines: ws.lines,
+                    sources: cand.sources,
+                    centre_path: cand.centre_path,
                 };
                 features.push((f, cand.region.into_iter().collect()));
                 id
@@ -123,8 +125,13 @@ fn merge_into(f: &mut Feature, cand: &Candidate, ws: &Workingstep) {
                 (Some(a), Some(b)) => Some(a.max(b)),
                 (a, b) => a.or(b),
             };
-            if *bottom != HoleBottom::Through {
+            // The deepest operation leaves the bottom, unless the hole goes through.
+            if *bottom != HoleBottom::Through && (cand.depth > f.depth + 1e-6 || *b2 == HoleBottom::Through) {
                 *bottom = *b2;
+                f.sources.point_angle = cand.sources.point_angle;
+            }
+            if d2.is_some() && f.sources.size == Source::Unknown {
+                f.sources.size = cand.sources.size;
             }
             f.depth = f.depth.max(cand.depth);
         }
@@ -138,6 +145,8 @@ fn merge_into(f: &mut Feature, cand: &Candidate, ws: &Workingstep) {
             f.placement = [cand.placement[0], cand.placement[1], top];
             f.depth = round6(top - bottom);
             f.top_inferred = cand.top_inferred && !keep_top || keep_top && f.top_inferred;
+            f.sources = Sources { top: if keep_top { f.sources.top } else { cand.sources.top }, ..cand.sources };
+            f.centre_path = cand.centre_path;
         }
     }
 }
@@ -155,6 +164,8 @@ struct Candidate {
     placement: P3,
     depth: f64,
     top_inferred: bool,
+    sources: Sources,
+    centre_path: Option<(f64, f64)>,
     operation: Operation,
     strategy: Option<Strategy>,
     axial_depth: Option<f64>,
@@ -194,36 +205,48 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
     let bottom_z = ws.holes.iter().map(|h| h.bottom).fold(f64::INFINITY, f64::min);
     let r_level = first.map_or(0.0, |h| h.r_plane);
     let stated = ws.holes.iter().find_map(|h| h.top);
-    let (top, top_inferred) = match (stock, faced) {
+    let (top, top_inferred, top_source) = match (stock, faced) {
         // The surface the cycle states (RFP, Q203) is the programmer's own word for the top.
-        _ if stated.is_some() => (stated.unwrap_or_default(), false),
-        (_, Some(f)) if f > bottom_z && stock.is_none_or(|s| f < s.max()[2]) => (f, false),
-        (Some(s), _) => (s.max()[2], false),
-        _ if bottom_z < 0.0 && r_level >= 0.0 => (0.0, true),
-        _ => (r_level, true),
+        _ if stated.is_some() => (stated.unwrap_or_default(), false, Source::Program),
+        (_, Some(f)) if f > bottom_z && stock.is_none_or(|s| f < s.max()[2]) => (f, false, Source::Cuts),
+        (Some(s), _) => (s.max()[2], false, Source::Stock),
+        _ if bottom_z < 0.0 && r_level >= 0.0 => (0.0, true, Source::Assumption),
+        _ => (r_level, true, Source::Assumption),
     };
     let through = stock.is_some_and(|s| bottom_z <= s.origin[2] + 1e-6);
     let kind = tool.map_or(ToolKind::Unknown, |t| t.kind);
-    let bottom = if through {
-        HoleBottom::Through
-    } else if matches!(kind, ToolKind::TwistDrill | ToolKind::CenterDrill) || kind == ToolKind::Unknown && ws.operation != Operation::Boring
-    {
-        HoleBottom::Conical(if kind == ToolKind::CenterDrill { 90.0 } else { 118.0 })
+    // A spot drill or countersink marks the hole; its diameter is not the hole's.
+    let diameter = tool.filter(|t| !matches!(t.kind, ToolKind::CenterDrill | ToolKind::Countersink)).and_then(|t| t.diameter);
+    let pointed = matches!(kind, ToolKind::TwistDrill | ToolKind::CenterDrill) || kind == ToolKind::Unknown && ws.operation != Operation::Boring;
+    let (bottom, point_angle) = if through {
+        (HoleBottom::Through, None)
+    } else if pointed {
+        // The tool's own point angle, else the common one of its kind, said as assumed.
+        let stated = tool.and_then(|t| t.point_angle.map(|a| (a, Source::of_tool_fact(t.source))));
+        let (angle, source) = stated.unwrap_or((if kind == ToolKind::CenterDrill { 90.0 } else { 118.0 }, Source::Assumption));
+        (HoleBottom::Conical(angle), Some(source))
     } else {
-        HoleBottom::Flat
+        (HoleBottom::Flat, None)
+    };
+    let tip_depth = if bottom_z.is_finite() { top - bottom_z } else { 0.0 };
+    // A drawing dimensions a drilled hole to where its full diameter ends; the cone of the
+    // point lies below that.
+    let depth = match (bottom, diameter) {
+        (HoleBottom::Conical(angle), Some(d)) if angle > 0.0 && angle < 180.0 => {
+            round6((tip_depth - d / 2.0 / (angle.to_radians() / 2.0).tan()).max(0.0))
+        }
+        _ => tip_depth,
     };
     let origin = first.map_or([0.0, 0.0], |h| [h.x, h.y]);
     let positions = ws.holes.iter().map(|h| [h.x - origin[0], h.y - origin[1]]).collect();
+    let size = if diameter.is_some() { Source::of_tool(tool) } else { Source::Unknown };
     Candidate {
-        // A spot drill or countersink marks the hole; its diameter is not the hole's.
-        kind: FeatureKind::RoundHole {
-            diameter: tool.filter(|t| !matches!(t.kind, ToolKind::CenterDrill | ToolKind::Countersink)).and_then(|t| t.diameter),
-            bottom,
-            positions,
-        },
+        kind: FeatureKind::RoundHole { diameter, bottom, positions },
         placement: [origin[0], origin[1], top],
-        depth: if bottom_z.is_finite() { top - bottom_z } else { 0.0 },
+        depth,
         top_inferred,
+        sources: Sources { size, top: top_source, point_angle },
+        centre_path: None,
         operation: ws.operation,
         strategy: None,
         axial_depth: ws.holes.iter().filter_map(|h| h.peck).reduce(f64::max),
@@ -353,6 +376,8 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         placement: [0.0, 0.0, ws.depth.unwrap_or(0.0)],
         depth: 0.0,
         top_inferred,
+        sources: Sources::default(),
+        centre_path: None,
         operation: Operation::FreeformMilling,
         strategy: Some(Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap: None }),
         axial_depth: None,
@@ -390,12 +415,12 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
     // The faced level, the stock's top, the layers' (one step above the first), or the
     // program zero that posts put on the part's top.
     let faced = faced.filter(|f| *f > bottom + EPS && *f >= levels[0] - EPS && stock.is_none_or(|s| *f < s.max()[2]));
-    let (top, top_inferred) = match (stock, step) {
-        _ if faced.is_some() => (faced.unwrap_or(bottom), false),
-        (Some(s), _) => (s.max()[2], false),
-        (None, Some(st)) => (levels[0] + st, true),
-        (None, None) if bottom < -EPS => (0.0, true),
-        (None, None) => (feed_start.map_or(bottom, |z| z.max(bottom)), true),
+    let (top, top_inferred, top_source) = match (stock, step) {
+        _ if faced.is_some() => (faced.unwrap_or(bottom), false, Source::Cuts),
+        (Some(s), _) => (s.max()[2], false, Source::Stock),
+        (None, Some(st)) => (levels[0] + st, true, Source::Cuts),
+        (None, None) if bottom < -EPS => (0.0, true, Source::Assumption),
+        (None, None) => (feed_start.map_or(bottom, |z| z.max(bottom)), true, Source::Assumption),
     };
     let axial_depth = step.or_else(|| stock.map(|_| top - bottom)).filter(|d| *d > EPS).map(round6);
     // Chains of contiguous horizontal moves at the bottom level.
@@ -455,6 +480,8 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         placement: [0.0, 0.0, top],
         depth: top - bottom,
         top_inferred,
+        sources: Sources { size: if contour_programmed { Source::Program } else { Source::of_tool(tool) }, top: top_source, point_angle: None },
+        centre_path: None,
         operation: Operation::FreeformMilling,
         strategy: None,
         axial_depth,
@@ -604,13 +631,19 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         // entered (inside the loop or outside it), else the compensation side; the cut
         // direction (taken as climb milling) only as a last resort, and then the cut mode
         // is not stated.
-        let entry = ws
+        // Every entry down into the material (a plunge, a ramp, a helix) says where the
+        // material is: a tool cannot plunge into a boss. Entries on the loop say nothing.
+        let by_entry = ws
             .toolpath
             .iter()
-            .find(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS && m.to[2] <= bottom + 1e-3)
-            .or_else(|| ws.toolpath.iter().find(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS))
-            .map(|m| [m.to[0], m.to[1]]);
-        let by_entry = entry.and_then(|p| inside(outer, p));
+            .filter(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS)
+            .find_map(|m| {
+                let at = match (m.kind, m.center()) {
+                    (MoveKind::Arc, Some(c)) => [c[0], c[1]],
+                    _ => [m.to[0], m.to[1]],
+                };
+                inside(outer, at)
+            });
         let by_comp = ws.state.cutter_comp.first().map(|c| c.left == (rotation == Rotation::Ccw));
         // A wall the tool could not stand outside of (a loop tighter than the tool, as when
         // a bore is circle-milled) is a pocket's.
@@ -636,7 +669,17 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             cand.region = Some(region_of(bmin, bmax));
             cand.operation = Operation::SideFinishMilling;
             cand.placement = [0.0, 0.0, top];
-            cand.kind = FeatureKind::OutsideProfile { boundary: to_contour(&boundary) };
+            let (rectangle, corner_radius) = match rect_shape(&boundary) {
+                _ if cand.sources.size == Source::Unknown => {
+                    cand.centre_path = Some((round6(bmax[0] - bmin[0]), round6(bmax[1] - bmin[1])));
+                    (None, None)
+                }
+                Some((min, max, corner)) => {
+                    (Some((round6(max[0] - min[0]), round6(max[1] - min[1]))), (corner > 0.0).then_some(round6(corner)))
+                }
+                None => (None, None),
+            };
+            cand.kind = FeatureKind::OutsideProfile { boundary: to_contour(&boundary), rectangle, corner_radius };
         }
         return cand;
     }
@@ -793,7 +836,35 @@ fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) 
         cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&wall), cand.placement) };
         return;
     }
-    let joined = join_collinear(outer);
+    let shape = rect_shape(outer);
+    let (cmin, cmax) = bounds(outer);
+    let size_unknown = cand.sources.size == Source::Unknown;
+    if size_unknown {
+        // The tool-centre path is not the pocket: its size stays unknown, the path's is said.
+        cand.centre_path = Some((round6(cmax[0] - cmin[0]), round6(cmax[1] - cmin[1])));
+    }
+    if let Some((smin, smax, rounded)) = shape {
+        let centre = [(smin[0] + smax[0]) / 2.0, (smin[1] + smax[1]) / 2.0];
+        cand.placement = [centre[0], centre[1], cand.placement[2]];
+        let (w, l) = (round6(smax[0] - smin[0] + 2.0 * r), round6(smax[1] - smin[1] + 2.0 * r));
+        let corner = rounded + r;
+        let corner_radius = (corner > 0.0).then_some(round6(corner));
+        cand.kind = if size_unknown {
+            FeatureKind::ClosedPocket { boundary: rect_contour(w, l, corner_radius), rectangle: None, corner_radius: None }
+        } else {
+            FeatureKind::ClosedPocket { boundary: rect_contour(w, l, corner_radius), rectangle: Some((w, l)), corner_radius }
+        };
+    } else {
+        cand.placement = [bmin[0], bmin[1], cand.placement[2]];
+        cand.kind =
+            FeatureKind::ClosedPocket { boundary: relative(&to_contour(&wall), cand.placement), rectangle: None, corner_radius: None };
+    }
+}
+
+/// An axis-aligned rectangle, with sharp corners or four quarter arcs of one radius: its
+/// extent of straight edges (corner arcs included) and the corner radius (0 when sharp).
+fn rect_shape(chain: &[Piece]) -> Option<(P2, P2, f64)> {
+    let joined = join_collinear(chain);
     let axis_line = |p: &Piece| p.arc.is_none() && (p.dir()[0].abs() < 1e-9 || p.dir()[1].abs() < 1e-9);
     let sharp = joined.len() == 4 && joined.iter().all(axis_line);
     // Four axis-aligned edges joined by four quarter arcs of one radius.
@@ -808,19 +879,28 @@ fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) 
             (alternate && same && joined.iter().filter(|p| p.arc.is_none()).all(axis_line)).then_some(arcs[0].0)
         })
         .flatten();
-    if sharp || rounded.is_some() {
-        let (cmin, cmax) = bounds(&joined);
-        let centre = [(bmin[0] + bmax[0]) / 2.0, (bmin[1] + bmax[1]) / 2.0];
-        cand.placement = [centre[0], centre[1], cand.placement[2]];
-        let (w, l) = (round6(cmax[0] - cmin[0] + 2.0 * r), round6(cmax[1] - cmin[1] + 2.0 * r));
-        let corner = rounded.unwrap_or(0.0) + r;
-        let corner_radius = (corner > 0.0).then_some(round6(corner));
-        cand.kind = FeatureKind::ClosedPocket { boundary: rect_contour(w, l, corner_radius), rectangle: Some((w, l)), corner_radius };
-    } else {
-        cand.placement = [bmin[0], bmin[1], cand.placement[2]];
-        cand.kind =
-            FeatureKind::ClosedPocket { boundary: relative(&to_contour(&wall), cand.placement), rectangle: None, corner_radius: None };
+    if !sharp && rounded.is_none() {
+        return None;
     }
+    let (min, max) = bounds(&joined);
+    Some((min, max, rounded.unwrap_or(0.0)))
+}
+
+/// The width and length of a contour that is an axis-aligned rectangle (see
+/// [`rect_contour`]), and its corner radius when it has one.
+pub fn rectangle_of(c: &Contour) -> Option<((f64, f64), Option<f64>)> {
+    let mut from = c.start;
+    let pieces: Vec<Piece> = c
+        .segments
+        .iter()
+        .map(|s| {
+            let p = Piece { from, to: s.to, arc: s.arc };
+            from = s.to;
+            p
+        })
+        .collect();
+    let (min, max, corner) = rect_shape(&pieces)?;
+    Some(((round6(max[0] - min[0]), round6(max[1] - min[1])), (corner > 0.0).then_some(round6(corner))))
 }
 
 /// The wall of a rectangular pocket `w` × `l` centred on its placement, with vertical corner

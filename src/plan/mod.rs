@@ -7,6 +7,7 @@ mod model;
 mod recover;
 pub mod risk;
 mod toolpath;
+pub mod tooltable;
 
 pub use model::*;
 pub use recover::{Recoverer, ToolFacts, measure, parse_stock, parse_tool_comment, recover, round_sig};

@@ -168,6 +168,12 @@ pub enum FeatureKind {
     OutsideProfile {
         /// Wall contour, closed.
         boundary: Contour,
+        /// Width and length when the wall is an axis-aligned rectangle.
+        #[serde(skip_serializing_if = "Option::is_none", default)]
+        rectangle: Option<(f64, f64)>,
+        /// Radius of the vertical corners, mm.
+        #[serde(skip_serializing_if = "Option::is_none", default)]
+        corner_radius: Option<f64>,
     },
     /// A toolpath that fits no other feature.
     Toolpath,
@@ -208,6 +214,98 @@ pub struct Feature {
     pub source: TextRange,
     /// First and last source line.
     pub lines: (u32, u32),
+    /// Where its numbers came from.
+    #[serde(default)]
+    pub sources: Sources,
+    /// When the size is not known (the tool's diameter is not): the width and length of the
+    /// tool-centre path at the bottom, which is not the feature's size.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub centre_path: Option<(f64, f64)>,
+}
+
+/// Where a number of a feature came from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Source {
+    /// Written in the program: a cycle's parameter, a contour programmed under cutter
+    /// compensation in the control.
+    Program,
+    /// The tool-centre path offset by a radius from the tool table (or the configuration).
+    ToolTable,
+    /// The tool-centre path offset by a radius a comment of the program states.
+    ToolComment,
+    /// The stock's (from its own source, see [`Stock::source`]).
+    Stock,
+    /// The cuts themselves: a faced level, the step between layers.
+    Cuts,
+    /// An assumption: a twist drill's 118° point, the part's top at the program zero.
+    Assumption,
+    /// Not known.
+    #[default]
+    Unknown,
+}
+
+impl Source {
+    /// snake_case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Source::Program => "program",
+            Source::ToolTable => "tool_table",
+            Source::ToolComment => "tool_comment",
+            Source::Stock => "stock",
+            Source::Cuts => "cuts",
+            Source::Assumption => "assumption",
+            Source::Unknown => "unknown",
+        }
+    }
+
+    /// Parses [`Source::as_str`].
+    pub fn parse(s: &str) -> Option<Source> {
+        [Source::Program, Source::ToolTable, Source::ToolComment, Source::Stock, Source::Cuts, Source::Assumption, Source::Unknown]
+            .into_iter()
+            .find(|k| k.as_str() == s)
+    }
+
+    /// In words, for text output.
+    pub fn words(self) -> &'static str {
+        match self {
+            Source::Program => "the program",
+            Source::ToolTable => "the tool table",
+            Source::ToolComment => "a tool comment",
+            Source::Stock => "the stock",
+            Source::Cuts => "the cuts",
+            Source::Assumption => "an assumption",
+            Source::Unknown => "unknown",
+        }
+    }
+
+    /// Where a fact the tool carries came from.
+    pub fn of_tool_fact(source: ToolSource) -> Source {
+        match source {
+            ToolSource::Table => Source::ToolTable,
+            ToolSource::Comment => Source::ToolComment,
+            ToolSource::Inferred => Source::Assumption,
+            ToolSource::Unknown => Source::Unknown,
+        }
+    }
+
+    /// Where a size measured on the tool-centre path and offset by this tool's radius
+    /// comes from.
+    pub fn of_tool(tool: Option<&Tool>) -> Source {
+        tool.filter(|t| t.diameter.is_some()).map_or(Source::Unknown, |t| Source::of_tool_fact(t.source))
+    }
+}
+
+/// Where a feature's numbers came from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Sources {
+    /// Width, length, diameter, corner radius.
+    pub size: Source,
+    /// The top the depth is measured from.
+    pub top: Source,
+    /// A drilled hole's point angle.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub point_angle: Option<Source>,
 }
 
 /// Where a tool fact came from.
@@ -332,6 +430,9 @@ pub struct Tool {
     pub flutes: Option<u32>,
     /// Length offset, mm.
     pub length_offset: Option<f64>,
+    /// Included point angle of a drill, degrees.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub point_angle: Option<f64>,
     /// Where the geometry (diameter, corner radius, flutes) came from.
     pub source: ToolSource,
 }
@@ -348,6 +449,7 @@ impl Tool {
             corner_radius: None,
             flutes: None,
             length_offset: None,
+            point_angle: None,
             source: ToolSource::Unknown,
         }
     }

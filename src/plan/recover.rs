@@ -177,6 +177,9 @@ pub struct ToolFacts {
     pub corner_radius: Option<f64>,
     /// Flutes (`4FL`, `Z4`, `4 FLUTE`).
     pub flutes: Option<u32>,
+    /// A drill's included point angle, degrees (`TAPER=118deg` of Fusion 360's tool
+    /// comments, `118DEG`, `POINT 140`).
+    pub point_angle: Option<f64>,
 }
 
 /// Reads a CAM tool comment such as `T1 D=18 ENDMILL`, `6MM FLAT END MILL`,
@@ -246,7 +249,7 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
             }
         }
     }
-    ToolFacts { diameter: comment_diameter(&up), kind, corner_radius, flutes }
+    ToolFacts { diameter: comment_diameter(&up), kind, corner_radius, flutes, point_angle: point_angle(&up) }
 }
 
 /// The facts of an APT tool statement: `TLDATA/MILL,d,r,length,taper,tip` (NX; `DRILL`
@@ -282,7 +285,34 @@ fn apt_tool_statement(up: &str) -> Option<ToolFacts> {
     } else {
         None
     };
-    Some(ToolFacts { diameter: Some(d), kind, corner_radius: r, flutes: None })
+    // ISO 4343's bottom angle `a` of a drill is half the point's supplement.
+    let point_angle = (kind == Some(ToolKind::TwistDrill) && major == "CUTTER")
+        .then(|| nums.get(4).copied())
+        .flatten()
+        .filter(|a| *a > 0.0 && *a < 90.0)
+        .map(|a| 180.0 - 2.0 * a);
+    Some(ToolFacts { diameter: Some(d), kind, corner_radius: r, flutes: None, point_angle })
+}
+
+/// A point angle a tool comment states: `TAPER=118DEG`, `118DEG`, `118 DEG`, `POINT 140`,
+/// `POINT ANGLE=140`; only between 60° and 180°, the angles drills have.
+fn point_angle(up: &str) -> Option<f64> {
+    let number = |s: &str| -> Option<f64> {
+        let s = s.trim_start_matches([' ', '=', ':']);
+        let end = s.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(s.len());
+        s[..end].parse::<f64>().ok()
+    };
+    let after = |key: &str| up.find(key).and_then(|i| number(&up[i + key.len()..]));
+    let before_deg = up.find("DEG").and_then(|i| {
+        let head = up[..i].trim_end();
+        let start = head.rfind(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(0, |k| k + 1);
+        head[start..].parse::<f64>().ok()
+    });
+    after("TAPER")
+        .or_else(|| after("POINT ANGLE"))
+        .or_else(|| after("POINT"))
+        .or(before_deg)
+        .filter(|a| *a >= 60.0 && *a < 180.0)
 }
 
 /// The diameter of a short end-mill name (`EM10`, `EM12.5`).
@@ -599,6 +629,7 @@ impl<'p> Recovery<'p> {
                     corner_radius: known.and_then(|k| k.corner_radius),
                     flutes: known.and_then(|k| k.flutes),
                     length_offset: known.map(|k| k.length).filter(|l| *l != 0.0),
+                    point_angle: known.and_then(|k| k.point_angle),
                     source: if known.is_some() { ToolSource::Table } else { ToolSource::Unknown },
                 });
                 if entry.kind == ToolKind::Unknown
@@ -781,6 +812,9 @@ impl<'p> Recovery<'p> {
             if apt_tool_statement(&comment.to_ascii_uppercase()).is_some() {
                 facts.diameter = facts.diameter.map(|d| round_sig(d * self.k));
                 facts.corner_radius = facts.corner_radius.map(|r| round_sig(r * self.k));
+            }
+            if t.point_angle.is_none() && t.diameter.is_none() {
+                t.point_angle = facts.point_angle;
             }
             if t.diameter.is_none() && facts.diameter.is_some() {
                 t.diameter = facts.diameter;
