@@ -697,10 +697,9 @@ impl<W: std::io::Write> Writer<W> {
                 }
                 let place = self.placement(f.placement, Some([0.0, 0.0, 1.0]));
                 let locations: Vec<Value> = positions.iter().map(|p| self.placement([p[0], p[1], 0.0], None)).collect();
-                let mut pid = format!("F{} pattern", f.id);
-                if f.top_inferred {
-                    pid.push_str(" top=inferred");
-                }
+                // The pattern carries the feature's words (`top=inferred`, where its sizes came from).
+                let head = format!("F{}", f.id);
+                let pid = format!("{head} pattern{}", &id[head.len()..]);
                 self.b
                     .add("GENERAL_PATTERN", vec![Value::str(pid), workpiece.clone(), Value::List(ops), place, hole, Value::List(locations)])
             }

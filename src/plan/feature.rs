@@ -99,6 +99,61 @@ pub fn recognise(plan: &mut ProcessPlan) {
         plan.workingsteps[i].feature = Some(id);
     }
     plan.features = features.into_iter().map(|(f, _)| f).collect();
+    absorb_spot_drilling(plan);
+}
+
+/// A spot drill or countersink that marks holes made by other tools is part of those holes,
+/// not a feature of its own: its workingsteps go to the first hole feature at its positions,
+/// when the holes made later cover every position it marked.
+fn absorb_spot_drilling(plan: &mut ProcessPlan) {
+    let abs = |f: &Feature| -> Vec<P2> {
+        match &f.kind {
+            FeatureKind::RoundHole { positions, .. } => positions.iter().map(|p| [p[0] + f.placement[0], p[1] + f.placement[1]]).collect(),
+            _ => Vec::new(),
+        }
+    };
+    let marking = |f: &Feature| {
+        matches!(f.kind, FeatureKind::RoundHole { diameter: None, .. })
+            && f.workingsteps.iter().all(|i| {
+                let ws = &plan.workingsteps[*i as usize - 1];
+                ws.operation == Operation::CenterDrilling
+                    || plan.tool(ws.tool).is_some_and(|t| matches!(t.kind, ToolKind::CenterDrill | ToolKind::Countersink))
+            })
+    };
+    let is_mark: Vec<bool> = plan.features.iter().map(marking).collect();
+    let mut gone: Vec<u32> = Vec::new();
+    for k in 0..plan.features.len() {
+        if !is_mark[k] {
+            continue;
+        }
+        let marks = abs(&plan.features[k]);
+        let later: Vec<usize> = (k + 1..plan.features.len())
+            .filter(|&j| !is_mark[j] && abs(&plan.features[j]).iter().any(|p| marks.iter().any(|m| dist(*m, *p) < 1e-3)))
+            .collect();
+        let covered = marks.iter().all(|m| later.iter().any(|&j| abs(&plan.features[j]).iter().any(|p| dist(*m, *p) < 1e-3)));
+        let Some(&first) = later.first().filter(|_| covered) else { continue };
+        let steps = std::mem::take(&mut plan.features[k].workingsteps);
+        let target = plan.features[first].id;
+        for i in &steps {
+            plan.workingsteps[*i as usize - 1].feature = Some(target);
+        }
+        let f = &mut plan.features[first];
+        f.workingsteps.extend(steps);
+        f.workingsteps.sort_unstable();
+        gone.push(plan.features[k].id);
+    }
+    if gone.is_empty() {
+        return;
+    }
+    plan.features.retain(|f| !gone.contains(&f.id));
+    let renumber: BTreeMap<u32, u32> = plan.features.iter().enumerate().map(|(i, f)| (f.id, i as u32 + 1)).collect();
+    for f in &mut plan.features {
+        f.id = renumber[&f.id];
+        feature_source(f, &plan.workingsteps);
+    }
+    for ws in &mut plan.workingsteps {
+        ws.feature = ws.feature.and_then(|id| renumber.get(&id).copied());
+    }
 }
 
 /// The source range and lines of a feature: the cover of its workingsteps'.
@@ -126,7 +181,13 @@ fn merge_into(f: &mut Feature, cand: &Candidate, ws: &Workingstep) {
                 (a, b) => a.or(b),
             };
             // The deepest operation leaves the bottom, unless the hole goes through.
-            if *bottom != HoleBottom::Through && (cand.depth > f.depth + 1e-6 || *b2 == HoleBottom::Through) {
+            // The deepest point: a drill's tip lies below where its full diameter ends.
+            let tip = |depth: f64, d: Option<f64>, b: HoleBottom| match (b, d) {
+                (HoleBottom::Conical(a), Some(d)) if a > 0.0 && a < 180.0 => depth + d / 2.0 / (a.to_radians() / 2.0).tan(),
+                _ => depth,
+            };
+            let deeper = tip(cand.depth, *d2, *b2) > tip(f.depth, *diameter, *bottom) + 1e-6;
+            if *bottom != HoleBottom::Through && (deeper || *b2 == HoleBottom::Through) {
                 *bottom = *b2;
                 f.sources.point_angle = cand.sources.point_angle;
             }
@@ -231,8 +292,10 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
     let tip_depth = if bottom_z.is_finite() { top - bottom_z } else { 0.0 };
     // A drawing dimensions a drilled hole to where its full diameter ends; the cone of the
     // point lies below that.
-    let depth = match (bottom, diameter) {
-        (HoleBottom::Conical(angle), Some(d)) if angle > 0.0 && angle < 180.0 => {
+    let depth = match (bottom, diameter, stock) {
+        // A through hole is as deep as the stock below its top.
+        (HoleBottom::Through, _, Some(s)) => round6(top - s.origin[2]),
+        (HoleBottom::Conical(angle), Some(d), _) if angle > 0.0 && angle < 180.0 => {
             round6((tip_depth - d / 2.0 / (angle.to_radians() / 2.0).tan()).max(0.0))
         }
         _ => tip_depth,
@@ -388,7 +451,8 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
     // Passes over the toolpath rather than lists of moves: a toolpath may hold millions.
     let cuts = || ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
     let horizontal = || cuts().filter(|m| (m.from[2] - m.to[2]).abs() < 1e-4);
-    let total: f64 = cuts().map(|m| super::geom::length(&m)).sum();
+    // Entries down into the material (plunges, ramps, helices) are not the shape cut.
+    let total: f64 = cuts().filter(|m| m.to[2] >= m.from[2] - 1e-4).map(|m| super::geom::length(&m)).sum();
     let flat_len: f64 = horizontal().map(|m| super::geom::length(&m)).sum();
     let arcs_in_xy = horizontal().all(|m| m.axis().is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
     if horizontal().next().is_none() || flat_len < 0.8 * total || !arcs_in_xy {
@@ -552,26 +616,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         match (sides, stock) {
             (Some(n), _) if n.iter().all(|x| *x) || top - bottom < 1e-3 => {}
             (Some(n), Some(st)) if axis_aligned && step_side(n, u).is_some() => {
-                // A step: the band runs from end to end of the stock along one side; its
-                // wall is the band's edge away from that side.
-                let k = usize::from(u[0].abs() < 1e-9); // 0: passes along X, 1: along Y
-                let across = 1 - k;
-                let smax = st.max();
-                let (lo, hi) = (st.origin[k], smax[k]);
-                let high_side = step_side(n, u) == Some(true);
-                let (wall, width) = if high_side {
-                    (swept.0[across], smax[across] - swept.0[across])
-                } else {
-                    (swept.1[across], swept.1[across] - st.origin[across])
-                };
-                let mut start = [0.0; 2];
-                start[k] = lo;
-                start[across] = wall;
-                let mut dir = [0.0; 3];
-                dir[k] = 1.0;
-                cand.operation = Operation::BottomAndSideFinishMilling;
-                cand.placement = [start[0], start[1], top];
-                cand.kind = FeatureKind::Step { direction: dir, length: round6(hi - lo), width: round6(width) };
+                make_step(&mut cand, st, swept, u, n, top);
                 return cand;
             }
             (Some(_), _) => {
@@ -607,13 +652,31 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         cand.kind = FeatureKind::PlanarFace { direction: [u[0], u[1], 0.0], length: round6(amax - amin), width: round6(cmax - cmin) };
         return cand;
     }
-    if !loops.is_empty() && rest_len < 0.3 * bottom_len {
+    // Moves inside the largest loop clear what it encloses (a lead-in, the floor along a
+    // ramp's line): they belong to a pocket.
+    let largest = loops.iter().max_by(|a, b| signed_area(a).abs().total_cmp(&signed_area(b).abs()));
+    let rest_inside = largest.is_some_and(|l| rest.iter().all(|p| [p.from, p.to].iter().all(|q| inside(l, *q) != Some(false))));
+    if !loops.is_empty() && (rest_len < 0.3 * bottom_len || rest_inside) {
         let mut sorted: Vec<&Vec<Piece>> = loops.clone();
         sorted.sort_by(|a, b| signed_area(b).abs().total_cmp(&signed_area(a).abs()));
+        // Every entry down into the material (a plunge, a ramp, a helix) says where the
+        // material is: a tool cannot plunge into a boss. Entries on the loop say nothing.
+        let entry_inside = |lp: &[Piece]| {
+            ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS).find_map(|m| {
+                let at = match (m.kind, m.center()) {
+                    (MoveKind::Arc, Some(c)) => [c[0], c[1]],
+                    _ => [m.to[0], m.to[1]],
+                };
+                inside(lp, at)
+            })
+        };
         let outer = sorted[0];
+        // Nested loops entered from outside all of them run around a boss: the innermost is
+        // its wall, the others roughed towards it.
+        let around = sorted.len() >= 2 && entry_inside(outer) == Some(false);
         let area = signed_area(outer);
         let rotation = if area > 0.0 { Rotation::Ccw } else { Rotation::Cw };
-        if sorted.len() >= 2 {
+        if sorted.len() >= 2 && !around {
             cand.strategy = Some(Strategy {
                 kind: StrategyKind::ContourParallel,
                 feed_direction: None,
@@ -627,23 +690,14 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             pocket(&mut cand, outer, r, stock);
             return cand;
         }
+        let outer = *sorted.last().expect("one loop at least");
+        let area = signed_area(outer);
+        let rotation = if area > 0.0 { Rotation::Ccw } else { Rotation::Cw };
         // One loop: where the material is decides pocket wall or profile — where the tool
         // entered (inside the loop or outside it), else the compensation side; the cut
         // direction (taken as climb milling) only as a last resort, and then the cut mode
         // is not stated.
-        // Every entry down into the material (a plunge, a ramp, a helix) says where the
-        // material is: a tool cannot plunge into a boss. Entries on the loop say nothing.
-        let by_entry = ws
-            .toolpath
-            .iter()
-            .filter(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS)
-            .find_map(|m| {
-                let at = match (m.kind, m.center()) {
-                    (MoveKind::Arc, Some(c)) => [c[0], c[1]],
-                    _ => [m.to[0], m.to[1]],
-                };
-                inside(outer, at)
-            });
+        let by_entry = entry_inside(outer);
         let by_comp = ws.state.cutter_comp.first().map(|c| c.left == (rotation == Rotation::Ccw));
         // A wall the tool could not stand outside of (a loop tighter than the tool, as when
         // a bore is circle-milled) is a pocket's.
@@ -700,6 +754,18 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             let rect = rectangle(bmin, bmax);
             pocket(&mut cand, &rect, r, stock);
             return cand;
+        }
+        // One straight pass across the stock along its side: a step.
+        let straight = chain.iter().all(|p| p.arc.is_none() && cross(p.dir(), chain[0].dir()).abs() < 1e-6);
+        if let (Some(rad), Some(st), true) = (radius, stock, straight) {
+            let u = chain[0].dir();
+            let swept = ([bmin[0] - rad, bmin[1] - rad], [bmax[0] + rad, bmax[1] + rad]);
+            let n = crossed_sides(st, swept);
+            if (u[0].abs() < 1e-9 || u[1].abs() < 1e-9) && step_side(n, u).is_some() {
+                make_step(&mut cand, st, swept, u, n, top);
+                cand.region = Some(region_of(swept.0, swept.1));
+                return cand;
+            }
         }
         if let Some(rad) = radius {
             cand.operation = Operation::BottomAndSideFinishMilling;
@@ -790,6 +856,26 @@ fn step_side(n: [bool; 4], u: P2) -> Option<bool> {
     }
 }
 
+/// Makes `cand` a step: the band `swept` of passes along `u` runs from end to end of the
+/// stock along the one side `n` says it crosses; its wall is the band's edge away from
+/// that side.
+fn make_step(cand: &mut Candidate, st: &Stock, swept: (P2, P2), u: P2, n: [bool; 4], top: f64) {
+    let k = usize::from(u[0].abs() < 1e-9); // 0: passes along X, 1: along Y
+    let across = 1 - k;
+    let smax = st.max();
+    let (lo, hi) = (st.origin[k], smax[k]);
+    let high_side = step_side(n, u) == Some(true);
+    let (wall, width) = if high_side { (swept.0[across], smax[across] - swept.0[across]) } else { (swept.1[across], swept.1[across] - st.origin[across]) };
+    let mut start = [0.0; 2];
+    start[k] = lo;
+    start[across] = wall;
+    let mut dir = [0.0; 3];
+    dir[k] = 1.0;
+    cand.operation = Operation::BottomAndSideFinishMilling;
+    cand.placement = [start[0], start[1], top];
+    cand.kind = FeatureKind::Step { direction: dir, length: round6(hi - lo), width: round6(width) };
+}
+
 /// Splits a chain into the closed loops it traces (a point met again closes a loop) and the
 /// pieces between them.
 fn split_loops(chain: &[Piece]) -> (Vec<Vec<Piece>>, Vec<Piece>) {
@@ -836,6 +922,16 @@ fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) 
         cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&wall), cand.placement) };
         return;
     }
+    // A wall of two parallel straight sides joined by two half circles is a slot's, as wide
+    // as the circles and as long as its sides between their centres.
+    if cand.sources.size != Source::Unknown
+        && let Some((a, b, radius)) = stadium(&wall)
+    {
+        cand.placement = [a[0], a[1], cand.placement[2]];
+        let path = Contour { start: [0.0, 0.0], segments: vec![Segment { to: [round6(b[0] - a[0]), round6(b[1] - a[1])], arc: None }] };
+        cand.kind = FeatureKind::Slot { path, width: round6(2.0 * radius) };
+        return;
+    }
     let shape = rect_shape(outer);
     let (cmin, cmax) = bounds(outer);
     let size_unknown = cand.sources.size == Source::Unknown;
@@ -859,6 +955,24 @@ fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) 
         cand.kind =
             FeatureKind::ClosedPocket { boundary: relative(&to_contour(&wall), cand.placement), rectangle: None, corner_radius: None };
     }
+}
+
+/// Two parallel straight sides joined by two half circles of one radius: the circles'
+/// centres and the radius.
+fn stadium(chain: &[Piece]) -> Option<(P2, P2, f64)> {
+    let joined = join_collinear(chain);
+    if joined.len() != 4 {
+        return None;
+    }
+    let first = joined.iter().position(|p| p.arc.is_some())?;
+    let at = |k: usize| joined[(first + k) % 4];
+    let (a0, l0, a1, l1) = (at(0), at(1), at(2), at(3));
+    let ((c0, ccw0), (c1, ccw1)) = (a0.arc?, a1.arc?);
+    let half = |p: &Piece, c: P2, ccw: bool| (sweep(p.from, p.to, c, ccw).abs() - std::f64::consts::PI).abs() < 1e-4;
+    let r = dist(a0.from, c0);
+    let lines = l0.arc.is_none() && l1.arc.is_none() && cross(l0.dir(), l1.dir()).abs() < 1e-6;
+    (lines && half(&a0, c0, ccw0) && half(&a1, c1, ccw1) && (dist(a1.from, c1) - r).abs() < 1e-4 && dist(c0, c1) > 1e-4)
+        .then(|| if c0[0] < c1[0] || c0[0] == c1[0] && c0[1] <= c1[1] { (c0, c1, r) } else { (c1, c0, r) })
 }
 
 /// An axis-aligned rectangle, with sharp corners or four quarter arcs of one radius: its

@@ -167,7 +167,7 @@ fn stepnc_writes_part21_to_stdout_and_needs_a_class() {
     let (code, out, err) = ncplan(&["stepnc", "-d", "fanuc", "demo/cam/O1234.nc", "--cc2", "--timestamp", "2026-01-01T00:00:00"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.starts_with("ISO-10303-21;\nHEADER;\n"), "{out}");
-    assert!(out.contains("=PLANAR_FACE('F1 top=inferred',"), "{out}");
+    assert!(out.contains("=PLANAR_FACE('F1 top=inferred size_from=tool_comment top_from=assumption',"), "{out}");
     assert!(out.trim_end().ends_with("ENDSEC;\nEND-ISO-10303-21;"), "{out}");
     assert!(err.contains("warning[stepnc::stock-unknown]"), "{err}");
     let (code, _, _) = ncplan(&["stepnc", "-d", "fanuc", "demo/cam/O1234.nc"]);

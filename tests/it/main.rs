@@ -25,6 +25,7 @@ mod parity;
 mod pg;
 mod plan;
 mod post_rules;
+mod post_suite;
 mod revisions;
 mod robustness;
 mod round_trip_causes;

@@ -251,13 +251,17 @@ fn drilling_then_reaming_one_pattern_is_one_hole_feature() {
     let f = &p.features[0];
     let FeatureKind::RoundHole { diameter, bottom, positions } = &f.kind else { panic!() };
     assert_eq!(*diameter, Some(8.0));
-    assert_eq!(*bottom, HoleBottom::Flat);
+    // The D7.8 drill's point (assumed 118°) lies below the reamer's flat end at 12: the hole
+    // ends in the drill's cone, and is as deep as the drill's full diameter goes,
+    // 15 - 3.9 / tan 59° (below the reamed 12).
+    assert_eq!(*bottom, HoleBottom::Conical(118.0));
+    assert_eq!(f.sources.point_angle, Some(ncplan::plan::Source::Assumption));
     assert_eq!(positions, &[[0.0, 0.0], [40.0, 0.0], [40.0, 20.0], [0.0, 20.0]]);
     assert_eq!(f.workingsteps, [1, 2]);
     // Without stock or a faced level the top is the program zero, not the R level.
     assert_eq!(f.placement, [20.0, 20.0, 0.0]);
     assert!(f.top_inferred);
-    assert_eq!(f.depth, 15.0);
+    assert_eq!(f.depth, 12.656644);
     assert_eq!(p.tools.iter().map(|t| t.kind).collect::<Vec<_>>(), [ToolKind::TwistDrill, ToolKind::Reamer]);
 }
 

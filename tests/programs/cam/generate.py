@@ -405,6 +405,9 @@ def part(name, tools, ops, features, workingsteps, stock=STOCK):
     return dict(name=name, tools=tools, ops=ops, features=features, workingsteps=workingsteps, stock=stock)
 
 
+# The sidecars' hole depths were then converted to the convention a drawing uses: the depth
+# where the full diameter ends (a drill's tip lies (d/2)/tan(59 deg) below it), the deepest
+# such section of the tools that made the hole. `depth` here is the tip; convert on a rerun.
 def hole_f(positions, d, depth):
     return dict(kind="round_hole", x=positions[0][0], y=positions[0][1], count=len(positions), diameter=d, depth=depth)
 
