@@ -375,6 +375,50 @@ def mcam_fanuc_open_pocket():
     return 'nc', mcam(2006, 'fork_end', ops, stock_comment=stock)
 
 
+# ------------------------------------------------------------------ P39
+@prog
+def f360_840d_pocket_slot_ctrl():
+    t1 = T(1, 12, 'FLAT END MILL', -7)
+    t2 = T(2, 10, 'FLAT END MILL', -7)
+    t3 = T(3, 10, 'FLAT END MILL', -5)
+    rough = pocket(40, 35, 50, 36, 8, 12, [-3.5, -7], 7, 'ramp', 1200, 350, allowance=0.25)
+    fin = fin_only(pocket(40, 35, 50, 36, 8, 10, [-7], 100, 'plunge', 900, 300,
+                          finish_comp='left', lead=6))
+    ops = [dict(name='POCKET1 ROUGH', tool=t1, S=7000, moves=rough),
+           dict(name='POCKET1 FINISH', tool=t2, S=8000, moves=fin),
+           dict(name='SLOT1', tool=t3, S=8000,
+                moves=slot(80, 35, 105, 35, 10, 10, [-2.5, -5], 700, 200))]
+    return 'mpf', fusion_siemens('GUIDE_BLOCK', ops, stock=((0, 120), (0, 70), (-20, 0)))
+
+
+# ------------------------------------------------------------------ P40
+@prog
+def f360_lcnc_step_slot():
+    t1 = T(1, 16, 'FLAT END MILL', -10)
+    t2 = T(2, 8, 'FLAT END MILL', -4)
+    ops = [dict(name='STEP1', tool=t1, S=6000,
+                moves=lines_at([(83, -12), (83, 62)], [-5, -10], 900, 300)),
+           dict(name='SLOT1', tool=t2, S=10000,
+                moves=slot(15, 25, 55, 25, 12, 8, [-2, -4], 700, 200))]
+    return 'ngc', fusion_lcnc('RAIL_END', ops)
+
+
+# ------------------------------------------------------------------ P41
+@prog
+def f360_haas_open_pocket():
+    t1 = T(1, 10, 'FLAT END MILL', -6)
+    ms = [('rapid', -8, 30, None), ('rapid', None, None, 15.0), ('rapid', None, None, 5.0)]
+    for i, z in enumerate([-3, -6]):
+        if i:
+            ms += [('rapid', None, None, 5.0), ('rapid', -8, 30, None)]
+        ms += [('line', None, None, z, 300), ('line', 30, 30, z, 1000), ('line', -8, 30, z, 1000),
+               ('line', -8, 20, z, 1000), ('line', 30, 20, z, 1000), ('line', 30, 40, z, 1000),
+               ('line', -8, 40, z, 1000)]
+    ms.append(('rapid', None, None, 15.0))
+    ops = [dict(name='POCKET2', tool=t1, S=8000, moves=ms)]
+    return 'nc', fusion_fanuc(1041, 'LEVER', ops, haas=True)
+
+
 def main(names):
     os.makedirs(OUT, exist_ok=True)
     for n, fn in PROGRAMS.items():

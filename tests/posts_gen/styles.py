@@ -276,7 +276,7 @@ def tnc_holes(k, h, spindle):
                 ('Q204', q204, '2ND SET-UP CLEARANCE')]
     for i, (q, v, c_) in enumerate(rows):
         end = ' ~' if i + 1 < len(rows) else ''
-        k.raw('  %s=%s ;%s%s' % (q, num(v, 'tnc'), c_, end))
+        k.raw('    %s=%s    ;%s%s' % (q, num(v, 'tnc'), c_, end))
     for i, p in enumerate(h['pts']):
         if i == 0:
             k.block('L X%s Y%s R0 FMAX M99' % (k.nf(p[0]), k.nf(p[1])))
@@ -290,12 +290,23 @@ def fusion_tnc(name, ops, stock):
     (x0, x1), (y0, y1), (z0, z1) = stock
     k.block('BLK FORM 0.1 Z X%s Y%s Z%s' % (k.nf(x0), k.nf(y0), k.nf(z0)))
     k.block('BLK FORM 0.2 X%s Y%s Z%s' % (k.nf(x1), k.nf(y1), k.nf(z1)))
+    # newer Fusion heidenhain.cps: a framed tool list, '#n D=.. - ZMIN=.. - ZMAX=.. - type'
+    k.block(';-------------------------------------')
+    k.block(';Tools')
     seen = []
     for op in ops:
         t = op['tool']
         if t['t'] not in seen:
             seen.append(t['t'])
-            k.comment(tool_comment_fusion(t, 'tnc'))
+            s = '#%d D=%s' % (t['t'], sfmt(t['d']))
+            if t.get('cr'):
+                s += ' CR=%s' % sfmt(t['cr'])
+            if t.get('taper'):
+                s += ' TAPER=%sdeg' % sfmt(t['taper'])
+            s += ' - ZMIN=%s - ZMAX=+15 - %s' % (num(t['zmin'], 'tnc'), t['kind'].lower())
+            k.block(';  ' + s)
+    k.block(';-------------------------------------')
+    k.block(';')
     last_t = None
     for i, op in enumerate(ops):
         t = op['tool']
