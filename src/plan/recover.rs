@@ -157,7 +157,8 @@ fn listed_tool(comment: &str) -> Option<u32> {
             let r = r.trim_start_matches([' ', ':', '#', '=', ',']);
             r.strip_prefix("NO.").or_else(|| r.strip_prefix("NO")).unwrap_or(r).trim_start_matches([' ', '.', '#'])
         }
-        None => up.strip_prefix('T')?,
+        // `T1 D=10 ...`; Fusion's Heidenhain post lists `#1 D=10 ...`.
+        None => up.strip_prefix('T').or_else(|| up.strip_prefix('#'))?,
     };
     let end = rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(rest.len());
     let after = rest[end..].chars().next();
@@ -191,6 +192,24 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
     }
     let compact: String = up.chars().filter(|c| !c.is_whitespace() && *c != '-' && *c != '_').collect();
     let has = |k: &str| compact.contains(k);
+    // German shop names (Heidenhain and Siemens shops): Kugel-, Torus-, Planfräser, Zentrier-,
+    // NC-Anbohrer, Reibahle, Senker, Gewindebohrer, Bohrstange, Bohrer, Schaft-/Fräser.
+    let has = |k: &str| {
+        has(k)
+            || match k {
+                "BALL" => has("KUGEL"),
+                "TORUS" => has("TORUSFR"),
+                "FACEMILL" => has("PLANFR") || has("MESSERKOPF"),
+                "CENTERDRILL" => has("ZENTRIER") || has("ANBOHR"),
+                "REAM" => has("REIBAHLE"),
+                "COUNTERSINK" => has("SENKER") || has("FASENFR"),
+                "TAP" => has("GEWINDEBOHR"),
+                "BORING" => has("BOHRSTANGE") || has("AUSDREH"),
+                "DRILL" => has("BOHRER") && !has("GEWINDEBOHR"),
+                "ENDMILL" => has("SCHAFTFR") || has("FRAESER") || has("FRÄSER") || has("FRäSER"),
+                _ => false,
+            }
+    };
     let kind = if has("BALL") {
         Some(ToolKind::BallEndMill)
     } else if has("BULL") || has("TORUS") {

@@ -16,6 +16,15 @@
 //!   offset memory C; an offset number is taken as the tool number, as posts write `D1` for
 //!   `T1`. `G20` in the file means inches.
 //!
+//! - **Siemens** tool offsets (a `TO_INI` archive, `$TC_…` assignments): `$TC_DP6[t,d]` the
+//!   radius, `$TC_DP7[t,d]` the corner radius, `$TC_DP3[t,d]` the length, `$TC_DP1[t,d]` the
+//!   tool type (1xx milling tools: 110/111 ball, 120 end mill, 121 with corner rounding, 140
+//!   face mill; 2xx drilling tools: 200 twist drill, 220 centre drill, 240 tap, 250 reamer),
+//!   `$TC_TP2[t]` the name; cutting edge 1 of tool `t` is tool `t`'s geometry.
+//!
+//! Wear (Fanuc `L11`/`L13`, Heidenhain `DL`/`DR`) is left out: the drawing's sizes follow the
+//! tool's nominal geometry, which the CAM system's path was computed with.
+//!
 //! Every number is returned in millimetres.
 
 use std::collections::BTreeMap;
@@ -34,6 +43,8 @@ pub enum Format {
     Heidenhain,
     /// Fanuc `G10` offset blocks.
     FanucOffsets,
+    /// Siemens `$TC_…` tool offset data.
+    Siemens,
 }
 
 /// Reads a tool table; `inch` says the table's numbers are inches where the format does not
@@ -43,6 +54,9 @@ pub fn read(text: &str, inch: bool) -> Result<(Format, Tools), String> {
     let up = first.to_ascii_uppercase();
     if up.starts_with("BEGIN") && up.contains(".T") {
         return heidenhain(text).map(|t| (Format::Heidenhain, t));
+    }
+    if text.contains("$TC_DP") {
+        return Ok((Format::Siemens, siemens(text)));
     }
     let g10 = text.lines().any(|l| l.to_ascii_uppercase().replace(' ', "").contains("G10L1"));
     if g10 {
@@ -140,6 +154,7 @@ fn heidenhain(text: &str) -> Result<Tools, String> {
         t.point_angle = num("T-ANGLE").filter(|a| *a > 0.0 && *a < 180.0);
         t.flutes = num("CUT").filter(|n| *n > 0.0 && n.fract() == 0.0).map(|n| n as u32);
         t.name = column(row, "NAME");
+        let doc = column(row, "DOC");
         t.kind = column(row, "TYP")
             .and_then(|typ| match typ.to_ascii_uppercase().as_str() {
                 "DRILL" => Some("twist_drill".to_owned()),
@@ -155,7 +170,9 @@ fn heidenhain(text: &str) -> Result<Tools, String> {
                 "MILL" => Some("end_mill".to_owned()),
                 _ => None,
             })
-            .or_else(|| t.name.as_deref().and_then(kind_named));
+            .or_else(|| t.name.as_deref().and_then(kind_named))
+            .or_else(|| doc.as_deref().and_then(kind_named))
+            .or_else(|| t.point_angle.map(|_| "twist_drill".to_owned()));
         tools.insert(number as u32, t);
     }
     Ok(tools)
@@ -164,8 +181,8 @@ fn heidenhain(text: &str) -> Result<Tools, String> {
 fn fanuc(text: &str) -> Tools {
     let up = text.to_ascii_uppercase();
     let k = if up.contains("G20") { 25.4 } else { 1.0 };
-    // Offset number → (radius geometry, radius wear, length geometry, length wear).
-    let mut offsets: BTreeMap<u32, [f64; 4]> = BTreeMap::new();
+    // Offset number → (radius geometry, length geometry).
+    let mut offsets: BTreeMap<u32, [f64; 2]> = BTreeMap::new();
     for line in up.lines() {
         let compact: String = line.chars().filter(|c| !c.is_whitespace()).collect();
         let Some(at) = compact.find("G10") else { continue };
@@ -196,22 +213,63 @@ fn fanuc(text: &str) -> Tools {
         }
         let slot = match l as i64 {
             12 => 0,
-            13 => 1,
-            10 => 2,
-            11 => 3,
+            10 => 1,
             _ => continue,
         };
         offsets.entry(p as u32).or_default()[slot] = r * k;
     }
     offsets
         .into_iter()
-        .map(|(n, [rg, rw, lg, lw])| {
+        .map(|(n, [radius, length])| {
             let mut t = blank_tool();
-            t.diameter = (rg + rw > 0.0).then_some(2.0 * (rg + rw));
-            t.length = lg + lw;
+            t.diameter = (radius > 0.0).then_some(2.0 * radius);
+            t.length = length;
             (n, t)
         })
         .collect()
+}
+
+fn siemens(text: &str) -> Tools {
+    let mut tools = Tools::new();
+    for line in text.lines() {
+        let line = line.split(';').next().unwrap_or("").trim();
+        let Some(rest) = line.strip_prefix("$TC_") else { continue };
+        let Some((lhs, value)) = rest.split_once('=') else { continue };
+        let Some((name, index)) = lhs.split_once('[') else { continue };
+        let index: Vec<&str> = index.trim_end_matches(']').split(',').map(str::trim).collect();
+        let Some(number) = index.first().and_then(|t| t.parse::<u32>().ok()) else { continue };
+        // Only cutting edge 1 (D1) is the tool's own geometry.
+        if name.starts_with("DP") && index.get(1).is_some_and(|d| *d != "1") {
+            continue;
+        }
+        let value = value.trim();
+        let num = value.parse::<f64>().ok();
+        let t = tools.entry(number).or_insert_with(blank_tool);
+        match name.trim().to_ascii_uppercase().as_str() {
+            "TP2" => t.name = Some(value.trim_matches('"').to_owned()).filter(|n| !n.is_empty()),
+            "DP3" => t.length = num.unwrap_or(0.0),
+            "DP6" => t.diameter = num.filter(|r| *r > 0.0).map(|r| 2.0 * r),
+            "DP7" => t.corner_radius = num.filter(|r| *r > 0.0),
+            "DP1" => {
+                t.kind = num.and_then(|v| match v as u32 {
+                    110 | 111 => Some("ball_end_mill"),
+                    121 => Some("bullnose_end_mill"),
+                    140 => Some("face_mill"),
+                    100..=199 => Some("end_mill"),
+                    200 => Some("twist_drill"),
+                    220 => Some("center_drill"),
+                    230 => Some("countersink"),
+                    240 => Some("tap"),
+                    250 => Some("reamer"),
+                    _ => None,
+                })
+                .map(str::to_owned)
+            }
+            _ => {}
+        }
+    }
+    tools.retain(|_, t| t.diameter.is_some() || t.kind.is_some());
+    tools
 }
 
 #[cfg(test)]
@@ -249,11 +307,25 @@ mod tests {
     }
 
     #[test]
+    fn siemens_tool_offsets() {
+        let text = "CHANDATA(1)\n$TC_TP1[2]=2\n$TC_TP2[2]=\"SCHAFTFRAESER_D20\"\n$TC_DP1[2,1]=120\n$TC_DP3[2,1]=92.415\n\
+                    $TC_DP6[2,1]=10.\n$TC_DP6[2,2]=9.9\n$TC_DP1[5,1]=200\n$TC_DP6[5,1]=3.4\nM17\n";
+        let (f, t) = read(text, false).unwrap();
+        assert_eq!(f, Format::Siemens);
+        assert_eq!(t[&2].diameter, Some(20.0));
+        assert_eq!(t[&2].kind.as_deref(), Some("end_mill"));
+        assert_eq!(t[&2].name.as_deref(), Some("SCHAFTFRAESER_D20"));
+        assert_eq!(t[&5].kind.as_deref(), Some("twist_drill"));
+        assert_eq!(t[&5].diameter, Some(6.8));
+    }
+
+    #[test]
     fn fanuc_offset_blocks() {
         let text = "%\nG10 L12 P1 R5.\nG10 L13 P1 R-0.02\nG10L10P1R123.4\nG10 L12 P3 R3.4\n%\n";
         let (f, t) = read(text, false).unwrap();
         assert_eq!(f, Format::FanucOffsets);
-        assert!((t[&1].diameter.unwrap() - 9.96).abs() < 1e-9);
+        // The nominal radius: wear is left out.
+        assert_eq!(t[&1].diameter, Some(10.0));
         assert!((t[&1].length - 123.4).abs() < 1e-9);
         assert_eq!(t[&3].diameter, Some(6.8));
     }
