@@ -642,7 +642,9 @@ impl<'a> Interpreter<'a> {
                             Meaning::CornerRound | Meaning::CornerChamfer | Meaning::ApproachTangent | Meaning::ApproachNormal
                         )
                     })
-                    .then(corner::Corners::default),
+                    .then_some(())
+                    .or_else(|| dialect.addresses.iter().any(|a| matches!(a.role, Role::CornerRadius | Role::CornerChamfer)).then_some(()))
+                    .map(|()| corner::Corners::default()),
             ),
             comp_problem: std::cell::Cell::new(None),
             sent: std::cell::Cell::new([0.0; 6]),
@@ -1101,7 +1103,9 @@ impl<'a> Interpreter<'a> {
             && self.code_steps == 0
             && block.comments.is_empty()
             && self.stop_message.is_none()
-            && self.filled & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32 | 1 << Role::SpindleLimit as u32) == 0;
+            && self.filled & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32 | 1 << Role::SpindleLimit as u32) == 0
+            && self.slots[Role::CornerRadius as usize].is_none()
+            && self.slots[Role::CornerChamfer as usize].is_none();
         if plain {
             // The common block: axis words only, so only the motion step has work.
             self.step(Step::Motion, block, sink, diags);
@@ -1141,8 +1145,27 @@ impl<'a> Interpreter<'a> {
         {
             self.st.pos = self.sent.get();
         }
+        self.corner_words(block.range, diags);
         self.modal_macro_after(motions);
         self.cycles_after(motions, block.range, sink, diags);
+    }
+
+    /// A corner the block's own words round or chamfer (Siemens `X65 RND=5`): marked after the
+    /// block's move, between it and the next, as a corner block between them would be.
+    fn corner_words(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let corner = match (self.slot(Role::CornerRadius), self.slot(Role::CornerChamfer)) {
+            (Some(r), _) => (r, corner::Corner::Round(r)),
+            (None, Some(c)) => (c, corner::Corner::Chamfer(c)),
+            (None, None) => return,
+        };
+        match corner {
+            (v, c) if v > 0.0 => {
+                if let Some(k) = self.corners.get_mut().as_mut() {
+                    k.mark(c, self.origin, self.line);
+                }
+            }
+            _ => diags.push(Diagnostic::new(Code::MissingParameter, range, "a corner rounding or chamfer needs a size above zero")),
+        }
     }
 
     /// After a block that moved, the registered G66 macro is called (not from inside it).

@@ -531,8 +531,11 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
     let all: Vec<Piece> = chains.iter().flatten().copied().collect();
     let mut loops_owned: Vec<Vec<Piece>> = Vec::new();
     let mut rest: Vec<Piece> = Vec::new();
+    // Under cutter compensation the control leaves and rejoins the contour where the lead-in
+    // and lead-out meet it: the loop it cuts stops short of (or runs past) its own start.
+    let gap = radius.map_or(2.0, |r| 2.0 * r);
     for c in &chains {
-        let (l, r) = split_loops(c);
+        let (l, r) = split_loops(&close_gap(c, gap));
         loops_owned.extend(l);
         rest.extend(r);
     }
@@ -876,6 +879,44 @@ fn make_step(cand: &mut Candidate, st: &Stock, swept: (P2, P2), u: P2, n: [bool;
     cand.kind = FeatureKind::Step { direction: dir, length: round6(hi - lo), width: round6(width) };
 }
 
+/// A chain that comes back onto the line it left, short of its first point on that line or
+/// past it by at most `gap`, closed there: the loop ends where it began. Chains that close
+/// exactly, or that do not come back, are as they were.
+fn close_gap(chain: &[Piece], gap: f64) -> Vec<Piece> {
+    if chain.len() < 4 || chain.len() > 4000 {
+        return chain.to_vec();
+    }
+    let on_line = |a: &Piece, b: &Piece| {
+        a.arc.is_none()
+            && b.arc.is_none()
+            && cross(a.dir(), b.dir()).abs() < 1e-6
+            && a.dir()[0] * b.dir()[0] + a.dir()[1] * b.dir()[1] > 0.0
+            && cross(a.dir(), [b.from[0] - a.from[0], b.from[1] - a.from[1]]).abs() < 1e-4
+    };
+    // The longest loop first: the last piece coming back onto the line of the earliest one.
+    for i in 0..chain.len() {
+        for j in (i + 3..chain.len()).rev() {
+            let (a, b) = (chain[i], chain[j]);
+            if !on_line(&a, &b) {
+                continue;
+            }
+            let u = a.dir();
+            let along = |p: P2| (p[0] - a.from[0]) * u[0] + (p[1] - a.from[1]) * u[1];
+            let (end, b_start) = (along(b.to), along(b.from));
+            // Short of the start (a gap before it) or past it (an overlap), within `gap`.
+            if end < 0.0 && -end <= gap || end >= 0.0 && b_start <= 0.0 && end <= gap.max(a.len()) {
+                let mut out = chain.to_vec();
+                out[j].to = a.from;
+                // A loop encloses something: passes to and fro along one line do not.
+                if signed_area(&out[i..=j]).abs() > 1e-3 {
+                    return out;
+                }
+            }
+        }
+    }
+    chain.to_vec()
+}
+
 /// Splits a chain into the closed loops it traces (a point met again closes a loop) and the
 /// pieces between them.
 fn split_loops(chain: &[Piece]) -> (Vec<Vec<Piece>>, Vec<Piece>) {
@@ -890,7 +931,8 @@ fn split_loops(chain: &[Piece]) -> (Vec<Vec<Piece>>, Vec<Piece>) {
         open.push(*p);
         if let Some(&k) = starts.get(&key(p.to)) {
             let lp: Vec<Piece> = open.drain(k..).collect();
-            if lp.len() >= 2 || lp[0].arc.is_some() {
+            // A loop encloses something: a pass out and back along one line does not.
+            if lp.iter().any(|p| p.arc.is_some()) || lp.len() >= 2 && signed_area(&lp).abs() > 1e-6 {
                 loops.push(lp);
             } else {
                 rest.extend(lp);
