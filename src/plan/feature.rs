@@ -319,6 +319,53 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
     }
 }
 
+/// Holes a milling tool makes by feeding straight down and back (plunging with an end
+/// mill, often with a dwell): as wide as the tool, flat where the tool cuts flat.
+fn plunged_holes(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -> Option<Candidate> {
+    let d = tool.and_then(|t| t.diameter)?;
+    let cuts = || ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+    let vertical = |m: &Move| (m.from[0] - m.to[0]).abs() < 1e-4 && (m.from[1] - m.to[1]).abs() < 1e-4;
+    if !cuts().all(|m| vertical(&m)) {
+        return None;
+    }
+    let mut at: Vec<P2> = Vec::new();
+    let mut bottom = f64::INFINITY;
+    for m in cuts().filter(|m| m.to[2] < m.from[2]) {
+        bottom = bottom.min(m.to[2]);
+        if !at.iter().any(|p| dist(*p, [m.to[0], m.to[1]]) < 1e-3) {
+            at.push([m.to[0], m.to[1]]);
+        }
+    }
+    let first = *at.first()?;
+    let (top, top_inferred, top_source) = match stock {
+        Some(s) => (s.max()[2], false, Source::Stock),
+        None if bottom < 0.0 => (0.0, true, Source::Assumption),
+        None => return None,
+    };
+    let kind = tool.map_or(ToolKind::Unknown, |t| t.kind);
+    let bottom_kind = if stock.is_some_and(|s| bottom <= s.origin[2] + 1e-6) {
+        HoleBottom::Through
+    } else if matches!(kind, ToolKind::BallEndMill) {
+        return None;
+    } else {
+        HoleBottom::Flat
+    };
+    Some(Candidate {
+        kind: FeatureKind::RoundHole { diameter: Some(d), bottom: bottom_kind, positions: at.iter().map(|p| [p[0] - first[0], p[1] - first[1]]).collect() },
+        placement: [first[0], first[1], top],
+        depth: round6(top - bottom),
+        top_inferred,
+        sources: Sources { size: Source::of_tool(tool), top: top_source, point_angle: None },
+        centre_path: None,
+        operation: Operation::Drilling,
+        strategy: None,
+        axial_depth: None,
+        radial_depth: None,
+        region: None,
+        holes: at,
+    })
+}
+
 /// A horizontal cutting move, projected to XY.
 #[derive(Clone, Copy, Debug)]
 struct Piece {
@@ -455,6 +502,11 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
     let total: f64 = cuts().filter(|m| m.to[2] >= m.from[2] - 1e-4).map(|m| super::geom::length(&m)).sum();
     let flat_len: f64 = horizontal().map(|m| super::geom::length(&m)).sum();
     let arcs_in_xy = horizontal().all(|m| m.axis().is_none_or(|a| a[2].abs() > 1.0 - 1e-9));
+    if horizontal().next().is_none()
+        && let Some(c) = plunged_holes(ws, tool, stock)
+    {
+        return c;
+    }
     if horizontal().next().is_none() || flat_len < 0.8 * total || !arcs_in_xy {
         return toolpath(true);
     }
@@ -622,10 +674,16 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
                 make_step(&mut cand, st, swept, u, n, top);
                 return cand;
             }
-            (Some(_), _) => {
-                let boundary = rectangle(swept.0, swept.1);
+            (Some(_), Some(st)) => {
+                // The pocket ends where the stock does: the passes run out past its side.
+                let (lo, hi) = (st.origin, st.max());
+                let min = [swept.0[0].max(lo[0]), swept.0[1].max(lo[1])];
+                let max = [swept.1[0].min(hi[0]), swept.1[1].min(hi[1])];
+                let (min, max) = if min[0] < max[0] && min[1] < max[1] { (min, max) } else { swept };
+                cand.region = Some(region_of(min, max));
+                let boundary = rectangle(min, max);
                 cand.operation = Operation::BottomAndSideFinishMilling;
-                cand.placement = [swept.0[0], swept.0[1], top];
+                cand.placement = [min[0], min[1], top];
                 cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&boundary), cand.placement) };
                 return cand;
             }
@@ -739,6 +797,31 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             cand.kind = FeatureKind::OutsideProfile { boundary: to_contour(&boundary), rectangle, corner_radius };
         }
         return cand;
+    }
+    // Paths that come in from outside the stock across one of its sides, turn inside and
+    // leave across the same side (a U, and the passes inside it) clear a pocket open there.
+    if let (Some(st), Some(rad), true) = (stock, radius, loops.is_empty()) {
+        let (lo, hi) = (st.origin, st.max());
+        let outside = |p: P2| p[0] < lo[0] - EPS || p[0] > hi[0] + EPS || p[1] < lo[1] - EPS || p[1] > hi[1] + EPS;
+        let side_of = |p: P2| {
+            [p[0] < lo[0] - EPS, p[0] > hi[0] + EPS, p[1] < lo[1] - EPS, p[1] > hi[1] + EPS].iter().position(|x| *x)
+        };
+        let turning = |c: &Vec<Piece>| c.iter().any(|p| p.arc.is_some() || cross(p.dir(), c[0].dir()).abs() > 1e-6);
+        let ends: Vec<Option<usize>> = chains.iter().flat_map(|c| [side_of(c[0].from), side_of(c[c.len() - 1].to)]).collect();
+        let one_side = ends.first().copied().flatten().is_some() && ends.iter().all(|e| *e == ends[0]);
+        let enters = chains.iter().all(|c| outside(c[0].from) && outside(c[c.len() - 1].to)) && chains.iter().any(turning);
+        if one_side && enters {
+            let (bmin, bmax) = bounds(&all);
+            let min = [(bmin[0] - rad).max(lo[0]), (bmin[1] - rad).max(lo[1])];
+            let max = [(bmax[0] + rad).min(hi[0]), (bmax[1] + rad).min(hi[1])];
+            if min[0] < max[0] && min[1] < max[1] {
+                cand.region = Some(region_of(min, max));
+                cand.operation = Operation::BottomAndSideFinishMilling;
+                cand.placement = [min[0], min[1], top];
+                cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&rectangle(min, max)), cand.placement) };
+                return cand;
+            }
+        }
     }
     if chains.len() == 1 && loops.is_empty() {
         let chain = &chains[0];

@@ -56,7 +56,8 @@ impl<'p> Recoverer<'p> {
             last.state.dwells.extend(r.pending_dwells.drain(..).map(|d| Dwell { at: n, ..d }));
         }
         let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
-        let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| r.stock.map(|s| stock(s, StockSource::Program)));
+        let placed = r.stock.map(|s| r.stock_origin.map_or(s, |o| o.place(s)));
+        let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| placed.map(|s| stock(s, StockSource::Program)));
         let mut tools: Vec<Tool> = r.tools.into_values().collect();
         tools.sort_by_key(|t| t.number);
         let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
@@ -494,6 +495,8 @@ struct Recovery<'p> {
     peck: Option<f64>,
     surface: Option<f64>,
     stock: Option<[P3; 2]>,
+    /// Where a stock origin comment puts the stock (`STOCK ORIGIN: X0 Y0 Z1 - LOWER LEFT TOP`).
+    stock_origin: Option<StockOrigin>,
     /// Work offset in force (1 for G54).
     wcs: u16,
     /// Length offset number in force.
@@ -543,6 +546,7 @@ impl<'p> Recovery<'p> {
             peck: None,
             surface: None,
             stock: None,
+            stock_origin: None,
             wcs: 1,
             h: None,
             comp: None,
@@ -737,6 +741,9 @@ impl<'p> Recovery<'p> {
             }
             CanonOp::Setting(Setting::BlockDelete) => {
                 self.optional.insert(c.line);
+            }
+            CanonOp::Comment(s) if self.stock_origin.is_none() && StockOrigin::parse(s).is_some() => {
+                self.stock_origin = StockOrigin::parse(s).map(|o| StockOrigin { point: o.point.map(|v| self.mm(v)), ..o });
             }
             CanonOp::Comment(s) if self.stock.is_none() && parse_stock(s).is_some() => {
                 self.stock = parse_stock(s).map(|[a, b]| [a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
@@ -1236,6 +1243,59 @@ fn holes(moves: &Toolpath, dwell: Option<f64>, peck: Option<f64>, surface: Optio
     out
 }
 
+/// Where a stock origin comment puts the stock: a point and which corner (or centre) of the
+/// stock it is, per axis: -1 the low side (LEFT, LOWER/FRONT, BOTTOM), 0 the centre, 1 the
+/// high side (RIGHT, UPPER/BACK, TOP).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct StockOrigin {
+    point: P3,
+    corner: [i8; 3],
+}
+
+impl StockOrigin {
+    /// `STOCK ORIGIN: X0. Y0. Z1. - LOWER LEFT TOP`; without corner words the lower left of
+    /// the top, where posts put the work zero.
+    fn parse(comment: &str) -> Option<StockOrigin> {
+        let up = comment.to_ascii_uppercase();
+        let rest = &up[up.find("STOCK ORIGIN")? + 12..];
+        let mut point = [0.0; 3];
+        let mut seen = 0;
+        for (k, axis) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            let at = rest.find(axis)?;
+            let tail = &rest[at + 1..];
+            let end = tail.find(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | '-' | '+'))).unwrap_or(tail.len());
+            point[k] = tail[..end].parse().ok()?;
+            seen += 1;
+        }
+        let has = |w: &str| rest.split(|c: char| !c.is_ascii_alphabetic()).any(|x| x == w);
+        let pick = |low: &[&str], high: &[&str], default: i8| {
+            if low.iter().any(|w| has(w)) {
+                -1
+            } else if high.iter().any(|w| has(w)) {
+                1
+            } else if has("CENTER") || has("CENTRE") || has("MIDDLE") {
+                0
+            } else {
+                default
+            }
+        };
+        let corner = [pick(&["LEFT"], &["RIGHT"], -1), pick(&["LOWER", "FRONT"], &["UPPER", "BACK"], -1), pick(&["BOTTOM"], &["TOP"], 1)];
+        (seen == 3).then_some(StockOrigin { point, corner })
+    }
+
+    /// The stock of `s`'s size with this origin.
+    fn place(self, s: [P3; 2]) -> [P3; 2] {
+        let mut out = s;
+        for k in 0..3 {
+            let size = s[1][k] - s[0][k];
+            let min = self.point[k] - size * (f64::from(self.corner[k]) + 1.0) / 2.0;
+            out[0][k] = min;
+            out[1][k] = min + size;
+        }
+        out
+    }
+}
+
 /// A CAM stock comment: `STOCK X0 Y0 Z-20 X100 Y50 Z0` (two corners), `STOCK 100 X 50 X 20`
 /// or `STOCK SIZE X100 Y50 Z20` (sizes, top at Z0, corner at X0 Y0). Program units.
 pub fn parse_stock(comment: &str) -> Option<[P3; 2]> {
@@ -1353,6 +1413,15 @@ mod tests {
         for s in ["TOOL PATH/POCKET_4,TOOL,ENDMILL_D10", "TAP M8", "TOOLS", "T12X"] {
             assert_eq!(super::listed_tool(s), None, "{s}");
         }
+    }
+
+    #[test]
+    fn stock_origin_comments() {
+        let o = super::StockOrigin::parse("STOCK ORIGIN: X0. Y0. Z1. - LOWER LEFT TOP").unwrap();
+        assert_eq!(o.place([[0.0, 0.0, -31.0], [120.0, 70.0, 0.0]]), [[0.0, 0.0, -30.0], [120.0, 70.0, 1.0]]);
+        let c = super::StockOrigin::parse("stock origin X0 Y0 Z0 center top").unwrap();
+        assert_eq!(c.place([[0.0, 0.0, -20.0], [100.0, 50.0, 0.0]]), [[-50.0, -25.0, -20.0], [50.0, 25.0, 0.0]]);
+        assert!(super::StockOrigin::parse("STOCK: X100. Y60. Z20.").is_none());
     }
 
     #[test]

@@ -31,12 +31,20 @@ fn suite() -> Vec<Part> {
     let mut out = Vec::new();
     for side in names.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
         let stem = side.file_stem().unwrap().to_string_lossy().into_owned();
+        let side_text: Value = serde_json::from_str(&std::fs::read_to_string(side).unwrap()).unwrap();
+        let table = side_text["tool_table"].as_str().map(str::to_owned);
+        // The program beside its sidecar: not the sidecar, not its tool table.
         let program = names
             .iter()
-            .find(|p| p.file_stem().is_some_and(|s| s.to_string_lossy() == stem) && p.extension().is_some_and(|e| e != "json"))
+            .find(|p| {
+                let name = p.file_name().unwrap().to_string_lossy();
+                p.file_stem().is_some_and(|s| s.to_string_lossy() == stem)
+                    && p.extension().is_some_and(|e| e != "json")
+                    && table.as_deref() != Some(&*name)
+            })
             .unwrap_or_else(|| panic!("{stem}: a program beside its sidecar"));
-        let side: Value = serde_json::from_str(&std::fs::read_to_string(side).unwrap()).unwrap();
-        let tools = side["tool_table"].as_str().map(|t| std::fs::read_to_string(dir.join(t)).unwrap());
+        let side = side_text;
+        let tools = table.map(|t| std::fs::read_to_string(dir.join(t)).unwrap());
         let bytes = std::fs::read(program).unwrap();
         out.push(Part { name: stem, text: String::from_utf8_lossy(&bytes).into_owned(), side, tools });
     }
