@@ -192,8 +192,8 @@ def f360_840d_holes():
     t1 = T(1, 10, 'SPOT DRILL', -2, taper=90)
     tip_a = r3(-(20 + tip_depth(0, 8, 118) + 1.5))
     t2 = T(2, 8, 'DRILL', tip_a, taper=118)
-    tip_b = r3(-tip_depth(15, 8.5, 118))
-    t3 = T(3, 8.5, 'DRILL', tip_b, taper=118)
+    tip_b = r3(-tip_depth(15, 8.5, 140))
+    t3 = T(3, 8.5, 'DRILL', tip_b, taper=140)
     t4 = T(4, 10, 'RIGHT TAP', -12, pitch=1.5)
     a = [(20, 20), (50, 20), (80, 20), (80, 50), (50, 50), (20, 50)]
     b = [(35, 35), (65, 35)]

@@ -59,9 +59,9 @@ def nx_fanuc_profile():
 def hypermill_tnc_pocket_drill():
     t1 = dict(t=1, d=10, desc='T1 SCHAFTFRAESER D10 Z3 HM')
     t2 = dict(t=2, d=10, desc='T2 NC-ANBOHRER D10 90GRAD')
-    t3 = dict(t=3, d=6.8, desc='T3 SPIRALBOHRER D6.8 118GRAD HM')
+    t3 = dict(t=3, d=6.8, desc='T3 VHM-BOHRER D6.8 140GRAD')
     pts = [(100, 15), (100, 40), (100, 65)]
-    tip = r3(-tip_depth(20, 6.8, 118))
+    tip = r3(-tip_depth(20, 6.8, 140))
     ops = [dict(name='1: T1 2D-TASCHE', tool=t1, S=8000,
                 moves=pocket(50, 40, 60, 40, 5, 10, [-5, -10, -15], 6, 'ramp', 1200, 300,
                              clear=50.0, safe=2.0)),

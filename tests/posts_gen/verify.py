@@ -34,6 +34,7 @@ DESIGN_STOCK = {
     'shop_840d_step': ((0, 90), (0, 60), (-20, 0)),
     'f360_lcnc_step_slot': ((0, 90), (0, 50), (-20, 0)),
     'f360_haas_open_pocket': ((0, 100), (0, 60), (-20, 0)),
+    'shop_fanuc_boltcircle': ((0, 100), (0, 100), (-10, 0)),
 }
 NX_FANUC_TOOLS = {1: 20.0}
 
