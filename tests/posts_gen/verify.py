@@ -355,14 +355,20 @@ def read_cl(text, tools):
         major, _, rest = s.partition('/')
         major = major.strip()
         args = [a.strip() for a in rest.split(',')] if rest else []
+        if major == 'RAPID' and rest.strip() == '':
+            rapid = True
+            continue
         if major in ('TLDATA',):
             v = [a for a in args if re.match(r'^[-\d.]+$', a)]
             P.tool(float(v[0]))
         elif major in ('CUTTER', 'CUTTERC'):
             P.tool(float(args[0]))
+        elif major == 'CIRCLE' and len(args) == 6:
+            v = [float(a) for a in args]
+            pend = ('noradius', v[0], v[1], v[5] > 0)
         elif major == 'RAPID':
             rapid = True
-        elif major == 'CIRCLE':
+        elif major == 'CIRCLE' and len(args) > 6:
             v = [float(a) for a in args[:7]]
             if nx:
                 ccw = v[5] < 0
@@ -376,7 +382,8 @@ def read_cl(text, tools):
             if args[0] == 'OFF':
                 cyc = None
             elif 'FEDTO' in args:
-                cyc = ('rel', float(args[args.index('FEDTO') + 1]))
+                v = float(args[args.index('FEDTO') + 1])
+                cyc = ('rel', v if nx else -v)
             else:
                 cyc = ('bottom', None)
         elif major == 'GOTO':
@@ -384,6 +391,9 @@ def read_cl(text, tools):
             if cyc is not None and not rapid:
                 P.hole(x, y, z + cyc[1] if cyc[0] == 'rel' else z)
                 P.pos = [x, y, z]
+            elif pend and pend[0] == 'noradius':
+                P.arc(x, y, z, pend[1], pend[2], pend[3])
+                pend = None
             elif pend:
                 P.arc(x, y, z, pend[0], pend[1], pend[2])
                 pend = None
