@@ -309,6 +309,13 @@ def read_tnc(text, tools):
         if m:
             P.segs[-1]['rnd'] = float(m.group(1))
             continue
+        m = re.match(r'CR X([-+]?[\d.]+) Y([-+]?[\d.]+) R([-+]?[\d.]+) DR([-+])', t)
+        if m:
+            x, y, r = float(m.group(1)), float(m.group(2)), float(m.group(3))
+            ccw = m.group(4) == '+'
+            cx, cy = arc_from_radius(P.pos, (x, y), r, ccw)
+            P.arc(x, y, None, cx, cy, ccw)
+            continue
         if re.match(r'^(L|C) ', t):
             w = {k: float(v) for k, v in re.findall(r'\b([XYZ])([-+]?[\d.]+)', t)}
             if ' RL' in t:
