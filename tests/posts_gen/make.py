@@ -419,6 +419,15 @@ def f360_haas_open_pocket():
     return 'nc', fusion_fanuc(1041, 'LEVER', ops, haas=True)
 
 
+# ------------------------------------------------------------------ P44
+@prog
+def f360_tnc_pocket_helix():
+    t1 = T(1, 10, 'FLAT END MILL', -6)
+    ops = [dict(name='POCKET2', tool=t1, S=8000,
+                moves=pocket(45, 35, 50, 36, 6, 10, [-3, -6], 6, 'helix', 1000, 300))]
+    return 'h', fusion_tnc('CLAMP_BASE', ops, ((0, 90), (0, 70), (-20, 0)))
+
+
 def main(names):
     os.makedirs(OUT, exist_ok=True)
     for n, fn in PROGRAMS.items():

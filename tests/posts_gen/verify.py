@@ -309,6 +309,14 @@ def read_tnc(text, tools):
         if m:
             P.segs[-1]['rnd'] = float(m.group(1))
             continue
+        m = re.match(r'CP IPA([-+]?[\d.]+) IZ([-+]?[\d.]+) DR([-+])', t)
+        if m:
+            sw, dz = float(m.group(1)), float(m.group(2))
+            a0 = math.atan2(P.pos[1] - cc[1], P.pos[0] - cc[0]) + math.radians(sw)
+            r = math.hypot(P.pos[0] - cc[0], P.pos[1] - cc[1])
+            P.arc(cc[0] + r * math.cos(a0), cc[1] + r * math.sin(a0), P.pos[2] + dz, cc[0], cc[1],
+                  m.group(3) == '+')
+            continue
         m = re.match(r'CR X([-+]?[\d.]+) Y([-+]?[\d.]+) R([-+]?[\d.]+) DR([-+])', t)
         if m:
             x, y, r = float(m.group(1)), float(m.group(2)), float(m.group(3))
