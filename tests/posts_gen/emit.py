@@ -238,6 +238,22 @@ class Klartext:
             if self.cc is None or abs(self.cc[0] - cx) > 5e-4 or abs(self.cc[1] - cy) > 5e-4:
                 self.block('CC X%s Y%s' % (self.nf(cx), self.nf(cy)))
                 self.cc = (cx, cy)
+            if self.pos[2] is not None and abs(self.pos[2] - z) > 5e-4:
+                # helix: polar arc about the pole, incremental angle and depth (Fusion heidenhain.cps)
+                a0 = math.degrees(math.atan2(self.pos[1] - cy, self.pos[0] - cx))
+                a1 = math.degrees(math.atan2(y - cy, x - cx))
+                sw = (a1 - a0) % 360 if d == 'ccw' else -((a0 - a1) % 360)
+                if abs(sw) < 1e-6:
+                    sw = 360 if d == 'ccw' else -360
+                dz = z - self.pos[2]
+                self.pos = [x, y, z]
+                fw = ''
+                if f != self.feed:
+                    fw = ' F%d' % round(f)
+                    self.feed = f
+                self.block('CP IPA%s IZ%s DR%s %s%s' % (num(sw, 'tnc'), num(dz, 'tnc'),
+                                                      '+' if d == 'ccw' else '-', self.comp, fw))
+                return
             self.pos[0] = x
             self.pos[1] = y
             w = ['X' + self.nf(x), 'Y' + self.nf(y)]

@@ -192,8 +192,8 @@ def f360_840d_holes():
     t1 = T(1, 10, 'SPOT DRILL', -2, taper=90)
     tip_a = r3(-(20 + tip_depth(0, 8, 118) + 1.5))
     t2 = T(2, 8, 'DRILL', tip_a, taper=118)
-    tip_b = r3(-tip_depth(15, 8.5, 118))
-    t3 = T(3, 8.5, 'DRILL', tip_b, taper=118)
+    tip_b = r3(-tip_depth(15, 8.5, 140))
+    t3 = T(3, 8.5, 'DRILL', tip_b, taper=140)
     t4 = T(4, 10, 'RIGHT TAP', -12, pitch=1.5)
     a = [(20, 20), (50, 20), (80, 20), (80, 50), (50, 50), (20, 50)]
     b = [(35, 35), (65, 35)]
@@ -417,6 +417,15 @@ def f360_haas_open_pocket():
     ms.append(('rapid', None, None, 15.0))
     ops = [dict(name='POCKET2', tool=t1, S=8000, moves=ms)]
     return 'nc', fusion_fanuc(1041, 'LEVER', ops, haas=True)
+
+
+# ------------------------------------------------------------------ P44
+@prog
+def f360_tnc_pocket_helix():
+    t1 = T(1, 10, 'FLAT END MILL', -6)
+    ops = [dict(name='POCKET2', tool=t1, S=8000,
+                moves=pocket(45, 35, 50, 36, 6, 10, [-3, -6], 6, 'helix', 1000, 300))]
+    return 'h', fusion_tnc('CLAMP_BASE', ops, ((0, 90), (0, 70), (-20, 0)))
 
 
 def main(names):

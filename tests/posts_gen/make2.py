@@ -59,9 +59,9 @@ def nx_fanuc_profile():
 def hypermill_tnc_pocket_drill():
     t1 = dict(t=1, d=10, desc='T1 SCHAFTFRAESER D10 Z3 HM')
     t2 = dict(t=2, d=10, desc='T2 NC-ANBOHRER D10 90GRAD')
-    t3 = dict(t=3, d=6.8, desc='T3 SPIRALBOHRER D6.8 118GRAD HM')
+    t3 = dict(t=3, d=6.8, desc='T3 VHM-BOHRER D6.8 140GRAD')
     pts = [(100, 15), (100, 40), (100, 65)]
-    tip = r3(-tip_depth(20, 6.8, 118))
+    tip = r3(-tip_depth(20, 6.8, 140))
     ops = [dict(name='1: T1 2D-TASCHE', tool=t1, S=8000,
                 moves=pocket(50, 40, 60, 40, 5, 10, [-5, -10, -15], 6, 'ramp', 1200, 300,
                              clear=50.0, safe=2.0)),
@@ -284,6 +284,70 @@ def creo_slot_step():
     L.append('$$-> END /')
     L.append('FINI')
     return 'ncl', '\n'.join(L) + '\n'
+
+
+# ------------------------------------------------------------------ P43 SolidWorks CAM .apt
+def swnum(v):
+    v = round(v + 0.0, 6)
+    if abs(v) < 5e-7:
+        return '0'
+    t = ('%.6f' % v).rstrip('0')
+    if t.startswith('0.'):
+        t = t[1:]
+    elif t.startswith('-0.'):
+        t = '-' + t[2:]
+    return t
+
+
+@prog
+def swcam_pocket_drill():
+    """SolidWorks CAM / CAMWorks .apt shape (cldata.md C-SW): PARTNO/1, UNIT/MM, INSERT/Stock Size,
+    TRNTYP + CSYS, INSERT tool text, CUTTER 7 parameters, LOAD/TOOL, SELECT/TOOL, RAPID/ with a slash,
+    CIRCLE/centre,axis with no radius (counter-clockwise about the axis), CYCLE/INIT +
+    CYCLE/DRILL,FEDTO,..,MMPM,..,RAPTO,..,RTRCTO,..,DWELL,0 with hole-top GOTOs, FINI."""
+    L = ['PARTNO/1', 'UNIT/MM', 'INSERT/Stock Size X100. Y60. Z20.', 'TRNTYP/WORLD,0,0,0',
+         'CSYS/1.,0,0,0,0,1.,0,0,0,0,1.,0', 'SETUP/START,1']
+    pos = [0.0, 0.0, 25.0]
+    feed = [None]
+
+    def goto(x, y, z):
+        x = pos[0] if x is None else x
+        y = pos[1] if y is None else y
+        z = pos[2] if z is None else z
+        pos[:] = [x, y, z]
+        L.append('GOTO/%s,%s,%s' % (swnum(x), swnum(y), swnum(z)))
+
+    L += ['INSERT/T01 8mm CRB 3FL 19 LOC', 'CUTTER/8.,0,4.,0,0,0,19.', 'LOAD/TOOL,1', 'SELECT/TOOL,2',
+          'SPINDL/9000,RPM,CLW', 'COOLNT/FLOOD']
+    for mv in pocket(30, 30, 30, 20, 5, 8, [-2.5, -5], 5, 'plunge', 900, 250, clear=25.0, safe=3.0):
+        if mv[0] == 'rapid':
+            L.append('RAPID/')
+            goto(*mv[1:4])
+        elif mv[0] == 'line':
+            if mv[4] != feed[0]:
+                L.append('FEDRAT/%s,MMPM' % swnum(mv[4]))
+                feed[0] = mv[4]
+            goto(*mv[1:4])
+        elif mv[0] == 'arc':
+            _, d, x, y, z, cx, cy, f = mv
+            L.append('CIRCLE/%s,%s,%s,0,0,%s' % (swnum(cx), swnum(cy), swnum(pos[2]),
+                                                 '1.' if d == 'ccw' else '-1.'))
+            goto(x, y, z)
+    L += ['INSERT/T02 6.6mm JOBBER DRILL', 'CUTTER/6.6,0,3.3,1.982912,31.,0,60.', 'LOAD/TOOL,2',
+          'SPINDL/3000,RPM,CLW', 'COOLNT/FLOOD']
+    pts = [(70, 15), (90, 15), (90, 45), (70, 45)]
+    L.append('RAPID/')
+    goto(pts[0][0], pts[0][1], 25)
+    L.append('CYCLE/INIT')
+    tip = r3(tip_depth(12, 6.6, 118))
+    L.append('CYCLE/DRILL,FEDTO,%s,MMPM,250.,RAPTO,3.,RTRCTO,25.,DWELL,0' % swnum(tip))
+    for p_ in pts:
+        goto(p_[0], p_[1], 0)
+    L.append('CYCLE/OFF')
+    L.append('RAPID/')
+    goto(None, None, 25)
+    L += ['COOLNT/OFF', 'SPINDL/OFF', 'SETUP/END,1', 'FINI']
+    return 'apt', '\n'.join(L) + '\n'
 
 
 def main(names):
