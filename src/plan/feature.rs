@@ -300,6 +300,10 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
         }
         _ => tip_depth,
     };
+    // A point that never goes in to its full diameter only marks the hole (spot drilling
+    // with a drill): its diameter is not the hole's.
+    let marks = matches!(bottom, HoleBottom::Conical(_)) && diameter.is_some() && depth <= 1e-6;
+    let (diameter, depth) = if marks { (None, tip_depth) } else { (diameter, depth) };
     let origin = first.map_or([0.0, 0.0], |h| [h.x, h.y]);
     let positions = ws.holes.iter().map(|h| [h.x - origin[0], h.y - origin[1]]).collect();
     let size = if diameter.is_some() { Source::of_tool(tool) } else { Source::Unknown };
@@ -310,7 +314,7 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
         top_inferred,
         sources: Sources { size, top: top_source, point_angle },
         centre_path: None,
-        operation: ws.operation,
+        operation: if marks { Operation::CenterDrilling } else { ws.operation },
         strategy: None,
         axial_depth: ws.holes.iter().filter_map(|h| h.peck).reduce(f64::max),
         radial_depth: None,

@@ -278,7 +278,8 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
 /// bull nose; a `CUTTER` with a bottom angle and no radius is a drill.
 fn apt_tool_statement(up: &str) -> Option<ToolFacts> {
     let (major, rest) = up.split_once('/')?;
-    let major = major.trim();
+    // Creo writes the cutter as a comment, `$$-> CUTTER / 20.000000`.
+    let major = major.trim().trim_start_matches("->").trim();
     if major != "TLDATA" && major != "CUTTER" {
         return None;
     }
@@ -323,7 +324,9 @@ fn point_angle(up: &str) -> Option<f64> {
         s[..end].parse::<f64>().ok()
     };
     let after = |key: &str| up.find(key).and_then(|i| number(&up[i + key.len()..]));
-    let before_deg = up.find("DEG").and_then(|i| {
+    // `118DEG`, `140 GRAD` (German shops), `118°`.
+    let before_deg = ["DEG", "GRAD", "°"].iter().find_map(|unit| {
+        let i = up.find(unit)?;
         let head = up[..i].trim_end();
         let start = head.rfind(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(0, |k| k + 1);
         head[start..].parse::<f64>().ok()

@@ -202,8 +202,15 @@ pub(super) fn gather(
             None => (phys, None),
         };
         if let Some(i) = comment {
-            command = recs.command.as_deref().is_some_and(|c| phys[i..].starts_with(c));
-            if !command {
+            let opener = recs.command.as_deref().filter(|c| phys[i..].starts_with(*c));
+            command = opener.is_some();
+            // A command that states a tool's geometry (Creo `$$-> CUTTER / 20.0`) is kept as
+            // the statement record of that name is: a tool comment the plan reads.
+            let statement = opener.is_some_and(|c| {
+                let major = phys[i + c.len()..].split('/').next().unwrap_or("").trim().to_ascii_uppercase();
+                recs.records.iter().any(|r| r.major == major && r.action == RecordAction::Statement)
+            });
+            if !command || statement {
                 block.comments.push(range(cur + i + recs.comment.len(), le));
             }
         }
