@@ -1413,9 +1413,10 @@ fn write_plan(out: &mut impl Write, plan: &crate::plan::ProcessPlan) -> Result<(
             num(s.size[0]),
             num(s.size[1]),
             num(s.size[2]),
-            match s.source {
-                crate::plan::StockSource::Config => "configuration",
-                crate::plan::StockSource::Program => "program",
+            match (s.source, s.line) {
+                (crate::plan::StockSource::Config, _) => "configuration".to_owned(),
+                (crate::plan::StockSource::Program, Some(l)) => format!("program, line {l}"),
+                (crate::plan::StockSource::Program, None) => "program".to_owned(),
             }
         )?,
         None => writeln!(out, "stock unknown")?,

@@ -649,6 +649,24 @@ mod tests {
     use super::*;
 
     #[test]
+    fn tool_tables_per_configuration_and_machine() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("tool.tbl"), "T1 P1 D10 Z50 ;end mill\nT2 P2 D6.8 ;drill\n").unwrap();
+        std::fs::write(dir.path().join("TOOL.T"), "BEGIN TOOL.T MM\nT  NAME   L   R   T-ANGLE\n2  DRILL  80  4.25  140\n[END]\n").unwrap();
+        let text = "tool_table = 'tool.tbl'\n[database]\npath = 'db'\n\
+                    [[machine]]\nname = 'TNC'\npath = 'tnc'\ndialect = 'heidenhain'\ntool_table = 'TOOL.T'\n\
+                    [[machine.tool]]\nnumber = 3\ndiameter = 12.0\n";
+        let c = Config::parse(text, dir.path()).unwrap();
+        assert_eq!(c.profile.tools[&1].diameter, Some(10.0));
+        assert_eq!(c.profile.tools[&2].diameter, Some(6.8));
+        let tnc = &c.folders[0].tools;
+        assert_eq!((tnc[&2].diameter, tnc[&2].point_angle), (Some(8.5), Some(140.0)));
+        assert_eq!(tnc[&3].diameter, Some(12.0));
+        let missing = Config::parse("tool_table = 'none.tbl'\n[database]\npath = 'db'\n", dir.path()).unwrap_err();
+        assert!(format!("{missing:#}").contains("cannot read the tool table"), "{missing:#}");
+    }
+
+    #[test]
     fn a_machine_can_override_the_decimal_point_rule() {
         let text = "[database]\npath = 'db'\n[[machine]]\nname = 'M1'\npath = 'm1'\ndialect = 'fanuc'\ndecimal_input = 'calculator'\n\
                     [[machine]]\nname = 'M2'\npath = 'm2'\ndialect = 'linuxcnc'\ndecimal_input = 'least-increment'\n";

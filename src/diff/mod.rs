@@ -1053,7 +1053,12 @@ fn compare_features(fa: &crate::plan::Feature, fb: &crate::plan::Feature, depth_
             any = true;
         }
     };
-    if !depth_reported {
+    // A hole's depth to its full diameter follows from what is known of the drill (its
+    // diameter, its point): known on one side only, the depths differ by knowledge, not by
+    // machining; the programmed bottom is compared with the cycle's parameters.
+    let known_alike = |f: &crate::plan::Feature| (f.sources.size, f.sources.point_angle, std::mem::discriminant(&f.kind));
+    let hole = matches!(fa.kind, FeatureKind::RoundHole { .. });
+    if !depth_reported && (!hole || known_alike(fa) == known_alike(fb)) {
         dim("feature_depth", Some(fa.depth), Some(fb.depth));
     }
     match (&fa.kind, &fb.kind) {

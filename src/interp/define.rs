@@ -164,7 +164,8 @@ impl Interpreter<'_> {
         let get = |r: Role| args.iter().find(|(a, _)| *a == r).map(|(_, v)| *v);
         let flags = get(Role::BlankFlags).unwrap_or(0.0) as u32;
         let absolute = |bit: u32| flags & (1 << bit) != 0;
-        let (Some(top), Some(z1), Some(x0), Some(y0)) = (get(Role::BlankTop), get(Role::BlankBottom), get(Role::BlankX0), get(Role::BlankY0))
+        let (Some(top), Some(z1), Some(x0), Some(y0)) =
+            (get(Role::BlankTop), get(Role::BlankBottom), get(Role::BlankX0), get(Role::BlankY0))
         else {
             return;
         };

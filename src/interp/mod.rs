@@ -826,6 +826,9 @@ impl<'a> Interpreter<'a> {
     /// Ends the run: nothing stays held back.
     pub fn flush(&self, sink: &mut dyn CanonSink) {
         self.comp_off(sink);
+        // A move the corner stage holds goes out too when the run stops without an end
+        // (an error, the end of the text).
+        self.corners_out(sink);
     }
 
     /// A point through programmable scaling (G51), then rotation (G68), as the control moves.

@@ -64,9 +64,10 @@ pub fn write<W: std::io::Write>(plan: &ProcessPlan, class: Class, timestamp: &st
     let rawpiece = match &shape.workpiece {
         Some(s) => {
             let pos = w.placement(s.origin, None);
-            let source = match s.source {
-                StockSource::Config => "stock from config",
-                StockSource::Program => "stock from program",
+            let source = match (s.source, s.line) {
+                (StockSource::Config, _) => "stock from config".to_owned(),
+                (StockSource::Program, Some(l)) => format!("stock from program line {l}"),
+                (StockSource::Program, None) => "stock from program".to_owned(),
             };
             let block =
                 w.b.add("BLOCK", vec![Value::str(source), pos, Value::Real(s.size[0]), Value::Real(s.size[1]), Value::Real(s.size[2])]);
@@ -930,9 +931,11 @@ impl Reader<'_> {
             return Ok(None);
         }
         let block = self.inst(block)?;
-        let source = if self.string(block, 0)?.ends_with("config") { StockSource::Config } else { StockSource::Program };
+        let said = self.string(block, 0)?;
+        let source = if said.ends_with("config") { StockSource::Config } else { StockSource::Program };
+        let line = said.split_once(" line ").and_then(|(_, l)| l.parse().ok());
         let origin = self.placement(self.attr(block, 1)?)?;
-        Ok(Some(Stock { origin, size: [self.real(block, 2)?, self.real(block, 3)?, self.real(block, 4)?], source }))
+        Ok(Some(Stock { origin, size: [self.real(block, 2)?, self.real(block, 3)?, self.real(block, 4)?], source, line }))
     }
 
     fn tool(&self, v: &Value) -> Result<Tool, String> {

@@ -278,7 +278,8 @@ fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: Opt
     let kind = tool.map_or(ToolKind::Unknown, |t| t.kind);
     // A spot drill or countersink marks the hole; its diameter is not the hole's.
     let diameter = tool.filter(|t| !matches!(t.kind, ToolKind::CenterDrill | ToolKind::Countersink)).and_then(|t| t.diameter);
-    let pointed = matches!(kind, ToolKind::TwistDrill | ToolKind::CenterDrill) || kind == ToolKind::Unknown && ws.operation != Operation::Boring;
+    let pointed =
+        matches!(kind, ToolKind::TwistDrill | ToolKind::CenterDrill) || kind == ToolKind::Unknown && ws.operation != Operation::Boring;
     let (bottom, point_angle) = if through {
         (HoleBottom::Through, None)
     } else if pointed {
@@ -355,7 +356,11 @@ fn plunged_holes(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -
         HoleBottom::Flat
     };
     Some(Candidate {
-        kind: FeatureKind::RoundHole { diameter: Some(d), bottom: bottom_kind, positions: at.iter().map(|p| [p[0] - first[0], p[1] - first[1]]).collect() },
+        kind: FeatureKind::RoundHole {
+            diameter: Some(d),
+            bottom: bottom_kind,
+            positions: at.iter().map(|p| [p[0] - first[0], p[1] - first[1]]).collect(),
+        },
         placement: [first[0], first[1], top],
         depth: round6(top - bottom),
         top_inferred,
@@ -603,7 +608,11 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         placement: [0.0, 0.0, top],
         depth: top - bottom,
         top_inferred,
-        sources: Sources { size: if contour_programmed { Source::Program } else { Source::of_tool(tool) }, top: top_source, point_angle: None },
+        sources: Sources {
+            size: if contour_programmed { Source::Program } else { Source::of_tool(tool) },
+            top: top_source,
+            point_angle: None,
+        },
         centre_path: None,
         operation: Operation::FreeformMilling,
         strategy: None,
@@ -807,9 +816,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
     if let (Some(st), Some(rad), true) = (stock, radius, loops.is_empty()) {
         let (lo, hi) = (st.origin, st.max());
         let outside = |p: P2| p[0] < lo[0] - EPS || p[0] > hi[0] + EPS || p[1] < lo[1] - EPS || p[1] > hi[1] + EPS;
-        let side_of = |p: P2| {
-            [p[0] < lo[0] - EPS, p[0] > hi[0] + EPS, p[1] < lo[1] - EPS, p[1] > hi[1] + EPS].iter().position(|x| *x)
-        };
+        let side_of = |p: P2| [p[0] < lo[0] - EPS, p[0] > hi[0] + EPS, p[1] < lo[1] - EPS, p[1] > hi[1] + EPS].iter().position(|x| *x);
         let turning = |c: &Vec<Piece>| c.iter().any(|p| p.arc.is_some() || cross(p.dir(), c[0].dir()).abs() > 1e-6);
         let ends: Vec<Option<usize>> = chains.iter().flat_map(|c| [side_of(c[0].from), side_of(c[c.len() - 1].to)]).collect();
         let one_side = ends.first().copied().flatten().is_some() && ends.iter().all(|e| *e == ends[0]);
@@ -955,7 +962,8 @@ fn make_step(cand: &mut Candidate, st: &Stock, swept: (P2, P2), u: P2, n: [bool;
     let smax = st.max();
     let (lo, hi) = (st.origin[k], smax[k]);
     let high_side = step_side(n, u) == Some(true);
-    let (wall, width) = if high_side { (swept.0[across], smax[across] - swept.0[across]) } else { (swept.1[across], swept.1[across] - st.origin[across]) };
+    let (wall, width) =
+        if high_side { (swept.0[across], smax[across] - swept.0[across]) } else { (swept.1[across], swept.1[across] - st.origin[across]) };
     let mut start = [0.0; 2];
     start[k] = lo;
     start[across] = wall;

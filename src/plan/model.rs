@@ -59,6 +59,9 @@ pub struct Stock {
     pub size: P3,
     /// Where it came from.
     pub source: StockSource,
+    /// The program line that states it (`BLK FORM`, `WORKPIECE`, a stock comment).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub line: Option<u32>,
 }
 
 impl Stock {

@@ -55,9 +55,17 @@ impl<'p> Recoverer<'p> {
             last.state.stops.extend(r.pending_stops.drain(..).map(|s| Stop { at: n, ..s }));
             last.state.dwells.extend(r.pending_dwells.drain(..).map(|d| Dwell { at: n, ..d }));
         }
-        let stock = |[min, max]: [P3; 2], source| Stock { origin: min, size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]], source };
+        let stock = |[min, max]: [P3; 2], source, line| Stock {
+            origin: min,
+            size: [max[0] - min[0], max[1] - min[1], max[2] - min[2]],
+            source,
+            line,
+        };
         let placed = r.stock.map(|s| r.stock_origin.map_or(s, |o| o.place(s)));
-        let workpiece = profile.stock.map(|s| stock(s, StockSource::Config)).or_else(|| placed.map(|s| stock(s, StockSource::Program)));
+        let workpiece = profile
+            .stock
+            .map(|s| stock(s, StockSource::Config, None))
+            .or_else(|| placed.map(|s| stock(s, StockSource::Program, r.stock_line)));
         let mut tools: Vec<Tool> = r.tools.into_values().collect();
         tools.sort_by_key(|t| t.number);
         let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
@@ -331,11 +339,7 @@ fn point_angle(up: &str) -> Option<f64> {
         let start = head.rfind(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(0, |k| k + 1);
         head[start..].parse::<f64>().ok()
     });
-    after("TAPER")
-        .or_else(|| after("POINT ANGLE"))
-        .or_else(|| after("POINT"))
-        .or(before_deg)
-        .filter(|a| *a >= 60.0 && *a < 180.0)
+    after("TAPER").or_else(|| after("POINT ANGLE")).or_else(|| after("POINT")).or(before_deg).filter(|a| *a >= 60.0 && *a < 180.0)
 }
 
 /// The diameter of a short end-mill name (`EM10`, `EM12.5`).
@@ -500,6 +504,8 @@ struct Recovery<'p> {
     stock: Option<[P3; 2]>,
     /// Where a stock origin comment puts the stock (`STOCK ORIGIN: X0 Y0 Z1 - LOWER LEFT TOP`).
     stock_origin: Option<StockOrigin>,
+    /// The line that stated the stock.
+    stock_line: Option<u32>,
     /// Work offset in force (1 for G54).
     wcs: u16,
     /// Length offset number in force.
@@ -550,6 +556,7 @@ impl<'p> Recovery<'p> {
             surface: None,
             stock: None,
             stock_origin: None,
+            stock_line: None,
             wcs: 1,
             h: None,
             comp: None,
@@ -750,6 +757,7 @@ impl<'p> Recovery<'p> {
             }
             CanonOp::Comment(s) if self.stock.is_none() && parse_stock(s).is_some() => {
                 self.stock = parse_stock(s).map(|[a, b]| [a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
+                self.stock_line = Some(c.line);
             }
             CanonOp::Comment(s) => {
                 if let Some(n) = listed_tool(s) {

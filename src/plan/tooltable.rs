@@ -52,17 +52,30 @@ pub enum Format {
 pub fn read(text: &str, inch: bool) -> Result<(Format, Tools), String> {
     let first = text.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("");
     let up = first.to_ascii_uppercase();
-    if up.starts_with("BEGIN") && up.contains(".T") {
-        return heidenhain(text).map(|t| (Format::Heidenhain, t));
+    let (format, tools) = if up.starts_with("BEGIN") && up.contains(".T") {
+        (Format::Heidenhain, heidenhain(text)?)
+    } else if text.lines().any(|l| l.trim_start().starts_with("$TC_DP")) {
+        (Format::Siemens, siemens(text))
+    } else if text.lines().any(|l| g10_block(l).is_some()) {
+        (Format::FanucOffsets, fanuc(text))
+    } else {
+        (Format::LinuxCnc, linuxcnc(text, if inch { 25.4 } else { 1.0 })?)
+    };
+    if tools.is_empty() {
+        return Err(
+            "no tools in it: a tool table is a LinuxCNC tool.tbl, a Heidenhain TOOL.T, Fanuc G10 offset blocks or Siemens $TC_DP data"
+                .into(),
+        );
     }
-    if text.contains("$TC_DP") {
-        return Ok((Format::Siemens, siemens(text)));
-    }
-    let g10 = text.lines().any(|l| l.to_ascii_uppercase().replace(' ', "").contains("G10L1"));
-    if g10 {
-        return Ok((Format::FanucOffsets, fanuc(text)));
-    }
-    linuxcnc(text, if inch { 25.4 } else { 1.0 }).map(|t| (Format::LinuxCnc, t))
+    Ok((format, tools))
+}
+
+/// A `G10 L1x` block of an offset listing, blanks and a block number left out: its words
+/// after `G10`.
+fn g10_block(line: &str) -> Option<String> {
+    let compact: String = line.chars().filter(|c| !c.is_whitespace()).collect::<String>().to_ascii_uppercase();
+    let rest = compact.strip_prefix('N').map_or(compact.as_str(), |r| r.trim_start_matches(|c: char| c.is_ascii_digit()));
+    rest.strip_prefix("G10").filter(|r| r.starts_with("L1")).map(str::to_owned)
 }
 
 fn blank_tool() -> ToolData {
@@ -184,10 +197,9 @@ fn fanuc(text: &str) -> Tools {
     // Offset number → (radius geometry, length geometry).
     let mut offsets: BTreeMap<u32, [f64; 2]> = BTreeMap::new();
     for line in up.lines() {
-        let compact: String = line.chars().filter(|c| !c.is_whitespace()).collect();
-        let Some(at) = compact.find("G10") else { continue };
+        let Some(rest) = g10_block(line) else { continue };
         let mut ws = Vec::new();
-        let rest = &compact[at + 3..];
+        let rest = rest.as_str();
         let mut i = 0;
         let b = rest.as_bytes();
         while i < b.len() {
@@ -251,19 +263,20 @@ fn siemens(text: &str) -> Tools {
             "DP6" => t.diameter = num.filter(|r| *r > 0.0).map(|r| 2.0 * r),
             "DP7" => t.corner_radius = num.filter(|r| *r > 0.0),
             "DP1" => {
-                t.kind = num.and_then(|v| match v as u32 {
-                    110 | 111 => Some("ball_end_mill"),
-                    121 => Some("bullnose_end_mill"),
-                    140 => Some("face_mill"),
-                    100..=199 => Some("end_mill"),
-                    200 => Some("twist_drill"),
-                    220 => Some("center_drill"),
-                    230 => Some("countersink"),
-                    240 => Some("tap"),
-                    250 => Some("reamer"),
-                    _ => None,
-                })
-                .map(str::to_owned)
+                t.kind = num
+                    .and_then(|v| match v as u32 {
+                        110 | 111 => Some("ball_end_mill"),
+                        121 => Some("bullnose_end_mill"),
+                        140 => Some("face_mill"),
+                        100..=199 => Some("end_mill"),
+                        200 => Some("twist_drill"),
+                        220 => Some("center_drill"),
+                        230 => Some("countersink"),
+                        240 => Some("tap"),
+                        250 => Some("reamer"),
+                        _ => None,
+                    })
+                    .map(str::to_owned)
             }
             _ => {}
         }

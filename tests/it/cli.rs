@@ -258,3 +258,40 @@ fn translate_writes_a_stored_revision() {
     assert_eq!(code, 0, "{err}");
     assert!(out.starts_with("%_N_O1002_MPF\n") && out.contains("MCALL CYCLE81(50,0,2,-15)"), "{out}");
 }
+
+/// A Klartext pocket 50 x 30 r8 cut by T1 (D12) in computer compensation, its radius only in
+/// the shop's TOOL.T: without the table its size is unknown and the tool-centre path is said;
+/// with `--tool-table` it is the pocket's, said to come from the table.
+#[test]
+fn plan_takes_tool_sizes_from_a_tool_table_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("PK.h");
+    std::fs::write(
+        &program,
+        "0 BEGIN PGM PK MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-20\n2 BLK FORM 0.2 X+100 Y+80 Z+0\n3 TOOL CALL 1 Z S6000\n\
+         4 L Z+50 R0 FMAX M3\n5 L X+50 Y+40 R0 FMAX\n6 L Z+2 R0 FMAX\n7 L Z-5 R0 F200\n8 L X+50 Y+31 R0 F800\n\
+         9 L X+67\n10 CC X+67 Y+33\n11 C X+69 Y+33 DR+\n12 L Y+47\n13 CC X+67 Y+47\n14 C X+67 Y+49 DR+\n15 L X+33\n\
+         16 CC X+33 Y+47\n17 C X+31 Y+47 DR+\n18 L Y+33\n19 CC X+33 Y+33\n20 C X+33 Y+31 DR+\n21 L X+50\n\
+         22 L Z+50 R0 FMAX\n23 M30\n24 END PGM PK MM\n",
+    )
+    .unwrap();
+    let table = dir.path().join("TOOL.T");
+    std::fs::write(&table, "BEGIN TOOL.T MM\nT    NAME   L    R   R2  T-ANGLE\n1    EM12   50   6   0   0\n[END]\n").unwrap();
+    let program = program.to_str().unwrap();
+    let (code, out, err) = ncplan(&["plan", "-d", "heidenhain", program]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("feature 1 closed pocket at X50 Y40 Z0 depth 5"), "{out}");
+    assert!(out.contains("size unknown (the tool's diameter is not known; the tool-centre path spans 38 x 18)"), "{out}");
+    let (code, out, err) = ncplan(&["plan", "-d", "heidenhain", "--tool-table", table.to_str().unwrap(), program]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("feature 1 closed pocket 50 x 30 r8 at X50 Y40 Z0 depth 5"), "{out}");
+    assert!(out.contains("size from the tool table, top from the stock"), "{out}");
+    let (code, json, err) = ncplan(&["plan", "-d", "heidenhain", "--tool-table", table.to_str().unwrap(), "--format", "json", program]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["features"][0]["sources"]["size"], "tool_table");
+    assert_eq!(v["workpiece"]["line"], 3, "the line of `BLK FORM 0.2`, which completes the blank");
+    let (code, _, err) = ncplan(&["plan", "-d", "heidenhain", "--tool-table", "tests/programs/posts/README.md", program]);
+    assert_eq!(code, 2);
+    assert!(err.contains("in the tool table tests/programs/posts/README.md"), "{err}");
+}

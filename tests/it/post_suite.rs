@@ -79,9 +79,9 @@ fn kind_name(k: &FeatureKind) -> String {
 /// The extent of a feature's contour, absolute.
 fn extent(f: &Feature) -> Option<([f64; 2], [f64; 2])> {
     let c = match &f.kind {
-        FeatureKind::ClosedPocket { boundary, .. } | FeatureKind::OpenPocket { boundary } | FeatureKind::OutsideProfile { boundary, .. } => {
-            boundary
-        }
+        FeatureKind::ClosedPocket { boundary, .. }
+        | FeatureKind::OpenPocket { boundary }
+        | FeatureKind::OutsideProfile { boundary, .. } => boundary,
         _ => return None,
     };
     let mut min = [f64::INFINITY; 2];
