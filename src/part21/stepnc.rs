@@ -1359,7 +1359,10 @@ impl Reader<'_> {
             "GENERAL_OUTSIDE_PROFILE" => {
                 let profile = self.inst(self.attr(f, 6)?)?;
                 let boundary = self.contour(self.attr(profile, 1)?)?;
-                let (rectangle, corner_radius) = plan::feature::rectangle_of(&boundary).map_or((None, None), |(r, c)| (Some(r), c));
+                // A rectangle's sizes, as the plan gives them where its size is known.
+                let known = feature.sources.size != Source::Unknown;
+                let (rectangle, corner_radius) =
+                    plan::feature::rectangle_of(&boundary).filter(|_| known).map_or((None, None), |(r, c)| (Some(r), c));
                 FeatureKind::OutsideProfile { boundary, rectangle, corner_radius }
             }
             "TOOLPATH_FEATURE" => FeatureKind::Toolpath,
