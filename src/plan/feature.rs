@@ -978,7 +978,7 @@ fn make_step(cand: &mut Candidate, st: &Stock, swept: (P2, P2), u: P2, n: [bool;
 /// past it by at most `gap`, closed there: the loop ends where it began. Chains that close
 /// exactly, or that do not come back, are as they were.
 fn close_gap(chain: &[Piece], gap: f64) -> Vec<Piece> {
-    if chain.len() < 4 || chain.len() > 4000 {
+    if chain.len() < 4 {
         return chain.to_vec();
     }
     let on_line = |a: &Piece, b: &Piece| {
@@ -989,8 +989,10 @@ fn close_gap(chain: &[Piece], gap: f64) -> Vec<Piece> {
             && cross(a.dir(), [b.from[0] - a.from[0], b.from[1] - a.from[1]]).abs() < 1e-4
     };
     // The longest loop first: the last piece coming back onto the line of the earliest one.
-    for i in 0..chain.len() {
-        for j in (i + 3..chain.len()).rev() {
+    // Lead-ins and lead-outs lie near the chain's ends: the search stays there, bounded.
+    const NEAR_END: usize = 64;
+    for i in 0..chain.len().min(NEAR_END) {
+        for j in (chain.len().saturating_sub(NEAR_END).max(i + 3)..chain.len()).rev() {
             let (a, b) = (chain[i], chain[j]);
             if !on_line(&a, &b) {
                 continue;
