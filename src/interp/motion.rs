@@ -51,18 +51,18 @@ impl Interpreter<'_> {
             }
         }
         if self.slots[Role::PolarRadius as usize].is_some() || self.slots[Role::PolarAngle as usize].is_some() {
-            self.polar_target(&mut t);
+            self.polar_target(self.st.pos, &mut t);
         }
         t
     }
 
     /// `LP PR+30 PA+45`, `CP IPA+90`: the end point in the plane from its distance to the pole
     /// and its angle about it; a missing one keeps the current point's, an incremental one
-    /// (`IPR`, `IPA`) adds to it.
-    pub(super) fn polar_target(&self, t: &mut [f64; 6]) {
+    /// (`IPR`, `IPA`) adds to the distance and angle of `from`, the point the move starts at.
+    pub(super) fn polar_target(&self, from: [f64; 6], t: &mut [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (px, py) = self.st.pole;
-        let (dx, dy) = (self.st.pos[a0] - px, self.st.pos[a1] - py);
+        let (dx, dy) = (from[a0] - px, from[a1] - py);
         let polar = |role: Role, current: f64| match self.slots[role as usize] {
             None => current,
             Some(s) if self.incremental(role) => current + s.value,
