@@ -556,6 +556,7 @@ impl Cx {
             h0_spindle_tool: false,
             probe_backoff_mm: 0.0,
             probe_backoff_inch: 0.0,
+            probe_tripped: 1.0,
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
@@ -593,6 +594,7 @@ impl Cx {
                 "position-after-tool-change",
                 "h0",
                 "probe-backoff-mm",
+                "probe-tripped",
                 "probe-backoff-inch",
                 "peck-clearance-mm",
                 "peck-clearance-inch",
@@ -645,6 +647,7 @@ impl Cx {
         b.tool_change_rereads_position = self.either(el, "position-after-tool-change", "program", "last-move");
         b.probe_backoff_mm = self.number(el, "probe-backoff-mm", 0.0).max(0.0);
         b.probe_backoff_inch = self.number(el, "probe-backoff-inch", b.probe_backoff_mm / 25.4).max(0.0);
+        b.probe_tripped = if self.either(el, "probe-tripped", "1", "0") { 0.0 } else { 1.0 };
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);

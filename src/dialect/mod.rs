@@ -286,6 +286,9 @@ pub struct Behaviour {
     pub probe_backoff_mm: f64,
     /// The same in inch programs.
     pub probe_backoff_inch: f64,
+    /// What the probe-tripped variable reads after a probe move: 1 (it touched, the way a
+    /// successful run goes) or 0 (rs274's simulator never trips, `probe-tripped="0"`).
+    pub probe_tripped: f64,
     /// Peck-drilling re-approach clearance, mm.
     pub peck_clearance_mm: f64,
     /// Peck-drilling re-approach clearance, inch.

@@ -266,9 +266,11 @@ impl Interpreter<'_> {
     /// away, leaves contact). Where that is, only the machine knows: the analysis takes the
     /// programmed end point for the probe result variables (written once, then the program's
     /// to change) and, backed off towards the start by the dictionary's `probe-backoff`, for
-    /// the position, as rs274's simulator does. A probe that must touch (G38.2, G38.4) is
-    /// taken to have touched, since the run stops otherwise; so is a quiet one (G38.3,
-    /// G38.5), the way a successful run goes. Only a quiet probe may have no length.
+    /// the position, as rs274's simulator does. The tripped variable reads the dictionary's
+    /// `probe-tripped`: 1, a probe that touched (a probe that must touch, G38.2 or G38.4,
+    /// stops the run otherwise), or 0 where the reference is rs274's simulator, which never
+    /// trips (so a loop `while [#5070 NE 0]` round a quiet probe ends). Only a quiet probe
+    /// may have no length: one that must touch stops the run, as rs274 stops.
     fn probe(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let bad = |code: Code, msg: &str| Diagnostic::new(code, range, format!("{}: {msg}", def.label()));
         if self.comp.borrow().is_some() {
@@ -281,7 +283,8 @@ impl Interpreter<'_> {
         let start = self.st.pos;
         let length = (0..3).map(|i| (t[i] - start[i]).powi(2)).sum::<f64>().sqrt();
         if length < 1e-9 && def.meaning == Meaning::Probe {
-            return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point"));
+            self.st.ended = true;
+            return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point; the run stops here"));
         }
         self.emit(sink, CanonOp::TurnProbeOn);
         self.emit(sink, CanonOp::StraightProbe(t));
@@ -301,7 +304,7 @@ impl Interpreter<'_> {
                 SystemVar::ProbeX => t[0],
                 SystemVar::ProbeY => t[1],
                 SystemVar::ProbeZ => t[2],
-                SystemVar::ProbeTripped => 1.0,
+                SystemVar::ProbeTripped => self.dialect.behaviour.probe_tripped,
                 _ => continue,
             };
             let _ = self.params.set(f64::from(n), v);
