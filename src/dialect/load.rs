@@ -917,6 +917,16 @@ impl Cx {
                         }
                     }
                 }
+                _ if self.attr(c, "name").is_some() => {
+                    self.shape(c, &["name", "meaning", "value"], &[]);
+                    let (Some(name), Some(meaning)) = (self.attr(c, "name"), self.required(c, "meaning")) else { continue };
+                    let name = crate::interp::eval::normalise_name(name);
+                    let value = self.number(c, "value", 0.0);
+                    match SystemVar::parse(meaning) {
+                        Some(v) => m.system_named.push((name, v, value)),
+                        None => self.error(Self::attr_range(c, "meaning"), format!("unknown system variable meaning `{meaning}`")),
+                    }
+                }
                 _ => {
                     self.shape(c, &["number", "meaning"], &[]);
                     let (Some(n), Some(meaning)) = (self.required(c, "number"), self.required(c, "meaning")) else { continue };

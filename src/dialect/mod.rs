@@ -383,6 +383,9 @@ pub struct Macros {
     pub arguments: [Option<u16>; 26],
     /// System variables by number.
     pub system: Vec<(u32, SystemVar)>,
+    /// Read-only named system parameters (LinuxCNC's `#<_x>`, `#<_motion_mode>`): the
+    /// normalised name, what it reads, and the value of a [`SystemVar::Constant`].
+    pub system_named: Vec<(String, SystemVar, f64)>,
     /// Deepest allowed nesting of calls.
     pub call_depth: u32,
     /// Whether digits above the fourth of a subprogram call's P are its repeat count
@@ -457,6 +460,7 @@ impl Default for Macros {
             locals: (1, 30),
             arguments: [None; 26],
             system: Vec::new(),
+            system_named: Vec::new(),
             call_depth: 10,
             repeat_in_p: false,
             bare_conditions: false,

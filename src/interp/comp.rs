@@ -99,6 +99,13 @@ pub(super) struct Comp {
     tool: V2,
 }
 
+impl Comp {
+    /// Whether the tool is kept to the left of the path (G41).
+    pub(super) fn left(&self) -> bool {
+        self.side == Side::Left
+    }
+}
+
 fn end_of(op: &CanonOp) -> Option<V2> {
     match op {
         CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Some((p[0], p[1])),

@@ -690,7 +690,7 @@ impl<'a> Driver<'a, '_> {
     fn value(&self, interp: &mut Interpreter<'a>, block: &Block, e: ExprId, diags: &mut Vec<Diagnostic>) -> Option<f64> {
         // A condition may read the position or the tool (`o1 if [#5420 GT 3]`).
         if !self.dialect.macros.system.is_empty() {
-            interp.refresh_system_vars();
+            interp.refresh_system_vars(true);
         }
         match interp.eval(block, e, block.range, diags) {
             Ok(v) => Some(v),

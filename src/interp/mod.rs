@@ -390,6 +390,8 @@ struct State {
     feed_unknown: bool,
     /// Whether the spindle is the caller's (a called program that has not set it).
     spindle_unknown: bool,
+    /// Whether the feed and the spindle speed overrides are enabled (M48 to M51).
+    overrides: (bool, bool),
 }
 
 impl State {
@@ -584,6 +586,7 @@ impl<'a> Interpreter<'a> {
                 length_points: false,
                 feed_unknown: profile.role != ProgramRole::Main,
                 spindle_unknown: profile.role != ProgramRole::Main,
+                overrides: (true, true),
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -912,28 +915,98 @@ impl<'a> Interpreter<'a> {
         RoundState { params: self.params.clone(), depth: self.depth, st: self.st.clone(), contexts: self.contexts.clone() }
     }
 
-    /// Writes the readable system variables (position, tool, feed, speed) into the table
-    /// before a block reads parameters.
-    pub(super) fn refresh_system_vars(&mut self) {
-        // A tool the tool table does not list: its radius is the machine's.
-        let unlisted = if self.dialect.macros.unlisted_tools_unknown { eval::UNKNOWN } else { 0.0 };
+    /// Sets the system variables that read the interpreter's state (the position, the tool,
+    /// the modes) to what they read now, and the named ones too when `named` (a block or a
+    /// condition that reads a named parameter).
+    pub(super) fn refresh_system_vars(&mut self, named: bool) {
         for &(n, var) in &self.dialect.macros.system {
-            let v = match var {
-                SystemVar::PositionX => self.st.pos[0],
-                SystemVar::PositionY => self.st.pos[1],
-                SystemVar::PositionZ => self.st.pos[2],
-                SystemVar::Tool => f64::from(self.st.tool),
-                SystemVar::Feed => self.st.feed,
-                SystemVar::Speed => self.st.speed,
-                SystemVar::ToolRadius => self.tool_diameter(self.st.tool).map_or(unlisted, |d| d / 2.0 / self.st.units.to_mm()),
-                SystemVar::ToolDiameter => self.tool_diameter(self.st.tool).map_or(unlisted, |d| d / self.st.units.to_mm()),
-                // The probe results are written when a probe move ends, and the program
-                // may write them too, as any parameter.
-                SystemVar::ProbeX | SystemVar::ProbeY | SystemVar::ProbeZ | SystemVar::ProbeTripped => continue,
-                SystemVar::Alarm | SystemVar::StopMessage => continue,
-            };
-            let _ = self.params.set(f64::from(n), v);
+            if let Some(v) = self.system_value(var, 0.0) {
+                let _ = self.params.set(f64::from(n), v);
+            }
         }
+        if named {
+            for (name, var, constant) in &self.dialect.macros.system_named {
+                if let Some(v) = self.system_value(*var, *constant) {
+                    self.params.set_named(name, v);
+                }
+            }
+        }
+    }
+
+    /// What system variable `var` reads now; `None` for the ones written, not read (the
+    /// probe results, which a probe move sets, and alarms).
+    fn system_value(&self, var: SystemVar, constant: f64) -> Option<f64> {
+        let st = &self.st;
+        let flag = |b: bool| f64::from(u8::from(b));
+        let machine = |i: usize| self.machine_pos()[i];
+        Some(match var {
+            SystemVar::PositionX => st.pos[0],
+            SystemVar::PositionY => st.pos[1],
+            SystemVar::PositionZ => st.pos[2],
+            SystemVar::PositionA => st.pos[3],
+            SystemVar::PositionB => st.pos[4],
+            SystemVar::PositionC => st.pos[5],
+            SystemVar::MachineX => machine(0),
+            SystemVar::MachineY => machine(1),
+            SystemVar::MachineZ => machine(2),
+            SystemVar::MachineA => machine(3),
+            SystemVar::MachineB => machine(4),
+            SystemVar::MachineC => machine(5),
+            SystemVar::Tool => f64::from(st.tool),
+            SystemVar::SelectedTool => f64::from(st.selected_tool),
+            SystemVar::Feed => st.feed,
+            SystemVar::Speed => st.speed,
+            SystemVar::ToolRadius | SystemVar::ToolDiameter => {
+                // A tool the tool table does not list: its radius is the machine's.
+                let unlisted = if self.dialect.macros.unlisted_tools_unknown { eval::UNKNOWN } else { 0.0 };
+                let half = if var == SystemVar::ToolRadius { 2.0 } else { 1.0 };
+                self.tool_diameter(st.tool).map_or(unlisted, |d| d / half / st.units.to_mm())
+            }
+            SystemVar::MotionMode => st.motion_code.map_or(800.0, |c| f64::from(self.code(c).number)),
+            SystemVar::Plane => match st.plane {
+                Plane::Xy => 170.0,
+                Plane::Xz => 180.0,
+                Plane::Yz => 190.0,
+            },
+            SystemVar::CutterComp => match self.comp.borrow().as_ref() {
+                None => 400.0,
+                Some(c) if c.left() => 410.0,
+                Some(_) => 420.0,
+            },
+            SystemVar::Metric => flag(st.units == Units::Mm),
+            SystemVar::Imperial => flag(st.units != Units::Mm),
+            SystemVar::Absolute => flag(st.distance == DistanceMode::Absolute),
+            SystemVar::Incremental => flag(st.distance == DistanceMode::Incremental),
+            SystemVar::InverseTime => flag(st.inverse_time),
+            SystemVar::UnitsPerMinute => flag(!st.inverse_time && !st.feed_per_rev),
+            SystemVar::UnitsPerRev => flag(!st.inverse_time && st.feed_per_rev),
+            SystemVar::CoordSystem => match st.wcs {
+                1..=6 => 530.0 + 10.0 * f64::from(st.wcs),
+                7..=9 => 584.0 + f64::from(st.wcs),
+                _ => 540.0,
+            },
+            SystemVar::ToolOffsetOn => flag(st.tool_offset.iter().any(|&o| o != 0.0)),
+            SystemVar::RetractRPlane => flag(st.retract == Retract::RPlane),
+            SystemVar::RetractOldZ => flag(st.retract == Retract::Initial),
+            SystemVar::SpindleRpmMode => flag(st.css_max.is_none()),
+            SystemVar::SpindleCssMode => flag(st.css_max.is_some()),
+            SystemVar::IjkAbsolute => flag(!st.arc_incremental),
+            SystemVar::DiameterMode => flag(st.diameter),
+            SystemVar::RadiusMode => flag(!st.diameter),
+            SystemVar::SpindleOn => flag(st.spindle != Spindle::Stopped),
+            SystemVar::SpindleCw => flag(st.spindle == Spindle::Cw),
+            SystemVar::Mist => flag(st.mist),
+            SystemVar::Flood => flag(st.flood),
+            SystemVar::FeedOverride => flag(st.overrides.0),
+            SystemVar::SpeedOverride => flag(st.overrides.1),
+            SystemVar::CallLevel => f64::from(self.depth),
+            SystemVar::Line => f64::from(self.line),
+            SystemVar::Constant => constant,
+            // The probe results are written when a probe move ends, and the program may
+            // write them too, as any parameter.
+            SystemVar::ProbeX | SystemVar::ProbeY | SystemVar::ProbeZ | SystemVar::ProbeTripped => return None,
+            SystemVar::Alarm | SystemVar::StopMessage => return None,
+        })
     }
 
     /// An unused word: ignored, or an error where the dialect rejects it.
@@ -1054,8 +1127,10 @@ impl<'a> Interpreter<'a> {
         if self.profile.fast_lane && self.fast_move(block, sink, diags) {
             return;
         }
-        if !block.exprs.is_empty() && !self.dialect.macros.system.is_empty() {
-            self.refresh_system_vars();
+        if !block.exprs.is_empty() && !(self.dialect.macros.system.is_empty() && self.dialect.macros.system_named.is_empty()) {
+            let named = !self.dialect.macros.system_named.is_empty()
+                && block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)));
+            self.refresh_system_vars(named);
         }
         let early = self.dialect.behaviour.assign_before_reads;
         if early {
@@ -2427,15 +2502,18 @@ impl<'a> Interpreter<'a> {
             Meaning::OptionalStop => self.emit(sink, CanonOp::OptionalProgramStop),
             Meaning::OverridesOn | Meaning::OverridesOff => {
                 let on = def.meaning == Meaning::OverridesOn;
+                self.st.overrides = (on, on);
                 self.emit(sink, CanonOp::FeedOverride(on));
                 self.emit(sink, CanonOp::SpeedOverride(on));
             }
             Meaning::FeedOverrideSwitch => {
                 let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
+                self.st.overrides.0 = on;
                 self.emit(sink, CanonOp::FeedOverride(on));
             }
             Meaning::SpeedOverrideSwitch => {
                 let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
+                self.st.overrides.1 = on;
                 self.emit(sink, CanonOp::SpeedOverride(on));
             }
             Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.program_end(sink),
