@@ -198,6 +198,9 @@ pub enum CanonOp {
     SelectTool(u32),
     /// `CHANGE_TOOL`
     ChangeTool(u32),
+    /// `CHANGE_TOOL_NUMBER`: the tool in the spindle is taken to be this one, without a
+    /// change (LinuxCNC M61).
+    ChangeToolNumber(u32),
     /// `USE_TOOL_LENGTH_OFFSET` (x, y, z offsets)
     UseToolLengthOffset([f64; 3]),
     /// `STRAIGHT_TRAVERSE(x, y, z, a, b, c)`
@@ -495,6 +498,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         }
         CanonOp::ChangeTool(t) => {
             let _ = write!(out, "CHANGE_TOOL({t})");
+        }
+        CanonOp::ChangeToolNumber(t) => {
+            let _ = write!(out, "CHANGE_TOOL_NUMBER({t})");
         }
         CanonOp::UseToolLengthOffset([x, y, z]) => {
             let _ = write!(out, "USE_TOOL_LENGTH_OFFSET({} {} {}, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)", F4(*x), F4(*y), F4(*z));

@@ -241,6 +241,8 @@ vocab! {
         ProgramEndRewind = "program-end-rewind",
         /// Tool change (M6).
         ToolChange = "tool-change",
+        /// Takes tool Q as the one in the spindle, without changing tools (LinuxCNC M61).
+        ToolSet = "tool-set",
         /// Spindle clockwise (M3).
         SpindleCw = "spindle-cw",
         /// Spindle counter-clockwise (M4).

@@ -2139,6 +2139,17 @@ impl<'a> Interpreter<'a> {
                     self.emit(sink, CanonOp::UseToolLengthOffset(self.st.tool_offset));
                 }
             }
+            Meaning::ToolSet => {
+                // `M61 Q3`: the machine is told the spindle holds tool 3; nothing moves. The
+                // interpreter goes on reading the tool the last change loaded (#5400, the
+                // length G43 takes), as rs274 reads it back after CHANGE_TOOL_NUMBER.
+                match self.slot(Role::Q) {
+                    Some(q) if q >= 0.0 && q.fract() == 0.0 && q < f64::from(u32::MAX) => {
+                        self.emit(sink, CanonOp::ChangeToolNumber(q as u32));
+                    }
+                    _ => diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: Q must be a tool number", def.label()))),
+                }
+            }
             Meaning::SpindleCw => {
                 self.st.spindle = Spindle::Cw;
                 self.st.tech_warned = false;
