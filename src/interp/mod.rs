@@ -3013,18 +3013,22 @@ impl<'a> Interpreter<'a> {
         let mut end = mid;
         let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();
         let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
+        // The tool offsets move the controlled point: the tool's tip reaches the reference
+        // position, so its program position is short of it by the offset (rs274).
+        let tlo = |i: usize| if i < 3 { self.st.tool_offset[i] } else { 0.0 };
         if self.st.rotation(self.st.wcs) != 0.0 {
-            let mut m = self.to_machine(mid);
+            let mut m = self.to_machine(std::array::from_fn(|i| mid[i] + tlo(i)));
             for (i, v) in m.iter_mut().enumerate() {
                 if moves(i) {
                     *v = home[i] * k(i);
                 }
             }
-            end = self.program_pos(m);
+            let p = self.program_pos(m);
+            end = std::array::from_fn(|i| p[i] - tlo(i));
         } else {
             for i in 0..6 {
                 if moves(i) {
-                    end[i] = home[i] * k(i) - self.st.offset(self.st.wcs)[i] - self.st.g92[i];
+                    end[i] = home[i] * k(i) - self.st.offset(self.st.wcs)[i] - self.st.g92[i] - tlo(i);
                 }
             }
         }
