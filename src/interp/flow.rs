@@ -911,13 +911,15 @@ impl<'a> Driver<'a, '_> {
             if let Some(k) = c.keyword {
                 let word = block.text(k);
                 let head = statement_head(block, c);
-                // A control that stops at what it cannot use stops here too (rs274: "Unexpected
-                // character after O-word").
-                let stops = self.dialect.behaviour.unused_words_rejected;
-                let then = if stops { ": the control stops here" } else { " was skipped" };
-                let msg = format!("`{word}` is not a statement of the {} dialect; `{head}`{then}", self.dialect.name);
-                interp.limited(diags, "statement", Diagnostic::new(Code::UnknownStatement, k, msg));
-                self.stop |= stops;
+                interp.limited(
+                    diags,
+                    "statement",
+                    Diagnostic::new(
+                        Code::UnknownStatement,
+                        k,
+                        format!("`{word}` is not a statement of the {} dialect; `{head}` was skipped", self.dialect.name),
+                    ),
+                );
             }
             return;
         };
