@@ -2240,8 +2240,15 @@ impl<'a> Interpreter<'a> {
                     // A zero offset leaves the path as programmed (rs274 does the same).
                     return;
                 }
-                if let Some(r) = radius.filter(|_| self.st.plane == Plane::Xy) {
-                    *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, (self.st.pos[0], self.st.pos[1])));
+                if let Some(r) = radius.filter(|_| matches!(self.st.plane, Plane::Xy | Plane::Xz)) {
+                    let axes = self.st.plane.axes();
+                    // A lathe tool's orientation (`G42.1 D0.4 L3`) puts the controlled point at
+                    // its imaginary tip (in the ZX plane, Z first).
+                    let orientation = self.slot(Role::L).filter(|l| by_diameter && l.fract() == 0.0 && *l >= 0.0).unwrap_or(0.0);
+                    let (tx, tz) = comp::tip_offset(orientation as u32);
+                    let tip = if self.st.plane == Plane::Xz { (tz * r, tx * r) } else { (0.0, 0.0) };
+                    let at = (self.st.pos[axes.0], self.st.pos[axes.1]);
+                    *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, axes, tip, at));
                     return;
                 }
                 let register = match number.filter(|&d| d != 0) {
