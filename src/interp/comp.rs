@@ -64,7 +64,12 @@ pub(super) enum Side {
 #[derive(Clone, Copy, Debug)]
 enum Shape {
     Line,
-    Arc { centre: V2, radius: f64 },
+    /// The offset circle's radius, from the arc's end point (rs274 measures an arc's radius
+    /// there; its start point moves along its own radius).
+    Arc {
+        centre: V2,
+        end_radius: f64,
+    },
 }
 
 /// The held-back move: its op (end still adjustable), shape, programmed end and the
@@ -189,15 +194,20 @@ impl Comp {
                     let u = radial(p);
                     if ccw { (-u.1, u.0) } else { (u.1, -u.0) }
                 };
-                let r = len(sub(start, centre));
-                // Left of a counter-clockwise arc is inside.
+                // Left of a counter-clockwise arc is inside. Each end moves along its own
+                // radius (a programmed arc's ends may lie at slightly different distances
+                // from its centre), as rs274 moves them.
                 let inside = (self.side == Side::Left) == ccw;
-                let radius = if inside { r - self.radius } else { r + self.radius };
-                if radius <= 1e-9 {
+                let offset = |p: V2| {
+                    let r = len(sub(p, centre));
+                    if inside { r - self.radius } else { r + self.radius }
+                };
+                let (r0, r1) = (offset(start), offset(end));
+                if r0.min(r1) <= 1e-9 {
                     return Err(CompProblem::Gouge);
                 }
-                let shape = Shape::Arc { centre, radius };
-                (shape, tangent(start), tangent(end), add(centre, scale(radial(start), radius)), add(centre, scale(radial(end), radius)))
+                let shape = Shape::Arc { centre, end_radius: r1 };
+                (shape, tangent(start), tangent(end), add(centre, scale(radial(start), r0)), add(centre, scale(radial(end), r1)))
             }
             _ => {
                 let t = unit(sub(end, start));
@@ -230,9 +240,16 @@ impl Comp {
             let turn_angle = cross(h.tangent, t_start).atan2(dot(h.tangent, t_start));
             if len(sub(a, off_start)) > 1e-9 && turn_angle.abs() > SMALL_TURN {
                 let turn = cross(h.tangent, t_start);
+                // Back the way it came: the corner is inside where the two offset elements
+                // meet (an arc's offset circle and the way back), else outside, as rs274
+                // takes it.
+                let reversal = turn.abs() < 1e-12 && dot(h.tangent, t_start) < 0.0;
+                // Of two meeting points, the one the new move heads for.
+                let meet = if reversal { intersect(h.shape, h.start, a, shape, off_start, off_end, h.corner, Some(t_start)) } else { None };
                 let convex = match self.side {
-                    Side::Left => turn < 0.0 || (turn.abs() < 1e-12 && dot(h.tangent, t_start) < 0.0),
-                    Side::Right => turn > 0.0 || (turn.abs() < 1e-12 && dot(h.tangent, t_start) < 0.0),
+                    _ if reversal => meet.is_none(),
+                    Side::Left => turn < 0.0,
+                    Side::Right => turn > 0.0,
                 };
                 if convex && matches!(canon.op, CanonOp::StraightTraverse(_)) {
                     // Before a rapid the corner is a rapid too, straight to the arc's end.
@@ -251,7 +268,9 @@ impl Comp {
                         abc: abc_of(&h.canon.op),
                     });
                 } else {
-                    let x = intersect(h.shape, h.start, a, shape, off_start, off_end, h.corner).ok_or(CompProblem::NoIntersection)?;
+                    let x = meet
+                        .or_else(|| intersect(h.shape, h.start, a, shape, off_start, off_end, h.corner, None))
+                        .ok_or(CompProblem::NoIntersection)?;
                     let mut held = h.canon.op.clone();
                     self.set_end(&mut held, x);
                     let mut queue = std::mem::take(&mut self.queue);
@@ -328,8 +347,10 @@ fn abc_of(op: &CanonOp) -> [f64; 3] {
     }
 }
 
-/// The meeting point of two offset elements nearest to the programmed corner.
-fn intersect(a: Shape, a_start: V2, a_end: V2, b: Shape, b_start: V2, b_end: V2, corner: V2) -> Option<V2> {
+/// The meeting point of two offset elements nearest to the programmed corner, or the one
+/// furthest from it along `ahead`.
+#[allow(clippy::too_many_arguments)]
+fn intersect(a: Shape, a_start: V2, a_end: V2, b: Shape, b_start: V2, b_end: V2, corner: V2, ahead: Option<V2>) -> Option<V2> {
     let candidates: Vec<V2> = match (a, b) {
         (Shape::Line, Shape::Line) => {
             let (d1, d2) = (sub(a_end, a_start), sub(b_end, b_start));
@@ -340,11 +361,14 @@ fn intersect(a: Shape, a_start: V2, a_end: V2, b: Shape, b_start: V2, b_end: V2,
             let t = cross(sub(b_start, a_start), d2) / den;
             vec![add(a_start, scale(d1, t))]
         }
-        (Shape::Line, Shape::Arc { centre, radius, .. }) => line_circle(a_start, a_end, centre, radius),
-        (Shape::Arc { centre, radius, .. }, Shape::Line) => line_circle(b_start, b_end, centre, radius),
-        (Shape::Arc { centre: c1, radius: r1, .. }, Shape::Arc { centre: c2, radius: r2, .. }) => circle_circle(c1, r1, c2, r2),
+        (Shape::Line, Shape::Arc { centre, end_radius, .. }) => line_circle(a_start, a_end, centre, end_radius),
+        (Shape::Arc { centre, end_radius, .. }, Shape::Line) => line_circle(b_start, b_end, centre, end_radius),
+        (Shape::Arc { centre: c1, end_radius: r1, .. }, Shape::Arc { centre: c2, end_radius: r2, .. }) => circle_circle(c1, r1, c2, r2),
     };
-    candidates.into_iter().min_by(|p, q| len(sub(*p, corner)).total_cmp(&len(sub(*q, corner))))
+    match ahead {
+        Some(d) => candidates.into_iter().max_by(|p, q| dot(sub(*p, corner), d).total_cmp(&dot(sub(*q, corner), d))),
+        None => candidates.into_iter().min_by(|p, q| len(sub(*p, corner)).total_cmp(&len(sub(*q, corner)))),
+    }
 }
 
 fn line_circle(p: V2, q: V2, c: V2, r: f64) -> Vec<V2> {
