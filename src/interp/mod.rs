@@ -1127,7 +1127,8 @@ impl<'a> Interpreter<'a> {
         if self.profile.fast_lane && self.fast_move(block, sink, diags) {
             return;
         }
-        if !block.exprs.is_empty() && !(self.dialect.macros.system.is_empty() && self.dialect.macros.system_named.is_empty()) {
+        let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
+        if system_vars && !block.exprs.is_empty() {
             let named = !self.dialect.macros.system_named.is_empty()
                 && block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)));
             self.refresh_system_vars(named);
