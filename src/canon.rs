@@ -250,6 +250,8 @@ pub enum CanonOp {
     Comment(String),
     /// `MESSAGE(text)`
     Message(String),
+    /// `LOGOPEN(name)`, `LOGAPPEND(name)`, `LOGCLOSE()`, `LOG(text)`: LinuxCNC's log file.
+    Log(crate::dialect::LogFile, String),
     /// Marker: distance mode changed.
     DistanceMode(DistanceMode),
     /// Marker: a canned-cycle hole starts; the moves that follow expand it.
@@ -542,6 +544,19 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::Message(s) => {
             out.extend_from_slice(b"MESSAGE(");
             quoted(out, s);
+            out.push(b')');
+        }
+        CanonOp::Log(kind, s) => {
+            use crate::dialect::LogFile;
+            out.extend_from_slice(match kind {
+                LogFile::Open => b"LOGOPEN(".as_slice(),
+                LogFile::Append => b"LOGAPPEND(",
+                LogFile::Close => b"LOGCLOSE(",
+                LogFile::Line => b"LOG(",
+            });
+            if *kind != LogFile::Close {
+                quoted(out, s);
+            }
             out.push(b')');
         }
         CanonOp::DistanceMode(m) => out.extend_from_slice(match m {

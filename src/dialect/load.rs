@@ -4,8 +4,8 @@ use super::inherit;
 use super::xml::{self, Element};
 use super::{
     AddressDef, AxisIndexed, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect,
-    Directive, KeywordRest, KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, NumberForms, ParamSpec, Role, SkipPosition,
-    Statement, Step, SystemVar, TapStyle, TimeUnit,
+    Directive, KeywordRest, KeywordSpec, Lexical, LogFile, Macros, MainReturn, Meaning, ModalGroup, NumberForms, ParamSpec, Role,
+    SkipPosition, Statement, Step, SystemVar, TapStyle, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -443,10 +443,16 @@ impl Cx {
                         Some("message") => Some(Directive::Message),
                         Some("abort") => Some(Directive::Abort),
                         Some("log") => Some(Directive::Log),
+                        Some("log-open") => Some(Directive::LogFile(LogFile::Open)),
+                        Some("log-append") => Some(Directive::LogFile(LogFile::Append)),
+                        Some("log-close") => Some(Directive::LogFile(LogFile::Close)),
+                        Some("log-line") => Some(Directive::LogFile(LogFile::Line)),
                         Some(other) => {
                             self.error(
                                 Self::attr_range(c, "meaning"),
-                                format!("a comment directive's meaning is message, abort or log, not `{other}`"),
+                                format!(
+                                    "a comment directive's meaning is message, abort, log, log-open, log-append, log-close or log-line, not `{other}`"
+                                ),
                             );
                             None
                         }

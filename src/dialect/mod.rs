@@ -180,6 +180,22 @@ pub enum Directive {
     /// Writes the rest of the comment to a log or a console (`(DEBUG, …)`, `(PRINT, …)`):
     /// nothing the machine does; a comment to the interpreter.
     Log,
+    /// Works the control's log file (LinuxCNC's `(LOGOPEN, name)`, `(LOG, text)`): nothing
+    /// the machine does, but a call the control makes (`LOGOPEN`, `LOG`).
+    LogFile(LogFile),
+}
+
+/// What a log-file directive does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LogFile {
+    /// Opens the file the rest of the comment names, empty.
+    Open,
+    /// Opens it to add to what it holds.
+    Append,
+    /// Closes it.
+    Close,
+    /// Writes the rest of the comment, its parameters replaced by their values.
+    Line,
 }
 
 impl Lexical {
