@@ -198,6 +198,9 @@ pub enum CanonOp {
     SelectTool(u32),
     /// `CHANGE_TOOL`
     ChangeTool(u32),
+    /// `CHANGE_TOOL_NUMBER`: the tool in the spindle is taken to be this one, without a
+    /// change (LinuxCNC M61).
+    ChangeToolNumber(u32),
     /// `USE_TOOL_LENGTH_OFFSET` (x, y, z offsets)
     UseToolLengthOffset([f64; 3]),
     /// `STRAIGHT_TRAVERSE(x, y, z, a, b, c)`
@@ -247,6 +250,8 @@ pub enum CanonOp {
     Comment(String),
     /// `MESSAGE(text)`
     Message(String),
+    /// `LOGOPEN(name)`, `LOGAPPEND(name)`, `LOGCLOSE()`, `LOG(text)`: LinuxCNC's log file.
+    Log(crate::dialect::LogFile, String),
     /// Marker: distance mode changed.
     DistanceMode(DistanceMode),
     /// Marker: a canned-cycle hole starts; the moves that follow expand it.
@@ -496,6 +501,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::ChangeTool(t) => {
             let _ = write!(out, "CHANGE_TOOL({t})");
         }
+        CanonOp::ChangeToolNumber(t) => {
+            let _ = write!(out, "CHANGE_TOOL_NUMBER({t})");
+        }
         CanonOp::UseToolLengthOffset([x, y, z]) => {
             let _ = write!(out, "USE_TOOL_LENGTH_OFFSET({} {} {}, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)", F4(*x), F4(*y), F4(*z));
         }
@@ -536,6 +544,19 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::Message(s) => {
             out.extend_from_slice(b"MESSAGE(");
             quoted(out, s);
+            out.push(b')');
+        }
+        CanonOp::Log(kind, s) => {
+            use crate::dialect::LogFile;
+            out.extend_from_slice(match kind {
+                LogFile::Open => b"LOGOPEN(".as_slice(),
+                LogFile::Append => b"LOGAPPEND(",
+                LogFile::Close => b"LOGCLOSE(",
+                LogFile::Line => b"LOG(",
+            });
+            if *kind != LogFile::Close {
+                quoted(out, s);
+            }
             out.push(b')');
         }
         CanonOp::DistanceMode(m) => out.extend_from_slice(match m {

@@ -4,8 +4,8 @@ use super::inherit;
 use super::xml::{self, Element};
 use super::{
     AddressDef, AxisIndexed, Behaviour, BlockForm, CodeDef, CommentClose, CommentRule, CycleArg, CycleDef, DataForm, DecimalInput, Dialect,
-    Directive, KeywordRest, KeywordSpec, Lexical, Macros, MainReturn, Meaning, ModalGroup, NumberForms, ParamSpec, Role, SkipPosition,
-    Statement, Step, SystemVar, TapStyle, TimeUnit,
+    Directive, KeywordRest, KeywordSpec, Lexical, LogFile, Macros, MainReturn, Meaning, ModalGroup, NumberForms, ParamSpec, Role,
+    SkipPosition, Statement, Step, SystemVar, TapStyle, TimeUnit,
 };
 use crate::diag::{Code, Diagnostic};
 use crate::text::TextRange;
@@ -443,10 +443,16 @@ impl Cx {
                         Some("message") => Some(Directive::Message),
                         Some("abort") => Some(Directive::Abort),
                         Some("log") => Some(Directive::Log),
+                        Some("log-open") => Some(Directive::LogFile(LogFile::Open)),
+                        Some("log-append") => Some(Directive::LogFile(LogFile::Append)),
+                        Some("log-close") => Some(Directive::LogFile(LogFile::Close)),
+                        Some("log-line") => Some(Directive::LogFile(LogFile::Line)),
                         Some(other) => {
                             self.error(
                                 Self::attr_range(c, "meaning"),
-                                format!("a comment directive's meaning is message, abort or log, not `{other}`"),
+                                format!(
+                                    "a comment directive's meaning is message, abort, log, log-open, log-append, log-close or log-line, not `{other}`"
+                                ),
                             );
                             None
                         }
@@ -556,6 +562,7 @@ impl Cx {
             h0_spindle_tool: false,
             probe_backoff_mm: 0.0,
             probe_backoff_inch: 0.0,
+            probe_tripped: 1.0,
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
@@ -593,6 +600,7 @@ impl Cx {
                 "position-after-tool-change",
                 "h0",
                 "probe-backoff-mm",
+                "probe-tripped",
                 "probe-backoff-inch",
                 "peck-clearance-mm",
                 "peck-clearance-inch",
@@ -645,6 +653,7 @@ impl Cx {
         b.tool_change_rereads_position = self.either(el, "position-after-tool-change", "program", "last-move");
         b.probe_backoff_mm = self.number(el, "probe-backoff-mm", 0.0).max(0.0);
         b.probe_backoff_inch = self.number(el, "probe-backoff-inch", b.probe_backoff_mm / 25.4).max(0.0);
+        b.probe_tripped = if self.either(el, "probe-tripped", "1", "0") { 0.0 } else { 1.0 };
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);
@@ -912,6 +921,16 @@ impl Cx {
                             Some((l, n)) => m.arguments[(l - b'A') as usize] = Some(n),
                             None => self.error(c.range, format!("argument `{item}` must look like A=1")),
                         }
+                    }
+                }
+                _ if self.attr(c, "name").is_some() => {
+                    self.shape(c, &["name", "meaning", "value"], &[]);
+                    let (Some(name), Some(meaning)) = (self.attr(c, "name"), self.required(c, "meaning")) else { continue };
+                    let name = crate::interp::eval::normalise_name(name);
+                    let value = self.number(c, "value", 0.0);
+                    match SystemVar::parse(meaning) {
+                        Some(v) => m.system_named.push((name, v, value)),
+                        None => self.error(Self::attr_range(c, "meaning"), format!("unknown system variable meaning `{meaning}`")),
                     }
                 }
                 _ => {

@@ -180,6 +180,22 @@ pub enum Directive {
     /// Writes the rest of the comment to a log or a console (`(DEBUG, …)`, `(PRINT, …)`):
     /// nothing the machine does; a comment to the interpreter.
     Log,
+    /// Works the control's log file (LinuxCNC's `(LOGOPEN, name)`, `(LOG, text)`): nothing
+    /// the machine does, but a call the control makes (`LOGOPEN`, `LOG`).
+    LogFile(LogFile),
+}
+
+/// What a log-file directive does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LogFile {
+    /// Opens the file the rest of the comment names, empty.
+    Open,
+    /// Opens it to add to what it holds.
+    Append,
+    /// Closes it.
+    Close,
+    /// Writes the rest of the comment, its parameters replaced by their values.
+    Line,
 }
 
 impl Lexical {
@@ -286,6 +302,9 @@ pub struct Behaviour {
     pub probe_backoff_mm: f64,
     /// The same in inch programs.
     pub probe_backoff_inch: f64,
+    /// What the probe-tripped variable reads after a probe move: 1 (it touched, the way a
+    /// successful run goes) or 0 (rs274's simulator never trips, `probe-tripped="0"`).
+    pub probe_tripped: f64,
     /// Peck-drilling re-approach clearance, mm.
     pub peck_clearance_mm: f64,
     /// Peck-drilling re-approach clearance, inch.
@@ -380,6 +399,9 @@ pub struct Macros {
     pub arguments: [Option<u16>; 26],
     /// System variables by number.
     pub system: Vec<(u32, SystemVar)>,
+    /// Read-only named system parameters (LinuxCNC's `#<_x>`, `#<_motion_mode>`): the
+    /// normalised name, what it reads, and the value of a [`SystemVar::Constant`].
+    pub system_named: Vec<(String, SystemVar, f64)>,
     /// Deepest allowed nesting of calls.
     pub call_depth: u32,
     /// Whether digits above the fourth of a subprogram call's P are its repeat count
@@ -454,6 +476,7 @@ impl Default for Macros {
             locals: (1, 30),
             arguments: [None; 26],
             system: Vec::new(),
+            system_named: Vec::new(),
             call_depth: 10,
             repeat_in_p: false,
             bare_conditions: false,

@@ -241,6 +241,8 @@ vocab! {
         ProgramEndRewind = "program-end-rewind",
         /// Tool change (M6).
         ToolChange = "tool-change",
+        /// Takes tool Q as the one in the spindle, without changing tools (LinuxCNC M61).
+        ToolSet = "tool-set",
         /// Spindle clockwise (M3).
         SpindleCw = "spindle-cw",
         /// Spindle counter-clockwise (M4).
@@ -763,5 +765,82 @@ vocab! {
         ProbeZ = "probe-z",
         /// 1 when the last probe move touched, else 0.
         ProbeTripped = "probe-tripped",
+        /// Current A in program coordinates (B and C likewise).
+        PositionA = "position-a",
+        /// Current B in program coordinates.
+        PositionB = "position-b",
+        /// Current C in program coordinates.
+        PositionC = "position-c",
+        /// Current X in machine coordinates, program units (Y to C likewise).
+        MachineX = "machine-x",
+        /// Current Y in machine coordinates.
+        MachineY = "machine-y",
+        /// Current Z in machine coordinates.
+        MachineZ = "machine-z",
+        /// Current A in machine coordinates.
+        MachineA = "machine-a",
+        /// Current B in machine coordinates.
+        MachineB = "machine-b",
+        /// Current C in machine coordinates.
+        MachineC = "machine-c",
+        /// The motion mode's code ×10 (G1: 10, G38.2: 382; 800 after G80).
+        MotionMode = "motion-mode",
+        /// The plane's code ×10 (170, 180, 190).
+        Plane = "plane",
+        /// The cutter compensation code ×10 (400 off, 410 left, 420 right).
+        CutterComp = "cutter-comp",
+        /// 1 in millimetres, else 0.
+        Metric = "metric",
+        /// 1 in inches, else 0.
+        Imperial = "imperial",
+        /// 1 in absolute distance mode, else 0.
+        Absolute = "absolute",
+        /// 1 in incremental distance mode, else 0.
+        Incremental = "incremental",
+        /// 1 in inverse time feed mode, else 0.
+        InverseTime = "inverse-time",
+        /// 1 in units per minute feed mode, else 0.
+        UnitsPerMinute = "units-per-minute",
+        /// 1 in units per revolution feed mode, else 0.
+        UnitsPerRev = "units-per-rev",
+        /// The work coordinate system's code ×10 (540 to 593).
+        CoordSystem = "coord-system",
+        /// 1 when a tool offset is in force (not zero), else 0.
+        ToolOffsetOn = "tool-offset-on",
+        /// 1 when canned cycles retract to R (G99), else 0.
+        RetractRPlane = "retract-r-plane",
+        /// 1 when canned cycles retract to the initial level (G98), else 0.
+        RetractOldZ = "retract-old-z",
+        /// 1 when S is in revolutions per minute (G97), else 0.
+        SpindleRpmMode = "spindle-rpm-mode",
+        /// 1 in constant surface speed (G96), else 0.
+        SpindleCssMode = "spindle-css-mode",
+        /// 1 when arc centres are absolute (G90.1), else 0.
+        IjkAbsolute = "ijk-absolute",
+        /// 1 in lathe diameter mode (G7), else 0.
+        DiameterMode = "diameter-mode",
+        /// 1 in lathe radius mode (G8), else 0.
+        RadiusMode = "radius-mode",
+        /// 1 when the spindle turns, else 0.
+        SpindleOn = "spindle-on",
+        /// 1 when the spindle turns clockwise, else 0.
+        SpindleCw = "spindle-cw",
+        /// 1 when mist coolant is on, else 0.
+        Mist = "mist",
+        /// 1 when flood coolant is on, else 0.
+        Flood = "flood",
+        /// 1 when the feed override is enabled, else 0.
+        FeedOverride = "feed-override",
+        /// 1 when the spindle speed override is enabled, else 0.
+        SpeedOverride = "speed-override",
+        /// The tool selected for the next change.
+        SelectedTool = "selected-tool",
+        /// The call depth: 0 in the main program.
+        CallLevel = "call-level",
+        /// The source line of the block being run.
+        Line = "line",
+        /// A fixed value, the element's `value` (a version number, a switch the analysis
+        /// takes at its initial setting).
+        Constant = "constant",
     }
 }

@@ -162,7 +162,7 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
         }
         let inside = &src[s..e];
         match dialect.lexical.directive(inside) {
-            Some((Directive::Message | Directive::Log, _)) => messages.push(inside.trim()),
+            Some((Directive::Message | Directive::Log | Directive::LogFile(_), _)) => messages.push(inside.trim()),
             Some((Directive::Abort, _)) => aborts.push(inside.trim()),
             None => {}
         }

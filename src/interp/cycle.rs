@@ -158,17 +158,18 @@ impl Interpreter<'_> {
             self.emit(sink, CanonOp::StraightTraverse(p));
         }
         let clear = if self.st.retract == Retract::Initial { initial.max(r) } else { r };
-        let (mut dx, mut dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
-        // Polar words (`@`, `^`) place the first hole as they place a move's end point; in G91
-        // the holes after it repeat that step, as rs274 does.
-        if self.slots[Role::PolarRadius as usize].is_some() || self.slots[Role::PolarAngle as usize].is_some() {
-            let mut t = self.st.pos;
-            self.polar_target(&mut t);
-            (dx, dy) = if incremental { (Some(t[a0] - p[a0]), Some(t[a1] - p[a1])) } else { (Some(t[a0]), Some(t[a1])) };
-        }
+        let (dx, dy) = (self.slot(Role::AXES[a0]), self.slot(Role::AXES[a1]));
+        // Polar words (`@`, `^`) place a hole as they place a move's end point. In G91 each
+        // repeat adds them again to the distance and angle of the hole before, as rs274 does
+        // (`G91 G81 ^60 L6`: six holes round the origin, not six steps along one chord).
+        let polar = self.slots[Role::PolarRadius as usize].is_some() || self.slots[Role::PolarAngle as usize].is_some();
         let run = HoleRun { kind, code, r, bottom, clear, old_z, peck, peck_from: r, dwell, shift, clearance, still: false, surface: None };
         for _ in 0..repeats as u64 {
-            let (x, y) = if incremental {
+            let (x, y) = if polar {
+                let mut t = p;
+                self.polar_target(if incremental { p } else { self.st.pos }, &mut t);
+                (t[a0], t[a1])
+            } else if incremental {
                 (p[a0] + dx.unwrap_or(0.0), p[a1] + dy.unwrap_or(0.0))
             } else {
                 (dx.unwrap_or(p[a0]), dy.unwrap_or(p[a1]))

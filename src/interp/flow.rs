@@ -690,7 +690,7 @@ impl<'a> Driver<'a, '_> {
     fn value(&self, interp: &mut Interpreter<'a>, block: &Block, e: ExprId, diags: &mut Vec<Diagnostic>) -> Option<f64> {
         // A condition may read the position or the tool (`o1 if [#5420 GT 3]`).
         if !self.dialect.macros.system.is_empty() {
-            interp.refresh_system_vars();
+            interp.refresh_system_vars(true);
         }
         match interp.eval(block, e, block.range, diags) {
             Ok(v) => Some(v),
@@ -2079,8 +2079,6 @@ impl<'a> Driver<'a, '_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
-        /// Blocks a profile may have at most.
-        const MAX_PROFILE_BLOCKS: usize = 100_000;
         let label = normalise_label(name);
         let is_sub = |m: &Mark| m.label.as_deref() == Some(label.as_str()) && m.statement == Some(Statement::Sub);
         let Some((source, body)) = self.locate(&label, is_sub) else {
@@ -2095,15 +2093,48 @@ impl<'a> Driver<'a, '_> {
         (interp.st.pos[0], interp.st.pos[2]) = (cycle.x, cycle.z);
         // The cycle's move to its start point leaves G0 in force for the profile's blocks.
         interp.st.motion_code = self.dialect.codes.iter().position(|c| c.letter == 'G' && c.meaning == crate::dialect::Meaning::Rapid);
-        let mut parser = self.parser.fork(self.sources[source].text, body.at, body.line);
+        let (shape, finishes) = self.profile_blocks(source, body, interp, diags);
+        let (st, params, comp, corners, problem) = saved;
+        interp.st = st;
+        interp.params = params;
+        interp.comp.replace(comp);
+        interp.corners.replace(corners);
+        interp.comp_problem.set(problem);
+        interp.st.pos = start;
+        (interp.origin, interp.line) = (block.range, block.line);
+        interp.profile_run(cycle, &shape, &finishes, sink, diags);
+    }
+
+    /// Runs a profile subroutine's body from `body` in `source` to its end, into a shape
+    /// buffer: its statements too (`o101 repeat [3]` round moves from `#<_x>`), by the run's
+    /// own machinery on the subroutine's text; the run's cursor, loops and last round are put
+    /// back afterwards. Returns the moves and the corners that A and C words ask to round or
+    /// chamfer (index in the shape after the move, round or not, size).
+    #[allow(clippy::type_complexity)]
+    fn profile_blocks(
+        &mut self,
+        source: usize,
+        body: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) -> (Vec<Canon>, Vec<(usize, bool, f64)>) {
+        /// Blocks a profile may have at most.
+        const MAX_PROFILE_BLOCKS: usize = 100_000;
+        let fork = self.parser.fork(self.sources[source].text, body.at, body.line);
+        let outer = (std::mem::replace(&mut self.parser, fork), std::mem::replace(&mut self.cur, source));
+        let (loops, frames, round, origin) = (self.loops.len(), self.frames.len(), self.round.take(), interp.origin_override);
         let mut shape: Vec<Canon> = Vec::new();
         let mut finishes = Vec::new();
         let mut b = Block::default();
         for _ in 0..MAX_PROFILE_BLOCKS {
-            if !parser.next_block(&mut b, diags) {
+            let at = self.pos();
+            let src = self.cur;
+            let mark = diags.len();
+            if !self.next_block(&mut b, at, diags) {
                 break;
             }
-            if b.control.as_ref().is_some_and(|c| matches!(c.statement, Some(Statement::EndSub | Statement::Return))) {
+            let end = b.control.as_ref().is_some_and(|c| matches!(c.statement, Some(Statement::EndSub | Statement::Return)));
+            if end && self.frames.len() <= frames {
                 break;
             }
             self.executed += 1;
@@ -2112,7 +2143,10 @@ impl<'a> Driver<'a, '_> {
                 self.error(diags, Code::LoopLimit, b.range, msg);
                 break;
             }
-            if b.control.is_none() {
+            if let Some(control) = b.control.take() {
+                self.control(&control, &b, at, interp, &mut shape, diags);
+                b.control = Some(control);
+            } else {
                 let before = shape.len();
                 interp.execute(&b, &mut shape, diags);
                 // A and C words on a profile's move ask for a rounded or chamfered corner.
@@ -2126,16 +2160,18 @@ impl<'a> Driver<'a, '_> {
                 }
             }
             interp.request = None;
+            self.tidy(src, mark, diags);
+            if self.stop || interp.finished() {
+                break;
+            }
         }
-        let (st, params, comp, corners, problem) = saved;
-        interp.st = st;
-        interp.params = params;
-        interp.comp.replace(comp);
-        interp.corners.replace(corners);
-        interp.comp_problem.set(problem);
-        interp.st.pos = start;
-        (interp.origin, interp.line) = (block.range, block.line);
-        interp.profile_run(cycle, &shape, &finishes, sink, diags);
+        self.loops.truncate(loops);
+        self.frames.truncate(frames);
+        interp.depth = self.frames.len() as u32;
+        (self.parser, self.cur) = outer;
+        self.round = round;
+        interp.origin_override = origin;
+        (shape, finishes)
     }
 
     /// Returns from the innermost call, or runs its body again while repeats are left.

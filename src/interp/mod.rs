@@ -392,6 +392,8 @@ struct State {
     feed_unknown: bool,
     /// Whether the spindle is the caller's (a called program that has not set it).
     spindle_unknown: bool,
+    /// Whether the feed and the spindle speed overrides are enabled (M48 to M51).
+    overrides: (bool, bool),
 }
 
 impl State {
@@ -586,6 +588,7 @@ impl<'a> Interpreter<'a> {
                 length_points: false,
                 feed_unknown: profile.role != ProgramRole::Main,
                 spindle_unknown: profile.role != ProgramRole::Main,
+                overrides: (true, true),
             },
             params: {
                 let mut p = Params::new(dialect.macros.null_value);
@@ -919,28 +922,98 @@ impl<'a> Interpreter<'a> {
         RoundState { params: self.params.clone(), depth: self.depth, st: self.st.clone(), contexts: self.contexts.clone() }
     }
 
-    /// Writes the readable system variables (position, tool, feed, speed) into the table
-    /// before a block reads parameters.
-    pub(super) fn refresh_system_vars(&mut self) {
-        // A tool the tool table does not list: its radius is the machine's.
-        let unlisted = if self.dialect.macros.unlisted_tools_unknown { eval::UNKNOWN } else { 0.0 };
+    /// Sets the system variables that read the interpreter's state (the position, the tool,
+    /// the modes) to what they read now, and the named ones too when `named` (a block or a
+    /// condition that reads a named parameter).
+    pub(super) fn refresh_system_vars(&mut self, named: bool) {
         for &(n, var) in &self.dialect.macros.system {
-            let v = match var {
-                SystemVar::PositionX => self.st.pos[0],
-                SystemVar::PositionY => self.st.pos[1],
-                SystemVar::PositionZ => self.st.pos[2],
-                SystemVar::Tool => f64::from(self.st.tool),
-                SystemVar::Feed => self.st.feed,
-                SystemVar::Speed => self.st.speed,
-                SystemVar::ToolRadius => self.tool_diameter(self.st.tool).map_or(unlisted, |d| d / 2.0 / self.st.units.to_mm()),
-                SystemVar::ToolDiameter => self.tool_diameter(self.st.tool).map_or(unlisted, |d| d / self.st.units.to_mm()),
-                // The probe results are written when a probe move ends, and the program
-                // may write them too, as any parameter.
-                SystemVar::ProbeX | SystemVar::ProbeY | SystemVar::ProbeZ | SystemVar::ProbeTripped => continue,
-                SystemVar::Alarm | SystemVar::StopMessage => continue,
-            };
-            let _ = self.params.set(f64::from(n), v);
+            if let Some(v) = self.system_value(var, 0.0) {
+                let _ = self.params.set(f64::from(n), v);
+            }
         }
+        if named {
+            for (name, var, constant) in &self.dialect.macros.system_named {
+                if let Some(v) = self.system_value(*var, *constant) {
+                    self.params.set_named(name, v);
+                }
+            }
+        }
+    }
+
+    /// What system variable `var` reads now; `None` for the ones written, not read (the
+    /// probe results, which a probe move sets, and alarms).
+    fn system_value(&self, var: SystemVar, constant: f64) -> Option<f64> {
+        let st = &self.st;
+        let flag = |b: bool| f64::from(u8::from(b));
+        let machine = |i: usize| self.machine_pos()[i];
+        Some(match var {
+            SystemVar::PositionX => st.pos[0],
+            SystemVar::PositionY => st.pos[1],
+            SystemVar::PositionZ => st.pos[2],
+            SystemVar::PositionA => st.pos[3],
+            SystemVar::PositionB => st.pos[4],
+            SystemVar::PositionC => st.pos[5],
+            SystemVar::MachineX => machine(0),
+            SystemVar::MachineY => machine(1),
+            SystemVar::MachineZ => machine(2),
+            SystemVar::MachineA => machine(3),
+            SystemVar::MachineB => machine(4),
+            SystemVar::MachineC => machine(5),
+            SystemVar::Tool => f64::from(st.tool),
+            SystemVar::SelectedTool => f64::from(st.selected_tool),
+            SystemVar::Feed => st.feed,
+            SystemVar::Speed => st.speed,
+            SystemVar::ToolRadius | SystemVar::ToolDiameter => {
+                // A tool the tool table does not list: its radius is the machine's.
+                let unlisted = if self.dialect.macros.unlisted_tools_unknown { eval::UNKNOWN } else { 0.0 };
+                let half = if var == SystemVar::ToolRadius { 2.0 } else { 1.0 };
+                self.tool_diameter(st.tool).map_or(unlisted, |d| d / half / st.units.to_mm())
+            }
+            SystemVar::MotionMode => st.motion_code.map_or(800.0, |c| f64::from(self.code(c).number)),
+            SystemVar::Plane => match st.plane {
+                Plane::Xy => 170.0,
+                Plane::Xz => 180.0,
+                Plane::Yz => 190.0,
+            },
+            SystemVar::CutterComp => match self.comp.borrow().as_ref() {
+                None => 400.0,
+                Some(c) if c.left() => 410.0,
+                Some(_) => 420.0,
+            },
+            SystemVar::Metric => flag(st.units == Units::Mm),
+            SystemVar::Imperial => flag(st.units != Units::Mm),
+            SystemVar::Absolute => flag(st.distance == DistanceMode::Absolute),
+            SystemVar::Incremental => flag(st.distance == DistanceMode::Incremental),
+            SystemVar::InverseTime => flag(st.inverse_time),
+            SystemVar::UnitsPerMinute => flag(!st.inverse_time && !st.feed_per_rev),
+            SystemVar::UnitsPerRev => flag(!st.inverse_time && st.feed_per_rev),
+            SystemVar::CoordSystem => match st.wcs {
+                1..=6 => 530.0 + 10.0 * f64::from(st.wcs),
+                7..=9 => 584.0 + f64::from(st.wcs),
+                _ => 540.0,
+            },
+            SystemVar::ToolOffsetOn => flag(st.tool_offset.iter().any(|&o| o != 0.0)),
+            SystemVar::RetractRPlane => flag(st.retract == Retract::RPlane),
+            SystemVar::RetractOldZ => flag(st.retract == Retract::Initial),
+            SystemVar::SpindleRpmMode => flag(st.css_max.is_none()),
+            SystemVar::SpindleCssMode => flag(st.css_max.is_some()),
+            SystemVar::IjkAbsolute => flag(!st.arc_incremental),
+            SystemVar::DiameterMode => flag(st.diameter),
+            SystemVar::RadiusMode => flag(!st.diameter),
+            SystemVar::SpindleOn => flag(st.spindle != Spindle::Stopped),
+            SystemVar::SpindleCw => flag(st.spindle == Spindle::Cw),
+            SystemVar::Mist => flag(st.mist),
+            SystemVar::Flood => flag(st.flood),
+            SystemVar::FeedOverride => flag(st.overrides.0),
+            SystemVar::SpeedOverride => flag(st.overrides.1),
+            SystemVar::CallLevel => f64::from(self.depth),
+            SystemVar::Line => f64::from(self.line),
+            SystemVar::Constant => constant,
+            // The probe results are written when a probe move ends, and the program may
+            // write them too, as any parameter.
+            SystemVar::ProbeX | SystemVar::ProbeY | SystemVar::ProbeZ | SystemVar::ProbeTripped => return None,
+            SystemVar::Alarm | SystemVar::StopMessage => return None,
+        })
     }
 
     /// An unused word: ignored, or an error where the dialect rejects it.
@@ -1061,8 +1134,11 @@ impl<'a> Interpreter<'a> {
         if self.profile.fast_lane && self.fast_move(block, sink, diags) {
             return;
         }
-        if !block.exprs.is_empty() && !self.dialect.macros.system.is_empty() {
-            self.refresh_system_vars();
+        let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
+        if system_vars && !block.exprs.is_empty() {
+            let named = !self.dialect.macros.system_named.is_empty()
+                && block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)));
+            self.refresh_system_vars(named);
         }
         let early = self.dialect.behaviour.assign_before_reads;
         if early {
@@ -1842,6 +1918,49 @@ impl<'a> Interpreter<'a> {
         self.pending = pending;
     }
 
+    /// What a log-file directive writes: the file's name as written, nothing for a close, or
+    /// the line with each parameter (`#1`, `#<depth>`) replaced by its value with six
+    /// decimals, as rs274 writes it (`######` for one it cannot read; a `#` ending the text
+    /// goes).
+    fn log_text(&self, kind: crate::dialect::LogFile, rest: &str) -> String {
+        use crate::dialect::LogFile;
+        match kind {
+            LogFile::Close => return String::new(),
+            LogFile::Open | LogFile::Append => return rest.trim().to_owned(),
+            LogFile::Line => {}
+        }
+        let mut out = String::with_capacity(rest.len());
+        let mut rest = rest;
+        while let Some(at) = rest.find('#') {
+            out.push_str(&rest[..at]);
+            let after = &rest[at + 1..];
+            let digits = after.bytes().take_while(u8::is_ascii_digit).count();
+            let (value, used) = if digits > 0 {
+                (after[..digits].parse::<f64>().ok().and_then(|n| self.params.get(n).ok()), digits)
+            } else if let Some(raw) = after.strip_prefix('<').and_then(|a| a.find('>').map(|e| &a[..e])) {
+                let name = eval::normalise_name(raw);
+                // A system parameter reads the state now, as in an expression.
+                let system = self.dialect.macros.system_named.iter().find(|(n, ..)| *n == name);
+                let value = match system {
+                    Some(&(_, var, constant)) => self.system_value(var, constant),
+                    None => self.params.get_named(&name).ok(),
+                };
+                (value, raw.len() + 2)
+            } else {
+                (None, 0)
+            };
+            match value {
+                Some(v) => out.push_str(&format!("{v:.6}")),
+                None if used > 0 => out.push_str("######"),
+                None if after.is_empty() => {}
+                None => out.push('#'),
+            }
+            rest = &after[used..];
+        }
+        out.push_str(rest);
+        out
+    }
+
     /// The text of the block's first comment, or an empty string.
     fn block_comment(&self, block: &Block) -> String {
         block.comments.first().map(|r| block.text(*r).trim().to_owned()).unwrap_or_default()
@@ -1924,6 +2043,11 @@ impl<'a> Interpreter<'a> {
                             self.st.ended = true;
                             return;
                         }
+                        // `(LOGCLOSE)` only: with more after it, rs274 takes it for a comment.
+                        Some((Directive::LogFile(crate::dialect::LogFile::Close), rest)) if !rest.trim().is_empty() => {
+                            CanonOp::Comment(text.to_owned())
+                        }
+                        Some((Directive::LogFile(kind), rest)) => CanonOp::Log(kind, self.log_text(kind, rest)),
                         Some((Directive::Log, _)) | None => CanonOp::Comment(text.to_owned()),
                     };
                     self.emit(sink, op);
@@ -2092,6 +2216,17 @@ impl<'a> Interpreter<'a> {
                     self.emit(sink, CanonOp::UseToolLengthOffset(self.st.tool_offset));
                 }
             }
+            Meaning::ToolSet => {
+                // `M61 Q3`: the machine is told the spindle holds tool 3; nothing moves. The
+                // interpreter goes on reading the tool the last change loaded (#5400, the
+                // length G43 takes), as rs274 reads it back after CHANGE_TOOL_NUMBER.
+                match self.slot(Role::Q) {
+                    Some(q) if q >= 0.0 && q.fract() == 0.0 && q < f64::from(u32::MAX) => {
+                        self.emit(sink, CanonOp::ChangeToolNumber(q as u32));
+                    }
+                    _ => diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: Q must be a tool number", def.label()))),
+                }
+            }
             Meaning::SpindleCw => {
                 self.st.spindle = Spindle::Cw;
                 self.st.tech_warned = false;
@@ -2182,8 +2317,15 @@ impl<'a> Interpreter<'a> {
                     // A zero offset leaves the path as programmed (rs274 does the same).
                     return;
                 }
-                if let Some(r) = radius.filter(|_| self.st.plane == Plane::Xy) {
-                    *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, (self.st.pos[0], self.st.pos[1])));
+                if let Some(r) = radius.filter(|_| matches!(self.st.plane, Plane::Xy | Plane::Xz)) {
+                    let axes = self.st.plane.axes();
+                    // A lathe tool's orientation (`G42.1 D0.4 L3`) puts the controlled point at
+                    // its imaginary tip (in the ZX plane, Z first).
+                    let orientation = self.slot(Role::L).filter(|l| by_diameter && l.fract() == 0.0 && *l >= 0.0).unwrap_or(0.0);
+                    let (tx, tz) = comp::tip_offset(orientation as u32);
+                    let tip = if self.st.plane == Plane::Xz { (tz * r, tx * r) } else { (0.0, 0.0) };
+                    let at = (self.st.pos[axes.0], self.st.pos[axes.1]);
+                    *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, axes, tip, at));
                     return;
                 }
                 let register = match number.filter(|&d| d != 0) {
@@ -2455,15 +2597,18 @@ impl<'a> Interpreter<'a> {
             Meaning::OptionalStop => self.emit(sink, CanonOp::OptionalProgramStop),
             Meaning::OverridesOn | Meaning::OverridesOff => {
                 let on = def.meaning == Meaning::OverridesOn;
+                self.st.overrides = (on, on);
                 self.emit(sink, CanonOp::FeedOverride(on));
                 self.emit(sink, CanonOp::SpeedOverride(on));
             }
             Meaning::FeedOverrideSwitch => {
                 let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
+                self.st.overrides.0 = on;
                 self.emit(sink, CanonOp::FeedOverride(on));
             }
             Meaning::SpeedOverrideSwitch => {
                 let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
+                self.st.overrides.1 = on;
                 self.emit(sink, CanonOp::SpeedOverride(on));
             }
             Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.program_end(sink),
@@ -2952,18 +3097,22 @@ impl<'a> Interpreter<'a> {
         let mut end = mid;
         let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();
         let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
+        // The tool offsets move the controlled point: the tool's tip reaches the reference
+        // position, so its program position is short of it by the offset (rs274).
+        let tlo = |i: usize| if i < 3 { self.st.tool_offset[i] } else { 0.0 };
         if self.st.rotation(self.st.wcs) != 0.0 {
-            let mut m = self.to_machine(mid);
+            let mut m = self.to_machine(std::array::from_fn(|i| mid[i] + tlo(i)));
             for (i, v) in m.iter_mut().enumerate() {
                 if moves(i) {
                     *v = home[i] * k(i);
                 }
             }
-            end = self.program_pos(m);
+            let p = self.program_pos(m);
+            end = std::array::from_fn(|i| p[i] - tlo(i));
         } else {
             for i in 0..6 {
                 if moves(i) {
-                    end[i] = home[i] * k(i) - self.st.offset(self.st.wcs)[i] - self.st.g92[i];
+                    end[i] = home[i] * k(i) - self.st.offset(self.st.wcs)[i] - self.st.g92[i] - tlo(i);
                 }
             }
         }

@@ -51,18 +51,18 @@ impl Interpreter<'_> {
             }
         }
         if self.slots[Role::PolarRadius as usize].is_some() || self.slots[Role::PolarAngle as usize].is_some() {
-            self.polar_target(&mut t);
+            self.polar_target(self.st.pos, &mut t);
         }
         t
     }
 
     /// `LP PR+30 PA+45`, `CP IPA+90`: the end point in the plane from its distance to the pole
     /// and its angle about it; a missing one keeps the current point's, an incremental one
-    /// (`IPR`, `IPA`) adds to it.
-    pub(super) fn polar_target(&self, t: &mut [f64; 6]) {
+    /// (`IPR`, `IPA`) adds to the distance and angle of `from`, the point the move starts at.
+    pub(super) fn polar_target(&self, from: [f64; 6], t: &mut [f64; 6]) {
         let (a0, a1, _) = self.st.plane.axes();
         let (px, py) = self.st.pole;
-        let (dx, dy) = (self.st.pos[a0] - px, self.st.pos[a1] - py);
+        let (dx, dy) = (from[a0] - px, from[a1] - py);
         let polar = |role: Role, current: f64| match self.slots[role as usize] {
             None => current,
             Some(s) if self.incremental(role) => current + s.value,
@@ -266,9 +266,11 @@ impl Interpreter<'_> {
     /// away, leaves contact). Where that is, only the machine knows: the analysis takes the
     /// programmed end point for the probe result variables (written once, then the program's
     /// to change) and, backed off towards the start by the dictionary's `probe-backoff`, for
-    /// the position, as rs274's simulator does. A probe that must touch (G38.2, G38.4) is
-    /// taken to have touched, since the run stops otherwise; so is a quiet one (G38.3,
-    /// G38.5), the way a successful run goes. Only a quiet probe may have no length.
+    /// the position, as rs274's simulator does. The tripped variable reads the dictionary's
+    /// `probe-tripped`: 1, a probe that touched (a probe that must touch, G38.2 or G38.4,
+    /// stops the run otherwise), or 0 where the reference is rs274's simulator, which never
+    /// trips (so a loop `while [#5070 NE 0]` round a quiet probe ends). Only a quiet probe
+    /// may have no length: one that must touch stops the run, as rs274 stops.
     fn probe(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let bad = |code: Code, msg: &str| Diagnostic::new(code, range, format!("{}: {msg}", def.label()));
         if self.comp.borrow().is_some() {
@@ -281,7 +283,8 @@ impl Interpreter<'_> {
         let start = self.st.pos;
         let length = (0..3).map(|i| (t[i] - start[i]).powi(2)).sum::<f64>().sqrt();
         if length < 1e-9 && def.meaning == Meaning::Probe {
-            return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point"));
+            self.st.ended = true;
+            return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point; the run stops here"));
         }
         self.emit(sink, CanonOp::TurnProbeOn);
         self.emit(sink, CanonOp::StraightProbe(t));
@@ -301,7 +304,7 @@ impl Interpreter<'_> {
                 SystemVar::ProbeX => t[0],
                 SystemVar::ProbeY => t[1],
                 SystemVar::ProbeZ => t[2],
-                SystemVar::ProbeTripped => 1.0,
+                SystemVar::ProbeTripped => self.dialect.behaviour.probe_tripped,
                 _ => continue,
             };
             let _ = self.params.set(f64::from(n), v);
