@@ -70,6 +70,7 @@ pub fn run<'t>(
         loops: Vec::new(),
         back_jumps: BTreeMap::new(),
         landing: None,
+        undecided: false,
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -245,6 +246,8 @@ struct Driver<'a, 'p> {
     back_jumps: BTreeMap<(usize, usize), u64>,
     /// An `elseif`/`else` reached by a jump from a false condition (source, offset).
     landing: Option<(usize, usize)>,
+    /// Whether the last condition read an unknown value (the way was chosen, not known).
+    undecided: bool,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -707,7 +710,8 @@ impl<'a> Driver<'a, '_> {
             return None;
         };
         let v = self.value(interp, block, e, diags)?;
-        if eval::is_unknown(v) {
+        self.undecided = eval::is_unknown(v);
+        if self.undecided {
             return Some(self.unknown_condition(interp, c, block, diags));
         }
         Some(!eval::is_null(v) && v != 0.0)
@@ -729,7 +733,9 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::If) if jump => match self.jump_target(c, block, interp) {
                 Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
                 target => {
-                    let at_target = target.is_some_and(|t| self.alarm_at(t));
+                    // The way from the target on, past the blocks that only stop the spindle
+                    // or coolant before the alarm (`N900 M05` `#3000=91`), to its first statement.
+                    let at_target = target.is_some_and(|t| self.alarm_at(t) || self.fall_through(t, interp) == Way::Alarm);
                     match self.fall_through(here, interp) {
                         // Not jumping goes round the loop again (`IF [found] GOTO 20` …
                         // `GOTO 10`): the jump leaves the loop, as a run that ends does.
@@ -826,6 +832,8 @@ impl<'a> Driver<'a, '_> {
             );
             let always = match c.statement {
                 Some(Statement::Label) => continue,
+                // A loop's end: a run that ends leaves the loop there, so its way goes on past it.
+                Some(Statement::EndWhile | Statement::EndDo | Statement::EndRepeat | Statement::EndFor | Statement::EndLoop) => continue,
                 Some(Statement::Goto | Statement::GotoBack | Statement::GotoLabel) => true,
                 Some(Statement::If) if jump => c.args.first().is_some_and(|&e| {
                     constant(&b, e) && interp.eval(&b, e, b.range, &mut scratch).is_ok_and(|v| !eval::is_null(v) && v != 0.0)
@@ -948,7 +956,11 @@ impl<'a> Driver<'a, '_> {
                         }
                     }
                     Some(Statement::Then) => {
-                        if cond {
+                        if self.undecided && !block.assigns.is_empty() && !self.is_alarm(block) {
+                            // Whether the assignment ran is not known (`IF [#24 NE #0] THEN
+                            // #30 = #24` on an argument): what it sets holds either value.
+                            interp.execute_either(block, sink, diags);
+                        } else if cond {
                             interp.execute(block, sink, diags);
                         }
                     }

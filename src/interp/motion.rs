@@ -274,13 +274,16 @@ impl Interpreter<'_> {
         if self.comp.borrow().is_some() {
             return diags.push(bad(Code::BadValue, "cannot probe with cutter compensation on"));
         }
-        if self.st.feed == 0.0 || self.st.inverse_time {
+        // A feed from outside the file (`F#9` of a caller's argument) is not a zero feed.
+        if (self.st.feed == 0.0 && !self.st.feed_unknown) || self.st.inverse_time {
             return diags.push(bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)"));
         }
         let t = self.target();
         let start = self.st.pos;
         let length = (0..3).map(|i| (t[i] - start[i]).powi(2)).sum::<f64>().sqrt();
-        if length < 1e-9 && def.meaning == Meaning::Probe {
+        // An axis word from outside the file was left out: the probe's end is not known.
+        let unknown_end = [Role::X, Role::Y, Role::Z].iter().any(|&r| self.unknown_roles & (1 << r as u32) != 0);
+        if length < 1e-9 && def.meaning == Meaning::Probe && !unknown_end {
             return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point"));
         }
         self.emit(sink, CanonOp::TurnProbeOn);
