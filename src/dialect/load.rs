@@ -443,10 +443,11 @@ impl Cx {
                         Some("message") => Some(Directive::Message),
                         Some("abort") => Some(Directive::Abort),
                         Some("log") => Some(Directive::Log),
+                        Some("simulator") => Some(Directive::Simulator),
                         Some(other) => {
                             self.error(
                                 Self::attr_range(c, "meaning"),
-                                format!("a comment directive's meaning is message, abort or log, not `{other}`"),
+                                format!("a comment directive's meaning is message, abort, log or simulator, not `{other}`"),
                             );
                             None
                         }

@@ -180,6 +180,10 @@ pub enum Directive {
     /// Writes the rest of the comment to a log or a console (`(DEBUG, …)`, `(PRINT, …)`):
     /// nothing the machine does; a comment to the interpreter.
     Log,
+    /// A teaching simulator's command (`($SetPartSize(100, 100, 20, 1))`): the simulator reads
+    /// it to its matching close, quoted text and parentheses included, where a control ends
+    /// the comment at its first close. Nothing the machine does.
+    Simulator,
 }
 
 impl Lexical {

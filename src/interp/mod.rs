@@ -1896,7 +1896,7 @@ impl<'a> Interpreter<'a> {
                             self.st.ended = true;
                             return;
                         }
-                        Some((Directive::Log, _)) | None => CanonOp::Comment(text.to_owned()),
+                        Some((Directive::Log | Directive::Simulator, _)) | None => CanonOp::Comment(text.to_owned()),
                     };
                     self.emit(sink, op);
                 }

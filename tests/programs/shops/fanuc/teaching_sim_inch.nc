@@ -1,7 +1,6 @@
 ($AddRegPart(1, 4, 4, 1))
 ($SetPartSize(4, 4, 1, 1) )
 (Fanuc inch sample)
-%
 O0124 (INCH SAMPLE)
 G20 G40 G54 G80 G90
 T17 M06
@@ -16,4 +15,3 @@ X0
 Y0
 G00 Z5.
 M30
-%
