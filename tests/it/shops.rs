@@ -60,7 +60,7 @@ fn check(registry: &Registry, file: &Path) -> Checked {
 /// would stop on.
 #[test]
 fn shop_programs_are_told_right_and_read_without_false_alarms() {
-    let dir: PathBuf = crate::support::root().join("tests/programs/shops");
+    let dir: PathBuf = crate::root().join("tests/programs/shops");
     let registry = Registry::shipped();
     let rows = rows(&dir);
     let listed: Vec<&str> = rows.iter().map(|r| r.path.as_str()).collect();
