@@ -8,6 +8,7 @@ use ncplan::dialect::Registry;
 use ncplan::dialect::sniff::Confidence;
 use ncplan::interp::{Profile, ProgramRole, role_for};
 use std::collections::BTreeMap;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 /// One row of `expected.tsv`.
@@ -89,14 +90,14 @@ fn shop_programs_are_told_right_and_read_without_false_alarms() {
             if c.errors.is_empty() {
                 t.1 += 1;
             } else {
-                eprintln!("{}: {}", row.path, c.errors.join("; "));
+                let _ = writeln!(std::io::stderr(), "{}: {}", row.path, c.errors.join("; "));
             }
         } else if c.errors.is_empty() {
             problems.push(format!("{}: listed as invalid, but no error was found", row.path));
         }
     }
     for (family, (valid, clean)) in &tally {
-        eprintln!("shops: {family}: {clean} of {valid} valid programs free of errors");
+        let _ = writeln!(std::io::stderr(), "shops: {family}: {clean} of {valid} valid programs free of errors");
         if *clean * 100 < *valid * 95 {
             problems.push(format!("{family}: {clean} of {valid} valid programs free of errors (below 95%)"));
         }
