@@ -729,6 +729,8 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
         );
         let (value, why) = match c.statement {
+            // A block IF's body is the lines after it.
+            Some(Statement::If) if block_if(block, c, self.dialect) => self.alarm_choice(self.alarm_at(here), false, choice),
             Some(Statement::If) if c.then == Some(Statement::Then) => self.alarm_choice(self.is_alarm(block), self.alarm_at(here), choice),
             Some(Statement::If) if jump => match self.jump_target(c, block, interp) {
                 Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
@@ -953,6 +955,11 @@ impl<'a> Driver<'a, '_> {
                     ) => {
                         if cond {
                             self.jump_statement(st, c, block, start, interp, diags);
+                        }
+                    }
+                    Some(Statement::Then) if block_if(block, c, self.dialect) => {
+                        if !cond {
+                            self.next_branch(&label, start, c.range, interp, diags);
                         }
                     }
                     Some(Statement::Then) => {
@@ -1786,6 +1793,15 @@ impl<'a> Driver<'a, '_> {
             return None;
         };
         let v = self.value(interp, block, e, diags)?;
+        if eval::is_unknown(v) {
+            // `GOTO [#4 + 10]` on the caller's arguments: the block it goes to is the control's
+            // to know. The run follows it no further, and that is no fault of the program.
+            let what = interp.unknown_what();
+            let msg = format!("the jump's target reads {what}: where it goes is not known here, and the analysis follows it no further");
+            diags.push(Diagnostic::new(Code::UnknownValue, block.range, msg));
+            self.stop = true;
+            return None;
+        }
         if eval::is_null(v) || v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
             self.error(diags, Code::MissingLabel, block.range, format!("jump target {v} is not a block number"));
             return None;
@@ -2276,6 +2292,16 @@ fn set_variable(interp: &mut Interpreter<'_>, block: &Block, var: ExprId, v: f64
 }
 
 /// Indexes the control statements and program numbers of `text`.
+/// Whether `block` is an `IF [..] THEN` with nothing after `THEN`, where the dictionary has
+/// `ELSE`/`ENDIF` (Mazak's block IF): the lines up to the `ELSE` or `ENDIF` are its body.
+fn block_if(block: &Block, c: &Control, dialect: &Dialect) -> bool {
+    c.statement == Some(Statement::If)
+        && c.then == Some(Statement::Then)
+        && block.words.is_empty()
+        && block.assigns.is_empty()
+        && dialect.macros.statements.iter().any(|(_, st)| *st == Statement::EndIf)
+}
+
 fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
@@ -2325,7 +2351,7 @@ fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
             defines,
             name,
             statement: c.and_then(|c| c.statement),
-            then: c.and_then(|c| c.then),
+            then: c.and_then(|c| c.then).filter(|_| !c.is_some_and(|c| block_if(&block, c, dialect))),
             id: c.and_then(|c| literal(c.target)),
             program: block.program_number.or_else(|| {
                 // An O-word label alone on its line starts a numbered program (`O1000` + M99).
