@@ -947,37 +947,7 @@ impl<'a> Driver<'a, '_> {
         };
         let same_label = |m: &Mark, sts: &[Statement]| m.label == label && m.statement.is_some_and(|s| sts.contains(&s));
         match statement {
-            Statement::If => {
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                match c.then {
-                    Some(
-                        st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel),
-                    ) => {
-                        if cond {
-                            self.jump_statement(st, c, block, start, interp, diags);
-                        }
-                    }
-                    Some(Statement::Then) if block_if(block, c, self.dialect) => {
-                        if !cond {
-                            self.next_branch(&label, start, c.range, interp, diags);
-                        }
-                    }
-                    Some(Statement::Then) => {
-                        if self.undecided && !block.assigns.is_empty() && !self.is_alarm(block) {
-                            // Whether the assignment ran is not known (`IF [#24 NE #0] THEN
-                            // #30 = #24` on an argument): what it sets holds either value.
-                            interp.execute_either(block, sink, diags);
-                        } else if cond {
-                            interp.execute(block, sink, diags);
-                        }
-                    }
-                    _ => {
-                        if !cond {
-                            self.next_branch(&label, start, c.range, interp, diags);
-                        }
-                    }
-                }
-            }
+            Statement::If => self.if_statement(c, block, start, &label, interp, sink, diags),
             Statement::ElseIf => {
                 if self.landing == Some((self.cur, start.at)) {
                     self.landing = None;
@@ -1807,6 +1777,48 @@ impl<'a> Driver<'a, '_> {
             return None;
         }
         Some(v as u32)
+    }
+
+    /// `IF [..] GOTO n`, `IF [..] THEN ...` (one line, or a block IF up to its `ELSE`/`ENDIF`),
+    /// and the structured `IF` of the languages that have one.
+    #[allow(clippy::too_many_arguments)]
+    fn if_statement(
+        &mut self,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        label: &Option<String>,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(cond) = self.condition(interp, c, block, diags) else { return };
+        match c.then {
+            Some(st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)) => {
+                if cond {
+                    self.jump_statement(st, c, block, start, interp, diags);
+                }
+            }
+            Some(Statement::Then) if block_if(block, c, self.dialect) => {
+                if !cond {
+                    self.next_branch(label, start, c.range, interp, diags);
+                }
+            }
+            Some(Statement::Then) => {
+                if self.undecided && !block.assigns.is_empty() && !self.is_alarm(block) {
+                    // Whether the assignment ran is not known (`IF [#24 NE #0] THEN
+                    // #30 = #24` on an argument): what it sets holds either value.
+                    interp.execute_either(block, sink, diags);
+                } else if cond {
+                    interp.execute(block, sink, diags);
+                }
+            }
+            _ => {
+                if !cond {
+                    self.next_branch(label, start, c.range, interp, diags);
+                }
+            }
+        }
     }
 
     /// Where the blocks numbered `n` start in source `source`, in text order (found once).
