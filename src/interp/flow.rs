@@ -855,7 +855,8 @@ impl<'a> Driver<'a, '_> {
         Way::On
     }
 
-    /// Whether `b` ends the program (`M30`, `M2`): a way that gets there raises no alarm.
+    /// Whether `b` ends the program or returns from it (`M30`, `M2`, `M99`): a way that gets
+    /// there raises no alarm.
     fn ends_program(&self, b: &Block) -> bool {
         b.words.iter().any(|w| {
             let crate::syntax::Value::Number { value, .. } = w.value else { return false };
@@ -864,8 +865,15 @@ impl<'a> Driver<'a, '_> {
                 crate::dialect::Role::M if value >= 0.0 && value.fract() == 0.0 => self.dialect.code_id('M', (value * 10.0) as u32),
                 _ => None,
             };
-            code.and_then(|i| self.dialect.codes.get(i))
-                .is_some_and(|c| matches!(c.meaning, crate::dialect::Meaning::ProgramEnd | crate::dialect::Meaning::ProgramEndRewind))
+            code.and_then(|i| self.dialect.codes.get(i)).is_some_and(|c| {
+                // A return ends the way too: the alarms after `M99` are other ways'.
+                matches!(
+                    c.meaning,
+                    crate::dialect::Meaning::ProgramEnd
+                        | crate::dialect::Meaning::ProgramEndRewind
+                        | crate::dialect::Meaning::SubprogramReturn
+                )
+            })
         })
     }
 
