@@ -113,6 +113,10 @@ codes! {
     MalformedNumber = ("syntax::malformed-number", Error),
     /// A comment that is not closed before the end of the line.
     UnterminatedComment = ("syntax::unterminated-comment", Error),
+    /// A teaching simulator's command written as a comment with parentheses of its own
+    /// (`($SetPartSize(42, 12, 2, 1))`): read to its matching close, as the simulator reads
+    /// it; a control ends the comment at its first close.
+    SimulatorDirective = ("syntax::simulator-directive", Warning),
     /// An expression that cannot be parsed.
     MalformedExpression = ("syntax::malformed-expression", Error),
     /// An address without a value.

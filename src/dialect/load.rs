@@ -447,11 +447,12 @@ impl Cx {
                         Some("log-append") => Some(Directive::LogFile(LogFile::Append)),
                         Some("log-close") => Some(Directive::LogFile(LogFile::Close)),
                         Some("log-line") => Some(Directive::LogFile(LogFile::Line)),
+                        Some("simulator") => Some(Directive::Simulator),
                         Some(other) => {
                             self.error(
                                 Self::attr_range(c, "meaning"),
                                 format!(
-                                    "a comment directive's meaning is message, abort, log, log-open, log-append, log-close or log-line, not `{other}`"
+                                    "a comment directive's meaning is message, abort, log, log-open, log-append, log-close, log-line or simulator, not `{other}`"
                                 ),
                             );
                             None

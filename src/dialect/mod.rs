@@ -183,6 +183,10 @@ pub enum Directive {
     /// Works the control's log file (LinuxCNC's `(LOGOPEN, name)`, `(LOG, text)`): nothing
     /// the machine does, but a call the control makes (`LOGOPEN`, `LOG`).
     LogFile(LogFile),
+    /// A teaching simulator's command (`($SetPartSize(100, 100, 20, 1))`): the simulator reads
+    /// it to its matching close, quoted text and parentheses included, where a control ends
+    /// the comment at its first close. Nothing the machine does.
+    Simulator,
 }
 
 /// What a log-file directive does.

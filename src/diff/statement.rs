@@ -164,7 +164,7 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
         match dialect.lexical.directive(inside) {
             Some((Directive::Message | Directive::Log | Directive::LogFile(_), _)) => messages.push(inside.trim()),
             Some((Directive::Abort, _)) => aborts.push(inside.trim()),
-            None => {}
+            Some((Directive::Simulator, _)) | None => {}
         }
         if s > 0 && src[..s].ends_with(|c: char| dialect.lexical.comments.iter().any(|k| k.open == c)) {
             s -= src[..s].chars().next_back().map_or(0, char::len_utf8);

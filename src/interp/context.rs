@@ -5,6 +5,7 @@ use super::{Interpreter, Retract, Spindle};
 use crate::canon::{CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::CodeDef;
+use crate::syntax::{Block, ParamTarget};
 use crate::text::TextRange;
 
 /// The modes a save keeps: those LinuxCNC restores.
@@ -143,5 +144,55 @@ impl Interpreter<'_> {
         }
         self.st.arc_incremental = saved.arc_incremental;
         self.st.retract = saved.retract;
+    }
+}
+
+/// A parameter an assignment sets, and the value it held before.
+enum Before {
+    Numbered(f64, f64),
+    Named(String, f64),
+}
+
+impl Interpreter<'_> {
+    /// Runs `block`, whose condition the analysis could not decide: each parameter it sets
+    /// then holds either its old value or the new one, and one that changed is unknown.
+    pub(super) fn execute_either(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let mut scratch = Vec::new();
+        let mut before = Vec::new();
+        for a in &block.assigns {
+            match a.target {
+                ParamTarget::Numbered(e) => {
+                    if let Ok(n) = self.eval(block, e, a.range, &mut scratch)
+                        && let Ok(v) = self.params.get(n)
+                    {
+                        before.push(Before::Numbered(n, v));
+                    }
+                }
+                ParamTarget::Named(r) => {
+                    let name = super::eval::normalise_name(block.text(r));
+                    let v = self.params.get_named(&name).unwrap_or(super::eval::UNKNOWN);
+                    before.push(Before::Named(name, v));
+                }
+                ParamTarget::NamedIndex(..) => {}
+            }
+        }
+        self.params.take_unknown_read();
+        self.execute(block, sink, diags);
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || a == b;
+        for b in before {
+            match b {
+                Before::Numbered(n, old) => {
+                    if self.params.get(n).is_ok_and(|v| !same(v, old)) {
+                        let _ = self.params.set(n, super::eval::UNKNOWN);
+                    }
+                }
+                Before::Named(name, old) => {
+                    if self.params.get_named(&name).is_ok_and(|v| !same(v, old)) {
+                        self.params.set_named(&name, super::eval::UNKNOWN);
+                    }
+                }
+            }
+        }
+        self.params.take_unknown_read();
     }
 }

@@ -308,6 +308,19 @@ impl Interpreter<'_> {
             args.push((Role::ReferencePlane, surface));
         }
         let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
+        // A parameter set from outside the file (`Q201=-Q1`, the caller's Q1) has a value the
+        // control knows: the cycle runs there, but where it goes is not known here.
+        let outside = |p: Option<u32>| p.is_some_and(|p| self.params.get(f64::from(p)).is_ok_and(super::eval::is_unknown));
+        if let Some(a) = cycle.args.iter().find(|a| a.required && get(a.role).is_none() && outside(a.param)) {
+            let msg = format!(
+                "{} reads {} ({}), which is set outside this file: its moves are not expanded",
+                cycle.name,
+                a.name,
+                a.role.as_str()
+            );
+            self.limited(diags, "unknown-value", Diagnostic::new(Code::UnknownValue, defined.range, msg));
+            return;
+        }
         for a in cycle.args.iter().filter(|a| a.required) {
             if get(a.role).is_none() {
                 let msg = format!("{} needs {} ({})", cycle.name, a.name, a.role.as_str());

@@ -191,7 +191,10 @@ impl Params {
 
     /// The value of numbered parameter `n`.
     pub fn get(&self, n: f64) -> Result<f64, EvalError> {
-        let i = index(n, self.highest)?;
+        let i = match index(n, self.highest) {
+            Ok(i) => i,
+            Err(e) => return self.field(n).ok_or(e),
+        };
         let v = if i < MAX_PARAM {
             self.numbered[i]
         } else {
@@ -206,6 +209,17 @@ impl Params {
             self.note_unknown(|| self.origin(UnknownSource::Numbered(i as u32)));
         }
         Ok(v)
+    }
+
+    /// A field of the control's own data read with a fraction (`#30057.25`, a part of
+    /// parameter 30057): unknown, as the whole value is; `None` where the whole is not
+    /// data from outside the file (a fraction then names no variable).
+    fn field(&self, n: f64) -> Option<f64> {
+        if !n.is_finite() || n < 0.0 || n.fract() == 0.0 {
+            return None;
+        }
+        let whole = self.get(n.trunc()).ok()?;
+        is_unknown(whole).then_some(UNKNOWN)
     }
 
     /// Sets numbered parameter `n`.

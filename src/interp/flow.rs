@@ -70,6 +70,7 @@ pub fn run<'t>(
         loops: Vec::new(),
         back_jumps: BTreeMap::new(),
         landing: None,
+        undecided: false,
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -245,6 +246,8 @@ struct Driver<'a, 'p> {
     back_jumps: BTreeMap<(usize, usize), u64>,
     /// An `elseif`/`else` reached by a jump from a false condition (source, offset).
     landing: Option<(usize, usize)>,
+    /// Whether the last condition read an unknown value (the way was chosen, not known).
+    undecided: bool,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -707,7 +710,8 @@ impl<'a> Driver<'a, '_> {
             return None;
         };
         let v = self.value(interp, block, e, diags)?;
-        if eval::is_unknown(v) {
+        self.undecided = eval::is_unknown(v);
+        if self.undecided {
             return Some(self.unknown_condition(interp, c, block, diags));
         }
         Some(!eval::is_null(v) && v != 0.0)
@@ -725,11 +729,15 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
         );
         let (value, why) = match c.statement {
+            // A block IF's body is the lines after it.
+            Some(Statement::If) if block_if(block, c, self.dialect) => self.alarm_choice(self.alarm_at(here), false, choice),
             Some(Statement::If) if c.then == Some(Statement::Then) => self.alarm_choice(self.is_alarm(block), self.alarm_at(here), choice),
             Some(Statement::If) if jump => match self.jump_target(c, block, interp) {
                 Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
                 target => {
-                    let at_target = target.is_some_and(|t| self.alarm_at(t));
+                    // The way from the target on, past the blocks that only stop the spindle
+                    // or coolant before the alarm (`N900 M05` `#3000=91`), to its first statement.
+                    let at_target = target.is_some_and(|t| self.alarm_at(t) || self.fall_through(t, interp) == Way::Alarm);
                     match self.fall_through(here, interp) {
                         // Not jumping goes round the loop again (`IF [found] GOTO 20` …
                         // `GOTO 10`): the jump leaves the loop, as a run that ends does.
@@ -826,6 +834,8 @@ impl<'a> Driver<'a, '_> {
             );
             let always = match c.statement {
                 Some(Statement::Label) => continue,
+                // A loop's end: a run that ends leaves the loop there, so its way goes on past it.
+                Some(Statement::EndWhile | Statement::EndDo | Statement::EndRepeat | Statement::EndFor | Statement::EndLoop) => continue,
                 Some(Statement::Goto | Statement::GotoBack | Statement::GotoLabel) => true,
                 Some(Statement::If) if jump => c.args.first().is_some_and(|&e| {
                     constant(&b, e) && interp.eval(&b, e, b.range, &mut scratch).is_ok_and(|v| !eval::is_null(v) && v != 0.0)
@@ -845,7 +855,8 @@ impl<'a> Driver<'a, '_> {
         Way::On
     }
 
-    /// Whether `b` ends the program (`M30`, `M2`): a way that gets there raises no alarm.
+    /// Whether `b` ends the program or returns from it (`M30`, `M2`, `M99`): a way that gets
+    /// there raises no alarm.
     fn ends_program(&self, b: &Block) -> bool {
         b.words.iter().any(|w| {
             let crate::syntax::Value::Number { value, .. } = w.value else { return false };
@@ -854,8 +865,15 @@ impl<'a> Driver<'a, '_> {
                 crate::dialect::Role::M if value >= 0.0 && value.fract() == 0.0 => self.dialect.code_id('M', (value * 10.0) as u32),
                 _ => None,
             };
-            code.and_then(|i| self.dialect.codes.get(i))
-                .is_some_and(|c| matches!(c.meaning, crate::dialect::Meaning::ProgramEnd | crate::dialect::Meaning::ProgramEndRewind))
+            code.and_then(|i| self.dialect.codes.get(i)).is_some_and(|c| {
+                // A return ends the way too: the alarms after `M99` are other ways'.
+                matches!(
+                    c.meaning,
+                    crate::dialect::Meaning::ProgramEnd
+                        | crate::dialect::Meaning::ProgramEndRewind
+                        | crate::dialect::Meaning::SubprogramReturn
+                )
+            })
         })
     }
 
@@ -937,28 +955,7 @@ impl<'a> Driver<'a, '_> {
         };
         let same_label = |m: &Mark, sts: &[Statement]| m.label == label && m.statement.is_some_and(|s| sts.contains(&s));
         match statement {
-            Statement::If => {
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                match c.then {
-                    Some(
-                        st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel),
-                    ) => {
-                        if cond {
-                            self.jump_statement(st, c, block, start, interp, diags);
-                        }
-                    }
-                    Some(Statement::Then) => {
-                        if cond {
-                            interp.execute(block, sink, diags);
-                        }
-                    }
-                    _ => {
-                        if !cond {
-                            self.next_branch(&label, start, c.range, interp, diags);
-                        }
-                    }
-                }
-            }
+            Statement::If => self.if_statement(c, block, start, &label, interp, sink, diags),
             Statement::ElseIf => {
                 if self.landing == Some((self.cur, start.at)) {
                     self.landing = None;
@@ -1774,11 +1771,62 @@ impl<'a> Driver<'a, '_> {
             return None;
         };
         let v = self.value(interp, block, e, diags)?;
+        if eval::is_unknown(v) {
+            // `GOTO [#4 + 10]` on the caller's arguments: the block it goes to is the control's
+            // to know. The run follows it no further, and that is no fault of the program.
+            let what = interp.unknown_what();
+            let msg = format!("the jump's target reads {what}: where it goes is not known here, and the analysis follows it no further");
+            diags.push(Diagnostic::new(Code::UnknownValue, block.range, msg));
+            self.stop = true;
+            return None;
+        }
         if eval::is_null(v) || v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
             self.error(diags, Code::MissingLabel, block.range, format!("jump target {v} is not a block number"));
             return None;
         }
         Some(v as u32)
+    }
+
+    /// `IF [..] GOTO n`, `IF [..] THEN ...` (one line, or a block IF up to its `ELSE`/`ENDIF`),
+    /// and the structured `IF` of the languages that have one.
+    #[allow(clippy::too_many_arguments)]
+    fn if_statement(
+        &mut self,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        label: &Option<String>,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(cond) = self.condition(interp, c, block, diags) else { return };
+        match c.then {
+            Some(st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)) => {
+                if cond {
+                    self.jump_statement(st, c, block, start, interp, diags);
+                }
+            }
+            Some(Statement::Then) if block_if(block, c, self.dialect) => {
+                if !cond {
+                    self.next_branch(label, start, c.range, interp, diags);
+                }
+            }
+            Some(Statement::Then) => {
+                if self.undecided && !block.assigns.is_empty() && !self.is_alarm(block) {
+                    // Whether the assignment ran is not known (`IF [#24 NE #0] THEN
+                    // #30 = #24` on an argument): what it sets holds either value.
+                    interp.execute_either(block, sink, diags);
+                } else if cond {
+                    interp.execute(block, sink, diags);
+                }
+            }
+            _ => {
+                if !cond {
+                    self.next_branch(label, start, c.range, interp, diags);
+                }
+            }
+        }
     }
 
     /// Where the blocks numbered `n` start in source `source`, in text order (found once).
@@ -2300,6 +2348,16 @@ fn set_variable(interp: &mut Interpreter<'_>, block: &Block, var: ExprId, v: f64
 }
 
 /// Indexes the control statements and program numbers of `text`.
+/// Whether `block` is an `IF [..] THEN` with nothing after `THEN`, where the dictionary has
+/// `ELSE`/`ENDIF` (Mazak's block IF): the lines up to the `ELSE` or `ENDIF` are its body.
+fn block_if(block: &Block, c: &Control, dialect: &Dialect) -> bool {
+    c.statement == Some(Statement::If)
+        && c.then == Some(Statement::Then)
+        && block.words.is_empty()
+        && block.assigns.is_empty()
+        && dialect.macros.statements.iter().any(|(_, st)| *st == Statement::EndIf)
+}
+
 fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
@@ -2349,7 +2407,7 @@ fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
             defines,
             name,
             statement: c.and_then(|c| c.statement),
-            then: c.and_then(|c| c.then),
+            then: c.and_then(|c| c.then).filter(|_| !c.is_some_and(|c| block_if(&block, c, dialect))),
             id: c.and_then(|c| literal(c.target)),
             program: block.program_number.or_else(|| {
                 // An O-word label alone on its line starts a numbered program (`O1000` + M99).

@@ -2048,7 +2048,7 @@ impl<'a> Interpreter<'a> {
                             CanonOp::Comment(text.to_owned())
                         }
                         Some((Directive::LogFile(kind), rest)) => CanonOp::Log(kind, self.log_text(kind, rest)),
-                        Some((Directive::Log, _)) | None => CanonOp::Comment(text.to_owned()),
+                        Some((Directive::Log | Directive::Simulator, _)) | None => CanonOp::Comment(text.to_owned()),
                     };
                     self.emit(sink, op);
                 }
@@ -2879,6 +2879,10 @@ impl<'a> Interpreter<'a> {
     /// `G10 L1/L10/L11` (LinuxCNC) and `G10 L10–L13` (Fanuc): tool P's length or radius.
     fn set_tool_data(&mut self, def: &CodeDef, form: DataForm, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let Some(p) = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0 && *p < 1e6) else {
+            if self.unknown_roles & (1 << Role::P as u32) != 0 {
+                // `G10 L10 P#20`: the caller's tool number; the word was left out and said so.
+                return;
+            }
             diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs P, a tool or offset number", def.label())));
             return;
         };

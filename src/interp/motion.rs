@@ -276,13 +276,25 @@ impl Interpreter<'_> {
         if self.comp.borrow().is_some() {
             return diags.push(bad(Code::BadValue, "cannot probe with cutter compensation on"));
         }
-        if self.st.feed == 0.0 || self.st.inverse_time {
+        if self.st.inverse_time {
             return diags.push(bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)"));
+        }
+        // A feed word from outside the file (`F#9`, the caller's argument) is not a zero feed;
+        // without one, a called program's feed is its caller's.
+        if self.st.feed == 0.0 && self.unknown_roles & (1 << Role::F as u32) == 0 {
+            let d = bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)");
+            if !self.st.feed_unknown {
+                return diags.push(d);
+            }
+            let note = format!("{} probes with a feed this file does not set: the feed comes from the caller", def.label());
+            self.caller_state(diags, "technology", d, note);
         }
         let t = self.target();
         let start = self.st.pos;
         let length = (0..3).map(|i| (t[i] - start[i]).powi(2)).sum::<f64>().sqrt();
-        if length < 1e-9 && def.meaning == Meaning::Probe {
+        // An axis word from outside the file was left out: the probe's end is not known.
+        let unknown_end = [Role::X, Role::Y, Role::Z].iter().any(|&r| self.unknown_roles & (1 << r as u32) != 0);
+        if length < 1e-9 && def.meaning == Meaning::Probe && !unknown_end {
             self.st.ended = true;
             return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point; the run stops here"));
         }

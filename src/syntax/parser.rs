@@ -766,10 +766,16 @@ impl Lexer<'_, '_> {
             CommentClose::Char(c) => {
                 let rest = &self.b[self.i..eol];
                 let opener = self.b[open];
-                let nested = self.dialect.lexical.comments.iter().any(|r| r.open as u8 == opener && r.nested);
-                let mut depth = 0u32;
+                // A teaching simulator's command (`($SetPartSize(42, 12, 2, 1))`) runs to its
+                // matching close, past quoted text, as the simulator reads it.
+                let simulator = self.simulator_directive(rest);
+                let nested = simulator || self.dialect.lexical.comments.iter().any(|r| r.open as u8 == opener && r.nested);
+                let (mut depth, mut quoted) = (0u32, false);
                 let mut closing = |x: u8| {
-                    if nested && x == opener && x != *c as u8 {
+                    if simulator && x == b'"' {
+                        quoted = !quoted;
+                    } else if quoted {
+                    } else if nested && x == opener && x != *c as u8 {
                         depth += 1;
                     } else if x == *c as u8 {
                         if depth == 0 {
@@ -779,7 +785,19 @@ impl Lexer<'_, '_> {
                     }
                     false
                 };
-                match rest.iter().position(|&x| closing(x)) {
+                let found = rest.iter().position(|&x| closing(x));
+                if simulator
+                    && let Some(p) = found
+                    && rest[..p].iter().position(|&x| x == *c as u8).is_some_and(|first| first < p)
+                {
+                    self.error(
+                        Code::SimulatorDirective,
+                        open,
+                        self.i + p + 1,
+                        format!("a teaching simulator's command, read to its matching `{c}` as the simulator reads it; a control ends the comment at its first `{c}` and reads the rest as words"),
+                    );
+                }
+                match found {
                     Some(p) => {
                         self.block.comments.push(self.range(self.i, self.i + p));
                         self.i += p + 1;
@@ -797,6 +815,18 @@ impl Lexer<'_, '_> {
                 }
             }
         }
+    }
+
+    /// Whether the comment text `rest` (after its opener) starts with a teaching simulator's
+    /// command prefix from the dictionary (`$`).
+    fn simulator_directive(&self, rest: &[u8]) -> bool {
+        let start = rest.iter().position(|c| !matches!(c, b' ' | b'\t')).unwrap_or(rest.len());
+        let t = &rest[start..];
+        self.dialect.lexical.directives.iter().any(|(prefix, d)| {
+            *d == crate::dialect::Directive::Simulator
+                && t.len() >= prefix.len()
+                && t[..prefix.len()].eq_ignore_ascii_case(prefix.as_bytes())
+        })
     }
 
     /// The lexer's fast path: `X10.5`, `Y-.25`, a plain address with a literal number. False,

@@ -30,6 +30,7 @@ mod revisions;
 mod robustness;
 mod round_trip_causes;
 mod shop;
+mod shops;
 mod siemens_axes;
 mod speed;
 mod stepnc;

@@ -395,13 +395,23 @@ M30
     assert_eq!(xs, ["0.0000", "6.0000", "12.000"], "{m:?}");
 }
 
-/// Nested parentheses in comments, as simulators write them (`($SetPartSize(4, 4, 1, 1) )`),
-/// are a dictionary option: a dialect that says `nested="true"` reads the whole comment.
+/// Nested parentheses in comments are a dictionary option: Fanuc closes a comment at the
+/// first `)`, a dialect that says `nested="true"` reads the whole comment. A teaching
+/// simulator's `$` command (`($SetPartSize(4, 4, 1, 1) )`) is read to its matching `)`, as
+/// the simulator reads it, with a warning (issue 34).
 #[test]
 fn nested_comments_are_a_dictionary_option() {
-    let program = "O1\n($SetPartSize(4, 4, 1, 1) )\nG0 G90 X1. Y2.\nM30\n";
+    let program = "O1\n(PLATE (REV B) DONE)\nG0 G90 X1. Y2.\nM30\n";
     let (_, diags) = run("fanuc", program);
     assert!(!errors(&diags).is_empty(), "Fanuc closes the comment at the first `)`");
+    let simulator = "O1\n($SetPartSize(4, 4, 1, 1) )\n($Message(\"Load (Fanuc) settings\"))\nG0 G90 X1. Y2.\nM30\n";
+    let (_, diags) = run("fanuc", simulator);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(
+        diags.iter().filter(|d| d.code.as_str() == "syntax::simulator-directive" && d.severity == Severity::Warning).count(),
+        2,
+        "{diags:?}"
+    );
     let mut r = Registry::shipped();
     let nested = r#"<dialect xmlns="urn:ncplan:dialect:1" name="sim" extends="fanuc" title="A simulator">
   <lexical><comment open="(" close=")" nested="true"/></lexical>

@@ -1,0 +1,17 @@
+($AddRegPart(1, 4, 4, 1))
+($SetPartSize(4, 4, 1, 1) )
+(Fanuc inch sample)
+O0124 (INCH SAMPLE)
+G20 G40 G54 G80 G90
+T17 M06
+S1500 F30. M03
+G00 G43 H17 Z5.
+G00 X0 Y0 Z0.1
+G01 Z-0.1 F2.
+X3.9 F20.
+G03 X4. Y0.1 R0.1
+G01 Y4.
+X0
+Y0
+G00 Z5.
+M30

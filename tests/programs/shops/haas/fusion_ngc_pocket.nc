@@ -1,0 +1,46 @@
+%
+O01001 (COVER PLATE)
+(Using high feed G1 F650. instead of G0.)
+(T1 D=10. CR=0. - ZMIN=-6. - flat end mill)
+(T5 D=6.8 CR=0. TAPER=118deg - ZMIN=-20. - drill)
+G90 G94 G17
+G21
+G53 G0 Z0.
+
+(Adaptive1)
+T1 M6
+S9000 M3
+G54
+M8
+G0 X-20. Y-8.
+G43 Z15. H1
+G0 Z5.
+G187 P2
+G1 Z-3. F400.
+X80. F1200.
+Y8.
+X-20.
+Z-6. F400.
+X80. F1200.
+G187
+G0 Z15.
+M9
+G53 G0 Z0.
+
+(Drill1)
+M1
+T5 M6
+S2400 M3
+G54
+M8
+G0 X10. Y10.
+G43 Z15. H5
+G98 G83 X10. Y10. Z-20. R3. Q2. F180.
+X50.
+X90.
+G80
+M9
+G53 G0 Z0.
+G53 G0 Y0.
+M30
+%

@@ -1,0 +1,24 @@
+%
+O01060 (TOOL CHECK AND FACE)
+(Using high feed G1 F500. instead of G0.)
+(T1 D=50. CR=0. - ZMIN=0. - face mill)
+M130 (cover_plate.png)
+G90 G94 G17
+G21
+G53 G0 Z0.
+(MEASURE TOOL)
+T1 M6
+G65 P9023 A12. T1 H75. D50.
+(Face1)
+S4000 M3
+G54
+M8
+G0 X-40. Y0.
+G43 Z15. H1
+G1 Z0. F2000.
+X140. F900.
+G0 Z15.
+M9
+G53 G0 Z0.
+M30
+%
