@@ -563,7 +563,7 @@ impl Cx {
             h0_spindle_tool: false,
             probe_backoff_mm: 0.0,
             probe_backoff_inch: 0.0,
-            probe_tripped: 1.0,
+            probe_tripped: None,
             peck_clearance_mm: 0.254,
             peck_clearance_inch: 0.01,
             arc_tolerance_mm: 0.002,
@@ -654,7 +654,15 @@ impl Cx {
         b.tool_change_rereads_position = self.either(el, "position-after-tool-change", "program", "last-move");
         b.probe_backoff_mm = self.number(el, "probe-backoff-mm", 0.0).max(0.0);
         b.probe_backoff_inch = self.number(el, "probe-backoff-inch", b.probe_backoff_mm / 25.4).max(0.0);
-        b.probe_tripped = if self.either(el, "probe-tripped", "1", "0") { 0.0 } else { 1.0 };
+        b.probe_tripped = match self.attr(el, "probe-tripped") {
+            None | Some("unknown") => None,
+            Some("1") => Some(1.0),
+            Some("0") => Some(0.0),
+            Some(other) => {
+                self.error(Self::attr_range(el, "probe-tripped"), format!("`probe-tripped` is 1, 0 or unknown, not `{other}`"));
+                None
+            }
+        };
         b.peck_clearance_mm = self.number(el, "peck-clearance-mm", 0.254);
         b.peck_clearance_inch = self.number(el, "peck-clearance-inch", 0.01);
         b.arc_tolerance_mm = self.number(el, "arc-tolerance-mm", 0.002);

@@ -306,9 +306,11 @@ pub struct Behaviour {
     pub probe_backoff_mm: f64,
     /// The same in inch programs.
     pub probe_backoff_inch: f64,
-    /// What the probe-tripped variable reads after a probe move: 1 (it touched, the way a
-    /// successful run goes) or 0 (rs274's simulator never trips, `probe-tripped="0"`).
-    pub probe_tripped: f64,
+    /// What the probe-tripped variable reads after a probe move: unknown (by default: only the
+    /// machine knows whether the probe touched; a loop on it ends, as a successful run's
+    /// does, and a check that alarms on it takes the way without alarm, as rs274's
+    /// never-tripping simulator leaves such loops), or 1 or 0 where a dictionary says so.
+    pub probe_tripped: Option<f64>,
     /// Peck-drilling re-approach clearance, mm.
     pub peck_clearance_mm: f64,
     /// Peck-drilling re-approach clearance, inch.

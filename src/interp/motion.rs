@@ -267,10 +267,11 @@ impl Interpreter<'_> {
     /// programmed end point for the probe result variables (written once, then the program's
     /// to change) and, backed off towards the start by the dictionary's `probe-backoff`, for
     /// the position, as rs274's simulator does. The tripped variable reads the dictionary's
-    /// `probe-tripped`: 1, a probe that touched (a probe that must touch, G38.2 or G38.4,
-    /// stops the run otherwise), or 0 where the reference is rs274's simulator, which never
-    /// trips (so a loop `while [#5070 NE 0]` round a quiet probe ends). Only a quiet probe
-    /// may have no length: one that must touch stops the run, as rs274 stops.
+    /// `probe-tripped`: unknown by default (only the machine knows whether it touched: a loop
+    /// `while [#5070 NE 0]` round a quiet probe ends, as it does under rs274's simulator,
+    /// which never trips, and a check `if [#5070 EQ 0]` that aborts takes the way a
+    /// successful probe goes), or the 1 or 0 a dictionary gives. Only a quiet probe may have
+    /// no length: one that must touch stops the run, as rs274 stops.
     fn probe(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let bad = |code: Code, msg: &str| Diagnostic::new(code, range, format!("{}: {msg}", def.label()));
         if self.comp.borrow().is_some() {
@@ -316,7 +317,7 @@ impl Interpreter<'_> {
                 SystemVar::ProbeX => t[0],
                 SystemVar::ProbeY => t[1],
                 SystemVar::ProbeZ => t[2],
-                SystemVar::ProbeTripped => self.dialect.behaviour.probe_tripped,
+                SystemVar::ProbeTripped => self.dialect.behaviour.probe_tripped.unwrap_or(super::eval::UNKNOWN),
                 _ => continue,
             };
             let _ = self.params.set(f64::from(n), v);

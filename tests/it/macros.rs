@@ -569,7 +569,7 @@ fn g76_threads_pass_by_pass_as_rs274_does() {
 /// result parameters then hold. rs274's rejections: no feed, compensation on, no length.
 #[test]
 fn probing_moves_and_their_results() {
-    let (out, codes) = calls("G21 F100 S1000 M3\nG0 X1 Y2 Z3\nG38.2 Z-5\nG1 X#5061 Y[#5063 + #5070]\nG38.5 X0\nM2\n");
+    let (out, codes) = calls("G21 F100 S1000 M3\nG0 X1 Y2 Z3\nG38.2 Z-5\nG1 X#5061 Y#5063\nG38.5 X0\nM2\n");
     assert_eq!(codes, ["interp::unsupported", "interp::unsupported"]);
     expect![[r#"
         SET_FEED_RATE(100.0000)
@@ -597,6 +597,14 @@ fn probing_moves_and_their_results() {
     ] {
         assert!(calls(program).1.contains(&code), "{program}: {:?}", calls(program).1);
     }
+    // Whether the probe touched only the machine knows: a probing macro's check that aborts
+    // when it did not takes the way a successful probe goes (a note, no error), and a loop
+    // that probes until it touches ends, as under rs274's simulator.
+    let (out, codes) = calls(
+        "F100 G0 Z1\nG38.2 Z-1\no1 if [#5070 EQ 0]\n(abort, no contact)\no1 endif\n#1=0\n#5070=1\no2 while [#5070 NE 0]\n#1=[#1+1]\nG38.3 Z-2\no2 endwhile\nG0 X#1\nM2\n",
+    );
+    assert!(codes.iter().all(|c| *c == "interp::unsupported" || *c == "flow::unknown-condition"), "{codes:?}");
+    assert!(out.contains("STRAIGHT_TRAVERSE(1.0000,"), "the loop ran once: {out}");
     // A quiet probe may have no length, as in rs274 (the tool stays where it is).
     let (out, codes) = calls("F100 G0 Z1\nG38.3 Z1\nG0 X1\nM2\n");
     assert!(codes.iter().all(|c| *c == "interp::unsupported"), "{codes:?}");
