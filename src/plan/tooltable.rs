@@ -319,6 +319,15 @@ mod tests {
         assert_eq!(t[&0].diameter, None);
     }
 
+    proptest::proptest! {
+        /// Any text, however broken, is a table or a clear error: never a panic.
+        #[test]
+        fn any_text_is_read_or_refused(text in "(BEGIN TOOL\\.T MM\n|T[0-9]{0,3} |G10 L1[0-3] P[0-9] R[-0-9.]{0,4}\n|\\$TC_DP[0-9]\\[[0-9,]{0,3}\\]=[0-9.]{0,3}\n|[ -~\n]{0,12}|;.{0,5}){0,24}") {
+            let _ = read(&text, false);
+            let _ = read(&text, true);
+        }
+    }
+
     #[test]
     fn siemens_tool_offsets() {
         let text = "CHANDATA(1)\n$TC_TP1[2]=2\n$TC_TP2[2]=\"SCHAFTFRAESER_D20\"\n$TC_DP1[2,1]=120\n$TC_DP3[2,1]=92.415\n\
