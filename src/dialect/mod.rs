@@ -16,7 +16,8 @@ mod xml;
 
 pub use load::load;
 pub use registry::Registry;
-pub use vocab::{Meaning, Role, Statement, Step, SystemVar};
+pub(crate) use vocab::normalised;
+pub use vocab::{MAX_HIGH_PARAM, Meaning, Role, Statement, Step, SystemVar, normalise_name};
 
 /// How a block's tokens are arranged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
