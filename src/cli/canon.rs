@@ -45,6 +45,8 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The sink `canon` prints to: each call as `rs274 -g` writes it, gathered into chunks; the
+/// first write error is kept and the rest skipped.
 struct Printer<'w, W: Write> {
     out: &'w mut W,
     buf: Vec<u8>,
