@@ -251,7 +251,7 @@ pub enum CanonOp {
     /// `MESSAGE(text)`
     Message(String),
     /// `LOGOPEN(name)`, `LOGAPPEND(name)`, `LOGCLOSE()`, `LOG(text)`: LinuxCNC's log file.
-    Log(crate::dialect::LogFile, String),
+    Log(LogFile, String),
     /// Marker: distance mode changed.
     DistanceMode(DistanceMode),
     /// Marker: a canned-cycle hole starts; the moves that follow expand it.
@@ -306,6 +306,19 @@ pub enum CanonOp {
         /// The end point.
         end: [f64; 6],
     },
+}
+
+/// What a log-file directive does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LogFile {
+    /// Opens the file the rest of the comment names, empty.
+    Open,
+    /// Opens it to add to what it holds.
+    Append,
+    /// Closes it.
+    Close,
+    /// Writes the rest of the comment, its parameters replaced by their values.
+    Line,
 }
 
 /// What a feed rate is per.
@@ -547,7 +560,6 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
             out.push(b')');
         }
         CanonOp::Log(kind, s) => {
-            use crate::dialect::LogFile;
             out.extend_from_slice(match kind {
                 LogFile::Open => b"LOGOPEN(".as_slice(),
                 LogFile::Append => b"LOGAPPEND(",

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::text::{LineIndex, TextRange};
+use crate::text::{DecodeNote, LineIndex, TextRange};
 
 /// How serious a finding is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -276,6 +276,29 @@ impl Diagnostic {
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
     }
+}
+
+impl From<DecodeNote> for Diagnostic {
+    /// What decoding noticed, as the diagnostic that tells the user.
+    fn from(note: DecodeNote) -> Diagnostic {
+        match note {
+            DecodeNote::Binary => Diagnostic::new(
+                Code::BinaryInput,
+                TextRange::default(),
+                "the file looks like binary data (NUL or control bytes), not a part program",
+            ),
+            DecodeNote::NotUtf8 { at } => Diagnostic::new(
+                Code::NotUtf8,
+                TextRange::default(),
+                format!("the file is not valid UTF-8 (first at byte {at}); it was read as Windows-1252 (Latin-1)"),
+            ),
+        }
+    }
+}
+
+/// The diagnostics of what decoding noticed ([`crate::text::decode`] and its kin).
+pub fn decoding(notes: Vec<DecodeNote>) -> Vec<Diagnostic> {
+    notes.into_iter().map(Diagnostic::from).collect()
 }
 
 /// A diagnostic with its position resolved, ready for JSON or SQL.

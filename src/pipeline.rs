@@ -6,7 +6,7 @@ use crate::diag::{Code, Diagnostic};
 use crate::dialect::Dialect;
 use crate::interp::{self, Profile};
 use crate::plan::{self, ProcessPlan};
-use crate::text::{self, SourceText, Text, TextRange};
+use crate::text::{self, DecodeNote, SourceText, Text, TextRange};
 
 /// Everything known about one program.
 #[derive(Debug)]
@@ -30,7 +30,8 @@ impl Analysis {
 
 /// Analyses raw program bytes. Never fails.
 pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
-    let (source, mut diagnostics) = text::decode(bytes);
+    let (source, notes) = text::decode(bytes);
+    let mut diagnostics = crate::diag::decoding(notes);
     let mut canon = Vec::new();
     diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut canon));
     let (plan, plan_diags) = plan::recover(&canon, profile, name_of(Text::Whole(&source.text), dialect));
@@ -67,7 +68,8 @@ pub fn analyze_plan_owned(bytes: Vec<u8>, dialect: &Dialect, profile: &Profile) 
     plan_of(text::decode_owned(bytes), dialect, profile)
 }
 
-fn plan_of((source, mut diagnostics): (SourceText, Vec<Diagnostic>), dialect: &Dialect, profile: &Profile) -> Analysis {
+fn plan_of((source, notes): (SourceText, Vec<DecodeNote>), dialect: &Dialect, profile: &Profile) -> Analysis {
+    let mut diagnostics = crate::diag::decoding(notes);
     let (plan, found) = plan_of_text(Text::Whole(&source.text), dialect, profile);
     diagnostics.extend(found);
     diagnostics.sort_by_key(|d| (d.range.start, d.range.end));

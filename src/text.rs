@@ -12,8 +12,6 @@ use std::borrow::Cow;
 
 use serde::{Deserialize, Serialize};
 
-use crate::diag::{Code, Diagnostic};
-
 /// A half-open byte range `start..end` into a decoded source text.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct TextRange {
@@ -126,25 +124,33 @@ pub struct SourceText {
     pub encoding: Encoding,
 }
 
+/// What decoding noticed about the bytes. [`crate::diag`] words each as a diagnostic
+/// (`Diagnostic::from`): text sits below diag.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DecodeNote {
+    /// The bytes look like binary data (NUL or control bytes), not a part program.
+    Binary,
+    /// The bytes are not valid UTF-8, first at byte `at`; they were read as Windows-1252.
+    NotUtf8 {
+        /// The offset of the first invalid byte, after any byte-order mark.
+        at: u64,
+    },
+}
+
 /// Decodes raw program bytes. Never fails: binary input yields an empty text and an error
 /// diagnostic; non-UTF-8 input is decoded as Windows-1252 with a note.
-pub fn decode(bytes: &[u8]) -> (SourceText, Vec<Diagnostic>) {
+pub fn decode(bytes: &[u8]) -> (SourceText, Vec<DecodeNote>) {
     let mut diags = Vec::new();
     let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     if looks_binary(body) {
-        diags.push(Diagnostic::new(
-            Code::BinaryInput,
-            TextRange::default(),
-            "the file looks like binary data (NUL or control bytes), not a part program",
-        ));
+        diags.push(DecodeNote::Binary);
         return (SourceText { text: String::new(), encoding: Encoding::Binary }, diags);
     }
     match std::str::from_utf8(body) {
         Ok(s) => (SourceText { text: blank_stray_returns(s.to_owned()), encoding: Encoding::Utf8 }, diags),
         Err(e) => {
             let text: String = body.iter().map(|&b| windows_1252(b)).collect();
-            let msg = format!("the file is not valid UTF-8 (first at byte {}); it was read as Windows-1252 (Latin-1)", e.valid_up_to());
-            diags.push(Diagnostic::new(Code::NotUtf8, TextRange::default(), msg));
+            diags.push(DecodeNote::NotUtf8 { at: e.valid_up_to() as u64 });
             (SourceText { text: blank_stray_returns(text), encoding: Encoding::Windows1252 }, diags)
         }
     }
@@ -170,7 +176,7 @@ fn blank_stray_returns(text: String) -> String {
 
 /// [`decode`] that takes the bytes and, for UTF-8 input (the common case), keeps them as the
 /// text without a copy: a large program is held in memory once.
-pub fn decode_owned(mut bytes: Vec<u8>) -> (SourceText, Vec<Diagnostic>) {
+pub fn decode_owned(mut bytes: Vec<u8>) -> (SourceText, Vec<DecodeNote>) {
     if bytes.starts_with(b"\xEF\xBB\xBF") {
         bytes.drain(..3);
     }
@@ -652,7 +658,7 @@ impl Survey {
     }
 
     /// The layout, with the findings [`decode`] would give.
-    pub fn finish(mut self) -> (Layout, Vec<Diagnostic>) {
+    pub fn finish(mut self) -> (Layout, Vec<DecodeNote>) {
         if self.bom.is_none() {
             let start = std::mem::take(&mut self.start);
             self.bom = Some(0);
@@ -668,15 +674,10 @@ impl Survey {
         let bom = self.bom.unwrap_or(0) as u64;
         let blank_stray = self.has_cr && self.has_lf && self.stray;
         let (encoding, text_len) = if looks_binary(&self.sample) {
-            diags.push(Diagnostic::new(
-                Code::BinaryInput,
-                TextRange::default(),
-                "the file looks like binary data (NUL or control bytes), not a part program",
-            ));
+            diags.push(DecodeNote::Binary);
             (Encoding::Binary, 0)
         } else if let Some(at) = self.invalid_at {
-            let msg = format!("the file is not valid UTF-8 (first at byte {at}); it was read as Windows-1252 (Latin-1)");
-            diags.push(Diagnostic::new(Code::NotUtf8, TextRange::default(), msg));
+            diags.push(DecodeNote::NotUtf8 { at });
             (Encoding::Windows1252, (self.body_len + self.extra) as usize)
         } else {
             (Encoding::Utf8, self.body_len as usize)
@@ -854,7 +855,7 @@ pub struct BytesReader {
 
 impl BytesReader {
     /// Surveys `bytes` (in chunks of `chunk` bytes) for reading with windows of `window`.
-    pub fn new(bytes: Vec<u8>, chunk: usize, window: usize) -> (BytesReader, Vec<Diagnostic>) {
+    pub fn new(bytes: Vec<u8>, chunk: usize, window: usize) -> (BytesReader, Vec<DecodeNote>) {
         let mut survey = Survey::new();
         for c in bytes.chunks(chunk.max(1)) {
             survey.feed(c);
@@ -929,9 +930,9 @@ mod tests {
         assert_eq!((s.text.as_str(), s.encoding, d.len()), ("G0 X1", Encoding::Utf8, 0));
         let (s, d) = decode(b"(M\xfcller \x80)\nG0");
         assert_eq!(s.text, "(Müller €)\nG0");
-        assert_eq!((s.encoding, d[0].code), (Encoding::Windows1252, Code::NotUtf8));
+        assert_eq!((s.encoding, d[0]), (Encoding::Windows1252, DecodeNote::NotUtf8 { at: 2 }));
         let (s, d) = decode(b"\x7fELF\x02\x01\x01\x00\x00");
-        assert_eq!((s.encoding, d[0].code), (Encoding::Binary, Code::BinaryInput));
+        assert_eq!((s.encoding, d[0]), (Encoding::Binary, DecodeNote::Binary));
     }
 
     /// Bytes of the kinds decoding distinguishes: line ends, stray returns, multi-byte

@@ -61,8 +61,8 @@ impl Program {
     /// A program whose bytes are in memory (a stored revision), decoded whole.
     pub fn from_bytes(bytes: Vec<u8>) -> (Program, Vec<Diagnostic>) {
         let head = bytes[..bytes.len().min(HEAD)].to_vec();
-        let (source, diags) = crate::text::decode_owned(bytes);
-        (Program { text: Whole::Whole(source.text), head }, diags)
+        let (source, notes) = crate::text::decode_owned(bytes);
+        (Program { text: Whole::Whole(source.text), head }, crate::diag::decoding(notes))
     }
 
     /// The text, for the core.
@@ -106,9 +106,9 @@ impl FileText {
             }
             survey.feed(&buf[..n]);
         }
-        let (layout, diags) = survey.finish();
+        let (layout, notes) = survey.finish();
         let text = FileText { file, path: path.to_path_buf(), layout, seen, trouble: Mutex::new(None) };
-        Ok((text, diags))
+        Ok((text, crate::diag::decoding(notes)))
     }
 
     /// How the file decodes.
@@ -180,7 +180,7 @@ mod tests {
         std::fs::write(&path, &bytes).unwrap();
         let (program, diags) = Program::open(&path).unwrap();
         let (whole, want) = crate::text::decode(&bytes);
-        assert_eq!((read_all(program.text()), diags), (whole.text, want));
+        assert_eq!((read_all(program.text()), diags), (whole.text, crate::diag::decoding(want)));
         assert_eq!(program.head_bytes(), &bytes[..]);
         assert_eq!(program.trouble(), None);
     }

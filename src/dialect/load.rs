@@ -838,12 +838,12 @@ impl Cx {
         m.unlisted_tools_unknown = self.either(el, "unlisted-tools", "zero", "unknown");
         m.return_tells_called = self.bool(el, "return-tells-called", true);
         let highest = self.number(el, "highest-variable", 9999.0);
-        m.highest_variable = if (0.0..crate::interp::eval::MAX_HIGH_PARAM as f64).contains(&highest) {
+        m.highest_variable = if (0.0..super::vocab::MAX_HIGH_PARAM as f64).contains(&highest) {
             highest as u32
         } else {
             self.error(
                 Self::attr_range(el, "highest-variable"),
-                format!("`highest-variable` is at most {}", crate::interp::eval::MAX_HIGH_PARAM - 1),
+                format!("`highest-variable` is at most {}", super::vocab::MAX_HIGH_PARAM - 1),
             );
             9999
         };
@@ -935,7 +935,7 @@ impl Cx {
                 _ if self.attr(c, "name").is_some() => {
                     self.shape(c, &["name", "meaning", "value"], &[]);
                     let (Some(name), Some(meaning)) = (self.attr(c, "name"), self.required(c, "meaning")) else { continue };
-                    let name = crate::interp::eval::normalise_name(name);
+                    let name = super::vocab::normalise_name(name);
                     let value = self.number(c, "value", 0.0);
                     match SystemVar::parse(meaning) {
                         Some(v) => m.system_named.push((name, v, value)),

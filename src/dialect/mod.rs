@@ -16,7 +16,8 @@ mod xml;
 
 pub use load::load;
 pub use registry::Registry;
-pub use vocab::{Meaning, Role, Statement, Step, SystemVar};
+pub(crate) use vocab::normalised;
+pub use vocab::{MAX_HIGH_PARAM, Meaning, Role, Statement, Step, SystemVar, normalise_name};
 
 /// How a block's tokens are arranged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -189,18 +190,8 @@ pub enum Directive {
     Simulator,
 }
 
-/// What a log-file directive does.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LogFile {
-    /// Opens the file the rest of the comment names, empty.
-    Open,
-    /// Opens it to add to what it holds.
-    Append,
-    /// Closes it.
-    Close,
-    /// Writes the rest of the comment, its parameters replaced by their values.
-    Line,
-}
+/// What a log-file directive does: the canonical event's kind, named here too.
+pub use crate::canon::LogFile;
 
 impl Lexical {
     /// The directive a comment's text starts with, and the text after its prefix.

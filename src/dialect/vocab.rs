@@ -2,6 +2,28 @@
 //!
 //! A dialect maps its own spelling (`G81`, `CYCLE81`, `CYCL DEF 200`) onto these capabilities;
 //! the interpreter branches on them and never on dialect names.
+//!
+//! It also holds what the dialect loader and the interpreter share about parameters: the
+//! highest numbered one the engine keeps, and how a named one is spelt.
+
+/// Numbered parameters from `interp::eval::MAX_PARAM` up to this one (Haas NGC's #10000 to #30000+
+/// settings and parameters, Mitsubishi's extended common variables #900001 to #907400) live
+/// in a sparse table: only the ones a program writes take memory.
+pub const MAX_HIGH_PARAM: usize = 1_000_000;
+
+/// Normalises a parameter name as LinuxCNC does: lower case, blanks removed.
+pub fn normalise_name(raw: &str) -> String {
+    normalised(raw).into_owned()
+}
+
+/// [`normalise_name`] without an allocation when the name is already normal (the usual case).
+pub(crate) fn normalised(raw: &str) -> std::borrow::Cow<'_, str> {
+    if raw.chars().all(|c| !c.is_whitespace() && !c.is_uppercase()) {
+        std::borrow::Cow::Borrowed(raw)
+    } else {
+        std::borrow::Cow::Owned(raw.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect())
+    }
+}
 
 macro_rules! vocab {
     ($(#[$m:meta])* $name:ident { $( $(#[doc = $doc:literal])+ $variant:ident = $text:literal, )* }) => {

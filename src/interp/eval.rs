@@ -8,10 +8,7 @@ use crate::syntax::{BinOp, Block, Expr, ExprId, Func};
 /// permanent variables reach #999 and system variables beyond).
 pub const MAX_PARAM: usize = 10_000;
 
-/// Numbered parameters from [`MAX_PARAM`] up to this one (Haas NGC's #10000 to #30000+
-/// settings and parameters, Mitsubishi's extended common variables #900001 to #907400) live
-/// in a sparse table: only the ones a program writes take memory.
-pub const MAX_HIGH_PARAM: usize = 1_000_000;
+pub use crate::dialect::MAX_HIGH_PARAM;
 
 /// The vacant value of Fanuc Macro B (`#0`): a NaN that arithmetic treats as zero and
 /// `EQ`/`NE` tell apart from zero.
@@ -266,19 +263,8 @@ fn index(n: f64, highest: usize) -> Result<usize, EvalError> {
     Ok(r as usize)
 }
 
-/// Normalises a parameter name as LinuxCNC does: lower case, blanks removed.
-pub fn normalise_name(raw: &str) -> String {
-    normalised(raw).into_owned()
-}
-
-/// [`normalise_name`] without an allocation when the name is already normal (the usual case).
-pub(crate) fn normalised(raw: &str) -> std::borrow::Cow<'_, str> {
-    if raw.chars().all(|c| !c.is_whitespace() && !c.is_uppercase()) {
-        std::borrow::Cow::Borrowed(raw)
-    } else {
-        std::borrow::Cow::Owned(raw.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect())
-    }
-}
+pub use crate::dialect::normalise_name;
+pub(crate) use crate::dialect::normalised;
 
 /// Evaluates expression `id` of `block` against `params`.
 pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError> {

@@ -2976,4 +2976,43 @@ mod tests {
         }
         assert!(shortcuts > 100_000, "the shortcut is taken ({shortcuts})");
     }
+
+    /// Haas's G154 takes P1-P99, as its dictionary says (`<format min max>`): an additional
+    /// work offset beyond it is unwritable for a Haas, not a `G154 P120` the control rejects;
+    /// Fanuc's `G54.1 P` states no range and writes it.
+    #[test]
+    fn a_number_outside_its_formats_range_is_unwritable() {
+        let registry = crate::dialect::Registry::shipped();
+        let (fanuc, haas) = (registry.get("fanuc").unwrap(), registry.get("haas").unwrap());
+        let out = haas.output.as_ref().unwrap();
+        let p154 = out.formats.iter().position(|f| f.name == "P154").unwrap();
+        assert_eq!(out.bounds, vec![crate::dialect::output::Bound { format: p154, min: 1.0, max: 99.0 }]);
+        assert!(fanuc.output.as_ref().unwrap().bounds.is_empty());
+        let write = |p: u32, to: &crate::dialect::Dialect| {
+            let text = format!("%\nO0003\nG21 G90 G17\nT1 M6\nS1000 M3\nG54.1 P{p}\nG0 X10. Y10. Z5.\nG1 Z-1. F100.\nG0 Z50.\nM30\n%\n");
+            let mut bytes = Vec::new();
+            let opts = Options::for_program("O0003");
+            let diags = translate(&text, &fanuc, to, &crate::interp::Profile::default(), opts, |b| bytes.extend_from_slice(b));
+            let errors: Vec<String> =
+                diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect();
+            (String::from_utf8(bytes).unwrap(), errors)
+        };
+        for p in [1, 99] {
+            let (text, errors) = write(p, &haas);
+            assert!(text.contains(&format!("\nG154 P{p}\n")) && errors.is_empty(), "P{p}: {errors:?}\n{text}");
+        }
+        for p in [100, 120] {
+            let (text, errors) = write(p, &haas);
+            assert!(!text.contains("G154"), "P{p}:\n{text}");
+            assert_eq!(
+                errors,
+                [format!(
+                    "post::unwritable: the target's output rules have no code for additional work offset {p} (G54.1 P{p}: `work-offset-extended`)"
+                )],
+                "{text}"
+            );
+            let (text, errors) = write(p, &fanuc);
+            assert!(text.contains(&format!("\nG54.1 P{p}\n")) && errors.is_empty(), "fanuc P{p}: {errors:?}\n{text}");
+        }
+    }
 }

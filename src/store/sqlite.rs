@@ -1003,3 +1003,22 @@ fn lite_value(v: &Val) -> rusqlite::types::Value {
         Val::Bytes(b) => Value::Blob(b.clone()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::store::Store;
+
+    #[test]
+    fn migrations_apply_and_protect_revisions() {
+        let s = Store::open_in_memory().unwrap();
+        assert_eq!(s.version().unwrap(), super::schema::MIGRATIONS.len());
+        let s = super::Lite::open_in_memory("").unwrap();
+        let (cols, _) = s.query("SELECT * FROM shopfloor_changes").unwrap();
+        let want = "machine program original_path edited_path revision_id workingstep kind field before after detected_at operation change_id \
+                    line original_line region_min_x region_min_y region_min_z region_max_x region_max_y region_max_z deviation site";
+        assert_eq!(cols.join(" "), want);
+        s.conn.execute_batch("INSERT INTO blobs VALUES ('h', 1, x'00')").unwrap();
+        assert!(s.conn.execute_batch("UPDATE blobs SET size = 2").is_err());
+        assert!(s.conn.execute_batch("DELETE FROM blobs").is_err());
+    }
+}

@@ -506,7 +506,8 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
         .filter(|d| d.output.is_some())
         .ok_or_else(|| NotFound(format!("ncplan cannot write programs in `{to}`; it writes {}", writable(registry).join(", "))))?;
     let source_dialect = registry.get(&from).ok_or_else(|| NotFound(format!("no dialect `{from}`")))?;
-    let (source, mut diags) = crate::text::decode_owned(bytes);
+    let (source, notes) = crate::text::decode_owned(bytes);
+    let mut diags = crate::diag::decoding(notes);
     let stem = std::path::Path::new(&edited.path).file_stem().map(|x| x.to_string_lossy().into_owned());
     let name = crate::pipeline::program_name(&source.text).or(stem).unwrap_or_else(|| "PROGRAM".into());
     let profile = &s.config.profile;
@@ -623,7 +624,7 @@ pub(super) async fn notes(
     let to = q.get("to").cloned();
     super::page(s, headers, move |s, ctx, store| {
         let t = translate(s, store, revision, to.as_deref())?;
-        Ok(super::pages::layout(Some(ctx), &format!("Translation of revision {revision}"), translate_notes(&t, revision)))
+        Ok(super::layout::layout(Some(ctx), &format!("Translation of revision {revision}"), translate_notes(&t, revision)))
     })
     .await
 }

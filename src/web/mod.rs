@@ -15,6 +15,7 @@
 mod auth;
 pub mod bench;
 mod compare;
+mod layout;
 mod pages;
 pub mod report;
 

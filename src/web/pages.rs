@@ -3,45 +3,12 @@
 use std::collections::BTreeMap;
 
 use anyhow::Result;
-use maud::{DOCTYPE, Markup, html};
+use maud::{Markup, html};
 
 use super::compare;
+use super::layout::layout;
 use super::{Ctx, NotFound, Server};
 use crate::store::{ChangeFilter, ChangeRow, KNOWLEDGE, SAVED_QUERIES, Store};
-
-/// The page frame: navigation, the embedded stylesheet and script.
-pub(super) fn layout(ctx: Option<&Ctx>, title: &str, body: Markup) -> Markup {
-    html! {
-        (DOCTYPE)
-        html lang="en" {
-            head {
-                meta charset="utf-8";
-                meta name="viewport" content="width=device-width, initial-scale=1";
-                title { (title) " · ncplan" }
-                link rel="stylesheet" href="/static/app.css";
-            }
-            body {
-                header class="top" {
-                    a class="brand" href="/" { "ncplan" }
-                    a href="/" { "Overview" }
-                    a href="/search?to_review=1" { "Review queue" }
-                    a href="/knowledge" { "Knowledge" }
-                    a href="/search" { "Search" }
-                    a href="/sql" { "SQL" }
-                    @if let Some(ctx) = ctx && ctx.auth {
-                        form method="post" action="/logout" {
-                            input type="hidden" name="csrf" value=(ctx.csrf);
-                            span { (ctx.user.as_deref().unwrap_or("")) " " }
-                            button type="submit" { "Sign out" }
-                        }
-                    }
-                }
-                main { (body) }
-                script src="/static/app.js" {}
-            }
-        }
-    }
-}
 
 /// A page that only says something (not found, an error).
 pub(super) fn message(title: &str, text: &str) -> Markup {

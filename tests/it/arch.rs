@@ -94,3 +94,198 @@ fn every_module_has_a_doc_comment() {
         assert!(text.starts_with("//!"), "{rel} lacks a //! module doc");
     }
 }
+
+/// A source file's module path: `web/pages.rs` is `web::pages`, `web/mod.rs` is `web`,
+/// `lib.rs` the crate root.
+fn module_path(rel: &str) -> Vec<String> {
+    let mut path: Vec<String> = rel.trim_end_matches(".rs").split('/').map(str::to_owned).collect();
+    if path.last().is_some_and(|l| l == "mod" || l == "lib") {
+        path.pop();
+    }
+    path
+}
+
+/// The paths a piece of code names from `crate`, `super` or `self` (a `use` group gives one
+/// path per item), and those `use` statements name from a child module (`use lane::Lane;`
+/// in a `mod.rs`), each as its segments.
+fn named_paths(code: &str, children: &dyn Fn(&str) -> bool) -> Vec<Vec<String>> {
+    let b = code.as_bytes();
+    let ident = |i: usize| b.get(i).is_some_and(|c| c.is_ascii_alphanumeric() || *c == b'_');
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        let start = i;
+        if !ident(i) || (i > 0 && (ident(i - 1) || b[i - 1] == b':')) {
+            i += 1;
+            continue;
+        }
+        while ident(i) {
+            i += 1;
+        }
+        let first = &code[start..i];
+        // `use` as a word, then blanks, then the path.
+        let before = code[..start].trim_end();
+        let after_use = before.len() < start && before.ends_with("use") && !(before.len() > 3 && ident(before.len() - 4));
+        let rooted = matches!(first, "crate" | "super" | "self") || (after_use && children(first));
+        if !rooted || !code[i..].starts_with("::") {
+            continue;
+        }
+        let mut head = vec![first.to_owned()];
+        while code[i..].starts_with("::") {
+            i += 2;
+            let s = i;
+            while ident(i) {
+                i += 1;
+            }
+            if s == i {
+                break;
+            }
+            head.push(code[s..i].to_owned());
+        }
+        if code[i..].starts_with('{') {
+            // A `use` group: the first segment of each item at its top level.
+            let (mut depth, mut item, mut j) = (0usize, String::new(), i + 1);
+            let mut items = Vec::new();
+            while j < b.len() {
+                match b[j] {
+                    b'{' => depth += 1,
+                    b'}' if depth == 0 => break,
+                    b'}' => depth -= 1,
+                    b',' if depth == 0 => items.push(std::mem::take(&mut item)),
+                    _ => {}
+                }
+                if depth > 0 || b[j] != b',' {
+                    item.push(b[j] as char);
+                }
+                j += 1;
+            }
+            items.push(item);
+            for item in items {
+                let seg: String = item.trim().chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+                let mut path = head.clone();
+                if !seg.is_empty() && seg != "self" {
+                    path.push(seg);
+                }
+                out.push(path);
+            }
+            i = j;
+        } else {
+            out.push(head);
+        }
+    }
+    out
+}
+
+/// Each source file (but `main.rs`) with the files it names, by `crate::`, `super::` and
+/// `self::` paths and `use` statements, a module named by its file (`mod.rs` for a folder).
+/// A file's own test module counts. Naming a module that holds the file (its `mod.rs`, the
+/// crate root) is not counted: a folder's door and its files are one unit.
+fn file_graph() -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
+    let mut files = Vec::new();
+    sources(&crate::root().join("src"), &mut files);
+    files.retain(|(rel, _)| rel != "main.rs");
+    let by_module: std::collections::BTreeMap<Vec<String>, String> = files.iter().map(|(rel, _)| (module_path(rel), rel.clone())).collect();
+    let mut graph = std::collections::BTreeMap::new();
+    for (rel, text) in &files {
+        let own = module_path(rel);
+        let code: String = text.lines().map(|l| l.find("//").map_or(l, |at| &l[..at])).collect::<Vec<_>>().join("\n");
+        // An inline module (the tests, at the end of a file) is one level down.
+        let mut parts = vec![(own.clone(), code.as_str())];
+        if let Some(at) = code.lines().position(|l| {
+            let l = l.trim_start_matches("pub ").trim_start_matches("pub(crate) ");
+            l.starts_with("mod ") && l.trim_end().ends_with('{')
+        }) {
+            let offset: usize = code.lines().take(at).map(|l| l.len() + 1).sum();
+            let line = code[offset..].lines().next().unwrap();
+            let name = line.split_whitespace().skip_while(|w| *w != "mod").nth(1).unwrap().to_owned();
+            let mut inner = own.clone();
+            inner.push(name);
+            parts = vec![(own.clone(), &code[..offset]), (inner, &code[offset..])];
+        }
+        let mut named = std::collections::BTreeSet::new();
+        for (base, code) in parts {
+            let children = |seg: &str| {
+                let mut m = base.clone();
+                m.push(seg.to_owned());
+                by_module.contains_key(&m)
+            };
+            for path in named_paths(code, &children) {
+                let mut m = if path[0] == "crate" { Vec::new() } else { base.clone() };
+                let mut segs = path.iter().skip(usize::from(path[0] == "crate")).peekable();
+                while let Some(s) = segs.next_if(|s| *s == "super" || *s == "self") {
+                    if s == "super" {
+                        m.pop();
+                    }
+                }
+                for s in segs {
+                    let mut deeper = m.clone();
+                    deeper.push(s.clone());
+                    if !by_module.contains_key(&deeper) {
+                        break;
+                    }
+                    m = deeper;
+                }
+                while !by_module.contains_key(&m) {
+                    m.pop();
+                }
+                if !own.starts_with(&m) {
+                    named.insert(by_module[&m].clone());
+                }
+            }
+        }
+        graph.insert(rel.clone(), named);
+    }
+    graph
+}
+
+#[test]
+fn no_two_files_need_each_other() {
+    let graph = file_graph();
+    // The reading works: a few references it must see.
+    for (from, to) in [
+        ("web/pages.rs", "web/layout.rs"),
+        ("pipeline.rs", "text.rs"),
+        ("diag.rs", "text.rs"),
+        ("dialect/load/records.rs", "dialect/xml.rs"),
+    ] {
+        assert!(graph[from].contains(to), "{from} should be seen naming {to}: {:?}", graph[from]);
+    }
+    // Depth-first, keeping the path: a file met again on it closes a cycle.
+    fn visit<'g>(
+        file: &'g str,
+        graph: &'g std::collections::BTreeMap<String, std::collections::BTreeSet<String>>,
+        path: &mut Vec<&'g str>,
+        done: &mut std::collections::BTreeSet<&'g str>,
+    ) {
+        if let Some(at) = path.iter().position(|f| *f == file) {
+            let cycle: Vec<&str> = path[at..].iter().copied().chain([file]).collect();
+            panic!("an import cycle between source files: {}; move what they share into a file below them", cycle.join(" → "));
+        }
+        if !done.insert(file) {
+            return;
+        }
+        path.push(file);
+        for next in &graph[file] {
+            visit(next, graph, path, done);
+        }
+        path.pop();
+    }
+    let mut done = std::collections::BTreeSet::new();
+    for file in graph.keys() {
+        visit(file, &graph, &mut Vec::new(), &mut done);
+    }
+}
+
+#[test]
+fn the_core_names_no_shell_module() {
+    let core = ["text", "diag", "dialect", "syntax", "interp", "canon", "plan", "part21", "diff", "pipeline", "view", "post"];
+    let shell = ["cli", "daemon", "store", "web", "config", "bench", "import", "reanalyze", "pairing", "textfile"];
+    for (from, named) in file_graph() {
+        if !core.contains(&module(&from)) {
+            continue;
+        }
+        for to in named {
+            assert!(!shell.contains(&module(&to)), "core file {from} names {to}, a module of the IO shell");
+        }
+    }
+}

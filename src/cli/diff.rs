@@ -1,0 +1,85 @@
+//! `ncplan diff`: compare two programs by what they do.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+
+use super::common::{Format, analysis_config, dialect, registry_for, sniff_report, with_tool_table};
+use crate::config;
+use crate::diff;
+use crate::pipeline;
+
+/// The arguments of `ncplan diff`.
+#[derive(Debug, clap::Args)]
+pub(super) struct Args {
+    /// The CAM original.
+    original: PathBuf,
+    /// The edited program.
+    edited: PathBuf,
+    /// Dialect of both (unless overridden); without it, each file's is told from its text.
+    #[arg(long, short)]
+    dialect: Option<String>,
+    /// Dialect of the edited program.
+    #[arg(long)]
+    edited_dialect: Option<String>,
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// A tool table for both programs (LinuxCNC `tool.tbl`, Heidenhain `TOOL.T`, Fanuc
+    /// `G10` offsets), over the configuration's tools.
+    #[arg(long, value_name = "FILE")]
+    tool_table: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "text")]
+    format: Format,
+    /// Exit 1 when there are machining changes (not only messages or output).
+    #[arg(long)]
+    exit_code: bool,
+}
+
+/// Runs `ncplan diff`.
+pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
+    let Args { original, edited, dialect: dname, edited_dialect, config, tool_table, format, exit_code } = args;
+    let mut config = analysis_config(config.as_deref())?;
+    with_tool_table(&mut config, tool_table.as_deref())?;
+    let registry = registry_for(Some(&config))?;
+    let read = |p: &Path| std::fs::read(p).with_context(|| format!("cannot read {}", p.display()));
+    let (bytes_a, bytes_b) = (read(&original)?, read(&edited)?);
+    let pick = |given: Option<&str>, path: &Path, bytes: &[u8]| match given {
+        Some(n) => dialect(&registry, n),
+        None => {
+            let s = pipeline::sniff(&registry, bytes, path);
+            eprintln!("{}: {}", path.display(), sniff_report(&s));
+            dialect(&registry, &s.dialect)
+        }
+    };
+    let da = pick(dname.as_deref(), &original, &bytes_a)?;
+    let db = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
+    // Each program with the subprograms kept beside it.
+    let beside = |p: &Path| config::DirPrograms::beside(&config.profile, p, config.max_file_bytes);
+    let a = pipeline::analyze_plan_owned(bytes_a, &da, &beside(&original));
+    let b = pipeline::analyze_plan_owned(bytes_b, &db, &beside(&edited));
+    let changes = diff::compare(
+        diff::Program { plan: &a.plan, text: &a.source.text, dialect: &da },
+        diff::Program { plan: &b.plan, text: &b.source.text, dialect: &db },
+    );
+    let machining = changes.iter().any(diff::Change::is_machining);
+    match format {
+        Format::Json => {
+            serde_json::to_writer_pretty(&mut out, &changes)?;
+            writeln!(out)?;
+        }
+        Format::Text => {
+            if changes.is_empty() {
+                writeln!(out, "no semantic changes")?;
+            } else if !machining {
+                writeln!(out, "no machining changes; only what the program shows or writes:")?;
+            }
+            for line in diff::render_plain(&changes) {
+                writeln!(out, "{line}")?;
+            }
+        }
+    }
+    out.flush()?;
+    Ok(if exit_code && machining { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}

@@ -1,0 +1,172 @@
+//! `ncplan translate`: write a program for another control: read it in its dialect, write it
+//! by the target dialect's output rules.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+
+use super::common::{StoreArgs, analysis_config, db_path, dialect, open_while_loading, print_short, registry_for, sniff_report};
+use crate::config;
+use crate::diag;
+use crate::pipeline;
+use crate::store::Store;
+use crate::textfile;
+
+/// The arguments of `ncplan translate`.
+#[derive(Debug, clap::Args)]
+pub(super) struct Args {
+    /// Program file (or give --revision).
+    #[arg(required_unless_present = "revision")]
+    file: Option<PathBuf>,
+    /// The program's dialect; without it, told from the program (or the stored one).
+    #[arg(long, short)]
+    dialect: Option<String>,
+    /// The target dialect; by default the --machine's.
+    #[arg(long, required_unless_present = "machine")]
+    to: Option<String>,
+    /// Output file; standard output when absent. Never inside a watched folder.
+    #[arg(long, short)]
+    output: Option<PathBuf>,
+    /// The configured machine to write for: its units and limits (travel, spindle
+    /// speed, feed), and its dialect unless --to is given.
+    #[arg(long)]
+    machine: Option<String>,
+    /// A stored revision (the as-run program) instead of a file.
+    #[arg(long, conflicts_with = "file")]
+    revision: Option<i64>,
+    #[command(flatten)]
+    store: StoreArgs,
+}
+
+/// Runs `ncplan translate`.
+pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
+    let Args { file, dialect: from, to, output, machine, revision, store: store_args } = args;
+    let (store_args, out) = (&store_args, &mut out);
+    let config = analysis_config(store_args.config.as_deref())?;
+    let registry = registry_for(Some(&config))?;
+    let folder = match &machine {
+        Some(m) => Some(
+            config
+                .folders
+                .iter()
+                .find(|f| f.role == config::Role::Machine && &f.name == m)
+                .with_context(|| format!("no [[machine]] named `{m}` in the configuration"))?,
+        ),
+        None => None,
+    };
+    // A file is read piece by piece: memory does not grow with the program.
+    let ((program, mut diags), path, stored_dialect) = match (revision, &file) {
+        (Some(id), _) => {
+            let store = Store::open_read_only(&db_path(store_args)?)?;
+            let Some(src) = store.source(id)? else { bail!("no revision {id}") };
+            let bytes = match src.bytes {
+                Some(b) => b,
+                None => store.content(id)?.unwrap_or_default(),
+            };
+            (textfile::Program::from_bytes(bytes), PathBuf::from(&src.path), Some(src.dialect))
+        }
+        (None, Some(f)) => {
+            let names = [from.as_deref(), to.as_deref().or(folder.map(|f| f.dialect.as_str()))];
+            let opened = open_while_loading(&registry, &names, f);
+            (opened.with_context(|| format!("cannot read {}", f.display()))?, f.clone(), None)
+        }
+        (None, None) => bail!("give a program file or --revision"),
+    };
+    let from_name = match (from, stored_dialect) {
+        (Some(n), _) => n,
+        (None, Some(n)) if n != config::AUTO_DIALECT => n,
+        _ => {
+            let s = pipeline::sniff(&registry, program.head_bytes(), &path);
+            eprintln!("{}", sniff_report(&s));
+            s.dialect
+        }
+    };
+    let source_dialect = dialect(&registry, &from_name)?;
+    let to_name = to.or_else(|| folder.map(|f| f.dialect.clone())).context("give --to DIALECT")?;
+    let target = dialect(&registry, &to_name)?;
+    if let Some(o) = &output {
+        let abs = std::path::absolute(o)?;
+        let dir = abs.parent().map(Path::to_path_buf).unwrap_or_default();
+        let dir = dir.canonicalize().unwrap_or(dir);
+        for f in &config.folders {
+            let watched = f.path.canonicalize().unwrap_or_else(|_| f.path.clone());
+            if dir.starts_with(&watched) {
+                bail!(
+                    "{} lies in the watched folder {} ({}): ncplan never writes into a watched folder",
+                    o.display(),
+                    f.path.display(),
+                    f.name
+                );
+            }
+        }
+    }
+    let text = program.text();
+    let name = pipeline::program_name(&text.head())
+        .or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .unwrap_or_else(|| "PROGRAM".into());
+    let limits = folder.map(|f| f.limits.clone()).unwrap_or_default();
+    // Plan facts for the writer: where each hole's top is (a G81 states only its R level).
+    // Only a program with such cycles needs it: the plan holds the toolpath, and a program
+    // without them is written in constant memory.
+    // They are asked for when the first such cycle needs them. Tool facts from the shop's
+    // tool table go into tool comments, which read back where the table is not: they need
+    // the plan first, only when the table has tools.
+    let (hole_tops, tools) = pipeline::translation_facts(text, &source_dialect, &config.profile);
+    let opts = crate::post::Options {
+        hole_tops,
+        tools,
+        units: limits.units.unwrap_or(crate::canon::Units::Mm),
+        follow_source_units: limits.units.is_none(),
+        limits: crate::post::Limits { max_spindle_speed: limits.max_spindle_speed, max_feed: limits.max_feed, travel: limits.travel },
+        ..crate::post::Options::for_program(&name)
+    };
+    let mut profile = config.profile.clone();
+    if let Some(f) = &file {
+        profile = config::DirPrograms::beside(&profile, f, config.max_file_bytes);
+    }
+    // A file is written beside its place and renamed when done: a run that fails (the input
+    // changed while it was read, a full disk) leaves no half file, and an earlier one stays.
+    let partial =
+        output.as_ref().map(|o| o.with_file_name(format!(".{}.partial", o.file_name().map(|n| n.to_string_lossy()).unwrap_or_default())));
+    let mut file_out: Box<dyn Write> = match &partial {
+        Some(p) => Box::new(BufWriter::new(std::fs::File::create(p).with_context(|| format!("cannot write {}", p.display()))?)),
+        None => Box::new(&mut *out),
+    };
+    let mut error: Option<std::io::Error> = None;
+    let mut tops = || crate::post::hole_tops(&pipeline::plan_of_text(text, &source_dialect, &config.profile).0);
+    diags.extend(crate::post::translate_with_facts(text, &source_dialect, &target, &profile, opts, &mut tops, |chunk| {
+        if error.is_none()
+            && let Err(e) = file_out.write_all(chunk)
+        {
+            error = Some(e);
+        }
+    }));
+    let flushed = match error {
+        Some(e) => Err(e),
+        None => file_out.flush(),
+    };
+    drop(file_out);
+    let failed = match (flushed, program.trouble()) {
+        (Err(e), _) => Some(anyhow::Error::from(e)),
+        (Ok(()), Some(why)) => Some(anyhow::anyhow!("{why}; nothing was written")),
+        (Ok(()), None) => None,
+    };
+    if let (Some(p), Some(o)) = (&partial, &output) {
+        if failed.is_some() {
+            let _ = std::fs::remove_file(p);
+        } else {
+            std::fs::rename(p, o).with_context(|| format!("cannot write {}", o.display()))?;
+        }
+    }
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    // Lines are counted only as far as the last finding shown: a million-line program with a
+    // note near its start is not read to its end again.
+    let shown_diags: Vec<&diag::Diagnostic> =
+        diags.iter().filter(|x| x.severity != diag::Severity::Note || x.code.as_str().starts_with("post::")).collect();
+    print_short(&path.display().to_string(), text, &shown_diags);
+    Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
