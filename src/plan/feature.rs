@@ -13,7 +13,7 @@
 //! - one open path → a slot as wide as the tool;
 //! - anything else, or cutting that is not at constant levels → a toolpath feature.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::model::*;
 
@@ -126,11 +126,19 @@ fn absorb_spot_drilling(plan: &mut ProcessPlan) {
         if !is_mark[k] {
             continue;
         }
-        let marks = abs(&plan.features[k]);
-        let later: Vec<usize> = (k + 1..plan.features.len())
-            .filter(|&j| !is_mark[j] && abs(&plan.features[j]).iter().any(|p| marks.iter().any(|m| dist(*m, *p) < 1e-3)))
-            .collect();
-        let covered = marks.iter().all(|m| later.iter().any(|&j| abs(&plan.features[j]).iter().any(|p| dist(*m, *p) < 1e-3)));
+        // Positions quantised to 1e-3 mm, for lookups in log time: patterns may be large.
+        let key = |p: &P2| ((p[0] * 1e3).round() as i64, (p[1] * 1e3).round() as i64);
+        let marks: BTreeSet<(i64, i64)> = abs(&plan.features[k]).iter().map(key).collect();
+        let mut covered: BTreeSet<(i64, i64)> = BTreeSet::new();
+        let mut later: Vec<usize> = Vec::new();
+        for (j, f) in plan.features.iter().enumerate().skip(k + 1).filter(|(j, _)| !is_mark[*j]) {
+            let here: Vec<(i64, i64)> = abs(f).iter().map(key).filter(|q| marks.contains(q)).collect();
+            if !here.is_empty() {
+                later.push(j);
+                covered.extend(here);
+            }
+        }
+        let covered = covered.len() == marks.len();
         let Some(&first) = later.first().filter(|_| covered) else { continue };
         let steps = std::mem::take(&mut plan.features[k].workingsteps);
         let target = plan.features[first].id;
@@ -334,10 +342,12 @@ fn plunged_holes(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>) -
         return None;
     }
     let mut at: Vec<P2> = Vec::new();
+    // Positions seen, quantised to 1e-3 mm: a plunge-roughing path may hold many.
+    let mut seen: std::collections::BTreeSet<(i64, i64)> = std::collections::BTreeSet::new();
     let mut bottom = f64::INFINITY;
     for m in cuts().filter(|m| m.to[2] < m.from[2]) {
         bottom = bottom.min(m.to[2]);
-        if !at.iter().any(|p| dist(*p, [m.to[0], m.to[1]]) < 1e-3) {
+        if seen.insert(((m.to[0] * 1e3).round() as i64, (m.to[1] * 1e3).round() as i64)) {
             at.push([m.to[0], m.to[1]]);
         }
     }
