@@ -182,9 +182,7 @@ impl Interpreter<'_> {
         if x[0] >= x[1] || y[0] >= y[1] || z[0] >= z[1] {
             return;
         }
-        let n = |v: f64| format!("{}", v + 0.0);
-        let text = format!("STOCK X{} Y{} Z{} X{} Y{} Z{}", n(x[0]), n(y[0]), n(z[0]), n(x[1]), n(y[1]), n(z[1]));
-        self.emit(sink, CanonOp::Comment(text));
+        self.emit(sink, super::stock_comment([x[0], y[0], z[0]], [x[1], y[1], z[1]]));
     }
 
     /// `HOLES1(...)`, `HOLES2(...)`, `CYCLE801(...)`: to each position of the pattern at the

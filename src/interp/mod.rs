@@ -146,6 +146,13 @@ impl Default for Profile {
 }
 
 /// Rotates a point about the origin by `degrees`, counter-clockwise.
+/// A blank the program defines (`BLK FORM`, `WORKPIECE`), passed on as the stock comment plan
+/// recovery reads, as a CAM system writes it: `STOCK X0 Y0 Z-40 X100 Y100 Z0`.
+fn stock_comment(min: [f64; 3], max: [f64; 3]) -> CanonOp {
+    let n = |v: f64| format!("{}", v + 0.0);
+    CanonOp::Comment(format!("STOCK X{} Y{} Z{} X{} Y{} Z{}", n(min[0]), n(min[1]), n(min[2]), n(max[0]), n(max[1]), n(max[2])))
+}
+
 fn rotate(p: [f64; 2], degrees: f64) -> [f64; 2] {
     let (sin, cos) = degrees.to_radians().sin_cos();
     [p[0] * cos - p[1] * sin, p[0] * sin + p[1] * cos]
@@ -1182,9 +1189,14 @@ impl<'a> Interpreter<'a> {
             && self.code_steps == 0
             && block.comments.is_empty()
             && self.stop_message.is_none()
-            && self.filled & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32 | 1 << Role::SpindleLimit as u32) == 0
-            && self.slots[Role::CornerRadius as usize].is_none()
-            && self.slots[Role::CornerChamfer as usize].is_none();
+            && self.filled
+                & (1 << Role::F as u32
+                    | 1 << Role::S as u32
+                    | 1 << Role::T as u32
+                    | 1 << Role::SpindleLimit as u32
+                    | 1 << Role::CornerRadius as u32
+                    | 1 << Role::CornerChamfer as u32)
+                == 0;
         if plain {
             // The common block: axis words only, so only the motion step has work.
             self.step(Step::Motion, block, sink, diags);
@@ -1232,18 +1244,22 @@ impl<'a> Interpreter<'a> {
     /// A corner the block's own words round or chamfer (Siemens `X65 RND=5`): marked after the
     /// block's move, between it and the next, as a corner block between them would be.
     fn corner_words(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        let corner = match (self.slot(Role::CornerRadius), self.slot(Role::CornerChamfer)) {
+        let (size, corner) = match (self.slot(Role::CornerRadius), self.slot(Role::CornerChamfer)) {
             (Some(r), _) => (r, corner::Corner::Round(r)),
             (None, Some(c)) => (c, corner::Corner::Chamfer(c)),
             (None, None) => return,
         };
-        match corner {
-            (v, c) if v > 0.0 => {
-                if let Some(k) = self.corners.get_mut().as_mut() {
-                    k.mark(c, self.origin, self.line);
-                }
-            }
-            _ => diags.push(Diagnostic::new(Code::MissingParameter, range, "a corner rounding or chamfer needs a size above zero")),
+        if size > 0.0 {
+            self.mark_corner(corner);
+        } else {
+            diags.push(Diagnostic::new(Code::MissingParameter, range, "a corner rounding or chamfer needs a size above zero"));
+        }
+    }
+
+    /// Marks the corner between the move the corner stage holds and the next.
+    fn mark_corner(&mut self, corner: corner::Corner) {
+        if let Some(k) = self.corners.get_mut().as_mut() {
+            k.mark(corner, self.origin, self.line);
         }
     }
 
@@ -2651,13 +2667,11 @@ impl<'a> Interpreter<'a> {
             Meaning::CornerRound | Meaning::CornerChamfer => {
                 let size = if def.meaning == Meaning::CornerRound { self.slot(Role::R) } else { self.slot(Role::Geometry) };
                 match size {
-                    Some(v) if v > 0.0 => {
-                        let corner =
-                            if def.meaning == Meaning::CornerRound { corner::Corner::Round(v) } else { corner::Corner::Chamfer(v) };
-                        if let Some(k) = self.corners.get_mut().as_mut() {
-                            k.mark(corner, self.origin, self.line);
-                        }
-                    }
+                    Some(v) if v > 0.0 => self.mark_corner(if def.meaning == Meaning::CornerRound {
+                        corner::Corner::Round(v)
+                    } else {
+                        corner::Corner::Chamfer(v)
+                    }),
                     // An unknown size (the tool radius, `RND RQ108`): the word was left out
                     // and said so; the corner stays sharp.
                     None if self.unknown_roles
@@ -2737,9 +2751,7 @@ impl<'a> Interpreter<'a> {
             (false, _) => self.st.blank_min = Some(corner(self, [0.0; 3])),
             (true, Some(min)) => {
                 let max = corner(self, min);
-                let n = |v: f64| format!("{}", v + 0.0);
-                let text = format!("STOCK X{} Y{} Z{} X{} Y{} Z{}", n(min[0]), n(min[1]), n(min[2]), n(max[0]), n(max[1]), n(max[2]));
-                self.emit(sink, CanonOp::Comment(text));
+                self.emit(sink, stock_comment(min, max));
                 self.st.blank_min = None;
             }
             (true, None) => {}

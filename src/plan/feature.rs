@@ -699,15 +699,7 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             }
             (Some(_), Some(st)) => {
                 // The pocket ends where the stock does: the passes run out past its side.
-                let (lo, hi) = (st.origin, st.max());
-                let min = [swept.0[0].max(lo[0]), swept.0[1].max(lo[1])];
-                let max = [swept.1[0].min(hi[0]), swept.1[1].min(hi[1])];
-                let (min, max) = if min[0] < max[0] && min[1] < max[1] { (min, max) } else { swept };
-                cand.region = Some(region_of(min, max));
-                let boundary = rectangle(min, max);
-                cand.operation = Operation::BottomAndSideFinishMilling;
-                cand.placement = [min[0], min[1], top];
-                cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&boundary), cand.placement) };
+                open_pocket(&mut cand, clip_to_stock(swept, st).unwrap_or(swept));
                 return cand;
             }
             _ => {}
@@ -833,13 +825,8 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         let enters = chains.iter().all(|c| outside(c[0].from) && outside(c[c.len() - 1].to)) && chains.iter().any(turning);
         if one_side && enters {
             let (bmin, bmax) = bounds(&all);
-            let min = [(bmin[0] - rad).max(lo[0]), (bmin[1] - rad).max(lo[1])];
-            let max = [(bmax[0] + rad).min(hi[0]), (bmax[1] + rad).min(hi[1])];
-            if min[0] < max[0] && min[1] < max[1] {
-                cand.region = Some(region_of(min, max));
-                cand.operation = Operation::BottomAndSideFinishMilling;
-                cand.placement = [min[0], min[1], top];
-                cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&rectangle(min, max)), cand.placement) };
+            if let Some(wall) = clip_to_stock(([bmin[0] - rad, bmin[1] - rad], [bmax[0] + rad, bmax[1] + rad]), st) {
+                open_pocket(&mut cand, wall);
                 return cand;
             }
         }
@@ -961,6 +948,22 @@ fn step_side(n: [bool; 4], u: P2) -> Option<bool> {
         ([true, true], [true, false]) => Some(false),
         _ => None,
     }
+}
+
+/// The part of the box `min`..`max` inside the stock, in XY; none where they do not overlap.
+fn clip_to_stock((min, max): (P2, P2), st: &Stock) -> Option<(P2, P2)> {
+    let (lo, hi) = (st.origin, st.max());
+    let min = [min[0].max(lo[0]), min[1].max(lo[1])];
+    let max = [max[0].min(hi[0]), max[1].min(hi[1])];
+    (min[0] < max[0] && min[1] < max[1]).then_some((min, max))
+}
+
+/// Makes `cand` a pocket open to the stock's side, its wall the box `min`..`max`.
+fn open_pocket(cand: &mut Candidate, (min, max): (P2, P2)) {
+    cand.region = Some(Region { min, max, bottom: cand.placement[2] - cand.depth });
+    cand.operation = Operation::BottomAndSideFinishMilling;
+    cand.placement = [min[0], min[1], cand.placement[2]];
+    cand.kind = FeatureKind::OpenPocket { boundary: relative(&to_contour(&rectangle(min, max)), cand.placement) };
 }
 
 /// Makes `cand` a step: the band `swept` of passes along `u` runs from end to end of the

@@ -326,12 +326,7 @@ fn apt_tool_statement(up: &str) -> Option<ToolFacts> {
 /// A point angle a tool comment states: `TAPER=118DEG`, `118DEG`, `118 DEG`, `POINT 140`,
 /// `POINT ANGLE=140`; only between 60° and 180°, the angles drills have.
 fn point_angle(up: &str) -> Option<f64> {
-    let number = |s: &str| -> Option<f64> {
-        let s = s.trim_start_matches([' ', '=', ':']);
-        let end = s.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(s.len());
-        s[..end].parse::<f64>().ok()
-    };
-    let after = |key: &str| up.find(key).and_then(|i| number(&up[i + key.len()..]));
+    let after = |key: &str| up.find(key).and_then(|i| number_after(&up[i + key.len()..]));
     // `118DEG`, `140 GRAD` (German shops), `118°`.
     let before_deg = ["DEG", "GRAD", "°"].iter().find_map(|unit| {
         let i = up.find(unit)?;
@@ -350,12 +345,15 @@ fn em_word(up: &str) -> Option<f64> {
     })
 }
 
+/// The unsigned number a comment's word is followed by (`DIA 10.5`, `D=10`, `TAPER:118`).
+fn number_after(s: &str) -> Option<f64> {
+    let s = s.trim_start_matches([' ', '=', ':']);
+    let end = s.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(s.len());
+    s[..end].parse::<f64>().ok()
+}
+
 fn comment_diameter(up: &str) -> Option<f64> {
-    let number = |s: &str| -> Option<f64> {
-        let s = s.trim_start_matches([' ', '=', ':']);
-        let end = s.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(s.len());
-        s[..end].parse::<f64>().ok().filter(|v| *v > 0.0 && *v < 1000.0)
-    };
+    let number = |s: &str| number_after(s).filter(|v| *v > 0.0 && *v < 1000.0);
     for key in ["DIAMETER", "DIA", "Ø", "D="] {
         if let Some(i) = up.find(key) {
             if let Some(v) = number(&up[i + key.len()..]) {

@@ -87,15 +87,26 @@ fn kind_named(name: &str) -> Option<String> {
     super::parse_tool_comment(name).kind.map(|k| k.as_str().to_owned())
 }
 
-/// The letter-number words of a line (`T1`, `D+10.0`), up to its `;` comment.
+/// The letter-number words of a line (`T1`, `D+10.0`, `L12P1R5.` without blanks too), up
+/// to its `;` comment: a letter, then the number right after it.
 fn words(line: &str) -> Vec<(char, f64)> {
+    let b = line.as_bytes();
     let mut out = Vec::new();
-    for w in line.split_whitespace() {
-        let mut chars = w.chars();
-        let Some(letter) = chars.next().filter(char::is_ascii_alphabetic) else { continue };
-        if let Ok(v) = chars.as_str().parse::<f64>() {
-            out.push((letter.to_ascii_uppercase(), v));
+    let mut i = 0;
+    while i < b.len() {
+        if !b[i].is_ascii_alphabetic() {
+            i += 1;
+            continue;
         }
+        let start = i + 1;
+        let mut j = start;
+        while j < b.len() && (b[j].is_ascii_digit() || matches!(b[j], b'.' | b'-' | b'+')) {
+            j += 1;
+        }
+        if let Ok(v) = line[start..j].parse::<f64>() {
+            out.push(((b[i] as char).to_ascii_uppercase(), v));
+        }
+        i = j;
     }
     out
 }
@@ -198,26 +209,7 @@ fn fanuc(text: &str) -> Tools {
     let mut offsets: BTreeMap<u32, [f64; 2]> = BTreeMap::new();
     for line in up.lines() {
         let Some(rest) = g10_block(line) else { continue };
-        let mut ws = Vec::new();
-        let rest = rest.as_str();
-        let mut i = 0;
-        let b = rest.as_bytes();
-        while i < b.len() {
-            if b[i].is_ascii_alphabetic() {
-                let letter = b[i] as char;
-                let start = i + 1;
-                let mut j = start;
-                while j < b.len() && (b[j].is_ascii_digit() || matches!(b[j], b'.' | b'-' | b'+')) {
-                    j += 1;
-                }
-                if let Ok(v) = rest[start..j].parse::<f64>() {
-                    ws.push((letter, v));
-                }
-                i = j.max(start);
-            } else {
-                i += 1;
-            }
-        }
+        let ws = words(&rest);
         let get = |l: char| ws.iter().find(|(c, _)| *c == l).map(|(_, v)| *v);
         let (Some(l), Some(p), Some(r)) = (get('L'), get('P'), get('R')) else { continue };
         if p < 1.0 || p.fract() != 0.0 {
