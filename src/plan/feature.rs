@@ -29,11 +29,15 @@ pub fn recognise(plan: &mut ProcessPlan) {
         let ws = &plan.workingsteps[i];
         let tool = plan.tool(ws.tool).cloned();
         // Holes along another axis than Z (cycles in G18/G19) are not recognised yet.
-        let cand = if ws.operation.is_hole() && !ws.holes.is_empty() {
+        let mut cand = if ws.operation.is_hole() && !ws.holes.is_empty() {
             hole(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
         } else {
             milling(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
         };
+        // A shape with no segment is no shape: what was cut stays a toolpath.
+        if cand.kind.contour().is_some_and(|c| c.segments.is_empty()) {
+            cand.kind = FeatureKind::Toolpath;
+        }
         if matches!(cand.kind, FeatureKind::PlanarFace { .. })
             && let Some(d) = ws.depth
         {
@@ -736,15 +740,24 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
         let mut sorted: Vec<&Vec<Piece>> = loops.clone();
         sorted.sort_by(|a, b| signed_area(b).abs().total_cmp(&signed_area(a).abs()));
         // Every entry down into the material (a plunge, a ramp, a helix) says where the
-        // material is: a tool cannot plunge into a boss. Entries on the loop say nothing.
+        // material is: a tool cannot plunge into a boss. Entries on the loop say nothing, nor
+        // do feed moves that end above the top. One entry inside is enough: the others may
+        // serve another place the workingstep cuts.
         let entry_inside = |lp: &[Piece]| {
-            ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS).find_map(|m| {
+            let entries = ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS && m.to[2] < top - EPS);
+            let mut seen = None;
+            for m in entries {
                 let at = match (m.kind, m.center()) {
                     (MoveKind::Arc, Some(c)) => [c[0], c[1]],
                     _ => [m.to[0], m.to[1]],
                 };
-                inside(lp, at)
-            })
+                match inside(lp, at) {
+                    Some(true) => return Some(true),
+                    Some(false) => seen = Some(false),
+                    None => {}
+                }
+            }
+            seen
         };
         let outer = sorted[0];
         // Nested loops entered from outside all of them run around a boss: the innermost is
@@ -781,7 +794,8 @@ fn milling(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>, faced: 
             let b = offset(outer, if area > 0.0 { r } else { -r });
             b.is_empty() || signed_area(&b).abs() < EPS || (signed_area(&b) > 0.0) != (area > 0.0)
         };
-        let evidence = by_entry.or(by_comp).or(no_profile.then_some(true));
+        // A loop the tool cannot stand outside of overrules the rest.
+        let evidence = no_profile.then_some(true).or(by_entry).or(by_comp);
         let tool_inside = evidence.unwrap_or((rotation == Rotation::Ccw) != spindle_ccw);
         cand.strategy = Some(Strategy {
             kind: StrategyKind::ContourParallel,

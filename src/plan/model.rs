@@ -196,6 +196,17 @@ impl FeatureKind {
             FeatureKind::Toolpath => "toolpath feature",
         }
     }
+
+    /// The contour the kind is drawn by (a boundary or a centre path), when it has one.
+    pub fn contour(&self) -> Option<&Contour> {
+        match self {
+            FeatureKind::ClosedPocket { boundary, .. }
+            | FeatureKind::OpenPocket { boundary }
+            | FeatureKind::OutsideProfile { boundary, .. } => Some(boundary),
+            FeatureKind::Slot { path, .. } => Some(path),
+            FeatureKind::PlanarFace { .. } | FeatureKind::RoundHole { .. } | FeatureKind::Step { .. } | FeatureKind::Toolpath => None,
+        }
+    }
 }
 
 /// A manufacturing feature: the material the workingsteps remove.
