@@ -158,3 +158,8 @@ mod tests {
         assert_eq!(program_name("G0 X0\n"), None);
     }
 }
+
+/// The plan in words: a line per stock, tool, feature and workingstep (`ncplan plan`).
+pub fn describe_plan(plan: &ProcessPlan) -> String {
+    crate::plan::describe(plan)
+}

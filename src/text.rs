@@ -356,6 +356,13 @@ fn read_from(r: &dyn TextReader, at: usize, n: usize) -> (usize, String) {
     (start, buf)
 }
 
+/// A number as a planner writes it: at most four decimals, no trailing zeros.
+pub fn num(v: f64) -> String {
+    let s = format!("{:.4}", v);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
 /// The largest character boundary of `s` at or before `at`.
 pub fn floor_char_boundary(s: &str, at: usize) -> usize {
     let mut at = at.min(s.len());

@@ -547,12 +547,7 @@ fn align(pa: &ProcessPlan, pb: &ProcessPlan) -> Vec<(Option<usize>, Option<usize
     out
 }
 
-/// A number as a planner writes it: at most four decimals, no trailing zeros.
-pub fn num(v: f64) -> String {
-    let s = format!("{:.4}", v);
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" { "0".into() } else { s.into() }
-}
+pub use crate::text::num;
 
 fn spindle_words(s: SpindleDir) -> &'static str {
     match s {
@@ -639,6 +634,47 @@ fn compare_workingsteps(
     if tool_label(pa, a.tool) != tool_label(pb, b.tool) {
         push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool), at_start);
     }
+    compare_start(a, b, u, &mut push);
+    compare_state(a, b, &mut push);
+    let (feeds_differ, depth_change) = compare_technology(a, b, u, &mut push);
+    // Heights and feeds beside the cutting ones, where no canned cycle's parameters say them.
+    if a.holes.is_empty() && b.holes.is_empty() {
+        heights(a, b, feeds_differ, u, &mut push, at_start);
+    }
+    let mut explained = false;
+    // Holes and their cycle parameters.
+    if a.operation.is_hole() || b.operation.is_hole() {
+        explained |= compare_holes(&a.holes, &b.holes, depth_change, u, &mut push);
+    }
+    explained |= compare_cutting(a, b, u, &mut push);
+    // The features, once per pair.
+    if let (Some(fa), Some(fb)) = (a.feature.and_then(|f| pa.feature(f)), b.feature.and_then(|f| pb.feature(f)))
+        && features_seen.insert((fa.id, fb.id))
+    {
+        explained |= compare_features(fa, fb, depth_change.is_some(), u, &mut push);
+    }
+    if !explained && let Some(tp) = toolpath_difference(a, b, depth_change, u) {
+        out.push(Change {
+            kind: ChangeKind::ToolpathChanged,
+            workingstep: a.index,
+            operation: a.operation.label().into(),
+            field: "toolpath".into(),
+            before: tp.before,
+            after: tp.after,
+            line: tp.lines.1,
+            original_line: tp.lines.0,
+            region: tp.region,
+            deviation: Some(tp.deviation),
+            detail: crate::diff::Detail::default(),
+        });
+    }
+    fold_into_start_point(a, b, depth_change, u, first, out);
+}
+
+/// The start point, unless it only sinks with the depth or only rises over a hole (the
+/// depth's, the R level's or the axial depth's change says it).
+fn compare_start(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) {
+    let at_start = (Some(a.lines.0), Some(b.lines.0));
     let depth_delta = match (a.depth, b.depth) {
         (Some(x), Some(y)) => y - x,
         _ => 0.0,
@@ -661,6 +697,12 @@ fn compare_workingsteps(
             push(ChangeKind::StartPointMoved, "start_point", u.point(x, Some(y)), u.point(y, Some(x)), at_start);
         }
     }
+}
+
+/// The machine state the workingstep runs in: feed override, work offset, length offset,
+/// cutter compensation, stops, dwells and block-delete.
+fn compare_state(a: &Workingstep, b: &Workingstep, push: &mut Push<'_>) {
+    let at_start = (Some(a.lines.0), Some(b.lines.0));
     // The machine state.
     let (sa, sb) = (&a.state, &b.state);
     if sa.feed_override_off != sb.feed_override_off {
@@ -688,7 +730,7 @@ fn compare_workingsteps(
     for s in added {
         push(ChangeKind::StopAdded, "stop", String::new(), stop_words(s).into(), (None, Some(s.line)));
     }
-    dwells(&sa.dwells, &sb.dwells, &mut push);
+    dwells(&sa.dwells, &sb.dwells, push);
     if !a.operation.is_hole() && sa.optional_lines.is_empty() != sb.optional_lines.is_empty() {
         let lines = |v: &[u32]| match v {
             [l] => format!("line {l}"),
@@ -714,6 +756,11 @@ fn compare_workingsteps(
             );
         }
     }
+}
+
+/// Feeds, spindle, coolant and depth; whether the feeds differ, and the depth's change.
+fn compare_technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) -> (bool, Option<(f64, f64)>) {
+    let at_start = (Some(a.lines.0), Some(b.lines.0));
     // Technology.
     let (ta, tb) = (&a.technology, &b.technology);
     let feeds_differ = ta.feeds.len() != tb.feeds.len() || ta.feeds.iter().zip(&tb.feeds).any(|(x, y)| (x - y).abs() > TOLERANCE);
@@ -760,15 +807,13 @@ fn compare_workingsteps(
     if let Some((x, y)) = depth_change {
         push(ChangeKind::DepthChanged, "depth", format!("Z{}", u.c(x)), format!("Z{}", u.c(y)), at_start);
     }
-    // Heights and feeds beside the cutting ones, where no canned cycle's parameters say them.
-    if a.holes.is_empty() && b.holes.is_empty() {
-        heights(a, b, feeds_differ, u, &mut push, at_start);
-    }
+    (feeds_differ, depth_change)
+}
+
+/// Strategy, depths of cut and allowances; whether any of them explains a toolpath change.
+fn compare_cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) -> bool {
+    let at_start = (Some(a.lines.0), Some(b.lines.0));
     let mut explained = false;
-    // Holes and their cycle parameters.
-    if a.operation.is_hole() || b.operation.is_hole() {
-        explained |= compare_holes(&a.holes, &b.holes, depth_change, u, &mut push);
-    }
     // Strategy, depths of cut and allowances.
     let opt = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| u.len(v));
     let differs = |x: Option<f64>, y: Option<f64>| match (x, y) {
@@ -798,28 +843,7 @@ fn compare_workingsteps(
         push(ChangeKind::StrategyChanged, "strategy", strategy_words(x.kind).into(), strategy_words(y.kind).into(), at_start);
         explained = true;
     }
-    // The features, once per pair.
-    if let (Some(fa), Some(fb)) = (a.feature.and_then(|f| pa.feature(f)), b.feature.and_then(|f| pb.feature(f)))
-        && features_seen.insert((fa.id, fb.id))
-    {
-        explained |= compare_features(fa, fb, depth_change.is_some(), u, &mut push);
-    }
-    if !explained && let Some(tp) = toolpath_difference(a, b, depth_change, u) {
-        out.push(Change {
-            kind: ChangeKind::ToolpathChanged,
-            workingstep: a.index,
-            operation: a.operation.label().into(),
-            field: "toolpath".into(),
-            before: tp.before,
-            after: tp.after,
-            line: tp.lines.1,
-            original_line: tp.lines.0,
-            region: tp.region,
-            deviation: Some(tp.deviation),
-            detail: crate::diff::Detail::default(),
-        });
-    }
-    fold_into_start_point(a, b, depth_change, u, first, out);
+    explained
 }
 
 /// A start point moved with the cuts otherwise the same: a feature that grows or shrinks by

@@ -646,76 +646,7 @@ impl<'p> Recovery<'p> {
             CanonOp::MistOff => self.mist = false,
             CanonOp::FloodOn => self.flood = true,
             CanonOp::FloodOff => self.flood = false,
-            CanonOp::ChangeTool(t) => {
-                self.close();
-                self.tool = *t;
-                let known = self.profile.tools.get(t);
-                let kind = known.and_then(|k| k.kind.as_deref()).and_then(ToolKind::parse);
-                let entry = self.tools.entry(*t).or_insert_with(|| Tool {
-                    number: *t,
-                    name: known.and_then(|k| k.name.clone()),
-                    kind: kind.unwrap_or(ToolKind::Unknown),
-                    kind_source: if kind.is_some() { ToolSource::Table } else { ToolSource::Unknown },
-                    diameter: known.and_then(|k| k.diameter),
-                    corner_radius: known.and_then(|k| k.corner_radius),
-                    flutes: known.and_then(|k| k.flutes),
-                    length_offset: known.map(|k| k.length).filter(|l| *l != 0.0),
-                    point_angle: known.and_then(|k| k.point_angle),
-                    source: if known.is_some() { ToolSource::Table } else { ToolSource::Unknown },
-                });
-                if entry.kind == ToolKind::Unknown
-                    && let Some(name) = entry.name.clone()
-                {
-                    let facts = parse_tool_comment(&name);
-                    if let Some(k) = facts.kind {
-                        entry.kind = k;
-                        entry.kind_source = ToolSource::Table;
-                    }
-                }
-                let by_name = entry.name.is_none().then(|| self.tool_names.get(t).cloned()).flatten();
-                self.name_pending = entry.name.is_none();
-                if let Some(name) = by_name {
-                    self.name_tool(&name);
-                    self.name_pending = false;
-                }
-                // The comments since the previous operation (or the program start) that
-                // name this tool or no tool are this tool's: a comment naming another tool
-                // (`T2 ...` of a header tool list) is not. Nearest first.
-                let here: Vec<(u32, &String)> = self
-                    .comments
-                    .iter()
-                    .rev()
-                    .filter_map(|(l, s)| {
-                        let named = listed_tool(s);
-                        named.is_none_or(|n| n == *t).then_some((*l, s))
-                    })
-                    .collect();
-                // Up to three lines before the change (or on its block) is near.
-                let near: Vec<&String> = here.iter().filter(|(l, _)| *l + 3 >= c.line).map(|(_, s)| *s).collect();
-                let diameter = |s: &&String| parse_tool_comment(s).diameter.is_some();
-                let states = |s: &str| {
-                    let f = parse_tool_comment(s);
-                    f.diameter.is_some() || f.kind.is_some()
-                };
-                // A diameter near the change first, then the nearest comment naming this tool
-                // with a diameter (`( T1 | 10. FLAT ENDMILL | H1 | D1 )` further up, an
-                // operation header), then the tool list, then the nearest diameter further
-                // up, then a kind near it (an operation's name, `DRILL1`, says less than the
-                // list).
-                let best = near
-                    .iter()
-                    .find(|s| diameter(s))
-                    .map(|s| s.to_string())
-                    .or_else(|| here.iter().map(|(_, s)| *s).find(|s| listed_tool(s).is_some() && diameter(s)).cloned())
-                    .or_else(|| self.listed.get(t).cloned())
-                    .or_else(|| here.iter().map(|(_, s)| *s).find(diameter).cloned())
-                    .or_else(|| near.iter().find(|s| states(s)).map(|s| s.to_string()))
-                    .or(near.first().map(|s| s.to_string()));
-                self.comments.clear();
-                if let Some(s) = best {
-                    self.name_tool(&s);
-                }
-            }
+            CanonOp::ChangeTool(t) => self.change_tool(*t, c.line),
             CanonOp::UseToolLengthOffset(o) => {
                 let len = self.mm(o[2]);
                 if let Some(t) = self.tools.get_mut(&self.tool)
@@ -750,43 +681,8 @@ impl<'p> Recovery<'p> {
             CanonOp::Setting(Setting::BlockDelete) => {
                 self.optional.insert(c.line);
             }
-            CanonOp::Comment(s) if self.stock_origin.is_none() && StockOrigin::parse(s).is_some() => {
-                self.stock_origin = StockOrigin::parse(s).map(|o| StockOrigin { point: o.point.map(|v| self.mm(v)), ..o });
-            }
-            CanonOp::Comment(s) if self.stock.is_none() && parse_stock(s).is_some() => {
-                self.stock = parse_stock(s).map(|[a, b]| [a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
-                self.stock_line = Some(c.line);
-            }
-            CanonOp::Comment(s) => {
-                if let Some(n) = listed_tool(s) {
-                    let f = parse_tool_comment(s);
-                    if f.diameter.is_some() || f.kind.is_some() {
-                        self.listed.entry(n).or_insert_with(|| s.trim().to_owned());
-                    }
-                }
-                self.comments.push((c.line, s.trim().to_owned()));
-                if self.comments.len() > MAX_COMMENTS {
-                    self.comments.remove(0);
-                }
-                if self.name_pending {
-                    let s = s.trim().to_owned();
-                    self.name_tool(&s);
-                }
-            }
-            CanonOp::CycleBegin(intent) => {
-                self.in_cycle = Some(intent.kind);
-                self.dwell = intent.dwell;
-                self.peck = intent.peck.map(|q| self.mm(q));
-                self.surface = intent.surface.map(|z| self.mm(z));
-                // The positioning move before a called cycle belongs to the hole, as the
-                // cycle's own move to the hole does when the cycle positions itself (G81 X Y).
-                if intent.positioned
-                    && self.pending.last().is_some_and(|m| m.kind == MoveKind::Rapid && (m.to[2] - m.from[2]).abs() < EPS)
-                    && let Some(mv) = self.pending.pop()
-                {
-                    self.cut(mv, c);
-                }
-            }
+            CanonOp::Comment(s) => self.comment(s, c.line),
+            CanonOp::CycleBegin(intent) => self.cycle_begin(intent, c),
             CanonOp::CycleEnd => self.in_cycle = None,
             // A probe move measures; it positions like a rapid and cuts nothing.
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
@@ -812,25 +708,155 @@ impl<'p> Recovery<'p> {
                 let mv = self.mv(MoveKind::Line, to, c.line);
                 self.cut(mv, c);
             }
-            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
-                self.abc = *abc;
-                let (a0, a1, n) = self.plane.axes();
-                let mut to = [0.0; 3];
-                to[a0] = self.mm(*first_end);
-                to[a1] = self.mm(*second_end);
-                to[n] = self.mm(*axis_end);
-                let mut center = self.pos;
-                center[a0] = self.mm(*first_axis);
-                center[a1] = self.mm(*second_axis);
-                let mut axis = [0.0; 3];
-                axis[n] = 1.0;
-                let mut mv = self.mv(MoveKind::Arc, to, c.line);
-                mv.arc = Some(ArcGeometry { center, axis, turns: *rotation });
-                self.cut(mv, c);
-            }
+            CanonOp::ArcFeed { .. } => self.arc_feed(c),
             CanonOp::ProgramEnd | CanonOp::Finish => self.close(),
             _ => {}
         }
+    }
+
+    /// A tool change: the plan's entry for the tool, from the shop's tool table, the name the
+    /// program gave it, and the comments that describe it.
+    fn change_tool(&mut self, t: u32, line: u32) {
+        self.close();
+        self.tool = t;
+        let known = self.profile.tools.get(&t);
+        let kind = known.and_then(|k| k.kind.as_deref()).and_then(ToolKind::parse);
+        let entry = self.tools.entry(t).or_insert_with(|| Tool {
+            number: t,
+            name: known.and_then(|k| k.name.clone()),
+            kind: kind.unwrap_or(ToolKind::Unknown),
+            kind_source: if kind.is_some() { ToolSource::Table } else { ToolSource::Unknown },
+            diameter: known.and_then(|k| k.diameter),
+            corner_radius: known.and_then(|k| k.corner_radius),
+            flutes: known.and_then(|k| k.flutes),
+            length_offset: known.map(|k| k.length).filter(|l| *l != 0.0),
+            point_angle: known.and_then(|k| k.point_angle),
+            source: if known.is_some() { ToolSource::Table } else { ToolSource::Unknown },
+        });
+        if entry.kind == ToolKind::Unknown
+            && let Some(name) = entry.name.clone()
+        {
+            let facts = parse_tool_comment(&name);
+            if let Some(k) = facts.kind {
+                entry.kind = k;
+                entry.kind_source = ToolSource::Table;
+            }
+        }
+        let by_name = entry.name.is_none().then(|| self.tool_names.get(&t).cloned()).flatten();
+        self.name_pending = entry.name.is_none();
+        if let Some(name) = by_name {
+            self.name_tool(&name);
+            self.name_pending = false;
+        }
+        let best = self.comment_for_tool(t, line);
+        self.comments.clear();
+        if let Some(s) = best {
+            self.name_tool(&s);
+        }
+    }
+
+    /// The comment that best describes tool `t`, changed on `line`. The comments since the
+    /// previous operation (or the program start) that name this tool or no tool are this
+    /// tool's: a comment naming another tool (`T2 ...` of a header tool list) is not.
+    fn comment_for_tool(&self, t: u32, line: u32) -> Option<String> {
+        // Nearest first.
+        let here: Vec<(u32, &String)> = self
+            .comments
+            .iter()
+            .rev()
+            .filter_map(|(l, s)| {
+                let named = listed_tool(s);
+                named.is_none_or(|n| n == t).then_some((*l, s))
+            })
+            .collect();
+        // Up to three lines before the change (or on its block) is near.
+        let near: Vec<&String> = here.iter().filter(|(l, _)| *l + 3 >= line).map(|(_, s)| *s).collect();
+        let diameter = |s: &&String| parse_tool_comment(s).diameter.is_some();
+        let states = |s: &str| {
+            let f = parse_tool_comment(s);
+            f.diameter.is_some() || f.kind.is_some()
+        };
+        // A diameter near the change first, then the nearest comment naming this tool
+        // with a diameter (`( T1 | 10. FLAT ENDMILL | H1 | D1 )` further up, an
+        // operation header), then the tool list, then the nearest diameter further
+        // up, then a kind near it (an operation's name, `DRILL1`, says less than the
+        // list).
+        near.iter()
+            .find(|s| diameter(s))
+            .map(|s| s.to_string())
+            .or_else(|| here.iter().map(|(_, s)| *s).find(|s| listed_tool(s).is_some() && diameter(s)).cloned())
+            .or_else(|| self.listed.get(&t).cloned())
+            .or_else(|| here.iter().map(|(_, s)| *s).find(diameter).cloned())
+            .or_else(|| near.iter().find(|s| states(s)).map(|s| s.to_string()))
+            .or(near.first().map(|s| s.to_string()))
+    }
+
+    /// A comment: the stock's origin or size when it states them (the first such comment),
+    /// else a tool list entry, a description of the tool just changed, or a nearby comment
+    /// kept for the next tool change.
+    fn comment(&mut self, s: &str, line: u32) {
+        if self.stock_origin.is_none()
+            && let Some(o) = StockOrigin::parse(s)
+        {
+            self.stock_origin = Some(StockOrigin { point: o.point.map(|v| self.mm(v)), ..o });
+            return;
+        }
+        if self.stock.is_none()
+            && let Some([a, b]) = parse_stock(s)
+        {
+            self.stock = Some([a.map(|v| self.mm(v)), b.map(|v| self.mm(v))]);
+            self.stock_line = Some(line);
+            return;
+        }
+        if let Some(n) = listed_tool(s) {
+            let f = parse_tool_comment(s);
+            if f.diameter.is_some() || f.kind.is_some() {
+                self.listed.entry(n).or_insert_with(|| s.trim().to_owned());
+            }
+        }
+        self.comments.push((line, s.trim().to_owned()));
+        if self.comments.len() > MAX_COMMENTS {
+            self.comments.remove(0);
+        }
+        if self.name_pending {
+            let s = s.trim().to_owned();
+            self.name_tool(&s);
+        }
+    }
+
+    /// A canned cycle begins: its dwell, peck and surface go to the holes it drills.
+    fn cycle_begin(&mut self, intent: &crate::canon::CycleIntent, c: &Canon) {
+        self.in_cycle = Some(intent.kind);
+        self.dwell = intent.dwell;
+        self.peck = intent.peck.map(|q| self.mm(q));
+        self.surface = intent.surface.map(|z| self.mm(z));
+        // The positioning move before a called cycle belongs to the hole, as the
+        // cycle's own move to the hole does when the cycle positions itself (G81 X Y).
+        if intent.positioned
+            && self.pending.last().is_some_and(|m| m.kind == MoveKind::Rapid && (m.to[2] - m.from[2]).abs() < EPS)
+            && let Some(mv) = self.pending.pop()
+        {
+            self.cut(mv, c);
+        }
+    }
+
+    /// An arc in the selected plane, its centre and end in millimetres.
+    fn arc_feed(&mut self, c: &Canon) {
+        let CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } = &c.op else { return };
+        self.abc = *abc;
+        let (a0, a1, n) = self.plane.axes();
+        let mut to = [0.0; 3];
+        to[a0] = self.mm(*first_end);
+        to[a1] = self.mm(*second_end);
+        to[n] = self.mm(*axis_end);
+        let mut center = self.pos;
+        center[a0] = self.mm(*first_axis);
+        center[a1] = self.mm(*second_axis);
+        let mut axis = [0.0; 3];
+        axis[n] = 1.0;
+        let mut mv = self.mv(MoveKind::Arc, to, c.line);
+        mv.arc = Some(ArcGeometry { center, axis, turns: *rotation });
+        self.cut(mv, c);
     }
 
     fn name_tool(&mut self, comment: &str) {

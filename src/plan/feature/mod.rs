@@ -1,0 +1,270 @@
+//! Feature recognition: the cutting moves of each workingstep become a 2½D feature with the
+//! operation's strategy and depths; workingsteps that machine the same feature (roughing
+//! then finishing, drilling then reaming) are merged into one feature with several
+//! operations.
+//!
+//! The door is [`recognise`]. Holes are read in `hole`, milled shapes in `milling`, on the
+//! plane geometry of `chain`; this file merges what they find into features.
+
+mod chain;
+mod hole;
+mod milling;
+
+pub use chain::{rect_contour, rectangle_of};
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::model::*;
+
+const EPS: f64 = 1e-6;
+
+/// Recognises features for every workingstep of `plan` and fills in the workingsteps'
+/// strategy, depths and allowances.
+pub fn recognise(plan: &mut ProcessPlan) {
+    let mut features: Vec<(Feature, Vec<Region>)> = Vec::new();
+    // The level a planar face left the top at, for the features machined after it.
+    let mut faced: Option<f64> = None;
+    for i in 0..plan.workingsteps.len() {
+        let ws = &plan.workingsteps[i];
+        let tool = plan.tool(ws.tool).cloned();
+        // Holes along another axis than Z (cycles in G18/G19) are not recognised yet.
+        let mut cand = if ws.operation.is_hole() && !ws.holes.is_empty() {
+            hole::hole(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
+        } else {
+            milling::milling(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
+        };
+        // A shape with no segment is no shape: what was cut stays a toolpath.
+        if cand.kind.contour().is_some_and(|c| c.segments.is_empty()) {
+            cand.kind = FeatureKind::Toolpath;
+        }
+        if matches!(cand.kind, FeatureKind::PlanarFace { .. })
+            && let Some(d) = ws.depth
+        {
+            faced = Some(faced.map_or(d, |f: f64| f.min(d)));
+        }
+        let ws = &mut plan.workingsteps[i];
+        ws.operation = cand.operation;
+        ws.strategy = cand.strategy.clone();
+        ws.axial_depth = cand.axial_depth;
+        ws.radial_depth = cand.radial_depth;
+        let merge = features.iter().rposition(|(f, regions)| same_feature(f, regions.last(), &cand));
+        let id = match merge {
+            Some(k) => {
+                let (f, regions) = &mut features[k];
+                if let (Some(prev), Some(region)) = (regions.last(), &cand.region) {
+                    // The earlier workingstep roughed what this one finishes.
+                    let last = *f.workingsteps.last().expect("a feature has a workingstep") as usize - 1;
+                    let rough = &mut plan.workingsteps[last];
+                    if !rough.operation.is_hole() {
+                        rough.operation = rough.operation.roughing();
+                        // Roughing inside a pocket leaves a smaller region, around a profile a
+                        // larger one: the allowance is half the difference either way.
+                        let side = ((region.max[0] - region.min[0]) - (prev.max[0] - prev.min[0]))
+                            .abs()
+                            .max(((region.max[1] - region.min[1]) - (prev.max[1] - prev.min[1])).abs())
+                            / 2.0;
+                        let bottom = round6((prev.bottom - region.bottom).max(0.0));
+                        // Each rough operation carries the allowances it has attributes for.
+                        let (has_side, has_bottom) = match rough.operation {
+                            Operation::PlaneRoughMilling => (false, true),
+                            Operation::SideRoughMilling => (true, false),
+                            _ => (true, true),
+                        };
+                        rough.allowance_side = has_side.then_some(round6(side));
+                        rough.allowance_bottom = has_bottom.then_some(bottom);
+                    }
+                }
+                merge_into(f, &cand, &plan.workingsteps[i]);
+                if let Some(r) = cand.region {
+                    regions.push(r);
+                }
+                f.id
+            }
+            None => {
+                let ws = &plan.workingsteps[i];
+                let id = features.len() as u32 + 1;
+                let f = Feature {
+                    id,
+                    kind: cand.kind.clone(),
+                    placement: cand.placement,
+                    depth: cand.depth,
+                    top_inferred: cand.top_inferred,
+                    workingsteps: vec![ws.index],
+                    source: ws.source,
+                    lines: ws.lines,
+                    sources: cand.sources,
+                    centre_path: cand.centre_path,
+                };
+                features.push((f, cand.region.into_iter().collect()));
+                id
+            }
+        };
+        plan.workingsteps[i].feature = Some(id);
+    }
+    plan.features = features.into_iter().map(|(f, _)| f).collect();
+    absorb_spot_drilling(plan);
+}
+
+/// A spot drill or countersink that marks holes made by other tools is part of those holes,
+/// not a feature of its own: its workingsteps go to the first hole feature at its positions,
+/// when the holes made later cover every position it marked.
+fn absorb_spot_drilling(plan: &mut ProcessPlan) {
+    let abs = |f: &Feature| -> Vec<P2> {
+        match &f.kind {
+            FeatureKind::RoundHole { positions, .. } => positions.iter().map(|p| [p[0] + f.placement[0], p[1] + f.placement[1]]).collect(),
+            _ => Vec::new(),
+        }
+    };
+    let marking = |f: &Feature| {
+        matches!(f.kind, FeatureKind::RoundHole { diameter: None, .. })
+            && f.workingsteps.iter().all(|i| {
+                let ws = &plan.workingsteps[*i as usize - 1];
+                ws.operation == Operation::CenterDrilling
+                    || plan.tool(ws.tool).is_some_and(|t| matches!(t.kind, ToolKind::CenterDrill | ToolKind::Countersink))
+            })
+    };
+    let is_mark: Vec<bool> = plan.features.iter().map(marking).collect();
+    let mut gone: Vec<u32> = Vec::new();
+    for k in 0..plan.features.len() {
+        if !is_mark[k] {
+            continue;
+        }
+        // Positions quantised to 1e-3 mm, for lookups in log time: patterns may be large.
+        let key = |p: &P2| ((p[0] * 1e3).round() as i64, (p[1] * 1e3).round() as i64);
+        let marks: BTreeSet<(i64, i64)> = abs(&plan.features[k]).iter().map(key).collect();
+        let mut covered: BTreeSet<(i64, i64)> = BTreeSet::new();
+        let mut later: Vec<usize> = Vec::new();
+        for (j, f) in plan.features.iter().enumerate().skip(k + 1).filter(|(j, _)| !is_mark[*j]) {
+            let here: Vec<(i64, i64)> = abs(f).iter().map(key).filter(|q| marks.contains(q)).collect();
+            if !here.is_empty() {
+                later.push(j);
+                covered.extend(here);
+            }
+        }
+        let covered = covered.len() == marks.len();
+        let Some(&first) = later.first().filter(|_| covered) else { continue };
+        let steps = std::mem::take(&mut plan.features[k].workingsteps);
+        let target = plan.features[first].id;
+        for i in &steps {
+            plan.workingsteps[*i as usize - 1].feature = Some(target);
+        }
+        let f = &mut plan.features[first];
+        f.workingsteps.extend(steps);
+        f.workingsteps.sort_unstable();
+        gone.push(plan.features[k].id);
+    }
+    if gone.is_empty() {
+        return;
+    }
+    plan.features.retain(|f| !gone.contains(&f.id));
+    let renumber: BTreeMap<u32, u32> = plan.features.iter().enumerate().map(|(i, f)| (f.id, i as u32 + 1)).collect();
+    for f in &mut plan.features {
+        f.id = renumber[&f.id];
+        feature_source(f, &plan.workingsteps);
+    }
+    for ws in &mut plan.workingsteps {
+        ws.feature = ws.feature.and_then(|id| renumber.get(&id).copied());
+    }
+}
+
+/// The source range and lines of a feature: the cover of its workingsteps'.
+pub fn feature_source(f: &mut Feature, workingsteps: &[Workingstep]) {
+    let mut it = f.workingsteps.iter().filter_map(|i| workingsteps.get((*i as usize).checked_sub(1)?));
+    if let Some(first) = it.next() {
+        let (mut src, mut lines) = (first.source, first.lines);
+        for w in it {
+            src = src.cover(w.source);
+            lines = (lines.0.min(w.lines.0), lines.1.max(w.lines.1));
+        }
+        f.source = src;
+        f.lines = lines;
+    }
+}
+
+fn merge_into(f: &mut Feature, cand: &Candidate, ws: &Workingstep) {
+    f.workingsteps.push(ws.index);
+    f.source = f.source.cover(ws.source);
+    f.lines = (f.lines.0.min(ws.lines.0), f.lines.1.max(ws.lines.1));
+    match (&mut f.kind, &cand.kind) {
+        (FeatureKind::RoundHole { diameter, bottom, .. }, FeatureKind::RoundHole { diameter: d2, bottom: b2, .. }) => {
+            *diameter = match (*diameter, *d2) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, b) => a.or(b),
+            };
+            // The deepest operation leaves the bottom, unless the hole goes through.
+            // The deepest point: a drill's tip lies below where its full diameter ends.
+            let tip = |depth: f64, d: Option<f64>, b: HoleBottom| match (b, d) {
+                (HoleBottom::Conical(a), Some(d)) if a > 0.0 && a < 180.0 => depth + d / 2.0 / (a.to_radians() / 2.0).tan(),
+                _ => depth,
+            };
+            let deeper = tip(cand.depth, *d2, *b2) > tip(f.depth, *diameter, *bottom) + 1e-6;
+            if *bottom != HoleBottom::Through && (deeper || *b2 == HoleBottom::Through) {
+                *bottom = *b2;
+                f.sources.point_angle = cand.sources.point_angle;
+            }
+            if d2.is_some() && f.sources.size == Source::Unknown {
+                f.sources.size = cand.sources.size;
+            }
+            f.depth = f.depth.max(cand.depth);
+        }
+        _ => {
+            // The finishing workingstep states the final shape; an inferred top does not
+            // undo a higher one the roughing stated (its layers start higher).
+            let bottom = cand.placement[2] - cand.depth;
+            let keep_top = cand.top_inferred && f.placement[2] > cand.placement[2] && cand.depth > 0.0;
+            let top = if keep_top { f.placement[2] } else { cand.placement[2] };
+            f.kind = cand.kind.clone();
+            f.placement = [cand.placement[0], cand.placement[1], top];
+            f.depth = round6(top - bottom);
+            f.top_inferred = cand.top_inferred && !keep_top || keep_top && f.top_inferred;
+            f.sources = Sources { top: if keep_top { f.sources.top } else { cand.sources.top }, ..cand.sources };
+            f.centre_path = cand.centre_path;
+        }
+    }
+}
+
+/// The swept region of a milling candidate, for matching rough and finish passes.
+#[derive(Clone, Copy, Debug)]
+struct Region {
+    min: P2,
+    max: P2,
+    bottom: f64,
+}
+
+struct Candidate {
+    kind: FeatureKind,
+    placement: P3,
+    depth: f64,
+    top_inferred: bool,
+    sources: Sources,
+    centre_path: Option<(f64, f64)>,
+    operation: Operation,
+    strategy: Option<Strategy>,
+    axial_depth: Option<f64>,
+    radial_depth: Option<f64>,
+    region: Option<Region>,
+    /// Hole positions, absolute, for matching drilling and reaming of one pattern.
+    holes: Vec<P2>,
+}
+
+fn same_feature(f: &Feature, region: Option<&Region>, c: &Candidate) -> bool {
+    match (&f.kind, &c.kind) {
+        (FeatureKind::RoundHole { positions, .. }, FeatureKind::RoundHole { .. }) => {
+            let abs: Vec<P2> = positions.iter().map(|p| [p[0] + f.placement[0], p[1] + f.placement[1]]).collect();
+            abs.len() == c.holes.len() && abs.iter().zip(&c.holes).all(|(a, b)| (a[0] - b[0]).abs() < 1e-3 && (a[1] - b[1]).abs() < 1e-3)
+        }
+        (FeatureKind::Toolpath, _) | (_, FeatureKind::Toolpath) => false,
+        (a, b) if std::mem::discriminant(a) == std::mem::discriminant(b) => {
+            let (Some(r), Some(s)) = (region, &c.region) else { return false };
+            let ix = (r.max[0].min(s.max[0]) - r.min[0].max(s.min[0])).max(0.0);
+            let iy = (r.max[1].min(s.max[1]) - r.min[1].max(s.min[1])).max(0.0);
+            let area = |q: &Region| (q.max[0] - q.min[0]).max(EPS) * (q.max[1] - q.min[1]).max(EPS);
+            ix * iy >= 0.7 * area(r).min(area(s)) && s.bottom <= r.bottom + 1e-3
+        }
+        _ => false,
+    }
+}
+
+fn round6(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6 + 0.0
+}
