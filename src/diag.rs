@@ -3,6 +3,10 @@
 //! A diagnostic is a value, never an `Err`: analysis reports every finding and keeps going.
 //! Rendering (short, human with carets, JSON) happens at the edge via [`render_short`],
 //! [`render_human`] and [`DiagnosticJson`].
+//!
+//! `Diagnostic` as data; the `Code` catalogue (`syntax::…`, `interp::…`, `flow::…`,
+//! `plan::…`, `dialect::…`) with a doc line per code; short, human (carets) and JSON renderings;
+//! `decoding` turns `text`'s `DecodeNote`s into diagnostics.
 
 use std::fmt::Write as _;
 

@@ -1,12 +1,26 @@
-//! The pure composition of the core: bytes → text → canon → plan, with all diagnostics.
-//! The CLI, the daemon and the tests all analyse programs through [`analyze`].
+//! The pure composition of the core: bytes → text → canon → plan, with all diagnostics,
+//! and the door the commands use to reach the core. The CLI, the daemon and the tests all
+//! analyse programs through [`analyze`]; a command module names no core module, only this
+//! one (and `store`): what it prints, writes or compares goes through the functions and the
+//! vocabulary below.
 
-use crate::canon::Canon;
-use crate::diag::{Code, Diagnostic};
-use crate::dialect::Dialect;
-use crate::interp::{self, Profile};
-use crate::plan::{self, ProcessPlan};
-use crate::text::{self, DecodeNote, SourceText, Text, TextRange};
+use crate::interp;
+use crate::plan;
+use crate::text::{self, DecodeNote};
+
+// The vocabulary the commands speak: diagnostics and how they are shown, dialects, positions
+// in a text, plans, the options of a translation, changes. What they ask of the core is one
+// function each, below.
+pub use crate::canon::{CallWriter, Canon, CanonSink, Units};
+pub use crate::diag::{Code, Diagnostic, DiagnosticJson, Severity, render_human, render_short, render_short_at};
+pub use crate::dialect::sniff::Sniffed;
+pub use crate::dialect::{Dialect, Registry};
+pub use crate::diff::{Change, render_plain};
+pub use crate::interp::{Profile, ProgramRole, role_for};
+pub use crate::part21::stepnc::Class as StepNcClass;
+pub use crate::plan::ProcessPlan;
+pub use crate::post::{Limits, Options as TranslateOptions};
+pub use crate::text::{LineIndex, SourceText, Text, TextRange, locate};
 
 /// Everything known about one program.
 #[derive(Debug)]
@@ -50,11 +64,7 @@ pub fn analyze_plan(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analy
 /// Plan facts the post-processor writes from (`ncplan translate`, the web download): hole tops
 /// and tool facts from the shop's tool table. Only a tool table with diameters needs the plan
 /// first; otherwise the writer asks for hole tops itself when a cycle needs them.
-pub fn translation_facts<'t>(
-    text: impl Into<Text<'t>>,
-    dialect: &Dialect,
-    profile: &Profile,
-) -> (Vec<[f64; 3]>, Vec<crate::post::ToolFact>) {
+fn translation_facts<'t>(text: impl Into<Text<'t>>, dialect: &Dialect, profile: &Profile) -> (Vec<[f64; 3]>, Vec<crate::post::ToolFact>) {
     if profile.tools.values().any(|t| t.diameter.is_some()) {
         let plan = plan_of_text(text.into(), dialect, profile).0;
         (crate::post::hole_tops(&plan), crate::post::tool_facts(&plan))
@@ -142,6 +152,58 @@ pub fn sniff(registry: &crate::dialect::Registry, bytes: &[u8], path: &std::path
     registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT)
 }
 
+/// The plan in words: a line per stock, tool, feature and workingstep (`ncplan plan`).
+pub fn describe_plan(plan: &ProcessPlan) -> String {
+    plan::describe(plan)
+}
+
+/// Runs the program through the interpreter, handing each canonical op to `sink` as it is
+/// made (`ncplan canon`): memory does not grow with the program. Returns the findings.
+pub fn canon<'t>(text: impl Into<Text<'t>>, dialect: &Dialect, profile: &Profile, sink: &mut dyn CanonSink) -> Vec<Diagnostic> {
+    interp::interpret(text, dialect, profile, sink)
+}
+
+/// Writes the plan as STEP-NC (ISO 14649 Part 21) of `class` to `out` as it is made, with the
+/// header's `timestamp`; returns `out` and the findings of the export.
+pub fn write_stepnc<W: std::io::Write>(
+    plan: &ProcessPlan,
+    class: StepNcClass,
+    timestamp: &str,
+    out: W,
+) -> std::io::Result<(W, Vec<Diagnostic>)> {
+    crate::part21::stepnc::write(plan, class, timestamp, out)
+}
+
+/// Translates program `text`, read in `from`, into `to`'s dialect, handing the text to `sink`
+/// as it is written; returns the findings of reading and writing. The plan facts the writer
+/// needs (the tool table's tools; where each hole's top is, for a cycle that states only its
+/// R level) are taken from the program: the tools first when the table has any, the hole tops
+/// only when the first such cycle asks, so that a program without them is read once, in
+/// constant memory. `opts`' hole tops and tools are filled in here.
+pub fn translate<'t>(
+    text: impl Into<Text<'t>>,
+    from: &Dialect,
+    to: &Dialect,
+    profile: &Profile,
+    opts: TranslateOptions,
+    sink: impl FnMut(&[u8]),
+) -> Vec<Diagnostic> {
+    let text = text.into();
+    let (hole_tops, tools) = translation_facts(text, from, profile);
+    let opts = TranslateOptions { hole_tops, tools, ..opts };
+    let mut tops = || crate::post::hole_tops(&plan_of_text(text, from, profile).0);
+    crate::post::translate_with_facts(text, from, to, profile, opts, &mut tops, sink)
+}
+
+/// The changes from the `original` program's plan to the `edited` one's, each analysed in its
+/// dialect, in the order of the edited program (`ncplan diff`).
+pub fn diff(original: &Analysis, original_dialect: &Dialect, edited: &Analysis, edited_dialect: &Dialect) -> Vec<Change> {
+    crate::diff::compare(
+        crate::diff::Program { plan: &original.plan, text: &original.source.text, dialect: original_dialect },
+        crate::diff::Program { plan: &edited.plan, text: &edited.source.text, dialect: edited_dialect },
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::program_name;
@@ -157,9 +219,4 @@ mod tests {
         assert_eq!(program_name(":0100\n"), Some("O100".into()));
         assert_eq!(program_name("G0 X0\n"), None);
     }
-}
-
-/// The plan in words: a line per stock, tool, feature and workingstep (`ncplan plan`).
-pub fn describe_plan(plan: &ProcessPlan) -> String {
-    crate::plan::describe(plan)
 }

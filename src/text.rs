@@ -7,6 +7,19 @@
 //! as its bytes go by ([`Survey`] → [`Layout`]), then decoded where the reader asks
 //! ([`Layout::read`]), with the same text and offsets as [`decode`] gives. The shell does the
 //! reading ([`TextReader`]); the core never holds such a text whole.
+//!
+//! `TextRange` (u32 byte ranges into the decoded text), `LineIndex` (line:col on
+//! demand), `decode` (UTF-8, BOM, Windows-1252 fallback, binary detection; what it notices is a
+//! `DecodeNote`, which `diag` words as a diagnostic: text sits below diag). `Text` is what the
+//! core reads: the whole text (`Text::Whole(&str)`) or a text read piece by piece through the
+//! shell (`Text::Read(&dyn TextReader)`: its length, the decoded text from an offset), with the
+//! same offsets either way; `head` (the first 64 KiB the dialect's checks read), `piece`,
+//! `trimmed_end`. A file is surveyed once as its bytes go by (`Survey`, in chunks of any size:
+//! encoding, byte-order mark, stray carriage returns, decoded length) into a `Layout` that
+//! decodes any piece of it by offset (`Layout::read`; Windows-1252 from marks every 64 KiB of
+//! bytes), giving the text and findings `decode` gives. `locate` gives the line:col of sorted
+//! offsets in one pass up to the last of them, without an index of every line. `BytesReader`
+//! reads bytes in memory as a file is, with windows as small as a test likes.
 
 use std::borrow::Cow;
 

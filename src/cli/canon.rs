@@ -6,8 +6,7 @@ use std::process::ExitCode;
 use anyhow::{Result, bail};
 
 use super::common::{Input, input_program, print_short};
-use crate::canon::{CallWriter, Canon, CanonSink};
-use crate::diag;
+use crate::pipeline::{self, CallWriter, Canon, CanonSink, Diagnostic};
 
 /// The arguments of `ncplan canon`.
 #[derive(Debug, clap::Args)]
@@ -31,7 +30,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         lines,
         error: None,
     };
-    diags.extend(crate::interp::interpret(program.text(), &d, &config.profile, &mut printer));
+    diags.extend(pipeline::canon(program.text(), &d, &config.profile, &mut printer));
     printer.flush();
     if let Some(e) = printer.error.take() {
         return Err(e.into());
@@ -40,7 +39,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     if let Some(why) = program.trouble() {
         bail!("{why}");
     }
-    let errors: Vec<&diag::Diagnostic> = diags.iter().filter(|x| x.is_error()).collect();
+    let errors: Vec<&Diagnostic> = diags.iter().filter(|x| x.is_error()).collect();
     print_short(&input.file.display().to_string(), program.text(), &errors);
     Ok(ExitCode::SUCCESS)
 }

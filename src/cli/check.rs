@@ -9,9 +9,7 @@ use clap::ValueEnum;
 
 use super::common::{Format, Input, analysis_config, dialect, registry_for, sniff_report};
 use crate::config;
-use crate::diag::{self, DiagnosticJson};
-use crate::pipeline;
-use crate::text::LineIndex;
+use crate::pipeline::{self, Code, DiagnosticJson, LineIndex, ProgramRole, Severity};
 
 /// The arguments of `ncplan check`.
 #[derive(Debug, clap::Args)]
@@ -73,15 +71,15 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         let d = dialect(&registry, &name)?;
         config.profile = config::DirPrograms::beside(&base, file, config.max_file_bytes);
         let given = match role {
-            RoleArg::Main => crate::interp::ProgramRole::Main,
-            RoleArg::Called => crate::interp::ProgramRole::Called,
+            RoleArg::Main => ProgramRole::Main,
+            RoleArg::Called => ProgramRole::Called,
             RoleArg::Auto => base.role,
         };
-        config.profile.role = crate::interp::role_for(given, file, &d);
+        config.profile.role = pipeline::role_for(given, file, &d);
         let mut a = pipeline::analyze_plan_owned(bytes, &d, &config.profile);
         if strict {
-            for x in a.diagnostics.iter_mut().filter(|x| x.code == diag::Code::MissingProgram) {
-                x.severity = diag::Severity::Error;
+            for x in a.diagnostics.iter_mut().filter(|x| x.code == Code::MissingProgram) {
+                x.severity = Severity::Error;
             }
         }
         let path = file.display().to_string();
@@ -97,7 +95,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
             Format::Text => {
                 let mut text = String::new();
                 for x in &a.diagnostics {
-                    text.push_str(&diag::render_human(&path, &a.source.text, &idx, x));
+                    text.push_str(&pipeline::render_human(&path, &a.source.text, &idx, x));
                 }
                 text.push_str(&format!("{path}: {n_errors} errors, {} other findings\n", a.diagnostics.len() - n_errors));
                 bar.suspend(|| out.write_all(text.as_bytes()))?;

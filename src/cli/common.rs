@@ -8,11 +8,8 @@ use anyhow::{Context, Result, bail};
 use clap::ValueEnum;
 
 use crate::config::{self, Config};
-use crate::diag;
-use crate::dialect::{Dialect, Registry};
-use crate::pipeline;
+use crate::pipeline::{self, Diagnostic, Dialect, Registry, Sniffed, Text};
 use crate::store::Location;
-use crate::text::Text;
 use crate::textfile;
 
 /// How a command writes what it found (`--format`).
@@ -125,7 +122,7 @@ pub(super) fn open_while_loading(
     registry: &Registry,
     names: &[Option<&str>],
     path: &Path,
-) -> std::io::Result<(textfile::Program, Vec<diag::Diagnostic>)> {
+) -> std::io::Result<(textfile::Program, Vec<Diagnostic>)> {
     std::thread::scope(|s| {
         s.spawn(|| names.iter().flatten().for_each(|n| drop(registry.get(n))));
         textfile::Program::open(path)
@@ -170,7 +167,7 @@ pub(super) fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8
 
 /// [`input_setup`] for the commands that stream (`canon`): the program is read piece by piece
 /// ([`textfile::Program`]), with the findings of decoding it.
-pub(super) fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, textfile::Program, Vec<diag::Diagnostic>)> {
+pub(super) fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, textfile::Program, Vec<Diagnostic>)> {
     let mut config = analysis_config(input.config.as_deref())?;
     with_tool_table(&mut config, input.tool_table.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
@@ -191,18 +188,18 @@ pub(super) fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, text
 
 /// Prints `shown` findings on stderr as `path:line:col: ...`, in their order; their lines are
 /// counted in one pass over the text, up to the last of them.
-pub(super) fn print_short(path: &str, text: Text<'_>, shown: &[&diag::Diagnostic]) {
+pub(super) fn print_short(path: &str, text: Text<'_>, shown: &[&Diagnostic]) {
     let mut offsets: Vec<u32> = shown.iter().map(|d| d.range.start).collect();
     offsets.sort_unstable();
     offsets.dedup();
-    let places = crate::text::locate(text, &offsets);
+    let places = pipeline::locate(text, &offsets);
     for d in shown {
         let k = offsets.binary_search(&d.range.start).unwrap_or(0);
-        eprintln!("{}", diag::render_short_at(path, places[k], d));
+        eprintln!("{}", pipeline::render_short_at(path, places[k], d));
     }
 }
 
-pub(super) fn sniff_report(s: &crate::dialect::sniff::Sniffed) -> String {
+pub(super) fn sniff_report(s: &Sniffed) -> String {
     let why = if s.evidence.is_empty() { "no evidence; the default".to_owned() } else { s.evidence.join(", ") };
     let next = s.runner_up.as_ref().map(|(n, score)| format!("; next: {n} ({score})")).unwrap_or_default();
     format!("ncplan: dialect {} (sure: {}; score {}: {why}{next}); give --dialect to choose", s.dialect, s.confidence.as_str(), s.score)

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 
 use super::common::dialect;
-use crate::dialect::Registry;
+use crate::pipeline::Registry;
 
 /// The arguments of `ncplan dialects`.
 #[derive(Debug, clap::Args)]

@@ -8,8 +8,7 @@ use anyhow::{Context, Result};
 
 use super::common::{Format, analysis_config, dialect, registry_for, sniff_report, with_tool_table};
 use crate::config;
-use crate::diff;
-use crate::pipeline;
+use crate::pipeline::{self, Change};
 
 /// The arguments of `ncplan diff`.
 #[derive(Debug, clap::Args)]
@@ -59,11 +58,8 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let beside = |p: &Path| config::DirPrograms::beside(&config.profile, p, config.max_file_bytes);
     let a = pipeline::analyze_plan_owned(bytes_a, &da, &beside(&original));
     let b = pipeline::analyze_plan_owned(bytes_b, &db, &beside(&edited));
-    let changes = diff::compare(
-        diff::Program { plan: &a.plan, text: &a.source.text, dialect: &da },
-        diff::Program { plan: &b.plan, text: &b.source.text, dialect: &db },
-    );
-    let machining = changes.iter().any(diff::Change::is_machining);
+    let changes = pipeline::diff(&a, &da, &b, &db);
+    let machining = changes.iter().any(Change::is_machining);
     match format {
         Format::Json => {
             serde_json::to_writer_pretty(&mut out, &changes)?;
@@ -75,7 +71,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
             } else if !machining {
                 writeln!(out, "no machining changes; only what the program shows or writes:")?;
             }
-            for line in diff::render_plain(&changes) {
+            for line in pipeline::render_plain(&changes) {
                 writeln!(out, "{line}")?;
             }
         }

@@ -6,6 +6,17 @@
 //! Each command is a module with its arguments (`Args`) and its `run`; what several share (the
 //! input program, the configuration and dialects, the database) is in `common`. This module
 //! only parses the command line and routes each command to its module.
+//!
+//! clap commands; the only code that prints (and draws progress bars).
+//! `src/main.rs` calls `cli::run`. `mod.rs` parses the command line and routes each command to
+//! its module (`check.rs`, `canon.rs`, `plan.rs`, `stepnc.rs`, `diff.rs`, `query.rs`,
+//! `report.rs`, `serve.rs`, `show.rs`, `bench.rs`, `import.rs`, `reanalyze.rs` with `worker`,
+//! `migrate.rs`, `translate.rs`, `dialects.rs`, `watch.rs`), each with its `Args` and `run`;
+//! `common.rs` holds what they share (the input program, configuration, dialects, database). `canon` and `translate` read a program file piece by piece
+//! (`textfile::Program`): their memory does not grow with the file; findings are placed by
+//! `text::locate`. The file's survey and the loading of the dialects it names run at once
+//! (`open_while_loading`). `translate -o` writes beside the output and renames when done, so a run
+//! that fails (the input changed while it was read) leaves no half file.
 
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 

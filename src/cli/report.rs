@@ -11,7 +11,7 @@ use clap::ValueEnum;
 
 use super::common::{StoreArgs, db_path, demo_config_here, load_config, registry_for};
 use crate::config::Config;
-use crate::diff;
+use crate::pipeline::{self, Change};
 use crate::store::{Location, Store};
 
 /// The arguments of `ncplan report`.
@@ -137,12 +137,12 @@ fn write_report(out: &mut impl Write, store: &Store, machining_only: bool) -> Re
         }
         let mut changes = store.changes(revision)?;
         if machining_only {
-            changes.retain(diff::Change::is_machining);
+            changes.retain(Change::is_machining);
             if changes.is_empty() {
                 continue;
             }
         }
-        for line in diff::render_plain(&changes) {
+        for line in pipeline::render_plain(&changes) {
             writeln!(out, "- {line}")?;
         }
         writeln!(out)?;

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use anyhow::{Result, bail};
 
 use super::common::{StoreArgs, db_path, load_config, registry_for};
-use crate::diff;
+use crate::pipeline;
 use crate::store::Store;
 
 /// The arguments of `ncplan show`.
@@ -92,7 +92,7 @@ fn write_revision(out: &mut impl Write, store: &Store, r: &crate::store::Revisio
     let changes = store.changes(r.id)?;
     if r.original.is_some() {
         writeln!(out, "\nchanges ({}):", changes.len())?;
-        for line in diff::render_plain(&changes) {
+        for line in pipeline::render_plain(&changes) {
             writeln!(out, "  - {line}")?;
         }
     }

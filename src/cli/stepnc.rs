@@ -7,9 +7,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 
 use super::common::{Input, input_setup};
-use crate::diag;
-use crate::pipeline;
-use crate::text::LineIndex;
+use crate::pipeline::{self, LineIndex, StepNcClass};
 
 /// The arguments of `ncplan stepnc`.
 #[derive(Debug, clap::Args)]
@@ -35,7 +33,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let Args { input, cc1, cc2: _, output, timestamp } = args;
     let (d, config, bytes) = input_setup(&input)?;
     let a = pipeline::analyze_plan_owned(bytes, &d, &config.profile);
-    let class = if cc1 { crate::part21::stepnc::Class::Cc1 } else { crate::part21::stepnc::Class::Cc2 };
+    let class = if cc1 { StepNcClass::Cc1 } else { StepNcClass::Cc2 };
     let timestamp = timestamp.unwrap_or_else(|| {
         use crate::daemon::Clock;
         crate::daemon::SystemClock.now()
@@ -46,7 +44,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         Some(o) => {
             let tmp = o.with_file_name(format!(".{}.partial", o.file_name().map(|n| n.to_string_lossy()).unwrap_or_default()));
             let file = std::fs::File::create(&tmp).with_context(|| format!("cannot write {}", tmp.display()))?;
-            match crate::part21::stepnc::write(&a.plan, class, &timestamp, std::io::BufWriter::new(file)) {
+            match pipeline::write_stepnc(&a.plan, class, &timestamp, std::io::BufWriter::new(file)) {
                 Ok((_, diags)) => {
                     std::fs::rename(&tmp, o).with_context(|| format!("cannot write {}", o.display()))?;
                     diags
@@ -57,13 +55,13 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
                 }
             }
         }
-        None => crate::part21::stepnc::write(&a.plan, class, &timestamp, &mut out)?.1,
+        None => pipeline::write_stepnc(&a.plan, class, &timestamp, &mut out)?.1,
     };
     out.flush()?;
     let path = input.file.display().to_string();
     let idx = LineIndex::new(&a.source.text);
     for x in diags.iter().chain(a.diagnostics.iter().filter(|x| x.is_error())) {
-        eprintln!("{}", diag::render_short(&path, &a.source.text, &idx, x));
+        eprintln!("{}", pipeline::render_short(&path, &a.source.text, &idx, x));
     }
     Ok(ExitCode::SUCCESS)
 }

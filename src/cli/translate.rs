@@ -9,8 +9,7 @@ use anyhow::{Context, Result, bail};
 
 use super::common::{StoreArgs, analysis_config, db_path, dialect, open_while_loading, print_short, registry_for, sniff_report};
 use crate::config;
-use crate::diag;
-use crate::pipeline;
+use crate::pipeline::{self, Diagnostic, Limits, Severity, TranslateOptions, Units};
 use crate::store::Store;
 use crate::textfile;
 
@@ -107,20 +106,13 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         .or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()))
         .unwrap_or_else(|| "PROGRAM".into());
     let limits = folder.map(|f| f.limits.clone()).unwrap_or_default();
-    // Plan facts for the writer: where each hole's top is (a G81 states only its R level).
-    // Only a program with such cycles needs it: the plan holds the toolpath, and a program
-    // without them is written in constant memory.
-    // They are asked for when the first such cycle needs them. Tool facts from the shop's
-    // tool table go into tool comments, which read back where the table is not: they need
-    // the plan first, only when the table has tools.
-    let (hole_tops, tools) = pipeline::translation_facts(text, &source_dialect, &config.profile);
-    let opts = crate::post::Options {
-        hole_tops,
-        tools,
-        units: limits.units.unwrap_or(crate::canon::Units::Mm),
+    // The target machine's units and limits; the plan facts the writer needs (hole tops, the
+    // tool table's tools) are taken by `pipeline::translate`.
+    let opts = TranslateOptions {
+        units: limits.units.unwrap_or(Units::Mm),
         follow_source_units: limits.units.is_none(),
-        limits: crate::post::Limits { max_spindle_speed: limits.max_spindle_speed, max_feed: limits.max_feed, travel: limits.travel },
-        ..crate::post::Options::for_program(&name)
+        limits: Limits { max_spindle_speed: limits.max_spindle_speed, max_feed: limits.max_feed, travel: limits.travel },
+        ..TranslateOptions::for_program(&name)
     };
     let mut profile = config.profile.clone();
     if let Some(f) = &file {
@@ -135,8 +127,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         None => Box::new(&mut *out),
     };
     let mut error: Option<std::io::Error> = None;
-    let mut tops = || crate::post::hole_tops(&pipeline::plan_of_text(text, &source_dialect, &config.profile).0);
-    diags.extend(crate::post::translate_with_facts(text, &source_dialect, &target, &profile, opts, &mut tops, |chunk| {
+    diags.extend(pipeline::translate(text, &source_dialect, &target, &profile, opts, |chunk| {
         if error.is_none()
             && let Err(e) = file_out.write_all(chunk)
         {
@@ -165,8 +156,8 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     }
     // Lines are counted only as far as the last finding shown: a million-line program with a
     // note near its start is not read to its end again.
-    let shown_diags: Vec<&diag::Diagnostic> =
-        diags.iter().filter(|x| x.severity != diag::Severity::Note || x.code.as_str().starts_with("post::")).collect();
+    let shown_diags: Vec<&Diagnostic> =
+        diags.iter().filter(|x| x.severity != Severity::Note || x.code.as_str().starts_with("post::")).collect();
     print_short(&path.display().to_string(), text, &shown_diags);
     Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }

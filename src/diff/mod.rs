@@ -9,6 +9,32 @@
 //! their holes (position and cycle parameters), their features and strategy, and last their
 //! toolpaths, localised to the moves that differ. Every value is written in the original
 //! program's units, so one report speaks one unit system.
+//!
+//! the door is `diff::compare(Program, Program)` (plan, text and dialect of each
+//! side); `diff::diff(plan, plan)` is the plan-only part for callers without the texts.
+//! `statement.rs` reads each program's blocks with the dialect's parser into statements (one
+//! spelling: no block numbers, comments, blanks, case or number spellings, no program name;
+//! messages and aborts kept; the dictionary's `log` comment directives and `output` codes mark
+//! statements that only write text) and aligns them (prefix and suffix, a full LCS up to 4M
+//! cells, patience anchors beyond: near-linear whatever the edit). `account.rs` locates each
+//! plan change at the differing statements of its workingstep whose words show it, turns every
+//! other differing statement into a statement change (variables, call arguments, words, jumps;
+//! output apart), names unexplained plan changes as their effect, tells a change carried into
+//! later workingsteps once, and in debug builds asserts that every differing statement is
+//! named. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
+//! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
+//! offset, offset numbers, compensation, stops, dwells, block delete, spindle mode),
+//! technology, holes and cycle parameters, features, strategy and depths of cut, risky edits,
+//! and toolpath changes localised to the moves that differ (the shared start and end set
+//! aside in linear time, the rest measured with a grid of pieces: lines in both programs,
+//! region, largest deviation, each point's distance taken to the other side's arcs
+//! themselves, not to chords of them). Moves that go the same way along the same path in
+//! other pieces (an arc written in turns or halves, a line in two: `same_trace`, every
+//! sampled point within the tolerance of the other side's point as far along) are no change.
+//! Values are written in the original's units. Heights (clearance between cuts, approach,
+//! retract) and plunge feeds are compared where no cycle's parameters say them; a start point
+//! moved with the cuts otherwise the same folds the feature change it causes into its own
+//! sentence.
 
 mod account;
 pub mod statement;

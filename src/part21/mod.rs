@@ -3,6 +3,17 @@
 //! The writer ([`Stream`]) numbers entity instances in the order they are made and writes each
 //! at once, so an export streams in bounded memory and equal content gives equal text.
 //! The header's timestamp is a parameter: nothing here reads a clock.
+//!
+//! `mod.rs`: Part 21 values, a `Stream` that numbers instances in the order
+//! they are made and writes each at once into any `io::Write` (every reference points back;
+//! the root `PROJECT` comes last; a million-point polyline is written from an id range), so an
+//! export runs in the plan's memory; the in-memory writer for an `Exchange` (shortest
+//! round-trip reals, `\X2\` strings) and a reader with line:col errors. `schema.rs`: the ISO 14649 signature table (`iso14649_signatures.tsv`,
+//! generated from the EXPRESS schema by `tests/it/stepnc.rs`) and `Schema::check` (names,
+//! attribute counts, `$` only where OPTIONAL, entity types of references, enum literals).
+//! `stepnc.rs`: plan ↔ ISO 14649 (CC1: toolpath features and freeform operations; CC2:
+//! features, operations, strategies, with the toolpaths); facts ISO 14649 has no attribute for
+//! travel as `key=value` words in `its_id`, so reading gives back the plan written.
 
 pub mod schema;
 pub mod stepnc;

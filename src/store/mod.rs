@@ -7,6 +7,56 @@
 //! Revisions are content-addressed and never overwritten (triggers forbid it). Each
 //! revision is recorded with its plan, diagnostics and changes in one transaction, so a
 //! crash leaves either all of it or none of it, and the next scan picks the file up again.
+//!
+//! the only SQL, on two engines behind one interface: `Store` and `Txn` in
+//! `mod.rs` dispatch to `sqlite.rs` (`Lite`: WAL, one writer at a time by `BEGIN IMMEDIATE`)
+//! or `pg.rs` (`Pg`: the synchronous `postgres` client, TLS by rustls, the password from the
+//! environment or a private file, `Location` shows URLs without it; writers of one program
+//! path, and of one pairing key, meet through transaction advisory locks, shared rows are
+//! written `ON CONFLICT`). `copy.rs` is `ncplan migrate` (`Store::copy_from`): a site's history
+//! between any two databases through one `End` per engine (`LiteEnd`, `PgEnd`: SQL written once
+//! with `?1` parameters, cells as `Val`s, blobs streamed 1 MiB at a time); every table in
+//! `COPIED` (a unit test holds it to the tables the migrations create), ids kept where the
+//! target has them free and references followed where not, what the target has left as it is.
+//! The rest of the program sees
+//! `Location` and `Store` only. `schema.rs` holds SQLite's migrations, `pg_schema.rs` their
+//! PostgreSQL twins, one for one (BIGINT identities, DOUBLE PRECISION, BYTEA, triggers that
+//! raise, the plan tables filled with `json_array_elements` where SQLite uses `json_each`).
+//! The re-analysis queue: `queue_reanalysis`, `claim_reanalysis` (`FOR UPDATE SKIP LOCKED` on
+//! PostgreSQL), `Txn::record_analysis`.
+//! Immutable blobs and revisions, `Store::begin` → `Txn`, the one transaction in which a revision, its keys and
+//! findings, the partial-write mark of the revision before and every comparison it enables
+//! commit; `Content::File` streams a file over the size limit into its blob in chunks; the
+//! attempt journal (`begin_attempt`) notes analyses in progress (a content's own analysis only:
+//! closed when it returns, before the store is waited for; after two unfinished analyses,
+//! `ingest::UNFINISHED_ANALYSES`, the content is tried in a child `ncplan plan` and stored
+//! unanalysed only when that dies too, since such a revision never serves an edit); `query_read_only` runs one
+//! read-only statement with plain refusals; read methods for `show`. `pages.rs`: the read
+//! queries of the workspace (machines, timelines, change rows with their review marks,
+//! search, weekly counts, health), the knowledge pages' SQL (`KNOWLEDGE`, shown by the pages),
+//! the console's saved queries and `query_limited` (row limit, and a time limit by SQLite's
+//! progress handler), and the web's writes: `add_mark` into `review_marks` (migration 4),
+//! `save_query` into `saved_queries` (migration 7) and the sign-in sessions in `web_sessions`
+//! (migration 8: by the token's SHA-256, with expiry; `start_session`, `session_user`,
+//! `end_session`). `pg/pages.rs` holds the PostgreSQL
+//! twin of each (the same rows in the same order: text by code point, `COLLATE "C"`, NULLs
+//! first, SQLite's tie-breaks), so `serve` renders the same bytes on both engines; each
+//! knowledge page has its SQL per engine (`Knowledge::sql`, `pg_sql`; `Store::knowledge_sql`),
+//! the built-in saved queries run on both as written. PostgreSQL's `query_limited` runs in a
+//! `READ ONLY` transaction rolled back after, `SET LOCAL statement_timeout` as the time limit,
+//! at most the row cap fetched from a cursor (`EXPLAIN` directly).
+//! A comparison made again (`Txn::record_comparison`, after a re-analysis or a better pairing)
+//! moves the rows it replaces to `old_changes` (migration 7: with `analysis`, the version that
+//! made them, `replaced_by` and `replaced_at`), so the current tables hold the newest analysis
+//! only and every read (pages, report, show, the view) shows it. **How a mark relates to a
+//! re-analysed change**: `review_marks.change_id` names a change row; a change found again by
+//! the new analysis — same revision and the same stable key (workingstep, kind, field, before,
+//! after), each old row used once (`store::continued`) — keeps its id and its first
+//! `detected_at`, so its marks stay on it and it stays off the review queue; a change the new
+//! analysis does not find leaves `changes`, and its marks name its row in `old_changes` (same
+//! `change_id`). New change ids are never an id a change had before (SQLite numbers past
+//! `old_changes` too; PostgreSQL's identity never reuses). The mark also copies the change's
+//! kind, before and after, so it says what was reviewed whatever happens to the row.
 
 mod copy;
 pub mod location;

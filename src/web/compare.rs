@@ -511,10 +511,9 @@ pub(crate) fn translate(s: &super::Server, store: &Store, revision: i64, to: Opt
     let stem = std::path::Path::new(&edited.path).file_stem().map(|x| x.to_string_lossy().into_owned());
     let name = crate::pipeline::program_name(&source.text).or(stem).unwrap_or_else(|| "PROGRAM".into());
     let profile = &s.config.profile;
-    let (hole_tops, tools) = crate::pipeline::translation_facts(&source.text, &source_dialect, profile);
-    let opts = crate::post::Options { hole_tops, tools, ..crate::post::Options::for_program(&name) };
+    let opts = crate::pipeline::TranslateOptions::for_program(&name);
     let mut out = Vec::new();
-    diags.extend(crate::post::translate(&source.text, &source_dialect, &target, profile, opts, |chunk| out.extend_from_slice(chunk)));
+    diags.extend(crate::pipeline::translate(&source.text, &source_dialect, &target, profile, opts, |chunk| out.extend_from_slice(chunk)));
     let idx = crate::text::LineIndex::new(&source.text);
     let notes = diags
         .iter()

@@ -11,6 +11,29 @@
 //! password check, an HttpOnly SameSite=Strict cookie, the session kept in the store with
 //! its expiry, so that a restart signs no one out). Every POST carries a CSRF token derived
 //! from the session cookie.
+//!
+//! `ncplan serve`, its own room in the shell (axum on a current-thread tokio
+//! runtime; maud templates, compile-time checked and escaping every value; CSS and JS embedded
+//! from `assets/`). `mod.rs` is the door (`serve`, `listen_address`: a non-loopback address
+//! without `[[web.user]]` is refused), the router, the plan cache and `page` (each page
+//! rendered on the blocking pool with a read-only connection, a few idle ones kept for the next page, security headers). `auth.rs`:
+//! session cookies (HttpOnly, SameSite=Strict; a signed-in session is the store's, looked up on
+//! the blocking pool, 12 hours, and only while its user is configured, so a restart signs no
+//! one out; through a role that only reads, the process keeps it in `Server::unstored`), argon2 password checks, CSRF tokens (SHA-256 of the session token and, for
+//! anonymous sessions, a per-process secret). `layout.rs`: the page frame (navigation,
+//! stylesheet, script) every page uses, below `pages.rs` and `compare.rs`. `pages.rs`: overview, machine, program, search and
+//! review queue, knowledge, SQL console, sign-in. `compare.rs`: the comparison view (sentences
+//! by workingstep with review forms, pictures from `view::picture`, sources from
+//! `view::source`, findings with carets), shared with `report.rs` (`report --format html`:
+//! one self-contained file; `csv`: the change rows, a text cell a spreadsheet would run as a
+//! formula written with a `'` before it). `compare::load` reads both programs
+//! from the store, then rebuilds their plans on two threads (`PlanSource`: the server's plan
+//! cache, or none for the report), each program's bytes decoded once for its plan and its
+//! source view. The comparison page's translate form: `/compare/{id}/translate?to=D`
+//! answers the as-run program written by `post::translate` (as `ncplan translate --revision
+//! ID --to D` writes it; by default in the CAM original's dialect) as an attachment named
+//! `{program}-r{id}-{dialect}.{extension}`, and `/translate/notes` shows what the reader and
+//! the writer said. `bench.rs`: `ncplan bench --web`.
 
 mod auth;
 pub mod bench;

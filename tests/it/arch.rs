@@ -289,3 +289,107 @@ fn the_core_names_no_shell_module() {
         }
     }
 }
+
+/// A command module parses its arguments, asks the core through `pipeline` (or the store
+/// through `store`) and prints: it names no core module itself, so that how the core's rooms
+/// are wired stays in one place, shared with the daemon and the web.
+#[test]
+fn the_commands_reach_the_core_only_through_pipeline() {
+    let core = ["text", "diag", "dialect", "syntax", "interp", "canon", "plan", "part21", "diff", "view", "post"];
+    for (from, named) in file_graph() {
+        if module(&from) != "cli" {
+            continue;
+        }
+        for to in named {
+            assert!(!core.contains(&module(&to)), "command file {from} names {to}, a core module; it goes through pipeline");
+        }
+    }
+}
+
+/// The code with its comments, string and character literals blanked (lengths kept), so
+/// that braces are counted only where they are code.
+fn code_only(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let blank = |out: &mut Vec<u8>, s: &[u8]| out.extend(s.iter().map(|c| if *c == b'\n' { b'\n' } else { b' ' }));
+        if b[i..].starts_with(b"//") {
+            let end = b[i..].iter().position(|c| *c == b'\n').map_or(b.len(), |k| i + k);
+            blank(&mut out, &b[i..end]);
+            i = end;
+        } else if b[i..].starts_with(b"r#\"") || b[i..].starts_with(b"r\"") {
+            let hashes = b[i + 1..].iter().take_while(|c| **c == b'#').count();
+            let close: Vec<u8> = std::iter::once(b'"').chain(std::iter::repeat_n(b'#', hashes)).collect();
+            let from = i + 2 + hashes;
+            let end = b[from..].windows(close.len()).position(|w| w == close).map_or(b.len(), |k| from + k + close.len());
+            blank(&mut out, &b[i..end]);
+            i = end;
+        } else if b[i] == b'"' {
+            let mut j = i + 1;
+            while j < b.len() && b[j] != b'"' {
+                j += if b[j] == b'\\' { 2 } else { 1 };
+            }
+            let end = (j + 1).min(b.len());
+            blank(&mut out, &b[i..end]);
+            i = end;
+        } else if b[i] == b'\'' && (b.get(i + 2) == Some(&b'\'') || b.get(i + 1) == Some(&b'\\') && b.get(i + 3) == Some(&b'\'')) {
+            let end = if b[i + 1] == b'\\' { i + 4 } else { i + 3 };
+            blank(&mut out, &b[i..end]);
+            i = end;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Every function with a body: (file, name, lines from `fn` to its closing brace).
+fn function_lengths() -> Vec<(String, String, usize)> {
+    let mut files = Vec::new();
+    sources(&crate::root().join("src"), &mut files);
+    let mut found = Vec::new();
+    for (rel, text) in &files {
+        let code = code_only(text);
+        let lines: Vec<&str> = code.lines().collect();
+        for (n, line) in lines.iter().enumerate() {
+            let words: Vec<&str> = line.split(|c: char| !(c.is_alphanumeric() || c == '_')).filter(|w| !w.is_empty()).collect();
+            let Some(at) = words.iter().position(|w| *w == "fn") else { continue };
+            let Some(name) = words.get(at + 1) else { continue };
+            // Up to the body's opening brace (a declaration without one has no body).
+            let (mut depth, mut opened) = (0i64, false);
+            'scan: for (k, l) in lines.iter().enumerate().skip(n) {
+                for c in l.chars() {
+                    match c {
+                        ';' if !opened => break 'scan,
+                        '{' => {
+                            depth += 1;
+                            opened = true;
+                        }
+                        '}' => depth -= 1,
+                        _ => {}
+                    }
+                    if opened && depth == 0 {
+                        found.push((rel.clone(), (*name).to_owned(), k - n + 1));
+                        break 'scan;
+                    }
+                }
+            }
+        }
+    }
+    found
+}
+
+/// No function is longer than a screen or two: a name explains a piece better than a
+/// comment. The only exceptions are matches that are only a table, named here with why.
+#[test]
+fn no_function_is_longer_than_150_lines() {
+    const TABLES: &[(&str, &str, &str)] = &[];
+    let long: Vec<String> = function_lengths()
+        .into_iter()
+        .filter(|(rel, name, n)| *n > 150 && !TABLES.iter().any(|(f, fun, _)| f == rel && fun == name))
+        .map(|(rel, name, n)| format!("{rel}: {name} has {n} lines"))
+        .collect();
+    assert!(long.is_empty(), "functions over 150 lines (split them, or name a table-only match in TABLES):\n{}", long.join("\n"));
+}

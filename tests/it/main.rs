@@ -1,4 +1,38 @@
 //! Integration tests: one binary (matklad's advice), one module per area.
+//!
+//! - `tests/it/pg.rs` — a PostgreSQL cluster per test (`Cluster`: initdb as `nobody` when root,
+//!   a free port, stopped on drop); the daemon and read commands compared on both engines,
+//!   `query`'s refusals, credentials, four daemons of four sites through bursts and kills,
+//!   `migrate` (with review marks); `serve` on both engines from one database (built by the
+//!   daemon, copied by `migrate` with its ids), every page fetched over HTTP and compared byte
+//!   for byte (CSRF tokens and engine-specific SQL masked), a review mark and saved queries
+//!   posted with CSRF tokens; the README's read-only role; re-analysis keeping old changes and
+//!   marks on both engines; `engines()` gives the ingest-level store tests of `faults.rs` both
+//!   engines.
+//! - the areas: `cli`, `daemon` (real binary, SIGKILL, restart; a kill
+//!   loop while many late originals arrive, every waiting edit compared after it),
+//!   `faults` (the daemon under a DNC server's faults: its own reads, a kill after a late
+//!   original, Siemens names, paused and rewritten writes, remounts, links, empty and huge files),
+//!   `first_start` (the README's demo verbatim, `show`, `query` refusals, config mistakes, `import`),
+//!   `plan` (one small CAM-style program per feature kind), `cam_suite` (the programs of
+//!   `tests/programs/cam/`, made by its `generate.py` in Fanuc/Haas, Siemens and Heidenhain post
+//!   styles with sidecars, scored per feature kind; the NIST-style case), `edits` (one CAM
+//!   original, one operator edit per test, the exact change rows), `express` (every CC1 and CC2
+//!   export — plan programs, CAM suite, and in CI the whole corpus — validated against the
+//!   ISO 14649 combined EXPRESS schema by ifcopenshell through `tests/stepnc_express.py`; skipped
+//!   with one line without it unless `NCPLAN_REQUIRE_IFCOPENSHELL`), `stepnc` (signature table from the
+//!   EXPRESS schema, conformance, round trip, the paper's face-milling example, steputils),
+//!   `dialects` (xmllint against the XSD), `cldata` (the CL parts of `tests/programs/cldata/`
+//!   in NX, Creo and CATIA styles against the Fanuc program of each, made by its `generate.py`;
+//!   every corpus CL file; the NX → Haas and SolidWorks → Heidenhain pairs; a real daemon with
+//!   a CL original), `arch` (the invariants of ARCHITECTURE.md), `macros` (Macro B and
+//!   O-word flow by their moves), `robustness` (proptest: bytes, statement soup, mutated programs),
+//!   `web` (`ncplan serve` on a database the real daemon built from the demo edit and a program
+//!   whose comments try to inject script, driven in headless chromium through chromedriver with
+//!   fantoccini: every page, scroll sync, adopt shrinks the queue, XSS stays text, both toolpaths
+//!   and the region in each SVG, the HTML report; screenshots in `target/screenshots/`; skipped
+//!   with one line without chromium unless `NCPLAN_REQUIRE_CHROMIUM`; CSRF, sign-in and the
+//!   non-local refusal over raw HTTP).
 
 mod accounting;
 mod arch;
