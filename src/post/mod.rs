@@ -9,6 +9,14 @@
 //! whose kind the target maps stay cycles; the others are written as their moves, with a
 //! note. Everything the target has no rule for is said in a diagnostic, never silently
 //! dropped.
+//!
+//! The ops are written by kind: [`Post::op`] hands each to the writer of its group, in a
+//! file of its own: `motion.rs` the moves, `cycle.rs` canned cycles, `tool.rs` the tool
+//! and its offsets, `spindle.rs` the spindle and the feeds synchronised with it, `modes.rs`
+//! units, plane, feed and work offsets, `program.rs` stops and the end, comments, dwells,
+//! coolant and what is not written. `lane.rs` writes the common straight move in the steady
+//! state, from the templates `layout.rs` sorts. This file keeps the writer's state, renders
+//! templates and numbers, and gathers repeated runs.
 
 use std::collections::BTreeSet;
 
@@ -1758,6 +1766,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Comment(t) => self.comment(t, "comment"),
             CanonOp::Message(t) => self.comment(t, "message"),
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
+            // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }
     }
