@@ -21,10 +21,10 @@
 //! any move while the flag is clear, takes the general path, which stays the one place
 //! every unusual case is handled.
 
-use super::layout::{Class, Layout, Part};
+use super::layout::{Class, Layout, LayoutBlock, Num, Part};
 use super::{CanonOp, EPS, FLUSH_AT, INV_POW10, Key, POW10F, Post, ThreeDecimals, number_text, round_scaled};
 use crate::canon::{Canon, Units};
-use crate::dialect::output::{Output, Piece, Template, Value};
+use crate::dialect::output::{Block, NumberFormat, Output, Piece, Template, Value};
 
 /// The most words a [`Lane`] has: one bit each in [`Lane::words_of`].
 const MAX_WORDS: usize = 16;
@@ -162,79 +162,17 @@ impl Lane {
     /// the words put off to a move, literal text and numbers of the values a straight move
     /// sets, [`MAX_WORDS`] at most; otherwise an empty lane (never taken).
     fn of(t: Option<&Template>, out: &Output) -> Lane {
-        let Some(t) = t else { return Lane::default() };
-        let [block] = t.0.as_slice() else { return Lane::default() };
+        t.and_then(|t| Lane::of_template(t, out)).unwrap_or_default()
+    }
+
+    /// [`Lane::of`] a template; none where it has no lane.
+    fn of_template(t: &Template, out: &Output) -> Option<Lane> {
+        let [block] = t.0.as_slice() else { return None };
         let layout = Layout::of(t, out, true);
-        let [lb] = layout.0.as_slice() else { return Lane::default() };
+        let [lb] = layout.0.as_slice() else { return None };
         let rotary = [Value::A, Value::B, Value::C].map(|v| t.uses(v));
         let sep = out.separator.as_bytes();
-        let mut code = None;
-        let mut words = [Vec::with_capacity(lb.parts.len()), Vec::with_capacity(lb.parts.len())];
-        let mut formats = [NO_WORD; 8];
-        let mut modal = 0u8;
-        // The longest text of the block: the optional block's `/`, the block number (20
-        // digits at most) and the separator after it, the words, the end of block and the
-        // line's end.
-        let mut longest = 1 + out.number_address.len() + 20 + sep.len() + out.end_of_block.len() + 1;
-        for (i, part) in lb.parts.iter().enumerate() {
-            match part {
-                Part::Code(c) if i == 0 => code = Some(c.clone()),
-                Part::Mods(_) => {}
-                Part::Num(num) => {
-                    if !matches!(num.value, Value::X | Value::Y | Value::Z | Value::A | Value::B | Value::C | Value::F) {
-                        return Lane::default();
-                    }
-                    let slot = usize::from(num.slot);
-                    // A value written twice in the block is left to the general path, which
-                    // stages the first until the block is written.
-                    if formats[slot] != NO_WORD {
-                        return Lane::default();
-                    }
-                    formats[slot] = num.fi;
-                    if num.modal {
-                        modal |= 1 << slot;
-                    }
-                    let f = &out.formats[num.fi as usize];
-                    // The separator, the address, a sign, 20 digits, the point and 15
-                    // decimals at most ([`number_text`]).
-                    longest += sep.len() + f.address.len() + 37;
-                    let three = ThreeDecimals::after(f, sep);
-                    for (inch, words) in words.iter_mut().enumerate() {
-                        let decimals = super::decimals(f, inch == 1);
-                        words.push(Word::Num(LaneNum {
-                            slot,
-                            fi: num.fi,
-                            modal: num.modal,
-                            moves: !(3..5).contains(&slot),
-                            class: num.class,
-                            decimals,
-                            scale: POW10F[decimals],
-                            inv: INV_POW10[decimals],
-                            three: three.filter(|_| decimals == 3),
-                        }));
-                    }
-                }
-                Part::Word(wi) => {
-                    let mut text = sep.to_vec();
-                    for p in &block.words[*wi].0 {
-                        match p {
-                            Piece::Lit(l) => text.extend_from_slice(l.as_bytes()),
-                            Piece::Var { .. } => return Lane::default(),
-                        }
-                    }
-                    // An empty word is taken back: nothing to write.
-                    if text.len() > sep.len() {
-                        let end = text.len();
-                        longest += end;
-                        text.resize(end + 16, 0);
-                        for words in &mut words {
-                            words.push(Word::Lit(text.clone().into(), sep.len(), end));
-                        }
-                    }
-                }
-                Part::Code(_) => return Lane::default(),
-            }
-        }
+        let BlockWords { code, mut words, formats, modal, longest } = BlockWords::of(block, lb, out)?;
         // Room for what goes before the words: the block number (20 digits at most) and the
         // lead, and the `/` before them.
         if words[0].is_empty()
@@ -242,40 +180,19 @@ impl Lane {
             || longest + 64 + WORDS_AT > LANE_TEXT
             || 1 + out.number_address.len() + 20 + 16 > WORDS_AT
         {
-            return Lane::default();
+            return None;
         }
         let numbered = super::numbered(out, lb.raw, false);
-        // The literal words the block starts with go into its lead, while it is short.
-        let mut lead = Vec::new();
-        while let Some(Word::Lit(text, at, end)) = words[0].first() {
-            let from = if lead.is_empty() && !numbered { *at } else { 0 };
-            if lead.len() + end - from > 16 {
-                break;
-            }
-            lead.extend_from_slice(&text[from..*end]);
-            for words in &mut words {
-                words.remove(0);
-            }
-        }
-        let lead_len = lead.len();
+        let (lead, lead_len) = take_lead(&mut words, numbered)?;
         let drop = if numbered || lead_len > 0 { 0 } else { sep.len() };
-        lead.resize(16, 0);
-        let Ok(lead) = <[u8; 16]>::try_from(lead) else { return Lane::default() };
         let len = words[0].len();
         let mut tail = if lb.raw { Vec::new() } else { out.end_of_block.as_bytes().to_vec() };
         tail.push(b'\n');
         let tail_len = tail.len();
         tail.resize(16, 0);
-        let Ok(tail) = <[u8; 16]>::try_from(tail) else { return Lane::default() };
-        let mut words_of = Box::new([0u16; 256]);
-        for (same, written) in words_of.iter_mut().enumerate() {
-            for (j, w) in words[0].iter().enumerate() {
-                if !matches!(w, Word::Num(num) if num.modal && same & (1 << num.slot) != 0) {
-                    *written |= 1 << j;
-                }
-            }
-        }
-        Lane {
+        let Ok(tail) = <[u8; 16]>::try_from(tail) else { return None };
+        let words_of = words_by_unchanged(&words[0]);
+        Some(Lane {
             code,
             raw: lb.raw,
             numbered,
@@ -295,8 +212,145 @@ impl Lane {
             formats,
             modal,
             words_of,
+        })
+    }
+}
+
+/// The words of a move template's one block as a [`Lane`] writes them ([`BlockWords::of`]).
+struct BlockWords {
+    /// The motion code the block starts with.
+    code: Option<String>,
+    /// Its words but the motion code and the words put off to a move, as a millimetre and as
+    /// an inch program writes them.
+    words: [Vec<Word>; 2],
+    /// For each modal slot X to C, the format of its word, or [`NO_WORD`].
+    formats: [u32; 8],
+    /// The slots of the words left out when unchanged (one bit each).
+    modal: u8,
+    /// The longest text of the block.
+    longest: usize,
+}
+
+impl BlockWords {
+    /// The words of `block`, laid out as `lb`, if each is the motion code that starts it,
+    /// the words put off to a move, literal text, or a number of a value a straight move
+    /// sets, each value once.
+    fn of(block: &Block, lb: &LayoutBlock, out: &Output) -> Option<BlockWords> {
+        let sep = out.separator.as_bytes();
+        let mut code = None;
+        let mut words = [Vec::with_capacity(lb.parts.len()), Vec::with_capacity(lb.parts.len())];
+        let mut formats = [NO_WORD; 8];
+        let mut modal = 0u8;
+        // The longest text of the block: the optional block's `/`, the block number (20
+        // digits at most) and the separator after it, the words, the end of block and the
+        // line's end.
+        let mut longest = 1 + out.number_address.len() + 20 + sep.len() + out.end_of_block.len() + 1;
+        for (i, part) in lb.parts.iter().enumerate() {
+            match part {
+                Part::Code(c) if i == 0 => code = Some(c.clone()),
+                Part::Mods(_) => {}
+                Part::Num(num) => {
+                    if !matches!(num.value, Value::X | Value::Y | Value::Z | Value::A | Value::B | Value::C | Value::F) {
+                        return None;
+                    }
+                    let slot = usize::from(num.slot);
+                    // A value written twice in the block is left to the general path, which
+                    // stages the first until the block is written.
+                    if formats[slot] != NO_WORD {
+                        return None;
+                    }
+                    formats[slot] = num.fi;
+                    if num.modal {
+                        modal |= 1 << slot;
+                    }
+                    let f = &out.formats[num.fi as usize];
+                    // The separator, the address, a sign, 20 digits, the point and 15
+                    // decimals at most ([`number_text`]).
+                    longest += sep.len() + f.address.len() + 37;
+                    let three = ThreeDecimals::after(f, sep);
+                    for (inch, words) in words.iter_mut().enumerate() {
+                        words.push(Word::Num(LaneNum::of(num, f, three, inch == 1)));
+                    }
+                }
+                Part::Word(wi) => {
+                    let mut text = sep.to_vec();
+                    for p in &block.words[*wi].0 {
+                        match p {
+                            Piece::Lit(l) => text.extend_from_slice(l.as_bytes()),
+                            Piece::Var { .. } => return None,
+                        }
+                    }
+                    // An empty word is taken back: nothing to write.
+                    if text.len() > sep.len() {
+                        let end = text.len();
+                        longest += end;
+                        text.resize(end + 16, 0);
+                        for words in &mut words {
+                            words.push(Word::Lit(text.clone().into(), sep.len(), end));
+                        }
+                    }
+                }
+                Part::Code(_) => return None,
+            }
+        }
+        Some(BlockWords { code, words, formats, modal, longest })
+    }
+}
+
+impl LaneNum {
+    /// Number placeholder `num` in format `f` (as [`ThreeDecimals`] after the separator:
+    /// `three`), as an inch program (`inch`) or a millimetre one writes it.
+    fn of(num: &Num, f: &NumberFormat, three: Option<ThreeDecimals>, inch: bool) -> LaneNum {
+        let slot = usize::from(num.slot);
+        let decimals = super::decimals(f, inch);
+        LaneNum {
+            slot,
+            fi: num.fi,
+            modal: num.modal,
+            moves: !(3..5).contains(&slot),
+            class: num.class,
+            decimals,
+            scale: POW10F[decimals],
+            inv: INV_POW10[decimals],
+            three: three.filter(|_| decimals == 3),
         }
     }
+}
+
+/// The lead of a lane ([`Lane::lead`]) whose words are `words`, taken out of them: as a
+/// fixed 16 bytes, and its length. The block's first word is written without the separator
+/// before it where the block is not `numbered`.
+fn take_lead(words: &mut [Vec<Word>; 2], numbered: bool) -> Option<([u8; 16], usize)> {
+    // The literal words the block starts with go into its lead, while it is short.
+    let mut lead = Vec::new();
+    while let Some(Word::Lit(text, at, end)) = words[0].first() {
+        let from = if lead.is_empty() && !numbered { *at } else { 0 };
+        if lead.len() + end - from > 16 {
+            break;
+        }
+        lead.extend_from_slice(&text[from..*end]);
+        for words in &mut *words {
+            words.remove(0);
+        }
+    }
+    let lead_len = lead.len();
+    lead.resize(16, 0);
+    let Ok(lead) = <[u8; 16]>::try_from(lead) else { return None };
+    Some((lead, lead_len))
+}
+
+/// [`Lane::words_of`] for the lane's `words`: for each set of slots whose number is the one
+/// written last, the words but the modal ones of those slots.
+fn words_by_unchanged(words: &[Word]) -> Box<[u16; 256]> {
+    let mut words_of = Box::new([0u16; 256]);
+    for (same, written) in words_of.iter_mut().enumerate() {
+        for (j, w) in words.iter().enumerate() {
+            if !matches!(w, Word::Num(num) if num.modal && same & (1 << num.slot) != 0) {
+                *written |= 1 << j;
+            }
+        }
+    }
+    words_of
 }
 
 impl<F: FnMut(&[u8])> Post<'_, F> {

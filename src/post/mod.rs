@@ -9,17 +9,32 @@
 //! whose kind the target maps stay cycles; the others are written as their moves, with a
 //! note. Everything the target has no rule for is said in a diagnostic, never silently
 //! dropped.
+//!
+//! The ops are written by kind: [`Post::op`] hands each to the writer of its group, in a
+//! file of its own: `motion.rs` the moves, `cycle.rs` canned cycles, `tool.rs` the tool
+//! and its offsets, `spindle.rs` the spindle and the feeds synchronised with it, `modes.rs`
+//! units, plane, feed and work offsets, `program.rs` stops and the end, comments, dwells,
+//! coolant and what is not written. `lane.rs` writes the common straight move in the steady
+//! state, from the templates `layout.rs` sorts. This file keeps the writer's state, renders
+//! templates and numbers, and gathers repeated runs.
 
 use std::collections::BTreeSet;
 
+mod cycle;
 mod lane;
 mod layout;
+mod modes;
+mod motion;
+mod program;
+mod spindle;
+mod tool;
+use cycle::ActiveCycle;
 use lane::Lane;
 use layout::{Class, Layout, NO_SLOT, Num, Part};
 
-use crate::canon::{Canon, CanonOp, CanonSink, CycleIntent, CycleKind, FeedMode, Plane, Setting, Units};
+use crate::canon::{Canon, CanonOp, CanonSink, FeedMode, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::output::{Cmp, CycleOut, Expr, NumberFormat, Numbered, Output, Piece, Point, StateVar, Template, Value};
+use crate::dialect::output::{Cmp, Expr, NumberFormat, Numbered, Output, Piece, Point, StateVar, Template, Value};
 
 /// What the caller tells the writer about the program.
 #[derive(Clone, Debug)]
@@ -103,38 +118,6 @@ pub fn tool_facts(plan: &crate::plan::ProcessPlan) -> Vec<ToolFact> {
             Some(ToolFact { number: t.number, diameter, corner_radius: t.corner_radius, kind: t.kind })
         })
         .collect()
-}
-
-/// The tool comment for `f`, in the words `plan::parse_tool_comment` reads.
-fn tool_comment(f: &ToolFact) -> String {
-    use crate::plan::ToolKind as K;
-    let kind = match f.kind {
-        K::EndMill => "END MILL",
-        K::BallEndMill => "BALL END MILL",
-        K::BullnoseEndMill => "BULL END MILL",
-        K::FaceMill => "FACE MILL",
-        K::TwistDrill => "DRILL",
-        K::CenterDrill => "SPOT DRILL",
-        K::Reamer => "REAMER",
-        K::Tap => "TAP",
-        K::BoringTool => "BORING BAR",
-        K::Countersink => "CHAMFER MILL",
-        K::Unknown => "",
-    };
-    let mut s = format!("T{} D={}", f.number, crate::diff::num(f.diameter));
-    if let Some(r) = f.corner_radius.filter(|r| *r > 0.0) {
-        s.push_str(&format!(" R{}", crate::diff::num(r)));
-    }
-    if !kind.is_empty() {
-        s.push(' ');
-        s.push_str(kind);
-    }
-    s
-}
-
-/// Whether one output cycle writes the workpiece surface.
-fn states_surface_cycle(c: &CycleOut) -> bool {
-    [Value::Surface, Value::Sdis, Value::Depth, Value::ClearDist].iter().any(|v| c.define.uses(*v) || c.at.uses(*v))
 }
 
 /// The hole tops of a plan, for [`Options::hole_tops`].
@@ -310,12 +293,6 @@ impl Vals {
         self.num[v as usize] = x;
         self
     }
-}
-
-/// The output cycle in force: its mapping and the parameters it was defined with.
-struct ActiveCycle {
-    index: usize,
-    params: [f64; 7],
 }
 
 /// The writer. Feed it with [`CanonSink::emit`], then call [`Post::finish`].
@@ -1549,73 +1526,6 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         self.line_offsets.clear();
     }
 
-    fn comment(&mut self, text: &str, event: &str) {
-        let mut t: String = text.chars().map(|c| if self.out.comment_forbidden.contains(c) || c.is_control() { ' ' } else { c }).collect();
-        if self.out.comment_upper {
-            t = t.to_uppercase();
-        }
-        let t = t.trim();
-        let mut vals = Vals::new();
-        vals.text = Some(t.to_owned());
-        if !self.event(event, &mut vals) && event != "comment" {
-            self.event("comment", &mut vals);
-        }
-    }
-
-    fn flush_tool(&mut self) {
-        if let Some(t) = self.pending_tool.take() {
-            self.cancel_cycle();
-            self.tool = t;
-            let mut vals = Vals::new();
-            vals.set(Value::T, f64::from(t));
-            if let Some(f) = self.opts.tools.iter().find(|f| f.number == t) {
-                let text = tool_comment(f);
-                self.comment(&text, "comment");
-            }
-            let uses_s = self.out.template("tool-change").is_some_and(|(t, _)| t.uses(Value::S));
-            if uses_s && self.speed > 0.0 && (self.speed_dirty || self.written[4].is_none()) {
-                vals.set(Value::S, self.speed);
-                self.speed_dirty = false;
-            }
-            self.event("tool-change", &mut vals);
-            self.motion = None;
-            if self.opts.length_at_tool_change == (true, false) {
-                // The source's tool change applied the tool's length; the target needs it said.
-                let mut vals = Vals::new();
-                vals.set(Value::H, f64::from(t));
-                self.length = t;
-                self.event("length-offset", &mut vals);
-            } else if self.opts.length_at_tool_change == (false, true) && self.length == 0 {
-                // The source cancelled the length offset and its tool change leaves it so; the
-                // target's tool change puts the tool's length in force: cancel it again.
-                if self.out.template("length-offset-off").is_some() {
-                    self.event("length-offset-off", &mut Vals::new());
-                } else {
-                    self.length_unsaid = true;
-                }
-            }
-        }
-    }
-
-    /// Writes a new speed before a cut (even with the spindle off: the technology says it),
-    /// or before anything else while the spindle turns.
-    fn flush_speed(&mut self, cutting: bool) {
-        if self.speed_dirty && (self.spindle_on || cutting) {
-            self.speed_dirty = false;
-            let mut vals = Vals::new();
-            vals.set(Value::S, self.speed);
-            self.event("speed", &mut vals);
-        }
-    }
-
-    fn cancel_cycle(&mut self) {
-        if let Some(a) = self.active.take() {
-            let out = self.out;
-            self.render(&out.cycles[a.index].cancel, &mut Vals::new(), false, false);
-            self.motion = None;
-        }
-    }
-
     /// The tool moved to `p`: kept, and checked against the machine's travel.
     #[inline]
     fn moved(&mut self, p: [f64; 3]) {
@@ -1653,370 +1563,6 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             let msg = format!("F{} mm/min is over the machine's highest feed, {max}", self.feed * mm);
             self.note(Code::PostMachineLimit, canon, "feed-limit", msg);
         }
-    }
-
-    fn straight(&mut self, canon: &Canon, p: &[f64; 6], rapid: bool) {
-        let event = if rapid { "rapid" } else { "feed" };
-        let rotary = [Value::A, Value::B, Value::C];
-        let writes = |v: Value| self.out.template(event).is_some_and(|(t, _)| t.uses(v));
-        if (0..3).any(|k| p[3 + k].abs() > EPS && !writes(rotary[k])) {
-            self.note(
-                Code::PostUnwritable,
-                canon,
-                "rotary",
-                "a rotary axis (A, B, C) moves, and the target's output rules do not write it",
-            );
-        }
-        let q = self.point(p);
-        if self.in_cycle {
-            self.moved(q);
-            return;
-        }
-        self.cancel_cycle();
-        // The moves' values, kept between moves: each sets all it uses (NaN: absent).
-        let mut vals = self.move_vals.take().unwrap_or_else(|| Box::new(Vals::new()));
-        vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]).set(Value::Pitch, f64::NAN);
-        // A feed synchronised with the spindle: the target's thread move, else said.
-        let mut thread = false;
-        let event = match self.sync {
-            Some(pitch) if !rapid => {
-                thread = true;
-                vals.set(Value::Pitch, pitch);
-                if self.out.template("thread").is_none() {
-                    self.note(
-                        Code::PostUnwritable,
-                        canon,
-                        "thread",
-                        "a thread (G33: a feed synchronised with the spindle) is not written: the target's output rules have no `thread` template",
-                    );
-                    self.moved(q);
-                    return;
-                }
-                "thread"
-            }
-            _ => event,
-        };
-        // Rotary axes in degrees, not scaled.
-        vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
-        vals.set(Value::F, if rapid { f64::NAN } else { self.feed });
-        let template = match (thread, rapid) {
-            (true, _) => self.out.template(event).map(|(t, _)| t),
-            (false, true) => self.moves.0,
-            (false, false) => self.moves.1,
-        };
-        if let Some(t) = template {
-            self.rules(event, true);
-            self.render(t, &mut vals, false, true);
-            self.rules(event, false);
-        } else {
-            self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
-        }
-        self.move_vals = Some(vals);
-        self.moved(q);
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn arc(&mut self, canon: &Canon, end: [f64; 3], centre: [f64; 3], ccw: bool, turns: u32) {
-        if self.in_cycle {
-            self.moved(end);
-            return;
-        }
-        self.cancel_cycle();
-        let (a, b, n) = self.plane.axes();
-        let start = self.pos;
-        let event = if ccw { "arc-ccw" } else { "arc-cw" };
-        let Some((t, _)) = self.out.template(event) else {
-            self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
-            self.moved(end);
-            return;
-        };
-        // The source's tolerance let the two radii differ; the target's may not. The centre
-        // goes onto the perpendicular bisector of the chord (moving it by about the radius
-        // error), so both radii agree whatever the target checks.
-        // Where the target takes the difference, rounding of the written numbers included
-        // (two steps), the centre stays: moved onto the bisector of a short chord it would
-        // move far more than the radius error.
-        let mut centre = centre;
-        let (dx, dy) = (end[a] - start[a], end[b] - start[b]);
-        let chord = dx.hypot(dy);
-        let step = self.out.formats.iter().find(|f| f.name == "X").map_or(1e-3, |f| {
-            let d = if self.opts.units == Units::Inch { f.inch_decimals } else { f.decimals };
-            10f64.powi(-i32::from(d))
-        });
-        let tolerance = if self.opts.units == Units::Inch { self.opts.arc_tolerance.1 } else { self.opts.arc_tolerance.0 };
-        let radius_error = ((start[a] - centre[a]).hypot(start[b] - centre[b]) - (end[a] - centre[a]).hypot(end[b] - centre[b])).abs();
-        if chord > 1e-9 && radius_error + 2.0 * step > tolerance {
-            let (mx, my) = ((start[a] + end[a]) / 2.0, (start[b] + end[b]) / 2.0);
-            let (ux, uy) = (-dy / chord, dx / chord);
-            let t = (centre[a] - mx) * ux + (centre[b] - my) * uy;
-            centre[a] = mx + t * ux;
-            centre[b] = my + t * uy;
-            let mm = radius_error * self.opts.units.to_mm();
-            if mm > ROUNDED_NOTE {
-                self.note(
-                    Code::PostArcCentre,
-                    canon,
-                    "arc-centre",
-                    format!(
-                        "the arc's radii at start and end differ by {mm:.4} mm, more than the target takes: its centre is moved so that both agree, and its path by up to that much (the first such arc; others may follow)"
-                    ),
-                );
-            }
-        }
-        let r = ((start[a] - centre[a]).hypot(start[b] - centre[b])).max(EPS);
-        let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
-        let mut sweep = ang(end) - ang(start);
-        if ccw {
-            while sweep <= 1e-12 {
-                sweep += std::f64::consts::TAU;
-            }
-        } else {
-            while sweep >= -1e-12 {
-                sweep -= std::f64::consts::TAU;
-            }
-        }
-        let same = (end[a] - start[a]).hypot(end[b] - start[b]) < 1e-7;
-        if same {
-            sweep = if ccw { std::f64::consts::TAU } else { -std::f64::consts::TAU };
-        }
-        let total = sweep.abs() + std::f64::consts::TAU * f64::from(turns.saturating_sub(1));
-        let uses_r = t.uses(Value::R);
-        // Pieces: the extra full turns, then the last arc; an R-form full circle goes in halves.
-        let mut pieces: Vec<(f64, bool)> = Vec::new();
-        for _ in 1..turns.max(1) {
-            pieces.push((std::f64::consts::TAU, true));
-        }
-        pieces.push((sweep.abs(), same));
-        let mut from = start;
-        let mut done = 0.0;
-        for (piece, full) in pieces {
-            let halves = if uses_r && (full || piece > std::f64::consts::TAU - 1e-9) { 2 } else { 1 };
-            for h in 0..halves {
-                let part = piece / f64::from(halves);
-                done += part;
-                let frac = done / total;
-                let a0 = ang(from);
-                let a1 = a0 + if ccw { part } else { -part };
-                let mut to = [0.0; 3];
-                let last = (done - total).abs() < 1e-9;
-                if last && h + 1 == halves {
-                    to = end;
-                } else {
-                    to[a] = centre[a] + r * a1.cos();
-                    to[b] = centre[b] + r * a1.sin();
-                    to[n] = start[n] + (end[n] - start[n]) * frac;
-                }
-                let mut vals = Vals::new();
-                vals.set(Value::X, to[0]).set(Value::Y, to[1]).set(Value::Z, to[2]).set(Value::F, self.feed);
-                let ij = [Value::I, Value::J, Value::K];
-                let cc = [Value::Cx, Value::Cy, Value::Cz];
-                for k in [a, b] {
-                    vals.set(ij[k], centre[k] - from[k]);
-                    vals.set(cc[k], centre[k]);
-                }
-                vals.set(Value::R, if part > std::f64::consts::PI + 1e-9 { -r } else { r });
-                // A full circle: its end words must be written even though unchanged.
-                if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
-                    for k in 0..3 {
-                        self.set_written(k, None);
-                    }
-                    let keep = [to[a], to[b]];
-                    let _ = keep;
-                }
-                self.rules(event, true);
-                self.render(t, &mut vals, false, true);
-                self.rules(event, false);
-                from = to;
-                self.moved(to);
-            }
-        }
-    }
-
-    fn cycle_begin(&mut self, canon: &Canon, intent: &CycleIntent) {
-        self.flush_tool();
-        let out = self.out;
-        let Some(index) = out.cycles.iter().position(|c| c.kinds.contains(&intent.kind)) else {
-            self.cancel_cycle();
-            self.note(
-                Code::PostCycleAsMoves,
-                canon,
-                intent.kind.label(),
-                format!("the target has no {} cycle: it is written as the moves it makes", intent.kind.label()),
-            );
-            return;
-        };
-        if self.plane != Plane::Xy {
-            self.cancel_cycle();
-            self.note(
-                Code::PostCycleAsMoves,
-                canon,
-                "cycle-plane",
-                format!("a {} cycle outside the XY plane is written as the moves it makes", intent.kind.label()),
-            );
-            return;
-        }
-        let m: &CycleOut = &out.cycles[index];
-        let (src_clear, dst_clear) = self.opts.peck_clearance;
-        // The distance the source's cycle itself states (Siemens _DIS1), mm.
-        let src_clear = intent.peck_clearance.map_or(src_clear, |c| c * self.scale * self.opts.units.to_mm());
-        if matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking)
-            && !m.define.uses(Value::PeckClearance)
-            && (src_clear - dst_clear).abs() > 1e-9
-        {
-            self.cancel_cycle();
-            self.note(
-                Code::PostCycleAsMoves,
-                canon,
-                "peck-clearance",
-                format!(
-                    "the target's {} cycle re-approaches {dst_clear} mm above the last peck, the source's {src_clear} mm: written as the moves it makes",
-                    intent.kind.label()
-                ),
-            );
-            return;
-        }
-        let s = self.scale;
-        let (zoff, xoff, yoff) = (self.g92[2], self.g92[0], self.g92[1]);
-        let x = intent.x * s + xoff;
-        let y = intent.y * s + yoff;
-        let bottom = intent.bottom * s + zoff;
-        let r = intent.r_plane * s + zoff;
-        let clear = intent.clear * s + zoff;
-        // A tap fed out to the clear level where the target's cycle feeds out to R and rapids
-        // on (or the reverse) is another move above R: written as the moves.
-        let tapping = matches!(intent.kind, CycleKind::Tapping | CycleKind::LeftTapping);
-        if tapping && self.opts.tap_to_clear.0 != self.opts.tap_to_clear.1 && (clear - r).abs() > 1e-9 {
-            self.cancel_cycle();
-            self.note(
-                Code::PostCycleAsMoves,
-                canon,
-                "tap-retract",
-                format!(
-                    "the target's {} cycle feeds out of the hole {}, the source's {}: written as the moves it makes",
-                    intent.kind.label(),
-                    if self.opts.tap_to_clear.1 { "to the clear level" } else { "to R and rapids on" },
-                    if self.opts.tap_to_clear.0 { "to the clear level" } else { "to R and rapids on" },
-                ),
-            );
-            return;
-        }
-        let src_mm = s * self.opts.units.to_mm();
-        if intent.surface.is_none() && self.opts.hole_tops.is_empty() && states_surface_cycle(m) {
-            if let Some(f) = self.tops_source.take() {
-                self.opts.hole_tops = f();
-            }
-        }
-        let found = self
-            .opts
-            .hole_tops
-            .iter()
-            .find(|h| (h[0] - intent.x * src_mm).abs() < 1e-3 && (h[1] - intent.y * src_mm).abs() < 1e-3)
-            .map(|h| h[2] / self.opts.units.to_mm() + zoff);
-        // A surface at or below the bottom (a hole top the plan put under a cycle drilling
-        // above it) would make a depth stated from the surface positive, which such a cycle
-        // reads as reversed: the R level is the surface then. A cycle stating its bottom
-        // absolutely keeps that surface.
-        let relative = m.define.uses(Value::Depth);
-        let stated = intent.surface.map(|v| v * s + zoff).or(found);
-        let surface = stated.filter(|v| *v <= r + 1e-9 && (!relative || *v > bottom + 1e-9)).unwrap_or(r);
-        // Where the surface goes another way than the source's plan has it (see
-        // `post::surface-restated`).
-        let restated = if states_surface_cycle(m) {
-            stated.is_none_or(|v| (v - surface).abs() > 1e-6).then_some("the target's cycle states a workpiece surface the source's plan has none for above the hole's bottom: the R level is written for it")
-        } else {
-            intent
-                .surface
-                .is_some_and(|v| (v * s + zoff - r).abs() > 1e-6)
-                .then_some("the source's cycle states the workpiece surface, which the target's cannot")
-        };
-        // The level the pecks count from: the surface for a cycle that states it (Siemens,
-        // Heidenhain), the R level for a G8x cycle. A peck cycle counted from another level
-        // than the source's drills other depths: written as its moves.
-        let pecking = matches!(intent.kind, CycleKind::PeckDrilling | CycleKind::ChipBreaking);
-        let src_from = intent.surface.map_or(r, |v| v * s + zoff);
-        let dst_from = if states_surface_cycle(m) { surface } else { r };
-        if pecking && intent.peck.is_some_and(|p| p * s < src_from - bottom - 1e-9) && (src_from - dst_from).abs() > 1e-6 {
-            self.cancel_cycle();
-            self.note(
-                Code::PostCycleAsMoves,
-                canon,
-                "peck-level",
-                format!(
-                    "the target's {} cycle counts its pecks from {}, the source's from {}: written as the moves it makes",
-                    intent.kind.label(),
-                    if states_surface_cycle(m) { "the workpiece surface" } else { "the R level" },
-                    if intent.surface.is_some() { "the workpiece surface" } else { "the R level" },
-                ),
-            );
-            return;
-        }
-        let peck = intent.peck.map_or(surface - bottom, |p| p * s);
-        let dwell = intent.dwell.unwrap_or(0.0);
-        // A rigid tap (G33.1) feeds its pitch per revolution: a tapping cycle states it as
-        // the feed per minute, pitch × speed.
-        let feed = match self.sync {
-            Some(p) if self.feed_mode == FeedMode::PerMinute && self.speed > 0.0 => p * self.speed,
-            _ => self.feed,
-        };
-        let params = [bottom, r, clear, surface, peck, dwell, feed];
-        let mut vals = Vals::new();
-        vals.set(Value::X, x).set(Value::Y, y).set(Value::Bottom, bottom).set(Value::RPlane, r).set(Value::Clear, clear);
-        vals.set(Value::Surface, surface).set(Value::Sdis, r - surface).set(Value::Depth, bottom - surface);
-        vals.set(Value::ClearDist, clear - surface).set(Value::Peck, peck).set(Value::CycleDwell, dwell);
-        vals.set(Value::Retract, if clear > r + 1e-6 { 98.0 } else { 99.0 }).set(Value::F, feed);
-        vals.set(Value::Seconds, dwell).set(Value::Millis, dwell * 1000.0).set(Value::PeckClearance, src_clear / self.opts.units.to_mm());
-        let same =
-            self.active.as_ref().is_some_and(|a| a.index == index && a.params.iter().zip(&params).all(|(p, q)| (p - q).abs() < 1e-9));
-        if same {
-            self.render(&m.at, &mut vals, false, false);
-        } else {
-            self.cancel_cycle();
-            // A cycle that returns to its initial level (G98) returns to where it began: a
-            // clear level below the tool is reached first, one above it cannot be; nor can
-            // one below R (G99 returns to R; Heidenhain's second set-up clearance counts only
-            // above the first) unless the target states the clear level itself.
-            let below_r = clear < r - 1e-6 && !m.define.uses(Value::Clear);
-            if below_r || m.define.uses(Value::Retract) && clear > r + 1e-6 && (self.pos[2] - clear).abs() > 1e-6 {
-                if below_r || self.pos[2] < clear {
-                    self.note(
-                        Code::PostCycleAsMoves,
-                        canon,
-                        "initial-level",
-                        format!(
-                            "the source's {} cycle returns {}; the target's returns to its initial level or R: written as the moves it makes",
-                            intent.kind.label(),
-                            if below_r { "below its R level" } else { "above where it begins" }
-                        ),
-                    );
-                    self.motion = None;
-                    return;
-                }
-                if let Some((t, _)) = self.out.template("rapid") {
-                    let to = [self.pos[0], self.pos[1], clear];
-                    let mut v = Vals::new();
-                    v.set(Value::X, to[0]).set(Value::Y, to[1]).set(Value::Z, to[2]);
-                    self.rules("rapid", true);
-                    self.render(t, &mut v, false, true);
-                    self.rules("rapid", false);
-                    self.moved(to);
-                }
-            }
-            if let Some(why) = restated {
-                self.note(
-                    Code::PostSurfaceRestated,
-                    canon,
-                    "surface-restated",
-                    format!("{why} ({}): the plan read back takes the holes' top from elsewhere", intent.kind.label()),
-                );
-            }
-            self.render(&m.define, &mut vals, false, false);
-            if !m.inline {
-                self.render(&m.at, &mut vals, false, false);
-            }
-            self.active = Some(ActiveCycle { index, params });
-        }
-        self.motion = None;
-        self.in_cycle = true;
     }
 
     /// Ends the program (the footer) and hands over the rest of the text; returns the
@@ -2187,409 +1733,41 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
     }
 
-    /// [`Post::op`] for the ops other than straight moves.
+    /// [`Post::op`] for the ops other than straight moves: each kind of op to the writer of
+    /// its group ([`cycle`], [`modes`], [`motion`], [`program`], [`spindle`], [`tool`]).
     #[inline(never)]
     fn other_op(&mut self, canon: &Canon) {
         match &canon.op {
-            CanonOp::UseLengthUnits(u) => {
-                if self.opts.follow_source_units && !self.started && *u != self.opts.units {
-                    // What was set before the units (a feed: `G20 F60` sets F first, in
-                    // the units then in force) is held in the target's units: it changes
-                    // units with them, so that F60 mm/min comes out as F2.3622 inch/min.
-                    let k = self.opts.units.to_mm() / u.to_mm();
-                    self.feed *= k;
-                    self.g92 = self.g92.map(|v| v * k);
-                    self.pos = self.pos.map(|v| v * k);
-                    self.opts.units = *u;
-                    // What was written, known in the other units, is rounded again.
-                    for k in 0..8 {
-                        let w = self.written[k];
-                        self.set_written(k, w);
-                    }
-                }
-                self.scale = u.to_mm() / self.opts.units.to_mm();
-                if *u != self.opts.units {
-                    self.note(
-                        Code::PostUnitsConverted,
-                        canon,
-                        "units",
-                        format!(
-                            "the program is in {}; it is written in {} for the target machine",
-                            unit_name(*u),
-                            unit_name(self.opts.units)
-                        ),
-                    );
-                }
-            }
-            CanonOp::SelectPlane(p) => {
-                if *p != self.plane {
-                    self.plane = *p;
-                    let ev = match p {
-                        Plane::Xy => "plane-xy",
-                        Plane::Xz => "plane-xz",
-                        Plane::Yz => "plane-yz",
-                    };
-                    if !self.event(ev, &mut Vals::new()) {
-                        self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
-                    }
-                }
-            }
-            CanonOp::SetG5xOffset(i, v) => {
-                self.wcs_now = *v;
-                self.wcs_checked = false;
-                if self.wcs != Some(*i) {
-                    self.wcs = Some(*i);
-                    let mut vals = Vals::new();
-                    vals.set(Value::Wcs, f64::from(*i)).set(Value::WcsCode, 53.0 + f64::from(*i));
-                    // A work offset of its own (`work-offset-7`: G59.1, G507) before the
-                    // general rule, which states G54…G59 only; an empty one says the target
-                    // has no code for it.
-                    let extended = *i > crate::canon::EXTENDED_WCS;
-                    // An additional work offset (`G54.1 P12`) by its own number.
-                    let own = if extended { "work-offset-extended".to_owned() } else { format!("work-offset-{i}") };
-                    if extended {
-                        vals.set(Value::Wcs, f64::from(*i - crate::canon::EXTENDED_WCS));
-                    }
-                    let out = self.out;
-                    let wrote = match out.template(&own) {
-                        Some((t, _)) if t.0.is_empty() => false,
-                        Some(_) => self.event(&own, &mut vals),
-                        None if extended => false,
-                        None if *i > 6 && out.template("work-offset").is_some_and(|(t, _)| t.uses(Value::WcsCode)) => false,
-                        None => self.event("work-offset", &mut vals),
-                    };
-                    if !wrote && extended {
-                        let n = *i - crate::canon::EXTENDED_WCS;
-                        self.note(
-                            Code::PostUnwritable,
-                            canon,
-                            &own,
-                            format!("the target's output rules have no code for additional work offset {n} (G54.1 P{n}: `{own}`)"),
-                        );
-                    } else if !wrote && *i != 1 {
-                        self.note(
-                            Code::PostUnwritable,
-                            canon,
-                            &own,
-                            format!("the target's output rules have no code for work offset {i} (`{own}`, `work-offset`)"),
-                        );
-                    }
-                }
-            }
-            CanonOp::SetG92Offset(o) => {
-                self.g92 = [self.to_out(o[0]), self.to_out(o[1]), self.to_out(o[2])];
-                if self.g92.iter().any(|v| v.abs() * self.opts.units.to_mm() > ROUNDED_NOTE) {
-                    self.note(
-                        Code::PostShiftApplied,
-                        canon,
-                        "shift",
-                        "the program shifts its coordinates (G92, a datum shift): the positions are written with the shift added, in the work offset's frame",
-                    );
-                }
-            }
-            CanonOp::SetFeedRate(f) => {
-                self.feed = self.to_out(*f);
-                self.check_limits(canon);
-            }
-            CanonOp::SetSpindleSpeed(s) => {
-                if (*s - self.speed).abs() > EPS {
-                    self.speed_dirty = true;
-                }
-                self.speed = *s;
-                self.check_limits(canon);
-            }
-            // A cycle written as a cycle turns the spindle as it does (a tapping cycle's
-            // reversal at the bottom): its expansion's spindle calls are not written.
-            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning if self.in_cycle => {}
-            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise => {
-                let cw = matches!(canon.op, CanonOp::StartSpindleClockwise);
-                let ev = if cw { "spindle-cw" } else { "spindle-ccw" };
-                if self.speed_dirty && self.out.template(ev).is_some_and(|(t, _)| !t.uses(Value::S)) {
-                    let mut vals = Vals::new();
-                    vals.set(Value::S, self.speed);
-                    self.event("speed", &mut vals);
-                    self.speed_dirty = false;
-                }
-                let mut vals = Vals::new();
-                vals.set(Value::S, self.speed);
-                if self.speed_dirty {
-                    self.set_written(4, None);
-                }
-                self.speed_dirty = false;
-                self.spindle_on = true;
-                self.event(if cw { "spindle-cw" } else { "spindle-ccw" }, &mut vals);
-            }
-            CanonOp::StopSpindleTurning => {
-                if self.spindle_on {
-                    self.spindle_on = false;
-                    self.event("spindle-stop", &mut Vals::new());
-                }
-            }
-            CanonOp::SelectTool(_) => {}
-            CanonOp::ChangeTool(t) => {
-                self.pending_tool = Some(*t);
-                self.spindle_on = false;
-            }
-            CanonOp::Setting(Setting::ToolName(n, name)) => {
-                self.tool_names.retain(|(k, _)| k != n);
-                self.tool_names.push((*n, name.clone()));
-            }
-            CanonOp::Setting(Setting::LengthOffset(h)) if *h == self.length => {}
-            CanonOp::Setting(Setting::LengthOffset(h)) => {
-                self.length = *h;
-                // A cancel where the target's tool change applies the length it cannot cancel.
-                let unsaid = self.opts.length_at_tool_change.1 && self.out.template("length-offset-off").is_none();
-                self.length_unsaid = *h == 0 && unsaid;
-                let mut vals = Vals::new();
-                vals.set(Value::H, f64::from(*h));
-                // A target whose tool change applies the tool's own length (no `{h}` to
-                // write) cannot apply another offset's length.
-                let tool = self.pending_tool.unwrap_or(self.tool);
-                if *h != 0 && *h != tool && !self.out.template("length-offset").is_some_and(|(t, _)| t.uses(Value::H)) {
-                    self.note(
-                        Code::PostUnwritable,
-                        canon,
-                        "length-offset",
-                        format!("the length offset H{h} while tool T{tool} is in the spindle: the target applies the tool's own length"),
-                    );
-                }
-                self.event(if *h == 0 { "length-offset-off" } else { "length-offset" }, &mut vals);
-            }
-            CanonOp::Setting(Setting::CutterComp(c)) if *c == self.comp => {}
-            CanonOp::Setting(Setting::CutterComp(c)) => {
-                self.comp = *c;
-                let mut vals = Vals::new();
-                let ev = match c {
-                    Some((left, d)) => {
-                        self.comp_d = d.unwrap_or(self.tool);
-                        vals.set(Value::D, f64::from(self.comp_d));
-                        let ev = if *left { "comp-left" } else { "comp-right" };
-                        // A target whose compensation takes the tool's own radius (no D
-                        // word) cannot compensate by another offset's radius.
-                        let tool = self.pending_tool.unwrap_or(self.tool);
-                        let states_d = self.out.template(ev).is_some_and(|(t, _)| t.uses(Value::D));
-                        if !states_d && d.is_some_and(|d| d != tool) {
-                            self.note(
-                                Code::PostUnwritable,
-                                canon,
-                                "comp-offset",
-                                format!(
-                                    "cutter compensation by offset D{} while tool T{tool} is in the spindle: the target's `{ev}` takes the tool's own radius",
-                                    self.comp_d
-                                ),
-                            );
-                        }
-                        ev
-                    }
-                    None => "comp-off",
-                };
-                if !self.event(ev, &mut vals) {
-                    self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
-                }
-            }
+            CanonOp::UseLengthUnits(_) | CanonOp::SelectPlane(_) | CanonOp::DistanceMode(_) => self.mode_op(canon),
+            CanonOp::SetFeedRate(_) | CanonOp::SetFeedMode(_) => self.feed_op(canon),
+            CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) => self.offset_op(canon),
+            CanonOp::SelectTool(_)
+            | CanonOp::ChangeTool(_)
+            | CanonOp::UseToolLengthOffset(_)
+            | CanonOp::Setting(Setting::ToolName(..) | Setting::LengthOffset(_)) => self.tool_op(canon),
+            CanonOp::Setting(Setting::CutterComp(_)) => self.comp_op(canon),
+            CanonOp::SetSpindleSpeed(_)
+            | CanonOp::StartSpindleClockwise
+            | CanonOp::StartSpindleCounterclockwise
+            | CanonOp::StopSpindleTurning
+            | CanonOp::SetSpindleMode(_)
+            | CanonOp::OrientSpindle { .. }
+            | CanonOp::WaitOrientComplete(_) => self.spindle_op(canon),
+            CanonOp::StartSpeedFeedSync(_) | CanonOp::StopSpeedFeedSync | CanonOp::RigidTap(_) => self.sync_op(canon),
+            CanonOp::StraightTraverse(_)
+            | CanonOp::StraightFeed(_)
+            | CanonOp::ArcFeed { .. }
+            | CanonOp::NurbsFeed { .. }
+            | CanonOp::ToolAxis(_) => self.motion_op(canon),
+            CanonOp::CycleBegin(_) | CanonOp::CycleEnd | CanonOp::CycleCancel => self.cycle_op(canon),
+            CanonOp::FloodOn | CanonOp::MistOn | CanonOp::FloodOff | CanonOp::MistOff => self.coolant_op(canon),
+            CanonOp::Dwell(s) => self.dwell(canon, s),
+            CanonOp::ProgramStop | CanonOp::OptionalProgramStop | CanonOp::ProgramEnd | CanonOp::Finish => self.stop_op(canon),
+            CanonOp::Comment(t) => self.comment(t, "comment"),
+            CanonOp::Message(t) => self.comment(t, "message"),
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
-            CanonOp::UseToolLengthOffset(_) | CanonOp::DistanceMode(_) | CanonOp::Finish => {}
-            CanonOp::StraightTraverse(p) => self.straight(canon, p, true),
-            CanonOp::StraightFeed(p) => self.straight(canon, p, false),
-            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
-                let (a, b, n) = self.plane.axes();
-                let mut end = [0.0; 3];
-                end[a] = self.to_out(*first_end) + self.g92[a];
-                end[b] = self.to_out(*second_end) + self.g92[b];
-                end[n] = self.to_out(*axis_end) + self.g92[n];
-                let mut centre = [0.0; 3];
-                centre[a] = self.to_out(*first_axis) + self.g92[a];
-                centre[b] = self.to_out(*second_axis) + self.g92[b];
-                centre[n] = end[n];
-                self.arc(canon, end, centre, *rotation > 0, rotation.unsigned_abs());
-            }
-            CanonOp::Dwell(s) => {
-                let mut vals = Vals::new();
-                vals.set(Value::Seconds, *s).set(Value::Millis, s * 1000.0);
-                if !self.in_cycle && !self.event("dwell", &mut vals) {
-                    self.note(Code::PostUnwritable, canon, "dwell", "the target's output rules have no `dwell` template");
-                }
-            }
-            CanonOp::FloodOn | CanonOp::MistOn => {
-                self.coolant = true;
-                let ev = if matches!(canon.op, CanonOp::FloodOn) { "flood-on" } else { "mist-on" };
-                if !self.event(ev, &mut Vals::new()) {
-                    self.event("flood-on", &mut Vals::new());
-                }
-            }
-            CanonOp::FloodOff | CanonOp::MistOff => {
-                if self.coolant {
-                    self.coolant = false;
-                    self.event("coolant-off", &mut Vals::new());
-                }
-            }
-            CanonOp::ProgramStop => {
-                self.cancel_cycle();
-                self.event("stop", &mut Vals::new());
-            }
-            CanonOp::OptionalProgramStop => {
-                self.cancel_cycle();
-                self.event("optional-stop", &mut Vals::new());
-            }
-            CanonOp::ProgramEnd => {
-                self.cancel_cycle();
-                if !self.ended {
-                    self.ended = true;
-                    self.event("end", &mut Vals::new());
-                }
-            }
-            CanonOp::Comment(t) => {
-                let t = t.clone();
-                self.comment(&t, "comment");
-            }
-            CanonOp::Message(t) => {
-                let t = t.clone();
-                self.comment(&t, "message");
-            }
-            CanonOp::CycleBegin(intent) => {
-                let intent = intent.clone();
-                self.cycle_begin(canon, &intent);
-            }
-            CanonOp::CycleEnd => {
-                if self.in_cycle {
-                    self.in_cycle = false;
-                    let p = self.pos;
-                    for (k, f) in ["X", "Y", "Z"].iter().enumerate() {
-                        // Its rounding not yet kept: the next move rounds it again.
-                        let w = self.key_of(f, p[k]).map(|(key, _)| (key, f64::NAN));
-                        self.set_written(k, w);
-                    }
-                }
-            }
-            CanonOp::CycleCancel => self.cancel_cycle(),
-            CanonOp::SetFeedMode(m) => {
-                if *m != self.feed_mode {
-                    self.feed_mode = *m;
-                    let ev = if *m == FeedMode::PerMinute { "feed-per-minute" } else { "feed-per-rev" };
-                    if !self.event(ev, &mut Vals::new()) {
-                        self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
-                    }
-                }
-            }
-            CanonOp::StartSpeedFeedSync(p) => self.sync = Some(self.to_out(*p)),
-            CanonOp::StopSpeedFeedSync => {
-                self.sync = None;
-                // The thread's lead may have been written in the feed's address (Fanuc G33 F).
-                self.set_written(3, None);
-                self.motion = None;
-            }
-            CanonOp::RigidTap(t) => {
-                let q = self.point(t);
-                if self.in_cycle {
-                    // The tapping cycle written for it drills it.
-                } else if self.out.template("rigid-tap").is_some() {
-                    let mut vals = Vals::new();
-                    vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]).set(Value::Pitch, self.sync.unwrap_or(0.0));
-                    self.event("rigid-tap", &mut vals);
-                    self.motion = None;
-                } else {
-                    self.note(
-                        Code::PostUnwritable,
-                        canon,
-                        "rigid-tap",
-                        "a rigid tap (G33.1) is not written: the target has neither a tapping cycle nor a `rigid-tap` template",
-                    );
-                }
-            }
-            CanonOp::SetSpindleMode(max) => {
-                let on = max.is_some();
-                if on || self.css {
-                    let ev = if on { "css-on" } else { "css-off" };
-                    let mut vals = Vals::new();
-                    let limit = max.filter(|m| *m < crate::canon::NO_SPINDLE_LIMIT);
-                    if let Some(m) = limit {
-                        vals.set(Value::SpindleMax, m);
-                    }
-                    let states_limit = self.out.template(ev).is_some_and(|(t, _)| t.uses(Value::SpindleMax));
-                    if let Some(m) = limit.filter(|_| on && !states_limit && self.out.template(ev).is_some()) {
-                        // Written without it, the limit would be lost without a word.
-                        self.note(
-                            Code::PostUnwritable,
-                            canon,
-                            "css-limit",
-                            format!("constant surface speed up to S{m}: the target's `css-on` states no spindle speed limit"),
-                        );
-                    } else if self.event(ev, &mut vals) {
-                        self.css = on;
-                    } else {
-                        self.note(
-                            Code::PostUnwritable,
-                            canon,
-                            ev,
-                            format!("constant surface speed (G96/G97) is not written: the target's output rules have no `{ev}` template"),
-                        );
-                    }
-                }
-            }
-            CanonOp::OrientSpindle { angle, mode } => {
-                self.spindle_on = false;
-                let t = self.out.template("spindle-orient").map(|(t, _)| (t.uses(Value::Angle), t.uses(Value::OrientDir)));
-                match t {
-                    Some((a, d)) if (a || angle.abs() < EPS) && (d || *mode == 0) => {
-                        let mut vals = Vals::new();
-                        vals.set(Value::Angle, *angle).set(Value::OrientDir, f64::from(*mode));
-                        self.event("spindle-orient", &mut vals);
-                    }
-                    Some(_) => self.note(
-                        Code::PostUnwritable,
-                        canon,
-                        "spindle-orient",
-                        format!(
-                            "a spindle orientation to {angle}° (direction {mode}) is not written: the target's `spindle-orient` states no angle or direction"
-                        ),
-                    ),
-                    None => self.note(
-                        Code::PostUnwritable,
-                        canon,
-                        "spindle-orient",
-                        "a spindle orientation (M19, SPOS) is not written: the target's output rules have no `spindle-orient` template",
-                    ),
-                }
-            }
-            // The wait for the orientation (LinuxCNC's `M19 Q`): every target's orientation code
-            // ends once the spindle is oriented, before the next block runs.
-            CanonOp::WaitOrientComplete(_) => {}
-            CanonOp::ToolAxis(v) => {
-                let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
-                if !along_z {
-                    self.note(
-                        Code::PostUnwritable,
-                        canon,
-                        "tool-axis",
-                        format!(
-                            "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
-                            v[0], v[1], v[2]
-                        ),
-                    );
-                }
-            }
-            CanonOp::NurbsFeed { points, end } => {
-                self.note(
-                    Code::PostUnwritable,
-                    canon,
-                    "nurbs",
-                    format!(
-                        "a NURBS feed ({points} control points) is not written: the canonical ops keep its end point, not its control points and weights, so no target can state it as a spline"
-                    ),
-                );
-                let q = self.point(end);
-                self.moved(q);
-            }
-            other => {
-                let name = format!("{other:?}");
-                let key = name.split(['(', ' ', '{']).next().unwrap_or("").to_owned();
-                self.note(
-                    Code::PostUnwritable,
-                    canon,
-                    &key,
-                    format!("`{key}` is not written: the target's output rules have nothing for it"),
-                );
-            }
+            // The rest (probing, overrides, the log file, M61): said, not written.
+            _ => self.unwritable(canon),
         }
     }
 }
@@ -2680,27 +1858,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// The number the next numbered block gets.
     fn next_block(&self) -> u64 {
         if self.started { self.block } else { self.out.number_start }
-    }
-
-    /// A move in the work offset in force: its values are the frame the translation is
-    /// written in, unless the program changed them after moving in it.
-    fn check_work_offset(&mut self, canon: &Canon) {
-        if self.wcs_checked {
-            return;
-        }
-        self.wcs_checked = true;
-        let i = self.wcs.unwrap_or(1);
-        let now = self.wcs_now;
-        match self.wcs_values.iter().find(|(k, _)| *k == i) {
-            None => self.wcs_values.push((i, now)),
-            Some((_, first)) if first.iter().zip(&now).any(|(a, b)| (a - b).abs() > 1e-9) => self.note(
-                Code::PostUnwritable,
-                canon,
-                "work-offset-set",
-                "the program changes the values of the work offset it moves in (G10 L2/L20 while active): the translation is written in the offset's frame as the program first used it, and the target's output rules cannot change it",
-            ),
-            Some(_) => {}
-        }
     }
 
     fn note_unrolled(&mut self, at: crate::text::TextRange) {
@@ -2871,13 +2028,6 @@ fn split_number<'b>(out: &Output, line: &'b [u8], n: u64) -> (bool, bool, &'b [u
     match rest.strip_prefix(digits.as_slice()).and_then(|r| r.strip_prefix(out.separator.as_bytes())) {
         Some(r) => (slash, true, r),
         None => (slash, false, l),
-    }
-}
-
-fn unit_name(u: Units) -> &'static str {
-    match u {
-        Units::Mm => "millimetres",
-        Units::Inch => "inches",
     }
 }
 

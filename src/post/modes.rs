@@ -1,0 +1,179 @@
+//! The modal settings that say how the moves' numbers are read: units, plane and distance
+//! mode, feed rate and feed mode, work offsets and coordinate shifts (G92). Positions are
+//! written absolute, in the target's units, in the work offset's frame with the shift added.
+//!
+//! The door: [`Post::mode_op`] (units, plane, distance mode), [`Post::feed_op`] (feed rate
+//! and mode), [`Post::offset_op`] (work offsets, shifts), and [`Post::check_work_offset`],
+//! which each move asks.
+
+use super::{Post, ROUNDED_NOTE, Vals};
+use crate::canon::{Canon, CanonOp, FeedMode, Plane, Units};
+use crate::diag::Code;
+use crate::dialect::output::Value;
+
+impl<F: FnMut(&[u8])> Post<'_, F> {
+    /// Writes a mode op: the units, the plane, the distance mode (nothing: positions are
+    /// written absolute).
+    pub(super) fn mode_op(&mut self, canon: &Canon) {
+        match &canon.op {
+            CanonOp::UseLengthUnits(u) => self.use_units(canon, u),
+            CanonOp::SelectPlane(p) if *p != self.plane => {
+                self.plane = *p;
+                let ev = match p {
+                    Plane::Xy => "plane-xy",
+                    Plane::Xz => "plane-xz",
+                    Plane::Yz => "plane-yz",
+                };
+                if !self.event(ev, &mut Vals::new()) {
+                    self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
+                }
+            }
+            CanonOp::DistanceMode(_) => {}
+            // The plane unchanged, or not a mode op ([`Post::other_op`] hands none).
+            _ => {}
+        }
+    }
+
+    /// The program's numbers are in units `u` from here on: the program is written in them
+    /// where it follows the source's units and nothing is written yet; else converted, and
+    /// said.
+    fn use_units(&mut self, canon: &Canon, u: &Units) {
+        if self.opts.follow_source_units && !self.started && *u != self.opts.units {
+            // What was set before the units (a feed: `G20 F60` sets F first, in
+            // the units then in force) is held in the target's units: it changes
+            // units with them, so that F60 mm/min comes out as F2.3622 inch/min.
+            let k = self.opts.units.to_mm() / u.to_mm();
+            self.feed *= k;
+            self.g92 = self.g92.map(|v| v * k);
+            self.pos = self.pos.map(|v| v * k);
+            self.opts.units = *u;
+            // What was written, known in the other units, is rounded again.
+            for k in 0..8 {
+                let w = self.written[k];
+                self.set_written(k, w);
+            }
+        }
+        self.scale = u.to_mm() / self.opts.units.to_mm();
+        if *u != self.opts.units {
+            self.note(
+                Code::PostUnitsConverted,
+                canon,
+                "units",
+                format!("the program is in {}; it is written in {} for the target machine", unit_name(*u), unit_name(self.opts.units)),
+            );
+        }
+    }
+
+    /// Writes a feed op: the feed rate (checked against the machine's), the feed mode.
+    pub(super) fn feed_op(&mut self, canon: &Canon) {
+        match &canon.op {
+            CanonOp::SetFeedRate(f) => {
+                self.feed = self.to_out(*f);
+                self.check_limits(canon);
+            }
+            CanonOp::SetFeedMode(m) if *m != self.feed_mode => {
+                self.feed_mode = *m;
+                let ev = if *m == FeedMode::PerMinute { "feed-per-minute" } else { "feed-per-rev" };
+                if !self.event(ev, &mut Vals::new()) {
+                    self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
+                }
+            }
+            // The feed mode unchanged, or not a feed op ([`Post::other_op`] hands none).
+            _ => {}
+        }
+    }
+
+    /// Writes an offset op: a work offset put in force (or its values changed), a shift.
+    pub(super) fn offset_op(&mut self, canon: &Canon) {
+        match &canon.op {
+            CanonOp::SetG5xOffset(i, v) => self.work_offset(canon, i, v),
+            CanonOp::SetG92Offset(o) => {
+                self.g92 = [self.to_out(o[0]), self.to_out(o[1]), self.to_out(o[2])];
+                if self.g92.iter().any(|v| v.abs() * self.opts.units.to_mm() > ROUNDED_NOTE) {
+                    self.note(
+                        Code::PostShiftApplied,
+                        canon,
+                        "shift",
+                        "the program shifts its coordinates (G92, a datum shift): the positions are written with the shift added, in the work offset's frame",
+                    );
+                }
+            }
+            // Not an offset op: [`Post::other_op`] hands none here.
+            _ => {}
+        }
+    }
+
+    /// Work offset `i` (with values `v`) is in force: written where it changes, by its own
+    /// template or the general one; said where the target has no code for it.
+    fn work_offset(&mut self, canon: &Canon, i: &u16, v: &[f64; 6]) {
+        self.wcs_now = *v;
+        self.wcs_checked = false;
+        if self.wcs != Some(*i) {
+            self.wcs = Some(*i);
+            let mut vals = Vals::new();
+            vals.set(Value::Wcs, f64::from(*i)).set(Value::WcsCode, 53.0 + f64::from(*i));
+            // A work offset of its own (`work-offset-7`: G59.1, G507) before the
+            // general rule, which states G54…G59 only; an empty one says the target
+            // has no code for it.
+            let extended = *i > crate::canon::EXTENDED_WCS;
+            // An additional work offset (`G54.1 P12`) by its own number.
+            let own = if extended { "work-offset-extended".to_owned() } else { format!("work-offset-{i}") };
+            if extended {
+                vals.set(Value::Wcs, f64::from(*i - crate::canon::EXTENDED_WCS));
+            }
+            let out = self.out;
+            let wrote = match out.template(&own) {
+                Some((t, _)) if t.0.is_empty() => false,
+                Some(_) => self.event(&own, &mut vals),
+                None if extended => false,
+                None if *i > 6 && out.template("work-offset").is_some_and(|(t, _)| t.uses(Value::WcsCode)) => false,
+                None => self.event("work-offset", &mut vals),
+            };
+            if !wrote && extended {
+                let n = *i - crate::canon::EXTENDED_WCS;
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    &own,
+                    format!("the target's output rules have no code for additional work offset {n} (G54.1 P{n}: `{own}`)"),
+                );
+            } else if !wrote && *i != 1 {
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    &own,
+                    format!("the target's output rules have no code for work offset {i} (`{own}`, `work-offset`)"),
+                );
+            }
+        }
+    }
+
+    /// A move in the work offset in force: its values are the frame the translation is
+    /// written in, unless the program changed them after moving in it.
+    pub(super) fn check_work_offset(&mut self, canon: &Canon) {
+        if self.wcs_checked {
+            return;
+        }
+        self.wcs_checked = true;
+        let i = self.wcs.unwrap_or(1);
+        let now = self.wcs_now;
+        match self.wcs_values.iter().find(|(k, _)| *k == i) {
+            None => self.wcs_values.push((i, now)),
+            Some((_, first)) if first.iter().zip(&now).any(|(a, b)| (a - b).abs() > 1e-9) => self.note(
+                Code::PostUnwritable,
+                canon,
+                "work-offset-set",
+                "the program changes the values of the work offset it moves in (G10 L2/L20 while active): the translation is written in the offset's frame as the program first used it, and the target's output rules cannot change it",
+            ),
+            Some(_) => {}
+        }
+    }
+}
+
+/// The name of units `u`, in a note.
+fn unit_name(u: Units) -> &'static str {
+    match u {
+        Units::Mm => "millimetres",
+        Units::Inch => "inches",
+    }
+}

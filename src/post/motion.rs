@@ -1,0 +1,262 @@
+//! Motion: straight moves (a feed synchronised with the spindle as the target's thread),
+//! arcs (the centre brought within the target's tolerance, extra turns and R-form full
+//! circles written piece by piece), and what the target cannot state of a move (a NURBS
+//! feed's spline, a tilted tool axis), said.
+//!
+//! The door: [`Post::motion_op`] for the motion ops, and [`Post::straight`], which
+//! [`Post::op`] calls at once for the common straight move.
+
+use super::{EPS, Post, ROUNDED_NOTE, Vals};
+use crate::canon::{Canon, CanonOp, Units};
+use crate::diag::Code;
+use crate::dialect::output::Value;
+
+impl<F: FnMut(&[u8])> Post<'_, F> {
+    /// Writes a motion op: a straight move, an arc, a NURBS feed (its end: said), the tool
+    /// axis (said where it tilts).
+    pub(super) fn motion_op(&mut self, canon: &Canon) {
+        match &canon.op {
+            CanonOp::StraightTraverse(p) => self.straight(canon, p, true),
+            CanonOp::StraightFeed(p) => self.straight(canon, p, false),
+            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
+                let (a, b, n) = self.plane.axes();
+                let mut end = [0.0; 3];
+                end[a] = self.to_out(*first_end) + self.g92[a];
+                end[b] = self.to_out(*second_end) + self.g92[b];
+                end[n] = self.to_out(*axis_end) + self.g92[n];
+                let mut centre = [0.0; 3];
+                centre[a] = self.to_out(*first_axis) + self.g92[a];
+                centre[b] = self.to_out(*second_axis) + self.g92[b];
+                centre[n] = end[n];
+                self.arc(canon, end, centre, *rotation > 0, rotation.unsigned_abs());
+            }
+            CanonOp::ToolAxis(v) => {
+                let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
+                if !along_z {
+                    self.note(
+                        Code::PostUnwritable,
+                        canon,
+                        "tool-axis",
+                        format!(
+                            "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
+                            v[0], v[1], v[2]
+                        ),
+                    );
+                }
+            }
+            CanonOp::NurbsFeed { points, end } => {
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "nurbs",
+                    format!(
+                        "a NURBS feed ({points} control points) is not written: the canonical ops keep its end point, not its control points and weights, so no target can state it as a spline"
+                    ),
+                );
+                let q = self.point(end);
+                self.moved(q);
+            }
+            // Not a motion op: [`Post::other_op`] hands none here.
+            _ => {}
+        }
+    }
+
+    /// Writes a straight move to `p` (program coordinates, rotary axes in degrees), at
+    /// rapid or at the feed; a move of a hole drilled as a cycle is the cycle's.
+    pub(super) fn straight(&mut self, canon: &Canon, p: &[f64; 6], rapid: bool) {
+        let event = if rapid { "rapid" } else { "feed" };
+        let rotary = [Value::A, Value::B, Value::C];
+        let writes = |v: Value| self.out.template(event).is_some_and(|(t, _)| t.uses(v));
+        if (0..3).any(|k| p[3 + k].abs() > EPS && !writes(rotary[k])) {
+            self.note(
+                Code::PostUnwritable,
+                canon,
+                "rotary",
+                "a rotary axis (A, B, C) moves, and the target's output rules do not write it",
+            );
+        }
+        let q = self.point(p);
+        if self.in_cycle {
+            self.moved(q);
+            return;
+        }
+        self.cancel_cycle();
+        // The moves' values, kept between moves: each sets all it uses (NaN: absent).
+        let mut vals = self.move_vals.take().unwrap_or_else(|| Box::new(Vals::new()));
+        vals.set(Value::X, q[0]).set(Value::Y, q[1]).set(Value::Z, q[2]).set(Value::Pitch, f64::NAN);
+        // A feed synchronised with the spindle: the target's thread move, else said.
+        let mut thread = false;
+        let event = match self.sync {
+            Some(pitch) if !rapid => {
+                thread = true;
+                vals.set(Value::Pitch, pitch);
+                if self.out.template("thread").is_none() {
+                    self.note(
+                        Code::PostUnwritable,
+                        canon,
+                        "thread",
+                        "a thread (G33: a feed synchronised with the spindle) is not written: the target's output rules have no `thread` template",
+                    );
+                    self.moved(q);
+                    return;
+                }
+                "thread"
+            }
+            _ => event,
+        };
+        // Rotary axes in degrees, not scaled.
+        vals.set(Value::A, p[3]).set(Value::B, p[4]).set(Value::C, p[5]);
+        vals.set(Value::F, if rapid { f64::NAN } else { self.feed });
+        let template = match (thread, rapid) {
+            (true, _) => self.out.template(event).map(|(t, _)| t),
+            (false, true) => self.moves.0,
+            (false, false) => self.moves.1,
+        };
+        if let Some(t) = template {
+            self.rules(event, true);
+            self.render(t, &mut vals, false, true);
+            self.rules(event, false);
+        } else {
+            self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
+        }
+        self.move_vals = Some(vals);
+        self.moved(q);
+    }
+
+    /// Writes an arc to `end` about `centre` (target units, work offset frame), counter-
+    /// clockwise or not, going round `turns` times (1: once, a whole turn at most); an arc
+    /// of a hole drilled as a cycle is the cycle's.
+    #[allow(clippy::too_many_arguments)]
+    fn arc(&mut self, canon: &Canon, end: [f64; 3], centre: [f64; 3], ccw: bool, turns: u32) {
+        if self.in_cycle {
+            self.moved(end);
+            return;
+        }
+        self.cancel_cycle();
+        let (a, b, n) = self.plane.axes();
+        let start = self.pos;
+        let event = if ccw { "arc-ccw" } else { "arc-cw" };
+        let Some((t, _)) = self.out.template(event) else {
+            self.note(Code::PostUnwritable, canon, event, format!("the target's output rules have no `{event}` template"));
+            self.moved(end);
+            return;
+        };
+        let centre = self.arc_centre(canon, start, end, centre, a, b);
+        let r = ((start[a] - centre[a]).hypot(start[b] - centre[b])).max(EPS);
+        let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
+        let (sweep, same) = arc_sweep(start, end, centre, a, b, ccw);
+        let total = sweep.abs() + std::f64::consts::TAU * f64::from(turns.saturating_sub(1));
+        let uses_r = t.uses(Value::R);
+        // Pieces: the extra full turns, then the last arc; an R-form full circle goes in halves.
+        let mut pieces: Vec<(f64, bool)> = Vec::new();
+        for _ in 1..turns.max(1) {
+            pieces.push((std::f64::consts::TAU, true));
+        }
+        pieces.push((sweep.abs(), same));
+        let mut from = start;
+        let mut done = 0.0;
+        for (piece, full) in pieces {
+            let halves = if uses_r && (full || piece > std::f64::consts::TAU - 1e-9) { 2 } else { 1 };
+            for h in 0..halves {
+                let part = piece / f64::from(halves);
+                done += part;
+                let frac = done / total;
+                let a0 = ang(from);
+                let a1 = a0 + if ccw { part } else { -part };
+                let mut to = [0.0; 3];
+                let last = (done - total).abs() < 1e-9;
+                if last && h + 1 == halves {
+                    to = end;
+                } else {
+                    to[a] = centre[a] + r * a1.cos();
+                    to[b] = centre[b] + r * a1.sin();
+                    to[n] = start[n] + (end[n] - start[n]) * frac;
+                }
+                let mut vals = Vals::new();
+                vals.set(Value::X, to[0]).set(Value::Y, to[1]).set(Value::Z, to[2]).set(Value::F, self.feed);
+                let ij = [Value::I, Value::J, Value::K];
+                let cc = [Value::Cx, Value::Cy, Value::Cz];
+                for k in [a, b] {
+                    vals.set(ij[k], centre[k] - from[k]);
+                    vals.set(cc[k], centre[k]);
+                }
+                vals.set(Value::R, if part > std::f64::consts::PI + 1e-9 { -r } else { r });
+                // A full circle: its end words must be written even though unchanged.
+                if halves == 1 && (full || (to[a] - from[a]).hypot(to[b] - from[b]) < 1e-7) {
+                    for k in 0..3 {
+                        self.set_written(k, None);
+                    }
+                    let keep = [to[a], to[b]];
+                    let _ = keep;
+                }
+                self.rules(event, true);
+                self.render(t, &mut vals, false, true);
+                self.rules(event, false);
+                from = to;
+                self.moved(to);
+            }
+        }
+    }
+
+    /// The centre an arc from `start` to `end` about `centre` (on its plane's axes `a`, `b`)
+    /// is written with: moved where the target may not take the difference of its radii at
+    /// start and end, and said where they differ by more than [`ROUNDED_NOTE`].
+    fn arc_centre(&mut self, canon: &Canon, start: [f64; 3], end: [f64; 3], centre: [f64; 3], a: usize, b: usize) -> [f64; 3] {
+        // The source's tolerance let the two radii differ; the target's may not. The centre
+        // goes onto the perpendicular bisector of the chord (moving it by about the radius
+        // error), so both radii agree whatever the target checks.
+        // Where the target takes the difference, rounding of the written numbers included
+        // (two steps), the centre stays: moved onto the bisector of a short chord it would
+        // move far more than the radius error.
+        let mut centre = centre;
+        let (dx, dy) = (end[a] - start[a], end[b] - start[b]);
+        let chord = dx.hypot(dy);
+        let step = self.out.formats.iter().find(|f| f.name == "X").map_or(1e-3, |f| {
+            let d = if self.opts.units == Units::Inch { f.inch_decimals } else { f.decimals };
+            10f64.powi(-i32::from(d))
+        });
+        let tolerance = if self.opts.units == Units::Inch { self.opts.arc_tolerance.1 } else { self.opts.arc_tolerance.0 };
+        let radius_error = ((start[a] - centre[a]).hypot(start[b] - centre[b]) - (end[a] - centre[a]).hypot(end[b] - centre[b])).abs();
+        if chord > 1e-9 && radius_error + 2.0 * step > tolerance {
+            let (mx, my) = ((start[a] + end[a]) / 2.0, (start[b] + end[b]) / 2.0);
+            let (ux, uy) = (-dy / chord, dx / chord);
+            let t = (centre[a] - mx) * ux + (centre[b] - my) * uy;
+            centre[a] = mx + t * ux;
+            centre[b] = my + t * uy;
+            let mm = radius_error * self.opts.units.to_mm();
+            if mm > ROUNDED_NOTE {
+                self.note(
+                    Code::PostArcCentre,
+                    canon,
+                    "arc-centre",
+                    format!(
+                        "the arc's radii at start and end differ by {mm:.4} mm, more than the target takes: its centre is moved so that both agree, and its path by up to that much (the first such arc; others may follow)"
+                    ),
+                );
+            }
+        }
+        centre
+    }
+}
+
+/// The angle an arc from `start` to `end` about `centre` (on its plane's axes `a`, `b`)
+/// sweeps, counter-clockwise (positive) or not, a whole turn where it ends where it starts;
+/// and whether it does.
+fn arc_sweep(start: [f64; 3], end: [f64; 3], centre: [f64; 3], a: usize, b: usize, ccw: bool) -> (f64, bool) {
+    let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
+    let mut sweep = ang(end) - ang(start);
+    if ccw {
+        while sweep <= 1e-12 {
+            sweep += std::f64::consts::TAU;
+        }
+    } else {
+        while sweep >= -1e-12 {
+            sweep -= std::f64::consts::TAU;
+        }
+    }
+    let same = (end[a] - start[a]).hypot(end[b] - start[b]) < 1e-7;
+    if same {
+        sweep = if ccw { std::f64::consts::TAU } else { -std::f64::consts::TAU };
+    }
+    (sweep, same)
+}
