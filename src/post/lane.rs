@@ -189,6 +189,10 @@ impl Lane {
         let mut tail = if lb.raw { Vec::new() } else { out.end_of_block.as_bytes().to_vec() };
         tail.push(b'\n');
         let tail_len = tail.len();
+        // A longer end of block gets no lane: `resize` would cut it short.
+        if tail_len > 16 {
+            return None;
+        }
         tail.resize(16, 0);
         let Ok(tail) = <[u8; 16]>::try_from(tail) else { return None };
         let words_of = words_by_unchanged(&words[0]);

@@ -186,8 +186,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     for k in 0..3 {
                         self.set_written(k, None);
                     }
-                    let keep = [to[a], to[b]];
-                    let _ = keep;
                 }
                 self.rules(event, true);
                 self.render(t, &mut vals, false, true);
