@@ -17,6 +17,88 @@
 //! coolant and what is not written. `lane.rs` writes the common straight move in the steady
 //! state, from the templates `layout.rs` sorts. This file keeps the writer's state, renders
 //! templates and numbers, and gathers repeated runs.
+//!
+//! the post-processor: `Post` is a `CanonSink` that writes program text by a
+//! dialect's `<output>` rules (`src/dialect/output/`: number formats, templates of words
+//! with `{value:FORMAT}` placeholders per event, cycle mappings, rules with a checked
+//! condition expression). It streams (a 64 KiB buffer handed to the caller's function; `translate` interprets on a
+//! thread of its own and hands the ops over in batches through a bounded channel, order kept,
+//! `interpret_beside`) and keeps only modal state: the last written X, Y, Z, F, S, G code, the cycle in force.
+//! A modal word's last text is kept as its key (format, inch or not, the rounded integer:
+//! one format writes distinct integers as distinct texts), so an unchanged word is told
+//! without writing it; `post::layout` sorts each template once into parts (the motion code,
+//! one number with its format, modal slot and rounding class, the words put off to a move,
+//! any other word); a block in the common move's order (code, put-off words, numbers:
+//! `layout::Simple`) is walked without the general cases. Each block is written in place at
+//! the end of the buffer and taken back when empty. Numbers are written by integer
+//! arithmetic (`push_number`; three decimals from digit tables); a block number's text is
+//! counted on in place (`block_digits`: the usual step in its last two digits at once, any
+//! other by `count_on`); the rounding error is worked out only where it may pass the
+//! largest so far (`below`), counted towards positions, centres (2√2 times) or feeds
+//! (`layout::Class`). `post::lane` is the writer's steady lane: while nothing is under way
+//! but moves (no tool, speed or move waiting, no cycle, no put-off words, no rules, no repeat
+//! being gathered; one flag per move template, `Post::lane_ready`, worked out again after
+//! every op the general path takes, the only path that changes it), a straight move goes
+//! from its coordinates to its block's text by the same steps (`put_num`, `block_start`,
+//! `line_end`, `moved`), so text, modal state and findings are the general path's. The lane
+//! puts the block together in a fixed array (`Post::lane_text`; a template whose longest
+//! block does not fit has no lane), the block number and leading literal words (`L`) first,
+//! then each word after its separator, and appends it at once.
+//! Positions are written absolute in the work offset's frame (a G92-style shift added);
+//! units follow the machine or the source (what was set before the source's units, a
+//! LinuxCNC `G20 F60` feed, changes units with them); an arc whose radii differ by more than the
+//! target's arc tolerance (its `behaviour`, two output steps kept for rounding) gets its
+//! centre on the chord's bisector (`post::arc-centre` where the path moves by more than the
+//! diff's tolerance); whole turns and R-form full circles are split. A G92-style shift added
+//! to the positions is said (`post::shift-applied`: the plan read back is in the work
+//! offset's frame). A length offset the source cancels (`G49`) is written, and cancelled
+//! again after a target's tool change that applies the length; a target that cannot cancel
+//! it is an error, and so is another tool's length offset (`G43 H3` with T0) where the
+//! target's tool call applies the tool's own. Changes a program makes to the values of the
+//! work offset it moved in (G10 L2/L20 while active) are an error: the translation is written
+//! in the offset's frame as the program first used it. Positions
+//! rounded by more than the diff's tolerance are said once (`post::rounded`; an arc centre
+//! counts 2√2 times its rounding, the path moving through the fixed start by that much;
+//! cycle levels count), and so are
+//! feeds and thread leads (an inch program's four decimals do not state 60 mm/min). Compensation by another
+//! offset than the tool's, where the target's `comp-left`/`comp-right` has no `{d}`, is an
+//! error. A cycle whose
+//! kind the target maps is written as a cycle (its expansion moves are not written), a rapid
+//! while a modal output cycle is in force waits to see whether it positions the next hole; a
+//! cycle the target cannot state (no mapping, a peck re-approach it cannot set — the
+//! cycle's own, `CycleIntent::peck_clearance` —, pecks counted from another level: R for
+//! G8x, the surface for cycles that state it, a tap fed out to the clear level where the
+//! target's feeds out to R, `Options::tap_to_clear`, a clear level a G98/G99 cycle cannot
+//! return to: above where it begins or below R) is written as moves with a note; a G98
+//! cycle's clear level below the tool is reached by a rapid first (the initial level); the
+//! expansion's spindle calls of a cycle written as a cycle are not written; a surface stated
+//! otherwise (a cycle stating it written as G8x, or the R level written for a target's
+//! surface where the source's plan has none above the bottom) is `post::surface-restated`;
+//! a modal cycle's next position that turns a rotary axis is a move of its own; a cycle
+//! stating its depth from the surface (`{depth}`) takes the R level as
+//! surface where the hole top is not above its bottom. Spindle-synchronised moves (`thread`, `rigid-tap` with `{pitch}`), constant
+//! surface speed (`css-on {smax}`, `css-off`), `spindle-orient {angle} {orient-dir}` and
+//! work offsets by index (`work-offset-N`, empty text: none; the additional ones by their own
+//! number, `work-offset-extended {wcs}`: `G54.1 P12`, `G154 P12`, `G15 H12`; a `<format min max>`
+//! states the values an address takes, Haas's G154 P1–P99, and an event whose template would
+//! write another is unwritable, `Output::fits`) are templates
+//! (a `css-on` without `{smax}` cannot state a speed limit: unwritable then); without one, or
+//! for a tilted tool axis or a NURBS feed (the canon keeps no control points), an error
+//! diagnostic. A run of blocks the source runs again (loop, subprogram called N times) is
+//! held in the buffer (found by `line_offsets`, the text since each source line): while each
+//! pass writes the same text (the first may differ by what was in force before it, and is
+//! then left before the loop) it is written once, as the target's dictionary says: between
+//! `repeat-begin` and `repeat-end` where it ran (`o100 repeat [{count}]`; Siemens `MARK1:` …
+//! `REPEAT MARK1 P={again}`, Heidenhain `LBL 1` … `CALL LBL 1 REP {again}`, `{again}` the
+//! passes after the first), or as a subprogram after the program's end (`sub-begin {sub}` …
+//! `sub-end`, `{sub}` above 1000 and the main program's number) called where it ran
+//! (`repeat-call`: Fanuc `M98 P1001 L3`, Haas `M97 P1001 L3` to `N1001`); otherwise unrolled
+//! with `post::unrolled`. Numbered blocks are compared without their numbers (the ones the
+//! passes were written with, in sequence) and renumbered when the loop's blocks go in. Numbers are formatted into a stack buffer, an unchanged modal value is
+//! left out without formatting it. Plan facts: hole tops (`hole_tops`) for targets whose
+//! cycles state the surface, tool facts from a tool table (`tool_facts`) as a tool comment
+//! (`T4 D=10 END MILL`) the target's plan reads. `translate` runs the interpreter into it;
+//! `ncplan translate` is in `cli`.
 
 use std::collections::BTreeSet;
 
