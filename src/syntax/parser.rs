@@ -1,4 +1,12 @@
 //! The streaming block parser.
+//!
+//! This file is the door: [`Parser`] (the cursor, its window over a read text, the record
+//! form's loop), [`leader`], [`PlainLine`], and the general lexer's state (`Lexer`) with its
+//! primitive moves. The lexer's readers are `Lexer` methods in the files below, by what they
+//! read: `block.rs` (a block, mark by mark, and comments), `words.rs` (address words and
+//! assignments), `keywords.rs` (keyword codes and named cycles), `statements.rs` (control
+//! statements), `expression.rs` (expressions), `numbers.rs` (literal numbers) and `plain.rs`
+//! (the fast path for blocks of plain words).
 
 use super::Block;
 use crate::diag::{Code, Diagnostic};
@@ -390,6 +398,7 @@ impl PlainLine {
     }
 }
 
+/// The general lexer: one block of the window into `block`, its findings into `diags`.
 struct Lexer<'t, 'b> {
     /// The window: the text from `base` on. Indices are into it; ranges add `base`.
     text: &'t str,

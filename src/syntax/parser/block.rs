@@ -11,40 +11,10 @@ use crate::dialect::CommentClose;
 impl Lexer<'_, '_> {
     /// Lexes one block; returns the end of its text (before any terminator).
     pub(super) fn block(&mut self) -> usize {
+        if self.block_head() {
+            return self.i;
+        }
         let lex = &self.dialect.lexical;
-        self.skip_blanks();
-        if let Some((skip, _)) = lex.block_skip
-            && self.peek() == Some(skip as u8)
-        {
-            self.block.skip = true;
-            self.i += 1;
-            if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
-                self.i += 1; // `/2`: the second switch
-            }
-            self.skip_blanks();
-        }
-        if let Some(d) = lex.program_delimiter
-            && self.peek() == Some(d as u8)
-            && self.block.words.is_empty()
-        {
-            // A bare `%` (perhaps with a comment) opens or closes the program; `%_N_PART_MPF`
-            // is a header line, skipped without ending anything.
-            let end = self.line_end();
-            let rest = self.text[self.i + 1..end].trim_start();
-            self.block.delimiter = rest.is_empty() || lex.comments.iter().any(|r| rest.starts_with(r.open));
-            if lex.header_words && !self.block.delimiter {
-                self.header_name();
-            } else {
-                self.i = end;
-                return self.i;
-            }
-        }
-        if lex.leading_block_number && self.peek().is_some_and(|c| c.is_ascii_digit()) {
-            let start = self.i;
-            if let Some(n) = self.integer(start) {
-                self.block.number = Some(n);
-            }
-        }
         loop {
             self.skip_blanks();
             let Some(c) = self.peek() else { break };
@@ -71,64 +41,124 @@ impl Lexer<'_, '_> {
                 let end = self.i;
                 return end;
             }
-            if lex.header_words && lex.program_delimiter == Some(c as char) && self.block.words.is_empty() && self.block.number.is_some() {
-                // `N99999999 %123 G71 *`: the program's end names it again.
-                self.header_name();
-                continue;
-            }
-            let at_start = |b: &Block| b.words.is_empty() && b.assigns.is_empty() && b.control.is_none();
-            if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (!r.block_start || at_start(self.block))) {
-                let close = rule.close.clone();
-                self.comment(&close);
-                continue;
-            }
-            if lex.statement_prefix.contains(&c) && self.b.get(self.i + 1).is_some_and(u8::is_ascii_alphabetic) {
-                // `#CALL L100`, `$IF P1 == 0`, `%L 100`: the mark says a statement follows.
-                self.i += 1;
-                self.keyword_statement(self.i);
-                continue;
-            }
-            if let Some((sigil, _)) = lex.parameter
-                && c.eq_ignore_ascii_case(&(sigil as u8))
-                && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()))
-            {
-                self.assignment();
-                continue;
-            }
-            if c.is_ascii_alphabetic() || (c == b'_' && lex.identifier_variables) || self.at_system_variable(self.i) {
-                self.address();
-                continue;
-            }
-            if lex.program_number_alt == Some(c as char) {
-                let start = self.i;
-                self.i += 1;
-                if let Some(n) = self.integer(start) {
-                    self.block.program_number = Some(n);
-                }
-                continue;
-            }
-            let start = self.i;
-            if let Some(role) = self.dialect.letter_role(c).filter(|_| c.is_ascii_punctuation()) {
-                // A symbol address (`@-.0025 ^4.5`).
-                self.i += 1;
-                if let Some(value) = self.value(start) {
-                    let range = self.range(start, self.i);
-                    self.block.words.push(Word { role, letter: c, value, range, mode: WordMode::Modal, cycle_arg: false });
-                }
-                continue;
-            }
-            // Digits, signs, points and brackets right after it are the same slip (a value
-            // with no address, `M202(0.0024)`): one finding for the run.
-            let mut end = start + self.char_len(start);
-            while self.text.as_bytes().get(end).is_some_and(|b| b"0123456789.+-()".contains(b)) {
-                end += 1;
-            }
-            let shown = &self.text[start..end];
-            let what = if shown.chars().count() > 1 { "characters" } else { "character" };
-            self.error(Code::UnknownAddress, start, end, format!("unexpected {what} `{shown}`"));
-            self.i = end;
+            self.item(c);
         }
         self.i
+    }
+
+    /// What may open a block: a block skip (`/`, `/2`), a program delimiter or header line
+    /// (`%`, `%_N_PART_MPF`), a bare leading block number. True when the block is a delimiter
+    /// line, read to its end.
+    fn block_head(&mut self) -> bool {
+        let lex = &self.dialect.lexical;
+        self.skip_blanks();
+        if let Some((skip, _)) = lex.block_skip
+            && self.peek() == Some(skip as u8)
+        {
+            self.block.skip = true;
+            self.i += 1;
+            if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
+                self.i += 1; // `/2`: the second switch
+            }
+            self.skip_blanks();
+        }
+        if let Some(d) = lex.program_delimiter
+            && self.peek() == Some(d as u8)
+            && self.block.words.is_empty()
+        {
+            // A bare `%` (perhaps with a comment) opens or closes the program; `%_N_PART_MPF`
+            // is a header line, skipped without ending anything.
+            let end = self.line_end();
+            let rest = self.text[self.i + 1..end].trim_start();
+            self.block.delimiter = rest.is_empty() || lex.comments.iter().any(|r| rest.starts_with(r.open));
+            if lex.header_words && !self.block.delimiter {
+                self.header_name();
+            } else {
+                self.i = end;
+                return true;
+            }
+        }
+        if lex.leading_block_number && self.peek().is_some_and(|c| c.is_ascii_digit()) {
+            let start = self.i;
+            if let Some(n) = self.integer(start) {
+                self.block.number = Some(n);
+            }
+        }
+        false
+    }
+
+    /// What `c` at the cursor starts, other than a plain word or the block's end, read past:
+    /// a header's program name, a comment, a statement after its prefix, a parameter
+    /// assignment, an address, a program number after its alternate mark, a symbol address;
+    /// anything else is a finding.
+    fn item(&mut self, c: u8) {
+        let lex = &self.dialect.lexical;
+        if lex.header_words && lex.program_delimiter == Some(c as char) && self.block.words.is_empty() && self.block.number.is_some() {
+            // `N99999999 %123 G71 *`: the program's end names it again.
+            self.header_name();
+            return;
+        }
+        let at_start = |b: &Block| b.words.is_empty() && b.assigns.is_empty() && b.control.is_none();
+        if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (!r.block_start || at_start(self.block))) {
+            let close = rule.close.clone();
+            self.comment(&close);
+            return;
+        }
+        if lex.statement_prefix.contains(&c) && self.b.get(self.i + 1).is_some_and(u8::is_ascii_alphabetic) {
+            // `#CALL L100`, `$IF P1 == 0`, `%L 100`: the mark says a statement follows.
+            self.i += 1;
+            self.keyword_statement(self.i);
+            return;
+        }
+        if let Some((sigil, _)) = lex.parameter
+            && c.eq_ignore_ascii_case(&(sigil as u8))
+            && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()))
+        {
+            self.assignment();
+            return;
+        }
+        if c.is_ascii_alphabetic() || (c == b'_' && lex.identifier_variables) || self.at_system_variable(self.i) {
+            self.address();
+            return;
+        }
+        if lex.program_number_alt == Some(c as char) {
+            let start = self.i;
+            self.i += 1;
+            if let Some(n) = self.integer(start) {
+                self.block.program_number = Some(n);
+            }
+            return;
+        }
+        if !self.symbol_address(c) {
+            self.unexpected_characters();
+        }
+    }
+
+    /// A symbol address (`@-.0025 ^4.5`): punctuation the dialect gives a role.
+    fn symbol_address(&mut self, c: u8) -> bool {
+        let start = self.i;
+        let Some(role) = self.dialect.letter_role(c).filter(|_| c.is_ascii_punctuation()) else { return false };
+        self.i += 1;
+        if let Some(value) = self.value(start) {
+            let range = self.range(start, self.i);
+            self.block.words.push(Word { role, letter: c, value, range, mode: WordMode::Modal, cycle_arg: false });
+        }
+        true
+    }
+
+    /// A finding for a character that starts nothing, read past. Digits, signs, points and
+    /// brackets right after it are the same slip (a value with no address, `M202(0.0024)`):
+    /// one finding for the run.
+    fn unexpected_characters(&mut self) {
+        let start = self.i;
+        let mut end = start + self.char_len(start);
+        while self.text.as_bytes().get(end).is_some_and(|b| b"0123456789.+-()".contains(b)) {
+            end += 1;
+        }
+        let shown = &self.text[start..end];
+        let what = if shown.chars().count() > 1 { "characters" } else { "character" };
+        self.error(Code::UnknownAddress, start, end, format!("unexpected {what} `{shown}`"));
+        self.i = end;
     }
 
     /// After a continuation mark: steps over the line end. False when the line does not end here.

@@ -80,7 +80,8 @@ impl Lexer<'_, '_> {
         Some(op)
     }
 
-    /// A signed operand: number, bracketed expression, parameter or function call.
+    /// A signed operand: number, bracketed expression, parameter, variable or function call.
+    /// Past [`MAX_DEPTH`] nested operands, a finding and the rest of the line is skipped.
     pub(super) fn unary(&mut self, depth: u32) -> Option<ExprId> {
         let start = self.i;
         if depth > MAX_DEPTH {
@@ -90,8 +91,6 @@ impl Lexer<'_, '_> {
         }
         self.skip_blanks();
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
-        let expr_close = self.dialect.lexical.expression.map(|(_, c)| c as u8);
-        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
         let Some(c) = self.peek() else {
             self.error(Code::MalformedExpression, start, start, "expression ends early");
             return None;
@@ -111,149 +110,193 @@ impl Lexer<'_, '_> {
                 let v = self.radix_constant(q as u8, hex as u8, binary as u8)?;
                 Some(self.push(Expr::Num(v)))
             }
-            c if Some(c) == expr_open => {
-                self.i += 1;
-                let e = self.expr(depth + 1, 0)?;
-                if !self.expect(expr_close.unwrap_or(b']'), "to close the expression", start) {
-                    return None;
-                }
-                Some(e)
-            }
-            c if Some(c.to_ascii_uppercase()) == sigil
-                && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == expr_open)) =>
-            {
-                self.i += 1;
-                self.skip_blanks();
-                if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
-                    let name = self.name(start)?;
-                    return Some(self.push(Expr::Named(name)));
-                }
+            c if Some(c) == expr_open => self.bracketed(depth, start),
+            c if self.at_parameter(c, expr_open) => self.parameter(depth, start),
+            c if self.at_variable(c, expr_open) => self.variable(depth, expr_open),
+            c if c.is_ascii_alphabetic() => self.function_call(depth, start),
+            _ => self.unexpected(start),
+        }
+    }
+
+    /// The bracket that closes an expression in this dialect (`]` where it names none).
+    fn expr_close(&self) -> u8 {
+        self.dialect.lexical.expression.map(|(_, c)| c as u8).unwrap_or(b']')
+    }
+
+    /// `[expr]` at the cursor: the expression inside the dialect's brackets.
+    fn bracketed(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        self.i += 1;
+        let e = self.expr(depth + 1, 0)?;
+        if !self.expect(self.expr_close(), "to close the expression", start) {
+            return None;
+        }
+        Some(e)
+    }
+
+    /// Whether `c` at the cursor is the parameter sigil starting a parameter (`#1`, `#[..]`,
+    /// `#<name>`); a letter sigil (`Q`, `R`) only before a digit or a bracket.
+    fn at_parameter(&self, c: u8, expr_open: Option<u8>) -> bool {
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        Some(c.to_ascii_uppercase()) == sigil
+            && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == expr_open))
+    }
+
+    /// A parameter at its sigil: `#<name>` where parameters have names, else `#` and the
+    /// operand that gives its number (`#1`, `##2`, `#[#1+1]`).
+    fn parameter(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        self.i += 1;
+        self.skip_blanks();
+        if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
+            let name = self.name(start)?;
+            return Some(self.push(Expr::Named(name)));
+        }
+        let inner = self.unary(depth + 1)?;
+        Some(self.push(Expr::Param(inner)))
+    }
+
+    /// Whether a variable's name starts at the cursor (`c`), where identifiers name variables:
+    /// an identifier or system variable that is not a function called with brackets.
+    fn at_variable(&self, c: u8, expr_open: Option<u8>) -> bool {
+        self.dialect.lexical.identifier_variables && (c.is_ascii_alphabetic() || c == b'_' || self.at_system_variable(self.i)) && {
+            let end = self.identifier_end(self.i);
+            Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_none()
+                || self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_none_or(|x| Some(*x) != expr_open)
+        }
+    }
+
+    /// A variable at the cursor (`LEN`, `$AC_TIME`), an element of a named array (`VTOFD[1]`,
+    /// `_RICH[2]`), or a lone axis letter standing for its axis.
+    fn variable(&mut self, depth: u32, expr_open: Option<u8>) -> Option<ExprId> {
+        let end = self.identifier_end(self.i);
+        let r = self.range(self.i, end);
+        // A lone axis letter (`DEF AXIS _X=X`, `_AX1=Z`, `MOVE(Y, 10)`) is that axis, as an
+        // axis variable's value: a single letter is never a variable.
+        let after = self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).copied();
+        if end == self.i + 1
+            && self.dialect.letter_role(self.b[self.i].to_ascii_uppercase()).is_some_and(|r| r.is_axis())
+            && !matches!(after, Some(b'[' | b'=' | b'('))
+            && after != expr_open
+        {
+            let letter = self.b[self.i];
+            self.i = end;
+            return Some(self.push(Expr::Num(super::super::axis_value(letter))));
+        }
+        self.i = end;
+        if self.peek().is_some() && self.peek() == expr_open {
+            // `VTOFD[1]`: an element of a named array.
+            let index = self.unary(depth + 1)?;
+            return Some(self.push(Expr::NamedIndex(r, index)));
+        }
+        if let Some(index) = self.array_index(depth) {
+            return Some(self.push(Expr::NamedIndex(r, index?)));
+        }
+        Some(self.push(Expr::Named(r)))
+    }
+
+    /// A function call at its name (`SIN[30]`, `ATAN[1]/[2]`, `EXISTS[#<x>]`); its argument
+    /// in brackets, or bare where the dialect allows (`SIN +Q1`).
+    fn function_call(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+        let word = self.text[self.i..end].to_ascii_uppercase();
+        let Some(func) = Func::named(&word) else {
+            self.error(Code::MalformedExpression, start, end, format!("unknown function `{word}`"));
+            self.i = end;
+            return None;
+        };
+        self.i = end;
+        self.skip_blanks();
+        if func == Func::Exists {
+            return self.exists(depth, start);
+        }
+        if self.peek() != expr_open {
+            if self.dialect.lexical.bare_function_arguments && self.peek().is_some() {
+                // `SIN +Q1`, `SQRT 25`: the operand follows without brackets.
                 let inner = self.unary(depth + 1)?;
-                Some(self.push(Expr::Param(inner)))
+                return Some(self.push(Expr::Unary(func, inner)));
             }
-            c if self.dialect.lexical.identifier_variables
-                && (c.is_ascii_alphabetic() || c == b'_' || self.at_system_variable(self.i))
-                && {
-                    let end = self.identifier_end(self.i);
-                    Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_none()
-                        || self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_none_or(|x| Some(*x) != expr_open)
-                } =>
-            {
-                let end = self.identifier_end(self.i);
-                let r = self.range(self.i, end);
-                // A lone axis letter (`DEF AXIS _X=X`, `_AX1=Z`, `MOVE(Y, 10)`) is that axis, as an
-                // axis variable's value: a single letter is never a variable.
-                let after = self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).copied();
-                if end == self.i + 1
-                    && self.dialect.letter_role(self.b[self.i].to_ascii_uppercase()).is_some_and(|r| r.is_axis())
-                    && !matches!(after, Some(b'[' | b'=' | b'('))
-                    && after != expr_open
-                {
-                    let letter = self.b[self.i];
-                    self.i = end;
-                    return Some(self.push(Expr::Num(super::super::axis_value(letter))));
-                }
-                self.i = end;
-                if self.peek().is_some() && self.peek() == expr_open {
-                    // `VTOFD[1]`: an element of a named array.
-                    let index = self.unary(depth + 1)?;
-                    return Some(self.push(Expr::NamedIndex(r, index)));
-                }
-                if let Some(index) = self.array_index(depth) {
-                    return Some(self.push(Expr::NamedIndex(r, index?)));
-                }
-                Some(self.push(Expr::Named(r)))
-            }
-            c if c.is_ascii_alphabetic() => {
-                let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
-                let word = self.text[self.i..end].to_ascii_uppercase();
-                let Some(func) = Func::named(&word) else {
-                    self.error(Code::MalformedExpression, start, end, format!("unknown function `{word}`"));
-                    self.i = end;
-                    return None;
-                };
-                self.i = end;
-                self.skip_blanks();
-                if func == Func::Exists {
-                    if !self.expect(expr_open.unwrap_or(b'['), "after EXISTS", start) {
-                        return None;
-                    }
-                    self.skip_blanks();
-                    let has_sigil = sigil.is_some() && self.peek() == sigil;
-                    if has_sigil {
-                        self.i += 1;
-                    }
-                    self.skip_blanks();
-                    let n = if self.peek() == Some(b'<') {
-                        let name = self.name(start)?;
-                        self.push(Expr::Named(name))
-                    } else if !has_sigil {
-                        let end = self.line_end();
-                        self.error(Code::MalformedExpression, start, end, "EXISTS takes a parameter: `EXISTS[#<name>]` or `EXISTS[#1]`");
-                        self.i = end;
-                        return None;
-                    } else {
-                        // `EXISTS[#1]`, `EXISTS[##2]`: whether the index names a parameter.
-                        let index = self.unary(depth + 1)?;
-                        self.push(Expr::Param(index))
-                    };
-                    if !self.expect(expr_close.unwrap_or(b']'), "to close EXISTS", start) {
-                        return None;
-                    }
-                    return Some(self.push(Expr::Unary(Func::Exists, n)));
-                }
-                if self.peek() != expr_open {
-                    if self.dialect.lexical.bare_function_arguments && self.peek().is_some() {
-                        // `SIN +Q1`, `SQRT 25`: the operand follows without brackets.
-                        let inner = self.unary(depth + 1)?;
-                        return Some(self.push(Expr::Unary(func, inner)));
-                    }
-                    self.error(Code::MalformedExpression, start, self.i, format!("`{word}` needs its argument in brackets"));
-                    return None;
-                }
-                if matches!(func, Func::Atan | Func::Pow) && self.has_comma_before_close() {
-                    // Two arguments in one bracket: `ATAN[y,x]`, `POW[a,b]` (Fanuc 30i).
-                    self.i += 1;
-                    let a = self.expr(depth + 1, 0)?;
-                    if !self.expect(b',', "between the two arguments", start) {
-                        return None;
-                    }
-                    let b = self.expr(depth + 1, 0)?;
-                    if !self.expect(expr_close.unwrap_or(b']'), "to close the arguments", start) {
-                        return None;
-                    }
-                    let e = if func == Func::Atan { Expr::Atan2(a, b) } else { Expr::Binary(BinOp::Pow, a, b) };
-                    return Some(self.push(e));
-                }
-                if func == Func::Pow {
-                    self.error(Code::MalformedExpression, start, self.i, "POW needs two arguments: POW[a,b]");
-                    // Skip its bracket, so that the rest of the block reads on.
-                    let _ = self.unary(depth + 1);
-                    return None;
-                }
-                let arg = self.unary(depth + 1)?;
-                if func == Func::Atan {
-                    self.skip_blanks();
-                    if self.peek() == Some(b'/') && self.b.get(self.i + 1).is_some_and(|&n| Some(n) == expr_open || n == b' ') {
-                        self.i += 1;
-                        let x = self.unary(depth + 1)?;
-                        return Some(self.push(Expr::Atan2(arg, x)));
-                    }
-                }
-                Some(self.push(Expr::Unary(func, arg)))
-            }
-            _ => {
-                let len = self.char_len(start);
-                let shown = &self.text[start..start + len];
-                let msg = if matches!(shown, "" | "\r" | "\n") {
-                    "expression ends early".to_owned()
-                } else {
-                    format!("unexpected `{shown}` in expression")
-                };
-                self.error(Code::MalformedExpression, start, (start + len).max(start), msg);
-                None
+            self.error(Code::MalformedExpression, start, self.i, format!("`{word}` needs its argument in brackets"));
+            return None;
+        }
+        if matches!(func, Func::Atan | Func::Pow) && self.has_comma_before_close() {
+            return self.two_arguments(func, depth, start);
+        }
+        if func == Func::Pow {
+            self.error(Code::MalformedExpression, start, self.i, "POW needs two arguments: POW[a,b]");
+            // Skip its bracket, so that the rest of the block reads on.
+            let _ = self.unary(depth + 1);
+            return None;
+        }
+        let arg = self.unary(depth + 1)?;
+        if func == Func::Atan {
+            self.skip_blanks();
+            if self.peek() == Some(b'/') && self.b.get(self.i + 1).is_some_and(|&n| Some(n) == expr_open || n == b' ') {
+                self.i += 1;
+                let x = self.unary(depth + 1)?;
+                return Some(self.push(Expr::Atan2(arg, x)));
             }
         }
+        Some(self.push(Expr::Unary(func, arg)))
+    }
+
+    /// `EXISTS[#<name>]`, `EXISTS[#1]`: whether a parameter is set, after the function's name.
+    fn exists(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        if !self.expect(expr_open.unwrap_or(b'['), "after EXISTS", start) {
+            return None;
+        }
+        self.skip_blanks();
+        let has_sigil = sigil.is_some() && self.peek() == sigil;
+        if has_sigil {
+            self.i += 1;
+        }
+        self.skip_blanks();
+        let n = if self.peek() == Some(b'<') {
+            let name = self.name(start)?;
+            self.push(Expr::Named(name))
+        } else if !has_sigil {
+            let end = self.line_end();
+            self.error(Code::MalformedExpression, start, end, "EXISTS takes a parameter: `EXISTS[#<name>]` or `EXISTS[#1]`");
+            self.i = end;
+            return None;
+        } else {
+            // `EXISTS[#1]`, `EXISTS[##2]`: whether the index names a parameter.
+            let index = self.unary(depth + 1)?;
+            self.push(Expr::Param(index))
+        };
+        if !self.expect(self.expr_close(), "to close EXISTS", start) {
+            return None;
+        }
+        Some(self.push(Expr::Unary(Func::Exists, n)))
+    }
+
+    /// Two arguments in one bracket: `ATAN[y,x]`, `POW[a,b]` (Fanuc 30i).
+    fn two_arguments(&mut self, func: Func, depth: u32, start: usize) -> Option<ExprId> {
+        self.i += 1;
+        let a = self.expr(depth + 1, 0)?;
+        if !self.expect(b',', "between the two arguments", start) {
+            return None;
+        }
+        let b = self.expr(depth + 1, 0)?;
+        if !self.expect(self.expr_close(), "to close the arguments", start) {
+            return None;
+        }
+        let e = if func == Func::Atan { Expr::Atan2(a, b) } else { Expr::Binary(BinOp::Pow, a, b) };
+        Some(self.push(e))
+    }
+
+    /// A finding for what cannot start an operand at `start`.
+    fn unexpected(&mut self, start: usize) -> Option<ExprId> {
+        let len = self.char_len(start);
+        let shown = &self.text[start..start + len];
+        let msg = if matches!(shown, "" | "\r" | "\n") {
+            "expression ends early".to_owned()
+        } else {
+            format!("unexpected `{shown}` in expression")
+        };
+        self.error(Code::MalformedExpression, start, (start + len).max(start), msg);
+        None
     }
 
     /// Whether the bracket at the cursor holds a comma at its own nesting level.

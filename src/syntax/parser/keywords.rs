@@ -9,8 +9,6 @@ use crate::diag::Code;
 use crate::dialect::{KeywordRest, Role};
 
 impl Lexer<'_, '_> {
-    /// A keyword code at the cursor (`TRANS`, `TOOL CALL 5`, `DR+`), longest first. Blanks in
-    /// a keyword match any run of blanks; the keyword must end at a word boundary.
     /// A keyword code whose value is assigned (`SPOS=90`, `SPOS[1]=DC(45)`, `SPOSA=IC(90)`):
     /// the code's word and the value's; without `=` after it the text is no such keyword.
     fn assigned_keyword(&mut self, start: usize, end: usize, idx: usize, role: Option<Role>) -> bool {
@@ -57,6 +55,8 @@ impl Lexer<'_, '_> {
         letter
     }
 
+    /// A keyword code at the cursor (`TRANS`, `TOOL CALL 5`, `DR+`), longest first. Blanks in
+    /// a keyword match any run of blanks; the keyword must end at a word boundary.
     pub(super) fn keyword(&mut self) -> bool {
         if self.dialect.keyword_codes().next().is_none() {
             return false;

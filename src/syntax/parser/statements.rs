@@ -553,6 +553,18 @@ impl Lexer<'_, '_> {
     /// ends, the counter of a `FOR`, a condition (bracketed operands, or one bare expression),
     /// then an optional second keyword and its target.
     fn operands(&mut self, control: &mut Control) {
+        let Some(st) = control.statement else { return };
+        self.skip_blanks();
+        if self.operands_of_their_own(st, control) || !self.condition(st, control) {
+            return;
+        }
+        self.then_clause(st, control);
+    }
+
+    /// The operands of statements that have a form of their own: a loop's number (`DO 1`,
+    /// `END 1`), a section repeat, `CASE`, the target of a jump, label or call, `FOR`. False,
+    /// with nothing read, for any other statement (and a `DO` or `END` without a number).
+    fn operands_of_their_own(&mut self, st: Statement, control: &mut Control) -> bool {
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
         let takes_target = |st: Statement| {
             matches!(
@@ -573,19 +585,17 @@ impl Lexer<'_, '_> {
             c.is_some_and(|c| c.is_ascii_digit() || c == b'+' || c == b'-' || c == b'.' || Some(c) == sigil || Some(c) == expr_open)
         };
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
-        let Some(st) = control.statement else { return };
-        self.skip_blanks();
         if matches!(st, Statement::Do | Statement::EndDo) {
             if starts_operand(self.peek(), sigil) {
                 control.target = self.unary(1);
-                return;
+                return true;
             }
         } else if matches!(st, Statement::RepeatSection | Statement::RepeatBlock) {
             self.repeat_section(control);
-            return;
+            return true;
         } else if st == Statement::Case {
             self.case_branches(control);
-            return;
+            return true;
         } else if takes_target(st) {
             if self.dialect.lexical.control_word.is_none() {
                 self.target(control);
@@ -595,18 +605,26 @@ impl Lexer<'_, '_> {
             } else if starts_operand(self.peek(), sigil) {
                 control.target = self.unary(1);
             }
-            return;
+            return true;
         }
         if st == Statement::For {
             self.for_head(control);
-            return;
+            return true;
         }
+        false
+    }
+
+    /// A condition into `control.args`: one bare expression where the dialect writes
+    /// conditions bare, else each bracketed operand (`o<x> call [1] [2]`). False when an
+    /// operand could not be read.
+    fn condition(&mut self, st: Statement, control: &mut Control) -> bool {
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
         let condition = matches!(st, Statement::If | Statement::ElseIf | Statement::While | Statement::Until);
         if condition && self.dialect.macros.bare_conditions {
             if !self.at_block_end() {
                 match self.expr(1, 0) {
                     Some(e) => control.args.push(e),
-                    None => return,
+                    None => return false,
                 }
             }
         } else {
@@ -623,10 +641,16 @@ impl Lexer<'_, '_> {
                 }
                 match self.unary(1) {
                     Some(e) => control.args.push(e),
-                    None => return,
+                    None => return false,
                 }
             }
         }
+        true
+    }
+
+    /// A second keyword after the condition and its target: `GOTO 10`, `THEN`, `DO 1`; or,
+    /// where the dialect allows, a bare block name after an `IF` condition.
+    fn then_clause(&mut self, st: Statement, control: &mut Control) {
         self.skip_blanks();
         if self.dialect.lexical.control_word.is_some() || !self.peek().is_some_and(|c| c.is_ascii_alphabetic()) {
             return;

@@ -58,39 +58,58 @@ impl Lexer<'_, '_> {
         true
     }
 
+    /// What starts with a letter (or `_`, or a system variable's prefix) at the cursor, tried
+    /// in turn: a label, a named block or program, an axis-indexed word, a keyword code, a
+    /// named cycle, a variable assignment, a multi-letter address, then by its first letter.
     pub(super) fn address(&mut self) {
         let start = self.i;
-        let lex = &self.dialect.lexical;
-        if let Some(suffix) = lex.label_suffix {
-            let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
-            if self.b.get(end) == Some(&(suffix as u8)) && end - start >= 2 && self.block.label.is_none() && self.block.words.is_empty() {
-                self.block.label = Some(self.range(start, end));
-                self.i = end + 1;
-                return;
-            }
-        }
-        // A named block (`NLOOP G0 X1`) or program (`OTBOX`) at block start.
-        let at_start = self.block.words.is_empty() && self.block.label.is_none() && self.block.control.is_none();
-        if at_start && self.b.get(start + 1).is_some_and(u8::is_ascii_alphabetic) {
-            let letter = Some(self.b[start].to_ascii_uppercase() as char);
-            let end = self.identifier_end(start);
-            // `NLAB=1` assigns a variable of that name instead.
-            let assigned = self.b[end..].iter().find(|c| !matches!(c, b' ' | b'\t')) == Some(&b'=');
-            if lex.named_blocks && letter == lex.block_number && !assigned {
-                self.block.label = Some(self.range(start, end));
-                self.i = end;
-                return;
-            }
-            if lex.named_programs && letter == lex.program_number && self.block.assigns.is_empty() && !assigned {
-                self.block.program_name = Some(self.range(start, end));
-                self.i = end;
-                return;
-            }
-        }
-        if self.axis_indexed() || self.keyword() || self.cycle_call() || self.variable_assignment() {
+        if self.label(start) || self.block_or_program_name(start) {
             return;
         }
-        // Multi-letter addresses such as `CR=` (longest first).
+        if self.axis_indexed() || self.keyword() || self.cycle_call() || self.variable_assignment() || self.long_address(start) {
+            return;
+        }
+        self.letter_address(start);
+    }
+
+    /// A label before the dialect's suffix (`MARKE1:`), first in its block.
+    fn label(&mut self, start: usize) -> bool {
+        let Some(suffix) = self.dialect.lexical.label_suffix else { return false };
+        let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
+        if self.b.get(end) == Some(&(suffix as u8)) && end - start >= 2 && self.block.label.is_none() && self.block.words.is_empty() {
+            self.block.label = Some(self.range(start, end));
+            self.i = end + 1;
+            return true;
+        }
+        false
+    }
+
+    /// A named block (`NLOOP G0 X1`) or program (`OTBOX`) at block start.
+    fn block_or_program_name(&mut self, start: usize) -> bool {
+        let lex = &self.dialect.lexical;
+        let at_start = self.block.words.is_empty() && self.block.label.is_none() && self.block.control.is_none();
+        if !(at_start && self.b.get(start + 1).is_some_and(u8::is_ascii_alphabetic)) {
+            return false;
+        }
+        let letter = Some(self.b[start].to_ascii_uppercase() as char);
+        let end = self.identifier_end(start);
+        // `NLAB=1` assigns a variable of that name instead.
+        let assigned = self.b[end..].iter().find(|c| !matches!(c, b' ' | b'\t')) == Some(&b'=');
+        if lex.named_blocks && letter == lex.block_number && !assigned {
+            self.block.label = Some(self.range(start, end));
+            self.i = end;
+            return true;
+        }
+        if lex.named_programs && letter == lex.program_number && self.block.assigns.is_empty() && !assigned {
+            self.block.program_name = Some(self.range(start, end));
+            self.i = end;
+            return true;
+        }
+        false
+    }
+
+    /// Multi-letter addresses such as `CR=` (longest first), with their value.
+    fn long_address(&mut self, start: usize) -> bool {
         for a in self.dialect.long_addresses() {
             let n = a.name.len();
             if self.b.len() >= start + n && self.b[start..start + n].eq_ignore_ascii_case(a.name.as_bytes()) {
@@ -109,10 +128,17 @@ impl Lexer<'_, '_> {
                         let m = if wrapped == WordMode::Modal { mode } else { wrapped };
                         self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode: m, cycle_arg: false });
                     }
-                    return;
+                    return true;
                 }
             }
         }
+        false
+    }
+
+    /// What the first letter at `start` makes of it: a control word, a post's missing value
+    /// (`Xnan`), a statement or call by name, a block or program number, or an address word.
+    fn letter_address(&mut self, start: usize) {
+        let lex = &self.dialect.lexical;
         let letter = self.b[start].to_ascii_uppercase();
         let next = self.b.get(start + 1).copied();
         if lex.control_word == Some(letter as char) {
@@ -135,19 +161,7 @@ impl Lexer<'_, '_> {
         }
         self.i += 1;
         if lex.block_number == Some(letter as char) {
-            if let Some(n) = self.integer(start) {
-                self.block.number = Some(n);
-            }
-            if let Some((skip, SkipPosition::LineStartOrAfterNumber)) = lex.block_skip {
-                self.skip_blanks();
-                if self.peek() == Some(skip as u8) {
-                    self.block.skip = true;
-                    self.i += 1;
-                    if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
-                        self.i += 1;
-                    }
-                }
-            }
+            self.block_number(start);
             return;
         }
         if lex.program_number == Some(letter as char) {
@@ -166,7 +180,32 @@ impl Lexer<'_, '_> {
             );
             return;
         };
-        let assigned = lex.assign_values && {
+        self.letter_word(start, letter, role);
+    }
+
+    /// A block number after its letter (`N120`), and a block skip after it where the dialect
+    /// puts one there (`N10 /2 G0`).
+    fn block_number(&mut self, start: usize) {
+        let lex = &self.dialect.lexical;
+        if let Some(n) = self.integer(start) {
+            self.block.number = Some(n);
+        }
+        if let Some((skip, SkipPosition::LineStartOrAfterNumber)) = lex.block_skip {
+            self.skip_blanks();
+            if self.peek() == Some(skip as u8) {
+                self.block.skip = true;
+                self.i += 1;
+                if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
+                    self.i += 1;
+                }
+            }
+        }
+    }
+
+    /// The value of the address `letter` (of `role`) after it, `=` first where the dialect
+    /// assigns values (`X=10`), as a word.
+    fn letter_word(&mut self, start: usize, letter: u8, role: Role) {
+        let assigned = self.dialect.lexical.assign_values && {
             let j = self.b[self.i..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| self.i + p);
             let eq = self.b.get(j) == Some(&b'=');
             if eq {
@@ -258,7 +297,6 @@ impl Lexer<'_, '_> {
         }
     }
 
-    /// The end of an identifier (letters, digits, `_`) starting at `at`.
     /// `Xnan`, `Y-inf`: what a post writes for a value it could not compute. A finding that
     /// says so, and the word is skipped; false, with nothing read, for anything else.
     fn not_a_number_after(&mut self, at: usize) -> bool {
@@ -284,6 +322,7 @@ impl Lexer<'_, '_> {
         true
     }
 
+    /// The end of an identifier (letters, digits, `_`) starting at `at`.
     /// A system variable's name includes its prefix and a constant index (`$AC_TIME`,
     /// `$A_IN[1]`, `$TC_DP1[1,2]`): the control's data is unknown here whatever the index.
     pub(super) fn identifier_end(&self, at: usize) -> usize {
