@@ -320,7 +320,6 @@ fn corpus_files(dir: &Path) -> Vec<PathBuf> {
 /// resident memory it reports; the slowest files, and the largest time and memory.
 pub fn run_corpus(dir: &Path, out: &mut impl std::io::Write) -> Result<()> {
     const SHOWN: usize = 15;
-    let mb = |b: u64| b as f64 / 1e6;
     let exe = std::env::current_exe()?;
     let exe = exe.to_string_lossy().into_owned();
     let files = corpus_files(dir);
@@ -485,9 +484,21 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
     let exe = std::env::current_exe()?.to_string_lossy().into_owned();
     let _ = std::fs::remove_dir_all(dir);
     std::fs::create_dir_all(dir)?;
-    let mb = |b: u64| b as f64 / 1e6;
+    huge_program(&exe, dir, rows, out)?;
+    let bed = burst_and_idle(&exe, dir, files, out)?;
+    edit_latency(&bed, out)?;
+    bed.stop()?;
+    kill_loop(&exe, dir, kills, out)
+}
 
-    // 1. The huge program: CAM original, then the operator's edit (one feed).
+/// Bytes as megabytes.
+fn mb(b: u64) -> f64 {
+    b as f64 / 1e6
+}
+
+/// The first figures, on a huge program: the CAM original, then the operator's edit (one
+/// feed); the commands on it, then a daemon storing both (time, memory, changes, stored size).
+fn huge_program(exe: &str, dir: &Path, rows: usize, out: &mut impl std::io::Write) -> Result<()> {
     let original = surfacing_program(rows);
     let edited = original.replacen("G1 Z0 F1500", "G1 Z0 F1200", 1);
     let moves = rows * 500 + rows / 10;
@@ -497,26 +508,8 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
     std::fs::write(&edit_path, &edited)?;
     let (o, e) = (orig_path.to_string_lossy().into_owned(), edit_path.to_string_lossy().into_owned());
     writeln!(out, "huge program: {} blocks, {:.1} MB, {moves} moves", rows * 500 + 8, mb(original.len() as u64))?;
-    // What a move costs is measured over `canon`, which streams the same program without
-    // keeping its moves: the difference is the plan's own memory.
-    let (_, streamed) = measured(&exe, &["canon", "-d", "linuxcnc", &o])?;
-    writeln!(out, "  canon          (streams, keeps no moves) peak {:7.1} MB", mb(streamed))?;
-    for (what, args) in [
-        ("plan", vec!["plan", "-d", "linuxcnc", &o]),
-        ("diff", vec!["diff", "-d", "linuxcnc", &o, &e]),
-        ("stepnc --cc2", vec!["stepnc", "-d", "linuxcnc", "--cc2", "--timestamp", "2026-01-01T00:00:00", &o]),
-    ] {
-        let (t, peak) = measured(&exe, &args)?;
-        writeln!(
-            out,
-            "  {what:<14} {:6.2} s  peak {:7.1} MB  {:5.0} B/move over canon ({:.0} B/move in all)",
-            t.as_secs_f64(),
-            mb(peak),
-            peak.saturating_sub(streamed) as f64 / moves as f64,
-            peak as f64 / moves as f64
-        )?;
-    }
-    let bed = Bed::start(&exe, &dir.join("huge"), 100)?;
+    commands_on_huge_program(exe, &o, &e, moves, out)?;
+    let bed = Bed::start(exe, &dir.join("huge"), 100)?;
     std::fs::copy(&orig_path, bed.dir.join("cam/surface.ngc"))?;
     bed.wait_count("SELECT COUNT(*) FROM revisions", 1, Duration::from_secs(300))?;
     std::fs::copy(&edit_path, bed.dir.join("share/surface.ngc"))?;
@@ -552,9 +545,38 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
         mb(original.len() as u64),
         db as f64 / (2.0 * original.len() as f64)
     )?;
+    Ok(())
+}
 
-    // 2. Idle CPU over stored files in a native share.
-    let bed = Bed::start(&exe, &dir.join("idle"), 200)?;
+/// `canon`, `plan`, `diff` and `stepnc` on the huge program `o` (and its edit `e`): time and
+/// peak memory, and what a move costs beyond streaming.
+fn commands_on_huge_program(exe: &str, o: &str, e: &str, moves: usize, out: &mut impl std::io::Write) -> Result<()> {
+    // What a move costs is measured over `canon`, which streams the same program without
+    // keeping its moves: the difference is the plan's own memory.
+    let (_, streamed) = measured(exe, &["canon", "-d", "linuxcnc", o])?;
+    writeln!(out, "  canon          (streams, keeps no moves) peak {:7.1} MB", mb(streamed))?;
+    for (what, args) in [
+        ("plan", vec!["plan", "-d", "linuxcnc", o]),
+        ("diff", vec!["diff", "-d", "linuxcnc", o, e]),
+        ("stepnc --cc2", vec!["stepnc", "-d", "linuxcnc", "--cc2", "--timestamp", "2026-01-01T00:00:00", o]),
+    ] {
+        let (t, peak) = measured(exe, &args)?;
+        writeln!(
+            out,
+            "  {what:<14} {:6.2} s  peak {:7.1} MB  {:5.0} B/move over canon ({:.0} B/move in all)",
+            t.as_secs_f64(),
+            mb(peak),
+            peak.saturating_sub(streamed) as f64 / moves as f64,
+            peak as f64 / moves as f64
+        )?;
+    }
+    Ok(())
+}
+
+/// The second figures: a burst of `files` files, then idle CPU over them stored in a native
+/// share. The daemon is left running for the latency figures.
+fn burst_and_idle(exe: &str, dir: &Path, files: usize, out: &mut impl std::io::Write) -> Result<Bed> {
+    let bed = Bed::start(exe, &dir.join("idle"), 200)?;
     for i in 0..files {
         std::fs::write(
             bed.dir.join(format!("share/P{i:05}.nc")),
@@ -573,8 +595,12 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
         "idle: {:.2}% of a core over 10 s with {files} stored files in a native share",
         100.0 * (c1 - c0).as_secs_f64() / (t1 - t0).as_secs_f64()
     )?;
+    Ok(bed)
+}
 
-    // 3. Latency of 20 edits, from the write to the stored revision (settle window 200 ms included).
+/// The third figures: the latency of 20 edits, from the write to the stored revision (settle
+/// window 200 ms included), on the daemon `bed`.
+fn edit_latency(bed: &Bed, out: &mut impl std::io::Write) -> Result<()> {
     let mut lat = Vec::new();
     for i in 0..20 {
         let before = bed.count("SELECT COUNT(*) FROM revisions");
@@ -596,11 +622,14 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
         lat[lat.len() / 2].as_secs_f64() * 1e3,
         lat[lat.len() - 1].as_secs_f64() * 1e3
     )?;
-    bed.stop()?;
+    Ok(())
+}
 
-    // 4. A kill loop: files written in place in two pieces while the daemon is killed -9 again and again.
+/// The fourth figures, a kill loop: files written in place in two pieces while the daemon is
+/// killed -9 again and again; then what was lost, duplicated, or stored partial.
+fn kill_loop(exe: &str, dir: &Path, kills: usize, out: &mut impl std::io::Write) -> Result<()> {
     let kill_dir = dir.join("kills");
-    let mut bed = Bed::start(&exe, &kill_dir, 100)?;
+    let mut bed = Bed::start(exe, &kill_dir, 100)?;
     let mut versions: std::collections::BTreeMap<String, Vec<String>> = std::collections::BTreeMap::new();
     let mut written = 0usize;
     for k in 0..kills {
@@ -621,7 +650,7 @@ pub fn run_daemon(dir: &Path, rows: usize, files: usize, kills: usize, out: &mut
         bed = Bed {
             dir: kill_dir.clone(),
             db: crate::store::Location::Sqlite(kill_dir.join("var/ncplan.db")),
-            child: Command::new(&exe)
+            child: Command::new(exe)
                 .args(["watch", "--config"])
                 .arg(kill_dir.join("ncplan.toml"))
                 .stdout(Stdio::null())

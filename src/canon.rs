@@ -473,58 +473,34 @@ pub fn write_call(out: &mut String, op: &CanonOp) {
     out.push_str(&String::from_utf8_lossy(&bytes));
 }
 
-/// [`write_call`] into bytes (UTF-8), for printers that write to a stream.
+/// [`write_call`] into bytes (UTF-8), for printers that write to a stream. One line per
+/// call; the calls with more to them than a name and numbers have writers of their own.
 pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
     match op {
-        CanonOp::UseLengthUnits(u) => {
-            out.extend_from_slice(match u {
-                Units::Mm => b"USE_LENGTH_UNITS(CANON_UNITS_MM)",
-                Units::Inch => b"USE_LENGTH_UNITS(CANON_UNITS_INCHES)",
-            });
-        }
-        CanonOp::SelectPlane(p) => {
-            out.extend_from_slice(match p {
-                Plane::Xy => b"SELECT_PLANE(CANON_PLANE_XY)",
-                Plane::Xz => b"SELECT_PLANE(CANON_PLANE_XZ)",
-                Plane::Yz => b"SELECT_PLANE(CANON_PLANE_YZ)",
-            });
-        }
+        CanonOp::UseLengthUnits(u) => out.extend_from_slice(length_units(*u)),
+        CanonOp::SelectPlane(p) => out.extend_from_slice(select_plane(*p)),
         CanonOp::SetG5xOffset(i, v) => {
-            let _ = write!(out, "SET_G5X_OFFSET({i}, ");
-            join6(out, v);
-            out.push(b')');
+            put(out, format_args!("SET_G5X_OFFSET({i}, "));
+            six_then_close(out, v);
         }
         CanonOp::SetG92Offset(v) => {
             out.extend_from_slice(b"SET_G92_OFFSET(");
-            join6(out, v);
-            out.push(b')');
+            six_then_close(out, v);
         }
-        CanonOp::SetFeedRate(f) => {
-            let _ = write!(out, "SET_FEED_RATE({})", F4(*f));
-        }
-        CanonOp::SetSpindleSpeed(s) => {
-            let _ = write!(out, "SET_SPINDLE_SPEED(0, {})", F4(*s));
-        }
+        CanonOp::SetFeedRate(f) => put(out, format_args!("SET_FEED_RATE({})", F4(*f))),
+        CanonOp::SetSpindleSpeed(s) => put(out, format_args!("SET_SPINDLE_SPEED(0, {})", F4(*s))),
         CanonOp::StartSpindleClockwise => out.extend_from_slice(b"START_SPINDLE_CLOCKWISE(0)"),
         CanonOp::StartSpindleCounterclockwise => out.extend_from_slice(b"START_SPINDLE_COUNTERCLOCKWISE(0)"),
         CanonOp::StopSpindleTurning => out.extend_from_slice(b"STOP_SPINDLE_TURNING(0)"),
-        CanonOp::SelectTool(t) => {
-            let _ = write!(out, "SELECT_TOOL({t})");
-        }
-        CanonOp::ChangeTool(t) => {
-            let _ = write!(out, "CHANGE_TOOL({t})");
-        }
-        CanonOp::ChangeToolNumber(t) => {
-            let _ = write!(out, "CHANGE_TOOL_NUMBER({t})");
-        }
-        CanonOp::UseToolLengthOffset([x, y, z]) => {
-            let _ = write!(out, "USE_TOOL_LENGTH_OFFSET({} {} {}, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)", F4(*x), F4(*y), F4(*z));
-        }
+        CanonOp::SelectTool(t) => put(out, format_args!("SELECT_TOOL({t})")),
+        CanonOp::ChangeTool(t) => put(out, format_args!("CHANGE_TOOL({t})")),
+        CanonOp::ChangeToolNumber(t) => put(out, format_args!("CHANGE_TOOL_NUMBER({t})")),
+        CanonOp::UseToolLengthOffset(offset) => tool_length_offset(out, offset),
         CanonOp::StraightTraverse(p) => straight(out, b"STRAIGHT_TRAVERSE(", p, push_f4),
         CanonOp::StraightFeed(p) => straight(out, b"STRAIGHT_FEED(", p, push_f4),
-        CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
-            let _ = write!(
-                out,
+        CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => put(
+            out,
+            format_args!(
                 "ARC_FEED({}, {}, {}, {}, {rotation}, {}, {}, {}, {})",
                 F4(*first_end),
                 F4(*second_end),
@@ -534,11 +510,9 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
                 F4(abc[0]),
                 F4(abc[1]),
                 F4(abc[2])
-            );
-        }
-        CanonOp::Dwell(s) => {
-            let _ = write!(out, "DWELL({})", F4(*s));
-        }
+            ),
+        ),
+        CanonOp::Dwell(s) => put(out, format_args!("DWELL({})", F4(*s))),
         CanonOp::MistOn => out.extend_from_slice(b"MIST_ON()"),
         CanonOp::MistOff => out.extend_from_slice(b"MIST_OFF()"),
         CanonOp::FloodOn => out.extend_from_slice(b"FLOOD_ON()"),
@@ -549,103 +523,145 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::SpeedOverride(on) => out.extend_from_slice(if *on { b"ENABLE_SPEED_OVERRIDE(0)" } else { b"DISABLE_SPEED_OVERRIDE(0)" }),
         CanonOp::ProgramEnd => out.extend_from_slice(b"PROGRAM_END()"),
         CanonOp::Finish => out.extend_from_slice(b"FINISH()"),
-        CanonOp::Comment(s) => {
-            out.extend_from_slice(b"COMMENT(");
-            quoted(out, s);
-            out.push(b')');
-        }
-        CanonOp::Message(s) => {
-            out.extend_from_slice(b"MESSAGE(");
-            quoted(out, s);
-            out.push(b')');
-        }
-        CanonOp::Log(kind, s) => {
-            out.extend_from_slice(match kind {
-                LogFile::Open => b"LOGOPEN(".as_slice(),
-                LogFile::Append => b"LOGAPPEND(",
-                LogFile::Close => b"LOGCLOSE(",
-                LogFile::Line => b"LOG(",
-            });
-            if *kind != LogFile::Close {
-                quoted(out, s);
-            }
-            out.push(b')');
-        }
-        CanonOp::DistanceMode(m) => out.extend_from_slice(match m {
-            DistanceMode::Absolute => b"COMMENT(\"interpreter: distance mode changed to absolute\")",
-            DistanceMode::Incremental => b"COMMENT(\"interpreter: distance mode changed to incremental\")",
-        }),
-        CanonOp::CycleBegin(c) => {
-            let _ = write!(
-                out,
-                "COMMENT(\"ncplan: cycle begin {} {} x={} y={} bottom={} r={} clear={}",
-                c.code,
-                c.kind.label(),
-                F4(c.x),
-                F4(c.y),
-                F4(c.bottom),
-                F4(c.r_plane),
-                F4(c.clear)
-            );
-            if let Some(q) = c.peck {
-                let _ = write!(out, " q={}", F4(q));
-            }
-            if let Some(p) = c.dwell {
-                let _ = write!(out, " dwell={}", F4(p));
-            }
-            out.extend_from_slice(b"\")");
-        }
+        CanonOp::Comment(s) => text_call(out, b"COMMENT(", s),
+        CanonOp::Message(s) => text_call(out, b"MESSAGE(", s),
+        CanonOp::Log(kind, s) => log_call(out, *kind, s),
+        CanonOp::DistanceMode(m) => out.extend_from_slice(distance_mode(*m)),
+        CanonOp::CycleBegin(c) => cycle_begin(out, c),
         CanonOp::CycleEnd => out.extend_from_slice(b"COMMENT(\"ncplan: cycle end\")"),
-        CanonOp::ToolAxis([i, j, k]) => {
-            let _ = write!(out, "COMMENT(\"ncplan: tool axis {i:.6} {j:.6} {k:.6}\")");
-        }
+        CanonOp::ToolAxis([i, j, k]) => put(out, format_args!("COMMENT(\"ncplan: tool axis {i:.6} {j:.6} {k:.6}\")")),
         CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
-        CanonOp::Setting(s) => {
-            let _ = match s {
-                Setting::LengthOffset(h) => write!(out, "COMMENT(\"ncplan: length offset H{h}\")"),
-                Setting::CutterComp(None) => write!(out, "COMMENT(\"ncplan: cutter compensation off\")"),
-                Setting::CutterComp(Some((left, d))) => {
-                    let side = if *left { "left" } else { "right" };
-                    match d {
-                        Some(d) => write!(out, "COMMENT(\"ncplan: cutter compensation {side} D{d}\")"),
-                        None => write!(out, "COMMENT(\"ncplan: cutter compensation {side}\")"),
-                    }
-                }
-                Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
-                Setting::ToolName(n, name) => {
-                    let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
-                    write!(out, "COMMENT(\"ncplan: tool {n} is {name}\")")
-                }
-            };
-        }
-        CanonOp::SetFeedMode(m) => out.extend_from_slice(match m {
-            FeedMode::PerMinute => b"SET_FEED_MODE(0, 0)",
-            FeedMode::PerRevolution => b"SET_FEED_MODE(0, 1)",
-        }),
-        CanonOp::SetSpindleMode(max) => {
-            let _ = write!(out, "SET_SPINDLE_MODE(0 {})", F4(max.unwrap_or(0.0)));
-        }
-        CanonOp::StartSpeedFeedSync(pitch) => {
-            let _ = write!(out, "START_SPEED_FEED_SYNC({pitch:.6},0)");
-        }
+        CanonOp::Setting(s) => setting(out, s),
+        CanonOp::SetFeedMode(m) => out.extend_from_slice(feed_mode(*m)),
+        CanonOp::SetSpindleMode(max) => put(out, format_args!("SET_SPINDLE_MODE(0 {})", F4(max.unwrap_or(0.0)))),
+        CanonOp::StartSpeedFeedSync(pitch) => put(out, format_args!("START_SPEED_FEED_SYNC({pitch:.6},0)")),
         CanonOp::StopSpeedFeedSync => out.extend_from_slice(b"STOP_SPEED_FEED_SYNCH()"),
-        CanonOp::RigidTap([x, y, z]) => {
-            let _ = write!(out, "RIGID_TAP({}, {}, {})", F4(*x), F4(*y), F4(*z));
-        }
-        CanonOp::OrientSpindle { angle, mode } => {
-            let _ = write!(out, "ORIENT_SPINDLE(0, {}, {mode})", F4(*angle));
-        }
+        CanonOp::RigidTap([x, y, z]) => put(out, format_args!("RIGID_TAP({}, {}, {})", F4(*x), F4(*y), F4(*z))),
+        CanonOp::OrientSpindle { angle, mode } => put(out, format_args!("ORIENT_SPINDLE(0, {}, {mode})", F4(*angle))),
         CanonOp::TurnProbeOn => out.extend_from_slice(b"TURN_PROBE_ON()"),
         CanonOp::TurnProbeOff => out.extend_from_slice(b"TURN_PROBE_OFF()"),
         CanonOp::StraightProbe(p) => straight(out, b"STRAIGHT_PROBE(", p, push_f4),
-        CanonOp::NurbsFeed { points, .. } => {
-            let _ = write!(out, "NURBS_FEED({points}, ...)");
-        }
-        CanonOp::WaitOrientComplete(t) => {
-            let _ = write!(out, "SPINDLE.0.WAIT_ORIENT_COMPLETE({})", F4(*t));
-        }
+        CanonOp::NurbsFeed { points, .. } => put(out, format_args!("NURBS_FEED({points}, ...)")),
+        CanonOp::WaitOrientComplete(t) => put(out, format_args!("SPINDLE.0.WAIT_ORIENT_COMPLETE({})", F4(*t))),
     }
     out.push(b'\n');
+}
+
+/// Appends formatted text (`write!` into bytes, which cannot fail).
+fn put(out: &mut Vec<u8>, args: fmt::Arguments<'_>) {
+    let _ = out.write_fmt(args);
+}
+
+/// `USE_LENGTH_UNITS(...)`.
+fn length_units(u: Units) -> &'static [u8] {
+    match u {
+        Units::Mm => b"USE_LENGTH_UNITS(CANON_UNITS_MM)",
+        Units::Inch => b"USE_LENGTH_UNITS(CANON_UNITS_INCHES)",
+    }
+}
+
+/// `SELECT_PLANE(...)`.
+fn select_plane(p: Plane) -> &'static [u8] {
+    match p {
+        Plane::Xy => b"SELECT_PLANE(CANON_PLANE_XY)",
+        Plane::Xz => b"SELECT_PLANE(CANON_PLANE_XZ)",
+        Plane::Yz => b"SELECT_PLANE(CANON_PLANE_YZ)",
+    }
+}
+
+/// The six numbers of an offset call and its closing bracket.
+fn six_then_close(out: &mut Vec<u8>, v: &[f64; 6]) {
+    join6(out, v);
+    out.push(b')');
+}
+
+/// `USE_TOOL_LENGTH_OFFSET(x y z, ...)`: the offsets, and rs274's zero wear and zero
+/// rotary offsets.
+fn tool_length_offset(out: &mut Vec<u8>, [x, y, z]: &[f64; 3]) {
+    put(out, format_args!("USE_TOOL_LENGTH_OFFSET({} {} {}, 0.0000 0.0000 0.0000, 0.0000 0.0000 0.0000)", F4(*x), F4(*y), F4(*z)));
+}
+
+/// `NAME("text")`: a call whose one argument is quoted text.
+fn text_call(out: &mut Vec<u8>, name: &[u8], s: &str) {
+    out.extend_from_slice(name);
+    quoted(out, s);
+    out.push(b')');
+}
+
+/// `LOGOPEN("file")`, `LOGAPPEND("file")`, `LOG("line")`, `LOGCLOSE()`.
+fn log_call(out: &mut Vec<u8>, kind: LogFile, s: &str) {
+    out.extend_from_slice(match kind {
+        LogFile::Open => b"LOGOPEN(".as_slice(),
+        LogFile::Append => b"LOGAPPEND(",
+        LogFile::Close => b"LOGCLOSE(",
+        LogFile::Line => b"LOG(",
+    });
+    if kind != LogFile::Close {
+        quoted(out, s);
+    }
+    out.push(b')');
+}
+
+/// The comment LinuxCNC's interpreter writes when the distance mode changes.
+fn distance_mode(m: DistanceMode) -> &'static [u8] {
+    match m {
+        DistanceMode::Absolute => b"COMMENT(\"interpreter: distance mode changed to absolute\")",
+        DistanceMode::Incremental => b"COMMENT(\"interpreter: distance mode changed to incremental\")",
+    }
+}
+
+/// ncplan's marker of a canned cycle's start: its code, kind, position, levels, and the peck
+/// and dwell where it has them.
+fn cycle_begin(out: &mut Vec<u8>, c: &CycleIntent) {
+    put(
+        out,
+        format_args!(
+            "COMMENT(\"ncplan: cycle begin {} {} x={} y={} bottom={} r={} clear={}",
+            c.code,
+            c.kind.label(),
+            F4(c.x),
+            F4(c.y),
+            F4(c.bottom),
+            F4(c.r_plane),
+            F4(c.clear)
+        ),
+    );
+    if let Some(q) = c.peck {
+        put(out, format_args!(" q={}", F4(q)));
+    }
+    if let Some(p) = c.dwell {
+        put(out, format_args!(" dwell={}", F4(p)));
+    }
+    out.extend_from_slice(b"\")");
+}
+
+/// ncplan's marker of a setting: a length offset, cutter compensation, an optional block, a
+/// tool's name (without the characters a comment cannot hold).
+fn setting(out: &mut Vec<u8>, s: &Setting) {
+    let _ = match s {
+        Setting::LengthOffset(h) => write!(out, "COMMENT(\"ncplan: length offset H{h}\")"),
+        Setting::CutterComp(None) => write!(out, "COMMENT(\"ncplan: cutter compensation off\")"),
+        Setting::CutterComp(Some((left, d))) => {
+            let side = if *left { "left" } else { "right" };
+            match d {
+                Some(d) => write!(out, "COMMENT(\"ncplan: cutter compensation {side} D{d}\")"),
+                None => write!(out, "COMMENT(\"ncplan: cutter compensation {side}\")"),
+            }
+        }
+        Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
+        Setting::ToolName(n, name) => {
+            let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
+            write!(out, "COMMENT(\"ncplan: tool {n} is {name}\")")
+        }
+    };
+}
+
+/// `SET_FEED_MODE(0, mode)`.
+fn feed_mode(m: FeedMode) -> &'static [u8] {
+    match m {
+        FeedMode::PerMinute => b"SET_FEED_MODE(0, 0)",
+        FeedMode::PerRevolution => b"SET_FEED_MODE(0, 1)",
+    }
 }
 
 /// Writes canonical calls like [`write_call_bytes`], remembering recently formatted numbers of

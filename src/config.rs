@@ -382,80 +382,19 @@ pub struct Config {
 }
 
 impl Config {
-    /// Parses and validates `text`; relative paths are resolved against `base`.
+    /// Parses and validates `text`; relative paths are resolved against `base`. The first
+    /// fault found is the error: folders, the database and site, the matching pattern, the
+    /// analysis profile, the daemon's settings, in that order.
     pub fn parse(text: &str, base: &Path) -> Result<Config> {
         let raw: RawConfig = toml::from_str(text).context("invalid configuration")?;
-        let abs = |p: &str| if Path::new(p).is_absolute() { PathBuf::from(p) } else { base.join(p) };
         let mut folders = Vec::new();
         for f in &raw.cam {
-            folders.push(Folder {
-                role: Role::Cam,
-                name: "CAM".into(),
-                path: abs(&f.path),
-                dialect: f.dialect.clone(),
-                poll: f.poll,
-                poll_ms: f.poll_ms.unwrap_or(2000),
-                decimal_input: None,
-                program_role: program_role(f.role.as_deref(), &f.path)?,
-                limits: MachineLimits::default(),
-                tools: folder_tools(f.tool_table.as_deref().map(abs).as_deref(), &[], &f.path)?,
-            });
+            folders.push(cam_folder(f, base)?);
         }
         for m in &raw.machine {
-            if m.name.trim().is_empty() {
-                bail!("a [[machine]] needs a name");
-            }
-            if raw.machine.iter().filter(|x| x.name == m.name).count() > 1 {
-                bail!("machine `{}` is configured twice", m.name);
-            }
-            let decimal_input = match m.decimal_input.as_deref() {
-                None => None,
-                Some("calculator") => Some(DecimalRule::Calculator),
-                Some("least-increment") => Some(DecimalRule::LeastIncrement),
-                Some(other) => bail!("machine `{}`: decimal_input must be calculator or least-increment, not `{other}`", m.name),
-            };
-            let units = match m.units.as_deref() {
-                None => None,
-                Some("mm") => Some(crate::canon::Units::Mm),
-                Some("inch") => Some(crate::canon::Units::Inch),
-                Some(other) => bail!("machine `{}`: units must be mm or inch, not `{other}`", m.name),
-            };
-            let travel = match (m.travel_min, m.travel_max) {
-                (Some(lo), Some(hi)) => Some((lo, hi)),
-                (None, None) => None,
-                _ => bail!("machine `{}`: give both travel_min and travel_max, or neither", m.name),
-            };
-            let limits = MachineLimits { units, max_spindle_speed: m.max_spindle_speed, max_feed: m.max_feed, travel };
-            folders.push(Folder {
-                limits,
-                role: Role::Machine,
-                name: m.name.clone(),
-                path: abs(&m.path),
-                dialect: m.dialect.clone(),
-                poll: m.poll,
-                poll_ms: m.poll_ms.unwrap_or(2000),
-                decimal_input,
-                program_role: program_role(m.role.as_deref(), &m.name)?,
-                tools: folder_tools(m.tool_table.as_deref().map(abs).as_deref(), &m.tool, &m.name)?,
-            });
+            folders.push(machine_folder(m, &raw.machine, base)?);
         }
-        let database = match (&raw.database.path, &raw.database.url) {
-            (Some(path), None) => {
-                if raw.database.password_file.is_some() {
-                    bail!("[database] password_file goes with a PostgreSQL url, not a SQLite path");
-                }
-                crate::store::Location::Sqlite(abs(path))
-            }
-            (None, Some(url)) if crate::store::location::is_url(url) => {
-                if raw.site.is_none() {
-                    bail!("a PostgreSQL database is shared by many servers: name this one's site at the top (site = \"HALL2\")");
-                }
-                crate::store::Location::postgres(url, raw.database.password_file.as_deref().map(abs))
-            }
-            (None, Some(_)) => bail!("[database] url must start with postgresql:// (a SQLite file is given as path)"),
-            (Some(_), Some(_)) => bail!("[database] has both path and url: give one"),
-            (None, None) => bail!("[database] needs a path (SQLite) or a url (PostgreSQL)"),
-        };
+        let database = database(&raw, base)?;
         let site = raw.site.clone().unwrap_or_default();
         if site.trim() != site || site.chars().any(char::is_control) {
             bail!("site `{site}` has blanks at its ends or control characters");
@@ -469,65 +408,13 @@ impl Config {
                 );
             }
         }
-        let pattern = match raw.matching.pattern.as_deref().filter(|p| !p.is_empty()) {
-            Some(p) => {
-                let re = regex::Regex::new(p).with_context(|| format!("invalid matching pattern `{p}`"))?;
-                if re.capture_names().all(|n| n != Some("key")) {
-                    bail!("the matching pattern `{p}` needs a named group `(?P<key>...)`");
-                }
-                Some(re)
-            }
-            None => None,
-        };
-        let mut profile = Profile::default();
-        if let Some(n) = raw.analysis.max_repeated_blocks {
-            if n == 0 {
-                bail!("[analysis] max_repeated_blocks must be at least 1");
-            }
-            profile.max_repeated_blocks = n;
-        }
-        profile.unknown_conditions = raw.analysis.unknown_conditions;
-        let position = |what: &str, v: &Option<Vec<f64>>| -> Result<[f64; 6]> {
-            let Some(v) = v else { return Ok([0.0; 6]) };
-            if v.is_empty() || v.len() > 6 || v.iter().any(|x| !x.is_finite()) {
-                bail!("[reference] {what} must list 1 to 6 finite numbers (X Y Z A B C)");
-            }
-            let mut p = [0.0; 6];
-            p[..v.len()].copy_from_slice(v);
-            Ok(p)
-        };
-        profile.home1 = position("g28", &raw.reference.g28)?;
-        profile.home2 = position("g30", &raw.reference.g30)?;
-        if let Some(dir) = &raw.programs_dir {
-            profile.programs =
-                Some(std::sync::Arc::new(DirPrograms { dir: abs(dir), max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20) }));
-        }
-        if let Some(table) = &raw.tool_table {
-            profile.tools = read_tool_table(&abs(table))?;
-        }
-        profile.tools.extend(configured_tools(&raw.tool, "")?);
-        if let Some(st) = &raw.stock {
-            if st.min.iter().zip(&st.max).any(|(a, b)| a >= b || !a.is_finite() || !b.is_finite()) {
-                bail!("[stock] min must be below max on every axis");
-            }
-            profile.stock = Some([st.min, st.max]);
-        }
-        if raw.daemon.settle_ms < MIN_SETTLE_MS {
-            bail!("[daemon] settle_ms = {} is below the least that tells a settled file, {MIN_SETTLE_MS}", raw.daemon.settle_ms);
-        }
-        if raw.daemon.rescan_s < MIN_RESCAN_S {
-            bail!("[daemon] rescan_s = {} is below the least, {MIN_RESCAN_S} (a rescan reads every file)", raw.daemon.rescan_s);
-        }
-        if raw.daemon.workers == 0 {
-            bail!("[daemon] workers must be at least 1");
-        }
-        if raw.daemon.max_file_mb == 0 {
-            bail!("[daemon] max_file_mb must be at least 1");
-        }
+        let pattern = matching_pattern(&raw.matching)?;
+        let profile = profile(&raw, base)?;
+        check_daemon(&raw.daemon)?;
         Ok(Config {
             database,
             site,
-            dialects_dir: raw.dialects_dir.map(|d| abs(&d)),
+            dialects_dir: raw.dialects_dir.map(|d| resolve(base, &d)),
             folders,
             settle_ms: raw.daemon.settle_ms,
             rescan_s: raw.daemon.rescan_s,
@@ -598,6 +485,159 @@ impl Config {
     pub fn ignored(&self, name: &str) -> bool {
         self.ignore.iter().any(|g| glob_match(g.as_bytes(), name.as_bytes()))
     }
+}
+
+/// `p` as given where it is absolute, else below the configuration's folder `base`.
+fn resolve(base: &Path, p: &str) -> PathBuf {
+    if Path::new(p).is_absolute() { PathBuf::from(p) } else { base.join(p) }
+}
+
+/// A `[[cam]]` folder.
+fn cam_folder(f: &RawFolder, base: &Path) -> Result<Folder> {
+    Ok(Folder {
+        role: Role::Cam,
+        name: "CAM".into(),
+        path: resolve(base, &f.path),
+        dialect: f.dialect.clone(),
+        poll: f.poll,
+        poll_ms: f.poll_ms.unwrap_or(2000),
+        decimal_input: None,
+        program_role: program_role(f.role.as_deref(), &f.path)?,
+        limits: MachineLimits::default(),
+        tools: folder_tools(f.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &[], &f.path)?,
+    })
+}
+
+/// A `[[machine]]` share, named once among `machines`, with its decimal-point rule, units,
+/// limits and tools.
+fn machine_folder(m: &RawMachine, machines: &[RawMachine], base: &Path) -> Result<Folder> {
+    if m.name.trim().is_empty() {
+        bail!("a [[machine]] needs a name");
+    }
+    if machines.iter().filter(|x| x.name == m.name).count() > 1 {
+        bail!("machine `{}` is configured twice", m.name);
+    }
+    let decimal_input = match m.decimal_input.as_deref() {
+        None => None,
+        Some("calculator") => Some(DecimalRule::Calculator),
+        Some("least-increment") => Some(DecimalRule::LeastIncrement),
+        Some(other) => bail!("machine `{}`: decimal_input must be calculator or least-increment, not `{other}`", m.name),
+    };
+    let units = match m.units.as_deref() {
+        None => None,
+        Some("mm") => Some(crate::canon::Units::Mm),
+        Some("inch") => Some(crate::canon::Units::Inch),
+        Some(other) => bail!("machine `{}`: units must be mm or inch, not `{other}`", m.name),
+    };
+    let travel = match (m.travel_min, m.travel_max) {
+        (Some(lo), Some(hi)) => Some((lo, hi)),
+        (None, None) => None,
+        _ => bail!("machine `{}`: give both travel_min and travel_max, or neither", m.name),
+    };
+    let limits = MachineLimits { units, max_spindle_speed: m.max_spindle_speed, max_feed: m.max_feed, travel };
+    Ok(Folder {
+        limits,
+        role: Role::Machine,
+        name: m.name.clone(),
+        path: resolve(base, &m.path),
+        dialect: m.dialect.clone(),
+        poll: m.poll,
+        poll_ms: m.poll_ms.unwrap_or(2000),
+        decimal_input,
+        program_role: program_role(m.role.as_deref(), &m.name)?,
+        tools: folder_tools(m.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &m.tool, &m.name)?,
+    })
+}
+
+/// `[database]`: a SQLite `path`, or a PostgreSQL `url` (which needs the server's site named).
+fn database(raw: &RawConfig, base: &Path) -> Result<crate::store::Location> {
+    Ok(match (&raw.database.path, &raw.database.url) {
+        (Some(path), None) => {
+            if raw.database.password_file.is_some() {
+                bail!("[database] password_file goes with a PostgreSQL url, not a SQLite path");
+            }
+            crate::store::Location::Sqlite(resolve(base, path))
+        }
+        (None, Some(url)) if crate::store::location::is_url(url) => {
+            if raw.site.is_none() {
+                bail!("a PostgreSQL database is shared by many servers: name this one's site at the top (site = \"HALL2\")");
+            }
+            crate::store::Location::postgres(url, raw.database.password_file.as_deref().map(|p| resolve(base, p)))
+        }
+        (None, Some(_)) => bail!("[database] url must start with postgresql:// (a SQLite file is given as path)"),
+        (Some(_), Some(_)) => bail!("[database] has both path and url: give one"),
+        (None, None) => bail!("[database] needs a path (SQLite) or a url (PostgreSQL)"),
+    })
+}
+
+/// `[matching] pattern`: a regex with a `key` group, or none.
+fn matching_pattern(matching: &RawMatching) -> Result<Option<regex::Regex>> {
+    Ok(match matching.pattern.as_deref().filter(|p| !p.is_empty()) {
+        Some(p) => {
+            let re = regex::Regex::new(p).with_context(|| format!("invalid matching pattern `{p}`"))?;
+            if re.capture_names().all(|n| n != Some("key")) {
+                bail!("the matching pattern `{p}` needs a named group `(?P<key>...)`");
+            }
+            Some(re)
+        }
+        None => None,
+    })
+}
+
+/// The machine profile the analysis runs with: `[analysis]` limits, `[reference]`
+/// positions, the called programs' folder, the tool table and `[[tool]]` entries, `[stock]`.
+fn profile(raw: &RawConfig, base: &Path) -> Result<Profile> {
+    let mut profile = Profile::default();
+    if let Some(n) = raw.analysis.max_repeated_blocks {
+        if n == 0 {
+            bail!("[analysis] max_repeated_blocks must be at least 1");
+        }
+        profile.max_repeated_blocks = n;
+    }
+    profile.unknown_conditions = raw.analysis.unknown_conditions;
+    let position = |what: &str, v: &Option<Vec<f64>>| -> Result<[f64; 6]> {
+        let Some(v) = v else { return Ok([0.0; 6]) };
+        if v.is_empty() || v.len() > 6 || v.iter().any(|x| !x.is_finite()) {
+            bail!("[reference] {what} must list 1 to 6 finite numbers (X Y Z A B C)");
+        }
+        let mut p = [0.0; 6];
+        p[..v.len()].copy_from_slice(v);
+        Ok(p)
+    };
+    profile.home1 = position("g28", &raw.reference.g28)?;
+    profile.home2 = position("g30", &raw.reference.g30)?;
+    if let Some(dir) = &raw.programs_dir {
+        profile.programs =
+            Some(std::sync::Arc::new(DirPrograms { dir: resolve(base, dir), max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20) }));
+    }
+    if let Some(table) = &raw.tool_table {
+        profile.tools = read_tool_table(&resolve(base, table))?;
+    }
+    profile.tools.extend(configured_tools(&raw.tool, "")?);
+    if let Some(st) = &raw.stock {
+        if st.min.iter().zip(&st.max).any(|(a, b)| a >= b || !a.is_finite() || !b.is_finite()) {
+            bail!("[stock] min must be below max on every axis");
+        }
+        profile.stock = Some([st.min, st.max]);
+    }
+    Ok(profile)
+}
+
+/// `[daemon]`: the settle window, rescan interval, workers and file size within bounds.
+fn check_daemon(daemon: &RawDaemon) -> Result<()> {
+    if daemon.settle_ms < MIN_SETTLE_MS {
+        bail!("[daemon] settle_ms = {} is below the least that tells a settled file, {MIN_SETTLE_MS}", daemon.settle_ms);
+    }
+    if daemon.rescan_s < MIN_RESCAN_S {
+        bail!("[daemon] rescan_s = {} is below the least, {MIN_RESCAN_S} (a rescan reads every file)", daemon.rescan_s);
+    }
+    if daemon.workers == 0 {
+        bail!("[daemon] workers must be at least 1");
+    }
+    if daemon.max_file_mb == 0 {
+        bail!("[daemon] max_file_mb must be at least 1");
+    }
+    Ok(())
 }
 
 /// `*` and `?` glob matching on bytes.

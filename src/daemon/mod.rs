@@ -8,6 +8,7 @@
 
 pub mod ingest;
 mod systemd;
+mod workers;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -20,9 +21,9 @@ use tokio::sync::mpsc;
 
 use crate::config::Config;
 use crate::dialect::Registry;
-use crate::store::Store;
 pub use ingest::{Outcome, Snapshot, ingest};
 use systemd::Notifier;
+use workers::Job;
 
 /// A wall clock, injected so that tests and replays are deterministic.
 pub trait Clock: Send + Sync {
@@ -112,21 +113,6 @@ struct Share {
     root: PathBuf,
 }
 
-/// A settled file for a worker.
-struct Job {
-    path: PathBuf,
-    folder: usize,
-    snapshot: Snapshot,
-    /// The folder's real path.
-    root: PathBuf,
-}
-
-/// Workers: one per core, at least one and at most `[daemon] workers` (default 4).
-fn worker_count(config: &Config) -> usize {
-    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
-    cores.clamp(1, config.workers.max(1))
-}
-
 /// Runs the daemon until SIGTERM or SIGINT.
 pub fn run(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<()> {
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().context("cannot start the runtime")?;
@@ -145,65 +131,16 @@ struct Daemon {
     tx: mpsc::UnboundedSender<Event>,
 }
 
+/// The daemon's life: workers started, shares armed and scanned (the catch-up), then the
+/// event loop until a signal, then the file in progress finished.
 async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<()> {
     let notifier = Notifier::from_env();
-    for f in config.folders.iter().filter(|f| f.dialect != crate::config::AUTO_DIALECT) {
-        registry.get(&f.dialect).with_context(|| format!("folder {} uses the unknown dialect `{}`", f.path.display(), f.dialect))?;
-    }
-    if let Some(parent) = config.database.file().and_then(Path::parent) {
-        std::fs::create_dir_all(parent).with_context(|| format!("cannot create {}", parent.display()))?;
-    }
-    let open = || -> Result<Store> {
-        let mut store =
-            Store::open(&config.database, &config.site).with_context(|| format!("cannot open the database {}", config.database))?;
-        // Workers wait for each other's transactions (one revision and what it enables).
-        store.set_busy_timeout(Duration::from_secs(600))?;
-        Ok(store)
-    };
-    let workers = worker_count(&config);
-    // Opened on a thread of their own: a store's connection may block (PostgreSQL's client
-    // runs its own runtime), which a thread driving this one may not.
-    let stores = std::thread::scope(|s| s.spawn(|| (0..workers).map(|_| open()).collect::<Result<Vec<Store>>>()).join())
-        .map_err(|_| anyhow::anyhow!("opening the database panicked"))??;
+    let stores = workers::open_stores(&config, &registry)?;
     let config = Arc::new(config);
     let registry = Arc::new(registry);
     let (tx, mut rx) = mpsc::unbounded_channel::<Event>();
     let roots: Vec<PathBuf> = config.folders.iter().map(|f| std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone())).collect();
-
-    // A bounded pool of workers, each with its own connection, so that one huge program does
-    // not hold up the others. The first compares what an earlier run left waiting.
-    let (job_tx, job_rx) = std::sync::mpsc::channel::<Job>();
-    let job_rx = Arc::new(std::sync::Mutex::new(job_rx));
-    let mut pool = Vec::new();
-    for (i, store) in stores.into_iter().enumerate() {
-        let (config, registry, tx, clock, jobs) =
-            (Arc::clone(&config), Arc::clone(&registry), tx.clone(), Arc::clone(&clock), Arc::clone(&job_rx));
-        pool.push(std::thread::Builder::new().name(format!("ncplan-worker-{i}")).spawn(move || {
-            let mut store = store;
-            if i == 0 {
-                match ingest::reconcile(&mut store, &ingest::Reader { config: &config, registry: &registry }, &clock.now()) {
-                    Ok(0) => {}
-                    Ok(n) => tracing::info!(compared = n, "Compared the edited programs that were waiting for their original."),
-                    Err(error) => tracing::error!(error = format!("{error:#}"), "Could not compare the waiting edited programs."),
-                }
-            }
-            loop {
-                let job = match jobs.lock() {
-                    Ok(rx) => rx.recv(),
-                    Err(_) => break,
-                };
-                let Ok(Job { path, folder, snapshot, root }) = job else { break };
-                let started = Instant::now();
-                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    ingest(&path, &config.folders[folder], &root, &config, &registry, &mut store, &clock.now(), Some(snapshot))
-                }))
-                .unwrap_or_else(|_| Err(anyhow::anyhow!("analysis panicked")));
-                if tx.send(Event::Done { path, folder, result, elapsed: started.elapsed() }).is_err() {
-                    break;
-                }
-            }
-        })?);
-    }
+    let (job_tx, pool) = workers::start(stores, &config, &registry, &tx, &clock)?;
 
     let shares = roots.into_iter().map(|root| Share { watcher: None, identity: None, up: true, root }).collect();
     let mut d = Daemon {
@@ -235,73 +172,19 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     loop {
         tokio::select! {
             Some(event) = rx.recv() => match event {
-                Event::Fs { folder, event: Ok(ev) } => {
-                    if ev.need_rescan() {
-                        tracing::warn!(folder = %config.folders[folder].path.display(), "The event queue overflowed; rescanning the folder.");
-                        d.scan(folder);
-                    }
-                    let polled = config.folders[folder].poll;
-                    match trigger(&ev.kind, polled) {
-                        Trigger::Ignore => {}
-                        Trigger::Content => {
-                            let written = matches!(ev.kind, notify::EventKind::Modify(notify::event::ModifyKind::Data(_))) && !polled;
-                            for p in &ev.paths {
-                                d.consider(p, written);
-                            }
-                        }
-                        Trigger::Closed => {
-                            for p in &ev.paths {
-                                if let Some(entry) = d.pending.get_mut(p) {
-                                    entry.writing = false;
-                                }
-                            }
-                        }
-                    }
-                }
+                Event::Fs { folder, event: Ok(ev) } => d.file_event(folder, &ev),
                 Event::Fs { folder, event: Err(error) } => d.watch_failed(folder, &error),
                 Event::Done { path, folder, result, elapsed } => {
-                    d.in_flight.remove(&path);
-                    catch_up.looked += 1;
-                    catch_up.stored += usize::from(matches!(result, Ok(Outcome::Stored { .. })));
-                    match result {
-                        Ok(Outcome::Stored { revision, changes, compared }) => tracing::info!(path = %path.display(), revision, ?changes, compared, ms = elapsed.as_millis() as u64, "Stored a revision."),
-                        Ok(Outcome::Unchanged) => tracing::debug!(path = %path.display(), "Content unchanged."),
-                        Ok(Outcome::Gone) => tracing::debug!(path = %path.display(), "File vanished."),
-                        Ok(Outcome::Changing) => {
-                            tracing::debug!(path = %path.display(), "The file changed while it was read; it must settle again.");
-                            d.queue(path, folder, false);
-                        }
-                        Ok(Outcome::Refused(why)) => d.refuse(&path, &why),
-                        Err(error) => {
-                            // Runtime error: keep the file for the next rescan and go on.
-                            tracing::error!(path = %path.display(), error = format!("{error:#}"), "Could not ingest a file; it will be retried.");
-                        }
-                    }
+                    catch_up.finished(&result);
+                    d.finished(path, folder, result, elapsed);
                 }
             },
             _ = tick.tick() => {
                 catch_up.report(d.pending.is_empty() && d.in_flight.is_empty());
-                for (path, folder, snapshot) in d.settled(settle) {
-                    tracing::debug!(path = %path.display(), "Queued a settled file.");
-                    d.in_flight.insert(path.clone());
-                    let root = d.shares[folder].root.clone();
-                    if job_tx.send(Job { path, folder, snapshot, root }).is_err() {
-                        anyhow::bail!("the workers stopped");
-                    }
-                }
+                d.hand_out_settled(settle, &job_tx)?;
             }
-            _ = rescan.tick() => {
-                for i in 0..config.folders.len() {
-                    if d.shares[i].up {
-                        d.scan(i);
-                    }
-                }
-            }
-            _ = health.tick() => {
-                for i in 0..config.folders.len() {
-                    d.check_share(i, false);
-                }
-            }
+            _ = rescan.tick() => d.rescan(),
+            _ = health.tick() => d.check_shares(),
             _ = watchdog.tick() => notifier.notify("WATCHDOG=1"),
             _ = sigterm.recv() => break,
             _ = sigint.recv() => break,
@@ -327,6 +210,14 @@ struct CatchUp {
 }
 
 impl CatchUp {
+    /// A worker finished a file (stored or not).
+    fn finished(&mut self, result: &Result<Outcome>) {
+        self.looked += 1;
+        self.stored += usize::from(matches!(result, Ok(Outcome::Stored { .. })));
+    }
+
+    /// Says how far the catch-up is (every 10 s), or that it is done once nothing is pending
+    /// or in flight (`idle`).
     fn report(&mut self, idle: bool) {
         if self.done {
             return;
@@ -354,6 +245,83 @@ fn identity(meta: &std::fs::Metadata) -> (u64, u64) {
 }
 
 impl Daemon {
+    /// A file-system event from the watcher of `folder`: a rescan when the event queue
+    /// overflowed, then the files it names queued (content events) or marked closed.
+    fn file_event(&mut self, folder: usize, ev: &notify::Event) {
+        if ev.need_rescan() {
+            tracing::warn!(folder = %self.config.folders[folder].path.display(), "The event queue overflowed; rescanning the folder.");
+            self.scan(folder);
+        }
+        let polled = self.config.folders[folder].poll;
+        match trigger(&ev.kind, polled) {
+            Trigger::Ignore => {}
+            Trigger::Content => {
+                let written = matches!(ev.kind, notify::EventKind::Modify(notify::event::ModifyKind::Data(_))) && !polled;
+                for p in &ev.paths {
+                    self.consider(p, written);
+                }
+            }
+            Trigger::Closed => {
+                for p in &ev.paths {
+                    if let Some(entry) = self.pending.get_mut(p) {
+                        entry.writing = false;
+                    }
+                }
+            }
+        }
+    }
+
+    /// A worker's outcome for `path`, logged; a file that changed while it was read settles
+    /// again, a refused one is said once.
+    fn finished(&mut self, path: PathBuf, folder: usize, result: Result<Outcome>, elapsed: Duration) {
+        self.in_flight.remove(&path);
+        match result {
+            Ok(Outcome::Stored { revision, changes, compared }) => {
+                tracing::info!(path = %path.display(), revision, ?changes, compared, ms = elapsed.as_millis() as u64, "Stored a revision.")
+            }
+            Ok(Outcome::Unchanged) => tracing::debug!(path = %path.display(), "Content unchanged."),
+            Ok(Outcome::Gone) => tracing::debug!(path = %path.display(), "File vanished."),
+            Ok(Outcome::Changing) => {
+                tracing::debug!(path = %path.display(), "The file changed while it was read; it must settle again.");
+                self.queue(path, folder, false);
+            }
+            Ok(Outcome::Refused(why)) => self.refuse(&path, &why),
+            Err(error) => {
+                // Runtime error: keep the file for the next rescan and go on.
+                tracing::error!(path = %path.display(), error = format!("{error:#}"), "Could not ingest a file; it will be retried.");
+            }
+        }
+    }
+
+    /// Hands each file that settled to the workers. An error when they have stopped.
+    fn hand_out_settled(&mut self, settle: Duration, jobs: &std::sync::mpsc::Sender<Job>) -> Result<()> {
+        for (path, folder, snapshot) in self.settled(settle) {
+            tracing::debug!(path = %path.display(), "Queued a settled file.");
+            self.in_flight.insert(path.clone());
+            let root = self.shares[folder].root.clone();
+            if jobs.send(Job { path, folder, snapshot, root }).is_err() {
+                anyhow::bail!("the workers stopped");
+            }
+        }
+        Ok(())
+    }
+
+    /// The periodic full rescan of every share that is up.
+    fn rescan(&mut self) {
+        for i in 0..self.config.folders.len() {
+            if self.shares[i].up {
+                self.scan(i);
+            }
+        }
+    }
+
+    /// The health check: each share looked at again (see [`Daemon::check_share`]).
+    fn check_shares(&mut self) {
+        for i in 0..self.config.folders.len() {
+            self.check_share(i, false);
+        }
+    }
+
     /// Looks at a share: arms its watcher when it is up and has none, and re-arms it (and
     /// rescans the folder) when the folder was replaced or remounted, which a watch on the old
     /// folder would never report. Each change of state is logged once.

@@ -1,0 +1,294 @@
+//! One block, mark by mark: the block skip, program delimiters and header lines, a leading
+//! block number, then each word, comment, statement or assignment in turn up to the block's
+//! end; comments (to their close, nested, continued) and continuation lines. Its door is
+//! `Lexer::block`, which `Parser::next_block` calls when the fast path declines a block.
+
+use super::super::{Block, Word, WordMode};
+use super::Lexer;
+use crate::diag::Code;
+use crate::dialect::CommentClose;
+
+impl Lexer<'_, '_> {
+    /// Lexes one block; returns the end of its text (before any terminator).
+    pub(super) fn block(&mut self) -> usize {
+        if self.block_head() {
+            return self.i;
+        }
+        let lex = &self.dialect.lexical;
+        loop {
+            self.skip_blanks();
+            let Some(c) = self.peek() else { break };
+            // Most words are a letter and a number; the dialect's index guarantees that no
+            // other rule below claims a letter that has a plain role.
+            if let Some(role) = self.dialect.plain_role(c)
+                && self.plain_word(role)
+            {
+                continue;
+            }
+            if lex.continuation == Some(c as char) {
+                // `~` continues the block on the next line.
+                self.i += 1;
+                self.skip_blanks();
+                if !self.continue_line() && self.peek().is_some() {
+                    self.error(Code::UnknownAddress, self.i - 1, self.i, "the continuation mark must end its line");
+                }
+                continue;
+            }
+            if c == b'\n' || c == b'\r' {
+                break;
+            }
+            if lex.block_end == Some(c as char) {
+                let end = self.i;
+                return end;
+            }
+            self.item(c);
+        }
+        self.i
+    }
+
+    /// What may open a block: a block skip (`/`, `/2`), a program delimiter or header line
+    /// (`%`, `%_N_PART_MPF`), a bare leading block number. True when the block is a delimiter
+    /// line, read to its end.
+    fn block_head(&mut self) -> bool {
+        let lex = &self.dialect.lexical;
+        self.skip_blanks();
+        if let Some((skip, _)) = lex.block_skip
+            && self.peek() == Some(skip as u8)
+        {
+            self.block.skip = true;
+            self.i += 1;
+            if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
+                self.i += 1; // `/2`: the second switch
+            }
+            self.skip_blanks();
+        }
+        if let Some(d) = lex.program_delimiter
+            && self.peek() == Some(d as u8)
+            && self.block.words.is_empty()
+        {
+            // A bare `%` (perhaps with a comment) opens or closes the program; `%_N_PART_MPF`
+            // is a header line, skipped without ending anything.
+            let end = self.line_end();
+            let rest = self.text[self.i + 1..end].trim_start();
+            self.block.delimiter = rest.is_empty() || lex.comments.iter().any(|r| rest.starts_with(r.open));
+            if lex.header_words && !self.block.delimiter {
+                self.header_name();
+            } else {
+                self.i = end;
+                return true;
+            }
+        }
+        if lex.leading_block_number && self.peek().is_some_and(|c| c.is_ascii_digit()) {
+            let start = self.i;
+            if let Some(n) = self.integer(start) {
+                self.block.number = Some(n);
+            }
+        }
+        false
+    }
+
+    /// What `c` at the cursor starts, other than a plain word or the block's end, read past:
+    /// a header's program name, a comment, a statement after its prefix, a parameter
+    /// assignment, an address, a program number after its alternate mark, a symbol address;
+    /// anything else is a finding.
+    fn item(&mut self, c: u8) {
+        let lex = &self.dialect.lexical;
+        if lex.header_words && lex.program_delimiter == Some(c as char) && self.block.words.is_empty() && self.block.number.is_some() {
+            // `N99999999 %123 G71 *`: the program's end names it again.
+            self.header_name();
+            return;
+        }
+        let at_start = |b: &Block| b.words.is_empty() && b.assigns.is_empty() && b.control.is_none();
+        if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (!r.block_start || at_start(self.block))) {
+            let close = rule.close.clone();
+            self.comment(&close);
+            return;
+        }
+        if lex.statement_prefix.contains(&c) && self.b.get(self.i + 1).is_some_and(u8::is_ascii_alphabetic) {
+            // `#CALL L100`, `$IF P1 == 0`, `%L 100`: the mark says a statement follows.
+            self.i += 1;
+            self.keyword_statement(self.i);
+            return;
+        }
+        if let Some((sigil, _)) = lex.parameter
+            && c.eq_ignore_ascii_case(&(sigil as u8))
+            && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()))
+        {
+            self.assignment();
+            return;
+        }
+        if c.is_ascii_alphabetic() || (c == b'_' && lex.identifier_variables) || self.at_system_variable(self.i) {
+            self.address();
+            return;
+        }
+        if lex.program_number_alt == Some(c as char) {
+            let start = self.i;
+            self.i += 1;
+            if let Some(n) = self.integer(start) {
+                self.block.program_number = Some(n);
+            }
+            return;
+        }
+        if !self.symbol_address(c) {
+            self.unexpected_characters();
+        }
+    }
+
+    /// A symbol address (`@-.0025 ^4.5`): punctuation the dialect gives a role.
+    fn symbol_address(&mut self, c: u8) -> bool {
+        let start = self.i;
+        let Some(role) = self.dialect.letter_role(c).filter(|_| c.is_ascii_punctuation()) else { return false };
+        self.i += 1;
+        if let Some(value) = self.value(start) {
+            let range = self.range(start, self.i);
+            self.block.words.push(Word { role, letter: c, value, range, mode: WordMode::Modal, cycle_arg: false });
+        }
+        true
+    }
+
+    /// A finding for a character that starts nothing, read past. Digits, signs, points and
+    /// brackets right after it are the same slip (a value with no address, `M202(0.0024)`):
+    /// one finding for the run.
+    fn unexpected_characters(&mut self) {
+        let start = self.i;
+        let mut end = start + self.char_len(start);
+        while self.text.as_bytes().get(end).is_some_and(|b| b"0123456789.+-()".contains(b)) {
+            end += 1;
+        }
+        let shown = &self.text[start..end];
+        let what = if shown.chars().count() > 1 { "characters" } else { "character" };
+        self.error(Code::UnknownAddress, start, end, format!("unexpected {what} `{shown}`"));
+        self.i = end;
+    }
+
+    /// After a continuation mark: steps over the line end. False when the line does not end here.
+    fn continue_line(&mut self) -> bool {
+        match self.peek() {
+            Some(b'\r') => {
+                self.i += 1;
+                if self.peek() == Some(b'\n') {
+                    self.i += 1;
+                }
+            }
+            Some(b'\n') => self.i += 1,
+            _ => return false,
+        }
+        self.block.extra_lines += 1;
+        true
+    }
+
+    /// Continued comment lines: each is comment text up to a closing `~` or the line end.
+    fn comment_lines(&mut self) {
+        let Some(k) = self.dialect.lexical.continuation.map(|k| k as u8) else { return };
+        loop {
+            let from = self.i;
+            let eol = self.line_end();
+            let text = &self.b[from..eol];
+            let trimmed = text.len() - text.iter().rev().take_while(|c| matches!(c, b' ' | b'\t')).count();
+            let cont = trimmed > 0 && text[trimmed - 1] == k;
+            self.block.comments.push(self.range(from, if cont { from + trimmed - 1 } else { eol }));
+            self.i = eol;
+            if !cont || !self.continue_line() {
+                return;
+            }
+        }
+    }
+
+    pub(super) fn comment(&mut self, close: &CommentClose) {
+        let open = self.i;
+        self.i += 1;
+        let eol = self.line_end();
+        match close {
+            CommentClose::EndOfLine => {
+                // A comment that ends with the continuation mark continues the block (`Q200=2 ;CLEARANCE ~`).
+                let text = &self.b[open + 1..eol];
+                let trimmed = text.len() - text.iter().rev().take_while(|c| matches!(c, b' ' | b'\t')).count();
+                let cont = self.dialect.lexical.continuation.is_some_and(|k| trimmed > 0 && text[trimmed - 1] == k as u8);
+                let end = if cont { open + trimmed } else { eol };
+                self.block.comments.push(self.range(open + 1, end));
+                self.i = eol;
+                if cont {
+                    self.continue_line();
+                    // A block that is only a comment continues as comment text (`;long text~`).
+                    let only_comment = self.block.words.is_empty() && self.block.assigns.is_empty() && self.block.control.is_none();
+                    if only_comment {
+                        self.comment_lines();
+                    }
+                }
+            }
+            CommentClose::Char(c) => {
+                let rest = &self.b[self.i..eol];
+                let opener = self.b[open];
+                // A teaching simulator's command (`($SetPartSize(42, 12, 2, 1))`) runs to its
+                // matching close, past quoted text, as the simulator reads it.
+                let simulator = self.simulator_directive(rest);
+                let nested = simulator || self.dialect.lexical.comments.iter().any(|r| r.open as u8 == opener && r.nested);
+                let (mut depth, mut quoted) = (0u32, false);
+                let mut closing = |x: u8| {
+                    if simulator && x == b'"' {
+                        quoted = !quoted;
+                    } else if quoted {
+                    } else if nested && x == opener && x != *c as u8 {
+                        depth += 1;
+                    } else if x == *c as u8 {
+                        if depth == 0 {
+                            return true;
+                        }
+                        depth -= 1;
+                    }
+                    false
+                };
+                let found = rest.iter().position(|&x| closing(x));
+                if simulator
+                    && let Some(p) = found
+                    && rest[..p].iter().position(|&x| x == *c as u8).is_some_and(|first| first < p)
+                {
+                    self.error(
+                        Code::SimulatorDirective,
+                        open,
+                        self.i + p + 1,
+                        format!("a teaching simulator's command, read to its matching `{c}` as the simulator reads it; a control ends the comment at its first `{c}` and reads the rest as words"),
+                    );
+                }
+                match found {
+                    Some(p) => {
+                        self.block.comments.push(self.range(self.i, self.i + p));
+                        self.i += p + 1;
+                    }
+                    None => {
+                        self.block.comments.push(self.range(self.i, eol));
+                        self.error(
+                            Code::UnterminatedComment,
+                            open,
+                            eol,
+                            format!("comment is not closed with `{c}` before the end of the line"),
+                        );
+                        self.i = eol;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether the comment text `rest` (after its opener) starts with a teaching simulator's
+    /// command prefix from the dictionary (`$`).
+    fn simulator_directive(&self, rest: &[u8]) -> bool {
+        let start = rest.iter().position(|c| !matches!(c, b' ' | b'\t')).unwrap_or(rest.len());
+        let t = &rest[start..];
+        self.dialect.lexical.directives.iter().any(|(prefix, d)| {
+            *d == crate::dialect::Directive::Simulator
+                && t.len() >= prefix.len()
+                && t[..prefix.len()].eq_ignore_ascii_case(prefix.as_bytes())
+        })
+    }
+
+    /// Past a header's `%` and the program name after it (`%123`, `% 123`), where the dialect
+    /// reads the words after the name (`G71`).
+    fn header_name(&mut self) {
+        self.i += 1;
+        self.skip_blanks();
+        while self.peek().is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_') {
+            self.i += 1;
+        }
+    }
+}

@@ -1,0 +1,341 @@
+//! Expressions into the block's arena: precedence climbing over binary operators, and
+//! operands (signs, numbers, brackets, parameters, variables, function calls). Its doors are
+//! `Lexer::expr` (a whole expression) and `Lexer::unary` (one operand).
+
+use super::super::expr::{BinOp, Expr, ExprId, Func};
+use super::Lexer;
+use crate::diag::Code;
+use crate::text::TextRange;
+
+impl Lexer<'_, '_> {
+    pub(super) fn push(&mut self, e: Expr) -> ExprId {
+        self.block.exprs.push(e);
+        (self.block.exprs.len() - 1) as ExprId
+    }
+
+    pub(super) fn expect(&mut self, c: u8, what: &str, start: usize) -> bool {
+        self.skip_blanks();
+        if self.peek() == Some(c) {
+            self.i += 1;
+            true
+        } else {
+            let end = self.i.max(start + 1).min(self.b.len());
+            self.error(Code::MalformedExpression, start, end, format!("expected `{}` {what}", c as char));
+            false
+        }
+    }
+
+    /// A full expression with binary operators, by precedence climbing.
+    pub(super) fn expr(&mut self, depth: u32, min_prec: u8) -> Option<ExprId> {
+        let mut lhs = self.unary(depth)?;
+        loop {
+            self.skip_blanks();
+            let save = self.i;
+            let Some(op) = self.binop() else { break };
+            if op.precedence() < min_prec {
+                self.i = save;
+                break;
+            }
+            let rhs = self.expr(depth + 1, op.precedence() + 1)?;
+            lhs = self.push(Expr::Binary(op, lhs, rhs));
+        }
+        Some(lhs)
+    }
+
+    fn binop(&mut self) -> Option<BinOp> {
+        let c = self.peek()?;
+        let op = match c {
+            b'*' if self.b.get(self.i + 1) == Some(&b'*') => {
+                self.i += 2;
+                return Some(BinOp::Pow);
+            }
+            b'*' => BinOp::Mul,
+            b'/' => BinOp::Div,
+            b'+' => BinOp::Add,
+            b'-' => BinOp::Sub,
+            b'=' | b'<' | b'>' if self.dialect.lexical.symbolic_comparisons => {
+                let next = self.b.get(self.i + 1).copied();
+                let (op, len) = match (c, next) {
+                    (b'=', Some(b'=')) => (BinOp::Eq, 2),
+                    (b'<', Some(b'>')) => (BinOp::Ne, 2),
+                    (b'<', Some(b'=')) => (BinOp::Le, 2),
+                    (b'>', Some(b'=')) => (BinOp::Ge, 2),
+                    (b'<', _) => (BinOp::Lt, 1),
+                    (b'>', _) => (BinOp::Gt, 1),
+                    _ => return None,
+                };
+                self.i += len;
+                return Some(op);
+            }
+            c if c.is_ascii_alphabetic() => {
+                let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+                let word = self.text[self.i..end].to_ascii_uppercase();
+                let op = BinOp::named(&word)?;
+                self.i = end;
+                return Some(op);
+            }
+            _ => return None,
+        };
+        self.i += 1;
+        Some(op)
+    }
+
+    /// A signed operand: number, bracketed expression, parameter, variable or function call.
+    /// Past [`MAX_DEPTH`] nested operands, a finding and the rest of the line is skipped.
+    pub(super) fn unary(&mut self, depth: u32) -> Option<ExprId> {
+        let start = self.i;
+        if depth > MAX_DEPTH {
+            self.error(Code::MalformedExpression, start, start + 1, "expression is nested too deeply");
+            self.i = self.line_end();
+            return None;
+        }
+        self.skip_blanks();
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let Some(c) = self.peek() else {
+            self.error(Code::MalformedExpression, start, start, "expression ends early");
+            return None;
+        };
+        match c {
+            b'-' | b'+' => {
+                self.i += 1;
+                let inner = self.unary(depth + 1)?;
+                Some(if c == b'-' { self.push(Expr::Unary(Func::Neg, inner)) } else { inner })
+            }
+            b'0'..=b'9' | b'.' => {
+                let (v, _) = self.number()?;
+                Some(self.push(Expr::Num(v)))
+            }
+            c if self.dialect.lexical.numbers.radix.is_some_and(|(q, _, _)| c == q as u8) => {
+                let (q, hex, binary) = self.dialect.lexical.numbers.radix.unwrap_or_default();
+                let v = self.radix_constant(q as u8, hex as u8, binary as u8)?;
+                Some(self.push(Expr::Num(v)))
+            }
+            c if Some(c) == expr_open => self.bracketed(depth, start),
+            c if self.at_parameter(c, expr_open) => self.parameter(depth, start),
+            c if self.at_variable(c, expr_open) => self.variable(depth, expr_open),
+            c if c.is_ascii_alphabetic() => self.function_call(depth, start),
+            _ => self.unexpected(start),
+        }
+    }
+
+    /// The bracket that closes an expression in this dialect (`]` where it names none).
+    fn expr_close(&self) -> u8 {
+        self.dialect.lexical.expression.map(|(_, c)| c as u8).unwrap_or(b']')
+    }
+
+    /// `[expr]` at the cursor: the expression inside the dialect's brackets.
+    fn bracketed(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        self.i += 1;
+        let e = self.expr(depth + 1, 0)?;
+        if !self.expect(self.expr_close(), "to close the expression", start) {
+            return None;
+        }
+        Some(e)
+    }
+
+    /// Whether `c` at the cursor is the parameter sigil starting a parameter (`#1`, `#[..]`,
+    /// `#<name>`); a letter sigil (`Q`, `R`) only before a digit or a bracket.
+    fn at_parameter(&self, c: u8, expr_open: Option<u8>) -> bool {
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        Some(c.to_ascii_uppercase()) == sigil
+            && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == expr_open))
+    }
+
+    /// A parameter at its sigil: `#<name>` where parameters have names, else `#` and the
+    /// operand that gives its number (`#1`, `##2`, `#[#1+1]`).
+    fn parameter(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        self.i += 1;
+        self.skip_blanks();
+        if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
+            let name = self.name(start)?;
+            return Some(self.push(Expr::Named(name)));
+        }
+        let inner = self.unary(depth + 1)?;
+        Some(self.push(Expr::Param(inner)))
+    }
+
+    /// Whether a variable's name starts at the cursor (`c`), where identifiers name variables:
+    /// an identifier or system variable that is not a function called with brackets.
+    fn at_variable(&self, c: u8, expr_open: Option<u8>) -> bool {
+        self.dialect.lexical.identifier_variables && (c.is_ascii_alphabetic() || c == b'_' || self.at_system_variable(self.i)) && {
+            let end = self.identifier_end(self.i);
+            Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_none()
+                || self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).is_none_or(|x| Some(*x) != expr_open)
+        }
+    }
+
+    /// A variable at the cursor (`LEN`, `$AC_TIME`), an element of a named array (`VTOFD[1]`,
+    /// `_RICH[2]`), or a lone axis letter standing for its axis.
+    fn variable(&mut self, depth: u32, expr_open: Option<u8>) -> Option<ExprId> {
+        let end = self.identifier_end(self.i);
+        let r = self.range(self.i, end);
+        // A lone axis letter (`DEF AXIS _X=X`, `_AX1=Z`, `MOVE(Y, 10)`) is that axis, as an
+        // axis variable's value: a single letter is never a variable.
+        let after = self.b[end..].iter().find(|x| !matches!(x, b' ' | b'\t')).copied();
+        if end == self.i + 1
+            && self.dialect.letter_role(self.b[self.i].to_ascii_uppercase()).is_some_and(|r| r.is_axis())
+            && !matches!(after, Some(b'[' | b'=' | b'('))
+            && after != expr_open
+        {
+            let letter = self.b[self.i];
+            self.i = end;
+            return Some(self.push(Expr::Num(super::super::axis_value(letter))));
+        }
+        self.i = end;
+        if self.peek().is_some() && self.peek() == expr_open {
+            // `VTOFD[1]`: an element of a named array.
+            let index = self.unary(depth + 1)?;
+            return Some(self.push(Expr::NamedIndex(r, index)));
+        }
+        if let Some(index) = self.array_index(depth) {
+            return Some(self.push(Expr::NamedIndex(r, index?)));
+        }
+        Some(self.push(Expr::Named(r)))
+    }
+
+    /// A function call at its name (`SIN[30]`, `ATAN[1]/[2]`, `EXISTS[#<x>]`); its argument
+    /// in brackets, or bare where the dialect allows (`SIN +Q1`).
+    fn function_call(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+        let word = self.text[self.i..end].to_ascii_uppercase();
+        let Some(func) = Func::named(&word) else {
+            self.error(Code::MalformedExpression, start, end, format!("unknown function `{word}`"));
+            self.i = end;
+            return None;
+        };
+        self.i = end;
+        self.skip_blanks();
+        if func == Func::Exists {
+            return self.exists(depth, start);
+        }
+        if self.peek() != expr_open {
+            if self.dialect.lexical.bare_function_arguments && self.peek().is_some() {
+                // `SIN +Q1`, `SQRT 25`: the operand follows without brackets.
+                let inner = self.unary(depth + 1)?;
+                return Some(self.push(Expr::Unary(func, inner)));
+            }
+            self.error(Code::MalformedExpression, start, self.i, format!("`{word}` needs its argument in brackets"));
+            return None;
+        }
+        if matches!(func, Func::Atan | Func::Pow) && self.has_comma_before_close() {
+            return self.two_arguments(func, depth, start);
+        }
+        if func == Func::Pow {
+            self.error(Code::MalformedExpression, start, self.i, "POW needs two arguments: POW[a,b]");
+            // Skip its bracket, so that the rest of the block reads on.
+            let _ = self.unary(depth + 1);
+            return None;
+        }
+        let arg = self.unary(depth + 1)?;
+        if func == Func::Atan {
+            self.skip_blanks();
+            if self.peek() == Some(b'/') && self.b.get(self.i + 1).is_some_and(|&n| Some(n) == expr_open || n == b' ') {
+                self.i += 1;
+                let x = self.unary(depth + 1)?;
+                return Some(self.push(Expr::Atan2(arg, x)));
+            }
+        }
+        Some(self.push(Expr::Unary(func, arg)))
+    }
+
+    /// `EXISTS[#<name>]`, `EXISTS[#1]`: whether a parameter is set, after the function's name.
+    fn exists(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        if !self.expect(expr_open.unwrap_or(b'['), "after EXISTS", start) {
+            return None;
+        }
+        self.skip_blanks();
+        let has_sigil = sigil.is_some() && self.peek() == sigil;
+        if has_sigil {
+            self.i += 1;
+        }
+        self.skip_blanks();
+        let n = if self.peek() == Some(b'<') {
+            let name = self.name(start)?;
+            self.push(Expr::Named(name))
+        } else if !has_sigil {
+            let end = self.line_end();
+            self.error(Code::MalformedExpression, start, end, "EXISTS takes a parameter: `EXISTS[#<name>]` or `EXISTS[#1]`");
+            self.i = end;
+            return None;
+        } else {
+            // `EXISTS[#1]`, `EXISTS[##2]`: whether the index names a parameter.
+            let index = self.unary(depth + 1)?;
+            self.push(Expr::Param(index))
+        };
+        if !self.expect(self.expr_close(), "to close EXISTS", start) {
+            return None;
+        }
+        Some(self.push(Expr::Unary(Func::Exists, n)))
+    }
+
+    /// Two arguments in one bracket: `ATAN[y,x]`, `POW[a,b]` (Fanuc 30i).
+    fn two_arguments(&mut self, func: Func, depth: u32, start: usize) -> Option<ExprId> {
+        self.i += 1;
+        let a = self.expr(depth + 1, 0)?;
+        if !self.expect(b',', "between the two arguments", start) {
+            return None;
+        }
+        let b = self.expr(depth + 1, 0)?;
+        if !self.expect(self.expr_close(), "to close the arguments", start) {
+            return None;
+        }
+        let e = if func == Func::Atan { Expr::Atan2(a, b) } else { Expr::Binary(BinOp::Pow, a, b) };
+        Some(self.push(e))
+    }
+
+    /// A finding for what cannot start an operand at `start`.
+    fn unexpected(&mut self, start: usize) -> Option<ExprId> {
+        let len = self.char_len(start);
+        let shown = &self.text[start..start + len];
+        let msg = if matches!(shown, "" | "\r" | "\n") {
+            "expression ends early".to_owned()
+        } else {
+            format!("unexpected `{shown}` in expression")
+        };
+        self.error(Code::MalformedExpression, start, (start + len).max(start), msg);
+        None
+    }
+
+    /// Whether the bracket at the cursor holds a comma at its own nesting level.
+    fn has_comma_before_close(&self) -> bool {
+        let mut depth = 0u32;
+        for &c in &self.b[self.i..self.line_end()] {
+            match c {
+                b'[' => depth += 1,
+                b']' => {
+                    depth = depth.saturating_sub(1);
+                    if depth == 0 {
+                        return false;
+                    }
+                }
+                b',' if depth == 1 => return true,
+                _ => {}
+            }
+        }
+        false
+    }
+
+    /// `<name>` after a sigil; returns the range of the name.
+    pub(super) fn name(&mut self, start: usize) -> Option<TextRange> {
+        self.i += 1; // '<'
+        let from = self.i;
+        let eol = self.line_end();
+        match self.b[self.i..eol].iter().position(|&c| c == b'>') {
+            Some(p) => {
+                self.i += p + 1;
+                Some(self.range(from, from + p))
+            }
+            None => {
+                self.error(Code::MalformedExpression, start, eol, "parameter name is not closed with `>`");
+                self.i = eol;
+                None
+            }
+        }
+    }
+}
+
+/// Nesting limit for brackets, against stack exhaustion on hostile input.
+const MAX_DEPTH: u32 = 64;

@@ -1,0 +1,342 @@
+//! Keyword codes (`TRANS`, `TOOL CALL 5`, `SPOS=90`) with their values and display names
+//! (`CYCL DEF 200 DRILLING`), and named cycles with positional arguments
+//! (`CYCLE83(50,0,2)`). Its doors are `Lexer::keyword`, `Lexer::cycle_call` and
+//! `Lexer::display_name`.
+
+use super::super::{Value, Word, WordMode};
+use super::Lexer;
+use crate::diag::Code;
+use crate::dialect::{KeywordRest, Role};
+
+impl Lexer<'_, '_> {
+    /// A keyword code whose value is assigned (`SPOS=90`, `SPOS[1]=DC(45)`, `SPOSA=IC(90)`):
+    /// the code's word and the value's; without `=` after it the text is no such keyword.
+    fn assigned_keyword(&mut self, start: usize, end: usize, idx: usize, role: Option<Role>) -> bool {
+        let mut j = end;
+        let skip = |b: &[u8], mut j: usize| {
+            while matches!(b.get(j), Some(b' ' | b'\t')) {
+                j += 1;
+            }
+            j
+        };
+        j = skip(self.b, j);
+        // The spindle's number in brackets: there is one spindle in the toolpath.
+        if let Some((open, close)) = self.dialect.lexical.array_brackets
+            && self.b.get(j) == Some(&open)
+        {
+            match self.b[j..].iter().position(|&c| c == close || c == b'\n') {
+                Some(p) if self.b[j + p] == close => j = skip(self.b, j + p + 1),
+                _ => return false,
+            }
+        }
+        if self.b.get(j) != Some(&b'=') || self.b.get(j + 1) == Some(&b'=') {
+            return false;
+        }
+        let letter = self.push_keyword(start, end, idx);
+        self.i = j + 1;
+        if let (Some(role), Some((value, mode))) = (role, self.assigned_value(start)) {
+            self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode, cycle_arg: false });
+        }
+        true
+    }
+
+    /// Pushes the keyword code `idx` spelled at `start..end`; its first letter, upper case.
+    fn push_keyword(&mut self, start: usize, end: usize, idx: usize) -> u8 {
+        let letter = self.b[start].to_ascii_uppercase();
+        let value = Value::Number { value: idx as f64, decimal: false };
+        self.block.words.push(Word {
+            role: Role::Keyword,
+            letter,
+            value,
+            range: self.range(start, end),
+            mode: WordMode::Modal,
+            cycle_arg: false,
+        });
+        letter
+    }
+
+    /// A keyword code at the cursor (`TRANS`, `TOOL CALL 5`, `DR+`), longest first. Blanks in
+    /// a keyword match any run of blanks; the keyword must end at a word boundary.
+    pub(super) fn keyword(&mut self) -> bool {
+        if self.dialect.keyword_codes().next().is_none() {
+            return false;
+        }
+        let start = self.i;
+        let mut found = None;
+        for (idx, k) in self.dialect.keyword_codes() {
+            let end = if k.assigned {
+                // `SPOS=90`, `SPOS[1]=`: the name runs into `=` or its index.
+                let end = start + k.text.len();
+                let named = self.b.get(start..end).is_some_and(|t| t.eq_ignore_ascii_case(k.text.as_bytes()));
+                (named && matches!(self.b.get(end), Some(b'=' | b'[' | b' ' | b'\t'))).then_some(end)
+            } else {
+                self.match_keyword(start, &k.text, k.value_role.is_some())
+            };
+            if let Some(end) = end {
+                found = Some((idx, end, k.value_role, k.rest, k.assigned));
+                break;
+            }
+        }
+        let Some((idx, end, value_role, rest, assigned)) = found else { return false };
+        if assigned && value_role.is_some() {
+            return self.assigned_keyword(start, end, idx, value_role);
+        }
+        self.push_keyword(start, end, idx);
+        self.i = end;
+        self.skip_blanks();
+        if let Some(role) = value_role {
+            let vstart = self.i;
+            let c = self.peek();
+            let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+            let value = if c.is_some_and(|c| c.is_ascii_digit() || c == b'.' || c == b'+' || c == b'-') {
+                self.number().map(|(value, decimal)| Value::Number { value, decimal })
+            } else if c.is_some() && c == self.dialect.lexical.string_quote.map(|q| q as u8) {
+                self.string(vstart).map(Value::Text)
+            } else if c.is_some()
+                && (c == sigil || c == self.expr_open())
+                && self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || c != sigil)
+            {
+                self.unary(1).map(Value::Expr)
+            } else {
+                None
+            };
+            if let Some(value) = value {
+                self.block.words.push(Word {
+                    role,
+                    letter: b'#',
+                    value,
+                    range: self.range(vstart, self.i),
+                    mode: WordMode::Modal,
+                    cycle_arg: false,
+                });
+            }
+            self.skip_blanks();
+            if self.peek() == Some(b':') {
+                self.i += 1; // `FN 0:`
+            }
+        }
+        match rest {
+            KeywordRest::None => {}
+            KeywordRest::Name => {
+                self.skip_blanks();
+                while self.peek().is_some_and(|c| !matches!(c, b' ' | b'\t' | b'\r' | b'\n')) {
+                    self.i += 1;
+                }
+            }
+            KeywordRest::Line => self.i = self.line_end(),
+            KeywordRest::Words => {
+                let named = self.display_name();
+                if named && value_role.is_some() {
+                    self.value_after_name();
+                }
+            }
+        }
+        true
+    }
+
+    /// The value after a numbered code's display name (`CYCL DEF 1.1 SET UP .1181`,
+    /// `1.2 DEPTH -15`): a bare number, sign optional, the last word of the line. A legacy
+    /// cycle's sub-block number says which argument it is.
+    fn value_after_name(&mut self) {
+        let vstart = self.i;
+        if !self.bare_number_ends_line(vstart) {
+            return;
+        }
+        if let Some((value, decimal)) = self.number() {
+            self.block.words.push(Word {
+                role: Role::CycleValue,
+                letter: b'#',
+                value: Value::Number { value, decimal },
+                range: self.range(vstart, self.i),
+                mode: WordMode::Modal,
+                cycle_arg: false,
+            });
+        }
+    }
+
+    /// Whether a bare number (`5`, `-15`, `.1181`, `+0.5`) starts at `at` and only blanks
+    /// follow it on the line.
+    fn bare_number_ends_line(&self, at: usize) -> bool {
+        let eol = self.b[at..].iter().position(|&c| c == b'\n' || c == b'\r').map_or(self.b.len(), |p| at + p);
+        // Up to a comment at the end of the block (`1.2 DEPTH -15 ; hole`).
+        let comments = &self.dialect.lexical.comments;
+        let end = (at..eol).find(|&p| comments.iter().any(|r| self.b[p] == r.open as u8)).unwrap_or(eol);
+        let word = self.b[at..end].trim_ascii_end();
+        let digits = word.strip_prefix(b"+").or_else(|| word.strip_prefix(b"-")).unwrap_or(word);
+        !digits.is_empty()
+            && digits.iter().any(u8::is_ascii_digit)
+            && digits.iter().all(|c| c.is_ascii_digit() || *c == b'.')
+            && digits.iter().filter(|c| **c == b'.').count() <= 1
+    }
+
+    /// A display name after a code, in the control's language (`DRILLING`, `DATUM SHIFT`,
+    /// `PLAN D'USINAGE`), read past up to the first address word, or up to a bare number
+    /// that ends the line after a name (`SET UP .1181`: the name's value). Whether a name
+    /// was read.
+    pub(super) fn display_name(&mut self) -> bool {
+        let mut named = false;
+        loop {
+            self.skip_blanks();
+            let from = self.i;
+            let end = self.b[from..]
+                .iter()
+                .position(|c| !(c.is_ascii_alphanumeric() || matches!(c, b'_' | b'-' | b'.' | b'/' | b'\'') || *c >= 0x80))
+                .map_or(self.b.len(), |p| from + p);
+            let word = &self.b[from..end];
+            // A display name in the control's language (`DRILLING`, `DATUM SHIFT`,
+            // `PLAN D'USINAGE`, `PERÇAGE`) or a plain number; not an address
+            // word such as `X+0`, `Q200=2` or a lone axis letter.
+            let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
+            let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
+            let plain = !word.is_empty() && !mixed && !single_letter && !matches!(self.b.get(end), Some(b'=' | b'+'));
+            if !plain || (named && self.bare_number_ends_line(from)) {
+                break;
+            }
+            named |= !word.first().is_some_and(u8::is_ascii_digit);
+            self.i = end;
+            // A setting shown with its value (`HSC-MODE:0` in cycle 32).
+            if self.peek() == Some(b':') && self.b.get(self.i + 1).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-')) {
+                self.i += 1;
+                let _ = self.number();
+            }
+        }
+        named
+    }
+
+    /// The end of keyword `kw` when it stands at `at`.
+    fn match_keyword(&self, at: usize, kw: &str, takes_value: bool) -> Option<usize> {
+        let mut i = at;
+        for part in kw.as_bytes().split(|&c| c == b' ') {
+            if i > at {
+                let j = i;
+                while matches!(self.b.get(i), Some(b' ' | b'\t')) {
+                    i += 1;
+                }
+                if i == j {
+                    return None;
+                }
+            }
+            let end = i + part.len();
+            if self.b.len() < end || !self.b[i..end].eq_ignore_ascii_case(part) {
+                return None;
+            }
+            i = end;
+        }
+        // The keyword must end where a word ends: `L X+1` and `DR+ F100`, not `LBL 1`,
+        // `L-4.5` or `DR+0.2`. A keyword that takes a value may run into it (`FN18:`).
+        let last = *kw.as_bytes().last()?;
+        let next = self.b.get(i).copied();
+        let joined = next.is_some_and(|c| {
+            (c.is_ascii_alphanumeric() && !(takes_value && c.is_ascii_digit()))
+                || matches!(c, b'_' | b'.' | b'=' | b'(')
+                || (last.is_ascii_alphanumeric() && matches!(c, b'+' | b'-') && !takes_value)
+                || (!last.is_ascii_alphanumeric() && c.is_ascii_digit())
+        });
+        // A keyword spelt like an address (`Z`, the tool axis) is the address when a value follows.
+        let is_address = self.dialect.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(kw));
+        let value_follows = is_address && {
+            let j = self.b[i..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| i + p);
+            self.b.get(j).is_some_and(|c| c.is_ascii_digit() || matches!(c, b'+' | b'-' | b'.'))
+        };
+        (!joined && !value_follows).then_some(i)
+    }
+
+    /// A named cycle with positional arguments: `CYCLE83(50,0,2,-30,,-5)`. Empty slots are
+    /// skipped; each argument becomes a word of the role the dialect gives its position.
+    pub(super) fn cycle_call(&mut self) -> bool {
+        if self.dialect.cycles.is_empty() {
+            return false;
+        }
+        let start = self.i;
+        let end = self.b[start..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| start + p);
+        let mut open = end;
+        while matches!(self.b.get(open), Some(b' ' | b'\t')) {
+            open += 1;
+        }
+        if self.b.get(open) != Some(&b'(') {
+            return false;
+        }
+        let Some(ci) = self.dialect.cycle(&self.text[start..end]) else { return false };
+        let letter = self.b[start].to_ascii_uppercase();
+        self.block.words.push(Word {
+            role: Role::Cycle,
+            letter,
+            value: Value::Number { value: ci as f64, decimal: false },
+            range: self.range(start, end),
+            mode: WordMode::Modal,
+            cycle_arg: false,
+        });
+        self.i = open + 1;
+        let dialect = self.dialect;
+        let args = &dialect.cycles[ci].args;
+        let mut n = 0;
+        loop {
+            self.skip_blanks();
+            match self.peek() {
+                Some(b')') => {
+                    self.i += 1;
+                    break;
+                }
+                Some(b',') => {
+                    self.i += 1;
+                    n += 1;
+                    continue;
+                }
+                None | Some(b'\n' | b'\r') => {
+                    self.error(Code::MalformedExpression, start, self.i, "the cycle's argument list is not closed with `)`");
+                    return true;
+                }
+                _ => {}
+            }
+            let from = self.i;
+            // A string argument (`CYCLE800(1,"TABLE",...)`, `EXTCALL("ROUGH")`) names
+            // something: a text value.
+            let value = match self.dialect.lexical.string_quote {
+                Some(q) if self.peek() == Some(q as u8) => self.string(from).map(Value::Text),
+                _ => self.expr(1, 0).map(Value::Expr),
+            };
+            let Some(value) = value else {
+                self.i = self.line_end();
+                return true;
+            };
+            match args.get(n) {
+                // An argument the engine does not use (`extra`) is read but not evaluated: it
+                // may name what only the control knows (`_ORI_ROUGH`, an axis `X`).
+                Some(a) if a.role == Role::Extra => {}
+                Some(a) => self.block.words.push(Word {
+                    role: a.role,
+                    letter: a.name.as_bytes()[0],
+                    value,
+                    range: self.range(from, self.i),
+                    mode: WordMode::Modal,
+                    cycle_arg: true,
+                }),
+                None => self.error(
+                    Code::UnusedWord,
+                    from,
+                    self.i.max(from + 1),
+                    format!("{} takes {} arguments; this is argument {}", dialect.cycles[ci].name, args.len(), n + 1),
+                ),
+            }
+            self.skip_blanks();
+            match self.peek() {
+                Some(b',') => {
+                    self.i += 1;
+                    n += 1;
+                }
+                Some(b')') => {
+                    self.i += 1;
+                    break;
+                }
+                _ => {
+                    let at = self.i;
+                    let end = if at < self.b.len() { at + self.char_len(at) } else { at };
+                    self.error(Code::MalformedExpression, at, end, "expected `,` or `)` in the cycle's arguments");
+                    self.i = self.line_end();
+                    return true;
+                }
+            }
+        }
+        true
+    }
+}
