@@ -350,11 +350,38 @@ fn normalise_label(s: &str) -> String {
     }
 }
 
+/// Whether mark `m` is one of the statements `sts` labelled `label` (`o100 endwhile` for
+/// `o100 while`).
+fn same_label(m: &Mark, label: &Option<String>, sts: &[Statement]) -> bool {
+    m.label == *label && m.statement.is_some_and(|s| sts.contains(&s))
+}
+
+/// `DPRNT[X#100[53]]`: the line it prints to the data output, with its variables' values
+/// (see [`print_format`]), as a message in the canon.
+fn print_statement(c: &Control, block: &Block, interp: &Interpreter<'_>, sink: &mut dyn CanonSink) {
+    let head = c.keyword.map_or(c.range.start, |k| k.end);
+    let format = block.text(TextRange { start: head, end: c.range.end });
+    let message = print_format(format, |n| interp.params.get(f64::from(n)).ok());
+    sink.emit(Canon { op: CanonOp::Message(message), origin: block.range, line: block.line });
+}
+
+/// A statement the dialect has but this analysis does not simulate: skipped, and said once
+/// per keyword, so that each kind is named at least once.
+fn unsupported_statement(c: &Control, block: &Block, interp: &mut Interpreter<'_>, diags: &mut Vec<Diagnostic>) {
+    let msg = format!("`{}` is not simulated; it was skipped", statement_head(block, c));
+    // Counted per keyword: each kind of statement is named at least once.
+    let key = format!("statement {}", c.keyword.map_or("", |k| block.text(k)).to_ascii_uppercase());
+    interp.limited(diags, &key, Diagnostic::new(Code::Unsupported, c.range, msg));
+}
+
 impl<'a> Driver<'a, '_> {
     fn pos(&self) -> Pos {
         Pos { at: self.parser.offset(), line: self.parser.line() }
     }
 
+    /// The run: block after block of the current source, up to the end of the main program,
+    /// a stop or a budget. Plain lines take the plain lane; a control statement is carried
+    /// out here, any other block by the interpreter ([`Driver::run_block`]).
     fn drive(&mut self, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let mut block = Block::default();
         let mut plain = PlainLine::default();
@@ -373,12 +400,7 @@ impl<'a> Driver<'a, '_> {
             let src = self.cur;
             let mark = diags.len();
             if !self.next_block(&mut block, start, diags) {
-                if let Some(range) = self.definition.take() {
-                    let msg = "the definition block is not closed: the rest of the file was read as its data";
-                    diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
-                }
-                if !self.end_of_source(interp, diags) {
-                    self.end_of_main(interp, diags);
+                if self.source_ended(interp, diags) {
                     break;
                 }
                 continue;
@@ -386,18 +408,7 @@ impl<'a> Driver<'a, '_> {
             if self.definition_block(&block, mark, diags) {
                 continue;
             }
-            if block.control.is_some() {
-                let range = block.range;
-                if diags[mark..]
-                    .iter()
-                    .any(|d| d.is_error() && d.range.start >= range.start && d.range.start < range.end.max(range.start + 1))
-                {
-                    self.broken_blocks.insert((src, start.at));
-                }
-                self.broken = !self.broken_blocks.is_empty() && self.broken_blocks.contains(&(src, start.at));
-            } else {
-                self.broken = false;
-            }
+            self.note_broken(&block, src, start, &diags[mark..]);
             if let Some(f) = self.frames.last()
                 && f.kind == FrameKind::Section
                 && self.cur == f.source
@@ -409,69 +420,144 @@ impl<'a> Driver<'a, '_> {
                 continue;
             }
             self.executed += 1;
-            if self.repeated > self.profile.max_repeated_blocks {
-                self.tidy(src, mark, diags);
-                let msg = format!(
-                    "the run has executed more than {} blocks again (loops, jumps back, repeated calls); the analysis stops here, and what the program does after it is not analysed",
-                    self.profile.max_repeated_blocks
-                );
-                diags.push(Diagnostic::new(Code::RepeatBudget, block.range, msg));
+            if self.over_budget(&block, src, mark, diags) {
                 break;
             }
-            if self.executed > self.profile.max_blocks {
-                self.tidy(src, mark, diags);
-                diags.push(Diagnostic::new(
-                    Code::LoopLimit,
-                    block.range,
-                    format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks),
-                ));
+            if src == 0 && self.frames.is_empty() && !self.main_program_block(&block, interp, sink, diags) {
                 break;
             }
-            if src == 0 && self.frames.is_empty() {
-                if let Some(n) = block.program_number.filter(|&n| !self.main_work && self.dialect.macros.is_called_number(n)) {
-                    interp.called_by(|| format!("its number O{n:04} is one the control reserves for called programs"));
-                }
-                if block.delimiter {
-                    if self.delimiters > 0 {
-                        interp.finish_at_delimiter(sink);
-                    } else if self.started && self.dialect.lexical.delimiter_first_line {
-                        let msg = "a `%` line closes a program only when another opens it on the first line; the control stops here";
-                        diags.push(Diagnostic::new(Code::UnmatchedStatement, block.range, msg));
-                        break;
-                    }
-                    self.delimiters += 1;
-                } else if !self.main_work {
-                    // Settled by the first blocks of a program; not looked at again.
-                    self.started = self.started || !block.source().trim().is_empty();
-                    self.main_work = !block.words.is_empty()
-                        || !block.assigns.is_empty()
-                        || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
-                }
-            }
-            if let Some(control) = block.control.as_ref().filter(|c| self.broken && c.statement.is_some_and(branches)) {
-                // The lexer could not read the statement: what it kept of it (a condition cut
-                // short, a jump without its IF) is not what the program says, and the control
-                // stops with an alarm at a block it cannot read.
-                let head = statement_head(&block, control);
-                let msg = format!(
-                    "the statement `{head}` could not be read and is skipped: no jump, branch or loop is taken on what was left of it (the control alarms here)"
-                );
-                diags.push(Diagnostic::new(Code::BrokenCondition, block.range, msg));
+            if self.broken_statement(&block, diags) {
                 self.tidy(src, mark, diags);
                 continue;
             }
-            if let Some(control) = block.control.take() {
-                self.control(&control, &block, start, interp, sink, diags);
-                block.control = Some(control);
-            } else {
-                interp.execute(&block, sink, diags);
-                if let Some(r) = interp.request.take() {
-                    self.request(r, &block, interp, sink, diags);
-                }
-            }
+            self.run_block(&mut block, start, interp, sink, diags);
             self.tidy(src, mark, diags);
             if interp.finished() || self.stop {
                 break;
+            }
+        }
+    }
+
+    /// The end of the current source: a definition block still open is said; a called
+    /// program's file returns to its caller. True at the end of the main program.
+    fn source_ended(&mut self, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
+        if let Some(range) = self.definition.take() {
+            let msg = "the definition block is not closed: the rest of the file was read as its data";
+            diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
+        }
+        if !self.end_of_source(interp, diags) {
+            self.end_of_main(interp, diags);
+            return true;
+        }
+        false
+    }
+
+    /// Whether the block (at `start` of source `src`) is a control block whose lexing found
+    /// errors (`found`, its findings): kept in `broken` for this run of it, and remembered for
+    /// its later runs, which are not lexed again.
+    #[inline]
+    fn note_broken(&mut self, block: &Block, src: usize, start: Pos, found: &[Diagnostic]) {
+        if block.control.is_some() {
+            let range = block.range;
+            if found.iter().any(|d| d.is_error() && d.range.start >= range.start && d.range.start < range.end.max(range.start + 1)) {
+                self.broken_blocks.insert((src, start.at));
+            }
+            self.broken = !self.broken_blocks.is_empty() && self.broken_blocks.contains(&(src, start.at));
+        } else {
+            self.broken = false;
+        }
+    }
+
+    /// Whether the run stops before `block` for a budget of the profile: the blocks run again
+    /// ([`Profile::max_repeated_blocks`]) or all blocks run ([`Profile::max_blocks`]); the
+    /// finding says which.
+    #[inline]
+    fn over_budget(&mut self, block: &Block, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) -> bool {
+        if self.repeated > self.profile.max_repeated_blocks {
+            self.tidy(src, mark, diags);
+            let msg = format!(
+                "the run has executed more than {} blocks again (loops, jumps back, repeated calls); the analysis stops here, and what the program does after it is not analysed",
+                self.profile.max_repeated_blocks
+            );
+            diags.push(Diagnostic::new(Code::RepeatBudget, block.range, msg));
+            return true;
+        }
+        if self.executed > self.profile.max_blocks {
+            self.tidy(src, mark, diags);
+            diags.push(Diagnostic::new(
+                Code::LoopLimit,
+                block.range,
+                format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks),
+            ));
+            return true;
+        }
+        false
+    }
+
+    /// What a block of the main program at its top level tells about the program: a program
+    /// number the control reserves for called programs, the `%` lines that open and close
+    /// it, whether its work has begun. False when a `%` line stops the control.
+    fn main_program_block(
+        &mut self,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
+        if let Some(n) = block.program_number.filter(|&n| !self.main_work && self.dialect.macros.is_called_number(n)) {
+            interp.called_by(|| format!("its number O{n:04} is one the control reserves for called programs"));
+        }
+        if block.delimiter {
+            if self.delimiters > 0 {
+                interp.finish_at_delimiter(sink);
+            } else if self.started && self.dialect.lexical.delimiter_first_line {
+                let msg = "a `%` line closes a program only when another opens it on the first line; the control stops here";
+                diags.push(Diagnostic::new(Code::UnmatchedStatement, block.range, msg));
+                return false;
+            }
+            self.delimiters += 1;
+        } else if !self.main_work {
+            // Settled by the first blocks of a program; not looked at again.
+            self.started = self.started || !block.source().trim().is_empty();
+            self.main_work = !block.words.is_empty()
+                || !block.assigns.is_empty()
+                || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
+        }
+        true
+    }
+
+    /// Whether the block is a statement that decides where the run goes but could not be
+    /// read: it is skipped, and said so.
+    fn broken_statement(&self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some(control) = block.control.as_ref().filter(|c| self.broken && c.statement.is_some_and(branches)) else { return false };
+        // The lexer could not read the statement: what it kept of it (a condition cut
+        // short, a jump without its IF) is not what the program says, and the control
+        // stops with an alarm at a block it cannot read.
+        let head = statement_head(block, control);
+        let msg = format!(
+            "the statement `{head}` could not be read and is skipped: no jump, branch or loop is taken on what was left of it (the control alarms here)"
+        );
+        diags.push(Diagnostic::new(Code::BrokenCondition, block.range, msg));
+        true
+    }
+
+    /// Carries out a block: a control statement here, as control flow is the driver's; any
+    /// other block by the interpreter, then the call or return it asks for.
+    fn run_block(
+        &mut self,
+        block: &mut Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        if let Some(control) = block.control.take() {
+            self.control(&control, block, start, interp, sink, diags);
+            block.control = Some(control);
+        } else {
+            interp.execute(block, sink, diags);
+            if let Some(r) = interp.request.take() {
+                self.request(r, block, interp, sink, diags);
             }
         }
     }
@@ -914,6 +1000,8 @@ impl<'a> Driver<'a, '_> {
         (base..self.loops.len()).rev().find(|&k| pred(&self.loops[k]))
     }
 
+    /// Carries out control statement `c` of `block` (which starts at `start`): the statement's
+    /// label first (`o#<sub> call` reads it from a parameter), then the function of its kind.
     #[allow(clippy::too_many_arguments)]
     fn control(
         &mut self,
@@ -926,19 +1014,7 @@ impl<'a> Driver<'a, '_> {
     ) {
         let here = self.pos();
         let Some(statement) = c.statement else {
-            if let Some(k) = c.keyword {
-                let word = block.text(k);
-                let head = statement_head(block, c);
-                interp.limited(
-                    diags,
-                    "statement",
-                    Diagnostic::new(
-                        Code::UnknownStatement,
-                        k,
-                        format!("`{word}` is not a statement of the {} dialect; `{head}` was skipped", self.dialect.name),
-                    ),
-                );
-            }
+            self.unknown_statement(c, block, interp, diags);
             return;
         };
         let label = match c.label_expr {
@@ -953,228 +1029,362 @@ impl<'a> Driver<'a, '_> {
             },
             None => self.label_text(block, c),
         };
-        let same_label = |m: &Mark, sts: &[Statement]| m.label == label && m.statement.is_some_and(|s| sts.contains(&s));
         match statement {
             Statement::If => self.if_statement(c, block, start, &label, interp, sink, diags),
-            Statement::ElseIf => {
-                if self.landing == Some((self.cur, start.at)) {
-                    self.landing = None;
-                    let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                    if !cond {
-                        self.next_branch(&label, start, c.range, interp, diags);
-                    }
-                } else {
-                    self.skip_structure(&label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
-                }
-            }
-            Statement::Else => {
-                if self.landing == Some((self.cur, start.at)) {
-                    self.landing = None;
-                } else {
-                    self.skip_structure(&label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
-                }
-            }
+            Statement::ElseIf => self.else_if(c, block, start, &label, interp, diags),
+            Statement::Else => self.else_statement(c, start, &label, interp, diags),
             Statement::EndIf | Statement::Then | Statement::Output | Statement::Declare => {}
-            Statement::Print => {
-                let head = c.keyword.map_or(c.range.start, |k| k.end);
-                let format = block.text(TextRange { start: head, end: c.range.end });
-                let message = print_format(format, |n| interp.params.get(f64::from(n)).ok());
-                sink.emit(Canon { op: CanonOp::Message(message), origin: block.range, line: block.line });
-            }
+            Statement::Print => print_statement(c, block, interp, sink),
+            // `o100 while [..]`, or the tail of `o100 do`; else `WHILE [..] DO m`.
             Statement::While if label.is_some() || c.then != Some(Statement::Do) => {
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                if let Some(k) = self.top_loop(|l| l.kind == LoopKind::Do && l.label == label) {
-                    // The tail of a do-loop.
-                    if cond {
-                        if self.count_iteration(k, c.range, interp, diags) {
-                            self.loop_jump(k, LoopPart::Body, start, interp, diags);
-                        }
-                    } else {
-                        self.loops.truncate(k);
-                    }
-                    return;
-                }
-                if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, interp, diags) {
-                    self.skip_structure(
-                        &label,
-                        start,
-                        c.range,
-                        Statement::While,
-                        Statement::EndWhile,
-                        &[Statement::EndWhile],
-                        interp,
-                        diags,
-                    );
-                }
+                self.while_statement(c, block, start, here, &label, interp, diags)
             }
-            Statement::While => {
-                // `WHILE [c] DO m`.
-                let id = self.loop_id(c, block, interp, diags);
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                if self.loop_head(LoopKind::Numbered, None, id, cond, start, here, c.range, interp, diags) {
-                    self.skip_numbered_end(id, start, c.range, interp, diags);
-                }
-            }
+            Statement::While => self.while_do(c, block, start, here, interp, diags),
             Statement::Do if label.is_some() => self.push_loop(LoopKind::Do, label, None, start, here),
-            Statement::Do => {
-                // `DO m` without WHILE: an endless loop that only a jump leaves.
-                let id = self.loop_id(c, block, interp, diags);
-                match self.top_loop(|l| l.kind == LoopKind::Numbered && l.head == start) {
-                    Some(k) => {
-                        self.count_iteration(k, c.range, interp, diags);
-                    }
-                    None => self.push_loop(LoopKind::Numbered, None, id, start, here),
-                }
-            }
-            Statement::EndWhile => match self.top_loop(|l| l.kind == LoopKind::While && l.label == label) {
-                Some(k) => {
-                    self.loop_jump(k, LoopPart::Head, start, interp, diags);
-                }
-                None => self.unmatched(c, "endwhile", "while", diags),
-            },
-            Statement::EndDo => {
-                let id = self.loop_id(c, block, interp, diags);
-                match self.top_loop(|l| l.kind == LoopKind::Numbered && l.id == id) {
-                    Some(k) => {
-                        self.loop_jump(k, LoopPart::Head, start, interp, diags);
-                    }
-                    None => self.unmatched(c, "END", "WHILE ... DO", diags),
-                }
-            }
-            Statement::Repeat => {
-                let count = match c.args.first() {
-                    Some(&e) => self.value(interp, block, e, diags).map_or(0.0, |v| if eval::is_null(v) { 0.0 } else { v }),
-                    None => 0.0,
-                };
-                if count >= 1.0 {
-                    self.push_loop(LoopKind::Repeat, label, None, start, here);
-                    if let Some(l) = self.loops.last_mut() {
-                        l.remaining = count.min(u64::MAX as f64) as u64;
-                    }
-                } else {
-                    self.skip_to(start, c.range, "endrepeat", |m| same_label(m, &[Statement::EndRepeat]), interp, diags);
-                }
-            }
-            Statement::EndRepeat => match self.top_loop(|l| l.kind == LoopKind::Repeat && l.label == label) {
-                Some(k) => self.next_repeat(k, true, start, c.range, interp, diags),
-                None => self.unmatched(c, "endrepeat", "repeat", diags),
-            },
-            Statement::Break | Statement::Continue => {
-                let Some(k) = self.top_loop(|l| l.label == label && l.kind != LoopKind::Numbered) else {
-                    self.unmatched(c, if statement == Statement::Break { "break" } else { "continue" }, "a loop", diags);
-                    return;
-                };
-                let kind = self.loops[k].kind;
-                let end: &[Statement] = match kind {
-                    LoopKind::While => &[Statement::EndWhile],
-                    LoopKind::Repeat => &[Statement::EndRepeat],
-                    LoopKind::Do | LoopKind::Numbered => &[Statement::While],
-                    LoopKind::For => &[Statement::EndFor],
-                    LoopKind::Until => &[Statement::Until],
-                    LoopKind::Forever => &[Statement::EndLoop],
-                };
-                match (statement, kind) {
-                    (Statement::Break, _) => {
-                        self.loops.truncate(k);
-                        self.skip_to(start, c.range, "the loop end", |m| same_label(m, end), interp, diags);
-                    }
-                    (_, LoopKind::While) => {
-                        self.loop_jump(k, LoopPart::Head, start, interp, diags);
-                    }
-                    (_, LoopKind::Repeat) => self.next_repeat(k, false, start, c.range, interp, diags),
-                    _ => {
-                        // Continue in a do-loop: evaluate its tail.
-                        self.loops.truncate(k + 1);
-                        if let Some(m) = self.find_after(start.at, |m| same_label(m, end)) {
-                            self.jump(self.cur, m.start, start, interp, diags);
-                        }
-                    }
-                }
-            }
-            Statement::Sub => {
-                // A definition met in the flow of the program is skipped. Definitions do not
-                // nest: one inside another's body stops the control.
-                if self.frames.last().is_some_and(|f| f.kind == FrameKind::Sub) {
-                    let msg = "a subroutine definition inside a running subroutine: definitions do not nest";
-                    diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
-                }
-                let inner = self.find_after(start.at, |m| same_label(m, &[Statement::EndSub]) || m.statement == Some(Statement::Sub));
-                if let Some(m) = inner.filter(|m| m.statement == Some(Statement::Sub)) {
-                    let msg = format!("another subroutine is defined inside this one (line {}): definitions do not nest", m.start.line);
-                    diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
-                }
-                self.library |= self.frames.is_empty() && self.cur == 0;
-                self.skip_to(start, c.range, "endsub", |m| same_label(m, &[Statement::EndSub]), interp, diags);
-            }
-            Statement::EndSub | Statement::Return => {
-                if let Some(&e) = c.args.first()
-                    && let Some(v) = self.value(interp, block, e, diags)
-                {
-                    Self::set_return_value(self.dialect, interp, v, true);
-                }
-                match self.frames.last() {
-                    Some(f) if f.kind == FrameKind::Sub || statement == Statement::Return => self.return_from(None, block, interp, diags),
-                    None if statement == Statement::Return && self.dialect.macros.main_return == MainReturn::End => {
-                        self.main_return(block, interp, sink, diags)
-                    }
-                    _ => self.unmatched(c, if statement == Statement::Return { "return" } else { "endsub" }, "call", diags),
-                }
-            }
+            Statement::Do => self.numbered_do(c, block, start, here, interp, diags),
+            Statement::EndWhile => self.end_while(c, start, &label, interp, diags),
+            Statement::EndDo => self.end_do(c, block, start, interp, diags),
+            Statement::Repeat => self.repeat(c, block, start, here, label, interp, diags),
+            Statement::EndRepeat => self.end_repeat(c, start, &label, interp, diags),
+            Statement::Break | Statement::Continue => self.break_or_continue(statement, c, start, &label, interp, diags),
+            Statement::Sub => self.sub_definition(c, start, &label, interp, diags),
+            Statement::EndSub | Statement::Return => self.end_sub_or_return(statement, c, block, interp, sink, diags),
             Statement::Call => self.call_sub(c, label, block, start, interp, diags),
             Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel => {
                 self.jump_statement(statement, c, block, start, interp, diags)
             }
             Statement::For => self.for_head(c, block, start, here, interp, diags),
-            Statement::EndFor | Statement::EndLoop => {
-                let (kind, what, opener) =
-                    if statement == Statement::EndFor { (LoopKind::For, "ENDFOR", "FOR") } else { (LoopKind::Forever, "ENDLOOP", "LOOP") };
-                match self.top_loop(|l| l.kind == kind) {
-                    Some(k) => self.loop_jump(k, LoopPart::Head, start, interp, diags),
-                    None => self.unmatched(c, what, opener, diags),
-                }
-            }
-            Statement::RepeatUntil => {
-                if self.top_loop(|l| l.kind == LoopKind::Until && l.head == start).is_none() {
-                    self.push_loop(LoopKind::Until, None, None, start, here);
-                }
-            }
-            Statement::Until => {
-                let Some(k) = self.top_loop(|l| l.kind == LoopKind::Until) else {
-                    self.unmatched(c, "UNTIL", "REPEAT", diags);
-                    return;
-                };
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                if cond {
-                    self.loops.truncate(k);
-                } else if self.count_iteration(k, c.range, interp, diags) {
-                    self.loop_jump(k, LoopPart::Body, start, interp, diags);
-                }
-            }
-            Statement::Loop => match self.top_loop(|l| l.kind == LoopKind::Forever && l.head == start) {
-                Some(k) => {
-                    self.count_iteration(k, c.range, interp, diags);
-                }
-                None => self.push_loop(LoopKind::Forever, None, None, start, here),
-            },
-            Statement::Label => {
-                let end = self.dialect.macros.end_label.as_deref();
-                let returns = end.is_some() && self.target_label(c, block, interp, diags).as_deref() == end;
-                if returns && self.frames.last().is_some_and(|f| f.kind == FrameKind::Label) {
-                    self.return_from(None, block, interp, diags);
-                }
-            }
+            Statement::EndFor | Statement::EndLoop => self.end_for_or_loop(statement, c, start, interp, diags),
+            Statement::RepeatUntil => self.repeat_until(start, here),
+            Statement::Until => self.until(c, block, start, interp, diags),
+            Statement::Loop => self.loop_statement(c, start, here, interp, diags),
+            Statement::Label => self.label_statement(c, block, interp, diags),
             Statement::CallLabel => self.call_label(c, block, start, interp, diags),
             Statement::Case => self.case(c, block, start, interp, diags),
             Statement::RepeatSection | Statement::RepeatBlock => self.repeat_section(statement, c, block, start, interp, diags),
             Statement::CallProgram => self.call_program(c, block, start, interp, diags),
             Statement::Procedure => self.procedure(c, block, interp),
             Statement::Inert => {}
-            Statement::Unsupported => {
-                let msg = format!("`{}` is not simulated; it was skipped", statement_head(block, c));
-                // Counted per keyword: each kind of statement is named at least once.
-                let key = format!("statement {}", c.keyword.map_or("", |k| block.text(k)).to_ascii_uppercase());
-                interp.limited(diags, &key, Diagnostic::new(Code::Unsupported, c.range, msg));
+            Statement::Unsupported => unsupported_statement(c, block, interp, diags),
+        }
+    }
+
+    /// A statement keyword the dialect does not have: the statement is skipped, and said so.
+    fn unknown_statement(&self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        if let Some(k) = c.keyword {
+            let word = block.text(k);
+            let head = statement_head(block, c);
+            interp.limited(
+                diags,
+                "statement",
+                Diagnostic::new(
+                    Code::UnknownStatement,
+                    k,
+                    format!("`{word}` is not a statement of the {} dialect; `{head}` was skipped", self.dialect.name),
+                ),
+            );
+        }
+    }
+
+    /// `elseif`: reached by a jump from a false condition, its own condition decides; reached
+    /// from the branch before it, that branch is done and the run goes past `endif`.
+    #[allow(clippy::too_many_arguments)]
+    fn else_if(
+        &mut self,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        label: &Option<String>,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        if self.landing == Some((self.cur, start.at)) {
+            self.landing = None;
+            let Some(cond) = self.condition(interp, c, block, diags) else { return };
+            if !cond {
+                self.next_branch(label, start, c.range, interp, diags);
             }
+        } else {
+            self.skip_structure(label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
+        }
+    }
+
+    /// `else`: reached by a jump from a false condition, its branch runs; reached from the
+    /// branch before it, the run goes past `endif`.
+    fn else_statement(
+        &mut self,
+        c: &Control,
+        start: Pos,
+        label: &Option<String>,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        if self.landing == Some((self.cur, start.at)) {
+            self.landing = None;
+        } else {
+            self.skip_structure(label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
+        }
+    }
+
+    /// `o100 while [..]`: the head of a while loop, or, after `o100 do`, the tail of a
+    /// do-loop, which goes round again while the condition holds.
+    #[allow(clippy::too_many_arguments)]
+    fn while_statement(
+        &mut self,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        here: Pos,
+        label: &Option<String>,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(cond) = self.condition(interp, c, block, diags) else { return };
+        if let Some(k) = self.top_loop(|l| l.kind == LoopKind::Do && l.label == *label) {
+            // The tail of a do-loop.
+            if cond {
+                if self.count_iteration(k, c.range, interp, diags) {
+                    self.loop_jump(k, LoopPart::Body, start, interp, diags);
+                }
+            } else {
+                self.loops.truncate(k);
+            }
+            return;
+        }
+        if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, interp, diags) {
+            self.skip_structure(label, start, c.range, Statement::While, Statement::EndWhile, &[Statement::EndWhile], interp, diags);
+        }
+    }
+
+    /// `WHILE [c] DO m`: the head of a numbered loop, whose end is `END m`.
+    fn while_do(&mut self, c: &Control, block: &Block, start: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let id = self.loop_id(c, block, interp, diags);
+        let Some(cond) = self.condition(interp, c, block, diags) else { return };
+        if self.loop_head(LoopKind::Numbered, None, id, cond, start, here, c.range, interp, diags) {
+            self.skip_numbered_end(id, start, c.range, interp, diags);
+        }
+    }
+
+    /// `DO m` without WHILE: an endless loop that only a jump leaves.
+    fn numbered_do(
+        &mut self,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        here: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let id = self.loop_id(c, block, interp, diags);
+        match self.top_loop(|l| l.kind == LoopKind::Numbered && l.head == start) {
+            Some(k) => {
+                self.count_iteration(k, c.range, interp, diags);
+            }
+            None => self.push_loop(LoopKind::Numbered, None, id, start, here),
+        }
+    }
+
+    /// `o100 endwhile`: back to the loop's head.
+    fn end_while(&mut self, c: &Control, start: Pos, label: &Option<String>, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        match self.top_loop(|l| l.kind == LoopKind::While && l.label == *label) {
+            Some(k) => {
+                self.loop_jump(k, LoopPart::Head, start, interp, diags);
+            }
+            None => self.unmatched(c, "endwhile", "while", diags),
+        }
+    }
+
+    /// `END m`: back to the head of numbered loop m.
+    fn end_do(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let id = self.loop_id(c, block, interp, diags);
+        match self.top_loop(|l| l.kind == LoopKind::Numbered && l.id == id) {
+            Some(k) => {
+                self.loop_jump(k, LoopPart::Head, start, interp, diags);
+            }
+            None => self.unmatched(c, "END", "WHILE ... DO", diags),
+        }
+    }
+
+    /// `o100 repeat [n]`: a loop that runs n times; none at all for n below 1.
+    #[allow(clippy::too_many_arguments)]
+    fn repeat(
+        &mut self,
+        c: &Control,
+        block: &Block,
+        start: Pos,
+        here: Pos,
+        label: Option<String>,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let count = match c.args.first() {
+            Some(&e) => self.value(interp, block, e, diags).map_or(0.0, |v| if eval::is_null(v) { 0.0 } else { v }),
+            None => 0.0,
+        };
+        if count >= 1.0 {
+            self.push_loop(LoopKind::Repeat, label, None, start, here);
+            if let Some(l) = self.loops.last_mut() {
+                l.remaining = count.min(u64::MAX as f64) as u64;
+            }
+        } else {
+            self.skip_to(start, c.range, "endrepeat", |m| same_label(m, &label, &[Statement::EndRepeat]), interp, diags);
+        }
+    }
+
+    /// `o100 endrepeat`: the end of one pass of a counted loop.
+    fn end_repeat(&mut self, c: &Control, start: Pos, label: &Option<String>, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        match self.top_loop(|l| l.kind == LoopKind::Repeat && l.label == *label) {
+            Some(k) => self.next_repeat(k, true, start, c.range, interp, diags),
+            None => self.unmatched(c, "endrepeat", "repeat", diags),
+        }
+    }
+
+    /// `o100 break` (out of the loop, past its end) and `o100 continue` (to its next pass).
+    #[allow(clippy::too_many_arguments)]
+    fn break_or_continue(
+        &mut self,
+        statement: Statement,
+        c: &Control,
+        start: Pos,
+        label: &Option<String>,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let Some(k) = self.top_loop(|l| l.label == *label && l.kind != LoopKind::Numbered) else {
+            self.unmatched(c, if statement == Statement::Break { "break" } else { "continue" }, "a loop", diags);
+            return;
+        };
+        let kind = self.loops[k].kind;
+        let end: &[Statement] = match kind {
+            LoopKind::While => &[Statement::EndWhile],
+            LoopKind::Repeat => &[Statement::EndRepeat],
+            LoopKind::Do | LoopKind::Numbered => &[Statement::While],
+            LoopKind::For => &[Statement::EndFor],
+            LoopKind::Until => &[Statement::Until],
+            LoopKind::Forever => &[Statement::EndLoop],
+        };
+        match (statement, kind) {
+            (Statement::Break, _) => {
+                self.loops.truncate(k);
+                self.skip_to(start, c.range, "the loop end", |m| same_label(m, label, end), interp, diags);
+            }
+            (_, LoopKind::While) => {
+                self.loop_jump(k, LoopPart::Head, start, interp, diags);
+            }
+            (_, LoopKind::Repeat) => self.next_repeat(k, false, start, c.range, interp, diags),
+            _ => {
+                // Continue in a do-loop: evaluate its tail.
+                self.loops.truncate(k + 1);
+                if let Some(m) = self.find_after(start.at, |m| same_label(m, label, end)) {
+                    self.jump(self.cur, m.start, start, interp, diags);
+                }
+            }
+        }
+    }
+
+    /// `o100 sub`: a definition met in the flow of the program is skipped, past its `endsub`.
+    fn sub_definition(
+        &mut self,
+        c: &Control,
+        start: Pos,
+        label: &Option<String>,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        // Definitions do not nest: one inside another's body stops the control.
+        if self.frames.last().is_some_and(|f| f.kind == FrameKind::Sub) {
+            let msg = "a subroutine definition inside a running subroutine: definitions do not nest";
+            diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
+        }
+        let inner = self.find_after(start.at, |m| same_label(m, label, &[Statement::EndSub]) || m.statement == Some(Statement::Sub));
+        if let Some(m) = inner.filter(|m| m.statement == Some(Statement::Sub)) {
+            let msg = format!("another subroutine is defined inside this one (line {}): definitions do not nest", m.start.line);
+            diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
+        }
+        self.library |= self.frames.is_empty() && self.cur == 0;
+        self.skip_to(start, c.range, "endsub", |m| same_label(m, label, &[Statement::EndSub]), interp, diags);
+    }
+
+    /// `o100 endsub`, `o100 return [value]`: back to the caller, with the value; a return in
+    /// the main program ends it where the dialect says so.
+    fn end_sub_or_return(
+        &mut self,
+        statement: Statement,
+        c: &Control,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        if let Some(&e) = c.args.first()
+            && let Some(v) = self.value(interp, block, e, diags)
+        {
+            Self::set_return_value(self.dialect, interp, v, true);
+        }
+        match self.frames.last() {
+            Some(f) if f.kind == FrameKind::Sub || statement == Statement::Return => self.return_from(None, block, interp, diags),
+            None if statement == Statement::Return && self.dialect.macros.main_return == MainReturn::End => {
+                self.main_return(block, interp, sink, diags)
+            }
+            _ => self.unmatched(c, if statement == Statement::Return { "return" } else { "endsub" }, "call", diags),
+        }
+    }
+
+    /// `ENDFOR`, `ENDLOOP`: back to the head of the loop.
+    fn end_for_or_loop(
+        &mut self,
+        statement: Statement,
+        c: &Control,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let (kind, what, opener) =
+            if statement == Statement::EndFor { (LoopKind::For, "ENDFOR", "FOR") } else { (LoopKind::Forever, "ENDLOOP", "LOOP") };
+        match self.top_loop(|l| l.kind == kind) {
+            Some(k) => self.loop_jump(k, LoopPart::Head, start, interp, diags),
+            None => self.unmatched(c, what, opener, diags),
+        }
+    }
+
+    /// `REPEAT` (before `UNTIL`): the loop opens, the first time it is met.
+    fn repeat_until(&mut self, start: Pos, here: Pos) {
+        if self.top_loop(|l| l.kind == LoopKind::Until && l.head == start).is_none() {
+            self.push_loop(LoopKind::Until, None, None, start, here);
+        }
+    }
+
+    /// `UNTIL [c]`: the loop ends once the condition holds, else goes round again.
+    fn until(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let Some(k) = self.top_loop(|l| l.kind == LoopKind::Until) else {
+            self.unmatched(c, "UNTIL", "REPEAT", diags);
+            return;
+        };
+        let Some(cond) = self.condition(interp, c, block, diags) else { return };
+        if cond {
+            self.loops.truncate(k);
+        } else if self.count_iteration(k, c.range, interp, diags) {
+            self.loop_jump(k, LoopPart::Body, start, interp, diags);
+        }
+    }
+
+    /// `LOOP` (up to `ENDLOOP`): an endless loop that only a jump leaves; each time it comes
+    /// round counts.
+    fn loop_statement(&mut self, c: &Control, start: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        match self.top_loop(|l| l.kind == LoopKind::Forever && l.head == start) {
+            Some(k) => {
+                self.count_iteration(k, c.range, interp, diags);
+            }
+            None => self.push_loop(LoopKind::Forever, None, None, start, here),
+        }
+    }
+
+    /// A label (`LBL 5`): the end label (`LBL 0`) returns from a label call.
+    fn label_statement(&mut self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
+        let end = self.dialect.macros.end_label.as_deref();
+        let returns = end.is_some() && self.target_label(c, block, interp, diags).as_deref() == end;
+        if returns && self.frames.last().is_some_and(|f| f.kind == FrameKind::Label) {
+            self.return_from(None, block, interp, diags);
         }
     }
 
