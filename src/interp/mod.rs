@@ -5,6 +5,13 @@
 //! `<execution-order>` gives. Everything the interpreter knows about a dialect comes from
 //! [`Dialect`]: meanings, roles and behaviour flags. It never fails: findings become
 //! diagnostics and an erroneous block is skipped.
+//!
+//! This file holds the interpreter's state and [`Interpreter::execute`], which runs a block
+//! through the phases, and the stages an op passes on its way to the sink. *Read* is
+//! `read.rs`; *execute* is `exec/`, one file per group of meanings (`exec/mod.rs` lists
+//! them); the moves are `motion.rs`, the cycles `cycle.rs`, `define.rs` and `g7x.rs`. The
+//! driver that feeds blocks and carries out control flow (calls, loops, jumps) is `flow.rs`
+//! ([`run`]).
 
 mod comp;
 mod context;
