@@ -72,6 +72,17 @@ enum Shape {
     },
 }
 
+/// A move offset by the radius: its shape, its directions of travel at its start and at its
+/// end, and its offset start and end points.
+#[derive(Clone, Copy, Debug)]
+struct Offset {
+    shape: Shape,
+    t_start: V2,
+    t_end: V2,
+    start: V2,
+    end: V2,
+}
+
 /// The held-back move: its op (end still adjustable), shape, programmed end and the
 /// directions of travel at its end.
 #[derive(Clone, Debug)]
@@ -185,7 +196,32 @@ impl Comp {
             self.hold_or_emit(canon, sink);
             return Ok(());
         }
-        let (shape, t_start, t_end, off_start, off_end) = match canon.op {
+        let offset = self.offset(&canon.op, start, end)?;
+        if self.entry {
+            return self.enter(canon, offset, end, sink);
+        }
+        let (corner_arc, new_start) = self.corner(offset, matches!(canon.op, CanonOp::StraightTraverse(_)))?;
+        let mut canon = canon;
+        let queued = std::mem::take(&mut self.queue);
+        if let Some(h) = self.held.take() {
+            self.out(h.canon, sink);
+        }
+        for q in queued {
+            self.out(q, sink);
+        }
+        if let Some(op) = corner_arc {
+            self.out(Canon { op, origin: canon.origin, line: canon.line }, sink);
+        }
+        self.set_end(&mut canon.op, offset.end);
+        self.held = Some(Held { canon, shape: offset.shape, start: new_start, corner: end, tangent: offset.t_end });
+        self.programmed = end;
+        self.tool = offset.end;
+        Ok(())
+    }
+
+    /// The move `op` from programmed `start` to `end`, offset by the radius to the side.
+    fn offset(&self, op: &CanonOp, start: V2, end: V2) -> Result<Offset, CompProblem> {
+        match *op {
             CanonOp::ArcFeed { first_axis, second_axis, rotation, .. } => {
                 let centre = (first_axis, second_axis);
                 let ccw = rotation > 0;
@@ -206,31 +242,45 @@ impl Comp {
                 if r0.min(r1) <= 1e-9 {
                     return Err(CompProblem::Gouge);
                 }
-                let shape = Shape::Arc { centre, end_radius: r1 };
-                (shape, tangent(start), tangent(end), add(centre, scale(radial(start), r0)), add(centre, scale(radial(end), r1)))
+                Ok(Offset {
+                    shape: Shape::Arc { centre, end_radius: r1 },
+                    t_start: tangent(start),
+                    t_end: tangent(end),
+                    start: add(centre, scale(radial(start), r0)),
+                    end: add(centre, scale(radial(end), r1)),
+                })
             }
             _ => {
                 let t = unit(sub(end, start));
                 let n = scale(self.normal(t), self.radius);
-                (Shape::Line, t, t, add(start, n), add(end, n))
+                Ok(Offset { shape: Shape::Line, t_start: t, t_end: t, start: add(start, n), end: add(end, n) })
             }
-        };
-        let mut canon = canon;
-        if self.entry {
-            // The move that turns compensation on: straight to the offset end point.
-            if let CanonOp::ArcFeed { .. } = canon.op {
-                return Err(CompProblem::ArcEntry);
-            }
-            self.entry = false;
-            self.set_end(&mut canon.op, off_end);
-            self.release(sink);
-            // For the corner with the next move, the entry counts as its programmed line offset
-            // whole (LinuxCNC trims along that parallel, not along the actual approach).
-            self.held = Some(Held { canon, shape: Shape::Line, start: off_start, corner: end, tangent: t_end });
-            self.programmed = end;
-            self.tool = off_end;
-            return Ok(());
         }
+    }
+
+    /// The move that turns compensation on (to programmed `end`): straight to the offset end
+    /// point. It cannot be an arc.
+    fn enter(&mut self, mut canon: Canon, offset: Offset, end: V2, sink: &mut dyn CanonSink) -> Result<(), CompProblem> {
+        if let CanonOp::ArcFeed { .. } = canon.op {
+            return Err(CompProblem::ArcEntry);
+        }
+        self.entry = false;
+        self.set_end(&mut canon.op, offset.end);
+        self.release(sink);
+        // For the corner with the next move, the entry counts as its programmed line offset
+        // whole (LinuxCNC trims along that parallel, not along the actual approach).
+        self.held = Some(Held { canon, shape: Shape::Line, start: offset.start, corner: end, tangent: offset.t_end });
+        self.programmed = end;
+        self.tool = offset.end;
+        Ok(())
+    }
+
+    /// The corner between the held move and the next one (`offset`, a rapid when `rapid`):
+    /// an arc about the programmed corner (a rapid before a rapid) where it is outside, the
+    /// held move trimmed to where the two meet where it is inside, nothing for a turn too
+    /// small. Returns the corner's op, if any, and where the next move starts.
+    fn corner(&mut self, offset: Offset, rapid: bool) -> Result<(Option<CanonOp>, V2), CompProblem> {
+        let Offset { shape, t_start, start: off_start, end: off_end, .. } = offset;
         let mut corner_arc = None;
         let mut new_start = off_start;
         if let Some(h) = &mut self.held {
@@ -251,7 +301,7 @@ impl Comp {
                     Side::Left => turn < 0.0,
                     Side::Right => turn > 0.0,
                 };
-                if convex && matches!(canon.op, CanonOp::StraightTraverse(_)) {
+                if convex && rapid {
                     // Before a rapid the corner is a rapid too, straight to the arc's end.
                     let mut p = [0.0; 6];
                     (p[self.axes.0], p[self.axes.1], p[self.axes.2]) = (off_start.0, off_start.1, axis_of(&h.canon.op, self.axes.2));
@@ -289,21 +339,7 @@ impl Comp {
                 }
             }
         }
-        let queued = std::mem::take(&mut self.queue);
-        if let Some(h) = self.held.take() {
-            self.out(h.canon, sink);
-        }
-        for q in queued {
-            self.out(q, sink);
-        }
-        if let Some(op) = corner_arc {
-            self.out(Canon { op, origin: canon.origin, line: canon.line }, sink);
-        }
-        self.set_end(&mut canon.op, off_end);
-        self.held = Some(Held { canon, shape, start: new_start, corner: end, tangent: t_end });
-        self.programmed = end;
-        self.tool = off_end;
-        Ok(())
+        Ok((corner_arc, new_start))
     }
 
     fn hold_or_emit(&mut self, canon: Canon, sink: &mut dyn CanonSink) {

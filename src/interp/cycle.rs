@@ -37,26 +37,10 @@ pub(super) struct HoleRun {
 }
 
 impl Interpreter<'_> {
+    /// A canned drilling or boring cycle (G73, G74, G76, G81 to G89): its words, kept for the
+    /// cycle blocks after it, then its holes, as many as L (or K) says, at the block's point.
     pub(super) fn cycle(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let kind = match def.meaning {
-            Meaning::CycleDrill => CycleKind::Drilling,
-            Meaning::CycleDrillDwell => CycleKind::CounterBoring,
-            Meaning::CyclePeckDrill => CycleKind::PeckDrilling,
-            Meaning::CycleChipBreak => CycleKind::ChipBreaking,
-            Meaning::CycleBore => CycleKind::Boring,
-            Meaning::CycleBoreDwell => CycleKind::BoringDwell,
-            Meaning::CycleBoreStop => CycleKind::BoringSpindleStop,
-            Meaning::CycleTap => CycleKind::Tapping,
-            Meaning::CycleTapLeft => CycleKind::LeftTapping,
-            Meaning::CycleFineBore => CycleKind::FineBoring,
-            // The Q-shift form (Fanuc); the I/J form of RS274NGC is not expanded.
-            Meaning::CycleBackBore if self.slot(Role::I).is_none() && self.slot(Role::J).is_none() => CycleKind::BackBoring,
-            Meaning::CycleBoreManual => CycleKind::BoringManual,
-            _ => {
-                self.unsupported(def, range, diags);
-                return;
-            }
-        };
+        let Some(kind) = self.hole_kind(def, range, diags) else { return };
         // The hole axis is the plane's normal: Z in G17, Y in G18, X in G19.
         let (a0, a1, n) = self.st.plane.axes();
         if n != 2 && matches!(kind, CycleKind::Tapping | CycleKind::LeftTapping) {
@@ -71,35 +55,7 @@ impl Interpreter<'_> {
             self.limited(diags, "tap-plane", d);
         }
         self.check_technology(def, block.range, diags);
-        // Sticky words: R always, Z while the same cycle stays active, Q and P as given.
-        if let Some(r) = self.slot(Role::R) {
-            self.st.sticky_r = Some(r);
-        }
-        if let Some(z) = self.slot(Role::AXES[n]) {
-            self.st.sticky_z = Some(z);
-        }
-        if let Some(q) = self.slot(Role::Q) {
-            self.st.sticky_q = Some(q);
-        }
-        // The dwell's word: the one the code's `args` give the role `p` (Fagor `K:p`), else P.
-        let dwell_word = def.args.iter().find(|(_, to)| *to == Role::P).map_or(Role::P, |(from, _)| *from);
-        if let Some(p) = self.slot(dwell_word) {
-            self.st.sticky_p = Some(p);
-        }
-        // Without R, Fanuc-family controls feed from the initial level (where the tool is when
-        // the first cycle begins): a warning where the dictionary says so, else an error.
-        if self.st.sticky_r.is_none() && self.st.sticky_z.is_some() && self.dialect.behaviour.cycle_r_defaults_to_initial {
-            let initial = self.st.cycle_initial.unwrap_or(self.st.pos[n]);
-            let r = if self.st.distance == DistanceMode::Incremental { 0.0 } else { initial };
-            self.st.sticky_r = Some(r);
-            let mut d = Diagnostic::new(
-                Code::CycleIncomplete,
-                block.range,
-                format!("{} has no R: the control feeds from the initial level, {r}", def.label()),
-            );
-            d.severity = crate::diag::Severity::Warning;
-            diags.push(d);
-        }
+        let dwell_word = self.sticky_words(def, n, block, diags);
         let (Some(r_word), Some(z_word)) = (self.st.sticky_r, self.st.sticky_z) else {
             let missing = if self.st.sticky_r.is_none() { "R (the feed-start plane)" } else { "Z (the hole bottom)" };
             diags.push(Diagnostic::new(Code::CycleIncomplete, block.range, format!("{} has no {missing}", def.label())));
@@ -177,6 +133,66 @@ impl Interpreter<'_> {
             p = self.hole(&run, x, y, p, sink);
         }
         self.st.pos = p;
+    }
+
+    /// The kind of hole a G8x code makes; `None`, reported, for one not expanded (the I/J
+    /// form of back boring).
+    fn hole_kind(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<CycleKind> {
+        Some(match def.meaning {
+            Meaning::CycleDrill => CycleKind::Drilling,
+            Meaning::CycleDrillDwell => CycleKind::CounterBoring,
+            Meaning::CyclePeckDrill => CycleKind::PeckDrilling,
+            Meaning::CycleChipBreak => CycleKind::ChipBreaking,
+            Meaning::CycleBore => CycleKind::Boring,
+            Meaning::CycleBoreDwell => CycleKind::BoringDwell,
+            Meaning::CycleBoreStop => CycleKind::BoringSpindleStop,
+            Meaning::CycleTap => CycleKind::Tapping,
+            Meaning::CycleTapLeft => CycleKind::LeftTapping,
+            Meaning::CycleFineBore => CycleKind::FineBoring,
+            // The Q-shift form (Fanuc); the I/J form of RS274NGC is not expanded.
+            Meaning::CycleBackBore if self.slot(Role::I).is_none() && self.slot(Role::J).is_none() => CycleKind::BackBoring,
+            Meaning::CycleBoreManual => CycleKind::BoringManual,
+            _ => {
+                self.unsupported(def, range, diags);
+                return None;
+            }
+        })
+    }
+
+    /// Keeps the cycle words of the block for the cycle blocks after it (`n` is the hole
+    /// axis), and, where the control feeds from the initial level without R, that level as R
+    /// (with a warning). Returns the word that gives the dwell.
+    fn sticky_words(&mut self, def: &CodeDef, n: usize, block: &Block, diags: &mut Vec<Diagnostic>) -> Role {
+        // Sticky words: R always, Z while the same cycle stays active, Q and P as given.
+        if let Some(r) = self.slot(Role::R) {
+            self.st.sticky_r = Some(r);
+        }
+        if let Some(z) = self.slot(Role::AXES[n]) {
+            self.st.sticky_z = Some(z);
+        }
+        if let Some(q) = self.slot(Role::Q) {
+            self.st.sticky_q = Some(q);
+        }
+        // The dwell's word: the one the code's `args` give the role `p` (Fagor `K:p`), else P.
+        let dwell_word = def.args.iter().find(|(_, to)| *to == Role::P).map_or(Role::P, |(from, _)| *from);
+        if let Some(p) = self.slot(dwell_word) {
+            self.st.sticky_p = Some(p);
+        }
+        // Without R, Fanuc-family controls feed from the initial level (where the tool is when
+        // the first cycle begins): a warning where the dictionary says so, else an error.
+        if self.st.sticky_r.is_none() && self.st.sticky_z.is_some() && self.dialect.behaviour.cycle_r_defaults_to_initial {
+            let initial = self.st.cycle_initial.unwrap_or(self.st.pos[n]);
+            let r = if self.st.distance == DistanceMode::Incremental { 0.0 } else { initial };
+            self.st.sticky_r = Some(r);
+            let mut d = Diagnostic::new(
+                Code::CycleIncomplete,
+                block.range,
+                format!("{} has no R: the control feeds from the initial level, {r}", def.label()),
+            );
+            d.severity = crate::diag::Severity::Warning;
+            diags.push(d);
+        }
+        dwell_word
     }
 
     /// One hole of a cycle at (`x`, `y`) in the plane, from position `p`: the intent marker,

@@ -12,7 +12,7 @@ use super::cycle::HoleRun;
 use super::{Interpreter, Slot};
 use crate::canon::{CanonOp, CanonSink, CycleKind, DistanceMode, Units};
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, Meaning, Role};
+use crate::dialect::{CodeDef, CycleDef, Meaning, Role};
 use crate::syntax::{Block, WordMode};
 use crate::text::TextRange;
 
@@ -306,42 +306,10 @@ impl Interpreter<'_> {
             args.push((Role::ReferencePlane, surface));
         }
         let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
-        // A parameter set from outside the file (`Q201=-Q1`, the caller's Q1) has a value the
-        // control knows: the cycle runs there, but where it goes is not known here.
-        let outside = |p: Option<u32>| p.is_some_and(|p| self.params.get(f64::from(p)).is_ok_and(super::eval::is_unknown));
-        if let Some(a) = cycle.args.iter().find(|a| a.required && get(a.role).is_none() && outside(a.param)) {
-            let msg = format!(
-                "{} reads {} ({}), which is set outside this file: its moves are not expanded",
-                cycle.name,
-                a.name,
-                a.role.as_str()
-            );
-            self.limited(diags, "unknown-value", Diagnostic::new(Code::UnknownValue, defined.range, msg));
+        if !self.defined_args_given(cycle, &defined, &args, diags) {
             return;
         }
-        for a in cycle.args.iter().filter(|a| a.required) {
-            if get(a.role).is_none() {
-                let msg = format!("{} needs {} ({})", cycle.name, a.name, a.role.as_str());
-                diags.push(Diagnostic::new(Code::MissingParameter, defined.range, msg));
-                return;
-            }
-        }
-        let kind = match cycle.meaning {
-            Meaning::CycleDrill | Meaning::CyclePeckDrill | Meaning::CycleChipBreak | Meaning::CycleDrillDwell => CycleKind::Drilling,
-            Meaning::CycleBore => CycleKind::Boring,
-            Meaning::CycleBoreDwell => CycleKind::BoringDwell,
-            Meaning::CycleBoreStop => CycleKind::BoringSpindleStop,
-            Meaning::CycleBoreManual => CycleKind::BoringManual,
-            Meaning::CycleTap => CycleKind::Tapping,
-            Meaning::CycleTapLeft => CycleKind::LeftTapping,
-            Meaning::CycleFineBore => CycleKind::FineBoring,
-            Meaning::Other | Meaning::Output => return,
-            m => {
-                let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", cycle.name, m.as_str());
-                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
-                return;
-            }
-        };
+        let Some(kind) = self.defined_kind(cycle, range, diags) else { return };
         let (a0, a1, n) = self.st.plane.axes();
         let surface = match get(Role::ReferencePlane) {
             Some(s) => s,
@@ -411,6 +379,55 @@ impl Interpreter<'_> {
             self.emit(sink, CanonOp::StraightTraverse(p));
         }
         self.st.pos = self.hole(&run, p[a0], p[a1], p, sink);
+    }
+
+    /// Whether the defined cycle's required arguments all have values in `args` (the values
+    /// of `defined`): one set outside this file leaves its moves unexpanded, with a note;
+    /// one missing is an error.
+    fn defined_args_given(&mut self, cycle: &CycleDef, defined: &Defined, args: &[(Role, f64)], diags: &mut Vec<Diagnostic>) -> bool {
+        let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
+        // A parameter set from outside the file (`Q201=-Q1`, the caller's Q1) has a value the
+        // control knows: the cycle runs there, but where it goes is not known here.
+        let outside = |p: Option<u32>| p.is_some_and(|p| self.params.get(f64::from(p)).is_ok_and(super::eval::is_unknown));
+        if let Some(a) = cycle.args.iter().find(|a| a.required && get(a.role).is_none() && outside(a.param)) {
+            let msg = format!(
+                "{} reads {} ({}), which is set outside this file: its moves are not expanded",
+                cycle.name,
+                a.name,
+                a.role.as_str()
+            );
+            self.limited(diags, "unknown-value", Diagnostic::new(Code::UnknownValue, defined.range, msg));
+            return false;
+        }
+        for a in cycle.args.iter().filter(|a| a.required) {
+            if get(a.role).is_none() {
+                let msg = format!("{} needs {} ({})", cycle.name, a.name, a.role.as_str());
+                diags.push(Diagnostic::new(Code::MissingParameter, defined.range, msg));
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The kind of hole the defined cycle makes; `None` for a cycle that moves nothing, or one
+    /// kept as intent only (with a note).
+    fn defined_kind(&mut self, cycle: &CycleDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<CycleKind> {
+        Some(match cycle.meaning {
+            Meaning::CycleDrill | Meaning::CyclePeckDrill | Meaning::CycleChipBreak | Meaning::CycleDrillDwell => CycleKind::Drilling,
+            Meaning::CycleBore => CycleKind::Boring,
+            Meaning::CycleBoreDwell => CycleKind::BoringDwell,
+            Meaning::CycleBoreStop => CycleKind::BoringSpindleStop,
+            Meaning::CycleBoreManual => CycleKind::BoringManual,
+            Meaning::CycleTap => CycleKind::Tapping,
+            Meaning::CycleTapLeft => CycleKind::LeftTapping,
+            Meaning::CycleFineBore => CycleKind::FineBoring,
+            Meaning::Other | Meaning::Output => return None,
+            m => {
+                let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", cycle.name, m.as_str());
+                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
+                return None;
+            }
+        })
     }
 
     /// `TRANS X10 Y5` replaces the programmable frame with a translation (alone: no frame);

@@ -5,6 +5,13 @@
 //! `<execution-order>` gives. Everything the interpreter knows about a dialect comes from
 //! [`Dialect`]: meanings, roles and behaviour flags. It never fails: findings become
 //! diagnostics and an erroneous block is skipped.
+//!
+//! This file holds the interpreter's state and [`Interpreter::execute`], which runs a block
+//! through the phases, and the stages an op passes on its way to the sink. *Read* is
+//! `read.rs`; *execute* is `exec/`, one file per group of meanings (`exec/mod.rs` lists
+//! them); the moves are `motion.rs`, the cycles `cycle.rs`, `define.rs` and `g7x.rs`. The
+//! driver that feeds blocks and carries out control flow (calls, loops, jumps) is `flow.rs`
+//! ([`run`]).
 
 mod comp;
 mod context;
@@ -12,20 +19,21 @@ mod corner;
 mod cycle;
 mod define;
 pub mod eval;
+mod exec;
 mod fast;
 mod flow;
 mod g7x;
 mod motion;
+mod read;
 
-use crate::dialect::DataForm;
 pub use flow::{NoPrograms, ProgramSource, run};
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic, Severity};
-use crate::dialect::{CodeDef, DecimalInput, Dialect, Directive, Meaning, Role, Step, SystemVar, TimeUnit};
-use crate::syntax::{Block, ParamTarget, Value, WordMode};
+use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step, SystemVar};
+use crate::syntax::{Block, ParamTarget, WordMode};
 use crate::text::{Text, TextRange};
 use eval::{EvalError, Params};
 
@@ -145,7 +153,6 @@ impl Default for Profile {
     }
 }
 
-/// Rotates a point about the origin by `degrees`, counter-clockwise.
 /// A blank the program defines (`BLK FORM`, `WORKPIECE`), passed on as the stock comment plan
 /// recovery reads, as a CAM system writes it: `STOCK X0 Y0 Z-40 X100 Y100 Z0`.
 fn stock_comment(min: [f64; 3], max: [f64; 3]) -> CanonOp {
@@ -153,6 +160,7 @@ fn stock_comment(min: [f64; 3], max: [f64; 3]) -> CanonOp {
     CanonOp::Comment(format!("STOCK X{} Y{} Z{} X{} Y{} Z{}", n(min[0]), n(min[1]), n(min[2]), n(max[0]), n(max[1]), n(max[2])))
 }
 
+/// Rotates a point about the origin by `degrees`, counter-clockwise.
 fn rotate(p: [f64; 2], degrees: f64) -> [f64; 2] {
     let (sin, cos) = degrees.to_radians().sin_cos();
     [p[0] * cos - p[1] * sin, p[0] * sin + p[1] * cos]
@@ -404,6 +412,67 @@ struct State {
 }
 
 impl State {
+    /// The control's power-on state, as the dialect and the profile set it.
+    fn power_on(dialect: &Dialect, profile: &Profile) -> State {
+        State {
+            units: Units::Mm,
+            plane: dialect.behaviour.initial_plane,
+            distance: DistanceMode::Absolute,
+            arc_incremental: true,
+            feed: 0.0,
+            speed: 0.0,
+            spindle: Spindle::Stopped,
+            mist: false,
+            flood: false,
+            selected_tool: 0,
+            tool: 0,
+            motion_code: None,
+            retract: if dialect.behaviour.initial_retract_r { Retract::RPlane } else { Retract::Initial },
+            wcs: 1,
+            wcs_offsets: [[0.0; 6]; 9],
+            wcs_extended: std::collections::BTreeMap::new(),
+            wcs_rotation: [0.0; 9],
+            modal_macro: None,
+            home1: profile.home1,
+            home2: profile.home2,
+            g92: [0.0; 6],
+            g92_saved: [0.0; 6],
+            tool_offset: [0.0; 3],
+            pos: [0.0; 6],
+            sticky_r: None,
+            sticky_z: None,
+            turn_cycle: None,
+            nurbs: None,
+            rough_cut: None,
+            sticky_q: None,
+            sticky_p: None,
+            ended: false,
+            tech_warned: false,
+            inverse_time: false,
+            feed_per_rev: dialect.behaviour.initial_feed_per_rev,
+            motion_continued: false,
+            rotation: None,
+            scaling: None,
+            pole: (0.0, 0.0),
+            arc_cw: true,
+            defined_cycle: None,
+            cycle_modal: false,
+            tangent: None,
+            comp_left: true,
+            blank_min: None,
+            leaving_comp: false,
+            diameter: dialect.behaviour.x_diameter,
+            css_max: None,
+            spindle_limit: None,
+            cycle_initial: None,
+            machine_data_read: false,
+            length_points: false,
+            feed_unknown: profile.role != ProgramRole::Main,
+            spindle_unknown: profile.role != ProgramRole::Main,
+            overrides: (true, true),
+        }
+    }
+
     /// The offsets of work coordinate system `wcs` (1 for G54; an additional one is 0 until
     /// the program sets it).
     fn offset(&self, wcs: u16) -> [f64; 6] {
@@ -432,6 +501,38 @@ impl State {
             }
         }
     }
+}
+
+/// The parameters at power-on: vacant, but for those the dialect says come from outside the
+/// file (unknown), a called program's arguments, and the return value's.
+fn power_on_params(dialect: &Dialect, profile: &Profile) -> Params {
+    let mut p = Params::new(dialect.macros.null_value);
+    p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
+    p.set_highest(dialect.macros.highest_variable);
+    for &(a, b) in &dialect.macros.outside {
+        p.mark_unknown(a, b);
+    }
+    if profile.role != ProgramRole::Main && dialect.macros.arguments.iter().any(Option::is_some) {
+        // The caller's arguments: unknown, not vacant, in a program that may be called.
+        p.mark_unknown(u32::from(dialect.macros.locals.0), u32::from(dialect.macros.locals.1));
+    }
+    if let Some(name) = &dialect.macros.return_value {
+        p.set_named(name, 0.0);
+        p.set_named(&format!("{name}_returned"), 0.0);
+    }
+    p
+}
+
+/// The corner stage, where the dialect has corner blocks or corner words (`RND`, `CHF`,
+/// `APPR`); none, and no cost, elsewhere.
+fn corner_stage(dialect: &Dialect) -> Option<corner::Corners> {
+    dialect
+        .codes
+        .iter()
+        .any(|c| matches!(c.meaning, Meaning::CornerRound | Meaning::CornerChamfer | Meaning::ApproachTangent | Meaning::ApproachNormal))
+        .then_some(())
+        .or_else(|| dialect.addresses.iter().any(|a| matches!(a.role, Role::CornerRadius | Role::CornerChamfer)).then_some(()))
+        .map(|()| corner::Corners::default())
 }
 
 /// What decides how a run goes on from a point: the parameters, the modes, the saved modes
@@ -540,80 +641,8 @@ impl<'a> Interpreter<'a> {
         Interpreter {
             dialect,
             profile,
-            st: State {
-                units: Units::Mm,
-                plane: dialect.behaviour.initial_plane,
-                distance: DistanceMode::Absolute,
-                arc_incremental: true,
-                feed: 0.0,
-                speed: 0.0,
-                spindle: Spindle::Stopped,
-                mist: false,
-                flood: false,
-                selected_tool: 0,
-                tool: 0,
-                motion_code: None,
-                retract: if dialect.behaviour.initial_retract_r { Retract::RPlane } else { Retract::Initial },
-                wcs: 1,
-                wcs_offsets: [[0.0; 6]; 9],
-                wcs_extended: std::collections::BTreeMap::new(),
-                wcs_rotation: [0.0; 9],
-                modal_macro: None,
-                home1: profile.home1,
-                home2: profile.home2,
-                g92: [0.0; 6],
-                g92_saved: [0.0; 6],
-                tool_offset: [0.0; 3],
-                pos: [0.0; 6],
-                sticky_r: None,
-                sticky_z: None,
-                turn_cycle: None,
-                nurbs: None,
-                rough_cut: None,
-                sticky_q: None,
-                sticky_p: None,
-                ended: false,
-                tech_warned: false,
-                inverse_time: false,
-                feed_per_rev: dialect.behaviour.initial_feed_per_rev,
-                motion_continued: false,
-                rotation: None,
-                scaling: None,
-                pole: (0.0, 0.0),
-                arc_cw: true,
-                defined_cycle: None,
-                cycle_modal: false,
-                tangent: None,
-                comp_left: true,
-                blank_min: None,
-                leaving_comp: false,
-                diameter: dialect.behaviour.x_diameter,
-                css_max: None,
-                spindle_limit: None,
-                cycle_initial: None,
-                machine_data_read: false,
-                length_points: false,
-                feed_unknown: profile.role != ProgramRole::Main,
-                spindle_unknown: profile.role != ProgramRole::Main,
-                overrides: (true, true),
-            },
-            params: {
-                let mut p = Params::new(dialect.macros.null_value);
-                p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
-                p.set_highest(dialect.macros.highest_variable);
-                for &(a, b) in &dialect.macros.outside {
-                    p.mark_unknown(a, b);
-                }
-                if profile.role != ProgramRole::Main && dialect.macros.arguments.iter().any(Option::is_some) {
-                    // The caller's arguments: unknown, not vacant, in a program that may be called.
-                    p.mark_unknown(u32::from(dialect.macros.locals.0), u32::from(dialect.macros.locals.1));
-                }
-                if let Some(name) = &dialect.macros.return_value {
-                    p.set_named(name, 0.0);
-                    p.set_named(&format!("{name}_returned"), 0.0);
-                }
-                p
-            },
+            st: State::power_on(dialect, profile),
+            params: power_on_params(dialect, profile),
             slots: [None; Role::COUNT],
             filled: 0,
             tool_axis: [0.0, 0.0, 1.0],
@@ -642,20 +671,7 @@ impl<'a> Interpreter<'a> {
             stop_message: None,
             tool_edits: BTreeMap::new(),
             comp: std::cell::RefCell::new(None),
-            corners: std::cell::RefCell::new(
-                dialect
-                    .codes
-                    .iter()
-                    .any(|c| {
-                        matches!(
-                            c.meaning,
-                            Meaning::CornerRound | Meaning::CornerChamfer | Meaning::ApproachTangent | Meaning::ApproachNormal
-                        )
-                    })
-                    .then_some(())
-                    .or_else(|| dialect.addresses.iter().any(|a| matches!(a.role, Role::CornerRadius | Role::CornerChamfer)).then_some(()))
-                    .map(|()| corner::Corners::default()),
-            ),
+            corners: std::cell::RefCell::new(corner_stage(dialect)),
             comp_problem: std::cell::Cell::new(None),
             sent: std::cell::Cell::new([0.0; 6]),
             misread: [false; 6],
@@ -841,58 +857,6 @@ impl<'a> Interpreter<'a> {
         self.corners_out(sink);
     }
 
-    /// A point through programmable scaling (G51), then rotation (G68), as the control moves.
-    fn xform(&self, p: [f64; 3]) -> [f64; 3] {
-        let mut q = p;
-        if let Some((c, k)) = self.st.scaling {
-            for i in 0..3 {
-                q[i] = c[i] + (q[i] - c[i]) * k[i];
-            }
-        }
-        if let Some((cx, cy, cos, sin)) = self.st.rotation {
-            let (dx, dy) = (q[0] - cx, q[1] - cy);
-            q[0] = cx + dx * cos - dy * sin;
-            q[1] = cy + dx * sin + dy * cos;
-        }
-        q
-    }
-
-    fn transform(&self, op: CanonOp) -> CanonOp {
-        let at = |p: [f64; 6]| {
-            let q = self.xform([p[0], p[1], p[2]]);
-            [q[0], q[1], q[2], p[3], p[4], p[5]]
-        };
-        match op {
-            CanonOp::StraightTraverse(p) => CanonOp::StraightTraverse(at(p)),
-            CanonOp::StraightFeed(p) => CanonOp::StraightFeed(at(p)),
-            CanonOp::NurbsFeed { points, end } => CanonOp::NurbsFeed { points, end: at(end) },
-            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } => {
-                let (a0, a1, n) = self.st.plane.axes();
-                let mut end = [0.0; 3];
-                let mut centre = [0.0; 3];
-                (end[a0], end[a1], end[n]) = (first_end, second_end, axis_end);
-                (centre[a0], centre[a1], centre[n]) = (first_axis, second_axis, axis_end);
-                let (end, centre) = (self.xform(end), self.xform(centre));
-                CanonOp::ArcFeed {
-                    first_end: end[a0],
-                    second_end: end[a1],
-                    first_axis: centre[a0],
-                    second_axis: centre[a1],
-                    rotation,
-                    axis_end: end[n],
-                    abc,
-                }
-            }
-            CanonOp::CycleBegin(mut c) => {
-                let q = self.xform([c.x, c.y, c.bottom]);
-                (c.x, c.y) = (q[0], q[1]);
-                CanonOp::CycleBegin(c)
-            }
-            CanonOp::RigidTap(p) => CanonOp::RigidTap(self.xform(p)),
-            op => op,
-        }
-    }
-
     /// The finding for an expression without a value. After a read of data only the machine
     /// has, an arithmetic fault may come from that data: it is a warning that says so.
     pub(super) fn eval_diag(&self, e: EvalError, range: TextRange) -> Diagnostic {
@@ -911,16 +875,6 @@ impl<'a> Interpreter<'a> {
                 d
             }
             EvalError::Domain(what) => Diagnostic::new(Code::ArithmeticError, range, what),
-        }
-    }
-
-    /// Limits the spindle speed under constant surface speed (`G50 S`, `LIMS=`), at once when
-    /// it is on.
-    fn set_spindle_limit(&mut self, max: f64, sink: &mut dyn CanonSink) {
-        self.st.spindle_limit = Some(max);
-        if self.st.css_max.is_some_and(|m| m != max) {
-            self.st.css_max = Some(max);
-            self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
         }
     }
 
@@ -1121,6 +1075,8 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// Executes one block: the fast lane's plain move, or the read phase and then the
+    /// execute phase's steps in the dialect's order.
     fn execute_block(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.origin = block.range;
         self.line = block.line;
@@ -1141,63 +1097,17 @@ impl<'a> Interpreter<'a> {
         if self.profile.fast_lane && self.fast_move(block, sink, diags) {
             return;
         }
-        let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
-        if system_vars && !block.exprs.is_empty() {
-            let named = !self.dialect.macros.system_named.is_empty()
-                && block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)));
-            self.refresh_system_vars(named);
-        }
-        let early = self.dialect.behaviour.assign_before_reads;
-        if early {
-            self.assign(block, diags);
-        }
-        if !self.read(block, diags) {
-            return;
-        }
-        if !early {
-            self.assign(block, diags);
-        }
-        if let Some(s) = self.slots[Role::AlarmNumber as usize] {
-            self.alarm(block, 0.0, s.value, s.range, diags);
-        }
-        if self.st.ended {
+        if !self.read_and_assign(block, diags) {
             return;
         }
         if self.filled & (1 << Role::ToolAxisI as u32 | 1 << Role::ToolAxisJ as u32 | 1 << Role::ToolAxisK as u32) != 0 {
             self.tool_axis(sink);
         }
-        if let Some(k) = self.codes.iter().position(|&(c, _)| self.code(c).meaning == Meaning::MacroCall) {
-            self.macro_call(block, self.codes[k].1, diags);
-            return;
-        }
-        if let Some(&(c, range)) =
-            self.codes.iter().find(|&&(c, _)| matches!(self.code(c).meaning, Meaning::ModalMacroCall | Meaning::ModalMacroCancel))
-        {
-            // G66 registers the call (its words are arguments, nothing moves); G67 drops it.
-            self.st.modal_macro = None;
-            if self.code(c).meaning == Meaning::ModalMacroCall
-                && let Some(program) = self.program_number(Role::P, range, diags)
-            {
-                let repeats = self.repeat_count(diags, range);
-                let args = self.macro_args(block, diags);
-                self.st.modal_macro = Some(ModalMacro { program, repeats, args, depth: self.depth });
-            }
+        if self.macro_codes(block, diags) {
             return;
         }
         let motions = self.motions;
-        let plain = self.block_cycle.is_none()
-            && self.code_steps == 0
-            && block.comments.is_empty()
-            && self.stop_message.is_none()
-            && self.filled
-                & (1 << Role::F as u32
-                    | 1 << Role::S as u32
-                    | 1 << Role::T as u32
-                    | 1 << Role::SpindleLimit as u32
-                    | 1 << Role::CornerRadius as u32
-                    | 1 << Role::CornerChamfer as u32)
-                == 0;
-        if plain {
+        if self.is_plain(block) {
             // The common block: axis words only, so only the motion step has work.
             self.step(Step::Motion, block, sink, diags);
             self.modal_macro_after(motions);
@@ -1206,23 +1116,8 @@ impl<'a> Interpreter<'a> {
             }
             return;
         }
-        for &step in &self.dialect.execution_order {
-            let needed = match step {
-                Step::Comment => !block.comments.is_empty(),
-                Step::Feed => self.slots[Role::F as usize].is_some(),
-                Step::Speed => self.slots[Role::S as usize].is_some() || self.slots[Role::SpindleLimit as usize].is_some(),
-                Step::ToolSelect => self.slots[Role::T as usize].is_some(),
-                Step::Motion => true,
-                Step::Stop => self.stop_message.is_some() || self.code_steps & (1 << step as u32) != 0,
-                _ => self.code_steps & (1 << step as u32) != 0,
-            };
-            if !needed {
-                continue;
-            }
-            self.step(step, block, sink, diags);
-            if self.st.ended {
-                return;
-            }
+        if !self.run_steps(block, sink, diags) {
+            return;
         }
         // Codes the dialect files under `misc` take effect last; most are only recorded.
         if self.code_steps & (1 << Step::Misc as u32) != 0 {
@@ -1241,38 +1136,72 @@ impl<'a> Interpreter<'a> {
         self.cycles_after(motions, block.range, sink, diags);
     }
 
-    /// A corner the block's own words round or chamfer (Siemens `X65 RND=5`): marked after the
-    /// block's move, between it and the next, as a corner block between them would be.
-    fn corner_words(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        let (size, corner) = match (self.slot(Role::CornerRadius), self.slot(Role::CornerChamfer)) {
-            (Some(r), _) => (r, corner::Corner::Round(r)),
-            (None, Some(c)) => (c, corner::Corner::Chamfer(c)),
-            (None, None) => return,
-        };
-        if size > 0.0 {
-            self.mark_corner(corner);
-        } else {
-            diags.push(Diagnostic::new(Code::MissingParameter, range, "a corner rounding or chamfer needs a size above zero"));
+    /// The read phase with the block's assignments, before or after its reads as the dialect
+    /// says, and the alarm the block raises by its word. False when the block does not go on
+    /// to execute: it has an error, or the alarm ended the program.
+    fn read_and_assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
+        if system_vars && !block.exprs.is_empty() {
+            let named = !self.dialect.macros.system_named.is_empty()
+                && block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)));
+            self.refresh_system_vars(named);
         }
+        let early = self.dialect.behaviour.assign_before_reads;
+        if early {
+            self.assign(block, diags);
+        }
+        if !self.read(block, diags) {
+            return false;
+        }
+        if !early {
+            self.assign(block, diags);
+        }
+        if let Some(s) = self.slots[Role::AlarmNumber as usize] {
+            self.alarm(block, 0.0, s.value, s.range, diags);
+        }
+        !self.st.ended
     }
 
-    /// Marks the corner between the move the corner stage holds and the next.
-    fn mark_corner(&mut self, corner: corner::Corner) {
-        if let Some(k) = self.corners.get_mut().as_mut() {
-            k.mark(corner, self.origin, self.line);
-        }
+    /// Whether the block, read, has work only at the motion step: no codes, no named cycle,
+    /// no comments or stop message, and none of the words other steps take (F, S, T, the
+    /// corner words).
+    fn is_plain(&self, block: &Block) -> bool {
+        self.block_cycle.is_none()
+            && self.code_steps == 0
+            && block.comments.is_empty()
+            && self.stop_message.is_none()
+            && self.filled
+                & (1 << Role::F as u32
+                    | 1 << Role::S as u32
+                    | 1 << Role::T as u32
+                    | 1 << Role::SpindleLimit as u32
+                    | 1 << Role::CornerRadius as u32
+                    | 1 << Role::CornerChamfer as u32)
+                == 0
     }
 
-    /// After a block that moved, the registered G66 macro is called (not from inside it).
-    fn modal_macro_after(&mut self, motions: u64) {
-        if let Some(m) = &self.st.modal_macro
-            && self.motions != motions
-            && self.request.is_none()
-            && m.depth == self.depth
-        {
-            self.request =
-                Some(Request::Call { program: m.program, repeats: m.repeats, macro_call: true, args: m.args.clone(), start: None });
+    /// Runs the steps of the dialect's execution order that the block has work at (the
+    /// motion step always). False once the program has ended.
+    fn run_steps(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
+        for &step in &self.dialect.execution_order {
+            let needed = match step {
+                Step::Comment => !block.comments.is_empty(),
+                Step::Feed => self.slots[Role::F as usize].is_some(),
+                Step::Speed => self.slots[Role::S as usize].is_some() || self.slots[Role::SpindleLimit as usize].is_some(),
+                Step::ToolSelect => self.slots[Role::T as usize].is_some(),
+                Step::Motion => true,
+                Step::Stop => self.stop_message.is_some() || self.code_steps & (1 << step as u32) != 0,
+                _ => self.code_steps & (1 << step as u32) != 0,
+            };
+            if !needed {
+                continue;
+            }
+            self.step(step, block, sink, diags);
+            if self.st.ended {
+                return false;
+            }
         }
+        true
     }
 
     /// Before the first block: a control that starts in another plane than XY (a lathe in
@@ -1285,449 +1214,6 @@ impl<'a> Interpreter<'a> {
         if self.st.feed_per_rev {
             self.emit(sink, CanonOp::SetFeedMode(FeedMode::PerRevolution));
         }
-    }
-
-    /// Forgets the previous block's words and codes.
-    fn clear_block(&mut self) {
-        let mut filled = std::mem::take(&mut self.filled);
-        while filled != 0 {
-            self.slots[filled.trailing_zeros() as usize] = None;
-            filled &= filled - 1;
-        }
-        self.code_steps = 0;
-        self.unknown_roles = 0;
-        self.codes.clear();
-        self.block_cycle = None;
-        self.cycle_args.clear();
-    }
-
-    /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
-    fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
-        self.clear_block();
-        self.block_read = true;
-        self.misread_before = self.misread;
-        self.block_misread = false;
-        let mut ok = true;
-        // Codes first: a unit change in this block affects how its numbers scale.
-        for w in &block.words {
-            if !matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
-                continue;
-            }
-            if w.role == Role::Cycle {
-                if let Value::Number { value, .. } = w.value {
-                    self.block_cycle = Some(value as usize);
-                }
-                continue;
-            }
-            if w.role == Role::Keyword {
-                let Value::Number { value, .. } = w.value else { continue };
-                ok &= self.push_code(value as usize, w.range, diags);
-                continue;
-            }
-            if !matches!(w.role, Role::G | Role::M) {
-                continue;
-            }
-            let Some(v) = self.value(block, w.value, w.range, diags) else {
-                ok = false;
-                continue;
-            };
-            if eval::is_unknown(v) {
-                self.unknown_word(block, w.range, diags);
-                continue;
-            }
-            if eval::is_null(v) {
-                continue; // a word whose value is vacant is omitted
-            }
-            let x10 = (v * 10.0).round();
-            let letter = w.letter as char;
-            let found = if (v * 10.0 - x10).abs() < 1e-3 && (0.0..10_000.0).contains(&x10) {
-                self.dialect.code_id(letter, x10 as u32)
-            } else {
-                None
-            };
-            let Some(idx) = found else {
-                let shown = block.text(w.range);
-                if letter == 'M' && self.dialect.behaviour.machine_m_codes && (0.0..10_000.0).contains(&x10) {
-                    let d = Diagnostic::new(
-                        Code::MachineCode,
-                        w.range,
-                        format!("`{shown}` is a machine-builder M code; recorded, with no effect on the toolpath"),
-                    );
-                    self.limited(diags, "machine-m-code", d);
-                    continue;
-                }
-                diags.push(Diagnostic::new(
-                    Code::UnknownCode,
-                    w.range,
-                    format!("`{shown}` is not a code of the {} dialect", self.dialect.name),
-                ));
-                ok = false;
-                continue;
-            };
-            ok &= self.push_code(idx, w.range, diags);
-        }
-        let units = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
-            Meaning::UnitsInch => Some(Units::Inch),
-            Meaning::UnitsMm => Some(Units::Mm),
-            _ => None,
-        });
-        let units = units.unwrap_or(self.st.units);
-        // G7 in this block already reads its X words as diameters.
-        let diameter = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
-            Meaning::DiameterMode => Some(true),
-            Meaning::RadiusMode => Some(false),
-            _ => None,
-        });
-        let diameter = diameter.unwrap_or(self.st.diameter);
-        // In a drilling cycle's block (its own or the one in force) K counts repeats: no length.
-        let is_hole_cycle = |m: Meaning| {
-            matches!(
-                m,
-                Meaning::CycleDrill
-                    | Meaning::CycleDrillDwell
-                    | Meaning::CyclePeckDrill
-                    | Meaning::CycleChipBreak
-                    | Meaning::CycleBore
-                    | Meaning::CycleBoreDwell
-                    | Meaning::CycleBoreStop
-                    | Meaning::CycleTap
-                    | Meaning::CycleTapLeft
-                    | Meaning::CycleFineBore
-                    | Meaning::CycleBackBore
-                    | Meaning::CycleBoreManual
-            )
-        };
-        let k_counts = self.codes.iter().any(|&(c, _)| is_hole_cycle(self.code(c).meaning))
-            || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
-        for (k, w) in block.words.iter().enumerate() {
-            if matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
-                continue;
-            }
-            let mut w = *w;
-            if let Some(&(_, index)) = block.axis_refs.iter().find(|&&(i, _)| i == k) {
-                match self.axis_by_variable(block, index, w.range, diags) {
-                    Some(letter) => {
-                        w.letter = letter;
-                        w.role = self.dialect.letter_role(letter).unwrap_or(Role::Extra);
-                    }
-                    None => continue,
-                }
-            }
-            let w = &w;
-            if w.cycle_arg {
-                match self.value(block, w.value, w.range, diags) {
-                    Some(v) if eval::is_unknown(v) => self.unknown_word(block, w.range, diags),
-                    Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),
-                    Some(_) => {}
-                    None => ok = false,
-                }
-                continue;
-            }
-            let mut role = w.role;
-            if self.slots[role as usize].is_some() {
-                // An address that may appear twice gives its second occurrence another role.
-                let again = self.dialect.addresses.iter().find(|a| a.role == role).and_then(|a| a.again);
-                if let Some(r) = again.filter(|r| self.slots[*r as usize].is_none()) {
-                    role = r;
-                }
-            }
-            if self.slots[role as usize].is_some() {
-                let shown = block.text(w.range);
-                diags.push(Diagnostic::new(
-                    Code::DuplicateWord,
-                    w.range,
-                    format!("`{shown}`: the address {} appears twice in this block", w.letter as char),
-                ));
-                ok = false;
-                continue;
-            }
-            let mut v = match w.value {
-                Value::Number { value, .. } => value,
-                Value::Text(r) => match self.text_value(block, role, r, w.range, diags) {
-                    Some(v) => v,
-                    None => {
-                        ok = false;
-                        continue;
-                    }
-                },
-                Value::Expr(_) => match self.value(block, w.value, w.range, diags) {
-                    Some(v) if eval::is_unknown(v) => {
-                        if role == Role::F {
-                            // Not zero: the feed the control has, which this file does not know.
-                            self.st.feed_unknown = true;
-                            self.st.feed = self.st.feed.max(0.0);
-                        }
-                        self.unknown_roles |= 1 << role as u32;
-                        self.unknown_word(block, w.range, diags);
-                        continue;
-                    }
-                    Some(v) if eval::is_null(v) => continue,
-                    Some(v) => v,
-                    None => {
-                        ok = false;
-                        continue;
-                    }
-                },
-            };
-            if let (Value::Number { decimal, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
-                (w.value, &self.dialect.behaviour.decimal_input)
-                && scaled.contains(&role)
-                && !(k_counts && role == Role::K)
-            {
-                let axis = Role::AXES.iter().position(|&a| a == role);
-                let absolute = match w.mode {
-                    WordMode::Modal => self.st.distance == DistanceMode::Absolute,
-                    WordMode::Absolute => true,
-                    WordMode::Incremental => false,
-                };
-                if decimal {
-                    self.st.length_points = true;
-                    if let Some(i) = axis.filter(|_| absolute) {
-                        self.misread[i] = false;
-                    }
-                } else {
-                    if v != 0.0 && self.st.length_points {
-                        let shown = block.text(w.range);
-                        let unit = if units == Units::Mm { "mm" } else { "inch" };
-                        let scaled_to = (v * if units == Units::Mm { *mm } else { *inch } * 1e9).round() / 1e9;
-                        let msg = format!(
-                            "`{shown}` has no decimal point: least-increment input reads it as {scaled_to} {unit}, while this program writes its other lengths with points; if {v} {unit} was meant, write `{shown}.` (or, if the machine reads whole numbers as units, set its decimal_input to calculator in the config)"
-                        );
-                        let mut d = Diagnostic::new(Code::NoDecimalPoint, w.range, msg);
-                        // The first such word is the finding; the others repeat it.
-                        if self.misread_word.is_some() {
-                            d.severity = Severity::Note;
-                        }
-                        self.limited(diags, "no-decimal-point", d);
-                        match axis {
-                            Some(i) => self.misread[i] = true,
-                            None => self.block_misread = true,
-                        }
-                        self.misread_word = Some(format!("`{shown}` read as {scaled_to} {unit}"));
-                    } else if let Some(i) = axis.filter(|_| absolute) {
-                        self.misread[i] = false;
-                    }
-                    v *= if units == Units::Mm { *mm } else { *inch };
-                }
-            }
-            if diameter && role == Role::X {
-                v /= 2.0;
-            }
-            self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
-            self.filled |= 1 << role as u32;
-        }
-        // A motion code may give a word the role of a polar coordinate (Heidenhain ISO's
-        // `G11 R+20 H+30`: R is the polar radius there, an arc's radius elsewhere).
-        if let Some(c) = self.active_motion_code() {
-            let def = self.code(c);
-            for &(from, to) in &def.args {
-                if matches!(to, Role::PolarRadius | Role::PolarAngle) && self.slots[to as usize].is_none() {
-                    if let Some(s) = self.slots[from as usize].take() {
-                        self.slots[to as usize] = Some(s);
-                        self.filled |= 1 << to as u32;
-                    }
-                }
-            }
-        }
-        // Where I J K are the circle centre and the pole (Heidenhain ISO), a block that
-        // writes them sets the pole, with or without an arc.
-        if self.dialect.behaviour.arc_centres_pole {
-            let (a0, a1, _) = self.st.plane.axes();
-            if let Some(c) = self.centre_words(a0, a1, self.st.pos) {
-                self.st.pole = c;
-            }
-        }
-        // Polar words (`PA+90`) name an end point as axis words do.
-        const POSITION: u128 = {
-            let mut m = 1 << Role::PolarRadius as u32 | 1 << Role::PolarAngle as u32;
-            let mut k = 0;
-            while k < Role::AXES.len() {
-                m |= 1 << Role::AXES[k] as u32;
-                k += 1;
-            }
-            m
-        };
-        self.has_axes = self.filled & POSITION != 0;
-        if ok {
-            ok = self.check_params(block, diags);
-        }
-        ok
-    }
-
-    /// Adds code `idx` to the block's codes; false (with a diagnostic) when its group already has one.
-    fn push_code(&mut self, idx: usize, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
-        let def = self.code(idx);
-        if let Some(k) = self.codes.iter().position(|(c, _)| self.code(*c).group == def.group) {
-            let other = self.codes[k].0;
-            if def.gives_way {
-                return true;
-            }
-            if self.code(other).gives_way {
-                self.codes[k] = (idx, range);
-                return true;
-            }
-            diags.push(Diagnostic::new(
-                Code::ModalGroupConflict,
-                range,
-                format!(
-                    "{} and {} are both in modal group `{}`; a block may hold only one",
-                    self.code(other).label(),
-                    def.label(),
-                    self.dialect.groups[def.group].id
-                ),
-            ));
-            return false;
-        }
-        self.codes.push((idx, range));
-        self.code_steps |= 1 << self.dialect.groups[def.group].step as u32;
-        true
-    }
-
-    /// A quoted value: a tool name (`T="DRILL_8"`) becomes the number the tool table gives
-    /// it, or a number from 10001 on in the order names first appear.
-    fn text_value(&mut self, block: &Block, role: Role, r: TextRange, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
-        let name = block.text(r);
-        if role == Role::Extra {
-            return Some(0.0); // a name the engine only records (`LBL "NAME"`)
-        }
-        if role != Role::T {
-            diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("\"{name}\" is text; this address takes a number")));
-            return None;
-        }
-        if let Some((&n, _)) = self.profile.tools.iter().find(|(_, t)| t.name.as_deref().is_some_and(|t| t.eq_ignore_ascii_case(name))) {
-            return Some(f64::from(n));
-        }
-        let k = match self.tool_names.iter().position(|t| t.eq_ignore_ascii_case(name)) {
-            Some(k) => k,
-            None => {
-                self.tool_names.push(name.to_owned());
-                self.tool_names.len() - 1
-            }
-        };
-        Some(10_001.0 + k as f64)
-    }
-
-    fn value(&mut self, block: &Block, v: Value, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
-        match v {
-            Value::Number { value, .. } => Some(value),
-            Value::Text(_) => {
-                diags.push(Diagnostic::new(Code::MalformedNumber, range, "text where a number is needed"));
-                None
-            }
-            Value::Expr(e) => match self.eval(block, e, range, diags) {
-                Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) || eval::is_unknown(x) => Some(x),
-                Ok(_) => {
-                    diags.push(Diagnostic::new(Code::ArithmeticError, range, "the expression has no finite value"));
-                    None
-                }
-                Err(err) => {
-                    diags.push(self.eval_diag(err, range));
-                    None
-                }
-            },
-        }
-    }
-
-    fn check_params(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
-        let mut ok = true;
-        // A word whose value is unknown is there on the machine: it meets the requirement.
-        let present = |s: &Self, r: Role| s.slots[r as usize].is_some() || s.unknown_roles & (1 << r as u32) != 0;
-        let has_axes = self.has_axes;
-        for &(c, range) in &self.codes {
-            let def = self.code(c);
-            let is_motion = self.dialect.groups[def.group].step == Step::Motion;
-            for &r in &def.params.required {
-                if !present(self, r) {
-                    diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs {}", def.label(), self.address_name(r))));
-                    ok = false;
-                }
-            }
-            for set in &def.params.any_of {
-                if !set.iter().any(|&r| present(self, r)) && (!is_motion || has_axes) {
-                    let names: Vec<_> = set.iter().map(|&r| self.address_name(r)).collect();
-                    diags.push(Diagnostic::new(
-                        Code::MissingParameter,
-                        range,
-                        format!("{} needs one of {}", def.label(), names.join(", ")),
-                    ));
-                    ok = false;
-                }
-            }
-            for (a, b) in &def.params.exclusive {
-                if a.iter().any(|&r| present(self, r)) && b.iter().any(|&r| present(self, r)) {
-                    let an: Vec<_> = a.iter().map(|&r| self.address_name(r)).collect();
-                    let bn: Vec<_> = b.iter().map(|&r| self.address_name(r)).collect();
-                    diags.push(Diagnostic::new(
-                        Code::MissingParameter,
-                        range,
-                        format!("{} mixes {} with {}", def.label(), an.join(" "), bn.join(" ")),
-                    ));
-                    ok = false;
-                }
-            }
-        }
-        // Words that no command in this block takes.
-        let mut motion = None;
-        for w in &block.words {
-            if !matches!(w.role, Role::P | Role::Q | Role::L | Role::R | Role::I | Role::J | Role::K | Role::H | Role::D | Role::E) {
-                continue;
-            }
-            // The centre words set the pole in any block.
-            if self.dialect.behaviour.arc_centres_pole && matches!(w.role, Role::I | Role::J | Role::K) {
-                continue;
-            }
-            let motion = *motion.get_or_insert_with(|| self.active_motion_code());
-            // A keyword code takes the value it is written with (`SPOS=90`).
-            let takes = |c: &CodeDef, r: Role| c.params.takes(r) || c.keyword.as_ref().is_some_and(|k| k.value_role == Some(r));
-            let taken = self.codes.iter().any(|&(c, _)| takes(self.code(c), w.role)) || motion.is_some_and(|c| takes(self.code(c), w.role));
-            if !taken {
-                let shown = block.text(w.range);
-                let d =
-                    Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}`: no command in this block takes {}", w.letter as char));
-                diags.push(self.unused(d));
-            }
-        }
-        ok
-    }
-
-    fn address_name(&self, role: Role) -> String {
-        self.dialect.addresses.iter().find(|a| a.role == role).map_or_else(|| role.as_str().to_owned(), |a| a.name.clone())
-    }
-
-    /// The motion code this block executes: explicit, or the modal one when axes are given
-    /// and no other code claims them: one whose meaning uses axis words, or whose parameters
-    /// list an axis word the block has (`G4 X1.5`, `G51 A45 E0.002`).
-    fn active_motion_code(&self) -> Option<usize> {
-        if let Some(&(c, _)) = self.codes.iter().find(|(c, _)| self.dialect.groups[self.code(*c).group].step == Step::Motion) {
-            return Some(c);
-        }
-        let claimed = self.codes.iter().any(|&(c, _)| {
-            matches!(
-                self.code(c).meaning,
-                Meaning::SetData
-                    | Meaning::ModalMacroCall
-                    | Meaning::LengthCompDynamic
-                    | Meaning::Home1
-                    | Meaning::Home2
-                    | Meaning::OriginShift
-                    | Meaning::LocalOffset
-                    | Meaning::Scaling
-                    | Meaning::Rotation
-                    | Meaning::Pole
-                    | Meaning::PoleKeeping
-                    | Meaning::CycleDefine
-                    | Meaning::FrameTrans
-                    | Meaning::FrameTransAdd
-                    | Meaning::FrameRot
-                    | Meaning::FrameRotAdd
-                    | Meaning::FrameScale
-                    | Meaning::FrameScaleAdd
-                    | Meaning::FrameMirror
-                    | Meaning::Stock
-                    | Meaning::CycleIntent
-            ) || (self.dialect.groups[self.code(c).group].step != Step::Motion && self.claims_axes(c))
-        });
-        if self.has_axes && !claimed { self.st.motion_code } else { None }
     }
 
     /// Evaluates `e` of `block`. On a control where an unset variable reads as 0,
@@ -1799,67 +1285,6 @@ impl<'a> Interpreter<'a> {
             Some(eval::UnknownSource::Named(name)) => format!("`{name}`, which the caller or the control's global data sets"),
             None => "a value set outside this file".to_owned(),
         }
-    }
-
-    /// A word whose value is unknown: omitted, as a vacant one is, so that a move keeps its
-    /// known axes; said once per block.
-    fn unknown_word(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        self.unknown_words += 1;
-        let shown = block.text(range).to_owned();
-        let what = self.unknown_what();
-        let msg = format!("`{shown}` reads {what}; the word is left out and the block keeps its known words");
-        let mut d = Diagnostic::new(Code::UnknownValue, range, msg);
-        if !self.is_called() {
-            d.severity = Severity::Warning;
-        }
-        self.limited(diags, "unknown-value", d);
-    }
-
-    /// The axis an axis variable names (`AX[_X]=10` after `DEF AXIS _X=X`); none, with a
-    /// note, when its value comes from outside the file (a `PROC`'s `AXIS` argument) or is
-    /// no axis.
-    fn axis_by_variable(
-        &mut self,
-        block: &Block,
-        index: crate::syntax::ExprId,
-        range: TextRange,
-        diags: &mut Vec<Diagnostic>,
-    ) -> Option<u8> {
-        // An undeclared name is said once, by the note below.
-        let mut read = Vec::new();
-        let v = match self.eval(block, index, range, &mut read) {
-            Ok(v) => v,
-            Err(e) => {
-                diags.append(&mut read);
-                diags.push(self.eval_diag(e, range));
-                return None;
-            }
-        };
-        if !eval::is_unknown(v) {
-            diags.append(&mut read);
-        }
-        if let Some(letter) = crate::syntax::axis_of(v).filter(|&c| self.dialect.letter_role(c).is_some_and(|r| r.is_axis())) {
-            return Some(letter);
-        }
-        let shown = block.text(range).trim();
-        // The name with its index (`AX[_X]`), without the value.
-        let shown = shown.find(']').map_or(shown, |i| &shown[..=i]).to_owned();
-        if eval::is_unknown(v) {
-            let what = self.unknown_what();
-            let msg = format!("`{shown}` names its axis by {what}: the move along it is left out");
-            self.limited(diags, "unknown-value", Diagnostic::new(Code::UnknownValue, range, msg));
-        } else {
-            let msg = format!("`{shown}`: the variable holds no axis here; the word is left out");
-            let mut d = Diagnostic::new(Code::BadValue, range, msg);
-            d.severity = Severity::Warning;
-            self.limited(diags, "axis-variable", d);
-        }
-        None
-    }
-
-    /// Whether code `c` takes one of the axis words the block has.
-    fn claims_axes(&self, c: usize) -> bool {
-        Role::AXES.iter().any(|&r| self.slots[r as usize].is_some() && self.code(c).params.takes(r))
     }
 
     fn assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
@@ -1934,49 +1359,6 @@ impl<'a> Interpreter<'a> {
         self.pending = pending;
     }
 
-    /// What a log-file directive writes: the file's name as written, nothing for a close, or
-    /// the line with each parameter (`#1`, `#<depth>`) replaced by its value with six
-    /// decimals, as rs274 writes it (`######` for one it cannot read; a `#` ending the text
-    /// goes).
-    fn log_text(&self, kind: crate::dialect::LogFile, rest: &str) -> String {
-        use crate::dialect::LogFile;
-        match kind {
-            LogFile::Close => return String::new(),
-            LogFile::Open | LogFile::Append => return rest.trim().to_owned(),
-            LogFile::Line => {}
-        }
-        let mut out = String::with_capacity(rest.len());
-        let mut rest = rest;
-        while let Some(at) = rest.find('#') {
-            out.push_str(&rest[..at]);
-            let after = &rest[at + 1..];
-            let digits = after.bytes().take_while(u8::is_ascii_digit).count();
-            let (value, used) = if digits > 0 {
-                (after[..digits].parse::<f64>().ok().and_then(|n| self.params.get(n).ok()), digits)
-            } else if let Some(raw) = after.strip_prefix('<').and_then(|a| a.find('>').map(|e| &a[..e])) {
-                let name = eval::normalise_name(raw);
-                // A system parameter reads the state now, as in an expression.
-                let system = self.dialect.macros.system_named.iter().find(|(n, ..)| *n == name);
-                let value = match system {
-                    Some(&(_, var, constant)) => self.system_value(var, constant),
-                    None => self.params.get_named(&name).ok(),
-                };
-                (value, raw.len() + 2)
-            } else {
-                (None, 0)
-            };
-            match value {
-                Some(v) => out.push_str(&format!("{v:.6}")),
-                None if used > 0 => out.push_str("######"),
-                None if after.is_empty() => {}
-                None => out.push('#'),
-            }
-            rest = &after[used..];
-        }
-        out.push_str(rest);
-        out
-    }
-
     /// The text of the block's first comment, or an empty string.
     fn block_comment(&self, block: &Block) -> String {
         block.comments.first().map(|r| block.text(*r).trim().to_owned()).unwrap_or_default()
@@ -1991,1177 +1373,6 @@ impl<'a> Interpreter<'a> {
             range,
             format!("the program raises alarm {number}{}{msg}; execution stops here", if msg.is_empty() { "" } else { ": " }),
         ));
-        self.st.ended = true;
-    }
-
-    /// `G65 P9010 L2 A1 B2`: a macro call; the other words are arguments by letter.
-    fn macro_call(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        let Some(program) = self.program_number(Role::P, range, diags) else { return };
-        let repeats = self.repeat_count(diags, range);
-        let args = self.macro_args(block, diags);
-        self.request = Some(Request::Call { program, repeats, macro_call: true, args, start: None });
-    }
-
-    /// The argument words of a macro call (all but G, P and L) as (local, value).
-    fn macro_args(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> Vec<(u16, f64)> {
-        let mut args = Vec::new();
-        for w in &block.words {
-            if matches!(w.role, Role::G | Role::P | Role::L) {
-                continue;
-            }
-            let Some(local) = self.dialect.macros.arguments.get((w.letter.wrapping_sub(b'A')) as usize).copied().flatten() else {
-                let shown = block.text(w.range);
-                diags.push(Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}` is not a macro argument in this dialect")));
-                continue;
-            };
-            // Arguments keep the value as written: the least-increment rule does not apply.
-            if let Some(v) = self.value(block, w.value, w.range, diags) {
-                args.push((local, v));
-            }
-        }
-        args
-    }
-
-    /// A program number from the word `role`, checked.
-    fn program_number(&mut self, role: Role, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<u32> {
-        let slot = self.slots[role as usize]?;
-        // The least-increment rule may have scaled P; program numbers are read as written.
-        let v = slot.value;
-        if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
-            diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("program number {v} must be a whole number")));
-            return None;
-        }
-        Some(v as u32)
-    }
-
-    /// The repeat count of a call: L, or 1.
-    fn repeat_count(&mut self, diags: &mut Vec<Diagnostic>, range: TextRange) -> u32 {
-        match self.slot(Role::L) {
-            None => 1,
-            Some(l) if l >= 0.0 && l.fract() == 0.0 && l < 1e6 => l as u32,
-            Some(l) => {
-                diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("repeat count L{l} must be a whole number")));
-                1
-            }
-        }
-    }
-
-    fn step(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        match step {
-            Step::Comment => {
-                for r in &block.comments {
-                    let text = block.text(*r);
-                    let op = match self.dialect.lexical.directive(text) {
-                        Some((Directive::Message, m)) => CanonOp::Message(m.to_owned()),
-                        Some((Directive::Abort, m)) => {
-                            let msg = format!("the program aborts: {}; execution stops here", m.trim());
-                            diags.push(Diagnostic::new(Code::ProgramAlarm, *r, msg));
-                            self.st.ended = true;
-                            return;
-                        }
-                        // `(LOGCLOSE)` only: with more after it, rs274 takes it for a comment.
-                        Some((Directive::LogFile(crate::dialect::LogFile::Close), rest)) if !rest.trim().is_empty() => {
-                            CanonOp::Comment(text.to_owned())
-                        }
-                        Some((Directive::LogFile(kind), rest)) => CanonOp::Log(kind, self.log_text(kind, rest)),
-                        Some((Directive::Log | Directive::Simulator, _)) | None => CanonOp::Comment(text.to_owned()),
-                    };
-                    self.emit(sink, op);
-                }
-            }
-            Step::Feed => {
-                // A dwell that takes F (Siemens `G4 F2.5`) reads it as seconds, not as a feed.
-                // So does a cycle definition (`CYCL DEF 1.5 F80`): the cycle's own feed.
-                let dwell_f = self.codes.iter().any(|&(c, _)| {
-                    let d = self.code(c);
-                    (d.meaning == Meaning::Dwell && d.params.takes(Role::F)) || d.meaning == Meaning::CycleDefine
-                });
-                if let Some(f) = self.slot(Role::F).filter(|_| !dwell_f) {
-                    if self.st.inverse_time {
-                        // Each feed move of the block turns F into a rate (see `inverse_time_feed`).
-                        return;
-                    }
-                    self.st.feed = f;
-                    self.st.feed_unknown = false;
-                    self.st.tech_warned = false;
-                    self.emit(sink, CanonOp::SetFeedRate(f));
-                }
-            }
-            Step::Speed => {
-                // `LIMS=3000` (Siemens) sets the limit of constant surface speed, now or later.
-                if let Some(max) = self.slot(Role::SpindleLimit) {
-                    self.set_spindle_limit(max, sink);
-                }
-                // `G50 S3200` on a lathe limits the speed; it does not set it.
-                let limit = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::SpindleLimit);
-                if let Some(s) = self.slot(Role::S).filter(|_| !limit) {
-                    self.st.speed = s;
-                    self.emit(sink, CanonOp::SetSpindleSpeed(s));
-                }
-            }
-            Step::ToolSelect => {
-                if let Some(t) = self.slot(Role::T) {
-                    if t < 0.0 || t.fract() != 0.0 {
-                        diags.push(Diagnostic::new(
-                            Code::MalformedNumber,
-                            self.slots[Role::T as usize].map_or(block.range, |s| s.range),
-                            "a tool number must be a whole number of zero or more",
-                        ));
-                    } else {
-                        self.tool_word(t, sink);
-                    }
-                }
-            }
-            Step::Misc => {}
-            Step::Stop if self.stop_message.is_some() => {
-                let msg = self.stop_message.take().unwrap_or_default();
-                self.emit(sink, CanonOp::Message(msg));
-                self.emit(sink, CanonOp::ProgramStop);
-                self.run_codes(step, block, sink, diags);
-            }
-            _ => {
-                let ran = self.run_codes(step, block, sink, diags);
-                if step == Step::Motion && !ran {
-                    if let Some(c) = self.active_motion_code() {
-                        self.execute_code(c, block.range, block, sink, diags);
-                    } else if self.has_axes && !self.codes.iter().any(|&(c, _)| self.claims_axes(c)) {
-                        let d = Diagnostic::new(
-                            Code::UnusedWord,
-                            block.range,
-                            "axis words without an active motion mode (after G80 or at program start)",
-                        );
-                        diags.push(self.unused(d));
-                    }
-                }
-            }
-        }
-    }
-
-    /// Executes the block's codes that take effect at `step`; true if there were any.
-    fn run_codes(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
-        // Index loop: `execute_code` needs `&mut self`, and the hot path must not allocate.
-        let mut ran = false;
-        for k in 0..self.codes.len() {
-            let (c, range) = self.codes[k];
-            if self.dialect.groups[self.code(c).group].step == step {
-                ran = true;
-                self.execute_code(c, range, block, sink, diags);
-            }
-        }
-        ran
-    }
-
-    fn unsupported(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        let key: &'static str = def.meaning.as_str();
-        self.limited(
-            diags,
-            key,
-            Diagnostic::new(Code::Unsupported, range, format!("{} ({}) is not supported yet; it was skipped", def.label(), def.name)),
-        );
-    }
-
-    /// M19: the spindle stops at an angle (R, degrees) turning the way P says (0 shorter,
-    /// 1 clockwise, 2 counterclockwise); Q waits that many seconds for it. A code that takes
-    /// no R orients to the angle the machine is set up with, given as 0.
-    fn orient_spindle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        self.st.spindle = Spindle::Stopped;
-        let (angle, mode) = (self.slot(Role::R), self.slot(Role::P));
-        if angle.is_some() || mode.is_some() || !def.params.takes(Role::R) {
-            let mode = match mode {
-                None => 0,
-                Some(p) if [0.0, 1.0, 2.0].contains(&p) => p as u8,
-                Some(p) => {
-                    let d = Diagnostic::new(Code::BadValue, range, format!("{}: P{p} is no direction; P takes 0, 1 or 2", def.label()));
-                    diags.push(d);
-                    return;
-                }
-            };
-            self.emit(sink, CanonOp::OrientSpindle { angle: angle.unwrap_or(0.0), mode });
-        }
-        match self.slot(Role::Q) {
-            Some(t) if t > 0.0 => self.emit(sink, CanonOp::WaitOrientComplete(t)),
-            Some(t) => {
-                diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: a wait of Q{t} seconds; Q must be above 0", def.label())))
-            }
-            None => {}
-        }
-    }
-
-    fn execute_code(&mut self, c: usize, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let def = self.code(c);
-        match def.meaning {
-            Meaning::FeedPerMinute | Meaning::FeedPerRev => {
-                self.st.inverse_time = false;
-                let per_rev = def.meaning == Meaning::FeedPerRev;
-                if per_rev != self.st.feed_per_rev {
-                    self.st.feed_per_rev = per_rev;
-                    self.emit(sink, CanonOp::SetFeedMode(if per_rev { FeedMode::PerRevolution } else { FeedMode::PerMinute }));
-                }
-                if self.dialect.behaviour.feed_mode_resets_feed {
-                    self.st.feed = 0.0;
-                    self.st.feed_unknown = false;
-                    self.emit(sink, CanonOp::SetFeedRate(0.0));
-                }
-            }
-            Meaning::FeedInverseTime => {
-                self.st.inverse_time = true;
-                if self.st.feed_per_rev {
-                    self.st.feed_per_rev = false;
-                    self.emit(sink, CanonOp::SetFeedMode(FeedMode::PerMinute));
-                }
-            }
-            // A tool call whose keyword names no tool (`TOOL CALL Z S2000`) changes only what
-            // else its block says (the speed): no tool change.
-            Meaning::ToolChange if def.keyword.as_ref().is_some_and(|k| k.value_role == Some(Role::T)) && self.slot(Role::T).is_none() => {}
-            Meaning::ToolChange => {
-                if self.dialect.behaviour.tool_change_stops_spindle {
-                    self.emit(sink, CanonOp::StopSpindleTurning);
-                    self.st.spindle = Spindle::Stopped;
-                    self.st.spindle_unknown = false;
-                }
-                self.st.tool = self.st.selected_tool;
-                self.emit(sink, CanonOp::ChangeTool(self.st.tool));
-                if let Some(next) = self.slot(Role::NextTool).filter(|t| *t >= 0.0 && t.fract() == 0.0) {
-                    self.st.selected_tool = next as u32;
-                    self.emit(sink, CanonOp::SelectTool(next as u32));
-                }
-                if self.dialect.behaviour.tool_change_applies_length {
-                    // A tool change that applies the length (Siemens D, Heidenhain TOOL CALL)
-                    // keeps the program position: such programs place Z after the call.
-                    self.st.tool_offset = self.tool_offsets(self.st.tool);
-                    self.emit(sink, CanonOp::UseToolLengthOffset(self.st.tool_offset));
-                }
-            }
-            Meaning::ToolSet => {
-                // `M61 Q3`: the machine is told the spindle holds tool 3; nothing moves. The
-                // interpreter goes on reading the tool the last change loaded (#5400, the
-                // length G43 takes), as rs274 reads it back after CHANGE_TOOL_NUMBER.
-                match self.slot(Role::Q) {
-                    Some(q) if q >= 0.0 && q.fract() == 0.0 && q < f64::from(u32::MAX) => {
-                        self.emit(sink, CanonOp::ChangeToolNumber(q as u32));
-                    }
-                    _ => diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: Q must be a tool number", def.label()))),
-                }
-            }
-            Meaning::SpindleCw => {
-                self.st.spindle = Spindle::Cw;
-                self.st.tech_warned = false;
-                self.emit(sink, CanonOp::StartSpindleClockwise);
-            }
-            Meaning::SpindleCcw => {
-                self.st.spindle = Spindle::Ccw;
-                self.st.tech_warned = false;
-                self.emit(sink, CanonOp::StartSpindleCounterclockwise);
-            }
-            Meaning::SpindleStop => {
-                self.st.spindle = Spindle::Stopped;
-                self.st.spindle_unknown = false;
-                self.emit(sink, CanonOp::StopSpindleTurning);
-            }
-            Meaning::SpindleOrient => self.orient_spindle(def, range, sink, diags),
-            Meaning::CoolantMist => {
-                self.st.mist = true;
-                self.emit(sink, CanonOp::MistOn);
-            }
-            Meaning::CoolantFlood => {
-                self.st.flood = true;
-                self.emit(sink, CanonOp::FloodOn);
-            }
-            Meaning::CoolantOff => {
-                self.st.mist = false;
-                self.st.flood = false;
-                self.emit(sink, CanonOp::MistOff);
-                self.emit(sink, CanonOp::FloodOff);
-            }
-            Meaning::Dwell => {
-                let seconds = match (self.slot(Role::P), self.slot(Role::X)) {
-                    (Some(p), _) => self.dwell_seconds(p),
-                    (None, Some(x)) => x,
-                    (None, None) if def.params.takes(Role::F) && self.slot(Role::F).is_some() => self.slot(Role::F).unwrap_or(0.0),
-                    (None, None) if def.params.takes(Role::K) => self.slot(Role::K).unwrap_or(0.0),
-                    (None, None) => 0.0,
-                };
-                self.emit(sink, CanonOp::Dwell(seconds));
-            }
-            Meaning::PlaneXy | Meaning::PlaneXz | Meaning::PlaneYz => {
-                let plane = match def.meaning {
-                    Meaning::PlaneXy => Plane::Xy,
-                    Meaning::PlaneXz => Plane::Xz,
-                    _ => Plane::Yz,
-                };
-                self.st.plane = plane;
-                self.emit(sink, CanonOp::SelectPlane(plane));
-            }
-            Meaning::UnitsInch | Meaning::UnitsMm => {
-                let units = if def.meaning == Meaning::UnitsInch { Units::Inch } else { Units::Mm };
-                self.set_units(units);
-                self.emit(sink, CanonOp::UseLengthUnits(units));
-            }
-            Meaning::CompOff => {
-                self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
-                self.st.leaving_comp = self.comp.borrow().is_some();
-                self.comp_off(sink);
-            }
-            Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
-                let by_diameter = matches!(def.meaning, Meaning::CompLeftDiameter | Meaning::CompRightDiameter);
-                let radius = if by_diameter { self.slot(Role::D).map(|d| d / 2.0) } else { None };
-                let radius = radius.or_else(|| {
-                    let tool = self.slot(Role::D).map_or(self.st.tool, |d| d as u32);
-                    let diameter = self.tool_diameter(tool);
-                    diameter.filter(|_| !by_diameter).map(|d| d / 2.0)
-                });
-                let left = matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter);
-                // A D diameter is in program units; the tool table is in millimetres.
-                let radius = radius.map(|r| if by_diameter { r } else { r / self.st.units.to_mm() });
-                // A negative offset (`G41.1 D-0.3`) runs on the other side, as in rs274.
-                let left = left != radius.is_some_and(|r| r < 0.0);
-                let radius = radius.map(f64::abs);
-                let side = if left { comp::Side::Left } else { comp::Side::Right };
-                self.st.comp_left = left;
-                let number = self.slot(Role::D).filter(|_| !by_diameter).map(|d| d as u32);
-                self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some((left, number)))));
-                if let Some(r) = radius
-                    && self.comp.borrow().as_ref().is_some_and(|c| c.runs(side, r))
-                {
-                    // Written again on a later block (`L X+10 RL`): compensation goes on.
-                    return;
-                }
-                self.comp_off(sink);
-                // Moves held before compensation starts are not compensated.
-                self.corners_out(sink);
-                if radius == Some(0.0) {
-                    // A zero offset leaves the path as programmed (rs274 does the same).
-                    return;
-                }
-                if let Some(r) = radius.filter(|_| matches!(self.st.plane, Plane::Xy | Plane::Xz)) {
-                    let axes = self.st.plane.axes();
-                    // A lathe tool's orientation (`G42.1 D0.4 L3`) puts the controlled point at
-                    // its imaginary tip (in the ZX plane, Z first).
-                    let orientation = self.slot(Role::L).filter(|l| by_diameter && l.fract() == 0.0 && *l >= 0.0).unwrap_or(0.0);
-                    let (tx, tz) = comp::tip_offset(orientation as u32);
-                    let tip = if self.st.plane == Plane::Xz { (tz * r, tx * r) } else { (0.0, 0.0) };
-                    let at = (self.st.pos[axes.0], self.st.pos[axes.1]);
-                    *self.comp.borrow_mut() = Some(comp::Comp::new(side, r, axes, tip, at));
-                    return;
-                }
-                let register = match number.filter(|&d| d != 0) {
-                    Some(d) => Some(format!("D{d}")),
-                    None => (self.st.tool != 0).then(|| format!("tool {}", self.st.tool)),
-                };
-                if radius.is_none()
-                    && let Some(register) = register
-                {
-                    // `G41 D01`, `RL` after `TOOL CALL 5`, with no tool table: the radius is in
-                    // the control's offset table, machine data like any other; CAM posts that
-                    // compensate only wear write the tool centre's path, so the programmed path
-                    // is the plan.
-                    let msg = format!(
-                        "{}: the radius of {register} is in the control's tool offsets, unknown here; the programmed path is used",
-                        def.label()
-                    );
-                    self.limited(diags, "cutter-comp", Diagnostic::new(Code::UnknownValue, range, msg));
-                } else if radius.is_none() {
-                    let msg = format!(
-                        "{} without an offset: no D word and no tool diameter in the tool table; the programmed path is used",
-                        def.label()
-                    );
-                    self.limited(diags, "cutter-comp", Diagnostic::new(Code::CompWithoutOffset, range, msg));
-                } else {
-                    let msg = format!("{}: the compensated path is not computed yet; the programmed path is used", def.label());
-                    self.limited(diags, "cutter-comp", Diagnostic::new(Code::Unsupported, range, msg));
-                }
-            }
-            Meaning::LengthCompPlus | Meaning::LengthCompMinus => {
-                let h = match self.slot(Role::H) {
-                    Some(h) if h != 0.0 || !self.dialect.behaviour.h0_spindle_tool => h as u32,
-                    _ => self.st.tool,
-                };
-                self.emit(sink, CanonOp::Setting(Setting::LengthOffset(h)));
-                let mut offsets = self.tool_offsets(h);
-                if def.meaning == Meaning::LengthCompMinus {
-                    offsets = offsets.map(|v| -v);
-                }
-                self.use_tool_offset(offsets, sink);
-            }
-            Meaning::LengthCompDynamic => {
-                // G43.1: the offsets are the axis words themselves, in program units.
-                let offsets = [Role::X, Role::Y, Role::Z].map(|r| self.slot(r).unwrap_or(0.0));
-                self.use_tool_offset(offsets, sink);
-            }
-            Meaning::LengthCompCancel => {
-                self.emit(sink, CanonOp::Setting(Setting::LengthOffset(0)));
-                self.use_tool_offset([0.0; 3], sink);
-            }
-            Meaning::Wcs => {
-                if u16::from(def.index) != self.st.wcs {
-                    self.select_wcs(u16::from(def.index), sink);
-                }
-            }
-            Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
-                self.modal_context(def, range, sink, diags);
-            }
-            Meaning::PathMode => {}
-            Meaning::SpindleLimit => {
-                if let Some(max) = self.slot(Role::S) {
-                    self.set_spindle_limit(max, sink);
-                }
-                // A lathe's `G50 X.. Z..` (G-code system A) also sets the coordinate system,
-                // as G92 does, where the dictionary lets the code take axis words.
-                if Role::AXES.iter().any(|&r| self.slot(r).is_some() && def.params.takes(r)) {
-                    self.origin_shift(sink);
-                }
-            }
-            Meaning::SpindleCss => {
-                // LinuxCNC's D or Siemens' LIMS in the block, else the limit set before (a
-                // lathe's `G50 S`), else none (rs274 says 1e30).
-                let max = self
-                    .slot(Role::D)
-                    .or(self.slot(Role::SpindleLimit))
-                    .or(self.st.spindle_limit)
-                    .unwrap_or(crate::canon::NO_SPINDLE_LIMIT);
-                self.st.css_max = Some(max);
-                self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
-            }
-            Meaning::SpindleRpm => {
-                self.st.css_max = None;
-                self.emit(sink, CanonOp::SetSpindleMode(None));
-            }
-            Meaning::DistanceAbsolute | Meaning::DistanceIncremental => {
-                let mode = if def.meaning == Meaning::DistanceAbsolute { DistanceMode::Absolute } else { DistanceMode::Incremental };
-                if mode != self.st.distance {
-                    self.st.distance = mode;
-                    self.emit(sink, CanonOp::DistanceMode(mode));
-                }
-            }
-            Meaning::ArcDistanceAbsolute => self.st.arc_incremental = false,
-            Meaning::ArcDistanceIncremental => self.st.arc_incremental = true,
-            Meaning::RetractInitial => self.st.retract = Retract::Initial,
-            Meaning::RetractR => self.st.retract = Retract::RPlane,
-            Meaning::SetData => self.set_data(def, range, sink, diags),
-            Meaning::OriginShift => self.origin_shift(sink),
-            Meaning::Rotation => {
-                if self.st.plane != Plane::Xy {
-                    self.unsupported(def, range, diags);
-                    return;
-                }
-                let cx = self.slot(Role::X).unwrap_or(self.st.pos[0]);
-                let cy = self.slot(Role::Y).unwrap_or(self.st.pos[1]);
-                let angle = self.slot(Role::R).unwrap_or(0.0).to_radians();
-                self.st.rotation = Some((cx, cy, angle.cos(), angle.sin()));
-            }
-            Meaning::RotationCancel => self.st.rotation = None,
-            Meaning::Scaling => {
-                let uniform = block.words.iter().find(|w| w.role == Role::P).map(|w| match w.value {
-                    // Without a decimal point, P counts in 0.001 (parameter 5400#7 off).
-                    Value::Number { decimal: false, value } => value * 0.001,
-                    _ => self.slot(Role::P).unwrap_or(1.0),
-                });
-                let k = match uniform {
-                    Some(p) => [p; 3],
-                    None => [Role::I, Role::J, Role::K].map(|r| {
-                        let w = block.words.iter().find(|w| w.role == r);
-                        match w.map(|w| w.value) {
-                            Some(Value::Number { decimal: false, value }) => value * 0.001,
-                            Some(_) => self.slot(r).unwrap_or(1.0),
-                            None => 1.0,
-                        }
-                    }),
-                };
-                if k.iter().any(|&f| f <= 0.0 || !f.is_finite()) {
-                    diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("{}: scale factors must be positive", def.label())));
-                    return;
-                }
-                let centre = [0, 1, 2].map(|i| self.slot(Role::AXES[i]).unwrap_or(self.st.pos[i]));
-                if k[0] != k[1] {
-                    self.limited(
-                        diags,
-                        "scaling",
-                        Diagnostic::new(
-                            Code::Unsupported,
-                            range,
-                            format!("{}: unequal X and Y factors distort arcs; arcs keep their radius ratio from X", def.label()),
-                        ),
-                    );
-                }
-                self.st.scaling = Some((centre, k));
-            }
-            Meaning::ScalingCancel => self.st.scaling = None,
-            Meaning::WcsExtended => {
-                // G54.1 Pn, G154 Pn, G15 Hn: additional work offset n, its own system (0 until
-                // the program sets it, as every offset here), so that a change of fixture
-                // offset is seen as one. Without a number: the first.
-                let n = self.slot(Role::P).or(self.slot(Role::H)).or(Some(1.0));
-                match self.extended_wcs(n) {
-                    Some(index) if index != self.st.wcs => self.select_wcs(index, sink),
-                    Some(_) => {}
-                    None => {
-                        // `G15 H=VC32` with the variable 0 here: the machine's value is not.
-                        let msg = format!(
-                            "{}: an additional work offset is numbered 1 to {}; the system in force stays",
-                            def.label(),
-                            crate::canon::MAX_EXTENDED_WCS
-                        );
-                        self.limited(diags, "wcs-extended", Diagnostic::new(Code::Unsupported, range, msg));
-                    }
-                }
-            }
-            Meaning::LocalOffset => {
-                // G52: the given axes of the local origin, relative to the work origin; kept in
-                // the same offset register as G92 (as LinuxCNC does).
-                let old = self.st.g92;
-                for (i, &role) in Role::AXES.iter().enumerate() {
-                    if let Some(v) = self.slot(role) {
-                        self.st.g92[i] = v;
-                    }
-                }
-                let new = self.st.g92;
-                self.shift_origin(old, new);
-                self.emit(sink, CanonOp::SetG92Offset(new));
-            }
-            Meaning::OriginShiftSuspend => {
-                let old = self.st.g92;
-                if old != [0.0; 6] {
-                    self.st.g92_saved = old;
-                }
-                self.st.g92 = [0.0; 6];
-                self.shift_origin(old, [0.0; 6]);
-                self.emit(sink, CanonOp::SetG92Offset([0.0; 6]));
-            }
-            Meaning::OriginShiftRestore => {
-                let (old, new) = (self.st.g92, self.st.g92_saved);
-                self.st.g92 = new;
-                self.shift_origin(old, new);
-                self.emit(sink, CanonOp::SetG92Offset(new));
-            }
-            Meaning::OriginShiftCancel => {
-                for i in 0..6 {
-                    self.st.pos[i] += self.st.g92[i];
-                }
-                self.st.g92 = [0.0; 6];
-                self.emit(sink, CanonOp::SetG92Offset([0.0; 6]));
-            }
-            Meaning::Home1 | Meaning::Home2 => self.home(def.meaning == Meaning::Home1, sink),
-            Meaning::Home1Set | Meaning::Home2Set => {
-                // The reference positions are kept in machine coordinates, mm.
-                let m = self.machine_pos();
-                let mut home = [0.0; 6];
-                for (i, v) in home.iter_mut().enumerate() {
-                    *v = if i < 3 { m[i] * self.st.units.to_mm() } else { m[i] };
-                }
-                if def.meaning == Meaning::Home1Set {
-                    self.st.home1 = home;
-                } else {
-                    self.st.home2 = home;
-                }
-            }
-            Meaning::MachineCoords => {}
-            m if matches!(
-                m,
-                Meaning::Rapid
-                    | Meaning::Linear
-                    | Meaning::ArcCw
-                    | Meaning::ArcCcw
-                    | Meaning::ArcPole
-                    | Meaning::ArcRadius
-                    | Meaning::ArcTangent
-                    | Meaning::ArcThreePoint
-                    | Meaning::SpindleSync
-                    | Meaning::RigidTap
-                    | Meaning::CycleThread
-                    | Meaning::CycleTurn
-                    | Meaning::CycleFace
-                    | Meaning::CycleThreadPass
-                    | Meaning::Probe
-                    | Meaning::ProbeQuiet
-                    | Meaning::SplineQuadratic
-                    | Meaning::Nurbs
-            ) || m.is_cycle() =>
-            {
-                self.st.motion_continued = self.st.motion_code == Some(c);
-                if !self.st.motion_continued {
-                    self.st.sticky_z = None;
-                    self.st.turn_cycle = None;
-                    // Another motion mode drops the NURBS points collected (as rs274 does).
-                    self.st.nurbs = None;
-                }
-                if !m.is_cycle() {
-                    self.st.cycle_initial = None;
-                }
-                self.st.motion_code = Some(c);
-                let full_circle = matches!(def.meaning, Meaning::ArcCw | Meaning::ArcCcw)
-                    && [Role::I, Role::J, Role::K].iter().any(|&r| self.slots[r as usize].is_some());
-                let in_place = self.dialect.behaviour.motion_in_place && matches!(def.meaning, Meaning::Rapid | Meaning::Linear);
-                if self.has_axes || full_circle || in_place {
-                    self.motion(def, range, block, sink, diags);
-                }
-            }
-            Meaning::NurbsEnd => {
-                self.st.motion_code = None;
-                self.nurbs_end(def, range, sink, diags);
-            }
-            Meaning::CycleCancel => {
-                // G80 ends a canned cycle; where it has a group of its own (Fanuc group 09) a
-                // G0/G1 mode set in the same block stays.
-                if self.st.motion_code.is_none_or(|m| self.code(m).meaning.is_cycle() || self.code(m).group == def.group) {
-                    self.st.motion_code = None;
-                }
-                self.st.sticky_z = None;
-                self.st.cycle_initial = None;
-                self.emit(sink, CanonOp::CycleCancel);
-            }
-            Meaning::ProgramStop => self.emit(sink, CanonOp::ProgramStop),
-            Meaning::OptionalStop => self.emit(sink, CanonOp::OptionalProgramStop),
-            Meaning::OverridesOn | Meaning::OverridesOff => {
-                let on = def.meaning == Meaning::OverridesOn;
-                self.st.overrides = (on, on);
-                self.emit(sink, CanonOp::FeedOverride(on));
-                self.emit(sink, CanonOp::SpeedOverride(on));
-            }
-            Meaning::FeedOverrideSwitch => {
-                let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
-                self.st.overrides.0 = on;
-                self.emit(sink, CanonOp::FeedOverride(on));
-            }
-            Meaning::SpeedOverrideSwitch => {
-                let on = self.slot(Role::P).is_none_or(|p| p != 0.0);
-                self.st.overrides.1 = on;
-                self.emit(sink, CanonOp::SpeedOverride(on));
-            }
-            Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.program_end(sink),
-            Meaning::SubprogramCall => {
-                let Some(p) = self.program_number(Role::P, range, diags) else { return };
-                let mut repeats = self.repeat_count(diags, range);
-                let mut program = p;
-                if self.dialect.macros.repeat_in_p && self.slot(Role::L).is_none() && p > 9999 {
-                    (repeats, program) = (p / 10_000, p % 10_000);
-                }
-                let start = match self.dialect.macros.call_start.and_then(|l| self.dialect.letter_role(l)) {
-                    Some(role) if self.slots[role as usize].is_some() => match self.program_number(role, range, diags) {
-                        Some(n) => Some(n),
-                        None => return,
-                    },
-                    _ => None,
-                };
-                self.request = Some(Request::Call { program, repeats, macro_call: false, args: Vec::new(), start });
-            }
-            Meaning::LocalSubprogramCall => {
-                let Some(number) = self.program_number(Role::P, range, diags) else { return };
-                let repeats = self.repeat_count(diags, range);
-                self.request = Some(Request::CallLocal { number, repeats });
-            }
-            Meaning::SubprogramReturn => {
-                let goto = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0).map(|p| p as u32);
-                self.request = Some(Request::Return { goto });
-            }
-            Meaning::DiameterMode => self.st.diameter = true,
-            Meaning::RadiusMode => self.st.diameter = false,
-            Meaning::Other | Meaning::Output | Meaning::ProgramBegin => {}
-            Meaning::Stock => self.stock_corner(sink),
-            Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
-            Meaning::ApproachTangent
-            | Meaning::ApproachNormal
-            | Meaning::ApproachArc
-            | Meaning::DepartTangent
-            | Meaning::DepartNormal
-            | Meaning::DepartArc => self.motion(def, range, block, sink, diags),
-            Meaning::CornerRound | Meaning::CornerChamfer => {
-                let size = if def.meaning == Meaning::CornerRound { self.slot(Role::R) } else { self.slot(Role::Geometry) };
-                match size {
-                    Some(v) if v > 0.0 => self.mark_corner(if def.meaning == Meaning::CornerRound {
-                        corner::Corner::Round(v)
-                    } else {
-                        corner::Corner::Chamfer(v)
-                    }),
-                    // An unknown size (the tool radius, `RND RQ108`): the word was left out
-                    // and said so; the corner stays sharp.
-                    None if self.unknown_roles
-                        & (1 << (if def.meaning == Meaning::CornerRound { Role::R } else { Role::Geometry }) as u32)
-                        != 0 => {}
-                    _ => diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs a size above zero", def.label()))),
-                }
-            }
-            Meaning::Pole => {
-                let t = self.target();
-                let (a0, a1, _) = self.st.plane.axes();
-                self.st.pole = (t[a0], t[a1]);
-            }
-            Meaning::PoleKeeping => {
-                let t = self.target();
-                let (a0, a1, _) = self.st.plane.axes();
-                let given = |axis: usize| self.slots[Role::AXES[axis] as usize].is_some();
-                self.st.pole = match (given(a0), given(a1)) {
-                    (false, false) => (t[a0], t[a1]),
-                    (g0, g1) => (if g0 { t[a0] } else { self.st.pole.0 }, if g1 { t[a1] } else { self.st.pole.1 }),
-                };
-            }
-            Meaning::PoleIncremental | Meaning::PoleFromPole => {
-                let (a0, a1, _) = self.st.plane.axes();
-                let (b0, b1) = if def.meaning == Meaning::PoleIncremental { (self.st.pos[a0], self.st.pos[a1]) } else { self.st.pole };
-                let word = |axis: usize| self.slot(Role::AXES[axis]).unwrap_or(0.0);
-                self.st.pole = (b0 + word(a0), b1 + word(a1));
-            }
-            Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
-            Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, range, diags),
-            Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),
-            Meaning::FrameMirror => self.unsupported(def, range, diags),
-            Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),
-            Meaning::CycleCall | Meaning::CycleModal => {}
-            Meaning::CycleCallAt => self.call_at_position(sink),
-            Meaning::MachineDataRead => {
-                let msg = format!(
-                    "{} ({}) reads data only the machine has at run time: the parameter it sets keeps its value here, so what follows from it may differ on the machine",
-                    def.label(),
-                    def.name
-                );
-                self.st.machine_data_read = true;
-                self.limited(diags, "machine-data-read", Diagnostic::new(Code::Unsupported, range, msg));
-            }
-            Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
-            Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
-            Meaning::ProfileFinish | Meaning::ProfileRoughTurn | Meaning::ProfileRoughFace => self.profile_cycle(def, range, diags),
-            Meaning::CycleIntent => {
-                let msg = format!("{} ({}) is kept as intent only: its moves are not expanded", def.label(), def.name);
-                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
-            }
-            _ => {
-                if self.dialect.groups[def.group].step == Step::Motion {
-                    self.st.motion_code = None;
-                }
-                self.unsupported(def, range, diags);
-            }
-        }
-    }
-
-    /// `BLK FORM 0.1 Z X+0 Y+0 Z-40` then `BLK FORM 0.2 X+100 Y+100 Z+0`: the blank's corners
-    /// (the second may be incremental from the first). Passed on as the stock comment that
-    /// plan recovery reads, as a CAM system writes it.
-    fn stock_corner(&mut self, sink: &mut dyn CanonSink) {
-        let corner = |s: &Self, base: [f64; 3]| {
-            [Role::X, Role::Y, Role::Z].map(|r| {
-                let i = r as usize;
-                match s.slots[i] {
-                    Some(slot) if slot.mode == WordMode::Incremental => base[i] + slot.value,
-                    Some(slot) => slot.value,
-                    None => base[i],
-                }
-            })
-        };
-        let second = self.slot(Role::Extra).is_some_and(|v| (v - 0.2).abs() < 1e-9);
-        match (second, self.st.blank_min) {
-            (false, _) => self.st.blank_min = Some(corner(self, [0.0; 3])),
-            (true, Some(min)) => {
-                let max = corner(self, min);
-                self.emit(sink, stock_comment(min, max));
-                self.st.blank_min = None;
-            }
-            (true, None) => {}
-        }
-    }
-
-    fn dwell_seconds(&self, p: f64) -> f64 {
-        match self.dialect.behaviour.dwell_unit {
-            TimeUnit::Seconds => p,
-            TimeUnit::Milliseconds => p / 1000.0,
-        }
-    }
-
-    fn set_units(&mut self, units: Units) {
-        if units == self.st.units {
-            return;
-        }
-        let k = self.st.units.to_mm() / units.to_mm();
-        for i in 0..3 {
-            self.st.pos[i] *= k;
-            self.st.g92[i] *= k;
-            for w in self.st.wcs_offsets.iter_mut().chain(self.st.wcs_extended.values_mut()) {
-                w[i] *= k;
-            }
-        }
-        for v in &mut self.st.tool_offset {
-            *v *= k;
-        }
-        self.st.units = units;
-    }
-
-    /// Puts tool offsets (program units) in force. The controlled point stays where it is, so
-    /// its program coordinates change by the difference, as rs274's do.
-    fn use_tool_offset(&mut self, offsets: [f64; 3], sink: &mut dyn CanonSink) {
-        // The offsets are along the machine's axes; a rotated system sees X and Y turned.
-        let mut delta: [f64; 3] = std::array::from_fn(|i| offsets[i] - self.st.tool_offset[i]);
-        let rotation = self.st.rotation(self.st.wcs);
-        if rotation != 0.0 {
-            [delta[0], delta[1]] = rotate([delta[0], delta[1]], -rotation);
-        }
-        for (p, d) in self.st.pos.iter_mut().zip(delta) {
-            *p -= d;
-        }
-        self.st.tool_offset = offsets;
-        self.emit(sink, CanonOp::UseToolLengthOffset(offsets));
-    }
-
-    /// A T word: selects the tool. Where the dictionary splits the word (`T0202`), its last
-    /// digits name the offset; where the T word changes the tool (a turret), the change and
-    /// the offset take effect at once, the program position kept as after a tool change.
-    fn tool_word(&mut self, t: f64, sink: &mut dyn CanonSink) {
-        let digits = self.dialect.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits);
-        let (tool, offset) = match digits {
-            Some(d) => {
-                let base = 10u32.pow(u32::from(d));
-                let t = t as u64;
-                ((t / u64::from(base)).min(u64::from(u32::MAX)) as u32, Some((t % u64::from(base)) as u32))
-            }
-            None => (t.min(f64::from(u32::MAX)) as u32, None),
-        };
-        self.st.selected_tool = tool;
-        self.emit(sink, CanonOp::SelectTool(tool));
-        if let Some(name) = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)) {
-            self.emit(sink, CanonOp::Setting(Setting::ToolName(tool, name.clone())));
-        }
-        if !self.dialect.behaviour.tool_word_changes {
-            return;
-        }
-        if tool != self.st.tool {
-            self.st.tool = tool;
-            self.emit(sink, CanonOp::ChangeTool(tool));
-        }
-        let offsets = match offset {
-            Some(0) => [0.0; 3],
-            Some(n) => self.tool_offsets(n),
-            None => self.tool_offsets(tool),
-        };
-        if offsets != self.st.tool_offset {
-            self.st.tool_offset = offsets;
-            self.emit(sink, CanonOp::UseToolLengthOffset(offsets));
-        }
-    }
-
-    /// Tool `n`'s offsets along X, Y and Z in program units: X and Y as the program set them
-    /// (G10 L1/L10/L11), Z its length.
-    fn tool_offsets(&self, n: u32) -> [f64; 3] {
-        let xy = self.tool_edits.get(&n).map_or([None; 2], |e| e.xy);
-        let mm = self.st.units.to_mm();
-        [xy[0].unwrap_or(0.0) / mm, xy[1].unwrap_or(0.0) / mm, self.tool_length(n) / mm]
-    }
-
-    /// Tool `n`'s length offset in millimetres: the profile's, as the program changed it.
-    fn tool_length(&self, n: u32) -> f64 {
-        let edit = self.tool_edits.get(&n);
-        edit.and_then(|e| e.length).unwrap_or_else(|| self.profile.tools.get(&n).map_or(0.0, |t| t.length))
-            + edit.map_or(0.0, |e| e.length_wear)
-    }
-
-    /// Tool `n`'s diameter in millimetres, if known: the profile's, as the program changed it.
-    fn tool_diameter(&self, n: u32) -> Option<f64> {
-        let edit = self.tool_edits.get(&n);
-        let geometry = edit.and_then(|e| e.radius).map(|r| 2.0 * r).or_else(|| self.profile.tools.get(&n).and_then(|t| t.diameter));
-        geometry.map(|d| d + 2.0 * edit.map_or(0.0, |e| e.radius_wear))
-    }
-
-    /// `G10 L..`: sets a work offset or tool data, as the dialect's forms say for this L.
-    fn set_data(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let l = self.slot(Role::L).unwrap_or(0.0);
-        let form = def.forms.iter().find(|(n, _)| f64::from(*n) == l).map(|&(_, f)| f);
-        match form {
-            Some(DataForm::Wcs | DataForm::WcsHere) => self.set_wcs(def, form == Some(DataForm::WcsHere), range, sink, diags),
-            Some(DataForm::WcsExtended) => match self.extended_wcs(self.slot(Role::P)) {
-                Some(index) => self.set_wcs_offsets(index, false, sink),
-                None => {
-                    let msg = format!(
-                        "{} L{l}: an additional work offset is numbered 1 to {}; the setting is not kept",
-                        def.label(),
-                        crate::canon::MAX_EXTENDED_WCS
-                    );
-                    self.limited(diags, "wcs-extended", Diagnostic::new(Code::Unsupported, range, msg));
-                }
-            },
-            Some(f) => self.set_tool_data(def, f, range, diags),
-            None => {
-                let known: Vec<String> = def.forms.iter().map(|(n, _)| format!("L{n}")).collect();
-                let msg = format!(
-                    "{} L{l} is not a data-setting form of the {} dialect (known: {})",
-                    def.label(),
-                    self.dialect.name,
-                    known.join(", ")
-                );
-                diags.push(Diagnostic::new(Code::Unsupported, range, msg));
-            }
-        }
-    }
-
-    /// `G10 L1/L10/L11` (LinuxCNC) and `G10 L10–L13` (Fanuc): tool P's length or radius.
-    fn set_tool_data(&mut self, def: &CodeDef, form: DataForm, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        let Some(p) = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0 && *p < 1e6) else {
-            if self.unknown_roles & (1 << Role::P as u32) != 0 {
-                // `G10 L10 P#20`: the caller's tool number; the word was left out and said so.
-                return;
-            }
-            diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs P, a tool or offset number", def.label())));
-            return;
-        };
-        let n = p as u32;
-        let mm = self.st.units.to_mm();
-        if matches!(form, DataForm::Tool | DataForm::ToolHere | DataForm::ToolHereFixture)
-            && [Role::A, Role::B, Role::C].iter().any(|&r| self.slots[r as usize].is_some())
-        {
-            let msg = format!("{}: tool offsets along rotary axes are not kept; only X, Y, Z and R are", def.label());
-            self.limited(diags, "tool-offset-axes", Diagnostic::new(Code::Unsupported, range, msg));
-        }
-        // Fanuc: in G91 the value is added to the offset.
-        let incremental = self.st.distance == DistanceMode::Incremental;
-        let current = (self.tool_length(n), self.tool_diameter(n).map(|d| d / 2.0));
-        let given = [Role::X, Role::Y, Role::Z].map(|r| self.slots[r as usize].map(|s| s.value));
-        // For L10/L11: offsets that make the spindle's point read the given coordinates, in the
-        // active system with G92 (L10) or in G59.3 without it (L11). They are worked out in
-        // that system's (perhaps rotated) axes, an axis not given keeping the tool's offset,
-        // and turned back to the machine's axes, as rs274 does.
-        let here = {
-            let (w, g92) = if form == DataForm::ToolHereFixture { (9, false) } else { (self.st.wcs, true) };
-            let rotation = self.st.rotation(w);
-            let machine = self.machine_pos();
-            let spindle: [f64; 6] = std::array::from_fn(|i| machine[i] + if i < 3 { self.st.tool_offset[i] } else { 0.0 });
-            let q = self.machine_to_system(spindle, w, g92);
-            let stored = self.tool_offsets(n);
-            let [sx, sy] = rotate([stored[0], stored[1]], -rotation);
-            let xy = rotate([given[0].map_or(sx, |v| q[0] - v), given[1].map_or(sy, |v| q[1] - v)], rotation);
-            [xy[0], xy[1], given[2].map_or(stored[2], |z| q[2] - z)]
-        };
-        let xy_given = given[0].is_some() || given[1].is_some();
-        let edit = self.tool_edits.entry(n).or_default();
-        let value = |v: f64, old: f64| if incremental { old + v * mm } else { v * mm };
-        match form {
-            DataForm::Tool => {
-                for (slot, v) in edit.xy.iter_mut().zip(given) {
-                    if let Some(v) = v {
-                        *slot = Some(v * mm);
-                    }
-                }
-                if let Some(z) = given[2] {
-                    (edit.length, edit.length_wear) = (Some(z * mm), 0.0);
-                }
-                if let Some(r) = self.slots[Role::R as usize].map(|s| s.value) {
-                    (edit.radius, edit.radius_wear) = (Some(r * mm), 0.0);
-                }
-            }
-            DataForm::ToolHere | DataForm::ToolHereFixture => {
-                if xy_given {
-                    edit.xy = [Some(here[0] * mm), Some(here[1] * mm)];
-                }
-                if given[2].is_some() {
-                    (edit.length, edit.length_wear) = (Some(here[2] * mm), 0.0);
-                }
-                if let Some(r) = self.slots[Role::R as usize].map(|s| s.value) {
-                    (edit.radius, edit.radius_wear) = (Some(r * mm), 0.0);
-                }
-            }
-            DataForm::ToolLength | DataForm::ToolLengthWear | DataForm::ToolRadius | DataForm::ToolRadiusWear => {
-                let Some(r) = self.slots[Role::R as usize].map(|s| s.value) else {
-                    diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs R, the offset value", def.label())));
-                    return;
-                };
-                match form {
-                    DataForm::ToolLength => edit.length = Some(value(r, current.0 - edit.length_wear)),
-                    DataForm::ToolLengthWear => edit.length_wear = value(r, edit.length_wear),
-                    DataForm::ToolRadius => edit.radius = Some(value(r, current.1.unwrap_or(0.0) - edit.radius_wear)),
-                    _ => edit.radius_wear = value(r, edit.radius_wear),
-                }
-            }
-            DataForm::Wcs | DataForm::WcsHere | DataForm::WcsExtended => {}
-        }
-    }
-
-    /// `G10 L2/L20 P..`: work offset P (0: the active one) to the given values, or so that
-    /// the current point has them.
-    fn set_wcs(&mut self, def: &CodeDef, here: bool, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let p = self.slot(Role::P).unwrap_or(0.0).round() as i64;
-        if !(0..=9).contains(&p) {
-            self.unsupported(def, range, diags);
-            return;
-        }
-        let index = if p == 0 { self.st.wcs } else { p as u16 };
-        self.set_wcs_offsets(index, here, sink);
-    }
-
-    /// Work offset `index` from the block's axis words: the values (L2, `G10 L20 Pn` on
-    /// Fanuc), or, `here`, those that make the current point read them (LinuxCNC's L20).
-    fn set_wcs_offsets(&mut self, index: u16, here: bool, sink: &mut dyn CanonSink) {
-        let l = if here { 20 } else { 2 };
-        let rotation = self.slot(Role::R).unwrap_or(self.st.rotation(index));
-        let mut off = self.st.offset(index);
-        if l == 20 {
-            // L20: the current point becomes the given coordinates in that system, whose
-            // rotation applies to them (machine = offset + R·(program + G92)).
-            let machine = self.machine_pos();
-            let mut p = self.st.pos;
-            for (i, &role) in Role::AXES.iter().enumerate() {
-                if let Some(v) = self.slot(role) {
-                    p[i] = v;
-                }
-            }
-            let local = rotate([p[0] + self.st.g92[0], p[1] + self.st.g92[1]], rotation);
-            // In a rotated system X or Y moves the origin along both machine axes.
-            let xy = rotation != 0.0 && (self.slot(Role::X).is_some() || self.slot(Role::Y).is_some());
-            for (i, &role) in Role::AXES.iter().enumerate() {
-                if xy && i < 2 {
-                    off[i] = machine[i] - local[i];
-                } else if self.slot(role).is_some() {
-                    off[i] = machine[i] - self.st.g92[i] - p[i];
-                }
-            }
-        } else {
-            for (i, &role) in Role::AXES.iter().enumerate() {
-                if let Some(v) = self.slot(role) {
-                    off[i] = v;
-                }
-            }
-        }
-        if index == self.st.wcs {
-            self.switch_wcs(|st| st.set_offset(index, off, rotation));
-            self.emit(sink, CanonOp::SetG5xOffset(index, off));
-        } else {
-            self.st.set_offset(index, off, rotation);
-        }
-    }
-
-    /// The current position in machine coordinates.
-    pub(super) fn machine_pos(&self) -> [f64; 6] {
-        self.to_machine(self.st.pos)
-    }
-
-    /// A program position in machine coordinates: offset + R(rotation)·(program + G92).
-    fn to_machine(&self, pos: [f64; 6]) -> [f64; 6] {
-        let (off, rotation) = (self.st.offset(self.st.wcs), self.st.rotation(self.st.wcs));
-        let mut m: [f64; 6] = std::array::from_fn(|i| pos[i] + self.st.g92[i]);
-        if rotation != 0.0 {
-            [m[0], m[1]] = rotate([m[0], m[1]], rotation);
-        }
-        std::array::from_fn(|i| m[i] + off[i])
-    }
-
-    /// Program coordinates of a machine position in the active system.
-    pub(super) fn program_pos(&self, machine: [f64; 6]) -> [f64; 6] {
-        self.machine_to_system(machine, self.st.wcs, true)
-    }
-
-    /// A machine position in work coordinate system `wcs` (1 for G54), with or without the
-    /// G92 shift.
-    fn machine_to_system(&self, machine: [f64; 6], wcs: u16, g92: bool) -> [f64; 6] {
-        let (off, rotation) = (self.st.offset(wcs), self.st.rotation(wcs));
-        let mut p: [f64; 6] = std::array::from_fn(|i| machine[i] - off[i]);
-        if rotation != 0.0 {
-            [p[0], p[1]] = rotate([p[0], p[1]], -rotation);
-        }
-        std::array::from_fn(|i| p[i] - if g92 { self.st.g92[i] } else { 0.0 })
-    }
-
-    /// The index of additional work offset `n` (`G54.1 P3`: [`crate::canon::EXTENDED_WCS`] + 3).
-    fn extended_wcs(&self, n: Option<f64>) -> Option<u16> {
-        let n = n?;
-        (n.fract() == 0.0 && (1.0..=f64::from(crate::canon::MAX_EXTENDED_WCS)).contains(&n)).then(|| crate::canon::EXTENDED_WCS + n as u16)
-    }
-
-    /// Makes work coordinate system `index` (1 for G54) the active one.
-    fn select_wcs(&mut self, index: u16, sink: &mut dyn CanonSink) {
-        let new = self.st.offset(index);
-        self.switch_wcs(|st| st.wcs = index);
-        self.emit(sink, CanonOp::SetG5xOffset(index, new));
-        // LinuxCNC restates the G92 offset with every switch of system.
-        self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
-    }
-
-    /// Changes the active coordinate system (which one, its offsets or rotation) keeping the
-    /// machine position.
-    fn switch_wcs(&mut self, change: impl FnOnce(&mut State)) {
-        let (old, old_rotation) = (self.st.offset(self.st.wcs), self.st.rotation(self.st.wcs));
-        let machine = self.machine_pos();
-        change(&mut self.st);
-        let (new, new_rotation) = (self.st.offset(self.st.wcs), self.st.rotation(self.st.wcs));
-        if old_rotation == 0.0 && new_rotation == 0.0 {
-            self.shift_origin(old, new);
-        } else {
-            self.st.pos = self.program_pos(machine);
-        }
-    }
-
-    /// Keeps the machine position when the active origin moves from `old` to `new`.
-    fn shift_origin(&mut self, old: [f64; 6], new: [f64; 6]) {
-        for i in 0..6 {
-            self.st.pos[i] += old[i] - new[i];
-        }
-    }
-
-    fn origin_shift(&mut self, sink: &mut dyn CanonSink) {
-        for (i, &role) in Role::AXES.iter().enumerate() {
-            if let Some(v) = self.slot(role) {
-                let machine_rel = self.st.pos[i] + self.st.g92[i];
-                self.st.g92[i] = machine_rel - v;
-                self.st.pos[i] = v;
-            }
-        }
-        self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
-    }
-
-    fn home(&mut self, first: bool, sink: &mut dyn CanonSink) {
-        let any = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
-        let mut mid = self.st.pos;
-        for (i, &role) in Role::AXES.iter().enumerate() {
-            if let Some(v) = self.slot(role) {
-                mid[i] = if self.st.distance == DistanceMode::Incremental { self.st.pos[i] + v } else { v };
-            }
-        }
-        self.emit(sink, CanonOp::StraightTraverse(mid));
-        let home = if first { self.st.home1 } else { self.st.home2 };
-        let mut end = mid;
-        let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();
-        let k = |i: usize| if i < 3 { 1.0 / self.st.units.to_mm() } else { 1.0 };
-        // The tool offsets move the controlled point: the tool's tip reaches the reference
-        // position, so its program position is short of it by the offset (rs274).
-        let tlo = |i: usize| if i < 3 { self.st.tool_offset[i] } else { 0.0 };
-        if self.st.rotation(self.st.wcs) != 0.0 {
-            let mut m = self.to_machine(std::array::from_fn(|i| mid[i] + tlo(i)));
-            for (i, v) in m.iter_mut().enumerate() {
-                if moves(i) {
-                    *v = home[i] * k(i);
-                }
-            }
-            let p = self.program_pos(m);
-            end = std::array::from_fn(|i| p[i] - tlo(i));
-        } else {
-            for i in 0..6 {
-                if moves(i) {
-                    end[i] = home[i] * k(i) - self.st.offset(self.st.wcs)[i] - self.st.g92[i] - tlo(i);
-                }
-            }
-        }
-        self.emit(sink, CanonOp::StraightTraverse(end));
-        self.st.pos = end;
-    }
-
-    pub(super) fn program_end(&mut self, sink: &mut dyn CanonSink) {
-        self.comp_off(sink);
-        self.st.wcs = 1;
-        self.emit(sink, CanonOp::SetG5xOffset(1, self.st.wcs_offsets[0]));
-        let initial = self.dialect.behaviour.initial_plane;
-        if self.st.plane != initial {
-            self.st.plane = initial;
-            self.emit(sink, CanonOp::SelectPlane(initial));
-        }
-        self.st.distance = DistanceMode::Absolute;
-        self.st.feed = 0.0;
-        self.emit(sink, CanonOp::SetFeedRate(0.0));
-        self.st.spindle = Spindle::Stopped;
-        self.emit(sink, CanonOp::StopSpindleTurning);
-        if self.st.css_max.take().is_some() {
-            self.emit(sink, CanonOp::SetSpindleMode(None));
-        }
-        if self.st.mist {
-            self.emit(sink, CanonOp::MistOff);
-        }
-        if self.st.flood {
-            self.emit(sink, CanonOp::FloodOff);
-        }
-        self.st.mist = false;
-        self.st.flood = false;
-        self.emit(sink, CanonOp::ProgramEnd);
         self.st.ended = true;
     }
 }

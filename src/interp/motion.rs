@@ -628,6 +628,9 @@ impl Interpreter<'_> {
         }
     }
 
+    /// An arc in the plane (G2, G3, and the forms of the contour languages): its direction,
+    /// its centre by the form the block writes, checked against its end point, then the arc
+    /// feed; the direction at its end is the next element's tangent.
     fn arc(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.check_technology(def, block.range, diags);
         let stated = self.codes.iter().find_map(|&(c, _)| match self.code(c).meaning {
@@ -645,37 +648,8 @@ impl Interpreter<'_> {
         };
         let mut given_centre = None;
         if let Some(ar) = self.slot(Role::OpeningAngle) {
-            // `G2 X Y AR=90` (end point and opening angle) or `G3 I J AR=90` (centre and angle).
-            if !(ar > 0.0 && ar < 360.0) {
-                diags.push(Diagnostic::new(
-                    Code::BadArc,
-                    block.range,
-                    format!("the opening angle AR={ar} must lie between 0 and 360 degrees"),
-                ));
-                return;
-            }
-            let sign = if cw { -1.0 } else { 1.0 };
-            if self.slots[Role::AXES[a0] as usize].is_some() || self.slots[Role::AXES[a1] as usize].is_some() {
-                let (d1, d2) = (end[a0] - start[a0], end[a1] - start[a1]);
-                let chord = d1.hypot(d2);
-                if chord < 1e-9 {
-                    diags.push(Diagnostic::new(Code::BadArc, block.range, "an opening angle needs an end point away from the start"));
-                    return;
-                }
-                // The centre lies on the chord's bisector, left of it for counter-clockwise.
-                let h = chord / 2.0 / (ar / 2.0).to_radians().tan();
-                let mid = ((start[a0] + end[a0]) / 2.0, (start[a1] + end[a1]) / 2.0);
-                given_centre = Some((mid.0 - sign * h * d2 / chord, mid.1 + sign * h * d1 / chord));
-            } else if let Some(c) = self.centre_words(a0, a1, start) {
-                let (sin, cos) = (sign * ar.to_radians()).sin_cos();
-                let (r1, r2) = (start[a0] - c.0, start[a1] - c.1);
-                end[a0] = c.0 + r1 * cos - r2 * sin;
-                end[a1] = c.1 + r1 * sin + r2 * cos;
-                given_centre = Some(c);
-            } else {
-                diags.push(Diagnostic::new(Code::MissingParameter, block.range, "AR= needs an end point or a centre (I, J, K)"));
-                return;
-            }
+            let Some(c) = self.opening_angle(ar, cw, start, &mut end, block, diags) else { return };
+            given_centre = Some(c);
         }
         if self.dialect.behaviour.arc_centres_pole && given_centre.is_none() && matches!(def.meaning, Meaning::ArcCw | Meaning::ArcCcw) {
             // I J K are the circle centre and stay the pole; without them (and without R) the
@@ -685,28 +659,10 @@ impl Interpreter<'_> {
                 self.st.pole = c;
             }
         }
-        let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);
         match def.meaning {
             Meaning::ArcThreePoint => {
-                // The circle through the start, the intermediate point and the end.
-                let via = |axis: usize, role: Role| match self.slots[role as usize] {
-                    Some(s) if self.incremental(role) => start[axis] + s.value,
-                    Some(s) => s.value,
-                    None => start[axis],
-                };
-                let vias = [Role::ViaX, Role::ViaY, Role::ViaZ];
-                let (m1, m2) = (via(a0, vias[a0]), via(a1, vias[a1]));
-                let d = 2.0 * (s1 * (m2 - e2) + m1 * (e2 - s2) + e1 * (s2 - m2));
-                if d.abs() < 1e-9 {
-                    diags.push(Diagnostic::new(Code::BadArc, block.range, format!("{}: the three points lie on one line", def.label())));
-                    return;
-                }
-                let (ss, mm, ee) = (s1 * s1 + s2 * s2, m1 * m1 + m2 * m2, e1 * e1 + e2 * e2);
-                let u1 = (ss * (m2 - e2) + mm * (e2 - s2) + ee * (s2 - m2)) / d;
-                let u2 = (ss * (e1 - m1) + mm * (s1 - e1) + ee * (m1 - s1)) / d;
-                // `+ 0.0` turns a -0.0 quotient into 0.0, which prints without a sign.
-                given_centre = Some((u1 + 0.0, u2 + 0.0));
-                cw = (m1 - s1) * (e2 - m2) - (m2 - s2) * (e1 - m1) < 0.0;
+                let Some((c, dir)) = self.three_point_centre(def, start, end, block, diags) else { return };
+                (given_centre, cw) = (Some(c), dir);
             }
             Meaning::ArcPole => given_centre = Some(self.st.pole),
             Meaning::ArcRadius if self.slot(Role::R).is_none() => {
@@ -714,33 +670,8 @@ impl Interpreter<'_> {
                 return;
             }
             Meaning::ArcTangent => {
-                // The centre lies on the normal to the incoming direction, as far from the
-                // start as from the end.
-                let Some((t1, t2)) = self.st.tangent.map(|(x, y)| {
-                    let len = x.hypot(y);
-                    (x / len, y / len)
-                }) else {
-                    diags.push(Diagnostic::new(
-                        Code::BadArc,
-                        block.range,
-                        format!("{}: no previous element to be tangent to", def.label()),
-                    ));
-                    return;
-                };
-                let (d1, d2) = (e1 - s1, e2 - s2);
-                let (n1, n2) = (-t2, t1);
-                let dn = d1 * n1 + d2 * n2;
-                if dn.abs() < 1e-9 {
-                    diags.push(Diagnostic::new(
-                        Code::BadArc,
-                        block.range,
-                        format!("{}: the end point lies on the tangent; no arc", def.label()),
-                    ));
-                    return;
-                }
-                let k = (d1 * d1 + d2 * d2) / (2.0 * dn);
-                given_centre = Some((s1 + k * n1, s2 + k * n2));
-                cw = k < 0.0;
+                let Some((c, dir)) = self.tangent_centre(def, start, end, block, diags) else { return };
+                (given_centre, cw) = (Some(c), dir);
             }
             // A polar end point and nothing else to place the centre (Siemens `G2 AP=90`):
             // the arc turns about the pole.
@@ -752,21 +683,6 @@ impl Interpreter<'_> {
             }
             _ => {}
         }
-        let b = &self.dialect.behaviour;
-        // The control's tolerance, or what the program's own resolution allows where the
-        // dictionary says so: with each coordinate rounded to the step it is written in
-        // (`X1.2345`: 0.0001), the radii to the start and to the end may differ by 2√2 steps.
-        let tol = if self.st.units == Units::Mm { b.arc_tolerance_mm } else { b.arc_tolerance_inch };
-        let tol = tol.max(b.arc_tolerance_steps * written_step(block) * (1.0 + 1e-9));
-        let relative = b.arc_relative_tolerance;
-        // Whether the radii to the start and to the end disagree beyond the dialect's tolerance.
-        let radii_disagree = |r_start: f64, r_end: f64| {
-            let err = (r_start - r_end).abs();
-            match relative {
-                None => err > tol,
-                Some(rel) => err > 100.0 * tol || (err > tol && err / r_start.max(r_end) > rel),
-            }
-        };
         let turns = match self.slot(Role::P) {
             None => 1,
             Some(p) if p >= 1.0 && p.fract() == 0.0 && p < 10_000.0 => p as i32,
@@ -775,65 +691,12 @@ impl Interpreter<'_> {
                 return;
             }
         };
-        let center = if let Some(c) = given_centre {
-            let r_start = (s1 - c.0).hypot(s2 - c.1);
-            let r_end = (e1 - c.0).hypot(e2 - c.1);
-            if radii_disagree(r_start, r_end) {
-                diags.push(Diagnostic::new(
-                    Code::BadArc,
-                    block.range,
-                    format!("the end point is {r_end:.4} from the circle centre, the start {r_start:.4}; they must agree"),
-                ));
-                self.rejected_arc(end);
-                return;
-            }
-            c
-        } else if let Some(r) = self.slot(Role::R) {
-            match arc_center_from_radius(s1, s2, e1, e2, r, cw, tol) {
-                Ok(c) => c,
-                Err(msg) => {
-                    diags.push(Diagnostic::new(Code::BadArc, block.range, msg));
-                    self.rejected_arc(end);
-                    return;
-                }
-            }
-        } else {
-            let off = |axis: usize| self.slot(OFFSETS[axis]);
-            if off(a0).is_none() && off(a1).is_none() {
-                let needs = if self.st.plane == Plane::Xy {
-                    "I or J"
-                } else if self.st.plane == Plane::Xz {
-                    "I or K"
-                } else {
-                    "J or K"
-                };
-                diags.push(Diagnostic::new(
-                    Code::MissingParameter,
-                    block.range,
-                    format!("{} in this plane needs {needs}, or R", def.label()),
-                ));
-                return;
-            }
-            let Some(c) = self.centre_words(a0, a1, start) else { return };
-            let r_start = (s1 - c.0).hypot(s2 - c.1);
-            let r_end = (e1 - c.0).hypot(e2 - c.1);
-            if radii_disagree(r_start, r_end) {
-                let unit = if self.st.units == Units::Mm { "mm" } else { "in" };
-                diags.push(Diagnostic::new(
-                    Code::BadArc,
-                    block.range,
-                    format!("radius to the end of the arc ({r_end:.4} {unit}) differs from the radius to its start ({r_start:.4} {unit}) by more than {tol} {unit}{}",
-                        match relative {
-                            Some(rel) => format!(" and {}% of the radius", rel * 100.0),
-                            None => String::new(),
-                        }
-                    ),
-                ));
-                self.rejected_arc(end);
-                return;
-            }
-            c
+        let center = match (given_centre, self.slot(Role::R)) {
+            (Some(c), _) => self.checked_centre(c, start, end, block, diags),
+            (None, Some(r)) => self.radius_centre(r, cw, start, end, block, diags),
+            (None, None) => self.offset_centre(def, start, end, block, diags),
         };
+        let Some(center) = center else { return };
         let rotation = if cw { -turns } else { turns };
         let length = arc_length(start, end, center, (a0, a1, n), cw, turns);
         if !self.inverse_time_feed(def, length, block, sink, diags) {
@@ -842,8 +705,8 @@ impl Interpreter<'_> {
         self.emit(
             sink,
             CanonOp::ArcFeed {
-                first_end: e1,
-                second_end: e2,
+                first_end: end[a0],
+                second_end: end[a1],
                 first_axis: center.0,
                 second_axis: center.1,
                 rotation,
@@ -854,11 +717,225 @@ impl Interpreter<'_> {
         self.st.pos = end;
         self.st.arc_cw = cw;
         // The direction at the end: along the circle, perpendicular to the radius.
-        let (r1, r2) = (e1 - center.0, e2 - center.1);
+        let (r1, r2) = (end[a0] - center.0, end[a1] - center.1);
         let len = r1.hypot(r2);
         if len > 1e-12 {
             self.st.tangent = Some(if cw { (r2 / len, -r1 / len) } else { (-r2 / len, r1 / len) });
         }
+    }
+
+    /// `G2 X Y AR=90` (end point and opening angle) or `G3 I J AR=90` (centre and angle, the
+    /// end point worked out into `end`): the arc's centre; `None`, with the finding, when the
+    /// angle or the words cannot make one.
+    fn opening_angle(
+        &self,
+        ar: f64,
+        cw: bool,
+        start: [f64; 6],
+        end: &mut [f64; 6],
+        block: &Block,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<(f64, f64)> {
+        let (a0, a1, _) = self.st.plane.axes();
+        if !(ar > 0.0 && ar < 360.0) {
+            diags.push(Diagnostic::new(Code::BadArc, block.range, format!("the opening angle AR={ar} must lie between 0 and 360 degrees")));
+            return None;
+        }
+        let sign = if cw { -1.0 } else { 1.0 };
+        if self.slots[Role::AXES[a0] as usize].is_some() || self.slots[Role::AXES[a1] as usize].is_some() {
+            let (d1, d2) = (end[a0] - start[a0], end[a1] - start[a1]);
+            let chord = d1.hypot(d2);
+            if chord < 1e-9 {
+                diags.push(Diagnostic::new(Code::BadArc, block.range, "an opening angle needs an end point away from the start"));
+                return None;
+            }
+            // The centre lies on the chord's bisector, left of it for counter-clockwise.
+            let h = chord / 2.0 / (ar / 2.0).to_radians().tan();
+            let mid = ((start[a0] + end[a0]) / 2.0, (start[a1] + end[a1]) / 2.0);
+            Some((mid.0 - sign * h * d2 / chord, mid.1 + sign * h * d1 / chord))
+        } else if let Some(c) = self.centre_words(a0, a1, start) {
+            let (sin, cos) = (sign * ar.to_radians()).sin_cos();
+            let (r1, r2) = (start[a0] - c.0, start[a1] - c.1);
+            end[a0] = c.0 + r1 * cos - r2 * sin;
+            end[a1] = c.1 + r1 * sin + r2 * cos;
+            Some(c)
+        } else {
+            diags.push(Diagnostic::new(Code::MissingParameter, block.range, "AR= needs an end point or a centre (I, J, K)"));
+            None
+        }
+    }
+
+    /// `CIP` and its kind: the circle through the start, the intermediate point and the end;
+    /// its centre and whether it runs clockwise. `None`, with the finding, when the three
+    /// points lie on one line.
+    fn three_point_centre(
+        &self,
+        def: &CodeDef,
+        start: [f64; 6],
+        end: [f64; 6],
+        block: &Block,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<((f64, f64), bool)> {
+        let (a0, a1, _) = self.st.plane.axes();
+        let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);
+        let via = |axis: usize, role: Role| match self.slots[role as usize] {
+            Some(s) if self.incremental(role) => start[axis] + s.value,
+            Some(s) => s.value,
+            None => start[axis],
+        };
+        let vias = [Role::ViaX, Role::ViaY, Role::ViaZ];
+        let (m1, m2) = (via(a0, vias[a0]), via(a1, vias[a1]));
+        let d = 2.0 * (s1 * (m2 - e2) + m1 * (e2 - s2) + e1 * (s2 - m2));
+        if d.abs() < 1e-9 {
+            diags.push(Diagnostic::new(Code::BadArc, block.range, format!("{}: the three points lie on one line", def.label())));
+            return None;
+        }
+        let (ss, mm, ee) = (s1 * s1 + s2 * s2, m1 * m1 + m2 * m2, e1 * e1 + e2 * e2);
+        let u1 = (ss * (m2 - e2) + mm * (e2 - s2) + ee * (s2 - m2)) / d;
+        let u2 = (ss * (e1 - m1) + mm * (s1 - e1) + ee * (m1 - s1)) / d;
+        // `+ 0.0` turns a -0.0 quotient into 0.0, which prints without a sign.
+        Some(((u1 + 0.0, u2 + 0.0), (m1 - s1) * (e2 - m2) - (m2 - s2) * (e1 - m1) < 0.0))
+    }
+
+    /// `CT` and its kind: the arc that goes on tangent to the element before it; its centre
+    /// and whether it runs clockwise. `None`, with the finding, without an element before it
+    /// or with the end point on the tangent.
+    fn tangent_centre(
+        &self,
+        def: &CodeDef,
+        start: [f64; 6],
+        end: [f64; 6],
+        block: &Block,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<((f64, f64), bool)> {
+        let (a0, a1, _) = self.st.plane.axes();
+        let (s1, s2, e1, e2) = (start[a0], start[a1], end[a0], end[a1]);
+        // The centre lies on the normal to the incoming direction, as far from the
+        // start as from the end.
+        let Some((t1, t2)) = self.st.tangent.map(|(x, y)| {
+            let len = x.hypot(y);
+            (x / len, y / len)
+        }) else {
+            diags.push(Diagnostic::new(Code::BadArc, block.range, format!("{}: no previous element to be tangent to", def.label())));
+            return None;
+        };
+        let (d1, d2) = (e1 - s1, e2 - s2);
+        let (n1, n2) = (-t2, t1);
+        let dn = d1 * n1 + d2 * n2;
+        if dn.abs() < 1e-9 {
+            diags.push(Diagnostic::new(Code::BadArc, block.range, format!("{}: the end point lies on the tangent; no arc", def.label())));
+            return None;
+        }
+        let k = (d1 * d1 + d2 * d2) / (2.0 * dn);
+        Some(((s1 + k * n1, s2 + k * n2), k < 0.0))
+    }
+
+    /// The control's tolerance on an arc's radii, and its relative tolerance where the
+    /// dialect has one.
+    fn arc_tolerance(&self, block: &Block) -> (f64, Option<f64>) {
+        let b = &self.dialect.behaviour;
+        // The control's tolerance, or what the program's own resolution allows where the
+        // dictionary says so: with each coordinate rounded to the step it is written in
+        // (`X1.2345`: 0.0001), the radii to the start and to the end may differ by 2√2 steps.
+        let tol = if self.st.units == Units::Mm { b.arc_tolerance_mm } else { b.arc_tolerance_inch };
+        let tol = tol.max(b.arc_tolerance_steps * written_step(block) * (1.0 + 1e-9));
+        (tol, b.arc_relative_tolerance)
+    }
+
+    /// A centre the block gives otherwise than by I J K offsets (an opening angle, the pole,
+    /// three points, a tangent), if start and end lie on one circle about it; else `None`,
+    /// with the finding, and the program goes on from the end point.
+    fn checked_centre(
+        &mut self,
+        c: (f64, f64),
+        start: [f64; 6],
+        end: [f64; 6],
+        block: &Block,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<(f64, f64)> {
+        let (a0, a1, _) = self.st.plane.axes();
+        let (tol, relative) = self.arc_tolerance(block);
+        let r_start = (start[a0] - c.0).hypot(start[a1] - c.1);
+        let r_end = (end[a0] - c.0).hypot(end[a1] - c.1);
+        if radii_disagree(r_start, r_end, tol, relative) {
+            diags.push(Diagnostic::new(
+                Code::BadArc,
+                block.range,
+                format!("the end point is {r_end:.4} from the circle centre, the start {r_start:.4}; they must agree"),
+            ));
+            self.rejected_arc(end);
+            return None;
+        }
+        Some(c)
+    }
+
+    /// The centre of an arc given by radius `r` (see [`arc_center_from_radius`]); `None`,
+    /// with the finding, when no arc of that radius reaches the end point.
+    fn radius_centre(
+        &mut self,
+        r: f64,
+        cw: bool,
+        start: [f64; 6],
+        end: [f64; 6],
+        block: &Block,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<(f64, f64)> {
+        let (a0, a1, _) = self.st.plane.axes();
+        let (tol, _) = self.arc_tolerance(block);
+        match arc_center_from_radius(start[a0], start[a1], end[a0], end[a1], r, cw, tol) {
+            Ok(c) => Some(c),
+            Err(msg) => {
+                diags.push(Diagnostic::new(Code::BadArc, block.range, msg));
+                self.rejected_arc(end);
+                None
+            }
+        }
+    }
+
+    /// The centre of an arc given by I J K offsets (from the start, or absolute), if start
+    /// and end lie on one circle about it; `None`, with the finding, without the offsets of
+    /// the plane or when the radii to the start and to the end disagree.
+    fn offset_centre(
+        &mut self,
+        def: &CodeDef,
+        start: [f64; 6],
+        end: [f64; 6],
+        block: &Block,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<(f64, f64)> {
+        let (a0, a1, _) = self.st.plane.axes();
+        let off = |axis: usize| self.slot(OFFSETS[axis]);
+        if off(a0).is_none() && off(a1).is_none() {
+            let needs = if self.st.plane == Plane::Xy {
+                "I or J"
+            } else if self.st.plane == Plane::Xz {
+                "I or K"
+            } else {
+                "J or K"
+            };
+            diags.push(Diagnostic::new(Code::MissingParameter, block.range, format!("{} in this plane needs {needs}, or R", def.label())));
+            return None;
+        }
+        let c = self.centre_words(a0, a1, start)?;
+        let (tol, relative) = self.arc_tolerance(block);
+        let r_start = (start[a0] - c.0).hypot(start[a1] - c.1);
+        let r_end = (end[a0] - c.0).hypot(end[a1] - c.1);
+        if radii_disagree(r_start, r_end, tol, relative) {
+            let unit = if self.st.units == Units::Mm { "mm" } else { "in" };
+            diags.push(Diagnostic::new(
+                Code::BadArc,
+                block.range,
+                format!("radius to the end of the arc ({r_end:.4} {unit}) differs from the radius to its start ({r_start:.4} {unit}) by more than {tol} {unit}{}",
+                    match relative {
+                        Some(rel) => format!(" and {}% of the radius", rel * 100.0),
+                        None => String::new(),
+                    }
+                ),
+            ));
+            self.rejected_arc(end);
+            return None;
+        }
+        Some(c)
     }
 }
 
@@ -889,6 +966,17 @@ fn written_step(block: &Block) -> f64 {
         .max()
         .unwrap_or(0);
     if digits == 0 { 0.0 } else { 10f64.powi(-digits) }
+}
+
+/// Whether the radii of an arc to its start and to its end disagree beyond the dialect's
+/// tolerance: `tol`, and where the dialect has one the `relative` share of the radius (then
+/// 100 times `tol` always counts).
+fn radii_disagree(r_start: f64, r_end: f64, tol: f64, relative: Option<f64>) -> bool {
+    let err = (r_start - r_end).abs();
+    match relative {
+        None => err > tol,
+        Some(rel) => err > 100.0 * tol || (err > tol && err / r_start.max(r_end) > rel),
+    }
 }
 
 /// The length of a (helical) arc along its path.

@@ -10,10 +10,17 @@
 //!
 //! Runaway programs stop with a diagnostic: every loop and every backward jump target has an
 //! iteration limit, and the whole run has a block budget ([`Profile`]).
+//!
+//! The driver owns control flow as data (the open calls, loops and jumps, the source index);
+//! the interpreter executes a block. This file holds the driver's loop ([`run`], `drive`) and
+//! the machinery of calls, loops and jumps; each control statement is carried out by its own
+//! function in `statements.rs`.
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use typed_arena::Arena;
+
+mod statements;
 
 use super::eval::{self, NULL};
 use super::{Interpreter, Profile, Request};
@@ -355,6 +362,9 @@ impl<'a> Driver<'a, '_> {
         Pos { at: self.parser.offset(), line: self.parser.line() }
     }
 
+    /// The run: block after block of the current source, up to the end of the main program,
+    /// a stop or a budget. Plain lines take the plain lane; a control statement is carried
+    /// out here, any other block by the interpreter ([`Driver::run_block`]).
     fn drive(&mut self, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let mut block = Block::default();
         let mut plain = PlainLine::default();
@@ -373,12 +383,7 @@ impl<'a> Driver<'a, '_> {
             let src = self.cur;
             let mark = diags.len();
             if !self.next_block(&mut block, start, diags) {
-                if let Some(range) = self.definition.take() {
-                    let msg = "the definition block is not closed: the rest of the file was read as its data";
-                    diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
-                }
-                if !self.end_of_source(interp, diags) {
-                    self.end_of_main(interp, diags);
+                if self.source_ended(interp, diags) {
                     break;
                 }
                 continue;
@@ -386,18 +391,7 @@ impl<'a> Driver<'a, '_> {
             if self.definition_block(&block, mark, diags) {
                 continue;
             }
-            if block.control.is_some() {
-                let range = block.range;
-                if diags[mark..]
-                    .iter()
-                    .any(|d| d.is_error() && d.range.start >= range.start && d.range.start < range.end.max(range.start + 1))
-                {
-                    self.broken_blocks.insert((src, start.at));
-                }
-                self.broken = !self.broken_blocks.is_empty() && self.broken_blocks.contains(&(src, start.at));
-            } else {
-                self.broken = false;
-            }
+            self.note_broken(&block, src, start, &diags[mark..]);
             if let Some(f) = self.frames.last()
                 && f.kind == FrameKind::Section
                 && self.cur == f.source
@@ -409,69 +403,144 @@ impl<'a> Driver<'a, '_> {
                 continue;
             }
             self.executed += 1;
-            if self.repeated > self.profile.max_repeated_blocks {
-                self.tidy(src, mark, diags);
-                let msg = format!(
-                    "the run has executed more than {} blocks again (loops, jumps back, repeated calls); the analysis stops here, and what the program does after it is not analysed",
-                    self.profile.max_repeated_blocks
-                );
-                diags.push(Diagnostic::new(Code::RepeatBudget, block.range, msg));
+            if self.over_budget(&block, src, mark, diags) {
                 break;
             }
-            if self.executed > self.profile.max_blocks {
-                self.tidy(src, mark, diags);
-                diags.push(Diagnostic::new(
-                    Code::LoopLimit,
-                    block.range,
-                    format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks),
-                ));
+            if src == 0 && self.frames.is_empty() && !self.main_program_block(&block, interp, sink, diags) {
                 break;
             }
-            if src == 0 && self.frames.is_empty() {
-                if let Some(n) = block.program_number.filter(|&n| !self.main_work && self.dialect.macros.is_called_number(n)) {
-                    interp.called_by(|| format!("its number O{n:04} is one the control reserves for called programs"));
-                }
-                if block.delimiter {
-                    if self.delimiters > 0 {
-                        interp.finish_at_delimiter(sink);
-                    } else if self.started && self.dialect.lexical.delimiter_first_line {
-                        let msg = "a `%` line closes a program only when another opens it on the first line; the control stops here";
-                        diags.push(Diagnostic::new(Code::UnmatchedStatement, block.range, msg));
-                        break;
-                    }
-                    self.delimiters += 1;
-                } else if !self.main_work {
-                    // Settled by the first blocks of a program; not looked at again.
-                    self.started = self.started || !block.source().trim().is_empty();
-                    self.main_work = !block.words.is_empty()
-                        || !block.assigns.is_empty()
-                        || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
-                }
-            }
-            if let Some(control) = block.control.as_ref().filter(|c| self.broken && c.statement.is_some_and(branches)) {
-                // The lexer could not read the statement: what it kept of it (a condition cut
-                // short, a jump without its IF) is not what the program says, and the control
-                // stops with an alarm at a block it cannot read.
-                let head = statement_head(&block, control);
-                let msg = format!(
-                    "the statement `{head}` could not be read and is skipped: no jump, branch or loop is taken on what was left of it (the control alarms here)"
-                );
-                diags.push(Diagnostic::new(Code::BrokenCondition, block.range, msg));
+            if self.broken_statement(&block, diags) {
                 self.tidy(src, mark, diags);
                 continue;
             }
-            if let Some(control) = block.control.take() {
-                self.control(&control, &block, start, interp, sink, diags);
-                block.control = Some(control);
-            } else {
-                interp.execute(&block, sink, diags);
-                if let Some(r) = interp.request.take() {
-                    self.request(r, &block, interp, sink, diags);
-                }
-            }
+            self.run_block(&mut block, start, interp, sink, diags);
             self.tidy(src, mark, diags);
             if interp.finished() || self.stop {
                 break;
+            }
+        }
+    }
+
+    /// The end of the current source: a definition block still open is said; a called
+    /// program's file returns to its caller. True at the end of the main program.
+    fn source_ended(&mut self, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
+        if let Some(range) = self.definition.take() {
+            let msg = "the definition block is not closed: the rest of the file was read as its data";
+            diags.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
+        }
+        if !self.end_of_source(interp, diags) {
+            self.end_of_main(interp, diags);
+            return true;
+        }
+        false
+    }
+
+    /// Whether the block (at `start` of source `src`) is a control block whose lexing found
+    /// errors (`found`, its findings): kept in `broken` for this run of it, and remembered for
+    /// its later runs, which are not lexed again.
+    #[inline]
+    fn note_broken(&mut self, block: &Block, src: usize, start: Pos, found: &[Diagnostic]) {
+        if block.control.is_some() {
+            let range = block.range;
+            if found.iter().any(|d| d.is_error() && d.range.start >= range.start && d.range.start < range.end.max(range.start + 1)) {
+                self.broken_blocks.insert((src, start.at));
+            }
+            self.broken = !self.broken_blocks.is_empty() && self.broken_blocks.contains(&(src, start.at));
+        } else {
+            self.broken = false;
+        }
+    }
+
+    /// Whether the run stops before `block` for a budget of the profile: the blocks run again
+    /// ([`Profile::max_repeated_blocks`]) or all blocks run ([`Profile::max_blocks`]); the
+    /// finding says which.
+    #[inline]
+    fn over_budget(&mut self, block: &Block, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) -> bool {
+        if self.repeated > self.profile.max_repeated_blocks {
+            self.tidy(src, mark, diags);
+            let msg = format!(
+                "the run has executed more than {} blocks again (loops, jumps back, repeated calls); the analysis stops here, and what the program does after it is not analysed",
+                self.profile.max_repeated_blocks
+            );
+            diags.push(Diagnostic::new(Code::RepeatBudget, block.range, msg));
+            return true;
+        }
+        if self.executed > self.profile.max_blocks {
+            self.tidy(src, mark, diags);
+            diags.push(Diagnostic::new(
+                Code::LoopLimit,
+                block.range,
+                format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks),
+            ));
+            return true;
+        }
+        false
+    }
+
+    /// What a block of the main program at its top level tells about the program: a program
+    /// number the control reserves for called programs, the `%` lines that open and close
+    /// it, whether its work has begun. False when a `%` line stops the control.
+    fn main_program_block(
+        &mut self,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
+        if let Some(n) = block.program_number.filter(|&n| !self.main_work && self.dialect.macros.is_called_number(n)) {
+            interp.called_by(|| format!("its number O{n:04} is one the control reserves for called programs"));
+        }
+        if block.delimiter {
+            if self.delimiters > 0 {
+                interp.finish_at_delimiter(sink);
+            } else if self.started && self.dialect.lexical.delimiter_first_line {
+                let msg = "a `%` line closes a program only when another opens it on the first line; the control stops here";
+                diags.push(Diagnostic::new(Code::UnmatchedStatement, block.range, msg));
+                return false;
+            }
+            self.delimiters += 1;
+        } else if !self.main_work {
+            // Settled by the first blocks of a program; not looked at again.
+            self.started = self.started || !block.source().trim().is_empty();
+            self.main_work = !block.words.is_empty()
+                || !block.assigns.is_empty()
+                || block.control.as_ref().is_some_and(|c| c.statement != Some(Statement::Sub));
+        }
+        true
+    }
+
+    /// Whether the block is a statement that decides where the run goes but could not be
+    /// read: it is skipped, and said so.
+    fn broken_statement(&self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some(control) = block.control.as_ref().filter(|c| self.broken && c.statement.is_some_and(branches)) else { return false };
+        // The lexer could not read the statement: what it kept of it (a condition cut
+        // short, a jump without its IF) is not what the program says, and the control
+        // stops with an alarm at a block it cannot read.
+        let head = statement_head(block, control);
+        let msg = format!(
+            "the statement `{head}` could not be read and is skipped: no jump, branch or loop is taken on what was left of it (the control alarms here)"
+        );
+        diags.push(Diagnostic::new(Code::BrokenCondition, block.range, msg));
+        true
+    }
+
+    /// Carries out a block: a control statement here, as control flow is the driver's; any
+    /// other block by the interpreter, then the call or return it asks for.
+    fn run_block(
+        &mut self,
+        block: &mut Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        if let Some(control) = block.control.take() {
+            self.control(&control, block, start, interp, sink, diags);
+            block.control = Some(control);
+        } else {
+            interp.execute(block, sink, diags);
+            if let Some(r) = interp.request.take() {
+                self.request(r, block, interp, sink, diags);
             }
         }
     }
@@ -914,270 +983,6 @@ impl<'a> Driver<'a, '_> {
         (base..self.loops.len()).rev().find(|&k| pred(&self.loops[k]))
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn control(
-        &mut self,
-        c: &Control,
-        block: &Block,
-        start: Pos,
-        interp: &mut Interpreter<'a>,
-        sink: &mut dyn CanonSink,
-        diags: &mut Vec<Diagnostic>,
-    ) {
-        let here = self.pos();
-        let Some(statement) = c.statement else {
-            if let Some(k) = c.keyword {
-                let word = block.text(k);
-                let head = statement_head(block, c);
-                interp.limited(
-                    diags,
-                    "statement",
-                    Diagnostic::new(
-                        Code::UnknownStatement,
-                        k,
-                        format!("`{word}` is not a statement of the {} dialect; `{head}` was skipped", self.dialect.name),
-                    ),
-                );
-            }
-            return;
-        };
-        let label = match c.label_expr {
-            // `o#<sub> call`: the label is the parameter's value, a whole number.
-            Some(e) => match self.value(interp, block, e, diags) {
-                Some(v) if v.fract() == 0.0 && (0.0..1e9).contains(&v) => Some(format!("{v}")),
-                Some(v) => {
-                    self.error(diags, Code::MalformedNumber, c.range, format!("a label from a parameter must be a whole number, not {v}"));
-                    return;
-                }
-                None => return,
-            },
-            None => self.label_text(block, c),
-        };
-        let same_label = |m: &Mark, sts: &[Statement]| m.label == label && m.statement.is_some_and(|s| sts.contains(&s));
-        match statement {
-            Statement::If => self.if_statement(c, block, start, &label, interp, sink, diags),
-            Statement::ElseIf => {
-                if self.landing == Some((self.cur, start.at)) {
-                    self.landing = None;
-                    let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                    if !cond {
-                        self.next_branch(&label, start, c.range, interp, diags);
-                    }
-                } else {
-                    self.skip_structure(&label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
-                }
-            }
-            Statement::Else => {
-                if self.landing == Some((self.cur, start.at)) {
-                    self.landing = None;
-                } else {
-                    self.skip_structure(&label, start, c.range, Statement::If, Statement::EndIf, &[Statement::EndIf], interp, diags);
-                }
-            }
-            Statement::EndIf | Statement::Then | Statement::Output | Statement::Declare => {}
-            Statement::Print => {
-                let head = c.keyword.map_or(c.range.start, |k| k.end);
-                let format = block.text(TextRange { start: head, end: c.range.end });
-                let message = print_format(format, |n| interp.params.get(f64::from(n)).ok());
-                sink.emit(Canon { op: CanonOp::Message(message), origin: block.range, line: block.line });
-            }
-            Statement::While if label.is_some() || c.then != Some(Statement::Do) => {
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                if let Some(k) = self.top_loop(|l| l.kind == LoopKind::Do && l.label == label) {
-                    // The tail of a do-loop.
-                    if cond {
-                        if self.count_iteration(k, c.range, interp, diags) {
-                            self.loop_jump(k, LoopPart::Body, start, interp, diags);
-                        }
-                    } else {
-                        self.loops.truncate(k);
-                    }
-                    return;
-                }
-                if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, interp, diags) {
-                    self.skip_structure(
-                        &label,
-                        start,
-                        c.range,
-                        Statement::While,
-                        Statement::EndWhile,
-                        &[Statement::EndWhile],
-                        interp,
-                        diags,
-                    );
-                }
-            }
-            Statement::While => {
-                // `WHILE [c] DO m`.
-                let id = self.loop_id(c, block, interp, diags);
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                if self.loop_head(LoopKind::Numbered, None, id, cond, start, here, c.range, interp, diags) {
-                    self.skip_numbered_end(id, start, c.range, interp, diags);
-                }
-            }
-            Statement::Do if label.is_some() => self.push_loop(LoopKind::Do, label, None, start, here),
-            Statement::Do => {
-                // `DO m` without WHILE: an endless loop that only a jump leaves.
-                let id = self.loop_id(c, block, interp, diags);
-                match self.top_loop(|l| l.kind == LoopKind::Numbered && l.head == start) {
-                    Some(k) => {
-                        self.count_iteration(k, c.range, interp, diags);
-                    }
-                    None => self.push_loop(LoopKind::Numbered, None, id, start, here),
-                }
-            }
-            Statement::EndWhile => match self.top_loop(|l| l.kind == LoopKind::While && l.label == label) {
-                Some(k) => {
-                    self.loop_jump(k, LoopPart::Head, start, interp, diags);
-                }
-                None => self.unmatched(c, "endwhile", "while", diags),
-            },
-            Statement::EndDo => {
-                let id = self.loop_id(c, block, interp, diags);
-                match self.top_loop(|l| l.kind == LoopKind::Numbered && l.id == id) {
-                    Some(k) => {
-                        self.loop_jump(k, LoopPart::Head, start, interp, diags);
-                    }
-                    None => self.unmatched(c, "END", "WHILE ... DO", diags),
-                }
-            }
-            Statement::Repeat => {
-                let count = match c.args.first() {
-                    Some(&e) => self.value(interp, block, e, diags).map_or(0.0, |v| if eval::is_null(v) { 0.0 } else { v }),
-                    None => 0.0,
-                };
-                if count >= 1.0 {
-                    self.push_loop(LoopKind::Repeat, label, None, start, here);
-                    if let Some(l) = self.loops.last_mut() {
-                        l.remaining = count.min(u64::MAX as f64) as u64;
-                    }
-                } else {
-                    self.skip_to(start, c.range, "endrepeat", |m| same_label(m, &[Statement::EndRepeat]), interp, diags);
-                }
-            }
-            Statement::EndRepeat => match self.top_loop(|l| l.kind == LoopKind::Repeat && l.label == label) {
-                Some(k) => self.next_repeat(k, true, start, c.range, interp, diags),
-                None => self.unmatched(c, "endrepeat", "repeat", diags),
-            },
-            Statement::Break | Statement::Continue => {
-                let Some(k) = self.top_loop(|l| l.label == label && l.kind != LoopKind::Numbered) else {
-                    self.unmatched(c, if statement == Statement::Break { "break" } else { "continue" }, "a loop", diags);
-                    return;
-                };
-                let kind = self.loops[k].kind;
-                let end: &[Statement] = match kind {
-                    LoopKind::While => &[Statement::EndWhile],
-                    LoopKind::Repeat => &[Statement::EndRepeat],
-                    LoopKind::Do | LoopKind::Numbered => &[Statement::While],
-                    LoopKind::For => &[Statement::EndFor],
-                    LoopKind::Until => &[Statement::Until],
-                    LoopKind::Forever => &[Statement::EndLoop],
-                };
-                match (statement, kind) {
-                    (Statement::Break, _) => {
-                        self.loops.truncate(k);
-                        self.skip_to(start, c.range, "the loop end", |m| same_label(m, end), interp, diags);
-                    }
-                    (_, LoopKind::While) => {
-                        self.loop_jump(k, LoopPart::Head, start, interp, diags);
-                    }
-                    (_, LoopKind::Repeat) => self.next_repeat(k, false, start, c.range, interp, diags),
-                    _ => {
-                        // Continue in a do-loop: evaluate its tail.
-                        self.loops.truncate(k + 1);
-                        if let Some(m) = self.find_after(start.at, |m| same_label(m, end)) {
-                            self.jump(self.cur, m.start, start, interp, diags);
-                        }
-                    }
-                }
-            }
-            Statement::Sub => {
-                // A definition met in the flow of the program is skipped. Definitions do not
-                // nest: one inside another's body stops the control.
-                if self.frames.last().is_some_and(|f| f.kind == FrameKind::Sub) {
-                    let msg = "a subroutine definition inside a running subroutine: definitions do not nest";
-                    diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
-                }
-                let inner = self.find_after(start.at, |m| same_label(m, &[Statement::EndSub]) || m.statement == Some(Statement::Sub));
-                if let Some(m) = inner.filter(|m| m.statement == Some(Statement::Sub)) {
-                    let msg = format!("another subroutine is defined inside this one (line {}): definitions do not nest", m.start.line);
-                    diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
-                }
-                self.library |= self.frames.is_empty() && self.cur == 0;
-                self.skip_to(start, c.range, "endsub", |m| same_label(m, &[Statement::EndSub]), interp, diags);
-            }
-            Statement::EndSub | Statement::Return => {
-                if let Some(&e) = c.args.first()
-                    && let Some(v) = self.value(interp, block, e, diags)
-                {
-                    Self::set_return_value(self.dialect, interp, v, true);
-                }
-                match self.frames.last() {
-                    Some(f) if f.kind == FrameKind::Sub || statement == Statement::Return => self.return_from(None, block, interp, diags),
-                    None if statement == Statement::Return && self.dialect.macros.main_return == MainReturn::End => {
-                        self.main_return(block, interp, sink, diags)
-                    }
-                    _ => self.unmatched(c, if statement == Statement::Return { "return" } else { "endsub" }, "call", diags),
-                }
-            }
-            Statement::Call => self.call_sub(c, label, block, start, interp, diags),
-            Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel => {
-                self.jump_statement(statement, c, block, start, interp, diags)
-            }
-            Statement::For => self.for_head(c, block, start, here, interp, diags),
-            Statement::EndFor | Statement::EndLoop => {
-                let (kind, what, opener) =
-                    if statement == Statement::EndFor { (LoopKind::For, "ENDFOR", "FOR") } else { (LoopKind::Forever, "ENDLOOP", "LOOP") };
-                match self.top_loop(|l| l.kind == kind) {
-                    Some(k) => self.loop_jump(k, LoopPart::Head, start, interp, diags),
-                    None => self.unmatched(c, what, opener, diags),
-                }
-            }
-            Statement::RepeatUntil => {
-                if self.top_loop(|l| l.kind == LoopKind::Until && l.head == start).is_none() {
-                    self.push_loop(LoopKind::Until, None, None, start, here);
-                }
-            }
-            Statement::Until => {
-                let Some(k) = self.top_loop(|l| l.kind == LoopKind::Until) else {
-                    self.unmatched(c, "UNTIL", "REPEAT", diags);
-                    return;
-                };
-                let Some(cond) = self.condition(interp, c, block, diags) else { return };
-                if cond {
-                    self.loops.truncate(k);
-                } else if self.count_iteration(k, c.range, interp, diags) {
-                    self.loop_jump(k, LoopPart::Body, start, interp, diags);
-                }
-            }
-            Statement::Loop => match self.top_loop(|l| l.kind == LoopKind::Forever && l.head == start) {
-                Some(k) => {
-                    self.count_iteration(k, c.range, interp, diags);
-                }
-                None => self.push_loop(LoopKind::Forever, None, None, start, here),
-            },
-            Statement::Label => {
-                let end = self.dialect.macros.end_label.as_deref();
-                let returns = end.is_some() && self.target_label(c, block, interp, diags).as_deref() == end;
-                if returns && self.frames.last().is_some_and(|f| f.kind == FrameKind::Label) {
-                    self.return_from(None, block, interp, diags);
-                }
-            }
-            Statement::CallLabel => self.call_label(c, block, start, interp, diags),
-            Statement::Case => self.case(c, block, start, interp, diags),
-            Statement::RepeatSection | Statement::RepeatBlock => self.repeat_section(statement, c, block, start, interp, diags),
-            Statement::CallProgram => self.call_program(c, block, start, interp, diags),
-            Statement::Procedure => self.procedure(c, block, interp),
-            Statement::Inert => {}
-            Statement::Unsupported => {
-                let msg = format!("`{}` is not simulated; it was skipped", statement_head(block, c));
-                // Counted per keyword: each kind of statement is named at least once.
-                let key = format!("statement {}", c.keyword.map_or("", |k| block.text(k)).to_ascii_uppercase());
-                interp.limited(diags, &key, Diagnostic::new(Code::Unsupported, c.range, msg));
-            }
-        }
-    }
-
     /// The label a statement names: its string or name, or its number (`LBL 5`, `GOTO LBL 5`).
     fn target_label(&self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> Option<String> {
         if let Some(r) = c.name {
@@ -1185,67 +990,6 @@ impl<'a> Driver<'a, '_> {
         }
         let v = self.value(interp, block, c.target?, diags)?;
         (!eval::is_null(v) && v.fract() == 0.0 && v.abs() < 1e9).then(|| normalise_label(&format!("{}", v as i64)))
-    }
-
-    /// `GOTO 10`, `GOTOF MARK1`, `GOTOB N100`, `GOTO LBL "X"`: a jump to a block number or a label.
-    fn jump_statement(
-        &mut self,
-        st: Statement,
-        c: &Control,
-        block: &Block,
-        start: Pos,
-        interp: &mut Interpreter<'a>,
-        diags: &mut Vec<Diagnostic>,
-    ) {
-        let dir = match st {
-            Statement::GotoForward => Direction::Forward,
-            Statement::GotoBack => Direction::Back,
-            _ => Direction::Any,
-        };
-        let quiet = st == Statement::GotoQuiet;
-        if st != Statement::GotoLabel && c.name.is_none() {
-            if let Some(n) = self.target_number(c.target, block, interp, diags) {
-                self.goto_number(n, dir, quiet, block.range, start, interp, diags);
-            }
-            return;
-        }
-        let Some(name) = self.target_label(c, block, interp, diags) else {
-            self.error(diags, Code::MissingLabel, block.range, "the jump has no target");
-            return;
-        };
-        let found = {
-            let marks = self.marks(self.cur);
-            let at = |m: &&Mark| m.defines.as_deref() == Some(name.as_str());
-            match dir {
-                Direction::Forward => marks.iter().filter(at).find(|m| m.start.at > start.at),
-                Direction::Back => marks.iter().filter(at).rev().find(|m| m.start.at < start.at),
-                Direction::Any => marks.iter().filter(at).find(|m| m.start.at > start.at).or_else(|| marks.iter().find(at)),
-            }
-            .map(|m| m.start)
-        };
-        match found {
-            Some(pos) => self.jump_to(pos, &name, block.range, start, interp, diags),
-            None => {
-                // A label that is a block number: `GOTOF N100`.
-                let letter = self.dialect.lexical.block_number.map(|c| c.to_ascii_lowercase());
-                let number = name.strip_prefix(|c| Some(c) == letter).and_then(|n| n.parse::<u32>().ok());
-                if let Some(n) = number.filter(|_| st != Statement::GotoLabel) {
-                    self.goto_number(n, dir, quiet, block.range, start, interp, diags);
-                } else if !quiet {
-                    let whither = match dir {
-                        Direction::Forward => " after this block",
-                        Direction::Back => " before this block",
-                        Direction::Any => "",
-                    };
-                    self.error(
-                        diags,
-                        Code::MissingLabel,
-                        block.range,
-                        format!("no label `{name}`{whither} to jump to; the run stops here"),
-                    );
-                }
-            }
-        }
     }
 
     /// Jumps to a found target; a jump backwards counts against the loop limit, and stops
@@ -1314,143 +1058,6 @@ impl<'a> Driver<'a, '_> {
         calls.chain(self.loops.iter().map(|l| (l.source, l.head.at, l.remaining))).collect()
     }
 
-    /// `FOR var = a TO b`: sets the counter on entry, steps it by one when the loop comes
-    /// round, and leaves past `ENDFOR` once it is above `b`.
-    fn for_head(&mut self, c: &Control, block: &Block, start: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
-        let (Some(var), [first, last, rest @ ..]) = (c.target, c.args.as_slice()) else { return };
-        let step = match rest.first() {
-            Some(&e) => match self.value(interp, block, e, diags) {
-                Some(s) if s != 0.0 && s.is_finite() => s,
-                Some(_) => {
-                    self.error(diags, Code::MalformedExpression, c.range, "a loop step of 0 never ends the loop; the run stops here");
-                    return;
-                }
-                None => return,
-            },
-            None => 1.0,
-        };
-        let again = self.top_loop(|l| l.kind == LoopKind::For && l.head == start);
-        let value = match again {
-            Some(_) => self.value(interp, block, var, diags).map(|v| v + step),
-            None => self.value(interp, block, *first, diags),
-        };
-        let (Some(value), Some(last)) = (value, self.value(interp, block, *last, diags)) else { return };
-        if let Err(e) = set_variable(interp, block, var, value) {
-            diags.push(interp.eval_diag(e, c.range));
-            return;
-        }
-        let go_on = if step > 0.0 { value <= last } else { value >= last };
-        if self.loop_head(LoopKind::For, None, None, go_on, start, here, c.range, interp, diags) {
-            self.skip_structure(&None, start, c.range, Statement::For, Statement::EndFor, &[Statement::EndFor], interp, diags);
-        }
-    }
-
-    /// `CALL LBL 1 REP 2`: runs the section after the label, as a subprogram up to the end
-    /// label or, for a label before the call, up to this call again.
-    fn call_label(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
-        if let Some(f) = self.frames.last()
-            && f.kind == FrameKind::Label
-            && f.call_at == (self.cur, start.at)
-        {
-            // The end of a repeated section.
-            self.return_from(None, block, interp, diags);
-            return;
-        }
-        let Some(name) = self.target_label(c, block, interp, diags) else {
-            self.error(diags, Code::MissingLabel, block.range, "the call names no label");
-            return;
-        };
-        let Some(m) = self.marks(self.cur).iter().find(|m| m.defines.as_deref() == Some(name.as_str())).cloned() else {
-            self.error(diags, Code::MissingLabel, block.range, format!("no label `{name}` to call; the run stops here"));
-            return;
-        };
-        let Some(mut passes) = self.passes(c, block, interp, diags) else { return };
-        // A section before the call, with no end label between, has run once on the way
-        // here: the call adds the passes after the first.
-        let end = self.dialect.macros.end_label.clone();
-        let section = m.start.at < start.at
-            && !self
-                .marks(self.cur)
-                .iter()
-                .any(|e| e.start.at > m.start.at && e.start.at < start.at && e.defines.is_some() && e.defines == end);
-        if section {
-            passes = passes.saturating_sub(1);
-        }
-        let source = self.cur;
-        self.enter(FrameKind::Label, source, m.next, passes, Vec::new(), false, block, start, interp, diags);
-    }
-
-    /// `CASE R1 OF 1 GOTOF A 2 GOTOF B DEFAULT GOTOF C`: the first branch whose value equals
-    /// the operand, or `DEFAULT`, jumps; with neither the run goes on.
-    fn case(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
-        let Some(operand) = c.args.first().and_then(|&e| self.value(interp, block, e, diags)) else { return };
-        for branch in &c.cases {
-            let taken = match branch.value {
-                None => true,
-                Some(e) => match self.value(interp, block, e, diags) {
-                    Some(v) => v == operand,
-                    None => return,
-                },
-            };
-            if taken {
-                let jump = Control {
-                    range: c.range,
-                    statement: Some(branch.jump),
-                    name: branch.name,
-                    target: branch.target,
-                    ..Control::default()
-                };
-                self.jump_statement(branch.jump, &jump, block, start, interp, diags);
-                return;
-            }
-        }
-    }
-
-    /// `REPEAT START END P=2`, `REPEAT START P=2`, `REPEATB MARK P=2`: runs again, P times,
-    /// the blocks from the first label's through the second label's, up to this statement, or
-    /// the labelled block alone; then goes on after the statement.
-    fn repeat_section(
-        &mut self,
-        st: Statement,
-        c: &Control,
-        block: &Block,
-        start: Pos,
-        interp: &mut Interpreter<'a>,
-        diags: &mut Vec<Diagnostic>,
-    ) {
-        let Some(name) = self.target_label(c, block, interp, diags) else {
-            self.error(diags, Code::MissingLabel, block.range, "the repeat names no label");
-            return;
-        };
-        let before = |m: &&Mark, name: &str, from: usize| m.defines.as_deref() == Some(name) && m.start.at >= from && m.start.at < start.at;
-        let Some(first) = self.marks(self.cur).iter().rev().find(|m| before(m, &name, 0)).cloned() else {
-            self.error(diags, Code::MissingLabel, block.range, format!("no label `{name}` before this repeat; the run stops here"));
-            return;
-        };
-        let until = match (st, c.label) {
-            (Statement::RepeatBlock, _) => first.next.at,
-            (_, Some(r)) => {
-                let last = normalise_label(block.text(r));
-                let Some(m) = self.marks(self.cur).iter().find(|m| before(m, &last, first.start.at)) else {
-                    let msg = format!("no label `{last}` between `{name}` and this repeat; the run stops here");
-                    self.error(diags, Code::MissingLabel, block.range, msg);
-                    return;
-                };
-                m.next.at
-            }
-            (_, None) => start.at,
-        };
-        let Some(passes) = self.passes(c, block, interp, diags) else { return };
-        let source = self.cur;
-        let depth = self.frames.len();
-        self.enter(FrameKind::Section, source, first.start, passes, Vec::new(), false, block, start, interp, diags);
-        if self.frames.len() > depth
-            && let Some(f) = self.frames.last_mut()
-        {
-            f.until = until;
-        }
-    }
-
     /// How many times a call runs, from its repeat word.
     fn passes(&self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> Option<u32> {
         let Some(e) = c.repeat else { return Some(1) };
@@ -1461,92 +1068,6 @@ impl<'a> Driver<'a, '_> {
         }
         let n = v as u32;
         Some(if self.dialect.macros.call_repeat_additional { n + 1 } else { n })
-    }
-
-    /// `CALL PGM NAME`, `L123 P2`, `NAME(1.5, 3)`: runs the program of that name, from a
-    /// `PROC NAME` in this file or from the program directory.
-    fn call_program(&mut self, c: &Control, block: &Block, start: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
-        let written = match c.name {
-            Some(r) => block.text(r),
-            None => {
-                self.error(diags, Code::MissingLabel, block.range, "the call names no program");
-                return;
-            }
-        };
-        // `TNC:\PARTS\SUB.H` → `SUB.H`.
-        let file = written.rsplit(['\\', '/', ':']).next().unwrap_or(written);
-        let key = normalise_label(file.split('.').next().unwrap_or(file));
-        let mut args = Vec::with_capacity(c.args.len());
-        for &e in &c.args {
-            let Some(v) = self.value(interp, block, e, diags) else { return };
-            args.push(v);
-        }
-        let Some(passes) = self.passes(c, block, interp, diags) else { return };
-        // Named arguments (`CALL OTBOX PZ=-5. PF=500.`) are set before the call.
-        if !block.assigns.is_empty() {
-            interp.assign(block, diags);
-        }
-        let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
-        let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
-        let Some((source, body)) = self.locate(file, starts) else {
-            let keyword = c.keyword.map_or(written, |k| block.text(k));
-            let d = if c.keyword == c.name {
-                // A bare name may be a statement this dialect file lacks as well as a program
-                // (a machine maker's cycle, `T_INI`): a warning where the control keeps such.
-                let msg = format!(
-                    "`{keyword}` is neither a statement of the {} dialect nor a program in this file or the program directory; the call was skipped",
-                    self.dialect.name
-                );
-                let mut d = Diagnostic::new(Code::MissingProgram, block.range, msg);
-                if self.dialect.behaviour.resident_programs {
-                    d.severity = Severity::Warning;
-                }
-                d
-            } else {
-                self.program_not_found(format!("program `{written}`"), block.range)
-            };
-            interp.limited(diags, "program", d);
-            return;
-        };
-        // A procedure's body starts at its PROC statement, which binds the arguments.
-        let body = match self.marks(source).iter().find(|m| is_proc(m)) {
-            Some(m) => m.start,
-            None => body,
-        };
-        let depth = self.frames.len();
-        self.enter(FrameKind::Program, source, body, passes, Vec::new(), false, block, start, interp, diags);
-        if self.frames.len() > depth
-            && let Some(f) = self.frames.last_mut()
-        {
-            f.proc_args = Some(args);
-        }
-    }
-
-    /// `PROC NAME(REAL A, INT B=2) SAVE`: binds the call's arguments to the parameter names,
-    /// in order (a missing one keeps its default, else 0).
-    fn procedure(&mut self, c: &Control, block: &Block, interp: &mut Interpreter<'a>) {
-        let line = block.text(c.range);
-        let alone = self.frames.is_empty();
-        if alone {
-            interp.called_by(|| "it starts with a PROC header".to_owned());
-        }
-        let args = self.frames.last_mut().and_then(|f| f.proc_args.take()).unwrap_or_default();
-        let Some(open) = line.find('(') else { return };
-        let close = line.rfind(')').filter(|&p| p > open).unwrap_or(line.len());
-        for (k, param) in line[open + 1..close].split(',').enumerate() {
-            let (decl, default) = match param.split_once('=') {
-                Some((d, v)) => (d, v.trim().parse::<f64>().ok()),
-                None => (param, None),
-            };
-            let Some(name) = decl.split_whitespace().last() else { continue };
-            let name = name.trim_end_matches(|c: char| c == ']' || c == '[' || c.is_ascii_digit() && name.contains('['));
-            if name.is_empty() {
-                continue;
-            }
-            // Analysed on its own, the procedure's arguments are the caller's: unknown here.
-            let v = args.get(k).copied().or(default).unwrap_or(if alone { eval::UNKNOWN } else { 0.0 });
-            interp.params.set_named(&eval::normalised(name), v);
-        }
     }
 
     /// A loop head, met for the first time or again: counts the iteration, or enters the
@@ -1787,48 +1308,6 @@ impl<'a> Driver<'a, '_> {
         Some(v as u32)
     }
 
-    /// `IF [..] GOTO n`, `IF [..] THEN ...` (one line, or a block IF up to its `ELSE`/`ENDIF`),
-    /// and the structured `IF` of the languages that have one.
-    #[allow(clippy::too_many_arguments)]
-    fn if_statement(
-        &mut self,
-        c: &Control,
-        block: &Block,
-        start: Pos,
-        label: &Option<String>,
-        interp: &mut Interpreter<'a>,
-        sink: &mut dyn CanonSink,
-        diags: &mut Vec<Diagnostic>,
-    ) {
-        let Some(cond) = self.condition(interp, c, block, diags) else { return };
-        match c.then {
-            Some(st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)) => {
-                if cond {
-                    self.jump_statement(st, c, block, start, interp, diags);
-                }
-            }
-            Some(Statement::Then) if block_if(block, c, self.dialect) => {
-                if !cond {
-                    self.next_branch(label, start, c.range, interp, diags);
-                }
-            }
-            Some(Statement::Then) => {
-                if self.undecided && !block.assigns.is_empty() && !self.is_alarm(block) {
-                    // Whether the assignment ran is not known (`IF [#24 NE #0] THEN
-                    // #30 = #24` on an argument): what it sets holds either value.
-                    interp.execute_either(block, sink, diags);
-                } else if cond {
-                    interp.execute(block, sink, diags);
-                }
-            }
-            _ => {
-                if !cond {
-                    self.next_branch(label, start, c.range, interp, diags);
-                }
-            }
-        }
-    }
-
     /// Where the blocks numbered `n` start in source `source`, in text order (found once).
     fn numbered_blocks(&mut self, source: usize, n: u32) -> &[Pos] {
         let dialect = self.dialect;
@@ -1877,37 +1356,6 @@ impl<'a> Driver<'a, '_> {
             interp.params.set_named(name, v);
             interp.params.set_named(&format!("{name}_returned"), f64::from(u8::from(returned)));
         }
-    }
-
-    fn call_sub(
-        &mut self,
-        c: &Control,
-        label: Option<String>,
-        block: &Block,
-        start: Pos,
-        interp: &mut Interpreter<'a>,
-        diags: &mut Vec<Diagnostic>,
-    ) {
-        let Some(label) = label else { return };
-        let mut args = Vec::with_capacity(c.args.len());
-        for &e in &c.args {
-            let Some(v) = self.value(interp, block, e, diags) else { return };
-            args.push(v);
-        }
-        let is_sub = |m: &Mark| m.label.as_deref() == Some(label.as_str()) && m.statement == Some(Statement::Sub);
-        let Some((source, body)) = self.locate(&label, is_sub) else {
-            self.error(
-                diags,
-                Code::MissingLabel,
-                c.range,
-                format!("subroutine o<{label}> is neither in this program nor in the program directory"),
-            );
-            return;
-        };
-        Self::set_return_value(self.dialect, interp, 0.0, false);
-        let (first, last) = self.dialect.macros.locals;
-        let args: Vec<(u16, f64)> = args.into_iter().enumerate().map(|(i, v)| (first + i as u16, v)).filter(|(n, _)| *n <= last).collect();
-        self.enter(FrameKind::Sub, source, body, 1, args, true, block, start, interp, diags);
     }
 
     /// Where a called program's body starts: after the first mark `starts` accepts in this

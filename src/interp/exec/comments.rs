@@ -1,0 +1,78 @@
+//! The comment step: a block's comments go into the canon, as comments or as the
+//! directives some carry (`(MSG, ...)`, `(ABORT, ...)`, the log file ones).
+//!
+//! Door: [`Interpreter::comments`].
+
+use crate::canon::{CanonOp, CanonSink};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::Directive;
+use crate::interp::{Interpreter, eval};
+use crate::syntax::Block;
+
+impl Interpreter<'_> {
+    /// The block's comments, in order; an abort ends the program there.
+    pub(super) fn comments(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        for r in &block.comments {
+            let text = block.text(*r);
+            let op = match self.dialect.lexical.directive(text) {
+                Some((Directive::Message, m)) => CanonOp::Message(m.to_owned()),
+                Some((Directive::Abort, m)) => {
+                    let msg = format!("the program aborts: {}; execution stops here", m.trim());
+                    diags.push(Diagnostic::new(Code::ProgramAlarm, *r, msg));
+                    self.st.ended = true;
+                    return;
+                }
+                // `(LOGCLOSE)` only: with more after it, rs274 takes it for a comment.
+                Some((Directive::LogFile(crate::dialect::LogFile::Close), rest)) if !rest.trim().is_empty() => {
+                    CanonOp::Comment(text.to_owned())
+                }
+                Some((Directive::LogFile(kind), rest)) => CanonOp::Log(kind, self.log_text(kind, rest)),
+                Some((Directive::Log | Directive::Simulator, _)) | None => CanonOp::Comment(text.to_owned()),
+            };
+            self.emit(sink, op);
+        }
+    }
+
+    /// What a log-file directive writes: the file's name as written, nothing for a close, or
+    /// the line with each parameter (`#1`, `#<depth>`) replaced by its value with six
+    /// decimals, as rs274 writes it (`######` for one it cannot read; a `#` ending the text
+    /// goes).
+    fn log_text(&self, kind: crate::dialect::LogFile, rest: &str) -> String {
+        use crate::dialect::LogFile;
+        match kind {
+            LogFile::Close => return String::new(),
+            LogFile::Open | LogFile::Append => return rest.trim().to_owned(),
+            LogFile::Line => {}
+        }
+        let mut out = String::with_capacity(rest.len());
+        let mut rest = rest;
+        while let Some(at) = rest.find('#') {
+            out.push_str(&rest[..at]);
+            let after = &rest[at + 1..];
+            let digits = after.bytes().take_while(u8::is_ascii_digit).count();
+            let (value, used) = if digits > 0 {
+                (after[..digits].parse::<f64>().ok().and_then(|n| self.params.get(n).ok()), digits)
+            } else if let Some(raw) = after.strip_prefix('<').and_then(|a| a.find('>').map(|e| &a[..e])) {
+                let name = eval::normalise_name(raw);
+                // A system parameter reads the state now, as in an expression.
+                let system = self.dialect.macros.system_named.iter().find(|(n, ..)| *n == name);
+                let value = match system {
+                    Some(&(_, var, constant)) => self.system_value(var, constant),
+                    None => self.params.get_named(&name).ok(),
+                };
+                (value, raw.len() + 2)
+            } else {
+                (None, 0)
+            };
+            match value {
+                Some(v) => out.push_str(&format!("{v:.6}")),
+                None if used > 0 => out.push_str("######"),
+                None if after.is_empty() => {}
+                None => out.push('#'),
+            }
+            rest = &after[used..];
+        }
+        out.push_str(rest);
+        out
+    }
+}

@@ -1,0 +1,78 @@
+//! The contour languages' helpers that move nothing themselves: the pole (Heidenhain `CC`,
+//! its ISO forms) that polar words and arcs turn about, and corners rounded or chamfered
+//! between two moves, by a block of their own (`RND R5`, `CHF 2`) or by the words of a move
+//! (Siemens `RND=`, `CHF=`). The corner geometry is worked out by `interp/corner.rs`.
+//!
+//! Doors: [`Interpreter::pole_code`], [`Interpreter::corner_code`],
+//! [`Interpreter::corner_words`].
+
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, Meaning, Role};
+use crate::interp::{Interpreter, corner};
+use crate::text::TextRange;
+
+impl Interpreter<'_> {
+    /// `CC X Y` and its forms: the pole at the block's point (the plane's axes not given stay
+    /// as they were, for the keeping form), or that far from the current point or the pole.
+    pub(super) fn pole_code(&mut self, def: &CodeDef) {
+        match def.meaning {
+            Meaning::Pole => {
+                let t = self.target();
+                let (a0, a1, _) = self.st.plane.axes();
+                self.st.pole = (t[a0], t[a1]);
+            }
+            Meaning::PoleKeeping => {
+                let t = self.target();
+                let (a0, a1, _) = self.st.plane.axes();
+                let given = |axis: usize| self.slots[Role::AXES[axis] as usize].is_some();
+                self.st.pole = match (given(a0), given(a1)) {
+                    (false, false) => (t[a0], t[a1]),
+                    (g0, g1) => (if g0 { t[a0] } else { self.st.pole.0 }, if g1 { t[a1] } else { self.st.pole.1 }),
+                };
+            }
+            _ => {
+                let (a0, a1, _) = self.st.plane.axes();
+                let (b0, b1) = if def.meaning == Meaning::PoleIncremental { (self.st.pos[a0], self.st.pos[a1]) } else { self.st.pole };
+                let word = |axis: usize| self.slot(Role::AXES[axis]).unwrap_or(0.0);
+                self.st.pole = (b0 + word(a0), b1 + word(a1));
+            }
+        }
+    }
+
+    /// A corner block (`RND R5`, `CHF 2`): the corner between the move before it and the next.
+    pub(super) fn corner_code(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let size = if def.meaning == Meaning::CornerRound { self.slot(Role::R) } else { self.slot(Role::Geometry) };
+        match size {
+            Some(v) if v > 0.0 => {
+                self.mark_corner(if def.meaning == Meaning::CornerRound { corner::Corner::Round(v) } else { corner::Corner::Chamfer(v) })
+            }
+            // An unknown size (the tool radius, `RND RQ108`): the word was left out
+            // and said so; the corner stays sharp.
+            None if self.unknown_roles & (1 << (if def.meaning == Meaning::CornerRound { Role::R } else { Role::Geometry }) as u32)
+                != 0 => {}
+            _ => diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs a size above zero", def.label()))),
+        }
+    }
+
+    /// A corner the block's own words round or chamfer (Siemens `X65 RND=5`): marked after the
+    /// block's move, between it and the next, as a corner block between them would be.
+    pub(in crate::interp) fn corner_words(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let (size, corner) = match (self.slot(Role::CornerRadius), self.slot(Role::CornerChamfer)) {
+            (Some(r), _) => (r, corner::Corner::Round(r)),
+            (None, Some(c)) => (c, corner::Corner::Chamfer(c)),
+            (None, None) => return,
+        };
+        if size > 0.0 {
+            self.mark_corner(corner);
+        } else {
+            diags.push(Diagnostic::new(Code::MissingParameter, range, "a corner rounding or chamfer needs a size above zero"));
+        }
+    }
+
+    /// Marks the corner between the move the corner stage holds and the next.
+    fn mark_corner(&mut self, corner: corner::Corner) {
+        if let Some(k) = self.corners.get_mut().as_mut() {
+            k.mark(corner, self.origin, self.line);
+        }
+    }
+}

@@ -1,0 +1,226 @@
+//! The execute phase: what a block's words and codes do, step by step.
+//!
+//! A block runs in the steps the dialect's `<execution-order>` gives; [`Interpreter::step`]
+//! runs one, and [`Interpreter::execute_code`] one code, by handing it to the handler of its
+//! group of meanings, as rs274's `convert_*` functions do. Each group lives in a file named
+//! after it:
+//!
+//! - `modes.rs`: plane, units, distance modes, the lathe's diameter mode, the cycles'
+//!   return mode;
+//! - `motion_mode.rs`: the motion group (the modal motion code, its cancel G80);
+//! - `feed.rs`: feed modes, the F word, the override switches;
+//! - `spindle.rs`: spindle turning, speed modes and limit, the S word, coolant;
+//! - `tool.rs`: the T word, tool change, tool length offsets, tool data;
+//! - `compensation.rs`: cutter radius compensation;
+//! - `offsets.rs`: work offsets and coordinate systems, G92 shifts, reference positions;
+//! - `transform.rs`: programmable rotation and scaling;
+//! - `contour.rs`: the pole and corner blocks of the contour languages;
+//! - `stops.rs`: stops, dwells and program end;
+//! - `calls.rs`: subprogram and macro calls and returns (requests to the flow driver);
+//! - `comments.rs`: comments and the directives they carry;
+//! - `records.rs`: codes that are only recorded or noted (the blank, machine data reads).
+//!
+//! Doors: [`Interpreter::step`] and [`Interpreter::execute_code`].
+
+mod calls;
+mod comments;
+mod compensation;
+mod contour;
+mod feed;
+mod modes;
+mod motion_mode;
+mod offsets;
+mod records;
+mod spindle;
+mod stops;
+mod tool;
+mod transform;
+
+use crate::canon::CanonSink;
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, Meaning, Step};
+use crate::interp::Interpreter;
+use crate::syntax::Block;
+use crate::text::TextRange;
+
+impl Interpreter<'_> {
+    /// Runs step `step` of the block: its words of that step (comments, F, S, T) or its codes
+    /// that take effect at it.
+    pub(super) fn step(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        match step {
+            Step::Comment => self.comments(block, sink, diags),
+            Step::Feed => self.feed_word(sink),
+            Step::Speed => self.speed_word(sink),
+            Step::ToolSelect => self.tool_select(block, sink, diags),
+            Step::Misc => {}
+            Step::Stop if self.stop_message.is_some() => self.stop_with_message(step, block, sink, diags),
+            _ => self.code_step(step, block, sink, diags),
+        }
+    }
+
+    /// A step that only codes have: the block's codes at `step`; at the motion step without
+    /// one, the motion mode in force moves to the block's axis words.
+    fn code_step(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let ran = self.run_codes(step, block, sink, diags);
+        if step == Step::Motion && !ran {
+            if let Some(c) = self.active_motion_code() {
+                self.execute_code(c, block.range, block, sink, diags);
+            } else if self.has_axes && !self.codes.iter().any(|&(c, _)| self.claims_axes(c)) {
+                let d = Diagnostic::new(
+                    Code::UnusedWord,
+                    block.range,
+                    "axis words without an active motion mode (after G80 or at program start)",
+                );
+                diags.push(self.unused(d));
+            }
+        }
+    }
+
+    /// Executes the block's codes that take effect at `step`; true if there were any.
+    pub(super) fn run_codes(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
+        // Index loop: `execute_code` needs `&mut self`, and the hot path must not allocate.
+        let mut ran = false;
+        for k in 0..self.codes.len() {
+            let (c, range) = self.codes[k];
+            if self.dialect.groups[self.code(c).group].step == step {
+                ran = true;
+                self.execute_code(c, range, block, sink, diags);
+            }
+        }
+        ran
+    }
+
+    /// Executes code `c` (written at `range`): the handler of its meaning's group.
+    pub(super) fn execute_code(
+        &mut self,
+        c: usize,
+        range: TextRange,
+        block: &Block,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let def = self.code(c);
+        match def.meaning {
+            Meaning::FeedPerMinute | Meaning::FeedPerRev | Meaning::FeedInverseTime => self.feed_mode(def, sink),
+            Meaning::ToolChange => self.tool_change(def, sink),
+            Meaning::ToolSet => self.tool_set(def, range, sink, diags),
+            Meaning::SpindleCw | Meaning::SpindleCcw | Meaning::SpindleStop => self.spindle_turn(def, sink),
+            Meaning::SpindleOrient => self.orient_spindle(def, range, sink, diags),
+            Meaning::CoolantMist | Meaning::CoolantFlood | Meaning::CoolantOff => self.coolant(def, sink),
+            Meaning::Dwell => self.dwell(def, sink),
+            Meaning::PlaneXy | Meaning::PlaneXz | Meaning::PlaneYz => self.plane(def, sink),
+            Meaning::UnitsInch | Meaning::UnitsMm => self.units(def, sink),
+            Meaning::CompOff => self.comp_off_code(sink),
+            Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
+                self.comp_on(def, range, sink, diags)
+            }
+            Meaning::LengthCompPlus | Meaning::LengthCompMinus | Meaning::LengthCompDynamic | Meaning::LengthCompCancel => {
+                self.length_comp(def, sink)
+            }
+            Meaning::Wcs | Meaning::WcsExtended => self.work_offset(def, range, sink, diags),
+            Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
+                self.modal_context(def, range, sink, diags)
+            }
+            // Path control (exact stop, blending): no effect on the programmed path.
+            Meaning::PathMode => {}
+            Meaning::SpindleLimit | Meaning::SpindleCss | Meaning::SpindleRpm => self.spindle_speed_mode(def, sink),
+            Meaning::DistanceAbsolute | Meaning::DistanceIncremental => self.distance_mode(def, sink),
+            Meaning::ArcDistanceAbsolute | Meaning::ArcDistanceIncremental => self.arc_distance_mode(def),
+            Meaning::RetractInitial | Meaning::RetractR => self.retract_mode(def),
+            Meaning::SetData => self.set_data(def, range, sink, diags),
+            Meaning::OriginShift
+            | Meaning::LocalOffset
+            | Meaning::OriginShiftSuspend
+            | Meaning::OriginShiftRestore
+            | Meaning::OriginShiftCancel => self.origin_offset(def, sink),
+            Meaning::Rotation | Meaning::RotationCancel => self.rotation_code(def, range, diags),
+            Meaning::Scaling | Meaning::ScalingCancel => self.scaling_code(def, range, block, diags),
+            Meaning::Home1 | Meaning::Home2 | Meaning::Home1Set | Meaning::Home2Set => self.home_code(def, sink),
+            // G53: the block's move is in machine coordinates; the motion step reads it.
+            Meaning::MachineCoords => {}
+            Meaning::Rapid
+            | Meaning::Linear
+            | Meaning::ArcCw
+            | Meaning::ArcCcw
+            | Meaning::ArcPole
+            | Meaning::ArcRadius
+            | Meaning::ArcTangent
+            | Meaning::ArcThreePoint
+            | Meaning::SpindleSync
+            | Meaning::RigidTap
+            | Meaning::CycleThread
+            | Meaning::CycleTurn
+            | Meaning::CycleFace
+            | Meaning::CycleThreadPass
+            | Meaning::Probe
+            | Meaning::ProbeQuiet
+            | Meaning::SplineQuadratic
+            | Meaning::Nurbs
+            | Meaning::CycleDrill
+            | Meaning::CycleDrillDwell
+            | Meaning::CyclePeckDrill
+            | Meaning::CycleChipBreak
+            | Meaning::CycleTap
+            | Meaning::CycleTapLeft
+            | Meaning::CycleBore
+            | Meaning::CycleBoreStop
+            | Meaning::CycleBackBore
+            | Meaning::CycleBoreManual
+            | Meaning::CycleBoreDwell
+            | Meaning::CycleFineBore => self.motion_mode(c, def, range, block, sink, diags),
+            Meaning::NurbsEnd => self.nurbs_end_code(def, range, sink, diags),
+            Meaning::CycleCancel => self.cycle_cancel(def, sink),
+            Meaning::ProgramStop | Meaning::OptionalStop | Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.stop(def, sink),
+            Meaning::OverridesOn | Meaning::OverridesOff | Meaning::FeedOverrideSwitch | Meaning::SpeedOverrideSwitch => {
+                self.overrides(def, sink)
+            }
+            Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::SubprogramReturn => self.call(def, range, diags),
+            Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def),
+            Meaning::Other | Meaning::Output | Meaning::ProgramBegin => {}
+            Meaning::Stock => self.stock_corner(sink),
+            // Read by the arc or move of the block they stand in.
+            Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}
+            Meaning::ApproachTangent
+            | Meaning::ApproachNormal
+            | Meaning::ApproachArc
+            | Meaning::DepartTangent
+            | Meaning::DepartNormal
+            | Meaning::DepartArc => self.motion(def, range, block, sink, diags),
+            Meaning::CornerRound | Meaning::CornerChamfer => self.corner_code(def, range, diags),
+            Meaning::Pole | Meaning::PoleKeeping | Meaning::PoleIncremental | Meaning::PoleFromPole => self.pole_code(def),
+            Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
+            Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, range, diags),
+            Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),
+            Meaning::FrameMirror => self.unsupported(def, range, diags),
+            Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),
+            // Carried out after the block's moves (`cycles_after`).
+            Meaning::CycleCall | Meaning::CycleModal => {}
+            Meaning::CycleCallAt => self.call_at_position(sink),
+            Meaning::MachineDataRead => self.machine_data_read(def, range, diags),
+            Meaning::PatternRow | Meaning::PatternCircle | Meaning::PatternGrid => self.code_pattern(def, range, block, sink, diags),
+            Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
+            Meaning::ProfileFinish | Meaning::ProfileRoughTurn | Meaning::ProfileRoughFace => self.profile_cycle(def, range, diags),
+            Meaning::CycleIntent => self.cycle_intent(def, range, diags),
+            _ => self.not_executed(def, range, diags),
+        }
+    }
+
+    /// A code this interpreter does not carry out: said once per meaning; a motion code also
+    /// ends the motion mode in force.
+    fn not_executed(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        if self.dialect.groups[def.group].step == Step::Motion {
+            self.st.motion_code = None;
+        }
+        self.unsupported(def, range, diags);
+    }
+
+    /// Reports code `def` as not supported yet (once per meaning, as findings are limited).
+    pub(in crate::interp) fn unsupported(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let key: &'static str = def.meaning.as_str();
+        self.limited(
+            diags,
+            key,
+            Diagnostic::new(Code::Unsupported, range, format!("{} ({}) is not supported yet; it was skipped", def.label(), def.name)),
+        );
+    }
+}

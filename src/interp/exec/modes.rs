@@ -1,0 +1,74 @@
+//! The modal groups that change how later words read: the plane (G17–G19), the units
+//! (G20/G21), the distance modes (G90/G91, and G90.1/G91.1 for arc centres), the lathe's
+//! diameter mode (G7/G8) and the canned cycles' return mode (G98/G99).
+//!
+//! Doors: [`Interpreter::plane`], [`Interpreter::units`], [`Interpreter::distance_mode`],
+//! [`Interpreter::arc_distance_mode`], [`Interpreter::diameter_mode`],
+//! [`Interpreter::retract_mode`], and [`Interpreter::set_units`] for the saved modes.
+
+use crate::canon::{CanonOp, CanonSink, DistanceMode, Plane, Units};
+use crate::dialect::{CodeDef, Meaning};
+use crate::interp::{Interpreter, Retract};
+
+impl Interpreter<'_> {
+    /// G17, G18, G19: the plane of arcs, compensation and cycles.
+    pub(super) fn plane(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+        let plane = match def.meaning {
+            Meaning::PlaneXy => Plane::Xy,
+            Meaning::PlaneXz => Plane::Xz,
+            _ => Plane::Yz,
+        };
+        self.st.plane = plane;
+        self.emit(sink, CanonOp::SelectPlane(plane));
+    }
+
+    /// G20, G21: inch or millimetre lengths.
+    pub(super) fn units(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+        let units = if def.meaning == Meaning::UnitsInch { Units::Inch } else { Units::Mm };
+        self.set_units(units);
+        self.emit(sink, CanonOp::UseLengthUnits(units));
+    }
+
+    /// G90, G91: absolute or incremental axis words.
+    pub(super) fn distance_mode(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+        let mode = if def.meaning == Meaning::DistanceAbsolute { DistanceMode::Absolute } else { DistanceMode::Incremental };
+        if mode != self.st.distance {
+            self.st.distance = mode;
+            self.emit(sink, CanonOp::DistanceMode(mode));
+        }
+    }
+
+    /// G90.1, G91.1: absolute or incremental arc centres (I, J, K).
+    pub(super) fn arc_distance_mode(&mut self, def: &CodeDef) {
+        self.st.arc_incremental = def.meaning == Meaning::ArcDistanceIncremental;
+    }
+
+    /// G7, G8 (lathe): X words give diameters or radii.
+    pub(super) fn diameter_mode(&mut self, def: &CodeDef) {
+        self.st.diameter = def.meaning == Meaning::DiameterMode;
+    }
+
+    /// G98, G99: a canned cycle returns to its initial level or to the R plane.
+    pub(super) fn retract_mode(&mut self, def: &CodeDef) {
+        self.st.retract = if def.meaning == Meaning::RetractInitial { Retract::Initial } else { Retract::RPlane };
+    }
+
+    /// Changes the units, converting the lengths the state holds (position, offsets).
+    pub(in crate::interp) fn set_units(&mut self, units: Units) {
+        if units == self.st.units {
+            return;
+        }
+        let k = self.st.units.to_mm() / units.to_mm();
+        for i in 0..3 {
+            self.st.pos[i] *= k;
+            self.st.g92[i] *= k;
+            for w in self.st.wcs_offsets.iter_mut().chain(self.st.wcs_extended.values_mut()) {
+                w[i] *= k;
+            }
+        }
+        for v in &mut self.st.tool_offset {
+            *v *= k;
+        }
+        self.st.units = units;
+    }
+}

@@ -1,0 +1,575 @@
+//! The read phase of a block: its codes looked up and checked against their groups, its
+//! words evaluated and put in their slots (scaled for least-increment input, halved for
+//! diameters), and the parameters its codes need checked. Nothing runs yet: the execute
+//! phase (`exec/`) reads what this phase left.
+//!
+//! Doors: [`Interpreter::read`], and for the execute phase
+//! [`Interpreter::active_motion_code`], [`Interpreter::claims_axes`],
+//! [`Interpreter::value`].
+
+use crate::canon::{DistanceMode, Units};
+use crate::diag::{Code, Diagnostic, Severity};
+use crate::dialect::{CodeDef, DecimalInput, Meaning, Role, Step};
+use crate::syntax::{Block, Value, Word, WordMode};
+use crate::text::TextRange;
+
+use super::{Interpreter, Slot, eval};
+
+/// How the block's words read, from its codes and the modes in force.
+#[derive(Clone, Copy)]
+struct WordReading {
+    /// The units of its lengths (G20 or G21 in the block counts already).
+    units: Units,
+    /// Whether X gives a diameter (G7 in the block counts already).
+    diameter: bool,
+    /// Whether K counts a drilling cycle's repeats, no length.
+    k_counts: bool,
+}
+
+impl Interpreter<'_> {
+    /// Forgets the previous block's words and codes.
+    pub(super) fn clear_block(&mut self) {
+        let mut filled = std::mem::take(&mut self.filled);
+        while filled != 0 {
+            self.slots[filled.trailing_zeros() as usize] = None;
+            filled &= filled - 1;
+        }
+        self.code_steps = 0;
+        self.unknown_roles = 0;
+        self.codes.clear();
+        self.block_cycle = None;
+        self.cycle_args.clear();
+    }
+
+    /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
+    pub(super) fn read(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        self.clear_block();
+        self.block_read = true;
+        self.misread_before = self.misread;
+        self.block_misread = false;
+        // Codes first: a unit change in this block affects how its numbers scale.
+        let mut ok = self.read_codes(block, diags);
+        let how = self.word_reading();
+        for (k, w) in block.words.iter().enumerate() {
+            if matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
+                continue;
+            }
+            ok &= self.read_word(block, k, *w, how, diags);
+        }
+        self.polar_roles();
+        // Where I J K are the circle centre and the pole (Heidenhain ISO), a block that
+        // writes them sets the pole, with or without an arc.
+        if self.dialect.behaviour.arc_centres_pole {
+            let (a0, a1, _) = self.st.plane.axes();
+            if let Some(c) = self.centre_words(a0, a1, self.st.pos) {
+                self.st.pole = c;
+            }
+        }
+        // Polar words (`PA+90`) name an end point as axis words do.
+        const POSITION: u128 = {
+            let mut m = 1 << Role::PolarRadius as u32 | 1 << Role::PolarAngle as u32;
+            let mut k = 0;
+            while k < Role::AXES.len() {
+                m |= 1 << Role::AXES[k] as u32;
+                k += 1;
+            }
+            m
+        };
+        self.has_axes = self.filled & POSITION != 0;
+        if ok {
+            ok = self.check_params(block, diags);
+        }
+        ok
+    }
+
+    /// The block's codes (G, M and keyword codes) and its named cycle, in the block's codes;
+    /// false when one cannot be read, is unknown, or shares its group with another.
+    fn read_codes(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let mut ok = true;
+        for w in &block.words {
+            if !matches!(w.role, Role::G | Role::M | Role::Keyword | Role::Cycle) {
+                continue;
+            }
+            if w.role == Role::Cycle {
+                if let Value::Number { value, .. } = w.value {
+                    self.block_cycle = Some(value as usize);
+                }
+                continue;
+            }
+            if w.role == Role::Keyword {
+                let Value::Number { value, .. } = w.value else { continue };
+                ok &= self.push_code(value as usize, w.range, diags);
+                continue;
+            }
+            if !matches!(w.role, Role::G | Role::M) {
+                continue;
+            }
+            ok &= self.letter_code(block, w, diags);
+        }
+        ok
+    }
+
+    /// A G or M word: the code its value names, added to the block's codes. A word whose
+    /// value is unknown or vacant is left out; an M code the dialect does not list is the
+    /// machine builder's where the dialect says so. False when the block must be skipped.
+    fn letter_code(&mut self, block: &Block, w: &Word, diags: &mut Vec<Diagnostic>) -> bool {
+        let Some(v) = self.value(block, w.value, w.range, diags) else {
+            return false;
+        };
+        if eval::is_unknown(v) {
+            self.unknown_word(block, w.range, diags);
+            return true;
+        }
+        if eval::is_null(v) {
+            return true; // a word whose value is vacant is omitted
+        }
+        let x10 = (v * 10.0).round();
+        let letter = w.letter as char;
+        let found =
+            if (v * 10.0 - x10).abs() < 1e-3 && (0.0..10_000.0).contains(&x10) { self.dialect.code_id(letter, x10 as u32) } else { None };
+        let Some(idx) = found else {
+            let shown = block.text(w.range);
+            if letter == 'M' && self.dialect.behaviour.machine_m_codes && (0.0..10_000.0).contains(&x10) {
+                let d = Diagnostic::new(
+                    Code::MachineCode,
+                    w.range,
+                    format!("`{shown}` is a machine-builder M code; recorded, with no effect on the toolpath"),
+                );
+                self.limited(diags, "machine-m-code", d);
+                return true;
+            }
+            diags.push(Diagnostic::new(
+                Code::UnknownCode,
+                w.range,
+                format!("`{shown}` is not a code of the {} dialect", self.dialect.name),
+            ));
+            return false;
+        };
+        self.push_code(idx, w.range, diags)
+    }
+
+    /// How the block's words read: in the units and the diameter mode the block's own codes
+    /// set, else those in force; and whether K counts the repeats of a drilling cycle (the
+    /// block's own or the one in force), no length.
+    fn word_reading(&self) -> WordReading {
+        let units = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
+            Meaning::UnitsInch => Some(Units::Inch),
+            Meaning::UnitsMm => Some(Units::Mm),
+            _ => None,
+        });
+        let units = units.unwrap_or(self.st.units);
+        // G7 in this block already reads its X words as diameters.
+        let diameter = self.codes.iter().rev().find_map(|(c, _)| match self.code(*c).meaning {
+            Meaning::DiameterMode => Some(true),
+            Meaning::RadiusMode => Some(false),
+            _ => None,
+        });
+        let diameter = diameter.unwrap_or(self.st.diameter);
+        // In a drilling cycle's block (its own or the one in force) K counts repeats: no length.
+        let is_hole_cycle = |m: Meaning| {
+            matches!(
+                m,
+                Meaning::CycleDrill
+                    | Meaning::CycleDrillDwell
+                    | Meaning::CyclePeckDrill
+                    | Meaning::CycleChipBreak
+                    | Meaning::CycleBore
+                    | Meaning::CycleBoreDwell
+                    | Meaning::CycleBoreStop
+                    | Meaning::CycleTap
+                    | Meaning::CycleTapLeft
+                    | Meaning::CycleFineBore
+                    | Meaning::CycleBackBore
+                    | Meaning::CycleBoreManual
+            )
+        };
+        let k_counts = self.codes.iter().any(|&(c, _)| is_hole_cycle(self.code(c).meaning))
+            || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
+        WordReading { units, diameter, k_counts }
+    }
+
+    /// Word `k` of the block, not a code: into its slot, or the named cycle's arguments. An
+    /// axis named by a variable (`AX[_X]=10`) is looked up first; a value that is unknown or
+    /// vacant leaves the word out. False when the block must be skipped.
+    fn read_word(&mut self, block: &Block, k: usize, mut w: Word, how: WordReading, diags: &mut Vec<Diagnostic>) -> bool {
+        if let Some(&(_, index)) = block.axis_refs.iter().find(|&&(i, _)| i == k) {
+            match self.axis_by_variable(block, index, w.range, diags) {
+                Some(letter) => {
+                    w.letter = letter;
+                    w.role = self.dialect.letter_role(letter).unwrap_or(Role::Extra);
+                }
+                None => return true,
+            }
+        }
+        let w = &w;
+        if w.cycle_arg {
+            match self.value(block, w.value, w.range, diags) {
+                Some(v) if eval::is_unknown(v) => self.unknown_word(block, w.range, diags),
+                Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),
+                Some(_) => {}
+                None => return false,
+            }
+            return true;
+        }
+        let Some(role) = self.free_role(block, w, diags) else { return false };
+        let mut v = match w.value {
+            Value::Number { value, .. } => value,
+            Value::Text(r) => match self.text_value(block, role, r, w.range, diags) {
+                Some(v) => v,
+                None => return false,
+            },
+            Value::Expr(_) => match self.value(block, w.value, w.range, diags) {
+                Some(v) if eval::is_unknown(v) => {
+                    if role == Role::F {
+                        // Not zero: the feed the control has, which this file does not know.
+                        self.st.feed_unknown = true;
+                        self.st.feed = self.st.feed.max(0.0);
+                    }
+                    self.unknown_roles |= 1 << role as u32;
+                    self.unknown_word(block, w.range, diags);
+                    return true;
+                }
+                Some(v) if eval::is_null(v) => return true,
+                Some(v) => v,
+                None => return false,
+            },
+        };
+        v = self.least_increment(block, w, role, v, how, diags);
+        if how.diameter && role == Role::X {
+            v /= 2.0;
+        }
+        self.slots[role as usize] = Some(Slot { value: v, range: w.range, mode: w.mode });
+        self.filled |= 1 << role as u32;
+        true
+    }
+
+    /// The role word `w` fills: its own, or, for an address that may appear twice, the
+    /// second one's. `None`, with the finding, when the block has that address already.
+    fn free_role(&self, block: &Block, w: &Word, diags: &mut Vec<Diagnostic>) -> Option<Role> {
+        let mut role = w.role;
+        if self.slots[role as usize].is_some() {
+            // An address that may appear twice gives its second occurrence another role.
+            let again = self.dialect.addresses.iter().find(|a| a.role == role).and_then(|a| a.again);
+            if let Some(r) = again.filter(|r| self.slots[*r as usize].is_none()) {
+                role = r;
+            }
+        }
+        if self.slots[role as usize].is_some() {
+            let shown = block.text(w.range);
+            diags.push(Diagnostic::new(
+                Code::DuplicateWord,
+                w.range,
+                format!("`{shown}`: the address {} appears twice in this block", w.letter as char),
+            ));
+            return None;
+        }
+        Some(role)
+    }
+
+    /// Value `v` of length word `w` (in `role`) under least-increment input (the dialect's
+    /// `decimal-input`): without a decimal point it counts increments (`X10` is 0.01 mm) and
+    /// is scaled so. Such a word in a program that writes its other lengths with points is
+    /// suspect, and said so; each axis remembers whether its position was read so.
+    fn least_increment(&mut self, block: &Block, w: &Word, role: Role, mut v: f64, how: WordReading, diags: &mut Vec<Diagnostic>) -> f64 {
+        let units = how.units;
+        if let (Value::Number { decimal, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
+            (w.value, &self.dialect.behaviour.decimal_input)
+            && scaled.contains(&role)
+            && !(how.k_counts && role == Role::K)
+        {
+            let axis = Role::AXES.iter().position(|&a| a == role);
+            let absolute = match w.mode {
+                WordMode::Modal => self.st.distance == DistanceMode::Absolute,
+                WordMode::Absolute => true,
+                WordMode::Incremental => false,
+            };
+            if decimal {
+                self.st.length_points = true;
+                if let Some(i) = axis.filter(|_| absolute) {
+                    self.misread[i] = false;
+                }
+            } else {
+                if v != 0.0 && self.st.length_points {
+                    let shown = block.text(w.range);
+                    let unit = if units == Units::Mm { "mm" } else { "inch" };
+                    let scaled_to = (v * if units == Units::Mm { *mm } else { *inch } * 1e9).round() / 1e9;
+                    let msg = format!(
+                        "`{shown}` has no decimal point: least-increment input reads it as {scaled_to} {unit}, while this program writes its other lengths with points; if {v} {unit} was meant, write `{shown}.` (or, if the machine reads whole numbers as units, set its decimal_input to calculator in the config)"
+                    );
+                    let mut d = Diagnostic::new(Code::NoDecimalPoint, w.range, msg);
+                    // The first such word is the finding; the others repeat it.
+                    if self.misread_word.is_some() {
+                        d.severity = Severity::Note;
+                    }
+                    self.limited(diags, "no-decimal-point", d);
+                    match axis {
+                        Some(i) => self.misread[i] = true,
+                        None => self.block_misread = true,
+                    }
+                    self.misread_word = Some(format!("`{shown}` read as {scaled_to} {unit}"));
+                } else if let Some(i) = axis.filter(|_| absolute) {
+                    self.misread[i] = false;
+                }
+                v *= if units == Units::Mm { *mm } else { *inch };
+            }
+        }
+        v
+    }
+
+    /// A motion code may give a word the role of a polar coordinate (Heidenhain ISO's
+    /// `G11 R+20 H+30`: R is the polar radius there, an arc's radius elsewhere).
+    fn polar_roles(&mut self) {
+        if let Some(c) = self.active_motion_code() {
+            let def = self.code(c);
+            for &(from, to) in &def.args {
+                if matches!(to, Role::PolarRadius | Role::PolarAngle) && self.slots[to as usize].is_none() {
+                    if let Some(s) = self.slots[from as usize].take() {
+                        self.slots[to as usize] = Some(s);
+                        self.filled |= 1 << to as u32;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Adds code `idx` to the block's codes; false (with a diagnostic) when its group already has one.
+    fn push_code(&mut self, idx: usize, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        let def = self.code(idx);
+        if let Some(k) = self.codes.iter().position(|(c, _)| self.code(*c).group == def.group) {
+            let other = self.codes[k].0;
+            if def.gives_way {
+                return true;
+            }
+            if self.code(other).gives_way {
+                self.codes[k] = (idx, range);
+                return true;
+            }
+            diags.push(Diagnostic::new(
+                Code::ModalGroupConflict,
+                range,
+                format!(
+                    "{} and {} are both in modal group `{}`; a block may hold only one",
+                    self.code(other).label(),
+                    def.label(),
+                    self.dialect.groups[def.group].id
+                ),
+            ));
+            return false;
+        }
+        self.codes.push((idx, range));
+        self.code_steps |= 1 << self.dialect.groups[def.group].step as u32;
+        true
+    }
+
+    /// A quoted value: a tool name (`T="DRILL_8"`) becomes the number the tool table gives
+    /// it, or a number from 10001 on in the order names first appear.
+    fn text_value(&mut self, block: &Block, role: Role, r: TextRange, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+        let name = block.text(r);
+        if role == Role::Extra {
+            return Some(0.0); // a name the engine only records (`LBL "NAME"`)
+        }
+        if role != Role::T {
+            diags.push(Diagnostic::new(Code::MalformedNumber, range, format!("\"{name}\" is text; this address takes a number")));
+            return None;
+        }
+        if let Some((&n, _)) = self.profile.tools.iter().find(|(_, t)| t.name.as_deref().is_some_and(|t| t.eq_ignore_ascii_case(name))) {
+            return Some(f64::from(n));
+        }
+        let k = match self.tool_names.iter().position(|t| t.eq_ignore_ascii_case(name)) {
+            Some(k) => k,
+            None => {
+                self.tool_names.push(name.to_owned());
+                self.tool_names.len() - 1
+            }
+        };
+        Some(10_001.0 + k as f64)
+    }
+
+    /// A word's value: its number, or its expression evaluated; `None`, with the finding,
+    /// for text or an expression without a finite value.
+    pub(super) fn value(&mut self, block: &Block, v: Value, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+        match v {
+            Value::Number { value, .. } => Some(value),
+            Value::Text(_) => {
+                diags.push(Diagnostic::new(Code::MalformedNumber, range, "text where a number is needed"));
+                None
+            }
+            Value::Expr(e) => match self.eval(block, e, range, diags) {
+                Ok(x) if x.is_finite() || (eval::is_null(x) && self.dialect.macros.null_value) || eval::is_unknown(x) => Some(x),
+                Ok(_) => {
+                    diags.push(Diagnostic::new(Code::ArithmeticError, range, "the expression has no finite value"));
+                    None
+                }
+                Err(err) => {
+                    diags.push(self.eval_diag(err, range));
+                    None
+                }
+            },
+        }
+    }
+
+    /// Checks that the block's codes have the words they need and no others they exclude,
+    /// and says which words no command of the block takes. False when one is missing.
+    fn check_params(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        let mut ok = true;
+        // A word whose value is unknown is there on the machine: it meets the requirement.
+        let present = |s: &Self, r: Role| s.slots[r as usize].is_some() || s.unknown_roles & (1 << r as u32) != 0;
+        let has_axes = self.has_axes;
+        for &(c, range) in &self.codes {
+            let def = self.code(c);
+            let is_motion = self.dialect.groups[def.group].step == Step::Motion;
+            for &r in &def.params.required {
+                if !present(self, r) {
+                    diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs {}", def.label(), self.address_name(r))));
+                    ok = false;
+                }
+            }
+            for set in &def.params.any_of {
+                if !set.iter().any(|&r| present(self, r)) && (!is_motion || has_axes) {
+                    let names: Vec<_> = set.iter().map(|&r| self.address_name(r)).collect();
+                    diags.push(Diagnostic::new(
+                        Code::MissingParameter,
+                        range,
+                        format!("{} needs one of {}", def.label(), names.join(", ")),
+                    ));
+                    ok = false;
+                }
+            }
+            for (a, b) in &def.params.exclusive {
+                if a.iter().any(|&r| present(self, r)) && b.iter().any(|&r| present(self, r)) {
+                    let an: Vec<_> = a.iter().map(|&r| self.address_name(r)).collect();
+                    let bn: Vec<_> = b.iter().map(|&r| self.address_name(r)).collect();
+                    diags.push(Diagnostic::new(
+                        Code::MissingParameter,
+                        range,
+                        format!("{} mixes {} with {}", def.label(), an.join(" "), bn.join(" ")),
+                    ));
+                    ok = false;
+                }
+            }
+        }
+        // Words that no command in this block takes.
+        let mut motion = None;
+        for w in &block.words {
+            if !matches!(w.role, Role::P | Role::Q | Role::L | Role::R | Role::I | Role::J | Role::K | Role::H | Role::D | Role::E) {
+                continue;
+            }
+            // The centre words set the pole in any block.
+            if self.dialect.behaviour.arc_centres_pole && matches!(w.role, Role::I | Role::J | Role::K) {
+                continue;
+            }
+            let motion = *motion.get_or_insert_with(|| self.active_motion_code());
+            // A keyword code takes the value it is written with (`SPOS=90`).
+            let takes = |c: &CodeDef, r: Role| c.params.takes(r) || c.keyword.as_ref().is_some_and(|k| k.value_role == Some(r));
+            let taken = self.codes.iter().any(|&(c, _)| takes(self.code(c), w.role)) || motion.is_some_and(|c| takes(self.code(c), w.role));
+            if !taken {
+                let shown = block.text(w.range);
+                let d =
+                    Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}`: no command in this block takes {}", w.letter as char));
+                diags.push(self.unused(d));
+            }
+        }
+        ok
+    }
+
+    fn address_name(&self, role: Role) -> String {
+        self.dialect.addresses.iter().find(|a| a.role == role).map_or_else(|| role.as_str().to_owned(), |a| a.name.clone())
+    }
+
+    /// The motion code this block executes: explicit, or the modal one when axes are given
+    /// and no other code claims them: one whose meaning uses axis words, or whose parameters
+    /// list an axis word the block has (`G4 X1.5`, `G51 A45 E0.002`).
+    pub(super) fn active_motion_code(&self) -> Option<usize> {
+        if let Some(&(c, _)) = self.codes.iter().find(|(c, _)| self.dialect.groups[self.code(*c).group].step == Step::Motion) {
+            return Some(c);
+        }
+        let claimed = self.codes.iter().any(|&(c, _)| {
+            matches!(
+                self.code(c).meaning,
+                Meaning::SetData
+                    | Meaning::ModalMacroCall
+                    | Meaning::LengthCompDynamic
+                    | Meaning::Home1
+                    | Meaning::Home2
+                    | Meaning::OriginShift
+                    | Meaning::LocalOffset
+                    | Meaning::Scaling
+                    | Meaning::Rotation
+                    | Meaning::Pole
+                    | Meaning::PoleKeeping
+                    | Meaning::CycleDefine
+                    | Meaning::FrameTrans
+                    | Meaning::FrameTransAdd
+                    | Meaning::FrameRot
+                    | Meaning::FrameRotAdd
+                    | Meaning::FrameScale
+                    | Meaning::FrameScaleAdd
+                    | Meaning::FrameMirror
+                    | Meaning::Stock
+                    | Meaning::CycleIntent
+            ) || (self.dialect.groups[self.code(c).group].step != Step::Motion && self.claims_axes(c))
+        });
+        if self.has_axes && !claimed { self.st.motion_code } else { None }
+    }
+
+    /// Whether code `c` takes one of the axis words the block has.
+    pub(super) fn claims_axes(&self, c: usize) -> bool {
+        Role::AXES.iter().any(|&r| self.slots[r as usize].is_some() && self.code(c).params.takes(r))
+    }
+
+    /// A word whose value is unknown: omitted, as a vacant one is, so that a move keeps its
+    /// known axes; said once per block.
+    fn unknown_word(&mut self, block: &Block, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        self.unknown_words += 1;
+        let shown = block.text(range).to_owned();
+        let what = self.unknown_what();
+        let msg = format!("`{shown}` reads {what}; the word is left out and the block keeps its known words");
+        let mut d = Diagnostic::new(Code::UnknownValue, range, msg);
+        if !self.is_called() {
+            d.severity = Severity::Warning;
+        }
+        self.limited(diags, "unknown-value", d);
+    }
+
+    /// The axis an axis variable names (`AX[_X]=10` after `DEF AXIS _X=X`); none, with a
+    /// note, when its value comes from outside the file (a `PROC`'s `AXIS` argument) or is
+    /// no axis.
+    fn axis_by_variable(
+        &mut self,
+        block: &Block,
+        index: crate::syntax::ExprId,
+        range: TextRange,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Option<u8> {
+        // An undeclared name is said once, by the note below.
+        let mut read = Vec::new();
+        let v = match self.eval(block, index, range, &mut read) {
+            Ok(v) => v,
+            Err(e) => {
+                diags.append(&mut read);
+                diags.push(self.eval_diag(e, range));
+                return None;
+            }
+        };
+        if !eval::is_unknown(v) {
+            diags.append(&mut read);
+        }
+        if let Some(letter) = crate::syntax::axis_of(v).filter(|&c| self.dialect.letter_role(c).is_some_and(|r| r.is_axis())) {
+            return Some(letter);
+        }
+        let shown = block.text(range).trim();
+        // The name with its index (`AX[_X]`), without the value.
+        let shown = shown.find(']').map_or(shown, |i| &shown[..=i]).to_owned();
+        if eval::is_unknown(v) {
+            let what = self.unknown_what();
+            let msg = format!("`{shown}` names its axis by {what}: the move along it is left out");
+            self.limited(diags, "unknown-value", Diagnostic::new(Code::UnknownValue, range, msg));
+        } else {
+            let msg = format!("`{shown}`: the variable holds no axis here; the word is left out");
+            let mut d = Diagnostic::new(Code::BadValue, range, msg);
+            d.severity = Severity::Warning;
+            self.limited(diags, "axis-variable", d);
+        }
+        None
+    }
+}
