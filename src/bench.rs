@@ -1,6 +1,16 @@
 //! `ncplan bench`: generates the benchmark programs and measures `ncplan canon` against
 //! LinuxCNC's `rs274` on the same files. Shell code: it writes files, reads the clock and
 //! runs processes. Timings live here and never in tests.
+//!
+//! `ncplan bench`: generates the 1M-block surfacing and the macro-heavy
+//! programs and times `canon` beside `rs274`, and `translate` into a new file (the last
+//! output removed first) and over the last output (a rename over a file makes ext4 write the
+//! new one back at once); `--corpus DIR` times `check` on every file of a
+//! corpus, one process each, with its peak memory, and lists the slowest; `--daemon` measures a real `ncplan watch` (the
+//! huge program's ingest, peak memory and stored size beside `plan`, `diff`, `stepnc`; idle CPU;
+//! edit latency; a burst; a kill loop); `--postgres URL` ingest on both engines, and with
+//! `--simulate N` the report queries on a simulated plant of N revisions; `--web --postgres
+//! URL` renders the workspace's pages on PostgreSQL too. Timings live here, never in tests.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -5,6 +5,19 @@
 //! `Sink`): a printer, a collector, or plan recovery can sit behind it. Lengths are in the
 //! active `USE_LENGTH_UNITS`, as LinuxCNC's canonical interface has them; plan recovery
 //! normalises to millimetres.
+//!
+//! `CanonOp` (the NIST canonical functions plus markers), `CanonSink`, and
+//! `write_call`, which prints exactly as `rs274 -g`. It names the kinds its events carry (`LogFile`,
+//! re-exported by `dialect`), so that it uses nothing of `dialect`. The `Setting` marker carries what the
+//! canonical calls do not say and the plan needs: the length offset number (`G43 H5`), the
+//! cutter compensation side and D number, an optional (`/`) block, a tool selected by name
+//! (`T="EM10"`); markers print as `ncplan:` comments, which rs274 comparisons drop.
+//! `ToolAxis` is a marker with the tool axis vector, emitted before a move whose block
+//! changes it (CLDATA `GOTO/x,y,z,i,j,k`; `Interpreter::tool_axis`), so 5-axis data is kept
+//! without growing `Move`s; rs274 comparisons drop it like the other markers.
+//! `CycleIntent::surface` is the workpiece surface a defined cycle states (`RFP`, `Q203`),
+//! which becomes the hole's top; `FeedOverride`/`SpeedOverride` are the canonical override
+//! switches (LinuxCNC M48–M51), which the plan keeps as `MachineState::feed_override_off`.
 
 use std::fmt;
 use std::io::Write as _;

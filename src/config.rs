@@ -2,6 +2,11 @@
 //!
 //! Parsing is strict (`deny_unknown_fields`); validation resolves relative paths against the
 //! config file's folder and checks that the database never sits inside a watched folder.
+//!
+//! TOML → `Config` (strict), ignore globs, the dialect registry from a folder,
+//! and `DirPrograms`: called programs from the configured directory or, without one, from the
+//! program's own folder (`beside`), by file name (`program_file_stems`: `TNC:\PARTS\Plan.h`
+//! is `Plan.h`, `O0100` also `100`).
 
 use std::path::{Path, PathBuf};
 

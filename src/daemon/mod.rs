@@ -5,6 +5,18 @@
 //! have held still for `settle_ms`. The worker owns the database connection and ingests one
 //! file at a time, each in one transaction, so a kill at any moment loses nothing: the
 //! catch-up scan at the next start finds what was not stored.
+//!
+//! the only tokio/notify/systemd code: `mod.rs` (select loop; `trigger`
+//! classifies events, so opens and reads never queue a file; settle logic with the writer's
+//! `IN_CLOSE_WRITE`; shares looked at every second, re-armed and rescanned alone when down,
+//! back or remounted; links out of a share refused once; a bounded pool of workers, each with
+//! its own connection; catch-up progress; signals, watchdog), `ingest.rs` (one file → one
+//! revision: a read checked against the settled state, pairing and diff inside the revision's
+//! transaction, `Reader` rebuilding a stored plan from its bytes and reading called programs
+//! beside the program, then in the CAM folders, noting the names each run asked for
+//! (`calls`); a stored revision of a called program compares again every program that calls
+//! it and has a comparison, naming it in the rule; `reconcile` at start, `import_file`),
+//! `systemd.rs` (sd_notify).
 
 pub mod ingest;
 mod systemd;

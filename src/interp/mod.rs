@@ -10,8 +10,138 @@
 //! through the phases, and the stages an op passes on its way to the sink. *Read* is
 //! `read.rs`; *execute* is `exec/`, one file per group of meanings (`exec/mod.rs` lists
 //! them); the moves are `motion.rs`, the cycles `cycle.rs`, `define.rs` and `g7x.rs`. The
-//! driver that feeds blocks and carries out control flow (calls, loops, jumps) is `flow.rs`
+//! driver that feeds blocks and carries out control flow (calls, loops, jumps) is `flow`
 //! ([`run`]).
+//!
+//! `Interpreter::execute`: *read* (evaluate, look up codes, check modal groups and
+//! parameters) then the dialect's `<execution-order>` steps. A non-motion code claims the axis
+//! words its parameter lists name (`G4 X1.5`, `G10 L2 X`), so the modal move does not take them.
+//! *Read* also halves X words in diameter mode (the block's own G7/G8 counts), so every command
+//! sees radii; the plane starts at the dictionary's `initial-plane` and returns to it at the
+//! program's end. `eval.rs` parameters and
+//! expressions (a dense table below #10000 and a sparse one above it, up to the dictionary's
+//! `highest-variable`: Haas #10000+, Mitsubishi #900000+; vacant `#0` values as NaN; a field of machine data read with a fraction (`#30057.25`) unknown as the whole is; *unknown* values, from outside the file, as a NaN
+//! with its own payload that arithmetic keeps unknown, `eval::UNKNOWN`); `motion.rs` lines and arcs; `cycle.rs` canned cycles
+//! expanded as LinuxCNC does (tapping and boring variants by dialect behaviour; K in a
+//! drilling cycle's block is a count, never scaled as least increments — unless the code's
+//! `args` give K the role `p`, as Fagor's `K:p`: then K is the dwell, P's role; without R, Fanuc
+//! feeds from the initial level with a warning, `cycle-without-r`), wrapped in
+//! `CycleBegin`/`CycleEnd` (`cycle::hole` expands one hole for every cycle style); `define.rs`
+//! defined cycles (a reference plane, safety distance, depth and retract plane instead of R and
+//! Z; called where written, by `CYCL CALL`/`M99`, or after every move while `MCALL` is on; hole
+//! patterns — `pattern-row`, `pattern-circle`, `pattern-grid` — approach each position and
+//! run the modal cycle there, leaving it defined; a code that states a pattern, such as Haas
+//! G70, has the G8x cycle in force drill at each position, `code_pattern`) and
+//! the programmable frame (`TRANS`/`ROT`/`SCALE`, kept with G52, G68 and G51); `motion.rs` also
+//! runs a lathe's single-pass cycles (`single_pass_cycle`: G90, G94, G92); `g7x.rs` runs
+//! LinuxCNC's profile cycles (`profile-finish`, `profile-rough-turn`, `profile-rough-face`:
+//! G70, G71/G71.1/G71.2, G72/G72.1/G72.2; the code's `index` says what is done with pockets)
+//! on the O-word subroutine named by Q, which `flow`'s `profile` runs without effect from
+//! the cycle's start point, its statements (loops, branches) by the run's own machinery
+//! (`profile_blocks`) (A and C words on its moves ask for a rounded or chamfered
+//! corner), worked out as rs274 works them out (offset by D in steps, turned so that Z and X
+//! fall, cut level by level with a 45° retract R; complex numbers, Z real and X imaginary),
+//! so that the canon agrees with rs274 to 1e-4; `cycle.rs` roughs a
+//! lathe contour (`rough_turn`: Fanuc G71 and G72 type I in the two-block form, or the
+//! one-block `G71 P Q U W D` of Haas and Fanuc 10/11/15 where the code's args name both
+//! allowances, passes along Z or X to the contour
+//! shifted by the allowances, worked out in (level, pass) coordinates, which `flow`'s `contour` reads by running its P–Q blocks into a buffer and
+//! putting the state back), draws arcs about a pole (`CC` + `C`), by radius with a stated direction (`CR ... DR-`) and
+//! tangent to the previous element (`CT`); `corner.rs` the stage before compensation where the
+//! dictionary has corner blocks or approaches: it holds the last straight feed (and the ops
+//! behind it) until the next move shows the corner, then rounds or chamfers it (`RND`, `CHF`),
+//! and places an approach's auxiliary point once the first contour element gives its
+//! direction (`APPR LT`/`LN`); `comp.rs` cutter radius compensation (G41/G42, G41.1/G42.1) in
+//! XY or a lathe's ZX plane (Z first; a lathe tool's orientation `L1`–`L9` moves the
+//! controlled point to the imaginary tip): offset lines and arcs, arcs round outside corners
+//! (a rapid before a rapid), trims at inside corners, neither for a turn under 0.05 rad,
+//! holding back one move and the ops behind it as LinuxCNC does. G68 rotation and G51 scaling
+//! transform emitted moves (`Interpreter::transform`); G10 L2 R rotates a work coordinate
+//! system as LinuxCNC does (canon stays in the rotated program frame; where the dictionary says
+//! `position-after-tool-change="last-move"`, a block with a tool change leaves the program
+//! position at the last move's end (`Interpreter::sent`), as rs274 reads it back after M6, so
+//! a G43 beside the M6 does not shift it; `h0="spindle-tool"` makes `G43 H0` the spindle's tool; a tool-change keyword
+//! whose value names no tool (`TOOL CALL Z S2000`) changes only the speed; `machine_pos` and
+//! `program_pos` convert for G53, G28/G30 and L20, `switch_wcs` keeps the machine position).
+//! Tool offsets are kept along X, Y and Z (G10 L1/L10/L11, worked out along a rotated
+//! system's axes); G43 puts them in force and, the tool staying put, moves its program
+//! position by them (`use_tool_offset`), as rs274 does.
+//! G66 registers a macro the interpreter requests after every block that moves, at the call
+//! depth it was registered at; `DPRNT` statements become `MESSAGE`s (`flow::print_format`). `flow` is the driver
+//! (`run`): it feeds blocks to the interpreter and carries out calls (`o-call`, `G65`, `M98`),
+//! returns, conditionals, loops and jumps by seeking the parser; on the first jump it indexes the
+//! source's statements (not its blocks). Subprograms from other files come through the
+//! `ProgramSource` trait, which the shell implements (`config::DirPrograms`); a name it does
+//! not have is asked for once per run. Where the dictionary says the control keeps programs
+//! in its memory (`resident-programs`), an explicit call to one not found is a warning and
+//! the run goes on (`program_not_found`; also for a bare name that is no statement, such as
+//! `TOL(0.1,1,1)` or `T_INI`, and `check --strict` makes these errors); LinuxCNC's calls stop
+//! with an error, as rs274's do. Loop and block budgets stop runaway programs with
+//! `flow::loop-limit`, and a loop that comes round with every parameter, mode and open call as
+//! the round before left them stops at once, an error unless the jump goes back to the main
+//! program's first label with nothing open (a cell's loop: a warning) (`Driver::endless` compares the interpreter's
+//! `RoundState` at passes 1, 2, 4, … and every 4096th). Conditions read the position and tool
+//! system variables as they are at the statement (`refresh_system_vars`); read-only named
+//! system parameters (LinuxCNC's `#<_x>`, `#<_motion_mode>`: `<system-variable name=…>`) are
+//! refreshed for blocks and conditions that read named parameters. A condition on an
+//! unknown value (`unknown_condition`) takes the way whose first block raises no alarm
+//! (`alarm_at`: `#3000=`, `FN 14: ERROR=`, `(abort, …)`; `fall_through` follows the way on
+//! past moves to its first statement: into an alarm, or round the loop again by a jump that
+//! is always taken, when the jump is the way out; the way from a jump's target is followed
+//! the same way, past the spindle and coolant stops before an alarm, and a loop's end is
+//! passed, as a run that ends leaves its loops), leaves a loop, or else the
+//! dictionary's `unknown-conditions` (or `Profile::unknown_conditions`), with a note. An
+//! `IF [..] THEN #30 = #24` on an unknown value runs, and what it sets holds either value:
+//! unknown where it changed (`Interpreter::execute_either`). A block IF (`IF [..] THEN`
+//! alone on its line, where the dictionary has `ENDIF`: Mazak) runs its body up to `ELSE` or
+//! `ENDIF`. A jump to a block number computed from unknown values ends the run with a note. A
+//! control block whose lexing found errors is skipped (`flow::broken-statement`), not run on
+//! what was left of it. `Profile::role` says whether the file is a main program or a called
+//! one; in `Auto` the run tells it from the form (`Interpreter::called_by`: a top-level
+//! return where `return-tells-called`, a `PROC` header, an O-number in `called-programs`, an
+//! argument read before written). Findings that only follow from the caller's missing state
+//! (its feed, its spindle) are `interp::caller-state` notes meanwhile, and `finish` puts the
+//! original findings back when nothing showed the file to be called. The same driver runs the Siemens and
+//! Heidenhain statements the dictionary names: jumps to labels or block numbers (`GOTOF`,
+//! `GOTOB`, `GOTO`, `GOTOC`, `GOTO LBL`), structured statements without labels, matched by
+//! nesting depth (`find_structure_end`), `FOR`/`REPEAT…UNTIL`/`LOOP`, calls by name with `PROC`
+//! arguments and passes, label calls (`FrameKind::Label`: a subprogram up to the end label,
+//! or a section before the call that returns on meeting its call again), section repeats
+//! (`FrameKind::Section`: `REPEAT A B P=n` runs again from label A's block until the driver
+//! reaches the frame's `until` offset) and `CASE ... OF ... DEFAULT` jumps. `context.rs` keeps
+//! the modal state saved per call level (M70/M73; M72 restores, M73 restores when the call
+//! returns, through `left_level`, before the next block). `motion.rs` also expands LinuxCNC's
+//! G76 threading cycle pass by pass (`threading_cycle`), makes probe moves (G38.x: the run goes
+//! on backed off from the programmed end point by the dictionary's `probe-backoff` as rs274's
+//! simulator does; the probe result variables, written once there, hold the end point and are
+//! the program's to change, the tripped one the dictionary's `probe-tripped`, unknown unless a
+//! dictionary says 1 or 0 (a loop on it ends as under rs274's never-tripping simulator, an
+//! abort on no contact takes the successful way); a
+//! quiet probe, `probe-quiet`, may have no length, another stops the run), draws
+//! G5.1/G5.2–G5.3 splines as `NurbsFeed` (rs274's `NURBS_FEED(n, ...)`, ending at the last
+//! control point; the plan follows the chord), places canned-cycle holes by polar words
+//! (`@`/`^`, also in repeat-only blocks), and refuses an arc
+//! as the first move after cutter compensation ends (`leaving_comp`). `fast.rs` is the fast
+//! lane: a straight move of literal X/Y/Z words, perhaps with its own G0/G1 and an F, skips
+//! *read* and the step dispatch and does what they would do (same state changes, same ops);
+//! it leaves the block's slots and codes empty, since nothing after a plain move reads them
+//! (`block_read` says when *read* has filled them since, so a run of plain moves clears
+//! nothing), and sends its op straight to the sink where no call origin, transform, corner or
+//! compensation stage stands between (`emit_straight`);
+//! anything else, or `Profile::fast_lane = false`, goes the general way. In the main
+//! program's first run (no call, loop, replay or definition block under way, past its first
+//! blocks) such a line does not even become a `Block`: the driver's *plain lane* has the
+//! parser read it into a fixed `PlainLine` (`Parser::plain_lines`, the same `plain_block`
+//! loop), run it through the same core (`Interpreter::run_plain`, `plain_move`), and only
+//! then move past it; a line the lane declines is read and run the general way from the same
+//! place. The lane takes a whole *run* of plain lines in one call (`Driver::run_plain`): what
+//! a plain move cannot change (the lane is open, the run is a first one, the repeat budget,
+//! the interpreter's state, whether a stage stands before the sink: `Interpreter::plain_ready`
+//! gives a `PlainRun`; the parser's window) is asked once for the run (a stage may only go
+//! off in it: compensation stops at a move it cannot compensate, and the run's later moves
+//! then go through `emit`, which finds none), and the block count,
+//! the cursor and `reached` are settled at its end. `flow` keeps a
+//! block lexed on its second run while replaying, so loop bodies are not lexed every time.
 
 mod comp;
 mod context;

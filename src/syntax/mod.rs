@@ -4,6 +4,39 @@
 //! per call, so memory does not grow with program length. It never fails; findings go to a
 //! diagnostics vector and the block keeps what could be read. A block carries its own text
 //! ([`Block::text`]): what reads it needs no more of the program than the block.
+//!
+//! `Parser::next_block` refills one reusable `Block` per call (words with roles
+//! and byte ranges, assignments, comments, an expression arena, and a `Control` statement:
+//! `o100 while [..]` or `IF [..] GOTO 10`, and its own text: `Block::text(range)`, so nothing
+//! that reads a block needs the program's text). Never fails. A `Text::Read` is lexed in a
+//! window that holds the text from the current block on (the `Lexer` indexes the window and
+//! adds its base to every range): refilled as the cursor passes its end (4 KiB first,
+//! doubling up to the reader's `window`, 256 KiB for a file), and when a block runs to the
+//! window's end it is lexed again from a larger window, so a block is always lexed whole;
+//! `seek` outside it reads again from the file. `Parser::at` starts at a known block without
+//! looking for the tape leader, and `Parser::fork` does so reusing a parser's tables of the
+//! dialect's letters (the flow driver's look-aheads, made at every condition on an unknown
+//! value, cost little). A block of plain words only
+//! (`X1.5 Y-2 Z0.25`, the bulk of a CAM program) is read by one tight loop (`plain_block`);
+//! at anything else the general lexer reads the block from its start. Numbers of up to 18
+//! digits are one integer mantissa divided by an exact power of ten: the double `str::parse`
+//! gives, without building a string; a number that ends within eight bytes (`0.9950`,
+//! `222.899`) is read from one 64-bit word (`short_number`: where the digits end, the point
+//! taken out, the digits combined pairwise), a longer one byte by byte. Dictionary-controlled lexing: leading
+//! block numbers, block-start comments, `~` continuation, labels (`MARKE1:`), strings,
+//! `X=expr` with per-word `AC()`/`IC()`, incremental addresses (`IX`), identifier variables and
+//! `DEF` declarations, functions with bare operands (`SIN +Q1`), number notations (`10EX3`,
+//! `'H1F'`, `'B101'`) and system variable names (`$AC_TIME`, `$A_IN[1]`). A finding's range
+//! is widened to whole characters where it is recorded (`Lexer::error`). Where the dictionary
+//! says `leader="skipped"`, `Parser::new` starts after the tape leader (`syntax::leader`: the
+//! text before the first `%` line that has program text after it, such as an NX listing's
+//! header). A `%` line with a name where `header="words"` has the words after the name read
+//! (`%123 G71 *`: the units); a G code with `rest="words"` is followed by its display name
+//! (`G200 DRILLING`); `levels="true"` on `<block-skip>` takes `/1`–`/9` as skipped blocks.
+//! String arguments to cycles and calls (`CYCLE800(1,"TABLE",…)`, `RAPORT("…")`)
+//! are text; a cycle argument whose role is `extra` is read but not evaluated; a text value
+//! assigned to a variable (`VUACM[1]='END OF BAR'`) is read and not kept; a name that starts
+//! with `_` after an address letter (`T_INI`) is one name. Comments nest where the dictionary's `<comment nested="true">` says so; elsewhere a comment ends at its first close, except one that starts with a `simulator` comment directive's prefix (a teaching simulator's `($SetPartSize(42, 12, 2, 1))`, `($Message("…"))`), which runs to its matching close, past quoted text, as the simulator reads it, with `syntax::simulator-directive` (a warning) where a control would read it otherwise.
 
 mod expr;
 mod parser;

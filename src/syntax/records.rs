@@ -9,6 +9,21 @@
 //! arc a `CIRCLE` before it described, or a hole of the cycle in force). The reader keeps
 //! what those records need: the last point, the tool axis, the pending rapid, circle and
 //! cycle. Arcs are checked against the producer's circle sense by tangency.
+//!
+//! the record reader, where the dialect has `<records>`: the parser
+//! hands it the text, and it reads one logical record per block (`$` continuation joined
+//! without a separator, `$$` comments, a comment line ending in `$` continuing as comment,
+//! bare point lines after a `GOTO`; comments with the dictionary's `command` opener, Creo's
+//! `$$->`, are commands for the CAM system and not kept), then makes an ordinary `Block` of keyword-code words
+//! (`Role::Keyword`, the code's index) and role words, so the interpreter runs CL as G-code.
+//! It keeps what records that depend on others need: the last point and tool axis, the
+//! one-shot `RAPID`, the pending `CIRCLE` (the next motion record ends its arc: plane from
+//! the axis, G2/G3 from the producer's sense and the axis sign, I J K from the point, a
+//! radius check, and the tangency check at both ends — a contradiction is
+//! `syntax::circle-direction`, read as the setting says), the cycle in force (each motion
+//! record one hole: Z and R from the point and the minor words' distances), and the units
+//! the file states first (NX listings move before their first `FEDRAT/IPM`).
+//! `record_program_name` gives the name record (`PARTNO`) for `pipeline` and pairing.
 
 use super::{Block, Value, Word, WordMode};
 use crate::diag::{Code, Diagnostic};
