@@ -240,6 +240,8 @@ impl Params {
     }
 
     /// Sets a named parameter.
+    // Inlined: `refresh_system_vars` sets a few named values on every block.
+    #[inline]
     pub fn set_named(&mut self, name: &str, v: f64) {
         match self.named.get_mut(name) {
             Some(slot) => *slot = v,
