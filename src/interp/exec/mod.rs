@@ -155,19 +155,8 @@ impl Interpreter<'_> {
             | Meaning::Probe
             | Meaning::ProbeQuiet
             | Meaning::SplineQuadratic
-            | Meaning::Nurbs
-            | Meaning::CycleDrill
-            | Meaning::CycleDrillDwell
-            | Meaning::CyclePeckDrill
-            | Meaning::CycleChipBreak
-            | Meaning::CycleTap
-            | Meaning::CycleTapLeft
-            | Meaning::CycleBore
-            | Meaning::CycleBoreStop
-            | Meaning::CycleBackBore
-            | Meaning::CycleBoreManual
-            | Meaning::CycleBoreDwell
-            | Meaning::CycleFineBore => self.motion_mode(c, def, range, block, sink, diags),
+            | Meaning::Nurbs => self.motion_mode(c, def, range, block, sink, diags),
+            m if m.is_cycle() => self.motion_mode(c, def, range, block, sink, diags),
             Meaning::NurbsEnd => self.nurbs_end_code(def, range, sink, diags),
             Meaning::CycleCancel => self.cycle_cancel(def, sink),
             Meaning::ProgramStop | Meaning::OptionalStop | Meaning::ProgramEnd | Meaning::ProgramEndRewind => self.stop(def, sink),

@@ -467,11 +467,7 @@ impl<'a> Driver<'a, '_> {
         }
         if self.executed > self.profile.max_blocks {
             self.tidy(src, mark, diags);
-            diags.push(Diagnostic::new(
-                Code::LoopLimit,
-                block.range,
-                format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks),
-            ));
+            diags.push(Diagnostic::new(Code::LoopLimit, block.range, self.block_budget_message()));
             return true;
         }
         false
@@ -711,6 +707,21 @@ impl<'a> Driver<'a, '_> {
             self.seen.extend(diags.iter().map(|d| (d.range.start, d.range.end, d.code)));
         }
         self.switch_to(source, pos, interp);
+    }
+
+    /// Counts one more block run; over the run's budget, says so at `range` and is true.
+    fn over_block_budget(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        self.executed += 1;
+        let over = self.executed > self.profile.max_blocks;
+        if over {
+            let msg = self.block_budget_message();
+            self.error(diags, Code::LoopLimit, range, msg);
+        }
+        over
+    }
+
+    fn block_budget_message(&self) -> String {
+        format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks)
     }
 
     fn error(&mut self, diags: &mut Vec<Diagnostic>, code: Code, range: TextRange, msg: impl Into<String>) {
@@ -1523,10 +1534,7 @@ impl<'a> Driver<'a, '_> {
                 break;
             }
             // The contour's blocks count towards the run's budget, as any block run does.
-            self.executed += 1;
-            if self.executed > self.profile.max_blocks {
-                let msg = format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks);
-                self.error(diags, Code::LoopLimit, b.range, msg);
+            if self.over_block_budget(b.range, diags) {
                 break;
             }
             if rough.is_some() {
@@ -1633,10 +1641,7 @@ impl<'a> Driver<'a, '_> {
             if end && self.frames.len() <= frames {
                 break;
             }
-            self.executed += 1;
-            if self.executed > self.profile.max_blocks {
-                let msg = format!("the run executed more than {} blocks; it stops here (a runaway loop?)", self.profile.max_blocks);
-                self.error(diags, Code::LoopLimit, b.range, msg);
+            if self.over_block_budget(b.range, diags) {
                 break;
             }
             if let Some(control) = b.control.take() {
