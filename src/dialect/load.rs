@@ -291,14 +291,17 @@ impl Cx {
             let (Some(name), Some(role)) = (self.required(c, "name"), self.required(c, "role")) else { continue };
             let name = name.to_ascii_uppercase();
             let symbol = name.len() == 1 && SYMBOL_ADDRESSES.contains(name.as_bytes()[0] as char);
+            // `,R` `,C`: a comma before a letter (Fanuc's corner rounding and chamfer).
+            let comma = name.len() == 2 && name.as_bytes()[0] == b',' && name.as_bytes()[1].is_ascii_alphabetic();
             if !symbol
+                && !comma
                 && (name.is_empty()
                     || !name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
                     || !name.as_bytes()[0].is_ascii_alphabetic())
             {
                 self.error(
                     Self::attr_range(c, "name"),
-                    format!("address name `{name}` must be a letter followed by letters or digits, or one of `{SYMBOL_ADDRESSES}`"),
+                    format!("address name `{name}` must be a letter followed by letters or digits, a comma and a letter (`,R`), or one of `{SYMBOL_ADDRESSES}`"),
                 );
                 continue;
             }

@@ -465,11 +465,14 @@ vocab! {
         /// Arc end angle, intermediate point and similar extra geometry.
         Geometry = "geometry",
         /// The radius of an arc rounding the corner at the end of this block's move, tangent
-        /// to it and to the next (Siemens `RND=5`).
+        /// to it and to the next (Siemens `RND=5`, Fanuc `,R5`).
         CornerRadius = "corner-radius",
         /// A chamfer cutting back the corner at the end of this block's move by this much along
-        /// each move (Siemens `CHR=2`).
+        /// each move (Siemens `CHR=2`, Fanuc `,C2`).
         CornerChamfer = "corner-chamfer",
+        /// A chamfer of this length itself at the corner at the end of this block's move,
+        /// cutting back equally along each move (Siemens `CHF=2`).
+        CornerChamferLength = "corner-chamfer-length",
         /// A value the engine keeps but does not interpret.
         Extra = "extra",
         /// A retract level relative to the reference plane (Heidenhain Q204, 2nd set-up clearance).

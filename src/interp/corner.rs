@@ -1,6 +1,7 @@
-//! Corners written as blocks of their own between two straight moves in the XY plane:
-//! rounded (Heidenhain `RND R5`) or chamfered (`CHF 2`); and approaches to a contour that
-//! follow its first element (`APPR LT`, `APPR LN`).
+//! Corners between two straight moves in the working plane, written as blocks of their own
+//! (Heidenhain `RND R5`, `CHF 2`) or as words on the first move (Siemens `RND=5`, `CHR=2`,
+//! `CHF=2`; Fanuc `,R5`, `,C2`): rounded or chamfered; and approaches to a contour in the XY
+//! plane that follow its first element (`APPR LT`, `APPR LN`).
 //!
 //! The corner block stands between the two moves, so the first move cannot go out until the
 //! second is known. Where the dialect has corner blocks, the last straight feed is held back
@@ -10,7 +11,7 @@
 //! point. Memory stays bounded: one move and the ops of about one block.
 
 use super::comp::{V2, add, cross, len, scale, sub, unit};
-use crate::canon::{Canon, CanonOp};
+use crate::canon::{Canon, CanonOp, Plane};
 use crate::text::TextRange;
 
 /// What a corner block asks for.
@@ -18,8 +19,11 @@ use crate::text::TextRange;
 pub(super) enum Corner {
     /// An arc of this radius, tangent to both moves.
     Round(f64),
-    /// A straight cut this far back from the corner along each move.
+    /// A straight cut this far back from the corner along each move (Siemens `CHR=`,
+    /// Fanuc `,C`, Heidenhain `CHF`).
     Chamfer(f64),
+    /// A straight cut this long itself, cutting back equally along each move (Siemens `CHF=`).
+    ChamferLength(f64),
 }
 
 /// An approach to a contour point, waiting for the contour's first element to know its direction.
@@ -45,7 +49,7 @@ pub(super) enum CornerProblem {
     NoMoveBefore,
     /// The corner block is not followed by a straight feed move (an arc, a rapid, the end).
     NoMoveAfter,
-    /// A move of the corner changes Z, or the corner is not in the XY plane.
+    /// A move of the corner leaves the working plane.
     NotPlanar,
     /// The arc or chamfer is longer than one of the moves.
     TooLarge,
@@ -58,7 +62,7 @@ impl CornerProblem {
         match self {
             CornerProblem::NoMoveBefore => "it must follow a straight feed move in the XY plane",
             CornerProblem::NoMoveAfter => "it must be followed by a straight feed move in the XY plane",
-            CornerProblem::NotPlanar => "rounding and chamfers are computed for corners in the XY plane only",
+            CornerProblem::NotPlanar => "rounding and chamfers are computed for corners in the working plane only",
             CornerProblem::TooLarge => "it does not fit: it is longer than one of the moves beside the corner",
             CornerProblem::NoContourAfterApproach => {
                 "the approach is not followed by a contour element in the XY plane; the tool went straight to the contour point"
@@ -83,6 +87,8 @@ pub(super) struct Corners {
     pub(super) released: Vec<Canon>,
     /// The last corner that could not be made.
     pub(super) problem: Option<CornerProblem>,
+    /// The working plane the last `SELECT_PLANE` chose (`None`: XY, where runs start).
+    plane: Option<Plane>,
 }
 
 impl Corners {
@@ -142,11 +148,19 @@ impl Corners {
             }
             CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
                 self.moved_otherwise();
-                // The stage only works in XY, where the arc's plane axes are X and Y.
-                self.pos = Some([first_end, second_end, axis_end, abc[0], abc[1], abc[2]]);
+                let (a0, a1, n) = self.axes();
+                let mut end = [0.0, 0.0, 0.0, abc[0], abc[1], abc[2]];
+                (end[a0], end[a1], end[n]) = (first_end, second_end, axis_end);
+                self.pos = Some(end);
                 self.released.push(canon);
             }
-            CanonOp::SelectPlane(_) | CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) | CanonOp::UseToolLengthOffset(_) => {
+            CanonOp::SelectPlane(plane) => {
+                self.moved_otherwise();
+                self.pos = None;
+                self.plane = Some(plane);
+                self.released.push(canon);
+            }
+            CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) | CanonOp::UseToolLengthOffset(_) => {
                 // The coordinates change meaning: nothing held may span the change.
                 self.moved_otherwise();
                 self.pos = None;
@@ -202,11 +216,23 @@ impl Corners {
         self.released.append(&mut self.after);
     }
 
-    /// Resolves the corner between the held move (ending at the corner) and the move to `end`.
+    /// The working plane's axes: first, second, normal (as `ARC_FEED` orders them).
+    fn axes(&self) -> (usize, usize, usize) {
+        self.plane.unwrap_or(Plane::Xy).axes()
+    }
+
+    /// Resolves the corner between the held move (ending at the corner) and the move to `end`,
+    /// in the working plane's (first, second) coordinates.
     fn make_corner(&mut self, corner: Corner, origin: TextRange, line: u32, at: [f64; 6], end: [f64; 6]) {
         let Some((from, mut first)) = self.held.take() else { return };
-        let planar = from[2] == at[2] && end[2] == at[2] && from[3..] == at[3..] && end[3..] == at[3..];
-        let (s, c, e): (V2, V2, V2) = ((from[0], from[1]), (at[0], at[1]), (end[0], end[1]));
+        let (a0, a1, n) = self.axes();
+        let planar = from[n] == at[n] && end[n] == at[n] && from[3..] == at[3..] && end[3..] == at[3..];
+        let (s, c, e): (V2, V2, V2) = ((from[a0], from[a1]), (at[a0], at[a1]), (end[a0], end[a1]));
+        let put = |p: V2| {
+            let mut q = at;
+            (q[a0], q[a1]) = p;
+            q
+        };
         let (d1, d2) = (unit(sub(c, s)), unit(sub(e, c)));
         let turn = cross(d1, d2);
         let cos = d1.0 * d2.0 + d1.1 * d2.1;
@@ -216,6 +242,8 @@ impl Corners {
         // Along each move, how far from the corner the new element starts and ends.
         let back = match corner {
             Corner::Chamfer(l) => l,
+            // Equal legs l under a chord c: c = 2·l·cos(θ/2), θ the turn between the moves.
+            Corner::ChamferLength(c) => c / (2.0 * (1.0 + cos)).max(1e-24).sqrt(),
             Corner::Round(r) => r * ((1.0 - cos) / (1.0 + cos).max(1e-12)).sqrt(), // r·tan(θ/2)
         };
         let fits = back <= len(sub(c, s)) + 1e-9 && back <= len(sub(e, c)) + 1e-9;
@@ -230,11 +258,11 @@ impl Corners {
         }
         let t1 = sub(c, scale(d1, back));
         let t2 = add(c, scale(d2, back));
-        first.op = CanonOp::StraightFeed([t1.0, t1.1, at[2], at[3], at[4], at[5]]);
+        first.op = CanonOp::StraightFeed(put(t1));
         self.released.push(first);
         self.released.append(&mut self.after);
         let op = match corner {
-            Corner::Chamfer(_) => CanonOp::StraightFeed([t2.0, t2.1, at[2], at[3], at[4], at[5]]),
+            Corner::Chamfer(_) | Corner::ChamferLength(_) => CanonOp::StraightFeed(put(t2)),
             Corner::Round(r) => {
                 // The centre lies inside the turn, a radius from the first tangent point.
                 let side = turn.signum();
@@ -245,12 +273,12 @@ impl Corners {
                     first_axis: centre.0,
                     second_axis: centre.1,
                     rotation: if side > 0.0 { 1 } else { -1 },
-                    axis_end: at[2],
+                    axis_end: at[n],
                     abc: [at[3], at[4], at[5]],
                 }
             }
         };
         self.released.push(Canon { op, origin, line });
-        self.pos = Some([t2.0, t2.1, at[2], at[3], at[4], at[5]]);
+        self.pos = Some(put(t2));
     }
 }

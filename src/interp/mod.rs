@@ -661,7 +661,13 @@ fn corner_stage(dialect: &Dialect) -> Option<corner::Corners> {
         .iter()
         .any(|c| matches!(c.meaning, Meaning::CornerRound | Meaning::CornerChamfer | Meaning::ApproachTangent | Meaning::ApproachNormal))
         .then_some(())
-        .or_else(|| dialect.addresses.iter().any(|a| matches!(a.role, Role::CornerRadius | Role::CornerChamfer)).then_some(()))
+        .or_else(|| {
+            dialect
+                .addresses
+                .iter()
+                .any(|a| matches!(a.role, Role::CornerRadius | Role::CornerChamfer | Role::CornerChamferLength))
+                .then_some(())
+        })
         .map(|()| corner::Corners::default())
 }
 
@@ -1306,7 +1312,8 @@ impl<'a> Interpreter<'a> {
                     | 1 << Role::T as u32
                     | 1 << Role::SpindleLimit as u32
                     | 1 << Role::CornerRadius as u32
-                    | 1 << Role::CornerChamfer as u32)
+                    | 1 << Role::CornerChamfer as u32
+                    | 1 << Role::CornerChamferLength as u32)
                 == 0
     }
 

@@ -331,8 +331,8 @@ fn point_angle(up: &str) -> Option<f64> {
     let before_deg = ["DEG", "GRAD", "°"].iter().find_map(|unit| {
         let i = up.find(unit)?;
         let head = up[..i].trim_end();
-        let start = head.rfind(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(0, |k| k + 1);
-        head[start..].parse::<f64>().ok()
+        let number = &head[head.trim_end_matches(|c: char| c.is_ascii_digit() || c == '.').len()..];
+        number.parse::<f64>().ok()
     });
     after("TAPER").or_else(|| after("POINT ANGLE")).or_else(|| after("POINT")).or(before_deg).filter(|a| *a >= 60.0 && *a < 180.0)
 }
@@ -1383,8 +1383,18 @@ pub fn parse_stock(comment: &str) -> Option<[P3; 2]> {
 
 #[cfg(test)]
 mod tests {
-    use super::{parse_stock, parse_tool_comment};
+    use super::{parse_stock, parse_tool_comment, point_angle};
     use crate::plan::ToolKind;
+
+    #[test]
+    fn point_angles_before_a_unit_in_any_encoding() {
+        assert_eq!(point_angle("DRILL 118DEG"), Some(118.0));
+        assert_eq!(point_angle("BOHRER 140 GRAD"), Some(140.0));
+        assert_eq!(point_angle("SPOT 90°"), Some(90.0));
+        // Latin-1 read as UTF-8 puts a two-byte letter right before the unit.
+        assert_eq!(point_angle("STEPPER\u{201a} TO THE 45\u{c2}°"), None);
+        assert_eq!(point_angle("CHAMFER \u{c2}°"), None);
+    }
 
     #[test]
     fn tool_comments() {

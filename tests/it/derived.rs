@@ -588,6 +588,48 @@ fn heidenhain_rounds_and_chamfers_corners_written_between_moves() {
     assert!(text.contains("STRAIGHT_FEED(4.0000, 0.0000"), "{text}");
 }
 
+/// Fanuc's optional chamfering and corner R (`,C` `,R` at the end of a move; Haas, Mitsubishi
+/// and Mazak inherit them) and Siemens `CHF=`, a chamfer measured along itself, make the same
+/// corners as the corner blocks; a lathe's corners are made in its ZX plane, with `,C` in
+/// radius. Fagor, which blends with G36/G39, does not read the comma words.
+#[test]
+fn corner_words_round_and_chamfer_in_the_working_plane() {
+    let mill = "O1000\nG21 G90 G17\nG0 X0 Y0 Z5.\nG1 Z-2. F100.\nG1 X50. ,R5.\nY30. ,C2.\nX0\nY0\nM30\n";
+    for dialect in ["fanuc", "haas", "mitsubishi", "mazak"] {
+        let (text, errors) = canon(dialect, mill);
+        assert!(errors.is_empty(), "{dialect}: {errors:?}");
+        expect_test::expect![[r#"
+            STRAIGHT_TRAVERSE(0.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)
+            SET_FEED_RATE(100.0000)
+            STRAIGHT_FEED(0.0000, 0.0000, -2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_FEED(45.0000, 0.0000, -2.0000, 0.0000, 0.0000, 0.0000)
+            ARC_FEED(50.0000, 5.0000, 45.0000, 5.0000, 1, -2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_FEED(50.0000, 28.0000, -2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_FEED(48.0000, 30.0000, -2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_FEED(0.0000, 30.0000, -2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_FEED(0.0000, 0.0000, -2.0000, 0.0000, 0.0000, 0.0000)
+            SET_FEED_RATE(0.0000)
+        "#]]
+        .assert_eq(&text);
+    }
+    let (_, errors) = canon("fagor", "G90 G17\nG1 X50 ,R5 F100\nY30\nM30\n");
+    assert!(errors.contains(&"syntax::unknown-address"), "{errors:?}");
+    // A turned shoulder: a 2 mm chamfer at X40, an R3 fillet at Z-30, in the ZX plane
+    // (X in radius in the canonical calls; ARC_FEED's first axis is Z).
+    let (text, errors) =
+        canon("fanuc_lathe", "G18 G21 G40\nT0101\nG97 S500 M3\nG0 X20. Z2.\nG1 Z0 F.2\nX40. ,C2.\nZ-30. ,R3.\nX60.\nM30\n");
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(text.contains("STRAIGHT_FEED(18.0000, 0.0000, 0.0000,"), "{text}");
+    assert!(text.contains("STRAIGHT_FEED(20.0000, 0.0000, -2.0000,"), "{text}");
+    assert!(text.contains("STRAIGHT_FEED(20.0000, 0.0000, -27.0000,"), "{text}");
+    assert!(text.contains("ARC_FEED(-30.0000, 23.0000, -27.0000, 23.0000, -1, 0.0000,"), "{text}");
+    // Siemens: CHF= 2.828427 on a right angle cuts back 2 along each move, as CHR=2 does.
+    let (chf, _) = canon("siemens", "G17 G90 G71\nG1 X0 Y0 Z-2 F100\nX50 CHF=2.828427\nY30\nM30\n");
+    let (chr, _) = canon("siemens", "G17 G90 G71\nG1 X0 Y0 Z-2 F100\nX50 CHR=2\nY30\nM30\n");
+    assert!(chf.contains("STRAIGHT_FEED(48.0000, 0.0000, -2.0000,") && chf.contains("STRAIGHT_FEED(50.0000, 2.0000, -2.0000,"), "{chf}");
+    assert_eq!(chf, chr);
+}
+
 /// Heidenhain `APPR LT`/`APPR LN` reach the contour point from an auxiliary point LEN away,
 /// along the first contour element or perpendicular to it on the compensation side (known
 /// only when that element arrives); `DEP LT`/`DEP LN` leave along the last element or

@@ -54,13 +54,16 @@ impl Interpreter<'_> {
         }
     }
 
-    /// A corner the block's own words round or chamfer (Siemens `X65 RND=5`): marked after the
-    /// block's move, between it and the next, as a corner block between them would be.
+    /// A corner the block's own words round or chamfer (Siemens `X65 RND=5`, Fanuc `X65 ,R5`):
+    /// marked after the block's move, between it and the next, as a corner block between them
+    /// would be.
     pub(in crate::interp) fn corner_words(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        let (size, corner) = match (self.slot(Role::CornerRadius), self.slot(Role::CornerChamfer)) {
-            (Some(r), _) => (r, corner::Corner::Round(r)),
-            (None, Some(c)) => (c, corner::Corner::Chamfer(c)),
-            (None, None) => return,
+        let words = [Role::CornerRadius, Role::CornerChamfer, Role::CornerChamferLength].map(|r| self.slot(r));
+        let (size, corner) = match words {
+            [Some(r), ..] => (r, corner::Corner::Round(r)),
+            [None, Some(c), _] => (c, corner::Corner::Chamfer(c)),
+            [None, None, Some(c)] => (c, corner::Corner::ChamferLength(c)),
+            [None, None, None] => return,
         };
         if size > 0.0 {
             self.mark_corner(corner);

@@ -129,6 +129,10 @@ impl Lexer<'_, '_> {
             }
             return;
         }
+        // `,R5` `,C2`: an address written as a comma and a letter.
+        if c == b',' && self.long_address(self.i) {
+            return;
+        }
         if !self.symbol_address(c) {
             self.unexpected_characters();
         }

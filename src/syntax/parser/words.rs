@@ -109,7 +109,7 @@ impl Lexer<'_, '_> {
     }
 
     /// Multi-letter addresses such as `CR=` (longest first), with their value.
-    fn long_address(&mut self, start: usize) -> bool {
+    pub(super) fn long_address(&mut self, start: usize) -> bool {
         for a in self.dialect.long_addresses() {
             let n = a.name.len();
             if self.b.len() >= start + n && self.b[start..start + n].eq_ignore_ascii_case(a.name.as_bytes()) {
@@ -121,7 +121,9 @@ impl Lexer<'_, '_> {
                 let ok = if a.assign { next == Some(b'=') } else { !next.is_some_and(|x| x.is_ascii_alphabetic()) };
                 if ok {
                     self.i = if a.assign { j + 1 } else { start + n };
-                    let (role, letter) = (a.role, a.name.as_bytes()[0]);
+                    // The word's letter: `C` for `CR=`, `R` for `,R`.
+                    let letter = a.name.bytes().find(u8::is_ascii_alphabetic).unwrap_or(b',');
+                    let role = a.role;
                     let mode = if a.incremental { WordMode::Incremental } else { WordMode::Modal };
                     let value = if a.assign { self.assigned_value(start) } else { self.value(start).map(|v| (v, WordMode::Modal)) };
                     if let Some((value, wrapped)) = value {
