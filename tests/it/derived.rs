@@ -70,6 +70,19 @@ fn mitsubishi_m98_h_starts_the_subprogram_at_a_block() {
     // Fanuc has no start block: its M98 runs O100 from the top.
     let (text, _) = canon("fanuc", program);
     assert_eq!(moves(&text).len(), 3, "{text}");
+    // Without P, H names a block of the running program, run L times up to its M99, on both
+    // the machining centre and the lathe.
+    let local = "O1\nG21 G90 G0 X0 Y0 Z5.\nM98 H20 L2\nG0 Z50.\nM30\nN20 G91 G0 X10.\nG90\nM99\n";
+    let turned = "O1\nG21 G0 X0 Z5.\nM98 H20 L2\nG0 Z50.\nM30\nN20 G0 U10.\nM99\n";
+    for (dialect, program) in [("mitsubishi", local), ("mitsubishi_lathe", turned)] {
+        let (text, errors) = canon(dialect, program);
+        assert!(errors.is_empty(), "{dialect}: {errors:?}");
+        assert_eq!(moves(&text).len(), 4, "{dialect}: {text}");
+    }
+    let (_, errors) = canon("mitsubishi", "O1\nM98 H30\nM30\n");
+    assert_eq!(errors, ["flow::missing-label"]);
+    let (_, errors) = canon("fanuc", local);
+    assert!(errors.contains(&"syntax::missing-parameter"), "{errors:?}");
 }
 
 #[test]

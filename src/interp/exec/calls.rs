@@ -16,12 +16,6 @@ impl Interpreter<'_> {
     pub(super) fn call(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
         match def.meaning {
             Meaning::SubprogramCall => {
-                let Some(p) = self.program_number(Role::P, range, diags) else { return };
-                let mut repeats = self.repeat_count(diags, range);
-                let mut program = p;
-                if self.dialect.macros.repeat_in_p && self.slot(Role::L).is_none() && p > 9999 {
-                    (repeats, program) = (p / 10_000, p % 10_000);
-                }
                 let start = match self.dialect.macros.call_start.and_then(|l| self.dialect.letter_role(l)) {
                     Some(role) if self.slots[role as usize].is_some() => match self.program_number(role, range, diags) {
                         Some(n) => Some(n),
@@ -29,6 +23,20 @@ impl Interpreter<'_> {
                     },
                     _ => None,
                 };
+                if self.slots[Role::P as usize].is_none()
+                    && let Some(number) = start
+                {
+                    // `M98 H20` (Mitsubishi): without a program, block N20 of this one.
+                    let repeats = self.repeat_count(diags, range);
+                    self.request = Some(Request::CallLocal { number, repeats });
+                    return;
+                }
+                let Some(p) = self.program_number(Role::P, range, diags) else { return };
+                let mut repeats = self.repeat_count(diags, range);
+                let mut program = p;
+                if self.dialect.macros.repeat_in_p && self.slot(Role::L).is_none() && p > 9999 {
+                    (repeats, program) = (p / 10_000, p % 10_000);
+                }
                 self.request = Some(Request::Call { program, repeats, macro_call: false, args: Vec::new(), start });
             }
             Meaning::LocalSubprogramCall => {
