@@ -1,6 +1,7 @@
 //! Saved modal state (LinuxCNC's M70 to M73): a snapshot per call level, restored on
 //! request or when the call that saved it returns.
 
+use super::eval::UnknownSource;
 use super::{Interpreter, Retract, Spindle};
 use crate::canon::{CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Units};
 use crate::diag::{Code, Diagnostic};
@@ -155,8 +156,15 @@ enum Before {
 
 impl Interpreter<'_> {
     /// Runs `block`, whose condition the analysis could not decide: each parameter it sets
-    /// then holds either its old value or the new one, and one that changed is unknown.
-    pub(super) fn execute_either(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+    /// then holds either its old value or the new one, and one that changed is unknown, as
+    /// the outside value the condition read (`from`), which a message then names.
+    pub(super) fn execute_either(
+        &mut self,
+        block: &Block,
+        from: Option<UnknownSource>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
         let mut scratch = Vec::new();
         let mut before = Vec::new();
         for a in &block.assigns {
@@ -184,11 +192,15 @@ impl Interpreter<'_> {
                 Before::Numbered(n, old) => {
                     if self.params.get(n).is_ok_and(|v| !same(v, old)) {
                         let _ = self.params.set(n, super::eval::UNKNOWN);
+                        if n >= 0.0 && n.fract() == 0.0 && n <= f64::from(u32::MAX) {
+                            self.params.derive(UnknownSource::Numbered(n as u32), from.clone());
+                        }
                     }
                 }
                 Before::Named(name, old) => {
                     if self.params.get_named(&name).is_ok_and(|v| !same(v, old)) {
                         self.params.set_named(&name, super::eval::UNKNOWN);
+                        self.params.derive(UnknownSource::Named(name), from.clone());
                     }
                 }
             }

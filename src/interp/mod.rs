@@ -1148,6 +1148,11 @@ impl<'a> Interpreter<'a> {
         self.slots[role as usize].map(|s| s.value)
     }
 
+    /// Whether the block's word of `role` read an unknown value (and was left out, with a note).
+    fn word_unknown(&self, role: Role) -> bool {
+        self.unknown_roles & (1 << role as u32) != 0
+    }
+
     fn code(&self, i: usize) -> &'a CodeDef {
         &self.dialect.codes[i]
     }

@@ -271,3 +271,25 @@ fn siemens_system_variables_are_unknown_and_the_check_passes() {
     );
     assert!(moves.iter().any(|m| m.contains("STRAIGHT_FEED") && m.contains("-5.0000")), "the drilling move is made: {moves:?}");
 }
+
+/// What a `THEN` sets on a condition the caller decides depends on the caller's value, and
+/// its note names that value, not "set outside this file"; a work offset numbered by an
+/// argument (`G10 L20 P#1`, `G54.1 P#1`) is not known, said once by the note on the word,
+/// without a warning that offsets are numbered 1 to 300 and without choosing offset 1.
+#[test]
+fn values_that_depend_on_the_caller_name_the_caller() {
+    let program = "O9001\nIF [#1 GT 5] THEN #33=1\nG0 X#33\nG10 L20 P#1 X0 Y0 Z0\nG54.1 P#1\nG0 Y5.\nM99\n";
+    let (_, diags) = run("fanuc", program);
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    let notes = said(&diags, "interp::unknown-value");
+    assert!(notes.iter().any(|m| m.starts_with("`X#33` reads argument #1, which the caller gives")), "{notes:?}");
+    assert_eq!(notes.iter().filter(|m| m.starts_with("`P#1`")).count(), 2, "{notes:?}");
+    assert!(said(&diags, "interp::unsupported").is_empty(), "{diags:?}");
+    let mut canon = Vec::new();
+    let d = ncplan::dialect::Registry::shipped().get("fanuc").unwrap();
+    ncplan::interp::interpret(program, &d, &Profile::default(), &mut canon);
+    assert!(!canon.iter().any(|c| matches!(c.op, ncplan::canon::CanonOp::SetG5xOffset(i, ..) if i > 9)), "{canon:?}");
+    // A known number out of range still warns.
+    let (_, diags) = run("fanuc", "G21\nG10 L20 P400 X0 Y0 Z0\nM30\n");
+    assert!(said(&diags, "interp::unsupported").iter().any(|m| m.contains("numbered 1 to 300")), "{diags:?}");
+}

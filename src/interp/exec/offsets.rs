@@ -26,7 +26,12 @@ impl Interpreter<'_> {
         }
         // G54.1 Pn, G154 Pn, G15 Hn: additional work offset n, its own system (0 until
         // the program sets it, as every offset here), so that a change of fixture
-        // offset is seen as one. Without a number: the first.
+        // offset is seen as one. Without a number: the first. With a number the caller
+        // gives (`G54.1 P#1` in a called program), which one is not known: the system in
+        // force stays, and the note on the word says why.
+        if self.word_unknown(Role::P) || self.word_unknown(Role::H) {
+            return;
+        }
         let n = self.slot(Role::P).or(self.slot(Role::H)).or(Some(1.0));
         match self.extended_wcs(n) {
             Some(index) if index != self.st.wcs => self.select_wcs(index, sink),
@@ -51,6 +56,8 @@ impl Interpreter<'_> {
             Some(DataForm::Wcs | DataForm::WcsHere) => self.set_wcs(def, form == Some(DataForm::WcsHere), range, sink, diags),
             Some(DataForm::WcsExtended) => match self.extended_wcs(self.slot(Role::P)) {
                 Some(index) => self.set_wcs_offsets(index, false, sink),
+                // `G10 L20 P#1`: which offset is not known; the note on the word says so.
+                None if self.word_unknown(Role::P) => {}
                 None => {
                     let msg = format!(
                         "{} L{l}: an additional work offset is numbered 1 to {}; the setting is not kept",

@@ -78,6 +78,7 @@ pub fn run<'t>(
         back_jumps: BTreeMap::new(),
         landing: None,
         undecided: false,
+        undecided_from: None,
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -255,6 +256,8 @@ struct Driver<'a, 'p> {
     landing: Option<(usize, usize)>,
     /// Whether the last condition read an unknown value (the way was chosen, not known).
     undecided: bool,
+    /// The outside value that condition read, which what its `THEN` sets then depends on.
+    undecided_from: Option<eval::UnknownSource>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -792,6 +795,7 @@ impl<'a> Driver<'a, '_> {
         let v = self.value(interp, block, e, diags)?;
         self.undecided = eval::is_unknown(v);
         if self.undecided {
+            self.undecided_from = interp.params.unknown_read_peek();
             return Some(self.unknown_condition(interp, c, block, diags));
         }
         Some(!eval::is_null(v) && v != 0.0)

@@ -133,7 +133,7 @@ impl<'a> Driver<'a, '_> {
                 if self.undecided && !block.assigns.is_empty() && !self.is_alarm(block) {
                     // Whether the assignment ran is not known (`IF [#24 NE #0] THEN
                     // #30 = #24` on an argument): what it sets holds either value.
-                    interp.execute_either(block, sink, diags);
+                    interp.execute_either(block, self.undecided_from.clone(), sink, diags);
                 } else if cond {
                     interp.execute(block, sink, diags);
                 }
