@@ -998,3 +998,34 @@ fn tool_offsets_along_x_y_and_z_move_the_program_position_as_rs274_does() {
         ]
     );
 }
+
+/// Live-tool drilling on C-axis lathes, as posts write it: Fanuc's face and side cycles
+/// (G83-G85, G87-G89; Mitsubishi and Mazak lathes alike) and Haas's axial G81-G89 and radial
+/// G241-G249 with M133 P (the live tool's rpm). They are read, kept as intent with one
+/// warning each, and raise no error; a following block with only C moves to the next hole.
+#[test]
+fn live_tool_drilling_cycles_on_lathes_are_read() {
+    let fanuc = "O1000\nG18 G21 G99\nT0505\nM45\nG98\nG0 X50. Z5. C0.\nM63 S1500\n\
+                 G83 Z-40. R-5. Q2000 P500 F50.\nC90.\nC180.\nG80\nG0 X60. Z-10.\nG87 X20. R-5. P500 F50.\nG80\nM65\nM30\n";
+    // G-code system B/C feeds with G94/G95, and G98 is the return to the initial level there.
+    let system_b = fanuc.replace("G99\n", "G95\n").replace("G98\n", "G94 G98\n");
+    for (dialect, program) in [("fanuc_lathe", fanuc), ("fanuc_lathe_b", &system_b), ("mitsubishi_lathe", fanuc), ("mazak_lathe", fanuc)] {
+        let d = Registry::shipped().get(dialect).unwrap();
+        let mut out = Vec::new();
+        let diags = interpret(program, &d, &Profile::default(), &mut out);
+        let errors: Vec<_> = diags.iter().filter(|d| d.is_error()).map(|d| d.message.clone()).collect();
+        assert!(errors.is_empty(), "{dialect}: {errors:?}");
+        assert!(diags.iter().any(|d| d.message.contains("G83 (face drilling cycle) is kept as intent")), "{dialect}: {diags:?}");
+        let mut text = String::new();
+        out.iter().filter(|c| matches!(c.op, CanonOp::StraightTraverse(_))).for_each(|c| write_call(&mut text, &c.op));
+        assert!(text.contains(", 90.0000)\n") && text.contains(", 180.0000)\n"), "{dialect}: {text}");
+    }
+    let haas = "%\nO01000 (FLANGE)\n(T5 D=6. - DRILL)\nG18 G21 G99\nG28 U0.\nT505\nM154\nG98\nM133 P1500\nG0 X60. Z5. C0.\n\
+                G83 Z-12. R2. Q3. F120.\nC120.\nC240.\nG80\nG0 X60. Z-8.\nG241 X20. R54. C60. F100.\nG80\nM135\nM155\nG28 U0. W0.\nM30\n%\n";
+    let (_, errors) = canon("haas_lathe", haas);
+    assert!(errors.is_empty(), "{errors:?}");
+    let d = Registry::shipped().get("haas_lathe").unwrap();
+    let diags = interpret(haas, &d, &Profile::default(), &mut Vec::new());
+    assert!(!diags.iter().any(|d| d.code.as_str() == "syntax::unused-word"), "{diags:?}");
+    assert_eq!(Registry::shipped().sniff(haas, Some("O01000.NC"), "fanuc").dialect, "haas_lathe");
+}
