@@ -278,6 +278,7 @@ impl Cx {
             g_table: Vec::new(),
             m_table: Vec::new(),
             keyword_codes: Vec::new(),
+            keyword_codes_by_first: Vec::new(),
         })
     }
 

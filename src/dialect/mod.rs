@@ -822,6 +822,9 @@ pub struct Dialect {
     m_table: Vec<u16>,
     /// Indices of keyword codes, longest keyword first.
     keyword_codes: Vec<usize>,
+    /// The same, by the upper-case first byte of the keyword (ASCII), for the lexer: a word
+    /// is tried only against the keywords that can start with its first letter.
+    keyword_codes_by_first: Vec<Vec<usize>>,
 }
 
 const NO_CODE: u16 = u16::MAX;
@@ -882,6 +885,12 @@ impl Dialect {
         self.keyword_codes.iter().filter_map(|&i| self.codes[i].keyword.as_ref().map(|k| (i, k)))
     }
 
+    /// The keyword codes that start with `first` (either case), longest first.
+    pub fn keyword_codes_starting(&self, first: u8) -> impl Iterator<Item = (usize, &KeywordSpec)> {
+        let list = self.keyword_codes_by_first.get(first.to_ascii_uppercase() as usize).map_or(&[][..], Vec::as_slice);
+        list.iter().filter_map(|&i| self.codes[i].keyword.as_ref().map(|k| (i, k)))
+    }
+
     /// The named cycle `name` (case-insensitive).
     pub fn cycle(&self, name: &str) -> Option<usize> {
         self.cycles.iter().position(|c| c.name.eq_ignore_ascii_case(name))
@@ -925,6 +934,14 @@ impl Dialect {
         self.m_table = vec![NO_CODE; CODE_TABLE_LEN];
         self.keyword_codes = (0..self.codes.len()).filter(|&i| self.codes[i].keyword.is_some()).collect();
         self.keyword_codes.sort_by_key(|&i| std::cmp::Reverse(self.codes[i].keyword.as_ref().map_or(0, |k| k.text.len())));
+        self.keyword_codes_by_first = vec![Vec::new(); 128];
+        for &i in &self.keyword_codes {
+            if let Some(&first) = self.codes[i].keyword.as_ref().and_then(|k| k.text.as_bytes().first())
+                && let Some(list) = self.keyword_codes_by_first.get_mut(first.to_ascii_uppercase() as usize)
+            {
+                list.push(i);
+            }
+        }
         for (i, c) in self.codes.iter().enumerate() {
             if c.keyword.is_some() {
                 continue;

@@ -653,6 +653,12 @@ fn power_on_params(dialect: &Dialect, profile: &Profile) -> Params {
     p
 }
 
+/// Whether `block` reads a named parameter (`#<_x>`), so that the named system values must
+/// be brought up to date before it runs (the numbered ones are cheap, the named ones not).
+pub(super) fn reads_named(block: &Block) -> bool {
+    block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)))
+}
+
 /// The corner stage, where the dialect has corner blocks or corner words (`RND`, `CHF`,
 /// `APPR`); none, and no cost, elsewhere.
 fn corner_stage(dialect: &Dialect) -> Option<corner::Corners> {
@@ -1283,9 +1289,7 @@ impl<'a> Interpreter<'a> {
     fn read_and_assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
         if system_vars && !block.exprs.is_empty() {
-            let named = !self.dialect.macros.system_named.is_empty()
-                && block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)));
-            self.refresh_system_vars(named);
+            self.refresh_system_vars(reads_named(block));
         }
         let early = self.dialect.behaviour.assign_before_reads;
         if early {

@@ -23,7 +23,7 @@ use typed_arena::Arena;
 mod statements;
 
 use super::eval::{self, NULL};
-use super::{Interpreter, Profile, Request};
+use super::{Interpreter, Profile, Request, reads_named};
 use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{Dialect, MainReturn, Statement};
@@ -774,9 +774,10 @@ impl<'a> Driver<'a, '_> {
 
     /// Evaluates operand `e` of a control block with the interpreter's parameters.
     fn value(&self, interp: &mut Interpreter<'a>, block: &Block, e: ExprId, diags: &mut Vec<Diagnostic>) -> Option<f64> {
-        // A condition may read the position or the tool (`o1 if [#5420 GT 3]`).
-        if !self.dialect.macros.system.is_empty() {
-            interp.refresh_system_vars(true);
+        // A condition may read the position or the tool (`o1 if [#5420 GT 3]`), and the named
+        // ones only where it reads a named value (`o1 if [#<_x> GT 3]`).
+        if !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty() {
+            interp.refresh_system_vars(reads_named(block));
         }
         match interp.eval(block, e, block.range, diags) {
             Ok(v) => Some(v),

@@ -58,12 +58,11 @@ impl Lexer<'_, '_> {
     /// A keyword code at the cursor (`TRANS`, `TOOL CALL 5`, `DR+`), longest first. Blanks in
     /// a keyword match any run of blanks; the keyword must end at a word boundary.
     pub(super) fn keyword(&mut self) -> bool {
-        if self.dialect.keyword_codes().next().is_none() {
-            return false;
-        }
         let start = self.i;
+        let Some(&first) = self.b.get(start) else { return false };
         let mut found = None;
-        for (idx, k) in self.dialect.keyword_codes() {
+        // Only the keywords that start with this letter can match here (longest first).
+        for (idx, k) in self.dialect.keyword_codes_starting(first) {
             let end = if k.assigned {
                 // `SPOS=90`, `SPOS[1]=`: the name runs into `=` or its index.
                 let end = start + k.text.len();
