@@ -192,6 +192,9 @@ codes! {
     MissingProgram = ("flow::missing-program", Error),
     /// A loop ran past its iteration limit, or the run past its block budget.
     LoopLimit = ("flow::loop-limit", Error),
+    /// A loop that changes nothing while it waits for a variable the outside writes (a
+    /// handshake with the PLC, a robot or a remote client): taken as changed.
+    WaitLoop = ("flow::wait-loop", Warning),
     /// The run executed more blocks again (loop passes, backward jumps, repeated calls) than
     /// the profile's budget: the analysis stops there, the program may well go on.
     RepeatBudget = ("flow::repeat-budget", Warning),

@@ -165,6 +165,7 @@ impl Interpreter<'_> {
         if let Some(f) = feed {
             self.st.feed = f;
             self.st.feed_unknown = false;
+            self.st.feed_outside = false;
             self.st.tech_warned = false;
             self.emit(sink, CanonOp::SetFeedRate(f));
         }

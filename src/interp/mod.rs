@@ -535,6 +535,9 @@ struct State {
     /// Whether the feed is the caller's (a called program that has set none) or an unknown
     /// value: not zero.
     feed_unknown: bool,
+    /// Whether the last F word read a value from outside the file (`F#650`, a feed the shop
+    /// keeps in a common variable): the feed is the machine's, not zero, whoever calls.
+    feed_outside: bool,
     /// Whether the spindle is the caller's (a called program that has not set it).
     spindle_unknown: bool,
     /// Whether the feed and the spindle speed overrides are enabled (M48 to M51).
@@ -598,6 +601,7 @@ impl State {
             machine_data_read: false,
             length_points: false,
             feed_unknown: profile.role != ProgramRole::Main,
+            feed_outside: false,
             spindle_unknown: profile.role != ProgramRole::Main,
             overrides: (true, true),
         }

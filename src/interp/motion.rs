@@ -282,7 +282,7 @@ impl Interpreter<'_> {
         }
         // A feed word from outside the file (`F#9`, the caller's argument) is not a zero feed;
         // without one, a called program's feed is its caller's.
-        if self.st.feed == 0.0 && self.unknown_roles & (1 << Role::F as u32) == 0 {
+        if self.st.feed == 0.0 && self.unknown_roles & (1 << Role::F as u32) == 0 && !self.st.feed_outside {
             let d = bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)");
             if !self.st.feed_unknown {
                 return diags.push(d);
@@ -537,7 +537,8 @@ impl Interpreter<'_> {
     /// [`Interpreter::check_technology`] until a warning is given.
     fn check_technology_once(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
         // In inverse time each feed move brings its own F (see `inverse_time_feed`).
-        let problem = if self.st.feed <= 0.0 && !self.st.inverse_time {
+        // A feed read from outside the file (`F#650`) is the machine's: the word's note said so.
+        let problem = if self.st.feed <= 0.0 && !self.st.inverse_time && !self.st.feed_outside {
             Some((Code::NoFeed, "the feed rate is zero", self.st.feed_unknown, "feed"))
         } else if self.st.spindle == Spindle::Stopped {
             Some((Code::CuttingWithoutTechnology, "the spindle is stopped", self.st.spindle_unknown, "spindle"))

@@ -223,6 +223,7 @@ impl Interpreter<'_> {
                     if role == Role::F {
                         // Not zero: the feed the control has, which this file does not know.
                         self.st.feed_unknown = true;
+                        self.st.feed_outside = true;
                         self.st.feed = self.st.feed.max(0.0);
                     }
                     self.unknown_roles |= 1 << role as u32;

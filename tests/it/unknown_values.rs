@@ -293,3 +293,40 @@ fn values_that_depend_on_the_caller_name_the_caller() {
     let (_, diags) = run("fanuc", "G21\nG10 L20 P400 X0 Y0 Z0\nM30\n");
     assert!(said(&diags, "interp::unsupported").iter().any(|m| m.contains("numbered 1 to 300")), "{diags:?}");
 }
+
+/// A handshake: the program sets a common variable and waits, polling it with a dwell,
+/// for the PLC, a robot or a remote client to change it. The loop changes nothing itself;
+/// it is a wait, with a warning, not an endless loop, and the run goes on past it. A loop
+/// on the program's own local that changes nothing is still an endless loop.
+#[test]
+fn a_loop_waiting_for_an_outside_variable_is_a_wait_not_an_endless_loop() {
+    let handshake = "O0001\nG21 G90\n#890=1 (REQUEST)\nN1 IF[#890EQ3]GOTO2\nG04 P1000\nGOTO1\nN2 G0 X10.\nM30\n";
+    for dialect in ["fanuc", "haas", "mitsubishi", "mazak"] {
+        let (moves, diags) = run(dialect, handshake);
+        assert!(errors(&diags).is_empty(), "{dialect}: {diags:?}");
+        let waits = said(&diags, "flow::wait-loop");
+        assert_eq!(waits.len(), 1, "{dialect}: {diags:?}");
+        assert!(waits[0].starts_with("the loop waits for #890 to change"), "{waits:?}");
+        assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_TRAVERSE(10.0000,")), "{dialect}: {moves:?}");
+    }
+    // The same wait written as a WHILE loop on a common variable.
+    let (_, diags) = run("fanuc", "O0002\n#500=0\nWHILE [#500 EQ 0] DO1\nG04 P500\nEND1\nM30\n");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    assert_eq!(said(&diags, "flow::wait-loop").len(), 1, "{diags:?}");
+    // A local the program owns: nothing outside changes it, so the loop never ends.
+    let (_, diags) = run("fanuc", "O0003\n#1=0\nWHILE [#1 LT 5] DO1\nG04 P100\nEND1\nM30\n");
+    assert!(errors(&diags).iter().any(|e| e.starts_with("flow::loop-limit")), "{diags:?}");
+    assert!(said(&diags, "flow::wait-loop").is_empty(), "{diags:?}");
+}
+
+/// A feed the shop keeps in a common variable (`F#650`) is the machine's, not zero: the
+/// moves after it are not "cutting at feed zero", in a main program too.
+#[test]
+fn a_feed_from_a_common_variable_is_not_a_zero_feed() {
+    let (_, diags) = run("fanuc", "O1000\nG21 G90 G54 G00 X0 Y0\nM3 S1000\nG01 Z-1. F#650\nX10.\nY10.\nM30\n");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    assert!(said(&diags, "interp::no-feed").is_empty(), "{diags:?}");
+    // A feed the program never sets is still an error.
+    let (_, diags) = run("fanuc", "O1000\nG21 G90 G54 G00 X0 Y0\nM3 S1000\nG01 Z-1.\nM30\n");
+    assert!(errors(&diags).iter().any(|e| e.starts_with("interp::no-feed")), "{diags:?}");
+}

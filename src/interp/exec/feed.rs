@@ -27,6 +27,7 @@ impl Interpreter<'_> {
         if self.dialect.behaviour.feed_mode_resets_feed {
             self.st.feed = 0.0;
             self.st.feed_unknown = false;
+            self.st.feed_outside = false;
             self.emit(sink, CanonOp::SetFeedRate(0.0));
         }
     }
@@ -46,6 +47,7 @@ impl Interpreter<'_> {
             }
             self.st.feed = f;
             self.st.feed_unknown = false;
+            self.st.feed_outside = false;
             self.st.tech_warned = false;
             self.emit(sink, CanonOp::SetFeedRate(f));
         }

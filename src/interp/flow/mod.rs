@@ -79,6 +79,7 @@ pub fn run<'t>(
         landing: None,
         undecided: false,
         undecided_from: None,
+        cond_reads: BTreeSet::new(),
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -258,6 +259,9 @@ struct Driver<'a, 'p> {
     undecided: bool,
     /// The outside value that condition read, which what its `THEN` sets then depends on.
     undecided_from: Option<eval::UnknownSource>,
+    /// The numbered parameters the conditions read (by number, `#890`) since the last
+    /// backward jump or loop end: what a loop that changes nothing may be waiting for.
+    cond_reads: BTreeSet<u32>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -793,6 +797,7 @@ impl<'a> Driver<'a, '_> {
             diags.push(Diagnostic::new(Code::MalformedExpression, c.range, "the statement needs a bracketed condition"));
             return None;
         };
+        self.note_reads(block, e);
         let v = self.value(interp, block, e, diags)?;
         self.undecided = eval::is_unknown(v);
         if self.undecided {
@@ -976,7 +981,7 @@ impl<'a> Driver<'a, '_> {
             || b.comments.iter().any(|r| matches!(self.dialect.lexical.directive(b.text(*r)), Some((crate::dialect::Directive::Abort, _))))
     }
 
-    fn count_iteration(&mut self, k: usize, range: TextRange, interp: &Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
+    fn count_iteration(&mut self, k: usize, range: TextRange, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) -> bool {
         self.loops[k].iterations += 1;
         let l = &self.loops[k];
         if l.iterations > self.profile.max_loop_iterations {
@@ -987,10 +992,62 @@ impl<'a> Driver<'a, '_> {
         // A loop that counts its rounds itself ends; one that runs on a condition may not.
         let conditional = matches!(l.kind, LoopKind::While | LoopKind::Do | LoopKind::Numbered | LoopKind::Until | LoopKind::Forever);
         let (key, count) = ((l.source, l.head.at), l.iterations);
-        if conditional && self.endless(key, count, interp) {
+        if conditional && self.endless(key, count, interp) && !self.waits_for_outside(interp, range, diags) {
             self.error(diags, Code::LoopLimit, range, format!("the loop comes round {ENDLESS}; the run stops here"));
             return false;
         }
+        self.cond_reads.clear();
+        true
+    }
+
+    /// The numbered parameters condition `e` of `block` reads by number (`#890`, `R5`).
+    fn note_reads(&mut self, block: &Block, e: ExprId) {
+        let mut stack = vec![e];
+        while let Some(i) = stack.pop() {
+            match block.exprs.get(i as usize) {
+                Some(&Expr::Param(n)) => match block.exprs.get(n as usize) {
+                    Some(&Expr::Num(v)) if v >= 0.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => {
+                        self.cond_reads.insert(v as u32);
+                    }
+                    _ => stack.push(n),
+                },
+                Some(&(Expr::Unary(_, a) | Expr::NamedIndex(_, a))) => stack.push(a),
+                Some(&(Expr::Binary(_, a, b) | Expr::Atan2(a, b))) => stack.extend([a, b]),
+                _ => {}
+            }
+        }
+    }
+
+    /// A loop that comes round with nothing changed while its conditions read a variable
+    /// the outside writes (the dictionary's `outside-variables`: common variables a PLC, a
+    /// robot or a remote client sets, inputs): a handshake that waits for it to change
+    /// (`#890=1` … `N1 IF [#890 EQ 3] GOTO 2` `G4 P1.` `GOTO 1`). Those variables become
+    /// unknown, with a warning, and the loop's condition then takes the way a run that ends
+    /// takes. False when there is no such variable, or all are unknown already.
+    fn waits_for_outside(&mut self, interp: &mut Interpreter<'a>, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        let outside = &self.dialect.macros.outside;
+        let waited: Vec<u32> = self
+            .cond_reads
+            .iter()
+            .copied()
+            .filter(|n| outside.iter().any(|&(a, b)| (a..=b).contains(n)))
+            .filter(|&n| interp.params.get(f64::from(n)).is_ok_and(|v| !eval::is_unknown(v)))
+            .collect();
+        if waited.is_empty() {
+            return false;
+        }
+        let sigil = self.dialect.lexical.parameter.map_or('#', |(c, _)| c);
+        let names: Vec<String> = waited.iter().map(|n| format!("{sigil}{n}")).collect();
+        for &n in &waited {
+            let _ = interp.params.set(f64::from(n), eval::UNKNOWN);
+        }
+        interp.params.take_unknown_read();
+        self.cond_reads.clear();
+        let msg = format!(
+            "the loop waits for {} to change: nothing in the program changes it, so something outside it must (the PLC, a robot, a remote client); taken as changed: the loop is left, as a run that ends leaves it",
+            names.join(", ")
+        );
+        diags.push(Diagnostic::new(Code::WaitLoop, range, msg));
         true
     }
 
@@ -1018,7 +1075,7 @@ impl<'a> Driver<'a, '_> {
             let count = *count;
             let limit = self.profile.max_loop_iterations;
             let over = count > limit;
-            if over || self.endless(key, count, interp) {
+            if over || (self.endless(key, count, interp) && !self.waits_for_outside(interp, range, diags)) {
                 // Back to the main program's first label, with nothing open: the program runs
                 // until the operator stops it, by design (a cell's loop), as a return in a
                 // main program restarts it.
@@ -1043,6 +1100,9 @@ impl<'a> Driver<'a, '_> {
                 }
                 return;
             }
+        }
+        if pos.at <= start.at {
+            self.cond_reads.clear();
         }
         self.jump(self.cur, pos, start, interp, diags);
     }
@@ -1098,7 +1158,7 @@ impl<'a> Driver<'a, '_> {
         start: Pos,
         here: Pos,
         range: TextRange,
-        interp: &Interpreter<'a>,
+        interp: &mut Interpreter<'a>,
         diags: &mut Vec<Diagnostic>,
     ) -> bool {
         let again = self.top_loop(|l| l.kind == kind && l.head == start);
