@@ -642,6 +642,29 @@ impl Interpreter<'_> {
         let start = self.st.pos;
         let mut end = self.target();
         let (a0, a1, n) = self.st.plane.axes();
+        // A word of the arc's shape read a value this file does not know (`CR=RAD`, `X=DX` in
+        // a procedure, `I#5` in a called macro): the note on the word said so. The arc cannot
+        // be drawn or checked; the tool is taken to its known end.
+        const SHAPE: [Role; 14] = [
+            Role::X,
+            Role::Y,
+            Role::Z,
+            Role::I,
+            Role::J,
+            Role::K,
+            Role::R,
+            Role::OpeningAngle,
+            Role::ViaX,
+            Role::ViaY,
+            Role::ViaZ,
+            Role::PolarAngle,
+            Role::PolarRadius,
+            Role::P,
+        ];
+        if SHAPE.iter().any(|&r| self.word_unknown(r)) {
+            self.rejected_arc(end);
+            return;
+        }
         let mut cw = match def.meaning {
             Meaning::ArcCw => true,
             Meaning::ArcCcw => false,

@@ -330,3 +330,20 @@ fn a_feed_from_a_common_variable_is_not_a_zero_feed() {
     let (_, diags) = run("fanuc", "O1000\nG21 G90 G54 G00 X0 Y0\nM3 S1000\nG01 Z-1.\nM30\n");
     assert!(errors(&diags).iter().any(|e| e.starts_with("interp::no-feed")), "{diags:?}");
 }
+
+/// An arc whose end, centre or radius the caller gives (`CR=RAD` in a Siemens procedure,
+/// `R#18` in a Fanuc macro) cannot be drawn or checked: no "needs I or K" or "cannot be a
+/// full circle" error, only the notes on the words; the next moves go on from its known end.
+#[test]
+fn an_arc_shaped_by_the_callers_values_is_not_an_error() {
+    let (_, diags) = run("siemens", "PROC SHAPE(REAL RAD, REAL DX)\nG18 G91 G02 X=DX Z=0 CR=RAD F500\nG90 G1 X10 Z0\nRET\n");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    assert_eq!(said(&diags, "interp::unknown-value").len(), 2, "{diags:?}");
+    let (moves, diags) = run("fanuc", "O9001\nG17 G90 G0 X0 Y0\nG2 X#24 Y0 R#18 F100\nG3 X10. Y0 I#4 J0\nG1 X20.\nM99\n");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    assert!(!moves.iter().any(|m| m.starts_with("ARC_FEED")), "{moves:?}");
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_FEED(20.0000,")), "{moves:?}");
+    // With every value known, a bad arc is still an error.
+    let (_, diags) = run("fanuc", "O1\nG17 G21 G90 G0 X0 Y0\nG2 X10. Y0 R2. F100.\nM30\n");
+    assert!(errors(&diags).iter().any(|e| e.starts_with("interp::bad-arc")), "{diags:?}");
+}
