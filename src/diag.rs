@@ -214,6 +214,9 @@ codes! {
     CompGouge = ("interp::comp-gouge", Error),
     /// Cutter radius compensation without a known offset.
     CompWithoutOffset = ("interp::comp-without-offset", Warning),
+    /// A program that cuts without a tool change, with one tool in its header's tool list:
+    /// that tool is taken as the one in the spindle.
+    ToolFromList = ("plan::tool-from-list", Note),
     /// A toolpath that plan recovery could not assign to a tool.
     NoTool = ("plan::no-tool", Warning),
     /// A tool that cuts with another tool's length offset (`T4` with `G43 H3`).

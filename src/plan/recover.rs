@@ -288,7 +288,9 @@ fn apt_tool_statement(up: &str) -> Option<ToolFacts> {
     let (major, rest) = up.split_once('/')?;
     // Creo writes the cutter as a comment, `$$-> CUTTER / 20.000000`.
     let major = major.trim().trim_start_matches("->").trim();
-    if major != "TLDATA" && major != "CUTTER" {
+    // MeshCAM's header names its cutter the NX way: `(TOOL/MILL,0.106,0.053,1.0,0.0)`.
+    let tool = major == "TOOL" && (rest.trim_start().starts_with("MILL,") || rest.trim_start().starts_with("DRILL,"));
+    if major != "TLDATA" && major != "CUTTER" && !tool {
         return None;
     }
     let mut words = Vec::new();
@@ -327,8 +329,8 @@ fn apt_tool_statement(up: &str) -> Option<ToolFacts> {
 /// `POINT ANGLE=140`; only between 60° and 180°, the angles drills have.
 fn point_angle(up: &str) -> Option<f64> {
     let after = |key: &str| up.find(key).and_then(|i| number_after(&up[i + key.len()..]));
-    // `118DEG`, `140 GRAD` (German shops), `118°`.
-    let before_deg = ["DEG", "GRAD", "°"].iter().find_map(|unit| {
+    // `118DEG`, `140 GRAD` (German shops), `118°`, `140 POINT ANGLE`.
+    let before_deg = ["DEG", "GRAD", "°", " POINT"].iter().find_map(|unit| {
         let i = up.find(unit)?;
         let head = up[..i].trim_end();
         let number = &head[head.trim_end_matches(|c: char| c.is_ascii_digit() || c == '.').len()..];
@@ -755,6 +757,22 @@ impl<'p> Recovery<'p> {
         }
     }
 
+    /// A program that cuts without any tool change while its header lists exactly one tool
+    /// (a router's post: `(T1 D=6.35 CR=0. - FLAT END MILL)` and no `T1 M6`) cuts with that
+    /// tool: it is taken as the tool in the spindle, with a note. The approach moves waiting
+    /// for the first workingstep stay.
+    fn tool_of_the_list(&mut self, c: &Canon) {
+        let Some((&n, listed)) = self.listed.iter().next() else { return };
+        let msg = format!(
+            "no tool change before the first cut: the program's tool list names one tool, T{n} ({}), taken as the tool in the spindle",
+            listed.trim()
+        );
+        self.diags.push(Diagnostic::new(Code::ToolFromList, c.origin, msg));
+        let pending = std::mem::take(&mut self.pending);
+        self.change_tool(n, c.line);
+        self.pending = pending;
+    }
+
     /// The comment that best describes tool `t`, changed on `line`. The comments since the
     /// previous operation (or the program start) that name this tool or no tool are this
     /// tool's: a comment naming another tool (`T2 ...` of a header tool list) is not.
@@ -918,6 +936,9 @@ impl<'p> Recovery<'p> {
         };
         if restart {
             self.close_keeping_approach();
+            if self.tools.is_empty() && self.tool == 0 && self.listed.len() == 1 {
+                self.tool_of_the_list(c);
+            }
             if self.tools.is_empty() && self.tool == 0 {
                 self.diags.push(Diagnostic::new(
                     Code::NoTool,
@@ -1205,14 +1226,18 @@ fn is_plunge(m: &Move) -> bool {
 fn refine_phases(moves: &mut Toolpath, hole: bool) {
     // In hole making every feed makes the hole, the first plunge too (as a cycle's moves
     // after its own positioning rapid, so that a cycle that does not position is the same).
+    // In milling, the feeds down before the first cut at depth bring the tool to it: they are
+    // its approach. Feeds down that the tool leaves by going up or by a rapid (a router
+    // plunging holes with an end mill) are cuts themselves.
     let first_cut = moves.iter().position(|m| m.phase == Phase::Cut).filter(|_| !hole);
     if let Some(first) = first_cut {
-        for i in first..moves.len() {
-            match moves.get(i) {
-                Some(m) if m.phase == Phase::Cut && m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS => {
-                    moves.set_phase(i, Phase::Approach)
-                }
-                _ => break,
+        let plunging = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid && m.to[2] < m.from[2] - EPS;
+        let end = (first..moves.len()).find(|&i| !moves.get(i).is_some_and(|m| plunging(&m))).unwrap_or(moves.len());
+        // An arc at depth cuts, a full circle too (its end is its start).
+        let cuts_at_depth = moves.get(end).is_some_and(|m| m.kind == MoveKind::Arc || m.kind == MoveKind::Line && !is_lift(&m));
+        if cuts_at_depth {
+            for i in first..end {
+                moves.set_phase(i, Phase::Approach);
             }
         }
     }
@@ -1391,6 +1416,7 @@ mod tests {
         assert_eq!(point_angle("DRILL 118DEG"), Some(118.0));
         assert_eq!(point_angle("BOHRER 140 GRAD"), Some(140.0));
         assert_eq!(point_angle("SPOT 90°"), Some(90.0));
+        assert_eq!(point_angle("#3 6.8MM DRILL 140 POINT ANGLE"), Some(140.0));
         // Latin-1 read as UTF-8 puts a two-byte letter right before the unit.
         assert_eq!(point_angle("STEPPER\u{201a} TO THE 45\u{c2}°"), None);
         assert_eq!(point_angle("CHAMFER \u{c2}°"), None);
@@ -1446,6 +1472,10 @@ mod tests {
         );
         assert_eq!(f("CUTTER/50.,0,25.,0,0,0,40."), (None, Some(50.0), Some(0.0)));
         assert_eq!(f("CUTTER/10"), (None, Some(10.0), None));
+        // MeshCAM names its cutter the NX way in its header.
+        assert_eq!(f("TOOL/MILL,0.1060,0.0000,1.0000,0.0"), (Some(ToolKind::EndMill), Some(0.106), Some(0.0)));
+        assert_eq!(f("TOOL/MILL,0.2500,0.1250,1.0000,0.0"), (Some(ToolKind::BallEndMill), Some(0.25), Some(0.125)));
+        assert_eq!(f("TOOL PATH/POCKET,TOOL,EM10"), (Some(ToolKind::EndMill), Some(10.0), None));
     }
 
     #[test]

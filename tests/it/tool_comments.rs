@@ -162,3 +162,31 @@ FINI
     let a = analyze("cldata", program);
     assert_eq!(tools(&a), [(2, Some(6.8), ToolKind::TwistDrill), (4, Some(10.0), ToolKind::EndMill)]);
 }
+
+/// A router's post writes the one tool in its header and no tool change (`(T1 D=3.175 ...)`,
+/// no `T1 M6`): the cuts are that tool's, with a note, and its plunges with an end mill are
+/// holes each, the first one too. With two tools listed and no change, no tool is guessed.
+#[test]
+fn a_router_program_with_one_listed_tool_and_no_tool_change_cuts_with_it() {
+    let program = "(T1  D=3.175 CR=0 - ZMIN=-3 - flat end mill)\nG90 G94 G17 G21\nS20000 M3\nG0 X10 Y10 Z5\nG1 Z-3 F100\nG0 Z5\nX20\nG1 Z-3\nG0 Z5\nM30\n";
+    let a = analyze("linuxcnc", program);
+    assert_eq!(tools(&a), [(1, Some(3.175), ToolKind::EndMill)]);
+    assert!(a.diagnostics.iter().any(|d| d.code.as_str() == "plan::tool-from-list" && d.message.contains("T1")), "{:?}", a.diagnostics);
+    assert!(!a.diagnostics.iter().any(|d| d.code.as_str() == "plan::no-tool"), "{:?}", a.diagnostics);
+    let holes: usize = a
+        .plan
+        .features
+        .iter()
+        .map(|f| match &f.kind {
+            ncplan::plan::FeatureKind::RoundHole { diameter, positions, .. } => {
+                assert_eq!(*diameter, Some(3.175));
+                positions.len()
+            }
+            _ => 0,
+        })
+        .sum();
+    assert_eq!(holes, 2, "{:#?}", a.plan.features);
+    let two = program.replace("(T1 ", "(T2  D=6. - drill)\n(T1 ");
+    let a = analyze("linuxcnc", &two);
+    assert!(matches!(tools(&a)[..], [(0, None, _)]), "{:?}", a.plan.tools);
+}
