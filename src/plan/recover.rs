@@ -1241,6 +1241,7 @@ fn refine_phases(moves: &mut Toolpath, hole: bool) {
             }
         }
     }
+    feed_links(moves);
     for i in (0..moves.len()).rev() {
         match moves.get(i) {
             Some(m) if m.phase == Phase::Retract || (m.phase == Phase::Cut && is_lift(&m)) => moves.set_phase(i, Phase::Retract),
@@ -1252,6 +1253,38 @@ fn refine_phases(moves: &mut Toolpath, hole: bool) {
         && let Some(i) = (0..moves.len()).rev().find(|&i| moves.get(i).is_some_and(|m| m.kind != MoveKind::Rapid))
     {
         moves.set_phase(i, Phase::Cut);
+    }
+}
+
+/// Feeds that link cuts above the material, as posts write them that never use a rapid
+/// (`G1 Z2.` `X26.` `G1 Z-1.5`): a lift straight up, clear of every level cut so far and of
+/// the program zero, moves across at that height and a feed back down. They connect the cuts;
+/// the tool is out of the material. One pass over the toolpath.
+fn feed_links(moves: &mut Toolpath) {
+    let is_cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
+    let flat = |m: &Move, z: f64| (m.from[2] - z).abs() < 1e-4 && (m.to[2] - z).abs() < 1e-4;
+    let mut highest: Option<f64> = None;
+    let mut i = 0;
+    while let Some(m) = moves.get(i) {
+        let z = m.to[2];
+        let clear = highest.is_some_and(|h| z > h.max(0.0) + EPS);
+        if is_cut(&m) && m.kind == MoveKind::Line && is_lift(&m) && z > m.from[2] + EPS && clear {
+            let mut j = i + 1;
+            while moves.get(j).is_some_and(|n| is_cut(&n) && n.kind == MoveKind::Line && flat(&n, z)) {
+                j += 1;
+            }
+            if moves.get(j).is_some_and(|n| n.kind != MoveKind::Rapid && n.to[2] < n.from[2] - EPS) {
+                for k in i..j {
+                    moves.set_phase(k, Phase::Connect);
+                }
+            }
+            i = j;
+            continue;
+        }
+        if is_cut(&m) && flat(&m, z) {
+            highest = Some(highest.map_or(z, |h| h.max(z)));
+        }
+        i += 1;
     }
 }
 

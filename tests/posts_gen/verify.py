@@ -117,6 +117,9 @@ def arc_from_radius(p0, p1, r, ccw):
 # ------------------------------------------------------------------ readers
 def read_gcode(text, tools, siemens=False):
     P = Path()
+    # A router's program: no tool change, the one tool of the header is in the spindle.
+    if len(tools) == 1 and not re.search(r'\bM0?6\b', text):
+        P.tool(next(iter(tools.values())))
     motion = 0
     cycle = None
     mcall = None
@@ -696,6 +699,12 @@ def check(name):
                 else:
                     if abs(deepest - (top - f['depth'])) > 0.03:
                         errs.append('%s flat hole (%s, %s): bottom %.3f' % (name, x, y, deepest))
+                if not hs and f['bottom'] == 'flat':
+                    # A hole milled round: cut inside its wall, at its floor; the wall stays.
+                    rad = f['diameter'] / 2
+                    ring = lambda q: [(x + q * math.cos(a * math.pi / 8), y + q * math.sin(a * math.pi / 8)) for a in range(16)]
+                    expect_cut(ring(rad - 0.3) + [(x, y)], top - f['depth'], name + ' milled hole floor')
+                    expect_uncut(ring(rad + 0.3), top, name + ' milled hole wall')
                 sizes = sorted({h[3] for h in hs})
                 want = dd or f['diameter']
                 if hs and not any(abs(s - want) < 1e-6 for s in sizes) and not f.get('thread'):

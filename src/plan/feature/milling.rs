@@ -335,6 +335,9 @@ impl<'a> Cut<'a> {
         }
         let mut sorted: Vec<&Vec<Piece>> = self.loops.iter().collect();
         sorted.sort_by(|a, b| signed_area(b).abs().total_cmp(&signed_area(a).abs()));
+        if sorted.len() >= 2 && side_by_side(&sorted) {
+            return self.circle_milled_holes(cand, &sorted);
+        }
         let outer = sorted[0];
         // Nested loops entered from outside all of them run around a boss: the innermost is
         // its wall, the others roughed towards it.
@@ -355,6 +358,43 @@ impl<'a> Cut<'a> {
             return true;
         }
         self.wall(cand, sorted.last().expect("one loop at least"));
+        true
+    }
+
+    /// Loops side by side, none inside another, are several places cut alike, not one
+    /// feature's rings. Circles of one radius the tool runs inside (a climb cut inside, an
+    /// entry inside, or too tight to stand outside of) are holes milled round (`G3 I-1` at
+    /// each hole, stepping down): one round hole feature, as wide as the circle plus the tool,
+    /// at each centre. Other shapes side by side are left to the other rules (false).
+    fn circle_milled_holes(&self, cand: &mut Candidate, loops: &[&Vec<Piece>]) -> bool {
+        let circles: Option<Vec<(P2, f64)>> = loops.iter().map(|l| circle(l)).collect();
+        let Some(circles) = circles else { return false };
+        let r = circles[0].1;
+        if circles.iter().any(|(_, ri)| (ri - r).abs() > 1e-3) {
+            return false;
+        }
+        let inside_each = loops.iter().all(|l| {
+            let rotation = if signed_area(l) > 0.0 { Rotation::Ccw } else { Rotation::Cw };
+            let tight = self.radius.is_some_and(|t| r <= t + EPS);
+            // An entry outside one circle may be another's: only one inside says more than the
+            // direction does.
+            tight || self.entry_inside(l) == Some(true) || (rotation == Rotation::Ccw) != self.spindle_ccw
+        });
+        if !inside_each {
+            return false;
+        }
+        let first = circles[0].0;
+        cand.kind = FeatureKind::RoundHole {
+            diameter: self.radius.map(|t| round6(2.0 * (r + t))),
+            bottom: HoleBottom::Flat,
+            positions: circles.iter().map(|(c, _)| [round6(c[0] - first[0]), round6(c[1] - first[1])]).collect(),
+        };
+        cand.placement = [first[0], first[1], self.top];
+        if self.radius.is_none() {
+            cand.centre_path = Some((round6(2.0 * r), round6(2.0 * r)));
+        }
+        cand.operation = Operation::SideFinishMilling;
+        cand.holes = circles.iter().map(|(c, _)| *c).collect();
         true
     }
 
@@ -515,6 +555,19 @@ impl Frame {
 
 /// Climb or conventional from the loop's rotation, the spindle direction and which side of
 /// the path the material is (inside the loop for a pocket).
+/// Whether no loop lies inside another (each one's start is outside every other).
+fn side_by_side(loops: &[&Vec<Piece>]) -> bool {
+    loops.iter().enumerate().all(|(i, a)| loops.iter().enumerate().all(|(j, b)| i == j || inside(a, b[0].from) == Some(false)))
+}
+
+/// The centre and radius of a loop that is one circle: arcs about one centre all round.
+fn circle(lp: &[Piece]) -> Option<(P2, f64)> {
+    let (c, _) = lp.first()?.arc?;
+    let r = dist(lp[0].from, c);
+    let same = lp.iter().all(|p| p.arc.is_some_and(|(ci, _)| dist(ci, c) < 1e-3) && (dist(p.from, c) - r).abs() < 1e-3);
+    (same && r > EPS).then_some((c, r))
+}
+
 fn cutmode(rotation: Rotation, spindle_ccw: bool, material_outside: bool) -> CutMode {
     // M3 with the material on the right of travel is climb milling.
     let material_right = (rotation == Rotation::Ccw) == material_outside;
