@@ -179,17 +179,21 @@ fn listed_tool(comment: &str) -> Option<u32> {
 /// What a CAM tool comment states.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ToolFacts {
-    /// Diameter, mm.
+    /// Diameter, in [`ToolFacts::unit_mm`] (else the program's units).
     pub diameter: Option<f64>,
     /// Kind, from words such as `ENDMILL`, `DRILL`, `REAMER`.
     pub kind: Option<ToolKind>,
-    /// Corner radius, mm (`R0.5`, `CR=0.5`).
+    /// Corner radius (`R0.5`, `CR=0.5`), in the same units as the diameter.
     pub corner_radius: Option<f64>,
     /// Flutes (`4FL`, `Z4`, `4 FLUTE`).
     pub flutes: Option<u32>,
     /// A drill's included point angle, degrees (`TAPER=118deg` of Fusion 360's tool
     /// comments, `118DEG`, `POINT 140`).
     pub point_angle: Option<f64>,
+    /// The unit the comment states for its sizes, in mm: 1 for `6MM`, 25.4 for `1/4"` or
+    /// `.25 IN`; `None` where it states none, and the program's units apply (a Fusion inch
+    /// post writes `(T1 D=0.25 ...)`).
+    pub unit_mm: Option<f64>,
 }
 
 /// Reads a CAM tool comment such as `T1 D=18 ENDMILL`, `6MM FLAT END MILL`,
@@ -277,7 +281,8 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
             }
         }
     }
-    ToolFacts { diameter: comment_diameter(&up), kind, corner_radius, flutes, point_angle: point_angle(&up) }
+    let (diameter, unit_mm) = comment_diameter(&up).map_or((None, None), |(d, u)| (Some(d), u));
+    ToolFacts { diameter, kind, corner_radius, flutes, point_angle: point_angle(&up), unit_mm }
 }
 
 /// The facts of an APT tool statement: `TLDATA/MILL,d,r,length,taper,tip` (NX; `DRILL`
@@ -322,7 +327,7 @@ fn apt_tool_statement(up: &str) -> Option<ToolFacts> {
         .flatten()
         .filter(|a| *a > 0.0 && *a < 90.0)
         .map(|a| 180.0 - 2.0 * a);
-    Some(ToolFacts { diameter: Some(d), kind, corner_radius: r, flutes: None, point_angle })
+    Some(ToolFacts { diameter: Some(d), kind, corner_radius: r, flutes: None, point_angle, unit_mm: None })
 }
 
 /// A point angle a tool comment states: `TAPER=118DEG`, `118DEG`, `118 DEG`, `POINT 140`,
@@ -354,15 +359,49 @@ fn number_after(s: &str) -> Option<f64> {
     s[..end].parse::<f64>().ok()
 }
 
-fn comment_diameter(up: &str) -> Option<f64> {
+/// The unit a number's text states right after it: `MM` (1), `"`, `IN` or `INCH` (25.4).
+fn unit_after(s: &str) -> Option<f64> {
+    let s = s.trim_start_matches([' ', '=', ':']);
+    let rest = s.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.').trim_start();
+    if rest.starts_with("MM") {
+        Some(1.0)
+    } else if rest.starts_with('"') || rest.starts_with("IN") && !rest[2..].starts_with(|c: char| c.is_ascii_alphabetic() && c != 'C') {
+        Some(25.4)
+    } else {
+        None
+    }
+}
+
+/// An inch fraction naming a tool's size (`1/4"`, `5/16 SPOT DRILL`), in inches.
+fn inch_fraction(word: &str) -> Option<f64> {
+    let (a, b) = word.trim_end_matches('"').split_once('/')?;
+    let (a, b) = (a.parse::<u32>().ok()?, b.parse::<u32>().ok()?);
+    ([2, 4, 8, 16, 32, 64].contains(&b) && a > 0 && a < 4 * b).then(|| f64::from(a) / f64::from(b))
+}
+
+/// The tool's diameter a comment states, and the unit it states it in (see
+/// [`ToolFacts::unit_mm`]).
+fn comment_diameter(up: &str) -> Option<(f64, Option<f64>)> {
     let number = |s: &str| number_after(s).filter(|v| *v > 0.0 && *v < 1000.0);
     for key in ["DIAMETER", "DIA", "Ø", "D="] {
         if let Some(i) = up.find(key) {
-            if let Some(v) = number(&up[i + key.len()..]) {
-                return Some(v);
+            let after = &up[i + key.len()..];
+            if let Some(v) = number(after) {
+                return Some((v, unit_after(after)));
             }
         }
     }
+    // Inch fractions, as shops name drills and end mills (`1/4" DRILL`, `3/8 END MILL`).
+    let fraction = up.split(|c: char| c.is_whitespace() || matches!(c, '|' | '(' | ')' | ',' | '-' | '=')).find_map(inch_fraction);
+    if let Some(v) = fraction {
+        return Some((v, Some(25.4)));
+    }
+    comment_diameter_bare(up).map(|v| (v, None)).or_else(|| comment_diameter_mm(up))
+}
+
+/// A bare number before the tool's kind, or `D18` as a word of its own.
+fn comment_diameter_bare(up: &str) -> Option<f64> {
+    let number = |s: &str| number_after(s).filter(|v| *v > 0.0 && *v < 1000.0);
     // A bare number naming the tool before its kind (Mastercam `T1 | 10. FLAT ENDMILL | H1 | D1`).
     let words: Vec<&str> = up.split(|c: char| c.is_whitespace() || matches!(c, '|' | '(' | ')' | ',')).filter(|w| !w.is_empty()).collect();
     const KINDS: [&str; 13] = ["FLAT", "END", "BALL", "BULL", "DRILL", "SPOT", "CENTER", "CHAMFER", "FACE", "REAM", "TAP", "BORE", "MILL"];
@@ -383,13 +422,17 @@ fn comment_diameter(up: &str) -> Option<f64> {
                 }
             }
         }
-        if let Some(num) = word.strip_suffix("MM") {
-            if let Some(v) = number(num) {
-                return Some(v);
-            }
-        }
     }
     em_word(up)
+}
+
+/// A size with `MM` after it (`REAMER_22MM`, `6MM FLAT END MILL`): millimetres, whatever the
+/// program's units.
+fn comment_diameter_mm(up: &str) -> Option<(f64, Option<f64>)> {
+    up.split(|c: char| c.is_whitespace() || matches!(c, ',' | '-' | '_' | '(' | ')' | '"' | '\'' | ';'))
+        .filter_map(|w| w.strip_suffix("MM"))
+        .find_map(|num| number_after(num).filter(|v| *v > 0.0 && *v < 1000.0))
+        .map(|v| (v, Some(1.0)))
 }
 
 /// How many comments since the previous operation the next tool change looks at.
@@ -887,10 +930,12 @@ impl<'p> Recovery<'p> {
         {
             t.name.get_or_insert_with(|| comment.to_owned());
             let mut facts = parse_tool_comment(comment);
-            // A tool statement's numbers are in the program's units.
-            if apt_tool_statement(&comment.to_ascii_uppercase()).is_some() {
-                facts.diameter = facts.diameter.map(|d| round_sig(d * self.k));
-                facts.corner_radius = facts.corner_radius.map(|r| round_sig(r * self.k));
+            // A comment's sizes are in the program's units unless it states its own (`6MM`,
+            // `1/4"`): a Fusion inch post writes `(T1 D=0.25 ...)`.
+            let k = facts.unit_mm.unwrap_or(self.k);
+            if k != 1.0 {
+                facts.diameter = facts.diameter.map(|d| round_sig(d * k));
+                facts.corner_radius = facts.corner_radius.map(|r| round_sig(r * k));
             }
             if t.point_angle.is_none() && t.diameter.is_none() {
                 t.point_angle = facts.point_angle;
@@ -1127,9 +1172,14 @@ impl<'p> Recovery<'p> {
 
     fn finish(&mut self, mut b: Builder) {
         refine_phases(&mut b.moves, b.operation.is_hole());
-        // The highest rapid on the way in or between cuts; the retract may go home.
+        // The highest rapid on the way in or between cuts (or feed link between cuts, see
+        // `feed_links`); the retract may go home.
         let rapid_z = |phases: &[Phase]| {
-            b.moves.iter().filter(|m| m.kind == MoveKind::Rapid && phases.contains(&m.phase)).map(|m| m.to[2]).reduce(f64::max)
+            b.moves
+                .iter()
+                .filter(|m| (m.kind == MoveKind::Rapid || m.phase == Phase::Connect) && phases.contains(&m.phase))
+                .map(|m| m.to[2])
+                .reduce(f64::max)
         };
         let security_plane = rapid_z(&[Phase::Approach, Phase::Connect])
             .or_else(|| rapid_z(&[Phase::Retract, Phase::Cut]))

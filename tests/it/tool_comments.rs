@@ -190,3 +190,23 @@ fn a_router_program_with_one_listed_tool_and_no_tool_change_cuts_with_it() {
     let a = analyze("linuxcnc", &two);
     assert!(matches!(tools(&a)[..], [(0, None, _)]), "{:?}", a.plan.tools);
 }
+
+/// A comment's sizes are in the program's units unless it states its own: a Fusion inch post
+/// writes `(T1 D=0.25 ...)` for a quarter-inch end mill, shops name drills by inch fractions
+/// (`1/4" DRILL`) and give a metric size with `MM` in an inch program.
+#[test]
+fn tool_comment_sizes_follow_the_programs_units_unless_they_state_their_own() {
+    let program = "%\nO1000\n(T1 D=0.25 CR=0. - ZMIN=-0.2 - flat end mill)\n(T2 = 1/4\" DRILL, 140 Point Angle)\n(T3 6MM FLAT END MILL)\n\
+                   G20 G90 G17\nT1 M6\nS8000 M3\nG0 X0 Y0 Z0.2\nG1 Z-0.2 F10.\nX2.\nY1.\nX0\nY0\nG0 Z0.5\n\
+                   T2 M6\nS1500 M3\nG0 X3. Y3. Z0.1\nG81 Z-0.5 R0.1 F5.\nG80\n\
+                   T3 M6\nS6000 M3\nG0 X5. Y5. Z0.1\nG1 Z-0.1 F5.\nX6.\nG0 Z0.5\nM30\n%\n";
+    let a = analyze("fanuc", program);
+    let t = tools(&a);
+    assert_eq!(t[0].1, Some(6.35), "{t:?}");
+    assert_eq!(t[1].1, Some(6.35), "{t:?}");
+    assert_eq!(t[2].1, Some(6.0), "{t:?}");
+    assert_eq!(a.plan.tools[1].point_angle, Some(140.0));
+    // The same comment in a metric program is millimetres.
+    let metric = program.replace("G20", "G21");
+    assert_eq!(tools(&analyze("fanuc", &metric))[0].1, Some(0.25));
+}
