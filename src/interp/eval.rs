@@ -32,6 +32,8 @@ pub enum UnknownSource {
     Numbered(u32),
     /// A named parameter (`_X_HOME`, a `PROC` argument).
     Named(String),
+    /// A text literal (`"X1"`): text values are not evaluated.
+    Text,
 }
 
 /// Numbered and named parameters.
@@ -279,6 +281,10 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
             if is_unknown(n) { UNKNOWN } else { params.get(n)? }
         }
         Expr::Named(r) => params.get_named(&normalised(block.text(r)))?,
+        Expr::Text(_) => {
+            params.note_unknown(|| UnknownSource::Text);
+            UNKNOWN
+        }
         Expr::NamedIndex(r, index) => {
             let i = eval(block, index, params)?;
             params.get_named(&format!("{}[{}]", normalised(block.text(r)), i))?

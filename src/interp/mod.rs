@@ -1433,6 +1433,7 @@ impl<'a> Interpreter<'a> {
                 }
             }
             Some(eval::UnknownSource::Named(name)) => format!("`{name}`, which the caller or the control's global data sets"),
+            Some(eval::UnknownSource::Text) => "a text value, which the analysis does not compare".to_owned(),
             None => "a value set outside this file".to_owned(),
         }
     }

@@ -167,6 +167,10 @@ pub enum Expr {
     Param(ExprId),
     /// A named parameter (`#<depth>`); the range covers the name.
     Named(TextRange),
+    /// A text literal in an expression (Siemens `IF MSG=="DONE"`, `$MN_HW_SERIAL_NUMBER <>
+    /// "X1"`); the range covers the text inside the quotes. Text values are not evaluated:
+    /// it reads as a value the analysis does not know.
+    Text(TextRange),
     /// An element of a named array (`VTOFD[1]`); the range covers the name.
     NamedIndex(TextRange, ExprId),
     /// A function of one argument.

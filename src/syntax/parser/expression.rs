@@ -111,6 +111,10 @@ impl Lexer<'_, '_> {
                 Some(self.push(Expr::Num(v)))
             }
             c if Some(c) == expr_open => self.bracketed(depth, start),
+            c if Some(c) == self.dialect.lexical.string_quote.map(|q| q as u8) => {
+                let r = self.string(start)?;
+                Some(self.push(Expr::Text(r)))
+            }
             c if self.at_parameter(c, expr_open) => self.parameter(depth, start),
             c if self.at_variable(c, expr_open) => self.variable(depth, expr_open),
             c if c.is_ascii_alphabetic() => self.function_call(depth, start),
