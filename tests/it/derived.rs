@@ -1029,3 +1029,14 @@ fn live_tool_drilling_cycles_on_lathes_are_read() {
     assert!(!diags.iter().any(|d| d.code.as_str() == "syntax::unused-word"), "{diags:?}");
     assert_eq!(Registry::shipped().sniff(haas, Some("O01000.NC"), "fanuc").dialect, "haas_lathe");
 }
+
+/// OSP-L's graphic display commands (`CLEAR`, `DRAW`) are a lathe's: a bar-puller
+/// subprogram with nothing else lathe-specific is read as the Okuma lathe, where they are
+/// statements, not as the machining centre, where they are not.
+#[test]
+fn okuma_lathe_graphics_commands_tell_the_lathe() {
+    let program = "$OPULL.SSB%\nOPULL\nVC1=100\nCLEAR\nDRAW\nG0 X50 Z10\nG1 Z-20 F0.2\nRTS\n%\n";
+    assert_eq!(Registry::shipped().sniff(program, Some("OPULL.SSB"), "fanuc").dialect, "okuma_lathe");
+    let (_, errors) = canon("okuma_lathe", program);
+    assert!(errors.is_empty(), "{errors:?}");
+}
