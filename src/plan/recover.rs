@@ -1465,6 +1465,15 @@ pub fn parse_stock(comment: &str) -> Option<[P3; 2]> {
         }
     }
     let axis = |l: Option<u8>| l.map(|l| usize::from(l - b'X'));
+    // MeshCAM's `(STOCK/BLOCK, w, l, h, x, y, z)`: the size, then where the program's zero
+    // lies from the stock's lowest corner (`0, 0, h`: the top of the lower left corner).
+    if up.contains("STOCK/BLOCK") && numbers.len() == 6 && letters.iter().all(Option::is_none) {
+        let (size, zero) = ([numbers[0], numbers[1], numbers[2]], [numbers[3], numbers[4], numbers[5]]);
+        return size
+            .iter()
+            .all(|s| *s > 0.0)
+            .then(|| [[-zero[0], -zero[1], -zero[2]], [size[0] - zero[0], size[1] - zero[1], size[2] - zero[2]]]);
+    }
     match numbers.len() {
         6 if letters.iter().all(Option::is_some) => {
             let mut min = [f64::INFINITY; 3];
@@ -1493,6 +1502,12 @@ pub fn parse_stock(comment: &str) -> Option<[P3; 2]> {
 mod tests {
     use super::{parse_stock, parse_tool_comment, point_angle};
     use crate::plan::ToolKind;
+
+    #[test]
+    fn meshcam_stock_blocks() {
+        assert_eq!(parse_stock("STOCK/BLOCK, 9.250, 4.750, 0.190, -0.000, -0.000, 0.190"), Some([[0.0, 0.0, -0.19], [9.25, 4.75, 0.0]]));
+        assert_eq!(parse_stock("STOCK/BLOCK, 100, 60, 20, 50, 30, 20"), Some([[-50.0, -30.0, -20.0], [50.0, 30.0, 0.0]]));
+    }
 
     #[test]
     fn point_angles_before_a_unit_in_any_encoding() {

@@ -347,3 +347,21 @@ fn an_arc_shaped_by_the_callers_values_is_not_an_error() {
     let (_, diags) = run("fanuc", "O1\nG17 G21 G90 G0 X0 Y0\nG2 X10. Y0 R2. F100.\nM30\n");
     assert!(errors(&diags).iter().any(|e| e.starts_with("interp::bad-arc")), "{diags:?}");
 }
+
+/// Argument guards that all jump to one alarm block (`IF [#18 EQ #0] GOTO 800` … `GOTO 800`
+/// after the accepted cases) and a retry loop on an input (`IF [#1004 EQ 0] GOTO 9`
+/// `#33=#33+1` `IF [#33 LT 4] GOTO 1` `#3000=146`): analysed alone, the way a successful call
+/// goes is taken at each condition; called with a missing argument, the alarm is raised.
+#[test]
+fn guards_that_jump_to_a_shared_alarm_block_take_the_successful_way() {
+    let library = std::fs::read_to_string(crate::root().join("tests/programs/shops/fanuc/guarded_measure_macro.nc")).unwrap();
+    let (_, diags) = run("fanuc", &library);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let notes = said(&diags, "flow::unknown-condition");
+    assert!(notes.iter().any(|m| m.contains("`IF[#33EQ100.]GOTO3`") && m.contains("taken as true")), "{notes:?}");
+    assert!(notes.iter().any(|m| m.contains("`IF[#1004EQ0]GOTO9`") && m.contains("taken as true")), "{notes:?}");
+    // Called without R, the guard raises the alarm.
+    let main = format!("O1000\nG21 G90 G54\nG65 P7301 X10. Z-5.\nM30\n{}", library.trim_start_matches("%\n"));
+    let (_, diags) = run("fanuc", &main);
+    assert!(errors(&diags).iter().any(|e| e.starts_with("interp::alarm") && e.contains("ARGUMENTS")), "{diags:?}");
+}

@@ -901,8 +901,17 @@ impl<'a> Driver<'a, '_> {
 
     /// Where the way on from `from` goes, block after block, up to its first statement
     /// (at most [`ALARM_SCAN`] blocks): into an alarm, back to `from` or before it by a jump
-    /// that is always taken (`GOTO 10`, `FN 9: IF +0 EQU +0 GOTO LBL 1`), or elsewhere.
+    /// that is always taken (`GOTO 10`, `FN 9: IF +0 EQU +0 GOTO LBL 1`), or elsewhere. A
+    /// conditional jump into an alarm on the way is passed (a successful run does not take
+    /// it): `IF [#890 EQ 3] GOTO 2` `IF [#890 EQ 4] GOTO 3` (N3 alarms) `G4` `GOTO 1` is a way
+    /// back round the loop from the first condition. So is a conditional jump back, a loop's
+    /// end that a run leaves: `IF [#1004 EQ 0] GOTO 999` `#33=#33+1` `IF [#33 LT 4] GOTO 1`
+    /// `#3000=146` is a way into the alarm.
     fn fall_through(&mut self, from: Pos, interp: &mut Interpreter<'a>) -> Way {
+        self.fall_through_within(from, interp, 0)
+    }
+
+    fn fall_through_within(&mut self, from: Pos, interp: &mut Interpreter<'a>, depth: u32) -> Way {
         let mut p = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let (mut b, mut scratch) = (Block::default(), Vec::new());
         for _ in 0..ALARM_SCAN {
@@ -932,13 +941,24 @@ impl<'a> Driver<'a, '_> {
                 }),
                 _ => false,
             };
-            if !always {
-                return Way::On;
-            }
             // Where it jumps to, seen from the jump's own block.
             let at = Pos { at: p.offset(), line: p.line() };
+            if !always {
+                let target = (c.statement == Some(Statement::If) && jump && depth < 2).then(|| self.jump_target_from(&c, &b, interp, at));
+                match target.flatten() {
+                    // A conditional jump back ends a loop (`IF [#33 LT 4] GOTO 1`, a retry
+                    // count): a run that ends leaves the loop there, so its way goes on past it.
+                    Some(t) if t.at < at.at => continue,
+                    Some(t) if t.at > from.at && (self.alarm_at(t) || self.fall_through_within(t, interp, depth + 1) == Way::Alarm) => {
+                        continue;
+                    }
+                    _ => return Way::On,
+                }
+            }
             return match self.jump_target_from(&c, &b, interp, at) {
                 Some(t) if t.at <= from.at => Way::Back,
+                // `GOTO 800` where N800 raises the alarm (an argument check's last word).
+                Some(t) if depth < 2 && (self.alarm_at(t) || self.fall_through_within(t, interp, depth + 1) == Way::Alarm) => Way::Alarm,
                 _ => Way::On,
             };
         }
