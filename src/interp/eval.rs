@@ -309,6 +309,12 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
             }
             zero_if_null(y).atan2(zero_if_null(x)).to_degrees()
         }
+        // Text joined with text: not evaluated (its operands are read, for their own notes).
+        Expr::Binary(BinOp::Concat, a, b) => {
+            let _ = (eval(block, a, params)?, eval(block, b, params)?);
+            params.note_unknown(|| UnknownSource::Text);
+            UNKNOWN
+        }
         Expr::Binary(op, a, b) => binary(op, eval(block, a, params)?, eval(block, b, params)?)?,
     })
 }
@@ -431,5 +437,7 @@ fn binary_value(op: BinOp, a: f64, b: f64, truth: impl Fn(bool) -> f64) -> Resul
         BinOp::And => truth(a != 0.0 && b != 0.0),
         BinOp::Or => truth(a != 0.0 || b != 0.0),
         BinOp::Xor => truth((a != 0.0) != (b != 0.0)),
+        // Text is not evaluated (see `eval`).
+        BinOp::Concat => UNKNOWN,
     })
 }

@@ -124,6 +124,8 @@ pub enum BinOp {
     Or,
     /// `XOR`
     Xor,
+    /// `<<`: joins two values as text (Siemens `"PART "<<N`); text is not evaluated.
+    Concat,
 }
 
 impl BinOp {
@@ -132,7 +134,7 @@ impl BinOp {
         match self {
             BinOp::Pow => 5,
             BinOp::Mul | BinOp::Div | BinOp::Mod => 4,
-            BinOp::Add | BinOp::Sub => 3,
+            BinOp::Add | BinOp::Sub | BinOp::Concat => 3,
             BinOp::Eq | BinOp::Ne | BinOp::Gt | BinOp::Ge | BinOp::Lt | BinOp::Le => 2,
             BinOp::And | BinOp::Or | BinOp::Xor => 1,
         }

@@ -1040,3 +1040,19 @@ fn okuma_lathe_graphics_commands_tell_the_lathe() {
     let (_, errors) = canon("okuma_lathe", program);
     assert!(errors.is_empty(), "{errors:?}");
 }
+
+/// Siemens `ATAN2(y, x)` is the arc tangent of two arguments in degrees; `<<` joins text,
+/// which is not evaluated (a variable first too: `LINE=NAME<<"["<<N<<"]"`).
+#[test]
+fn siemens_atan2_and_text_joins() {
+    let (text, errors) = canon(
+        "siemens",
+        "DEF REAL ANG\nDEF STRING[40] LINE\nANG=ATAN2(30,30)\nLINE=\"A\"<<ANG\nLINE=LINE<<\"[\"<<ANG<<\"]\"\nG0 X=ANG\nM30\n",
+    );
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(text.contains("STRAIGHT_TRAVERSE(45.0000,"), "{text}");
+    // Fanuc's two-argument form in brackets still reads.
+    let (text, errors) = canon("fanuc", "#1=ATAN[1,-1]\nG0 X#1\nM30\n");
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(text.contains("STRAIGHT_TRAVERSE(135.0000,"), "{text}");
+}

@@ -58,6 +58,7 @@ impl Lexer<'_, '_> {
                 let (op, len) = match (c, next) {
                     (b'=', Some(b'=')) => (BinOp::Eq, 2),
                     (b'<', Some(b'>')) => (BinOp::Ne, 2),
+                    (b'<', Some(b'<')) => (BinOp::Concat, 2),
                     (b'<', Some(b'=')) => (BinOp::Le, 2),
                     (b'>', Some(b'=')) => (BinOp::Ge, 2),
                     (b'<', _) => (BinOp::Lt, 1),
@@ -201,8 +202,13 @@ impl Lexer<'_, '_> {
     /// in brackets, or bare where the dialect allows (`SIN +Q1`).
     fn function_call(&mut self, depth: u32, start: usize) -> Option<ExprId> {
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
-        let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+        let mut end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
+        // Siemens `ATAN2(y, x)`: the arc tangent of two arguments, by its own name.
+        if self.b.get(end) == Some(&b'2') && self.text[self.i..end].eq_ignore_ascii_case("ATAN") {
+            end += 1;
+        }
         let word = self.text[self.i..end].to_ascii_uppercase();
+        let word = if word == "ATAN2" { "ATAN".to_owned() } else { word };
         let Some(func) = Func::named(&word) else {
             self.error(Code::MalformedExpression, start, end, format!("unknown function `{word}`"));
             self.i = end;
@@ -305,11 +311,12 @@ impl Lexer<'_, '_> {
 
     /// Whether the bracket at the cursor holds a comma at its own nesting level.
     fn has_comma_before_close(&self) -> bool {
+        let (open, close) = (self.dialect.lexical.expression.map_or(b'[', |(o, _)| o as u8), self.expr_close());
         let mut depth = 0u32;
         for &c in &self.b[self.i..self.line_end()] {
             match c {
-                b'[' => depth += 1,
-                b']' => {
+                c if c == open => depth += 1,
+                c if c == close => {
                     depth = depth.saturating_sub(1);
                     if depth == 0 {
                         return false;
