@@ -210,3 +210,22 @@ fn tool_comment_sizes_follow_the_programs_units_unless_they_state_their_own() {
     let metric = program.replace("G20", "G21");
     assert_eq!(tools(&analyze("fanuc", &metric))[0].1, Some(0.25));
 }
+
+/// MeshCAM's header: the cutter as `TOOL/MILL,d,r,l,a` and the stock as `STOCK/BLOCK, w, l,
+/// h, x, y, z` (the program zero from the stock's lowest corner). Plunges through a plate
+/// 0.19" thick make through holes as deep as the plate, as wide as the cutter.
+#[test]
+fn a_meshcam_header_gives_the_cutter_and_the_plate() {
+    let program = "%\n(TOOL/MILL,0.1060,0,1.0000,0.0)\nG20\n(STOCK/BLOCK, 4.000, 2.000, 0.190, -0.000, -0.000, 0.190)\nM6 T1\nM3 S10000\n\
+                   G0X0.0000Y0.0000Z0.1000\nG0X1.0000Y1.0000\nG1Z-0.2050F1.0\nG0Z0.1000\nG0X2.0000Y1.0000\nG1Z-0.2050F1.0\nG0Z0.1000\nM30\n%\n";
+    let a = analyze("fanuc", program);
+    assert_eq!(tools(&a), [(1, Some(2.6924), ToolKind::EndMill)]);
+    let f = &a.plan.features[0];
+    match &f.kind {
+        ncplan::plan::FeatureKind::RoundHole { diameter, bottom, positions } => {
+            assert_eq!((*diameter, *bottom, positions.len()), (Some(2.6924), ncplan::plan::HoleBottom::Through, 2));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!((f.depth - 4.826).abs() < 1e-9, "{}", f.depth);
+}

@@ -103,6 +103,11 @@ pub(super) fn plunged_holes(ws: &Workingstep, tool: Option<&Tool>, stock: Option
     } else {
         HoleBottom::Flat
     };
+    // A through hole is as deep as the stock below its top, as a drilled one is.
+    let depth = match (bottom_kind, stock) {
+        (HoleBottom::Through, Some(s)) => top - s.origin[2],
+        _ => top - bottom,
+    };
     Some(Candidate {
         kind: FeatureKind::RoundHole {
             diameter: Some(d),
@@ -110,7 +115,7 @@ pub(super) fn plunged_holes(ws: &Workingstep, tool: Option<&Tool>, stock: Option
             positions: at.iter().map(|p| [p[0] - first[0], p[1] - first[1]]).collect(),
         },
         placement: [first[0], first[1], top],
-        depth: round6(top - bottom),
+        depth: round6(depth),
         top_inferred,
         sources: Sources { size: Source::of_tool(tool), top: top_source, point_angle: None },
         centre_path: None,
