@@ -1020,20 +1020,38 @@ impl<'a> Driver<'a, '_> {
         true
     }
 
-    /// The numbered parameters condition `e` of `block` reads by number (`#890`, `R5`).
+    /// The outside variables (the dictionary's `outside-variables`) condition `e` of `block`
+    /// reads by number (`#890`, `R5`). Without allocation: conditions run in every loop round.
     fn note_reads(&mut self, block: &Block, e: ExprId) {
-        let mut stack = vec![e];
-        while let Some(i) = stack.pop() {
-            match block.exprs.get(i as usize) {
+        let outside = &self.dialect.macros.outside;
+        if outside.is_empty() {
+            return;
+        }
+        // Conditions are small: a fixed stack, and what does not fit is not looked into.
+        let mut stack = [e; 16];
+        let mut len = 1;
+        while len > 0 {
+            len -= 1;
+            let (a, b) = match block.exprs.get(stack[len] as usize) {
                 Some(&Expr::Param(n)) => match block.exprs.get(n as usize) {
                     Some(&Expr::Num(v)) if v >= 0.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => {
-                        self.cond_reads.insert(v as u32);
+                        let v = v as u32;
+                        if outside.iter().any(|&(lo, hi)| (lo..=hi).contains(&v)) {
+                            self.cond_reads.insert(v);
+                        }
+                        continue;
                     }
-                    _ => stack.push(n),
+                    _ => (Some(n), None),
                 },
-                Some(&(Expr::Unary(_, a) | Expr::NamedIndex(_, a))) => stack.push(a),
-                Some(&(Expr::Binary(_, a, b) | Expr::Atan2(a, b))) => stack.extend([a, b]),
-                _ => {}
+                Some(&(Expr::Unary(_, a) | Expr::NamedIndex(_, a))) => (Some(a), None),
+                Some(&(Expr::Binary(_, a, b) | Expr::Atan2(a, b))) => (Some(a), Some(b)),
+                _ => continue,
+            };
+            for x in [a, b].into_iter().flatten() {
+                if len < stack.len() {
+                    stack[len] = x;
+                    len += 1;
+                }
             }
         }
     }
@@ -1045,14 +1063,9 @@ impl<'a> Driver<'a, '_> {
     /// unknown, with a warning, and the loop's condition then takes the way a run that ends
     /// takes. False when there is no such variable, or all are unknown already.
     fn waits_for_outside(&mut self, interp: &mut Interpreter<'a>, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
-        let outside = &self.dialect.macros.outside;
-        let waited: Vec<u32> = self
-            .cond_reads
-            .iter()
-            .copied()
-            .filter(|n| outside.iter().any(|&(a, b)| (a..=b).contains(n)))
-            .filter(|&n| interp.params.get(f64::from(n)).is_ok_and(|v| !eval::is_unknown(v)))
-            .collect();
+        // `cond_reads` holds outside variables only (see `note_reads`).
+        let waited: Vec<u32> =
+            self.cond_reads.iter().copied().filter(|&n| interp.params.get(f64::from(n)).is_ok_and(|v| !eval::is_unknown(v))).collect();
         if waited.is_empty() {
             return false;
         }
