@@ -386,6 +386,10 @@ fn comment_diameter(up: &str) -> Option<(f64, Option<f64>)> {
     for key in ["DIAMETER", "DIA", "Ø", "D="] {
         if let Some(i) = up.find(key) {
             let after = &up[i + key.len()..];
+            let word = after.trim_start_matches([' ', '=', ':']).split(|c: char| c.is_whitespace() || matches!(c, ',' | ')')).next();
+            if let Some(v) = word.and_then(inch_fraction) {
+                return Some((v, Some(25.4)));
+            }
             if let Some(v) = number(after) {
                 return Some((v, unit_after(after)));
             }
@@ -1515,6 +1519,21 @@ mod tests {
         assert_eq!(point_angle("BOHRER 140 GRAD"), Some(140.0));
         assert_eq!(point_angle("SPOT 90°"), Some(90.0));
         assert_eq!(point_angle("#3 6.8MM DRILL 140 POINT ANGLE"), Some(140.0));
+    }
+
+    #[test]
+    fn tool_comment_units() {
+        let f = |s: &str| {
+            let f = parse_tool_comment(s);
+            (f.diameter, f.unit_mm)
+        };
+        assert_eq!(f("T1 D=0.25 CR=0. - FLAT END MILL"), (Some(0.25), None));
+        assert_eq!(f("T2 D=1/4 DRILL"), (Some(0.25), Some(25.4)));
+        assert_eq!(f("T07 = 1/4\" DRILL, 140 POINT ANGLE"), (Some(0.25), Some(25.4)));
+        assert_eq!(f("5/16 SPOT DRILL"), (Some(0.3125), Some(25.4)));
+        assert_eq!(f("6MM FLAT END MILL"), (Some(6.0), Some(1.0)));
+        assert_eq!(f("DIA 0.5 IN BALL"), (Some(0.5), Some(25.4)));
+        assert_eq!(f("DATE 12/03/2026 T1 D=10"), (Some(10.0), None));
         // Latin-1 read as UTF-8 puts a two-byte letter right before the unit.
         assert_eq!(point_angle("STEPPER\u{201a} TO THE 45\u{c2}°"), None);
         assert_eq!(point_angle("CHAMFER \u{c2}°"), None);
