@@ -92,6 +92,12 @@ pub(super) struct Corners {
 }
 
 impl Corners {
+    /// A stage opened in the middle of a run (at the first corner word): the tool is at `pos`
+    /// (as the canonical calls have it) in `plane`.
+    pub(super) fn starting_at(plane: Plane, pos: [f64; 6]) -> Corners {
+        Corners { pos: Some(pos), plane: Some(plane), ..Corners::default() }
+    }
+
     /// A corner block: the corner at the end of the held move is to be rounded or chamfered.
     pub(super) fn mark(&mut self, corner: Corner, origin: TextRange, line: u32) {
         if self.held.is_none() || self.pending.is_some() {

@@ -663,23 +663,20 @@ pub(super) fn reads_named(block: &Block) -> bool {
     block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)))
 }
 
-/// The corner stage, where the dialect has corner blocks or corner words (`RND`, `CHF`,
-/// `APPR`); none, and no cost, elsewhere.
+/// The corner stage from the start, where the dialect has corner blocks (`RND`, `CHF`,
+/// `APPR`): the move before such a block must be held. Corner words (`,R5`, `RND=5`) open it
+/// at their first block instead (see [`Interpreter::open_corner_stage`]), so that the many
+/// programs without them keep the fast lane.
 fn corner_stage(dialect: &Dialect) -> Option<corner::Corners> {
     dialect
         .codes
         .iter()
         .any(|c| matches!(c.meaning, Meaning::CornerRound | Meaning::CornerChamfer | Meaning::ApproachTangent | Meaning::ApproachNormal))
-        .then_some(())
-        .or_else(|| {
-            dialect
-                .addresses
-                .iter()
-                .any(|a| matches!(a.role, Role::CornerRadius | Role::CornerChamfer | Role::CornerChamferLength))
-                .then_some(())
-        })
-        .map(|()| corner::Corners::default())
+        .then(corner::Corners::default)
 }
+
+/// The roles of corner words, as bits of `Interpreter::filled`.
+const CORNER_WORDS: u128 = 1 << Role::CornerRadius as u32 | 1 << Role::CornerChamfer as u32 | 1 << Role::CornerChamferLength as u32;
 
 /// What decides how a run goes on from a point: the parameters, the modes, the saved modes
 /// and the call depth. Equal readings at two passes of the same jump mean the stretch between
@@ -1154,6 +1151,24 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// Opens the corner stage at the first block with a corner word (`X50 ,R5`): its move is
+    /// held until the next one shows the corner. The stage starts where the tool is.
+    fn open_corner_stage(&mut self) {
+        if self.corners.get_mut().is_some() {
+            return;
+        }
+        let at = self.sent.get();
+        let at = if self.st.rotation.is_some() || self.st.scaling.is_some() {
+            match self.transform(CanonOp::StraightTraverse(at)) {
+                CanonOp::StraightTraverse(p) => p,
+                _ => at,
+            }
+        } else {
+            at
+        };
+        *self.corners.get_mut() = Some(corner::Corners::starting_at(self.st.plane, at));
+    }
+
     fn slot(&self, role: Role) -> Option<f64> {
         self.slots[role as usize].map(|s| s.value)
     }
@@ -1258,6 +1273,9 @@ impl<'a> Interpreter<'a> {
             return;
         }
         let motions = self.motions;
+        if self.filled & CORNER_WORDS != 0 {
+            self.open_corner_stage();
+        }
         if self.is_plain(block) {
             // The common block: axis words only, so only the motion step has work.
             self.step(Step::Motion, block, sink, diags);
@@ -1320,13 +1338,7 @@ impl<'a> Interpreter<'a> {
             && block.comments.is_empty()
             && self.stop_message.is_none()
             && self.filled
-                & (1 << Role::F as u32
-                    | 1 << Role::S as u32
-                    | 1 << Role::T as u32
-                    | 1 << Role::SpindleLimit as u32
-                    | 1 << Role::CornerRadius as u32
-                    | 1 << Role::CornerChamfer as u32
-                    | 1 << Role::CornerChamferLength as u32)
+                & (1 << Role::F as u32 | 1 << Role::S as u32 | 1 << Role::T as u32 | 1 << Role::SpindleLimit as u32 | CORNER_WORDS)
                 == 0
     }
 
