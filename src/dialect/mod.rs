@@ -569,12 +569,6 @@ impl Macros {
     pub fn system_var(&self, n: u32) -> Option<SystemVar> {
         self.system.iter().find(|&&(k, _)| k == n).map(|&(_, v)| v)
     }
-
-    /// Whether writing the named variable `key` (normalised, an element as `vdout[992]`)
-    /// raises an alarm (Okuma `VDOUT[992]=1004`).
-    pub fn is_named_alarm(&self, key: &str) -> bool {
-        self.system_named.iter().any(|(n, v, _)| *v == SystemVar::Alarm && n == key)
-    }
 }
 
 /// An address: a letter or a multi-letter name and the role its value plays.

@@ -1510,14 +1510,7 @@ impl<'a> Interpreter<'a> {
                     let name = eval::normalised(block.text(name));
                     match index {
                         // The key a read of `name[i]` looks up (`eval`).
-                        Some(i) => {
-                            let key = format!("{name}[{i}]");
-                            if self.dialect.macros.is_named_alarm(&key) {
-                                self.alarm(block, 0.0, value, range, diags);
-                            } else {
-                                self.params.set_named(&key, value);
-                            }
-                        }
+                        Some(i) => self.params.set_named(&format!("{name}[{i}]"), value),
                         None => {
                             self.params.set_named(&name, value);
                             self.params.derive(eval::UnknownSource::Named(name.into_owned()), origin);

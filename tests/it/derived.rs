@@ -1056,19 +1056,3 @@ fn siemens_atan2_and_text_joins() {
     assert!(errors.is_empty(), "{errors:?}");
     assert!(text.contains("STRAIGHT_TRAVERSE(135.0000,"), "{text}");
 }
-
-/// Okuma's user alarm: the message in `VUACM[1]`, the number written to `VDOUT[992]`, then a
-/// jump to itself. Reached, it is the program's alarm (not an endless loop); not reached, the
-/// program runs on.
-#[test]
-fn okuma_user_alarms_are_alarms() {
-    let program = "OCHK\nVC1=0\nIF[VC1 EQ 0] NER1\nG0 X10 Z10\nRTS\nNER1\nVUACM[1]='NO DATA'\nVDOUT[992]=1004\nGOTO NER1\n";
-    let (_, errors) = canon("okuma", program);
-    assert_eq!(errors, ["interp::alarm"]);
-    let d = Registry::shipped().get("okuma").unwrap();
-    let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
-    assert!(diags.iter().any(|d| d.message.contains("alarm 1004")), "{diags:?}");
-    let (text, errors) = canon("okuma", &program.replace("VC1=0", "VC1=1"));
-    assert!(errors.is_empty(), "{errors:?}");
-    assert!(text.contains("STRAIGHT_TRAVERSE"), "{text}");
-}

@@ -996,16 +996,8 @@ impl<'a> Driver<'a, '_> {
             }
             _ => false,
         };
-        // An element the dictionary names an alarm (Okuma `VDOUT[992]=1004`).
-        let alarm_element = |r: TextRange, e: ExprId| match b.exprs.get(e as usize) {
-            Some(&Expr::Num(i)) => self.dialect.macros.is_named_alarm(&format!("{}[{i}]", eval::normalise_name(b.text(r)))),
-            _ => false,
-        };
-        b.assigns.iter().any(|a| match a.target {
-            crate::syntax::ParamTarget::Numbered(e) => alarm_var(e),
-            crate::syntax::ParamTarget::NamedIndex(r, e) => alarm_element(r, e),
-            crate::syntax::ParamTarget::Named(_) => false,
-        }) || b.words.iter().any(|w| w.role == crate::dialect::Role::AlarmNumber)
+        b.assigns.iter().any(|a| matches!(a.target, crate::syntax::ParamTarget::Numbered(e) if alarm_var(e)))
+            || b.words.iter().any(|w| w.role == crate::dialect::Role::AlarmNumber)
             || b.comments.iter().any(|r| matches!(self.dialect.lexical.directive(b.text(*r)), Some((crate::dialect::Directive::Abort, _))))
     }
 
