@@ -282,7 +282,7 @@ impl Interpreter<'_> {
         }
         // A feed word from outside the file (`F#9`, the caller's argument) is not a zero feed;
         // without one, a called program's feed is its caller's.
-        if self.st.feed == 0.0 && self.unknown_roles & (1 << Role::F as u32) == 0 && !self.st.feed_outside {
+        if self.st.feed == 0.0 && !self.word_unknown(Role::F) && !self.st.feed_outside {
             let d = bad(Code::NoFeed, "cannot probe at a zero feed rate (or in inverse time)");
             if !self.st.feed_unknown {
                 return diags.push(d);
@@ -294,7 +294,7 @@ impl Interpreter<'_> {
         let start = self.st.pos;
         let length = (0..3).map(|i| (t[i] - start[i]).powi(2)).sum::<f64>().sqrt();
         // An axis word from outside the file was left out: the probe's end is not known.
-        let unknown_end = [Role::X, Role::Y, Role::Z].iter().any(|&r| self.unknown_roles & (1 << r as u32) != 0);
+        let unknown_end = [Role::X, Role::Y, Role::Z].iter().any(|&r| self.word_unknown(r));
         if length < 1e-9 && def.meaning == Meaning::Probe && !unknown_end {
             self.st.ended = true;
             return diags.push(bad(Code::BadValue, "the probe move has no length: it starts at its end point; the run stops here"));

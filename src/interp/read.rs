@@ -414,7 +414,7 @@ impl Interpreter<'_> {
     fn check_params(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         let mut ok = true;
         // A word whose value is unknown is there on the machine: it meets the requirement.
-        let present = |s: &Self, r: Role| s.slots[r as usize].is_some() || s.unknown_roles & (1 << r as u32) != 0;
+        let present = |s: &Self, r: Role| s.slots[r as usize].is_some() || s.word_unknown(r);
         let has_axes = self.has_axes;
         for &(c, range) in &self.codes {
             let def = self.code(c);

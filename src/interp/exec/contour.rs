@@ -48,8 +48,7 @@ impl Interpreter<'_> {
             }
             // An unknown size (the tool radius, `RND RQ108`): the word was left out
             // and said so; the corner stays sharp.
-            None if self.unknown_roles & (1 << (if def.meaning == Meaning::CornerRound { Role::R } else { Role::Geometry }) as u32)
-                != 0 => {}
+            None if self.word_unknown(if def.meaning == Meaning::CornerRound { Role::R } else { Role::Geometry }) => {}
             _ => diags.push(Diagnostic::new(Code::MissingParameter, range, format!("{} needs a size above zero", def.label()))),
         }
     }

@@ -172,7 +172,7 @@ impl Interpreter<'_> {
     /// `G10 L1/L10/L11` (LinuxCNC) and `G10 L10–L13` (Fanuc): tool P's length or radius.
     pub(super) fn set_tool_data(&mut self, def: &CodeDef, form: DataForm, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let Some(p) = self.slot(Role::P).filter(|p| *p >= 0.0 && p.fract() == 0.0 && *p < 1e6) else {
-            if self.unknown_roles & (1 << Role::P as u32) != 0 {
+            if self.word_unknown(Role::P) {
                 // `G10 L10 P#20`: the caller's tool number; the word was left out and said so.
                 return;
             }

@@ -827,7 +827,7 @@ impl<'a> Driver<'a, '_> {
                 target => {
                     // The way from the target on, past the blocks that only stop the spindle
                     // or coolant before the alarm (`N900 M05` `#3000=91`), to its first statement.
-                    let at_target = target.is_some_and(|t| self.alarm_at(t) || self.fall_through(t, interp) == Way::Alarm);
+                    let at_target = target.is_some_and(|t| self.leads_to_alarm(t, interp, 0));
                     match self.fall_through(here, interp) {
                         // Not jumping goes round the loop again (`IF [found] GOTO 20` …
                         // `GOTO 10`): the jump leaves the loop, as a run that ends does.
@@ -911,6 +911,11 @@ impl<'a> Driver<'a, '_> {
         self.fall_through_within(from, interp, 0)
     }
 
+    /// Whether the way from `at` raises an alarm: at once, or down its fall-through.
+    fn leads_to_alarm(&mut self, at: Pos, interp: &mut Interpreter<'a>, depth: u32) -> bool {
+        self.alarm_at(at) || self.fall_through_within(at, interp, depth) == Way::Alarm
+    }
+
     fn fall_through_within(&mut self, from: Pos, interp: &mut Interpreter<'a>, depth: u32) -> Way {
         let mut p = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let (mut b, mut scratch) = (Block::default(), Vec::new());
@@ -949,16 +954,14 @@ impl<'a> Driver<'a, '_> {
                     // A conditional jump back ends a loop (`IF [#33 LT 4] GOTO 1`, a retry
                     // count): a run that ends leaves the loop there, so its way goes on past it.
                     Some(t) if t.at < at.at => continue,
-                    Some(t) if t.at > from.at && (self.alarm_at(t) || self.fall_through_within(t, interp, depth + 1) == Way::Alarm) => {
-                        continue;
-                    }
+                    Some(t) if t.at > from.at && self.leads_to_alarm(t, interp, depth + 1) => continue,
                     _ => return Way::On,
                 }
             }
             return match self.jump_target_from(&c, &b, interp, at) {
                 Some(t) if t.at <= from.at => Way::Back,
                 // `GOTO 800` where N800 raises the alarm (an argument check's last word).
-                Some(t) if depth < 2 && (self.alarm_at(t) || self.fall_through_within(t, interp, depth + 1) == Way::Alarm) => Way::Alarm,
+                Some(t) if depth < 2 && self.leads_to_alarm(t, interp, depth + 1) => Way::Alarm,
                 _ => Way::On,
             };
         }

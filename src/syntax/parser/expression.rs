@@ -208,7 +208,6 @@ impl Lexer<'_, '_> {
             end += 1;
         }
         let word = self.text[self.i..end].to_ascii_uppercase();
-        let word = if word == "ATAN2" { "ATAN".to_owned() } else { word };
         let Some(func) = Func::named(&word) else {
             self.error(Code::MalformedExpression, start, end, format!("unknown function `{word}`"));
             self.i = end;
