@@ -9,8 +9,11 @@
 //! the only tokio/notify/systemd code: `mod.rs` (select loop; `trigger`
 //! classifies events, so opens and reads never queue a file; settle logic with the writer's
 //! `IN_CLOSE_WRITE`; shares looked at every second, re-armed and rescanned alone when down,
-//! back or remounted; links out of a share refused once; a bounded pool of workers, each with
-//! its own connection; catch-up progress; signals, watchdog), `ingest.rs` (one file → one
+//! back or remounted; links out of a share, hard links and files that are not regular (FIFOs,
+//! sockets, devices) refused once; names logged as escaped text (`sharefile::path_text`); a
+//! bounded pool of workers, each with its own connection, a worker past `worker_timeout_s`
+//! replaced and its file quarantined; catch-up progress; signals, a stop bounded in time; the
+//! watchdog pinged only while work advances), `workers.rs` (the pool), `ingest.rs` (one file → one
 //! revision: a read checked against the settled state, pairing and diff inside the revision's
 //! transaction, `Reader` rebuilding a stored plan from its bytes and reading called programs
 //! beside the program, then in the CAM folders, noting the names each run asked for
