@@ -516,7 +516,7 @@ impl Config {
     }
 }
 
-/// `p` as given where it is absolute, else below the configuration's folder `base`.
+/// `p` as given where it is absolute, else below `base` (the working directory the command runs in).
 fn resolve(base: &Path, p: &str) -> PathBuf {
     if Path::new(p).is_absolute() { PathBuf::from(p) } else { base.join(p) }
 }

@@ -255,3 +255,45 @@ impl Shared {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A worker on one file past the bound holds the watchdog back until it is replaced; the
+    /// replacement takes its place, and the one given up is counted as stuck.
+    #[test]
+    fn a_worker_past_the_bound_holds_the_watchdog_until_it_is_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("share")).unwrap();
+        let text = "[database]\npath = 'db.sqlite'\n[daemon]\nworker_timeout_s = 1\nworkers = 1\n\
+                    [analysis]\nmax_repeated_blocks = 1000000000\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n";
+        let config = Arc::new(Config::parse(text, dir.path()).unwrap());
+        let registry = Arc::new(Registry::shipped());
+        // Nested loops of a million passes each: minutes of analysis.
+        let file = dir.path().join("share/O9.nc");
+        std::fs::write(&file, "%\nO9\n#1=0\nWHILE[#1LT1000000]DO1\n#2=0\nWHILE[#2LT1000000]DO2\n#2=#2+1\nEND2\n#1=#1+1\nEND1\nM30\n%\n")
+            .unwrap();
+        let meta = std::fs::metadata(&file).unwrap();
+        let snapshot = Snapshot { size: meta.len(), mtime: meta.modified().ok() };
+        let stores = open_stores(&config, &registry).unwrap();
+        let (tx, _rx) = mpsc::unbounded_channel();
+        let clock: Arc<dyn Clock> = Arc::new(super::super::SystemClock);
+        let mut pool = Pool::start(stores, &config, &registry, &tx, &clock).unwrap();
+        assert!(pool.advancing());
+        let root = std::fs::canonicalize(dir.path().join("share")).unwrap();
+        pool.send(Job { path: file.clone(), folder: 0, snapshot, root, quarantine: false }).unwrap();
+        let deadline = Instant::now() + Duration::from_secs(60);
+        while pool.advancing() {
+            assert!(Instant::now() < deadline, "the worker never ran past the bound");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let late = pool.overdue();
+        assert_eq!(late.len(), 1);
+        assert_eq!((late[0].0.path.as_path(), late[0].0.quarantine), (file.as_path(), false));
+        assert!(late[0].1 > Duration::from_secs(1));
+        assert!(pool.advancing(), "the replaced worker still holds the watchdog");
+        assert_eq!(pool.stuck(), 1);
+        assert!(pool.overdue().is_empty());
+    }
+}
