@@ -67,7 +67,7 @@ pub fn read_regular(path: &Path, limit: u64) -> Option<Vec<u8>> {
         return None;
     }
     let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(limit + 1).read_to_end(&mut bytes).ok()?;
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes).ok()?;
     (bytes.len() as u64 <= limit).then_some(bytes)
 }
 
@@ -185,6 +185,7 @@ mod tests {
         assert!(matches!(open(&file).unwrap(), Opened::File(_, m) if m.len() == 6));
         assert_eq!(read_regular(&file, 6).as_deref(), Some(&b"G0 X1\n"[..]));
         assert_eq!(read_regular(&file, 5), None);
+        assert_eq!(read_regular(&file, u64::MAX).map(|b| b.len()), Some(6));
         assert_eq!(read_regular(&fifo, 100), None);
     }
 }

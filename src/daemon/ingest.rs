@@ -147,7 +147,10 @@ fn read_settled(path: &Path, root: &Path, expected: Option<Snapshot>, limit: u64
         (None, Some(format!("{:x}", hasher.finalize())))
     } else {
         let mut bytes = Vec::with_capacity(before.len() as usize);
-        (&file).take(limit + 1).read_to_end(&mut bytes).with_context(|| format!("cannot read {}", sharefile::path_text(path)))?;
+        (&file)
+            .take(limit.saturating_add(1))
+            .read_to_end(&mut bytes)
+            .with_context(|| format!("cannot read {}", sharefile::path_text(path)))?;
         (Some(bytes), None)
     };
     let after = match std::fs::metadata(path) {
@@ -251,7 +254,7 @@ pub fn import_file(
     }
     let mut bytes = Vec::with_capacity(meta.len() as usize);
     (&file_handle)
-        .take(config.max_file_bytes + 1)
+        .take(config.max_file_bytes.saturating_add(1))
         .read_to_end(&mut bytes)
         .with_context(|| format!("cannot read {}", sharefile::path_text(file)))?;
     let hash = sha256_hex(&bytes);
