@@ -161,9 +161,13 @@ impl Pool {
         late
     }
 
-    /// Whether work advances: no worker is on one file past the bound and not yet replaced.
+    /// Whether work advances: every worker runs (a fresh one that could not open the database
+    /// has ended), and none is on one file past the bound and not yet replaced.
     pub(super) fn advancing(&self) -> bool {
-        self.slots.iter().all(|s| s.state.lock().is_ok_and(|st| st.busy.as_ref().is_none_or(|(_, since)| since.elapsed() <= self.bound)))
+        self.slots.iter().all(|s| {
+            !s.thread.is_finished()
+                && s.state.lock().is_ok_and(|st| st.busy.as_ref().is_none_or(|(_, since)| since.elapsed() <= self.bound))
+        })
     }
 
     /// How many threads were given up and still run.
