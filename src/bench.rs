@@ -431,7 +431,13 @@ impl Bed {
             ),
         )?;
         let log = std::fs::File::create(dir.join("daemon.log"))?;
-        let child = Command::new(exe).args(["watch", "--config"]).arg(dir.join("ncplan.toml")).stdout(Stdio::null()).stderr(log).spawn()?;
+        let child = Command::new(exe)
+            .current_dir(dir)
+            .args(["watch", "--config"])
+            .arg(dir.join("ncplan.toml"))
+            .stdout(Stdio::null())
+            .stderr(log)
+            .spawn()?;
         let bed = Bed { dir: dir.to_path_buf(), db: db.clone(), child };
         bed.wait_log("Catch-up scan queued", 1, Duration::from_secs(30))?;
         Ok(bed)
@@ -661,6 +667,7 @@ fn kill_loop(exe: &str, dir: &Path, kills: usize, out: &mut impl std::io::Write)
             dir: kill_dir.clone(),
             db: crate::store::Location::Sqlite(kill_dir.join("var/ncplan.db")),
             child: Command::new(exe)
+                .current_dir(&kill_dir)
                 .args(["watch", "--config"])
                 .arg(kill_dir.join("ncplan.toml"))
                 .stdout(Stdio::null())

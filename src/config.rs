@@ -1,7 +1,9 @@
 //! Configuration: `config/ncplan.toml` → validated [`Config`].
 //!
 //! Parsing is strict (`deny_unknown_fields`); validation resolves relative paths against the
-//! config file's folder and checks that the database never sits inside a watched folder.
+//! base it is given (the commands give the working directory, for a file as for the built-in
+//! configuration) and checks that the database never sits inside a watched folder;
+//! `check_watchable` that every watched folder exists.
 //!
 //! TOML → `Config` (strict), ignore globs, the dialect registry from a folder,
 //! and `DirPrograms`: called programs from the configured directory or, without one, from the
@@ -77,6 +79,11 @@ fn folder_tools(table: Option<&Path>, raw: &[RawTool], name: &str) -> Result<cra
 pub const MIN_SETTLE_MS: u64 = 50;
 /// The least interval between full rescans.
 pub const MIN_RESCAN_S: u64 = 5;
+/// How long a worker may take over one file before it is reported, the file quarantined and
+/// the worker replaced: ten minutes, five times the longest a child trial of a suspect content
+/// may take, and well beyond what the largest file the default size limit (256 MB) takes to
+/// analyse.
+pub const DEFAULT_WORKER_TIMEOUT_S: u64 = 600;
 
 /// The configuration the binary falls back on: the demo folders of this repository.
 pub const DEMO: &str = include_str!("../config/ncplan.toml");
@@ -175,6 +182,7 @@ struct RawDaemon {
     rescan_s: u64,
     max_file_mb: u64,
     workers: usize,
+    worker_timeout_s: u64,
     ignore: Vec<String>,
 }
 
@@ -185,6 +193,7 @@ impl Default for RawDaemon {
             rescan_s: 300,
             max_file_mb: 256,
             workers: 4,
+            worker_timeout_s: DEFAULT_WORKER_TIMEOUT_S,
             ignore: [".*", "~*", "*~", "*.tmp", "*.temp", "*.swp", "*.bak", "*.part", "#*#"].map(String::from).to_vec(),
         }
     }
@@ -371,6 +380,8 @@ pub struct Config {
     pub max_file_bytes: u64,
     /// Most files analysed at once (each worker also takes a core).
     pub workers: usize,
+    /// The longest a worker may take over one file (`[daemon] worker_timeout_s`).
+    pub worker_timeout_s: u64,
     /// The ncplan executable that reads a suspect content in a process of its own (one whose
     /// analyses were cut short before); `None`: this process's own. Not read from the file.
     pub probe_exe: Option<PathBuf>,
@@ -425,6 +436,7 @@ impl Config {
             rescan_s: raw.daemon.rescan_s,
             max_file_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20),
             workers: raw.daemon.workers,
+            worker_timeout_s: raw.daemon.worker_timeout_s,
             probe_exe: None,
             ignore: raw.daemon.ignore,
             pattern,
@@ -444,10 +456,21 @@ impl Config {
             .map(|(i, _)| i)
     }
 
-    /// What `ncplan watch` needs beyond a valid file: folders to watch.
+    /// What `ncplan watch` needs beyond a valid file: folders to watch, each of which exists.
+    /// A folder that exists but cannot be read (an unmounted share's mount point, a share
+    /// down) is watched for it to come back; one that does not exist is a wrong path.
     pub fn check_watchable(&self) -> Result<()> {
         if self.folders.is_empty() {
             bail!("no folders to watch: add a [[cam]] folder and at least one [[machine]] share");
+        }
+        let missing: Vec<String> = self
+            .folders
+            .iter()
+            .filter(|f| std::fs::symlink_metadata(&f.path).is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound))
+            .map(|f| format!("{} ({})", crate::sharefile::path_text(&f.path), f.name))
+            .collect();
+        if !missing.is_empty() {
+            bail!("configured folders do not exist: {} (relative paths are resolved against the working directory)", missing.join(", "));
         }
         Ok(())
     }
@@ -462,7 +485,8 @@ impl Config {
                 std::fs::read_dir(dir)?.filter_map(|e| e.ok()).filter_map(|e| Some((e.path(), e.file_type().ok()?))).collect();
             found.sort_by(|a, b| a.0.cmp(&b.0));
             for (p, kind) in found {
-                if p.file_name().and_then(|n| n.to_str()).is_none_or(|n| config.ignored(n)) {
+                // A name that is not UTF-8 (Latin-1 from a Windows share) is a program too.
+                if p.file_name().is_none_or(|n| config.ignored(&n.to_string_lossy())) {
                     continue;
                 }
                 if kind.is_dir() {
@@ -492,7 +516,7 @@ impl Config {
     }
 }
 
-/// `p` as given where it is absolute, else below the configuration's folder `base`.
+/// `p` as given where it is absolute, else below `base` (the working directory the command runs in).
 fn resolve(base: &Path, p: &str) -> PathBuf {
     if Path::new(p).is_absolute() { PathBuf::from(p) } else { base.join(p) }
 }
@@ -638,6 +662,9 @@ fn check_daemon(daemon: &RawDaemon) -> Result<()> {
     }
     if daemon.workers == 0 {
         bail!("[daemon] workers must be at least 1");
+    }
+    if daemon.worker_timeout_s == 0 {
+        bail!("[daemon] worker_timeout_s must be at least 1");
     }
     if daemon.max_file_mb == 0 {
         bail!("[daemon] max_file_mb must be at least 1");
@@ -883,10 +910,9 @@ impl crate::interp::ProgramSource for DirPrograms {
                 else {
                     continue;
                 };
-                if std::fs::metadata(path).ok()?.len() > self.max_bytes {
-                    return None;
-                }
-                let (text, _) = crate::text::decode(&std::fs::read(path).ok()?);
+                // Only a regular file, opened without blocking: a FIFO beside the program
+                // never holds the analysis.
+                let (text, _) = crate::text::decode(&crate::sharefile::read_regular(path, self.max_bytes)?);
                 return Some(text.text);
             }
         }

@@ -46,7 +46,7 @@ pub fn programs(config: &Config, dir: &Path) -> Result<BTreeMap<String, Vec<(Pat
     fn walk(config: &Config, dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
         for e in std::fs::read_dir(dir)?.flatten() {
             let (p, Ok(kind)) = (e.path(), e.file_type()) else { continue };
-            if p.file_name().and_then(|n| n.to_str()).is_none_or(|n| config.ignored(n)) {
+            if p.file_name().is_none_or(|n| config.ignored(&n.to_string_lossy())) {
                 continue;
             }
             if kind.is_dir() {
@@ -62,7 +62,7 @@ pub fn programs(config: &Config, dir: &Path) -> Result<BTreeMap<String, Vec<(Pat
     let mut groups: BTreeMap<String, Vec<(PathBuf, SystemTime)>> = BTreeMap::new();
     for f in files {
         let mtime = std::fs::metadata(&f).and_then(|m| m.modified()).unwrap_or(SystemTime::UNIX_EPOCH);
-        let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let name = f.file_name().map(crate::sharefile::os_text).unwrap_or_default();
         groups.entry(name).or_default().push((f, mtime));
     }
     for g in groups.values_mut() {
@@ -111,7 +111,7 @@ pub fn run(
                 loop {
                     let next = queue.lock().ok().and_then(|mut q| q.next());
                     let Some((name, files)) = next else { break };
-                    let stored_as = folder.path.join(&name);
+                    let stored_as = folder.path.join(crate::sharefile::text_path(&name));
                     for (file, mtime) in files {
                         let outcome = ingest::import_file(&file, &stored_as, folder, config, registry, &mut store, &rfc3339(mtime));
                         if let Ok(mut r) = result.lock() {

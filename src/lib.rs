@@ -3,7 +3,7 @@
 //!
 //! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`, `part21`,
 //! `diff`, `pipeline`, `view`) does no IO. The shell around it (`config`, `store`, `daemon`, `web`, `cli`, `bench`,
-//! `textfile`) reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
+//! `textfile`, `sharefile`) reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
 
@@ -24,6 +24,7 @@ pub mod plan;
 pub mod post;
 pub mod proof;
 pub mod reanalyze;
+pub mod sharefile;
 pub mod store;
 pub mod syntax;
 pub mod text;

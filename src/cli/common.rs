@@ -71,10 +71,12 @@ pub(super) struct WorkArgs {
 pub(super) fn load_config(path: Option<&Path>) -> Result<Config> {
     match path {
         Some(p) => {
+            // Relative paths in the file are resolved against the working directory, as those
+            // of the built-in configuration are: `--config config/ncplan.toml` in a checkout
+            // names the same folders as no `--config` at all.
             let text = std::fs::read_to_string(p).with_context(|| format!("cannot read the configuration {}", p.display()))?;
-            let base = p.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-            let base = if base.as_os_str().is_empty() { PathBuf::from(".") } else { base };
-            Config::parse(&text, &std::path::absolute(&base)?).with_context(|| format!("in the configuration {}", p.display()))
+            let here = std::env::current_dir()?;
+            Config::parse(&text, &here).with_context(|| format!("in the configuration {}", p.display()))
         }
         None => {
             let here = std::env::current_dir()?;

@@ -77,7 +77,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         summary.elapsed.as_secs_f64()
     )?;
     for (file, why) in &summary.errors {
-        writeln!(out, "  {}: {why}", file.display())?;
+        writeln!(out, "  {}: {why}", crate::sharefile::path_text(file))?;
     }
     out.flush()?;
     Ok(if summary.errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })

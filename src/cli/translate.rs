@@ -95,7 +95,9 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         let abs = std::path::absolute(o)?;
         let dir = abs.parent().map(Path::to_path_buf).unwrap_or_default();
         let dir = dir.canonicalize().unwrap_or(dir);
-        for f in &config.folders {
+        // Without --config, the folders `ncplan watch` would watch here: the default's.
+        let default = if store_args.config.is_none() { super::common::load_config(None).ok() } else { None };
+        for f in config.folders.iter().chain(default.iter().flat_map(|c| &c.folders)) {
             let watched = f.path.canonicalize().unwrap_or_else(|_| f.path.clone());
             if dir.starts_with(&watched) {
                 bail!(

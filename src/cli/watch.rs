@@ -25,7 +25,7 @@ pub(super) fn run(args: Args) -> Result<ExitCode> {
     config.check_watchable()?;
     let registry = registry_for(Some(&config))?;
     for f in config.folders.iter().filter(|f| f.dialect != config::AUTO_DIALECT) {
-        dialect(&registry, &f.dialect).with_context(|| format!("folder {}", f.path.display()))?;
+        dialect(&registry, &f.dialect).with_context(|| format!("folder {}", crate::sharefile::path_text(&f.path)))?;
     }
     init_tracing();
     println!(
@@ -34,7 +34,14 @@ pub(super) fn run(args: Args) -> Result<ExitCode> {
         if config.site.is_empty() { String::new() } else { format!(", site {}", config.site) }
     );
     for f in &config.folders {
-        println!("  {:<8} {:<10} {:<9} {}{}", f.role.as_str(), f.name, f.dialect, f.path.display(), if f.poll { " (polled)" } else { "" });
+        println!(
+            "  {:<8} {:<10} {:<9} {}{}",
+            f.role.as_str(),
+            f.name,
+            f.dialect,
+            crate::sharefile::path_text(&f.path),
+            if f.poll { " (polled)" } else { "" }
+        );
     }
     if demo {
         println!("Try, in another terminal: cp demo/examples/O1234_edited.nc demo/shares/DMU50/O1234.nc");

@@ -21,6 +21,7 @@ use crate::diff;
 use crate::pairing::{self, Key, Pairing};
 use crate::pipeline;
 use crate::plan::ProcessPlan;
+use crate::sharefile;
 use crate::store::{Comparable, Content, NewRevision, Store, Txn};
 use crate::text::{Encoding, LineIndex, TextRange};
 
@@ -34,6 +35,15 @@ pub const PARTIAL_WINDOW_S: f64 = 30.0;
 /// a revision stored unanalysed is final, so an original would never serve its waiting edits.
 /// A content that ends the process again when it is tried again is the cause.
 pub const UNFINISHED_ANALYSES: u32 = 2;
+
+/// Why a content may be stored without its analysis.
+#[derive(Debug, Clone)]
+enum Trial {
+    /// Analyses of it this many times began and never finished (the attempt journal).
+    Earlier(u32),
+    /// A worker's analysis of it ran past the worker bound: stored unanalysed, with this finding.
+    Quarantined(String),
+}
 
 /// What happened to a file.
 #[derive(Debug, PartialEq, Eq)]
@@ -53,7 +63,8 @@ pub enum Outcome {
     Gone,
     /// The file changed while it was read, or since it settled: it must settle again.
     Changing,
-    /// The path leads out of the watched folder (a symbolic link); it is not read.
+    /// The path is not read: a link out of the watched folder, a hard link, or not a regular
+    /// file (a FIFO, a socket, a device); the reason.
     Refused(String),
 }
 
@@ -79,27 +90,49 @@ pub fn is_blank(bytes: &[u8]) -> bool {
 
 enum Read {
     Bytes(Vec<u8>, std::fs::Metadata),
-    /// Over the size limit: not read into memory.
-    TooLarge(std::fs::Metadata),
+    /// Over the size limit: its hash, taken in chunks; its bytes are not kept.
+    TooLarge(String, std::fs::Metadata),
     Done(Outcome),
+}
+
+/// Why a share's file is not read, by what its path leads to: it is not a regular file, or it
+/// has other names (hard links), any of which may lie outside the watched folder, like a link
+/// out of it.
+pub fn refusal_of(meta: &std::fs::Metadata) -> Option<String> {
+    if !meta.is_file() {
+        return Some(not_regular(sharefile::kind(meta.file_type())));
+    }
+    (meta.nlink() > 1)
+        .then(|| format!("it has {} hard links, and another of its names may lie outside the watched folder; it is not read", meta.nlink()))
+}
+
+fn not_regular(what: &str) -> String {
+    format!("it is {what}, not a regular file; it is never read")
 }
 
 /// Reads a file that lies in the folder whose real path is `root`, and makes sure that what
 /// was read is one whole state of it: the same file the path names, unchanged while read,
-/// and the state the settle logic saw (`expected`).
+/// and the state the settle logic saw (`expected`). Only a regular file with one name is
+/// read, and its open never blocks ([`sharefile::open`]).
 fn read_settled(path: &Path, root: &Path, expected: Option<Snapshot>, limit: u64) -> Result<Read> {
-    let file = match std::fs::File::open(path) {
-        Ok(f) => f,
+    let opened = match sharefile::open(path) {
+        Ok(o) => o,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Read::Done(Outcome::Gone)),
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
+        Err(e) => return Err(e).with_context(|| format!("cannot read {}", sharefile::path_text(path))),
     };
-    let before = file.metadata().with_context(|| format!("cannot read {}", path.display()))?;
-    if !before.is_file() {
-        return Ok(Read::Done(Outcome::Gone));
+    let (file, before) = match opened {
+        sharefile::Opened::File(f, m) => (f, m),
+        sharefile::Opened::NotRegular(what) => return Ok(Read::Done(Outcome::Refused(not_regular(what)))),
+    };
+    if let Some(why) = refusal_of(&before) {
+        return Ok(Read::Done(Outcome::Refused(why)));
     }
     match std::fs::canonicalize(path) {
         Ok(real) if real.starts_with(root) => {}
-        Ok(real) => return Ok(Read::Done(Outcome::Refused(format!("it leads to {}, outside the watched folder", real.display())))),
+        Ok(real) => {
+            let why = format!("it leads to {}, outside the watched folder", sharefile::path_text(&real));
+            return Ok(Read::Done(Outcome::Refused(why)));
+        }
         Err(_) => return Ok(Read::Done(Outcome::Gone)),
     }
     if let Some(exp) = expected
@@ -107,21 +140,33 @@ fn read_settled(path: &Path, root: &Path, expected: Option<Snapshot>, limit: u64
     {
         return Ok(Read::Done(Outcome::Changing));
     }
-    if before.len() > limit {
-        return Ok(Read::TooLarge(before));
-    }
-    let mut bytes = Vec::with_capacity(before.len() as usize);
-    (&file).read_to_end(&mut bytes).with_context(|| format!("cannot read {}", path.display()))?;
+    let (bytes, hash) = if before.len() > limit {
+        let mut hasher = Sha256::new();
+        std::io::copy(&mut (&file).take(before.len()), &mut hasher)
+            .with_context(|| format!("cannot read {}", sharefile::path_text(path)))?;
+        (None, Some(format!("{:x}", hasher.finalize())))
+    } else {
+        let mut bytes = Vec::with_capacity(before.len() as usize);
+        (&file)
+            .take(limit.saturating_add(1))
+            .read_to_end(&mut bytes)
+            .with_context(|| format!("cannot read {}", sharefile::path_text(path)))?;
+        (Some(bytes), None)
+    };
     let after = match std::fs::metadata(path) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Read::Done(Outcome::Gone)),
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
+        Err(e) => return Err(e).with_context(|| format!("cannot read {}", sharefile::path_text(path))),
     };
     let same_file = (after.dev(), after.ino()) == (before.dev(), before.ino());
-    if !same_file || after.len() != bytes.len() as u64 || after.modified().ok() != before.modified().ok() {
+    let read = bytes.as_ref().map_or(before.len(), |b| b.len() as u64);
+    if !same_file || after.len() != read || after.len() != before.len() || after.modified().ok() != before.modified().ok() {
         return Ok(Read::Done(Outcome::Changing));
     }
-    Ok(Read::Bytes(bytes, before))
+    Ok(match (bytes, hash) {
+        (Some(b), _) => Read::Bytes(b, before),
+        (None, h) => Read::TooLarge(h.unwrap_or_default(), before),
+    })
 }
 
 fn finding(code: Code, message: String) -> DiagnosticJson {
@@ -143,11 +188,11 @@ pub fn ingest(
 ) -> Result<Outcome> {
     let (bytes, meta) = match read_settled(path, root, expected, config.max_file_bytes)? {
         Read::Bytes(b, m) => (b, m),
-        Read::TooLarge(meta) => return store_too_large(path, path, folder, config, store, now, &meta),
+        Read::TooLarge(hash, meta) => return store_too_large(path, folder, config, store, now, &hash, &meta),
         Read::Done(outcome) => return Ok(outcome),
     };
     let hash = sha256_hex(&bytes);
-    let path_str = path.to_string_lossy().into_owned();
+    let path_str = sharefile::path_text(path);
     if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
         return Ok(Outcome::Unchanged);
     }
@@ -172,9 +217,9 @@ fn journaled(
     hash: &str,
     meta: &std::fs::Metadata,
 ) -> Result<Outcome> {
-    let stored_str = stored_as.to_string_lossy().into_owned();
+    let stored_str = sharefile::path_text(stored_as);
     let earlier = store.begin_attempt(hash, &stored_str, now)?;
-    let result = record(path, stored_as, folder, config, registry, store, now, bytes, hash, meta, earlier);
+    let result = record(path, stored_as, folder, config, registry, store, now, bytes, hash, meta, Trial::Earlier(earlier));
     if !matches!(result, Ok(Outcome::Stored { .. })) {
         store.finish_attempt(hash, &stored_str)?;
     }
@@ -194,12 +239,24 @@ pub fn import_file(
     store: &mut Store,
     seen_at: &str,
 ) -> Result<Outcome> {
-    let meta = std::fs::metadata(file).with_context(|| format!("cannot read {}", file.display()))?;
-    let stored_str = stored_as.to_string_lossy().into_owned();
+    // A folder of backups is read like a share, but hard links are no fault there (snapshot
+    // tools link the files that did not change).
+    let (file_handle, meta) = match sharefile::open(file).with_context(|| format!("cannot read {}", sharefile::path_text(file)))? {
+        sharefile::Opened::File(f, m) => (f, m),
+        sharefile::Opened::NotRegular(what) => return Ok(Outcome::Refused(not_regular(what))),
+    };
+    let stored_str = sharefile::path_text(stored_as);
     if meta.len() > config.max_file_bytes {
-        return store_too_large(file, stored_as, folder, config, store, seen_at, &meta);
+        let mut hasher = Sha256::new();
+        std::io::copy(&mut (&file_handle).take(meta.len()), &mut hasher)
+            .with_context(|| format!("cannot read {}", sharefile::path_text(file)))?;
+        return store_too_large(stored_as, folder, config, store, seen_at, &format!("{:x}", hasher.finalize()), &meta);
     }
-    let bytes = std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    (&file_handle)
+        .take(config.max_file_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .with_context(|| format!("cannot read {}", sharefile::path_text(file)))?;
     let hash = sha256_hex(&bytes);
     if store.has_revision(&stored_str, &hash)? {
         return Ok(Outcome::Unchanged);
@@ -207,50 +264,46 @@ pub fn import_file(
     journaled(file, stored_as, folder, config, registry, store, seen_at, bytes, &hash, &meta)
 }
 
-/// Stores a file over the size limit without reading it into memory: its hash is computed
-/// and its bytes copied in chunks; it is analysed by no one.
+/// Records a file over the size limit (`max_file_bytes`) as a revision with its hash
+/// (`hash`, taken in chunks) and size, but not its bytes, and a finding that says so: the
+/// limit bounds what is stored, not only what is analysed (a sparse file of hundreds of
+/// megabytes costs a row). It is analysed by no one.
 fn store_too_large(
-    path: &Path,
     stored_as: &Path,
     folder: &Folder,
     config: &Config,
     store: &mut Store,
     now: &str,
+    hash: &str,
     meta: &std::fs::Metadata,
 ) -> Result<Outcome> {
-    let hash = {
-        let mut file = std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
-        let mut hasher = Sha256::new();
-        std::io::copy(&mut file, &mut hasher).with_context(|| format!("cannot read {}", path.display()))?;
-        format!("{:x}", hasher.finalize())
-    };
-    let path_str = stored_as.to_string_lossy().into_owned();
-    if store.latest_hash(&path_str)?.as_deref() == Some(hash.as_str()) {
+    let path_str = sharefile::path_text(stored_as);
+    if store.latest_hash(&path_str)?.as_deref() == Some(hash) {
         return Ok(Outcome::Unchanged);
     }
     let d = pipeline::too_large(meta.len(), config.max_file_bytes);
-    let mut diagnostics = vec![DiagnosticJson::new(&d, "", &LineIndex::new(""))];
-    if meta.len() > crate::store::MAX_BLOB {
-        diagnostics.push(finding(
+    let diagnostics = vec![
+        DiagnosticJson::new(&d, "", &LineIndex::new("")),
+        finding(
             Code::TooLarge,
-            format!("over {} bytes, SQLite's largest blob: only its size and hash are kept", crate::store::MAX_BLOB),
-        ));
-    }
-    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            format!("over the size limit of {} bytes: only its size and hash are kept, not its bytes", config.max_file_bytes),
+        ),
+    ];
+    let file_name = stored_as.file_name().map(sharefile::os_text).unwrap_or_default();
     let keys = pairing::keys(config.pattern.as_ref(), &file_name, None);
     let stem = pairing::file_stem(&file_name);
+    let folder_text = sharefile::path_text(&folder.path);
     let tx = store.begin()?;
-    let inserted = tx.insert_revision(&NewRevision {
+    let revision = tx.insert_revision(&NewRevision {
         path: &path_str,
         role: folder.role.as_str(),
-        machine: (folder.role == Role::Machine)
-            .then(|| (folder.name.as_str(), folder.dialect.as_str(), folder.path.to_str().unwrap_or(""))),
+        machine: (folder.role == Role::Machine).then_some((folder.name.as_str(), folder.dialect.as_str(), folder_text.as_str())),
         name: &stem,
         keys: &keys,
         stem: &stem,
         dialect: &folder.dialect,
-        content: Content::File { path, size: meta.len() },
-        hash: &hash,
+        content: Content::Absent { size: meta.len() },
+        hash,
         mtime_ns: mtime_ns(meta),
         seen_at: now,
         encoding: "unknown",
@@ -259,18 +312,60 @@ fn store_too_large(
         plan_complete: false,
         counts: (0, 0),
         diagnostics: &diagnostics,
-    });
-    let revision = match inserted {
-        Ok(r) => r,
-        Err(crate::store::StoreError::ContentChanged) => return Ok(Outcome::Changing),
-        Err(e) => return Err(e.into()),
-    };
+    })?;
     tx.commit()?;
     Ok(Outcome::Stored { revision, changes: None, compared: 0 })
 }
 
 fn mtime_ns(meta: &std::fs::Metadata) -> Option<i64> {
     meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_nanos() as i64)
+}
+
+/// Why `bytes` are stored without analysis, if they are: a quarantine, or analyses of them
+/// that ended the process [`UNFINISHED_ANALYSES`] times and a trial in a process of its own
+/// that ended too.
+fn unanalysed(trial: &Trial, config: &Config, bytes: &[u8], dialect: &str, path: &Path, hash: &str) -> Option<String> {
+    match trial {
+        Trial::Quarantined(message) => Some(message.clone()),
+        Trial::Earlier(earlier) if *earlier >= UNFINISHED_ANALYSES && ends_a_process(config, bytes, dialect, path) => {
+            tracing::error!(path = %sharefile::path_text(path), hash, "An earlier analysis of this content never finished; storing it without analysis.");
+            Some(format!(
+                "analysing this content ended the process {earlier} time(s) before (out of memory, a memory limit or a crash); stored, not analysed"
+            ))
+        }
+        Trial::Earlier(_) => None,
+    }
+}
+
+/// Stores the file a worker's analysis got stuck on (past the worker bound, `bound_s`)
+/// without analysis, with a finding that says so, when it still holds the state it was handed
+/// out in (`expected`): the same content is then never tried again (an edit is a new content
+/// and is analysed). A file that changed since is left to settle again.
+#[allow(clippy::too_many_arguments)]
+pub fn quarantine(
+    path: &Path,
+    folder: &Folder,
+    root: &Path,
+    config: &Config,
+    registry: &Registry,
+    store: &mut Store,
+    now: &str,
+    expected: Snapshot,
+    bound_s: u64,
+) -> Result<Outcome> {
+    let (bytes, meta) = match read_settled(path, root, Some(expected), config.max_file_bytes)? {
+        Read::Bytes(b, m) => (b, m),
+        Read::TooLarge(hash, meta) => return store_too_large(path, folder, config, store, now, &hash, &meta),
+        Read::Done(outcome) => return Ok(outcome),
+    };
+    let hash = sha256_hex(&bytes);
+    if store.latest_hash(&sharefile::path_text(path))?.as_deref() == Some(hash.as_str()) {
+        return Ok(Outcome::Unchanged);
+    }
+    let message = format!(
+        "the analysis did not finish within the worker bound of {bound_s} s ([daemon] worker_timeout_s); the worker was replaced and the content is stored, not analysed"
+    );
+    record(path, path, folder, config, registry, store, now, bytes, &hash, &meta, Trial::Quarantined(message))
 }
 
 /// Analyses the bytes (unless analyses of them ended the process [`UNFINISHED_ANALYSES`] times) and
@@ -287,13 +382,13 @@ fn record(
     bytes: Vec<u8>,
     hash: &str,
     meta: &std::fs::Metadata,
-    earlier: u32,
+    trial: Trial,
 ) -> Result<Outcome> {
-    let path_str = stored_as.to_string_lossy().into_owned();
+    let path_str = sharefile::path_text(stored_as);
     // A folder with `dialect = "auto"` has each program's dialect told from its text.
     let dialect_name = if folder.dialect == crate::config::AUTO_DIALECT {
         let s = pipeline::sniff(registry, &bytes, path);
-        tracing::info!(path = %path.display(), dialect = %s.dialect, sure = s.confidence.as_str(), evidence = %s.evidence.join(", "), "Dialect told from the program.");
+        tracing::info!(path = %sharefile::path_text(path), dialect = %s.dialect, sure = s.confidence.as_str(), evidence = %s.evidence.join(", "), "Dialect told from the program.");
         s.dialect
     } else {
         folder.dialect.clone()
@@ -305,11 +400,7 @@ fn record(
         let what = if bytes.is_empty() { "empty".to_owned() } else { format!("{} bytes of blanks or NUL bytes", bytes.len()) };
         let message = format!("the file holds no program ({what}): a truncated save or an aborted copy; stored, never compared");
         (None, vec![finding(Code::EmptyFile, message)], "empty")
-    } else if earlier >= UNFINISHED_ANALYSES && ends_a_process(config, &bytes, &dialect_name, path) {
-        let message = format!(
-            "analysing this content ended the process {earlier} time(s) before (out of memory, a memory limit or a crash); stored, not analysed"
-        );
-        tracing::error!(path = %path.display(), hash, "An earlier analysis of this content never finished; storing it without analysis.");
+    } else if let Some(message) = unanalysed(&trial, config, &bytes, &dialect_name, path, hash) {
         (None, vec![finding(Code::AnalysisFailed, message)], "failed")
     } else {
         let (a, called) = reader.analyse(path, folder, &dialect_name, &bytes)?;
@@ -322,7 +413,7 @@ fn record(
         (Some(a), ds, "analysed")
     };
     let program = analysis.as_ref().and_then(|a| a.plan.program.clone());
-    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let file_name = path.file_name().map(sharefile::os_text).unwrap_or_default();
     let keys = pairing::keys(config.pattern.as_ref(), &file_name, program.as_deref());
     let mut analysis = analysis;
     let summary = analysis.as_mut().map(|a| summary_json(&mut a.plan)).transpose()?;
@@ -332,7 +423,8 @@ fn record(
         Some(Encoding::Binary) => "binary",
         None => "unknown",
     };
-    let machine = (folder.role == Role::Machine).then(|| (folder.name.as_str(), dialect_name.as_str(), folder.path.to_str().unwrap_or("")));
+    let folder_text = sharefile::path_text(&folder.path);
+    let machine = (folder.role == Role::Machine).then_some((folder.name.as_str(), dialect_name.as_str(), folder_text.as_str()));
     let stem = pairing::file_stem(&file_name);
     let name = program.clone().unwrap_or_else(|| stem.clone());
     // Only the plan is needed from here on: the decoded text goes.
@@ -376,7 +468,7 @@ fn record(
             p.size, p.age_s
         );
         tx.add_finding(p.id, &finding(Code::PartialWrite, message))?;
-        tracing::info!(path = %path.display(), partial = p.id, complete = revision, "The previous revision was a partial write.");
+        tracing::info!(path = %sharefile::path_text(path), partial = p.id, complete = revision, "The previous revision was a partial write.");
         // Edited programs compared with a partial original are compared again.
         recompare = tx.compared_with(p.id)?;
     }
@@ -487,7 +579,7 @@ impl Reader<'_> {
     /// overrides; a folder no longer configured: the stored one.
     pub fn dialect_of(&self, path: &str, dialect: &str) -> Result<std::sync::Arc<crate::dialect::Dialect>> {
         let base = self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?;
-        Ok(match self.config.folder_at(Path::new(path)) {
+        Ok(match self.config.folder_at(&sharefile::text_path(path)) {
             Some(i) => self.config.folders[i].dialect_for(base),
             None => base,
         })
@@ -514,7 +606,7 @@ impl Reader<'_> {
     /// Analyses a stored program's bytes again, with today's dictionary and engine, as the
     /// folder it lies in reads it (a folder no longer configured: its stored dialect, no overrides).
     pub fn reanalyse(&self, path: &str, dialect: &str, bytes: Vec<u8>) -> Result<pipeline::Analysis> {
-        let path = Path::new(path);
+        let path = &sharefile::text_path(path);
         let folder = match self.config.folder_at(path) {
             Some(i) => self.config.folders[i].clone(),
             None => Folder {
@@ -578,7 +670,7 @@ fn ends_a_process(config: &Config, bytes: &[u8], dialect: &str, path: &Path) -> 
         }
     };
     let _ = std::fs::remove_file(&copy);
-    tracing::info!(path = %path.display(), ends_a_process = verdict, "A content whose analyses were cut short was tried in a process of its own.");
+    tracing::info!(path = %sharefile::path_text(path), ends_a_process = verdict, "A content whose analyses were cut short was tried in a process of its own.");
     verdict
 }
 
@@ -609,7 +701,7 @@ fn recompare_callers(tx: &Txn<'_>, reader: &Reader<'_>, at: (&Path, Role), stem:
         }
         let Some((original, rule)) = tx.comparison_of(caller)? else { continue };
         let Some(src) = tx.source(caller)? else { continue };
-        if at.1 != Role::Cam && Path::new(&src.path).parent() != at.0.parent() {
+        if at.1 != Role::Cam && sharefile::text_path(&src.path).parent() != at.0.parent() {
             continue;
         }
         let Some(bytes) = tx.content(caller)? else { continue };

@@ -9,8 +9,11 @@
 //! the only tokio/notify/systemd code: `mod.rs` (select loop; `trigger`
 //! classifies events, so opens and reads never queue a file; settle logic with the writer's
 //! `IN_CLOSE_WRITE`; shares looked at every second, re-armed and rescanned alone when down,
-//! back or remounted; links out of a share refused once; a bounded pool of workers, each with
-//! its own connection; catch-up progress; signals, watchdog), `ingest.rs` (one file → one
+//! back or remounted; links out of a share, hard links and files that are not regular (FIFOs,
+//! sockets, devices) refused once; names logged as escaped text (`sharefile::path_text`); a
+//! bounded pool of workers, each with its own connection, a worker past `worker_timeout_s`
+//! replaced and its file quarantined; catch-up progress; signals, a stop bounded in time; the
+//! watchdog pinged only while work advances), `workers.rs` (the pool), `ingest.rs` (one file → one
 //! revision: a read checked against the settled state, pairing and diff inside the revision's
 //! transaction, `Reader` rebuilding a stored plan from its bytes and reading called programs
 //! beside the program, then in the CAM folders, noting the names each run asked for
@@ -33,9 +36,10 @@ use tokio::sync::mpsc;
 
 use crate::config::Config;
 use crate::dialect::Registry;
+use crate::sharefile::path_text;
 pub use ingest::{Outcome, Snapshot, ingest};
 use systemd::Notifier;
-use workers::Job;
+use workers::{Job, Pool};
 
 /// A wall clock, injected so that tests and replays are deterministic.
 pub trait Clock: Send + Sync {
@@ -152,7 +156,7 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     let registry = Arc::new(registry);
     let (tx, mut rx) = mpsc::unbounded_channel::<Event>();
     let roots: Vec<PathBuf> = config.folders.iter().map(|f| std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone())).collect();
-    let (job_tx, pool) = workers::start(stores, &config, &registry, &tx, &clock)?;
+    let mut pool = Pool::start(stores, &config, &registry, &tx, &clock)?;
 
     let shares = roots.into_iter().map(|root| Share { watcher: None, identity: None, up: true, root }).collect();
     let mut d = Daemon {
@@ -181,7 +185,8 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
     let mut sigterm = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate())?;
     let mut sigint = tokio::signal::unix::signal(tokio::signal::unix::SignalKind::interrupt())?;
 
-    loop {
+    let mut stalled = false;
+    let end = loop {
         tokio::select! {
             Some(event) = rx.recv() => match event {
                 Event::Fs { folder, event: Ok(ev) } => d.file_event(folder, &ev),
@@ -193,22 +198,38 @@ async fn main_loop(config: Config, registry: Registry, clock: Arc<dyn Clock>) ->
             },
             _ = tick.tick() => {
                 catch_up.report(d.pending.is_empty() && d.in_flight.is_empty());
-                d.hand_out_settled(settle, &job_tx)?;
+                if let Err(error) = d.hand_out_settled(settle, &pool).and_then(|()| d.give_up_stuck(&mut pool)) {
+                    break Err(error);
+                }
             }
             _ = rescan.tick() => d.rescan(),
             _ = health.tick() => d.check_shares(),
-            _ = watchdog.tick() => notifier.notify("WATCHDOG=1"),
-            _ = sigterm.recv() => break,
-            _ = sigint.recv() => break,
+            _ = watchdog.tick() => {
+                // Pinged only while work advances: a main loop that runs while every worker
+                // is stuck is no sign of health.
+                let advancing = pool.advancing();
+                if advancing {
+                    notifier.notify("WATCHDOG=1");
+                } else if !stalled {
+                    tracing::error!("No worker advances; the watchdog is no longer pinged.");
+                }
+                stalled = !advancing;
+            }
+            _ = sigterm.recv() => break Ok(()),
+            _ = sigint.recv() => break Ok(()),
         }
-    }
-    tracing::info!("Stopping: finishing the file in progress.");
+    };
+    tracing::info!(seconds = STOP_GRACE.as_secs(), "Stopping: finishing the files in progress, within the stop bound.");
     notifier.notify("STOPPING=1");
-    drop(job_tx);
     drop(d);
-    let _ = tokio::task::spawn_blocking(move || pool.into_iter().for_each(|w| drop(w.join()))).await;
-    Ok(())
+    pool.stop(STOP_GRACE).await;
+    end
 }
+
+/// How long a stop waits for the files in progress. A worker cut short loses nothing (a file
+/// is stored in one transaction, and the catch-up scan at the next start finds it), so a stop
+/// never waits on a stuck worker beyond this.
+const STOP_GRACE: Duration = Duration::from_secs(10);
 
 /// Progress of the first pass over what the folders already hold: a line every 10 s while it
 /// lasts (a first start over a large archive), and one when it is done.
@@ -261,7 +282,7 @@ impl Daemon {
     /// overflowed, then the files it names queued (content events) or marked closed.
     fn file_event(&mut self, folder: usize, ev: &notify::Event) {
         if ev.need_rescan() {
-            tracing::warn!(folder = %self.config.folders[folder].path.display(), "The event queue overflowed; rescanning the folder.");
+            tracing::warn!(folder = %path_text(&self.config.folders[folder].path), "The event queue overflowed; rescanning the folder.");
             self.scan(folder);
         }
         let polled = self.config.folders[folder].poll;
@@ -289,31 +310,52 @@ impl Daemon {
         self.in_flight.remove(&path);
         match result {
             Ok(Outcome::Stored { revision, changes, compared }) => {
-                tracing::info!(path = %path.display(), revision, ?changes, compared, ms = elapsed.as_millis() as u64, "Stored a revision.")
+                tracing::info!(path = %path_text(&path), revision, ?changes, compared, ms = elapsed.as_millis() as u64, "Stored a revision.")
             }
-            Ok(Outcome::Unchanged) => tracing::debug!(path = %path.display(), "Content unchanged."),
-            Ok(Outcome::Gone) => tracing::debug!(path = %path.display(), "File vanished."),
+            Ok(Outcome::Unchanged) => tracing::debug!(path = %path_text(&path), "Content unchanged."),
+            Ok(Outcome::Gone) => tracing::debug!(path = %path_text(&path), "File vanished."),
             Ok(Outcome::Changing) => {
-                tracing::debug!(path = %path.display(), "The file changed while it was read; it must settle again.");
+                tracing::debug!(path = %path_text(&path), "The file changed while it was read; it must settle again.");
                 self.queue(path, folder, false);
             }
             Ok(Outcome::Refused(why)) => self.refuse(&path, &why),
             Err(error) => {
                 // Runtime error: keep the file for the next rescan and go on.
-                tracing::error!(path = %path.display(), error = format!("{error:#}"), "Could not ingest a file; it will be retried.");
+                tracing::error!(path = %path_text(&path), error = format!("{error:#}"), "Could not ingest a file; it will be retried.");
             }
         }
     }
 
     /// Hands each file that settled to the workers. An error when they have stopped.
-    fn hand_out_settled(&mut self, settle: Duration, jobs: &std::sync::mpsc::Sender<Job>) -> Result<()> {
+    fn hand_out_settled(&mut self, settle: Duration, pool: &Pool) -> Result<()> {
         for (path, folder, snapshot) in self.settled(settle) {
-            tracing::debug!(path = %path.display(), "Queued a settled file.");
+            tracing::debug!(path = %path_text(&path), "Queued a settled file.");
             self.in_flight.insert(path.clone());
             let root = self.shares[folder].root.clone();
-            if jobs.send(Job { path, folder, snapshot, root }).is_err() {
-                anyhow::bail!("the workers stopped");
-            }
+            pool.send(Job { path, folder, snapshot, root, quarantine: false })?;
+        }
+        Ok(())
+    }
+
+    /// Workers past the worker bound: each is reported and replaced, and its file handed out
+    /// again to be quarantined (stored unanalysed, so that the content is not tried again). An
+    /// error, which ends the daemon for its service manager to start it again, when the
+    /// threads given up outnumber the pool: only a new process frees the cores they hold.
+    fn give_up_stuck(&mut self, pool: &mut Pool) -> Result<()> {
+        for (job, ran) in pool.overdue() {
+            tracing::error!(
+                path = %path_text(&job.path),
+                seconds = ran.as_secs(),
+                bound_s = self.config.worker_timeout_s,
+                "A worker did not finish a file within the worker bound; it is replaced and the file quarantined (stored without analysis)."
+            );
+            pool.send(Job { quarantine: true, ..job })?;
+        }
+        if pool.stuck() > workers::worker_count(&self.config) {
+            anyhow::bail!(
+                "{} workers are stuck past the worker bound; stopping so that the service manager starts ncplan afresh",
+                pool.stuck()
+            );
         }
         Ok(())
     }
@@ -343,7 +385,7 @@ impl Daemon {
         let Some(meta) = meta else {
             let share = &mut self.shares[i];
             if share.up || first {
-                tracing::warn!(folder = %f.path.display(), machine = %f.name, "The share cannot be read (down or unmounted); watching for it to come back.");
+                tracing::warn!(folder = %path_text(&f.path), machine = %f.name, "The share cannot be read (down or unmounted); watching for it to come back.");
             }
             share.up = false;
             share.watcher = None;
@@ -364,18 +406,18 @@ impl Daemon {
                 share.up = true;
                 share.root = std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone());
                 if replaced {
-                    tracing::warn!(folder = %f.path.display(), machine = %f.name, "The share was remounted or replaced; watching it again and rescanning it.");
+                    tracing::warn!(folder = %path_text(&f.path), machine = %f.name, "The share was remounted or replaced; watching it again and rescanning it.");
                 } else if was_armed || !was_up {
-                    tracing::warn!(folder = %f.path.display(), machine = %f.name, "The share is back; watching it again and rescanning it.");
+                    tracing::warn!(folder = %path_text(&f.path), machine = %f.name, "The share is back; watching it again and rescanning it.");
                 } else {
-                    tracing::info!(folder = %f.path.display(), machine = %f.name, dialect = %f.dialect, poll = f.poll, "Watching a folder.");
+                    tracing::info!(folder = %path_text(&f.path), machine = %f.name, dialect = %f.dialect, poll = f.poll, "Watching a folder.");
                 }
                 self.scan(i);
             }
             Err(error) => {
                 let share = &mut self.shares[i];
                 if share.up || first {
-                    tracing::error!(folder = %f.path.display(), %error, "Cannot watch a folder; retrying every second.");
+                    tracing::error!(folder = %path_text(&f.path), %error, "Cannot watch a folder; retrying every second.");
                 }
                 share.up = false;
             }
@@ -408,22 +450,24 @@ impl Daemon {
         if std::fs::read_dir(&f.path).is_ok() && !error.paths.is_empty() && !error.paths.contains(&f.path) {
             for p in &error.paths {
                 if self.said.insert(p.clone()) {
-                    tracing::warn!(path = %p.display(), %error, "The watcher cannot read a path inside the share.");
+                    tracing::warn!(path = %path_text(p), %error, "The watcher cannot read a path inside the share.");
                 }
             }
             return;
         }
         let share = &mut self.shares[folder];
         if share.up {
-            tracing::warn!(folder = %f.path.display(), %error, "The watcher reported an error; the share is looked at again.");
+            tracing::warn!(folder = %path_text(&f.path), %error, "The watcher reported an error; the share is looked at again.");
         }
         share.up = false;
         share.watcher = None;
     }
 
+    /// A file that is not read (a link out of the share, a hard link, not a regular file),
+    /// said once until it changes.
     fn refuse(&mut self, path: &Path, why: &str) {
         if self.refused.insert(path.to_path_buf()) {
-            tracing::warn!(path = %path.display(), reason = why, "Not following a link out of the watched folder.");
+            tracing::warn!(path = %path_text(path), reason = why, "Refused a file of the watched folder; it is not read.");
         }
         self.pending.remove(path);
     }
@@ -432,22 +476,33 @@ impl Daemon {
     fn consider(&mut self, path: &Path, written: bool) {
         let Some(folder) = self.config.folder_at(path) else { return };
         let Ok(rel) = path.strip_prefix(&self.config.folders[folder].path) else { return };
-        // Editor and temporary files, and anything inside hidden folders, are not programs.
-        if rel.components().any(|c| c.as_os_str().to_str().is_none_or(|s| self.config.ignored(s))) {
+        // Editor and temporary files, and anything inside hidden folders, are not programs; a
+        // name that is not UTF-8 (Latin-1 from a Windows share) is judged by its readable part.
+        if rel.components().any(|c| self.config.ignored(&c.as_os_str().to_string_lossy())) {
             return;
         }
         let Ok(meta) = std::fs::symlink_metadata(path) else { return };
         if meta.file_type().is_symlink() {
             match std::fs::canonicalize(path) {
                 Ok(real) if !real.starts_with(&self.shares[folder].root) => {
-                    return self.refuse(path, &format!("it leads to {}, outside the watched folder", real.display()));
+                    return self.refuse(path, &format!("it leads to {}, outside the watched folder", path_text(&real)));
                 }
-                Ok(real) if !real.is_file() => return,
+                Ok(real) if real.is_dir() => return,
                 Ok(_) => {}
                 Err(_) => return,
             }
-        } else if !meta.is_file() {
+        } else if meta.is_dir() {
             return;
+        }
+        // What the path leads to: a regular file with one name, or refused (FIFOs, sockets,
+        // devices, hard links), said once.
+        match std::fs::metadata(path) {
+            Ok(m) => {
+                if let Some(why) = ingest::refusal_of(&m) {
+                    return self.refuse(path, &why);
+                }
+            }
+            Err(_) => return,
         }
         self.refused.remove(path);
         self.queue(path.to_path_buf(), folder, written);
@@ -496,7 +551,7 @@ impl Daemon {
             }
             Err(error) => {
                 if self.shares[folder].up {
-                    tracing::warn!(folder = %config.folders[folder].path.display(), %error, "Cannot list a folder (share down?).");
+                    tracing::warn!(folder = %path_text(&config.folders[folder].path), %error, "Cannot list a folder (share down?).");
                 }
                 self.shares[folder].up = false;
                 self.shares[folder].watcher = None;

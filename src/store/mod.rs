@@ -26,7 +26,7 @@
 //! PostgreSQL), `Txn::record_analysis`.
 //! Immutable blobs and revisions, `Store::begin` → `Txn`, the one transaction in which a revision, its keys and
 //! findings, the partial-write mark of the revision before and every comparison it enables
-//! commit; `Content::File` streams a file over the size limit into its blob in chunks; the
+//! commit; `Content::Absent` keeps a file over the size limit as its hash and size only; the
 //! attempt journal (`begin_attempt`) notes analyses in progress (a content's own analysis only:
 //! closed when it returns, before the store is waited for; after two unfinished analyses,
 //! `ingest::UNFINISHED_ANALYSES`, the content is tried in a child `ncplan plan` and stored
@@ -65,8 +65,6 @@ mod pg;
 mod pg_schema;
 mod schema;
 mod sqlite;
-
-use std::path::Path;
 
 use crate::pairing::{Candidate, Key};
 pub use copy::CopySummary;
@@ -171,16 +169,14 @@ pub struct NewRevision<'a> {
     pub diagnostics: &'a [DiagnosticJson],
 }
 
-/// A revision's bytes: in memory, or a file streamed into the blob in chunks (bounded memory).
+/// A revision's bytes: in memory, or absent (a file over the size limit, of which only the
+/// size and the hash are kept: the limit bounds what is stored).
 #[derive(Debug, Clone, Copy)]
 pub enum Content<'a> {
     /// The bytes.
     Bytes(&'a [u8]),
-    /// A file of `size` bytes whose SHA-256 is the revision's hash; a file that no longer
-    /// has that hash when it is copied is [`StoreError::ContentChanged`].
-    File {
-        /// Its path.
-        path: &'a Path,
+    /// Not kept: a file of `size` bytes whose SHA-256 is the revision's hash.
+    Absent {
         /// Its size.
         size: u64,
     },
@@ -191,7 +187,7 @@ impl Content<'_> {
     pub fn len(&self) -> u64 {
         match self {
             Content::Bytes(b) => b.len() as u64,
-            Content::File { size, .. } => *size,
+            Content::Absent { size } => *size,
         }
     }
 

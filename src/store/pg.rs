@@ -680,7 +680,13 @@ impl PgTxn<'_> {
                     &[&rev.hash, &(bytes.len() as i64), &bytes],
                 )?;
             }
-            Content::File { path, size } => self.stream_blob(rev.hash, path, size)?,
+            Content::Absent { size } => {
+                c.exec(
+                    "storing program bytes",
+                    "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, '') ON CONFLICT (hash) DO NOTHING",
+                    &[&rev.hash, &(size as i64)],
+                )?;
+            }
         }
         let size = rev.content.len() as i64;
         let revision_id: i64 = c
@@ -703,26 +709,6 @@ impl PgTxn<'_> {
         }
         self.insert_findings(revision_id, rev.diagnostics)?;
         Ok(revision_id)
-    }
-
-    /// Copies the file into the blob `hash` in chunks of 1 MiB (the client holds one chunk),
-    /// checking that it still has that hash; the server joins them. Files over [`MAX_BLOB`]
-    /// keep an empty blob.
-    fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
-        let c = self.conn;
-        if c.opt("storing program bytes", "SELECT 1 FROM blobs WHERE hash = $1", &[&hash])?.is_some() {
-            return Ok(());
-        }
-        if size > MAX_BLOB {
-            c.exec(
-                "storing program bytes",
-                "INSERT INTO blobs(hash, size, content) VALUES ($1, $2, '') ON CONFLICT (hash) DO NOTHING",
-                &[&hash, &(size as i64)],
-            )?;
-            return Ok(());
-        }
-        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-        self.conn.stream_into_blob(hash, size, &mut file)
     }
 
     pub(super) fn source(&self, revision: i64) -> Result<Option<StoredSource>> {

@@ -464,10 +464,10 @@ impl LiteTxn<'_> {
                 )
                 .map_err(sql("storing program bytes"))?;
             }
-            Content::File { path, size } => self.stream_blob(rev.hash, path, size)?,
+            Content::Absent { size } => write_blob(tx, rev.hash, size, 0, &mut std::io::empty())?,
         }
         let size = rev.content.len() as i64;
-        self.written.set(self.written.get() + rev.content.len() as usize);
+        self.written.set(self.written.get() + if let Content::Bytes(b) = rev.content { b.len() } else { 0 });
         tx.execute(
             "INSERT INTO revisions(program_id, hash, size, mtime_ns, seen_at, encoding, status, name) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
             params![program_id, rev.hash, size, rev.mtime_ns, rev.seen_at, rev.encoding, rev.status, rev.name],
@@ -488,14 +488,6 @@ impl LiteTxn<'_> {
             self.insert_finding(revision_id, d)?;
         }
         Ok(revision_id)
-    }
-
-    /// Copies the file into the blob `hash` in chunks, checking on the way that it still has
-    /// that hash. Files over [`MAX_BLOB`] keep an empty blob (their size and hash are kept).
-    fn stream_blob(&self, hash: &str, path: &Path, size: u64) -> Result<()> {
-        let kept = if size > MAX_BLOB { 0 } else { size };
-        let mut file = std::fs::File::open(path).map_err(|e| StoreError::Io { about: "reading a program to store", source: e })?;
-        write_blob(&self.tx, hash, size, kept, &mut file)
     }
 
     /// A stored revision's program and plan, to rebuild its whole plan from.

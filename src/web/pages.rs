@@ -190,7 +190,7 @@ pub(super) fn overview(s: &Server, ctx: &Ctx, store: &Store) -> Result<Markup> {
                 table {
                     tr { th { "share" } th { "folder" } th { "state" } th { "last revision seen" } }
                     @for f in &s.config.folders {
-                        @let path = f.path.display().to_string();
+                        @let path = crate::sharefile::path_text(&f.path);
                         @let readable = std::fs::read_dir(&f.path).is_ok();
                         tr {
                             td { @if f.role == crate::config::Role::Cam { "CAM originals" } @else { "machine " (f.name) } }

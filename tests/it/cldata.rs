@@ -419,6 +419,7 @@ fn the_daemon_compares_a_shop_program_with_its_cl_original() {
     std::fs::write(path("cam/PROFILE_OP10.ncl"), profile).unwrap();
     let log = std::fs::File::create(path("daemon.log")).unwrap();
     let mut child = Command::new(crate::bin())
+        .current_dir(crate::support::config_dir(&path("ncplan.toml")))
         .args(["watch", "--config"])
         .arg(path("ncplan.toml"))
         .env("NCPLAN_LOG", "debug")

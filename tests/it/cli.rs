@@ -206,10 +206,14 @@ fn translate_writes_for_another_control_and_never_into_a_watched_folder() {
         std::fs::create_dir(dir.path().join(sub)).unwrap();
     }
     let config = dir.path().join("ncplan.toml");
+    // Relative paths are the working directory's (the checkout's here): the folders are given whole.
+    let d = dir.path().display();
     std::fs::write(
         &config,
-        "[database]\npath = 'db.sqlite'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\n\
-         dialect = 'fanuc'\nunits = 'mm'\nmax_spindle_speed = 8100\n",
+        format!(
+            "[database]\npath = '{d}/db.sqlite'\n[[cam]]\npath = '{d}/cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = '{d}/share'\n\
+             dialect = 'fanuc'\nunits = 'mm'\nmax_spindle_speed = 8100\n"
+        ),
     )
     .unwrap();
     let config = config.to_str().unwrap();
@@ -249,7 +253,12 @@ fn translate_writes_a_stored_revision() {
     }
     std::fs::copy(crate::root().join("tests/programs/equivalence/drill_ream.nc"), dir.path().join("copy/O1002.nc")).unwrap();
     let config = dir.path().join("ncplan.toml");
-    std::fs::write(&config, "[database]\npath = 'db.sqlite'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = 'share'\ndialect = 'fanuc'\n").unwrap();
+    let d = dir.path().display();
+    std::fs::write(
+        &config,
+        format!("[database]\npath = '{d}/db.sqlite'\n[[cam]]\npath = '{d}/cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M1'\npath = '{d}/share'\ndialect = 'fanuc'\n"),
+    )
+    .unwrap();
     let config = config.to_str().unwrap();
     let copy = dir.path().join("copy");
     let (code, _, err) = ncplan(&["import", copy.to_str().unwrap(), "--cam", "--config", config]);

@@ -16,12 +16,12 @@ use ncplan::store::Store;
 use crate::support::{Proc, wait_rows, watch};
 
 /// A temporary DNC server: a CAM folder, one machine share, a config and a database.
-struct Site {
-    dir: tempfile::TempDir,
+pub(crate) struct Site {
+    pub(crate) dir: tempfile::TempDir,
 }
 
 impl Site {
-    fn new(extra: &str) -> Site {
+    pub(crate) fn new(extra: &str) -> Site {
         Site::with("fanuc", extra)
     }
 
@@ -41,20 +41,20 @@ impl Site {
         Site { dir }
     }
 
-    fn path(&self, rel: &str) -> PathBuf {
+    pub(crate) fn path(&self, rel: &str) -> PathBuf {
         self.dir.path().join(rel)
     }
 
-    fn db(&self) -> PathBuf {
+    pub(crate) fn db(&self) -> PathBuf {
         self.path("var/ncplan.db")
     }
 
-    fn config(&self) -> Config {
+    pub(crate) fn config(&self) -> Config {
         let text = std::fs::read_to_string(self.path("ncplan.toml")).unwrap();
         Config::parse(&text, self.dir.path()).unwrap()
     }
 
-    fn start(&self) -> Proc {
+    pub(crate) fn start(&self) -> Proc {
         let log = std::fs::File::create(self.path("daemon.log")).unwrap();
         let d = watch(&self.path("ncplan.toml"), "debug", log);
         // Ready once the catch-up scan has been queued.
@@ -62,11 +62,11 @@ impl Site {
         d
     }
 
-    fn log(&self) -> String {
+    pub(crate) fn log(&self) -> String {
         std::fs::read_to_string(self.path("daemon.log")).unwrap_or_default()
     }
 
-    fn wait_log(&self, needle: &str, want: usize) -> usize {
+    pub(crate) fn wait_log(&self, needle: &str, want: usize) -> usize {
         let deadline = Instant::now() + Duration::from_secs(20);
         loop {
             let n = self.log().matches(needle).count();
@@ -77,11 +77,11 @@ impl Site {
         }
     }
 
-    fn rows(&self, sql: &str) -> Vec<Vec<String>> {
+    pub(crate) fn rows(&self, sql: &str) -> Vec<Vec<String>> {
         rows(&self.db(), sql)
     }
 
-    fn wait_for(&self, sql: &str, want: usize) -> Vec<Vec<String>> {
+    pub(crate) fn wait_for(&self, sql: &str, want: usize) -> Vec<Vec<String>> {
         wait_rows(&self.db(), sql, want, Duration::from_secs(30))
     }
 }
@@ -259,7 +259,7 @@ fn a_writer_that_pauses_with_the_file_open_is_not_stored_half_written() {
 }
 
 /// Ingests `rel` of `site` with the clock reading `now`, as the worker does.
-fn ingest_at(site: &Site, store: &mut Store, rel: &str, now: &str, expected: Option<Snapshot>) -> Outcome {
+pub(crate) fn ingest_at(site: &Site, store: &mut Store, rel: &str, now: &str, expected: Option<Snapshot>) -> Outcome {
     let mut config = site.config();
     config.probe_exe = Some(crate::bin().to_path_buf());
     ingest_with(site, store, rel, now, expected, config)
@@ -406,7 +406,8 @@ fn a_link_out_of_the_share_is_never_followed() {
     assert_eq!(paths, ["O1.nc", "O1_LINK.nc"]);
     let log = site.log();
     for name in ["O66.nc", "passwd.nc", "O67.nc"] {
-        let said = log.lines().filter(|l| l.contains("Not following a link") && l.contains(name)).count();
+        let said =
+            log.lines().filter(|l| l.contains("Refused a file") && l.contains("outside the watched folder") && l.contains(name)).count();
         assert_eq!(said, 1, "{name}:\n{log}");
     }
     daemon.kill();
@@ -486,8 +487,8 @@ fn a_tmpfs_mounted_over_the_share_is_watched() {
 }
 
 #[test]
-fn a_file_over_the_size_limit_is_stored_in_chunks_and_analysed_by_no_one() {
-    for mut engine in crate::pg::engines("faults::a_file_over_the_size_limit_is_stored_in_chunks_and_analysed_by_no_one") {
+fn a_file_over_the_size_limit_is_stored_as_its_hash_and_size_and_analysed_by_no_one() {
+    for mut engine in crate::pg::engines("faults::a_file_over_the_size_limit_is_stored_as_its_hash_and_size_and_analysed_by_no_one") {
         let store = &mut engine.store;
         let site = Site::new("");
         let text = std::fs::read_to_string(site.path("ncplan.toml")).unwrap();
@@ -502,16 +503,28 @@ fn a_file_over_the_size_limit_is_stored_in_chunks_and_analysed_by_no_one() {
         let out = ingest_at(&site, store, "share/O8.nc", "2026-12-01T10:00:00.000Z", None);
         assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
         let rows = store
-        .query("SELECT r.status, r.size, b.size, length(b.content), r.hash, d.code FROM revisions r JOIN blobs b ON b.hash = r.hash JOIN diagnostics d ON d.revision_id = r.id")
+        .query("SELECT r.status, r.size, b.size, length(b.content), r.hash, d.code FROM revisions r JOIN blobs b ON b.hash = r.hash JOIN diagnostics d ON d.revision_id = r.id ORDER BY d.id")
         .unwrap()
         .1;
+        // The limit bounds what is stored: a revision row with the size and hash, not the bytes.
         let size = big.len().to_string();
-        assert_eq!(rows[0][..4], ["too_large", size.as_str(), size.as_str(), size.as_str()]);
+        assert_eq!(rows[0][..4], ["too_large", size.as_str(), size.as_str(), "0"]);
         assert_eq!(rows[0][4], ncplan::daemon::ingest::sha256_hex(big.as_bytes()));
         assert_eq!(rows[0][5], "text::too-large");
         assert!(store.query("SELECT * FROM plans").unwrap().1.is_empty());
-        // The bytes, streamed in chunks, are the file's.
-        assert_eq!(store.content(1).unwrap().unwrap(), big.as_bytes());
+        // Seen again unchanged, it is not stored again.
+        let again = ingest_at(&site, store, "share/O8.nc", "2026-12-01T10:05:00.000Z", None);
+        assert_eq!(again, Outcome::Unchanged);
+        // Two sparse files of 64 MB: two rows, not 128 MB of zeros.
+        for name in ["share/SPARSE1.nc", "share/SPARSE2.nc"] {
+            let f = std::fs::File::create(site.path(name)).unwrap();
+            f.set_len(64 << 20).unwrap();
+            (&f).write_all(format!("{name}\n").as_bytes()).unwrap();
+            let out = ingest_at(&site, store, name, "2026-12-01T10:10:00.000Z", None);
+            assert!(matches!(out, Outcome::Stored { changes: None, .. }), "{out:?}");
+        }
+        let kept = store.query("SELECT SUM(length(content)), COUNT(*) FROM blobs").unwrap().1;
+        assert_eq!(kept, [["0", "3"]]);
     }
 }
 

@@ -142,7 +142,14 @@ fn logs_to_a_file_carry_no_colour_codes() {
     let config = tmp.path().join("c.toml");
     std::fs::write(&config, "[database]\npath = 'db/x.db'\n[[machine]]\nname = 'M'\npath = 'm'\ndialect = 'linuxcnc'\n").unwrap();
     let log = std::fs::File::create(tmp.path().join("log")).unwrap();
-    let mut d = Command::new(crate::bin()).args(["watch", "--config"]).arg(&config).stdout(Stdio::null()).stderr(log).spawn().unwrap();
+    let mut d = Command::new(crate::bin())
+        .current_dir(tmp.path())
+        .args(["watch", "--config"])
+        .arg(&config)
+        .stdout(Stdio::null())
+        .stderr(log)
+        .spawn()
+        .unwrap();
     std::thread::sleep(Duration::from_millis(700));
     let _ = d.kill();
     let _ = d.wait();

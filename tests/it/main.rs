@@ -13,6 +13,11 @@
 //!   loop while many late originals arrive, every waiting edit compared after it),
 //!   `faults` (the daemon under a DNC server's faults: its own reads, a kill after a late
 //!   original, Siemens names, paused and rewritten writes, remounts, links, empty and huge files),
+//!   `share_faults` (what a share holds besides programs and a worker that never finishes: FIFOs,
+//!   hard links, names that are not UTF-8 or hold a newline, a stuck worker replaced, its file
+//!   quarantined, the watchdog and SIGTERM), `reports_config` (report filters in every format,
+//!   dates and machines that fail, configured folders of the working directory that must exist,
+//!   `translate -o` against the default configuration's folders),
 //!   `first_start` (the README's demo verbatim, `show`, `query` refusals, config mistakes, `import`),
 //!   `plan` (one small CAM-style program per feature kind), `cam_suite` (the programs of
 //!   `tests/programs/cam/`, made by its `generate.py` in Fanuc/Haas, Siemens and Heidenhain post
@@ -60,9 +65,11 @@ mod pg;
 mod plan;
 mod post_rules;
 mod post_suite;
+mod reports_config;
 mod revisions;
 mod robustness;
 mod round_trip_causes;
+mod share_faults;
 mod shop;
 mod shops;
 mod siemens_axes;

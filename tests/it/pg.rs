@@ -550,7 +550,9 @@ fn three_workers_one_killed_mid_batch_read_every_revision_again_exactly_once() {
     let args = |cmd: &str| -> Vec<String> {
         [cmd, "--config", config.to_str().unwrap(), "--jobs", "1", "--lease", "3"].iter().map(|s| (*s).to_owned()).collect()
     };
-    let spawn = |a: Vec<String>| Command::new(crate::bin()).args(a).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let spawn = |a: Vec<String>| {
+        Command::new(crate::bin()).current_dir(server.dir.path()).args(a).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap()
+    };
     // The first queues everything and starts; two workers join; the first dies holding a batch.
     let mut first = spawn(args("reanalyze"));
     wait_until("the archive is queued", Duration::from_secs(30), || pg.count("SELECT COUNT(*) FROM reanalysis_queue") > 0);

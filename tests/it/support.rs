@@ -25,10 +25,18 @@ impl Drop for Proc {
     }
 }
 
-/// Starts `ncplan watch --config config`, logging at `level` (`NCPLAN_LOG`) to `stderr`. It
-/// does not wait: the callers wait for what they need (the catch-up scan, a row).
+/// The folder a command given `--config config` runs in: the configuration's own, since
+/// relative paths are resolved against the working directory.
+pub(crate) fn config_dir(config: &Path) -> &Path {
+    config.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."))
+}
+
+/// Starts `ncplan watch --config config` in the configuration's folder, logging at `level`
+/// (`NCPLAN_LOG`) to `stderr`. It does not wait: the callers wait for what they need (the
+/// catch-up scan, a row).
 pub(crate) fn watch(config: &Path, level: &str, stderr: impl Into<Stdio>) -> Proc {
     let child = Command::new(crate::bin())
+        .current_dir(config_dir(config))
         .args(["watch", "--config"])
         .arg(config)
         .env("NCPLAN_LOG", level)
@@ -45,6 +53,7 @@ pub(crate) fn serve(config: &Path, args: &[&str]) -> (Proc, String) {
     use std::io::BufRead as _;
     let listen: &[&str] = if args.contains(&"--listen") { &[] } else { &["--listen", "127.0.0.1:0"] };
     let mut child = Command::new(crate::bin())
+        .current_dir(config_dir(config))
         .args(["serve", "--config"])
         .arg(config)
         .args(listen)

@@ -149,6 +149,7 @@ fn a_non_local_listen_without_users_is_refused() {
     std::fs::create_dir_all(site.path("var")).unwrap();
     ncplan::store::Store::open(&ncplan::store::Location::Sqlite(site.db()), "").unwrap();
     let out = Command::new(crate::bin())
+        .current_dir(site.dir.path())
         .args(["serve", "--config"])
         .arg(site.path("ncplan.toml"))
         .args(["--listen", "0.0.0.0:0"])
@@ -231,6 +232,7 @@ fn sign_in_csrf_and_reports_without_a_browser() {
     );
     // The CSV report: a header and one row per change, commas quoted.
     let csv = Command::new(crate::bin())
+        .current_dir(site.dir.path())
         .args(["report", "--format", "csv", "--machine", "DMU50", "--config"])
         .arg(site.path("ncplan.toml"))
         .output()
@@ -358,7 +360,12 @@ fn the_csv_report_neutralises_formulas_in_hostile_names() {
     );
     assert!(head.starts_with("HTTP/1.1 303"), "{head}");
     assert_eq!(crate::db_rows(&db, "SELECT marked_by FROM review_marks"), [[REVIEWER]]);
-    let out = Command::new(crate::bin()).args(["report", "--format", "csv", "--config"]).arg(&config).output().unwrap();
+    let out = Command::new(crate::bin())
+        .current_dir(crate::support::config_dir(&config))
+        .args(["report", "--format", "csv", "--config"])
+        .arg(&config)
+        .output()
+        .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let csv = String::from_utf8(out.stdout).unwrap();
     let rows = csv_cells(&csv);
@@ -416,6 +423,7 @@ fn the_translate_download_reads_back_in_its_dialect() {
         assert!(body.lines().count() > 10, "{query}: {body}");
         assert_eq!(get(query).1, body, "{query}: a second download differs");
         let cli = Command::new(crate::bin())
+            .current_dir(site.dir.path())
             .args(["translate", "--revision", &revision, "--to", dialect, "--config"])
             .arg(site.path("ncplan.toml"))
             .output()
@@ -502,6 +510,7 @@ fn the_workspace_in_chromium() {
     // The HTML report, for the browser to open.
     let report = screenshots().join("report.html");
     let out = Command::new(crate::bin())
+        .current_dir(site.dir.path())
         .args(["report", "--format", "html", "-o"])
         .arg(&report)
         .arg("--config")
