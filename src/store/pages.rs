@@ -337,6 +337,15 @@ fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
     Ok(row)
 }
 
+/// The longest value a console query may make (a string or blob, in bytes).
+const CONSOLE_LENGTH: i32 = 1 << 20;
+/// The most columns a console query may have (with [`CONSOLE_LENGTH`], what one row may take).
+const CONSOLE_COLUMNS: i32 = 100;
+/// The cells of the rows a console query shows, in bytes, after which the rest is left off.
+const CONSOLE_BYTES: usize = 8 << 20;
+/// Virtual machine steps between two looks at a console query's clock.
+const CONSOLE_STEPS: i32 = 100;
+
 impl Lite {
     fn rows<T>(
         &self,
@@ -675,25 +684,36 @@ impl Lite {
         Ok(())
     }
 
-    /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
-    /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
-    /// whether rows were left off.
+    /// Runs one read-only statement for the SQL console: at most `max_rows` rows and
+    /// [`CONSOLE_BYTES`] of cells, [`CONSOLE_COLUMNS`] columns, stopped (SQLite's progress handler, every
+    /// [`CONSOLE_STEPS`] virtual machine steps) once it has run `limit`, no value longer than
+    /// [`CONSOLE_LENGTH`] (so that no one step, such as `hex(zeroblob(1e9))`, runs long or
+    /// takes much memory). Returns the columns, the rows and whether rows were left off.
     pub(super) fn query_limited(
         &self,
         sql_text: &str,
         max_rows: usize,
         limit: std::time::Duration,
     ) -> std::result::Result<Limited, super::QueryError> {
+        use rusqlite::limits::Limit;
         let first = super::one_reading_statement(sql_text)?;
         let started = std::time::Instant::now();
-        self.conn.progress_handler(1000, Some(move || started.elapsed() > limit));
+        let length = self.conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, CONSOLE_LENGTH);
+        let columns = self.conn.set_limit(Limit::SQLITE_LIMIT_COLUMN, CONSOLE_COLUMNS);
+        self.conn.progress_handler(CONSOLE_STEPS, Some(move || started.elapsed() > limit));
         let result = self.query_capped(first, max_rows);
         self.conn.progress_handler(0, None::<fn() -> bool>);
+        self.conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, length);
+        self.conn.set_limit(Limit::SQLITE_LIMIT_COLUMN, columns);
         result.map_err(|e| match e {
             StoreError::Sql { source, .. } => match source.downcast_ref::<rusqlite::Error>() {
                 Some(rusqlite::Error::SqliteFailure(f, _)) if f.code == rusqlite::ErrorCode::OperationInterrupted => {
                     super::QueryError::Refused(format!("the query ran past its time limit of {} ms and was stopped", limit.as_millis()))
                 }
+                Some(rusqlite::Error::SqliteFailure(f, _)) if f.code == rusqlite::ErrorCode::TooBig => super::QueryError::Refused(format!(
+                    "the query made a value longer than the console's limit of {} bytes and was stopped",
+                    CONSOLE_LENGTH
+                )),
                 Some(e) => super::QueryError::Sql(super::sqlite::plain(e)),
                 None => super::QueryError::Sql(source.to_string()),
             },
@@ -715,13 +735,15 @@ impl Lite {
         let names: Vec<String> = stmt.column_names().iter().map(|s| (*s).to_owned()).collect();
         let mut rows = stmt.query([]).map_err(sql("running the query"))?;
         let mut out = Vec::new();
-        let mut more = false;
+        let (mut more, mut bytes) = (false, 0);
         while let Some(row) = rows.next().map_err(sql("reading a row"))? {
-            if out.len() == max_rows {
+            if out.len() == max_rows || bytes > CONSOLE_BYTES {
                 more = true;
                 break;
             }
-            out.push(super::sqlite::cells(row, names.len())?);
+            let cells = super::sqlite::cells(row, names.len())?;
+            bytes += cells.iter().map(String::len).sum::<usize>();
+            out.push(cells);
         }
         Ok((names, out, more))
     }

@@ -73,6 +73,7 @@ mod tool_comments;
 mod translate;
 mod unknown_values;
 mod web;
+mod web_attacks;
 
 use std::path::{Path, PathBuf};
 
