@@ -7,8 +7,8 @@
 //!   [`HEADER_TIMEOUT`] for a request's head (and for an idle keep-alive connection's next
 //!   one), at most [`MAX_CONNECTIONS`] open: a new one past the cap closes the connection
 //!   that has waited longest for a request head (a slow-loris client's), so a thousand slow
-//!   clients never keep a planner out; only when every connection is inside a request is the
-//!   new one refused.
+//!   clients never keep a planner out; while every connection is inside a request, a new one
+//!   waits for room.
 //! - **Host** ([`host_allowed`]): a page of another name that resolves to this server (DNS
 //!   rebinding) sends its own name; only the address the connection arrived at (an IP
 //!   literal), `localhost` on loopback and `[web] hosts` are answered, any other is `421` on
@@ -42,6 +42,11 @@ pub(super) const BODY_TIMEOUT: Duration = Duration::from_secs(10);
 pub(super) const BODY_LIMIT: usize = 256 * 1024;
 /// Connections open at once.
 pub(super) const MAX_CONNECTIONS: usize = 256;
+/// How long a connection may wait for a request head before a new connection past the cap
+/// closes it (a browser sends its head at once).
+const SLOW_HEAD: Duration = Duration::from_secs(1);
+/// How long a new connection waits for room while every open one is inside a request.
+const ADMIT_WAIT: Duration = Duration::from_secs(30);
 /// How long a stopping server waits for the requests in progress.
 const DRAIN: Duration = Duration::from_secs(5);
 
@@ -68,10 +73,14 @@ struct Open {
 impl Open {
     /// Room for a new connection: its id and the signal that closes it, after closing the
     /// connection that has waited longest for a head when the cap is reached; `None` when
-    /// every open connection is inside a request.
+    /// none has waited [`SLOW_HEAD`] (every open connection is inside a request, or has only
+    /// just come and not been read yet).
     fn admit(&mut self, now: Instant, cap: usize) -> Option<(u64, oneshot::Receiver<()>)> {
         if self.conns.len() >= cap {
-            let oldest = self.conns.iter().filter_map(|(id, (since, _))| since.map(|t| (t, *id))).min()?.1;
+            let (since, oldest) = self.conns.iter().filter_map(|(id, (since, _))| since.map(|t| (t, *id))).min()?;
+            if now.saturating_duration_since(since) < SLOW_HEAD {
+                return None;
+            }
             if let Some((_, Some(close))) = self.conns.remove(&oldest) {
                 let _ = close.send(());
             }
@@ -108,9 +117,8 @@ pub(super) async fn run(listener: tokio::net::TcpListener, app: Router, shutdown
             },
         };
         let Ok(local) = stream.local_addr() else { continue };
-        let admitted = open.lock().ok().and_then(|mut o| o.admit(Instant::now(), MAX_CONNECTIONS));
-        let Some((id, closed)) = admitted else {
-            tracing::warn!(%remote, "every connection is inside a request; a new one is refused");
+        let Some((id, closed)) = admit(&open).await else {
+            tracing::warn!(%remote, "every connection has been inside a request for {} s; a new one is refused", ADMIT_WAIT.as_secs());
             continue;
         };
         tokio::spawn(connection(stream, Peer { remote, local }, app.clone(), open.clone(), id, closed));
@@ -118,6 +126,22 @@ pub(super) async fn run(listener: tokio::net::TcpListener, app: Router, shutdown
     let deadline = Instant::now() + DRAIN;
     while open.lock().is_ok_and(|o| o.conns.values().any(|c| c.0.is_none())) && Instant::now() < deadline {
         tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
+/// Room for a new connection (see [`Open::admit`]): while no open one can be closed for it,
+/// the new one waits (in the kernel's backlog the connections behind it wait too), at most
+/// [`ADMIT_WAIT`]: a request's body is read within [`BODY_TIMEOUT`].
+async fn admit(open: &Mutex<Open>) -> Option<(u64, oneshot::Receiver<()>)> {
+    let deadline = Instant::now() + ADMIT_WAIT;
+    loop {
+        if let Some(room) = open.lock().ok()?.admit(Instant::now(), MAX_CONNECTIONS) {
+            return Some(room);
+        }
+        if Instant::now() > deadline {
+            return None;
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
     }
 }
 
@@ -295,8 +319,10 @@ mod tests {
         let t0 = Instant::now();
         let (a, mut a_closed) = open.admit(t0, 2).unwrap();
         let (b, mut b_closed) = open.admit(t0 + Duration::from_secs(1), 2).unwrap();
-        // `b` is inside a request: the next connection closes `a`, which waits for its head.
+        // `b` is inside a request; `a` has not waited long enough to be called slow.
         open.waiting(b, None);
+        assert!(open.admit(t0 + Duration::from_millis(500), 2).is_none());
+        // The next connection closes `a`, which has waited for its head for 2 s.
         let (_c, _) = open.admit(t0 + Duration::from_secs(2), 2).unwrap();
         assert!(a_closed.try_recv().is_ok() && b_closed.try_recv().is_err());
         assert!(!open.conns.contains_key(&a));
@@ -305,7 +331,7 @@ mod tests {
         for id in ids {
             open.waiting(id, None);
         }
-        assert!(open.admit(t0 + Duration::from_secs(3), 2).is_none());
+        assert!(open.admit(t0 + Duration::from_secs(9), 2).is_none());
     }
 
     #[test]

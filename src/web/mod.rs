@@ -126,8 +126,10 @@ pub(crate) struct Server {
     idle: Mutex<Vec<Store>>,
     /// Sign-in attempts per client.
     attempts: Mutex<auth::Attempts>,
-    /// Password checks running at once (argon2 takes its memory per check).
+    /// Password checks running or waiting for a thread of `checkers` (as many as there are).
     hashing: Arc<tokio::sync::Semaphore>,
+    /// The threads that check passwords.
+    checkers: auth::Checkers,
     /// What an unknown user's password is checked against (made once, on the blocking pool).
     dummy: std::sync::OnceLock<String>,
     /// Console queries running at once.
@@ -156,6 +158,7 @@ impl Server {
             idle: Mutex::new(Vec::new()),
             attempts: Mutex::new(auth::Attempts::new(config.web.login_per_minute)),
             hashing: Arc::new(tokio::sync::Semaphore::new(HASHING_AT_ONCE)),
+            checkers: auth::Checkers::new(HASHING_AT_ONCE),
             dummy: std::sync::OnceLock::new(),
             console: Arc::new(tokio::sync::Semaphore::new(CONSOLE_AT_ONCE)),
             config,
@@ -282,7 +285,7 @@ pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
         let warm = server.clone();
         tokio::task::spawn_blocking(move || warm.warm(WARM_COMPARISONS));
         let dummy = server.clone();
-        tokio::task::spawn_blocking(move || dummy.dummy_hash().len());
+        tokio::spawn(async move { dummy.clone().checkers.run(move || dummy.dummy_hash().len()).await });
         guard::run(listener, router(server), shutdown()).await;
         Ok(())
     })
@@ -527,14 +530,18 @@ async fn login(
     let name = form.get("name").cloned().unwrap_or_default();
     let password = form.get("password").cloned().unwrap_or_default();
     let s2 = s.clone();
-    // The password check (holding its permit even if the client goes) and the session's
-    // write, on the blocking pool.
-    let started = tokio::task::spawn_blocking(move || {
+    // The password check on a checking thread (holding its permit even if the client goes),
+    // then the session's write on the blocking pool.
+    let checked = s.checkers.run(move || {
         let ok = auth::check_password(&s2.config.web_users, &name, &password, s2.dummy_hash());
         drop(permit);
-        ok.then(|| auth::start_session(&s2, &name))
-    })
-    .await;
+        ok.then_some(name)
+    });
+    let Some(checked) = checked.await else {
+        return (StatusCode::INTERNAL_SERVER_ERROR, "cannot check the password").into_response();
+    };
+    let s2 = s.clone();
+    let started = tokio::task::spawn_blocking(move || checked.map(|name| auth::start_session(&s2, &name))).await;
     match started {
         Ok(Some(Ok(cookie))) => {
             let mut r = Redirect::to("/").into_response();
