@@ -279,13 +279,21 @@ async fn screen(s: &Server, peer: Option<Peer>, request: Request) -> Result<Requ
         )
             .into_response());
     }
+    let length = request.headers().get(header::CONTENT_LENGTH).and_then(|l| l.to_str().ok()).and_then(|l| l.trim().parse::<u64>().ok());
+    if length.is_some_and(|l| l > BODY_LIMIT as u64) {
+        return Err(too_large());
+    }
     let (parts, body) = request.into_parts();
     match tokio::time::timeout(BODY_TIMEOUT, axum::body::to_bytes(body, BODY_LIMIT)).await {
         Ok(Ok(bytes)) => Ok(Request::from_parts(parts, Body::from(bytes))),
-        Ok(Err(_)) => Err((StatusCode::PAYLOAD_TOO_LARGE, format!("a request body is at most {BODY_LIMIT} bytes")).into_response()),
+        Ok(Err(_)) => Err(too_large()),
         Err(_) => Err((StatusCode::REQUEST_TIMEOUT, format!("the request body did not come within {} s", BODY_TIMEOUT.as_secs()))
             .into_response()),
     }
+}
+
+fn too_large() -> Response {
+    (StatusCode::PAYLOAD_TOO_LARGE, format!("a request body is at most {BODY_LIMIT} bytes")).into_response()
 }
 
 #[cfg(test)]
