@@ -276,6 +276,9 @@ pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
     Store::open(&options.config.database, &options.config.site)
         .with_context(|| format!("cannot open the database {}", options.config.database))?;
     let server = Arc::new(Server::new(options.config, options.registry, options.clock)?);
+    if let Some(why) = server.store()?.console_refusal()? {
+        tracing::warn!(refusal = why, "the SQL console is refused");
+    }
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().context("cannot start the runtime")?;
     runtime.block_on(async move {
         let listener = tokio::net::TcpListener::bind(addr).await.with_context(|| format!("cannot listen on {addr}"))?;
