@@ -287,8 +287,9 @@ async fn screen(s: &Server, peer: Option<Peer>, request: Request) -> Result<Requ
     match tokio::time::timeout(BODY_TIMEOUT, axum::body::to_bytes(body, BODY_LIMIT)).await {
         Ok(Ok(bytes)) => Ok(Request::from_parts(parts, Body::from(bytes))),
         Ok(Err(_)) => Err(too_large()),
-        Err(_) => Err((StatusCode::REQUEST_TIMEOUT, format!("the request body did not come within {} s", BODY_TIMEOUT.as_secs()))
-            .into_response()),
+        Err(_) => {
+            Err((StatusCode::REQUEST_TIMEOUT, format!("the request body did not come within {} s", BODY_TIMEOUT.as_secs())).into_response())
+        }
     }
 }
 
@@ -308,7 +309,9 @@ mod tests {
     fn only_this_servers_names_are_answered() {
         let names = vec!["ncplan.plant.example".to_owned(), "dnc:8443".to_owned()];
         let lo = at("127.0.0.1:8480");
-        for ok in ["127.0.0.1:8480", "127.0.0.1", "localhost:8480", "LOCALHOST", "ncplan.plant.example", "ncplan.plant.example.:443", "dnc:8443"] {
+        for ok in
+            ["127.0.0.1:8480", "127.0.0.1", "localhost:8480", "LOCALHOST", "ncplan.plant.example", "ncplan.plant.example.:443", "dnc:8443"]
+        {
             assert!(host_allowed(ok, lo, &names), "{ok}");
         }
         for refused in ["evil.example:8480", "", "127.0.0.2:8480", "dnc:8480", "ncplan.plant.example.evil.example", "localhost.evil"] {

@@ -8,9 +8,14 @@
 //!
 //! Security: without `[[web.user]]` in the configuration the server listens on loopback only
 //! (a non-local address is refused); with users, every page asks for a session (argon2
-//! password check, an HttpOnly SameSite=Strict cookie, the session kept in the store with
-//! its expiry, so that a restart signs no one out). Every POST carries a CSRF token derived
-//! from the session cookie.
+//! password check, an HttpOnly SameSite=Strict cookie, `Secure` over TLS, the session kept in
+//! the store with its expiry, so that a restart signs no one out). Every POST carries a CSRF
+//! token derived from the session cookie; the SQL console runs a query only by such a POST
+//! (`GET /sql?q=` fills its form), [`CONSOLE_AT_ONCE`] at a time. Sign-in: `[web]
+//! login_per_minute` attempts per client, [`HASHING_AT_ONCE`] password checks at once on
+//! threads of their own (`auth::Checkers`), an unknown name checked against a dummy hash.
+//! `guard.rs`: connections (header timeout, cap), the `Host` check, body bounds and the
+//! security headers of every response.
 //!
 //! `ncplan serve`, its own room in the shell (axum on a current-thread tokio
 //! runtime; maud templates, compile-time checked and escaping every value; CSS and JS embedded

@@ -766,10 +766,7 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
     }
     shot(c, "comparison").await?;
     // The legend's swatches come from the stylesheet (no inline style under the policy).
-    assert_eq!(
-        js(c, "return getComputedStyle(document.querySelector('.legend i.lg-rapid')).borderTopStyle").await,
-        json!("dashed")
-    );
+    assert_eq!(js(c, "return getComputedStyle(document.querySelector('.legend i.lg-rapid')).borderTopStyle").await, json!("dashed"));
     let moved = c.find(Locator::Css("li[data-kind=start_point_moved] a.change")).await?;
     moved.click().await?;
     assert_eq!(js(c, "return document.querySelectorAll('svg rect.region.active').length").await, json!(3), "the region is highlighted");

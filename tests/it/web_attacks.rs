@@ -223,7 +223,8 @@ fn a_request_for_another_host_name_is_refused_on_every_route() {
     }
     assert!(crate::db_rows(&site.db(), "SELECT id FROM saved_queries").is_empty());
     // This server's names are answered: its address, localhost on loopback, the configured one.
-    for host in [format!("127.0.0.1:{port}"), format!("localhost:{port}"), format!("ncplan.plant.example:{port}"), "NCPLAN.plant.example".into()]
+    for host in
+        [format!("127.0.0.1:{port}"), format!("localhost:{port}"), format!("ncplan.plant.example:{port}"), "NCPLAN.plant.example".into()]
     {
         let (head, _) = raw(&host, "GET", "/", "");
         assert_eq!(status(&head), 200, "`{host}`: {head}");
@@ -268,9 +269,7 @@ fn sign_ins_are_rate_limited_and_password_checks_capped() {
     let codes = codes.lock().unwrap().clone();
     let peak = peak_mib(serve.0.id());
     let (failed, busy) = (codes.iter().filter(|c| **c == 303).count(), codes.iter().filter(|c| **c == 503).count());
-    measured(
-        &format!("300 sign-ins at once: {failed} checked, {busy} told busy in {:?}; server peak RSS {peak} MiB", started.elapsed()),
-    );
+    measured(&format!("300 sign-ins at once: {failed} checked, {busy} told busy in {:?}; server peak RSS {peak} MiB", started.elapsed()));
     assert_eq!(codes.len(), 300);
     assert_eq!(failed + busy, 300, "{codes:?}");
     assert!(failed >= 2, "{codes:?}");
@@ -585,9 +584,33 @@ fn random_requests_and_slow_writers_leave_the_server_answering() {
         done.store(true, Ordering::Relaxed);
     });
     let worst = *slowest.lock().unwrap();
-    measured(
-        &format!("{} random requests; the planner's slowest answer {worst:?}; server peak RSS {} MiB", sent.load(Ordering::Relaxed), peak_mib(serve.0.id())),
-    );
+    measured(&format!(
+        "{} random requests; the planner's slowest answer {worst:?}; server peak RSS {} MiB",
+        sent.load(Ordering::Relaxed),
+        peak_mib(serve.0.id())
+    ));
     assert!(worst < Duration::from_secs(1), "{worst:?}");
     answers_quickly(&base);
+}
+
+/// The README sets up TLS (a reverse proxy) before it mentions listening on `0.0.0.0`, and its
+/// `[web]` example is a configuration ncplan takes.
+#[test]
+fn the_readme_sets_up_tls_before_it_suggests_every_address() {
+    let readme = std::fs::read_to_string(crate::root().join("README.md")).unwrap();
+    let proxy = readme.find("proxy_pass http://127.0.0.1:8480").expect("a reverse proxy example");
+    let everywhere = readme.find("0.0.0.0").expect("the README names 0.0.0.0");
+    assert!(proxy < everywhere, "the README suggests 0.0.0.0 before its TLS set-up");
+    let example = readme.split("```toml\n[web]\n").nth(1).and_then(|t| t.split("```").next()).expect("a [web] example");
+    let dir = tempfile::tempdir().unwrap();
+    for d in ["cam", "share"] {
+        std::fs::create_dir_all(dir.path().join(d)).unwrap();
+    }
+    let text = format!(
+        "[database]\npath = 'ncplan.db'\n[[cam]]\npath = 'cam'\ndialect = 'fanuc'\n[[machine]]\nname = 'M'\npath = 'share'\ndialect = 'fanuc'\n[web]\n{example}"
+    );
+    let config = ncplan::config::Config::parse(&text, dir.path()).unwrap();
+    assert_eq!(config.web.hosts, ["ncplan.plant.example"]);
+    assert!(config.web.secure_cookies);
+    assert_eq!(config.web.trusted_proxies, ["127.0.0.1".parse::<std::net::IpAddr>().unwrap()]);
 }
