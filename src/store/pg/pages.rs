@@ -436,6 +436,11 @@ impl Pg {
             tx.simple_query(&format!("FETCH {} FROM ncplan_console", max_rows + 1)).map_err(refused)?
         };
         let mut rows = super::text_cells(&messages, &types);
+        for cell in rows.iter_mut().flatten() {
+            if cell.len() > 16 << 10 {
+                *cell = crate::store::pages::console_text(cell.as_bytes());
+            }
+        }
         let more = rows.len() > max_rows;
         rows.truncate(max_rows);
         drop(tx);
