@@ -135,7 +135,7 @@ pub(crate) struct Server {
     hashing: Arc<tokio::sync::Semaphore>,
     /// The threads that check passwords.
     checkers: auth::Checkers,
-    /// What an unknown user's password is checked against (made once, on the blocking pool).
+    /// What an unknown user's password is checked against (made once, on a checking thread).
     dummy: std::sync::OnceLock<String>,
     /// Console queries running at once.
     console: Arc<tokio::sync::Semaphore>,
