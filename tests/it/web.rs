@@ -224,6 +224,27 @@ fn sign_in_csrf_and_reports_without_a_browser() {
         assert!(!page.contains('\u{202E}') && !page.contains('\u{2066}'), "{path}: a bidirectional control reached the page");
         assert!(!page.contains("<b>7"), "{path}: the file name reached the page as markup");
     }
+    // The console's results are text too: hostile stored names and a query's own markup, run
+    // by the console's POST.
+    let session = format!("ncplan_session={}", "ef".repeat(32));
+    let (_, console) = http(&base, &format!("GET /sql HTTP/1.1\r\nHost: {{host}}\r\nCookie: {session}\r\nConnection: close\r\n\r\n"));
+    let token = console.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).expect("a CSRF token").to_owned();
+    for sql in ["SELECT '<script>window.pwned=4</script>' AS x", "SELECT path FROM programs"] {
+        let body = format!("csrf={token}&q={}", crate::support::urlencode(sql));
+        let (head, page) = http(
+            &base,
+            &format!(
+                "POST /sql HTTP/1.1\r\nHost: {{host}}\r\nCookie: {session}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                body.len()
+            ),
+        );
+        assert!(head.starts_with("HTTP/1.1 200") && page.contains("<p id=\"result\">"), "{sql}: {head}");
+        assert!(
+            !page.contains("<script>window") && !page.contains("<b>7") && page.matches("<script").count() == 1,
+            "{sql}: markup in a result"
+        );
+        assert!(!page.contains('\u{202E}'), "{sql}: a bidirectional control reached the page");
+    }
     let (_, page) = http(&base, &format!("GET /compare/{named} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
     assert!(
         page.contains("P&quot;&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc") || page.contains("P\"&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc"),
