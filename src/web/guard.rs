@@ -213,15 +213,28 @@ fn split_host(host: &str) -> (&str, Option<&str>) {
     }
 }
 
-/// The client a request is from: the peer, or, behind a trusted proxy, the address the proxy
-/// appended to `X-Forwarded-For`.
+/// The client a request is from, as the sign-in limit counts clients: the peer, or, behind a
+/// trusted proxy, the address the proxy appended to `X-Forwarded-For`; an IPv6 address by its
+/// /64 network (one host is given a whole /64 and may use any address in it).
 pub(super) fn client(peer: &Peer, headers: &HeaderMap, trusted: &[IpAddr]) -> IpAddr {
     let direct = peer.remote.ip().to_canonical();
-    if !trusted.iter().any(|t| t.to_canonical() == direct) {
-        return direct;
+    let ip = if trusted.iter().any(|t| t.to_canonical() == direct) {
+        let forwarded = headers.get_all("x-forwarded-for").iter().filter_map(|v| v.to_str().ok()).flat_map(|v| v.split(',')).last();
+        forwarded.and_then(|f| f.trim().parse::<IpAddr>().ok()).map_or(direct, |ip| ip.to_canonical())
+    } else {
+        direct
+    };
+    match ip {
+        IpAddr::V6(v6) => IpAddr::V6(std::net::Ipv6Addr::from(u128::from(v6) & !((1u128 << 64) - 1))),
+        v4 => v4,
     }
-    let forwarded = headers.get_all("x-forwarded-for").iter().filter_map(|v| v.to_str().ok()).flat_map(|v| v.split(',')).last();
-    forwarded.and_then(|f| f.trim().parse::<IpAddr>().ok()).map_or(direct, |ip| ip.to_canonical())
+}
+
+/// Whether `target` is a path of this server to send a browser back to: `/…`, but not `//host`
+/// or `/\host` (which browsers read as another server).
+pub(super) fn local_path(target: &str) -> bool {
+    let mut chars = target.chars();
+    chars.next() == Some('/') && !matches!(chars.next(), Some('/' | '\\')) && !target.contains(['\r', '\n'])
 }
 
 /// Whether the request reached the server over TLS: `[web] secure_cookies`, or a trusted
@@ -352,5 +365,20 @@ mod tests {
         h.insert("x-forwarded-for", HeaderValue::from_static("1.2.3.4, 192.0.2.7"));
         assert_eq!(client(&peer, &h, &[]), "10.0.0.9".parse::<IpAddr>().unwrap());
         assert_eq!(client(&peer, &h, &["10.0.0.9".parse().unwrap()]), "192.0.2.7".parse::<IpAddr>().unwrap());
+        // An IPv6 client is its /64: the addresses of one host count together.
+        let v6 = |a: &str| Peer { remote: SocketAddr::new(a.parse().unwrap(), 40000), local: at("[::1]:8480") };
+        let one = client(&v6("2001:db8:1:2:aaaa::1"), &HeaderMap::new(), &[]);
+        assert_eq!(one, client(&v6("2001:db8:1:2:ffff:1234::9"), &HeaderMap::new(), &[]));
+        assert_ne!(one, client(&v6("2001:db8:1:3::1"), &HeaderMap::new(), &[]));
+    }
+
+    #[test]
+    fn only_this_servers_paths_are_gone_back_to() {
+        for ok in ["/", "/compare/3#change-4", "/search?to_review=1"] {
+            assert!(local_path(ok), "{ok}");
+        }
+        for refused in ["//evil.example/", "/\\evil.example/", "https://evil.example/", "", "evil", "/x\r\nSet-Cookie: a=b"] {
+            assert!(!local_path(refused), "{refused}");
+        }
     }
 }

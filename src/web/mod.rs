@@ -468,7 +468,7 @@ async fn review(
     .await;
     match result {
         Ok(Ok(Some(revision))) => {
-            let back = form.get("back").filter(|b| b.starts_with('/') && !b.starts_with("//")).cloned();
+            let back = form.get("back").filter(|b| guard::local_path(b)).cloned();
             Redirect::to(&back.unwrap_or_else(|| format!("/compare/{revision}#change-{change}"))).into_response()
         }
         Ok(Ok(None)) => (StatusCode::NOT_FOUND, "no such change").into_response(),
