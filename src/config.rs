@@ -125,6 +125,13 @@ struct RawWeb {
     listen: Option<String>,
     #[serde(default)]
     user: Vec<RawUser>,
+    #[serde(default)]
+    hosts: Vec<String>,
+    #[serde(default)]
+    secure_cookies: bool,
+    #[serde(default)]
+    trusted_proxies: Vec<std::net::IpAddr>,
+    login_per_minute: Option<u32>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -395,6 +402,32 @@ pub struct Config {
     pub web_listen: Option<String>,
     /// `[[web.user]]`: who may sign in to `ncplan serve`; none means no authentication.
     pub web_users: Vec<WebUser>,
+    /// The rest of `[web]`: host names, cookies over TLS, proxies, sign-in rate.
+    pub web: WebSettings,
+}
+
+/// `ncplan serve`'s settings beyond its address and users.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WebSettings {
+    /// `[web] hosts`: the names (`name` or `name:port`) a request's `Host` may give besides
+    /// the address the server listens on (and `localhost` on loopback): the name a reverse
+    /// proxy forwards, or the server's DNS name. Any other `Host` is refused (DNS rebinding).
+    pub hosts: Vec<String>,
+    /// `[web] secure_cookies`: the session cookie is `Secure` (the workspace is reached over
+    /// TLS, through a reverse proxy).
+    pub secure_cookies: bool,
+    /// `[web] trusted_proxies`: the reverse proxies whose `X-Forwarded-For` names the client
+    /// (for the sign-in rate) and whose `X-Forwarded-Proto: https` makes cookies `Secure`.
+    pub trusted_proxies: Vec<std::net::IpAddr>,
+    /// `[web] login_per_minute`: sign-in attempts a client may make per minute (a burst of
+    /// as many, then one every `60 / n` seconds); 10 by default.
+    pub login_per_minute: u32,
+}
+
+impl Default for WebSettings {
+    fn default() -> WebSettings {
+        WebSettings { hosts: Vec::new(), secure_cookies: false, trusted_proxies: Vec::new(), login_per_minute: 10 }
+    }
 }
 
 impl Config {
@@ -427,6 +460,9 @@ impl Config {
         let pattern = matching_pattern(&raw.matching)?;
         let profile = profile(&raw, base)?;
         check_daemon(&raw.daemon)?;
+        if raw.web.login_per_minute == Some(0) {
+            bail!("[web] login_per_minute is 0: no one could sign in; give at least 1 (10 by default)");
+        }
         Ok(Config {
             database,
             site,
@@ -443,6 +479,12 @@ impl Config {
             profile,
             web_listen: raw.web.listen,
             web_users: raw.web.user.into_iter().map(|u| WebUser { name: u.name, password_hash: u.password_hash }).collect(),
+            web: WebSettings {
+                hosts: raw.web.hosts,
+                secure_cookies: raw.web.secure_cookies,
+                trusted_proxies: raw.web.trusted_proxies,
+                login_per_minute: raw.web.login_per_minute.unwrap_or(10),
+            },
         })
     }
 

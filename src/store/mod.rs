@@ -881,6 +881,16 @@ impl Store {
         on!(self, e => e.end_session(token_hash))
     }
 
+    /// Why the SQL console must not run through this connection's database role (a
+    /// PostgreSQL superuser, or a role that may read the server's files), if it must not; a
+    /// SQLite file has no roles.
+    pub fn console_refusal(&self) -> Result<Option<String>> {
+        match &self.engine {
+            Engine::Lite(_) => Ok(None),
+            Engine::Pg(e) => e.console_refusal(),
+        }
+    }
+
     /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
     /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
     /// whether rows were left off.

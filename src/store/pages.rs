@@ -337,6 +337,30 @@ fn change_row(r: &rusqlite::Row<'_>) -> rusqlite::Result<ChangeRow> {
     Ok(row)
 }
 
+/// The longest value a console query may make (a string or blob, in bytes).
+const CONSOLE_LENGTH: i32 = 1 << 20;
+/// The most columns a console query may have (with [`CONSOLE_LENGTH`], what one row may take).
+const CONSOLE_COLUMNS: i32 = 64;
+/// The cells of the rows a console query shows, in bytes, after which the rest is left off.
+const CONSOLE_BYTES: usize = 2 << 20;
+/// The most of one text cell the console shows, in bytes.
+const CONSOLE_CELL: usize = 16 << 10;
+
+/// A console cell's text: its first [`CONSOLE_CELL`] bytes (to a character's start), and
+/// how long it is when that is not all (a page of 99 columns of 1 MiB took 144 s to render).
+pub(in crate::store) fn console_text(t: &[u8]) -> String {
+    if t.len() <= CONSOLE_CELL {
+        return String::from_utf8_lossy(t).into_owned();
+    }
+    let mut end = CONSOLE_CELL;
+    while end > 0 && t[end] & 0xC0 == 0x80 {
+        end -= 1;
+    }
+    format!("{} … ({} bytes in all)", String::from_utf8_lossy(&t[..end]), t.len())
+}
+/// Virtual machine steps between two looks at a console query's clock.
+const CONSOLE_STEPS: i32 = 100;
+
 impl Lite {
     fn rows<T>(
         &self,
@@ -675,25 +699,36 @@ impl Lite {
         Ok(())
     }
 
-    /// Runs one read-only statement for the SQL console: at most `max_rows` rows, stopped
-    /// (SQLite's progress handler) once it has run `limit`. Returns the columns, the rows and
-    /// whether rows were left off.
+    /// Runs one read-only statement for the SQL console: at most `max_rows` rows and
+    /// [`CONSOLE_BYTES`] of cells, [`CONSOLE_COLUMNS`] columns, stopped (SQLite's progress handler, every
+    /// [`CONSOLE_STEPS`] virtual machine steps) once it has run `limit`, no value longer than
+    /// [`CONSOLE_LENGTH`] (so that no one step, such as `hex(zeroblob(1e9))`, runs long or
+    /// takes much memory). Returns the columns, the rows and whether rows were left off.
     pub(super) fn query_limited(
         &self,
         sql_text: &str,
         max_rows: usize,
         limit: std::time::Duration,
     ) -> std::result::Result<Limited, super::QueryError> {
+        use rusqlite::limits::Limit;
         let first = super::one_reading_statement(sql_text)?;
         let started = std::time::Instant::now();
-        self.conn.progress_handler(1000, Some(move || started.elapsed() > limit));
+        let length = self.conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, CONSOLE_LENGTH);
+        let columns = self.conn.set_limit(Limit::SQLITE_LIMIT_COLUMN, CONSOLE_COLUMNS);
+        self.conn.progress_handler(CONSOLE_STEPS, Some(move || started.elapsed() > limit));
         let result = self.query_capped(first, max_rows);
         self.conn.progress_handler(0, None::<fn() -> bool>);
+        self.conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, length);
+        self.conn.set_limit(Limit::SQLITE_LIMIT_COLUMN, columns);
         result.map_err(|e| match e {
             StoreError::Sql { source, .. } => match source.downcast_ref::<rusqlite::Error>() {
                 Some(rusqlite::Error::SqliteFailure(f, _)) if f.code == rusqlite::ErrorCode::OperationInterrupted => {
                     super::QueryError::Refused(format!("the query ran past its time limit of {} ms and was stopped", limit.as_millis()))
                 }
+                Some(rusqlite::Error::SqliteFailure(f, _)) if f.code == rusqlite::ErrorCode::TooBig => super::QueryError::Refused(format!(
+                    "the query made a value longer than the console's limit of {} bytes and was stopped",
+                    CONSOLE_LENGTH
+                )),
                 Some(e) => super::QueryError::Sql(super::sqlite::plain(e)),
                 None => super::QueryError::Sql(source.to_string()),
             },
@@ -715,13 +750,25 @@ impl Lite {
         let names: Vec<String> = stmt.column_names().iter().map(|s| (*s).to_owned()).collect();
         let mut rows = stmt.query([]).map_err(sql("running the query"))?;
         let mut out = Vec::new();
-        let mut more = false;
+        let (mut more, mut bytes) = (false, 0);
         while let Some(row) = rows.next().map_err(sql("reading a row"))? {
-            if out.len() == max_rows {
+            if out.len() == max_rows || bytes > CONSOLE_BYTES {
                 more = true;
                 break;
             }
-            out.push(super::sqlite::cells(row, names.len())?);
+            let mut cells = Vec::with_capacity(names.len());
+            for i in 0..names.len() {
+                use rusqlite::types::ValueRef;
+                cells.push(match row.get_ref(i).map_err(sql("reading a cell"))? {
+                    ValueRef::Text(t) => console_text(t),
+                    ValueRef::Null => String::new(),
+                    ValueRef::Integer(x) => x.to_string(),
+                    ValueRef::Real(x) => x.to_string(),
+                    ValueRef::Blob(b) => format!("<{} bytes>", b.len()),
+                });
+            }
+            bytes += cells.iter().map(String::len).sum::<usize>();
+            out.push(cells);
         }
         Ok((names, out, more))
     }
@@ -823,6 +870,20 @@ mod tests {
         let err = s.query_limited(forever, 10, std::time::Duration::from_millis(100)).unwrap_err();
         assert!(err.to_string().contains("time limit"), "{err}");
         assert!(s.query_limited("DELETE FROM changes", 10, std::time::Duration::from_secs(1)).is_err());
+        // No value past the length limit, whatever makes it; a long text cell is shown in part.
+        for huge in ["SELECT hex(zeroblob(1e9))", "SELECT replace(hex(zeroblob(300000)), '0', 'ab')", "SELECT length(randomblob(2e6))"] {
+            let err = s.query_limited(huge, 10, std::time::Duration::from_secs(5)).unwrap_err();
+            assert!(err.to_string().contains("longer than the console's limit"), "{huge}: {err}");
+        }
+        // printf stops at the limit too, with an empty text.
+        let (_, rows, _) = s.query_limited("SELECT printf('%.*c', 2000000, 'x')", 10, std::time::Duration::from_secs(5)).unwrap();
+        assert_eq!(rows, [[""]]);
+        let (_, rows, _) = s.query_limited("SELECT 'é' || hex(zeroblob(400000))", 10, std::time::Duration::from_secs(5)).unwrap();
+        assert!(rows[0][0].len() < CONSOLE_CELL + 40 && rows[0][0].ends_with(" … (800002 bytes in all)"), "{}", rows[0][0].len());
+        let cut = console_text("aé€".repeat(5_000).as_bytes());
+        assert!(!cut.contains('\u{FFFD}') && cut.ends_with(" … (30000 bytes in all)"), "cut inside a character");
+        // The limits are the console's: the connection's own queries are as before.
+        s.query("SELECT length(hex(zeroblob(2000000)))").unwrap();
         for k in KNOWLEDGE {
             s.query(k.sql).unwrap_or_else(|e| panic!("{}: {e}", k.name));
         }

@@ -10,6 +10,10 @@
 //! of the session token and, without users, a per-process secret (a client-chosen token is
 //! not enough to make it); a page of another site can neither read nor forge it.
 
+use std::collections::BTreeMap;
+use std::net::IpAddr;
+use std::time::{Duration, Instant};
+
 use axum::http::{HeaderMap, header};
 use sha2::Digest as _;
 
@@ -50,6 +54,7 @@ fn cookie_value(headers: &HeaderMap) -> Option<String> {
     None
 }
 
+/// The session cookie (`Secure` is added by `guard::layer` when the request came over TLS).
 fn set_cookie(token: &str) -> String {
     format!("{COOKIE}={token}; Path=/; HttpOnly; SameSite=Strict")
 }
@@ -117,12 +122,153 @@ fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {
     a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 
-/// Whether `password` is the password of the configured user `name`.
-pub(super) fn check_password(users: &[WebUser], name: &str, password: &str) -> bool {
-    use argon2::PasswordVerifier as _;
-    let Some(user) = users.iter().find(|u| u.name == name) else { return false };
-    let Ok(hash) = argon2::PasswordHash::new(&user.password_hash) else { return false };
-    argon2::Argon2::default().verify_password(password.as_bytes(), &hash).is_ok()
+/// The hash a sign-in as `name` is checked against, and whether `name` is a configured user:
+/// an unknown name is checked against `dummy`, so that its reply takes as long as a known
+/// user's with a wrong password (no list of users by timing).
+fn hash_to_check<'a>(users: &'a [WebUser], name: &str, dummy: &'a str) -> (&'a str, bool) {
+    match users.iter().find(|u| u.name == name) {
+        Some(u) => (&u.password_hash, true),
+        None => (dummy, false),
+    }
+}
+
+/// Whether `password` is the password of the configured user `name`; `dummy` (see
+/// [`dummy_hash`]) stands in for an unknown name. Blocks (argon2).
+pub(super) fn check_password(users: &[WebUser], name: &str, password: &str, dummy: &str) -> bool {
+    let (phc, known) = hash_to_check(users, name, dummy);
+    let matches = verify(password.as_bytes(), phc).unwrap_or(false);
+    matches && known
+}
+
+thread_local! {
+    /// argon2's working memory, kept by the thread for its next check: allocated anew for
+    /// each check (as `PasswordVerifier` does), glibc left 19 MiB more resident per check.
+    static BLOCKS: std::cell::RefCell<Vec<argon2::Block>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Whether `password` hashes to the PHC string `phc` (its algorithm, version, parameters and
+/// salt), in this thread's working memory; `None` when `phc` is not an argon2 hash.
+fn verify(password: &[u8], phc: &str) -> Option<bool> {
+    let hash = argon2::PasswordHash::new(phc).ok()?;
+    let algorithm = argon2::Algorithm::try_from(hash.algorithm).ok()?;
+    let version = match hash.version {
+        Some(v) => argon2::Version::try_from(v).ok()?,
+        None => argon2::Version::default(),
+    };
+    let params = argon2::Params::try_from(&hash).ok()?;
+    let expected = hash.hash?;
+    let mut salt = [0u8; 64];
+    let salt = hash.salt?.decode_b64(&mut salt).ok()?;
+    let mut out = vec![0u8; expected.len()];
+    let blocks = params.block_count();
+    let hashed = BLOCKS.with_borrow_mut(|memory| {
+        memory.resize(blocks, argon2::Block::default());
+        argon2::Argon2::new(algorithm, version, params).hash_password_into_with_memory(password, salt, &mut out, &mut memory[..blocks])
+    });
+    hashed.ok()?;
+    Some(constant_time_eq(&out, expected.as_bytes()))
+}
+
+/// A hash of a random password with the parameters of the first configured user's (argon2's
+/// defaults without users): what an unknown name is checked against. Blocks (one argon2 hash).
+pub(super) fn dummy_hash(users: &[WebUser]) -> String {
+    use argon2::PasswordHasher as _;
+    let bytes = random().unwrap_or([7; 32]);
+    let Ok(salt) = argon2::password_hash::SaltString::encode_b64(&bytes[..16]) else { return String::new() };
+    let like = users.first().and_then(|u| argon2::PasswordHash::new(&u.password_hash).ok());
+    let hasher = like
+        .as_ref()
+        .and_then(|h| {
+            let algorithm = argon2::Algorithm::try_from(h.algorithm).ok()?;
+            let version = h.version.and_then(|v| argon2::Version::try_from(v).ok()).unwrap_or_default();
+            let params = argon2::Params::try_from(h).ok()?;
+            Some(argon2::Argon2::new(algorithm, version, params))
+        })
+        .unwrap_or_default();
+    hasher.hash_password(&bytes[16..], &salt).map(|h| h.to_string()).unwrap_or_default()
+}
+
+/// The threads that check passwords, as many as may run at once: argon2 takes its memory (19
+/// MiB by default) per check, and a check on any thread of the blocking pool would leave that
+/// thread's allocator holding it; here it is held by these threads only.
+pub(super) struct Checkers {
+    jobs: std::sync::mpsc::Sender<Box<dyn FnOnce() + Send>>,
+}
+
+impl Checkers {
+    pub(super) fn new(threads: usize) -> Checkers {
+        let (jobs, queue) = std::sync::mpsc::channel::<Box<dyn FnOnce() + Send>>();
+        let queue = std::sync::Arc::new(std::sync::Mutex::new(queue));
+        for i in 0..threads {
+            let queue = queue.clone();
+            let spawned = std::thread::Builder::new().name(format!("ncplan-password-{i}")).spawn(move || {
+                loop {
+                    let job = match queue.lock() {
+                        Ok(q) => q.recv(),
+                        Err(_) => return,
+                    };
+                    match job {
+                        Ok(job) => job(),
+                        Err(_) => return,
+                    }
+                }
+            });
+            if let Err(e) = spawned {
+                tracing::warn!(error = %e, "cannot start a password-checking thread");
+            }
+        }
+        Checkers { jobs }
+    }
+
+    /// Runs `f` on a checking thread; `None` if none runs.
+    pub(super) async fn run<T: Send + 'static>(&self, f: impl FnOnce() -> T + Send + 'static) -> Option<T> {
+        let (tx, rx) = tokio::sync::oneshot::channel();
+        self.jobs
+            .send(Box::new(move || {
+                let _ = tx.send(f());
+            }))
+            .ok()?;
+        rx.await.ok()
+    }
+}
+
+/// Sign-in attempts per client: a token bucket each (a burst of `per_minute`, then one every
+/// `60 / per_minute` s), at most [`CLIENTS_KEPT`] clients remembered (full buckets forgotten
+/// first, then the longest unused).
+pub(super) struct Attempts {
+    per_minute: u32,
+    buckets: BTreeMap<IpAddr, (f64, Instant)>,
+}
+
+/// Clients whose sign-in attempts are remembered.
+const CLIENTS_KEPT: usize = 4096;
+
+impl Attempts {
+    pub(super) fn new(per_minute: u32) -> Attempts {
+        Attempts { per_minute: per_minute.max(1), buckets: BTreeMap::new() }
+    }
+
+    /// Takes one attempt for `client` at `now`, or says how long until the next is allowed.
+    pub(super) fn take(&mut self, client: IpAddr, now: Instant) -> Result<(), Duration> {
+        let cap = f64::from(self.per_minute);
+        let rate = cap / 60.0;
+        let level = |(tokens, at): (f64, Instant)| (tokens + now.saturating_duration_since(at).as_secs_f64() * rate).min(cap);
+        if !self.buckets.contains_key(&client) && self.buckets.len() >= CLIENTS_KEPT {
+            self.buckets.retain(|_, b| level(*b) < cap);
+            if self.buckets.len() >= CLIENTS_KEPT
+                && let Some(oldest) = self.buckets.iter().min_by_key(|(_, b)| b.1).map(|(ip, _)| *ip)
+            {
+                self.buckets.remove(&oldest);
+            }
+        }
+        let tokens = self.buckets.get(&client).map_or(cap, |b| level(*b));
+        if tokens < 1.0 {
+            self.buckets.insert(client, (tokens, now));
+            return Err(Duration::from_secs_f64((1.0 - tokens) / rate));
+        }
+        self.buckets.insert(client, (tokens - 1.0, now));
+        Ok(())
+    }
 }
 
 /// A new session for `name`, recorded in the store until [`SESSION_HOURS`] from now: its
@@ -183,9 +329,52 @@ mod tests {
         let salt = argon2::password_hash::SaltString::encode_b64(b"ncplan-test-salt").unwrap();
         let hash = argon2::Argon2::default().hash_password(b"s3cret", &salt).unwrap().to_string();
         let users = vec![WebUser { name: "ada".into(), password_hash: hash }];
-        assert!(check_password(&users, "ada", "s3cret"));
-        assert!(!check_password(&users, "ada", "wrong"));
-        assert!(!check_password(&users, "bob", "s3cret"));
+        let dummy = dummy_hash(&users);
+        assert!(check_password(&users, "ada", "s3cret", &dummy));
+        assert!(!check_password(&users, "ada", "wrong", &dummy));
+        assert!(!check_password(&users, "bob", "s3cret", &dummy));
+    }
+
+    /// An unknown name costs the same argon2 work as a known one: it is checked against a
+    /// dummy hash with the configured users' parameters (memory, passes, lanes).
+    #[test]
+    fn an_unknown_name_is_checked_against_a_hash_like_the_users() {
+        use argon2::PasswordHasher as _;
+        let salt = argon2::password_hash::SaltString::encode_b64(b"ncplan-test-salt").unwrap();
+        let params = argon2::Params::new(8 * 1024, 3, 1, None).unwrap();
+        let hasher = argon2::Argon2::new(argon2::Algorithm::Argon2id, argon2::Version::V0x13, params);
+        let hash = hasher.hash_password(b"s3cret", &salt).unwrap().to_string();
+        let users = vec![WebUser { name: "ada".into(), password_hash: hash.clone() }];
+        let dummy = dummy_hash(&users);
+        assert_eq!(hash_to_check(&users, "ada", &dummy), (hash.as_str(), true));
+        assert_eq!(hash_to_check(&users, "mallory", &dummy), (dummy.as_str(), false));
+        let (d, h) = (argon2::PasswordHash::new(&dummy).unwrap(), argon2::PasswordHash::new(&hash).unwrap());
+        assert_eq!(argon2::Params::try_from(&d).unwrap(), argon2::Params::try_from(&h).unwrap());
+        assert_eq!((d.algorithm, d.version), (h.algorithm, h.version));
+        assert_ne!(d.salt, h.salt);
+        // The dummy's password is random: no password signs an unknown name in.
+        assert!(!check_password(&users, "mallory", "", &dummy));
+    }
+
+    #[test]
+    fn sign_in_attempts_are_rate_limited_per_client() {
+        let mut a = Attempts::new(6);
+        let t0 = Instant::now();
+        let (one, two): (IpAddr, IpAddr) = ("192.0.2.1".parse().unwrap(), "192.0.2.2".parse().unwrap());
+        for _ in 0..6 {
+            assert!(a.take(one, t0).is_ok());
+        }
+        let wait = a.take(one, t0).unwrap_err();
+        assert!(wait > Duration::from_secs(9) && wait <= Duration::from_secs(10), "{wait:?}");
+        // Another client is not held back; the first gets one attempt back in 10 s.
+        assert!(a.take(two, t0).is_ok());
+        assert!(a.take(one, t0 + Duration::from_secs(10)).is_ok());
+        assert!(a.take(one, t0 + Duration::from_secs(10)).is_err());
+        // The memory of clients is bounded.
+        for i in 0..(CLIENTS_KEPT as u32 + 10) {
+            let _ = a.take(IpAddr::from(i.to_be_bytes()), t0 + Duration::from_secs(11));
+        }
+        assert!(a.buckets.len() <= CLIENTS_KEPT);
     }
 
     #[test]

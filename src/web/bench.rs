@@ -229,11 +229,11 @@ fn time_pages(config: &Config, registry: &crate::dialect::Registry, label: &str,
     let revision = last.first().map_or(1, |r| r.revision_id);
     let program = store.program_of(revision)?.unwrap_or(1);
     let q = |pairs: &[(&str, &str)]| pairs.iter().map(|(k, v)| ((*k).to_owned(), (*v).to_owned())).collect::<BTreeMap<_, _>>();
-    let sql = q(&[("q", crate::store::SAVED_QUERIES[0].1)]);
+    let sql = crate::store::SAVED_QUERIES[0].1;
     let search = q(&[("program", "P0042"), ("machine", "M02"), ("since", "2026-01-01"), ("kind", "feed_changed")]);
     let queue = q(&[("to_review", "1")]);
     type Page<'a> = (&'a str, Box<dyn Fn() -> Result<maud::Markup> + 'a>);
-    let (queue, search, sql) = (&queue, &search, &sql);
+    let (queue, search) = (&queue, &search);
     let mut list: Vec<Page<'_>> = vec![
         ("overview", Box::new(|| pages::overview(server, ctx, store))),
         ("machine", Box::new(|| pages::machine(server, ctx, store, "M07"))),
@@ -241,7 +241,7 @@ fn time_pages(config: &Config, registry: &crate::dialect::Registry, label: &str,
         ("comparison", Box::new(|| pages::comparison(server, ctx, store, revision))),
         ("review queue", Box::new(|| pages::search(server, ctx, store, queue))),
         ("search", Box::new(|| pages::search(server, ctx, store, search))),
-        ("sql console", Box::new(|| pages::sql_console(server, ctx, store, sql))),
+        ("sql console", Box::new(|| pages::sql_console(server, ctx, store, sql, None, pages::Console::Run))),
         ("knowledge", Box::new(|| pages::knowledge_index(server, ctx, store))),
     ];
     for k in crate::store::KNOWLEDGE {

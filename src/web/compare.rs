@@ -258,10 +258,10 @@ pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
     let pics = pictures(c);
     html! {
         p class="legend" {
-            span { i style="background:#1f6fd1;height:5px;opacity:.45" {} "original (" (c.original.name) ", wide)" }
-            span { i style="background:#e07b00" {} "edited" }
-            span { i style="background:#d0021b" {} "changed segments" }
-            span { i style="height:0;border-top:2px dashed #777" {} "rapids" }
+            span { i class="lg-original" {} "original (" (c.original.name) ", wide)" }
+            span { i class="lg-edited" {} "edited" }
+            span { i class="lg-changed" {} "changed segments" }
+            span { i class="lg-rapid" {} "rapids" }
             span { "● start points · dashed boxes: changed regions" }
         }
         @if with_layers {

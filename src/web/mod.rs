@@ -8,9 +8,14 @@
 //!
 //! Security: without `[[web.user]]` in the configuration the server listens on loopback only
 //! (a non-local address is refused); with users, every page asks for a session (argon2
-//! password check, an HttpOnly SameSite=Strict cookie, the session kept in the store with
-//! its expiry, so that a restart signs no one out). Every POST carries a CSRF token derived
-//! from the session cookie.
+//! password check, an HttpOnly SameSite=Strict cookie, `Secure` over TLS, the session kept in
+//! the store with its expiry, so that a restart signs no one out). Every POST carries a CSRF
+//! token derived from the session cookie; the SQL console runs a query only by such a POST
+//! (`GET /sql?q=` fills its form), [`CONSOLE_AT_ONCE`] at a time. Sign-in: `[web]
+//! login_per_minute` attempts per client, [`HASHING_AT_ONCE`] password checks at once on
+//! threads of their own (`auth::Checkers`), an unknown name checked against a dummy hash.
+//! `guard.rs`: connections (header timeout, cap), the `Host` check, body bounds and the
+//! security headers of every response.
 //!
 //! `ncplan serve`, its own room in the shell (axum on a current-thread tokio
 //! runtime; maud templates, compile-time checked and escaping every value; CSS and JS embedded
@@ -38,6 +43,7 @@
 mod auth;
 pub mod bench;
 mod compare;
+mod guard;
 mod layout;
 mod pages;
 pub mod report;
@@ -48,7 +54,7 @@ use std::sync::{Arc, Mutex};
 
 use anyhow::{Context, Result};
 use axum::Router;
-use axum::extract::{Form, Path, Query, State};
+use axum::extract::{Extension, Form, Path, Query, State};
 use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{Html, IntoResponse, Redirect, Response};
 use axum::routing::{get, post};
@@ -123,7 +129,24 @@ pub(crate) struct Server {
     /// Read-only connections that served a page and may serve the next (a PostgreSQL
     /// connection costs a login each time).
     idle: Mutex<Vec<Store>>,
+    /// Sign-in attempts per client.
+    attempts: Mutex<auth::Attempts>,
+    /// Password checks running or waiting for a thread of `checkers` (as many as there are).
+    hashing: Arc<tokio::sync::Semaphore>,
+    /// The threads that check passwords.
+    checkers: auth::Checkers,
+    /// What an unknown user's password is checked against (made once, on a checking thread).
+    dummy: std::sync::OnceLock<String>,
+    /// Console queries running at once.
+    console: Arc<tokio::sync::Semaphore>,
 }
+
+/// Password checks at once: argon2's default takes 19 MiB and a core each.
+const HASHING_AT_ONCE: usize = 2;
+/// How long a sign-in waits for a password check before it is told the server is busy.
+const HASHING_WAIT: std::time::Duration = std::time::Duration::from_secs(5);
+/// Console queries at once; a third is told the console is busy.
+const CONSOLE_AT_ONCE: usize = 2;
 
 /// Idle read-only connections kept.
 const IDLE_KEPT: usize = 4;
@@ -132,13 +155,18 @@ impl Server {
     pub(crate) fn new(config: Config, registry: Registry, clock: Arc<dyn Clock>) -> Result<Server> {
         Ok(Server {
             db: config.database.clone(),
-            config,
             registry,
             clock,
             secret: auth::random()?,
             unstored: Mutex::new(BTreeMap::new()),
             plans: Mutex::new(PlanCache { kept: Vec::new() }),
             idle: Mutex::new(Vec::new()),
+            attempts: Mutex::new(auth::Attempts::new(config.web.login_per_minute)),
+            hashing: Arc::new(tokio::sync::Semaphore::new(HASHING_AT_ONCE)),
+            checkers: auth::Checkers::new(HASHING_AT_ONCE),
+            dummy: std::sync::OnceLock::new(),
+            console: Arc::new(tokio::sync::Semaphore::new(CONSOLE_AT_ONCE)),
+            config,
         })
     }
 
@@ -191,6 +219,11 @@ impl Server {
                 let _ = self.plan(&store, r.revision_id);
             }
         }
+    }
+
+    /// The hash an unknown user's password is checked against. Blocks (made on first use).
+    fn dummy_hash(&self) -> &str {
+        self.dummy.get_or_init(|| auth::dummy_hash(&self.config.web_users))
     }
 
     fn auth_required(&self) -> bool {
@@ -248,6 +281,9 @@ pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
     Store::open(&options.config.database, &options.config.site)
         .with_context(|| format!("cannot open the database {}", options.config.database))?;
     let server = Arc::new(Server::new(options.config, options.registry, options.clock)?);
+    if let Some(why) = server.store()?.console_refusal()? {
+        tracing::warn!(refusal = why, "the SQL console is refused");
+    }
     let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().context("cannot start the runtime")?;
     runtime.block_on(async move {
         let listener = tokio::net::TcpListener::bind(addr).await.with_context(|| format!("cannot listen on {addr}"))?;
@@ -256,7 +292,10 @@ pub fn serve(options: Options, ready: impl FnOnce(SocketAddr)) -> Result<()> {
         // program's too) come without reading the programs again.
         let warm = server.clone();
         tokio::task::spawn_blocking(move || warm.warm(WARM_COMPARISONS));
-        axum::serve(listener, router(server)).with_graceful_shutdown(shutdown()).await.context("the server failed")
+        let dummy = server.clone();
+        tokio::spawn(async move { dummy.clone().checkers.run(move || dummy.dummy_hash().len()).await });
+        guard::run(listener, router(server), shutdown()).await;
+        Ok(())
     })
 }
 
@@ -286,7 +325,7 @@ fn router(server: Arc<Server>) -> Router {
         .route("/review/{change}", post(review))
         .route("/knowledge", get(knowledge_index))
         .route("/knowledge/{name}", get(knowledge))
-        .route("/sql", get(sql_console))
+        .route("/sql", get(sql_console).post(sql_run))
         .route("/sql/save", post(save_query))
         .route("/search", get(search))
         .route("/login", get(login_page).post(login))
@@ -294,6 +333,7 @@ fn router(server: Arc<Server>) -> Router {
         .route("/static/app.css", get(|| async { ([(header::CONTENT_TYPE, "text/css; charset=utf-8")], CSS) }))
         .route("/static/app.js", get(|| async { ([(header::CONTENT_TYPE, "text/javascript; charset=utf-8")], JS) }))
         .fallback(|| async { (StatusCode::NOT_FOUND, "no such page") })
+        .layer(axum::middleware::from_fn_with_state(server.clone(), guard::layer))
         .with_state(server)
 }
 
@@ -329,13 +369,6 @@ where
     {
         response.headers_mut().append(header::SET_COOKIE, v);
     }
-    let h = response.headers_mut();
-    h.insert("x-content-type-options", HeaderValue::from_static("nosniff"));
-    h.insert("x-frame-options", HeaderValue::from_static("DENY"));
-    h.insert(
-        header::CONTENT_SECURITY_POLICY,
-        HeaderValue::from_static("default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; script-src 'self'"),
-    );
     response
 }
 
@@ -369,8 +402,33 @@ async fn knowledge(
     page(s, headers, move |s, ctx, store| pages::knowledge(s, ctx, store, &name, show_sql)).await
 }
 
+/// The console with the query of `?q=` in its form: shown, never run (a link or an image
+/// on another site must not run anything).
 async fn sql_console(State(s): State<Arc<Server>>, headers: HeaderMap, Query(q): Query<BTreeMap<String, String>>) -> Response {
-    page(s, headers, move |s, ctx, store| pages::sql_console(s, ctx, store, &q)).await
+    let query = q.get("q").cloned().unwrap_or_default();
+    let refused = q.get("refused").cloned();
+    page(s, headers, move |s, ctx, store| pages::sql_console(s, ctx, store, &query, refused.as_deref(), pages::Console::Show)).await
+}
+
+/// Runs the console's query (`q`, with the session's `csrf`): at most [`CONSOLE_AT_ONCE`]
+/// at once, a further one told the console is busy (503).
+async fn sql_run(State(s): State<Arc<Server>>, headers: HeaderMap, Form(form): Form<BTreeMap<String, String>>) -> Response {
+    let Some((ctx, _)) = auth::context(&s, &headers).await else { return Redirect::to("/login").into_response() };
+    if !auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str)) {
+        return (StatusCode::FORBIDDEN, "the form's CSRF token does not match this session; reload the page").into_response();
+    }
+    let query = form.get("q").cloned().unwrap_or_default();
+    let Ok(permit) = s.console.clone().try_acquire_owned() else {
+        let mut r = page(s, headers, move |s, ctx, store| pages::sql_console(s, ctx, store, &query, None, pages::Console::Busy)).await;
+        *r.status_mut() = StatusCode::SERVICE_UNAVAILABLE;
+        return r;
+    };
+    page(s, headers, move |s, ctx, store| {
+        let page = pages::sql_console(s, ctx, store, &query, None, pages::Console::Run);
+        drop(permit);
+        page
+    })
+    .await
 }
 
 async fn search(State(s): State<Arc<Server>>, headers: HeaderMap, Query(q): Query<BTreeMap<String, String>>) -> Response {
@@ -410,7 +468,7 @@ async fn review(
     .await;
     match result {
         Ok(Ok(Some(revision))) => {
-            let back = form.get("back").filter(|b| b.starts_with('/') && !b.starts_with("//")).cloned();
+            let back = form.get("back").filter(|b| guard::local_path(b)).cloned();
             Redirect::to(&back.unwrap_or_else(|| format!("/compare/{revision}#change-{change}"))).into_response()
         }
         Ok(Ok(None)) => (StatusCode::NOT_FOUND, "no such change").into_response(),
@@ -453,15 +511,45 @@ async fn login_page(State(s): State<Arc<Server>>, Query(q): Query<BTreeMap<Strin
     Html(pages::login(s.auth_required(), q.contains_key("failed")).into_string()).into_response()
 }
 
-async fn login(State(s): State<Arc<Server>>, Form(form): Form<BTreeMap<String, String>>) -> Response {
+/// A sign-in: at most `[web] login_per_minute` attempts per client (429 past them), at most
+/// [`HASHING_AT_ONCE`] password checks at once (a sign-in that waits longer than
+/// [`HASHING_WAIT`] is told the server is busy, 503), an unknown name checked as long as a
+/// known one.
+async fn login(
+    State(s): State<Arc<Server>>,
+    peer: Option<Extension<guard::Peer>>,
+    headers: HeaderMap,
+    Form(form): Form<BTreeMap<String, String>>,
+) -> Response {
+    if let Some(Extension(peer)) = peer {
+        let client = guard::client(&peer, &headers, &s.config.web.trusted_proxies);
+        let wait = s.attempts.lock().ok().and_then(|mut a| a.take(client, std::time::Instant::now()).err());
+        if let Some(wait) = wait {
+            let secs = wait.as_secs() + 1;
+            tracing::warn!(%client, "sign-in attempts past the rate limit");
+            let mut r = (StatusCode::TOO_MANY_REQUESTS, format!("too many sign-in attempts; try again in {secs} s")).into_response();
+            r.headers_mut().insert(header::RETRY_AFTER, HeaderValue::from(secs));
+            return r;
+        }
+    }
+    let Ok(Ok(permit)) = tokio::time::timeout(HASHING_WAIT, s.hashing.clone().acquire_owned()).await else {
+        return (StatusCode::SERVICE_UNAVAILABLE, "the server is busy checking passwords; try again in a moment").into_response();
+    };
     let name = form.get("name").cloned().unwrap_or_default();
     let password = form.get("password").cloned().unwrap_or_default();
     let s2 = s.clone();
-    // The password check and the session's write, on the blocking pool.
-    let started = tokio::task::spawn_blocking(move || {
-        auth::check_password(&s2.config.web_users, &name, &password).then(|| auth::start_session(&s2, &name))
-    })
-    .await;
+    // The password check on a checking thread (holding its permit even if the client goes),
+    // then the session's write on the blocking pool.
+    let checked = s.checkers.run(move || {
+        let ok = auth::check_password(&s2.config.web_users, &name, &password, s2.dummy_hash());
+        drop(permit);
+        ok.then_some(name)
+    });
+    let Some(checked) = checked.await else {
+        return (StatusCode::INTERNAL_SERVER_ERROR, "cannot check the password").into_response();
+    };
+    let s2 = s.clone();
+    let started = tokio::task::spawn_blocking(move || checked.map(|name| auth::start_session(&s2, &name))).await;
     match started {
         Ok(Some(Ok(cookie))) => {
             let mut r = Redirect::to("/").into_response();

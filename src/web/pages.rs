@@ -85,7 +85,11 @@ fn week_chart(weeks: &[(String, String, i64)]) -> Markup {
     }
     machines.sort_unstable();
     let colours = ["#1f6fd1", "#e07b00", "#2e9e55", "#8a2fb5", "#c7283e", "#0f8b8d", "#b58a00", "#5a6acf", "#7a5230", "#d45fa0"];
-    let colour = |m: &str| colours[machines.iter().position(|x| *x == m).unwrap_or(0) % colours.len()];
+    let index = |m: &str| machines.iter().position(|x| *x == m).unwrap_or(0) % colours.len();
+    let colour = |m: &str| colours[index(m)];
+    // The legend's swatches by class (`.legend i.sw0`…, the same colours in app.css): no
+    // inline style under the Content-Security-Policy.
+    let swatch = |m: &str| format!("sw{}", index(m));
     let max = by_week.values().map(|v| v.iter().map(|x| x.1).sum::<i64>()).max().unwrap_or(1).max(1);
     let (w, h, left, bottom) = (560.0, 180.0, 30.0, 22.0);
     let slot = ((w - left) / (by_week.len().max(1) as f64)).min(60.0);
@@ -115,7 +119,7 @@ fn week_chart(weeks: &[(String, String, i64)]) -> Markup {
             @for (x, l) in &labels { text x=(format!("{x:.1}")) y=(h - 6.0) font-size="9" fill="#555" { (l) } }
         }
         p class="legend" {
-            @for m in &machines { span { i style={"background:" (colour(m))} {} (m) } }
+            @for m in &machines { span { i class=(swatch(m)) {} (m) } }
         }
     }
 }
@@ -410,14 +414,24 @@ pub(super) fn knowledge(s: &Server, ctx: &Ctx, store: &Store, name: &str, show_s
     ))
 }
 
+/// What the console does with its query.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Console {
+    /// Shows it in the form (a link's `GET /sql?q=…`): nothing runs.
+    Show,
+    /// Runs it (the form's `POST /sql` with the session's CSRF token).
+    Run,
+    /// Would run it, but the console is busy with as many queries as it runs at once.
+    Busy,
+}
+
 /// The read-only SQL console: saved queries (the built-in ones, the knowledge pages' and the
-/// planners'), a form to save the query shown, a row limit, a time limit.
-pub(super) fn sql_console(s: &Server, ctx: &Ctx, store: &Store, q: &BTreeMap<String, String>) -> Result<Markup> {
+/// planners'), a form that runs the query by POST, a form to save it, a row limit, a time limit.
+pub(super) fn sql_console(s: &Server, ctx: &Ctx, store: &Store, query: &str, refused: Option<&str>, mode: Console) -> Result<Markup> {
     let _ = s;
     const ROWS: usize = 1000;
     const TIME: std::time::Duration = std::time::Duration::from_secs(2);
-    let query = q.get("q").map(String::as_str).unwrap_or("");
-    let result = (!query.trim().is_empty()).then(|| store.query_limited(query, ROWS, TIME));
+    let result = (mode == Console::Run && !query.trim().is_empty()).then(|| store.query_limited(query, ROWS, TIME));
     let saved = store.saved_queries()?;
     Ok(layout(
         Some(ctx),
@@ -425,7 +439,8 @@ pub(super) fn sql_console(s: &Server, ctx: &Ctx, store: &Store, q: &BTreeMap<Str
         html! {
             h1 { "SQL console" }
             p class="muted" { "One read-only statement on a read-only connection; at most " (ROWS) " rows and " (TIME.as_secs()) " s." }
-            form method="get" action="/sql" {
+            form method="post" action="/sql" {
+                input type="hidden" name="csrf" value=(ctx.csrf);
                 textarea class="sql" name="q" { (query) }
                 button type="submit" { "Run" }
             }
@@ -438,7 +453,18 @@ pub(super) fn sql_console(s: &Server, ctx: &Ctx, store: &Store, q: &BTreeMap<Str
                     button type="submit" { "Save this query" }
                 }
             }
-            @if let Some(e) = q.get("refused") { p class="error" { "Not saved: " (e) } }
+            @if let Some(e) = refused { p class="error" { "Not saved: " (e) } }
+            @if mode == Console::Busy {
+                p class="error" id="busy" { "The console is busy: " (super::CONSOLE_AT_ONCE) " queries are running. Try again in a moment." }
+            }
+            @match &result {
+                Some(Ok((cols, rows, more))) => {
+                    p id="result" { (rows.len()) " rows" @if *more { " (more left off at the row limit)" } }
+                    (table(cols, rows))
+                },
+                Some(Err(e)) => p class="error" { (e) },
+                None => {},
+            }
             h3 { "Saved queries" }
             ul { @for (title, sql) in SAVED_QUERIES { li { a href={"/sql?q=" (urlencode(sql))} { (title) } } } }
             h3 { "The knowledge pages' queries" }
@@ -449,14 +475,6 @@ pub(super) fn sql_console(s: &Server, ctx: &Ctx, store: &Store, q: &BTreeMap<Str
                 @for sq in &saved {
                     li { a href={"/sql?q=" (urlencode(&sq.sql))} { (sq.name) } span class="muted" { " · " (sq.by) ", " (sq.at) } }
                 }
-            }
-            @match &result {
-                Some(Ok((cols, rows, more))) => {
-                    p { (rows.len()) " rows" @if *more { " (more left off at the row limit)" } }
-                    (table(cols, rows))
-                },
-                Some(Err(e)) => p class="error" { (e) },
-                None => {},
             }
         },
     ))

@@ -37,7 +37,12 @@
 //!   fantoccini: every page, scroll sync, adopt shrinks the queue, XSS stays text, both toolpaths
 //!   and the region in each SVG, the HTML report; screenshots in `target/screenshots/`; skipped
 //!   with one line without chromium unless `NCPLAN_REQUIRE_CHROMIUM`; CSRF, sign-in and the
-//!   non-local refusal over raw HTTP).
+//!   non-local refusal over raw HTTP; a DNS-rebinding page in chromium), `web_attacks` (`serve`
+//!   under the web's usual attacks over raw HTTP on loopback: the console by GET or without
+//!   its token, hostile console queries at once with the server's peak memory, another `Host`
+//!   on every route, 300 sign-ins at once, a thousand slow heads, slow and huge bodies, the
+//!   security headers, `Secure` cookies, the README's TLS set-up, seeded random requests and
+//!   slow writers with a planner answered within a second throughout).
 
 mod accounting;
 mod arch;
@@ -80,6 +85,7 @@ mod tool_comments;
 mod translate;
 mod unknown_values;
 mod web;
+mod web_attacks;
 
 use std::path::{Path, PathBuf};
 

@@ -694,8 +694,13 @@ fn serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks() 
     }
     let changes = crate::db_rows(&db, "SELECT id, revision_id FROM changes ORDER BY id");
     assert!(changes.len() >= 3, "{changes:?}");
+    // The workspace reads PostgreSQL through the README's role for it (the console refuses a
+    // superuser, which the cluster's owner is).
+    let mut owner = postgres::Client::connect(&url, postgres::NoTls).unwrap();
+    owner.batch_execute(WEB_ROLE).unwrap();
+    let web_url = url.replacen("ncplan@", "ncplan_web@", 1);
     let (_lite_serve, on_lite) = serve(&lite, &[]);
-    let (_pg_serve, on_pg) = serve(&lite, &["--db", &url]);
+    let (_pg_serve, on_pg) = serve(&lite, &["--db", &web_url]);
     // Every page: the overview, the machine, each program and comparison, the knowledge
     // pages with and without their SQL, the console with each saved query, searches.
     let mut paths: Vec<String> =
@@ -746,13 +751,24 @@ fn serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks() 
     assert!(feeds.contains(">feed_changed<"), "the feeds page has rows: {feeds}");
 
     // The console on PostgreSQL: a row cap, a time limit, writes refused in plain words.
-    let (_, page) = get(&on_pg, &format!("/sql?q={}", urlencode("SELECT generate_series(1, 5000) AS n")));
+    let (_, page) = run_sql(&on_pg, "SELECT generate_series(1, 5000) AS n");
     assert!(page.contains("1000 rows (more left off at the row limit)"), "{page}");
-    let (_, page) = get(&on_pg, &format!("/sql?q={}", urlencode("SELECT pg_sleep(10)")));
+    let (_, page) = run_sql(&on_pg, "SELECT pg_sleep(10)");
     assert!(page.contains("the query ran past its time limit of 2000 ms and was stopped"), "{page}");
-    let (_, page) =
-        get(&on_pg, &format!("/sql?q={}", urlencode("WITH gone AS (DELETE FROM changes RETURNING id) SELECT COUNT(*) FROM gone")));
+    let (_, page) = run_sql(&on_pg, "WITH gone AS (DELETE FROM changes RETURNING id) SELECT COUNT(*) FROM gone");
     assert!(page.contains("the query would write; queries only read"), "{page}");
+    // The server's files are not the console's to read, through this role or through a superuser.
+    let (_, page) = run_sql(&on_pg, "SELECT pg_read_file('/etc/passwd')");
+    assert!(page.contains("permission denied for function pg_read_file") && !page.contains("root:"), "{page}");
+    let (_super_serve, as_super) = serve(&lite, &["--db", &url]);
+    let (head, page) = run_sql(&as_super, "SELECT pg_read_file('/etc/passwd')");
+    assert!(head.starts_with("HTTP/1.1 200") && !page.contains("root:"), "{head}\n{page}");
+    assert!(
+        page.contains("the SQL console does not run as the database role `ncplan`: it is a superuser"),
+        "{}",
+        page.split("<p class=\"error\">").nth(1).unwrap_or(&page)
+    );
+    drop(_super_serve);
     assert_eq!(pg.count("SELECT COUNT(*) FROM changes") as usize, changes.len());
 
     // A review mark posted with the session's CSRF token lands in PostgreSQL.
@@ -820,10 +836,39 @@ fn serve_on_postgres_renders_every_page_as_on_sqlite_and_records_review_marks() 
         assert!(console.contains("&lt;script&gt;alert(1)&lt;/script&gt; feeds") && !console.contains("<script>alert"), "{console}");
         let link =
             console.split("<ul id=\"saved\">").nth(1).and_then(|t| t.split("href=\"").nth(1)).and_then(|t| t.split('"').next()).unwrap();
-        let (_, ran) = get(base, &link.replace("&amp;", "&"));
+        // The link fills the console's form; its Run button runs it.
+        let (_, shown) = get(base, &link.replace("&amp;", "&"));
+        assert!(shown.contains(&format!(">{}</textarea>", SQL)) && !shown.contains(">feed_changed<"), "{shown}");
+        let (_, ran) = run_sql(base, SQL);
         assert!(ran.contains(" rows") && ran.contains(">feed_changed<"), "{ran}");
     }
 }
+
+/// Runs `sql` in the console at `base` as its Run button does: a POST with the session's
+/// CSRF token.
+fn run_sql(base: &str, sql: &str) -> (String, String) {
+    let (_, console) = get(base, "/sql");
+    let token = console.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).expect("a CSRF token").to_owned();
+    let body = format!("csrf={token}&q={}", urlencode(sql));
+    http(
+        base,
+        &format!(
+            "POST /sql HTTP/1.1\r\nHost: {{host}}\r\nCookie: {SESSION}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            body.len()
+        ),
+    )
+}
+
+/// The workspace's role of README's PostgreSQL section, as its SQL creates it (the database
+/// here is `postgres`, the schema's owner `ncplan`).
+const WEB_ROLE: &str = "CREATE ROLE ncplan_web LOGIN NOSUPERUSER;
+GRANT CONNECT ON DATABASE postgres TO ncplan_web;
+GRANT USAGE ON SCHEMA public TO ncplan_web;
+GRANT SELECT ON ALL TABLES IN SCHEMA public TO ncplan_web;
+GRANT INSERT ON review_marks, saved_queries TO ncplan_web;
+GRANT INSERT, DELETE ON web_sessions TO ncplan_web;
+GRANT USAGE ON ALL SEQUENCES IN SCHEMA public TO ncplan_web;
+ALTER DEFAULT PRIVILEGES FOR ROLE ncplan IN SCHEMA public GRANT SELECT ON TABLES TO ncplan_web;";
 
 /// Rows of a query on one engine's database.
 type Rows<'a> = dyn Fn(&str) -> Vec<Vec<String>> + 'a;

@@ -225,6 +225,27 @@ fn sign_in_csrf_and_reports_without_a_browser() {
         assert!(!page.contains('\u{202E}') && !page.contains('\u{2066}'), "{path}: a bidirectional control reached the page");
         assert!(!page.contains("<b>7"), "{path}: the file name reached the page as markup");
     }
+    // The console's results are text too: hostile stored names and a query's own markup, run
+    // by the console's POST.
+    let session = format!("ncplan_session={}", "ef".repeat(32));
+    let (_, console) = http(&base, &format!("GET /sql HTTP/1.1\r\nHost: {{host}}\r\nCookie: {session}\r\nConnection: close\r\n\r\n"));
+    let token = console.split("name=\"csrf\" value=\"").nth(1).and_then(|t| t.split('"').next()).expect("a CSRF token").to_owned();
+    for sql in ["SELECT '<script>window.pwned=4</script>' AS x", "SELECT path FROM programs"] {
+        let body = format!("csrf={token}&q={}", crate::support::urlencode(sql));
+        let (head, page) = http(
+            &base,
+            &format!(
+                "POST /sql HTTP/1.1\r\nHost: {{host}}\r\nCookie: {session}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+                body.len()
+            ),
+        );
+        assert!(head.starts_with("HTTP/1.1 200") && page.contains("<p id=\"result\">"), "{sql}: {head}");
+        assert!(
+            !page.contains("<script>window") && !page.contains("<b>7") && page.matches("<script").count() == 1,
+            "{sql}: markup in a result"
+        );
+        assert!(!page.contains('\u{202E}'), "{sql}: a bidirectional control reached the page");
+    }
     let (_, page) = http(&base, &format!("GET /compare/{named} HTTP/1.1\r\nHost: {{host}}\r\nConnection: close\r\n\r\n"));
     assert!(
         page.contains("P&quot;&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc") || page.contains("P\"&lt;b&gt;7&lt;i&gt;[U+202E]lmth.nc"),
@@ -489,11 +510,15 @@ fn chromedriver(test: &str) -> Option<(Group, u16)> {
 
 /// A headless chromium session through the chromedriver on `port`.
 async fn browser(port: u16) -> Client {
+    browser_with(port, &[]).await
+}
+
+/// A headless chromium session with the further command-line `args`.
+async fn browser_with(port: u16, args: &[&str]) -> Client {
     let mut caps = serde_json::Map::new();
-    caps.insert(
-        "goog:chromeOptions".into(),
-        json!({ "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1400,1100"] }),
-    );
+    let mut all = vec!["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1400,1100"];
+    all.extend(args);
+    caps.insert("goog:chromeOptions".into(), json!({ "args": all }));
     ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
         .capabilities(caps)
         .connect(&format!("http://127.0.0.1:{port}"))
@@ -546,6 +571,51 @@ fn a_signed_in_planner_stays_signed_in_across_a_restart_of_the_server() {
         let _ = c.close().await;
         result.unwrap();
     });
+}
+
+/// DNS rebinding: a page of another name (`rebind.example`, resolved by chromium to
+/// 127.0.0.1 as a rebinding DNS server would) that loads this server and has its script post
+/// to it, the same origin for the browser. Every route answers 421 and nothing is recorded.
+#[test]
+fn a_page_of_another_name_that_resolves_here_reads_and_posts_nothing() {
+    let Some((_driver, port)) = chromedriver("web::a_page_of_another_name_that_resolves_here_reads_and_posts_nothing") else { return };
+    let site = Site::new();
+    site.build();
+    let (_serve, base) = serve(&site, &[]);
+    let server_port = base.rsplit(':').next().unwrap().to_owned();
+    let change = crate::db_rows(&site.db(), "SELECT id FROM changes ORDER BY id LIMIT 1")[0][0].clone();
+    let rt = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+    rt.block_on(async {
+        let c = browser_with(port, &["--host-resolver-rules=MAP rebind.example 127.0.0.1"]).await;
+        let result = async {
+            let evil = format!("http://rebind.example:{server_port}");
+            c.goto(&format!("{evil}/")).await?;
+            let body = text_of(&c, "body").await;
+            assert!(body.contains("does not answer for the host name `rebind.example:"), "{body}");
+            shot(&c, "rebinding-refused").await?;
+            // The rebinding page's script: read the console, post a mark and a query.
+            let script = format!(
+                "var done = arguments[0];
+                 var form = 'mark=adopt&by=mallory&csrf=x';
+                 Promise.all([
+                   fetch('/sql?q=SELECT%201').then(r => r.status),
+                   fetch('/review/{change}', {{ method: 'POST', headers: {{ 'Content-Type': 'application/x-www-form-urlencoded' }}, body: form }}).then(r => r.status),
+                   fetch('/sql', {{ method: 'POST', headers: {{ 'Content-Type': 'application/x-www-form-urlencoded' }}, body: 'q=SELECT%201' }}).then(r => r.status),
+                   fetch('/compare/1').then(r => r.status),
+                 ]).then(done, e => done(String(e)));"
+            );
+            let statuses = c.execute_async(&script, vec![]).await?;
+            assert_eq!(statuses, json!([421, 421, 421, 421]));
+            // This server's own address still serves the same browser.
+            c.goto(&format!("{base}/")).await?;
+            assert!(text_of(&c, "h1").await.len() > 1);
+            Ok::<_, fantoccini::error::CmdError>(())
+        }
+        .await;
+        let _ = c.close().await;
+        result.unwrap();
+    });
+    assert!(crate::db_rows(&site.db(), "SELECT id FROM review_marks").is_empty(), "the rebinding page recorded a mark");
 }
 
 /// Signs in as `name` on the sign-in page, as a planner does.
@@ -698,8 +768,17 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
     assert!(text_of(c, "table").await.contains("T8"), "the substitution T1 → T8 is counted");
     c.goto(&format!("{base}/search?program=1234&machine=DMU50&kind=tool_renamed")).await?;
     assert!(text_of(c, "#result-count").await.starts_with("1 changes"));
+    // The console: a link fills its form and runs nothing; its Run button POSTs the query.
+    c.goto(&format!("{base}/sql?q=SELECT%20kind%2C%20COUNT(*)%20FROM%20shopfloor_changes%20GROUP%20BY%201")).await?;
+    assert!(c.find(Locator::Css("#result")).await.is_err(), "a GET ran the query");
+    c.find(Locator::Css("form[action=\"/sql\"] button")).await?.click().await?;
+    let result = wait_text(c, "#result", "rows").await;
+    assert!(result.contains("rows"), "{result}");
+    assert!(text_of(c, "table").await.contains("tool_renamed"));
+    shot(c, "sql-run").await?;
     c.goto(&format!("{base}/sql?q=DELETE%20FROM%20revisions")).await?;
-    assert!(text_of(c, "p.error").await.contains("refused"));
+    c.find(Locator::Css("form[action=\"/sql\"] button")).await?.click().await?;
+    assert!(wait_text(c, "p.error", "refused").await.contains("refused"));
 
     // The demo's comparison: the face milling workingstep, T1 → T8, the moved start point boxed.
     c.set_window_size(1400, 2000).await?;
@@ -716,6 +795,8 @@ async fn walk(c: &Client, base: &str, site: &Site, report: &Path) -> Result<(), 
         assert_eq!(n(format!("svg[data-view={view}] rect.region")).await, 1, "{view}: the moved start point's region");
     }
     shot(c, "comparison").await?;
+    // The legend's swatches come from the stylesheet (no inline style under the policy).
+    assert_eq!(js(c, "return getComputedStyle(document.querySelector('.legend i.lg-rapid')).borderTopStyle").await, json!("dashed"));
     let moved = c.find(Locator::Css("li[data-kind=start_point_moved] a.change")).await?;
     moved.click().await?;
     assert_eq!(js(c, "return document.querySelectorAll('svg rect.region.active').length").await, json!(3), "the region is highlighted");

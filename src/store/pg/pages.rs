@@ -365,6 +365,40 @@ impl Pg {
         Ok(())
     }
 
+    /// Why the SQL console must not run through this connection's role, if it must not: a
+    /// superuser, or a role that may read or write the server's files or run its programs
+    /// (`pg_read_file`, `pg_read_server_files`, `lo_import`, …), reads what no planner should
+    /// whatever the transaction's `READ ONLY`.
+    pub(in crate::store) fn console_refusal(&self) -> Result<Option<String>> {
+        let row = self.conn.one(
+            "checking the console's role",
+            "SELECT current_user::text, r.rolsuper,
+                    pg_has_role(current_user, 'pg_read_server_files', 'MEMBER')
+                 OR pg_has_role(current_user, 'pg_write_server_files', 'MEMBER')
+                 OR pg_has_role(current_user, 'pg_execute_server_program', 'MEMBER'),
+                    has_function_privilege('pg_read_file(text)', 'EXECUTE')
+                 OR has_function_privilege('pg_read_binary_file(text)', 'EXECUTE')
+                 OR has_function_privilege('pg_ls_dir(text)', 'EXECUTE')
+                 OR has_function_privilege('lo_import(text)', 'EXECUTE')
+             FROM pg_roles r WHERE r.rolname = current_user",
+            &[],
+        )?;
+        let (role, superuser, files, functions): (String, bool, bool, bool) = (row.get(0), row.get(1), row.get(2), row.get(3));
+        let what = if superuser {
+            "is a superuser"
+        } else if files {
+            "may read or write the server's files or run its programs (pg_read_server_files, pg_write_server_files, pg_execute_server_program)"
+        } else if functions {
+            "may call pg_read_file, pg_read_binary_file, pg_ls_dir or lo_import"
+        } else {
+            return Ok(None);
+        };
+        Ok(Some(format!(
+            "the SQL console does not run as the database role `{role}`: it {what}; give `serve` a role that is neither \
+             (the README's `ncplan_web`)"
+        )))
+    }
+
     /// The SQL console on PostgreSQL: one statement in a `READ ONLY` transaction that is
     /// rolled back, `statement_timeout` as the time limit, and at most `max_rows` rows fetched
     /// from a cursor (so that a huge answer is not read whole).
@@ -385,6 +419,9 @@ impl Pg {
             }
             _ => QueryError::Sql(plain(&e)),
         };
+        if let Some(why) = self.console_refusal().map_err(|e| QueryError::Sql(e.to_string()))? {
+            return Err(QueryError::Refused(why));
+        }
         let mut client = self.conn.client.borrow_mut();
         let mut tx = client.transaction().map_err(refused)?;
         tx.batch_execute(&format!("SET TRANSACTION READ ONLY; SET LOCAL statement_timeout = {ms}")).map_err(refused)?;
@@ -399,6 +436,11 @@ impl Pg {
             tx.simple_query(&format!("FETCH {} FROM ncplan_console", max_rows + 1)).map_err(refused)?
         };
         let mut rows = super::text_cells(&messages, &types);
+        for cell in rows.iter_mut().flatten() {
+            if cell.len() > 16 << 10 {
+                *cell = crate::store::pages::console_text(cell.as_bytes());
+            }
+        }
         let more = rows.len() > max_rows;
         rows.truncate(max_rows);
         drop(tx);
