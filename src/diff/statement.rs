@@ -55,8 +55,8 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
         if matches!(w.role, Role::A | Role::B | Role::C) {
             m |= ROTARY_MOVE;
         }
-        if let (b'G', crate::syntax::Value::Number { value, .. }) = (w.letter, w.value)
-            && let Some(code) = dialect.code('G', (value * 10.0).round().max(0.0) as u32)
+        if let (letter @ (b'G' | b'M'), crate::syntax::Value::Number { value, .. }) = (w.letter, w.value)
+            && let Some(code) = dialect.code(char::from(letter), (value * 10.0).round().max(0.0) as u32)
             && matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)
         {
             m |= RETURN_MOVE;
@@ -68,18 +68,38 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
 /// The statements of `text` in `dialect`, in order. Blocks with nothing the machine reads
 /// (blank, comment, block number alone, `%`) are not statements.
 pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
+    read(text, dialect).0
+}
+
+/// An error the control stops at: its code, its line and what it says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fault {
+    /// The diagnostic's code.
+    pub code: crate::diag::Code,
+    /// 1-based line.
+    pub line: u32,
+    /// The diagnostic's sentence.
+    pub message: String,
+}
+
+/// The statements of `text` in `dialect`, as [`statements`], and the errors reading its
+/// blocks finds (a malformed expression, words where a comment ended early).
+pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     let keywords = Keywords::of(dialect);
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
     let mut diags = Vec::new();
     let mut out = Vec::new();
+    let mut faults = Vec::new();
     let mut buf = String::new();
     loop {
         let offset = parser.offset();
         if !parser.next_block(&mut block, &mut diags) {
             break;
         }
-        diags.clear();
+        for d in diags.drain(..).filter(crate::diag::Diagnostic::is_error) {
+            faults.push(Fault { code: d.code, line: block.line, message: d.message });
+        }
         buf.clear();
         let Some(class) = normalize(&block, dialect, &keywords, &mut buf) else { continue };
         let mut h = std::hash::DefaultHasher::new();
@@ -88,7 +108,7 @@ pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
         let moves = moves_of(&block, dialect);
         out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class, moves });
     }
-    out
+    (out, faults)
 }
 
 /// The normalised text of the statement at `stmt`, read again from `text`.
@@ -222,7 +242,9 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
     if skip {
         out.push('/');
     }
-    canon(body, keep_point, out);
+    // Blanks inside numbers are read away, except after a legacy cycle's sub-block number.
+    let numbers_apart = !dialect.lexical.spaces_in_numbers || block.words.iter().any(|w| w.role == Role::CycleValue);
+    canon(body, (keep_point, numbers_apart), out);
     if block.delimiter && out.trim_matches(['%', '/']).is_empty() {
         out.clear();
     }
@@ -248,8 +270,10 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
     Some(class)
 }
 
-/// Writes `s` in one spelling (see the module's doc) after `out`.
-fn canon(s: &str, keep_point: bool, out: &mut String) {
+/// Writes `s` in one spelling (see the module's doc) after `out`. `numbers_apart`: a blank
+/// between two numbers is kept (`CYCL DEF 9.1 10` is not `9.110`), where the dialect does not
+/// read blanks inside numbers.
+fn canon(s: &str, (keep_point, numbers_apart): (bool, bool), out: &mut String) {
     let b = s.as_bytes();
     let mut i = 0;
     let mut quoted = false;
@@ -280,8 +304,11 @@ fn canon(s: &str, keep_point: bool, out: &mut String) {
             continue;
         }
         let ch = (c as char).to_ascii_uppercase();
-        flush_space(out, &mut space, ch);
         let starts_number = c.is_ascii_digit() || (c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
+        if numbers_apart && space && starts_number && out.ends_with(|l: char| l.is_ascii_digit() || l == '.') {
+            out.push(' ');
+        }
+        flush_space(out, &mut space, ch);
         if starts_number {
             let mut rev = out.chars().rev();
             let (last, prev) = (rev.next(), rev.next());
@@ -578,10 +605,12 @@ fn token(t: &str) -> Token {
         }
     }
     // A call: a name then a bracketed or parenthesised list.
+    // (An address letter before a bracketed expression is a word: `F[#<FAST>]`, `Z[#7]`.)
     if let Some(open) = t.find(['(', '['])
         && open > 0
         && t.ends_with([')', ']'])
         && t[..open].chars().any(|c| c.is_ascii_alphabetic())
+        && !(open == 1 && t[..1].bytes().all(|c| c.is_ascii_alphabetic()))
     {
         // `O<NAME>CALL[…]`: the name without its keyword.
         let head = &t[..open];
@@ -591,7 +620,7 @@ fn token(t: &str) -> Token {
     let letters = t.bytes().take_while(u8::is_ascii_alphabetic).count();
     let rest = &t[letters..];
     if letters >= 1 && !rest.is_empty() && rest.bytes().all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'-' | b'#' | b'<' | b'>' | b'_'))
-        || letters >= 1 && rest.starts_with(['[', '#', '-'])
+        || letters >= 1 && rest.starts_with(['[', '#', '-', '+'])
     {
         let key = &t[..letters];
         if (key == "G" || key == "M") && rest.bytes().all(|c| c.is_ascii_digit() || c == b'.') {
