@@ -285,7 +285,7 @@ impl Change {
                 let via = self.field.find(" (via ").map_or("", |i| &self.field[i..]);
                 format!("clearance height between cuts changed from {} to {}{via}", self.before, self.after)
             }
-            ChangeKind::ToolpathChanged if self.field != "moves" => {
+            ChangeKind::ToolpathChanged if !self.field.starts_with("moves") => {
                 let mut s = format!("toolpath changed{}", at(self.line));
                 if let Some(l) = self.original_line
                     && Some(l) != self.line

@@ -243,7 +243,7 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
         out.push('/');
     }
     // Blanks inside numbers are read away, except after a legacy cycle's sub-block number.
-    let numbers_apart = !dialect.lexical.spaces_in_numbers || block.words.iter().any(|w| w.role == Role::CycleValue);
+    let numbers_apart = !dialect.lexical.spaces_in_numbers || block.words.iter().any(|w| legacy_cycle_word(w, dialect));
     canon(body, (keep_point, numbers_apart), out);
     if block.delimiter && out.trim_matches(['%', '/']).is_empty() {
         out.clear();
@@ -268,6 +268,18 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
         out.push(')');
     }
     Some(class)
+}
+
+/// Whether a word belongs to a cycle definition (`CYCL DEF 9.1 10`), whose sub-block number
+/// and value are two numbers, not one with a blank inside.
+fn legacy_cycle_word(w: &crate::syntax::Word, dialect: &Dialect) -> bool {
+    match (w.role, w.value) {
+        (Role::CycleValue | Role::CycleNumber | Role::Cycle, _) => true,
+        (Role::Keyword, crate::syntax::Value::Number { value, .. }) => {
+            dialect.codes.get(value as usize).is_some_and(|c| c.meaning == Meaning::CycleDefine)
+        }
+        _ => false,
+    }
 }
 
 /// Writes `s` in one spelling (see the module's doc) after `out`. `numbers_apart`: a blank
@@ -328,8 +340,10 @@ fn canon(s: &str, (keep_point, numbers_apart): (bool, bool), out: &mut String) {
             continue;
         }
         // A plus sign before a number after an address says nothing.
+        // (Past blanks, where the dialect reads blanks inside numbers: `X + 0`.)
+        let next = if numbers_apart { b.get(i + 1) } else { b[i + 1..].iter().find(|n| !n.is_ascii_whitespace()) };
         if c == b'+'
-            && b.get(i + 1).is_some_and(|n| n.is_ascii_digit() || *n == b'.')
+            && next.is_some_and(|n| n.is_ascii_digit() || *n == b'.')
             && out.ends_with(|l: char| l.is_ascii_alphabetic() || l == '=')
         {
             i += 1;
@@ -575,8 +589,9 @@ pub fn tokens(s: &str) -> Vec<Token> {
             _ if depth <= 0 && c.is_ascii_alphabetic() && i > start => {
                 let p = b[i - 1];
                 // `O100WHILE[…]`, `O200CALL[…]`: an O-word and its keyword are one statement.
-                let o_word = b[start] == b'O' && b[start + 1..i].iter().all(u8::is_ascii_digit);
-                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.' | b'"')) {
+                // `T#<TOOL>M6`: a word after a named parameter, but not `O<NAME>CALL`.
+                let o_word = b[start] == b'O' && (b[start + 1..i].iter().all(u8::is_ascii_digit) || b.get(start + 1) == Some(&b'<'));
+                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.' | b'"' | b'>')) {
                     pieces.push(&s[start..i]);
                     start = i;
                 }

@@ -57,6 +57,15 @@ pub(super) struct Context {
     pub dwell: bool,
     /// A canned cycle's code (`G81`): `R`, `Q`, `P` are its parameters, `Z` its depth.
     pub cycle: bool,
+    /// Another cycle's code (`G76` threading, a lathe's `G71`): its words but the end point
+    /// and feed are its parameters.
+    pub other_cycle: bool,
+    /// Constant surface speed (`G96 D2500 S200`): its other word is the speed limit.
+    pub css: bool,
+    /// An override switch (`M50 P0`): its `P` is the switch.
+    pub switch: bool,
+    /// A shift of the origin (`CYCL DEF 7.1 X+10`, `G52`): its axis words are the shift.
+    pub shift: bool,
     /// A dynamic length offset (`G43.1 Z…`): its axis words are the offset.
     pub length: bool,
     /// A data-setting code (`G10 L2`) and what its `L` value sets, by the dictionary.
@@ -65,6 +74,31 @@ pub(super) struct Context {
     pub legacy: bool,
     /// Moves whose axis words read variables (`G0 Z#7`): what the plan may not see.
     pub moves_by_variables: bool,
+}
+
+/// Whether a code shifts the origin of the program's coordinates.
+fn shifts(m: Meaning) -> bool {
+    matches!(m, Meaning::LocalOffset | Meaning::OriginShift | Meaning::FrameTrans | Meaning::FrameTransAdd)
+}
+
+/// Whether a code is a cycle other than a drilling one, whose words are its parameters.
+fn other_cycle(m: Meaning) -> bool {
+    use Meaning as M;
+    matches!(
+        m,
+        M::CycleThread
+            | M::CycleTurn
+            | M::CycleFace
+            | M::CycleThreadPass
+            | M::CycleRoughTurn
+            | M::CycleRoughFace
+            | M::CycleFinishContour
+            | M::ProfileFinish
+            | M::ProfileRoughTurn
+            | M::ProfileRoughFace
+            | M::SpindleSync
+            | M::RigidTap
+    )
 }
 
 /// Whether a token is an axis or arc-centre word.
@@ -98,13 +132,18 @@ impl Context {
         let mut c = Context::default();
         if let Some(cycle) = tokens.iter().find_map(|t| legacy_cycle(t, d)) {
             c.dwell |= cycle.meaning == Meaning::Dwell;
-            c.legacy = cycle.meaning != Meaning::Dwell;
+            c.shift |= shifts(cycle.meaning);
+            c.legacy = !c.dwell && !c.shift;
         }
         c.moves_by_variables = tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
         for t in tokens.iter().filter(|t| t.sort == Sort::Word) {
             if let About::Code(m) = about(t, d) {
                 c.dwell |= m == Meaning::Dwell;
                 c.cycle |= m.is_cycle();
+                c.other_cycle |= other_cycle(m);
+                c.css |= m == Meaning::SpindleCss;
+                c.switch |= matches!(m, Meaning::FeedOverrideSwitch | Meaning::SpeedOverrideSwitch);
+                c.shift |= shifts(m);
                 c.length |= m == Meaning::LengthCompDynamic;
                 if m == Meaning::SetData {
                     let l = tokens.iter().find(|t| t.key == "L").and_then(|t| t.value.parse::<f64>().ok());
@@ -121,6 +160,10 @@ impl Context {
         Context {
             dwell: self.dwell || o.dwell,
             cycle: self.cycle || o.cycle,
+            other_cycle: self.other_cycle || o.other_cycle,
+            css: self.css || o.css,
+            switch: self.switch || o.switch,
+            shift: self.shift || o.shift,
             length: self.length || o.length,
             data: self.data.or(o.data),
             legacy: self.legacy || o.legacy,
@@ -155,7 +198,22 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     let a = about(tok, d);
     // Moves the plan may not see, where their axis words read variables: the whole move.
     let motion = matches!(a, About::Code(M::Rapid | M::Linear | M::ArcCw | M::ArcCcw | M::Probe | M::ProbeQuiet));
-    if ctx.moves_by_variables && !ctx.cycle && ctx.data.is_none() && !ctx.length && (motion || axis_word(tok, d)) {
+    if let About::Address(r) = a
+        && ctx.other_cycle
+        && !matches!(r, R::X | R::Y | R::Z | R::U | R::W | R::F | R::S | R::T | R::G | R::M | R::N)
+    {
+        return Some((K::CycleParameterChanged, "cycle parameter"));
+    }
+    if ctx.shift && axis_word(tok, d) {
+        return Some((K::WorkOffsetChanged, "origin shift"));
+    }
+    if ctx.switch && matches!(a, About::Address(R::P)) {
+        return Some((K::FeedOverrideChanged, "feed override"));
+    }
+    if ctx.css && matches!(a, About::Address(R::D)) {
+        return Some((K::SpindleSpeedChanged, "spindle speed limit"));
+    }
+    if ctx.moves_by_variables && !ctx.cycle && !ctx.other_cycle && ctx.data.is_none() && !ctx.length && (motion || axis_word(tok, d)) {
         return Some((K::ToolpathChanged, "moves"));
     }
     Some(match a {
@@ -188,7 +246,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
         About::Address(r) if ctx.cycle && matches!(r, R::R | R::Q | R::P | R::K) => (K::CycleParameterChanged, "cycle parameter"),
         About::Address(R::Z) if ctx.cycle => (K::DepthChanged, "hole depth"),
         About::Address(r) => match r {
-            R::F | R::E => (K::FeedChanged, "feed"),
+            R::F => (K::FeedChanged, "feed"),
             R::PlungeFeed => (K::PlungeFeedChanged, "plunge feed"),
             R::S | R::SpindleLimit => (K::SpindleSpeedChanged, "spindle speed"),
             R::T | R::NextTool => (K::ToolRenamed, "tool"),
@@ -216,6 +274,9 @@ fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
 /// The typed changes of one statement's token differences, and which differences they tell.
 /// Words of one kind make one change: their texts joined, before and after.
 pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> (Vec<Typed>, Vec<bool>) {
+    if let Some(whole) = whole_statement(diffs, ctx, d) {
+        return (vec![whole], vec![true; diffs.len()]);
+    }
     let mut out: Vec<Typed> = Vec::new();
     let mut told = vec![false; diffs.len()];
     for (n, (x, y)) in diffs.iter().enumerate() {
@@ -247,6 +308,25 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
         }
     }
     (out, told)
+}
+
+/// A statement added or removed whole that a keyword code begins (`TOOL CALL 5 Z S3000`):
+/// one change of that code's kind, with the statement's words.
+fn whole_statement(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> Option<Typed> {
+    let added = diffs.iter().all(|(x, y)| x.is_none() && y.is_some());
+    let removed = diffs.iter().all(|(x, y)| x.is_some() && y.is_none());
+    let first = diffs.first().and_then(|(x, y)| y.as_ref().or(x.as_ref()))?;
+    let keyword = first.sort == Sort::Other
+        && first.value.is_empty()
+        && d.keyword_codes().any(|(_, spec)| spec.text.split(' ').next() == Some(first.key.as_str()));
+    if !(added || removed) || !keyword {
+        return None;
+    }
+    let (kind, field) = kind_of(first, ctx, d)?;
+    let text = diffs.iter().filter_map(|(x, y)| y.as_ref().or(x.as_ref())).map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ");
+    let kind = if kind == ChangeKind::StopAdded && removed { ChangeKind::StopRemoved } else { kind };
+    let (before, after) = if added { (String::new(), text) } else { (text, String::new()) };
+    Some(Typed { kind, field: field.into(), before, after })
 }
 
 /// The cycle a call token names (`CYCLE81(…)`) and its arguments' names, by the dictionary.
