@@ -28,6 +28,10 @@ struct Expect {
     /// `breaks` or `fixes`: the edit makes the control stop where it did not, or the reverse.
     #[serde(default)]
     verdict: String,
+    /// Kinds of change that must be among the changes (`feed_changed`): the edit told by
+    /// what it does, not only as a statement.
+    #[serde(default)]
+    kinds: Vec<String>,
 }
 
 struct Pair {
@@ -112,6 +116,10 @@ fn run(pair: &Pair) -> Outcome {
         "logging" if machining > 0 => problems.push(format!("logging only, yet {machining} machining changes")),
         "machining" if machining == 0 => problems.push("machining, yet no machining change".into()),
         _ => {}
+    }
+    let missing_kinds: Vec<&String> = pair.expect.kinds.iter().filter(|k| !changes.iter().any(|c| c.kind.as_str() == k.as_str())).collect();
+    if !missing_kinds.is_empty() {
+        problems.push(format!("no change of kind {missing_kinds:?}"));
     }
     if !pair.expect.verdict.is_empty() && !changes.iter().any(|c| matches!(c.kind, ChangeKind::ProgramBroken | ChangeKind::ProgramFixed)) {
         problems.push(format!("the edit {} the program, and no change says so", pair.expect.verdict));
