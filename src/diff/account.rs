@@ -103,7 +103,7 @@ fn locate(
             if !(lo.is_some_and(in_a) || le.is_some_and(in_b)) {
                 continue;
             }
-            if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect)) {
+            if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect, it.ctx)) {
                 it.located = true;
                 at.push((lo, le));
             }
@@ -181,6 +181,7 @@ fn locate(
     follow::follow(&mut added, a, b, (sa, sb));
     merge_typed(&mut added);
     changes.extend(added);
+    fold_length_offset(changes);
     // Stable: the plan's changes first within a workingstep, statements by line.
     changes.sort_by_key(|c| c.workingstep);
     if cfg!(debug_assertions) {
@@ -346,12 +347,19 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
 /// Whether a token difference shows a plan change of `kind`: a word whose code or address the
 /// dictionary says is about what the change is about. Variables, calls and jumps show no
 /// plan change by themselves.
-fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect) -> bool {
+fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect, ctx: Context) -> bool {
     let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
     if !tok.is_address() {
         return false;
     }
     use ChangeKind as K;
+    // A word its statement's codes give another sense (a dwell's `F`, a cycle's `H`) shows
+    // that, not the technology its letter names elsewhere.
+    let technology =
+        matches!(kind, K::FeedChanged | K::SpindleSpeedChanged | K::LengthOffsetChanged | K::CutterCompChanged | K::ToolRenamed);
+    if technology && ctx.special() && typed::kind_of(tok, ctx, dialect).is_some_and(|(k, _)| k != kind) {
+        return false;
+    }
     use Meaning as M;
     use Role as R;
     let a = about(tok, dialect);
@@ -503,7 +511,6 @@ fn merge_typed(changes: &mut Vec<Change>) {
         }
         k += 1;
     }
-    fold_length_offset(changes);
 }
 
 /// A tool renamed (`T1` → `T8`) and a length offset renamed with it (`H1` → `H8`, the offset

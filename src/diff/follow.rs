@@ -71,8 +71,10 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
     let mut seen = 0;
     for (k, s) in stmts.iter().enumerate() {
         // The raw line first: most statements do not name the variable.
-        let end = p.text[s.offset as usize..].find('\n').map_or(p.text.len(), |e| s.offset as usize + e);
-        let raw = &p.text[s.offset as usize..end];
+        let from = s.offset as usize;
+        let lines = (s.last - s.line + 1) as usize;
+        let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
+        let raw = &p.text[from..end];
         if !raw.to_ascii_uppercase().contains(name) {
             continue;
         }

@@ -155,6 +155,19 @@ impl Context {
         c
     }
 
+    /// Whether the statement's codes give some of its words another sense than their letters'.
+    pub(super) fn special(self) -> bool {
+        self.dwell
+            || self.cycle
+            || self.other_cycle
+            || self.css
+            || self.switch
+            || self.shift
+            || self.length
+            || self.legacy
+            || self.data.is_some()
+    }
+
     /// Both statements' contexts: a word removed from one and added to the other has either.
     pub(super) fn or(self, o: Context) -> Context {
         Context {

@@ -148,7 +148,9 @@ impl Lexer<'_, '_> {
                 let mut quoted = false;
                 let stops = |c: char| {
                     quoted ^= lex.string_quote == Some(c);
-                    let comment = |r: &crate::dialect::CommentRule| r.open == c && !r.block_start && r.close == crate::dialect::CommentClose::EndOfLine;
+                    let comment = |r: &crate::dialect::CommentRule| {
+                        r.open == c && !r.block_start && r.close == crate::dialect::CommentClose::EndOfLine
+                    };
                     !quoted && (lex.block_end == Some(c) || lex.comments.iter().any(comment))
                 };
                 let end = self.text[start..end].find(stops).map_or(end, |p| start + p);
