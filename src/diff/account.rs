@@ -329,7 +329,10 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
         match (0..b.len()).find(|&j| !used[j] && b[j].key == x.key && b[j].sort == x.sort) {
             Some(j) => {
                 used[j] = true;
-                if b[j].text != x.text {
+                // An expression of the same value (`572.86/2` for `286.43`) is no difference.
+                let value = |t: &Token| statement::constant(&t.value).or_else(|| t.value.parse::<f64>().ok());
+                let same = value(x).zip(value(&b[j])).is_some_and(|(u, v)| (u - v).abs() <= 1e-9 * u.abs().max(1.0));
+                if b[j].text != x.text && !same {
                     out.push((Some(x.clone()), Some(b[j].clone())));
                 }
             }

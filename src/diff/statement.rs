@@ -102,6 +102,7 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
         }
         buf.clear();
         let Some(class) = normalize(&block, dialect, &keywords, &mut buf) else { continue };
+        fold_constants(&mut buf);
         let mut h = std::hash::DefaultHasher::new();
         buf.hash(&mut h);
         let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
@@ -380,6 +381,96 @@ fn number(run: &str, keep_point: bool, out: &mut String) {
         Some(_) if keep_point && !int.is_empty() => out.push('.'),
         _ => {}
     }
+}
+
+/// The value of a constant expression (`572.86/2`, `[2*3]`, `-(1+2)`): numbers, `+ - * /`
+/// and brackets only; `None` for anything else (a variable, a function, a plain number).
+pub fn constant(s: &str) -> Option<f64> {
+    let b = s.as_bytes();
+    if s.parse::<f64>().is_ok() || !b.iter().skip(1).any(|c| matches!(c, b'+' | b'-' | b'*' | b'/' | b'[' | b'(')) {
+        return None;
+    }
+    if !b.iter().all(|c| c.is_ascii_digit() || b".+-*/[]() ".contains(c)) {
+        return None;
+    }
+    let mut at = 0;
+    let v = sum(b, &mut at)?;
+    (at == b.len() && v.is_finite()).then_some(v)
+}
+
+fn sum(b: &[u8], at: &mut usize) -> Option<f64> {
+    let mut v = product(b, at)?;
+    while let Some(&op @ (b'+' | b'-')) = b.get(*at) {
+        *at += 1;
+        let r = product(b, at)?;
+        v = if op == b'+' { v + r } else { v - r };
+    }
+    Some(v)
+}
+
+fn product(b: &[u8], at: &mut usize) -> Option<f64> {
+    let mut v = factor(b, at)?;
+    while let Some(&op @ (b'*' | b'/')) = b.get(*at) {
+        *at += 1;
+        let r = factor(b, at)?;
+        v = if op == b'*' { v * r } else { v / r };
+    }
+    Some(v)
+}
+
+fn factor(b: &[u8], at: &mut usize) -> Option<f64> {
+    match b.get(*at)? {
+        b'-' | b'+' => {
+            let neg = b[*at] == b'-';
+            *at += 1;
+            factor(b, at).map(|v| if neg { -v } else { v })
+        }
+        open @ (b'[' | b'(') => {
+            let close = if *open == b'[' { b']' } else { b')' };
+            *at += 1;
+            let v = sum(b, at)?;
+            (b.get(*at) == Some(&close)).then(|| *at += 1)?;
+            Some(v)
+        }
+        _ => {
+            let n = b[*at..].iter().take_while(|c| c.is_ascii_digit() || **c == b'.').count();
+            let v = std::str::from_utf8(&b[*at..*at + n]).ok()?.parse().ok()?;
+            *at += n;
+            Some(v)
+        }
+    }
+}
+
+/// A constant's value written as a number, to nine decimals.
+pub fn constant_text(v: f64) -> String {
+    let s = format!("{v:.9}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// Constant expressions of a normalised statement written as their values, so that a value
+/// rewritten as an expression of the same value (`WR=286.43`, `WR=572.86/2`) is the same
+/// statement. Only for comparing: the statements' text is read again as written.
+fn fold_constants(s: &mut String) {
+    if !s.bytes().any(|c| matches!(c, b'*' | b'/' | b'[' | b'(' | b'+')) {
+        return;
+    }
+    let mut out = String::with_capacity(s.len());
+    let mut rest = s.as_str();
+    for t in tokens(s) {
+        let Some(i) = rest.find(&t.text) else { continue };
+        out.push_str(&rest[..i]);
+        match constant(&t.value).filter(|_| matches!(t.sort, Sort::Word | Sort::Assign)) {
+            Some(v) => {
+                out.push_str(&t.text[..t.text.len() - t.value.len()]);
+                out.push_str(&constant_text(v));
+            }
+            None => out.push_str(&t.text),
+        }
+        rest = &rest[i + t.text.len()..];
+    }
+    out.push_str(rest);
+    *s = out;
 }
 
 /// A run of differing statements: indices into each side's statements.
@@ -710,6 +801,19 @@ pub fn arguments(value: &str) -> Vec<String> {
 mod tests {
     use super::*;
     use crate::dialect::Registry;
+
+    #[test]
+    fn constant_expressions() {
+        assert_eq!(constant("572.86/2"), Some(286.43));
+        assert_eq!(constant("[2*3]-1"), Some(5.0));
+        assert_eq!(constant("-(1+2)*2"), Some(-6.0));
+        assert_eq!(constant("286.43"), None, "a plain number is no expression");
+        assert_eq!(constant("R1*2"), None, "a variable is not a constant");
+        assert_eq!(constant("[2*3"), None, "an unclosed bracket");
+        let mut s = "WR=572.86/2 X[1+1]".to_owned();
+        fold_constants(&mut s);
+        assert_eq!(s, "WR=286.43 X2");
+    }
 
     fn norm(dialect: &str, text: &str) -> Vec<String> {
         let d = Registry::shipped().get(dialect).unwrap();
