@@ -80,14 +80,14 @@ fn locate(
     pairs: &[(Option<usize>, Option<usize>)],
     changes: &mut Vec<Change>,
 ) {
-    let hunks = statement::hunks(&sa, &sb);
+    let hunks = statement::hunks(sa, sb);
     if hunks.is_empty() {
         // The machine reads the same statements: what recognition took from comments (a
         // stock, a tool's size) changed, not the machining. Called programs may still have.
         changes.retain(|c| !derived(c.kind));
         return;
     }
-    let (mut items, bulks) = itemize(&hunks, a, b, &sa, &sb);
+    let (mut items, bulks) = itemize(&hunks, a, b, sa, sb);
     let spans_a = spans(&a.plan.workingsteps);
     let spans_b = spans(&b.plan.workingsteps);
     let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
@@ -99,7 +99,7 @@ fn locate(
         let in_b = |l: u32| j.is_some_and(|j| spans_b[j].contains(&l));
         let mut at: Vec<(Option<u32>, Option<u32>)> = Vec::new();
         for it in items.iter_mut() {
-            let (lo, le) = (line(&sa, it.original), line(&sb, it.edited));
+            let (lo, le) = (line(sa, it.original), line(sb, it.edited));
             if !(lo.is_some_and(in_a) || le.is_some_and(in_b)) {
                 continue;
             }
@@ -141,8 +141,8 @@ fn locate(
     merge_repeats(changes);
     let mut added = Vec::new();
     for it in &items {
-        let lo = line(&sa, it.original);
-        let le = line(&sb, it.edited);
+        let lo = line(sa, it.original);
+        let le = line(sb, it.edited);
         let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
         // A statement over several lines (`CYCL DEF 200 ~`) is named whole.
         let last = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].last).filter(|&l| Some(l) != line(s, i));
@@ -150,7 +150,7 @@ fn locate(
             if it.class == Class::Machining && untyped(c.kind) {
                 c.detail.effect.clone_from(&effect);
             }
-            (c.detail.original_line_end, c.detail.line_end) = (last(&sa, it.original), last(&sb, it.edited));
+            (c.detail.original_line_end, c.detail.line_end) = (last(sa, it.original), last(sb, it.edited));
             added.push(c);
         }
     }
@@ -158,7 +158,7 @@ fn locate(
         let (ra, rb) = (&bk.hunk.original, &bk.hunk.edited);
         let first = |s: &[Stmt], r: &std::ops::Range<usize>| (!r.is_empty()).then(|| s[r.start].line);
         let last = |s: &[Stmt], r: &std::ops::Range<usize>| (!r.is_empty()).then(|| s[r.end - 1].last);
-        let (lo, le) = (first(&sa, ra), first(&sb, rb));
+        let (lo, le) = (first(sa, ra), first(sb, rb));
         let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
         let lines = |n: usize, f: Option<u32>, l: Option<u32>| match (f, l) {
             (Some(f), Some(l)) if f != l => format!("{n} statements at lines {f}–{l}"),
@@ -167,11 +167,11 @@ fn locate(
         };
         let mut c = blank(if bk.class == Class::Output { ChangeKind::OutputChanged } else { ChangeKind::StatementChanged }, ws);
         c.field = "statements".into();
-        c.before = lines(ra.len(), lo, last(&sa, ra));
-        c.after = lines(rb.len(), le, last(&sb, rb));
+        c.before = lines(ra.len(), lo, last(sa, ra));
+        c.after = lines(rb.len(), le, last(sb, rb));
         (c.original_line, c.line) = (lo, le);
-        c.detail.original_line_end = last(&sa, ra);
-        c.detail.line_end = last(&sb, rb);
+        c.detail.original_line_end = last(sa, ra);
+        c.detail.line_end = last(sb, rb);
         c.detail.at = vec![(lo, le)];
         if bk.class == Class::Machining {
             c.detail.effect.clone_from(&effect);
@@ -185,7 +185,7 @@ fn locate(
     // Stable: the plan's changes first within a workingstep, statements by line.
     changes.sort_by_key(|c| c.workingstep);
     if cfg!(debug_assertions) {
-        let missing = uncovered(changes, &hunks, &sa, &sb);
+        let missing = uncovered(changes, &hunks, sa, sb);
         assert!(missing.is_empty(), "differing statements no change names (original, edited line): {missing:?}");
     }
 }

@@ -21,7 +21,12 @@
 //! other differing statement into a statement change (variables, call arguments, words, jumps;
 //! output apart), names unexplained plan changes as their effect, tells a change carried into
 //! later workingsteps once, and in debug builds asserts that every differing statement is
-//! named. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
+//! named. `typed.rs` tells a differing statement by what its words do where the plan does
+//! not show it (a feed, a dwell, a cycle parameter: the kinds plan changes use), by the
+//! dictionary's meanings and roles in the context of the statement's codes; `follow.rs`
+//! follows a variable set to another value to the words it feeds (`clearance height (via
+//! #<_z_clearance>)`); `verdict.rs` says what the edit breaks or fixes (errors the control
+//! stops at in one version only, matched by kind), listed first. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
 //! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
 //! offset, offset numbers, compensation, stops, dwells, block delete, spindle mode),
 //! technology, holes and cycle parameters, features, strategy and depths of cut, risky edits,
