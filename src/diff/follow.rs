@@ -23,6 +23,9 @@ const MOTION_LOOKBACK: usize = 64;
 /// How many statements that read a variable are looked at.
 const MAX_USES: usize = 256;
 
+/// How many variables one level feeds that are followed to the next.
+const MAX_FED: usize = 8;
+
 /// Whether `value` reads the variable `name` (upper case, as statements are written): the
 /// name not followed by more of a name or number (`#1` is not read by `#10`).
 fn reads(value: &str, name: &str) -> bool {
@@ -123,6 +126,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
                     }
                 }
                 next.extend(feeds.into_iter().filter(|f| *f != var));
+                next.truncate(MAX_FED);
             }
             if next.is_empty() {
                 break;
