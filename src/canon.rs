@@ -176,6 +176,63 @@ pub enum Setting {
     BlockDelete,
     /// A tool selected by name (`T="EM10"`) and the number the analysis gave it.
     ToolName(u32, String),
+    /// A work offset stated by the block (`G54`), also where it is the one in force already:
+    /// the program does not leave it to whatever the machine had.
+    WorkOffset(u16),
+}
+
+/// Where a move given in the machine's own frame goes: a reference position, or machine
+/// coordinates. The analysis knows neither the reference positions nor the work offsets (it
+/// takes them as zero, as rs274 does), so the moves that follow the marker reach a position
+/// that only the machine knows; a writer and a check must keep them as what they are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MachineTarget {
+    /// Reference position 1 (`G28`, Siemens `G74`) or 2 (`G30`, `G75`), through an
+    /// intermediate point: the marker's two traverses.
+    Reference(u8),
+    /// Machine coordinates for one block (`G53`, `SUPA`, `M91`): the marker's one move.
+    Machine,
+}
+
+/// A move in the machine's frame (a marker before its moves).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MachineMove {
+    /// Where it goes.
+    pub target: MachineTarget,
+    /// The axes it moves there (X Y Z A B C), with their machine coordinates for
+    /// [`MachineTarget::Machine`] (in the program's length units) and `0` for a reference
+    /// position (which one, not where, is known).
+    pub axes: [Option<f64>; 6],
+}
+
+impl MachineMove {
+    /// How many traverses of the stream the marker governs.
+    pub fn moves(&self) -> usize {
+        match self.target {
+            MachineTarget::Reference(_) => 2,
+            MachineTarget::Machine => 1,
+        }
+    }
+
+    /// `G28 Z`, `G53 X10 Z0`: the axes as a reader names them.
+    pub fn describe(&self) -> String {
+        const NAMES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
+        let axes: Vec<String> = self
+            .axes
+            .iter()
+            .zip(NAMES)
+            .filter_map(|(v, n)| match (v, self.target) {
+                (Some(_), MachineTarget::Reference(_)) => Some(n.to_owned()),
+                (Some(v), MachineTarget::Machine) => Some(format!("{n}{v}")),
+                (None, _) => None,
+            })
+            .collect();
+        match self.target {
+            MachineTarget::Reference(k) => format!("return to reference position {k} in {}", axes.join(" ")),
+            MachineTarget::Machine => format!("move in machine coordinates to {}", axes.join(" ")),
+        }
+    }
 }
 
 /// Work offset indexes above this one are the additional work offsets: `EXTENDED_WCS + n` is
@@ -311,6 +368,9 @@ pub enum CanonOp {
     /// for the moves that follow, where it changes from +Z or from the last one stated
     /// (CLDATA `GOTO/x,y,z,i,j,k`). The moves stay the tool tip's; 5-axis output reads this.
     ToolAxis([f64; 3]),
+    /// Marker: the move(s) that follow go to a position in the machine's frame (a reference
+    /// return, a machine-coordinate move), not the work offset's.
+    MachineMove(Box<MachineMove>),
     /// `NURBS_FEED(n, ...)`: a feed along a spline of `points` control points (the start
     /// among them) that ends at `end` (G5.1, G5.2 … G5.3); rs274 prints only the count.
     NurbsFeed {
@@ -545,6 +605,7 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::ToolAxis([i, j, k]) => put(out, format_args!("COMMENT(\"ncplan: tool axis {i:.6} {j:.6} {k:.6}\")")),
         CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
         CanonOp::Setting(s) => setting(out, s),
+        CanonOp::MachineMove(m) => put(out, format_args!("COMMENT(\"ncplan: {}\")", m.describe())),
         CanonOp::SetFeedMode(m) => out.extend_from_slice(feed_mode(*m)),
         CanonOp::SetSpindleMode(max) => put(out, format_args!("SET_SPINDLE_MODE(0 {})", F4(max.unwrap_or(0.0)))),
         CanonOp::StartSpeedFeedSync(pitch) => put(out, format_args!("START_SPEED_FEED_SYNC({pitch:.6},0)")),
@@ -662,6 +723,7 @@ fn setting(out: &mut Vec<u8>, s: &Setting) {
             }
         }
         Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
+        Setting::WorkOffset(i) => write!(out, "COMMENT(\"ncplan: work offset {i} stated\")"),
         Setting::ToolName(n, name) => {
             let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
             write!(out, "COMMENT(\"ncplan: tool {n} is {name}\")")

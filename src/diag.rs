@@ -234,6 +234,10 @@ codes! {
     /// The target dialect has no output rules, or no rule for something the program does:
     /// that part of the program is not written.
     PostUnwritable = ("post::unwritable", Error),
+    /// The translation, read back in the target's dialect, does not run as the source does
+    /// (`translate --check`): a move, a home return, a work offset, the tool, the spindle or
+    /// the coolant differs.
+    PostMotionDiffers = ("post::motion-differs", Error),
     /// A canned cycle the target cannot state as a cycle: written as the moves it makes.
     PostCycleAsMoves = ("post::cycle-as-moves", Note),
     /// Macros, loops and subprograms are written as the path that runs, unrolled.

@@ -22,6 +22,7 @@ pub mod part21;
 pub mod pipeline;
 pub mod plan;
 pub mod post;
+pub mod proof;
 pub mod reanalyze;
 pub mod store;
 pub mod syntax;

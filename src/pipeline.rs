@@ -195,6 +195,56 @@ pub fn translate<'t>(
     crate::post::translate_with_facts(text, from, to, profile, opts, &mut tops, sink)
 }
 
+/// The proof of a translation by its motion (`translate --check`): `translated`, the text the
+/// target's writer made of `source`, read back in `to`, must run as `source` read in `from`
+/// does: every move in the same frame (the work offset stated, a reference return, a move in
+/// machine coordinates), with the same tool, feed, spindle and coolant, positions within
+/// 0.001 mm, or within the target's resolution where the writer said it rounded (`written`
+/// holds the writer's findings). Returns the findings: none when the motion is the same; an
+/// error of the read-back, or [`Code::PostMotionDiffers`] at the source's block where the two
+/// part.
+pub fn check_translation(
+    source: Text<'_>,
+    from: &Dialect,
+    translated: &str,
+    to: &Dialect,
+    profile: &Profile,
+    written: &[Diagnostic],
+) -> Vec<Diagnostic> {
+    const TOL: f64 = 0.001;
+    let mut ours = crate::proof::Trace::new(TOL);
+    interp::interpret(source, from, profile, &mut ours);
+    let mut theirs = crate::proof::Trace::new(TOL);
+    let back = interp::interpret(Text::from(translated), to, profile, &mut theirs);
+    if let Some(e) = back.iter().find(|d| d.is_error()) {
+        let at = LineIndex::new(translated).line_col(translated, e.range.start).line;
+        return vec![Diagnostic::new(
+            Code::PostMotionDiffers,
+            TextRange::default(),
+            format!("the translation, read back as {}, has an error at its line {at}: {}: {}", to.name, e.code.as_str(), e.message),
+        )];
+    }
+    let said = |code: Code| written.iter().any(|d| d.code == code);
+    let mut tol = TOL;
+    if said(Code::PostRounded) || said(Code::PostArcCentre) {
+        tol = tol.max(crate::post::resolution(to, theirs.in_inches()));
+    }
+    if said(Code::PostArcCentre) {
+        tol += ours.slack();
+    }
+    match crate::proof::difference(&ours, &theirs, tol) {
+        None => Vec::new(),
+        Some(d) => {
+            let back_line = d.other_line.map(|l| format!(" (the translation's line {l})")).unwrap_or_default();
+            vec![Diagnostic::new(
+                Code::PostMotionDiffers,
+                d.origin,
+                format!("the translation does not run as the program does{back_line}: {}", d.what),
+            )]
+        }
+    }
+}
+
 /// The changes from the `original` program's plan to the `edited` one's, each analysed in its
 /// dialect, in the order of the edited program (`ncplan diff`).
 pub fn diff(original: &Analysis, original_dialect: &Dialect, edited: &Analysis, edited_dialect: &Dialect) -> Vec<Change> {

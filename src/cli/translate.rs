@@ -35,13 +35,19 @@ pub(super) struct Args {
     /// A stored revision (the as-run program) instead of a file.
     #[arg(long, conflicts_with = "file")]
     revision: Option<i64>,
+    /// Prove the translation by its motion before giving it out: read it back in the
+    /// target's dialect and compare every move (in its frame: the work offset, a reference
+    /// return, machine coordinates), tool, feed, spindle and coolant with the program's. A
+    /// translation that runs otherwise is not written (exit 1). It is held in memory.
+    #[arg(long)]
+    check: bool,
     #[command(flatten)]
     store: StoreArgs,
 }
 
 /// Runs `ncplan translate`.
 pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
-    let Args { file, dialect: from, to, output, machine, revision, store: store_args } = args;
+    let Args { file, dialect: from, to, output, machine, revision, check, store: store_args } = args;
     let (store_args, out) = (&store_args, &mut out);
     let config = analysis_config(store_args.config.as_deref())?;
     let registry = registry_for(Some(&config))?;
@@ -122,9 +128,11 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     // changed while it was read, a full disk) leaves no half file, and an earlier one stays.
     let partial =
         output.as_ref().map(|o| o.with_file_name(format!(".{}.partial", o.file_name().map(|n| n.to_string_lossy()).unwrap_or_default())));
-    let mut file_out: Box<dyn Write> = match &partial {
-        Some(p) => Box::new(BufWriter::new(std::fs::File::create(p).with_context(|| format!("cannot write {}", p.display()))?)),
-        None => Box::new(&mut *out),
+    let mut held = Vec::new();
+    let mut file_out: Box<dyn Write> = match (&partial, check) {
+        (_, true) => Box::new(&mut held),
+        (Some(p), false) => Box::new(BufWriter::new(std::fs::File::create(p).with_context(|| format!("cannot write {}", p.display()))?)),
+        (None, false) => Box::new(&mut *out),
     };
     let mut error: Option<std::io::Error> = None;
     diags.extend(pipeline::translate(text, &source_dialect, &target, &profile, opts, |chunk| {
@@ -139,13 +147,26 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         None => file_out.flush(),
     };
     drop(file_out);
+    if check && flushed.is_ok() && program.trouble().is_none() {
+        let checked = pipeline::check_translation(text, &source_dialect, &String::from_utf8_lossy(&held), &target, &profile, &diags);
+        diags.extend(checked);
+    }
+    // A translation the writer could not make whole, or that runs otherwise, is refused: what
+    // it would have written is not given out (a stream without --check is out already).
+    let refused = diags.iter().any(|x| x.is_error() && x.code.as_str().starts_with("post::"));
     let failed = match (flushed, program.trouble()) {
         (Err(e), _) => Some(anyhow::Error::from(e)),
         (Ok(()), Some(why)) => Some(anyhow::anyhow!("{why}; nothing was written")),
         (Ok(()), None) => None,
     };
+    if failed.is_none() && !refused && check {
+        match &partial {
+            Some(p) => std::fs::write(p, &held).with_context(|| format!("cannot write {}", p.display()))?,
+            None => out.write_all(&held)?,
+        }
+    }
     if let (Some(p), Some(o)) = (&partial, &output) {
-        if failed.is_some() {
+        if failed.is_some() || refused {
             let _ = std::fs::remove_file(p);
         } else {
             std::fs::rename(p, o).with_context(|| format!("cannot write {}", o.display()))?;
@@ -159,5 +180,8 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let shown_diags: Vec<&Diagnostic> =
         diags.iter().filter(|x| x.severity != Severity::Note || x.code.as_str().starts_with("post::")).collect();
     print_short(&path.display().to_string(), text, &shown_diags);
+    if refused && (output.is_some() || check) {
+        eprintln!("translate: the translation is refused: nothing was written");
+    }
     Ok(if diags.iter().any(|x| x.is_error()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }

@@ -97,11 +97,7 @@ impl Interpreter<'_> {
         let param = self.dialect.cycles[ci].args.iter().find_map(|a| a.param);
         let n = param.and_then(|p| self.params.get(f64::from(p)).ok()).filter(|v| !super::eval::is_null(*v));
         match n {
-            Some(n) if n.fract() == 0.0 && (1.0..=9.0).contains(&n) => {
-                if n as u16 != self.st.wcs {
-                    self.select_wcs(n as u16, sink);
-                }
-            }
+            Some(n) if n.fract() == 0.0 && (1.0..=9.0).contains(&n) => self.state_wcs(n as u16, sink),
             _ => {
                 let msg = format!("cycle {name} names no work offset from 1 to 9; the system in force stays");
                 self.limited(diags, "cycle-wcs", Diagnostic::new(Code::Unsupported, range, msg));

@@ -1,7 +1,7 @@
 //! Straight and circular motion.
 
 use super::{Interpreter, Spindle};
-use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
+use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, MachineMove, MachineTarget, Plane, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role, SystemVar};
 use crate::syntax::{Block, WordMode};
@@ -96,6 +96,18 @@ impl Interpreter<'_> {
         Some((centre(a0), centre(a1)))
     }
 
+    /// Marks a straight move the block states in machine coordinates (`G53`, `SUPA`, `M91`)
+    /// with the machine coordinates it names, so that a writer keeps it one.
+    fn machine_marker(&mut self, sink: &mut dyn CanonSink) {
+        if self.codes.is_empty() || !self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::MachineCoords) {
+            return;
+        }
+        let axes = std::array::from_fn(|i| self.slot(Role::AXES[i]));
+        if axes.iter().any(Option::is_some) {
+            self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Machine, axes })));
+        }
+    }
+
     /// Whether the axis word for `role` is incremental (per word, or by G91).
     pub(super) fn incremental(&self, role: Role) -> bool {
         match self.slots[role as usize].map(|s| s.mode) {
@@ -117,6 +129,9 @@ impl Interpreter<'_> {
             let msg = format!("{}: the move just after cutter compensation ends must be straight, not an arc", def.label());
             diags.push(Diagnostic::new(Code::BadArc, range, msg));
             return;
+        }
+        if matches!(def.meaning, Meaning::Rapid | Meaning::Linear) {
+            self.machine_marker(sink);
         }
         match def.meaning {
             Meaning::Rapid | Meaning::Linear if rapid_block => {

@@ -105,6 +105,7 @@ use std::collections::BTreeSet;
 mod cycle;
 mod lane;
 mod layout;
+mod machine;
 mod modes;
 mod motion;
 mod program;
@@ -224,6 +225,14 @@ pub struct Limits {
     pub max_feed: Option<f64>,
     /// Lowest and highest X, Y, Z.
     pub travel: Option<([f64; 3], [f64; 3])>,
+}
+
+/// How far (mm) a position `target` writes may be from the one it was given: half its X
+/// format's last digit, in inches or millimetres.
+pub fn resolution(target: &crate::dialect::Dialect, inch: bool) -> f64 {
+    let Some(f) = target.output.as_ref().and_then(|o| o.formats.iter().find(|f| f.name == "X")) else { return 0.001 };
+    let d = if inch { f.inch_decimals } else { f.decimals };
+    0.5 * 10f64.powi(-i32::from(d)) * if inch { 25.4 } else { 1.0 } * (1.0 + 1e-6) + 1e-9
 }
 
 /// The program number a name states (`O1234` → 1234), else 1.
@@ -357,7 +366,7 @@ impl Batcher {
 }
 
 const FLUSH_AT: usize = 64 * 1024;
-const NVALUES: usize = 48;
+const NVALUES: usize = Value::MachineC as usize + 1;
 const EPS: f64 = 1e-9;
 
 /// Values for one event's template: numbers (NaN when absent) and texts.
@@ -426,6 +435,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     comp_d: u32,
     comp: Option<(bool, Option<u32>)>,
     pending_move: Option<Canon>,
+    /// A move in the machine's frame under way ([`machine`]).
+    machine: Option<machine::PendingMachine>,
     optional_line: Option<u32>,
     line: u32,
     origin: crate::text::TextRange,
@@ -991,7 +1002,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             scale: 1.0,
             g92: [0.0; 3],
             plane: Plane::Xy,
-            wcs: Some(1),
+            wcs: None,
             feed_mode: FeedMode::PerMinute,
             pos: [0.0; 3],
             written: Default::default(),
@@ -1012,6 +1023,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             comp_d: 0,
             comp: None,
             pending_move: None,
+            machine: None,
             optional_line: None,
             line: 0,
             origin: Default::default(),
@@ -1809,6 +1821,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
         // The common op, a straight move, apart from the rest (a small frame for it).
         match &canon.op {
+            CanonOp::StraightTraverse(p) if self.machine.is_some() => self.machine_step(canon, p, true),
+            CanonOp::StraightFeed(p) if self.machine.is_some() => self.machine_step(canon, p, false),
             CanonOp::StraightTraverse(p) => self.straight(canon, p, true),
             CanonOp::StraightFeed(p) => self.straight(canon, p, false),
             _ => self.other_op(canon),
@@ -1822,7 +1836,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         match &canon.op {
             CanonOp::UseLengthUnits(_) | CanonOp::SelectPlane(_) | CanonOp::DistanceMode(_) => self.mode_op(canon),
             CanonOp::SetFeedRate(_) | CanonOp::SetFeedMode(_) => self.feed_op(canon),
-            CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) => self.offset_op(canon),
+            CanonOp::SetG5xOffset(..) | CanonOp::SetG92Offset(_) | CanonOp::Setting(Setting::WorkOffset(_)) => self.offset_op(canon),
+            CanonOp::MachineMove(m) => self.machine_op(canon, m),
             CanonOp::SelectTool(_)
             | CanonOp::ChangeTool(_)
             | CanonOp::UseToolLengthOffset(_)

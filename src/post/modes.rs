@@ -7,7 +7,7 @@
 //! which each move asks.
 
 use super::{Post, ROUNDED_NOTE, Vals};
-use crate::canon::{Canon, CanonOp, FeedMode, Plane, Units};
+use crate::canon::{Canon, CanonOp, FeedMode, Plane, Setting, Units};
 use crate::diag::Code;
 use crate::dialect::output::Value;
 
@@ -87,6 +87,11 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     pub(super) fn offset_op(&mut self, canon: &Canon) {
         match &canon.op {
             CanonOp::SetG5xOffset(i, v) => self.work_offset(canon, i, v),
+            // Stated though in force: written where the target has not written it yet.
+            CanonOp::Setting(Setting::WorkOffset(i)) => {
+                let v = self.wcs_now;
+                self.work_offset(canon, i, &v);
+            }
             CanonOp::SetG92Offset(o) => {
                 self.g92 = [self.to_out(o[0]), self.to_out(o[1]), self.to_out(o[2])];
                 if self.g92.iter().any(|v| v.abs() * self.opts.units.to_mm() > ROUNDED_NOTE) {

@@ -295,3 +295,32 @@ fn plan_takes_tool_sizes_from_a_tool_table_and_says_so() {
     assert_eq!(code, 2);
     assert!(err.contains("in the tool table tests/programs/posts/README.md"), "{err}");
 }
+
+#[test]
+fn translate_check_proves_the_motion_and_refuses_what_runs_otherwise() {
+    let tmp = tempfile::tempdir().unwrap();
+    // Fanuc to LinuxCNC: the home return is a home return, the work offset is stated; the
+    // proof holds and the file is written.
+    let o = tmp.path().join("O1234.ngc");
+    let (code, _, err) =
+        ncplan(&["translate", "demo/cam/O1234.nc", "-d", "fanuc", "--to", "linuxcnc", "--check", "-o", o.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&o).unwrap();
+    assert!(text.contains("G54") && text.contains("G91 G28 Z0\nG90"), "{text}");
+    // To standard output, the same text.
+    let (code, out, err) = ncplan(&["translate", "demo/cam/O1234.nc", "-d", "fanuc", "--to", "linuxcnc", "--check"]);
+    assert_eq!((code, out.as_str()), (0, text.as_str()), "{err}");
+    // Heidenhain has no return through a point: refused, naming the block, and nothing written.
+    let h = tmp.path().join("O1234.h");
+    let (code, out, err) =
+        ncplan(&["translate", "demo/cam/O1234.nc", "-d", "fanuc", "--to", "heidenhain", "--check", "-o", h.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(err.contains("O1234.nc:17:1: error[post::unwritable]: the return to reference position 1 in Z is not written"), "{err}");
+    assert!(err.contains("the translation is refused: nothing was written"), "{err}");
+    assert!(!h.exists());
+    let names: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 1, "no partial file is left: {names:?}");
+    // On standard output, with --check, nothing of the refused program either.
+    let (code, out, _) = ncplan(&["translate", "demo/cam/O1234.nc", "-d", "fanuc", "--to", "siemens", "--check"]);
+    assert_eq!((code, out.as_str()), (1, ""));
+}

@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use ncplan::canon::{Canon, CanonOp, CycleKind, Plane, Units};
+use ncplan::canon::{Canon, CanonOp, CycleKind, Units};
 use ncplan::diag::Diagnostic;
 use ncplan::dialect::{Dialect, Registry};
 use ncplan::diff::ChangeKind;
@@ -20,6 +20,7 @@ use ncplan::interp::Profile;
 use ncplan::pipeline;
 use ncplan::plan::ProcessPlan;
 use ncplan::post::{self, Options};
+use ncplan::proof::{self, Trace};
 
 /// The shipped mill dialects with output rules.
 pub(crate) const MILLS: [&str; 9] = ["fanuc", "haas", "mitsubishi", "mazak", "okuma", "fagor", "siemens", "heidenhain", "linuxcnc"];
@@ -67,217 +68,9 @@ fn translate_with(
 
 /// One move of the canonical toolpath, in millimetres in the work offset's frame, with the
 /// technology in force.
-#[derive(Clone, Debug)]
-struct Mv {
-    /// 0 rapid, 1 feed, 2 clockwise arc, 3 counter-clockwise arc.
-    kind: u8,
-    /// Where the move starts, and for an arc the plane's axes (first, second, normal).
-    from: [f64; 3],
-    axes: (usize, usize, usize),
-    to: [f64; 3],
-    /// Rotary axes at the end, degrees.
-    abc: [f64; 3],
-    centre: [f64; 3],
-    sweep: f64,
-    /// How far the source's radii at start and end differ: the writer may move the centre
-    /// by that much to make them agree for a stricter target.
-    slack: f64,
-    feed: f64,
-    speed: f64,
-    spindle: i8,
-    coolant: u8,
-    tool: u32,
-    line: u32,
-}
-
-fn moves(canon: &[Canon]) -> Vec<Mv> {
-    let mut out = Vec::new();
-    let (mut scale, mut g92, mut plane) = (1.0, [0.0; 3], Plane::Xy);
-    let mut pos = [0.0f64; 3];
-    let mut rot = [0.0f64; 3];
-    let (mut feed, mut speed, mut spindle, mut coolant, mut tool) = (0.0, 0.0, 0i8, 0u8, 0u32);
-    // The advance per revolution of a spindle-synchronised run (a thread, a rigid tap), mm:
-    // its moves feed that times the speed, whatever feed rate is set.
-    let mut sync: Option<f64> = None;
-    // The G92 shift and the work offset's change (mm); the offset in force and its values,
-    // and each offset's values when first moved in.
-    let mut shifts = [[0.0f64; 3]; 2];
-    let mut wcs: (u16, [f64; 6]) = (1, [0.0; 6]);
-    let mut frames: Vec<(u16, [f64; 6])> = Vec::new();
-    // The points a merged rapid passes through.
-    let mut chain: Vec<[f64; 3]> = Vec::new();
-    let mut ended = false;
-    for c in canon {
-        if ended {
-            break;
-        }
-        let mm = |v: f64, k: usize, g92: &[f64; 3], scale: f64| v * scale + g92[k];
-        let moving =
-            matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::RigidTap(_));
-        if moving && !frames.iter().any(|(k, _)| *k == wcs.0) {
-            frames.push(wcs);
-        }
-        match &c.op {
-            CanonOp::UseLengthUnits(u) => scale = u.to_mm(),
-            CanonOp::SelectPlane(p) => plane = *p,
-            CanonOp::SetG92Offset(o) => {
-                shifts[0] = [o[0] * scale, o[1] * scale, o[2] * scale];
-                g92 = std::array::from_fn(|k| shifts[0][k] + shifts[1][k]);
-            }
-            // The work offset's values as the first move in it found them are the frame;
-            // values the program changes after that (G10 L20 while active) move the machine
-            // as a shift would.
-            CanonOp::SetG5xOffset(i, v) => {
-                wcs = (*i, *v);
-                let first = frames.iter().find(|(k, _)| *k == *i).map_or(*v, |(_, f)| *f);
-                shifts[1] = std::array::from_fn(|k| (v[k] - first[k]) * scale);
-                g92 = std::array::from_fn(|k| shifts[0][k] + shifts[1][k]);
-            }
-            CanonOp::SetFeedRate(f) => feed = f * scale,
-            CanonOp::SetSpindleSpeed(s) => speed = *s,
-            CanonOp::StartSpindleClockwise => spindle = 1,
-            CanonOp::StartSpindleCounterclockwise => spindle = -1,
-            CanonOp::StopSpindleTurning => spindle = 0,
-            CanonOp::ChangeTool(t) => {
-                tool = *t;
-            }
-            CanonOp::FloodOn => coolant |= 1,
-            CanonOp::MistOn => coolant |= 2,
-            CanonOp::FloodOff => coolant &= !1,
-            CanonOp::MistOff => coolant &= !2,
-            CanonOp::ProgramEnd => ended = true,
-            CanonOp::StartSpeedFeedSync(p) => sync = Some(p * scale),
-            CanonOp::StopSpeedFeedSync => sync = None,
-            CanonOp::RigidTap(p) => {
-                // In to the point at the pitch and back out with the spindle reversed, as a
-                // tapping cycle's moves go.
-                let to = [mm(p[0], 0, &g92, scale), mm(p[1], 1, &g92, scale), mm(p[2], 2, &g92, scale)];
-                let feed = sync.map_or(feed, |k| k * speed);
-                for (from, to, spindle) in [(pos, to, spindle), (to, pos, -spindle)] {
-                    out.push(Mv {
-                        kind: 1,
-                        from,
-                        axes: (0, 1, 2),
-                        to,
-                        abc: rot,
-                        centre: [0.0; 3],
-                        sweep: 0.0,
-                        slack: 0.0,
-                        feed,
-                        speed,
-                        spindle,
-                        coolant,
-                        tool,
-                        line: c.line,
-                    });
-                }
-            }
-            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => {
-                let to = [mm(p[0], 0, &g92, scale), mm(p[1], 1, &g92, scale), mm(p[2], 2, &g92, scale)];
-                let rapid = matches!(c.op, CanonOp::StraightTraverse(_));
-                let abc = [p[3], p[4], p[5]];
-                if (0..3).all(|k| (to[k] - pos[k]).abs() <= 1.5 * TOL && (abc[k] - rot[k]).abs() <= 1.5 * TOL) {
-                    pos = to;
-                    continue;
-                }
-                // A rapid on along the line of the rapids before (a writer stopping at the
-                // level its cycle returns to, a run of short rapids written rounded) goes the
-                // same way: one rapid, every point between within the resolution of it.
-                if let Some(last) = out.last_mut().filter(|l: &&mut Mv| {
-                    let (u, v) = (sub(to, l.from), sub(to, pos));
-                    rapid
-                        && l.kind == 0
-                        && l.abc == abc
-                        && l.to == pos
-                        && dot(sub(pos, l.from), v) > 0.0
-                        && chain.iter().chain([&pos]).all(|q| norm(cross(u, sub(*q, l.from))) <= TOL * norm(u))
-                }) {
-                    last.to = to;
-                    chain.push(pos);
-                    pos = to;
-                    continue;
-                }
-                chain.clear();
-                rot = abc;
-                out.push(Mv {
-                    kind: u8::from(!rapid),
-                    from: pos,
-                    axes: (0, 1, 2),
-                    to,
-                    abc,
-                    centre: [0.0; 3],
-                    sweep: 0.0,
-                    slack: 0.0,
-                    feed: sync.map_or(feed, |k| k * speed),
-                    speed,
-                    spindle,
-                    coolant,
-                    tool,
-                    line: c.line,
-                });
-                pos = to;
-            }
-            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
-                let (a, b, n) = plane.axes();
-                let mut to = [0.0; 3];
-                to[a] = mm(*first_end, a, &g92, scale);
-                to[b] = mm(*second_end, b, &g92, scale);
-                to[n] = mm(*axis_end, n, &g92, scale);
-                let mut centre = [0.0; 3];
-                centre[a] = mm(*first_axis, a, &g92, scale);
-                centre[b] = mm(*second_axis, b, &g92, scale);
-                let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
-                let tau = std::f64::consts::TAU;
-                let mut sweep = ang(to) - ang(pos);
-                if *rotation > 0 {
-                    while sweep <= 1e-9 {
-                        sweep += tau;
-                    }
-                } else {
-                    while sweep >= -1e-9 {
-                        sweep -= tau;
-                    }
-                }
-                let sweep = sweep.abs() + tau * f64::from(rotation.unsigned_abs().saturating_sub(1));
-                let slack = ((pos[a] - centre[a]).hypot(pos[b] - centre[b]) - (to[a] - centre[a]).hypot(to[b] - centre[b])).abs();
-                out.push(Mv {
-                    kind: if *rotation > 0 { 3 } else { 2 },
-                    from: pos,
-                    axes: (a, b, n),
-                    to,
-                    abc: rot,
-                    centre,
-                    sweep,
-                    slack,
-                    feed,
-                    speed,
-                    spindle,
-                    coolant,
-                    tool,
-                    line: c.line,
-                });
-                pos = to;
-            }
-            _ => {}
-        }
-    }
-    out
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
+/// The moves of a canonical stream as the machine runs them (`ncplan::proof`).
+fn moves(canon: &[Canon]) -> Trace {
+    Trace::of(canon, TOL)
 }
 
 fn near(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
@@ -289,101 +82,8 @@ fn fmt(p: [f64; 3]) -> String {
 }
 
 /// The first way toolpath `b` differs from `a`, if any.
-fn toolpath_difference(a: &[Mv], b: &[Mv], tol: f64) -> Option<String> {
-    let mut j = 0;
-    for m in a {
-        let Some(n) = b.get(j) else { return Some(format!("the translation ends before the move of line {} to {}", m.line, fmt(m.to))) };
-        // The spindle, its speed and the coolant as they cut: on a rapid they make nothing
-        // (a target whose tool change stops the spindle positions with it stopped).
-        let state = |x: &Mv| (x.spindle, x.coolant);
-        if m.tool != n.tool
-            || (m.kind != 0 && state(m) != state(n))
-            || (m.kind != 0 && m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
-            || (m.kind != 0 && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0))
-        {
-            return Some(format!(
-                "line {}: tool/spindle/coolant/feed/speed T{} {} {} F{} S{} became T{} {} {} F{} S{}",
-                m.line, m.tool, m.spindle, m.coolant, m.feed, m.speed, n.tool, n.spindle, n.coolant, n.feed, n.speed
-            ));
-        }
-        if m.kind < 2 {
-            if n.kind != m.kind || !near(m.to, n.to, tol) || !near(m.abc, n.abc, tol) {
-                return Some(format!("line {}: {} to {} became {} to {}", m.line, kind(m.kind), fmt(m.to), kind(n.kind), fmt(n.to)));
-            }
-            j += 1;
-            continue;
-        }
-        // An arc may come back in pieces (whole turns, halves): same direction, and each piece
-        // about the same centre or, where the centre is ill-conditioned (a long radius over a
-        // short chord, radii that differ at the ends), on the same path within `tol` and the
-        // source's own radius difference.
-        let (a0, b0, _) = m.axes;
-        let r0 = (m.from[a0] - m.centre[a0]).hypot(m.from[b0] - m.centre[b0]);
-        let angle_tol = (2.0 * tol + m.slack) / r0.max(1e-9) + 1e-3;
-        let mut swept = 0.0;
-        loop {
-            let Some(n) = b.get(j) else { return Some(format!("the translation ends within the arc of line {}", m.line)) };
-            let same_centre = near(n.centre, m.centre, 2.0 * tol + m.slack);
-            if n.kind != m.kind || !(same_centre || arc_deviation(m, n) <= tol + m.slack) {
-                return Some(format!("line {}: arc about {} became {} about {}", m.line, fmt(m.centre), kind(n.kind), fmt(n.centre)));
-            }
-            swept += n.sweep;
-            j += 1;
-            // Done at the source's end point with its sweep; the pieces past its sweep without
-            // reaching it are another arc.
-            if near(n.to, m.to, tol) && (swept - m.sweep).abs() <= angle_tol.max(1e-2) {
-                break;
-            }
-            if swept >= m.sweep - 1e-3 {
-                return Some(format!("line {}: arc to {} became one to {}", m.line, fmt(m.to), fmt(n.to)));
-            }
-        }
-    }
-    b.get(j).map(|n| format!("the translation has more moves: {} to {}", kind(n.kind), fmt(n.to)))
-}
-
-/// How far piece `n` of a translated arc strays from the source's arc `m` (infinite when `m`
-/// turns more than once): `m` runs from its start radius to its end radius and along its
-/// axis in proportion to the angle, as controls that take differing radii move.
-fn arc_deviation(m: &Mv, n: &Mv) -> f64 {
-    let tau = std::f64::consts::TAU;
-    if m.sweep > tau + 1e-9 || n.axes != m.axes {
-        return f64::INFINITY;
-    }
-    let (a, b, k) = m.axes;
-    let ang = |p: [f64; 3], c: [f64; 3]| (p[b] - c[b]).atan2(p[a] - c[a]);
-    let dir = if m.kind == 3 { 1.0 } else { -1.0 };
-    let r = |p: [f64; 3], c: [f64; 3]| (p[a] - c[a]).hypot(p[b] - c[b]);
-    let (r0, r1) = (r(m.from, m.centre), r(m.to, m.centre));
-    let (s0, rn) = (ang(n.from, n.centre), r(n.from, n.centre));
-    let rn1 = r(n.to, n.centre);
-    let mut worst: f64 = 0.0;
-    for i in 0..=32 {
-        let f = f64::from(i) / 32.0;
-        let t = s0 + dir * n.sweep * f;
-        let rr = rn + (rn1 - rn) * f;
-        let mut q = [0.0; 3];
-        q[a] = n.centre[a] + rr * t.cos();
-        q[b] = n.centre[b] + rr * t.sin();
-        q[k] = n.from[k] + (n.to[k] - n.from[k]) * f;
-        // The point's angle along `m`, from its start in its direction.
-        let theta = (dir * (ang(q, m.centre) - ang(m.from, m.centre))).rem_euclid(tau);
-        let d = if theta <= m.sweep + 1e-9 {
-            let g = if m.sweep > 0.0 { theta / m.sweep } else { 0.0 };
-            let radial = r(q, m.centre) - (r0 + (r1 - r0) * g);
-            let axial = q[k] - (m.from[k] + (m.to[k] - m.from[k]) * g);
-            radial.hypot(axial)
-        } else {
-            let dist = |p: [f64; 3]| (0..3).map(|x| (q[x] - p[x]).powi(2)).sum::<f64>().sqrt();
-            dist(m.from).min(dist(m.to))
-        };
-        worst = worst.max(d);
-    }
-    worst
-}
-
-fn kind(k: u8) -> &'static str {
-    ["rapid", "feed", "cw arc", "ccw arc"][k as usize]
+fn toolpath_difference(a: &Trace, b: &Trace, tol: f64) -> Option<String> {
+    proof::difference(a, b, tol).map(|d| d.to_string())
 }
 
 /// The first way plan `b` differs from `a`, if any (the diff's tool renames of named tools,
@@ -477,7 +177,7 @@ fn length_mm(s: &str) -> Option<f64> {
 pub(crate) struct Source {
     text: String,
     dialect: Arc<Dialect>,
-    moves: Vec<Mv>,
+    moves: Trace,
     plan: ProcessPlan,
     name: String,
 }
@@ -505,6 +205,11 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
         let line = ncplan::text::LineIndex::new(&back.source.text).line_col(&back.source.text, e.range.start).line;
         return (text, format!("read back with errors: line {line}: {}: {}", e.code.as_str(), e.message));
     }
+    // The proof `translate --check` gives: the same motion, frame by frame.
+    let proof = pipeline::check_translation(src.text.as_str().into(), &src.dialect, &text, &target, &Profile::default(), &diags);
+    if let Some(e) = proof.first() {
+        return (text, format!("motion: {}: {}", e.code.as_str(), e.message));
+    }
     // The LinuxCNC output has four decimals: the oracle's 1e-4 holds against the source.
     let tol = if to == "linuxcnc" { 1.0001e-4 } else { TOL };
     let back_moves = moves(&back.canon);
@@ -528,7 +233,7 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
     // Arcs whose radii differed more than the target takes, their centres moved (said): the
     // toolpath within the source's radius differences, which bound the plan's changes too.
     if let Some(r) = diags.iter().find(|d| d.code == ncplan::diag::Code::PostArcCentre) {
-        let slack = src.moves.iter().map(|m| m.slack).fold(0.0, f64::max);
+        let slack = src.moves.slack();
         let tol = resolution(&target, &back.canon).max(tol);
         let feeds = diags.iter().any(|d| d.code == ncplan::diag::Code::PostRounded && d.message.contains("feeds"));
         if toolpath_difference(&src.moves, &back_moves, tol).is_none()
@@ -1097,4 +802,81 @@ fn compensation_by_another_offset_is_unwritable_where_the_target_takes_the_tool_
     let (out, verdict) = round_trip(&src, "fanuc");
     assert!(out.contains("G41 D2"), "{out}");
     assert!(!verdict.starts_with("untranslatable"), "{verdict}");
+}
+
+/// The demo's CAM program: a face mill in G54 that goes home in Z (`G91 G28 Z0.`) at its end.
+fn demo_program() -> String {
+    std::fs::read_to_string(crate::root().join("demo/cam/O1234.nc")).unwrap()
+}
+
+/// `translate --check`'s proof of `translated` (written by `to`'s rules) against the demo.
+fn motion_check(translated: &str, to: &str) -> Vec<Diagnostic> {
+    let src = demo_program();
+    pipeline::check_translation(src.as_str().into(), &dialect("fanuc"), translated, &dialect(to), &Profile::default(), &[])
+}
+
+#[test]
+fn a_home_return_is_written_as_one_or_refused_never_as_a_move_to_the_same_numbers() {
+    let src = demo_program();
+    for to in MILLS {
+        let (out, diags) = translate(&src, &dialect("fanuc"), &dialect(to), "O1234");
+        let refused = diags.iter().find(|d| d.is_error());
+        match refused {
+            // Heidenhain, Siemens, Okuma and Fagor have no return through a point the
+            // dictionary can state: refused, naming the block.
+            Some(e) => {
+                assert_eq!(e.code.as_str(), "post::unwritable", "{to}: {e:?}");
+                assert!(e.message.contains("return to reference position 1 in Z"), "{to}: {}", e.message);
+                assert!(
+                    !out.lines().any(|l| l.trim_end().ends_with("Z0.") || l.contains("Z+0 FMAX")),
+                    "{to} wrote the home return as a move:\n{out}"
+                );
+            }
+            None => {
+                assert!(out.contains("G28"), "{to}:\n{out}");
+                assert_eq!(motion_check(&out, to), vec![], "{to}:\n{out}");
+            }
+        }
+        // The work offset the program states is stated in every translation.
+        let wcs = ["G54", "Q339=+1"];
+        assert!(wcs.iter().any(|w| out.contains(w)), "{to} dropped G54:\n{out}");
+    }
+}
+
+#[test]
+fn the_motion_check_refuses_a_dropped_home_return_a_dropped_work_offset_and_a_changed_plane() {
+    let (good, diags) = translate(&demo_program(), &dialect("fanuc"), &dialect("fanuc"), "O1234");
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    assert_eq!(motion_check(&good, "fanuc"), vec![]);
+    let planted = |from: &str, to: &str| {
+        assert!(good.contains(from), "{from} not in\n{good}");
+        good.replacen(from, to, 1)
+    };
+    // The return home written as a rapid to the same numbers: down to the part's top.
+    let home = motion_check(&planted("G91 G28 Z0.\nG90\n", "G0 Z0.\n"), "fanuc");
+    assert_eq!(home.len(), 1, "{home:?}");
+    assert_eq!(home[0].code.as_str(), "post::motion-differs");
+    assert!(home[0].message.contains("reference return to Z0.0000 became rapid to X-10.0000 Y48.0000 Z0.0000"), "{}", home[0].message);
+    // The work offset left to whatever the machine had.
+    let wcs = motion_check(&planted("G54\n", ""), "fanuc");
+    assert_eq!(wcs.len(), 1, "{wcs:?}");
+    assert!(wcs[0].message.contains("moves in work offset 1, the translation in the machine's work offset"), "{}", wcs[0].message);
+    // Another offset.
+    assert_eq!(motion_check(&planted("G54\n", "G55\n"), "fanuc").len(), 1);
+    // The home return dropped altogether.
+    assert_eq!(motion_check(&planted("G91 G28 Z0.\nG90\n", ""), "fanuc").len(), 1);
+}
+
+#[test]
+fn the_motion_check_refuses_an_arc_in_another_plane() {
+    let src = "G21 G17 G90 G54\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5.\nG1 Z0 F100.\nG2 X10. Y0 I5. J0\nM30\n";
+    let (good, diags) = translate(src, &dialect("fanuc"), &dialect("fanuc"), "P1");
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let check = |t: &str| pipeline::check_translation(src.into(), &dialect("fanuc"), t, &dialect("fanuc"), &Profile::default(), &[]);
+    assert_eq!(check(&good), vec![]);
+    let planted = good.replacen("G17", "G18", 1);
+    assert_ne!(planted, good);
+    let d = check(&planted);
+    assert_eq!(d.len(), 1, "{d:?}\n{planted}");
+    assert_eq!(d[0].code.as_str(), "post::motion-differs");
 }

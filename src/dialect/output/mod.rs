@@ -153,18 +153,34 @@ pub enum Value {
     /// A repeated block run written as a subprogram: the subprogram's number (`O{sub}`,
     /// `M98 P{sub}`), above the main program's and 1000.
     Sub,
+    /// A move in the machine's frame (`home-1`, `home-2`, `machine-rapid`): the machine
+    /// coordinate of X (in a reference return, 0 for each axis that returns).
+    MachineX,
+    /// The same, Y.
+    MachineY,
+    /// The same, Z.
+    MachineZ,
+    /// The same, A (degrees).
+    MachineA,
+    /// The same, B (degrees).
+    MachineB,
+    /// The same, C (degrees).
+    MachineC,
 }
+
+/// The machine-frame values by axis, X Y Z A B C.
+pub const MACHINE_AXES: [Value; 6] = [Value::MachineX, Value::MachineY, Value::MachineZ, Value::MachineA, Value::MachineB, Value::MachineC];
 
 impl Value {
     /// The format a placeholder without `:FORMAT` uses.
     fn default_format(self) -> &'static str {
         match self {
-            Value::X | Value::Cx => "X",
-            Value::Y | Value::Cy => "Y",
-            Value::Z | Value::Cz | Value::Bottom => "Z",
-            Value::A => "A",
-            Value::B => "B",
-            Value::C => "C",
+            Value::X | Value::Cx | Value::MachineX => "X",
+            Value::Y | Value::Cy | Value::MachineY => "Y",
+            Value::Z | Value::Cz | Value::Bottom | Value::MachineZ => "Z",
+            Value::A | Value::MachineA => "A",
+            Value::B | Value::MachineB => "B",
+            Value::C | Value::MachineC => "C",
             Value::I => "I",
             Value::J => "J",
             Value::K => "K",
@@ -268,6 +284,9 @@ pub const EVENTS: &[&str] = &[
     "work-offset-8",
     "work-offset-9",
     "work-offset-extended",
+    "home-1",
+    "home-2",
+    "machine-rapid",
     "thread",
     "rigid-tap",
     "css-on",

@@ -62,6 +62,12 @@ const VALUES: &[(&str, Value)] = &[
     ("loop", Value::Loop),
     ("again", Value::Again),
     ("sub", Value::Sub),
+    ("mx", Value::MachineX),
+    ("my", Value::MachineY),
+    ("mz", Value::MachineZ),
+    ("ma", Value::MachineA),
+    ("mb", Value::MachineB),
+    ("mc", Value::MachineC),
 ];
 
 /// The cycle kinds' names in `<cycle kinds>`.

@@ -9,7 +9,7 @@
 //! interpreter [`Interpreter::machine_pos`], [`Interpreter::program_pos`],
 //! [`Interpreter::select_wcs`], [`Interpreter::shift_origin`].
 
-use crate::canon::{CanonOp, CanonSink, DistanceMode};
+use crate::canon::{CanonOp, CanonSink, DistanceMode, MachineMove, MachineTarget, Setting};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, DataForm, Meaning, Role};
 use crate::interp::{Interpreter, State, rotate};
@@ -19,9 +19,7 @@ impl Interpreter<'_> {
     /// G54 to G59.3, and G54.1 Pn (G154 Pn, G15 Hn): the work coordinate system in force.
     pub(super) fn work_offset(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         if def.meaning == Meaning::Wcs {
-            if u16::from(def.index) != self.st.wcs {
-                self.select_wcs(u16::from(def.index), sink);
-            }
+            self.state_wcs(u16::from(def.index), sink);
             return;
         }
         // G54.1 Pn, G154 Pn, G15 Hn: additional work offset n, its own system (0 until
@@ -34,8 +32,7 @@ impl Interpreter<'_> {
         }
         let n = self.slot(Role::P).or(self.slot(Role::H)).or(Some(1.0));
         match self.extended_wcs(n) {
-            Some(index) if index != self.st.wcs => self.select_wcs(index, sink),
-            Some(_) => {}
+            Some(index) => self.state_wcs(index, sink),
             None => {
                 // `G15 H=VC32` with the variable 0 here: the machine's value is not.
                 let msg = format!(
@@ -235,6 +232,16 @@ impl Interpreter<'_> {
         (n.fract() == 0.0 && (1.0..=f64::from(crate::canon::MAX_EXTENDED_WCS)).contains(&n)).then(|| crate::canon::EXTENDED_WCS + n as u16)
     }
 
+    /// A work coordinate system the program states: made the active one, or, where it is in
+    /// force already, marked as stated (the program does not rely on what the machine had).
+    pub(in crate::interp) fn state_wcs(&mut self, index: u16, sink: &mut dyn CanonSink) {
+        if index == self.st.wcs {
+            self.emit(sink, CanonOp::Setting(Setting::WorkOffset(index)));
+        } else {
+            self.select_wcs(index, sink);
+        }
+    }
+
     /// Makes work coordinate system `index` (1 for G54) the active one.
     pub(in crate::interp) fn select_wcs(&mut self, index: u16, sink: &mut dyn CanonSink) {
         let new = self.st.offset(index);
@@ -288,6 +295,9 @@ impl Interpreter<'_> {
                 mid[i] = if self.st.distance == DistanceMode::Incremental { self.st.pos[i] + v } else { v };
             }
         }
+        let axes = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
+        let target = MachineTarget::Reference(if first { 1 } else { 2 });
+        self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
         self.emit(sink, CanonOp::StraightTraverse(mid));
         let home = if first { self.st.home1 } else { self.st.home2 };
         let mut end = mid;

@@ -1,0 +1,606 @@
+//! Proof by motion: two canonical call streams (a program and its translation, each read in
+//! its own dialect) compared as the machine would run them. Every move is compared in the
+//! frame it runs in: the work offset the program stated (or the one the machine had, where it
+//! stated none), the G92 shift, and the moves that go to a position in the machine's own frame
+//! (a reference return, a move in machine coordinates) as those, not as the numbers the
+//! analysis gives them with its offsets at zero. With each cutting move: the tool, the feed,
+//! the spindle's turning and speed, and the coolant.
+//!
+//! The door: [`Trace`] (a [`CanonSink`] that keeps what the comparison needs of a stream, in
+//! millimetres) and [`difference`], the first way one trace differs from another within a
+//! tolerance, or `None`.
+//!
+//! Lines of reasoning kept from the translation tests, which this room now serves: an arc may
+//! come back in pieces about the same centre, or on the same path within the tolerance and the
+//! source's own radius difference where its centre is ill-conditioned; rapids on along the
+//! line of the one before are one rapid (a writer stopping at a cycle's return level); a
+//! spindle-synchronised move feeds its pitch times the speed; a rigid tap is its moves in and
+//! out; values a program changes in the work offset it moved in are a shift of the machine.
+
+use crate::canon::{Canon, CanonOp, CanonSink, MachineTarget, Plane, Setting};
+use crate::text::TextRange;
+
+/// How a move moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// At rapid.
+    Rapid,
+    /// At the feed, straight.
+    Feed,
+    /// Clockwise arc.
+    ArcCw,
+    /// Counter-clockwise arc.
+    ArcCcw,
+    /// To a reference position (which one), in the axes marked.
+    Reference(u8),
+    /// In machine coordinates, to the values given.
+    Machine,
+}
+
+impl Kind {
+    fn label(self) -> &'static str {
+        match self {
+            Kind::Rapid => "rapid",
+            Kind::Feed => "feed",
+            Kind::ArcCw => "cw arc",
+            Kind::ArcCcw => "ccw arc",
+            Kind::Reference(_) => "reference return",
+            Kind::Machine => "machine-coordinate move",
+        }
+    }
+
+    fn is_arc(self) -> bool {
+        matches!(self, Kind::ArcCw | Kind::ArcCcw)
+    }
+
+    fn cuts(self) -> bool {
+        matches!(self, Kind::Feed | Kind::ArcCw | Kind::ArcCcw)
+    }
+}
+
+/// One move as the machine runs it, in millimetres, with the technology in force.
+#[derive(Clone, Debug)]
+pub struct Move {
+    /// How it moves.
+    pub kind: Kind,
+    /// The work offset it moves in: the one the program stated, or `None` for the machine's.
+    pub frame: Option<u16>,
+    /// Where it starts and ends (work offset frame plus the program's shifts); for a move in
+    /// the machine's frame, the machine coordinates (reference returns: 0) of the axes it
+    /// moves and NaN for the others.
+    pub from: [f64; 3],
+    /// See [`Move::from`].
+    pub to: [f64; 3],
+    /// Rotary axes at the end, degrees.
+    pub abc: [f64; 3],
+    /// An arc's plane axes (first, second, normal), its centre and its sweep (radians).
+    pub axes: (usize, usize, usize),
+    /// See [`Move::axes`].
+    pub centre: [f64; 3],
+    /// See [`Move::axes`].
+    pub sweep: f64,
+    /// How far the arc's radii at start and end differ: a writer may move the centre by that
+    /// much to make them agree for a stricter target.
+    pub slack: f64,
+    /// Feed (mm/min or per revolution as the program has it), speed (1/min), spindle
+    /// direction (1, -1, 0), coolant (1 flood, 2 mist) and tool.
+    pub feed: f64,
+    /// See [`Move::feed`].
+    pub speed: f64,
+    /// See [`Move::feed`].
+    pub spindle: i8,
+    /// See [`Move::feed`].
+    pub coolant: u8,
+    /// See [`Move::feed`].
+    pub tool: u32,
+    /// The source line, and the block's range.
+    pub line: u32,
+    /// See [`Move::line`].
+    pub origin: TextRange,
+}
+
+/// The moves of a canonical stream, made as the stream is fed in ([`CanonSink`]).
+#[derive(Debug)]
+pub struct Trace {
+    /// The moves so far.
+    pub moves: Vec<Move>,
+    /// How close two points must be to count as one (the rapids' merging, zero moves).
+    tol: f64,
+    scale: f64,
+    plane: Plane,
+    pos: [f64; 3],
+    rot: [f64; 3],
+    feed: f64,
+    speed: f64,
+    spindle: i8,
+    coolant: u8,
+    tool: u32,
+    sync: Option<f64>,
+    /// The G92 shift and the work offset's change since first moved in (mm), and their sum.
+    shifts: [[f64; 3]; 2],
+    g92: [f64; 3],
+    wcs: (Option<u16>, [f64; 6]),
+    frames: Vec<(Option<u16>, [f64; 6])>,
+    /// The points a merged rapid passes through.
+    chain: Vec<[f64; 3]>,
+    /// A move in the machine's frame under way: its kind, axes and how many moves it has left.
+    machine: Option<(Kind, [Option<f64>; 6], usize)>,
+    ended: bool,
+    /// The range of the block being fed in.
+    origin: TextRange,
+}
+
+impl Trace {
+    /// An empty trace; points within `tol` mm are one.
+    pub fn new(tol: f64) -> Trace {
+        Trace {
+            moves: Vec::new(),
+            tol,
+            scale: 1.0,
+            plane: Plane::Xy,
+            pos: [0.0; 3],
+            rot: [0.0; 3],
+            feed: 0.0,
+            speed: 0.0,
+            spindle: 0,
+            coolant: 0,
+            tool: 0,
+            sync: None,
+            shifts: [[0.0; 3]; 2],
+            g92: [0.0; 3],
+            wcs: (None, [0.0; 6]),
+            frames: Vec::new(),
+            chain: Vec::new(),
+            machine: None,
+            ended: false,
+            origin: TextRange::default(),
+        }
+    }
+
+    /// The trace of a whole stream.
+    pub fn of(canon: &[Canon], tol: f64) -> Trace {
+        let mut t = Trace::new(tol);
+        for c in canon {
+            t.emit(c.clone());
+        }
+        t
+    }
+
+    /// Whether the stream was last in inches.
+    pub fn in_inches(&self) -> bool {
+        self.scale != 1.0
+    }
+
+    /// The largest radius difference of the stream's arcs.
+    pub fn slack(&self) -> f64 {
+        self.moves.iter().map(|m| m.slack).fold(0.0, f64::max)
+    }
+
+    fn mm(&self, v: f64, k: usize) -> f64 {
+        v * self.scale + self.g92[k]
+    }
+
+    fn point(&self, p: &[f64]) -> [f64; 3] {
+        [self.mm(p[0], 0), self.mm(p[1], 1), self.mm(p[2], 2)]
+    }
+
+    fn push(&mut self, kind: Kind, to: [f64; 3], line: u32) {
+        let origin = self.origin;
+        let feed = if kind == Kind::Feed { self.sync.map_or(self.feed, |k| k * self.speed) } else { self.feed };
+        self.moves.push(Move {
+            kind,
+            frame: self.wcs.0,
+            from: self.pos,
+            to,
+            abc: self.rot,
+            axes: (0, 1, 2),
+            centre: [0.0; 3],
+            sweep: 0.0,
+            slack: 0.0,
+            feed,
+            speed: self.speed,
+            spindle: self.spindle,
+            coolant: self.coolant,
+            tool: self.tool,
+            line,
+            origin,
+        });
+    }
+
+    fn straight(&mut self, p: &[f64; 6], rapid: bool, line: u32) {
+        let to = self.point(p);
+        let abc = [p[3], p[4], p[5]];
+        let tol = self.tol;
+        if let Some((kind, axes, left)) = self.machine.take() {
+            if left > 1 {
+                self.machine = Some((kind, axes, left - 1));
+            } else {
+                // The machine's frame: which position, not the numbers the analysis gave it.
+                let at = std::array::from_fn(|k| axes[k].map_or(f64::NAN, |v| if kind == Kind::Machine { v * self.scale } else { 0.0 }));
+                self.push(kind, at, line);
+                self.chain.clear();
+                self.pos = to;
+                self.rot = abc;
+                return;
+            }
+        }
+        if (0..3).all(|k| (to[k] - self.pos[k]).abs() <= 1.5 * tol && (abc[k] - self.rot[k]).abs() <= 1.5 * tol) {
+            self.pos = to;
+            return;
+        }
+        // A rapid on along the line of the rapids before goes the same way: one rapid, every
+        // point between within the tolerance of it.
+        let pos = self.pos;
+        let merged = rapid
+            && self.moves.last().is_some_and(|l| {
+                let (u, v) = (sub(to, l.from), sub(to, pos));
+                l.kind == Kind::Rapid
+                    && l.abc == abc
+                    && l.to == pos
+                    && l.frame == self.wcs.0
+                    && dot(sub(pos, l.from), v) > 0.0
+                    && self.chain.iter().chain([&pos]).all(|q| norm(cross(u, sub(*q, l.from))) <= tol * norm(u))
+            });
+        if merged {
+            if let Some(l) = self.moves.last_mut() {
+                l.to = to;
+            }
+            self.chain.push(pos);
+            self.pos = to;
+            return;
+        }
+        self.chain.clear();
+        self.rot = abc;
+        self.push(if rapid { Kind::Rapid } else { Kind::Feed }, to, line);
+        self.pos = to;
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn arc(&mut self, ends: (f64, f64), centre2: (f64, f64), rotation: i32, axis_end: f64, line: u32) {
+        let (a, b, n) = self.plane.axes();
+        let mut to = [0.0; 3];
+        to[a] = self.mm(ends.0, a);
+        to[b] = self.mm(ends.1, b);
+        to[n] = self.mm(axis_end, n);
+        let mut centre = [0.0; 3];
+        centre[a] = self.mm(centre2.0, a);
+        centre[b] = self.mm(centre2.1, b);
+        let pos = self.pos;
+        let ang = |p: [f64; 3]| (p[b] - centre[b]).atan2(p[a] - centre[a]);
+        let tau = std::f64::consts::TAU;
+        let mut sweep = ang(to) - ang(pos);
+        if rotation > 0 {
+            while sweep <= 1e-9 {
+                sweep += tau;
+            }
+        } else {
+            while sweep >= -1e-9 {
+                sweep -= tau;
+            }
+        }
+        let sweep = sweep.abs() + tau * f64::from(rotation.unsigned_abs().saturating_sub(1));
+        let slack = ((pos[a] - centre[a]).hypot(pos[b] - centre[b]) - (to[a] - centre[a]).hypot(to[b] - centre[b])).abs();
+        self.push(if rotation > 0 { Kind::ArcCcw } else { Kind::ArcCw }, to, line);
+        if let Some(m) = self.moves.last_mut() {
+            (m.axes, m.centre, m.sweep, m.slack) = ((a, b, n), centre, sweep, slack);
+        }
+        self.chain.clear();
+        self.pos = to;
+    }
+
+    fn rigid_tap(&mut self, p: &[f64; 3], line: u32) {
+        // In to the point at the pitch and back out with the spindle reversed, as a tapping
+        // cycle's moves go.
+        let to = self.point(p);
+        let back = self.pos;
+        self.push(Kind::Feed, to, line);
+        self.pos = to;
+        self.spindle = -self.spindle;
+        self.push(Kind::Feed, back, line);
+        self.spindle = -self.spindle;
+        self.pos = back;
+        self.chain.clear();
+    }
+
+    fn refresh_g92(&mut self) {
+        self.g92 = std::array::from_fn(|k| self.shifts[0][k] + self.shifts[1][k]);
+    }
+
+    fn select(&mut self, frame: Option<u16>, values: [f64; 6]) {
+        self.wcs = (frame, values);
+        // Values the program changes in an offset after moving in it move the machine as a
+        // shift would.
+        let first = self.frames.iter().find(|(k, _)| *k == frame).map_or(values, |(_, f)| *f);
+        self.shifts[1] = std::array::from_fn(|k| (values[k] - first[k]) * self.scale);
+        self.refresh_g92();
+    }
+}
+
+impl CanonSink for Trace {
+    fn emit(&mut self, c: Canon) {
+        if self.ended {
+            return;
+        }
+        self.origin = c.origin;
+        let moving =
+            matches!(c.op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::RigidTap(_));
+        if moving && !self.frames.iter().any(|(k, _)| *k == self.wcs.0) {
+            self.frames.push(self.wcs);
+        }
+        match &c.op {
+            CanonOp::UseLengthUnits(u) => self.scale = u.to_mm(),
+            CanonOp::SelectPlane(p) => self.plane = *p,
+            CanonOp::SetG92Offset(o) => {
+                self.shifts[0] = [o[0] * self.scale, o[1] * self.scale, o[2] * self.scale];
+                self.refresh_g92();
+            }
+            CanonOp::SetG5xOffset(i, v) => self.select(Some(*i), *v),
+            CanonOp::Setting(Setting::WorkOffset(i)) => self.select(Some(*i), self.wcs.1),
+            CanonOp::MachineMove(m) => {
+                let kind = match m.target {
+                    MachineTarget::Reference(k) => Kind::Reference(k),
+                    MachineTarget::Machine => Kind::Machine,
+                };
+                self.machine = Some((kind, m.axes, m.moves()));
+            }
+            CanonOp::SetFeedRate(f) => self.feed = f * self.scale,
+            CanonOp::SetSpindleSpeed(s) => self.speed = *s,
+            CanonOp::StartSpindleClockwise => self.spindle = 1,
+            CanonOp::StartSpindleCounterclockwise => self.spindle = -1,
+            CanonOp::StopSpindleTurning => self.spindle = 0,
+            CanonOp::ChangeTool(t) => self.tool = *t,
+            CanonOp::FloodOn => self.coolant |= 1,
+            CanonOp::MistOn => self.coolant |= 2,
+            CanonOp::FloodOff => self.coolant &= !1,
+            CanonOp::MistOff => self.coolant &= !2,
+            CanonOp::ProgramEnd => self.ended = true,
+            CanonOp::StartSpeedFeedSync(p) => self.sync = Some(p * self.scale),
+            CanonOp::StopSpeedFeedSync => self.sync = None,
+            CanonOp::RigidTap(p) => self.rigid_tap(p, c.line),
+            CanonOp::StraightTraverse(p) => self.straight(p, true, c.line),
+            CanonOp::StraightFeed(p) => self.straight(p, false, c.line),
+            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
+                self.arc((*first_end, *second_end), (*first_axis, *second_axis), *rotation, *axis_end, c.line);
+            }
+            _ => {}
+        }
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Whether two points agree within `tol` on each axis (NaN, an axis a machine move leaves
+/// alone, agrees only with NaN).
+fn near(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|k| (a[k].is_nan() && b[k].is_nan()) || (a[k] - b[k]).abs() <= tol)
+}
+
+fn fmt(p: [f64; 3]) -> String {
+    let axis = |n: &str, v: f64| if v.is_nan() { String::new() } else { format!(" {n}{v:.4}") };
+    format!("{}{}{}", axis("X", p[0]), axis("Y", p[1]), axis("Z", p[2])).trim_start().to_owned()
+}
+
+fn frame(f: Option<u16>) -> String {
+    match f {
+        None => "the machine's work offset".into(),
+        Some(i) if i > crate::canon::EXTENDED_WCS => format!("additional work offset {}", i - crate::canon::EXTENDED_WCS),
+        Some(i) => format!("work offset {i}"),
+    }
+}
+
+/// A difference between two traces: the line of the first one where they part, and what.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Difference {
+    /// The line of the first program's move (0 where the second one has more).
+    pub line: u32,
+    /// Its block's range (empty where the second one has more).
+    pub origin: TextRange,
+    /// The second program's line, where it has a move there.
+    pub other_line: Option<u32>,
+    /// What differs, in words.
+    pub what: String,
+}
+
+impl std::fmt::Display for Difference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.line > 0 {
+            write!(f, "line {}: ", self.line)?;
+        }
+        f.write_str(&self.what)
+    }
+}
+
+/// The first way trace `b` runs differently from `a`, with positions within `tol` mm.
+pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
+    let (a, b) = (&a.moves, &b.moves);
+    let differ =
+        |m: &Move, n: Option<&Move>, what: String| Some(Difference { line: m.line, origin: m.origin, other_line: n.map(|n| n.line), what });
+    let mut j = 0;
+    for m in a {
+        let Some(n) = b.get(j) else {
+            return differ(m, None, format!("the translation ends before the {} to {}", m.kind.label(), fmt(m.to)));
+        };
+        if m.frame != n.frame && m.kind != Kind::Reference(1) && m.kind != Kind::Reference(2) && m.kind != Kind::Machine {
+            return differ(m, Some(n), format!("moves in {}, the translation in {}", frame(m.frame), frame(n.frame)));
+        }
+        // The spindle, its speed and the coolant as they cut: on a rapid they make nothing (a
+        // target whose tool change stops the spindle positions with it stopped).
+        let state = |x: &Move| (x.spindle, x.coolant);
+        let cuts = m.kind.cuts();
+        if m.tool != n.tool
+            || (cuts && state(m) != state(n))
+            || (cuts && m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
+            || (cuts && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0))
+        {
+            return differ(
+                m,
+                Some(n),
+                format!(
+                    "tool/spindle/coolant/feed/speed T{} {} {} F{} S{} became T{} {} {} F{} S{}",
+                    m.tool, m.spindle, m.coolant, m.feed, m.speed, n.tool, n.spindle, n.coolant, n.feed, n.speed
+                ),
+            );
+        }
+        if !m.kind.is_arc() {
+            if n.kind != m.kind || !near(m.to, n.to, tol) || !near(m.abc, n.abc, tol) {
+                return differ(m, Some(n), format!("{} to {} became {} to {}", m.kind.label(), fmt(m.to), n.kind.label(), fmt(n.to)));
+            }
+            j += 1;
+            continue;
+        }
+        match arc_pieces(m, &b[j..], tol) {
+            Ok(k) => j += k,
+            Err(what) => return differ(m, b.get(j), what),
+        }
+    }
+    b.get(j).map(|n| Difference {
+        line: 0,
+        origin: TextRange::default(),
+        other_line: Some(n.line),
+        what: format!("the translation has more moves: {} to {}", n.kind.label(), fmt(n.to)),
+    })
+}
+
+/// How many moves of `b` make arc `m`: the same direction, and each piece about the same
+/// centre or, where the centre is ill-conditioned (a long radius over a short chord, radii
+/// that differ at the ends), on the same path within `tol` and the source's radius
+/// difference.
+fn arc_pieces(m: &Move, b: &[Move], tol: f64) -> Result<usize, String> {
+    let (a0, b0, _) = m.axes;
+    let r0 = (m.from[a0] - m.centre[a0]).hypot(m.from[b0] - m.centre[b0]);
+    let angle_tol = (2.0 * tol + m.slack) / r0.max(1e-9) + 1e-3;
+    let mut swept = 0.0;
+    const PLANES: [&str; 3] = ["X", "Y", "Z"];
+    let plane = |x: &Move| format!("{}{}", PLANES[x.axes.0], PLANES[x.axes.1]);
+    for (k, n) in b.iter().enumerate() {
+        if n.kind.is_arc() && n.axes != m.axes {
+            return Err(format!("arc in the {} plane became one in the {} plane", plane(m), plane(n)));
+        }
+        let same_centre = near(n.centre, m.centre, 2.0 * tol + m.slack);
+        if n.kind != m.kind || !(same_centre || arc_deviation(m, n) <= tol + m.slack) {
+            return Err(format!("arc about {} became {} about {}", fmt(m.centre), n.kind.label(), fmt(n.centre)));
+        }
+        swept += n.sweep;
+        // Done at the source's end point with its sweep; the pieces past its sweep without
+        // reaching it are another arc.
+        if near(n.to, m.to, tol) && (swept - m.sweep).abs() <= angle_tol.max(1e-2) {
+            return Ok(k + 1);
+        }
+        if swept >= m.sweep - 1e-3 {
+            return Err(format!("arc to {} became one to {}", fmt(m.to), fmt(n.to)));
+        }
+    }
+    Err("the translation ends within the arc".into())
+}
+
+/// How far piece `n` of a translated arc strays from the source's arc `m` (infinite when `m`
+/// turns more than once): `m` runs from its start radius to its end radius and along its axis
+/// in proportion to the angle, as controls that take differing radii move.
+fn arc_deviation(m: &Move, n: &Move) -> f64 {
+    let tau = std::f64::consts::TAU;
+    if m.sweep > tau + 1e-9 || n.axes != m.axes {
+        return f64::INFINITY;
+    }
+    let (a, b, k) = m.axes;
+    let ang = |p: [f64; 3], c: [f64; 3]| (p[b] - c[b]).atan2(p[a] - c[a]);
+    let dir = if m.kind == Kind::ArcCcw { 1.0 } else { -1.0 };
+    let r = |p: [f64; 3], c: [f64; 3]| (p[a] - c[a]).hypot(p[b] - c[b]);
+    let (r0, r1) = (r(m.from, m.centre), r(m.to, m.centre));
+    let (s0, rn) = (ang(n.from, n.centre), r(n.from, n.centre));
+    let rn1 = r(n.to, n.centre);
+    let mut worst: f64 = 0.0;
+    for i in 0..=32 {
+        let f = f64::from(i) / 32.0;
+        let t = s0 + dir * n.sweep * f;
+        let rr = rn + (rn1 - rn) * f;
+        let mut q = [0.0; 3];
+        q[a] = n.centre[a] + rr * t.cos();
+        q[b] = n.centre[b] + rr * t.sin();
+        q[k] = n.from[k] + (n.to[k] - n.from[k]) * f;
+        // The point's angle along `m`, from its start in its direction.
+        let theta = (dir * (ang(q, m.centre) - ang(m.from, m.centre))).rem_euclid(tau);
+        let d = if theta <= m.sweep + 1e-9 {
+            let g = if m.sweep > 0.0 { theta / m.sweep } else { 0.0 };
+            let radial = r(q, m.centre) - (r0 + (r1 - r0) * g);
+            let axial = q[k] - (m.from[k] + (m.to[k] - m.from[k]) * g);
+            radial.hypot(axial)
+        } else {
+            let dist = |p: [f64; 3]| (0..3).map(|x| (q[x] - p[x]).powi(2)).sum::<f64>().sqrt();
+            dist(m.from).min(dist(m.to))
+        };
+        worst = worst.max(d);
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canon::MachineMove;
+
+    fn c(op: CanonOp, line: u32) -> Canon {
+        Canon { op, origin: crate::text::TextRange::default(), line }
+    }
+
+    fn home_z() -> CanonOp {
+        CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Reference(1), axes: [None, None, Some(0.0), None, None, None] }))
+    }
+
+    #[test]
+    fn a_reference_return_is_not_a_rapid_to_the_same_numbers() {
+        let z50 = CanonOp::StraightTraverse([0.0, 0.0, 50.0, 0.0, 0.0, 0.0]);
+        let z0 = CanonOp::StraightTraverse([0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let source = Trace::of(&[c(z50.clone(), 1), c(home_z(), 2), c(z50.clone(), 2), c(z0.clone(), 2)], 1e-3);
+        let dropped = Trace::of(&[c(z50.clone(), 1), c(z0.clone(), 2)], 1e-3);
+        let d = difference(&source, &dropped, 1e-3).expect("a rapid to Z0 is not a return home");
+        assert_eq!(d.line, 2);
+        assert_eq!(d.what, "reference return to Z0.0000 became rapid to X0.0000 Y0.0000 Z0.0000");
+        let kept = Trace::of(&[c(z50.clone(), 1), c(home_z(), 5), c(z50, 5), c(z0, 5)], 1e-3);
+        assert_eq!(difference(&source, &kept, 1e-3), None);
+    }
+
+    #[test]
+    fn a_stated_work_offset_is_not_the_machines() {
+        let mv = CanonOp::StraightTraverse([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let source = Trace::of(&[c(CanonOp::Setting(Setting::WorkOffset(1)), 1), c(mv.clone(), 2)], 1e-3);
+        let dropped = Trace::of(&[c(mv.clone(), 2)], 1e-3);
+        let d = difference(&source, &dropped, 1e-3).expect("G54 dropped");
+        assert_eq!(d.what, "moves in work offset 1, the translation in the machine's work offset");
+        let other = Trace::of(&[c(CanonOp::SetG5xOffset(2, [0.0; 6]), 1), c(mv, 2)], 1e-3);
+        assert!(difference(&source, &other, 1e-3).is_some());
+    }
+
+    #[test]
+    fn a_changed_plane_turns_an_arc_elsewhere() {
+        let arc = CanonOp::ArcFeed {
+            first_end: 10.0,
+            second_end: 0.0,
+            first_axis: 5.0,
+            second_axis: 0.0,
+            rotation: 1,
+            axis_end: 0.0,
+            abc: [0.0; 3],
+        };
+        let start = [c(CanonOp::SetFeedRate(100.0), 1), c(CanonOp::StraightFeed([0.0; 6]), 1)];
+        let mut xy = start.to_vec();
+        xy.push(c(arc.clone(), 2));
+        let mut xz = start.to_vec();
+        xz.extend([c(CanonOp::SelectPlane(Plane::Xz), 2), c(arc, 2)]);
+        // In XZ the first axis is Z: the same numbers end at Z10, not X10.
+        assert!(difference(&Trace::of(&xy, 1e-3), &Trace::of(&xz, 1e-3), 1e-3).is_some());
+    }
+}
