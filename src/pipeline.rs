@@ -248,9 +248,11 @@ pub fn check_translation(
 /// The changes from the `original` program's plan to the `edited` one's, each analysed in its
 /// dialect, in the order of the edited program (`ncplan diff`).
 pub fn diff(original: &Analysis, original_dialect: &Dialect, edited: &Analysis, edited_dialect: &Dialect) -> Vec<Change> {
-    crate::diff::compare(
+    let faults = |a: &Analysis| crate::diff::verdict::faults(&a.source.text, &a.diagnostics);
+    crate::diff::compare_with_findings(
         crate::diff::Program { plan: &original.plan, text: &original.source.text, dialect: original_dialect },
         crate::diff::Program { plan: &edited.plan, text: &edited.source.text, dialect: edited_dialect },
+        (&faults(original), &faults(edited)),
     )
 }
 

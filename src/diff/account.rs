@@ -12,8 +12,9 @@
 
 use std::ops::RangeInclusive;
 
-use super::statement::{self, Class, Hunk, Sort, Stmt, Token};
-use super::{Change, ChangeKind};
+use super::statement::{self, Class, Fault, Hunk, Sort, Stmt, Token};
+use super::typed::{self, About, Context, about};
+use super::{Change, ChangeKind, follow, verdict};
 use crate::dialect::{Dialect, Meaning, Role};
 use crate::plan::{ProcessPlan, Workingstep};
 
@@ -42,6 +43,8 @@ struct Item {
     moves: u8,
     /// Whether a plan change is located here.
     located: bool,
+    /// The codes of its statements that give their words a sense (a dwell's time, a cycle's parameters).
+    ctx: Context,
 }
 
 /// A hunk too large to tell statement by statement.
@@ -53,16 +56,38 @@ struct Bulk {
 /// Locates `changes` (the plan's, aligned by `pairs`) at the statements that differ between
 /// `a` and `b`, and adds a statement change for every differing statement none is located
 /// at.
-pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, Option<usize>)], changes: &mut Vec<Change>) {
-    let (sa, sb) = (statement::statements(a.text, a.dialect), statement::statements(b.text, b.dialect));
-    let hunks = statement::hunks(&sa, &sb);
+/// What the edit breaks or fixes comes first: the errors of `findings` (the two analyses'),
+/// or where none are given, those reading the blocks finds.
+pub(super) fn account(
+    a: Program<'_>,
+    b: Program<'_>,
+    pairs: &[(Option<usize>, Option<usize>)],
+    changes: &mut Vec<Change>,
+    findings: (&[Fault], &[Fault]),
+) {
+    let ((sa, fa), (sb, fb)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
+    let given = !findings.0.is_empty() || !findings.1.is_empty();
+    let told = if given { verdict::verdicts(findings.0, findings.1) } else { verdict::verdicts(&fa, &fb) };
+    locate(a, b, (&sa, &sb), pairs, changes);
+    changes.splice(0..0, told);
+}
+
+/// [`account`] without the verdicts: the plan's changes located, and the statement changes.
+fn locate(
+    a: Program<'_>,
+    b: Program<'_>,
+    (sa, sb): (&[Stmt], &[Stmt]),
+    pairs: &[(Option<usize>, Option<usize>)],
+    changes: &mut Vec<Change>,
+) {
+    let hunks = statement::hunks(sa, sb);
     if hunks.is_empty() {
         // The machine reads the same statements: what recognition took from comments (a
         // stock, a tool's size) changed, not the machining. Called programs may still have.
         changes.retain(|c| !derived(c.kind));
         return;
     }
-    let (mut items, bulks) = itemize(&hunks, a, b, &sa, &sb);
+    let (mut items, bulks) = itemize(&hunks, a, b, sa, sb);
     let spans_a = spans(&a.plan.workingsteps);
     let spans_b = spans(&b.plan.workingsteps);
     let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
@@ -74,11 +99,11 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
         let in_b = |l: u32| j.is_some_and(|j| spans_b[j].contains(&l));
         let mut at: Vec<(Option<u32>, Option<u32>)> = Vec::new();
         for it in items.iter_mut() {
-            let (lo, le) = (line(&sa, it.original), line(&sb, it.edited));
+            let (lo, le) = (line(sa, it.original), line(sb, it.edited));
             if !(lo.is_some_and(in_a) || le.is_some_and(in_b)) {
                 continue;
             }
-            if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect)) {
+            if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect, it.ctx)) {
                 it.located = true;
                 at.push((lo, le));
             }
@@ -116,16 +141,16 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
     merge_repeats(changes);
     let mut added = Vec::new();
     for it in &items {
-        let lo = line(&sa, it.original);
-        let le = line(&sb, it.edited);
+        let lo = line(sa, it.original);
+        let le = line(sb, it.edited);
         let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
         // A statement over several lines (`CYCL DEF 200 ~`) is named whole.
         let last = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].last).filter(|&l| Some(l) != line(s, i));
-        for mut c in statement_changes(it, lo, le, ws) {
-            if it.class == Class::Machining {
+        for mut c in statement_changes(it, lo, le, ws, b.dialect) {
+            if it.class == Class::Machining && untyped(c.kind) {
                 c.detail.effect.clone_from(&effect);
             }
-            (c.detail.original_line_end, c.detail.line_end) = (last(&sa, it.original), last(&sb, it.edited));
+            (c.detail.original_line_end, c.detail.line_end) = (last(sa, it.original), last(sb, it.edited));
             added.push(c);
         }
     }
@@ -133,7 +158,7 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
         let (ra, rb) = (&bk.hunk.original, &bk.hunk.edited);
         let first = |s: &[Stmt], r: &std::ops::Range<usize>| (!r.is_empty()).then(|| s[r.start].line);
         let last = |s: &[Stmt], r: &std::ops::Range<usize>| (!r.is_empty()).then(|| s[r.end - 1].last);
-        let (lo, le) = (first(&sa, ra), first(&sb, rb));
+        let (lo, le) = (first(sa, ra), first(sb, rb));
         let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
         let lines = |n: usize, f: Option<u32>, l: Option<u32>| match (f, l) {
             (Some(f), Some(l)) if f != l => format!("{n} statements at lines {f}–{l}"),
@@ -142,22 +167,25 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
         };
         let mut c = blank(if bk.class == Class::Output { ChangeKind::OutputChanged } else { ChangeKind::StatementChanged }, ws);
         c.field = "statements".into();
-        c.before = lines(ra.len(), lo, last(&sa, ra));
-        c.after = lines(rb.len(), le, last(&sb, rb));
+        c.before = lines(ra.len(), lo, last(sa, ra));
+        c.after = lines(rb.len(), le, last(sb, rb));
         (c.original_line, c.line) = (lo, le);
-        c.detail.original_line_end = last(&sa, ra);
-        c.detail.line_end = last(&sb, rb);
+        c.detail.original_line_end = last(sa, ra);
+        c.detail.line_end = last(sb, rb);
         c.detail.at = vec![(lo, le)];
         if bk.class == Class::Machining {
             c.detail.effect.clone_from(&effect);
         }
         added.push(c);
     }
+    follow::follow(&mut added, a, b, (sa, sb));
+    merge_typed(&mut added);
     changes.extend(added);
+    fold_length_offset(changes);
     // Stable: the plan's changes first within a workingstep, statements by line.
     changes.sort_by_key(|c| c.workingstep);
     if cfg!(debug_assertions) {
-        let missing = uncovered(changes, &hunks, &sa, &sb);
+        let missing = uncovered(changes, &hunks, sa, sb);
         assert!(missing.is_empty(), "differing statements no change names (original, edited line): {missing:?}");
     }
 }
@@ -262,7 +290,9 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
                 diffs
             };
             let moves = oi.map_or(0, |k| sa[k].moves) | ei.map_or(0, |k| sb[k].moves);
-            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false });
+            let ctx_of = |t: &[Vec<Token>], i: Option<usize>, d: &Dialect| i.map_or_else(Context::default, |i| Context::of(&t[i], d));
+            let ctx = ctx_of(&ta, x, a.dialect).or(ctx_of(&tb, y, b.dialect));
+            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false, ctx });
         }
     }
     (items, bulks)
@@ -299,7 +329,10 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
         match (0..b.len()).find(|&j| !used[j] && b[j].key == x.key && b[j].sort == x.sort) {
             Some(j) => {
                 used[j] = true;
-                if b[j].text != x.text {
+                // An expression of the same value (`572.86/2` for `286.43`) is no difference.
+                let value = |t: &Token| statement::constant(&t.value).or_else(|| t.value.parse::<f64>().ok());
+                let same = value(x).zip(value(&b[j])).is_some_and(|(u, v)| (u - v).abs() <= 1e-9 * u.abs().max(1.0));
+                if b[j].text != x.text && !same {
                     out.push((Some(x.clone()), Some(b[j].clone())));
                 }
             }
@@ -314,41 +347,22 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
     out
 }
 
-/// What a token is about, by the dictionary: its code's meaning (`M8`: coolant-flood, `RL`:
-/// comp-left) or its address's role (`F`: feed).
-#[derive(Clone, Copy, PartialEq)]
-enum About {
-    Code(Meaning),
-    Address(Role),
-    Unknown,
-}
-
-fn about(tok: &Token, d: &Dialect) -> About {
-    let k = tok.key.as_str();
-    // A G or M code: the token's key is the code (`G43`, `M8`).
-    if let Some(letter @ ('G' | 'M')) = k.chars().next()
-        && let Ok(n) = k[1..].parse::<f64>()
-    {
-        return d.code(letter, (n * 10.0).round().max(0.0) as u32).map_or(About::Unknown, |c| About::Code(c.meaning));
-    }
-    if let Some(a) = d.addresses.iter().find(|a| a.name == k) {
-        return About::Address(a.role);
-    }
-    // A keyword code (`FMAX`, `RL`, `TOOL CALL`), by its first word.
-    d.keyword_codes()
-        .find(|(_, spec)| spec.text.split(' ').next() == Some(k))
-        .map_or(About::Unknown, |(i, _)| About::Code(d.codes[i].meaning))
-}
-
 /// Whether a token difference shows a plan change of `kind`: a word whose code or address the
 /// dictionary says is about what the change is about. Variables, calls and jumps show no
 /// plan change by themselves.
-fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect) -> bool {
+fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect, ctx: Context) -> bool {
     let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
     if !tok.is_address() {
         return false;
     }
     use ChangeKind as K;
+    // A word its statement's codes give another sense (a dwell's `F`, a cycle's `H`) shows
+    // that, not the technology its letter names elsewhere.
+    let technology =
+        matches!(kind, K::FeedChanged | K::SpindleSpeedChanged | K::LengthOffsetChanged | K::CutterCompChanged | K::ToolRenamed);
+    if technology && ctx.special() && typed::kind_of(tok, ctx, dialect).is_some_and(|(k, _)| k != kind) {
+        return false;
+    }
     use Meaning as M;
     use Role as R;
     let a = about(tok, dialect);
@@ -467,9 +481,116 @@ fn blank(kind: ChangeKind, (workingstep, operation): (u32, String)) -> Change {
     }
 }
 
+/// Kinds that tell a statement in program terms rather than by what it does.
+fn untyped(kind: ChangeKind) -> bool {
+    matches!(kind, ChangeKind::StatementChanged | ChangeKind::OutputChanged | ChangeKind::ReturnMoveChanged | ChangeKind::RotaryMoveChanged)
+}
+
+/// Typed statement changes alike in kind, field and values within one workingstep (`F500`
+/// instead of `F800` on four lines) told once, at all their lines; a tool renamed together
+/// with a length offset renamed the same way told as one sentence.
+fn merge_typed(changes: &mut Vec<Change>) {
+    let mut k = 0;
+    while k < changes.len() {
+        if untyped(changes[k].kind) {
+            k += 1;
+            continue;
+        }
+        let mut j = k + 1;
+        while j < changes.len() {
+            let (c, d) = (&changes[k], &changes[j]);
+            if d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after && d.workingstep == c.workingstep {
+                let d = changes.remove(j);
+                let c = &mut changes[k];
+                for a in d.detail.at {
+                    if !c.detail.at.contains(&a) {
+                        c.detail.at.push(a);
+                    }
+                }
+                (c.detail.line_end, c.detail.original_line_end) = (None, None);
+            } else {
+                j += 1;
+            }
+        }
+        k += 1;
+    }
+}
+
+/// A tool renamed (`T1` → `T8`) and a length offset renamed with it (`H1` → `H8`, the offset
+/// of the tool's own number): one change, "T1 renamed T8, with its length offset H8".
+fn fold_length_offset(changes: &mut Vec<Change>) {
+    let number = |s: &str| s.trim_start_matches(|c: char| c.is_ascii_alphabetic()).parse::<f64>().ok();
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let (tb, ta) = (number(&c.before), number(&c.after));
+        let tool = c.kind == ChangeKind::ToolRenamed && tb.is_some() && ta.is_some() && tb != ta;
+        let found = tool.then(|| {
+            changes.iter().position(|d| {
+                d.kind == ChangeKind::LengthOffsetChanged
+                    && d.workingstep == c.workingstep
+                    && d.before.split(' ').filter_map(number).any(|h| Some(h) == tb)
+                    && d.after.split(' ').filter_map(number).any(|h| Some(h) == ta)
+            })
+        });
+        if let Some(Some(j)) = found {
+            let d = changes.remove(j);
+            let k = if j < k { k - 1 } else { k };
+            let c = &mut changes[k];
+            let h = d.after.split(' ').find(|w| number(w) == ta).unwrap_or(&d.after).to_owned();
+            c.after = format!("{}, with its length offset {h}", c.after);
+            for a in d.detail.at {
+                if !c.detail.at.contains(&a) {
+                    c.detail.at.push(a);
+                }
+            }
+        }
+        k += 1;
+    }
+}
+
+/// A call's argument as a change writes it: `empty` for an empty slot, `none` for none.
+fn argument(v: Option<&String>) -> String {
+    v.map_or_else(|| "none".to_owned(), |v| if v.is_empty() { "empty".into() } else { v.clone() })
+}
+
+/// The changes of a call's arguments: a named cycle's by the dictionary's names, as cycle
+/// parameter changes; any other call's by position, an argument inserted or removed told as
+/// such rather than as a shift of every later one.
+fn call_changes(x: &Token, y: &Token, kind: ChangeKind, ws: &(u32, String), d: &Dialect, out: &mut Vec<Change>) {
+    let (pa, pb) = (statement::arguments(&x.value), statement::arguments(&y.value));
+    if let Some(args) = typed::cycle_args(&x.key, d) {
+        for k in 0..pa.len().max(pb.len()) {
+            let (va, vb) = (pa.get(k), pb.get(k));
+            if va == vb {
+                continue;
+            }
+            let mut c = blank(ChangeKind::CycleParameterChanged, ws.clone());
+            c.field = match args.get(k) {
+                Some(a) => format!("{} {}", x.key, typed::arg_name(a)),
+                None => format!("{} argument {}", x.key, k + 1),
+            };
+            (c.before, c.after) = (argument(va), argument(vb));
+            out.push(c);
+        }
+        return;
+    }
+    for (i, j) in typed::align_args(&pa, &pb) {
+        let (va, vb) = (i.and_then(|i| pa.get(i)), j.and_then(|j| pb.get(j)));
+        if va == vb {
+            continue;
+        }
+        let mut c = blank(kind, ws.clone());
+        c.field = format!("call {} argument {}", x.key, j.or(i).unwrap_or(0) + 1);
+        (c.before, c.after) = (argument(va), argument(vb));
+        out.push(c);
+    }
+}
+
 /// The statement changes of one item: those of its variables and calls always, the rest
-/// where no plan change is located at it.
-fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, String)) -> Vec<Change> {
+/// where no plan change is located at it; words the dictionary gives a sense are told by
+/// their kind ([`typed`]).
+fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, String), d: &Dialect) -> Vec<Change> {
     let kind = if it.class == Class::Output {
         ChangeKind::OutputChanged
     } else if it.moves & statement::RETURN_MOVE != 0 {
@@ -480,33 +601,40 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         ChangeKind::StatementChanged
     };
     let mut out = Vec::new();
+    let (kinds, told) = if it.located || kind != ChangeKind::StatementChanged {
+        (Vec::new(), vec![false; it.diffs.len()])
+    } else {
+        typed::typed(&it.diffs, it.ctx, d)
+    };
+    for t in kinds {
+        let mut c = blank(t.kind, ws.clone());
+        (c.field, c.before, c.after) = (t.field, t.before, t.after);
+        out.push(c);
+    }
     let mut words: (Vec<&str>, Vec<&str>) = (Vec::new(), Vec::new());
     let mut plain = false;
-    for (x, y) in &it.diffs {
+    for ((x, y), told) in it.diffs.iter().zip(told) {
+        if told {
+            continue;
+        }
         let sort = y.as_ref().or(x.as_ref()).map_or(Sort::Other, |t| t.sort);
         match (sort, x, y) {
             (Sort::Assign, _, _) if !y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
-                let mut c = blank(kind, ws.clone());
-                c.field = format!("variable {key}");
+                let param = typed::cycle_param(&key, d);
+                let mut c = blank(
+                    if param.is_some() && kind == ChangeKind::StatementChanged { ChangeKind::CycleParameterChanged } else { kind },
+                    ws.clone(),
+                );
+                c.field = match param {
+                    Some(a) if c.kind == ChangeKind::CycleParameterChanged => format!("cycle parameter {}", typed::arg_name(a)),
+                    _ => format!("variable {key}"),
+                };
                 c.before = x.as_ref().map(|t| t.value.clone()).unwrap_or_default();
                 c.after = y.as_ref().map(|t| t.value.clone()).unwrap_or_default();
                 out.push(c);
             }
-            (Sort::Call, Some(x), Some(y)) if x.key == y.key => {
-                let (pa, pb) = (statement::arguments(&x.value), statement::arguments(&y.value));
-                for k in 0..pa.len().max(pb.len()) {
-                    let (va, vb) = (pa.get(k), pb.get(k));
-                    if va == vb {
-                        continue;
-                    }
-                    let mut c = blank(kind, ws.clone());
-                    c.field = format!("call {} argument {}", x.key, k + 1);
-                    c.before = va.map_or_else(|| "none".to_owned(), |v| if v.is_empty() { "empty".into() } else { v.clone() });
-                    c.after = vb.map_or_else(|| "none".to_owned(), |v| if v.is_empty() { "empty".into() } else { v.clone() });
-                    out.push(c);
-                }
-            }
+            (Sort::Call, Some(x), Some(y)) if x.key == y.key => call_changes(x, y, kind, &ws, d, &mut out),
             _ if it.located && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
             _ => {
                 plain = true;

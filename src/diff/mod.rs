@@ -21,7 +21,12 @@
 //! other differing statement into a statement change (variables, call arguments, words, jumps;
 //! output apart), names unexplained plan changes as their effect, tells a change carried into
 //! later workingsteps once, and in debug builds asserts that every differing statement is
-//! named. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
+//! named. `typed.rs` tells a differing statement by what its words do where the plan does
+//! not show it (a feed, a dwell, a cycle parameter: the kinds plan changes use), by the
+//! dictionary's meanings and roles in the context of the statement's codes; `follow.rs`
+//! follows a variable set to another value to the words it feeds (`clearance height (via
+//! #<_z_clearance>)`); `verdict.rs` says what the edit breaks or fixes (errors the control
+//! stops at in one version only, matched by kind), listed first. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
 //! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
 //! offset, offset numbers, compensation, stops, dwells, block delete, spindle mode),
 //! technology, holes and cycle parameters, features, strategy and depths of cut, risky edits,
@@ -37,7 +42,10 @@
 //! sentence.
 
 mod account;
+mod follow;
 pub mod statement;
+mod typed;
+pub mod verdict;
 
 use std::collections::BTreeSet;
 
@@ -126,6 +134,14 @@ pub enum ChangeKind {
     ReturnMoveChanged,
     /// A move of a rotary axis (`G0 A90.`) added, removed or changed.
     RotaryMoveChanged,
+    /// The working plane (`G17`, `G18`, `G19`) changed.
+    PlaneChanged,
+    /// The units lengths are read in (`G20`, `G21`) changed.
+    UnitsChanged,
+    /// The edited program has an error the control stops at that the original has not.
+    ProgramBroken,
+    /// The original's error the control stops at is gone from the edited program.
+    ProgramFixed,
 }
 
 impl ChangeKind {
@@ -168,6 +184,10 @@ impl ChangeKind {
             ChangeKind::OutputChanged => "output_changed",
             ChangeKind::ReturnMoveChanged => "return_move_changed",
             ChangeKind::RotaryMoveChanged => "rotary_move_changed",
+            ChangeKind::PlaneChanged => "plane_changed",
+            ChangeKind::UnitsChanged => "units_changed",
+            ChangeKind::ProgramBroken => "program_broken",
+            ChangeKind::ProgramFixed => "program_fixed",
         }
     }
 }
@@ -245,7 +265,16 @@ impl Change {
         let field = self.field.replace('_', " ");
         let at = |l: Option<u32>| l.map_or(String::new(), |l| format!(" at line {l}"));
         let core = match self.kind {
-            ChangeKind::ToolRenamed => format!("tool {} renamed {}", self.before, self.after),
+            ChangeKind::ToolRenamed if !self.before.is_empty() && !self.after.is_empty() => {
+                format!("tool {} renamed {}", self.before, self.after)
+            }
+            ChangeKind::ProgramBroken => {
+                return format!("the edit breaks the program: {}{} ({})", self.after, at(self.line), self.field);
+            }
+            ChangeKind::ProgramFixed => {
+                let at = at(self.original_line).replace("line", "original line");
+                return format!("the edit fixes the program: no longer {}{at} ({})", self.before, self.field);
+            }
             ChangeKind::StartPointMoved => format!("start point moved from {} to {}", self.before, self.after),
             ChangeKind::WorkingstepAdded => format!("workingstep added ({})", self.after),
             ChangeKind::WorkingstepRemoved => format!("workingstep removed ({})", self.before),
@@ -257,8 +286,11 @@ impl Change {
             ChangeKind::HoleRemoved => format!("hole at {} removed", self.before),
             ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
-            ChangeKind::ClearanceChanged => format!("clearance height between cuts changed from {} to {}", self.before, self.after),
-            ChangeKind::ToolpathChanged => {
+            ChangeKind::ClearanceChanged => {
+                let via = self.field.find(" (via ").map_or("", |i| &self.field[i..]);
+                format!("clearance height between cuts changed from {} to {}{via}", self.before, self.after)
+            }
+            ChangeKind::ToolpathChanged if !self.field.starts_with("moves") => {
                 let mut s = format!("toolpath changed{}", at(self.line));
                 if let Some(l) = self.original_line
                     && Some(l) != self.line
@@ -313,7 +345,11 @@ impl Change {
             }
         } else if let Some(call) = self.field.strip_prefix("call ") {
             let (name, arg) = call.rsplit_once(" argument ").unwrap_or((call, "?"));
-            format!("call `{name}` argument {arg}: {a} instead of {b}{loc}")
+            match (b.as_str(), a.as_str()) {
+                ("none", _) => format!("call `{name}`: argument {arg} ({a}) inserted{loc}"),
+                (_, "none") => format!("call `{name}`: argument {arg} ({b}) removed{loc}"),
+                _ => format!("call `{name}` argument {arg}: {a} instead of {b}{loc}"),
+            }
         } else if self.field == "statements" {
             let from = match (self.original_line, self.detail.original_line_end) {
                 (Some(f), Some(l)) if f != l => format!(" at original lines {f}–{l}"),
@@ -393,11 +429,22 @@ pub use account::Program;
 /// spellings). Every differing statement is named by at least one change; debug builds
 /// check it.
 pub fn compare(original: Program<'_>, edited: Program<'_>) -> Vec<Change> {
+    compare_with_findings(original, edited, (&[], &[]))
+}
+
+/// [`compare`], with what the edit breaks or fixes told from the errors of the two programs'
+/// analyses (`findings`: the original's and the edited one's, as [`verdict::faults`] gives
+/// them); without any, from the errors reading their blocks finds.
+pub fn compare_with_findings(
+    original: Program<'_>,
+    edited: Program<'_>,
+    findings: (&[statement::Fault], &[statement::Fault]),
+) -> Vec<Change> {
     let (mut changes, pairs) = plan_changes(original.plan, edited.plan);
     // Statements compare within one language; a program and its translation, or a CL file
     // and its post, compare by their plans.
     if original.dialect.name == edited.dialect.name {
-        account::account(original, edited, &pairs, &mut changes);
+        account::account(original, edited, &pairs, &mut changes, findings);
     }
     changes
 }

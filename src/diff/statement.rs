@@ -55,8 +55,8 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
         if matches!(w.role, Role::A | Role::B | Role::C) {
             m |= ROTARY_MOVE;
         }
-        if let (b'G', crate::syntax::Value::Number { value, .. }) = (w.letter, w.value)
-            && let Some(code) = dialect.code('G', (value * 10.0).round().max(0.0) as u32)
+        if let (letter @ (b'G' | b'M'), crate::syntax::Value::Number { value, .. }) = (w.letter, w.value)
+            && let Some(code) = dialect.code(char::from(letter), (value * 10.0).round().max(0.0) as u32)
             && matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)
         {
             m |= RETURN_MOVE;
@@ -68,27 +68,48 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
 /// The statements of `text` in `dialect`, in order. Blocks with nothing the machine reads
 /// (blank, comment, block number alone, `%`) are not statements.
 pub fn statements(text: &str, dialect: &Dialect) -> Vec<Stmt> {
+    read(text, dialect).0
+}
+
+/// An error the control stops at: its code, its line and what it says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fault {
+    /// The diagnostic's code.
+    pub code: crate::diag::Code,
+    /// 1-based line.
+    pub line: u32,
+    /// The diagnostic's sentence.
+    pub message: String,
+}
+
+/// The statements of `text` in `dialect`, as [`statements`], and the errors reading its
+/// blocks finds (a malformed expression, words where a comment ended early).
+pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     let keywords = Keywords::of(dialect);
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
     let mut diags = Vec::new();
     let mut out = Vec::new();
+    let mut faults = Vec::new();
     let mut buf = String::new();
     loop {
         let offset = parser.offset();
         if !parser.next_block(&mut block, &mut diags) {
             break;
         }
-        diags.clear();
+        for d in diags.drain(..).filter(crate::diag::Diagnostic::is_error) {
+            faults.push(Fault { code: d.code, line: block.line, message: d.message });
+        }
         buf.clear();
         let Some(class) = normalize(&block, dialect, &keywords, &mut buf) else { continue };
+        fold_constants(&mut buf);
         let mut h = std::hash::DefaultHasher::new();
         buf.hash(&mut h);
         let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
         let moves = moves_of(&block, dialect);
         out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class, moves });
     }
-    out
+    (out, faults)
 }
 
 /// The normalised text of the statement at `stmt`, read again from `text`.
@@ -222,7 +243,9 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
     if skip {
         out.push('/');
     }
-    canon(body, keep_point, out);
+    // Blanks inside numbers are read away, except after a legacy cycle's sub-block number.
+    let numbers_apart = !dialect.lexical.spaces_in_numbers || block.words.iter().any(|w| legacy_cycle_word(w, dialect));
+    canon(body, (keep_point, numbers_apart), out);
     if block.delimiter && out.trim_matches(['%', '/']).is_empty() {
         out.clear();
     }
@@ -248,8 +271,22 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
     Some(class)
 }
 
-/// Writes `s` in one spelling (see the module's doc) after `out`.
-fn canon(s: &str, keep_point: bool, out: &mut String) {
+/// Whether a word belongs to a cycle definition (`CYCL DEF 9.1 10`), whose sub-block number
+/// and value are two numbers, not one with a blank inside.
+fn legacy_cycle_word(w: &crate::syntax::Word, dialect: &Dialect) -> bool {
+    match (w.role, w.value) {
+        (Role::CycleValue | Role::CycleNumber | Role::Cycle, _) => true,
+        (Role::Keyword, crate::syntax::Value::Number { value, .. }) => {
+            dialect.codes.get(value as usize).is_some_and(|c| c.meaning == Meaning::CycleDefine)
+        }
+        _ => false,
+    }
+}
+
+/// Writes `s` in one spelling (see the module's doc) after `out`. `numbers_apart`: a blank
+/// between two numbers is kept (`CYCL DEF 9.1 10` is not `9.110`), where the dialect does not
+/// read blanks inside numbers.
+fn canon(s: &str, (keep_point, numbers_apart): (bool, bool), out: &mut String) {
     let b = s.as_bytes();
     let mut i = 0;
     let mut quoted = false;
@@ -280,8 +317,11 @@ fn canon(s: &str, keep_point: bool, out: &mut String) {
             continue;
         }
         let ch = (c as char).to_ascii_uppercase();
-        flush_space(out, &mut space, ch);
         let starts_number = c.is_ascii_digit() || (c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
+        if numbers_apart && space && starts_number && out.ends_with(|l: char| l.is_ascii_digit() || l == '.') {
+            out.push(' ');
+        }
+        flush_space(out, &mut space, ch);
         if starts_number {
             let mut rev = out.chars().rev();
             let (last, prev) = (rev.next(), rev.next());
@@ -301,8 +341,10 @@ fn canon(s: &str, keep_point: bool, out: &mut String) {
             continue;
         }
         // A plus sign before a number after an address says nothing.
+        // (Past blanks, where the dialect reads blanks inside numbers: `X + 0`.)
+        let next = if numbers_apart { b.get(i + 1) } else { b[i + 1..].iter().find(|n| !n.is_ascii_whitespace()) };
         if c == b'+'
-            && b.get(i + 1).is_some_and(|n| n.is_ascii_digit() || *n == b'.')
+            && next.is_some_and(|n| n.is_ascii_digit() || *n == b'.')
             && out.ends_with(|l: char| l.is_ascii_alphabetic() || l == '=')
         {
             i += 1;
@@ -339,6 +381,96 @@ fn number(run: &str, keep_point: bool, out: &mut String) {
         Some(_) if keep_point && !int.is_empty() => out.push('.'),
         _ => {}
     }
+}
+
+/// The value of a constant expression (`572.86/2`, `[2*3]`, `-(1+2)`): numbers, `+ - * /`
+/// and brackets only; `None` for anything else (a variable, a function, a plain number).
+pub fn constant(s: &str) -> Option<f64> {
+    let b = s.as_bytes();
+    if s.parse::<f64>().is_ok() || !b.iter().skip(1).any(|c| matches!(c, b'+' | b'-' | b'*' | b'/' | b'[' | b'(')) {
+        return None;
+    }
+    if !b.iter().all(|c| c.is_ascii_digit() || b".+-*/[]() ".contains(c)) {
+        return None;
+    }
+    let mut at = 0;
+    let v = sum(b, &mut at)?;
+    (at == b.len() && v.is_finite()).then_some(v)
+}
+
+fn sum(b: &[u8], at: &mut usize) -> Option<f64> {
+    let mut v = product(b, at)?;
+    while let Some(&op @ (b'+' | b'-')) = b.get(*at) {
+        *at += 1;
+        let r = product(b, at)?;
+        v = if op == b'+' { v + r } else { v - r };
+    }
+    Some(v)
+}
+
+fn product(b: &[u8], at: &mut usize) -> Option<f64> {
+    let mut v = factor(b, at)?;
+    while let Some(&op @ (b'*' | b'/')) = b.get(*at) {
+        *at += 1;
+        let r = factor(b, at)?;
+        v = if op == b'*' { v * r } else { v / r };
+    }
+    Some(v)
+}
+
+fn factor(b: &[u8], at: &mut usize) -> Option<f64> {
+    match b.get(*at)? {
+        b'-' | b'+' => {
+            let neg = b[*at] == b'-';
+            *at += 1;
+            factor(b, at).map(|v| if neg { -v } else { v })
+        }
+        open @ (b'[' | b'(') => {
+            let close = if *open == b'[' { b']' } else { b')' };
+            *at += 1;
+            let v = sum(b, at)?;
+            (b.get(*at) == Some(&close)).then(|| *at += 1)?;
+            Some(v)
+        }
+        _ => {
+            let n = b[*at..].iter().take_while(|c| c.is_ascii_digit() || **c == b'.').count();
+            let v = std::str::from_utf8(&b[*at..*at + n]).ok()?.parse().ok()?;
+            *at += n;
+            Some(v)
+        }
+    }
+}
+
+/// A constant's value written as a number, to nine decimals.
+pub fn constant_text(v: f64) -> String {
+    let s = format!("{v:.9}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// Constant expressions of a normalised statement written as their values, so that a value
+/// rewritten as an expression of the same value (`WR=286.43`, `WR=572.86/2`) is the same
+/// statement. Only for comparing: the statements' text is read again as written.
+fn fold_constants(s: &mut String) {
+    if !s.bytes().any(|c| matches!(c, b'*' | b'/' | b'[' | b'(' | b'+')) {
+        return;
+    }
+    let mut out = String::with_capacity(s.len());
+    let mut rest = s.as_str();
+    for t in tokens(s) {
+        let Some(i) = rest.find(&t.text) else { continue };
+        out.push_str(&rest[..i]);
+        match constant(&t.value).filter(|_| matches!(t.sort, Sort::Word | Sort::Assign)) {
+            Some(v) => {
+                out.push_str(&t.text[..t.text.len() - t.value.len()]);
+                out.push_str(&constant_text(v));
+            }
+            None => out.push_str(&t.text),
+        }
+        rest = &rest[i + t.text.len()..];
+    }
+    out.push_str(rest);
+    *s = out;
 }
 
 /// A run of differing statements: indices into each side's statements.
@@ -548,8 +680,9 @@ pub fn tokens(s: &str) -> Vec<Token> {
             _ if depth <= 0 && c.is_ascii_alphabetic() && i > start => {
                 let p = b[i - 1];
                 // `O100WHILE[…]`, `O200CALL[…]`: an O-word and its keyword are one statement.
-                let o_word = b[start] == b'O' && b[start + 1..i].iter().all(u8::is_ascii_digit);
-                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.' | b'"')) {
+                // `T#<TOOL>M6`: a word after a named parameter, but not `O<NAME>CALL`.
+                let o_word = b[start] == b'O' && (b[start + 1..i].iter().all(u8::is_ascii_digit) || b.get(start + 1) == Some(&b'<'));
+                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.' | b'"' | b'>')) {
                     pieces.push(&s[start..i]);
                     start = i;
                 }
@@ -578,10 +711,12 @@ fn token(t: &str) -> Token {
         }
     }
     // A call: a name then a bracketed or parenthesised list.
+    // (An address letter before a bracketed expression is a word: `F[#<FAST>]`, `Z[#7]`.)
     if let Some(open) = t.find(['(', '['])
         && open > 0
         && t.ends_with([')', ']'])
         && t[..open].chars().any(|c| c.is_ascii_alphabetic())
+        && !(open == 1 && t[..1].bytes().all(|c| c.is_ascii_alphabetic()))
     {
         // `O<NAME>CALL[…]`: the name without its keyword.
         let head = &t[..open];
@@ -591,7 +726,7 @@ fn token(t: &str) -> Token {
     let letters = t.bytes().take_while(u8::is_ascii_alphabetic).count();
     let rest = &t[letters..];
     if letters >= 1 && !rest.is_empty() && rest.bytes().all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'-' | b'#' | b'<' | b'>' | b'_'))
-        || letters >= 1 && rest.starts_with(['[', '#', '-'])
+        || letters >= 1 && rest.starts_with(['[', '#', '-', '+'])
     {
         let key = &t[..letters];
         if (key == "G" || key == "M") && rest.bytes().all(|c| c.is_ascii_digit() || c == b'.') {
@@ -666,6 +801,19 @@ pub fn arguments(value: &str) -> Vec<String> {
 mod tests {
     use super::*;
     use crate::dialect::Registry;
+
+    #[test]
+    fn constant_expressions() {
+        assert_eq!(constant("572.86/2"), Some(286.43));
+        assert_eq!(constant("[2*3]-1"), Some(5.0));
+        assert_eq!(constant("-(1+2)*2"), Some(-6.0));
+        assert_eq!(constant("286.43"), None, "a plain number is no expression");
+        assert_eq!(constant("R1*2"), None, "a variable is not a constant");
+        assert_eq!(constant("[2*3"), None, "an unclosed bracket");
+        let mut s = "WR=572.86/2 X[1+1]".to_owned();
+        fold_constants(&mut s);
+        assert_eq!(s, "WR=286.43 X2");
+    }
 
     fn norm(dialect: &str, text: &str) -> Vec<String> {
         let d = Registry::shipped().get(dialect).unwrap();

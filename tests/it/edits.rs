@@ -524,10 +524,10 @@ fn the_feed_override_turned_off_is_a_change() {
     // Turned on again before the cut: no plan change; the two statements are still named.
     let b = a.replace("G1 Z-2 F400\n", "M49\nM48\nG1 Z-2 F400\n");
     expect![[r#"
-        statement_changed | statement |  | M49 | 5 | -
-          `M49` added at line 5
-        statement_changed | statement |  | M48 | 6 | -
-          `M48` added at line 6
+        feed_override_changed | feed override |  | M49 | 5 | -
+          feed override M49 added at line 5
+        feed_override_changed | feed override |  | M48 | 6 | -
+          feed override M48 added at line 6
     "#]]
     .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
 }

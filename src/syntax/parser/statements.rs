@@ -143,7 +143,17 @@ impl Lexer<'_, '_> {
             None => {
                 let end = self.line_end();
                 let lex = &self.dialect.lexical;
-                let end = self.text[start..end].find(|c| lex.block_end == Some(c)).map_or(end, |p| start + p);
+                // An unknown statement's text stops at the block's end, or at a comment to the
+                // end of the line outside quotes (`QS3 = "%0x" ;temp string`): the comment is a comment still.
+                let mut quoted = false;
+                let stops = |c: char| {
+                    quoted ^= lex.string_quote == Some(c);
+                    let comment = |r: &crate::dialect::CommentRule| {
+                        r.open == c && !r.block_start && r.close == crate::dialect::CommentClose::EndOfLine
+                    };
+                    !quoted && (lex.block_end == Some(c) || lex.comments.iter().any(comment))
+                };
+                let end = self.text[start..end].find(stops).map_or(end, |p| start + p);
                 control.keyword = Some(self.abs(self.alpha_run()));
                 self.i = end;
             }

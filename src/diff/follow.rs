@@ -1,0 +1,150 @@
+//! Variables followed to their uses: a variable, R or Q parameter set to another value is
+//! told as what the words it feeds do.
+//!
+//! The statements of the edited program (the original's, for a variable only it sets) that
+//! read the variable are found by name, and their words read by the dictionary as a differing
+//! statement's are ([`super::typed`]): an `F` is the feed, an `S` the spindle speed, a
+//! cycle's parameter (`Q201=-Q5`) that parameter, a `Z` the clearance height where the move
+//! is a rapid and the cut depth where it feeds (the motion in force, from the statement or
+//! the ones before it). A variable that only feeds another (`#<depth>=#<top>-#<cut>`) is
+//! followed through it, two levels deep. Each use kind becomes a change of that kind at the
+//! variable's statement, naming the variable (`clearance height (via #<_z_clearance>)`); a
+//! variable whose uses say nothing the dictionary knows (an axis position, a condition)
+//! stays the statement change that names it.
+
+use super::statement::{self, Sort, Stmt, Token};
+use super::typed::{self, About, Context, about};
+use super::{Change, ChangeKind, Program};
+use crate::dialect::{Dialect, Meaning, Role};
+
+/// How far back the motion in force is looked for, in statements.
+const MOTION_LOOKBACK: usize = 64;
+
+/// How many statements that read a variable are looked at.
+const MAX_USES: usize = 256;
+
+/// How many variables one level feeds that are followed to the next.
+const MAX_FED: usize = 8;
+
+/// Whether `value` reads the variable `name` (upper case, as statements are written): the
+/// name not followed by more of a name or number (`#1` is not read by `#10`).
+fn reads(value: &str, name: &str) -> bool {
+    value.match_indices(name).any(|(i, _)| {
+        let before_ok = !name.starts_with(|c: char| c.is_ascii_alphabetic())
+            || value[..i].chars().next_back().is_none_or(|c| !c.is_ascii_alphanumeric() && c != '_');
+        let after = value[i + name.len()..].chars().next();
+        before_ok && after.is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '.'))
+    })
+}
+
+/// The motion in force at statement `k` (rapid or not), from its own codes or the ones before.
+fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<bool> {
+    let motion = |toks: &[Token]| {
+        toks.iter().find_map(|t| match about(t, p.dialect) {
+            About::Code(Meaning::Rapid | Meaning::RapidBlock) => Some(true),
+            About::Code(Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) => Some(false),
+            _ => None,
+        })
+    };
+    if let Some(m) = motion(own) {
+        return Some(m);
+    }
+    // A Heidenhain-style line with its feed word: FMAX is the rapid, else it feeds.
+    (0..k).rev().take(MOTION_LOOKBACK).find_map(|j| motion(&statement::tokens(&statement::text_of(p.text, p.dialect, &stmts[j]))))
+}
+
+/// What a word reading a variable does: its kind and field, in its statement's context.
+fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: &Dialect) -> Option<(ChangeKind, String)> {
+    if tok.sort == Sort::Assign && !tok.is_address() {
+        return typed::cycle_param(&tok.key, d)
+            .map(|a| (ChangeKind::CycleParameterChanged, format!("cycle parameter {}", typed::arg_name(a))));
+    }
+    if matches!(about(tok, d), About::Address(Role::Z)) && !ctx.cycle && ctx.data.is_none() && !ctx.length {
+        return rapid().map(|r| {
+            if r { (ChangeKind::ClearanceChanged, "clearance height".into()) } else { (ChangeKind::DepthChanged, "cut depth".into()) }
+        });
+    }
+    typed::kind_of(tok, ctx, d).map(|(k, f)| (k, f.to_owned()))
+}
+
+/// The kinds of the uses of `name` in `p`, and the variables it feeds (for the next level).
+fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)>, Vec<String>) {
+    let mut kinds: Vec<(ChangeKind, String)> = Vec::new();
+    let mut feeds = Vec::new();
+    let mut seen = 0;
+    for (k, s) in stmts.iter().enumerate() {
+        // The raw line first: most statements do not name the variable.
+        let from = s.offset as usize;
+        let lines = (s.last - s.line + 1) as usize;
+        let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
+        let raw = &p.text[from..end];
+        if !raw.to_ascii_uppercase().contains(name) {
+            continue;
+        }
+        let toks = statement::tokens(&statement::text_of(p.text, p.dialect, s));
+        let ctx = Context::of(&toks, p.dialect);
+        for t in &toks {
+            if !reads(&t.value, name) || (t.sort == Sort::Assign && t.key == name) {
+                continue;
+            }
+            match use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect) {
+                Some(kf) if !kinds.contains(&kf) => kinds.push(kf),
+                Some(_) => {}
+                None if t.sort == Sort::Assign && !t.is_address() && !feeds.contains(&t.key) => feeds.push(t.key.clone()),
+                None => {}
+            }
+        }
+        seen += 1;
+        if seen >= MAX_USES {
+            break;
+        }
+    }
+    (kinds, feeds)
+}
+
+/// Statement changes of variables set to other values become the changes of what the
+/// variables feed, where their uses say it; the rest stay as they are.
+pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, (sa, sb): (&[Stmt], &[Stmt])) {
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let var = c.field.strip_prefix("variable ").map(str::to_owned);
+        let Some(var) = var.filter(|_| c.kind == ChangeKind::StatementChanged && !c.before.is_empty() && !c.after.is_empty()) else {
+            k += 1;
+            continue;
+        };
+        let (p, stmts) = if c.line.is_some() { (b, sb) } else { (a, sa) };
+        let mut found: Vec<(ChangeKind, String)> = Vec::new();
+        let mut level = vec![var.clone()];
+        for _ in 0..3 {
+            let mut next = Vec::new();
+            for v in &level {
+                let (kinds, feeds) = uses(p, stmts, v);
+                for kf in kinds {
+                    if !found.contains(&kf) {
+                        found.push(kf);
+                    }
+                }
+                next.extend(feeds.into_iter().filter(|f| *f != var));
+                next.truncate(MAX_FED);
+            }
+            if next.is_empty() {
+                break;
+            }
+            level = next;
+        }
+        if found.is_empty() {
+            k += 1;
+            continue;
+        }
+        let template = changes.remove(k);
+        for (kind, field) in found {
+            let mut t = template.clone();
+            t.kind = kind;
+            t.field = format!("{field} (via {var})");
+            t.detail.effect = None;
+            changes.insert(k, t);
+            k += 1;
+        }
+    }
+}

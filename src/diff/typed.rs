@@ -1,0 +1,399 @@
+//! Typed statement changes: a differing statement told by what its words do, where the plan
+//! does not show it (a subprogram run with unknown parameters, an empty plan, a change the
+//! plan's comparison folds away).
+//!
+//! Each differing word is looked up in the dictionary: its code's meaning (`M8`:
+//! coolant-flood, `G4`: dwell, `G18`: plane-xz) or its address's role (`F`: feed, `H`:
+//! length offset). The statement's other codes give the words their sense: after a dwell code
+//! the `F`, `P` or `X` word is the dwell's time, not a feed or a position; in a canned cycle's
+//! block `R`, `Q`, `P` are its parameters and `Z` its depth. A named cycle's arguments (`CYCLE81`)
+//! and the parameters a cycle reads by number (Heidenhain `Q200`) are its parameters, named as
+//! the dictionary names them. The words of one kind in one statement make one change of that
+//! kind (`G4 F0.1` added is one dwell added); what the dictionary says nothing about (axis
+//! words, variables, jumps) is left to the statement change.
+
+use super::ChangeKind;
+use super::statement::{Sort, Token};
+use crate::dialect::{DataForm, Dialect, Meaning, Role};
+
+/// What a token is about, by the dictionary: its code's meaning (`M8`: coolant-flood, `RL`:
+/// comp-left) or its address's role (`F`: feed).
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum About {
+    Code(Meaning),
+    Address(Role),
+    Unknown,
+}
+
+pub(super) fn about(tok: &Token, d: &Dialect) -> About {
+    let k = tok.key.as_str();
+    // A word alone without a value is a keyword before an address of the same letter
+    // (Heidenhain `L X+10`: the straight line, not the length `L+0` of `TOOL DEF`).
+    if tok.value.is_empty()
+        && tok.sort == Sort::Other
+        && let Some((i, _)) = d.keyword_codes().find(|(_, spec)| spec.text == k)
+    {
+        return About::Code(d.codes[i].meaning);
+    }
+    // A G or M code: the token's key is the code (`G43`, `M8`).
+    if let Some(letter @ ('G' | 'M')) = k.chars().next()
+        && let Ok(n) = k[1..].parse::<f64>()
+    {
+        return d.code(letter, (n * 10.0).round().max(0.0) as u32).map_or(About::Unknown, |c| About::Code(c.meaning));
+    }
+    if let Some(a) = d.addresses.iter().find(|a| a.name == k) {
+        return About::Address(a.role);
+    }
+    // A keyword code (`FMAX`, `RL`, `TOOL CALL`), by its first word.
+    d.keyword_codes()
+        .find(|(_, spec)| spec.text.split(' ').next() == Some(k))
+        .map_or(About::Unknown, |(i, _)| About::Code(d.codes[i].meaning))
+}
+
+/// The codes a statement's tokens name that give its other words their sense.
+#[derive(Clone, Copy, Default, PartialEq)]
+pub(super) struct Context {
+    /// A dwell code (`G4`): its time word is the dwell.
+    pub dwell: bool,
+    /// A canned cycle's code (`G81`): `R`, `Q`, `P` are its parameters, `Z` its depth.
+    pub cycle: bool,
+    /// Another cycle's code (`G76` threading, a lathe's `G71`): its words but the end point
+    /// and feed are its parameters.
+    pub other_cycle: bool,
+    /// Constant surface speed (`G96 D2500 S200`): its other word is the speed limit.
+    pub css: bool,
+    /// An override switch (`M50 P0`): its `P` is the switch.
+    pub switch: bool,
+    /// A shift of the origin (`CYCL DEF 7.1 X+10`, `G52`): its axis words are the shift.
+    pub shift: bool,
+    /// A dynamic length offset (`G43.1 Z…`): its axis words are the offset.
+    pub length: bool,
+    /// A data-setting code (`G10 L2`) and what its `L` value sets, by the dictionary.
+    pub data: Option<DataForm>,
+    /// A legacy cycle's sub-block (`CYCL DEF 1.2 DEPTH -15`): its value is that argument.
+    pub legacy: bool,
+    /// Moves whose axis words read variables (`G0 Z#7`): what the plan may not see.
+    pub moves_by_variables: bool,
+}
+
+/// Whether a code shifts the origin of the program's coordinates.
+fn shifts(m: Meaning) -> bool {
+    matches!(m, Meaning::LocalOffset | Meaning::OriginShift | Meaning::FrameTrans | Meaning::FrameTransAdd)
+}
+
+/// Whether a code is a cycle other than a drilling one, whose words are its parameters.
+fn other_cycle(m: Meaning) -> bool {
+    use Meaning as M;
+    matches!(
+        m,
+        M::CycleThread
+            | M::CycleTurn
+            | M::CycleFace
+            | M::CycleThreadPass
+            | M::CycleRoughTurn
+            | M::CycleRoughFace
+            | M::CycleFinishContour
+            | M::ProfileFinish
+            | M::ProfileRoughTurn
+            | M::ProfileRoughFace
+            | M::SpindleSync
+            | M::RigidTap
+    )
+}
+
+/// Whether a token is an axis or arc-centre word.
+fn axis_word(tok: &Token, d: &Dialect) -> bool {
+    use Role as R;
+    tok.sort == Sort::Word
+        && matches!(about(tok, d), About::Address(R::X | R::Y | R::Z | R::A | R::B | R::C | R::U | R::V | R::W | R::I | R::J | R::K))
+}
+
+/// Whether an axis word's value is written with a variable or an expression, not a number.
+fn by_variable(tok: &Token) -> bool {
+    tok.value.trim_start_matches(['-', '+']).parse::<f64>().is_err()
+}
+
+/// The legacy cycle a `DEF n.m` token defines a sub-block of (`CYCL DEF 9.1`), by the
+/// dictionary's cycle-define keyword and cycle numbers.
+fn legacy_cycle<'d>(t: &Token, d: &'d Dialect) -> Option<&'d crate::dialect::CycleDef> {
+    let (n, sub) = t.value.split_once('.')?;
+    if sub.is_empty() || !sub.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let defines = d
+        .keyword_codes()
+        .any(|(i, spec)| d.codes[i].meaning == Meaning::CycleDefine && spec.text.split(' ').next_back() == Some(t.key.as_str()));
+    defines.then(|| d.cycles.iter().find(|c| c.name == n)).flatten()
+}
+
+impl Context {
+    /// The context of a statement's tokens.
+    pub(super) fn of(tokens: &[Token], d: &Dialect) -> Context {
+        let mut c = Context::default();
+        if let Some(cycle) = tokens.iter().find_map(|t| legacy_cycle(t, d)) {
+            c.dwell |= cycle.meaning == Meaning::Dwell;
+            c.shift |= shifts(cycle.meaning);
+            c.legacy = !c.dwell && !c.shift;
+        }
+        c.moves_by_variables = tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
+        for t in tokens.iter().filter(|t| t.sort == Sort::Word) {
+            if let About::Code(m) = about(t, d) {
+                c.dwell |= m == Meaning::Dwell;
+                c.cycle |= m.is_cycle();
+                c.other_cycle |= other_cycle(m);
+                c.css |= m == Meaning::SpindleCss;
+                c.switch |= matches!(m, Meaning::FeedOverrideSwitch | Meaning::SpeedOverrideSwitch);
+                c.shift |= shifts(m);
+                c.length |= m == Meaning::LengthCompDynamic;
+                if m == Meaning::SetData {
+                    let l = tokens.iter().find(|t| t.key == "L").and_then(|t| t.value.parse::<f64>().ok());
+                    let code = t.key[1..].parse::<f64>().ok().and_then(|n| d.code('G', (n * 10.0).round() as u32));
+                    c.data = code.zip(l).and_then(|(code, l)| code.forms.iter().find(|f| f64::from(f.0) == l)).map(|f| f.1);
+                }
+            }
+        }
+        c
+    }
+
+    /// Whether the statement's codes give some of its words another sense than their letters'.
+    pub(super) fn special(self) -> bool {
+        self.dwell
+            || self.cycle
+            || self.other_cycle
+            || self.css
+            || self.switch
+            || self.shift
+            || self.length
+            || self.legacy
+            || self.data.is_some()
+    }
+
+    /// Both statements' contexts: a word removed from one and added to the other has either.
+    pub(super) fn or(self, o: Context) -> Context {
+        Context {
+            dwell: self.dwell || o.dwell,
+            cycle: self.cycle || o.cycle,
+            other_cycle: self.other_cycle || o.other_cycle,
+            css: self.css || o.css,
+            switch: self.switch || o.switch,
+            shift: self.shift || o.shift,
+            length: self.length || o.length,
+            data: self.data.or(o.data),
+            legacy: self.legacy || o.legacy,
+            moves_by_variables: self.moves_by_variables || o.moves_by_variables,
+        }
+    }
+}
+
+/// A statement difference told by its kind: the kind, the field, and the words before and
+/// after (empty where added or removed).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Typed {
+    pub kind: ChangeKind,
+    pub field: String,
+    pub before: String,
+    pub after: String,
+}
+
+/// The kind and field a differing word is about, in its statement's context; `None` for a
+/// word the dictionary gives no machining sense to (an axis, a variable, a label).
+pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeKind, &'static str)> {
+    use ChangeKind as K;
+    use Meaning as M;
+    use Role as R;
+    if !tok.is_address() || tok.sort == Sort::Call {
+        return None;
+    }
+    // A legacy cycle's value, a number alone after its sub-block.
+    if tok.sort == Sort::Other && tok.key.parse::<f64>().is_ok() && (ctx.dwell || ctx.legacy) {
+        return Some(if ctx.dwell { (K::DwellChanged, "dwell") } else { (K::CycleParameterChanged, "cycle parameter") });
+    }
+    let a = about(tok, d);
+    // Moves the plan may not see, where their axis words read variables: the whole move.
+    let motion = matches!(a, About::Code(M::Rapid | M::Linear | M::ArcCw | M::ArcCcw | M::Probe | M::ProbeQuiet));
+    if let About::Address(r) = a
+        && ctx.other_cycle
+        && !matches!(r, R::X | R::Y | R::Z | R::U | R::W | R::F | R::S | R::T | R::G | R::M | R::N)
+    {
+        return Some((K::CycleParameterChanged, "cycle parameter"));
+    }
+    if ctx.shift && axis_word(tok, d) {
+        return Some((K::WorkOffsetChanged, "origin shift"));
+    }
+    if ctx.switch && matches!(a, About::Address(R::P)) {
+        return Some((K::FeedOverrideChanged, "feed override"));
+    }
+    if ctx.css && matches!(a, About::Address(R::D)) {
+        return Some((K::SpindleSpeedChanged, "spindle speed limit"));
+    }
+    if ctx.moves_by_variables && !ctx.cycle && !ctx.other_cycle && ctx.data.is_none() && !ctx.length && (motion || axis_word(tok, d)) {
+        return Some((K::ToolpathChanged, "moves"));
+    }
+    Some(match a {
+        About::Code(m) => match m {
+            M::FeedInverseTime | M::FeedPerMinute | M::FeedPerRev => (K::FeedChanged, "feed mode"),
+            M::SpindleCss | M::SpindleRpm | M::SpindleLimit => (K::SpindleModeChanged, "spindle mode"),
+            M::SpindleCw | M::SpindleCcw | M::SpindleStop | M::SpindleOrient => (K::SpindleDirectionChanged, "spindle"),
+            M::CoolantMist | M::CoolantFlood | M::CoolantOff => (K::CoolantChanged, "coolant"),
+            M::LengthCompPlus | M::LengthCompDynamic | M::LengthCompMinus | M::LengthCompCancel => {
+                (K::LengthOffsetChanged, "length offset")
+            }
+            M::CompOff | M::CompLeft | M::CompRight | M::CompLeftDiameter | M::CompRightDiameter => {
+                (K::CutterCompChanged, "cutter compensation")
+            }
+            M::Wcs | M::WcsExtended => (K::WorkOffsetChanged, "work offset"),
+            M::ProgramStop | M::OptionalStop => (K::StopAdded, "stop"),
+            M::Dwell => (K::DwellChanged, "dwell"),
+            M::OverridesOn | M::OverridesOff | M::FeedOverrideSwitch => (K::FeedOverrideChanged, "feed override"),
+            M::ToolChange => (K::ToolRenamed, "tool"),
+            M::PlaneXy | M::PlaneXz | M::PlaneYz => (K::PlaneChanged, "plane"),
+            M::UnitsInch | M::UnitsMm => (K::UnitsChanged, "units"),
+            M::RetractInitial | M::RetractR => (K::CycleParameterChanged, "cycle retract"),
+            _ => return None,
+        },
+        About::Address(r) if ctx.dwell && matches!(r, R::F | R::P | R::X | R::U | R::DwellTime) => (K::DwellChanged, "dwell"),
+        About::Address(r) if ctx.length && matches!(r, R::X | R::Y | R::Z | R::I | R::J | R::K) => {
+            (K::LengthOffsetChanged, "length offset")
+        }
+        About::Address(r) if ctx.data.is_some() && !matches!(r, R::L | R::G) => data_kind(ctx.data?, r),
+        About::Address(r) if ctx.cycle && matches!(r, R::R | R::Q | R::P | R::K) => (K::CycleParameterChanged, "cycle parameter"),
+        About::Address(R::Z) if ctx.cycle => (K::DepthChanged, "hole depth"),
+        About::Address(r) => match r {
+            R::F => (K::FeedChanged, "feed"),
+            R::PlungeFeed => (K::PlungeFeedChanged, "plunge feed"),
+            R::S | R::SpindleLimit => (K::SpindleSpeedChanged, "spindle speed"),
+            R::T | R::NextTool => (K::ToolRenamed, "tool"),
+            R::H => (K::LengthOffsetChanged, "length offset"),
+            R::D => (K::CutterCompChanged, "radius offset"),
+            R::DwellTime => (K::DwellChanged, "dwell"),
+            _ => return None,
+        },
+        About::Unknown => return None,
+    })
+}
+
+/// The kind of a word of a data-setting statement: a work offset's values, a tool's length
+/// or radius.
+fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
+    use DataForm as F;
+    match form {
+        F::Wcs | F::WcsHere | F::WcsExtended => (ChangeKind::WorkOffsetChanged, "work offset data"),
+        F::ToolRadius | F::ToolRadiusWear => (ChangeKind::CutterCompChanged, "tool radius data"),
+        _ if r == Role::R => (ChangeKind::CutterCompChanged, "tool radius data"),
+        _ => (ChangeKind::LengthOffsetChanged, "tool length data"),
+    }
+}
+
+/// The typed changes of one statement's token differences, and which differences they tell.
+/// Words of one kind make one change: their texts joined, before and after.
+pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> (Vec<Typed>, Vec<bool>) {
+    if let Some(whole) = whole_statement(diffs, ctx, d) {
+        return (vec![whole], vec![true; diffs.len()]);
+    }
+    let mut out: Vec<Typed> = Vec::new();
+    let mut told = vec![false; diffs.len()];
+    for (n, (x, y)) in diffs.iter().enumerate() {
+        let tok = y.as_ref().or(x.as_ref()).expect("a difference has a side");
+        let Some((kind, field)) = kind_of(tok, ctx, d) else { continue };
+        told[n] = true;
+        let k = match out.iter().position(|t| t.kind == kind) {
+            Some(k) => k,
+            None => {
+                out.push(Typed { kind, field: field.into(), before: String::new(), after: String::new() });
+                out.len() - 1
+            }
+        };
+        let t = &mut out[k];
+        for (side, tok) in [(&mut t.before, x), (&mut t.after, y)] {
+            if let Some(tok) = tok {
+                if !side.is_empty() {
+                    side.push(' ');
+                }
+                side.push_str(&tok.text);
+            }
+        }
+    }
+    for t in &mut out {
+        // A stop added or removed is its own kind; one replaced by another stays `stop_added`
+        // with both sides.
+        if t.kind == ChangeKind::StopAdded && t.after.is_empty() {
+            t.kind = ChangeKind::StopRemoved;
+        }
+    }
+    (out, told)
+}
+
+/// A statement added or removed whole that a keyword code begins (`TOOL CALL 5 Z S3000`):
+/// one change of that code's kind, with the statement's words.
+fn whole_statement(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> Option<Typed> {
+    let added = diffs.iter().all(|(x, y)| x.is_none() && y.is_some());
+    let removed = diffs.iter().all(|(x, y)| x.is_some() && y.is_none());
+    let first = diffs.first().and_then(|(x, y)| y.as_ref().or(x.as_ref()))?;
+    let keyword = first.sort == Sort::Other
+        && first.value.is_empty()
+        && d.keyword_codes().any(|(_, spec)| spec.text.split(' ').next() == Some(first.key.as_str()));
+    if !(added || removed) || !keyword {
+        return None;
+    }
+    let (kind, field) = kind_of(first, ctx, d)?;
+    let text = diffs.iter().filter_map(|(x, y)| y.as_ref().or(x.as_ref())).map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ");
+    let kind = if kind == ChangeKind::StopAdded && removed { ChangeKind::StopRemoved } else { kind };
+    let (before, after) = if added { (String::new(), text) } else { (text, String::new()) };
+    Some(Typed { kind, field: field.into(), before, after })
+}
+
+/// The cycle a call token names (`CYCLE81(…)`) and its arguments' names, by the dictionary.
+pub(super) fn cycle_args<'d>(name: &str, d: &'d Dialect) -> Option<&'d [crate::dialect::CycleArg]> {
+    d.cycles.iter().find(|c| c.name.eq_ignore_ascii_case(name) && !c.args.is_empty()).map(|c| c.args.as_slice())
+}
+
+/// The cycle argument a numbered parameter feeds (Heidenhain `Q200`: the set-up clearance
+/// of the 200 cycles), by the dictionary's `param=`; `None` for any other variable.
+pub(super) fn cycle_param<'d>(key: &str, d: &'d Dialect) -> Option<&'d crate::dialect::CycleArg> {
+    let digits = key.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+    if digits.len() == key.len() || digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let n: u32 = digits.parse().ok()?;
+    // Only a parameter spelt with the dictionary's parameter letter is one (`Q200`, not `R200`).
+    let letter = &key[..key.len() - digits.len()];
+    if !d.lexical.parameter.is_some_and(|(sigil, _)| letter.len() == 1 && letter.starts_with(sigil.to_ascii_uppercase())) {
+        return None;
+    }
+    d.cycles.iter().flat_map(|c| c.args.iter()).find(|a| a.param == Some(n))
+}
+
+/// A cycle argument's name as a planner reads it: `Q200 (safety distance)`.
+pub(super) fn arg_name(arg: &crate::dialect::CycleArg) -> String {
+    format!("{} ({})", arg.name, arg.role.as_str().replace('-', " "))
+}
+
+/// The alignment of two argument lists: pairs of positions, one side `None` for an argument
+/// inserted or removed. A plain position-by-position pairing unless an insertion or removal
+/// explains more of the list (a longest common subsequence of the values).
+pub(super) fn align_args(a: &[String], b: &[String]) -> Vec<(Option<usize>, Option<usize>)> {
+    let positional: Vec<(Option<usize>, Option<usize>)> =
+        (0..a.len().max(b.len())).map(|k| ((k < a.len()).then_some(k), (k < b.len()).then_some(k))).collect();
+    if a.len() == b.len() {
+        return positional;
+    }
+    let mut anchors = Vec::new();
+    super::statement::lcs(a, b, 0, 0, &mut anchors);
+    let same_in_place = (0..a.len().min(b.len())).filter(|&k| a[k] == b[k]).count();
+    if anchors.len() <= same_in_place {
+        return positional;
+    }
+    let mut out = Vec::new();
+    let (mut pi, mut pj) = (0, 0);
+    for (x, y) in anchors.into_iter().chain(std::iter::once((a.len(), b.len()))) {
+        let (n, m) = (x - pi, y - pj);
+        for k in 0..n.max(m) {
+            out.push(((k < n).then_some(pi + k), (k < m).then_some(pj + k)));
+        }
+        if x < a.len() && y < b.len() {
+            out.push((Some(x), Some(y)));
+        }
+        (pi, pj) = (x + 1, y + 1);
+    }
+    out
+}

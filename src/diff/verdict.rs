@@ -1,0 +1,85 @@
+//! What an edit breaks or fixes: the errors a control stops at in one version and not in the
+//! other (a malformed expression, a comment closed early by a nested parenthesis so that its
+//! rest is read as words, an arc whose radii disagree, a jump to a label that is gone).
+//!
+//! The errors of both versions are matched by their kind (the diagnostic's code), the same
+//! sentence first and then in order, so that an error that only moved with the lines around it
+//! is no change. An error left over in the edited version is a [`ChangeKind::ProgramBroken`],
+//! one left over in the original a [`ChangeKind::ProgramFixed`], one change per kind at all
+//! its lines. They are listed first: a program the control stops in does not machine.
+
+use std::collections::BTreeMap;
+
+use super::statement::Fault;
+use super::{Change, ChangeKind, Detail};
+use crate::diag::Diagnostic;
+use crate::text::LineIndex;
+
+/// The errors among `findings` (an analysis of `text`), as faults at their lines.
+pub fn faults(text: &str, findings: &[Diagnostic]) -> Vec<Fault> {
+    let errors: Vec<&Diagnostic> = findings.iter().filter(|d| d.is_error()).collect();
+    if errors.is_empty() {
+        return Vec::new();
+    }
+    let index = LineIndex::new(text);
+    errors.into_iter().map(|d| Fault { code: d.code, line: index.line_col(text, d.range.start).line, message: d.message.clone() }).collect()
+}
+
+/// The faults of `a` and `b` matched by kind; what is left over, per side.
+fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault]) -> (Vec<&'f Fault>, Vec<&'f Fault>) {
+    let mut by_code: BTreeMap<&str, (Vec<&Fault>, Vec<&Fault>)> = BTreeMap::new();
+    for f in a {
+        by_code.entry(f.code.as_str()).or_default().0.push(f);
+    }
+    for f in b {
+        by_code.entry(f.code.as_str()).or_default().1.push(f);
+    }
+    let (mut left_a, mut left_b) = (Vec::new(), Vec::new());
+    for (_, (mut xa, mut xb)) in by_code {
+        // The same sentence first, then in order.
+        xa.retain(|fa| match xb.iter().position(|fb| fb.message == fa.message) {
+            Some(j) => {
+                xb.remove(j);
+                false
+            }
+            None => true,
+        });
+        let n = xa.len().min(xb.len());
+        left_a.extend(xa.into_iter().skip(n));
+        left_b.extend(xb.into_iter().skip(n));
+    }
+    (left_a, left_b)
+}
+
+/// The changes that say what the edit breaks and what it fixes.
+pub(super) fn verdicts(a: &[Fault], b: &[Fault]) -> Vec<Change> {
+    let (fixed, broken) = unmatched(a, b);
+    let mut out = Vec::new();
+    for (kind, list) in [(ChangeKind::ProgramBroken, broken), (ChangeKind::ProgramFixed, fixed)] {
+        let mut by_code: BTreeMap<&str, Vec<&Fault>> = BTreeMap::new();
+        for f in list {
+            by_code.entry(f.code.as_str()).or_default().push(f);
+        }
+        for (code, fs) in by_code {
+            let first = fs[0];
+            let edited = kind == ChangeKind::ProgramBroken;
+            let at: Vec<(Option<u32>, Option<u32>)> =
+                fs.iter().map(|f| if edited { (None, Some(f.line)) } else { (Some(f.line), None) }).collect();
+            let (before, after) = if edited { (String::new(), first.message.clone()) } else { (first.message.clone(), String::new()) };
+            out.push(Change {
+                kind,
+                workingstep: 0,
+                operation: "program".into(),
+                field: code.into(),
+                before,
+                after,
+                line: edited.then_some(first.line),
+                original_line: (!edited).then_some(first.line),
+                region: None,
+                deviation: None,
+                detail: Detail { at, ..Detail::default() },
+            });
+        }
+    }
+    out
+}
