@@ -488,6 +488,8 @@ struct State {
     tech_warned: bool,
     /// Programmable rotation (G68) in the XY plane: centre and angle's cosine and sine.
     rotation: Option<(f64, f64, f64, f64)>,
+    /// The tilted working plane in force (`PLANE SPATIAL`, `CYCLE800`, `G68.2`).
+    frame: Option<crate::canon::Frame>,
     /// Programmable scaling (G51): centre and factor per linear axis.
     scaling: Option<([f64; 3], [f64; 3])>,
     /// Whether the block's motion mode was already active before it.
@@ -585,6 +587,7 @@ impl State {
             feed_per_rev: dialect.behaviour.initial_feed_per_rev,
             motion_continued: false,
             rotation: None,
+            frame: None,
             scaling: None,
             pole: (0.0, 0.0),
             arc_cw: true,
