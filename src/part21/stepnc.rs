@@ -206,6 +206,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             holes: _,
             toolpath: _,
             state,
+            setup,
             source,
             lines,
         } = full;
@@ -224,6 +225,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
         ws.bbox = *bbox;
         ws.cutting_length = *cutting_length;
         ws.state = state.clone();
+        ws.setup = *setup;
         ws.strategy = Some(explicit());
         ws.feature = Some(ws.index);
         p.features.push(Feature {
@@ -237,6 +239,8 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             lines: ws.lines,
             sources: Sources::default(),
             centre_path: None,
+            axis: None,
+            ref_direction: None,
         });
         p.workingsteps.push(ws);
     }
@@ -1292,6 +1296,8 @@ impl Reader<'_> {
                 let (a, b) = v.split_once('x')?;
                 Some((a.parse().ok()?, b.parse().ok()?))
             }),
+            axis: None,
+            ref_direction: None,
         };
         let hole = |h: &Instance, positions: Vec<P2>| -> Result<FeatureKind, String> {
             let d = self.tlm(self.attr(h, 5)?)?;

@@ -15,6 +15,7 @@ pub use chain::{rect_contour, rectangle_of};
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::model::*;
+use super::setup::Setup;
 
 const EPS: f64 = 1e-6;
 
@@ -47,7 +48,9 @@ pub fn recognise(plan: &mut ProcessPlan) {
         ws.strategy = cand.strategy.clone();
         ws.axial_depth = cand.axial_depth;
         ws.radial_depth = cand.radial_depth;
-        let merge = features.iter().rposition(|(f, regions)| same_feature(f, regions.last(), &cand));
+        let setup = ws.setup;
+        let merge =
+            features.iter().rposition(|(f, regions)| setup_of(plan, f.workingsteps[0]) == setup && same_feature(f, regions.last(), &cand));
         let id = match merge {
             Some(k) => {
                 let (f, regions) = &mut features[k];
@@ -94,6 +97,8 @@ pub fn recognise(plan: &mut ProcessPlan) {
                     lines: ws.lines,
                     sources: cand.sources,
                     centre_path: cand.centre_path,
+                    axis: None,
+                    ref_direction: None,
                 };
                 features.push((f, cand.region.into_iter().collect()));
                 id
@@ -103,6 +108,25 @@ pub fn recognise(plan: &mut ProcessPlan) {
     }
     plan.features = features.into_iter().map(|(f, _)| f).collect();
     absorb_spot_drilling(plan);
+    place_on_setups(plan);
+}
+
+/// The setup of the workingstep with 1-based index `i`.
+fn setup_of(plan: &ProcessPlan, i: u32) -> Option<Setup> {
+    plan.workingsteps.get((i as usize).checked_sub(1)?).and_then(|ws| ws.setup)
+}
+
+/// Places every feature machined on a tilted plane in the part's frame: its placement turned
+/// and moved onto the plane, with the plane's axis and reference direction (its positions
+/// and contours stay relative to the placement, in the plane's X and Y).
+fn place_on_setups(plan: &mut ProcessPlan) {
+    for k in 0..plan.features.len() {
+        let Some(s) = plan.features[k].workingsteps.first().and_then(|&i| setup_of(plan, i)) else { continue };
+        let f = &mut plan.features[k];
+        f.placement = s.to_part(f.placement);
+        f.axis = Some(s.axis);
+        f.ref_direction = Some(s.ref_direction);
+    }
 }
 
 /// A spot drill or countersink that marks holes made by other tools is part of those holes,
@@ -134,7 +158,9 @@ fn absorb_spot_drilling(plan: &mut ProcessPlan) {
         let marks: BTreeSet<(i64, i64)> = abs(&plan.features[k]).iter().map(key).collect();
         let mut covered: BTreeSet<(i64, i64)> = BTreeSet::new();
         let mut later: Vec<usize> = Vec::new();
-        for (j, f) in plan.features.iter().enumerate().skip(k + 1).filter(|(j, _)| !is_mark[*j]) {
+        let setup = setup_of(plan, plan.features[k].workingsteps[0]);
+        let same_plane = |f: &Feature| setup_of(plan, f.workingsteps[0]) == setup;
+        for (j, f) in plan.features.iter().enumerate().skip(k + 1).filter(|(j, f)| !is_mark[*j] && same_plane(f)) {
             let here: Vec<(i64, i64)> = abs(f).iter().map(key).filter(|q| marks.contains(q)).collect();
             if !here.is_empty() {
                 later.push(j);
