@@ -95,6 +95,9 @@ fn line_numbers(rest: &str) -> Vec<(&str, Option<f64>)> {
         } else if i < b.len() && b[i].is_ascii_alphabetic() && !text.is_empty() {
             // A parameter or expression in place of the number (`SPA+Q1`): no value.
             out.push((name, None));
+            while i < b.len() && b[i].is_ascii_alphanumeric() {
+                i += 1;
+            }
         }
     }
     out

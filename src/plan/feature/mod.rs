@@ -29,16 +29,25 @@ pub fn recognise(plan: &mut ProcessPlan) {
         let ws = &plan.workingsteps[i];
         let tool = plan.tool(ws.tool).cloned();
         // Holes along another axis than Z (cycles in G18/G19) are not recognised yet.
+        // The stock and the faced level are the untilted plane's: a tilted one's coordinates
+        // do not compare with them.
+        let tilted_stock = ws.setup.as_ref().zip(plan.workpiece.as_ref()).map(|(s, w)| on_plane(w, s));
+        let (stock, faced_here) = match &tilted_stock {
+            Some(t) => (Some(t), None),
+            None if ws.setup.is_some() => (None, None),
+            None => (plan.workpiece.as_ref(), faced),
+        };
         let mut cand = if ws.operation.is_hole() && !ws.holes.is_empty() {
-            hole::hole(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
+            hole::hole(ws, tool.as_ref(), stock, faced_here)
         } else {
-            milling::milling(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
+            milling::milling(ws, tool.as_ref(), stock, faced_here)
         };
         // A shape with no segment is no shape: what was cut stays a toolpath.
         if cand.kind.contour().is_some_and(|c| c.segments.is_empty()) {
             cand.kind = FeatureKind::Toolpath;
         }
         if matches!(cand.kind, FeatureKind::PlanarFace { .. })
+            && ws.setup.is_none()
             && let Some(d) = ws.depth
         {
             faced = Some(faced.map_or(d, |f: f64| f.min(d)));
@@ -109,6 +118,24 @@ pub fn recognise(plan: &mut ProcessPlan) {
     plan.features = features.into_iter().map(|(f, _)| f).collect();
     absorb_spot_drilling(plan);
     place_on_setups(plan);
+}
+
+/// The stock as a tilted plane sees it: the box its corners span in the plane's
+/// coordinates (exact where the plane turns by right angles; elsewhere its top is the
+/// stock's highest point along the tool axis).
+fn on_plane(w: &Stock, s: &Setup) -> Stock {
+    let max = w.max();
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for k in 0..8 {
+        let corner = [0, 1, 2].map(|i| if k >> i & 1 == 1 { max[i] } else { w.origin[i] });
+        let p = s.from_part(corner);
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    Stock { origin: lo, size: [0, 1, 2].map(|i| hi[i] - lo[i]), ..w.clone() }
 }
 
 /// The setup of the workingstep with 1-based index `i`.

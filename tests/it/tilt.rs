@@ -1,0 +1,137 @@
+//! The tilted-plane and 5-axis suite (`tests/programs/tilt/`): 3+2 programs in the shapes
+//! Fusion 360, NX and hyperMILL posts write for Heidenhain (`PLANE SPATIAL`, `EULER`,
+//! `VECTOR`, `RELATIV`), Siemens (`CYCLE800`) and Fanuc 30i (`G68.2`/`G53.1`), and 5-axis
+//! programs, each with a sidecar of the features a programmer reads off the part, computed
+//! by hand from the controls' documented conventions. Every feature must lie on its face:
+//! the same kind, its axis within 0.001, every hole top in the part's frame within 0.1 mm
+//! (across the axis only, where the program states no top), sizes within 0.05 mm; no
+//! feature more; and the CC1 toolpath keeps the tool axes the sidecar lists.
+
+use ncplan::dialect::Registry;
+use ncplan::interp::Profile;
+use ncplan::pipeline;
+use ncplan::plan::{Feature, FeatureKind, P3, ProcessPlan};
+use serde_json::Value;
+
+/// Position tolerance, mm.
+const PLACE: f64 = 0.1;
+/// Size tolerance, mm.
+const SIZE: f64 = 0.05;
+/// Axis tolerance (components of a unit vector).
+const AXIS: f64 = 1e-3;
+
+fn parts() -> Vec<(String, String, Value)> {
+    let dir = crate::root().join("tests/programs/tilt");
+    let mut names: Vec<_> = std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).map(|e| e.path()).collect();
+    names.sort();
+    let mut out = Vec::new();
+    for side in names.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+        let stem = side.file_stem().unwrap().to_string_lossy().into_owned();
+        let program = names
+            .iter()
+            .find(|p| p.file_stem().is_some_and(|s| s.to_string_lossy() == stem) && p.extension().is_some_and(|e| e != "json"))
+            .unwrap_or_else(|| panic!("{stem}: a program beside its sidecar"));
+        let text = String::from_utf8_lossy(&std::fs::read(program).unwrap()).into_owned();
+        out.push((stem, text, serde_json::from_str(&std::fs::read_to_string(side).unwrap()).unwrap()));
+    }
+    out
+}
+
+fn plan_of(text: &str, side: &Value) -> ProcessPlan {
+    let reg = Registry::shipped();
+    let dialect = reg.get(side["dialect"].as_str().unwrap()).unwrap();
+    pipeline::analyze(text.as_bytes(), &dialect, &Profile::default()).plan
+}
+
+fn vec3(v: &Value) -> P3 {
+    let a = v.as_array().unwrap();
+    [0, 1, 2].map(|i| a[i].as_f64().unwrap())
+}
+
+fn cross(a: P3, b: P3) -> P3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The points a feature states in the part's frame: each hole's top, or the placement.
+fn points(f: &Feature) -> Vec<P3> {
+    let z = f.axis.unwrap_or([0.0, 0.0, 1.0]);
+    let x = f.ref_direction.unwrap_or([1.0, 0.0, 0.0]);
+    let y = cross(z, x);
+    let at = |p: [f64; 2]| [0, 1, 2].map(|i| f.placement[i] + x[i] * p[0] + y[i] * p[1]);
+    match &f.kind {
+        FeatureKind::RoundHole { positions, .. } => positions.iter().map(|p| at(*p)).collect(),
+        _ => vec![f.placement],
+    }
+}
+
+/// Whether point `got` is `want`: within [`PLACE`]; across `axis` only where the top is
+/// inferred.
+fn same_point(got: P3, want: P3, axis: P3, along_too: bool) -> bool {
+    let d = [got[0] - want[0], got[1] - want[1], got[2] - want[2]];
+    let along = dot(d, axis);
+    let across = [d[0] - along * axis[0], d[1] - along * axis[1], d[2] - along * axis[2]];
+    dot(across, across).sqrt() <= PLACE && (!along_too || along.abs() <= PLACE)
+}
+
+fn matches(f: &Feature, want: &Value) -> bool {
+    if f.kind.label().replace(' ', "_") != want["kind"].as_str().unwrap() {
+        return false;
+    }
+    let axis = vec3(&want["axis"]);
+    let got_axis = f.axis.unwrap_or([0.0, 0.0, 1.0]);
+    if (0..3).any(|i| (got_axis[i] - axis[i]).abs() > AXIS) {
+        return false;
+    }
+    let inferred = want.get("top_inferred").and_then(Value::as_bool).unwrap_or(false);
+    let wanted: Vec<P3> = want["positions"].as_array().unwrap().iter().map(vec3).collect();
+    let got = points(f);
+    if got.len() != wanted.len() || !wanted.iter().all(|w| got.iter().any(|g| same_point(*g, *w, axis, !inferred))) {
+        return false;
+    }
+    let near = |a: Option<f64>, k: &str| want.get(k).and_then(Value::as_f64).is_none_or(|b| a.is_some_and(|a| (a - b).abs() <= SIZE));
+    let size = match &f.kind {
+        FeatureKind::RoundHole { diameter, .. } => near(*diameter, "diameter"),
+        FeatureKind::Slot { width, .. } => near(Some(*width), "width"),
+        _ => true,
+    };
+    size && (inferred || near(Some(f.depth), "depth"))
+}
+
+#[test]
+fn every_feature_lies_on_its_face_with_its_axis() {
+    let parts = parts();
+    assert!(parts.len() >= 10, "the suite has {} programs", parts.len());
+    let (mut found, mut wanted, mut extra) = (0, 0, 0);
+    let mut misses = Vec::new();
+    for (name, text, side) in &parts {
+        let plan = plan_of(text, side);
+        let want = side["features"].as_array().unwrap();
+        wanted += want.len();
+        let mut used = vec![false; plan.features.len()];
+        for w in want {
+            match plan.features.iter().enumerate().find(|(k, f)| !used[*k] && matches(f, w)) {
+                Some((k, _)) => {
+                    used[k] = true;
+                    found += 1;
+                }
+                None => misses.push(format!("{name}: no feature {w}")),
+            }
+        }
+        for (k, f) in plan.features.iter().enumerate().filter(|(k, _)| !used[*k]) {
+            extra += 1;
+            misses.push(format!(
+                "{name}: feature {} ({}) at {:?} axis {:?} is not on the part",
+                k + 1,
+                f.kind.label(),
+                f.placement,
+                f.axis
+            ));
+        }
+    }
+    println!("tilt suite: {found} of {wanted} features on their faces, {extra} more");
+    assert!(misses.is_empty(), "{}", misses.join("\n"));
+}
