@@ -388,6 +388,15 @@ vocab! {
         /// A swivel cycle (Siemens `CYCLE800`): mode, reference point, angles in the mode's
         /// axis order, zero point after swivelling; without arguments it cancels.
         TiltCycle = "tilt-cycle",
+        /// Tool centre point control on (Heidenhain `M128`, `FUNCTION TCPM`, Siemens `TRAORI`):
+        /// X Y Z are the tool tip's on the part, and the rotary axes (A, B, C) turn the tool
+        /// axis, kept in the canon as `ToolAxis`.
+        TcpOn = "tcp-on",
+        /// Tool centre point control off (`M129`, `FUNCTION RESET TCPM`, `TRAFOOF`).
+        TcpOff = "tcp-off",
+        /// A tool length offset with tool centre point control (Fanuc `G43.4 H1`): the length
+        /// offset as `length-comp-plus`, and tool centre point control on until it is cancelled.
+        LengthCompTcp = "length-comp-tcp",
         /// A row of positions (Siemens `HOLES1`): from a reference point along an angle, the
         /// first at a distance, then evenly spaced. The modal cycle runs at each.
         PatternRow = "pattern-row",

@@ -135,6 +135,11 @@ impl Interpreter<'_> {
             self.run_pattern(ci, &args, block_range, sink, diags);
             return;
         }
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TcpOn).is_some() {
+            self.cycle_args.clear();
+            self.tcp(true, sink, diags);
+            return;
+        }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TiltCycle).is_some() {
             let args = std::mem::take(&mut self.cycle_args);
             self.tilt_cycle(&args, block_range, sink, diags);

@@ -483,9 +483,10 @@ impl<W: std::io::Write> Writer<W> {
             } else {
                 (Value::Null, self.technology(&ws.technology, first.feed))
             };
+            let axes = if moves.tilts() { self.tool_axes(moves, i, j) } else { Value::Null };
             trajectories.push(self.b.add(
                 "CUTTER_LOCATION_TRAJECTORY",
-                vec![Value::bool(true), Value::Enum(ty.into()), speed, tech, Value::Null, Value::Null, curve, Value::Null, Value::Null],
+                vec![Value::bool(true), Value::Enum(ty.into()), speed, tech, Value::Null, Value::Null, curve, axes, Value::Null],
             ));
             i = j;
         }
@@ -493,6 +494,18 @@ impl<W: std::io::Write> Writer<W> {
             return Value::Null;
         }
         self.b.add("TOOLPATH_LIST", vec![Value::List(trajectories)])
+    }
+
+    /// The tool axes of moves `i..j` as `its_toolaxis`: a polyline over the same points as
+    /// the path, each the tool axis there (unit vectors): at the start, then at each end.
+    fn tool_axes(&mut self, moves: &Toolpath, i: usize, j: usize) -> Value {
+        let first_id = self.b.next_id();
+        self.point("", moves.axis_at(i.saturating_sub(1)));
+        for k in i..j {
+            self.point("", moves.axis_at(k));
+        }
+        let last_id = self.b.next_id() - 1;
+        self.b.add_with_refs("POLYLINE", &[Value::str("")], first_id..=last_id, &[])
     }
 
     fn strategy(&mut self, s: &Strategy) -> Value {
@@ -1014,7 +1027,7 @@ impl Reader<'_> {
             (true, true) => Coolant::Both,
         };
         let toolpath = match self.attr(op, 0)? {
-            Value::Null => Vec::new(),
+            Value::Null => Toolpath::new(),
             v => self.toolpath(v)?,
         };
         let operation = match op.name.as_str() {
@@ -1037,7 +1050,7 @@ impl Reader<'_> {
         let surface_speed = op_words.get("surface_speed").and_then(|s| s.parse().ok());
         let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
-        let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath.into(), source, lines);
+        let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
         ws.state = MachineState::decode(&w);
         let mut dwell = None;
         match operation {
@@ -1154,9 +1167,10 @@ impl Reader<'_> {
         Ok(Some(out))
     }
 
-    fn toolpath(&self, v: &Value) -> Result<Vec<Move>, String> {
+    fn toolpath(&self, v: &Value) -> Result<Toolpath, String> {
         let list = self.inst(v)?;
         let mut moves = Vec::new();
+        let mut axes: Vec<P3> = Vec::new();
         for t in self.attr(list, 0)?.as_list().ok_or("TOOLPATH_LIST without a list")? {
             let t = self.inst(t)?;
             let phase = match self.attr(t, 1)?.as_enum() {
@@ -1171,6 +1185,15 @@ impl Reader<'_> {
                 tech => snap(self.real(self.inst(tech)?, 0)? * 60_000.0),
             };
             let curve = self.inst(self.attr(t, 6)?)?;
+            let first_move = moves.len();
+            let axis_points = match t.attrs.get(7) {
+                Some(v @ Value::Ref(_)) => {
+                    let pl = self.inst(v)?;
+                    let pts = self.attr(pl, 1)?.as_list().ok_or("its_toolaxis without points")?;
+                    pts.iter().map(|p| self.point(p).map(|(a, _)| a)).collect::<Result<Vec<P3>, String>>()?
+                }
+                _ => Vec::new(),
+            };
             let mut push = |from: P3, to: P3, name: &str, arc: Option<(P3, P3, i32)>| {
                 let line = name.trim_start_matches('L').parse().unwrap_or(0);
                 let kind = if arc.is_some() {
@@ -1228,8 +1251,16 @@ impl Reader<'_> {
                 }
                 other => return Err(format!("unexpected toolpath curve {other}")),
             }
+            for k in first_move..moves.len() {
+                axes.push(axis_points.get(k - first_move + 1).copied().unwrap_or([0.0, 0.0, 1.0]));
+            }
         }
-        Ok(moves)
+        let mut tp = Toolpath::new();
+        for (m, a) in moves.into_iter().zip(axes) {
+            tp.set_axis(a);
+            tp.push(m);
+        }
+        Ok(tp)
     }
 
     fn contour(&self, v: &Value) -> Result<Contour, String> {

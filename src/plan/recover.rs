@@ -560,6 +560,8 @@ struct Recovery<'p> {
     wcs: u16,
     /// The tilted working plane in force; the position and the moves are in its coordinates.
     setup: Option<Setup>,
+    /// The tool axis the canon last stated (5-axis moves), in the plane's coordinates.
+    tool_axis: P3,
     /// Length offset number in force.
     h: Option<u32>,
     /// Cutter compensation in force.
@@ -611,6 +613,7 @@ impl<'p> Recovery<'p> {
             stock_line: None,
             wcs: 1,
             setup: None,
+            tool_axis: [0.0, 0.0, 1.0],
             h: None,
             comp: None,
             optional: BTreeSet::new(),
@@ -766,6 +769,7 @@ impl<'p> Recovery<'p> {
             CanonOp::ArcFeed { .. } => self.arc_feed(c),
             CanonOp::ProgramEnd | CanonOp::Finish => self.close(),
             CanonOp::WorkPlane(f) => self.work_plane(f.as_deref()),
+            CanonOp::ToolAxis(v) => self.tool_axis = *v,
             _ => {}
         }
     }
@@ -1074,6 +1078,7 @@ impl<'p> Recovery<'p> {
         }
         let feed = self.feed_now();
         let Some(b) = self.current.as_mut() else { return };
+        b.moves.set_axis(self.tool_axis);
         for mut m in self.pending.drain(..) {
             m.phase = Phase::Connect;
             b.moves.push(m);

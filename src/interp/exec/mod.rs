@@ -116,9 +116,12 @@ impl Interpreter<'_> {
             Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
                 self.comp_on(def, range, sink, diags)
             }
-            Meaning::LengthCompPlus | Meaning::LengthCompMinus | Meaning::LengthCompDynamic | Meaning::LengthCompCancel => {
-                self.length_comp(def, sink)
+            Meaning::LengthCompPlus | Meaning::LengthCompMinus | Meaning::LengthCompDynamic => self.length_comp(def, sink),
+            Meaning::LengthCompCancel | Meaning::LengthCompTcp => {
+                self.length_comp(def, sink);
+                self.tcp(def.meaning == Meaning::LengthCompTcp, sink, diags);
             }
+            Meaning::TcpOn | Meaning::TcpOff => self.tcp(def.meaning == Meaning::TcpOn, sink, diags),
             Meaning::Wcs | Meaning::WcsExtended => self.work_offset(def, range, sink, diags),
             Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
                 self.modal_context(def, range, sink, diags)

@@ -199,6 +199,52 @@ impl Interpreter<'_> {
         self.set_frame(Some(frame), sink);
     }
 
+    /// Tool centre point control on or off. On, the rotary axes' positions give the tool axis
+    /// (see [`Interpreter::rotary_tool_axis`]); off, the tool axis is the plane's Z again.
+    pub(in crate::interp) fn tcp(&mut self, on: bool, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        if on == self.st.tcp {
+            return;
+        }
+        self.st.tcp = on;
+        if on {
+            self.rotary_tool_axis(sink, diags);
+        } else {
+            self.set_tool_axis([0.0, 0.0, 1.0], sink);
+        }
+    }
+
+    /// Under tool centre point control, the tool axis the block's rotary axes turn the tool
+    /// to: `Rz(C)·Ry(B)·Rx(A)` applied to Z, the rotary axes where the block takes them. The
+    /// machine's kinematics are not known: that assumption is said once, where it tilts.
+    pub(in crate::interp) fn rotary_tool_axis(&mut self, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let at = [Role::A, Role::B, Role::C].map(|r| {
+            let i = r as usize;
+            match self.slots[i] {
+                Some(_) if self.incremental(r) => self.st.pos[i] + self.slot(r).unwrap_or(0.0),
+                Some(slot) => slot.value,
+                None => self.st.pos[i],
+            }
+        });
+        let r = chain([2, 1, 0], [at[2], at[1], at[0]]);
+        let axis = [0, 1, 2].map(|i| if r[i][2].abs() < 1e-12 { 0.0 } else { r[i][2] });
+        if axis != [0.0, 0.0, 1.0] {
+            let msg = "under tool centre point control the tool axis is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (ISO 841 senses; A, then B, then C about the fixed axes); a machine whose kinematics differ tilts it otherwise".to_owned();
+            let mut d = Diagnostic::new(Code::TiltUnknown, self.origin, msg);
+            d.severity = crate::diag::Severity::Note;
+            self.limited(diags, "tcp-kinematics", d);
+        }
+        self.set_tool_axis(axis, sink);
+    }
+
+    /// Sends the tool axis marker where the axis changes.
+    fn set_tool_axis(&mut self, axis: [f64; 3], sink: &mut dyn CanonSink) {
+        if (0..3).all(|i| (axis[i] - self.tool_axis[i]).abs() < 1e-12) {
+            return;
+        }
+        self.tool_axis = axis;
+        self.emit(sink, CanonOp::ToolAxis(axis));
+    }
+
     /// G69 and the like: the tilted plane is cancelled with the rotation.
     pub(in crate::interp) fn untilt(&mut self, sink: &mut dyn CanonSink) {
         self.set_frame(None, sink);
