@@ -42,6 +42,9 @@ struct Item {
     moves: u8,
     /// Whether a plan change is located here.
     located: bool,
+    /// Whether a plan change is located at a call's arguments (a swivel cycle's): those
+    /// arguments need no statement change of their own.
+    call_located: bool,
 }
 
 /// A hunk too large to tell statement by statement.
@@ -80,6 +83,8 @@ pub(super) fn account(a: Program<'_>, b: Program<'_>, pairs: &[(Option<usize>, O
             }
             if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect)) {
                 it.located = true;
+                it.call_located |=
+                    it.diffs.iter().any(|d| d.1.as_ref().is_some_and(|t| t.sort == Sort::Call) && shows(c.kind, d, a.dialect));
                 at.push((lo, le));
             }
         }
@@ -262,7 +267,7 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
                 diffs
             };
             let moves = oi.map_or(0, |k| sa[k].moves) | ei.map_or(0, |k| sb[k].moves);
-            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false });
+            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false, call_located: false });
         }
     }
     (items, bulks)
@@ -345,6 +350,10 @@ fn about(tok: &Token, d: &Dialect) -> About {
 /// plan change by themselves.
 fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect) -> bool {
     let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
+    // A swivel cycle's arguments (`CYCLE800(…)`) state the work plane.
+    if kind == ChangeKind::WorkPlaneChanged && tok.sort == statement::Sort::Call {
+        return dialect.cycles.iter().any(|c| c.meaning == Meaning::TiltCycle && c.name.eq_ignore_ascii_case(&tok.key));
+    }
     if !tok.is_address() {
         return false;
     }
@@ -493,6 +502,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 c.after = y.as_ref().map(|t| t.value.clone()).unwrap_or_default();
                 out.push(c);
             }
+            (Sort::Call, _, _) if it.call_located => {}
             (Sort::Call, Some(x), Some(y)) if x.key == y.key => {
                 let (pa, pb) = (statement::arguments(&x.value), statement::arguments(&y.value));
                 for k in 0..pa.len().max(pb.len()) {

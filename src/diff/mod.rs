@@ -37,6 +37,7 @@
 //! sentence.
 
 mod account;
+mod setup;
 pub mod statement;
 
 use std::collections::BTreeSet;
@@ -126,6 +127,9 @@ pub enum ChangeKind {
     ReturnMoveChanged,
     /// A move of a rotary axis (`G0 A90.`) added, removed or changed.
     RotaryMoveChanged,
+    /// The tilted work plane the workingstep runs on changed (`PLANE SPATIAL`, `CYCLE800`,
+    /// `G68.2`): its angles, or its origin.
+    WorkPlaneChanged,
 }
 
 impl ChangeKind {
@@ -168,6 +172,7 @@ impl ChangeKind {
             ChangeKind::OutputChanged => "output_changed",
             ChangeKind::ReturnMoveChanged => "return_move_changed",
             ChangeKind::RotaryMoveChanged => "rotary_move_changed",
+            ChangeKind::WorkPlaneChanged => "work_plane_changed",
         }
     }
 }
@@ -270,6 +275,16 @@ impl Change {
             ChangeKind::StatementChanged | ChangeKind::OutputChanged => return self.statement_phrase(),
             ChangeKind::ReturnMoveChanged => return format!("return move: {}", self.statement_phrase()),
             ChangeKind::RotaryMoveChanged => return format!("rotary axis move: {}", self.statement_phrase()),
+            ChangeKind::WorkPlaneChanged => {
+                let mut s = match self.field.as_str() {
+                    "work_plane" => setup::phrase(&self.before, &self.after),
+                    _ => format!("work plane origin {} → {}", self.before, self.after),
+                };
+                if let Some(e) = &self.detail.effect {
+                    s.push_str(&format!("; {e}"));
+                }
+                s
+            }
             _ if self.before.is_empty() => format!("{field} {} added", self.after),
             _ if self.after.is_empty() => format!("{field} {} removed", self.before),
             _ => format!("{field} changed from {} to {}", self.before, self.after),
@@ -695,6 +710,7 @@ fn compare_workingsteps(
         });
     }
     fold_into_start_point(a, b, depth_change, u, first, out);
+    setup::compare(pa, a, b, u, first, out);
 }
 
 /// The start point, unless it only sinks with the depth or only rises over a hole (the

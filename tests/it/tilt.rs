@@ -168,3 +168,132 @@ fn cc1_keeps_the_tool_axis() {
     }
     assert!(checked >= 4, "{checked} 5-axis programs");
 }
+
+/// The changes from a suite program to its edit (`from` replaced by `to`, once), every
+/// differing statement accounted for, as rows and sentences.
+fn edit(name: &str, from: &str, to: &str, want: expect_test::Expect) {
+    use ncplan::diff;
+    let (_, a, side) = parts().into_iter().find(|p| p.0 == name).unwrap_or_else(|| panic!("{name} in the suite"));
+    assert_eq!(a.matches(from).count(), 1, "{from:?} occurs once in {name}");
+    let b = a.replace(from, to);
+    let registry = Registry::shipped();
+    let d = registry.get(side["dialect"].as_str().unwrap()).unwrap();
+    let profile = Profile::default();
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let (x, y) = (
+        diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+    );
+    let got = diff::compare(x, y);
+    assert!(diff::unaccounted(x, y, &got).is_empty(), "{name}: a differing statement no change names");
+    let opt = |l: Option<u32>| l.map_or("-".to_owned(), |l| l.to_string());
+    let rows: String = got
+        .iter()
+        .map(|c| {
+            format!(
+                "{} | {} | {} | {} | {} | {}\n  {}\n",
+                c.kind.as_str(),
+                c.field,
+                c.before,
+                c.after,
+                opt(c.line),
+                opt(c.original_line),
+                c.phrase()
+            )
+        })
+        .collect();
+    want.assert_eq(&rows);
+}
+
+#[test]
+fn plane_spatial_angle() {
+    edit(
+        "f360_tnc_chamfer_a30",
+        "SPA+30 SPB+0",
+        "SPA+25 SPB+0",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 30° about A | tilted 25° about A | 23 | 23
+              work plane tilted 30° → 25° about A; 3 holes moved at line 23
+        "#]],
+    );
+}
+
+#[test]
+fn cycle800_angle() {
+    edit(
+        "nx_840d_cycle800_a30",
+        "57,0,0,0,30,0,0",
+        "57,0,0,0,25,0,0",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 30° about A | tilted 25° about A | 20 | 20
+              work plane tilted 30° → 25° about A; 3 holes moved at line 20
+        "#]],
+    );
+}
+
+#[test]
+fn g68_2_euler_angle() {
+    edit(
+        "f360_fanuc_g682_chamfer",
+        "I0. J-45. K0.",
+        "I0. J-40. K0.",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted -45° about A | tilted -40° about A | 14 | 14
+          work plane tilted -45° → -40° about A; 3 holes moved at line 14
+    "#]],
+    );
+}
+
+#[test]
+fn g68_2_origin() {
+    edit(
+        "f360_fanuc_g682_sides",
+        "G68.2 X100. Y0.",
+        "G68.2 X102. Y0.",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane_origin | X100 Y0 Z0 | X102 Y0 Z0 | 14 | 14
+          work plane origin X100 Y0 Z0 → X102 Y0 Z0; 2 holes moved at line 14
+    "#]],
+    );
+}
+
+#[test]
+fn a_milled_slot_on_a_plane_turned_off_the_stock_faces_changes_only_the_plane() {
+    edit(
+        "hm_tnc_right_face_b90",
+        "SPB+90",
+        "SPB+85",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted 90° about B | tilted 85° about B (also in workingstep 2) | 8 | 8
+          work plane tilted 90° → 85° about B (also in workingstep 2); the slot moved at line 8
+    "#]],
+    );
+}
+
+#[test]
+fn how_the_axes_reach_the_plane_is_no_plan_change() {
+    edit(
+        "f360_tnc_chamfer_a30",
+        "TURN MB MAX FMAX SEQ+ TABLE ROT",
+        "STAY",
+        expect_test::expect![[r#"
+        statement_changed | statement | TURN MB MAX FMAX SEQ+TABLE ROT | STAY | 23 | 23
+          `STAY` instead of `TURN MB MAX FMAX SEQ+TABLE ROT` at line 23
+    "#]],
+    );
+}
+
+#[test]
+fn a_hole_moved_on_the_tilted_plane_is_told_in_its_coordinates() {
+    edit(
+        "f360_tnc_chamfer_a30",
+        "18 L X+50 Y+10",
+        "18 L X+55 Y+10",
+        expect_test::expect![[r#"
+        hole_removed | hole | X50 Y10 |  | 35 | 35
+          hole at X50 Y10 removed at line 35
+        hole_added | hole |  | X55 Y10 | 35 | 35
+          hole added at X55 Y10 at line 35
+    "#]],
+    );
+}
