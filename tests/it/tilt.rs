@@ -297,3 +297,28 @@ fn a_hole_moved_on_the_tilted_plane_is_told_in_its_coordinates() {
     "#]],
     );
 }
+
+#[test]
+fn stepnc_keeps_setups_and_placements() {
+    for (name, text, side) in parts() {
+        let plan = plan_of(&text, &side);
+        for cc in [stepnc::Class::Cc1, stepnc::Class::Cc2] {
+            let (p21, _) = stepnc::to_string(&plan, cc, "2026-01-01T00:00:00");
+            let back = stepnc::read(&ncplan::part21::parse(&p21).unwrap()).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let want = if cc == stepnc::Class::Cc2 { plan.clone() } else { stepnc::toolpaths_only(&plan) };
+            assert_eq!(back, want, "{name} {cc:?}: read back");
+        }
+    }
+    // A feature on a tilted face is placed with its axis and reference direction.
+    let (_, text, side) = parts().into_iter().find(|p| p.0 == "f360_tnc_chamfer_a30").unwrap();
+    let (p21, _) = stepnc::to_string(&plan_of(&text, &side), stepnc::Class::Cc2, "2026-01-01T00:00:00");
+    let lines: Vec<&str> = p21.lines().collect();
+    let placed = lines.windows(3).any(|w| {
+        let id = |l: &str| l.split('=').next().unwrap_or("").to_owned();
+        w[0].ends_with("=DIRECTION('',(0.,-0.5,0.866025404));")
+            && w[1].ends_with("=DIRECTION('',(1.,0.,0.));")
+            && w[2].ends_with(&format!(",{},{});", id(w[0]), id(w[1])))
+            && w[2].contains("AXIS2_PLACEMENT_3D")
+    });
+    assert!(placed, "the chamfer's holes are placed with axis and reference direction:\n{p21}");
+}
