@@ -103,6 +103,7 @@ fn matches(f: &Feature, want: &Value) -> bool {
 }
 
 #[test]
+#[allow(clippy::print_stdout)] // the score is the test's report (`--nocapture` shows it)
 fn every_feature_lies_on_its_face_with_its_axis() {
     let parts = parts();
     assert!(parts.len() >= 10, "the suite has {} programs", parts.len());
