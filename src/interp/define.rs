@@ -72,6 +72,7 @@ impl Interpreter<'_> {
         }
         match cycle.meaning {
             Meaning::LocalOffset => self.datum_shift(sink),
+            Meaning::TiltSpatial => self.tilt_by_axis_words(sink),
             // `CYCL DEF 9.1 DWELL 1.5`: the sub-block's value, seconds.
             Meaning::Dwell => {
                 if let Some(seconds) = self.slot(Role::CycleValue) {

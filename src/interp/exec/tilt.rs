@@ -17,7 +17,11 @@
 //!   shifted to `_X1 _Y1 _Z1` on the tilted plane. Its other modes (solid and projection
 //!   angles, rotary axes direct) need the machine: said, and the plane stays as it was.
 //!
-//! Door: [`Interpreter::tilt_code`], [`Interpreter::tilt_cycle`], [`Interpreter::untilt`].
+//! Tool centre point control (`M128`, `TRAORI`, `G43.4`) is here too: under it, the rotary
+//! axes' positions turn the tool axis, sent as `ToolAxis` markers.
+//!
+//! Doors: [`Interpreter::tilt_code`], [`Interpreter::tilt_cycle`], [`Interpreter::tilt_by_axis_words`]
+//! (legacy cycle 19), [`Interpreter::untilt`], [`Interpreter::tcp`], [`Interpreter::rotary_tool_axis`].
 
 use crate::canon::{CanonOp, CanonSink, Frame};
 use crate::diag::{Code, Diagnostic};
@@ -163,6 +167,18 @@ impl Interpreter<'_> {
             _ => return,
         };
         self.set_frame(frame, sink);
+    }
+
+    /// A legacy tilting cycle's block with angles (`CYCL DEF 19.1 A+0 B+45 C+0`): spatial
+    /// angles about X, Y and Z from its A, B and C words; all zero untilts. A block without
+    /// them (`CYCL DEF 19.0 WORKING PLANE`) changes nothing.
+    pub(in crate::interp) fn tilt_by_axis_words(&mut self, sink: &mut dyn CanonSink) {
+        let given = [Role::A, Role::B, Role::C].map(|r| self.slot(r));
+        if given.iter().all(Option::is_none) {
+            return;
+        }
+        let [a, b, c] = given.map(|v| v.unwrap_or(0.0));
+        self.set_frame(Some(Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [c, b, a]) }), sink);
     }
 
     /// A swivel cycle (`CYCLE800(_FR, _TC, _ST, _MODE, _X0, …)`) with its arguments; without
