@@ -15,6 +15,10 @@
 //! `ToolAxis` is a marker with the tool axis vector, emitted before a move whose block
 //! changes it (CLDATA `GOTO/x,y,z,i,j,k`; `Interpreter::tool_axis`), so 5-axis data is kept
 //! without growing `Move`s; rs274 comparisons drop it like the other markers.
+//! `WorkPlane` is a marker with the tilted working plane in force (`PLANE SPATIAL`,
+//! `CYCLE800`, `G68.2`): a [`Frame`] that maps the program coordinates of the moves that follow
+//! (still in the tilted plane, as the control reads them) to the untilted ones, emitted when
+//! it changes; `None` when the plane is untilted again.
 //! `CycleIntent::surface` is the workpiece surface a defined cycle states (`RFP`, `Q203`),
 //! which becomes the hole's top; `FeedOverride`/`SpeedOverride` are the canonical override
 //! switches (LinuxCNC M48–M51), which the plan keeps as `MachineState::feed_override_off`.
@@ -235,6 +239,59 @@ impl MachineMove {
     }
 }
 
+/// A tilted working plane: where its origin lies and how its axes stand, in the untilted
+/// program coordinates. A point `p` of the tilted plane is `origin + rotation · p` there;
+/// `rotation`'s columns are the tilted X, Y and Z (the tool axis) axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// The tilted plane's origin, in the untilted coordinates (program units).
+    pub origin: [f64; 3],
+    /// Rows of the rotation matrix.
+    pub rotation: [[f64; 3]; 3],
+}
+
+impl Frame {
+    /// The untilted frame.
+    pub const IDENTITY: Frame = Frame { origin: [0.0; 3], rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] };
+
+    /// Point `p` of the tilted plane in the untilted coordinates.
+    pub fn to_base(&self, p: [f64; 3]) -> [f64; 3] {
+        let r = &self.rotation;
+        std::array::from_fn(|i| self.origin[i] + r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2])
+    }
+
+    /// Direction `v` of the tilted plane in the untilted coordinates.
+    pub fn dir_to_base(&self, v: [f64; 3]) -> [f64; 3] {
+        let r = &self.rotation;
+        std::array::from_fn(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2])
+    }
+
+    /// Untilted point `q` in the tilted plane's coordinates.
+    pub fn from_base(&self, q: [f64; 3]) -> [f64; 3] {
+        let r = &self.rotation;
+        let d = [q[0] - self.origin[0], q[1] - self.origin[1], q[2] - self.origin[2]];
+        std::array::from_fn(|j| r[0][j] * d[0] + r[1][j] * d[1] + r[2][j] * d[2])
+    }
+
+    /// The frame of `inner` (stated in this frame's coordinates) in the untilted ones.
+    pub fn then(&self, inner: &Frame) -> Frame {
+        let (a, b) = (&self.rotation, &inner.rotation);
+        let rotation = std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()));
+        Frame { origin: self.to_base(inner.origin), rotation }
+    }
+
+    /// The tool axis (the tilted Z) in the untilted coordinates.
+    pub fn axis(&self) -> [f64; 3] {
+        self.dir_to_base([0.0, 0.0, 1.0])
+    }
+
+    /// Whether the frame is the untilted one, to within `1e-9`.
+    pub fn is_identity(&self) -> bool {
+        let id = Frame::IDENTITY;
+        (0..3).all(|i| self.origin[i].abs() < 1e-9 && (0..3).all(|j| (self.rotation[i][j] - id.rotation[i][j]).abs() < 1e-9))
+    }
+}
+
 /// Work offset indexes above this one are the additional work offsets: `EXTENDED_WCS + n` is
 /// `G54.1 Pn` (Fanuc), `G154 Pn` (Haas), `G15 Hn` (Okuma).
 pub const EXTENDED_WCS: u16 = 100;
@@ -371,6 +428,9 @@ pub enum CanonOp {
     /// Marker: the move(s) that follow go to a position in the machine's frame (a reference
     /// return, a machine-coordinate move), not the work offset's.
     MachineMove(Box<MachineMove>),
+    /// Marker: the tilted working plane in force from here (see [`Frame`]), `None` when
+    /// untilted again. The moves that follow stay in the tilted plane's coordinates.
+    WorkPlane(Option<Box<Frame>>),
     /// `NURBS_FEED(n, ...)`: a feed along a spline of `points` control points (the start
     /// among them) that ends at `end` (G5.1, G5.2 … G5.3); rs274 prints only the count.
     NurbsFeed {
@@ -494,6 +554,27 @@ fn f4_fast(v: f64, buf: &mut [u8; 32]) -> Option<usize> {
     Some(len)
 }
 
+/// The tilted plane marker: origin, then the tilted X and Z axes.
+fn work_plane(out: &mut Vec<u8>, f: &Frame) {
+    let [x, y, z] = f.origin;
+    let r = &f.rotation;
+    put(
+        out,
+        format_args!(
+            "COMMENT(\"ncplan: work plane origin {} {} {} x {:.6} {:.6} {:.6} z {:.6} {:.6} {:.6}\")",
+            F4(x),
+            F4(y),
+            F4(z),
+            r[0][0],
+            r[1][0],
+            r[2][0],
+            r[0][2],
+            r[1][2],
+            r[2][2]
+        ),
+    );
+}
+
 /// Formats `v` with four decimals, as LinuxCNC's `rs274` prints.
 struct F4(f64);
 
@@ -603,6 +684,8 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::CycleBegin(c) => cycle_begin(out, c),
         CanonOp::CycleEnd => out.extend_from_slice(b"COMMENT(\"ncplan: cycle end\")"),
         CanonOp::ToolAxis([i, j, k]) => put(out, format_args!("COMMENT(\"ncplan: tool axis {i:.6} {j:.6} {k:.6}\")")),
+        CanonOp::WorkPlane(None) => out.extend_from_slice(b"COMMENT(\"ncplan: work plane untilted\")"),
+        CanonOp::WorkPlane(Some(f)) => work_plane(out, f),
         CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
         CanonOp::Setting(s) => setting(out, s),
         CanonOp::MachineMove(m) => put(out, format_args!("COMMENT(\"ncplan: {}\")", m.describe())),

@@ -139,6 +139,10 @@ codes! {
     UnusedWord = ("syntax::unused-word", Warning),
     /// A construct the dialect defines but this version of the interpreter does not execute.
     Unsupported = ("interp::unsupported", Warning),
+    /// A tilted working plane or tool axis the program states but the analysis cannot work
+    /// out without the machine's kinematics (rotary axis positions, a swivel mode it lacks):
+    /// the moves that follow keep the plane in force before it.
+    TiltUnknown = ("interp::tilt-unknown", Warning),
     /// An arc whose start and end radius differ beyond tolerance, or that cannot be built.
     BadArc = ("interp::bad-arc", Error),
     /// A word's value lies outside what its command accepts (`M19 P3`, `M19 Q-1`).

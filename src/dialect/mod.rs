@@ -668,6 +668,10 @@ pub struct CodeDef {
     /// Whether a G or M code is followed by its display name in the control's language
     /// (Heidenhain ISO's `G200 DRILLING`, `rest="words"`), which is read past.
     pub named: bool,
+    /// For a keyword that keeps the rest of its line unread (`rest="line"`): the words that
+    /// rest holds and the role of each (`SPA:tilt-a`: `PLANE SPATIAL SPA+30` gives 30 to
+    /// `tilt-a`), read by the command itself ([`CodeDef::line_word`]).
+    pub line_words: Vec<(String, Role)>,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.
@@ -715,6 +719,11 @@ impl DataForm {
 }
 
 impl CodeDef {
+    /// The role of word `name` in the rest of this code's line (`line-words`).
+    pub fn line_word(&self, name: &str) -> Option<Role> {
+        self.line_words.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)).map(|&(_, r)| r)
+    }
+
     /// `G81`, `G54.1`, `M30`, or the keyword (`TOOL CALL`).
     pub fn label(&self) -> String {
         if let Some(k) = &self.keyword {

@@ -369,6 +369,34 @@ vocab! {
         ProgramBegin = "program-begin",
         /// A cycle kept as intent whose moves are not expanded (pockets, swivelling).
         CycleIntent = "cycle-intent",
+        /// Tilts the working plane by spatial angles: about the fixed X, then Y, then Z axes
+        /// (Heidenhain `PLANE SPATIAL SPA SPB SPC`, cycle 19's A B C); the words of the
+        /// `tilt-a`, `tilt-b`, `tilt-c` roles.
+        TiltSpatial = "tilt-spatial",
+        /// Tilts the working plane by Euler angles: about Z, then the new X, then the new Z
+        /// (Heidenhain `PLANE EULER EULPR EULNU EULROT`, Fanuc `G68.2 I J K` with the origin
+        /// `X Y Z`).
+        TiltEuler = "tilt-euler",
+        /// Tilts the working plane to a base vector (the new X: `tilt-base-x` …) and a normal
+        /// vector (the new Z, the tool axis: `tool-axis-i` …) (Heidenhain `PLANE VECTOR`).
+        TiltVector = "tilt-vector",
+        /// Tilts the active working plane further about one of its own axes (Heidenhain
+        /// `PLANE RELATIV SPA`): the angle's role says which axis.
+        TiltRelative = "tilt-relative",
+        /// Cancels the tilted working plane (Heidenhain `PLANE RESET`).
+        TiltReset = "tilt-reset",
+        /// A swivel cycle (Siemens `CYCLE800`): mode, reference point, angles in the mode's
+        /// axis order, zero point after swivelling; without arguments it cancels.
+        TiltCycle = "tilt-cycle",
+        /// Tool centre point control on (Heidenhain `M128`, `FUNCTION TCPM`, Siemens `TRAORI`):
+        /// X Y Z are the tool tip's on the part, and the rotary axes (A, B, C) turn the tool
+        /// axis, kept in the canon as `ToolAxis`.
+        TcpOn = "tcp-on",
+        /// Tool centre point control off (`M129`, `FUNCTION RESET TCPM`, `TRAFOOF`).
+        TcpOff = "tcp-off",
+        /// A tool length offset with tool centre point control (Fanuc `G43.4 H1`): the length
+        /// offset as `length-comp-plus`, and tool centre point control on until it is cancelled.
+        LengthCompTcp = "length-comp-tcp",
         /// A row of positions (Siemens `HOLES1`): from a reference point along an angle, the
         /// first at a distance, then evenly spaced. The modal cycle runs at each.
         PatternRow = "pattern-row",
@@ -555,6 +583,34 @@ vocab! {
         ToolAxisJ = "tool-axis-j",
         /// The tool axis vector's Z component.
         ToolAxisK = "tool-axis-k",
+        /// A tilted plane's first angle (spatial: about X; Euler: precession about Z; a swivel
+        /// cycle's first rotation).
+        TiltA = "tilt-a",
+        /// A tilted plane's second angle (spatial: about Y; Euler: nutation about the new X).
+        TiltB = "tilt-b",
+        /// A tilted plane's third angle (spatial: about Z; Euler: about the new Z).
+        TiltC = "tilt-c",
+        /// A swivel cycle's mode: bits 7-6 how the angles are read (00 axis by axis), bits 1-0,
+        /// 3-2, 5-4 the axis of the first, second and third rotation (01 X, 10 Y, 11 Z).
+        TiltMode = "tilt-mode",
+        /// The point a tilted plane turns about, X (Fanuc `G68.2 X`, Siemens `_X0`).
+        TiltOriginX = "tilt-origin-x",
+        /// The point a tilted plane turns about, Y.
+        TiltOriginY = "tilt-origin-y",
+        /// The point a tilted plane turns about, Z.
+        TiltOriginZ = "tilt-origin-z",
+        /// The zero point on the tilted plane, along its own X (Siemens `_X1`).
+        TiltShiftX = "tilt-shift-x",
+        /// The zero point on the tilted plane, along its own Y.
+        TiltShiftY = "tilt-shift-y",
+        /// The zero point on the tilted plane, along its own Z.
+        TiltShiftZ = "tilt-shift-z",
+        /// A tilted plane's base vector (its X axis), X component (Heidenhain `PLANE VECTOR BX`).
+        TiltBaseX = "tilt-base-x",
+        /// The base vector's Y component.
+        TiltBaseY = "tilt-base-y",
+        /// The base vector's Z component.
+        TiltBaseZ = "tilt-base-z",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

@@ -45,6 +45,9 @@ struct Item {
     located: bool,
     /// The codes of its statements that give their words a sense (a dwell's time, a cycle's parameters).
     ctx: Context,
+    /// Whether a plan change is located at a call's arguments (a swivel cycle's): those
+    /// arguments need no statement change of their own.
+    call_located: bool,
 }
 
 /// A hunk too large to tell statement by statement.
@@ -105,6 +108,8 @@ fn locate(
             }
             if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect, it.ctx)) {
                 it.located = true;
+                it.call_located |=
+                    it.diffs.iter().any(|d| d.1.as_ref().is_some_and(|t| t.sort == Sort::Call) && shows(c.kind, d, a.dialect, it.ctx));
                 at.push((lo, le));
             }
         }
@@ -292,7 +297,7 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             let moves = oi.map_or(0, |k| sa[k].moves) | ei.map_or(0, |k| sb[k].moves);
             let ctx_of = |t: &[Vec<Token>], i: Option<usize>, d: &Dialect| i.map_or_else(Context::default, |i| Context::of(&t[i], d));
             let ctx = ctx_of(&ta, x, a.dialect).or(ctx_of(&tb, y, b.dialect));
-            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false, ctx });
+            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false, call_located: false, ctx });
         }
     }
     (items, bulks)
@@ -352,6 +357,10 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
 /// plan change by themselves.
 fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect, ctx: Context) -> bool {
     let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
+    // A swivel cycle's arguments (`CYCLE800(…)`) state the work plane.
+    if kind == ChangeKind::WorkPlaneChanged && tok.sort == statement::Sort::Call {
+        return dialect.cycles.iter().any(|c| c.meaning == Meaning::TiltCycle && c.name.eq_ignore_ascii_case(&tok.key));
+    }
     if !tok.is_address() {
         return false;
     }
@@ -634,6 +643,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 c.after = y.as_ref().map(|t| t.value.clone()).unwrap_or_default();
                 out.push(c);
             }
+            (Sort::Call, _, _) if it.call_located => {}
             (Sort::Call, Some(x), Some(y)) if x.key == y.key => call_changes(x, y, kind, &ws, d, &mut out),
             _ if it.located && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
             _ => {

@@ -43,6 +43,7 @@
 
 mod account;
 mod follow;
+mod setup;
 pub mod statement;
 mod typed;
 pub mod verdict;
@@ -142,6 +143,9 @@ pub enum ChangeKind {
     ProgramBroken,
     /// The original's error the control stops at is gone from the edited program.
     ProgramFixed,
+    /// The tilted work plane the workingstep runs on changed (`PLANE SPATIAL`, `CYCLE800`,
+    /// `G68.2`): its angles, or its origin.
+    WorkPlaneChanged,
 }
 
 impl ChangeKind {
@@ -188,6 +192,7 @@ impl ChangeKind {
             ChangeKind::UnitsChanged => "units_changed",
             ChangeKind::ProgramBroken => "program_broken",
             ChangeKind::ProgramFixed => "program_fixed",
+            ChangeKind::WorkPlaneChanged => "work_plane_changed",
         }
     }
 }
@@ -302,6 +307,16 @@ impl Change {
             ChangeKind::StatementChanged | ChangeKind::OutputChanged => return self.statement_phrase(),
             ChangeKind::ReturnMoveChanged => return format!("return move: {}", self.statement_phrase()),
             ChangeKind::RotaryMoveChanged => return format!("rotary axis move: {}", self.statement_phrase()),
+            ChangeKind::WorkPlaneChanged => {
+                let mut s = match self.field.as_str() {
+                    "work_plane" => setup::phrase(&self.before, &self.after),
+                    _ => format!("work plane origin {} → {}", self.before, self.after),
+                };
+                if let Some(e) = &self.detail.effect {
+                    s.push_str(&format!("; {e}"));
+                }
+                s
+            }
             _ if self.before.is_empty() => format!("{field} {} added", self.after),
             _ if self.after.is_empty() => format!("{field} {} removed", self.before),
             _ => format!("{field} changed from {} to {}", self.before, self.after),
@@ -742,6 +757,7 @@ fn compare_workingsteps(
         });
     }
     fold_into_start_point(a, b, depth_change, u, first, out);
+    setup::compare(pa, a, b, u, first, out);
 }
 
 /// The start point, unless it only sinks with the depth or only rises over a hole (the

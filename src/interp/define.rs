@@ -72,6 +72,7 @@ impl Interpreter<'_> {
         }
         match cycle.meaning {
             Meaning::LocalOffset => self.datum_shift(sink),
+            Meaning::TiltSpatial => self.tilt_by_axis_words(sink),
             // `CYCL DEF 9.1 DWELL 1.5`: the sub-block's value, seconds.
             Meaning::Dwell => {
                 if let Some(seconds) = self.slot(Role::CycleValue) {
@@ -129,6 +130,16 @@ impl Interpreter<'_> {
             // A hole pattern leaves the modal cycle defined, and runs it at its positions.
             let args = std::mem::take(&mut self.cycle_args);
             self.run_pattern(ci, &args, block_range, sink, diags);
+            return;
+        }
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TcpOn).is_some() {
+            self.cycle_args.clear();
+            self.tcp(true, sink, diags);
+            return;
+        }
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TiltCycle).is_some() {
+            let args = std::mem::take(&mut self.cycle_args);
+            self.tilt_cycle(&args, block_range, sink, diags);
             return;
         }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::Stock).is_some() {

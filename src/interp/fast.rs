@@ -61,6 +61,7 @@ impl Interpreter<'_> {
             || self.st.modal_macro.is_some()
             || self.stop_message.is_some()
             || self.st.diameter
+            || self.st.tcp
             || self.st.nurbs.is_some())
     }
 

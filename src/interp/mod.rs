@@ -488,6 +488,10 @@ struct State {
     tech_warned: bool,
     /// Programmable rotation (G68) in the XY plane: centre and angle's cosine and sine.
     rotation: Option<(f64, f64, f64, f64)>,
+    /// The tilted working plane in force (`PLANE SPATIAL`, `CYCLE800`, `G68.2`).
+    frame: Option<crate::canon::Frame>,
+    /// Tool centre point control (`M128`, `TRAORI`, `G43.4`): the rotary axes turn the tool axis.
+    tcp: bool,
     /// Programmable scaling (G51): centre and factor per linear axis.
     scaling: Option<([f64; 3], [f64; 3])>,
     /// Whether the block's motion mode was already active before it.
@@ -585,6 +589,8 @@ impl State {
             feed_per_rev: dialect.behaviour.initial_feed_per_rev,
             motion_continued: false,
             rotation: None,
+            frame: None,
+            tcp: false,
             scaling: None,
             pole: (0.0, 0.0),
             arc_cw: true,
@@ -1268,6 +1274,8 @@ impl<'a> Interpreter<'a> {
         }
         if self.filled & (1 << Role::ToolAxisI as u32 | 1 << Role::ToolAxisJ as u32 | 1 << Role::ToolAxisK as u32) != 0 {
             self.tool_axis(sink);
+        } else if self.st.tcp && self.filled & (1 << Role::A as u32 | 1 << Role::B as u32 | 1 << Role::C as u32) != 0 {
+            self.rotary_tool_axis(sink, diags);
         }
         if self.macro_codes(block, diags) {
             return;

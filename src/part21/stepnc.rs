@@ -114,9 +114,14 @@ pub fn write<W: std::io::Write>(plan: &ProcessPlan, class: Class, timestamp: &st
             elements.push(w.b.add("LOAD_TOOL", vec![Value::str(format!("load T{}", ws.tool)), tool]));
             loaded = Some(ws.tool);
         }
-        let sec = w.plane("security plane", [0.0, 0.0, ws.security_plane]);
+        let sec = w.security_plane(ws);
         let feature = ws.feature.and_then(|f| features.get(&f).cloned()).unwrap_or(Value::Null);
         let mut id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
+        if let Some(s) = &ws.setup {
+            // The plane's origin and the security plane's height over it, which the placement in
+            // the part's frame says only to rounding.
+            id.push_str(&format!(" plane_origin={},{},{} plane_z={}", s.origin[0], s.origin[1], s.origin[2], ws.security_plane));
+        }
         for word in ws.state.encode() {
             id.push(' ');
             id.push_str(&word);
@@ -206,6 +211,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             holes: _,
             toolpath: _,
             state,
+            setup,
             source,
             lines,
         } = full;
@@ -224,6 +230,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
         ws.bbox = *bbox;
         ws.cutting_length = *cutting_length;
         ws.state = state.clone();
+        ws.setup = *setup;
         ws.strategy = Some(explicit());
         ws.feature = Some(ws.index);
         p.features.push(Feature {
@@ -237,6 +244,8 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             lines: ws.lines,
             sources: Sources::default(),
             centre_path: None,
+            axis: None,
+            ref_direction: None,
         });
         p.workingsteps.push(ws);
     }
@@ -273,9 +282,23 @@ impl<W: std::io::Write> Writer<W> {
     }
 
     fn placement(&mut self, at: P3, axis: Option<P3>) -> Value {
+        self.placement_ref(at, axis, None)
+    }
+
+    /// A placement with its axis and reference direction (a feature on a tilted plane).
+    fn placement_ref(&mut self, at: P3, axis: Option<P3>, ref_direction: Option<P3>) -> Value {
         let loc = self.point("", at);
         let axis = axis.map_or(Value::Null, |a| self.direction(a));
-        self.b.add("AXIS2_PLACEMENT_3D", vec![Value::str(""), loc, axis, Value::Null])
+        let refd = ref_direction.map_or(Value::Null, |a| self.direction(a));
+        self.b.add("AXIS2_PLACEMENT_3D", vec![Value::str(""), loc, axis, refd])
+    }
+
+    /// A workingstep's security plane: on a tilted plane, perpendicular to its tool axis,
+    /// placed in the part's frame with the plane's axes.
+    fn security_plane(&mut self, ws: &Workingstep) -> Value {
+        let Some(s) = &ws.setup else { return self.plane("security plane", [0.0, 0.0, ws.security_plane]) };
+        let pos = self.placement_ref(s.to_part([0.0, 0.0, ws.security_plane]), Some(s.axis), Some(s.ref_direction));
+        self.b.add("PLANE", vec![Value::str("security plane"), pos])
     }
 
     fn plane(&mut self, name: &str, at: P3) -> Value {
@@ -479,9 +502,10 @@ impl<W: std::io::Write> Writer<W> {
             } else {
                 (Value::Null, self.technology(&ws.technology, first.feed))
             };
+            let axes = if moves.tilts() { self.tool_axes(moves, i, j) } else { Value::Null };
             trajectories.push(self.b.add(
                 "CUTTER_LOCATION_TRAJECTORY",
-                vec![Value::bool(true), Value::Enum(ty.into()), speed, tech, Value::Null, Value::Null, curve, Value::Null, Value::Null],
+                vec![Value::bool(true), Value::Enum(ty.into()), speed, tech, Value::Null, Value::Null, curve, axes, Value::Null],
             ));
             i = j;
         }
@@ -489,6 +513,18 @@ impl<W: std::io::Write> Writer<W> {
             return Value::Null;
         }
         self.b.add("TOOLPATH_LIST", vec![Value::List(trajectories)])
+    }
+
+    /// The tool axes of moves `i..j` as `its_toolaxis`: a polyline over the same points as
+    /// the path, each the tool axis there (unit vectors): at the start, then at each end.
+    fn tool_axes(&mut self, moves: &Toolpath, i: usize, j: usize) -> Value {
+        let first_id = self.b.next_id();
+        self.point("", moves.axis_at(i.saturating_sub(1)));
+        for k in i..j {
+            self.point("", moves.axis_at(k));
+        }
+        let last_id = self.b.next_id() - 1;
+        self.b.add_with_refs("POLYLINE", &[Value::str("")], first_id..=last_id, &[])
     }
 
     fn strategy(&mut self, s: &Strategy) -> Value {
@@ -669,8 +705,9 @@ impl<W: std::io::Write> Writer<W> {
         if let Some((w, l)) = f.centre_path {
             id.push_str(&format!(" centre_path={w}x{l}"));
         }
+        let (axis, refd) = (f.axis.unwrap_or([0.0, 0.0, 1.0]), f.ref_direction);
         let common = |w: &mut Writer<W>, placement: P3, depth: f64, ops: Vec<Value>| {
-            let place = w.placement(placement, Some([0.0, 0.0, 1.0]));
+            let place = w.placement_ref(placement, Some(axis), refd);
             let depth = w.plane("depth", [0.0, 0.0, -depth]);
             vec![Value::str(id.clone()), workpiece.clone(), Value::List(ops), place, depth]
         };
@@ -696,7 +733,7 @@ impl<W: std::io::Write> Writer<W> {
                 if positions.len() < 2 {
                     return hole;
                 }
-                let place = self.placement(f.placement, Some([0.0, 0.0, 1.0]));
+                let place = self.placement_ref(f.placement, Some(axis), refd);
                 let locations: Vec<Value> = positions.iter().map(|p| self.placement([p[0], p[1], 0.0], None)).collect();
                 // The pattern carries the feature's words (`top=inferred`, where its sizes came from).
                 let head = format!("F{}", f.id);
@@ -865,6 +902,15 @@ impl Reader<'_> {
         Ok(self.point(self.attr(a, 1)?)?.0)
     }
 
+    /// A placement's axis and reference direction, where it states a reference direction.
+    fn placement_axes(&self, v: &Value) -> Result<Option<(P3, P3)>, String> {
+        let a = self.inst(v)?;
+        match (self.attr(a, 2)?, self.attr(a, 3)?) {
+            (axis @ Value::Ref(_), refd @ Value::Ref(_)) => Ok(Some((self.direction(axis)?, self.direction(refd)?))),
+            _ => Ok(None),
+        }
+    }
+
     fn plane_z(&self, v: &Value) -> Result<f64, String> {
         let p = self.inst(v)?;
         Ok(self.placement(self.attr(p, 1)?)?[2])
@@ -980,7 +1026,21 @@ impl Reader<'_> {
         };
         let lines = pair(w.get("lines"));
         let bytes = pair(w.get("bytes"));
-        let security_plane = self.plane_z(self.attr(inst, 1)?)?;
+        let mut security_plane = self.plane_z(self.attr(inst, 1)?)?;
+        let sec_place = self.attr(self.inst(self.attr(inst, 1)?)?, 1)?;
+        let origin = w.get("plane_origin").and_then(|o| {
+            let v: Vec<f64> = o.split(',').filter_map(|x| x.parse().ok()).collect();
+            (v.len() == 3).then(|| [v[0], v[1], v[2]])
+        });
+        let setup = match (self.placement_axes(sec_place)?, origin) {
+            (Some((axis, ref_direction)), Some(origin)) => {
+                let at = self.placement(sec_place)?;
+                let along = (0..3).map(|i| (at[i] - origin[i]) * axis[i]).sum::<f64>() / (0..3).map(|i| axis[i] * axis[i]).sum::<f64>();
+                security_plane = w.get("plane_z").and_then(|z| z.parse().ok()).unwrap_or_else(|| snap(along));
+                Some(crate::plan::Setup { origin, axis, ref_direction })
+            }
+            _ => None,
+        };
         let op = self.inst(self.attr(inst, 3)?)?;
         let tool = self.tool(self.attr(op, 5)?)?;
         let tool_number = tool.number;
@@ -1010,7 +1070,7 @@ impl Reader<'_> {
             (true, true) => Coolant::Both,
         };
         let toolpath = match self.attr(op, 0)? {
-            Value::Null => Vec::new(),
+            Value::Null => Toolpath::new(),
             v => self.toolpath(v)?,
         };
         let operation = match op.name.as_str() {
@@ -1033,8 +1093,9 @@ impl Reader<'_> {
         let surface_speed = op_words.get("surface_speed").and_then(|s| s.parse().ok());
         let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
-        let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath.into(), source, lines);
+        let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
         ws.state = MachineState::decode(&w);
+        ws.setup = setup;
         let mut dwell = None;
         match operation {
             Operation::FreeformMilling => ws.strategy = Some(explicit()),
@@ -1150,9 +1211,10 @@ impl Reader<'_> {
         Ok(Some(out))
     }
 
-    fn toolpath(&self, v: &Value) -> Result<Vec<Move>, String> {
+    fn toolpath(&self, v: &Value) -> Result<Toolpath, String> {
         let list = self.inst(v)?;
         let mut moves = Vec::new();
+        let mut axes: Vec<P3> = Vec::new();
         for t in self.attr(list, 0)?.as_list().ok_or("TOOLPATH_LIST without a list")? {
             let t = self.inst(t)?;
             let phase = match self.attr(t, 1)?.as_enum() {
@@ -1167,6 +1229,15 @@ impl Reader<'_> {
                 tech => snap(self.real(self.inst(tech)?, 0)? * 60_000.0),
             };
             let curve = self.inst(self.attr(t, 6)?)?;
+            let first_move = moves.len();
+            let axis_points = match t.attrs.get(7) {
+                Some(v @ Value::Ref(_)) => {
+                    let pl = self.inst(v)?;
+                    let pts = self.attr(pl, 1)?.as_list().ok_or("its_toolaxis without points")?;
+                    pts.iter().map(|p| self.point(p).map(|(a, _)| a)).collect::<Result<Vec<P3>, String>>()?
+                }
+                _ => Vec::new(),
+            };
             let mut push = |from: P3, to: P3, name: &str, arc: Option<(P3, P3, i32)>| {
                 let line = name.trim_start_matches('L').parse().unwrap_or(0);
                 let kind = if arc.is_some() {
@@ -1224,8 +1295,16 @@ impl Reader<'_> {
                 }
                 other => return Err(format!("unexpected toolpath curve {other}")),
             }
+            for k in first_move..moves.len() {
+                axes.push(axis_points.get(k - first_move + 1).copied().unwrap_or([0.0, 0.0, 1.0]));
+            }
         }
-        Ok(moves)
+        let mut tp = Toolpath::new();
+        for (m, a) in moves.into_iter().zip(axes) {
+            tp.set_axis(a);
+            tp.push(m);
+        }
+        Ok(tp)
     }
 
     fn contour(&self, v: &Value) -> Result<Contour, String> {
@@ -1273,6 +1352,7 @@ impl Reader<'_> {
         let (_, w) = words(&self.string(f, 0)?);
         let top_inferred = w.get("top").is_some_and(|v| v == "inferred");
         let placement = self.placement(self.attr(f, 3)?)?;
+        let axes = self.placement_axes(self.attr(f, 3)?)?;
         let depth = if f.name == "GENERAL_PATTERN" { 0.0 } else { -self.plane_z(self.attr(f, 4)?)? };
         let mut feature = Feature {
             id,
@@ -1292,6 +1372,8 @@ impl Reader<'_> {
                 let (a, b) = v.split_once('x')?;
                 Some((a.parse().ok()?, b.parse().ok()?))
             }),
+            axis: axes.map(|a| a.0),
+            ref_direction: axes.map(|a| a.1),
         };
         let hole = |h: &Instance, positions: Vec<P2>| -> Result<FeatureKind, String> {
             let d = self.tlm(self.attr(h, 5)?)?;

@@ -92,6 +92,10 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
             if f.top_inferred { " (top inferred)" } else { "" },
             ws.join(", ")
         )?;
+        if let (Some(z), Some(x)) = (f.axis, f.ref_direction) {
+            let v = |v: P3| format!("{} {} {}", num(v[0]), num(v[1]), num(v[2]));
+            writeln!(out, "  on a tilted face: axis {}, positions along {}", v(z), v(x))?;
+        }
         if !matches!(f.kind, super::FeatureKind::Toolpath) {
             writeln!(out, "  {}", feature_sources(f))?;
         }
@@ -124,6 +128,9 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
             w.lines.0,
             w.lines.1
         )?;
+        if let Some(setup) = &w.setup {
+            writeln!(out, "  on the {} (its coordinates below)", setup.words())?;
+        }
         if let Some(p) = w.start_point {
             writeln!(out, "  start X{} Y{} Z{}; security plane Z{}", num(p[0]), num(p[1]), num(p[2]), num(w.security_plane))?;
         }

@@ -40,6 +40,10 @@
 //! Fanuc `G10` offsets and Siemens `$TC_DP` data into the interpreter's `ToolData`, told from
 //! the text; the shell reads the file, `config::read_tool_table`), `risk.rs` (risky settings — another tool's length
 //! offset, none while cutting, a lone work offset — as `check` warnings and diff rows),
+//! `setup.rs` (the tilted working plane a workingstep runs on, `Setup`: origin, axis and
+//! reference direction in the part's frame, told as spatial angles; recovery starts a new
+//! workingstep where it changes, keeps the toolpath in the plane's coordinates and places
+//! the features on it in the part's frame with their own axis),
 //! `geom.rs` (arc sweep, lengths, sampling, a point along a move, an arc's exact extremes
 //! for boxes and depths, with nalgebra). Equal toolpaths give equal plans however they are
 //! written: a feed that goes nowhere is no cut, an arc of several turns is its turns to
@@ -52,10 +56,12 @@ pub mod geom;
 mod model;
 mod recover;
 pub mod risk;
+mod setup;
 mod toolpath;
 pub mod tooltable;
 
 pub use describe::describe;
 pub use model::*;
 pub use recover::{Recoverer, ToolFacts, measure, parse_stock, parse_tool_comment, recover, round_sig};
+pub use setup::Setup;
 pub use toolpath::{Iter as ToolpathIter, Toolpath};

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::setup::Setup;
 use crate::canon::{CycleKind, Units};
 use crate::text::TextRange;
 
@@ -235,6 +236,14 @@ pub struct Feature {
     /// tool-centre path at the bottom, which is not the feature's size.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub centre_path: Option<(f64, f64)>,
+    /// The feature's own axis (unit, away from the material) where it lies on a tilted
+    /// plane; +Z when none.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub axis: Option<P3>,
+    /// The direction its positions' and contours' first coordinate runs along, square to
+    /// `axis`, where it lies on a tilted plane; +X when none.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub ref_direction: Option<P3>,
 }
 
 /// Where a number of a feature came from.
@@ -984,6 +993,10 @@ pub struct Workingstep {
     /// The machine state it runs under: offsets, compensation, stops, dwells, optional blocks.
     #[serde(skip_serializing_if = "MachineState::is_default", default)]
     pub state: MachineState,
+    /// The tilted working plane it runs on, whose coordinates its toolpath, start point,
+    /// depths, box and holes are in; none on the untilted plane.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub setup: Option<Setup>,
     /// Source range covered by the workingstep's blocks.
     pub source: TextRange,
     /// First and last source line.
@@ -1024,6 +1037,7 @@ impl Workingstep {
             holes: Vec::new(),
             toolpath,
             state: MachineState::default(),
+            setup: None,
             source,
             lines,
         }

@@ -10,6 +10,7 @@ use super::Toolpath;
 use super::feature;
 use super::geom;
 use super::model::*;
+use super::setup::Setup;
 use crate::canon::{Canon, CanonOp, CycleKind, FeedMode, NO_SPINDLE_LIMIT, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::interp::Profile;
@@ -466,6 +467,8 @@ struct Builder {
     level_entry: Option<[f64; 2]>,
     /// XY box of the cuts so far: min x, min y, max x, max y.
     cut_box: Option<[f64; 4]>,
+    /// The tilted plane it runs on.
+    setup: Option<Setup>,
 }
 
 impl Builder {
@@ -555,6 +558,10 @@ struct Recovery<'p> {
     stock_line: Option<u32>,
     /// Work offset in force (1 for G54).
     wcs: u16,
+    /// The tilted working plane in force; the position and the moves are in its coordinates.
+    setup: Option<Setup>,
+    /// The tool axis the canon last stated (5-axis moves), in the plane's coordinates.
+    tool_axis: P3,
     /// Length offset number in force.
     h: Option<u32>,
     /// Cutter compensation in force.
@@ -605,6 +612,8 @@ impl<'p> Recovery<'p> {
             stock_origin: None,
             stock_line: None,
             wcs: 1,
+            setup: None,
+            tool_axis: [0.0, 0.0, 1.0],
             h: None,
             comp: None,
             optional: BTreeSet::new(),
@@ -759,8 +768,29 @@ impl<'p> Recovery<'p> {
             }
             CanonOp::ArcFeed { .. } => self.arc_feed(c),
             CanonOp::ProgramEnd | CanonOp::Finish => self.close(),
+            CanonOp::WorkPlane(f) => self.work_plane(f.as_deref()),
+            CanonOp::ToolAxis(v) => self.tool_axis = *v,
             _ => {}
         }
+    }
+
+    /// A tilted working plane put in force (or cancelled): the workingstep on the plane
+    /// before ends, and the position and the rapids waiting for the next cut are carried
+    /// into the new plane's coordinates.
+    fn work_plane(&mut self, f: Option<&crate::canon::Frame>) {
+        let new = f.map(|f| Setup::of_frame(f, self.k));
+        if new == self.setup {
+            return;
+        }
+        self.close_keeping_approach();
+        let old = self.setup;
+        let carry = |p: P3| Setup::carry(p, old.as_ref(), new.as_ref());
+        self.pos = carry(self.pos);
+        // Only rapids wait for the next cut.
+        for m in &mut self.pending {
+            (m.from, m.to) = (carry(m.from), carry(m.to));
+        }
+        self.setup = new;
     }
 
     /// A tool change: the plan's entry for the tool, from the shop's tool table, the name the
@@ -981,6 +1011,7 @@ impl<'p> Recovery<'p> {
                     || !b.operation.same_family(operation)
                     || (retracted && !same_tech(&b.technology, &tech))
                     || b.state.work_offset != self.wcs
+                    || b.setup != self.setup
             }
         };
         if restart {
@@ -1021,6 +1052,7 @@ impl<'p> Recovery<'p> {
                 levels: Vec::new(),
                 level_entry: None,
                 cut_box: None,
+                setup: self.setup,
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next
@@ -1046,6 +1078,7 @@ impl<'p> Recovery<'p> {
         }
         let feed = self.feed_now();
         let Some(b) = self.current.as_mut() else { return };
+        b.moves.set_axis(self.tool_axis);
         for mut m in self.pending.drain(..) {
             m.phase = Phase::Connect;
             b.moves.push(m);
@@ -1118,7 +1151,7 @@ impl<'p> Recovery<'p> {
         }
         b.source = t.source;
         b.lines.1 = t.last_line;
-        let (operation, tool) = (b.operation, b.tool);
+        let (operation, tool, setup) = (b.operation, b.tool, b.setup);
         self.finish(b);
         let mut moves = rest;
         for i in 0..moves.len() {
@@ -1149,6 +1182,7 @@ impl<'p> Recovery<'p> {
             levels: Vec::new(),
             level_entry: None,
             cut_box: None,
+            setup,
         });
     }
 
@@ -1212,6 +1246,7 @@ impl<'p> Recovery<'p> {
         }
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         ws.state = state;
+        ws.setup = b.setup;
         measure(&mut ws, b.dwell, b.peck, b.surface);
         self.done.push(ws);
     }

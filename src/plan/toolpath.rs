@@ -6,7 +6,9 @@
 //! move's end, except where it is not (the first move, a move after an offset change): those
 //! start points and the arcs' geometry sit in side tables keyed by move index. Moves live in
 //! fixed-size chunks, so the toolpath grows without copying and without spare capacity
-//! beyond one chunk. Reading gives back every [`Move`] exactly as it was pushed.
+//! beyond one chunk. Reading gives back every [`Move`] exactly as it was pushed. The tool
+//! axis (5-axis moves) is a side table too: where it changes from +Z or from the one
+//! before, the axis of the moves from there on ([`Toolpath::set_axis`], [`Toolpath::axis_at`]).
 
 use std::collections::BTreeMap;
 
@@ -40,7 +42,12 @@ pub struct Toolpath {
     arcs: Vec<(u32, ArcGeometry)>,
     /// Start points that are not the previous move's end, by move index, ascending.
     starts: Vec<(u32, P3)>,
+    /// The tool axis from a move on, where it changes (+Z before the first), ascending.
+    axes: Vec<(u32, P3)>,
 }
+
+/// The tool axis where none was stated.
+const Z_AXIS: P3 = [0.0, 0.0, 1.0];
 
 fn kind_bits(k: MoveKind) -> u32 {
     match k {
@@ -158,6 +165,33 @@ impl Toolpath {
         })
     }
 
+    /// Sets the tool axis (unit, from the tip towards the holder) of the moves pushed from
+    /// now on.
+    pub fn set_axis(&mut self, axis: P3) {
+        let now = self.axes.last().map_or(Z_AXIS, |e| e.1);
+        if now.map(f64::to_bits) == axis.map(f64::to_bits) {
+            return;
+        }
+        let i = self.len as u32;
+        if self.axes.last().is_some_and(|e| e.0 == i) {
+            self.axes.pop();
+        }
+        if self.axes.last().map_or(Z_AXIS, |e| e.1).map(f64::to_bits) != axis.map(f64::to_bits) {
+            self.axes.push((i, axis));
+        }
+    }
+
+    /// The tool axis of the move at `i` (+Z where none was stated).
+    pub fn axis_at(&self, i: usize) -> P3 {
+        let k = self.axes.partition_point(|e| e.0 as usize <= i);
+        k.checked_sub(1).map_or(Z_AXIS, |k| self.axes[k].1)
+    }
+
+    /// Whether any move's tool axis is not +Z.
+    pub fn tilts(&self) -> bool {
+        !self.axes.is_empty()
+    }
+
     /// The first move.
     pub fn first(&self) -> Option<Move> {
         self.get(0)
@@ -191,7 +225,8 @@ impl Toolpath {
         if at >= self.len {
             return tail;
         }
-        for m in self.iter().skip(at) {
+        for (i, m) in self.iter().enumerate().skip(at) {
+            tail.set_axis(self.axis_at(i));
             tail.push(m);
         }
         self.truncate(at);
@@ -211,6 +246,7 @@ impl Toolpath {
         self.len = n;
         self.starts.retain(|e| (e.0 as usize) < n);
         self.arcs.retain(|e| (e.0 as usize) < n);
+        self.axes.retain(|e| (e.0 as usize) < n);
         // Feeds no move uses any more stay in the table; they are not seen from outside.
     }
 }
@@ -223,7 +259,7 @@ impl std::fmt::Debug for Toolpath {
 
 impl PartialEq for Toolpath {
     fn eq(&self, other: &Toolpath) -> bool {
-        self.len == other.len && self.iter().eq(other.iter())
+        self.len == other.len && self.iter().eq(other.iter()) && self.axes == other.axes
     }
 }
 

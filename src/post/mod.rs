@@ -1855,7 +1855,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::StraightFeed(_)
             | CanonOp::ArcFeed { .. }
             | CanonOp::NurbsFeed { .. }
-            | CanonOp::ToolAxis(_) => self.motion_op(canon),
+            | CanonOp::ToolAxis(_)
+            | CanonOp::WorkPlane(_) => self.motion_op(canon),
             CanonOp::CycleBegin(_) | CanonOp::CycleEnd | CanonOp::CycleCancel => self.cycle_op(canon),
             CanonOp::FloodOn | CanonOp::MistOn | CanonOp::FloodOff | CanonOp::MistOff => self.coolant_op(canon),
             CanonOp::Dwell(s) => self.dwell(canon, s),

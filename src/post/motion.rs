@@ -44,6 +44,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     );
                 }
             }
+            CanonOp::WorkPlane(Some(f)) => {
+                let z = f.axis();
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "work-plane",
+                    format!(
+                        "the working plane tilts (tool axis I{:.4} J{:.4} K{:.4}): the target's output rules write no tilted plane, so the moves that follow are written in the tilted plane's coordinates as they stand",
+                        z[0], z[1], z[2]
+                    ),
+                );
+            }
             CanonOp::NurbsFeed { points, end } => {
                 self.note(
                     Code::PostUnwritable,

@@ -64,6 +64,18 @@ fn exports_validate_against_the_express_schema() {
         };
         export(&std::fs::read(program).unwrap(), v["dialect"].as_str().unwrap(), &format!("cam_{stem}"), dir.path(), &mut files);
     }
+    // The tilted-plane and 5-axis suite: placements with their axes, tool axes along the paths.
+    let tilt = crate::root().join("tests/programs/tilt");
+    let mut tilted: Vec<PathBuf> = std::fs::read_dir(&tilt).unwrap().flatten().map(|e| e.path()).collect();
+    tilted.sort();
+    for side in tilted.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(side).unwrap()).unwrap();
+        let stem = side.file_stem().unwrap().to_string_lossy().into_owned();
+        let Some(program) = tilted.iter().find(|p| p.file_stem().is_some_and(|s| s.to_string_lossy() == stem) && *p != side) else {
+            continue;
+        };
+        export(&std::fs::read(program).unwrap(), v["dialect"].as_str().unwrap(), &format!("tilt_{stem}"), dir.path(), &mut files);
+    }
     if required {
         // Every corpus program, in its folder's dialect or the one its text tells.
         let reg = Registry::shipped();

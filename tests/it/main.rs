@@ -81,6 +81,7 @@ mod siemens_axes;
 mod speed;
 mod stepnc;
 mod support;
+mod tilt;
 mod tool_comments;
 mod translate;
 mod unknown_values;

@@ -297,7 +297,7 @@ fn text_before_the_opening_percent_is_tape_leader() {
     assert_eq!(moves("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n").len(), 1);
 }
 
-/// Heidenhain: PLANE (kept as intent, RESET read), M140 MB MAX, cycle 32 TOLERANCE, M128
+/// Heidenhain: PLANE (applied, RESET read), M140 MB MAX, cycle 32 TOLERANCE, M128
 /// with F and FQ, TCH PROBE (intent), FN 17: SYSWRITE, cycle names in the control's language;
 /// a CC with one coordinate keeps the other from the last CC.
 #[test]
@@ -328,7 +328,8 @@ fn heidenhain_plane_tolerance_probe_and_one_coordinate_pole() {
 ";
     let (_, diags) = run("heidenhain", program);
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
-    assert!(diags.iter().any(|d| d.message.contains("PLANE (tilt the working plane) is kept as intent")), "{diags:?}");
+    // The plane is applied (and reset before the moves), not kept as intent.
+    assert!(!diags.iter().any(|d| d.message.contains("PLANE")), "{diags:?}");
     let m = moves("heidenhain", program);
     assert_eq!(m.last().unwrap(), "ARC_FEED(20.0000, 50.0000, 30.0000, 50.0000, 1, -1.0000, 0.0000, 0.0000, 0.0000)", "{m:?}");
 }
@@ -534,8 +535,8 @@ fn heidenhain_cycle_call_at_a_position_drills_from_its_own_surface() {
 
 /// What Fanuc-family CAM posts write around operations: AI contour control, high-precision
 /// contour control, look-ahead, tool centre point control, the tilted working plane. None is
-/// an unknown code; the tilted plane (which the analysis does not apply) is a warning, TCP
-/// applies the length offset. Fagor's G05/G08 are not these.
+/// an unknown code; the tilted plane is applied without a warning, TCP applies the length
+/// offset. Fagor's G05/G08 are not these.
 #[test]
 fn fanuc_high_speed_and_five_axis_codes_of_cam_posts() {
     let program = "%\nO1 (P)\nG21 G17 G90\nG05.1 Q1 R5\nG5 P10000\nG08 P1\nT1 M6\nS8000 M3\nG0 X0 Y0\nG43.4 H1 Z25.\n\
@@ -543,11 +544,13 @@ fn fanuc_high_speed_and_five_axis_codes_of_cam_posts() {
     for dialect in ["fanuc", "haas", "mitsubishi", "mazak"] {
         let (_, diags) = run(dialect, program);
         assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        // G68.2 is applied (the moves stay in the tilted plane's coordinates), not a warning.
         let warnings: Vec<&str> = diags.iter().filter(|d| d.severity == Severity::Warning).map(|d| d.message.as_str()).collect();
-        assert_eq!(warnings.len(), 1, "{dialect}: {warnings:?}");
-        assert!(warnings[0].contains("G68.2 (tilted working plane)"), "{warnings:?}");
+        assert!(warnings.is_empty(), "{dialect}: {warnings:?}");
         let m = moves(dialect, program);
-        assert!(m.iter().any(|l| l.starts_with("STRAIGHT_FEED(10.0000, 0.0000, -1.0000")), "{dialect}: {m:?}");
+        // The tool, at Z25 over the origin when the plane tilts 30° about X, stands at Y12.5
+        // (25·sin 30°) in the plane's coordinates; `G1 Z-1.` keeps that Y.
+        assert!(m.iter().any(|l| l.starts_with("STRAIGHT_FEED(10.0000, 12.5000, -1.0000")), "{dialect}: {m:?}");
     }
     let (_, diags) = run("fagor", "G90 G17\nG08 X10 Y10\nM30\n");
     assert!(diags.iter().any(|d| d.code.as_str() == "syntax::unknown-code" && d.message.contains("G08")), "{diags:?}");

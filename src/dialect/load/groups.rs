@@ -23,6 +23,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "forms",
     "gives-way",
     "args",
+    "line-words",
 ];
 
 impl Cx {
@@ -114,7 +115,8 @@ impl Cx {
         let gives_way = self.bool(c, "gives-way", false);
         let args = self.code_args(c, addresses, &params);
         let named = keyword.is_none() && self.attr(c, "rest") == Some("words");
-        Some(CodeDef { letter, number, meaning, index, name, group, params, keyword, forms, gives_way, args, named })
+        let line_words = self.line_words(c);
+        Some(CodeDef { letter, number, meaning, index, name, group, params, keyword, forms, gives_way, args, named, line_words })
     }
 
     /// A code's parameters: `required`, `optional`, `any-of="X Y|R"` (at least one of each
@@ -166,6 +168,24 @@ impl Cx {
                     Self::attr_range(c, "args"),
                     format!("`{item}` is not ADDRESS:role with an address the code takes and a known role"),
                 ),
+            }
+        }
+        out
+    }
+
+    /// `line-words="SPA:tilt-a SPB:tilt-b"`: the words the unread rest of a keyword's line
+    /// holds (`rest="line"`) and the role of each.
+    fn line_words(&mut self, c: &Element) -> Vec<(String, Role)> {
+        let Some(list) = self.attr(c, "line-words") else { return Vec::new() };
+        let mut out = Vec::new();
+        for item in list.split_ascii_whitespace() {
+            let pair = item.split_once(':').and_then(|(a, r)| {
+                let role = Role::parse(r).filter(|r| !r.is_internal())?;
+                (!a.is_empty() && a.chars().all(|c| c.is_ascii_alphabetic())).then(|| (a.to_ascii_uppercase(), role))
+            });
+            match pair {
+                Some(pair) => out.push(pair),
+                None => self.error(Self::attr_range(c, "line-words"), format!("`{item}` is not NAME:role with letters and a known role")),
             }
         }
         out

@@ -14,6 +14,7 @@
 //! - `compensation.rs`: cutter radius compensation;
 //! - `offsets.rs`: work offsets and coordinate systems, G92 shifts, reference positions;
 //! - `transform.rs`: programmable rotation and scaling;
+//! - `tilt.rs`: the tilted working plane (`PLANE`, `CYCLE800`, `G68.2`);
 //! - `contour.rs`: the pole and corner blocks of the contour languages;
 //! - `stops.rs`: stops, dwells and program end;
 //! - `calls.rs`: subprogram and macro calls and returns (requests to the flow driver);
@@ -33,6 +34,7 @@ mod offsets;
 mod records;
 mod spindle;
 mod stops;
+mod tilt;
 mod tool;
 mod transform;
 
@@ -114,9 +116,12 @@ impl Interpreter<'_> {
             Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
                 self.comp_on(def, range, sink, diags)
             }
-            Meaning::LengthCompPlus | Meaning::LengthCompMinus | Meaning::LengthCompDynamic | Meaning::LengthCompCancel => {
-                self.length_comp(def, sink)
+            Meaning::LengthCompPlus | Meaning::LengthCompMinus | Meaning::LengthCompDynamic => self.length_comp(def, sink),
+            Meaning::LengthCompCancel | Meaning::LengthCompTcp => {
+                self.length_comp(def, sink);
+                self.tcp(def.meaning == Meaning::LengthCompTcp, sink, diags);
             }
+            Meaning::TcpOn | Meaning::TcpOff => self.tcp(def.meaning == Meaning::TcpOn, sink, diags),
             Meaning::Wcs | Meaning::WcsExtended => self.work_offset(def, range, sink, diags),
             Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
                 self.modal_context(def, range, sink, diags)
@@ -133,7 +138,14 @@ impl Interpreter<'_> {
             | Meaning::OriginShiftSuspend
             | Meaning::OriginShiftRestore
             | Meaning::OriginShiftCancel => self.origin_offset(def, sink),
-            Meaning::Rotation | Meaning::RotationCancel => self.rotation_code(def, range, diags),
+            Meaning::Rotation => self.rotation_code(def, range, diags),
+            Meaning::RotationCancel => {
+                self.untilt(sink);
+                self.rotation_code(def, range, diags);
+            }
+            Meaning::TiltSpatial | Meaning::TiltEuler | Meaning::TiltVector | Meaning::TiltRelative | Meaning::TiltReset => {
+                self.tilt_code(def, range, block, sink, diags)
+            }
             Meaning::Scaling | Meaning::ScalingCancel => self.scaling_code(def, range, block, diags),
             Meaning::Home1 | Meaning::Home2 | Meaning::Home1Set | Meaning::Home2Set => self.home_code(def, sink),
             // G53: the block's move is in machine coordinates; the motion step reads it.

@@ -15,6 +15,7 @@ pub use chain::{rect_contour, rectangle_of};
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::model::*;
+use super::setup::Setup;
 
 const EPS: f64 = 1e-6;
 
@@ -28,16 +29,25 @@ pub fn recognise(plan: &mut ProcessPlan) {
         let ws = &plan.workingsteps[i];
         let tool = plan.tool(ws.tool).cloned();
         // Holes along another axis than Z (cycles in G18/G19) are not recognised yet.
+        // The stock and the faced level are the untilted plane's: a tilted one's coordinates
+        // do not compare with them.
+        let tilted_stock = ws.setup.as_ref().zip(plan.workpiece.as_ref()).map(|(s, w)| on_plane(w, s));
+        let (stock, faced_here) = match &tilted_stock {
+            Some(t) => (Some(t), None),
+            None if ws.setup.is_some() => (None, None),
+            None => (plan.workpiece.as_ref(), faced),
+        };
         let mut cand = if ws.operation.is_hole() && !ws.holes.is_empty() {
-            hole::hole(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
+            hole::hole(ws, tool.as_ref(), stock, faced_here)
         } else {
-            milling::milling(ws, tool.as_ref(), plan.workpiece.as_ref(), faced)
+            milling::milling(ws, tool.as_ref(), stock, faced_here)
         };
         // A shape with no segment is no shape: what was cut stays a toolpath.
         if cand.kind.contour().is_some_and(|c| c.segments.is_empty()) {
             cand.kind = FeatureKind::Toolpath;
         }
         if matches!(cand.kind, FeatureKind::PlanarFace { .. })
+            && ws.setup.is_none()
             && let Some(d) = ws.depth
         {
             faced = Some(faced.map_or(d, |f: f64| f.min(d)));
@@ -47,7 +57,9 @@ pub fn recognise(plan: &mut ProcessPlan) {
         ws.strategy = cand.strategy.clone();
         ws.axial_depth = cand.axial_depth;
         ws.radial_depth = cand.radial_depth;
-        let merge = features.iter().rposition(|(f, regions)| same_feature(f, regions.last(), &cand));
+        let setup = ws.setup;
+        let merge =
+            features.iter().rposition(|(f, regions)| setup_of(plan, f.workingsteps[0]) == setup && same_feature(f, regions.last(), &cand));
         let id = match merge {
             Some(k) => {
                 let (f, regions) = &mut features[k];
@@ -94,6 +106,8 @@ pub fn recognise(plan: &mut ProcessPlan) {
                     lines: ws.lines,
                     sources: cand.sources,
                     centre_path: cand.centre_path,
+                    axis: None,
+                    ref_direction: None,
                 };
                 features.push((f, cand.region.into_iter().collect()));
                 id
@@ -103,6 +117,43 @@ pub fn recognise(plan: &mut ProcessPlan) {
     }
     plan.features = features.into_iter().map(|(f, _)| f).collect();
     absorb_spot_drilling(plan);
+    place_on_setups(plan);
+}
+
+/// The stock as a tilted plane sees it: the box its corners span in the plane's
+/// coordinates (exact where the plane turns by right angles; elsewhere its top is the
+/// stock's highest point along the tool axis).
+fn on_plane(w: &Stock, s: &Setup) -> Stock {
+    let max = w.max();
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for k in 0..8 {
+        let corner = [0, 1, 2].map(|i| if k >> i & 1 == 1 { max[i] } else { w.origin[i] });
+        let p = s.from_part(corner);
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    Stock { origin: lo, size: [0, 1, 2].map(|i| hi[i] - lo[i]), ..w.clone() }
+}
+
+/// The setup of the workingstep with 1-based index `i`.
+fn setup_of(plan: &ProcessPlan, i: u32) -> Option<Setup> {
+    plan.workingsteps.get((i as usize).checked_sub(1)?).and_then(|ws| ws.setup)
+}
+
+/// Places every feature machined on a tilted plane in the part's frame: its placement turned
+/// and moved onto the plane, with the plane's axis and reference direction (its positions
+/// and contours stay relative to the placement, in the plane's X and Y).
+fn place_on_setups(plan: &mut ProcessPlan) {
+    for k in 0..plan.features.len() {
+        let Some(s) = plan.features[k].workingsteps.first().and_then(|&i| setup_of(plan, i)) else { continue };
+        let f = &mut plan.features[k];
+        f.placement = s.to_part(f.placement);
+        f.axis = Some(s.axis);
+        f.ref_direction = Some(s.ref_direction);
+    }
 }
 
 /// A spot drill or countersink that marks holes made by other tools is part of those holes,
@@ -134,7 +185,9 @@ fn absorb_spot_drilling(plan: &mut ProcessPlan) {
         let marks: BTreeSet<(i64, i64)> = abs(&plan.features[k]).iter().map(key).collect();
         let mut covered: BTreeSet<(i64, i64)> = BTreeSet::new();
         let mut later: Vec<usize> = Vec::new();
-        for (j, f) in plan.features.iter().enumerate().skip(k + 1).filter(|(j, _)| !is_mark[*j]) {
+        let setup = setup_of(plan, plan.features[k].workingsteps[0]);
+        let same_plane = |f: &Feature| setup_of(plan, f.workingsteps[0]) == setup;
+        for (j, f) in plan.features.iter().enumerate().skip(k + 1).filter(|(j, f)| !is_mark[*j] && same_plane(f)) {
             let here: Vec<(i64, i64)> = abs(f).iter().map(key).filter(|q| marks.contains(q)).collect();
             if !here.is_empty() {
                 later.push(j);

@@ -1,0 +1,339 @@
+//! The tilted working plane: Heidenhain `PLANE SPATIAL`/`EULER`/`VECTOR`/`RELATIV`/`RESET`,
+//! Siemens `CYCLE800`, Fanuc `G68.2` (cancelled by G69). The control turns its coordinate
+//! system; the program's coordinates after it are in the tilted plane, which is how the canon
+//! keeps them. What the plan needs to place them on the part is the [`Frame`] in force,
+//! passed on as a `WorkPlane` marker whenever it changes; the interpreter's position is
+//! carried over into the new plane's coordinates (the tool stays where it is on the part).
+//!
+//! How the angles turn the plane, as the controls document it:
+//! - spatial angles (`tilt-spatial`): about the fixed X by A, then the fixed Y by B, then the
+//!   fixed Z by C: `Rz(C)·Ry(B)·Rx(A)`;
+//! - Euler angles (`tilt-euler`): about Z by A, then the turned X by B, then the turned Z by
+//!   C: `Rz(A)·Rx(B)·Rz(C)` (Fanuc `G68.2 I J K`, Heidenhain `EULPR EULNU EULROT`);
+//! - a base and a normal vector (`tilt-vector`): the new X and the new Z (the tool axis);
+//! - a relative angle (`tilt-relative`): about the tilted plane's own X, Y or Z;
+//! - a swivel cycle (`tilt-cycle`, `CYCLE800`): axis by axis in the mode's order, each
+//!   about the turned axes, about the reference point `_X0 _Y0 _Z0`, the zero point then
+//!   shifted to `_X1 _Y1 _Z1` on the tilted plane. Its other modes (solid and projection
+//!   angles, rotary axes direct) need the machine: said, and the plane stays as it was.
+//!
+//! Tool centre point control (`M128`, `TRAORI`, `G43.4`) is here too: under it, the rotary
+//! axes' positions turn the tool axis, sent as `ToolAxis` markers.
+//!
+//! Doors: [`Interpreter::tilt_code`], [`Interpreter::tilt_cycle`], [`Interpreter::tilt_by_axis_words`]
+//! (legacy cycle 19), [`Interpreter::untilt`], [`Interpreter::tcp`], [`Interpreter::rotary_tool_axis`].
+
+use crate::canon::{CanonOp, CanonSink, Frame};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, Meaning, Role};
+use crate::interp::Interpreter;
+use crate::syntax::Block;
+use crate::text::TextRange;
+
+/// A rotation by `deg` degrees about axis `axis` (0 X, 1 Y, 2 Z).
+fn rot(axis: usize, deg: f64) -> [[f64; 3]; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    let (s, c) = (snap(s), snap(c));
+    match axis {
+        0 => [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]],
+        1 => [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]],
+        _ => [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+    }
+}
+
+/// `v` with the float noise of a right angle's sine or cosine taken off.
+fn snap(v: f64) -> f64 {
+    if v.abs() < 1e-15 { 0.0 } else { v }
+}
+
+fn mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
+}
+
+/// Rotations about axes `axes` by `deg`, each about the axes the ones before turned.
+fn chain(axes: [usize; 3], deg: [f64; 3]) -> [[f64; 3]; 3] {
+    mul(mul(rot(axes[0], deg[0]), rot(axes[1], deg[1])), rot(axes[2], deg[2]))
+}
+
+fn norm(v: [f64; 3]) -> Option<[f64; 3]> {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (l > 1e-9 && l.is_finite()).then(|| v.map(|x| x / l))
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// The rotation whose X is `base` (made square to `normal`) and whose Z is `normal`.
+fn by_vectors(base: [f64; 3], normal: [f64; 3]) -> Option<[[f64; 3]; 3]> {
+    let z = norm(normal)?;
+    let d = base[0] * z[0] + base[1] * z[1] + base[2] * z[2];
+    let x = norm([base[0] - d * z[0], base[1] - d * z[1], base[2] - d * z[2]])?;
+    let y = cross(z, x);
+    Some(std::array::from_fn(|i| [x[i], y[i], z[i]]))
+}
+
+/// The `NAME±number` words of a keyword's unread rest of line (`SPA+30 SPB+0 TURN FMAX`):
+/// each name with its number; words without a number (`TURN`, `SEQ+`) are passed over.
+fn line_numbers(rest: &str) -> Vec<(&str, Option<f64>)> {
+    let mut out = Vec::new();
+    let b = rest.as_bytes();
+    let mut i = 0;
+    while i < b.len() {
+        if !b[i].is_ascii_alphabetic() {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < b.len() && b[i].is_ascii_alphabetic() {
+            i += 1;
+        }
+        let name = &rest[start..i];
+        let num_start = i;
+        while i < b.len() && (b[i].is_ascii_digit() || matches!(b[i], b'+' | b'-' | b'.')) {
+            i += 1;
+        }
+        let text = &rest[num_start..i];
+        if text.bytes().any(|c| c.is_ascii_digit()) {
+            out.push((name, text.parse::<f64>().ok()));
+        } else if i < b.len() && b[i].is_ascii_alphabetic() && !text.is_empty() {
+            // A parameter or expression in place of the number (`SPA+Q1`): no value.
+            out.push((name, None));
+            while i < b.len() && b[i].is_ascii_alphanumeric() {
+                i += 1;
+            }
+        }
+    }
+    out
+}
+
+impl Interpreter<'_> {
+    /// The value the code gives role `role`: a word of its unread rest of line
+    /// (`line-words`), a word its `args` map to the role, or the block's word of that role.
+    fn tilt_value(&self, def: &CodeDef, rest: &[(&str, Option<f64>)], role: Role) -> Option<f64> {
+        if !def.line_words.is_empty() {
+            return rest.iter().find(|(n, _)| def.line_word(n) == Some(role)).and_then(|&(_, v)| v);
+        }
+        match def.args.iter().find(|(_, to)| *to == role) {
+            Some(&(from, _)) => self.slot(from),
+            None => self.slot(role),
+        }
+    }
+
+    /// A tilted-plane code (`PLANE …`, `G68.2`): the frame it states, put in force.
+    pub(super) fn tilt_code(
+        &mut self,
+        def: &CodeDef,
+        range: TextRange,
+        block: &Block,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let rest_text = block.text(TextRange { start: range.end, end: block.range.end });
+        let rest = line_numbers(rest_text);
+        if let Some((name, _)) = rest.iter().find(|(n, v)| v.is_none() && def.line_word(n).is_some()) {
+            let msg = format!("{}: the value of {name} is not a number the analysis can read; the plane in force stays", def.label());
+            diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
+            return;
+        }
+        let get = |s: &Self, r: Role| s.tilt_value(def, &rest, r);
+        let angles = |s: &Self| [Role::TiltA, Role::TiltB, Role::TiltC].map(|r| get(s, r).unwrap_or(0.0));
+        let origin = |s: &Self| [Role::TiltOriginX, Role::TiltOriginY, Role::TiltOriginZ].map(|r| get(s, r).unwrap_or(0.0));
+        let frame = match def.meaning {
+            Meaning::TiltReset => None,
+            Meaning::TiltSpatial => {
+                let [a, b, c] = angles(self);
+                Some(Frame { origin: origin(self), rotation: chain([2, 1, 0], [c, b, a]) })
+            }
+            Meaning::TiltEuler => Some(Frame { origin: origin(self), rotation: chain([2, 0, 2], angles(self)) }),
+            Meaning::TiltVector => {
+                let base = [Role::TiltBaseX, Role::TiltBaseY, Role::TiltBaseZ].map(|r| get(self, r).unwrap_or(0.0));
+                let normal = [Role::ToolAxisI, Role::ToolAxisJ, Role::ToolAxisK].map(|r| get(self, r).unwrap_or(0.0));
+                match by_vectors(base, normal) {
+                    Some(rotation) => Some(Frame { origin: origin(self), rotation }),
+                    None => {
+                        let msg = format!("{}: the base and normal vectors are zero or parallel; the plane in force stays", def.label());
+                        diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
+                        return;
+                    }
+                }
+            }
+            Meaning::TiltRelative => {
+                let now = self.st.frame.unwrap_or(Frame::IDENTITY);
+                let turn = [Role::TiltA, Role::TiltB, Role::TiltC].iter().enumerate().find_map(|(k, &r)| get(self, r).map(|v| (k, v)));
+                let Some((axis, deg)) = turn else { return };
+                Some(now.then(&Frame { origin: [0.0; 3], rotation: rot(axis, deg) }))
+            }
+            _ => return,
+        };
+        self.set_frame(frame, sink);
+    }
+
+    /// A legacy tilting cycle's block with angles (`CYCL DEF 19.1 A+0 B+45 C+0`): spatial
+    /// angles about X, Y and Z from its A, B and C words; all zero untilts. A block without
+    /// them (`CYCL DEF 19.0 WORKING PLANE`) changes nothing.
+    pub(in crate::interp) fn tilt_by_axis_words(&mut self, sink: &mut dyn CanonSink) {
+        let given = [Role::A, Role::B, Role::C].map(|r| self.slot(r));
+        if given.iter().all(Option::is_none) {
+            return;
+        }
+        let [a, b, c] = given.map(|v| v.unwrap_or(0.0));
+        self.set_frame(Some(Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [c, b, a]) }), sink);
+    }
+
+    /// A swivel cycle (`CYCLE800(_FR, _TC, _ST, _MODE, _X0, …)`) with its arguments; without
+    /// any, it cancels the swivelled plane.
+    pub(in crate::interp) fn tilt_cycle(
+        &mut self,
+        args: &[(Role, f64)],
+        range: TextRange,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let get = |r: Role| args.iter().find(|(a, _)| *a == r).map(|(_, v)| *v);
+        let angles = [Role::TiltA, Role::TiltB, Role::TiltC].map(|r| get(r).unwrap_or(0.0));
+        let Some(mode) = get(Role::TiltMode) else {
+            if angles.iter().all(|&a| a == 0.0) {
+                self.set_frame(None, sink);
+            }
+            return;
+        };
+        let mode = mode as u32;
+        let axes = [mode & 3, (mode >> 2) & 3, (mode >> 4) & 3];
+        if mode >> 6 != 0 || axes.contains(&0) {
+            let msg = format!(
+                "swivel mode {mode} (solid or projection angles, or rotary axes direct) needs the machine's kinematics; the plane in force stays"
+            );
+            self.limited(diags, "tilt-mode", Diagnostic::new(Code::TiltUnknown, range, msg));
+            return;
+        }
+        let rotation = chain(axes.map(|a| a as usize - 1), angles);
+        let pivot = [Role::TiltOriginX, Role::TiltOriginY, Role::TiltOriginZ].map(|r| get(r).unwrap_or(0.0));
+        let shift = [Role::TiltShiftX, Role::TiltShiftY, Role::TiltShiftZ].map(|r| get(r).unwrap_or(0.0));
+        let turned = Frame { origin: pivot, rotation };
+        let frame = Frame { origin: turned.to_base(shift), rotation };
+        self.set_frame(Some(frame), sink);
+    }
+
+    /// Tool centre point control on or off. On, the rotary axes' positions give the tool axis
+    /// (see [`Interpreter::rotary_tool_axis`]); off, the tool axis is the plane's Z again.
+    pub(in crate::interp) fn tcp(&mut self, on: bool, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        if on == self.st.tcp {
+            return;
+        }
+        self.st.tcp = on;
+        if on {
+            self.rotary_tool_axis(sink, diags);
+        } else {
+            self.set_tool_axis([0.0, 0.0, 1.0], sink);
+        }
+    }
+
+    /// Under tool centre point control, the tool axis the block's rotary axes turn the tool
+    /// to: `Rz(C)·Ry(B)·Rx(A)` applied to Z, the rotary axes where the block takes them. The
+    /// machine's kinematics are not known: that assumption is said once, where it tilts.
+    pub(in crate::interp) fn rotary_tool_axis(&mut self, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let at = [Role::A, Role::B, Role::C].map(|r| {
+            let i = r as usize;
+            match self.slots[i] {
+                Some(_) if self.incremental(r) => self.st.pos[i] + self.slot(r).unwrap_or(0.0),
+                Some(slot) => slot.value,
+                None => self.st.pos[i],
+            }
+        });
+        let r = chain([2, 1, 0], [at[2], at[1], at[0]]);
+        let axis = [0, 1, 2].map(|i| if r[i][2].abs() < 1e-12 { 0.0 } else { r[i][2] });
+        if axis != [0.0, 0.0, 1.0] {
+            let msg = "under tool centre point control the tool axis is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (ISO 841 senses; A, then B, then C about the fixed axes); a machine whose kinematics differ tilts it otherwise".to_owned();
+            let mut d = Diagnostic::new(Code::TiltUnknown, self.origin, msg);
+            d.severity = crate::diag::Severity::Note;
+            self.limited(diags, "tcp-kinematics", d);
+        }
+        self.set_tool_axis(axis, sink);
+    }
+
+    /// Sends the tool axis marker where the axis changes.
+    fn set_tool_axis(&mut self, axis: [f64; 3], sink: &mut dyn CanonSink) {
+        if (0..3).all(|i| (axis[i] - self.tool_axis[i]).abs() < 1e-12) {
+            return;
+        }
+        self.tool_axis = axis;
+        self.emit(sink, CanonOp::ToolAxis(axis));
+    }
+
+    /// G69 and the like: the tilted plane is cancelled with the rotation.
+    pub(in crate::interp) fn untilt(&mut self, sink: &mut dyn CanonSink) {
+        self.set_frame(None, sink);
+    }
+
+    /// Puts `frame` in force (`None`: untilted): the position carried over into its
+    /// coordinates, and the marker sent when the frame changes.
+    fn set_frame(&mut self, frame: Option<Frame>, sink: &mut dyn CanonSink) {
+        let frame = frame.filter(|f| !f.is_identity());
+        if frame == self.st.frame {
+            return;
+        }
+        let old = self.st.frame.unwrap_or(Frame::IDENTITY);
+        let new = frame.unwrap_or(Frame::IDENTITY);
+        let at = new.from_base(old.to_base([self.st.pos[0], self.st.pos[1], self.st.pos[2]]));
+        self.st.pos[..3].copy_from_slice(&at);
+        self.st.frame = frame;
+        self.emit(sink, CanonOp::WorkPlane(frame.map(Box::new)));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+        (0..3).all(|i| (a[i] - b[i]).abs() < 1e-9)
+    }
+
+    #[test]
+    fn spatial_a_tilts_the_tool_axis_towards_minus_y() {
+        // SPA+30: about X by 30°; the tool axis (Z) turns towards -Y.
+        let f = Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [0.0, 0.0, 30.0]) };
+        let (s, c) = 30f64.to_radians().sin_cos();
+        assert!(close(f.axis(), [0.0, -s, c]));
+    }
+
+    #[test]
+    fn spatial_b90_puts_the_tool_axis_along_x() {
+        let f = Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [0.0, 90.0, 0.0]) };
+        assert!(close(f.axis(), [1.0, 0.0, 0.0]));
+        // The tilted X points down.
+        assert!(close(f.dir_to_base([1.0, 0.0, 0.0]), [0.0, 0.0, -1.0]));
+    }
+
+    #[test]
+    fn euler_nutation_turns_about_the_precessed_x() {
+        // Precession 90° about Z, then nutation 90° about the new X (the old Y).
+        let f = Frame { origin: [0.0; 3], rotation: chain([2, 0, 2], [90.0, 90.0, 0.0]) };
+        assert!(close(f.axis(), [1.0, 0.0, 0.0]));
+    }
+
+    #[test]
+    fn vectors_give_x_and_z() {
+        let r = by_vectors([1.0, 0.0, 0.1], [0.0, 0.0, 2.0]).unwrap();
+        let f = Frame { origin: [0.0; 3], rotation: r };
+        assert!(close(f.axis(), [0.0, 0.0, 1.0]));
+        assert!(close(f.dir_to_base([1.0, 0.0, 0.0]), [1.0, 0.0, 0.0]));
+        assert!(by_vectors([0.0, 0.0, 1.0], [0.0, 0.0, 1.0]).is_none());
+    }
+
+    #[test]
+    fn frames_round_trip_points() {
+        let f = Frame { origin: [10.0, -5.0, 3.0], rotation: chain([0, 1, 2], [20.0, -35.0, 70.0]) };
+        let p = [1.5, 2.5, -4.0];
+        assert!(close(f.from_base(f.to_base(p)), p));
+    }
+
+    #[test]
+    fn rest_of_line_words() {
+        let w = line_numbers(" SPATIAL SPA+30 SPB-12.5 SPC+0 TURN MB MAX FMAX SEQ+ TABLE ROT");
+        assert_eq!(w, vec![("SPA", Some(30.0)), ("SPB", Some(-12.5)), ("SPC", Some(0.0))]);
+        let w = line_numbers(" SPA+Q1 SPB+0");
+        assert_eq!(w, vec![("SPA", None), ("SPB", Some(0.0))]);
+    }
+}

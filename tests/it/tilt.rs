@@ -1,0 +1,325 @@
+//! The tilted-plane and 5-axis suite (`tests/programs/tilt/`): 3+2 programs in the shapes
+//! Fusion 360, NX and hyperMILL posts write for Heidenhain (`PLANE SPATIAL`, `EULER`,
+//! `VECTOR`, `RELATIV`), Siemens (`CYCLE800`) and Fanuc 30i (`G68.2`/`G53.1`), and 5-axis
+//! programs, each with a sidecar of the features a programmer reads off the part, computed
+//! by hand from the controls' documented conventions. Every feature must lie on its face:
+//! the same kind, its axis within 0.001, every hole top in the part's frame within 0.1 mm
+//! (across the axis only, where the program states no top), sizes within 0.05 mm; no
+//! feature more; and the CC1 toolpath keeps the tool axes the sidecar lists.
+
+use ncplan::dialect::Registry;
+use ncplan::interp::Profile;
+use ncplan::part21::stepnc;
+use ncplan::pipeline;
+use ncplan::plan::{Feature, FeatureKind, P3, ProcessPlan};
+use serde_json::Value;
+
+/// Position tolerance, mm.
+const PLACE: f64 = 0.1;
+/// Size tolerance, mm.
+const SIZE: f64 = 0.05;
+/// Axis tolerance (components of a unit vector).
+const AXIS: f64 = 1e-3;
+
+fn parts() -> Vec<(String, String, Value)> {
+    let dir = crate::root().join("tests/programs/tilt");
+    let mut names: Vec<_> = std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).map(|e| e.path()).collect();
+    names.sort();
+    let mut out = Vec::new();
+    for side in names.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+        let stem = side.file_stem().unwrap().to_string_lossy().into_owned();
+        let program = names
+            .iter()
+            .find(|p| p.file_stem().is_some_and(|s| s.to_string_lossy() == stem) && p.extension().is_some_and(|e| e != "json"))
+            .unwrap_or_else(|| panic!("{stem}: a program beside its sidecar"));
+        let text = String::from_utf8_lossy(&std::fs::read(program).unwrap()).into_owned();
+        out.push((stem, text, serde_json::from_str(&std::fs::read_to_string(side).unwrap()).unwrap()));
+    }
+    out
+}
+
+fn plan_of(text: &str, side: &Value) -> ProcessPlan {
+    let reg = Registry::shipped();
+    let dialect = reg.get(side["dialect"].as_str().unwrap()).unwrap();
+    pipeline::analyze(text.as_bytes(), &dialect, &Profile::default()).plan
+}
+
+fn vec3(v: &Value) -> P3 {
+    let a = v.as_array().unwrap();
+    [0, 1, 2].map(|i| a[i].as_f64().unwrap())
+}
+
+fn cross(a: P3, b: P3) -> P3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The points a feature states in the part's frame: each hole's top, or the placement.
+fn points(f: &Feature) -> Vec<P3> {
+    let z = f.axis.unwrap_or([0.0, 0.0, 1.0]);
+    let x = f.ref_direction.unwrap_or([1.0, 0.0, 0.0]);
+    let y = cross(z, x);
+    let at = |p: [f64; 2]| [0, 1, 2].map(|i| f.placement[i] + x[i] * p[0] + y[i] * p[1]);
+    match &f.kind {
+        FeatureKind::RoundHole { positions, .. } => positions.iter().map(|p| at(*p)).collect(),
+        _ => vec![f.placement],
+    }
+}
+
+/// Whether point `got` is `want`: within [`PLACE`]; across `axis` only where the top is
+/// inferred.
+fn same_point(got: P3, want: P3, axis: P3, along_too: bool) -> bool {
+    let d = [got[0] - want[0], got[1] - want[1], got[2] - want[2]];
+    let along = dot(d, axis);
+    let across = [d[0] - along * axis[0], d[1] - along * axis[1], d[2] - along * axis[2]];
+    dot(across, across).sqrt() <= PLACE && (!along_too || along.abs() <= PLACE)
+}
+
+fn matches(f: &Feature, want: &Value) -> bool {
+    if f.kind.label().replace(' ', "_") != want["kind"].as_str().unwrap() {
+        return false;
+    }
+    let axis = vec3(&want["axis"]);
+    let got_axis = f.axis.unwrap_or([0.0, 0.0, 1.0]);
+    if (0..3).any(|i| (got_axis[i] - axis[i]).abs() > AXIS) {
+        return false;
+    }
+    let inferred = want.get("top_inferred").and_then(Value::as_bool).unwrap_or(false);
+    let wanted: Vec<P3> = want["positions"].as_array().unwrap().iter().map(vec3).collect();
+    let got = points(f);
+    if got.len() != wanted.len() || !wanted.iter().all(|w| got.iter().any(|g| same_point(*g, *w, axis, !inferred))) {
+        return false;
+    }
+    let near = |a: Option<f64>, k: &str| want.get(k).and_then(Value::as_f64).is_none_or(|b| a.is_some_and(|a| (a - b).abs() <= SIZE));
+    let size = match &f.kind {
+        FeatureKind::RoundHole { diameter, .. } => near(*diameter, "diameter"),
+        FeatureKind::Slot { width, .. } => near(Some(*width), "width"),
+        _ => true,
+    };
+    size && (inferred || near(Some(f.depth), "depth"))
+}
+
+#[test]
+#[allow(clippy::print_stdout)] // the score is the test's report (`--nocapture` shows it)
+fn every_feature_lies_on_its_face_with_its_axis() {
+    let parts = parts();
+    assert!(parts.len() >= 10, "the suite has {} programs", parts.len());
+    let (mut found, mut wanted, mut extra) = (0, 0, 0);
+    let mut misses = Vec::new();
+    for (name, text, side) in parts.iter().filter(|p| p.2.get("score_features").and_then(Value::as_bool) != Some(false)) {
+        let plan = plan_of(text, side);
+        let want = side["features"].as_array().unwrap();
+        wanted += want.len();
+        let mut used = vec![false; plan.features.len()];
+        for w in want {
+            match plan.features.iter().enumerate().find(|(k, f)| !used[*k] && matches(f, w)) {
+                Some((k, _)) => {
+                    used[k] = true;
+                    found += 1;
+                }
+                None => misses.push(format!("{name}: no feature {w}")),
+            }
+        }
+        for (k, f) in plan.features.iter().enumerate().filter(|(k, _)| !used[*k]) {
+            extra += 1;
+            misses.push(format!(
+                "{name}: feature {} ({}) at {:?} axis {:?} is not on the part",
+                k + 1,
+                f.kind.label(),
+                f.placement,
+                f.axis
+            ));
+        }
+    }
+    println!("tilt suite: {found} of {wanted} features on their faces, {extra} more");
+    assert!(misses.is_empty(), "{}", misses.join("\n"));
+}
+
+/// The tool axes a toolpath takes, one entry where it changes.
+fn axes_along(plan: &ProcessPlan) -> Vec<P3> {
+    let mut out: Vec<P3> = Vec::new();
+    for ws in &plan.workingsteps {
+        for i in 0..ws.toolpath.len() {
+            let a = ws.toolpath.axis_at(i);
+            if out.last().is_none_or(|l| (0..3).any(|k| (l[k] - a[k]).abs() > AXIS)) {
+                out.push(a);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn cc1_keeps_the_tool_axis() {
+    let mut checked = 0;
+    for (name, text, side) in parts() {
+        let Some(want) = side.get("tool_axes").and_then(Value::as_array) else { continue };
+        let want: Vec<P3> = want.iter().map(vec3).collect();
+        let plan = plan_of(&text, &side);
+        let (p21, _) = stepnc::to_string(&plan, stepnc::Class::Cc1, "2026-01-01T00:00:00");
+        let back = stepnc::read(&ncplan::part21::parse(&p21).unwrap()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(back, stepnc::toolpaths_only(&plan), "{name}: CC1 read back");
+        let got = axes_along(&back);
+        let same = got.len() == want.len() && got.iter().zip(&want).all(|(g, w)| (0..3).all(|k| (g[k] - w[k]).abs() <= AXIS));
+        assert!(same, "{name}: tool axes {got:?}, want {want:?}");
+        checked += 1;
+    }
+    assert!(checked >= 4, "{checked} 5-axis programs");
+}
+
+/// The changes from a suite program to its edit (`from` replaced by `to`, once), every
+/// differing statement accounted for, as rows and sentences.
+fn edit(name: &str, from: &str, to: &str, want: expect_test::Expect) {
+    use ncplan::diff;
+    let (_, a, side) = parts().into_iter().find(|p| p.0 == name).unwrap_or_else(|| panic!("{name} in the suite"));
+    assert_eq!(a.matches(from).count(), 1, "{from:?} occurs once in {name}");
+    let b = a.replace(from, to);
+    let registry = Registry::shipped();
+    let d = registry.get(side["dialect"].as_str().unwrap()).unwrap();
+    let profile = Profile::default();
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let (x, y) = (
+        diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+    );
+    let got = diff::compare(x, y);
+    assert!(diff::unaccounted(x, y, &got).is_empty(), "{name}: a differing statement no change names");
+    let opt = |l: Option<u32>| l.map_or("-".to_owned(), |l| l.to_string());
+    let rows: String = got
+        .iter()
+        .map(|c| {
+            format!(
+                "{} | {} | {} | {} | {} | {}\n  {}\n",
+                c.kind.as_str(),
+                c.field,
+                c.before,
+                c.after,
+                opt(c.line),
+                opt(c.original_line),
+                c.phrase()
+            )
+        })
+        .collect();
+    want.assert_eq(&rows);
+}
+
+#[test]
+fn plane_spatial_angle() {
+    edit(
+        "f360_tnc_chamfer_a30",
+        "SPA+30 SPB+0",
+        "SPA+25 SPB+0",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 30° about A | tilted 25° about A | 23 | 23
+              work plane tilted 30° → 25° about A; 3 holes moved at line 23
+        "#]],
+    );
+}
+
+#[test]
+fn cycle800_angle() {
+    edit(
+        "nx_840d_cycle800_a30",
+        "57,0,0,0,30,0,0",
+        "57,0,0,0,25,0,0",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 30° about A | tilted 25° about A | 20 | 20
+              work plane tilted 30° → 25° about A; 3 holes moved at line 20
+        "#]],
+    );
+}
+
+#[test]
+fn g68_2_euler_angle() {
+    edit(
+        "f360_fanuc_g682_chamfer",
+        "I0. J-45. K0.",
+        "I0. J-40. K0.",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted -45° about A | tilted -40° about A | 14 | 14
+          work plane tilted -45° → -40° about A; 3 holes moved at line 14
+    "#]],
+    );
+}
+
+#[test]
+fn g68_2_origin() {
+    edit(
+        "f360_fanuc_g682_sides",
+        "G68.2 X100. Y0.",
+        "G68.2 X102. Y0.",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane_origin | X100 Y0 Z0 | X102 Y0 Z0 | 14 | 14
+          work plane origin X100 Y0 Z0 → X102 Y0 Z0; 2 holes moved at line 14
+    "#]],
+    );
+}
+
+#[test]
+fn a_milled_slot_on_a_plane_turned_off_the_stock_faces_changes_only_the_plane() {
+    edit(
+        "hm_tnc_right_face_b90",
+        "SPB+90",
+        "SPB+85",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted 90° about B | tilted 85° about B (also in workingstep 2) | 8 | 8
+          work plane tilted 90° → 85° about B (also in workingstep 2); the slot moved at line 8
+    "#]],
+    );
+}
+
+#[test]
+fn how_the_axes_reach_the_plane_is_no_plan_change() {
+    edit(
+        "f360_tnc_chamfer_a30",
+        "TURN MB MAX FMAX SEQ+ TABLE ROT",
+        "STAY",
+        expect_test::expect![[r#"
+        statement_changed | statement | TURN MB MAX FMAX SEQ+TABLE ROT | STAY | 23 | 23
+          `STAY` instead of `TURN MB MAX FMAX SEQ+TABLE ROT` at line 23
+    "#]],
+    );
+}
+
+#[test]
+fn a_hole_moved_on_the_tilted_plane_is_told_in_its_coordinates() {
+    edit(
+        "f360_tnc_chamfer_a30",
+        "18 L X+50 Y+10",
+        "18 L X+55 Y+10",
+        expect_test::expect![[r#"
+        hole_removed | hole | X50 Y10 |  | 35 | 35
+          hole at X50 Y10 removed at line 35
+        hole_added | hole |  | X55 Y10 | 35 | 35
+          hole added at X55 Y10 at line 35
+    "#]],
+    );
+}
+
+#[test]
+fn stepnc_keeps_setups_and_placements() {
+    for (name, text, side) in parts() {
+        let plan = plan_of(&text, &side);
+        for cc in [stepnc::Class::Cc1, stepnc::Class::Cc2] {
+            let (p21, _) = stepnc::to_string(&plan, cc, "2026-01-01T00:00:00");
+            let back = stepnc::read(&ncplan::part21::parse(&p21).unwrap()).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let want = if cc == stepnc::Class::Cc2 { plan.clone() } else { stepnc::toolpaths_only(&plan) };
+            assert_eq!(back, want, "{name} {cc:?}: read back");
+        }
+    }
+    // A feature on a tilted face is placed with its axis and reference direction.
+    let (_, text, side) = parts().into_iter().find(|p| p.0 == "f360_tnc_chamfer_a30").unwrap();
+    let (p21, _) = stepnc::to_string(&plan_of(&text, &side), stepnc::Class::Cc2, "2026-01-01T00:00:00");
+    let lines: Vec<&str> = p21.lines().collect();
+    let placed = lines.windows(3).any(|w| {
+        let id = |l: &str| l.split('=').next().unwrap_or("").to_owned();
+        w[0].ends_with("=DIRECTION('',(0.,-0.5,0.866025404));")
+            && w[1].ends_with("=DIRECTION('',(1.,0.,0.));")
+            && w[2].ends_with(&format!(",{},{});", id(w[0]), id(w[1])))
+            && w[2].contains("AXIS2_PLACEMENT_3D")
+    });
+    assert!(placed, "the chamfer's holes are placed with axis and reference direction:\n{p21}");
+}
