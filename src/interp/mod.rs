@@ -153,6 +153,7 @@ mod exec;
 mod fast;
 mod flow;
 mod g7x;
+mod lathe;
 mod motion;
 mod read;
 
@@ -523,6 +524,8 @@ struct State {
     /// A lathe roughing cycle's depth of cut and retract, as its first block (`G71 U2. R.5`)
     /// set them for the ones after it.
     rough_cut: Option<(f64, f64)>,
+    /// What the first block of a lathe's G74/G75/G76 set for the ones after it.
+    lathe_setup: lathe::LatheSetup,
     /// The initial level of the canned cycles in force: the hole axis position when the
     /// first of them began. G98 returns to it, and in G91 R counts from it.
     cycle_initial: Option<f64>,
@@ -577,6 +580,7 @@ impl State {
             turn_cycle: None,
             nurbs: None,
             rough_cut: None,
+            lathe_setup: lathe::LatheSetup::default(),
             sticky_q: None,
             sticky_p: None,
             ended: false,
@@ -722,6 +726,8 @@ pub struct Interpreter<'a> {
     after_end_noted: bool,
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
+    /// The intent of the lathe contour cycle a request runs, said before its moves.
+    turn_intent: Option<Box<crate::canon::TurnIntent>>,
     /// Call depth (0 in the main program), kept by the flow driver.
     pub(super) depth: u32,
     /// Modal state saved per call level (M70, M73), index 0 for the main program.
@@ -801,6 +807,7 @@ impl<'a> Interpreter<'a> {
             noted: BTreeSet::new(),
             after_end_noted: false,
             request: None,
+            turn_intent: None,
             depth: 0,
             contexts: Vec::new(),
             left_level: None,
@@ -1375,6 +1382,9 @@ impl<'a> Interpreter<'a> {
         }
         if self.st.feed_per_rev {
             self.emit(sink, CanonOp::SetFeedMode(FeedMode::PerRevolution));
+        }
+        if self.st.diameter {
+            self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(true)));
         }
     }
 

@@ -1,7 +1,7 @@
 //! Straight and circular motion.
 
 use super::{Interpreter, Spindle};
-use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, Units};
+use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Plane, TurnIntent, TurnKind, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role, SystemVar};
 use crate::syntax::{Block, WordMode};
@@ -228,6 +228,13 @@ impl Interpreter<'_> {
         if !thread {
             self.check_technology(def, range, diags);
         }
+        let kind = match def.meaning {
+            Meaning::CycleTurn => TurnKind::TurnPass,
+            Meaning::CycleFace => TurnKind::FacePass,
+            _ => TurnKind::ThreadPass,
+        };
+        let pitch = if thread { Some(self.slot(Role::F).unwrap_or(self.st.feed)) } else { None };
+        self.emit(sink, CanonOp::Turning(Box::new(TurnIntent { kind: Some(kind), code: def.label(), pitch, ..TurnIntent::default() })));
         let moves = match def.meaning {
             // Rapid to the cut's start, feed to the target, feed out, rapid back.
             Meaning::CycleTurn => [(at(x + r, start[2]), true), (at(x, z), false), (at(start[0], z), false), (start, true)],
@@ -247,11 +254,12 @@ impl Interpreter<'_> {
             }
             self.st.pos = p;
         }
+        self.emit(sink, CanonOp::TurningEnd);
     }
 
     /// Whether the spindle turns, as a move synchronised with it needs; else an error (the
     /// control stops: there is no rotation to follow) and false.
-    fn spindle_turns(&self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+    pub(super) fn spindle_turns(&self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
         if self.st.spindle != Spindle::Stopped {
             return true;
         }

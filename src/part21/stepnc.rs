@@ -206,6 +206,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             holes: _,
             toolpath: _,
             state,
+            turning: _,
             source,
             lines,
         } = full;
@@ -365,7 +366,8 @@ impl<W: std::io::Write> Writer<W> {
             ],
         );
         let body_name = match t.kind {
-            ToolKind::EndMill | ToolKind::Unknown => "ENDMILL",
+            // Turning tools are not written as ISO 14649-121 tools yet.
+            ToolKind::EndMill | ToolKind::Unknown | ToolKind::TurningTool | ToolKind::GroovingTool | ToolKind::ThreadingTool => "ENDMILL",
             ToolKind::BallEndMill => "BALL_ENDMILL",
             ToolKind::BullnoseEndMill => "BULLNOSE_ENDMILL",
             ToolKind::FaceMill => "FACEMILL",
@@ -768,7 +770,8 @@ impl<W: std::io::Write> Writer<W> {
                 attrs.extend([swept, profile]);
                 self.b.add("GENERAL_OUTSIDE_PROFILE", attrs)
             }
-            FeatureKind::Toolpath => {
+            // Turned features are not written as ISO 14649-12 entities yet: their toolpaths are.
+            FeatureKind::Toolpath | FeatureKind::Turned(_) => {
                 let attrs = common(self, f.placement, f.depth, ops);
                 self.b.add("TOOLPATH_FEATURE", attrs)
             }

@@ -78,8 +78,13 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
             super::FeatureKind::Slot { width, .. } | super::FeatureKind::Step { width, .. } => {
                 format!(" width {}", num(*width))
             }
+            super::FeatureKind::Turned(t) => format!(" {}", t.size()),
             _ => String::new(),
         };
+        if matches!(f.kind, super::FeatureKind::Turned(_)) {
+            writeln!(out, "feature {} {}{shape} at Z{}; workingsteps {}", f.id, f.kind.label(), num(p[2]), ws.join(", "))?;
+            continue;
+        }
         writeln!(
             out,
             "feature {} {}{shape} at X{} Y{} Z{} depth {}{}; workingsteps {}",
@@ -97,6 +102,11 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
         }
     }
     for w in &plan.workingsteps {
+        if let Some(words) = super::turning::words(w) {
+            let f = w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default();
+            writeln!(out, "workingstep {}{f} T{}: {words}, lines {}-{}", w.index, w.tool, w.lines.0, w.lines.1)?;
+            continue;
+        }
         let t = &w.technology;
         writeln!(
             out,

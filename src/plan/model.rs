@@ -180,6 +180,8 @@ pub enum FeatureKind {
     },
     /// A toolpath that fits no other feature.
     Toolpath,
+    /// A turned feature (ISO 14649-12): placed on the axis of revolution, Z.
+    Turned(super::turning::Turned),
 }
 
 impl FeatureKind {
@@ -194,6 +196,7 @@ impl FeatureKind {
             FeatureKind::Step { .. } => "step",
             FeatureKind::OutsideProfile { .. } => "general outside profile",
             FeatureKind::Toolpath => "toolpath feature",
+            FeatureKind::Turned(t) => t.label(),
         }
     }
 
@@ -204,7 +207,11 @@ impl FeatureKind {
             | FeatureKind::OpenPocket { boundary }
             | FeatureKind::OutsideProfile { boundary, .. } => Some(boundary),
             FeatureKind::Slot { path, .. } => Some(path),
-            FeatureKind::PlanarFace { .. } | FeatureKind::RoundHole { .. } | FeatureKind::Step { .. } | FeatureKind::Toolpath => None,
+            FeatureKind::PlanarFace { .. }
+            | FeatureKind::RoundHole { .. }
+            | FeatureKind::Step { .. }
+            | FeatureKind::Toolpath
+            | FeatureKind::Turned(_) => None,
         }
     }
 }
@@ -377,13 +384,19 @@ pub enum ToolKind {
     BoringTool,
     /// Countersink or chamfer tool.
     Countersink,
+    /// A general turning tool (ISO 14649-121 `general_turning_tool`): an insert with a nose radius.
+    TurningTool,
+    /// A grooving or parting tool (`grooving_tool`): its width is its diameter here.
+    GroovingTool,
+    /// A threading tool (`turning_threading_tool`).
+    ThreadingTool,
     /// Not known.
     Unknown,
 }
 
 impl ToolKind {
     /// Every kind.
-    pub const ALL: [ToolKind; 11] = [
+    pub const ALL: [ToolKind; 14] = [
         ToolKind::EndMill,
         ToolKind::BallEndMill,
         ToolKind::BullnoseEndMill,
@@ -394,6 +407,9 @@ impl ToolKind {
         ToolKind::Tap,
         ToolKind::BoringTool,
         ToolKind::Countersink,
+        ToolKind::TurningTool,
+        ToolKind::GroovingTool,
+        ToolKind::ThreadingTool,
         ToolKind::Unknown,
     ];
 
@@ -410,6 +426,9 @@ impl ToolKind {
             ToolKind::Tap => "tap",
             ToolKind::BoringTool => "boring_tool",
             ToolKind::Countersink => "countersink",
+            ToolKind::TurningTool => "turning_tool",
+            ToolKind::GroovingTool => "grooving_tool",
+            ToolKind::ThreadingTool => "threading_tool",
             ToolKind::Unknown => "unknown",
         }
     }
@@ -984,6 +1003,9 @@ pub struct Workingstep {
     /// The machine state it runs under: offsets, compensation, stops, dwells, optional blocks.
     #[serde(skip_serializing_if = "MachineState::is_default", default)]
     pub state: MachineState,
+    /// On a program that turns: the turning operation and its values.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub turning: Option<Box<super::turning::Turning>>,
     /// Source range covered by the workingstep's blocks.
     pub source: TextRange,
     /// First and last source line.
@@ -991,6 +1013,22 @@ pub struct Workingstep {
 }
 
 impl Workingstep {
+    /// The operation in words: a turning workingstep's (`contouring rough`), else the ISO
+    /// 14649-11 operation's label.
+    pub fn label(&self) -> String {
+        match self.turning.as_deref().and_then(|t| t.operation.map(|o| (o, t.rough))) {
+            Some((o, rough)) => {
+                let stage = match o {
+                    super::TurnOp::Drilling | super::TurnOp::PartingOff => "",
+                    _ if rough => " rough",
+                    _ => " finish",
+                };
+                format!("{}{stage}", o.as_str().replace('_', " "))
+            }
+            None => self.operation.label().into(),
+        }
+    }
+
     /// A workingstep with its toolpath and what was decided about it; what the toolpath
     /// determines is left empty for [`measure`](crate::plan::measure), and features,
     /// strategies, depths and allowances for feature recognition.
@@ -1024,6 +1062,7 @@ impl Workingstep {
             holes: Vec::new(),
             toolpath,
             state: MachineState::default(),
+            turning: None,
             source,
             lines,
         }

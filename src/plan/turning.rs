@@ -1,0 +1,498 @@
+//! Turning: the workingsteps and features of a program that turns about Z (ISO 14649-121
+//! operations, ISO 14649-12 features), as a turner names them.
+//!
+//! A program turns when its dictionary starts in diameter mode (a lathe's X words are
+//! diameters), it says `G7`/`DIAMON`, or it runs a lathe cycle. Recovery (`recover.rs`)
+//! then segments at each lathe cycle (the interpreter's `Turning` marker, with the values
+//! the cycle states: allowances, depth of cut, retract, pitch, thread height, pecks) and
+//! keeps each workingstep's feed per revolution, the constant cutting speed's clamp and the
+//! pitch of spindle-synchronised moves. [`recognise`] names each workingstep's operation —
+//! from its cycle, else from its moves as CAM posts write them: cuts only across X to the
+//! axis at the front are facing, elsewhere parting off; plunges across X and back out
+//! grooving; synchronised passes threading; feeds along the axis at X0 drilling; anything
+//! else contouring, rough when it cuts in several passes and finish when in one — and builds
+//! the features from the finished contour (a finishing pass, or a roughing cycle's last pass
+//! moved back by its allowances): each run along Z an outer (or inner) diameter, each run
+//! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
+//! axis from their workingsteps. Diameters throughout; lengths along Z.
+
+use serde::{Deserialize, Serialize};
+
+use super::model::*;
+use crate::canon::{TurnIntent, TurnKind};
+use crate::text::num;
+
+/// Within this, two lengths are the same, mm.
+const TOL: f64 = 1e-3;
+
+/// What a turning workingstep does (ISO 14649-121).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TurnOp {
+    /// Facing (`facing_rough`, `facing_finish`).
+    Facing,
+    /// Contouring along the part (`contouring_rough`, `contouring_finish`).
+    Contouring,
+    /// Grooving (`grooving_rough`, `grooving_finish`).
+    Grooving,
+    /// Threading (`threading_rough`, `threading_finish`).
+    Threading,
+    /// Drilling on the axis.
+    Drilling,
+    /// Parting off (ISO 14649-121 `cutting_in` to the axis).
+    PartingOff,
+}
+
+impl TurnOp {
+    /// snake_case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TurnOp::Facing => "facing",
+            TurnOp::Contouring => "contouring",
+            TurnOp::Grooving => "grooving",
+            TurnOp::Threading => "threading",
+            TurnOp::Drilling => "drilling",
+            TurnOp::PartingOff => "parting_off",
+        }
+    }
+}
+
+/// A turning workingstep's operation and what its cycle or its moves state. Lengths in mm;
+/// X values are diameters.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Turning {
+    /// What it does.
+    pub operation: Option<TurnOp>,
+    /// Roughing (leaves an allowance, cuts in passes) rather than finishing.
+    #[serde(default)]
+    pub rough: bool,
+    /// Inside the part (boring, an inner groove or thread).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub inside: bool,
+    /// The cycle's code (`G71`), when a cycle makes it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cycle: Option<String>,
+    /// The cycle as the interpreter read it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub intent: Option<TurnIntent>,
+    /// Feed per revolution, mm/rev (G95/G99), at the first cut.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feed_per_rev: Option<f64>,
+    /// The spindle's speed limit under constant cutting speed (G50 S, G92 S, LIMS), 1/min.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spindle_limit: Option<f64>,
+    /// The lead of spindle-synchronised moves (a thread's pitch), mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pitch: Option<f64>,
+    /// Cutting passes (runs of cuts between rapids).
+    #[serde(default)]
+    pub passes: u32,
+    /// Smallest and largest diameter cut.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub diameter: Option<[f64; 2]>,
+    /// Lowest and highest Z cut.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<[f64; 2]>,
+}
+
+/// A turned feature's kind and size (ISO 14649-12). Diameters and lengths in mm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "shape")]
+pub enum Turned {
+    /// A face across the axis (`revolved_flat`), from `inner` to `outer` diameter.
+    RevolvedFlat {
+        /// Outer diameter.
+        outer: f64,
+        /// Inner diameter (0 to the axis).
+        inner: f64,
+    },
+    /// A cylinder outside (`outer_diameter`) or inside (a bore), `length` along -Z from the placement.
+    Diameter {
+        /// Diameter.
+        diameter: f64,
+        /// Length along Z.
+        length: f64,
+        /// Inside the part.
+        inside: bool,
+    },
+    /// A rounded edge (`revolved_round`).
+    RevolvedRound {
+        /// Radius.
+        radius: f64,
+        /// Diameter at its larger end.
+        diameter: f64,
+    },
+    /// A groove (`groove`): its bottom diameter and width along Z.
+    Groove {
+        /// Diameter at the bottom.
+        diameter: f64,
+        /// Width along Z, where known (the plunges' span plus the tool's width).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        width: Option<f64>,
+        /// Inside the part (or on the face).
+        inside: bool,
+    },
+    /// A thread: major diameter where its cycle states the height, minor diameter, pitch, length.
+    Thread {
+        /// Major (nominal) diameter.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        diameter: Option<f64>,
+        /// Minor diameter (outside) or major (inside): the last pass's.
+        root: f64,
+        /// Pitch (lead), mm.
+        pitch: f64,
+        /// Length along Z.
+        length: f64,
+        /// Inside the part.
+        inside: bool,
+    },
+}
+
+impl Turned {
+    /// Human label, ISO 14649-12's name.
+    pub fn label(&self) -> &'static str {
+        match self {
+            Turned::RevolvedFlat { .. } => "revolved flat",
+            Turned::Diameter { inside: false, .. } => "outer diameter",
+            Turned::Diameter { inside: true, .. } => "inner diameter",
+            Turned::RevolvedRound { .. } => "revolved round",
+            Turned::Groove { .. } => "groove",
+            Turned::Thread { .. } => "thread",
+        }
+    }
+
+    /// The size in a turner's words (`Ø24 × 28`).
+    pub fn size(&self) -> String {
+        let n = num;
+        match self {
+            Turned::RevolvedFlat { outer, inner } => format!("Ø{}..Ø{}", n(*inner), n(*outer)),
+            Turned::Diameter { diameter, length, .. } => format!("Ø{} × {}", n(*diameter), n(*length)),
+            Turned::RevolvedRound { radius, diameter } => format!("R{} at Ø{}", n(*radius), n(*diameter)),
+            Turned::Groove { diameter, width, .. } => match width {
+                Some(w) => format!("Ø{} width {}", n(*diameter), n(*w)),
+                None => format!("Ø{}", n(*diameter)),
+            },
+            Turned::Thread { diameter, root, pitch, length, .. } => match diameter {
+                Some(d) => format!("Ø{} pitch {} root Ø{} × {}", n(*d), n(*pitch), n(*root), n(*length)),
+                None => format!("pitch {} root Ø{} × {}", n(*pitch), n(*root), n(*length)),
+            },
+        }
+    }
+}
+
+/// Whether a feature kind is a milling one (none of these on a pure lathe program).
+pub fn is_milling(kind: &FeatureKind) -> bool {
+    !matches!(kind, FeatureKind::Turned(_) | FeatureKind::RoundHole { .. })
+}
+
+/// Turning tools whose kind nothing states, from what they do: threading, grooving or
+/// parting, drilling on the axis, else a general turning tool.
+pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
+    for t in plan.tools.iter_mut().filter(|t| t.kind == ToolKind::Unknown || t.kind_source == ToolSource::Inferred) {
+        let ops: Vec<TurnOp> =
+            plan.workingsteps.iter().filter(|w| w.tool == t.number).filter_map(|w| w.turning.as_ref().and_then(|x| x.operation)).collect();
+        let Some(first) = ops.first() else { continue };
+        if !ops.iter().all(|o| o == first) && !ops.iter().all(|o| matches!(o, TurnOp::Facing | TurnOp::Contouring)) {
+            continue;
+        }
+        t.kind = match first {
+            TurnOp::Threading => ToolKind::ThreadingTool,
+            TurnOp::Grooving | TurnOp::PartingOff => ToolKind::GroovingTool,
+            TurnOp::Drilling => ToolKind::TwistDrill,
+            TurnOp::Facing | TurnOp::Contouring => ToolKind::TurningTool,
+        };
+        t.kind_source = ToolSource::Inferred;
+    }
+}
+
+/// Names each turning workingstep's operation and builds the turned features.
+pub fn recognise(plan: &mut ProcessPlan) {
+    let front = plan
+        .workingsteps
+        .iter()
+        .flat_map(|w| w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from[2].max(m.to[2])))
+        .fold(f64::NEG_INFINITY, f64::max);
+    for ws in &mut plan.workingsteps {
+        classify(ws, front);
+    }
+    let mut features: Vec<Feature> = Vec::new();
+    for ws in &mut plan.workingsteps {
+        let width = plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width);
+        let found = features_of(ws, width);
+        let mut ids = Vec::new();
+        for (kind, z) in found {
+            let same = features.iter_mut().find(|f| f.kind == kind && (f.placement[2] - z).abs() < 0.05);
+            let id = match same {
+                Some(f) => {
+                    if !f.workingsteps.contains(&ws.index) {
+                        f.workingsteps.push(ws.index);
+                    }
+                    f.source = f.source.cover(ws.source);
+                    f.lines = (f.lines.0.min(ws.lines.0), f.lines.1.max(ws.lines.1));
+                    f.id
+                }
+                None => {
+                    let id = features.len() as u32 + 1;
+                    let depth = match &kind {
+                        FeatureKind::Turned(Turned::Diameter { length, .. } | Turned::Thread { length, .. }) => *length,
+                        _ => 0.0,
+                    };
+                    features.push(Feature {
+                        id,
+                        kind,
+                        placement: [0.0, 0.0, z],
+                        depth,
+                        top_inferred: false,
+                        workingsteps: vec![ws.index],
+                        source: ws.source,
+                        lines: ws.lines,
+                        sources: Sources::default(),
+                        centre_path: None,
+                    });
+                    id
+                }
+            };
+            ids.push(id);
+        }
+        ws.feature = ids.first().copied();
+    }
+    plan.features = features;
+}
+
+/// A tool's cutting width across Z: a grooving tool's width (`W3`, `WIDTH 3` in its
+/// comment), else its diameter (a drill).
+fn tool_width(t: &Tool) -> Option<f64> {
+    let up = t.name.as_deref().unwrap_or("").to_ascii_uppercase();
+    let words: Vec<&str> = up.split(|c: char| c.is_whitespace() || c == ',' || c == '(' || c == ')').filter(|w| !w.is_empty()).collect();
+    let named = words.iter().enumerate().find_map(|(i, w)| {
+        let v = w.strip_prefix("WIDTH").or_else(|| w.strip_prefix('W'))?.trim_start_matches(['=', ':']);
+        let v = if v.is_empty() { words.get(i + 1).copied().unwrap_or("") } else { v };
+        v.trim_end_matches("MM").parse::<f64>().ok().filter(|v| *v > 0.0)
+    });
+    named.or(t.diameter)
+}
+
+/// A cutting move in (Z, X radius).
+fn cuts(ws: &Workingstep) -> Vec<Move> {
+    ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect()
+}
+
+/// Runs of cuts between rapids.
+fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
+    let mut out: Vec<Vec<Move>> = Vec::new();
+    let mut open = false;
+    for m in ws.toolpath.iter() {
+        if m.kind == MoveKind::Rapid || m.phase != Phase::Cut {
+            open = false;
+            continue;
+        }
+        if !open {
+            out.push(Vec::new());
+            open = true;
+        }
+        if let Some(r) = out.last_mut() {
+            r.push(m);
+        }
+    }
+    out
+}
+
+fn classify(ws: &mut Workingstep, front: f64) {
+    let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
+    let cuts = cuts(ws);
+    if cuts.is_empty() {
+        ws.turning = Some(Box::new(t));
+        return;
+    }
+    let xs = cuts.iter().flat_map(|m| [m.from[0], m.to[0]]);
+    let (xmin, xmax) = xs.clone().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+    let zs = cuts.iter().flat_map(|m| [m.from[2], m.to[2]]);
+    let (zmin, zmax) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    t.diameter = Some([2.0 * xmin.abs().min(xmax.abs()), 2.0 * xmax.abs().max(xmin.abs())]);
+    t.z = Some([zmin, zmax]);
+    let runs = runs(ws);
+    t.passes = runs.len() as u32;
+    // The tool comes in from outside the cuts, or from inside them (a bore).
+    let entry = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.to[0]);
+    t.inside = entry.is_some_and(|x| x < xmin - TOL) && xmin > TOL;
+    let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
+    let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
+    let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
+    let (op, rough) = match intent_kind {
+        Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
+        Some(TurnKind::RoughFace) => (TurnOp::Facing, true),
+        Some(TurnKind::FacePass) => (TurnOp::Facing, runs.len() > 1),
+        Some(TurnKind::Finish) => (TurnOp::Contouring, false),
+        Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
+        Some(TurnKind::Groove) if xmin.abs() < 0.05 => (TurnOp::PartingOff, false),
+        Some(TurnKind::Groove) => (TurnOp::Grooving, false),
+        Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
+        Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
+        None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
+        None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
+        None if cuts.iter().all(across) => {
+            let to_axis = xmin.abs() < 0.05;
+            if to_axis && zmin >= front - 0.5 {
+                (TurnOp::Facing, runs.len() > 1)
+            } else if to_axis {
+                (TurnOp::PartingOff, false)
+            } else if (zmax - zmin) < 1.0 && zmax < front - 0.5 {
+                (TurnOp::Grooving, false)
+            } else {
+                (TurnOp::Facing, runs.len() > 1)
+            }
+        }
+        None => (TurnOp::Contouring, runs.len() > 1),
+    };
+    t.operation = Some(op);
+    t.rough = rough;
+    ws.turning = Some(Box::new(t));
+}
+
+/// The features a workingstep machines, with the Z they are placed at.
+fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f64)> {
+    let Some(t) = ws.turning.as_deref() else { return Vec::new() };
+    let cuts = cuts(ws);
+    let (Some(d), Some(z)) = (t.diameter, t.z) else { return Vec::new() };
+    let turned = |k: Turned| FeatureKind::Turned(k);
+    match t.operation {
+        Some(TurnOp::Facing) => {
+            // The face the last pass leaves.
+            let last = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| m.to[2]).last().unwrap_or(z[0]);
+            let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
+            vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), last - allow)]
+        }
+        Some(TurnOp::Grooving) | Some(TurnOp::PartingOff) => {
+            let plunge_z = cuts.iter().map(|m| m.to[2]);
+            let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+            let width = tool_width.map(|w| hi - lo + w);
+            if t.operation == Some(TurnOp::PartingOff) {
+                return Vec::new();
+            }
+            vec![(turned(Turned::Groove { diameter: d[0], width, inside: t.inside }), hi)]
+        }
+        Some(TurnOp::Threading) => {
+            let pitch = t.pitch.or_else(|| t.intent.as_ref().and_then(|i| i.pitch)).unwrap_or(0.0);
+            let root = if t.inside { d[1] } else { d[0] };
+            let height = t.intent.as_ref().and_then(|i| i.thread_depth);
+            let diameter = height.map(|h| if t.inside { root - 2.0 * h } else { root + 2.0 * h });
+            // The last pass: the run-in of the passes before shifts along the flank.
+            let last = runs(ws).into_iter().rev().find_map(|r| r.into_iter().find(|m| (m.to[2] - m.from[2]).abs() > TOL));
+            // Its run-in in front of the face (Z0) is air.
+            let (lo, hi) = last.map_or((z[0], z[1]), |m| (m.from[2].min(m.to[2]), m.from[2].max(m.to[2])));
+            let hi = if lo < 0.0 { hi.min(0.0) } else { hi };
+            let (length, at) = (hi - lo, hi);
+            vec![(turned(Turned::Thread { diameter, root, pitch, length: round(length), inside: t.inside }), round(at))]
+        }
+        Some(TurnOp::Drilling) => {
+            vec![(FeatureKind::RoundHole { diameter: tool_width, bottom: HoleBottom::Flat, positions: vec![[0.0, 0.0]] }, z[1])]
+        }
+        Some(TurnOp::Contouring) => contour_features(ws, t),
+        None => Vec::new(),
+    }
+}
+
+/// The features of a contour: the finishing pass, or a roughing cycle's last pass moved back
+/// by its allowances. Explicit roughing passes leave no finished shape of their own.
+fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
+    let runs = runs(ws);
+    let (profile, shift) = match t.intent.as_ref().and_then(|i| i.kind) {
+        Some(TurnKind::Finish) => (runs.concat(), (0.0, 0.0)),
+        Some(TurnKind::RoughTurn | TurnKind::RoughFace) => {
+            let i = t.intent.as_ref();
+            let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0;
+            let az = i.and_then(|i| i.allowance_z).unwrap_or(0.0);
+            (runs.last().cloned().unwrap_or_default(), (ax, az))
+        }
+        None if !t.rough => (runs.concat(), (0.0, 0.0)),
+        _ => return Vec::new(),
+    };
+    let mut out = Vec::new();
+    for m in &profile {
+        let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
+        let (z0, z1) = (m.from[2] - shift.1, m.to[2] - shift.1);
+        if let Some(a) = m.arc {
+            let r = (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]);
+            out.push((FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }), z0.max(z1)));
+        } else if (x1 - x0).abs() < TOL && z0.min(z1) > -TOL {
+            // In front of the face (Z0, where lathe programs put it): the lead-in from the
+            // cycle's start, in air.
+            continue;
+        } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
+            let k = Turned::Diameter { diameter: round(2.0 * x0), length: round((z1 - z0).abs()), inside: t.inside };
+            out.push((FeatureKind::Turned(k), round(z0.max(z1))));
+        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 {
+            let k = Turned::RevolvedFlat { outer: round(2.0 * x0.max(x1)), inner: round(2.0 * x0.min(x1).max(0.0)) };
+            out.push((FeatureKind::Turned(k), round(z0)));
+        }
+    }
+    out
+}
+
+/// A size rounded to the micrometre, so that features from two passes compare equal.
+fn round(v: f64) -> f64 {
+    (v * 1000.0).round() / 1000.0
+}
+
+/// A turning workingstep in a turner's words: the operation, its cycle's values, the feed
+/// per revolution, the cutting speed and its clamp, diameters and Z.
+pub fn words(ws: &Workingstep) -> Option<String> {
+    let t = ws.turning.as_deref()?;
+    let op = t.operation?;
+    let mut parts = vec![format!(
+        "{}{}",
+        op.as_str().replace('_', " "),
+        match op {
+            TurnOp::Facing | TurnOp::Contouring | TurnOp::Grooving | TurnOp::Threading =>
+                if t.rough {
+                    " rough"
+                } else {
+                    " finish"
+                },
+            _ => "",
+        }
+    )];
+    if t.inside {
+        parts.push("inside".into());
+    }
+    if let Some(c) = &t.cycle {
+        parts.push(format!("cycle {c}"));
+    }
+    if let Some(i) = &t.intent {
+        if let (Some(u), Some(w)) = (i.allowance_x, i.allowance_z) {
+            parts.push(format!("finishing allowance U{} W{}", num(u), num(w)));
+        }
+        if let Some(d) = i.depth_of_cut {
+            parts.push(format!("depth of cut {}", num(d)));
+        }
+        if let Some(r) = i.retract {
+            parts.push(format!("retract {}", num(r)));
+        }
+        if let Some(h) = i.thread_depth {
+            parts.push(format!("thread height {}", num(h)));
+        }
+        if let Some(a) = i.angle {
+            parts.push(format!("angle {}°", num(a)));
+        }
+        if let Some(p) = i.peck {
+            parts.push(format!("peck {}", num(p)));
+        }
+    }
+    if let Some(p) = t.pitch.or_else(|| t.intent.as_ref().and_then(|i| i.pitch)) {
+        parts.push(format!("pitch {} (spindle synchronised)", num(p)));
+    }
+    parts.push(format!("{} passes", t.passes));
+    if let Some(f) = t.feed_per_rev {
+        parts.push(format!("F{} mm/rev", num(f)));
+    }
+    let tech = &ws.technology;
+    match (tech.surface_speed, t.spindle_limit) {
+        (Some(v), Some(l)) => parts.push(format!("cutting speed {} m/min, spindle clamp {} /min", num(v), num(l))),
+        (Some(v), None) => parts.push(format!("cutting speed {} m/min", num(v))),
+        _ => parts.push(format!("S{} /min", num(tech.spindle_speed))),
+    }
+    if let (Some(d), Some(z)) = (t.diameter, t.z) {
+        parts.push(format!("Ø{}..Ø{} Z{}..{}", num(d[0]), num(d[1]), num(z[0]), num(z[1])));
+    }
+    Some(parts.join(", "))
+}
