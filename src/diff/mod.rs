@@ -664,10 +664,14 @@ fn compare_workingsteps(
     if tool_label(pa, a.tool) != tool_label(pb, b.tool) {
         push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool), at_start);
     }
-    compare_start(a, b, u, &mut push);
-    compare_state(a, b, &mut push);
     // On a lathe, in a turner's terms (`turning`): no feed per minute, no lowest Z.
     let lathe = a.turning.is_some() && b.turning.is_some();
+    if lathe {
+        turning::start(a, b, u, &mut push);
+    } else {
+        compare_start(a, b, u, &mut push);
+    }
+    compare_state(a, b, &mut push);
     let (feeds_differ, depth_change) =
         if lathe { (turning::technology(a, b, u, &mut push), None) } else { compare_technology(a, b, u, &mut push) };
     // Heights and feeds beside the cutting ones, where no canned cycle's parameters say them.

@@ -7,6 +7,22 @@
 use super::{ChangeKind, Fmt, Push, TOLERANCE, coolant_words, num, spindle_words};
 use crate::plan::{Turning, Workingstep};
 
+/// The first cut's start, as a diameter and Z, where the workingstep's moves are its own:
+/// a cycle's passes start where its start point and depth of cut put them, which its
+/// parameters' changes say.
+pub(super) fn start(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) {
+    let cycle = |w: &Workingstep| w.turning.as_deref().is_some_and(|t| t.intent.is_some());
+    if cycle(a) || cycle(b) {
+        return;
+    }
+    if let (Some(x), Some(y)) = (a.start_point, b.start_point)
+        && crate::plan::geom::dist(x, y) > TOLERANCE
+    {
+        let p = |q: crate::plan::P3| format!("Ø{} Z{}", u.c(2.0 * q[0]), u.c(q[2]));
+        push(ChangeKind::StartPointMoved, "start_point", p(x), p(y), (Some(a.lines.0), Some(b.lines.0)));
+    }
+}
+
 /// Compares the technology of two turning workingsteps; whether the feeds differ.
 pub(super) fn technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) -> bool {
     let at = (Some(a.lines.0), Some(b.lines.0));

@@ -167,11 +167,14 @@ impl Interpreter<'_> {
         if !self.spindle_turns(def, range, diags) {
             return;
         }
-        // The lead is K (LinuxCNC), or F where the dictionary gives the code F (Fanuc).
-        let lead = if def.params.takes(Role::F) { Role::F } else { Role::K };
-        let Some(pitch) = self.slot(lead) else {
-            let msg =
-                format!("{} without {} (the advance per revolution) was skipped", def.label(), if lead == Role::F { 'F' } else { 'K' });
+        // The lead is K (LinuxCNC, Siemens), or F where the dictionary gives the code F
+        // (Fanuc); a lathe dictionary that gives it both reads whichever the block has (NX
+        // posts for Mazak, Mitsubishi, Okuma and Fagor lathes write `G32 Z K`).
+        let leads: Vec<Role> = [Role::F, Role::K].into_iter().filter(|r| def.params.takes(*r)).collect();
+        let Some(pitch) = leads.iter().find_map(|r| self.slot(*r)) else {
+            let names: Vec<&str> = leads.iter().map(|r| if *r == Role::F { "F" } else { "K" }).collect();
+            let names = if names.is_empty() { "K".to_owned() } else { names.join(" or ") };
+            let msg = format!("{} without {names} (the advance per revolution) was skipped", def.label());
             diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
             return;
         };
@@ -407,7 +410,10 @@ impl Interpreter<'_> {
             bad("the threading cycle cannot run with cutter compensation on");
             return;
         }
+        // In diameter mode (G7) the depths are diameters too, as rs274 reads them.
+        let half = if self.st.diameter { 0.5 } else { 1.0 };
         let (i, j, k) = (self.slot(Role::I).unwrap_or(0.0), self.slot(Role::J).unwrap_or(0.0), self.slot(Role::K).unwrap_or(0.0));
+        let (i, j, k) = (i * half, j * half, k * half);
         let Some(pitch) = self.slot(Role::P) else { return };
         if i == 0.0 {
             return bad("I, the offset to the thread crests, must not be 0");

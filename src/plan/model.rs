@@ -1016,14 +1016,14 @@ impl Workingstep {
     /// The operation in words: a turning workingstep's (`contouring rough`), else the ISO
     /// 14649-11 operation's label.
     pub fn label(&self) -> String {
-        match self.turning.as_deref().and_then(|t| t.operation.map(|o| (o, t.rough))) {
-            Some((o, rough)) => {
+        match self.turning.as_deref().and_then(|t| t.operation.map(|o| (o, t.rough, t.inside))) {
+            Some((o, rough, inside)) => {
                 let stage = match o {
                     super::TurnOp::Drilling | super::TurnOp::PartingOff => "",
                     _ if rough => " rough",
                     _ => " finish",
                 };
-                format!("{}{stage}", o.as_str().replace('_', " "))
+                format!("{}{stage}{}", o.as_str().replace('_', " "), if inside { " inside" } else { "" })
             }
             None => self.operation.label().into(),
         }

@@ -806,7 +806,8 @@ impl<'p> Recovery<'p> {
             CanonOp::Comment(s) => self.comment(s, c.line),
             CanonOp::CycleBegin(intent) => self.cycle_begin(intent, c),
             CanonOp::CycleEnd => self.in_cycle = None,
-            CanonOp::Setting(Setting::DiameterMode(on)) => self.lathe |= *on,
+            // Diameter or radius mode: only a lathe has them.
+            CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
             CanonOp::Turning(t) => self.turning_begins(t),
             CanonOp::TurningEnd => {
                 self.turn = None;

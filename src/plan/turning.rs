@@ -207,13 +207,33 @@ pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
 
 /// Names each turning workingstep's operation and builds the turned features.
 pub fn recognise(plan: &mut ProcessPlan) {
+    // The part's front: the highest face cut (across X), and at least the program zero,
+    // where lathe programs put the finished face.
     let front = plan
         .workingsteps
         .iter()
-        .flat_map(|w| w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).map(|m| m.from[2].max(m.to[2])))
-        .fold(f64::NEG_INFINITY, f64::max);
+        .flat_map(|w| w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid))
+        .filter(|m| (m.to[2] - m.from[2]).abs() < TOL)
+        .map(|m| m.to[2])
+        .fold(0.0, f64::max);
     for ws in &mut plan.workingsteps {
-        classify(ws, front);
+        let boring = plan.tools.iter().find(|t| t.number == ws.tool).is_some_and(|t| {
+            t.kind == ToolKind::BoringTool || t.name.as_deref().is_some_and(|n| n.to_ascii_uppercase().contains("BORING"))
+        });
+        classify(ws, front, boring);
+    }
+    // A finishing pass is inside where the same tool's roughing was.
+    for k in 1..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let ws = &mut rest[0];
+        let inside = done.iter().rev().find(|w| w.tool == ws.tool).and_then(|w| w.turning.as_ref()).is_some_and(|t| t.inside);
+        if let Some(t) = ws.turning.as_mut()
+            && !t.rough
+            && t.operation == Some(TurnOp::Contouring)
+            && inside
+        {
+            t.inside = true;
+        }
     }
     let mut features: Vec<Feature> = Vec::new();
     for ws in &mut plan.workingsteps {
@@ -297,7 +317,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64) {
+fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -308,13 +328,27 @@ fn classify(ws: &mut Workingstep, front: f64) {
     let (xmin, xmax) = xs.clone().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
     let zs = cuts.iter().flat_map(|m| [m.from[2], m.to[2]]);
     let (zmin, zmax) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
-    t.diameter = Some([2.0 * xmin.abs().min(xmax.abs()), 2.0 * xmax.abs().max(xmin.abs())]);
+    // A cut across the axis (to, past the centre) reaches it: the smallest diameter is 0.
+    t.diameter = Some([2.0 * xmin.max(0.0), 2.0 * xmax.abs().max(xmin.abs())]);
     t.z = Some([zmin, zmax]);
     let runs = runs(ws);
     t.passes = runs.len() as u32;
     // The tool comes in from outside the cuts, or from inside them (a bore).
     let entry = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.to[0]);
-    t.inside = entry.is_some_and(|x| x < xmin - TOL) && xmin > TOL;
+    // Inside: a cycle's X allowance is negative, the tool is a boring bar, or roughing
+    // passes come in from within the smallest diameter they cut (outside, the tool comes in
+    // from beyond the largest); a finishing pass starts at its contour's small end either way.
+    let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
+    t.inside = match allowance {
+        Some(u) => u < 0.0,
+        None => boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
+    };
+    // After a plunge across X, a groove is left back out along the same line; a face is
+    // left along Z.
+    let last_cut = ws.toolpath.iter().rposition(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+    let back_out = last_cut
+        .and_then(|i| ws.toolpath.get(i + 1))
+        .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
@@ -324,19 +358,19 @@ fn classify(ws: &mut Workingstep, front: f64) {
         Some(TurnKind::FacePass) => (TurnOp::Facing, runs.len() > 1),
         Some(TurnKind::Finish) => (TurnOp::Contouring, false),
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
-        Some(TurnKind::Groove) if xmin.abs() < 0.05 => (TurnOp::PartingOff, false),
+        Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
         Some(TurnKind::Groove) => (TurnOp::Grooving, false),
         Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
         None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
         None if cuts.iter().all(across) => {
-            let to_axis = xmin.abs() < 0.05;
+            let to_axis = xmin < 0.05;
             if to_axis && zmin >= front - 0.5 {
                 (TurnOp::Facing, runs.len() > 1)
             } else if to_axis {
                 (TurnOp::PartingOff, false)
-            } else if (zmax - zmin) < 1.0 && zmax < front - 0.5 {
+            } else if back_out {
                 (TurnOp::Grooving, false)
             } else {
                 (TurnOp::Facing, runs.len() > 1)
@@ -355,6 +389,10 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
     let cuts = cuts(ws);
     let (Some(d), Some(z)) = (t.diameter, t.z) else { return Vec::new() };
     let turned = |k: Turned| FeatureKind::Turned(k);
+    // A contour cycle's features are its contour's, whichever way it cuts.
+    if matches!(t.intent.as_ref().and_then(|i| i.kind), Some(TurnKind::RoughTurn | TurnKind::RoughFace | TurnKind::Finish)) {
+        return contour_features(ws, t);
+    }
     match t.operation {
         Some(TurnOp::Facing) => {
             // The face the last pass leaves.
@@ -419,9 +457,11 @@ fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
             // cycle's start, in air.
             continue;
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
-            let k = Turned::Diameter { diameter: round(2.0 * x0), length: round((z1 - z0).abs()), inside: t.inside };
-            out.push((FeatureKind::Turned(k), round(z0.max(z1))));
-        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 {
+            // What runs on in front of the face is the lead-in.
+            let (lo, hi) = (z0.min(z1), z0.max(z1).min(0.0));
+            let k = Turned::Diameter { diameter: round(2.0 * x0), length: round(hi - lo), inside: t.inside };
+            out.push((FeatureKind::Turned(k), round(hi)));
+        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 && z0 < TOL {
             let k = Turned::RevolvedFlat { outer: round(2.0 * x0.max(x1)), inner: round(2.0 * x0.min(x1).max(0.0)) };
             out.push((FeatureKind::Turned(k), round(z0)));
         }

@@ -45,10 +45,9 @@ impl Interpreter<'_> {
 
     /// G7, G8 (lathe): X words give diameters or radii.
     pub(super) fn diameter_mode(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+        // Said either way: G7 and G8 are lathe codes, so the program turns.
         let on = def.meaning == Meaning::DiameterMode;
-        if on != self.st.diameter {
-            self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(on)));
-        }
+        self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(on)));
         self.st.diameter = on;
     }
 
