@@ -1144,8 +1144,11 @@ fn compare_features(fa: &crate::plan::Feature, fb: &crate::plan::Feature, depth_
     any
 }
 
-/// A turned feature's sizes: diameters, lengths, a groove's width, a thread's pitch.
-fn turned_dims(a: &crate::plan::Turned, b: &crate::plan::Turned, dim: &mut dyn FnMut(&str, Option<f64>, Option<f64>)) {
+/// Reports one dimension of a feature that differs.
+type Dim<'a> = dyn FnMut(&str, Option<f64>, Option<f64>) + 'a;
+
+/// A turned feature's sizes: diameters, a round's radius, a groove's width, a thread's diameters.
+fn turned_dims(a: &crate::plan::Turned, b: &crate::plan::Turned, dim: &mut Dim<'_>) {
     use crate::plan::Turned as T;
     match (a, b) {
         (T::RevolvedFlat { outer: oa, inner: ia }, T::RevolvedFlat { outer: ob, inner: ib }) => {

@@ -396,7 +396,7 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
     match t.operation {
         Some(TurnOp::Facing) => {
             // The face the last pass leaves.
-            let last = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| m.to[2]).last().unwrap_or(z[0]);
+            let last = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| m.to[2]).next_back().unwrap_or(z[0]);
             let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
             vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), last - allow)]
         }

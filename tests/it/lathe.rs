@@ -146,3 +146,95 @@ fn lathe_suite() {
     assert!(misses.is_empty(), "{} of {listed} listed workingsteps and features missed:\n{}", misses.len(), misses.join("\n"));
     assert!(programs.len() >= 30, "the lathe suite has {} programs", programs.len());
 }
+
+/// The change rows of an edit of a lathe program (every `from` made `to`), one per line with
+/// the planner's sentence.
+fn lathe_edit(program: &str, from: &str, to: &str) -> String {
+    let a = std::fs::read_to_string(dir().join(program)).unwrap();
+    assert!(a.contains(from), "{from:?} is in {program}");
+    let b = a.replace(from, to);
+    let expect = std::fs::read_to_string(dir().join(program).with_extension("expect")).unwrap();
+    let dialect = expect.lines().find_map(|l| l.strip_prefix("dialect ")).unwrap().trim();
+    let d = Registry::shipped().get(dialect).unwrap();
+    let profile = Profile::default();
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let (x, y) = (
+        ncplan::diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        ncplan::diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+    );
+    let got = ncplan::diff::compare(x, y);
+    let missing = ncplan::diff::unaccounted(x, y, &got);
+    assert!(missing.is_empty(), "differing statements no change names: {missing:?}");
+    let mut s = String::new();
+    for c in &got {
+        s.push_str(&format!("{} | {} | {} | {}\n  {}\n", c.kind.as_str(), c.field, c.before, c.after, c.phrase()));
+    }
+    s
+}
+
+/// An edit of a setting (the clamp, an allowance, the depth of cut) never adds or removes a
+/// workingstep or a feature.
+fn no_structure_change(rows: &str) {
+    for word in ["workingstep_added", "workingstep_removed", "hole_added", "hole_removed", "toolpath_changed"] {
+        assert!(!rows.contains(word), "{word} in\n{rows}");
+    }
+}
+
+#[test]
+fn lathe_edits_in_a_turner_s_terms() {
+    use expect_test::expect;
+    let clamp = lathe_edit("fanuc_g71_shaft.nc", "G50 S2500", "G50 S1800");
+    no_structure_change(&clamp);
+    expect![[r#"
+        spindle_speed_changed | spindle_clamp | 2500 /min | 1800 /min
+          spindle clamp changed from 2500 /min to 1800 /min at line 7
+    "#]]
+    .assert_eq(&clamp);
+    let allowance = lathe_edit("fanuc_g71_shaft.nc", "U0.4 W0.1", "U0.6 W0.2");
+    no_structure_change(&allowance);
+    expect![[r#"
+        allowance_changed | finishing_allowance | U0.4 W0.1 | U0.6 W0.2
+          finishing allowance changed from U0.4 W0.1 to U0.6 W0.2 at line 11
+    "#]]
+    .assert_eq(&allowance);
+    let depth = lathe_edit("fanuc_g71_shaft.nc", "G71 U2. R0.5", "G71 U1.5 R0.5");
+    no_structure_change(&depth);
+    expect![[r#"
+        axial_depth_changed | depth_of_cut | 2 | 1.5
+          depth of cut changed from 2 to 1.5 at line 10
+    "#]]
+    .assert_eq(&depth);
+    let pitch = lathe_edit("fanuc_g71_shaft.nc", "F1.5", "F1.25");
+    expect![[r#"
+        thread_pitch_changed | thread_pitch | 1.5 | 1.25
+          thread pitch changed from 1.5 to 1.25 at line 32
+    "#]]
+    .assert_eq(&pitch);
+    let speed = lathe_edit("fanuc_g71_shaft.nc", "G96 S200", "G96 S180");
+    no_structure_change(&speed);
+    expect![[r#"
+        spindle_speed_changed | cutting_speed | 200 m/min | 180 m/min
+          cutting speed changed from 200 m/min to 180 m/min at line 8
+    "#]]
+    .assert_eq(&speed);
+    let feed = lathe_edit("fanuc_g71_shaft.nc", "F0.25", "F0.2");
+    no_structure_change(&feed);
+    expect![[r#"
+        feed_changed | feed | F0.25 mm/rev | F0.2 mm/rev
+          feed changed from F0.25 mm/rev to F0.2 mm/rev at line 11
+    "#]]
+    .assert_eq(&feed);
+    let width = lathe_edit("fanuc_g75_groove.nc", "Z-20.", "Z-21.");
+    expect![[r#"
+        feature_changed | groove_width | 8 mm | 9 mm
+          groove width changed from 8 mm to 9 mm at line 8
+    "#]]
+    .assert_eq(&width);
+    // Every pass of a thread written as G32 moves, its lead K1.25 made K1.5.
+    let explicit_pitch = lathe_edit("mazak_k_thread.nc", "K1.25", "K1.5");
+    expect![[r#"
+        thread_pitch_changed | thread_pitch | 1.25 | 1.5
+          thread pitch changed from 1.25 to 1.5 at lines 8, 12, 16 and 1 more
+    "#]]
+    .assert_eq(&explicit_pitch);
+}
