@@ -181,7 +181,7 @@ pub enum FeatureKind {
     /// A toolpath that fits no other feature.
     Toolpath,
     /// A turned feature (ISO 14649-12): placed on the axis of revolution, Z.
-    Turned(super::turning::Turned),
+    Turned(super::turned::Turned),
 }
 
 impl FeatureKind {
@@ -1005,7 +1005,7 @@ pub struct Workingstep {
     pub state: MachineState,
     /// On a program that turns: the turning operation and its values.
     #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub turning: Option<Box<super::turning::Turning>>,
+    pub turning: Option<Box<super::turned::Turning>>,
     /// Source range covered by the workingstep's blocks.
     pub source: TextRange,
     /// First and last source line.
@@ -1019,7 +1019,7 @@ impl Workingstep {
         match self.turning.as_deref().and_then(|t| t.operation.map(|o| (o, t.rough, t.inside))) {
             Some((o, rough, inside)) => {
                 let stage = match o {
-                    super::TurnOp::Drilling | super::TurnOp::PartingOff => "",
+                    super::turned::TurnOp::Drilling | super::turned::TurnOp::PartingOff => "",
                     _ if rough => " rough",
                     _ => " finish",
                 };

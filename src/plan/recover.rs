@@ -480,7 +480,7 @@ struct Builder {
     /// On a program that turns: the lathe cycle the workingstep belongs to (a count of
     /// cycle starts and ends), and what the cycle and the technology state.
     turn_seq: u32,
-    turning: super::turning::Turning,
+    turning: super::turned::Turning,
 }
 
 impl Builder {
@@ -645,14 +645,14 @@ impl<'p> Recovery<'p> {
 
     /// What a new turning workingstep starts with: its cycle, the feed per revolution and
     /// the spindle clamp.
-    fn turning_now(&self) -> super::turning::Turning {
-        super::turning::Turning {
+    fn turning_now(&self) -> super::turned::Turning {
+        super::turned::Turning {
             cycle: self.turn.as_ref().map(|t| t.code.clone()),
             intent: self.turn.as_ref().map(|t| self.turn_in_mm(t)),
             feed_per_rev: (self.per_rev && self.sync.is_none()).then_some(self.feed),
             spindle_limit: self.css.filter(|m| *m < NO_SPINDLE_LIMIT),
             pitch: self.sync,
-            ..super::turning::Turning::default()
+            ..super::turned::Turning::default()
         }
     }
 
