@@ -1161,6 +1161,10 @@ fn turned_dims(a: &crate::plan::Turned, b: &crate::plan::Turned, dim: &mut Dim<'
             dim("groove_diameter", Some(*da), Some(*db));
             dim("groove_width", *wa, *wb);
         }
+        (T::Revolution { outer: oa, inner: ia, .. }, T::Revolution { outer: ob, inner: ib, .. }) => {
+            dim("outer_diameter", Some(*oa), Some(*ob));
+            dim("inner_diameter", Some(*ia), Some(*ib));
+        }
         (T::Thread { diameter: da, root: ra, .. }, T::Thread { diameter: db, root: rb, .. }) => {
             dim("thread_diameter", *da, *db);
             dim("thread_root_diameter", Some(*ra), Some(*rb));

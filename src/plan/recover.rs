@@ -651,7 +651,7 @@ impl<'p> Recovery<'p> {
             intent: self.turn.as_ref().map(|t| self.turn_in_mm(t)),
             feed_per_rev: (self.per_rev && self.sync.is_none()).then_some(self.feed),
             spindle_limit: self.css.filter(|m| *m < NO_SPINDLE_LIMIT),
-            pitch: self.sync,
+            pitch: self.sync.map(round_sig),
             ..super::turned::Turning::default()
         }
     }
@@ -1147,7 +1147,7 @@ impl<'p> Recovery<'p> {
             b.technology.feeds.push(feed);
         }
         if mv.kind != MoveKind::Rapid && self.sync.is_some() {
-            b.turning.pitch = self.sync;
+            b.turning.pitch = self.sync.map(round_sig);
         }
         if is_cut {
             b.cut_feed = Some(decisive_feed);

@@ -114,6 +114,16 @@ pub enum Turned {
         /// Inside the part (or on the face).
         inside: bool,
     },
+    /// The region a workingstep turns where its parts do not separate (`general_revolution`:
+    /// roughing passes, parting off): from `inner` to `outer` diameter, `length` along -Z.
+    Revolution {
+        /// Outer diameter.
+        outer: f64,
+        /// Inner diameter.
+        inner: f64,
+        /// Length along Z.
+        length: f64,
+    },
     /// A thread: major diameter where its cycle states the height, minor diameter, pitch, length.
     Thread {
         /// Major (nominal) diameter.
@@ -140,6 +150,7 @@ impl Turned {
             Turned::RevolvedRound { .. } => "revolved round",
             Turned::Groove { .. } => "groove",
             Turned::Thread { .. } => "thread",
+            Turned::Revolution { .. } => "general revolution",
         }
     }
 
@@ -154,6 +165,7 @@ impl Turned {
                 Some(w) => format!("Ø{} width {}", n(*diameter), n(*w)),
                 None => format!("Ø{}", n(*diameter)),
             },
+            Turned::Revolution { outer, inner, length } => format!("Ø{}..Ø{} × {}", n(*inner), n(*outer), n(*length)),
             Turned::Thread { diameter, root, pitch, length, .. } => match diameter {
                 Some(d) => format!("Ø{} pitch {} root Ø{} × {}", n(*d), n(*pitch), n(*root), n(*length)),
                 None => format!("pitch {} root Ø{} × {}", n(*pitch), n(*root), n(*length)),

@@ -79,10 +79,27 @@ pub fn recognise(plan: &mut ProcessPlan) {
             t.inside = true;
         }
     }
+    let mut found: Vec<Vec<(FeatureKind, f64)>> =
+        plan.workingsteps.iter().map(|ws| features_of(ws, plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width))).collect();
+    // Roughing passes machine what the same tool's next finishing pass leaves; where none
+    // follows, or nothing separates, the region turned is one general revolution.
+    for k in 0..found.len() {
+        if !found[k].is_empty() {
+            continue;
+        }
+        let ws = &plan.workingsteps[k];
+        let finish = plan.workingsteps[k + 1..]
+            .iter()
+            .position(|w| {
+                w.tool == ws.tool
+                    && w.turning.as_ref().is_some_and(|t| !t.rough && t.operation == ws.turning.as_ref().and_then(|t| t.operation))
+            })
+            .map(|j| found[k + 1 + j].clone())
+            .filter(|f| ws.turning.as_ref().is_some_and(|t| t.rough) && !f.is_empty());
+        found[k] = finish.unwrap_or_else(|| revolution(ws));
+    }
     let mut features: Vec<Feature> = Vec::new();
-    for ws in &mut plan.workingsteps {
-        let width = plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width);
-        let found = features_of(ws, width);
+    for (ws, found) in plan.workingsteps.iter_mut().zip(found) {
         let mut ids = Vec::new();
         for (kind, z) in found {
             let same = features.iter_mut().find(|f| f.kind == kind && (f.placement[2] - z).abs() < 0.05);
@@ -121,6 +138,17 @@ pub fn recognise(plan: &mut ProcessPlan) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
+}
+
+/// The region a workingstep turns, as one general revolution.
+fn revolution(ws: &Workingstep) -> Vec<(FeatureKind, f64)> {
+    match ws.turning.as_deref().map(|t| (t.diameter, t.z)) {
+        Some((Some(d), Some(z))) => {
+            let k = Turned::Revolution { outer: round(d[1]), inner: round(d[0]), length: round(z[1] - z[0]) };
+            vec![(FeatureKind::Turned(k), round(z[1]))]
+        }
+        _ => Vec::new(),
+    }
 }
 
 /// A tool's cutting width across Z: a grooving tool's width (`W3`, `WIDTH 3` in its
@@ -173,8 +201,8 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     let zs = cuts.iter().flat_map(|m| [m.from[2], m.to[2]]);
     let (zmin, zmax) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
     // A cut across the axis (to, past the centre) reaches it: the smallest diameter is 0.
-    t.diameter = Some([2.0 * xmin.max(0.0), 2.0 * xmax.abs().max(xmin.abs())]);
-    t.z = Some([zmin, zmax]);
+    t.diameter = Some([round(2.0 * xmin.max(0.0)), round(2.0 * xmax.abs().max(xmin.abs()))]);
+    t.z = Some([round(zmin), round(zmax)]);
     let runs = runs(ws);
     t.passes = runs.len() as u32;
     // The tool comes in from outside the cuts, or from inside them (a bore).
@@ -242,12 +270,12 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
             // The face the last pass leaves.
             let last = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| m.to[2]).next_back().unwrap_or(z[0]);
             let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
-            vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), last - allow)]
+            vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), round(last - allow))]
         }
         Some(TurnOp::Grooving) | Some(TurnOp::PartingOff) => {
             let plunge_z = cuts.iter().map(|m| m.to[2]);
             let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-            let width = tool_width.map(|w| hi - lo + w);
+            let width = tool_width.map(|w| round(hi - lo + w));
             if t.operation == Some(TurnOp::PartingOff) {
                 return Vec::new();
             }
@@ -257,7 +285,7 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
             let pitch = t.pitch.or_else(|| t.intent.as_ref().and_then(|i| i.pitch)).unwrap_or(0.0);
             let root = if t.inside { d[1] } else { d[0] };
             let height = t.intent.as_ref().and_then(|i| i.thread_depth);
-            let diameter = height.map(|h| if t.inside { root - 2.0 * h } else { root + 2.0 * h });
+            let diameter = height.map(|h| round(if t.inside { root - 2.0 * h } else { root + 2.0 * h }));
             // The last pass: the run-in of the passes before shifts along the flank.
             let last = runs(ws).into_iter().rev().find_map(|r| r.into_iter().find(|m| (m.to[2] - m.from[2]).abs() > TOL));
             // Its run-in in front of the face (Z0) is air.
@@ -295,7 +323,10 @@ fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
         let (z0, z1) = (m.from[2] - shift.1, m.to[2] - shift.1);
         if let Some(a) = m.arc {
             let r = (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]);
-            out.push((FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }), z0.max(z1)));
+            out.push((
+                FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }),
+                round(z0.max(z1)),
+            ));
         } else if (x1 - x0).abs() < TOL && z0.min(z1) > -TOL {
             // In front of the face (Z0, where lathe programs put it): the lead-in from the
             // cycle's start, in air.
@@ -313,9 +344,10 @@ fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
     out
 }
 
-/// A size rounded to the micrometre, so that features from two passes compare equal.
+/// A size rounded to the micrometre, so that features from two passes compare equal (and a
+/// size reads back as written).
 fn round(v: f64) -> f64 {
-    (v * 1000.0).round() / 1000.0
+    (v * 1000.0).round() / 1000.0 + 0.0
 }
 
 /// A turning workingstep in a turner's words: the operation, its cycle's values, the feed
