@@ -9,7 +9,10 @@
 //! This file holds the interpreter's state and [`Interpreter::execute`], which runs a block
 //! through the phases, and the stages an op passes on its way to the sink. *Read* is
 //! `read.rs`; *execute* is `exec/`, one file per group of meanings (`exec/mod.rs` lists
-//! them); the moves are `motion.rs`, the cycles `cycle.rs`, `define.rs` and `g7x.rs`. The
+//! them); the moves are `motion.rs`, the cycles `cycle.rs`, `define.rs`, `g7x.rs` and
+//! `lathe.rs` (Fanuc's two-block G74, G75 and G76, expanded into their passes). A lathe
+//! cycle's moves are said between `CanonOp::Turning` (with the values it states) and
+//! `CanonOp::TurningEnd`, and the diameter mode by a `Setting::DiameterMode` marker. The
 //! driver that feeds blocks and carries out control flow (calls, loops, jumps) is `flow`
 //! ([`run`]).
 //!
