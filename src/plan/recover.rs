@@ -747,7 +747,11 @@ impl<'p> Recovery<'p> {
             CanonOp::SelectPlane(p) => self.plane = *p,
             CanonOp::SetFeedRate(f) => self.feed = round_sig(self.mm(*f)),
             CanonOp::SetFeedMode(m) => self.per_rev = *m == FeedMode::PerRevolution,
-            CanonOp::StartSpeedFeedSync(pitch) => self.sync = Some(self.mm(*pitch)),
+            // Synchronised moves or a constant cutting speed in the ZX plane: a lathe's.
+            CanonOp::StartSpeedFeedSync(pitch) => {
+                self.sync = Some(self.mm(*pitch));
+                self.lathe |= self.plane == Plane::Xz;
+            }
             CanonOp::StopSpeedFeedSync => self.sync = None,
             CanonOp::RigidTap(p) => {
                 // Into the hole and back out along the same line.
@@ -759,7 +763,10 @@ impl<'p> Recovery<'p> {
                 self.cut(mv, c);
             }
             CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
-            CanonOp::SetSpindleMode(max) => self.css = *max,
+            CanonOp::SetSpindleMode(max) => {
+                self.css = *max;
+                self.lathe |= max.is_some() && self.plane == Plane::Xz;
+            }
             CanonOp::StartSpindleClockwise => self.spindle = SpindleDir::Cw,
             CanonOp::StartSpindleCounterclockwise => self.spindle = SpindleDir::Ccw,
             // A boring cycle's spindle stop is part of the cycle, not of the technology.

@@ -354,23 +354,9 @@ fn round(v: f64) -> f64 {
 /// per revolution, the cutting speed and its clamp, diameters and Z.
 pub fn words(ws: &Workingstep) -> Option<String> {
     let t = ws.turning.as_deref()?;
-    let op = t.operation?;
-    let mut parts = vec![format!(
-        "{}{}",
-        op.as_str().replace('_', " "),
-        match op {
-            TurnOp::Facing | TurnOp::Contouring | TurnOp::Grooving | TurnOp::Threading =>
-                if t.rough {
-                    " rough"
-                } else {
-                    " finish"
-                },
-            _ => "",
-        }
-    )];
-    if t.inside {
-        parts.push("inside".into());
-    }
+    t.operation?;
+    // The operation as the workingstep names it (`contouring rough inside`).
+    let mut parts = vec![ws.label()];
     if let Some(c) = &t.cycle {
         parts.push(format!("cycle {c}"));
     }
