@@ -157,6 +157,83 @@ pub struct CycleIntent {
     pub peck_clearance: Option<f64>,
 }
 
+/// What a lathe cycle does (a [`TurnIntent`]'s kind).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TurnKind {
+    /// Stock removal along Z towards a contour (Fanuc G71, CYCLE95 longitudinal).
+    RoughTurn,
+    /// Stock removal along X towards a contour (Fanuc G72, CYCLE95 face).
+    RoughFace,
+    /// The contour finished as written (Fanuc G70).
+    Finish,
+    /// One turning pass (Fanuc G90).
+    TurnPass,
+    /// One facing pass (Fanuc G94).
+    FacePass,
+    /// One threading pass (Fanuc G92).
+    ThreadPass,
+    /// Multiple-pass threading (Fanuc G76, LinuxCNC G76, CYCLE97).
+    Thread,
+    /// Grooving across X with pecks (Fanuc G75, CYCLE93).
+    Groove,
+    /// Pecking along Z (Fanuc G74): a face groove, or a hole on the axis.
+    FacePeck,
+}
+
+impl TurnKind {
+    /// snake_case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TurnKind::RoughTurn => "rough_turn",
+            TurnKind::RoughFace => "rough_face",
+            TurnKind::Finish => "finish",
+            TurnKind::TurnPass => "turn_pass",
+            TurnKind::FacePass => "face_pass",
+            TurnKind::ThreadPass => "thread_pass",
+            TurnKind::Thread => "thread",
+            TurnKind::Groove => "groove",
+            TurnKind::FacePeck => "face_peck",
+        }
+    }
+}
+
+/// The intent of one lathe cycle, as its words state it, in the program's length units.
+/// X values are diameters (allowances too); depths of cut and thread heights are per side.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TurnIntent {
+    /// Kind.
+    pub kind: Option<TurnKind>,
+    /// The code as written (`G71`).
+    pub code: String,
+    /// Depth of cut per pass, per side.
+    pub depth_of_cut: Option<f64>,
+    /// Retract after each pass.
+    pub retract: Option<f64>,
+    /// Finishing allowance in X, on the diameter (Fanuc U).
+    pub allowance_x: Option<f64>,
+    /// Finishing allowance in Z (Fanuc W).
+    pub allowance_z: Option<f64>,
+    /// Thread lead (advance per revolution).
+    pub pitch: Option<f64>,
+    /// Thread height, per side.
+    pub thread_depth: Option<f64>,
+    /// Depth of the first threading pass.
+    pub first_cut: Option<f64>,
+    /// Least depth of a threading pass.
+    pub min_cut: Option<f64>,
+    /// Finishing allowance of a thread.
+    pub finish_allowance: Option<f64>,
+    /// Finishing (spring) passes of a thread.
+    pub finish_passes: Option<u32>,
+    /// Included angle of the thread's tool, degrees.
+    pub angle: Option<f64>,
+    /// Infeed per peck (grooving, face pecking).
+    pub peck: Option<f64>,
+    /// Shift between plunges (grooving wider than the tool).
+    pub step: Option<f64>,
+}
+
 /// Distance mode (a marker; the canonical interface itself has none).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -183,6 +260,9 @@ pub enum Setting {
     /// A work offset stated by the block (`G54`), also where it is the one in force already:
     /// the program does not leave it to whatever the machine had.
     WorkOffset(u16),
+    /// Lathe diameter mode on (X words are diameters: a lathe dictionary's start, `G7`,
+    /// `DIAMON`) or off (`G8`, `DIAMOF`): the program turns about Z.
+    DiameterMode(bool),
 }
 
 /// Where a move given in the machine's own frame goes: a reference position, or machine
@@ -389,6 +469,11 @@ pub enum CanonOp {
     CycleCancel,
     /// Marker: a machine setting of the block (offset numbers, compensation side, block delete).
     Setting(Setting),
+    /// Marker: a lathe cycle starts (roughing, finishing, grooving, threading, a single
+    /// pass); the moves up to [`CanonOp::TurningEnd`] expand it.
+    Turning(Box<TurnIntent>),
+    /// Marker: the lathe cycle's moves end.
+    TurningEnd,
     /// `SET_FEED_MODE(0, n)`: feed per minute (0) or per spindle revolution (1, G95).
     SetFeedMode(FeedMode),
     /// `SET_SPINDLE_MODE(0 max)`: with a limit, S is a constant surface speed (G96) and the
@@ -683,6 +768,8 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::DistanceMode(m) => out.extend_from_slice(distance_mode(*m)),
         CanonOp::CycleBegin(c) => cycle_begin(out, c),
         CanonOp::CycleEnd => out.extend_from_slice(b"COMMENT(\"ncplan: cycle end\")"),
+        CanonOp::Turning(t) => turning(out, t),
+        CanonOp::TurningEnd => out.extend_from_slice(b"COMMENT(\"ncplan: lathe cycle end\")"),
         CanonOp::ToolAxis([i, j, k]) => put(out, format_args!("COMMENT(\"ncplan: tool axis {i:.6} {j:.6} {k:.6}\")")),
         CanonOp::WorkPlane(None) => out.extend_from_slice(b"COMMENT(\"ncplan: work plane untilted\")"),
         CanonOp::WorkPlane(Some(f)) => work_plane(out, f),
@@ -807,11 +894,40 @@ fn setting(out: &mut Vec<u8>, s: &Setting) {
         }
         Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
         Setting::WorkOffset(i) => write!(out, "COMMENT(\"ncplan: work offset {i} stated\")"),
+        Setting::DiameterMode(on) => write!(out, "COMMENT(\"ncplan: diameter mode {}\")", if *on { "on" } else { "off" }),
         Setting::ToolName(n, name) => {
             let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
             write!(out, "COMMENT(\"ncplan: tool {n} is {name}\")")
         }
     };
+}
+
+/// ncplan's marker of a lathe cycle's start: its code, kind and the values it states.
+fn turning(out: &mut Vec<u8>, t: &TurnIntent) {
+    put(out, format_args!("COMMENT(\"ncplan: lathe cycle {} {}", t.code, t.kind.map_or("", TurnKind::as_str)));
+    let values = [
+        ("depth", t.depth_of_cut),
+        ("retract", t.retract),
+        ("u", t.allowance_x),
+        ("w", t.allowance_z),
+        ("pitch", t.pitch),
+        ("height", t.thread_depth),
+        ("first", t.first_cut),
+        ("min", t.min_cut),
+        ("finish", t.finish_allowance),
+        ("angle", t.angle),
+        ("peck", t.peck),
+        ("step", t.step),
+    ];
+    for (name, v) in values {
+        if let Some(v) = v {
+            put(out, format_args!(" {name}={}", F4(v)));
+        }
+    }
+    if let Some(n) = t.finish_passes {
+        put(out, format_args!(" passes={n}"));
+    }
+    out.extend_from_slice(b"\")");
 }
 
 /// `SET_FEED_MODE(0, mode)`.

@@ -121,6 +121,17 @@ vocab! {
         ProfileRoughTurn = "profile-rough-turn",
         /// LinuxCNC's G72: as `profile-rough-turn`, with passes along X (facing).
         ProfileRoughFace = "profile-rough-face",
+        /// A lathe's multiple-pass threading (Fanuc G76, two blocks): the first gives the
+        /// finishing passes, chamfer and tool angle (P mmrraa), the least depth of cut (Q) and
+        /// the finishing allowance (R); the second the end point (X the minor diameter), the
+        /// taper R, the thread height P and first depth of cut Q (least increments) and the lead F.
+        CycleThreadMultiple = "cycle-thread-multiple",
+        /// A lathe's grooving cycle (Fanuc G75, two blocks): the first gives the retract R
+        /// after each peck; the second the end point, the peck P in X and the shift Q in Z.
+        CycleGroove = "cycle-groove",
+        /// A lathe's pecking cycle along Z (Fanuc G74, two blocks): as `cycle-groove` with X
+        /// and Z exchanged (Q the peck in Z, P the shift in X); on the axis, a drilled hole.
+        CycleFacePeck = "cycle-face-peck",
         /// Cancel the canned cycle (G80).
         CycleCancel = "cycle-cancel",
         /// Spindle-synchronised motion (G33): K is the advance per revolution.

@@ -398,6 +398,8 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
         K::DwellChanged => address(&[R::P, R::DwellTime]) || code(&[M::Dwell]),
         K::FeedOverrideChanged => code(&OVERRIDES),
         K::OptionalBlockChanged => tok.text.starts_with('/'),
+        // The lead of a thread: F (Fanuc G32/G76), K (G33, the lathes that write the lead so).
+        K::ThreadPitchChanged => address(&[R::F, R::K, R::P]),
         K::RiskyEdit => false,
         K::WorkingstepAdded | K::WorkingstepRemoved => true,
         K::StatementChanged | K::OutputChanged | K::ReturnMoveChanged | K::RotaryMoveChanged => false,
@@ -460,15 +462,15 @@ fn workingstep_at(
         && let Some(i) = find(&a.workingsteps, spans_a, l)
     {
         let w = &a.workingsteps[i];
-        return (w.index, w.operation.label().into());
+        return (w.index, w.label());
     }
     if let Some(l) = le
         && let Some(j) = find(&b.workingsteps, spans_b, l)
     {
         let orig = pairs.iter().find(|p| p.1 == Some(j)).and_then(|p| p.0);
         return match orig {
-            Some(i) => (a.workingsteps[i].index, a.workingsteps[i].operation.label().into()),
-            None => (b.workingsteps[j].index, b.workingsteps[j].operation.label().into()),
+            Some(i) => (a.workingsteps[i].index, a.workingsteps[i].label()),
+            None => (b.workingsteps[j].index, b.workingsteps[j].label()),
         };
     }
     (0, "program".into())

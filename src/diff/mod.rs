@@ -45,6 +45,7 @@ mod account;
 mod follow;
 mod setup;
 pub mod statement;
+mod turning;
 mod typed;
 pub mod verdict;
 
@@ -146,6 +147,8 @@ pub enum ChangeKind {
     /// The tilted work plane the workingstep runs on changed (`PLANE SPATIAL`, `CYCLE800`,
     /// `G68.2`): its angles, or its origin.
     WorkPlaneChanged,
+    /// A thread's pitch (the lead of its synchronised moves) changed.
+    ThreadPitchChanged,
 }
 
 impl ChangeKind {
@@ -193,6 +196,7 @@ impl ChangeKind {
             ChangeKind::ProgramBroken => "program_broken",
             ChangeKind::ProgramFixed => "program_fixed",
             ChangeKind::WorkPlaneChanged => "work_plane_changed",
+            ChangeKind::ThreadPitchChanged => "thread_pitch_changed",
         }
     }
 }
@@ -495,7 +499,7 @@ fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, P
             (Some(i), None) => out.push(Change {
                 kind: ChangeKind::WorkingstepRemoved,
                 workingstep: a[i].index,
-                operation: a[i].operation.label().into(),
+                operation: a[i].label(),
                 field: "workingstep".into(),
                 before: summary(original, &a[i], u),
                 after: String::new(),
@@ -508,7 +512,7 @@ fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, P
             (None, Some(j)) => out.push(Change {
                 kind: ChangeKind::WorkingstepAdded,
                 workingstep: b[j].index,
-                operation: b[j].operation.label().into(),
+                operation: b[j].label(),
                 field: "workingstep".into(),
                 before: String::new(),
                 after: summary(edited, &b[j], u),
@@ -551,7 +555,7 @@ fn plan_changes(original: &ProcessPlan, edited: &ProcessPlan) -> (Vec<Change>, P
 }
 
 fn summary(plan: &ProcessPlan, ws: &Workingstep, u: Fmt) -> String {
-    format!("{} with {}, {} of cut", ws.operation.label(), tool_label(plan, ws.tool), u.len(ws.cutting_length))
+    format!("{} with {}, {} of cut", ws.label(), tool_label(plan, ws.tool), u.len(ws.cutting_length))
 }
 
 /// A tool as the program names it: `T4`, or `T="EM10"` for a tool selected by name.
@@ -707,7 +711,7 @@ fn compare_workingsteps(
         out.push(Change {
             kind,
             workingstep: a.index,
-            operation: a.operation.label().into(),
+            operation: a.label(),
             field: field.into(),
             before,
             after,
@@ -722,11 +726,18 @@ fn compare_workingsteps(
     if tool_label(pa, a.tool) != tool_label(pb, b.tool) {
         push(ChangeKind::ToolRenamed, "tool", tool_label(pa, a.tool), tool_label(pb, b.tool), at_start);
     }
-    compare_start(a, b, u, &mut push);
+    // On a lathe, in a turner's terms (`turning`): no feed per minute, no lowest Z.
+    let lathe = a.turning.is_some() && b.turning.is_some();
+    if lathe {
+        turning::start(a, b, u, &mut push);
+    } else {
+        compare_start(a, b, u, &mut push);
+    }
     compare_state(a, b, &mut push);
-    let (feeds_differ, depth_change) = compare_technology(a, b, u, &mut push);
+    let (feeds_differ, depth_change) =
+        if lathe { (turning::technology(a, b, u, &mut push), None) } else { compare_technology(a, b, u, &mut push) };
     // Heights and feeds beside the cutting ones, where no canned cycle's parameters say them.
-    if a.holes.is_empty() && b.holes.is_empty() {
+    if a.holes.is_empty() && b.holes.is_empty() && !lathe {
         heights(a, b, feeds_differ, u, &mut push, at_start);
     }
     let mut explained = false;
@@ -734,7 +745,7 @@ fn compare_workingsteps(
     if a.operation.is_hole() || b.operation.is_hole() {
         explained |= compare_holes(&a.holes, &b.holes, depth_change, u, &mut push);
     }
-    explained |= compare_cutting(a, b, u, &mut push);
+    explained |= if lathe { turning::cutting(a, b, u, &mut push) } else { compare_cutting(a, b, u, &mut push) };
     // The features, once per pair.
     if let (Some(fa), Some(fb)) = (a.feature.and_then(|f| pa.feature(f)), b.feature.and_then(|f| pb.feature(f)))
         && features_seen.insert((fa.id, fb.id))
@@ -745,7 +756,7 @@ fn compare_workingsteps(
         out.push(Change {
             kind: ChangeKind::ToolpathChanged,
             workingstep: a.index,
-            operation: a.operation.label().into(),
+            operation: a.label(),
             field: "toolpath".into(),
             before: tp.before,
             after: tp.after,
@@ -1190,9 +1201,39 @@ fn compare_features(fa: &crate::plan::Feature, fb: &crate::plan::Feature, depth_
             dim("feature_width", Some(*wa), Some(*wb));
         }
         (FeatureKind::Slot { width: wa, .. }, FeatureKind::Slot { width: wb, .. }) => dim("slot_width", Some(*wa), Some(*wb)),
+        (FeatureKind::Turned(ta), FeatureKind::Turned(tb)) => turned_dims(ta, tb, &mut dim),
         _ => {}
     }
     any
+}
+
+/// Reports one dimension of a feature that differs.
+type Dim<'a> = dyn FnMut(&str, Option<f64>, Option<f64>) + 'a;
+
+/// A turned feature's sizes: diameters, a round's radius, a groove's width, a thread's diameters.
+fn turned_dims(a: &crate::plan::Turned, b: &crate::plan::Turned, dim: &mut Dim<'_>) {
+    use crate::plan::Turned as T;
+    match (a, b) {
+        (T::RevolvedFlat { outer: oa, inner: ia }, T::RevolvedFlat { outer: ob, inner: ib }) => {
+            dim("outer_diameter", Some(*oa), Some(*ob));
+            dim("inner_diameter", Some(*ia), Some(*ib));
+        }
+        (T::Diameter { diameter: da, .. }, T::Diameter { diameter: db, .. }) => dim("diameter", Some(*da), Some(*db)),
+        (T::RevolvedRound { radius: ra, .. }, T::RevolvedRound { radius: rb, .. }) => dim("round_radius", Some(*ra), Some(*rb)),
+        (T::Groove { diameter: da, width: wa, .. }, T::Groove { diameter: db, width: wb, .. }) => {
+            dim("groove_diameter", Some(*da), Some(*db));
+            dim("groove_width", *wa, *wb);
+        }
+        (T::Revolution { outer: oa, inner: ia, .. }, T::Revolution { outer: ob, inner: ib, .. }) => {
+            dim("outer_diameter", Some(*oa), Some(*ob));
+            dim("inner_diameter", Some(*ia), Some(*ib));
+        }
+        (T::Thread { diameter: da, root: ra, .. }, T::Thread { diameter: db, root: rb, .. }) => {
+            dim("thread_diameter", *da, *db);
+            dim("thread_root_diameter", Some(*ra), Some(*rb));
+        }
+        _ => {}
+    }
 }
 
 /// What differs between two toolpaths, and where.

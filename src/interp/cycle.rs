@@ -2,7 +2,7 @@
 //! intent markers so that plan recovery keeps what was asked for.
 
 use super::{Interpreter, Retract, Spindle};
-use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, Units};
+use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, TurnIntent, TurnKind, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role, TapStyle};
 use crate::syntax::Block;
@@ -428,6 +428,24 @@ impl Element {
     }
 }
 
+/// What a contour cycle states, for the plan: its depth of cut, retract and allowances (X on
+/// the diameter), in program units.
+fn contour_intent(def: &CodeDef, rough: Option<Rough>, cut: Option<(f64, f64)>) -> TurnIntent {
+    let kind = match rough {
+        Some(r) if r.facing => TurnKind::RoughFace,
+        Some(_) => TurnKind::RoughTurn,
+        None => TurnKind::Finish,
+    };
+    let mut t = TurnIntent { kind: Some(kind), code: def.label(), ..TurnIntent::default() };
+    if let Some(r) = rough {
+        t.depth_of_cut = cut.map(|c| c.0);
+        t.retract = Some(r.retract);
+        t.allowance_x = Some(2.0 * r.allow_x);
+        t.allowance_z = Some(r.allow_z);
+    }
+    t
+}
+
 /// Roughing passes a cycle may make at most: more is a slip in the depth of cut.
 const MAX_ROUGH_PASSES: f64 = 10_000.0;
 
@@ -498,6 +516,7 @@ impl Interpreter<'_> {
             diags.push(Diagnostic::new(Code::Unsupported, range, msg));
             return;
         }
+        self.turn_intent = Some(Box::new(contour_intent(def, rough, self.st.rough_cut)));
         self.request = Some(super::Request::Contour { first, last, rough });
     }
 

@@ -9,7 +9,10 @@
 //! This file holds the interpreter's state and [`Interpreter::execute`], which runs a block
 //! through the phases, and the stages an op passes on its way to the sink. *Read* is
 //! `read.rs`; *execute* is `exec/`, one file per group of meanings (`exec/mod.rs` lists
-//! them); the moves are `motion.rs`, the cycles `cycle.rs`, `define.rs` and `g7x.rs`. The
+//! them); the moves are `motion.rs`, the cycles `cycle.rs`, `define.rs`, `g7x.rs` and
+//! `lathe.rs` (Fanuc's two-block G74, G75 and G76, expanded into their passes). A lathe
+//! cycle's moves are said between `CanonOp::Turning` (with the values it states) and
+//! `CanonOp::TurningEnd`, and the diameter mode by a `Setting::DiameterMode` marker. The
 //! driver that feeds blocks and carries out control flow (calls, loops, jumps) is `flow`
 //! ([`run`]).
 //!
@@ -153,6 +156,7 @@ mod exec;
 mod fast;
 mod flow;
 mod g7x;
+mod lathe;
 mod motion;
 mod read;
 
@@ -527,6 +531,8 @@ struct State {
     /// A lathe roughing cycle's depth of cut and retract, as its first block (`G71 U2. R.5`)
     /// set them for the ones after it.
     rough_cut: Option<(f64, f64)>,
+    /// What the first block of a lathe's G74/G75/G76 set for the ones after it.
+    lathe_setup: lathe::LatheSetup,
     /// The initial level of the canned cycles in force: the hole axis position when the
     /// first of them began. G98 returns to it, and in G91 R counts from it.
     cycle_initial: Option<f64>,
@@ -581,6 +587,7 @@ impl State {
             turn_cycle: None,
             nurbs: None,
             rough_cut: None,
+            lathe_setup: lathe::LatheSetup::default(),
             sticky_q: None,
             sticky_p: None,
             ended: false,
@@ -728,6 +735,8 @@ pub struct Interpreter<'a> {
     after_end_noted: bool,
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
+    /// The intent of the lathe contour cycle a request runs, said before its moves.
+    turn_intent: Option<Box<crate::canon::TurnIntent>>,
     /// Call depth (0 in the main program), kept by the flow driver.
     pub(super) depth: u32,
     /// Modal state saved per call level (M70, M73), index 0 for the main program.
@@ -807,6 +816,7 @@ impl<'a> Interpreter<'a> {
             noted: BTreeSet::new(),
             after_end_noted: false,
             request: None,
+            turn_intent: None,
             depth: 0,
             contexts: Vec::new(),
             left_level: None,
@@ -1383,6 +1393,9 @@ impl<'a> Interpreter<'a> {
         }
         if self.st.feed_per_rev {
             self.emit(sink, CanonOp::SetFeedMode(FeedMode::PerRevolution));
+        }
+        if self.st.diameter {
+            self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(true)));
         }
     }
 

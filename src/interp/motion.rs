@@ -1,7 +1,9 @@
 //! Straight and circular motion.
 
 use super::{Interpreter, Spindle};
-use crate::canon::{CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, MachineMove, MachineTarget, Plane, Units};
+use crate::canon::{
+    CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, MachineMove, MachineTarget, Plane, TurnIntent, TurnKind, Units,
+};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role, SystemVar};
 use crate::syntax::{Block, WordMode};
@@ -182,11 +184,14 @@ impl Interpreter<'_> {
         if !self.spindle_turns(def, range, diags) {
             return;
         }
-        // The lead is K (LinuxCNC), or F where the dictionary gives the code F (Fanuc).
-        let lead = if def.params.takes(Role::F) { Role::F } else { Role::K };
-        let Some(pitch) = self.slot(lead) else {
-            let msg =
-                format!("{} without {} (the advance per revolution) was skipped", def.label(), if lead == Role::F { 'F' } else { 'K' });
+        // The lead is K (LinuxCNC, Siemens), or F where the dictionary gives the code F
+        // (Fanuc); a lathe dictionary that gives it both reads whichever the block has (NX
+        // posts for Mazak, Mitsubishi, Okuma and Fagor lathes write `G32 Z K`).
+        let leads: Vec<Role> = [Role::F, Role::K].into_iter().filter(|r| def.params.takes(*r)).collect();
+        let Some(pitch) = leads.iter().find_map(|r| self.slot(*r)) else {
+            let names: Vec<&str> = leads.iter().map(|r| if *r == Role::F { "F" } else { "K" }).collect();
+            let names = if names.is_empty() { "K".to_owned() } else { names.join(" or ") };
+            let msg = format!("{} without {names} (the advance per revolution) was skipped", def.label());
             diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
             return;
         };
@@ -243,6 +248,13 @@ impl Interpreter<'_> {
         if !thread {
             self.check_technology(def, range, diags);
         }
+        let kind = match def.meaning {
+            Meaning::CycleTurn => TurnKind::TurnPass,
+            Meaning::CycleFace => TurnKind::FacePass,
+            _ => TurnKind::ThreadPass,
+        };
+        let pitch = if thread { Some(self.slot(Role::F).unwrap_or(self.st.feed)) } else { None };
+        self.emit(sink, CanonOp::Turning(Box::new(TurnIntent { kind: Some(kind), code: def.label(), pitch, ..TurnIntent::default() })));
         let moves = match def.meaning {
             // Rapid to the cut's start, feed to the target, feed out, rapid back.
             Meaning::CycleTurn => [(at(x + r, start[2]), true), (at(x, z), false), (at(start[0], z), false), (start, true)],
@@ -262,11 +274,12 @@ impl Interpreter<'_> {
             }
             self.st.pos = p;
         }
+        self.emit(sink, CanonOp::TurningEnd);
     }
 
     /// Whether the spindle turns, as a move synchronised with it needs; else an error (the
     /// control stops: there is no rotation to follow) and false.
-    fn spindle_turns(&self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+    pub(super) fn spindle_turns(&self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
         if self.st.spindle != Spindle::Stopped {
             return true;
         }
@@ -414,7 +427,10 @@ impl Interpreter<'_> {
             bad("the threading cycle cannot run with cutter compensation on");
             return;
         }
+        // In diameter mode (G7) the depths are diameters too, as rs274 reads them.
+        let half = if self.st.diameter { 0.5 } else { 1.0 };
         let (i, j, k) = (self.slot(Role::I).unwrap_or(0.0), self.slot(Role::J).unwrap_or(0.0), self.slot(Role::K).unwrap_or(0.0));
+        let (i, j, k) = (i * half, j * half, k * half);
         let Some(pitch) = self.slot(Role::P) else { return };
         if i == 0.0 {
             return bad("I, the offset to the thread crests, must not be 0");

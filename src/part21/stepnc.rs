@@ -126,6 +126,20 @@ pub fn write<W: std::io::Write>(plan: &ProcessPlan, class: Class, timestamp: &st
             id.push(' ');
             id.push_str(&word);
         }
+        // What ISO 14649-121 entities do not carry yet: the turning operation and its values.
+        if let Some(t) = &ws.turning {
+            id.push_str(&format!(" turning={}", json_word(&**t)));
+            // A turning workingstep machines several features: the others than its own.
+            let more: Vec<String> = shape
+                .features
+                .iter()
+                .filter(|f| Some(f.id) != ws.feature && f.workingsteps.contains(&ws.index))
+                .map(|f| f.id.to_string())
+                .collect();
+            if !more.is_empty() {
+                id.push_str(&format!(" features={}", more.join(",")));
+            }
+        }
         elements.push(w.b.add("MACHINING_WORKINGSTEP", vec![Value::str(id), sec, feature, op.clone(), Value::Null]));
     }
     // Tools that never cut still appear, loaded at the end.
@@ -212,6 +226,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             toolpath: _,
             state,
             setup,
+            turning: _,
             source,
             lines,
         } = full;
@@ -388,7 +403,8 @@ impl<W: std::io::Write> Writer<W> {
             ],
         );
         let body_name = match t.kind {
-            ToolKind::EndMill | ToolKind::Unknown => "ENDMILL",
+            // Turning tools are not written as ISO 14649-121 tools yet.
+            ToolKind::EndMill | ToolKind::Unknown | ToolKind::TurningTool | ToolKind::GroovingTool | ToolKind::ThreadingTool => "ENDMILL",
             ToolKind::BallEndMill => "BALL_ENDMILL",
             ToolKind::BullnoseEndMill => "BULLNOSE_ENDMILL",
             ToolKind::FaceMill => "FACEMILL",
@@ -705,6 +721,9 @@ impl<W: std::io::Write> Writer<W> {
         if let Some((w, l)) = f.centre_path {
             id.push_str(&format!(" centre_path={w}x{l}"));
         }
+        if let FeatureKind::Turned(t) = &f.kind {
+            id.push_str(&format!(" turned={}", json_word(t)));
+        }
         let (axis, refd) = (f.axis.unwrap_or([0.0, 0.0, 1.0]), f.ref_direction);
         let common = |w: &mut Writer<W>, placement: P3, depth: f64, ops: Vec<Value>| {
             let place = w.placement_ref(placement, Some(axis), refd);
@@ -805,7 +824,8 @@ impl<W: std::io::Write> Writer<W> {
                 attrs.extend([swept, profile]);
                 self.b.add("GENERAL_OUTSIDE_PROFILE", attrs)
             }
-            FeatureKind::Toolpath => {
+            // Turned features are not written as ISO 14649-12 entities yet: their toolpaths are.
+            FeatureKind::Toolpath | FeatureKind::Turned(_) => {
                 let attrs = common(self, f.placement, f.depth, ops);
                 self.b.add("TOOLPATH_FEATURE", attrs)
             }
@@ -832,6 +852,21 @@ fn last(l: &[Value]) -> Result<&Value, String> {
 }
 
 /// `key=value` words after the first word of an id; a `name=` value runs to the end.
+/// The number of a feature by its identifier (`F3 ...`).
+fn feature_number(id: &str) -> Option<u32> {
+    id.split(' ').next()?.strip_prefix('F')?.parse().ok()
+}
+
+/// A value as one identifier word: its JSON with `%` and spaces escaped.
+fn json_word<T: serde::Serialize>(v: &T) -> String {
+    serde_json::to_string(v).unwrap_or_default().replace('%', "%25").replace(' ', "%20")
+}
+
+/// Reads [`json_word`].
+fn from_json_word<T: serde::de::DeserializeOwned>(w: &str) -> Option<T> {
+    serde_json::from_str(&w.replace("%20", " ").replace("%25", "%")).ok()
+}
+
 fn words(id: &str) -> (String, BTreeMap<String, String>) {
     let (head, rest) = id.split_once(' ').unwrap_or((id, ""));
     let mut map = BTreeMap::new();
@@ -957,6 +992,7 @@ impl Reader<'_> {
                 other => return Err(format!("unexpected workplan element {other}")),
             }
         }
+        plan.features.sort_by_key(|f| f.id);
         for f in &mut plan.features {
             plan::feature::feature_source(f, &plan.workingsteps);
         }
@@ -1096,8 +1132,11 @@ impl Reader<'_> {
         let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
         ws.state = MachineState::decode(&w);
         ws.setup = setup;
+        ws.turning = w.get("turning").and_then(|v| from_json_word(v)).map(Box::new);
         let mut dwell = None;
         match operation {
+            // A turning workingstep has no milling strategy.
+            Operation::FreeformMilling if ws.turning.is_some() => {}
             Operation::FreeformMilling => ws.strategy = Some(explicit()),
             Operation::PlaneRoughMilling | Operation::PlaneFinishMilling => {
                 ws.strategy = self.strategy(self.attr(op, 11)?)?;
@@ -1131,11 +1170,17 @@ impl Reader<'_> {
         plan::measure(&mut ws, dwell, peck, surface);
         // The feature, numbered in order of first machining.
         let fref = self.attr(inst, 2)?;
+        if ws.turning.is_some() {
+            self.more_turned_features(&w, index, plan, feature_ids)?;
+        }
         if let Some(fid) = fref.as_ref_id() {
             let id = match feature_ids.get(&fid) {
                 Some(id) => *id,
                 None => {
-                    let id = feature_ids.len() as u32 + 1;
+                    // A turning workingstep's features keep their numbers: one workingstep
+                    // machines several, and they are numbered in the order they were found.
+                    let own = ws.turning.as_ref().and_then(|_| feature_number(&self.string(self.inst(fref).ok()?, 0).ok()?));
+                    let id = own.unwrap_or(feature_ids.len() as u32 + 1);
                     feature_ids.insert(fid, id);
                     let f = self.feature(self.inst(fref)?, id)?;
                     plan.features.push(f);
@@ -1348,6 +1393,33 @@ impl Reader<'_> {
         }
     }
 
+    /// The features a turning workingstep machines besides its own (its `features=` word),
+    /// found by their numbers among the file's features.
+    fn more_turned_features(
+        &self,
+        w: &BTreeMap<String, String>,
+        index: u32,
+        plan: &mut ProcessPlan,
+        feature_ids: &mut BTreeMap<u64, u32>,
+    ) -> Result<(), String> {
+        let Some(list) = w.get("features") else { return Ok(()) };
+        for n in list.split(',').filter_map(|v| v.parse::<u32>().ok()) {
+            if !plan.features.iter().any(|f| f.id == n) {
+                let found = self.x.instances.iter().find(|(_, i)| {
+                    matches!(i.name.as_str(), "TOOLPATH_FEATURE" | "ROUND_HOLE")
+                        && self.string(i, 0).ok().and_then(|s| feature_number(&s)) == Some(n)
+                });
+                let Some((fid, inst)) = found else { return Err(format!("feature F{n} is not in the file")) };
+                feature_ids.insert(*fid, n);
+                plan.features.push(self.feature(inst, n)?);
+            }
+            if let Some(f) = plan.features.iter_mut().find(|f| f.id == n) {
+                f.workingsteps.push(index);
+            }
+        }
+        Ok(())
+    }
+
     fn feature(&self, f: &Instance, id: u32) -> Result<Feature, String> {
         let (_, w) = words(&self.string(f, 0)?);
         let top_inferred = w.get("top").is_some_and(|v| v == "inferred");
@@ -1447,7 +1519,10 @@ impl Reader<'_> {
                     plan::feature::rectangle_of(&boundary).filter(|_| known).map_or((None, None), |(r, c)| (Some(r), c));
                 FeatureKind::OutsideProfile { boundary, rectangle, corner_radius }
             }
-            "TOOLPATH_FEATURE" => FeatureKind::Toolpath,
+            "TOOLPATH_FEATURE" => match w.get("turned").and_then(|v| from_json_word(v)) {
+                Some(t) => FeatureKind::Turned(t),
+                None => FeatureKind::Toolpath,
+            },
             other => return Err(format!("unknown feature {other}")),
         };
         Ok(feature)

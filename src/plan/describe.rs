@@ -61,25 +61,11 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
     for f in &plan.features {
         let p = f.placement;
         let ws: Vec<String> = f.workingsteps.iter().map(u32::to_string).collect();
-        let shape = match &f.kind {
-            super::FeatureKind::PlanarFace { length, width, .. } => format!(" {} x {}", num(*length), num(*width)),
-            super::FeatureKind::RoundHole { diameter, positions, bottom } => {
-                let bottom = match bottom {
-                    super::HoleBottom::Through => "through".to_owned(),
-                    super::HoleBottom::Flat => "flat bottom".to_owned(),
-                    super::HoleBottom::Conical(angle) => format!("drill-point bottom {}°", num(*angle)),
-                };
-                format!(" D{} x{} {bottom}", diameter.map_or("?".into(), num), positions.len())
-            }
-            super::FeatureKind::ClosedPocket { rectangle: Some((w, l)), corner_radius, .. }
-            | super::FeatureKind::OutsideProfile { rectangle: Some((w, l)), corner_radius, .. } => {
-                format!(" {} x {}{}", num(*w), num(*l), corner_radius.map(|r| format!(" r{}", num(r))).unwrap_or_default())
-            }
-            super::FeatureKind::Slot { width, .. } | super::FeatureKind::Step { width, .. } => {
-                format!(" width {}", num(*width))
-            }
-            _ => String::new(),
-        };
+        let shape = shape(&f.kind);
+        if matches!(f.kind, super::FeatureKind::Turned(_)) {
+            writeln!(out, "feature {} {}{shape} at Z{}; workingsteps {}", f.id, f.kind.label(), num(p[2]), ws.join(", "))?;
+            continue;
+        }
         writeln!(
             out,
             "feature {} {}{shape} at X{} Y{} Z{} depth {}{}; workingsteps {}",
@@ -101,6 +87,11 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
         }
     }
     for w in &plan.workingsteps {
+        if let Some(words) = super::turning::words(w) {
+            let f = w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default();
+            writeln!(out, "workingstep {}{f} T{}: {words}, lines {}-{}", w.index, w.tool, w.lines.0, w.lines.1)?;
+            continue;
+        }
         let t = &w.technology;
         writeln!(
             out,
@@ -180,4 +171,28 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
         }
     }
     Ok(())
+}
+
+/// A feature's size after its kind: ` 40 x 20`, ` D8 x4 flat bottom`, ` Ø24 × 28`.
+fn shape(kind: &super::FeatureKind) -> String {
+    match kind {
+        super::FeatureKind::PlanarFace { length, width, .. } => format!(" {} x {}", num(*length), num(*width)),
+        super::FeatureKind::RoundHole { diameter, positions, bottom } => {
+            let bottom = match bottom {
+                super::HoleBottom::Through => "through".to_owned(),
+                super::HoleBottom::Flat => "flat bottom".to_owned(),
+                super::HoleBottom::Conical(angle) => format!("drill-point bottom {}°", num(*angle)),
+            };
+            format!(" D{} x{} {bottom}", diameter.map_or("?".into(), num), positions.len())
+        }
+        super::FeatureKind::ClosedPocket { rectangle: Some((w, l)), corner_radius, .. }
+        | super::FeatureKind::OutsideProfile { rectangle: Some((w, l)), corner_radius, .. } => {
+            format!(" {} x {}{}", num(*w), num(*l), corner_radius.map(|r| format!(" r{}", num(r))).unwrap_or_default())
+        }
+        super::FeatureKind::Slot { width, .. } | super::FeatureKind::Step { width, .. } => {
+            format!(" width {}", num(*width))
+        }
+        super::FeatureKind::Turned(t) => format!(" {}", t.size()),
+        _ => String::new(),
+    }
 }

@@ -36,6 +36,9 @@
 //! with allowances, spot drilling into the holes it marks; hole depths to where the full
 //! diameter ends; each feature's `Sources` say where its size, top and point angle came from,
 //! and an unknown tool leaves a size unknown with the tool-centre path said),
+//! `turned.rs` (the turning model: operations, cycle values, turned features), `turning.rs`
+//! (a program that turns about Z: its workingsteps named from their lathe cycles
+//! or moves, ISO 14649-121, and its turned features, ISO 14649-12, in diameters),
 //! `tooltable.rs` (the door `tooltable::read`: LinuxCNC `tool.tbl`, Heidenhain `TOOL.T`,
 //! Fanuc `G10` offsets and Siemens `$TC_DP` data into the interpreter's `ToolData`, told from
 //! the text; the shell reads the file, `config::read_tool_table`), `risk.rs` (risky settings — another tool's length
@@ -59,9 +62,12 @@ pub mod risk;
 mod setup;
 mod toolpath;
 pub mod tooltable;
+mod turned;
+pub mod turning;
 
 pub use describe::describe;
 pub use model::*;
 pub use recover::{Recoverer, ToolFacts, measure, parse_stock, parse_tool_comment, recover, round_sig};
 pub use setup::Setup;
 pub use toolpath::{Iter as ToolpathIter, Toolpath};
+pub use turned::{TurnOp, Turned, Turning};

@@ -181,6 +181,8 @@ pub enum FeatureKind {
     },
     /// A toolpath that fits no other feature.
     Toolpath,
+    /// A turned feature (ISO 14649-12): placed on the axis of revolution, Z.
+    Turned(super::turned::Turned),
 }
 
 impl FeatureKind {
@@ -195,6 +197,7 @@ impl FeatureKind {
             FeatureKind::Step { .. } => "step",
             FeatureKind::OutsideProfile { .. } => "general outside profile",
             FeatureKind::Toolpath => "toolpath feature",
+            FeatureKind::Turned(t) => t.label(),
         }
     }
 
@@ -205,7 +208,11 @@ impl FeatureKind {
             | FeatureKind::OpenPocket { boundary }
             | FeatureKind::OutsideProfile { boundary, .. } => Some(boundary),
             FeatureKind::Slot { path, .. } => Some(path),
-            FeatureKind::PlanarFace { .. } | FeatureKind::RoundHole { .. } | FeatureKind::Step { .. } | FeatureKind::Toolpath => None,
+            FeatureKind::PlanarFace { .. }
+            | FeatureKind::RoundHole { .. }
+            | FeatureKind::Step { .. }
+            | FeatureKind::Toolpath
+            | FeatureKind::Turned(_) => None,
         }
     }
 }
@@ -386,13 +393,19 @@ pub enum ToolKind {
     BoringTool,
     /// Countersink or chamfer tool.
     Countersink,
+    /// A general turning tool (ISO 14649-121 `general_turning_tool`): an insert with a nose radius.
+    TurningTool,
+    /// A grooving or parting tool (`grooving_tool`): its width is its diameter here.
+    GroovingTool,
+    /// A threading tool (`turning_threading_tool`).
+    ThreadingTool,
     /// Not known.
     Unknown,
 }
 
 impl ToolKind {
     /// Every kind.
-    pub const ALL: [ToolKind; 11] = [
+    pub const ALL: [ToolKind; 14] = [
         ToolKind::EndMill,
         ToolKind::BallEndMill,
         ToolKind::BullnoseEndMill,
@@ -403,6 +416,9 @@ impl ToolKind {
         ToolKind::Tap,
         ToolKind::BoringTool,
         ToolKind::Countersink,
+        ToolKind::TurningTool,
+        ToolKind::GroovingTool,
+        ToolKind::ThreadingTool,
         ToolKind::Unknown,
     ];
 
@@ -419,6 +435,9 @@ impl ToolKind {
             ToolKind::Tap => "tap",
             ToolKind::BoringTool => "boring_tool",
             ToolKind::Countersink => "countersink",
+            ToolKind::TurningTool => "turning_tool",
+            ToolKind::GroovingTool => "grooving_tool",
+            ToolKind::ThreadingTool => "threading_tool",
             ToolKind::Unknown => "unknown",
         }
     }
@@ -997,6 +1016,9 @@ pub struct Workingstep {
     /// depths, box and holes are in; none on the untilted plane.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub setup: Option<Setup>,
+    /// On a program that turns: the turning operation and its values.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub turning: Option<Box<super::turned::Turning>>,
     /// Source range covered by the workingstep's blocks.
     pub source: TextRange,
     /// First and last source line.
@@ -1004,6 +1026,22 @@ pub struct Workingstep {
 }
 
 impl Workingstep {
+    /// The operation in words: a turning workingstep's (`contouring rough`), else the ISO
+    /// 14649-11 operation's label.
+    pub fn label(&self) -> String {
+        match self.turning.as_deref().and_then(|t| t.operation.map(|o| (o, t.rough, t.inside))) {
+            Some((o, rough, inside)) => {
+                let stage = match o {
+                    super::turned::TurnOp::Drilling | super::turned::TurnOp::PartingOff => "",
+                    _ if rough => " rough",
+                    _ => " finish",
+                };
+                format!("{}{stage}{}", o.as_str().replace('_', " "), if inside { " inside" } else { "" })
+            }
+            None => self.operation.label().into(),
+        }
+    }
+
     /// A workingstep with its toolpath and what was decided about it; what the toolpath
     /// determines is left empty for [`measure`](crate::plan::measure), and features,
     /// strategies, depths and allowances for feature recognition.
@@ -1038,6 +1076,7 @@ impl Workingstep {
             toolpath,
             state: MachineState::default(),
             setup: None,
+            turning: None,
             source,
             lines,
         }

@@ -70,9 +70,14 @@ impl<'p> Recoverer<'p> {
         let mut tools: Vec<Tool> = r.tools.into_values().collect();
         tools.sort_by_key(|t| t.number);
         let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
-        explicit_holes(&mut plan);
-        infer_tool_kinds(&mut plan);
-        feature::recognise(&mut plan);
+        if r.lathe {
+            super::turning::recognise(&mut plan);
+            super::turning::infer_tool_kinds(&mut plan);
+        } else {
+            explicit_holes(&mut plan);
+            infer_tool_kinds(&mut plan);
+            feature::recognise(&mut plan);
+        }
         let mut diags = r.diags;
         diags.extend(super::risk::diagnostics(&plan));
         (plan, diags)
@@ -230,6 +235,12 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
         Some(ToolKind::BullnoseEndMill)
     } else if has("FACEMILL") || has("SHELLMILL") || has("FACE") && has("MILL") {
         Some(ToolKind::FaceMill)
+    } else if has("THREAD") && !has("MILL") {
+        Some(ToolKind::ThreadingTool)
+    } else if has("GROOV") || has("PARTING") || has("PARTOFF") || has("CUTOFF") {
+        Some(ToolKind::GroovingTool)
+    } else if (has("TURN") || has("ODROUGH") || has("ODFINISH") || has("IDROUGH") || has("IDFINISH")) && !has("MILL") {
+        Some(ToolKind::TurningTool)
     } else if has("SPOT") || has("CENTERDRILL") || has("CENTREDRILL") || has("CTRDRILL") || has("NCDRILL") {
         Some(ToolKind::CenterDrill)
     } else if has("REAM") {
@@ -469,6 +480,10 @@ struct Builder {
     cut_box: Option<[f64; 4]>,
     /// The tilted plane it runs on.
     setup: Option<Setup>,
+    /// On a program that turns: the lathe cycle the workingstep belongs to (a count of
+    /// cycle starts and ends), and what the cycle and the technology state.
+    turn_seq: u32,
+    turning: super::turned::Turning,
 }
 
 impl Builder {
@@ -581,6 +596,11 @@ struct Recovery<'p> {
     pending: Vec<Move>,
     done: Vec<Workingstep>,
     diags: Vec<Diagnostic>,
+    /// The program turns about Z (diameter mode, a lathe cycle).
+    lathe: bool,
+    /// The lathe cycle in force, and the count of cycle starts and ends.
+    turn: Option<crate::canon::TurnIntent>,
+    turn_seq: u32,
 }
 
 impl<'p> Recovery<'p> {
@@ -626,7 +646,60 @@ impl<'p> Recovery<'p> {
             pending: Vec::new(),
             done: Vec::new(),
             diags: Vec::new(),
+            lathe: false,
+            turn: None,
+            turn_seq: 0,
         }
+    }
+
+    /// What a new turning workingstep starts with: its cycle, the feed per revolution and
+    /// the spindle clamp.
+    fn turning_now(&self) -> super::turned::Turning {
+        super::turned::Turning {
+            cycle: self.turn.as_ref().map(|t| t.code.clone()),
+            intent: self.turn.as_ref().map(|t| self.turn_in_mm(t)),
+            feed_per_rev: (self.per_rev && self.sync.is_none()).then_some(self.feed),
+            spindle_limit: self.css.filter(|m| *m < NO_SPINDLE_LIMIT),
+            pitch: self.sync.map(round_sig),
+            ..super::turned::Turning::default()
+        }
+    }
+
+    /// A lathe cycle's values in millimetres.
+    fn turn_in_mm(&self, t: &crate::canon::TurnIntent) -> crate::canon::TurnIntent {
+        let k = |v: Option<f64>| v.map(|v| round_sig(self.mm(v)));
+        crate::canon::TurnIntent {
+            depth_of_cut: k(t.depth_of_cut),
+            retract: k(t.retract),
+            allowance_x: k(t.allowance_x),
+            allowance_z: k(t.allowance_z),
+            pitch: k(t.pitch),
+            thread_depth: k(t.thread_depth),
+            first_cut: k(t.first_cut),
+            min_cut: k(t.min_cut),
+            finish_allowance: k(t.finish_allowance),
+            peck: k(t.peck),
+            step: k(t.step),
+            ..t.clone()
+        }
+    }
+
+    /// A lathe cycle starts: a workingstep of its own, unless it is the next single pass of
+    /// the cycle the workingstep was cutting (G90 blocks one after another).
+    fn turning_begins(&mut self, t: &crate::canon::TurnIntent) {
+        use crate::canon::TurnKind;
+        self.lathe = true;
+        let pass = matches!(t.kind, Some(TurnKind::TurnPass | TurnKind::FacePass | TurnKind::ThreadPass));
+        let continues = pass
+            && self.current.as_ref().is_some_and(|b| {
+                b.turn_seq + 1 == self.turn_seq && b.turning.intent.as_ref().is_some_and(|i| i.kind == t.kind) && b.tool == self.tool
+            });
+        if continues {
+            self.turn_seq -= 1;
+        } else {
+            self.turn_seq += 1;
+        }
+        self.turn = Some(t.clone());
     }
 
     fn technology(&self) -> Technology {
@@ -683,7 +756,11 @@ impl<'p> Recovery<'p> {
             CanonOp::SelectPlane(p) => self.plane = *p,
             CanonOp::SetFeedRate(f) => self.feed = round_sig(self.mm(*f)),
             CanonOp::SetFeedMode(m) => self.per_rev = *m == FeedMode::PerRevolution,
-            CanonOp::StartSpeedFeedSync(pitch) => self.sync = Some(self.mm(*pitch)),
+            // Synchronised moves or a constant cutting speed in the ZX plane: a lathe's.
+            CanonOp::StartSpeedFeedSync(pitch) => {
+                self.sync = Some(self.mm(*pitch));
+                self.lathe |= self.plane == Plane::Xz;
+            }
             CanonOp::StopSpeedFeedSync => self.sync = None,
             CanonOp::RigidTap(p) => {
                 // Into the hole and back out along the same line.
@@ -695,7 +772,10 @@ impl<'p> Recovery<'p> {
                 self.cut(mv, c);
             }
             CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
-            CanonOp::SetSpindleMode(max) => self.css = *max,
+            CanonOp::SetSpindleMode(max) => {
+                self.css = *max;
+                self.lathe |= max.is_some() && self.plane == Plane::Xz;
+            }
             CanonOp::StartSpindleClockwise => self.spindle = SpindleDir::Cw,
             CanonOp::StartSpindleCounterclockwise => self.spindle = SpindleDir::Ccw,
             // A boring cycle's spindle stop is part of the cycle, not of the technology.
@@ -742,6 +822,13 @@ impl<'p> Recovery<'p> {
             CanonOp::Comment(s) => self.comment(s, c.line),
             CanonOp::CycleBegin(intent) => self.cycle_begin(intent, c),
             CanonOp::CycleEnd => self.in_cycle = None,
+            // Diameter or radius mode: only a lathe has them.
+            CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
+            CanonOp::Turning(t) => self.turning_begins(t),
+            CanonOp::TurningEnd => {
+                self.turn = None;
+                self.turn_seq += 1;
+            }
             // A probe move measures; it positions like a rapid and cuts nothing.
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
                 let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
@@ -1007,11 +1094,18 @@ impl<'p> Recovery<'p> {
             None => true,
             Some(b) => {
                 let retracted = !self.pending.is_empty();
+                let tech_differs = if self.lathe {
+                    let per_rev = (self.per_rev && self.sync.is_none()).then_some(self.feed);
+                    b.turning.feed_per_rev != per_rev || !same_turning_tech(&b.technology, &tech)
+                } else {
+                    !same_tech(&b.technology, &tech)
+                };
                 b.tool != self.tool
                     || !b.operation.same_family(operation)
-                    || (retracted && !same_tech(&b.technology, &tech))
+                    || (retracted && tech_differs)
                     || b.state.work_offset != self.wcs
                     || b.setup != self.setup
+                    || (self.lathe && b.turn_seq != self.turn_seq)
             }
         };
         if restart {
@@ -1035,6 +1129,7 @@ impl<'p> Recovery<'p> {
                 dwells: std::mem::take(&mut self.pending_dwells),
                 ..MachineState::default()
             };
+            let turning = self.turning_now();
             self.current = Some(Builder {
                 operation,
                 tool: self.tool,
@@ -1053,6 +1148,8 @@ impl<'p> Recovery<'p> {
                 level_entry: None,
                 cut_box: None,
                 setup: self.setup,
+                turn_seq: self.turn_seq,
+                turning,
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next
@@ -1067,11 +1164,14 @@ impl<'p> Recovery<'p> {
             b.tentative = Some(Tentative { at: b.moves.len(), lifts, source: b.source, last_line: b.lines.1, origin: c.origin, line });
         }
         // An entry (plunge, ramp or helix down, at its own feed) is not the cut that decides.
-        let is_cut = mv.kind != MoveKind::Rapid && mv.to[2] >= mv.from[2] - EPS;
+        // On a lathe, any feed cuts, and the feed that decides is the one per revolution.
+        let is_cut = mv.kind != MoveKind::Rapid && (self.lathe || mv.to[2] >= mv.from[2] - EPS);
+        let decisive_feed = if self.lathe && self.per_rev && self.sync.is_none() { self.feed } else { mv.feed };
+        let lathe = self.lathe;
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
-            && (b.cut_feed.is_some_and(|f| (f - mv.feed).abs() > EPS) || !is_lift(&mv) && b.starts_anew(&mv))
+            && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) || !lathe && !is_lift(&mv) && b.starts_anew(&mv))
         {
             let now = self.technology();
             self.split(t, c, now);
@@ -1086,8 +1186,11 @@ impl<'p> Recovery<'p> {
         if mv.kind != MoveKind::Rapid && !b.technology.feeds.iter().any(|f| (f - feed).abs() < EPS) {
             b.technology.feeds.push(feed);
         }
+        if mv.kind != MoveKind::Rapid && self.sync.is_some() {
+            b.turning.pitch = self.sync.map(round_sig);
+        }
         if is_cut {
-            b.cut_feed = Some(mv.feed);
+            b.cut_feed = Some(decisive_feed);
             // A feed out of a hole is no level and no region.
             if !is_lift(&mv) {
                 b.note_cut(&mv);
@@ -1151,7 +1254,8 @@ impl<'p> Recovery<'p> {
         }
         b.source = t.source;
         b.lines.1 = t.last_line;
-        let (operation, tool, setup) = (b.operation, b.tool, b.setup);
+        let (operation, tool, setup, turn_seq) = (b.operation, b.tool, b.setup, b.turn_seq);
+        let turning = self.turning_now();
         self.finish(b);
         let mut moves = rest;
         for i in 0..moves.len() {
@@ -1183,6 +1287,8 @@ impl<'p> Recovery<'p> {
             level_entry: None,
             cut_box: None,
             setup,
+            turn_seq,
+            turning,
         });
     }
 
@@ -1209,7 +1315,9 @@ impl<'p> Recovery<'p> {
     }
 
     fn finish(&mut self, mut b: Builder) {
-        refine_phases(&mut b.moves, b.operation.is_hole());
+        if !self.lathe {
+            refine_phases(&mut b.moves, b.operation.is_hole());
+        }
         // The highest rapid on the way in or between cuts (or feed link between cuts, see
         // `feed_links`); the retract may go home.
         let rapid_z = |phases: &[Phase]| {
@@ -1247,6 +1355,9 @@ impl<'p> Recovery<'p> {
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         ws.state = state;
         ws.setup = b.setup;
+        if self.lathe {
+            ws.turning = Some(Box::new(b.turning));
+        }
         measure(&mut ws, b.dwell, b.peck, b.surface);
         self.done.push(ws);
     }
@@ -1298,6 +1409,16 @@ fn same_tech(a: &Technology, b: &Technology) -> bool {
     (a.feed - b.feed).abs() < EPS
         && (a.spindle_speed - b.spindle_speed).abs() < EPS
         && a.surface_speed == b.surface_speed
+        && a.spindle == b.spindle
+        && a.coolant == b.coolant
+}
+
+/// The same technology on a lathe: the cutting speed, the spindle and the coolant; the feed
+/// per minute follows the diameter and the clamp, and the spindle speed under constant
+/// cutting speed is the clamp, which is the workingstep's setting, not a new operation.
+fn same_turning_tech(a: &Technology, b: &Technology) -> bool {
+    a.surface_speed == b.surface_speed
+        && (a.surface_speed.is_some() || (a.spindle_speed - b.spindle_speed).abs() < EPS)
         && a.spindle == b.spindle
         && a.coolant == b.coolant
 }

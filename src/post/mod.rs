@@ -1780,7 +1780,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         match &canon.op {
             // What a tool change's block may still take (its speed), or what writes nothing.
             CanonOp::SetSpindleSpeed(_)
-            | CanonOp::Setting(Setting::ToolName(..) | Setting::LengthOffset(_))
+            | CanonOp::Setting(Setting::ToolName(..) | Setting::LengthOffset(_) | Setting::DiameterMode(_))
+            | CanonOp::Turning(_)
+            | CanonOp::TurningEnd
             | CanonOp::SelectTool(_)
             | CanonOp::UseToolLengthOffset(_)
             | CanonOp::SetFeedRate(_) => {}
@@ -1804,6 +1806,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             | CanonOp::StartSpindleCounterclockwise
             | CanonOp::StopSpindleTurning
             | CanonOp::Setting(_)
+            | CanonOp::Turning(_)
+            | CanonOp::TurningEnd
             | CanonOp::SelectTool(_)
             | CanonOp::ChangeTool(_) => {}
             CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. } | CanonOp::CycleBegin(_) => {
@@ -1864,6 +1868,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Comment(t) => self.comment(t, "comment"),
             CanonOp::Message(t) => self.comment(t, "message"),
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
+            // The lathe cycle's moves follow and are written; the diameter mode is the
+            // target's own (its X words are read by its dictionary).
+            CanonOp::Turning(_) | CanonOp::TurningEnd | CanonOp::Setting(Setting::DiameterMode(_)) => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }

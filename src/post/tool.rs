@@ -25,6 +25,9 @@ fn tool_comment(f: &ToolFact) -> String {
         K::Tap => "TAP",
         K::BoringTool => "BORING BAR",
         K::Countersink => "CHAMFER MILL",
+        K::TurningTool => "TURNING TOOL",
+        K::GroovingTool => "GROOVING TOOL",
+        K::ThreadingTool => "THREADING TOOL",
         K::Unknown => "",
     };
     let mut s = format!("T{} D={}", f.number, crate::diff::num(f.diameter));

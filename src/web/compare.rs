@@ -272,7 +272,7 @@ pub(crate) fn picture_block(c: &Comparison, with_layers: bool) -> Markup {
                         label {
                             input type="checkbox" checked data-layer={(side) (w.index)};
                             @if side == "o" { "original " } @else { "edited " }
-                            "WS" (w.index) " " (w.operation.label()) " T" (w.tool)
+                            "WS" (w.index) " " (w.label()) " T" (w.tool)
                         }
                     }
                 }

@@ -19,7 +19,9 @@
 //!   dates and machines that fail, configured folders of the working directory that must exist,
 //!   `translate -o` against the default configuration's folders),
 //!   `first_start` (the README's demo verbatim, `show`, `query` refusals, config mistakes, `import`),
-//!   `plan` (one small CAM-style program per feature kind), `cam_suite` (the programs of
+//!   `plan` (one small CAM-style program per feature kind), `lathe` (the programs of
+//!   `tests/programs/lathe/` with hand-written sidecars, scored per turning workingstep and
+//!   feature; lathe edits in a turner's terms), `cam_suite` (the programs of
 //!   `tests/programs/cam/`, made by its `generate.py` in Fanuc/Haas, Siemens and Heidenhain post
 //!   styles with sidecars, scored per feature kind; the NIST-style case), `edits` (one CAM
 //!   original, one operator edit per test, the exact change rows), `express` (every CC1 and CC2
@@ -63,6 +65,7 @@ mod fagor;
 mod faults;
 mod first_start;
 mod flow;
+mod lathe;
 mod legacy_blocks;
 mod macros;
 mod parity;

@@ -161,7 +161,7 @@ fn matches(f: &Feature, want: &Value) -> bool {
             };
             near(*width, "width", SIZE) && near(along, "centre_line_length", SIZE)
         }
-        FeatureKind::Toolpath => false,
+        FeatureKind::Toolpath | FeatureKind::Turned(_) => false,
     }
 }
 

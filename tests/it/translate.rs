@@ -148,7 +148,8 @@ fn plan_difference_within(a: &ProcessPlan, b: &ProcessPlan, tol: f64, rounded: b
                 | ChangeKind::ApproachChanged
                 | ChangeKind::RetractChanged
                 | ChangeKind::ClearanceChanged => true,
-                ChangeKind::FeedChanged | ChangeKind::PlungeFeedChanged => feeds,
+                // A thread's lead is its feed per revolution (a turning program says it so).
+                ChangeKind::FeedChanged | ChangeKind::PlungeFeedChanged | ChangeKind::ThreadPitchChanged => feeds,
                 // A dimension rounded as the positions were: the planner's own figures of it
                 // are the same, or, measured between rounded positions (a width, a depth of
                 // cut), within both ends' rounding.

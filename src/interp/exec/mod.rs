@@ -176,7 +176,7 @@ impl Interpreter<'_> {
                 self.overrides(def, sink)
             }
             Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::SubprogramReturn => self.call(def, range, diags),
-            Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def),
+            Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def, sink),
             Meaning::Other | Meaning::Output | Meaning::ProgramBegin => {}
             Meaning::Stock => self.stock_corner(sink),
             // Read by the arc or move of the block they stand in.
@@ -202,6 +202,7 @@ impl Interpreter<'_> {
             Meaning::CycleRoughTurn | Meaning::CycleRoughFace | Meaning::CycleFinishContour => self.contour_cycle(def, range, diags),
             Meaning::ProfileFinish | Meaning::ProfileRoughTurn | Meaning::ProfileRoughFace => self.profile_cycle(def, range, diags),
             Meaning::CycleIntent => self.cycle_intent(def, range, diags),
+            Meaning::CycleThreadMultiple | Meaning::CycleGroove | Meaning::CycleFacePeck => self.lathe_cycle(def, range, sink, diags),
             _ => self.not_executed(def, range, diags),
         }
     }

@@ -44,8 +44,11 @@ impl Interpreter<'_> {
     }
 
     /// G7, G8 (lathe): X words give diameters or radii.
-    pub(super) fn diameter_mode(&mut self, def: &CodeDef) {
-        self.st.diameter = def.meaning == Meaning::DiameterMode;
+    pub(super) fn diameter_mode(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+        // Said either way: G7 and G8 are lathe codes, so the program turns.
+        let on = def.meaning == Meaning::DiameterMode;
+        self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(on)));
+        self.st.diameter = on;
     }
 
     /// G98, G99: a canned cycle returns to its initial level or to the R plane.

@@ -1626,6 +1626,12 @@ impl<'a> Driver<'a, '_> {
             let corners = interp.corners.replace(None);
             (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take())
         });
+        let intent = interp.turn_intent.take();
+        if rough.is_none()
+            && let Some(t) = intent.clone()
+        {
+            interp.emit(sink, CanonOp::Turning(t));
+        }
         let mut parser = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
         let mut shape: Vec<Canon> = Vec::new();
         let mut b = Block::default();
@@ -1665,11 +1671,15 @@ impl<'a> Driver<'a, '_> {
         (interp.origin, interp.line) = (block.range, block.line);
         match rough {
             Some(r) => {
+                if let Some(t) = intent {
+                    interp.emit(sink, CanonOp::Turning(t));
+                }
                 interp.rough_turn(r, start, &shape, sink, diags);
                 self.switch_to(self.cur, end, interp);
             }
             None => interp.back_to(start, sink),
         }
+        interp.emit(sink, CanonOp::TurningEnd);
     }
 
     /// A lathe profile cycle (LinuxCNC G70–G72): the subroutine `name`'s blocks are run

@@ -1,0 +1,144 @@
+//! Turning workingsteps compared in a turner's terms: the feed per revolution, the cutting
+//! speed and its clamp (`spindle clamp 2500 → 1800 /min`), the cycle's finishing allowance
+//! (`U0.4 W0.1 → U0.6 W0.2`), depth of cut and retract, a thread's pitch, height and passes,
+//! a groove's pecks. The feed per minute and the lowest Z are not compared: on a lathe they
+//! follow the diameter, the clamp and the allowance, which are said instead.
+
+use super::{ChangeKind, Fmt, Push, TOLERANCE, coolant_words, num, spindle_words};
+use crate::plan::{Turning, Workingstep};
+
+/// The first cut's start, as a diameter and Z, where the workingstep's moves are its own:
+/// a cycle's passes start where its start point and depth of cut put them, which its
+/// parameters' changes say.
+pub(super) fn start(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) {
+    let cycle = |w: &Workingstep| w.turning.as_deref().is_some_and(|t| t.intent.is_some());
+    if cycle(a) || cycle(b) {
+        return;
+    }
+    if let (Some(x), Some(y)) = (a.start_point, b.start_point)
+        && crate::plan::geom::dist(x, y) > TOLERANCE
+    {
+        let p = |q: crate::plan::P3| format!("Ø{} Z{}", u.c(2.0 * q[0]), u.c(q[2]));
+        push(ChangeKind::StartPointMoved, "start_point", p(x), p(y), (Some(a.lines.0), Some(b.lines.0)));
+    }
+}
+
+/// Compares the technology of two turning workingsteps; whether the feeds differ.
+pub(super) fn technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) -> bool {
+    let at = (Some(a.lines.0), Some(b.lines.0));
+    let (Some(ta), Some(tb)) = (a.turning.as_deref(), b.turning.as_deref()) else { return false };
+    let (ka, kb) = (&a.technology, &b.technology);
+    let per_rev = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |f| format!("F{} mm/rev", u.c(f)));
+    let feeds_differ = differs(ta.feed_per_rev, tb.feed_per_rev)
+        || (ta.feed_per_rev.is_none() && ta.pitch.is_none() && (ka.feed - kb.feed).abs() > TOLERANCE);
+    if differs(ta.feed_per_rev, tb.feed_per_rev) {
+        push(ChangeKind::FeedChanged, "feed", per_rev(ta.feed_per_rev), per_rev(tb.feed_per_rev), at);
+    } else if feeds_differ {
+        push(ChangeKind::FeedChanged, "feed", u.feed(ka.feed), u.feed(kb.feed), at);
+    }
+    match (ka.surface_speed, kb.surface_speed) {
+        (Some(x), Some(y)) => {
+            if (x - y).abs() > TOLERANCE {
+                push(ChangeKind::SpindleSpeedChanged, "cutting_speed", u.surface(x), u.surface(y), at);
+            }
+        }
+        (None, None) => {
+            if (ka.spindle_speed - kb.spindle_speed).abs() > TOLERANCE {
+                let s = |v: f64| format!("S{} /min", num(v));
+                push(ChangeKind::SpindleSpeedChanged, "spindle_speed", s(ka.spindle_speed), s(kb.spindle_speed), at);
+            }
+        }
+        (x, y) => {
+            let mode = |v: Option<f64>, rpm: f64| match v {
+                Some(v) => format!("constant cutting speed {} (G96)", u.surface(v)),
+                None => format!("S{} /min (G97)", num(rpm)),
+            };
+            push(ChangeKind::SpindleModeChanged, "spindle_mode", mode(x, ka.spindle_speed), mode(y, kb.spindle_speed), at);
+        }
+    }
+    if differs(ta.spindle_limit, tb.spindle_limit) {
+        let clamp = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| format!("{} /min", num(v)));
+        push(ChangeKind::SpindleSpeedChanged, "spindle_clamp", clamp(ta.spindle_limit), clamp(tb.spindle_limit), at);
+    }
+    if ka.spindle != kb.spindle {
+        push(
+            ChangeKind::SpindleDirectionChanged,
+            "spindle_direction",
+            spindle_words(ka.spindle).into(),
+            spindle_words(kb.spindle).into(),
+            at,
+        );
+    }
+    if ka.coolant != kb.coolant {
+        push(ChangeKind::CoolantChanged, "coolant", coolant_words(ka.coolant).into(), coolant_words(kb.coolant).into(), at);
+    }
+    feeds_differ
+}
+
+/// Compares what the lathe cycles state; whether anything did differ (it explains a changed
+/// toolpath).
+pub(super) fn cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) -> bool {
+    let at = (Some(a.lines.0), Some(b.lines.0));
+    let (Some(ta), Some(tb)) = (a.turning.as_deref(), b.turning.as_deref()) else { return false };
+    let mut explained = false;
+    let (ia, ib) = (ta.intent.clone().unwrap_or_default(), tb.intent.clone().unwrap_or_default());
+    let len = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| u.c(v));
+    if differs(ia.allowance_x, ib.allowance_x) || differs(ia.allowance_z, ib.allowance_z) {
+        let uw = |x: Option<f64>, z: Option<f64>| format!("U{} W{}", len(x), len(z));
+        push(
+            ChangeKind::AllowanceChanged,
+            "finishing_allowance",
+            uw(ia.allowance_x, ia.allowance_z),
+            uw(ib.allowance_x, ib.allowance_z),
+            at,
+        );
+        explained = true;
+    }
+    if differs(ia.depth_of_cut, ib.depth_of_cut) {
+        push(ChangeKind::AxialDepthChanged, "depth_of_cut", len(ia.depth_of_cut), len(ib.depth_of_cut), at);
+        explained = true;
+    }
+    let (pa, pb) = (pitch(ta), pitch(tb));
+    if differs(pa, pb) {
+        push(ChangeKind::ThreadPitchChanged, "thread_pitch", len(pa), len(pb), at);
+        explained = true;
+    }
+    for (field, x, y) in [
+        ("retract", ia.retract, ib.retract),
+        ("thread_height", ia.thread_depth, ib.thread_depth),
+        ("first_depth_of_cut", ia.first_cut, ib.first_cut),
+        ("least_depth_of_cut", ia.min_cut, ib.min_cut),
+        ("thread_finishing_allowance", ia.finish_allowance, ib.finish_allowance),
+        ("peck", ia.peck, ib.peck),
+        ("groove_shift", ia.step, ib.step),
+    ] {
+        if differs(x, y) {
+            push(ChangeKind::CycleParameterChanged, field, len(x), len(y), at);
+            explained = true;
+        }
+    }
+    if differs(ia.angle, ib.angle) {
+        let deg = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |v| format!("{}°", num(v)));
+        push(ChangeKind::CycleParameterChanged, "thread_angle", deg(ia.angle), deg(ib.angle), at);
+        explained = true;
+    }
+    if ia.finish_passes != ib.finish_passes {
+        let n = |v: Option<u32>| v.map_or_else(|| "none".to_owned(), |v| v.to_string());
+        push(ChangeKind::CycleParameterChanged, "finishing_passes", n(ia.finish_passes), n(ib.finish_passes), at);
+        explained = true;
+    }
+    explained
+}
+
+/// A thread's lead: its cycle's, or that of its synchronised moves.
+fn pitch(t: &Turning) -> Option<f64> {
+    t.intent.as_ref().and_then(|i| i.pitch).or(t.pitch)
+}
+
+fn differs(x: Option<f64>, y: Option<f64>) -> bool {
+    match (x, y) {
+        (Some(x), Some(y)) => (x - y).abs() > TOLERANCE,
+        (None, None) => false,
+        _ => true,
+    }
+}

@@ -1,0 +1,217 @@
+//! A lathe's multiple repetitive cycles that peck and thread, in Fanuc's two-block form:
+//! `G74` (pecking along Z: a face groove, or a hole on the axis), `G75` (grooving across X
+//! with pecks) and `G76` (multiple-pass threading). The first block states what the passes
+//! share (`G74 R` / `G75 R`: the retract after each peck; `G76 P(m)(r)(a) Q R`: finishing
+//! passes, chamfer, tool angle, least depth of cut and finishing allowance); the second, with
+//! the end point, makes the moves. P and Q of the second block are in the least input
+//! increment (µm, 0.0001 inch), as the controls read them.
+//!
+//! The passes are made from the start point as the T-series manuals draw them: G75 plunges
+//! in X by Δi (P) and backs off R after each peck, to the bottom, out, then shifts Δk (Q) in
+//! Z to the next plunge up to Z; G74 the same with X and Z exchanged; G76 cuts pass n at
+//! depth Δd·√n (Q the first depth, never less than the least depth of cut more than the
+//! pass before), infeeding along the flank (half the tool angle), up to the thread height (P)
+//! less the finishing allowance, then the full height once per finishing pass.
+
+use super::Interpreter;
+use crate::canon::{CanonOp, CanonSink, TurnIntent, TurnKind, Units};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{CodeDef, Meaning, Role};
+use crate::text::TextRange;
+
+/// Most plunges or passes a cycle makes: more is a slip in a peck or shift.
+const MAX_PASSES: f64 = 10_000.0;
+
+/// What the first block of a G74/G75/G76 states, kept for the second.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct LatheSetup {
+    /// The retract after each peck (G74/G75 R).
+    pub peck_retract: f64,
+    /// Finishing passes of a thread (G76 P, first two digits).
+    pub finish_passes: u32,
+    /// The tool's included angle, degrees (G76 P, last two digits).
+    pub angle: f64,
+    /// Least depth of cut, program units (G76 Q).
+    pub min_cut: f64,
+    /// Finishing allowance, program units (G76 R).
+    pub finish_allowance: f64,
+}
+
+impl Interpreter<'_> {
+    /// G74, G75 and G76 (`cycle-face-peck`, `cycle-groove`, `cycle-thread-multiple`).
+    pub(super) fn lathe_cycle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let given = |s: &Self, r: Role| s.slots[r as usize].is_some();
+        let second = [Role::X, Role::Z].iter().any(|&r| given(self, r)) || given(self, Role::F);
+        let mut setup = self.st.lathe_setup;
+        if !second {
+            if def.meaning == Meaning::CycleThreadMultiple {
+                if let Some(p) = self.slot(Role::P) {
+                    let p = p.round().max(0.0) as u32;
+                    setup.finish_passes = (p / 10_000).max(1);
+                    setup.angle = f64::from(p % 100);
+                }
+                setup.min_cut = self.slot(Role::Q).map_or(setup.min_cut, |q| self.increments(q));
+                setup.finish_allowance = self.slot(Role::R).unwrap_or(setup.finish_allowance);
+            } else {
+                setup.peck_retract = self.slot(Role::R).unwrap_or(setup.peck_retract);
+            }
+            self.st.lathe_setup = setup;
+            return;
+        }
+        if self.st.plane != crate::canon::Plane::Xz {
+            let msg = format!("{} turns in the ZX plane (G18); the cycle is skipped", def.label());
+            return diags.push(Diagnostic::new(Code::Unsupported, range, msg));
+        }
+        if def.meaning == Meaning::CycleThreadMultiple {
+            if !self.spindle_turns(def, range, diags) {
+                return;
+            }
+            return self.thread_multiple(def, range, setup, sink, diags);
+        }
+        self.check_technology(def, range, diags);
+        self.peck_cycle(def, range, setup, sink, diags);
+    }
+
+    /// A length given in least input increments (µm, or 0.0001 inch).
+    fn increments(&self, v: f64) -> f64 {
+        v * if self.st.units == Units::Mm { 0.001 } else { 0.0001 }
+    }
+
+    /// G75 (plunges across X, shifting along Z) and G74 (pecks along Z, shifting in X).
+    fn peck_cycle(&mut self, def: &CodeDef, range: TextRange, setup: LatheSetup, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let t = self.target();
+        let start = self.st.pos;
+        let grooving = def.meaning == Meaning::CycleGroove;
+        // (depth axis, shift axis): X then Z grooving, Z then X pecking along the axis.
+        let (d, s) = if grooving { (0, 2) } else { (2, 0) };
+        let peck = self.slot(Role::P).map(|v| self.increments(v));
+        let shift = self.slot(Role::Q).map(|v| self.increments(v));
+        let (peck, shift) = if grooving { (peck, shift) } else { (shift, peck) };
+        let depth_total = (t[d] - start[d]).abs();
+        let span = (t[s] - start[s]).abs();
+        let peck = peck.filter(|p| *p > 0.0).unwrap_or(depth_total);
+        let shift = shift.filter(|q| *q > 0.0).unwrap_or(span.max(1.0));
+        let plunges = (span / shift - 1e-9).ceil();
+        let pecks = (depth_total / peck.max(1e-9) - 1e-9).ceil();
+        if !(plunges.is_finite() && pecks.is_finite() && plunges <= MAX_PASSES && pecks * (plunges + 1.0) <= MAX_PASSES * 10.0) {
+            let msg = format!("{}: {} plunges of {} pecks are too many; the cycle is skipped", def.label(), plunges, pecks);
+            return diags.push(Diagnostic::new(Code::BadValue, range, msg));
+        }
+        let intent = TurnIntent {
+            kind: Some(if grooving { TurnKind::Groove } else { TurnKind::FacePeck }),
+            code: def.label(),
+            retract: Some(setup.peck_retract),
+            peck: Some(peck),
+            step: (span > 0.0).then_some(shift),
+            ..TurnIntent::default()
+        };
+        self.emit(sink, CanonOp::Turning(Box::new(intent)));
+        let dir_d = (t[d] - start[d]).signum();
+        let dir_s = (t[s] - start[s]).signum();
+        for k in 0..=plunges as u32 {
+            let mut at = start;
+            at[s] = if f64::from(k) * shift >= span { t[s] } else { start[s] + dir_s * f64::from(k) * shift };
+            if k > 0 {
+                self.go_to(sink, at, false);
+            }
+            let mut reached = 0.0;
+            while reached < depth_total - 1e-9 {
+                reached = (reached + peck).min(depth_total);
+                let mut p = at;
+                p[d] = start[d] + dir_d * reached;
+                self.go_to(sink, p, true);
+                if reached < depth_total - 1e-9 && setup.peck_retract > 0.0 {
+                    p[d] -= dir_d * setup.peck_retract;
+                    self.go_to(sink, p, false);
+                }
+            }
+            self.go_to(sink, at, false);
+        }
+        self.go_to(sink, start, false);
+        self.emit(sink, CanonOp::TurningEnd);
+    }
+
+    /// G76: the passes of a thread from the start point to the end point (X the minor
+    /// diameter, Z the thread's end), R the taper (radius) and F the lead.
+    fn thread_multiple(
+        &mut self,
+        def: &CodeDef,
+        range: TextRange,
+        setup: LatheSetup,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let end = self.target();
+        let start = self.st.pos;
+        let height = self.slot(Role::P).map(|v| self.increments(v)).unwrap_or(0.0);
+        let first = self.slot(Role::Q).map(|v| self.increments(v)).unwrap_or(0.0);
+        let taper = self.slot(Role::R).unwrap_or(0.0);
+        let Some(lead) = self.slot(Role::F).or((self.st.feed > 0.0).then_some(self.st.feed)) else {
+            let msg = format!("{} without F (the lead) was skipped", def.label());
+            return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+        };
+        if !(height > 0.0 && first > 0.0 && first <= height) {
+            let msg = format!("{}: the thread height (P) and the first depth of cut (Q, at most the height) must be above 0", def.label());
+            return diags.push(Diagnostic::new(Code::BadValue, range, msg));
+        }
+        let rough_to = (height - setup.finish_allowance).max(first);
+        if rough_to / first > MAX_PASSES {
+            return diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: too many passes", def.label())));
+        }
+        let intent = TurnIntent {
+            kind: Some(TurnKind::Thread),
+            code: def.label(),
+            pitch: Some(lead),
+            thread_depth: Some(height),
+            first_cut: Some(first),
+            min_cut: Some(setup.min_cut),
+            finish_allowance: Some(setup.finish_allowance),
+            finish_passes: Some(setup.finish_passes.max(1)),
+            angle: Some(setup.angle),
+            ..TurnIntent::default()
+        };
+        self.emit(sink, CanonOp::Turning(Box::new(intent)));
+        // Outside (the start above the thread) or inside; the crest is the bottom plus the height.
+        let out = if start[0] >= end[0] { 1.0 } else { -1.0 };
+        let crest = end[0] + out * height;
+        let along = (end[2] - start[2]).signum();
+        let tan = (setup.angle / 2.0).to_radians().tan();
+        let mut depths = Vec::new();
+        let mut n = 1.0_f64;
+        let mut last = 0.0_f64;
+        loop {
+            let d = (first * n.sqrt()).max(last + setup.min_cut).min(rough_to);
+            depths.push(d);
+            last = d;
+            if d >= rough_to - 1e-9 {
+                break;
+            }
+            n += 1.0;
+        }
+        for _ in 0..setup.finish_passes.max(1) {
+            depths.push(height);
+        }
+        for d in depths {
+            let mut p = start;
+            p[0] = crest - out * d - taper;
+            // Infeed along the flank: each pass starts further back by its depth's share.
+            p[2] = start[2] - along * d * tan;
+            self.go_to(sink, p, false);
+            let mut q = end;
+            q[0] = crest - out * d;
+            self.emit(sink, CanonOp::StartSpeedFeedSync(lead));
+            self.go_to(sink, q, true);
+            self.emit(sink, CanonOp::StopSpeedFeedSync);
+            let mut back = q;
+            back[0] = start[0];
+            self.go_to(sink, back, false);
+            self.go_to(sink, start, false);
+        }
+        self.emit(sink, CanonOp::TurningEnd);
+    }
+
+    fn go_to(&mut self, sink: &mut dyn CanonSink, p: [f64; 6], feed: bool) {
+        self.emit(sink, if feed { CanonOp::StraightFeed(p) } else { CanonOp::StraightTraverse(p) });
+        self.st.pos = p;
+    }
+}

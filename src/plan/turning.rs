@@ -1,0 +1,403 @@
+//! Turning: the workingsteps and features of a program that turns about Z (ISO 14649-121
+//! operations, ISO 14649-12 features), as a turner names them.
+//!
+//! A program turns when its dictionary starts in diameter mode (a lathe's X words are
+//! diameters), it says `G7`/`DIAMON`, or it runs a lathe cycle. Recovery (`recover.rs`)
+//! then segments at each lathe cycle (the interpreter's `Turning` marker, with the values
+//! the cycle states: allowances, depth of cut, retract, pitch, thread height, pecks) and
+//! keeps each workingstep's feed per revolution, the constant cutting speed's clamp and the
+//! pitch of spindle-synchronised moves. [`recognise`] names each workingstep's operation —
+//! from its cycle, else from its moves as CAM posts write them: cuts only across X to the
+//! axis at the front are facing, elsewhere parting off; plunges across X and back out
+//! grooving; synchronised passes threading; feeds along the axis at X0 drilling; anything
+//! else contouring, rough when it cuts in several passes and finish when in one — and builds
+//! the features from the finished contour (a finishing pass, or a roughing cycle's last pass
+//! moved back by its allowances): each run along Z an outer (or inner) diameter, each run
+//! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
+//! axis from their workingsteps. Diameters throughout; lengths along Z.
+
+use super::model::*;
+pub use super::turned::{TurnOp, Turned, Turning};
+use crate::canon::TurnKind;
+use crate::text::num;
+
+/// Within this, two lengths are the same, mm.
+const TOL: f64 = 1e-3;
+
+/// Whether a feature kind is a milling one (none of these on a pure lathe program).
+pub fn is_milling(kind: &FeatureKind) -> bool {
+    !matches!(kind, FeatureKind::Turned(_) | FeatureKind::RoundHole { .. })
+}
+
+/// Turning tools whose kind nothing states, from what they do: threading, grooving or
+/// parting, drilling on the axis, else a general turning tool.
+pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
+    for t in plan.tools.iter_mut().filter(|t| t.kind == ToolKind::Unknown || t.kind_source == ToolSource::Inferred) {
+        let ops: Vec<TurnOp> =
+            plan.workingsteps.iter().filter(|w| w.tool == t.number).filter_map(|w| w.turning.as_ref().and_then(|x| x.operation)).collect();
+        let Some(first) = ops.first() else { continue };
+        if !ops.iter().all(|o| o == first) && !ops.iter().all(|o| matches!(o, TurnOp::Facing | TurnOp::Contouring)) {
+            continue;
+        }
+        t.kind = match first {
+            TurnOp::Threading => ToolKind::ThreadingTool,
+            TurnOp::Grooving | TurnOp::PartingOff => ToolKind::GroovingTool,
+            TurnOp::Drilling => ToolKind::TwistDrill,
+            TurnOp::Facing | TurnOp::Contouring => ToolKind::TurningTool,
+        };
+        t.kind_source = ToolSource::Inferred;
+    }
+}
+
+/// Names each turning workingstep's operation and builds the turned features.
+pub fn recognise(plan: &mut ProcessPlan) {
+    // The part's front: the highest face cut (across X), and at least the program zero,
+    // where lathe programs put the finished face.
+    let front = plan
+        .workingsteps
+        .iter()
+        .flat_map(|w| w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid))
+        .filter(|m| (m.to[2] - m.from[2]).abs() < TOL)
+        .map(|m| m.to[2])
+        .fold(0.0, f64::max);
+    for ws in &mut plan.workingsteps {
+        let boring = plan.tools.iter().find(|t| t.number == ws.tool).is_some_and(|t| {
+            t.kind == ToolKind::BoringTool || t.name.as_deref().is_some_and(|n| n.to_ascii_uppercase().contains("BORING"))
+        });
+        classify(ws, front, boring);
+    }
+    // A finishing pass is inside where the same tool's roughing was.
+    for k in 1..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let ws = &mut rest[0];
+        let inside = done.iter().rev().find(|w| w.tool == ws.tool).and_then(|w| w.turning.as_ref()).is_some_and(|t| t.inside);
+        if let Some(t) = ws.turning.as_mut()
+            && !t.rough
+            && t.operation == Some(TurnOp::Contouring)
+            && inside
+        {
+            t.inside = true;
+        }
+    }
+    let mut found: Vec<Vec<(FeatureKind, f64)>> =
+        plan.workingsteps.iter().map(|ws| features_of(ws, plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width))).collect();
+    // Roughing passes machine what the same tool's next finishing pass leaves; where none
+    // follows, or nothing separates, the region turned is one general revolution.
+    for k in 0..found.len() {
+        if !found[k].is_empty() {
+            continue;
+        }
+        let ws = &plan.workingsteps[k];
+        let finish = plan.workingsteps[k + 1..]
+            .iter()
+            .position(|w| {
+                w.tool == ws.tool
+                    && w.turning.as_ref().is_some_and(|t| !t.rough && t.operation == ws.turning.as_ref().and_then(|t| t.operation))
+            })
+            .map(|j| found[k + 1 + j].clone())
+            .filter(|f| ws.turning.as_ref().is_some_and(|t| t.rough) && !f.is_empty());
+        found[k] = finish.unwrap_or_else(|| revolution(ws));
+    }
+    let mut features: Vec<Feature> = Vec::new();
+    for (ws, found) in plan.workingsteps.iter_mut().zip(found) {
+        let mut ids = Vec::new();
+        for (kind, z) in found {
+            let same = features.iter_mut().find(|f| f.kind == kind && (f.placement[2] - z).abs() < 0.05);
+            let id = match same {
+                Some(f) => {
+                    if !f.workingsteps.contains(&ws.index) {
+                        f.workingsteps.push(ws.index);
+                    }
+                    f.source = f.source.cover(ws.source);
+                    f.lines = (f.lines.0.min(ws.lines.0), f.lines.1.max(ws.lines.1));
+                    f.id
+                }
+                None => {
+                    let id = features.len() as u32 + 1;
+                    let depth = match &kind {
+                        FeatureKind::Turned(Turned::Diameter { length, .. } | Turned::Thread { length, .. }) => *length,
+                        _ => 0.0,
+                    };
+                    features.push(Feature {
+                        id,
+                        kind,
+                        placement: [0.0, 0.0, z],
+                        depth,
+                        top_inferred: false,
+                        workingsteps: vec![ws.index],
+                        source: ws.source,
+                        lines: ws.lines,
+                        sources: Sources::default(),
+                        centre_path: None,
+                        // On the axis of revolution (Z), the plan's default.
+                        axis: None,
+                        ref_direction: None,
+                    });
+                    id
+                }
+            };
+            ids.push(id);
+        }
+        ws.feature = ids.first().copied();
+    }
+    plan.features = features;
+}
+
+/// The region a workingstep turns, as one general revolution.
+fn revolution(ws: &Workingstep) -> Vec<(FeatureKind, f64)> {
+    match ws.turning.as_deref().map(|t| (t.diameter, t.z)) {
+        Some((Some(d), Some(z))) => {
+            let k = Turned::Revolution { outer: round(d[1]), inner: round(d[0]), length: round(z[1] - z[0]) };
+            vec![(FeatureKind::Turned(k), round(z[1]))]
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// A tool's cutting width across Z: a grooving tool's width (`W3`, `WIDTH 3` in its
+/// comment), else its diameter (a drill).
+fn tool_width(t: &Tool) -> Option<f64> {
+    let up = t.name.as_deref().unwrap_or("").to_ascii_uppercase();
+    let words: Vec<&str> = up.split(|c: char| c.is_whitespace() || c == ',' || c == '(' || c == ')').filter(|w| !w.is_empty()).collect();
+    let named = words.iter().enumerate().find_map(|(i, w)| {
+        let v = w.strip_prefix("WIDTH").or_else(|| w.strip_prefix('W'))?.trim_start_matches(['=', ':']);
+        let v = if v.is_empty() { words.get(i + 1).copied().unwrap_or("") } else { v };
+        v.trim_end_matches("MM").parse::<f64>().ok().filter(|v| *v > 0.0)
+    });
+    named.or(t.diameter)
+}
+
+/// A cutting move in (Z, X radius).
+fn cuts(ws: &Workingstep) -> Vec<Move> {
+    ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect()
+}
+
+/// Runs of cuts between rapids.
+fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
+    let mut out: Vec<Vec<Move>> = Vec::new();
+    let mut open = false;
+    for m in ws.toolpath.iter() {
+        if m.kind == MoveKind::Rapid || m.phase != Phase::Cut {
+            open = false;
+            continue;
+        }
+        if !open {
+            out.push(Vec::new());
+            open = true;
+        }
+        if let Some(r) = out.last_mut() {
+            r.push(m);
+        }
+    }
+    out
+}
+
+fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
+    let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
+    let cuts = cuts(ws);
+    if cuts.is_empty() {
+        ws.turning = Some(Box::new(t));
+        return;
+    }
+    let xs = cuts.iter().flat_map(|m| [m.from[0], m.to[0]]);
+    let (xmin, xmax) = xs.clone().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+    let zs = cuts.iter().flat_map(|m| [m.from[2], m.to[2]]);
+    let (zmin, zmax) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    // A cut across the axis (to, past the centre) reaches it: the smallest diameter is 0.
+    t.diameter = Some([round(2.0 * xmin.max(0.0)), round(2.0 * xmax.abs().max(xmin.abs()))]);
+    t.z = Some([round(zmin), round(zmax)]);
+    let runs = runs(ws);
+    t.passes = runs.len() as u32;
+    // The tool comes in from outside the cuts, or from inside them (a bore).
+    let entry = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.to[0]);
+    // Inside: a cycle's X allowance is negative, the tool is a boring bar, or roughing
+    // passes come in from within the smallest diameter they cut (outside, the tool comes in
+    // from beyond the largest); a finishing pass starts at its contour's small end either way.
+    let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
+    t.inside = match allowance {
+        Some(u) => u < 0.0,
+        None => boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
+    };
+    // After a plunge across X, a groove is left back out along the same line; a face is
+    // left along Z.
+    let last_cut = ws.toolpath.iter().rposition(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+    let back_out = last_cut
+        .and_then(|i| ws.toolpath.get(i + 1))
+        .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
+    let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
+    let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
+    let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
+    let (op, rough) = match intent_kind {
+        Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
+        Some(TurnKind::RoughFace) => (TurnOp::Facing, true),
+        Some(TurnKind::FacePass) => (TurnOp::Facing, runs.len() > 1),
+        Some(TurnKind::Finish) => (TurnOp::Contouring, false),
+        Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
+        Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
+        Some(TurnKind::Groove) => (TurnOp::Grooving, false),
+        Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
+        Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
+        None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
+        None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
+        None if cuts.iter().all(across) => {
+            let to_axis = xmin < 0.05;
+            if to_axis && zmin >= front - 0.5 {
+                (TurnOp::Facing, runs.len() > 1)
+            } else if to_axis {
+                (TurnOp::PartingOff, false)
+            } else if back_out {
+                (TurnOp::Grooving, false)
+            } else {
+                (TurnOp::Facing, runs.len() > 1)
+            }
+        }
+        None => (TurnOp::Contouring, runs.len() > 1),
+    };
+    t.operation = Some(op);
+    t.rough = rough;
+    ws.turning = Some(Box::new(t));
+}
+
+/// The features a workingstep machines, with the Z they are placed at.
+fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f64)> {
+    let Some(t) = ws.turning.as_deref() else { return Vec::new() };
+    let cuts = cuts(ws);
+    let (Some(d), Some(z)) = (t.diameter, t.z) else { return Vec::new() };
+    let turned = |k: Turned| FeatureKind::Turned(k);
+    // A contour cycle's features are its contour's, whichever way it cuts.
+    if matches!(t.intent.as_ref().and_then(|i| i.kind), Some(TurnKind::RoughTurn | TurnKind::RoughFace | TurnKind::Finish)) {
+        return contour_features(ws, t);
+    }
+    match t.operation {
+        Some(TurnOp::Facing) => {
+            // The face the last pass leaves.
+            let last = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| m.to[2]).next_back().unwrap_or(z[0]);
+            let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
+            vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), round(last - allow))]
+        }
+        Some(TurnOp::Grooving) | Some(TurnOp::PartingOff) => {
+            let plunge_z = cuts.iter().map(|m| m.to[2]);
+            let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+            let width = tool_width.map(|w| round(hi - lo + w));
+            if t.operation == Some(TurnOp::PartingOff) {
+                return Vec::new();
+            }
+            vec![(turned(Turned::Groove { diameter: d[0], width, inside: t.inside }), hi)]
+        }
+        Some(TurnOp::Threading) => {
+            let pitch = t.pitch.or_else(|| t.intent.as_ref().and_then(|i| i.pitch)).unwrap_or(0.0);
+            let root = if t.inside { d[1] } else { d[0] };
+            let height = t.intent.as_ref().and_then(|i| i.thread_depth);
+            let diameter = height.map(|h| round(if t.inside { root - 2.0 * h } else { root + 2.0 * h }));
+            // The last pass: the run-in of the passes before shifts along the flank.
+            let last = runs(ws).into_iter().rev().find_map(|r| r.into_iter().find(|m| (m.to[2] - m.from[2]).abs() > TOL));
+            // Its run-in in front of the face (Z0) is air.
+            let (lo, hi) = last.map_or((z[0], z[1]), |m| (m.from[2].min(m.to[2]), m.from[2].max(m.to[2])));
+            let hi = if lo < 0.0 { hi.min(0.0) } else { hi };
+            let (length, at) = (hi - lo, hi);
+            vec![(turned(Turned::Thread { diameter, root, pitch, length: round(length), inside: t.inside }), round(at))]
+        }
+        Some(TurnOp::Drilling) => {
+            vec![(FeatureKind::RoundHole { diameter: tool_width, bottom: HoleBottom::Flat, positions: vec![[0.0, 0.0]] }, z[1])]
+        }
+        Some(TurnOp::Contouring) => contour_features(ws, t),
+        None => Vec::new(),
+    }
+}
+
+/// The features of a contour: the finishing pass, or a roughing cycle's last pass moved back
+/// by its allowances. Explicit roughing passes leave no finished shape of their own.
+fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
+    let runs = runs(ws);
+    let (profile, shift) = match t.intent.as_ref().and_then(|i| i.kind) {
+        Some(TurnKind::Finish) => (runs.concat(), (0.0, 0.0)),
+        Some(TurnKind::RoughTurn | TurnKind::RoughFace) => {
+            let i = t.intent.as_ref();
+            let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0;
+            let az = i.and_then(|i| i.allowance_z).unwrap_or(0.0);
+            (runs.last().cloned().unwrap_or_default(), (ax, az))
+        }
+        None if !t.rough => (runs.concat(), (0.0, 0.0)),
+        _ => return Vec::new(),
+    };
+    let mut out = Vec::new();
+    for m in &profile {
+        let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
+        let (z0, z1) = (m.from[2] - shift.1, m.to[2] - shift.1);
+        if let Some(a) = m.arc {
+            let r = (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]);
+            out.push((
+                FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }),
+                round(z0.max(z1)),
+            ));
+        } else if (x1 - x0).abs() < TOL && z0.min(z1) > -TOL {
+            // In front of the face (Z0, where lathe programs put it): the lead-in from the
+            // cycle's start, in air.
+            continue;
+        } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
+            // What runs on in front of the face is the lead-in.
+            let (lo, hi) = (z0.min(z1), z0.max(z1).min(0.0));
+            let k = Turned::Diameter { diameter: round(2.0 * x0), length: round(hi - lo), inside: t.inside };
+            out.push((FeatureKind::Turned(k), round(hi)));
+        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 && z0 < TOL {
+            let k = Turned::RevolvedFlat { outer: round(2.0 * x0.max(x1)), inner: round(2.0 * x0.min(x1).max(0.0)) };
+            out.push((FeatureKind::Turned(k), round(z0)));
+        }
+    }
+    out
+}
+
+/// A size rounded to the micrometre, so that features from two passes compare equal (and a
+/// size reads back as written).
+fn round(v: f64) -> f64 {
+    (v * 1000.0).round() / 1000.0 + 0.0
+}
+
+/// A turning workingstep in a turner's words: the operation, its cycle's values, the feed
+/// per revolution, the cutting speed and its clamp, diameters and Z.
+pub fn words(ws: &Workingstep) -> Option<String> {
+    let t = ws.turning.as_deref()?;
+    t.operation?;
+    // The operation as the workingstep names it (`contouring rough inside`).
+    let mut parts = vec![ws.label()];
+    if let Some(c) = &t.cycle {
+        parts.push(format!("cycle {c}"));
+    }
+    if let Some(i) = &t.intent {
+        if let (Some(u), Some(w)) = (i.allowance_x, i.allowance_z) {
+            parts.push(format!("finishing allowance U{} W{}", num(u), num(w)));
+        }
+        if let Some(d) = i.depth_of_cut {
+            parts.push(format!("depth of cut {}", num(d)));
+        }
+        if let Some(r) = i.retract {
+            parts.push(format!("retract {}", num(r)));
+        }
+        if let Some(h) = i.thread_depth {
+            parts.push(format!("thread height {}", num(h)));
+        }
+        if let Some(a) = i.angle {
+            parts.push(format!("angle {}°", num(a)));
+        }
+        if let Some(p) = i.peck {
+            parts.push(format!("peck {}", num(p)));
+        }
+    }
+    if let Some(p) = t.pitch.or_else(|| t.intent.as_ref().and_then(|i| i.pitch)) {
+        parts.push(format!("pitch {} (spindle synchronised)", num(p)));
+    }
+    parts.push(format!("{} passes", t.passes));
+    if let Some(f) = t.feed_per_rev {
+        parts.push(format!("F{} mm/rev", num(f)));
+    }
+    let tech = &ws.technology;
+    match (tech.surface_speed, t.spindle_limit) {
+        (Some(v), Some(l)) => parts.push(format!("cutting speed {} m/min, spindle clamp {} /min", num(v), num(l))),
+        (Some(v), None) => parts.push(format!("cutting speed {} m/min", num(v))),
+        _ => parts.push(format!("S{} /min", num(tech.spindle_speed))),
+    }
+    if let (Some(d), Some(z)) = (t.diameter, t.z) {
+        parts.push(format!("Ø{}..Ø{} Z{}..{}", num(d[0]), num(d[1]), num(z[0]), num(z[1])));
+    }
+    Some(parts.join(", "))
+}

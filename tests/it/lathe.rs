@@ -1,0 +1,240 @@
+//! Turning: the programs of `tests/programs/lathe/` (hand-written in the styles of Fanuc,
+//! Haas, Mitsubishi, Mazak and Fagor lathes, LinuxCNC in G7 and Siemens with DIAMON; cycles
+//! and CAM-style explicit moves), each with a sidecar `NAME.expect` written by hand before
+//! the program was run: its dialect, the workingsteps a turner names, in order, and the
+//! features, with their sizes. Every listed workingstep and feature must be recovered with
+//! its kind and its sizes within 0.05 mm, and no milling feature may appear. The lathe
+//! edits are diffed in a turner's terms (`lathe_edits`).
+
+use std::path::{Path, PathBuf};
+
+use ncplan::dialect::Registry;
+use ncplan::interp::Profile;
+use ncplan::pipeline;
+use ncplan::plan::{FeatureKind, ProcessPlan, Turned, Workingstep};
+
+/// Sizes agree within this, mm.
+const TOL: f64 = 0.05;
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe")
+}
+
+/// One expected workingstep or feature: its words and its sizes by name.
+struct Expected {
+    words: String,
+    sizes: Vec<(String, f64)>,
+}
+
+fn parse_line(rest: &str) -> Expected {
+    let mut words = Vec::new();
+    let mut sizes = Vec::new();
+    for w in rest.split_whitespace() {
+        match w.split_once('=') {
+            Some((k, v)) => sizes.push((k.to_owned(), v.parse().unwrap_or_else(|_| panic!("bad number in `{w}`")))),
+            None => words.push(w),
+        }
+    }
+    Expected { words: words.join(" "), sizes }
+}
+
+/// The sizes of a workingstep by the sidecar's names.
+fn ws_size(ws: &Workingstep, key: &str) -> Option<f64> {
+    let t = ws.turning.as_deref()?;
+    let i = t.intent.as_ref();
+    match key {
+        "allowance_x" => i?.allowance_x,
+        "allowance_z" => i?.allowance_z,
+        "depth_of_cut" => i?.depth_of_cut,
+        "thread_height" => i?.thread_depth,
+        "pitch" => t.pitch.or(i.and_then(|i| i.pitch)),
+        "feed_per_rev" => t.feed_per_rev,
+        "cutting_speed" => ws.technology.surface_speed,
+        "spindle_speed" => Some(ws.technology.spindle_speed),
+        "clamp" => t.spindle_limit,
+        "d_min" => t.diameter.map(|d| d[0]),
+        "d_max" => t.diameter.map(|d| d[1]),
+        _ => panic!("unknown workingstep size `{key}`"),
+    }
+}
+
+/// The sizes of a feature by the sidecar's names.
+fn feature_size(kind: &FeatureKind, z: f64, key: &str) -> Option<f64> {
+    if key == "z" {
+        return Some(z);
+    }
+    match kind {
+        FeatureKind::Turned(t) => match (t, key) {
+            (Turned::RevolvedFlat { outer, .. }, "outer") => Some(*outer),
+            (Turned::RevolvedFlat { inner, .. }, "inner") => Some(*inner),
+            (Turned::Diameter { diameter, .. }, "diameter") => Some(*diameter),
+            (Turned::Diameter { length, .. }, "length") => Some(*length),
+            (Turned::RevolvedRound { radius, .. }, "radius") => Some(*radius),
+            (Turned::RevolvedRound { diameter, .. }, "diameter") => Some(*diameter),
+            (Turned::Groove { diameter, .. }, "diameter") => Some(*diameter),
+            (Turned::Groove { width, .. }, "width") => *width,
+            (Turned::Thread { diameter, .. }, "diameter") => *diameter,
+            (Turned::Thread { root, .. }, "root") => Some(*root),
+            (Turned::Thread { pitch, .. }, "pitch") => Some(*pitch),
+            (Turned::Thread { length, .. }, "length") => Some(*length),
+            _ => None,
+        },
+        FeatureKind::RoundHole { diameter, .. } if key == "diameter" => *diameter,
+        _ => None,
+    }
+}
+
+fn matches(sizes: &[(String, f64)], get: impl Fn(&str) -> Option<f64>) -> bool {
+    sizes.iter().all(|(k, v)| get(k).is_some_and(|g| (g - v).abs() <= TOL))
+}
+
+/// Scores one program against its sidecar: the misses, in words.
+fn score(name: &str, plan: &ProcessPlan, expect: &str) -> Vec<String> {
+    let mut misses = Vec::new();
+    let mut next = 0;
+    let mut mill_turn = false;
+    for line in expect.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
+        if line == "mill-turn" {
+            mill_turn = true;
+        } else if let Some(rest) = line.strip_prefix("ws ") {
+            let e = parse_line(rest);
+            let found = plan.workingsteps[next.min(plan.workingsteps.len())..]
+                .iter()
+                .position(|w| w.label() == e.words && matches(&e.sizes, |k| ws_size(w, k)));
+            match found {
+                Some(k) => next += k + 1,
+                None => misses.push(format!("{name}: workingstep `{rest}` not found after workingstep {next}")),
+            }
+        } else if let Some(rest) = line.strip_prefix("feature ") {
+            let e = parse_line(rest);
+            let found =
+                plan.features.iter().any(|f| f.kind.label() == e.words && matches(&e.sizes, |k| feature_size(&f.kind, f.placement[2], k)));
+            if !found {
+                misses.push(format!("{name}: feature `{rest}` not found"));
+            }
+        }
+    }
+    if !mill_turn {
+        for f in plan.features.iter().filter(|f| ncplan::plan::turning::is_milling(&f.kind)) {
+            misses.push(format!("{name}: milling feature {} ({}) on a lathe program", f.id, f.kind.label()));
+        }
+    }
+    misses
+}
+
+fn plan_of(path: &Path, dialect: &str) -> ProcessPlan {
+    let reg = Registry::shipped();
+    let d = reg.get(dialect).unwrap_or_else(|| panic!("no dialect {dialect}"));
+    let bytes = std::fs::read(path).unwrap();
+    pipeline::analyze(&bytes, &d, &Profile::default()).plan
+}
+
+#[test]
+fn lathe_suite() {
+    let mut programs: Vec<PathBuf> =
+        std::fs::read_dir(dir()).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e != "expect")).collect();
+    programs.sort();
+    let (mut listed, mut misses) = (0, Vec::new());
+    for p in &programs {
+        let expect = std::fs::read_to_string(p.with_extension("expect")).unwrap_or_else(|_| panic!("{} has no sidecar", p.display()));
+        let dialect = expect.lines().find_map(|l| l.strip_prefix("dialect ")).expect("a dialect line").trim();
+        let plan = plan_of(p, dialect);
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        listed += expect.lines().filter(|l| l.starts_with("ws ") || l.starts_with("feature ")).count();
+        misses.extend(score(&name, &plan, &expect));
+    }
+    assert!(misses.is_empty(), "{} of {listed} listed workingsteps and features missed:\n{}", misses.len(), misses.join("\n"));
+    assert!(programs.len() >= 30, "the lathe suite has {} programs", programs.len());
+}
+
+/// The change rows of an edit of a lathe program (every `from` made `to`), one per line with
+/// the planner's sentence.
+fn lathe_edit(program: &str, from: &str, to: &str) -> String {
+    let a = std::fs::read_to_string(dir().join(program)).unwrap();
+    assert!(a.contains(from), "{from:?} is in {program}");
+    let b = a.replace(from, to);
+    let expect = std::fs::read_to_string(dir().join(program).with_extension("expect")).unwrap();
+    let dialect = expect.lines().find_map(|l| l.strip_prefix("dialect ")).unwrap().trim();
+    let d = Registry::shipped().get(dialect).unwrap();
+    let profile = Profile::default();
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let (x, y) = (
+        ncplan::diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        ncplan::diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+    );
+    let got = ncplan::diff::compare(x, y);
+    let missing = ncplan::diff::unaccounted(x, y, &got);
+    assert!(missing.is_empty(), "differing statements no change names: {missing:?}");
+    let mut s = String::new();
+    for c in &got {
+        s.push_str(&format!("{} | {} | {} | {}\n  {}\n", c.kind.as_str(), c.field, c.before, c.after, c.phrase()));
+    }
+    s
+}
+
+/// An edit of a setting (the clamp, an allowance, the depth of cut) never adds or removes a
+/// workingstep or a feature.
+fn no_structure_change(rows: &str) {
+    for word in ["workingstep_added", "workingstep_removed", "hole_added", "hole_removed", "toolpath_changed"] {
+        assert!(!rows.contains(word), "{word} in\n{rows}");
+    }
+}
+
+#[test]
+fn lathe_edits_in_a_turner_s_terms() {
+    use expect_test::expect;
+    let clamp = lathe_edit("fanuc_g71_shaft.nc", "G50 S2500", "G50 S1800");
+    no_structure_change(&clamp);
+    expect![[r#"
+        spindle_speed_changed | spindle_clamp | 2500 /min | 1800 /min
+          spindle clamp changed from 2500 /min to 1800 /min at line 7
+    "#]]
+    .assert_eq(&clamp);
+    let allowance = lathe_edit("fanuc_g71_shaft.nc", "U0.4 W0.1", "U0.6 W0.2");
+    no_structure_change(&allowance);
+    expect![[r#"
+        allowance_changed | finishing_allowance | U0.4 W0.1 | U0.6 W0.2
+          finishing allowance changed from U0.4 W0.1 to U0.6 W0.2 at line 11
+    "#]]
+    .assert_eq(&allowance);
+    let depth = lathe_edit("fanuc_g71_shaft.nc", "G71 U2. R0.5", "G71 U1.5 R0.5");
+    no_structure_change(&depth);
+    expect![[r#"
+        axial_depth_changed | depth_of_cut | 2 | 1.5
+          depth of cut changed from 2 to 1.5 at line 10
+    "#]]
+    .assert_eq(&depth);
+    let pitch = lathe_edit("fanuc_g71_shaft.nc", "F1.5", "F1.25");
+    expect![[r#"
+        thread_pitch_changed | thread_pitch | 1.5 | 1.25
+          thread pitch changed from 1.5 to 1.25 at line 32
+    "#]]
+    .assert_eq(&pitch);
+    let speed = lathe_edit("fanuc_g71_shaft.nc", "G96 S200", "G96 S180");
+    no_structure_change(&speed);
+    expect![[r#"
+        spindle_speed_changed | cutting_speed | 200 m/min | 180 m/min
+          cutting speed changed from 200 m/min to 180 m/min at line 8
+    "#]]
+    .assert_eq(&speed);
+    let feed = lathe_edit("fanuc_g71_shaft.nc", "F0.25", "F0.2");
+    no_structure_change(&feed);
+    expect![[r#"
+        feed_changed | feed | F0.25 mm/rev | F0.2 mm/rev
+          feed changed from F0.25 mm/rev to F0.2 mm/rev at line 11
+    "#]]
+    .assert_eq(&feed);
+    let width = lathe_edit("fanuc_g75_groove.nc", "Z-20.", "Z-21.");
+    expect![[r#"
+        feature_changed | groove_width | 8 mm | 9 mm
+          groove width changed from 8 mm to 9 mm at line 8
+    "#]]
+    .assert_eq(&width);
+    // Every pass of a thread written as G32 moves, its lead K1.25 made K1.5.
+    let explicit_pitch = lathe_edit("mazak_k_thread.nc", "K1.25", "K1.5");
+    expect![[r#"
+        thread_pitch_changed | thread_pitch | 1.25 | 1.5
+          thread pitch changed from 1.25 to 1.5 at lines 8, 12, 16 and 1 more
+    "#]]
+    .assert_eq(&explicit_pitch);
+}
