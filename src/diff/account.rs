@@ -310,19 +310,7 @@ fn pair_statements(a: &[Vec<Token>], b: &[Vec<Token>]) -> Vec<(Option<usize>, Op
     let (ka, kb): (Vec<String>, Vec<String>) = (a.iter().map(|t| key(t)).collect(), b.iter().map(|t| key(t)).collect());
     let mut anchors = Vec::new();
     statement::lcs(&ka, &kb, 0, 0, &mut anchors);
-    let mut out = Vec::new();
-    let (mut pi, mut pj) = (0, 0);
-    for (x, y) in anchors.into_iter().chain(std::iter::once((a.len(), b.len()))) {
-        let (n, m) = (x - pi, y - pj);
-        for k in 0..n.max(m) {
-            out.push(((k < n).then_some(pi + k), (k < m).then_some(pj + k)));
-        }
-        if x < a.len() && y < b.len() {
-            out.push((Some(x), Some(y)));
-        }
-        (pi, pj) = (x + 1, y + 1);
-    }
-    out
+    statement::pairs_along(anchors, a.len(), b.len())
 }
 
 /// How the tokens of two statements differ: each token of `a` matched to the first unused

@@ -546,6 +546,25 @@ fn matches(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
 }
 
 /// A longest common subsequence of `a` and `b` by the full table, pairs offset by `oa`/`ob`.
+/// Two sequences of `len_a` and `len_b` items paired along the `anchors` of their longest
+/// common subsequence: each anchor paired, and between two anchors the items paired by
+/// position, the longer side's rest alone (`None` on the other side).
+pub(super) fn pairs_along(anchors: Vec<(usize, usize)>, len_a: usize, len_b: usize) -> Vec<(Option<usize>, Option<usize>)> {
+    let mut out = Vec::new();
+    let (mut pi, mut pj) = (0, 0);
+    for (x, y) in anchors.into_iter().chain(std::iter::once((len_a, len_b))) {
+        let (n, m) = (x - pi, y - pj);
+        for k in 0..n.max(m) {
+            out.push(((k < n).then_some(pi + k), (k < m).then_some(pj + k)));
+        }
+        if x < len_a && y < len_b {
+            out.push((Some(x), Some(y)));
+        }
+        (pi, pj) = (x + 1, y + 1);
+    }
+    out
+}
+
 pub(super) fn lcs<T: PartialEq>(a: &[T], b: &[T], oa: usize, ob: usize, out: &mut Vec<(usize, usize)>) {
     let w = b.len() + 1;
     let mut t = vec![0u32; (a.len() + 1) * w];

@@ -383,17 +383,5 @@ pub(super) fn align_args(a: &[String], b: &[String]) -> Vec<(Option<usize>, Opti
     if anchors.len() <= same_in_place {
         return positional;
     }
-    let mut out = Vec::new();
-    let (mut pi, mut pj) = (0, 0);
-    for (x, y) in anchors.into_iter().chain(std::iter::once((a.len(), b.len()))) {
-        let (n, m) = (x - pi, y - pj);
-        for k in 0..n.max(m) {
-            out.push(((k < n).then_some(pi + k), (k < m).then_some(pj + k)));
-        }
-        if x < a.len() && y < b.len() {
-            out.push((Some(x), Some(y)));
-        }
-        (pi, pj) = (x + 1, y + 1);
-    }
-    out
+    super::statement::pairs_along(anchors, a.len(), b.len())
 }

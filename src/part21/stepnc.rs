@@ -889,6 +889,27 @@ fn words(id: &str) -> (String, BTreeMap<String, String>) {
 
 /// A converted unit read back, rounded as plan recovery rounds rates, so that
 /// `240 / 60000 * 60000` is 240 again.
+/// The operation an entity's name states.
+fn operation_named(name: &str) -> Result<Operation, String> {
+    Ok(match name {
+        "FREEFORM_OPERATION" => Operation::FreeformMilling,
+        "PLANE_ROUGH_MILLING" => Operation::PlaneRoughMilling,
+        "PLANE_FINISH_MILLING" => Operation::PlaneFinishMilling,
+        "SIDE_ROUGH_MILLING" => Operation::SideRoughMilling,
+        "SIDE_FINISH_MILLING" => Operation::SideFinishMilling,
+        "BOTTOM_AND_SIDE_ROUGH_MILLING" => Operation::BottomAndSideRoughMilling,
+        "BOTTOM_AND_SIDE_FINISH_MILLING" => Operation::BottomAndSideFinishMilling,
+        "DRILLING" => Operation::Drilling,
+        "CENTER_DRILLING" => Operation::CenterDrilling,
+        "MULTISTEP_DRILLING" => Operation::MultistepDrilling,
+        "REAMING" => Operation::Reaming,
+        "BORING" => Operation::Boring,
+        "BACK_BORING" => Operation::BackBoring,
+        "TAPPING" => Operation::Tapping,
+        other => return Err(format!("unknown operation {other}")),
+    })
+}
+
 fn snap(v: f64) -> f64 {
     plan::round_sig(v)
 }
@@ -1048,20 +1069,10 @@ impl Reader<'_> {
         })
     }
 
-    fn workingstep(
-        &self,
-        inst: &Instance,
-        plan: &mut ProcessPlan,
-        tools: &mut BTreeMap<u32, Tool>,
-        feature_ids: &mut BTreeMap<u64, u32>,
-    ) -> Result<Workingstep, String> {
-        let (head, w) = words(&self.string(inst, 0)?);
-        let index: u32 = head.trim_start_matches("WS").parse().map_err(|_| format!("workingstep id {head:?}"))?;
-        let pair = |s: Option<&String>| -> (u32, u32) {
-            s.and_then(|s| s.split_once('-')).map_or((0, 0), |(a, b)| (a.parse().unwrap_or(0), b.parse().unwrap_or(0)))
-        };
-        let lines = pair(w.get("lines"));
-        let bytes = pair(w.get("bytes"));
+    /// A workingstep's security plane (its height, along the tilted plane's axis where it
+    /// runs on one) and its setup (the plane's origin and axes, from the placement and the
+    /// `plane_origin` and `plane_z` words).
+    fn security_plane_and_setup(&self, inst: &Instance, w: &BTreeMap<String, String>) -> Result<(f64, Option<crate::plan::Setup>), String> {
         let mut security_plane = self.plane_z(self.attr(inst, 1)?)?;
         let sec_place = self.attr(self.inst(self.attr(inst, 1)?)?, 1)?;
         let origin = w.get("plane_origin").and_then(|o| {
@@ -1077,6 +1088,24 @@ impl Reader<'_> {
             }
             _ => None,
         };
+        Ok((security_plane, setup))
+    }
+
+    fn workingstep(
+        &self,
+        inst: &Instance,
+        plan: &mut ProcessPlan,
+        tools: &mut BTreeMap<u32, Tool>,
+        feature_ids: &mut BTreeMap<u64, u32>,
+    ) -> Result<Workingstep, String> {
+        let (head, w) = words(&self.string(inst, 0)?);
+        let index: u32 = head.trim_start_matches("WS").parse().map_err(|_| format!("workingstep id {head:?}"))?;
+        let pair = |s: Option<&String>| -> (u32, u32) {
+            s.and_then(|s| s.split_once('-')).map_or((0, 0), |(a, b)| (a.parse().unwrap_or(0), b.parse().unwrap_or(0)))
+        };
+        let lines = pair(w.get("lines"));
+        let bytes = pair(w.get("bytes"));
+        let (security_plane, setup) = self.security_plane_and_setup(inst, &w)?;
         let op = self.inst(self.attr(inst, 3)?)?;
         let tool = self.tool(self.attr(op, 5)?)?;
         let tool_number = tool.number;
@@ -1109,23 +1138,7 @@ impl Reader<'_> {
             Value::Null => Toolpath::new(),
             v => self.toolpath(v)?,
         };
-        let operation = match op.name.as_str() {
-            "FREEFORM_OPERATION" => Operation::FreeformMilling,
-            "PLANE_ROUGH_MILLING" => Operation::PlaneRoughMilling,
-            "PLANE_FINISH_MILLING" => Operation::PlaneFinishMilling,
-            "SIDE_ROUGH_MILLING" => Operation::SideRoughMilling,
-            "SIDE_FINISH_MILLING" => Operation::SideFinishMilling,
-            "BOTTOM_AND_SIDE_ROUGH_MILLING" => Operation::BottomAndSideRoughMilling,
-            "BOTTOM_AND_SIDE_FINISH_MILLING" => Operation::BottomAndSideFinishMilling,
-            "DRILLING" => Operation::Drilling,
-            "CENTER_DRILLING" => Operation::CenterDrilling,
-            "MULTISTEP_DRILLING" => Operation::MultistepDrilling,
-            "REAMING" => Operation::Reaming,
-            "BORING" => Operation::Boring,
-            "BACK_BORING" => Operation::BackBoring,
-            "TAPPING" => Operation::Tapping,
-            other => return Err(format!("unknown operation {other}")),
-        };
+        let operation = operation_named(&op.name)?;
         let surface_speed = op_words.get("surface_speed").and_then(|s| s.parse().ok());
         let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
