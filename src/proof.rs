@@ -255,7 +255,6 @@ impl Trace {
         self.pos = to;
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn arc(&mut self, ends: (f64, f64), centre2: (f64, f64), rotation: i32, axis_end: f64, line: u32) {
         let (a, b, n) = self.plane.axes();
         let mut to = [0.0; 3];

@@ -264,9 +264,7 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
 /// X format's last digit, in the units the translation is written in.
 fn resolution(target: &Dialect, canon: &[Canon]) -> f64 {
     let inch = canon.iter().find_map(|c| if let CanonOp::UseLengthUnits(u) = c.op { Some(u) } else { None }) == Some(Units::Inch);
-    let Some(f) = target.output.as_ref().and_then(|o| o.formats.iter().find(|f| f.name == "X")) else { return TOL };
-    let d = if inch { f.inch_decimals } else { f.decimals };
-    0.5 * 10f64.powi(-i32::from(d)) * if inch { 25.4 } else { 1.0 } * (1.0 + 1e-6) + 1e-9
+    post::resolution(target, inch)
 }
 
 fn equivalence(name: &str) -> Vec<u8> {
