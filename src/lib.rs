@@ -26,6 +26,7 @@ pub mod proof;
 pub mod reanalyze;
 pub mod sharefile;
 pub mod store;
+pub mod suggest;
 pub mod syntax;
 pub mod text;
 pub mod textfile;
