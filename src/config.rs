@@ -116,6 +116,134 @@ struct RawConfig {
     analysis: RawAnalysis,
     #[serde(default)]
     web: RawWeb,
+    #[serde(default)]
+    suggest: RawSuggest,
+}
+
+/// `[suggest]`: knowledge back to CAM. Every threshold of `suggest::Rules` (its doc comments
+/// give each default and why), where the exports go, the shop's own tool library, and the
+/// material of the programs under a folder.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSuggest {
+    outbox: Option<String>,
+    tool_library: Option<String>,
+    #[serde(default)]
+    unreviewed: bool,
+    #[serde(default)]
+    material: Vec<RawMaterial>,
+    min_edits: Option<usize>,
+    min_programs: Option<usize>,
+    min_days: Option<usize>,
+    min_span_days: Option<i64>,
+    min_operators: Option<usize>,
+    min_agreement: Option<f64>,
+    alpha: Option<f64>,
+    min_effect: Option<f64>,
+    min_offset_mm: Option<f64>,
+    mad_cutoff: Option<f64>,
+    mad_floor: Option<f64>,
+    reversal_window: Option<usize>,
+    prior_edits: Option<f64>,
+    confidence: Option<f64>,
+    reopen_edits: Option<usize>,
+    adopt_tolerance: Option<f64>,
+    snooze_days: Option<i64>,
+    rejected_growth: Option<usize>,
+}
+
+/// `[[suggest.material]]`: the material of the CAM programs under `folder`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMaterial {
+    folder: String,
+    material: String,
+}
+
+/// `[suggest]`, validated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SuggestSettings {
+    /// Where `export-suggestions` writes without a folder given.
+    pub outbox: Option<PathBuf>,
+    /// The shop's own Fusion / Inventor CAM / HSM tool library (JSON), read to name the CAM
+    /// tool and copied into the export; never written.
+    pub tool_library: Option<PathBuf>,
+    /// Whether unreviewed changes count too (by default only those a planner adopted).
+    pub unreviewed: bool,
+    /// The material of the programs under a folder: (folder, material), longest folder first.
+    pub materials: Vec<(PathBuf, String)>,
+    /// The rules' thresholds.
+    pub rules: crate::suggest::Rules,
+}
+
+impl Default for SuggestSettings {
+    fn default() -> SuggestSettings {
+        SuggestSettings {
+            outbox: None,
+            tool_library: None,
+            unreviewed: false,
+            materials: Vec::new(),
+            rules: crate::suggest::Rules::default(),
+        }
+    }
+}
+
+/// `[suggest]` validated: paths resolved, thresholds in their ranges.
+fn suggest_settings(raw: &RawSuggest, base: &Path, folders: &[Folder]) -> Result<SuggestSettings> {
+    let d = crate::suggest::Rules::default();
+    let rules = crate::suggest::Rules {
+        min_edits: raw.min_edits.unwrap_or(d.min_edits),
+        min_programs: raw.min_programs.unwrap_or(d.min_programs),
+        min_days: raw.min_days.unwrap_or(d.min_days),
+        min_span_days: raw.min_span_days.unwrap_or(d.min_span_days),
+        min_operators: raw.min_operators.unwrap_or(d.min_operators),
+        min_agreement: raw.min_agreement.unwrap_or(d.min_agreement),
+        alpha: raw.alpha.unwrap_or(d.alpha),
+        min_effect: raw.min_effect.unwrap_or(d.min_effect),
+        min_offset_mm: raw.min_offset_mm.unwrap_or(d.min_offset_mm),
+        mad_cutoff: raw.mad_cutoff.unwrap_or(d.mad_cutoff),
+        mad_floor: raw.mad_floor.unwrap_or(d.mad_floor),
+        reversal_window: raw.reversal_window.unwrap_or(d.reversal_window),
+        prior_edits: raw.prior_edits.unwrap_or(d.prior_edits),
+        confidence: raw.confidence.unwrap_or(d.confidence),
+        reopen_edits: raw.reopen_edits.unwrap_or(d.reopen_edits),
+        adopt_tolerance: raw.adopt_tolerance.unwrap_or(d.adopt_tolerance),
+        snooze_days: raw.snooze_days.unwrap_or(d.snooze_days),
+        rejected_growth: raw.rejected_growth.unwrap_or(d.rejected_growth),
+    };
+    for (name, v) in [("min_agreement", rules.min_agreement), ("alpha", rules.alpha), ("confidence", rules.confidence)] {
+        if !(v > 0.0 && v <= 1.0) {
+            bail!("[suggest] {name} = {v} is not a share between 0 and 1");
+        }
+    }
+    for (name, v) in [
+        ("min_effect", rules.min_effect),
+        ("min_offset_mm", rules.min_offset_mm),
+        ("mad_cutoff", rules.mad_cutoff),
+        ("prior_edits", rules.prior_edits),
+        ("adopt_tolerance", rules.adopt_tolerance),
+        ("mad_floor", rules.mad_floor),
+    ] {
+        if !(v >= 0.0 && v.is_finite()) {
+            bail!("[suggest] {name} = {v} must be 0 or more");
+        }
+    }
+    let outbox = raw.outbox.as_deref().map(|o| resolve(base, o));
+    if let Some(o) = &outbox
+        && let Some(f) = folders.iter().find(|f| o.starts_with(&f.path) || f.path.starts_with(o))
+    {
+        bail!("[suggest] outbox {} meets the watched folder {}; ncplan never writes into a watched folder", o.display(), f.path.display());
+    }
+    let mut materials: Vec<(PathBuf, String)> =
+        raw.material.iter().map(|m| (resolve(base, &m.folder), m.material.trim().to_owned())).collect();
+    materials.sort_by(|a, b| b.0.as_os_str().len().cmp(&a.0.as_os_str().len()).then(a.0.cmp(&b.0)));
+    Ok(SuggestSettings {
+        outbox,
+        tool_library: raw.tool_library.as_deref().map(|t| resolve(base, t)),
+        unreviewed: raw.unreviewed,
+        materials,
+        rules,
+    })
 }
 
 /// `ncplan serve`: where it listens and who may sign in.
@@ -404,6 +532,8 @@ pub struct Config {
     pub web_users: Vec<WebUser>,
     /// The rest of `[web]`: host names, cookies over TLS, proxies, sign-in rate.
     pub web: WebSettings,
+    /// `[suggest]`: knowledge back to CAM.
+    pub suggest: SuggestSettings,
 }
 
 /// `ncplan serve`'s settings beyond its address and users.
@@ -463,7 +593,9 @@ impl Config {
         if raw.web.login_per_minute == Some(0) {
             bail!("[web] login_per_minute is 0: no one could sign in; give at least 1 (10 by default)");
         }
+        let suggest = suggest_settings(&raw.suggest, base, &folders)?;
         Ok(Config {
+            suggest,
             database,
             site,
             dialects_dir: raw.dialects_dir.map(|d| resolve(base, &d)),

@@ -15,6 +15,7 @@ pub mod daemon;
 pub mod diag;
 pub mod dialect;
 pub mod diff;
+pub mod export;
 pub mod import;
 pub mod interp;
 pub mod pairing;

@@ -35,6 +35,7 @@ mod report;
 mod serve;
 mod show;
 mod stepnc;
+mod suggest;
 mod translate;
 mod watch;
 
@@ -100,6 +101,12 @@ enum Command {
     Translate(translate::Args),
     /// List the known dialects, or check dialect files.
     Dialects(dialects::Args),
+    /// List the suggestions for CAM made from the edits planners adopted (recording new ones
+    /// as proposed and what the watch saw since an export); accept, reject or snooze one.
+    Suggest(suggest::Args),
+    /// Write the accepted suggestions into an outbox folder: a Fusion / Inventor CAM / HSM
+    /// tool library (`.json`, `.tools`), the neutral CSV, or the HTML evidence report.
+    ExportSuggestions(suggest::ExportArgs),
 }
 
 /// Runs the command line and returns the process exit code.
@@ -146,5 +153,7 @@ fn dispatch(command: Command) -> Result<ExitCode> {
         Command::Migrate(args) => migrate::run(args, &mut out),
         Command::Translate(args) => translate::run(args, &mut out),
         Command::Dialects(args) => dialects::run(args, &mut out),
+        Command::Suggest(args) => suggest::run(args, &mut out),
+        Command::ExportSuggestions(args) => suggest::export_run(args, &mut out),
     }
 }

@@ -43,6 +43,7 @@ pub(super) const COPIED: &[&str] = &[
     "web_sessions",
     "attempts",
     "calls",
+    "suggestion_events",
 ];
 
 /// A cell, as both engines keep it.
@@ -579,6 +580,10 @@ impl Copy<'_> {
                 row[id] = Val::Int(self.id_for("saved_queries", source_id)?);
                 self.insert("saved_queries", &row)?;
             }
+        }
+        // A suggestion's review steps (the plant's, by suggestion and step).
+        for row in self.select("suggestion_events", "1 = 1", &[], "suggestion, step")? {
+            self.insert_missing("suggestion_events", row, &["suggestion", "step"])?;
         }
         for row in self.select("web_sessions", "1 = 1", &[], "token_hash")? {
             self.insert_missing("web_sessions", row, &["token_hash"])?;

@@ -65,6 +65,7 @@ mod pg;
 mod pg_schema;
 mod schema;
 mod sqlite;
+mod suggest;
 
 use crate::pairing::{Candidate, Key};
 pub use copy::CopySummary;
@@ -75,6 +76,7 @@ pub use pages::{
 };
 pub use pg::PLANT_QUERIES;
 pub use schema::MIGRATIONS;
+pub use suggest::{CamRow, EditRow, SUGGESTION_EDITS, SUGGESTION_STEPS, SuggestionStep};
 
 use crate::diag::DiagnosticJson;
 use crate::diff::Change;
@@ -759,6 +761,30 @@ impl Txn<'_> {
     /// another worker): each revision is analysed once per version.
     pub fn record_analysis(&self, a: &NewAnalysis<'_>) -> Result<Option<Reanalysed>> {
         on_tx!(self, e => e.record_analysis(a))
+    }
+}
+
+/// Knowledge back to CAM (`suggest.rs`, migration 11): the edits the rules read, the CAM
+/// posts the watch compares, and the review steps.
+impl Store {
+    /// The changes of the parameters suggestions are about, with their newest adopt or reject mark, oldest first.
+    pub fn suggestion_edits(&self) -> Result<Vec<EditRow>> {
+        on!(self, e => e.suggestion_edits())
+    }
+
+    /// The workingsteps of CAM revisions seen after `since`, oldest first.
+    pub fn cam_steps_since(&self, since: &str) -> Result<Vec<CamRow>> {
+        on!(self, e => e.cam_steps_since(since))
+    }
+
+    /// Every suggestion's review steps, by suggestion and step.
+    pub fn suggestion_steps(&self) -> Result<Vec<SuggestionStep>> {
+        on!(self, e => e.suggestion_steps())
+    }
+
+    /// Records a review step (its `step` is the next of its suggestion's); returns that number.
+    pub fn add_suggestion_step(&self, s: &SuggestionStep) -> Result<i64> {
+        on!(self, e => e.add_suggestion_step(s))
     }
 }
 

@@ -23,6 +23,7 @@ use super::*;
 use crate::pairing::Rule;
 
 mod pages;
+mod suggest;
 
 fn sql(about: &'static str) -> impl FnOnce(postgres::Error) -> StoreError {
     move |source| StoreError::Sql { about, source: Box::new(source) }

@@ -417,6 +417,57 @@ CREATE TABLE calls (
 );
 CREATE INDEX calls_name ON calls(name);
 "#,
+    // 11: knowledge back to CAM (issue 42): every step of a suggestion's review (proposed,
+    // accepted, rejected with its reason, snoozed, exported, adopted, reopened), who and when,
+    // with the value and the evidence at that step; rows never updated. The suggestions
+    // themselves are derived from the accepted changes (`suggestion_edits`, the view the
+    // rules read) each time; `suggestion_states` is each one's last step.
+    r#"
+CREATE TABLE suggestion_events (
+    suggestion TEXT NOT NULL,
+    step       INTEGER NOT NULL,
+    group_key  TEXT NOT NULL,
+    state      TEXT NOT NULL CHECK (state IN ('proposed', 'accepted', 'rejected', 'snoozed', 'exported', 'adopted', 'reopened')),
+    reason     TEXT NOT NULL DEFAULT '',
+    value      REAL NOT NULL,
+    evidence   INTEGER NOT NULL,
+    decided_by TEXT NOT NULL,
+    decided_at TEXT NOT NULL,
+    PRIMARY KEY (suggestion, step)
+);
+CREATE TRIGGER suggestion_events_immutable BEFORE UPDATE ON suggestion_events BEGIN SELECT RAISE(ABORT, 'suggestion events are a record: add a new one'); END;
+CREATE VIEW suggestion_edits AS
+SELECT c.id                     AS change_id,
+       c.revision_id            AS revision_id,
+       c.original_revision_id   AS original_revision_id,
+       COALESCE(r.name, p.name) AS program,
+       op.path                  AS original_path,
+       c.workingstep            AS workingstep,
+       c.operation              AS operation,
+       c.kind                   AS kind,
+       c.field                  AS field,
+       c.before                 AS before,
+       c.after                  AS after,
+       COALESCE(m.name, '')     AS machine,
+       r.seen_at                AS seen_at,
+       w.tool                   AS tool,
+       (SELECT k.mark FROM review_marks k WHERE k.change_id = c.id AND k.mark <> 'note' ORDER BY k.id DESC LIMIT 1) AS review,
+       (SELECT k.marked_by FROM review_marks k WHERE k.change_id = c.id AND k.mark <> 'note' ORDER BY k.id DESC LIMIT 1) AS reviewed_by
+FROM changes c
+JOIN revisions r   ON r.id = c.revision_id
+JOIN programs p    ON p.id = r.program_id
+LEFT JOIN machines m ON m.id = p.machine_id
+JOIN revisions orv ON orv.id = c.original_revision_id
+JOIN programs op   ON op.id = orv.program_id
+LEFT JOIN workingsteps w ON w.revision_id = c.original_revision_id AND w.idx = c.workingstep
+WHERE c.kind IN ('feed_changed', 'plunge_feed_changed', 'spindle_speed_changed', 'axial_depth_changed', 'stepover_changed',
+                 'cycle_parameter_changed', 'clearance_changed')
+  AND NOT EXISTS (SELECT 1 FROM revision_marks k WHERE k.revision_id = c.revision_id AND k.mark = 'partial');
+CREATE VIEW suggestion_states AS
+SELECT e.suggestion, e.group_key, e.state, e.reason, e.value, e.evidence, e.decided_by, e.decided_at, e.step AS steps
+FROM suggestion_events e
+WHERE e.step = (SELECT MAX(x.step) FROM suggestion_events x WHERE x.suggestion = e.suggestion);
+"#,
 ];
 
 #[cfg(test)]

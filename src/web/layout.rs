@@ -20,6 +20,7 @@ pub(super) fn layout(ctx: Option<&Ctx>, title: &str, body: Markup) -> Markup {
                     a class="brand" href="/" { "ncplan" }
                     a href="/" { "Overview" }
                     a href="/search?to_review=1" { "Review queue" }
+                    a href="/suggestions" { "Suggestions" }
                     a href="/knowledge" { "Knowledge" }
                     a href="/search" { "Search" }
                     a href="/sql" { "SQL" }

@@ -47,6 +47,7 @@ mod guard;
 mod layout;
 mod pages;
 pub mod report;
+pub mod suggest;
 
 use std::collections::BTreeMap;
 use std::net::SocketAddr;
@@ -323,6 +324,8 @@ fn router(server: Arc<Server>) -> Router {
         .route("/compare/{revision}/translate", get(compare::download))
         .route("/compare/{revision}/translate/notes", get(compare::notes))
         .route("/review/{change}", post(review))
+        .route("/suggestions", get(suggestions))
+        .route("/suggestions/{id}/review", post(suggestion_review))
         .route("/knowledge", get(knowledge_index))
         .route("/knowledge/{name}", get(knowledge))
         .route("/sql", get(sql_console).post(sql_run))
@@ -474,6 +477,51 @@ async fn review(
         Ok(Ok(None)) => (StatusCode::NOT_FOUND, "no such change").into_response(),
         Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e:#}")).into_response(),
         Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the mark: {e}")).into_response(),
+    }
+}
+
+/// The suggestions for CAM with their evidence and review forms.
+async fn suggestions(State(s): State<Arc<Server>>, headers: HeaderMap) -> Response {
+    page(s, headers, |s, ctx, store| {
+        let k = crate::export::load(store, &s.config, &s.clock.now())?;
+        Ok(suggest::page(&k, ctx))
+    })
+    .await
+}
+
+/// A planner's step on a suggestion: `to` (accepted, rejected, snoozed), `reason` (a
+/// rejection needs one), `csrf`, and `by` where nobody signs in. Back to the suggestion.
+async fn suggestion_review(
+    State(s): State<Arc<Server>>,
+    headers: HeaderMap,
+    Path(id): Path<String>,
+    Form(form): Form<BTreeMap<String, String>>,
+) -> Response {
+    let Some((ctx, _)) = auth::context(&s, &headers).await else { return Redirect::to("/login").into_response() };
+    if !auth::post_allowed(&s, &headers, &ctx, form.get("csrf").map(String::as_str)) {
+        return (StatusCode::FORBIDDEN, "the form's CSRF token does not match this session; reload the page").into_response();
+    }
+    let Some(to) = form.get("to").and_then(|t| crate::suggest::review::State::parse(t)) else {
+        return (StatusCode::BAD_REQUEST, "a step is accepted, rejected or snoozed").into_response();
+    };
+    let reason = form.get("reason").map(|n| n.trim().to_owned()).unwrap_or_default();
+    let by = match &ctx.user {
+        Some(u) => u.clone(),
+        None => form.get("by").map(|b| b.trim().to_owned()).filter(|b| !b.is_empty()).unwrap_or_else(|| "planner".into()),
+    };
+    let s2 = s.clone();
+    let id2 = id.clone();
+    let result = tokio::task::spawn_blocking(move || -> Result<()> {
+        let store = s2.writer()?;
+        let at = s2.clock.now();
+        let k = crate::export::load(&store, &s2.config, &at)?;
+        crate::export::review(&store, &k, &id2, to, &reason, &by, &at)
+    })
+    .await;
+    match result {
+        Ok(Ok(())) => Redirect::to(&format!("/suggestions#s-{}", pages::urlencode(&id))).into_response(),
+        Ok(Err(e)) => (StatusCode::CONFLICT, format!("{e:#}")).into_response(),
+        Err(e) => (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot record the step: {e}")).into_response(),
     }
 }
 

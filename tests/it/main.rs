@@ -83,6 +83,7 @@ mod shops;
 mod siemens_axes;
 mod speed;
 mod stepnc;
+mod suggest;
 mod support;
 mod tilt;
 mod tool_comments;

@@ -14,7 +14,7 @@ use ncplan::store::{Location, Store};
 use crate::support::{Proc, free_port, http, program, urlencode, wait_until, watch};
 
 /// A PostgreSQL cluster of one test.
-struct Cluster {
+pub(crate) struct Cluster {
     dir: tempfile::TempDir,
     bin: PathBuf,
     port: u16,
@@ -48,7 +48,7 @@ fn is_root() -> bool {
 
 impl Cluster {
     /// Starts a cluster, or says why `test` is skipped and returns `None`.
-    fn start(test: &str) -> Option<Cluster> {
+    pub(crate) fn start(test: &str) -> Option<Cluster> {
         Cluster::start_with(test, "", |_| {})
     }
 
@@ -103,7 +103,7 @@ impl Cluster {
     }
 
     /// The database URL (trust authentication on the loopback: no password).
-    fn url(&self) -> String {
+    pub(crate) fn url(&self) -> String {
         format!("postgresql://ncplan@127.0.0.1:{}/postgres?sslmode=disable", self.port)
     }
 

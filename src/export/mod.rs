@@ -1,0 +1,334 @@
+//! Knowledge back to CAM in the shell: the store's edits in the `suggest` room's terms, each
+//! suggestion's review state, the steps planners and the watch record, and the files written
+//! into the outbox.
+//!
+//! [`load`] reads the edits (`suggestion_edits`), names each one's tool as the CAM knows it
+//! (the original's plan: number, tool comment, diameter, flutes, corner radius; the shop's
+//! tool library where `[suggest] tool_library` names one and it has the number), its material
+//! (the original's header comments, else `[[suggest.material]]` by folder, else `unknown`),
+//! converts inch programs' values to metric, and asks `suggest::suggest`; then each group's
+//! steps give its state (`suggest::review::current`) and, once exported, the watch over the
+//! CAM posts since. [`record`] writes what the rules and the watch found (a new suggestion
+//! proposed, an exported one adopted or reopened) as steps by `ncplan`; [`review`] a
+//! planner's step, refused where the state does not allow it. `files` writes the outbox:
+//! never a watched folder, never the shop's tool library.
+
+pub mod files;
+
+pub use crate::suggest::review::State;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+
+use crate::config::{Config, SuggestSettings};
+use crate::store::{EditRow, Store, SuggestionStep};
+use crate::suggest::library::{self, Library};
+use crate::suggest::review::{self, CamStep, Event, Watch};
+use crate::suggest::{Edit, Parameter, Suggestion, ToolKey, first_number, header_material, suggest};
+
+/// A group with its verdict, its review and the watch.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Entry {
+    /// The group's verdict (a suggestion when it passed every gate).
+    pub s: Suggestion,
+    /// Its state now.
+    pub state: State,
+    /// Its recorded steps.
+    pub events: Vec<Event>,
+    /// What the watch sees, once exported.
+    pub watch: Option<Watch>,
+}
+
+/// What the knowledge pages, the command and the exports show.
+#[derive(Clone, Debug)]
+pub struct Knowledge {
+    /// Every group, suggestions first, in key order.
+    pub entries: Vec<Entry>,
+    /// The shop's tool library, where configured.
+    pub library: Option<Library>,
+    /// Edits whose values could not be read (change id, why).
+    pub unread: Vec<(i64, String)>,
+    /// The time it was made for.
+    pub now: String,
+}
+
+impl Knowledge {
+    /// The entry of a suggestion id.
+    pub fn entry(&self, id: &str) -> Option<&Entry> {
+        self.entries.iter().find(|e| e.s.id == id)
+    }
+
+    /// The suggestions (groups that passed every gate), or were reviewed once.
+    pub fn suggestions(&self) -> impl Iterator<Item = &Entry> {
+        self.entries.iter().filter(|e| e.s.passed() || !e.events.is_empty())
+    }
+}
+
+/// What one original tells: its tools, units and material.
+struct Original {
+    tools: BTreeMap<u32, ToolKey>,
+    inch: bool,
+    material: Option<String>,
+}
+
+/// Reads an original revision's plan (tools, units) and header (material).
+fn original(store: &Store, revision: i64) -> Result<Original> {
+    let mut o = Original { tools: BTreeMap::new(), inch: false, material: None };
+    if let Some(src) = store.source(revision)?
+        && let Some((plan, _)) = &src.plan
+        && let Ok(v) = serde_json::from_str::<serde_json::Value>(plan)
+    {
+        o.inch = v.get("units").and_then(|u| u.as_str()).is_some_and(|u| u.to_ascii_lowercase().starts_with("in"));
+        for t in v.get("tools").and_then(|t| t.as_array()).into_iter().flatten() {
+            let Some(number) = t.get("number").and_then(|n| n.as_u64()) else { continue };
+            let key = ToolKey {
+                number: number as u32,
+                description: t.get("name").and_then(|n| n.as_str()).unwrap_or("").trim().to_owned(),
+                diameter: t.get("diameter").and_then(|d| d.as_f64()),
+                flutes: t.get("flutes").and_then(|z| z.as_u64()).map(|z| z as u32),
+                corner_radius: t.get("corner_radius").and_then(|r| r.as_f64()),
+            };
+            o.tools.insert(key.number, key);
+        }
+    }
+    if let Some(bytes) = store.content(revision)? {
+        let head = &bytes[..bytes.len().min(8192)];
+        o.material = header_material(&String::from_utf8_lossy(head), 40);
+    }
+    Ok(o)
+}
+
+/// The shop's tool library, where configured.
+pub fn read_library(settings: &SuggestSettings) -> Result<Option<Library>> {
+    let Some(path) = &settings.tool_library else { return Ok(None) };
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read the tool library {}", path.display()))?;
+    let lib = library::read(&text).map_err(|e| anyhow::anyhow!("the tool library {}: {e}", path.display()))?;
+    Ok(Some(lib))
+}
+
+/// The edits of `rows` in the rules' terms: `(accepted ones, every one not rejected, unread)`.
+fn edits(
+    store: &Store,
+    rows: &[EditRow],
+    cfg: &SuggestSettings,
+    lib: Option<&Library>,
+) -> Result<(Vec<Edit>, Vec<Edit>, Vec<(i64, String)>)> {
+    let mut originals: BTreeMap<i64, Original> = BTreeMap::new();
+    let (mut accepted, mut all, mut unread) = (Vec::new(), Vec::new(), Vec::new());
+    for r in rows {
+        let Some(parameter) = Parameter::of_change(&r.kind, &r.field) else { continue };
+        if !originals.contains_key(&r.original_revision_id) {
+            originals.insert(r.original_revision_id, original(store, r.original_revision_id)?);
+        }
+        let o = &originals[&r.original_revision_id];
+        let (Some(b), Some(a)) = (first_number(&r.before), first_number(&r.after)) else {
+            unread.push((r.change_id, format!("no number in `{}` → `{}`", r.before, r.after)));
+            continue;
+        };
+        let number = r.tool.unwrap_or(0).max(0) as u32;
+        let mut tool = o.tools.get(&number).cloned().unwrap_or(ToolKey { number, ..ToolKey::default() });
+        if let Some(t) = lib.and_then(|l| l.tools.iter().find(|t| t.is(&tool))) {
+            tool = t.key();
+        }
+        let material = o
+            .material
+            .clone()
+            .or_else(|| cfg.materials.iter().find(|(f, _)| Path::new(&r.original_path).starts_with(f)).map(|m| m.1.clone()))
+            .unwrap_or_else(|| "unknown".into());
+        let e = Edit {
+            change_id: r.change_id,
+            revision_id: r.revision_id,
+            program: r.program.clone(),
+            original: r.original_path.clone(),
+            workingstep: r.workingstep.max(0) as u32,
+            operation: r.operation.clone(),
+            machine: r.machine.clone(),
+            at: r.seen_at.clone(),
+            operator: None,
+            tool,
+            material,
+            parameter,
+            before: parameter.metric(b, o.inch),
+            after: parameter.metric(a, o.inch),
+        };
+        match r.review.as_deref() {
+            Some("reject") => continue,
+            Some("adopt") => accepted.push(e.clone()),
+            _ if cfg.unreviewed => accepted.push(e.clone()),
+            _ => {}
+        }
+        all.push(e);
+    }
+    Ok((accepted, all, unread))
+}
+
+/// A stored step as the review reads it.
+fn event(s: &SuggestionStep) -> Option<Event> {
+    Some(Event {
+        suggestion: s.suggestion.clone(),
+        step: s.step,
+        state: State::parse(&s.state)?,
+        reason: s.reason.clone(),
+        value: s.value,
+        evidence: s.evidence,
+        by: s.by.clone(),
+        at: s.at.clone(),
+    })
+}
+
+/// The value a CAM workingstep gives for a parameter (plan units are metric already).
+fn cam_value(c: &crate::store::CamRow, p: Parameter) -> Option<f64> {
+    match p {
+        Parameter::CuttingFeed => c.feed,
+        Parameter::SpindleSpeed => c.spindle_speed,
+        Parameter::Stepdown => c.axial_depth,
+        Parameter::Stepover => c.radial_depth,
+        Parameter::ClearanceHeight => c.security_plane,
+        Parameter::PlungeFeed | Parameter::CuttingSpeed | Parameter::PeckDepth => None,
+    }
+}
+
+/// Everything the knowledge pages and the exports show, as of `now`.
+pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
+    let cfg = &config.suggest;
+    let lib = read_library(cfg)?;
+    let rows = store.suggestion_edits()?;
+    let (accepted, all, unread) = edits(store, &rows, cfg, lib.as_ref())?;
+    let mut steps: BTreeMap<String, Vec<Event>> = BTreeMap::new();
+    for s in store.suggestion_steps()? {
+        if let Some(e) = event(&s) {
+            steps.entry(s.suggestion.clone()).or_default().push(e);
+        }
+    }
+    let verdicts = suggest(&accepted, &cfg.rules);
+    let mut entries = Vec::new();
+    for s in verdicts {
+        let events = steps.remove(&s.id).unwrap_or_default();
+        let mut state = review::current(&events, s.edits.len(), now, &cfg.rules);
+        let exported = events.iter().rev().find(|e| e.state == State::Exported).map(|e| e.at.clone());
+        let watch = match (state, exported) {
+            (State::Exported | State::Adopted, Some(since)) => {
+                let group: Vec<Edit> = all.iter().filter(|e| e.key() == s.key).cloned().collect();
+                let cam: Vec<CamStep> = store
+                    .cam_steps_since(&since)?
+                    .iter()
+                    .map(|c| CamStep {
+                        original: c.path.clone(),
+                        revision: c.revision,
+                        at: c.seen_at.clone(),
+                        workingstep: c.workingstep.max(0) as u32,
+                        tool: c.tool.max(0) as u32,
+                        value: cam_value(c, s.key.parameter),
+                    })
+                    .collect();
+                Some(review::watch(&s, &since, &group, &cam, &cfg.rules))
+            }
+            _ => None,
+        };
+        if let Some(w) = &watch
+            && let Some(to) = review::watch_move(state, w)
+        {
+            state = to;
+        }
+        entries.push(Entry { s, state, events, watch });
+    }
+    entries.sort_by(|a, b| b.s.passed().cmp(&a.s.passed()).then(a.s.key.text().cmp(&b.s.key.text())));
+    Ok(Knowledge { entries, library: lib, unread, now: now.to_owned() })
+}
+
+/// A step for `e`, to record.
+fn step(e: &Entry, state: State, reason: &str, by: &str, at: &str) -> SuggestionStep {
+    SuggestionStep {
+        suggestion: e.s.id.clone(),
+        step: 0,
+        group_key: e.s.key.text(),
+        state: state.name().into(),
+        reason: reason.into(),
+        value: e.s.suggested,
+        evidence: e.s.edits.len() as i64,
+        by: by.into(),
+        at: at.into(),
+    }
+}
+
+/// Records what the rules and the watch found since the last time: a suggestion with no
+/// steps is proposed; an exported one the watch adopted or reopened moves there; a rejected
+/// or snoozed one that came back is proposed again. Returns how many steps were written.
+pub fn record(store: &Store, k: &Knowledge, at: &str) -> Result<usize> {
+    let mut n = 0;
+    for e in &k.entries {
+        let last = e.events.last().map(|x| x.state);
+        let to = match (last, e.state) {
+            (None, State::Proposed) if e.s.passed() => Some((State::Proposed, "the rules' gates passed".to_owned())),
+            (Some(State::Rejected), State::Proposed) => Some((State::Proposed, "the evidence grew since the rejection".to_owned())),
+            (Some(State::Snoozed), State::Proposed) => Some((State::Proposed, "the snooze is over".to_owned())),
+            (Some(l), s) if l != s && matches!(s, State::Adopted | State::Reopened) => {
+                Some((s, e.watch.as_ref().map(Watch::words).unwrap_or_default()))
+            }
+            _ => None,
+        };
+        if let Some((state, reason)) = to {
+            store.add_suggestion_step(&step(e, state, &reason, "ncplan", at))?;
+            n += 1;
+        }
+    }
+    Ok(n)
+}
+
+/// A planner's step on suggestion `id`: to `to` with `reason` (a rejection needs one),
+/// refused where the current state does not allow it.
+pub fn review(store: &Store, k: &Knowledge, id: &str, to: State, reason: &str, by: &str, at: &str) -> Result<()> {
+    let Some(e) = k.entry(id) else { bail!("no suggestion {id}") };
+    if !e.state.planner_moves().contains(&to) {
+        bail!("suggestion {id} is {}: it cannot be {} now", e.state.name(), to.name());
+    }
+    if to == State::Rejected && reason.trim().is_empty() {
+        bail!("a rejection needs its reason");
+    }
+    if e.events.is_empty() {
+        store.add_suggestion_step(&step(e, State::Proposed, "the rules' gates passed", "ncplan", at))?;
+    }
+    store.add_suggestion_step(&step(e, to, reason.trim(), by, at))?;
+    Ok(())
+}
+
+/// Marks the suggestions in `ids` exported (by `by`, at `at`).
+pub fn mark_exported(store: &Store, k: &Knowledge, ids: &[String], to: &Path, by: &str, at: &str) -> Result<()> {
+    for id in ids {
+        if let Some(e) = k.entry(id) {
+            store.add_suggestion_step(&step(e, State::Exported, &format!("written to {}", to.display()), by, at))?;
+        }
+    }
+    Ok(())
+}
+
+/// One line for a terminal: id, state, what, values, figures.
+pub fn line(e: &Entry) -> String {
+    let s = &e.s;
+    let k = &s.key;
+    let change = match k.parameter.scale() {
+        crate::suggest::Scale::Ratio => format!("{:+.1} %", s.change() * 100.0),
+        crate::suggest::Scale::Offset => format!("{:+} mm", crate::suggest::num(s.change())),
+    };
+    format!(
+        "{} {:<9} {} of {} · {} · {} · {}: CAM {} -> {} {} ({change}; {} to {}); {} edits, {} programs, {} days, p={}",
+        s.id,
+        e.state.name(),
+        k.parameter.label(),
+        k.tool.label(),
+        k.material,
+        k.machine,
+        k.class.name(),
+        crate::suggest::num(s.cam_value),
+        crate::suggest::num(s.suggested),
+        k.parameter.unit(),
+        crate::suggest::num(s.interval.0),
+        crate::suggest::num(s.interval.1),
+        s.edits.len(),
+        s.programs,
+        s.days,
+        crate::suggest::render::fmt_p(s.p),
+    )
+}

@@ -1,0 +1,240 @@
+//! Knowledge back to CAM (issue 42) through the real commands and store, on SQLite and
+//! PostgreSQL: a generated year of a shop (CAM originals imported with their dates, operators'
+//! edits on two machines as dated backups, a planner's adopt marks), then `ncplan suggest`,
+//! a planner's accept, `export-suggestions` into an outbox, and the daemon storing a new CAM
+//! post that carries the value: the suggestion is adopted.
+//!
+//! The history holds one true change planted with noise (M1's cutting feed of T5 in AL6061
+//! cut by 30 %), and decoys: one operator's bad week (M2's spindle speed, six edits in five
+//! days), a reversal (M1's feed in 1.4301 cut by 25 %, then put back), and noise (M2's feed
+//! nudged up and down by 2-3 %). Exactly the planted suggestion comes out.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, SystemTime};
+
+use ncplan::store::{Location, Store};
+use ncplan::suggest::library;
+
+use crate::pg::Cluster;
+use crate::support::{wait_until, watch};
+
+/// Day 0 of the history: 2026-01-01, as days since 1970.
+const JAN_1_2026: u64 = 20_454;
+
+/// A CAM original or an edit of it: T5 faces at `f5`, S`s5`; T7 drills.
+fn program(number: u32, material: &str, f5: u32, s5: u32, edit: Option<u32>) -> String {
+    let edit = edit.map(|n| format!("(OPERATOR EDIT {n})\n")).unwrap_or_default();
+    format!(
+        "%\nO{number} (BRACKET)\n{edit}(MATERIAL: {material})\n(T5 D=10. CR=0. - ZMIN=-2. - FLAT END MILL)\n(T7 D=6.8 CR=0. - ZMIN=-12. - DRILL)\n\
+         G21 G90 G17\nT5 M6\nS{s5} M3\nG0 X-10 Y0 Z5\nG1 Z-2 F{f5}\nX110\nY20\nX-10\nG0 Z50\n\
+         T7 M6\nS2000 M3\nG0 X20 Y10 Z5\nG81 Z-12 R2 F120\nX40\nX60\nG80\nG0 Z50\nM30\n%\n"
+    )
+}
+
+/// The programs' materials and CAM values (feed, speed of T5).
+const PROGRAMS: [(u32, &str, u32, u32); 6] = [
+    (1001, "AL6061", 800, 8000),
+    (1002, "AL6061", 800, 8000),
+    (1003, "AL6061", 800, 8000),
+    (1004, "AL6061", 800, 8000),
+    (1005, "1.4301", 400, 3000),
+    (1006, "1.4301", 400, 3000),
+];
+
+/// Every edit: machine, day of 2026, program, T5 feed and speed.
+fn history() -> Vec<(&'static str, u64, u32, u32, u32)> {
+    let mut h = Vec::new();
+    // The planted change: M1 cuts T5's feed in AL6061 to about 560 (-30 %).
+    let days = [10, 38, 66, 95, 123, 151, 180, 215, 245, 280];
+    let feeds = [560, 570, 550, 565, 555, 560, 575, 545, 560, 565];
+    for (i, (d, f)) in days.iter().zip(feeds).enumerate() {
+        h.push(("M1", *d, 1001 + (i % 4) as u32, f, 8000));
+    }
+    // One operator's bad week on M2: the spindle turned down from 8000 to 6000.
+    for (d, p) in [(200, 1001), (201, 1002), (202, 1003), (203, 1001), (204, 1002), (204, 1003)] {
+        h.push(("M2", d, p, 800, 6000));
+    }
+    // A reversal on M1: 1.4301's feed cut to 300, then put back above the CAM value.
+    for (i, d) in [20, 60, 100, 140, 180, 220].iter().enumerate() {
+        h.push(("M1", *d, 1005 + (i % 2) as u32, 300, 3000));
+    }
+    h.push(("M1", 250, 1005, 410, 3000));
+    h.push(("M1", 270, 1006, 420, 3000));
+    // Noise on M2: the feed nudged both ways.
+    for (i, (d, f)) in [(30, 820), (90, 780), (150, 816), (210, 784), (260, 824), (300, 776)].iter().enumerate() {
+        h.push(("M2", *d, 1004 - (i % 2) as u32 * 3, *f, 8000));
+    }
+    h
+}
+
+/// Writes `text` to `path` dated `day` of 2026 (08:00 UTC; `day` may be negative: before).
+fn put_dated(path: &Path, text: &str, day: i64) {
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(path, text).unwrap();
+    let secs = (JAN_1_2026 as i64 + day) * 86_400 + 8 * 3600;
+    let f = std::fs::File::options().write(true).open(path).unwrap();
+    f.set_modified(SystemTime::UNIX_EPOCH + Duration::from_secs(secs as u64)).unwrap();
+}
+
+/// A shop: a CAM folder, two machine shares, the history as dated backups, an outbox.
+struct Shop {
+    dir: tempfile::TempDir,
+}
+
+impl Shop {
+    fn new(database: &str) -> Shop {
+        let dir = tempfile::tempdir().unwrap();
+        for d in ["cam", "m1", "m2", "var"] {
+            std::fs::create_dir_all(dir.path().join(d)).unwrap();
+        }
+        std::fs::write(
+            dir.path().join("ncplan.toml"),
+            format!(
+                "site = 'HALL1'\n[database]\n{database}\n[daemon]\nsettle_ms = 150\nworkers = 2\n\
+                 [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
+                 [[machine]]\nname = 'M1'\npath = 'm1'\ndialect = 'fanuc'\n\
+                 [[machine]]\nname = 'M2'\npath = 'm2'\ndialect = 'fanuc'\n\
+                 [suggest]\noutbox = 'outbox'\n"
+            ),
+        )
+        .unwrap();
+        let shop = Shop { dir };
+        for (n, material, f, s) in PROGRAMS {
+            put_dated(&shop.path(&format!("hist/cam/2025-12-01/O{n}.nc")), &program(n, material, f, s, None), -31);
+        }
+        for (i, (machine, day, n, f, s)) in history().into_iter().enumerate() {
+            let material = PROGRAMS.iter().find(|p| p.0 == n).unwrap().1;
+            let rel = format!("hist/{}/{day:03}/O{n}.nc", machine.to_lowercase());
+            put_dated(&shop.path(&rel), &program(n, material, f, s, Some(i as u32)), day as i64);
+        }
+        shop
+    }
+
+    fn path(&self, rel: &str) -> PathBuf {
+        self.dir.path().join(rel)
+    }
+
+    fn ncplan(&self, args: &[&str]) -> String {
+        let out = Command::new(crate::bin()).args(args).current_dir(self.dir.path()).output().unwrap();
+        let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned());
+        assert!(out.status.success(), "ncplan {args:?}: {stderr}\n{stdout}");
+        stdout
+    }
+}
+
+/// The suggestions JSON at a fixed time.
+fn suggestions(shop: &Shop, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["suggest", "--config", "ncplan.toml", "--format", "json", "--now", "2026-11-30T00:00:00Z"];
+    args.extend_from_slice(extra);
+    serde_json::from_str(&shop.ncplan(&args)).unwrap()
+}
+
+/// The year, the review, the export and the adoption on one engine; what it said, for
+/// comparing the engines.
+fn the_loop(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
+    shop.ncplan(&["import", "hist/cam", "--cam", "--config", "ncplan.toml"]);
+    shop.ncplan(&["import", "hist/m1", "--machine", "M1", "--config", "ncplan.toml"]);
+    shop.ncplan(&["import", "hist/m2", "--machine", "M2", "--config", "ncplan.toml"]);
+    // A planner adopted every change (the gates, not the marks, sort them).
+    let s = store();
+    let (_, ids) = s.query("SELECT id FROM changes ORDER BY id").unwrap();
+    assert!(ids.len() >= 28, "{ids:?}");
+    for id in &ids {
+        s.add_mark(id[0].parse().unwrap(), "adopt", "", "planner", "2026-11-29T00:00:00Z").unwrap();
+    }
+    drop(s);
+    let all = suggestions(shop, &["--all"]);
+    let all = all.as_array().unwrap();
+    let passed: Vec<&serde_json::Value> = all.iter().filter(|e| e["s"]["held"].as_array().unwrap().is_empty()).collect();
+    assert_eq!(passed.len(), 1, "{}", serde_json::to_string_pretty(&all).unwrap());
+    let p = &passed[0]["s"];
+    assert_eq!(p["key"]["machine"], "M1");
+    assert_eq!(p["key"]["material"], "AL6061");
+    assert_eq!(p["key"]["parameter"], "cutting_feed");
+    assert_eq!(p["key"]["tool"]["number"], 5);
+    assert_eq!(p["key"]["tool"]["diameter"], 10.0);
+    let (value, lo, hi) = (p["suggested"].as_f64().unwrap(), p["interval"][0].as_f64().unwrap(), p["interval"][1].as_f64().unwrap());
+    assert!(lo <= value && value <= hi && lo <= 560.0 && 560.0 <= hi, "{value} in {lo}..{hi}");
+    assert_eq!(p["cam_value"], 800.0);
+    assert_eq!(p["edits"].as_array().unwrap().len(), 10);
+    // The decoys, each held by its gate.
+    let held = |machine: &str, parameter: &str, material: &str| -> String {
+        let e = all
+            .iter()
+            .find(|e| {
+                e["s"]["key"]["machine"] == machine && e["s"]["key"]["parameter"] == parameter && e["s"]["key"]["material"] == material
+            })
+            .unwrap_or_else(|| panic!("no group {machine} {parameter} {material}"));
+        e["s"]["held"].as_array().unwrap().iter().map(|h| h["gate"].as_str().unwrap().to_owned()).collect::<Vec<_>>().join(",")
+    };
+    assert_eq!(held("M2", "spindle_speed", "AL6061"), "too_few");
+    assert_eq!(held("M1", "cutting_feed", "1.4301"), "reversal");
+    assert!(held("M2", "cutting_feed", "AL6061").contains("small"), "{}", held("M2", "cutting_feed", "AL6061"));
+    let id = p["id"].as_str().unwrap().to_owned();
+    // Proposed by the first listing; a planner accepts it.
+    shop.ncplan(&["suggest", "--config", "ncplan.toml", "--accept", &id, "--by", "anna", "--now", "2026-11-30T00:00:00Z"]);
+    let out =
+        shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "fusion", "--by", "anna", "--now", "2026-11-30T01:00:00Z"]);
+    assert!(out.contains("1 accepted suggestions exported"), "{out}");
+    shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "csv", "--now", "2026-11-30T01:00:00Z"]);
+    shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "html", "--now", "2026-11-30T01:00:00Z"]);
+    // The library reads back: one tool, T5, with the suggestion's preset.
+    let json = std::fs::read_to_string(shop.path("outbox/ncplan-suggestions.json")).unwrap();
+    let lib = library::read(&json).unwrap();
+    assert_eq!(lib.tools.len(), 1);
+    let t = &lib.tools[0];
+    assert_eq!((t.number, t.diameter), (Some(5), Some(10.0)));
+    let preset = &t.presets.last().unwrap().1;
+    let v = library::preset_value(t, preset, ncplan::suggest::Parameter::CuttingFeed).unwrap();
+    assert!((v - value).abs() < 1e-3, "{v} {value}");
+    // The `.tools` file is the same JSON, zipped.
+    let zip = std::fs::read(shop.path("outbox/ncplan-suggestions.tools")).unwrap();
+    assert_eq!(&zip[..4], b"PK\x03\x04");
+    assert_eq!(&zip[30..40], b"tools.json");
+    assert_eq!(&zip[40..40 + json.len()], json.as_bytes());
+    let csv = std::fs::read_to_string(shop.path("outbox/ncplan-suggestions.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 2, "{csv}");
+    assert!(csv.lines().nth(1).unwrap().starts_with(&format!("{id},exported,tool,5,")), "{csv}");
+    let html = std::fs::read_to_string(shop.path("outbox/ncplan-suggestions.html")).unwrap();
+    assert!(html.contains(&format!("id=\"s-{id}\"")) && html.contains("<svg"), "{html}");
+    // The CAM side posts O1001 again with the value; the daemon stores it.
+    let daemon = watch(&shop.path("ncplan.toml"), "info", std::process::Stdio::null());
+    let posted = program(1001, "AL6061", value.round() as u32, 8000, None);
+    std::thread::sleep(Duration::from_millis(500));
+    let tmp = shop.path("cam/O1001.nc.part");
+    std::fs::write(&tmp, &posted).unwrap();
+    std::fs::rename(&tmp, shop.path("cam/O1001.nc")).unwrap();
+    wait_until("the new CAM post is stored", Duration::from_secs(30), || {
+        let s = store();
+        let n = s.query("SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.role = 'cam'").map(|(_, r)| r);
+        n.is_ok_and(|r| r[0][0] == "7")
+    });
+    daemon.kill();
+    let after = suggestions(shop, &["--state", "adopted"]);
+    assert_eq!(after.as_array().unwrap().len(), 1, "{after}");
+    let s = store();
+    let (_, states) = s.query("SELECT state, decided_by FROM suggestion_events ORDER BY suggestion, step").unwrap();
+    let states: Vec<String> = states.iter().map(|r| r.join(" by ")).collect();
+    assert_eq!(states, ["proposed by ncplan", "accepted by anna", "exported by anna", "adopted by ncplan"]);
+    let (_, view) = s.query("SELECT state, steps FROM suggestion_states").unwrap();
+    assert_eq!(view, [["adopted".to_owned(), "4".to_owned()]]);
+    let mut said = vec![csv.lines().nth(1).unwrap().to_owned(), json];
+    said.extend(states);
+    said
+}
+
+#[test]
+fn a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_both_engines() {
+    let lite = Shop::new("path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    let on_lite = the_loop(&lite, || Store::open(&Location::Sqlite(db.clone()), "HALL1").unwrap());
+    let Some(pg) = Cluster::start("suggest::a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_both_engines")
+    else {
+        return;
+    };
+    let url = pg.url();
+    let shop = Shop::new(&format!("url = '{url}'"));
+    let on_pg = the_loop(&shop, || Store::open(&Location::parse(&url), "HALL1").unwrap());
+    assert_eq!(on_lite, on_pg);
+}
