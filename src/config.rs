@@ -161,7 +161,7 @@ struct RawMaterial {
 }
 
 /// `[suggest]`, validated.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct SuggestSettings {
     /// Where `export-suggestions` writes without a folder given.
     pub outbox: Option<PathBuf>,
@@ -174,18 +174,6 @@ pub struct SuggestSettings {
     pub materials: Vec<(PathBuf, String)>,
     /// The rules' thresholds.
     pub rules: crate::suggest::Rules,
-}
-
-impl Default for SuggestSettings {
-    fn default() -> SuggestSettings {
-        SuggestSettings {
-            outbox: None,
-            tool_library: None,
-            unreviewed: false,
-            materials: Vec::new(),
-            rules: crate::suggest::Rules::default(),
-        }
-    }
 }
 
 /// `[suggest]` validated: paths resolved, thresholds in their ranges.

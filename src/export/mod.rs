@@ -108,21 +108,26 @@ pub fn read_library(settings: &SuggestSettings) -> Result<Option<Library>> {
     Ok(Some(lib))
 }
 
-/// The edits of `rows` in the rules' terms: `(accepted ones, every one not rejected, unread)`.
-fn edits(
-    store: &Store,
-    rows: &[EditRow],
-    cfg: &SuggestSettings,
-    lib: Option<&Library>,
-) -> Result<(Vec<Edit>, Vec<Edit>, Vec<(i64, String)>)> {
+/// The edits of `rows` in the rules' terms.
+struct Edits {
+    /// Those the rules read: adopted by a planner (or unreviewed too, where configured).
+    accepted: Vec<Edit>,
+    /// Every one not rejected (the watch's).
+    all: Vec<Edit>,
+    /// Those whose values could not be read: change id, why.
+    unread: Vec<(i64, String)>,
+}
+
+/// The edits of `rows` in the rules' terms.
+fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Library>) -> Result<Edits> {
     let mut originals: BTreeMap<i64, Original> = BTreeMap::new();
     let (mut accepted, mut all, mut unread) = (Vec::new(), Vec::new(), Vec::new());
     for r in rows {
         let Some(parameter) = Parameter::of_change(&r.kind, &r.field) else { continue };
-        if !originals.contains_key(&r.original_revision_id) {
-            originals.insert(r.original_revision_id, original(store, r.original_revision_id)?);
-        }
-        let o = &originals[&r.original_revision_id];
+        let o = match originals.entry(r.original_revision_id) {
+            std::collections::btree_map::Entry::Occupied(o) => o.into_mut(),
+            std::collections::btree_map::Entry::Vacant(v) => v.insert(original(store, r.original_revision_id)?),
+        };
         let (Some(b), Some(a)) = (first_number(&r.before), first_number(&r.after)) else {
             unread.push((r.change_id, format!("no number in `{}` → `{}`", r.before, r.after)));
             continue;
@@ -161,7 +166,7 @@ fn edits(
         }
         all.push(e);
     }
-    Ok((accepted, all, unread))
+    Ok(Edits { accepted, all, unread })
 }
 
 /// A stored step as the review reads it.
@@ -195,7 +200,7 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
     let cfg = &config.suggest;
     let lib = read_library(cfg)?;
     let rows = store.suggestion_edits()?;
-    let (accepted, all, unread) = edits(store, &rows, cfg, lib.as_ref())?;
+    let Edits { accepted, all, unread } = edits(store, &rows, cfg, lib.as_ref())?;
     let mut steps: BTreeMap<String, Vec<Event>> = BTreeMap::new();
     for s in store.suggestion_steps()? {
         if let Some(e) = event(&s) {

@@ -534,7 +534,7 @@ pub fn suggest(edits: &[Edit], rules: &Rules) -> Vec<Suggestion> {
         groups[i].1.push(e.clone());
     }
     let mut out: Vec<Suggestion> = index.values().map(|&i| judge(&groups[i].0, &groups[i].1, rules)).collect();
-    out.sort_by(|a, b| a.key.text().cmp(&b.key.text()));
+    out.sort_by_key(|s| s.key.text());
     out
 }
 
