@@ -85,7 +85,7 @@ fn original(store: &Store, revision: i64) -> Result<Original> {
             let Some(number) = t.get("number").and_then(|n| n.as_u64()) else { continue };
             let key = ToolKey {
                 number: number as u32,
-                description: t.get("name").and_then(|n| n.as_str()).unwrap_or("").trim().to_owned(),
+                description: t.get("name").and_then(|n| n.as_str()).map(crate::suggest::tool_description).unwrap_or_default(),
                 diameter: t.get("diameter").and_then(|d| d.as_f64()),
                 flutes: t.get("flutes").and_then(|z| z.as_u64()).map(|z| z as u32),
                 corner_radius: t.get("corner_radius").and_then(|r| r.as_f64()),

@@ -224,6 +224,25 @@ impl ToolKey {
     }
 }
 
+/// What a tool comment says of the tool itself, as the CAM library names it: without the tool
+/// number, the geometry the key holds apart (`D=`, `CR=`, `TAPER=`) and what the post writes per
+/// operation (`ZMIN=`, `ZMAX=`), which would split one tool's edits by program. A Fusion or
+/// HSM post's `T1 D=12. CR=0. - ZMIN=-10. - FLAT END MILL` is `FLAT END MILL`.
+pub fn tool_description(comment: &str) -> String {
+    let per_operation = ["D=", "CR=", "TAPER=", "ZMIN=", "ZMAX="];
+    let words: Vec<&str> = comment
+        .split_whitespace()
+        .enumerate()
+        .filter(|(i, w)| {
+            let upper = w.to_ascii_uppercase();
+            let number = *i == 0 && upper.len() > 1 && upper.starts_with('T') && upper[1..].chars().all(|c| c.is_ascii_digit());
+            !number && *w != "-" && !per_operation.iter().any(|p| upper.starts_with(p))
+        })
+        .map(|(_, w)| w)
+        .collect();
+    words.join(" ")
+}
+
 /// A number as a planner reads it: up to four decimals, no trailing zeros.
 pub fn num(v: f64) -> String {
     let s = format!("{v:.4}");

@@ -46,7 +46,7 @@ pub fn fmt_p(p: f64) -> String {
 }
 
 /// The CSV's columns.
-pub const CSV_HEADER: &str = "id,state,scope,tool_number,tool,diameter_mm,flutes,corner_radius_mm,material,machine,operation_class,parameter,unit,cam_value,suggested,low,high,change,edits,programs,days,operators,p_value,first,last,evidence";
+pub const CSV_HEADER: &str = "id,state,scope,tool_number,tool,diameter_mm,flutes,corner_radius_mm,material,machine,operation_class,parameter,unit,cam_value,suggested,low,high,change_percent,change_mm,edits,programs,days,operators,p_value,first,last,evidence";
 
 /// One CSV cell: quoted when it holds a comma, quote or line end; a text a spreadsheet would
 /// run as a formula gets a `'` first.
@@ -63,9 +63,9 @@ pub fn csv(suggestions: &[(&Suggestion, &str)]) -> String {
     for (s, state) in suggestions {
         let t = &s.key.tool;
         let scope = if s.key.parameter.of_tool() { "tool" } else { "operation note" };
-        let change = match s.key.parameter.scale() {
-            Scale::Ratio => format!("{}%", num((s.change() * 1000.0).round() / 10.0)),
-            Scale::Offset => format!("{} mm", num(s.change())),
+        let (percent, mm) = match s.key.parameter.scale() {
+            Scale::Ratio => (num((s.change() * 1000.0).round() / 10.0), String::new()),
+            Scale::Offset => (String::new(), num(s.change())),
         };
         let cells = [
             s.id.clone(),
@@ -85,7 +85,8 @@ pub fn csv(suggestions: &[(&Suggestion, &str)]) -> String {
             num(s.suggested),
             num(s.interval.0),
             num(s.interval.1),
-            change,
+            percent,
+            mm,
             s.edits.len().to_string(),
             s.programs.to_string(),
             s.days.to_string(),

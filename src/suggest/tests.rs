@@ -144,6 +144,8 @@ fn numbers_and_materials_are_read_from_the_text() {
     assert_eq!(header_material("; Werkstoff = 1.4301\nG0", 10), Some("1.4301".into()));
     assert_eq!(header_material("(MACHINE MATERIAL HANDLING)\nG0", 10), None);
     assert_eq!(day_number("1970-01-01"), Some(0));
+    assert_eq!(tool_description("T5 D=10. CR=0. - ZMIN=-2. - FLAT END MILL"), "FLAT END MILL");
+    assert_eq!(tool_description("EM10 Z4 TiAlN"), "EM10 Z4 TiAlN");
     assert_eq!(days_between("2026-02-27", "2026-03-01"), 2);
 }
 

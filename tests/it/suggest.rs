@@ -25,8 +25,10 @@ const JAN_1_2026: u64 = 20_454;
 /// A CAM original or an edit of it: T5 faces at `f5`, S`s5`; T7 drills.
 fn program(number: u32, material: &str, f5: u32, s5: u32, edit: Option<u32>) -> String {
     let edit = edit.map(|n| format!("(OPERATOR EDIT {n})\n")).unwrap_or_default();
+    // The post writes the lowest Z of each tool's cuts in its comment: it differs by program.
+    let zmin = 2 + number % 3;
     format!(
-        "%\nO{number} (BRACKET)\n{edit}(MATERIAL: {material})\n(T5 D=10. CR=0. - ZMIN=-2. - FLAT END MILL)\n(T7 D=6.8 CR=0. - ZMIN=-12. - DRILL)\n\
+        "%\nO{number} (BRACKET)\n{edit}(MATERIAL: {material})\n(T5 D=10. CR=0. - ZMIN=-{zmin}. - FLAT END MILL)\n(T7 D=6.8 CR=0. - ZMIN=-12. - DRILL)\n\
          G21 G90 G17\nT5 M6\nS{s5} M3\nG0 X-10 Y0 Z5\nG1 Z-2 F{f5}\nX110\nY20\nX-10\nG0 Z50\n\
          T7 M6\nS2000 M3\nG0 X20 Y10 Z5\nG81 Z-12 R2 F120\nX40\nX60\nG80\nG0 Z50\nM30\n%\n"
     )
@@ -77,6 +79,24 @@ fn put_dated(path: &Path, text: &str, day: i64) {
     f.set_modified(SystemTime::UNIX_EPOCH + Duration::from_secs(secs as u64)).unwrap();
 }
 
+/// The shop's own tool library, written in the shape of public Fusion libraries: T5 in the
+/// newer form (a `presets` list, with `expressions`), T7 in the older (`start-values` keyed by `*`).
+const SHOP_LIBRARY: &str = r#"{"data": [
+  {"guid": "5f3c1a52-0d3e-4b8e-9c1a-7a0d2b6e1f05", "type": "flat end mill", "description": "EM10 3FL ALU", "unit": "millimeters",
+   "BMC": "carbide", "vendor": "Shop", "product-id": "EM-10-3",
+   "geometry": {"DC": 10, "NOF": 3, "RE": 0, "LCF": 22, "OAL": 72, "SFDM": 10},
+   "post-process": {"number": 5, "length-offset": 5, "diameter-offset": 5, "comment": ""},
+   "start-values": {"presets": [
+     {"guid": "0b7e2a10-3f6d-4d5e-8a1b-2c3d4e5f6a7b", "name": "Aluminium", "description": "", "n": 8000, "v_c": 251.327, "f_z": 0.0333,
+      "v_f": 800, "v_f_plunge": 300, "v_f_ramp": 400, "tool-coolant": "flood", "use-stepdown": false, "use-stepover": false,
+      "material": {"category": "all", "query": "", "use-hardness": false},
+      "expressions": {"tool_feedCutting": "800 mmpm", "tool_spindleSpeed": "8000 rpm"}}]}},
+  {"guid": "9d1e4c7a-2b3f-4a5e-8c6d-1e2f3a4b5c6d", "type": "drill", "description": "DRILL 6.8", "unit": "millimeters",
+   "geometry": {"DC": 6.8, "NOF": 2, "SIG": 140},
+   "post-process": {"number": 7, "length-offset": 7, "diameter-offset": 7, "comment": ""},
+   "start-values": {"*": {"n": 2000, "v_f_plunge": 120, "v_f_retract": 1000}}}
+], "version": 15}"#;
+
 /// A shop: a CAM folder, two machine shares, the history as dated backups, an outbox.
 struct Shop {
     dir: tempfile::TempDir,
@@ -95,11 +115,13 @@ impl Shop {
                  [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
                  [[machine]]\nname = 'M1'\npath = 'm1'\ndialect = 'fanuc'\n\
                  [[machine]]\nname = 'M2'\npath = 'm2'\ndialect = 'fanuc'\n\
-                 [suggest]\noutbox = 'outbox'\n"
+                 [suggest]\noutbox = 'outbox'\ntool_library = 'lib/shop-tools.json'\n"
             ),
         )
         .unwrap();
         let shop = Shop { dir };
+        std::fs::create_dir_all(shop.path("lib")).unwrap();
+        std::fs::write(shop.path("lib/shop-tools.json"), SHOP_LIBRARY).unwrap();
         for (n, material, f, s) in PROGRAMS {
             put_dated(&shop.path(&format!("hist/cam/2025-12-01/O{n}.nc")), &program(n, material, f, s, None), -31);
         }
@@ -133,6 +155,12 @@ fn suggestions(shop: &Shop, extra: &[&str]) -> serde_json::Value {
 /// The year, the review, the export and the adoption on one engine; what it said, for
 /// comparing the engines.
 fn the_loop(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
+    prepare(shop, &store);
+    the_rest(shop, store)
+}
+
+/// The history stored and every change adopted by a planner.
+fn prepare(shop: &Shop, store: &impl Fn() -> Store) {
     shop.ncplan(&["import", "hist/cam", "--cam", "--config", "ncplan.toml"]);
     shop.ncplan(&["import", "hist/m1", "--machine", "M1", "--config", "ncplan.toml"]);
     shop.ncplan(&["import", "hist/m2", "--machine", "M2", "--config", "ncplan.toml"]);
@@ -143,7 +171,10 @@ fn the_loop(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     for id in &ids {
         s.add_mark(id[0].parse().unwrap(), "adopt", "", "planner", "2026-11-29T00:00:00Z").unwrap();
     }
-    drop(s);
+}
+
+/// The listing, the review, the export and the adoption.
+fn the_rest(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     let all = suggestions(shop, &["--all"]);
     let all = all.as_array().unwrap();
     let passed: Vec<&serde_json::Value> = all.iter().filter(|e| e["s"]["held"].as_array().unwrap().is_empty()).collect();
@@ -154,6 +185,7 @@ fn the_loop(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     assert_eq!(p["key"]["parameter"], "cutting_feed");
     assert_eq!(p["key"]["tool"]["number"], 5);
     assert_eq!(p["key"]["tool"]["diameter"], 10.0);
+    assert_eq!(p["key"]["tool"]["description"], "EM10 3FL ALU", "the CAM tool's name from the shop's library");
     let (value, lo, hi) = (p["suggested"].as_f64().unwrap(), p["interval"][0].as_f64().unwrap(), p["interval"][1].as_f64().unwrap());
     assert!(lo <= value && value <= hi && lo <= 560.0 && 560.0 <= hi, "{value} in {lo}..{hi}");
     assert_eq!(p["cam_value"], 800.0);
@@ -184,7 +216,17 @@ fn the_loop(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     let lib = library::read(&json).unwrap();
     assert_eq!(lib.tools.len(), 1);
     let t = &lib.tools[0];
-    assert_eq!((t.number, t.diameter), (Some(5), Some(10.0)));
+    assert_eq!((t.number, t.diameter, t.description.as_str()), (Some(5), Some(10.0), "EM10 3FL ALU"));
+    // The shop's tool, copied under a new guid with its own preset as it was and one more.
+    let shop_lib = library::read(SHOP_LIBRARY).unwrap();
+    let original = &shop_lib.tools[0];
+    assert_ne!(t.raw["guid"], original.raw["guid"]);
+    assert_eq!(t.raw["start-values"]["presets"][0], original.raw["start-values"]["presets"][0]);
+    assert_eq!(t.presets.len(), 2);
+    for k in ["geometry", "post-process", "vendor", "product-id", "BMC", "type", "unit", "description"] {
+        assert_eq!(t.raw[k], original.raw[k], "{k}");
+    }
+    assert_eq!(lib.version, shop_lib.version);
     let preset = &t.presets.last().unwrap().1;
     let v = library::preset_value(t, preset, ncplan::suggest::Parameter::CuttingFeed).unwrap();
     assert!((v - value).abs() < 1e-3, "{v} {value}");
@@ -195,7 +237,7 @@ fn the_loop(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     assert_eq!(&zip[40..40 + json.len()], json.as_bytes());
     let csv = std::fs::read_to_string(shop.path("outbox/ncplan-suggestions.csv")).unwrap();
     assert_eq!(csv.lines().count(), 2, "{csv}");
-    assert!(csv.lines().nth(1).unwrap().starts_with(&format!("{id},exported,tool,5,")), "{csv}");
+    assert!(csv.lines().nth(1).unwrap().starts_with(&format!("{id},exported,tool,5,EM10 3FL ALU,10,3,0,AL6061,M1,")), "{csv}");
     let html = std::fs::read_to_string(shop.path("outbox/ncplan-suggestions.html")).unwrap();
     assert!(html.contains(&format!("id=\"s-{id}\"")) && html.contains("<svg"), "{html}");
     // The CAM side posts O1001 again with the value; the daemon stores it.
@@ -219,7 +261,7 @@ fn the_loop(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     assert_eq!(states, ["proposed by ncplan", "accepted by anna", "exported by anna", "adopted by ncplan"]);
     let (_, view) = s.query("SELECT state, steps FROM suggestion_states").unwrap();
     assert_eq!(view, [["adopted".to_owned(), "4".to_owned()]]);
-    let mut said = vec![csv.lines().nth(1).unwrap().to_owned(), json];
+    let mut said = vec![csv, json];
     said.extend(states);
     said
 }
@@ -229,6 +271,9 @@ fn a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_bo
     let lite = Shop::new("path = 'var/ncplan.db'");
     let db = lite.path("var/ncplan.db");
     let on_lite = the_loop(&lite, || Store::open(&Location::Sqlite(db.clone()), "HALL1").unwrap());
+    // The exports, read by eye (`UPDATE_EXPECT=1` writes them again).
+    expect_test::expect_file!["../golden/suggest/ncplan-suggestions.csv"].assert_eq(&on_lite[0]);
+    expect_test::expect_file!["../golden/suggest/ncplan-suggestions.json"].assert_eq(&on_lite[1]);
     let Some(pg) = Cluster::start("suggest::a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_both_engines")
     else {
         return;
@@ -237,4 +282,68 @@ fn a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_bo
     let shop = Shop::new(&format!("url = '{url}'"));
     let on_pg = the_loop(&shop, || Store::open(&Location::parse(&url), "HALL1").unwrap());
     assert_eq!(on_lite, on_pg);
+}
+
+/// The suggestions page in Chromium: the planted suggestion with its evidence and pictures,
+/// accepted by its button, exported by the command, and a rejection without a reason refused;
+/// on SQLite and PostgreSQL, with screenshots.
+#[test]
+fn the_suggestions_page_in_chromium() {
+    let Some((_driver, port)) = crate::web::chromedriver("suggest::the_suggestions_page_in_chromium") else { return };
+    let lite = Shop::new("path = 'var/ncplan.db'");
+    let db = lite.path("var/ncplan.db");
+    prepare(&lite, &|| Store::open(&Location::Sqlite(db.clone()), "HALL1").unwrap());
+    let mut runs = vec![("sqlite", lite, None)];
+    if let Some(pg) = Cluster::start("suggest::the_suggestions_page_in_chromium on PostgreSQL") {
+        let url = pg.url();
+        let shop = Shop::new(&format!("url = '{url}'"));
+        prepare(&shop, &|| Store::open(&Location::parse(&url), "HALL1").unwrap());
+        runs.push(("postgres", shop, Some(pg)));
+    }
+    for (engine, shop, _cluster) in &runs {
+        let (_serve, base) = crate::support::serve(&shop.path("ncplan.toml"), &[]);
+        let rt = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+        rt.block_on(async {
+            let c = crate::web::browser(port).await;
+            let result = review_in_browser(&c, &base, shop, engine).await;
+            let _ = c.close().await;
+            result.unwrap();
+        });
+    }
+}
+
+async fn review_in_browser(c: &fantoccini::Client, base: &str, shop: &Shop, engine: &str) -> Result<(), fantoccini::error::CmdError> {
+    use crate::web::{shot, text_of, wait_text};
+    use fantoccini::Locator;
+    c.goto(&format!("{base}/suggestions")).await?;
+    assert_eq!(text_of(c, "h1").await, "Suggestions for CAM");
+    let cards = c.find_all(Locator::Css("section.suggestion")).await?;
+    assert_eq!(cards.len(), 1);
+    let title = text_of(c, "section.suggestion h2").await;
+    assert!(
+        title.contains("cutting feed of T5") && title.contains("AL6061") && title.contains("M1") && title.contains("proposed"),
+        "{title}"
+    );
+    assert_eq!(c.find_all(Locator::Css("section.suggestion svg.chart")).await?.len(), 2, "both pictures");
+    assert_eq!(c.find_all(Locator::Css("section.suggestion table.evidence tr")).await?.len(), 11, "ten edits and the header");
+    let link = c.find(Locator::Css("section.suggestion table.evidence a")).await?.attr("href").await?.unwrap_or_default();
+    assert!(link.starts_with("/compare/") && link.contains("#change-"), "{link}");
+    assert!(text_of(c, "table.held").await.contains("reversed by the latest edits"));
+    shot(c, &format!("suggestions-{engine}")).await?;
+    c.find(Locator::Css("button[data-to=accepted]")).await?.click().await?;
+    assert!(wait_text(c, "section.suggestion h2", "accepted").await.contains("accepted"));
+    assert!(text_of(c, "ol.steps").await.contains("accepted by planner"));
+    shot(c, &format!("suggestion-accepted-{engine}")).await?;
+    shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "fusion", "--now", "2026-11-30T01:00:00Z"]);
+    c.goto(&format!("{base}/suggestions")).await?;
+    assert!(text_of(c, "section.suggestion h2").await.contains("exported"));
+    // A rejection needs its reason: refused without one, recorded with one.
+    c.find(Locator::Css("button[data-to=rejected]")).await?.click().await?;
+    assert!(wait_text(c, "body", "needs its reason").await.contains("a rejection needs its reason"));
+    c.goto(&format!("{base}/suggestions")).await?;
+    c.find(Locator::Css("input[name=reason]")).await?.send_keys("the new cutter runs at the CAM value").await?;
+    c.find(Locator::Css("button[data-to=rejected]")).await?.click().await?;
+    assert!(wait_text(c, "ol.steps", "rejected").await.contains("rejected by planner"));
+    shot(c, &format!("suggestion-rejected-{engine}")).await?;
+    Ok(())
 }

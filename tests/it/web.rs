@@ -17,7 +17,7 @@ use serde_json::json;
 use crate::support::{Proc, free_port, http, wait_rows, watch};
 
 /// A process group led by a child: the whole group is ended when dropped.
-struct Group(Proc);
+pub(crate) struct Group(Proc);
 
 impl Drop for Group {
     fn drop(&mut self) {
@@ -480,7 +480,7 @@ fn the_translate_download_reads_back_in_its_dialect() {
 /// chromedriver on a free port, in a process group of its own (the browser it starts goes
 /// with it even when an assertion ends the test before the session is closed); `None` after
 /// saying why `test` is skipped when chromium or chromedriver is not installed.
-fn chromedriver(test: &str) -> Option<(Group, u16)> {
+pub(crate) fn chromedriver(test: &str) -> Option<(Group, u16)> {
     if !(have("chromium") && have("chromedriver")) {
         assert!(
             std::env::var_os("NCPLAN_REQUIRE_CHROMIUM").is_none(),
@@ -509,7 +509,7 @@ fn chromedriver(test: &str) -> Option<(Group, u16)> {
 }
 
 /// A headless chromium session through the chromedriver on `port`.
-async fn browser(port: u16) -> Client {
+pub(crate) async fn browser(port: u16) -> Client {
     browser_with(port, &[]).await
 }
 
@@ -690,7 +690,7 @@ async fn restarts(c: &Client, site: &Site, listen: &str) -> Result<(), fantoccin
     Ok(())
 }
 
-async fn shot(c: &Client, name: &str) -> Result<(), fantoccini::error::CmdError> {
+pub(crate) async fn shot(c: &Client, name: &str) -> Result<(), fantoccini::error::CmdError> {
     let png = c.screenshot().await?;
     std::fs::write(screenshots().join(format!("{name}.png")), png).unwrap();
     Ok(())
@@ -698,7 +698,7 @@ async fn shot(c: &Client, name: &str) -> Result<(), fantoccini::error::CmdError>
 
 /// The text of the first element `css` selects, waiting (up to 10 s) for a page that is
 /// still loading after a form's POST and redirect.
-async fn text_of(c: &Client, css: &str) -> String {
+pub(crate) async fn text_of(c: &Client, css: &str) -> String {
     let deadline = Instant::now() + Duration::from_secs(10);
     loop {
         if let Ok(e) = c.find(Locator::Css(css)).await
@@ -712,7 +712,7 @@ async fn text_of(c: &Client, css: &str) -> String {
 }
 
 /// Waits (up to 10 s) until the element `css` holds `want`; returns its text.
-async fn wait_text(c: &Client, css: &str, want: &str) -> String {
+pub(crate) async fn wait_text(c: &Client, css: &str, want: &str) -> String {
     let deadline = Instant::now() + Duration::from_secs(10);
     loop {
         let t = text_of(c, css).await;
