@@ -67,8 +67,8 @@ pub(super) struct ExportArgs {
     #[command(flatten)]
     store: StoreArgs,
     /// What to write: a Fusion / Inventor CAM / HSM tool library (`.json` and `.tools`), the
-    /// neutral CSV, or the HTML evidence report.
-    #[arg(long, value_parser = ["fusion", "csv", "html"])]
+    /// neutral CSV, a fragment of NX's `tool_machining_data.dat`, or the HTML evidence report.
+    #[arg(long, value_parser = ["fusion", "csv", "nx", "html"])]
     to: String,
     /// The outbox folder (by default `[suggest] outbox`); never a watched folder.
     outdir: Option<PathBuf>,

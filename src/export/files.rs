@@ -4,6 +4,9 @@
 //!   of the accepted tool suggestions (`suggest::library::export`), and the same JSON zipped as
 //!   `ncplan-suggestions.tools` (one entry, `tools.json`, stored: a plain zip any reader takes);
 //! - `csv`: `ncplan-suggestions.csv`, one row per accepted suggestion (operation notes too);
+//! - `nx`: `ncplan-tool_machining_data.dat`, a fragment of NX's machining data library
+//!   (`FORMAT`/`DATA` lines, as the file in `MACH/resource/library/feeds_speeds/ascii` has
+//!   them) for an administrator to merge;
 //! - `html`: `ncplan-suggestions.html`, the evidence report of every suggestion.
 //!
 //! The folder is refused when it lies in or around a watched folder, and a file is refused
@@ -25,6 +28,8 @@ pub enum Format {
     Fusion,
     /// The neutral CSV.
     Csv,
+    /// A fragment of NX's `tool_machining_data.dat`.
+    Nx,
     /// The evidence report.
     Html,
 }
@@ -35,6 +40,7 @@ impl Format {
         match s {
             "fusion" => Some(Format::Fusion),
             "csv" => Some(Format::Csv),
+            "nx" => Some(Format::Nx),
             "html" => Some(Format::Html),
             _ => None,
         }
@@ -98,6 +104,10 @@ pub fn write(
         Format::Csv => {
             let rows: Vec<_> = accepted.iter().map(|e| (&e.s, e.state.name())).collect();
             files.push(put(&dir, "ncplan-suggestions.csv", render::csv(&rows).as_bytes(), config)?);
+        }
+        Format::Nx => {
+            let s: Vec<_> = accepted.iter().map(|e| &e.s).collect();
+            files.push(put(&dir, "ncplan-tool_machining_data.dat", render::nx_fragment(&s).as_bytes(), config)?);
         }
         Format::Html => files.push(put(&dir, "ncplan-suggestions.html", html(k).as_bytes(), config)?),
     }

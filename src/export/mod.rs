@@ -152,6 +152,7 @@ fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Li
             machine: r.machine.clone(),
             at: r.seen_at.clone(),
             operator: None,
+            spindle: r.spindle_speed,
             tool,
             material,
             parameter,

@@ -437,6 +437,7 @@ SELECT c.id                     AS change_id,
        COALESCE(m.name, '')     AS machine,
        r.seen_at                AS seen_at,
        w.tool                   AS tool,
+       w.spindle_speed          AS spindle_speed,
        (SELECT k.mark FROM review_marks k WHERE k.change_id = c.id AND k.mark <> 'note' ORDER BY k.id DESC LIMIT 1) AS review,
        (SELECT k.marked_by FROM review_marks k WHERE k.change_id = c.id AND k.mark <> 'note' ORDER BY k.id DESC LIMIT 1) AS reviewed_by
 FROM changes c

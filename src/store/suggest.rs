@@ -38,6 +38,8 @@ pub struct EditRow {
     pub seen_at: String,
     /// The original workingstep's tool number.
     pub tool: Option<i64>,
+    /// The original workingstep's spindle speed, 1/min.
+    pub spindle_speed: Option<f64>,
     /// `adopt` or `reject`, the newest such mark; `None` unreviewed.
     pub review: Option<String>,
     /// Who made that mark.
@@ -95,7 +97,7 @@ pub struct SuggestionStep {
 /// The edits, oldest first (the SQL the knowledge page shows).
 pub const SUGGESTION_EDITS: &str =
     "SELECT change_id, revision_id, original_revision_id, program, original_path, workingstep, operation, kind, field,
-       before, after, machine, seen_at, tool, review, reviewed_by
+       before, after, machine, seen_at, tool, spindle_speed, review, reviewed_by
 FROM suggestion_edits ORDER BY seen_at, change_id";
 
 /// The steps, by suggestion and step.
@@ -122,8 +124,9 @@ impl Lite {
                     machine: r.get(11)?,
                     seen_at: r.get(12)?,
                     tool: r.get(13)?,
-                    review: r.get(14)?,
-                    reviewed_by: r.get(15)?,
+                    spindle_speed: r.get(14)?,
+                    review: r.get(15)?,
+                    reviewed_by: r.get(16)?,
                 })
             })
             .map_err(sql("reading the edits suggestions are made from"))?;

@@ -312,6 +312,8 @@ pub struct Edit {
     pub at: String,
     /// Who edited, where the share tells it.
     pub operator: Option<String>,
+    /// The CAM workingstep's spindle speed, 1/min (for feed per tooth), where the plan tells it.
+    pub spindle: Option<f64>,
     /// The tool.
     pub tool: ToolKey,
     /// The material.

@@ -223,3 +223,64 @@ pub fn spread_svg(s: &Suggestion) -> String {
     );
     out
 }
+
+/// The columns of NX's `tool_machining_data.dat` (`MACH/resource/library/feeds_speeds/ascii`)
+/// ncplan fills: the record's key and the cutting data, in the file's order; the feed
+/// percentages that follow them in NX's own file are left to it.
+pub const NX_FORMAT: &str = "FORMAT LIBRF DPT_CUT_IN DPT_CUT_MM STEPOVER_IN STEPOVER_MM SURF_SPEED_FPM SURF_SPEED_MPM FEED_IPT FEED_MMPT";
+
+/// A fragment of NX's `tool_machining_data.dat` for an administrator to merge: comments with
+/// each suggestion's evidence, the `FORMAT` line, and one `DATA` line per tool (fields
+/// separated by `|`, a field ncplan has no value for left empty). NX keys the record by the
+/// cutter's library reference (`LIBRF`); ncplan writes the tool as the programs name it, and
+/// the record holds cutting data per tool (NX keeps material apart), so the material and
+/// machine each value comes from are in the comments.
+pub fn nx_fragment(suggestions: &[&Suggestion]) -> String {
+    let mut out = String::from(
+        "# ncplan: suggestions for tool_machining_data.dat, to merge by hand.\n\
+         # LIBRF below is the tool as the programs name it: replace it with the cutter's library reference.\n",
+    );
+    let mut tools: Vec<(&super::ToolKey, Vec<&Suggestion>)> = Vec::new();
+    for s in suggestions.iter().filter(|s| s.key.parameter.of_tool()) {
+        match tools.iter_mut().find(|(t, _)| **t == s.key.tool) {
+            Some((_, v)) => v.push(s),
+            None => tools.push((&s.key.tool, vec![s])),
+        }
+    }
+    for (_, group) in &tools {
+        for s in group {
+            let _ = writeln!(out, "# {}", evidence_line(s).replace('\n', " "));
+        }
+    }
+    out.push_str(NX_FORMAT);
+    out.push('\n');
+    for (tool, group) in &tools {
+        let mut f: [String; 8] = Default::default();
+        let n = |x: f64, d: usize| format!("{x:.d$}");
+        for s in group {
+            let v = s.suggested;
+            match s.key.parameter {
+                super::Parameter::Stepdown => (f[0], f[1]) = (n(v / 25.4, 6), n(v, 6)),
+                super::Parameter::Stepover => (f[2], f[3]) = (n(v / 25.4, 6), n(v, 6)),
+                super::Parameter::CuttingSpeed => (f[4], f[5]) = (n(v / 0.3048, 6), n(v, 6)),
+                super::Parameter::SpindleSpeed => {
+                    if let Some(d) = tool.diameter {
+                        let vc = std::f64::consts::PI * d * v / 1000.0;
+                        (f[4], f[5]) = (n(vc / 0.3048, 6), n(vc, 6));
+                    }
+                }
+                super::Parameter::CuttingFeed => {
+                    let speeds: Vec<f64> = s.edits.iter().filter_map(|e| e.spindle).filter(|x| *x > 0.0).collect();
+                    if let (Some(rpm), Some(z)) = (super::stats::median(&speeds), tool.flutes.filter(|z| *z > 0)) {
+                        let fz = v / (rpm * f64::from(z));
+                        (f[6], f[7]) = (n(fz / 25.4, 6), n(fz, 6));
+                    }
+                }
+                _ => {}
+            }
+        }
+        let name = if tool.description.is_empty() { format!("T{}", tool.number) } else { tool.description.replace(['|', '\n'], " ") };
+        let _ = writeln!(out, "DATA|{name}|{}", f.join("|"));
+    }
+    out
+}

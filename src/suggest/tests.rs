@@ -22,6 +22,7 @@ fn edit(id: i64, day: i64, p: u32, before: f64, after: f64) -> Edit {
         machine: "M1".into(),
         at: format!("2026-{m:02}-{d:02}T08:00:00Z"),
         operator: None,
+        spindle: Some(8000.0),
         tool: tool(),
         material: "AL6061".into(),
         parameter: Parameter::CuttingFeed,

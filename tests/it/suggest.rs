@@ -211,6 +211,8 @@ fn the_rest(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     assert!(out.contains("1 accepted suggestions exported"), "{out}");
     shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "csv", "--now", "2026-11-30T01:00:00Z"]);
     shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "html", "--now", "2026-11-30T01:00:00Z"]);
+    shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "nx", "--now", "2026-11-30T01:00:00Z"]);
+    let nx = std::fs::read_to_string(shop.path("outbox/ncplan-tool_machining_data.dat")).unwrap();
     // The library reads back: one tool, T5, with the suggestion's preset.
     let json = std::fs::read_to_string(shop.path("outbox/ncplan-suggestions.json")).unwrap();
     let lib = library::read(&json).unwrap();
@@ -261,7 +263,7 @@ fn the_rest(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     assert_eq!(states, ["proposed by ncplan", "accepted by anna", "exported by anna", "adopted by ncplan"]);
     let (_, view) = s.query("SELECT state, steps FROM suggestion_states").unwrap();
     assert_eq!(view, [["adopted".to_owned(), "4".to_owned()]]);
-    let mut said = vec![csv, json];
+    let mut said = vec![csv, json, nx];
     said.extend(states);
     said
 }
@@ -274,6 +276,7 @@ fn a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_bo
     // The exports, read by eye (`UPDATE_EXPECT=1` writes them again).
     expect_test::expect_file!["../golden/suggest/ncplan-suggestions.csv"].assert_eq(&on_lite[0]);
     expect_test::expect_file!["../golden/suggest/ncplan-suggestions.json"].assert_eq(&on_lite[1]);
+    expect_test::expect_file!["../golden/suggest/ncplan-tool_machining_data.dat"].assert_eq(&on_lite[2]);
     let Some(pg) = Cluster::start("suggest::a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_both_engines")
     else {
         return;

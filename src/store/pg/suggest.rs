@@ -24,8 +24,9 @@ impl Pg {
                 machine: r.get(11),
                 seen_at: r.get(12),
                 tool: r.get(13),
-                review: r.get(14),
-                reviewed_by: r.get(15),
+                spindle_speed: r.get(14),
+                review: r.get(15),
+                reviewed_by: r.get(16),
             })
             .collect())
     }
