@@ -2,7 +2,7 @@
 //! and keep the shopfloor's changes.
 //!
 //! The pure core (`text`, `diag`, `dialect`, `syntax`, `interp`, `canon`, `meta`, `plan`, `part21`,
-//! `diff`, `pipeline`, `view`) does no IO. The shell around it (`config`, `store`, `daemon`, `web`, `cli`, `bench`,
+//! `diff`, `pipeline`, `view`, `suggest`) does no IO. The shell around it (`config`, `store`, `daemon`, `web`, `export`, `cli`, `bench`,
 //! `textfile`, `sharefile`) reads files, talks SQL and watches folders. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]

@@ -321,7 +321,7 @@ pub fn line(e: &Entry) -> String {
     format!(
         "{} {:<9} {} of {} · {} · {} · {}: CAM {} -> {} {} ({change}; {} to {}); {} edits, {} programs, {} days, p={}",
         s.id,
-        e.state.name(),
+        if s.passed() || !e.events.is_empty() { e.state.name() } else { "held" },
         k.parameter.label(),
         k.tool.label(),
         k.material,

@@ -326,6 +326,10 @@ pub(super) fn knowledge_index(s: &Server, ctx: &Ctx, store: &Store) -> Result<Ma
         html! {
             h1 { "Knowledge" }
             p { "What the shopfloor keeps changing, so that the CAM templates can be fixed." }
+            p class="lead" {
+                a href="/suggestions" { "Suggestions for CAM" }
+                ": the overrides operators keep making, as corrected cutting data with their evidence, to accept and export to the CAM tool library."
+            }
             ul { @for k in KNOWLEDGE { li { a href={"/knowledge/" (k.name)} { (k.title) } } } }
         },
     ))

@@ -104,7 +104,11 @@ struct Shop {
 
 impl Shop {
     fn new(database: &str) -> Shop {
-        let dir = tempfile::tempdir().unwrap();
+        // `NCPLAN_SUGGEST_SHOP=DIR` keeps the shop there (the README's walk-through was made so).
+        let dir = match std::env::var_os("NCPLAN_SUGGEST_SHOP") {
+            Some(d) if database.starts_with("path") => tempfile::Builder::new().prefix("shop").keep(true).tempdir_in(d).unwrap(),
+            _ => tempfile::tempdir().unwrap(),
+        };
         for d in ["cam", "m1", "m2", "var"] {
             std::fs::create_dir_all(dir.path().join(d)).unwrap();
         }
