@@ -106,7 +106,7 @@ impl Shop {
     fn new(database: &str) -> Shop {
         // `NCPLAN_SUGGEST_SHOP=DIR` keeps the shop there (the README's walk-through was made so).
         let dir = match std::env::var_os("NCPLAN_SUGGEST_SHOP") {
-            Some(d) if database.starts_with("path") => tempfile::Builder::new().prefix("shop").keep(true).tempdir_in(d).unwrap(),
+            Some(d) if database.starts_with("path") => tempfile::Builder::new().prefix("shop").disable_cleanup(true).tempdir_in(d).unwrap(),
             _ => tempfile::tempdir().unwrap(),
         };
         for d in ["cam", "m1", "m2", "var"] {
