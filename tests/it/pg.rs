@@ -1139,7 +1139,8 @@ fn every_row(db: &std::path::Path) -> Vec<(String, Vec<Vec<String>>)> {
 
 /// A server's whole history, every table of it filled (edits compared, an old analysis's
 /// changes kept by a re-analysis, review marks on kept and vanished changes, a partial write,
-/// a queue left for the next analysis, an attempt in progress, a saved query, a session),
+/// a queue left for the next analysis, an attempt in progress, a saved query, a session, a
+/// suggestion's review step),
 /// migrated into PostgreSQL and back into a new SQLite file: every row of every table comes
 /// back the same, ids included; PostgreSQL has them under the same ids; a second run of
 /// each copies nothing.
@@ -1195,6 +1196,19 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
         )
         .unwrap();
     store.start_session(&sha256("a token"), "ada", "2026-02-06T08:00:00.000Z", "2026-02-06T20:00:00.000Z").unwrap();
+    // A suggestion's review step (knowledge back to CAM).
+    let step = ncplan::store::SuggestionStep {
+        suggestion: "0123456789ab".into(),
+        step: 0,
+        group_key: "T1|||||unknown|DMU50|finishing|cutting_feed".into(),
+        state: "proposed".into(),
+        reason: "the rules' gates passed".into(),
+        value: 270.0,
+        evidence: 6,
+        by: "ncplan".into(),
+        at: "2026-02-07T00:00:00.000Z".into(),
+    };
+    assert_eq!(store.add_suggestion_step(&step).unwrap(), 1);
     drop(store);
     let before = every_row(&db);
     let empty: Vec<&str> = before.iter().filter(|(_, rows)| rows.is_empty()).map(|(t, _)| t.as_str()).collect();
