@@ -467,8 +467,10 @@ pub enum Held {
     },
     /// The effect is smaller than the threshold.
     Small {
-        /// The effect (relative, or mm for a height).
+        /// The effect: relative (`-0.05` for 5 % less), or mm for a height.
         effect: f64,
+        /// Whether it is relative.
+        relative: bool,
     },
     /// The latest edits go the other way.
     Reversal {
@@ -485,7 +487,8 @@ impl Held {
             Held::Disagree { agreement, p } => {
                 format!("the edits disagree: {} % the same way, sign test p = {}", num(agreement * 100.0), num(*p))
             }
-            Held::Small { effect } => format!("the effect is small: {}", num(*effect)),
+            Held::Small { effect, relative: true } => format!("the effect is small: {} %", num((effect * 1000.0).round() / 10.0)),
+            Held::Small { effect, relative: false } => format!("the effect is small: {} mm", num(*effect)),
             Held::Reversal { edits } => format!("reversed by the latest edits ({} of them)", edits.len()),
         }
     }
@@ -672,7 +675,7 @@ fn gates(s: &Suggestion, all: &[Edit], rules: &Rules) -> Vec<Held> {
     };
     let threshold = if s.key.parameter.scale() == Scale::Ratio { rules.min_effect } else { rules.min_offset_mm };
     if effect.abs() < threshold {
-        held.push(Held::Small { effect });
+        held.push(Held::Small { effect, relative: s.key.parameter.scale() == Scale::Ratio });
     }
     let up = s.centre >= 0.0;
     let latest = all.iter().rev().filter(|e| e.effect().is_some()).take(rules.reversal_window);

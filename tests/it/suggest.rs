@@ -341,7 +341,7 @@ async fn review_in_browser(c: &fantoccini::Client, base: &str, shop: &Shop, engi
     assert!(wait_text(c, "section.suggestion h2", "accepted").await.contains("accepted"));
     assert!(text_of(c, "ol.steps").await.contains("accepted by planner"));
     shot(c, &format!("suggestion-accepted-{engine}")).await?;
-    shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "fusion", "--now", "2026-11-30T01:00:00Z"]);
+    shop.ncplan(&["export-suggestions", "--config", "ncplan.toml", "--to", "fusion"]);
     c.goto(&format!("{base}/suggestions")).await?;
     assert!(text_of(c, "section.suggestion h2").await.contains("exported"));
     // A rejection needs its reason: refused without one, recorded with one.
