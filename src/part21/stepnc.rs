@@ -1,12 +1,15 @@
 //! Process plans as ISO 14649 STEP-NC Part 21 files, and back.
 //!
-//! - **CC1** (explicit toolpaths): every workingstep is a TOOLPATH_FEATURE machined by a
+//! - **CC1** (explicit toolpaths): every milling workingstep is a TOOLPATH_FEATURE machined by a
 //!   FREEFORM_OPERATION whose TOOLPATH_LIST holds CUTTER_LOCATION_TRAJECTORYs over POLYLINEs
 //!   and TRIMMED_CURVEs of CIRCLEs.
 //! - **CC2** (features): workingsteps machine PLANAR_FACE, ROUND_HOLE (a GENERAL_PATTERN for
 //!   several positions), CLOSED_POCKET, OPEN_POCKET, SLOT, STEP, GENERAL_OUTSIDE_PROFILE or
 //!   TOOLPATH_FEATURE with the ISO 14649-11 operation and strategy; the explicit toolpath
 //!   rides along in each operation's `its_toolpath`.
+//! - **Turning** (both classes; `turning`): ISO 14649-121 operations, technology, machine
+//!   functions and tools, and in CC2 the ISO 14649-12 turned features; a turning workingstep
+//!   machining several features is a TURNING_WORKINGSTEP.
 //!
 //! Units follow the standard: mm, seconds, degrees, feeds in m/s, spindle speeds in rev/s
 //! with a negative value for clockwise (M3). What ISO 14649 has no attribute for (source
@@ -120,36 +123,9 @@ pub fn write<W: std::io::Write>(plan: &ProcessPlan, class: Class, timestamp: &st
         }
         let sec = w.security_plane(ws);
         let feature = ws.feature.and_then(|f| features.get(&f).cloned()).unwrap_or(Value::Null);
-        let mut id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
-        if let Some(s) = &ws.setup {
-            // The plane's origin and the security plane's height over it, which the placement in
-            // the part's frame says only to rounding.
-            id.push_str(&format!(" plane_origin={},{},{} plane_z={}", s.origin[0], s.origin[1], s.origin[2], ws.security_plane));
-        }
-        for word in ws.state.encode() {
-            id.push(' ');
-            id.push_str(&word);
-        }
-        // What the ISO 14649-121 entities do not carry: the cycle, its words, what was cut.
-        if let Some(t) = iso_turning(ws, class) {
-            id.push_str(&format!(" turning={}", turning::rest_word(t)));
-        } else if let Some(t) = &ws.turning {
-            id.push_str(&format!(" turning={}", json_word(&**t)));
-        }
-        if ws.turning.is_some() && iso_turning(ws, class).is_none() {
-            // A turning workingstep machines several features: the others than its own.
-            let more: Vec<String> = shape
-                .features
-                .iter()
-                .filter(|f| Some(f.id) != ws.feature && f.workingsteps.contains(&ws.index))
-                .map(|f| f.id.to_string())
-                .collect();
-            if !more.is_empty() {
-                id.push_str(&format!(" features={}", more.join(",")));
-            }
-        }
+        let id = workingstep_id(shape, ws);
         let all = turning::features_of(shape, ws, &features);
-        if iso_turning(ws, class).is_some() && all.len() > 1 {
+        if iso_turning(ws).is_some() && all.len() > 1 {
             elements.push(w.b.add("TURNING_WORKINGSTEP", vec![Value::str(id), sec, Value::List(all), op.clone(), Value::Null]));
         } else {
             elements.push(w.b.add("MACHINING_WORKINGSTEP", vec![Value::str(id), sec, feature, op.clone(), Value::Null]));
@@ -283,9 +259,43 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
     p
 }
 
+/// A workingstep's identifier: its number, lines and bytes, its plane, its machine state and
+/// what the ISO entities do not carry of its turning.
+fn workingstep_id(shape: &ProcessPlan, ws: &Workingstep) -> String {
+    let mut id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
+    if let Some(s) = &ws.setup {
+        // The plane's origin and the security plane's height over it, which the placement in
+        // the part's frame says only to rounding.
+        id.push_str(&format!(" plane_origin={},{},{} plane_z={}", s.origin[0], s.origin[1], s.origin[2], ws.security_plane));
+    }
+    for word in ws.state.encode() {
+        id.push(' ');
+        id.push_str(&word);
+    }
+    // What the ISO 14649-121 entities do not carry: the cycle, its words, what was cut.
+    if let Some(t) = iso_turning(ws) {
+        id.push_str(&format!(" turning={}", turning::rest_word(t)));
+    } else if let Some(t) = &ws.turning {
+        id.push_str(&format!(" turning={}", json_word(&**t)));
+    }
+    if ws.turning.is_some() && iso_turning(ws).is_none() {
+        // A turning workingstep machines several features: the others than its own.
+        let more: Vec<String> = shape
+            .features
+            .iter()
+            .filter(|f| Some(f.id) != ws.feature && f.workingsteps.contains(&ws.index))
+            .map(|f| f.id.to_string())
+            .collect();
+        if !more.is_empty() {
+            id.push_str(&format!(" features={}", more.join(",")));
+        }
+    }
+    id
+}
+
 /// A turning workingstep whose operation is written as its ISO 14649-121 entity (in CC1
 /// too: a turning operation's toolpath is explicit by its strategy).
-fn iso_turning(ws: &Workingstep, _class: Class) -> Option<&Turning> {
+fn iso_turning(ws: &Workingstep) -> Option<&Turning> {
     ws.turning.as_deref().filter(|t| t.operation.is_some())
 }
 
@@ -608,7 +618,7 @@ impl<W: std::io::Write> Writer<W> {
     }
 
     fn operation(&mut self, plan: &ProcessPlan, ws: &Workingstep, moves: &Toolpath, class: Class) -> Value {
-        let turning = iso_turning(ws, class);
+        let turning = iso_turning(ws);
         let toolpath = self.toolpath(ws, moves, turning);
         let start = ws.start_point.map_or(Value::Null, |p| self.point("start", p));
         let tool = self.tool(plan, ws.tool);
@@ -1205,19 +1215,7 @@ impl Reader<'_> {
                 _ => (SpindleDir::Off, op_words.get("stopped_spindle_speed").and_then(|s| s.parse().ok()).unwrap_or(0.0)),
             }
         };
-        let mf = self.inst(self.attr(op, 7)?)?;
-        let coolant = if mf.name == "TURNING_MACHINE_FUNCTIONS" {
-            self.turning_coolant(mf, op_words.get("coolant").is_some_and(|c| c == "both"))?
-        } else {
-            let flood = self.attr(mf, 0)?.as_enum() == Some("T");
-            let mist = self.attr(mf, 2)?.as_enum() == Some("T");
-            match (mist, flood) {
-                (false, false) => Coolant::Off,
-                (true, false) => Coolant::Mist,
-                (false, true) => Coolant::Flood,
-                (true, true) => Coolant::Both,
-            }
-        };
+        let coolant = self.coolant(self.inst(self.attr(op, 7)?)?, &op_words)?;
         let toolpath = match self.attr(op, 0)? {
             Value::Null => Toolpath::new(),
             v => self.toolpath(v)?,
@@ -1318,6 +1316,21 @@ impl Reader<'_> {
             }
         }
         Ok(ws)
+    }
+
+    /// The coolant an operation's machine functions state (milling or turning).
+    fn coolant(&self, mf: &Instance, op_words: &BTreeMap<String, String>) -> Result<Coolant, String> {
+        if mf.name == "TURNING_MACHINE_FUNCTIONS" {
+            return self.turning_coolant(mf, op_words.get("coolant").is_some_and(|c| c == "both"));
+        }
+        let flood = self.attr(mf, 0)?.as_enum() == Some("T");
+        let mist = self.attr(mf, 2)?.as_enum() == Some("T");
+        Ok(match (mist, flood) {
+            (false, false) => Coolant::Off,
+            (true, false) => Coolant::Mist,
+            (false, true) => Coolant::Flood,
+            (true, true) => Coolant::Both,
+        })
     }
 
     fn strategy(&self, v: &Value) -> Result<Option<Strategy>, String> {
