@@ -370,6 +370,46 @@ impl Frame {
         let id = Frame::IDENTITY;
         (0..3).all(|i| self.origin[i].abs() < 1e-9 && (0..3).all(|j| (self.rotation[i][j] - id.rotation[i][j]).abs() < 1e-9))
     }
+
+    /// The rotation as spatial angles A, B, C (degrees): about the fixed X, then the fixed
+    /// Y, then the fixed Z, `Rz(C)·Ry(B)·Rx(A)` (Heidenhain `PLANE SPATIAL`). B within
+    /// ±90°; where it is ±90°, A is 0.
+    pub fn spatial_angles(&self) -> [f64; 3] {
+        let r = &self.rotation;
+        let b = (-r[2][0]).atan2(r[0][0].hypot(r[1][0]));
+        let (a, c) =
+            if r[0][0].hypot(r[1][0]) < 1e-9 { (0.0, (-r[0][1]).atan2(r[1][1])) } else { (r[2][1].atan2(r[2][2]), r[1][0].atan2(r[0][0])) };
+        [a, b, c].map(degrees)
+    }
+
+    /// The rotation as Euler angles (degrees): about Z by the first, the turned X by the
+    /// second, the turned Z by the third, `Rz(a)·Rx(b)·Rz(c)` (Fanuc `G68.2 I J K`). The
+    /// second within 0…180°; where it is 0 or 180°, the third is 0.
+    pub fn euler_zxz(&self) -> [f64; 3] {
+        let r = &self.rotation;
+        let s = r[0][2].hypot(r[1][2]);
+        let b = s.atan2(r[2][2]);
+        let (a, c) = if s < 1e-9 { (r[1][0].atan2(r[0][0]), 0.0) } else { (r[0][2].atan2(-r[1][2]), r[2][0].atan2(r[2][1])) };
+        [a, b, c].map(degrees)
+    }
+
+    /// The rotation axis by axis (degrees): about X, then the turned Y, then the turned Z,
+    /// `Rx(a)·Ry(b)·Rz(c)` (Siemens `CYCLE800` mode 57). The second within ±90°; where it is
+    /// ±90°, the first is 0.
+    pub fn axis_by_axis_xyz(&self) -> [f64; 3] {
+        let r = &self.rotation;
+        let cb = r[1][2].hypot(r[2][2]);
+        let b = r[0][2].atan2(cb);
+        let (a, c) = if cb < 1e-9 { (0.0, r[1][0].atan2(r[1][1])) } else { ((-r[1][2]).atan2(r[2][2]), (-r[0][1]).atan2(r[0][0])) };
+        [a, b, c].map(degrees)
+    }
+}
+
+/// Radians to degrees, with the float noise of whole-degree angles taken off (`30.000000000000004`).
+fn degrees(v: f64) -> f64 {
+    let d = v.to_degrees();
+    let whole = (d * 1e9).round() / 1e9;
+    if whole == 0.0 { 0.0 } else { whole }
 }
 
 /// Work offset indexes above this one are the additional work offsets: `EXTENDED_WCS + n` is
@@ -1047,6 +1087,50 @@ pub const LINUXCNC_INTERNAL: &[&str] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn rot(axis: usize, deg: f64) -> [[f64; 3]; 3] {
+        let (s, c) = deg.to_radians().sin_cos();
+        match axis {
+            0 => [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]],
+            1 => [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]],
+            _ => [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+        }
+    }
+
+    fn chain(axes: [usize; 3], deg: [f64; 3]) -> Frame {
+        let m = |a: [[f64; 3]; 3], b: [[f64; 3]; 3]| -> [[f64; 3]; 3] {
+            std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
+        };
+        Frame { origin: [0.0; 3], rotation: m(m(rot(axes[0], deg[0]), rot(axes[1], deg[1])), rot(axes[2], deg[2])) }
+    }
+
+    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+        (0..3).all(|i| (a[i] - b[i]).abs() < 1e-7)
+    }
+
+    #[test]
+    fn a_frame_gives_back_the_angles_it_was_made_of() {
+        for [a, b, c] in [[30.0, 0.0, 0.0], [0.0, -25.0, 0.0], [15.0, 40.0, -70.0], [-120.0, 10.0, 95.0], [0.0, 90.0, 30.0]] {
+            // Spatial: Rz(C)·Ry(B)·Rx(A).
+            let f = chain([2, 1, 0], [c, b, a]);
+            let back = f.spatial_angles();
+            assert!(close_m(&chain([2, 1, 0], [back[2], back[1], back[0]]), &f), "spatial {a} {b} {c}: {back:?}");
+            // Axis by axis XYZ: Rx(a)·Ry(b)·Rz(c).
+            let f = chain([0, 1, 2], [a, b, c]);
+            let back = f.axis_by_axis_xyz();
+            assert!(close_m(&chain([0, 1, 2], back), &f), "xyz {a} {b} {c}: {back:?}");
+        }
+        for e in [[0.0, 30.0, 0.0], [90.0, 90.0, 0.0], [45.0, 20.0, -45.0], [10.0, 0.0, 0.0], [30.0, 180.0, 0.0]] {
+            let f = chain([2, 0, 2], e);
+            let back = f.euler_zxz();
+            assert!(close_m(&chain([2, 0, 2], back), &f), "euler {e:?}: {back:?}");
+        }
+        assert_eq!(chain([2, 1, 0], [0.0, 0.0, 30.0]).spatial_angles(), [30.0, 0.0, 0.0]);
+    }
+
+    fn close_m(a: &Frame, b: &Frame) -> bool {
+        (0..3).all(|i| close(a.rotation[i], b.rotation[i]))
+    }
 
     #[test]
     fn the_caching_writer_prints_the_same_bytes() {

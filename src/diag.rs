@@ -269,6 +269,10 @@ codes! {
     /// level is written). The machine makes the same moves; the plan read back takes the
     /// holes' top from elsewhere.
     PostSurfaceRestated = ("post::surface-restated", Note),
+    /// A diameter or radius mode (G7/G8, DIAMON/DIAMOF) not written: the target has no such
+    /// mode and reads X as radii anyway. The machine makes the same moves; the plan read back
+    /// does not know the program turns.
+    PostModeImplied = ("post::mode-implied", Note),
 }
 
 /// One finding about one input.

@@ -17,7 +17,7 @@
 //! spindle-synchronised move feeds its pitch times the speed; a rigid tap is its moves in and
 //! out; values a program changes in the work offset it moved in are a shift of the machine.
 
-use crate::canon::{Canon, CanonOp, CanonSink, MachineTarget, Plane, Setting};
+use crate::canon::{Canon, CanonOp, CanonSink, Frame, MachineTarget, Plane, Setting};
 use crate::text::TextRange;
 
 /// How a move moves.
@@ -93,6 +93,9 @@ pub struct Move {
     pub coolant: u8,
     /// See [`Move::feed`].
     pub tool: u32,
+    /// The tilted working plane it runs on (its origin in millimetres), `None` untilted: the
+    /// move's numbers are in its coordinates.
+    pub tilt: Option<Frame>,
     /// The source line, and the block's range.
     pub line: u32,
     /// See [`Move::line`].
@@ -123,6 +126,8 @@ pub struct Trace {
     frames: Vec<(Option<u16>, [f64; 6])>,
     /// The points a merged rapid passes through.
     chain: Vec<[f64; 3]>,
+    /// The tilted working plane in force (origin in millimetres).
+    tilt: Option<Frame>,
     /// A move in the machine's frame under way: its kind, axes and how many moves it has left.
     machine: Option<(Kind, [Option<f64>; 6], usize)>,
     ended: bool,
@@ -151,6 +156,7 @@ impl Trace {
             wcs: (None, [0.0; 6]),
             frames: Vec::new(),
             chain: Vec::new(),
+            tilt: None,
             machine: None,
             ended: false,
             origin: TextRange::default(),
@@ -202,6 +208,7 @@ impl Trace {
             spindle: self.spindle,
             coolant: self.coolant,
             tool: self.tool,
+            tilt: self.tilt,
             line,
             origin,
         });
@@ -328,6 +335,9 @@ impl CanonSink for Trace {
         }
         match &c.op {
             CanonOp::UseLengthUnits(u) => self.scale = u.to_mm(),
+            CanonOp::WorkPlane(f) => {
+                self.tilt = f.as_deref().map(|f| Frame { origin: f.origin.map(|v| v * self.scale), rotation: f.rotation })
+            }
             CanonOp::SelectPlane(p) => self.plane = *p,
             CanonOp::SetG92Offset(o) => {
                 self.shifts[0] = [o[0] * self.scale, o[1] * self.scale, o[2] * self.scale];
@@ -401,6 +411,32 @@ fn frame(f: Option<u16>) -> String {
     }
 }
 
+/// How far two tilted planes' rotations may differ, entry by entry: angles written to four
+/// decimals of a degree turn a plane by under 1e-6.
+const TILT_TOL: f64 = 2e-5;
+
+/// Whether two moves run on the same tilted plane: origins within `tol` mm, rotations within
+/// [`TILT_TOL`].
+fn same_tilt(a: Option<&Frame>, b: Option<&Frame>, tol: f64) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(x), Some(y)) => {
+            near(x.origin, y.origin, tol) && (0..3).all(|i| (0..3).all(|j| (x.rotation[i][j] - y.rotation[i][j]).abs() <= TILT_TOL))
+        }
+        _ => false,
+    }
+}
+
+fn tilt(f: Option<&Frame>) -> String {
+    match f {
+        None => "the untilted plane".into(),
+        Some(f) => {
+            let z = f.axis();
+            format!("the plane tilted to the tool axis I{:.4} J{:.4} K{:.4} about {}", z[0], z[1], z[2], fmt(f.origin))
+        }
+    }
+}
+
 /// A difference between two traces: the line of the first one where they part, and what.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Difference {
@@ -435,6 +471,9 @@ pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
         };
         if m.frame != n.frame && m.kind != Kind::Reference(1) && m.kind != Kind::Reference(2) && m.kind != Kind::Machine {
             return differ(m, Some(n), format!("moves in {}, the translation in {}", frame(m.frame), frame(n.frame)));
+        }
+        if !same_tilt(m.tilt.as_ref(), n.tilt.as_ref(), tol) {
+            return differ(m, Some(n), format!("moves on {}, the translation on {}", tilt(m.tilt.as_ref()), tilt(n.tilt.as_ref())));
         }
         // The spindle, its speed and the coolant as they cut: on a rapid they make nothing (a
         // target whose tool change stops the spindle positions with it stopped).
@@ -581,6 +620,26 @@ mod tests {
         assert_eq!(d.what, "moves in work offset 1, the translation in the machine's work offset");
         let other = Trace::of(&[c(CanonOp::SetG5xOffset(2, [0.0; 6]), 1), c(mv, 2)], 1e-3);
         assert!(difference(&source, &other, 1e-3).is_some());
+    }
+
+    #[test]
+    fn moves_on_another_tilted_plane_differ() {
+        let (s, k) = 30f64.to_radians().sin_cos();
+        let a30 = Frame { origin: [0.0; 3], rotation: [[1.0, 0.0, 0.0], [0.0, k, -s], [0.0, s, k]] };
+        let plane = |f: Option<Frame>| CanonOp::WorkPlane(f.map(Box::new));
+        let mv = CanonOp::StraightTraverse([20.0, 10.0, 5.0, 0.0, 0.0, 0.0]);
+        let source = Trace::of(&[c(plane(Some(a30)), 1), c(mv.clone(), 2)], 1e-3);
+        let untilted = Trace::of(&[c(mv.clone(), 2)], 1e-3);
+        let d = difference(&source, &untilted, 1e-3).expect("the plane dropped");
+        assert_eq!(
+            d.what,
+            "moves on the plane tilted to the tool axis I0.0000 J-0.5000 K0.8660 about X0.0000 Y0.0000 Z0.0000, the translation on the untilted plane"
+        );
+        // Angles written to four decimals turn the plane by less than the tolerance.
+        let near = Frame { rotation: [[1.0, 0.0, 0.0], [0.0, k + 1e-6, -s], [0.0, s, k + 1e-6]], ..a30 };
+        assert_eq!(difference(&source, &Trace::of(&[c(plane(Some(near)), 1), c(mv.clone(), 2)], 1e-3), 1e-3), None);
+        let shifted = Frame { origin: [0.0, 0.0, 1.0], ..a30 };
+        assert!(difference(&source, &Trace::of(&[c(plane(Some(shifted)), 1), c(mv, 2)], 1e-3), 1e-3).is_some());
     }
 
     #[test]

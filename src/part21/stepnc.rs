@@ -1,12 +1,15 @@
 //! Process plans as ISO 14649 STEP-NC Part 21 files, and back.
 //!
-//! - **CC1** (explicit toolpaths): every workingstep is a TOOLPATH_FEATURE machined by a
+//! - **CC1** (explicit toolpaths): every milling workingstep is a TOOLPATH_FEATURE machined by a
 //!   FREEFORM_OPERATION whose TOOLPATH_LIST holds CUTTER_LOCATION_TRAJECTORYs over POLYLINEs
 //!   and TRIMMED_CURVEs of CIRCLEs.
 //! - **CC2** (features): workingsteps machine PLANAR_FACE, ROUND_HOLE (a GENERAL_PATTERN for
 //!   several positions), CLOSED_POCKET, OPEN_POCKET, SLOT, STEP, GENERAL_OUTSIDE_PROFILE or
 //!   TOOLPATH_FEATURE with the ISO 14649-11 operation and strategy; the explicit toolpath
 //!   rides along in each operation's `its_toolpath`.
+//! - **Turning** (both classes; `turning`): ISO 14649-121 operations, technology, machine
+//!   functions and tools, and in CC2 the ISO 14649-12 turned features; a turning workingstep
+//!   machining several features is a TURNING_WORKINGSTEP.
 //!
 //! Units follow the standard: mm, seconds, degrees, feeds in m/s, spindle speeds in rev/s
 //! with a negative value for clockwise (M3). What ISO 14649 has no attribute for (source
@@ -20,6 +23,8 @@ use crate::canon::Units;
 use crate::diag::{Code, Diagnostic};
 use crate::plan::{self, geom, *};
 use crate::text::TextRange;
+
+mod turning;
 
 /// Conformance class.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,6 +64,8 @@ pub fn write<W: std::io::Write>(plan: &ProcessPlan, class: Class, timestamp: &st
         tech: BTreeMap::new(),
         functions: BTreeMap::new(),
         tools: BTreeMap::new(),
+        turning_tech: BTreeMap::new(),
+        lathe_tools: turning::lathe_tools(plan),
         diags: Vec::new(),
     };
     let rawpiece = match &shape.workpiece {
@@ -116,31 +123,13 @@ pub fn write<W: std::io::Write>(plan: &ProcessPlan, class: Class, timestamp: &st
         }
         let sec = w.security_plane(ws);
         let feature = ws.feature.and_then(|f| features.get(&f).cloned()).unwrap_or(Value::Null);
-        let mut id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
-        if let Some(s) = &ws.setup {
-            // The plane's origin and the security plane's height over it, which the placement in
-            // the part's frame says only to rounding.
-            id.push_str(&format!(" plane_origin={},{},{} plane_z={}", s.origin[0], s.origin[1], s.origin[2], ws.security_plane));
+        let id = workingstep_id(shape, ws);
+        let all = turning::features_of(shape, ws, &features);
+        if iso_turning(ws).is_some() && all.len() > 1 {
+            elements.push(w.b.add("TURNING_WORKINGSTEP", vec![Value::str(id), sec, Value::List(all), op.clone(), Value::Null]));
+        } else {
+            elements.push(w.b.add("MACHINING_WORKINGSTEP", vec![Value::str(id), sec, feature, op.clone(), Value::Null]));
         }
-        for word in ws.state.encode() {
-            id.push(' ');
-            id.push_str(&word);
-        }
-        // What ISO 14649-121 entities do not carry yet: the turning operation and its values.
-        if let Some(t) = &ws.turning {
-            id.push_str(&format!(" turning={}", json_word(&**t)));
-            // A turning workingstep machines several features: the others than its own.
-            let more: Vec<String> = shape
-                .features
-                .iter()
-                .filter(|f| Some(f.id) != ws.feature && f.workingsteps.contains(&ws.index))
-                .map(|f| f.id.to_string())
-                .collect();
-            if !more.is_empty() {
-                id.push_str(&format!(" features={}", more.join(",")));
-            }
-        }
-        elements.push(w.b.add("MACHINING_WORKINGSTEP", vec![Value::str(id), sec, feature, op.clone(), Value::Null]));
     }
     // Tools that never cut still appear, loaded at the end.
     for t in &shape.tools {
@@ -226,7 +215,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             toolpath: _,
             state,
             setup,
-            turning: _,
+            turning,
             source,
             lines,
         } = full;
@@ -246,7 +235,10 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
         ws.cutting_length = *cutting_length;
         ws.state = state.clone();
         ws.setup = *setup;
-        ws.strategy = Some(explicit());
+        // A turning workingstep keeps what it turns: its operation's explicit strategy is
+        // ISO 14649-121's, not a milling one.
+        ws.turning = turning.clone();
+        ws.strategy = if turning.is_some() { None } else { Some(explicit()) };
         ws.feature = Some(ws.index);
         p.features.push(Feature {
             id: ws.index,
@@ -267,6 +259,46 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
     p
 }
 
+/// A workingstep's identifier: its number, lines and bytes, its plane, its machine state and
+/// what the ISO entities do not carry of its turning.
+fn workingstep_id(shape: &ProcessPlan, ws: &Workingstep) -> String {
+    let mut id = format!("WS{} lines={}-{} bytes={}-{}", ws.index, ws.lines.0, ws.lines.1, ws.source.start, ws.source.end);
+    if let Some(s) = &ws.setup {
+        // The plane's origin and the security plane's height over it, which the placement in
+        // the part's frame says only to rounding.
+        id.push_str(&format!(" plane_origin={},{},{} plane_z={}", s.origin[0], s.origin[1], s.origin[2], ws.security_plane));
+    }
+    for word in ws.state.encode() {
+        id.push(' ');
+        id.push_str(&word);
+    }
+    // What the ISO 14649-121 entities do not carry: the cycle, its words, what was cut.
+    if let Some(t) = iso_turning(ws) {
+        id.push_str(&format!(" turning={}", turning::rest_word(t)));
+    } else if let Some(t) = &ws.turning {
+        id.push_str(&format!(" turning={}", json_word(&**t)));
+    }
+    if ws.turning.is_some() && iso_turning(ws).is_none() {
+        // A turning workingstep machines several features: the others than its own.
+        let more: Vec<String> = shape
+            .features
+            .iter()
+            .filter(|f| Some(f.id) != ws.feature && f.workingsteps.contains(&ws.index))
+            .map(|f| f.id.to_string())
+            .collect();
+        if !more.is_empty() {
+            id.push_str(&format!(" features={}", more.join(",")));
+        }
+    }
+    id
+}
+
+/// A turning workingstep whose operation is written as its ISO 14649-121 entity (in CC1
+/// too: a turning operation's toolpath is explicit by its strategy).
+fn iso_turning(ws: &Workingstep) -> Option<&Turning> {
+    ws.turning.as_deref().filter(|t| t.operation.is_some())
+}
+
 fn explicit() -> Strategy {
     Strategy { kind: StrategyKind::Explicit, feed_direction: None, rotation: None, cutmode: None, overlap: None }
 }
@@ -276,6 +308,9 @@ struct Writer<W: std::io::Write> {
     tech: BTreeMap<(u64, u64, u8), Value>,
     functions: BTreeMap<u8, Value>,
     tools: BTreeMap<u32, Value>,
+    turning_tech: BTreeMap<String, Value>,
+    /// The tools written as ISO 14649-121 tools, with the lead of the threads each cuts.
+    lathe_tools: BTreeMap<u32, Option<f64>>,
     diags: Vec<Diagnostic>,
 }
 
@@ -383,6 +418,20 @@ impl<W: std::io::Write> Writer<W> {
             return v.clone();
         }
         let t = plan.tool(number).cloned().unwrap_or_else(|| Tool::unknown(number));
+        if let Some(lead) = self.lathe_tools.get(&number).copied() {
+            let component = self.b.add(
+                "CUTTING_COMPONENT",
+                vec![Value::Real(t.length_offset.unwrap_or(0.0)), Value::Null, Value::Null, Value::Null, Value::Null],
+            );
+            let mut id =
+                format!("T{} kind={} kind_source={} source={}", t.number, t.kind.as_str(), t.kind_source.as_str(), t.source.as_str());
+            if let Some(a) = t.point_angle {
+                id.push_str(&format!(" point_angle={a}"));
+            }
+            let v = self.turning_tool(&t, lead, id, component);
+            self.tools.insert(number, v.clone());
+            return v;
+        }
         if t.diameter.is_none() {
             self.diags.push(Diagnostic::new(
                 Code::DiameterUnknown,
@@ -403,7 +452,7 @@ impl<W: std::io::Write> Writer<W> {
             ],
         );
         let body_name = match t.kind {
-            // Turning tools are not written as ISO 14649-121 tools yet.
+            // Turning tools are ISO 14649-121 tools (above).
             ToolKind::EndMill | ToolKind::Unknown | ToolKind::TurningTool | ToolKind::GroovingTool | ToolKind::ThreadingTool => "ENDMILL",
             ToolKind::BallEndMill => "BALL_ENDMILL",
             ToolKind::BullnoseEndMill => "BULLNOSE_ENDMILL",
@@ -440,7 +489,7 @@ impl<W: std::io::Write> Writer<W> {
         v
     }
 
-    fn toolpath(&mut self, ws: &Workingstep, moves: &Toolpath) -> Value {
+    fn toolpath(&mut self, ws: &Workingstep, moves: &Toolpath, turning: Option<&Turning>) -> Value {
         let mut trajectories = Vec::new();
         let mut i = 0;
         let mut last_end: Option<(P3, Value)> = None;
@@ -516,7 +565,11 @@ impl<W: std::io::Write> Writer<W> {
             let (speed, tech) = if rapid {
                 (Value::Typed("SPEED_NAME".into(), Box::new(Value::Enum(RAPID.into()))), Value::Null)
             } else {
-                (Value::Null, self.technology(&ws.technology, first.feed))
+                let tech = match turning {
+                    Some(t) => self.turning_technology(&Technology { feed: first.feed, ..ws.technology.clone() }, t),
+                    None => self.technology(&ws.technology, first.feed),
+                };
+                (Value::Null, tech)
             };
             let axes = if moves.tilts() { self.tool_axes(moves, i, j) } else { Value::Null };
             trajectories.push(self.b.add(
@@ -565,12 +618,18 @@ impl<W: std::io::Write> Writer<W> {
     }
 
     fn operation(&mut self, plan: &ProcessPlan, ws: &Workingstep, moves: &Toolpath, class: Class) -> Value {
-        let toolpath = self.toolpath(ws, moves);
+        let turning = iso_turning(ws);
+        let toolpath = self.toolpath(ws, moves, turning);
         let start = ws.start_point.map_or(Value::Null, |p| self.point("start", p));
         let tool = self.tool(plan, ws.tool);
-        let tech = self.technology(&ws.technology, ws.technology.feed);
-        let functions = self.machine_functions(ws.technology.coolant);
+        let (tech, functions) = match turning {
+            Some(t) => (self.turning_technology(&ws.technology, t), self.turning_functions(ws.technology.coolant)),
+            None => (self.technology(&ws.technology, ws.technology.feed), self.machine_functions(ws.technology.coolant)),
+        };
         let mut id = format!("OP{}", ws.index);
+        if let Some(t) = turning {
+            Self::turning_op_words(ws, t, &mut id);
+        }
         // Plane milling has no radial depth attribute.
         if let (Operation::PlaneRoughMilling | Operation::PlaneFinishMilling, Some(s)) = (ws.operation, ws.radial_depth)
             && class == Class::Cc2
@@ -600,11 +659,20 @@ impl<W: std::io::Write> Writer<W> {
         }
         // Constant surface speed has no place in milling technology: the spindle value is
         // its limit, and the surface speed goes with the identifier.
-        if let Some(v) = ws.technology.surface_speed {
+        if let Some(v) = ws.technology.surface_speed.filter(|_| turning.is_none()) {
             id.push_str(&format!(" surface_speed={v}"));
         }
-        let mut attrs = vec![toolpath, Value::Null, Value::str(id), Value::Null, start, tool, tech, functions, Value::Null];
-        let op = if class == Class::Cc1 { Operation::FreeformMilling } else { ws.operation };
+        let mut attrs = vec![toolpath, Value::Null, Value::str(id), Value::Null, start, tool, tech, functions];
+        if let Some(t) = turning.filter(|t| t.operation != Some(TurnOp::Drilling)) {
+            return self.turning_operation(ws, t, attrs);
+        }
+        // Drilling on a lathe's axis is ISO 14649-11's drilling, with turning technology.
+        let op = match turning {
+            Some(_) => Operation::Drilling,
+            None if class == Class::Cc1 => Operation::FreeformMilling,
+            None => ws.operation,
+        };
+        attrs.push(Value::Null);
         let strategy =
             |w: &mut Writer<W>| ws.strategy.as_ref().filter(|s| s.kind != StrategyKind::Explicit).map_or(Value::Null, |s| w.strategy(s));
         let r = Value::opt_real;
@@ -721,7 +789,8 @@ impl<W: std::io::Write> Writer<W> {
         if let Some((w, l)) = f.centre_path {
             id.push_str(&format!(" centre_path={w}x{l}"));
         }
-        if let FeatureKind::Turned(t) = &f.kind {
+        // A thread is no ISO entity (see `turning`): its word says it.
+        if let FeatureKind::Turned(t @ Turned::Thread { .. }) = &f.kind {
             id.push_str(&format!(" turned={}", json_word(t)));
         }
         let (axis, refd) = (f.axis.unwrap_or([0.0, 0.0, 1.0]), f.ref_direction);
@@ -824,8 +893,15 @@ impl<W: std::io::Write> Writer<W> {
                 attrs.extend([swept, profile]);
                 self.b.add("GENERAL_OUTSIDE_PROFILE", attrs)
             }
-            // Turned features are not written as ISO 14649-12 entities yet: their toolpaths are.
-            FeatureKind::Toolpath | FeatureKind::Turned(_) => {
+            FeatureKind::Turned(t) => match self.turned_feature(f, t, id.clone(), workpiece, ops.clone()) {
+                Some(v) => v,
+                // A thread: ISO 14649-10's THREAD needs what no program states.
+                None => {
+                    let attrs = common(self, f.placement, f.depth, ops);
+                    self.b.add("TOOLPATH_FEATURE", attrs)
+                }
+            },
+            FeatureKind::Toolpath => {
                 let attrs = common(self, f.placement, f.depth, ops);
                 self.b.add("TOOLPATH_FEATURE", attrs)
             }
@@ -1006,7 +1082,7 @@ impl Reader<'_> {
                     let t = self.tool(self.attr(inst, 1)?)?;
                     tools.insert(t.number, t);
                 }
-                "MACHINING_WORKINGSTEP" => {
+                "MACHINING_WORKINGSTEP" | "TURNING_WORKINGSTEP" => {
                     let ws = self.workingstep(inst, &mut plan, &mut tools, &mut feature_ids)?;
                     plan.workingsteps.push(ws);
                 }
@@ -1047,10 +1123,17 @@ impl Reader<'_> {
         let number: u32 = head.trim_start_matches('T').parse().map_err(|_| format!("tool id {head:?}"))?;
         let body = self.inst(self.attr(t, 1)?)?;
         let dim = self.inst(self.attr(body, 0)?)?;
-        let diameter = self.real(dim, 0)?;
-        let flutes = match self.attr(body, 1)? {
-            Value::Int(n) => Some(*n as u32),
-            _ => None,
+        // A turning tool: its nose radius in its dimension, a diameter and flutes as words.
+        let lathe = t.name == "TURNING_MACHINE_TOOL";
+        let (diameter, corner_radius, flutes) = if lathe {
+            let word = |k: &str| w.get(k).and_then(|v| v.parse::<f64>().ok());
+            (word("diameter").unwrap_or(0.0), self.turning_tool_radius(body)?, w.get("flutes").and_then(|v| v.parse().ok()))
+        } else {
+            let flutes = match self.attr(body, 1)? {
+                Value::Int(n) => Some(*n as u32),
+                _ => None,
+            };
+            (self.real(dim, 0)?, self.opt_real(dim, 4)?, flutes)
         };
         let component = self.attr(t, 2)?.as_list().and_then(|l| l.first()).ok_or("a tool without cutting component")?;
         let offset = self.real(self.inst(component)?, 0)?;
@@ -1061,7 +1144,7 @@ impl Reader<'_> {
             kind: w.get("kind").and_then(|k| ToolKind::parse(k)).unwrap_or(ToolKind::Unknown),
             kind_source: parse_source("kind_source"),
             diameter: (diameter != 0.0).then_some(diameter),
-            corner_radius: self.opt_real(dim, 4)?,
+            corner_radius,
             flutes,
             length_offset: (offset != 0.0).then_some(offset),
             point_angle: w.get("point_angle").and_then(|v| v.parse().ok()),
@@ -1111,8 +1194,15 @@ impl Reader<'_> {
         let tool_number = tool.number;
         tools.insert(tool.number, tool);
         let tech = self.inst(self.attr(op, 6)?)?;
-        let feed = snap(self.real(tech, 0)? * 60_000.0);
-        let rev_s = self.real(tech, 3)?;
+        let turning_tech = if tech.name == "TURNING_TECHNOLOGY" { Some(self.turning_technology(tech)?) } else { None };
+        let feed = match &turning_tech {
+            Some(t) => t.feed,
+            None => snap(self.real(tech, 0)? * 60_000.0),
+        };
+        let rev_s = match &turning_tech {
+            Some(t) => t.rev_s,
+            None => self.real(tech, 3)?,
+        };
         let (_, op_words) = words(&self.string(op, 2)?);
         let (spindle, spindle_speed) = if rev_s < 0.0 {
             (SpindleDir::Cw, snap(-rev_s * 60.0))
@@ -1125,27 +1215,28 @@ impl Reader<'_> {
                 _ => (SpindleDir::Off, op_words.get("stopped_spindle_speed").and_then(|s| s.parse().ok()).unwrap_or(0.0)),
             }
         };
-        let mf = self.inst(self.attr(op, 7)?)?;
-        let flood = self.attr(mf, 0)?.as_enum() == Some("T");
-        let mist = self.attr(mf, 2)?.as_enum() == Some("T");
-        let coolant = match (mist, flood) {
-            (false, false) => Coolant::Off,
-            (true, false) => Coolant::Mist,
-            (false, true) => Coolant::Flood,
-            (true, true) => Coolant::Both,
-        };
+        let coolant = self.coolant(self.inst(self.attr(op, 7)?)?, &op_words)?;
         let toolpath = match self.attr(op, 0)? {
             Value::Null => Toolpath::new(),
             v => self.toolpath(v)?,
         };
-        let operation = operation_named(&op.name)?;
-        let surface_speed = op_words.get("surface_speed").and_then(|s| s.parse().ok());
+        // A turning operation (drilling too, with turning technology) is a freeform
+        // workingstep of the plan that says what it turns.
+        let turn_op = turning::operation_of(&op.name).or_else(|| turning_tech.as_ref().map(|_| (TurnOp::Drilling, false)));
+        let operation = if turn_op.is_some() { Operation::FreeformMilling } else { operation_named(&op.name)? };
+        let surface_speed = match &turning_tech {
+            Some(t) => t.surface_speed,
+            None => op_words.get("surface_speed").and_then(|s| s.parse().ok()),
+        };
         let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
         let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
         ws.state = MachineState::decode(&w);
         ws.setup = setup;
-        ws.turning = w.get("turning").and_then(|v| from_json_word(v)).map(Box::new);
+        ws.turning = match (turn_op, &turning_tech) {
+            (Some(o), Some(t)) => Some(Box::new(self.turning(o, w.get("turning"), t.feed_per_rev, op_words.contains_key("fpr")))),
+            _ => w.get("turning").and_then(|v| from_json_word(v)).map(Box::new),
+        };
         let mut dwell = None;
         match operation {
             // A turning workingstep has no milling strategy.
@@ -1181,9 +1272,16 @@ impl Reader<'_> {
         };
         let surface = op_words.get("surface").and_then(|v| v.parse().ok());
         plan::measure(&mut ws, dwell, peck, surface);
-        // The feature, numbered in order of first machining.
-        let fref = self.attr(inst, 2)?;
-        if ws.turning.is_some() {
+        // The feature, numbered in order of first machining; a turning workingstep's list
+        // names its own first.
+        let listed = self.attr(inst, 2)?;
+        let fref = match listed.as_list() {
+            Some(l) => first(l)?,
+            None => listed,
+        };
+        if let Some(l) = listed.as_list() {
+            self.listed_turned_features(&l[1..], index, plan, feature_ids)?;
+        } else if ws.turning.is_some() {
             self.more_turned_features(&w, index, plan, feature_ids)?;
         }
         if let Some(fid) = fref.as_ref_id() {
@@ -1218,6 +1316,21 @@ impl Reader<'_> {
             }
         }
         Ok(ws)
+    }
+
+    /// The coolant an operation's machine functions state (milling or turning).
+    fn coolant(&self, mf: &Instance, op_words: &BTreeMap<String, String>) -> Result<Coolant, String> {
+        if mf.name == "TURNING_MACHINE_FUNCTIONS" {
+            return self.turning_coolant(mf, op_words.get("coolant").is_some_and(|c| c == "both"));
+        }
+        let flood = self.attr(mf, 0)?.as_enum() == Some("T");
+        let mist = self.attr(mf, 2)?.as_enum() == Some("T");
+        Ok(match (mist, flood) {
+            (false, false) => Coolant::Off,
+            (true, false) => Coolant::Mist,
+            (false, true) => Coolant::Flood,
+            (true, true) => Coolant::Both,
+        })
     }
 
     fn strategy(&self, v: &Value) -> Result<Option<Strategy>, String> {
@@ -1433,12 +1546,44 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// The features a TURNING_WORKINGSTEP lists after its own, numbered by their identifiers.
+    fn listed_turned_features(
+        &self,
+        listed: &[Value],
+        index: u32,
+        plan: &mut ProcessPlan,
+        feature_ids: &mut BTreeMap<u64, u32>,
+    ) -> Result<(), String> {
+        for v in listed {
+            let fid = v.as_ref_id().ok_or("a feature that is no reference")?;
+            let inst = self.inst(v)?;
+            let n = match feature_ids.get(&fid) {
+                Some(n) => *n,
+                None => {
+                    let n = feature_number(&self.string(inst, 0)?).ok_or("a turned feature without its number")?;
+                    feature_ids.insert(fid, n);
+                    plan.features.push(self.feature(inst, n)?);
+                    n
+                }
+            };
+            if let Some(f) = plan.features.iter_mut().find(|f| f.id == n) {
+                f.workingsteps.push(index);
+            }
+        }
+        Ok(())
+    }
+
     fn feature(&self, f: &Instance, id: u32) -> Result<Feature, String> {
         let (_, w) = words(&self.string(f, 0)?);
         let top_inferred = w.get("top").is_some_and(|v| v == "inferred");
         let placement = self.placement(self.attr(f, 3)?)?;
         let axes = self.placement_axes(self.attr(f, 3)?)?;
-        let depth = if f.name == "GENERAL_PATTERN" { 0.0 } else { -self.plane_z(self.attr(f, 4)?)? };
+        let turned = self.turned_feature(f)?;
+        let depth = match &turned {
+            Some((_, depth)) => *depth,
+            None if f.name == "GENERAL_PATTERN" => 0.0,
+            None => -self.plane_z(self.attr(f, 4)?)?,
+        };
         let mut feature = Feature {
             id,
             kind: FeatureKind::Toolpath,
@@ -1470,6 +1615,10 @@ impl Reader<'_> {
             };
             Ok(FeatureKind::RoundHole { diameter: (d != 0.0).then_some(d), bottom, positions })
         };
+        if let Some((t, _)) = turned {
+            feature.kind = FeatureKind::Turned(t);
+            return Ok(feature);
+        }
         feature.kind = match f.name.as_str() {
             "ROUND_HOLE" => hole(f, vec![[0.0, 0.0]])?,
             "GENERAL_PATTERN" => {

@@ -156,7 +156,7 @@ fn revolution(ws: &Workingstep) -> Vec<(FeatureKind, f64)> {
 
 /// A tool's cutting width across Z: a grooving tool's width (`W3`, `WIDTH 3` in its
 /// comment), else its diameter (a drill).
-fn tool_width(t: &Tool) -> Option<f64> {
+pub fn tool_width(t: &Tool) -> Option<f64> {
     let up = t.name.as_deref().unwrap_or("").to_ascii_uppercase();
     let words: Vec<&str> = up.split(|c: char| c.is_whitespace() || c == ',' || c == '(' || c == ')').filter(|w| !w.is_empty()).collect();
     let named = words.iter().enumerate().find_map(|(i, w)| {

@@ -82,7 +82,17 @@
 //! number, `work-offset-extended {wcs}`: `G54.1 P12`, `G154 P12`, `G15 H12`; a `<format min max>`
 //! states the values an address takes, Haas's G154 P1–P99, and an event whose template would
 //! write another is unwritable, `Output::fits`) are templates
-//! (a `css-on` without `{smax}` cannot state a speed limit: unwritable then); without one, or
+//! (a `css-on` without `{smax}` cannot state a speed limit: unwritable then). A diameter or
+//! radius mode the source states (G7/G8, DIAMON/DIAMOF) puts the target in its radius mode
+//! (`diameter-off`: X is written as the canonical radius) so that it reads a program that
+//! turns; without one, a target reading X as radii needs no code (`post::mode-implied`) and
+//! one reading diameters cannot take the radii (unwritable); a lathe cycle is written as its
+//! moves (`post::cycle-as-moves`). A tilted working plane is the target's `work-plane` with
+//! its origin (`{px} {py} {pz}`) and its rotation in the angles the control takes (spatial
+//! `{spa} {spb} {spc}`: Heidenhain `PLANE SPATIAL`; Euler `{eul-a} {eul-b} {eul-c}`: Fanuc
+//! `G68.2`; axis by axis `{rot-a} {rot-b} {rot-c}`: Siemens `CYCLE800` mode 57), the
+//! untilted plane its `work-plane-reset`; a template without the origin cannot state a plane
+//! off the program zero. Without a template, or
 //! for a tilted tool axis or a NURBS feed (the canon keeps no control points), an error
 //! diagnostic. A run of blocks the source runs again (loop, subprogram called N times) is
 //! held in the buffer (found by `line_offsets`, the text since each source line): while each
@@ -154,6 +164,9 @@ pub struct Options {
     /// level (RS274NGC G84), and the target's; otherwise it feeds out to R and rapids on
     /// (Fanuc). Set by [`translate`] from the dictionaries.
     pub tap_to_clear: (bool, bool),
+    /// Whether the target reads X words as diameters from the start (a lathe dictionary's
+    /// default). Set by [`translate`] from the target's dictionary.
+    pub x_diameter: bool,
 }
 
 impl Options {
@@ -173,6 +186,7 @@ impl Options {
             tools: Vec::new(),
             arc_tolerance: (0.0, 0.0),
             tap_to_clear: (false, false),
+            x_diameter: false,
         }
     }
 }
@@ -289,6 +303,7 @@ pub fn translate_with_facts<'t>(
     opts.arc_tolerance = (to.behaviour.arc_tolerance_mm, to.behaviour.arc_tolerance_inch);
     let clear = |d: &crate::dialect::Dialect| d.behaviour.tapping == crate::dialect::TapStyle::Clear;
     opts.tap_to_clear = (clear(from), clear(to));
+    opts.x_diameter = to.behaviour.x_diameter;
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
     let mut diags = interpret_beside(text.into(), from, profile, &mut post);
@@ -407,6 +422,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     feed_mode: FeedMode,
     /// The machine position (target units, work offset frame).
     pos: [f64; 3],
+    /// The tilted working plane written (in output units), `None` while untilted.
+    tilt: Option<crate::canon::Frame>,
     /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
     /// number known to be written so (NaN: none): that number again is left out at once.
     written: [Option<(Key, f64)>; 8],
@@ -1005,6 +1022,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             wcs: None,
             feed_mode: FeedMode::PerMinute,
             pos: [0.0; 3],
+            tilt: None,
             written: Default::default(),
             last: [f64::NAN; 9],
             last_fi: [u32::MAX; 9],
@@ -1868,9 +1886,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Comment(t) => self.comment(t, "comment"),
             CanonOp::Message(t) => self.comment(t, "message"),
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
-            // The lathe cycle's moves follow and are written; the diameter mode is the
-            // target's own (its X words are read by its dictionary).
-            CanonOp::Turning(_) | CanonOp::TurningEnd | CanonOp::Setting(Setting::DiameterMode(_)) => {}
+            CanonOp::Turning(t) => self.lathe_cycle(canon, t),
+            CanonOp::Setting(Setting::DiameterMode(on)) => self.diameter_mode(canon, *on),
+            CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }

@@ -34,6 +34,43 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
     }
 
+    /// The source states the diameter or the radius mode (G7/G8, DIAMON/DIAMOF): the target
+    /// is put in its radius mode (`diameter-off`), since X is written as the canonical radius,
+    /// so that it reads the program as one that turns. A target without one that reads X as
+    /// radii anyway (a mill) needs no code, and says that read back the program is not known
+    /// to turn; one that reads X as diameters (a lathe dictionary's default) cannot take the
+    /// radii: unwritable.
+    pub(super) fn diameter_mode(&mut self, canon: &Canon, on: bool) {
+        let stated = if on { "the diameter mode (X words as diameters)" } else { "the radius mode (X words as radii)" };
+        if self.event("diameter-off", &mut Vals::new()) {
+            // Said by the code written.
+        } else if self.opts.x_diameter {
+            self.note(
+                Code::PostUnwritable,
+                canon,
+                "diameter-off",
+                format!("{stated} is not written: the target reads X words as diameters and its output rules have no radius mode (`diameter-off`) to take the radii written"),
+            );
+        } else {
+            self.note(
+                Code::PostModeImplied,
+                canon,
+                "diameter-mode",
+                format!("{stated} is not written: the target reads X words as radii and its output rules have no `diameter-off` template; read back, the program is not known to turn"),
+            );
+        }
+    }
+
+    /// A lathe cycle (G71, CYCLE95, G76): written as the moves it makes, which follow.
+    pub(super) fn lathe_cycle(&mut self, canon: &Canon, t: &crate::canon::TurnIntent) {
+        self.note(
+            Code::PostCycleAsMoves,
+            canon,
+            &format!("lathe-cycle {}", t.code),
+            format!("the lathe cycle {} is written as the moves it makes: the output rules write no lathe cycle", t.code),
+        );
+    }
+
     /// The program's numbers are in units `u` from here on: the program is written in them
     /// where it follows the source's units and nothing is written yet; else converted, and
     /// said.

@@ -1,13 +1,13 @@
 //! Motion: straight moves (a feed synchronised with the spindle as the target's thread),
 //! arcs (the centre brought within the target's tolerance, extra turns and R-form full
-//! circles written piece by piece), and what the target cannot state of a move (a NURBS
-//! feed's spline, a tilted tool axis), said.
+//! circles written piece by piece), the tilted working plane the moves run on, and what the
+//! target cannot state of a move (a NURBS feed's spline, a tilted tool axis), said.
 //!
 //! The door: [`Post::motion_op`] for the motion ops, and [`Post::straight`], which
 //! [`Post::op`] calls at once for the common straight move.
 
 use super::{EPS, Post, ROUNDED_NOTE, Vals};
-use crate::canon::{Canon, CanonOp, Units};
+use crate::canon::{Canon, CanonOp, Frame, Units};
 use crate::diag::Code;
 use crate::dialect::output::Value;
 
@@ -44,18 +44,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     );
                 }
             }
-            CanonOp::WorkPlane(Some(f)) => {
-                let z = f.axis();
-                self.note(
-                    Code::PostUnwritable,
-                    canon,
-                    "work-plane",
-                    format!(
-                        "the working plane tilts (tool axis I{:.4} J{:.4} K{:.4}): the target's output rules write no tilted plane, so the moves that follow are written in the tilted plane's coordinates as they stand",
-                        z[0], z[1], z[2]
-                    ),
-                );
-            }
+            CanonOp::WorkPlane(f) => self.work_plane(canon, f.as_deref()),
             CanonOp::NurbsFeed { points, end } => {
                 self.note(
                     Code::PostUnwritable,
@@ -70,6 +59,79 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             // Not a motion op: [`Post::other_op`] hands none here.
             _ => {}
+        }
+    }
+
+    /// A tilted working plane, or the untilted one again: the target's `work-plane` with the
+    /// plane's origin and its rotation in the angles the template takes, or its
+    /// `work-plane-reset`; unwritable where it has none, or where its template states no origin
+    /// and the plane's is not the program zero. The moves that follow stay in the plane's
+    /// coordinates, as the canon has them.
+    fn work_plane(&mut self, canon: &Canon, f: Option<&Frame>) {
+        let ev = if f.is_some() { "work-plane" } else { "work-plane-reset" };
+        let out = self.out;
+        let Some((t, _)) = out.template(ev) else {
+            if let Some(f) = f {
+                let z = f.axis();
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "work-plane",
+                    format!(
+                        "the working plane tilts (tool axis I{:.4} J{:.4} K{:.4}): the target's output rules write no tilted plane (`work-plane`), so the moves that follow are written in the tilted plane's coordinates as they stand",
+                        z[0], z[1], z[2]
+                    ),
+                );
+            } else if self.tilt.is_some() {
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "work-plane-reset",
+                    "the untilted plane is not written: the target's output rules have no `work-plane-reset`",
+                );
+            }
+            return;
+        };
+        let mut vals = Vals::new();
+        let next = f.map(|f| Frame { origin: self.point(&f.origin), rotation: f.rotation });
+        if let Some(n) = &next {
+            let states_origin = [Value::PlaneX, Value::PlaneY, Value::PlaneZ].iter().any(|v| t.uses(*v));
+            if !states_origin && n.origin.iter().any(|v| v.abs() > EPS) {
+                let o = n.origin;
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "work-plane-origin",
+                    format!(
+                        "the tilted plane's origin X{:.4} Y{:.4} Z{:.4} is not written: the target's `work-plane` states none",
+                        o[0], o[1], o[2]
+                    ),
+                );
+                return;
+            }
+            vals.set(Value::PlaneX, n.origin[0]).set(Value::PlaneY, n.origin[1]).set(Value::PlaneZ, n.origin[2]);
+            for (vs, angles) in [
+                ([Value::SpatialA, Value::SpatialB, Value::SpatialC], n.spatial_angles()),
+                ([Value::EulerA, Value::EulerB, Value::EulerC], n.euler_zxz()),
+                ([Value::TurnA, Value::TurnB, Value::TurnC], n.axis_by_axis_xyz()),
+            ] {
+                for (v, a) in vs.into_iter().zip(angles) {
+                    vals.set(v, a);
+                }
+            }
+        }
+        if !self.event(ev, &mut vals) {
+            self.note(Code::PostUnwritable, canon, ev, format!("the target's `{ev}` cannot state this plane"));
+            return;
+        }
+        let (old, new) = (self.tilt.unwrap_or(Frame::IDENTITY), next.unwrap_or(Frame::IDENTITY));
+        // The control restates its position in the new plane, as the interpreter does: an
+        // axis the next move leaves as it is stays unwritten, as in the source.
+        self.pos = new.from_base(old.to_base(self.pos));
+        self.tilt = next;
+        for (k, name) in ["X", "Y", "Z"].into_iter().enumerate() {
+            let w = self.key_of(name, self.pos[k]);
+            self.set_written(k, w);
         }
     }
 

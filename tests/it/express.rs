@@ -5,7 +5,8 @@
 //!
 //! `.ci/run` installs ifcopenshell in `target/venv`, sets `NCPLAN_IFCOPENSHELL_PYTHON` and
 //! `NCPLAN_REQUIRE_IFCOPENSHELL`; the corpus exports are checked when that is set (CI), the
-//! CAM suite and the plan programs whenever ifcopenshell is there.
+//! CAM suite, the tilted-plane and lathe suites and the plan programs whenever ifcopenshell
+//! is there.
 
 use std::path::{Path, PathBuf};
 
@@ -75,6 +76,17 @@ fn exports_validate_against_the_express_schema() {
             continue;
         };
         export(&std::fs::read(program).unwrap(), v["dialect"].as_str().unwrap(), &format!("tilt_{stem}"), dir.path(), &mut files);
+    }
+    // The lathe suite: ISO 14649-121 turning operations, technology and tools, ISO 14649-12
+    // turned features.
+    let lathe = crate::root().join("tests/programs/lathe");
+    let mut turned: Vec<PathBuf> = std::fs::read_dir(&lathe).unwrap().flatten().map(|e| e.path()).collect();
+    turned.sort();
+    for p in turned.iter().filter(|p| p.extension().is_some_and(|e| e != "expect")) {
+        let expect = std::fs::read_to_string(p.with_extension("expect")).unwrap();
+        let dialect = expect.lines().find_map(|l| l.strip_prefix("dialect ")).unwrap().trim();
+        let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
+        export(&std::fs::read(p).unwrap(), dialect, &format!("lathe_{stem}"), dir.path(), &mut files);
     }
     if required {
         // Every corpus program, in its folder's dialect or the one its text tells.

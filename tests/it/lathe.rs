@@ -238,3 +238,71 @@ fn lathe_edits_in_a_turner_s_terms() {
     "#]]
     .assert_eq(&explicit_pitch);
 }
+
+/// Every lathe program's plan through STEP-NC and back: CC2 with the ISO 14649-121
+/// operations, technology and tools and the ISO 14649-12 turned features, CC1 with its
+/// explicit toolpaths and turning tools; the files conform to the signatures, and no
+/// turning workingstep is left a milling operation.
+#[test]
+fn lathe_plans_round_trip_through_part21() {
+    use ncplan::part21::{schema, stepnc};
+    let mut programs: Vec<PathBuf> =
+        std::fs::read_dir(dir()).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e != "expect")).collect();
+    programs.sort();
+    let mut entities = std::collections::BTreeSet::new();
+    for p in &programs {
+        let expect = std::fs::read_to_string(p.with_extension("expect")).unwrap();
+        let dialect = expect.lines().find_map(|l| l.strip_prefix("dialect ")).unwrap().trim();
+        let plan = plan_of(p, dialect);
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        for cc in [stepnc::Class::Cc2, stepnc::Class::Cc1] {
+            let (text, _) = stepnc::to_string(&plan, cc, "2026-01-01T00:00:00");
+            let x = ncplan::part21::parse(&text).unwrap_or_else(|e| panic!("{name} {cc:?}: {e}"));
+            assert_eq!(schema::iso14649().check(&x), Vec::<String>::new(), "{name} {cc:?}");
+            let back = stepnc::read(&x).unwrap_or_else(|e| panic!("{name} {cc:?}: {e}"));
+            let want = if cc == stepnc::Class::Cc2 { plan.clone() } else { stepnc::toolpaths_only(&plan) };
+            assert_eq!(back, want, "{name} {cc:?}: read back");
+            let (again, _) = stepnc::to_string(&back, cc, "2026-01-01T00:00:00");
+            assert_eq!(again, text, "{name} {cc:?}: written again");
+            // Every workingstep that turns is an ISO 14649-121 operation, never a freeform milling one.
+            let turning = plan.workingsteps.iter().filter(|w| w.turning.as_ref().is_some_and(|t| t.operation.is_some())).count();
+            let freeform = text.matches("=FREEFORM_OPERATION(").count();
+            assert!(
+                freeform + turning <= plan.workingsteps.len(),
+                "{name} {cc:?}: {turning} turning workingsteps, {freeform} freeform operations"
+            );
+            if cc == stepnc::Class::Cc2 {
+                for line in text.lines() {
+                    if let Some((_, rest)) = line.split_once('=') {
+                        entities.insert(rest.split('(').next().unwrap_or("").to_owned());
+                    }
+                }
+            }
+        }
+    }
+    // The suite exercises every turning entity ncplan writes.
+    for e in [
+        "TURNING_WORKINGSTEP",
+        "CONTOURING_ROUGH",
+        "CONTOURING_FINISH",
+        "FACING_ROUGH",
+        "GROOVING_FINISH",
+        "THREADING_ROUGH",
+        "CUTTING_IN",
+        "TURNING_TECHNOLOGY",
+        "CONST_CUTTING_SPEED",
+        "CONST_SPINDLE_SPEED",
+        "TURNING_MACHINE_FUNCTIONS",
+        "TURNING_MACHINE_TOOL",
+        "GENERAL_TURNING_TOOL",
+        "GROOVING_TOOL",
+        "TURNING_THREADING_TOOL",
+        "REVOLVED_FLAT",
+        "OUTER_DIAMETER",
+        "REVOLVED_ROUND",
+        "GROOVE",
+        "GENERAL_REVOLUTION",
+    ] {
+        assert!(entities.contains(e), "{e} is written for none of the lathe programs: {entities:?}");
+    }
+}

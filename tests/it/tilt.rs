@@ -323,3 +323,39 @@ fn stepnc_keeps_setups_and_placements() {
     });
     assert!(placed, "the chamfer's holes are placed with axis and reference direction:\n{p21}");
 }
+
+/// The tilted-plane suite translated between the controls that write a tilted plane
+/// (Heidenhain `PLANE SPATIAL`/`PLANE RESET`, Siemens `CYCLE800`, Fanuc `G68.2`/`G53.1`/`G69`)
+/// and proven as `translate --check` proves it: the moves compared on their planes. A
+/// translation is `ok` (it runs as the source, each move on the same plane) or refused with
+/// the first error; never a plane silently otherwise.
+#[test]
+fn tilted_planes_translate_between_the_controls_that_write_them() {
+    const TARGETS: [&str; 3] = ["heidenhain", "siemens", "fanuc"];
+    let mut rows = String::new();
+    let mut written = 0;
+    for (name, text, side) in parts() {
+        let from = side["dialect"].as_str().unwrap();
+        if !TARGETS.contains(&from) {
+            continue;
+        }
+        let source = crate::translate::dialect(from);
+        for to in TARGETS.iter().filter(|t| **t != from) {
+            let target = crate::translate::dialect(to);
+            let (out, diags) = crate::translate::translate(&text, &source, &target, &name);
+            let check = pipeline::check_translation(text.as_str().into(), &source, &out, &target, &Profile::default(), &diags);
+            let verdict = match diags.iter().chain(&check).find(|d| d.is_error()) {
+                Some(e) => format!("refused: {}: {}", e.code.as_str(), e.message.chars().take(90).collect::<String>()),
+                None => {
+                    // The plane is written, and read back as the source's.
+                    assert!(["PLANE SPATIAL", "CYCLE800(", "G68.2"].iter().any(|w| out.contains(w)), "{name} -> {to}:\n{out}");
+                    written += 1;
+                    "ok".to_owned()
+                }
+            };
+            rows.push_str(&format!("{name} -> {to}: {verdict}\n"));
+        }
+    }
+    assert!(written >= 8, "{written} tilted translations proven:\n{rows}");
+    expect_test::expect_file!["../golden/translate/tilted_planes.txt"].assert_eq(&rows);
+}

@@ -244,14 +244,16 @@ pub(crate) fn round_trip(src: &Source, to: &str) -> (String, String) {
         }
     }
     // The same toolpath, stated otherwise: a cycle written as its moves, a loop unrolled, a
-    // shift written into the positions; the plan read from the moves is not the one read from
-    // the cycle, the loop or the shifted frame.
+    // shift written into the positions, a diameter or radius mode the target has no code for;
+    // the plan read from the moves is not the one read from the cycle, the loop, the shifted
+    // frame or a program known to turn.
     if verdict.starts_with("plan:") {
         let said = [
             ncplan::diag::Code::PostCycleAsMoves,
             ncplan::diag::Code::PostUnrolled,
             ncplan::diag::Code::PostShiftApplied,
             ncplan::diag::Code::PostSurfaceRestated,
+            ncplan::diag::Code::PostModeImplied,
         ];
         if let Some(r) = diags.iter().find(|d| said.contains(&d.code)) {
             return (text, format!("restated: {}: {verdict}", r.code.as_str()));

@@ -153,6 +153,31 @@ pub enum Value {
     /// A repeated block run written as a subprogram: the subprogram's number (`O{sub}`,
     /// `M98 P{sub}`), above the main program's and 1000.
     Sub,
+    /// A tilted working plane (`work-plane`): its origin's X, in the untilted program
+    /// coordinates.
+    PlaneX,
+    /// The same, Y.
+    PlaneY,
+    /// The same, Z.
+    PlaneZ,
+    /// A tilted working plane's rotation as spatial angles, degrees: about the fixed X …
+    SpatialA,
+    /// … then the fixed Y …
+    SpatialB,
+    /// … then the fixed Z (Heidenhain `PLANE SPATIAL SPA SPB SPC`).
+    SpatialC,
+    /// The rotation as Euler angles, degrees: about Z …
+    EulerA,
+    /// … then the turned X …
+    EulerB,
+    /// … then the turned Z (Fanuc `G68.2 I J K`).
+    EulerC,
+    /// The rotation axis by axis, degrees: about X …
+    TurnA,
+    /// … then the turned Y …
+    TurnB,
+    /// … then the turned Z (Siemens `CYCLE800` mode 57).
+    TurnC,
     /// A move in the machine's frame (`home-1`, `home-2`, `machine-rapid`): the machine
     /// coordinate of X (in a reference return, 0 for each axis that returns).
     MachineX,
@@ -175,9 +200,9 @@ impl Value {
     /// The format a placeholder without `:FORMAT` uses.
     fn default_format(self) -> &'static str {
         match self {
-            Value::X | Value::Cx | Value::MachineX => "X",
-            Value::Y | Value::Cy | Value::MachineY => "Y",
-            Value::Z | Value::Cz | Value::Bottom | Value::MachineZ => "Z",
+            Value::X | Value::Cx | Value::MachineX | Value::PlaneX => "X",
+            Value::Y | Value::Cy | Value::MachineY | Value::PlaneY => "Y",
+            Value::Z | Value::Cz | Value::Bottom | Value::MachineZ | Value::PlaneZ => "Z",
             Value::A | Value::MachineA => "A",
             Value::B | Value::MachineB => "B",
             Value::C | Value::MachineC => "C",
@@ -292,6 +317,9 @@ pub const EVENTS: &[&str] = &[
     "css-on",
     "css-off",
     "spindle-orient",
+    "diameter-off",
+    "work-plane",
+    "work-plane-reset",
     "repeat-begin",
     "repeat-end",
     "repeat-call",
