@@ -14,7 +14,7 @@ use std::ops::RangeInclusive;
 
 use super::statement::{self, Class, Fault, Hunk, Sort, Stmt, Token};
 use super::typed::{self, About, Context, about};
-use super::{Change, ChangeKind, follow, verdict};
+use super::{Change, ChangeKind, control, follow, verdict};
 use crate::dialect::{Dialect, Meaning, Role};
 use crate::plan::{ProcessPlan, Workingstep};
 
@@ -586,6 +586,46 @@ fn call_changes(x: &Token, y: &Token, kind: ChangeKind, ws: &(u32, String), d: &
     }
 }
 
+/// The statement changes of a control-flow statement told as what they change: its
+/// condition, its jump's target, its repeat count, the call or loop added or removed; the
+/// arguments a call passes and the variables it sets stay as they are.
+fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect) {
+    let whole = it.original.is_none() || it.edited.is_none();
+    let condition = it.diffs.iter().any(|(x, y)| {
+        let t = y.as_ref().or(x.as_ref()).expect("a difference has a side");
+        t.sort == Sort::Call && !matches!(flow, control::Flow::Call)
+    });
+    let repeat = it.diffs.iter().any(|(x, y)| y.as_ref().or(x.as_ref()).is_some_and(|t| control::repeat_word(t, d)));
+    for c in out.iter_mut().filter(|c| c.kind == ChangeKind::StatementChanged) {
+        let argument = c.field.starts_with("call ");
+        if c.field.starts_with("variable ") || (argument && flow == control::Flow::Call) {
+            continue;
+        }
+        let field = match flow {
+            _ if whole => flow.field().to_owned(),
+            control::Flow::Branch if argument || condition => "condition".to_owned(),
+            control::Flow::Loop if argument || condition => "loop condition".to_owned(),
+            control::Flow::Call if repeat => "repeat count".to_owned(),
+            control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => "jump target".to_owned(),
+            control::Flow::Jump => "jump target".to_owned(),
+            _ => flow.field().to_owned(),
+        };
+        if argument {
+            // The bracketed condition whole: `[#1LT6]` for `O100WHILE` argument 1.
+            (c.before, c.after) = (unbracketed(&c.before), unbracketed(&c.after));
+        } else if whole && c.before.is_empty() && c.after.is_empty() {
+            c.after = "statement".into();
+        }
+        c.kind = ChangeKind::FlowChanged;
+        c.field = field;
+    }
+}
+
+/// A condition as a change writes it, without the brackets the statement reads it in.
+fn unbracketed(s: &str) -> String {
+    s.strip_prefix('[').and_then(|s| s.strip_suffix(']')).unwrap_or(s).to_owned()
+}
+
 /// The statement changes of one item: those of its variables and calls always, the rest
 /// where no plan change is located at it; words the dictionary gives a sense are told by
 /// their kind ([`typed`]).
@@ -635,7 +675,9 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
             }
             (Sort::Call, _, _) if it.call_located => {}
             (Sort::Call, Some(x), Some(y)) if x.key == y.key => call_changes(x, y, kind, &ws, d, &mut out),
-            _ if it.located && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
+            // A control-flow statement is told even where a plan change is located at it: the
+            // plan says what it did, the statement why.
+            _ if it.located && it.ctx.flow.is_none() && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
             _ => {
                 plain = true;
                 if let Some(x) = x {
@@ -659,6 +701,11 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         let mut c = blank(kind, ws);
         c.field = "statement".into();
         out.push(c);
+    }
+    if kind == ChangeKind::StatementChanged
+        && let Some(flow) = it.ctx.flow
+    {
+        flow_changes(&mut out, it, flow, d);
     }
     for c in &mut out {
         (c.original_line, c.line) = (lo, le);

@@ -42,6 +42,7 @@
 //! sentence.
 
 mod account;
+mod control;
 mod follow;
 mod setup;
 pub mod statement;
@@ -149,6 +150,13 @@ pub enum ChangeKind {
     WorkPlaneChanged,
     /// A thread's pitch (the lead of its synchronised moves) changed.
     ThreadPitchChanged,
+    /// Which blocks run, or how often, changed: a condition, a loop's bound, a jump's target,
+    /// a repeat count, a break or return, a call of a subprogram added or removed.
+    FlowChanged,
+    /// A machine function the plan has no kind for changed: an M-code or G-code the dictionary
+    /// names (an output, a wait on an input, the path mode, a lookahead limit) or one it does
+    /// not know (a machine builder's M88), with its words.
+    MachineFunctionChanged,
 }
 
 impl ChangeKind {
@@ -197,6 +205,8 @@ impl ChangeKind {
             ChangeKind::ProgramFixed => "program_fixed",
             ChangeKind::WorkPlaneChanged => "work_plane_changed",
             ChangeKind::ThreadPitchChanged => "thread_pitch_changed",
+            ChangeKind::FlowChanged => "flow_changed",
+            ChangeKind::MachineFunctionChanged => "machine_function_changed",
         }
     }
 }

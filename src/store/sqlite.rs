@@ -991,6 +991,19 @@ fn lite_value(v: &Val) -> rusqlite::types::Value {
     }
 }
 
+/// The findings of a revision, in source order.
+fn findings_on(conn: &rusqlite::Connection, revision: i64) -> Result<Vec<StoredFinding>> {
+    let mut stmt = conn
+        .prepare("SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = ?1 ORDER BY byte_start, id")
+        .map_err(sql("preparing a query"))?;
+    let rows = stmt
+        .query_map([revision], |r| {
+            Ok(StoredFinding { severity: r.get(0)?, code: r.get(1)?, line: r.get(2)?, col: r.get(3)?, message: r.get(4)? })
+        })
+        .map_err(sql("reading findings"))?;
+    rows.collect::<std::result::Result<_, _>>().map_err(sql("reading findings"))
+}
+
 #[cfg(test)]
 mod tests {
     use crate::store::Store;
@@ -1008,17 +1021,4 @@ mod tests {
         assert!(s.conn.execute_batch("UPDATE blobs SET size = 2").is_err());
         assert!(s.conn.execute_batch("DELETE FROM blobs").is_err());
     }
-}
-
-/// The findings of a revision, in source order.
-fn findings_on(conn: &rusqlite::Connection, revision: i64) -> Result<Vec<StoredFinding>> {
-    let mut stmt = conn
-        .prepare("SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = ?1 ORDER BY byte_start, id")
-        .map_err(sql("preparing a query"))?;
-    let rows = stmt
-        .query_map([revision], |r| {
-            Ok(StoredFinding { severity: r.get(0)?, code: r.get(1)?, line: r.get(2)?, col: r.get(3)?, message: r.get(4)? })
-        })
-        .map_err(sql("reading findings"))?;
-    rows.collect::<std::result::Result<_, _>>().map_err(sql("reading findings"))
 }
