@@ -378,9 +378,9 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
         K::SpindleSpeedChanged | K::SpindleModeChanged => address(&[R::S]) || code(&SPEED),
         K::SpindleDirectionChanged => code(&SPINDLE),
         K::CoolantChanged => code(&COOLANT),
-        K::ToolRenamed => address(&[R::T, R::D, R::NextTool]) || code(&[M::ToolChange]),
-        K::LengthOffsetChanged => address(&[R::H]) || code(&LENGTH),
-        K::CutterCompChanged => address(&[R::D]) || code(&COMP),
+        K::ToolRenamed => address(&[R::T, R::D, R::ToolEdge, R::NextTool]) || code(&[M::ToolChange]),
+        K::LengthOffsetChanged => address(&[R::H, R::ToolEdge]) || code(&LENGTH),
+        K::CutterCompChanged => address(&[R::D, R::ToolEdge]) || code(&COMP),
         K::WorkOffsetChanged => address(&[R::P]) || code(&[M::Wcs, M::WcsExtended]),
         K::StopAdded | K::StopRemoved => code(&STOPS),
         K::DwellChanged => address(&[R::P, R::DwellTime]) || code(&[M::Dwell]),
@@ -394,7 +394,7 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
         // Geometry: anything but technology.
         _ => {
             let codes: [&[Meaning]; 8] = [&FEED, &SPEED, &SPINDLE, &COOLANT, &LENGTH, &COMP, &STOPS, &OVERRIDES];
-            let technology = codes.iter().any(|l| code(l)) || address(&[R::F, R::S, R::T, R::H, R::D, R::E]);
+            let technology = codes.iter().any(|l| code(l)) || address(&[R::F, R::S, R::T, R::H, R::D, R::ToolEdge, R::E]);
             !technology
         }
     }

@@ -414,8 +414,8 @@ pub const TOLERANCE: f64 = 1e-4;
 
 /// How values are written: in the original program's units.
 #[derive(Clone, Copy)]
-struct Fmt {
-    inch: bool,
+pub(crate) struct Fmt {
+    pub(crate) inch: bool,
 }
 
 impl Fmt {
@@ -748,7 +748,7 @@ fn compare_workingsteps(
         if lathe { (turning::technology(a, b, u, &mut push), None) } else { compare_technology(a, b, u, &mut push) };
     // Heights and feeds beside the cutting ones, where no canned cycle's parameters say them.
     if a.holes.is_empty() && b.holes.is_empty() && !lathe {
-        heights(a, b, feeds_differ, u, &mut push, at_start);
+        heights(a, b, (feeds_differ, part_top(pb)), u, &mut push, at_start);
     }
     let mut explained = false;
     // Holes and their cycle parameters.
@@ -986,12 +986,50 @@ fn fold_into_start_point(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f
     });
 }
 
+/// The top of the part, where the program or the configuration states its stock: the
+/// stock's top face, and where its size comes from.
+#[derive(Clone, Copy)]
+pub(crate) struct PartTop {
+    /// Z of the stock's top, mm.
+    pub z: f64,
+    /// The program line that states the stock (`BLK FORM`, a stock comment); `None` for the
+    /// configured stock.
+    pub line: Option<u32>,
+}
+
+/// The part's top in `plan`, where its stock is known.
+pub(crate) fn part_top(plan: &ProcessPlan) -> Option<PartTop> {
+    plan.workpiece.as_ref().map(|s| PartTop { z: s.max()[2], line: s.line })
+}
+
+impl PartTop {
+    /// What a height moved from `before` to `after` (mm) says about the part: that it now lies
+    /// below the part's top, naming the reference; `None` where it does not cross it.
+    pub(crate) fn crossed(self, before: f64, after: f64, u: Fmt) -> Option<String> {
+        if !(before >= self.z - TOLERANCE && after < self.z - TOLERANCE) {
+            return None;
+        }
+        let from = match self.line {
+            Some(l) => format!("the stock stated at line {l}"),
+            None => "the configured stock".to_owned(),
+        };
+        Some(format!(" (now below the part's top Z{}, the top of {from})", u.c(self.z)))
+    }
+}
+
 type Push<'a> = dyn FnMut(ChangeKind, &str, String, String, (Option<u32>, Option<u32>)) + 'a;
 
 /// The heights a workingstep moves at between its cuts (ISO 14649's security plane), comes
 /// down to before it feeds (the approach height) and leaves to (the retract plane), and the
 /// feeds it plunges at, where the cutting feeds did not change.
-fn heights(a: &Workingstep, b: &Workingstep, feeds_differ: bool, u: Fmt, push: &mut Push<'_>, at: (Option<u32>, Option<u32>)) {
+fn heights(
+    a: &Workingstep,
+    b: &Workingstep,
+    (feeds_differ, top): (bool, Option<PartTop>),
+    u: Fmt,
+    push: &mut Push<'_>,
+    at: (Option<u32>, Option<u32>),
+) {
     let z = |v: f64| format!("Z{}", u.c(v));
     // Heights that read the same in the program's units are the same (a rounding).
     let differs = |x: Option<f64>, y: Option<f64>| match (x, y) {
@@ -1000,17 +1038,21 @@ fn heights(a: &Workingstep, b: &Workingstep, feeds_differ: bool, u: Fmt, push: &
     };
     let (ca, cb) = (clearance(a), clearance(b));
     if differs(ca, cb) {
-        push(ChangeKind::ClearanceChanged, "clearance_height", z(ca.unwrap_or_default()), z(cb.unwrap_or_default()), at);
+        let (x, y) = (ca.unwrap_or_default(), cb.unwrap_or_default());
+        let note = top.and_then(|t| t.crossed(x, y, u)).unwrap_or_default();
+        push(ChangeKind::ClearanceChanged, "clearance_height", z(x), format!("{}{note}", z(y)), at);
     }
     let (pa, pb) = (approach(a), approach(b));
     if differs(pa.map(|p| p.0), pb.map(|p| p.0)) {
         let (x, y) = (pa.expect("compared"), pb.expect("compared"));
-        push(ChangeKind::ApproachChanged, "approach_height", z(x.0), z(y.0), (Some(x.1), Some(y.1)));
+        let note = top.and_then(|t| t.crossed(x.0, y.0, u)).unwrap_or_default();
+        push(ChangeKind::ApproachChanged, "approach_height", z(x.0), format!("{}{note}", z(y.0)), (Some(x.1), Some(y.1)));
     }
     let (ra, rb) = (retract(a), retract(b));
     if differs(ra.map(|r| r.0), rb.map(|r| r.0)) {
         let (x, y) = (ra.expect("compared"), rb.expect("compared"));
-        push(ChangeKind::RetractChanged, "retract_height", z(x.0), z(y.0), (Some(x.1), Some(y.1)));
+        let note = top.and_then(|t| t.crossed(x.0, y.0, u)).unwrap_or_default();
+        push(ChangeKind::RetractChanged, "retract_height", z(x.0), format!("{}{note}", z(y.0)), (Some(x.1), Some(y.1)));
     }
     let (fa, fb) = (plunge_feeds(a), plunge_feeds(b));
     if !feeds_differ

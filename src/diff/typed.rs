@@ -296,6 +296,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             R::T | R::NextTool => (K::ToolRenamed, "tool"),
             R::H => (K::LengthOffsetChanged, "length offset"),
             R::D => (K::CutterCompChanged, "radius offset"),
+            R::ToolEdge => (K::LengthOffsetChanged, "cutting edge (tool length and radius offsets)"),
             R::DwellTime => (K::DwellChanged, "dwell"),
             _ => return None,
         },
