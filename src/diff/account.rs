@@ -91,9 +91,19 @@ fn locate(
         return;
     }
     let (mut items, bulks) = itemize(&hunks, a, b, sa, sb);
+    let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
+    // Arcs written another way that run the same path (`R2.5` for `I0 J2.5`): no change.
+    let same = respelled(&items, a, b, sa, sb);
+    let tolerance = arc_tolerance(a);
+    changes.retain(|c| {
+        let only_respelled = c.kind == ChangeKind::ToolpathChanged
+            && c.deviation.is_some_and(|d| d <= tolerance)
+            && same.iter().any(|&(o, e)| (o, e) == (c.original_line, c.line) || (c.original_line.is_none() && e == c.line));
+        !only_respelled
+    });
+    items.retain(|it| !same.contains(&(line(sa, it.original), line(sb, it.edited))));
     let spans_a = spans(&a.plan.workingsteps);
     let spans_b = spans(&b.plan.workingsteps);
-    let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
     // Locate each plan change at the statements of its workingstep that show it.
     let mut explained = vec![false; changes.len()];
     for (n, c) in changes.iter_mut().enumerate() {
@@ -190,7 +200,7 @@ fn locate(
     // Stable: the plan's changes first within a workingstep, statements by line.
     changes.sort_by_key(|c| c.workingstep);
     if cfg!(debug_assertions) {
-        let missing = uncovered(changes, &hunks, sa, sb);
+        let missing = uncovered(changes, &hunks, sa, sb, &same);
         assert!(missing.is_empty(), "differing statements no change names (original, edited line): {missing:?}");
     }
 }
@@ -234,7 +244,77 @@ fn merge_repeats(changes: &mut Vec<Change>) {
 }
 
 /// The differing statements no change names: (original line, edited line), one side `None`.
-pub(super) fn uncovered(changes: &[Change], hunks: &[Hunk], sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+/// The differing statements of `a` and `b` no change in `changes` names (see [`uncovered`]).
+pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) -> Vec<(Option<u32>, Option<u32>)> {
+    let ((sa, _), (sb, _)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
+    let hunks = statement::hunks(&sa, &sb);
+    let (items, _) = itemize(&hunks, a, b, &sa, &sb);
+    uncovered(changes, &hunks, &sa, &sb, &respelled(&items, a, b, &sa, &sb))
+}
+
+/// The control's arc tolerance for `p`, mm: how far apart two arcs' end points and centres
+/// may lie and still be the same arc to it.
+fn arc_tolerance(p: Program<'_>) -> f64 {
+    let b = &p.dialect.behaviour;
+    let t = if p.plan.units == Some(crate::canon::Units::Inch) { b.arc_tolerance_inch * 25.4 } else { b.arc_tolerance_mm };
+    t.max(super::TOLERANCE)
+}
+
+/// The differing statements that only write an arc another way (`R2.5` for `I0 J2.5`, a
+/// centre rounded otherwise): their differing words are all arc-centre or radius words, and
+/// the moves both programs make from them are the same arcs, end points and centres within
+/// the control's arc tolerance. As (original line, edited line).
+fn respelled(items: &[Item], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+    let centre_words = |it: &Item| {
+        it.original.is_some()
+            && it.edited.is_some()
+            && it.diffs.iter().all(|(x, y)| {
+                let t = y.as_ref().or(x.as_ref()).expect("a difference has a side");
+                t.is_address() && matches!(about(t, a.dialect), About::Address(Role::I | Role::J | Role::K | Role::R))
+            })
+    };
+    let candidates: Vec<(u32, u32)> =
+        items.iter().filter(|it| centre_words(it)).filter_map(|it| Some((sa[it.original?].line, sb[it.edited?].line))).collect();
+    if candidates.is_empty() {
+        return Vec::new();
+    }
+    let moves = |p: Program<'_>, lines: &std::collections::BTreeSet<u32>| {
+        let mut by_line: std::collections::BTreeMap<u32, Vec<crate::plan::Move>> = std::collections::BTreeMap::new();
+        for w in &p.plan.workingsteps {
+            for m in w.toolpath.iter().filter(|m| lines.contains(&m.line)) {
+                by_line.entry(m.line).or_default().push(m);
+            }
+        }
+        by_line
+    };
+    let (ma, mb) = (moves(a, &candidates.iter().map(|c| c.0).collect()), moves(b, &candidates.iter().map(|c| c.1).collect()));
+    let tolerance = arc_tolerance(a);
+    let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= tolerance);
+    let alike = |x: &crate::plan::Move, y: &crate::plan::Move| match (x.arc, y.arc) {
+        (Some(u), Some(v)) => {
+            near(x.from, y.from) && near(x.to, y.to) && near(u.center, v.center) && u.turns == v.turns && near(u.axis, v.axis)
+        }
+        _ => false,
+    };
+    candidates
+        .into_iter()
+        .filter(|(lo, le)| match (ma.get(lo), mb.get(le)) {
+            (Some(x), Some(y)) => x.len() == y.len() && x.iter().zip(y).all(|(x, y)| alike(x, y)),
+            _ => false,
+        })
+        .map(|(lo, le)| (Some(lo), Some(le)))
+        .collect()
+}
+
+/// The differing statements no change names: (original line, edited line), one side `None`;
+/// the arcs only written another way (`same`) apart.
+pub(super) fn uncovered(
+    changes: &[Change],
+    hunks: &[Hunk],
+    sa: &[Stmt],
+    sb: &[Stmt],
+    same: &[(Option<u32>, Option<u32>)],
+) -> Vec<(Option<u32>, Option<u32>)> {
     let names = |side: usize, line: u32| {
         changes.iter().any(|c| {
             let (first, end) = if side == 0 { (c.original_line, c.detail.original_line_end) } else { (c.line, c.detail.line_end) };
@@ -243,13 +323,21 @@ pub(super) fn uncovered(changes: &[Change], hunks: &[Hunk], sa: &[Stmt], sb: &[S
         })
     };
     let mut out = Vec::new();
+    let same_a = |l: u32| same.iter().any(|s| s.0 == Some(l));
+    let same_b = |l: u32| same.iter().any(|s| s.1 == Some(l));
     for h in hunks {
         for k in h.original.clone() {
+            if same_a(sa[k].line) {
+                continue;
+            }
             if !names(0, sa[k].line) {
                 out.push((Some(sa[k].line), None));
             }
         }
         for k in h.edited.clone() {
+            if same_b(sb[k].line) {
+                continue;
+            }
             if !names(1, sb[k].line) {
                 out.push((None, Some(sb[k].line)));
             }
@@ -271,6 +359,9 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
         }
         let ta: Vec<Vec<Token>> = h.original.clone().map(|k| statement::tokens(&statement::text_of(a.text, a.dialect, &sa[k]))).collect();
         let tb: Vec<Vec<Token>> = h.edited.clone().map(|k| statement::tokens(&statement::text_of(b.text, b.dialect, &sb[k]))).collect();
+        // Whole branches that only choose what to show (`o100 if` … `(msg, …)` … `o100 endif`):
+        // output, as the messages they choose between.
+        let shows_only = only_output(&ta, &h.original, sa, a.dialect) && only_output(&tb, &h.edited, sb, b.dialect);
         for (x, y) in pair_statements(&ta, &tb) {
             let diffs = match (x, y) {
                 (Some(x), Some(y)) => token_diffs(&ta[x], &tb[y]),
@@ -280,7 +371,7 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             };
             let oi = x.map(|x| h.original.start + x);
             let ei = y.map(|y| h.edited.start + y);
-            let output = oi.is_none_or(|k| sa[k].class == Class::Output) && ei.is_none_or(|k| sb[k].class == Class::Output);
+            let output = shows_only || (oi.is_none_or(|k| sa[k].class == Class::Output) && ei.is_none_or(|k| sb[k].class == Class::Output));
             let class = if output { Class::Output } else { Class::Machining };
             let diffs = if diffs.is_empty() {
                 // Equal tokens, other text (a blank inside a name): the statements whole.
@@ -301,6 +392,30 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
         }
     }
     (items, bulks)
+}
+
+/// Whether a hunk's statements on one side are whole branches (as many opened as closed) whose
+/// other statements only write text, with at least one such: nothing the machine does depends on
+/// them. An empty side is.
+fn only_output(tokens: &[Vec<Token>], range: &std::ops::Range<usize>, s: &[Stmt], d: &Dialect) -> bool {
+    if range.is_empty() {
+        return true;
+    }
+    let (mut depth, mut shown) = (0, false);
+    for (t, k) in tokens.iter().zip(range.clone()) {
+        if s[k].class == Class::Output {
+            shown = true;
+            continue;
+        }
+        match control::branch_depth(t, d) {
+            Some(n) => depth += n,
+            None => return false,
+        }
+        if depth < 0 {
+            return false;
+        }
+    }
+    shown && depth == 0
 }
 
 /// The statements of a hunk paired: first those whose first token has the same key (in
@@ -595,7 +710,8 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         let t = y.as_ref().or(x.as_ref()).expect("a difference has a side");
         t.sort == Sort::Call && !matches!(flow, control::Flow::Call)
     });
-    let repeat = it.diffs.iter().any(|(x, y)| y.as_ref().or(x.as_ref()).is_some_and(|t| control::repeat_word(t, d)));
+    let repeat =
+        flow == control::Flow::Call && it.diffs.iter().any(|(x, y)| y.as_ref().or(x.as_ref()).is_some_and(|t| control::repeat_word(t, d)));
     for c in out.iter_mut().filter(|c| c.kind == ChangeKind::StatementChanged) {
         let argument = c.field.starts_with("call ");
         if c.field.starts_with("variable ") || (argument && flow == control::Flow::Call) {
@@ -606,7 +722,9 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
             control::Flow::Branch if argument || condition => "condition".to_owned(),
             control::Flow::Loop if argument || condition => "loop condition".to_owned(),
             control::Flow::Call if repeat => "repeat count".to_owned(),
-            control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => "jump target".to_owned(),
+            control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => {
+                control::jump_part(&c.before, &c.after).to_owned()
+            }
             control::Flow::Jump => "jump target".to_owned(),
             _ => flow.field().to_owned(),
         };

@@ -121,7 +121,39 @@ pub(super) fn flow_of(tokens: &[Token], d: &Dialect) -> Option<Flow> {
 }
 
 /// Whether a word of a call statement is its repeat count, by the dictionary's repeat word
-/// (`M98 P100 L5`, `CALL LBL 1 REP 5`, Siemens `P=5`).
+/// (`CALL LBL 1 REP 5`, Siemens `P=5`). The `L` of a call code (`M98 P100 L5`, `G65 P9000 L2`) is its repeat count too, as the
+/// interpreter reads it.
 pub(super) fn repeat_word(tok: &Token, d: &Dialect) -> bool {
     d.macros.call_repeat.as_deref().is_some_and(|w| tok.key.eq_ignore_ascii_case(w))
+        || (tok.sort == Sort::Word && about(tok, d) == About::Address(crate::dialect::Role::L))
+}
+
+/// What differs in a conditional jump (`IF R1<3 GOTOB MARKE1`): its condition where the
+/// jump's target stays, else the target.
+pub(super) fn jump_part(before: &str, after: &str) -> &'static str {
+    let split = |s: &str| s.find("GOTO").map(|i| (s[..i].to_owned(), s[i..].to_owned()));
+    match (split(before), split(after)) {
+        (Some((_, tb)), Some((_, ta))) if tb == ta => "condition",
+        (Some(_), _) | (_, Some(_)) => "jump target",
+        _ => "condition",
+    }
+}
+
+/// How a branch statement nests (`IF` opens, `ENDIF` closes, `ELSE` neither); `None` for any
+/// other statement.
+pub(super) fn branch_depth(tokens: &[Token], d: &Dialect) -> Option<i32> {
+    let first = tokens.first()?;
+    let k = keyword(&first.key);
+    let text = if k.len() < first.key.len() { k.to_owned() } else { tokens.iter().map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ") };
+    let s = d
+        .macros
+        .statements
+        .iter()
+        .find(|(kw, _)| text.starts_with(kw.as_str()) && text[kw.len()..].chars().next().is_none_or(|c| !c.is_ascii_alphabetic()))?;
+    match s.1 {
+        Statement::If | Statement::Case => Some(1),
+        Statement::EndIf => Some(-1),
+        Statement::ElseIf | Statement::Else => Some(0),
+        _ => None,
+    }
 }

@@ -484,8 +484,7 @@ pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change
     if original.dialect.name != edited.dialect.name {
         return Vec::new();
     }
-    let (sa, sb) = (statement::statements(original.text, original.dialect), statement::statements(edited.text, edited.dialect));
-    account::uncovered(changes, &statement::hunks(&sa, &sb), &sa, &sb)
+    account::unaccounted(original, edited, changes)
 }
 
 /// The changes from `original` to `edited` the plans alone show, in workingstep order
