@@ -93,7 +93,8 @@ fn locate(
     let (mut items, bulks) = itemize(&hunks, a, b, sa, sb);
     let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
     // Arcs written another way that run the same path (`R2.5` for `I0 J2.5`): no change.
-    let same = respelled(&items, a, b, sa, sb);
+    let mut same = respelled(&items, a, b, sa, sb);
+    same.extend(reblocked(&hunks, a, b, sa, sb));
     let tolerance = arc_tolerance(a);
     changes.retain(|c| {
         let only_respelled = c.kind == ChangeKind::ToolpathChanged
@@ -101,7 +102,12 @@ fn locate(
             && same.iter().any(|&(o, e)| (o, e) == (c.original_line, c.line) || (c.original_line.is_none() && e == c.line));
         !only_respelled
     });
-    items.retain(|it| !same.contains(&(line(sa, it.original), line(sb, it.edited))));
+    let exempt = |o: Option<u32>, e: Option<u32>| {
+        (o.is_some() || e.is_some())
+            && o.is_none_or(|o| same.iter().any(|s| s.0 == Some(o)))
+            && e.is_none_or(|e| same.iter().any(|s| s.1 == Some(e)))
+    };
+    items.retain(|it| !exempt(line(sa, it.original), line(sb, it.edited)));
     let spans_a = spans(&a.plan.workingsteps);
     let spans_b = spans(&b.plan.workingsteps);
     // Locate each plan change at the statements of its workingstep that show it.
@@ -249,7 +255,57 @@ pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) ->
     let ((sa, _), (sb, _)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
     let hunks = statement::hunks(&sa, &sb);
     let (items, _) = itemize(&hunks, a, b, &sa, &sb);
-    uncovered(changes, &hunks, &sa, &sb, &respelled(&items, a, b, &sa, &sb))
+    let mut same = respelled(&items, a, b, &sa, &sb);
+    same.extend(reblocked(&hunks, a, b, &sa, &sb));
+    uncovered(changes, &hunks, &sa, &sb, &same)
+}
+
+/// The statements of hunks that only set the same modal states in other blocks (`G54 G18 G21
+/// F400` written as `G54 G18 G21` and `F400`): the same words on both sides, none of which
+/// moves, calls, switches anything on or reads a variable, so that no move runs between
+/// them. Each as (original line, None) or (None, edited line).
+fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+    use Meaning as M;
+    let modal = |t: &Token, d: &Dialect| match about(t, d) {
+        About::Code(m) => matches!(
+            m,
+            M::PlaneXy
+                | M::PlaneXz
+                | M::PlaneYz
+                | M::UnitsInch
+                | M::UnitsMm
+                | M::DistanceAbsolute
+                | M::DistanceIncremental
+                | M::ArcDistanceAbsolute
+                | M::ArcDistanceIncremental
+                | M::FeedInverseTime
+                | M::FeedPerMinute
+                | M::FeedPerRev
+                | M::Wcs
+                | M::PathMode
+                | M::RetractInitial
+                | M::RetractR
+                | M::CycleCancel
+                | M::CompOff
+        ),
+        About::Address(Role::F) => t.value.parse::<f64>().is_ok(),
+        _ => false,
+    };
+    let mut out = Vec::new();
+    for h in hunks.iter().filter(|h| !h.original.is_empty() && !h.edited.is_empty() && h.original.len() + h.edited.len() <= 8) {
+        let words = |p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>| {
+            let mut w: Vec<Token> = r.clone().flat_map(|k| statement::tokens(&statement::text_of(p.text, p.dialect, &s[k]))).collect();
+            w.sort_by(|x, y| x.text.cmp(&y.text));
+            w
+        };
+        let (wa, wb) = (words(a, sa, &h.original), words(b, sb, &h.edited));
+        let same_words = wa.len() == wb.len() && wa.iter().zip(&wb).all(|(x, y)| x.text == y.text);
+        if same_words && !wa.is_empty() && wa.iter().all(|t| modal(t, a.dialect)) {
+            out.extend(h.original.clone().map(|k| (Some(sa[k].line), None)));
+            out.extend(h.edited.clone().map(|k| (None, Some(sb[k].line))));
+        }
+    }
+    out
 }
 
 /// The control's arc tolerance for `p`, mm: how far apart two arcs' end points and centres
@@ -324,6 +380,7 @@ pub(super) fn uncovered(
     };
     let mut out = Vec::new();
     let same_a = |l: u32| same.iter().any(|s| s.0 == Some(l));
+    // (A hunk's statements re-blocked are listed one side at a time.)
     let same_b = |l: u32| same.iter().any(|s| s.1 == Some(l));
     for h in hunks {
         for k in h.original.clone() {
