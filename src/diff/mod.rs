@@ -331,6 +331,18 @@ impl Change {
                 }
                 s
             }
+            ChangeKind::MachineFunctionChanged => {
+                // `machine function M66: wait on input`: the code, and what the dictionary calls it.
+                let what = self.field.strip_prefix("machine function ").unwrap_or(&self.field);
+                match (self.before.is_empty(), self.after.is_empty()) {
+                    (true, _) => format!("machine function `{}` added ({what})", self.after),
+                    (_, true) => format!("machine function `{}` removed ({what})", self.before),
+                    _ => {
+                        let (code, name) = what.split_once(": ").unwrap_or((what, ""));
+                        format!("machine function {code} ({name}) changed from {} to {}", self.before, self.after)
+                    }
+                }
+            }
             _ if self.before.is_empty() => format!("{field} {} added", self.after),
             _ if self.after.is_empty() => format!("{field} {} removed", self.before),
             _ => format!("{field} changed from {} to {}", self.before, self.after),
