@@ -10,8 +10,14 @@
 //! they stay the statement changes that name them unless what they feed is followed.
 
 use super::statement::{Sort, Token};
-use super::typed::{About, about};
-use crate::dialect::{Dialect, Meaning, Statement};
+use crate::dialect::{Dialect, Meaning, Role, Statement};
+
+/// The meaning of a G or M code token (`M98`), by the dictionary.
+fn code_meaning(tok: &Token, d: &Dialect) -> Option<Meaning> {
+    let letter @ ('G' | 'M') = tok.key.chars().next()? else { return None };
+    let n = tok.key[1..].parse::<f64>().ok()?;
+    d.code(letter, (n * 10.0).round().max(0.0) as u32).map(|c| c.meaning)
+}
 
 /// What a control-flow statement decides.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,21 +117,20 @@ pub(super) fn flow_of(tokens: &[Token], d: &Dialect) -> Option<Flow> {
     if k.len() < first.key.len() && (k.is_empty() && first.sort == Sort::Call || k == "CALL") {
         return Some(Flow::Call);
     }
-    tokens.iter().filter(|t| t.sort == Sort::Word).find_map(|t| match about(t, d) {
-        About::Code(
-            Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::MacroCall | Meaning::ModalMacroCall | Meaning::CycleCall,
-        ) => Some(Flow::Call),
-        About::Code(Meaning::SubprogramReturn) => Some(Flow::Return),
+    tokens.iter().filter(|t| t.sort == Sort::Word).find_map(|t| match code_meaning(t, d)? {
+        // A cycle called at a position (Heidenhain `M99`) machines there: the plan tells it.
+        Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::MacroCall | Meaning::ModalMacroCall => Some(Flow::Call),
+        Meaning::SubprogramReturn => Some(Flow::Return),
         _ => None,
     })
 }
 
 /// Whether a word of a call statement is its repeat count, by the dictionary's repeat word
-/// (`CALL LBL 1 REP 5`, Siemens `P=5`). The `L` of a call code (`M98 P100 L5`, `G65 P9000 L2`) is its repeat count too, as the
-/// interpreter reads it.
+/// (`CALL LBL 1 REP 5`, Siemens `P=5`). The `L` of a call code (`M98 P100 L5`, `G65 P9000 L2`)
+/// is its repeat count too, as the interpreter reads it.
 pub(super) fn repeat_word(tok: &Token, d: &Dialect) -> bool {
     d.macros.call_repeat.as_deref().is_some_and(|w| tok.key.eq_ignore_ascii_case(w))
-        || (tok.sort == Sort::Word && about(tok, d) == About::Address(crate::dialect::Role::L))
+        || (tok.sort == Sort::Word && d.addresses.iter().any(|a| a.name == tok.key && a.role == Role::L))
 }
 
 /// What differs in a conditional jump (`IF R1<3 GOTOB MARKE1`): its condition where the

@@ -158,7 +158,7 @@ impl Context {
                 c.switch |= matches!(m, Meaning::FeedOverrideSwitch | Meaning::SpeedOverrideSwitch);
                 c.shift |= shifts(m);
                 c.length |= m == Meaning::LengthCompDynamic;
-                if machine_function(m) && matches!(t.key.chars().next(), Some('G' | 'M')) {
+                if machine_function(m) && numbered_code(t) {
                     c.function = true;
                     c.function_code = c.function_code.or_else(code);
                 }
@@ -279,7 +279,8 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             M::PlaneXy | M::PlaneXz | M::PlaneYz => (K::PlaneChanged, "plane"),
             M::UnitsInch | M::UnitsMm => (K::UnitsChanged, "units"),
             M::RetractInitial | M::RetractR => (K::CycleParameterChanged, "cycle retract"),
-            m if machine_function(m) => (K::MachineFunctionChanged, "machine function"),
+            // A G or M code, not a keyword's option (Heidenhain `PLANE … TURN MB MAX`).
+            m if machine_function(m) && numbered_code(tok) => (K::MachineFunctionChanged, "machine function"),
             _ => return None,
         },
         About::Address(r) if ctx.dwell && matches!(r, R::F | R::P | R::X | R::U | R::DwellTime) => (K::DwellChanged, "dwell"),
@@ -337,6 +338,11 @@ fn machine_function(m: Meaning) -> bool {
             | M::StateInvalidate
             | M::StateRestore
     )
+}
+
+/// Whether a token is a numbered G or M code (`M66`, `G64`).
+fn numbered_code(tok: &Token) -> bool {
+    tok.sort == Sort::Word && matches!(tok.key.chars().next(), Some('G' | 'M')) && tok.key[1..].parse::<f64>().is_ok()
 }
 
 /// Whether a token is an M-code the dictionary does not know (a machine builder's `M88`).
