@@ -188,7 +188,7 @@ fn reread(
     {
         let d = reader.dialect_of(&src.path, &src.dialect)?;
         let edited = crate::diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d };
-        let changes = crate::diff::compare(op.program(), edited);
+        let changes = op.compare(edited, &crate::diff::verdict::faults(&a.source.text, &a.diagnostics));
         tx.record_comparison(id, original, &rule, &changes, now)?;
         compared = true;
     }

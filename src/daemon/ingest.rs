@@ -572,7 +572,8 @@ impl Reader<'_> {
                 None => return Ok(None),
             },
         };
-        Ok(Some(Stored { plan, text: crate::text::decode_owned(bytes).0.text, dialect }))
+        let faults = stored_faults(&tx.findings(revision)?);
+        Ok(Some(Stored { plan, text: crate::text::decode_owned(bytes).0.text, dialect, faults }))
     }
 
     /// The dialect a stored program of `path` is read in: its folder's, with the folder's
@@ -709,7 +710,8 @@ fn recompare_callers(tx: &Txn<'_>, reader: &Reader<'_>, at: (&Path, Role), stem:
         let a = reader.reanalyse(&src.path, &src.dialect, bytes)?;
         let d = reader.dialect_of(&src.path, &src.dialect)?;
         let Some(op) = reader.program(tx, original, None)? else { continue };
-        let changes = diff::compare(op.program(), diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d });
+        let faults = diff::verdict::faults(&a.source.text, &a.diagnostics);
+        let changes = op.compare(diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d }, &faults);
         let base = rule.split("; recomputed:").next().unwrap_or_default();
         let rule = format!("{base}; recomputed: the called program {stem} changed (revision {revision})");
         tx.record_comparison(caller, original, &rule, &changes, now)?;
@@ -727,6 +729,9 @@ pub struct Stored {
     pub text: String,
     /// The dialect it is read in.
     pub dialect: std::sync::Arc<crate::dialect::Dialect>,
+    /// The errors its analysis found, as stored: what the control stops at, which a
+    /// comparison tells as broken or fixed.
+    pub faults: Vec<diff::statement::Fault>,
 }
 
 impl Stored {
@@ -734,6 +739,25 @@ impl Stored {
     pub fn program(&self) -> diff::Program<'_> {
         diff::Program { plan: &self.plan, text: &self.text, dialect: &self.dialect }
     }
+
+    /// The changes from this program to `edited` (with the errors its analysis found), through
+    /// the same door as `ncplan diff`: what the edit breaks or fixes from both analyses' errors.
+    pub fn compare(&self, edited: diff::Program<'_>, edited_faults: &[diff::statement::Fault]) -> Vec<diff::Change> {
+        diff::compare_with_findings(self.program(), edited, (&self.faults, edited_faults))
+    }
+}
+
+/// The errors among a revision's stored findings, as the diff reads them; the findings the
+/// daemon adds of its own (a partial write, an ambiguous pairing) are no program's errors.
+fn stored_faults(findings: &[crate::store::StoredFinding]) -> Vec<diff::statement::Fault> {
+    findings
+        .iter()
+        .filter(|f| f.severity == "error" && f.line > 0)
+        .filter_map(|f| {
+            let code = *Code::ALL.iter().find(|c| c.as_str() == f.code)?;
+            Some(diff::statement::Fault { code, line: u32::try_from(f.line).ok()?, message: f.message.clone() })
+        })
+        .collect()
 }
 
 /// A plan at hand, so that it need not be read back from the store.
@@ -757,7 +781,7 @@ fn settle(tx: &Txn<'_>, reader: &Reader<'_>, revision: i64, pairing: &Pairing, k
             let original = *original;
             let load = |id: i64| reader.program(tx, id, (id == known.revision).then_some(known.plan));
             let (Some(before), Some(after)) = (load(original)?, load(revision)?) else { return Ok(None) };
-            let changes = diff::compare(before.program(), after.program());
+            let changes = before.compare(after.program(), &after.faults);
             tx.record_comparison(revision, original, rule, &changes, now)?;
             Ok(Some(changes.len()))
         }

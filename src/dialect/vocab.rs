@@ -514,6 +514,9 @@ vocab! {
         CornerChamferLength = "corner-chamfer-length",
         /// A value the engine keeps but does not interpret.
         Extra = "extra",
+        /// The tool's cutting edge whose length and radius offsets apply, kept but not
+        /// interpreted (Siemens `D1`; the tool change activates the first edge).
+        ToolEdge = "tool-edge",
         /// A retract level relative to the reference plane (Heidenhain Q204, 2nd set-up clearance).
         RetractDistance = "retract-distance",
         /// An absolute first peck depth (Siemens FDEP).

@@ -14,7 +14,7 @@ use std::ops::RangeInclusive;
 
 use super::statement::{self, Class, Fault, Hunk, Sort, Stmt, Token};
 use super::typed::{self, About, Context, about};
-use super::{Change, ChangeKind, follow, verdict};
+use super::{Change, ChangeKind, control, follow, verdict};
 use crate::dialect::{Dialect, Meaning, Role};
 use crate::plan::{ProcessPlan, Workingstep};
 
@@ -91,9 +91,25 @@ fn locate(
         return;
     }
     let (mut items, bulks) = itemize(&hunks, a, b, sa, sb);
+    let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
+    // Arcs written another way that run the same path (`R2.5` for `I0 J2.5`): no change.
+    let mut same = respelled(&items, a, b, sa, sb);
+    same.extend(reblocked(&hunks, a, b, sa, sb));
+    let tolerance = arc_tolerance(a);
+    changes.retain(|c| {
+        let only_respelled = c.kind == ChangeKind::ToolpathChanged
+            && c.deviation.is_some_and(|d| d <= tolerance)
+            && same.iter().any(|&(o, e)| (o, e) == (c.original_line, c.line) || (c.original_line.is_none() && e == c.line));
+        !only_respelled
+    });
+    let exempt = |o: Option<u32>, e: Option<u32>| {
+        (o.is_some() || e.is_some())
+            && o.is_none_or(|o| same.iter().any(|s| s.0 == Some(o)))
+            && e.is_none_or(|e| same.iter().any(|s| s.1 == Some(e)))
+    };
+    items.retain(|it| !exempt(line(sa, it.original), line(sb, it.edited)));
     let spans_a = spans(&a.plan.workingsteps);
     let spans_b = spans(&b.plan.workingsteps);
-    let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
     // Locate each plan change at the statements of its workingstep that show it.
     let mut explained = vec![false; changes.len()];
     for (n, c) in changes.iter_mut().enumerate() {
@@ -190,7 +206,7 @@ fn locate(
     // Stable: the plan's changes first within a workingstep, statements by line.
     changes.sort_by_key(|c| c.workingstep);
     if cfg!(debug_assertions) {
-        let missing = uncovered(changes, &hunks, sa, sb);
+        let missing = uncovered(changes, &hunks, sa, sb, &same);
         assert!(missing.is_empty(), "differing statements no change names (original, edited line): {missing:?}");
     }
 }
@@ -234,7 +250,127 @@ fn merge_repeats(changes: &mut Vec<Change>) {
 }
 
 /// The differing statements no change names: (original line, edited line), one side `None`.
-pub(super) fn uncovered(changes: &[Change], hunks: &[Hunk], sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+/// The differing statements of `a` and `b` no change in `changes` names (see [`uncovered`]).
+pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) -> Vec<(Option<u32>, Option<u32>)> {
+    let ((sa, _), (sb, _)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
+    let hunks = statement::hunks(&sa, &sb);
+    let (items, _) = itemize(&hunks, a, b, &sa, &sb);
+    let mut same = respelled(&items, a, b, &sa, &sb);
+    same.extend(reblocked(&hunks, a, b, &sa, &sb));
+    uncovered(changes, &hunks, &sa, &sb, &same)
+}
+
+/// The statements of hunks that only set the same modal states in other blocks (`G54 G18 G21
+/// F400` written as `G54 G18 G21` and `F400`): the same words on both sides, none of which
+/// moves, calls, switches anything on or reads a variable, so that no move runs between
+/// them. Each as (original line, None) or (None, edited line).
+fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+    use Meaning as M;
+    let modal = |t: &Token, d: &Dialect| match about(t, d) {
+        About::Code(m) => matches!(
+            m,
+            M::PlaneXy
+                | M::PlaneXz
+                | M::PlaneYz
+                | M::UnitsInch
+                | M::UnitsMm
+                | M::DistanceAbsolute
+                | M::DistanceIncremental
+                | M::ArcDistanceAbsolute
+                | M::ArcDistanceIncremental
+                | M::FeedInverseTime
+                | M::FeedPerMinute
+                | M::FeedPerRev
+                | M::Wcs
+                | M::PathMode
+                | M::RetractInitial
+                | M::RetractR
+                | M::CycleCancel
+                | M::CompOff
+        ),
+        About::Address(Role::F) => t.value.parse::<f64>().is_ok(),
+        _ => false,
+    };
+    let mut out = Vec::new();
+    for h in hunks.iter().filter(|h| !h.original.is_empty() && !h.edited.is_empty() && h.original.len() + h.edited.len() <= 8) {
+        let words = |p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>| {
+            let mut w: Vec<Token> = r.clone().flat_map(|k| statement::tokens(&statement::text_of(p.text, p.dialect, &s[k]))).collect();
+            w.sort_by(|x, y| x.text.cmp(&y.text));
+            w
+        };
+        let (wa, wb) = (words(a, sa, &h.original), words(b, sb, &h.edited));
+        let same_words = wa.len() == wb.len() && wa.iter().zip(&wb).all(|(x, y)| x.text == y.text);
+        if same_words && !wa.is_empty() && wa.iter().all(|t| modal(t, a.dialect)) {
+            out.extend(h.original.clone().map(|k| (Some(sa[k].line), None)));
+            out.extend(h.edited.clone().map(|k| (None, Some(sb[k].line))));
+        }
+    }
+    out
+}
+
+/// The control's arc tolerance for `p`, mm: how far apart two arcs' end points and centres
+/// may lie and still be the same arc to it.
+fn arc_tolerance(p: Program<'_>) -> f64 {
+    let b = &p.dialect.behaviour;
+    let t = if p.plan.units == Some(crate::canon::Units::Inch) { b.arc_tolerance_inch * 25.4 } else { b.arc_tolerance_mm };
+    t.max(super::TOLERANCE)
+}
+
+/// The differing statements that only write an arc another way (`R2.5` for `I0 J2.5`, a
+/// centre rounded otherwise): their differing words are all arc-centre or radius words, and
+/// the moves both programs make from them are the same arcs, end points and centres within
+/// the control's arc tolerance. As (original line, edited line).
+fn respelled(items: &[Item], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+    let centre_words = |it: &Item| {
+        it.original.is_some()
+            && it.edited.is_some()
+            && it.diffs.iter().all(|(x, y)| {
+                let t = y.as_ref().or(x.as_ref()).expect("a difference has a side");
+                t.is_address() && matches!(about(t, a.dialect), About::Address(Role::I | Role::J | Role::K | Role::R))
+            })
+    };
+    let candidates: Vec<(u32, u32)> =
+        items.iter().filter(|it| centre_words(it)).filter_map(|it| Some((sa[it.original?].line, sb[it.edited?].line))).collect();
+    if candidates.is_empty() {
+        return Vec::new();
+    }
+    let moves = |p: Program<'_>, lines: &std::collections::BTreeSet<u32>| {
+        let mut by_line: std::collections::BTreeMap<u32, Vec<crate::plan::Move>> = std::collections::BTreeMap::new();
+        for w in &p.plan.workingsteps {
+            for m in w.toolpath.iter().filter(|m| lines.contains(&m.line)) {
+                by_line.entry(m.line).or_default().push(m);
+            }
+        }
+        by_line
+    };
+    let (ma, mb) = (moves(a, &candidates.iter().map(|c| c.0).collect()), moves(b, &candidates.iter().map(|c| c.1).collect()));
+    let tolerance = arc_tolerance(a);
+    let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= tolerance);
+    let alike = |x: &crate::plan::Move, y: &crate::plan::Move| match (x.arc, y.arc) {
+        (Some(u), Some(v)) => {
+            near(x.from, y.from) && near(x.to, y.to) && near(u.center, v.center) && u.turns == v.turns && near(u.axis, v.axis)
+        }
+        _ => false,
+    };
+    candidates
+        .into_iter()
+        .filter(|(lo, le)| match (ma.get(lo), mb.get(le)) {
+            (Some(x), Some(y)) => x.len() == y.len() && x.iter().zip(y).all(|(x, y)| alike(x, y)),
+            _ => false,
+        })
+        .map(|(lo, le)| (Some(lo), Some(le)))
+        .collect()
+}
+
+/// The differing statements no change names: (original line, edited line), one side `None`;
+/// the arcs only written another way (`same`) apart.
+pub(super) fn uncovered(
+    changes: &[Change],
+    hunks: &[Hunk],
+    sa: &[Stmt],
+    sb: &[Stmt],
+    same: &[(Option<u32>, Option<u32>)],
+) -> Vec<(Option<u32>, Option<u32>)> {
     let names = |side: usize, line: u32| {
         changes.iter().any(|c| {
             let (first, end) = if side == 0 { (c.original_line, c.detail.original_line_end) } else { (c.line, c.detail.line_end) };
@@ -243,13 +379,22 @@ pub(super) fn uncovered(changes: &[Change], hunks: &[Hunk], sa: &[Stmt], sb: &[S
         })
     };
     let mut out = Vec::new();
+    let same_a = |l: u32| same.iter().any(|s| s.0 == Some(l));
+    // (A hunk's statements re-blocked are listed one side at a time.)
+    let same_b = |l: u32| same.iter().any(|s| s.1 == Some(l));
     for h in hunks {
         for k in h.original.clone() {
+            if same_a(sa[k].line) {
+                continue;
+            }
             if !names(0, sa[k].line) {
                 out.push((Some(sa[k].line), None));
             }
         }
         for k in h.edited.clone() {
+            if same_b(sb[k].line) {
+                continue;
+            }
             if !names(1, sb[k].line) {
                 out.push((None, Some(sb[k].line)));
             }
@@ -271,6 +416,9 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
         }
         let ta: Vec<Vec<Token>> = h.original.clone().map(|k| statement::tokens(&statement::text_of(a.text, a.dialect, &sa[k]))).collect();
         let tb: Vec<Vec<Token>> = h.edited.clone().map(|k| statement::tokens(&statement::text_of(b.text, b.dialect, &sb[k]))).collect();
+        // Whole branches that only choose what to show (`o100 if` … `(msg, …)` … `o100 endif`):
+        // output, as the messages they choose between.
+        let shows_only = only_output(&ta, &h.original, sa, a.dialect) && only_output(&tb, &h.edited, sb, b.dialect);
         for (x, y) in pair_statements(&ta, &tb) {
             let diffs = match (x, y) {
                 (Some(x), Some(y)) => token_diffs(&ta[x], &tb[y]),
@@ -280,7 +428,7 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             };
             let oi = x.map(|x| h.original.start + x);
             let ei = y.map(|y| h.edited.start + y);
-            let output = oi.is_none_or(|k| sa[k].class == Class::Output) && ei.is_none_or(|k| sb[k].class == Class::Output);
+            let output = shows_only || (oi.is_none_or(|k| sa[k].class == Class::Output) && ei.is_none_or(|k| sb[k].class == Class::Output));
             let class = if output { Class::Output } else { Class::Machining };
             let diffs = if diffs.is_empty() {
                 // Equal tokens, other text (a blank inside a name): the statements whole.
@@ -301,6 +449,30 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
         }
     }
     (items, bulks)
+}
+
+/// Whether a hunk's statements on one side are whole branches (as many opened as closed) whose
+/// other statements only write text, with at least one such: nothing the machine does depends on
+/// them. An empty side is.
+fn only_output(tokens: &[Vec<Token>], range: &std::ops::Range<usize>, s: &[Stmt], d: &Dialect) -> bool {
+    if range.is_empty() {
+        return true;
+    }
+    let (mut depth, mut shown) = (0, false);
+    for (t, k) in tokens.iter().zip(range.clone()) {
+        if s[k].class == Class::Output {
+            shown = true;
+            continue;
+        }
+        match control::branch_depth(t, d) {
+            Some(n) => depth += n,
+            None => return false,
+        }
+        if depth < 0 {
+            return false;
+        }
+    }
+    shown && depth == 0
 }
 
 /// The statements of a hunk paired: first those whose first token has the same key (in
@@ -378,9 +550,9 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
         K::SpindleSpeedChanged | K::SpindleModeChanged => address(&[R::S]) || code(&SPEED),
         K::SpindleDirectionChanged => code(&SPINDLE),
         K::CoolantChanged => code(&COOLANT),
-        K::ToolRenamed => address(&[R::T, R::D, R::NextTool]) || code(&[M::ToolChange]),
-        K::LengthOffsetChanged => address(&[R::H]) || code(&LENGTH),
-        K::CutterCompChanged => address(&[R::D]) || code(&COMP),
+        K::ToolRenamed => address(&[R::T, R::D, R::ToolEdge, R::NextTool]) || code(&[M::ToolChange]),
+        K::LengthOffsetChanged => address(&[R::H, R::ToolEdge]) || code(&LENGTH),
+        K::CutterCompChanged => address(&[R::D, R::ToolEdge]) || code(&COMP),
         K::WorkOffsetChanged => address(&[R::P]) || code(&[M::Wcs, M::WcsExtended]),
         K::StopAdded | K::StopRemoved => code(&STOPS),
         K::DwellChanged => address(&[R::P, R::DwellTime]) || code(&[M::Dwell]),
@@ -394,7 +566,7 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
         // Geometry: anything but technology.
         _ => {
             let codes: [&[Meaning]; 8] = [&FEED, &SPEED, &SPINDLE, &COOLANT, &LENGTH, &COMP, &STOPS, &OVERRIDES];
-            let technology = codes.iter().any(|l| code(l)) || address(&[R::F, R::S, R::T, R::H, R::D, R::E]);
+            let technology = codes.iter().any(|l| code(l)) || address(&[R::F, R::S, R::T, R::H, R::D, R::ToolEdge, R::E]);
             !technology
         }
     }
@@ -586,6 +758,49 @@ fn call_changes(x: &Token, y: &Token, kind: ChangeKind, ws: &(u32, String), d: &
     }
 }
 
+/// The statement changes of a control-flow statement told as what they change: its
+/// condition, its jump's target, its repeat count, the call or loop added or removed; the
+/// arguments a call passes and the variables it sets stay as they are.
+fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect) {
+    let whole = it.original.is_none() || it.edited.is_none();
+    let condition = it.diffs.iter().any(|(x, y)| {
+        let t = y.as_ref().or(x.as_ref()).expect("a difference has a side");
+        t.sort == Sort::Call && !matches!(flow, control::Flow::Call)
+    });
+    let repeat =
+        flow == control::Flow::Call && it.diffs.iter().any(|(x, y)| y.as_ref().or(x.as_ref()).is_some_and(|t| control::repeat_word(t, d)));
+    for c in out.iter_mut().filter(|c| c.kind == ChangeKind::StatementChanged) {
+        let argument = c.field.starts_with("call ");
+        if c.field.starts_with("variable ") || (argument && flow == control::Flow::Call) {
+            continue;
+        }
+        let field = match flow {
+            _ if whole => flow.field().to_owned(),
+            control::Flow::Branch if argument || condition => "condition".to_owned(),
+            control::Flow::Loop if argument || condition => "loop condition".to_owned(),
+            control::Flow::Call if repeat => "repeat count".to_owned(),
+            control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => {
+                control::jump_part(&c.before, &c.after).to_owned()
+            }
+            control::Flow::Jump => "jump target".to_owned(),
+            _ => flow.field().to_owned(),
+        };
+        if argument {
+            // The bracketed condition whole: `[#1LT6]` for `O100WHILE` argument 1.
+            (c.before, c.after) = (unbracketed(&c.before), unbracketed(&c.after));
+        } else if whole && c.before.is_empty() && c.after.is_empty() {
+            c.after = "statement".into();
+        }
+        c.kind = ChangeKind::FlowChanged;
+        c.field = field;
+    }
+}
+
+/// A condition as a change writes it, without the brackets the statement reads it in.
+fn unbracketed(s: &str) -> String {
+    s.strip_prefix('[').and_then(|s| s.strip_suffix(']')).unwrap_or(s).to_owned()
+}
+
 /// The statement changes of one item: those of its variables and calls always, the rest
 /// where no plan change is located at it; words the dictionary gives a sense are told by
 /// their kind ([`typed`]).
@@ -635,7 +850,9 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
             }
             (Sort::Call, _, _) if it.call_located => {}
             (Sort::Call, Some(x), Some(y)) if x.key == y.key => call_changes(x, y, kind, &ws, d, &mut out),
-            _ if it.located && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
+            // A control-flow statement is told even where a plan change is located at it: the
+            // plan says what it did, the statement why.
+            _ if it.located && it.ctx.flow.is_none() && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
             _ => {
                 plain = true;
                 if let Some(x) = x {
@@ -659,6 +876,11 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         let mut c = blank(kind, ws);
         c.field = "statement".into();
         out.push(c);
+    }
+    if kind == ChangeKind::StatementChanged
+        && let Some(flow) = it.ctx.flow
+    {
+        flow_changes(&mut out, it, flow, d);
     }
     for c in &mut out {
         (c.original_line, c.line) = (lo, le);

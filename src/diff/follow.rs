@@ -39,12 +39,18 @@ fn reads(value: &str, name: &str) -> bool {
 
 /// The motion in force at statement `k` (rapid or not), from its own codes or the ones before.
 fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<bool> {
+    // A rapid word anywhere in the statement makes it a rapid (`L Z+Q1 R0 FMAX`: the line
+    // keyword comes first, its rapid feed word after).
     let motion = |toks: &[Token]| {
-        toks.iter().find_map(|t| match about(t, p.dialect) {
-            About::Code(Meaning::Rapid | Meaning::RapidBlock) => Some(true),
-            About::Code(Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw) => Some(false),
-            _ => None,
-        })
+        let kinds: Vec<Meaning> =
+            toks.iter().filter_map(|t| if let About::Code(m) = about(t, p.dialect) { Some(m) } else { None }).collect();
+        if kinds.iter().any(|m| matches!(m, Meaning::Rapid | Meaning::RapidBlock)) {
+            Some(true)
+        } else if kinds.iter().any(|m| matches!(m, Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw)) {
+            Some(false)
+        } else {
+            None
+        }
     };
     if let Some(m) = motion(own) {
         return Some(m);
@@ -141,10 +147,22 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
         for (kind, field) in found {
             let mut t = template.clone();
             t.kind = kind;
-            t.field = format!("{field} (via {var})");
+            let note = if kind == ChangeKind::ClearanceChanged { below_top(p, &t.before, &t.after) } else { None };
+            t.field = format!("{field} (via {var}{})", note.unwrap_or_default());
             t.detail.effect = None;
             changes.insert(k, t);
             k += 1;
         }
     }
+}
+
+/// Where a clearance set through a variable now lies below the part's top (the stock the
+/// program or configuration states): that, naming the reference. Only plain numbers are
+/// compared, in the program's units.
+fn below_top(p: Program<'_>, before: &str, after: &str) -> Option<String> {
+    let (x, y) = (before.trim().parse::<f64>().ok()?, after.trim().parse::<f64>().ok()?);
+    let inch = p.plan.units == Some(crate::canon::Units::Inch);
+    let mm = |v: f64| if inch { v * 25.4 } else { v };
+    let note = super::part_top(p.plan)?.crossed(mm(x), mm(y), super::Fmt { inch })?;
+    Some(format!(",{}", note.trim_start().trim_start_matches('(').trim_end_matches(')')).replace(",now", ", now"))
 }

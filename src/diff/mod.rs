@@ -42,6 +42,7 @@
 //! sentence.
 
 mod account;
+mod control;
 mod follow;
 mod setup;
 pub mod statement;
@@ -149,6 +150,13 @@ pub enum ChangeKind {
     WorkPlaneChanged,
     /// A thread's pitch (the lead of its synchronised moves) changed.
     ThreadPitchChanged,
+    /// Which blocks run, or how often, changed: a condition, a loop's bound, a jump's target,
+    /// a repeat count, a break or return, a call of a subprogram added or removed.
+    FlowChanged,
+    /// A machine function the plan has no kind for changed: an M-code or G-code the dictionary
+    /// names (an output, a wait on an input, the path mode, a lookahead limit) or one it does
+    /// not know (a machine builder's M88), with its words.
+    MachineFunctionChanged,
 }
 
 impl ChangeKind {
@@ -197,6 +205,8 @@ impl ChangeKind {
             ChangeKind::ProgramFixed => "program_fixed",
             ChangeKind::WorkPlaneChanged => "work_plane_changed",
             ChangeKind::ThreadPitchChanged => "thread_pitch_changed",
+            ChangeKind::FlowChanged => "flow_changed",
+            ChangeKind::MachineFunctionChanged => "machine_function_changed",
         }
     }
 }
@@ -321,6 +331,18 @@ impl Change {
                 }
                 s
             }
+            ChangeKind::MachineFunctionChanged => {
+                // `machine function M66: wait on input`: the code, and what the dictionary calls it.
+                let what = self.field.strip_prefix("machine function ").unwrap_or(&self.field);
+                match (self.before.is_empty(), self.after.is_empty()) {
+                    (true, _) => format!("machine function `{}` added ({what})", self.after),
+                    (_, true) => format!("machine function `{}` removed ({what})", self.before),
+                    _ => {
+                        let (code, name) = what.split_once(": ").unwrap_or((what, ""));
+                        format!("machine function {code} ({name}) changed from {} to {}", self.before, self.after)
+                    }
+                }
+            }
             _ if self.before.is_empty() => format!("{field} {} added", self.after),
             _ if self.after.is_empty() => format!("{field} {} removed", self.before),
             _ => format!("{field} changed from {} to {}", self.before, self.after),
@@ -404,8 +426,8 @@ pub const TOLERANCE: f64 = 1e-4;
 
 /// How values are written: in the original program's units.
 #[derive(Clone, Copy)]
-struct Fmt {
-    inch: bool,
+pub(crate) struct Fmt {
+    pub(crate) inch: bool,
 }
 
 impl Fmt {
@@ -474,8 +496,7 @@ pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change
     if original.dialect.name != edited.dialect.name {
         return Vec::new();
     }
-    let (sa, sb) = (statement::statements(original.text, original.dialect), statement::statements(edited.text, edited.dialect));
-    account::uncovered(changes, &statement::hunks(&sa, &sb), &sa, &sb)
+    account::unaccounted(original, edited, changes)
 }
 
 /// The changes from `original` to `edited` the plans alone show, in workingstep order
@@ -738,7 +759,7 @@ fn compare_workingsteps(
         if lathe { (turning::technology(a, b, u, &mut push), None) } else { compare_technology(a, b, u, &mut push) };
     // Heights and feeds beside the cutting ones, where no canned cycle's parameters say them.
     if a.holes.is_empty() && b.holes.is_empty() && !lathe {
-        heights(a, b, feeds_differ, u, &mut push, at_start);
+        heights(a, b, (feeds_differ, part_top(pb)), u, &mut push, at_start);
     }
     let mut explained = false;
     // Holes and their cycle parameters.
@@ -976,12 +997,50 @@ fn fold_into_start_point(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f
     });
 }
 
+/// The top of the part, where the program or the configuration states its stock: the
+/// stock's top face, and where its size comes from.
+#[derive(Clone, Copy)]
+pub(crate) struct PartTop {
+    /// Z of the stock's top, mm.
+    pub z: f64,
+    /// The program line that states the stock (`BLK FORM`, a stock comment); `None` for the
+    /// configured stock.
+    pub line: Option<u32>,
+}
+
+/// The part's top in `plan`, where its stock is known.
+pub(crate) fn part_top(plan: &ProcessPlan) -> Option<PartTop> {
+    plan.workpiece.as_ref().map(|s| PartTop { z: s.max()[2], line: s.line })
+}
+
+impl PartTop {
+    /// What a height moved from `before` to `after` (mm) says about the part: that it now lies
+    /// below the part's top, naming the reference; `None` where it does not cross it.
+    pub(crate) fn crossed(self, before: f64, after: f64, u: Fmt) -> Option<String> {
+        if !(before >= self.z - TOLERANCE && after < self.z - TOLERANCE) {
+            return None;
+        }
+        let from = match self.line {
+            Some(l) => format!("the stock stated at line {l}"),
+            None => "the configured stock".to_owned(),
+        };
+        Some(format!(" (now below the part's top Z{}, the top of {from})", u.c(self.z)))
+    }
+}
+
 type Push<'a> = dyn FnMut(ChangeKind, &str, String, String, (Option<u32>, Option<u32>)) + 'a;
 
 /// The heights a workingstep moves at between its cuts (ISO 14649's security plane), comes
 /// down to before it feeds (the approach height) and leaves to (the retract plane), and the
 /// feeds it plunges at, where the cutting feeds did not change.
-fn heights(a: &Workingstep, b: &Workingstep, feeds_differ: bool, u: Fmt, push: &mut Push<'_>, at: (Option<u32>, Option<u32>)) {
+fn heights(
+    a: &Workingstep,
+    b: &Workingstep,
+    (feeds_differ, top): (bool, Option<PartTop>),
+    u: Fmt,
+    push: &mut Push<'_>,
+    at: (Option<u32>, Option<u32>),
+) {
     let z = |v: f64| format!("Z{}", u.c(v));
     // Heights that read the same in the program's units are the same (a rounding).
     let differs = |x: Option<f64>, y: Option<f64>| match (x, y) {
@@ -990,17 +1049,21 @@ fn heights(a: &Workingstep, b: &Workingstep, feeds_differ: bool, u: Fmt, push: &
     };
     let (ca, cb) = (clearance(a), clearance(b));
     if differs(ca, cb) {
-        push(ChangeKind::ClearanceChanged, "clearance_height", z(ca.unwrap_or_default()), z(cb.unwrap_or_default()), at);
+        let (x, y) = (ca.unwrap_or_default(), cb.unwrap_or_default());
+        let note = top.and_then(|t| t.crossed(x, y, u)).unwrap_or_default();
+        push(ChangeKind::ClearanceChanged, "clearance_height", z(x), format!("{}{note}", z(y)), at);
     }
     let (pa, pb) = (approach(a), approach(b));
     if differs(pa.map(|p| p.0), pb.map(|p| p.0)) {
         let (x, y) = (pa.expect("compared"), pb.expect("compared"));
-        push(ChangeKind::ApproachChanged, "approach_height", z(x.0), z(y.0), (Some(x.1), Some(y.1)));
+        let note = top.and_then(|t| t.crossed(x.0, y.0, u)).unwrap_or_default();
+        push(ChangeKind::ApproachChanged, "approach_height", z(x.0), format!("{}{note}", z(y.0)), (Some(x.1), Some(y.1)));
     }
     let (ra, rb) = (retract(a), retract(b));
     if differs(ra.map(|r| r.0), rb.map(|r| r.0)) {
         let (x, y) = (ra.expect("compared"), rb.expect("compared"));
-        push(ChangeKind::RetractChanged, "retract_height", z(x.0), z(y.0), (Some(x.1), Some(y.1)));
+        let note = top.and_then(|t| t.crossed(x.0, y.0, u)).unwrap_or_default();
+        push(ChangeKind::RetractChanged, "retract_height", z(x.0), format!("{}{note}", z(y.0)), (Some(x.1), Some(y.1)));
     }
     let (fa, fb) = (plunge_feeds(a), plunge_feeds(b));
     if !feeds_differ

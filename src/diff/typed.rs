@@ -74,6 +74,13 @@ pub(super) struct Context {
     pub legacy: bool,
     /// Moves whose axis words read variables (`G0 Z#7`): what the plan may not see.
     pub moves_by_variables: bool,
+    /// A machine function the plan has no kind for (`M66 P1 L3`, `G64 P0.01`, a builder's
+    /// `M88`): its other words are that function's.
+    pub function: bool,
+    /// That function's code: its letter and number × 10 (`M66`: `('M', 660)`).
+    pub function_code: Option<(char, u32)>,
+    /// What the statement decides about which blocks run, if it is a control-flow statement.
+    pub flow: Option<super::control::Flow>,
 }
 
 /// Whether a code shifts the origin of the program's coordinates.
@@ -136,7 +143,13 @@ impl Context {
             c.legacy = !c.dwell && !c.shift;
         }
         c.moves_by_variables = tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
+        c.flow = super::control::flow_of(tokens, d);
         for t in tokens.iter().filter(|t| t.sort == Sort::Word) {
+            let code = || t.key[1..].parse::<f64>().ok().map(|n| (t.key.chars().next().unwrap_or('M'), (n * 10.0).round() as u32));
+            if about(t, d) == About::Unknown && unknown_code(t) {
+                c.function = true;
+                c.function_code = c.function_code.or_else(code);
+            }
             if let About::Code(m) = about(t, d) {
                 c.dwell |= m == Meaning::Dwell;
                 c.cycle |= m.is_cycle();
@@ -145,6 +158,10 @@ impl Context {
                 c.switch |= matches!(m, Meaning::FeedOverrideSwitch | Meaning::SpeedOverrideSwitch);
                 c.shift |= shifts(m);
                 c.length |= m == Meaning::LengthCompDynamic;
+                if machine_function(m) && numbered_code(t) {
+                    c.function = true;
+                    c.function_code = c.function_code.or_else(code);
+                }
                 if m == Meaning::SetData {
                     let l = tokens.iter().find(|t| t.key == "L").and_then(|t| t.value.parse::<f64>().ok());
                     let code = t.key[1..].parse::<f64>().ok().and_then(|n| d.code('G', (n * 10.0).round() as u32));
@@ -165,6 +182,7 @@ impl Context {
             || self.shift
             || self.length
             || self.legacy
+            || self.function
             || self.data.is_some()
     }
 
@@ -181,6 +199,9 @@ impl Context {
             data: self.data.or(o.data),
             legacy: self.legacy || o.legacy,
             moves_by_variables: self.moves_by_variables || o.moves_by_variables,
+            function: self.function || o.function,
+            function_code: self.function_code.or(o.function_code),
+            flow: self.flow.or(o.flow),
         }
     }
 }
@@ -217,6 +238,15 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     {
         return Some((K::CycleParameterChanged, "cycle parameter"));
     }
+    // A machine function's own words (`M66 P1 E0 L3`, `G64 P0.01`): that function's.
+    if let About::Address(r) = a
+        && ctx.function
+        && !ctx.cycle
+        && !ctx.other_cycle
+        && !matches!(r, R::X | R::Y | R::Z | R::A | R::B | R::C | R::U | R::V | R::W | R::F | R::S | R::T | R::G | R::M | R::N)
+    {
+        return Some((K::MachineFunctionChanged, "machine function"));
+    }
     if ctx.shift && axis_word(tok, d) {
         return Some((K::WorkOffsetChanged, "origin shift"));
     }
@@ -249,6 +279,8 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             M::PlaneXy | M::PlaneXz | M::PlaneYz => (K::PlaneChanged, "plane"),
             M::UnitsInch | M::UnitsMm => (K::UnitsChanged, "units"),
             M::RetractInitial | M::RetractR => (K::CycleParameterChanged, "cycle retract"),
+            // A G or M code, not a keyword's option (Heidenhain `PLANE … TURN MB MAX`).
+            m if machine_function(m) && numbered_code(tok) => (K::MachineFunctionChanged, "machine function"),
             _ => return None,
         },
         About::Address(r) if ctx.dwell && matches!(r, R::F | R::P | R::X | R::U | R::DwellTime) => (K::DwellChanged, "dwell"),
@@ -265,11 +297,57 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             R::T | R::NextTool => (K::ToolRenamed, "tool"),
             R::H => (K::LengthOffsetChanged, "length offset"),
             R::D => (K::CutterCompChanged, "radius offset"),
+            R::ToolEdge => (K::LengthOffsetChanged, "cutting edge (tool length and radius offsets)"),
             R::DwellTime => (K::DwellChanged, "dwell"),
             _ => return None,
         },
+        About::Unknown if unknown_code(tok) => (K::MachineFunctionChanged, "machine function"),
         About::Unknown => return None,
     })
+}
+
+/// A machine function as a change names it: its code and the dictionary's name for it
+/// (`machine function M66: wait on input`), or that the dictionary does not know it.
+fn function_field(ctx: Context, d: &Dialect) -> String {
+    let Some((letter, n)) = ctx.function_code else { return "machine function".into() };
+    let code = format!("{letter}{}", crate::diff::num(f64::from(n) / 10.0));
+    match d.code(letter, n) {
+        Some(def) if !def.name.is_empty() && def.name != def.meaning.as_str() => format!("machine function {code}: {}", def.name),
+        Some(def) => format!("machine function {code}: {}", def.meaning.as_str().replace('-', " ")),
+        None => format!("machine function {code}: not in the dictionary"),
+    }
+}
+
+/// Whether a code's meaning is a machine function the plan has no kind for: what the
+/// dictionary names but the plan does not model (an output, a wait on an input, the path
+/// mode, the distance mode, the modal state saved or restored).
+fn machine_function(m: Meaning) -> bool {
+    use Meaning as M;
+    matches!(
+        m,
+        M::Other
+            | M::PathMode
+            | M::DistanceAbsolute
+            | M::DistanceIncremental
+            | M::ArcDistanceAbsolute
+            | M::ArcDistanceIncremental
+            | M::DiameterMode
+            | M::RadiusMode
+            | M::StateSave
+            | M::StateSaveAutorestore
+            | M::StateInvalidate
+            | M::StateRestore
+    )
+}
+
+/// Whether a token is a numbered G or M code (`M66`, `G64`).
+fn numbered_code(tok: &Token) -> bool {
+    tok.sort == Sort::Word && matches!(tok.key.chars().next(), Some('G' | 'M')) && tok.key[1..].parse::<f64>().is_ok()
+}
+
+/// Whether a token is an M-code the dictionary does not know (a machine builder's `M88`).
+fn unknown_code(tok: &Token) -> bool {
+    tok.sort == Sort::Word && tok.key.starts_with('M') && tok.key.len() > 1 && tok.key[1..].bytes().all(|b| b.is_ascii_digit() || b == b'.')
 }
 
 /// The kind of a word of a data-setting statement: a work offset's values, a tool's length
@@ -314,6 +392,9 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
         }
     }
     for t in &mut out {
+        if t.kind == ChangeKind::MachineFunctionChanged {
+            t.field = function_field(ctx, d);
+        }
         // A stop added or removed is its own kind; one replaced by another stays `stop_added`
         // with both sides.
         if t.kind == ChangeKind::StopAdded && t.after.is_empty() {

@@ -705,6 +705,11 @@ impl Txn<'_> {
         on_tx!(self, e => e.content(revision))
     }
 
+    /// The findings of a revision, in source order (those stored in this transaction too).
+    pub fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
+        on_tx!(self, e => e.findings(revision))
+    }
+
     /// Adds a finding to a stored revision, unless it has the same one (code and message).
     pub fn add_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<bool> {
         on_tx!(self, e => e.add_finding(revision_id, d))

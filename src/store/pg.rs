@@ -725,6 +725,18 @@ impl PgTxn<'_> {
         Ok(row.map(|r| r.get(0)))
     }
 
+    pub(super) fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
+        let rows = self.conn.rows(
+            "reading findings",
+            "SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = $1 ORDER BY byte_start, id",
+            &[&revision],
+        )?;
+        Ok(rows
+            .iter()
+            .map(|r| StoredFinding { severity: r.get(0), code: r.get(1), line: r.get(2), col: r.get(3), message: r.get(4) })
+            .collect())
+    }
+
     /// All findings of a revision in one statement, in their order (ids follow it).
     fn insert_findings(&self, revision_id: i64, ds: &[DiagnosticJson]) -> Result<()> {
         if ds.is_empty() {

@@ -219,16 +219,7 @@ impl Lite {
 
     /// The findings of a revision, in source order.
     pub(super) fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
-        let mut stmt = self
-            .conn
-            .prepare("SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = ?1 ORDER BY byte_start, id")
-            .map_err(sql("preparing a query"))?;
-        let rows = stmt
-            .query_map([revision], |r| {
-                Ok(StoredFinding { severity: r.get(0)?, code: r.get(1)?, line: r.get(2)?, col: r.get(3)?, message: r.get(4)? })
-            })
-            .map_err(sql("reading findings"))?;
-        rows.collect::<std::result::Result<_, _>>().map_err(sql("reading findings"))
+        findings_on(&self.conn, revision)
     }
 
     /// The changes found in a revision against its original.
@@ -500,6 +491,10 @@ impl LiteTxn<'_> {
             .query_row("SELECT b.content FROM revisions r JOIN blobs b ON b.hash = r.hash WHERE r.id = ?1", [revision], |r| r.get(0))
             .optional()
             .map_err(sql("reading program bytes"))
+    }
+
+    pub(super) fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
+        findings_on(&self.tx, revision)
     }
 
     fn insert_finding(&self, revision_id: i64, d: &DiagnosticJson) -> Result<()> {
@@ -994,6 +989,19 @@ fn lite_value(v: &Val) -> rusqlite::types::Value {
         Val::Text(t) => Value::Text(t.clone()),
         Val::Bytes(b) => Value::Blob(b.clone()),
     }
+}
+
+/// The findings of a revision, in source order.
+fn findings_on(conn: &rusqlite::Connection, revision: i64) -> Result<Vec<StoredFinding>> {
+    let mut stmt = conn
+        .prepare("SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = ?1 ORDER BY byte_start, id")
+        .map_err(sql("preparing a query"))?;
+    let rows = stmt
+        .query_map([revision], |r| {
+            Ok(StoredFinding { severity: r.get(0)?, code: r.get(1)?, line: r.get(2)?, col: r.get(3)?, message: r.get(4)? })
+        })
+        .map_err(sql("reading findings"))?;
+    rows.collect::<std::result::Result<_, _>>().map_err(sql("reading findings"))
 }
 
 #[cfg(test)]

@@ -237,3 +237,37 @@ fn an_edited_subprogram_recompares_the_programs_that_call_it() {
     );
     assert!(rule[0][0].contains("recomputed: the called program O2000 changed"), "{rule:?}");
 }
+
+/// The daemon's comparison tells what an edit breaks from the same errors `ncplan check`
+/// finds (a jump to a label that is gone is found by the run, not by reading the blocks), and
+/// stores it as a row of its own, first.
+#[test]
+fn a_stored_comparison_says_the_edit_breaks_the_program_as_check_does() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (cam, share, var) = (tmp.path().join("cam"), tmp.path().join("share"), tmp.path().join("var"));
+    std::fs::create_dir_all(&cam).unwrap();
+    std::fs::create_dir_all(&share).unwrap();
+    let config = tmp.path().join("ncplan.toml");
+    std::fs::write(
+        &config,
+        "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 200\n\
+         [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
+         [[machine]]\nname = 'VF2'\npath = 'share'\ndialect = 'fanuc'\n",
+    )
+    .unwrap();
+    let db = var.join("ncplan.db");
+    let original = "%\nO2000\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\n#1=0\nN10 G1 Z-1 F100\nX10\n#1=#1+1\nIF [#1 LT 2] GOTO10\nG0 Z5\nM30\n%\n";
+    let daemon = start(&config);
+    std::fs::write(cam.join("O2000.nc"), original).unwrap();
+    assert_eq!(wait_for(&db, "SELECT id FROM revisions", 1).len(), 1);
+    // The jump now names a block the program has not.
+    std::fs::write(share.join("O2000.nc"), original.replace("GOTO10", "GOTO20")).unwrap();
+    let changes = wait_for(&db, "SELECT kind, field, after, line FROM shopfloor_changes ORDER BY change_id", 2);
+    assert_eq!(changes[0][..2], ["program_broken", "flow::missing-label"], "{changes:?}");
+    assert!(changes[0][2].contains("no block N20"), "{changes:?}");
+    assert_eq!(changes[0][3], "10");
+    // The same error is among the edit's stored findings, as `ncplan check` reports it.
+    let found = rows(&db, "SELECT d.code FROM diagnostics d JOIN revisions r ON r.id = d.revision_id WHERE d.severity = 'error'");
+    assert_eq!(found, [["flow::missing-label"]]);
+    drop(daemon);
+}

@@ -539,10 +539,41 @@ fn return_and_rotary_moves_are_their_own_kinds() {
     expect![[r#"
         return_move_changed | statement |  | G91 G28 Z0 | 6 | -
           return move: `G91 G28 Z0` added at line 6
-        statement_changed | statement |  | G90 | 7 | -
-          `G90` added at line 7
+        machine_function_changed | machine function G90: distance absolute |  | G90 | 7 | -
+          machine function `G90` added (G90: distance absolute) at line 7
         rotary_move_changed | statement |  | G0 A90. | 9 | -
           rotary axis move: `G0 A90.` added at line 9
     "#]]
     .assert_eq(&rows(&changes(a, &b, "fanuc")));
+}
+
+#[test]
+fn control_flow_edits_are_told_as_what_runs() {
+    // A loop's bound and the repeat count of a call code (`M98 … L`).
+    let a = "%\nO1\nG21 G90 G17\nT1 M6\nS2000 M3\nG54 G0 X0. Y0. Z5.\n#1=0\nWHILE[#1LT3]DO1\nG1 Z-1. F300.\nX50.\n#1=#1+1\nEND1\nM98 P2 L2\nG0 Z50.\nM30\n%\nO2\nG0 Z5.\nM99\n%\n";
+    let b = a.replace("WHILE[#1LT3]", "WHILE[#1LE3]").replace("P2 L2", "P2 L3");
+    expect![[r#"
+        flow_changed | loop condition | #1LT3 | #1LE3 | 8 | 8
+          loop condition changed from #1LT3 to #1LE3 at line 8
+        flow_changed | repeat count | L2 | L3 | 13 | 13
+          repeat count changed from L2 to L3 at line 13
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "fanuc")));
+}
+
+#[test]
+fn machine_functions_are_named_by_the_dictionary() {
+    // LinuxCNC: a digital output and a wait on an input the plan has no kind for; a builder's
+    // M-code the dictionary does not know.
+    let a = "G21 G90 G17\nT1 M6\nS3000 M3\nM64 P1\nM66 P0 L3 Q5\nG0 X0 Y0 Z5\nG1 Z-2 F400\nX50\nG0 Z5\nM30\n";
+    let b = a.replace("M64 P1", "M64 P2").replace("M66 P0 L3 Q5\n", "M66 P0 L4 Q5\nM188\n");
+    expect![[r#"
+        machine_function_changed | machine function M64: digital output on | P1 | P2 | 4 | 4
+          machine function M64 (digital output on) changed from P1 to P2 at line 4
+        machine_function_changed | machine function M66: wait on input | L3 | L4 | 5 | 5
+          machine function M66 (wait on input) changed from L3 to L4 at line 5
+        machine_function_changed | machine function M188: not in the dictionary |  | M188 | 6 | -
+          machine function `M188` added (M188: not in the dictionary) at line 6
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
 }
