@@ -138,6 +138,18 @@ impl Interpreter<'_> {
                 self.limited(diags, "machine-m-code", d);
                 return true;
             }
+            if let Some(e) = (0.0..100_000.0).contains(&x10).then(|| self.dialect.vocabulary.code(letter, x10 as u32)).flatten() {
+                let d = Diagnostic::new(
+                    Code::Unmodelled,
+                    w.range,
+                    format!(
+                        "`{shown}` ({}, {}) is in the control's vocabulary but not modelled: kept as intent, its effect on the toolpath unknown",
+                        e.what, e.manual
+                    ),
+                );
+                self.limited(diags, "unmodelled-code", d);
+                return true;
+            }
             diags.push(Diagnostic::new(
                 Code::UnknownCode,
                 w.range,

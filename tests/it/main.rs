@@ -88,6 +88,7 @@ mod tilt;
 mod tool_comments;
 mod translate;
 mod unknown_values;
+mod vocabulary;
 mod web;
 mod web_attacks;
 
