@@ -113,6 +113,9 @@ pub struct NumberForms {
     /// The quote around a constant in another base, and the letters that name hexadecimal
     /// and binary (`'`, `H`, `B`: `'H1F'` is 31, `'B101'` is 5).
     pub radix: Option<(char, char, char)>,
+    /// Whether a comma between digits is the decimal point (`L Z+100,000 R F5000`: older
+    /// Heidenhain TNCs write and read a decimal comma).
+    pub decimal_comma: bool,
 }
 
 /// A name indexed by an axis: `AX[X]=10` moves X; `VELOLIM[A]=50` sets per-axis data.

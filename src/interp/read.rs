@@ -24,6 +24,9 @@ struct WordReading {
     diameter: bool,
     /// Whether K counts a drilling cycle's repeats, no length.
     k_counts: bool,
+    /// The role of the sequence number a subprogram call starts at (`M98 Q2100`), read as a
+    /// number, no length, in a block with such a call.
+    call_start: Option<Role>,
 }
 
 impl Interpreter<'_> {
@@ -197,7 +200,9 @@ impl Interpreter<'_> {
         };
         let k_counts = self.codes.iter().any(|&(c, _)| is_hole_cycle(self.code(c).meaning))
             || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
-        WordReading { units, diameter, k_counts }
+        let calls = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::SubprogramCall);
+        let call_start = self.dialect.macros.call_start.filter(|_| calls).and_then(|l| self.dialect.letter_role(l));
+        WordReading { units, diameter, k_counts, call_start }
     }
 
     /// Word `k` of the block, not a code: into its slot, or the named cycle's arguments. An
@@ -289,6 +294,7 @@ impl Interpreter<'_> {
             (w.value, &self.dialect.behaviour.decimal_input)
             && scaled.contains(&role)
             && !(how.k_counts && role == Role::K)
+            && how.call_start != Some(role)
         {
             let axis = Role::AXES.iter().position(|&a| a == role);
             let absolute = match w.mode {
