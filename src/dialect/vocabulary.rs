@@ -124,7 +124,7 @@ impl Vocabulary {
 pub fn parse_ranges(codes: &str) -> Option<Vec<(u32, u32)>> {
     let tenths = |s: &str| -> Option<u32> {
         let v: f64 = s.parse().ok()?;
-        (v >= 0.0 && v < 100_000.0 && ((v * 10.0).round() - v * 10.0).abs() < 1e-6).then(|| (v * 10.0).round() as u32)
+        ((0.0..100_000.0).contains(&v) && ((v * 10.0).round() - v * 10.0).abs() < 1e-6).then(|| (v * 10.0).round() as u32)
     };
     codes
         .split_whitespace()

@@ -119,8 +119,11 @@ impl Lexer<'_, '_> {
         let v = if exact && mantissa < (1 << 53) && frac <= 22 {
             mantissa as f64 / POW10[frac as usize]
         } else {
-            let s: String =
-                self.text[start..self.i].chars().filter(|c| c.is_ascii_digit() || matches!(c, '.' | ',')).map(|c| if c == ',' { '.' } else { c }).collect();
+            let s: String = self.text[start..self.i]
+                .chars()
+                .filter(|c| c.is_ascii_digit() || matches!(c, '.' | ','))
+                .map(|c| if c == ',' { '.' } else { c })
+                .collect();
             s.parse::<f64>().unwrap_or(0.0)
         };
         let v = if self.dialect.lexical.numbers.exponent.is_some() { self.exponent(start, v)? } else { v };
