@@ -84,6 +84,7 @@ mod siemens_axes;
 mod speed;
 mod stepnc;
 mod support;
+mod sweep43;
 mod tilt;
 mod tool_comments;
 mod translate;
