@@ -42,6 +42,7 @@ impl Interpreter<'_> {
         self.codes.clear();
         self.block_cycle = None;
         self.cycle_args.clear();
+        self.intent_words = false;
     }
 
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
@@ -151,6 +152,7 @@ impl Interpreter<'_> {
                     ),
                 );
                 self.limited(diags, "unmodelled-code", d);
+                self.intent_words = true;
                 return true;
             }
             diags.push(Diagnostic::new(
@@ -481,7 +483,8 @@ impl Interpreter<'_> {
             // A keyword code takes the value it is written with (`SPOS=90`).
             let takes = |c: &CodeDef, r: Role| c.params.takes(r) || c.keyword.as_ref().is_some_and(|k| k.value_role == Some(r));
             let taken = self.codes.iter().any(|&(c, _)| takes(self.code(c), w.role)) || motion.is_some_and(|c| takes(self.code(c), w.role));
-            if !taken {
+            // A code kept as intent takes the words no modelled command does (`M101 P1 Q2`).
+            if !taken && !self.intent_words {
                 let shown = block.text(w.range);
                 let d =
                     Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}`: no command in this block takes {}", w.letter as char));

@@ -162,3 +162,71 @@ fn every_modelled_or_intent_code_reads_without_an_error() {
     assert!(tried > 500, "only {tried} codes tried");
     assert!(failed.is_empty(), "{} of {tried} codes read with errors:\n{}", failed.len(), failed.join("\n"));
 }
+
+/// The findings of `text` read in `dialect`.
+fn read(dialect: &str, text: &str) -> Vec<Diagnostic> {
+    let d = Registry::shipped().get(dialect).unwrap();
+    findings(&d, text)
+}
+
+/// Files as shops keep them: `M98 Q` calls a sequence number of the same program (Fanuc 0i-F
+/// and 30i), `M98 P Q` one of program P; Q is a number there, no length, under
+/// least-increment input. A sequence number that is not there stays an error.
+#[test]
+fn m98_q_calls_a_sequence_number_of_this_program() {
+    let ok = read("fanuc", "O1000\nG90 G54 G0 X0 Y0 S1000 M3\nM98 Q2100\nM98 P1000 Q2100 L2\nM30\nN2100 G1 X10. F100.\nM99\n");
+    assert!(errors(&ok).is_empty(), "{:?}", errors(&ok));
+    let missing = read("fanuc", "O1000\nM98 Q2200\nM30\nN2100 G1 X10. F100.\nM99\n");
+    assert_eq!(missing.iter().filter(|d| d.is_error()).map(|d| d.code).collect::<Vec<_>>(), vec![Code::MissingLabel]);
+}
+
+/// Older TNCs write a decimal comma and leave the radius compensation a bare `R`; the values
+/// are read as with a point, and `R` with a value stays the arc's radius.
+#[test]
+fn an_older_tnc_program_reads_its_decimal_comma() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL DEF 1 L+30,000 R+5,000\n2 TOOL CALL 1 Z S1500,000\n3 L Z+100,000 R F5000 M3\n\
+                4 L X+10,5 Y-2,25 R0 F5000\n5 CR X+20,5 Y-2,25 R+5,000 DR-\n6 END PGM T MM\n";
+    let d = Registry::shipped().get("heidenhain").unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(text, &d, &Profile::default(), &mut out);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let calls: Vec<String> = out
+        .iter()
+        .map(|c| {
+            let mut t = String::new();
+            ncplan::canon::write_call(&mut t, &c.op);
+            t
+        })
+        .collect();
+    assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_FEED(10.5000, -2.2500, 100.0000")), "{calls:#?}");
+    assert!(calls.iter().any(|c| c.starts_with("ARC_FEED(20.5000, -2.2500")), "{calls:#?}");
+    assert!(calls.iter().any(|c| c.starts_with("SET_SPINDLE_SPEED(0, 1500.0000)")), "{calls:#?}");
+}
+
+/// A documented code that ncplan does not model is kept as intent with a warning; a code no
+/// manual lists is still an error.
+#[test]
+fn a_documented_code_is_intent_and_an_invented_one_an_error() {
+    let intent = read("fanuc", "O1\nG90 G0 X0 Y0\nG12.1\nG1 X10. F100. S100 M3\nG13.1\nM30\n");
+    assert!(errors(&intent).is_empty(), "{:?}", errors(&intent));
+    assert_eq!(intent.iter().filter(|d| d.code == Code::Unmodelled).count(), 2);
+    let invented = read("fanuc", "O1\nG90 G0 X0 Y0\nG12.7\nM30\n");
+    assert!(invented.iter().any(|d| d.code == Code::UnknownCode && d.is_error()), "{invented:?}");
+    // LinuxCNC's user M codes M100-M199 are programs on the control's USER_M_PATH.
+    let user = read("linuxcnc", "M101 P1\nG0 X1\nM2\n");
+    assert!(errors(&user).is_empty(), "{:?}", errors(&user));
+    let beyond = read("linuxcnc", "M200\nG0 X1\nM2\n");
+    assert!(beyond.iter().any(|d| d.code == Code::UnknownCode), "{beyond:?}");
+}
+
+/// A LinuxCNC program calling a subroutine by name that lies on the machine's subroutine path
+/// (not beside it): a warning that the moves are missing, not an error; a numbered subroutine
+/// that is not in the program stays a missing label.
+#[test]
+fn a_named_subroutine_on_the_subroutine_path_is_a_warning() {
+    let named = read("linuxcnc", "G0 X0\no<pocket> call [1] [2]\nM2\n");
+    assert!(errors(&named).is_empty(), "{:?}", errors(&named));
+    assert!(named.iter().any(|d| d.code == Code::MissingProgram && !d.is_error()), "{named:?}");
+    let numbered = read("linuxcnc", "G0 X0\no100 call\nM2\n");
+    assert!(numbered.iter().any(|d| d.code == Code::MissingLabel && d.is_error()), "{numbered:?}");
+}
