@@ -121,8 +121,9 @@ fn program(r: &Registry, d: &Dialect, block: &str) -> String {
     }
 }
 
-/// Every G and M code a word-address dialect's table marks modelled or intent reads without
-/// an error in a program of its own; an intent code says it is kept as intent.
+/// Every G and M code a word-address dialect's table marks modelled or intent, and every M
+/// code of a Klartext dialect, reads without an error in a program of its own; an intent code
+/// says it is kept as intent.
 #[test]
 fn every_modelled_or_intent_code_reads_without_an_error() {
     let r = Registry::shipped();
@@ -156,6 +157,24 @@ fn every_modelled_or_intent_code_reads_without_an_error() {
                         failed.push(format!("{name} intent `{b}`: {} (said intent: {said})", errs.join("; ")));
                     }
                 }
+            }
+        }
+    }
+    // Klartext: an M code rides on a straight move; M99 calls the cycle defined before it.
+    for name in r.names() {
+        let d = r.get(name).unwrap();
+        if d.lexical.block_form != BlockForm::KeywordFirst {
+            continue;
+        }
+        for c in d.codes.iter().filter(|c| c.keyword.is_none() && c.letter.eq_ignore_ascii_case(&'M')) {
+            let m = if c.number % 10 == 0 { format!("M{}", c.number / 10) } else { format!("M{}.{}", c.number / 10, c.number % 10) };
+            let cycle = "2 CYCL DEF 200 BOHREN ~\n  Q200=2 ;A ~\n  Q201=-5 ;B ~\n  Q206=150 ;C ~\n  Q202=5 ;D ~\n  Q210=0 ;E ~\n  Q203=+0 ;F ~\n  Q204=50 ;G ~\n  Q211=0 ;H\n";
+            let text =
+                format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n{cycle}3 L X+0 Y+0 R0 F100 M3\n4 L X+1 R0 F100 {m}\n5 END PGM T MM\n");
+            let e = errors(&findings(&d, &text));
+            tried += 1;
+            if !e.is_empty() {
+                failed.push(format!("{name} modelled `{m}`: {}", e.join("; ")));
             }
         }
     }
