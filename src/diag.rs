@@ -135,6 +135,10 @@ codes! {
     MissingParameter = ("syntax::missing-parameter", Error),
     /// An M code the dialect leaves to the machine builder.
     MachineCode = ("syntax::machine-code", Note),
+    /// A code, cycle or statement of the control's documented vocabulary (its manual, an
+    /// option, a documented machine-builder range) that ncplan does not model: the control
+    /// runs it, so the block is kept as intent and the moves it makes are unknown.
+    Unmodelled = ("syntax::unmodelled", Warning),
     /// A word that no command in the block uses.
     UnusedWord = ("syntax::unused-word", Warning),
     /// A construct the dialect defines but this version of the interpreter does not execute.

@@ -313,6 +313,24 @@ fn main() {
         let expected = expected_errors.get(&key).cloned();
         trials.push(Trial::test(format!("check/{key}"), move || check(&f, &dialect, expected)));
     }
+    // What the control rejects stays rejected (issue 43): every program of
+    // tests/sweeps/issue43/rejected.tsv still has an error.
+    let rejected = std::fs::read_to_string(root().join("tests/sweeps/issue43/rejected.tsv")).unwrap_or_default();
+    for line in rejected.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let mut cols = line.split('\t');
+        let (Some(program), Some(dialect)) = (cols.next(), cols.next()) else { continue };
+        let path = corpus.join(program);
+        let available = path.is_file();
+        let dialect = registry.get(dialect);
+        let trial = Trial::test(format!("rejected/{program}"), move || {
+            let Some(dialect) = dialect else { return Err("no such dialect".into()) };
+            match errors_of(&path, &dialect) {
+                (0, _) => Err(format!("{} reads without an error, but its control rejects it", path.display()).into()),
+                _ => Ok(()),
+            }
+        });
+        trials.push(if available { trial } else { trial.with_ignored_flag(true) });
+    }
     let goldens = root().join("tests/golden/rs274");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&goldens)
         .unwrap()

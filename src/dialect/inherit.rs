@@ -5,8 +5,8 @@
 //!
 //! - Attributes: the derived element's win; the base's others are kept.
 //! - `<lexical>`, `<behaviour>`, `<addresses>`, `<macros>`, `<groups>`, `<group>` and
-//!   `<cycles>` and `<output>` merge their children by key: an entry with the same element name and the
-//!   same key attribute (the first of `id`, `value`, `keyword`, `number`, `open`, `char`, `name` and `prefix`) replaces the
+//!   `<cycles>`, `<vocabulary>` and `<output>` merge their children by key: an entry with the same element name and the
+//!   same key attribute (the first of `id`, `value`, `keyword`, `number`, `open`, `char`, `name`, `prefix` and `codes`) replaces the
 //!   base's in place; a new one is added at the end.
 //! - Every other element (`<code>`, `<cycle>`, `<execution-order>`, …) is replaced whole.
 //! - `<remove value="56"/>` (or `name`, `id`, `keyword`, `number`, `char`) among the entries deletes
@@ -22,7 +22,7 @@ use super::xml::{Attr, Element};
 use crate::text::TextRange;
 
 /// Elements whose children merge by key instead of being replaced whole.
-const MERGED: &[&str] = &["dialect", "lexical", "behaviour", "addresses", "macros", "groups", "group", "cycles", "output"];
+const MERGED: &[&str] = &["dialect", "lexical", "behaviour", "addresses", "macros", "groups", "group", "cycles", "vocabulary", "output"];
 
 /// Sections a derived dialect never takes from its base.
 const OWN: &[&str] = &["description", "recognise"];
@@ -31,7 +31,7 @@ const OWN: &[&str] = &["description", "recognise"];
 const OWN_ATTRS: &[&str] = &["name", "title", "extends"];
 
 /// The attribute that tells entries apart among siblings of one element name.
-const KEYS: &[&str] = &["id", "value", "keyword", "number", "open", "char", "name", "prefix"];
+const KEYS: &[&str] = &["id", "value", "keyword", "number", "open", "char", "name", "prefix", "codes"];
 
 fn key(el: &Element) -> (&str, Option<&str>) {
     let k = KEYS.iter().find_map(|k| el.attrs.iter().find(|a| a.name == *k)).map(|a| a.value.as_str());

@@ -17,6 +17,7 @@ mod groups;
 mod lexical;
 mod macros;
 mod records;
+mod vocabulary;
 
 /// Loads a dialect from XML text. Never fails: a broken file gives `None` and at least one
 /// error diagnostic whose range points into `text`. A file that `extends` another needs
@@ -200,6 +201,7 @@ impl Cx {
                 "cycles",
                 "records",
                 "recognise",
+                "vocabulary",
                 "output",
             ],
         );
@@ -235,6 +237,7 @@ impl Cx {
             _ => {}
         }
         let recognise = child("recognise").map(|el| self.recognise(el)).unwrap_or_default();
+        let vocabulary = child("vocabulary").map(|el| self.vocabulary(el)).unwrap_or_default();
         let output = child("output").map(|el| {
             let mut errors = Vec::new();
             let out = super::output::load(el, &mut errors);
@@ -271,6 +274,7 @@ impl Cx {
             execution_order,
             recognise,
             recognise_removed,
+            vocabulary,
             output,
             letter_roles: [None; 128],
             letter_incremental: 0,

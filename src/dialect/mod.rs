@@ -52,6 +52,7 @@ pub mod records;
 pub mod registry;
 pub mod sniff;
 mod vocab;
+pub mod vocabulary;
 mod xml;
 
 pub use load::load;
@@ -112,6 +113,9 @@ pub struct NumberForms {
     /// The quote around a constant in another base, and the letters that name hexadecimal
     /// and binary (`'`, `H`, `B`: `'H1F'` is 31, `'B101'` is 5).
     pub radix: Option<(char, char, char)>,
+    /// Whether a comma between digits is the decimal point (`L Z+100,000 R F5000`: older
+    /// Heidenhain TNCs write and read a decimal comma).
+    pub decimal_comma: bool,
 }
 
 /// A name indexed by an axis: `AX[X]=10` moves X; `VELOLIM[A]=50` sets per-axis data.
@@ -376,6 +380,11 @@ pub struct Behaviour {
     /// its moves, and the run goes on. Otherwise (LinuxCNC, whose subroutines are files) the
     /// call is an error, as rs274 makes it.
     pub resident_programs: bool,
+    /// Whether a subroutine called by name (`o<probe> call`) is a file the control looks up
+    /// in a configured path (LinuxCNC's `SUBROUTINE_PATH`): one found neither in the program
+    /// nor beside it is the machine's, and the call a warning that the analysis lacks its
+    /// moves. A numbered subroutine must be in the program: its absence stays an error.
+    pub subroutine_path: bool,
     /// Whether the T word changes the tool at once (a lathe turret indexes on `T0202`, with
     /// no M6) and puts its offset in force.
     pub tool_word_changes: bool,
@@ -817,6 +826,9 @@ pub struct Dialect {
     /// The labels of inherited evidence this dialect does not count (`<remove label=".."/>` in
     /// `<recognise>`: a lathe does not take a mill's Y words as its own evidence).
     pub recognise_removed: Vec<String>,
+    /// The control's documented vocabulary beyond the modelled codes: entries kept as intent
+    /// or known unsupported (`<vocabulary>`).
+    pub vocabulary: vocabulary::Vocabulary,
     /// How to write programs for this control (`<output>`), where the dictionary says.
     pub output: Option<output::Output>,
     /// Roles of single-character addresses by ASCII code (letters upper case).

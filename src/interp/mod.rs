@@ -775,6 +775,9 @@ pub struct Interpreter<'a> {
     block_misread: bool,
     /// The word that was, as the finding showed it (`` `X4` read as 0.004 mm ``).
     misread_word: Option<String>,
+    /// Whether the block has a code of the control's vocabulary that ncplan does not model
+    /// (kept as intent): the words no modelled command takes are that code's.
+    intent_words: bool,
     /// Where ops come from while a subprogram from another file runs: the call block.
     origin_override: Option<(TextRange, u32)>,
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
@@ -837,6 +840,7 @@ impl<'a> Interpreter<'a> {
             misread_before: [false; 6],
             block_misread: false,
             misread_word: None,
+            intent_words: false,
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),

@@ -24,6 +24,9 @@ struct WordReading {
     diameter: bool,
     /// Whether K counts a drilling cycle's repeats, no length.
     k_counts: bool,
+    /// The role of the sequence number a subprogram call starts at (`M98 Q2100`), read as a
+    /// number, no length, in a block with such a call.
+    call_start: Option<Role>,
 }
 
 impl Interpreter<'_> {
@@ -39,6 +42,7 @@ impl Interpreter<'_> {
         self.codes.clear();
         self.block_cycle = None;
         self.cycle_args.clear();
+        self.intent_words = false;
     }
 
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
@@ -138,6 +142,19 @@ impl Interpreter<'_> {
                 self.limited(diags, "machine-m-code", d);
                 return true;
             }
+            if let Some(e) = (0.0..100_000.0).contains(&x10).then(|| self.dialect.vocabulary.code(letter, x10 as u32)).flatten() {
+                let d = Diagnostic::new(
+                    Code::Unmodelled,
+                    w.range,
+                    format!(
+                        "`{shown}` ({}, {}) is in the control's vocabulary but not modelled: kept as intent, its effect on the toolpath unknown",
+                        e.what, e.manual
+                    ),
+                );
+                self.limited(diags, "unmodelled-code", d);
+                self.intent_words = true;
+                return true;
+            }
             diags.push(Diagnostic::new(
                 Code::UnknownCode,
                 w.range,
@@ -185,7 +202,9 @@ impl Interpreter<'_> {
         };
         let k_counts = self.codes.iter().any(|&(c, _)| is_hole_cycle(self.code(c).meaning))
             || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
-        WordReading { units, diameter, k_counts }
+        let calls = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::SubprogramCall);
+        let call_start = self.dialect.macros.call_start.filter(|_| calls).and_then(|l| self.dialect.letter_role(l));
+        WordReading { units, diameter, k_counts, call_start }
     }
 
     /// Word `k` of the block, not a code: into its slot, or the named cycle's arguments. An
@@ -277,6 +296,7 @@ impl Interpreter<'_> {
             (w.value, &self.dialect.behaviour.decimal_input)
             && scaled.contains(&role)
             && !(how.k_counts && role == Role::K)
+            && how.call_start != Some(role)
         {
             let axis = Role::AXES.iter().position(|&a| a == role);
             let absolute = match w.mode {
@@ -463,7 +483,8 @@ impl Interpreter<'_> {
             // A keyword code takes the value it is written with (`SPOS=90`).
             let takes = |c: &CodeDef, r: Role| c.params.takes(r) || c.keyword.as_ref().is_some_and(|k| k.value_role == Some(r));
             let taken = self.codes.iter().any(|&(c, _)| takes(self.code(c), w.role)) || motion.is_some_and(|c| takes(self.code(c), w.role));
-            if !taken {
+            // A code kept as intent takes the words no modelled command does (`M101 P1 Q2`).
+            if !taken && !self.intent_words {
                 let shown = block.text(w.range);
                 let d =
                     Diagnostic::new(Code::UnusedWord, w.range, format!("`{shown}`: no command in this block takes {}", w.letter as char));

@@ -85,10 +85,12 @@ mod speed;
 mod stepnc;
 mod suggest;
 mod support;
+mod sweep43;
 mod tilt;
 mod tool_comments;
 mod translate;
 mod unknown_values;
+mod vocabulary;
 mod web;
 mod web_attacks;
 

@@ -32,6 +32,7 @@ const ATTRIBUTES: &[&str] = &[
     "feed-mode-resets-feed",
     "machine-m-codes",
     "resident-programs",
+    "subroutine-path",
     "tool-word-changes",
     "arc-centres",
     "initial-feed",
@@ -68,6 +69,7 @@ fn defaults() -> Behaviour {
         feed_mode_resets_feed: false,
         machine_m_codes: false,
         resident_programs: false,
+        subroutine_path: false,
         tool_word_changes: false,
         arc_centres_pole: false,
         initial_feed_per_rev: false,
@@ -107,6 +109,7 @@ impl Cx {
         b.feed_mode_resets_feed = self.bool(el, "feed-mode-resets-feed", false);
         b.machine_m_codes = self.bool(el, "machine-m-codes", false);
         b.resident_programs = self.bool(el, "resident-programs", false);
+        b.subroutine_path = self.bool(el, "subroutine-path", false);
         b.tool_word_changes = self.bool(el, "tool-word-changes", false);
         b.arc_centres_pole = self.either(el, "arc-centres", "offsets", "pole");
         b.initial_feed_per_rev = self.either(el, "initial-feed", "per-minute", "per-rev");

@@ -153,11 +153,12 @@ impl Cx {
         }
     }
 
-    /// `<numbers exponent="EX" radix-quote="'" hex="H" binary="B"/>`: number notations beyond
-    /// plain decimals (`10EX3`, `'H1F'`).
+    /// `<numbers exponent="EX" radix-quote="'" hex="H" binary="B" decimal-comma="true"/>`:
+    /// number notations beyond plain decimals (`10EX3`, `'H1F'`, `+100,000`).
     fn number_forms(&mut self, c: &Element, lex: &mut Lexical) {
-        self.shape(c, &["exponent", "radix-quote", "hex", "binary"], &[]);
+        self.shape(c, &["exponent", "radix-quote", "hex", "binary", "decimal-comma"], &[]);
         lex.numbers.exponent = self.attr(c, "exponent").map(str::to_ascii_uppercase);
+        lex.numbers.decimal_comma = self.bool(c, "decimal-comma", false);
         if let Some(q) = self.char_attr(c, "radix-quote") {
             let hex = self.letter_attr(c, "hex").unwrap_or('H').to_ascii_uppercase();
             let binary = self.letter_attr(c, "binary").unwrap_or('B').to_ascii_uppercase();

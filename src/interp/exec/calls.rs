@@ -26,7 +26,8 @@ impl Interpreter<'_> {
                 if self.slots[Role::P as usize].is_none()
                     && let Some(number) = start
                 {
-                    // `M98 H20` (Mitsubishi): without a program, block N20 of this one.
+                    // `M98 H20` (Mitsubishi), `M98 Q20` (Fanuc 0i-F, 30i): without a program, block
+                    // N20 of this one.
                     let repeats = self.repeat_count(diags, range);
                     self.request = Some(Request::CallLocal { number, repeats });
                     return;

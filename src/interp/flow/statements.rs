@@ -583,12 +583,21 @@ impl<'a> Driver<'a, '_> {
         }
         let is_sub = |m: &Mark| m.label.as_deref() == Some(label.as_str()) && m.statement == Some(Statement::Sub);
         let Some((source, body)) = self.locate(&label, is_sub) else {
-            self.error(
-                diags,
-                Code::MissingLabel,
-                c.range,
-                format!("subroutine o<{label}> is neither in this program nor in the program directory"),
-            );
+            // A numbered subroutine lives in the program itself: its absence is a missing
+            // label. A named one is a file the control looks up in its subroutine path
+            // (LinuxCNC `SUBROUTINE_PATH`): the machine's library, so the call is skipped with
+            // a warning where the dialect says the control has such a path.
+            if self.dialect.behaviour.subroutine_path && !label.bytes().all(|b| b.is_ascii_digit()) {
+                let msg = format!(
+                    "subroutine o<{label}> is neither in this program nor in the program directory; the control looks it up in its subroutine path, but this analysis skips the call and lacks its moves"
+                );
+                let mut d = Diagnostic::new(Code::MissingProgram, c.range, msg);
+                d.severity = Severity::Warning;
+                interp.limited(diags, "program", d);
+            } else {
+                let msg = format!("subroutine o<{label}> is neither in this program nor in the program directory");
+                self.error(diags, Code::MissingLabel, c.range, msg);
+            }
             return;
         };
         Self::set_return_value(self.dialect, interp, 0.0, false);

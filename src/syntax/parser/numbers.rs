@@ -49,7 +49,10 @@ impl Lexer<'_, '_> {
         // Fast path: plain digits, at most one point, up to 18 digits, then a byte that ends
         // the number. Anything else (blanks inside the number, a second point, long runs)
         // goes through the general loop below from the same position.
-        if let Some((v, end, pt)) = plain_number(self.b, self.i, spaces) {
+        // A decimal comma (`L Z+100,000`, older TNCs) leaves the fast path at the comma.
+        let comma = self.dialect.lexical.numbers.decimal_comma;
+        let comma_at = |b: &[u8], j: usize| comma && b.get(j) == Some(&b',') && b.get(j + 1).is_some_and(u8::is_ascii_digit);
+        if let Some((v, end, pt)) = plain_number(self.b, self.i, spaces).filter(|&(_, end, pt)| pt || !comma_at(self.b, end)) {
             self.i = end;
             let v = if self.dialect.lexical.numbers.exponent.is_some() { self.exponent(start, v)? } else { v };
             return Some((if negative { -v } else { v }, pt));
@@ -69,6 +72,10 @@ impl Lexer<'_, '_> {
                     self.i += 1;
                 }
                 Some(b'.') if !point => {
+                    point = true;
+                    self.i += 1;
+                }
+                Some(b',') if !point && comma_at(self.b, self.i) => {
                     point = true;
                     self.i += 1;
                 }
@@ -112,7 +119,11 @@ impl Lexer<'_, '_> {
         let v = if exact && mantissa < (1 << 53) && frac <= 22 {
             mantissa as f64 / POW10[frac as usize]
         } else {
-            let s: String = self.text[start..self.i].chars().filter(|c| c.is_ascii_digit() || *c == '.').collect();
+            let s: String = self.text[start..self.i]
+                .chars()
+                .filter(|c| c.is_ascii_digit() || matches!(c, '.' | ','))
+                .map(|c| if c == ',' { '.' } else { c })
+                .collect();
             s.parse::<f64>().unwrap_or(0.0)
         };
         let v = if self.dialect.lexical.numbers.exponent.is_some() { self.exponent(start, v)? } else { v };

@@ -23,7 +23,11 @@ impl Lexer<'_, '_> {
         let spaces = self.dialect.lexical.spaces_in_numbers;
         // The common case in one pass; anything unusual goes through `number`, which also
         // reports what is wrong with it.
-        let (value, decimal) = match plain_number(b, start + 1 + usize::from(signed), spaces) {
+        // A decimal comma after the digits (`X+10,5`) is read by `number`.
+        let comma = self.dialect.lexical.numbers.decimal_comma;
+        let comma_after = |end: usize| comma && b.get(end) == Some(&b',') && b.get(end + 1).is_some_and(u8::is_ascii_digit);
+        let plain = plain_number(b, start + 1 + usize::from(signed), spaces).filter(|&(_, end, point)| point || !comma_after(end));
+        let (value, decimal) = match plain {
             Some((v, end, point)) => {
                 self.i = end;
                 (if signed && b[start + 1] == b'-' { -v } else { v }, point)

@@ -1,0 +1,251 @@
+//! Each shipped dialect's vocabulary (issue 43): the table `dialects/vocabulary/<dialect>.tsv`
+//! written from the dictionary (the codes its groups model, its statements and system
+//! variables, and its `<vocabulary>` entries kept as intent or known unsupported, each with
+//! its manual), and a tiny program per G and M code the table marks modelled or intent,
+//! which must read without an error.
+
+use ncplan::diag::{Code, Diagnostic};
+use ncplan::dialect::vocabulary::{Kind, Status, table_text};
+use ncplan::dialect::{BlockForm, Dialect, Registry, Role};
+use ncplan::interp::{Profile, interpret};
+
+fn findings(d: &Dialect, text: &str) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    interpret(text, d, &Profile::default(), &mut out)
+}
+
+fn errors(diags: &[Diagnostic]) -> Vec<String> {
+    diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect()
+}
+
+/// The tables in `dialects/vocabulary/` are the dictionaries' own: rewritten with
+/// `UPDATE_EXPECT=1`, read by eye, then kept.
+#[test]
+fn the_vocabulary_tables_are_the_dictionaries() {
+    let dir = crate::root().join("dialects/vocabulary");
+    let r = Registry::shipped();
+    let mut stale = Vec::new();
+    for name in r.names() {
+        let d = r.get(name).unwrap();
+        let text = table_text(&d);
+        let path = dir.join(format!("{name}.tsv"));
+        if std::env::var_os("UPDATE_EXPECT").is_some() {
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(&path, &text).unwrap();
+        } else if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
+            stale.push(name.to_owned());
+        }
+    }
+    assert!(stale.is_empty(), "stale vocabulary tables {stale:?}; run UPDATE_EXPECT=1 cargo test --test it vocabulary");
+}
+
+/// The letter of the first address with `role`.
+fn letter(d: &Dialect, role: Role) -> Option<String> {
+    d.addresses.iter().find(|a| a.role == role).map(|a| a.name.clone())
+}
+
+/// A block running G or M code `code` (in tenths) with a value for each word it requires
+/// and for one of each set of which it needs one.
+fn block(d: &Dialect, letter_: char, x10: u32, params: Option<&ncplan::dialect::ParamSpec>) -> String {
+    let shown = if x10 % 10 == 0 { format!("{letter_}{}", x10 / 10) } else { format!("{letter_}{}.{}", x10 / 10, x10 % 10) };
+    let mut words = vec![shown];
+    if let Some(p) = params {
+        let mut roles: Vec<Role> = p.required.clone();
+        let extra: Vec<Role> =
+            p.any_of.iter().filter(|set| !set.iter().any(|r| roles.contains(r))).filter_map(|set| set.first().copied()).collect();
+        roles.extend(extra);
+        for r in roles {
+            if let Some(l) = letter(d, r) {
+                words.push(format!("{l}1"));
+            }
+        }
+    }
+    words.join(" ")
+}
+
+/// Codes that run only after another or with what they name: the program each needs, by
+/// the dialect it is written for (or one it derives from) and the code as the test writes
+/// it (`{}` is where the code's block goes). A code run without
+/// its context is an error on the control too (G5.3 with no NURBS block, M72 with nothing
+/// saved, M98 P1 with no O1, a lathe G70 without its contour).
+const CONTEXTS: &[(&str, &str, &str)] = &[
+    ("linuxcnc", "G5.3", "G5.2 X0 Y0 P1 L3\nX1 Y1 P1\nX2 Y0 P1\n{}\nM30\n"),
+    ("linuxcnc", "M72", "M70\n{}\nM30\n"),
+    ("linuxcnc", "M98 P1", "{}\nM30\nO1\nG1 X1\nM99\n"),
+    ("linuxcnc", "G70", "G18 G7\nG0 X10 Z1\n{}\nM30\no1 sub\nG1 X5 Z1\nZ-1\nX10\no1 endsub\n"),
+    ("linuxcnc", "G71", "G18 G7\nG0 X10 Z1\n{}\nM30\no1 sub\nG1 X5 Z1\nZ-1\nX10\no1 endsub\n"),
+    ("linuxcnc", "G71.1", "G18 G7\nG0 X10 Z1\n{}\nM30\no1 sub\nG1 X5 Z1\nZ-1\nX10\no1 endsub\n"),
+    ("linuxcnc", "G71.2", "G18 G7\nG0 X10 Z1\n{}\nM30\no1 sub\nG1 X5 Z1\nZ-1\nX10\no1 endsub\n"),
+    ("linuxcnc", "G72", "G18 G7\nG0 X10 Z1\n{}\nM30\no1 sub\nG1 X5 Z1\nZ-1\nX10\no1 endsub\n"),
+    ("linuxcnc", "G72.1", "G18 G7\nG0 X10 Z1\n{}\nM30\no1 sub\nG1 X5 Z1\nZ-1\nX10\no1 endsub\n"),
+    ("linuxcnc", "G72.2", "G18 G7\nG0 X10 Z1\n{}\nM30\no1 sub\nG1 X5 Z1\nZ-1\nX10\no1 endsub\n"),
+    ("fanuc", "M97 P1", "{}\nM30\nN1 G1 X1\nM99\n"),
+    ("haas", "G70", "G81 Z-1 R1\n{} I1 J0 K30 L3\nG80\nM30\n"),
+    ("haas", "G71", "G81 Z-1 R1\n{} I1 J0 K30 L3\nG80\nM30\n"),
+    ("haas", "G72", "G81 Z-1 R1\n{} I1 J0 K30 L3\nG80\nM30\n"),
+    ("fanuc_lathe", "G70", "G0 X10 Z1\n{} P10 Q20\nN10 G1 X5\nN20 Z-1\nM30\n"),
+    (
+        "heidenhain_iso",
+        "G79",
+        "N10 G200 DRILLING\nQ200=2\nQ201=-5\nQ206=100\nQ202=5\nQ210=0\nQ203=0\nQ204=50\nQ211=0\nN20 {} *\nN30 M30 *\n",
+    ),
+    (
+        "heidenhain_iso",
+        "M99",
+        "N10 G200 DRILLING\nQ200=2\nQ201=-5\nQ206=100\nQ202=5\nQ210=0\nQ203=0\nQ204=50\nQ211=0\nN20 {} *\nN30 M30 *\n",
+    ),
+];
+
+/// The dialect's name and the names of the dialects it derives from.
+fn lineage(r: &Registry, d: &Dialect) -> Vec<String> {
+    let mut out = vec![d.name.clone()];
+    while let Some(base) = r.get(&out[out.len() - 1]).and_then(|x| x.extends.clone()) {
+        if out.contains(&base) {
+            break;
+        }
+        out.push(base);
+    }
+    out
+}
+
+/// A program running `block` in the dialect's word-address form, after a block that sets
+/// the feed and starts the spindle (a cutting move needs them), in the context the code
+/// needs.
+fn program(r: &Registry, d: &Dialect, block: &str) -> String {
+    let code = block.split_whitespace().next().unwrap_or_default();
+    let fits = |pat: &str| pat == block || pat == code;
+    let names = lineage(r, d);
+    match CONTEXTS.iter().find(|(name, pat, _)| names.iter().any(|n| n == name) && fits(pat)) {
+        Some((_, _, text)) => format!("F100 S1000 M3\n{}", text.replace("{}", block)),
+        None => format!("F100 S1000 M3\n{block}\nM30\n"),
+    }
+}
+
+/// Every G and M code a word-address dialect's table marks modelled or intent, and every M
+/// code of a Klartext dialect, reads without an error in a program of its own; an intent code
+/// says it is kept as intent.
+#[test]
+fn every_modelled_or_intent_code_reads_without_an_error() {
+    let r = Registry::shipped();
+    let mut failed = Vec::new();
+    let mut tried = 0;
+    for name in r.names() {
+        let d = r.get(name).unwrap();
+        if d.lexical.block_form != BlockForm::WordAddress {
+            continue;
+        }
+        for c in d.codes.iter().filter(|c| c.keyword.is_none()) {
+            let b = block(&d, c.letter.to_ascii_uppercase(), u32::from(c.number), Some(&c.params));
+            let e = errors(&findings(&d, &program(&r, &d, &b)));
+            tried += 1;
+            if !e.is_empty() {
+                failed.push(format!("{name} modelled `{b}`: {}", e.join("; ")));
+            }
+        }
+        for e in d.vocabulary.entries.iter().filter(|e| e.status != Status::Unsupported && matches!(e.kind, Kind::G | Kind::M)) {
+            let l = if e.kind == Kind::G { 'G' } else { 'M' };
+            for &(lo, hi) in &e.ranges {
+                for x10 in [lo, hi] {
+                    let b = block(&d, l, x10, None);
+                    let diags = findings(&d, &program(&r, &d, &b));
+                    tried += 1;
+                    let errs = errors(&diags);
+                    // Said kept as intent, or as a machine builder's M code, unless the dictionary models
+                    // the code after all.
+                    let said = diags.iter().any(|x| matches!(x.code, Code::Unmodelled | Code::MachineCode)) || d.code_id(l, x10).is_some();
+                    if !errs.is_empty() || !said {
+                        failed.push(format!("{name} intent `{b}`: {} (said intent: {said})", errs.join("; ")));
+                    }
+                }
+            }
+        }
+    }
+    // Klartext: an M code rides on a straight move; M99 calls the cycle defined before it.
+    for name in r.names() {
+        let d = r.get(name).unwrap();
+        if d.lexical.block_form != BlockForm::KeywordFirst {
+            continue;
+        }
+        for c in d.codes.iter().filter(|c| c.keyword.is_none() && c.letter.eq_ignore_ascii_case(&'M')) {
+            let m = if c.number % 10 == 0 { format!("M{}", c.number / 10) } else { format!("M{}.{}", c.number / 10, c.number % 10) };
+            let cycle = "2 CYCL DEF 200 BOHREN ~\n  Q200=2 ;A ~\n  Q201=-5 ;B ~\n  Q206=150 ;C ~\n  Q202=5 ;D ~\n  Q210=0 ;E ~\n  Q203=+0 ;F ~\n  Q204=50 ;G ~\n  Q211=0 ;H\n";
+            let text =
+                format!("0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n{cycle}3 L X+0 Y+0 R0 F100 M3\n4 L X+1 R0 F100 {m}\n5 END PGM T MM\n");
+            let e = errors(&findings(&d, &text));
+            tried += 1;
+            if !e.is_empty() {
+                failed.push(format!("{name} modelled `{m}`: {}", e.join("; ")));
+            }
+        }
+    }
+    assert!(tried > 500, "only {tried} codes tried");
+    assert!(failed.is_empty(), "{} of {tried} codes read with errors:\n{}", failed.len(), failed.join("\n"));
+}
+
+/// The findings of `text` read in `dialect`.
+fn read(dialect: &str, text: &str) -> Vec<Diagnostic> {
+    let d = Registry::shipped().get(dialect).unwrap();
+    findings(&d, text)
+}
+
+/// Files as shops keep them: `M98 Q` calls a sequence number of the same program (Fanuc 0i-F
+/// and 30i), `M98 P Q` one of program P; Q is a number there, no length, under
+/// least-increment input. A sequence number that is not there stays an error.
+#[test]
+fn m98_q_calls_a_sequence_number_of_this_program() {
+    let ok = read("fanuc", "O1000\nG90 G54 G0 X0 Y0 S1000 M3\nM98 Q2100\nM98 P1000 Q2100 L2\nM30\nN2100 G1 X10. F100.\nM99\n");
+    assert!(errors(&ok).is_empty(), "{:?}", errors(&ok));
+    let missing = read("fanuc", "O1000\nM98 Q2200\nM30\nN2100 G1 X10. F100.\nM99\n");
+    assert_eq!(missing.iter().filter(|d| d.is_error()).map(|d| d.code).collect::<Vec<_>>(), vec![Code::MissingLabel]);
+}
+
+/// Older TNCs write a decimal comma and leave the radius compensation a bare `R`; the values
+/// are read as with a point, and `R` with a value stays the arc's radius.
+#[test]
+fn an_older_tnc_program_reads_its_decimal_comma() {
+    let text = "0 BEGIN PGM T MM\n1 TOOL DEF 1 L+30,000 R+5,000\n2 TOOL CALL 1 Z S1500,000\n3 L Z+100,000 R F5000 M3\n\
+                4 L X+10,5 Y-2,25 R0 F5000\n5 CR X+20,5 Y-2,25 R+5,000 DR-\n6 END PGM T MM\n";
+    let d = Registry::shipped().get("heidenhain").unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(text, &d, &Profile::default(), &mut out);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let calls: Vec<String> = out
+        .iter()
+        .map(|c| {
+            let mut t = String::new();
+            ncplan::canon::write_call(&mut t, &c.op);
+            t
+        })
+        .collect();
+    assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_FEED(10.5000, -2.2500, 100.0000")), "{calls:#?}");
+    assert!(calls.iter().any(|c| c.starts_with("ARC_FEED(20.5000, -2.2500")), "{calls:#?}");
+    assert!(calls.iter().any(|c| c.starts_with("SET_SPINDLE_SPEED(0, 1500.0000)")), "{calls:#?}");
+}
+
+/// A documented code that ncplan does not model is kept as intent with a warning; a code no
+/// manual lists is still an error.
+#[test]
+fn a_documented_code_is_intent_and_an_invented_one_an_error() {
+    let intent = read("fanuc", "O1\nG90 G0 X0 Y0\nG12.1\nG1 X10. F100. S100 M3\nG13.1\nM30\n");
+    assert!(errors(&intent).is_empty(), "{:?}", errors(&intent));
+    assert_eq!(intent.iter().filter(|d| d.code == Code::Unmodelled).count(), 2);
+    let invented = read("fanuc", "O1\nG90 G0 X0 Y0\nG12.7\nM30\n");
+    assert!(invented.iter().any(|d| d.code == Code::UnknownCode && d.is_error()), "{invented:?}");
+    // LinuxCNC's user M codes M100-M199 are programs on the control's USER_M_PATH.
+    let user = read("linuxcnc", "M101 P1\nG0 X1\nM2\n");
+    assert!(errors(&user).is_empty(), "{:?}", errors(&user));
+    let beyond = read("linuxcnc", "M200\nG0 X1\nM2\n");
+    assert!(beyond.iter().any(|d| d.code == Code::UnknownCode), "{beyond:?}");
+}
+
+/// A LinuxCNC program calling a subroutine by name that lies on the machine's subroutine path
+/// (not beside it): a warning that the moves are missing, not an error; a numbered subroutine
+/// that is not in the program stays a missing label.
+#[test]
+fn a_named_subroutine_on_the_subroutine_path_is_a_warning() {
+    let named = read("linuxcnc", "G0 X0\no<pocket> call [1] [2]\nM2\n");
+    assert!(errors(&named).is_empty(), "{:?}", errors(&named));
+    assert!(named.iter().any(|d| d.code == Code::MissingProgram && !d.is_error()), "{named:?}");
+    let numbered = read("linuxcnc", "G0 X0\no100 call\nM2\n");
+    assert!(numbered.iter().any(|d| d.code == Code::MissingLabel && d.is_error()), "{numbered:?}");
+}
