@@ -622,6 +622,40 @@ vocab! {
         TiltBaseY = "tilt-base-y",
         /// The base vector's Z component.
         TiltBaseZ = "tilt-base-z",
+        /// The contour a turning cycle machines, by name: a subprogram, a label (`"KONTUR"`) or a
+        /// label range (`"START:END"`) (Siemens CYCLE95 NPP); a text argument.
+        ContourName = "contour-name",
+        /// What and where a turning cycle machines, by its number (Siemens VARI: roughing or
+        /// finishing, along Z or across X, outside or inside, from which side).
+        MachiningType = "machining-type",
+        /// A finishing allowance all round a contour, or on a thread's depth (Siemens FAL), per side.
+        Allowance = "allowance",
+        /// The feed of a cycle's finishing pass (Siemens CYCLE95 FF3).
+        FinishFeed = "finish-feed",
+        /// A cycle's end point across the axis (a thread's diameter at its end, Siemens DM2).
+        EndX = "end-x",
+        /// A cycle's end point along the axis (a thread's end, Siemens FPL).
+        EndZ = "end-z",
+        /// A groove's width along the axis (Siemens WIDG).
+        Width = "width",
+        /// A groove's or a thread's depth, per side (Siemens DIAG, TDEP).
+        ProfileDepth = "profile-depth",
+        /// A thread's lead (Siemens PIT).
+        Pitch = "pitch",
+        /// A metric thread by its size (Siemens MPIT: 3 to 60 for M3 to M60), its coarse pitch.
+        ThreadSize = "thread-size",
+        /// A thread's run-in along the axis before its start (Siemens APP).
+        RunIn = "run-in",
+        /// A thread's run-out along the axis after its end (Siemens ROP).
+        RunOut = "run-out",
+        /// The number of roughing passes of a thread (Siemens NRC).
+        Passes = "passes",
+        /// The passes at full depth without infeed after a thread's last cut (Siemens NID).
+        IdlePasses = "idle-passes",
+        /// The number of starts of a thread (Siemens NUMT).
+        ThreadStarts = "thread-starts",
+        /// The infeed angle of a thread's passes, degrees (Siemens IANG).
+        InfeedAngle = "infeed-angle",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

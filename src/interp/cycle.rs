@@ -368,6 +368,14 @@ pub(crate) struct Rough {
     facing: bool,
 }
 
+impl Rough {
+    /// A roughing of `depth` per pass, retracting `retract`, leaving `allow_x` (a radius,
+    /// negative inside) and `allow_z`; along X when `facing`.
+    pub(super) fn new(depth: f64, retract: f64, allow_x: f64, allow_z: f64, facing: bool) -> Rough {
+        Rough { depth, retract, allow_x, allow_z, facing }
+    }
+}
+
 /// A contour element in the ZX plane, as (X, Z) points: a line, or an arc about a centre
 /// (counter-clockwise as the canon's rotation says, in the plane's first-second frame).
 #[derive(Clone, Copy, Debug)]

@@ -210,7 +210,7 @@ impl Interpreter<'_> {
         self.emit(sink, CanonOp::TurningEnd);
     }
 
-    fn go_to(&mut self, sink: &mut dyn CanonSink, p: [f64; 6], feed: bool) {
+    pub(super) fn go_to(&mut self, sink: &mut dyn CanonSink, p: [f64; 6], feed: bool) {
         self.emit(sink, if feed { CanonOp::StraightFeed(p) } else { CanonOp::StraightTraverse(p) });
         self.st.pos = p;
     }

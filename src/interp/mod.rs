@@ -158,6 +158,7 @@ mod flow;
 mod g7x;
 mod lathe;
 mod motion;
+mod named_turn;
 mod read;
 
 pub use flow::{NoPrograms, ProgramSource, run};
@@ -397,6 +398,14 @@ pub(crate) enum Request {
         name: String,
         /// The cycle.
         cycle: g7x::Cycle,
+    },
+    /// A named turning cycle's contour (Siemens CYCLE95): the subprogram, label or label
+    /// range `name` gives, read without effect, then cut as `job` says.
+    NamedContour {
+        /// The contour's name as written (`"KONTUR"`, `"START:END"`).
+        name: String,
+        /// What the cycle does with it.
+        job: Box<named_turn::StockRemoval>,
     },
 }
 
@@ -780,6 +789,8 @@ pub struct Interpreter<'a> {
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
     block_cycle: Option<usize>,
     cycle_args: Vec<(Role, f64)>,
+    /// The block's named cycle's text argument naming a contour (`CYCLE95("START:END", ...)`).
+    cycle_text: Option<String>,
     /// The surface a cycle call at a position gives the cycle (`CYCL CALL POS ... Z+0`).
     call_surface: Option<f64>,
     /// Tool names met in `T="NAME"` that the tool table does not know, numbered from 10001.
@@ -840,6 +851,7 @@ impl<'a> Interpreter<'a> {
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),
+            cycle_text: None,
             call_surface: None,
             tool_names: Vec::new(),
             called: (profile.role == ProgramRole::Called)

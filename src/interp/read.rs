@@ -39,6 +39,7 @@ impl Interpreter<'_> {
         self.codes.clear();
         self.block_cycle = None;
         self.cycle_args.clear();
+        self.cycle_text = None;
     }
 
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
@@ -203,6 +204,10 @@ impl Interpreter<'_> {
         }
         let w = &w;
         if w.cycle_arg {
+            if let (Value::Text(r), Role::ContourName) = (w.value, w.role) {
+                self.cycle_text = Some(block.text(r).to_owned());
+                return true;
+            }
             match self.value(block, w.value, w.range, diags) {
                 Some(v) if eval::is_unknown(v) => self.unknown_word(block, w.range, diags),
                 Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),

@@ -680,6 +680,7 @@ impl<'p> Recovery<'p> {
             finish_allowance: k(t.finish_allowance),
             peck: k(t.peck),
             step: k(t.step),
+            span: t.span.map(|[lo, hi]| [round_sig(self.mm(lo)), round_sig(self.mm(hi))]),
             ..t.clone()
         }
     }

@@ -20,6 +20,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use typed_arena::Arena;
 
+mod contour;
 mod statements;
 
 use super::eval::{self, NULL};
@@ -1591,6 +1592,7 @@ impl<'a> Driver<'a, '_> {
             }
             Request::Contour { first, last, rough } => self.contour(first, last, rough, block, interp, sink, diags),
             Request::Profile { name, cycle } => self.profile(&name, cycle, block, interp, sink, diags),
+            Request::NamedContour { name, job } => self.named_contour(&name, &job, block, interp, sink, diags),
         }
     }
 
@@ -1708,7 +1710,7 @@ impl<'a> Driver<'a, '_> {
         (interp.st.pos[0], interp.st.pos[2]) = (cycle.x, cycle.z);
         // The cycle's move to its start point leaves G0 in force for the profile's blocks.
         interp.st.motion_code = self.dialect.codes.iter().position(|c| c.letter == 'G' && c.meaning == crate::dialect::Meaning::Rapid);
-        let (shape, finishes) = self.profile_blocks(source, body, interp, diags);
+        let (shape, finishes) = self.profile_blocks(source, body, usize::MAX, interp, diags);
         let (st, params, comp, corners, problem) = saved;
         interp.st = st;
         interp.params = params;
@@ -1724,12 +1726,14 @@ impl<'a> Driver<'a, '_> {
     /// buffer: its statements too (`o101 repeat [3]` round moves from `#<_x>`), by the run's
     /// own machinery on the subroutine's text; the run's cursor, loops and last round are put
     /// back afterwards. Returns the moves and the corners that A and C words ask to round or
-    /// chamfer (index in the shape after the move, round or not, size).
+    /// chamfer (index in the shape after the move, round or not, size). The run stops at
+    /// `until` (an offset in `source`) too.
     #[allow(clippy::type_complexity)]
     fn profile_blocks(
         &mut self,
         source: usize,
         body: Pos,
+        until: usize,
         interp: &mut Interpreter<'a>,
         diags: &mut Vec<Diagnostic>,
     ) -> (Vec<Canon>, Vec<(usize, bool, f64)>) {
@@ -1743,6 +1747,9 @@ impl<'a> Driver<'a, '_> {
         let mut b = Block::default();
         for _ in 0..MAX_PROFILE_BLOCKS {
             let at = self.pos();
+            if at.at >= until && self.frames.len() <= frames {
+                break;
+            }
             let src = self.cur;
             let mark = diags.len();
             if !self.next_block(&mut b, at, diags) {
