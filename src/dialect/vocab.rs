@@ -656,6 +656,8 @@ vocab! {
         ThreadStarts = "thread-starts",
         /// The infeed angle of a thread's passes, degrees (Siemens IANG).
         InfeedAngle = "infeed-angle",
+        /// The included angle of a threading tool, degrees (Haas G76 A).
+        ToolAngle = "tool-angle",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).
