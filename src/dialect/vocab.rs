@@ -111,6 +111,10 @@ vocab! {
         /// A lathe's finishing cycle (Fanuc G70): the contour between the blocks numbered P
         /// and Q runs as written, then the tool returns to the start point at rapid.
         CycleFinishContour = "cycle-finish-contour",
+        /// The end of a lathe cycle's contour definition (Okuma LAP: `G85 NLAP1` names the
+        /// contour's first block, `NLAP1 G81` … `G80`): where a contour cycle names no last
+        /// block, its contour runs up to this code's block, and the run goes on after it.
+        ContourEnd = "contour-end",
         /// LinuxCNC's G70: finishing passes along the profile that the O-word subroutine
         /// named by Q draws, from distance D to E in P passes.
         ProfileFinish = "profile-finish",

@@ -387,8 +387,9 @@ pub(crate) enum Request {
     Contour {
         /// The contour's first block number (P).
         first: u32,
-        /// Its last block number (Q).
-        last: u32,
+        /// Its last block number (Q); none: up to the dictionary's `contour-end` code, the run
+        /// going on after it whether the cycle roughs or finishes (Okuma LAP).
+        last: Option<u32>,
         /// How to rough it out (G71); `None` finishes it (G70).
         rough: Option<cycle::Rough>,
     },

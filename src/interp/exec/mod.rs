@@ -177,7 +177,7 @@ impl Interpreter<'_> {
             }
             Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::SubprogramReturn => self.call(def, range, diags),
             Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def, sink),
-            Meaning::Other | Meaning::Output | Meaning::ProgramBegin => {}
+            Meaning::Other | Meaning::Output | Meaning::ProgramBegin | Meaning::ContourEnd => {}
             Meaning::Stock => self.stock_corner(sink),
             // Read by the arc or move of the block they stand in.
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}

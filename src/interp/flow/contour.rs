@@ -3,7 +3,8 @@
 //! second's), a label of this program run up to its return (`RET`, `M17`), or a subprogram
 //! (`PROC NAME` here, or a program of that name in the program directory). Its blocks are
 //! run without effect from the cycle's start point to read the contour (the state is put
-//! back), then the interpreter cuts it (`named_turn`).
+//! back), then the interpreter cuts it (`named_turn`). And the end of a contour definition
+//! that a contour cycle names only by its first block (Okuma LAP).
 
 use super::{Driver, Mark, Pos, normalise_label};
 use crate::canon::CanonSink;
@@ -14,6 +15,18 @@ use crate::interp::named_turn::StockRemoval;
 use crate::syntax::Block;
 
 impl<'a> Driver<'a, '_> {
+    /// Whether block `b` ends a contour definition (a code of meaning `contour-end`).
+    pub(super) fn ends_contour(&self, b: &Block) -> bool {
+        b.words.iter().any(|w| {
+            let crate::syntax::Value::Number { value, .. } = w.value else { return false };
+            w.role == crate::dialect::Role::G
+                && self
+                    .dialect
+                    .code_id('G', (value * 10.0).round() as u32)
+                    .is_some_and(|c| self.dialect.codes[c].meaning == crate::dialect::Meaning::ContourEnd)
+        })
+    }
+
     /// Where the contour `name` lies: its source, first block and the offset it ends at.
     fn contour_span(&mut self, name: &str) -> Result<(usize, Pos, usize), String> {
         let label = |m: &Mark, l: &str| m.defines.as_deref() == Some(l);

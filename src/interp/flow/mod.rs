@@ -1604,7 +1604,7 @@ impl<'a> Driver<'a, '_> {
     fn contour(
         &mut self,
         first: u32,
-        last: u32,
+        last: Option<u32>,
         rough: Option<super::cycle::Rough>,
         block: &Block,
         interp: &mut Interpreter<'a>,
@@ -1653,7 +1653,11 @@ impl<'a> Driver<'a, '_> {
             }
             // A contour holds moves only; a call in it is not followed.
             interp.request = None;
-            if b.number == Some(last) {
+            let ends = match last {
+                Some(n) => b.number == Some(n),
+                None => self.ends_contour(&b),
+            };
+            if ends {
                 end = Some(Pos { at: parser.offset(), line: parser.line() });
                 break;
             }
@@ -1666,7 +1670,11 @@ impl<'a> Driver<'a, '_> {
             interp.comp_problem.set(problem);
         }
         let Some(end) = end else {
-            self.error(diags, Code::MissingLabel, block.range, format!("no block N{last} after N{first} ends this cycle's contour"));
+            let msg = match last {
+                Some(last) => format!("no block N{last} after N{first} ends this cycle's contour"),
+                None => format!("no end of the contour definition after N{first} ends this cycle's contour"),
+            };
+            self.error(diags, Code::MissingLabel, block.range, msg);
             return;
         };
         // The cycle's own moves come from the cycle's block.
@@ -1679,6 +1687,9 @@ impl<'a> Driver<'a, '_> {
                 interp.rough_turn(r, start, &shape, sink, diags);
                 self.switch_to(self.cur, end, interp);
             }
+            // A contour defined where the cycle stands is left behind; one named by its block
+            // numbers is finished from the start point and back to it.
+            None if last.is_none() => self.switch_to(self.cur, end, interp),
             None => interp.back_to(start, sink),
         }
         interp.emit(sink, CanonOp::TurningEnd);
