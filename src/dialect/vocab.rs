@@ -115,6 +115,13 @@ vocab! {
         /// contour's first block, `NLAP1 G81` … `G80`): where a contour cycle names no last
         /// block, its contour runs up to this code's block, and the run goes on after it.
         ContourEnd = "contour-end",
+        /// Polar coordinate interpolation on a lathe (Fanuc G12.1/G112, Siemens TRANSMIT): X
+        /// (a diameter where X words are) and C, read as a second linear axis, give points on
+        /// the face in its XY plane, milled with a driven tool along Z, up to the cancel.
+        PolarInterpolation = "polar-interpolation",
+        /// The end of polar coordinate interpolation (Fanuc G13.1/G113; Siemens TRAFOOF ends it
+        /// as it ends any transformation): the plane before it again.
+        PolarInterpolationOff = "polar-interpolation-off",
         /// LinuxCNC's G70: finishing passes along the profile that the O-word subroutine
         /// named by Q draws, from distance D to E in P passes.
         ProfileFinish = "profile-finish",

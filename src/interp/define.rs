@@ -132,6 +132,11 @@ impl Interpreter<'_> {
             self.run_pattern(ci, &args, block_range, sink, diags);
             return;
         }
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::PolarInterpolation).is_some() {
+            self.cycle_args.clear();
+            self.face_mode(true, sink);
+            return;
+        }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TcpOn).is_some() {
             self.cycle_args.clear();
             self.tcp(true, sink, diags);

@@ -265,4 +265,32 @@ impl Interpreter<'_> {
         self.emit(sink, if feed { CanonOp::StraightFeed(p) } else { CanonOp::StraightTraverse(p) });
         self.st.pos = p;
     }
+
+    /// Polar coordinate interpolation on (G12.1, TRANSMIT) or off (G13.1, TRAFOOF): the
+    /// moves between are milling on the face, in its XY plane with the tool along Z.
+    pub(super) fn face_mode(&mut self, on: bool, sink: &mut dyn CanonSink) {
+        let plane = match (on, self.st.face_plane) {
+            (true, None) => {
+                self.st.face_plane = Some(self.st.plane);
+                crate::canon::Plane::Xy
+            }
+            (false, Some(p)) => {
+                self.st.face_plane = None;
+                // The face's second axis is the C axis turned: no lathe axis stays there.
+                self.st.pos[1] = 0.0;
+                p
+            }
+            _ => return,
+        };
+        self.st.plane = plane;
+        self.emit(sink, CanonOp::SelectPlane(plane));
+    }
+
+    /// In polar coordinate interpolation, a C word is the face's second linear axis (Y).
+    pub(super) fn face_words(&mut self) {
+        if let Some(c) = self.slots[Role::C as usize].take() {
+            self.slots[Role::Y as usize] = Some(c);
+            self.filled |= 1 << Role::Y as u32;
+        }
+    }
 }

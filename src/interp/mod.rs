@@ -543,6 +543,9 @@ struct State {
     rough_cut: Option<(f64, f64)>,
     /// What the first block of a lathe's G74/G75/G76 set for the ones after it.
     lathe_setup: lathe::LatheSetup,
+    /// Polar coordinate interpolation on a lathe (G12.1, TRANSMIT) in force: the plane it
+    /// replaced. X and C are then a plane on the face (`lathe::face_words`).
+    face_plane: Option<Plane>,
     /// The initial level of the canned cycles in force: the hole axis position when the
     /// first of them began. G98 returns to it, and in G91 R counts from it.
     cycle_initial: Option<f64>,
@@ -598,6 +601,7 @@ impl State {
             nurbs: None,
             rough_cut: None,
             lathe_setup: lathe::LatheSetup::default(),
+            face_plane: None,
             sticky_q: None,
             sticky_p: None,
             ended: false,

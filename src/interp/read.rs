@@ -58,6 +58,9 @@ impl Interpreter<'_> {
             ok &= self.read_word(block, k, *w, how, diags);
         }
         self.polar_roles();
+        if self.st.face_plane.is_some() {
+            self.face_words();
+        }
         // Where I J K are the circle centre and the pole (Heidenhain ISO), a block that
         // writes them sets the pole, with or without an arc.
         if self.dialect.behaviour.arc_centres_pole {
