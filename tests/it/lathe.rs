@@ -276,8 +276,8 @@ fn lathe_edits_in_a_turner_s_terms() {
 }
 
 /// Edits of the named turning cycles' arguments (Siemens CYCLE95, CYCLE93, CYCLE97), of Okuma's
-/// LAP and of Haas's one-block G76 are said
-/// in a turner's terms, with no workingstep or feature invented or lost.
+/// LAP and of Haas's one-block G76 are said in a turner's terms, with no workingstep or
+/// feature invented or lost.
 #[test]
 fn named_and_one_block_cycle_edits_in_a_turner_s_terms() {
     use expect_test::expect;
