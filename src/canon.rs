@@ -222,7 +222,7 @@ pub struct TurnIntent {
     pub first_cut: Option<f64>,
     /// Least depth of a threading pass.
     pub min_cut: Option<f64>,
-    /// Finishing allowance of a thread.
+    /// Finishing allowance of a thread, or all round a contour (Siemens CYCLE95 FAL), per side.
     pub finish_allowance: Option<f64>,
     /// Finishing (spring) passes of a thread.
     pub finish_passes: Option<u32>,
@@ -232,6 +232,10 @@ pub struct TurnIntent {
     pub peck: Option<f64>,
     /// Shift between plunges (grooving wider than the tool).
     pub step: Option<f64>,
+    /// The lowest and highest Z of the groove or thread the cycle states (its width or
+    /// length, without run-in and run-out), where the cycle states it (Siemens CYCLE93, CYCLE97).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub span: Option<[f64; 2]>,
 }
 
 /// Distance mode (a marker; the canonical interface itself has none).
@@ -966,6 +970,9 @@ fn turning(out: &mut Vec<u8>, t: &TurnIntent) {
     }
     if let Some(n) = t.finish_passes {
         put(out, format_args!(" passes={n}"));
+    }
+    if let Some([lo, hi]) = t.span {
+        put(out, format_args!(" z={}..{}", F4(lo), F4(hi)));
     }
     out.extend_from_slice(b"\")");
 }

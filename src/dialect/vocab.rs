@@ -111,6 +111,17 @@ vocab! {
         /// A lathe's finishing cycle (Fanuc G70): the contour between the blocks numbered P
         /// and Q runs as written, then the tool returns to the start point at rapid.
         CycleFinishContour = "cycle-finish-contour",
+        /// The end of a lathe cycle's contour definition (Okuma LAP: `G85 NLAP1` names the
+        /// contour's first block, `NLAP1 G81` … `G80`): where a contour cycle names no last
+        /// block, its contour runs up to this code's block, and the run goes on after it.
+        ContourEnd = "contour-end",
+        /// Polar coordinate interpolation on a lathe (Fanuc G12.1/G112, Siemens TRANSMIT): X
+        /// (a diameter where X words are) and C, read as a second linear axis, give points on
+        /// the face in its XY plane, milled with a driven tool along Z, up to the cancel.
+        PolarInterpolation = "polar-interpolation",
+        /// The end of polar coordinate interpolation (Fanuc G13.1/G113; Siemens TRAFOOF ends it
+        /// as it ends any transformation): the plane before it again.
+        PolarInterpolationOff = "polar-interpolation-off",
         /// LinuxCNC's G70: finishing passes along the profile that the O-word subroutine
         /// named by Q draws, from distance D to E in P passes.
         ProfileFinish = "profile-finish",
@@ -625,6 +636,42 @@ vocab! {
         TiltBaseY = "tilt-base-y",
         /// The base vector's Z component.
         TiltBaseZ = "tilt-base-z",
+        /// The contour a turning cycle machines, by name: a subprogram, a label (`"KONTUR"`) or a
+        /// label range (`"START:END"`) (Siemens CYCLE95 NPP); a text argument.
+        ContourName = "contour-name",
+        /// What and where a turning cycle machines, by its number (Siemens VARI: roughing or
+        /// finishing, along Z or across X, outside or inside, from which side).
+        MachiningType = "machining-type",
+        /// A finishing allowance all round a contour, or on a thread's depth (Siemens FAL), per side.
+        Allowance = "allowance",
+        /// The feed of a cycle's finishing pass (Siemens CYCLE95 FF3).
+        FinishFeed = "finish-feed",
+        /// A cycle's end point across the axis (a thread's diameter at its end, Siemens DM2).
+        EndX = "end-x",
+        /// A cycle's end point along the axis (a thread's end, Siemens FPL).
+        EndZ = "end-z",
+        /// A groove's width along the axis (Siemens WIDG).
+        Width = "width",
+        /// A groove's or a thread's depth, per side (Siemens DIAG, TDEP).
+        ProfileDepth = "profile-depth",
+        /// A thread's lead (Siemens PIT).
+        Pitch = "pitch",
+        /// A metric thread by its size (Siemens MPIT: 3 to 60 for M3 to M60), its coarse pitch.
+        ThreadSize = "thread-size",
+        /// A thread's run-in along the axis before its start (Siemens APP).
+        RunIn = "run-in",
+        /// A thread's run-out along the axis after its end (Siemens ROP).
+        RunOut = "run-out",
+        /// The number of roughing passes of a thread (Siemens NRC).
+        Passes = "passes",
+        /// The passes at full depth without infeed after a thread's last cut (Siemens NID).
+        IdlePasses = "idle-passes",
+        /// The number of starts of a thread (Siemens NUMT).
+        ThreadStarts = "thread-starts",
+        /// The infeed angle of a thread's passes, degrees (Siemens IANG).
+        InfeedAngle = "infeed-angle",
+        /// The included angle of a threading tool, degrees (Haas G76 A).
+        ToolAngle = "tool-angle",
         /// A keyword code of the dialect (internal: the word's value is the code's index).
         Keyword = "keyword",
         /// A named cycle call (internal: the word's value is the cycle's index).

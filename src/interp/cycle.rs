@@ -368,6 +368,14 @@ pub(crate) struct Rough {
     facing: bool,
 }
 
+impl Rough {
+    /// A roughing of `depth` per pass, retracting `retract`, leaving `allow_x` (a radius,
+    /// negative inside) and `allow_z`; along X when `facing`.
+    pub(super) fn new(depth: f64, retract: f64, allow_x: f64, allow_z: f64, facing: bool) -> Rough {
+        Rough { depth, retract, allow_x, allow_z, facing }
+    }
+}
+
 /// A contour element in the ZX plane, as (X, Z) points: a line, or an arc about a centre
 /// (counter-clockwise as the canon's rotation says, in the plane's first-second frame).
 #[derive(Clone, Copy, Debug)]
@@ -461,14 +469,19 @@ impl Interpreter<'_> {
             let v = s.slot(from)?;
             Some(if from == Role::X && s.st.diameter { 2.0 * v } else { v })
         };
-        let (p, q) = (self.slot(Role::P), self.slot(Role::Q));
+        // The contour's first and last blocks: P and Q, or the words the dictionary names
+        // (Okuma LAP `G85 N0508`: the first block, the contour running up to its end code).
+        let named = |s: &Self, role: Role| def.args.iter().find(|(_, to)| *to == role).and_then(|(from, _)| s.slot(*from));
+        let (p, q) = (named(self, Role::P).or(self.slot(Role::P)), self.slot(Role::Q));
+        let to_end = q.is_none() && self.dialect.codes.iter().any(|c| c.meaning == Meaning::ContourEnd);
         if matches!(def.meaning, Meaning::CycleRoughTurn | Meaning::CycleRoughFace) && p.is_none() && q.is_none() {
             let (depth, retract) = self.st.rough_cut.unwrap_or((0.0, 0.0));
             self.st.rough_cut = Some((arg(self, Role::CutDepth).unwrap_or(depth), arg(self, Role::RetractDistance).unwrap_or(retract)));
             return;
         }
         let block_number = |v: Option<f64>| v.filter(|v| *v >= 0.0 && v.fract() == 0.0 && *v < 1e9).map(|v| v as u32);
-        let (Some(first), Some(last)) = (block_number(p), block_number(q)) else {
+        let last = block_number(q);
+        let (Some(first), true) = (block_number(p), last.is_some() || to_end) else {
             let msg = format!("{} needs P and Q, the block numbers where its contour begins and ends; the cycle is skipped", def.label());
             diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
             return;

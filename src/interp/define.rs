@@ -132,6 +132,11 @@ impl Interpreter<'_> {
             self.run_pattern(ci, &args, block_range, sink, diags);
             return;
         }
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::PolarInterpolation).is_some() {
+            self.cycle_args.clear();
+            self.face_mode(true, sink);
+            return;
+        }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TcpOn).is_some() {
             self.cycle_args.clear();
             self.tcp(true, sink, diags);
@@ -140,6 +145,12 @@ impl Interpreter<'_> {
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TiltCycle).is_some() {
             let args = std::mem::take(&mut self.cycle_args);
             self.tilt_cycle(&args, block_range, sink, diags);
+            return;
+        }
+        let turning = |m: Meaning| matches!(m, Meaning::CycleRoughTurn | Meaning::CycleGroove | Meaning::CycleThreadMultiple);
+        if let Some(ci) = self.block_cycle.take_if(|&mut ci| turning(self.dialect.cycles[ci].meaning)) {
+            let args = std::mem::take(&mut self.cycle_args);
+            self.named_turn_cycle(ci, &args, block_range, sink, diags);
             return;
         }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::Stock).is_some() {

@@ -22,6 +22,21 @@ use crate::text::TextRange;
 /// Most plunges or passes a cycle makes: more is a slip in a peck or shift.
 const MAX_PASSES: f64 = 10_000.0;
 
+/// A thread's passes as its block states them.
+struct ThreadSpec {
+    /// Thread height and first depth of cut, per side; taper (radius, start less end).
+    height: f64,
+    first: f64,
+    taper: f64,
+    /// The lead.
+    lead: f64,
+    setup: LatheSetup,
+    /// Each pass the first depth deeper (else the depth grows as √n: a constant amount).
+    constant_depth: bool,
+    /// Infeed along both flanks in turn.
+    alternate: bool,
+}
+
 /// What the first block of a G74/G75/G76 states, kept for the second.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct LatheSetup {
@@ -132,7 +147,11 @@ impl Interpreter<'_> {
     }
 
     /// G76: the passes of a thread from the start point to the end point (X the minor
-    /// diameter, Z the thread's end), R the taper (radius) and F the lead.
+    /// diameter, Z the thread's end), R the taper (radius) and F the lead; in Fanuc's
+    /// two-block form P and Q of the second block are the height and first depth in least
+    /// increments, in the one-block form (Haas `G76 X Z K D F A P I`) the dictionary names
+    /// the words of the height, the first depth, the tool's angle, the infeed method and the
+    /// taper.
     fn thread_multiple(
         &mut self,
         def: &CodeDef,
@@ -141,29 +160,60 @@ impl Interpreter<'_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
-        let end = self.target();
-        let start = self.st.pos;
-        let height = self.slot(Role::P).map(|v| self.increments(v)).unwrap_or(0.0);
-        let first = self.slot(Role::Q).map(|v| self.increments(v)).unwrap_or(0.0);
-        let taper = self.slot(Role::R).unwrap_or(0.0);
+        let named = |s: &Self, role: Role| def.args.iter().find(|(_, to)| *to == role).and_then(|(from, _)| s.slot(*from));
+        let one_block = def.args.iter().any(|(_, to)| *to == Role::ProfileDepth);
+        let mut spec = if one_block {
+            let method = named(self, Role::MachiningType).map_or(1, |p| p.round() as i64);
+            ThreadSpec {
+                height: named(self, Role::ProfileDepth).map_or(0.0, f64::abs),
+                first: named(self, Role::CutDepth).map_or(0.0, f64::abs),
+                taper: named(self, Role::R).unwrap_or(0.0),
+                setup: LatheSetup { finish_passes: 1, angle: named(self, Role::ToolAngle).unwrap_or(0.0), ..setup },
+                constant_depth: matches!(method, 3 | 4),
+                alternate: matches!(method, 2 | 4),
+                lead: 0.0,
+            }
+        } else {
+            ThreadSpec {
+                height: self.slot(Role::P).map(|v| self.increments(v)).unwrap_or(0.0),
+                first: self.slot(Role::Q).map(|v| self.increments(v)).unwrap_or(0.0),
+                taper: self.slot(Role::R).unwrap_or(0.0),
+                setup,
+                constant_depth: false,
+                alternate: false,
+                lead: 0.0,
+            }
+        };
         let Some(lead) = self.slot(Role::F).or((self.st.feed > 0.0).then_some(self.st.feed)) else {
             let msg = format!("{} without F (the lead) was skipped", def.label());
             return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
         };
-        if !(height > 0.0 && first > 0.0 && first <= height) {
-            let msg = format!("{}: the thread height (P) and the first depth of cut (Q, at most the height) must be above 0", def.label());
+        spec.lead = lead;
+        if !(spec.height > 0.0 && spec.first > 0.0 && spec.first <= spec.height) {
+            let msg = format!("{}: the thread height and the first depth of cut (at most the height) must be above 0", def.label());
             return diags.push(Diagnostic::new(Code::BadValue, range, msg));
         }
-        let rough_to = (height - setup.finish_allowance).max(first);
-        if rough_to / first > MAX_PASSES {
+        let rough_to = (spec.height - spec.setup.finish_allowance).max(spec.first);
+        if rough_to / spec.first > MAX_PASSES {
             return diags.push(Diagnostic::new(Code::BadValue, range, format!("{}: too many passes", def.label())));
         }
+        self.thread_passes(def, &spec, sink);
+    }
+
+    /// The passes of a thread: pass n at depth Δd·√n (or n·Δd at a constant depth), never less
+    /// than the least cut more than the one before, up to the height less the finishing
+    /// allowance, then the finishing passes at the full height; each infeeds along a flank
+    /// (both in turn when `alternate`).
+    fn thread_passes(&mut self, def: &CodeDef, spec: &ThreadSpec, sink: &mut dyn CanonSink) {
+        let (end, start) = (self.target(), self.st.pos);
+        let setup = spec.setup;
+        let rough_to = (spec.height - setup.finish_allowance).max(spec.first);
         let intent = TurnIntent {
             kind: Some(TurnKind::Thread),
             code: def.label(),
-            pitch: Some(lead),
-            thread_depth: Some(height),
-            first_cut: Some(first),
+            pitch: Some(spec.lead),
+            thread_depth: Some(spec.height),
+            first_cut: Some(spec.first),
             min_cut: Some(setup.min_cut),
             finish_allowance: Some(setup.finish_allowance),
             finish_passes: Some(setup.finish_passes.max(1)),
@@ -173,14 +223,15 @@ impl Interpreter<'_> {
         self.emit(sink, CanonOp::Turning(Box::new(intent)));
         // Outside (the start above the thread) or inside; the crest is the bottom plus the height.
         let out = if start[0] >= end[0] { 1.0 } else { -1.0 };
-        let crest = end[0] + out * height;
+        let crest = end[0] + out * spec.height;
         let along = (end[2] - start[2]).signum();
         let tan = (setup.angle / 2.0).to_radians().tan();
         let mut depths = Vec::new();
         let mut n = 1.0_f64;
         let mut last = 0.0_f64;
         loop {
-            let d = (first * n.sqrt()).max(last + setup.min_cut).min(rough_to);
+            let step = if spec.constant_depth { spec.first * n } else { spec.first * n.sqrt() };
+            let d = step.max(last + setup.min_cut).min(rough_to);
             depths.push(d);
             last = d;
             if d >= rough_to - 1e-9 {
@@ -188,18 +239,18 @@ impl Interpreter<'_> {
             }
             n += 1.0;
         }
-        for _ in 0..setup.finish_passes.max(1) {
-            depths.push(height);
-        }
-        for d in depths {
+        depths.extend(std::iter::repeat_n(spec.height, setup.finish_passes.max(1) as usize));
+        for (k, d) in depths.into_iter().enumerate() {
             let mut p = start;
-            p[0] = crest - out * d - taper;
-            // Infeed along the flank: each pass starts further back by its depth's share.
-            p[2] = start[2] - along * d * tan;
+            p[0] = crest - out * d - spec.taper;
+            // Infeed along the flank: each pass starts further back by its depth's share
+            // (forward on the other flank every second pass when alternating).
+            let flank = if spec.alternate && k % 2 == 1 { -1.0 } else { 1.0 };
+            p[2] = start[2] - flank * along * d * tan;
             self.go_to(sink, p, false);
             let mut q = end;
             q[0] = crest - out * d;
-            self.emit(sink, CanonOp::StartSpeedFeedSync(lead));
+            self.emit(sink, CanonOp::StartSpeedFeedSync(spec.lead));
             self.go_to(sink, q, true);
             self.emit(sink, CanonOp::StopSpeedFeedSync);
             let mut back = q;
@@ -210,8 +261,36 @@ impl Interpreter<'_> {
         self.emit(sink, CanonOp::TurningEnd);
     }
 
-    fn go_to(&mut self, sink: &mut dyn CanonSink, p: [f64; 6], feed: bool) {
+    pub(super) fn go_to(&mut self, sink: &mut dyn CanonSink, p: [f64; 6], feed: bool) {
         self.emit(sink, if feed { CanonOp::StraightFeed(p) } else { CanonOp::StraightTraverse(p) });
         self.st.pos = p;
+    }
+
+    /// Polar coordinate interpolation on (G12.1, TRANSMIT) or off (G13.1, TRAFOOF): the
+    /// moves between are milling on the face, in its XY plane with the tool along Z.
+    pub(super) fn face_mode(&mut self, on: bool, sink: &mut dyn CanonSink) {
+        let plane = match (on, self.st.face_plane) {
+            (true, None) => {
+                self.st.face_plane = Some(self.st.plane);
+                crate::canon::Plane::Xy
+            }
+            (false, Some(p)) => {
+                self.st.face_plane = None;
+                // The face's second axis is the C axis turned: no lathe axis stays there.
+                self.st.pos[1] = 0.0;
+                p
+            }
+            _ => return,
+        };
+        self.st.plane = plane;
+        self.emit(sink, CanonOp::SelectPlane(plane));
+    }
+
+    /// In polar coordinate interpolation, a C word is the face's second linear axis (Y).
+    pub(super) fn face_words(&mut self) {
+        if let Some(c) = self.slots[Role::C as usize].take() {
+            self.slots[Role::Y as usize] = Some(c);
+            self.filled |= 1 << Role::Y as u32;
+        }
     }
 }

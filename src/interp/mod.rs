@@ -158,6 +158,7 @@ mod flow;
 mod g7x;
 mod lathe;
 mod motion;
+mod named_turn;
 mod read;
 
 pub use flow::{NoPrograms, ProgramSource, run};
@@ -386,8 +387,9 @@ pub(crate) enum Request {
     Contour {
         /// The contour's first block number (P).
         first: u32,
-        /// Its last block number (Q).
-        last: u32,
+        /// Its last block number (Q); none: up to the dictionary's `contour-end` code, the run
+        /// going on after it whether the cycle roughs or finishes (Okuma LAP).
+        last: Option<u32>,
         /// How to rough it out (G71); `None` finishes it (G70).
         rough: Option<cycle::Rough>,
     },
@@ -397,6 +399,14 @@ pub(crate) enum Request {
         name: String,
         /// The cycle.
         cycle: g7x::Cycle,
+    },
+    /// A named turning cycle's contour (Siemens CYCLE95): the subprogram, label or label
+    /// range `name` gives, read without effect, then cut as `job` says.
+    NamedContour {
+        /// The contour's name as written (`"KONTUR"`, `"START:END"`).
+        name: String,
+        /// What the cycle does with it.
+        job: Box<named_turn::StockRemoval>,
     },
 }
 
@@ -533,6 +543,9 @@ struct State {
     rough_cut: Option<(f64, f64)>,
     /// What the first block of a lathe's G74/G75/G76 set for the ones after it.
     lathe_setup: lathe::LatheSetup,
+    /// Polar coordinate interpolation on a lathe (G12.1, TRANSMIT) in force: the plane it
+    /// replaced. X and C are then a plane on the face (`lathe::face_words`).
+    face_plane: Option<Plane>,
     /// The initial level of the canned cycles in force: the hole axis position when the
     /// first of them began. G98 returns to it, and in G91 R counts from it.
     cycle_initial: Option<f64>,
@@ -588,6 +601,7 @@ impl State {
             nurbs: None,
             rough_cut: None,
             lathe_setup: lathe::LatheSetup::default(),
+            face_plane: None,
             sticky_q: None,
             sticky_p: None,
             ended: false,
@@ -783,6 +797,8 @@ pub struct Interpreter<'a> {
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
     block_cycle: Option<usize>,
     cycle_args: Vec<(Role, f64)>,
+    /// The block's named cycle's text argument naming a contour (`CYCLE95("START:END", ...)`).
+    cycle_text: Option<String>,
     /// The surface a cycle call at a position gives the cycle (`CYCL CALL POS ... Z+0`).
     call_surface: Option<f64>,
     /// Tool names met in `T="NAME"` that the tool table does not know, numbered from 10001.
@@ -844,6 +860,7 @@ impl<'a> Interpreter<'a> {
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),
+            cycle_text: None,
             call_surface: None,
             tool_names: Vec::new(),
             called: (profile.role == ProgramRole::Called)

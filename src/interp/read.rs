@@ -43,6 +43,7 @@ impl Interpreter<'_> {
         self.block_cycle = None;
         self.cycle_args.clear();
         self.intent_words = false;
+        self.cycle_text = None;
     }
 
     /// Read phase: values, codes, groups and parameter checks. False when the block must be skipped.
@@ -61,6 +62,9 @@ impl Interpreter<'_> {
             ok &= self.read_word(block, k, *w, how, diags);
         }
         self.polar_roles();
+        if self.st.face_plane.is_some() {
+            self.face_words();
+        }
         // Where I J K are the circle centre and the pole (Heidenhain ISO), a block that
         // writes them sets the pole, with or without an arc.
         if self.dialect.behaviour.arc_centres_pole {
@@ -222,6 +226,10 @@ impl Interpreter<'_> {
         }
         let w = &w;
         if w.cycle_arg {
+            if let (Value::Text(r), Role::ContourName) = (w.value, w.role) {
+                self.cycle_text = Some(block.text(r).to_owned());
+                return true;
+            }
             match self.value(block, w.value, w.range, diags) {
                 Some(v) if eval::is_unknown(v) => self.unknown_word(block, w.range, diags),
                 Some(v) if !eval::is_null(v) => self.cycle_args.push((w.role, v)),

@@ -70,7 +70,9 @@ impl<'p> Recoverer<'p> {
         let mut tools: Vec<Tool> = r.tools.into_values().collect();
         tools.sort_by_key(|t| t.number);
         let mut plan = ProcessPlan { program, units: r.first_units, tools, workingsteps: r.done, features: Vec::new(), workpiece };
-        if r.lathe {
+        if r.lathe && plan.workingsteps.iter().any(|w| w.turning.is_none()) {
+            mill_turn(&mut plan);
+        } else if r.lathe {
             super::turning::recognise(&mut plan);
             super::turning::infer_tool_kinds(&mut plan);
         } else {
@@ -82,6 +84,40 @@ impl<'p> Recoverer<'p> {
         diags.extend(super::risk::diagnostics(&plan));
         (plan, diags)
     }
+}
+
+/// A program that turns and mills (a driven tool on the face): its turning workingsteps
+/// make turned features, its milling ones (without a turning part) milled features and holes,
+/// each by its own rules; the milled features are numbered after the turned ones.
+fn mill_turn(plan: &mut ProcessPlan) {
+    let (milling, turning): (Vec<Workingstep>, Vec<Workingstep>) =
+        std::mem::take(&mut plan.workingsteps).into_iter().partition(|w| w.turning.is_none());
+    let part = |ws: Vec<Workingstep>| ProcessPlan { workingsteps: ws, features: Vec::new(), ..plan.clone() };
+    let (mut t, mut m) = (part(turning), part(milling));
+    super::turning::recognise(&mut t);
+    super::turning::infer_tool_kinds(&mut t);
+    explicit_holes(&mut m);
+    infer_tool_kinds(&mut m);
+    feature::recognise(&mut m);
+    let offset = t.features.len() as u32;
+    for f in &mut m.features {
+        f.id += offset;
+    }
+    for ws in &mut m.workingsteps {
+        ws.feature = ws.feature.map(|id| id + offset);
+    }
+    // A tool that mills takes the kind the milling rules found.
+    for tool in &mut t.tools {
+        if let Some(mt) = m.tools.iter().find(|x| x.number == tool.number)
+            && m.workingsteps.iter().any(|w| w.tool == tool.number)
+        {
+            *tool = mt.clone();
+        }
+    }
+    plan.tools = t.tools;
+    plan.workingsteps = t.workingsteps.into_iter().chain(m.workingsteps).collect();
+    plan.workingsteps.sort_by_key(|w| w.index);
+    plan.features = t.features.into_iter().chain(m.features).collect();
 }
 
 /// Holes made by explicit moves (posts that expand drilling into `G0`/`G1`): a workingstep
@@ -484,6 +520,9 @@ struct Builder {
     /// cycle starts and ends), and what the cycle and the technology state.
     turn_seq: u32,
     turning: super::turned::Turning,
+    /// Cut in the XY plane: on a program that turns, milling on the face (polar coordinate
+    /// interpolation) or drilling along Z with a driven tool, not turning.
+    milling: bool,
 }
 
 impl Builder {
@@ -680,6 +719,7 @@ impl<'p> Recovery<'p> {
             finish_allowance: k(t.finish_allowance),
             peck: k(t.peck),
             step: k(t.step),
+            span: t.span.map(|[lo, hi]| [round_sig(self.mm(lo)), round_sig(self.mm(hi))]),
             ..t.clone()
         }
     }
@@ -753,7 +793,13 @@ impl<'p> Recovery<'p> {
                 self.first_units.get_or_insert(*u);
                 self.k = u.to_mm();
             }
-            CanonOp::SelectPlane(p) => self.plane = *p,
+            CanonOp::SelectPlane(p) => {
+                // On a lathe, turning (ZX) and milling on the face (XY) are workingsteps apart.
+                if self.lathe && (*p == Plane::Xy) != (self.plane == Plane::Xy) {
+                    self.close_keeping_approach();
+                }
+                self.plane = *p;
+            }
             CanonOp::SetFeedRate(f) => self.feed = round_sig(self.mm(*f)),
             CanonOp::SetFeedMode(m) => self.per_rev = *m == FeedMode::PerRevolution,
             // Synchronised moves or a constant cutting speed in the ZX plane: a lathe's.
@@ -1150,6 +1196,7 @@ impl<'p> Recovery<'p> {
                 setup: self.setup,
                 turn_seq: self.turn_seq,
                 turning,
+                milling: self.plane == Plane::Xy,
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next
@@ -1289,6 +1336,7 @@ impl<'p> Recovery<'p> {
             setup,
             turn_seq,
             turning,
+            milling: self.plane == Plane::Xy,
         });
     }
 
@@ -1315,7 +1363,7 @@ impl<'p> Recovery<'p> {
     }
 
     fn finish(&mut self, mut b: Builder) {
-        if !self.lathe {
+        if !self.lathe || b.milling {
             refine_phases(&mut b.moves, b.operation.is_hole());
         }
         // The highest rapid on the way in or between cuts (or feed link between cuts, see
@@ -1355,7 +1403,7 @@ impl<'p> Recovery<'p> {
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         ws.state = state;
         ws.setup = b.setup;
-        if self.lathe {
+        if self.lathe && !b.milling {
             ws.turning = Some(Box::new(b.turning));
         }
         measure(&mut ws, b.dwell, b.peck, b.surface);

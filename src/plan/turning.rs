@@ -278,11 +278,19 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
         Some(TurnOp::Grooving) | Some(TurnOp::PartingOff) => {
             let plunge_z = cuts.iter().map(|m| m.to[2]);
             let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-            let width = tool_width.map(|w| round(hi - lo + w));
+            // A cycle that states the groove's edges gives its width; else the plunges' span
+            // and the tool's width.
+            let span = t.intent.as_ref().and_then(|i| i.span);
+            let width = match span {
+                Some([lo, hi]) => Some(round(hi - lo)),
+                None => tool_width.map(|w| round(hi - lo + w)),
+            };
+            let hi = span.map_or(hi, |s| s[1]);
             if t.operation == Some(TurnOp::PartingOff) {
                 return Vec::new();
             }
-            vec![(turned(Turned::Groove { diameter: d[0], width, inside: t.inside }), hi)]
+            let diameter = if t.inside { d[1] } else { d[0] };
+            vec![(turned(Turned::Groove { diameter, width, inside: t.inside }), hi)]
         }
         Some(TurnOp::Threading) => {
             let pitch = t.pitch.or_else(|| t.intent.as_ref().and_then(|i| i.pitch)).unwrap_or(0.0);
@@ -294,7 +302,11 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
             // Its run-in in front of the face (Z0) is air.
             let (lo, hi) = last.map_or((z[0], z[1]), |m| (m.from[2].min(m.to[2]), m.from[2].max(m.to[2])));
             let hi = if lo < 0.0 { hi.min(0.0) } else { hi };
-            let (length, at) = (hi - lo, hi);
+            // A cycle that states the thread's start and end gives its length.
+            let (length, at) = match t.intent.as_ref().and_then(|i| i.span) {
+                Some([lo, hi]) => (hi - lo, hi),
+                None => (hi - lo, hi),
+            };
             vec![(turned(Turned::Thread { diameter, root, pitch, length: round(length), inside: t.inside }), round(at))]
         }
         Some(TurnOp::Drilling) => {

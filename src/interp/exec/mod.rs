@@ -121,7 +121,15 @@ impl Interpreter<'_> {
                 self.length_comp(def, sink);
                 self.tcp(def.meaning == Meaning::LengthCompTcp, sink, diags);
             }
-            Meaning::TcpOn | Meaning::TcpOff => self.tcp(def.meaning == Meaning::TcpOn, sink, diags),
+            Meaning::TcpOn | Meaning::TcpOff => {
+                if def.meaning == Meaning::TcpOff {
+                    self.face_mode(false, sink);
+                }
+                self.tcp(def.meaning == Meaning::TcpOn, sink, diags)
+            }
+            Meaning::PolarInterpolation | Meaning::PolarInterpolationOff => {
+                self.face_mode(def.meaning == Meaning::PolarInterpolation, sink)
+            }
             Meaning::Wcs | Meaning::WcsExtended => self.work_offset(def, range, sink, diags),
             Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
                 self.modal_context(def, range, sink, diags)
@@ -177,7 +185,7 @@ impl Interpreter<'_> {
             }
             Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::SubprogramReturn => self.call(def, range, diags),
             Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def, sink),
-            Meaning::Other | Meaning::Output | Meaning::ProgramBegin => {}
+            Meaning::Other | Meaning::Output | Meaning::ProgramBegin | Meaning::ContourEnd => {}
             Meaning::Stock => self.stock_corner(sink),
             // Read by the arc or move of the block they stand in.
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}

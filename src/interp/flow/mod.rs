@@ -20,6 +20,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use typed_arena::Arena;
 
+mod contour;
 mod statements;
 
 use super::eval::{self, NULL};
@@ -1591,6 +1592,7 @@ impl<'a> Driver<'a, '_> {
             }
             Request::Contour { first, last, rough } => self.contour(first, last, rough, block, interp, sink, diags),
             Request::Profile { name, cycle } => self.profile(&name, cycle, block, interp, sink, diags),
+            Request::NamedContour { name, job } => self.named_contour(&name, &job, block, interp, sink, diags),
         }
     }
 
@@ -1602,7 +1604,7 @@ impl<'a> Driver<'a, '_> {
     fn contour(
         &mut self,
         first: u32,
-        last: u32,
+        last: Option<u32>,
         rough: Option<super::cycle::Rough>,
         block: &Block,
         interp: &mut Interpreter<'a>,
@@ -1651,7 +1653,11 @@ impl<'a> Driver<'a, '_> {
             }
             // A contour holds moves only; a call in it is not followed.
             interp.request = None;
-            if b.number == Some(last) {
+            let ends = match last {
+                Some(n) => b.number == Some(n),
+                None => self.ends_contour(&b),
+            };
+            if ends {
                 end = Some(Pos { at: parser.offset(), line: parser.line() });
                 break;
             }
@@ -1664,7 +1670,11 @@ impl<'a> Driver<'a, '_> {
             interp.comp_problem.set(problem);
         }
         let Some(end) = end else {
-            self.error(diags, Code::MissingLabel, block.range, format!("no block N{last} after N{first} ends this cycle's contour"));
+            let msg = match last {
+                Some(last) => format!("no block N{last} after N{first} ends this cycle's contour"),
+                None => format!("no end of the contour definition after N{first} ends this cycle's contour"),
+            };
+            self.error(diags, Code::MissingLabel, block.range, msg);
             return;
         };
         // The cycle's own moves come from the cycle's block.
@@ -1677,6 +1687,9 @@ impl<'a> Driver<'a, '_> {
                 interp.rough_turn(r, start, &shape, sink, diags);
                 self.switch_to(self.cur, end, interp);
             }
+            // A contour defined where the cycle stands is left behind; one named by its block
+            // numbers is finished from the start point and back to it.
+            None if last.is_none() => self.switch_to(self.cur, end, interp),
             None => interp.back_to(start, sink),
         }
         interp.emit(sink, CanonOp::TurningEnd);
@@ -1708,7 +1721,7 @@ impl<'a> Driver<'a, '_> {
         (interp.st.pos[0], interp.st.pos[2]) = (cycle.x, cycle.z);
         // The cycle's move to its start point leaves G0 in force for the profile's blocks.
         interp.st.motion_code = self.dialect.codes.iter().position(|c| c.letter == 'G' && c.meaning == crate::dialect::Meaning::Rapid);
-        let (shape, finishes) = self.profile_blocks(source, body, interp, diags);
+        let (shape, finishes) = self.profile_blocks(source, body, usize::MAX, interp, diags);
         let (st, params, comp, corners, problem) = saved;
         interp.st = st;
         interp.params = params;
@@ -1724,12 +1737,14 @@ impl<'a> Driver<'a, '_> {
     /// buffer: its statements too (`o101 repeat [3]` round moves from `#<_x>`), by the run's
     /// own machinery on the subroutine's text; the run's cursor, loops and last round are put
     /// back afterwards. Returns the moves and the corners that A and C words ask to round or
-    /// chamfer (index in the shape after the move, round or not, size).
+    /// chamfer (index in the shape after the move, round or not, size). The run stops at
+    /// `until` (an offset in `source`) too.
     #[allow(clippy::type_complexity)]
     fn profile_blocks(
         &mut self,
         source: usize,
         body: Pos,
+        until: usize,
         interp: &mut Interpreter<'a>,
         diags: &mut Vec<Diagnostic>,
     ) -> (Vec<Canon>, Vec<(usize, bool, f64)>) {
@@ -1743,6 +1758,9 @@ impl<'a> Driver<'a, '_> {
         let mut b = Block::default();
         for _ in 0..MAX_PROFILE_BLOCKS {
             let at = self.pos();
+            if at.at >= until && self.frames.len() <= frames {
+                break;
+            }
             let src = self.cur;
             let mark = diags.len();
             if !self.next_block(&mut b, at, diags) {

@@ -166,9 +166,21 @@ impl Lexer<'_, '_> {
             return;
         }
         self.i += 1;
-        if lex.block_number == Some(letter as char) {
+        // After a code that takes it, the block-number letter is that code's argument: the
+        // block it names (Okuma LAP `G85 N0508`).
+        let after_code = self.block.words.iter().any(|w| match (w.role, w.value) {
+            (Role::G, Value::Number { value, .. }) => {
+                let code = self.dialect.code_id('G', (value * 10.0).round() as u32);
+                code.is_some_and(|c| self.dialect.codes[c].params.takes(Role::N))
+            }
+            _ => false,
+        });
+        if lex.block_number == Some(letter as char) && !after_code {
             self.block_number(start);
             return;
+        }
+        if lex.block_number == Some(letter as char) {
+            return self.letter_word(start, letter, Role::N);
         }
         if lex.program_number == Some(letter as char) {
             if let Some(n) = self.integer(start) {

@@ -1,0 +1,90 @@
+//! The contour a named turning cycle machines (Siemens `CYCLE95("NAME", ...)`): a label
+//! range of this program (`"START:END"`, the blocks from the first label's through the
+//! second's), a label of this program run up to its return (`RET`, `M17`), or a subprogram
+//! (`PROC NAME` here, or a program of that name in the program directory). Its blocks are
+//! run without effect from the cycle's start point to read the contour (the state is put
+//! back), then the interpreter cuts it (`named_turn`). And the end of a contour definition
+//! that a contour cycle names only by its first block (Okuma LAP).
+
+use super::{Driver, Mark, Pos, normalise_label};
+use crate::canon::CanonSink;
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::Statement;
+use crate::interp::Interpreter;
+use crate::interp::named_turn::StockRemoval;
+use crate::syntax::Block;
+
+impl<'a> Driver<'a, '_> {
+    /// Whether block `b` ends a contour definition (a code of meaning `contour-end`).
+    pub(super) fn ends_contour(&self, b: &Block) -> bool {
+        b.words.iter().any(|w| {
+            let crate::syntax::Value::Number { value, .. } = w.value else { return false };
+            w.role == crate::dialect::Role::G
+                && self
+                    .dialect
+                    .code_id('G', (value * 10.0).round() as u32)
+                    .is_some_and(|c| self.dialect.codes[c].meaning == crate::dialect::Meaning::ContourEnd)
+        })
+    }
+
+    /// Where the contour `name` lies: its source, first block and the offset it ends at.
+    fn contour_span(&mut self, name: &str) -> Result<(usize, Pos, usize), String> {
+        let label = |m: &Mark, l: &str| m.defines.as_deref() == Some(l);
+        if let Some((a, b)) = name.split_once(':') {
+            let (a, b) = (normalise_label(a), normalise_label(b));
+            let cur = self.cur;
+            let marks = self.marks(cur);
+            let Some(first) = marks.iter().find(|m| label(m, &a)).cloned() else {
+                return Err(format!("no label `{a}` starts the contour"));
+            };
+            let Some(last) = marks.iter().find(|m| label(m, &b) && m.start.at >= first.start.at) else {
+                return Err(format!("no label `{b}` after `{a}` ends the contour"));
+            };
+            return Ok((cur, first.start, last.next.at));
+        }
+        let key = normalise_label(name);
+        let cur = self.cur;
+        if let Some(m) = self.marks(cur).iter().find(|m| label(m, &key)) {
+            return Ok((cur, m.start, usize::MAX));
+        }
+        let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
+        let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
+        match self.locate(name, starts) {
+            Some((source, body)) => Ok((source, body, usize::MAX)),
+            None => Err(format!(
+                "the contour `{name}` is neither a label or a subprogram of this program nor a program in the program directory"
+            )),
+        }
+    }
+
+    /// A named turning cycle's contour, read and then cut as `job` says.
+    pub(super) fn named_contour(
+        &mut self,
+        name: &str,
+        job: &StockRemoval,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let (source, body, until) = match self.contour_span(name) {
+            Ok(span) => span,
+            Err(why) => {
+                self.error(diags, Code::MissingLabel, block.range, format!("{why}; the cycle is skipped"));
+                return;
+            }
+        };
+        let corners = interp.corners.replace(None);
+        let saved = (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take());
+        interp.comp.replace(None);
+        let (shape, _) = self.profile_blocks(source, body, until, interp, diags);
+        let (st, params, comp, corners, problem) = saved;
+        interp.st = st;
+        interp.params = params;
+        interp.comp.replace(comp);
+        interp.corners.replace(corners);
+        interp.comp_problem.set(problem);
+        (interp.origin, interp.line) = (block.range, block.line);
+        interp.stock_removal(job, &shape, sink, diags);
+    }
+}
