@@ -97,7 +97,9 @@ struct Dense {
 
 impl Dense {
     fn new(fill: f64) -> Dense {
-        Dense { pages: vec![std::sync::Arc::new([fill; PAGE]); MAX_PARAM.div_ceil(PAGE)] }
+        // One page shared by all until written: copies of it are what a write makes.
+        let page = std::sync::Arc::new([fill; PAGE]);
+        Dense { pages: (0..MAX_PARAM.div_ceil(PAGE)).map(|_| std::sync::Arc::clone(&page)).collect() }
     }
 
     #[inline]

@@ -1122,12 +1122,13 @@ impl<'a> Interpreter<'a> {
             match *e {
                 Expr::Param(inner) if !macros.system.is_empty() => match block.exprs.get(inner as usize) {
                     Some(&Expr::Num(n)) => {
-                        if n >= 0.0 && n.fract() == 0.0 && n <= f64::from(u32::MAX) {
-                            if let Some(var) = macros.system_var(n as u32)
-                                && let Some(v) = self.system_value(var, 0.0)
-                            {
-                                let _ = self.params.set(n, v);
-                            }
+                        if n >= 0.0
+                            && n.fract() == 0.0
+                            && n <= f64::from(u32::MAX)
+                            && let Some(var) = macros.system_var(n as u32)
+                            && let Some(v) = self.system_value(var, 0.0)
+                        {
+                            let _ = self.params.set(n, v);
                         }
                     }
                     _ => self.refresh_numbered(),
