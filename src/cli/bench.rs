@@ -67,7 +67,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     } else if daemon {
         crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
     } else {
-        crate::bench::run(&dir, rows, runs, baseline.as_deref(), &mut out)?;
+        crate::bench::run(&dir, rows, runs, baseline.as_deref(), &mut LineFlush(&mut out))?;
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
