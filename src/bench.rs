@@ -2,8 +2,10 @@
 //! LinuxCNC's `rs274` on the same files. Shell code: it writes files, reads the clock and
 //! runs processes. Timings live here and never in tests.
 //!
-//! `ncplan bench`: generates the 1M-block surfacing and the macro-heavy
-//! programs and times `canon` beside `rs274`, and `translate` into a new file (the last
+//! `ncplan bench`: generates the 1M-block surfacing and the macro-heavy programs (LinuxCNC
+//! O-words and named parameters, Siemens R parameters and `DEF` variables, Heidenhain Q
+//! parameters and `FN` jumps) and times `canon` beside `rs274` (and beside an older build
+//! with `--baseline`), with the moves each makes, and `translate` into a new file (the last
 //! output removed first) and over the last output (a rename over a file makes ext4 write the
 //! new one back at once); `--corpus DIR` times `check` on every file of a
 //! corpus, one process each, with its peak memory, and lists the slowest; `--daemon` measures a real `ncplan watch` (the
@@ -63,6 +65,56 @@ pub fn macro_program(rows: usize) -> String {
     )
 }
 
+/// The Siemens macro-heavy program: the same surface from `DEF` variables and R
+/// parameters, rows by a `WHILE` loop, points by a backward jump to a label (`rows × 1000`
+/// moves).
+pub fn siemens_macro_program(rows: usize) -> String {
+    format!(
+        "; ncplan benchmark: Siemens macro-heavy surfacing\nDEF REAL XP, YP\nDEF INT COL\nG17 G90 G71\nT1 D1\nM6\nS10000 M3\nF1200\nG0 X0 Y0 Z5\n\
+         R1=0\n\
+         WHILE R1<{rows}\n\
+         \x20 COL=0\n\
+         \x20 POINT:\n\
+         \x20 XP=COL*0.1\n\
+         \x20 YP=R1*0.5\n\
+         \x20 R2=-1+0.5*SIN(XP*3.6)*COS(YP*3.6)\n\
+         \x20 G1 X=XP Y=YP Z=R2\n\
+         \x20 COL=COL+1\n\
+         \x20 IF COL<1000 GOTOB POINT\n\
+         \x20 R1=R1+1\n\
+         ENDWHILE\n\
+         G0 Z5\nM30\n"
+    )
+}
+
+/// The Heidenhain macro-heavy program: the same surface from Q parameters, by `FN`
+/// arithmetic and formulas, its loops `FN 12` jumps back to labels (`rows × 1000` moves).
+pub fn heidenhain_macro_program(rows: usize) -> String {
+    let lines = [
+        "BEGIN PGM MACRO MM".to_owned(),
+        "; ncplan benchmark: Heidenhain macro-heavy surfacing".into(),
+        "TOOL CALL 1 Z S10000".into(),
+        "L X+0 Y+0 Z+5 R0 FMAX M3".into(),
+        "L Z+0 R0 F1200".into(),
+        "FN 0: Q1 = +0".into(),
+        "LBL 1".into(),
+        "FN 0: Q2 = +0".into(),
+        "LBL 2".into(),
+        "FN 3: Q3 = +Q2 * +0.1".into(),
+        "Q4 = Q1 * 0.5".into(),
+        "Q5 = -1 + 0.5 * SIN ( Q3 * 3.6 ) * COS ( Q4 * 3.6 )".into(),
+        "L X+Q3 Y+Q4 Z+Q5".into(),
+        "FN 1: Q2 = +Q2 + +1".into(),
+        "FN 12: IF +Q2 LT +1000 GOTO LBL 2".into(),
+        "Q1 = Q1 + 1".into(),
+        format!("FN 12: IF +Q1 LT +{rows} GOTO LBL 1"),
+        "L Z+5 R0 FMAX".into(),
+        "M30".into(),
+        "END PGM MACRO MM".into(),
+    ];
+    lines.iter().enumerate().map(|(n, l)| format!("{n} {l}\n")).collect()
+}
+
 /// One measurement: best of `runs` wall-clock times of a command whose output goes to
 /// /dev/null.
 fn time_command(program: &str, args: &[&str], runs: u32) -> Result<Duration> {
@@ -90,38 +142,11 @@ fn rs274_available() -> bool {
 }
 
 /// Writes the benchmark programs into `dir` and prints a side-by-side table.
-pub fn run(dir: &Path, rows: usize, runs: u32, out: &mut impl std::io::Write) -> Result<()> {
+pub fn run(dir: &Path, rows: usize, runs: u32, baseline: Option<&Path>, out: &mut impl std::io::Write) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let exe = std::env::current_exe()?;
     let exe = exe.to_string_lossy().into_owned();
-    let macro_rows = (rows / 20).max(1);
-    let programs: [(&str, PathBuf, String, usize); 2] = [
-        ("3D surfacing", dir.join("surface.ngc"), surfacing_program(rows), rows * 500 + rows / 10),
-        ("macro-heavy", dir.join("macro.ngc"), macro_program(macro_rows), macro_rows * 1000),
-    ];
-    // rs274 has no tool table by default; give it an empty one.
-    let table = dir.join("zero.tbl");
-    std::fs::write(&table, (1..100).map(|i| format!("T{i} P{i} Z0 D0\n")).collect::<String>())?;
-    // The macro-heavy program repeats its loop body 100,000 times and more: past the default
-    // repeat budget, which stops runaway programs.
-    let config = dir.join("bench.toml");
-    std::fs::write(&config, "[database]\npath = 'unused.db'\n[analysis]\nmax_repeated_blocks = 1000000000\n")?;
-    let config = config.to_string_lossy().into_owned();
-    let with_rs274 = rs274_available();
-    writeln!(out, "program        size       moves      ncplan canon                    rs274 -g                        ratio")?;
-    for (what, path, text, moves) in &programs {
-        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
-        let mb = text.len() as f64 / 1e6;
-        let p = path.to_string_lossy();
-        let ours = time_command(&exe, &["canon", "--config", &config, &p], runs)?;
-        let rate = |t: Duration| {
-            format!("{:6.3} s {:6.1} MB/s {:5.2} M moves/s", t.as_secs_f64(), mb / t.as_secs_f64(), *moves as f64 / t.as_secs_f64() / 1e6)
-        };
-        let theirs = if with_rs274 { Some(time_command("rs274", &["-g", "-t", &table.to_string_lossy(), &p], runs)?) } else { None };
-        let theirs_text = theirs.map_or_else(|| "(rs274 not installed)".to_owned(), rate);
-        let ratio = theirs.map_or_else(String::new, |t| format!("{:.1}x", t.as_secs_f64() / ours.as_secs_f64()));
-        writeln!(out, "{what:<14} {mb:6.1} MB {moves:>9}  {}  {theirs_text:<31} {ratio}", rate(ours))?;
-    }
+    canon_table(dir, &exe, rows, runs, baseline, out)?;
     writeln!(out)?;
     // Translation: the surfacing program written for three controls, and at half its size,
     // to show the memory does not grow with the program.
@@ -186,6 +211,92 @@ pub fn run(dir: &Path, rows: usize, runs: u32, out: &mut impl std::io::Write) ->
     writeln!(out)?;
     writeln!(out, "side by side: hyperfine -w1 '{exe} canon {0}/surface.ngc' 'rs274 -g -t {0}/zero.tbl {0}/surface.ngc'", dir.display())?;
     Ok(())
+}
+
+/// A benchmark program: its name, file, text, moves, dialect and whether rs274 reads it.
+struct Program {
+    what: &'static str,
+    path: PathBuf,
+    text: String,
+    moves: usize,
+    dialect: &'static str,
+    rs274: bool,
+}
+
+/// The programs `canon` is timed on: the surfacing program, and the macro-heavy one in
+/// LinuxCNC's, Siemens' and Heidenhain's macro language.
+fn canon_programs(dir: &Path, rows: usize) -> Vec<Program> {
+    let macro_rows = (rows / 20).max(1);
+    let program = |what, file: &str, text, moves, dialect, rs274| Program { what, path: dir.join(file), text, moves, dialect, rs274 };
+    vec![
+        program("3D surfacing", "surface.ngc", surfacing_program(rows), rows * 500 + rows / 10, "linuxcnc", true),
+        program("macro-heavy", "macro.ngc", macro_program(macro_rows), macro_rows * 1000, "linuxcnc", true),
+        program("Siemens macro", "macro.mpf", siemens_macro_program(macro_rows), macro_rows * 1000, "siemens", false),
+        program("Heidenhain Q", "macro.h", heidenhain_macro_program(macro_rows), macro_rows * 1000, "heidenhain", false),
+    ]
+}
+
+/// Times `canon` on each benchmark program (with the default configuration: its analysis
+/// bound must let every one run to its end) beside `rs274 -g`, and beside the `baseline`
+/// executable (an older ncplan) when given; then counts the moves each makes, which must be
+/// the same.
+fn canon_table(dir: &Path, exe: &str, rows: usize, runs: u32, baseline: Option<&Path>, out: &mut impl std::io::Write) -> Result<()> {
+    // rs274 has no tool table by default; give it an empty one.
+    let table = dir.join("zero.tbl");
+    std::fs::write(&table, (1..100).map(|i| format!("T{i} P{i} Z0 D0\n")).collect::<String>())?;
+    let table = table.to_string_lossy().into_owned();
+    let with_rs274 = rs274_available();
+    let baseline = baseline.map(|b| b.to_string_lossy().into_owned());
+    writeln!(
+        out,
+        "program        size       moves      ncplan canon                    rs274 -g                        ratio  moves (ncplan / rs274)"
+    )?;
+    for Program { what, path, text, moves, dialect, rs274 } in canon_programs(dir, rows) {
+        std::fs::write(&path, &text).with_context(|| format!("cannot write {}", path.display()))?;
+        let mb = text.len() as f64 / 1e6;
+        let p = path.to_string_lossy();
+        let args = ["canon", "-d", dialect, &p];
+        let ours = time_command(exe, &args, runs)?;
+        let rate = |t: Duration| {
+            format!("{:6.3} s {:6.1} MB/s {:5.2} M moves/s", t.as_secs_f64(), mb / t.as_secs_f64(), moves as f64 / t.as_secs_f64() / 1e6)
+        };
+        let rs274_args = ["-g", "-t", &table, &p];
+        let theirs = if with_rs274 && rs274 { Some(time_command("rs274", &rs274_args, runs)?) } else { None };
+        let theirs_text = match theirs {
+            Some(t) => rate(t),
+            None if rs274 => "(rs274 not installed)".to_owned(),
+            None => "(not a LinuxCNC program)".to_owned(),
+        };
+        let ratio = theirs.map_or_else(String::new, |t| format!("{:.1}x", t.as_secs_f64() / ours.as_secs_f64()));
+        let made = count_moves(exe, &args)?;
+        let theirs_made = if theirs.is_some() { count_moves("rs274", &rs274_args)?.to_string() } else { "-".to_owned() };
+        writeln!(out, "{what:<14} {mb:6.1} MB {moves:>9}  {}  {theirs_text:<31} {ratio:>6} {made} / {theirs_made}", rate(ours))?;
+        if let Some(b) = &baseline {
+            // An older build stopped blocks run again at 250,000 by default: lifted, so that
+            // it makes every move too.
+            let lift = dir.join("baseline.toml");
+            std::fs::write(&lift, "[database]\npath = 'unused.db'\n[analysis]\nmax_repeated_blocks = 1000000000\n")?;
+            let lift = lift.to_string_lossy().into_owned();
+            let args = ["canon", "--config", &lift, "-d", dialect, &p];
+            let before = time_command(b, &args, runs)?;
+            let before_made = count_moves(b, &args)?;
+            writeln!(
+                out,
+                "  baseline     {}: {:.1}x faster now; {before_made} moves",
+                rate(before),
+                before.as_secs_f64() / ours.as_secs_f64()
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// The moves (straight and arc, feed and traverse) a canonical text written by `program
+/// args` has: ncplan's and rs274's write the same names.
+fn count_moves(program: &str, args: &[&str]) -> Result<usize> {
+    let output = Command::new(program).args(args).stdin(Stdio::null()).stderr(Stdio::null()).output()?;
+    let text = String::from_utf8_lossy(&output.stdout);
+    Ok(text.lines().filter(|l| ["STRAIGHT_FEED(", "STRAIGHT_TRAVERSE(", "ARC_FEED("].iter().any(|m| l.contains(m))).count())
 }
 
 /// A pocket cleared in zig-zag passes `step` apart, then its outline: one program of a
@@ -787,5 +898,9 @@ mod tests {
         assert_eq!(s.lines().filter(|l| l.starts_with("G3")).count(), 2);
         assert_eq!(s, surfacing_program(20), "deterministic");
         assert!(macro_program(3).contains("o100 while [#<row> LT 3]"));
+        assert!(siemens_macro_program(3).contains("WHILE R1<3\n"));
+        let h = heidenhain_macro_program(3);
+        assert!(h.starts_with("0 BEGIN PGM MACRO MM\n") && h.ends_with("19 END PGM MACRO MM\n"), "{h}");
+        assert!(h.contains("16 FN 12: IF +Q1 LT +3 GOTO LBL 1\n"), "{h}");
     }
 }

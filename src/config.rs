@@ -271,8 +271,12 @@ pub struct WebUser {
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawAnalysis {
-    /// Blocks a run may execute again (loop passes, jumps back, repeated calls) before it
-    /// stops with a warning.
+    /// The analysis bound in time: seconds of analysis for the blocks a run executes again
+    /// (loop passes, jumps back, repeated calls) before it stops with a warning.
+    max_seconds: Option<u64>,
+    /// The analysis bound in memory: megabytes of the moves those blocks make.
+    max_memory_mb: Option<u64>,
+    /// The time bound as a count of blocks run again, over `max_seconds`.
     max_repeated_blocks: Option<u64>,
     /// How a condition on a value from outside the file goes when neither way leads to an
     /// alarm: `true` or `false`; without it, the dialect's choice.
@@ -779,6 +783,16 @@ fn matching_pattern(matching: &RawMatching) -> Result<Option<regex::Regex>> {
 /// positions, the called programs' folder, the tool table and `[[tool]]` entries, `[stock]`.
 fn profile(raw: &RawConfig, base: &Path) -> Result<Profile> {
     let mut profile = Profile::default();
+    let a = &raw.analysis;
+    if a.max_seconds == Some(0) || a.max_memory_mb == Some(0) {
+        bail!("[analysis] max_seconds and max_memory_mb must be at least 1");
+    }
+    if let Some(s) = a.max_seconds {
+        profile.bound_time(s);
+    }
+    if let Some(mb) = a.max_memory_mb {
+        profile.bound_memory(mb);
+    }
     if let Some(n) = raw.analysis.max_repeated_blocks {
         if n == 0 {
             bail!("[analysis] max_repeated_blocks must be at least 1");

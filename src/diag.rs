@@ -302,6 +302,12 @@ impl Diagnostic {
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
     }
+
+    /// True for the finding that the analysis stopped before the program's end (its bound,
+    /// a runaway loop): every command says it on stderr, whatever else it shows.
+    pub fn stops_analysis(&self) -> bool {
+        matches!(self.code, Code::RepeatBudget | Code::LoopLimit)
+    }
 }
 
 impl From<DecodeNote> for Diagnostic {

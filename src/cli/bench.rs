@@ -16,6 +16,10 @@ pub(super) struct Args {
     /// Rows of 500 blocks in the surfacing program (2000 rows: 1 million blocks, ~27 MB).
     #[arg(long, default_value_t = 2000)]
     rows: usize,
+    /// An older ncplan executable to time `canon` with beside this one (how much faster
+    /// the analysis has become).
+    #[arg(long, value_name = "EXE")]
+    baseline: Option<PathBuf>,
     /// Runs per measurement; the best is kept.
     #[arg(long, default_value_t = 3)]
     runs: u32,
@@ -51,7 +55,7 @@ pub(super) struct Args {
 
 /// Runs `ncplan bench`.
 pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
-    let Args { dir, rows, runs, daemon, corpus, files, kills, web, postgres, simulate } = args;
+    let Args { dir, rows, baseline, runs, daemon, corpus, files, kills, web, postgres, simulate } = args;
     if web {
         crate::web::bench::run(&dir.join("web"), rows, postgres.as_deref(), &mut LineFlush(&mut out))?;
     } else if let (Some(url), Some(n)) = (&postgres, simulate) {
@@ -63,7 +67,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     } else if daemon {
         crate::bench::run_daemon(&dir.join("daemon"), rows, files, kills, &mut LineFlush(&mut out))?;
     } else {
-        crate::bench::run(&dir, rows, runs, &mut out)?;
+        crate::bench::run(&dir, rows, runs, baseline.as_deref(), &mut LineFlush(&mut out))?;
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)

@@ -22,7 +22,12 @@ pub(super) struct Args {
 pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let Args { input, lines } = args;
     // Read piece by piece: memory does not grow with the program.
-    let (d, config, program, mut diags) = input_program(&input)?;
+    let (d, mut config, program, mut diags) = input_program(&input)?;
+    // The calls are printed as they come, not kept: the bound in memory does not apply,
+    // unless the command line gives one.
+    if input.max_memory_mb.is_none() {
+        config.profile.streamed();
+    }
     let mut printer = Printer {
         out: &mut out,
         buf: Vec::with_capacity(Printer::<Vec<u8>>::CHUNK + 256),
@@ -39,7 +44,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     if let Some(why) = program.trouble() {
         bail!("{why}");
     }
-    let errors: Vec<&Diagnostic> = diags.iter().filter(|x| x.is_error()).collect();
+    let errors: Vec<&Diagnostic> = diags.iter().filter(|x| x.is_error() || x.stops_analysis()).collect();
     print_short(&input.file.display().to_string(), program.text(), &errors);
     Ok(ExitCode::SUCCESS)
 }

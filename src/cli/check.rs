@@ -35,6 +35,7 @@ pub(super) struct Args {
 pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let Args { input, format, role, strict, more } = args;
     let mut config = analysis_config(input.config.as_deref())?;
+    input.bound(&mut config);
     let registry = registry_for(Some(&config))?;
     let base = config.profile.clone();
     let files: Vec<PathBuf> = std::iter::once(input.file.clone()).chain(more).collect();

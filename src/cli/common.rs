@@ -35,6 +35,28 @@ pub(super) struct Input {
     /// `tool.tbl`, Heidenhain `TOOL.T`, Fanuc `G10` offsets), over the configuration's tools.
     #[arg(long, value_name = "FILE")]
     pub(super) tool_table: Option<PathBuf>,
+    /// The analysis bound in time: seconds of analysis for the blocks a run executes again
+    /// (loops, jumps back, repeated calls), over the configuration's `[analysis] max_seconds`
+    /// (60 by default). A run that reaches it stops and says so.
+    #[arg(long, value_name = "SECONDS", value_parser = clap::value_parser!(u64).range(1..))]
+    pub(super) max_seconds: Option<u64>,
+    /// The analysis bound in memory: megabytes of the moves those blocks make, over the
+    /// configuration's `[analysis] max_memory_mb` (64 by default; `canon`, which keeps no
+    /// moves, has none unless given here).
+    #[arg(long, value_name = "MB", value_parser = clap::value_parser!(u64).range(1..))]
+    pub(super) max_memory_mb: Option<u64>,
+}
+
+impl Input {
+    /// Puts the bound the command line gives over the configuration's.
+    pub(super) fn bound(&self, config: &mut Config) {
+        if let Some(s) = self.max_seconds {
+            config.profile.bound_time(s);
+        }
+        if let Some(mb) = self.max_memory_mb {
+            config.profile.bound_memory(mb);
+        }
+    }
 }
 
 /// Where the database is.
@@ -151,6 +173,7 @@ pub(super) fn with_tool_table(config: &mut Config, table: Option<&Path>) -> Resu
 /// called subprograms are looked for beside the file.
 pub(super) fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8>)> {
     let mut config = analysis_config(input.config.as_deref())?;
+    input.bound(&mut config);
     with_tool_table(&mut config, input.tool_table.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
     let registry = registry_for(Some(&config))?;
@@ -171,6 +194,7 @@ pub(super) fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8
 /// ([`textfile::Program`]), with the findings of decoding it.
 pub(super) fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, textfile::Program, Vec<Diagnostic>)> {
     let mut config = analysis_config(input.config.as_deref())?;
+    input.bound(&mut config);
     with_tool_table(&mut config, input.tool_table.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
     let registry = registry_for(Some(&config))?;
@@ -198,6 +222,19 @@ pub(super) fn print_short(path: &str, text: Text<'_>, shown: &[&Diagnostic]) {
     for d in shown {
         let k = offsets.binary_search(&d.range.start).unwrap_or(0);
         eprintln!("{}", pipeline::render_short_at(path, places[k], d));
+    }
+}
+
+/// Says on stderr where the analysis of the program at `path` stopped before its end (its
+/// bound, a runaway loop), if it did: a command that shows no findings still says that.
+pub(super) fn say_stops(path: &Path, text: &str, diags: &[Diagnostic]) {
+    let stops: Vec<&Diagnostic> = diags.iter().filter(|d| d.stops_analysis()).collect();
+    if stops.is_empty() {
+        return;
+    }
+    let index = pipeline::LineIndex::new(text);
+    for d in stops {
+        eprintln!("{}", pipeline::render_short(&path.display().to_string(), text, &index, d));
     }
 }
 

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 
-use super::common::{Format, analysis_config, dialect, registry_for, sniff_report, with_tool_table};
+use super::common::{Format, analysis_config, dialect, registry_for, say_stops, sniff_report, with_tool_table};
 use crate::config;
 use crate::pipeline::{self, Change};
 
@@ -58,6 +58,8 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let beside = |p: &Path| config::DirPrograms::beside(&config.profile, p, config.max_file_bytes);
     let a = pipeline::analyze_plan_owned(bytes_a, &da, &beside(&original));
     let b = pipeline::analyze_plan_owned(bytes_b, &db, &beside(&edited));
+    say_stops(&original, &a.source.text, &a.diagnostics);
+    say_stops(&edited, &b.source.text, &b.diagnostics);
     let changes = pipeline::diff(&a, &da, &b, &db);
     let machining = changes.iter().any(Change::is_machining);
     match format {

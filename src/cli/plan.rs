@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 
-use super::common::{Format, Input, input_setup};
+use super::common::{Format, Input, input_setup, say_stops};
 use crate::pipeline;
 
 /// The arguments of `ncplan plan`.
@@ -22,6 +22,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let Args { input, format } = args;
     let (d, config, bytes) = input_setup(&input)?;
     let a = pipeline::analyze_plan_owned(bytes, &d, &config.profile);
+    say_stops(&input.file, &a.source.text, &a.diagnostics);
     match format {
         Format::Json => {
             serde_json::to_writer_pretty(&mut out, &a.plan)?;

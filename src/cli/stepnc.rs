@@ -60,7 +60,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     out.flush()?;
     let path = input.file.display().to_string();
     let idx = LineIndex::new(&a.source.text);
-    for x in diags.iter().chain(a.diagnostics.iter().filter(|x| x.is_error())) {
+    for x in diags.iter().chain(a.diagnostics.iter().filter(|x| x.is_error() || x.stops_analysis())) {
         eprintln!("{}", pipeline::render_short(&path, &a.source.text, &idx, x));
     }
     Ok(ExitCode::SUCCESS)

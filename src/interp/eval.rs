@@ -1,4 +1,10 @@
 //! Parameters and expression evaluation.
+//!
+//! Numbered parameters live in a dense table; named ones in slots, a name given its slot the
+//! first time it is met (the dialect's named system variables take the first ones). A block
+//! the driver keeps to run again (a loop's, a subroutine's) has its names resolved to slots
+//! once (`resolve`, into `Block::resolved`): its passes read and write by index, without a
+//! name compared or an allocation. Expressions are evaluated in place, over the block's arena.
 
 use std::collections::BTreeMap;
 
@@ -39,7 +45,7 @@ pub enum UnknownSource {
 /// Numbered and named parameters.
 #[derive(Clone, Debug)]
 pub struct Params {
-    numbered: Vec<f64>,
+    numbered: Dense,
     /// Parameters from [`MAX_PARAM`] on that were written; the others read as `fill`, or as
     /// [`UNKNOWN`] inside one of `high_unknown`'s ranges.
     high: BTreeMap<u32, f64>,
@@ -47,7 +53,10 @@ pub struct Params {
     fill: f64,
     /// The highest parameter number the control has.
     highest: usize,
-    named: BTreeMap<String, f64>,
+    /// Named parameters by slot: a name is given its slot once ([`Params::slot`]), and its
+    /// value is then read and written by index. Slots are never given back: their number is
+    /// that of the names the program writes or reads.
+    named: Named,
     /// FIX and FUP round toward and away from zero (Fanuc family) instead of down and up.
     pub magnitude_rounding: bool,
     /// The first unknown value read since [`Params::take_unknown_read`] (the interpreter
@@ -68,14 +77,138 @@ impl PartialEq for Params {
     /// Equal values in every parameter (a vacant or NaN value equals only itself).
     fn eq(&self, other: &Params) -> bool {
         let bits = |a: &f64, b: &f64| a.to_bits() == b.to_bits();
-        self.numbered.len() == other.numbered.len()
-            && self.numbered.iter().zip(&other.numbered).all(|(a, b)| bits(a, b))
+        self.numbered.same(&other.numbered)
             && self.high.len() == other.high.len()
             && self.high.iter().zip(&other.high).all(|((ka, a), (kb, b))| ka == kb && bits(a, b))
-            && self.named.len() == other.named.len()
-            && self.named.iter().zip(&other.named).all(|((ka, a), (kb, b))| ka == kb && bits(a, b))
+            && self.named.same_values(&other.named)
     }
 }
+
+/// Values in a page of the numbered table.
+const PAGE: usize = 256;
+
+/// The numbered parameters below [`MAX_PARAM`], in pages shared between copies until one is
+/// written: a loop's state is kept at some of its passes to compare with later ones, and
+/// such a copy costs a few pages, not the table.
+#[derive(Clone, Debug)]
+struct Dense {
+    pages: Vec<std::sync::Arc<[f64; PAGE]>>,
+}
+
+impl Dense {
+    fn new(fill: f64) -> Dense {
+        // One page shared by all until written: copies of it are what a write makes.
+        let page = std::sync::Arc::new([fill; PAGE]);
+        Dense { pages: (0..MAX_PARAM.div_ceil(PAGE)).map(|_| std::sync::Arc::clone(&page)).collect() }
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> f64 {
+        self.pages[i / PAGE][i % PAGE]
+    }
+
+    #[inline]
+    fn set(&mut self, i: usize, v: f64) {
+        std::sync::Arc::make_mut(&mut self.pages[i / PAGE])[i % PAGE] = v;
+    }
+
+    fn fill(&mut self, range: std::ops::RangeInclusive<usize>, v: f64) {
+        for i in range {
+            self.set(i, v);
+        }
+    }
+
+    /// Equal values everywhere (a vacant or NaN value equals only itself).
+    fn same(&self, other: &Dense) -> bool {
+        self.pages.len() == other.pages.len()
+            && self
+                .pages
+                .iter()
+                .zip(&other.pages)
+                .all(|(a, b)| std::sync::Arc::ptr_eq(a, b) || a.iter().zip(b.iter()).all(|(x, y)| x.to_bits() == y.to_bits()))
+    }
+}
+
+/// The named parameters: each name's slot, and the slots' values (`None` while unset).
+#[derive(Clone, Debug, Default)]
+struct Named {
+    /// The names and their slots, shared between copies (names are added, never changed).
+    index: std::sync::Arc<NameIndex>,
+    values: Vec<Option<f64>>,
+}
+
+#[derive(Clone, Debug, Default)]
+struct NameIndex {
+    slots: BTreeMap<Box<str>, u32>,
+    /// By slot: the name, and whether it is local to a subroutine (no leading `_`).
+    names: Vec<Box<str>>,
+    local: Vec<bool>,
+}
+
+impl Named {
+    fn slot(&mut self, name: &str) -> u32 {
+        if let Some(&s) = self.index.slots.get(name) {
+            return s;
+        }
+        let index = std::sync::Arc::make_mut(&mut self.index);
+        let s = index.names.len() as u32;
+        index.slots.insert(name.into(), s);
+        index.names.push(name.into());
+        index.local.push(!name.starts_with('_'));
+        self.values.push(None);
+        s
+    }
+
+    /// Whether both hold the same names with the same values (slots given in the same order,
+    /// as two states of one run have them; a slot one has not given yet is unset).
+    fn same_values(&self, other: &Named) -> bool {
+        let n = self.values.len().max(other.values.len());
+        (0..n).all(|k| match (self.values.get(k).copied().flatten(), other.values.get(k).copied().flatten()) {
+            (None, None) => true,
+            (Some(a), Some(b)) => a.to_bits() == b.to_bits() && self.index.names[k] == other.index.names[k],
+            _ => false,
+        })
+    }
+}
+
+/// No slot: the expression or assignment names no parameter ([`Block::resolved`]).
+pub const NO_SLOT: u32 = u32::MAX;
+
+/// Resolves the parameter names of `block` to their slots in `params`, once, for a block
+/// kept to run again ([`Block::resolved`]): by expression, then by assignment.
+pub fn resolve(block: &mut Block, params: &mut Params) {
+    let mut resolved = std::mem::take(&mut block.resolved);
+    resolved.clear();
+    for e in &block.exprs {
+        resolved.push(match *e {
+            Expr::Named(r) => params.slot(&normalised(block.text(r))),
+            _ => NO_SLOT,
+        });
+    }
+    for a in &block.assigns {
+        resolved.push(match a.target {
+            crate::syntax::ParamTarget::Named(r) => params.slot(&normalised(block.text(r))),
+            _ => NO_SLOT,
+        });
+    }
+    block.resolved = resolved;
+}
+
+/// The slot expression `id` of `block` names, where the block has its names resolved.
+#[inline]
+pub fn resolved(block: &Block, id: ExprId) -> Option<u32> {
+    block.resolved.get(id as usize).copied().filter(|&s| s != NO_SLOT)
+}
+
+/// The slot assignment `k` of `block` sets, where the block has its names resolved.
+#[inline]
+pub fn resolved_assign(block: &Block, k: usize) -> Option<u32> {
+    block.resolved.get(block.exprs.len() + k).copied().filter(|&s| s != NO_SLOT)
+}
+
+/// A subroutine's caller's local named parameters, saved by [`Params::take_local_names`].
+#[derive(Clone, Debug, Default)]
+pub struct SavedNames(Vec<(u32, f64)>);
 
 /// Why an expression has no value.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,12 +226,12 @@ impl Params {
     /// the first case.
     pub fn new(null: bool) -> Params {
         Params {
-            numbered: vec![if null { NULL } else { 0.0 }; MAX_PARAM],
+            numbered: Dense::new(if null { NULL } else { 0.0 }),
             high: BTreeMap::new(),
             high_unknown: Vec::new(),
             fill: if null { NULL } else { 0.0 },
             highest: MAX_PARAM - 1,
-            named: BTreeMap::new(),
+            named: Named::default(),
             magnitude_rounding: false,
             unknown_read: std::cell::RefCell::new(None),
             origins: BTreeMap::new(),
@@ -118,7 +251,7 @@ impl Params {
         }
         let last = (last as usize).min(MAX_PARAM - 1);
         if (first as usize) <= last {
-            self.numbered[first as usize..=last].fill(UNKNOWN);
+            self.numbered.fill(first as usize..=last, UNKNOWN);
         }
     }
 
@@ -152,6 +285,13 @@ impl Params {
         }
     }
 
+    /// Whether [`Params::derive`] has anything to do for a value set from `from`: a value
+    /// from outside the file, or an origin to forget (the usual case has neither).
+    #[inline]
+    pub fn derives(&self, from: &Option<UnknownSource>) -> bool {
+        from.is_some() || !self.origins.is_empty()
+    }
+
     fn note_unknown(&self, source: impl FnOnce() -> UnknownSource) {
         let mut r = self.unknown_read.borrow_mut();
         if r.is_none() {
@@ -163,29 +303,56 @@ impl Params {
     /// saved values for [`Params::restore`].
     pub fn push_locals(&mut self, first: u16, last: u16, reset: f64) -> Vec<f64> {
         let r = first as usize..=(last as usize).min(MAX_PARAM - 1);
-        let saved = self.numbered[r.clone()].to_vec();
-        self.numbered[r].fill(reset);
+        let saved = r.clone().map(|i| self.numbered.get(i)).collect();
+        self.numbered.fill(r, reset);
         saved
+    }
+
+    /// Puts back the values of `saved`, an earlier copy of this table, keeping the slots
+    /// given since (unset again), so that blocks resolved to them stay right.
+    pub fn restore_values(&mut self, saved: Params) {
+        let named = std::mem::take(&mut self.named);
+        *self = saved;
+        let values = std::mem::replace(&mut self.named, named).values;
+        for (k, v) in self.named.values.iter_mut().enumerate() {
+            *v = values.get(k).copied().flatten();
+        }
     }
 
     /// Restores locals saved by [`Params::push_locals`].
     pub fn restore(&mut self, first: u16, saved: &[f64]) {
         let f = first as usize;
-        self.numbered[f..f + saved.len()].copy_from_slice(saved);
+        for (k, &v) in saved.iter().enumerate() {
+            self.numbered.set(f + k, v);
+        }
     }
 
-    /// Named parameters that are local to a subroutine (no leading `_`), removed and
-    /// returned for [`Params::restore_named`].
-    pub fn take_local_names(&mut self) -> BTreeMap<String, f64> {
-        let (globals, locals) = std::mem::take(&mut self.named).into_iter().partition(|(k, _)| k.starts_with('_'));
-        self.named = globals;
-        locals
+    /// Named parameters that are local to a subroutine (no leading `_`), unset and returned
+    /// for [`Params::restore_named`].
+    pub fn take_local_names(&mut self) -> SavedNames {
+        let n = &mut self.named;
+        let mut saved = Vec::new();
+        for (k, v) in n.values.iter_mut().enumerate() {
+            if n.index.local[k]
+                && let Some(v) = v.take()
+            {
+                saved.push((k as u32, v));
+            }
+        }
+        SavedNames(saved)
     }
 
     /// Puts back the caller's local names, dropping the callee's.
-    pub fn restore_named(&mut self, locals: BTreeMap<String, f64>) {
-        self.named.retain(|k, _| k.starts_with('_'));
-        self.named.extend(locals);
+    pub fn restore_named(&mut self, saved: SavedNames) {
+        let n = &mut self.named;
+        for (k, v) in n.values.iter_mut().enumerate() {
+            if n.index.local[k] {
+                *v = None;
+            }
+        }
+        for (k, v) in saved.0 {
+            n.values[k as usize] = Some(v);
+        }
     }
 
     /// The value of numbered parameter `n`.
@@ -195,7 +362,7 @@ impl Params {
             Err(e) => return self.field(n).ok_or(e),
         };
         let v = if i < MAX_PARAM {
-            self.numbered[i]
+            self.numbered.get(i)
         } else {
             let k = i as u32;
             match self.high.get(&k) {
@@ -225,7 +392,7 @@ impl Params {
     pub fn set(&mut self, n: f64, v: f64) -> Result<(), EvalError> {
         let i = index(n, self.highest)?;
         if i < MAX_PARAM {
-            self.numbered[i] = v;
+            self.numbered.set(i, v);
         } else {
             self.high.insert(i as u32, v);
         }
@@ -234,28 +401,57 @@ impl Params {
 
     /// The value of a named parameter.
     pub fn get_named(&self, name: &str) -> Result<f64, EvalError> {
-        let v = self.named.get(name).copied().ok_or_else(|| EvalError::Undefined(name.to_owned()))?;
-        if is_unknown(v) {
-            self.note_unknown(|| self.origin(UnknownSource::Named(name.to_owned())));
+        match self.named.index.slots.get(name) {
+            Some(&s) => self.get_slot(s),
+            None => Err(EvalError::Undefined(name.to_owned())),
         }
-        Ok(v)
     }
 
     /// Sets a named parameter.
-    // Inlined: `refresh_system_vars` sets a few named values on every block.
-    #[inline]
     pub fn set_named(&mut self, name: &str, v: f64) {
-        match self.named.get_mut(name) {
-            Some(slot) => *slot = v,
-            None => {
-                self.named.insert(name.to_owned(), v);
-            }
-        }
+        let s = self.named.slot(name);
+        self.named.values[s as usize] = Some(v);
     }
 
     /// Whether a named parameter exists.
     pub fn has_named(&self, name: &str) -> bool {
-        self.named.contains_key(name)
+        self.named.index.slots.get(name).is_some_and(|&s| self.named.values[s as usize].is_some())
+    }
+
+    /// The slot of named parameter `name` (normalised), given now if it has none: what a
+    /// read or write by [`Params::get_slot`] and [`Params::set_slot`] names.
+    pub fn slot(&mut self, name: &str) -> u32 {
+        self.named.slot(name)
+    }
+
+    /// The slot `name` has, if any (none: it was never read nor written).
+    pub fn slot_of(&self, name: &str) -> Option<u32> {
+        self.named.index.slots.get(name).copied()
+    }
+
+    /// The name of slot `s`.
+    pub fn slot_name(&self, s: u32) -> &str {
+        &self.named.index.names[s as usize]
+    }
+
+    /// The value of the named parameter in slot `s`.
+    #[inline]
+    pub fn get_slot(&self, s: u32) -> Result<f64, EvalError> {
+        match self.named.values[s as usize] {
+            Some(v) => {
+                if is_unknown(v) {
+                    self.note_unknown(|| self.origin(UnknownSource::Named(self.slot_name(s).to_owned())));
+                }
+                Ok(v)
+            }
+            None => Err(EvalError::Undefined(self.slot_name(s).to_owned())),
+        }
+    }
+
+    /// Sets the named parameter in slot `s`.
+    #[inline]
+    pub fn set_slot(&mut self, s: u32, v: f64) {
+        self.named.values[s as usize] = Some(v);
     }
 }
 
@@ -280,7 +476,10 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
             // `#[#1]` with #1 unknown: which parameter is read is unknown, and so is its value.
             if is_unknown(n) { UNKNOWN } else { params.get(n)? }
         }
-        Expr::Named(r) => params.get_named(&normalised(block.text(r)))?,
+        Expr::Named(r) => match resolved(block, id) {
+            Some(s) => params.get_slot(s)?,
+            None => params.get_named(&normalised(block.text(r)))?,
+        },
         Expr::Text(_) => {
             params.note_unknown(|| UnknownSource::Text);
             UNKNOWN
@@ -290,7 +489,10 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
             params.get_named(&format!("{}[{}]", normalised(block.text(r)), i))?
         }
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
-            Some(Expr::Named(r)) => f64::from(u8::from(params.has_named(&normalised(block.text(*r))))),
+            Some(Expr::Named(r)) => f64::from(u8::from(match resolved(block, inner) {
+                Some(s) => params.named.values[s as usize].is_some(),
+                None => params.has_named(&normalised(block.text(*r))),
+            })),
             // The parameter number itself must evaluate (`EXISTS[###2]` reads `##2`).
             Some(&Expr::Param(i)) => f64::from(u8::from(index(eval(block, i, params)?, params.highest).is_ok_and(|i| i >= 1))),
             _ => 0.0,

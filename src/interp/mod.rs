@@ -83,10 +83,12 @@
 //! `flow::loop-limit`, and a loop that comes round with every parameter, mode and open call as
 //! the round before left them stops at once, an error unless the jump goes back to the main
 //! program's first label with nothing open (a cell's loop: a warning) (`Driver::endless` compares the interpreter's
-//! `RoundState` at passes 1, 2, 4, … and every 4096th). Conditions read the position and tool
-//! system variables as they are at the statement (`refresh_system_vars`); read-only named
-//! system parameters (LinuxCNC's `#<_x>`, `#<_motion_mode>`: `<system-variable name=…>`) are
-//! refreshed for blocks and conditions that read named parameters. A condition on an
+//! `RoundState` at passes 1, 2, 4, … and every 4096th). Blocks and conditions read the system
+//! variables (the position, the tool, the modes; LinuxCNC's `#5420` and `#<_x>`: `<system-variable>`)
+//! as they are at the statement: `refresh_system_vars` sets those the block reads, and no others.
+//! The analysis bound (`Profile::max_repeated_blocks` in time, `max_repeated_moves` in memory;
+//! `[analysis] max_seconds`, `max_memory_mb`) stops a run that would go on past it with
+//! `flow::repeat-budget`, which every command says on stderr. A condition on an
 //! unknown value (`unknown_condition`) takes the way whose first block raises no alarm
 //! (`alarm_at`: `#3000=`, `FN 14: ERROR=`, `(abort, …)`; `fall_through` follows the way on
 //! past moves to its first statement: into an alarm, or round the loop again by a jump that
@@ -168,7 +170,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use crate::canon::{Canon, CanonOp, CanonSink, DistanceMode, FeedMode, Plane, Setting, Units};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step, SystemVar};
-use crate::syntax::{Block, ParamTarget, WordMode};
+use crate::syntax::{Block, Expr, ParamTarget, WordMode};
 use crate::text::{Text, TextRange};
 use eval::{EvalError, Params};
 
@@ -206,11 +208,15 @@ pub struct Profile {
     pub max_loop_iterations: u64,
     /// Most blocks one run executes, counting repeats, before it stops.
     pub max_blocks: u64,
-    /// Most blocks one run executes again (loop passes, backward jumps, repeated calls)
-    /// before the analysis stops with a warning: this bounds the time and memory of any run
-    /// by the size of the file, whatever the loop budgets. Blocks run for the first time do
-    /// not count, so a long program streams whole.
+    /// The analysis bound in time: most blocks one run executes again (loop passes, backward
+    /// jumps, repeated calls) before the analysis stops with a warning, whatever the loop
+    /// budgets ([`Profile::bound`] sets it from seconds). Blocks run for the first time do not
+    /// count, so a long program streams whole.
     pub max_repeated_blocks: u64,
+    /// The analysis bound in memory: most moves the blocks run again make before the analysis
+    /// stops with a warning (a plan keeps every move; [`Profile::bound`] sets it from
+    /// megabytes).
+    pub max_repeated_moves: u64,
     /// Where subprograms outside the program's text come from (the shell's program directory).
     pub programs: Option<std::sync::Arc<dyn ProgramSource + Send + Sync>>,
     /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
@@ -269,6 +275,42 @@ impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
     }
 }
 
+/// Blocks run again per second of analysis, at the least: the rate that turns the time
+/// bound into a count of blocks (`ncplan bench`'s macro programs run 5 to 10 million
+/// blocks a second on a release build; a block of a real program's loop may do more).
+/// A count, not a clock, so that the same program gives the same analysis on any machine.
+pub const REPEATED_BLOCKS_PER_SECOND: u64 = 1_000_000;
+
+/// The memory one move costs at the most where it is kept (a plan's toolpath, its features'
+/// geometry): the rate that turns the memory bound into a count of moves.
+pub const BYTES_PER_MOVE: u64 = 400;
+
+/// The analysis bound by default: a minute of analysis, and 64 MB of the moves blocks run
+/// again make (some 160,000 moves: a macro program rs274 runs to its end in a second or two).
+/// A command that keeps no moves (`canon` streams them) has no bound in memory.
+pub const DEFAULT_BOUND_SECONDS: u64 = 60;
+/// See [`DEFAULT_BOUND_SECONDS`].
+pub const DEFAULT_BOUND_MB: u64 = 64;
+
+impl Profile {
+    /// Sets the analysis bound in time: `seconds` of analysis at the most for the blocks run
+    /// again (at least one).
+    pub fn bound_time(&mut self, seconds: u64) {
+        self.max_repeated_blocks = seconds.max(1).saturating_mul(REPEATED_BLOCKS_PER_SECOND);
+    }
+
+    /// Sets the analysis bound in memory: `megabytes` of kept moves at the most for the
+    /// moves of blocks run again (at least one).
+    pub fn bound_memory(&mut self, megabytes: u64) {
+        self.max_repeated_moves = megabytes.max(1).saturating_mul(1_000_000) / BYTES_PER_MOVE;
+    }
+
+    /// No bound in memory: for a run whose moves are streamed, not kept.
+    pub fn streamed(&mut self) {
+        self.max_repeated_moves = u64::MAX;
+    }
+}
+
 impl Default for Profile {
     fn default() -> Profile {
         Profile {
@@ -278,7 +320,8 @@ impl Default for Profile {
             home2: [0.0; 6],
             max_loop_iterations: 1_000_000,
             max_blocks: 200_000_000,
-            max_repeated_blocks: 250_000,
+            max_repeated_blocks: DEFAULT_BOUND_SECONDS * REPEATED_BLOCKS_PER_SECOND,
+            max_repeated_moves: DEFAULT_BOUND_MB * 1_000_000 / BYTES_PER_MOVE,
             programs: None,
             stock: None,
             fast_lane: true,
@@ -448,6 +491,8 @@ struct PendingAssign {
     name: TextRange,
     /// The element of a named array (`VGRIN[6]=`).
     index: Option<f64>,
+    /// The named parameter's slot, where the block has its names resolved.
+    slot: Option<u32>,
     value: f64,
     range: TextRange,
 }
@@ -668,6 +713,10 @@ impl State {
 /// file (unknown), a called program's arguments, and the return value's.
 fn power_on_params(dialect: &Dialect, profile: &Profile) -> Params {
     let mut p = Params::new(dialect.macros.null_value);
+    // The named system variables take the first slots (see `system_by_slot`).
+    for (name, ..) in &dialect.macros.system_named {
+        p.slot(name);
+    }
     p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
     p.set_highest(dialect.macros.highest_variable);
     for &(a, b) in &dialect.macros.outside {
@@ -684,10 +733,21 @@ fn power_on_params(dialect: &Dialect, profile: &Profile) -> Params {
     p
 }
 
-/// Whether `block` reads a named parameter (`#<_x>`), so that the named system values must
-/// be brought up to date before it runs (the numbered ones are cheap, the named ones not).
-pub(super) fn reads_named(block: &Block) -> bool {
-    block.exprs.iter().any(|e| matches!(e, crate::syntax::Expr::Named(_) | crate::syntax::Expr::NamedIndex(..)))
+/// For the first slots, which [`power_on_params`] gives the named system variables in their
+/// order, the index of the variable each holds (the last of a name listed twice).
+fn system_by_slot(dialect: &Dialect) -> Vec<usize> {
+    let mut names: Vec<&str> = Vec::new();
+    let mut by_slot = Vec::new();
+    for (k, (name, ..)) in dialect.macros.system_named.iter().enumerate() {
+        match names.iter().position(|n| n == name) {
+            Some(slot) => by_slot[slot] = k,
+            None => {
+                names.push(name);
+                by_slot.push(k);
+            }
+        }
+    }
+    by_slot
 }
 
 /// The corner stage from the start, where the dialect has corner blocks (`RND`, `CHF`,
@@ -808,6 +868,9 @@ pub struct Interpreter<'a> {
     /// Findings that follow from state a caller would set, as they stand if the file turns
     /// out to be a main program; meanwhile they are notes (`interp::caller-state`).
     provisional: Vec<Diagnostic>,
+    /// For each of the first slots, the named system variable it holds: the dialect's last
+    /// entry of that name (`power_on_params` gives them their slots first).
+    system_by_slot: Vec<usize>,
 }
 
 const NOTE_LIMIT: u32 = 3;
@@ -866,6 +929,7 @@ impl<'a> Interpreter<'a> {
             called: (profile.role == ProgramRole::Called)
                 .then(|| "its role is given: the configuration, `--as` or its file name".to_owned()),
             provisional: Vec::new(),
+            system_by_slot: system_by_slot(dialect),
         }
     }
 
@@ -1063,20 +1127,66 @@ impl<'a> Interpreter<'a> {
         RoundState { params: self.params.clone(), depth: self.depth, st: self.st.clone(), contexts: self.contexts.clone() }
     }
 
-    /// Sets the system variables that read the interpreter's state (the position, the tool,
-    /// the modes) to what they read now, and the named ones too when `named` (a block or a
-    /// condition that reads a named parameter).
-    pub(super) fn refresh_system_vars(&mut self, named: bool) {
+    /// Whether the state now reads as `r` does (without a copy of it).
+    pub(super) fn same_round(&self, r: &RoundState) -> bool {
+        r.depth == self.depth && r.st == self.st && r.contexts == self.contexts && r.params == self.params
+    }
+
+    /// Sets the system variables `block` reads (the position, the tool, the modes: the
+    /// interpreter's state) to what they read now. A numbered one is found by its number
+    /// where the block writes it as a number (`#5420`), all of them where it computes the
+    /// number (`#[5420 + #1]`); a named one by its slot, all of them where the block reads
+    /// an element of a named array.
+    pub(super) fn refresh_system_vars(&mut self, block: &Block) {
+        let macros = &self.dialect.macros;
+        for (id, e) in block.exprs.iter().enumerate() {
+            match *e {
+                Expr::Param(inner) if !macros.system.is_empty() => match block.exprs.get(inner as usize) {
+                    Some(&Expr::Num(n)) => {
+                        if n >= 0.0
+                            && n.fract() == 0.0
+                            && n <= f64::from(u32::MAX)
+                            && let Some(var) = macros.system_var(n as u32)
+                            && let Some(v) = self.system_value(var, 0.0)
+                        {
+                            let _ = self.params.set(n, v);
+                        }
+                    }
+                    _ => self.refresh_numbered(),
+                },
+                Expr::Named(r) if !macros.system_named.is_empty() => {
+                    let slot = match eval::resolved(block, id as crate::syntax::ExprId) {
+                        Some(s) => Some(s),
+                        None => self.params.slot_of(&eval::normalised(block.text(r))),
+                    };
+                    if let Some(s) = slot.filter(|&s| (s as usize) < self.system_by_slot.len()) {
+                        let (_, var, constant) = macros.system_named[self.system_by_slot[s as usize]];
+                        if let Some(v) = self.system_value(var, constant) {
+                            self.params.set_slot(s, v);
+                        }
+                    }
+                }
+                Expr::NamedIndex(..) => self.refresh_named(),
+                _ => {}
+            }
+        }
+    }
+
+    /// Sets every numbered system variable to what it reads now.
+    fn refresh_numbered(&mut self) {
         for &(n, var) in &self.dialect.macros.system {
             if let Some(v) = self.system_value(var, 0.0) {
                 let _ = self.params.set(f64::from(n), v);
             }
         }
-        if named {
-            for (name, var, constant) in &self.dialect.macros.system_named {
-                if let Some(v) = self.system_value(*var, *constant) {
-                    self.params.set_named(name, v);
-                }
+    }
+
+    /// Sets every named system variable to what it reads now.
+    fn refresh_named(&mut self) {
+        for s in 0..self.system_by_slot.len() {
+            let (_, var, constant) = self.dialect.macros.system_named[self.system_by_slot[s]];
+            if let Some(v) = self.system_value(var, constant) {
+                self.params.set_slot(s as u32, v);
             }
         }
     }
@@ -1297,7 +1407,7 @@ impl<'a> Interpreter<'a> {
             // The plan tells the moves that hang on the block-delete switch.
             self.emit(sink, CanonOp::Setting(Setting::BlockDelete));
         }
-        if self.profile.fast_lane && self.fast_move(block, sink, diags) {
+        if self.profile.fast_lane && (self.fast_move(block, sink, diags) || self.assignments_only(block, diags)) {
             return;
         }
         if !self.read_and_assign(block, diags) {
@@ -1350,7 +1460,7 @@ impl<'a> Interpreter<'a> {
     fn read_and_assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
         let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
         if system_vars && !block.exprs.is_empty() {
-            self.refresh_system_vars(reads_named(block));
+            self.refresh_system_vars(block);
         }
         let early = self.dialect.behaviour.assign_before_reads;
         if early {
@@ -1366,6 +1476,35 @@ impl<'a> Interpreter<'a> {
             self.alarm(block, 0.0, s.value, s.range, diags);
         }
         !self.st.ended
+    }
+
+    /// Runs `block` when it holds assignments and nothing else (`#<x> = [#<col> * 0.1]`,
+    /// `R1=R1+1`, `Q4 = Q1 * 0.5`), the most of a macro program's blocks; false, with nothing
+    /// changed, when it holds more, or the state has work after any block (a modal cycle or
+    /// macro, a stop message). It does what `read_and_assign` and the motion step do for
+    /// such a block, without their look at words and codes it has none of.
+    fn assignments_only(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        if block.assigns.is_empty()
+            || !block.words.is_empty()
+            || !block.comments.is_empty()
+            || block.control.is_some()
+            || self.st.cycle_modal
+            || self.st.modal_macro.is_some()
+            || self.stop_message.is_some()
+        {
+            return false;
+        }
+        // What `read` leaves for a block without words.
+        self.clear_block();
+        self.block_read = true;
+        self.misread_before = self.misread;
+        self.block_misread = false;
+        self.has_axes = false;
+        if !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty() {
+            self.refresh_system_vars(block);
+        }
+        self.assign(block, diags);
+        true
     }
 
     /// Whether the block, read, has work only at the motion step: no codes, no named cycle,
@@ -1498,11 +1637,14 @@ impl<'a> Interpreter<'a> {
         pending.clear();
         // Where each unknown value assigned came from, by the pending assignment.
         let mut origins = Vec::new();
-        for a in &block.assigns {
+        for (k, a) in block.assigns.iter().enumerate() {
             let value = match self.eval(block, a.value, a.range, diags) {
                 Ok(v) => {
-                    origins.resize(pending.len(), None);
-                    origins.push(if eval::is_unknown(v) { self.params.unknown_read_peek() } else { None });
+                    // Kept only for unknown values: the usual block allocates nothing here.
+                    if eval::is_unknown(v) {
+                        origins.resize(pending.len(), None);
+                        origins.push(self.params.unknown_read_peek());
+                    }
                     v
                 }
                 Err(e) => {
@@ -1512,19 +1654,27 @@ impl<'a> Interpreter<'a> {
             };
             match a.target {
                 ParamTarget::Numbered(e) => match self.eval(block, e, a.range, diags) {
-                    Ok(n) => {
-                        pending.push(PendingAssign { number: Some(n), name: TextRange::default(), index: None, value, range: a.range })
-                    }
+                    Ok(n) => pending.push(PendingAssign {
+                        number: Some(n),
+                        name: TextRange::default(),
+                        index: None,
+                        slot: None,
+                        value,
+                        range: a.range,
+                    }),
                     Err(e) => diags.push(self.eval_diag(e, a.range)),
                 },
-                ParamTarget::Named(name) => pending.push(PendingAssign { number: None, name, index: None, value, range: a.range }),
+                ParamTarget::Named(name) => {
+                    let slot = eval::resolved_assign(block, k);
+                    pending.push(PendingAssign { number: None, name, index: None, slot, value, range: a.range });
+                }
                 ParamTarget::NamedIndex(name, e) => match self.eval(block, e, a.range, diags) {
-                    Ok(i) => pending.push(PendingAssign { number: None, name, index: Some(i), value, range: a.range }),
+                    Ok(i) => pending.push(PendingAssign { number: None, name, index: Some(i), slot: None, value, range: a.range }),
                     Err(e) => diags.push(self.eval_diag(e, a.range)),
                 },
             }
         }
-        for (k, &PendingAssign { number, name, index, value, range }) in pending.iter().enumerate() {
+        for (k, &PendingAssign { number, name, index, slot, value, range }) in pending.iter().enumerate() {
             let origin = origins.get(k).cloned().flatten();
             match number {
                 Some(n) => {
@@ -1542,10 +1692,17 @@ impl<'a> Interpreter<'a> {
                         _ => {
                             if let Err(e) = self.params.set(n, value) {
                                 diags.push(self.eval_diag(e, range));
-                            } else if n >= 0.0 && n.fract() == 0.0 {
+                            } else if n >= 0.0 && n.fract() == 0.0 && self.params.derives(&origin) {
                                 self.params.derive(eval::UnknownSource::Numbered(n as u32), origin);
                             }
                         }
+                    }
+                }
+                None if slot.is_some() && index.is_none() => {
+                    let slot = slot.unwrap_or(eval::NO_SLOT);
+                    self.params.set_slot(slot, value);
+                    if self.params.derives(&origin) {
+                        self.params.derive(eval::UnknownSource::Named(self.params.slot_name(slot).to_owned()), origin);
                     }
                 }
                 None => {
@@ -1555,7 +1712,9 @@ impl<'a> Interpreter<'a> {
                         Some(i) => self.params.set_named(&format!("{name}[{i}]"), value),
                         None => {
                             self.params.set_named(&name, value);
-                            self.params.derive(eval::UnknownSource::Named(name.into_owned()), origin);
+                            if self.params.derives(&origin) {
+                                self.params.derive(eval::UnknownSource::Named(name.into_owned()), origin);
+                            }
                         }
                     }
                 }

@@ -117,7 +117,7 @@ pub struct Assign {
 }
 
 /// A control-flow statement: `o100 while [#1 LT 3]`, `IF [#1 GT 0] GOTO 10`, `WHILE [c] DO 1`.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub struct Control {
     /// Source range of the statement.
     pub range: TextRange,
@@ -145,6 +145,29 @@ pub struct Control {
     pub cases: Vec<CaseBranch>,
 }
 
+impl Clone for Control {
+    fn clone(&self) -> Control {
+        let mut c = Control::default();
+        c.clone_from(self);
+        c
+    }
+
+    /// Reuses the statement's buffers, as [`Block`]'s copy does.
+    fn clone_from(&mut self, o: &Control) {
+        self.range = o.range;
+        self.label = o.label;
+        self.label_expr = o.label_expr;
+        self.keyword = o.keyword;
+        self.statement = o.statement;
+        self.args.clone_from(&o.args);
+        self.then = o.then;
+        self.target = o.target;
+        self.name = o.name;
+        self.repeat = o.repeat;
+        self.cases.clone_from(&o.cases);
+    }
+}
+
 /// One branch of a `CASE`: a value (none for `DEFAULT`) and the jump it takes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CaseBranch {
@@ -159,7 +182,7 @@ pub struct CaseBranch {
 }
 
 /// One block (line) of a program.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Block {
     /// Source range of the block, without its line terminator.
     pub range: TextRange,
@@ -192,8 +215,42 @@ pub struct Block {
     /// Words whose axis a variable names (`AX[_X]=10`): the word's index in `words` and the
     /// expression of the variable, read when the block runs ([`axis_of`]).
     pub axis_refs: Vec<(usize, ExprId)>,
+    /// Where the interpreter keeps a block it runs again (a loop's, a subroutine's): the
+    /// slots its parameter names were resolved to, by expression and then by assignment
+    /// (`u32::MAX` where there is no name). Empty as the parser leaves it; the names then
+    /// resolve as they are read.
+    pub resolved: Vec<u32>,
     /// The text of `range`.
     source: String,
+}
+
+impl Clone for Block {
+    fn clone(&self) -> Block {
+        let mut b = Block::default();
+        b.clone_from(self);
+        b
+    }
+
+    /// Reuses the block's buffers: a block kept for a loop's passes is copied at every pass.
+    fn clone_from(&mut self, o: &Block) {
+        self.range = o.range;
+        self.line = o.line;
+        self.skip = o.skip;
+        self.number = o.number;
+        self.label = o.label;
+        self.extra_lines = o.extra_lines;
+        self.program_number = o.program_number;
+        self.program_name = o.program_name;
+        self.delimiter = o.delimiter;
+        self.words.clone_from(&o.words);
+        self.assigns.clone_from(&o.assigns);
+        self.comments.clone_from(&o.comments);
+        self.control.clone_from(&o.control);
+        self.exprs.clone_from(&o.exprs);
+        self.axis_refs.clone_from(&o.axis_refs);
+        self.resolved.clone_from(&o.resolved);
+        self.source.clone_from(&o.source);
+    }
 }
 
 /// The value an axis variable holds (`DEF AXIS _X=X`): a NaN whose payload names the axis
@@ -247,6 +304,7 @@ impl Block {
         self.control = None;
         self.exprs.clear();
         self.axis_refs.clear();
+        self.resolved.clear();
     }
 
     /// True when the block holds nothing to execute.

@@ -19,6 +19,8 @@
 //!   dates and machines that fail, configured folders of the working directory that must exist,
 //!   `translate -o` against the default configuration's folders),
 //!   `first_start` (the README's demo verbatim, `show`, `query` refusals, config mistakes, `import`),
+//!   `bound` (the analysis bound: a 100,000-move macro program to its end as rs274 runs it, and
+//!   every command saying where a run stopped at a smaller one),
 //!   `plan` (one small CAM-style program per feature kind), `lathe` (the programs of
 //!   `tests/programs/lathe/` with hand-written sidecars, scored per turning workingstep and
 //!   feature; lathe edits in a turner's terms), `cam_suite` (the programs of
@@ -48,6 +50,7 @@
 
 mod accounting;
 mod arch;
+mod bound;
 mod called;
 mod cam_suite;
 mod cldata;

@@ -51,7 +51,10 @@ impl Interpreter<'_> {
             let after = &rest[at + 1..];
             let digits = after.bytes().take_while(u8::is_ascii_digit).count();
             let (value, used) = if digits > 0 {
-                (after[..digits].parse::<f64>().ok().and_then(|n| self.params.get(n).ok()), digits)
+                // A system parameter reads the state now, as in an expression.
+                let n = after[..digits].parse::<u32>().ok();
+                let system = n.and_then(|n| self.system_value(self.dialect.macros.system_var(n)?, 0.0));
+                (system.or_else(|| n.and_then(|n| self.params.get(f64::from(n)).ok())), digits)
             } else if let Some(raw) = after.strip_prefix('<').and_then(|a| a.find('>').map(|e| &a[..e])) {
                 let name = eval::normalise_name(raw);
                 // A system parameter reads the state now, as in an expression.

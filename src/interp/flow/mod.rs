@@ -24,7 +24,7 @@ mod contour;
 mod statements;
 
 use super::eval::{self, NULL};
-use super::{Interpreter, Profile, Request, reads_named};
+use super::{Interpreter, Profile, Request};
 use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{Dialect, MainReturn, Statement};
@@ -96,6 +96,7 @@ pub fn run<'t>(
         broken_blocks: BTreeSet::new(),
         broken: false,
         repeated: 0,
+        replay_moves: 0,
         definition: None,
     };
     let mut interp = Interpreter::new(dialect, profile);
@@ -180,7 +181,7 @@ struct Frame {
     repeats_left: u32,
     args: Vec<(u16, f64)>,
     saved_locals: Option<Vec<f64>>,
-    saved_names: Option<BTreeMap<String, f64>>,
+    saved_names: Option<eval::SavedNames>,
     loops_base: usize,
     call: (TextRange, u32),
     /// Source and offset of the calling block.
@@ -292,6 +293,9 @@ struct Driver<'a, 'p> {
     broken: bool,
     /// Blocks run again so far (see [`Profile::max_repeated_blocks`]).
     repeated: u64,
+    /// The interpreter's moves when the run began to replay: those after count towards
+    /// [`Profile::max_repeated_moves`].
+    replay_moves: u64,
     /// Inside a definition block (see [`crate::dialect::Macros::definition_block`]): where it
     /// started.
     definition: Option<TextRange>,
@@ -355,7 +359,36 @@ fn statement_head<'t>(block: &'t Block, c: &Control) -> &'t str {
     t.char_indices().nth(40).map_or(t, |(i, _)| &t[..i]).trim()
 }
 
+/// The label of whole number `n`, as [`normalise_label`] writes it (without the formatter:
+/// a jump back to `LBL 2` runs in every pass of its loop).
+fn integer_label(n: i64) -> String {
+    let mut digits = [0u8; 20];
+    let (mut at, mut m) = (digits.len(), n.unsigned_abs());
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (m % 10) as u8;
+        m /= 10;
+        if m == 0 {
+            break;
+        }
+    }
+    let mut s = String::with_capacity(digits.len() - at + 1);
+    if n < 0 {
+        s.push('-');
+    }
+    s.extend(digits[at..].iter().map(|&d| char::from(d)));
+    s
+}
+
 fn normalise_label(s: &str) -> String {
+    // The usual label is normal already (`100`, `row`): copied as it is.
+    let b = s.as_bytes();
+    if !b.is_empty()
+        && b.iter().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
+        && (b[0] != b'0' || b.len() == 1 || !b.iter().all(u8::is_ascii_digit))
+    {
+        return s.to_owned();
+    }
     let s: String = s.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect();
     if s.bytes().all(|b| b.is_ascii_digit()) {
         let t = s.trim_start_matches('0');
@@ -390,7 +423,7 @@ impl<'a> Driver<'a, '_> {
             let start = self.pos();
             let src = self.cur;
             let mark = diags.len();
-            if !self.next_block(&mut block, start, diags) {
+            if !self.next_block(&mut block, start, &mut interp.params, diags) {
                 if self.source_ended(interp, diags) {
                     break;
                 }
@@ -411,7 +444,7 @@ impl<'a> Driver<'a, '_> {
                 continue;
             }
             self.executed += 1;
-            if self.over_budget(&block, src, mark, diags) {
+            if self.over_budget(&block, src, mark, interp.motions, diags) {
                 break;
             }
             if src == 0 && self.frames.is_empty() && !self.main_program_block(&block, interp, sink, diags) {
@@ -463,12 +496,26 @@ impl<'a> Driver<'a, '_> {
     /// ([`Profile::max_repeated_blocks`]) or all blocks run ([`Profile::max_blocks`]); the
     /// finding says which.
     #[inline]
-    fn over_budget(&mut self, block: &Block, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) -> bool {
-        if self.repeated > self.profile.max_repeated_blocks {
+    fn over_budget(&mut self, block: &Block, src: usize, mark: usize, moves: u64, diags: &mut Vec<Diagnostic>) -> bool {
+        let profile = self.profile;
+        let repeated_moves = if self.replaying { moves.saturating_sub(self.replay_moves) } else { 0 };
+        if self.repeated > profile.max_repeated_blocks || repeated_moves > profile.max_repeated_moves {
             self.tidy(src, mark, diags);
+            let bound = if self.repeated > profile.max_repeated_blocks {
+                format!(
+                    "its bound in time ({} blocks run again: loops, jumps back, repeated calls; about {} s)",
+                    profile.max_repeated_blocks,
+                    profile.max_repeated_blocks.div_ceil(super::REPEATED_BLOCKS_PER_SECOND)
+                )
+            } else {
+                format!(
+                    "its bound in memory ({} moves made by blocks run again; about {} MB)",
+                    profile.max_repeated_moves,
+                    (profile.max_repeated_moves * super::BYTES_PER_MOVE).div_ceil(1_000_000)
+                )
+            };
             let msg = format!(
-                "the run has executed more than {} blocks again (loops, jumps back, repeated calls); the analysis stops here, and what the program does after it is not analysed",
-                self.profile.max_repeated_blocks
+                "the analysis reached {bound}: it stops here, and what the program does after it is not analysed (`[analysis] max_seconds` and `max_memory_mb` raise the bound)"
             );
             diags.push(Diagnostic::new(Code::RepeatBudget, block.range, msg));
             return true;
@@ -627,8 +674,9 @@ impl<'a> Driver<'a, '_> {
 
     /// The block at `start` of the current source: lexed by the parser, or, when it has run
     /// twice before with the run replaying, as it was lexed then (its findings would not be
-    /// shown again). False at the end of the source.
-    fn next_block(&mut self, block: &mut Block, start: Pos, diags: &mut Vec<Diagnostic>) -> bool {
+    /// shown again), its names resolved to the slots of `params`. False at the end of the
+    /// source.
+    fn next_block(&mut self, block: &mut Block, start: Pos, params: &mut eval::Params, diags: &mut Vec<Diagnostic>) -> bool {
         let key = (self.cur, start.at);
         // Only while replaying: a block lexed then has had its findings noted in `seen`, so a
         // later run that skips lexing loses nothing (`tidy` would drop them again).
@@ -650,6 +698,8 @@ impl<'a> Driver<'a, '_> {
             self.repeated += 1;
             // Run before: probably in a loop, so kept for the runs to come.
             if cache && self.lexed.len() < BLOCK_CACHE {
+                // Its names resolved once, for the runs to come.
+                eval::resolve(block, params);
                 self.lexed.insert(key, Lexed { block: block.clone(), next: self.pos() });
             }
         } else {
@@ -712,6 +762,7 @@ impl<'a> Driver<'a, '_> {
     fn jump(&mut self, source: usize, pos: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &[Diagnostic]) {
         if !self.replaying && (source != self.cur || pos.at <= here.at) {
             self.replaying = true;
+            self.replay_moves = interp.motions;
             self.seen.extend(diags.iter().map(|d| (d.range.start, d.range.end, d.code)));
         }
         self.switch_to(source, pos, interp);
@@ -779,10 +830,9 @@ impl<'a> Driver<'a, '_> {
 
     /// Evaluates operand `e` of a control block with the interpreter's parameters.
     fn value(&self, interp: &mut Interpreter<'a>, block: &Block, e: ExprId, diags: &mut Vec<Diagnostic>) -> Option<f64> {
-        // A condition may read the position or the tool (`o1 if [#5420 GT 3]`), and the named
-        // ones only where it reads a named value (`o1 if [#<_x> GT 3]`).
+        // A condition may read the position or the tool (`o1 if [#5420 GT 3]`, `o1 if [#<_x> GT 3]`).
         if !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty() {
-            interp.refresh_system_vars(reads_named(block));
+            interp.refresh_system_vars(block);
         }
         match interp.eval(block, e, block.range, diags) {
             Ok(v) => Some(v),
@@ -1099,7 +1149,7 @@ impl<'a> Driver<'a, '_> {
             return Some(normalise_label(block.text(r)));
         }
         let v = self.value(interp, block, c.target?, diags)?;
-        (!eval::is_null(v) && v.fract() == 0.0 && v.abs() < 1e9).then(|| normalise_label(&format!("{}", v as i64)))
+        (!eval::is_null(v) && v.fract() == 0.0 && v.abs() < 1e9).then(|| integer_label(v as i64))
     }
 
     /// Jumps to a found target; a jump backwards counts against the loop limit, and stops
@@ -1154,7 +1204,7 @@ impl<'a> Driver<'a, '_> {
             && r.key == key
             && r.pass + 1 == count
             && r.open == self.open()
-            && r.state == interp.round_state()
+            && interp.same_round(&r.state)
         {
             return true;
         }
@@ -1664,7 +1714,7 @@ impl<'a> Driver<'a, '_> {
         }
         if let Some((st, params, comp, corners, problem)) = saved {
             interp.st = st;
-            interp.params = params;
+            interp.params.restore_values(params);
             interp.comp.replace(comp);
             interp.corners.replace(corners);
             interp.comp_problem.set(problem);
@@ -1724,7 +1774,7 @@ impl<'a> Driver<'a, '_> {
         let (shape, finishes) = self.profile_blocks(source, body, usize::MAX, interp, diags);
         let (st, params, comp, corners, problem) = saved;
         interp.st = st;
-        interp.params = params;
+        interp.params.restore_values(params);
         interp.comp.replace(comp);
         interp.corners.replace(corners);
         interp.comp_problem.set(problem);
@@ -1763,7 +1813,7 @@ impl<'a> Driver<'a, '_> {
             }
             let src = self.cur;
             let mark = diags.len();
-            if !self.next_block(&mut b, at, diags) {
+            if !self.next_block(&mut b, at, &mut interp.params, diags) {
                 break;
             }
             let end = b.control.as_ref().is_some_and(|c| matches!(c.statement, Some(Statement::EndSub | Statement::Return)));

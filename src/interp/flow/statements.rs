@@ -14,7 +14,7 @@ use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{MainReturn, Statement};
 use crate::interp::{Interpreter, eval};
-use crate::syntax::{Block, Control};
+use crate::syntax::{Block, Control, Expr};
 use crate::text::TextRange;
 
 impl<'a> Driver<'a, '_> {
@@ -442,7 +442,14 @@ impl<'a> Driver<'a, '_> {
     /// A label (`LBL 5`): the end label (`LBL 0`) returns from a label call.
     fn label_statement(&mut self, c: &Control, block: &Block, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
         let end = self.dialect.macros.end_label.as_deref();
-        let returns = end.is_some() && self.target_label(c, block, interp, diags).as_deref() == end;
+        let in_label = self.frames.last().is_some_and(|f| f.kind == FrameKind::Label);
+        // A literal label outside a label call has nothing to say (an expression is still
+        // read, for its findings).
+        let literal = c.name.is_some() || c.target.is_some_and(|e| matches!(block.exprs.get(e as usize), Some(Expr::Num(_))));
+        if end.is_none() || (!in_label && literal) {
+            return;
+        }
+        let returns = self.target_label(c, block, interp, diags).as_deref() == end;
         if returns && self.frames.last().is_some_and(|f| f.kind == FrameKind::Label) {
             self.return_from(None, block, interp, diags);
         }

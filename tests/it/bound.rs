@@ -1,0 +1,135 @@
+//! The analysis bound (issue 44): a macro program rs274 runs to its end in a second is
+//! analysed to its end with the default bound, move for move as rs274 makes them; a run that
+//! reaches the bound, in time or in memory, stops with a warning that every command says on
+//! stderr.
+
+use ncplan::diag::Severity;
+use ncplan::interp::Profile;
+
+/// The issue's program: 200 calls of a subroutine with arguments and named parameters, each a
+/// row of 500 moves from a loop and a condition: 100,000 moves, some 700,000 blocks run again.
+fn rows_by_calls() -> String {
+    "G21 G90 G17\nT1 M6\nS10000 M3\nF1200\nG0 X0 Y0 Z5\n\
+     o<row> sub\n\
+     \x20 #<y> = #1\n\
+     \x20 #<forward> = #2\n\
+     \x20 #<col> = 0\n\
+     \x20 o10 while [#<col> LT 500]\n\
+     \x20   o11 if [#<forward> GT 0]\n\
+     \x20     #<x> = [#<col> * 0.2]\n\
+     \x20   o11 else\n\
+     \x20     #<x> = [[499 - #<col>] * 0.2]\n\
+     \x20   o11 endif\n\
+     \x20   G1 X#<x> Y#<y> Z[-1 + 0.5 * SIN[#<x> * 3.6] * COS[#<y> * 3.6]]\n\
+     \x20   #<col> = [#<col> + 1]\n\
+     \x20 o10 endwhile\n\
+     o<row> endsub\n\
+     #<r> = 0\n\
+     o20 while [#<r> LT 200]\n\
+     \x20 o<row> call [#<r> * 0.5] [1 - [#<r> MOD 2] * 2]\n\
+     \x20 #<r> = [#<r> + 1]\n\
+     o20 endwhile\n\
+     G0 Z5\nM30\n"
+        .to_owned()
+}
+
+/// The moves rs274 makes of `program` (LinuxCNC), as it prints them; `None` without rs274.
+fn rs274_moves(name: &str, program: &str) -> Option<Vec<String>> {
+    if std::process::Command::new("rs274").arg("--help").output().is_err() {
+        assert!(std::env::var_os("NCPLAN_REQUIRE_RS274").is_none(), "NCPLAN_REQUIRE_RS274 is set but rs274 is not installed");
+        crate::skip(name, "rs274 (linuxcnc-uspace) is not installed");
+        return None;
+    }
+    let dir = std::env::temp_dir().join(format!("ncplan-bound-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (file, table) = (dir.join("rows.ngc"), dir.join("zero.tbl"));
+    std::fs::write(&file, program).unwrap();
+    std::fs::write(&table, (1..100).map(|t| format!("T{t} P{t} Z0 D0\n")).collect::<String>()).unwrap();
+    let out = std::process::Command::new("rs274").arg("-g").arg("-t").arg(&table).arg(&file).output().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let text = String::from_utf8_lossy(&out.stdout);
+    // rs274 writes `   12 N..... STRAIGHT_FEED(...)`: the call from its name on.
+    let moves = text
+        .lines()
+        .filter_map(|l| {
+            ["STRAIGHT_FEED(", "STRAIGHT_TRAVERSE(", "ARC_FEED("].iter().find_map(|m| l.find(m).map(|i| l[i..].trim().to_owned()))
+        })
+        .collect();
+    Some(moves)
+}
+
+#[test]
+fn a_macro_program_of_100000_moves_is_analysed_to_its_end_as_rs274_runs_it() {
+    let program = rows_by_calls();
+    let (moves, diags) = crate::moves_and_findings("linuxcnc", &program, &Profile::default());
+    assert!(!diags.iter().any(|d| d.stops_analysis()), "{:#?}", diags.iter().filter(|d| d.stops_analysis()).collect::<Vec<_>>());
+    assert!(!diags.iter().any(|d| d.is_error()), "{:#?}", diags.iter().filter(|d| d.is_error()).collect::<Vec<_>>());
+    // Two rapids and 200 rows of 500 feeds.
+    assert_eq!(moves.len(), 100_002);
+    assert_eq!(moves[100_000], "STRAIGHT_FEED(0.0000, 99.5000, -1.0000, 0.0000, 0.0000, 0.0000)", "the last row ends at X0");
+    let Some(theirs) = rs274_moves("bound::rs274", &program) else { return };
+    assert_eq!(theirs.len(), moves.len(), "rs274 makes as many moves");
+    let differ: Vec<_> = moves.iter().zip(&theirs).enumerate().filter(|(_, (a, b))| a != b).take(3).collect();
+    assert!(differ.is_empty(), "moves that differ from rs274's: {differ:#?}");
+}
+
+/// The same program under a small bound: in time (blocks run again) and in memory (moves
+/// made by blocks run again), a warning that names which, and the analysis stops there.
+#[test]
+fn a_run_that_reaches_the_bound_stops_and_says_which() {
+    let program = rows_by_calls();
+    let time = Profile { max_repeated_blocks: 20_000, ..Profile::default() };
+    let (moves, diags) = crate::moves_and_findings("linuxcnc", &program, &time);
+    let stops: Vec<_> = diags.iter().filter(|d| d.stops_analysis()).collect();
+    assert_eq!(stops.len(), 1, "{diags:#?}");
+    assert_eq!((stops[0].code.as_str(), stops[0].severity), ("flow::repeat-budget", Severity::Warning));
+    assert!(stops[0].message.contains("bound in time (20000 blocks run again"), "{}", stops[0].message);
+    assert!(moves.len() < 10_000, "{} moves", moves.len());
+    let memory = Profile { max_repeated_moves: 1_000, ..Profile::default() };
+    let (moves, diags) = crate::moves_and_findings("linuxcnc", &program, &memory);
+    let stops: Vec<_> = diags.iter().filter(|d| d.stops_analysis()).collect();
+    assert_eq!(stops.len(), 1, "{diags:#?}");
+    assert!(stops[0].message.contains("bound in memory (1000 moves made by blocks run again"), "{}", stops[0].message);
+    // The first row runs before any block runs again; the bound counts from there.
+    assert!((1_000..=1_600).contains(&moves.len()), "{} moves", moves.len());
+}
+
+/// Every command that stops early says so on stderr, whatever findings it shows otherwise:
+/// `canon`, `plan`, `stepnc` and `diff` (which show none but errors), `check` among its
+/// findings. The bound comes from the configuration or the command line.
+#[test]
+fn every_command_that_stops_early_says_so() {
+    let dir = std::env::temp_dir().join(format!("ncplan-bound-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("rows.ngc");
+    std::fs::write(&file, rows_by_calls()).unwrap();
+    let config = dir.join("small.toml");
+    std::fs::write(&config, "[database]\npath = 'unused.db'\n[analysis]\nmax_repeated_blocks = 5000\n").unwrap();
+    let f = file.to_string_lossy().into_owned();
+    let c = config.to_string_lossy().into_owned();
+    let stepnc = ["stepnc", "-d", "linuxcnc", "--config", &c, "--cc2", "--timestamp", "2026-01-01T00:00:00", &f];
+    for args in [
+        &["canon", "-d", "linuxcnc", "--config", &c, &f][..],
+        &["plan", "-d", "linuxcnc", "--config", &c, &f],
+        &stepnc,
+        &["diff", "-d", "linuxcnc", "--config", &c, &f, &f],
+        &["check", "-d", "linuxcnc", "--config", &c, &f],
+    ] {
+        let out = std::process::Command::new(crate::bin()).args(args).output().unwrap();
+        let said = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stderr),
+            if args[0] == "check" { String::from_utf8_lossy(&out.stdout) } else { "".into() }
+        );
+        assert!(said.contains("flow::repeat-budget") && said.contains("bound in time (5000 blocks"), "{} said:\n{said}", args[0]);
+    }
+    // The command line's bound over the configuration's: a second of analysis is a million
+    // blocks run again, past this program's end.
+    let out = std::process::Command::new(crate::bin())
+        .args(["canon", "-d", "linuxcnc", "--config", &c, "--max-seconds", "1", &f])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("repeat-budget"), "{}", String::from_utf8_lossy(&out.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
