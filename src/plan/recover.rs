@@ -94,11 +94,16 @@ fn mill_turn(plan: &mut ProcessPlan) {
         std::mem::take(&mut plan.workingsteps).into_iter().partition(|w| w.turning.is_none());
     let part = |ws: Vec<Workingstep>| ProcessPlan { workingsteps: ws, features: Vec::new(), ..plan.clone() };
     let (mut t, mut m) = (part(turning), part(milling));
+    // Recognition reads a workingstep's number as its position: each part is numbered from 1
+    // while its rules run, then given the plan's numbers back.
+    let numbers = (renumber(&mut t), renumber(&mut m));
     super::turning::recognise(&mut t);
     super::turning::infer_tool_kinds(&mut t);
     explicit_holes(&mut m);
     infer_tool_kinds(&mut m);
     feature::recognise(&mut m);
+    restore_numbers(&mut t, &numbers.0);
+    restore_numbers(&mut m, &numbers.1);
     let offset = t.features.len() as u32;
     for f in &mut m.features {
         f.id += offset;
@@ -118,6 +123,28 @@ fn mill_turn(plan: &mut ProcessPlan) {
     plan.workingsteps = t.workingsteps.into_iter().chain(m.workingsteps).collect();
     plan.workingsteps.sort_by_key(|w| w.index);
     plan.features = t.features.into_iter().chain(m.features).collect();
+}
+
+/// Numbers a part of a plan's workingsteps 1, 2, … by position; their numbers in the plan.
+fn renumber(part: &mut ProcessPlan) -> Vec<u32> {
+    let numbers = part.workingsteps.iter().map(|w| w.index).collect();
+    for (k, w) in part.workingsteps.iter_mut().enumerate() {
+        w.index = k as u32 + 1;
+    }
+    numbers
+}
+
+/// Gives a part's workingsteps, and its features' lists of them, their numbers in the plan.
+fn restore_numbers(part: &mut ProcessPlan, numbers: &[u32]) {
+    let plan_number = |i: u32| numbers.get((i as usize).wrapping_sub(1)).copied().unwrap_or(i);
+    for w in &mut part.workingsteps {
+        w.index = plan_number(w.index);
+    }
+    for f in &mut part.features {
+        for i in &mut f.workingsteps {
+            *i = plan_number(*i);
+        }
+    }
 }
 
 /// Holes made by explicit moves (posts that expand drilling into `G0`/`G1`): a workingstep
