@@ -48,6 +48,9 @@ struct Item {
     /// Whether a plan change is located at a call's arguments (a swivel cycle's): those
     /// arguments need no statement change of their own.
     call_located: bool,
+    /// The kinds of the plan changes located here: a named cycle's argument whose role one of
+    /// them states (`CYCLE95 MID`, told as the depth of cut) needs no change of its own.
+    located_kinds: Vec<ChangeKind>,
 }
 
 /// A hunk too large to tell statement by statement.
@@ -124,8 +127,9 @@ fn locate(
             }
             if it.diffs.iter().any(|d| shows(c.kind, d, a.dialect, it.ctx)) {
                 it.located = true;
-                it.call_located |=
-                    it.diffs.iter().any(|d| d.1.as_ref().is_some_and(|t| t.sort == Sort::Call) && shows(c.kind, d, a.dialect, it.ctx));
+                it.located_kinds.push(c.kind);
+                it.call_located |= c.kind == ChangeKind::WorkPlaneChanged
+                    && it.diffs.iter().any(|d| d.1.as_ref().is_some_and(|t| t.sort == Sort::Call) && shows(c.kind, d, a.dialect, it.ctx));
                 at.push((lo, le));
             }
         }
@@ -445,7 +449,17 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             let moves = oi.map_or(0, |k| sa[k].moves) | ei.map_or(0, |k| sb[k].moves);
             let ctx_of = |t: &[Vec<Token>], i: Option<usize>, d: &Dialect| i.map_or_else(Context::default, |i| Context::of(&t[i], d));
             let ctx = ctx_of(&ta, x, a.dialect).or(ctx_of(&tb, y, b.dialect));
-            items.push(Item { original: oi, edited: ei, diffs, class, moves, located: false, call_located: false, ctx });
+            items.push(Item {
+                original: oi,
+                edited: ei,
+                diffs,
+                class,
+                moves,
+                located: false,
+                call_located: false,
+                located_kinds: Vec::new(),
+                ctx,
+            });
         }
     }
     (items, bulks)
@@ -521,6 +535,13 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
     if kind == ChangeKind::WorkPlaneChanged && tok.sort == statement::Sort::Call {
         return dialect.cycles.iter().any(|c| c.meaning == Meaning::TiltCycle && c.name.eq_ignore_ascii_case(&tok.key));
     }
+    // A named cycle's argument states what its role names (`CYCLE95(…, MID, …)`: the depth of cut).
+    if let (Some(x), Some(y)) = d
+        && x.sort == statement::Sort::Call
+        && x.key == y.key
+    {
+        return differing_roles(x, y, dialect).any(|r| argument_kind(r) == Some(kind));
+    }
     if !tok.is_address() {
         return false;
     }
@@ -570,6 +591,26 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
             !technology
         }
     }
+}
+
+/// The plan change a named cycle's argument states, by its role: the finishing allowance, the
+/// depth of cut, a thread's pitch, a groove's or slot's width. The plan compares these in the
+/// machine's terms (`depth of cut changed from 2.5 to 2`), so the argument needs no row of its own.
+fn argument_kind(role: Role) -> Option<ChangeKind> {
+    match role {
+        Role::Allowance | Role::AllowanceX | Role::AllowanceZ => Some(ChangeKind::AllowanceChanged),
+        Role::CutDepth => Some(ChangeKind::AxialDepthChanged),
+        Role::Pitch | Role::ThreadSize => Some(ChangeKind::ThreadPitchChanged),
+        Role::Width => Some(ChangeKind::FeatureChanged),
+        _ => None,
+    }
+}
+
+/// The roles of the arguments that differ between two calls of one named cycle.
+fn differing_roles<'d>(x: &Token, y: &Token, d: &'d Dialect) -> impl Iterator<Item = Role> + 'd {
+    let (pa, pb) = (statement::arguments(&x.value), statement::arguments(&y.value));
+    let args = typed::cycle_args(&x.key, d).unwrap_or(&[]);
+    args.iter().enumerate().filter(move |(k, _)| pa.get(*k) != pb.get(*k)).map(|(_, a)| a.role)
 }
 
 /// The lines each workingstep may be seen at: its own, and those between it and its
@@ -728,12 +769,21 @@ fn argument(v: Option<&String>) -> String {
 /// The changes of a call's arguments: a named cycle's by the dictionary's names, as cycle
 /// parameter changes; any other call's by position, an argument inserted or removed told as
 /// such rather than as a shift of every later one.
-fn call_changes(x: &Token, y: &Token, kind: ChangeKind, ws: &(u32, String), d: &Dialect, out: &mut Vec<Change>) {
+fn call_changes(
+    x: &Token,
+    y: &Token,
+    (kind, located): (ChangeKind, &[ChangeKind]),
+    ws: &(u32, String),
+    d: &Dialect,
+    out: &mut Vec<Change>,
+) {
     let (pa, pb) = (statement::arguments(&x.value), statement::arguments(&y.value));
     if let Some(args) = typed::cycle_args(&x.key, d) {
         for k in 0..pa.len().max(pb.len()) {
             let (va, vb) = (pa.get(k), pb.get(k));
-            if va == vb {
+            // An argument the plan's change located here already tells in the machine's terms.
+            let told = args.get(k).and_then(|a| argument_kind(a.role)).is_some_and(|kind| located.contains(&kind));
+            if va == vb || told {
                 continue;
             }
             let mut c = blank(ChangeKind::CycleParameterChanged, ws.clone());
@@ -849,7 +899,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 out.push(c);
             }
             (Sort::Call, _, _) if it.call_located => {}
-            (Sort::Call, Some(x), Some(y)) if x.key == y.key => call_changes(x, y, kind, &ws, d, &mut out),
+            (Sort::Call, Some(x), Some(y)) if x.key == y.key => call_changes(x, y, (kind, &it.located_kinds), &ws, d, &mut out),
             // A control-flow statement is told even where a plan change is located at it: the
             // plan says what it did, the statement why.
             _ if it.located && it.ctx.flow.is_none() && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}

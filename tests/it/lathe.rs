@@ -353,29 +353,21 @@ fn named_and_one_block_cycle_edits_in_a_turner_s_terms() {
     no_structure_change(&rough);
     expect![[r#"
         allowance_changed | finishing_allowance | U0.4 W0.1 | U0.6 W0.1
-          finishing allowance changed from U0.4 W0.1 to U0.6 W0.1
+          finishing allowance changed from U0.4 W0.1 to U0.6 W0.1 at line 6
         axial_depth_changed | depth_of_cut | 2.5 | 2
-          depth of cut changed from 2.5 to 2
-        cycle_parameter_changed | CYCLE95 MID (cut depth) | 2.5 | 2
-          CYCLE95 MID (cut depth) changed from 2.5 to 2 at line 6
-        cycle_parameter_changed | CYCLE95 FALX (allowance x) | 0.2 | 0.3
-          CYCLE95 FALX (allowance x) changed from 0.2 to 0.3 at line 6
+          depth of cut changed from 2.5 to 2 at line 6
     "#]]
     .assert_eq(&rough);
     let width = lathe_edit("siemens_cycle93.mpf", "CYCLE93(44, -20, 5, 3,", "CYCLE93(44, -20, 6, 3,");
     expect![[r#"
         feature_changed | groove_width | 5 mm | 6 mm
-          groove width changed from 5 mm to 6 mm
-        cycle_parameter_changed | CYCLE93 WIDG (width) | 5 | 6
-          CYCLE93 WIDG (width) changed from 5 to 6 at line 7
+          groove width changed from 5 mm to 6 mm at line 7
     "#]]
     .assert_eq(&width);
     let pitch = lathe_edit("siemens_cycle97.mpf", "CYCLE97(2, , 0, -30", "CYCLE97(1.5, , 0, -30");
     expect![[r#"
         thread_pitch_changed | thread_pitch | 2 | 1.5
-          thread pitch changed from 2 to 1.5
-        cycle_parameter_changed | CYCLE97 PIT (pitch) | 2 | 1.5
-          CYCLE97 PIT (pitch) changed from 2 to 1.5 at line 6
+          thread pitch changed from 2 to 1.5 at line 6
     "#]]
     .assert_eq(&pitch);
     let lap = lathe_edit("okuma_lap.min", "G85 N0100 D2.5 F0.3 U0.4 W0.1", "G85 N0100 D2 F0.3 U0.6 W0.1");
