@@ -368,15 +368,7 @@ impl Pg {
     }
 
     pub(super) fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
-        let rows = self.conn.rows(
-            "reading findings",
-            "SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = $1 ORDER BY byte_start, id",
-            &[&revision],
-        )?;
-        Ok(rows
-            .iter()
-            .map(|r| StoredFinding { severity: r.get(0), code: r.get(1), line: r.get(2), col: r.get(3), message: r.get(4) })
-            .collect())
+        self.conn.findings(revision)
     }
 
     pub(super) fn changes(&self, revision: i64) -> Result<Vec<Change>> {
@@ -477,6 +469,20 @@ fn plain(e: &postgres::Error) -> String {
 }
 
 impl Conn {
+    /// A revision's stored findings, in their order (read by the workspace and by a
+    /// transaction comparing what an edit breaks or fixes).
+    fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
+        let rows = self.rows(
+            "reading findings",
+            "SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = $1 ORDER BY byte_start, id",
+            &[&revision],
+        )?;
+        Ok(rows
+            .iter()
+            .map(|r| StoredFinding { severity: r.get(0), code: r.get(1), line: r.get(2), col: r.get(3), message: r.get(4) })
+            .collect())
+    }
+
     fn statement(&self, about: &'static str, text: &'static str) -> Result<Statement> {
         if let Some(s) = self.prepared.borrow().get(text) {
             return Ok(s.clone());
@@ -726,15 +732,7 @@ impl PgTxn<'_> {
     }
 
     pub(super) fn findings(&self, revision: i64) -> Result<Vec<StoredFinding>> {
-        let rows = self.conn.rows(
-            "reading findings",
-            "SELECT severity, code, line, col, message FROM diagnostics WHERE revision_id = $1 ORDER BY byte_start, id",
-            &[&revision],
-        )?;
-        Ok(rows
-            .iter()
-            .map(|r| StoredFinding { severity: r.get(0), code: r.get(1), line: r.get(2), col: r.get(3), message: r.get(4) })
-            .collect())
+        self.conn.findings(revision)
     }
 
     /// All findings of a revision in one statement, in their order (ids follow it).

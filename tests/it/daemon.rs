@@ -1,7 +1,7 @@
 //! The real binary watching real folders: a CAM original, an operator's edit, SIGKILL and
 //! a restart.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -194,15 +194,13 @@ fn waiting_edits_are_all_compared_across_kills_while_late_originals_arrive() {
     assert_eq!(std::fs::read_dir(&cam).unwrap().count(), numbers.len());
 }
 
-/// A program that calls a subprogram kept beside it is read with it; when the subprogram is
-/// edited on its own, the caller's comparison is made again and names it as the cause.
-#[test]
-fn an_edited_subprogram_recompares_the_programs_that_call_it() {
-    let tmp = tempfile::tempdir().unwrap();
-    let (cam, share, var) = (tmp.path().join("cam"), tmp.path().join("share"), tmp.path().join("var"));
+/// A shop in `dir`: Fanuc CAM originals in `cam`, one Fanuc machine VF2 on `share`; its
+/// folders, configuration file and database path.
+fn fanuc_shop(dir: &Path) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
+    let (cam, share) = (dir.join("cam"), dir.join("share"));
     std::fs::create_dir_all(&cam).unwrap();
     std::fs::create_dir_all(&share).unwrap();
-    let config = tmp.path().join("ncplan.toml");
+    let config = dir.join("ncplan.toml");
     std::fs::write(
         &config,
         "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 200\n\
@@ -210,7 +208,15 @@ fn an_edited_subprogram_recompares_the_programs_that_call_it() {
          [[machine]]\nname = 'VF2'\npath = 'share'\ndialect = 'fanuc'\n",
     )
     .unwrap();
-    let db = var.join("ncplan.db");
+    (cam, share, config, dir.join("var").join("ncplan.db"))
+}
+
+/// A program that calls a subprogram kept beside it is read with it; when the subprogram is
+/// edited on its own, the caller's comparison is made again and names it as the cause.
+#[test]
+fn an_edited_subprogram_recompares_the_programs_that_call_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (cam, share, config, db) = fanuc_shop(tmp.path());
     let main = "%\nO1000 (CONTOUR)\nG21 G90 G17\nT1 M6\nS3000 M3\nG54 G0 X0. Y0.\nG43 H1 Z5.\nM98 P2000\nG0 Z50.\nM30\n%\n";
     let sub = |feed: &str| format!("%\nO2000 (PASS)\nG1 Z-2. F100.\nX50. F{feed}\nY30.\nX0.\nY0.\nG0 Z5.\nM99\n%\n");
     let _daemon = start(&config);
@@ -244,18 +250,7 @@ fn an_edited_subprogram_recompares_the_programs_that_call_it() {
 #[test]
 fn a_stored_comparison_says_the_edit_breaks_the_program_as_check_does() {
     let tmp = tempfile::tempdir().unwrap();
-    let (cam, share, var) = (tmp.path().join("cam"), tmp.path().join("share"), tmp.path().join("var"));
-    std::fs::create_dir_all(&cam).unwrap();
-    std::fs::create_dir_all(&share).unwrap();
-    let config = tmp.path().join("ncplan.toml");
-    std::fs::write(
-        &config,
-        "[database]\npath = 'var/ncplan.db'\n[daemon]\nsettle_ms = 200\n\
-         [[cam]]\npath = 'cam'\ndialect = 'fanuc'\n\
-         [[machine]]\nname = 'VF2'\npath = 'share'\ndialect = 'fanuc'\n",
-    )
-    .unwrap();
-    let db = var.join("ncplan.db");
+    let (cam, share, config, db) = fanuc_shop(tmp.path());
     let original = "%\nO2000\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\n#1=0\nN10 G1 Z-1 F100\nX10\n#1=#1+1\nIF [#1 LT 2] GOTO10\nG0 Z5\nM30\n%\n";
     let daemon = start(&config);
     std::fs::write(cam.join("O2000.nc"), original).unwrap();
