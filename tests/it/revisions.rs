@@ -188,17 +188,27 @@ impl Figures {
     }
 }
 
-/// The part a real pair belongs to: `held` (held back, measured once at the end), `built` (the
-/// new pairs built on), or `old` (the first sets, `r001`–`r182`, whose held-back part was
-/// measured in the first round of issue 41 and is spent).
+/// The part a real pair belongs to: `held3` (held back in issue 41's third round, measured once
+/// at the end), `built3` (the third round's pairs built on), `held` and `built` (the second
+/// round's, `r183`–`r235`, its held-back part measured and spent), or `old` (the first sets,
+/// `r001`–`r182`, whose held-back part was measured in the first round and is spent).
 fn part(p: &Pair) -> &str {
     if p.expect.part.is_empty() { "old" } else { p.expect.part.as_str() }
 }
 
+/// The parts, and how the figures name them.
+const PARTS: [(&str, &str); 5] = [
+    ("old", "old pairs (r001-r182, all seen)"),
+    ("built", "second round's pairs built on (r183-r235)"),
+    ("held", "second round's pairs held back (r183-r235, measured, spent)"),
+    ("built3", "third round's pairs built on (r236-)"),
+    ("held3", "third round's pairs held back (r236-)"),
+];
+
 fn report(pairs: &[Pair]) -> (String, usize) {
     let mut table = String::from("id | class | lines given | changes (machining, typed) | verdict\n");
     let mut failed = 0;
-    let (mut old, mut built, mut held) = (Figures::default(), Figures::default(), Figures::default());
+    let mut figures: [Figures; 5] = Default::default();
     for p in pairs {
         let o = std::panic::catch_unwind(|| run(p)).unwrap_or_else(|e| Outcome {
             changes: Vec::new(),
@@ -206,12 +216,8 @@ fn report(pairs: &[Pair]) -> (String, usize) {
         });
         let machining = o.changes.iter().filter(|c| c.is_machining()).count();
         let kinds = o.changes.iter().filter(|c| typed(c)).count();
-        match part(p) {
-            "held" => &mut held,
-            "built" => &mut built,
-            _ => &mut old,
-        }
-        .add(p, &o);
+        let index = PARTS.iter().position(|(part_name, _)| *part_name == part(p)).unwrap_or(0);
+        figures[index].add(p, &o);
         let located = !(p.expect.original_lines.is_empty() && p.expect.edited_lines.is_empty());
         let verdict = if o.problems.is_empty() { "ok".to_owned() } else { o.problems.join("; ") };
         failed += usize::from(!o.problems.is_empty());
@@ -229,7 +235,7 @@ fn report(pairs: &[Pair]) -> (String, usize) {
             }
         }
     }
-    for (name, f) in [("old pairs (r001-r182, all seen)", &old), ("new pairs built on", &built), ("new pairs held back", &held)] {
+    for ((_, name), f) in PARTS.iter().zip(&figures) {
         if f.machining + f.quiet > 0 {
             table.push_str(&f.line(name));
         }
@@ -251,7 +257,7 @@ fn own_revision_pairs_are_accounted_for() {
 #[test]
 fn real_revision_pairs_are_accounted_for() {
     let Some(texts) = std::env::var_os("NCPLAN_REVISIONS_REAL") else { return };
-    // `old`, `built` or `held`: only that part (several joined with `,`).
+    // `old`, `built`, `held`, `built3` or `held3`: only that part (several joined with `,`).
     let only = std::env::var("NCPLAN_REVISIONS_PART").unwrap_or_default();
     let pairs: Vec<Pair> =
         real_pairs(Path::new(&texts)).into_iter().filter(|p| only.is_empty() || only.split(',').any(|o| o == part(p))).collect();
