@@ -63,7 +63,8 @@ struct Bulk {
 /// `a` and `b`, and adds a statement change for every differing statement none is located
 /// at.
 /// What the edit breaks or fixes comes first: the errors of `findings` (the two analyses'),
-/// or where none are given, those reading the blocks finds.
+/// and those reading every block finds where the analysis did not run it (a subprogram no
+/// line of the file calls, a branch not taken): the control stops there when it runs it.
 pub(super) fn account(
     a: Program<'_>,
     b: Program<'_>,
@@ -72,8 +73,8 @@ pub(super) fn account(
     findings: (&[Fault], &[Fault]),
 ) {
     let ((sa, fa), (sb, fb)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
-    let given = !findings.0.is_empty() || !findings.1.is_empty();
-    let told = if given { verdict::verdicts(findings.0, findings.1) } else { verdict::verdicts(&fa, &fb) };
+    let (fa, fb) = (verdict::joined(findings.0, fa), verdict::joined(findings.1, fb));
+    let told = verdict::verdicts(&fa, &fb);
     locate(a, b, (&sa, &sb), pairs, changes);
     changes.splice(0..0, told);
 }

@@ -1,6 +1,7 @@
 //! What an edit breaks or fixes: the errors a control stops at in one version and not in the
 //! other (a malformed expression, a comment closed early by a nested parenthesis so that its
-//! rest is read as words, an arc whose radii disagree, a jump to a label that is gone).
+//! rest is read as words, an arc whose radii disagree, a jump to a label that is gone), those
+//! of the analysis and those reading every block finds in blocks the analysis did not run.
 //!
 //! The errors of both versions are matched by their kind (the diagnostic's code), the same
 //! sentence first and then in order, so that an error that only moved with the lines around it
@@ -23,6 +24,16 @@ pub fn faults(text: &str, findings: &[Diagnostic]) -> Vec<Fault> {
     }
     let index = LineIndex::new(text);
     errors.into_iter().map(|d| Fault { code: d.code, line: index.line_col(text, d.range.start).line, message: d.message.clone() }).collect()
+}
+
+/// The errors of an analysis (`found`) and those reading every block finds (`read`): a read
+/// error is added where the analysis has none of its kind on its line, for a block the
+/// analysis did not run (a subprogram the file does not call, a branch it did not take) is
+/// still a block the control stops at when it runs it.
+pub(super) fn joined(found: &[Fault], read: Vec<Fault>) -> Vec<Fault> {
+    let mut out = found.to_vec();
+    out.extend(read.into_iter().filter(|r| !found.iter().any(|f| f.code == r.code && f.line == r.line)));
+    out
 }
 
 /// The faults of `a` and `b` matched by kind; what is left over, per side.

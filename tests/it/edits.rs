@@ -577,3 +577,36 @@ fn machine_functions_are_named_by_the_dictionary() {
     "#]]
     .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
 }
+
+/// The changes of an edit with the analyses' errors given, as the daemon and `ncplan diff`
+/// compare them.
+fn changes_with_findings(a: &str, b: &str, dialect: &str) -> Vec<Change> {
+    let registry = Registry::shipped();
+    let d = registry.get(dialect).unwrap();
+    let profile = Profile::default();
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let faults = |x: &pipeline::Analysis| diff::verdict::faults(&x.source.text, &x.diagnostics);
+    diff::compare_with_findings(
+        diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+        (&faults(&pa), &faults(&pb)),
+    )
+}
+
+#[test]
+fn an_edit_that_fixes_a_block_the_file_does_not_run_says_so() {
+    // A LinuxCNC subroutine file (no line of it calls the subroutine, and it has no M2: an
+    // error in both versions): the stray `O1` before an assignment (rs274: "unknown control
+    // command in o word") and the text after an `if`'s condition ("unexpected character
+    // after O-word") stop the control when the subroutine runs; the edit removes both.
+    let a = "o<probe> sub\nO1 if [#1 GE 0]\n  O1 #<dir> = 1\nO1 else\n  #<dir> = -1\nO1 endif\no2 if [#2 EQ 1]abort\n  G0 Z1\no2 endif\no<probe> endsub\n";
+    let b = a.replace("  O1 #<dir> = 1", "  #<dir> = 1").replace("]abort", "]");
+    let got = changes_with_findings(a, &b, "linuxcnc");
+    let fixed: Vec<(Option<u32>, String)> =
+        got.iter().filter(|c| c.kind == diff::ChangeKind::ProgramFixed).flat_map(|c| c.detail.at.iter().map(|&(o, _)| (o, c.field.clone()))).collect();
+    assert_eq!(fixed, [(Some(3), "syntax::unknown-address".to_owned()), (Some(7), "syntax::unknown-address".to_owned())], "{}", rows(&got));
+    // The reverse edit breaks it at the same places; an unchanged file is no change.
+    let back = changes_with_findings(&b, a, "linuxcnc");
+    assert!(back.iter().any(|c| c.kind == diff::ChangeKind::ProgramBroken && c.detail.at == [(None, Some(3)), (None, Some(7))]), "{}", rows(&back));
+    assert!(changes_with_findings(a, a, "linuxcnc").is_empty());
+}

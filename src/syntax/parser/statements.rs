@@ -44,6 +44,7 @@ impl Lexer<'_, '_> {
     /// `o100 while [#1 LT 3]`: the label after the control word, then a statement keyword
     /// and its bracketed operands.
     pub(super) fn control_word(&mut self, start: usize) {
+        let mark = self.diags.len();
         self.skip_blanks();
         let mut label_expr = None;
         let label = if self.peek() == Some(b'<') {
@@ -96,7 +97,34 @@ impl Lexer<'_, '_> {
             self.operands(&mut control);
         }
         control.range = self.range(start, self.i);
+        let named = !kw.is_empty();
         self.block.control = Some(control);
+        // A statement whose operands were already found wrong is not told twice.
+        if self.diags.len() == mark {
+            self.nothing_after_control_word(start, named);
+        }
+    }
+
+    /// RS274NGC stops at a control word with no statement after its label (`O1 #<d> = 1`:
+    /// "unknown control command in o word") and at text after its statement
+    /// (`o1 if [..]abort`: "unexpected character after O-word"); a comment may follow. The rest
+    /// of the line is skipped, as the control reads none of it.
+    fn nothing_after_control_word(&mut self, start: usize, named: bool) {
+        self.skip_blanks();
+        let eol = self.line_end();
+        let Some(c) = self.peek().filter(|_| self.i < eol) else { return };
+        let lex = &self.dialect.lexical;
+        if lex.comments.iter().any(|r| r.open as u32 == u32::from(c)) || lex.block_end.is_some_and(|e| e as u32 == u32::from(c)) {
+            return;
+        }
+        let rest = self.text[self.i..eol].trim_end().to_owned();
+        let message = if named {
+            format!("`{rest}` after the control word's statement: the control stops at any text after it but a comment")
+        } else {
+            format!("the control word is followed by no statement (`sub`, `if`, `call`, ...) but by `{rest}`: the control stops at it")
+        };
+        self.error(Code::UnknownAddress, if named { self.i } else { start }, eol, message);
+        self.i = eol;
     }
 
     /// `IF [#1 GT 0] GOTO 10`, `WHILE [#2 LT 5] DO 1`, `END 1`, `GOTO #3`, `CALL LBL 1 REP 2`:
