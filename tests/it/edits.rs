@@ -602,11 +602,18 @@ fn an_edit_that_fixes_a_block_the_file_does_not_run_says_so() {
     let a = "o<probe> sub\nO1 if [#1 GE 0]\n  O1 #<dir> = 1\nO1 else\n  #<dir> = -1\nO1 endif\no2 if [#2 EQ 1]abort\n  G0 Z1\no2 endif\no<probe> endsub\n";
     let b = a.replace("  O1 #<dir> = 1", "  #<dir> = 1").replace("]abort", "]");
     let got = changes_with_findings(a, &b, "linuxcnc");
-    let fixed: Vec<(Option<u32>, String)> =
-        got.iter().filter(|c| c.kind == diff::ChangeKind::ProgramFixed).flat_map(|c| c.detail.at.iter().map(|&(o, _)| (o, c.field.clone()))).collect();
+    let fixed: Vec<(Option<u32>, String)> = got
+        .iter()
+        .filter(|c| c.kind == diff::ChangeKind::ProgramFixed)
+        .flat_map(|c| c.detail.at.iter().map(|&(o, _)| (o, c.field.clone())))
+        .collect();
     assert_eq!(fixed, [(Some(3), "syntax::unknown-address".to_owned()), (Some(7), "syntax::unknown-address".to_owned())], "{}", rows(&got));
     // The reverse edit breaks it at the same places; an unchanged file is no change.
     let back = changes_with_findings(&b, a, "linuxcnc");
-    assert!(back.iter().any(|c| c.kind == diff::ChangeKind::ProgramBroken && c.detail.at == [(None, Some(3)), (None, Some(7))]), "{}", rows(&back));
+    assert!(
+        back.iter().any(|c| c.kind == diff::ChangeKind::ProgramBroken && c.detail.at == [(None, Some(3)), (None, Some(7))]),
+        "{}",
+        rows(&back)
+    );
     assert!(changes_with_findings(a, a, "linuxcnc").is_empty());
 }
