@@ -2,8 +2,9 @@
 //!
 //! A statement is a control-flow statement when it begins with one of the dictionary's
 //! statement keywords that decide what runs next (`IF`, `WHILE`, `GOTO`, `o100 repeat`,
-//! `CALL LBL`, `REPEAT`, `break`), after the O-word that labels it in LinuxCNC (`o100 if`), or
-//! when one of its codes calls or returns (`M98`, `G65`, `M99`). Its differing words become a
+//! `CALL LBL`, `REPEAT`, `break`), after the O-word that labels it in LinuxCNC (`o100 if`),
+//! when one of its codes calls or returns (`M98`, `G65`, `M99`), or when it calls a program by
+//! its name (Siemens `WARMUP_CYCLE(7200, 5)`). Its differing words become a
 //! [`ChangeKind::FlowChanged`](super::ChangeKind::FlowChanged) named by what they are: the
 //! condition of a branch or a loop, a jump's target, a repeat count (the dictionary's repeat
 //! word: `L`, `P`, `REP`), a call added or removed. The arguments a call passes are not flow:
@@ -117,12 +118,29 @@ pub(super) fn flow_of(tokens: &[Token], d: &Dialect) -> Option<Flow> {
     if k.len() < first.key.len() && (k.is_empty() && first.sort == Sort::Call || k == "CALL") {
         return Some(Flow::Call);
     }
+    if called_by_name(first, d) {
+        return Some(Flow::Call);
+    }
     tokens.iter().filter(|t| t.sort == Sort::Word).find_map(|t| match code_meaning(t, d)? {
         // A cycle called at a position (Heidenhain `M99`) machines there: the plan tells it.
         Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::MacroCall | Meaning::ModalMacroCall => Some(Flow::Call),
         Meaning::SubprogramReturn => Some(Flow::Return),
         _ => None,
     })
+}
+
+/// Whether a statement's first token calls a program by its name, as the parser reads it where
+/// the dialect calls programs by name (Siemens `WARMUP_CYCLE(7200, 5)`): a name with its
+/// arguments that is no cycle, keyword code or statement of the dictionary.
+fn called_by_name(first: &Token, d: &Dialect) -> bool {
+    let key = first.key.as_str();
+    d.macros.call_by_name
+        && first.sort == Sort::Call
+        && key.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+        && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && d.cycle(key).is_none()
+        && d.macros.statement(key).is_none()
+        && !d.keyword_codes().any(|(_, k)| k.text.eq_ignore_ascii_case(key))
 }
 
 /// Whether a word of a call statement is its repeat count, by the dictionary's repeat word

@@ -7,11 +7,13 @@
 //! cycle's parameter (`Q201=-Q5`) that parameter, a `Z` the clearance height where the move
 //! is a rapid and the cut depth where it feeds (the motion in force, from the statement or
 //! the ones before it). A variable that only feeds another (`#<depth>=#<top>-#<cut>`) is
-//! followed through it, two levels deep. Each use kind becomes a change of that kind at the
-//! variable's statement, naming the variable (`clearance height (via #<_z_clearance>)`); a
-//! variable whose uses say nothing the dictionary knows (an axis position, a condition)
-//! stays the statement change that names it.
+//! followed through it, two levels deep. A loop's bound or a branch's condition that reads it
+//! decides which blocks run, or how often: a flow change (`loop bound (via CYCLES)`). Each
+//! use kind becomes a change of that kind at the variable's statement, naming the variable
+//! (`clearance height (via #<_z_clearance>)`); a variable whose uses say nothing the
+//! dictionary knows (an axis position) stays the statement change that names it.
 
+use super::control;
 use super::statement::{self, Sort, Stmt, Token};
 use super::typed::{self, About, Context, about};
 use super::{Change, ChangeKind, Program};
@@ -89,11 +91,21 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
         }
         let toks = statement::tokens(&statement::text_of(p.text, p.dialect, s));
         let ctx = Context::of(&toks, p.dialect);
+        let flow = control::flow_of(&toks, p.dialect);
         for t in &toks {
-            if !reads(&t.value, name) || (t.sort == Sort::Assign && t.key == name) {
+            // A loop's or branch's bound may stand as a token of its own (`TO CYCLES`).
+            let read = reads(&t.value, name) || (flow.is_some() && t.sort == Sort::Other && reads(&t.text, name));
+            if !read || (t.sort == Sort::Assign && t.key == name) {
                 continue;
             }
-            match use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect) {
+            // A loop's bound or a branch's condition that reads it: which blocks run, or how
+            // often (`FOR COUNT = 1 TO CYCLES`).
+            let decides = match flow {
+                Some(control::Flow::Loop) => Some((ChangeKind::FlowChanged, "loop bound".to_owned())),
+                Some(control::Flow::Branch) => Some((ChangeKind::FlowChanged, "condition".to_owned())),
+                _ => None,
+            };
+            match decides.or_else(|| use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect)) {
                 Some(kf) if !kinds.contains(&kf) => kinds.push(kf),
                 Some(_) => {}
                 None if t.sort == Sort::Assign && !t.is_address() && !feeds.contains(&t.key) => feeds.push(t.key.clone()),

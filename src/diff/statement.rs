@@ -43,7 +43,7 @@ pub struct Stmt {
     pub moves: u8,
 }
 
-/// A statement with a return-point or machine-coordinate move (`G28`, `G30`, `G53`).
+/// A statement with a return-point or machine-coordinate move (`G28`, `G30`, `G53`, `SUPA`).
 pub const RETURN_MOVE: u8 = 1;
 /// A statement with a word of a rotary axis (`A`, `B`, `C`).
 pub const ROTARY_MOVE: u8 = 2;
@@ -55,10 +55,15 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
         if matches!(w.role, Role::A | Role::B | Role::C) {
             m |= ROTARY_MOVE;
         }
-        if let (letter @ (b'G' | b'M'), crate::syntax::Value::Number { value, .. }) = (w.letter, w.value)
-            && let Some(code) = dialect.code(char::from(letter), (value * 10.0).round().max(0.0) as u32)
-            && matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)
-        {
+        let code = match (w.role, w.letter, w.value) {
+            // A keyword code (Siemens `SUPA`) holds the index of its code.
+            (Role::Keyword, _, crate::syntax::Value::Number { value, .. }) => dialect.codes.get(value as usize),
+            (_, letter @ (b'G' | b'M'), crate::syntax::Value::Number { value, .. }) => {
+                dialect.code(char::from(letter), (value * 10.0).round().max(0.0) as u32)
+            }
+            _ => None,
+        };
+        if code.is_some_and(|code| matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)) {
             m |= RETURN_MOVE;
         }
     }
