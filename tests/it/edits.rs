@@ -617,3 +617,29 @@ fn an_edit_that_fixes_a_block_the_file_does_not_run_says_so() {
     );
     assert!(changes_with_findings(a, a, "linuxcnc").is_empty());
 }
+
+#[test]
+fn siemens_machine_moves_calls_by_name_and_loop_bounds_are_told_as_what_runs() {
+    // A subprogram whose pass count is a parameter: the analysis cannot run its loop, so the
+    // statements tell the edit. `SUPA` moves in machine coordinates, as `G53` does.
+    let sub = "PROC WARM(REAL _S, REAL _T)\nDEF INT PASSES\nDEF INT K\nM3 S=_S\nPASSES = _T / 10\nFOR K = 1 TO PASSES\n  G1 SUPA Z-4 F300\n  G1 SUPA X5\nENDFOR\nRET\n";
+    let moved = sub.replace("SUPA X5", "SUPA X-5");
+    let fewer = sub.replace("_T / 10", "_T / 15");
+    let main = "G90 G17 G710\nG0 SUPA Z0\nWARM(3600, 20)\nWARM(7200, 20)\nM5\nM30\n";
+    let one_stage = main.replace("WARM(7200, 20)\n", "");
+    expect![[r#"
+        return_move_changed | statement | X5 | X-5 | 8 | 8
+          return move: `X-5` instead of `X5` at line 8
+    "#]]
+    .assert_eq(&rows(&changes(sub, &moved, "siemens")));
+    expect![[r#"
+        flow_changed | loop bound (via PASSES) | _T/10 | _T/15 | 5 | 5
+          loop bound (via PASSES) changed from _T/10 to _T/15 at line 5
+    "#]]
+    .assert_eq(&rows(&changes(sub, &fewer, "siemens")));
+    expect![[r#"
+        flow_changed | call | WARM(7200,20) |  | - | 4
+          call WARM(7200,20) removed at original line 4
+    "#]]
+    .assert_eq(&rows(&changes(main, &one_stage, "siemens")));
+}
