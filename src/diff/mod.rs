@@ -766,9 +766,15 @@ fn compare_workingsteps(
     if a.operation.is_hole() || b.operation.is_hole() {
         explained |= compare_holes(&a.holes, &b.holes, depth_change, u, &mut push);
     }
-    explained |= if lathe { turning::cutting(a, b, u, &mut push) } else { compare_cutting(a, b, u, &mut push) };
+    // Where one plan knows the stock and the other not, what follows from the stock (a face
+    // or pocket clipped to it, and not swept by the tool; the depth of a single layer below
+    // its top) differs by knowledge, not by machining: not compared (the toolpath still tells
+    // a change).
+    let stock_alike = pa.workpiece.is_some() == pb.workpiece.is_some();
+    explained |= if lathe { turning::cutting(a, b, u, &mut push) } else { compare_cutting(a, b, stock_alike, u, &mut push) };
     // The features, once per pair.
     if let (Some(fa), Some(fb)) = (a.feature.and_then(|f| pa.feature(f)), b.feature.and_then(|f| pb.feature(f)))
+        && stock_alike
         && features_seen.insert((fa.id, fb.id))
     {
         explained |= compare_features(fa, fb, depth_change.is_some(), u, &mut push);
@@ -932,7 +938,7 @@ fn compare_technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
 }
 
 /// Strategy, depths of cut and allowances; whether any of them explains a toolpath change.
-fn compare_cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) -> bool {
+fn compare_cutting(a: &Workingstep, b: &Workingstep, stock_alike: bool, u: Fmt, push: &mut Push<'_>) -> bool {
     let at_start = (Some(a.lines.0), Some(b.lines.0));
     let mut explained = false;
     // Strategy, depths of cut and allowances.
@@ -946,7 +952,9 @@ fn compare_cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>
         push(ChangeKind::StepoverChanged, "stepover", opt(a.radial_depth), opt(b.radial_depth), at_start);
         explained = true;
     }
-    if !a.operation.is_hole() && differs(a.axial_depth, b.axial_depth) {
+    // A single layer's depth is known from the stock's top only.
+    let axial_known_alike = stock_alike || a.axial_depth.is_some() == b.axial_depth.is_some();
+    if !a.operation.is_hole() && axial_known_alike && differs(a.axial_depth, b.axial_depth) {
         push(ChangeKind::AxialDepthChanged, "axial_depth", opt(a.axial_depth), opt(b.axial_depth), at_start);
         explained = true;
     }

@@ -643,3 +643,20 @@ fn siemens_machine_moves_calls_by_name_and_loop_bounds_are_told_as_what_runs() {
     "#]]
     .assert_eq(&rows(&changes(main, &one_stage, "siemens")));
 }
+
+#[test]
+fn features_known_from_unlike_stocks_are_not_compared() {
+    // The same face milled with and without its BLK FORM: with the stock the cut is clipped to
+    // it (an open pocket, one layer 1 mm deep), without it the face is what the tool swept (a
+    // planar face, its depth unknown). The kinds and sizes differ by knowledge: only the
+    // removed statements are told.
+    let a = "0 BEGIN PGM FACE MM\n1 BLK FORM 0.1 Z X+0 Y+0 Z-20\n2 BLK FORM 0.2 X+100 Y+50 Z+0\n3 TOOL CALL 1 Z S2000\n4 L Z+50 R0 FMAX M3\n5 L X-30 Y+10 R0 FMAX\n6 L Z-1 R0 FMAX\n7 L X+130 F800\n8 L Y+40\n9 L X-30\n10 L Z+50 FMAX\n11 END PGM FACE MM\n";
+    let b: String = a.lines().filter(|l| !l.contains("BLK FORM")).map(|l| format!("{l}\n")).collect();
+    let got = changes(a, &b, "heidenhain");
+    assert!(
+        !got.iter().any(|c| matches!(c.kind, diff::ChangeKind::FeatureChanged | diff::ChangeKind::AxialDepthChanged)),
+        "{}",
+        rows(&got)
+    );
+    assert!(got.iter().any(|c| c.original_line == Some(2)) && got.iter().any(|c| c.original_line == Some(3)), "{}", rows(&got));
+}
