@@ -24,9 +24,13 @@ use anyhow::{Context, Result, bail};
 
 use crate::config::{Config, SuggestSettings};
 use crate::store::{EditRow, Store, SuggestionStep};
+use crate::suggest::freecad;
 use crate::suggest::library::{self, Library};
 use crate::suggest::review::{self, CamStep, Event, Watch};
-use crate::suggest::{Edit, Parameter, Suggestion, ToolKey, first_number, header_material, suggest};
+use crate::suggest::{
+    Edit, FeedMove, FeedRole, Parameter, Suggestion, ToolKey, feed_edits, feed_list, feed_roles, first_number, header_material,
+    header_operator, suggest,
+};
 
 /// A group with its verdict, its review and the watch.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -66,20 +70,41 @@ impl Knowledge {
     }
 }
 
-/// What one original tells: its tools, units and material.
+/// What one original tells: its tools, units, material, the roles of each workingstep's
+/// feeds and its operator comment (a CAM header naming the programmer is no editor).
 struct Original {
     tools: BTreeMap<u32, ToolKey>,
     inch: bool,
     material: Option<String>,
+    roles: BTreeMap<u32, Vec<Option<FeedRole>>>,
+    operator: Option<String>,
+}
+
+/// The roles of the feeds of each workingstep of a stored plan (`suggest::feed_roles`).
+fn plan_roles(plan: &str) -> BTreeMap<u32, Vec<Option<FeedRole>>> {
+    let Ok(p) = serde_json::from_str::<crate::plan::ProcessPlan>(plan) else { return BTreeMap::new() };
+    p.workingsteps
+        .iter()
+        .map(|w| {
+            let moves: Vec<FeedMove> = w
+                .toolpath
+                .iter()
+                .filter(|m| m.kind != crate::plan::MoveKind::Rapid)
+                .map(|m| FeedMove { from: m.from, to: m.to, feed: m.feed })
+                .collect();
+            (w.index, feed_roles(&w.technology.feeds, &moves))
+        })
+        .collect()
 }
 
 /// Reads an original revision's plan (tools, units) and header (material).
 fn original(store: &Store, revision: i64) -> Result<Original> {
-    let mut o = Original { tools: BTreeMap::new(), inch: false, material: None };
+    let mut o = Original { tools: BTreeMap::new(), inch: false, material: None, roles: BTreeMap::new(), operator: None };
     if let Some(src) = store.source(revision)?
         && let Some((plan, _)) = &src.plan
         && let Ok(v) = serde_json::from_str::<serde_json::Value>(plan)
     {
+        o.roles = plan_roles(plan);
         o.inch = v.get("units").and_then(|u| u.as_str()).is_some_and(|u| u.to_ascii_lowercase().starts_with("in"));
         for t in v.get("tools").and_then(|t| t.as_array()).into_iter().flatten() {
             let Some(number) = t.get("number").and_then(|n| n.as_u64()) else { continue };
@@ -96,16 +121,61 @@ fn original(store: &Store, revision: i64) -> Result<Original> {
     if let Some(bytes) = store.content(revision)? {
         let head = &bytes[..bytes.len().min(8192)];
         o.material = header_material(&String::from_utf8_lossy(head), 40);
+        o.operator = header_operator(&String::from_utf8_lossy(head), 40);
     }
     Ok(o)
 }
 
-/// The shop's tool library, where configured.
+/// The shop's tool lists, where configured, as one library (the first list that has a number
+/// names it).
 pub fn read_library(settings: &SuggestSettings) -> Result<Option<Library>> {
-    let Some(path) = &settings.tool_library else { return Ok(None) };
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read the tool library {}", path.display()))?;
-    let lib = library::read(&text).map_err(|e| anyhow::anyhow!("the tool library {}: {e}", path.display()))?;
+    if settings.tool_libraries.is_empty() {
+        return Ok(None);
+    }
+    let mut lib = Library::empty();
+    for path in &settings.tool_libraries {
+        lib.merge(read_one_library(path)?);
+    }
     Ok(Some(lib))
+}
+
+/// One tool list, by its name and text: a FreeCAD library (`.fctl`, its bits read beside it)
+/// or bit (`.fctb`), a Fusion / Inventor CAM / HSM library (JSON with a `data` list), else a
+/// tool table.
+fn read_one_library(path: &Path) -> Result<Library> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read the tool library {}", path.display()))?;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let wrap = |e: String| anyhow::anyhow!("the tool library {}: {e}", path.display());
+    match ext.as_str() {
+        "fctl" => {
+            let dir = path.parent().unwrap_or(Path::new("."));
+            let mut tools = Vec::new();
+            for (nr, bit_path) in freecad::library(&text).map_err(wrap)? {
+                let bit = freecad_bit_file(dir, &bit_path)
+                    .with_context(|| format!("the tool library {}: tool {nr}'s bit {bit_path}", path.display()))?;
+                let mut t = freecad::bit(&std::fs::read_to_string(&bit)?)
+                    .map_err(|e| anyhow::anyhow!("the tool bit {}: {e}", bit.display()))?;
+                t.number = Some(nr);
+                tools.push(t);
+            }
+            Ok(Library { version: serde_json::Value::Null, tools })
+        }
+        // A bit alone has no number: it names no T number, but is listed.
+        "fctb" => Ok(Library { version: serde_json::Value::Null, tools: vec![freecad::bit(&text).map_err(wrap)?] }),
+        _ if text.trim_start().starts_with('{') => library::read(&text).map_err(wrap),
+        _ => {
+            let (_, tools) = crate::plan::tooltable::read(&text, false).map_err(wrap)?;
+            Ok(library::from_tool_table(&tools))
+        }
+    }
+}
+
+/// A FreeCAD bit's file as a library names it: absolute, beside the library, or in the `Bit`
+/// folder beside the library's folder (FreeCAD's `Tools/Library` and `Tools/Bit`).
+fn freecad_bit_file(dir: &Path, bit: &str) -> Result<std::path::PathBuf> {
+    let p = Path::new(bit);
+    let candidates = [dir.join(p), dir.join("..").join("Bit").join(p), dir.join("Bit").join(p)];
+    candidates.into_iter().find(|c| c.is_file()).with_context(|| "no such file beside the library or in its Bit folder".to_owned())
 }
 
 /// The edits of `rows` in the rules' terms.
@@ -118,19 +188,66 @@ struct Edits {
     unread: Vec<(i64, String)>,
 }
 
+/// The parameters and values (as written) a row holds: a `feed_changed` row by the roles of
+/// the original workingstep's feeds, one edit per role that changed; any other row its
+/// parameter with the first number of each side. `Err` when no value reads.
+fn row_values(r: &EditRow, o: &Original) -> std::result::Result<Vec<(Parameter, f64, f64)>, String> {
+    let Some(parameter) = Parameter::of_change(&r.kind, &r.field) else { return Ok(Vec::new()) };
+    if parameter == Parameter::CuttingFeed {
+        let (before, after) = (feed_list(&r.before), feed_list(&r.after));
+        if before.is_empty() || after.is_empty() {
+            return Err(format!("no number in `{}` → `{}`", r.before, r.after));
+        }
+        let roles = o.roles.get(&(r.workingstep.max(0) as u32)).cloned().unwrap_or_default();
+        return feed_edits(&before, &after, &roles)
+            .ok_or_else(|| format!("the workingstep's feeds changed in number (`{}` → `{}`): which is which cannot be told", r.before, r.after));
+    }
+    match (first_number(&r.before), first_number(&r.after)) {
+        (Some(b), Some(a)) => Ok(vec![(parameter, b, a)]),
+        _ => Err(format!("no number in `{}` → `{}`", r.before, r.after)),
+    }
+}
+
+/// Who made the edit of revision `revision`, where the share tells it: an operator comment in
+/// the edited program's header that its original does not carry (`(OPERATOR: ANNA)`), else
+/// `[[suggest.operator]]` by the edited file's folder.
+fn operator(store: &Store, revision: i64, o: &Original, cfg: &SuggestSettings) -> Result<Option<String>> {
+    let Some(src) = store.source(revision)? else { return Ok(None) };
+    let bytes = match src.bytes {
+        Some(b) => b,
+        None => store.content(revision)?.unwrap_or_default(),
+    };
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(8192)]).into_owned();
+    let comment = header_operator(&head, 40).filter(|c| o.operator.as_ref() != Some(c));
+    Ok(comment.or_else(|| cfg.operators.iter().find(|(f, _)| Path::new(&src.path).starts_with(f)).map(|m| m.1.clone())))
+}
+
 /// The edits of `rows` in the rules' terms.
 fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Library>) -> Result<Edits> {
     let mut originals: BTreeMap<i64, Original> = BTreeMap::new();
+    let mut operators: BTreeMap<i64, Option<String>> = BTreeMap::new();
     let (mut accepted, mut all, mut unread) = (Vec::new(), Vec::new(), Vec::new());
     for r in rows {
-        let Some(parameter) = Parameter::of_change(&r.kind, &r.field) else { continue };
+        if Parameter::of_change(&r.kind, &r.field).is_none() || r.review.as_deref() == Some("reject") {
+            continue;
+        }
         let o = match originals.entry(r.original_revision_id) {
             std::collections::btree_map::Entry::Occupied(o) => o.into_mut(),
             std::collections::btree_map::Entry::Vacant(v) => v.insert(original(store, r.original_revision_id)?),
         };
-        let (Some(b), Some(a)) = (first_number(&r.before), first_number(&r.after)) else {
-            unread.push((r.change_id, format!("no number in `{}` → `{}`", r.before, r.after)));
+        let values = match row_values(r, o) {
+            Ok(v) => v,
+            Err(why) => {
+                unread.push((r.change_id, why));
+                continue;
+            }
+        };
+        if values.is_empty() {
             continue;
+        }
+        let who = match operators.entry(r.revision_id) {
+            std::collections::btree_map::Entry::Occupied(w) => w.get().clone(),
+            std::collections::btree_map::Entry::Vacant(v) => v.insert(operator(store, r.revision_id, o, cfg)?).clone(),
         };
         let number = r.tool.unwrap_or(0).max(0) as u32;
         let mut tool = o.tools.get(&number).cloned().unwrap_or(ToolKey { number, ..ToolKey::default() });
@@ -142,30 +259,29 @@ fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Li
             .clone()
             .or_else(|| cfg.materials.iter().find(|(f, _)| Path::new(&r.original_path).starts_with(f)).map(|m| m.1.clone()))
             .unwrap_or_else(|| "unknown".into());
-        let e = Edit {
-            change_id: r.change_id,
-            revision_id: r.revision_id,
-            program: r.program.clone(),
-            original: r.original_path.clone(),
-            workingstep: r.workingstep.max(0) as u32,
-            operation: r.operation.clone(),
-            machine: r.machine.clone(),
-            at: r.seen_at.clone(),
-            operator: None,
-            spindle: r.spindle_speed,
-            tool,
-            material,
-            parameter,
-            before: parameter.metric(b, o.inch),
-            after: parameter.metric(a, o.inch),
-        };
-        match r.review.as_deref() {
-            Some("reject") => continue,
-            Some("adopt") => accepted.push(e.clone()),
-            _ if cfg.unreviewed => accepted.push(e.clone()),
-            _ => {}
+        for (parameter, b, a) in values {
+            let e = Edit {
+                change_id: r.change_id,
+                revision_id: r.revision_id,
+                program: r.program.clone(),
+                original: r.original_path.clone(),
+                workingstep: r.workingstep.max(0) as u32,
+                operation: r.operation.clone(),
+                machine: r.machine.clone(),
+                at: r.seen_at.clone(),
+                operator: who.clone(),
+                spindle: r.spindle_speed,
+                tool: tool.clone(),
+                material: material.clone(),
+                parameter,
+                before: parameter.metric(b, o.inch),
+                after: parameter.metric(a, o.inch),
+            };
+            if r.review.as_deref() == Some("adopt") || cfg.unreviewed {
+                accepted.push(e.clone());
+            }
+            all.push(e);
         }
-        all.push(e);
     }
     Ok(Edits { accepted, all, unread })
 }
@@ -192,7 +308,7 @@ fn cam_value(c: &crate::store::CamRow, p: Parameter) -> Option<f64> {
         Parameter::Stepdown => c.axial_depth,
         Parameter::Stepover => c.radial_depth,
         Parameter::ClearanceHeight => c.security_plane,
-        Parameter::PlungeFeed | Parameter::CuttingSpeed | Parameter::PeckDepth => None,
+        Parameter::PlungeFeed | Parameter::RampFeed | Parameter::CuttingSpeed | Parameter::PeckDepth => None,
     }
 }
 
@@ -263,16 +379,22 @@ fn step(e: &Entry, state: State, reason: &str, by: &str, at: &str) -> Suggestion
 /// steps is proposed; an exported one the watch adopted or reopened moves there; a rejected
 /// or snoozed one that came back is proposed again. Returns how many steps were written.
 pub fn record(store: &Store, k: &Knowledge, at: &str) -> Result<usize> {
+    record_some(store, k, at, false)
+}
+
+/// Records only what the watch found: an exported (or adopted) suggestion adopted or reopened.
+fn record_some(store: &Store, k: &Knowledge, at: &str, watch_only: bool) -> Result<usize> {
     let mut n = 0;
     for e in &k.entries {
         let last = e.events.last().map(|x| x.state);
         let to = match (last, e.state) {
-            (None, State::Proposed) if e.s.passed() => Some((State::Proposed, "the rules' gates passed".to_owned())),
-            (Some(State::Rejected), State::Proposed) => Some((State::Proposed, "the evidence grew since the rejection".to_owned())),
-            (Some(State::Snoozed), State::Proposed) => Some((State::Proposed, "the snooze is over".to_owned())),
             (Some(l), s) if l != s && matches!(s, State::Adopted | State::Reopened) => {
                 Some((s, e.watch.as_ref().map(Watch::words).unwrap_or_default()))
             }
+            _ if watch_only => None,
+            (None, State::Proposed) if e.s.passed() => Some((State::Proposed, "the rules' gates passed".to_owned())),
+            (Some(State::Rejected), State::Proposed) => Some((State::Proposed, "the evidence grew since the rejection".to_owned())),
+            (Some(State::Snoozed), State::Proposed) => Some((State::Proposed, "the snooze is over".to_owned())),
             _ => None,
         };
         if let Some((state, reason)) = to {
@@ -281,6 +403,22 @@ pub fn record(store: &Store, k: &Knowledge, at: &str) -> Result<usize> {
         }
     }
     Ok(n)
+}
+
+/// The watch after an export, as the daemon runs it once a revision is stored: where some
+/// suggestion is exported or adopted, what the CAM posts and the edits since say is recorded
+/// (adopted, reopened) by `ncplan`, at `at`. Nothing is read beyond the steps while no
+/// suggestion is watched. Returns how many steps were written.
+pub fn watch(store: &Store, config: &Config, at: &str) -> Result<usize> {
+    let mut last: BTreeMap<String, String> = BTreeMap::new();
+    for s in store.suggestion_steps()? {
+        last.insert(s.suggestion, s.state);
+    }
+    if !last.values().any(|s| s == State::Exported.name() || s == State::Adopted.name()) {
+        return Ok(0);
+    }
+    let k = load(store, config, at)?;
+    record_some(store, &k, at, true)
 }
 
 /// A planner's step on suggestion `id`: to `to` with `reason` (a rejection needs one),
