@@ -422,3 +422,40 @@ async fn review_in_browser(c: &fantoccini::Client, base: &str, shop: &Shop, engi
     shot(c, &format!("suggestion-rejected-{engine}")).await?;
     Ok(())
 }
+
+/// The CAM tool named from the shop's other tool lists: a FreeCAD tool library (`.fctl`, its
+/// bits in the `Bit` folder beside it) and a LinuxCNC `tool.tbl` (`tests/programs/cam_tools`,
+/// our own files in those formats), instead of the Fusion library; a list of two names the
+/// tool by the first that has it.
+#[test]
+fn the_cam_tool_is_named_from_a_freecad_library_or_a_linuxcnc_tool_table() {
+    let shop = Shop::new("path = 'var/ncplan.db'");
+    let db = shop.path("var/ncplan.db");
+    prepare(&shop, &|| Store::open(&Location::Sqlite(db.clone()), "HALL1").unwrap());
+    let tools = crate::root().join("tests/programs/cam_tools");
+    let config = std::fs::read_to_string(shop.path("ncplan.toml")).unwrap();
+    let named = |name: &str, list: &str| -> serde_json::Value {
+        let text = config.replace("tool_library = 'lib/shop-tools.json'", &format!("tool_library = {list}"));
+        std::fs::write(shop.path(name), text).unwrap();
+        let out = shop.ncplan(&["suggest", "--config", name, "--format", "json", "--now", "2026-11-30T00:00:00Z"]);
+        let all: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(all.as_array().unwrap().len(), 1, "{all}");
+        all[0]["s"]["key"]["tool"].clone()
+    };
+    let fctl = tools.join("Tools/Library/Shop.fctl");
+    let tbl = tools.join("tool.tbl");
+    let freecad = named("freecad.toml", &format!("'{}'", fctl.display()));
+    assert_eq!(freecad, serde_json::json!({"number": 5, "description": "10 mm End Mill 3FL ALU", "diameter": 10.0, "flutes": 3, "corner_radius": null}));
+    let linuxcnc = named("linuxcnc.toml", &format!("'{}'", tbl.display()));
+    assert_eq!(linuxcnc["description"], "EM10 3FL ALU (shop tool 5)");
+    assert_eq!(linuxcnc["diameter"], 10.0);
+    let both = named("both.toml", &format!("['{}', '{}']", tbl.display(), fctl.display()));
+    assert_eq!(both, linuxcnc, "the first list that has the number names the tool");
+    // Each bit of the FreeCAD library as read: the drill's flutes an attribute, the older
+    // bull nose's corner radius from its flat radius.
+    let settings = ncplan::config::SuggestSettings { tool_libraries: vec![fctl], ..Default::default() };
+    let lib = ncplan::export::read_library(&settings).unwrap().unwrap();
+    let t = |n: u32| lib.tools.iter().find(|t| t.number == Some(n)).unwrap();
+    assert_eq!((t(7).diameter, t(7).flutes, t(7).kind.as_str()), (Some(6.8), Some(2), "drill"));
+    assert_eq!((t(9).diameter, t(9).corner_radius, t(9).description.as_str()), (Some(8.0), Some(1.5), "8 mm Bull Nose R1.5"));
+}
