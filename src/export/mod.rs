@@ -76,14 +76,22 @@ struct Original {
     tools: BTreeMap<u32, ToolKey>,
     inch: bool,
     material: Option<String>,
-    roles: BTreeMap<u32, Vec<Option<FeedRole>>>,
+    roles: Option<BTreeMap<u32, Vec<Option<FeedRole>>>>,
     operator: Option<String>,
 }
 
-/// The roles of the feeds of each workingstep of a stored plan (`suggest::feed_roles`).
-fn plan_roles(plan: &str) -> BTreeMap<u32, Vec<Option<FeedRole>>> {
-    let Ok(p) = serde_json::from_str::<crate::plan::ProcessPlan>(plan) else { return BTreeMap::new() };
-    p.workingsteps
+/// The roles of the feeds of each workingstep of an original (`suggest::feed_roles`): its
+/// program read again as its folder reads it (the store keeps plans without their toolpaths).
+/// Empty where it cannot be read.
+fn plan_roles(store: &Store, reader: &crate::daemon::ingest::Reader<'_>, revision: i64) -> BTreeMap<u32, Vec<Option<FeedRole>>> {
+    let Ok(Some(src)) = store.source(revision) else { return BTreeMap::new() };
+    let bytes = match src.bytes.clone() {
+        Some(b) => b,
+        None => store.content(revision).ok().flatten().unwrap_or_default(),
+    };
+    let Ok(a) = reader.reanalyse(&src.path, &src.dialect, bytes) else { return BTreeMap::new() };
+    a.plan
+        .workingsteps
         .iter()
         .map(|w| {
             let moves: Vec<FeedMove> = w
@@ -99,12 +107,11 @@ fn plan_roles(plan: &str) -> BTreeMap<u32, Vec<Option<FeedRole>>> {
 
 /// Reads an original revision's plan (tools, units) and header (material).
 fn original(store: &Store, revision: i64) -> Result<Original> {
-    let mut o = Original { tools: BTreeMap::new(), inch: false, material: None, roles: BTreeMap::new(), operator: None };
+    let mut o = Original { tools: BTreeMap::new(), inch: false, material: None, roles: None, operator: None };
     if let Some(src) = store.source(revision)?
         && let Some((plan, _)) = &src.plan
         && let Ok(v) = serde_json::from_str::<serde_json::Value>(plan)
     {
-        o.roles = plan_roles(plan);
         o.inch = v.get("units").and_then(|u| u.as_str()).is_some_and(|u| u.to_ascii_lowercase().starts_with("in"));
         for t in v.get("tools").and_then(|t| t.as_array()).into_iter().flatten() {
             let Some(number) = t.get("number").and_then(|n| n.as_u64()) else { continue };
@@ -198,7 +205,7 @@ fn row_values(r: &EditRow, o: &Original) -> std::result::Result<Vec<(Parameter, 
         if before.is_empty() || after.is_empty() {
             return Err(format!("no number in `{}` → `{}`", r.before, r.after));
         }
-        let roles = o.roles.get(&(r.workingstep.max(0) as u32)).cloned().unwrap_or_default();
+        let roles = o.roles.as_ref().and_then(|m| m.get(&(r.workingstep.max(0) as u32))).cloned().unwrap_or_default();
         return feed_edits(&before, &after, &roles)
             .ok_or_else(|| format!("the workingstep's feeds changed in number (`{}` → `{}`): which is which cannot be told", r.before, r.after));
     }
@@ -223,7 +230,10 @@ fn operator(store: &Store, revision: i64, o: &Original, cfg: &SuggestSettings) -
 }
 
 /// The edits of `rows` in the rules' terms.
-fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Library>) -> Result<Edits> {
+fn edits(store: &Store, rows: &[EditRow], config: &Config, lib: Option<&Library>) -> Result<Edits> {
+    let cfg = &config.suggest;
+    // The dictionaries, read once, and only when an original must be read again.
+    let mut registry: Option<crate::dialect::Registry> = None;
     let mut originals: BTreeMap<i64, Original> = BTreeMap::new();
     let mut operators: BTreeMap<i64, Option<String>> = BTreeMap::new();
     let (mut accepted, mut all, mut unread) = (Vec::new(), Vec::new(), Vec::new());
@@ -235,6 +245,14 @@ fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Li
             std::collections::btree_map::Entry::Occupied(o) => o.into_mut(),
             std::collections::btree_map::Entry::Vacant(v) => v.insert(original(store, r.original_revision_id)?),
         };
+        // A feed change of a workingstep of several feeds: which is which, from its moves.
+        if o.roles.is_none() && r.kind == "feed_changed" && feed_list(&r.before).len() > 1 {
+            if registry.is_none() {
+                registry = Some(crate::config::dialect_registry(config.dialects_dir.as_deref())?);
+            }
+            let reader = crate::daemon::ingest::Reader { config, registry: registry.as_ref().expect("just read") };
+            o.roles = Some(plan_roles(store, &reader, r.original_revision_id));
+        }
         let values = match row_values(r, o) {
             Ok(v) => v,
             Err(why) => {
@@ -317,7 +335,7 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
     let cfg = &config.suggest;
     let lib = read_library(cfg)?;
     let rows = store.suggestion_edits()?;
-    let Edits { accepted, all, unread } = edits(store, &rows, cfg, lib.as_ref())?;
+    let Edits { accepted, all, unread } = edits(store, &rows, config, lib.as_ref())?;
     let mut steps: BTreeMap<String, Vec<Event>> = BTreeMap::new();
     for s in store.suggestion_steps()? {
         if let Some(e) = event(&s) {
@@ -457,7 +475,7 @@ pub fn line(e: &Entry) -> String {
         crate::suggest::Scale::Offset => format!("{:+} mm", crate::suggest::num(s.change())),
     };
     format!(
-        "{} {:<9} {} of {} · {} · {} · {}: CAM {} -> {} {} ({change}; {} to {}); {} edits, {} programs, {} days, p={}",
+        "{} {:<9} {} of {} · {} · {} · {}: CAM {} -> {} {} ({change}; {} to {}); {} edits, {} programs, {} days{}, p={}",
         s.id,
         if s.passed() || !e.events.is_empty() { e.state.name() } else { "held" },
         k.parameter.label(),
@@ -473,6 +491,7 @@ pub fn line(e: &Entry) -> String {
         s.edits.len(),
         s.programs,
         s.days,
+        if s.operators > 0 { format!(", {} operators", s.operators) } else { String::new() },
         crate::suggest::render::fmt_p(s.p),
     )
 }
