@@ -80,10 +80,44 @@ struct Original {
     operator: Option<String>,
 }
 
-/// The roles of the feeds of each workingstep of an original (`suggest::feed_roles`): its
-/// program read again as its folder reads it (the store keeps plans without their toolpaths).
-/// Empty where it cannot be read.
-fn plan_roles(store: &Store, reader: &crate::daemon::ingest::Reader<'_>, revision: i64) -> BTreeMap<u32, Vec<Option<FeedRole>>> {
+/// Each workingstep's feeds (plan units, mm/min) with their roles (`suggest::feed_roles`).
+type FeedsByStep = BTreeMap<u32, Vec<(f64, Option<FeedRole>)>>;
+
+/// Programs read again for their moves (the store keeps plans without their toolpaths), as
+/// their folders read them: the dictionaries loaded once, on first need, and each revision's
+/// feeds kept.
+struct Reread<'a> {
+    config: &'a Config,
+    registry: Option<crate::dialect::Registry>,
+    feeds: BTreeMap<i64, FeedsByStep>,
+}
+
+impl<'a> Reread<'a> {
+    fn new(config: &'a Config) -> Reread<'a> {
+        Reread { config, registry: None, feeds: BTreeMap::new() }
+    }
+
+    /// The feeds of each workingstep of `revision`, with their roles; empty where it cannot be read.
+    fn feeds(&mut self, store: &Store, revision: i64) -> Result<&FeedsByStep> {
+        if !self.feeds.contains_key(&revision) {
+            if self.registry.is_none() {
+                self.registry = Some(crate::config::dialect_registry(self.config.dialects_dir.as_deref())?);
+            }
+            let reader = crate::daemon::ingest::Reader { config: self.config, registry: self.registry.as_ref().expect("just read") };
+            self.feeds.insert(revision, feeds_of(store, &reader, revision));
+        }
+        Ok(&self.feeds[&revision])
+    }
+
+    /// The feed of `role` in workingstep `step` of `revision`: the first of that role.
+    fn feed(&mut self, store: &Store, revision: i64, step: u32, role: FeedRole) -> Result<Option<f64>> {
+        let f = self.feeds(store, revision)?;
+        Ok(f.get(&step).and_then(|v| v.iter().find(|(_, r)| *r == Some(role)).map(|(f, _)| *f)))
+    }
+}
+
+/// The feeds of each workingstep of a stored program, with their roles: the program read again.
+fn feeds_of(store: &Store, reader: &crate::daemon::ingest::Reader<'_>, revision: i64) -> FeedsByStep {
     let Ok(Some(src)) = store.source(revision) else { return BTreeMap::new() };
     let bytes = match src.bytes.clone() {
         Some(b) => b,
@@ -100,7 +134,8 @@ fn plan_roles(store: &Store, reader: &crate::daemon::ingest::Reader<'_>, revisio
                 .filter(|m| m.kind != crate::plan::MoveKind::Rapid)
                 .map(|m| FeedMove { from: m.from, to: m.to, feed: m.feed })
                 .collect();
-            (w.index, feed_roles(&w.technology.feeds, &moves))
+            let roles = feed_roles(&w.technology.feeds, &moves);
+            (w.index, w.technology.feeds.iter().copied().zip(roles).collect())
         })
         .collect()
 }
@@ -160,8 +195,8 @@ fn read_one_library(path: &Path) -> Result<Library> {
             for (nr, bit_path) in freecad::library(&text).map_err(wrap)? {
                 let bit = freecad_bit_file(dir, &bit_path)
                     .with_context(|| format!("the tool library {}: tool {nr}'s bit {bit_path}", path.display()))?;
-                let mut t = freecad::bit(&std::fs::read_to_string(&bit)?)
-                    .map_err(|e| anyhow::anyhow!("the tool bit {}: {e}", bit.display()))?;
+                let mut t =
+                    freecad::bit(&std::fs::read_to_string(&bit)?).map_err(|e| anyhow::anyhow!("the tool bit {}: {e}", bit.display()))?;
                 t.number = Some(nr);
                 tools.push(t);
             }
@@ -206,8 +241,9 @@ fn row_values(r: &EditRow, o: &Original) -> std::result::Result<Vec<(Parameter, 
             return Err(format!("no number in `{}` → `{}`", r.before, r.after));
         }
         let roles = o.roles.as_ref().and_then(|m| m.get(&(r.workingstep.max(0) as u32))).cloned().unwrap_or_default();
-        return feed_edits(&before, &after, &roles)
-            .ok_or_else(|| format!("the workingstep's feeds changed in number (`{}` → `{}`): which is which cannot be told", r.before, r.after));
+        return feed_edits(&before, &after, &roles).ok_or_else(|| {
+            format!("the workingstep's feeds changed in number (`{}` → `{}`): which is which cannot be told", r.before, r.after)
+        });
     }
     match (first_number(&r.before), first_number(&r.after)) {
         (Some(b), Some(a)) => Ok(vec![(parameter, b, a)]),
@@ -230,10 +266,8 @@ fn operator(store: &Store, revision: i64, o: &Original, cfg: &SuggestSettings) -
 }
 
 /// The edits of `rows` in the rules' terms.
-fn edits(store: &Store, rows: &[EditRow], config: &Config, lib: Option<&Library>) -> Result<Edits> {
-    let cfg = &config.suggest;
-    // The dictionaries, read once, and only when an original must be read again.
-    let mut registry: Option<crate::dialect::Registry> = None;
+fn edits(store: &Store, rows: &[EditRow], reread: &mut Reread<'_>, lib: Option<&Library>) -> Result<Edits> {
+    let cfg = &reread.config.suggest;
     let mut originals: BTreeMap<i64, Original> = BTreeMap::new();
     let mut operators: BTreeMap<i64, Option<String>> = BTreeMap::new();
     let (mut accepted, mut all, mut unread) = (Vec::new(), Vec::new(), Vec::new());
@@ -247,11 +281,8 @@ fn edits(store: &Store, rows: &[EditRow], config: &Config, lib: Option<&Library>
         };
         // A feed change of a workingstep of several feeds: which is which, from its moves.
         if o.roles.is_none() && r.kind == "feed_changed" && feed_list(&r.before).len() > 1 {
-            if registry.is_none() {
-                registry = Some(crate::config::dialect_registry(config.dialects_dir.as_deref())?);
-            }
-            let reader = crate::daemon::ingest::Reader { config, registry: registry.as_ref().expect("just read") };
-            o.roles = Some(plan_roles(store, &reader, r.original_revision_id));
+            let feeds = reread.feeds(store, r.original_revision_id)?;
+            o.roles = Some(feeds.iter().map(|(step, f)| (*step, f.iter().map(|x| x.1).collect())).collect());
         }
         let values = match row_values(r, o) {
             Ok(v) => v,
@@ -318,16 +349,20 @@ fn event(s: &SuggestionStep) -> Option<Event> {
     })
 }
 
-/// The value a CAM workingstep gives for a parameter (plan units are metric already).
-fn cam_value(c: &crate::store::CamRow, p: Parameter) -> Option<f64> {
-    match p {
-        Parameter::CuttingFeed => c.feed,
-        Parameter::SpindleSpeed => c.spindle_speed,
-        Parameter::Stepdown => c.axial_depth,
-        Parameter::Stepover => c.radial_depth,
-        Parameter::ClearanceHeight => c.security_plane,
-        Parameter::PlungeFeed | Parameter::RampFeed | Parameter::CuttingSpeed | Parameter::PeckDepth => None,
-    }
+/// The value a CAM workingstep gives for a parameter (plan units are metric already): a feed
+/// by its role, from the post read again where its workingstep has several feeds.
+fn cam_value(store: &Store, reread: &mut Reread<'_>, c: &crate::store::CamRow, p: Parameter) -> Result<Option<f64>> {
+    let role = match p {
+        Parameter::CuttingFeed => FeedRole::Cutting,
+        Parameter::PlungeFeed => FeedRole::Plunge,
+        Parameter::RampFeed => FeedRole::Ramp,
+        Parameter::SpindleSpeed => return Ok(c.spindle_speed),
+        Parameter::Stepdown => return Ok(c.axial_depth),
+        Parameter::Stepover => return Ok(c.radial_depth),
+        Parameter::ClearanceHeight => return Ok(c.security_plane),
+        Parameter::CuttingSpeed | Parameter::PeckDepth => return Ok(None),
+    };
+    reread.feed(store, c.revision, c.workingstep.max(0) as u32, role)
 }
 
 /// Everything the knowledge pages and the exports show, as of `now`.
@@ -335,7 +370,8 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
     let cfg = &config.suggest;
     let lib = read_library(cfg)?;
     let rows = store.suggestion_edits()?;
-    let Edits { accepted, all, unread } = edits(store, &rows, config, lib.as_ref())?;
+    let mut reread = Reread::new(config);
+    let Edits { accepted, all, unread } = edits(store, &rows, &mut reread, lib.as_ref())?;
     let mut steps: BTreeMap<String, Vec<Event>> = BTreeMap::new();
     for s in store.suggestion_steps()? {
         if let Some(e) = event(&s) {
@@ -351,18 +387,20 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
         let watch = match (state, exported) {
             (State::Exported | State::Adopted, Some(since)) => {
                 let group: Vec<Edit> = all.iter().filter(|e| e.key() == s.key).cloned().collect();
-                let cam: Vec<CamStep> = store
-                    .cam_steps_since(&since)?
-                    .iter()
-                    .map(|c| CamStep {
+                // The posts of the programs behind it with its tool: the others cannot adopt it.
+                let behind =
+                    |c: &&crate::store::CamRow| c.tool.max(0) as u32 == s.key.tool.number && s.edits.iter().any(|e| e.original == c.path);
+                let mut cam: Vec<CamStep> = Vec::new();
+                for c in store.cam_steps_since(&since)?.iter().filter(behind) {
+                    cam.push(CamStep {
                         original: c.path.clone(),
                         revision: c.revision,
                         at: c.seen_at.clone(),
                         workingstep: c.workingstep.max(0) as u32,
                         tool: c.tool.max(0) as u32,
-                        value: cam_value(c, s.key.parameter),
-                    })
-                    .collect();
+                        value: cam_value(store, &mut reread, c, s.key.parameter)?,
+                    });
+                }
                 Some(review::watch(&s, &since, &group, &cam, &cfg.rules))
             }
             _ => None,

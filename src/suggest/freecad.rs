@@ -114,8 +114,10 @@ mod tests {
 
     #[test]
     fn quantities_in_inches_and_flutes_as_attributes() {
-        let t = super::bit(r#"{"name": "1/4 in 2FL", "shape": "endmill.fcstd", "parameter": {"Diameter": "0.2500 in"},
-            "attribute": {"Flutes": 2, "Material": "Carbide"}}"#)
+        let t = super::bit(
+            r#"{"name": "1/4 in 2FL", "shape": "endmill.fcstd", "parameter": {"Diameter": "0.2500 in"},
+            "attribute": {"Flutes": 2, "Material": "Carbide"}}"#,
+        )
         .unwrap();
         assert_eq!((t.diameter, t.flutes, t.corner_radius), (Some(6.35), Some(2), None));
         assert_eq!(super::length_mm(&json!("119.0000 °")), None, "an angle is no length");
@@ -125,7 +127,8 @@ mod tests {
 
     #[test]
     fn a_library_numbers_its_bits() {
-        let l = super::library(r#"{"tools": [{"nr": 1, "path": "5mm_Endmill.fctb"}, {"nr": 4, "path": "6mm_Bullnose.fctb"}], "version": 1}"#);
+        let l =
+            super::library(r#"{"tools": [{"nr": 1, "path": "5mm_Endmill.fctb"}, {"nr": 4, "path": "6mm_Bullnose.fctb"}], "version": 1}"#);
         assert_eq!(l.unwrap(), [(1, "5mm_Endmill.fctb".to_owned()), (4, "6mm_Bullnose.fctb".to_owned())]);
         assert!(super::library(r#"{"tools": [{"path": "x.fctb"}]}"#).is_err());
     }

@@ -445,7 +445,10 @@ fn the_cam_tool_is_named_from_a_freecad_library_or_a_linuxcnc_tool_table() {
     let fctl = tools.join("Tools/Library/Shop.fctl");
     let tbl = tools.join("tool.tbl");
     let freecad = named("freecad.toml", &format!("'{}'", fctl.display()));
-    assert_eq!(freecad, serde_json::json!({"number": 5, "description": "10 mm End Mill 3FL ALU", "diameter": 10.0, "flutes": 3, "corner_radius": null}));
+    assert_eq!(
+        freecad,
+        serde_json::json!({"number": 5, "description": "10 mm End Mill 3FL ALU", "diameter": 10.0, "flutes": 3, "corner_radius": null})
+    );
     let linuxcnc = named("linuxcnc.toml", &format!("'{}'", tbl.display()));
     assert_eq!(linuxcnc["description"], "EM10 3FL ALU (shop tool 5)");
     assert_eq!(linuxcnc["diameter"], 10.0);
