@@ -8,6 +8,10 @@
 //! thread cannot be killed, so the one given up runs on; should it ever finish, its result is
 //! dropped. [`Pool::advancing`] says whether work advances (the watchdog is pinged only
 //! then), and [`Pool::stop`] waits for the files in progress within a bound only.
+//!
+//! After a worker stored a revision of a CAM post or an edit with changes, it runs the watch
+//! over exported suggestions (`export::watch`, one worker at a time): a post that carries a
+//! suggested value adopts it, edits that go on reopen it, recorded at once.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};

@@ -4,12 +4,18 @@
 //!
 //! [`load`] reads the edits (`suggestion_edits`), names each one's tool as the CAM knows it
 //! (the original's plan: number, tool comment, diameter, flutes, corner radius; the shop's
-//! tool library where `[suggest] tool_library` names one and it has the number), its material
+//! tool lists where `[suggest] tool_library` names them and one has the number: Fusion JSON,
+//! a FreeCAD library `.fctl` with its bits or a bit `.fctb`, a tool table), its material
 //! (the original's header comments, else `[[suggest.material]]` by folder, else `unknown`),
-//! converts inch programs' values to metric, and asks `suggest::suggest`; then each group's
+//! its operator (a header comment of the edited program its original lacks, else
+//! `[[suggest.operator]]` by the edited file's folder), tells a `feed_changed` row's feeds
+//! apart by role (the original read again, the store keeping no toolpaths), converts inch
+//! programs' values to metric, and asks `suggest::suggest`; then each group's
 //! steps give its state (`suggest::review::current`) and, once exported, the watch over the
-//! CAM posts since. [`record`] writes what the rules and the watch found (a new suggestion
-//! proposed, an exported one adopted or reopened) as steps by `ncplan`; [`review`] a
+//! CAM posts since. [`watch`] is what the daemon runs after it stores a revision: the watch's
+//! steps (adopted, reopened) recorded while some suggestion is exported or adopted. [`record`]
+//! writes what the rules and the watch found (a new suggestion proposed, an exported one
+//! adopted or reopened) as steps by `ncplan`; [`review`] a
 //! planner's step, refused where the state does not allow it. `files` writes the outbox:
 //! never a watched folder, never the shop's tool library.
 

@@ -10,12 +10,18 @@
 //! outliers by the median absolute deviation), no reversal among the latest edits, and a
 //! cautious estimate (the median shrunk toward no change, kept inside its interval).
 //!
+//! A `feed_changed` row lists every feed of a workingstep: [`feed_roles`] tells which is the
+//! cutting feed, a plunge's or a ramp's from the moves at each, and [`feed_edits`] makes one
+//! edit per role that changed. The operator of an edit is read where the share tells it
+//! ([`header_operator`]).
+//!
 //! `stats` holds the statistics; `review` the review states (proposed, accepted, rejected,
 //! snoozed, exported, adopted, reopened) from the recorded events, and the watch after export
 //! (a new CAM post that carries the value and edits that stop: adopted; edits that go on:
 //! reopened); `library` reads the CAM side's tool libraries (Autodesk Fusion / Inventor CAM /
 //! HSM JSON in its older `start-values` `*` form and its newer `presets` form) and writes the
-//! copies with one preset per accepted suggestion; `render` the neutral CSV, the one-line
+//! copies with one preset per accepted suggestion, and takes tool tables as the CAM's tools;
+//! `freecad` reads FreeCAD's tool bits and libraries; `render` the neutral CSV, the one-line
 //! evidence and the pictures (edits over time, their spread).
 
 pub mod freecad;
