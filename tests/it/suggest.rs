@@ -462,3 +462,38 @@ fn the_cam_tool_is_named_from_a_freecad_library_or_a_linuxcnc_tool_table() {
     assert_eq!((t(7).diameter, t(7).flutes, t(7).kind.as_str()), (Some(6.8), Some(2), "drill"));
     assert_eq!((t(9).diameter, t(9).corner_radius, t(9).description.as_str()), (Some(8.0), Some(1.5), "8 mm Bull Nose R1.5"));
 }
+
+/// The README's loop on the bundled demo: its history imported from a copy of the checkout's
+/// `demo` and `config`, with the built-in configuration (no `--config`), makes exactly the
+/// suggestion the README shows (DMU50's T3 roughing feed, 1200 → 880), holds HAAS1's nudges
+/// back, and exports it into the demo's outbox.
+#[test]
+fn the_readme_loop_runs_on_the_demo() {
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["demo", "config"] {
+        let ok = Command::new("cp").arg("-r").arg(crate::root().join(sub)).arg(dir.path()).status().unwrap().success();
+        assert!(ok, "copying {sub}");
+    }
+    let run = |args: &[&str]| -> String {
+        let out = Command::new(crate::bin()).args(args).current_dir(dir.path()).output().unwrap();
+        assert!(out.status.success(), "ncplan {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    run(&["import", "demo/history/cam", "--cam"]);
+    assert!(run(&["import", "demo/history/DMU50", "--machine", "DMU50"]).contains("7 compared with their original"));
+    run(&["import", "demo/history/HAAS1", "--machine", "HAAS1"]);
+    let listed = run(&["suggest", "--all"]);
+    let lines: Vec<&str> = listed.lines().filter(|l| !l.starts_with(' ')).collect();
+    assert_eq!(lines.len(), 2, "{listed}");
+    assert!(
+        lines[0].starts_with("6bc3e52ba2e3 proposed  cutting feed of T3 Ø12 FLAT END MILL · AL6061-T6 · DMU50")
+            && lines[0].contains("CAM 1200 -> 880 mm/min (-26.7 %; 840 to 880); 7 edits, 3 programs, 7 days, 2 operators, p=0.016"),
+        "{listed}"
+    );
+    assert!(lines[1].contains(" held ") && lines[1].contains("HAAS1"), "{listed}");
+    run(&["suggest", "--accept", "6bc3e52ba2e3", "--by", "anna"]);
+    assert!(run(&["export-suggestions", "--to", "fusion", "--by", "anna"]).contains("1 accepted suggestions exported"));
+    let lib = library::read(&std::fs::read_to_string(dir.path().join("var/outbox/ncplan-suggestions.json")).unwrap()).unwrap();
+    let preset = &lib.tools[0].presets[0].1;
+    assert_eq!((lib.tools[0].number, preset.get("v_f").copied()), (Some(3), Some(880.0)));
+}
