@@ -1024,6 +1024,20 @@ mod tests {
     }
 
     #[test]
+    fn suggest_takes_several_tool_lists_and_operators_by_folder() {
+        let text = "[database]\npath = 'db'\n[suggest]\ntool_library = ['tools/shop.json', 'Tools/Library/Shop.fctl']\n\
+                    [[suggest.operator]]\nfolder = 'dnc/m1'\noperator = 'JO'\n\
+                    [[suggest.operator]]\nfolder = 'dnc/m1/anna'\noperator = ' ANNA '\n";
+        let c = Config::parse(text, Path::new("/srv")).unwrap();
+        let s = &c.suggest;
+        assert_eq!(s.tool_libraries, [PathBuf::from("/srv/tools/shop.json"), PathBuf::from("/srv/Tools/Library/Shop.fctl")]);
+        // The longest folder first, so that an operator's own folder wins over the machine's.
+        assert_eq!(s.operators, [(PathBuf::from("/srv/dnc/m1/anna"), "ANNA".to_owned()), (PathBuf::from("/srv/dnc/m1"), "JO".to_owned())]);
+        let one = Config::parse("[database]\npath = 'db'\n[suggest]\ntool_library = 'tool.tbl'\n", Path::new("/srv")).unwrap();
+        assert_eq!(one.suggest.tool_libraries, [PathBuf::from("/srv/tool.tbl")]);
+    }
+
+    #[test]
     fn demo_config_is_valid() {
         let c = Config::parse(DEMO, Path::new("/srv/ncplan")).unwrap();
         assert!(c.folders.iter().any(|f| f.role == Role::Cam));
