@@ -448,23 +448,29 @@ pub fn record(store: &Store, k: &Knowledge, at: &str) -> Result<usize> {
 fn record_some(store: &Store, k: &Knowledge, at: &str, watch_only: bool) -> Result<usize> {
     let mut n = 0;
     for e in &k.entries {
-        let last = e.events.last().map(|x| x.state);
-        let to = match (last, e.state) {
-            (Some(l), s) if l != s && matches!(s, State::Adopted | State::Reopened) => {
-                Some((s, e.watch.as_ref().map(Watch::words).unwrap_or_default()))
-            }
-            _ if watch_only => None,
-            (None, State::Proposed) if e.s.passed() => Some((State::Proposed, "the rules' gates passed".to_owned())),
-            (Some(State::Rejected), State::Proposed) => Some((State::Proposed, "the evidence grew since the rejection".to_owned())),
-            (Some(State::Snoozed), State::Proposed) => Some((State::Proposed, "the snooze is over".to_owned())),
-            _ => None,
-        };
-        if let Some((state, reason)) = to {
+        if let Some((state, reason)) = pending(e, watch_only) {
             store.add_suggestion_step(&step(e, state, &reason, "ncplan", at))?;
             n += 1;
         }
     }
     Ok(n)
+}
+
+/// The step the rules or the watch ask for `e` and its reason, not recorded yet: the watch's
+/// (adopted, reopened) and, unless `watch_only`, the rules' (proposed, again after a
+/// rejection whose evidence grew or a snooze that ended).
+fn pending(e: &Entry, watch_only: bool) -> Option<(State, String)> {
+    let last = e.events.last().map(|x| x.state);
+    match (last, e.state) {
+        (Some(l), s) if l != s && matches!(s, State::Adopted | State::Reopened) => {
+            Some((s, e.watch.as_ref().map(Watch::words).unwrap_or_default()))
+        }
+        _ if watch_only => None,
+        (None, State::Proposed) if e.s.passed() => Some((State::Proposed, "the rules' gates passed".to_owned())),
+        (Some(State::Rejected), State::Proposed) => Some((State::Proposed, "the evidence grew since the rejection".to_owned())),
+        (Some(State::Snoozed), State::Proposed) => Some((State::Proposed, "the snooze is over".to_owned())),
+        _ => None,
+    }
 }
 
 /// The watch after an export, as the daemon runs it once a revision is stored: where some
@@ -493,8 +499,15 @@ pub fn review(store: &Store, k: &Knowledge, id: &str, to: State, reason: &str, b
     if to == State::Rejected && reason.trim().is_empty() {
         bail!("a rejection needs its reason");
     }
-    if e.events.is_empty() {
-        store.add_suggestion_step(&step(e, State::Proposed, "the rules' gates passed", "ncplan", at))?;
+    // What the rules and the watch found first (proposed, proposed again, adopted, reopened),
+    // so that the record shows the state the planner moved it from.
+    let first = match pending(e, false) {
+        Some(p) => Some(p),
+        None if e.events.is_empty() => Some((State::Proposed, "the rules' gates passed".to_owned())),
+        None => None,
+    };
+    if let Some((state, why)) = first {
+        store.add_suggestion_step(&step(e, state, &why, "ncplan", at))?;
     }
     store.add_suggestion_step(&step(e, to, reason.trim(), by, at))?;
     Ok(())
