@@ -25,7 +25,7 @@ pub(super) struct Args {
     /// Only this machine's.
     #[arg(long)]
     machine: Option<String>,
-    /// Only this parameter's (cutting_feed, plunge_feed, spindle_speed, cutting_speed,
+    /// Only this parameter's (cutting_feed, plunge_feed, ramp_feed, spindle_speed, cutting_speed,
     /// stepdown, stepover, peck_depth, clearance_height).
     #[arg(long)]
     parameter: Option<String>,
