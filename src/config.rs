@@ -127,11 +127,13 @@ struct RawConfig {
 #[serde(deny_unknown_fields)]
 struct RawSuggest {
     outbox: Option<String>,
-    tool_library: Option<String>,
+    tool_library: Option<OneOrMany>,
     #[serde(default)]
     unreviewed: bool,
     #[serde(default)]
     material: Vec<RawMaterial>,
+    #[serde(default)]
+    operator: Vec<RawOperator>,
     min_edits: Option<usize>,
     min_programs: Option<usize>,
     min_days: Option<usize>,
@@ -160,18 +162,48 @@ struct RawMaterial {
     material: String,
 }
 
+/// `[[suggest.operator]]`: who edits the programs saved under `folder` (a machine's share, or
+/// an operator's own folder on it), where no header comment names the operator.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOperator {
+    folder: String,
+    operator: String,
+}
+
+/// One path or a list of them.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum OneOrMany {
+    One(String),
+    Many(Vec<String>),
+}
+
+impl OneOrMany {
+    fn list(&self) -> Vec<&str> {
+        match self {
+            OneOrMany::One(s) => vec![s.as_str()],
+            OneOrMany::Many(v) => v.iter().map(String::as_str).collect(),
+        }
+    }
+}
+
 /// `[suggest]`, validated.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SuggestSettings {
     /// Where `export-suggestions` writes without a folder given.
     pub outbox: Option<PathBuf>,
-    /// The shop's own Fusion / Inventor CAM / HSM tool library (JSON), read to name the CAM
-    /// tool and copied into the export; never written.
-    pub tool_library: Option<PathBuf>,
+    /// The shop's own tool lists, read to name the CAM tool, the first that has a number
+    /// naming it: Fusion / Inventor CAM / HSM libraries (JSON, their tools copied into the
+    /// export), FreeCAD tool libraries (`.fctl`, with their bits) and bits (`.fctb`), and tool
+    /// tables (LinuxCNC `tool.tbl`, Heidenhain `TOOL.T`, Fanuc `G10`, Siemens `$TC_DP`); never written.
+    pub tool_libraries: Vec<PathBuf>,
     /// Whether unreviewed changes count too (by default only those a planner adopted).
     pub unreviewed: bool,
     /// The material of the programs under a folder: (folder, material), longest folder first.
     pub materials: Vec<(PathBuf, String)>,
+    /// Who edits the programs saved under a folder: (folder, operator), longest folder first.
+    pub operators: Vec<(PathBuf, String)>,
     /// The rules' thresholds.
     pub rules: crate::suggest::Rules,
 }
@@ -225,13 +257,11 @@ fn suggest_settings(raw: &RawSuggest, base: &Path, folders: &[Folder]) -> Result
     let mut materials: Vec<(PathBuf, String)> =
         raw.material.iter().map(|m| (resolve(base, &m.folder), m.material.trim().to_owned())).collect();
     materials.sort_by(|a, b| b.0.as_os_str().len().cmp(&a.0.as_os_str().len()).then(a.0.cmp(&b.0)));
-    Ok(SuggestSettings {
-        outbox,
-        tool_library: raw.tool_library.as_deref().map(|t| resolve(base, t)),
-        unreviewed: raw.unreviewed,
-        materials,
-        rules,
-    })
+    let mut operators: Vec<(PathBuf, String)> =
+        raw.operator.iter().map(|m| (resolve(base, &m.folder), m.operator.trim().to_owned())).collect();
+    operators.sort_by(|a, b| b.0.as_os_str().len().cmp(&a.0.as_os_str().len()).then(a.0.cmp(&b.0)));
+    let tool_libraries = raw.tool_library.as_ref().map(|l| l.list().iter().map(|t| resolve(base, t)).collect()).unwrap_or_default();
+    Ok(SuggestSettings { outbox, tool_libraries, unreviewed: raw.unreviewed, materials, operators, rules })
 }
 
 /// `ncplan serve`: where it listens and who may sign in.
@@ -991,6 +1021,20 @@ mod tests {
         assert_eq!(with_stock.profile.stock, Some([[0.0, 0.0, -30.0], [150.0, 100.0, 0.0]]));
         assert!(Config::parse("[database]\npath = 'db'\n[stock]\nmin = [0, 0, 0]\nmax = [150, 100, 0]\n", Path::new("/srv")).is_err());
         assert!(Config::parse("[database]\npath = 'db'\n[[tool]]\nnumber = 1\nkind = 'spoon'\n", Path::new("/srv")).is_err());
+    }
+
+    #[test]
+    fn suggest_takes_several_tool_lists_and_operators_by_folder() {
+        let text = "[database]\npath = 'db'\n[suggest]\ntool_library = ['tools/shop.json', 'Tools/Library/Shop.fctl']\n\
+                    [[suggest.operator]]\nfolder = 'dnc/m1'\noperator = 'JO'\n\
+                    [[suggest.operator]]\nfolder = 'dnc/m1/anna'\noperator = ' ANNA '\n";
+        let c = Config::parse(text, Path::new("/srv")).unwrap();
+        let s = &c.suggest;
+        assert_eq!(s.tool_libraries, [PathBuf::from("/srv/tools/shop.json"), PathBuf::from("/srv/Tools/Library/Shop.fctl")]);
+        // The longest folder first, so that an operator's own folder wins over the machine's.
+        assert_eq!(s.operators, [(PathBuf::from("/srv/dnc/m1/anna"), "ANNA".to_owned()), (PathBuf::from("/srv/dnc/m1"), "JO".to_owned())]);
+        let one = Config::parse("[database]\npath = 'db'\n[suggest]\ntool_library = 'tool.tbl'\n", Path::new("/srv")).unwrap();
+        assert_eq!(one.suggest.tool_libraries, [PathBuf::from("/srv/tool.tbl")]);
     }
 
     #[test]

@@ -3,7 +3,10 @@
 //! a new installation starts with history.
 //!
 //! Shell code. Files are grouped by program (their file name: `2024-03-01/O1234.nc` and
-//! `2024-05-12/O1234.nc` are two revisions of the share's `O1234.nc`) and each program's
+//! `2024-05-12/O1234.nc` are two revisions of the share's `O1234.nc`). A file under a folder
+//! named by its date (`2024-03-01`, `2024-03-01_late`) was saved that day, whatever its file
+//! time says (a copy or a checkout dates every file the day it was made): its time is the
+//! file time where that falls on the folder's day, else noon of that day. Each program's
 //! files go, oldest first, to one worker of a pool with a connection each, so that every core
 //! analyses and each program's revisions are stored in time order. Content a program already
 //! has is skipped, so an import that was killed resumes where it was.
@@ -62,6 +65,7 @@ pub fn programs(config: &Config, dir: &Path) -> Result<BTreeMap<String, Vec<(Pat
     let mut groups: BTreeMap<String, Vec<(PathBuf, SystemTime)>> = BTreeMap::new();
     for f in files {
         let mtime = std::fs::metadata(&f).and_then(|m| m.modified()).unwrap_or(SystemTime::UNIX_EPOCH);
+        let mtime = folder_day(dir, &f).map_or(mtime, |day| on_day(mtime, day));
         let name = f.file_name().map(crate::sharefile::os_text).unwrap_or_default();
         groups.entry(name).or_default().push((f, mtime));
     }
@@ -69,6 +73,31 @@ pub fn programs(config: &Config, dir: &Path) -> Result<BTreeMap<String, Vec<(Pat
         g.sort_by(|a, b| a.1.cmp(&b.1).then_with(|| a.0.cmp(&b.0)));
     }
     Ok(groups)
+}
+
+/// The day (since 1970) of the innermost folder between `dir` and `file` named by a date
+/// (`YYYY-MM-DD`, maybe followed by more).
+fn folder_day(dir: &Path, file: &Path) -> Option<i64> {
+    let rel = file.strip_prefix(dir).ok()?.parent()?;
+    rel.components().rev().find_map(|c| {
+        let name = c.as_os_str().to_str()?;
+        let date = name.get(..10)?;
+        let shaped = date.bytes().enumerate().all(|(i, b)| if i == 4 || i == 7 { b == b'-' } else { b.is_ascii_digit() });
+        let day = crate::suggest::day_number(date).filter(|_| shaped)?;
+        // A real date: it reads back the same (no 2024-02-31).
+        let back = crate::daemon::rfc3339(day * 86_400, 0);
+        back.starts_with(date).then_some(day)
+    })
+}
+
+/// `t` where it falls on `day`, else noon of `day` (UTC).
+fn on_day(t: SystemTime, day: i64) -> SystemTime {
+    let secs = t.duration_since(SystemTime::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
+    if secs.div_euclid(86_400) == day {
+        return t;
+    }
+    let noon = day * 86_400 + 12 * 3600;
+    if noon >= 0 { SystemTime::UNIX_EPOCH + Duration::from_secs(noon as u64) } else { SystemTime::UNIX_EPOCH }
 }
 
 fn rfc3339(t: SystemTime) -> String {
@@ -139,4 +168,26 @@ pub fn run(
     summary.errors.sort();
     summary.elapsed = started.elapsed();
     Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+    use std::time::{Duration, SystemTime};
+
+    #[test]
+    fn a_dated_folder_gives_the_day() {
+        let dir = Path::new("/backups/m1");
+        let day = crate::suggest::day_number("2026-03-14");
+        assert_eq!(super::folder_day(dir, Path::new("/backups/m1/2026-03-14/O1.nc")), day);
+        assert_eq!(super::folder_day(dir, Path::new("/backups/m1/2026-03-14_late/x/O1.nc")), day);
+        assert_eq!(super::folder_day(dir, Path::new("/backups/m1/2026-02-31/O1.nc")), None, "no such day");
+        assert_eq!(super::folder_day(dir, Path::new("/backups/m1/010/O1.nc")), None);
+        assert_eq!(super::folder_day(Path::new("/2026-03-14"), Path::new("/2026-03-14/O1.nc")), None, "only below the imported folder");
+        let day = day.unwrap();
+        let same = SystemTime::UNIX_EPOCH + Duration::from_secs((day * 86_400 + 8 * 3600) as u64);
+        assert_eq!(super::on_day(same, day), same);
+        let later = SystemTime::UNIX_EPOCH + Duration::from_secs(((day + 200) * 86_400) as u64);
+        assert_eq!(super::on_day(later, day), SystemTime::UNIX_EPOCH + Duration::from_secs((day * 86_400 + 12 * 3600) as u64));
+    }
 }

@@ -25,7 +25,7 @@ pub(super) struct Args {
     /// Only this machine's.
     #[arg(long)]
     machine: Option<String>,
-    /// Only this parameter's (cutting_feed, plunge_feed, spindle_speed, cutting_speed,
+    /// Only this parameter's (cutting_feed, plunge_feed, ramp_feed, spindle_speed, cutting_speed,
     /// stepdown, stepover, peck_depth, clearance_height).
     #[arg(long)]
     parameter: Option<String>,
@@ -80,8 +80,9 @@ pub(super) struct ExportArgs {
     now: Option<String>,
 }
 
-/// The configuration and a writable store.
-fn open(args: &StoreArgs) -> Result<(Config, Store)> {
+/// The configuration and the store: writable, or read-only for a listing (which writes
+/// nothing, so that it works on a database the user may only read).
+fn open(args: &StoreArgs, writable: bool) -> Result<(Config, Store)> {
     let mut config = load_config(args.config.as_deref())?;
     if let Some(db) = &args.db {
         config.database = Location::parse(db);
@@ -89,7 +90,8 @@ fn open(args: &StoreArgs) -> Result<(Config, Store)> {
     if !config.database.exists() {
         bail!("no database at {} (has `ncplan watch` run?)", config.database);
     }
-    let store = Store::open(&config.database, &config.site).with_context(|| format!("cannot open the database {}", config.database))?;
+    let store = if writable { Store::open(&config.database, &config.site) } else { Store::open_read_only(&config.database) };
+    let store = store.with_context(|| format!("cannot open the database {}", config.database))?;
     Ok((config, store))
 }
 
@@ -108,17 +110,19 @@ fn shown(e: &Entry, a: &Args) -> bool {
         && a.tool.is_none_or(|t| k.tool.number == t)
 }
 
-/// Runs `ncplan suggest`.
+/// Runs `ncplan suggest`: a listing reads (the states it shows are those the rules and the
+/// watch give now); a planner's step first records what they found, then the step.
 pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
-    let (config, store) = open(&args.store)?;
-    let at = now(&args.now);
-    let k = export::load(&store, &config, &at)?;
-    export::record(&store, &k, &at)?;
     let decided = [(&args.accept, "accepted"), (&args.reject, "rejected"), (&args.snooze, "snoozed")];
-    let k = if let Some((Some(id), to)) = decided.iter().find(|(id, _)| id.is_some()) {
+    let decision = decided.iter().find(|(id, _)| id.is_some()).map(|(id, to)| ((*id).clone().unwrap_or_default(), *to));
+    let (config, store) = open(&args.store, decision.is_some())?;
+    let at = now(&args.now);
+    let k = if let Some((id, to)) = decision {
         let state = export::State::parse(to).expect("a known state");
         let k = export::load(&store, &config, &at)?;
-        export::review(&store, &k, id, state, &args.reason, &args.by, &at)?;
+        export::record(&store, &k, &at)?;
+        let k = export::load(&store, &config, &at)?;
+        export::review(&store, &k, &id, state, &args.reason, &args.by, &at)?;
         export::load(&store, &config, &at)?
     } else {
         export::load(&store, &config, &at)?
@@ -156,7 +160,7 @@ fn print_text(k: &Knowledge, entries: &[&Entry], out: &mut impl Write) -> Result
 
 /// Runs `ncplan export-suggestions`.
 pub(super) fn export_run(args: ExportArgs, mut out: impl Write) -> Result<ExitCode> {
-    let (config, store) = open(&args.store)?;
+    let (config, store) = open(&args.store, true)?;
     let Some(dir) = args.outdir.clone().or_else(|| config.suggest.outbox.clone()) else {
         bail!("give the outbox folder, or set [suggest] outbox in the configuration");
     };

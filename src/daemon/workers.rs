@@ -8,6 +8,10 @@
 //! thread cannot be killed, so the one given up runs on; should it ever finish, its result is
 //! dropped. [`Pool::advancing`] says whether work advances (the watchdog is pinged only
 //! then), and [`Pool::stop`] waits for the files in progress within a bound only.
+//!
+//! After a worker stored a revision of a CAM post or an edit with changes, it runs the watch
+//! over exported suggestions (`export::watch`, one worker at a time): a post that carries a
+//! suggested value adopts it, edits that go on reopen it, recorded at once.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -208,6 +212,22 @@ fn spawn(shared: &Arc<Shared>, i: usize, store: Option<Store>, first: bool) -> R
     Ok(Slot { state, thread })
 }
 
+/// One watch at a time in this daemon: two workers that stored revisions at once would both
+/// see an exported suggestion adopted and record it twice.
+static WATCH: Mutex<()> = Mutex::new(());
+
+/// The watch over exported suggestions after a revision was stored (a CAM post that carries a
+/// suggested value adopts it, edits that go on reopen it), recorded on this worker's store; a
+/// failure is logged, never the file's.
+fn watch_suggestions(store: &Store, config: &Config, now: &str) {
+    let _one = WATCH.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    match crate::export::watch(store, config, now) {
+        Ok(0) => {}
+        Ok(n) => tracing::info!(steps = n, "Recorded what the watch over exported suggestions saw."),
+        Err(error) => tracing::error!(error = format!("{error:#}"), "Could not watch the exported suggestions."),
+    }
+}
+
 impl Shared {
     /// A worker's life: (the first) the waiting comparisons, then one job after another,
     /// until the jobs' sender or the main loop goes away, or it is given up. A panicking
@@ -242,6 +262,12 @@ impl Shared {
                 }
             }))
             .unwrap_or_else(|_| Err(anyhow::anyhow!("analysis panicked")));
+            if let Ok(ingest::Outcome::Stored { changes, compared, .. }) = &result {
+                let cam = config.folders[folder].role == crate::config::Role::Cam;
+                if cam || changes.is_some_and(|n| n > 0) || *compared > 0 {
+                    watch_suggestions(&store, config, &clock.now());
+                }
+            }
             let given_up = match state.lock() {
                 Ok(mut s) => {
                     s.busy = None;

@@ -68,9 +68,7 @@ pub fn check_outbox(dir: &Path, config: &Config) -> Result<PathBuf> {
 /// Writes `bytes` to `dir/name`, refusing the shop's tool library; returns the path.
 fn put(dir: &Path, name: &str, bytes: &[u8], config: &Config) -> Result<PathBuf> {
     let path = dir.join(name);
-    if let Some(lib) = &config.suggest.tool_library
-        && std::fs::canonicalize(lib).is_ok_and(|l| l == path)
-    {
+    if config.suggest.tool_libraries.iter().any(|l| std::fs::canonicalize(l).is_ok_and(|l| l == path)) {
         bail!("{} is the shop's tool library; ncplan never writes the CAM side's files", path.display());
     }
     let tmp = dir.join(format!(".{name}.part"));
@@ -114,22 +112,10 @@ pub fn write(
     Ok((files, if format.hands_over() { ids } else { Vec::new() }))
 }
 
-/// CRC-32 (IEEE 802.3, reflected), as zip asks.
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut c = !0u32;
-    for b in bytes {
-        c ^= u32::from(*b);
-        for _ in 0..8 {
-            c = if c & 1 != 0 { (c >> 1) ^ 0xEDB8_8320 } else { c >> 1 };
-        }
-    }
-    !c
-}
-
 /// A zip archive of one stored (uncompressed) file, dated 1980-01-01 so that the same
 /// content gives the same bytes. The `.tools` file Fusion imports is such a zip of the JSON.
 pub fn zip_one(name: &str, data: &[u8]) -> Vec<u8> {
-    let (crc, size, n) = (crc32(data), data.len() as u32, name.len() as u16);
+    let (crc, size, n) = (crc32fast::hash(data), data.len() as u32, name.len() as u16);
     let mut out = Vec::with_capacity(data.len() + 2 * name.len() + 100);
     let le16 = |v: u16, o: &mut Vec<u8>| o.extend_from_slice(&v.to_le_bytes());
     let le32 = |v: u32, o: &mut Vec<u8>| o.extend_from_slice(&v.to_le_bytes());
@@ -173,8 +159,10 @@ pub fn zip_one(name: &str, data: &[u8]) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     #[test]
-    fn crc32_is_the_ieee_one() {
-        assert_eq!(super::crc32(b"123456789"), 0xCBF4_3926);
+    fn the_zip_carries_the_ieee_crc32() {
+        // The check value of CRC-32/ISO-HDLC, the one zip uses, at its place in the header.
+        let z = super::zip_one("a", b"123456789");
+        assert_eq!(&z[14..18], &0xCBF4_3926u32.to_le_bytes());
     }
 
     #[test]

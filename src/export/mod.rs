@@ -4,12 +4,18 @@
 //!
 //! [`load`] reads the edits (`suggestion_edits`), names each one's tool as the CAM knows it
 //! (the original's plan: number, tool comment, diameter, flutes, corner radius; the shop's
-//! tool library where `[suggest] tool_library` names one and it has the number), its material
+//! tool lists where `[suggest] tool_library` names them and one has the number: Fusion JSON,
+//! a FreeCAD library `.fctl` with its bits or a bit `.fctb`, a tool table), its material
 //! (the original's header comments, else `[[suggest.material]]` by folder, else `unknown`),
-//! converts inch programs' values to metric, and asks `suggest::suggest`; then each group's
+//! its operator (a header comment of the edited program its original lacks, else
+//! `[[suggest.operator]]` by the edited file's folder), tells a `feed_changed` row's feeds
+//! apart by role (the original read again, the store keeping no toolpaths), converts inch
+//! programs' values to metric, and asks `suggest::suggest`; then each group's
 //! steps give its state (`suggest::review::current`) and, once exported, the watch over the
-//! CAM posts since. [`record`] writes what the rules and the watch found (a new suggestion
-//! proposed, an exported one adopted or reopened) as steps by `ncplan`; [`review`] a
+//! CAM posts since. [`watch`] is what the daemon runs after it stores a revision: the watch's
+//! steps (adopted, reopened) recorded while some suggestion is exported or adopted. [`record`]
+//! writes what the rules and the watch found (a new suggestion proposed, an exported one
+//! adopted or reopened) as steps by `ncplan`; [`review`] a
 //! planner's step, refused where the state does not allow it. `files` writes the outbox:
 //! never a watched folder, never the shop's tool library.
 
@@ -24,9 +30,13 @@ use anyhow::{Context, Result, bail};
 
 use crate::config::{Config, SuggestSettings};
 use crate::store::{EditRow, Store, SuggestionStep};
+use crate::suggest::freecad;
 use crate::suggest::library::{self, Library};
 use crate::suggest::review::{self, CamStep, Event, Watch};
-use crate::suggest::{Edit, Parameter, Suggestion, ToolKey, first_number, header_material, suggest};
+use crate::suggest::{
+    Edit, FeedMove, FeedRole, Parameter, Suggestion, ToolKey, feed_edits, feed_list, feed_roles, first_number, header_material,
+    header_operator, suggest,
+};
 
 /// A group with its verdict, its review and the watch.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -66,16 +76,79 @@ impl Knowledge {
     }
 }
 
-/// What one original tells: its tools, units and material.
+/// What one original tells: its tools, units, material, the roles of each workingstep's
+/// feeds and its operator comment (a CAM header naming the programmer is no editor).
 struct Original {
     tools: BTreeMap<u32, ToolKey>,
     inch: bool,
     material: Option<String>,
+    roles: Option<BTreeMap<u32, Vec<Option<FeedRole>>>>,
+    operator: Option<String>,
+}
+
+/// Each workingstep's feeds (plan units, mm/min) with their roles (`suggest::feed_roles`).
+type FeedsByStep = BTreeMap<u32, Vec<(f64, Option<FeedRole>)>>;
+
+/// Programs read again for their moves (the store keeps plans without their toolpaths), as
+/// their folders read them: the dictionaries loaded once, on first need, and each revision's
+/// feeds kept.
+struct Reread<'a> {
+    config: &'a Config,
+    registry: Option<crate::dialect::Registry>,
+    feeds: BTreeMap<i64, FeedsByStep>,
+}
+
+impl<'a> Reread<'a> {
+    fn new(config: &'a Config) -> Reread<'a> {
+        Reread { config, registry: None, feeds: BTreeMap::new() }
+    }
+
+    /// The feeds of each workingstep of `revision`, with their roles; empty where it cannot be read.
+    fn feeds(&mut self, store: &Store, revision: i64) -> Result<&FeedsByStep> {
+        if !self.feeds.contains_key(&revision) {
+            if self.registry.is_none() {
+                self.registry = Some(crate::config::dialect_registry(self.config.dialects_dir.as_deref())?);
+            }
+            let reader = crate::daemon::ingest::Reader { config: self.config, registry: self.registry.as_ref().expect("just read") };
+            self.feeds.insert(revision, feeds_of(store, &reader, revision));
+        }
+        Ok(&self.feeds[&revision])
+    }
+
+    /// The feed of `role` in workingstep `step` of `revision`: the first of that role.
+    fn feed(&mut self, store: &Store, revision: i64, step: u32, role: FeedRole) -> Result<Option<f64>> {
+        let f = self.feeds(store, revision)?;
+        Ok(f.get(&step).and_then(|v| v.iter().find(|(_, r)| *r == Some(role)).map(|(f, _)| *f)))
+    }
+}
+
+/// The feeds of each workingstep of a stored program, with their roles: the program read again.
+fn feeds_of(store: &Store, reader: &crate::daemon::ingest::Reader<'_>, revision: i64) -> FeedsByStep {
+    let Ok(Some(src)) = store.source(revision) else { return BTreeMap::new() };
+    let bytes = match src.bytes.clone() {
+        Some(b) => b,
+        None => store.content(revision).ok().flatten().unwrap_or_default(),
+    };
+    let Ok(a) = reader.reanalyse(&src.path, &src.dialect, bytes) else { return BTreeMap::new() };
+    a.plan
+        .workingsteps
+        .iter()
+        .map(|w| {
+            let moves: Vec<FeedMove> = w
+                .toolpath
+                .iter()
+                .filter(|m| m.kind != crate::plan::MoveKind::Rapid)
+                .map(|m| FeedMove { from: m.from, to: m.to, feed: m.feed })
+                .collect();
+            let roles = feed_roles(&w.technology.feeds, &moves);
+            (w.index, w.technology.feeds.iter().copied().zip(roles).collect())
+        })
+        .collect()
 }
 
 /// Reads an original revision's plan (tools, units) and header (material).
 fn original(store: &Store, revision: i64) -> Result<Original> {
-    let mut o = Original { tools: BTreeMap::new(), inch: false, material: None };
+    let mut o = Original { tools: BTreeMap::new(), inch: false, material: None, roles: None, operator: None };
     if let Some(src) = store.source(revision)?
         && let Some((plan, _)) = &src.plan
         && let Ok(v) = serde_json::from_str::<serde_json::Value>(plan)
@@ -96,16 +169,61 @@ fn original(store: &Store, revision: i64) -> Result<Original> {
     if let Some(bytes) = store.content(revision)? {
         let head = &bytes[..bytes.len().min(8192)];
         o.material = header_material(&String::from_utf8_lossy(head), 40);
+        o.operator = header_operator(&String::from_utf8_lossy(head), 40);
     }
     Ok(o)
 }
 
-/// The shop's tool library, where configured.
+/// The shop's tool lists, where configured, as one library (the first list that has a number
+/// names it).
 pub fn read_library(settings: &SuggestSettings) -> Result<Option<Library>> {
-    let Some(path) = &settings.tool_library else { return Ok(None) };
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read the tool library {}", path.display()))?;
-    let lib = library::read(&text).map_err(|e| anyhow::anyhow!("the tool library {}: {e}", path.display()))?;
+    if settings.tool_libraries.is_empty() {
+        return Ok(None);
+    }
+    let mut lib = Library::empty();
+    for path in &settings.tool_libraries {
+        lib.merge(read_one_library(path)?);
+    }
     Ok(Some(lib))
+}
+
+/// One tool list, by its name and text: a FreeCAD library (`.fctl`, its bits read beside it)
+/// or bit (`.fctb`), a Fusion / Inventor CAM / HSM library (JSON with a `data` list), else a
+/// tool table.
+fn read_one_library(path: &Path) -> Result<Library> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read the tool library {}", path.display()))?;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let wrap = |e: String| anyhow::anyhow!("the tool library {}: {e}", path.display());
+    match ext.as_str() {
+        "fctl" => {
+            let dir = path.parent().unwrap_or(Path::new("."));
+            let mut tools = Vec::new();
+            for (nr, bit_path) in freecad::library(&text).map_err(wrap)? {
+                let bit = freecad_bit_file(dir, &bit_path)
+                    .with_context(|| format!("the tool library {}: tool {nr}'s bit {bit_path}", path.display()))?;
+                let mut t =
+                    freecad::bit(&std::fs::read_to_string(&bit)?).map_err(|e| anyhow::anyhow!("the tool bit {}: {e}", bit.display()))?;
+                t.number = Some(nr);
+                tools.push(t);
+            }
+            Ok(Library { version: serde_json::Value::Null, tools })
+        }
+        // A bit alone has no number: it names no T number, but is listed.
+        "fctb" => Ok(Library { version: serde_json::Value::Null, tools: vec![freecad::bit(&text).map_err(wrap)?] }),
+        _ if text.trim_start().starts_with('{') => library::read(&text).map_err(wrap),
+        _ => {
+            let (_, tools) = crate::plan::tooltable::read(&text, false).map_err(wrap)?;
+            Ok(library::from_tool_table(&tools))
+        }
+    }
+}
+
+/// A FreeCAD bit's file as a library names it: absolute, beside the library, or in the `Bit`
+/// folder beside the library's folder (FreeCAD's `Tools/Library` and `Tools/Bit`).
+fn freecad_bit_file(dir: &Path, bit: &str) -> Result<std::path::PathBuf> {
+    let p = Path::new(bit);
+    let candidates = [dir.join(p), dir.join("..").join("Bit").join(p), dir.join("Bit").join(p)];
+    candidates.into_iter().find(|c| c.is_file()).with_context(|| "no such file beside the library or in its Bit folder".to_owned())
 }
 
 /// The edits of `rows` in the rules' terms.
@@ -118,19 +236,73 @@ struct Edits {
     unread: Vec<(i64, String)>,
 }
 
+/// The parameters and values (as written) a row holds: a `feed_changed` row by the roles of
+/// the original workingstep's feeds, one edit per role that changed; any other row its
+/// parameter with the first number of each side. `Err` when no value reads.
+fn row_values(r: &EditRow, o: &Original) -> std::result::Result<Vec<(Parameter, f64, f64)>, String> {
+    let Some(parameter) = Parameter::of_change(&r.kind, &r.field) else { return Ok(Vec::new()) };
+    if parameter == Parameter::CuttingFeed {
+        let (before, after) = (feed_list(&r.before), feed_list(&r.after));
+        if before.is_empty() || after.is_empty() {
+            return Err(format!("no number in `{}` → `{}`", r.before, r.after));
+        }
+        let roles = o.roles.as_ref().and_then(|m| m.get(&(r.workingstep.max(0) as u32))).cloned().unwrap_or_default();
+        return feed_edits(&before, &after, &roles).ok_or_else(|| {
+            format!("the workingstep's feeds changed in number (`{}` → `{}`): which is which cannot be told", r.before, r.after)
+        });
+    }
+    match (first_number(&r.before), first_number(&r.after)) {
+        (Some(b), Some(a)) => Ok(vec![(parameter, b, a)]),
+        _ => Err(format!("no number in `{}` → `{}`", r.before, r.after)),
+    }
+}
+
+/// Who made the edit of revision `revision`, where the share tells it: an operator comment in
+/// the edited program's header that its original does not carry (`(OPERATOR: ANNA)`), else
+/// `[[suggest.operator]]` by the edited file's folder.
+fn operator(store: &Store, revision: i64, o: &Original, cfg: &SuggestSettings) -> Result<Option<String>> {
+    let Some(src) = store.source(revision)? else { return Ok(None) };
+    let bytes = match src.bytes {
+        Some(b) => b,
+        None => store.content(revision)?.unwrap_or_default(),
+    };
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(8192)]).into_owned();
+    let comment = header_operator(&head, 40).filter(|c| o.operator.as_ref() != Some(c));
+    Ok(comment.or_else(|| cfg.operators.iter().find(|(f, _)| Path::new(&src.path).starts_with(f)).map(|m| m.1.clone())))
+}
+
 /// The edits of `rows` in the rules' terms.
-fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Library>) -> Result<Edits> {
+fn edits(store: &Store, rows: &[EditRow], reread: &mut Reread<'_>, lib: Option<&Library>) -> Result<Edits> {
+    let cfg = &reread.config.suggest;
     let mut originals: BTreeMap<i64, Original> = BTreeMap::new();
+    let mut operators: BTreeMap<i64, Option<String>> = BTreeMap::new();
     let (mut accepted, mut all, mut unread) = (Vec::new(), Vec::new(), Vec::new());
     for r in rows {
-        let Some(parameter) = Parameter::of_change(&r.kind, &r.field) else { continue };
+        if Parameter::of_change(&r.kind, &r.field).is_none() || r.review.as_deref() == Some("reject") {
+            continue;
+        }
         let o = match originals.entry(r.original_revision_id) {
             std::collections::btree_map::Entry::Occupied(o) => o.into_mut(),
             std::collections::btree_map::Entry::Vacant(v) => v.insert(original(store, r.original_revision_id)?),
         };
-        let (Some(b), Some(a)) = (first_number(&r.before), first_number(&r.after)) else {
-            unread.push((r.change_id, format!("no number in `{}` → `{}`", r.before, r.after)));
+        // A feed change of a workingstep of several feeds: which is which, from its moves.
+        if o.roles.is_none() && r.kind == "feed_changed" && feed_list(&r.before).len() > 1 {
+            let feeds = reread.feeds(store, r.original_revision_id)?;
+            o.roles = Some(feeds.iter().map(|(step, f)| (*step, f.iter().map(|x| x.1).collect())).collect());
+        }
+        let values = match row_values(r, o) {
+            Ok(v) => v,
+            Err(why) => {
+                unread.push((r.change_id, why));
+                continue;
+            }
+        };
+        if values.is_empty() {
             continue;
+        }
+        let who = match operators.entry(r.revision_id) {
+            std::collections::btree_map::Entry::Occupied(w) => w.get().clone(),
+            std::collections::btree_map::Entry::Vacant(v) => v.insert(operator(store, r.revision_id, o, cfg)?).clone(),
         };
         let number = r.tool.unwrap_or(0).max(0) as u32;
         let mut tool = o.tools.get(&number).cloned().unwrap_or(ToolKey { number, ..ToolKey::default() });
@@ -142,30 +314,29 @@ fn edits(store: &Store, rows: &[EditRow], cfg: &SuggestSettings, lib: Option<&Li
             .clone()
             .or_else(|| cfg.materials.iter().find(|(f, _)| Path::new(&r.original_path).starts_with(f)).map(|m| m.1.clone()))
             .unwrap_or_else(|| "unknown".into());
-        let e = Edit {
-            change_id: r.change_id,
-            revision_id: r.revision_id,
-            program: r.program.clone(),
-            original: r.original_path.clone(),
-            workingstep: r.workingstep.max(0) as u32,
-            operation: r.operation.clone(),
-            machine: r.machine.clone(),
-            at: r.seen_at.clone(),
-            operator: None,
-            spindle: r.spindle_speed,
-            tool,
-            material,
-            parameter,
-            before: parameter.metric(b, o.inch),
-            after: parameter.metric(a, o.inch),
-        };
-        match r.review.as_deref() {
-            Some("reject") => continue,
-            Some("adopt") => accepted.push(e.clone()),
-            _ if cfg.unreviewed => accepted.push(e.clone()),
-            _ => {}
+        for (parameter, b, a) in values {
+            let e = Edit {
+                change_id: r.change_id,
+                revision_id: r.revision_id,
+                program: r.program.clone(),
+                original: r.original_path.clone(),
+                workingstep: r.workingstep.max(0) as u32,
+                operation: r.operation.clone(),
+                machine: r.machine.clone(),
+                at: r.seen_at.clone(),
+                operator: who.clone(),
+                spindle: r.spindle_speed,
+                tool: tool.clone(),
+                material: material.clone(),
+                parameter,
+                before: parameter.metric(b, o.inch),
+                after: parameter.metric(a, o.inch),
+            };
+            if r.review.as_deref() == Some("adopt") || cfg.unreviewed {
+                accepted.push(e.clone());
+            }
+            all.push(e);
         }
-        all.push(e);
     }
     Ok(Edits { accepted, all, unread })
 }
@@ -184,16 +355,20 @@ fn event(s: &SuggestionStep) -> Option<Event> {
     })
 }
 
-/// The value a CAM workingstep gives for a parameter (plan units are metric already).
-fn cam_value(c: &crate::store::CamRow, p: Parameter) -> Option<f64> {
-    match p {
-        Parameter::CuttingFeed => c.feed,
-        Parameter::SpindleSpeed => c.spindle_speed,
-        Parameter::Stepdown => c.axial_depth,
-        Parameter::Stepover => c.radial_depth,
-        Parameter::ClearanceHeight => c.security_plane,
-        Parameter::PlungeFeed | Parameter::CuttingSpeed | Parameter::PeckDepth => None,
-    }
+/// The value a CAM workingstep gives for a parameter (plan units are metric already): a feed
+/// by its role, from the post read again where its workingstep has several feeds.
+fn cam_value(store: &Store, reread: &mut Reread<'_>, c: &crate::store::CamRow, p: Parameter) -> Result<Option<f64>> {
+    let role = match p {
+        Parameter::CuttingFeed => FeedRole::Cutting,
+        Parameter::PlungeFeed => FeedRole::Plunge,
+        Parameter::RampFeed => FeedRole::Ramp,
+        Parameter::SpindleSpeed => return Ok(c.spindle_speed),
+        Parameter::Stepdown => return Ok(c.axial_depth),
+        Parameter::Stepover => return Ok(c.radial_depth),
+        Parameter::ClearanceHeight => return Ok(c.security_plane),
+        Parameter::CuttingSpeed | Parameter::PeckDepth => return Ok(None),
+    };
+    reread.feed(store, c.revision, c.workingstep.max(0) as u32, role)
 }
 
 /// Everything the knowledge pages and the exports show, as of `now`.
@@ -201,7 +376,8 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
     let cfg = &config.suggest;
     let lib = read_library(cfg)?;
     let rows = store.suggestion_edits()?;
-    let Edits { accepted, all, unread } = edits(store, &rows, cfg, lib.as_ref())?;
+    let mut reread = Reread::new(config);
+    let Edits { accepted, all, unread } = edits(store, &rows, &mut reread, lib.as_ref())?;
     let mut steps: BTreeMap<String, Vec<Event>> = BTreeMap::new();
     for s in store.suggestion_steps()? {
         if let Some(e) = event(&s) {
@@ -217,18 +393,20 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
         let watch = match (state, exported) {
             (State::Exported | State::Adopted, Some(since)) => {
                 let group: Vec<Edit> = all.iter().filter(|e| e.key() == s.key).cloned().collect();
-                let cam: Vec<CamStep> = store
-                    .cam_steps_since(&since)?
-                    .iter()
-                    .map(|c| CamStep {
+                // The posts of the programs behind it with its tool: the others cannot adopt it.
+                let behind =
+                    |c: &&crate::store::CamRow| c.tool.max(0) as u32 == s.key.tool.number && s.edits.iter().any(|e| e.original == c.path);
+                let mut cam: Vec<CamStep> = Vec::new();
+                for c in store.cam_steps_since(&since)?.iter().filter(behind) {
+                    cam.push(CamStep {
                         original: c.path.clone(),
                         revision: c.revision,
                         at: c.seen_at.clone(),
                         workingstep: c.workingstep.max(0) as u32,
                         tool: c.tool.max(0) as u32,
-                        value: cam_value(c, s.key.parameter),
-                    })
-                    .collect();
+                        value: cam_value(store, &mut reread, c, s.key.parameter)?,
+                    });
+                }
                 Some(review::watch(&s, &since, &group, &cam, &cfg.rules))
             }
             _ => None,
@@ -263,24 +441,52 @@ fn step(e: &Entry, state: State, reason: &str, by: &str, at: &str) -> Suggestion
 /// steps is proposed; an exported one the watch adopted or reopened moves there; a rejected
 /// or snoozed one that came back is proposed again. Returns how many steps were written.
 pub fn record(store: &Store, k: &Knowledge, at: &str) -> Result<usize> {
+    record_some(store, k, at, false)
+}
+
+/// Records only what the watch found: an exported (or adopted) suggestion adopted or reopened.
+fn record_some(store: &Store, k: &Knowledge, at: &str, watch_only: bool) -> Result<usize> {
     let mut n = 0;
     for e in &k.entries {
-        let last = e.events.last().map(|x| x.state);
-        let to = match (last, e.state) {
-            (None, State::Proposed) if e.s.passed() => Some((State::Proposed, "the rules' gates passed".to_owned())),
-            (Some(State::Rejected), State::Proposed) => Some((State::Proposed, "the evidence grew since the rejection".to_owned())),
-            (Some(State::Snoozed), State::Proposed) => Some((State::Proposed, "the snooze is over".to_owned())),
-            (Some(l), s) if l != s && matches!(s, State::Adopted | State::Reopened) => {
-                Some((s, e.watch.as_ref().map(Watch::words).unwrap_or_default()))
-            }
-            _ => None,
-        };
-        if let Some((state, reason)) = to {
+        if let Some((state, reason)) = pending(e, watch_only) {
             store.add_suggestion_step(&step(e, state, &reason, "ncplan", at))?;
             n += 1;
         }
     }
     Ok(n)
+}
+
+/// The step the rules or the watch ask for `e` and its reason, not recorded yet: the watch's
+/// (adopted, reopened) and, unless `watch_only`, the rules' (proposed, again after a
+/// rejection whose evidence grew or a snooze that ended).
+fn pending(e: &Entry, watch_only: bool) -> Option<(State, String)> {
+    let last = e.events.last().map(|x| x.state);
+    match (last, e.state) {
+        (Some(l), s) if l != s && matches!(s, State::Adopted | State::Reopened) => {
+            Some((s, e.watch.as_ref().map(Watch::words).unwrap_or_default()))
+        }
+        _ if watch_only => None,
+        (None, State::Proposed) if e.s.passed() => Some((State::Proposed, "the rules' gates passed".to_owned())),
+        (Some(State::Rejected), State::Proposed) => Some((State::Proposed, "the evidence grew since the rejection".to_owned())),
+        (Some(State::Snoozed), State::Proposed) => Some((State::Proposed, "the snooze is over".to_owned())),
+        _ => None,
+    }
+}
+
+/// The watch after an export, as the daemon runs it once a revision is stored: where some
+/// suggestion is exported or adopted, what the CAM posts and the edits since say is recorded
+/// (adopted, reopened) by `ncplan`, at `at`. Nothing is read beyond the steps while no
+/// suggestion is watched. Returns how many steps were written.
+pub fn watch(store: &Store, config: &Config, at: &str) -> Result<usize> {
+    let mut last: BTreeMap<String, String> = BTreeMap::new();
+    for s in store.suggestion_steps()? {
+        last.insert(s.suggestion, s.state);
+    }
+    if !last.values().any(|s| s == State::Exported.name() || s == State::Adopted.name()) {
+        return Ok(0);
+    }
+    let k = load(store, config, at)?;
+    record_some(store, &k, at, true)
 }
 
 /// A planner's step on suggestion `id`: to `to` with `reason` (a rejection needs one),
@@ -293,8 +499,15 @@ pub fn review(store: &Store, k: &Knowledge, id: &str, to: State, reason: &str, b
     if to == State::Rejected && reason.trim().is_empty() {
         bail!("a rejection needs its reason");
     }
-    if e.events.is_empty() {
-        store.add_suggestion_step(&step(e, State::Proposed, "the rules' gates passed", "ncplan", at))?;
+    // What the rules and the watch found first (proposed, proposed again, adopted, reopened),
+    // so that the record shows the state the planner moved it from.
+    let first = match pending(e, false) {
+        Some(p) => Some(p),
+        None if e.events.is_empty() => Some((State::Proposed, "the rules' gates passed".to_owned())),
+        None => None,
+    };
+    if let Some((state, why)) = first {
+        store.add_suggestion_step(&step(e, state, &why, "ncplan", at))?;
     }
     store.add_suggestion_step(&step(e, to, reason.trim(), by, at))?;
     Ok(())
@@ -319,7 +532,7 @@ pub fn line(e: &Entry) -> String {
         crate::suggest::Scale::Offset => format!("{:+} mm", crate::suggest::num(s.change())),
     };
     format!(
-        "{} {:<9} {} of {} · {} · {} · {}: CAM {} -> {} {} ({change}; {} to {}); {} edits, {} programs, {} days, p={}",
+        "{} {:<9} {} of {} · {} · {} · {}: CAM {} -> {} {} ({change}; {} to {}); {} edits, {} programs, {} days{}, p={}",
         s.id,
         if s.passed() || !e.events.is_empty() { e.state.name() } else { "held" },
         k.parameter.label(),
@@ -335,6 +548,7 @@ pub fn line(e: &Entry) -> String {
         s.edits.len(),
         s.programs,
         s.days,
+        if s.operators > 0 { format!(", {} operators", s.operators) } else { String::new() },
         crate::suggest::render::fmt_p(s.p),
     )
 }

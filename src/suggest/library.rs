@@ -1,4 +1,7 @@
-//! The CAM side's tool libraries: Autodesk Fusion / Inventor CAM / HSM JSON, read and written.
+//! The CAM side's tool libraries: Autodesk Fusion / Inventor CAM / HSM JSON, read and written;
+//! the shop's other tool lists (FreeCAD's bits and libraries, `freecad`; the tool tables
+//! `plan::tooltable` reads: LinuxCNC `tool.tbl`, Heidenhain `TOOL.T`, Fanuc `G10`, Siemens
+//! `$TC_DP`) only name the CAM tool ([`from_tool_table`], [`Library::merge`]).
 //!
 //! The format, as public libraries show it: `{"data": [tool, …], "version": n}`; a tool has a
 //! `guid`, `type` (`flat end mill`, `drill`, …), `description`, `unit` (`millimeters` or
@@ -44,7 +47,8 @@ pub struct LibraryTool {
     pub corner_radius: Option<f64>,
     /// Its presets: name and numeric values (the older form's `*` set as one named `*`).
     pub presets: Vec<(String, BTreeMap<String, f64>)>,
-    /// The tool as it was read.
+    /// The tool as it was read from a Fusion library (`Null` from another format: an export
+    /// makes the tool from what it knows of it).
     pub raw: Value,
 }
 
@@ -55,6 +59,43 @@ pub struct Library {
     pub version: Value,
     /// Its tools.
     pub tools: Vec<LibraryTool>,
+}
+
+impl Library {
+    /// An empty library.
+    pub fn empty() -> Library {
+        Library { version: Value::Null, tools: Vec::new() }
+    }
+
+    /// Adds `other`'s tools after this one's (a number found in both is this one's: the first
+    /// library configured names it); the version stays the first Fusion library's.
+    pub fn merge(&mut self, other: Library) {
+        if self.version.is_null() {
+            self.version = other.version;
+        }
+        self.tools.extend(other.tools);
+    }
+}
+
+/// The tools of a tool table (LinuxCNC `tool.tbl`, Heidenhain `TOOL.T`, Fanuc `G10` offsets,
+/// Siemens `$TC_DP` data, as `plan::tooltable` reads them): number, name (a LinuxCNC comment, a
+/// Heidenhain `NAME`, a Siemens `$TC_TP2`), diameter, corner radius and flutes where it says them.
+pub fn from_tool_table(tools: &crate::plan::tooltable::Tools) -> Library {
+    let tools = tools
+        .iter()
+        .map(|(n, t)| LibraryTool {
+            number: Some(*n),
+            description: t.name.clone().unwrap_or_default().trim().to_owned(),
+            kind: t.kind.clone().unwrap_or_default(),
+            inch: false,
+            diameter: t.diameter,
+            flutes: t.flutes,
+            corner_radius: t.corner_radius,
+            presets: Vec::new(),
+            raw: Value::Null,
+        })
+        .collect();
+    Library { version: Value::Null, tools }
 }
 
 /// Reads a library's JSON (either form). An entry that is not a tool (a holder) is kept
@@ -148,7 +189,8 @@ pub fn export(library: Option<&Library>, accepted: &[&Suggestion]) -> Value {
     }
     let mut data = Vec::new();
     for (key, suggestions) in &by_tool {
-        let found = library.and_then(|l| l.tools.iter().find(|t| t.is(key)));
+        // Only a Fusion library's tool is copied; one another list names is made from its key.
+        let found = library.and_then(|l| l.tools.iter().find(|t| t.is(key))).filter(|t| t.raw.is_object());
         let mut t = found.map_or_else(|| made(key, suggestions[0].key.class), |f| f.raw.clone());
         let old = t.get("guid").and_then(Value::as_str).unwrap_or("").to_owned();
         let ids: Vec<&str> = suggestions.iter().map(|s| s.id.as_str()).collect();
@@ -196,7 +238,7 @@ fn made(key: &ToolKey, class: OpClass) -> Value {
         "unit": "millimeters",
         "geometry": geometry,
         "post-process": { "number": key.number, "length-offset": key.number, "diameter-offset": key.number,
-                          "comment": "made by ncplan: not in the shop's tool library" },
+                          "comment": "made by ncplan: no Fusion library of the shop holds it" },
         "start-values": { "presets": [] },
     })
 }
@@ -234,6 +276,9 @@ fn preset(base: &Map<String, Value>, s: &Suggestion, key: &ToolKey, inch: bool) 
         Parameter::PlungeFeed => {
             p.insert("v_f_plunge".into(), json!(round(v * feed)));
         }
+        Parameter::RampFeed => {
+            p.insert("v_f_ramp".into(), json!(round(v * feed)));
+        }
         Parameter::SpindleSpeed => {
             p.insert("n".into(), json!(round(v)));
             if d > 0.0 {
@@ -269,6 +314,7 @@ pub fn preset_value(tool: &LibraryTool, preset: &BTreeMap<String, f64>, paramete
     Some(match parameter {
         Parameter::CuttingFeed => preset.get("v_f")? * len,
         Parameter::PlungeFeed => preset.get("v_f_plunge")? * len,
+        Parameter::RampFeed => preset.get("v_f_ramp")? * len,
         Parameter::SpindleSpeed => *preset.get("n")?,
         Parameter::CuttingSpeed => preset.get("v_c")? * speed,
         Parameter::Stepdown => preset.get("stepdown")? * len,

@@ -10,14 +10,21 @@
 //! outliers by the median absolute deviation), no reversal among the latest edits, and a
 //! cautious estimate (the median shrunk toward no change, kept inside its interval).
 //!
+//! A `feed_changed` row lists every feed of a workingstep: [`feed_roles`] tells which is the
+//! cutting feed, a plunge's or a ramp's from the moves at each, and [`feed_edits`] makes one
+//! edit per role that changed. The operator of an edit is read where the share tells it
+//! ([`header_operator`]).
+//!
 //! `stats` holds the statistics; `review` the review states (proposed, accepted, rejected,
 //! snoozed, exported, adopted, reopened) from the recorded events, and the watch after export
 //! (a new CAM post that carries the value and edits that stop: adopted; edits that go on:
 //! reopened); `library` reads the CAM side's tool libraries (Autodesk Fusion / Inventor CAM /
 //! HSM JSON in its older `start-values` `*` form and its newer `presets` form) and writes the
-//! copies with one preset per accepted suggestion; `render` the neutral CSV, the one-line
+//! copies with one preset per accepted suggestion, and takes tool tables as the CAM's tools;
+//! `freecad` reads FreeCAD's tool bits and libraries; `render` the neutral CSV, the one-line
 //! evidence and the pictures (edits over time, their spread).
 
+pub mod freecad;
 pub mod library;
 pub mod render;
 pub mod review;
@@ -34,8 +41,10 @@ use sha2::{Digest, Sha256};
 pub enum Parameter {
     /// The cutting feed, mm/min.
     CuttingFeed,
-    /// The feed of the moves straight down (plunge and ramp), mm/min.
+    /// The feed of the moves straight down (plunges), mm/min.
     PlungeFeed,
+    /// The feed of the moves down along a slope or a helix (ramps, helical entries), mm/min.
+    RampFeed,
     /// The spindle speed, 1/min.
     SpindleSpeed,
     /// The cutting speed (constant surface speed), m/min.
@@ -62,9 +71,10 @@ pub enum Scale {
 
 impl Parameter {
     /// Every parameter, in order.
-    pub const ALL: [Parameter; 8] = [
+    pub const ALL: [Parameter; 9] = [
         Parameter::CuttingFeed,
         Parameter::PlungeFeed,
+        Parameter::RampFeed,
         Parameter::SpindleSpeed,
         Parameter::CuttingSpeed,
         Parameter::Stepdown,
@@ -73,7 +83,9 @@ impl Parameter {
         Parameter::ClearanceHeight,
     ];
 
-    /// The parameter a stored change is about: by its kind and field (`diff`'s names).
+    /// The parameter a stored change is about: by its kind and field (`diff`'s names). A
+    /// `feed_changed` row lists every feed of the workingstep; [`feed_roles`] tells which of
+    /// them is the cutting feed, which a plunge's and which a ramp's.
     pub fn of_change(kind: &str, field: &str) -> Option<Parameter> {
         Some(match (kind, field) {
             ("feed_changed", "feed") => Parameter::CuttingFeed,
@@ -93,6 +105,7 @@ impl Parameter {
         match self {
             Parameter::CuttingFeed => "cutting_feed",
             Parameter::PlungeFeed => "plunge_feed",
+            Parameter::RampFeed => "ramp_feed",
             Parameter::SpindleSpeed => "spindle_speed",
             Parameter::CuttingSpeed => "cutting_speed",
             Parameter::Stepdown => "stepdown",
@@ -106,7 +119,8 @@ impl Parameter {
     pub fn label(self) -> &'static str {
         match self {
             Parameter::CuttingFeed => "cutting feed",
-            Parameter::PlungeFeed => "plunge and ramp feed",
+            Parameter::PlungeFeed => "plunge feed",
+            Parameter::RampFeed => "ramp feed",
             Parameter::SpindleSpeed => "spindle speed",
             Parameter::CuttingSpeed => "cutting speed",
             Parameter::Stepdown => "stepdown",
@@ -119,7 +133,7 @@ impl Parameter {
     /// Its unit (metric).
     pub fn unit(self) -> &'static str {
         match self {
-            Parameter::CuttingFeed | Parameter::PlungeFeed => "mm/min",
+            Parameter::CuttingFeed | Parameter::PlungeFeed | Parameter::RampFeed => "mm/min",
             Parameter::SpindleSpeed => "1/min",
             Parameter::CuttingSpeed => "m/min",
             _ => "mm",
@@ -145,6 +159,117 @@ impl Parameter {
             (true, _) => v * 25.4,
         }
     }
+}
+
+/// What a feed of a workingstep does, from its moves in the original's plan: the cutting
+/// feed (the plan's technology feed), the feed of moves straight down (plunges) or of moves
+/// down while moving across (ramps and helical entries).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedRole {
+    /// The cutting feed.
+    Cutting,
+    /// Straight down along the tool axis.
+    Plunge,
+    /// Down along a slope or a helix.
+    Ramp,
+}
+
+impl FeedRole {
+    /// The parameter of a feed of this role.
+    pub fn parameter(self) -> Parameter {
+        match self {
+            FeedRole::Cutting => Parameter::CuttingFeed,
+            FeedRole::Plunge => Parameter::PlungeFeed,
+            FeedRole::Ramp => Parameter::RampFeed,
+        }
+    }
+}
+
+/// A move of a workingstep's toolpath as the roles need it: a feed move (not rapid), its
+/// start and end, and its feed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FeedMove {
+    /// Start point.
+    pub from: [f64; 3],
+    /// End point.
+    pub to: [f64; 3],
+    /// Feed, in the unit the change's text writes it.
+    pub feed: f64,
+}
+
+/// The role of each feed of a workingstep (`feeds` as the plan lists them: its technology feed
+/// first, then the others in order of first use), from its feed `moves`: a feed whose moves all
+/// go straight down is a plunge's, one whose moves all go down while moving across a ramp's
+/// (or a helical entry's), one whose moves include level ones a cutting feed (a finishing
+/// pass's second feed too). The first is the cutting feed where no feed cuts level (a drill,
+/// plunge milling) or its moves are mixed (a 3D contour); a feed no move runs at, or a later
+/// one whose moves are mixed, has no role: checked against the moves, never guessed.
+pub fn feed_roles(feeds: &[f64], moves: &[FeedMove]) -> Vec<Option<FeedRole>> {
+    const EPS: f64 = 1e-6;
+    let down = |m: &FeedMove| m.to[2] < m.from[2] - EPS;
+    let across = |m: &FeedMove| (m.to[0] - m.from[0]).hypot(m.to[1] - m.from[1]) > EPS;
+    // By the moves alone: Some(role), or None for mixed or unused.
+    let alone: Vec<Option<FeedRole>> = feeds
+        .iter()
+        .map(|f| {
+            let at: Vec<&FeedMove> = moves.iter().filter(|m| (m.feed - f).abs() <= EPS * f.abs().max(1.0)).collect();
+            if at.is_empty() {
+                None
+            } else if at.iter().all(|m| down(m) && !across(m)) {
+                Some(FeedRole::Plunge)
+            } else if at.iter().all(|m| down(m)) {
+                Some(FeedRole::Ramp)
+            } else if at.iter().all(|m| !down(m)) {
+                Some(FeedRole::Cutting)
+            } else {
+                None
+            }
+        })
+        .collect();
+    let cuts_level = alone.contains(&Some(FeedRole::Cutting));
+    alone
+        .iter()
+        .enumerate()
+        .map(|(i, r)| match r {
+            _ if i == 0 && (!cuts_level || r.is_none()) => Some(FeedRole::Cutting),
+            r => *r,
+        })
+        .collect()
+}
+
+/// The numbers of a list of feeds as a change writes it (`F800, F300`).
+pub fn feed_list(text: &str) -> Vec<f64> {
+    text.split(',').filter_map(first_number).collect()
+}
+
+/// The edits a `feed_changed` row holds, by role: `before` and `after` its lists, `roles` the
+/// original's ([`feed_roles`]). The lists are compared place by place (an operator edits a
+/// feed where it stands, so it keeps its place); lists of another length cannot be told apart
+/// by role and give `None`. A role's feeds that all change the same way make one edit (the
+/// first one's values); a feed that stays is none, so that a ramp's edit is not also an edit of
+/// "no change" to the cutting feed. A workingstep of one feed whose plan is not known: that
+/// feed is its cutting feed.
+pub fn feed_edits(before: &[f64], after: &[f64], roles: &[Option<FeedRole>]) -> Option<Vec<(Parameter, f64, f64)>> {
+    if before.len() != after.len() {
+        return None;
+    }
+    let role = |i: usize| match roles.get(i) {
+        Some(r) => *r,
+        None if roles.is_empty() && before.len() == 1 => Some(FeedRole::Cutting),
+        None => None,
+    };
+    let pairs: Vec<(FeedRole, f64, f64)> =
+        before.iter().zip(after).enumerate().filter_map(|(i, (b, a))| Some((role(i)?, *b, *a))).collect();
+    let mut out: Vec<(Parameter, f64, f64)> = Vec::new();
+    for r in [FeedRole::Cutting, FeedRole::Plunge, FeedRole::Ramp] {
+        let of: Vec<&(FeedRole, f64, f64)> = pairs.iter().filter(|p| p.0 == r && (p.1 - p.2).abs() > 1e-9).collect();
+        let Some(first) = of.first() else { continue };
+        let up = first.2 > first.1;
+        if of.iter().all(|p| (p.2 > p.1) == up) {
+            out.push((r.parameter(), first.1, first.2));
+        }
+    }
+    Some(out)
 }
 
 /// What kind of work a workingstep does, for grouping: a finishing cut is edited for other
@@ -719,14 +844,23 @@ pub fn first_number(text: &str) -> Option<f64> {
     text[start..end].parse().ok()
 }
 
-/// The material a program's header comments name (`(MATERIAL: AL6061)`, `(MAT = 1.4301)`,
-/// `; Werkstoff: C45`), in its first `lines` lines.
-pub fn header_material(text: &str, lines: usize) -> Option<String> {
+/// The operator a program's header comments name (`(OPERATOR: ANNA)`, `; Bediener: Jo`,
+/// `(OPERATEUR = LUC)`), in its first `lines` lines: a name after the word and a colon or an
+/// equals sign, as shops write it when they sign an edit.
+pub fn header_operator(text: &str, lines: usize) -> Option<String> {
+    header_value(text, lines, &["OPERATOR", "BEDIENER", "OPERATEUR"])
+}
+
+/// The value after one of `words` and a colon or an equals sign in a comment of the first
+/// `lines` lines (at most 60 characters).
+fn header_value(text: &str, lines: usize, words: &[&str]) -> Option<String> {
     for line in text.lines().take(lines) {
         let upper = line.to_uppercase();
-        for word in ["MATERIAL", "WERKSTOFF", "MATIERE", "MAT"] {
+        for word in words {
             let Some(at) = upper.find(word) else { continue };
-            let rest = &line[at + word.len()..];
+            // The upper-case text may be longer than the line (ß); the word's end is the same
+            // byte offset in both only where it is ASCII before it.
+            let Some(rest) = line.get(at + word.len()..) else { continue };
             let Some(rest) = rest.trim_start().strip_prefix([':', '=']) else { continue };
             let value = rest.trim().trim_end_matches([')', ';']).trim();
             if !value.is_empty() {
@@ -735,6 +869,12 @@ pub fn header_material(text: &str, lines: usize) -> Option<String> {
         }
     }
     None
+}
+
+/// The material a program's header comments name (`(MATERIAL: AL6061)`, `(MAT = 1.4301)`,
+/// `; Werkstoff: C45`), in its first `lines` lines.
+pub fn header_material(text: &str, lines: usize) -> Option<String> {
+    header_value(text, lines, &["MATERIAL", "WERKSTOFF", "MATIERE", "MAT"])
 }
 
 #[cfg(test)]

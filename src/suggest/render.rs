@@ -21,8 +21,9 @@ pub fn evidence_line(s: &Suggestion) -> String {
     let way = if s.centre >= 0.0 { "higher" } else { "lower" };
     let first = s.edits.first().map(|e| e.day()).unwrap_or("");
     let last = s.edits.last().map(|e| e.day()).unwrap_or("");
+    let by = if s.operators > 0 { format!(" by {} operators", s.operators) } else { String::new() };
     format!(
-        "ncplan {}: {} {} -> {} {unit} (interval {} to {}); {} edits in {} programs on {} days ({first} to {last}), {} of {n} {way}, sign test p={}; {} on {}, {}",
+        "ncplan {}: {} {} -> {} {unit} (interval {} to {}); {} edits in {} programs on {} days ({first} to {last}){by}, {} of {n} {way}, sign test p={}; {} on {}, {}",
         s.id,
         s.key.parameter.label(),
         num(s.cam_value),

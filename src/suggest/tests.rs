@@ -257,3 +257,49 @@ fn a_fusion_library_is_read_in_both_forms_and_an_export_keeps_its_tools() {
         assert!(p["description"].as_str().unwrap().starts_with(&format!("ncplan {}", s.id)));
     }
 }
+
+/// A feed move from `from` to `to` at `feed`.
+fn fm(from: [f64; 3], to: [f64; 3], feed: f64) -> FeedMove {
+    FeedMove { from, to, feed }
+}
+
+#[test]
+fn the_feeds_of_a_workingstep_are_told_apart_by_their_moves() {
+    // A post's pocket: plunge to the top at F300, ramp down to depth at F400, cut at F800,
+    // listed as the plan lists them (its technology feed, the first used, first).
+    let moves = [
+        fm([0.0, 0.0, 5.0], [0.0, 0.0, 0.0], 300.0),
+        fm([0.0, 0.0, 0.0], [20.0, 0.0, -2.0], 400.0),
+        fm([20.0, 0.0, -2.0], [100.0, 0.0, -2.0], 800.0),
+        fm([100.0, 0.0, -2.0], [100.0, 20.0, -2.0], 800.0),
+    ];
+    let roles = feed_roles(&[300.0, 400.0, 800.0], &moves);
+    assert_eq!(roles, [Some(FeedRole::Plunge), Some(FeedRole::Ramp), Some(FeedRole::Cutting)]);
+    // The diff's `feed changed from F300, F400, F800 to F300, F250, F800`: a ramp's edit only.
+    let ramp = feed_edits(&feed_list("F300, F400, F800"), &feed_list("F300, F250, F800"), &roles).unwrap();
+    assert_eq!(ramp, [(Parameter::RampFeed, 400.0, 250.0)]);
+    let cut = feed_edits(&feed_list("F300, F400, F800"), &feed_list("F300, F400, F560"), &roles).unwrap();
+    assert_eq!(cut, [(Parameter::CuttingFeed, 800.0, 560.0)]);
+    let both = feed_edits(&feed_list("F300, F400, F800"), &feed_list("F200, F400, F560"), &roles).unwrap();
+    assert_eq!(both, [(Parameter::CuttingFeed, 800.0, 560.0), (Parameter::PlungeFeed, 300.0, 200.0)]);
+    // A feed added or removed: which is which cannot be told.
+    assert_eq!(feed_edits(&[300.0, 800.0], &[300.0, 400.0, 800.0], &roles), None);
+    // A drill: every move goes straight down, at its one feed, which is its cutting feed.
+    let drill = [fm([0.0, 0.0, 2.0], [0.0, 0.0, -12.0], 120.0)];
+    assert_eq!(feed_roles(&[120.0], &drill), [Some(FeedRole::Cutting)]);
+    // A 3D contour at one feed, down and level: the cutting feed.
+    let contour = [fm([0.0, 0.0, 0.0], [5.0, 0.0, -1.0], 900.0), fm([5.0, 0.0, -1.0], [9.0, 0.0, -1.0], 900.0)];
+    assert_eq!(feed_roles(&[900.0], &contour), [Some(FeedRole::Cutting)]);
+    // Without the plan, one feed is the cutting feed; several have no role.
+    assert_eq!(feed_edits(&[800.0], &[560.0], &[]), Some(vec![(Parameter::CuttingFeed, 800.0, 560.0)]));
+    assert_eq!(feed_edits(&[300.0, 800.0], &[300.0, 560.0], &[]), Some(vec![]));
+}
+
+#[test]
+fn an_operator_is_read_from_a_header_comment() {
+    assert_eq!(header_operator("%\nO1001\n(OPERATOR: ANNA)\nG0 X0\n", 40).as_deref(), Some("ANNA"));
+    assert_eq!(header_operator("; Bediener = Jo\n", 40).as_deref(), Some("Jo"));
+    // A comment that only says an operator edited is no name.
+    assert_eq!(header_operator("(OPERATOR EDIT 3)\n", 40), None);
+    assert_eq!(header_material("(MATERIAL: AL6061)\n", 40).as_deref(), Some("AL6061"));
+}

@@ -60,15 +60,16 @@ fn card(e: &Entry, ctx: Option<&Ctx>) -> Markup {
             p class="figures" {
                 "CAM " strong { (num(s.cam_value)) " " (unit) } " → suggested " strong class="suggested" { (num(s.suggested)) " " (unit) }
                 " (" (change(e)) "; interval " (num(s.interval.0)) " to " (num(s.interval.1)) ") · "
-                (s.edits.len()) " edits in " (s.programs) " programs on " (s.days) " days · "
-                (s.agree) " of " (s.agree + s.disagree) " the same way, sign test p = " (fmt_p(s.p))
+                (s.edits.len()) " edits in " (s.programs) " programs on " (s.days) " days"
+                @if s.operators > 0 { " by " (s.operators) " operators" }
+                " · " (s.agree) " of " (s.agree + s.disagree) " the same way, sign test p = " (fmt_p(s.p))
                 @if !s.key.parameter.of_tool() { " · " em { "a note for the CAM template or post, not tool data" } }
             }
             @if let Some(w) = &e.watch { p class="muted" { "Watch: " (w.words()) } }
             div class="pictures" { (PreEscaped(timeline_svg(s))) (PreEscaped(spread_svg(s))) }
             @if let Some(ctx) = ctx { div class="forms" { (forms(e, ctx)) } }
             table class="evidence" {
-                tr { th { "date" } th { "machine" } th { "program" } th { "workingstep" } th { "CAM → operator" } th { "change" } }
+                tr { th { "date" } th { "machine" } th { "program" } th { "workingstep" } th { "CAM → operator" } th { "change" } th { "by" } }
                 @for ed in &s.edits {
                     tr {
                         td { (ed.day()) } td { (ed.machine) }
@@ -76,6 +77,7 @@ fn card(e: &Entry, ctx: Option<&Ctx>) -> Markup {
                         td { (ed.workingstep) " (" (ed.operation) ")" }
                         td { (num(ed.before)) " → " (num(ed.after)) " " (unit) }
                         td { @if let Some(x) = ed.effect() { (match s.key.parameter.scale() { Scale::Ratio => format!("{:+.1} %", (x.exp() - 1.0) * 100.0), Scale::Offset => format!("{:+} mm", num(x)) }) } }
+                        td { (ed.operator.as_deref().unwrap_or("")) }
                     }
                 }
             }

@@ -969,7 +969,7 @@ fn reanalysis_keeps_old_changes_and_marks_on_both_engines() {
 }
 
 /// The read-only role of README's deployment section, as its SQL creates it.
-const READER_ROLE: &str = "CREATE ROLE ncplan_reader LOGIN;
+pub(crate) const READER_ROLE: &str = "CREATE ROLE ncplan_reader LOGIN;
 GRANT CONNECT ON DATABASE postgres TO ncplan_reader;
 GRANT USAGE ON SCHEMA public TO ncplan_reader;
 GRANT SELECT ON ALL TABLES IN SCHEMA public TO ncplan_reader;

@@ -5,9 +5,12 @@
 //! post that carries the value: the suggestion is adopted.
 //!
 //! The history holds one true change planted with noise (M1's cutting feed of T5 in AL6061
-//! cut by 30 %), and decoys: one operator's bad week (M2's spindle speed, six edits in five
-//! days), a reversal (M1's feed in 1.4301 cut by 25 %, then put back), and noise (M2's feed
-//! nudged up and down by 2-3 %). Exactly the planted suggestion comes out.
+//! cut by 30 %, by two operators), and decoys: one operator's bad week (M2's spindle speed, six
+//! edits in five days, all by JOE), a reversal (M1's feed in 1.4301 cut by 25 %, then put back),
+//! and noise (M2's feed nudged up and down by 2-3 %). Exactly the planted suggestion comes out.
+//! The operators sign their edits in a header comment (`(OPERATOR: ANNA)`), as the share tells.
+//! After the adoption, operators edit the feed again on the share the daemon watches: the daemon
+//! records the suggestion reopened.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -23,8 +26,8 @@ use crate::support::{wait_until, watch};
 const JAN_1_2026: u64 = 20_454;
 
 /// A CAM original or an edit of it: T5 faces at `f5`, S`s5`; T7 drills.
-fn program(number: u32, material: &str, f5: u32, s5: u32, edit: Option<u32>) -> String {
-    let edit = edit.map(|n| format!("(OPERATOR EDIT {n})\n")).unwrap_or_default();
+fn program(number: u32, material: &str, f5: u32, s5: u32, edit: Option<(u32, &str)>) -> String {
+    let edit = edit.map(|(n, who)| format!("(OPERATOR EDIT {n})\n(OPERATOR: {who})\n")).unwrap_or_default();
     // The post writes the lowest Z of each tool's cuts in its comment: it differs by program.
     let zmin = 2 + number % 3;
     format!(
@@ -44,28 +47,28 @@ const PROGRAMS: [(u32, &str, u32, u32); 6] = [
     (1006, "1.4301", 400, 3000),
 ];
 
-/// Every edit: machine, day of 2026, program, T5 feed and speed.
-fn history() -> Vec<(&'static str, u64, u32, u32, u32)> {
+/// Every edit: machine, day of 2026, program, T5 feed and speed, operator.
+fn history() -> Vec<(&'static str, u64, u32, u32, u32, &'static str)> {
     let mut h = Vec::new();
-    // The planted change: M1 cuts T5's feed in AL6061 to about 560 (-30 %).
+    // The planted change: M1's two operators cut T5's feed in AL6061 to about 560 (-30 %).
     let days = [10, 38, 66, 95, 123, 151, 180, 215, 245, 280];
     let feeds = [560, 570, 550, 565, 555, 560, 575, 545, 560, 565];
     for (i, (d, f)) in days.iter().zip(feeds).enumerate() {
-        h.push(("M1", *d, 1001 + (i % 4) as u32, f, 8000));
+        h.push(("M1", *d, 1001 + (i % 4) as u32, f, 8000, ["ANNA", "BEN"][i % 2]));
     }
     // One operator's bad week on M2: the spindle turned down from 8000 to 6000.
     for (d, p) in [(200, 1001), (201, 1002), (202, 1003), (203, 1001), (204, 1002), (204, 1003)] {
-        h.push(("M2", d, p, 800, 6000));
+        h.push(("M2", d, p, 800, 6000, "JOE"));
     }
     // A reversal on M1: 1.4301's feed cut to 300, then put back above the CAM value.
     for (i, d) in [20, 60, 100, 140, 180, 220].iter().enumerate() {
-        h.push(("M1", *d, 1005 + (i % 2) as u32, 300, 3000));
+        h.push(("M1", *d, 1005 + (i % 2) as u32, 300, 3000, "ANNA"));
     }
-    h.push(("M1", 250, 1005, 410, 3000));
-    h.push(("M1", 270, 1006, 420, 3000));
+    h.push(("M1", 250, 1005, 410, 3000, "BEN"));
+    h.push(("M1", 270, 1006, 420, 3000, "BEN"));
     // Noise on M2: the feed nudged both ways.
     for (i, (d, f)) in [(30, 820), (90, 780), (150, 816), (210, 784), (260, 824), (300, 776)].iter().enumerate() {
-        h.push(("M2", *d, 1004 - (i % 2) as u32 * 3, *f, 8000));
+        h.push(("M2", *d, 1004 - (i % 2) as u32 * 3, *f, 8000, ["JOE", "KIM"][i % 2]));
     }
     h
 }
@@ -129,10 +132,10 @@ impl Shop {
         for (n, material, f, s) in PROGRAMS {
             put_dated(&shop.path(&format!("hist/cam/2025-12-01/O{n}.nc")), &program(n, material, f, s, None), -31);
         }
-        for (i, (machine, day, n, f, s)) in history().into_iter().enumerate() {
+        for (i, (machine, day, n, f, s, who)) in history().into_iter().enumerate() {
             let material = PROGRAMS.iter().find(|p| p.0 == n).unwrap().1;
             let rel = format!("hist/{}/{day:03}/O{n}.nc", machine.to_lowercase());
-            put_dated(&shop.path(&rel), &program(n, material, f, s, Some(i as u32)), day as i64);
+            put_dated(&shop.path(&rel), &program(n, material, f, s, Some((i as u32, who))), day as i64);
         }
         shop
     }
@@ -194,6 +197,9 @@ fn the_rest(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     assert!(lo <= value && value <= hi && lo <= 560.0 && 560.0 <= hi, "{value} in {lo}..{hi}");
     assert_eq!(p["cam_value"], 800.0);
     assert_eq!(p["edits"].as_array().unwrap().len(), 10);
+    // The share told who edited: two operators behind it, each edit signed.
+    assert_eq!(p["operators"], 2);
+    assert_eq!(p["edits"][0]["operator"], "ANNA");
     // The decoys, each held by its gate.
     let held = |machine: &str, parameter: &str, material: &str| -> String {
         let e = all
@@ -204,7 +210,7 @@ fn the_rest(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
             .unwrap_or_else(|| panic!("no group {machine} {parameter} {material}"));
         e["s"]["held"].as_array().unwrap().iter().map(|h| h["gate"].as_str().unwrap().to_owned()).collect::<Vec<_>>().join(",")
     };
-    assert_eq!(held("M2", "spindle_speed", "AL6061"), "too_few");
+    assert_eq!(held("M2", "spindle_speed", "AL6061"), "too_few", "one operator's bad week: one operator, four days");
     assert_eq!(held("M1", "cutting_feed", "1.4301"), "reversal");
     assert!(held("M2", "cutting_feed", "AL6061").contains("small"), "{}", held("M2", "cutting_feed", "AL6061"));
     let id = p["id"].as_str().unwrap().to_owned();
@@ -246,30 +252,86 @@ fn the_rest(shop: &Shop, store: impl Fn() -> Store) -> Vec<String> {
     assert!(csv.lines().nth(1).unwrap().starts_with(&format!("{id},exported,tool,5,EM10 3FL ALU,10,3,0,AL6061,M1,")), "{csv}");
     let html = std::fs::read_to_string(shop.path("outbox/ncplan-suggestions.html")).unwrap();
     assert!(html.contains(&format!("id=\"s-{id}\"")) && html.contains("<svg"), "{html}");
-    // The CAM side posts O1001 again with the value; the daemon stores it.
+    // A reader of the format written from public examples (Python's json and zipfile, no
+    // ncplan code): the .tools zip holds the same JSON; the tool is the shop's under a new guid,
+    // its own preset as it was, one preset more with the new feed and the evidence.
+    let facts = independent_reader(&shop.path("outbox/ncplan-suggestions.tools"), &shop.path("lib/shop-tools.json"));
+    assert_eq!(facts["same_json"], true, "{facts}");
+    assert_eq!(facts["tools"], 1, "{facts}");
+    assert_eq!(facts["guid_new"], true, "{facts}");
+    assert_eq!(facts["first_preset_kept"], true, "{facts}");
+    assert_eq!(facts["presets"], 2, "{facts}");
+    assert_eq!(facts["number"], 5, "{facts}");
+    assert!((facts["v_f"].as_f64().unwrap() - value).abs() < 1e-3, "{facts}");
+    assert!(facts["description"].as_str().unwrap().starts_with(&format!("ncplan {id}: cutting feed 800 -> ")), "{facts}");
+    // The CAM side posts O1001 again with the value; the daemon stores it and records the
+    // adoption itself (no command runs).
     let daemon = watch(&shop.path("ncplan.toml"), "info", std::process::Stdio::null());
     let posted = program(1001, "AL6061", value.round() as u32, 8000, None);
     std::thread::sleep(Duration::from_millis(500));
     let tmp = shop.path("cam/O1001.nc.part");
     std::fs::write(&tmp, &posted).unwrap();
     std::fs::rename(&tmp, shop.path("cam/O1001.nc")).unwrap();
-    wait_until("the new CAM post is stored", Duration::from_secs(30), || {
-        let s = store();
-        let n = s.query("SELECT COUNT(*) FROM revisions r JOIN programs p ON p.id = r.program_id WHERE p.role = 'cam'").map(|(_, r)| r);
-        n.is_ok_and(|r| r[0][0] == "7")
-    });
+    let recorded = |state: &str| {
+        let sql = format!("SELECT COUNT(*) FROM suggestion_events WHERE state = '{state}'");
+        store().query(&sql).is_ok_and(|(_, r)| r[0][0] == "1")
+    };
+    wait_until("the daemon records the adoption", Duration::from_secs(30), || recorded("adopted"));
+    // Operators go on editing the feed on M1 (two edits, the rules' `reopen_edits`): the daemon
+    // reopens the suggestion.
+    for (n, f) in [(1001, 600), (1002, 610)] {
+        std::thread::sleep(Duration::from_millis(300));
+        let tmp = shop.path(&format!("m1/O{n}.nc.part"));
+        std::fs::write(&tmp, program(n, "AL6061", f, 8000, Some((90 + n, "BEN")))).unwrap();
+        std::fs::rename(&tmp, shop.path(&format!("m1/O{n}.nc"))).unwrap();
+    }
+    wait_until("the daemon records the reopening", Duration::from_secs(30), || recorded("reopened"));
     daemon.kill();
-    let after = suggestions(shop, &["--state", "adopted"]);
+    let after = suggestions(shop, &["--state", "reopened"]);
     assert_eq!(after.as_array().unwrap().len(), 1, "{after}");
     let s = store();
     let (_, states) = s.query("SELECT state, decided_by FROM suggestion_events ORDER BY suggestion, step").unwrap();
     let states: Vec<String> = states.iter().map(|r| r.join(" by ")).collect();
-    assert_eq!(states, ["proposed by ncplan", "accepted by anna", "exported by anna", "adopted by ncplan"]);
+    assert_eq!(states, ["proposed by ncplan", "accepted by anna", "exported by anna", "adopted by ncplan", "reopened by ncplan"]);
     let (_, view) = s.query("SELECT state, steps FROM suggestion_states").unwrap();
-    assert_eq!(view, [["adopted".to_owned(), "4".to_owned()]]);
+    assert_eq!(view, [["reopened".to_owned(), "5".to_owned()]]);
+    // A listing writes nothing (it works on a store opened read-only).
+    let before = s.query("SELECT COUNT(*) FROM suggestion_events").unwrap().1;
+    suggestions(shop, &["--all"]);
+    assert_eq!(s.query("SELECT COUNT(*) FROM suggestion_events").unwrap().1, before);
     let mut said = vec![csv, json, nx];
     said.extend(states);
     said
+}
+
+/// What Python's standard library reads in the exported `.tools` (a zip of `tools.json`)
+/// beside the shop's library, as JSON facts. The Python of `target/venv` (CI's), else `python3`.
+fn independent_reader(tools: &Path, shop: &Path) -> serde_json::Value {
+    const READER: &str = r#"
+import json, sys, zipfile
+with zipfile.ZipFile(sys.argv[1]) as z:
+    assert z.testzip() is None
+    names = z.namelist()
+    lib = json.loads(z.read(names[0]).decode("utf-8"))
+with open(sys.argv[1][:-len(".tools")] + ".json", encoding="utf-8") as f:
+    same = json.load(f) == lib
+with open(sys.argv[2], encoding="utf-8") as f:
+    shop = json.load(f)
+tool = lib["data"][0]
+mine = [t for t in shop["data"] if t["post-process"]["number"] == tool["post-process"]["number"]][0]
+presets = tool["start-values"]["presets"]
+print(json.dumps({
+    "names": names, "same_json": same, "tools": len(lib["data"]), "number": tool["post-process"]["number"],
+    "guid_new": tool["guid"] != mine["guid"] and len(tool["guid"]) == 36,
+    "first_preset_kept": presets[0] == mine["start-values"]["presets"][0],
+    "presets": len(presets), "v_f": presets[-1]["v_f"], "description": presets[-1]["description"],
+}))
+"#;
+    let venv = crate::root().join("target/venv/bin/python");
+    let python = if venv.exists() { venv.to_string_lossy().into_owned() } else { "python3".to_owned() };
+    let out = Command::new(python).args(["-c", READER]).arg(tools).arg(shop).output().expect("Python runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 #[test]
@@ -289,6 +351,12 @@ fn a_year_of_a_shop_gives_exactly_the_planted_suggestion_and_cam_adopts_it_on_bo
     let shop = Shop::new(&format!("url = '{url}'"));
     let on_pg = the_loop(&shop, || Store::open(&Location::parse(&url), "HALL1").unwrap());
     assert_eq!(on_lite, on_pg);
+    // The listing on a role that may only read (the README's read-only role).
+    let mut owner = postgres::Client::connect(&url, postgres::NoTls).unwrap();
+    owner.batch_execute(crate::pg::READER_ROLE).unwrap();
+    let reader = url.replacen("ncplan@", "ncplan_reader@", 1);
+    let listed = shop.ncplan(&["suggest", "--config", "ncplan.toml", "--db", &reader, "--all", "--now", "2026-12-31T00:00:00Z"]);
+    assert!(listed.contains(" reopened ") && listed.contains("cutting feed of T5"), "{listed}");
 }
 
 /// The suggestions page in Chromium: the planted suggestion with its evidence and pictures,
@@ -353,4 +421,79 @@ async fn review_in_browser(c: &fantoccini::Client, base: &str, shop: &Shop, engi
     assert!(wait_text(c, "ol.steps", "rejected").await.contains("rejected by planner"));
     shot(c, &format!("suggestion-rejected-{engine}")).await?;
     Ok(())
+}
+
+/// The CAM tool named from the shop's other tool lists: a FreeCAD tool library (`.fctl`, its
+/// bits in the `Bit` folder beside it) and a LinuxCNC `tool.tbl` (`tests/programs/cam_tools`,
+/// our own files in those formats), instead of the Fusion library; a list of two names the
+/// tool by the first that has it.
+#[test]
+fn the_cam_tool_is_named_from_a_freecad_library_or_a_linuxcnc_tool_table() {
+    let shop = Shop::new("path = 'var/ncplan.db'");
+    let db = shop.path("var/ncplan.db");
+    prepare(&shop, &|| Store::open(&Location::Sqlite(db.clone()), "HALL1").unwrap());
+    let tools = crate::root().join("tests/programs/cam_tools");
+    let config = std::fs::read_to_string(shop.path("ncplan.toml")).unwrap();
+    let named = |name: &str, list: &str| -> serde_json::Value {
+        let text = config.replace("tool_library = 'lib/shop-tools.json'", &format!("tool_library = {list}"));
+        std::fs::write(shop.path(name), text).unwrap();
+        let out = shop.ncplan(&["suggest", "--config", name, "--format", "json", "--now", "2026-11-30T00:00:00Z"]);
+        let all: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(all.as_array().unwrap().len(), 1, "{all}");
+        all[0]["s"]["key"]["tool"].clone()
+    };
+    let fctl = tools.join("Tools/Library/Shop.fctl");
+    let tbl = tools.join("tool.tbl");
+    let freecad = named("freecad.toml", &format!("'{}'", fctl.display()));
+    assert_eq!(
+        freecad,
+        serde_json::json!({"number": 5, "description": "10 mm End Mill 3FL ALU", "diameter": 10.0, "flutes": 3, "corner_radius": null})
+    );
+    let linuxcnc = named("linuxcnc.toml", &format!("'{}'", tbl.display()));
+    assert_eq!(linuxcnc["description"], "EM10 3FL ALU (shop tool 5)");
+    assert_eq!(linuxcnc["diameter"], 10.0);
+    let both = named("both.toml", &format!("['{}', '{}']", tbl.display(), fctl.display()));
+    assert_eq!(both, linuxcnc, "the first list that has the number names the tool");
+    // Each bit of the FreeCAD library as read: the drill's flutes an attribute, the older
+    // bull nose's corner radius from its flat radius.
+    let settings = ncplan::config::SuggestSettings { tool_libraries: vec![fctl], ..Default::default() };
+    let lib = ncplan::export::read_library(&settings).unwrap().unwrap();
+    let t = |n: u32| lib.tools.iter().find(|t| t.number == Some(n)).unwrap();
+    assert_eq!((t(7).diameter, t(7).flutes, t(7).kind.as_str()), (Some(6.8), Some(2), "drill"));
+    assert_eq!((t(9).diameter, t(9).corner_radius, t(9).description.as_str()), (Some(8.0), Some(1.5), "8 mm Bull Nose R1.5"));
+}
+
+/// The README's loop on the bundled demo: its history imported from a copy of the checkout's
+/// `demo` and `config`, with the built-in configuration (no `--config`), makes exactly the
+/// suggestion the README shows (DMU50's T3 roughing feed, 1200 → 880), holds HAAS1's nudges
+/// back, and exports it into the demo's outbox.
+#[test]
+fn the_readme_loop_runs_on_the_demo() {
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["demo", "config"] {
+        let ok = Command::new("cp").arg("-r").arg(crate::root().join(sub)).arg(dir.path()).status().unwrap().success();
+        assert!(ok, "copying {sub}");
+    }
+    let run = |args: &[&str]| -> String {
+        let out = Command::new(crate::bin()).args(args).current_dir(dir.path()).output().unwrap();
+        assert!(out.status.success(), "ncplan {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    run(&["import", "demo/history/cam", "--cam"]);
+    assert!(run(&["import", "demo/history/DMU50", "--machine", "DMU50"]).contains("7 compared with their original"));
+    run(&["import", "demo/history/HAAS1", "--machine", "HAAS1"]);
+    let listed = run(&["suggest", "--all"]);
+    let lines: Vec<&str> = listed.lines().filter(|l| !l.starts_with(' ')).collect();
+    assert_eq!(lines.len(), 2, "{listed}");
+    assert!(
+        lines[0].starts_with("6bc3e52ba2e3 proposed  cutting feed of T3 Ø12 FLAT END MILL · AL6061-T6 · DMU50")
+            && lines[0].contains("CAM 1200 -> 880 mm/min (-26.7 %; 840 to 880); 7 edits, 3 programs, 7 days, 2 operators, p=0.016"),
+        "{listed}"
+    );
+    assert!(lines[1].contains(" held ") && lines[1].contains("HAAS1"), "{listed}");
+    run(&["suggest", "--accept", "6bc3e52ba2e3", "--by", "anna"]);
+    assert!(run(&["export-suggestions", "--to", "fusion", "--by", "anna"]).contains("1 accepted suggestions exported"));
+    let lib = library::read(&std::fs::read_to_string(dir.path().join("var/outbox/ncplan-suggestions.json")).unwrap()).unwrap();
+    let preset = &lib.tools[0].presets[0].1;
+    assert_eq!((lib.tools[0].number, preset.get("v_f").copied()), (Some(3), Some(880.0)));
 }
