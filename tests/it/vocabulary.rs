@@ -314,7 +314,8 @@ G0 Y P0
 /// miscellaneous function, and reads without an error; `M3` is still the M address.
 #[test]
 fn a_bare_m_on_an_older_tnc_is_no_function() {
-    let (calls, diags) = run("heidenhain", "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+10 Y+0 R0 FMAX M3\n3 L X+20 R F100 M\n4 END PGM T MM\n");
+    let (calls, diags) =
+        run("heidenhain", "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+10 Y+0 R0 FMAX M3\n3 L X+20 R F100 M\n4 END PGM T MM\n");
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
     assert!(calls.iter().any(|c| c.starts_with("START_SPINDLE_CLOCKWISE")), "{calls:#?}");
     assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_FEED(20.0000, 0.0000")), "{calls:#?}");
@@ -328,7 +329,8 @@ fn a_bare_m_on_an_older_tnc_is_no_function() {
 /// (G31) of no length is no alarm: without the skip signal the move just ends.
 #[test]
 fn a_sign_apart_from_its_bracket_and_a_skip_of_no_length() {
-    let (calls, diags) = run("haas", "O1\nG90 G0 X0 Y0 Z10.\n#5 = 2.\nG91 G31 Z - [ 0.5 * #5 ] F [ 50. * #5 ]\nG90 G31 X0 Y0 Z9. F100.\nM30\n");
+    let (calls, diags) =
+        run("haas", "O1\nG90 G0 X0 Y0 Z10.\n#5 = 2.\nG91 G31 Z - [ 0.5 * #5 ] F [ 50. * #5 ]\nG90 G31 X0 Y0 Z9. F100.\nM30\n");
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
     assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_PROBE(0.0000, 0.0000, 9.0000")), "{calls:#?}");
     // A sign with nothing after it is still no number.

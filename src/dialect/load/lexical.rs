@@ -8,8 +8,15 @@ use super::super::{AxisIndexed, BlockForm, CommentClose, CommentRule, Directive,
 use super::Cx;
 
 /// The attributes `<lexical>` may carry.
-const ATTRIBUTES: &[&str] =
-    &["block-form", "spaces-in-numbers", "assign-values", "bare-function-arguments", "identifier-variables", "symbolic-comparisons", "paren-statements"];
+const ATTRIBUTES: &[&str] = &[
+    "block-form",
+    "spaces-in-numbers",
+    "assign-values",
+    "bare-function-arguments",
+    "identifier-variables",
+    "symbolic-comparisons",
+    "paren-statements",
+];
 
 /// The elements `<lexical>` may hold.
 const CHILDREN: &[&str] = &[

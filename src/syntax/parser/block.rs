@@ -199,7 +199,8 @@ impl Lexer<'_, '_> {
     fn close_paren(&mut self) {
         self.i += 1;
         self.paren = None;
-        let plain = self.block.control.as_ref().and_then(|c| c.statement).is_some_and(|s| matches!(s, Statement::Unsupported | Statement::Inert));
+        let plain =
+            self.block.control.as_ref().and_then(|c| c.statement).is_some_and(|s| matches!(s, Statement::Unsupported | Statement::Inert));
         if plain {
             self.i = self.line_end();
         }
