@@ -164,6 +164,10 @@ pub struct Lexical {
     pub axis_indexed: Vec<AxisIndexed>,
     /// Whether `==`, `<>`, `<`, `>`, `<=`, `>=` compare in expressions (`R1>=5`).
     pub symbolic_comparisons: bool,
+    /// Whether a block opening with `(` and a statement keyword or a parameter assignment is
+    /// that statement in brackets (Fagor 8055's high-level language: `(P100 = P101 * 2)`,
+    /// `(IF P1 EQ 0 GOTO N10)`, `(CALL 3)`); any other `(` stays a comment.
+    pub paren_statements: bool,
     /// Comment rules, tried in order.
     pub comments: Vec<CommentRule>,
     /// Block-skip (block-delete) character.

@@ -234,7 +234,7 @@ impl<'a> Parser<'a> {
                 None => {
                     block.clear();
                     block.line = self.line;
-                    let mut lx = Lexer { text: win, b: bytes, i: start, base, dialect, block, diags };
+                    let mut lx = Lexer { text: win, b: bytes, i: start, base, dialect, block, diags, paren: None };
                     let end = lx.block();
                     (end, lx.i)
                 }
@@ -408,6 +408,9 @@ struct Lexer<'t, 'b> {
     dialect: &'t Dialect,
     block: &'b mut Block,
     diags: &'b mut Vec<Diagnostic>,
+    /// The closing `)` of a statement in brackets (`(IF P1 EQ 0 GOTO N10)`): the statement's
+    /// text ends there, as at a line's end.
+    paren: Option<usize>,
 }
 
 impl Lexer<'_, '_> {
@@ -448,7 +451,8 @@ impl Lexer<'_, '_> {
     /// Index of the end of the physical line from `i`.
     fn line_end(&self) -> usize {
         let rest = &self.b[self.i..];
-        self.i + rest.iter().position(|&c| c == b'\n' || c == b'\r').unwrap_or(rest.len())
+        let end = self.i + rest.iter().position(|&c| c == b'\n' || c == b'\r').unwrap_or(rest.len());
+        self.paren.filter(|&p| p >= self.i).map_or(end, |p| p.min(end))
     }
 
     fn char_len(&self, at: usize) -> usize {

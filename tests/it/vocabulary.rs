@@ -252,3 +252,101 @@ fn a_named_subroutine_on_the_subroutine_path_is_a_warning() {
     let numbered = read("linuxcnc", "G0 X0\no100 call\nM2\n");
     assert!(numbered.iter().any(|d| d.code == Code::MissingLabel && d.is_error()), "{numbered:?}");
 }
+
+/// The calls a program makes in `dialect`, as rs274 prints them, and its findings.
+fn run(dialect: &str, text: &str) -> (Vec<String>, Vec<Diagnostic>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = interpret(text, &d, &Profile::default(), &mut out);
+    let calls = out
+        .iter()
+        .map(|c| {
+            let mut t = String::new();
+            ncplan::canon::write_call(&mut t, &c.op);
+            t.trim_end().to_owned()
+        })
+        .collect();
+    (calls, diags)
+}
+
+/// The Fagor 8055 writes its high-level language in brackets: an assignment, a conditional
+/// jump, a subroutine `(SUB 3)` ... `(RET)` called by `(CALL 3)` or with arguments by
+/// `(PCALL 3, P0=1)`, a section repeat (read, not repeated); any other bracket is a comment.
+#[test]
+fn fagor_8055_statements_in_brackets() {
+    let program = "\
+(DRILL PLATE)
+N10 G0 G90 X0 Y0 Z10
+(P100 = 5)
+(P101 = P100 * 2 + 1)
+N20 G1 X P101 F500
+(IF P100 EQ 5 GOTO N40)
+N30 G1 Y10 F0
+N40 G0 Z10
+(CALL 3)
+(PCALL 4, P0=7)
+(RPT N10, N20) N2
+M30
+(SUB 3)
+G0 X5
+(RET)
+(SUB 4)
+G0 Y P0
+(RET)
+";
+    let (calls, diags) = run("fagor", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    // P101 = 11; the jump skips N30 (its F0 would stop the feed); the subroutines run.
+    assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_FEED(11.0000, 0.0000, 10.0000")), "{calls:#?}");
+    assert!(!calls.iter().any(|c| c.starts_with("STRAIGHT_FEED(11.0000, 10.0000")), "{calls:#?}");
+    assert_eq!(calls.iter().filter(|c| *c == "SET_FEED_RATE(0.0000)").count(), 1, "N30 F0 was jumped over, only M30 resets: {calls:#?}");
+    assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_TRAVERSE(5.0000, 0.0000, 10.0000")), "{calls:#?}");
+    assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_TRAVERSE(5.0000, 7.0000, 10.0000")), "{calls:#?}");
+    assert!(diags.iter().any(|d| d.message.contains("RPT") && !d.is_error()), "{diags:?}");
+    // A bracket that does not open a statement stays a comment.
+    assert!(calls.iter().any(|c| c == "COMMENT(\"DRILL PLATE\")"), "{calls:#?}");
+    // And the program is told to be a Fagor one from its statements alone.
+    let sniffed = ncplan::pipeline::sniff(&Registry::shipped(), program.as_bytes(), std::path::Path::new("P000214.PIM"));
+    assert_eq!(sniffed.dialect, "fagor");
+}
+
+/// Older TNCs write a prompt left unanswered as its bare letter: `L X-.3937 M` has no
+/// miscellaneous function, and reads without an error; `M3` is still the M address.
+#[test]
+fn a_bare_m_on_an_older_tnc_is_no_function() {
+    let (calls, diags) =
+        run("heidenhain", "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+10 Y+0 R0 FMAX M3\n3 L X+20 R F100 M\n4 END PGM T MM\n");
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(calls.iter().any(|c| c.starts_with("START_SPINDLE_CLOCKWISE")), "{calls:#?}");
+    assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_FEED(20.0000, 0.0000")), "{calls:#?}");
+    // The DIN/ISO dialect has no such prompt: an M there needs its number.
+    let iso = read("heidenhain_iso", "%T G71 *\nN10 G00 X10 M *\nN99999999 %T G71 *\n");
+    assert!(iso.iter().any(|d| d.is_error()), "{iso:?}");
+}
+
+/// Haas's own Renishaw macros write a sign apart from its bracket (`Z - [ 0.5 * #5 ]`): the
+/// sign applies to the expression (Fanuc and Haas ignore blanks in a block). A Fanuc skip
+/// (G31) of no length is no alarm: without the skip signal the move just ends.
+#[test]
+fn a_sign_apart_from_its_bracket_and_a_skip_of_no_length() {
+    let (calls, diags) =
+        run("haas", "O1\nG90 G0 X0 Y0 Z10.\n#5 = 2.\nG91 G31 Z - [ 0.5 * #5 ] F [ 50. * #5 ]\nG90 G31 X0 Y0 Z9. F100.\nM30\n");
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(calls.iter().any(|c| c.starts_with("STRAIGHT_PROBE(0.0000, 0.0000, 9.0000")), "{calls:#?}");
+    // A sign with nothing after it is still no number.
+    let bad = read("fanuc", "O1\nG0 X- Y1.\nM30\n");
+    assert!(bad.iter().any(|d| d.is_error()), "{bad:?}");
+}
+
+/// Okuma's G code table: G11 shifts and turns the coordinate system and G10 cancels it
+/// (kept as intent); it has no Fanuc G68.2 tilted plane, which stays an error.
+#[test]
+fn okuma_reads_its_own_g10_g11_and_has_no_g68_2() {
+    let own = read("okuma", "O1\nG15 H1\nG11 X0 Y0 R30.\nG0 X10. Y0\nG10\nM02\n");
+    assert!(errors(&own).is_empty(), "{:?}", errors(&own));
+    assert_eq!(own.iter().filter(|d| d.code == Code::Unmodelled).count(), 2, "{own:?}");
+    let fanuc_tilt = read("okuma", "O1\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nM02\n");
+    assert!(fanuc_tilt.iter().any(|d| d.code == Code::UnknownCode && d.is_error()), "{fanuc_tilt:?}");
+    let fagor_tilt = read("fagor", "G68.2 X0 Y0 Z0 I0 J30. K0\nM30\n");
+    assert!(fagor_tilt.iter().any(|d| d.code == Code::UnknownCode && d.is_error()), "{fagor_tilt:?}");
+}

@@ -8,8 +8,15 @@ use super::super::{AxisIndexed, BlockForm, CommentClose, CommentRule, Directive,
 use super::Cx;
 
 /// The attributes `<lexical>` may carry.
-const ATTRIBUTES: &[&str] =
-    &["block-form", "spaces-in-numbers", "assign-values", "bare-function-arguments", "identifier-variables", "symbolic-comparisons"];
+const ATTRIBUTES: &[&str] = &[
+    "block-form",
+    "spaces-in-numbers",
+    "assign-values",
+    "bare-function-arguments",
+    "identifier-variables",
+    "symbolic-comparisons",
+    "paren-statements",
+];
 
 /// The elements `<lexical>` may hold.
 const CHILDREN: &[&str] = &[
@@ -77,6 +84,7 @@ impl Cx {
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             identifier_variables: self.bool(el, "identifier-variables", false),
             symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
+            paren_statements: self.bool(el, "paren-statements", false),
             comments: Vec::new(),
             block_skip: None,
             block_number: None,

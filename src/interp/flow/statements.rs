@@ -716,7 +716,13 @@ impl<'a> Driver<'a, '_> {
         if !block.assigns.is_empty() {
             interp.assign(block, diags);
         }
-        let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
+        // A procedure named by a number is known by its keyword and number (`%L 100` is
+        // `L100`); a call by the bare number (`(CALL 3)` of `(SUB 3)`, Fagor 8055) finds it too.
+        let numbered = |n: &str| {
+            let digits = n.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+            digits.len() < n.len() && digits == key && key.bytes().all(|b| b.is_ascii_digit())
+        };
+        let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref().is_some_and(|n| n == key || numbered(n));
         let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
         let Some((source, body)) = self.locate(file, starts) else {
             let keyword = c.keyword.map_or(written, |k| block.text(k));

@@ -6,7 +6,7 @@
 use super::super::{Block, Word, WordMode};
 use super::Lexer;
 use crate::diag::Code;
-use crate::dialect::CommentClose;
+use crate::dialect::{CommentClose, Statement};
 
 impl Lexer<'_, '_> {
     /// Lexes one block; returns the end of its text (before any terminator).
@@ -18,6 +18,15 @@ impl Lexer<'_, '_> {
         loop {
             self.skip_blanks();
             let Some(c) = self.peek() else { break };
+            if self.paren == Some(self.i) {
+                self.close_paren();
+                continue;
+            }
+            // In brackets, commas separate a call's arguments (`(PCALL 3, P0=1, P1=2)`).
+            if c == b',' && self.paren.is_some() {
+                self.i += 1;
+                continue;
+            }
             // Most words are a letter and a number; the dialect's index guarantees that no
             // other rule below claims a letter that has a plain role.
             if let Some(role) = self.dialect.plain_role(c)
@@ -99,6 +108,9 @@ impl Lexer<'_, '_> {
             return;
         }
         let at_start = |b: &Block| b.words.is_empty() && b.assigns.is_empty() && b.control.is_none();
+        if c == b'(' && lex.paren_statements && at_start(self.block) && self.open_paren() {
+            return;
+        }
         if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (!r.block_start || at_start(self.block))) {
             let close = rule.close.clone();
             self.comment(&close);
@@ -135,6 +147,62 @@ impl Lexer<'_, '_> {
         }
         if !self.symbol_address(c) {
             self.unexpected_characters();
+        }
+    }
+
+    /// `(` opening a statement in brackets (`(P100 = 5)`, `(IF P1 EQ 0 GOTO N10)`, `(RET)`):
+    /// a statement keyword of the dialect or a parameter assignment after it, and its `)`
+    /// closing the line. Steps into the brackets and notes where they close; false (nothing
+    /// read) for any other bracket, a comment.
+    fn open_paren(&mut self) -> bool {
+        let end = {
+            let rest = &self.b[self.i..];
+            self.i + rest.iter().position(|&c| c == b'\n' || c == b'\r').unwrap_or(rest.len())
+        };
+        let mut j = self.i + 1;
+        while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+            j += 1;
+        }
+        let statement = self.statement_at(j).is_some();
+        let assignment = self.dialect.lexical.parameter.is_some_and(|(sigil, _)| {
+            let mut k = j;
+            if !self.b.get(k).is_some_and(|c| c.eq_ignore_ascii_case(&(sigil as u8))) {
+                return false;
+            }
+            k += 1;
+            let digits = k;
+            while self.b.get(k).is_some_and(u8::is_ascii_digit) {
+                k += 1;
+            }
+            while matches!(self.b.get(k), Some(b' ' | b'\t')) {
+                k += 1;
+            }
+            k > digits && self.b.get(k) == Some(&b'=') && self.b.get(k + 1) != Some(&b'=')
+        });
+        // The last `)` of the line closes the brackets (an expression may hold others).
+        let Some(close) = self.b[j..end].iter().rposition(|&c| c == b')').map(|p| j + p) else { return false };
+        if !(statement || assignment) {
+            return false;
+        }
+        self.i = j;
+        self.paren = Some(close);
+        if statement {
+            self.keyword_statement(j);
+        } else {
+            self.assignment();
+        }
+        true
+    }
+
+    /// Past the `)` that closes a statement in brackets. What follows an unsupported or
+    /// inert statement on its line belongs to it (`(RPT N10, N20) N3`: the count).
+    fn close_paren(&mut self) {
+        self.i += 1;
+        self.paren = None;
+        let plain =
+            self.block.control.as_ref().and_then(|c| c.statement).is_some_and(|s| matches!(s, Statement::Unsupported | Statement::Inert));
+        if plain {
+            self.i = self.line_end();
         }
     }
 

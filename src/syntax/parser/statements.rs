@@ -364,7 +364,7 @@ impl Lexer<'_, '_> {
     /// The statement keyword at `at` and where it ends, longest first. A keyword of several
     /// words matches them separated by any blanks (`CALL  LBL`); it must not run into a
     /// letter (`IFX`), though a number may follow directly (`GOTO10`, `DO1`).
-    fn statement_at(&self, at: usize) -> Option<(usize, Statement)> {
+    pub(super) fn statement_at(&self, at: usize) -> Option<(usize, Statement)> {
         'keywords: for (k, st) in &self.dialect.macros.statements {
             let mut i = at;
             for (n, part) in k.split(' ').enumerate() {
@@ -470,6 +470,9 @@ impl Lexer<'_, '_> {
 
     /// Whether the cursor is at the end of the block: end of line, a comment or a block end.
     fn at_block_end(&self) -> bool {
+        if self.paren == Some(self.i) {
+            return true;
+        }
         match self.peek() {
             None | Some(b'\r' | b'\n') => true,
             Some(c) => self.dialect.lexical.block_end == Some(c as char) || self.dialect.lexical.comments.iter().any(|r| r.open as u8 == c),
@@ -513,7 +516,8 @@ impl Lexer<'_, '_> {
             control.name = self.string(self.i);
         } else if control.statement == Some(Statement::CallProgram) && !self.at_block_end() {
             let from = self.i;
-            while self.peek().is_some_and(|c| !matches!(c, b' ' | b'\t' | b'\r' | b'\n')) && !self.at_block_end() {
+            // A comma ends the name too: its arguments follow (`(PCALL 3, P0=1)`).
+            while self.peek().is_some_and(|c| !matches!(c, b' ' | b'\t' | b'\r' | b'\n' | b',')) && !self.at_block_end() {
                 self.i += self.char_len(self.i);
             }
             control.name = Some(self.range(from, self.i));

@@ -548,11 +548,19 @@ impl Lexer<'_, '_> {
         } else {
             self.i + 1
         };
-        let sign_then_expr = matches!(c, b'+' | b'-')
-            && self
-                .b
-                .get(after_sign)
-                .is_some_and(|&n| Some(n) == expr_open || Some(n.to_ascii_uppercase()) == sigil || n.is_ascii_alphabetic());
+        // Blanks between a sign and a bracket or a variable (`Z - [0.5 * #5]`, Haas's own
+        // Renishaw macros) leave nothing to misread on any control that ignores blanks in a
+        // block (Fanuc, Haas): the sign applies to the expression.
+        let blanks_then_expr = matches!(c, b'+' | b'-') && {
+            let j = self.b[self.i + 1..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| self.i + 1 + p);
+            self.b.get(j).is_some_and(|&n| Some(n) == expr_open || Some(n.to_ascii_uppercase()) == sigil)
+        };
+        let sign_then_expr = blanks_then_expr
+            || matches!(c, b'+' | b'-')
+                && self
+                    .b
+                    .get(after_sign)
+                    .is_some_and(|&n| Some(n) == expr_open || Some(n.to_ascii_uppercase()) == sigil || n.is_ascii_alphabetic());
         if c.is_ascii_digit() || c == b'.' || (matches!(c, b'+' | b'-') && !sign_then_expr) {
             return self.number().map(|(value, decimal)| Value::Number { value, decimal });
         }
