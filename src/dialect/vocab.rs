@@ -638,6 +638,9 @@ vocab! {
         /// angle), bits 1-0,
         /// 3-2, 5-4 the axis of the first, second and third rotation (01 X, 10 Y, 11 Z).
         TiltMode = "tilt-mode",
+        /// A swivel cycle's swivel mode: its units digit 1 adds the swivel to the plane in force
+        /// (Siemens `_ST` 200001), 0 swivels from the untilted plane.
+        TiltSwivel = "tilt-swivel",
         /// The point a tilted plane turns about, X (Fanuc `G68.2 X`, Siemens `_X0`).
         TiltOriginX = "tilt-origin-x",
         /// The point a tilted plane turns about, Y.

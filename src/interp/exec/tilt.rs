@@ -14,7 +14,8 @@
 //! - a relative angle (`tilt-relative`): about the tilted plane's own X, Y or Z;
 //! - a swivel cycle (`tilt-cycle`, `CYCLE800`): axis by axis in the mode's order, each
 //!   about the turned axes, about the reference point `_X0 _Y0 _Z0`, the zero point then
-//!   shifted to `_X1 _Y1 _Z1` on the tilted plane; in solid-angle mode (bits 7-6 01) about Z
+//!   shifted to `_X1 _Y1 _Z1` on the tilted plane; on the plane in force where `_ST`'s units
+//!   digit is 1 (additive) [from the cycle's documented `_ST` coding, unconfirmed on a control]; in solid-angle mode (bits 7-6 01) about Z
 //!   by `_A`, then about the turned Y by `_B` [the order from public CYCLE800 descriptions,
 //!   unconfirmed on a control]. Its other modes (projection angles, rotary axes direct) need
 //!   the machine: said, and the plane stays as it was;
@@ -282,6 +283,12 @@ impl Interpreter<'_> {
         let shift = [Role::TiltShiftX, Role::TiltShiftY, Role::TiltShiftZ].map(|r| get(r).unwrap_or(0.0));
         let turned = Frame { origin: pivot, rotation };
         let frame = Frame { origin: turned.to_base(shift), rotation };
+        // `_ST` units digit 1: additive, on the swivelled plane in force.
+        let additive = get(Role::TiltSwivel).is_some_and(|st| (st.abs() as u64) % 10 == 1);
+        let frame = match self.st.frame {
+            Some(now) if additive => now.then(&frame),
+            _ => frame,
+        };
         self.set_frame(Some(frame), sink);
     }
 
