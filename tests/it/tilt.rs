@@ -259,6 +259,58 @@ fn g68_2_origin() {
 }
 
 #[test]
+fn plane_axial_angle() {
+    edit(
+        "tnc_points_projected_axial",
+        "PLANE AXIAL B-90",
+        "PLANE AXIAL B-80",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted -90° about B | tilted -80° about B | 40 | 40
+          work plane tilted -90° → -80° about B; 1 hole moved at line 40
+    "#]],
+    );
+}
+
+#[test]
+fn plane_projected_angle() {
+    edit(
+        "tnc_points_projected_axial",
+        "PROPR+90 PROMIN+0 ROT+90",
+        "PROPR+90 PROMIN+0 ROT+0",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted A90° B0° C90° | tilted 90° about B | 24 | 24
+          work plane tilted A90° B0° C90° → tilted 90° about B; 2 holes moved at line 24
+    "#]],
+    );
+}
+
+#[test]
+fn g68_4_incremental_angle() {
+    edit(
+        "fanuc_g684_incremental",
+        "G68.4 X20. Y0. Z0. I0. J0. K90.",
+        "G68.4 X20. Y0. Z0. I0. J5. K90.",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted A90° B0° C90° | tilted A90° B0° C85° | 15 | 15
+          work plane tilted A90° B0° C90° → tilted A90° B0° C85°; 2 holes moved at line 15
+    "#]],
+    );
+}
+
+#[test]
+fn cycle800_solid_angle() {
+    edit(
+        "ss_840d_cycle800_solid",
+        "64,0,60,0,90,90,0",
+        "64,0,60,0,90,80,0",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted A-90° B90° C0° | tilted A0° B80° C90° | 12 | 12
+          work plane tilted A-90° B90° C0° → tilted A0° B80° C90°; 2 holes moved at line 12
+    "#]],
+    );
+}
+
+#[test]
 fn a_milled_slot_on_a_plane_turned_off_the_stock_faces_changes_only_the_plane() {
     edit(
         "hm_tnc_right_face_b90",
@@ -460,5 +512,10 @@ fn real_programs_lie_on_their_faces() {
     let built = &score["built"];
     assert!(built.0 - built.1.len() >= BUILT_SCORE, "built part: {}", built.1.join("\n"));
     let Some(held) = score.get("held") else { return };
-    assert!(held.0 - held.1.len() >= HELD_SCORE, "held-back part: {} of {} met, fewer than the {HELD_SCORE} first scored", held.0 - held.1.len(), held.0);
+    assert!(
+        held.0 - held.1.len() >= HELD_SCORE,
+        "held-back part: {} of {} met, fewer than the {HELD_SCORE} first scored",
+        held.0 - held.1.len(),
+        held.0
+    );
 }
