@@ -379,8 +379,9 @@ fn stepnc_keeps_setups_and_placements() {
 /// The tilted-plane suite translated between the controls that write a tilted plane
 /// (Heidenhain `PLANE SPATIAL`/`PLANE RESET`, Siemens `CYCLE800`, Fanuc `G68.2`/`G53.1`/`G69`)
 /// and proven as `translate --check` proves it: the moves compared on their planes. A
-/// translation is `ok` (it runs as the source, each move on the same plane) or refused with
-/// the first error; never a plane silently otherwise.
+/// translation is `ok` (it runs as the source, each move on the same plane with the same tool
+/// axis: tool centre point control written as `M128`/`TRAORI` with the rotary axes) or refused
+/// with the first error; never a plane or a tool axis silently otherwise.
 #[test]
 fn tilted_planes_translate_between_the_controls_that_write_them() {
     const TARGETS: [&str; 3] = ["heidenhain", "siemens", "fanuc"];
@@ -399,8 +400,10 @@ fn tilted_planes_translate_between_the_controls_that_write_them() {
             let verdict = match diags.iter().chain(&check).find(|d| d.is_error()) {
                 Some(e) => format!("refused: {}: {}", e.code.as_str(), e.message.chars().take(90).collect::<String>()),
                 None => {
-                    // The plane is written, and read back as the source's.
-                    assert!(["PLANE SPATIAL", "CYCLE800(", "G68.2"].iter().any(|w| out.contains(w)), "{name} -> {to}:\n{out}");
+                    // The plane (or tool centre point control) is written, and read back as the
+                    // source's.
+                    let words = ["PLANE SPATIAL", "CYCLE800(", "G68.2", "M128", "TRAORI"];
+                    assert!(words.iter().any(|w| out.contains(w)), "{name} -> {to}:\n{out}");
                     written += 1;
                     "ok".to_owned()
                 }

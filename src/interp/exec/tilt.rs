@@ -299,6 +299,7 @@ impl Interpreter<'_> {
             return;
         }
         self.st.tcp = on;
+        self.emit(sink, CanonOp::Setting(crate::canon::Setting::ToolCentrePoint(on)));
         if on {
             self.rotary_tool_axis(sink, diags);
         } else {
@@ -440,6 +441,14 @@ mod tests {
         let f = Frame { origin: [0.0; 3], rotation: chain([2, 1, 2], [90.0, 30.0, 0.0]) };
         let (s, c) = 30f64.to_radians().sin_cos();
         assert!(close(f.axis(), [0.0, s, c]));
+    }
+
+    #[test]
+    fn the_writer_reads_the_rotary_axes_as_the_interpreter_does() {
+        for abc in [[0.0, 15.0, 0.0], [30.0, -20.0, 75.0], [-90.0, 0.0, 285.0], [12.5, 81.101, 103.826]] {
+            let r = chain([2, 1, 0], [abc[2], abc[1], abc[0]]);
+            assert!(close(crate::canon::rotary_tool_axis(abc), [r[0][2], r[1][2], r[2][2]]), "{abc:?}");
+        }
     }
 
     #[test]
