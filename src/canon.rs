@@ -267,6 +267,24 @@ pub enum Setting {
     /// Lathe diameter mode on (X words are diameters: a lathe dictionary's start, `G7`,
     /// `DIAMON`) or off (`G8`, `DIAMOF`): the program turns about Z.
     DiameterMode(bool),
+    /// Tool centre point control on (`M128`, `FUNCTION TCPM`, `TRAORI`, `G43.4`) or off: X Y Z
+    /// are the tool tip's on the part, and the rotary axes turn the tool about it (the tool
+    /// axis then follows as `ToolAxis` markers).
+    ToolCentrePoint(bool),
+}
+
+/// The tool axis the rotary axes A, B and C (degrees) turn the tool to, read as turns of the
+/// tool about the part's X, then Y, then Z (ISO 841 senses): `Rz(C)·Ry(B)·Rx(A)` applied to Z.
+/// A machine whose kinematics differ tilts it otherwise; interpreter and writer share this
+/// reading, so that a translation states the rotary axes that give the source's axis.
+pub fn rotary_tool_axis(abc: [f64; 3]) -> [f64; 3] {
+    let [sa, sb, sc] = abc.map(|d| d.to_radians().sin());
+    let [ca, cb, cc] = abc.map(|d| d.to_radians().cos());
+    // Rx(A)·Z = (0, -sA, cA); Ry(B)·v; Rz(C)·v.
+    let v = [0.0, -sa, ca];
+    let v = [cb * v[0] + sb * v[2], v[1], -sb * v[0] + cb * v[2]];
+    let v = [cc * v[0] - sc * v[1], sc * v[0] + cc * v[1], v[2]];
+    v.map(|x| if x.abs() < 1e-12 { 0.0 } else { x })
 }
 
 /// Where a move given in the machine's own frame goes: a reference position, or machine
@@ -939,6 +957,9 @@ fn setting(out: &mut Vec<u8>, s: &Setting) {
         Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
         Setting::WorkOffset(i) => write!(out, "COMMENT(\"ncplan: work offset {i} stated\")"),
         Setting::DiameterMode(on) => write!(out, "COMMENT(\"ncplan: diameter mode {}\")", if *on { "on" } else { "off" }),
+        Setting::ToolCentrePoint(on) => {
+            write!(out, "COMMENT(\"ncplan: tool centre point control {}\")", if *on { "on" } else { "off" })
+        }
         Setting::ToolName(n, name) => {
             let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
             write!(out, "COMMENT(\"ncplan: tool {n} is {name}\")")

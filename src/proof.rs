@@ -3,7 +3,8 @@
 //! frame it runs in: the work offset the program stated (or the one the machine had, where it
 //! stated none), the G92 shift, and the moves that go to a position in the machine's own frame
 //! (a reference return, a move in machine coordinates) as those, not as the numbers the
-//! analysis gives them with its offsets at zero. With each cutting move: the tool, the feed,
+//! analysis gives them with its offsets at zero. With each move: the tool axis (turned under
+//! tool centre point control, or stated). With each cutting move: the tool, the feed,
 //! the spindle's turning and speed, and the coolant.
 //!
 //! The door: [`Trace`] (a [`CanonSink`] that keeps what the comparison needs of a stream, in
@@ -96,6 +97,9 @@ pub struct Move {
     /// The tilted working plane it runs on (its origin in millimetres), `None` untilted: the
     /// move's numbers are in its coordinates.
     pub tilt: Option<Frame>,
+    /// The tool axis it runs with (a unit vector in the plane's coordinates; +Z but where a
+    /// `ToolAxis` marker turned it: under tool centre point control, or stated).
+    pub axis: [f64; 3],
     /// The source line, and the block's range.
     pub line: u32,
     /// See [`Move::line`].
@@ -128,6 +132,8 @@ pub struct Trace {
     chain: Vec<[f64; 3]>,
     /// The tilted working plane in force (origin in millimetres).
     tilt: Option<Frame>,
+    /// The tool axis in force.
+    axis: [f64; 3],
     /// A move in the machine's frame under way: its kind, axes and how many moves it has left.
     machine: Option<(Kind, [Option<f64>; 6], usize)>,
     ended: bool,
@@ -157,6 +163,7 @@ impl Trace {
             frames: Vec::new(),
             chain: Vec::new(),
             tilt: None,
+            axis: [0.0, 0.0, 1.0],
             machine: None,
             ended: false,
             origin: TextRange::default(),
@@ -209,6 +216,7 @@ impl Trace {
             coolant: self.coolant,
             tool: self.tool,
             tilt: self.tilt,
+            axis: self.axis,
             line,
             origin,
         });
@@ -339,6 +347,7 @@ impl CanonSink for Trace {
                 self.tilt = f.as_deref().map(|f| Frame { origin: f.origin.map(|v| v * self.scale), rotation: f.rotation })
             }
             CanonOp::SelectPlane(p) => self.plane = *p,
+            CanonOp::ToolAxis(v) => self.axis = *v,
             CanonOp::SetG92Offset(o) => {
                 self.shifts[0] = [o[0] * self.scale, o[1] * self.scale, o[2] * self.scale];
                 self.refresh_g92();
@@ -474,6 +483,11 @@ pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
         }
         if !same_tilt(m.tilt.as_ref(), n.tilt.as_ref(), tol) {
             return differ(m, Some(n), format!("moves on {}, the translation on {}", tilt(m.tilt.as_ref()), tilt(n.tilt.as_ref())));
+        }
+        // The tool axis: rotary axes written to a few decimals turn it by some 1e-5.
+        if !near(m.axis, n.axis, 1e-4) {
+            let v = |a: [f64; 3]| format!("I{:.4} J{:.4} K{:.4}", a[0], a[1], a[2]);
+            return differ(m, Some(n), format!("moves with the tool axis {}, the translation with {}", v(m.axis), v(n.axis)));
         }
         // The spindle, its speed and the coolant as they cut: on a rapid they make nothing (a
         // target whose tool change stops the spindle positions with it stopped).
@@ -640,6 +654,17 @@ mod tests {
         assert_eq!(difference(&source, &Trace::of(&[c(plane(Some(near)), 1), c(mv.clone(), 2)], 1e-3), 1e-3), None);
         let shifted = Frame { origin: [0.0, 0.0, 1.0], ..a30 };
         assert!(difference(&source, &Trace::of(&[c(plane(Some(shifted)), 1), c(mv, 2)], 1e-3), 1e-3).is_some());
+    }
+
+    #[test]
+    fn a_move_with_another_tool_axis_differs() {
+        let tilted = CanonOp::ToolAxis([0.258819, 0.0, 0.965926]);
+        let mv = CanonOp::StraightFeed([20.0, 10.0, 5.0, 0.0, 15.0, 0.0]);
+        let source = Trace::of(&[c(tilted.clone(), 2), c(mv.clone(), 2)], 1e-3);
+        let untilted = Trace::of(&[c(mv.clone(), 2)], 1e-3);
+        let d = difference(&source, &untilted, 1e-3).expect("the tool axis dropped");
+        assert_eq!(d.what, "moves with the tool axis I0.2588 J0.0000 K0.9659, the translation with I0.0000 J0.0000 K1.0000");
+        assert_eq!(difference(&source, &Trace::of(&[c(tilted, 2), c(mv, 2)], 1e-3), 1e-3), None);
     }
 
     #[test]

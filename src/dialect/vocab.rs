@@ -405,6 +405,25 @@ vocab! {
         /// Tilts the active working plane further about one of its own axes (Heidenhain
         /// `PLANE RELATIV SPA`): the angle's role says which axis.
         TiltRelative = "tilt-relative",
+        /// Tilts the working plane through three points (Heidenhain `PLANE POINTS`): the line
+        /// from the first (`tilt-p1-x` …) to the second (`tilt-p2-x` …) is the new X, the third
+        /// (`tilt-p3-x` …) lies on the side of the new +Y; the datum stays.
+        TiltPoints = "tilt-points",
+        /// Tilts the working plane by projection angles (Heidenhain `PLANE PROJECTED PROPR
+        /// PROMIN ROT`): the plane's trace in the ZX plane at `tilt-a` from X, its trace in the YZ
+        /// plane at `tilt-b` from Y, the new X along the first trace turned by `tilt-c` about the
+        /// new Z.
+        TiltProjected = "tilt-projected",
+        /// Tilts the working plane by the rotary axes' positions (Heidenhain `PLANE AXIAL A B C`):
+        /// read, like tool centre point control, as turns about the part's X, Y and Z (ISO 841
+        /// senses), which the machine's kinematics may not share (said in a note).
+        TiltAxial = "tilt-axial",
+        /// Tilts the working plane square to the tool axis the rotary axes give (Fanuc `G68.3
+        /// X Y Z R`): origin `tilt-origin-*`, turned by `tilt-c` about the new Z.
+        TiltToolAxis = "tilt-tool-axis",
+        /// Tilts the working plane in force further by Euler angles about an origin in its own
+        /// coordinates (Fanuc `G68.4 X Y Z I J K`).
+        TiltEulerIncremental = "tilt-euler-incremental",
         /// Cancels the tilted working plane (Heidenhain `PLANE RESET`).
         TiltReset = "tilt-reset",
         /// A swivel cycle (Siemens `CYCLE800`): mode, reference point, angles in the mode's
@@ -615,9 +634,13 @@ vocab! {
         TiltB = "tilt-b",
         /// A tilted plane's third angle (spatial: about Z; Euler: about the new Z).
         TiltC = "tilt-c",
-        /// A swivel cycle's mode: bits 7-6 how the angles are read (00 axis by axis), bits 1-0,
+        /// A swivel cycle's mode: bits 7-6 how the angles are read (00 axis by axis, 01 solid
+        /// angle), bits 1-0,
         /// 3-2, 5-4 the axis of the first, second and third rotation (01 X, 10 Y, 11 Z).
         TiltMode = "tilt-mode",
+        /// A swivel cycle's swivel mode: its units digit 1 adds the swivel to the plane in force
+        /// (Siemens `_ST` 200001), 0 swivels from the untilted plane.
+        TiltSwivel = "tilt-swivel",
         /// The point a tilted plane turns about, X (Fanuc `G68.2 X`, Siemens `_X0`).
         TiltOriginX = "tilt-origin-x",
         /// The point a tilted plane turns about, Y.
@@ -636,6 +659,24 @@ vocab! {
         TiltBaseY = "tilt-base-y",
         /// The base vector's Z component.
         TiltBaseZ = "tilt-base-z",
+        /// A tilted plane's first point, X (Heidenhain `PLANE POINTS P1X`).
+        TiltP1X = "tilt-p1-x",
+        /// The first point's Y.
+        TiltP1Y = "tilt-p1-y",
+        /// The first point's Z.
+        TiltP1Z = "tilt-p1-z",
+        /// A tilted plane's second point, X: from the first towards it is the plane's X.
+        TiltP2X = "tilt-p2-x",
+        /// The second point's Y.
+        TiltP2Y = "tilt-p2-y",
+        /// The second point's Z.
+        TiltP2Z = "tilt-p2-z",
+        /// A tilted plane's third point, X: on the plane's +Y side of the line through the others.
+        TiltP3X = "tilt-p3-x",
+        /// The third point's Y.
+        TiltP3Y = "tilt-p3-y",
+        /// The third point's Z.
+        TiltP3Z = "tilt-p3-z",
         /// The contour a turning cycle machines, by name: a subprogram, a label (`"KONTUR"`) or a
         /// label range (`"START:END"`) (Siemens CYCLE95 NPP); a text argument.
         ContourName = "contour-name",

@@ -376,6 +376,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             && !self.length_unsaid
             && self.wcs_checked
             && self.sync.is_none()
+            && self.axis_check.is_none()
             && self.mods.is_empty()
             && self.repeat.is_none()
             && self.out.rules.is_empty();

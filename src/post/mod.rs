@@ -424,6 +424,12 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     pos: [f64; 3],
     /// The tilted working plane written (in output units), `None` while untilted.
     tilt: Option<crate::canon::Frame>,
+    /// Whether tool centre point control is written on (`tcp-on`): the rotary axes written
+    /// then turn the tool as in the source.
+    tcp: bool,
+    /// A tool axis the source turned to under tool centre point control, to be checked
+    /// against the rotary axes of the next move written (the steady lane waits for it).
+    axis_check: Option<[f64; 3]>,
     /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
     /// number known to be written so (NaN: none): that number again is left out at once.
     written: [Option<(Key, f64)>; 8],
@@ -1023,6 +1029,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             feed_mode: FeedMode::PerMinute,
             pos: [0.0; 3],
             tilt: None,
+            tcp: false,
+            axis_check: None,
             written: Default::default(),
             last: [f64::NAN; 9],
             last_fi: [u32::MAX; 9],
@@ -1888,6 +1896,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
             CanonOp::Turning(t) => self.lathe_cycle(canon, t),
             CanonOp::Setting(Setting::DiameterMode(on)) => self.diameter_mode(canon, *on),
+            CanonOp::Setting(Setting::ToolCentrePoint(on)) => self.tool_centre_point(*on),
             CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),

@@ -18,7 +18,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         match &canon.op {
             CanonOp::StraightTraverse(p) => self.straight(canon, p, true),
             CanonOp::StraightFeed(p) => self.straight(canon, p, false),
-            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, .. } => {
+            CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc, .. } => {
+                self.check_axis(canon, *abc);
                 let (a, b, n) = self.plane.axes();
                 let mut end = [0.0; 3];
                 end[a] = self.to_out(*first_end) + self.g92[a];
@@ -32,7 +33,10 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
             CanonOp::ToolAxis(v) => {
                 let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
-                if !along_z {
+                if self.tcp {
+                    // The rotary axes of the next move turn the tool: checked there.
+                    self.axis_check = Some(*v);
+                } else if !along_z {
                     self.note(
                         Code::PostUnwritable,
                         canon,
@@ -135,10 +139,44 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
     }
 
+    /// Tool centre point control on or off, by the target's `tcp-on` and `tcp-off`. A target
+    /// without them writes the moves without it: where the tool axis then tilts, the marker
+    /// says it is unwritable; along Z, the tool tip's moves are the same.
+    pub(super) fn tool_centre_point(&mut self, on: bool) {
+        let ev = if on { "tcp-on" } else { "tcp-off" };
+        if self.out.template(ev).is_some() && (on || self.tcp) && self.event(ev, &mut Vals::new()) {
+            self.tcp = on;
+        }
+        if !on {
+            self.tcp = false;
+            self.axis_check = None;
+        }
+    }
+
+    /// Under tool centre point control written, the tool axis the source turned to must be
+    /// the one the rotary axes written (`abc`, degrees) give; otherwise (a tool axis stated
+    /// as a vector, `A3=` or CLDATA `GOTO/x,y,z,i,j,k`) it is not written.
+    fn check_axis(&mut self, canon: &Canon, abc: [f64; 3]) {
+        let Some(v) = self.axis_check.take() else { return };
+        let got = crate::canon::rotary_tool_axis(abc);
+        if (0..3).any(|k| (got[k] - v[k]).abs() > 1e-6) {
+            self.note(
+                Code::PostUnwritable,
+                canon,
+                "tool-axis",
+                format!(
+                    "the tool axis tilts to I{:.4} J{:.4} K{:.4}, which the rotary axes written do not give: the target's output rules write no tool orientation vector",
+                    v[0], v[1], v[2]
+                ),
+            );
+        }
+    }
+
     /// Writes a straight move to `p` (program coordinates, rotary axes in degrees), at
     /// rapid or at the feed; a move of a hole drilled as a cycle is the cycle's.
     pub(super) fn straight(&mut self, canon: &Canon, p: &[f64; 6], rapid: bool) {
         let event = if rapid { "rapid" } else { "feed" };
+        self.check_axis(canon, [p[3], p[4], p[5]]);
         let rotary = [Value::A, Value::B, Value::C];
         let writes = |v: Value| self.out.template(event).is_some_and(|(t, _)| t.uses(v));
         if (0..3).any(|k| p[3 + k].abs() > EPS && !writes(rotary[k])) {

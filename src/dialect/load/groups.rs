@@ -181,11 +181,16 @@ impl Cx {
         for item in list.split_ascii_whitespace() {
             let pair = item.split_once(':').and_then(|(a, r)| {
                 let role = Role::parse(r).filter(|r| !r.is_internal())?;
-                (!a.is_empty() && a.chars().all(|c| c.is_ascii_alphabetic())).then(|| (a.to_ascii_uppercase(), role))
+                // A name starts with a letter and may hold digits (`P1X` of PLANE POINTS).
+                let name = a.starts_with(|c: char| c.is_ascii_alphabetic()) && a.chars().all(|c| c.is_ascii_alphanumeric());
+                name.then(|| (a.to_ascii_uppercase(), role))
             });
             match pair {
                 Some(pair) => out.push(pair),
-                None => self.error(Self::attr_range(c, "line-words"), format!("`{item}` is not NAME:role with letters and a known role")),
+                None => self.error(
+                    Self::attr_range(c, "line-words"),
+                    format!("`{item}` is not NAME:role with a name of letters and digits and a known role"),
+                ),
             }
         }
         out

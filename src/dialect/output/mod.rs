@@ -320,6 +320,8 @@ pub const EVENTS: &[&str] = &[
     "diameter-off",
     "work-plane",
     "work-plane-reset",
+    "tcp-on",
+    "tcp-off",
     "repeat-begin",
     "repeat-end",
     "repeat-call",

@@ -151,9 +151,16 @@ impl Interpreter<'_> {
                 self.untilt(sink);
                 self.rotation_code(def, range, diags);
             }
-            Meaning::TiltSpatial | Meaning::TiltEuler | Meaning::TiltVector | Meaning::TiltRelative | Meaning::TiltReset => {
-                self.tilt_code(def, range, block, sink, diags)
-            }
+            Meaning::TiltSpatial
+            | Meaning::TiltEuler
+            | Meaning::TiltEulerIncremental
+            | Meaning::TiltVector
+            | Meaning::TiltPoints
+            | Meaning::TiltProjected
+            | Meaning::TiltAxial
+            | Meaning::TiltToolAxis
+            | Meaning::TiltRelative
+            | Meaning::TiltReset => self.tilt_code(def, range, block, sink, diags),
             Meaning::Scaling | Meaning::ScalingCancel => self.scaling_code(def, range, block, diags),
             Meaning::Home1 | Meaning::Home2 | Meaning::Home1Set | Meaning::Home2Set => self.home_code(def, sink),
             // G53: the block's move is in machine coordinates; the motion step reads it.

@@ -14,8 +14,18 @@
 //! - a relative angle (`tilt-relative`): about the tilted plane's own X, Y or Z;
 //! - a swivel cycle (`tilt-cycle`, `CYCLE800`): axis by axis in the mode's order, each
 //!   about the turned axes, about the reference point `_X0 _Y0 _Z0`, the zero point then
-//!   shifted to `_X1 _Y1 _Z1` on the tilted plane. Its other modes (solid and projection
-//!   angles, rotary axes direct) need the machine: said, and the plane stays as it was.
+//!   shifted to `_X1 _Y1 _Z1` on the tilted plane; on the plane in force where `_ST`'s units
+//!   digit is 1 (additive) [from the cycle's documented `_ST` coding, unconfirmed on a control]; in solid-angle mode (bits 7-6 01) about Z
+//!   by `_A`, then about the turned Y by `_B` [the order from public CYCLE800 descriptions,
+//!   unconfirmed on a control]. Its other modes (projection angles, rotary axes direct) need
+//!   the machine: said, and the plane stays as it was;
+//! - three points (`tilt-points`, `PLANE POINTS`): the first to the second is the new X, the
+//!   third on the new +Y side;
+//! - projection angles (`tilt-projected`, `PLANE PROJECTED`): the plane's traces in the ZX
+//!   and YZ planes, each angle the right-hand turn about the axis square to its plane;
+//! - the rotary axes' positions (`tilt-axial` `PLANE AXIAL`, `tilt-tool-axis` `G68.3`): read
+//!   as tool centre point control reads them, said in a note;
+//! - Euler angles on the plane in force (`tilt-euler-incremental`, `G68.4`).
 //!
 //! Tool centre point control (`M128`, `TRAORI`, `G43.4`) is here too: under it, the rotary
 //! axes' positions turn the tool axis, sent as `ToolAxis` markers.
@@ -73,6 +83,17 @@ fn by_vectors(base: [f64; 3], normal: [f64; 3]) -> Option<[[f64; 3]; 3]> {
     Some(std::array::from_fn(|i| [x[i], y[i], z[i]]))
 }
 
+/// The plane of projection angles `a` (its trace in the ZX plane, from X) and `b` (its trace
+/// in the YZ plane, from Y), each the right-hand turn about the axis square to its plane (so
+/// that one alone tilts as the spatial angle about that axis): its X along the first trace.
+fn projected(a: f64, b: f64) -> Option<[[f64; 3]; 3]> {
+    let (sa, ca) = a.to_radians().sin_cos();
+    let (sb, cb) = b.to_radians().sin_cos();
+    let u = [ca, 0.0, -sa];
+    let v = [0.0, cb, sb];
+    by_vectors(u, cross(u, v))
+}
+
 /// The `NAME±number` words of a keyword's unread rest of line (`SPA+30 SPB+0 TURN FMAX`):
 /// each name with its number; words without a number (`TURN`, `SEQ+`) are passed over.
 fn line_numbers(rest: &str) -> Vec<(&str, Option<f64>)> {
@@ -85,8 +106,19 @@ fn line_numbers(rest: &str) -> Vec<(&str, Option<f64>)> {
             continue;
         }
         let start = i;
-        while i < b.len() && b[i].is_ascii_alphabetic() {
-            i += 1;
+        loop {
+            while i < b.len() && b[i].is_ascii_alphabetic() {
+                i += 1;
+            }
+            // Digits followed by a letter belong to the name (`P1X+0` of PLANE POINTS).
+            let mut j = i;
+            while j < b.len() && b[j].is_ascii_digit() {
+                j += 1;
+            }
+            if j == i || j >= b.len() || !b[j].is_ascii_alphabetic() {
+                break;
+            }
+            i = j;
         }
         let name = &rest[start..i];
         let num_start = i;
@@ -164,6 +196,41 @@ impl Interpreter<'_> {
                 let Some((axis, deg)) = turn else { return };
                 Some(now.then(&Frame { origin: [0.0; 3], rotation: rot(axis, deg) }))
             }
+            Meaning::TiltEulerIncremental => {
+                let now = self.st.frame.unwrap_or(Frame::IDENTITY);
+                Some(now.then(&Frame { origin: origin(self), rotation: chain([2, 0, 2], angles(self)) }))
+            }
+            Meaning::TiltPoints | Meaning::TiltProjected => {
+                let v = |s: &Self, rs: [Role; 3]| rs.map(|r| get(s, r).unwrap_or(0.0));
+                let vectors = if def.meaning == Meaning::TiltPoints {
+                    let p1 = v(self, [Role::TiltP1X, Role::TiltP1Y, Role::TiltP1Z]);
+                    let p2 = v(self, [Role::TiltP2X, Role::TiltP2Y, Role::TiltP2Z]);
+                    let p3 = v(self, [Role::TiltP3X, Role::TiltP3Y, Role::TiltP3Z]);
+                    let x = std::array::from_fn(|i| p2[i] - p1[i]);
+                    let y = std::array::from_fn(|i| p3[i] - p1[i]);
+                    by_vectors(x, cross(x, y)).map(|r| (r, 0.0))
+                } else {
+                    let [a, b, c] = angles(self);
+                    projected(a, b).map(|r| (r, c))
+                };
+                let Some((rotation, turn)) = vectors else {
+                    let msg = format!("{}: the points or angles give no plane; the plane in force stays", def.label());
+                    diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
+                    return;
+                };
+                Some(Frame { origin: [0.0; 3], rotation: mul(rotation, rot(2, turn)) })
+            }
+            Meaning::TiltAxial | Meaning::TiltToolAxis => {
+                let axes = self.rotary_rotation();
+                self.kinematics_note(diags, "the tilted working plane", "plane-kinematics");
+                if def.meaning == Meaning::TiltAxial {
+                    let [a, b, c] = angles(self);
+                    Some(Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [c, b, a]) })
+                } else {
+                    let turn = get(self, Role::TiltC).unwrap_or(0.0);
+                    Some(Frame { origin: origin(self), rotation: mul(axes, rot(2, turn)) })
+                }
+            }
             _ => return,
         };
         self.set_frame(frame, sink);
@@ -200,18 +267,28 @@ impl Interpreter<'_> {
         };
         let mode = mode as u32;
         let axes = [mode & 3, (mode >> 2) & 3, (mode >> 4) & 3];
-        if mode >> 6 != 0 || axes.contains(&0) {
-            let msg = format!(
-                "swivel mode {mode} (solid or projection angles, or rotary axes direct) needs the machine's kinematics; the plane in force stays"
-            );
-            self.limited(diags, "tilt-mode", Diagnostic::new(Code::TiltUnknown, range, msg));
-            return;
-        }
-        let rotation = chain(axes.map(|a| a as usize - 1), angles);
+        let rotation = match mode >> 6 {
+            // Solid angle: about Z by the first angle, then about the turned Y by the second.
+            1 => chain([2, 1, 2], [angles[0], angles[1], 0.0]),
+            0 if !axes.contains(&0) => chain(axes.map(|a| a as usize - 1), angles),
+            _ => {
+                let msg = format!(
+                    "swivel mode {mode} (projection angles, or rotary axes direct) needs the machine's kinematics; the plane in force stays"
+                );
+                self.limited(diags, "tilt-mode", Diagnostic::new(Code::TiltUnknown, range, msg));
+                return;
+            }
+        };
         let pivot = [Role::TiltOriginX, Role::TiltOriginY, Role::TiltOriginZ].map(|r| get(r).unwrap_or(0.0));
         let shift = [Role::TiltShiftX, Role::TiltShiftY, Role::TiltShiftZ].map(|r| get(r).unwrap_or(0.0));
         let turned = Frame { origin: pivot, rotation };
         let frame = Frame { origin: turned.to_base(shift), rotation };
+        // `_ST` units digit 1: additive, on the swivelled plane in force.
+        let additive = get(Role::TiltSwivel).is_some_and(|st| (st.abs() as u64) % 10 == 1);
+        let frame = match self.st.frame {
+            Some(now) if additive => now.then(&frame),
+            _ => frame,
+        };
         self.set_frame(Some(frame), sink);
     }
 
@@ -222,6 +299,7 @@ impl Interpreter<'_> {
             return;
         }
         self.st.tcp = on;
+        self.emit(sink, CanonOp::Setting(crate::canon::Setting::ToolCentrePoint(on)));
         if on {
             self.rotary_tool_axis(sink, diags);
         } else {
@@ -244,12 +322,25 @@ impl Interpreter<'_> {
         let r = chain([2, 1, 0], [at[2], at[1], at[0]]);
         let axis = [0, 1, 2].map(|i| if r[i][2].abs() < 1e-12 { 0.0 } else { r[i][2] });
         if axis != [0.0, 0.0, 1.0] {
-            let msg = "under tool centre point control the tool axis is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (ISO 841 senses; A, then B, then C about the fixed axes); a machine whose kinematics differ tilts it otherwise".to_owned();
-            let mut d = Diagnostic::new(Code::TiltUnknown, self.origin, msg);
-            d.severity = crate::diag::Severity::Note;
-            self.limited(diags, "tcp-kinematics", d);
+            self.kinematics_note(diags, "under tool centre point control the tool axis", "tcp-kinematics");
         }
         self.set_tool_axis(axis, sink);
+    }
+
+    /// The turn the rotary axes A, B and C give at their positions in force: `Rz(C)·Ry(B)·Rx(A)`.
+    fn rotary_rotation(&self) -> [[f64; 3]; 3] {
+        let at = [Role::A, Role::B, Role::C].map(|r| self.st.pos[r as usize]);
+        chain([2, 1, 0], [at[2], at[1], at[0]])
+    }
+
+    /// Says once (per `key`) that `what` is read from the rotary axes as turns about the part's axes.
+    fn kinematics_note(&mut self, diags: &mut Vec<Diagnostic>, what: &str, key: &'static str) {
+        let msg = format!(
+            "{what} is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (ISO 841 senses; A, then B, then C about the fixed axes); a machine whose kinematics differ tilts it otherwise"
+        );
+        let mut d = Diagnostic::new(Code::TiltUnknown, self.origin, msg);
+        d.severity = crate::diag::Severity::Note;
+        self.limited(diags, key, d);
     }
 
     /// Sends the tool axis marker where the axis changes.
@@ -330,10 +421,43 @@ mod tests {
     }
 
     #[test]
+    fn one_projection_angle_tilts_as_the_spatial_angle_about_its_axis() {
+        let spatial = |a: f64, b: f64| Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [0.0, b, a]) };
+        let proj = |a: f64, b: f64| Frame { origin: [0.0; 3], rotation: projected(a, b).unwrap() };
+        // PROMIN alone: SPA; PROPR alone: SPB.
+        assert!(close(proj(0.0, 30.0).axis(), spatial(30.0, 0.0).axis()));
+        assert!(close(proj(25.0, 0.0).axis(), spatial(0.0, 25.0).axis()));
+        assert!(close(proj(25.0, 0.0).dir_to_base([1.0, 0.0, 0.0]), spatial(0.0, 25.0).dir_to_base([1.0, 0.0, 0.0])));
+        // Both: the plane holds both traces.
+        let f = proj(20.0, 35.0);
+        let (s, c) = 35f64.to_radians().sin_cos();
+        let n = f.axis();
+        assert!((n[1] * c + n[2] * s).abs() < 1e-12);
+    }
+
+    #[test]
+    fn solid_angle_tilts_towards_its_direction_in_xy() {
+        // About Z by 90°, then about the turned Y by 30°: the tool leans 30° towards +Y.
+        let f = Frame { origin: [0.0; 3], rotation: chain([2, 1, 2], [90.0, 30.0, 0.0]) };
+        let (s, c) = 30f64.to_radians().sin_cos();
+        assert!(close(f.axis(), [0.0, s, c]));
+    }
+
+    #[test]
+    fn the_writer_reads_the_rotary_axes_as_the_interpreter_does() {
+        for abc in [[0.0, 15.0, 0.0], [30.0, -20.0, 75.0], [-90.0, 0.0, 285.0], [12.5, 81.101, 103.826]] {
+            let r = chain([2, 1, 0], [abc[2], abc[1], abc[0]]);
+            assert!(close(crate::canon::rotary_tool_axis(abc), [r[0][2], r[1][2], r[2][2]]), "{abc:?}");
+        }
+    }
+
+    #[test]
     fn rest_of_line_words() {
         let w = line_numbers(" SPATIAL SPA+30 SPB-12.5 SPC+0 TURN MB MAX FMAX SEQ+ TABLE ROT");
         assert_eq!(w, vec![("SPA", Some(30.0)), ("SPB", Some(-12.5)), ("SPC", Some(0.0))]);
         let w = line_numbers(" SPA+Q1 SPB+0");
         assert_eq!(w, vec![("SPA", None), ("SPB", Some(0.0))]);
+        let w = line_numbers(" POINTS P1X+0 P2Y-12.5 P3Z+7 MOVE DIST50 F900");
+        assert_eq!(w, vec![("P1X", Some(0.0)), ("P2Y", Some(-12.5)), ("P3Z", Some(7.0)), ("DIST", Some(50.0)), ("F", Some(900.0))]);
     }
 }
