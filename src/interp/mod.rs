@@ -281,12 +281,16 @@ impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
 /// A count, not a clock, so that the same program gives the same analysis on any machine.
 pub const REPEATED_BLOCKS_PER_SECOND: u64 = 1_000_000;
 
-/// The memory one move costs at the most where it is kept (a plan's toolpath, its features'
-/// geometry): the rate that turns the memory bound into a count of moves.
-pub const BYTES_PER_MOVE: u64 = 400;
+/// The memory one move costs where it is kept, in what grows with the moves: the result (a
+/// plan's toolpath, 32 bytes a move, and its features: a drilled hole's four moves cost some
+/// 240 bytes). The rate that turns the memory bound into a count of moves. Measured on a
+/// release build (peak memory of `plan` and `check` with the bound lifted, between 100 and
+/// 1,000 rows of `ncplan bench`'s macro program: 33 bytes a move; between 1,000 and 30,000
+/// holes drilled in a loop: 60 bytes a move).
+pub const BYTES_PER_MOVE: u64 = 64;
 
 /// The analysis bound by default: a minute of analysis, and 64 MB of the moves blocks run
-/// again make (some 160,000 moves: a macro program rs274 runs to its end in a second or two).
+/// again make (a million moves: a macro program rs274 runs to its end in twenty seconds).
 /// A command that keeps no moves (`canon` streams them) has no bound in memory.
 pub const DEFAULT_BOUND_SECONDS: u64 = 60;
 /// See [`DEFAULT_BOUND_SECONDS`].
@@ -1138,6 +1142,9 @@ impl<'a> Interpreter<'a> {
     /// number (`#[5420 + #1]`); a named one by its slot, all of them where the block reads
     /// an element of a named array.
     pub(super) fn refresh_system_vars(&mut self, block: &Block) {
+        if block.reads_no_system {
+            return;
+        }
         let macros = &self.dialect.macros;
         for (id, e) in block.exprs.iter().enumerate() {
             match *e {
@@ -1170,6 +1177,24 @@ impl<'a> Interpreter<'a> {
                 _ => {}
             }
         }
+    }
+
+    /// Whether [`Interpreter::refresh_system_vars`] has anything to do for `block`, whose
+    /// names are resolved ([`eval::resolve`]): it reads a system variable, or a parameter whose
+    /// number or name it computes. Asked once for a block kept to run again.
+    pub(super) fn reads_system(&self, block: &Block) -> bool {
+        let macros = &self.dialect.macros;
+        block.exprs.iter().enumerate().any(|(id, e)| match *e {
+            Expr::Param(inner) if !macros.system.is_empty() => match block.exprs.get(inner as usize) {
+                Some(&Expr::Num(n)) => n >= 0.0 && n.fract() == 0.0 && n <= f64::from(u32::MAX) && macros.system_var(n as u32).is_some(),
+                _ => true,
+            },
+            Expr::Named(_) if !macros.system_named.is_empty() => {
+                eval::resolved(block, id as crate::syntax::ExprId).is_none_or(|s| (s as usize) < self.system_by_slot.len())
+            }
+            Expr::NamedIndex(..) => true,
+            _ => false,
+        })
     }
 
     /// Sets every numbered system variable to what it reads now.
@@ -1569,6 +1594,10 @@ impl<'a> Interpreter<'a> {
         diags: &mut Vec<Diagnostic>,
     ) -> Result<f64, EvalError> {
         self.params.take_unknown_read();
+        if let Some(v) = eval::eval_fast(block, e, &self.params) {
+            // Ordinary numbers only: nothing unknown was read, nothing to say.
+            return Ok(v);
+        }
         loop {
             match eval::eval(block, e, &self.params) {
                 Err(EvalError::Undefined(name)) if self.dialect.lexical.system_variable_prefix.is_some_and(|p| name.starts_with(p)) => {
