@@ -1707,7 +1707,9 @@ impl<'a> Interpreter<'a> {
             let origin = origins.get(k).cloned().flatten();
             match number {
                 Some(n) => {
-                    let system = if n >= 0.0 && n.fract() == 0.0 { self.dialect.macros.system_var(n as u32) } else { None };
+                    // A whole number (compared, not `fract`: no call to `trunc` per assignment).
+                    let whole = n >= 0.0 && n <= f64::from(u32::MAX) && f64::from(n as u32) == n;
+                    let system = if whole { self.dialect.macros.system_var(n as u32) } else { None };
                     match system {
                         Some(SystemVar::Alarm) => self.alarm(block, n, value, range, diags),
                         Some(SystemVar::StopMessage) => {
@@ -1721,7 +1723,7 @@ impl<'a> Interpreter<'a> {
                         _ => {
                             if let Err(e) = self.params.set(n, value) {
                                 diags.push(self.eval_diag(e, range));
-                            } else if n >= 0.0 && n.fract() == 0.0 && self.params.derives(&origin) {
+                            } else if self.params.derives(&origin) && n >= 0.0 && n.fract() == 0.0 {
                                 self.params.derive(eval::UnknownSource::Numbered(n as u32), origin);
                             }
                         }

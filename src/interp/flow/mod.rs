@@ -319,7 +319,8 @@ struct Driver<'a, 'p> {
 /// A block as the parser left it, and where the next one starts. Its lexical findings are
 /// not kept: a block that runs again does not repeat them (see `tidy`).
 struct Lexed {
-    block: Block,
+    /// Boxed, so that lending it exchanges two pointers.
+    block: Box<Block>,
     next: Pos,
     /// Its source and offset.
     key: (usize, usize),
@@ -429,7 +430,7 @@ impl<'a> Driver<'a, '_> {
     /// a stop or a budget. Plain lines take the plain lane; a control statement is carried
     /// out here, any other block by the interpreter ([`Driver::run_block`]).
     fn drive(&mut self, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let mut block = Block::default();
+        let mut block = Box::<Block>::default();
         let mut plain = PlainLine::default();
         loop {
             if let Some(level) = interp.left_level.take() {
@@ -701,7 +702,7 @@ impl<'a> Driver<'a, '_> {
     /// shown again), its names resolved to the slots of the interpreter's parameters. A kept
     /// block is copied into `block`, or, with `lend`, exchanged with it, to be given back
     /// before the next ([`Driver::give_back`]). False at the end of the source.
-    fn next_block(&mut self, block: &mut Block, start: Pos, interp: &mut Interpreter<'a>, lend: bool, diags: &mut Vec<Diagnostic>) -> bool {
+    fn next_block(&mut self, block: &mut Box<Block>, start: Pos, interp: &mut Interpreter<'a>, lend: bool, diags: &mut Vec<Diagnostic>) -> bool {
         let key = (self.cur, start.at);
         // Only while replaying: a block lexed then has had its findings noted in `seen`, so a
         // later run that skips lexing loses nothing (`tidy` would drop them again).
@@ -769,7 +770,7 @@ impl<'a> Driver<'a, '_> {
 
     /// Gives the kept block lent to `block` back to its place (see [`Driver::next_block`]).
     #[inline]
-    fn give_back(&mut self, block: &mut Block) {
+    fn give_back(&mut self, block: &mut Box<Block>) {
         if let Some(k) = self.lent.take() {
             let l = &mut self.kept[k as usize];
             std::mem::swap(block, &mut l.block);
@@ -782,7 +783,7 @@ impl<'a> Driver<'a, '_> {
     /// (Nothing to do in the main program's first run, the bulk of the blocks.)
     #[inline(always)]
     fn tidy(&mut self, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) {
-        if src != 0 || self.replaying {
+        if src != 0 || (self.replaying && diags.len() > mark) {
             self.tidy_findings(src, mark, diags);
         }
     }
@@ -1874,7 +1875,7 @@ impl<'a> Driver<'a, '_> {
         let (loops, frames, round, origin) = (self.loops.len(), self.frames.len(), self.round.take(), interp.origin_override);
         let mut shape: Vec<Canon> = Vec::new();
         let mut finishes = Vec::new();
-        let mut b = Block::default();
+        let mut b = Box::<Block>::default();
         for _ in 0..MAX_PROFILE_BLOCKS {
             let at = self.pos();
             if at.at >= until && self.frames.len() <= frames {
