@@ -702,7 +702,14 @@ impl<'a> Driver<'a, '_> {
     /// shown again), its names resolved to the slots of the interpreter's parameters. A kept
     /// block is copied into `block`, or, with `lend`, exchanged with it, to be given back
     /// before the next ([`Driver::give_back`]). False at the end of the source.
-    fn next_block(&mut self, block: &mut Box<Block>, start: Pos, interp: &mut Interpreter<'a>, lend: bool, diags: &mut Vec<Diagnostic>) -> bool {
+    fn next_block(
+        &mut self,
+        block: &mut Box<Block>,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        lend: bool,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
         let key = (self.cur, start.at);
         // Only while replaying: a block lexed then has had its findings noted in `seen`, so a
         // later run that skips lexing loses nothing (`tidy` would drop them again).
