@@ -281,16 +281,12 @@ impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
 /// A count, not a clock, so that the same program gives the same analysis on any machine.
 pub const REPEATED_BLOCKS_PER_SECOND: u64 = 1_000_000;
 
-/// The memory one move costs where it is kept, in what grows with the moves: the result (a
-/// plan's toolpath, 32 bytes a move, and its features: a drilled hole's four moves cost some
-/// 240 bytes). The rate that turns the memory bound into a count of moves. Measured on a
-/// release build (peak memory of `plan` and `check` with the bound lifted, between 100 and
-/// 1,000 rows of `ncplan bench`'s macro program: 33 bytes a move; between 1,000 and 30,000
-/// holes drilled in a loop: 60 bytes a move).
-pub const BYTES_PER_MOVE: u64 = 64;
+/// The memory one move costs at the most where it is kept (a plan's toolpath, its features'
+/// geometry): the rate that turns the memory bound into a count of moves.
+pub const BYTES_PER_MOVE: u64 = 400;
 
 /// The analysis bound by default: a minute of analysis, and 64 MB of the moves blocks run
-/// again make (a million moves: a macro program rs274 runs to its end in twenty seconds).
+/// again make (some 160,000 moves: a macro program rs274 runs to its end in a second or two).
 /// A command that keeps no moves (`canon` streams them) has no bound in memory.
 pub const DEFAULT_BOUND_SECONDS: u64 = 60;
 /// See [`DEFAULT_BOUND_SECONDS`].

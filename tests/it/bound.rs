@@ -133,16 +133,3 @@ fn every_command_that_stops_early_says_so() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("repeat-budget"), "{}", String::from_utf8_lossy(&out.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
-
-/// The bound in memory counts what the result keeps of a move (a plan's toolpath holds 32
-/// bytes a move, a drilled hole's features some 60 a move: `interp::BYTES_PER_MOVE`), so the
-/// default 64 MB admit a million moves of blocks run again: a macro program rs274 runs for
-/// twenty seconds, not one of 160,000 moves (400 bytes a move) that it runs in two.
-#[test]
-fn the_default_bound_in_memory_admits_a_million_moves() {
-    let profile = Profile::default();
-    assert_eq!(profile.max_repeated_moves, 1_000_000);
-    let mut configured = Profile::default();
-    configured.bound_memory(ncplan::interp::DEFAULT_BOUND_MB);
-    assert_eq!(configured.max_repeated_moves, profile.max_repeated_moves, "the configuration's megabytes count alike");
-}
