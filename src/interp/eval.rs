@@ -456,6 +456,10 @@ impl Params {
 }
 
 fn index(n: f64, highest: usize) -> Result<usize, EvalError> {
+    // A whole number in range, the usual case, needs no rounding.
+    if n >= 0.0 && n <= highest as f64 && (n as usize) as f64 == n {
+        return Ok(n as usize);
+    }
     let r = n.round();
     if (n - r).abs() > 1e-4 || r < 0.0 || r > highest as f64 {
         return Err(EvalError::BadIndex(n));
@@ -519,6 +523,43 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
         }
         Expr::Binary(op, a, b) => binary(op, eval(block, a, params)?, eval(block, b, params)?)?,
     })
+}
+
+/// Evaluates expression `id` of `block` as [`eval`] does, where every value it meets is an
+/// ordinary number: no vacant or unknown value, no name the block has not resolved to a slot
+/// ([`resolve`]), no parameter number other than a whole one below [`MAX_PARAM`], no error.
+/// That is the common case of a loop's blocks, and it needs neither a `Result` nor a look at
+/// unknown values. `None` otherwise (and where the result is not a number): [`eval`] then
+/// gives the value, or says why there is none, as it would have.
+pub fn eval_fast(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
+    let v = match *block.exprs.get(id as usize)? {
+        Expr::Num(v) => v,
+        Expr::Param(inner) => {
+            let n = eval_fast(block, inner, params)?;
+            // A whole number in the dense table reads as `index` rounds it.
+            if !(0.0..MAX_PARAM as f64).contains(&n) || (n as usize) as f64 != n {
+                return None;
+            }
+            params.numbered.get(n as usize)
+        }
+        Expr::Named(_) => (*params.named.values.get(resolved(block, id)? as usize)?)?,
+        Expr::Unary(Func::Exists, _) => return None,
+        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => eval_fast(block, inner, params)?.trunc(),
+        Expr::Unary(Func::Fup, inner) if params.magnitude_rounding => {
+            let x = eval_fast(block, inner, params)?;
+            if x < 0.0 { x.floor() } else { x.ceil() }
+        }
+        Expr::Unary(f, inner) => unary(f, eval_fast(block, inner, params)?).ok()?,
+        Expr::Atan2(y, x) => eval_fast(block, y, params)?.atan2(eval_fast(block, x, params)?).to_degrees(),
+        Expr::Binary(BinOp::Concat, ..) => return None,
+        Expr::Binary(op, a, b) => {
+            let (a, b) = (eval_fast(block, a, params)?, eval_fast(block, b, params)?);
+            binary_value(op, a, b, |c: bool| f64::from(u8::from(c))).ok()?
+        }
+        Expr::Text(_) | Expr::NamedIndex(..) => return None,
+    };
+    // A vacant or unknown value (both NaN) read or made: the general way.
+    (!v.is_nan()).then_some(v)
 }
 
 /// Whether `v` is the vacant value.

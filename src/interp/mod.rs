@@ -1138,6 +1138,9 @@ impl<'a> Interpreter<'a> {
     /// number (`#[5420 + #1]`); a named one by its slot, all of them where the block reads
     /// an element of a named array.
     pub(super) fn refresh_system_vars(&mut self, block: &Block) {
+        if block.reads_no_system {
+            return;
+        }
         let macros = &self.dialect.macros;
         for (id, e) in block.exprs.iter().enumerate() {
             match *e {
@@ -1170,6 +1173,24 @@ impl<'a> Interpreter<'a> {
                 _ => {}
             }
         }
+    }
+
+    /// Whether [`Interpreter::refresh_system_vars`] has anything to do for `block`, whose
+    /// names are resolved ([`eval::resolve`]): it reads a system variable, or a parameter whose
+    /// number or name it computes. Asked once for a block kept to run again.
+    pub(super) fn reads_system(&self, block: &Block) -> bool {
+        let macros = &self.dialect.macros;
+        block.exprs.iter().enumerate().any(|(id, e)| match *e {
+            Expr::Param(inner) if !macros.system.is_empty() => match block.exprs.get(inner as usize) {
+                Some(&Expr::Num(n)) => n >= 0.0 && n.fract() == 0.0 && n <= f64::from(u32::MAX) && macros.system_var(n as u32).is_some(),
+                _ => true,
+            },
+            Expr::Named(_) if !macros.system_named.is_empty() => {
+                eval::resolved(block, id as crate::syntax::ExprId).is_none_or(|s| (s as usize) < self.system_by_slot.len())
+            }
+            Expr::NamedIndex(..) => true,
+            _ => false,
+        })
     }
 
     /// Sets every numbered system variable to what it reads now.
@@ -1569,6 +1590,10 @@ impl<'a> Interpreter<'a> {
         diags: &mut Vec<Diagnostic>,
     ) -> Result<f64, EvalError> {
         self.params.take_unknown_read();
+        if let Some(v) = eval::eval_fast(block, e, &self.params) {
+            // Ordinary numbers only: nothing unknown was read, nothing to say.
+            return Ok(v);
+        }
         loop {
             match eval::eval(block, e, &self.params) {
                 Err(EvalError::Undefined(name)) if self.dialect.lexical.system_variable_prefix.is_some_and(|p| name.starts_with(p)) => {
@@ -1678,7 +1703,9 @@ impl<'a> Interpreter<'a> {
             let origin = origins.get(k).cloned().flatten();
             match number {
                 Some(n) => {
-                    let system = if n >= 0.0 && n.fract() == 0.0 { self.dialect.macros.system_var(n as u32) } else { None };
+                    // A whole number (compared, not `fract`: no call to `trunc` per assignment).
+                    let whole = n >= 0.0 && n <= f64::from(u32::MAX) && f64::from(n as u32) == n;
+                    let system = if whole { self.dialect.macros.system_var(n as u32) } else { None };
                     match system {
                         Some(SystemVar::Alarm) => self.alarm(block, n, value, range, diags),
                         Some(SystemVar::StopMessage) => {
@@ -1692,7 +1719,7 @@ impl<'a> Interpreter<'a> {
                         _ => {
                             if let Err(e) = self.params.set(n, value) {
                                 diags.push(self.eval_diag(e, range));
-                            } else if n >= 0.0 && n.fract() == 0.0 && self.params.derives(&origin) {
+                            } else if self.params.derives(&origin) && n >= 0.0 && n.fract() == 0.0 {
                                 self.params.derive(eval::UnknownSource::Numbered(n as u32), origin);
                             }
                         }

@@ -220,6 +220,10 @@ pub struct Block {
     /// (`u32::MAX` where there is no name). Empty as the parser leaves it; the names then
     /// resolve as they are read.
     pub resolved: Vec<u32>,
+    /// Where the interpreter keeps a block it runs again: whether the block reads none of the
+    /// control's system variables (the position, the tool, the modes), so that its runs need
+    /// not bring them up to date first. False as the parser leaves it.
+    pub reads_no_system: bool,
     /// The text of `range`.
     source: String,
 }
@@ -249,6 +253,7 @@ impl Clone for Block {
         self.exprs.clone_from(&o.exprs);
         self.axis_refs.clone_from(&o.axis_refs);
         self.resolved.clone_from(&o.resolved);
+        self.reads_no_system = o.reads_no_system;
         self.source.clone_from(&o.source);
     }
 }
@@ -305,6 +310,7 @@ impl Block {
         self.exprs.clear();
         self.axis_refs.clear();
         self.resolved.clear();
+        self.reads_no_system = false;
     }
 
     /// True when the block holds nothing to execute.

@@ -92,6 +92,10 @@ pub fn run<'t>(
         main_work: false,
         library: false,
         lexed: BTreeMap::new(),
+        kept: Vec::new(),
+        last_kept: None,
+        lent: None,
+        jump_targets: BTreeMap::new(),
         reached: Vec::new(),
         broken_blocks: BTreeSet::new(),
         broken: false,
@@ -281,9 +285,20 @@ struct Driver<'a, 'p> {
     main_work: bool,
     /// Whether the main program has skipped a subroutine definition.
     library: bool,
-    /// Blocks lexed on their second run, by source and offset, for their later runs: a loop
-    /// body is lexed twice, not once per iteration. Bounded by [`BLOCK_CACHE`].
-    lexed: BTreeMap<(usize, usize), Lexed>,
+    /// Blocks lexed on their second run, by source and offset (their index in `kept`), for
+    /// their later runs: a loop body is lexed twice, not once per iteration. Bounded by
+    /// [`BLOCK_CACHE`].
+    lexed: BTreeMap<(usize, usize), u32>,
+    /// The blocks `lexed` indexes.
+    kept: Vec<Lexed>,
+    /// The kept block the run took last, whose `after` may name the next one.
+    last_kept: Option<u32>,
+    /// Where the jumps to a target written as a name or a constant go, by source and offset
+    /// of the jump's block, with the target's name (found once, in the source's index).
+    jump_targets: BTreeMap<(usize, usize), (Pos, std::rc::Rc<str>)>,
+    /// The kept block lent to [`Driver::drive`]'s block for its run (see
+    /// [`Driver::give_back`]).
+    lent: Option<u32>,
     /// Per source, the furthest offset lexed: a block before it has run before.
     reached: Vec<usize>,
     /// Control blocks whose lexing found errors (source, offset): their conditions are
@@ -304,8 +319,16 @@ struct Driver<'a, 'p> {
 /// A block as the parser left it, and where the next one starts. Its lexical findings are
 /// not kept: a block that runs again does not repeat them (see `tidy`).
 struct Lexed {
-    block: Block,
+    /// Boxed, so that lending it exchanges two pointers.
+    block: Box<Block>,
     next: Pos,
+    /// Its source and offset.
+    key: (usize, usize),
+    /// The kept block that came after it last time (a loop body's next block): found
+    /// without a look-up in `lexed` when it comes after it again.
+    after: Option<u32>,
+    /// Whether the block is lent to the block being run (its place here holds a spare).
+    lent: bool,
 }
 
 /// Most blocks kept lexed (a few megabytes at most).
@@ -407,7 +430,7 @@ impl<'a> Driver<'a, '_> {
     /// a stop or a budget. Plain lines take the plain lane; a control statement is carried
     /// out here, any other block by the interpreter ([`Driver::run_block`]).
     fn drive(&mut self, interp: &mut Interpreter<'a>, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
-        let mut block = Block::default();
+        let mut block = Box::<Block>::default();
         let mut plain = PlainLine::default();
         loop {
             if let Some(level) = interp.left_level.take() {
@@ -423,7 +446,8 @@ impl<'a> Driver<'a, '_> {
             let start = self.pos();
             let src = self.cur;
             let mark = diags.len();
-            if !self.next_block(&mut block, start, &mut interp.params, diags) {
+            self.give_back(&mut block);
+            if !self.next_block(&mut block, start, interp, true, diags) {
                 if self.source_ended(interp, diags) {
                     break;
                 }
@@ -460,6 +484,7 @@ impl<'a> Driver<'a, '_> {
                 break;
             }
         }
+        self.give_back(&mut block);
     }
 
     /// The end of the current source: a definition block still open is said; a called
@@ -674,16 +699,32 @@ impl<'a> Driver<'a, '_> {
 
     /// The block at `start` of the current source: lexed by the parser, or, when it has run
     /// twice before with the run replaying, as it was lexed then (its findings would not be
-    /// shown again), its names resolved to the slots of `params`. False at the end of the
-    /// source.
-    fn next_block(&mut self, block: &mut Block, start: Pos, params: &mut eval::Params, diags: &mut Vec<Diagnostic>) -> bool {
+    /// shown again), its names resolved to the slots of the interpreter's parameters. A kept
+    /// block is copied into `block`, or, with `lend`, exchanged with it, to be given back
+    /// before the next ([`Driver::give_back`]). False at the end of the source.
+    fn next_block(
+        &mut self,
+        block: &mut Box<Block>,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        lend: bool,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
         let key = (self.cur, start.at);
         // Only while replaying: a block lexed then has had its findings noted in `seen`, so a
         // later run that skips lexing loses nothing (`tidy` would drop them again).
         let cache = self.profile.fast_lane && self.replaying;
-        if let Some(l) = self.lexed.get(&key).filter(|_| cache) {
-            block.clone_from(&l.block);
-            self.parser.seek(l.next.at, l.next.line);
+        if cache && let Some(k) = self.kept_at(key) {
+            let l = &mut self.kept[k as usize];
+            if lend {
+                std::mem::swap(block, &mut l.block);
+                l.lent = true;
+                self.lent = Some(k);
+            } else {
+                block.clone_from(&l.block);
+            }
+            let next = l.next;
+            self.parser.seek(next.at, next.line);
             self.repeated += 1;
             return true;
         }
@@ -696,11 +737,15 @@ impl<'a> Driver<'a, '_> {
         let reached = &mut self.reached[self.cur];
         if start.at < *reached {
             self.repeated += 1;
-            // Run before: probably in a loop, so kept for the runs to come.
-            if cache && self.lexed.len() < BLOCK_CACHE {
+            // Run before: probably in a loop, so kept for the runs to come (unless it is
+            // kept already, and lent to the block being run).
+            if cache && self.lexed.len() < BLOCK_CACHE && !self.lexed.contains_key(&key) {
                 // Its names resolved once, for the runs to come.
-                eval::resolve(block, params);
-                self.lexed.insert(key, Lexed { block: block.clone(), next: self.pos() });
+                eval::resolve(block, &mut interp.params);
+                block.reads_no_system = !interp.reads_system(block);
+                let k = self.kept.len() as u32;
+                self.lexed.insert(key, k);
+                self.kept.push(Lexed { block: block.clone(), next: self.pos(), key, after: None, lent: false });
             }
         } else {
             *reached = self.parser.offset();
@@ -708,12 +753,44 @@ impl<'a> Driver<'a, '_> {
         true
     }
 
+    /// The kept block at `key`, unless it is lent: the one that came after the last kept
+    /// block taken before, or else looked up.
+    #[inline]
+    fn kept_at(&mut self, key: (usize, usize)) -> Option<u32> {
+        let last = self.last_kept.map(|p| p as usize);
+        let k = match last.and_then(|p| self.kept[p].after).filter(|&k| self.kept[k as usize].key == key) {
+            Some(k) => k,
+            None => {
+                let k = *self.lexed.get(&key)?;
+                if let Some(p) = last {
+                    self.kept[p].after = Some(k);
+                }
+                k
+            }
+        };
+        if self.kept[k as usize].lent {
+            return None;
+        }
+        self.last_kept = Some(k);
+        Some(k)
+    }
+
+    /// Gives the kept block lent to `block` back to its place (see [`Driver::next_block`]).
+    #[inline]
+    fn give_back(&mut self, block: &mut Box<Block>) {
+        if let Some(k) = self.lent.take() {
+            let l = &mut self.kept[k as usize];
+            std::mem::swap(block, &mut l.block);
+            l.lent = false;
+        }
+    }
+
     /// Post-processes the diagnostics of one block: those from another file point at the
     /// call in the main program; a block that runs again does not repeat its findings.
     /// (Nothing to do in the main program's first run, the bulk of the blocks.)
     #[inline(always)]
     fn tidy(&mut self, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) {
-        if src != 0 || self.replaying {
+        if src != 0 || (self.replaying && diags.len() > mark) {
             self.tidy_findings(src, mark, diags);
         }
     }
@@ -1805,7 +1882,7 @@ impl<'a> Driver<'a, '_> {
         let (loops, frames, round, origin) = (self.loops.len(), self.frames.len(), self.round.take(), interp.origin_override);
         let mut shape: Vec<Canon> = Vec::new();
         let mut finishes = Vec::new();
-        let mut b = Block::default();
+        let mut b = Box::<Block>::default();
         for _ in 0..MAX_PROFILE_BLOCKS {
             let at = self.pos();
             if at.at >= until && self.frames.len() <= frames {
@@ -1813,7 +1890,7 @@ impl<'a> Driver<'a, '_> {
             }
             let src = self.cur;
             let mark = diags.len();
-            if !self.next_block(&mut b, at, &mut interp.params, diags) {
+            if !self.next_block(&mut b, at, interp, false, diags) {
                 break;
             }
             let end = b.control.as_ref().is_some_and(|c| matches!(c.statement, Some(Statement::EndSub | Statement::Return)));

@@ -508,6 +508,13 @@ impl<'a> Driver<'a, '_> {
             }
             return;
         }
+        // A target written as a name or a constant is found once: a loop's jump comes again.
+        let fixed = c.name.is_some() || c.target.is_some_and(|e| super::constant(block, e));
+        let key = (self.cur, start.at);
+        if let Some((pos, name)) = self.jump_targets.get(&key).filter(|_| fixed).cloned() {
+            self.jump_to(pos, &name, block.range, start, interp, diags);
+            return;
+        }
         let Some(name) = self.target_label(c, block, interp, diags) else {
             self.error(diags, Code::MissingLabel, block.range, "the jump has no target");
             return;
@@ -523,7 +530,12 @@ impl<'a> Driver<'a, '_> {
             .map(|m| m.start)
         };
         match found {
-            Some(pos) => self.jump_to(pos, &name, block.range, start, interp, diags),
+            Some(pos) => {
+                if fixed {
+                    self.jump_targets.insert(key, (pos, name.as_str().into()));
+                }
+                self.jump_to(pos, &name, block.range, start, interp, diags);
+            }
             None => {
                 // A label that is a block number: `GOTOF N100`.
                 let letter = self.dialect.lexical.block_number.map(|c| c.to_ascii_lowercase());
