@@ -51,6 +51,7 @@ pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
 
 /// Names each turning workingstep's operation and builds the turned features.
 pub fn recognise(plan: &mut ProcessPlan) {
+    group_passes(plan);
     // The part's front: the highest face cut (across X), and at least the program zero,
     // where lathe programs put the finished face.
     let front = plan
@@ -79,8 +80,19 @@ pub fn recognise(plan: &mut ProcessPlan) {
             t.inside = true;
         }
     }
-    let mut found: Vec<Vec<(FeatureKind, f64)>> =
-        plan.workingsteps.iter().map(|ws| features_of(ws, plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width))).collect();
+    // The finished face: where the first facing workingstep's last cut across leaves it (the
+    // program zero where none faces); a contour's run along Z in front of it is its lead-in.
+    let face = plan
+        .workingsteps
+        .iter()
+        .find(|w| w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside))
+        .and_then(|w| cuts(w).into_iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]).map(|m| m.to[2]).next_back())
+        .unwrap_or(0.0);
+    let mut found: Vec<Vec<(FeatureKind, f64)>> = plan
+        .workingsteps
+        .iter()
+        .map(|ws| features_of(ws, plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width), face))
+        .collect();
     // Roughing passes machine what the same tool's next finishing pass leaves; where none
     // follows, or nothing separates, the region turned is one general revolution.
     for k in 0..found.len() {
@@ -141,6 +153,133 @@ pub fn recognise(plan: &mut ProcessPlan) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
+}
+
+/// How a pass cuts: across the axis (X, a face), along it (Z), or along a profile.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Way {
+    Across,
+    Along,
+    Profile,
+}
+
+/// The longest straight cut of a run of moves, and which way it runs. A pass is straight
+/// when that way makes most of its cutting length (the lead-in and the pull-out at their own
+/// feeds are short).
+fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
+    let len = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let total: f64 = run.iter().map(len).sum();
+    let way = |m: &Move| {
+        if m.arc.is_some() {
+            Way::Profile
+        } else if (m.to[2] - m.from[2]).abs() < TOL {
+            Way::Across
+        } else if (m.to[0] - m.from[0]).abs() < TOL {
+            Way::Along
+        } else {
+            Way::Profile
+        }
+    };
+    let longest = run.iter().filter(|m| way(m) != Way::Profile).max_by(|a, b| len(a).total_cmp(&len(b)))?;
+    let w = way(longest);
+    let share: f64 = run.iter().filter(|m| way(m) == w).map(len).sum();
+    (total > TOL && share >= 0.55 * total).then(|| (w, *longest))
+}
+
+/// CAM posts write a roughing operation's passes as plain moves, each pass at its own feeds
+/// (lead-in, cut, pull-out), so recovery ends a workingstep at each pass. Consecutive passes
+/// of one tool that cut the same way (across for facing, along for turning), each a step
+/// from the one before, are one roughing workingstep; its depth of cut is the step between
+/// the passes. A pass along a profile (the finishing pass) stays its own workingstep.
+fn group_passes(plan: &mut ProcessPlan) {
+    let explicit = |w: &Workingstep| {
+        w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none() && t.pitch.is_none()) && w.holes.is_empty()
+    };
+    let mut out: Vec<Workingstep> = Vec::new();
+    let mut steps: Vec<Vec<f64>> = Vec::new();
+    for ws in std::mem::take(&mut plan.workingsteps) {
+        let joined = out.last().filter(|_| explicit(&ws)).and_then(|prev| {
+            if !explicit(prev) || prev.tool != ws.tool || prev.state.work_offset != ws.state.work_offset || prev.setup != ws.setup {
+                return None;
+            }
+            // A program stop between two passes parts two operations; so does a slower feed
+            // (the finishing pass after the roughing ones).
+            if ws.state.stops.iter().any(|s| s.at == 0) {
+                return None;
+            }
+            let feed = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.feed_per_rev);
+            if let (Some(a), Some(b)) = (feed(prev), feed(&ws))
+                && b < 0.7 * a
+            {
+                return None;
+            }
+            let last = runs(prev).pop()?;
+            let new = runs(&ws);
+            let [one] = new.as_slice() else { return None };
+            let ((a, ma), (b, mb)) = (main_cut(&last)?, main_cut(one)?);
+            if a != b || a == Way::Profile {
+                return None;
+            }
+            // The step between the two passes' main cuts, across their direction.
+            let step = match a {
+                Way::Across => (ma.to[2] - mb.to[2]).abs(),
+                _ => (ma.to[0] - mb.to[0]).abs(),
+            };
+            (step > TOL && step <= 10.0).then_some(step)
+        });
+        match (joined, out.last_mut()) {
+            (Some(step), Some(prev)) => {
+                join(prev, ws);
+                if let Some(s) = steps.last_mut() {
+                    s.push(step);
+                }
+            }
+            _ => {
+                out.push(ws);
+                steps.push(Vec::new());
+            }
+        }
+    }
+    for (k, (ws, s)) in out.iter_mut().zip(steps).enumerate() {
+        ws.index = k as u32 + 1;
+        if s.is_empty() {
+            continue;
+        }
+        let mut s = s;
+        s.sort_by(f64::total_cmp);
+        let depth = s[s.len() / 2];
+        if let Some(t) = ws.turning.as_mut() {
+            t.intent = Some(crate::canon::TurnIntent { depth_of_cut: Some(round(depth)), ..Default::default() });
+        }
+    }
+    plan.workingsteps = out;
+}
+
+/// Appends a workingstep's moves, stops and dwells to the one before and measures it again.
+fn join(prev: &mut Workingstep, ws: Workingstep) {
+    let n = prev.toolpath.len() as u32;
+    let last_cut = prev.toolpath.iter().rposition(|m| m.phase == Phase::Cut).unwrap_or(0);
+    for i in last_cut + 1..prev.toolpath.len() {
+        prev.toolpath.set_phase(i, Phase::Connect);
+    }
+    let first_cut = ws.toolpath.iter().position(|m| m.phase == Phase::Cut).unwrap_or(0);
+    for (i, mut m) in ws.toolpath.iter().enumerate() {
+        if i < first_cut {
+            m.phase = Phase::Connect;
+        }
+        prev.toolpath.push(m);
+    }
+    prev.state.stops.extend(ws.state.stops.into_iter().map(|s| Stop { at: s.at + n, ..s }));
+    prev.state.dwells.extend(ws.state.dwells.into_iter().map(|d| Dwell { at: d.at + n, ..d }));
+    prev.state.optional_lines.extend(ws.state.optional_lines);
+    for f in ws.technology.feeds {
+        if !prev.technology.feeds.iter().any(|g| (g - f).abs() < 1e-9) {
+            prev.technology.feeds.push(f);
+        }
+    }
+    prev.source = prev.source.cover(ws.source);
+    prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
+    super::recover::measure(prev, None, None, None);
 }
 
 /// The region a workingstep turns, as one general revolution.
@@ -226,6 +365,11 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
+    // Passes written as moves cut across with a short lead-in and pull-out along Z.
+    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let total: f64 = cuts.iter().map(length).sum();
+    let mostly_across = cuts.iter().all(across)
+        || (runs.len() > 1 && cuts.iter().filter(|m| across(m)).map(length).sum::<f64>() >= 0.75 * total);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     let (op, rough) = match intent_kind {
         Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
@@ -239,7 +383,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
         None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
-        None if cuts.iter().all(across) => {
+        None if mostly_across => {
             let to_axis = xmin < 0.05;
             if to_axis && zmin >= front - 0.5 {
                 (TurnOp::Facing, runs.len() > 1)
@@ -259,14 +403,14 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
 }
 
 /// The features a workingstep machines, with the Z they are placed at.
-fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f64)> {
+fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(FeatureKind, f64)> {
     let Some(t) = ws.turning.as_deref() else { return Vec::new() };
     let cuts = cuts(ws);
     let (Some(d), Some(z)) = (t.diameter, t.z) else { return Vec::new() };
     let turned = |k: Turned| FeatureKind::Turned(k);
     // A contour cycle's features are its contour's, whichever way it cuts.
     if matches!(t.intent.as_ref().and_then(|i| i.kind), Some(TurnKind::RoughTurn | TurnKind::RoughFace | TurnKind::Finish)) {
-        return contour_features(ws, t);
+        return contour_features(ws, t, face);
     }
     match t.operation {
         Some(TurnOp::Facing) => {
@@ -312,14 +456,14 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
         Some(TurnOp::Drilling) => {
             vec![(FeatureKind::RoundHole { diameter: tool_width, bottom: HoleBottom::Flat, positions: vec![[0.0, 0.0]] }, z[1])]
         }
-        Some(TurnOp::Contouring) => contour_features(ws, t),
+        Some(TurnOp::Contouring) => contour_features(ws, t, face),
         None => Vec::new(),
     }
 }
 
 /// The features of a contour: the finishing pass, or a roughing cycle's last pass moved back
 /// by its allowances. Explicit roughing passes leave no finished shape of their own.
-fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
+fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKind, f64)> {
     let runs = runs(ws);
     let (profile, shift) = match t.intent.as_ref().and_then(|i| i.kind) {
         Some(TurnKind::Finish) => (runs.concat(), (0.0, 0.0)),
@@ -342,16 +486,16 @@ fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
                 FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }),
                 round(z0.max(z1)),
             ));
-        } else if (x1 - x0).abs() < TOL && z0.min(z1) > -TOL {
-            // In front of the face (Z0, where lathe programs put it): the lead-in from the
-            // cycle's start, in air.
+        } else if (x1 - x0).abs() < TOL && z0.min(z1) > face - TOL {
+            // In front of the face (Z0, where lathe programs put it, or where the program
+            // faced it): the lead-in from the cycle's start, in air.
             continue;
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
             // What runs on in front of the face is the lead-in.
-            let (lo, hi) = (z0.min(z1), z0.max(z1).min(0.0));
+            let (lo, hi) = (z0.min(z1), z0.max(z1).min(face));
             let k = Turned::Diameter { diameter: round(2.0 * x0), length: round(hi - lo), inside: t.inside };
             out.push((FeatureKind::Turned(k), round(hi)));
-        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 && z0 < TOL {
+        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 && z0 < face + TOL {
             let k = Turned::RevolvedFlat { outer: round(2.0 * x0.max(x1)), inner: round(2.0 * x0.min(x1).max(0.0)) };
             out.push((FeatureKind::Turned(k), round(z0)));
         }
