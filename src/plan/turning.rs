@@ -193,14 +193,22 @@ fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
 /// the passes. A pass along a profile (the finishing pass) stays its own workingstep.
 fn group_passes(plan: &mut ProcessPlan) {
     let explicit = |w: &Workingstep| {
-        w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none() && t.pitch.is_none()) && w.holes.is_empty()
+        w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none()) && w.holes.is_empty()
     };
+    let pitch = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.pitch);
     let mut out: Vec<Workingstep> = Vec::new();
-    let mut steps: Vec<Vec<f64>> = Vec::new();
+    // The steps between the passes joined, signed along X for passes along Z.
+    let mut steps: Vec<Vec<(f64, f64)>> = Vec::new();
     for ws in std::mem::take(&mut plan.workingsteps) {
         let joined = out.last().filter(|_| explicit(&ws)).and_then(|prev| {
             if !explicit(prev) || prev.tool != ws.tool || prev.state.work_offset != ws.state.work_offset || prev.setup != ws.setup {
                 return None;
+            }
+            // Thread passes (synchronised, one lead) are one threading workingstep.
+            match (pitch(prev), pitch(&ws)) {
+                (Some(a), Some(b)) if (a - b).abs() < TOL => return Some((0.0, 0.0)),
+                (None, None) => {}
+                _ => return None,
             }
             // A program stop between two passes parts two operations; so does a slower feed
             // (the finishing pass after the roughing ones).
@@ -221,11 +229,11 @@ fn group_passes(plan: &mut ProcessPlan) {
                 return None;
             }
             // The step between the two passes' main cuts, across their direction.
-            let step = match a {
-                Way::Across => (ma.to[2] - mb.to[2]).abs(),
-                _ => (ma.to[0] - mb.to[0]).abs(),
+            let (step, outward) = match a {
+                Way::Across => ((ma.to[2] - mb.to[2]).abs(), 0.0),
+                _ => ((ma.to[0] - mb.to[0]).abs(), mb.to[0] - ma.to[0]),
             };
-            (step > TOL && step <= 10.0).then_some(step)
+            (step > TOL && step <= 10.0).then_some((step, outward))
         });
         match (joined, out.last_mut()) {
             (Some(step), Some(prev)) => {
@@ -242,14 +250,17 @@ fn group_passes(plan: &mut ProcessPlan) {
     }
     for (k, (ws, s)) in out.iter_mut().zip(steps).enumerate() {
         ws.index = k as u32 + 1;
-        if s.is_empty() {
+        let mut depths: Vec<f64> = s.iter().map(|s| s.0).filter(|d| *d > TOL).collect();
+        if depths.is_empty() {
             continue;
         }
-        let mut s = s;
-        s.sort_by(f64::total_cmp);
-        let depth = s[s.len() / 2];
+        depths.sort_by(f64::total_cmp);
+        let depth = depths[depths.len() / 2];
+        // Passes along Z that step out to larger diameters bore: the tool works inside.
+        let outward = s.iter().filter(|s| s.1 > TOL).count();
         if let Some(t) = ws.turning.as_mut() {
             t.intent = Some(crate::canon::TurnIntent { depth_of_cut: Some(round(depth)), ..Default::default() });
+            t.inside |= outward > 0 && 2 * outward > s.len();
         }
     }
     plan.workingsteps = out;
@@ -355,7 +366,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
     t.inside = match allowance {
         Some(u) => u < 0.0,
-        None => boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
+        None => t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
     // left along Z.
@@ -371,6 +382,21 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     let mostly_across = cuts.iter().all(across)
         || (runs.len() > 1 && cuts.iter().filter(|m| across(m)).map(length).sum::<f64>() >= 0.75 * total);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
+    // Runs that plunge across and come back out the way they went in, and at how many Z.
+    let plunges = {
+        let back = |r: &Vec<Move>| {
+            r.iter().all(across)
+                && r.windows(2).any(|w| {
+                    let (a, b) = (w[0].to[0] - w[0].from[0], w[1].to[0] - w[1].from[0]);
+                    a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
+                })
+        };
+        let mut at: Vec<f64> = runs.iter().filter(|r| back(r)).filter_map(|r| r.first().map(|m| m.from[2])).collect();
+        let n = at.len();
+        at.sort_by(f64::total_cmp);
+        at.dedup_by(|a, b| (*a - *b).abs() < TOL);
+        (n, at.len())
+    };
     let (op, rough) = match intent_kind {
         Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
         Some(TurnKind::RoughFace) => (TurnOp::Facing, true),
@@ -383,6 +409,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
         None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
+        // Passes that plunge across and back out the same way, as CAM posts write a groove
+        // wider than the tool: roughing where they plunge at several places along Z.
+        None if xmin >= 0.05 && plunges.0 >= 1 && 2 * plunges.0 >= runs.len() => (TurnOp::Grooving, plunges.1 > 1),
         None if mostly_across => {
             let to_axis = xmin < 0.05;
             if to_axis && zmin >= front - 0.5 {
