@@ -1007,10 +1007,14 @@ impl Interpreter<'_> {
         let (Some(i), k) = (self.slot(OFFSETS[0]), self.slot(OFFSETS[2]).unwrap_or(0.0)) else { return };
         // Read as radii, the X words place the points at twice the X they have now.
         let (s, e) = ((2.0 * start[0], start[2]), (2.0 * end[0], end[2]));
-        let c = (s.0 + i, s.1 + k);
-        let (r0, r1) = ((s.0 - c.0).hypot(s.1 - c.1), (e.0 - c.0).hypot(e.1 - c.1));
-        let as_read = !radii_disagree(radii.0, radii.1, tol, relative);
-        let as_radius = !radii_disagree(r0, r1, tol, relative);
+        // Some posts write I with the sign of a mirrored X (the tool behind the centre line).
+        let fits = |s: (f64, f64), e: (f64, f64), i: f64| {
+            let c = (s.0 + i, s.1 + k);
+            !radii_disagree((s.0 - c.0).hypot(s.1 - c.1), (e.0 - c.0).hypot(e.1 - c.1), tol, relative)
+        };
+        let read = ((start[0], start[2]), (end[0], end[2]));
+        let as_read = !radii_disagree(radii.0, radii.1, tol, relative) || fits(read.0, read.1, -i);
+        let as_radius = fits(s, e, i) || fits(s, e, -i);
         match (as_read, as_radius) {
             (false, true) => self.arc_fit[0] += 1,
             (true, false) => self.arc_fit[1] += 1,

@@ -51,6 +51,9 @@ pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
 
 /// Names each turning workingstep's operation and builds the turned features.
 pub fn recognise(plan: &mut ProcessPlan) {
+    for ws in &mut plan.workingsteps {
+        beyond_the_centre(ws);
+    }
     group_passes(plan);
     // The part's front: the highest face cut (across X), and at least the program zero,
     // where lathe programs put the finished face.
@@ -153,6 +156,32 @@ pub fn recognise(plan: &mut ProcessPlan) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
+}
+
+/// A workingstep whose cuts all lie at X at or below 0 works beyond the centre line (a post
+/// that writes X negative, a tool behind the centre): its diameters are those of the same
+/// cuts mirrored about the axis, and so are its moves in the plan.
+fn beyond_the_centre(ws: &mut Workingstep) {
+    if ws.turning.is_none() {
+        return;
+    }
+    let cuts = cuts(ws);
+    if cuts.is_empty() || cuts.iter().any(|m| m.from[0] > TOL || m.to[0] > TOL) || !cuts.iter().any(|m| m.to[0] < -TOL) {
+        return;
+    }
+    let flip = |p: P3| [-p[0], p[1], p[2]];
+    let moves: super::Toolpath = ws
+        .toolpath
+        .iter()
+        .map(|m| Move {
+            from: flip(m.from),
+            to: flip(m.to),
+            arc: m.arc.map(|a| ArcGeometry { center: flip(a.center), axis: [a.axis[0], -a.axis[1], -a.axis[2]], ..a }),
+            ..m
+        })
+        .collect();
+    ws.toolpath = moves;
+    super::recover::measure(ws, None, None, None);
 }
 
 /// How a pass cuts: across the axis (X, a face), along it (Z), or along a profile.
