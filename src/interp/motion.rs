@@ -474,6 +474,16 @@ impl Interpreter<'_> {
             entry: taper != 0.0 && flags & 1 != 0,
             exit: taper != 0.0 && flags & 2 != 0,
         };
+        let intent = TurnIntent {
+            kind: Some(TurnKind::Thread),
+            code: def.label(),
+            pitch: Some(pitch),
+            thread_depth: Some(k),
+            first_cut: Some(j),
+            finish_passes: Some(springs),
+            ..TurnIntent::default()
+        };
+        self.emit(sink, CanonOp::Turning(Box::new(intent)));
         let mut pass = 1.0_f64;
         let mut depth = crest + j;
         while depth < bottom {
@@ -487,6 +497,7 @@ impl Interpreter<'_> {
         }
         self.emit(sink, CanonOp::StraightTraverse(end));
         self.st.pos = end;
+        self.emit(sink, CanonOp::TurningEnd);
     }
 
     /// One threading pass at `depth` below the drive line: in at the clearance, across

@@ -393,8 +393,12 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     // passes come in from within the smallest diameter they cut (outside, the tool comes in
     // from beyond the largest); a finishing pass starts at its contour's small end either way.
     let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
+    let finish_cycle = t.intent.as_ref().is_some_and(|i| i.kind == Some(TurnKind::Finish));
     t.inside = match allowance {
         Some(u) => u < 0.0,
+        // A finishing cycle starts where its contour starts, inside or out: it is inside
+        // where its roughing was (below).
+        None if finish_cycle => boring,
         None => t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
@@ -525,6 +529,13 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
     let runs = runs(ws);
     let (profile, shift) = match t.intent.as_ref().and_then(|i| i.kind) {
         Some(TurnKind::Finish) => (runs.concat(), (0.0, 0.0)),
+        // Stock left all round (LinuxCNC's D) is no shift along X and Z: the finishing
+        // pass gives the features.
+        Some(TurnKind::RoughTurn | TurnKind::RoughFace)
+            if t.intent.as_ref().is_some_and(|i| i.finish_allowance.is_some_and(|d| d > TOL) && i.allowance_x.is_none()) =>
+        {
+            return Vec::new();
+        }
         Some(TurnKind::RoughTurn | TurnKind::RoughFace) => {
             let i = t.intent.as_ref();
             let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0;
