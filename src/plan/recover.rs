@@ -1242,9 +1242,13 @@ impl<'p> Recovery<'p> {
         let is_cut = mv.kind != MoveKind::Rapid && (self.lathe || mv.to[2] >= mv.from[2] - EPS);
         let decisive_feed = if self.lathe && self.per_rev && self.sync.is_none() { self.feed } else { mv.feed };
         let lathe = self.lathe;
+        // A lathe cycle's passes are one workingstep, whatever feeds they cut at (a thread's
+        // tapered run-out, a finishing feed of its own).
+        let in_cycle = lathe && self.turn.is_some();
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
+            && !in_cycle
             && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) || !lathe && !is_lift(&mv) && b.starts_anew(&mv))
         {
             let now = self.technology();
@@ -1260,7 +1264,9 @@ impl<'p> Recovery<'p> {
         if mv.kind != MoveKind::Rapid && !b.technology.feeds.iter().any(|f| (f - feed).abs() < EPS) {
             b.technology.feeds.push(feed);
         }
-        if mv.kind != MoveKind::Rapid && self.sync.is_some() {
+        // The lead is the first synchronised cut's (a tapered run-out advances more per
+        // revolution along its slant).
+        if mv.kind != MoveKind::Rapid && self.sync.is_some() && b.turning.pitch.is_none() {
             b.turning.pitch = self.sync.map(round_sig);
         }
         if is_cut {

@@ -394,8 +394,13 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     // from beyond the largest); a finishing pass starts at its contour's small end either way.
     let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
     let finish_cycle = t.intent.as_ref().is_some_and(|i| i.kind == Some(TurnKind::Finish));
+    let rough_cycle = t.intent.as_ref().is_some_and(|i| matches!(i.kind, Some(TurnKind::RoughTurn | TurnKind::RoughFace)));
+    // Where a roughing cycle starts: the controls rough between the start point and the
+    // contour, so a start nearer the small diameter than the large one is inside.
+    let start = ws.toolpath.iter().next().map(|m| m.to[0]);
     t.inside = match allowance {
         Some(u) => u < 0.0,
+        None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
         // A finishing cycle starts where its contour starts, inside or out: it is inside
         // where its roughing was (below).
         None if finish_cycle => boring,
