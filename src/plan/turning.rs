@@ -397,7 +397,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     let rough_cycle = t.intent.as_ref().is_some_and(|i| matches!(i.kind, Some(TurnKind::RoughTurn | TurnKind::RoughFace)));
     // Where a roughing cycle starts: the controls rough between the start point and the
     // contour, so a start nearer the small diameter than the large one is inside.
-    let start = ws.toolpath.iter().next().map(|m| m.to[0]);
+    let start = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.from[0]);
     t.inside = match allowance {
         Some(u) => u < 0.0,
         None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
