@@ -34,7 +34,11 @@ impl Interpreter<'_> {
     /// the offset take effect at once, the program position kept as after a tool change.
     fn tool_word(&mut self, t: f64, sink: &mut dyn CanonSink) {
         let digits = self.dialect.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits);
+        // A block that gives the offset in a word of its own (`T01H01`, `T01D01H01`, as NX
+        // posts write Mitsubishi and Okuma lathes) leaves the T word the tool alone.
+        let own_offset = self.slot(Role::H).or_else(|| self.slot(Role::D)).filter(|v| *v >= 0.0 && v.fract() == 0.0);
         let (tool, offset) = match digits {
+            Some(_) if own_offset.is_some() => (t.min(f64::from(u32::MAX)) as u32, own_offset.map(|h| h as u32)),
             Some(d) => {
                 let base = 10u32.pow(u32::from(d));
                 let t = t as u64;
