@@ -194,7 +194,7 @@ enum Way {
 
 /// The longest straight cut of a run of moves, and which way it runs. A pass is straight
 /// when that way makes most of its cutting length (the lead-in and the pull-out at their own
-/// feeds are short).
+/// feeds are short) and it has no arc and few moves.
 fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
     let len = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
     let total: f64 = run.iter().map(len).sum();
@@ -209,6 +209,11 @@ fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
             Way::Profile
         }
     };
+    // A pass along the contour (arcs, or more moves than a lead-in, a cut, a pull-out and a
+    // retract) follows a profile.
+    if run.len() > 6 || run.iter().any(|m| m.arc.is_some()) {
+        return None;
+    }
     let longest = run.iter().filter(|m| way(m) != Way::Profile).max_by(|a, b| len(a).total_cmp(&len(b)))?;
     let w = way(longest);
     let share: f64 = run.iter().filter(|m| way(m) == w).map(len).sum();
@@ -229,6 +234,21 @@ fn group_passes(plan: &mut ProcessPlan) {
     // The steps between the passes joined, signed along X for passes along Z.
     let mut steps: Vec<Vec<(f64, f64)>> = Vec::new();
     for ws in std::mem::take(&mut plan.workingsteps) {
+        // A lone feed move that only pulls away from where the workingstep before (same
+        // tool) ended its cut, out in X (Okuma's `G01 X64 Z-79` after a G87 finish), is that
+        // workingstep's retract, not an operation.
+        if let Some(prev) = out.last_mut()
+            && pulls_away(prev, &ws)
+        {
+            for mut m in ws.toolpath.iter() {
+                m.phase = Phase::Retract;
+                prev.toolpath.push(m);
+            }
+            prev.source = prev.source.cover(ws.source);
+            prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
+            super::recover::measure(prev, None, None, None);
+            continue;
+        }
         let joined = out.last().filter(|_| explicit(&ws)).and_then(|prev| {
             if !explicit(prev) || prev.tool != ws.tool || prev.state.work_offset != ws.state.work_offset || prev.setup != ws.setup {
                 return None;
@@ -293,6 +313,26 @@ fn group_passes(plan: &mut ProcessPlan) {
         }
     }
     plan.workingsteps = out;
+}
+
+/// Whether `ws` is one feed move of `prev`'s tool, without a cycle of its own, that starts
+/// where `prev`'s last cut ended and leaves outward in X by at most a few millimetres.
+fn pulls_away(prev: &Workingstep, ws: &Workingstep) -> bool {
+    let own_cycle = ws.turning.as_deref().is_none_or(|t| t.intent.is_some() || t.pitch.is_some());
+    let cuts = cuts(ws);
+    let ([m], Some(end)) = (cuts.as_slice(), cuts_end(prev)) else { return false };
+    !own_cycle
+        && prev.tool == ws.tool
+        && prev.turning.is_some()
+        && (m.from[0] - end[0]).abs() < 0.01
+        && (m.from[2] - end[2]).abs() < 0.01
+        && m.to[0].abs() > m.from[0].abs() + TOL
+        && (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]) <= 5.0
+}
+
+/// Where a workingstep's last cut ended.
+fn cuts_end(ws: &Workingstep) -> Option<P3> {
+    cuts(ws).last().map(|m| m.to)
 }
 
 /// Appends a workingstep's moves, stops and dwells to the one before and measures it again.
