@@ -217,7 +217,7 @@ fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
     let longest = run.iter().filter(|m| way(m) != Way::Profile).max_by(|a, b| len(a).total_cmp(&len(b)))?;
     let w = way(longest);
     let share: f64 = run.iter().filter(|m| way(m) == w).map(len).sum();
-    (total > TOL && share >= 0.55 * total).then(|| (w, *longest))
+    (total > TOL && share >= 0.55 * total).then_some((w, *longest))
 }
 
 /// CAM posts write a roughing operation's passes as plain moves, each pass at its own feeds
@@ -226,9 +226,7 @@ fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
 /// from the one before, are one roughing workingstep; its depth of cut is the step between
 /// the passes. A pass along a profile (the finishing pass) stays its own workingstep.
 fn group_passes(plan: &mut ProcessPlan) {
-    let explicit = |w: &Workingstep| {
-        w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none()) && w.holes.is_empty()
-    };
+    let explicit = |w: &Workingstep| w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none()) && w.holes.is_empty();
     let pitch = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.pitch);
     let mut out: Vec<Workingstep> = Vec::new();
     // The steps between the passes joined, signed along X for passes along Z.
@@ -457,8 +455,8 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     // Passes written as moves cut across with a short lead-in and pull-out along Z.
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
     let total: f64 = cuts.iter().map(length).sum();
-    let mostly_across = cuts.iter().all(across)
-        || (runs.len() > 1 && cuts.iter().filter(|m| across(m)).map(length).sum::<f64>() >= 0.75 * total);
+    let mostly_across =
+        cuts.iter().all(across) || (runs.len() > 1 && cuts.iter().filter(|m| across(m)).map(length).sum::<f64>() >= 0.75 * total);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     // Runs that plunge across and come back out the way they went in, and at how many Z.
     let plunges = {

@@ -48,10 +48,15 @@ impl Interpreter<'_> {
         };
         self.st.selected_tool = tool;
         self.emit(sink, CanonOp::SelectTool(tool));
-        if let Some(name) = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)) {
-            self.emit(sink, CanonOp::Setting(Setting::ToolName(tool, name.clone())));
+        let name = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)).cloned();
+        let named = name.is_some();
+        if let Some(name) = name {
+            self.emit(sink, CanonOp::Setting(Setting::ToolName(tool, name)));
         }
-        if !self.dialect.behaviour.tool_word_changes {
+        // A tool called by name in diameter mode (Sinumerik `T="ROUGH_80"` after DIAMON) is
+        // a turret's: on turning machines the T command changes the tool (840D, tool change
+        // mode 0), with no M6.
+        if !self.dialect.behaviour.tool_word_changes && !(named && self.st.diameter) {
             return;
         }
         if tool != self.st.tool {
