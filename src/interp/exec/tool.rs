@@ -56,7 +56,8 @@ impl Interpreter<'_> {
         // A tool called by name in diameter mode (Sinumerik `T="ROUGH_80"` after DIAMON) is
         // a turret's: on turning machines the T command changes the tool (840D, tool change
         // mode 0), with no M6.
-        if !self.dialect.behaviour.tool_word_changes && !(named && self.st.diameter) {
+        let turret = self.dialect.behaviour.tool_word_changes || (named && self.st.diameter);
+        if !turret {
             return;
         }
         if tool != self.st.tool {
