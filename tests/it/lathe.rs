@@ -152,11 +152,13 @@ fn lathe_suite() {
 /// `tests/programs/lathe_heldout/` names its program (`corpus PATH`) and lists, written by
 /// reading the program before ncplan ran on it, the workingsteps and features a turner names.
 /// Scored once on 5 December 2026: 24 of the 92 listed recovered, 4 milling features (a
-/// LinuxCNC profile in radius mode, read as milling); the test keeps the figure from falling.
+/// LinuxCNC profile in radius mode, read as milling). No longer held out: issue 40 part 1 was
+/// built on these programs, after which 64 of the 92 are recovered and no milling feature; the
+/// test keeps that figure from falling.
 #[test]
 fn lathe_held_out_programs() {
-    /// Listed workingsteps and features recovered when the sidecars were first scored.
-    const HELD_OUT_SCORE: usize = 24;
+    /// Listed workingsteps and features recovered after issue 40 part 1 was built on them.
+    const HELD_OUT_SCORE: usize = 64;
     let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus");
     let held = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_heldout");
     let mut sidecars: Vec<PathBuf> = std::fs::read_dir(&held).unwrap().map(|e| e.unwrap().path()).collect();
@@ -214,9 +216,8 @@ fn score_folder(folder: &str) -> (usize, usize, usize, Vec<String>) {
 #[test]
 fn lathe_real_build_programs() {
     /// Listed workingsteps and features recovered on the build half.
-    const BUILD_SCORE: usize = 0;
+    const BUILD_SCORE: usize = 37;
     let (listed, found, milling, misses) = score_folder("lathe_real");
-    eprintln!("lathe_real: {found} of {listed} recovered, {milling} milling features\n{}", misses.join("\n"));
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(found >= BUILD_SCORE, "build half: {found} of {listed} recovered, fewer than {BUILD_SCORE}:\n{}", misses.join("\n"));
 }
@@ -224,14 +225,19 @@ fn lathe_real_build_programs() {
 /// The held-back half of the real lathe programs gathered for issue 40 part 1
 /// (`tests/programs/lathe_real_heldout/`: LinuxCNC's lathe samples, GCodeWorkShop's Okuma and
 /// Fanuc shop programs; split from the build half by repository), their sidecars written before
-/// ncplan ran on them and never used to build.
+/// ncplan ran on them and never used to build. Measured once on 6 December 2026, after the
+/// build: 37 of the 84 listed recovered, 2 milling features (toolpath features on LinuxCNC's
+/// g76.ngc); the test keeps the figure from falling.
 #[test]
 fn lathe_real_held_out_programs() {
     /// Listed workingsteps and features recovered when the held-back half was measured once.
-    const HELD_OUT_SCORE: usize = 0;
+    const HELD_OUT_SCORE: usize = 37;
     let (listed, found, milling, misses) = score_folder("lathe_real_heldout");
-    eprintln!("lathe_real_heldout: {found} of {listed} recovered, {milling} milling features\n{}", misses.join("\n"));
-    assert!(found >= HELD_OUT_SCORE, "held out: {found} of {listed} recovered, fewer than {HELD_OUT_SCORE}:\n{}", misses.join("\n"));
+    assert!(
+        found >= HELD_OUT_SCORE,
+        "held out: {found} of {listed} recovered ({milling} milling features on lathe programs), fewer than {HELD_OUT_SCORE}:\n{}",
+        misses.join("\n")
+    );
 }
 
 /// The change rows of an edit of a lathe program (every `from` made `to`), one per line with
