@@ -73,7 +73,7 @@ impl<'p> Recoverer<'p> {
         if r.lathe && plan.workingsteps.iter().any(|w| w.turning.is_none()) {
             mill_turn(&mut plan);
         } else if r.lathe {
-            super::turning::recognise(&mut plan);
+            super::turning::recognise(&mut plan, remeasure);
             super::turning::infer_tool_kinds(&mut plan);
         } else {
             explicit_holes(&mut plan);
@@ -97,7 +97,7 @@ fn mill_turn(plan: &mut ProcessPlan) {
     // Recognition reads a workingstep's number as its position: each part is numbered from 1
     // while its rules run, then given the plan's numbers back.
     let numbers = (renumber(&mut t), renumber(&mut m));
-    super::turning::recognise(&mut t);
+    super::turning::recognise(&mut t, remeasure);
     super::turning::infer_tool_kinds(&mut t);
     explicit_holes(&mut m);
     infer_tool_kinds(&mut m);
@@ -1442,6 +1442,11 @@ impl<'p> Recovery<'p> {
         measure(&mut ws, b.dwell, b.peck, b.surface);
         self.done.push(ws);
     }
+}
+
+/// Measures a workingstep again after turning recognition joined or mirrored its moves.
+fn remeasure(ws: &mut Workingstep) {
+    measure(ws, None, None, None);
 }
 
 /// A rate rounded to 12 significant digits: feeds converted from inches carry no

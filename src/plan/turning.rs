@@ -50,11 +50,12 @@ pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
 }
 
 /// Names each turning workingstep's operation and builds the turned features.
-pub fn recognise(plan: &mut ProcessPlan) {
+/// `remeasure` measures a workingstep again after its moves changed (recovery's `measure`).
+pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     for ws in &mut plan.workingsteps {
-        beyond_the_centre(ws);
+        beyond_the_centre(ws, remeasure);
     }
-    group_passes(plan);
+    group_passes(plan, remeasure);
     // The part's front: the highest face cut (across X), and at least the program zero,
     // where lathe programs put the finished face.
     let front = plan
@@ -161,7 +162,7 @@ pub fn recognise(plan: &mut ProcessPlan) {
 /// A workingstep whose cuts all lie at X at or below 0 works beyond the centre line (a post
 /// that writes X negative, a tool behind the centre): its diameters are those of the same
 /// cuts mirrored about the axis, and so are its moves in the plan.
-fn beyond_the_centre(ws: &mut Workingstep) {
+fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
     if ws.turning.is_none() {
         return;
     }
@@ -181,7 +182,7 @@ fn beyond_the_centre(ws: &mut Workingstep) {
         })
         .collect();
     ws.toolpath = moves;
-    super::recover::measure(ws, None, None, None);
+    remeasure(ws);
 }
 
 /// How a pass cuts: across the axis (X, a face), along it (Z), or along a profile.
@@ -225,7 +226,7 @@ fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
 /// of one tool that cut the same way (across for facing, along for turning), each a step
 /// from the one before, are one roughing workingstep; its depth of cut is the step between
 /// the passes. A pass along a profile (the finishing pass) stays its own workingstep.
-fn group_passes(plan: &mut ProcessPlan) {
+fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     let explicit = |w: &Workingstep| w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none()) && w.holes.is_empty();
     let pitch = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.pitch);
     let mut out: Vec<Workingstep> = Vec::new();
@@ -244,7 +245,7 @@ fn group_passes(plan: &mut ProcessPlan) {
             }
             prev.source = prev.source.cover(ws.source);
             prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
-            super::recover::measure(prev, None, None, None);
+            remeasure(prev);
             continue;
         }
         let joined = out.last().filter(|_| explicit(&ws)).and_then(|prev| {
@@ -285,6 +286,7 @@ fn group_passes(plan: &mut ProcessPlan) {
         match (joined, out.last_mut()) {
             (Some(step), Some(prev)) => {
                 join(prev, ws);
+                remeasure(prev);
                 if let Some(s) = steps.last_mut() {
                     s.push(step);
                 }
@@ -333,7 +335,7 @@ fn cuts_end(ws: &Workingstep) -> Option<P3> {
     cuts(ws).last().map(|m| m.to)
 }
 
-/// Appends a workingstep's moves, stops and dwells to the one before and measures it again.
+/// Appends a workingstep's moves, stops and dwells to the one before (to be measured again).
 fn join(prev: &mut Workingstep, ws: Workingstep) {
     let n = prev.toolpath.len() as u32;
     let last_cut = prev.toolpath.iter().rposition(|m| m.phase == Phase::Cut).unwrap_or(0);
@@ -357,7 +359,6 @@ fn join(prev: &mut Workingstep, ws: Workingstep) {
     }
     prev.source = prev.source.cover(ws.source);
     prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
-    super::recover::measure(prev, None, None, None);
 }
 
 /// The region a workingstep turns, as one general revolution.
