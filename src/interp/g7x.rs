@@ -915,24 +915,6 @@ impl Interpreter<'_> {
             return diags.push(Diagnostic::new(Code::BadValue, range, msg));
         }
         let profile = Profile::new(segs);
-        // The cycle's moves are said as a lathe cycle's, with what it states: the depth of
-        // cut I, the retract R and D, the stock left all round (LinuxCNC's G71/G72; G70's D
-        // is where its passes start).
-        let rough = cycle.kind != Meaning::ProfileFinish;
-        let kind = match cycle.kind {
-            Meaning::ProfileFinish => crate::canon::TurnKind::Finish,
-            Meaning::ProfileRoughFace => crate::canon::TurnKind::RoughFace,
-            _ => crate::canon::TurnKind::RoughTurn,
-        };
-        let intent = crate::canon::TurnIntent {
-            kind: Some(kind),
-            code: self.dialect.codes.iter().find(|c| c.letter == 'G' && c.meaning == cycle.kind).map_or_else(String::new, |c| c.label()),
-            depth_of_cut: rough.then_some(cycle.i),
-            retract: rough.then_some(cycle.r),
-            finish_allowance: (rough && cycle.d > 0.0).then_some(cycle.d),
-            ..Default::default()
-        };
-        self.emit(sink, CanonOp::Turning(Box::new(intent)));
         let mut out = Emit { interp: self, sink, last: Meaning::Linear };
         let done = match cycle.kind {
             Meaning::ProfileFinish => profile.finish(&mut out, cycle.x, cycle.z, cycle.d, cycle.e, cycle.p.trunc() as i64),
@@ -948,7 +930,6 @@ impl Interpreter<'_> {
             ),
         };
         let last = out.last;
-        self.emit(sink, CanonOp::TurningEnd);
         // The cycle leaves the motion mode of its last move in force, as rs274's does.
         self.st.motion_code = self.dialect.codes.iter().position(|c| c.letter == 'G' && c.meaning == last);
         if let Err(why) = done {

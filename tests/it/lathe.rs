@@ -153,12 +153,13 @@ fn lathe_suite() {
 /// reading the program before ncplan ran on it, the workingsteps and features a turner names.
 /// Scored once on 5 December 2026: 24 of the 92 listed recovered, 4 milling features (a
 /// LinuxCNC profile in radius mode, read as milling). No longer held out: issue 40 part 1 was
-/// built on these programs, after which 64 of the 92 are recovered and no milling feature; the
-/// test keeps that figure from falling.
+/// built on these programs, after which 58 of the 92 are recovered (4 milling features: the
+/// LinuxCNC pawn in radius mode is still read as milling, its G70-G72 giving no turning marker,
+/// since one breaks equal round trips); the test keeps that figure from falling.
 #[test]
 fn lathe_held_out_programs() {
     /// Listed workingsteps and features recovered after issue 40 part 1 was built on them.
-    const HELD_OUT_SCORE: usize = 64;
+    const HELD_OUT_SCORE: usize = 58;
     let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus");
     let held = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_heldout");
     let mut sidecars: Vec<PathBuf> = std::fs::read_dir(&held).unwrap().map(|e| e.unwrap().path()).collect();
@@ -226,12 +227,14 @@ fn lathe_real_build_programs() {
 /// (`tests/programs/lathe_real_heldout/`: LinuxCNC's lathe samples, GCodeWorkShop's Okuma and
 /// Fanuc shop programs; split from the build half by repository), their sidecars written before
 /// ncplan ran on them and never used to build. Measured once on 6 December 2026, after the
-/// build: 37 of the 84 listed recovered, 2 milling features (toolpath features on LinuxCNC's
-/// g76.ngc); the test keeps the figure from falling.
+/// build: 37 of the 84 listed recovered, 2 milling features (on LinuxCNC's g76.ngc). The
+/// turning marker of LinuxCNC's G70-G72 was then taken out (it made equal round trips of the
+/// corpus unequal), which leaves 21 of 84 and 46 milling features (LinuxCNC's radius-mode
+/// profile programs read as milling again); the test keeps that figure from falling.
 #[test]
 fn lathe_real_held_out_programs() {
     /// Listed workingsteps and features recovered when the held-back half was measured once.
-    const HELD_OUT_SCORE: usize = 37;
+    const HELD_OUT_SCORE: usize = 21;
     let (listed, found, milling, misses) = score_folder("lathe_real_heldout");
     assert!(
         found >= HELD_OUT_SCORE,
