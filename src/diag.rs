@@ -149,6 +149,14 @@ codes! {
     TiltUnknown = ("interp::tilt-unknown", Warning),
     /// An arc whose start and end radius differ beyond tolerance, or that cannot be built.
     BadArc = ("interp::bad-arc", Error),
+    /// A lathe program whose arcs' centres (I, K) fit only with its X words read as radii, on
+    /// a control that reads them as diameters: the machine is set to radius programming (Fanuc
+    /// parameter DIAx off), and the program is read so.
+    XWordsRadius = ("interp::x-words-radius", Warning),
+    /// A lathe program that states no units whose feeds per revolution are all at most 0.06 (no
+    /// turning feed in mm/rev, an ordinary one in inch/rev): read in inch, the machine's
+    /// power-on units being inch.
+    UnitsInferred = ("interp::units-inferred", Warning),
     /// A word's value lies outside what its command accepts (`M19 P3`, `M19 Q-1`).
     BadValue = ("interp::bad-value", Error),
     /// A cutting move with the spindle stopped.

@@ -47,7 +47,13 @@ pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
     let (source, notes) = text::decode(bytes);
     let mut diagnostics = crate::diag::decoding(notes);
     let mut canon = Vec::new();
-    diagnostics.extend(interp::interpret(&source.text, dialect, profile, &mut canon));
+    let mut found = interp::interpret(&source.text, dialect, profile, &mut canon);
+    if let Some((machine, evidence)) = lathe_machine(&found, profile) {
+        canon.clear();
+        found = interp::interpret(&source.text, dialect, &machine, &mut canon);
+        found.extend(evidence);
+    }
+    diagnostics.extend(found);
     let (plan, plan_diags) = plan::recover(&canon, profile, name_of(Text::Whole(&source.text), dialect));
     diagnostics.extend(plan_diags);
     diagnostics.sort_by_key(|d| (d.range.start, d.range.end));
@@ -92,9 +98,29 @@ fn plan_of((source, notes): (SourceText, Vec<DecodeNote>), dialect: &Dialect, pr
 pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (ProcessPlan, Vec<Diagnostic>) {
     let mut recoverer = plan::Recoverer::new(profile);
     let mut diagnostics = interp::interpret(text, dialect, profile, &mut recoverer);
+    if let Some((machine, evidence)) = lathe_machine(&diagnostics, profile) {
+        recoverer = plan::Recoverer::new(profile);
+        diagnostics = interp::interpret(text, dialect, &machine, &mut recoverer);
+        diagnostics.extend(evidence);
+    }
     let (plan, plan_diags) = recoverer.finish(name_of(text, dialect));
     diagnostics.extend(plan_diags);
     (plan, diagnostics)
+}
+
+/// The machine a lathe program's own words show (X words as radii, inch at power-on) where
+/// the first reading found the evidence: the profile so set, and the findings that say why.
+/// The program is then read again on it.
+fn lathe_machine(found: &[Diagnostic], profile: &Profile) -> Option<(Profile, Vec<Diagnostic>)> {
+    let evidence: Vec<Diagnostic> =
+        found.iter().filter(|d| matches!(d.code, crate::diag::Code::XWordsRadius | crate::diag::Code::UnitsInferred)).cloned().collect();
+    if evidence.is_empty() {
+        return None;
+    }
+    let mut machine = profile.clone();
+    machine.x_radius |= evidence.iter().any(|d| d.code == crate::diag::Code::XWordsRadius);
+    machine.inch |= evidence.iter().any(|d| d.code == crate::diag::Code::UnitsInferred);
+    Some((machine, evidence))
 }
 
 /// The program's name: the record the dictionary names it by (CLDATA `PARTNO`), or the header's.

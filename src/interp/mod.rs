@@ -233,6 +233,12 @@ pub struct Profile {
     /// How a condition on an unknown value goes when neither way leads to an alarm; `None`
     /// takes the dictionary's choice (`unknown-conditions`).
     pub unknown_conditions: Option<bool>,
+    /// The machine reads X words as radii on a control whose dialect reads them as diameters
+    /// (Fanuc parameter DIAx off): found from a program's arcs (`interp::x-words-radius`).
+    pub x_radius: bool,
+    /// The machine powers on in inch (Fanuc parameter INI): found from a program's feeds
+    /// (`interp::units-inferred`).
+    pub inch: bool,
 }
 
 /// Whether a file is a main program or a called one (a subprogram, a macro, a `PROC`).
@@ -327,6 +333,8 @@ impl Default for Profile {
             fast_lane: true,
             role: ProgramRole::Auto,
             unknown_conditions: None,
+            x_radius: false,
+            inch: false,
         }
     }
 }
@@ -616,7 +624,7 @@ impl State {
     /// The control's power-on state, as the dialect and the profile set it.
     fn power_on(dialect: &Dialect, profile: &Profile) -> State {
         State {
-            units: Units::Mm,
+            units: if profile.inch { Units::Inch } else { Units::Mm },
             plane: dialect.behaviour.initial_plane,
             distance: DistanceMode::Absolute,
             arc_incremental: true,
@@ -666,7 +674,7 @@ impl State {
             comp_left: true,
             blank_min: None,
             leaving_comp: false,
-            diameter: dialect.behaviour.x_diameter,
+            diameter: dialect.behaviour.x_diameter && !profile.x_radius,
             css_max: None,
             spindle_limit: None,
             cycle_initial: None,
@@ -807,6 +815,13 @@ pub struct Interpreter<'a> {
     /// over the same block do not count again.
     noted: BTreeSet<(u32, u32, String)>,
     after_end_noted: bool,
+    /// Arcs given by I and K under diameter programming whose centre fits only with X read
+    /// as a radius, and only as a diameter.
+    arc_fit: [u32; 2],
+    /// Whether the program stated its units (G20, G21).
+    units_stated: bool,
+    /// Feeds per revolution read: how many, and the largest.
+    per_rev_feeds: (u32, f64),
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
     /// The intent of the lathe contour cycle a request runs, said before its moves.
@@ -897,6 +912,9 @@ impl<'a> Interpreter<'a> {
             notes: BTreeMap::new(),
             noted: BTreeSet::new(),
             after_end_noted: false,
+            arc_fit: [0, 0],
+            units_stated: false,
+            per_rev_feeds: (0, 0.0),
             request: None,
             turn_intent: None,
             depth: 0,
@@ -986,6 +1004,7 @@ impl<'a> Interpreter<'a> {
             let msg = format!("read as a called program ({why}): its caller sets the state it starts from");
             diags.push(Diagnostic::new(Code::CalledProgram, TextRange::default(), msg));
         }
+        self.lathe_evidence(diags);
         for (what, count) in &self.notes {
             if *count > NOTE_LIMIT {
                 diags.push(Diagnostic::new(
@@ -994,6 +1013,27 @@ impl<'a> Interpreter<'a> {
                     format!("{} more findings like `{what}` were not listed", count - NOTE_LIMIT),
                 ));
             }
+        }
+    }
+
+    /// What a lathe program's own words show of the machine's settings the dialect cannot
+    /// know: X words as radii (arcs whose centres fit only so), inch units (no unit stated,
+    /// every feed per revolution below 0.05). Each is a finding; the pipeline reads the
+    /// program again so.
+    fn lathe_evidence(&self, diags: &mut Vec<Diagnostic>) {
+        let [radius, diameter] = self.arc_fit;
+        if !self.profile.x_radius && radius >= 2 && diameter == 0 {
+            let msg = format!(
+                "{radius} arcs' centres (I, K) fit only with X read as a radius: the program is written for a machine set to radius programming, and is read so"
+            );
+            diags.push(Diagnostic::new(Code::XWordsRadius, TextRange::default(), msg));
+        }
+        let (count, largest) = self.per_rev_feeds;
+        if !self.profile.inch && !self.units_stated && count >= 3 && largest <= 0.06 {
+            let msg = format!(
+                "no units stated, and all {count} feeds per revolution are at most 0.06 (the largest F{largest}): no turning feed in mm/rev, ordinary in inch/rev; read in inch"
+            );
+            diags.push(Diagnostic::new(Code::UnitsInferred, TextRange::default(), msg));
         }
     }
 
@@ -1577,6 +1617,9 @@ impl<'a> Interpreter<'a> {
         }
         if self.st.diameter {
             self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(true)));
+        }
+        if self.st.units == Units::Inch {
+            self.emit(sink, CanonOp::UseLengthUnits(Units::Inch));
         }
     }
 

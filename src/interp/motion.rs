@@ -474,6 +474,16 @@ impl Interpreter<'_> {
             entry: taper != 0.0 && flags & 1 != 0,
             exit: taper != 0.0 && flags & 2 != 0,
         };
+        let intent = TurnIntent {
+            kind: Some(TurnKind::Thread),
+            code: def.label(),
+            pitch: Some(pitch),
+            thread_depth: Some(k),
+            first_cut: Some(j),
+            finish_passes: Some(springs),
+            ..TurnIntent::default()
+        };
+        self.emit(sink, CanonOp::Turning(Box::new(intent)));
         let mut pass = 1.0_f64;
         let mut depth = crest + j;
         while depth < bottom {
@@ -487,6 +497,7 @@ impl Interpreter<'_> {
         }
         self.emit(sink, CanonOp::StraightTraverse(end));
         self.st.pos = end;
+        self.emit(sink, CanonOp::TurningEnd);
     }
 
     /// One threading pass at `depth` below the drive line: in at the clearance, across
@@ -975,6 +986,7 @@ impl Interpreter<'_> {
         let (tol, relative) = self.arc_tolerance(block);
         let r_start = (start[a0] - c.0).hypot(start[a1] - c.1);
         let r_end = (end[a0] - c.0).hypot(end[a1] - c.1);
+        self.weigh_radius_words(start, end, (r_start, r_end), tol, relative);
         if radii_disagree(r_start, r_end, tol, relative) {
             let unit = if self.st.units == Units::Mm { "mm" } else { "in" };
             diags.push(Diagnostic::new(
@@ -995,6 +1007,32 @@ impl Interpreter<'_> {
 }
 
 impl Interpreter<'_> {
+    /// Under diameter programming in the ZX plane, whether an arc's centre (I, K from the
+    /// start) fits as the X words were read or only with them read as radii: evidence of a
+    /// machine set to radius programming (see `lathe_evidence`).
+    fn weigh_radius_words(&mut self, start: [f64; 6], end: [f64; 6], radii: (f64, f64), tol: f64, relative: Option<f64>) {
+        let incremental = self.slots[OFFSETS[0] as usize].map_or(self.st.arc_incremental, |s| s.mode != WordMode::Absolute);
+        if !self.st.diameter || self.st.plane != Plane::Xz || !incremental {
+            return;
+        }
+        let (Some(i), k) = (self.slot(OFFSETS[0]), self.slot(OFFSETS[2]).unwrap_or(0.0)) else { return };
+        // Read as radii, the X words place the points at twice the X they have now.
+        let (s, e) = ((2.0 * start[0], start[2]), (2.0 * end[0], end[2]));
+        // Some posts write I with the sign of a mirrored X (the tool behind the centre line).
+        let fits = |s: (f64, f64), e: (f64, f64), i: f64| {
+            let c = (s.0 + i, s.1 + k);
+            !radii_disagree((s.0 - c.0).hypot(s.1 - c.1), (e.0 - c.0).hypot(e.1 - c.1), tol, relative)
+        };
+        let read = ((start[0], start[2]), (end[0], end[2]));
+        let as_read = !radii_disagree(radii.0, radii.1, tol, relative) || fits(read.0, read.1, -i);
+        let as_radius = fits(s, e, i) || fits(s, e, -i);
+        match (as_read, as_radius) {
+            (false, true) => self.arc_fit[0] += 1,
+            (true, false) => self.arc_fit[1] += 1,
+            _ => {}
+        }
+    }
+
     /// After an arc that cannot be made: the program goes on from its programmed end point,
     /// as the next blocks expect, so one bad arc is one finding and not every later one.
     fn rejected_arc(&mut self, end: [f64; 6]) {

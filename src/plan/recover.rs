@@ -73,7 +73,7 @@ impl<'p> Recoverer<'p> {
         if r.lathe && plan.workingsteps.iter().any(|w| w.turning.is_none()) {
             mill_turn(&mut plan);
         } else if r.lathe {
-            super::turning::recognise(&mut plan);
+            super::turning::recognise(&mut plan, remeasure);
             super::turning::infer_tool_kinds(&mut plan);
         } else {
             explicit_holes(&mut plan);
@@ -97,7 +97,7 @@ fn mill_turn(plan: &mut ProcessPlan) {
     // Recognition reads a workingstep's number as its position: each part is numbered from 1
     // while its rules run, then given the plan's numbers back.
     let numbers = (renumber(&mut t), renumber(&mut m));
-    super::turning::recognise(&mut t);
+    super::turning::recognise(&mut t, remeasure);
     super::turning::infer_tool_kinds(&mut t);
     explicit_holes(&mut m);
     infer_tool_kinds(&mut m);
@@ -1242,9 +1242,13 @@ impl<'p> Recovery<'p> {
         let is_cut = mv.kind != MoveKind::Rapid && (self.lathe || mv.to[2] >= mv.from[2] - EPS);
         let decisive_feed = if self.lathe && self.per_rev && self.sync.is_none() { self.feed } else { mv.feed };
         let lathe = self.lathe;
+        // A lathe cycle's passes are one workingstep, whatever feeds they cut at (a thread's
+        // tapered run-out, a finishing feed of its own).
+        let in_cycle = lathe && self.turn.is_some();
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
+            && !in_cycle
             && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) || !lathe && !is_lift(&mv) && b.starts_anew(&mv))
         {
             let now = self.technology();
@@ -1260,7 +1264,9 @@ impl<'p> Recovery<'p> {
         if mv.kind != MoveKind::Rapid && !b.technology.feeds.iter().any(|f| (f - feed).abs() < EPS) {
             b.technology.feeds.push(feed);
         }
-        if mv.kind != MoveKind::Rapid && self.sync.is_some() {
+        // The lead is the first synchronised cut's (a tapered run-out advances more per
+        // revolution along its slant).
+        if mv.kind != MoveKind::Rapid && self.sync.is_some() && b.turning.pitch.is_none() {
             b.turning.pitch = self.sync.map(round_sig);
         }
         if is_cut {
@@ -1436,6 +1442,11 @@ impl<'p> Recovery<'p> {
         measure(&mut ws, b.dwell, b.peck, b.surface);
         self.done.push(ws);
     }
+}
+
+/// Measures a workingstep again after turning recognition joined or mirrored its moves.
+fn remeasure(ws: &mut Workingstep) {
+    measure(ws, None, None, None);
 }
 
 /// A rate rounded to 12 significant digits: feeds converted from inches carry no

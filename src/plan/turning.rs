@@ -50,7 +50,12 @@ pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
 }
 
 /// Names each turning workingstep's operation and builds the turned features.
-pub fn recognise(plan: &mut ProcessPlan) {
+/// `remeasure` measures a workingstep again after its moves changed (recovery's `measure`).
+pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    for ws in &mut plan.workingsteps {
+        beyond_the_centre(ws, remeasure);
+    }
+    group_passes(plan, remeasure);
     // The part's front: the highest face cut (across X), and at least the program zero,
     // where lathe programs put the finished face.
     let front = plan
@@ -79,8 +84,19 @@ pub fn recognise(plan: &mut ProcessPlan) {
             t.inside = true;
         }
     }
-    let mut found: Vec<Vec<(FeatureKind, f64)>> =
-        plan.workingsteps.iter().map(|ws| features_of(ws, plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width))).collect();
+    // The finished face: where the first facing workingstep's last cut across leaves it (the
+    // program zero where none faces); a contour's run along Z in front of it is its lead-in.
+    let face = plan
+        .workingsteps
+        .iter()
+        .find(|w| w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside))
+        .and_then(|w| cuts(w).into_iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]).map(|m| m.to[2]).next_back())
+        .unwrap_or(0.0);
+    let mut found: Vec<Vec<(FeatureKind, f64)>> = plan
+        .workingsteps
+        .iter()
+        .map(|ws| features_of(ws, plan.tools.iter().find(|t| t.number == ws.tool).and_then(tool_width), face))
+        .collect();
     // Roughing passes machine what the same tool's next finishing pass leaves; where none
     // follows, or nothing separates, the region turned is one general revolution.
     for k in 0..found.len() {
@@ -141,6 +157,208 @@ pub fn recognise(plan: &mut ProcessPlan) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
+}
+
+/// A workingstep whose cuts all lie at X at or below 0 works beyond the centre line (a post
+/// that writes X negative, a tool behind the centre): its diameters are those of the same
+/// cuts mirrored about the axis, and so are its moves in the plan.
+fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
+    if ws.turning.is_none() {
+        return;
+    }
+    let cuts = cuts(ws);
+    if cuts.is_empty() || cuts.iter().any(|m| m.from[0] > TOL || m.to[0] > TOL) || !cuts.iter().any(|m| m.to[0] < -TOL) {
+        return;
+    }
+    let flip = |p: P3| [-p[0], p[1], p[2]];
+    let moves: super::Toolpath = ws
+        .toolpath
+        .iter()
+        .map(|m| Move {
+            from: flip(m.from),
+            to: flip(m.to),
+            arc: m.arc.map(|a| ArcGeometry { center: flip(a.center), axis: [a.axis[0], -a.axis[1], -a.axis[2]], ..a }),
+            ..m
+        })
+        .collect();
+    ws.toolpath = moves;
+    remeasure(ws);
+}
+
+/// How a pass cuts: across the axis (X, a face), along it (Z), or along a profile.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Way {
+    Across,
+    Along,
+    Profile,
+}
+
+/// The longest straight cut of a run of moves, and which way it runs. A pass is straight
+/// when that way makes most of its cutting length (the lead-in and the pull-out at their own
+/// feeds are short) and it has no arc and few moves.
+fn main_cut(run: &[Move]) -> Option<(Way, Move)> {
+    let len = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let total: f64 = run.iter().map(len).sum();
+    let way = |m: &Move| {
+        if m.arc.is_some() {
+            Way::Profile
+        } else if (m.to[2] - m.from[2]).abs() < TOL {
+            Way::Across
+        } else if (m.to[0] - m.from[0]).abs() < TOL {
+            Way::Along
+        } else {
+            Way::Profile
+        }
+    };
+    // A pass along the contour (arcs, or more moves than a lead-in, a cut, a pull-out and a
+    // retract) follows a profile.
+    if run.len() > 6 || run.iter().any(|m| m.arc.is_some()) {
+        return None;
+    }
+    let longest = run.iter().filter(|m| way(m) != Way::Profile).max_by(|a, b| len(a).total_cmp(&len(b)))?;
+    let w = way(longest);
+    let share: f64 = run.iter().filter(|m| way(m) == w).map(len).sum();
+    (total > TOL && share >= 0.55 * total).then_some((w, *longest))
+}
+
+/// CAM posts write a roughing operation's passes as plain moves, each pass at its own feeds
+/// (lead-in, cut, pull-out), so recovery ends a workingstep at each pass. Consecutive passes
+/// of one tool that cut the same way (across for facing, along for turning), each a step
+/// from the one before, are one roughing workingstep; its depth of cut is the step between
+/// the passes. A pass along a profile (the finishing pass) stays its own workingstep.
+fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    let explicit = |w: &Workingstep| w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none()) && w.holes.is_empty();
+    let pitch = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.pitch);
+    let mut out: Vec<Workingstep> = Vec::new();
+    // The steps between the passes joined, signed along X for passes along Z.
+    let mut steps: Vec<Vec<(f64, f64)>> = Vec::new();
+    for ws in std::mem::take(&mut plan.workingsteps) {
+        // A lone feed move that only pulls away from where the workingstep before (same
+        // tool) ended its cut, out in X (Okuma's `G01 X64 Z-79` after a G87 finish), is that
+        // workingstep's retract, not an operation.
+        if let Some(prev) = out.last_mut()
+            && pulls_away(prev, &ws)
+        {
+            for mut m in ws.toolpath.iter() {
+                m.phase = Phase::Retract;
+                prev.toolpath.push(m);
+            }
+            prev.source = prev.source.cover(ws.source);
+            prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
+            remeasure(prev);
+            continue;
+        }
+        let joined = out.last().filter(|_| explicit(&ws)).and_then(|prev| {
+            if !explicit(prev) || prev.tool != ws.tool || prev.state.work_offset != ws.state.work_offset || prev.setup != ws.setup {
+                return None;
+            }
+            // Thread passes (synchronised, one lead) are one threading workingstep.
+            match (pitch(prev), pitch(&ws)) {
+                (Some(a), Some(b)) if (a - b).abs() < TOL => return Some((0.0, 0.0)),
+                (None, None) => {}
+                _ => return None,
+            }
+            // A program stop between two passes parts two operations; so does a slower feed
+            // (the finishing pass after the roughing ones).
+            if ws.state.stops.iter().any(|s| s.at == 0) {
+                return None;
+            }
+            let feed = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.feed_per_rev);
+            if let (Some(a), Some(b)) = (feed(prev), feed(&ws))
+                && b < 0.7 * a
+            {
+                return None;
+            }
+            let last = runs(prev).pop()?;
+            let new = runs(&ws);
+            let [one] = new.as_slice() else { return None };
+            let ((a, ma), (b, mb)) = (main_cut(&last)?, main_cut(one)?);
+            if a != b || a == Way::Profile {
+                return None;
+            }
+            // The step between the two passes' main cuts, across their direction.
+            let (step, outward) = match a {
+                Way::Across => ((ma.to[2] - mb.to[2]).abs(), 0.0),
+                _ => ((ma.to[0] - mb.to[0]).abs(), mb.to[0] - ma.to[0]),
+            };
+            (step > TOL && step <= 10.0).then_some((step, outward))
+        });
+        match (joined, out.last_mut()) {
+            (Some(step), Some(prev)) => {
+                join(prev, ws);
+                remeasure(prev);
+                if let Some(s) = steps.last_mut() {
+                    s.push(step);
+                }
+            }
+            _ => {
+                out.push(ws);
+                steps.push(Vec::new());
+            }
+        }
+    }
+    for (k, (ws, s)) in out.iter_mut().zip(steps).enumerate() {
+        ws.index = k as u32 + 1;
+        let mut depths: Vec<f64> = s.iter().map(|s| s.0).filter(|d| *d > TOL).collect();
+        if depths.is_empty() {
+            continue;
+        }
+        depths.sort_by(f64::total_cmp);
+        let depth = depths[depths.len() / 2];
+        // Passes along Z that step out to larger diameters bore: the tool works inside.
+        let outward = s.iter().filter(|s| s.1 > TOL).count();
+        if let Some(t) = ws.turning.as_mut() {
+            t.intent = Some(crate::canon::TurnIntent { depth_of_cut: Some(round(depth)), ..Default::default() });
+            t.inside |= outward > 0 && 2 * outward > s.len();
+        }
+    }
+    plan.workingsteps = out;
+}
+
+/// Whether `ws` is one feed move of `prev`'s tool, without a cycle of its own, that starts
+/// where `prev`'s last cut ended and leaves outward in X by at most a few millimetres.
+fn pulls_away(prev: &Workingstep, ws: &Workingstep) -> bool {
+    let own_cycle = ws.turning.as_deref().is_none_or(|t| t.intent.is_some() || t.pitch.is_some());
+    let cuts = cuts(ws);
+    let ([m], Some(end)) = (cuts.as_slice(), cuts_end(prev)) else { return false };
+    !own_cycle
+        && prev.tool == ws.tool
+        && prev.turning.is_some()
+        && (m.from[0] - end[0]).abs() < 0.01
+        && (m.from[2] - end[2]).abs() < 0.01
+        && m.to[0].abs() > m.from[0].abs() + TOL
+        && (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]) <= 5.0
+}
+
+/// Where a workingstep's last cut ended.
+fn cuts_end(ws: &Workingstep) -> Option<P3> {
+    cuts(ws).last().map(|m| m.to)
+}
+
+/// Appends a workingstep's moves, stops and dwells to the one before (to be measured again).
+fn join(prev: &mut Workingstep, ws: Workingstep) {
+    let n = prev.toolpath.len() as u32;
+    let last_cut = prev.toolpath.iter().rposition(|m| m.phase == Phase::Cut).unwrap_or(0);
+    for i in last_cut + 1..prev.toolpath.len() {
+        prev.toolpath.set_phase(i, Phase::Connect);
+    }
+    let first_cut = ws.toolpath.iter().position(|m| m.phase == Phase::Cut).unwrap_or(0);
+    for (i, mut m) in ws.toolpath.iter().enumerate() {
+        if i < first_cut {
+            m.phase = Phase::Connect;
+        }
+        prev.toolpath.push(m);
+    }
+    prev.state.stops.extend(ws.state.stops.into_iter().map(|s| Stop { at: s.at + n, ..s }));
+    prev.state.dwells.extend(ws.state.dwells.into_iter().map(|d| Dwell { at: d.at + n, ..d }));
+    prev.state.optional_lines.extend(ws.state.optional_lines);
+    for f in ws.technology.feeds {
+        if !prev.technology.feeds.iter().any(|g| (g - f).abs() < 1e-9) {
+            prev.technology.feeds.push(f);
+        }
+    }
+    prev.source = prev.source.cover(ws.source);
+    prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
 }
 
 /// The region a workingstep turns, as one general revolution.
@@ -214,9 +432,18 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     // passes come in from within the smallest diameter they cut (outside, the tool comes in
     // from beyond the largest); a finishing pass starts at its contour's small end either way.
     let allowance = t.intent.as_ref().and_then(|i| i.allowance_x).filter(|u| u.abs() > TOL);
+    let finish_cycle = t.intent.as_ref().is_some_and(|i| i.kind == Some(TurnKind::Finish));
+    let rough_cycle = t.intent.as_ref().is_some_and(|i| matches!(i.kind, Some(TurnKind::RoughTurn | TurnKind::RoughFace)));
+    // Where a roughing cycle starts: the controls rough between the start point and the
+    // contour, so a start nearer the small diameter than the large one is inside.
+    let start = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.from[0]);
     t.inside = match allowance {
         Some(u) => u < 0.0,
-        None => boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
+        None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
+        // A finishing cycle starts where its contour starts, inside or out: it is inside
+        // where its roughing was (below).
+        None if finish_cycle => boring,
+        None => t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
     // left along Z.
@@ -226,7 +453,27 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
+    // Passes written as moves cut across with a short lead-in and pull-out along Z.
+    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let total: f64 = cuts.iter().map(length).sum();
+    let mostly_across =
+        cuts.iter().all(across) || (runs.len() > 1 && cuts.iter().filter(|m| across(m)).map(length).sum::<f64>() >= 0.75 * total);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
+    // Runs that plunge across and come back out the way they went in, and at how many Z.
+    let plunges = {
+        let back = |r: &Vec<Move>| {
+            r.iter().all(across)
+                && r.windows(2).any(|w| {
+                    let (a, b) = (w[0].to[0] - w[0].from[0], w[1].to[0] - w[1].from[0]);
+                    a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
+                })
+        };
+        let mut at: Vec<f64> = runs.iter().filter(|r| back(r)).filter_map(|r| r.first().map(|m| m.from[2])).collect();
+        let n = at.len();
+        at.sort_by(f64::total_cmp);
+        at.dedup_by(|a, b| (*a - *b).abs() < TOL);
+        (n, at.len())
+    };
     let (op, rough) = match intent_kind {
         Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
         Some(TurnKind::RoughFace) => (TurnOp::Facing, true),
@@ -239,7 +486,10 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
         None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
-        None if cuts.iter().all(across) => {
+        // Passes that plunge across and back out the same way, as CAM posts write a groove
+        // wider than the tool: roughing where they plunge at several places along Z.
+        None if xmin >= 0.05 && plunges.0 >= 1 && 2 * plunges.0 >= runs.len() => (TurnOp::Grooving, plunges.1 > 1),
+        None if mostly_across => {
             let to_axis = xmin < 0.05;
             if to_axis && zmin >= front - 0.5 {
                 (TurnOp::Facing, runs.len() > 1)
@@ -259,14 +509,14 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
 }
 
 /// The features a workingstep machines, with the Z they are placed at.
-fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f64)> {
+fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(FeatureKind, f64)> {
     let Some(t) = ws.turning.as_deref() else { return Vec::new() };
     let cuts = cuts(ws);
     let (Some(d), Some(z)) = (t.diameter, t.z) else { return Vec::new() };
     let turned = |k: Turned| FeatureKind::Turned(k);
     // A contour cycle's features are its contour's, whichever way it cuts.
     if matches!(t.intent.as_ref().and_then(|i| i.kind), Some(TurnKind::RoughTurn | TurnKind::RoughFace | TurnKind::Finish)) {
-        return contour_features(ws, t);
+        return contour_features(ws, t, face);
     }
     match t.operation {
         Some(TurnOp::Facing) => {
@@ -312,17 +562,24 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>) -> Vec<(FeatureKind, f
         Some(TurnOp::Drilling) => {
             vec![(FeatureKind::RoundHole { diameter: tool_width, bottom: HoleBottom::Flat, positions: vec![[0.0, 0.0]] }, z[1])]
         }
-        Some(TurnOp::Contouring) => contour_features(ws, t),
+        Some(TurnOp::Contouring) => contour_features(ws, t, face),
         None => Vec::new(),
     }
 }
 
 /// The features of a contour: the finishing pass, or a roughing cycle's last pass moved back
 /// by its allowances. Explicit roughing passes leave no finished shape of their own.
-fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
+fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKind, f64)> {
     let runs = runs(ws);
     let (profile, shift) = match t.intent.as_ref().and_then(|i| i.kind) {
         Some(TurnKind::Finish) => (runs.concat(), (0.0, 0.0)),
+        // Stock left all round (LinuxCNC's D) is no shift along X and Z: the finishing
+        // pass gives the features.
+        Some(TurnKind::RoughTurn | TurnKind::RoughFace)
+            if t.intent.as_ref().is_some_and(|i| i.finish_allowance.is_some_and(|d| d > TOL) && i.allowance_x.is_none()) =>
+        {
+            return Vec::new();
+        }
         Some(TurnKind::RoughTurn | TurnKind::RoughFace) => {
             let i = t.intent.as_ref();
             let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0;
@@ -342,16 +599,16 @@ fn contour_features(ws: &Workingstep, t: &Turning) -> Vec<(FeatureKind, f64)> {
                 FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }),
                 round(z0.max(z1)),
             ));
-        } else if (x1 - x0).abs() < TOL && z0.min(z1) > -TOL {
-            // In front of the face (Z0, where lathe programs put it): the lead-in from the
-            // cycle's start, in air.
+        } else if (x1 - x0).abs() < TOL && z0.min(z1) > face - TOL {
+            // In front of the face (Z0, where lathe programs put it, or where the program
+            // faced it): the lead-in from the cycle's start, in air.
             continue;
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
             // What runs on in front of the face is the lead-in.
-            let (lo, hi) = (z0.min(z1), z0.max(z1).min(0.0));
+            let (lo, hi) = (z0.min(z1), z0.max(z1).min(face));
             let k = Turned::Diameter { diameter: round(2.0 * x0), length: round(hi - lo), inside: t.inside };
             out.push((FeatureKind::Turned(k), round(hi)));
-        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 && z0 < TOL {
+        } else if (z1 - z0).abs() < TOL && (x1 - x0).abs() > 0.5 && z0 < face + TOL {
             let k = Turned::RevolvedFlat { outer: round(2.0 * x0.max(x1)), inner: round(2.0 * x0.min(x1).max(0.0)) };
             out.push((FeatureKind::Turned(k), round(z0)));
         }

@@ -45,6 +45,9 @@ impl Interpreter<'_> {
                 // Each feed move of the block turns F into a rate (see `inverse_time_feed`).
                 return;
             }
+            if self.st.feed_per_rev && f > 0.0 {
+                self.per_rev_feeds = (self.per_rev_feeds.0 + 1, self.per_rev_feeds.1.max(f));
+            }
             self.st.feed = f;
             self.st.feed_unknown = false;
             self.st.feed_outside = false;

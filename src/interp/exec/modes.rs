@@ -25,6 +25,7 @@ impl Interpreter<'_> {
     /// G20, G21: inch or millimetre lengths.
     pub(super) fn units(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         let units = if def.meaning == Meaning::UnitsInch { Units::Inch } else { Units::Mm };
+        self.units_stated = true;
         self.set_units(units);
         self.emit(sink, CanonOp::UseLengthUnits(units));
     }

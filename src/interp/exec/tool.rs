@@ -34,7 +34,11 @@ impl Interpreter<'_> {
     /// the offset take effect at once, the program position kept as after a tool change.
     fn tool_word(&mut self, t: f64, sink: &mut dyn CanonSink) {
         let digits = self.dialect.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits);
+        // A block that gives the offset in a word of its own (`T01H01`, `T01D01H01`, as NX
+        // posts write Mitsubishi and Okuma lathes) leaves the T word the tool alone.
+        let own_offset = self.slot(Role::H).or_else(|| self.slot(Role::D)).filter(|v| *v >= 0.0 && v.fract() == 0.0);
         let (tool, offset) = match digits {
+            Some(_) if own_offset.is_some() => (t.min(f64::from(u32::MAX)) as u32, own_offset.map(|h| h as u32)),
             Some(d) => {
                 let base = 10u32.pow(u32::from(d));
                 let t = t as u64;
@@ -44,10 +48,16 @@ impl Interpreter<'_> {
         };
         self.st.selected_tool = tool;
         self.emit(sink, CanonOp::SelectTool(tool));
-        if let Some(name) = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)) {
-            self.emit(sink, CanonOp::Setting(Setting::ToolName(tool, name.clone())));
+        let name = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)).cloned();
+        let named = name.is_some();
+        if let Some(name) = name {
+            self.emit(sink, CanonOp::Setting(Setting::ToolName(tool, name)));
         }
-        if !self.dialect.behaviour.tool_word_changes {
+        // A tool called by name in diameter mode (Sinumerik `T="ROUGH_80"` after DIAMON) is
+        // a turret's: on turning machines the T command changes the tool (840D, tool change
+        // mode 0), with no M6.
+        let turret = self.dialect.behaviour.tool_word_changes || (named && self.st.diameter);
+        if !turret {
             return;
         }
         if tool != self.st.tool {
