@@ -131,20 +131,11 @@ fn plan_of(path: &Path, dialect: &str) -> ProcessPlan {
 
 #[test]
 fn lathe_suite() {
-    let mut programs: Vec<PathBuf> =
-        std::fs::read_dir(dir()).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e != "expect")).collect();
-    programs.sort();
-    let (mut listed, mut misses) = (0, Vec::new());
-    for p in &programs {
-        let expect = std::fs::read_to_string(p.with_extension("expect")).unwrap_or_else(|_| panic!("{} has no sidecar", p.display()));
-        let dialect = expect.lines().find_map(|l| l.strip_prefix("dialect ")).expect("a dialect line").trim();
-        let plan = plan_of(p, dialect);
-        let name = p.file_name().unwrap().to_string_lossy().into_owned();
-        listed += expect.lines().filter(|l| l.starts_with("ws ") || l.starts_with("feature ")).count();
-        misses.extend(score(&name, &plan, &expect));
-    }
-    assert!(misses.is_empty(), "{} of {listed} listed workingsteps and features missed:\n{}", misses.len(), misses.join("\n"));
-    assert!(programs.len() >= 30, "the lathe suite has {} programs", programs.len());
+    let (listed, _, _, misses) = score_folder("lathe");
+    assert!(misses.is_empty(), "{} misses among {listed} listed workingsteps and features:\n{}", misses.len(), misses.join("\n"));
+    let programs =
+        std::fs::read_dir(dir()).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "expect")).count();
+    assert!(programs >= 30, "the lathe suite has {programs} programs");
 }
 
 /// Real lathe and mill-turn programs of the shared corpus (`../shared/corpus`, its MANIFEST
