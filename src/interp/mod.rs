@@ -822,6 +822,12 @@ pub struct Interpreter<'a> {
     units_stated: bool,
     /// Feeds per revolution read: how many, and the largest.
     per_rev_feeds: (u32, f64),
+    /// Feeds per revolution set under constant surface speed with a speed limit, at a known
+    /// diameter: how many of them the surface speed read in m/min turns within the limit
+    /// (millimetres plausible), and how many it turns only read in ft/min (in millimetres the
+    /// cut would sit at the limit: the program is written in inches). Cuts at the limit
+    /// either way tell nothing.
+    css_fit: (u32, u32),
     /// Set by a block that calls or returns; taken by the flow driver.
     request: Option<Request>,
     /// The intent of the lathe contour cycle a request runs, said before its moves.
@@ -915,6 +921,7 @@ impl<'a> Interpreter<'a> {
             arc_fit: [0, 0],
             units_stated: false,
             per_rev_feeds: (0, 0.0),
+            css_fit: (0, 0),
             request: None,
             turn_intent: None,
             depth: 0,
@@ -1018,7 +1025,8 @@ impl<'a> Interpreter<'a> {
 
     /// What a lathe program's own words show of the machine's settings the dialect cannot
     /// know: X words as radii (arcs whose centres fit only so), inch units (no unit stated,
-    /// every feed per revolution below 0.05). Each is a finding; the pipeline reads the
+    /// every feed per revolution at most 0.06 and a constant surface speed that fits only
+    /// inches). Each is a finding; the pipeline reads the
     /// program again so.
     fn lathe_evidence(&self, diags: &mut Vec<Diagnostic>) {
         let [radius, diameter] = self.arc_fit;
@@ -1029,9 +1037,14 @@ impl<'a> Interpreter<'a> {
             diags.push(Diagnostic::new(Code::XWordsRadius, TextRange::default(), msg));
         }
         let (count, largest) = self.per_rev_feeds;
-        if !self.profile.inch && !self.units_stated && count >= 3 && largest <= 0.06 {
+        // Small feeds alone are no proof: a Swiss-type lathe turns small metric parts at
+        // 0.02-0.05 mm/rev. The constant surface speed must also fit inches only: in
+        // millimetres nearly every cut would turn above the spindle limit.
+        let (metric, inch_only) = self.css_fit;
+        let css_inch = inch_only >= 3 && metric * 10 <= inch_only + metric;
+        if !self.profile.inch && !self.units_stated && count >= 3 && largest <= 0.06 && css_inch {
             let msg = format!(
-                "no units stated, and all {count} feeds per revolution are at most 0.06 (the largest F{largest}): no turning feed in mm/rev, ordinary in inch/rev; read in inch"
+                "no units stated; all {count} feeds per revolution are at most 0.06 (the largest F{largest}): no turning feed in mm/rev, ordinary in inch/rev; and the constant surface speed turns {inch_only} cuts within the spindle limit only in ft/min ({metric} in m/min); read in inch"
             );
             diags.push(Diagnostic::new(Code::UnitsInferred, TextRange::default(), msg));
         }

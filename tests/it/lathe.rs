@@ -438,3 +438,28 @@ fn named_and_one_block_cycle_edits_in_a_turner_s_terms() {
     "#]]
     .assert_eq(&haas);
 }
+
+/// Inch read from a lathe program that states no units only on two kinds of evidence: feeds
+/// per revolution no mm/rev turning feed has, and a constant surface speed that keeps within
+/// the spindle limit only read in ft/min. A Swiss-type lathe's small metric part, turned at
+/// 0.02-0.05 mm/rev with its surface speed well within the limit in m/min, stays metric.
+#[test]
+fn inch_is_read_from_feeds_and_surface_speed_together() {
+    let reg = Registry::shipped();
+    let d = reg.get("fanuc_lathe").unwrap();
+    let inferred = |program: &str| {
+        pipeline::analyze(program.as_bytes(), &d, &Profile::default())
+            .diagnostics
+            .iter()
+            .any(|f| f.code.as_str() == "interp::units-inferred")
+    };
+    // An NX post's inch part: S350 ft/min at Ø2 in turns 668 1/min, within G50 S1800;
+    // in m/min it would need 55,700.
+    let inch = "O0001\nG50 S1800\nT0101\nG96 S350 M03\nG0 X2.1 Z0.1\nG99 G1 X2. F.01\nZ-1. F.012\nX2.1 F.02\nG0 Z0.1\nX1.9\nG1 Z-1. F.012\nX2. F.02\nG0 X4. Z2.\nM30\n";
+    assert!(inferred(inch));
+    // A Swiss-type part in millimetres: S80 m/min at Ø6 turns 4,244 1/min, within S8000.
+    let metric = "O0002\nG50 S8000\nT0101\nG96 S80 M03\nG0 X6.2 Z0.1\nG99 G1 X6. F.02\nZ-5. F.03\nX6.2 F.05\nG0 Z0.1\nX5.8\nG1 Z-5. F.03\nX6. F.05\nG0 X20. Z5.\nM30\n";
+    assert!(!inferred(metric));
+    // The same metric part with no surface speed (G97) is not read in inch either.
+    assert!(!inferred(&metric.replace("G96 S80", "G97 S4000")));
+}

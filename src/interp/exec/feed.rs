@@ -47,12 +47,29 @@ impl Interpreter<'_> {
             }
             if self.st.feed_per_rev && f > 0.0 {
                 self.per_rev_feeds = (self.per_rev_feeds.0 + 1, self.per_rev_feeds.1.max(f));
+                self.css_units_evidence();
             }
             self.st.feed = f;
             self.st.feed_unknown = false;
             self.st.feed_outside = false;
             self.st.tech_warned = false;
             self.emit(sink, CanonOp::SetFeedRate(f));
+        }
+    }
+
+    /// Under constant surface speed with a limit, at the diameter the tool stands on: whether
+    /// the surface speed fits only inches (see `css_fit`).
+    fn css_units_evidence(&mut self) {
+        let (Some(max), s, d) = (self.st.css_max, self.st.speed, 2.0 * self.st.pos[0].abs()) else { return };
+        if max >= crate::canon::NO_SPINDLE_LIMIT || s <= 0.0 || d <= 0.0 {
+            return;
+        }
+        let rpm_mm = 1000.0 * s / (std::f64::consts::PI * d);
+        let rpm_inch = 12.0 * s / (std::f64::consts::PI * d);
+        if rpm_mm <= max {
+            self.css_fit.0 += 1;
+        } else if rpm_inch <= max {
+            self.css_fit.1 += 1;
         }
     }
 
