@@ -582,6 +582,15 @@ impl Macros {
     pub fn system_var(&self, n: u32) -> Option<SystemVar> {
         self.system.iter().find(|&&(k, _)| k == n).map(|&(_, v)| v)
     }
+
+    /// What the element `index` of the named array `name` (normalised) is, if the dictionary
+    /// names it (Okuma's `VDOUT[992]`, the alarm output).
+    pub fn system_element(&self, name: &str, index: f64) -> Option<SystemVar> {
+        self.system_named.iter().find_map(|(n, v, _)| {
+            let element = n.strip_prefix(name)?.strip_prefix('[')?.strip_suffix(']')?.parse::<f64>().ok()?;
+            (element == index).then_some(*v)
+        })
+    }
 }
 
 /// An address: a letter or a multi-letter name and the role its value plays.

@@ -1791,6 +1791,9 @@ impl<'a> Interpreter<'a> {
                 None => {
                     let name = eval::normalised(block.text(name));
                     match index {
+                        Some(i) if self.dialect.macros.system_element(&name, i) == Some(SystemVar::Alarm) => {
+                            self.alarm(block, 0.0, value, range, diags)
+                        }
                         // The key a read of `name[i]` looks up (`eval`).
                         Some(i) => self.params.set_named(&format!("{name}[{i}]"), value),
                         None => {

@@ -1127,7 +1127,15 @@ impl<'a> Driver<'a, '_> {
             }
             _ => false,
         };
+        // An element of a named array the dictionary names the alarm (`VDOUT[992] = 1004`).
+        let alarm_element = |r: TextRange, e: ExprId| match b.exprs.get(e as usize) {
+            Some(&Expr::Num(n)) => {
+                self.dialect.macros.system_element(&eval::normalised(b.text(r)), n) == Some(crate::dialect::SystemVar::Alarm)
+            }
+            _ => false,
+        };
         b.assigns.iter().any(|a| matches!(a.target, crate::syntax::ParamTarget::Numbered(e) if alarm_var(e)))
+            || b.assigns.iter().any(|a| matches!(a.target, crate::syntax::ParamTarget::NamedIndex(r, e) if alarm_element(r, e)))
             || b.words.iter().any(|w| w.role == crate::dialect::Role::AlarmNumber)
             || b.comments.iter().any(|r| matches!(self.dialect.lexical.directive(b.text(*r)), Some((crate::dialect::Directive::Abort, _))))
     }
