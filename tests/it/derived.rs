@@ -152,6 +152,23 @@ fn a_user_dialect_extends_another_in_any_file_order() {
     assert!(errors[0].starts_with("x.xml:2:") && errors[0].contains("`nosuch`"), "{errors:?}");
 }
 
+/// Okuma's alarm output: a number written to `VDOUT[992]` (its message set in `VUACM[1]`
+/// before it) raises the program's alarm and the run stops there, as public OSP macros use it
+/// (`NER04` `VUACM[1]='NO DATA "PA"'` `VDOUT[992]=1004` `GOTO NER04`): not a loop that never ends.
+#[test]
+fn okuma_vdout_992_raises_the_program_s_alarm() {
+    let program = "OROTA\n PA=0\n IF[PA EQ 0]NER04\n GOTO N0001\nNER04\n  VUACM[1]='NO DATA \"PA\"'\n  VDOUT[992]=1004\n  GOTO NER04\nN0001\nG0 X10. Y5.\nRTS\n";
+    let errors = |program: &str| -> Vec<String> {
+        every_call("okuma", program).1.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect()
+    };
+    let found = errors(program);
+    assert!(found.iter().any(|e| e.starts_with("interp::alarm") && e.contains("raises alarm 1004")), "{found:?}");
+    assert!(!found.iter().any(|e| e.starts_with("flow::loop-limit")), "{found:?}");
+    // Another element of the array is an output like any other, no alarm.
+    let found = errors(&program.replace("VDOUT[992]", "VDOUT[993]"));
+    assert!(!found.iter().any(|e| e.starts_with("interp::alarm")), "{found:?}");
+}
+
 #[test]
 fn okuma_named_blocks_programs_arguments_and_machine_variables() {
     let program = "\
