@@ -213,17 +213,16 @@ RTS
             // The named program, with its named arguments.
             "30.0000 -5.0000",
             "30.0000 50.0000",
-            // VNTOL is machine data: 0 here.
-            "0.0000 50.0000",
+            // VNTOL is machine data, unknown here: `X=VNTOL` moves nowhere ncplan could say.
         ],
         "{text}"
     );
     assert!(text.contains("SET_FEED_RATE(500.0000)"), "PF=500. reaches the called program");
     let d = Registry::shipped().get("okuma").unwrap();
     let diags = interpret(program, &d, &Profile::default(), &mut Vec::new());
-    let unset: Vec<&str> = diags.iter().filter(|d| d.code.as_str() == "interp::unset-variable").map(|d| d.message.as_str()).collect();
-    assert_eq!(unset.len(), 1, "{unset:?}");
-    assert!(unset[0].starts_with("`vntol` is read before"), "{unset:?}");
+    let unknown: Vec<&str> = diags.iter().filter(|d| d.code.as_str() == "interp::unknown-value").map(|d| d.message.as_str()).collect();
+    assert_eq!(unknown.len(), 1, "{unknown:?}");
+    assert!(unknown[0].starts_with("`vntol` is neither declared nor set in this file"), "{unknown:?}");
     // Fanuc reads G15 as polar coordinates off and has no named programs.
     let (_, errors) = canon("fanuc", program);
     assert!(!errors.is_empty());

@@ -365,3 +365,22 @@ fn guards_that_jump_to_a_shared_alarm_block_take_the_successful_way() {
     let (_, diags) = run("fanuc", &main);
     assert!(errors(&diags).iter().any(|e| e.starts_with("interp::alarm") && e.contains("ARGUMENTS")), "{diags:?}");
 }
+
+/// An Okuma OSP subprogram read alone: its arguments (`PA`, `PH`) come from the `CALL`, so
+/// they are unknown here, and a check that jumps to an alarm (`VDOUT[992]`, the alarm output,
+/// after its message in `VUACM[1]`) when one is missing is passed as a successful run passes
+/// it. The same check on a value the program sets raises the alarm, as an error.
+#[test]
+fn an_okuma_subprogram_s_arguments_are_the_caller_s() {
+    let sub = "OROTA\n IF[PA EQ EMPTY]NER04\n GOTO N0001\nNER04\n  VUACM[1]='NO DATA \"PA\"'\n  VDOUT[992]=1004\n  GOTO NER04\nN0001\nG0 X10. Y5.\nRTS\n";
+    let (moves, diags) = run("okuma", sub);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(moves.iter().any(|m| m.contains("10.0000") && m.contains("5.0000")), "{moves:?}");
+    let notes = said(&diags, "flow::unknown-condition");
+    assert!(notes.iter().any(|n| n.contains("the other way raises the program's alarm")), "{notes:?}");
+
+    let set = sub.replace("OROTA\n", "OROTA\n PA=0\n EMPTY=0\n");
+    let (_, diags) = run("okuma", &set);
+    let errors = errors(&diags);
+    assert!(errors.iter().any(|e| e.starts_with("interp::alarm") && e.contains("1004")), "{errors:?}");
+}
