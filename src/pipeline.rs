@@ -204,8 +204,9 @@ pub fn write_stepnc<W: std::io::Write>(
 /// as it is written; returns the findings of reading and writing. The plan facts the writer
 /// needs (the tool table's tools; where each hole's top is, for a cycle that states only its
 /// R level) are taken from the program: the tools first when the table has any, the hole tops
-/// only when the first such cycle asks, so that a program without them is read once, in
-/// constant memory. `opts`' hole tops and tools are filled in here.
+/// only when the first such cycle asks. The program is first read once into nothing, for the
+/// machine its words show ([`machine_of`]), then translated on it: twice in all when it needs
+/// no plan facts, in constant memory. `opts`' hole tops and tools are filled in here.
 pub fn translate<'t>(
     text: impl Into<Text<'t>>,
     from: &Dialect,
@@ -215,10 +216,33 @@ pub fn translate<'t>(
     sink: impl FnMut(&[u8]),
 ) -> Vec<Diagnostic> {
     let text = text.into();
+    // The machine the program's words show (X as radii, inch at power-on) is found only by
+    // reading the program to its end, and the writer streams: so it is found first, and the
+    // program translated as it is planned, never at 2× its diameters or 25.4× its size.
+    let (machine, evidence) = machine_of(text, from, profile);
+    let profile = machine.as_ref().unwrap_or(profile);
     let (hole_tops, tools) = translation_facts(text, from, profile);
     let opts = TranslateOptions { hole_tops, tools, ..opts };
     let mut tops = || crate::post::hole_tops(&plan_of_text(text, from, profile).0);
-    crate::post::translate_with_facts(text, from, to, profile, opts, &mut tops, sink)
+    let mut diags = crate::post::translate_with_facts(text, from, to, profile, opts, &mut tops, sink);
+    diags.extend(evidence);
+    diags
+}
+
+/// The machine settings a program's own words show that its dialect cannot know (X words as
+/// radii, inch at power-on: see [`lathe_machine`]), found by reading it once into nothing:
+/// the profile so set and the findings that say why, or `None` and no findings when the
+/// program shows none. Streams: memory does not grow with the program.
+pub fn machine_of(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Option<Profile>, Vec<Diagnostic>) {
+    struct Discard;
+    impl CanonSink for Discard {
+        fn emit(&mut self, _: Canon) {}
+    }
+    let found = interp::interpret(text, dialect, profile, &mut Discard);
+    match lathe_machine(&found, profile) {
+        Some((machine, evidence)) => (Some(machine), evidence),
+        None => (None, Vec::new()),
+    }
 }
 
 /// The proof of a translation by its motion (`translate --check`): `translated`, the text the
@@ -238,8 +262,11 @@ pub fn check_translation(
     written: &[Diagnostic],
 ) -> Vec<Diagnostic> {
     const TOL: f64 = 0.001;
+    // The source runs on the machine its words show, as it was translated ([`translate`]);
+    // the translation states what it needs, and is read back on the machine as configured.
+    let machine = machine_of(source, from, profile).0;
     let mut ours = crate::proof::Trace::new(TOL);
-    interp::interpret(source, from, profile, &mut ours);
+    interp::interpret(source, from, machine.as_ref().unwrap_or(profile), &mut ours);
     let mut theirs = crate::proof::Trace::new(TOL);
     let back = interp::interpret(Text::from(translated), to, profile, &mut theirs);
     if let Some(e) = back.iter().find(|d| d.is_error()) {

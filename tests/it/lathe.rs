@@ -463,3 +463,37 @@ fn inch_is_read_from_feeds_and_surface_speed_together() {
     // The same metric part with no surface speed (G97) is not read in inch either.
     assert!(!inferred(&metric.replace("G96 S80", "G97 S4000")));
 }
+
+/// A program written for a machine the dialect cannot know (X words as radii, inch at
+/// power-on) is translated as it is planned: on the machine its words show. Translated as the
+/// dialect reads it, the radius program's part would come out at half its diameters and the
+/// inch one at 1/25.4 of its size, with no warning. The translation, read back, runs as the
+/// program does on that machine, and says why it was read so.
+#[test]
+fn translation_reads_the_machine_the_program_shows() {
+    let reg = Registry::shipped();
+    let lathe = reg.get("fanuc_lathe").unwrap();
+    let linuxcnc = reg.get("linuxcnc").unwrap();
+    let translated = |program: &str| {
+        let mut out = Vec::new();
+        let opts = pipeline::TranslateOptions::for_program("O0002");
+        let diags = pipeline::translate(program, &lathe, &linuxcnc, &Profile::default(), opts, |b| out.extend_from_slice(b));
+        let out = String::from_utf8(out).unwrap();
+        let proof = pipeline::check_translation(program.into(), &lathe, &out, &linuxcnc, &Profile::default(), &diags);
+        assert!(proof.is_empty(), "{proof:?}\n{out}");
+        (out, diags.iter().map(|d| d.code.as_str()).collect::<Vec<_>>())
+    };
+    // Two arcs whose centres (I, K) fit only with X read as a radius.
+    let radius = "O0002\nG18 G21 G99\nT0101\nG97 S1000 M03\nG0 X10. Z2.\nG1 Z0 F0.2\nG3 X15. Z-5. I0 K-5.\nG1 Z-20.\nG2 X20. Z-25. I5. K0\nG1 X25.\nG0 X50. Z50.\nM30\n";
+    let (out, codes) = translated(radius);
+    assert!(codes.contains(&"interp::x-words-radius"), "{codes:?}");
+    // LinuxCNC reads X as radii (no G7): the retract to radius 50 is written X50, not the
+    // X25 of the program read with X as diameters.
+    assert!(out.contains("G0 X50 Z50\n"), "{out}");
+    // The NX post's inch part of the test above, with no units stated.
+    let inch = "O0001\nG50 S1800\nT0101\nG96 S350 M03\nG0 X2.1 Z0.1\nG99 G1 X2. F.01\nZ-1. F.012\nX2.1 F.02\nG0 Z0.1\nX1.9\nG1 Z-1. F.012\nX2. F.02\nG0 X4. Z2.\nM30\n";
+    let (out, codes) = translated(inch);
+    assert!(codes.contains(&"interp::units-inferred"), "{codes:?}");
+    // Inch stated, or millimetres converted: the Ø4 in. retract is not 4 mm.
+    assert!(out.contains("G20") || out.contains("X50.8"), "{out}");
+}

@@ -77,8 +77,11 @@ proptest! {
         check_ranges(parts.concat().as_bytes());
     }
 
+    /// Run only as the child of [`mutated_corpus_programs_never_panic`], which sets
+    /// `NCPLAN_ROBUSTNESS_CASE` to the file each case is written to before it runs.
     #[test]
-    fn mutated_corpus_programs_never_panic(pick in any::<prop::sample::Index>(), seed in any::<u64>(), edits in proptest::collection::vec((any::<u32>(), any::<u8>()), 1..40)) {
+    fn mutated_corpus_case_runner(pick in any::<prop::sample::Index>(), seed in any::<u64>(), edits in proptest::collection::vec((any::<u32>(), any::<u8>()), 1..40)) {
+        let Some(case_file) = std::env::var_os("NCPLAN_ROBUSTNESS_CASE") else { return Ok(()) };
         let files = corpus_files();
         if files.is_empty() {
             return Ok(());
@@ -99,6 +102,9 @@ proptest! {
                 }
             }
         }
+        // Kept before it runs: a case that takes the child down (out of memory, a stack
+        // overflow) is then still there to read.
+        std::fs::write(&case_file, &bytes).unwrap();
         check_ranges(&bytes);
     }
 
@@ -118,6 +124,45 @@ proptest! {
         }
         check_ranges(&bytes);
     }
+}
+
+/// Mutated corpus programs (bytes changed, inserted, removed; stretches repeated: loops,
+/// labels and blocks) neither panic nor grow without bound. The cases run in a child process
+/// under a 4 GiB address-space limit, each written to a file before it runs: a case that
+/// would take the whole test run down (an allocation beyond any bound kills the process
+/// before a panic can be caught) fails this test instead, with the case kept to read.
+#[test]
+fn mutated_corpus_programs_never_panic() {
+    if std::env::var_os("NCPLAN_ROBUSTNESS_CASE").is_some() {
+        return;
+    }
+    let dir = crate::root().join("target/robustness");
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = dir.join(format!("mutated-case-{}.bin", std::process::id()));
+    let exe = std::env::current_exe().unwrap();
+    let out = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 4194304 && exec \"$0\" \"$@\"")
+        .arg(&exe)
+        .args(["robustness::mutated_corpus_case_runner", "--exact", "--test-threads", "1"])
+        .env("NCPLAN_ROBUSTNESS_CASE", &case)
+        .output()
+        .unwrap();
+    if out.status.success() {
+        let _ = std::fs::remove_file(&case);
+        return;
+    }
+    let tail = |b: &[u8]| {
+        let s = String::from_utf8_lossy(b);
+        s.lines().rev().take(40).collect::<Vec<_>>().into_iter().rev().collect::<Vec<_>>().join("\n")
+    };
+    panic!(
+        "the mutated corpus programs failed in the child ({}); the last case run is kept in {}\n--- stdout\n{}\n--- stderr\n{}",
+        out.status,
+        case.display(),
+        tail(&out.stdout),
+        tail(&out.stderr)
+    );
 }
 
 /// Reading the text piece by piece (a window of `window` bytes, refilled and grown as blocks
