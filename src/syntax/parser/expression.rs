@@ -203,7 +203,7 @@ impl Lexer<'_, '_> {
     /// number and a data number). Several read as one element: the first subscript times
     /// 1 000 000 plus the next (a tool data number stays below that).
     pub(super) fn subscripts(&mut self, depth: u32) -> Option<ExprId> {
-        if self.peek() != Some(b'[') || !self.dialect.lexical.expression.is_some_and(|(o, _)| o == '[') {
+        if self.peek() != Some(b'[') || self.dialect.lexical.expression.is_none_or(|(o, _)| o != '[') {
             return self.unary(depth);
         }
         let start = self.i;
