@@ -131,6 +131,9 @@ codes! {
     UnknownCode = ("syntax::unknown-code", Error),
     /// Two codes of one modal group in one block.
     ModalGroupConflict = ("syntax::modal-group-conflict", Error),
+    /// Two G codes of one modal group in one block where the control's manual says the last
+    /// one is in effect (Fanuc): the last is taken.
+    ModalGroupLastWins = ("syntax::modal-group-last-wins", Note),
     /// A command is missing a parameter it requires.
     MissingParameter = ("syntax::missing-parameter", Error),
     /// An M code the dialect leaves to the machine builder.

@@ -421,6 +421,10 @@ pub struct Behaviour {
     /// Whether canned cycles retract to the R plane (G99) until the program says G98 or G99
     /// (RS274NGC); otherwise to the initial level (G98, the Fanuc power-on state).
     pub initial_retract_r: bool,
+    /// Whether two G codes of one modal group in one block are taken as the control takes
+    /// them, the last one in effect (Fanuc, `same-group-codes="last"`), rather than an error
+    /// (LinuxCNC, as rs274).
+    pub same_group_last_wins: bool,
 }
 
 /// The spindle and retract sequence of a tapping cycle at the bottom of the hole.

@@ -373,6 +373,23 @@ impl Interpreter<'_> {
                 self.codes[k] = (idx, range);
                 return true;
             }
+            // `G91 G28 X0 Y0 Z100. G90`: where the control's manual says the last G code of a
+            // group in a block is the one in effect, it is, with a note.
+            if self.dialect.behaviour.same_group_last_wins && def.letter == 'G' && self.code(other).letter == 'G' {
+                diags.push(Diagnostic::new(
+                    Code::ModalGroupLastWins,
+                    range,
+                    format!(
+                        "{} and {} are both in modal group `{}`: the control takes the last, {}",
+                        self.code(other).label(),
+                        def.label(),
+                        self.dialect.groups[def.group].id,
+                        def.label()
+                    ),
+                ));
+                self.codes[k] = (idx, range);
+                return true;
+            }
             diags.push(Diagnostic::new(
                 Code::ModalGroupConflict,
                 range,

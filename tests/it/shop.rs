@@ -559,3 +559,38 @@ fn fanuc_high_speed_and_five_axis_codes_of_cam_posts() {
     let (_, diags) = run("fagor", "G90 G17\nG08 X10 Y10\nM30\n");
     assert!(diags.iter().any(|d| d.code.as_str() == "syntax::unknown-code" && d.message.contains("G08")), "{diags:?}");
 }
+
+/// Issue 43, sweep 4: Fanuc takes the last of two G codes of one group in a block
+/// (`G91 G28 X0 Y0 Z100. G90`, hand-written safety blocks of a shop's Fusion programs), with
+/// a note, and the move runs in the mode that wins; LinuxCNC keeps rs274's error, and the
+/// makers whose manuals at hand do not say so keep theirs.
+#[test]
+fn fanuc_takes_the_last_g_code_of_a_group_in_a_block() {
+    let program = "%\nO6600\nG21 G17 G90 G54\nG0 X10. Y10. Z50.\nG91 G28 X0 Y0 Z100. G90\nG0 X5.\nM30\n%\n";
+    let (_, diags) = run("fanuc", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "syntax::modal-group-last-wins", Severity::Note), "{diags:?}");
+    // G90 wins: the intermediate point is X0 Y0 Z100 absolute, and X5. after it absolute too.
+    let m = moves("fanuc", program);
+    assert!(m.iter().any(|l| l.starts_with("STRAIGHT_TRAVERSE(0.0000, 0.0000, 100.0000")), "{m:?}");
+    assert!(m.last().is_some_and(|l| l.starts_with("STRAIGHT_TRAVERSE(5.0000")), "{m:?}");
+    for dialect in ["linuxcnc", "haas", "okuma", "fagor", "mitsubishi", "mazak"] {
+        let (_, diags) = run(dialect, "G21 G90\nG91 G0 X1. G90\nM30\n");
+        assert!(has(&diags, "syntax::modal-group-conflict", Severity::Error), "{dialect}: {diags:?}");
+    }
+}
+
+/// Issue 43, sweep 4: Okuma's tool data by tool and data number (`VTOHT[[VTLCN],10001]`, two
+/// subscripts) is read and written as one element, without an error; a `.LIB` file (a library
+/// program registered on the OSP) is Okuma evidence.
+#[test]
+fn okuma_two_subscript_system_variables_and_lib_files() {
+    let lib = "OINS2\nVC100 = 5\nVC99 = 12.5\nVTOHT[[VC100] , 10001] = [VC99]\nVC81 = VTOHT[[VC100],10001]\nIF [VC81 EQ 12.5] NOK\nVDOUT[992]=1\nNOK\nG4 F1.\nRTS\n";
+    let (_, diags) = run("okuma", lib);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    // The element written is the one read: the check passes and no alarm is raised.
+    assert!(!diags.iter().any(|d| d.code.as_str() == "interp::alarm"), "{diags:?}");
+    let r = Registry::shipped();
+    let s = r.sniff("OTCH\nG30 P1\nM1\nRTS\n", Some("OTCH.LIB"), "linuxcnc");
+    assert_eq!(s.dialect, "okuma", "{s:?}");
+}

@@ -44,6 +44,7 @@ const ATTRIBUTES: &[&str] = &[
     "x-words",
     "initial-plane",
     "initial-retract",
+    "same-group-codes",
 ];
 
 /// The behaviour of a dialect without a `<behaviour>` element, and of each attribute left out.
@@ -81,6 +82,7 @@ fn defaults() -> Behaviour {
         x_diameter: false,
         initial_plane: Plane::Xy,
         initial_retract_r: false,
+        same_group_last_wins: false,
     }
 }
 
@@ -119,6 +121,7 @@ impl Cx {
         b.end_required = self.either(el, "program-end", "optional", "required");
         b.x_diameter = self.either(el, "x-words", "radius", "diameter");
         b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
+        b.same_group_last_wins = self.either(el, "same-group-codes", "error", "last");
         b.initial_plane = self.initial_plane(el);
         b.tapping = self.tap_retract(el);
         b.assign_before_reads = self.parameter_assignment(el);

@@ -189,13 +189,39 @@ impl Lexer<'_, '_> {
         self.i = end;
         if self.peek().is_some() && self.peek() == expr_open {
             // `VTOFD[1]`: an element of a named array.
-            let index = self.unary(depth + 1)?;
+            let index = self.subscripts(depth + 1)?;
             return Some(self.push(Expr::NamedIndex(r, index)));
         }
         if let Some(index) = self.array_index(depth) {
             return Some(self.push(Expr::NamedIndex(r, index?)));
         }
         Some(self.push(Expr::Named(r)))
+    }
+
+    /// A named array's subscripts in expression brackets: one (`VTOFD[1]`), or several
+    /// where the brackets are square (Okuma's tool data `VTOHT[[VTLCN],10001]`, a tool
+    /// number and a data number). Several read as one element: the first subscript times
+    /// 1 000 000 plus the next (a tool data number stays below that).
+    pub(super) fn subscripts(&mut self, depth: u32) -> Option<ExprId> {
+        if self.peek() != Some(b'[') || self.dialect.lexical.expression.is_none_or(|(o, _)| o != '[') {
+            return self.unary(depth);
+        }
+        let start = self.i;
+        self.i += 1;
+        let mut index = self.expr(depth + 1, 0)?;
+        self.skip_blanks();
+        while self.peek() == Some(b',') {
+            self.i += 1;
+            let next = self.expr(depth + 1, 0)?;
+            let scale = self.push(Expr::Num(1_000_000.0));
+            let row = self.push(Expr::Binary(BinOp::Mul, index, scale));
+            index = self.push(Expr::Binary(BinOp::Add, row, next));
+            self.skip_blanks();
+        }
+        if !self.expect(self.expr_close(), "to close the subscripts", start) {
+            return None;
+        }
+        Some(index)
     }
 
     /// A function call at its name (`SIN[30]`, `ATAN[1]/[2]`, `EXISTS[#<x>]`); its argument

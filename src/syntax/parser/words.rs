@@ -482,7 +482,7 @@ impl Lexer<'_, '_> {
         let indexed = expr_open.is_some() && self.b.get(end).copied() == expr_open;
         if indexed {
             self.i = end;
-            index = self.unary(1);
+            index = self.subscripts(1);
             j = self.i;
         } else if self.dialect.lexical.array_brackets.is_some_and(|(o, _)| self.b.get(end) == Some(&o)) {
             self.i = end;

@@ -19,7 +19,7 @@ while IFS='	' read -r id half repo commit path rest; do
   if ! git --git-dir="$dir" cat-file -e "$commit:$path" 2>/dev/null; then
     echo "missing: $repo $commit $path" >&2; status=1; continue
   fi
-  git --git-dir="$dir" ls-tree --name-only "$commit" "$folder" | while IFS= read -r p; do
+  git -c core.quotepath=off --git-dir="$dir" ls-tree --name-only "$commit" "$folder" | while IFS= read -r p; do
     [ "$(git --git-dir="$dir" cat-file -t "$commit:$p")" = blob ] || continue
     mkdir -p "$out/$key/$(dirname "$p")"
     git --git-dir="$dir" show "$commit:$p" > "$out/$key/$p"
