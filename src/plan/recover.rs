@@ -1185,12 +1185,18 @@ impl<'p> Recovery<'p> {
         Move { kind, phase: Phase::Cut, from, to, arc: None, feed, line }
     }
 
-    fn cut(&mut self, mv: Move, c: &Canon) {
+    /// What a cut tells of a lathe: cut while the program was not known to turn, or off the
+    /// ZX plane ([`Recoverer::turns_throughout`]).
+    fn lathe_evidence(&mut self, mv: &Move) {
         if mv.kind != MoveKind::Rapid {
             self.cut_any = true;
             self.cut_unturned |= !self.lathe;
             self.off_lathe_plane |= self.plane != Plane::Xz;
         }
+    }
+
+    fn cut(&mut self, mv: Move, c: &Canon) {
+        self.lathe_evidence(&mv);
         // Comments before a cut are the operation's, not the next tool's.
         self.comments.clear();
         let tool_kind = self.tools.get(&self.tool).map_or(ToolKind::Unknown, |t| t.kind);
