@@ -98,12 +98,20 @@ fn plan_of((source, notes): (SourceText, Vec<DecodeNote>), dialect: &Dialect, pr
 pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (ProcessPlan, Vec<Diagnostic>) {
     let mut recoverer = plan::Recoverer::new(profile);
     let mut diagnostics = interp::interpret(text, dialect, profile, &mut recoverer);
-    if let Some((machine, evidence)) = lathe_machine(&diagnostics, profile) {
-        recoverer = plan::Recoverer::new(profile);
-        diagnostics = interp::interpret(text, dialect, &machine, &mut recoverer);
+    let machine = lathe_machine(&diagnostics, profile);
+    // A program found to turn only after its first moves (or by its moves all lying in the
+    // ZX plane) is read again as a lathe's from its start.
+    let turns = recoverer.turns_throughout();
+    let (plan, plan_diags) = if machine.is_some() || turns {
+        let (mut machine, evidence) = machine.unwrap_or_else(|| (profile.clone(), Vec::new()));
+        machine.turns |= turns;
+        let mut again = plan::Recoverer::new(&machine);
+        diagnostics = interp::interpret(text, dialect, &machine, &mut again);
         diagnostics.extend(evidence);
-    }
-    let (plan, plan_diags) = recoverer.finish(name_of(text, dialect));
+        again.finish(name_of(text, dialect))
+    } else {
+        recoverer.finish(name_of(text, dialect))
+    };
     diagnostics.extend(plan_diags);
     (plan, diagnostics)
 }

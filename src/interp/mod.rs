@@ -239,6 +239,9 @@ pub struct Profile {
     /// The machine powers on in inch (Fanuc parameter INI): found from a program's feeds
     /// (`interp::units-inferred`).
     pub inch: bool,
+    /// The program turns from its start: a first reading found it a lathe's (plan recovery's
+    /// `Recoverer::turns_throughout`), so that recovery reads every move as turning.
+    pub turns: bool,
 }
 
 /// Whether a file is a main program or a called one (a subprogram, a macro, a `PROC`).
@@ -335,6 +338,7 @@ impl Default for Profile {
             unknown_conditions: None,
             x_radius: false,
             inch: false,
+            turns: false,
         }
     }
 }

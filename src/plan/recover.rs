@@ -25,6 +25,14 @@ pub fn recover(canon: &[Canon], profile: &Profile, program: Option<String>) -> (
     for c in canon {
         r.r.op(c);
     }
+    if r.turns_throughout() {
+        let lathe = Profile { turns: true, ..profile.clone() };
+        let mut r = Recoverer::new(&lathe);
+        for c in canon {
+            r.r.op(c);
+        }
+        return r.finish(program);
+    }
     r.finish(program)
 }
 
@@ -45,6 +53,17 @@ impl<'p> Recoverer<'p> {
     /// Recovery for a program read with `profile`.
     pub fn new(profile: &'p Profile) -> Recoverer<'p> {
         Recoverer { r: Recovery::new(profile), profile }
+    }
+
+    /// Whether the program taken turns where recovery did not read it so from its start: lathe
+    /// evidence came after moves were cut (a LinuxCNC `G76` after the facing and turning
+    /// passes), or every cut lies in the ZX plane through the turning axis (`G18`, no Y or
+    /// rotary axis ever off zero: a lathe's two axes, as LinuxCNC's `G70`-`G72` programs in
+    /// radius mode are). Such a program is read again with [`Profile::turns`], so that its
+    /// every workingstep turns.
+    pub fn turns_throughout(&self) -> bool {
+        let r = &self.r;
+        !self.profile.turns && r.cut_any && ((r.lathe && r.cut_unturned) || (!r.lathe && !r.off_lathe_plane))
     }
 
     /// The plan of the ops taken, with the findings of recovery.
@@ -667,6 +686,11 @@ struct Recovery<'p> {
     /// The lathe cycle in force, and the count of cycle starts and ends.
     turn: Option<crate::canon::TurnIntent>,
     turn_seq: u32,
+    /// Something was cut: while the program was not known to turn (`cut_unturned`); outside
+    /// the ZX plane through the axis, a Y or a rotary axis off zero (`off_lathe_plane`).
+    cut_any: bool,
+    cut_unturned: bool,
+    off_lathe_plane: bool,
 }
 
 impl<'p> Recovery<'p> {
@@ -712,9 +736,12 @@ impl<'p> Recovery<'p> {
             pending: Vec::new(),
             done: Vec::new(),
             diags: Vec::new(),
-            lathe: false,
+            lathe: profile.turns,
             turn: None,
             turn_seq: 0,
+            cut_any: false,
+            cut_unturned: false,
+            off_lathe_plane: false,
         }
     }
 
@@ -1152,12 +1179,24 @@ impl<'p> Recovery<'p> {
 
     fn mv(&mut self, kind: MoveKind, to: P3, line: u32) -> Move {
         let from = self.pos;
+        self.off_lathe_plane |= to[1].abs() > EPS || self.abc.iter().any(|a| a.abs() > EPS);
         self.pos = to;
         let feed = if kind == MoveKind::Rapid { 0.0 } else { self.feed_now() };
         Move { kind, phase: Phase::Cut, from, to, arc: None, feed, line }
     }
 
+    /// What a cut tells of a lathe: cut while the program was not known to turn, or off the
+    /// ZX plane ([`Recoverer::turns_throughout`]).
+    fn lathe_evidence(&mut self, mv: &Move) {
+        if mv.kind != MoveKind::Rapid {
+            self.cut_any = true;
+            self.cut_unturned |= !self.lathe;
+            self.off_lathe_plane |= self.plane != Plane::Xz;
+        }
+    }
+
     fn cut(&mut self, mv: Move, c: &Canon) {
+        self.lathe_evidence(&mv);
         // Comments before a cut are the operation's, not the next tool's.
         self.comments.clear();
         let tool_kind = self.tools.get(&self.tool).map_or(ToolKind::Unknown, |t| t.kind);

@@ -2,7 +2,12 @@
 //! operations, ISO 14649-12 features), as a turner names them.
 //!
 //! A program turns when its dictionary starts in diameter mode (a lathe's X words are
-//! diameters), it says `G7`/`DIAMON`, or it runs a lathe cycle. Recovery (`recover.rs`)
+//! diameters), it says `G7`/`DIAMON`, it runs a lathe cycle or synchronised moves or a
+//! constant surface speed in the ZX plane, or its every move lies in the ZX plane through the
+//! axis (`G18`, Y and the rotary axes never off zero: a lathe's two axes, as LinuxCNC's
+//! radius-mode `G70`-`G72` programs are). Known to turn anywhere, it turns throughout:
+//! recovery reads it again as a lathe's from its start (`Recoverer::turns_throughout`,
+//! `Profile::turns`), so that the facing before a `G76` is no milling. Recovery (`recover.rs`)
 //! then segments at each lathe cycle (the interpreter's `Turning` marker, with the values
 //! the cycle states: allowances, depth of cut, retract, pitch, thread height, pecks) and
 //! keeps each workingstep's feed per revolution, the constant cutting speed's clamp and the
