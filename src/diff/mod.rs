@@ -305,6 +305,7 @@ impl Change {
             ChangeKind::HoleRemoved => format!("hole at {} removed", self.before),
             ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
+            ChangeKind::FlowChanged if self.field == "passes" => format!("call runs {} → {} times", self.before, self.after),
             ChangeKind::ClearanceChanged => {
                 let via = self.field.find(" (via ").map_or("", |i| &self.field[i..]);
                 format!("clearance height between cuts changed from {} to {}{via}", self.before, self.after)
