@@ -86,6 +86,9 @@ pub enum CommentClose {
 pub struct CommentRule {
     /// Opening character.
     pub open: char,
+    /// The second character of a two-character opener (`//`: a `/` alone divides or skips a
+    /// block), for a comment that runs to the end of the line.
+    pub open2: Option<char>,
     /// Where it closes.
     pub close: CommentClose,
     /// Only at the start of a block (after its number): Heidenhain's `*` structure blocks.
@@ -93,6 +96,18 @@ pub struct CommentRule {
     /// Whether an opening character inside the comment opens a nested one, so the comment
     /// ends at the matching close (`($SetPartSize(4, 4, 1, 1) )`, which simulators write).
     pub nested: bool,
+}
+
+impl CommentRule {
+    /// Whether the comment opens at the start of `s`.
+    pub fn opens(&self, s: &[u8]) -> bool {
+        s.first() == Some(&(self.open as u8)) && self.open2.is_none_or(|o| s.get(1) == Some(&(o as u8)))
+    }
+
+    /// The opener's length in bytes.
+    pub fn open_len(&self) -> usize {
+        1 + usize::from(self.open2.is_some())
+    }
 }
 
 /// Where the block-skip character may stand.
@@ -197,6 +212,10 @@ pub struct Lexical {
     pub expression: Option<(char, char)>,
     /// Parameter sigil (`#`), and whether `#<name>` names are allowed.
     pub parameter: Option<(char, bool)>,
+    /// A second bank of numbered variables with a sigil of its own (LNC's global `@1`-`@6999`
+    /// beside the local `#1`-`#199`), and the number its variable 0 is kept as: `@n` is
+    /// variable `first + n` of the one numbered store.
+    pub global_parameter: Option<(char, u32)>,
     /// End-of-block character that may separate blocks on one line (Fanuc `;`).
     pub block_end: Option<char>,
     /// Line-continuation character (Heidenhain `~`).
@@ -509,6 +528,9 @@ pub struct Macros {
     /// The named parameter a subroutine's return value goes to (`_value`), normalised;
     /// `<name>_returned` says whether the last call returned one.
     pub return_value: Option<String>,
+    /// Functions whose value comes from the machine (LNC `R_REG[5]`, `R_MACH_COOR[0,3]`):
+    /// read with their bracketed arguments as a value the analysis does not know. Upper case.
+    pub machine_functions: Vec<String>,
 }
 
 /// What a return (`M99`, `M17`, `RET`) does in the main program.
@@ -552,6 +574,7 @@ impl Default for Macros {
             unlisted_tools_unknown: false,
             main_return: MainReturn::Error,
             return_value: None,
+            machine_functions: Vec::new(),
         }
     }
 }

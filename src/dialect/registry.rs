@@ -20,6 +20,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("haas.xml", include_str!("../../dialects/haas.xml")),
     ("mitsubishi.xml", include_str!("../../dialects/mitsubishi.xml")),
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),
+    ("lnc.xml", include_str!("../../dialects/lnc.xml")),
     ("okuma.xml", include_str!("../../dialects/okuma.xml")),
     ("okuma_lathe.xml", include_str!("../../dialects/okuma_lathe.xml")),
     ("fanuc_lathe.xml", include_str!("../../dialects/fanuc_lathe.xml")),

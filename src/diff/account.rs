@@ -829,7 +829,14 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
             _ if whole => flow.field().to_owned(),
             control::Flow::Branch if argument || condition => "condition".to_owned(),
             control::Flow::Loop if argument || condition => "loop condition".to_owned(),
-            control::Flow::Call if repeat => "repeat count".to_owned(),
+            control::Flow::Call if repeat => match (control::passes(&c.before, d), control::passes(&c.after, d)) {
+                // `L2` → `L3`: the call runs 2 → 3 times.
+                (Some(b), Some(a)) if !(c.before.is_empty() && c.after.is_empty()) => {
+                    (c.before, c.after) = (b.to_string(), a.to_string());
+                    "passes".to_owned()
+                }
+                _ => "repeat count".to_owned(),
+            },
             control::Flow::Branch if c.after.contains("GOTO") || c.before.contains("GOTO") => {
                 control::jump_part(&c.before, &c.after).to_owned()
             }

@@ -151,6 +151,21 @@ pub(super) fn repeat_word(tok: &Token, d: &Dialect) -> bool {
         || (tok.sort == Sort::Word && d.addresses.iter().any(|a| a.name == tok.key && a.role == Role::L))
 }
 
+/// The passes a call's repeat words give: `L3` three, `REP 2` three where the count is the
+/// passes after the first, none written one; `None` for anything else (an expression, other
+/// words with it).
+pub(super) fn passes(words: &str, d: &Dialect) -> Option<u64> {
+    if words.is_empty() {
+        return Some(1);
+    }
+    let at = words.find(|c: char| c.is_ascii_digit())?;
+    let key = words[..at].trim_end_matches(['=', ' ']);
+    let n: u64 = words[at..].trim().parse().ok()?;
+    let word = d.macros.call_repeat.as_deref().is_some_and(|w| key.eq_ignore_ascii_case(w));
+    let l = d.addresses.iter().any(|a| a.name == key && a.role == Role::L);
+    (word || l).then(|| n + u64::from(word && !l && d.macros.call_repeat_additional))
+}
+
 /// What differs in a conditional jump (`IF R1<3 GOTOB MARKE1`): its condition where the
 /// jump's target stays, else the target.
 pub(super) fn jump_part(before: &str, after: &str) -> &'static str {

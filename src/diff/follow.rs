@@ -75,11 +75,13 @@ fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: 
     typed::kind_of(tok, ctx, d).map(|(k, f)| (k, f.to_owned()))
 }
 
-/// The kinds of the uses of `name` in `p`, and the variables it feeds (for the next level).
-fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)>, Vec<String>) {
+/// The kinds of the uses of `name` in `p`, the variables it feeds (for the next level), and
+/// whether any statement reads it.
+fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)>, Vec<String>, bool) {
     let mut kinds: Vec<(ChangeKind, String)> = Vec::new();
     let mut feeds = Vec::new();
     let mut seen = 0;
+    let mut any = false;
     for (k, s) in stmts.iter().enumerate() {
         // The raw line first: most statements do not name the variable.
         let from = s.offset as usize;
@@ -98,6 +100,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
             if !read || (t.sort == Sort::Assign && t.key == name) {
                 continue;
             }
+            any = true;
             // A loop's bound or a branch's condition that reads it: which blocks run, or how
             // often (`FOR COUNT = 1 TO CYCLES`).
             let decides = match flow {
@@ -117,7 +120,14 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
             break;
         }
     }
-    (kinds, feeds)
+    (kinds, feeds, any)
+}
+
+/// Whether `var` (a statement's variable key, upper case) is global by the dictionary's
+/// parameters: a named parameter whose name starts with `_` (LinuxCNC `#<_paranoid>`), which
+/// the subroutines and programs that run after it read.
+fn global(var: &str, d: &Dialect) -> bool {
+    d.lexical.parameter.is_some_and(|(sigil, named)| named && var.strip_prefix(sigil).is_some_and(|n| n.starts_with("<_")))
 }
 
 /// Statement changes of variables set to other values become the changes of what the
@@ -127,17 +137,25 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
     while k < changes.len() {
         let c = &changes[k];
         let var = c.field.strip_prefix("variable ").map(str::to_owned);
-        let Some(var) = var.filter(|_| c.kind == ChangeKind::StatementChanged && !c.before.is_empty() && !c.after.is_empty()) else {
+        let Some(var) = var.filter(|_| c.kind == ChangeKind::StatementChanged) else {
             k += 1;
             continue;
         };
         let (p, stmts) = if c.line.is_some() { (b, sb) } else { (a, sa) };
+        if c.before.is_empty() || c.after.is_empty() {
+            // A global set or no longer set, that the file does not read: for what runs after.
+            if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+                changes[k].kind = ChangeKind::GlobalVariableChanged;
+            }
+            k += 1;
+            continue;
+        }
         let mut found: Vec<(ChangeKind, String)> = Vec::new();
         let mut level = vec![var.clone()];
         for _ in 0..3 {
             let mut next = Vec::new();
             for v in &level {
-                let (kinds, feeds) = uses(p, stmts, v);
+                let (kinds, feeds, _) = uses(p, stmts, v);
                 for kf in kinds {
                     if !found.contains(&kf) {
                         found.push(kf);
@@ -152,6 +170,10 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             level = next;
         }
         if found.is_empty() {
+            // A global the file does not read: told as such, for what runs after it.
+            if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+                changes[k].kind = ChangeKind::GlobalVariableChanged;
+            }
             k += 1;
             continue;
         }

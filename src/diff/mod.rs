@@ -157,6 +157,9 @@ pub enum ChangeKind {
     /// names (an output, a wait on an input, the path mode, a lookahead limit) or one it does
     /// not know (a machine builder's M88), with its words.
     MachineFunctionChanged,
+    /// A global variable the file sets and does not read (LinuxCNC `#<_paranoid>`) changed,
+    /// was set or no longer is: a value for the subroutines and programs that run after it.
+    GlobalVariableChanged,
 }
 
 impl ChangeKind {
@@ -207,6 +210,7 @@ impl ChangeKind {
             ChangeKind::ThreadPitchChanged => "thread_pitch_changed",
             ChangeKind::FlowChanged => "flow_changed",
             ChangeKind::MachineFunctionChanged => "machine_function_changed",
+            ChangeKind::GlobalVariableChanged => "global_variable_changed",
         }
     }
 }
@@ -305,6 +309,16 @@ impl Change {
             ChangeKind::HoleRemoved => format!("hole at {} removed", self.before),
             ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
+            ChangeKind::GlobalVariableChanged => {
+                let var = self.field.strip_prefix("variable ").unwrap_or(&self.field);
+                let what = match (self.before.is_empty(), self.after.is_empty()) {
+                    (true, _) => format!("set to {}", self.after),
+                    (_, true) => format!("no longer set (was {})", self.before),
+                    _ => format!("{} → {}", self.before, self.after),
+                };
+                format!("global variable `{var}` {what}, for the subroutines and programs that run after (this file does not read it)")
+            }
+            ChangeKind::FlowChanged if self.field == "passes" => format!("call runs {} → {} times", self.before, self.after),
             ChangeKind::ClearanceChanged => {
                 let via = self.field.find(" (via ").map_or("", |i| &self.field[i..]);
                 format!("clearance height between cuts changed from {} to {}{via}", self.before, self.after)

@@ -192,7 +192,9 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
             Some((Directive::Abort, _)) => aborts.push(inside.trim()),
             Some((Directive::Simulator, _)) | None => {}
         }
-        if s > 0 && src[..s].ends_with(|c: char| dialect.lexical.comments.iter().any(|k| k.open == c)) {
+        if let Some(k) = dialect.lexical.comments.iter().find(|k| s >= k.open_len() && k.opens(&src.as_bytes()[s - k.open_len()..s])) {
+            s -= k.open_len();
+        } else if s > 0 && src[..s].ends_with(|c: char| dialect.lexical.comments.iter().any(|k| k.open == c)) {
             s -= src[..s].chars().next_back().map_or(0, char::len_utf8);
         }
         if let Some(c) = src[e..].chars().next()

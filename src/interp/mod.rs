@@ -1707,7 +1707,11 @@ impl<'a> Interpreter<'a> {
                             "{sigil}{n}, the tool's size, which the configured tool table does not give (the machine's tool table holds it)"
                         )
                     }
-                    _ => format!("{sigil}{n}, which is set outside this file (retained, or machine data)"),
+                    // A variable of the second bank by its own sigil (LNC `@100`).
+                    _ => match self.dialect.lexical.global_parameter.filter(|&(_, first)| n >= first) {
+                        Some((g, first)) => format!("{g}{}, which is set outside this file (a global variable)", n - first),
+                        None => format!("{sigil}{n}, which is set outside this file (retained, or machine data)"),
+                    },
                 }
             }
             Some(eval::UnknownSource::Named(name)) => format!("`{name}`, which the caller or the control's global data sets"),

@@ -555,8 +555,8 @@ fn control_flow_edits_are_told_as_what_runs() {
     expect![[r#"
         flow_changed | loop condition | #1LT3 | #1LE3 | 8 | 8
           loop condition changed from #1LT3 to #1LE3 at line 8
-        flow_changed | repeat count | L2 | L3 | 13 | 13
-          repeat count changed from L2 to L3 at line 13
+        flow_changed | passes | 2 | 3 | 13 | 13
+          call runs 2 → 3 times at line 13
     "#]]
     .assert_eq(&rows(&changes(a, &b, "fanuc")));
 }
@@ -659,4 +659,38 @@ fn features_known_from_unlike_stocks_are_not_compared() {
         rows(&got)
     );
     assert!(got.iter().any(|c| c.original_line == Some(2)) && got.iter().any(|c| c.original_line == Some(3)), "{}", rows(&got));
+}
+
+#[test]
+fn a_global_the_file_does_not_read_is_told_for_what_runs_after() {
+    // LinuxCNC: a named parameter whose name starts with `_` is global; set and not read here,
+    // it is for the subroutines and programs that run after (a flag other probing subroutines
+    // read). A local one read by nothing stays the statement.
+    let a = "#<_paranoid> = 0\n#<note> = 1\nG21 G90\nG0 X0 Y0 Z5\nM2\n";
+    let b = a.replace("#<_paranoid> = 0", "#<_paranoid> = 1").replace("#<note> = 1", "#<note> = 2");
+    expect![[r#"
+        global_variable_changed | variable #<_PARANOID> | 0 | 1 | 1 | 1
+          global variable `#<_PARANOID>` 0 → 1, for the subroutines and programs that run after (this file does not read it) at line 1
+        statement_changed | variable #<NOTE> | 1 | 2 | 2 | 2
+          variable `#<NOTE>` set to 2 instead of 1 at line 2
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
+}
+
+#[test]
+fn lnc_comments_global_variables_and_block_statements_are_read_as_the_control_reads_them() {
+    // LNC-M: `//` comments (the text after them is no program), `@` global variables apart
+    // from the local `#` ones, C-style operators in a block IF … END_IF, and a call's repeat
+    // count told as how often the subprogram runs.
+    let a = "%\nO1 // warm up\n#1 = @100 // pass count\nIF[#1 == 0 && @5 != 1]\n  #1 = 2\nEND_IF\nG21 G90 G17\nT1 M6\nS2000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F300 // plunge\nM98 P2 L2\nG0 Z50\nM30\n%\nO2\nG0 Z5\nM99\n%\n";
+    let comments = a.replace("// warm up", "// warm-up, slowly").replace("// plunge", "// plunge to depth");
+    assert!(changes(a, &comments, "lnc").is_empty(), "{}", rows(&changes(a, &comments, "lnc")));
+    let b = a.replace("F300 // plunge", "F250 // plunge").replace("P2 L2", "P2 L3");
+    expect![[r#"
+        feed_changed | feed | F300 | F250 | 11 | 11
+          feed changed from F300 to F250 at line 11
+        flow_changed | passes | 2 | 3 | 12 | 12
+          call runs 2 → 3 times at line 12
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "lnc")));
 }

@@ -188,8 +188,8 @@ impl Figures {
     }
 }
 
-/// The part a real pair belongs to: `held3` (held back in issue 41's third round, measured once
-/// at the end), `built3` (the third round's pairs built on), `held` and `built` (the second
+/// The part a real pair belongs to: `held4` (held back in issue 41's fourth round, measured
+/// once at the end), `held3` (held back in the third round, measured, spent), `built3` (the third round's pairs built on), `held` and `built` (the second
 /// round's, `r183`–`r235`, its held-back part measured and spent), or `old` (the first sets,
 /// `r001`–`r182`, whose held-back part was measured in the first round and is spent).
 fn part(p: &Pair) -> &str {
@@ -197,18 +197,19 @@ fn part(p: &Pair) -> &str {
 }
 
 /// The parts, and how the figures name them.
-const PARTS: [(&str, &str); 5] = [
+const PARTS: [(&str, &str); 6] = [
     ("old", "old pairs (r001-r182, all seen)"),
     ("built", "second round's pairs built on (r183-r235)"),
     ("held", "second round's pairs held back (r183-r235, measured, spent)"),
-    ("built3", "third round's pairs built on (r236-)"),
-    ("held3", "third round's pairs held back (r236-)"),
+    ("built3", "third round's pairs built on (r236-r245)"),
+    ("held3", "third round's pairs held back (r236-r245)"),
+    ("held4", "fourth round's pairs held back (r246-)"),
 ];
 
 fn report(pairs: &[Pair]) -> (String, usize) {
     let mut table = String::from("id | class | lines given | changes (machining, typed) | verdict\n");
     let mut failed = 0;
-    let mut figures: [Figures; 5] = Default::default();
+    let mut figures: [Figures; 6] = Default::default();
     for p in pairs {
         let o = std::panic::catch_unwind(|| run(p)).unwrap_or_else(|e| Outcome {
             changes: Vec::new(),
@@ -257,7 +258,7 @@ fn own_revision_pairs_are_accounted_for() {
 #[test]
 fn real_revision_pairs_are_accounted_for() {
     let Some(texts) = std::env::var_os("NCPLAN_REVISIONS_REAL") else { return };
-    // `old`, `built`, `held`, `built3` or `held3`: only that part (several joined with `,`).
+    // `old`, `built`, `held`, `built3`, `held3` or `held4`: only that part (several joined with `,`).
     let only = std::env::var("NCPLAN_REVISIONS_PART").unwrap_or_default();
     let pairs: Vec<Pair> =
         real_pairs(Path::new(&texts)).into_iter().filter(|p| only.is_empty() || only.split(',').any(|o| o == part(p))).collect();

@@ -33,6 +33,7 @@ const CHILDREN: &[&str] = &[
     "program-delimiter",
     "expression",
     "parameter",
+    "global-parameters",
     "block-end",
     "continuation",
     "program-number",
@@ -95,6 +96,7 @@ impl Cx {
             header_words: false,
             expression: None,
             parameter: None,
+            global_parameter: None,
             block_end: None,
             continuation: None,
             spaces_in_numbers: self.bool(el, "spaces-in-numbers", false),
@@ -127,6 +129,7 @@ impl Cx {
             "program-delimiter" => self.program_delimiter(c, lex),
             "expression" => self.expression_brackets(c, lex),
             "parameter" => self.parameter_sigil(c, lex),
+            "global-parameters" => self.global_parameters(c, lex),
             "block-end" => lex.block_end = self.only_char(c, "char"),
             "continuation" => lex.continuation = self.only_char(c, "char"),
             "program-number" => self.program_number(c, lex),
@@ -218,17 +221,25 @@ impl Cx {
                 false
             }
         };
-        let open = self.char_attr(c, "open");
+        // `//` (LNC): a two-character opener, for a comment to the end of the line.
+        let (open, open2) = match self.attr(c, "open").map(|v| v.chars().collect::<Vec<char>>()) {
+            Some(v) if v.len() == 2 && v.iter().all(char::is_ascii_punctuation) => (Some(v[0]), Some(v[1])),
+            _ => (self.char_attr(c, "open"), None),
+        };
         let close = match self.required(c, "close") {
             Some("eol") => Some(CommentClose::EndOfLine),
+            Some(_) if open2.is_some() => {
+                self.error(Self::attr_range(c, "close"), "a two-character `open` needs `close=\"eol\"`");
+                None
+            }
             Some(_) => self.char_attr(c, "close").map(CommentClose::Char),
             None => None,
         };
         if open.is_none() {
-            self.error(c.range, "<comment> needs a one-character `open`");
+            self.error(c.range, "<comment> needs a one- or two-character `open`");
         }
         if let (Some(open), Some(close)) = (open, close) {
-            lex.comments.push(CommentRule { open, close, block_start, nested });
+            lex.comments.push(CommentRule { open, open2, close, block_start, nested });
         }
     }
 
@@ -318,6 +329,19 @@ impl Cx {
         self.shape(c, &["sigil", "named"], &[]);
         let named = self.bool(c, "named", false);
         lex.parameter = self.char_attr(c, "sigil").map(|s| (s, named));
+    }
+
+    /// `<global-parameters sigil="@" first="100000"/>`: a second bank of numbered variables,
+    /// `@n` kept as variable `first + n`.
+    fn global_parameters(&mut self, c: &Element, lex: &mut Lexical) {
+        self.shape(c, &["sigil", "first"], &[]);
+        let first = self.required(c, "first").and_then(|v| v.parse::<u32>().ok());
+        if first.is_none() {
+            self.error(Self::attr_range(c, "first"), "`first` must be a whole number");
+        }
+        if let (Some(s), Some(f)) = (self.char_attr(c, "sigil"), first) {
+            lex.global_parameter = Some((s, f));
+        }
     }
 
     /// `<program-number address="O" alternate=":" names="false"/>`: the program-number

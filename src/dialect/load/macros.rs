@@ -32,6 +32,7 @@ const ATTRIBUTES: &[&str] = &[
     "return-tells-called",
     "definition-start",
     "definition-end",
+    "machine-functions",
 ];
 
 impl Cx {
@@ -49,6 +50,10 @@ impl Cx {
             call_start: self.letter_attr(el, "call-start").map(|c| c as u8),
             bare_if_jump: self.bool(el, "bare-if-jump", false),
             return_value: self.attr(el, "return-value").map(|n| n.split_whitespace().collect::<String>().to_lowercase()),
+            machine_functions: self
+                .attr(el, "machine-functions")
+                .map(|v| v.split_whitespace().map(str::to_ascii_uppercase).collect())
+                .unwrap_or_default(),
             ..Macros::default()
         };
         m.bare_conditions = self.either(el, "conditions", "bracketed", "bare");
@@ -196,10 +201,12 @@ impl Cx {
             return;
         };
         let k = k.to_ascii_uppercase();
-        if k.split(' ').any(|w| w.is_empty() || !w.bytes().all(|b| b.is_ascii_alphabetic())) {
+        // Words of letters, joined by `_` within a word (LNC `END_IF`).
+        let word = |w: &str| w.starts_with(|c: char| c.is_ascii_alphabetic()) && w.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
+        if k.split(' ').any(|w| !word(w)) {
             self.error(
                 Self::attr_range(c, "keyword"),
-                format!("statement keyword `{k}` must be letters, or words of letters separated by single blanks"),
+                format!("statement keyword `{k}` must be letters (then letters, digits and `_`), or such words separated by single blanks"),
             );
         } else if m.statements.iter().any(|&(ref x, other)| {
             // One keyword may head a repeat-until loop and a section repeat: a

@@ -63,6 +63,7 @@ impl Lexer<'_, '_> {
         self.skip_blanks();
         if let Some((skip, _)) = lex.block_skip
             && self.peek() == Some(skip as u8)
+            && !lex.comments.iter().any(|r| r.open2.is_some() && r.opens(&self.b[self.i..]))
         {
             self.block.skip = true;
             self.i += 1;
@@ -79,7 +80,7 @@ impl Lexer<'_, '_> {
             // is a header line, skipped without ending anything.
             let end = self.line_end();
             let rest = self.text[self.i + 1..end].trim_start();
-            self.block.delimiter = rest.is_empty() || lex.comments.iter().any(|r| rest.starts_with(r.open));
+            self.block.delimiter = rest.is_empty() || lex.comments.iter().any(|r| r.opens(rest.as_bytes()));
             if lex.header_words && !self.block.delimiter {
                 self.header_name();
             } else {
@@ -111,7 +112,7 @@ impl Lexer<'_, '_> {
         if c == b'(' && lex.paren_statements && at_start(self.block) && self.open_paren() {
             return;
         }
-        if let Some(rule) = lex.comments.iter().find(|r| r.open as u8 == c && (!r.block_start || at_start(self.block))) {
+        if let Some(rule) = lex.comments.iter().find(|r| r.opens(&self.b[self.i..]) && (!r.block_start || at_start(self.block))) {
             let close = rule.close.clone();
             self.comment(&close);
             return;
@@ -126,6 +127,10 @@ impl Lexer<'_, '_> {
             && c.eq_ignore_ascii_case(&(sigil as u8))
             && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()))
         {
+            self.assignment();
+            return;
+        }
+        if self.global_bank().is_some() && self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()) {
             self.assignment();
             return;
         }
@@ -268,16 +273,18 @@ impl Lexer<'_, '_> {
 
     pub(super) fn comment(&mut self, close: &CommentClose) {
         let open = self.i;
-        self.i += 1;
+        // A two-character opener (`//`) is read past whole.
+        let len = self.dialect.lexical.comments.iter().find(|r| r.open2.is_some() && r.opens(&self.b[open..])).map_or(1, |r| r.open_len());
+        self.i += len;
         let eol = self.line_end();
         match close {
             CommentClose::EndOfLine => {
                 // A comment that ends with the continuation mark continues the block (`Q200=2 ;CLEARANCE ~`).
-                let text = &self.b[open + 1..eol];
+                let text = &self.b[open + len..eol];
                 let trimmed = text.len() - text.iter().rev().take_while(|c| matches!(c, b' ' | b'\t')).count();
                 let cont = self.dialect.lexical.continuation.is_some_and(|k| trimmed > 0 && text[trimmed - 1] == k as u8);
-                let end = if cont { open + trimmed } else { eol };
-                self.block.comments.push(self.range(open + 1, end));
+                let end = if cont { open + len - 1 + trimmed } else { eol };
+                self.block.comments.push(self.range(open + len, end));
                 self.i = eol;
                 if cont {
                     self.continue_line();

@@ -50,13 +50,17 @@ impl Lexer<'_, '_> {
                 return Some(BinOp::Pow);
             }
             b'*' => BinOp::Mul,
+            b'/' if self.dialect.lexical.comments.iter().any(|r| r.open2.is_some() && r.opens(&self.b[self.i..])) => return None,
             b'/' => BinOp::Div,
             b'+' => BinOp::Add,
             b'-' => BinOp::Sub,
-            b'=' | b'<' | b'>' if self.dialect.lexical.symbolic_comparisons => {
+            b'=' | b'<' | b'>' | b'!' | b'&' | b'|' if self.dialect.lexical.symbolic_comparisons => {
                 let next = self.b.get(self.i + 1).copied();
                 let (op, len) = match (c, next) {
                     (b'=', Some(b'=')) => (BinOp::Eq, 2),
+                    (b'!', Some(b'=')) => (BinOp::Ne, 2),
+                    (b'&', Some(b'&')) => (BinOp::And, 2),
+                    (b'|', Some(b'|')) => (BinOp::Or, 2),
                     (b'<', Some(b'>')) => (BinOp::Ne, 2),
                     (b'<', Some(b'<')) => (BinOp::Concat, 2),
                     (b'<', Some(b'=')) => (BinOp::Le, 2),
@@ -142,21 +146,41 @@ impl Lexer<'_, '_> {
     /// `#<name>`); a letter sigil (`Q`, `R`) only before a digit or a bracket.
     fn at_parameter(&self, c: u8, expr_open: Option<u8>) -> bool {
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
-        Some(c.to_ascii_uppercase()) == sigil
-            && (!c.is_ascii_alphabetic() || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == expr_open))
+        let global = self.dialect.lexical.global_parameter.map(|(s, _)| s as u8);
+        let operand = || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == expr_open);
+        (Some(c.to_ascii_uppercase()) == sigil && (!c.is_ascii_alphabetic() || operand())) || (Some(c) == global && operand())
     }
 
     /// A parameter at its sigil: `#<name>` where parameters have names, else `#` and the
     /// operand that gives its number (`#1`, `##2`, `#[#1+1]`).
     fn parameter(&mut self, depth: u32, start: usize) -> Option<ExprId> {
+        let bank = self.global_bank();
         self.i += 1;
         self.skip_blanks();
-        if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
+        if self.peek() == Some(b'<') && bank.is_none() && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
             let name = self.name(start)?;
             return Some(self.push(Expr::Named(name)));
         }
-        let inner = self.unary(depth + 1)?;
+        let inner = self.parameter_number(depth, bank)?;
         Some(self.push(Expr::Param(inner)))
+    }
+
+    /// Where the cursor is at the sigil of the dialect's second bank of variables (`@1`),
+    /// the number its variable 0 is kept as.
+    pub(super) fn global_bank(&self) -> Option<u32> {
+        self.dialect.lexical.global_parameter.filter(|&(s, _)| self.peek() == Some(s as u8)).map(|(_, first)| first)
+    }
+
+    /// The operand after a parameter's sigil that gives its number, moved into its bank.
+    pub(super) fn parameter_number(&mut self, depth: u32, bank: Option<u32>) -> Option<ExprId> {
+        let inner = self.unary(depth + 1)?;
+        Some(match bank {
+            Some(first) => {
+                let base = self.push(Expr::Num(f64::from(first)));
+                self.push(Expr::Binary(BinOp::Add, base, inner))
+            }
+            None => inner,
+        })
     }
 
     /// Whether a variable's name starts at the cursor (`c`), where identifiers name variables:
@@ -234,6 +258,9 @@ impl Lexer<'_, '_> {
             end += 1;
         }
         let word = self.text[self.i..end].to_ascii_uppercase();
+        if let Some(e) = self.machine_function(start, expr_open) {
+            return Some(e);
+        }
         let Some(func) = Func::named(&word) else {
             self.error(Code::MalformedExpression, start, end, format!("unknown function `{word}`"));
             self.i = end;
@@ -352,6 +379,40 @@ impl Lexer<'_, '_> {
             }
         }
         false
+    }
+
+    /// A function of the dictionary's whose value comes from the machine (`R_REG[#100]`,
+    /// `INPUT["title", "text", "", 1, 99, 4]`): its name and bracketed arguments read past, a
+    /// value the analysis does not know.
+    fn machine_function(&mut self, start: usize, expr_open: Option<u8>) -> Option<ExprId> {
+        let open = expr_open?;
+        let end = self.b[self.i..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| self.i + p);
+        let name = self.text[self.i..end].to_ascii_uppercase();
+        if self.b.get(end) != Some(&open) || !self.dialect.macros.machine_functions.contains(&name) {
+            return None;
+        }
+        let close = self.expr_close();
+        let quote = self.dialect.lexical.string_quote.map_or(b'"', |q| q as u8);
+        let eol = self.line_end();
+        let (mut depth, mut quoted) = (0u32, false);
+        for p in end..eol {
+            let c = self.b[p];
+            if c == quote {
+                quoted = !quoted;
+            } else if !quoted && c == open {
+                depth += 1;
+            } else if !quoted && c == close {
+                depth -= 1;
+                if depth == 0 {
+                    self.i = p + 1;
+                    let r = self.range(start, p + 1);
+                    return Some(self.push(Expr::Text(r)));
+                }
+            }
+        }
+        self.error(Code::MalformedExpression, start, eol, format!("`{name}` is not closed"));
+        self.i = eol;
+        None
     }
 
     /// `<name>` after a sigil; returns the range of the name.

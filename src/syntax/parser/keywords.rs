@@ -159,7 +159,7 @@ impl Lexer<'_, '_> {
         let eol = self.b[at..].iter().position(|&c| c == b'\n' || c == b'\r').map_or(self.b.len(), |p| at + p);
         // Up to a comment at the end of the block (`1.2 DEPTH -15 ; hole`).
         let comments = &self.dialect.lexical.comments;
-        let end = (at..eol).find(|&p| comments.iter().any(|r| self.b[p] == r.open as u8)).unwrap_or(eol);
+        let end = (at..eol).find(|&p| comments.iter().any(|r| r.opens(&self.b[p..eol]))).unwrap_or(eol);
         let word = self.b[at..end].trim_ascii_end();
         let digits = word.strip_prefix(b"+").or_else(|| word.strip_prefix(b"-")).unwrap_or(word);
         !digits.is_empty()

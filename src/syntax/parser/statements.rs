@@ -114,7 +114,7 @@ impl Lexer<'_, '_> {
         let eol = self.line_end();
         let Some(c) = self.peek().filter(|_| self.i < eol) else { return };
         let lex = &self.dialect.lexical;
-        if lex.comments.iter().any(|r| r.open as u32 == u32::from(c)) || lex.block_end.is_some_and(|e| e as u32 == u32::from(c)) {
+        if lex.comments.iter().any(|r| r.opens(&self.b[self.i..])) || lex.block_end.is_some_and(|e| e as u32 == u32::from(c)) {
             return;
         }
         let rest = self.text[self.i..eol].trim_end().to_owned();
@@ -161,8 +161,16 @@ impl Lexer<'_, '_> {
                         let lex = &self.dialect.lexical;
                         // An unsupported or inert statement's text stops at a comment too.
                         let plain = matches!(st, Statement::Inert | Statement::Unsupported);
-                        let stops = |c: char| lex.block_end == Some(c) || (plain && lex.comments.iter().any(|r| r.open == c));
-                        self.i = self.text[self.i..end].find(stops).map_or(end, |p| self.i + p);
+                        // Any statement's stops at a `//` comment outside quotes (LNC `W_REG[5, 1] // note`).
+                        let b = self.b;
+                        let mut quoted = false;
+                        let mut stops = |p: usize| {
+                            quoted ^= lex.string_quote.is_some_and(|q| q as u8 == b[p]);
+                            let comment =
+                                |r: &crate::dialect::CommentRule| (plain || (r.open2.is_some() && !quoted)) && r.opens(&b[p..end]);
+                            lex.block_end.is_some_and(|e| b[p] == e as u8) || lex.comments.iter().any(comment)
+                        };
+                        self.i = (self.i..end).find(|&p| stops(p)).unwrap_or(end);
                     }
                     _ => self.operands(&mut control),
                 }
@@ -174,14 +182,16 @@ impl Lexer<'_, '_> {
                 // An unknown statement's text stops at the block's end, or at a comment to the
                 // end of the line outside quotes (`QS3 = "%0x" ;temp string`): the comment is a comment still.
                 let mut quoted = false;
-                let stops = |c: char| {
-                    quoted ^= lex.string_quote == Some(c);
+                let b = self.b;
+                let mut stops = |p: usize| {
+                    let c = b[p];
+                    quoted ^= lex.string_quote.is_some_and(|q| q as u8 == c);
                     let comment = |r: &crate::dialect::CommentRule| {
-                        r.open == c && !r.block_start && r.close == crate::dialect::CommentClose::EndOfLine
+                        r.opens(&b[p..end]) && !r.block_start && r.close == crate::dialect::CommentClose::EndOfLine
                     };
-                    !quoted && (lex.block_end == Some(c) || lex.comments.iter().any(comment))
+                    !quoted && (lex.block_end.is_some_and(|e| e as u8 == c) || lex.comments.iter().any(comment))
                 };
-                let end = self.text[start..end].find(stops).map_or(end, |p| start + p);
+                let end = (start..end).find(|&p| stops(p)).unwrap_or(end);
                 control.keyword = Some(self.abs(self.alpha_run()));
                 self.i = end;
             }
@@ -475,7 +485,10 @@ impl Lexer<'_, '_> {
         }
         match self.peek() {
             None | Some(b'\r' | b'\n') => true,
-            Some(c) => self.dialect.lexical.block_end == Some(c as char) || self.dialect.lexical.comments.iter().any(|r| r.open as u8 == c),
+            Some(c) => {
+                self.dialect.lexical.block_end == Some(c as char)
+                    || self.dialect.lexical.comments.iter().any(|r| r.opens(&self.b[self.i..]))
+            }
         }
     }
 
@@ -673,7 +686,7 @@ impl Lexer<'_, '_> {
             loop {
                 self.skip_blanks();
                 // Comments may sit between operands: `o<x> call [1] (note) [2]`.
-                while let Some(rule) = self.peek().and_then(|c| self.dialect.lexical.comments.iter().find(|r| r.open as u8 == c)) {
+                while let Some(rule) = self.dialect.lexical.comments.iter().find(|r| r.opens(&self.b[self.i..])) {
                     let close = rule.close.clone();
                     self.comment(&close);
                     self.skip_blanks();

@@ -161,7 +161,9 @@ impl Lexer<'_, '_> {
         if self.dialect.letter_role(letter).is_some() && self.not_a_number_after(start + 1) {
             return;
         }
-        if (next.is_some_and(|x| x.is_ascii_alphabetic()) && !param_value) || named_call {
+        // A keyword with `_` after its first letter (LNC `W_REG`) is a statement too.
+        let underscored = next == Some(b'_') && self.dialect.lexical.control_word.is_none() && self.statement_at(start).is_some();
+        if (next.is_some_and(|x| x.is_ascii_alphabetic()) && !param_value) || named_call || underscored {
             self.keyword_statement(start);
             return;
         }
@@ -542,6 +544,7 @@ impl Lexer<'_, '_> {
         };
         let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
+        let global = self.dialect.lexical.global_parameter.map(|(s, _)| s as u8);
         // After a sign, blanks may stand before the operand where the dialect allows blanks in numbers (`Z + Q13`).
         let after_sign = if matches!(c, b'+' | b'-') && self.dialect.lexical.spaces_in_numbers {
             self.b[self.i + 1..].iter().position(|c| !matches!(c, b' ' | b'\t')).map_or(self.b.len(), |p| self.i + 1 + p)
@@ -569,7 +572,13 @@ impl Lexer<'_, '_> {
             Func::named(&self.text[self.i..end].to_ascii_uppercase()).is_some()
         };
         let radix = self.dialect.lexical.numbers.radix.is_some_and(|(q, _, _)| c == q as u8);
-        if Some(c) == expr_open || Some(c) == sigil || sign_then_expr || is_func || radix {
+        if Some(c) == expr_open
+            || Some(c) == sigil
+            || (Some(c) == global && self.b.get(self.i + 1).is_some_and(u8::is_ascii_digit))
+            || sign_then_expr
+            || is_func
+            || radix
+        {
             return self.unary(0).map(Value::Expr);
         }
         self.error(Code::MissingValue, start, self.i, format!("`{}` has no value", self.text[start..self.i].trim()));
@@ -578,15 +587,16 @@ impl Lexer<'_, '_> {
 
     pub(super) fn assignment(&mut self) {
         let start = self.i;
+        let bank = self.global_bank();
         self.i += 1;
         self.skip_blanks();
-        let target = if self.peek() == Some(b'<') && self.dialect.lexical.parameter.is_some_and(|(_, n)| n) {
+        let target = if self.peek() == Some(b'<') && bank.is_none() && self.dialect.lexical.parameter.is_some_and(|(_, n)| n) {
             match self.name(start) {
                 Some(r) => ParamTarget::Named(r),
                 None => return,
             }
         } else {
-            match self.unary(1) {
+            match self.parameter_number(0, bank) {
                 Some(e) => ParamTarget::Numbered(e),
                 None => {
                     self.i = self.line_end();
