@@ -90,6 +90,9 @@ struct Original {
 /// Each workingstep's feeds (plan units, mm/min) with their roles (`suggest::feed_roles`).
 type FeedsByStep = BTreeMap<u32, Vec<(f64, Option<FeedRole>)>>;
 
+/// An edited revision's path and the operator comment of its header.
+type EditedHead = (String, Option<String>);
+
 /// What [`load_with`] reads of stored revisions, kept from one load to the next (the
 /// workspace keeps one for as long as it serves): an original's tools, units, material and
 /// operator comment, an edited revision's path and operator comment, a program's feeds by role
@@ -100,7 +103,7 @@ type FeedsByStep = BTreeMap<u32, Vec<(f64, Option<FeedRole>)>>;
 #[derive(Default)]
 pub struct Cache {
     originals: std::sync::Mutex<BTreeMap<i64, Original>>,
-    edited: std::sync::Mutex<BTreeMap<i64, Option<(String, Option<String>)>>>,
+    edited: std::sync::Mutex<BTreeMap<i64, Option<EditedHead>>>,
     feeds: std::sync::Mutex<BTreeMap<i64, std::sync::Arc<FeedsByStep>>>,
 }
 
@@ -129,7 +132,7 @@ impl Cache {
     }
 
     /// The path and the header's operator comment of an edited revision.
-    fn edited(&self, store: &Store, revision: i64) -> Result<Option<(String, Option<String>)>> {
+    fn edited(&self, store: &Store, revision: i64) -> Result<Option<EditedHead>> {
         if let Some(e) = self.edited.lock().ok().and_then(|m| m.get(&revision).cloned()) {
             return Ok(e);
         }
@@ -323,7 +326,7 @@ fn operator(cache: &Cache, store: &Store, revision: i64, o: &Original, cfg: &Sug
 }
 
 /// An edited revision's path and the operator comment of its header.
-fn edited_head(store: &Store, revision: i64) -> Result<Option<(String, Option<String>)>> {
+fn edited_head(store: &Store, revision: i64) -> Result<Option<EditedHead>> {
     let Some(src) = store.source(revision)? else { return Ok(None) };
     let bytes = match src.bytes {
         Some(b) => b,

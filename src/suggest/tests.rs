@@ -280,7 +280,7 @@ proptest! {
         rev in 1i64..1000,
     ) {
         let r = Rules::default();
-        let edits = generated(&vec![-f; 8], &(0..8).map(|i| i * 7).collect::<Vec<_>>(), &(0..8).map(|i| i % 4).collect::<Vec<_>>());
+        let edits = generated(&[-f; 8], &(0..8).map(|i| i * 7).collect::<Vec<_>>(), &(0..8).map(|i| i % 4).collect::<Vec<_>>());
         let s = &suggest(&edits, &r)[0];
         let post = |v: f64, day: u32, rev: i64| CamStep { original: "/cam/P1.nc".into(), revision: rev, at: format!("2026-06-{day:02}T00:00:00Z"), workingstep: 1, tool: 5, value: Some(v) };
         let new = s.cam_value * s.centre.exp();
