@@ -213,7 +213,9 @@ fn spawn(shared: &Arc<Shared>, i: usize, store: Option<Store>, first: bool) -> R
 }
 
 /// One watch at a time in this daemon: two workers that stored revisions at once would both
-/// see an exported suggestion adopted and record it twice.
+/// see an exported suggestion adopted (the store records the step once, `Store::
+/// add_suggestion_step`, which is what keeps two daemons on one database apart; this spares
+/// the second worker the reading).
 static WATCH: Mutex<()> = Mutex::new(());
 
 /// The watch over exported suggestions after a revision was stored (a CAM post that carries a

@@ -78,6 +78,7 @@ impl Knowledge {
 
 /// What one original tells: its tools, units, material, the roles of each workingstep's
 /// feeds and its operator comment (a CAM header naming the programmer is no editor).
+#[derive(Clone)]
 struct Original {
     tools: BTreeMap<u32, ToolKey>,
     inch: bool,
@@ -89,30 +90,88 @@ struct Original {
 /// Each workingstep's feeds (plan units, mm/min) with their roles (`suggest::feed_roles`).
 type FeedsByStep = BTreeMap<u32, Vec<(f64, Option<FeedRole>)>>;
 
+/// An edited revision's path and the operator comment of its header.
+type EditedHead = (String, Option<String>);
+
+/// What [`load_with`] reads of stored revisions, kept from one load to the next (the
+/// workspace keeps one for as long as it serves): an original's tools, units, material and
+/// operator comment, an edited revision's path and operator comment, a program's feeds by role
+/// (read again through the analysis). A stored revision never changes (its bytes are
+/// content-addressed, its row and plan never updated), so what it told once holds; the
+/// configuration's rules (materials and operators by folder, the tool library) are applied
+/// on each load, after the cache. Keyed by revision id, for one database.
+#[derive(Default)]
+pub struct Cache {
+    originals: std::sync::Mutex<BTreeMap<i64, Original>>,
+    edited: std::sync::Mutex<BTreeMap<i64, Option<EditedHead>>>,
+    feeds: std::sync::Mutex<BTreeMap<i64, std::sync::Arc<FeedsByStep>>>,
+}
+
+impl Cache {
+    /// How many revisions it holds (originals, edited revisions, programs read again).
+    pub fn len(&self) -> (usize, usize, usize) {
+        let originals = self.originals.lock().map_or(0, |m| m.len());
+        let edited = self.edited.lock().map_or(0, |m| m.len());
+        (originals, edited, self.feeds.lock().map_or(0, |m| m.len()))
+    }
+
+    /// Whether it holds nothing.
+    pub fn is_empty(&self) -> bool {
+        self.len() == (0, 0, 0)
+    }
+
+    fn original(&self, store: &Store, revision: i64) -> Result<Original> {
+        if let Some(o) = self.originals.lock().ok().and_then(|m| m.get(&revision).cloned()) {
+            return Ok(o);
+        }
+        let o = original(store, revision)?;
+        if let Ok(mut m) = self.originals.lock() {
+            m.insert(revision, o.clone());
+        }
+        Ok(o)
+    }
+
+    /// The path and the header's operator comment of an edited revision.
+    fn edited(&self, store: &Store, revision: i64) -> Result<Option<EditedHead>> {
+        if let Some(e) = self.edited.lock().ok().and_then(|m| m.get(&revision).cloned()) {
+            return Ok(e);
+        }
+        let e = edited_head(store, revision)?;
+        if let Ok(mut m) = self.edited.lock() {
+            m.insert(revision, e.clone());
+        }
+        Ok(e)
+    }
+}
+
 /// Programs read again for their moves (the store keeps plans without their toolpaths), as
 /// their folders read them: the dictionaries loaded once, on first need, and each revision's
 /// feeds kept.
 struct Reread<'a> {
     config: &'a Config,
     registry: Option<crate::dialect::Registry>,
-    feeds: BTreeMap<i64, FeedsByStep>,
+    cache: &'a Cache,
 }
 
 impl<'a> Reread<'a> {
-    fn new(config: &'a Config) -> Reread<'a> {
-        Reread { config, registry: None, feeds: BTreeMap::new() }
+    fn new(config: &'a Config, cache: &'a Cache) -> Reread<'a> {
+        Reread { config, registry: None, cache }
     }
 
     /// The feeds of each workingstep of `revision`, with their roles; empty where it cannot be read.
-    fn feeds(&mut self, store: &Store, revision: i64) -> Result<&FeedsByStep> {
-        if !self.feeds.contains_key(&revision) {
-            if self.registry.is_none() {
-                self.registry = Some(crate::config::dialect_registry(self.config.dialects_dir.as_deref())?);
-            }
-            let reader = crate::daemon::ingest::Reader { config: self.config, registry: self.registry.as_ref().expect("just read") };
-            self.feeds.insert(revision, feeds_of(store, &reader, revision));
+    fn feeds(&mut self, store: &Store, revision: i64) -> Result<std::sync::Arc<FeedsByStep>> {
+        if let Some(f) = self.cache.feeds.lock().ok().and_then(|m| m.get(&revision).cloned()) {
+            return Ok(f);
         }
-        Ok(&self.feeds[&revision])
+        if self.registry.is_none() {
+            self.registry = Some(crate::config::dialect_registry(self.config.dialects_dir.as_deref())?);
+        }
+        let reader = crate::daemon::ingest::Reader { config: self.config, registry: self.registry.as_ref().expect("just read") };
+        let f = std::sync::Arc::new(feeds_of(store, &reader, revision));
+        if let Ok(mut m) = self.cache.feeds.lock() {
+            m.insert(revision, f.clone());
+        }
+        Ok(f)
     }
 
     /// The feed of `role` in workingstep `step` of `revision`: the first of that role.
@@ -260,15 +319,21 @@ fn row_values(r: &EditRow, o: &Original) -> std::result::Result<Vec<(Parameter, 
 /// Who made the edit of revision `revision`, where the share tells it: an operator comment in
 /// the edited program's header that its original does not carry (`(OPERATOR: ANNA)`), else
 /// `[[suggest.operator]]` by the edited file's folder.
-fn operator(store: &Store, revision: i64, o: &Original, cfg: &SuggestSettings) -> Result<Option<String>> {
+fn operator(cache: &Cache, store: &Store, revision: i64, o: &Original, cfg: &SuggestSettings) -> Result<Option<String>> {
+    let Some((path, head)) = cache.edited(store, revision)? else { return Ok(None) };
+    let comment = head.filter(|c| o.operator.as_ref() != Some(c));
+    Ok(comment.or_else(|| cfg.operators.iter().find(|(f, _)| Path::new(&path).starts_with(f)).map(|m| m.1.clone())))
+}
+
+/// An edited revision's path and the operator comment of its header.
+fn edited_head(store: &Store, revision: i64) -> Result<Option<EditedHead>> {
     let Some(src) = store.source(revision)? else { return Ok(None) };
     let bytes = match src.bytes {
         Some(b) => b,
         None => store.content(revision)?.unwrap_or_default(),
     };
     let head = String::from_utf8_lossy(&bytes[..bytes.len().min(8192)]).into_owned();
-    let comment = header_operator(&head, 40).filter(|c| o.operator.as_ref() != Some(c));
-    Ok(comment.or_else(|| cfg.operators.iter().find(|(f, _)| Path::new(&src.path).starts_with(f)).map(|m| m.1.clone())))
+    Ok(Some((src.path, header_operator(&head, 40))))
 }
 
 /// The edits of `rows` in the rules' terms.
@@ -283,7 +348,7 @@ fn edits(store: &Store, rows: &[EditRow], reread: &mut Reread<'_>, lib: Option<&
         }
         let o = match originals.entry(r.original_revision_id) {
             std::collections::btree_map::Entry::Occupied(o) => o.into_mut(),
-            std::collections::btree_map::Entry::Vacant(v) => v.insert(original(store, r.original_revision_id)?),
+            std::collections::btree_map::Entry::Vacant(v) => v.insert(reread.cache.original(store, r.original_revision_id)?),
         };
         // A feed change of a workingstep of several feeds: which is which, from its moves.
         if o.roles.is_none() && r.kind == "feed_changed" && feed_list(&r.before).len() > 1 {
@@ -302,7 +367,7 @@ fn edits(store: &Store, rows: &[EditRow], reread: &mut Reread<'_>, lib: Option<&
         }
         let who = match operators.entry(r.revision_id) {
             std::collections::btree_map::Entry::Occupied(w) => w.get().clone(),
-            std::collections::btree_map::Entry::Vacant(v) => v.insert(operator(store, r.revision_id, o, cfg)?).clone(),
+            std::collections::btree_map::Entry::Vacant(v) => v.insert(operator(reread.cache, store, r.revision_id, o, cfg)?).clone(),
         };
         let number = r.tool.unwrap_or(0).max(0) as u32;
         let mut tool = o.tools.get(&number).cloned().unwrap_or(ToolKey { number, ..ToolKey::default() });
@@ -371,12 +436,36 @@ fn cam_value(store: &Store, reread: &mut Reread<'_>, c: &crate::store::CamRow, p
     reread.feed(store, c.revision, c.workingstep.max(0) as u32, role)
 }
 
+/// The CAM posts after `since` of the programs behind `s` with its tool (the others cannot
+/// carry its value), each with its value of `s`'s parameter.
+fn cam_posts(store: &Store, reread: &mut Reread<'_>, s: &Suggestion, since: &str) -> Result<Vec<CamStep>> {
+    let behind = |c: &&crate::store::CamRow| c.tool.max(0) as u32 == s.key.tool.number && s.edits.iter().any(|e| e.original == c.path);
+    let mut cam: Vec<CamStep> = Vec::new();
+    for c in store.cam_steps_since(since)?.iter().filter(behind) {
+        cam.push(CamStep {
+            original: c.path.clone(),
+            revision: c.revision,
+            at: c.seen_at.clone(),
+            workingstep: c.workingstep.max(0) as u32,
+            tool: c.tool.max(0) as u32,
+            value: cam_value(store, reread, c, s.key.parameter)?,
+        });
+    }
+    Ok(cam)
+}
+
 /// Everything the knowledge pages and the exports show, as of `now`.
 pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
+    load_with(store, config, now, &Cache::default())
+}
+
+/// [`load`], with what `cache` holds of the stored revisions from earlier loads (and adding
+/// what this one reads).
+pub fn load_with(store: &Store, config: &Config, now: &str, cache: &Cache) -> Result<Knowledge> {
     let cfg = &config.suggest;
     let lib = read_library(cfg)?;
     let rows = store.suggestion_edits()?;
-    let mut reread = Reread::new(config);
+    let mut reread = Reread::new(config, cache);
     let Edits { accepted, all, unread } = edits(store, &rows, &mut reread, lib.as_ref())?;
     let mut steps: BTreeMap<String, Vec<Event>> = BTreeMap::new();
     for s in store.suggestion_steps()? {
@@ -386,28 +475,15 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
     }
     let verdicts = suggest(&accepted, &cfg.rules);
     let mut entries = Vec::new();
-    for s in verdicts {
+    for mut s in verdicts {
         let events = steps.remove(&s.id).unwrap_or_default();
         let mut state = review::current(&events, s.edits.len(), now, &cfg.rules);
         let exported = events.iter().rev().find(|e| e.state == State::Exported).map(|e| e.at.clone());
+        let group = || -> Vec<Edit> { all.iter().filter(|e| e.key() == s.key).cloned().collect() };
         let watch = match (state, exported) {
             (State::Exported | State::Adopted, Some(since)) => {
-                let group: Vec<Edit> = all.iter().filter(|e| e.key() == s.key).cloned().collect();
-                // The posts of the programs behind it with its tool: the others cannot adopt it.
-                let behind =
-                    |c: &&crate::store::CamRow| c.tool.max(0) as u32 == s.key.tool.number && s.edits.iter().any(|e| e.original == c.path);
-                let mut cam: Vec<CamStep> = Vec::new();
-                for c in store.cam_steps_since(&since)?.iter().filter(behind) {
-                    cam.push(CamStep {
-                        original: c.path.clone(),
-                        revision: c.revision,
-                        at: c.seen_at.clone(),
-                        workingstep: c.workingstep.max(0) as u32,
-                        tool: c.tool.max(0) as u32,
-                        value: cam_value(store, &mut reread, c, s.key.parameter)?,
-                    });
-                }
-                Some(review::watch(&s, &since, &group, &cam, &cfg.rules))
+                let cam = cam_posts(store, &mut reread, &s, &since)?;
+                Some(review::watch(&s, &since, &group(), &cam, &cfg.rules))
             }
             _ => None,
         };
@@ -416,17 +492,29 @@ pub fn load(store: &Store, config: &Config, now: &str) -> Result<Knowledge> {
         {
             state = to;
         }
+        // A group the CAM took up on its own after its last edit is no suggestion.
+        if watch.is_none()
+            && s.passed()
+            && !matches!(state, State::Reopened)
+            && let Some(last) = group().iter().map(|e| e.at.clone()).max()
+        {
+            let cam = cam_posts(store, &mut reread, &s, &last)?;
+            if let Some((revision, at)) = review::carried(&s, &group(), &cam, &cfg.rules) {
+                s.held.push(crate::suggest::Held::CamCarries { revision, at });
+            }
+        }
         entries.push(Entry { s, state, events, watch });
     }
     entries.sort_by(|a, b| b.s.passed().cmp(&a.s.passed()).then(a.s.key.text().cmp(&b.s.key.text())));
     Ok(Knowledge { entries, library: lib, unread, now: now.to_owned() })
 }
 
-/// A step for `e`, to record.
-fn step(e: &Entry, state: State, reason: &str, by: &str, at: &str) -> SuggestionStep {
+/// A step for `e`, to record `after` steps (the number of the last step read, `e`'s or one
+/// recorded since): the store records it only where no other writer recorded that step first.
+fn step(e: &Entry, after: i64, state: State, reason: &str, by: &str, at: &str) -> SuggestionStep {
     SuggestionStep {
         suggestion: e.s.id.clone(),
-        step: 0,
+        step: after + 1,
         group_key: e.s.key.text(),
         state: state.name().into(),
         reason: reason.into(),
@@ -445,15 +533,28 @@ pub fn record(store: &Store, k: &Knowledge, at: &str) -> Result<usize> {
 }
 
 /// Records only what the watch found: an exported (or adopted) suggestion adopted or reopened.
+/// Each step follows the last step `k` read: where another writer (a second daemon on the same
+/// database) recorded a step since, this one is not recorded and not counted.
 fn record_some(store: &Store, k: &Knowledge, at: &str, watch_only: bool) -> Result<usize> {
     let mut n = 0;
     for e in &k.entries {
-        if let Some((state, reason)) = pending(e, watch_only) {
-            store.add_suggestion_step(&step(e, state, &reason, "ncplan", at))?;
+        if let Some((state, reason)) = pending(e, watch_only)
+            && store.add_suggestion_step(&step(e, last_step(e), state, &reason, "ncplan", at))?.is_some()
+        {
             n += 1;
         }
     }
     Ok(n)
+}
+
+/// The number of `e`'s last recorded step (0 for none).
+fn last_step(e: &Entry) -> i64 {
+    e.events.last().map_or(0, |x| x.step)
+}
+
+/// What a planner is told when another writer recorded a step of `id` after the page was read.
+fn moved_meanwhile(id: &str) -> anyhow::Error {
+    anyhow::anyhow!("suggestion {id} changed meanwhile (another review or the watch recorded a step): read it again")
 }
 
 /// The step the rules or the watch ask for `e` and its reason, not recorded yet: the watch's
@@ -506,18 +607,21 @@ pub fn review(store: &Store, k: &Knowledge, id: &str, to: State, reason: &str, b
         None if e.events.is_empty() => Some((State::Proposed, "the rules' gates passed".to_owned())),
         None => None,
     };
+    let mut after = last_step(e);
     if let Some((state, why)) = first {
-        store.add_suggestion_step(&step(e, state, &why, "ncplan", at))?;
+        after = store.add_suggestion_step(&step(e, after, state, &why, "ncplan", at))?.ok_or_else(|| moved_meanwhile(id))?;
     }
-    store.add_suggestion_step(&step(e, to, reason.trim(), by, at))?;
+    store.add_suggestion_step(&step(e, after, to, reason.trim(), by, at))?.ok_or_else(|| moved_meanwhile(id))?;
     Ok(())
 }
 
-/// Marks the suggestions in `ids` exported (by `by`, at `at`).
+/// Marks the suggestions in `ids` exported (by `by`, at `at`); one whose state another
+/// writer changed since `k` was read (an export running twice at once, a rejection) is
+/// left as that writer left it.
 pub fn mark_exported(store: &Store, k: &Knowledge, ids: &[String], to: &Path, by: &str, at: &str) -> Result<()> {
     for id in ids {
         if let Some(e) = k.entry(id) {
-            store.add_suggestion_step(&step(e, State::Exported, &format!("written to {}", to.display()), by, at))?;
+            store.add_suggestion_step(&step(e, last_step(e), State::Exported, &format!("written to {}", to.display()), by, at))?;
         }
     }
     Ok(())

@@ -787,8 +787,12 @@ impl Store {
         on!(self, e => e.suggestion_steps())
     }
 
-    /// Records a review step (its `step` is the next of its suggestion's); returns that number.
-    pub fn add_suggestion_step(&self, s: &SuggestionStep) -> Result<i64> {
+    /// Records a review step as step `s.step` of its suggestion, the one after the last step
+    /// the caller read, unless that step is recorded already: two writers that read the same
+    /// state (two daemons on one database, two planners) record one step, not two (the key
+    /// `(suggestion, step)` decides, on both engines). Returns the step, or `None` when
+    /// another writer recorded that step first.
+    pub fn add_suggestion_step(&self, s: &SuggestionStep) -> Result<Option<i64>> {
         on!(self, e => e.add_suggestion_step(s))
     }
 }

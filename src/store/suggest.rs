@@ -181,15 +181,17 @@ impl Lite {
         rows.collect::<std::result::Result<_, _>>().map_err(sql("reading suggestion steps"))
     }
 
-    pub(super) fn add_suggestion_step(&self, s: &SuggestionStep) -> Result<i64> {
+    pub(super) fn add_suggestion_step(&self, s: &SuggestionStep) -> Result<Option<i64>> {
+        use rusqlite::OptionalExtension;
         self.conn
             .query_row(
                 "INSERT INTO suggestion_events(suggestion, step, group_key, state, reason, value, evidence, decided_by, decided_at)
-                 SELECT ?1, COALESCE(MAX(step), 0) + 1, ?2, ?3, ?4, ?5, ?6, ?7, ?8 FROM suggestion_events WHERE suggestion = ?1
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9) ON CONFLICT (suggestion, step) DO NOTHING
                  RETURNING step",
-                params![s.suggestion, s.group_key, s.state, s.reason, s.value, s.evidence, s.by, s.at],
+                params![s.suggestion, s.step, s.group_key, s.state, s.reason, s.value, s.evidence, s.by, s.at],
                 |r| r.get(0),
             )
+            .optional()
             .map_err(sql("recording a suggestion step"))
     }
 }

@@ -8,7 +8,9 @@
 //! day cannot make a suggestion, nearly all of them the same way (the exact sign test), an
 //! effect of at least 10 %, a robust centre (the median of the log ratios after dropping
 //! outliers by the median absolute deviation), no reversal among the latest edits, and a
-//! cautious estimate (the median shrunk toward no change, kept inside its interval).
+//! cautious estimate (the median shrunk toward no change, kept inside its interval). The shell
+//! adds one more gate from the CAM's posts (`review::carried`): a value the CAM took up on its
+//! own after the group's last edit is no suggestion.
 //!
 //! A `feed_changed` row lists every feed of a workingstep: [`feed_roles`] tells which is the
 //! cutting feed, a plunge's or a ramp's from the moves at each, and [`feed_edits`] makes one
@@ -602,6 +604,14 @@ pub enum Held {
         /// The change ids of the reversing edits.
         edits: Vec<i64>,
     },
+    /// The CAM posts the value already: a post after the group's last edit carries it, none
+    /// since carries the old value, and nobody edited since (`review::carried`).
+    CamCarries {
+        /// The first such CAM revision.
+        revision: i64,
+        /// When it was stored.
+        at: String,
+    },
 }
 
 impl Held {
@@ -615,6 +625,9 @@ impl Held {
             Held::Small { effect, relative: true } => format!("the effect is small: {} %", num((effect * 1000.0).round() / 10.0)),
             Held::Small { effect, relative: false } => format!("the effect is small: {} mm", num(*effect)),
             Held::Reversal { edits } => format!("reversed by the latest edits ({} of them)", edits.len()),
+            Held::CamCarries { revision, at } => {
+                format!("the CAM posts it already (revision {revision} of {}) and nobody edited it since", &at[..at.len().min(10)])
+            }
         }
     }
 }

@@ -170,6 +170,33 @@ pub fn watch(s: &Suggestion, since: &str, edits: &[Edit], cam: &[CamStep], rules
     }
 }
 
+/// Whether the CAM adopted a group's value on its own, without an export: the first CAM post
+/// (in `cam`) after the group's last edit (of `edits`, every edit of the group, accepted or
+/// not) of a program and workingstep behind `s`, with its tool, that carries the value the
+/// operators run (the suggested value, or the kept edits' median before shrinking: a CAM
+/// programmer takes the operators' figure, not ncplan's cautious one) within
+/// `adopt_tolerance`, where no post since still carries the old CAM value. A group the CAM
+/// posts already is no suggestion: it would ask for what the CAM does.
+pub fn carried(s: &Suggestion, edits: &[Edit], cam: &[CamStep], rules: &Rules) -> Option<(i64, String)> {
+    let last = edits.iter().map(|e| e.at.as_str()).max()?;
+    let behind = |c: &&CamStep| {
+        c.at.as_str() > last
+            && c.tool == s.key.tool.number
+            && s.edits.iter().any(|e| e.original == c.original && e.workingstep == c.workingstep)
+    };
+    let mut posts: Vec<&CamStep> = cam.iter().filter(behind).collect();
+    posts.sort_by(|a, b| a.at.cmp(&b.at).then(a.revision.cmp(&b.revision)));
+    let run = match s.key.parameter.scale() {
+        super::Scale::Ratio => s.cam_value * s.centre.exp(),
+        super::Scale::Offset => s.cam_value + s.centre,
+    };
+    let carries = |v: f64| close(v, s.suggested, rules.adopt_tolerance) || close(v, run, rules.adopt_tolerance);
+    if posts.iter().any(|c| c.value.is_some_and(|v| close(v, s.cam_value, rules.adopt_tolerance) && !carries(v))) {
+        return None;
+    }
+    posts.into_iter().find(|c| c.value.is_some_and(carries)).map(|c| (c.revision, c.at.clone()))
+}
+
 /// Whether `v` is within `tolerance` (relative) of `target`.
 fn close(v: f64, target: f64, tolerance: f64) -> bool {
     (v - target).abs() <= tolerance * target.abs().max(1e-9)

@@ -2,7 +2,7 @@
 
 use proptest::prelude::*;
 
-use super::review::{CamStep, Event, State, Watch, current, watch, watch_move};
+use super::review::{CamStep, Event, State, Watch, carried, current, watch, watch_move};
 use super::*;
 
 fn tool() -> ToolKey {
@@ -184,6 +184,35 @@ fn the_watch_adopts_a_post_that_carries_the_value_and_reopens_on_edits() {
     assert_eq!(watch_move(State::Adopted, &w), Some(State::Reopened));
 }
 
+#[test]
+fn a_value_the_cam_took_up_on_its_own_is_no_suggestion() {
+    let r = Rules::default();
+    let edits = planted();
+    let s = &suggest(&edits, &r)[0];
+    assert!(s.passed());
+    let post = |v: f64, at: &str, rev: i64| CamStep {
+        original: "/cam/P1.nc".into(),
+        revision: rev,
+        at: at.into(),
+        workingstep: 1,
+        tool: 5,
+        value: Some(v),
+    };
+    // After the last edit (day 49), the CAM posts the operators' 560: held.
+    let operators = s.cam_value * s.centre.exp();
+    assert_eq!(carried(s, &edits, &[post(operators, "2026-03-10T00:00:00Z", 901)], &r), Some((901, "2026-03-10T00:00:00Z".into())));
+    assert_eq!(carried(s, &edits, &[post(s.suggested, "2026-03-10T00:00:00Z", 902)], &r).map(|c| c.0), Some(902));
+    // Posted before the last edit, of another workingstep or tool, or the old value: not held.
+    assert_eq!(carried(s, &edits, &[post(operators, "2026-02-10T00:00:00Z", 903)], &r), None);
+    assert_eq!(carried(s, &edits, &[CamStep { workingstep: 2, ..post(operators, "2026-03-10T00:00:00Z", 904) }], &r), None);
+    assert_eq!(carried(s, &edits, &[CamStep { tool: 6, ..post(operators, "2026-03-10T00:00:00Z", 905) }], &r), None);
+    assert_eq!(carried(s, &edits, &[post(800.0, "2026-03-10T00:00:00Z", 906)], &r), None);
+    // A program posted with the new value and another still with the old one: the CAM has
+    // not taken it up.
+    let other = CamStep { original: "/cam/P2.nc".into(), ..post(800.0, "2026-03-11T00:00:00Z", 907) };
+    assert_eq!(carried(s, &edits, &[post(operators, "2026-03-10T00:00:00Z", 901), other], &r), None);
+}
+
 /// Edits of the feed with effects `fx` (fractions), on days `days`, in programs `ps`.
 fn generated(fx: &[f64], days: &[i64], ps: &[u32]) -> Vec<Edit> {
     fx.iter().zip(days).zip(ps).enumerate().map(|(i, ((f, d), p))| edit(i as i64, *d, *p, 800.0, 800.0 * (1.0 + f))).collect()
@@ -215,6 +244,48 @@ proptest! {
                 prop_assert!((s.centre.exp() - 1.0).abs() >= 0.1);
             }
         }
+    }
+
+    #[test]
+    fn a_small_effect_never_makes_a_suggestion(
+        fx in prop::collection::vec(-0.09f64..0.09, 1..30),
+        days in prop::collection::vec(0i64..300, 30),
+        ps in prop::collection::vec(0u32..6, 30),
+    ) {
+        // Every edit within 9 %: the median effect is under the 10 % gate.
+        prop_assert!(suggest(&generated(&fx, &days, &ps), &Rules::default()).iter().all(|s| !s.passed()));
+    }
+
+    #[test]
+    fn the_latest_edits_going_back_always_hold(
+        k in 6usize..25,
+        f in 0.15f64..0.6,
+        back in 0.05f64..0.6,
+        up in any::<bool>(),
+    ) {
+        // `k` edits one way over months, then the rules' window of edits the other way.
+        let sign = if up { 1.0 } else { -1.0 };
+        let w = Rules::default().reversal_window;
+        let mut fx = vec![sign * f; k];
+        fx.extend(vec![-sign * back; w]);
+        let days: Vec<i64> = (0..(k + w) as i64).map(|i| i * 7).collect();
+        let ps: Vec<u32> = (0..(k + w) as u32).map(|i| i % 4).collect();
+        let s = suggest(&generated(&fx, &days, &ps), &Rules::default());
+        prop_assert!(s.iter().all(|s| !s.passed() && s.held.iter().any(|h| matches!(h, Held::Reversal { .. }))), "{:?}", s);
+    }
+
+    #[test]
+    fn a_later_post_of_the_old_value_never_holds_as_taken_up(
+        f in 0.15f64..0.5,
+        rev in 1i64..1000,
+    ) {
+        let r = Rules::default();
+        let edits = generated(&[-f; 8], &(0..8).map(|i| i * 7).collect::<Vec<_>>(), &(0..8).map(|i| i % 4).collect::<Vec<_>>());
+        let s = &suggest(&edits, &r)[0];
+        let post = |v: f64, day: u32, rev: i64| CamStep { original: "/cam/P1.nc".into(), revision: rev, at: format!("2026-06-{day:02}T00:00:00Z"), workingstep: 1, tool: 5, value: Some(v) };
+        let new = s.cam_value * s.centre.exp();
+        prop_assert!(carried(s, &edits, &[post(new, 1, rev)], &r).is_some());
+        prop_assert!(carried(s, &edits, &[post(new, 1, rev), post(800.0, 2, rev + 1)], &r).is_none());
     }
 
     #[test]

@@ -140,6 +140,9 @@ pub(crate) struct Server {
     dummy: std::sync::OnceLock<String>,
     /// Console queries running at once.
     console: Arc<tokio::sync::Semaphore>,
+    /// What the suggestions page read of stored revisions (they never change), so that a
+    /// load reads only the revisions stored since the last.
+    suggest_cache: crate::export::Cache,
 }
 
 /// Password checks at once: argon2's default takes 19 MiB and a core each.
@@ -167,6 +170,7 @@ impl Server {
             checkers: auth::Checkers::new(HASHING_AT_ONCE),
             dummy: std::sync::OnceLock::new(),
             console: Arc::new(tokio::sync::Semaphore::new(CONSOLE_AT_ONCE)),
+            suggest_cache: crate::export::Cache::default(),
             config,
         })
     }
@@ -483,7 +487,7 @@ async fn review(
 /// The suggestions for CAM with their evidence and review forms.
 async fn suggestions(State(s): State<Arc<Server>>, headers: HeaderMap) -> Response {
     page(s, headers, |s, ctx, store| {
-        let k = crate::export::load(store, &s.config, &s.clock.now())?;
+        let k = crate::export::load_with(store, &s.config, &s.clock.now(), &s.suggest_cache)?;
         Ok(suggest::page(&k, ctx))
     })
     .await
@@ -514,7 +518,7 @@ async fn suggestion_review(
     let result = tokio::task::spawn_blocking(move || -> Result<()> {
         let store = s2.writer()?;
         let at = s2.clock.now();
-        let k = crate::export::load(&store, &s2.config, &at)?;
+        let k = crate::export::load_with(&store, &s2.config, &at, &s2.suggest_cache)?;
         crate::export::review(&store, &k, &id2, to, &reason, &by, &at)
     })
     .await;

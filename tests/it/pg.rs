@@ -1199,7 +1199,7 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
     // A suggestion's review step (knowledge back to CAM).
     let step = ncplan::store::SuggestionStep {
         suggestion: "0123456789ab".into(),
-        step: 0,
+        step: 1,
         group_key: "T1|||||unknown|DMU50|finishing|cutting_feed".into(),
         state: "proposed".into(),
         reason: "the rules' gates passed".into(),
@@ -1208,7 +1208,7 @@ fn migrate_round_trips_every_table_from_sqlite_to_postgres_and_back() {
         by: "ncplan".into(),
         at: "2026-02-07T00:00:00.000Z".into(),
     };
-    assert_eq!(store.add_suggestion_step(&step).unwrap(), 1);
+    assert_eq!(store.add_suggestion_step(&step).unwrap(), Some(1));
     drop(store);
     let before = every_row(&db);
     let empty: Vec<&str> = before.iter().filter(|(_, rows)| rows.is_empty()).map(|(t, _)| t.as_str()).collect();

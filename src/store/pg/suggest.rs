@@ -74,14 +74,14 @@ impl Pg {
             .collect())
     }
 
-    pub(in crate::store) fn add_suggestion_step(&self, s: &SuggestionStep) -> Result<i64> {
-        let row = self.conn.one(
+    pub(in crate::store) fn add_suggestion_step(&self, s: &SuggestionStep) -> Result<Option<i64>> {
+        let row = self.conn.opt(
             "recording a suggestion step",
             "INSERT INTO suggestion_events(suggestion, step, group_key, state, reason, value, evidence, decided_by, decided_at)
-             SELECT $1, COALESCE(MAX(step), 0) + 1, $2, $3, $4, $5, $6, $7, $8 FROM suggestion_events WHERE suggestion = $1
+             VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9) ON CONFLICT (suggestion, step) DO NOTHING
              RETURNING step",
-            &[&s.suggestion, &s.group_key, &s.state, &s.reason, &s.value, &s.evidence, &s.by, &s.at],
+            &[&s.suggestion, &s.step, &s.group_key, &s.state, &s.reason, &s.value, &s.evidence, &s.by, &s.at],
         )?;
-        Ok(row.get(0))
+        Ok(row.map(|r| r.get(0)))
     }
 }
