@@ -711,6 +711,10 @@ pub struct CodeDef {
     /// Whether another code of its group in the same block replaces it instead of being an
     /// error (LinuxCNC's `G80 G0`).
     pub gives_way: bool,
+    /// For a lathe's drilling cycle with a driven tool, the linear axis it feeds along (0 X:
+    /// into the cylinder, placed by Z and C; 2 Z: into the face, placed by X and C); `None`
+    /// for a cycle that feeds along its plane's normal.
+    pub hole_axis: Option<u8>,
     /// The roles the code gives its words' values (`I:pattern-radius`: Haas G70's I is the
     /// radius of its bolt circle, whatever I means elsewhere).
     pub args: Vec<(Role, Role)>,

@@ -41,6 +41,9 @@ impl Interpreter<'_> {
     /// cycle blocks after it, then its holes, as many as L (or K) says, at the block's point.
     pub(super) fn cycle(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let Some(kind) = self.hole_kind(def, range, diags) else { return };
+        if let Some(axis) = def.hole_axis {
+            return self.live_cycle(def, kind, axis as usize, block, sink, diags);
+        }
         // The hole axis is the plane's normal: Z in G17, Y in G18, X in G19.
         let (a0, a1, n) = self.st.plane.axes();
         if n != 2 && matches!(kind, CycleKind::Tapping | CycleKind::LeftTapping) {

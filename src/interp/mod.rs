@@ -159,6 +159,7 @@ mod fast;
 mod flow;
 mod g7x;
 mod lathe;
+mod live;
 mod motion;
 mod named_turn;
 mod read;

@@ -847,13 +847,10 @@ impl<'p> Recovery<'p> {
                 self.first_units.get_or_insert(*u);
                 self.k = u.to_mm();
             }
-            CanonOp::SelectPlane(p) => {
-                // On a lathe, turning (ZX) and milling on the face (XY) are workingsteps apart.
-                if self.lathe && (*p == Plane::Xy) != (self.plane == Plane::Xy) {
-                    self.close_keeping_approach();
-                }
-                self.plane = *p;
-            }
+            // On a lathe, turning (ZX) and milling on the face (XY) are workingsteps apart: the
+            // next cut decides (`cut`), so that a driven tool's holes, each a block that turns
+            // to the face and back, stay one workingstep.
+            CanonOp::SelectPlane(p) => self.plane = *p,
             CanonOp::SetFeedRate(f) => self.feed = round_sig(self.mm(*f)),
             CanonOp::SetFeedMode(m) => self.per_rev = *m == FeedMode::PerRevolution,
             // Synchronised moves or a constant cutting speed in the ZX plane: a lathe's.
@@ -1218,6 +1215,7 @@ impl<'p> Recovery<'p> {
                     || b.state.work_offset != self.wcs
                     || b.setup != self.setup
                     || (self.lathe && b.turn_seq != self.turn_seq)
+                    || (self.lathe && b.milling != (self.plane == Plane::Xy))
             }
         };
         if restart {

@@ -101,7 +101,7 @@ impl Setup {
     }
 
     /// The plane as spatial angles, degrees: about X (A), then Y (B), then Z (C), each about
-    /// the part's fixed axes, each in (-180, 180]; B in [-90, 90].
+    /// the part's fixed axes, each in (-180, 180]; B in [-90, 90], and A 0 where B is ±90°.
     pub fn angles(&self) -> [f64; 3] {
         let (x, y, z) = (self.ref_direction, self.y(), self.axis);
         // Rows of R = [x y z] (columns): r[i][j].
@@ -109,10 +109,10 @@ impl Setup {
         let b = (-r(2, 0)).clamp(-1.0, 1.0).asin();
         let (a, c) = if b.cos().abs() > 1e-9 {
             (r(2, 1).atan2(r(2, 2)), r(1, 0).atan2(r(0, 0)))
-        } else if b > 0.0 {
-            (r(0, 1).atan2(r(1, 1)), 0.0)
         } else {
-            ((-r(0, 1)).atan2(r(1, 1)), 0.0)
+            // Square to Z (B ±90°) only C - A or C + A shows: told as C, the turn about the
+            // spindle or table axis (a mill-turn's B head at 90°, its C at the hole).
+            (0.0, (-r(0, 1)).atan2(r(1, 1)))
         };
         [a, b, c].map(|v| {
             let d = clean((v.to_degrees() * 1e6).round() / 1e6);
@@ -141,7 +141,15 @@ mod tests {
 
     #[test]
     fn spatial_angles_come_back() {
-        for (a, b, c) in [(30.0, 0.0, 0.0), (0.0, -45.0, 0.0), (-90.0, 0.0, 75.0), (20.0, 35.0, -70.0), (0.0, 90.0, 0.0)] {
+        for (a, b, c) in [
+            (30.0, 0.0, 0.0),
+            (0.0, -45.0, 0.0),
+            (-90.0, 0.0, 75.0),
+            (20.0, 35.0, -70.0),
+            (0.0, 90.0, 0.0),
+            (0.0, 90.0, 180.0),
+            (0.0, -90.0, 30.0),
+        ] {
             let got = spatial(a, b, c).angles();
             assert!((got[0] - a).abs() < 1e-6 && (got[1] - b).abs() < 1e-6 && (got[2] - c).abs() < 1e-6, "{a} {b} {c}: {got:?}");
         }

@@ -142,10 +142,25 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// Tool centre point control on or off, by the target's `tcp-on` and `tcp-off`. A target
     /// without them writes the moves without it: where the tool axis then tilts, the marker
     /// says it is unwritable; along Z, the tool tip's moves are the same.
+    ///
+    /// A target whose code for it carries the length offset (Fanuc `G43.4 H1`, ended by
+    /// `G43 H1`) says the offset in force with it, instead of a length offset still waiting for
+    /// the next move; where the length offset was cancelled already (`G49`), that ended it.
     pub(super) fn tool_centre_point(&mut self, on: bool) {
         let ev = if on { "tcp-on" } else { "tcp-off" };
-        if self.out.template(ev).is_some() && (on || self.tcp) && self.event(ev, &mut Vals::new()) {
-            self.tcp = on;
+        let mut vals = Vals::new();
+        let takes_h = self.out.template(ev).is_some_and(|(t, _)| t.uses(Value::H));
+        if takes_h {
+            vals.set(Value::H, f64::from(self.length));
+        }
+        let said = takes_h && !on && self.length == 0;
+        if self.out.template(ev).is_some() && (on || self.tcp) && !said {
+            if takes_h {
+                self.mods.retain(|(g, _)| g != "length");
+            }
+            if self.event(ev, &mut vals) {
+                self.tcp = on;
+            }
         }
         if !on {
             self.tcp = false;

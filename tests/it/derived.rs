@@ -1017,8 +1017,10 @@ fn tool_offsets_along_x_y_and_z_move_the_program_position_as_rs274_does() {
 
 /// Live-tool drilling on C-axis lathes, as posts write it: Fanuc's face and side cycles
 /// (G83-G85, G87-G89; Mitsubishi and Mazak lathes alike) and Haas's axial G81-G89 and radial
-/// G241-G249 with M133 P (the live tool's rpm). They are read, kept as intent with one
-/// warning each, and raise no error; a following block with only C moves to the next hole.
+/// G241-G249 with M133 P (the live tool's rpm). They are read and raise no error. Fanuc's run
+/// their holes (a following block with only C drills the next one): a face hole at its radius
+/// and angle in the face's XY plane, a side hole on the plane turned to its radial direction
+/// (`interp::live`); Haas's are kept as intent, a block with only C moving to the next hole.
 #[test]
 fn live_tool_drilling_cycles_on_lathes_are_read() {
     let fanuc = "O1000\nG18 G21 G99\nT0505\nM45\nG98\nG0 X50. Z5. C0.\nM63 S1500\n\
@@ -1031,10 +1033,31 @@ fn live_tool_drilling_cycles_on_lathes_are_read() {
         let diags = interpret(program, &d, &Profile::default(), &mut out);
         let errors: Vec<_> = diags.iter().filter(|d| d.is_error()).map(|d| d.message.clone()).collect();
         assert!(errors.is_empty(), "{dialect}: {errors:?}");
-        assert!(diags.iter().any(|d| d.message.contains("G83 (face drilling cycle) is kept as intent")), "{dialect}: {diags:?}");
-        let mut text = String::new();
-        out.iter().filter(|c| matches!(c.op, CanonOp::StraightTraverse(_))).for_each(|c| write_call(&mut text, &c.op));
-        assert!(text.contains(", 90.0000)\n") && text.contains(", 180.0000)\n"), "{dialect}: {text}");
+        assert!(!diags.iter().any(|d| d.message.contains("kept as intent")), "{dialect}: {diags:?}");
+        // (x, y, bottom, R) of each hole, and the tool axis of each tilted plane.
+        let holes: Vec<[f64; 4]> = out
+            .iter()
+            .filter_map(|c| match &c.op {
+                CanonOp::CycleBegin(i) => Some([i.x, i.y, i.bottom, i.r_plane].map(|v| (v * 1e6).round() / 1e6 + 0.0)),
+                _ => None,
+            })
+            .collect();
+        // X50 is Ø50: the face holes at radius 25 and C0, C90, C180, from Z0 (R-5 below the
+        // initial Z5) to Z-40; the side hole at C180 and Z-10 from radius 25 (R-5 in from X60)
+        // to radius 10, on the plane whose X runs along -Z.
+        assert_eq!(
+            holes,
+            [[25.0, 0.0, -40.0, 0.0], [0.0, 25.0, -40.0, 0.0], [-25.0, 0.0, -40.0, 0.0], [10.0, 0.0, 10.0, 25.0]],
+            "{dialect}"
+        );
+        let axes: Vec<[f64; 3]> = out
+            .iter()
+            .filter_map(|c| match &c.op {
+                CanonOp::WorkPlane(Some(f)) => Some([0, 1, 2].map(|i| (f.rotation[i][2] * 1e6).round() / 1e6 + 0.0)),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(axes, [[-1.0, 0.0, 0.0]], "{dialect}");
     }
     let haas = "%\nO01000 (FLANGE)\n(T5 D=6. - DRILL)\nG18 G21 G99\nG28 U0.\nT505\nM154\nG98\nM133 P1500\nG0 X60. Z5. C0.\n\
                 G83 Z-12. R2. Q3. F120.\nC120.\nC240.\nG80\nG0 X60. Z-8.\nG241 X20. R54. C60. F100.\nG80\nM135\nM155\nG28 U0. W0.\nM30\n%\n";

@@ -304,9 +304,9 @@ fn cycle800_solid_angle() {
         "64,0,60,0,90,90,0",
         "64,0,60,0,90,80,0",
         expect_test::expect![[r#"
-        work_plane_changed | work_plane | tilted A-90° B90° C0° | tilted A0° B80° C90° | 12 | 12
-          work plane tilted A-90° B90° C0° → tilted A0° B80° C90°; 2 holes moved at line 12
-    "#]],
+            work_plane_changed | work_plane | tilted A0° B90° C90° | tilted A0° B80° C90° | 12 | 12
+              work plane tilted A0° B90° C90° → tilted A0° B80° C90°; 2 holes moved at line 12
+        "#]],
     );
 }
 
@@ -520,5 +520,32 @@ fn real_programs_lie_on_their_faces() {
         "held-back part: {} of {} met, fewer than the {HELD_SCORE} first scored",
         held.0 - held.1.len(),
         held.0
+    );
+}
+
+/// A driven tool's face hole moved to another C angle is that hole, at its radius, removed and
+/// added at its new angle on the face (as the diff tells a hole moved in XY); a side hole's C
+/// angle turns the plane it is drilled on (`interp::live`): B90° at C0 → C10, nothing else.
+#[test]
+fn live_tool_hole_angles() {
+    edit(
+        "fanuc_lathe_live_drilling",
+        "C90.\n",
+        "C100.\n",
+        expect_test::expect![[r#"
+        hole_removed | hole | X0 Y20 |  | 17 | 17
+          hole at X0 Y20 removed at line 17
+        hole_added | hole |  | X-3.473 Y19.6962 | 17 | 17
+          hole added at X-3.473 Y19.6962 at line 17
+    "#]],
+    );
+    edit(
+        "fanuc_lathe_live_drilling",
+        "G87 Z-15. C0.",
+        "G87 Z-15. C10.",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 90° about B | tilted A0° B90° C10° | 26 | 26
+              work plane tilted 90° about B → tilted A0° B90° C10°; 1 hole moved at line 26
+        "#]],
     );
 }

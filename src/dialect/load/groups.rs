@@ -22,6 +22,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "exclusive",
     "forms",
     "gives-way",
+    "hole-axis",
     "args",
     "line-words",
 ];
@@ -113,10 +114,15 @@ impl Cx {
         };
         let forms = self.forms(c);
         let gives_way = self.bool(c, "gives-way", false);
+        let hole_axis = match self.attr(c, "hole-axis") {
+            Some("x") => Some(0),
+            Some("z") => Some(2),
+            _ => None,
+        };
         let args = self.code_args(c, addresses, &params);
         let named = keyword.is_none() && self.attr(c, "rest") == Some("words");
         let line_words = self.line_words(c);
-        Some(CodeDef { letter, number, meaning, index, name, group, params, keyword, forms, gives_way, args, named, line_words })
+        Some(CodeDef { letter, number, meaning, index, name, group, params, keyword, forms, gives_way, hole_axis, args, named, line_words })
     }
 
     /// A code's parameters: `required`, `optional`, `any-of="X Y|R"` (at least one of each

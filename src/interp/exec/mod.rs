@@ -116,7 +116,15 @@ impl Interpreter<'_> {
             Meaning::CompLeft | Meaning::CompRight | Meaning::CompLeftDiameter | Meaning::CompRightDiameter => {
                 self.comp_on(def, range, sink, diags)
             }
-            Meaning::LengthCompPlus | Meaning::LengthCompMinus | Meaning::LengthCompDynamic => self.length_comp(def, sink),
+            Meaning::LengthCompPlus | Meaning::LengthCompMinus | Meaning::LengthCompDynamic => {
+                self.length_comp(def, sink);
+                // A length offset of the tool centre point code's own modal group replaces it
+                // (Fanuc group 08: `G43 H1` after `G43.4 H1` ends tool centre point control).
+                let group = self.dialect.codes.iter().any(|c| c.group == def.group && c.meaning == Meaning::LengthCompTcp);
+                if group && self.st.tcp {
+                    self.tcp(false, sink, diags);
+                }
+            }
             Meaning::LengthCompCancel | Meaning::LengthCompTcp => {
                 self.length_comp(def, sink);
                 self.tcp(def.meaning == Meaning::LengthCompTcp, sink, diags);
