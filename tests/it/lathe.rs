@@ -505,6 +505,7 @@ fn translation_reads_the_machine_the_program_shows() {
     assert!(codes.contains(&"interp::units-inferred"), "{codes:?}");
     // Inch stated, or millimetres converted: the Ø4 in. retract is not 4 mm.
     assert!(out.contains("G20") || out.contains("X50.8"), "{out}");
+}
 
 /// The labels of a program's workingsteps and features, read in `dialect`.
 fn labels(program: &str, dialect: &str) -> (Vec<String>, Vec<String>) {
