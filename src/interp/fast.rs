@@ -1,6 +1,8 @@
 //! The fast lane: the block that makes up most of any CAM program, a straight move with
-//! literal X, Y and Z words, perhaps its G0 or G1 and an F (`X12.5 Y-3.2 Z-1.05`,
-//! `G1 X3 Y4 F600`).
+//! literal X, Y and Z words, perhaps its G0 or G1 (or a keyword's straight move, Heidenhain's
+//! `L`) and an F (`X12.5 Y-3.2 Z-1.05`, `G1 X3 Y4 F600`); and the move of a macro program's
+//! loop, whose words are expressions of ordinary numbers (`G1 X#<x> Y#<y>`, `G1 X=XP`,
+//! `L X+Q3 Y+Q4`), evaluated as `read` would evaluate them.
 //!
 //! Such a block needs none of the general machinery: no codes to sort into steps, no
 //! expressions, no parameter checks, no cycle or macro after it. The lane does exactly what
@@ -13,7 +15,7 @@
 //! `Profile::fast_lane` switches it off; the corpus test `fast_lane_changes_nothing` runs
 //! every program both ways and compares the canonical text and the findings.
 
-use super::Interpreter;
+use super::{Interpreter, eval};
 use crate::canon::{CanonOp, CanonSink, DistanceMode};
 use crate::diag::Diagnostic;
 use crate::dialect::{Meaning, Role, Step};
@@ -29,18 +31,52 @@ pub struct PlainRun {
 
 impl Interpreter<'_> {
     /// Executes `block` when it is a plain move; false, with nothing changed, when it is not.
+    /// A word's value may be an expression of ordinary numbers ([`eval::eval_fast`]: a loop's
+    /// `G1 X#<x> Y#<y>`, `G1 X=XP`, `L X+Q3`) where the block reads no system variable, so
+    /// that `read` would only have evaluated it; such a value counts as written without a
+    /// point (a control that scales those takes the general way, which leaves it unscaled).
     pub(super) fn fast_move(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) -> bool {
-        if !block.comments.is_empty() || !block.assigns.is_empty() || !block.exprs.is_empty() || block.control.is_some() {
+        if !block.comments.is_empty() || !block.assigns.is_empty() || block.control.is_some() {
             return false;
         }
         if !self.plain_state() {
             return false;
         }
-        let words = block.words.iter().map(|w| match w.value {
-            Value::Number { value, decimal } if w.mode == WordMode::Modal => Some((w.role, value, decimal)),
-            _ => None,
-        });
-        self.plain_move(words, block.range, self.staged(), sink, diags)
+        let exprs = !block.exprs.is_empty();
+        if exprs && !self.plain_expressions(block) {
+            return false;
+        }
+        let mut words = [None; 8];
+        if block.words.len() > words.len() {
+            return false;
+        }
+        for (slot, w) in words.iter_mut().zip(&block.words) {
+            *slot = match w.value {
+                Value::Number { value, decimal } if w.mode == WordMode::Modal => Some((w.role, value, decimal)),
+                Value::Expr(e) if w.mode == WordMode::Modal && !w.cycle_arg => {
+                    match eval::eval_fast(block, e, &self.params).filter(|v| v.is_finite()) {
+                        Some(v) => Some((w.role, v, false)),
+                        None => return false,
+                    }
+                }
+                _ => return false,
+            };
+        }
+        if exprs {
+            // As `eval` leaves it: no unknown value read.
+            self.params.take_unknown_read();
+        }
+        self.plain_move(words[..block.words.len()].iter().copied(), block.range, self.staged(), true, sink, diags)
+    }
+
+    /// Whether the expressions of `block` leave `read` nothing to do but evaluate them: the
+    /// block reads no system variable (its names resolved, [`eval::resolve`]), names no axis
+    /// by a variable, and no face plane maps its words.
+    fn plain_expressions(&self, block: &Block) -> bool {
+        let macros = &self.dialect.macros;
+        (block.reads_no_system || (macros.system.is_empty() && macros.system_named.is_empty()))
+            && block.axis_refs.is_empty()
+            && self.st.face_plane.is_none()
     }
 
     /// Whether lines of plain words may run by [`Interpreter::run_plain`] now, and what they
@@ -80,7 +116,7 @@ impl Interpreter<'_> {
         self.origin = line.range;
         self.line = line.line;
         let words = line.words().iter().map(|w| Some((w.role, w.value, w.decimal)));
-        if !self.plain_move(words, line.range, run.staged, sink, diags) {
+        if !self.plain_move(words, line.range, run.staged, false, sink, diags) {
             return false;
         }
         // What `execute` does after its block; without stages there is nothing to report.
@@ -97,13 +133,16 @@ impl Interpreter<'_> {
 
     /// The plain move of `words` (role, value, whether written with a point; `None` for a
     /// word that is no literal number) in the block at `range`, in a state that admits one
-    /// ([`Interpreter::plain_state`]); `staged` as [`Interpreter::staged`] says.
+    /// ([`Interpreter::plain_state`]); `staged` as [`Interpreter::staged`] says. `keywords`:
+    /// whether the words may hold a keyword code (a block's may, a plain line's may not: the
+    /// plain lane's loop is then without the case).
     #[inline(always)]
     fn plain_move(
         &mut self,
         words: impl Iterator<Item = Option<(Role, f64, bool)>>,
         range: TextRange,
         staged: bool,
+        keywords: bool,
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) -> bool {
@@ -123,6 +162,12 @@ impl Interpreter<'_> {
                 Role::Z => 2,
                 Role::G if code.is_none() => {
                     let Some(c) = self.plain_motion_code(value) else { return false };
+                    code = Some(c);
+                    continue;
+                }
+                // A keyword motion code (Heidenhain `L`): its value is the code's index.
+                Role::Keyword if keywords && code.is_none() => {
+                    let Some(c) = self.plain_keyword_code(value) else { return false };
                     code = Some(c);
                     continue;
                 }
@@ -196,12 +241,24 @@ impl Interpreter<'_> {
             return None;
         }
         let c = self.dialect.code_id('G', x10 as u32)?;
+        self.plain_code(c).then_some(c)
+    }
+
+    /// The straight motion code a keyword word names (its value is the code's index), when
+    /// its block needs nothing but the move, and the code gives no word another role.
+    fn plain_keyword_code(&self, value: f64) -> Option<usize> {
+        let c = value as usize;
+        (value >= 0.0 && c as f64 == value && c < self.dialect.codes.len() && self.code(c).args.is_empty() && self.plain_code(c))
+            .then_some(c)
+    }
+
+    /// Whether code `c` is a straight move (G0, G1, `L`) that requires no other word.
+    fn plain_code(&self, c: usize) -> bool {
         let def = self.code(c);
-        let plain = matches!(def.meaning, Meaning::Rapid | Meaning::Linear)
+        matches!(def.meaning, Meaning::Rapid | Meaning::Linear)
             && self.dialect.groups[def.group].step == Step::Motion
             && def.params.required.is_empty()
             && def.params.any_of.is_empty()
-            && def.params.exclusive.is_empty();
-        plain.then_some(c)
+            && def.params.exclusive.is_empty()
     }
 }

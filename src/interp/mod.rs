@@ -1722,6 +1722,11 @@ impl<'a> Interpreter<'a> {
     }
 
     fn assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
+        if let [a] = block.assigns.as_slice()
+            && self.assign_one_fast(block, a)
+        {
+            return;
+        }
         // All reads of a block happen before its assignments take effect.
         let mut pending = std::mem::take(&mut self.pending);
         pending.clear();
@@ -1816,6 +1821,40 @@ impl<'a> Interpreter<'a> {
             }
         }
         self.pending = pending;
+    }
+
+    /// A block's only assignment where its value and target are ordinary numbers
+    /// ([`eval::eval_fast`]) and it sets a named parameter by its slot or an ordinary numbered
+    /// one (no system variable, no `#0`, in the table), with no unknown value's origin to
+    /// forget: what [`Interpreter::assign`] does for it, without the list of pending
+    /// assignments. False, with nothing changed, otherwise.
+    #[inline]
+    fn assign_one_fast(&mut self, block: &Block, a: &crate::syntax::Assign) -> bool {
+        if self.params.derives(&None) {
+            return false;
+        }
+        let Some(value) = eval::eval_fast(block, a.value, &self.params) else { return false };
+        match a.target {
+            ParamTarget::Named(_) => {
+                let Some(slot) = eval::resolved_assign(block, 0) else { return false };
+                self.params.take_unknown_read();
+                self.params.set_slot(slot, value);
+            }
+            ParamTarget::Numbered(e) => {
+                let Some(n) = eval::eval_fast(block, e, &self.params) else { return false };
+                let whole = n >= 0.0 && n <= f64::from(u32::MAX) && f64::from(n as u32) == n;
+                if !whole || self.dialect.macros.system_var(n as u32).is_some() || (n == 0.0 && self.dialect.macros.null_value) {
+                    return false;
+                }
+                // Out of the table: the general way says so.
+                if self.params.set(n, value).is_err() {
+                    return false;
+                }
+                self.params.take_unknown_read();
+            }
+            ParamTarget::NamedIndex(..) => return false,
+        }
+        true
     }
 
     /// The text of the block's first comment, or an empty string.

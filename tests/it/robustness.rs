@@ -257,6 +257,42 @@ proptest! {
     }
 }
 
+/// A loop's moves whose words are expressions of ordinary numbers take the fast lane
+/// (`G1 X#<x>`, `G1 X=XP`, Heidenhain's `L X+Q3`, the bench's macro programs), and so do
+/// Heidenhain's literal `L` moves; with its look-alikes that must go the general way (a
+/// word per axis mode, a rapid, compensation, a vacant or unknown value, a system variable),
+/// both ways give the same calls and findings.
+#[test]
+fn moves_from_expressions_agree_with_the_general_way() {
+    let heidenhain = "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL X+0 Y+0 Z+5 R0 FMAX M3\nL Z+0 F300\nFN 0: Q1 = +0\nLBL 1\n\
+        L X+Q1 Y+Q1\nL IX+Q1 Y+2\nL X+Q1 FMAX\nL X+Q1 RL F200\nL X+Q1 R0\nL X+Q108 Y+Q1\nL X+Q77 Y+1\nL X+1 Y+Q1 Z-1\n\
+        FN 1: Q1 = +Q1 + +1\nFN 12: IF +Q1 LT +4 GOTO LBL 1\nL Z+5 R0 FMAX\nEND PGM T MM\n";
+    let siemens = "DEF REAL XP\nG17 G90 G71\nT1 D1\nM6\nF500\nG0 X0 Y0 Z5\nR1=0\nXP=0\nP1:\nG1 X=XP Y=R1 Z=-1\n\
+        G1 X=IC(XP) Y=2\nG0 X=XP\nG1 X=XP+$AA_IM[X] Y=1\nG1 X=R9 Y=R1\nXP=XP+0.5\nR1=R1+1\nIF R1<4 GOTOB P1\nM30\n";
+    let linuxcnc = "G21 G90 G17\nF600\n#<i> = 0\no1 while [#<i> LT 4]\nG1 X#<i> Y[#<i> * 2] Z[-1 - #<i>]\n\
+        G1 X#<_x> Y1\nG0 X[#<i> + 0.5]\nG1 X#1 Y#<i>\nX[#<i>/3] F[100 + #<i>]\n#<i> = [#<i> + 1]\no1 endwhile\nM2\n";
+    let programs = [
+        ("heidenhain", heidenhain.to_owned()),
+        ("siemens", siemens.to_owned()),
+        ("linuxcnc", linuxcnc.to_owned()),
+        ("linuxcnc", ncplan::bench::macro_program(2)),
+        ("siemens", ncplan::bench::siemens_macro_program(2)),
+        ("heidenhain", ncplan::bench::heidenhain_macro_program(2)),
+    ];
+    let r = Registry::shipped();
+    for (dialect, text) in programs {
+        let d = r.get(dialect).unwrap();
+        let run = |fast_lane: bool| {
+            let mut canon = Vec::new();
+            let diags = ncplan::interp::interpret(text.as_str(), &d, &Profile { fast_lane, ..profile() }, &mut canon);
+            (format!("{canon:?}"), format!("{diags:?}"))
+        };
+        let (fast, general) = (run(true), run(false));
+        assert!(fast == general, "{dialect}: the fast lane differs on\n{text}\nfast: {fast:?}\ngeneral: {general:?}");
+        assert!(fast.0.matches("StraightFeed").count() >= 4, "{dialect}: no moves made: {}", fast.0);
+    }
+}
+
 #[test]
 fn hostile_inputs_are_diagnosed() {
     let deep = format!("G1 X{}1{}\n", "[".repeat(10_000), "]".repeat(10_000));

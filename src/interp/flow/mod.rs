@@ -80,7 +80,7 @@ pub fn run<'t>(
         landing: None,
         undecided: false,
         undecided_from: None,
-        cond_reads: BTreeSet::new(),
+        cond_reads: Vec::new(),
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -266,8 +266,10 @@ struct Driver<'a, 'p> {
     /// The outside value that condition read, which what its `THEN` sets then depends on.
     undecided_from: Option<eval::UnknownSource>,
     /// The numbered parameters the conditions read (by number, `#890`) since the last
-    /// backward jump or loop end: what a loop that changes nothing may be waiting for.
-    cond_reads: BTreeSet<u32>,
+    /// backward jump or loop end: what a loop that changes nothing may be waiting for. Each
+    /// once, in the order read: a loop round clears it, and a tree would allocate a node and
+    /// free it again every round.
+    cond_reads: Vec<u32>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -437,7 +439,8 @@ impl<'a> Driver<'a, '_> {
                 // A call returned; the state it saved with M73 comes back first.
                 interp.leave_level(level, sink);
             }
-            if self.run_plain(&mut plain, interp, sink, diags) {
+            // A replay never takes the plain lane (`plain_lane_open`): asked here, without a call.
+            if !self.replaying && self.run_plain(&mut plain, interp, sink, diags) {
                 if interp.finished() {
                     break;
                 }
@@ -1175,8 +1178,8 @@ impl<'a> Driver<'a, '_> {
                 Some(&Expr::Param(n)) => match block.exprs.get(n as usize) {
                     Some(&Expr::Num(v)) if v >= 0.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => {
                         let v = v as u32;
-                        if outside.iter().any(|&(lo, hi)| (lo..=hi).contains(&v)) {
-                            self.cond_reads.insert(v);
+                        if outside.iter().any(|&(lo, hi)| (lo..=hi).contains(&v)) && !self.cond_reads.contains(&v) {
+                            self.cond_reads.push(v);
                         }
                         continue;
                     }
@@ -1203,8 +1206,9 @@ impl<'a> Driver<'a, '_> {
     /// takes. False when there is no such variable, or all are unknown already.
     fn waits_for_outside(&mut self, interp: &mut Interpreter<'a>, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
         // `cond_reads` holds outside variables only (see `note_reads`).
-        let waited: Vec<u32> =
+        let mut waited: Vec<u32> =
             self.cond_reads.iter().copied().filter(|&n| interp.params.get(f64::from(n)).is_ok_and(|v| !eval::is_unknown(v))).collect();
+        waited.sort_unstable();
         if waited.is_empty() {
             return false;
         }
