@@ -521,6 +521,10 @@ pub struct Macros {
     /// configured tool table does not list are unknown (the machine's tool table holds it)
     /// rather than 0 (`unlisted-tools`).
     pub unlisted_tools_unknown: bool,
+    /// Whether the modal tool variable (`meaning="tool"`: Fanuc #4120) reads unknown before
+    /// the program commands a tool: the machine's tool from before the program, not rs274's
+    /// power-on 0 (`modal-tool`).
+    pub modal_tool_unknown: bool,
     /// The address that names the block a subprogram call starts at (`M98 P100 H20`), if any.
     pub call_start: Option<u8>,
     /// What a return in the main program does.
@@ -572,6 +576,7 @@ impl Default for Macros {
             called_extensions: Vec::new(),
             unknown_conditions: false,
             unlisted_tools_unknown: false,
+            modal_tool_unknown: false,
             main_return: MainReturn::Error,
             return_value: None,
             machine_functions: Vec::new(),

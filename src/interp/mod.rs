@@ -524,6 +524,8 @@ struct State {
     flood: bool,
     selected_tool: u32,
     tool: u32,
+    /// Whether the program has commanded a tool (a T word, a tool change) in this run.
+    tool_commanded: bool,
     motion_code: Option<usize>,
     retract: Retract,
     /// The active work coordinate system: 1 to 9, or an additional one (see
@@ -640,6 +642,7 @@ impl State {
             flood: false,
             selected_tool: 0,
             tool: 0,
+            tool_commanded: false,
             motion_code: None,
             retract: if dialect.behaviour.initial_retract_r { Retract::RPlane } else { Retract::Initial },
             wcs: 1,
@@ -1289,6 +1292,9 @@ impl<'a> Interpreter<'a> {
             SystemVar::MachineA => machine(3),
             SystemVar::MachineB => machine(4),
             SystemVar::MachineC => machine(5),
+            // Before the program commands one, the tool the machine last took: unknown where
+            // the dictionary says so, else rs274's power-on 0.
+            SystemVar::Tool if !st.tool_commanded && self.dialect.macros.modal_tool_unknown => eval::UNKNOWN,
             SystemVar::Tool => f64::from(st.tool),
             SystemVar::SelectedTool => f64::from(st.selected_tool),
             SystemVar::Feed => st.feed,

@@ -594,3 +594,25 @@ fn okuma_two_subscript_system_variables_and_lib_files() {
     let s = r.sniff("OTCH\nG30 P1\nM1\nRTS\n", Some("OTCH.LIB"), "linuxcnc");
     assert_eq!(s.dialect, "okuma", "{s:?}");
 }
+
+/// Fanuc's modal T (#4120) is the control's, kept from before the program: a check on it
+/// before the program commands a tool reads the machine's tool, unknown here, and takes the
+/// way a run without alarm takes, with a note; after `T5 M6` it reads 5. LinuxCNC keeps
+/// rs274's power-on tool 0.
+#[test]
+fn the_modal_tool_before_the_program_commands_one_is_the_machine_s() {
+    let check = "O1000\nIF[#4120LT2]GOTO8000\nG0 X1.\nM30\nN8000 #3000=100(TOOL?)\nM30\n";
+    let (_, diags) = run("fanuc", check);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "flow::unknown-condition", Severity::Note), "{diags:?}");
+    // Commanded, the tool is known: the check passes with no condition left to choose.
+    let known = check.replace("O1000\n", "O1000\nT5 M6\n");
+    let (_, diags) = run("fanuc", &known);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(!has(&diags, "flow::unknown-condition", Severity::Note), "{diags:?}");
+    let (_, diags) = run("fanuc", &known.replace("T5 M6", "T1 M6"));
+    assert!(has(&diags, "interp::alarm", Severity::Error), "{diags:?}");
+    // LinuxCNC's #5400 (its tool in the spindle) reads 0 before a change, as in rs274.
+    let (_, diags) = run("linuxcnc", "o1 if [#5400 EQ 0]\n(msg,none)\no1 else\n(abort,tool)\no1 endif\nM2\n");
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+}

@@ -29,6 +29,7 @@ const ATTRIBUTES: &[&str] = &[
     "called-extensions",
     "unknown-conditions",
     "unlisted-tools",
+    "modal-tool",
     "return-tells-called",
     "definition-start",
     "definition-end",
@@ -60,6 +61,7 @@ impl Cx {
         self.unset_variables(el, &mut m);
         m.unknown_conditions = self.either(el, "unknown-conditions", "false", "true");
         m.unlisted_tools_unknown = self.either(el, "unlisted-tools", "zero", "unknown");
+        m.modal_tool_unknown = self.either(el, "modal-tool", "zero", "unknown");
         m.return_tells_called = self.bool(el, "return-tells-called", true);
         m.highest_variable = self.highest_variable(el);
         self.outside_variables(el, &mut m);

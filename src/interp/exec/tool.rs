@@ -47,6 +47,7 @@ impl Interpreter<'_> {
             None => (t.min(f64::from(u32::MAX)) as u32, None),
         };
         self.st.selected_tool = tool;
+        self.st.tool_commanded = true;
         self.emit(sink, CanonOp::SelectTool(tool));
         let name = tool.checked_sub(10_001).and_then(|k| self.tool_names.get(k as usize)).cloned();
         let named = name.is_some();
@@ -88,6 +89,7 @@ impl Interpreter<'_> {
             self.st.spindle_unknown = false;
         }
         self.st.tool = self.st.selected_tool;
+        self.st.tool_commanded = true;
         self.emit(sink, CanonOp::ChangeTool(self.st.tool));
         if let Some(next) = self.slot(Role::NextTool).filter(|t| *t >= 0.0 && t.fract() == 0.0) {
             self.st.selected_tool = next as u32;
