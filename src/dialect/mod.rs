@@ -504,6 +504,10 @@ pub struct Macros {
     /// Numbered variables whose values come from outside the file (retained common
     /// variables, machine inputs and data): unknown until the program sets them.
     pub outside: Vec<(u32, u32)>,
+    /// Numbered variables every program and subprogram the control runs shares (Fanuc's
+    /// common variables, LinuxCNC's #31-#5000): one a file sets and does not read is for
+    /// what runs after it (`global-variables`).
+    pub globals: Vec<(u32, u32)>,
     /// The highest numbered variable the control has (`highest-variable`; 9999 unless the
     /// dictionary says more: Haas NGC's #59999, Mitsubishi's #907400).
     pub highest_variable: u32,
@@ -570,6 +574,7 @@ impl Default for Macros {
             unset_reads_zero: false,
             unset_unknown: false,
             outside: Vec::new(),
+            globals: Vec::new(),
             highest_variable: 9999,
             called_numbers: None,
             return_tells_called: true,

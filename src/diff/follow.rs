@@ -124,10 +124,13 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
 }
 
 /// Whether `var` (a statement's variable key, upper case) is global by the dictionary's
-/// parameters: a named parameter whose name starts with `_` (LinuxCNC `#<_paranoid>`), which
-/// the subroutines and programs that run after it read.
+/// parameters, which the subroutines and programs that run after it read: a named parameter
+/// whose name starts with `_` (LinuxCNC `#<_paranoid>`), or a numbered one in the
+/// dictionary's `global-variables` (Fanuc's common `#100`-`#999`, LinuxCNC's `#31`-`#5000`).
 fn global(var: &str, d: &Dialect) -> bool {
-    d.lexical.parameter.is_some_and(|(sigil, named)| named && var.strip_prefix(sigil).is_some_and(|n| n.starts_with("<_")))
+    let Some((sigil, named)) = d.lexical.parameter else { return false };
+    let Some(rest) = var.strip_prefix(sigil) else { return false };
+    (named && rest.starts_with("<_")) || rest.parse::<u32>().is_ok_and(|n| d.macros.globals.iter().any(|&(lo, hi)| (lo..=hi).contains(&n)))
 }
 
 /// Statement changes of variables set to other values become the changes of what the

@@ -678,6 +678,31 @@ fn a_global_the_file_does_not_read_is_told_for_what_runs_after() {
 }
 
 #[test]
+fn a_numbered_global_the_file_does_not_read_is_told_for_what_runs_after() {
+    // LinuxCNC's #31-#5000 are global (a probing subroutine's result for the next one);
+    // #1-#30 are a subroutine's own.
+    let a = "#1000 = 0\n#5 = 1\nG21 G90\nG0 X0 Y0 Z5\nM2\n";
+    let b = a.replace("#1000 = 0", "#1000 = 1").replace("#5 = 1", "#5 = 2");
+    expect![[r#"
+        global_variable_changed | variable #1000 | 0 | 1 | 1 | 1
+          global variable `#1000` 0 → 1, for the subroutines and programs that run after (this file does not read it) at line 1
+        statement_changed | variable #5 | 1 | 2 | 2 | 2
+          variable `#5` set to 2 instead of 1 at line 2
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
+    // Fanuc's common variables, #100-#999, shared by the main program and every macro.
+    let a = "O1000\n#500 = 1\n#1 = 1\nG21 G90\nG0 X0 Y0 Z5\nM30\n";
+    let b = a.replace("#500 = 1", "#500 = 2").replace("#1 = 1", "#1 = 2");
+    expect![[r#"
+        global_variable_changed | variable #500 | 1 | 2 | 2 | 2
+          global variable `#500` 1 → 2, for the subroutines and programs that run after (this file does not read it) at line 2
+        statement_changed | variable #1 | 1 | 2 | 3 | 3
+          variable `#1` set to 2 instead of 1 at line 3
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "fanuc")));
+}
+
+#[test]
 fn lnc_comments_global_variables_and_block_statements_are_read_as_the_control_reads_them() {
     // LNC-M: `//` comments (the text after them is no program), `@` global variables apart
     // from the local `#` ones, C-style operators in a block IF … END_IF, and a call's repeat

@@ -24,6 +24,7 @@ const ATTRIBUTES: &[&str] = &[
     "unset-variables",
     "return-value",
     "outside-variables",
+    "global-variables",
     "highest-variable",
     "called-programs",
     "called-extensions",
@@ -138,17 +139,22 @@ impl Cx {
     /// `outside-variables="100-199 500-999"`: variables whose values come from outside the
     /// program.
     fn outside_variables(&mut self, el: &Element, m: &mut Macros) {
-        let Some(v) = self.attr(el, "outside-variables") else { return };
+        m.outside = self.ranges(el, "outside-variables");
+        m.globals = self.ranges(el, "global-variables");
+    }
+
+    /// An attribute listing number ranges (`100-199 500-999`); none when it is absent.
+    fn ranges(&mut self, el: &Element, name: &str) -> Vec<(u32, u32)> {
+        let mut out = Vec::new();
+        let Some(v) = self.attr(el, name) else { return out };
         for part in v.split_whitespace() {
             let (a, b) = part.split_once('-').unwrap_or((part, part));
             match (a.trim().parse::<u32>(), b.trim().parse::<u32>()) {
-                (Ok(a), Ok(b)) if a <= b => m.outside.push((a, b)),
-                _ => self.error(
-                    Self::attr_range(el, "outside-variables"),
-                    format!("`outside-variables` lists ranges such as 100-199 500-999, not `{part}`"),
-                ),
+                (Ok(a), Ok(b)) if a <= b => out.push((a, b)),
+                _ => self.error(Self::attr_range(el, name), format!("`{name}` lists ranges such as 100-199 500-999, not `{part}`")),
             }
         }
+        out
     }
 
     /// `called-programs="9000-9999"`: the program numbers that are called programs; `None`
