@@ -700,6 +700,14 @@ fn a_numbered_global_the_file_does_not_read_is_told_for_what_runs_after() {
           variable `#1` set to 2 instead of 1 at line 3
     "#]]
     .assert_eq(&rows(&changes(a, &b, "fanuc")));
+    // Siemens R parameters are the channel's, read by the programs and cycles run after.
+    let a = "R10=5\nG17 G90 G71\nG0 X0 Y0 Z5\nM30\n";
+    let b = a.replace("R10=5", "R10=6");
+    expect![[r#"
+        global_variable_changed | variable R10 | 5 | 6 | 1 | 1
+          global variable `R10` 5 → 6, for the subroutines and programs that run after (this file does not read it) at line 1
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "siemens")));
 }
 
 #[test]
