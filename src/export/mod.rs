@@ -121,27 +121,25 @@ impl Cache {
     }
 
     fn original(&self, store: &Store, revision: i64) -> Result<Original> {
-        if let Some(o) = self.originals.lock().ok().and_then(|m| m.get(&revision).cloned()) {
-            return Ok(o);
-        }
-        let o = original(store, revision)?;
-        if let Ok(mut m) = self.originals.lock() {
-            m.insert(revision, o.clone());
-        }
-        Ok(o)
+        kept(&self.originals, revision, || original(store, revision))
     }
 
     /// The path and the header's operator comment of an edited revision.
     fn edited(&self, store: &Store, revision: i64) -> Result<Option<EditedHead>> {
-        if let Some(e) = self.edited.lock().ok().and_then(|m| m.get(&revision).cloned()) {
-            return Ok(e);
-        }
-        let e = edited_head(store, revision)?;
-        if let Ok(mut m) = self.edited.lock() {
-            m.insert(revision, e.clone());
-        }
-        Ok(e)
+        kept(&self.edited, revision, || edited_head(store, revision))
     }
+}
+
+/// What `map` keeps for `revision`, or what `read` makes of it, then kept.
+fn kept<T: Clone>(map: &std::sync::Mutex<BTreeMap<i64, T>>, revision: i64, read: impl FnOnce() -> Result<T>) -> Result<T> {
+    if let Some(v) = map.lock().ok().and_then(|m| m.get(&revision).cloned()) {
+        return Ok(v);
+    }
+    let v = read()?;
+    if let Ok(mut m) = map.lock() {
+        m.insert(revision, v.clone());
+    }
+    Ok(v)
 }
 
 /// Programs read again for their moves (the store keeps plans without their toolpaths), as
@@ -160,18 +158,14 @@ impl<'a> Reread<'a> {
 
     /// The feeds of each workingstep of `revision`, with their roles; empty where it cannot be read.
     fn feeds(&mut self, store: &Store, revision: i64) -> Result<std::sync::Arc<FeedsByStep>> {
-        if let Some(f) = self.cache.feeds.lock().ok().and_then(|m| m.get(&revision).cloned()) {
-            return Ok(f);
-        }
-        if self.registry.is_none() {
-            self.registry = Some(crate::config::dialect_registry(self.config.dialects_dir.as_deref())?);
-        }
-        let reader = crate::daemon::ingest::Reader { config: self.config, registry: self.registry.as_ref().expect("just read") };
-        let f = std::sync::Arc::new(feeds_of(store, &reader, revision));
-        if let Ok(mut m) = self.cache.feeds.lock() {
-            m.insert(revision, f.clone());
-        }
-        Ok(f)
+        let cache = self.cache;
+        kept(&cache.feeds, revision, || {
+            if self.registry.is_none() {
+                self.registry = Some(crate::config::dialect_registry(self.config.dialects_dir.as_deref())?);
+            }
+            let reader = crate::daemon::ingest::Reader { config: self.config, registry: self.registry.as_ref().expect("just read") };
+            Ok(std::sync::Arc::new(feeds_of(store, &reader, revision)))
+        })
     }
 
     /// The feed of `role` in workingstep `step` of `revision`: the first of that role.
