@@ -44,6 +44,7 @@
 mod account;
 mod control;
 mod follow;
+mod moved;
 mod setup;
 pub mod statement;
 mod turning;
@@ -109,6 +110,8 @@ pub enum ChangeKind {
     HoleAdded,
     /// A hole exists only in the original.
     HoleRemoved,
+    /// A hole the edited program drills elsewhere by the same cycle (`moved.rs`).
+    HoleMoved,
     /// A feature's kind or dimensions changed.
     FeatureChanged,
     /// A wall or floor allowance changed.
@@ -188,6 +191,7 @@ impl ChangeKind {
             ChangeKind::CycleParameterChanged => "cycle_parameter_changed",
             ChangeKind::HoleAdded => "hole_added",
             ChangeKind::HoleRemoved => "hole_removed",
+            ChangeKind::HoleMoved => "hole_moved",
             ChangeKind::FeatureChanged => "feature_changed",
             ChangeKind::AllowanceChanged => "allowance_changed",
             ChangeKind::StepoverChanged => "stepover_changed",
@@ -307,6 +311,7 @@ impl Change {
             }
             ChangeKind::HoleAdded => format!("hole added at {}", self.after),
             ChangeKind::HoleRemoved => format!("hole at {} removed", self.before),
+            ChangeKind::HoleMoved => format!("hole at {} moved to {}", self.before, self.after),
             ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
             ChangeKind::GlobalVariableChanged => {
@@ -1184,23 +1189,19 @@ fn compare_holes(a: &[Hole], b: &[Hole], depth: Option<(f64, f64)>, u: Fmt, push
     let same_xy = |h: &Hole, k: &Hole| (h.x - k.x).abs() <= TOLERANCE && (h.y - k.y).abs() <= TOLERANCE;
     let mut used = vec![false; b.len()];
     let mut pairs = Vec::new();
-    let mut any = false;
+    let mut removed = Vec::new();
     for h in a {
         match (0..b.len()).find(|&j| !used[j] && same_xy(h, &b[j])) {
             Some(j) => {
                 used[j] = true;
                 pairs.push((h, &b[j]));
             }
-            None => {
-                push(ChangeKind::HoleRemoved, "hole", u.xy([h.x, h.y]), String::new(), (None, None));
-                any = true;
-            }
+            None => removed.push(h),
         }
     }
-    for (k, _) in b.iter().zip(&used).filter(|(_, u)| !**u) {
-        push(ChangeKind::HoleAdded, "hole", String::new(), u.xy([k.x, k.y]), (None, None));
-        any = true;
-    }
+    let added: Vec<&Hole> = b.iter().zip(&used).filter(|(_, u)| !**u).map(|(k, _)| k).collect();
+    // Moved where made alike, else removed and added.
+    let mut any = moved::tell(&removed, &added, depth, u, push);
     for (h, k) in &pairs {
         if h.optional != k.optional {
             let what = format!("the hole at {}", u.xy([h.x, h.y]));

@@ -287,6 +287,20 @@ fn hole_added() {
     );
 }
 
+/// A hole drilled elsewhere by the same cycle is that hole moved, not one removed and another
+/// added (`diff::moved`).
+#[test]
+fn hole_moved() {
+    edit(
+        "N160 Y40.\n",
+        "N160 Y45.\n",
+        expect![[r#"
+            hole_moved | hole | X80 Y40 | X80 Y45 | 39 | 39
+              hole at X80 Y40 moved to X80 Y45 at line 39
+        "#]],
+    );
+}
+
 #[test]
 fn hole_removed() {
     edit(

@@ -343,11 +343,9 @@ fn a_hole_moved_on_the_tilted_plane_is_told_in_its_coordinates() {
         "18 L X+50 Y+10",
         "18 L X+55 Y+10",
         expect_test::expect![[r#"
-        hole_removed | hole | X50 Y10 |  | 35 | 35
-          hole at X50 Y10 removed at line 35
-        hole_added | hole |  | X55 Y10 | 35 | 35
-          hole added at X55 Y10 at line 35
-    "#]],
+            hole_moved | hole | X50 Y10 | X55 Y10 | 35 | 35
+              hole at X50 Y10 moved to X55 Y10 at line 35
+        "#]],
     );
 }
 
@@ -492,11 +490,8 @@ fn real_programs_lie_on_their_faces() {
     const HELD_SCORE: usize = 10;
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
-    let mut sides: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
+    let mut sides: Vec<_> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "json")).collect();
     sides.sort();
     let mut score = std::collections::BTreeMap::<String, (usize, Vec<String>)>::new();
     for p in &sides {
@@ -532,9 +527,10 @@ fn real_programs_lie_on_their_faces() {
     );
 }
 
-/// A driven tool's face hole moved to another C angle is that hole, at its radius, removed and
-/// added at its new angle on the face (as the diff tells a hole moved in XY); a side hole's C
-/// angle turns the plane it is drilled on (`interp::live`): B90° at C0 → C10, nothing else.
+/// A driven tool's face hole moved to another C angle is that hole moved, at its radius, to its
+/// new angle on the face (as the diff tells a hole moved in XY: the same cycle, elsewhere,
+/// `diff::moved`); a side hole's C angle turns the plane it is drilled on (`interp::live`):
+/// B90° at C0 → C10, nothing else.
 #[test]
 fn live_tool_hole_angles() {
     edit(
@@ -542,11 +538,9 @@ fn live_tool_hole_angles() {
         "C90.\n",
         "C100.\n",
         expect_test::expect![[r#"
-        hole_removed | hole | X0 Y20 |  | 17 | 17
-          hole at X0 Y20 removed at line 17
-        hole_added | hole |  | X-3.473 Y19.6962 | 17 | 17
-          hole added at X-3.473 Y19.6962 at line 17
-    "#]],
+            hole_moved | hole | X0 Y20 | X-3.473 Y19.6962 | 17 | 17
+              hole at X0 Y20 moved to X-3.473 Y19.6962 at line 17
+        "#]],
     );
     edit(
         "fanuc_lathe_live_drilling",
@@ -555,6 +549,44 @@ fn live_tool_hole_angles() {
         expect_test::expect![[r#"
             work_plane_changed | work_plane | tilted 90° about B | tilted A0° B90° C10° | 26 | 26
               work plane tilted 90° about B → tilted A0° B90° C10°; 1 hole moved at line 26
+        "#]],
+    );
+}
+
+/// Holes moved by an edit of where they are, drilled by the same cycle, are told as moved: the
+/// pitch circle of four face holes Ø40 → Ø50 (the diameter word is modal, so all four move out
+/// along their radius). A hole placed elsewhere with another feed-start level (modal: the holes
+/// after it start there too) is another hole: removed and added, nothing moved.
+#[test]
+fn live_tool_holes_moved_and_holes_not_moved() {
+    edit(
+        "fanuc_lathe_live_drilling",
+        "G83 X40. C0.",
+        "G83 X50. C0.",
+        expect_test::expect![[r#"
+            start_point_moved | start_point | X20 Y0 | X25 Y0 | 16 | 16
+              start point moved from X20 Y0 to X25 Y0 at line 16
+            hole_moved | hole | X20 Y0 | X25 Y0 | 16 | 16
+              hole at X20 Y0 moved to X25 Y0 at line 16
+            hole_moved | hole | X0 Y20 | X0 Y25 | 16 | 16
+              hole at X0 Y20 moved to X0 Y25 at line 16
+            hole_moved | hole | X-20 Y0 | X-25 Y0 | 16 | 16
+              hole at X-20 Y0 moved to X-25 Y0 at line 16
+            hole_moved | hole | X0 Y-20 | X0 Y-25 | 16 | 16
+              hole at X0 Y-20 moved to X0 Y-25 at line 16
+        "#]],
+    );
+    edit(
+        "fanuc_lathe_live_drilling",
+        "F100.\nC90.\n",
+        "F100.\nC100. R-1.\n",
+        expect_test::expect![[r#"
+            hole_removed | hole | X0 Y20 |  | 17 | 17
+              hole at X0 Y20 removed at line 17
+            hole_added | hole |  | X-3.473 Y19.6962 | 17 | 17
+              hole added at X-3.473 Y19.6962 at line 17
+            cycle_parameter_changed | r_level | Z3 at X-20 Y0 | Z4 at X-20 Y0 | 17 | 17
+              r level changed from Z3 at X-20 Y0 to Z4 at X-20 Y0 at line 17
         "#]],
     );
 }
