@@ -735,6 +735,10 @@ pub struct CodeDef {
     /// rest holds and the role of each (`SPA:tilt-a`: `PLANE SPATIAL SPA+30` gives 30 to
     /// `tilt-a`), read by the command itself ([`CodeDef::line_word`]).
     pub line_words: Vec<(String, Role)>,
+    /// For a tilted-plane code whose word selects how its angles turn the plane (`G68.2 P1`):
+    /// each word's letter and value with the meaning it gives (`tilt-forms="P1:tilt-roll-pitch-yaw"`);
+    /// without the word, or with the value 0, the code's own meaning.
+    pub tilt_forms: Vec<(char, u16, Meaning)>,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.

@@ -421,6 +421,11 @@ vocab! {
         /// Tilts the working plane square to the tool axis the rotary axes give (Fanuc `G68.3
         /// X Y Z R`): origin `tilt-origin-*`, turned by `tilt-c` about the new Z.
         TiltToolAxis = "tilt-tool-axis",
+        /// Tilts the working plane by turns about X by `tilt-a`, then about the turned Y by
+        /// `tilt-b`, then about the turned Z by `tilt-c` (Fanuc `G68.2 P1 I J K`, roll-pitch-yaw
+        /// in rotation order Q123) [the order as LinuxCNC's G68.2 remap reads its default Q123;
+        /// unconfirmed against Fanuc's manual].
+        TiltRollPitchYaw = "tilt-roll-pitch-yaw",
         /// Tilts the working plane in force further by Euler angles about an origin in its own
         /// coordinates (Fanuc `G68.4 X Y Z I J K`).
         TiltEulerIncremental = "tilt-euler-incremental",

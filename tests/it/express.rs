@@ -77,6 +77,23 @@ fn exports_validate_against_the_express_schema() {
         };
         export(&std::fs::read(program).unwrap(), v["dialect"].as_str().unwrap(), &format!("tilt_{stem}"), dir.path(), &mut files);
     }
+    // The real tilted-plane, 5-axis and mill-turn programs kept in the repository (`file`, beside
+    // their sidecars in `tilt/real`; the corpus's are exported with the corpus).
+    let real = tilt.join("real");
+    let mut reals: Vec<PathBuf> = std::fs::read_dir(&real).unwrap().flatten().map(|e| e.path()).collect();
+    reals.sort();
+    for side in reals.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(side).unwrap()).unwrap();
+        let Some(file) = v.get("file").and_then(|f| f.as_str()) else { continue };
+        let stem = side.file_stem().unwrap().to_string_lossy().into_owned();
+        export(
+            &std::fs::read(real.join(file)).unwrap(),
+            v["dialect"].as_str().unwrap(),
+            &format!("tilt_real_{stem}"),
+            dir.path(),
+            &mut files,
+        );
+    }
     // The lathe suite: ISO 14649-121 turning operations, technology and tools, ISO 14649-12
     // turned features.
     let lathe = crate::root().join("tests/programs/lathe");

@@ -25,6 +25,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "hole-axis",
     "args",
     "line-words",
+    "tilt-forms",
 ];
 
 impl Cx {
@@ -122,7 +123,24 @@ impl Cx {
         let args = self.code_args(c, addresses, &params);
         let named = keyword.is_none() && self.attr(c, "rest") == Some("words");
         let line_words = self.line_words(c);
-        Some(CodeDef { letter, number, meaning, index, name, group, params, keyword, forms, gives_way, hole_axis, args, named, line_words })
+        let tilt_forms = self.tilt_forms(c);
+        Some(CodeDef {
+            letter,
+            number,
+            meaning,
+            index,
+            name,
+            group,
+            params,
+            keyword,
+            forms,
+            gives_way,
+            hole_axis,
+            args,
+            named,
+            line_words,
+            tilt_forms,
+        })
     }
 
     /// A code's parameters: `required`, `optional`, `any-of="X Y|R"` (at least one of each
@@ -211,6 +229,29 @@ impl Cx {
             match item.split_once(':').and_then(|(l, f)| Some((l.parse::<u16>().ok()?, DataForm::parse(f)?))) {
                 Some(pair) => out.push(pair),
                 None => self.error(Self::attr_range(c, "forms"), format!("`{item}` is not L:form (form: wcs, wcs-here, wcs-extended, tool, tool-here, tool-here-fixture, tool-length, tool-length-wear, tool-radius, tool-radius-wear)")),
+            }
+        }
+        out
+    }
+
+    /// `tilt-forms="P1:tilt-roll-pitch-yaw"`: the meaning a tilted-plane code takes where its
+    /// block has that word with that value.
+    fn tilt_forms(&mut self, c: &Element) -> Vec<(char, u16, Meaning)> {
+        let Some(list) = self.attr(c, "tilt-forms") else { return Vec::new() };
+        let mut out = Vec::new();
+        for item in list.split_ascii_whitespace() {
+            let parsed = item.split_once(':').and_then(|(w, m)| {
+                let letter = w.chars().next().filter(char::is_ascii_alphabetic)?.to_ascii_uppercase();
+                let value = w[1..].parse::<u16>().ok()?;
+                let meaning = Meaning::parse(m).filter(|m| m.as_str().starts_with("tilt-"))?;
+                Some((letter, value, meaning))
+            });
+            match parsed {
+                Some(form) => out.push(form),
+                None => self.error(
+                    Self::attr_range(c, "tilt-forms"),
+                    format!("`{item}` is not WORD:meaning (`P1:tilt-roll-pitch-yaw`, a tilt meaning)"),
+                ),
             }
         }
         out

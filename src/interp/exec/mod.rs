@@ -162,6 +162,7 @@ impl Interpreter<'_> {
             Meaning::TiltSpatial
             | Meaning::TiltEuler
             | Meaning::TiltEulerIncremental
+            | Meaning::TiltRollPitchYaw
             | Meaning::TiltVector
             | Meaning::TiltPoints
             | Meaning::TiltProjected

@@ -25,7 +25,11 @@
 //!   and YZ planes, each angle the right-hand turn about the axis square to its plane;
 //! - the rotary axes' positions (`tilt-axial` `PLANE AXIAL`, `tilt-tool-axis` `G68.3`): read
 //!   as tool centre point control reads them, said in a note;
-//! - Euler angles on the plane in force (`tilt-euler-incremental`, `G68.4`).
+//! - Euler angles on the plane in force (`tilt-euler-incremental`, `G68.4`);
+//! - roll-pitch-yaw (`tilt-roll-pitch-yaw`, `G68.2 P1`, the code's form chosen by its `P`
+//!   word, the dictionary's `tilt-forms`): about X by A, then the turned Y by B, then the turned
+//!   Z by C: `Rx(A)·Ry(B)·Rz(C)` [LinuxCNC's G68.2 remap's reading of the default order Q123;
+//!   unconfirmed against Fanuc's manual].
 //!
 //! Tool centre point control (`M128`, `TRAORI`, `G43.4`) is here too: under it, the rotary
 //! axes' positions turn the tool axis, sent as `ToolAxis` markers.
@@ -168,16 +172,18 @@ impl Interpreter<'_> {
             diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
             return;
         }
+        let Some(meaning) = self.tilt_form(def, range, diags) else { return };
         let get = |s: &Self, r: Role| s.tilt_value(def, &rest, r);
         let angles = |s: &Self| [Role::TiltA, Role::TiltB, Role::TiltC].map(|r| get(s, r).unwrap_or(0.0));
         let origin = |s: &Self| [Role::TiltOriginX, Role::TiltOriginY, Role::TiltOriginZ].map(|r| get(s, r).unwrap_or(0.0));
-        let frame = match def.meaning {
+        let frame = match meaning {
             Meaning::TiltReset => None,
             Meaning::TiltSpatial => {
                 let [a, b, c] = angles(self);
                 Some(Frame { origin: origin(self), rotation: chain([2, 1, 0], [c, b, a]) })
             }
             Meaning::TiltEuler => Some(Frame { origin: origin(self), rotation: chain([2, 0, 2], angles(self)) }),
+            Meaning::TiltRollPitchYaw => Some(Frame { origin: origin(self), rotation: chain([0, 1, 2], angles(self)) }),
             Meaning::TiltVector => {
                 let base = [Role::TiltBaseX, Role::TiltBaseY, Role::TiltBaseZ].map(|r| get(self, r).unwrap_or(0.0));
                 let normal = [Role::ToolAxisI, Role::ToolAxisJ, Role::ToolAxisK].map(|r| get(self, r).unwrap_or(0.0));
@@ -234,6 +240,29 @@ impl Interpreter<'_> {
             _ => return,
         };
         self.set_frame(frame, sink);
+    }
+
+    /// The meaning the block's form word gives a tilted-plane code (`G68.2 P1`: roll-pitch-yaw,
+    /// the dictionary's `tilt-forms`): the code's own without the word or with 0; `None`, said,
+    /// for a form the dictionary does not list (`G68.2 P2` three points over several blocks),
+    /// the plane in force staying.
+    fn tilt_form(&self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<Meaning> {
+        let Some(&(letter, _, _)) = def.tilt_forms.first() else { return Some(def.meaning) };
+        let name = letter.to_string();
+        let role = self.dialect.addresses.iter().find(|a| a.name == name).map(|a| a.role);
+        let Some(v) = role.and_then(|r| self.slot(r)) else { return Some(def.meaning) };
+        match def.tilt_forms.iter().find(|&&(l, n, _)| l == letter && f64::from(n) == v) {
+            Some(&(_, _, m)) => Some(m),
+            None if v == 0.0 => Some(def.meaning),
+            None => {
+                let msg = format!(
+                    "{} {letter}{v}: a form of the tilted plane the analysis does not model; the plane in force stays",
+                    def.label()
+                );
+                diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
+                None
+            }
+        }
     }
 
     /// A legacy tilting cycle's block with angles (`CYCL DEF 19.1 A+0 B+45 C+0`): spatial
@@ -402,6 +431,16 @@ mod tests {
         // Precession 90° about Z, then nutation 90° about the new X (the old Y).
         let f = Frame { origin: [0.0; 3], rotation: chain([2, 0, 2], [90.0, 90.0, 0.0]) };
         assert!(close(f.axis(), [1.0, 0.0, 0.0]));
+    }
+
+    #[test]
+    fn roll_pitch_yaw_turns_about_the_turned_axes() {
+        // Rx(90)·Ry(90): the turn about Y is about the Y the first turn moved onto Z, so the
+        // plane's Z lies along X (about the fixed axes it would lie along -Y).
+        let r = chain([0, 1, 2], [90.0, 90.0, 0.0]);
+        assert!(close([r[0][2], r[1][2], r[2][2]], [1.0, 0.0, 0.0]), "{r:?}");
+        let fixed = chain([2, 1, 0], [0.0, 90.0, 90.0]);
+        assert!(close([fixed[0][2], fixed[1][2], fixed[2][2]], [0.0, -1.0, 0.0]), "{fixed:?}");
     }
 
     #[test]
