@@ -814,6 +814,7 @@ fn compare_workingsteps(
         });
     }
     fold_into_start_point(a, b, depth_change, u, first, out);
+    moved::fold_start(first, out);
     setup::compare(pa, a, b, u, first, out);
 }
 

@@ -9,9 +9,13 @@
 //! made otherwise (another depth, another peck), and every hole where the counts differ, stay
 //! removed and added, since which one moved is then not the program's to say.
 //!
-//! Door: [`tell`], called by `compare_holes` with the holes it found no counterpart for.
+//! A drilling workingstep's start point is its first hole: where that hole is told as moved,
+//! the start point's move is the same change, not told again.
+//!
+//! Doors: [`tell`], called by `compare_holes` with the holes it found no counterpart for;
+//! [`fold_start`], called by `compare_workingsteps` with the changes of one pair.
 
-use super::{ChangeKind, Fmt, Push, TOLERANCE};
+use super::{Change, ChangeKind, Fmt, Push, TOLERANCE};
 use crate::plan::Hole;
 
 /// Whether two holes are made by the same cycle: bottom (or the workingstep's depth change
@@ -61,6 +65,16 @@ pub(super) fn tell(removed: &[&Hole], added: &[&Hole], depth: Option<(f64, f64)>
         }
     }
     !removed.is_empty() || !added.is_empty()
+}
+
+/// Drops the start point's move of the pair whose changes begin at `first` where a hole moved
+/// from and to the same places: the first hole moved, told once.
+pub(super) fn fold_start(first: usize, out: &mut Vec<Change>) {
+    let told = |c: &Change| out[first..].iter().any(|h| h.kind == ChangeKind::HoleMoved && h.before == c.before && h.after == c.after);
+    let drop: Vec<usize> = (first..out.len()).filter(|&k| out[k].kind == ChangeKind::StartPointMoved && told(&out[k])).collect();
+    for k in drop.into_iter().rev() {
+        out.remove(k);
+    }
 }
 
 #[cfg(test)]

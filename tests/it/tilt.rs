@@ -555,7 +555,7 @@ fn live_tool_hole_angles() {
 
 /// Holes moved by an edit of where they are, drilled by the same cycle, are told as moved: the
 /// pitch circle of four face holes Ø40 → Ø50 (the diameter word is modal, so all four move out
-/// along their radius). A hole placed elsewhere with another feed-start level (modal: the holes
+/// along their radius; the start point, the first hole, is not told again). A hole placed elsewhere with another feed-start level (modal: the holes
 /// after it start there too) is another hole: removed and added, nothing moved.
 #[test]
 fn live_tool_holes_moved_and_holes_not_moved() {
@@ -564,8 +564,6 @@ fn live_tool_holes_moved_and_holes_not_moved() {
         "G83 X40. C0.",
         "G83 X50. C0.",
         expect_test::expect![[r#"
-            start_point_moved | start_point | X20 Y0 | X25 Y0 | 16 | 16
-              start point moved from X20 Y0 to X25 Y0 at line 16
             hole_moved | hole | X20 Y0 | X25 Y0 | 16 | 16
               hole at X20 Y0 moved to X25 Y0 at line 16
             hole_moved | hole | X0 Y20 | X0 Y25 | 16 | 16
