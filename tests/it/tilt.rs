@@ -488,6 +488,17 @@ fn real_programs_lie_on_their_faces() {
     /// after them, and it has one such move where two holes were listed), corrected since: 10
     /// of 10.
     const HELD_SCORE: usize = 10;
+    /// The second gathering (`SOURCES.tsv`, programs kept beside their sidecars), split by
+    /// repository. Built part, NX Post Library samples (Mori Seiki NMV5000 mm and inch `G43.4`,
+    /// SH8000 B index, NL1500Y `G112`): 14 of 17; the misses are the SH8000's table indexed to
+    /// B90/B270 without tool centre point control or a tilted plane, its tool axis left on Z.
+    const NX_BUILT_SCORE: usize = 14;
+    /// Held-back part, LinuxCNC's vismach 5-axis and mill-turn demos (`M428` tool centre point
+    /// kinematics of the sim configs, A/B/C words), scored once on 6 December 2026: 2 of 21. The
+    /// two met are the A0 moves; the `linuxcnc` dictionary knows no tool centre point control
+    /// (`M428`/`M429` are the sim configs' own remaps, not LinuxCNC's language), so the rotary
+    /// words do not turn the tool axis.
+    const LCNC_HELD_SCORE: usize = 2;
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
     let mut sides: Vec<_> =
@@ -515,9 +526,14 @@ fn real_programs_lie_on_their_faces() {
     for (part, (listed, misses)) in &score {
         println!("real tilt programs, {part}: {} of {listed} met\n{}", listed - misses.len(), misses.join("\n"));
     }
-    assert!(sides.len() >= 5, "{} real programs", sides.len());
+    assert!(sides.len() >= 15, "{} real programs", sides.len());
     let built = &score["built"];
     assert!(built.0 - built.1.len() >= BUILT_SCORE, "built part: {}", built.1.join("\n"));
+    let nx = &score["nx_built"];
+    assert!(nx.0 - nx.1.len() >= NX_BUILT_SCORE, "NX built part: {}", nx.1.join("\n"));
+    if let Some(lcnc) = score.get("lcnc_held") {
+        assert!(lcnc.0 - lcnc.1.len() >= LCNC_HELD_SCORE, "LinuxCNC held-back part: {}", lcnc.1.join("\n"));
+    }
     let Some(held) = score.get("held") else { return };
     assert!(
         held.0 - held.1.len() >= HELD_SCORE,
