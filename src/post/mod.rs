@@ -167,6 +167,10 @@ pub struct Options {
     /// Whether the target reads X words as diameters from the start (a lathe dictionary's
     /// default). Set by [`translate`] from the target's dictionary.
     pub x_diameter: bool,
+    /// Whether the source's control starts in feed per revolution, and the target's (a
+    /// lathe's): a target that does is told the source's feed mode at the program's start,
+    /// so that it never runs in the mode a previous program left. Set by [`translate`].
+    pub feed_per_rev_at_start: (bool, bool),
 }
 
 impl Options {
@@ -187,6 +191,7 @@ impl Options {
             arc_tolerance: (0.0, 0.0),
             tap_to_clear: (false, false),
             x_diameter: false,
+            feed_per_rev_at_start: (false, false),
         }
     }
 }
@@ -304,6 +309,7 @@ pub fn translate_with_facts<'t>(
     let clear = |d: &crate::dialect::Dialect| d.behaviour.tapping == crate::dialect::TapStyle::Clear;
     opts.tap_to_clear = (clear(from), clear(to));
     opts.x_diameter = to.behaviour.x_diameter;
+    opts.feed_per_rev_at_start = (from.behaviour.initial_feed_per_rev, to.behaviour.initial_feed_per_rev);
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
     let mut diags = interpret_beside(text.into(), from, profile, &mut post);
@@ -493,6 +499,14 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     sync: Option<f64>,
     /// Whether constant surface speed is in force.
     css: bool,
+    /// Whether X words are written as diameters (twice the canonical radius): from the start
+    /// on a target that reads them so (`Options::x_diameter`), or after its `diameter-on`.
+    x_diam: bool,
+    /// Whether the source said it turns (a diameter or radius mode, a lathe cycle, the ZX
+    /// plane before its first move), and whether a move was written yet: a target that reads
+    /// X as diameters takes no program that does not turn.
+    turns: bool,
+    moved_yet: bool,
     /// Where each source line's text begins in `buf` (since the last hand-over): a run the
     /// program repeats is found there.
     line_offsets: Vec<(u32, usize, u64)>,
@@ -728,7 +742,7 @@ impl ThreeDecimals {
 
     /// [`ThreeDecimals::of`] with `sep` written before the address, if both together are short.
     fn after(f: &NumberFormat, sep: &[u8]) -> Option<ThreeDecimals> {
-        if f.increment {
+        if f.increment || f.digits > 0 {
             return None;
         }
         let prefix = |sign: &[u8]| {
@@ -898,6 +912,14 @@ fn number_text(b: &mut [u8; 64], f: &NumberFormat, n: i64, decimals: usize) -> u
             b[i] = b'0' + int as u8;
         }
     }
+    // Zero-padded to the fewest digits the format writes before the point (`T0101`).
+    if f.digits > 0 {
+        let point = b[i..48].iter().position(|c| *c == b'.').unwrap_or(48 - i);
+        for _ in point..usize::from(f.digits) {
+            i -= 1;
+            b[i] = b'0';
+        }
+    }
     if n < 0 {
         i -= 1;
         b[i] = b'-';
@@ -1011,6 +1033,8 @@ fn count_on(digits: &mut [u8], mut delta: u64) -> bool {
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// A writer by the rules `out`, handing text to `sink` as it grows.
     pub fn new(out: &'a Output, opts: Options, sink: F) -> Post<'a, F> {
+        let x_diam = opts.x_diameter;
+        let feed_mode = if opts.feed_per_rev_at_start == (true, true) { FeedMode::PerRevolution } else { FeedMode::PerMinute };
         Post {
             out,
             tops_source: None,
@@ -1026,7 +1050,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             g92: [0.0; 3],
             plane: Plane::Xy,
             wcs: None,
-            feed_mode: FeedMode::PerMinute,
+            feed_mode,
             pos: [0.0; 3],
             tilt: None,
             tcp: false,
@@ -1067,6 +1091,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             rounded_feed_at: None,
             sync: None,
             css: false,
+            x_diam,
+            turns: false,
+            moved_yet: false,
             line_offsets: Vec::new(),
             repeat: None,
             loops: 0,
@@ -1149,6 +1176,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             Units::Inch => "units-inch",
         };
         for ev in ["header", "safe-start", units] {
+            self.event(ev, &mut Vals::new());
+        }
+        // A target that starts in feed per revolution (a lathe) is told the mode the
+        // source starts in, whatever a previous program left.
+        if self.opts.feed_per_rev_at_start.1 {
+            let ev = if self.feed_mode == FeedMode::PerMinute { "feed-per-minute" } else { "feed-per-rev" };
             self.event(ev, &mut Vals::new());
         }
     }
@@ -1335,6 +1368,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// (and taken back when it writes nothing).
     #[inline(always)]
     fn put_num(&mut self, buf: &mut Vec<u8>, body: usize, sep: &[u8], num: Num, x: f64, moved: &mut u32) {
+        let x = if self.x_diam { self.as_diameter(num.value, x) } else { x };
         if x.is_nan() || self.unchanged(num, x) {
             return;
         }
@@ -1347,10 +1381,19 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
+    /// A number as written while X words are diameters: an X position (the work offset's or
+    /// the machine's) doubled; arc centres (I, the radius from the start), radii and the
+    /// rest as they are.
+    #[inline(never)]
+    fn as_diameter(&self, value: Value, x: f64) -> f64 {
+        if matches!(value, Value::X | Value::MachineX) { 2.0 * x } else { x }
+    }
+
     /// Writes number placeholder `value` with `x` in format `fi` onto `s`, unless it is left
     /// out; whether it was written.
     #[inline]
     fn push_value(&mut self, s: &mut Vec<u8>, num: Num, x: f64, moved: &mut u32) -> bool {
+        let x = if self.x_diam { self.as_diameter(num.value, x) } else { x };
         if x.is_nan() || self.unchanged(num, x) {
             return false;
         }
@@ -1825,6 +1868,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 | CanonOp::StraightProbe(_)
         ) {
             self.check_work_offset(canon);
+            if !self.moved_yet {
+                self.first_move(canon);
+            }
         }
         match &canon.op {
             CanonOp::SetSpindleSpeed(_)
@@ -2179,6 +2225,7 @@ mod tests {
             plus,
             increment,
             modal: false,
+            digits: 0,
         }
     }
 
