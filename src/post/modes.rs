@@ -113,7 +113,10 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// where it follows the source's units and nothing is written yet; else converted, and
     /// said.
     fn use_units(&mut self, canon: &Canon, u: &Units) {
-        if self.opts.follow_source_units && !self.started && *u != self.opts.units {
+        // Units the source states before its first move are the program's (a lathe's start
+        // may have written its plane and feed mode first: the units are then stated again).
+        if self.opts.follow_source_units && !self.moved_yet && *u != self.opts.units {
+            let restate = self.started;
             // What was set before the units (a feed: `G20 F60` sets F first, in
             // the units then in force) is held in the target's units: it changes
             // units with them, so that F60 mm/min comes out as F2.3622 inch/min.
@@ -126,6 +129,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             for k in 0..8 {
                 let w = self.written[k];
                 self.set_written(k, w);
+            }
+            if restate {
+                self.event(if *u == Units::Inch { "units-inch" } else { "units-mm" }, &mut Vals::new());
             }
         }
         self.scale = u.to_mm() / self.opts.units.to_mm();
