@@ -83,11 +83,20 @@
 //! states the values an address takes, Haas's G154 P1–P99, and an event whose template would
 //! write another is unwritable, `Output::fits`) are templates
 //! (a `css-on` without `{smax}` cannot state a speed limit: unwritable then). A diameter or
-//! radius mode the source states (G7/G8, DIAMON/DIAMOF) puts the target in its radius mode
-//! (`diameter-off`: X is written as the canonical radius) so that it reads a program that
-//! turns; without one, a target reading X as radii needs no code (`post::mode-implied`) and
-//! one reading diameters cannot take the radii (unwritable); a lathe cycle is written as its
-//! moves (`post::cycle-as-moves`). A tilted working plane is the target's `work-plane` with
+//! radius mode the source states (G7/G8, DIAMON/DIAMOF, or a lathe dictionary's diameters at
+//! its start) is written as the target reads X: a target that reads diameters from the start
+//! (`x-words="diameter"`, `Options::x_diameter`) takes X doubled with no code, one with a
+//! `diameter-on` (G7, DIAMON) is put in it and takes X doubled, one with only `diameter-off`
+//! takes radii; X positions (and machine X) are doubled as they are written, arc centres and
+//! radii not (`Post::as_diameter`; the steady lane stands aside meanwhile). A target with
+//! neither mode that reads radii is a milling control: a program in diameters is unwritable
+//! there (one that states the radius mode needs no code, `post::mode-implied`), and a program that never says it turns (no diameter or radius mode, no lathe cycle,
+//! not in the ZX plane at its first move) is unwritable for a target that reads diameters.
+//! A target that starts in feed per revolution is told the source's starting feed mode after
+//! the header (`Options::feed_per_rev_at_start`); a cutting speed under constant surface speed
+//! converts with the units (ft/min ↔ m/min); a tool change whose template is
+//! empty or cannot take the number (`digits`, `min`/`max` of a format: a lathe's `T0101`) is
+//! unwritable. A lathe cycle is written as its moves (`post::cycle-as-moves`). A tilted working plane is the target's `work-plane` with
 //! its origin (`{px} {py} {pz}`) and its rotation in the angles the control takes (spatial
 //! `{spa} {spb} {spc}`: Heidenhain `PLANE SPATIAL`; Euler `{eul-a} {eul-b} {eul-c}`: Fanuc
 //! `G68.2`; axis by axis `{rot-a} {rot-b} {rot-c}`: Siemens `CYCLE800` mode 57), the

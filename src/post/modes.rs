@@ -48,15 +48,22 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         self.turns = true;
         let has = |p: &Self, e: &str| p.out.template(e).is_some();
         if !self.opts.x_diameter && !has(self, "diameter-on") && !has(self, "diameter-off") {
-            let stated = if on { "the diameter mode (X words as diameters)" } else { "the radius mode (X words as radii)" };
-            self.note(
-                Code::PostUnwritable,
-                canon,
-                "diameter-mode",
-                format!(
-                    "the program turns ({stated}), and the target is a milling control: its output rules have no diameter or radius mode (`diameter-on`, `diameter-off`) and it reads X words as radii; a lathe program is translated only for a lathe's dictionary (or LinuxCNC, Siemens)"
-                ),
-            );
+            if on {
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "diameter-mode",
+                    "the program turns (the diameter mode: X words as diameters), and the target is a milling control: its output rules have no diameter or radius mode (`diameter-on`, `diameter-off`) and it reads X words as radii; a lathe program is translated only for a lathe's dictionary (or LinuxCNC, Siemens)",
+                );
+            } else {
+                // X words as radii are what a mill reads: the motion is the same.
+                self.note(
+                    Code::PostModeImplied,
+                    canon,
+                    "radius-mode",
+                    "the radius mode (X words as radii) is not written: the target reads X words as radii and its output rules have no `diameter-off` template; read back, the program is not known to turn",
+                );
+            }
             return;
         }
         if on {
@@ -113,10 +120,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// where it follows the source's units and nothing is written yet; else converted, and
     /// said.
     fn use_units(&mut self, canon: &Canon, u: &Units) {
-        // Units the source states before its first move are the program's (a lathe's start
-        // may have written its plane and feed mode first: the units are then stated again).
-        if self.opts.follow_source_units && !self.moved_yet && *u != self.opts.units {
-            let restate = self.started;
+        if self.opts.follow_source_units && !self.started && *u != self.opts.units {
             // What was set before the units (a feed: `G20 F60` sets F first, in
             // the units then in force) is held in the target's units: it changes
             // units with them, so that F60 mm/min comes out as F2.3622 inch/min.
@@ -129,9 +133,6 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             for k in 0..8 {
                 let w = self.written[k];
                 self.set_written(k, w);
-            }
-            if restate {
-                self.event(if *u == Units::Inch { "units-inch" } else { "units-mm" }, &mut Vals::new());
             }
         }
         self.scale = u.to_mm() / self.opts.units.to_mm();

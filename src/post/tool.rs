@@ -88,7 +88,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.diags.push(crate::diag::Diagnostic::new(
                     Code::PostUnwritable,
                     self.origin,
-                    format!("the tool change to T{t} is not written: the target's `tool-change` template is empty or takes no tool number {t}"),
+                    format!(
+                        "the tool change to T{t} is not written: the target's `tool-change` template is empty or takes no tool number {t}"
+                    ),
                 ));
             }
             self.motion = None;

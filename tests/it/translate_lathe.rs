@@ -137,3 +137,53 @@ fn a_lathe_program_is_not_written_for_a_mill_nor_a_mill_program_for_a_lathe() {
         assert_eq!(e.code, Code::PostUnwritable, "{e:?}");
     }
 }
+
+/// A few translations written out whole (`tests/golden/translate/lathe_examples.txt`), read by
+/// eye once: a Fanuc system A program with its clamp to system B, Siemens and LinuxCNC; a
+/// LinuxCNC G7 program and a Siemens DIAMON one to a Fanuc lathe; a G32 thread to system B.
+#[test]
+fn lathe_translations_read_as_a_turner_writes_them() {
+    let cases = [
+        ("fanuc_css_clamp.nc", "fanuc_lathe", "fanuc_lathe_b"),
+        ("fanuc_css_clamp.nc", "fanuc_lathe", "siemens"),
+        ("fanuc_css_clamp.nc", "fanuc_lathe", "linuxcnc"),
+        ("fanuc_g32_thread.nc", "fanuc_lathe", "fanuc_lathe_b"),
+        ("lcnc_g7_turn.ngc", "linuxcnc", "fanuc_lathe"),
+        ("siemens_diamon.mpf", "siemens", "linuxcnc"),
+    ];
+    let mut out = String::new();
+    for (file, from, to) in cases {
+        let text = lathe_program(file);
+        let (written, diags) = translate_checked(&text, from, to, file.split('.').next().unwrap());
+        assert!(!diags.iter().any(Diagnostic::is_error), "{file} → {to}: {diags:?}");
+        out.push_str(&format!("==== {file} ({from}) → {to}\n{written}\n"));
+    }
+    let path = crate::root().join("tests/golden/translate/lathe_examples.txt");
+    if std::env::var_os("UPDATE_EXPECT").is_some() {
+        std::fs::write(&path, &out).unwrap();
+    }
+    assert_eq!(std::fs::read_to_string(&path).unwrap_or_default(), out, "tests/golden/translate/lathe_examples.txt is stale");
+}
+
+/// Feed per minute and per revolution, a dwell given in seconds by U (system A), X kept as a
+/// diameter: each target's own words, written down by hand before the translation was run.
+#[test]
+fn feed_modes_dwells_and_diameters_in_each_targets_words() {
+    let text = "%\nO2001 (DWELL AND FEED PER MINUTE)\nG21 G99\nT0202\nG97 S600 M03\nG00 X40. Z2.\nG98 G01 Z-10. F120.\nG04 U0.5\nG99 G01 X44. F0.1\nG00 X100. Z100.\nM30\n%\n";
+    let expect: [(&str, &[&str]); 4] = [
+        ("fanuc_lathe_b", &["G95", "T0202", "G0 X40. Z2.", "G94", "G1 Z-10. F120.", "G4 P500", "G95", "X44. F0.1", "G0 X100. Z100."]),
+        ("haas_lathe", &["G99", "T0202", "G0 X40. Z2.", "G98", "G1 Z-10. F120.", "G4 P500", "G99", "X44. F0.1"]),
+        ("siemens", &["DIAMON", "G0 X40 Z2", "G94", "G1 Z-10 F120", "G4 F0.5", "G95", "X44 F0.1"]),
+        ("linuxcnc", &["G7", "G0 X40 Z2", "G94", "G1 Z-10 F120", "G4 P0.5", "G95", "X44 F0.1"]),
+    ];
+    for (to, lines) in expect {
+        let (written, diags) = translate_checked(text, "fanuc_lathe", to, "O2001");
+        assert!(!diags.iter().any(Diagnostic::is_error), "→ {to}: {diags:?}\n{written}");
+        let got: Vec<&str> = written.lines().map(|l| l.split_once(' ').filter(|(n, _)| n.starts_with('N')).map_or(l, |(_, r)| r)).collect();
+        let mut at = 0;
+        for want in lines {
+            let k = got[at..].iter().position(|l| l == want).unwrap_or_else(|| panic!("→ {to}: no `{want}` after line {at}:\n{written}"));
+            at += k + 1;
+        }
+    }
+}
