@@ -5,7 +5,9 @@
 //! (a reference return, a move in machine coordinates) as those, not as the numbers the
 //! analysis gives them with its offsets at zero. With each move: the tool axis (turned under
 //! tool centre point control, or stated). With each cutting move: the tool, the feed,
-//! the spindle's turning and speed, and the coolant.
+//! the spindle's turning and speed, its mode (revolutions, or constant surface speed with the
+//! same clamp: the speed is then a cutting speed, compared in m/min, an inch program's ft/min
+//! converted), and the coolant.
 //!
 //! The door: [`Trace`] (a [`CanonSink`] that keeps what the comparison needs of a stream, in
 //! millimetres) and [`difference`], the first way one trace differs from another within a
