@@ -2245,6 +2245,19 @@ mod tests {
     }
 
     #[test]
+    fn a_format_pads_its_whole_digits() {
+        // A lathe's tool and offset, two digits each (`T0101`, `T1212`).
+        let tn = NumberFormat { address: String::new(), digits: 2, ..f(Point::Never, 0, false, true, false, false) };
+        assert_eq!(s(&tn, 1.0), "01");
+        assert_eq!(s(&tn, 12.0), "12");
+        assert_eq!(s(&tn, 0.0), "00");
+        assert_eq!(s(&tn, 123.0), "123");
+        let x = NumberFormat { digits: 3, ..f(Point::Always, 3, false, true, false, false) };
+        assert_eq!(s(&x, 1.5), "X001.5");
+        assert_eq!(s(&x, -1.5), "X-001.5");
+    }
+
+    #[test]
     fn numbers_follow_their_format() {
         let always = f(Point::Always, 3, false, true, false, false);
         assert_eq!(s(&always, 10.0), "X10.");
