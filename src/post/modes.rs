@@ -42,8 +42,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// in that and takes radii. The radius mode the source states is written where the target
     /// has one (`diameter-off`); where it has none but reads diameters, X stays written as
     /// diameters, which runs the same. A target with neither mode that reads radii is a
-    /// milling control's: a program that turns is not written for it (unwritable), since
-    /// read back it would not be known to turn.
+    /// milling control's: a program in diameters is not written for it (unwritable), since
+    /// read back it would not be known to turn; the radius mode needs no code there.
     pub(super) fn diameter_mode(&mut self, canon: &Canon, on: bool) {
         self.turns = true;
         let has = |p: &Self, e: &str| p.out.template(e).is_some();
