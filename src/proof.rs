@@ -5,7 +5,9 @@
 //! (a reference return, a move in machine coordinates) as those, not as the numbers the
 //! analysis gives them with its offsets at zero. With each move: the tool axis (turned under
 //! tool centre point control, or stated). With each cutting move: the tool, the feed,
-//! the spindle's turning and speed, and the coolant.
+//! the spindle's turning and speed, its mode (revolutions, or constant surface speed with the
+//! same clamp: the speed is then a cutting speed, compared in m/min, an inch program's ft/min
+//! converted), and the coolant.
 //!
 //! The door: [`Trace`] (a [`CanonSink`] that keeps what the comparison needs of a stream, in
 //! millimetres) and [`difference`], the first way one trace differs from another within a
@@ -94,6 +96,10 @@ pub struct Move {
     pub coolant: u8,
     /// See [`Move::feed`].
     pub tool: u32,
+    /// Constant surface speed in force, with its spindle speed clamp (1/min; the canon's
+    /// no-limit value where none is stated): `speed` is then the cutting speed in m/min
+    /// (an inch program's ft/min converted), not revolutions.
+    pub css: Option<f64>,
     /// The tilted working plane it runs on (its origin in millimetres), `None` untilted: the
     /// move's numbers are in its coordinates.
     pub tilt: Option<Frame>,
@@ -123,6 +129,7 @@ pub struct Trace {
     coolant: u8,
     tool: u32,
     sync: Option<f64>,
+    css: Option<f64>,
     /// The G92 shift and the work offset's change since first moved in (mm), and their sum.
     shifts: [[f64; 3]; 2],
     g92: [f64; 3],
@@ -157,6 +164,7 @@ impl Trace {
             coolant: 0,
             tool: 0,
             sync: None,
+            css: None,
             shifts: [[0.0; 3]; 2],
             g92: [0.0; 3],
             wcs: (None, [0.0; 6]),
@@ -211,7 +219,10 @@ impl Trace {
             sweep: 0.0,
             slack: 0.0,
             feed,
-            speed: self.speed,
+            // Under constant surface speed, S is a cutting speed in the program's units:
+            // m/min, or ft/min in inches (0.3048 m each, 12/1000 of the inch scale).
+            speed: if self.css.is_some() && self.scale != 1.0 { self.speed * self.scale * 0.012 } else { self.speed },
+            css: self.css,
             spindle: self.spindle,
             coolant: self.coolant,
             tool: self.tool,
@@ -363,6 +374,7 @@ impl CanonSink for Trace {
             }
             CanonOp::SetFeedRate(f) => self.feed = f * self.scale,
             CanonOp::SetSpindleSpeed(s) => self.speed = *s,
+            CanonOp::SetSpindleMode(m) => self.css = *m,
             CanonOp::StartSpindleClockwise => self.spindle = 1,
             CanonOp::StartSpindleCounterclockwise => self.spindle = -1,
             CanonOp::StopSpindleTurning => self.spindle = 0,
@@ -468,6 +480,26 @@ impl std::fmt::Display for Difference {
     }
 }
 
+/// Whether two moves run with the same spindle mode: revolutions, or constant surface speed
+/// clamped at the same speed (within half a revolution per minute).
+fn same_clamp(a: Option<f64>, b: Option<f64>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(x), Some(y)) => x == y || (x - y).abs() <= 0.5,
+        _ => false,
+    }
+}
+
+/// The spindle mode as the proof says it: nothing for revolutions, ` (constant surface speed,
+/// clamp S2500)` else.
+fn css_text(c: Option<f64>) -> String {
+    match c {
+        None => String::new(),
+        Some(m) if m >= crate::canon::NO_SPINDLE_LIMIT => " (constant surface speed)".into(),
+        Some(m) => format!(" (constant surface speed, clamp S{m})"),
+    }
+}
+
 /// The first way trace `b` runs differently from `a`, with positions within `tol` mm.
 pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
     let (a, b) = (&a.moves, &b.moves);
@@ -496,14 +528,26 @@ pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
         if m.tool != n.tool
             || (cuts && state(m) != state(n))
             || (cuts && m.spindle != 0 && (m.speed - n.speed).abs() > 0.5)
+            || (cuts && m.spindle != 0 && !same_clamp(m.css, n.css))
             || (cuts && (m.feed - n.feed).abs() > 1e-3 * m.feed.max(1.0))
         {
             return differ(
                 m,
                 Some(n),
                 format!(
-                    "tool/spindle/coolant/feed/speed T{} {} {} F{} S{} became T{} {} {} F{} S{}",
-                    m.tool, m.spindle, m.coolant, m.feed, m.speed, n.tool, n.spindle, n.coolant, n.feed, n.speed
+                    "tool/spindle/coolant/feed/speed T{} {} {} F{} S{}{} became T{} {} {} F{} S{}{}",
+                    m.tool,
+                    m.spindle,
+                    m.coolant,
+                    m.feed,
+                    m.speed,
+                    css_text(m.css),
+                    n.tool,
+                    n.spindle,
+                    n.coolant,
+                    n.feed,
+                    n.speed,
+                    css_text(n.css)
                 ),
             );
         }

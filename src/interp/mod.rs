@@ -1629,10 +1629,15 @@ impl<'a> Interpreter<'a> {
         true
     }
 
-    /// Before the first block: a control that starts in another plane than XY (a lathe in
-    /// ZX), or with feed per revolution, says so, as its program would, so that the canon is
-    /// read in the right plane and feed mode.
+    /// Before the first block: a control that starts in inches, in another plane than XY (a
+    /// lathe in ZX), or with feed per revolution, says so, as its program would, so that the
+    /// canon is read in the right units, plane and feed mode.
     fn start(&mut self, sink: &mut dyn CanonSink) {
+        // The units first: what follows is said in them (a writer that follows the program's
+        // units takes them before it writes anything).
+        if self.st.units == Units::Inch {
+            self.emit(sink, CanonOp::UseLengthUnits(Units::Inch));
+        }
         if self.st.plane != Plane::Xy {
             self.emit(sink, CanonOp::SelectPlane(self.st.plane));
         }
@@ -1641,9 +1646,6 @@ impl<'a> Interpreter<'a> {
         }
         if self.st.diameter {
             self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(true)));
-        }
-        if self.st.units == Units::Inch {
-            self.emit(sink, CanonOp::UseLengthUnits(Units::Inch));
         }
     }
 

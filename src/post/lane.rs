@@ -379,6 +379,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             && self.axis_check.is_none()
             && self.mods.is_empty()
             && self.repeat.is_none()
+            && !self.x_diam
             && self.out.rules.is_empty();
         self.lane_ready = 0;
         if steady {

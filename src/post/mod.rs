@@ -83,11 +83,20 @@
 //! states the values an address takes, Haas's G154 P1–P99, and an event whose template would
 //! write another is unwritable, `Output::fits`) are templates
 //! (a `css-on` without `{smax}` cannot state a speed limit: unwritable then). A diameter or
-//! radius mode the source states (G7/G8, DIAMON/DIAMOF) puts the target in its radius mode
-//! (`diameter-off`: X is written as the canonical radius) so that it reads a program that
-//! turns; without one, a target reading X as radii needs no code (`post::mode-implied`) and
-//! one reading diameters cannot take the radii (unwritable); a lathe cycle is written as its
-//! moves (`post::cycle-as-moves`). A tilted working plane is the target's `work-plane` with
+//! radius mode the source states (G7/G8, DIAMON/DIAMOF, or a lathe dictionary's diameters at
+//! its start) is written as the target reads X: a target that reads diameters from the start
+//! (`x-words="diameter"`, `Options::x_diameter`) takes X doubled with no code, one with a
+//! `diameter-on` (G7, DIAMON) is put in it and takes X doubled, one with only `diameter-off`
+//! takes radii; X positions (and machine X) are doubled as they are written, arc centres and
+//! radii not (`Post::as_diameter`; the steady lane stands aside meanwhile). A target with
+//! neither mode that reads radii is a milling control: a program in diameters is unwritable
+//! there (one that states the radius mode needs no code, `post::mode-implied`), and a program that never says it turns (no diameter or radius mode, no lathe cycle,
+//! not in the ZX plane at its first move) is unwritable for a target that reads diameters.
+//! A target that starts in feed per revolution is told the source's starting feed mode after
+//! the header (`Options::feed_per_rev_at_start`); a cutting speed under constant surface speed
+//! converts with the units (ft/min ↔ m/min); a tool change whose template is
+//! empty or cannot take the number (`digits`, `min`/`max` of a format: a lathe's `T0101`) is
+//! unwritable. A lathe cycle is written as its moves (`post::cycle-as-moves`). A tilted working plane is the target's `work-plane` with
 //! its origin (`{px} {py} {pz}`) and its rotation in the angles the control takes (spatial
 //! `{spa} {spb} {spc}`: Heidenhain `PLANE SPATIAL`; Euler `{eul-a} {eul-b} {eul-c}`: Fanuc
 //! `G68.2`; axis by axis `{rot-a} {rot-b} {rot-c}`: Siemens `CYCLE800` mode 57), the
@@ -167,6 +176,10 @@ pub struct Options {
     /// Whether the target reads X words as diameters from the start (a lathe dictionary's
     /// default). Set by [`translate`] from the target's dictionary.
     pub x_diameter: bool,
+    /// Whether the source's control starts in feed per revolution, and the target's (a
+    /// lathe's): a target that does is told the source's feed mode at the program's start,
+    /// so that it never runs in the mode a previous program left. Set by [`translate`].
+    pub feed_per_rev_at_start: (bool, bool),
 }
 
 impl Options {
@@ -187,6 +200,7 @@ impl Options {
             arc_tolerance: (0.0, 0.0),
             tap_to_clear: (false, false),
             x_diameter: false,
+            feed_per_rev_at_start: (false, false),
         }
     }
 }
@@ -304,6 +318,7 @@ pub fn translate_with_facts<'t>(
     let clear = |d: &crate::dialect::Dialect| d.behaviour.tapping == crate::dialect::TapStyle::Clear;
     opts.tap_to_clear = (clear(from), clear(to));
     opts.x_diameter = to.behaviour.x_diameter;
+    opts.feed_per_rev_at_start = (from.behaviour.initial_feed_per_rev, to.behaviour.initial_feed_per_rev);
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
     let mut diags = interpret_beside(text.into(), from, profile, &mut post);
@@ -493,6 +508,14 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     sync: Option<f64>,
     /// Whether constant surface speed is in force.
     css: bool,
+    /// Whether X words are written as diameters (twice the canonical radius): from the start
+    /// on a target that reads them so (`Options::x_diameter`), or after its `diameter-on`.
+    x_diam: bool,
+    /// Whether the source said it turns (a diameter or radius mode, a lathe cycle, the ZX
+    /// plane before its first move), and whether a move was written yet: a target that reads
+    /// X as diameters takes no program that does not turn.
+    turns: bool,
+    moved_yet: bool,
     /// Where each source line's text begins in `buf` (since the last hand-over): a run the
     /// program repeats is found there.
     line_offsets: Vec<(u32, usize, u64)>,
@@ -728,7 +751,7 @@ impl ThreeDecimals {
 
     /// [`ThreeDecimals::of`] with `sep` written before the address, if both together are short.
     fn after(f: &NumberFormat, sep: &[u8]) -> Option<ThreeDecimals> {
-        if f.increment {
+        if f.increment || f.digits > 0 {
             return None;
         }
         let prefix = |sign: &[u8]| {
@@ -898,6 +921,14 @@ fn number_text(b: &mut [u8; 64], f: &NumberFormat, n: i64, decimals: usize) -> u
             b[i] = b'0' + int as u8;
         }
     }
+    // Zero-padded to the fewest digits the format writes before the point (`T0101`).
+    if f.digits > 0 {
+        let point = b[i..48].iter().position(|c| *c == b'.').unwrap_or(48 - i);
+        for _ in point..usize::from(f.digits) {
+            i -= 1;
+            b[i] = b'0';
+        }
+    }
     if n < 0 {
         i -= 1;
         b[i] = b'-';
@@ -1011,6 +1042,8 @@ fn count_on(digits: &mut [u8], mut delta: u64) -> bool {
 impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// A writer by the rules `out`, handing text to `sink` as it grows.
     pub fn new(out: &'a Output, opts: Options, sink: F) -> Post<'a, F> {
+        let x_diam = opts.x_diameter;
+        let feed_mode = if opts.feed_per_rev_at_start == (true, true) { FeedMode::PerRevolution } else { FeedMode::PerMinute };
         Post {
             out,
             tops_source: None,
@@ -1026,7 +1059,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             g92: [0.0; 3],
             plane: Plane::Xy,
             wcs: None,
-            feed_mode: FeedMode::PerMinute,
+            feed_mode,
             pos: [0.0; 3],
             tilt: None,
             tcp: false,
@@ -1067,6 +1100,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             rounded_feed_at: None,
             sync: None,
             css: false,
+            x_diam,
+            turns: false,
+            moved_yet: false,
             line_offsets: Vec::new(),
             repeat: None,
             loops: 0,
@@ -1149,6 +1185,12 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             Units::Inch => "units-inch",
         };
         for ev in ["header", "safe-start", units] {
+            self.event(ev, &mut Vals::new());
+        }
+        // A target that starts in feed per revolution (a lathe) is told the mode the
+        // source starts in, whatever a previous program left.
+        if self.opts.feed_per_rev_at_start.1 {
+            let ev = if self.feed_mode == FeedMode::PerMinute { "feed-per-minute" } else { "feed-per-rev" };
             self.event(ev, &mut Vals::new());
         }
     }
@@ -1335,6 +1377,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// (and taken back when it writes nothing).
     #[inline(always)]
     fn put_num(&mut self, buf: &mut Vec<u8>, body: usize, sep: &[u8], num: Num, x: f64, moved: &mut u32) {
+        let x = if self.x_diam { self.as_diameter(num.value, x) } else { x };
         if x.is_nan() || self.unchanged(num, x) {
             return;
         }
@@ -1347,10 +1390,19 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
         }
     }
 
+    /// A number as written while X words are diameters: an X position (the work offset's or
+    /// the machine's) doubled; arc centres (I, the radius from the start), radii and the
+    /// rest as they are.
+    #[inline(never)]
+    fn as_diameter(&self, value: Value, x: f64) -> f64 {
+        if matches!(value, Value::X | Value::MachineX) { 2.0 * x } else { x }
+    }
+
     /// Writes number placeholder `value` with `x` in format `fi` onto `s`, unless it is left
     /// out; whether it was written.
     #[inline]
     fn push_value(&mut self, s: &mut Vec<u8>, num: Num, x: f64, moved: &mut u32) -> bool {
+        let x = if self.x_diam { self.as_diameter(num.value, x) } else { x };
         if x.is_nan() || self.unchanged(num, x) {
             return false;
         }
@@ -1825,6 +1877,9 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 | CanonOp::StraightProbe(_)
         ) {
             self.check_work_offset(canon);
+            if !self.moved_yet {
+                self.first_move(canon);
+            }
         }
         match &canon.op {
             CanonOp::SetSpindleSpeed(_)
@@ -2179,6 +2234,7 @@ mod tests {
             plus,
             increment,
             modal: false,
+            digits: 0,
         }
     }
 
@@ -2186,6 +2242,19 @@ mod tests {
         let mut out = String::new();
         format_number(&mut out, fmt, v, false);
         out
+    }
+
+    #[test]
+    fn a_format_pads_its_whole_digits() {
+        // A lathe's tool and offset, two digits each (`T0101`, `T1212`).
+        let tn = NumberFormat { address: String::new(), digits: 2, ..f(Point::Never, 0, false, true, false, false) };
+        assert_eq!(s(&tn, 1.0), "01");
+        assert_eq!(s(&tn, 12.0), "12");
+        assert_eq!(s(&tn, 0.0), "00");
+        assert_eq!(s(&tn, 123.0), "123");
+        let x = NumberFormat { digits: 3, ..f(Point::Always, 3, false, true, false, false) };
+        assert_eq!(s(&x, 1.5), "X001.5");
+        assert_eq!(s(&x, -1.5), "X-001.5");
     }
 
     #[test]

@@ -34,35 +34,80 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
     }
 
-    /// The source states the diameter or the radius mode (G7/G8, DIAMON/DIAMOF): the target
-    /// is put in its radius mode (`diameter-off`), since X is written as the canonical radius,
-    /// so that it reads the program as one that turns. A target without one that reads X as
-    /// radii anyway (a mill) needs no code, and says that read back the program is not known
-    /// to turn; one that reads X as diameters (a lathe dictionary's default) cannot take the
-    /// radii: unwritable.
+    /// The source states the diameter or the radius mode (G7/G8, DIAMON/DIAMOF, or a lathe
+    /// dictionary's diameters from the start). X words are then written as the target reads
+    /// them: a target that reads diameters from the start (a lathe's dictionary) takes them
+    /// doubled with no code; one with a diameter mode (`diameter-on`: G7, DIAMON) is put in it
+    /// and takes them doubled; one with only a radius mode (`diameter-off`: G8, DIAMOF) is put
+    /// in that and takes radii. The radius mode the source states is written where the target
+    /// has one (`diameter-off`); where it has none but reads diameters, X stays written as
+    /// diameters, which runs the same. A target with neither mode that reads radii is a
+    /// milling control's: a program in diameters is not written for it (unwritable), since
+    /// read back it would not be known to turn; the radius mode needs no code there.
     pub(super) fn diameter_mode(&mut self, canon: &Canon, on: bool) {
-        let stated = if on { "the diameter mode (X words as diameters)" } else { "the radius mode (X words as radii)" };
-        if self.event("diameter-off", &mut Vals::new()) {
-            // Said by the code written.
-        } else if self.opts.x_diameter {
+        self.turns = true;
+        let has = |p: &Self, e: &str| p.out.template(e).is_some();
+        if !self.opts.x_diameter && !has(self, "diameter-on") && !has(self, "diameter-off") {
+            if on {
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "diameter-mode",
+                    "the program turns (the diameter mode: X words as diameters), and the target is a milling control: its output rules have no diameter or radius mode (`diameter-on`, `diameter-off`) and it reads X words as radii; a lathe program is translated only for a lathe's dictionary (or LinuxCNC, Siemens)",
+                );
+            } else {
+                // X words as radii are what a mill reads: the motion is the same.
+                self.note(
+                    Code::PostModeImplied,
+                    canon,
+                    "radius-mode",
+                    "the radius mode (X words as radii) is not written: the target reads X words as radii and its output rules have no `diameter-off` template; read back, the program is not known to turn",
+                );
+            }
+            return;
+        }
+        if on {
+            if self.x_diam {
+                // The target reads diameters already.
+            } else if self.event("diameter-on", &mut Vals::new()) {
+                self.set_x_diameter(true);
+            } else {
+                // The radius mode: X is written as the canonical radius.
+                self.event("diameter-off", &mut Vals::new());
+            }
+        } else if self.event("diameter-off", &mut Vals::new()) {
+            self.set_x_diameter(false);
+        }
+    }
+
+    /// X words are written as diameters (`on`) or radii from here: the last X written is
+    /// forgotten, so that the next move states X in the new reading.
+    fn set_x_diameter(&mut self, on: bool) {
+        if self.x_diam != on {
+            self.x_diam = on;
+            self.set_written(0, None);
+        }
+    }
+
+    /// The first move: a target that reads X words as diameters (a lathe's dictionary) takes
+    /// only a program that turns. One that never said so (no diameter or radius mode, no
+    /// lathe cycle, not in the ZX plane) is a milling program: not written for a lathe.
+    pub(super) fn first_move(&mut self, canon: &Canon) {
+        self.moved_yet = true;
+        self.turns |= self.plane == Plane::Xz;
+        if self.opts.x_diameter && !self.turns {
             self.note(
                 Code::PostUnwritable,
                 canon,
-                "diameter-off",
-                format!("{stated} is not written: the target reads X words as diameters and its output rules have no radius mode (`diameter-off`) to take the radii written"),
-            );
-        } else {
-            self.note(
-                Code::PostModeImplied,
-                canon,
-                "diameter-mode",
-                format!("{stated} is not written: the target reads X words as radii and its output rules have no `diameter-off` template; read back, the program is not known to turn"),
+                "mill-to-lathe",
+                "the program does not turn (it states no diameter or radius mode and no lathe cycle, and moves first outside the ZX plane), and the target is a lathe's dictionary, which reads X words as diameters: a milling program is not translated for a lathe",
             );
         }
     }
 
     /// A lathe cycle (G71, CYCLE95, G76): written as the moves it makes, which follow.
     pub(super) fn lathe_cycle(&mut self, canon: &Canon, t: &crate::canon::TurnIntent) {
+        self.turns = true;
         self.note(
             Code::PostCycleAsMoves,
             canon,

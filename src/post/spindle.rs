@@ -17,10 +17,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     pub(super) fn spindle_op(&mut self, canon: &Canon) {
         match &canon.op {
             CanonOp::SetSpindleSpeed(s) => {
-                if (*s - self.speed).abs() > EPS {
+                // Under constant surface speed S is a cutting speed in the program's units
+                // (m/min, ft/min in inches): converted with them.
+                let s = if self.css { *s * self.css_factor() } else { *s };
+                if (s - self.speed).abs() > EPS {
                     self.speed_dirty = true;
                 }
-                self.speed = *s;
+                self.speed = s;
                 self.check_limits(canon);
             }
             // A cycle written as a cycle turns the spindle as it does (a tapping cycle's
@@ -38,6 +41,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::WaitOrientComplete(_) => {}
             // The spindle already stopped, or not a spindle op ([`Post::other_op`] hands none).
             _ => {}
+        }
+    }
+
+    /// What a cutting speed in the source's units is multiplied by in the target's: 1, or
+    /// ft/min ↔ m/min (0.3048 m a foot) where the program is written in other units.
+    fn css_factor(&self) -> f64 {
+        if self.scale > 1.0 + 1e-9 {
+            0.3048
+        } else if self.scale < 1.0 - 1e-9 {
+            1.0 / 0.3048
+        } else {
+            1.0
         }
     }
 

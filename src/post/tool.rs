@@ -81,7 +81,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 vals.set(Value::S, self.speed);
                 self.speed_dirty = false;
             }
-            self.event("tool-change", &mut vals);
+            let writes = self.out.template("tool-change").is_some_and(|(t, _)| !t.0.is_empty());
+            if !(writes && self.event("tool-change", &mut vals)) {
+                // The change left out would cut on with the tool before (the proof would
+                // catch it later, without the reason).
+                self.diags.push(crate::diag::Diagnostic::new(
+                    Code::PostUnwritable,
+                    self.origin,
+                    format!(
+                        "the tool change to T{t} is not written: the target's `tool-change` template is empty or takes no tool number {t}"
+                    ),
+                ));
+            }
             self.motion = None;
             if self.opts.length_at_tool_change == (true, false) {
                 // The source's tool change applied the tool's length; the target needs it said.

@@ -23,7 +23,9 @@
 //!   every command saying where a run stopped at a smaller one),
 //!   `plan` (one small CAM-style program per feature kind), `lathe` (the programs of
 //!   `tests/programs/lathe/` with hand-written sidecars, scored per turning workingstep and
-//!   feature; lathe edits in a turner's terms), `cam_suite` (the programs of
+//!   feature; lathe edits in a turner's terms), `translate_lathe` (those and the real lathe programs
+//!   translated between every pair of lathe dialects, proven by their motion, `tests/golden/translate/lathe.tsv`;
+//!   lathe to mill and mill to lathe refused), `cam_suite` (the programs of
 //!   `tests/programs/cam/`, made by its `generate.py` in Fanuc/Haas, Siemens and Heidenhain post
 //!   styles with sidecars, scored per feature kind; the NIST-style case), `edits` (one CAM
 //!   original, one operator edit per test, the exact change rows), `express` (every CC1 and CC2
@@ -92,6 +94,7 @@ mod sweep43;
 mod tilt;
 mod tool_comments;
 mod translate;
+mod translate_lathe;
 mod unknown_values;
 mod vocabulary;
 mod web;

@@ -104,6 +104,7 @@ fn numbers_agree_with_the_formats_definition() {
                     plus: bits & 4 != 0,
                     increment: bits & 8 != 0,
                     modal: false,
+                    digits: 0,
                 };
                 for &v in &values {
                     for inch in [false, true] {

@@ -40,6 +40,9 @@ pub struct NumberFormat {
     pub increment: bool,
     /// Whether the word is left out when its value is unchanged.
     pub modal: bool,
+    /// The fewest digits before the point, zero-padded (`digits="2"`: a lathe's `T0101`, its
+    /// tool and offset numbers two digits each); 0: as many as the number has.
+    pub digits: u8,
 }
 
 /// When a number's decimal point is written.
@@ -317,6 +320,7 @@ pub const EVENTS: &[&str] = &[
     "css-on",
     "css-off",
     "spindle-orient",
+    "diameter-on",
     "diameter-off",
     "work-plane",
     "work-plane-reset",

@@ -176,6 +176,7 @@ pub(in crate::dialect) fn load(el: &Element, errors: &mut Errors) -> Output {
             plus: false,
             increment: false,
             modal: false,
+            digits: 0,
         });
     }
     for c in &el.children {
@@ -212,6 +213,7 @@ fn read_format(c: &Element, out: &mut Output, errors: &mut Errors) {
             "inch-decimals",
             "min",
             "max",
+            "digits",
         ],
         errors,
     );
@@ -257,6 +259,7 @@ fn read_format(c: &Element, out: &mut Output, errors: &mut Errors) {
         plus: flag(c, "plus", false, errors),
         increment: flag(c, "increment", false, errors),
         modal: flag(c, "modal", false, errors),
+        digits: count(c, "digits", 0, errors).min(9) as u8,
     });
 }
 
@@ -564,6 +567,7 @@ mod tests {
             plus: false,
             increment: false,
             modal: true,
+            digits: 0,
         }];
         let mut errors = Vec::new();
         let t = template("G0 {x!}|^%", TextRange::default(), &f, &mut errors);

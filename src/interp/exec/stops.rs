@@ -31,10 +31,12 @@ impl Interpreter<'_> {
     }
 
     /// G4: a dwell of P (in the dialect's time unit), or X, F or K seconds where the code
-    /// takes them.
+    /// takes them (on a lathe in diameter mode X and U are seconds too, not diameters).
     pub(super) fn dwell(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         let seconds = match (self.slot(Role::P), self.slot(Role::X)) {
             (Some(p), _) => self.dwell_seconds(p),
+            // X (or a lathe's U) gives seconds: no diameter, though *read* halved it as one.
+            (None, Some(x)) if self.st.diameter => 2.0 * x,
             (None, Some(x)) => x,
             (None, None) if def.params.takes(Role::F) && self.slot(Role::F).is_some() => self.slot(Role::F).unwrap_or(0.0),
             (None, None) if def.params.takes(Role::K) => self.slot(Role::K).unwrap_or(0.0),
