@@ -203,3 +203,103 @@ fn below_top(p: Program<'_>, before: &str, after: &str) -> Option<String> {
     let note = super::part_top(p.plan)?.crossed(mm(x), mm(y), super::Fmt { inch })?;
     Some(format!(",{}", note.trim_start().trim_start_matches('(').trim_end_matches(')')).replace(",now", ", now"))
 }
+
+/// The callee a call statement's key names, as a program source is asked for it: the label of
+/// an O-word subroutine (`O<LOADTOOL>` is `loadtool`).
+fn callee_name(key: &str) -> Option<String> {
+    let label = key.strip_prefix(['O', 'o'])?.strip_prefix('<')?.strip_suffix('>')?;
+    (!label.is_empty()).then(|| label.to_ascii_lowercase())
+}
+
+/// The kinds the parameter `param` feeds in `p` (its statements `stmts`), followed through the
+/// variables it sets, three levels deep, as [`follow`] does for a variable.
+fn fed_kinds(p: Program<'_>, stmts: &[Stmt], param: &str) -> Vec<(ChangeKind, String)> {
+    let mut found: Vec<(ChangeKind, String)> = Vec::new();
+    let mut level = vec![param.to_owned()];
+    for _ in 0..3 {
+        let mut next = Vec::new();
+        for v in &level {
+            let (kinds, feeds, _) = uses(p, stmts, v);
+            for kf in kinds {
+                if !found.contains(&kf) {
+                    found.push(kf);
+                }
+            }
+            next.extend(feeds.into_iter().filter(|f| f != param));
+            next.truncate(MAX_FED);
+        }
+        if next.is_empty() {
+            break;
+        }
+        level = next;
+    }
+    found
+}
+
+/// A subroutine from another file: its text and its statements.
+type Callee = (String, Vec<Stmt>);
+
+/// A call's argument changed in place, passed to a subroutine in another file
+/// (`programs`: the subprograms beside the program, as the analysis finds them), becomes the
+/// change of what the parameter it binds does in that subroutine: positional argument `k`
+/// binds the dictionary's local parameter `k` (`#2` for LinuxCNC's second), followed there to
+/// the words it feeds (`feed (via O<PROBE_X_PLUS> argument 4, #4 in probe_x_plus)`). A call
+/// whose argument count changed (every later argument binds another parameter), a subroutine
+/// not found, or a parameter whose uses say nothing the dictionary knows, leaves the
+/// statement change as it is.
+pub(super) fn calls(changes: &mut Vec<Change>, dialect: &Dialect, programs: &dyn crate::interp::ProgramSource) {
+    let Some((sigil, _)) = dialect.lexical.parameter else { return };
+    let (first, last) = dialect.macros.locals;
+    let mut texts: Vec<(String, Option<Callee>)> = Vec::new();
+    let plan = crate::plan::ProcessPlan::default();
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let target = c.field.strip_prefix("call ").and_then(|r| r.rsplit_once(" argument ")).and_then(|(key, n)| {
+            let n = n.parse::<u16>().ok().filter(|&n| n >= 1 && u32::from(first) + u32::from(n) - 1 <= u32::from(last))?;
+            Some((key.to_owned(), callee_name(key)?, n))
+        });
+        let Some((key, name, n)) = target.filter(|_| c.kind == ChangeKind::StatementChanged) else {
+            k += 1;
+            continue;
+        };
+        // Arguments bind by position: where one was inserted or removed, every later one binds
+        // another parameter than the alignment pairs it with, so that call is left as it is.
+        let prefix = format!("call {key} argument ");
+        let (line, original_line) = (c.line, c.original_line);
+        let shifted = changes.iter().any(|o| {
+            o.line == line && o.original_line == original_line && o.field.starts_with(&prefix) && (o.before == "none" || o.after == "none")
+        });
+        if shifted {
+            k += 1;
+            continue;
+        }
+        if !texts.iter().any(|(t, _)| *t == name) {
+            let loaded = programs.load(&name).map(|text| {
+                let stmts = statement::statements(&text, dialect);
+                (text, stmts)
+            });
+            texts.push((name.clone(), loaded));
+        }
+        let Some((_, Some((text, stmts)))) = texts.iter().find(|(t, _)| *t == name) else {
+            k += 1;
+            continue;
+        };
+        let param = format!("{sigil}{}", first + n - 1);
+        let p = Program { plan: &plan, text, dialect };
+        let found = fed_kinds(p, stmts, &param);
+        if found.is_empty() {
+            k += 1;
+            continue;
+        }
+        let template = changes.remove(k);
+        for (kind, field) in found {
+            let mut t = template.clone();
+            t.kind = kind;
+            t.field = format!("{field} (via {key} argument {n}, {param} in {name})");
+            t.detail.effect = None;
+            changes.insert(k, t);
+            k += 1;
+        }
+    }
+}
