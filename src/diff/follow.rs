@@ -247,8 +247,10 @@ type Callee = (String, Vec<Stmt>);
 /// whose argument count changed (every later argument binds another parameter), a subroutine
 /// not found, or a parameter whose uses say nothing the dictionary knows, leaves the
 /// statement change as it is.
-pub(super) fn calls(changes: &mut Vec<Change>, dialect: &Dialect, programs: &dyn crate::interp::ProgramSource) {
+pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &dyn crate::interp::ProgramSource) {
+    let dialect = edited.dialect;
     let Some((sigil, _)) = dialect.lexical.parameter else { return };
+    let mut edited_stmts: Option<Vec<Stmt>> = None;
     let (first, last) = dialect.macros.locals;
     let mut texts: Vec<(String, Option<Callee>)> = Vec::new();
     let plan = crate::plan::ProcessPlan::default();
@@ -257,9 +259,10 @@ pub(super) fn calls(changes: &mut Vec<Change>, dialect: &Dialect, programs: &dyn
         let c = &changes[k];
         let target = c.field.strip_prefix("call ").and_then(|r| r.rsplit_once(" argument ")).and_then(|(key, n)| {
             let n = n.parse::<u16>().ok().filter(|&n| n >= 1 && u32::from(first) + u32::from(n) - 1 <= u32::from(last))?;
-            Some((key.to_owned(), callee_name(key)?, n))
+            Some((key.to_owned(), callee_name(key)?, first + n - 1))
         });
-        let Some((key, name, n)) = target.filter(|_| c.kind == ChangeKind::StatementChanged) else {
+        let target = target.filter(|_| c.kind == ChangeKind::StatementChanged).or_else(|| macro_argument(c, edited, &mut edited_stmts));
+        let Some((key, name, n)) = target else {
             k += 1;
             continue;
         };
@@ -285,7 +288,7 @@ pub(super) fn calls(changes: &mut Vec<Change>, dialect: &Dialect, programs: &dyn
             k += 1;
             continue;
         };
-        let param = format!("{sigil}{}", first + n - 1);
+        let param = format!("{sigil}{n}");
         let p = Program { plan: &plan, text, dialect };
         let found = fed_kinds(p, stmts, &param);
         if found.is_empty() {
@@ -296,10 +299,54 @@ pub(super) fn calls(changes: &mut Vec<Change>, dialect: &Dialect, programs: &dyn
         for (kind, field) in found {
             let mut t = template.clone();
             t.kind = kind;
-            t.field = format!("{field} (via {key} argument {n}, {param} in {name})");
+            t.field = format!("{field} (via {key} argument {}, {param} in {name})", arg_label(&key, n, first, dialect));
             t.detail.effect = None;
             changes.insert(k, t);
             k += 1;
         }
     }
+}
+
+/// How a change names the argument that binds local `n`: its position in an O-word call's
+/// list, its letter in a macro call (`G65 … B-0.75`: `B`).
+fn arg_label(key: &str, n: u16, first: u16, d: &Dialect) -> String {
+    if key.starts_with('G') {
+        if let Some(i) = d.macros.arguments.iter().position(|a| *a == Some(n)) {
+            return char::from(b'A' + i as u8).to_string();
+        }
+    }
+    (n + 1 - first).to_string()
+}
+
+/// A word of a macro call (`G65 P9810 B2`, LNC `G65 "PROBEY" B-0.5`) changed in place: the
+/// call's code, the program it calls (`O9810`, `PROBEY`) and the local its letter sets by
+/// the dictionary's argument letters (`B` is `#2`).
+fn macro_argument(c: &Change, edited: Program<'_>, stmts: &mut Option<Vec<Stmt>>) -> Option<(String, String, u16)> {
+    let d = edited.dialect;
+    let line = c.line?;
+    let letter_of = |w: &str| {
+        let l = w.chars().next().filter(char::is_ascii_alphabetic)?.to_ascii_uppercase();
+        w[1..].trim().parse::<f64>().ok().map(|_| l)
+    };
+    let (lb, la) = (letter_of(&c.before)?, letter_of(&c.after)?);
+    // A word of the call statement, told as a statement or as the call's change.
+    let word =
+        (c.kind == ChangeKind::StatementChanged && c.field == "statement") || (c.kind == ChangeKind::FlowChanged && c.field == "call");
+    if lb != la || !word {
+        return None;
+    }
+    let n = d.macros.arguments[usize::from(la as u8 - b'A')]?;
+    let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, d));
+    let s = stmts.iter().find(|s| s.line <= line && line <= s.last)?;
+    let toks = statement::tokens(&statement::text_of(edited.text, d, s));
+    let call = toks.iter().find(|t| matches!(about(t, d), About::Code(Meaning::MacroCall)))?;
+    let name = toks.iter().find_map(|t| {
+        if t.key == "P" {
+            t.value.parse::<u32>().ok().map(|p| format!("O{p:04}"))
+        } else {
+            let q = t.text.trim();
+            (q.len() > 2 && q.starts_with('"') && q.ends_with('"')).then(|| q[1..q.len() - 1].to_owned())
+        }
+    })?;
+    Some((call.key.clone(), name, n))
 }

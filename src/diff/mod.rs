@@ -509,7 +509,7 @@ pub fn compare_with_findings(
 /// found them): an argument changed in place (same argument count) is told as what the parameter it
 /// binds does there (a feed, a height, a condition), where the dictionary knows it.
 pub fn follow_calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &dyn crate::interp::ProgramSource) {
-    follow::calls(changes, edited.dialect, programs);
+    follow::calls(changes, edited, programs);
 }
 
 /// The differing statements of two programs no change in `changes` names, as (original

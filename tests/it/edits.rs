@@ -762,3 +762,21 @@ fn call_arguments_followed_into_a_subroutine_beside_the_program() {
     assert!(got.iter().all(|c| c.kind != ChangeKind::FeedChanged), "{got:#?}");
     assert!(!got.is_empty());
 }
+
+/// A Fanuc macro call's argument letter changed: followed to the local it sets (`B` is `#2`)
+/// in the program it calls, found beside the program.
+#[test]
+fn macro_call_argument_followed_into_the_program_it_calls() {
+    let sub = Beside("O9810", "O9810\nG0 Z5.\nG1 Z-#2 F100.\nG0 Z5.\nM99\n");
+    let registry = Registry::shipped();
+    let d = registry.get("fanuc").unwrap();
+    let profile = Profile::default();
+    let (a, b) = ("O1\nG21 G90\nG65 P9810 B2.\nM30\n", "O1\nG21 G90\nG65 P9810 B3.\nM30\n");
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
+    let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
+    diff::follow_calls(&mut got, edited, &sub);
+    let depth = got.iter().find(|c| c.kind == ChangeKind::DepthChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    assert!(depth.field.contains("G65 argument B, #2 in O9810"), "{}", depth.field);
+    assert_eq!(depth.line, Some(3));
+}

@@ -55,7 +55,13 @@ for toml in "$here"/*.toml; do
         while IFS= read -r f; do
           b=$(basename "$f")
           [ "$b" = "$name" ] && continue
-          case "$b" in *.*) [ "$(printf '%s' "${b##*.}" | tr 'A-Z' 'a-z')" = "$ext" ] || continue;; *) continue;; esac
+          # Files of its extension; for a program without one (LNC's `LOADTOOL`), the others
+          # without one.
+          case "$b" in
+            *.*) case "$name" in *.*) ;; *) continue;; esac
+                 [ "$(printf '%s' "${b##*.}" | tr 'A-Z' 'a-z')" = "$ext" ] || continue;;
+            *) case "$name" in *.*) continue;; esac;;
+          esac
           git --git-dir="$gitdir" cat-file -e "$commit:$f" 2>/dev/null && git --git-dir="$gitdir" show "$commit:$f" > "$out/$id/$side/$b" 2>/dev/null
         done
     done
