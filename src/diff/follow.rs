@@ -301,6 +301,14 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
             t.kind = kind;
             t.field = format!("{field} (via {key} argument {}, {param} in {name})", arg_label(&key, n, first, dialect));
             t.detail.effect = None;
+            if key.starts_with('G') {
+                // A macro call's word (`B-0.75`): its value, the letter being named.
+                for v in [&mut t.before, &mut t.after] {
+                    if v.starts_with(|c: char| c.is_ascii_alphabetic()) {
+                        v.remove(0);
+                    }
+                }
+            }
             changes.insert(k, t);
             k += 1;
         }
@@ -339,14 +347,22 @@ fn macro_argument(c: &Change, edited: Program<'_>, stmts: &mut Option<Vec<Stmt>>
     let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, d));
     let s = stmts.iter().find(|s| s.line <= line && line <= s.last)?;
     let toks = statement::tokens(&statement::text_of(edited.text, d, s));
-    let call = toks.iter().find(|t| matches!(about(t, d), About::Code(Meaning::MacroCall)))?;
-    let name = toks.iter().find_map(|t| {
-        if t.key == "P" {
-            t.value.parse::<u32>().ok().map(|p| format!("O{p:04}"))
-        } else {
-            let q = t.text.trim();
-            (q.len() > 2 && q.starts_with('"') && q.ends_with('"')).then(|| q[1..q.len() - 1].to_owned())
-        }
+    // The call's code, and the name written against it (LNC `G65"PROBEY"` reads as one token).
+    let (code, quoted) = toks.iter().find_map(|t| {
+        let (code, rest) = t.key.split_once('"').map_or((t.key.as_str(), None), |(c, r)| (c, Some(r)));
+        let word = Token { key: code.to_owned(), value: String::new(), text: code.to_owned(), sort: Sort::Word };
+        matches!(about(&word, d), About::Code(Meaning::MacroCall))
+            .then(|| (code.to_owned(), rest.map(|r| r.trim_end_matches('"').to_owned()).filter(|r| !r.is_empty())))
     })?;
-    Some((call.key.clone(), name, n))
+    let name = quoted.or_else(|| {
+        toks.iter().find_map(|t| {
+            if t.key == "P" {
+                t.value.parse::<u32>().ok().map(|p| format!("O{p:04}"))
+            } else {
+                let q = t.text.trim();
+                (q.len() > 2 && q.starts_with('"') && q.ends_with('"')).then(|| q[1..q.len() - 1].to_owned())
+            }
+        })
+    })?;
+    Some((code, name, n))
 }

@@ -778,5 +778,5 @@ fn macro_call_argument_followed_into_the_program_it_calls() {
     diff::follow_calls(&mut got, edited, &sub);
     let depth = got.iter().find(|c| c.kind == ChangeKind::DepthChanged).unwrap_or_else(|| panic!("{got:#?}"));
     assert!(depth.field.contains("G65 argument B, #2 in O9810"), "{}", depth.field);
-    assert_eq!(depth.line, Some(3));
+    assert_eq!((depth.before.as_str(), depth.after.as_str(), depth.line), ("2.", "3.", Some(3)));
 }

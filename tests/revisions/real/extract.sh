@@ -51,7 +51,7 @@ for toml in "$here"/*.toml; do
     for side in before after; do
       commit=$before; [ "$side" = after ] && commit=$after
       rm -rf "${out:?}/$id/$side"; mkdir -p "$out/$id/$side"
-      git --git-dir="$gitdir" ls-tree --name-only "$commit" -- "${dir:+$dir/}" 2>/dev/null |
+      git --git-dir="$gitdir" ls-tree "$commit" ${dir:+-- "$dir/"} 2>/dev/null | sed -n 's/^[0-9]* blob [0-9a-f]*	//p' |
         while IFS= read -r f; do
           b=$(basename "$f")
           [ "$b" = "$name" ] && continue
