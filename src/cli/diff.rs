@@ -60,10 +60,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let b = pipeline::analyze_plan_owned(bytes_b, &db, &beside(&edited));
     say_stops(&original, &a.source.text, &a.diagnostics);
     say_stops(&edited, &b.source.text, &b.diagnostics);
-    let mut changes = pipeline::diff(&a, &da, &b, &db);
-    if let Some(programs) = beside(&edited).programs {
-        follow_calls_beside(&mut changes, &b, &db, programs.as_ref());
-    }
+    let changes = pipeline::diff_beside(&a, &da, &b, &db, &beside(&edited));
     let machining = changes.iter().any(Change::is_machining);
     match format {
         Format::Json => {
@@ -83,15 +80,4 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     }
     out.flush()?;
     Ok(if exit_code && machining { ExitCode::from(1) } else { ExitCode::SUCCESS })
-}
-
-/// The edited program's call arguments followed into the subroutines beside it.
-fn follow_calls_beside(
-    changes: &mut Vec<Change>,
-    b: &pipeline::Analysis,
-    d: &crate::dialect::Dialect,
-    programs: &dyn crate::interp::ProgramSource,
-) {
-    let edited = crate::diff::Program { plan: &b.plan, text: &b.source.text, dialect: d };
-    crate::diff::follow_calls(changes, edited, programs);
 }
