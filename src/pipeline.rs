@@ -317,6 +317,23 @@ pub fn diff(original: &Analysis, original_dialect: &Dialect, edited: &Analysis, 
     )
 }
 
+/// [`diff`], with the edited program's call arguments followed into the subroutines its
+/// profile finds (`edited_profile.programs`: those beside it for `ncplan diff`).
+pub fn diff_beside(
+    original: &Analysis,
+    original_dialect: &Dialect,
+    edited: &Analysis,
+    edited_dialect: &Dialect,
+    edited_profile: &Profile,
+) -> Vec<Change> {
+    let mut changes = diff(original, original_dialect, edited, edited_dialect);
+    if let Some(programs) = &edited_profile.programs {
+        let program = crate::diff::Program { plan: &edited.plan, text: &edited.source.text, dialect: edited_dialect };
+        crate::diff::follow_calls(&mut changes, program, programs.as_ref());
+    }
+    changes
+}
+
 #[cfg(test)]
 mod tests {
     use super::program_name;

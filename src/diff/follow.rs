@@ -203,3 +203,166 @@ fn below_top(p: Program<'_>, before: &str, after: &str) -> Option<String> {
     let note = super::part_top(p.plan)?.crossed(mm(x), mm(y), super::Fmt { inch })?;
     Some(format!(",{}", note.trim_start().trim_start_matches('(').trim_end_matches(')')).replace(",now", ", now"))
 }
+
+/// The callee a call statement's key names, as a program source is asked for it: the label of
+/// an O-word subroutine (`O<LOADTOOL>` is `loadtool`).
+fn callee_name(key: &str) -> Option<String> {
+    let label = key.strip_prefix(['O', 'o'])?.strip_prefix('<')?.strip_suffix('>')?;
+    (!label.is_empty()).then(|| label.to_ascii_lowercase())
+}
+
+/// The kinds the parameter `param` feeds in `p` (its statements `stmts`), followed through the
+/// variables it sets, three levels deep, as [`follow`] does for a variable.
+fn fed_kinds(p: Program<'_>, stmts: &[Stmt], param: &str) -> Vec<(ChangeKind, String)> {
+    let mut found: Vec<(ChangeKind, String)> = Vec::new();
+    let mut level = vec![param.to_owned()];
+    for _ in 0..3 {
+        let mut next = Vec::new();
+        for v in &level {
+            let (kinds, feeds, _) = uses(p, stmts, v);
+            for kf in kinds {
+                if !found.contains(&kf) {
+                    found.push(kf);
+                }
+            }
+            next.extend(feeds.into_iter().filter(|f| f != param));
+            next.truncate(MAX_FED);
+        }
+        if next.is_empty() {
+            break;
+        }
+        level = next;
+    }
+    found
+}
+
+/// A subroutine from another file: its text and its statements.
+type Callee = (String, Vec<Stmt>);
+
+/// A call's argument changed in place, passed to a subroutine in another file
+/// (`programs`: the subprograms beside the program, as the analysis finds them), becomes the
+/// change of what the parameter it binds does in that subroutine: positional argument `k`
+/// binds the dictionary's local parameter `k` (`#2` for LinuxCNC's second), followed there to
+/// the words it feeds (`feed (via O<PROBE_X_PLUS> argument 4, #4 in probe_x_plus)`). A call
+/// whose argument count changed (every later argument binds another parameter), a subroutine
+/// not found, or a parameter whose uses say nothing the dictionary knows, leaves the
+/// statement change as it is.
+pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &dyn crate::interp::ProgramSource) {
+    let dialect = edited.dialect;
+    let Some((sigil, _)) = dialect.lexical.parameter else { return };
+    let mut edited_stmts: Option<Vec<Stmt>> = None;
+    let (first, last) = dialect.macros.locals;
+    let mut texts: Vec<(String, Option<Callee>)> = Vec::new();
+    let plan = crate::plan::ProcessPlan::default();
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let target = c.field.strip_prefix("call ").and_then(|r| r.rsplit_once(" argument ")).and_then(|(key, n)| {
+            let n = n.parse::<u16>().ok().filter(|&n| n >= 1 && u32::from(first) + u32::from(n) - 1 <= u32::from(last))?;
+            Some((key.to_owned(), callee_name(key)?, first + n - 1))
+        });
+        let target = target.filter(|_| c.kind == ChangeKind::StatementChanged).or_else(|| macro_argument(c, edited, &mut edited_stmts));
+        let Some((key, name, n)) = target else {
+            k += 1;
+            continue;
+        };
+        // Arguments bind by position: where one was inserted or removed, every later one binds
+        // another parameter than the alignment pairs it with, so that call is left as it is.
+        let prefix = format!("call {key} argument ");
+        let (line, original_line) = (c.line, c.original_line);
+        let shifted = changes.iter().any(|o| {
+            o.line == line && o.original_line == original_line && o.field.starts_with(&prefix) && (o.before == "none" || o.after == "none")
+        });
+        if shifted {
+            k += 1;
+            continue;
+        }
+        if !texts.iter().any(|(t, _)| *t == name) {
+            let loaded = programs.load(&name).map(|text| {
+                let stmts = statement::statements(&text, dialect);
+                (text, stmts)
+            });
+            texts.push((name.clone(), loaded));
+        }
+        let Some((_, Some((text, stmts)))) = texts.iter().find(|(t, _)| *t == name) else {
+            k += 1;
+            continue;
+        };
+        let param = format!("{sigil}{n}");
+        let p = Program { plan: &plan, text, dialect };
+        let found = fed_kinds(p, stmts, &param);
+        if found.is_empty() {
+            k += 1;
+            continue;
+        }
+        let template = changes.remove(k);
+        for (kind, field) in found {
+            let mut t = template.clone();
+            t.kind = kind;
+            t.field = format!("{field} (via {key} argument {}, {param} in {name})", arg_label(&key, n, first, dialect));
+            t.detail.effect = None;
+            if key.starts_with('G') {
+                // A macro call's word (`B-0.75`): its value, the letter being named.
+                for v in [&mut t.before, &mut t.after] {
+                    if v.starts_with(|c: char| c.is_ascii_alphabetic()) {
+                        v.remove(0);
+                    }
+                }
+            }
+            changes.insert(k, t);
+            k += 1;
+        }
+    }
+}
+
+/// How a change names the argument that binds local `n`: its position in an O-word call's
+/// list, its letter in a macro call (`G65 … B-0.75`: `B`).
+fn arg_label(key: &str, n: u16, first: u16, d: &Dialect) -> String {
+    if key.starts_with('G') {
+        if let Some(i) = d.macros.arguments.iter().position(|a| *a == Some(n)) {
+            return char::from(b'A' + i as u8).to_string();
+        }
+    }
+    (n + 1 - first).to_string()
+}
+
+/// A word of a macro call (`G65 P9810 B2`, LNC `G65 "PROBEY" B-0.5`) changed in place: the
+/// call's code, the program it calls (`O9810`, `PROBEY`) and the local its letter sets by
+/// the dictionary's argument letters (`B` is `#2`).
+fn macro_argument(c: &Change, edited: Program<'_>, stmts: &mut Option<Vec<Stmt>>) -> Option<(String, String, u16)> {
+    let d = edited.dialect;
+    let line = c.line?;
+    let letter_of = |w: &str| {
+        let l = w.chars().next().filter(char::is_ascii_alphabetic)?.to_ascii_uppercase();
+        w[1..].trim().parse::<f64>().ok().map(|_| l)
+    };
+    let (lb, la) = (letter_of(&c.before)?, letter_of(&c.after)?);
+    // A word of the call statement, told as a statement or as the call's change.
+    let word =
+        (c.kind == ChangeKind::StatementChanged && c.field == "statement") || (c.kind == ChangeKind::FlowChanged && c.field == "call");
+    if lb != la || !word {
+        return None;
+    }
+    let n = d.macros.arguments[usize::from(la as u8 - b'A')]?;
+    let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, d));
+    let s = stmts.iter().find(|s| s.line <= line && line <= s.last)?;
+    let toks = statement::tokens(&statement::text_of(edited.text, d, s));
+    // The call's code, and the name written against it (LNC `G65"PROBEY"` reads as one token).
+    let (code, quoted) = toks.iter().find_map(|t| {
+        let (code, rest) = t.key.split_once('"').map_or((t.key.as_str(), None), |(c, r)| (c, Some(r)));
+        let word = Token { key: code.to_owned(), value: String::new(), text: code.to_owned(), sort: Sort::Word };
+        matches!(about(&word, d), About::Code(Meaning::MacroCall))
+            .then(|| (code.to_owned(), rest.map(|r| r.trim_end_matches('"').to_owned()).filter(|r| !r.is_empty())))
+    })?;
+    let name = quoted.or_else(|| {
+        toks.iter().find_map(|t| {
+            if t.key == "P" {
+                t.value.parse::<u32>().ok().map(|p| format!("O{p:04}"))
+            } else {
+                let q = t.text.trim();
+                (q.len() > 2 && q.starts_with('"') && q.ends_with('"')).then(|| q[1..q.len() - 1].to_owned())
+            }
+        })
+    })?;
+    Some((code, name, n))
+}

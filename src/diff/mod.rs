@@ -509,6 +509,14 @@ pub fn compare_with_findings(
     changes
 }
 
+/// [`compare_with_findings`]'s changes with a call's arguments followed into the subroutines
+/// the edited program calls from other files (`programs`: those beside it, as its analysis
+/// found them): an argument changed in place (same argument count) is told as what the parameter it
+/// binds does there (a feed, a height, a condition), where the dictionary knows it.
+pub fn follow_calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &dyn crate::interp::ProgramSource) {
+    follow::calls(changes, edited, programs);
+}
+
 /// The differing statements of two programs no change in `changes` names, as (original
 /// line, edited line): empty when the comparison accounts for every edit.
 pub fn unaccounted(original: Program<'_>, edited: Program<'_>, changes: &[Change]) -> Vec<Located> {

@@ -50,20 +50,23 @@ pub const ROTARY_MOVE: u8 = 2;
 
 /// What the words of `block` move, by the dictionary's meanings and roles.
 fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
+    let code_of = |w: &crate::syntax::Word| match (w.role, w.letter, w.value) {
+        // A keyword code (Siemens `SUPA`) holds the index of its code.
+        (Role::Keyword, _, crate::syntax::Value::Number { value, .. }) => dialect.codes.get(value as usize),
+        (_, letter @ (b'G' | b'M'), crate::syntax::Value::Number { value, .. }) => {
+            dialect.code(char::from(letter), (value * 10.0).round().max(0.0) as u32)
+        }
+        _ => None,
+    };
+    // A macro call's letters are its arguments (`G65 P9810 B2.` sets #2), not axis words.
+    let macro_call =
+        block.words.iter().any(|w| code_of(w).is_some_and(|c| matches!(c.meaning, Meaning::MacroCall | Meaning::ModalMacroCall)));
     let mut m = 0;
     for w in &block.words {
-        if matches!(w.role, Role::A | Role::B | Role::C) {
+        if matches!(w.role, Role::A | Role::B | Role::C) && !macro_call {
             m |= ROTARY_MOVE;
         }
-        let code = match (w.role, w.letter, w.value) {
-            // A keyword code (Siemens `SUPA`) holds the index of its code.
-            (Role::Keyword, _, crate::syntax::Value::Number { value, .. }) => dialect.codes.get(value as usize),
-            (_, letter @ (b'G' | b'M'), crate::syntax::Value::Number { value, .. }) => {
-                dialect.code(char::from(letter), (value * 10.0).round().max(0.0) as u32)
-            }
-            _ => None,
-        };
-        if code.is_some_and(|code| matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)) {
+        if code_of(w).is_some_and(|code| matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)) {
             m |= RETURN_MOVE;
         }
     }

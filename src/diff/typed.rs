@@ -225,6 +225,10 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     if !tok.is_address() || tok.sort == Sort::Call {
         return None;
     }
+    // A comment the control stops at (LinuxCNC `(abort, …)`): the program ends there.
+    if tok.sort == Sort::Other && abort_comment(&tok.text, d) {
+        return Some((K::StopAdded, "abort"));
+    }
     // A legacy cycle's value, a number alone after its sub-block.
     if tok.sort == Sort::Other && tok.key.parse::<f64>().is_ok() && (ctx.dwell || ctx.legacy) {
         return Some(if ctx.dwell { (K::DwellChanged, "dwell") } else { (K::CycleParameterChanged, "cycle parameter") });
@@ -273,6 +277,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             }
             M::Wcs | M::WcsExtended => (K::WorkOffsetChanged, "work offset"),
             M::ProgramStop | M::OptionalStop => (K::StopAdded, "stop"),
+            M::ProgramEnd | M::ProgramEndRewind => (K::StopAdded, "program end"),
             M::Dwell => (K::DwellChanged, "dwell"),
             M::OverridesOn | M::OverridesOff | M::FeedOverrideSwitch => (K::FeedOverrideChanged, "feed override"),
             M::ToolChange => (K::ToolRenamed, "tool"),
@@ -465,4 +470,16 @@ pub(super) fn align_args(a: &[String], b: &[String]) -> Vec<(Option<usize>, Opti
         return positional;
     }
     super::statement::pairs_along(anchors, a.len(), b.len())
+}
+
+/// Whether a token is a comment whose directive stops the program (`(abort, probe failed)`).
+fn abort_comment(text: &str, d: &Dialect) -> bool {
+    let t = text.trim();
+    let Some(open) = d.lexical.comments.iter().find(|k| t.starts_with(k.open)) else { return false };
+    let inner = &t[open.open.len_utf8()..];
+    let inner = match open.close {
+        crate::dialect::CommentClose::Char(c) => inner.strip_suffix(c).unwrap_or(inner),
+        _ => inner,
+    };
+    matches!(d.lexical.directive(inner.trim_start()), Some((crate::dialect::Directive::Abort, _)))
 }

@@ -6,7 +6,7 @@
 
 use expect_test::{Expect, expect};
 use ncplan::dialect::Registry;
-use ncplan::diff::{self, Change};
+use ncplan::diff::{self, Change, ChangeKind};
 use ncplan::interp::Profile;
 use ncplan::pipeline;
 
@@ -740,4 +740,57 @@ fn lnc_comments_global_variables_and_block_statements_are_read_as_the_control_re
           call runs 2 → 3 times at line 12
     "#]]
     .assert_eq(&rows(&changes(a, &b, "lnc")));
+}
+
+/// A subroutine beside the program, for [`diff::follow_calls`].
+struct Beside(&'static str, &'static str);
+
+impl ncplan::interp::ProgramSource for Beside {
+    fn load(&self, name: &str) -> Option<String> {
+        (name == self.0).then(|| self.1.to_owned())
+    }
+}
+
+/// A call's argument changed in place is told as what the parameter it binds does in the
+/// subroutine in another file; a call whose argument count changed is left as statements,
+/// since every later argument binds another parameter.
+#[test]
+fn call_arguments_followed_into_a_subroutine_beside_the_program() {
+    let sub = Beside("probe", "o<probe> sub\n#<fast> = #2\nG91 G38.2 X[#1] F[#<fast>]\no<probe> endsub\nM2\n");
+    let registry = Registry::shipped();
+    let d = registry.get("linuxcnc").unwrap();
+    let profile = Profile::default();
+    let run = |a: &str, b: &str| {
+        let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+        let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
+        let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
+        diff::follow_calls(&mut got, edited, &sub);
+        got
+    };
+    let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [10] [150]\nM2\n");
+    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    assert!(feed.field.contains("argument 2, #2 in probe"), "{}", feed.field);
+    assert_eq!((feed.before.as_str(), feed.after.as_str(), feed.line), ("300", "150", Some(2)));
+    // An argument inserted before it: the binding shifts, nothing is claimed about it.
+    let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [5] [10] [300]\nM2\n");
+    assert!(got.iter().all(|c| c.kind != ChangeKind::FeedChanged), "{got:#?}");
+    assert!(!got.is_empty());
+}
+
+/// A Fanuc macro call's argument letter changed: followed to the local it sets (`B` is `#2`)
+/// in the program it calls, found beside the program.
+#[test]
+fn macro_call_argument_followed_into_the_program_it_calls() {
+    let sub = Beside("O9810", "O9810\nG0 Z5.\nG1 Z-#2 F100.\nG0 Z5.\nM99\n");
+    let registry = Registry::shipped();
+    let d = registry.get("fanuc").unwrap();
+    let profile = Profile::default();
+    let (a, b) = ("O1\nG21 G90\nG65 P9810 B2.\nM30\n", "O1\nG21 G90\nG65 P9810 B3.\nM30\n");
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
+    let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
+    diff::follow_calls(&mut got, edited, &sub);
+    let depth = got.iter().find(|c| c.kind == ChangeKind::DepthChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    assert!(depth.field.contains("G65 argument B, #2 in O9810"), "{}", depth.field);
+    assert_eq!((depth.before.as_str(), depth.after.as_str(), depth.line), ("2.", "3.", Some(3)));
 }

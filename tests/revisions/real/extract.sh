@@ -13,6 +13,9 @@
 # repository, named owner+name, with the bare git directory in repo/ or repo/.git/
 # (the layout the workplace's fetch tool produces). This script fetches nothing and
 # builds nothing: a pair whose mirror or commit is missing is skipped with a message.
+# Beside the pair, OUT_DIR/<id>/before/ and after/ hold the other files of the program's
+# directory with its extension at each commit: the subroutines it may call from other files,
+# as a daemon watching that folder sees them.
 # Exit status: 0 if every pair was extracted, 1 if any was skipped.
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
@@ -41,6 +44,27 @@ for toml in "$here"/*.toml; do
   if git --git-dir="$gitdir" show "$before:$path" > "$out/$id/original.$ext" 2>/dev/null &&
      git --git-dir="$gitdir" show "$after:$path" > "$out/$id/edited.$ext" 2>/dev/null; then
     ok=$((ok+1))
+    # The programs beside it, as a daemon watching its folder sees them: the other files of
+    # the program's directory with its extension, at each commit (`before/`, `after/`), for
+    # the subroutines it calls from other files.
+    dir=$(dirname "$path"); [ "$dir" = . ] && dir=
+    for side in before after; do
+      commit=$before; [ "$side" = after ] && commit=$after
+      rm -rf "${out:?}/$id/$side"; mkdir -p "$out/$id/$side"
+      git --git-dir="$gitdir" ls-tree "$commit" ${dir:+-- "$dir/"} 2>/dev/null | sed -n 's/^[0-9]* blob [0-9a-f]*	//p' |
+        while IFS= read -r f; do
+          b=$(basename "$f")
+          [ "$b" = "$name" ] && continue
+          # Files of its extension; for a program without one (LNC's `LOADTOOL`), the others
+          # without one.
+          case "$b" in
+            *.*) case "$name" in *.*) ;; *) continue;; esac
+                 [ "$(printf '%s' "${b##*.}" | tr 'A-Z' 'a-z')" = "$ext" ] || continue;;
+            *) case "$name" in *.*) continue;; esac;;
+          esac
+          git --git-dir="$gitdir" cat-file -e "$commit:$f" 2>/dev/null && git --git-dir="$gitdir" show "$commit:$f" > "$out/$id/$side/$b" 2>/dev/null
+        done
+    done
   else
     echo "skip $id: $repo has no $path at $before or $after" >&2
     rm -rf "${out:?}/$id"; skipped=$((skipped+1))
