@@ -188,7 +188,7 @@ fn score_folder(folder: &str) -> (usize, usize, usize, Vec<String>) {
     let mut programs: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e != "expect" && e != "tsv"))
+        .filter(|p| p.extension().is_some_and(|e| e != "expect" && e != "tsv" && e != "sh"))
         .collect();
     programs.sort();
     let (mut listed, mut misses) = (0, Vec::new());
@@ -539,4 +539,20 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
     // Cut in XY: a mill's.
     let (ws, _) = labels("G17 G21\nT1 M6\nS1000 M3\nG0 X0 Y0 Z1\nG1 Z-1 F100\nX10\nY10\nX0\nY0\nG0 Z5\nM2\n", "linuxcnc");
     assert!(ws.iter().all(|w| w.ends_with("milling")), "{ws:?}");
+}
+
+/// Prints the misses of the real folders (run by hand with `--ignored --nocapture`).
+#[test]
+#[ignore]
+fn print_real_misses() {
+    for folder in ["lathe_real", "lathe_real_heldout", "lathe_new", "lathe_new_heldout"] {
+        if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
+            continue;
+        }
+        let (listed, found, milling, misses) = score_folder(folder);
+        println!("== {folder}: {found} of {listed}, {milling} milling");
+        for m in &misses {
+            println!("{m}");
+        }
+    }
 }
