@@ -448,7 +448,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         // A finishing cycle starts where its contour starts, inside or out: it is inside
         // where its roughing was (below).
         None if finish_cycle => boring,
-        None => t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
+        None => {
+            t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)) || pulls_off_inward(&runs)
+        }
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
     // left along Z.
@@ -494,9 +496,14 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         // Passes that plunge across and back out the same way, as CAM posts write a groove
         // wider than the tool: roughing where they plunge at several places along Z.
         None if xmin >= 0.05 && plunges.0 >= 1 && 2 * plunges.0 >= runs.len() => (TurnOp::Grooving, plunges.1 > 1),
-        None if mostly_across => {
+        None if mostly_across || face_with_lead_in(&runs, xmin) => {
             let to_axis = xmin < 0.05;
-            if to_axis && zmin >= front - 0.5 {
+            // Cuts to the axis at several places along Z step down a face (a facing cycle
+            // written as moves); a parting tool plunges to the axis at one.
+            let mut at_axis: Vec<f64> = cuts.iter().filter(|m| across(m) && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
+            at_axis.sort_by(f64::total_cmp);
+            at_axis.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+            if to_axis && (zmin >= front - 0.5 || at_axis.len() > 1) {
                 (TurnOp::Facing, runs.len() > 1)
             } else if to_axis {
                 (TurnOp::PartingOff, false)
@@ -513,6 +520,31 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     ws.turning = Some(Box::new(t));
 }
 
+/// Whether the passes, as CAM posts and turners write them, pull off the wall towards the
+/// axis: each pass ends with a short move back along +Z that also moves X, outwards after
+/// an outside pass and inwards after a bore's. Only where every pull-off goes inwards.
+fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
+    let pulls: Vec<f64> = runs
+        .iter()
+        .filter_map(|r| {
+            let m = r.last()?;
+            let (dx, dz) = (m.to[0] - m.from[0], m.to[2] - m.from[2]);
+            (r.len() > 1 && dz > TOL && dx.abs() > TOL && dx.hypot(dz) < 2.0).then_some(dx)
+        })
+        .collect();
+    !pulls.is_empty() && pulls.iter().all(|dx| *dx < 0.0)
+}
+
+/// One pass that feeds in along Z at its diameter and then cuts across to the axis: a face
+/// with its lead-in (LinuxCNC's one-pass `G72`, a post's facing pass), the run across being
+/// most of the cut.
+fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64) -> bool {
+    let [run] = runs else { return false };
+    let across: f64 = run.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| (m.to[0] - m.from[0]).abs()).sum();
+    let total: f64 = run.iter().map(|m| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2])).sum();
+    xmin < 0.05 && run.last().is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]) && across >= 0.75 * total
+}
+
 /// The features a workingstep machines, with the Z they are placed at.
 fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(FeatureKind, f64)> {
     let Some(t) = ws.turning.as_deref() else { return Vec::new() };
@@ -526,7 +558,11 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
     match t.operation {
         Some(TurnOp::Facing) => {
             // The face the last pass leaves.
-            let last = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| m.to[2]).next_back().unwrap_or(z[0]);
+            // The face the last pass leaves: the last that reaches the axis, where some do (the
+            // passes after it only clear a chamfer's corner behind the face).
+            let across = || cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL);
+            let to_axis = across().filter(|m| m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).next_back();
+            let last = to_axis.or_else(|| across().map(|m| m.to[2]).next_back()).unwrap_or(z[0]);
             let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
             vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), round(last - allow))]
         }
