@@ -683,6 +683,9 @@ struct Recovery<'p> {
     diags: Vec<Diagnostic>,
     /// The program turns about Z (diameter mode, a lathe cycle).
     lathe: bool,
+    /// Roughing or finishing as the last operation comment states it (`(ROUGHING)`,
+    /// `(FINISH_BORE_ID)`), for the next turning workingstep.
+    stated: Option<bool>,
     /// The lathe cycle in force, and the count of cycle starts and ends.
     turn: Option<crate::canon::TurnIntent>,
     turn_seq: u32,
@@ -737,6 +740,7 @@ impl<'p> Recovery<'p> {
             done: Vec::new(),
             diags: Vec::new(),
             lathe: profile.turns,
+            stated: None,
             turn: None,
             turn_seq: 0,
             cut_any: false,
@@ -1093,6 +1097,9 @@ impl<'p> Recovery<'p> {
                 self.listed.entry(n).or_insert_with(|| s.trim().to_owned());
             }
         }
+        if let Some(rough) = stated_roughness(s) {
+            self.stated = Some(rough);
+        }
         self.comments.push((line, s.trim().to_owned()));
         if self.comments.len() > MAX_COMMENTS {
             self.comments.remove(0);
@@ -1215,6 +1222,7 @@ impl<'p> Recovery<'p> {
                     || b.state.work_offset != self.wcs
                     || b.setup != self.setup
                     || (self.lathe && b.turn_seq != self.turn_seq)
+                    || (self.lathe && retracted && self.stated.is_some_and(|r| b.turning.stated != Some(r)))
                     || (self.lathe && b.milling != (self.plane == Plane::Xy))
             }
         };
@@ -1239,7 +1247,8 @@ impl<'p> Recovery<'p> {
                 dwells: std::mem::take(&mut self.pending_dwells),
                 ..MachineState::default()
             };
-            let turning = self.turning_now();
+            let mut turning = self.turning_now();
+            turning.stated = if self.lathe { self.stated.take() } else { None };
             self.current = Some(Builder {
                 operation,
                 tool: self.tool,
@@ -1372,7 +1381,9 @@ impl<'p> Recovery<'p> {
         b.source = t.source;
         b.lines.1 = t.last_line;
         let (operation, tool, setup, turn_seq) = (b.operation, b.tool, b.setup, b.turn_seq);
-        let turning = self.turning_now();
+        let mut turning = self.turning_now();
+        // The later piece is still the operation its comment named, unless another began.
+        turning.stated = self.stated.take().or(b.turning.stated);
         self.finish(b);
         let mut moves = rest;
         for i in 0..moves.len() {
@@ -1719,6 +1730,22 @@ impl StockOrigin {
             out[1][k] = min + size;
         }
         out
+    }
+}
+
+/// Roughing or finishing as an operation's comment states it, as CAM posts name operations
+/// (NX `ROUGH_BORE_ID`, `FINISH_TURN_OD`) and turners head them (`(ROUGHING)`, `(Finish 1)`,
+/// German `Schruppen`/`Schlichten`, Spanish `desbaste`/`acabado`); none where it says both or
+/// neither.
+fn stated_roughness(comment: &str) -> Option<bool> {
+    let up = comment.to_ascii_uppercase();
+    let words: Vec<&str> = up.split(|c: char| !c.is_ascii_alphanumeric()).filter(|w| !w.is_empty()).collect();
+    let rough = words.iter().any(|w| ["ROUGH", "SCHRUPP", "DESBAST"].iter().any(|p| w.starts_with(p)));
+    let finish = words.iter().any(|w| ["FINISH", "SCHLICHT", "ACABAD"].iter().any(|p| w.starts_with(p)));
+    match (rough, finish) {
+        (true, false) => Some(true),
+        (false, true) => Some(false),
+        _ => None,
     }
 }
 

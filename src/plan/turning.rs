@@ -419,6 +419,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
+        t.stated = None;
         ws.turning = Some(Box::new(t));
         return;
     }
@@ -514,6 +515,14 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
             }
         }
         None => (TurnOp::Contouring, runs.len() > 1),
+    };
+    // One pass tells nothing of roughing or finishing: an operation its own comment calls
+    // roughing is that (a roughing operation's one pass over a last region). Passes stepping
+    // in are roughing whatever the operation is called.
+    let stated = t.stated.take();
+    let rough = match (op, intent_kind, stated) {
+        (TurnOp::Contouring | TurnOp::Facing, None, Some(true)) => true,
+        _ => rough,
     };
     t.operation = Some(op);
     t.rough = rough;
