@@ -588,6 +588,18 @@ impl Builder {
         }
     }
 
+    /// Whether every cut so far faces: none feeds towards -Z, and some cut across X reaches
+    /// the axis (X words are radii here, in the lathe's ZX plane).
+    fn faces_only(&self) -> bool {
+        let mut cuts = self.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+        let (mut across_to_axis, mut deeper) = (false, false);
+        for m in cuts.by_ref() {
+            deeper |= m.to[2] < m.from[2] - 0.05;
+            across_to_axis |= (m.to[2] - m.from[2]).abs() < 1e-3 && m.to[0].min(m.from[0]) < 0.05;
+        }
+        across_to_axis && !deeper
+    }
+
     /// Whether a cut after a retract and re-entry starts another operation with the same
     /// tool and technology: the depth sequence restarts (it is not deeper than the deepest
     /// level), the tool re-enters where the deepest level began after several levels (a
@@ -1291,11 +1303,20 @@ impl<'p> Recovery<'p> {
         // A lathe cycle's passes are one workingstep, whatever feeds they cut at (a thread's
         // tapered run-out, a finishing feed of its own).
         let in_cycle = lathe && self.turn.is_some();
+        // On a lathe, passes along -Z after facing passes only (across to the axis, pulled
+        // off along +Z) start the turning: the same tool faces, then turns (CAM posts write
+        // both at one feed).
+        let turns_after_facing = lathe
+            && (mv.to[0] - mv.from[0]).abs() < EPS
+            && mv.to[2] < mv.from[2] - 0.5
+            && self.current.as_ref().is_some_and(|b| b.faces_only());
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
             && !in_cycle
-            && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) || !lathe && !is_lift(&mv) && b.starts_anew(&mv))
+            && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS)
+                || !lathe && !is_lift(&mv) && b.starts_anew(&mv)
+                || turns_after_facing)
         {
             let now = self.technology();
             self.split(t, c, now);
