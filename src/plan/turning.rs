@@ -264,8 +264,13 @@ fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
                 _ => return None,
             }
             // A program stop between two passes parts two operations; so does a slower feed
-            // (the finishing pass after the roughing ones).
+            // (the finishing pass after the roughing ones), and a comment that names another
+            // operation (`FINISH_TURN_OD` after `ROUGH_TURN_OD`).
             if ws.state.stops.iter().any(|s| s.at == 0) {
+                return None;
+            }
+            let stated = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.stated);
+            if stated(&ws).is_some() && stated(&ws) != stated(prev) {
                 return None;
             }
             let feed = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.feed_per_rev);
@@ -497,6 +502,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         // Passes that plunge across and back out the same way, as CAM posts write a groove
         // wider than the tool: roughing where they plunge at several places along Z.
         None if xmin >= 0.05 && plunges.0 >= 1 && 2 * plunges.0 >= runs.len() => (TurnOp::Grooving, plunges.1 > 1),
+        // A recess profiled from both sides down to one bottom, as posts write a groove's
+        // finish with a turning or grooving tool: each flank in a pass of its own.
+        None if xmin >= 0.05 && !t.inside && profiled_groove(&runs).is_some() => (TurnOp::Grooving, false),
         None if mostly_across || face_with_lead_in(&runs, xmin) => {
             let to_axis = xmin < 0.05;
             // Cuts to the axis at several places along Z step down a face (a facing cycle
@@ -544,6 +552,43 @@ fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
     !pulls.is_empty() && pulls.iter().all(|dx| *dx < 0.0)
 }
 
+/// A groove profiled from both sides: passes that each come down a flank to the same bottom
+/// diameter (the smallest cut) and run along it, one coming from +Z and one from -Z, their
+/// runs along the bottom meeting. The bottom's radius and the Z span of the passes.
+fn profiled_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
+    if runs.len() < 2 {
+        return None;
+    }
+    let bottom = runs.iter().flatten().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
+    let (mut from_above, mut from_below) = (None::<(f64, f64)>, None::<(f64, f64)>);
+    for r in runs {
+        let Some(first) = r.first() else { continue };
+        // The run along the bottom, and where the run came from.
+        let along: Vec<&Move> =
+            r.iter().filter(|m| (m.to[0] - bottom).abs() < 0.01 && (m.from[0] - bottom).abs() < 0.01 && m.arc.is_none()).collect();
+        let (Some(a), Some(b)) = (along.first(), along.last()) else { continue };
+        let (lo, hi) = (a.from[2].min(b.to[2]), a.from[2].max(b.to[2]));
+        let came_down = first.from[0] > bottom + 0.5;
+        if !came_down || hi - lo < TOL {
+            continue;
+        }
+        let span = |o: Option<(f64, f64)>| Some(o.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
+        if first.from[2] > hi + TOL {
+            from_above = span(from_above);
+        } else if first.from[2] < lo - TOL {
+            from_below = span(from_below);
+        }
+    }
+    let ((la, ha), (lb, hb)) = (from_above?, from_below?);
+    // The two bottoms touch: one recess, not two.
+    if la > hb + TOL || lb > ha + TOL {
+        return None;
+    }
+    let zs = runs.iter().flatten().flat_map(|m| [m.from[2], m.to[2]]);
+    let (zlo, zhi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    Some((bottom, zlo, zhi))
+}
+
 /// One pass that feeds in along Z at its diameter and then cuts across to the axis: a face
 /// with its lead-in (LinuxCNC's one-pass `G72`, a post's facing pass), the run across being
 /// most of the cut.
@@ -580,7 +625,8 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
             let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
             // A cycle that states the groove's edges gives its width; else the plunges' span
             // and the tool's width.
-            let span = t.intent.as_ref().and_then(|i| i.span);
+            // A groove profiled from both sides: from flank to flank.
+            let span = t.intent.as_ref().and_then(|i| i.span).or_else(|| profiled_groove(&runs(ws)).map(|(_, lo, hi)| [lo, hi]));
             let width = match span {
                 Some([lo, hi]) => Some(round(hi - lo)),
                 None => tool_width.map(|w| round(hi - lo + w)),

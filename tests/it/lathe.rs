@@ -567,3 +567,46 @@ fn print_real_misses() {
         }
     }
 }
+
+/// Explicit passes read as a turner reads them: a bore's passes pull off towards the axis; a
+/// face stepped down past a chamfer is facing, not parting; a groove profiled from both sides
+/// is grooving; an operation's comment parts one tool's roughing from its finishing and makes
+/// a roughing operation's one pass roughing; facing passes then turning passes at one feed are
+/// two workingsteps.
+#[test]
+fn explicit_passes_are_read_as_a_turner_reads_them() {
+    // A bore: each pass feeds along -Z and pulls off inwards (X smaller) before the rapid out.
+    let bore = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X20. Z2.\nG1 X24. Z0.5 F0.2\nZ-20.\nX23.4 Z-19.7\nG0 Z2.\nX28.\n\
+G1 Z0.5\nZ-20.\nX27.4 Z-19.7\nG0 Z2.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(bore, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough inside"]);
+    // The same passes pulling off outwards turn the outside.
+    let od = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X50. Z2.\nG1 X28. Z0.5 F0.2\nZ-20.\nX28.6 Z-19.7\nG0 Z2.\nX24.\n\
+G1 Z0.5\nZ-20.\nX24.6 Z-19.7\nG0 Z2.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(&od, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough"]);
+    // Facing passes stepping down to Z-0.8 across to the axis, the last ones only clearing a
+    // chamfer's corner behind the face: facing, the face where the last pass to the axis left it.
+    let face = "O2\nG21 G99\nT0101\nG97 S1000 M3\nG0 X44. Z1.\nG1 Z0.6 F0.2\nX0.\nG0 Z1.6\nX44.\nG1 Z0.2\nX0.\nG0 Z1.2\nX44.\n\
+G1 Z-0.2\nX38.\nG0 Z1.\nX44.\nG1 Z-0.6\nX39.\nG0 Z1.\nX100. Z50.\nM30\n";
+    let (ws, features) = labels(face, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough"]);
+    assert!(features.contains(&"revolved flat".to_owned()), "{features:?}");
+    // A groove Ø30 between Z-10 and Z-16 finished from both sides, one flank a pass.
+    let groove = "O3\nG21 G99\nT0202\nG97 S600 M3\nG0 X42. Z-8.\nG1 X40. Z-10. F0.08\nX30.\nZ-13.\nG0 X42.\nZ-18.\n\
+G1 X40. Z-16.\nX30.\nZ-13.\nG0 X42.\nX100. Z50.\nM30\n";
+    let (ws, features) = labels(groove, "fanuc_lathe");
+    assert_eq!(ws, ["grooving finish"]);
+    assert_eq!(features, ["groove"]);
+    // One tool, one feed: its roughing operation's passes, then its finishing one, each
+    // headed by its name as a post writes it.
+    let named = "O4\nG21 G99\nT0101\nG97 S800 M3\n(ROUGH_TURN_OD)\nG0 X42. Z2.\nG1 X36. Z0.5 F0.2\nZ-30.\nX38. Z-29.\n\
+G0 Z2.\n(FINISH_TURN_OD)\nG0 X35.\nG1 Z0.5\nZ-30.\nX42.\nG0 Z2.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(named, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough", "contouring finish"]);
+    // Facing then turning with one tool at one feed.
+    let face_turn = "O5\nG21 G99\nT0101\nG97 S800 M3\nG0 X44. Z0.5\nG1 X-1. F0.2\nZ1.\nG0 X44.\nZ0.\nG1 X-1.\nZ1.\n\
+G0 X38.\nG1 Z-30.\nX44.\nG0 Z1.\nX34.\nG1 Z-20.\nX40.\nG0 X100. Z50.\nM30\n";
+    let (ws, _) = labels(face_turn, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough", "contouring rough"]);
+}
