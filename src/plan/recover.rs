@@ -600,6 +600,13 @@ impl Builder {
         across_to_axis && !deeper
     }
 
+    /// Whether the cuts so far are several passes, none reaching the axis.
+    fn passes_off_axis(&self) -> bool {
+        let cuts = || self.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+        let entries = self.moves.iter().filter(|m| m.kind == MoveKind::Rapid).count();
+        entries >= 2 && cuts().next().is_some() && cuts().all(|m| m.to[0].min(m.from[0]) >= 0.05)
+    }
+
     /// Whether a cut after a retract and re-entry starts another operation with the same
     /// tool and technology: the depth sequence restarts (it is not deeper than the deepest
     /// level), the tool re-enters where the deepest level began after several levels (a
@@ -1310,13 +1317,20 @@ impl<'p> Recovery<'p> {
             && (mv.to[0] - mv.from[0]).abs() < EPS
             && mv.to[2] < mv.from[2] - 0.5
             && self.current.as_ref().is_some_and(|b| b.faces_only());
+        // A pass that starts from the axis after passes that never reached it is the
+        // finishing contour, face first (a post's finish after its roughing, at one feed).
+        let finish_from_axis = lathe
+            && mv.kind != MoveKind::Rapid
+            && mv.to[0].min(mv.from[0]) < 0.05
+            && self.current.as_ref().is_some_and(|b| b.passes_off_axis());
         if is_cut
             && let Some(b) = self.current.as_mut()
             && let Some(t) = b.tentative.take()
             && !in_cycle
             && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS)
                 || !lathe && !is_lift(&mv) && b.starts_anew(&mv)
-                || turns_after_facing)
+                || turns_after_facing
+                || finish_from_axis)
         {
             let now = self.technology();
             self.split(t, c, now);
