@@ -29,6 +29,10 @@ use crate::text::num;
 /// Within this, two lengths are the same, mm.
 const TOL: f64 = 1e-3;
 
+/// A face cut across X this far beyond the program zero is no approach in the air: the part's
+/// front lies there, mm.
+const FAR_FRONT: f64 = 10.0;
+
 /// Whether a feature kind is a milling one (none of these on a pure lathe program).
 pub fn is_milling(kind: &FeatureKind) -> bool {
     !matches!(kind, FeatureKind::Turned(_) | FeatureKind::RoundHole { .. })
@@ -96,7 +100,10 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         .iter()
         .find(|w| w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside))
         .and_then(|w| cuts(w).into_iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]).map(|m| m.to[2]).next_back())
-        .unwrap_or(0.0);
+        // None faces: the program zero, where lathe programs put the front, unless the
+        // highest cut across X lies far beyond it (more than any approach clearance: a shaft
+        // whose zero is at its far end, a post's zero at the chuck): then that is the front.
+        .unwrap_or(if front > FAR_FRONT { front } else { 0.0 });
     let mut found: Vec<Vec<(FeatureKind, f64)>> = plan
         .workingsteps
         .iter()

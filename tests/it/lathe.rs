@@ -241,12 +241,13 @@ fn lathe_real_build_programs() {
 /// cut before its G76 told it. No longer held back: branch lathe3 built on it (6 December 2026:
 /// a face stepped down is facing, a tool that faces then turns parts its workingsteps, Okuma's
 /// `TG=` names the tool, a pass from the axis after passes that never reached it is the
-/// finish): 40 of 84. The test keeps that figure from falling and no milling
+/// finish, and where no workingstep faces a shaft whose program zero is at its far end keeps
+/// its diameters): 45 of 84. The test keeps that figure from falling and no milling
 /// feature.
 #[test]
 fn lathe_real_held_out_programs() {
     /// Listed workingsteps and features recovered on this half, re-scored (built on).
-    const HELD_OUT_SCORE: usize = 40;
+    const HELD_OUT_SCORE: usize = 45;
     let (listed, found, milling, misses) = score_folder("lathe_real_heldout");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(
@@ -283,7 +284,10 @@ fn lathe_new_held_out_programs() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_new_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
-        eprintln!("skipped: the held-back programs are not extracted (tests/programs/lathe_new_heldout/extract.sh)");
+        crate::skip(
+            "lathe::lathe_new_held_out_programs",
+            "the held-back programs are not extracted (tests/programs/lathe_new_heldout/extract.sh)",
+        );
         return;
     }
     let (listed, found, milling, misses) = score_folder("lathe_new_heldout");
@@ -592,6 +596,7 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
 /// Prints the misses of the real folders (run by hand with `--ignored --nocapture`).
 #[test]
 #[ignore]
+#[allow(clippy::print_stdout)] // the misses are the test's report
 fn print_real_misses() {
     let (_, listed, found, milling, misses) = score_corpus_sidecars();
     println!("== lathe_heldout: {found} of {listed}, {milling} milling");
@@ -625,7 +630,7 @@ G1 Z0.5\nZ-20.\nX27.4 Z-19.7\nG0 Z2.\nX100. Z50.\nM30\n";
     // The same passes pulling off outwards turn the outside.
     let od = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X50. Z2.\nG1 X28. Z0.5 F0.2\nZ-20.\nX28.6 Z-19.7\nG0 Z2.\nX24.\n\
 G1 Z0.5\nZ-20.\nX24.6 Z-19.7\nG0 Z2.\nX100. Z50.\nM30\n";
-    let (ws, _) = labels(&od, "fanuc_lathe");
+    let (ws, _) = labels(od, "fanuc_lathe");
     assert_eq!(ws, ["contouring rough"]);
     // Facing passes stepping down to Z-0.8 across to the axis, the last ones only clearing a
     // chamfer's corner behind the face: facing, the face where the last pass to the axis left it.
