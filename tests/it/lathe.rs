@@ -275,12 +275,15 @@ fn lathe_new_build_programs() {
 /// The held-back part of that set (`tests/programs/lathe_new_heldout/`: Haas shop programs of
 /// enier290188/cnc, whose repository states no licence: only the sidecars are committed,
 /// `extract.sh` writes the programs from a mirror). Never used to build; measured once, at the
-/// end of branch lathe3 (6 December 2026): HELD_OUT_SCORE of the listed recovered. Where the
+/// end of branch lathe3 (6 December 2026): 34 of the 46 listed recovered, no milling feature.
+/// The misses: the features of a G70 finish after G71 on a contour that starts beyond the centre
+/// (faces, diameters: lathe_hp_2, valve, weld_pin), a G71/G70 pair on a face-only contour read as
+/// contouring (nims_1002), an undercut profiled in passes from one side (valve). Where the
 /// programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_new_held_out_programs() {
     /// Listed workingsteps and features recovered on the held-back part, measured once.
-    const HELD_OUT_SCORE: usize = 0;
+    const HELD_OUT_SCORE: usize = 34;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_new_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
