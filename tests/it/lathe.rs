@@ -276,9 +276,9 @@ fn lathe_new_build_programs() {
 /// enier290188/cnc, whose repository states no licence: only the sidecars are committed,
 /// `extract.sh` writes the programs from a mirror). Never used to build; measured once, at the
 /// end of branch lathe3 (6 December 2026): 34 of the 46 listed recovered, no milling feature.
-/// The misses: the features of a G70 finish after G71 on a contour that starts beyond the centre
-/// (faces, diameters: lathe_hp_2, valve, weld_pin), a G71/G70 pair on a face-only contour read as
-/// contouring (nims_1002), an undercut profiled in passes from one side (valve). Where the
+/// The misses (not looked into, the part stays unseen): the face and diameters of lathe_hp_2,
+/// valve and weld_pin, both facing workingsteps of nims_1002 (a G71/G70 pair on a face-only
+/// contour), valve's undercut as a groove. Where the
 /// programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_new_held_out_programs() {
