@@ -705,6 +705,9 @@ struct Recovery<'p> {
     /// Roughing or finishing as the last operation comment states it (`(ROUGHING)`,
     /// `(FINISH_BORE_ID)`), for the next turning workingstep.
     stated: Option<bool>,
+    /// The line of that comment where it gives sizes: on a tool change's line it describes the
+    /// tool (`T0101 (OD ROUGH 80DEG)`), not the operation; 0 where it gives none.
+    stated_line: u32,
     /// The lathe cycle in force, and the count of cycle starts and ends.
     turn: Option<crate::canon::TurnIntent>,
     turn_seq: u32,
@@ -760,6 +763,7 @@ impl<'p> Recovery<'p> {
             diags: Vec::new(),
             lathe: profile.turns,
             stated: None,
+            stated_line: 0,
             turn: None,
             turn_seq: 0,
             cut_any: false,
@@ -1004,6 +1008,9 @@ impl<'p> Recovery<'p> {
     /// program gave it, and the comments that describe it.
     fn change_tool(&mut self, t: u32, line: u32) {
         self.close();
+        if self.stated_line == line && line != 0 {
+            self.stated = None;
+        }
         self.tool = t;
         let known = self.profile.tools.get(&t);
         let kind = known.and_then(|k| k.kind.as_deref()).and_then(ToolKind::parse);
@@ -1118,6 +1125,8 @@ impl<'p> Recovery<'p> {
         }
         if let Some(rough) = stated_roughness(s) {
             self.stated = Some(rough);
+            // Sizes say a tool is described (`80DEG R0.8`), not an operation (`ROUGH OD`).
+            self.stated_line = if s.bytes().any(|b| b.is_ascii_digit()) { line } else { 0 };
         }
         self.comments.push((line, s.trim().to_owned()));
         if self.comments.len() > MAX_COMMENTS {
@@ -1310,28 +1319,10 @@ impl<'p> Recovery<'p> {
         // A lathe cycle's passes are one workingstep, whatever feeds they cut at (a thread's
         // tapered run-out, a finishing feed of its own).
         let in_cycle = lathe && self.turn.is_some();
-        // On a lathe, passes along -Z after facing passes only (across to the axis, pulled
-        // off along +Z) start the turning: the same tool faces, then turns (CAM posts write
-        // both at one feed).
-        let turns_after_facing = lathe
-            && (mv.to[0] - mv.from[0]).abs() < EPS
-            && mv.to[2] < mv.from[2] - 0.5
-            && self.current.as_ref().is_some_and(|b| b.faces_only());
-        // A pass that starts from the axis after passes that never reached it is the
-        // finishing contour, face first (a post's finish after its roughing, at one feed).
-        let finish_from_axis = lathe
-            && mv.kind != MoveKind::Rapid
-            && mv.to[0].min(mv.from[0]) < 0.05
-            && self.current.as_ref().is_some_and(|b| b.passes_off_axis());
-        if is_cut
-            && let Some(b) = self.current.as_mut()
-            && let Some(t) = b.tentative.take()
-            && !in_cycle
-            && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS)
-                || !lathe && !is_lift(&mv) && b.starts_anew(&mv)
-                || turns_after_facing
-                || finish_from_axis)
-        {
+        // The first cut after a re-entry decides, and the boundary is gone after it.
+        let next = is_cut && !in_cycle && self.next_operation(&mv, decisive_feed);
+        let tentative = if is_cut { self.current.as_mut().and_then(|b| b.tentative.take()) } else { None };
+        if next && let Some(t) = tentative {
             let now = self.technology();
             self.split(t, c, now);
         }
@@ -1383,6 +1374,24 @@ impl<'p> Recovery<'p> {
         if operation.is_hole() && b.surface.is_none() && self.in_cycle.is_some() {
             b.surface = self.surface;
         }
+    }
+
+    /// Whether a cut after a retract and re-entry (a tentative boundary) starts the tool's next
+    /// operation: at another feed; on a mill, a depth sequence begun anew; on a lathe, passes
+    /// along -Z after facing passes only (across to the axis, pulled off along +Z: the same
+    /// tool faces, then turns), or a pass from the axis after passes that never reached it (the
+    /// finishing contour, face first, after the roughing).
+    fn next_operation(&self, mv: &Move, decisive_feed: f64) -> bool {
+        let Some(b) = self.current.as_ref().filter(|b| b.tentative.is_some()) else { return false };
+        if b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) {
+            return true;
+        }
+        if !self.lathe {
+            return !is_lift(mv) && b.starts_anew(mv);
+        }
+        let turns_after_facing = (mv.to[0] - mv.from[0]).abs() < EPS && mv.to[2] < mv.from[2] - 0.5 && b.faces_only();
+        let finish_from_axis = mv.kind != MoveKind::Rapid && mv.to[0].min(mv.from[0]) < 0.05 && b.passes_off_axis();
+        turns_after_facing || finish_from_axis
     }
 
     /// Ends the current workingstep at a tentative boundary and starts the next with the

@@ -650,7 +650,7 @@ G1 X40. Z-16.\nX30.\nZ-13.\nG0 X42.\nX100. Z50.\nM30\n";
     assert_eq!(features, ["groove"]);
     // One tool, one feed: its roughing operation's passes, then its finishing one, each
     // headed by its name as a post writes it.
-    let named = "O4\nG21 G99\nT0101\nG97 S800 M3\n(ROUGH_TURN_OD)\nG0 X42. Z2.\nG1 X36. Z0.5 F0.2\nZ-30.\nX38. Z-29.\n\
+    let named = "O4\nG21 G99\n(ROUGH_TURN_OD)\nT0101\nG97 S800 M3\nG0 X42. Z2.\nG1 X36. Z0.5 F0.2\nZ-30.\nX38. Z-29.\n\
 G0 Z2.\n(FINISH_TURN_OD)\nG0 X35.\nG1 Z0.5\nZ-30.\nX42.\nG0 Z2.\nX100. Z50.\nM30\n";
     let (ws, _) = labels(named, "fanuc_lathe");
     assert_eq!(ws, ["contouring rough", "contouring finish"]);
