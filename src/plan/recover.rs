@@ -588,6 +588,25 @@ impl Builder {
         }
     }
 
+    /// Whether every cut so far faces: none feeds towards -Z, and some cut across X reaches
+    /// the axis (X words are radii here, in the lathe's ZX plane).
+    fn faces_only(&self) -> bool {
+        let mut cuts = self.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+        let (mut across_to_axis, mut deeper) = (false, false);
+        for m in cuts.by_ref() {
+            deeper |= m.to[2] < m.from[2] - 0.05;
+            across_to_axis |= (m.to[2] - m.from[2]).abs() < 1e-3 && m.to[0].min(m.from[0]) < 0.05;
+        }
+        across_to_axis && !deeper
+    }
+
+    /// Whether the cuts so far are several passes, none reaching the axis.
+    fn passes_off_axis(&self) -> bool {
+        let cuts = || self.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+        let entries = self.moves.iter().filter(|m| m.kind == MoveKind::Rapid).count();
+        entries >= 2 && cuts().next().is_some() && cuts().all(|m| m.to[0].min(m.from[0]) >= 0.05)
+    }
+
     /// Whether a cut after a retract and re-entry starts another operation with the same
     /// tool and technology: the depth sequence restarts (it is not deeper than the deepest
     /// level), the tool re-enters where the deepest level began after several levels (a
@@ -683,6 +702,12 @@ struct Recovery<'p> {
     diags: Vec<Diagnostic>,
     /// The program turns about Z (diameter mode, a lathe cycle).
     lathe: bool,
+    /// Roughing or finishing as the last operation comment states it (`(ROUGHING)`,
+    /// `(FINISH_BORE_ID)`), for the next turning workingstep.
+    stated: Option<bool>,
+    /// The line of that comment where it gives sizes: on a tool change's line it describes the
+    /// tool (`T0101 (OD ROUGH 80DEG)`), not the operation; 0 where it gives none.
+    stated_line: u32,
     /// The lathe cycle in force, and the count of cycle starts and ends.
     turn: Option<crate::canon::TurnIntent>,
     turn_seq: u32,
@@ -737,6 +762,8 @@ impl<'p> Recovery<'p> {
             done: Vec::new(),
             diags: Vec::new(),
             lathe: profile.turns,
+            stated: None,
+            stated_line: 0,
             turn: None,
             turn_seq: 0,
             cut_any: false,
@@ -981,6 +1008,9 @@ impl<'p> Recovery<'p> {
     /// program gave it, and the comments that describe it.
     fn change_tool(&mut self, t: u32, line: u32) {
         self.close();
+        if self.stated_line == line && line != 0 {
+            self.stated = None;
+        }
         self.tool = t;
         let known = self.profile.tools.get(&t);
         let kind = known.and_then(|k| k.kind.as_deref()).and_then(ToolKind::parse);
@@ -1092,6 +1122,11 @@ impl<'p> Recovery<'p> {
             if f.diameter.is_some() || f.kind.is_some() {
                 self.listed.entry(n).or_insert_with(|| s.trim().to_owned());
             }
+        }
+        if let Some(rough) = stated_roughness(s) {
+            self.stated = Some(rough);
+            // Sizes say a tool is described (`80DEG R0.8`), not an operation (`ROUGH OD`).
+            self.stated_line = if s.bytes().any(|b| b.is_ascii_digit()) { line } else { 0 };
         }
         self.comments.push((line, s.trim().to_owned()));
         if self.comments.len() > MAX_COMMENTS {
@@ -1215,6 +1250,7 @@ impl<'p> Recovery<'p> {
                     || b.state.work_offset != self.wcs
                     || b.setup != self.setup
                     || (self.lathe && b.turn_seq != self.turn_seq)
+                    || (self.lathe && retracted && self.stated.is_some_and(|r| b.turning.stated != Some(r)))
                     || (self.lathe && b.milling != (self.plane == Plane::Xy))
             }
         };
@@ -1239,7 +1275,8 @@ impl<'p> Recovery<'p> {
                 dwells: std::mem::take(&mut self.pending_dwells),
                 ..MachineState::default()
             };
-            let turning = self.turning_now();
+            let mut turning = self.turning_now();
+            turning.stated = if self.lathe { self.stated.take() } else { None };
             self.current = Some(Builder {
                 operation,
                 tool: self.tool,
@@ -1282,12 +1319,10 @@ impl<'p> Recovery<'p> {
         // A lathe cycle's passes are one workingstep, whatever feeds they cut at (a thread's
         // tapered run-out, a finishing feed of its own).
         let in_cycle = lathe && self.turn.is_some();
-        if is_cut
-            && let Some(b) = self.current.as_mut()
-            && let Some(t) = b.tentative.take()
-            && !in_cycle
-            && (b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) || !lathe && !is_lift(&mv) && b.starts_anew(&mv))
-        {
+        // The first cut after a re-entry decides, and the boundary is gone after it.
+        let next = is_cut && !in_cycle && self.next_operation(&mv, decisive_feed);
+        let tentative = if is_cut { self.current.as_mut().and_then(|b| b.tentative.take()) } else { None };
+        if next && let Some(t) = tentative {
             let now = self.technology();
             self.split(t, c, now);
         }
@@ -1341,6 +1376,24 @@ impl<'p> Recovery<'p> {
         }
     }
 
+    /// Whether a cut after a retract and re-entry (a tentative boundary) starts the tool's next
+    /// operation: at another feed; on a mill, a depth sequence begun anew; on a lathe, passes
+    /// along -Z after facing passes only (across to the axis, pulled off along +Z: the same
+    /// tool faces, then turns), or a pass from the axis after passes that never reached it (the
+    /// finishing contour, face first, after the roughing).
+    fn next_operation(&self, mv: &Move, decisive_feed: f64) -> bool {
+        let Some(b) = self.current.as_ref().filter(|b| b.tentative.is_some()) else { return false };
+        if b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) {
+            return true;
+        }
+        if !self.lathe {
+            return !is_lift(mv) && b.starts_anew(mv);
+        }
+        let turns_after_facing = (mv.to[0] - mv.from[0]).abs() < EPS && mv.to[2] < mv.from[2] - 0.5 && b.faces_only();
+        let finish_from_axis = mv.kind != MoveKind::Rapid && mv.to[0].min(mv.from[0]) < 0.05 && b.passes_off_axis();
+        turns_after_facing || finish_from_axis
+    }
+
     /// Ends the current workingstep at a tentative boundary and starts the next with the
     /// moves after it.
     fn split(&mut self, t: Tentative, c: &Canon, technology: Technology) {
@@ -1372,7 +1425,9 @@ impl<'p> Recovery<'p> {
         b.source = t.source;
         b.lines.1 = t.last_line;
         let (operation, tool, setup, turn_seq) = (b.operation, b.tool, b.setup, b.turn_seq);
-        let turning = self.turning_now();
+        let mut turning = self.turning_now();
+        // The later piece is still the operation its comment named, unless another began.
+        turning.stated = self.stated.take().or(b.turning.stated);
         self.finish(b);
         let mut moves = rest;
         for i in 0..moves.len() {
@@ -1719,6 +1774,22 @@ impl StockOrigin {
             out[1][k] = min + size;
         }
         out
+    }
+}
+
+/// Roughing or finishing as an operation's comment states it, as CAM posts name operations
+/// (NX `ROUGH_BORE_ID`, `FINISH_TURN_OD`) and turners head them (`(ROUGHING)`, `(Finish 1)`,
+/// German `Schruppen`/`Schlichten`, Spanish `desbaste`/`acabado`); none where it says both or
+/// neither.
+fn stated_roughness(comment: &str) -> Option<bool> {
+    let up = comment.to_ascii_uppercase();
+    let words: Vec<&str> = up.split(|c: char| !c.is_ascii_alphanumeric()).filter(|w| !w.is_empty()).collect();
+    let rough = words.iter().any(|w| ["ROUGH", "SCHRUPP", "DESBAST"].iter().any(|p| w.starts_with(p)));
+    let finish = words.iter().any(|w| ["FINISH", "SCHLICHT", "ACABAD"].iter().any(|p| w.starts_with(p)));
+    match (rough, finish) {
+        (true, false) => Some(true),
+        (false, true) => Some(false),
+        _ => None,
     }
 }
 

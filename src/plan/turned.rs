@@ -69,6 +69,10 @@ pub struct Turning {
     /// Cutting passes (runs of cuts between rapids).
     #[serde(default)]
     pub passes: u32,
+    /// Roughing (true) or finishing as the operation's own comment states it
+    /// (`ROUGH_BORE_ID`, `(FINISHING)`): read when the operation is named, then cleared.
+    #[serde(skip)]
+    pub stated: Option<bool>,
     /// Smallest and largest diameter cut.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter: Option<[f64; 2]>,

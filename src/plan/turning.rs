@@ -29,6 +29,10 @@ use crate::text::num;
 /// Within this, two lengths are the same, mm.
 const TOL: f64 = 1e-3;
 
+/// A face cut across X this far beyond the program zero is no approach in the air: the part's
+/// front lies there, mm.
+const FAR_FRONT: f64 = 10.0;
+
 /// Whether a feature kind is a milling one (none of these on a pure lathe program).
 pub fn is_milling(kind: &FeatureKind) -> bool {
     !matches!(kind, FeatureKind::Turned(_) | FeatureKind::RoundHole { .. })
@@ -96,7 +100,10 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         .iter()
         .find(|w| w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside))
         .and_then(|w| cuts(w).into_iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]).map(|m| m.to[2]).next_back())
-        .unwrap_or(0.0);
+        // None faces: the program zero, where lathe programs put the front, unless the
+        // highest cut across X lies far beyond it (more than any approach clearance: a shaft
+        // whose zero is at its far end, a post's zero at the chuck): then that is the front.
+        .unwrap_or(if front > FAR_FRONT { front } else { 0.0 });
     let mut found: Vec<Vec<(FeatureKind, f64)>> = plan
         .workingsteps
         .iter()
@@ -264,8 +271,13 @@ fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
                 _ => return None,
             }
             // A program stop between two passes parts two operations; so does a slower feed
-            // (the finishing pass after the roughing ones).
+            // (the finishing pass after the roughing ones), and a comment that names another
+            // operation (`FINISH_TURN_OD` after `ROUGH_TURN_OD`).
             if ws.state.stops.iter().any(|s| s.at == 0) {
+                return None;
+            }
+            let stated = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.stated);
+            if stated(&ws).is_some() && stated(&ws) != stated(prev) {
                 return None;
             }
             let feed = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.feed_per_rev);
@@ -419,6 +431,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
+        t.stated = None;
         ws.turning = Some(Box::new(t));
         return;
     }
@@ -448,7 +461,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         // A finishing cycle starts where its contour starts, inside or out: it is inside
         // where its roughing was (below).
         None if finish_cycle => boring,
-        None => t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)),
+        None => {
+            t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)) || pulls_off_inward(&runs)
+        }
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
     // left along Z.
@@ -494,9 +509,17 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         // Passes that plunge across and back out the same way, as CAM posts write a groove
         // wider than the tool: roughing where they plunge at several places along Z.
         None if xmin >= 0.05 && plunges.0 >= 1 && 2 * plunges.0 >= runs.len() => (TurnOp::Grooving, plunges.1 > 1),
-        None if mostly_across => {
+        // A recess profiled from both sides down to one bottom, as posts write a groove's
+        // finish with a turning or grooving tool: each flank in a pass of its own.
+        None if xmin >= 0.05 && !t.inside && profiled_groove(&runs).is_some() => (TurnOp::Grooving, false),
+        None if mostly_across || face_with_lead_in(&runs, xmin) => {
             let to_axis = xmin < 0.05;
-            if to_axis && zmin >= front - 0.5 {
+            // Cuts to the axis at several places along Z step down a face (a facing cycle
+            // written as moves); a parting tool plunges to the axis at one.
+            let mut at_axis: Vec<f64> = cuts.iter().filter(|m| across(m) && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
+            at_axis.sort_by(f64::total_cmp);
+            at_axis.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+            if to_axis && (zmin >= front - 0.5 || at_axis.len() > 1) {
                 (TurnOp::Facing, runs.len() > 1)
             } else if to_axis {
                 (TurnOp::PartingOff, false)
@@ -508,9 +531,79 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
         }
         None => (TurnOp::Contouring, runs.len() > 1),
     };
+    // One pass tells nothing of roughing or finishing: an operation its own comment calls
+    // roughing is that (a roughing operation's one pass over a last region). Passes stepping
+    // in are roughing whatever the operation is called.
+    let stated = t.stated.take();
+    let rough = match (op, intent_kind, stated) {
+        (TurnOp::Contouring | TurnOp::Facing, None, Some(true)) => true,
+        _ => rough,
+    };
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// Whether the passes, as CAM posts and turners write them, pull off the wall towards the
+/// axis: each pass ends with a short move back along +Z that also moves X, outwards after
+/// an outside pass and inwards after a bore's. Only where every pull-off goes inwards.
+fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
+    let pulls: Vec<f64> = runs
+        .iter()
+        .filter_map(|r| {
+            let m = r.last()?;
+            let (dx, dz) = (m.to[0] - m.from[0], m.to[2] - m.from[2]);
+            (r.len() > 1 && dz > TOL && dx.abs() > TOL && dx.hypot(dz) < 2.0).then_some(dx)
+        })
+        .collect();
+    !pulls.is_empty() && pulls.iter().all(|dx| *dx < 0.0)
+}
+
+/// A groove profiled from both sides: passes that each come down a flank to the same bottom
+/// diameter (the smallest cut) and run along it, one coming from +Z and one from -Z, their
+/// runs along the bottom meeting. The bottom's radius and the Z span of the passes.
+fn profiled_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
+    if runs.len() < 2 {
+        return None;
+    }
+    let bottom = runs.iter().flatten().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
+    let (mut from_above, mut from_below) = (None::<(f64, f64)>, None::<(f64, f64)>);
+    for r in runs {
+        let Some(first) = r.first() else { continue };
+        // The run along the bottom, and where the run came from.
+        let along: Vec<&Move> =
+            r.iter().filter(|m| (m.to[0] - bottom).abs() < 0.01 && (m.from[0] - bottom).abs() < 0.01 && m.arc.is_none()).collect();
+        let (Some(a), Some(b)) = (along.first(), along.last()) else { continue };
+        let (lo, hi) = (a.from[2].min(b.to[2]), a.from[2].max(b.to[2]));
+        let came_down = first.from[0] > bottom + 0.5;
+        if !came_down || hi - lo < TOL {
+            continue;
+        }
+        let span = |o: Option<(f64, f64)>| Some(o.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
+        if first.from[2] > hi + TOL {
+            from_above = span(from_above);
+        } else if first.from[2] < lo - TOL {
+            from_below = span(from_below);
+        }
+    }
+    let ((la, ha), (lb, hb)) = (from_above?, from_below?);
+    // The two bottoms touch: one recess, not two.
+    if la > hb + TOL || lb > ha + TOL {
+        return None;
+    }
+    let zs = runs.iter().flatten().flat_map(|m| [m.from[2], m.to[2]]);
+    let (zlo, zhi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    Some((bottom, zlo, zhi))
+}
+
+/// One pass that feeds in along Z at its diameter and then cuts across to the axis: a face
+/// with its lead-in (LinuxCNC's one-pass `G72`, a post's facing pass), the run across being
+/// most of the cut.
+fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64) -> bool {
+    let [run] = runs else { return false };
+    let across: f64 = run.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| (m.to[0] - m.from[0]).abs()).sum();
+    let total: f64 = run.iter().map(|m| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2])).sum();
+    xmin < 0.05 && run.last().is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]) && across >= 0.75 * total
 }
 
 /// The features a workingstep machines, with the Z they are placed at.
@@ -526,7 +619,11 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
     match t.operation {
         Some(TurnOp::Facing) => {
             // The face the last pass leaves.
-            let last = cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| m.to[2]).next_back().unwrap_or(z[0]);
+            // The face the last pass leaves: the last that reaches the axis, where some do (the
+            // passes after it only clear a chamfer's corner behind the face).
+            let across = || cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL);
+            let to_axis = across().filter(|m| m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).next_back();
+            let last = to_axis.or_else(|| across().map(|m| m.to[2]).next_back()).unwrap_or(z[0]);
             let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
             vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), round(last - allow))]
         }
@@ -535,7 +632,8 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
             let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
             // A cycle that states the groove's edges gives its width; else the plunges' span
             // and the tool's width.
-            let span = t.intent.as_ref().and_then(|i| i.span);
+            // A groove profiled from both sides: from flank to flank.
+            let span = t.intent.as_ref().and_then(|i| i.span).or_else(|| profiled_groove(&runs(ws)).map(|(_, lo, hi)| [lo, hi]));
             let width = match span {
                 Some([lo, hi]) => Some(round(hi - lo)),
                 None => tool_width.map(|w| round(hi - lo + w)),

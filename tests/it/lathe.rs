@@ -148,11 +148,26 @@ fn lathe_suite() {
 /// LinuxCNC pawn in radius mode is still read as milling, its G70-G72 giving no turning marker,
 /// since one breaks equal round trips). A program whose every move lies in the ZX plane through
 /// the axis now turns (and one known to turn anywhere turns throughout): 59 of 92, no milling
-/// feature. The test keeps that figure from falling and no milling feature.
+/// feature. After the explicit-pass rules of branch lathe3 (6 December 2026: inside told by the
+/// pull-off, stepped facing, operation comments, grooves profiled from both sides, Okuma `TG=`):
+/// 67 of 92. The test keeps that figure from falling and no milling feature.
 #[test]
 fn lathe_held_out_programs() {
-    /// Listed workingsteps and features recovered after issue 40 part 1 was built on them.
-    const HELD_OUT_SCORE: usize = 59;
+    /// Listed workingsteps and features recovered, no longer held out.
+    const HELD_OUT_SCORE: usize = 67;
+    let (programs, listed, found, milling, misses) = score_corpus_sidecars();
+    assert!(programs >= 8, "{programs} held-out programs");
+    assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
+    assert!(
+        found >= HELD_OUT_SCORE,
+        "held out: {found} of {listed} recovered ({milling} milling features on lathe programs), fewer than the {HELD_OUT_SCORE} first scored:\n{}",
+        misses.join("\n")
+    );
+}
+
+/// Scores the sidecars of `tests/programs/lathe_heldout/` on the corpus programs they name:
+/// (programs, listed, found, milling features on pure lathe programs, the misses in words).
+fn score_corpus_sidecars() -> (usize, usize, usize, usize, Vec<String>) {
     let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus");
     let held = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_heldout");
     let mut sidecars: Vec<PathBuf> = std::fs::read_dir(&held).unwrap().map(|e| e.unwrap().path()).collect();
@@ -169,15 +184,8 @@ fn lathe_held_out_programs() {
         listed += expect.lines().filter(|l| l.starts_with("ws ") || l.starts_with("feature ")).count();
         misses.extend(score(&name, &plan, &expect));
     }
-    let found = listed - misses.iter().filter(|m| !m.contains("milling feature")).count();
     let milling = misses.iter().filter(|m| m.contains("milling feature")).count();
-    assert!(sidecars.len() >= 8, "{} held-out programs", sidecars.len());
-    assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
-    assert!(
-        found >= HELD_OUT_SCORE,
-        "held out: {found} of {listed} recovered ({milling} milling features on lathe programs), fewer than the {HELD_OUT_SCORE} first scored:\n{}",
-        misses.join("\n")
-    );
+    (sidecars.len(), listed, listed - (misses.len() - milling), milling, misses)
 }
 
 /// Scores the programs of a folder of real lathe programs (each `NAME.<ext>` beside its sidecar
@@ -188,7 +196,7 @@ fn score_folder(folder: &str) -> (usize, usize, usize, Vec<String>) {
     let mut programs: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e != "expect" && e != "tsv"))
+        .filter(|p| p.extension().is_some_and(|e| e != "expect" && e != "tsv" && e != "sh"))
         .collect();
     programs.sort();
     let (mut listed, mut misses) = (0, Vec::new());
@@ -206,12 +214,13 @@ fn score_folder(folder: &str) -> (usize, usize, usize, Vec<String>) {
 
 /// Real lathe programs gathered for issue 40 part 1 to build on (`tests/programs/lathe_real/`: NX
 /// post samples for Uniturn, Daewoo Puma, Mori Seiki AL-22 and NL1500 lathes), their sidecars
-/// written by reading the programs before ncplan ran on them. The test keeps the figure from
-/// falling and no milling feature on a pure lathe program.
+/// written by reading the programs before ncplan ran on them. 37 of 58 after issue 40 part 1;
+/// 40 of 58 after branch lathe3 (6 December 2026). The test keeps the figure from falling and no
+/// milling feature on a pure lathe program.
 #[test]
 fn lathe_real_build_programs() {
     /// Listed workingsteps and features recovered on the build half.
-    const BUILD_SCORE: usize = 37;
+    const BUILD_SCORE: usize = 40;
     let (listed, found, milling, misses) = score_folder("lathe_real");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(found >= BUILD_SCORE, "build half: {found} of {listed} recovered, fewer than {BUILD_SCORE}:\n{}", misses.join("\n"));
@@ -229,11 +238,16 @@ fn lathe_real_build_programs() {
 /// through the axis to turn (branch lathe2): 28 of 84, no milling feature. The 46 had two
 /// causes: LinuxCNC's G70-G72 programs in radius mode (g70_71_demo, g7x_face_boring,
 /// g7x_quadrants: 44) told nothing a lathe's, and g76.ngc's facing and ball-end passes (2) were
-/// cut before its G76 told it. The test keeps that figure from falling and no milling feature.
+/// cut before its G76 told it. No longer held back: branch lathe3 built on it (6 December 2026:
+/// a face stepped down is facing, a tool that faces then turns parts its workingsteps, Okuma's
+/// `TG=` names the tool, a pass from the axis after passes that never reached it is the
+/// finish, and where no workingstep faces a shaft whose program zero is at its far end keeps
+/// its diameters): 45 of 84. The test keeps that figure from falling and no milling
+/// feature.
 #[test]
 fn lathe_real_held_out_programs() {
-    /// Listed workingsteps and features recovered on the held-back half, re-scored.
-    const HELD_OUT_SCORE: usize = 28;
+    /// Listed workingsteps and features recovered on this half, re-scored (built on).
+    const HELD_OUT_SCORE: usize = 45;
     let (listed, found, milling, misses) = score_folder("lathe_real_heldout");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(
@@ -241,6 +255,47 @@ fn lathe_real_held_out_programs() {
         "held out: {found} of {listed} recovered ({milling} milling features on lathe programs), fewer than {HELD_OUT_SCORE}:\n{}",
         misses.join("\n")
     );
+}
+
+/// A second set of real programs, gathered for branch lathe3 from repositories neither the corpus,
+/// the earlier lathe folders nor the issue-43 sweep used, split by repository; their sidecars
+/// written by reading each program (and, for LinuxCNC, rs274's moves) before ncplan ran on it.
+/// The build part (`tests/programs/lathe_new/`: the LatheEasyStep conversational generator's
+/// LinuxCNC programs, GPL-3.0): 25 of 50 when first scored, 42 of 50 after the rules were built
+/// on it (6 December 2026). The test keeps the figure from falling and no milling feature.
+#[test]
+fn lathe_new_build_programs() {
+    /// Listed workingsteps and features recovered on the build part.
+    const BUILD_SCORE: usize = 42;
+    let (listed, found, milling, misses) = score_folder("lathe_new");
+    assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
+    assert!(found >= BUILD_SCORE, "build part: {found} of {listed} recovered, fewer than {BUILD_SCORE}:\n{}", misses.join("\n"));
+}
+
+/// The held-back part of that set (`tests/programs/lathe_new_heldout/`: Haas shop programs of
+/// enier290188/cnc, whose repository states no licence: only the sidecars are committed,
+/// `extract.sh` writes the programs from a mirror). Never used to build; measured once, at the
+/// end of branch lathe3 (6 December 2026): 34 of the 46 listed recovered, no milling feature.
+/// The misses (not looked into, the part stays unseen): the face and diameters of lathe_hp_2,
+/// valve and weld_pin, both facing workingsteps of nims_1002 (a G71/G70 pair on a face-only
+/// contour), valve's undercut as a groove. Where the
+/// programs are not extracted the test says so and checks nothing.
+#[test]
+fn lathe_new_held_out_programs() {
+    /// Listed workingsteps and features recovered on the held-back part, measured once.
+    const HELD_OUT_SCORE: usize = 34;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_new_heldout");
+    let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
+    if extracted == 0 {
+        crate::skip(
+            "lathe::lathe_new_held_out_programs",
+            "the held-back programs are not extracted (tests/programs/lathe_new_heldout/extract.sh)",
+        );
+        return;
+    }
+    let (listed, found, milling, misses) = score_folder("lathe_new_heldout");
+    assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
+    assert!(found >= HELD_OUT_SCORE, "held out: {found} of {listed} recovered, fewer than {HELD_OUT_SCORE}:\n{}", misses.join("\n"));
 }
 
 /// The change rows of an edit of a lathe program (every `from` made `to`), one per line with
@@ -539,4 +594,75 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
     // Cut in XY: a mill's.
     let (ws, _) = labels("G17 G21\nT1 M6\nS1000 M3\nG0 X0 Y0 Z1\nG1 Z-1 F100\nX10\nY10\nX0\nY0\nG0 Z5\nM2\n", "linuxcnc");
     assert!(ws.iter().all(|w| w.ends_with("milling")), "{ws:?}");
+}
+
+/// Prints the misses of the real folders (run by hand with `--ignored --nocapture`).
+#[test]
+#[ignore]
+#[allow(clippy::print_stdout)] // the misses are the test's report
+fn print_real_misses() {
+    let (_, listed, found, milling, misses) = score_corpus_sidecars();
+    println!("== lathe_heldout: {found} of {listed}, {milling} milling");
+    for m in &misses {
+        println!("{m}");
+    }
+    for folder in ["lathe_real", "lathe_real_heldout", "lathe_new"] {
+        if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
+            continue;
+        }
+        let (listed, found, milling, misses) = score_folder(folder);
+        println!("== {folder}: {found} of {listed}, {milling} milling");
+        for m in &misses {
+            println!("{m}");
+        }
+    }
+}
+
+/// Explicit passes read as a turner reads them: a bore's passes pull off towards the axis; a
+/// face stepped down past a chamfer is facing, not parting; a groove profiled from both sides
+/// is grooving; an operation's comment parts one tool's roughing from its finishing and makes
+/// a roughing operation's one pass roughing; facing passes then turning passes at one feed are
+/// two workingsteps.
+#[test]
+fn explicit_passes_are_read_as_a_turner_reads_them() {
+    // A bore: each pass feeds along -Z and pulls off inwards (X smaller) before the rapid out.
+    let bore = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X20. Z2.\nG1 X24. Z0.5 F0.2\nZ-20.\nX23.4 Z-19.7\nG0 Z2.\nX28.\n\
+G1 Z0.5\nZ-20.\nX27.4 Z-19.7\nG0 Z2.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(bore, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough inside"]);
+    // The same passes pulling off outwards turn the outside.
+    let od = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X50. Z2.\nG1 X28. Z0.5 F0.2\nZ-20.\nX28.6 Z-19.7\nG0 Z2.\nX24.\n\
+G1 Z0.5\nZ-20.\nX24.6 Z-19.7\nG0 Z2.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(od, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough"]);
+    // Facing passes stepping down to Z-0.8 across to the axis, the last ones only clearing a
+    // chamfer's corner behind the face: facing, the face where the last pass to the axis left it.
+    let face = "O2\nG21 G99\nT0101\nG97 S1000 M3\nG0 X44. Z1.\nG1 Z0.6 F0.2\nX0.\nG0 Z1.6\nX44.\nG1 Z0.2\nX0.\nG0 Z1.2\nX44.\n\
+G1 Z-0.2\nX38.\nG0 Z1.\nX44.\nG1 Z-0.6\nX39.\nG0 Z1.\nX100. Z50.\nM30\n";
+    let (ws, features) = labels(face, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough"]);
+    assert!(features.contains(&"revolved flat".to_owned()), "{features:?}");
+    // A groove Ø30 between Z-10 and Z-16 finished from both sides, one flank a pass.
+    let groove = "O3\nG21 G99\nT0202\nG97 S600 M3\nG0 X42. Z-8.\nG1 X40. Z-10. F0.08\nX30.\nZ-13.\nG0 X42.\nZ-18.\n\
+G1 X40. Z-16.\nX30.\nZ-13.\nG0 X42.\nX100. Z50.\nM30\n";
+    let (ws, features) = labels(groove, "fanuc_lathe");
+    assert_eq!(ws, ["grooving finish"]);
+    assert_eq!(features, ["groove"]);
+    // One tool, one feed: its roughing operation's passes, then its finishing one, each
+    // headed by its name as a post writes it.
+    let named = "O4\nG21 G99\n(ROUGH_TURN_OD)\nT0101\nG97 S800 M3\nG0 X42. Z2.\nG1 X36. Z0.5 F0.2\nZ-30.\nX38. Z-29.\n\
+G0 Z2.\n(FINISH_TURN_OD)\nG0 X35.\nG1 Z0.5\nZ-30.\nX42.\nG0 Z2.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(named, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough", "contouring finish"]);
+    // Facing then turning with one tool at one feed.
+    let face_turn = "O5\nG21 G99\nT0101\nG97 S800 M3\nG0 X44. Z0.5\nG1 X-1. F0.2\nZ1.\nG0 X44.\nZ0.\nG1 X-1.\nZ1.\n\
+G0 X38.\nG1 Z-30.\nX44.\nG0 Z1.\nX34.\nG1 Z-20.\nX40.\nG0 X100. Z50.\nM30\n";
+    let (ws, _) = labels(face_turn, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough", "contouring rough"]);
+    // Roughing passes, then at the same feed the finishing contour from the axis: two.
+    let rough_finish = "O6\nG21 G99\nT0101\nG97 S800 M3\nG0 X44. Z2.\nG1 X38. Z0.5 F0.2\nZ-30.\nX44.\nG0 Z2.\nX34.\n\
+G1 Z0.5\nZ-20.\nX40.\nG0 Z2.\nX-1.\nG1 Z0.\nX30.\nX32. Z-1.\nZ-20.\nX36.\nZ-30.\nX44.\nG0 X100. Z50.\nM30\n";
+    let (ws, features) = labels(rough_finish, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough", "contouring finish"]);
+    assert!(features.iter().filter(|f| *f == "outer diameter").count() >= 2, "{features:?}");
 }
