@@ -460,7 +460,8 @@ pub fn constant_text(v: f64) -> String {
 
 /// Constant expressions of a normalised statement written as their values, so that a value
 /// rewritten as an expression of the same value (`WR=286.43`, `WR=572.86/2`) is the same
-/// statement. Only for comparing: the statements' text is read again as written.
+/// statement, and one variable in brackets as the variable (`X[#<X_START>]`, `X#<X_START>`).
+/// Only for comparing: the statements' text is read again as written.
 fn fold_constants(s: &mut String) {
     if !s.bytes().any(|c| matches!(c, b'*' | b'/' | b'[' | b'(' | b'+')) {
         return;
@@ -470,17 +471,44 @@ fn fold_constants(s: &mut String) {
     for t in tokens(s) {
         let Some(i) = rest.find(&t.text) else { continue };
         out.push_str(&rest[..i]);
-        match constant(&t.value).filter(|_| matches!(t.sort, Sort::Word | Sort::Assign)) {
-            Some(v) => {
+        let word = matches!(t.sort, Sort::Word | Sort::Assign);
+        match (constant(&t.value).filter(|_| word), unbracketed(&t.value).filter(|_| word)) {
+            (Some(v), _) => {
                 out.push_str(&t.text[..t.text.len() - t.value.len()]);
                 out.push_str(&constant_text(v));
             }
-            None => out.push_str(&t.text),
+            (None, Some((sign, inner))) => {
+                out.push_str(&t.text[..t.text.len() - t.value.len()]);
+                out.push_str(sign);
+                out.push_str(inner);
+            }
+            (None, None) => out.push_str(&t.text),
         }
         rest = &rest[i + t.text.len()..];
     }
     out.push_str(rest);
     *s = out;
+}
+
+/// A value that is one variable in brackets (`X[#<X_START>]`, `X-[#5]`, `X=(R1)`): its sign
+/// and the variable alone, the same value as written without the brackets (`X#<X_START>`).
+fn unbracketed(value: &str) -> Option<(&str, &str)> {
+    let (sign, rest) = match value.as_bytes().first()? {
+        b'-' | b'+' => value.split_at(1),
+        _ => ("", value),
+    };
+    let close = match rest.as_bytes().first()? {
+        b'[' => ']',
+        b'(' => ')',
+        _ => return None,
+    };
+    let inner = rest[1..].strip_suffix(close)?;
+    let name = match inner.as_bytes() {
+        [b'#', b'<', .., b'>'] => inner[2..inner.len() - 1].bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_'),
+        [b'#' | b'R' | b'Q', digits @ ..] => !digits.is_empty() && digits.iter().all(u8::is_ascii_digit),
+        _ => false,
+    };
+    name.then_some((sign, inner))
 }
 
 /// A run of differing statements: indices into each side's statements.
@@ -740,12 +768,14 @@ fn token(t: &str) -> Token {
         }
     }
     // A call: a name then a bracketed or parenthesised list.
-    // (An address letter before a bracketed expression is a word: `F[#<FAST>]`, `Z[#7]`.)
+    // (An address letter, signed or not, before a bracketed expression is a word:
+    // `F[#<FAST>]`, `Z[#7]`, `X-[#5]`.)
+    let address = |h: &str| matches!(h.as_bytes(), [a] | [a, b'-' | b'+'] if a.is_ascii_alphabetic());
     if let Some(open) = t.find(['(', '['])
         && open > 0
         && t.ends_with([')', ']'])
         && t[..open].chars().any(|c| c.is_ascii_alphabetic())
-        && !(open == 1 && t[..1].bytes().all(|c| c.is_ascii_alphabetic()))
+        && !address(&t[..open])
     {
         // `O<NAME>CALL[…]`: the name without its keyword.
         let head = &t[..open];
@@ -842,6 +872,20 @@ mod tests {
         let mut s = "WR=572.86/2 X[1+1]".to_owned();
         fold_constants(&mut s);
         assert_eq!(s, "WR=286.43 X2");
+    }
+
+    #[test]
+    fn one_variable_in_brackets_is_the_variable() {
+        for (a, b) in [("G0X[#<X_START>]", "G0X#<X_START>"), ("G0X-[#5]Y1", "G0X-#5Y1"), ("G1X=(R1)", "G1X=R1")] {
+            let (mut a, mut b) = (a.to_owned(), b.to_owned());
+            fold_constants(&mut a);
+            fold_constants(&mut b);
+            assert_eq!(a, b);
+        }
+        // An expression of a variable is not one variable.
+        let mut s = "G0X[#5+1]".to_owned();
+        fold_constants(&mut s);
+        assert_eq!(s, "G0X[#5+1]");
     }
 
     fn norm(dialect: &str, text: &str) -> Vec<String> {

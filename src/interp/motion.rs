@@ -20,7 +20,7 @@ impl Interpreter<'_> {
             // In a rotated system the machine point maps to program X and Y together.
             let mut m = self.machine_pos();
             for (i, &role) in Role::AXES.iter().enumerate() {
-                if let Some(v) = self.slot(role) {
+                if let Some(v) = self.slot(role).filter(|_| !self.taken_by_code(role)) {
                     m[i] = v;
                 }
             }
@@ -34,7 +34,7 @@ impl Interpreter<'_> {
         }
         let mut t = self.st.pos;
         for (i, &role) in Role::AXES.iter().enumerate() {
-            if let Some(slot) = self.slots[role as usize] {
+            if let Some(slot) = self.slots[role as usize].filter(|_| !self.taken_by_code(role)) {
                 let v = slot.value;
                 let incremental = match slot.mode {
                     WordMode::Modal => self.st.distance == DistanceMode::Incremental,
@@ -56,6 +56,13 @@ impl Interpreter<'_> {
             self.polar_target(self.st.pos, &mut t);
         }
         t
+    }
+
+    /// Whether a code of the block gives this axis letter's word another meaning (Haas
+    /// lathe `G76 ... A60`: A is the tool's angle, `args="A:tool-angle"`), so the word is
+    /// no axis target in that block.
+    fn taken_by_code(&self, role: Role) -> bool {
+        self.codes.iter().any(|&(c, _)| self.code(c).args.iter().any(|&(from, _)| from == role))
     }
 
     /// `LP PR+30 PA+45`, `CP IPA+90`: the end point in the plane from its distance to the pole

@@ -666,3 +666,28 @@ G1 Z0.5\nZ-20.\nX40.\nG0 Z2.\nX-1.\nG1 Z0.\nX30.\nX32. Z-1.\nZ-20.\nX36.\nZ-30.\
     assert_eq!(ws, ["contouring rough", "contouring finish"]);
     assert!(features.iter().filter(|f| *f == "outer diameter").count() >= 2, "{features:?}");
 }
+
+/// A word a code names for itself is no axis in its block: Haas' one-block `G76 ... A60`
+/// gives the tool's angle, so the thread's passes cut in X and Z with the A axis where it
+/// was (before, every cut went to A60).
+#[test]
+fn a_word_a_cycle_names_is_no_axis_move() {
+    use ncplan::canon::{Canon, CanonOp};
+    let program = "O1000\nG28 U0 W0\nT101\nG97 S500 M03\nG0 X1.1 Z0.2\nG76 X0.9 Z-1.0 K0.0625 D0.01 F0.0625 A60\nG0 X2 Z1\nM30\n";
+    let d = Registry::shipped().get("haas_lathe").unwrap();
+    let mut ops: Vec<Canon> = Vec::new();
+    let diags = pipeline::canon(program, &d, &Profile::default(), &mut ops);
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let cuts: Vec<[f64; 6]> = ops
+        .iter()
+        .filter_map(|c| match c.op {
+            CanonOp::StraightFeed(p) if c.line == 6 => Some(p),
+            _ => None,
+        })
+        .collect();
+    assert!(cuts.len() > 1, "the thread is cut in passes");
+    for p in &cuts {
+        assert_eq!(p[3], 0.0, "A stays at 0: {p:?}");
+        assert!((p[2] + 1.0).abs() < 1e-9, "each pass ends at Z-1: {p:?}");
+    }
+}
