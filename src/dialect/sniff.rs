@@ -62,11 +62,12 @@ pub struct Sniffed {
     /// The chosen dialect's score.
     pub score: u32,
     /// The dialects the evidence does not tell apart from the chosen one, best first, the
-    /// chosen one among them: weak evidence (less than half of [`SURE`] beyond what they
+    /// chosen one among them: weak evidence (no more than half of [`SURE`] beyond what they
     /// share, or less than twice theirs) leaves the choice to the reading with the fewest
     /// errors ([`crate::pipeline::sniff`]). Only dialects of the winner's lineage (that
     /// descend from the base it descends from) are candidates: another language's reading
-    /// (APT, Klartext) is no alternative. Empty when the choice is sure or has no evidence.
+    /// (APT, Klartext) is no alternative. Empty when the evidence sets the winner apart, or
+    /// there is none.
     pub candidates: Vec<String>,
 }
 
@@ -236,22 +237,20 @@ impl Registry {
         let runner_up = margins.iter().max_by(|a, b| a.1.cmp(&b.1).then_with(|| b.0.cmp(a.0))).map(|m| (m.0.to_owned(), m.1));
         let evidence = counted(winner).into_iter().filter(|(w, _)| *w > 0).map(|(_, l)| l.to_owned()).collect();
         // The dialects this evidence does not set the winner apart from: each other of the
-        // same base with evidence (or an ancestor of the winner), where what the winner has beyond the
-        // dialect both descend from is less than half of SURE or less than twice what the
-        // other has beyond it. No single code of one maker decides between makers.
+        // same base with evidence (or an ancestor of the winner), where what the winner has
+        // beyond the dialect both descend from is no more than half of SURE (one code of one
+        // maker) or less than twice what the other has beyond it. No single code of one
+        // maker decides between makers.
         let mut candidates = vec![winner.to_owned()];
-        if confidence != Confidence::High {
-            for &(t, _, other) in &ranked[1..] {
-                let is_ancestor = mine.contains(&other);
-                // Only a dialect of the same base is an alternative reading.
-                if (t == 0 && !is_ancestor) || lineages[other].last() != mine.last() {
-                    continue;
-                }
-                let shared = lineages[other].iter().find(|a| mine.contains(a)).map_or(0, |a| total(a));
-                let (theirs, ours) = (t.saturating_sub(shared), best.saturating_sub(shared));
-                if ours < SURE / 2 || ours < 2 * theirs {
-                    candidates.push(other.to_owned());
-                }
+        for &(t, _, other) in &ranked[1..] {
+            // Only a dialect of the same base is an alternative reading.
+            if (t == 0 && !mine.contains(&other)) || lineages[other].last() != mine.last() {
+                continue;
+            }
+            let shared = lineages[other].iter().find(|a| mine.contains(a)).map_or(0, |a| total(a));
+            let (theirs, ours) = (t.saturating_sub(shared), best.saturating_sub(shared));
+            if ours <= SURE / 2 || ours < 2 * theirs {
+                candidates.push(other.to_owned());
             }
         }
         if candidates.len() == 1 {

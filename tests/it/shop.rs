@@ -616,3 +616,30 @@ fn the_modal_tool_before_the_program_commands_one_is_the_machine_s() {
     let (_, diags) = run("linuxcnc", "o1 if [#5400 EQ 0]\n(msg,none)\no1 else\n(abort,tool)\no1 endif\nM2\n");
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
 }
+
+/// Weak evidence among Fanuc-like makers (one code of one maker, or little more than another
+/// maker's) leaves the choice to the reading with the fewest errors: a Mitsubishi shop's
+/// extended common variable (#900001-#907400) beside Haas's chip-conveyor M31 and an NGC
+/// variable is read as Mitsubishi, where a Haas reading stops on the variable it has not;
+/// the evidence's own choice stays when every reading is as clean, and the report says why.
+#[test]
+fn weak_evidence_is_settled_by_the_reading_with_the_fewest_errors() {
+    let r = Registry::shipped();
+    let path = std::path::Path::new("/nonexistent-ncplan-test/O9191.nc");
+    let text = "%\nO9191\nM31\n#10001=1\n#26=#901064\nG0 X1. Y1.\nM30\n%\n";
+    assert_eq!(r.sniff(text, Some("O9191.nc"), "linuxcnc").dialect, "haas", "the evidence alone");
+    let s = ncplan::pipeline::sniff(&r, text.as_bytes(), path);
+    assert_eq!(s.dialect, "mitsubishi", "{s:?}");
+    assert!(s.evidence.iter().any(|e| e.starts_with("weak evidence: fewest errors")), "{s:?}");
+    let d = r.get(&s.dialect).unwrap();
+    let mut out = Vec::new();
+    assert!(errors(&interpret(text, &d, &Profile::default(), &mut out)).is_empty());
+    // Every candidate reads it cleanly: the evidence's choice stays.
+    let clean = "%\nO9191\nM31\n#10001=1\nG0 X1. Y1.\nM30\n%\n";
+    assert_eq!(ncplan::pipeline::sniff(&r, clean.as_bytes(), path).dialect, "haas");
+    // Sure evidence is not second-guessed by another maker: Haas's own G187 and M97 decide
+    // (its lathe dialect stays a candidate, as the mill's codes are the lathe's too).
+    let sure = "%\nO9191\nG187 P1\nM97 P100\nG0 X1. Y1.\nM30\nN100 M99\n%\n";
+    let s = r.sniff(sure, Some("O9191.nc"), "linuxcnc");
+    assert!(s.candidates.iter().all(|c| r.get(c).unwrap().family == "haas"), "{s:?}");
+}
