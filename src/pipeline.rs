@@ -183,10 +183,12 @@ pub const DEFAULT_DIALECT: &str = "linuxcnc";
 /// Tells the dialect of the program `bytes` (named `path`) from its start and its file name.
 ///
 /// When the evidence does not set one dialect apart (the sniff's candidates: a single code of
-/// one maker among Fanuc-like families, or no evidence at all), the program is read in each
-/// candidate, and the one whose reading gives the fewest errors is taken (a tie keeps the
-/// evidence's order), with the programs it calls read from beside it: a weak guess never
-/// turns the program's other codes into errors.
+/// one maker among Fanuc-like families), the program is read in the evidence's choice, and
+/// if that reading has errors, in the other candidates in the evidence's order: the first
+/// that reads it without an error is taken. A weak guess never turns the program's other
+/// codes into errors; a program that no candidate reads cleanly keeps the evidence's choice
+/// (between two readings that both stop, a count of errors tells no maker). The programs it
+/// calls are read from beside it, as `check` reads them.
 pub fn sniff(registry: &crate::dialect::Registry, bytes: &[u8], path: &std::path::Path) -> crate::dialect::sniff::Sniffed {
     let (source, _) = text::decode(&bytes[..bytes.len().min(64 * 1024)]);
     let mut s = registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT);
@@ -197,25 +199,25 @@ pub fn sniff(registry: &crate::dialect::Registry, bytes: &[u8], path: &std::path
     impl CanonSink for Discard {
         fn emit(&mut self, _: Canon) {}
     }
-    // The programs it calls are read from beside it, as `check` reads them: a shop's
-    // subprogram shows its maker's codes in what it calls too.
+    // A shop's subprogram shows its maker's codes in what it calls too.
     let profile = crate::config::DirPrograms::beside(&Profile::default(), path, 4 << 20);
-    let mut best: Option<(usize, String)> = None;
+    let errors = |name: &str| {
+        registry
+            .get(name)
+            .map(|d| interp::interpret(Text::from(&*source.text), &d, &profile, &mut Discard).iter().filter(|x| x.is_error()).count())
+    };
     let mut read = Vec::new();
-    for name in &s.candidates {
-        let Some(d) = registry.get(name) else { continue };
-        let errors = interp::interpret(Text::from(&*source.text), &d, &profile, &mut Discard).iter().filter(|x| x.is_error()).count();
-        read.push(format!("{name} {errors}"));
-        if best.as_ref().is_none_or(|(e, _)| errors < *e) {
-            best = Some((errors, name.clone()));
+    for name in s.candidates.clone() {
+        let Some(n) = errors(&name) else { continue };
+        read.push(format!("{name} {n}"));
+        if n == 0 {
+            if name != s.dialect {
+                let before = std::mem::replace(&mut s.dialect, name);
+                s.runner_up = Some((before, s.score));
+                s.evidence.push(format!("weak evidence: the first reading without an error ({})", read.join(", ")));
+            }
+            break;
         }
-    }
-    if let Some((_, name)) = best {
-        if name != s.dialect {
-            let before = std::mem::replace(&mut s.dialect, name);
-            s.runner_up = Some((before, s.score));
-        }
-        s.evidence.push(format!("weak evidence: fewest errors read as {} (errors: {})", s.dialect, read.join(", ")));
     }
     s
 }

@@ -63,8 +63,8 @@ pub struct Sniffed {
     pub score: u32,
     /// The dialects the evidence does not tell apart from the chosen one, best first, the
     /// chosen one among them: weak evidence (no more than half of [`SURE`] beyond what they
-    /// share, or less than twice theirs) leaves the choice to the reading with the fewest
-    /// errors ([`crate::pipeline::sniff`]). Only dialects of the winner's lineage (that
+    /// share, or less than twice theirs) leaves the choice to the first reading without an
+    /// error ([`crate::pipeline::sniff`]). Only dialects of the winner's lineage (that
     /// descend from the base it descends from) are candidates: another language's reading
     /// (APT, Klartext) is no alternative. Empty when the evidence sets the winner apart, or
     /// there is none.

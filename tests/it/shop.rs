@@ -618,7 +618,7 @@ fn the_modal_tool_before_the_program_commands_one_is_the_machine_s() {
 }
 
 /// Weak evidence among Fanuc-like makers (one code of one maker, or little more than another
-/// maker's) leaves the choice to the reading with the fewest errors: a Mitsubishi shop's
+/// maker's) leaves the choice to the first reading without an error: a Mitsubishi shop's
 /// extended common variable (#900001-#907400) beside Haas's chip-conveyor M31 and an NGC
 /// variable is read as Mitsubishi, where a Haas reading stops on the variable it has not;
 /// the evidence's own choice stays when every reading is as clean, and the report says why.
@@ -630,7 +630,7 @@ fn weak_evidence_is_settled_by_the_reading_with_the_fewest_errors() {
     assert_eq!(r.sniff(text, Some("O9191.nc"), "linuxcnc").dialect, "haas", "the evidence alone");
     let s = ncplan::pipeline::sniff(&r, text.as_bytes(), path);
     assert_eq!(s.dialect, "mitsubishi", "{s:?}");
-    assert!(s.evidence.iter().any(|e| e.starts_with("weak evidence: fewest errors")), "{s:?}");
+    assert!(s.evidence.iter().any(|e| e.starts_with("weak evidence: the first reading without an error")), "{s:?}");
     let d = r.get(&s.dialect).unwrap();
     let mut out = Vec::new();
     assert!(errors(&interpret(text, &d, &Profile::default(), &mut out)).is_empty());
