@@ -237,18 +237,23 @@ impl Registry {
         let runner_up = margins.iter().max_by(|a, b| a.1.cmp(&b.1).then_with(|| b.0.cmp(a.0))).map(|m| (m.0.to_owned(), m.1));
         let evidence = counted(winner).into_iter().filter(|(w, _)| *w > 0).map(|(_, l)| l.to_owned()).collect();
         // The dialects this evidence does not set the winner apart from: each other of the
-        // same base with evidence (or an ancestor of the winner), where what the winner has
+        // same base with evidence of its own (or an ancestor of the winner), where what the winner has
         // beyond the dialect both descend from is no more than half of SURE (one code of one
         // maker) or less than twice what the other has beyond it. No single code of one
         // maker decides between makers.
         let mut candidates = vec![winner.to_owned()];
         for &(t, _, other) in &ranked[1..] {
             // Only a dialect of the same base is an alternative reading.
-            if (t == 0 && !mine.contains(&other)) || lineages[other].last() != mine.last() {
+            if lineages[other].last() != mine.last() {
                 continue;
             }
             let shared = lineages[other].iter().find(|a| mine.contains(a)).map_or(0, |a| total(a));
             let (theirs, ours) = (t.saturating_sub(shared), best.saturating_sub(shared));
+            // A dialect with no evidence of its own beyond what it shares with the winner is no
+            // alternative (only more lenient), unless the winner descends from it.
+            if theirs == 0 && !mine.contains(&other) {
+                continue;
+            }
             if ours <= SURE / 2 || ours < 2 * theirs {
                 candidates.push(other.to_owned());
             }
