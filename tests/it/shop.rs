@@ -643,3 +643,20 @@ fn weak_evidence_is_settled_by_the_reading_with_the_fewest_errors() {
     let s = r.sniff(sure, Some("O9191.nc"), "linuxcnc");
     assert!(s.candidates.iter().all(|c| r.get(c).unwrap().family == "haas"), "{s:?}");
 }
+
+/// A text after `;` on a block's line is a comment to LinuxCNC and the end of the block to a
+/// Fanuc-like control, which would run the text as a block: a `%`/`O0000` program written
+/// so is LinuxCNC's, and reads there without an error.
+#[test]
+fn a_semicolon_comment_after_a_block_tells_against_fanuc() {
+    let r = Registry::shipped();
+    let text =
+        "%\nO0000(MY GCODE)\nN1 G21; mm mode\nN2 G0 G17 G40 G49 G80 G90; rapid\nN3 G0 X0.0 Y0.0 Z10.0 F600\nN4 M30; End of program\n%\n";
+    let s = r.sniff(text, Some("p.gcode"), "linuxcnc");
+    assert_eq!(s.dialect, "linuxcnc", "{s:?}");
+    assert!(errors(&run("linuxcnc", text).1).is_empty());
+    assert!(!errors(&run("fanuc", text).1).is_empty(), "Fanuc runs `mm mode` as a block");
+    // A bare `;` closing a block, as some Fanuc posts write it, tells nothing.
+    let fanuc = "%\nO1234\nG0 G90 X1. Y1.;\nM30;\n%\n";
+    assert_eq!(r.sniff(fanuc, Some("p.nc"), "linuxcnc").dialect, "fanuc");
+}
