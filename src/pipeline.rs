@@ -188,8 +188,20 @@ pub const DEFAULT_DIALECT: &str = "linuxcnc";
 /// that reads it without an error is taken. A weak guess never turns the program's other
 /// codes into errors; a program that no candidate reads cleanly keeps the evidence's choice
 /// (between two readings that both stop, a count of errors tells no maker). The programs it
-/// calls are read from beside it, as `check` reads them.
+/// calls are not read: [`sniff_in`] reads them from where a profile says.
 pub fn sniff(registry: &crate::dialect::Registry, bytes: &[u8], path: &std::path::Path) -> crate::dialect::sniff::Sniffed {
+    sniff_in(registry, bytes, path, &Profile::default())
+}
+
+/// [`sniff`], with the programs the program calls read from `profile`'s program source (a
+/// shop's subprogram shows its maker's codes in what it calls too: `check` passes the
+/// folder beside the file).
+pub fn sniff_in(
+    registry: &crate::dialect::Registry,
+    bytes: &[u8],
+    path: &std::path::Path,
+    profile: &Profile,
+) -> crate::dialect::sniff::Sniffed {
     let (source, _) = text::decode(&bytes[..bytes.len().min(64 * 1024)]);
     let mut s = registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT);
     if s.candidates.len() < 2 {
@@ -199,12 +211,10 @@ pub fn sniff(registry: &crate::dialect::Registry, bytes: &[u8], path: &std::path
     impl CanonSink for Discard {
         fn emit(&mut self, _: Canon) {}
     }
-    // A shop's subprogram shows its maker's codes in what it calls too.
-    let profile = crate::config::DirPrograms::beside(&Profile::default(), path, 4 << 20);
     let errors = |name: &str| {
         registry
             .get(name)
-            .map(|d| interp::interpret(Text::from(&*source.text), &d, &profile, &mut Discard).iter().filter(|x| x.is_error()).count())
+            .map(|d| interp::interpret(Text::from(&*source.text), &d, profile, &mut Discard).iter().filter(|x| x.is_error()).count())
     };
     let mut read = Vec::new();
     for name in s.candidates.clone() {
