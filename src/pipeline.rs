@@ -181,9 +181,55 @@ pub fn program_name(text: &str) -> Option<String> {
 pub const DEFAULT_DIALECT: &str = "linuxcnc";
 
 /// Tells the dialect of the program `bytes` (named `path`) from its start and its file name.
+///
+/// When the evidence does not set one dialect apart (the sniff's candidates: a single code of
+/// one maker among Fanuc-like families), the program is read in the evidence's choice, and
+/// if that reading has errors, in the other candidates in the evidence's order: the first
+/// that reads it without an error is taken. A weak guess never turns the program's other
+/// codes into errors; a program that no candidate reads cleanly keeps the evidence's choice
+/// (between two readings that both stop, a count of errors tells no maker). The programs it
+/// calls are not read: [`sniff_in`] reads them from where a profile says.
 pub fn sniff(registry: &crate::dialect::Registry, bytes: &[u8], path: &std::path::Path) -> crate::dialect::sniff::Sniffed {
+    sniff_in(registry, bytes, path, &Profile::default())
+}
+
+/// [`sniff`], with the programs the program calls read from `profile`'s program source (a
+/// shop's subprogram shows its maker's codes in what it calls too: `check` passes the
+/// folder beside the file).
+pub fn sniff_in(
+    registry: &crate::dialect::Registry,
+    bytes: &[u8],
+    path: &std::path::Path,
+    profile: &Profile,
+) -> crate::dialect::sniff::Sniffed {
     let (source, _) = text::decode(&bytes[..bytes.len().min(64 * 1024)]);
-    registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT)
+    let mut s = registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT);
+    if s.candidates.len() < 2 {
+        return s;
+    }
+    struct Discard;
+    impl CanonSink for Discard {
+        fn emit(&mut self, _: Canon) {}
+    }
+    let errors = |name: &str| {
+        registry
+            .get(name)
+            .map(|d| interp::interpret(Text::from(&*source.text), &d, profile, &mut Discard).iter().filter(|x| x.is_error()).count())
+    };
+    let mut read = Vec::new();
+    for name in s.candidates.clone() {
+        let Some(n) = errors(&name) else { continue };
+        read.push(format!("{name} {n}"));
+        if n == 0 {
+            if name != s.dialect {
+                let before = std::mem::replace(&mut s.dialect, name);
+                s.runner_up = Some((before, s.score));
+                s.evidence.push(format!("weak evidence: the first reading without an error ({})", read.join(", ")));
+            }
+            break;
+        }
+    }
+    s
 }
 
 /// The plan in words: a line per stock, tool, feature and workingstep (`ncplan plan`).

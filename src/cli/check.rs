@@ -64,7 +64,8 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         let name = match &input.dialect {
             Some(n) => n.clone(),
             None => {
-                let s = pipeline::sniff(&registry, &bytes, file);
+                let beside = config::DirPrograms::beside(&base, file, config.max_file_bytes);
+                let s = pipeline::sniff_in(&registry, &bytes, file, &beside);
                 bar.suspend(|| eprintln!("{}{}", if many { format!("{}: ", file.display()) } else { String::new() }, sniff_report(&s)));
                 s.dialect
             }

@@ -181,7 +181,7 @@ pub(super) fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8
     let name = match &input.dialect {
         Some(n) => n.clone(),
         None => {
-            let s = pipeline::sniff(&registry, &bytes, &input.file);
+            let s = pipeline::sniff_in(&registry, &bytes, &input.file, &config.profile);
             eprintln!("{}", sniff_report(&s));
             s.dialect
         }
@@ -203,7 +203,7 @@ pub(super) fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, text
     let name = match &input.dialect {
         Some(n) => n.clone(),
         None => {
-            let s = pipeline::sniff(&registry, program.head_bytes(), &input.file);
+            let s = pipeline::sniff_in(&registry, program.head_bytes(), &input.file, &config.profile);
             eprintln!("{}", sniff_report(&s));
             s.dialect
         }

@@ -61,6 +61,14 @@ pub struct Sniffed {
     pub runner_up: Option<(String, u32)>,
     /// The chosen dialect's score.
     pub score: u32,
+    /// The dialects the evidence does not tell apart from the chosen one, best first, the
+    /// chosen one among them: weak evidence (no more than half of [`SURE`] beyond what they
+    /// share, or less than twice theirs) leaves the choice to the first reading without an
+    /// error ([`crate::pipeline::sniff`]). Only dialects of the winner's lineage (that
+    /// descend from the base it descends from) are candidates: another language's reading
+    /// (APT, Klartext) is no alternative. Empty when the evidence sets the winner apart, or
+    /// there is none.
+    pub candidates: Vec<String>,
 }
 
 /// How much of a file is looked at.
@@ -179,7 +187,14 @@ impl Registry {
         // Highest score first; the base before a dialect derived from it; then names.
         ranked.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)).then_with(|| a.2.cmp(b.2)));
         let Some(&(best, _, winner)) = ranked.first().filter(|b| b.0 > 0) else {
-            return Sniffed { dialect: default.to_owned(), confidence: Confidence::Low, evidence: Vec::new(), runner_up: None, score: 0 };
+            return Sniffed {
+                dialect: default.to_owned(),
+                confidence: Confidence::Low,
+                evidence: Vec::new(),
+                runner_up: None,
+                score: 0,
+                candidates: Vec::new(),
+            };
         };
         let mine = &lineages[winner];
         let family = |n: &str| self.get(n).map(|d| d.family.clone());
@@ -221,7 +236,32 @@ impl Registry {
         };
         let runner_up = margins.iter().max_by(|a, b| a.1.cmp(&b.1).then_with(|| b.0.cmp(a.0))).map(|m| (m.0.to_owned(), m.1));
         let evidence = counted(winner).into_iter().filter(|(w, _)| *w > 0).map(|(_, l)| l.to_owned()).collect();
-        Sniffed { dialect: winner.to_owned(), confidence, evidence, runner_up, score: best }
+        // The dialects this evidence does not set the winner apart from: each other of the
+        // same base with evidence of its own (or an ancestor of the winner), where what the winner has
+        // beyond the dialect both descend from is no more than half of SURE (one code of one
+        // maker) or less than twice what the other has beyond it. No single code of one
+        // maker decides between makers.
+        let mut candidates = vec![winner.to_owned()];
+        for &(t, _, other) in &ranked[1..] {
+            // Only a dialect of the same base is an alternative reading.
+            if lineages[other].last() != mine.last() {
+                continue;
+            }
+            let shared = lineages[other].iter().find(|a| mine.contains(a)).map_or(0, |a| total(a));
+            let (theirs, ours) = (t.saturating_sub(shared), best.saturating_sub(shared));
+            // A dialect with no evidence of its own beyond what it shares with the winner is no
+            // alternative (only more lenient), unless the winner descends from it.
+            if theirs == 0 && !mine.contains(&other) {
+                continue;
+            }
+            if ours <= SURE / 2 || ours < 2 * theirs {
+                candidates.push(other.to_owned());
+            }
+        }
+        if candidates.len() == 1 {
+            candidates.clear();
+        }
+        Sniffed { dialect: winner.to_owned(), confidence, evidence, runner_up, score: best, candidates }
     }
 }
 

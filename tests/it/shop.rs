@@ -616,3 +616,47 @@ fn the_modal_tool_before_the_program_commands_one_is_the_machine_s() {
     let (_, diags) = run("linuxcnc", "o1 if [#5400 EQ 0]\n(msg,none)\no1 else\n(abort,tool)\no1 endif\nM2\n");
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
 }
+
+/// Weak evidence among Fanuc-like makers (one code of one maker, or little more than another
+/// maker's) leaves the choice to the first reading without an error: a Mitsubishi shop's
+/// extended common variable (#900001-#907400) beside Haas's chip-conveyor M31 and an NGC
+/// variable is read as Mitsubishi, where a Haas reading stops on the variable it has not;
+/// the evidence's own choice stays when every reading is as clean, and the report says why.
+#[test]
+fn weak_evidence_is_settled_by_the_reading_with_the_fewest_errors() {
+    let r = Registry::shipped();
+    let path = std::path::Path::new("/nonexistent-ncplan-test/O9191.nc");
+    let text = "%\nO9191\nM31\n#10001=1\n#26=#901064\nG0 X1. Y1.\nM30\n%\n";
+    assert_eq!(r.sniff(text, Some("O9191.nc"), "linuxcnc").dialect, "haas", "the evidence alone");
+    let s = ncplan::pipeline::sniff(&r, text.as_bytes(), path);
+    assert_eq!(s.dialect, "mitsubishi", "{s:?}");
+    assert!(s.evidence.iter().any(|e| e.starts_with("weak evidence: the first reading without an error")), "{s:?}");
+    let d = r.get(&s.dialect).unwrap();
+    let mut out = Vec::new();
+    assert!(errors(&interpret(text, &d, &Profile::default(), &mut out)).is_empty());
+    // Every candidate reads it cleanly: the evidence's choice stays.
+    let clean = "%\nO9191\nM31\n#10001=1\nG0 X1. Y1.\nM30\n%\n";
+    assert_eq!(ncplan::pipeline::sniff(&r, clean.as_bytes(), path).dialect, "haas");
+    // Sure evidence is not second-guessed by another maker: Haas's own G187 and M97 decide
+    // (its lathe dialect stays a candidate, as the mill's codes are the lathe's too).
+    let sure = "%\nO9191\nG187 P1\nM97 P100\nG0 X1. Y1.\nM30\nN100 M99\n%\n";
+    let s = r.sniff(sure, Some("O9191.nc"), "linuxcnc");
+    assert!(s.candidates.iter().all(|c| r.get(c).unwrap().family == "haas"), "{s:?}");
+}
+
+/// A text after `;` on a block's line is a comment to LinuxCNC and the end of the block to a
+/// Fanuc-like control, which would run the text as a block: a `%`/`O0000` program written
+/// so is LinuxCNC's, and reads there without an error.
+#[test]
+fn a_semicolon_comment_after_a_block_tells_against_fanuc() {
+    let r = Registry::shipped();
+    let text =
+        "%\nO0000(MY GCODE)\nN1 G21; mm mode\nN2 G0 G17 G40 G49 G80 G90; rapid\nN3 G0 X0.0 Y0.0 Z10.0 F600\nN4 M30; End of program\n%\n";
+    let s = r.sniff(text, Some("p.gcode"), "linuxcnc");
+    assert_eq!(s.dialect, "linuxcnc", "{s:?}");
+    assert!(errors(&run("linuxcnc", text).1).is_empty());
+    assert!(!errors(&run("fanuc", text).1).is_empty(), "Fanuc runs `mm mode` as a block");
+    // A bare `;` closing a block, as some Fanuc posts write it, tells nothing.
+    let fanuc = "%\nO1234\nG0 G90 X1. Y1.;\nM30;\n%\n";
+    assert_eq!(r.sniff(fanuc, Some("p.nc"), "linuxcnc").dialect, "fanuc");
+}

@@ -8,6 +8,12 @@
 //! invalid ones, those still rejected (the third sweep's rows are the halves `build-s3` and
 //! `holdout-s3`). Without it the test says so and passes; `NCPLAN_SWEEP43_HALF`
 //! names one half to score.
+//!
+//! Sweep 5 (rows v001-, halves `build-s5` / `holdout-s5`, split by repository): the holdout
+//! (norn93/gcode, 22 programs of a LinuxCNC generator and Mastercam posts) measured once, at
+//! commit 030433f: 0/14 valid programs without an error (0.0%), family right for 0/14 valid
+//! and 0/22 of all; invalid still rejected 8/8. Every program was read as Fanuc (`%`, `O0000`,
+//! `X10.`), whose `;` ends a block, so each `; comment` after a block became an error.
 
 use std::path::PathBuf;
 
