@@ -1247,6 +1247,12 @@ fn compare_holes(a: &[Hole], b: &[Hole], depth: Option<(f64, f64)>, u: Fmt, push
         let Some((h, k)) = differs.first() else { continue };
         let v = |x: Option<f64>| x.map_or_else(|| "none".to_owned(), |x| show(u, x));
         let (mut before, mut after) = (v(get(h)), v(get(k)));
+        // A hole that kept the depth the others left: compared with the depth told above,
+        // not with its own unchanged one (no "Z-10 to Z-10").
+        let told = map_bottom(h, get(h));
+        if told != get(h) {
+            before = format!("{} (the depth told above)", v(told));
+        }
         if differs.len() < pairs.len() {
             before = format!("{before} at {}", u.xy([h.x, h.y]));
             after = format!("{after} at {}", u.xy([k.x, k.y]));

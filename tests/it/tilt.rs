@@ -603,4 +603,19 @@ fn live_tool_holes_moved_and_holes_not_moved() {
               r level changed from Z3 at X-20 Y0 to Z4 at X-20 Y0 at line 17
         "#]],
     );
+    // A deeper bottom from the moved hole on (the bottom word is modal): the holes before it
+    // keep theirs, and no row says a bottom changed into itself.
+    edit(
+        "fanuc_lathe_live_drilling",
+        "C90.\n",
+        "C100. Z-12.\n",
+        expect_test::expect![[r#"
+        depth_changed | depth | Z-10 | Z-12 | 17 | 17
+          depth changed from Z-10 to Z-12 at line 17
+        hole_moved | hole | X0 Y20 | X-3.473 Y19.6962 | 17 | 17
+          hole at X0 Y20 moved to X-3.473 Y19.6962 at line 17
+        cycle_parameter_changed | hole_bottom | Z-12 (the depth told above) at X20 Y0 | Z-10 at X20 Y0 | 17 | 17
+          hole bottom changed from Z-12 (the depth told above) at X20 Y0 to Z-10 at X20 Y0 at line 17
+    "#]],
+    );
 }
