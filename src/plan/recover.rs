@@ -607,6 +607,13 @@ impl Builder {
         entries >= 2 && cuts().next().is_some() && cuts().all(|m| m.to[0].min(m.from[0]) >= 0.05)
     }
 
+    /// Whether every cut so far plunges across at `z` (the pecks of a groove or a part-off
+    /// written as moves, whose last peck reaches the axis at the same place).
+    fn pecks_at(&self, z: f64) -> bool {
+        let mut cuts = self.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).peekable();
+        cuts.peek().is_some() && cuts.all(|m| (m.from[2] - z).abs() < EPS && (m.to[2] - z).abs() < EPS)
+    }
+
     /// Whether a cut after a retract and re-entry starts another operation with the same
     /// tool and technology: the depth sequence restarts (it is not deeper than the deepest
     /// level), the tool re-enters where the deepest level began after several levels (a
@@ -1380,7 +1387,8 @@ impl<'p> Recovery<'p> {
     /// operation: at another feed; on a mill, a depth sequence begun anew; on a lathe, passes
     /// along -Z after facing passes only (across to the axis, pulled off along +Z: the same
     /// tool faces, then turns), or a pass from the axis after passes that never reached it (the
-    /// finishing contour, face first, after the roughing).
+    /// finishing contour, face first, after the roughing; not a part-off's last peck, across at
+    /// the place of the pecks before it).
     fn next_operation(&self, mv: &Move, decisive_feed: f64) -> bool {
         let Some(b) = self.current.as_ref().filter(|b| b.tentative.is_some()) else { return false };
         if b.cut_feed.is_some_and(|f| (f - decisive_feed).abs() > EPS) {
@@ -1390,7 +1398,10 @@ impl<'p> Recovery<'p> {
             return !is_lift(mv) && b.starts_anew(mv);
         }
         let turns_after_facing = (mv.to[0] - mv.from[0]).abs() < EPS && mv.to[2] < mv.from[2] - 0.5 && b.faces_only();
-        let finish_from_axis = mv.kind != MoveKind::Rapid && mv.to[0].min(mv.from[0]) < 0.05 && b.passes_off_axis();
+        let finish_from_axis = mv.kind != MoveKind::Rapid
+            && mv.to[0].min(mv.from[0]) < 0.05
+            && b.passes_off_axis()
+            && !(b.pecks_at(mv.to[2]) && (mv.to[2] - mv.from[2]).abs() < EPS);
         turns_after_facing || finish_from_axis
     }
 
