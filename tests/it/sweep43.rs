@@ -14,6 +14,17 @@
 //! commit 030433f: 0/14 valid programs without an error (0.0%), family right for 0/14 valid
 //! and 0/22 of all; invalid still rejected 8/8. Every program was read as Fanuc (`%`, `O0000`,
 //! `X10.`), whose `;` ends a block, so each `; comment` after a block became an error.
+//!
+//! Sweep 6 (rows w001-, halves `build-s6` / `holdout-s6`, split by repository; 51 programs of
+//! 18 repositories): the holdout (13 repositories, 35 counted programs) measured once, on
+//! 2026-12-06 at commit c6027b6 (the rules of integrate b5a700c): 23/32 valid programs without
+//! an error (71.9%), family right for 24/32 valid (75.0%) and 27/35 of all (77.1%); invalid
+//! still rejected 3/3. The misses: six Tormach PathPilot posts read as Fanuc (`G91.1`, `G41.2`
+//! unknown there, and arcs misread after them), two Mori Seiki NT mill-turn programs (G361/G419, T2002) with 36 and 65
+//! errors, a Fusion lathe post read as Okuma and a mill post read as Centroid (no error), and a
+//! main program whose errors are in the O9100 it calls (a file the verdicts skip). Build-s6
+//! after the run: 14/14 valid without an error, family 14/14 valid and 15/15 of all, invalid
+//! 1/1, once w014's verdict was corrected to skip (see its row: G32 in a system-B program).
 
 use std::path::PathBuf;
 
@@ -83,9 +94,28 @@ fn the_sweep_reads_what_its_controls_run() {
     let only = std::env::var("NCPLAN_SWEEP43_HALF").ok();
     let registry = Registry::shipped();
     let mut scores: std::collections::BTreeMap<String, Score> = Default::default();
-    for r in rows().into_iter().filter(|r| r.valid != "skip" && only.as_ref().is_none_or(|h| *h == r.half)) {
-        let file = dir.join(r.repo.replacen('/', "+", 1)).join(&r.path);
-        assert!(file.is_file(), "{} is missing: extract the sweep again", file.display());
+    let file_of = |r: &Row| dir.join(r.repo.replacen('/', "+", 1)).join(&r.path);
+    let chosen: Vec<Row> = rows().into_iter().filter(|r| r.valid != "skip" && only.as_ref().is_none_or(|h| *h == r.half)).collect();
+    // A half whose texts are not all extracted (its repository mirror was missing when
+    // extract.sh ran) is skipped with a message, not scored on part of its rows.
+    let mut incomplete: std::collections::BTreeMap<&str, (usize, PathBuf)> = Default::default();
+    for r in &chosen {
+        let file = file_of(r);
+        if !file.is_file() {
+            incomplete.entry(r.half.as_str()).or_insert((0, file)).0 += 1;
+        }
+    }
+    for (half, (n, first)) in &incomplete {
+        crate::skip(
+            "sweep43",
+            &format!(
+                "half {half}: {n} program(s) missing (first {}): fetch its mirrors and extract the sweep again; not scored",
+                first.display()
+            ),
+        );
+    }
+    for r in chosen.iter().filter(|r| !incomplete.contains_key(r.half.as_str())) {
+        let file = file_of(r);
         let (dialect, errors) = check(&file);
         let d = registry.get(&dialect);
         let family = d.as_ref().map_or("?".to_owned(), |d| if d.family == "rs274ngc" { "linuxcnc".to_owned() } else { d.family.clone() });
