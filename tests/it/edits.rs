@@ -742,6 +742,37 @@ fn lnc_comments_global_variables_and_block_statements_are_read_as_the_control_re
     .assert_eq(&rows(&changes(a, &b, "lnc")));
 }
 
+/// LNC's `/* ... */` (MACRO manual): the comment ends at `*/` and the block's code goes on
+/// after it on the same line; one not closed on its line is a diagnostic.
+#[test]
+fn lnc_block_comments_end_at_their_two_character_close() {
+    let registry = Registry::shipped();
+    let d = registry.get("lnc").unwrap();
+    let profile = Profile::default();
+    let a = "O1\nG21 G90 G17\nT1 M6\nS2000 M3\nG0 X0 Y0 Z5\nG1 /* plunge */ Z-1 F300\nG0 Z50\nM30\n";
+    let errors = |t: &str| {
+        pipeline::analyze(t.as_bytes(), &d, &profile)
+            .diagnostics
+            .iter()
+            .filter(|x| x.is_error())
+            .map(|x| x.code.as_str().to_owned())
+            .collect::<Vec<_>>()
+    };
+    assert!(errors(a).is_empty(), "{:?}", errors(a));
+    // Comment text edited: silent; the code after `*/` edited: told as what it does.
+    let comment = a.replace("/* plunge */", "/* plunge to depth (slowly) */");
+    assert!(changes(a, &comment, "lnc").is_empty(), "{}", rows(&changes(a, &comment, "lnc")));
+    let b = a.replace("*/ Z-1 F300", "*/ Z-1 F250");
+    expect![[r#"
+        feed_changed | feed | F300 | F250 | 6 | 6
+          feed changed from F300 to F250 at line 6
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "lnc")));
+    // Not closed on its line: the rest of the line is comment, and the control's reader says so.
+    let open = a.replace("/* plunge */", "/* plunge");
+    assert_eq!(errors(&open), ["syntax::unterminated-comment"]);
+}
+
 /// A subroutine beside the program, for [`diff::follow_calls`].
 struct Beside(&'static str, &'static str);
 
