@@ -34,8 +34,10 @@ fn reads(value: &str, name: &str) -> bool {
     value.match_indices(name).any(|(i, _)| {
         let before_ok = !name.starts_with(|c: char| c.is_ascii_alphabetic())
             || value[..i].chars().next_back().is_none_or(|c| !c.is_ascii_alphanumeric() && c != '_');
+        // A name closed by its own bracket (`#<use_g43>`) ends there, in statements written
+        // without blanks too (`[#<USE_G43>NE0]`).
         let after = value[i + name.len()..].chars().next();
-        before_ok && after.is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '.'))
+        before_ok && (name.ends_with('>') || after.is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '.')))
     })
 }
 
@@ -273,7 +275,11 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
         let shifted = changes.iter().any(|o| {
             o.line == line && o.original_line == original_line && o.field.starts_with(&prefix) && (o.before == "none" || o.after == "none")
         });
-        if shifted {
+        // Arguments only appended at the end shift nothing: every earlier one binds the
+        // parameter it bound, and each new one binds its own (`o<loadtool> call [#<toolno>]`
+        // → `… [#<toolno>][#<use_g43>]`: `#2` now passed).
+        let appended = shifted && only_appended(changes, (line, original_line), &key, edited, &mut edited_stmts);
+        if shifted && !appended {
             k += 1;
             continue;
         }
@@ -313,6 +319,38 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
             k += 1;
         }
     }
+}
+
+/// Whether the argument changes of the call `key` at `lines` insert arguments only at the end
+/// of the edited call's list and remove none.
+fn only_appended(
+    changes: &[Change],
+    lines: (Option<u32>, Option<u32>),
+    key: &str,
+    edited: Program<'_>,
+    stmts: &mut Option<Vec<Stmt>>,
+) -> bool {
+    let prefix = format!("call {key} argument ");
+    let mut inserted = Vec::new();
+    for o in changes.iter().filter(|o| (o.line, o.original_line) == lines) {
+        let Some(n) = o.field.strip_prefix(&prefix).and_then(|n| n.parse::<usize>().ok()) else { continue };
+        if o.after == "none" {
+            return false;
+        }
+        if o.before == "none" {
+            inserted.push(n);
+        }
+    }
+    let Some(line) = lines.0 else { return false };
+    let d = edited.dialect;
+    let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, d));
+    let Some(s) = stmts.iter().find(|s| s.line <= line && line <= s.last) else { return false };
+    let toks = statement::tokens(&statement::text_of(edited.text, d, s));
+    let Some(count) = toks.iter().find(|t| t.key == key && t.sort == Sort::Call).map(|t| statement::arguments(&t.value).len()) else {
+        return false;
+    };
+    inserted.sort_unstable();
+    !inserted.is_empty() && count >= inserted.len() && inserted.iter().copied().eq(count - inserted.len() + 1..=count)
 }
 
 /// How a change names the argument that binds local `n`: its position in an O-word call's

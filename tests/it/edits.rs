@@ -806,6 +806,35 @@ fn call_arguments_followed_into_a_subroutine_beside_the_program() {
     let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [5] [10] [300]\nM2\n");
     assert!(got.iter().all(|c| c.kind != ChangeKind::FeedChanged), "{got:#?}");
     assert!(!got.is_empty());
+    // An argument appended at the end shifts nothing: it binds #2, which sets the feed.
+    let got = run("G21\no<probe> call [10]\nM2\n", "G21\no<probe> call [10] [150]\nM2\n");
+    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    assert!(feed.field.contains("argument 2, #2 in probe"), "{}", feed.field);
+    assert_eq!((feed.before.as_str(), feed.after.as_str()), ("none", "150"));
+    // Appended with the first changed in place: both followed, each to its own parameter.
+    let got = run("G21\no<probe> call [10]\nM2\n", "G21\no<probe> call [12] [150]\nM2\n");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::FeedChanged), "{got:#?}");
+}
+
+/// A subroutine in a subfolder of the program's folder (ngcgui's `utilitysubs/`) is found,
+/// after one beside the program; the configured program directory's own files only.
+#[test]
+fn subroutines_are_found_in_the_program_folders_subfolders() {
+    use ncplan::interp::ProgramSource;
+    let root = std::env::temp_dir().join(format!("ncplan-subfolders-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(root.join("utilitysubs")).unwrap();
+    std::fs::create_dir_all(root.join("b")).unwrap();
+    std::fs::write(root.join("utilitysubs/loadtool.ngc"), "o<loadtool> sub\no<loadtool> endsub\n").unwrap();
+    std::fs::write(root.join("b/probe.ngc"), "(deeper)\n").unwrap();
+    std::fs::write(root.join("probe.ngc"), "(beside)\n").unwrap();
+    let tree = ncplan::config::DirPrograms { dir: root.clone(), max_bytes: 1 << 20, subfolders: true };
+    assert!(tree.load("loadtool").is_some_and(|t| t.starts_with("o<loadtool> sub")));
+    assert_eq!(tree.load("probe").as_deref(), Some("(beside)\n"));
+    assert_eq!(tree.load("missing"), None);
+    let flat = ncplan::config::DirPrograms { dir: root.clone(), max_bytes: 1 << 20, subfolders: false };
+    assert_eq!(flat.load("loadtool"), None);
+    let _ = std::fs::remove_dir_all(&root);
 }
 
 /// A Fanuc macro call's argument letter changed: followed to the local it sets (`B` is `#2`)
