@@ -74,7 +74,9 @@ fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: 
             if r { (ChangeKind::ClearanceChanged, "clearance height".into()) } else { (ChangeKind::DepthChanged, "cut depth".into()) }
         });
     }
-    typed::kind_of(tok, ctx, d).map(|(k, f)| (k, f.to_owned()))
+    // A machine function's word named with its code (`machine function M68: analog output`).
+    typed::kind_of(tok, ctx, d)
+        .map(|(k, f)| (k, if k == ChangeKind::MachineFunctionChanged { typed::function_field(ctx, d) } else { f.to_owned() }))
 }
 
 /// The kinds of the uses of `name` in `p`, the variables it feeds (for the next level), and

@@ -313,7 +313,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
 
 /// A machine function as a change names it: its code and the dictionary's name for it
 /// (`machine function M66: wait on input`), or that the dictionary does not know it.
-fn function_field(ctx: Context, d: &Dialect) -> String {
+pub(super) fn function_field(ctx: Context, d: &Dialect) -> String {
     let Some((letter, n)) = ctx.function_code else { return "machine function".into() };
     let code = format!("{letter}{}", crate::diff::num(f64::from(n) / 10.0));
     match d.code(letter, n) {
