@@ -1103,7 +1103,9 @@ impl DirPrograms {
         let mut p = profile.clone();
         if p.programs.is_none() {
             let dir = file.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-            p.programs = Some(std::sync::Arc::new(DirPrograms { dir: dir.to_path_buf(), max_bytes, subfolders: true }));
+            // The folder's own files: a program handed over from anywhere (a temporary
+            // folder) has no subfolders of its own to look in.
+            p.programs = Some(std::sync::Arc::new(DirPrograms { dir: dir.to_path_buf(), max_bytes, subfolders: false }));
         }
         p
     }
