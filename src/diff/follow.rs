@@ -323,8 +323,8 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
     }
 }
 
-/// Whether the argument changes of the call `key` at `lines` insert arguments only at the end
-/// of the edited call's list and remove none.
+/// Whether the argument changes of the call `key` at `lines` only append arguments at the end
+/// of the list or only take the last ones off (`[1][2]` → `[1]`: `#2` no longer passed).
 fn only_appended(
     changes: &[Change],
     lines: (Option<u32>, Option<u32>),
@@ -333,15 +333,18 @@ fn only_appended(
     stmts: &mut Option<Vec<Stmt>>,
 ) -> bool {
     let prefix = format!("call {key} argument ");
-    let mut inserted = Vec::new();
+    let (mut inserted, mut removed) = (Vec::new(), Vec::new());
     for o in changes.iter().filter(|o| (o.line, o.original_line) == lines) {
         let Some(n) = o.field.strip_prefix(&prefix).and_then(|n| n.parse::<usize>().ok()) else { continue };
         if o.after == "none" {
-            return false;
+            removed.push(n);
         }
         if o.before == "none" {
             inserted.push(n);
         }
+    }
+    if !inserted.is_empty() && !removed.is_empty() {
+        return false;
     }
     let Some(line) = lines.0 else { return false };
     let d = edited.dialect;
@@ -352,7 +355,10 @@ fn only_appended(
         return false;
     };
     inserted.sort_unstable();
-    !inserted.is_empty() && count >= inserted.len() && inserted.iter().copied().eq(count - inserted.len() + 1..=count)
+    removed.sort_unstable();
+    // Appended: the edited list's last ones; taken off: the ones after the edited list's end.
+    (!inserted.is_empty() && count >= inserted.len() && inserted.iter().copied().eq(count - inserted.len() + 1..=count))
+        || (!removed.is_empty() && removed.iter().copied().eq(count + 1..=count + removed.len()))
 }
 
 /// How a change names the argument that binds local `n`: its position in an O-word call's

@@ -814,6 +814,10 @@ fn call_arguments_followed_into_a_subroutine_beside_the_program() {
     // Appended with the first changed in place: both followed, each to its own parameter.
     let got = run("G21\no<probe> call [10]\nM2\n", "G21\no<probe> call [12] [150]\nM2\n");
     assert!(got.iter().any(|c| c.kind == ChangeKind::FeedChanged), "{got:#?}");
+    // The last argument taken off: #2 no longer passed, told as the feed it set.
+    let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [10]\nM2\n");
+    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    assert_eq!((feed.before.as_str(), feed.after.as_str()), ("300", "none"));
 }
 
 /// A subroutine in a subfolder of the program's folder (ngcgui's `utilitysubs/`) is found,
