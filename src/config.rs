@@ -842,8 +842,11 @@ fn profile(raw: &RawConfig, base: &Path) -> Result<Profile> {
     profile.home1 = position("g28", &raw.reference.g28)?;
     profile.home2 = position("g30", &raw.reference.g30)?;
     if let Some(dir) = &raw.programs_dir {
-        profile.programs =
-            Some(std::sync::Arc::new(DirPrograms { dir: resolve(base, dir), max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20) }));
+        profile.programs = Some(std::sync::Arc::new(DirPrograms {
+            dir: resolve(base, dir),
+            max_bytes: raw.daemon.max_file_mb.saturating_mul(1 << 20),
+            subfolders: false,
+        }));
     }
     if let Some(table) = &raw.tool_table {
         profile.tools = read_tool_table(&resolve(base, table))?;
@@ -1074,14 +1077,25 @@ mod tests {
 /// Subprograms from a directory: `O1000` is found as `O1000`, `O1000.nc`, `1000.nc` and so
 /// on (any case, the usual extensions); an O-word name `probe` as `probe.ngc`; a path the
 /// control knows (`TNC:\PARTS\Plan.h`) by its file name. Files over the size limit are
-/// not used.
+/// not used. With `subfolders`, one not in the directory is looked for in its subfolders too
+/// (names in order, each level before the next, [`SUBFOLDER_DEPTH`] levels deep): a folder
+/// of programs keeps its shared subroutines in subfolders (LinuxCNC's ngcgui library calls
+/// `o<loadtool>` from `utilitysubs/`, which its `SUBROUTINE_PATH` lists after the folder).
 #[derive(Debug)]
 pub struct DirPrograms {
     /// The directory.
     pub dir: PathBuf,
     /// Largest file read.
     pub max_bytes: u64,
+    /// Whether subfolders are looked in after the directory.
+    pub subfolders: bool,
 }
+
+/// How many levels of subfolders [`DirPrograms`] looks in.
+pub const SUBFOLDER_DEPTH: usize = 2;
+
+/// How many folders [`DirPrograms`] looks in at most, the directory included.
+const MAX_FOLDERS: usize = 64;
 
 impl DirPrograms {
     /// The subprograms beside `file`, for a profile that has no program directory of its own.
@@ -1089,7 +1103,9 @@ impl DirPrograms {
         let mut p = profile.clone();
         if p.programs.is_none() {
             let dir = file.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-            p.programs = Some(std::sync::Arc::new(DirPrograms { dir: dir.to_path_buf(), max_bytes }));
+            // The folder's own files: a program handed over from anywhere (a temporary
+            // folder) has no subfolders of its own to look in.
+            p.programs = Some(std::sync::Arc::new(DirPrograms { dir: dir.to_path_buf(), max_bytes, subfolders: false }));
         }
         p
     }
@@ -1122,11 +1138,44 @@ pub const PROGRAM_EXTENSIONS: [&str; 11] = ["", ".nc", ".ngc", ".txt", ".tap", "
 
 impl crate::interp::ProgramSource for DirPrograms {
     fn load(&self, name: &str) -> Option<String> {
-        let entries: Vec<PathBuf> = std::fs::read_dir(&self.dir).ok()?.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        let mut level = vec![self.dir.clone()];
+        let mut looked = 0;
+        for depth in 0..=SUBFOLDER_DEPTH {
+            let mut next = Vec::new();
+            for dir in &level {
+                if looked >= MAX_FOLDERS {
+                    return None;
+                }
+                looked += 1;
+                let Ok(read) = std::fs::read_dir(dir) else { continue };
+                let mut entries: Vec<PathBuf> = read.filter_map(|e| e.ok().map(|e| e.path())).collect();
+                entries.sort();
+                if let Some(text) = self.load_in(&entries, name) {
+                    return Some(text);
+                }
+                if self.subfolders && depth < SUBFOLDER_DEPTH {
+                    // Real folders only: a link may lead out of the folder, or round in a loop.
+                    next.extend(entries.into_iter().filter(|p| std::fs::symlink_metadata(p).is_ok_and(|m| m.is_dir())));
+                }
+            }
+            if next.is_empty() {
+                break;
+            }
+            level = next;
+        }
+        None
+    }
+}
+
+impl DirPrograms {
+    /// The program `name` among the files `entries` of one folder.
+    fn load_in(&self, entries: &[PathBuf], name: &str) -> Option<String> {
         for stem in program_file_stems(name) {
             for ext in PROGRAM_EXTENSIONS {
                 let wanted = format!("{stem}{ext}");
-                let Some(path) = entries.iter().find(|p| p.file_name().is_some_and(|f| f.to_string_lossy().eq_ignore_ascii_case(&wanted)))
+                let Some(path) = entries
+                    .iter()
+                    .find(|p| !p.is_dir() && p.file_name().is_some_and(|f| f.to_string_lossy().eq_ignore_ascii_case(&wanted)))
                 else {
                     continue;
                 };

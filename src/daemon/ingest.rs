@@ -550,7 +550,10 @@ impl Reader<'_> {
             let dirs = std::iter::once(beside.clone())
                 .chain(self.config.folders.iter().filter(|f| f.role == Role::Cam && f.path != beside).map(|f| f.path.clone()));
             for dir in dirs {
-                sources.push(std::sync::Arc::new(crate::config::DirPrograms { dir, max_bytes: self.config.max_file_bytes }));
+                // Beside the program in a watched folder, its subfolders too (the daemon's folder
+                // holds them); a CAM folder's own files only.
+                let subfolders = dir == beside;
+                sources.push(std::sync::Arc::new(crate::config::DirPrograms { dir, max_bytes: self.config.max_file_bytes, subfolders }));
             }
             profile.programs = Some(std::sync::Arc::new(crate::config::FirstFound(sources)));
         }

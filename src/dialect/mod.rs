@@ -77,6 +77,8 @@ pub enum BlockForm {
 pub enum CommentClose {
     /// At the given character.
     Char(char),
+    /// At the given two characters (`*/` of a `/* ... */` block comment), on the same line.
+    Pair(char, char),
     /// At the end of the line.
     EndOfLine,
 }
@@ -87,7 +89,8 @@ pub struct CommentRule {
     /// Opening character.
     pub open: char,
     /// The second character of a two-character opener (`//`: a `/` alone divides or skips a
-    /// block), for a comment that runs to the end of the line.
+    /// block), for a comment that runs to the end of the line or to a two-character close
+    /// (`/* ... */`).
     pub open2: Option<char>,
     /// Where it closes.
     pub close: CommentClose,

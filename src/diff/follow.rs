@@ -34,8 +34,10 @@ fn reads(value: &str, name: &str) -> bool {
     value.match_indices(name).any(|(i, _)| {
         let before_ok = !name.starts_with(|c: char| c.is_ascii_alphabetic())
             || value[..i].chars().next_back().is_none_or(|c| !c.is_ascii_alphanumeric() && c != '_');
+        // A name closed by its own bracket (`#<use_g43>`) ends there, in statements written
+        // without blanks too (`[#<USE_G43>NE0]`).
         let after = value[i + name.len()..].chars().next();
-        before_ok && after.is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '.'))
+        before_ok && (name.ends_with('>') || after.is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '.')))
     })
 }
 
@@ -72,7 +74,9 @@ fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: 
             if r { (ChangeKind::ClearanceChanged, "clearance height".into()) } else { (ChangeKind::DepthChanged, "cut depth".into()) }
         });
     }
-    typed::kind_of(tok, ctx, d).map(|(k, f)| (k, f.to_owned()))
+    // A machine function's word named with its code (`machine function M68: analog output`).
+    typed::kind_of(tok, ctx, d)
+        .map(|(k, f)| (k, if k == ChangeKind::MachineFunctionChanged { typed::function_field(ctx, d) } else { f.to_owned() }))
 }
 
 /// The kinds of the uses of `name` in `p`, the variables it feeds (for the next level), and
@@ -273,7 +277,11 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
         let shifted = changes.iter().any(|o| {
             o.line == line && o.original_line == original_line && o.field.starts_with(&prefix) && (o.before == "none" || o.after == "none")
         });
-        if shifted {
+        // Arguments only appended at the end shift nothing: every earlier one binds the
+        // parameter it bound, and each new one binds its own (`o<loadtool> call [#<toolno>]`
+        // → `… [#<toolno>][#<use_g43>]`: `#2` now passed).
+        let appended = shifted && only_appended(changes, (line, original_line), &key, edited, &mut edited_stmts);
+        if shifted && !appended {
             k += 1;
             continue;
         }
@@ -313,6 +321,44 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
             k += 1;
         }
     }
+}
+
+/// Whether the argument changes of the call `key` at `lines` only append arguments at the end
+/// of the list or only take the last ones off (`[1][2]` → `[1]`: `#2` no longer passed).
+fn only_appended(
+    changes: &[Change],
+    lines: (Option<u32>, Option<u32>),
+    key: &str,
+    edited: Program<'_>,
+    stmts: &mut Option<Vec<Stmt>>,
+) -> bool {
+    let prefix = format!("call {key} argument ");
+    let (mut inserted, mut removed) = (Vec::new(), Vec::new());
+    for o in changes.iter().filter(|o| (o.line, o.original_line) == lines) {
+        let Some(n) = o.field.strip_prefix(&prefix).and_then(|n| n.parse::<usize>().ok()) else { continue };
+        if o.after == "none" {
+            removed.push(n);
+        }
+        if o.before == "none" {
+            inserted.push(n);
+        }
+    }
+    if !inserted.is_empty() && !removed.is_empty() {
+        return false;
+    }
+    let Some(line) = lines.0 else { return false };
+    let d = edited.dialect;
+    let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, d));
+    let Some(s) = stmts.iter().find(|s| s.line <= line && line <= s.last) else { return false };
+    let toks = statement::tokens(&statement::text_of(edited.text, d, s));
+    let Some(count) = toks.iter().find(|t| t.key == key && t.sort == Sort::Call).map(|t| statement::arguments(&t.value).len()) else {
+        return false;
+    };
+    inserted.sort_unstable();
+    removed.sort_unstable();
+    // Appended: the edited list's last ones; taken off: the ones after the edited list's end.
+    (!inserted.is_empty() && count >= inserted.len() && inserted.iter().copied().eq(count - inserted.len() + 1..=count))
+        || (!removed.is_empty() && removed.iter().copied().eq(count + 1..=count + removed.len()))
 }
 
 /// How a change names the argument that binds local `n`: its position in an O-word call's

@@ -352,13 +352,18 @@ impl Change {
             }
             ChangeKind::MachineFunctionChanged => {
                 // `machine function M66: wait on input`: the code, and what the dictionary calls it.
+                // A variable or argument it came through (` (via #<raw_width>)`) is told after it.
                 let what = self.field.strip_prefix("machine function ").unwrap_or(&self.field);
+                let (what, via) = what.find(" (via ").map_or((what, ""), |i| (&what[..i], &what[i..]));
+                let what = what.strip_prefix("machine function").unwrap_or(what).trim();
+                let paren = |t: &str| if t.is_empty() { String::new() } else { format!(" ({t})") };
                 match (self.before.is_empty(), self.after.is_empty()) {
-                    (true, _) => format!("machine function `{}` added ({what})", self.after),
-                    (_, true) => format!("machine function `{}` removed ({what})", self.before),
+                    (true, _) => format!("machine function `{}` added{}{via}", self.after, paren(what)),
+                    (_, true) => format!("machine function `{}` removed{}{via}", self.before, paren(what)),
                     _ => {
-                        let (code, name) = what.split_once(": ").unwrap_or((what, ""));
-                        format!("machine function {code} ({name}) changed from {} to {}", self.before, self.after)
+                        let (code, name) = what.split_once(": ").unwrap_or(("", what));
+                        let code = if code.is_empty() { String::new() } else { format!(" {code}") };
+                        format!("machine function{code}{}{via} changed from {} to {}", paren(name), self.before, self.after)
                     }
                 }
             }

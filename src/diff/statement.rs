@@ -204,6 +204,11 @@ fn normalize(block: &Block, dialect: &Dialect, keywords: &Keywords, out: &mut St
             && dialect.lexical.comments.iter().any(|k| matches!(k.close, crate::dialect::CommentClose::Char(x) if x == c))
         {
             e += c.len_utf8();
+        } else if let Some(n) = dialect.lexical.comments.iter().find_map(|k| match k.close {
+            crate::dialect::CommentClose::Pair(a, b) if src[e..].starts_with(&format!("{a}{b}")[..]) => Some(2),
+            _ => None,
+        }) {
+            e += n;
         }
         cut.push(s..e);
     }

@@ -313,7 +313,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
 
 /// A machine function as a change names it: its code and the dictionary's name for it
 /// (`machine function M66: wait on input`), or that the dictionary does not know it.
-fn function_field(ctx: Context, d: &Dialect) -> String {
+pub(super) fn function_field(ctx: Context, d: &Dialect) -> String {
     let Some((letter, n)) = ctx.function_code else { return "machine function".into() };
     let code = format!("{letter}{}", crate::diff::num(f64::from(n) / 10.0));
     match d.code(letter, n) {
@@ -475,10 +475,11 @@ pub(super) fn align_args(a: &[String], b: &[String]) -> Vec<(Option<usize>, Opti
 /// Whether a token is a comment whose directive stops the program (`(abort, probe failed)`).
 fn abort_comment(text: &str, d: &Dialect) -> bool {
     let t = text.trim();
-    let Some(open) = d.lexical.comments.iter().find(|k| t.starts_with(k.open)) else { return false };
-    let inner = &t[open.open.len_utf8()..];
+    let Some(open) = d.lexical.comments.iter().find(|k| k.opens(t.as_bytes())) else { return false };
+    let inner = &t[open.open_len()..];
     let inner = match open.close {
         crate::dialect::CommentClose::Char(c) => inner.strip_suffix(c).unwrap_or(inner),
+        crate::dialect::CommentClose::Pair(a, b) => inner.strip_suffix(&format!("{a}{b}")[..]).unwrap_or(inner),
         _ => inner,
     };
     matches!(d.lexical.directive(inner.trim_start()), Some((crate::dialect::Directive::Abort, _)))

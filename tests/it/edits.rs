@@ -742,6 +742,37 @@ fn lnc_comments_global_variables_and_block_statements_are_read_as_the_control_re
     .assert_eq(&rows(&changes(a, &b, "lnc")));
 }
 
+/// LNC's `/* ... */` (MACRO manual): the comment ends at `*/` and the block's code goes on
+/// after it on the same line; one not closed on its line is a diagnostic.
+#[test]
+fn lnc_block_comments_end_at_their_two_character_close() {
+    let registry = Registry::shipped();
+    let d = registry.get("lnc").unwrap();
+    let profile = Profile::default();
+    let a = "O1\nG21 G90 G17\nT1 M6\nS2000 M3\nG0 X0 Y0 Z5\nG1 /* plunge */ Z-1 F300\nG0 Z50\nM30\n";
+    let errors = |t: &str| {
+        pipeline::analyze(t.as_bytes(), &d, &profile)
+            .diagnostics
+            .iter()
+            .filter(|x| x.is_error())
+            .map(|x| x.code.as_str().to_owned())
+            .collect::<Vec<_>>()
+    };
+    assert!(errors(a).is_empty(), "{:?}", errors(a));
+    // Comment text edited: silent; the code after `*/` edited: told as what it does.
+    let comment = a.replace("/* plunge */", "/* plunge to depth (slowly) */");
+    assert!(changes(a, &comment, "lnc").is_empty(), "{}", rows(&changes(a, &comment, "lnc")));
+    let b = a.replace("*/ Z-1 F300", "*/ Z-1 F250");
+    expect![[r#"
+        feed_changed | feed | F300 | F250 | 6 | 6
+          feed changed from F300 to F250 at line 6
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "lnc")));
+    // Not closed on its line: the rest of the line is comment, and the control's reader says so.
+    let open = a.replace("/* plunge */", "/* plunge");
+    assert_eq!(errors(&open), ["syntax::unterminated-comment"]);
+}
+
 /// A subroutine beside the program, for [`diff::follow_calls`].
 struct Beside(&'static str, &'static str);
 
@@ -775,6 +806,39 @@ fn call_arguments_followed_into_a_subroutine_beside_the_program() {
     let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [5] [10] [300]\nM2\n");
     assert!(got.iter().all(|c| c.kind != ChangeKind::FeedChanged), "{got:#?}");
     assert!(!got.is_empty());
+    // An argument appended at the end shifts nothing: it binds #2, which sets the feed.
+    let got = run("G21\no<probe> call [10]\nM2\n", "G21\no<probe> call [10] [150]\nM2\n");
+    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    assert!(feed.field.contains("argument 2, #2 in probe"), "{}", feed.field);
+    assert_eq!((feed.before.as_str(), feed.after.as_str()), ("none", "150"));
+    // Appended with the first changed in place: both followed, each to its own parameter.
+    let got = run("G21\no<probe> call [10]\nM2\n", "G21\no<probe> call [12] [150]\nM2\n");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::FeedChanged), "{got:#?}");
+    // The last argument taken off: #2 no longer passed, told as the feed it set.
+    let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [10]\nM2\n");
+    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    assert_eq!((feed.before.as_str(), feed.after.as_str()), ("300", "none"));
+}
+
+/// A subroutine in a subfolder of the program's folder (ngcgui's `utilitysubs/`) is found,
+/// after one beside the program; the configured program directory's own files only.
+#[test]
+fn subroutines_are_found_in_the_program_folders_subfolders() {
+    use ncplan::interp::ProgramSource;
+    let root = std::env::temp_dir().join(format!("ncplan-subfolders-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(root.join("utilitysubs")).unwrap();
+    std::fs::create_dir_all(root.join("b")).unwrap();
+    std::fs::write(root.join("utilitysubs/loadtool.ngc"), "o<loadtool> sub\no<loadtool> endsub\n").unwrap();
+    std::fs::write(root.join("b/probe.ngc"), "(deeper)\n").unwrap();
+    std::fs::write(root.join("probe.ngc"), "(beside)\n").unwrap();
+    let tree = ncplan::config::DirPrograms { dir: root.clone(), max_bytes: 1 << 20, subfolders: true };
+    assert!(tree.load("loadtool").is_some_and(|t| t.starts_with("o<loadtool> sub")));
+    assert_eq!(tree.load("probe").as_deref(), Some("(beside)\n"));
+    assert_eq!(tree.load("missing"), None);
+    let flat = ncplan::config::DirPrograms { dir: root.clone(), max_bytes: 1 << 20, subfolders: false };
+    assert_eq!(flat.load("loadtool"), None);
+    let _ = std::fs::remove_dir_all(&root);
 }
 
 /// A Fanuc macro call's argument letter changed: followed to the local it sets (`B` is `#2`)

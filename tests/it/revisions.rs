@@ -115,7 +115,7 @@ fn run(pair: &Pair) -> Outcome {
     let folder = pair.edited.parent().unwrap_or(Path::new("."));
     let after = folder.join("after");
     let dir = if after.is_dir() { after } else { folder.to_path_buf() };
-    diff::follow_calls(&mut changes, pb, &ncplan::config::DirPrograms { dir, max_bytes: 1 << 20 });
+    diff::follow_calls(&mut changes, pb, &ncplan::config::DirPrograms { dir, max_bytes: 1 << 20, subfolders: true });
     let mut problems = Vec::new();
     let missing = diff::unaccounted(pa, pb, &changes);
     if !missing.is_empty() {

@@ -228,8 +228,13 @@ impl Cx {
         };
         let close = match self.required(c, "close") {
             Some("eol") => Some(CommentClose::EndOfLine),
+            // `*/` (LNC's `/* ... */`): a two-character close, after a two-character open.
+            Some(v) if open2.is_some() && v.chars().count() == 2 && v.chars().all(|x| x.is_ascii_punctuation()) => {
+                let mut x = v.chars();
+                x.next().zip(x.next()).map(|(a, b)| CommentClose::Pair(a, b))
+            }
             Some(_) if open2.is_some() => {
-                self.error(Self::attr_range(c, "close"), "a two-character `open` needs `close=\"eol\"`");
+                self.error(Self::attr_range(c, "close"), "a two-character `open` needs `close=\"eol\"` or a two-character close");
                 None
             }
             Some(_) => self.char_attr(c, "close").map(CommentClose::Char),

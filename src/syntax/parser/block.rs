@@ -346,6 +346,27 @@ impl Lexer<'_, '_> {
                     }
                 }
             }
+            CommentClose::Pair(a, b) => {
+                // `/* ... */` (LNC): the comment ends at the first `*/`; what follows on the
+                // line is read as the block's words.
+                let rest = &self.b[self.i..eol];
+                match rest.windows(2).position(|w| w[0] == *a as u8 && w[1] == *b as u8) {
+                    Some(p) => {
+                        self.block.comments.push(self.range(self.i, self.i + p));
+                        self.i += p + 2;
+                    }
+                    None => {
+                        self.block.comments.push(self.range(self.i, eol));
+                        self.error(
+                            Code::UnterminatedComment,
+                            open,
+                            eol,
+                            format!("comment is not closed with `{a}{b}` before the end of the line"),
+                        );
+                        self.i = eol;
+                    }
+                }
+            }
         }
     }
 

@@ -14,7 +14,7 @@
 # (the layout the workplace's fetch tool produces). This script fetches nothing and
 # builds nothing: a pair whose mirror or commit is missing is skipped with a message.
 # Beside the pair, OUT_DIR/<id>/before/ and after/ hold the other files of the program's
-# directory with its extension at each commit: the subroutines it may call from other files,
+# directory and its subfolders (two levels) with its extension at each commit: the subroutines it may call from other files,
 # as a daemon watching that folder sees them.
 # Exit status: 0 if every pair was extracted, 1 if any was skipped.
 set -u
@@ -51,10 +51,15 @@ for toml in "$here"/*.toml; do
     for side in before after; do
       commit=$before; [ "$side" = after ] && commit=$after
       rm -rf "${out:?}/$id/$side"; mkdir -p "$out/$id/$side"
-      git --git-dir="$gitdir" ls-tree "$commit" ${dir:+-- "$dir/"} 2>/dev/null | sed -n 's/^[0-9]* blob [0-9a-f]*	//p' |
+      # Its subfolders too (`utilitysubs/loadtool.ngc` beside ngcgui's programs), as the
+      # daemon watching the folder holds them, paths kept.
+      git --git-dir="$gitdir" ls-tree -r "$commit" ${dir:+-- "$dir/"} 2>/dev/null | sed -n 's/^[0-9]* blob [0-9a-f]*	//p' |
         while IFS= read -r f; do
           b=$(basename "$f")
-          [ "$b" = "$name" ] && continue
+          rel=${f#"$dir/"}; [ -z "$dir" ] && rel=$f
+          [ "$rel" = "$name" ] && continue
+          # Two levels of subfolders at most, as ncplan looks (`config::SUBFOLDER_DEPTH`).
+          case "$rel" in */*/*/*) continue;; esac
           # Files of its extension; for a program without one (LNC's `LOADTOOL`), the others
           # without one.
           case "$b" in
@@ -62,7 +67,8 @@ for toml in "$here"/*.toml; do
                  [ "$(printf '%s' "${b##*.}" | tr 'A-Z' 'a-z')" = "$ext" ] || continue;;
             *) case "$name" in *.*) continue;; esac;;
           esac
-          git --git-dir="$gitdir" cat-file -e "$commit:$f" 2>/dev/null && git --git-dir="$gitdir" show "$commit:$f" > "$out/$id/$side/$b" 2>/dev/null
+          mkdir -p "$(dirname "$out/$id/$side/$rel")"
+          git --git-dir="$gitdir" cat-file -e "$commit:$f" 2>/dev/null && git --git-dir="$gitdir" show "$commit:$f" > "$out/$id/$side/$rel" 2>/dev/null
         done
     done
   else
