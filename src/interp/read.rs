@@ -115,10 +115,13 @@ impl Interpreter<'_> {
             && def.params.any_of.is_empty()
             && def.params.exclusive.is_empty()
             && self.dialect.groups[def.group].step != Step::Motion;
+        // A motion mode that would read the value as a polar word (`polar_roles`): the
+        // general way.
+        let polar = self.st.motion_code.is_some_and(|m| self.code(m).args.iter().any(|&(from, _)| from == Role::Extra));
         // A value scaled as a least increment goes the general way.
         let scaled =
             matches!(&self.dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { scaled, .. } if scaled.contains(&Role::Extra));
-        (inert && !scaled).then_some((c, *word))
+        (inert && !scaled && !polar).then_some((c, *word))
     }
 
     /// The read phase of a block [`Interpreter::inert_code_words`] found inert, code `c`
@@ -135,8 +138,7 @@ impl Interpreter<'_> {
         let Value::Number { value, .. } = word.value else { return };
         self.slots[Role::Extra as usize] = Some(Slot { value, range: word.range, mode: word.mode });
         self.filled |= 1 << Role::Extra as u32;
-        self.polar_roles();
-        // No axis, polar or centre word.
+        // No axis, polar or centre word: `polar_roles` finds none to turn into one.
         self.has_axes = false;
     }
 
