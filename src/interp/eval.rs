@@ -535,7 +535,11 @@ pub fn eval_fast(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
     let v = match *block.exprs.get(id as usize)? {
         Expr::Num(v) => v,
         Expr::Param(inner) => {
-            let n = eval_fast(block, inner, params)?;
+            // Most parameters are named by a number (`Q3`, `#5`, `R1`): read without a call.
+            let n = match *block.exprs.get(inner as usize)? {
+                Expr::Num(n) => n,
+                _ => eval_fast(block, inner, params)?,
+            };
             // A whole number in the dense table reads as `index` rounds it.
             if !(0.0..MAX_PARAM as f64).contains(&n) || (n as usize) as f64 != n {
                 return None;

@@ -1492,7 +1492,9 @@ impl<'a> Interpreter<'a> {
             // The plan tells the moves that hang on the block-delete switch.
             self.emit(sink, CanonOp::Setting(Setting::BlockDelete));
         }
-        if self.profile.fast_lane && (self.fast_move(block, sink, diags) || self.assignments_only(block, diags)) {
+        if self.profile.fast_lane
+            && (self.fast_move(block, sink, diags) || self.assignments_only(block, diags) || self.inert_code(block, diags))
+        {
             return;
         }
         if !self.read_and_assign(block, diags) {
@@ -1589,6 +1591,38 @@ impl<'a> Interpreter<'a> {
             self.refresh_system_vars(block);
         }
         self.assign(block, diags);
+        true
+    }
+
+    /// Runs `block` when it holds one inert keyword code with its value, and perhaps
+    /// assignments (Heidenhain's `FN 0:` to `FN 4:` arithmetic, `FN 12: IF ... GOTO LBL 2`
+    /// whose jump the driver makes): the code means nothing to execute, so the block does
+    /// what `read_and_assign` does and no step has work. False, with nothing changed, for any
+    /// other block, or where the state has work after any block (as `assignments_only`).
+    fn inert_code(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        if block.words.len() != 2
+            || !block.comments.is_empty()
+            || self.st.cycle_modal
+            || self.st.modal_macro.is_some()
+            || self.stop_message.is_some()
+        {
+            return false;
+        }
+        let Some((c, word)) = self.inert_code_words(block) else { return false };
+        let at = block.words.iter().find(|w| w.role == Role::Keyword).map_or(block.range, |w| w.range);
+        // In `read_and_assign`'s order.
+        let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
+        if system_vars && !block.exprs.is_empty() {
+            self.refresh_system_vars(block);
+        }
+        let early = self.dialect.behaviour.assign_before_reads;
+        if early {
+            self.assign(block, diags);
+        }
+        self.read_inert_code(c, at, word);
+        if !early {
+            self.assign(block, diags);
+        }
         true
     }
 

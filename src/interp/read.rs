@@ -90,6 +90,58 @@ impl Interpreter<'_> {
         ok
     }
 
+    /// Whether `block` is one inert keyword code and the word of its value, and nothing else
+    /// to read (Heidenhain's `FN 3:` before its assignment, `FN 12:` before its jump): a code
+    /// that means nothing to execute (`other`), takes no other word and moves nothing. Then
+    /// what [`Interpreter::read_inert_code`] reads: the code, the word of its value.
+    pub(super) fn inert_code_words(&self, block: &Block) -> Option<(usize, Word)> {
+        let [a, b] = block.words.as_slice() else { return None };
+        let (code, word) = match (a.role, b.role) {
+            (Role::Keyword, Role::Extra) => (a, b),
+            (Role::Extra, Role::Keyword) => (b, a),
+            _ => return None,
+        };
+        let (Value::Number { value: c, .. }, Value::Number { .. }) = (code.value, word.value) else { return None };
+        let c = c as usize;
+        if c >= self.dialect.codes.len() || word.cycle_arg || code.cycle_arg || !block.axis_refs.is_empty() || self.st.face_plane.is_some()
+        {
+            return None;
+        }
+        let def = self.code(c);
+        let inert = def.meaning == Meaning::Other
+            && def.keyword.as_ref().is_some_and(|k| k.value_role == Some(Role::Extra))
+            && def.args.is_empty()
+            && def.params.required.is_empty()
+            && def.params.any_of.is_empty()
+            && def.params.exclusive.is_empty()
+            && self.dialect.groups[def.group].step != Step::Motion;
+        // A motion mode that would read the value as a polar word (`polar_roles`): the
+        // general way.
+        let polar = self.st.motion_code.is_some_and(|m| self.code(m).args.iter().any(|&(from, _)| from == Role::Extra));
+        // A value scaled as a least increment goes the general way.
+        let scaled =
+            matches!(&self.dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { scaled, .. } if scaled.contains(&Role::Extra));
+        (inert && !scaled && !polar).then_some((c, *word))
+    }
+
+    /// The read phase of a block [`Interpreter::inert_code_words`] found inert, code `c`
+    /// written at `at` and `word`: exactly what [`Interpreter::read`] does for it (the code in
+    /// the block's codes, alone in its group; the value in its slot; no word `check_params`
+    /// looks at).
+    pub(super) fn read_inert_code(&mut self, c: usize, at: TextRange, word: Word) {
+        self.clear_block();
+        self.block_read = true;
+        self.misread_before = self.misread;
+        self.block_misread = false;
+        self.codes.push((c, at));
+        self.code_steps |= 1 << self.dialect.groups[self.code(c).group].step as u32;
+        let Value::Number { value, .. } = word.value else { return };
+        self.slots[Role::Extra as usize] = Some(Slot { value, range: word.range, mode: word.mode });
+        self.filled |= 1 << Role::Extra as u32;
+        // No axis, polar or centre word: `polar_roles` finds none to turn into one.
+        self.has_axes = false;
+    }
+
     /// The block's codes (G, M and keyword codes) and its named cycle, in the block's codes;
     /// false when one cannot be read, is unknown, or shares its group with another.
     fn read_codes(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
