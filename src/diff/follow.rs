@@ -157,25 +157,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             k += 1;
             continue;
         }
-        let mut found: Vec<(ChangeKind, String)> = Vec::new();
-        let mut level = vec![var.clone()];
-        for _ in 0..3 {
-            let mut next = Vec::new();
-            for v in &level {
-                let (kinds, feeds, _) = uses(p, stmts, v);
-                for kf in kinds {
-                    if !found.contains(&kf) {
-                        found.push(kf);
-                    }
-                }
-                next.extend(feeds.into_iter().filter(|f| *f != var));
-                next.truncate(MAX_FED);
-            }
-            if next.is_empty() {
-                break;
-            }
-            level = next;
-        }
+        let found = fed_kinds(p, stmts, &var);
         if found.is_empty() {
             // A global the file does not read: told as such, for what runs after it.
             if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
