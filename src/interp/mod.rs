@@ -1545,6 +1545,24 @@ impl<'a> Interpreter<'a> {
     /// says, and the alarm the block raises by its word. False when the block does not go on
     /// to execute: it has an error, or the alarm ended the program.
     fn read_and_assign(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
+        if !self.around_assignments(block, diags, |me, diags| me.read(block, diags)) {
+            return false;
+        }
+        if let Some(s) = self.slots[Role::AlarmNumber as usize] {
+            self.alarm(block, 0.0, s.value, s.range, diags);
+        }
+        !self.st.ended
+    }
+
+    /// The block's system variables refreshed, then its `read` and its assignments in the
+    /// dialect's order (`assign_before_reads`); false when `read` is.
+    #[inline]
+    fn around_assignments(
+        &mut self,
+        block: &Block,
+        diags: &mut Vec<Diagnostic>,
+        read: impl FnOnce(&mut Self, &mut Vec<Diagnostic>) -> bool,
+    ) -> bool {
         let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
         if system_vars && !block.exprs.is_empty() {
             self.refresh_system_vars(block);
@@ -1553,16 +1571,13 @@ impl<'a> Interpreter<'a> {
         if early {
             self.assign(block, diags);
         }
-        if !self.read(block, diags) {
+        if !read(self, diags) {
             return false;
         }
         if !early {
             self.assign(block, diags);
         }
-        if let Some(s) = self.slots[Role::AlarmNumber as usize] {
-            self.alarm(block, 0.0, s.value, s.range, diags);
-        }
-        !self.st.ended
+        true
     }
 
     /// Runs `block` when it holds assignments and nothing else (`#<x> = [#<col> * 0.1]`,
@@ -1610,20 +1625,10 @@ impl<'a> Interpreter<'a> {
         }
         let Some((c, word)) = self.inert_code_words(block) else { return false };
         let at = block.words.iter().find(|w| w.role == Role::Keyword).map_or(block.range, |w| w.range);
-        // In `read_and_assign`'s order.
-        let system_vars = !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty();
-        if system_vars && !block.exprs.is_empty() {
-            self.refresh_system_vars(block);
-        }
-        let early = self.dialect.behaviour.assign_before_reads;
-        if early {
-            self.assign(block, diags);
-        }
-        self.read_inert_code(c, at, word);
-        if !early {
-            self.assign(block, diags);
-        }
-        true
+        self.around_assignments(block, diags, |me, _| {
+            me.read_inert_code(c, at, word);
+            true
+        })
     }
 
     /// Whether the block, read, has work only at the motion step: no codes, no named cycle,

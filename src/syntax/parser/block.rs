@@ -334,16 +334,7 @@ impl Lexer<'_, '_> {
                         self.block.comments.push(self.range(self.i, self.i + p));
                         self.i += p + 1;
                     }
-                    None => {
-                        self.block.comments.push(self.range(self.i, eol));
-                        self.error(
-                            Code::UnterminatedComment,
-                            open,
-                            eol,
-                            format!("comment is not closed with `{c}` before the end of the line"),
-                        );
-                        self.i = eol;
-                    }
+                    None => self.unclosed_comment(open, eol, &c.to_string()),
                 }
             }
             CommentClose::Pair(a, b) => {
@@ -355,16 +346,7 @@ impl Lexer<'_, '_> {
                         self.block.comments.push(self.range(self.i, self.i + p));
                         self.i += p + 2;
                     }
-                    None => {
-                        self.block.comments.push(self.range(self.i, eol));
-                        self.error(
-                            Code::UnterminatedComment,
-                            open,
-                            eol,
-                            format!("comment is not closed with `{a}{b}` before the end of the line"),
-                        );
-                        self.i = eol;
-                    }
+                    None => self.unclosed_comment(open, eol, &format!("{a}{b}")),
                 }
             }
         }
@@ -372,6 +354,14 @@ impl Lexer<'_, '_> {
 
     /// Whether the comment text `rest` (after its opener) starts with a teaching simulator's
     /// command prefix from the dictionary (`$`).
+    /// A comment opened at `open` that its line ends without `close`: the rest of the line
+    /// is the comment, and an error says so.
+    fn unclosed_comment(&mut self, open: usize, eol: usize, close: &str) {
+        self.block.comments.push(self.range(self.i, eol));
+        self.error(Code::UnterminatedComment, open, eol, format!("comment is not closed with `{close}` before the end of the line"));
+        self.i = eol;
+    }
+
     fn simulator_directive(&self, rest: &[u8]) -> bool {
         let start = rest.iter().position(|c| !matches!(c, b' ' | b'\t')).unwrap_or(rest.len());
         let t = &rest[start..];
