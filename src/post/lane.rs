@@ -368,6 +368,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         let steady = self.started
             && !self.ended
             && self.pending_move.is_none()
+            && self.held.is_empty()
             && self.machine.is_none()
             && self.active.is_none()
             && !self.in_cycle

@@ -473,6 +473,11 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     comp_d: u32,
     comp: Option<(bool, Option<u32>)>,
     pending_move: Option<Canon>,
+    /// A change of work offset not yet written, with the plane selected after it on its line:
+    /// the program end's own resets (LinuxCNC's M2 puts G54 and G17 back) are the source
+    /// control's behaviour, not statements of the program, and the target's end does its
+    /// own; written as soon as anything else follows them.
+    held: Vec<Canon>,
     /// A move in the machine's frame under way ([`machine`]).
     machine: Option<machine::PendingMachine>,
     optional_line: Option<u32>,
@@ -1082,6 +1087,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             comp_d: 0,
             comp: None,
             pending_move: None,
+            held: Vec::new(),
             machine: None,
             optional_line: None,
             line: 0,
@@ -1741,6 +1747,9 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
     /// findings.
     pub fn finish(mut self) -> Vec<Diagnostic> {
         self.start();
+        for h in std::mem::take(&mut self.held) {
+            self.op(&h);
+        }
         if let Some(p) = self.pending_move.take() {
             self.op(&p);
         }
@@ -1809,7 +1818,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     }
 
     /// [`CanonSink::emit`] by the general path.
+    ///
+    /// A change of work offset waits for the op after it ([`Post::held`]): the end of the
+    /// program on the same line drops it (the control's other resets before the end are
+    /// written as ever); anything else writes it first.
     fn emit_general(&mut self, canon: &Canon) {
+        if !self.hold_offset(canon) {
+            return;
+        }
         // A rapid while an output cycle is in force may be the positioning before the next
         // hole of a modal cycle (`MCALL`, `M99`): it waits for the op after it.
         if let Some(p) = self.pending_move.take() {
@@ -1840,6 +1856,35 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
 }
 
 impl<F: FnMut(&[u8])> Post<'_, F> {
+    /// [`Post::emit_general`]'s hold of a work offset change: false where `canon` is held
+    /// or dropped, true where it goes on to be written.
+    fn hold_offset(&mut self, canon: &Canon) -> bool {
+        let same_line = self.held.first().is_some_and(|h| h.line == canon.line);
+        match &canon.op {
+            _ if self.held.is_empty() => {}
+            CanonOp::ProgramEnd if same_line => self.held.clear(),
+            // The plane the end puts back: held with the offset.
+            CanonOp::SelectPlane(_) if same_line => {
+                self.held.push(canon.clone());
+                return false;
+            }
+            // The end's other resets, in the order `program_end` emits them: written (the
+            // stops a post writes before its end), the offset still held.
+            CanonOp::SetFeedRate(_) | CanonOp::StopSpindleTurning | CanonOp::SetSpindleMode(_) | CanonOp::MistOff | CanonOp::FloodOff
+                if same_line => {}
+            _ => {
+                for h in std::mem::take(&mut self.held) {
+                    self.op(&h);
+                }
+            }
+        }
+        if matches!(canon.op, CanonOp::SetG5xOffset(..)) && !self.ended {
+            self.held.push(canon.clone());
+            return false;
+        }
+        true
+    }
+
     fn op(&mut self, canon: &Canon) {
         match &canon.op {
             CanonOp::StraightTraverse(q) | CanonOp::StraightFeed(q) => self.abc = [q[3], q[4], q[5]],

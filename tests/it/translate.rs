@@ -844,6 +844,31 @@ fn a_home_return_is_written_as_one_or_refused_never_as_a_move_to_the_same_number
     }
 }
 
+/// The program end's own resets (the interpreter follows LinuxCNC's M2: G54 and G17 back)
+/// are the source control's behaviour, not statements: a translation does not write them.
+/// Written, they change the machine: a Heidenhain `CYCL DEF 247` at the end makes preset 1
+/// the active one after the program, whatever the operator had.
+#[test]
+fn a_translation_writes_no_work_offset_the_program_end_puts_back() {
+    let src = "%\nO1000\nG21 G55\nG0 X1. Y1.\nS1000 M3\nG1 X2. F100.\nM30\n%\n";
+    for to in MILLS {
+        let (out, diags) = translate(src, &dialect("fanuc"), &dialect(to), "O1000");
+        assert!(!diags.iter().any(|d| d.is_error()), "{to}: {diags:?}");
+        // G55 (or its preset) is written once, before the first move, and nothing after.
+        let second = ["G55", "Q339=+2", "G505"].iter().filter_map(|w| out.find(w)).min();
+        let first_move = out.find("X1").or_else(|| out.find("X+1")).unwrap();
+        assert!(second.is_some_and(|at| at < first_move), "{to} lost G55:\n{out}");
+        let tail = &out[first_move..];
+        for reset in ["G54", "Q339=+1", "G500", "G53 P1"] {
+            assert!(!tail.contains(reset), "{to} wrote the end's reset {reset}:\n{out}");
+        }
+    }
+    // A G54 the program writes itself before its end is kept.
+    let own = "%\nO1000\nG21 G55\nG0 X1. Y1.\nG54\nM30\n%\n";
+    let (out, _) = translate(own, &dialect("fanuc"), &dialect("fanuc"), "O1000");
+    assert!(out.contains("G54"), "{out}");
+}
+
 #[test]
 fn the_motion_check_refuses_a_dropped_home_return_a_dropped_work_offset_and_a_changed_plane() {
     let (good, diags) = translate(&demo_program(), &dialect("fanuc"), &dialect("fanuc"), "O1234");
