@@ -106,6 +106,9 @@ pub struct Move {
     /// The tool axis it runs with (a unit vector in the plane's coordinates; +Z but where a
     /// `ToolAxis` marker turned it: under tool centre point control, or stated).
     pub axis: [f64; 3],
+    /// Seconds the machine dwells (`G4`, a cycle's dwell at the bottom) after the move
+    /// before and before this one.
+    pub dwell: f64,
     /// The source line, and the block's range.
     pub line: u32,
     /// See [`Move::line`].
@@ -143,6 +146,9 @@ pub struct Trace {
     axis: [f64; 3],
     /// A move in the machine's frame under way: its kind, axes and how many moves it has left.
     machine: Option<(Kind, [Option<f64>; 6], usize)>,
+    /// Seconds dwelt since the last move: the next move's [`Move::dwell`], or, at the end,
+    /// the dwell after the last move.
+    dwell: f64,
     ended: bool,
     /// The range of the block being fed in.
     origin: TextRange,
@@ -173,6 +179,7 @@ impl Trace {
             tilt: None,
             axis: [0.0, 0.0, 1.0],
             machine: None,
+            dwell: 0.0,
             ended: false,
             origin: TextRange::default(),
         }
@@ -228,6 +235,7 @@ impl Trace {
             tool: self.tool,
             tilt: self.tilt,
             axis: self.axis,
+            dwell: std::mem::take(&mut self.dwell),
             line,
             origin,
         });
@@ -258,6 +266,7 @@ impl Trace {
         // point between within the tolerance of it.
         let pos = self.pos;
         let merged = rapid
+            && self.dwell == 0.0
             && self.moves.last().is_some_and(|l| {
                 let (u, v) = (sub(to, l.from), sub(to, pos));
                 l.kind == Kind::Rapid
@@ -384,6 +393,7 @@ impl CanonSink for Trace {
             CanonOp::FloodOff => self.coolant &= !1,
             CanonOp::MistOff => self.coolant &= !2,
             CanonOp::ProgramEnd => self.ended = true,
+            CanonOp::Dwell(s) => self.dwell += s.max(0.0),
             CanonOp::StartSpeedFeedSync(p) => self.sync = Some(p * self.scale),
             CanonOp::StopSpeedFeedSync => self.sync = None,
             CanonOp::RigidTap(p) => self.rigid_tap(p, c.line),
@@ -501,8 +511,8 @@ fn css_text(c: Option<f64>) -> String {
 }
 
 /// The first way trace `b` runs differently from `a`, with positions within `tol` mm.
-pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
-    let (a, b) = (&a.moves, &b.moves);
+pub fn difference(ta: &Trace, tb: &Trace, tol: f64) -> Option<Difference> {
+    let (a, b) = (&ta.moves, &tb.moves);
     let differ =
         |m: &Move, n: Option<&Move>, what: String| Some(Difference { line: m.line, origin: m.origin, other_line: n.map(|n| n.line), what });
     let mut j = 0;
@@ -551,6 +561,13 @@ pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
                 ),
             );
         }
+        if !same_dwell(m.dwell, n.dwell) {
+            return differ(
+                m,
+                Some(n),
+                format!("dwells {} before the {} to {}, the translation {}", secs(m.dwell), m.kind.label(), fmt(m.to), secs(n.dwell)),
+            );
+        }
         if !m.kind.is_arc() {
             if n.kind != m.kind || !near(m.to, n.to, tol) || !near(m.abc, n.abc, tol) {
                 return differ(m, Some(n), format!("{} to {} became {} to {}", m.kind.label(), fmt(m.to), n.kind.label(), fmt(n.to)));
@@ -563,12 +580,30 @@ pub fn difference(a: &Trace, b: &Trace, tol: f64) -> Option<Difference> {
             Err(what) => return differ(m, b.get(j), what),
         }
     }
-    b.get(j).map(|n| Difference {
-        line: 0,
-        origin: TextRange::default(),
-        other_line: Some(n.line),
-        what: format!("the translation has more moves: {} to {}", n.kind.label(), fmt(n.to)),
+    if let Some(n) = b.get(j) {
+        return Some(Difference {
+            line: 0,
+            origin: TextRange::default(),
+            other_line: Some(n.line),
+            what: format!("the translation has more moves: {} to {}", n.kind.label(), fmt(n.to)),
+        });
+    }
+    (!same_dwell(ta.dwell, tb.dwell)).then(|| Difference {
+        line: a.last().map_or(0, |m| m.line),
+        origin: a.last().map_or_else(TextRange::default, |m| m.origin),
+        other_line: b.last().map(|n| n.line),
+        what: format!("dwells {} after the last move, the translation {}", secs(ta.dwell), secs(tb.dwell)),
     })
+}
+
+/// Two dwells alike as a control times them: within a millisecond (the finest unit a
+/// dictionary writes one in) and a thousandth of the dwell.
+fn same_dwell(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-3 + 1e-3 * a.abs()
+}
+
+fn secs(s: f64) -> String {
+    format!("{} s", (s * 1000.0).round() / 1000.0)
 }
 
 /// How many moves of `b` make arc `m`: the same direction, and each piece about the same
@@ -654,6 +689,28 @@ mod tests {
 
     fn home_z() -> CanonOp {
         CanonOp::MachineMove(Box::new(MachineMove { target: MachineTarget::Reference(1), axes: [None, None, Some(0.0), None, None, None] }))
+    }
+
+    /// A dwell lost, or written in the wrong unit (`G4 P1000` read as seconds), is a
+    /// difference: at a hole's bottom or before a cut it changes what the part gets.
+    #[test]
+    fn a_dwell_of_another_length_differs() {
+        let feed = |x: f64| CanonOp::StraightFeed([x, 0.0, -5.0, 0.0, 0.0, 0.0]);
+        let with = |s: f64| Trace::of(&[c(feed(1.0), 1), c(CanonOp::Dwell(s), 2), c(feed(2.0), 3)], 1e-3);
+        assert_eq!(difference(&with(1.0), &with(1.0), 1e-3), None);
+        // A millisecond's rounding is the same dwell.
+        assert_eq!(difference(&with(0.5), &with(0.5004), 1e-3), None);
+        let d = difference(&with(1.0), &with(1000.0), 1e-3).expect("1 s is not 1000 s");
+        assert_eq!(d.line, 3);
+        assert_eq!(d.what, "dwells 1 s before the feed to X2.0000 Y0.0000 Z-5.0000, the translation 1000 s");
+        // After the last move.
+        let end = |s: f64| Trace::of(&[c(feed(1.0), 1), c(CanonOp::Dwell(s), 2)], 1e-3);
+        let d = difference(&end(2.0), &end(0.0), 1e-3).expect("a dwell at the end dropped");
+        assert_eq!(d.what, "dwells 2 s after the last move, the translation 0 s");
+        // Two rapids with a dwell between are two moves: the dwell stays where it is.
+        let rapid = |x: f64| CanonOp::StraightTraverse([x, 0.0, 5.0, 0.0, 0.0, 0.0]);
+        let t = Trace::of(&[c(rapid(1.0), 1), c(CanonOp::Dwell(1.0), 2), c(rapid(2.0), 3)], 1e-3);
+        assert_eq!(t.moves.len(), 2);
     }
 
     #[test]

@@ -86,3 +86,16 @@ fn a_zero_offset_keeps_the_path_and_a_negative_one_changes_sides() {
     assert_ne!(run("G41.1 D-0.2"), run("G41.1 D0.2"));
     assert_ne!(run("G41.1 D0.2"), run(""));
 }
+
+/// G80 clears the drilling data with R and Z (Fanuc 0i/30i manuals: "other drilling data
+/// are also cleared"): a tapping cycle after `G82 … P1000` and G80 does not dwell at the
+/// bottom, while within one cycle mode the P stays.
+#[test]
+fn g80_clears_the_dwell_of_the_cycle_before() {
+    let (out, codes) = canon(
+        "G90 G17 G21 S500 M3 F100.\nG0 X0 Y0 Z10.\nG99 G82 X10. Y10. Z-1. R3. P1000\nY20.\nG80\nG99 G84 X30. Y10. Z-5. R3.\nG80 M30\n",
+    );
+    assert_eq!(codes, Vec::<&str>::new());
+    assert_eq!(out.matches("DWELL(1.0000)").count(), 2, "both counterbores dwell:\n{out}");
+    assert_eq!(out.matches("DWELL").count(), 2, "the tap after G80 does not:\n{out}");
+}

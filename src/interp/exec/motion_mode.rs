@@ -57,6 +57,10 @@ impl Interpreter<'_> {
             self.st.motion_code = None;
         }
         self.st.sticky_z = None;
+        // The dwell goes with it: Fanuc's G80 clears the drilling data besides R and Z, and
+        // rs274 asks a G82 after G80 for its P again. Kept, a G84 after `G82 … P1000` and
+        // G80 would dwell at every tapped hole's bottom.
+        self.st.sticky_p = None;
         self.st.cycle_initial = None;
         self.emit(sink, CanonOp::CycleCancel);
     }
