@@ -1234,6 +1234,14 @@ impl<'p> Recovery<'p> {
         }
     }
 
+    /// Whether a cut on a program that turns is milling: cut in the XY plane, unless it is a
+    /// hole cycle's move on the axis of revolution (X0 Y0: `G17 G83 X0 Z-30`, as LinuxCNC
+    /// lathe programs switch to G17 for the cycle), which a lathe drills with the part
+    /// turning and the drill held in the turret.
+    fn mills(&self, mv: &Move) -> bool {
+        self.plane == Plane::Xy && !(self.in_cycle.is_some() && mv.to[0].abs() < EPS && mv.to[1].abs() < EPS)
+    }
+
     fn cut(&mut self, mv: Move, c: &Canon) {
         self.lathe_evidence(&mv);
         // Comments before a cut are the operation's, not the next tool's.
@@ -1258,7 +1266,7 @@ impl<'p> Recovery<'p> {
                     || b.setup != self.setup
                     || (self.lathe && b.turn_seq != self.turn_seq)
                     || (self.lathe && retracted && self.stated.is_some_and(|r| b.turning.stated != Some(r)))
-                    || (self.lathe && b.milling != (self.plane == Plane::Xy))
+                    || (self.lathe && b.milling != self.mills(&mv))
             }
         };
         if restart {
@@ -1304,7 +1312,7 @@ impl<'p> Recovery<'p> {
                 setup: self.setup,
                 turn_seq: self.turn_seq,
                 turning,
-                milling: self.plane == Plane::Xy,
+                milling: self.mills(&mv),
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next

@@ -606,7 +606,7 @@ fn print_real_misses() {
     for m in &misses {
         println!("{m}");
     }
-    for folder in ["lathe_real", "lathe_real_heldout", "lathe_new"] {
+    for folder in ["lathe_real", "lathe_real_heldout", "lathe_new", "lathe_new_heldout"] {
         if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
             continue;
         }
