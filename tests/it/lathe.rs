@@ -607,11 +607,15 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
 /// side). None states a licence: only the sidecars are committed, `extract.sh` writes the programs
 /// from mirrors. Their sidecars were written by reading each program before ncplan ran on it;
 /// never used to build; measured once, at the end of branch lathe5 (6 December 2026):
-/// HELD_OUT_FIGURE. Where the programs are not extracted the test says so and checks nothing.
+/// 43 of the 89 listed recovered, no milling feature. The misses (printed once, not built on):
+/// most of the bar-lathe programs written on the X- side (facing, G71 roughing, their
+/// diameters, parting), the Denford programs' inside G71 roughing, G75 grooves and several
+/// diameters, and the Nakamura programs' bores and drilled holes. Where the programs are not
+/// extracted the test says so and checks nothing.
 #[test]
 fn lathe_s7_held_out_programs() {
     /// Listed workingsteps and features recovered on the held-back set, measured once.
-    const HELD_OUT_SCORE: usize = 0;
+    const HELD_OUT_SCORE: usize = 43;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_s7_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
@@ -720,4 +724,27 @@ fn a_word_a_cycle_names_is_no_axis_move() {
         assert_eq!(p[3], 0.0, "A stays at 0: {p:?}");
         assert!((p[2] + 1.0).abs() < 1e-9, "each pass ends at Z-1: {p:?}");
     }
+}
+
+/// A hole cycle on the lathe's axis drills with the part turning, even where the program
+/// switches to G17 for it (LinuxCNC's G83 takes its depth along Z only in G17); off the axis
+/// it stays a driven tool's milling. A grooving tool named in an operation header further up
+/// (German `Einstechen`) cuts a groove with its pass along the contour.
+#[test]
+fn drilling_on_the_axis_and_a_named_grooving_tool() {
+    let drill = "G18 G7 G21 G95\nT10 M6\nG97 S1000 M3\nG0 X0 Z5\nG17\nG83 X0 Y0 Z-30 R2 Q3 F0.12\nG80\nG18\nG0 X50 Z50\nM30\n";
+    let (ws, features) = labels(drill, "linuxcnc");
+    assert_eq!(ws, ["drilling"]);
+    assert!(features.iter().all(|f| f == "round hole"), "{features:?}");
+    let off_axis = drill.replace("G83 X0 Y0", "G83 X10 Y0");
+    let (ws, _) = labels(&off_axis, "linuxcnc");
+    assert!(ws.iter().all(|w| w != "drilling"), "{ws:?}");
+    let groove = "G18 G7 G21 G95\n(Step 1: groove | T4: Einstechen MGMN200)\n(Werkzeug T04)\n(Toolchange move)\nG53 G0 X150 Z300\nT04 M6\n\
+S900 M3\nG0 X25 Z2\nG1 X23 Z-13 F0.15\nZ-10\nX25\nG53 G0 X150 Z300\nM30\n";
+    let (ws, features) = labels(groove, "linuxcnc");
+    assert_eq!(ws, ["grooving finish"]);
+    assert_eq!(features, ["groove"]);
+    // The same pass by a tool no comment names is a contour.
+    let (ws, _) = labels(&groove.replace("groove | T4: Einstechen MGMN200", "turn | T4: DCMT"), "linuxcnc");
+    assert_eq!(ws, ["contouring finish"]);
 }
