@@ -264,6 +264,23 @@ fn listed_tool(comment: &str) -> Option<u32> {
         .flatten()
 }
 
+/// Whether a comment names tool `t` among its words: a `T` word of its number (`T4`, `T04`),
+/// or a lathe's tool and offset (`T0404`), not inside another word.
+fn mentions_tool(comment: &str, t: u32) -> bool {
+    let up = comment.to_ascii_uppercase();
+    let b = up.as_bytes();
+    (0..b.len()).any(|i| {
+        if b[i] != b'T' || (i > 0 && b[i - 1].is_ascii_alphanumeric()) {
+            return false;
+        }
+        let digits: &str = &up[i + 1..];
+        let end = digits.find(|c: char| !c.is_ascii_digit()).unwrap_or(digits.len());
+        let d = &digits[..end];
+        let whole = |x: &str| x.parse::<u32>().ok() == Some(t);
+        !d.is_empty() && (whole(d) || (d.len() == 4 && whole(&d[..2])))
+    })
+}
+
 /// What a CAM tool comment states.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ToolFacts {
@@ -294,7 +311,8 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
     let compact: String = up.chars().filter(|c| !c.is_whitespace() && *c != '-' && *c != '_').collect();
     let has = |k: &str| compact.contains(k);
     // German shop names (Heidenhain and Siemens shops): Kugel-, Torus-, Planfräser, Zentrier-,
-    // NC-Anbohrer, Reibahle, Senker, Gewindebohrer, Bohrstange, Bohrer, Schaft-/Fräser.
+    // NC-Anbohrer, Reibahle, Senker, Gewindebohrer, Bohrstange, Bohrer, Schaft-/Fräser, Ein- and
+    // Abstechen.
     let has = |k: &str| {
         has(k)
             || match k {
@@ -306,6 +324,8 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
                 "COUNTERSINK" => has("SENKER") || has("FASENFR"),
                 "TAP" => has("GEWINDEBOHR"),
                 "BORING" => has("BOHRSTANGE") || has("AUSDREH"),
+                // Einstechen (grooving), Abstechen (parting off).
+                "GROOV" => has("EINSTECH") || has("ABSTECH"),
                 "DRILL" => has("BOHRER") && !has("GEWINDEBOHR"),
                 "ENDMILL" => has("SCHAFTFR") || has("FRAESER") || has("FRÄSER") || has("FRäSER"),
                 _ => false,
@@ -1104,6 +1124,9 @@ impl<'p> Recovery<'p> {
             .or_else(|| self.listed.get(&t).cloned())
             .or_else(|| here.iter().map(|(_, s)| *s).find(diameter).cloned())
             .or_else(|| near.iter().find(|s| states(s)).map(|s| s.to_string()))
+            // Further up, an operation header that names this tool among its words and says
+            // what it is (`(Step 1: groove | T4: Einstechen MGMN200)` before `(Toolchange move)`).
+            .or_else(|| here.iter().map(|(_, s)| *s).find(|s| mentions_tool(s, t) && states(s)).cloned())
             .or(near.first().map(|s| s.to_string()))
     }
 
@@ -1234,6 +1257,14 @@ impl<'p> Recovery<'p> {
         }
     }
 
+    /// Whether a cut on a program that turns is milling: cut in the XY plane, unless it is a
+    /// hole cycle's move on the axis of revolution (X0 Y0: `G17 G83 X0 Z-30`, as LinuxCNC
+    /// lathe programs switch to G17 for the cycle), which a lathe drills with the part
+    /// turning and the drill held in the turret.
+    fn mills(&self, mv: &Move) -> bool {
+        self.plane == Plane::Xy && !(self.in_cycle.is_some() && mv.to[0].abs() < EPS && mv.to[1].abs() < EPS)
+    }
+
     fn cut(&mut self, mv: Move, c: &Canon) {
         self.lathe_evidence(&mv);
         // Comments before a cut are the operation's, not the next tool's.
@@ -1258,7 +1289,7 @@ impl<'p> Recovery<'p> {
                     || b.setup != self.setup
                     || (self.lathe && b.turn_seq != self.turn_seq)
                     || (self.lathe && retracted && self.stated.is_some_and(|r| b.turning.stated != Some(r)))
-                    || (self.lathe && b.milling != (self.plane == Plane::Xy))
+                    || (self.lathe && b.milling != self.mills(&mv))
             }
         };
         if restart {
@@ -1304,7 +1335,7 @@ impl<'p> Recovery<'p> {
                 setup: self.setup,
                 turn_seq: self.turn_seq,
                 turning,
-                milling: self.plane == Plane::Xy,
+                milling: self.mills(&mv),
             });
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next

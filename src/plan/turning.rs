@@ -75,10 +75,14 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         .map(|m| m.to[2])
         .fold(0.0, f64::max);
     for ws in &mut plan.workingsteps {
-        let boring = plan.tools.iter().find(|t| t.number == ws.tool).is_some_and(|t| {
+        let tool = plan.tools.iter().find(|t| t.number == ws.tool);
+        let boring = tool.is_some_and(|t| {
             t.kind == ToolKind::BoringTool || t.name.as_deref().is_some_and(|n| n.to_ascii_uppercase().contains("BORING"))
         });
-        classify(ws, front, boring);
+        // A grooving tool the program or the tool table names (not one inferred from what it
+        // does): its passes that neither face nor part off cut a groove.
+        let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
+        classify(ws, front, boring, grooving);
     }
     // A finishing pass is inside where the same tool's roughing was.
     for k in 1..plan.workingsteps.len() {
@@ -427,7 +431,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
+fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -529,6 +533,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool) {
                 (TurnOp::Facing, runs.len() > 1)
             }
         }
+        // A grooving tool's passes along a contour outside: grooving, as a turner names what
+        // a grooving tool does (a profiled recess, a wide groove turned out).
+        None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
         None => (TurnOp::Contouring, runs.len() > 1),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls

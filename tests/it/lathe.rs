@@ -150,11 +150,12 @@ fn lathe_suite() {
 /// the axis now turns (and one known to turn anywhere turns throughout): 59 of 92, no milling
 /// feature. After the explicit-pass rules of branch lathe3 (6 December 2026: inside told by the
 /// pull-off, stepped facing, operation comments, grooves profiled from both sides, Okuma `TG=`):
-/// 67 of 92. The test keeps that figure from falling and no milling feature.
+/// 67 of 92. After branch lathe5 (6 December 2026: a grooving tool the program names cuts
+/// grooves): 68 of 92. The test keeps that figure from falling and no milling feature.
 #[test]
 fn lathe_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held out.
-    const HELD_OUT_SCORE: usize = 67;
+    const HELD_OUT_SCORE: usize = 68;
     let (programs, listed, found, milling, misses) = score_corpus_sidecars();
     assert!(programs >= 8, "{programs} held-out programs");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
@@ -262,11 +263,13 @@ fn lathe_real_held_out_programs() {
 /// written by reading each program (and, for LinuxCNC, rs274's moves) before ncplan ran on it.
 /// The build part (`tests/programs/lathe_new/`: the LatheEasyStep conversational generator's
 /// LinuxCNC programs, GPL-3.0): 25 of 50 when first scored, 42 of 50 after the rules were built
-/// on it (6 December 2026). The test keeps the figure from falling and no milling feature.
+/// on it (6 December 2026); 45 of 50 after branch lathe5 (6 December 2026: `G17 G83 X0` drills on
+/// the lathe's axis, a grooving tool named in an operation header cuts grooves). The test keeps
+/// the figure from falling and no milling feature.
 #[test]
 fn lathe_new_build_programs() {
     /// Listed workingsteps and features recovered on the build part.
-    const BUILD_SCORE: usize = 42;
+    const BUILD_SCORE: usize = 45;
     let (listed, found, milling, misses) = score_folder("lathe_new");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(found >= BUILD_SCORE, "build part: {found} of {listed} recovered, fewer than {BUILD_SCORE}:\n{}", misses.join("\n"));
@@ -278,7 +281,8 @@ fn lathe_new_build_programs() {
 /// end of branch lathe3 (6 December 2026): 34 of the 46 listed recovered, no milling feature.
 /// The misses (not looked into, the part stays unseen): the face and diameters of lathe_hp_2,
 /// valve and weld_pin, both facing workingsteps of nims_1002 (a G71/G70 pair on a face-only
-/// contour), valve's undercut as a groove. Where the
+/// contour), valve's undercut as a groove. No longer held back: branch lathe5 read its misses
+/// among the others' (6 December 2026; still 34 of 46). Where the
 /// programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_new_held_out_programs() {
@@ -596,6 +600,36 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
     assert!(ws.iter().all(|w| w.ends_with("milling")), "{ws:?}");
 }
 
+/// A third set of real programs, gathered for branch lathe5 from three repositories no earlier set
+/// used (`tests/programs/lathe_s7_heldout/`: Nakamura-Tome shop programs of erdotsc/Nakamura,
+/// turning with live-tool milling after it; Denford Mirac students' programs of eerth5514/ICNC;
+/// Russian bar-lathe training programs of MechatronicsCherepanovMA/CNCLearn, the tool on the X-
+/// side). None states a licence: only the sidecars are committed, `extract.sh` writes the programs
+/// from mirrors. Their sidecars were written by reading each program before ncplan ran on it;
+/// never used to build; measured once, at the end of branch lathe5 (6 December 2026):
+/// 43 of the 89 listed recovered, no milling feature. The misses (printed once, not built on):
+/// most of the bar-lathe programs written on the X- side (facing, G71 roughing, their
+/// diameters, parting), the Denford programs' inside G71 roughing, G75 grooves and several
+/// diameters, and the Nakamura programs' bores and drilled holes. Where the programs are not
+/// extracted the test says so and checks nothing.
+#[test]
+fn lathe_s7_held_out_programs() {
+    /// Listed workingsteps and features recovered on the held-back set, measured once.
+    const HELD_OUT_SCORE: usize = 43;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_s7_heldout");
+    let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
+    if extracted == 0 {
+        crate::skip(
+            "lathe::lathe_s7_held_out_programs",
+            "the held-back programs are not extracted (tests/programs/lathe_s7_heldout/extract.sh)",
+        );
+        return;
+    }
+    let (listed, found, milling, misses) = score_folder("lathe_s7_heldout");
+    assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
+    assert!(found >= HELD_OUT_SCORE, "held out: {found} of {listed} recovered, fewer than {HELD_OUT_SCORE}:\n{}", misses.join("\n"));
+}
+
 /// Prints the misses of the real folders (run by hand with `--ignored --nocapture`).
 #[test]
 #[ignore]
@@ -606,7 +640,7 @@ fn print_real_misses() {
     for m in &misses {
         println!("{m}");
     }
-    for folder in ["lathe_real", "lathe_real_heldout", "lathe_new"] {
+    for folder in ["lathe_real", "lathe_real_heldout", "lathe_new", "lathe_new_heldout", "lathe_s7_heldout"] {
         if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
             continue;
         }
@@ -690,4 +724,27 @@ fn a_word_a_cycle_names_is_no_axis_move() {
         assert_eq!(p[3], 0.0, "A stays at 0: {p:?}");
         assert!((p[2] + 1.0).abs() < 1e-9, "each pass ends at Z-1: {p:?}");
     }
+}
+
+/// A hole cycle on the lathe's axis drills with the part turning, even where the program
+/// switches to G17 for it (LinuxCNC's G83 takes its depth along Z only in G17); off the axis
+/// it stays a driven tool's milling. A grooving tool named in an operation header further up
+/// (German `Einstechen`) cuts a groove with its pass along the contour.
+#[test]
+fn drilling_on_the_axis_and_a_named_grooving_tool() {
+    let drill = "G18 G7 G21 G95\nT10 M6\nG97 S1000 M3\nG0 X0 Z5\nG17\nG83 X0 Y0 Z-30 R2 Q3 F0.12\nG80\nG18\nG0 X50 Z50\nM30\n";
+    let (ws, features) = labels(drill, "linuxcnc");
+    assert_eq!(ws, ["drilling"]);
+    assert!(features.iter().all(|f| f == "round hole"), "{features:?}");
+    let off_axis = drill.replace("G83 X0 Y0", "G83 X10 Y0");
+    let (ws, _) = labels(&off_axis, "linuxcnc");
+    assert!(ws.iter().all(|w| w != "drilling"), "{ws:?}");
+    let groove = "G18 G7 G21 G95\n(Step 1: groove | T4: Einstechen MGMN200)\n(Werkzeug T04)\n(Toolchange move)\nG53 G0 X150 Z300\nT04 M6\n\
+S900 M3\nG0 X25 Z2\nG1 X23 Z-13 F0.15\nZ-10\nX25\nG53 G0 X150 Z300\nM30\n";
+    let (ws, features) = labels(groove, "linuxcnc");
+    assert_eq!(ws, ["grooving finish"]);
+    assert_eq!(features, ["groove"]);
+    // The same pass by a tool no comment names is a contour.
+    let (ws, _) = labels(&groove.replace("groove | T4: Einstechen MGMN200", "turn | T4: DCMT"), "linuxcnc");
+    assert_eq!(ws, ["contouring finish"]);
 }
