@@ -26,15 +26,15 @@
 //! after the run: 14/14 valid without an error, family 14/14 valid and 15/15 of all, invalid
 //! 1/1, once w014's verdict was corrected to skip (see its row: G32 in a system-B program).
 //!
-//! Sweep 7 (rows x001-, halves `build-s7` / `holdout-s7`, split by repository; 82 programs of
-//! 15 repositories, 76 counted, 6 skipped): Fanuc 0i-MD macros and a Robodrill's own macros
+//! Sweep 7 (rows x001-, halves `build-s7` / `holdout-s7`, split by repository; 86 programs of
+//! 16 repositories, 80 counted, 6 skipped): Fanuc 0i-MD macros and a Robodrill's own macros
 //! (G10 L52 parameter input, G54.1 P, #3000 alarms), Robodrill and Makino CAM output, a
 //! Nakamura-Tome mill-turn shop (G112/G107, five-digit T words), a Haas flycutting set,
 //! Centroid CNC12 macros (DEFINE, quoted prompts), LinuxCNC and PathPilot subroutine files, a
-//! Sinumerik 840D grinder's PROC library, and student programs that the control rejects. The
-//! build half (7 repositories, 19 valid and 5 invalid programs) and the holdout (8
-//! repositories, 43 valid and 9 invalid) are to be measured by the lead after the merge; the
-//! holdout figure is to be filled in here once it is measured, once.
+//! Sinumerik 840D grinder's PROC library, old-TNC Klartext (CYCL DEF 1 PECKING), and student
+//! programs that the control rejects. The build half (7 repositories, 19 valid and 5 invalid
+//! programs) and the holdout (9 repositories, 47 valid and 9 invalid) are to be measured by
+//! the lead after the merge; the holdout figure is to be filled in here, measured once.
 
 use std::path::PathBuf;
 
