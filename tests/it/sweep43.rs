@@ -25,6 +25,16 @@
 //! main program whose errors are in the O9100 it calls (a file the verdicts skip). Build-s6
 //! after the run: 14/14 valid without an error, family 14/14 valid and 15/15 of all, invalid
 //! 1/1, once w014's verdict was corrected to skip (see its row: G32 in a system-B program).
+//!
+//! Sweep 7 (rows x001-, halves `build-s7` / `holdout-s7`, split by repository; 86 programs of
+//! 16 repositories, 80 counted, 6 skipped): Fanuc 0i-MD macros and a Robodrill's own macros
+//! (G10 L52 parameter input, G54.1 P, #3000 alarms), Robodrill and Makino CAM output, a
+//! Nakamura-Tome mill-turn shop (G112/G107, five-digit T words), a Haas flycutting set,
+//! Centroid CNC12 macros (DEFINE, quoted prompts), LinuxCNC and PathPilot subroutine files, a
+//! Sinumerik 840D grinder's PROC library, old-TNC Klartext (CYCL DEF 1 PECKING), and student
+//! programs that the control rejects. The build half (7 repositories, 19 valid and 5 invalid
+//! programs) and the holdout (9 repositories, 47 valid and 9 invalid) are to be measured by
+//! the lead after the merge; the holdout figure is to be filled in here, measured once.
 
 use std::path::PathBuf;
 
