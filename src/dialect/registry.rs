@@ -32,6 +32,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("fagor_lathe.xml", include_str!("../../dialects/fagor_lathe.xml")),
     ("centroid.xml", include_str!("../../dialects/centroid.xml")),
     ("mach3.xml", include_str!("../../dialects/mach3.xml")),
+    ("pathpilot.xml", include_str!("../../dialects/pathpilot.xml")),
 ];
 
 /// A shipped dialect and its merged element tree (the base for dialects that extend it).

@@ -269,6 +269,23 @@ impl Registry {
 mod tests {
     use super::*;
 
+    /// Evidence two dictionaries both count for themselves under one label (a lathe's
+    /// `G96 S`, a maker's name in its mill and lathe dictionaries) is the same evidence: it
+    /// weighs the same in each, so that it never tells one of them from the other. (Evidence
+    /// against a dialect may weigh otherwise: it tells that dialect from the others.)
+    #[test]
+    fn a_label_two_dialects_share_weighs_the_same() {
+        let r = Registry::shipped();
+        let mut seen: std::collections::BTreeMap<String, (u32, String)> = Default::default();
+        for name in r.names() {
+            let d = r.get(name).unwrap();
+            for e in d.recognise.iter().filter(|e| !e.against) {
+                let (w, first) = seen.entry(e.label.clone()).or_insert((e.weight, name.to_owned())).clone();
+                assert_eq!(e.weight, w, "`{}`: {name} and {first} weigh it differently", e.label);
+            }
+        }
+    }
+
     /// The combined expression finds exactly the evidence each pattern finds on its own.
     #[test]
     fn the_evidence_set_matches_as_each_pattern_does() {

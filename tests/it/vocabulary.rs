@@ -350,3 +350,68 @@ fn okuma_reads_its_own_g10_g11_and_has_no_g68_2() {
     let fagor_tilt = read("fagor", "G68.2 X0 Y0 Z0 I0 J30. K0\nM30\n");
     assert!(fagor_tilt.iter().any(|d| d.code == Code::UnknownCode && d.is_error()), "{fagor_tilt:?}");
 }
+
+/// Programs by name, for calls that leave the file.
+struct Beside(Vec<(&'static str, &'static str)>);
+
+impl ncplan::interp::ProgramSource for Beside {
+    fn load(&self, name: &str) -> Option<String> {
+        self.0.iter().find(|(n, _)| *n == name).map(|(_, t)| (*t).to_owned())
+    }
+}
+
+/// A program kept beside the one that calls it is a file of its own: an error in it is that
+/// file's (read on its own, it is reported there), said at the call as a warning that names
+/// the file; the caller's own errors stay errors.
+#[test]
+fn a_called_files_error_is_reported_against_that_file() {
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let sub = "O9100\nG1 X1. F100.\nG12.7\nM99\n";
+    let programs = Beside(vec![("O9100", sub)]);
+    let main = "O1\nG90 G0 X0 Y0\nM98 P9100\nM30\n";
+    let diags = ncplan::interp::run(main, &d, &Profile::default(), &programs, &mut Vec::new());
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let at_call = diags.iter().find(|x| x.code == Code::UnknownCode).expect("the called file's finding, said at the call");
+    assert!(at_call.message.starts_with("in O9100:3:1:") && at_call.message.contains("called program O9100"), "{at_call:?}");
+    assert_eq!(&main[at_call.range.start as usize..at_call.range.end as usize], "M98 P9100");
+    // Read on its own, the file reports it as its error.
+    assert!(read("fanuc", sub).iter().any(|x| x.code == Code::UnknownCode && x.is_error()));
+    // A subprogram in the same file is the program's own: its error stays an error.
+    let own = read("fanuc", "O1\nM98 P9100\nM30\nO9100\nG12.7\nM99\n");
+    assert!(own.iter().any(|x| x.code == Code::UnknownCode && x.is_error()), "{own:?}");
+}
+
+/// Tormach PathPilot is LinuxCNC with Tormach's remapped codes (its v2.3.6 configuration):
+/// G50 cancels the rotation, M998 goes to the G30 position, G47 engraves a serial number. A
+/// Fusion post for it names the maker in its header, and is read as PathPilot's. Its
+/// interpreter names G41/G41.1/G42/G42.1 as its compensation codes: G41.2 stays an error.
+#[test]
+fn tormach_pathpilot_reads_its_remapped_codes() {
+    let program = "%\n(1001)\n(Machine)\n(  vendor Tormach)\n(  model PCNC440)\nG90 G54 G64 G50 G17 G40 G80 G94 G91.1 G49\nG21\nG30\n\
+                   T1 G43 H1 M6\nS3000 M3\nG0 X10. Y5.\nG1 Z-1. F300.\nG2 X20. Y5. I5. J0.\nG0 Z5.\nM998\nM30\n%\n";
+    let sniffed = Registry::shipped().sniff(program, Some("1001.nc"), "linuxcnc");
+    assert_eq!(sniffed.dialect, "pathpilot", "{sniffed:?}");
+    let diags = read("pathpilot", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(diags.iter().filter(|x| x.code == Code::Unmodelled).count(), 2, "{diags:?}");
+    // Stock LinuxCNC has neither.
+    let stock = read("linuxcnc", program);
+    assert!(errors(&stock).iter().any(|e| e.contains("G50")) && errors(&stock).iter().any(|e| e.contains("M998")), "{stock:?}");
+    let g41_2 = read("pathpilot", "G21 G90\nT1 M6\nG0 X0 Y0\nG1 G41.2 X5. Y5. D1 F100.\nG40 X0 Y0\nM2\n");
+    assert!(g41_2.iter().any(|x| x.code == Code::UnknownCode && x.is_error()), "{g41_2:?}");
+}
+
+/// G codes the machine builder sets to call a custom macro (Fanuc's macro call using a G
+/// code): a Mori Seiki NT's G361/G419 on a Fanuc lathe are kept as intent; so are the 30i's
+/// own G41.2 and, on a mill-turn lathe, G43/G49. A G code below the builder's range that no
+/// manual lists stays an error.
+#[test]
+fn a_machine_builders_g_code_is_intent_on_fanuc() {
+    let lathe =
+        read("fanuc_lathe", "%\nO1151\nG28 U0. W0.\nG0 T2002\nG361 B0. D1.\nG419 A90. D1.\nG43 H0.\nG0 X50. Z5.\nG49\nG69.1\nM30\n%\n");
+    assert!(errors(&lathe).is_empty(), "{:?}", errors(&lathe));
+    let mill = read("fanuc", "O1\nG90 G0 X0 Y0\nG41.2 D1\nG1 X10. F100. S100 M3\nG40\nG91.1 X1.\nM30\n");
+    assert!(errors(&mill).is_empty(), "{:?}", errors(&mill));
+    let invented = read("fanuc", "O1\nG90 G0 X0 Y0\nG135\nM30\n");
+    assert!(invented.iter().any(|x| x.code == Code::UnknownCode && x.is_error()), "{invented:?}");
+}

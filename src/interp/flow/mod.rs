@@ -789,7 +789,12 @@ impl<'a> Driver<'a, '_> {
     }
 
     /// Post-processes the diagnostics of one block: those from another file point at the
-    /// call in the main program; a block that runs again does not repeat its findings.
+    /// call in the main program; a block that runs again does not repeat its findings. An
+    /// error in the other file's text as such (its reader's: a word, code or statement the
+    /// control does not read, whoever calls it) is that file's, not the caller's: it is said
+    /// at the call as a warning naming the file, which read on its own reports it as its
+    /// error. An error of the run (a division by zero with the caller's arguments, a
+    /// definition inside a running subroutine) stays the caller's: the control stops there.
     /// (Nothing to do in the main program's first run, the bulk of the blocks.)
     #[inline(always)]
     fn tidy(&mut self, src: usize, mark: usize, diags: &mut Vec<Diagnostic>) {
@@ -806,7 +811,15 @@ impl<'a> Driver<'a, '_> {
             for d in &mut diags[mark..] {
                 if d.range != call {
                     let lc = source.line_col(d.range.start);
-                    d.message = format!("in {}:{}:{}: {}", source.name, lc.line, lc.col, d.message);
+                    d.message = if d.is_error() && (d.code.as_str().starts_with("syntax::") || d.code == Code::UnknownStatement) {
+                        d.severity = Severity::Warning;
+                        format!(
+                            "in {}:{}:{}: {} (an error of the called program {}, reported against it)",
+                            source.name, lc.line, lc.col, d.message, source.name
+                        )
+                    } else {
+                        format!("in {}:{}:{}: {}", source.name, lc.line, lc.col, d.message)
+                    };
                     d.range = call;
                 }
             }
