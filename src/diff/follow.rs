@@ -7,11 +7,13 @@
 //! cycle's parameter (`Q201=-Q5`) that parameter, a `Z` the clearance height where the move
 //! is a rapid and the cut depth where it feeds (the motion in force, from the statement or
 //! the ones before it). A variable that only feeds another (`#<depth>=#<top>-#<cut>`) is
-//! followed through it, two levels deep. A loop's bound or a branch's condition that reads it
+//! followed through it, five levels deep ([`FED_LEVELS`]). A loop's bound or a branch's condition that reads it
 //! decides which blocks run, or how often: a flow change (`loop bound (via CYCLES)`). Each
 //! use kind becomes a change of that kind at the variable's statement, naming the variable
 //! (`clearance height (via #<_z_clearance>)`); a variable whose uses say nothing the
-//! dictionary knows (an axis position) stays the statement change that names it.
+//! dictionary knows (an axis position) stays the statement change that names it. One this
+//! program passes to a subroutine in another file (`o<nozzle> call [#<len>]`, `G65 P9810
+//! Z#100`) is followed there, through the parameter its argument binds ([`calls`]).
 
 use super::control;
 use super::statement::{self, Sort, Stmt, Token};
@@ -27,6 +29,10 @@ const MAX_USES: usize = 256;
 
 /// How many variables one level feeds that are followed to the next.
 const MAX_FED: usize = 8;
+
+/// How many levels of variables fed by a parameter are followed (`#4` → `#<length>` →
+/// `#<tip>` → `#<angle>` → `#<final>` → `M68 … Q[#<final>]`).
+const FED_LEVELS: usize = 5;
 
 /// Whether `value` reads the variable `name` (upper case, as statements are written): the
 /// name not followed by more of a name or number (`#1` is not read by `#10`).
@@ -198,11 +204,11 @@ fn callee_name(key: &str) -> Option<String> {
 }
 
 /// The kinds the parameter `param` feeds in `p` (its statements `stmts`), followed through the
-/// variables it sets, three levels deep, as [`follow`] does for a variable.
+/// variables it sets, [`FED_LEVELS`] deep, as [`follow`] does for a variable.
 fn fed_kinds(p: Program<'_>, stmts: &[Stmt], param: &str) -> Vec<(ChangeKind, String)> {
     let mut found: Vec<(ChangeKind, String)> = Vec::new();
     let mut level = vec![param.to_owned()];
-    for _ in 0..3 {
+    for _ in 0..FED_LEVELS {
         let mut next = Vec::new();
         for v in &level {
             let (kinds, feeds, _) = uses(p, stmts, v);
@@ -298,6 +304,114 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
                         v.remove(0);
                     }
                 }
+            }
+            changes.insert(k, t);
+            k += 1;
+        }
+    }
+    variables_into_calls(changes, edited, programs, &mut texts);
+}
+
+/// The calls in `p` that pass `var` (read in an argument): each call's key, the program it
+/// calls and the local the argument binds there (`o<coolant> call [#<len>]`: `#1` of
+/// `coolant`; `G65 P9810 Z#100`: `#26` of `O9810`).
+fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, u16)> {
+    let d = p.dialect;
+    let (first, last) = d.macros.locals;
+    let mut out: Vec<(String, String, u16)> = Vec::new();
+    let mut push = |x: (String, String, u16)| {
+        if !out.contains(&x) {
+            out.push(x);
+        }
+    };
+    for s in stmts {
+        let from = s.offset as usize;
+        let lines = (s.last - s.line + 1) as usize;
+        let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
+        if !p.text[from..end].to_ascii_uppercase().contains(var) {
+            continue;
+        }
+        let toks = statement::tokens(&statement::text_of(p.text, d, s));
+        for t in toks.iter().filter(|t| t.sort == Sort::Call) {
+            let Some(name) = callee_name(&t.key) else { continue };
+            for (i, a) in statement::arguments(&t.value).iter().enumerate() {
+                let n = u32::from(first) + i as u32;
+                if reads(a, var) && n <= u32::from(last) {
+                    push((t.key.clone(), name.clone(), n as u16));
+                }
+            }
+        }
+        // A macro call's letters (`G65 P9810 Z#100`): the local each letter sets.
+        let code = toks.iter().find(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall)));
+        let program = toks.iter().find_map(|t| if t.key == "P" { t.value.parse::<u32>().ok() } else { None });
+        if let (Some(code), Some(program)) = (code, program) {
+            for t in toks.iter().filter(|t| t.sort == Sort::Word && t.key.len() == 1 && t.key != "P" && reads(&t.value, var)) {
+                let letter = t.key.as_bytes()[0];
+                if let Some(n) = if letter.is_ascii_uppercase() { d.macros.arguments[usize::from(letter - b'A')] } else { None } {
+                    push((code.key.clone(), format!("O{program:04}"), n));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A variable set to another value (or newly set) that no word of this program tells, passed
+/// to a subroutine in another file: told as what the parameter it binds does there
+/// (`machine function M68 (via #<len>, O<COOLANT> argument 1, #1 in coolant)`).
+fn variables_into_calls(
+    changes: &mut Vec<Change>,
+    edited: Program<'_>,
+    programs: &dyn crate::interp::ProgramSource,
+    texts: &mut Vec<(String, Option<Callee>)>,
+) {
+    let Some((sigil, _)) = edited.dialect.lexical.parameter else { return };
+    let mut stmts: Option<Vec<Stmt>> = None;
+    let plan = crate::plan::ProcessPlan::default();
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let var = c
+            .field
+            .strip_prefix("variable ")
+            .filter(|_| c.kind == ChangeKind::StatementChanged && c.line.is_some() && !c.after.is_empty())
+            .map(str::to_owned);
+        let Some(var) = var else {
+            k += 1;
+            continue;
+        };
+        let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, edited.dialect));
+        let mut found: Vec<(ChangeKind, String)> = Vec::new();
+        for (key, name, n) in passed_to(edited, stmts, &var) {
+            if !texts.iter().any(|(t, _)| *t == name) {
+                let loaded = programs.load(&name).map(|text| {
+                    let stmts = statement::statements(&text, edited.dialect);
+                    (text, stmts)
+                });
+                texts.push((name.clone(), loaded));
+            }
+            let Some((_, Some((text, callee)))) = texts.iter().find(|(t, _)| *t == name) else { continue };
+            let param = format!("{sigil}{n}");
+            let p = Program { plan: &plan, text, dialect: edited.dialect };
+            for (kind, field) in fed_kinds(p, callee, &param) {
+                if !found.iter().any(|(k2, _)| *k2 == kind) {
+                    let label = arg_label(&key, n, edited.dialect.macros.locals.0, edited.dialect);
+                    found.push((kind, format!("{field} (via {var}, {key} argument {label}, {param} in {name})")));
+                }
+            }
+        }
+        if found.is_empty() {
+            k += 1;
+            continue;
+        }
+        let template = changes.remove(k);
+        for (kind, field) in found {
+            let mut t = template.clone();
+            (t.kind, t.field) = (kind, field);
+            t.detail.effect = None;
+            if t.before.is_empty() {
+                // A variable newly set: the parameter it binds had no value from it before.
+                t.before = "not set".into();
             }
             changes.insert(k, t);
             k += 1;

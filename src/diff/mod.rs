@@ -314,6 +314,15 @@ impl Change {
             ChangeKind::HoleMoved => format!("hole at {} moved to {}", self.before, self.after),
             ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
+            ChangeKind::GlobalVariableChanged if self.field.starts_with("return value ") => {
+                let var = &self.field["return value ".len()..];
+                let what = match (self.before.is_empty(), self.after.is_empty()) {
+                    (true, _) => format!("now returns {}", self.after),
+                    (_, true) => format!("no longer returns a value (was {})", self.before),
+                    _ => format!("returns {} instead of {}", self.after, self.before),
+                };
+                return format!("the subroutine {what}{}: `{var}` for the program that called it", at(self.line));
+            }
             ChangeKind::GlobalVariableChanged => {
                 let var = self.field.strip_prefix("variable ").unwrap_or(&self.field);
                 let what = match (self.before.is_empty(), self.after.is_empty()) {
