@@ -155,15 +155,38 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             continue;
         };
         let (p, stmts) = if c.line.is_some() { (b, sb) } else { (a, sa) };
-        if c.before.is_empty() || c.after.is_empty() {
+        let whole = c.before.is_empty() || c.after.is_empty();
+        if whole {
             // A global set or no longer set, that the file does not read: for what runs after.
             if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
+                k += 1;
+                continue;
             }
-            k += 1;
-            continue;
+            if !sole_assignment(changes, k, &var, (a, sa), (b, sb)) {
+                k += 1;
+                continue;
+            }
         }
-        let found = fed_kinds(p, stmts, &var);
+        // An assignment added or removed is followed to the uses both programs have (the
+        // statements that now read another value); new or changed statements tell themselves.
+        // Only those after it: the added one in the edited program, the removed one in the
+        // original.
+        let kept: Vec<Stmt>;
+        let (p, stmts) = if whole {
+            let (p, own, other, after) = match (c.line, c.original_line) {
+                (Some(l), _) => (b, sb, sa, l),
+                (None, Some(l)) => (a, sa, sb, l),
+                (None, None) => (b, sb, sa, u32::MAX),
+            };
+            let hashes: std::collections::BTreeSet<u64> = other.iter().map(|s| s.hash).collect();
+            kept = own.iter().filter(|s| s.line > after && hashes.contains(&s.hash)).cloned().collect();
+            (p, kept.as_slice())
+        } else {
+            (p, stmts)
+        };
+        let found: Vec<(ChangeKind, String)> =
+            fed_kinds(p, stmts, &var).into_iter().filter(|(kind, _)| !(whole && *kind == ChangeKind::ToolRenamed)).collect();
         if found.is_empty() {
             // A global the file does not read: told as such, for what runs after it.
             if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
@@ -179,10 +202,58 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             let note = if kind == ChangeKind::ClearanceChanged { below_top(p, &t.before, &t.after) } else { None };
             t.field = format!("{field} (via {var}{})", note.unwrap_or_default());
             t.detail.effect = None;
+            if whole && t.before.is_empty() {
+                t.before = "not set".into();
+            }
+            if whole && t.after.is_empty() {
+                t.after = "no longer set".into();
+            }
             changes.insert(k, t);
             k += 1;
         }
     }
+}
+
+/// Whether the assignment of `var` that change `k` adds (or removes) is the only one: the
+/// other program assigns `var` nowhere, and no other change sets a variable to the value it
+/// gave or took (a rename, `#<x>=#5421` → `#<y>=#5421`, or an assignment moved). Only then do
+/// the statements that read `var` after it read another value than before.
+fn sole_assignment(changes: &[Change], k: usize, var: &str, (a, sa): (Program<'_>, &[Stmt]), (b, sb): (Program<'_>, &[Stmt])) -> bool {
+    let c = &changes[k];
+    let (other, stmts) = if c.before.is_empty() { (a, sa) } else { (b, sb) };
+    !paired(changes, k) && !assigns(other, stmts, var)
+}
+
+/// Whether another change sets or takes away a variable with the value change `k`'s
+/// assignment gave or took, or the same variable the other way (a rename, a move).
+fn paired(changes: &[Change], k: usize) -> bool {
+    let c = &changes[k];
+    let value = if c.before.is_empty() { &c.after } else { &c.before };
+    changes.iter().enumerate().any(|(j, o)| {
+        j != k
+            && o.field.starts_with("variable ")
+            && (o.before.is_empty() != c.before.is_empty())
+            && (o.before == *value || o.after == *value || o.field == c.field)
+    })
+}
+
+/// Whether a statement of `p` assigns `var`.
+fn assigns(p: Program<'_>, stmts: &[Stmt], var: &str) -> bool {
+    assignments(p, stmts, var) > 0
+}
+
+/// How many statements of `p` assign `var`.
+fn assignments(p: Program<'_>, stmts: &[Stmt], var: &str) -> usize {
+    stmts
+        .iter()
+        .filter(|s| {
+            let from = s.offset as usize;
+            let lines = (s.last - s.line + 1) as usize;
+            let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
+            p.text[from..end].to_ascii_uppercase().contains(var)
+                && statement::tokens(&statement::text_of(p.text, p.dialect, s)).iter().any(|t| t.sort == Sort::Assign && t.key == var)
+        })
+        .count()
 }
 
 /// Where a clearance set through a variable now lies below the part's top (the stock the
@@ -315,11 +386,11 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
 /// The calls in `p` that pass `var` (read in an argument): each call's key, the program it
 /// calls and the local the argument binds there (`o<coolant> call [#<len>]`: `#1` of
 /// `coolant`; `G65 P9810 Z#100`: `#26` of `O9810`).
-fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, u16)> {
+fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, u16, u32)> {
     let d = p.dialect;
     let (first, last) = d.macros.locals;
-    let mut out: Vec<(String, String, u16)> = Vec::new();
-    let mut push = |x: (String, String, u16)| {
+    let mut out: Vec<(String, String, u16, u32)> = Vec::new();
+    let mut push = |x: (String, String, u16, u32)| {
         if !out.contains(&x) {
             out.push(x);
         }
@@ -337,7 +408,7 @@ fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, 
             for (i, a) in statement::arguments(&t.value).iter().enumerate() {
                 let n = u32::from(first) + i as u32;
                 if reads(a, var) && n <= u32::from(last) {
-                    push((t.key.clone(), name.clone(), n as u16));
+                    push((t.key.clone(), name.clone(), n as u16, s.line));
                 }
             }
         }
@@ -348,7 +419,7 @@ fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, 
             for t in toks.iter().filter(|t| t.sort == Sort::Word && t.key.len() == 1 && t.key != "P" && reads(&t.value, var)) {
                 let letter = t.key.as_bytes()[0];
                 if let Some(n) = if letter.is_ascii_uppercase() { d.macros.arguments[usize::from(letter - b'A')] } else { None } {
-                    push((code.key.clone(), format!("O{program:04}"), n));
+                    push((code.key.clone(), format!("O{program:04}"), n, s.line));
                 }
             }
         }
@@ -381,8 +452,19 @@ fn variables_into_calls(
             continue;
         };
         let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, edited.dialect));
+        // A newly set variable: only where it is the one assignment, and no rename or move.
+        if c.before.is_empty() && (paired(changes, k) || assignments(edited, stmts, &var) != 1) {
+            k += 1;
+            continue;
+        }
         let mut found: Vec<(ChangeKind, String)> = Vec::new();
-        for (key, name, n) in passed_to(edited, stmts, &var) {
+        let added = c.before.is_empty();
+        let changed_at = |line: u32| changes.iter().any(|o| o.line == Some(line) || o.detail.at.iter().any(|&(_, e)| e == Some(line)));
+        for (key, name, n, line) in passed_to(edited, stmts, &var) {
+            // A newly set variable: told through the calls that were there before it.
+            if added && changed_at(line) {
+                continue;
+            }
             if !texts.iter().any(|(t, _)| *t == name) {
                 let loaded = programs.load(&name).map(|text| {
                     let stmts = statement::statements(&text, edited.dialect);

@@ -289,7 +289,11 @@ impl Change {
 
     /// The change as a planner reads it: `tool T1 renamed T8`.
     pub fn phrase(&self) -> String {
-        let field = self.field.replace('_', " ");
+        // The kind's words with blanks (`work_plane`), a variable it came through as written.
+        let field = match self.field.find(" (via ") {
+            Some(i) => format!("{}{}", self.field[..i].replace('_', " "), &self.field[i..]),
+            None => self.field.replace('_', " "),
+        };
         let at = |l: Option<u32>| l.map_or(String::new(), |l| format!(" at line {l}"));
         let core = match self.kind {
             ChangeKind::ToolRenamed if !self.before.is_empty() && !self.after.is_empty() => {

@@ -905,3 +905,26 @@ fn a_return_value_is_told_as_the_value_the_caller_reads() {
     assert_eq!(got.len(), 1, "{}", rows(&got));
     assert_eq!((got[0].kind, got[0].before.as_str(), got[0].after.as_str()), (ChangeKind::GlobalVariableChanged, "#<E>", "#<E>*2"));
 }
+
+/// An assignment added or removed is followed to the statements after it that both programs
+/// have (they now read another value); a variable renamed with its uses, or read only before
+/// the assignment, is no such change.
+#[test]
+fn an_assignment_added_is_told_through_the_unchanged_uses_after_it() {
+    let a = "G21 G90\nT1 M6\nS1000 M3\n#<f> = 200\nG0 X0 Y0 Z5\nG1 Z-1 F[#<f>]\nG1 X10\nG0 Z5\nM2\n";
+    let b = a.replace("G1 X10\n", "#<f> = 150\nG1 X10 F[#<f>]\n");
+    // The feed word itself changed at the move: told there, the assignment before it too.
+    let got = changes(a, &b, "linuxcnc");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::FeedChanged), "{}", rows(&got));
+    // Added before an unchanged move that reads it: the feed it gives there.
+    let a = "G21 G90\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F[#<f>]\nG0 Z5\nM2\n";
+    let b = a.replace("G0 X0 Y0 Z5\n", "G0 X0 Y0 Z5\n#<f> = 150\n");
+    let got = changes(a, &b, "linuxcnc");
+    let feed = got.iter().find(|c| c.field.contains("(via #<F>)")).unwrap_or_else(|| panic!("{}", rows(&got)));
+    assert_eq!((feed.before.as_str(), feed.after.as_str(), feed.line), ("not set", "150", Some(5)));
+    // Renamed with every use: no use both programs have reads either name.
+    let a = "G21 G90\nT1 M6\nS1000 M3\n#<f> = 200\nG0 X0 Y0 Z5\nG1 Z-1 F[#<f>]\nG0 Z5\nM2\n";
+    let b = a.replace("#<f>", "#<feed>");
+    let got = changes(a, &b, "linuxcnc");
+    assert!(got.iter().all(|c| !c.field.contains("(via")), "{}", rows(&got));
+}
