@@ -30,6 +30,10 @@ const MAX_USES: usize = 256;
 /// How many variables one level feeds that are followed to the next.
 const MAX_FED: usize = 8;
 
+/// How many assignments added or removed are followed to their uses (each reads both
+/// programs' statements once more).
+const MAX_WHOLE: usize = 64;
+
 /// How many levels of variables fed by a parameter are followed (`#4` → `#<length>` →
 /// `#<tip>` → `#<angle>` → `#<final>` → `M68 … Q[#<final>]`).
 const FED_LEVELS: usize = 5;
@@ -147,6 +151,8 @@ fn global(var: &str, d: &Dialect) -> bool {
 /// variables feed, where their uses say it; the rest stay as they are.
 pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, (sa, sb): (&[Stmt], &[Stmt])) {
     let mut k = 0;
+    // Each assignment added or removed reads both programs once more: so many at most.
+    let mut whole_left = MAX_WHOLE;
     while k < changes.len() {
         let c = &changes[k];
         let var = c.field.strip_prefix("variable ").map(str::to_owned);
@@ -163,10 +169,11 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
                 k += 1;
                 continue;
             }
-            if !sole_assignment(changes, k, &var, (a, sa), (b, sb)) {
+            if whole_left == 0 || !sole_assignment(changes, k, &var, (a, sa), (b, sb)) {
                 k += 1;
                 continue;
             }
+            whole_left -= 1;
         }
         // An assignment added or removed is followed to the uses both programs have (the
         // statements that now read another value); new or changed statements tell themselves.
