@@ -859,6 +859,28 @@ fn unbracketed(s: &str) -> String {
     s.strip_prefix('[').and_then(|s| s.strip_suffix(']')).unwrap_or(s).to_owned()
 }
 
+/// A subroutine's end or return whose value alone differs (`O100ENDSUB` →
+/// `O100ENDSUB[#<EDGE>]`): the value the caller reads afterwards (the dictionary's
+/// return-value parameter, LinuxCNC `#<_value>`), told as that global's change.
+fn return_change(it: &Item, ws: &(u32, String), d: &Dialect) -> Option<Change> {
+    let mut var = None;
+    let (mut before, mut after) = (String::new(), String::new());
+    for (x, y) in &it.diffs {
+        for (t, side) in [(x, &mut before), (y, &mut after)] {
+            let Some(t) = t else { continue };
+            let (v, value) = control::return_value(t, d)?;
+            (var, *side) = (Some(v), value);
+        }
+    }
+    let var = var?;
+    if before == after || it.original.is_none() || it.edited.is_none() {
+        return None;
+    }
+    let mut c = blank(ChangeKind::GlobalVariableChanged, ws.clone());
+    (c.field, c.before, c.after) = (format!("return value {var}"), before, after);
+    Some(c)
+}
+
 /// The statement changes of one item: those of its variables and calls always, the rest
 /// where no plan change is located at it; words the dictionary gives a sense are told by
 /// their kind ([`typed`]).
@@ -872,6 +894,14 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
     } else {
         ChangeKind::StatementChanged
     };
+    if kind == ChangeKind::StatementChanged
+        && let Some(c) = return_change(it, &ws, d)
+    {
+        let mut c = c;
+        (c.original_line, c.line) = (lo, le);
+        c.detail.at = vec![(lo, le)];
+        return vec![c];
+    }
     let mut out = Vec::new();
     let (kinds, told) = if it.located || kind != ChangeKind::StatementChanged {
         (Vec::new(), vec![false; it.diffs.len()])

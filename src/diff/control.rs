@@ -89,6 +89,28 @@ fn keyword(key: &str) -> &str {
     if digits > 0 { &rest[digits..] } else { key }
 }
 
+/// The variable a subroutine's end or return sets for its caller, and the value it gives,
+/// where `tok` is such a statement (LinuxCNC `O100ENDSUB[#<EDGE>]` sets `#<_value>` to
+/// `#<EDGE>`; the value is empty where it gives none): the dictionary's return-value
+/// parameter as a statement writes it (`#<_VALUE>`).
+pub(super) fn return_value(tok: &Token, d: &Dialect) -> Option<(String, String)> {
+    let name = d.macros.return_value.as_deref()?;
+    let (sigil, named) = d.lexical.parameter?;
+    let k = keyword(&tok.key);
+    let kw = d.macros.statements.iter().find_map(|(kw, s)| {
+        (matches!(s, Statement::EndSub | Statement::Return)
+            && k.starts_with(kw.as_str())
+            && k[kw.len()..].chars().next().is_none_or(|c| !c.is_ascii_alphabetic()))
+        .then_some(kw.as_str())
+    })?;
+    let upper = tok.text.to_ascii_uppercase();
+    let from = upper.rfind(kw).map_or(upper.len(), |i| i + kw.len());
+    let rest = tok.text[from..].trim();
+    let value = rest.strip_prefix('[').and_then(|r| r.strip_suffix(']')).unwrap_or(rest).to_owned();
+    let name = name.to_ascii_uppercase();
+    Some((if named { format!("{sigil}<{name}>") } else { format!("{sigil}{name}") }, value))
+}
+
 /// What the statement of `tokens` decides, by its first keyword or its codes; `None` for a
 /// statement that runs no other blocks.
 pub(super) fn flow_of(tokens: &[Token], d: &Dialect) -> Option<Flow> {

@@ -7,11 +7,13 @@
 //! cycle's parameter (`Q201=-Q5`) that parameter, a `Z` the clearance height where the move
 //! is a rapid and the cut depth where it feeds (the motion in force, from the statement or
 //! the ones before it). A variable that only feeds another (`#<depth>=#<top>-#<cut>`) is
-//! followed through it, two levels deep. A loop's bound or a branch's condition that reads it
+//! followed through it, five levels deep ([`FED_LEVELS`]). A loop's bound or a branch's condition that reads it
 //! decides which blocks run, or how often: a flow change (`loop bound (via CYCLES)`). Each
 //! use kind becomes a change of that kind at the variable's statement, naming the variable
 //! (`clearance height (via #<_z_clearance>)`); a variable whose uses say nothing the
-//! dictionary knows (an axis position) stays the statement change that names it.
+//! dictionary knows (an axis position) stays the statement change that names it. One this
+//! program passes to a subroutine in another file (`o<nozzle> call [#<len>]`, `G65 P9810
+//! Z#100`) is followed there, through the parameter its argument binds ([`calls`]).
 
 use super::control;
 use super::statement::{self, Sort, Stmt, Token};
@@ -27,6 +29,14 @@ const MAX_USES: usize = 256;
 
 /// How many variables one level feeds that are followed to the next.
 const MAX_FED: usize = 8;
+
+/// How many assignments added or removed are followed to their uses (each reads both
+/// programs' statements once more).
+const MAX_WHOLE: usize = 64;
+
+/// How many levels of variables fed by a parameter are followed (`#4` → `#<length>` →
+/// `#<tip>` → `#<angle>` → `#<final>` → `M68 … Q[#<final>]`).
+const FED_LEVELS: usize = 5;
 
 /// Whether `value` reads the variable `name` (upper case, as statements are written): the
 /// name not followed by more of a name or number (`#1` is not read by `#10`).
@@ -141,6 +151,8 @@ fn global(var: &str, d: &Dialect) -> bool {
 /// variables feed, where their uses say it; the rest stay as they are.
 pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, (sa, sb): (&[Stmt], &[Stmt])) {
     let mut k = 0;
+    // Each assignment added or removed reads both programs once more: so many at most.
+    let mut whole_left = MAX_WHOLE;
     while k < changes.len() {
         let c = &changes[k];
         let var = c.field.strip_prefix("variable ").map(str::to_owned);
@@ -149,15 +161,39 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             continue;
         };
         let (p, stmts) = if c.line.is_some() { (b, sb) } else { (a, sa) };
-        if c.before.is_empty() || c.after.is_empty() {
+        let whole = c.before.is_empty() || c.after.is_empty();
+        if whole {
             // A global set or no longer set, that the file does not read: for what runs after.
             if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
+                k += 1;
+                continue;
             }
-            k += 1;
-            continue;
+            if whole_left == 0 || !sole_assignment(changes, k, &var, (a, sa), (b, sb)) {
+                k += 1;
+                continue;
+            }
+            whole_left -= 1;
         }
-        let found = fed_kinds(p, stmts, &var);
+        // An assignment added or removed is followed to the uses both programs have (the
+        // statements that now read another value); new or changed statements tell themselves.
+        // Only those after it: the added one in the edited program, the removed one in the
+        // original.
+        let kept: Vec<Stmt>;
+        let (p, stmts) = if whole {
+            let (p, own, other, after) = match (c.line, c.original_line) {
+                (Some(l), _) => (b, sb, sa, l),
+                (None, Some(l)) => (a, sa, sb, l),
+                (None, None) => (b, sb, sa, u32::MAX),
+            };
+            let hashes: std::collections::BTreeSet<u64> = other.iter().map(|s| s.hash).collect();
+            kept = own.iter().filter(|s| s.line > after && hashes.contains(&s.hash)).cloned().collect();
+            (p, kept.as_slice())
+        } else {
+            (p, stmts)
+        };
+        let found: Vec<(ChangeKind, String)> =
+            fed_kinds(p, stmts, &var).into_iter().filter(|(kind, _)| !(whole && *kind == ChangeKind::ToolRenamed)).collect();
         if found.is_empty() {
             // A global the file does not read: told as such, for what runs after it.
             if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
@@ -173,10 +209,58 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             let note = if kind == ChangeKind::ClearanceChanged { below_top(p, &t.before, &t.after) } else { None };
             t.field = format!("{field} (via {var}{})", note.unwrap_or_default());
             t.detail.effect = None;
+            if whole && t.before.is_empty() {
+                t.before = "not set".into();
+            }
+            if whole && t.after.is_empty() {
+                t.after = "no longer set".into();
+            }
             changes.insert(k, t);
             k += 1;
         }
     }
+}
+
+/// Whether the assignment of `var` that change `k` adds (or removes) is the only one: the
+/// other program assigns `var` nowhere, and no other change sets a variable to the value it
+/// gave or took (a rename, `#<x>=#5421` → `#<y>=#5421`, or an assignment moved). Only then do
+/// the statements that read `var` after it read another value than before.
+fn sole_assignment(changes: &[Change], k: usize, var: &str, (a, sa): (Program<'_>, &[Stmt]), (b, sb): (Program<'_>, &[Stmt])) -> bool {
+    let c = &changes[k];
+    let (other, stmts) = if c.before.is_empty() { (a, sa) } else { (b, sb) };
+    !paired(changes, k) && !assigns(other, stmts, var)
+}
+
+/// Whether another change sets or takes away a variable with the value change `k`'s
+/// assignment gave or took, or the same variable the other way (a rename, a move).
+fn paired(changes: &[Change], k: usize) -> bool {
+    let c = &changes[k];
+    let value = if c.before.is_empty() { &c.after } else { &c.before };
+    changes.iter().enumerate().any(|(j, o)| {
+        j != k
+            && o.field.starts_with("variable ")
+            && (o.before.is_empty() != c.before.is_empty())
+            && (o.before == *value || o.after == *value || o.field == c.field)
+    })
+}
+
+/// Whether a statement of `p` assigns `var`.
+fn assigns(p: Program<'_>, stmts: &[Stmt], var: &str) -> bool {
+    assignments(p, stmts, var) > 0
+}
+
+/// How many statements of `p` assign `var`.
+fn assignments(p: Program<'_>, stmts: &[Stmt], var: &str) -> usize {
+    stmts
+        .iter()
+        .filter(|s| {
+            let from = s.offset as usize;
+            let lines = (s.last - s.line + 1) as usize;
+            let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
+            p.text[from..end].to_ascii_uppercase().contains(var)
+                && statement::tokens(&statement::text_of(p.text, p.dialect, s)).iter().any(|t| t.sort == Sort::Assign && t.key == var)
+        })
+        .count()
 }
 
 /// Where a clearance set through a variable now lies below the part's top (the stock the
@@ -198,11 +282,11 @@ fn callee_name(key: &str) -> Option<String> {
 }
 
 /// The kinds the parameter `param` feeds in `p` (its statements `stmts`), followed through the
-/// variables it sets, three levels deep, as [`follow`] does for a variable.
+/// variables it sets, [`FED_LEVELS`] deep, as [`follow`] does for a variable.
 fn fed_kinds(p: Program<'_>, stmts: &[Stmt], param: &str) -> Vec<(ChangeKind, String)> {
     let mut found: Vec<(ChangeKind, String)> = Vec::new();
     let mut level = vec![param.to_owned()];
-    for _ in 0..3 {
+    for _ in 0..FED_LEVELS {
         let mut next = Vec::new();
         for v in &level {
             let (kinds, feeds, _) = uses(p, stmts, v);
@@ -298,6 +382,125 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
                         v.remove(0);
                     }
                 }
+            }
+            changes.insert(k, t);
+            k += 1;
+        }
+    }
+    variables_into_calls(changes, edited, programs, &mut texts);
+}
+
+/// The calls in `p` that pass `var` (read in an argument): each call's key, the program it
+/// calls and the local the argument binds there (`o<coolant> call [#<len>]`: `#1` of
+/// `coolant`; `G65 P9810 Z#100`: `#26` of `O9810`).
+fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, u16, u32)> {
+    let d = p.dialect;
+    let (first, last) = d.macros.locals;
+    let mut out: Vec<(String, String, u16, u32)> = Vec::new();
+    let mut push = |x: (String, String, u16, u32)| {
+        if !out.contains(&x) {
+            out.push(x);
+        }
+    };
+    for s in stmts {
+        let from = s.offset as usize;
+        let lines = (s.last - s.line + 1) as usize;
+        let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
+        if !p.text[from..end].to_ascii_uppercase().contains(var) {
+            continue;
+        }
+        let toks = statement::tokens(&statement::text_of(p.text, d, s));
+        for t in toks.iter().filter(|t| t.sort == Sort::Call) {
+            let Some(name) = callee_name(&t.key) else { continue };
+            for (i, a) in statement::arguments(&t.value).iter().enumerate() {
+                let n = u32::from(first) + i as u32;
+                if reads(a, var) && n <= u32::from(last) {
+                    push((t.key.clone(), name.clone(), n as u16, s.line));
+                }
+            }
+        }
+        // A macro call's letters (`G65 P9810 Z#100`): the local each letter sets.
+        let code = toks.iter().find(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall)));
+        let program = toks.iter().find_map(|t| if t.key == "P" { t.value.parse::<u32>().ok() } else { None });
+        if let (Some(code), Some(program)) = (code, program) {
+            for t in toks.iter().filter(|t| t.sort == Sort::Word && t.key.len() == 1 && t.key != "P" && reads(&t.value, var)) {
+                let letter = t.key.as_bytes()[0];
+                if let Some(n) = if letter.is_ascii_uppercase() { d.macros.arguments[usize::from(letter - b'A')] } else { None } {
+                    push((code.key.clone(), format!("O{program:04}"), n, s.line));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A variable set to another value (or newly set) that no word of this program tells, passed
+/// to a subroutine in another file: told as what the parameter it binds does there
+/// (`machine function M68 (via #<len>, O<COOLANT> argument 1, #1 in coolant)`).
+fn variables_into_calls(
+    changes: &mut Vec<Change>,
+    edited: Program<'_>,
+    programs: &dyn crate::interp::ProgramSource,
+    texts: &mut Vec<(String, Option<Callee>)>,
+) {
+    let Some((sigil, _)) = edited.dialect.lexical.parameter else { return };
+    let mut stmts: Option<Vec<Stmt>> = None;
+    let plan = crate::plan::ProcessPlan::default();
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let var = c
+            .field
+            .strip_prefix("variable ")
+            .filter(|_| c.kind == ChangeKind::StatementChanged && c.line.is_some() && !c.after.is_empty())
+            .map(str::to_owned);
+        let Some(var) = var else {
+            k += 1;
+            continue;
+        };
+        let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, edited.dialect));
+        // A newly set variable: only where it is the one assignment, and no rename or move.
+        if c.before.is_empty() && (paired(changes, k) || assignments(edited, stmts, &var) != 1) {
+            k += 1;
+            continue;
+        }
+        let mut found: Vec<(ChangeKind, String)> = Vec::new();
+        let added = c.before.is_empty();
+        let changed_at = |line: u32| changes.iter().any(|o| o.line == Some(line) || o.detail.at.iter().any(|&(_, e)| e == Some(line)));
+        for (key, name, n, line) in passed_to(edited, stmts, &var) {
+            // A newly set variable: told through the calls that were there before it.
+            if added && changed_at(line) {
+                continue;
+            }
+            if !texts.iter().any(|(t, _)| *t == name) {
+                let loaded = programs.load(&name).map(|text| {
+                    let stmts = statement::statements(&text, edited.dialect);
+                    (text, stmts)
+                });
+                texts.push((name.clone(), loaded));
+            }
+            let Some((_, Some((text, callee)))) = texts.iter().find(|(t, _)| *t == name) else { continue };
+            let param = format!("{sigil}{n}");
+            let p = Program { plan: &plan, text, dialect: edited.dialect };
+            for (kind, field) in fed_kinds(p, callee, &param) {
+                if !found.iter().any(|(k2, _)| *k2 == kind) {
+                    let label = arg_label(&key, n, edited.dialect.macros.locals.0, edited.dialect);
+                    found.push((kind, format!("{field} (via {var}, {key} argument {label}, {param} in {name})")));
+                }
+            }
+        }
+        if found.is_empty() {
+            k += 1;
+            continue;
+        }
+        let template = changes.remove(k);
+        for (kind, field) in found {
+            let mut t = template.clone();
+            (t.kind, t.field) = (kind, field);
+            t.detail.effect = None;
+            if t.before.is_empty() {
+                // A variable newly set: the parameter it binds had no value from it before.
+                t.before = "not set".into();
             }
             changes.insert(k, t);
             k += 1;

@@ -289,7 +289,11 @@ impl Change {
 
     /// The change as a planner reads it: `tool T1 renamed T8`.
     pub fn phrase(&self) -> String {
-        let field = self.field.replace('_', " ");
+        // The kind's words with blanks (`work_plane`), a variable it came through as written.
+        let field = match self.field.find(" (via ") {
+            Some(i) => format!("{}{}", self.field[..i].replace('_', " "), &self.field[i..]),
+            None => self.field.replace('_', " "),
+        };
         let at = |l: Option<u32>| l.map_or(String::new(), |l| format!(" at line {l}"));
         let core = match self.kind {
             ChangeKind::ToolRenamed if !self.before.is_empty() && !self.after.is_empty() => {
@@ -314,6 +318,15 @@ impl Change {
             ChangeKind::HoleMoved => format!("hole at {} moved to {}", self.before, self.after),
             ChangeKind::RiskyEdit => return format!("warning: {}", self.after),
             ChangeKind::OptionalBlockChanged => format!("{} {}", self.before, self.after),
+            ChangeKind::GlobalVariableChanged if self.field.starts_with("return value ") => {
+                let var = &self.field["return value ".len()..];
+                let what = match (self.before.is_empty(), self.after.is_empty()) {
+                    (true, _) => format!("now returns {}", self.after),
+                    (_, true) => format!("no longer returns a value (was {})", self.before),
+                    _ => format!("returns {} instead of {}", self.after, self.before),
+                };
+                return format!("the subroutine {what}{}: `{var}` for the program that called it", at(self.line));
+            }
             ChangeKind::GlobalVariableChanged => {
                 let var = self.field.strip_prefix("variable ").unwrap_or(&self.field);
                 let what = match (self.before.is_empty(), self.after.is_empty()) {

@@ -858,3 +858,73 @@ fn macro_call_argument_followed_into_the_program_it_calls() {
     assert!(depth.field.contains("G65 argument B, #2 in O9810"), "{}", depth.field);
     assert_eq!((depth.before.as_str(), depth.after.as_str(), depth.line), ("2.", "3.", Some(3)));
 }
+
+/// A variable newly set (or set to another value) that this program only passes to a
+/// subroutine beside it is followed there, through the variables the parameter feeds, to the
+/// words it sets (`#4` → `#<len>` → `#<tip>` → `#<angle>` → `M68 … Q`).
+#[test]
+fn a_variable_passed_to_a_subroutine_is_told_as_what_it_feeds_there() {
+    let sub = Beside(
+        "nozzle",
+        "o<nozzle> sub\n#<len> = #1\n#<tip> = [#<len> + 10]\n#<raw> = [#<tip> * 2]\n#<angle> = [#<raw> + 5]\nM68 E20 Q[#<angle>]\no<nozzle> endsub\nM2\n",
+    );
+    let registry = Registry::shipped();
+    let d = registry.get("linuxcnc").unwrap();
+    let profile = Profile::default();
+    let run = |a: &str, b: &str| {
+        let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+        let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
+        let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
+        diff::follow_calls(&mut got, edited, &sub);
+        got
+    };
+    let got = run("G21\n#<l> = 0\no<nozzle> call [#<l>]\nM2\n", "G21\n#<l> = #5403\no<nozzle> call [#<l>]\nM2\n");
+    expect![[r#"
+        machine_function_changed | machine function M68: analog output (via #<L>, O<NOZZLE> argument 1, #1 in nozzle) | 0 | #5403 | 2 | 2
+          machine function M68 (analog output) (via #<L>, O<NOZZLE> argument 1, #1 in nozzle) changed from 0 to #5403 at line 2
+    "#]]
+    .assert_eq(&rows(&got));
+    // A variable the call does not pass stays the statement that names it.
+    let got = run("G21\n#<l> = 0\n#<m> = 1\no<nozzle> call [#<l>]\nM2\n", "G21\n#<l> = 0\n#<m> = 2\no<nozzle> call [#<l>]\nM2\n");
+    assert!(got.iter().all(|c| c.kind == ChangeKind::StatementChanged), "{}", rows(&got));
+}
+
+/// A subroutine's return value (LinuxCNC `endsub [value]` sets `#<_value>` for the caller)
+/// given, changed or taken away is told as that value, not as a statement.
+#[test]
+fn a_return_value_is_told_as_the_value_the_caller_reads() {
+    let a = "o<edge> sub\n#<e> = [#5061 + 1]\no<edge> endsub\nM2\n";
+    let b = "o<edge> sub\n#<e> = [#5061 + 1]\no<edge> endsub [#<e>]\nM2\n";
+    expect![[r#"
+        global_variable_changed | return value #<_VALUE> |  | #<E> | 3 | 3
+          the subroutine now returns #<E> at line 3: `#<_VALUE>` for the program that called it
+    "#]]
+    .assert_eq(&rows(&changes(a, b, "linuxcnc")));
+    let c = b.replace("endsub [#<e>]", "endsub [#<e> * 2]");
+    let got = changes(b, &c, "linuxcnc");
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert_eq!((got[0].kind, got[0].before.as_str(), got[0].after.as_str()), (ChangeKind::GlobalVariableChanged, "#<E>", "#<E>*2"));
+}
+
+/// An assignment added or removed is followed to the statements after it that both programs
+/// have (they now read another value); a variable renamed with its uses, or read only before
+/// the assignment, is no such change.
+#[test]
+fn an_assignment_added_is_told_through_the_unchanged_uses_after_it() {
+    let a = "G21 G90\nT1 M6\nS1000 M3\n#<f> = 200\nG0 X0 Y0 Z5\nG1 Z-1 F[#<f>]\nG1 X10\nG0 Z5\nM2\n";
+    let b = a.replace("G1 X10\n", "#<f> = 150\nG1 X10 F[#<f>]\n");
+    // The feed word itself changed at the move: told there, the assignment before it too.
+    let got = changes(a, &b, "linuxcnc");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::FeedChanged), "{}", rows(&got));
+    // Added before an unchanged move that reads it: the feed it gives there.
+    let a = "G21 G90\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F[#<f>]\nG0 Z5\nM2\n";
+    let b = a.replace("G0 X0 Y0 Z5\n", "G0 X0 Y0 Z5\n#<f> = 150\n");
+    let got = changes(a, &b, "linuxcnc");
+    let feed = got.iter().find(|c| c.field.contains("(via #<F>)")).unwrap_or_else(|| panic!("{}", rows(&got)));
+    assert_eq!((feed.before.as_str(), feed.after.as_str(), feed.line), ("not set", "150", Some(5)));
+    // Renamed with every use: no use both programs have reads either name.
+    let a = "G21 G90\nT1 M6\nS1000 M3\n#<f> = 200\nG0 X0 Y0 Z5\nG1 Z-1 F[#<f>]\nG0 Z5\nM2\n";
+    let b = a.replace("#<f>", "#<feed>");
+    let got = changes(a, &b, "linuxcnc");
+    assert!(got.iter().all(|c| !c.field.contains("(via")), "{}", rows(&got));
+}
