@@ -502,6 +502,15 @@ fn real_programs_lie_on_their_faces() {
     /// to carry the tool axes its B head turns), and the mill-turn's bores at A90/A180/A270 run
     /// in its `millturn` kinematics' mill type, indexing A without tool centre point control.
     const LCNC_HELD_SCORE: usize = 16;
+    /// Sweep 7's held-back part (`held7`: LinuxCNC's xyzac/xyzbc switchkins demos on their
+    /// machine's INI, NX samples DMC 160U MillPlus and Sundstrand Omnimill), expectations written
+    /// before ncplan read them, scored once on 6 December 2026: 4 of 10. Met: both LinuxCNC
+    /// helices under `M428` (their subroutines found on the INI's SUBROUTINE_PATH) and the two
+    /// B0 cuts. Missed: every item where the rotary axes are positioned without tool centre
+    /// point control (the Omnimill's B table, the DMC 160U's B head under `G141`, its `G7 A5=`
+    /// plane, which no dictionary reads: ncplan has no MillPlus one, it was read as
+    /// `heidenhain_iso`).
+    const HELD7_SCORE: usize = 4;
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
     let mut sides: Vec<_> =
@@ -540,6 +549,9 @@ fn real_programs_lie_on_their_faces() {
     assert!(nx.0 - nx.1.len() >= NX_BUILT_SCORE, "NX built part: {}", nx.1.join("\n"));
     if let Some(lcnc) = score.get("lcnc_held") {
         assert!(lcnc.0 - lcnc.1.len() >= LCNC_HELD_SCORE, "LinuxCNC held-back part: {}", lcnc.1.join("\n"));
+    }
+    if let Some(h7) = score.get("held7") {
+        assert!(h7.0 - h7.1.len() >= HELD7_SCORE, "sweep 7 held-back part: {}", h7.1.join("\n"));
     }
     let Some(held) = score.get("held") else { return };
     assert!(
