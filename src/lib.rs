@@ -18,6 +18,7 @@ pub mod diff;
 pub mod export;
 pub mod import;
 pub mod interp;
+pub mod machine_config;
 pub mod pairing;
 pub mod part21;
 pub mod pipeline;

@@ -72,6 +72,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
         };
         let d = dialect(&registry, &name)?;
         config.profile = config::DirPrograms::beside(&base, file, config.max_file_bytes);
+        config.profile = crate::machine_config::for_program(&config.profile, file, input.machine_config.as_deref(), config.max_file_bytes)?;
         let given = match role {
             RoleArg::Main => ProgramRole::Main,
             RoleArg::Called => ProgramRole::Called,

@@ -10,7 +10,7 @@ use clap::ValueEnum;
 use crate::config::{self, Config};
 use crate::pipeline::{self, Diagnostic, Dialect, Registry, Sniffed, Text};
 use crate::store::Location;
-use crate::textfile;
+use crate::{machine_config, textfile};
 
 /// How a command writes what it found (`--format`).
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -35,6 +35,11 @@ pub(super) struct Input {
     /// `tool.tbl`, Heidenhain `TOOL.T`, Fanuc `G10` offsets), over the configuration's tools.
     #[arg(long, value_name = "FILE")]
     pub(super) tool_table: Option<PathBuf>,
+    /// The machine's configuration (LinuxCNC INI: codes remapped to subroutines on its
+    /// SUBROUTINE_PATH, HAL pins, switchable kinematics); without it, an INI in the program's
+    /// folder or up to two folders above is taken.
+    #[arg(long, value_name = "FILE")]
+    pub(super) machine_config: Option<PathBuf>,
     /// The analysis bound in time: seconds of analysis for the blocks a run executes again
     /// (loops, jumps back, repeated calls), over the configuration's `[analysis] max_seconds`
     /// (60 by default). A run that reaches it stops and says so.
@@ -176,6 +181,7 @@ pub(super) fn input_setup(input: &Input) -> Result<(Arc<Dialect>, Config, Vec<u8
     input.bound(&mut config);
     with_tool_table(&mut config, input.tool_table.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
+    config.profile = machine_config::for_program(&config.profile, &input.file, input.machine_config.as_deref(), config.max_file_bytes)?;
     let registry = registry_for(Some(&config))?;
     let bytes = std::fs::read(&input.file).with_context(|| format!("cannot read {}", input.file.display()))?;
     let name = match &input.dialect {
@@ -197,6 +203,7 @@ pub(super) fn input_program(input: &Input) -> Result<(Arc<Dialect>, Config, text
     input.bound(&mut config);
     with_tool_table(&mut config, input.tool_table.as_deref())?;
     config.profile = config::DirPrograms::beside(&config.profile, &input.file, config.max_file_bytes);
+    config.profile = machine_config::for_program(&config.profile, &input.file, input.machine_config.as_deref(), config.max_file_bytes)?;
     let registry = registry_for(Some(&config))?;
     let opened = open_while_loading(&registry, &[input.dialect.as_deref()], &input.file);
     let (program, diags) = opened.with_context(|| format!("cannot read {}", input.file.display()))?;

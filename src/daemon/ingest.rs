@@ -557,6 +557,11 @@ impl Reader<'_> {
             }
             profile.programs = Some(std::sync::Arc::new(crate::config::FirstFound(sources)));
         }
+        // The machine's configuration beside the program (a LinuxCNC INI in its folder or
+        // above): remapped codes, HAL pins, switchable kinematics.
+        if let Some(machine) = crate::machine_config::find(path) {
+            profile = crate::machine_config::apply(&profile, &machine, self.config.max_file_bytes);
+        }
         profile.role = crate::interp::role_for(folder.program_role, path, dialect);
         profile.tools.extend(folder.tools.iter().map(|(n, t)| (*n, t.clone())));
         profile

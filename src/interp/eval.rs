@@ -65,6 +65,14 @@ pub struct Params {
     /// Where the unknown value a parameter holds came from, when the program set it from
     /// one (`Q1930 = Q1900 - Q108`: from Q108), so that a message names the outside value.
     origins: BTreeMap<UnknownSource, UnknownSource>,
+    /// `#<_hal[pin]>` reads a pin of the running machine (LinuxCNC `HAL_PIN_VARS=1` in the
+    /// machine's configuration): unknown, and the pin exists.
+    pub hal_pins: bool,
+}
+
+/// Whether a named parameter (normalised) reads a HAL pin: `_hal[pin]`.
+fn is_hal_pin(name: &str) -> bool {
+    name.get(..5).is_some_and(|p| p.eq_ignore_ascii_case("_hal["))
 }
 
 impl Default for Params {
@@ -235,7 +243,18 @@ impl Params {
             magnitude_rounding: false,
             unknown_read: std::cell::RefCell::new(None),
             origins: BTreeMap::new(),
+            hal_pins: false,
         }
+    }
+
+    /// An unset named parameter read: a HAL pin where the machine's configuration lets the
+    /// program read them (unknown), else undefined.
+    fn unset_named(&self, name: &str) -> Result<f64, EvalError> {
+        if self.hal_pins && is_hal_pin(name) {
+            self.note_unknown(|| UnknownSource::Named(name.to_owned()));
+            return Ok(UNKNOWN);
+        }
+        Err(EvalError::Undefined(name.to_owned()))
     }
 
     /// Lets the table reach parameter `n` (at most [`MAX_HIGH_PARAM`] - 1): the control's
@@ -403,7 +422,7 @@ impl Params {
     pub fn get_named(&self, name: &str) -> Result<f64, EvalError> {
         match self.named.index.slots.get(name) {
             Some(&s) => self.get_slot(s),
-            None => Err(EvalError::Undefined(name.to_owned())),
+            None => self.unset_named(name),
         }
     }
 
@@ -415,7 +434,7 @@ impl Params {
 
     /// Whether a named parameter exists.
     pub fn has_named(&self, name: &str) -> bool {
-        self.named.index.slots.get(name).is_some_and(|&s| self.named.values[s as usize].is_some())
+        (self.hal_pins && is_hal_pin(name)) || self.named.index.slots.get(name).is_some_and(|&s| self.named.values[s as usize].is_some())
     }
 
     /// The slot of named parameter `name` (normalised), given now if it has none: what a
@@ -444,7 +463,7 @@ impl Params {
                 }
                 Ok(v)
             }
-            None => Err(EvalError::Undefined(self.slot_name(s).to_owned())),
+            None => self.unset_named(self.slot_name(s)),
         }
     }
 
@@ -494,7 +513,7 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
         }
         Expr::Unary(Func::Exists, inner) => match block.exprs.get(inner as usize) {
             Some(Expr::Named(r)) => f64::from(u8::from(match resolved(block, inner) {
-                Some(s) => params.named.values[s as usize].is_some(),
+                Some(s) => params.named.values[s as usize].is_some() || (params.hal_pins && is_hal_pin(params.slot_name(s))),
                 None => params.has_named(&normalised(block.text(*r))),
             })),
             // The parameter number itself must evaluate (`EXISTS[###2]` reads `##2`).

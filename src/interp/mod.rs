@@ -160,11 +160,13 @@ mod flow;
 mod g7x;
 mod lathe;
 mod live;
+pub mod machine;
 mod motion;
 mod named_turn;
 mod read;
 
 pub use flow::{NoPrograms, ProgramSource, run};
+pub use machine::MachineSetup;
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -243,6 +245,9 @@ pub struct Profile {
     /// The program turns from its start: a first reading found it a lathe's (plan recovery's
     /// `Recoverer::turns_throughout`), so that recovery reads every move as turning.
     pub turns: bool,
+    /// What the machine's own configuration adds to the language (LinuxCNC's INI: remapped
+    /// codes, HAL pins, switchable kinematics), read by the shell; empty by default.
+    pub machine: std::sync::Arc<MachineSetup>,
 }
 
 /// Whether a file is a main program or a called one (a subprogram, a macro, a `PROC`).
@@ -340,6 +345,7 @@ impl Default for Profile {
             x_radius: false,
             inch: false,
             turns: false,
+            machine: std::sync::Arc::default(),
         }
     }
 }
@@ -431,6 +437,12 @@ pub(crate) enum Request {
         number: u32,
         /// Repeat count.
         repeats: u32,
+    },
+    /// Run the O-word subroutine `sub`, which the machine's configuration remaps a code of
+    /// the block to (LinuxCNC `REMAP=`), with no arguments.
+    Remap {
+        /// The subroutine's name.
+        sub: String,
     },
     /// Return from a subprogram, optionally to block number `goto` of the caller.
     Return {
@@ -566,6 +578,9 @@ struct State {
     frame: Option<crate::canon::Frame>,
     /// Tool centre point control (`M128`, `TRAORI`, `G43.4`): the rotary axes turn the tool axis.
     tcp: bool,
+    /// Whether tool centre point control is the machine's kinematics' (a switchable
+    /// kinematics type, `profile.machine`), which a length offset code does not end.
+    tcp_machine: bool,
     /// Programmable scaling (G51): centre and factor per linear axis.
     scaling: Option<([f64; 3], [f64; 3])>,
     /// Whether the block's motion mode was already active before it.
@@ -673,6 +688,7 @@ impl State {
             rotation: None,
             frame: None,
             tcp: false,
+            tcp_machine: false,
             scaling: None,
             pole: (0.0, 0.0),
             arc_cw: true,
@@ -734,6 +750,7 @@ fn power_on_params(dialect: &Dialect, profile: &Profile) -> Params {
         p.slot(name);
     }
     p.magnitude_rounding = dialect.behaviour.magnitude_rounding;
+    p.hal_pins = profile.machine.hal_pins;
     p.set_highest(dialect.macros.highest_variable);
     for &(a, b) in &dialect.macros.outside {
         p.mark_unknown(a, b);
@@ -881,6 +898,8 @@ pub struct Interpreter<'a> {
     /// Whether the block has a code of the control's vocabulary that ncplan does not model
     /// (kept as intent): the words no modelled command takes are that code's.
     intent_words: bool,
+    /// The subroutine a code of the block calls by the machine's remap (`profile.machine`).
+    remap_call: Option<String>,
     /// Where ops come from while a subprogram from another file runs: the call block.
     origin_override: Option<(TextRange, u32)>,
     /// The block's named cycle (`CYCLE81(...)`) and its arguments, in order.
@@ -953,6 +972,7 @@ impl<'a> Interpreter<'a> {
             block_misread: false,
             misread_word: None,
             intent_words: false,
+            remap_call: None,
             origin_override: None,
             block_cycle: None,
             cycle_args: Vec::new(),
@@ -1505,6 +1525,10 @@ impl<'a> Interpreter<'a> {
         } else if self.st.tcp && self.filled & (1 << Role::A as u32 | 1 << Role::B as u32 | 1 << Role::C as u32) != 0 {
             self.rotary_tool_axis(sink, diags);
         }
+        if let Some(sub) = self.remap_call.take() {
+            // Carried out after the block (a call or return its own codes ask for goes instead).
+            self.request = Some(Request::Remap { sub });
+        }
         if self.macro_codes(block, diags) {
             return;
         }
@@ -1685,6 +1709,14 @@ impl<'a> Interpreter<'a> {
         }
         if self.st.diameter {
             self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(true)));
+        }
+        // A machine whose kinematics start in a 5-axis model (LinuxCNC switchkins type 0 of
+        // `5axiskins`, `xyzac-trt-kins` without `sparm=identityfirst`) keeps the tool centre
+        // point on the part from power-on.
+        let types = self.profile.machine.kinematics.as_ref().map(|k| k.types.as_slice());
+        if types.and_then(<[_]>::first) == Some(&machine::Kinematics::ToolCentrePoint) {
+            (self.st.tcp, self.st.tcp_machine) = (true, true);
+            self.emit(sink, CanonOp::Setting(Setting::ToolCentrePoint(true)));
         }
     }
 

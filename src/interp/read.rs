@@ -43,6 +43,7 @@ impl Interpreter<'_> {
         self.block_cycle = None;
         self.cycle_args.clear();
         self.intent_words = false;
+        self.remap_call = None;
         self.cycle_text = None;
     }
 
@@ -189,6 +190,13 @@ impl Interpreter<'_> {
             if (v * 10.0 - x10).abs() < 1e-3 && (0.0..10_000.0).contains(&x10) { self.dialect.code_id(letter, x10 as u32) } else { None };
         let Some(idx) = found else {
             let shown = block.text(w.range);
+            // A code the machine's configuration remaps (LinuxCNC `REMAP=M428 ngc=428remap`):
+            // a call of that subroutine after the block.
+            if let Some(sub) = (0.0..100_000.0).contains(&x10).then(|| self.profile.machine.remap(letter, x10 as u32)).flatten() {
+                self.remap_call = Some(sub.to_owned());
+                self.intent_words = true;
+                return true;
+            }
             if letter == 'M' && self.dialect.behaviour.machine_m_codes && (0.0..10_000.0).contains(&x10) {
                 let d = Diagnostic::new(
                     Code::MachineCode,

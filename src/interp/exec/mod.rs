@@ -121,13 +121,16 @@ impl Interpreter<'_> {
                 // A length offset of the tool centre point code's own modal group replaces it
                 // (Fanuc group 08: `G43 H1` after `G43.4 H1` ends tool centre point control).
                 let group = self.dialect.codes.iter().any(|c| c.group == def.group && c.meaning == Meaning::LengthCompTcp);
-                if group && self.st.tcp {
+                if group && self.st.tcp && !self.st.tcp_machine {
                     self.tcp(false, sink, diags);
                 }
             }
             Meaning::LengthCompCancel | Meaning::LengthCompTcp => {
                 self.length_comp(def, sink);
-                self.tcp(def.meaning == Meaning::LengthCompTcp, sink, diags);
+                // The machine's kinematics keep theirs (LinuxCNC: G49 cancels only the offset).
+                if !self.st.tcp_machine {
+                    self.tcp(def.meaning == Meaning::LengthCompTcp, sink, diags);
+                }
             }
             Meaning::TcpOn | Meaning::TcpOff => {
                 if def.meaning == Meaning::TcpOff {
@@ -201,7 +204,8 @@ impl Interpreter<'_> {
             }
             Meaning::SubprogramCall | Meaning::LocalSubprogramCall | Meaning::SubprogramReturn => self.call(def, range, diags),
             Meaning::DiameterMode | Meaning::RadiusMode => self.diameter_mode(def, sink),
-            Meaning::Other | Meaning::Output | Meaning::ProgramBegin | Meaning::ContourEnd => {}
+            Meaning::Other => self.kinematics_output(def, sink, diags),
+            Meaning::Output | Meaning::ProgramBegin | Meaning::ContourEnd => {}
             Meaning::Stock => self.stock_corner(sink),
             // Read by the arc or move of the block they stand in.
             Meaning::ArcDirCw | Meaning::ArcDirCcw | Meaning::RapidBlock => {}

@@ -336,6 +336,20 @@ impl Interpreter<'_> {
         }
     }
 
+    /// An analog output the machine's configuration wires to its kinematics type (LinuxCNC
+    /// switchkins, `M68 E3 Q1` in a remapped `M428`): a 5-axis type turns tool centre point
+    /// control on, identity or another model off. Any other output is only recorded.
+    pub(in crate::interp) fn kinematics_output(&mut self, def: &CodeDef, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let profile = self.profile;
+        let Some(switch) = profile.machine.kinematics.as_ref() else { return };
+        let word = |me: &Self, letter: u8| me.dialect.letter_role(letter).and_then(|r| me.slot(r));
+        let (Some(output), Some(value)) = (word(self, b'E'), word(self, b'Q')) else { return };
+        let Some(kinematics) = switch.selects(def.letter, u32::from(def.number), output, value) else { return };
+        let on = kinematics == crate::interp::machine::Kinematics::ToolCentrePoint;
+        self.tcp(on, sink, diags);
+        self.st.tcp_machine = on;
+    }
+
     /// Under tool centre point control, the tool axis the block's rotary axes turn the tool
     /// to: `Rz(C)·Ry(B)·Rx(A)` applied to Z, the rotary axes where the block takes them. The
     /// machine's kinematics are not known: that assumption is said once, where it tilts.

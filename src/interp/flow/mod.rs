@@ -1735,6 +1735,20 @@ impl<'a> Driver<'a, '_> {
                 };
                 self.enter(FrameKind::Program, self.cur, body, repeats, Vec::new(), false, block, start, interp, diags);
             }
+            Request::Remap { sub } => {
+                let is_sub = |m: &Mark| m.label.as_deref() == Some(sub.as_str()) && m.statement == Some(Statement::Sub);
+                let Some((source, body)) = self.locate(&sub, is_sub) else {
+                    let msg = format!(
+                        "the machine's configuration ({}) remaps this code to o<{sub}>, which is not on its subroutine path: this analysis skips the call and lacks what it does",
+                        interp.profile.machine.source
+                    );
+                    let mut d = Diagnostic::new(Code::MissingProgram, block.range, msg);
+                    d.severity = Severity::Warning;
+                    interp.limited(diags, "program", d);
+                    return;
+                };
+                self.enter(FrameKind::Sub, source, body, 1, Vec::new(), true, block, start, interp, diags);
+            }
             Request::Return { goto } => {
                 if self.frames.is_empty() {
                     self.main_return(block, interp, sink, diags);
