@@ -42,7 +42,14 @@
 //! Sinumerik 840D grinder's PROC library, old-TNC Klartext (CYCL DEF 1 PECKING), and student
 //! programs that the control rejects. The build half (7 repositories, 19 valid and 5 invalid
 //! programs) and the holdout (9 repositories, 47 valid and 9 invalid) are to be measured by
-//! the lead after the merge; the holdout figure is to be filled in here, measured once.
+//! the lead after the merge. Measured once each, 2026-12-06, on integrate e229d11 (the
+//! rules of vocab6, diff6, tilt5 and lathe5 merged; neither half seen by anyone building
+//! rules): holdout-s7 30/47 valid without an error (63.8%), family right for 45/47 valid
+//! (95.7%) and 54/56 of all, invalid still rejected 8/9; build-s7 9/19 valid without an error
+//! (47.4%), family 13/19 valid (68.4%) and 17/24 of all, invalid 5/5. The misses: Centroid
+//! CNC12 macro files read as LinuxCNC, a Turkish shop's lathe programs with five errors each,
+//! Renishaw and Robodrill macros with one, an M600 that the repository's INI remaps, an old
+//! TNC's Klartext, a Sinumerik grinder's calls, a 1354-error `.TAP`.
 
 use std::path::PathBuf;
 
