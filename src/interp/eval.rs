@@ -8,7 +8,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::syntax::{BinOp, Block, Expr, ExprId, Func};
+use crate::syntax::{BinOp, Block, Expr, ExprId, FlatOp, Func};
 
 /// Parameters below this number live in a dense table (LinuxCNC has #1 to #5602; Fanuc
 /// permanent variables reach #999 and system variables beyond).
@@ -192,6 +192,187 @@ pub fn resolve(block: &mut Block, params: &mut Params) {
         });
     }
     block.resolved = resolved;
+    flatten(block);
+}
+
+/// The deepest stack of values a flat expression may need ([`FlatOp`]); a deeper one is
+/// left to the tree.
+const FLAT_STACK: usize = 16;
+
+/// Writes the expressions of `block`, its names resolved, in postfix order
+/// ([`Block::flat`]): each tree from its root, so that every expression in it is computed
+/// by a span of its own. A step [`eval_fast`] would turn down becomes [`FlatOp::Fail`].
+fn flatten(block: &mut Block) {
+    let mut flat = std::mem::take(&mut block.flat);
+    let mut spans = std::mem::take(&mut block.flat_spans);
+    flat.clear();
+    spans.clear();
+    spans.resize(block.exprs.len(), (0, 0));
+    let mut inner = vec![false; block.exprs.len()];
+    for e in &block.exprs {
+        let mut mark = |id: ExprId| {
+            if let Some(m) = inner.get_mut(id as usize) {
+                *m = true;
+            }
+        };
+        match *e {
+            Expr::Param(a) | Expr::Unary(_, a) | Expr::NamedIndex(_, a) => mark(a),
+            Expr::Atan2(a, b) | Expr::Binary(_, a, b) => {
+                mark(a);
+                mark(b);
+            }
+            Expr::Num(_) | Expr::Named(_) | Expr::Text(_) => {}
+        }
+    }
+    for root in 0..block.exprs.len() {
+        if !inner[root] {
+            flatten_expr(block, root as ExprId, &mut flat, &mut spans, 0);
+        }
+    }
+    block.flat = flat;
+    block.flat_spans = spans;
+}
+
+/// Writes expression `id` in postfix order and records its span; returns the depth of stack
+/// it needs. `level` is how deep the tree is here (a tree deeper than it could ever need is
+/// not written further).
+fn flatten_expr(block: &Block, id: ExprId, flat: &mut Vec<FlatOp>, spans: &mut [(u32, u32)], level: usize) -> usize {
+    let start = flat.len() as u32;
+    let Some(&e) = block.exprs.get(id as usize) else {
+        flat.push(FlatOp::Fail);
+        return 1;
+    };
+    let mut sub = |id: ExprId, flat: &mut Vec<FlatOp>| {
+        if level > 4 * FLAT_STACK {
+            flat.push(FlatOp::Fail);
+            return FLAT_STACK + 1;
+        }
+        flatten_expr(block, id, flat, spans, level + 1)
+    };
+    let depth = match e {
+        Expr::Num(v) if v.is_nan() => {
+            flat.push(FlatOp::Fail);
+            1
+        }
+        Expr::Num(v) => {
+            flat.push(FlatOp::Num(v));
+            1
+        }
+        Expr::Param(inner) => match block.exprs.get(inner as usize) {
+            // As `eval_fast` reads a parameter named by a number.
+            Some(&Expr::Num(n)) => {
+                let whole = (0.0..MAX_PARAM as f64).contains(&n) && (n as usize) as f64 == n;
+                flat.push(if whole { FlatOp::Param(n as u32) } else { FlatOp::Fail });
+                1
+            }
+            _ => {
+                let d = sub(inner, flat);
+                flat.push(FlatOp::ParamAt);
+                d
+            }
+        },
+        Expr::Named(_) => {
+            flat.push(resolved(block, id).map_or(FlatOp::Fail, FlatOp::Slot));
+            1
+        }
+        Expr::Unary(Func::Exists, _) | Expr::Binary(BinOp::Concat, ..) | Expr::Text(_) | Expr::NamedIndex(..) => {
+            flat.push(FlatOp::Fail);
+            1
+        }
+        Expr::Unary(f, inner) => {
+            let d = sub(inner, flat);
+            flat.push(FlatOp::Unary(f));
+            d
+        }
+        Expr::Atan2(a, b) => {
+            let d = sub(a, flat).max(1 + sub(b, flat));
+            flat.push(FlatOp::Atan2);
+            d
+        }
+        Expr::Binary(op, a, b) => {
+            let d = sub(a, flat).max(1 + sub(b, flat));
+            flat.push(FlatOp::Binary(op));
+            d
+        }
+    };
+    // A span only where the stack it needs is at hand (an expression written twice keeps
+    // its first).
+    if depth <= FLAT_STACK && spans.get(id as usize).is_some_and(|s| s.1 == 0) {
+        spans[id as usize] = (start, flat.len() as u32);
+    }
+    depth
+}
+
+/// Evaluates the flat steps `ops` ([`flatten`]) as [`eval_tree`] evaluates their tree: `None`
+/// where it gives none (a step turned down, a value it cannot use, a vacant or unknown
+/// value read or made anywhere in the tree).
+fn eval_flat(ops: &[FlatOp], params: &Params) -> Option<f64> {
+    let mut stack = [0.0f64; FLAT_STACK];
+    let mut top = 0usize;
+    // A NaN met anywhere: the tree would have stopped there.
+    let mut nan = false;
+    for &op in ops {
+        let v = match op {
+            FlatOp::Num(v) => {
+                *stack.get_mut(top)? = v;
+                top += 1;
+                continue;
+            }
+            FlatOp::Param(i) => {
+                let v = params.numbered.get(i as usize);
+                *stack.get_mut(top)? = v;
+                top += 1;
+                nan |= v.is_nan();
+                continue;
+            }
+            FlatOp::Slot(s) => {
+                let v = (*params.named.values.get(s as usize)?)?;
+                *stack.get_mut(top)? = v;
+                top += 1;
+                nan |= v.is_nan();
+                continue;
+            }
+            FlatOp::ParamAt => {
+                let n = *stack.get(top.checked_sub(1)?)?;
+                if !(0.0..MAX_PARAM as f64).contains(&n) || (n as usize) as f64 != n {
+                    return None;
+                }
+                params.numbered.get(n as usize)
+            }
+            FlatOp::Unary(f) => {
+                let x = *stack.get(top.checked_sub(1)?)?;
+                match f {
+                    Func::Fix if params.magnitude_rounding => x.trunc(),
+                    Func::Fup if params.magnitude_rounding => {
+                        if x < 0.0 {
+                            x.floor()
+                        } else {
+                            x.ceil()
+                        }
+                    }
+                    _ => unary(f, x).ok()?,
+                }
+            }
+            FlatOp::Atan2 => {
+                top = top.checked_sub(1)?;
+                let (y, x) = (*stack.get(top.checked_sub(1)?)?, stack[top]);
+                y.atan2(x).to_degrees()
+            }
+            FlatOp::Binary(op) => {
+                top = top.checked_sub(1)?;
+                let (a, b) = (*stack.get(top.checked_sub(1)?)?, stack[top]);
+                binary_value(op, a, b, |c: bool| f64::from(u8::from(c))).ok()?
+            }
+            FlatOp::Fail => return None,
+        };
+        // The step's result replaces its operands on top.
+        nan |= v.is_nan();
+        stack[top - 1] = v;
+    }
+    if nan || top != 1 {
+        return None;
+    }
+    Some(stack[0])
 }
 
 /// The slot expression `id` of `block` names, where the block has its names resolved.
@@ -399,6 +580,22 @@ impl Params {
         Ok(())
     }
 
+    /// Sets numbered parameter `n`, a whole number: as [`Params::set`] does, without the
+    /// look at a fraction.
+    #[inline]
+    pub fn set_whole(&mut self, n: u32, v: f64) -> Result<(), EvalError> {
+        let i = n as usize;
+        if i > self.highest {
+            return Err(EvalError::BadIndex(f64::from(n)));
+        }
+        if i < MAX_PARAM {
+            self.numbered.set(i, v);
+        } else {
+            self.high.insert(n, v);
+        }
+        Ok(())
+    }
+
     /// The value of a named parameter.
     pub fn get_named(&self, name: &str) -> Result<f64, EvalError> {
         match self.named.index.slots.get(name) {
@@ -531,14 +728,34 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
 /// That is the common case of a loop's blocks, and it needs neither a `Result` nor a look at
 /// unknown values. `None` otherwise (and where the result is not a number): [`eval`] then
 /// gives the value, or says why there is none, as it would have.
+#[inline]
 pub fn eval_fast(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
+    // A block kept to run again has its expressions flat ([`resolve`]).
+    if let Some(&(start, end)) = block.flat_spans.get(id as usize)
+        && end > start
+    {
+        let ops = block.flat.get(start as usize..end as usize)?;
+        // One step, the most common (an assignment's target, a word's parameter): no stack.
+        let v = match *ops {
+            [FlatOp::Num(v)] => v,
+            [FlatOp::Param(i)] => params.numbered.get(i as usize),
+            [FlatOp::Slot(s)] => (*params.named.values.get(s as usize)?)?,
+            _ => return eval_flat(ops, params),
+        };
+        return (!v.is_nan()).then_some(v);
+    }
+    eval_tree(block, id, params)
+}
+
+/// [`eval_fast`] by a walk of the tree.
+fn eval_tree(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
     let v = match *block.exprs.get(id as usize)? {
         Expr::Num(v) => v,
         Expr::Param(inner) => {
             // Most parameters are named by a number (`Q3`, `#5`, `R1`): read without a call.
             let n = match *block.exprs.get(inner as usize)? {
                 Expr::Num(n) => n,
-                _ => eval_fast(block, inner, params)?,
+                _ => eval_tree(block, inner, params)?,
             };
             // A whole number in the dense table reads as `index` rounds it.
             if !(0.0..MAX_PARAM as f64).contains(&n) || (n as usize) as f64 != n {
@@ -548,16 +765,16 @@ pub fn eval_fast(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
         }
         Expr::Named(_) => (*params.named.values.get(resolved(block, id)? as usize)?)?,
         Expr::Unary(Func::Exists, _) => return None,
-        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => eval_fast(block, inner, params)?.trunc(),
+        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => eval_tree(block, inner, params)?.trunc(),
         Expr::Unary(Func::Fup, inner) if params.magnitude_rounding => {
-            let x = eval_fast(block, inner, params)?;
+            let x = eval_tree(block, inner, params)?;
             if x < 0.0 { x.floor() } else { x.ceil() }
         }
-        Expr::Unary(f, inner) => unary(f, eval_fast(block, inner, params)?).ok()?,
-        Expr::Atan2(y, x) => eval_fast(block, y, params)?.atan2(eval_fast(block, x, params)?).to_degrees(),
+        Expr::Unary(f, inner) => unary(f, eval_tree(block, inner, params)?).ok()?,
+        Expr::Atan2(y, x) => eval_tree(block, y, params)?.atan2(eval_tree(block, x, params)?).to_degrees(),
         Expr::Binary(BinOp::Concat, ..) => return None,
         Expr::Binary(op, a, b) => {
-            let (a, b) = (eval_fast(block, a, params)?, eval_fast(block, b, params)?);
+            let (a, b) = (eval_tree(block, a, params)?, eval_tree(block, b, params)?);
             binary_value(op, a, b, |c: bool| f64::from(u8::from(c))).ok()?
         }
         Expr::Text(_) | Expr::NamedIndex(..) => return None,
