@@ -197,7 +197,7 @@ pub fn resolve(block: &mut Block, params: &mut Params) {
 
 /// The deepest stack of values a flat expression may need ([`FlatOp`]); a deeper one is
 /// left to the tree.
-const FLAT_STACK: usize = 16;
+const FLAT_STACK: usize = 8;
 
 /// Writes the expressions of `block`, its names resolved, in postfix order
 /// ([`Block::flat`]): each tree from its root, so that every expression in it is computed
@@ -306,73 +306,71 @@ fn flatten_expr(block: &Block, id: ExprId, flat: &mut Vec<FlatOp>, spans: &mut [
 /// Evaluates the flat steps `ops` ([`flatten`]) as [`eval_tree`] evaluates their tree: `None`
 /// where it gives none (a step turned down, a value it cannot use, a vacant or unknown
 /// value read or made anywhere in the tree).
+///
+/// The value on top is kept apart (`acc`), the values below it on a stack whose depth
+/// [`flatten`] has checked, so that an index into it is taken modulo its size and needs no
+/// bounds check.
 fn eval_flat(ops: &[FlatOp], params: &Params) -> Option<f64> {
+    const MASK: usize = FLAT_STACK - 1;
     let mut stack = [0.0f64; FLAT_STACK];
-    let mut top = 0usize;
+    // Values below `acc`, the first of them the empty value `acc` starts with.
+    let mut below = 0usize;
+    let mut acc = 0.0f64;
     // A NaN met anywhere: the tree would have stopped there.
     let mut nan = false;
     for &op in ops {
-        let v = match op {
+        acc = match op {
             FlatOp::Num(v) => {
-                *stack.get_mut(top)? = v;
-                top += 1;
-                continue;
+                stack[below & MASK] = acc;
+                below += 1;
+                v
             }
             FlatOp::Param(i) => {
-                let v = params.numbered.get(i as usize);
-                *stack.get_mut(top)? = v;
-                top += 1;
-                nan |= v.is_nan();
-                continue;
+                stack[below & MASK] = acc;
+                below += 1;
+                params.numbered.get(i as usize)
             }
             FlatOp::Slot(s) => {
-                let v = (*params.named.values.get(s as usize)?)?;
-                *stack.get_mut(top)? = v;
-                top += 1;
-                nan |= v.is_nan();
-                continue;
+                stack[below & MASK] = acc;
+                below += 1;
+                (*params.named.values.get(s as usize)?)?
             }
             FlatOp::ParamAt => {
-                let n = *stack.get(top.checked_sub(1)?)?;
-                if !(0.0..MAX_PARAM as f64).contains(&n) || (n as usize) as f64 != n {
+                if !(0.0..MAX_PARAM as f64).contains(&acc) || (acc as usize) as f64 != acc {
                     return None;
                 }
-                params.numbered.get(n as usize)
+                params.numbered.get(acc as usize)
             }
-            FlatOp::Unary(f) => {
-                let x = *stack.get(top.checked_sub(1)?)?;
-                match f {
-                    Func::Fix if params.magnitude_rounding => x.trunc(),
-                    Func::Fup if params.magnitude_rounding => {
-                        if x < 0.0 {
-                            x.floor()
-                        } else {
-                            x.ceil()
-                        }
+            FlatOp::Unary(f) => match f {
+                Func::Fix if params.magnitude_rounding => acc.trunc(),
+                Func::Fup if params.magnitude_rounding => {
+                    if acc < 0.0 {
+                        acc.floor()
+                    } else {
+                        acc.ceil()
                     }
-                    _ => unary(f, x).ok()?,
                 }
-            }
+                _ => unary(f, acc).ok()?,
+            },
             FlatOp::Atan2 => {
-                top = top.checked_sub(1)?;
-                let (y, x) = (*stack.get(top.checked_sub(1)?)?, stack[top]);
-                y.atan2(x).to_degrees()
+                below = below.wrapping_sub(1);
+                stack[below & MASK].atan2(acc).to_degrees()
             }
             FlatOp::Binary(op) => {
-                top = top.checked_sub(1)?;
-                let (a, b) = (*stack.get(top.checked_sub(1)?)?, stack[top]);
-                binary_value(op, a, b, |c: bool| f64::from(u8::from(c))).ok()?
+                below = below.wrapping_sub(1);
+                let a = stack[below & MASK];
+                match op {
+                    BinOp::Add => a + acc,
+                    BinOp::Sub => a - acc,
+                    BinOp::Mul => a * acc,
+                    _ => binary_value(op, a, acc, |c: bool| f64::from(u8::from(c))).ok()?,
+                }
             }
             FlatOp::Fail => return None,
         };
-        // The step's result replaces its operands on top.
-        nan |= v.is_nan();
-        stack[top - 1] = v;
+        nan |= acc.is_nan();
     }
-    if nan || top != 1 {
-        return None;
-    }
-    Some(stack[0])
+    (!nan && below == 1).then_some(acc)
 }
 
 /// The slot expression `id` of `block` names, where the block has its names resolved.
@@ -904,4 +902,64 @@ fn binary_value(op: BinOp, a: f64, b: f64, truth: impl Fn(bool) -> f64) -> Resul
         // Text is not evaluated (see `eval`).
         BinOp::Concat => UNKNOWN,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::Registry;
+    use crate::syntax::Parser;
+
+    /// Every expression of every block, evaluated from the flat form and by the tree walk,
+    /// gives the same value, bit for bit, or none in both: numbers, parameters by number and
+    /// by a computed number, names, functions, comparisons, a division by zero, a vacant and
+    /// an unknown value, `EXISTS`, and a tree too deep for the flat form's stack.
+    #[test]
+    fn the_flat_form_evaluates_as_the_tree_does() {
+        let registry = Registry::shipped();
+        let d = registry.get("linuxcnc").unwrap();
+        let deep = format!("#<deep> = [{}1{}]", "[1 + ".repeat(12), "]".repeat(12));
+        let text = [
+            "#<a> = [#1 * 0.1 + SIN[#2] / [#3 - 3]]",
+            "#<b> = [#1 * 0.1 + SIN[#2 * 3.6] * COS[#<x> * 3.6] - 1]",
+            "#<c> = [#[#4 + 1] * 2 + #[#4 + 0.5]]",
+            "#<d> = [ATAN[#1]/[#2] ** 2 + ABS[-#1] + FIX[-2.5] + FUP[2.5] + ROUND[#1]]",
+            "#<e> = [[#1 LT 3] AND [#2 GT 1] OR [#1 EQ #2] + [5 MOD 3]]",
+            "#<f> = [EXISTS[#<x>] + #<nowhere> + 1]",
+            "#<g> = [#6 + 1] #<h> = [SQRT[-#2]] #<i> = [#7 * 2]",
+            "G1 X[#<x> * 2] Y#<x> Z-#1",
+            deep.as_str(),
+        ]
+        .join("\n");
+        let mut params = Params::new(false);
+        for (n, v) in [(1.0, 2.5), (2.0, 30.0), (3.0, 3.0), (4.0, 4.0), (5.0, 7.0), (6.0, UNKNOWN), (7.0, NULL)] {
+            params.set(n, v).unwrap();
+        }
+        params.set_named("x", 1.25);
+        let mut parser = Parser::new(text.as_str(), &d);
+        let (mut block, mut diags, mut blocks) = (Block::default(), Vec::new(), 0);
+        let mut flat_ones = 0;
+        while parser.next_block(&mut block, &mut diags) {
+            blocks += 1;
+            resolve(&mut block, &mut params);
+            assert_eq!(block.flat_spans.len(), block.exprs.len());
+            for id in 0..block.exprs.len() as ExprId {
+                let (fast, tree) = (eval_fast(&block, id, &params), eval_tree(&block, id, &params));
+                assert_eq!(fast.map(f64::to_bits), tree.map(f64::to_bits), "{} expression {id}", block.source());
+                flat_ones += usize::from(block.flat_spans[id as usize].1 > block.flat_spans[id as usize].0);
+            }
+        }
+        assert_eq!(blocks, 9);
+        assert!(flat_ones > 40, "{flat_ones}");
+        // Values: the second block's, and the deep one's by the tree.
+        let b = {
+            let mut p = Parser::new("#<b> = [#1 * 0.1 + SIN[#2 * 3.6] * COS[#<x> * 3.6] - 1]", &d);
+            let mut b = Block::default();
+            assert!(p.next_block(&mut b, &mut diags));
+            resolve(&mut b, &mut params);
+            b
+        };
+        let want = 2.5 * 0.1 + (30.0f64 * 3.6).to_radians().sin() * (1.25f64 * 3.6).to_radians().cos() - 1.0;
+        assert_eq!(eval_fast(&b, b.assigns[0].value, &params), Some(want));
+    }
 }
