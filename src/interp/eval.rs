@@ -4,7 +4,9 @@
 //! first time it is met (the dialect's named system variables take the first ones). A block
 //! the driver keeps to run again (a loop's, a subroutine's) has its names resolved to slots
 //! once (`resolve`, into `Block::resolved`): its passes read and write by index, without a
-//! name compared or an allocation. Expressions are evaluated in place, over the block's arena.
+//! name compared or an allocation; its expressions are then written once in postfix order with
+//! the slots in them (`Block::flat`), which `eval_fast` runs as a short list of steps rather
+//! than a walk of the tree. Other expressions are evaluated in place, over the block's arena.
 
 use std::collections::BTreeMap;
 
@@ -224,10 +226,8 @@ fn flatten(block: &mut Block) {
             Expr::Num(_) | Expr::Named(_) | Expr::Text(_) => {}
         }
     }
-    for root in 0..block.exprs.len() {
-        if !inner[root] {
-            flatten_expr(block, root as ExprId, &mut flat, &mut spans, 0);
-        }
+    for (root, _) in inner.iter().enumerate().filter(|(_, inner)| !**inner) {
+        flatten_expr(block, root as ExprId, &mut flat, &mut spans, 0);
     }
     block.flat = flat;
     block.flat_spans = spans;
