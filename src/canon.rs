@@ -1017,6 +1017,9 @@ pub struct CallWriter {
     /// Direct-mapped: slot by a hash of the value's bits; (bits, length, text). Of a size
     /// known when compiled, so that a slot needs no bounds check.
     cache: Box<[(u64, u8, [u8; CACHED]); SLOTS]>,
+    /// Where a straight move's line is assembled before it is appended: kept from one call
+    /// to the next, so that no call clears room for it in the output first.
+    line: [u8; MOVE_LINE],
 }
 
 /// The slots of [`CallWriter`]'s cache: 2^10, for the 10 bits of [`write_f4`]'s hash.
@@ -1024,7 +1027,7 @@ const SLOTS: usize = 1 << 10;
 
 impl Default for CallWriter {
     fn default() -> CallWriter {
-        CallWriter { cache: Box::new([(0, 0, [0; CACHED]); SLOTS]) }
+        CallWriter { cache: Box::new([(0, 0, [0; CACHED]); SLOTS]), line: [0; MOVE_LINE] }
     }
 }
 
@@ -1036,10 +1039,10 @@ const MOVE_LINE: usize = 18 + 5 * (2 + CACHED) + 2 + 32;
 impl CallWriter {
     /// Appends the call and a newline.
     ///
-    /// A straight move is assembled in place at the end of `out` and cut to its length. Each
-    /// number is a fixed-size copy from the cache, or formatted where it goes and then
-    /// cached; either may overwrite bytes past its end, which the next part overwrites in
-    /// turn. Any number the fast formatter declines sends the whole call to
+    /// A straight move is assembled in the writer's line buffer and appended with its
+    /// length. Each number is a fixed-size copy from the cache, or formatted where it goes
+    /// and then cached; either may overwrite bytes past its end, which the next part
+    /// overwrites in turn. Any number the fast formatter declines sends the whole call to
     /// [`write_call_bytes`].
     pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {
         let (name, p): (&[u8], _) = match op {
@@ -1047,9 +1050,7 @@ impl CallWriter {
             CanonOp::StraightFeed(p) => (b"STRAIGHT_FEED(", p),
             _ => return write_call_bytes(out, op),
         };
-        let start = out.len();
-        out.resize(start + MOVE_LINE, 0);
-        let line = &mut out[start..];
+        let line = &mut self.line;
         line[..name.len()].copy_from_slice(name);
         let mut len = name.len();
         // A machine without rotary axes moves with A, B and C at +0: the line's last three
@@ -1063,7 +1064,6 @@ impl CallWriter {
             }
             let dst = line[len..].first_chunk_mut::<32>().expect("MOVE_LINE leaves room");
             let Some(n) = write_f4(&mut self.cache, x, dst) else {
-                out.truncate(start);
                 return write_call_bytes(out, op);
             };
             len += n;
@@ -1076,7 +1076,7 @@ impl CallWriter {
             line[len..len + NO_ROTARY_END.len()].copy_from_slice(NO_ROTARY_END);
             len += NO_ROTARY_END.len();
         }
-        out.truncate(start + len);
+        out.extend_from_slice(&line[..len]);
     }
 }
 

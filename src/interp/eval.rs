@@ -4,11 +4,13 @@
 //! first time it is met (the dialect's named system variables take the first ones). A block
 //! the driver keeps to run again (a loop's, a subroutine's) has its names resolved to slots
 //! once (`resolve`, into `Block::resolved`): its passes read and write by index, without a
-//! name compared or an allocation. Expressions are evaluated in place, over the block's arena.
+//! name compared or an allocation; its expressions are then written once in postfix order with
+//! the slots in them (`Block::flat`), which `eval_fast` runs as a short list of steps rather
+//! than a walk of the tree. Other expressions are evaluated in place, over the block's arena.
 
 use std::collections::BTreeMap;
 
-use crate::syntax::{BinOp, Block, Expr, ExprId, Func};
+use crate::syntax::{BinOp, Block, Expr, ExprId, FlatOp, Func};
 
 /// Parameters below this number live in a dense table (LinuxCNC has #1 to #5602; Fanuc
 /// permanent variables reach #999 and system variables beyond).
@@ -200,6 +202,183 @@ pub fn resolve(block: &mut Block, params: &mut Params) {
         });
     }
     block.resolved = resolved;
+    flatten(block);
+}
+
+/// The deepest stack of values a flat expression may need ([`FlatOp`]); a deeper one is
+/// left to the tree.
+const FLAT_STACK: usize = 8;
+
+/// Writes the expressions of `block`, its names resolved, in postfix order
+/// ([`Block::flat`]): each tree from its root, so that every expression in it is computed
+/// by a span of its own. A step [`eval_fast`] would turn down becomes [`FlatOp::Fail`].
+fn flatten(block: &mut Block) {
+    let mut flat = std::mem::take(&mut block.flat);
+    let mut spans = std::mem::take(&mut block.flat_spans);
+    flat.clear();
+    spans.clear();
+    spans.resize(block.exprs.len(), (0, 0));
+    let mut inner = vec![false; block.exprs.len()];
+    for e in &block.exprs {
+        let mut mark = |id: ExprId| {
+            if let Some(m) = inner.get_mut(id as usize) {
+                *m = true;
+            }
+        };
+        match *e {
+            Expr::Param(a) | Expr::Unary(_, a) | Expr::NamedIndex(_, a) => mark(a),
+            Expr::Atan2(a, b) | Expr::Binary(_, a, b) => {
+                mark(a);
+                mark(b);
+            }
+            Expr::Num(_) | Expr::Named(_) | Expr::Text(_) => {}
+        }
+    }
+    for (root, _) in inner.iter().enumerate().filter(|(_, inner)| !**inner) {
+        flatten_expr(block, root as ExprId, &mut flat, &mut spans, 0);
+    }
+    block.flat = flat;
+    block.flat_spans = spans;
+}
+
+/// Writes expression `id` in postfix order and records its span; returns the depth of stack
+/// it needs. `level` is how deep the tree is here (a tree deeper than it could ever need is
+/// not written further).
+fn flatten_expr(block: &Block, id: ExprId, flat: &mut Vec<FlatOp>, spans: &mut [(u32, u32)], level: usize) -> usize {
+    let start = flat.len() as u32;
+    let Some(&e) = block.exprs.get(id as usize) else {
+        flat.push(FlatOp::Fail);
+        return 1;
+    };
+    let mut sub = |id: ExprId, flat: &mut Vec<FlatOp>| {
+        if level > 4 * FLAT_STACK {
+            flat.push(FlatOp::Fail);
+            return FLAT_STACK + 1;
+        }
+        flatten_expr(block, id, flat, spans, level + 1)
+    };
+    let depth = match e {
+        Expr::Num(v) if v.is_nan() => {
+            flat.push(FlatOp::Fail);
+            1
+        }
+        Expr::Num(v) => {
+            flat.push(FlatOp::Num(v));
+            1
+        }
+        Expr::Param(inner) => match block.exprs.get(inner as usize) {
+            // As `eval_fast` reads a parameter named by a number.
+            Some(&Expr::Num(n)) => {
+                let whole = (0.0..MAX_PARAM as f64).contains(&n) && (n as usize) as f64 == n;
+                flat.push(if whole { FlatOp::Param(n as u32) } else { FlatOp::Fail });
+                1
+            }
+            _ => {
+                let d = sub(inner, flat);
+                flat.push(FlatOp::ParamAt);
+                d
+            }
+        },
+        Expr::Named(_) => {
+            flat.push(resolved(block, id).map_or(FlatOp::Fail, FlatOp::Slot));
+            1
+        }
+        Expr::Unary(Func::Exists, _) | Expr::Binary(BinOp::Concat, ..) | Expr::Text(_) | Expr::NamedIndex(..) => {
+            flat.push(FlatOp::Fail);
+            1
+        }
+        Expr::Unary(f, inner) => {
+            let d = sub(inner, flat);
+            flat.push(FlatOp::Unary(f));
+            d
+        }
+        Expr::Atan2(a, b) => {
+            let d = sub(a, flat).max(1 + sub(b, flat));
+            flat.push(FlatOp::Atan2);
+            d
+        }
+        Expr::Binary(op, a, b) => {
+            let d = sub(a, flat).max(1 + sub(b, flat));
+            flat.push(FlatOp::Binary(op));
+            d
+        }
+    };
+    // A span only where the stack it needs is at hand (an expression written twice keeps
+    // its first).
+    if depth <= FLAT_STACK && spans.get(id as usize).is_some_and(|s| s.1 == 0) {
+        spans[id as usize] = (start, flat.len() as u32);
+    }
+    depth
+}
+
+/// Evaluates the flat steps `ops` ([`flatten`]) as [`eval_tree`] evaluates their tree: `None`
+/// where it gives none (a step turned down, a value it cannot use, a vacant or unknown
+/// value read or made anywhere in the tree).
+///
+/// The value on top is kept apart (`acc`), the values below it on a stack whose depth
+/// [`flatten`] has checked, so that an index into it is taken modulo its size and needs no
+/// bounds check.
+fn eval_flat(ops: &[FlatOp], params: &Params) -> Option<f64> {
+    const MASK: usize = FLAT_STACK - 1;
+    let mut stack = [0.0f64; FLAT_STACK];
+    // Values below `acc`, the first of them the empty value `acc` starts with.
+    let mut below = 0usize;
+    let mut acc = 0.0f64;
+    // A NaN met anywhere: the tree would have stopped there.
+    let mut nan = false;
+    for &op in ops {
+        acc = match op {
+            FlatOp::Num(v) => {
+                stack[below & MASK] = acc;
+                below += 1;
+                v
+            }
+            FlatOp::Param(i) => {
+                stack[below & MASK] = acc;
+                below += 1;
+                params.numbered.get(i as usize)
+            }
+            FlatOp::Slot(s) => {
+                stack[below & MASK] = acc;
+                below += 1;
+                (*params.named.values.get(s as usize)?)?
+            }
+            FlatOp::ParamAt => {
+                if !(0.0..MAX_PARAM as f64).contains(&acc) || (acc as usize) as f64 != acc {
+                    return None;
+                }
+                params.numbered.get(acc as usize)
+            }
+            FlatOp::Unary(f) => match f {
+                Func::Fix if params.magnitude_rounding => acc.trunc(),
+                Func::Fup if params.magnitude_rounding => {
+                    if acc < 0.0 {
+                        acc.floor()
+                    } else {
+                        acc.ceil()
+                    }
+                }
+                _ => unary(f, acc).ok()?,
+            },
+            FlatOp::Atan2 => {
+                below = below.wrapping_sub(1);
+                stack[below & MASK].atan2(acc).to_degrees()
+            }
+            FlatOp::Binary(op) => {
+                below = below.wrapping_sub(1);
+                let a = stack[below & MASK];
+                match op {
+                    BinOp::Add => a + acc,
+                    BinOp::Sub => a - acc,
+                    BinOp::Mul => a * acc,
+                    _ => binary_value(op, a, acc, |c: bool| f64::from(u8::from(c))).ok()?,
+                }
+            }
+            FlatOp::Fail => return None,
+        };
+        nan |= acc.is_nan();
+    }
+    (!nan && below == 1).then_some(acc)
 }
 
 /// The slot expression `id` of `block` names, where the block has its names resolved.
@@ -418,6 +597,22 @@ impl Params {
         Ok(())
     }
 
+    /// Sets numbered parameter `n`, a whole number: as [`Params::set`] does, without the
+    /// look at a fraction.
+    #[inline]
+    pub fn set_whole(&mut self, n: u32, v: f64) -> Result<(), EvalError> {
+        let i = n as usize;
+        if i > self.highest {
+            return Err(EvalError::BadIndex(f64::from(n)));
+        }
+        if i < MAX_PARAM {
+            self.numbered.set(i, v);
+        } else {
+            self.high.insert(n, v);
+        }
+        Ok(())
+    }
+
     /// The value of a named parameter.
     pub fn get_named(&self, name: &str) -> Result<f64, EvalError> {
         match self.named.index.slots.get(name) {
@@ -550,14 +745,34 @@ pub fn eval(block: &Block, id: ExprId, params: &Params) -> Result<f64, EvalError
 /// That is the common case of a loop's blocks, and it needs neither a `Result` nor a look at
 /// unknown values. `None` otherwise (and where the result is not a number): [`eval`] then
 /// gives the value, or says why there is none, as it would have.
+#[inline]
 pub fn eval_fast(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
+    // A block kept to run again has its expressions flat ([`resolve`]).
+    if let Some(&(start, end)) = block.flat_spans.get(id as usize)
+        && end > start
+    {
+        let ops = block.flat.get(start as usize..end as usize)?;
+        // One step, the most common (an assignment's target, a word's parameter): no stack.
+        let v = match *ops {
+            [FlatOp::Num(v)] => v,
+            [FlatOp::Param(i)] => params.numbered.get(i as usize),
+            [FlatOp::Slot(s)] => (*params.named.values.get(s as usize)?)?,
+            _ => return eval_flat(ops, params),
+        };
+        return (!v.is_nan()).then_some(v);
+    }
+    eval_tree(block, id, params)
+}
+
+/// [`eval_fast`] by a walk of the tree.
+fn eval_tree(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
     let v = match *block.exprs.get(id as usize)? {
         Expr::Num(v) => v,
         Expr::Param(inner) => {
             // Most parameters are named by a number (`Q3`, `#5`, `R1`): read without a call.
             let n = match *block.exprs.get(inner as usize)? {
                 Expr::Num(n) => n,
-                _ => eval_fast(block, inner, params)?,
+                _ => eval_tree(block, inner, params)?,
             };
             // A whole number in the dense table reads as `index` rounds it.
             if !(0.0..MAX_PARAM as f64).contains(&n) || (n as usize) as f64 != n {
@@ -567,16 +782,16 @@ pub fn eval_fast(block: &Block, id: ExprId, params: &Params) -> Option<f64> {
         }
         Expr::Named(_) => (*params.named.values.get(resolved(block, id)? as usize)?)?,
         Expr::Unary(Func::Exists, _) => return None,
-        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => eval_fast(block, inner, params)?.trunc(),
+        Expr::Unary(Func::Fix, inner) if params.magnitude_rounding => eval_tree(block, inner, params)?.trunc(),
         Expr::Unary(Func::Fup, inner) if params.magnitude_rounding => {
-            let x = eval_fast(block, inner, params)?;
+            let x = eval_tree(block, inner, params)?;
             if x < 0.0 { x.floor() } else { x.ceil() }
         }
-        Expr::Unary(f, inner) => unary(f, eval_fast(block, inner, params)?).ok()?,
-        Expr::Atan2(y, x) => eval_fast(block, y, params)?.atan2(eval_fast(block, x, params)?).to_degrees(),
+        Expr::Unary(f, inner) => unary(f, eval_tree(block, inner, params)?).ok()?,
+        Expr::Atan2(y, x) => eval_tree(block, y, params)?.atan2(eval_tree(block, x, params)?).to_degrees(),
         Expr::Binary(BinOp::Concat, ..) => return None,
         Expr::Binary(op, a, b) => {
-            let (a, b) = (eval_fast(block, a, params)?, eval_fast(block, b, params)?);
+            let (a, b) = (eval_tree(block, a, params)?, eval_tree(block, b, params)?);
             binary_value(op, a, b, |c: bool| f64::from(u8::from(c))).ok()?
         }
         Expr::Text(_) | Expr::NamedIndex(..) => return None,
@@ -706,4 +921,64 @@ fn binary_value(op: BinOp, a: f64, b: f64, truth: impl Fn(bool) -> f64) -> Resul
         // Text is not evaluated (see `eval`).
         BinOp::Concat => UNKNOWN,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::Registry;
+    use crate::syntax::Parser;
+
+    /// Every expression of every block, evaluated from the flat form and by the tree walk,
+    /// gives the same value, bit for bit, or none in both: numbers, parameters by number and
+    /// by a computed number, names, functions, comparisons, a division by zero, a vacant and
+    /// an unknown value, `EXISTS`, and a tree too deep for the flat form's stack.
+    #[test]
+    fn the_flat_form_evaluates_as_the_tree_does() {
+        let registry = Registry::shipped();
+        let d = registry.get("linuxcnc").unwrap();
+        let deep = format!("#<deep> = [{}1{}]", "[1 + ".repeat(12), "]".repeat(12));
+        let text = [
+            "#<a> = [#1 * 0.1 + SIN[#2] / [#3 - 3]]",
+            "#<b> = [#1 * 0.1 + SIN[#2 * 3.6] * COS[#<x> * 3.6] - 1]",
+            "#<c> = [#[#4 + 1] * 2 + #[#4 + 0.5]]",
+            "#<d> = [ATAN[#1]/[#2] ** 2 + ABS[-#1] + FIX[-2.5] + FUP[2.5] + ROUND[#1]]",
+            "#<e> = [[#1 LT 3] AND [#2 GT 1] OR [#1 EQ #2] + [5 MOD 3]]",
+            "#<f> = [EXISTS[#<x>] + #<nowhere> + 1]",
+            "#<g> = [#6 + 1] #<h> = [SQRT[-#2]] #<i> = [#7 * 2]",
+            "G1 X[#<x> * 2] Y#<x> Z-#1",
+            deep.as_str(),
+        ]
+        .join("\n");
+        let mut params = Params::new(false);
+        for (n, v) in [(1.0, 2.5), (2.0, 30.0), (3.0, 3.0), (4.0, 4.0), (5.0, 7.0), (6.0, UNKNOWN), (7.0, NULL)] {
+            params.set(n, v).unwrap();
+        }
+        params.set_named("x", 1.25);
+        let mut parser = Parser::new(text.as_str(), &d);
+        let (mut block, mut diags, mut blocks) = (Block::default(), Vec::new(), 0);
+        let mut flat_ones = 0;
+        while parser.next_block(&mut block, &mut diags) {
+            blocks += 1;
+            resolve(&mut block, &mut params);
+            assert_eq!(block.flat_spans.len(), block.exprs.len());
+            for id in 0..block.exprs.len() as ExprId {
+                let (fast, tree) = (eval_fast(&block, id, &params), eval_tree(&block, id, &params));
+                assert_eq!(fast.map(f64::to_bits), tree.map(f64::to_bits), "{} expression {id}", block.source());
+                flat_ones += usize::from(block.flat_spans[id as usize].1 > block.flat_spans[id as usize].0);
+            }
+        }
+        assert_eq!(blocks, 9);
+        assert!(flat_ones > 40, "{flat_ones}");
+        // Values: the second block's, and the deep one's by the tree.
+        let b = {
+            let mut p = Parser::new("#<b> = [#1 * 0.1 + SIN[#2 * 3.6] * COS[#<x> * 3.6] - 1]", &d);
+            let mut b = Block::default();
+            assert!(p.next_block(&mut b, &mut diags));
+            resolve(&mut b, &mut params);
+            b
+        };
+        let want = 2.5 * 0.1 + (30.0f64 * 3.6).to_radians().sin() * (1.25f64 * 3.6).to_radians().cos() - 1.0;
+        assert_eq!(eval_fast(&b, b.assigns[0].value, &params), Some(want));
+    }
 }

@@ -1926,7 +1926,7 @@ impl<'a> Interpreter<'a> {
                     return false;
                 }
                 // Out of the table: the general way says so.
-                if self.params.set(n, value).is_err() {
+                if self.params.set_whole(n as u32, value).is_err() {
                     return false;
                 }
                 self.params.take_unknown_read();

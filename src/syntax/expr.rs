@@ -182,3 +182,28 @@ pub enum Expr {
     /// A binary operation.
     Binary(BinOp, ExprId, ExprId),
 }
+
+/// One step of an expression written in postfix order ([`super::Block::flat`]): the form in
+/// which the interpreter evaluates a block it runs again, once its names are resolved to
+/// slots, without a walk of the tree or an allocation. A step takes its operands from the
+/// top of a stack of values and leaves its result there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FlatOp {
+    /// A number.
+    Num(f64),
+    /// The numbered parameter of this whole number (`#5`, `Q3`, `R1`).
+    Param(u32),
+    /// The numbered parameter whose number is the value on top (`#[#2+1]`).
+    ParamAt,
+    /// The named parameter in this slot.
+    Slot(u32),
+    /// A function of the value on top.
+    Unary(Func),
+    /// The two-argument arc tangent of the two values on top (y below x).
+    Atan2,
+    /// A binary operation on the two values on top (the left operand below).
+    Binary(BinOp),
+    /// A step the flat form does not take (a text, an array element, `EXISTS`, a name
+    /// without a slot): the expression goes the general way.
+    Fail,
+}

@@ -42,7 +42,7 @@ mod expr;
 mod parser;
 mod records;
 
-pub use expr::{BinOp, Expr, ExprId, Func};
+pub use expr::{BinOp, Expr, ExprId, FlatOp, Func};
 pub use parser::{Parser, PlainLine, PlainWord, leader};
 pub use records::record_program_name;
 
@@ -224,6 +224,12 @@ pub struct Block {
     /// control's system variables (the position, the tool, the modes), so that its runs need
     /// not bring them up to date first. False as the parser leaves it.
     pub reads_no_system: bool,
+    /// Where the interpreter keeps a block it runs again: its expressions in postfix order,
+    /// names as their slots ([`FlatOp`]); `flat_spans` gives by expression the steps
+    /// `start..end` that compute it (an empty span: none). Empty as the parser leaves it.
+    pub flat: Vec<FlatOp>,
+    /// By expression, the span of [`Block::flat`] that computes it.
+    pub flat_spans: Vec<(u32, u32)>,
     /// The text of `range`.
     source: String,
 }
@@ -254,6 +260,8 @@ impl Clone for Block {
         self.axis_refs.clone_from(&o.axis_refs);
         self.resolved.clone_from(&o.resolved);
         self.reads_no_system = o.reads_no_system;
+        self.flat.clone_from(&o.flat);
+        self.flat_spans.clone_from(&o.flat_spans);
         self.source.clone_from(&o.source);
     }
 }
@@ -311,6 +319,8 @@ impl Block {
         self.axis_refs.clear();
         self.resolved.clear();
         self.reads_no_system = false;
+        self.flat.clear();
+        self.flat_spans.clear();
     }
 
     /// True when the block holds nothing to execute.

@@ -613,9 +613,15 @@ impl<'a> Driver<'a, '_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
-        if let Some(control) = block.control.take() {
-            self.control(&control, block, start, interp, sink, diags);
-            block.control = Some(control);
+        if block.control.as_ref().is_some_and(|c| c.then == Some(Statement::Then)) {
+            // `IF [..] THEN #1 = 2`: the block's own words run with the statement taken off.
+            if let Some(control) = block.control.take() {
+                self.control(&control, block, start, interp, sink, diags);
+                block.control = Some(control);
+            }
+        } else if let Some(control) = &block.control {
+            // Lent, not moved out and back: a statement is carried out on every pass of a loop.
+            self.control(control, block, start, interp, sink, diags);
         } else {
             interp.execute(block, sink, diags);
             if let Some(r) = interp.request.take() {
