@@ -175,16 +175,24 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     plan.features = features;
 }
 
-/// A workingstep whose cuts all lie at X at or below 0 works beyond the centre line (a post
-/// that writes X negative, a tool behind the centre): its diameters are those of the same
-/// cuts mirrored about the axis, and so are its moves in the plan.
+/// A workingstep that cuts beyond the centre line (a bar lathe or a rear tool post writing X
+/// negative, a tool behind the centre) works there: its cuts lie at X at or below 0, or
+/// reach farther on the negative side than past the centre on the other (a face cut from
+/// X-6 to X1, over the centre to leave no pip). Its diameters are those of the same cuts
+/// mirrored about the axis, and so are its moves in the plan; inside or outside is then
+/// read on the mirrored moves, and the program's X allowance points the other way.
 fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
     if ws.turning.is_none() {
         return;
     }
     let cuts = cuts(ws);
-    if cuts.is_empty() || cuts.iter().any(|m| m.from[0] > TOL || m.to[0] > TOL) || !cuts.iter().any(|m| m.to[0] < -TOL) {
+    let xs = cuts.iter().flat_map(|m| [m.from[0], m.to[0]]);
+    let (xmin, xmax) = xs.fold((0.0f64, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    if cuts.is_empty() || xmin > -TOL || -xmin <= xmax {
         return;
+    }
+    if let Some(t) = ws.turning.as_mut() {
+        t.mirrored = true;
     }
     let flip = |p: P3| [-p[0], p[1], p[2]];
     let moves: super::Toolpath = ws
@@ -460,7 +468,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     // contour, so a start nearer the small diameter than the large one is inside.
     let start = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.from[0]);
     t.inside = match allowance {
-        Some(u) => u < 0.0,
+        // The allowance is left towards +X outside; a program writing X negative (mirrored
+        // here) leaves it towards -X outside.
+        Some(u) => (u < 0.0) != t.mirrored,
         None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
         // A finishing cycle starts where its contour starts, inside or out: it is inside
         // where its roughing was (below).
@@ -692,7 +702,9 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         }
         Some(TurnKind::RoughTurn | TurnKind::RoughFace) => {
             let i = t.intent.as_ref();
-            let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0;
+            // On moves mirrored about the axis, the program's allowance along X points the
+            // other way.
+            let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0 * if t.mirrored { -1.0 } else { 1.0 };
             let az = i.and_then(|i| i.allowance_z).unwrap_or(0.0);
             (runs.last().cloned().unwrap_or_default(), (ax, az))
         }

@@ -748,3 +748,21 @@ S900 M3\nG0 X25 Z2\nG1 X23 Z-13 F0.15\nZ-10\nX25\nG53 G0 X150 Z300\nM30\n";
     let (ws, _) = labels(&groove.replace("groove | T4: Einstechen MGMN200", "turn | T4: DCMT"), "linuxcnc");
     assert_eq!(ws, ["contouring finish"]);
 }
+
+/// A bar lathe or a rear tool post writes X negative: the tool works on the far side of the
+/// axis. Inside or outside is then |X| against the part and the allowance and pull-off
+/// pointing away from the axis, whatever the sign: a `G71` with `U-0.4` over a contour at X
+/// negative turns the outside; the same cycle at X positive with `U-0.4` bores. A face cut
+/// from X-20. to X1. (over the centre, to leave no pip) is facing on that side.
+#[test]
+fn a_tool_beyond_the_centre_turns_the_outside() {
+    let rear = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X-22. Z2.\nG1 Z0. F0.5\nX1. F0.1\nG0 Z2.\nX-22.\n\
+G71 U1. R0.5\nG71 P10 Q20 U-0.4 W0.1 F0.2\nN10 G0 X-10.\nG1 Z-15.\nX-16.\nZ-30.\nN20 X-22.\nG70 P10 Q20\nG0 X-50. Z50.\nM30\n";
+    let (ws, features) = labels(rear, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish", "contouring rough", "contouring finish"], "{features:?}");
+    assert!(features.iter().any(|f| f == "outer diameter") && features.iter().all(|f| f != "inner diameter"), "{features:?}");
+    let bore = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X8. Z2.\n\
+G71 U1. R0.5\nG71 P10 Q20 U-0.4 W0.1 F0.2\nN10 G0 X22.\nG1 Z-15.\nX16.\nZ-30.\nN20 X8.\nG70 P10 Q20\nG0 X50. Z50.\nM30\n";
+    let (ws, features) = labels(bore, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough inside", "contouring finish inside"], "{features:?}");
+}
