@@ -711,12 +711,22 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         None if !t.rough => (runs.concat(), (0.0, 0.0)),
         _ => return Vec::new(),
     };
+    let nose = nose_arcs(ws, &profile);
     let mut out = Vec::new();
     for m in &profile {
         let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
         let (z0, z1) = (m.from[2] - shift.1, m.to[2] - shift.1);
         if let Some(a) = m.arc {
-            let r = (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]);
+            let mut r = (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]);
+            if let Some((nose, sense)) = nose {
+                // The nose going round a sharp corner of the contour: no round of the part.
+                if (r - nose).abs() < 0.01 {
+                    continue;
+                }
+                // A programmed round: the nose's path runs a nose radius outside it where it
+                // turns as the nose does round the corners (convex), inside where not.
+                r = if arc_sense(m) == sense { r - nose } else { r + nose };
+            }
             out.push((
                 FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }),
                 round(z0.max(z1)),
@@ -736,6 +746,29 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         }
     }
     out
+}
+
+/// Under tool nose radius compensation (G41/G42 on a lathe) the moves are the nose's path,
+/// not the contour the program states: the control goes round each sharp outside corner on an
+/// arc of the nose radius and runs a nose radius outside (or inside) each programmed round.
+/// The part's shape is the program's, so the nose radius and the sense the nose turns at an
+/// outside corner are taken from the path: its smallest arcs, when no larger than an insert's
+/// nose (ISO 1832: 0.1 to 2.4 mm) and when the path has an arc of another radius or at least
+/// two of them (a corner). None without compensation.
+fn nose_arcs(ws: &Workingstep, profile: &[Move]) -> Option<(f64, f64)> {
+    if ws.state.cutter_comp.is_empty() {
+        return None;
+    }
+    let radius = |m: &Move| m.arc.map(|a| (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]));
+    let smallest = profile.iter().filter_map(|m| radius(m).map(|r| (r, m))).min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let count = profile.iter().filter_map(radius).filter(|r| (r - smallest.0).abs() < 0.01).count();
+    let other = profile.iter().filter_map(radius).any(|r| (r - smallest.0).abs() >= 0.01);
+    (smallest.0 <= 2.4 + TOL && (count >= 2 || other)).then(|| (smallest.0, arc_sense(smallest.1)))
+}
+
+/// The sense an arc turns in the plane of the part's profile (+1 or -1).
+fn arc_sense(m: &Move) -> f64 {
+    m.arc.map_or(0.0, |a| a.axis[1].signum() * f64::from(a.turns.signum()))
 }
 
 /// A size rounded to the micrometre, so that features from two passes compare equal (and a

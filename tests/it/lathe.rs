@@ -766,3 +766,28 @@ G71 U1. R0.5\nG71 P10 Q20 U-0.4 W0.1 F0.2\nN10 G0 X22.\nG1 Z-15.\nX16.\nZ-30.\nN
     let (ws, features) = labels(bore, "fanuc_lathe");
     assert_eq!(ws, ["contouring rough inside", "contouring finish inside"], "{features:?}");
 }
+
+/// Under tool nose radius compensation the moves are the nose's path: the control rounds each
+/// sharp outside corner with the nose radius and runs a nose radius off each programmed round.
+/// The part is what the program states: a chamfer's corners are no R0.4 rounds, a concave R4
+/// and a convex R2 keep their radii (the path's 3.6 and 2.4), with or without a tip orientation.
+#[test]
+fn rounds_are_the_programmed_contours_not_the_nose_path() {
+    for l in ["", " L2"] {
+        let p = format!(
+            "G18 G7 G21 G95\nT1 M6\nS1000 M3\nG0 X40 Z2\nG0 X16 Z2\nG42.1 D0.8{l}\nG1 Z0 F0.1\nX20 Z-2\nZ-20\nG2 X28 Z-24 R4\nG1 X32\n\
+G3 X36 Z-26 R2\nG1 Z-40\nG40\nG0 X50\nM2\n"
+        );
+        let d = Registry::shipped().get("linuxcnc").unwrap();
+        let plan = pipeline::analyze(p.as_bytes(), &d, &Profile::default()).plan;
+        let radii: Vec<f64> = plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                FeatureKind::Turned(Turned::RevolvedRound { radius, .. }) => Some(*radius),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(radii, [4.0, 2.0], "L{l}: {:?}", plan.features.iter().map(|f| f.kind.label()).collect::<Vec<_>>());
+    }
+}
