@@ -753,17 +753,21 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
 /// arc of the nose radius and runs a nose radius outside (or inside) each programmed round.
 /// The part's shape is the program's, so the nose radius and the sense the nose turns at an
 /// outside corner are taken from the path: its smallest arcs, when no larger than an insert's
-/// nose (ISO 1832: 0.1 to 2.4 mm) and when the path has an arc of another radius or at least
-/// two of them (a corner). None without compensation.
+/// nose (ISO 1832: 0.1 to 2.4 mm), all turning one way, and when the path has an arc of
+/// another radius or at least two of them. None without compensation.
 fn nose_arcs(ws: &Workingstep, profile: &[Move]) -> Option<(f64, f64)> {
     if ws.state.cutter_comp.is_empty() {
         return None;
     }
     let radius = |m: &Move| m.arc.map(|a| (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]));
     let smallest = profile.iter().filter_map(|m| radius(m).map(|r| (r, m))).min_by(|a, b| a.0.total_cmp(&b.0))?;
-    let count = profile.iter().filter_map(radius).filter(|r| (r - smallest.0).abs() < 0.01).count();
+    let sense = arc_sense(smallest.1);
+    let nose: Vec<&Move> = profile.iter().filter(|m| radius(m).is_some_and(|r| (r - smallest.0).abs() < 0.01)).collect();
     let other = profile.iter().filter_map(radius).any(|r| (r - smallest.0).abs() >= 0.01);
-    (smallest.0 <= 2.4 + TOL && (count >= 2 || other)).then(|| (smallest.0, arc_sense(smallest.1)))
+    // The nose goes round outside corners only, so its arcs all turn one way; small arcs
+    // turning both ways are the program's rounds (the control had no radius to offset by).
+    let one_way = nose.iter().all(|m| arc_sense(m) == sense);
+    (smallest.0 <= 2.4 + TOL && one_way && (nose.len() >= 2 || other)).then_some((smallest.0, sense))
 }
 
 /// The sense an arc turns in the plane of the part's profile (+1 or -1).
