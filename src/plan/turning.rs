@@ -468,9 +468,10 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     // contour, so a start nearer the small diameter than the large one is inside.
     let start = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.from[0]);
     t.inside = match allowance {
-        // The allowance is left towards +X outside; a program writing X negative (mirrored
-        // here) leaves it towards -X outside.
-        Some(u) => (u < 0.0) != t.mirrored,
+        // The allowance is left away from the axis outside: towards +X where the contour
+        // lies at X positive, towards -X where the program writes it at X negative (its
+        // moves mirrored here: the contour is then at X -(x + U/2), a pass at x).
+        Some(u) => (u < 0.0) != (t.mirrored && xmax + u / 2.0 > 0.0),
         None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
         // A finishing cycle starts where its contour starts, inside or out: it is inside
         // where its roughing was (below).
