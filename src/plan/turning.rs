@@ -176,9 +176,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
 }
 
 /// A workingstep that cuts beyond the centre line (a bar lathe or a rear tool post writing X
-/// negative, a tool behind the centre) works there: its cuts lie at X at or below 0, or
-/// reach farther on the negative side than past the centre on the other (a face cut from
-/// X-6 to X1, over the centre to leave no pip). Its diameters are those of the same cuts
+/// negative, a tool behind the centre) works there: its cuts lie at X at or below 0. Its diameters are those of the same cuts
 /// mirrored about the axis, and so are its moves in the plan; inside or outside is then
 /// read on the mirrored moves, and the program's X allowance points the other way.
 fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
@@ -188,20 +186,21 @@ fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
     let cuts = cuts(ws);
     let xs = cuts.iter().flat_map(|m| [m.from[0], m.to[0]]);
     let (xmin, xmax) = xs.fold((0.0f64, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
-    if cuts.is_empty() || xmin > -TOL || -xmin <= xmax {
+    if cuts.is_empty() || xmin > -TOL || xmax > TOL {
         return;
     }
     if let Some(t) = ws.turning.as_mut() {
         t.mirrored = true;
     }
-    let flip = |p: P3| [-p[0], p[1], p[2]];
+    // Plus zero: a point on the axis stays at X 0, not -0 (which reads back as 0).
+    let flip = |p: P3| [-p[0] + 0.0, p[1], p[2]];
     let moves: super::Toolpath = ws
         .toolpath
         .iter()
         .map(|m| Move {
             from: flip(m.from),
             to: flip(m.to),
-            arc: m.arc.map(|a| ArcGeometry { center: flip(a.center), axis: [a.axis[0], -a.axis[1], -a.axis[2]], ..a }),
+            arc: m.arc.map(|a| ArcGeometry { center: flip(a.center), axis: [a.axis[0], -a.axis[1] + 0.0, -a.axis[2] + 0.0], ..a }),
             ..m
         })
         .collect();
