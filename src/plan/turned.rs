@@ -75,7 +75,7 @@ pub struct Turning {
     pub stated: Option<bool>,
     /// The program writes this workingstep's X beyond the centre line (negative: a bar
     /// lathe's or a rear tool post's), and the plan mirrored it: the program's X allowance
-    /// then points the other way about the part.
+    /// then points the other way about the part. Read during recognition, then cleared.
     #[serde(skip)]
     pub mirrored: bool,
     /// Smallest and largest diameter cut.

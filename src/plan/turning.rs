@@ -173,6 +173,11 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
+    // Recognition's own note, read above and no value of the plan: a plan read back from
+    // STEP-NC or the store cannot carry it, and must equal the one recovered.
+    for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
+        t.mirrored = false;
+    }
 }
 
 /// A workingstep that cuts beyond the centre line (a bar lathe or a rear tool post writing X
