@@ -753,10 +753,12 @@ S900 M3\nG0 X25 Z2\nG1 X23 Z-13 F0.15\nZ-10\nX25\nG53 G0 X150 Z300\nM30\n";
 /// axis. Inside or outside is then |X| against the part and the allowance and pull-off
 /// pointing away from the axis, whatever the sign: a `G71` with `U-0.4` over a contour at X
 /// negative turns the outside; the same cycle at X positive with `U-0.4` bores. A face cut
-/// from X-20. to X1. (over the centre, to leave no pip) is facing on that side.
+/// from X-22. to the centre is facing on that side. (One that runs over the centre to leave
+/// no pip, to X1., is not mirrored: a workingstep is mirrored only where every cut lies at X
+/// at or below 0, as LinuxCNC's compensated lathe tests need; such a face reads as a contour.)
 #[test]
 fn a_tool_beyond_the_centre_turns_the_outside() {
-    let rear = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X-22. Z2.\nG1 Z0. F0.5\nX1. F0.1\nG0 Z2.\nX-22.\n\
+    let rear = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X-22. Z2.\nG1 Z0. F0.5\nX0. F0.1\nG0 Z2.\nX-22.\n\
 G71 U1. R0.5\nG71 P10 Q20 U-0.4 W0.1 F0.2\nN10 G0 X-10.\nG1 Z-15.\nX-16.\nZ-30.\nN20 X-22.\nG70 P10 Q20\nG0 X-50. Z50.\nM30\n";
     let (ws, features) = labels(rear, "fanuc_lathe");
     assert_eq!(ws, ["facing finish", "contouring rough", "contouring finish"], "{features:?}");
