@@ -73,6 +73,11 @@ pub struct Turning {
     /// (`ROUGH_BORE_ID`, `(FINISHING)`): read when the operation is named, then cleared.
     #[serde(skip)]
     pub stated: Option<bool>,
+    /// The program writes this workingstep's X beyond the centre line (negative: a bar
+    /// lathe's or a rear tool post's), and the plan mirrored it: the program's X allowance
+    /// then points the other way about the part. Read during recognition, then cleared.
+    #[serde(skip)]
+    pub mirrored: bool,
     /// Smallest and largest diameter cut.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter: Option<[f64; 2]>,

@@ -173,27 +173,39 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         ws.feature = ids.first().copied();
     }
     plan.features = features;
+    // Recognition's own note, read above and no value of the plan: a plan read back from
+    // STEP-NC or the store cannot carry it, and must equal the one recovered.
+    for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
+        t.mirrored = false;
+    }
 }
 
-/// A workingstep whose cuts all lie at X at or below 0 works beyond the centre line (a post
-/// that writes X negative, a tool behind the centre): its diameters are those of the same
-/// cuts mirrored about the axis, and so are its moves in the plan.
+/// A workingstep that cuts beyond the centre line (a bar lathe or a rear tool post writing X
+/// negative, a tool behind the centre) works there: its cuts lie at X at or below 0. Its diameters are those of the same cuts
+/// mirrored about the axis, and so are its moves in the plan; inside or outside is then
+/// read on the mirrored moves, and the program's X allowance points the other way.
 fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
     if ws.turning.is_none() {
         return;
     }
     let cuts = cuts(ws);
-    if cuts.is_empty() || cuts.iter().any(|m| m.from[0] > TOL || m.to[0] > TOL) || !cuts.iter().any(|m| m.to[0] < -TOL) {
+    let xs = cuts.iter().flat_map(|m| [m.from[0], m.to[0]]);
+    let (xmin, xmax) = xs.fold((0.0f64, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    if cuts.is_empty() || xmin > -TOL || xmax > TOL {
         return;
     }
-    let flip = |p: P3| [-p[0], p[1], p[2]];
+    if let Some(t) = ws.turning.as_mut() {
+        t.mirrored = true;
+    }
+    // Plus zero: a point on the axis stays at X 0, not -0 (which reads back as 0).
+    let flip = |p: P3| [-p[0] + 0.0, p[1], p[2]];
     let moves: super::Toolpath = ws
         .toolpath
         .iter()
         .map(|m| Move {
             from: flip(m.from),
             to: flip(m.to),
-            arc: m.arc.map(|a| ArcGeometry { center: flip(a.center), axis: [a.axis[0], -a.axis[1], -a.axis[2]], ..a }),
+            arc: m.arc.map(|a| ArcGeometry { center: flip(a.center), axis: [a.axis[0], -a.axis[1] + 0.0, -a.axis[2] + 0.0], ..a }),
             ..m
         })
         .collect();
@@ -460,7 +472,10 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     // contour, so a start nearer the small diameter than the large one is inside.
     let start = ws.toolpath.iter().take_while(|m| m.phase != Phase::Cut || m.kind == MoveKind::Rapid).last().map(|m| m.from[0]);
     t.inside = match allowance {
-        Some(u) => u < 0.0,
+        // The allowance is left away from the axis outside: towards +X where the contour
+        // lies at X positive, towards -X where the program writes it at X negative (its
+        // moves mirrored here: the contour is then at X -(x + U/2), a pass at x).
+        Some(u) => (u < 0.0) != (t.mirrored && xmax + u / 2.0 > 0.0),
         None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
         // A finishing cycle starts where its contour starts, inside or out: it is inside
         // where its roughing was (below).
@@ -692,19 +707,31 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         }
         Some(TurnKind::RoughTurn | TurnKind::RoughFace) => {
             let i = t.intent.as_ref();
-            let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0;
+            // On moves mirrored about the axis, the program's allowance along X points the
+            // other way.
+            let ax = i.and_then(|i| i.allowance_x).unwrap_or(0.0) / 2.0 * if t.mirrored { -1.0 } else { 1.0 };
             let az = i.and_then(|i| i.allowance_z).unwrap_or(0.0);
             (runs.last().cloned().unwrap_or_default(), (ax, az))
         }
         None if !t.rough => (runs.concat(), (0.0, 0.0)),
         _ => return Vec::new(),
     };
+    let nose = nose_arcs(ws, &profile);
     let mut out = Vec::new();
     for m in &profile {
         let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
         let (z0, z1) = (m.from[2] - shift.1, m.to[2] - shift.1);
         if let Some(a) = m.arc {
-            let r = (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]);
+            let mut r = (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]);
+            if let Some((nose, sense)) = nose {
+                // The nose going round a sharp corner of the contour: no round of the part.
+                if (r - nose).abs() < 0.01 {
+                    continue;
+                }
+                // A programmed round: the nose's path runs a nose radius outside it where it
+                // turns as the nose does round the corners (convex), inside where not.
+                r = if arc_sense(m) == sense { r - nose } else { r + nose };
+            }
             out.push((
                 FeatureKind::Turned(Turned::RevolvedRound { radius: round(r), diameter: round(2.0 * x0.max(x1)) }),
                 round(z0.max(z1)),
@@ -724,6 +751,33 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         }
     }
     out
+}
+
+/// Under tool nose radius compensation (G41/G42 on a lathe) the moves are the nose's path,
+/// not the contour the program states: the control goes round each sharp outside corner on an
+/// arc of the nose radius and runs a nose radius outside (or inside) each programmed round.
+/// The part's shape is the program's, so the nose radius and the sense the nose turns at an
+/// outside corner are taken from the path: its smallest arcs, when no larger than an insert's
+/// nose (ISO 1832: 0.1 to 2.4 mm), all turning one way, and when the path has an arc of
+/// another radius or at least two of them. None without compensation.
+fn nose_arcs(ws: &Workingstep, profile: &[Move]) -> Option<(f64, f64)> {
+    if ws.state.cutter_comp.is_empty() {
+        return None;
+    }
+    let radius = |m: &Move| m.arc.map(|a| (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]));
+    let smallest = profile.iter().filter_map(|m| radius(m).map(|r| (r, m))).min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let sense = arc_sense(smallest.1);
+    let nose: Vec<&Move> = profile.iter().filter(|m| radius(m).is_some_and(|r| (r - smallest.0).abs() < 0.01)).collect();
+    let other = profile.iter().filter_map(radius).any(|r| (r - smallest.0).abs() >= 0.01);
+    // The nose goes round outside corners only, so its arcs all turn one way; small arcs
+    // turning both ways are the program's rounds (the control had no radius to offset by).
+    let one_way = nose.iter().all(|m| arc_sense(m) == sense);
+    (smallest.0 <= 2.4 + TOL && one_way && (nose.len() >= 2 || other)).then_some((smallest.0, sense))
+}
+
+/// The sense an arc turns in the plane of the part's profile (+1 or -1).
+fn arc_sense(m: &Move) -> f64 {
+    m.arc.map_or(0.0, |a| a.axis[1].signum() * f64::from(a.turns.signum()))
 }
 
 /// A size rounded to the micrometre, so that features from two passes compare equal (and a

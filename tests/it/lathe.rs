@@ -748,3 +748,48 @@ S900 M3\nG0 X25 Z2\nG1 X23 Z-13 F0.15\nZ-10\nX25\nG53 G0 X150 Z300\nM30\n";
     let (ws, _) = labels(&groove.replace("groove | T4: Einstechen MGMN200", "turn | T4: DCMT"), "linuxcnc");
     assert_eq!(ws, ["contouring finish"]);
 }
+
+/// A bar lathe or a rear tool post writes X negative: the tool works on the far side of the
+/// axis. Inside or outside is then |X| against the part and the allowance and pull-off
+/// pointing away from the axis, whatever the sign: a `G71` with `U-0.4` over a contour at X
+/// negative turns the outside; the same cycle at X positive with `U-0.4` bores. A face cut
+/// from X-22. to the centre is facing on that side. (One that runs over the centre to leave
+/// no pip, to X1., is not mirrored: a workingstep is mirrored only where every cut lies at X
+/// at or below 0, as LinuxCNC's compensated lathe tests need; such a face reads as a contour.)
+#[test]
+fn a_tool_beyond_the_centre_turns_the_outside() {
+    let rear = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X-22. Z2.\nG1 Z0. F0.5\nX0. F0.1\nG0 Z2.\nX-22.\n\
+G71 U1. R0.5\nG71 P10 Q20 U-0.4 W0.1 F0.2\nN10 G0 X-10.\nG1 Z-15.\nX-16.\nZ-30.\nN20 X-22.\nG70 P10 Q20\nG0 X-50. Z50.\nM30\n";
+    let (ws, features) = labels(rear, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish", "contouring rough", "contouring finish"], "{features:?}");
+    assert!(features.iter().any(|f| f == "outer diameter") && features.iter().all(|f| f != "inner diameter"), "{features:?}");
+    let bore = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X8. Z2.\n\
+G71 U1. R0.5\nG71 P10 Q20 U-0.4 W0.1 F0.2\nN10 G0 X22.\nG1 Z-15.\nX16.\nZ-30.\nN20 X8.\nG70 P10 Q20\nG0 X50. Z50.\nM30\n";
+    let (ws, features) = labels(bore, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough inside", "contouring finish inside"], "{features:?}");
+}
+
+/// Under tool nose radius compensation the moves are the nose's path: the control rounds each
+/// sharp outside corner with the nose radius and runs a nose radius off each programmed round.
+/// The part is what the program states: a chamfer's corners are no R0.4 rounds, a concave R4
+/// and a convex R2 keep their radii (the path's 3.6 and 2.4), with or without a tip orientation.
+#[test]
+fn rounds_are_the_programmed_contours_not_the_nose_path() {
+    for l in ["", " L2"] {
+        let p = format!(
+            "G18 G7 G21 G95\nT1 M6\nS1000 M3\nG0 X40 Z2\nG0 X16 Z2\nG42.1 D0.8{l}\nG1 Z0 F0.1\nX20 Z-2\nZ-20\nG2 X28 Z-24 R4\nG1 X32\n\
+G3 X36 Z-26 R2\nG1 Z-40\nG40\nG0 X50\nM2\n"
+        );
+        let d = Registry::shipped().get("linuxcnc").unwrap();
+        let plan = pipeline::analyze(p.as_bytes(), &d, &Profile::default()).plan;
+        let radii: Vec<f64> = plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                FeatureKind::Turned(Turned::RevolvedRound { radius, .. }) => Some(*radius),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(radii, [4.0, 2.0], "L{l}: {:?}", plan.features.iter().map(|f| f.kind.label()).collect::<Vec<_>>());
+    }
+}
