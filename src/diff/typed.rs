@@ -149,6 +149,8 @@ impl Context {
             tokens.iter().any(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall | Meaning::ModalMacroCall)));
         c.moves_by_variables = !c.macro_call && tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
         c.flow = super::control::flow_of(tokens, d);
+        // A keyword code that shifts the origin (Siemens `TRANS`, `ATRANS`): its axis words are the shift.
+        c.shift |= tokens.iter().any(|t| t.sort == Sort::Other && matches!(about(t, d), About::Code(m) if shifts(m)));
         for t in tokens.iter().filter(|t| t.sort == Sort::Word) {
             let code = || t.key[1..].parse::<f64>().ok().map(|n| (t.key.chars().next().unwrap_or('M'), (n * 10.0).round() as u32));
             if about(t, d) == About::Unknown && unknown_code(t) {

@@ -963,3 +963,14 @@ fn a_global_read_before_it_is_set_breaks_nothing() {
     assert!(!broken(&a.replace("#<tr> = 3", "#<tr> = [#<_td>/2]")));
     assert!(broken(&a.replace("#<tr> = 3", "#<tr> = [#<td>/2]")));
 }
+
+/// A Siemens `TRANS` added whose axis words are assignments (`X=gX-cyR*fR B=gB`): an origin
+/// shift, where the plan cannot see it (issue 41, r286).
+#[test]
+fn a_frame_of_variables_is_an_origin_shift() {
+    let a = "DEF REAL GX=1\nG54 G90 G17\nT1 D1\nM6\nS1000 M3\nG0 X0 Y0 Z10\nM30\n";
+    let b = a.replace("M30\n", "TRANS X=GX Z=GX B=GX C=GX\nM30\n");
+    let got = changes(a, &b, "siemens");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::RotaryMoveChanged), "{}", rows(&got));
+    assert!(got.iter().any(|c| c.kind == ChangeKind::WorkOffsetChanged && c.line == Some(7)), "{}", rows(&got));
+}
