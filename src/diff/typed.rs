@@ -299,6 +299,8 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             M::PlaneXy | M::PlaneXz | M::PlaneYz => (K::PlaneChanged, "plane"),
             M::UnitsInch | M::UnitsMm => (K::UnitsChanged, "units"),
             M::RetractInitial | M::RetractR => (K::CycleParameterChanged, "cycle retract"),
+            // A keyword frame (`TRANS`, `ATRANS`) with the shift its words state: one change.
+            m if shifts(m) && tok.sort == Sort::Other => (K::WorkOffsetChanged, "origin shift"),
             // A G or M code, not a keyword's option (Heidenhain `PLANE … TURN MB MAX`).
             m if machine_function(m) && numbered_code(tok) => (K::MachineFunctionChanged, "machine function"),
             _ => return None,

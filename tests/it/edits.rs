@@ -973,4 +973,6 @@ fn a_frame_of_variables_is_an_origin_shift() {
     let got = changes(a, &b, "siemens");
     assert!(!got.iter().any(|c| c.kind == ChangeKind::RotaryMoveChanged), "{}", rows(&got));
     assert!(got.iter().any(|c| c.kind == ChangeKind::WorkOffsetChanged && c.line == Some(7)), "{}", rows(&got));
+    // The keyword is told with its shift, not as a statement of its own.
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::StatementChanged), "{}", rows(&got));
 }
