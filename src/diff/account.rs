@@ -299,7 +299,8 @@ fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[
     let mut out = Vec::new();
     for h in hunks.iter().filter(|h| !h.original.is_empty() && !h.edited.is_empty() && h.original.len() + h.edited.len() <= 8) {
         let words = |p: Program<'_>, s: &[Stmt], r: &std::ops::Range<usize>| {
-            let mut w: Vec<Token> = r.clone().flat_map(|k| statement::tokens(&statement::text_of(p.text, p.dialect, &s[k]))).collect();
+            let mut w: Vec<Token> =
+                r.clone().flat_map(|k| statement::tokens_in(&statement::text_of(p.text, p.dialect, &s[k]), p.dialect)).collect();
             w.sort_by(|x, y| x.text.cmp(&y.text));
             w
         };
@@ -419,8 +420,10 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             bulks.push(Bulk { hunk: h.clone(), class: if output { Class::Output } else { Class::Machining } });
             continue;
         }
-        let ta: Vec<Vec<Token>> = h.original.clone().map(|k| statement::tokens(&statement::text_of(a.text, a.dialect, &sa[k]))).collect();
-        let tb: Vec<Vec<Token>> = h.edited.clone().map(|k| statement::tokens(&statement::text_of(b.text, b.dialect, &sb[k]))).collect();
+        let ta: Vec<Vec<Token>> =
+            h.original.clone().map(|k| statement::tokens_in(&statement::text_of(a.text, a.dialect, &sa[k]), a.dialect)).collect();
+        let tb: Vec<Vec<Token>> =
+            h.edited.clone().map(|k| statement::tokens_in(&statement::text_of(b.text, b.dialect, &sb[k]), b.dialect)).collect();
         // Whole branches that only choose what to show (`o100 if` … `(msg, …)` … `o100 endif`):
         // output, as the messages they choose between.
         let shows_only = only_output(&ta, &h.original, sa, a.dialect) && only_output(&tb, &h.edited, sb, b.dialect);

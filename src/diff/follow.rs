@@ -70,7 +70,10 @@ fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<b
         return Some(m);
     }
     // A Heidenhain-style line with its feed word: FMAX is the rapid, else it feeds.
-    (0..k).rev().take(MOTION_LOOKBACK).find_map(|j| motion(&statement::tokens(&statement::text_of(p.text, p.dialect, &stmts[j]))))
+    (0..k)
+        .rev()
+        .take(MOTION_LOOKBACK)
+        .find_map(|j| motion(&statement::tokens_in(&statement::text_of(p.text, p.dialect, &stmts[j]), p.dialect)))
 }
 
 /// What a word reading a variable does: its kind and field, in its statement's context.
@@ -105,7 +108,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
         if !raw.to_ascii_uppercase().contains(name) {
             continue;
         }
-        let toks = statement::tokens(&statement::text_of(p.text, p.dialect, s));
+        let toks = statement::tokens_in(&statement::text_of(p.text, p.dialect, s), p.dialect);
         let ctx = Context::of(&toks, p.dialect);
         let flow = control::flow_of(&toks, p.dialect);
         for t in &toks {
@@ -258,7 +261,9 @@ fn assignments(p: Program<'_>, stmts: &[Stmt], var: &str) -> usize {
             let lines = (s.last - s.line + 1) as usize;
             let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
             p.text[from..end].to_ascii_uppercase().contains(var)
-                && statement::tokens(&statement::text_of(p.text, p.dialect, s)).iter().any(|t| t.sort == Sort::Assign && t.key == var)
+                && statement::tokens_in(&statement::text_of(p.text, p.dialect, s), p.dialect)
+                    .iter()
+                    .any(|t| t.sort == Sort::Assign && t.key == var)
         })
         .count()
 }
@@ -409,7 +414,7 @@ fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, 
         if !p.text[from..end].to_ascii_uppercase().contains(var) {
             continue;
         }
-        let toks = statement::tokens(&statement::text_of(p.text, d, s));
+        let toks = statement::tokens_in(&statement::text_of(p.text, d, s), d);
         for t in toks.iter().filter(|t| t.sort == Sort::Call) {
             let Some(name) = callee_name(&t.key) else { continue };
             for (i, a) in statement::arguments(&t.value).iter().enumerate() {
@@ -535,7 +540,7 @@ fn only_appended(
     let d = edited.dialect;
     let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, d));
     let Some(s) = stmts.iter().find(|s| s.line <= line && line <= s.last) else { return false };
-    let toks = statement::tokens(&statement::text_of(edited.text, d, s));
+    let toks = statement::tokens_in(&statement::text_of(edited.text, d, s), d);
     let Some(count) = toks.iter().find(|t| t.key == key && t.sort == Sort::Call).map(|t| statement::arguments(&t.value).len()) else {
         return false;
     };
@@ -577,7 +582,7 @@ fn macro_argument(c: &Change, edited: Program<'_>, stmts: &mut Option<Vec<Stmt>>
     let n = d.macros.arguments[usize::from(la as u8 - b'A')]?;
     let stmts = stmts.get_or_insert_with(|| statement::statements(edited.text, d));
     let s = stmts.iter().find(|s| s.line <= line && line <= s.last)?;
-    let toks = statement::tokens(&statement::text_of(edited.text, d, s));
+    let toks = statement::tokens_in(&statement::text_of(edited.text, d, s), d);
     // The call's code, and the name written against it (LNC `G65"PROBEY"` reads as one token).
     let (code, quoted) = toks.iter().find_map(|t| {
         let (code, rest) = t.key.split_once('"').map_or((t.key.as_str(), None), |(c, r)| (c, Some(r)));

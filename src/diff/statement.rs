@@ -58,12 +58,13 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
         }
         _ => None,
     };
-    // A macro call's letters are its arguments (`G65 P9810 B2.` sets #2), not axis words.
-    let macro_call =
-        block.words.iter().any(|w| code_of(w).is_some_and(|c| matches!(c.meaning, Meaning::MacroCall | Meaning::ModalMacroCall)));
+    // A macro call's letters are its arguments (`G65 P9810 B2.` sets #2), and a frame's or an
+    // origin shift's axis words its values (Siemens `TRANS … B=gB C=gC`, `ROT C45`, `G92 A0`):
+    // no axis moves.
+    let no_motion = block.words.iter().any(|w| code_of(w).is_some_and(|c| words_are_no_motion(c.meaning)));
     let mut m = 0;
     for w in &block.words {
-        if matches!(w.role, Role::A | Role::B | Role::C) && !macro_call {
+        if matches!(w.role, Role::A | Role::B | Role::C) && !no_motion {
             m |= ROTARY_MOVE;
         }
         if code_of(w).is_some_and(|code| matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)) {
@@ -71,6 +72,29 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
         }
     }
     m
+}
+
+/// Whether a code's axis words are its values, not a motion: a macro call's arguments, a
+/// frame (translation, rotation, scale, mirror) or an origin shift, data set (`G10`).
+fn words_are_no_motion(m: Meaning) -> bool {
+    use Meaning as M;
+    matches!(
+        m,
+        M::MacroCall
+            | M::ModalMacroCall
+            | M::FrameTrans
+            | M::FrameTransAdd
+            | M::FrameRot
+            | M::FrameRotAdd
+            | M::FrameScale
+            | M::FrameScaleAdd
+            | M::FrameMirror
+            | M::OriginShift
+            | M::LocalOffset
+            | M::Scaling
+            | M::Rotation
+            | M::SetData
+    )
 }
 
 /// The statements of `text` in `dialect`, in order. Blocks with nothing the machine reads
@@ -715,6 +739,42 @@ pub enum Sort {
 
 /// The tokens of a normalised statement.
 pub fn tokens(s: &str) -> Vec<Token> {
+    split(s, None, &[])
+}
+
+/// The tokens of a statement's text as [`tokens`], by the dictionary's lexical forms: a number
+/// with its decimal exponent is one word (Siemens `1EX300`, not `1` and `EX300`), and a statement
+/// keyword written against what follows it is a token of its own (Fanuc `IF[#1EQ0]THEN#20=0`:
+/// `THEN`, then the assignment of `#20`, not a variable named `THEN#20`).
+pub fn tokens_in(s: &str, d: &Dialect) -> Vec<Token> {
+    let keywords: Vec<&str> = d.macros.statements.iter().map(|(k, _)| k.as_str()).filter(|k| !k.is_empty()).collect();
+    split(s, d.lexical.numbers.exponent.as_deref(), &keywords)
+}
+
+/// Whether the text at `i` is the exponent letters after a number's digits (`EX3`, `EX-3`).
+fn exponent_at(b: &[u8], i: usize, exponent: Option<&str>) -> bool {
+    let Some(e) = exponent.filter(|e| !e.is_empty()) else { return false };
+    let e = e.as_bytes();
+    let after = i + e.len();
+    i > 0
+        && (b[i - 1].is_ascii_digit() || b[i - 1] == b'.')
+        && b.len() > after
+        && b[i..after].eq_ignore_ascii_case(e)
+        && (b[after].is_ascii_digit() || (matches!(b[after], b'-' | b'+') && b.get(after + 1).is_some_and(u8::is_ascii_digit)))
+}
+
+/// The length of the statement keyword at `i` written against a parameter (`THEN#20`), or 0.
+fn keyword_at(b: &[u8], i: usize, keywords: &[&str]) -> usize {
+    keywords
+        .iter()
+        .map(|k| k.as_bytes())
+        .filter(|k| b.len() > i + k.len() && b[i..i + k.len()].eq_ignore_ascii_case(k) && b[i + k.len()] == b'#')
+        .map(<[u8]>::len)
+        .max()
+        .unwrap_or(0)
+}
+
+fn split(s: &str, exponent: Option<&str>, keywords: &[&str]) -> Vec<Token> {
     let b = s.as_bytes();
     let mut pieces: Vec<&str> = Vec::new();
     let mut start = 0;
@@ -744,9 +804,14 @@ pub fn tokens(s: &str) -> Vec<Token> {
                 // `O100WHILE[…]`, `O200CALL[…]`: an O-word and its keyword are one statement.
                 // `T#<TOOL>M6`: a word after a named parameter, but not `O<NAME>CALL`.
                 let o_word = b[start] == b'O' && (b[start + 1..i].iter().all(u8::is_ascii_digit) || b.get(start + 1) == Some(&b'<'));
-                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.' | b'"' | b'>')) {
+                if !o_word && (p.is_ascii_digit() || matches!(p, b']' | b')' | b'.' | b'"' | b'>')) && !exponent_at(b, i, exponent) {
                     pieces.push(&s[start..i]);
                     start = i;
+                    let k = keyword_at(b, i, keywords);
+                    if k > 0 {
+                        pieces.push(&s[i..i + k]);
+                        start = i + k;
+                    }
                 }
             }
             _ => {}
@@ -951,6 +1016,22 @@ mod tests {
         let t = tokens("#<_Z_CLEARANCE>=-0.1");
         assert_eq!((t[0].sort, t[0].key.as_str(), t[0].value.as_str()), (Sort::Assign, "#<_Z_CLEARANCE>", "-0.1"));
         assert_eq!(tokens("L X10Y5R0 FMAX M3").iter().map(|t| t.text.as_str()).collect::<Vec<_>>(), ["L", "X10", "Y5", "R0", "FMAX", "M3"]);
+    }
+
+    #[test]
+    fn tokens_by_the_dictionary() {
+        let texts = |t: Vec<Token>| t.into_iter().map(|t| t.text).collect::<Vec<_>>();
+        let fanuc = Registry::shipped().get("fanuc").unwrap();
+        let t = tokens_in("IF[#1EQ0]THEN#20=0", &fanuc);
+        assert_eq!(texts(t.clone()), ["IF[#1EQ0]", "THEN", "#20=0"]);
+        assert_eq!((t[2].sort, t[2].key.as_str()), (Sort::Assign, "#20"));
+        // Without the dictionary, the keyword is read into the variable's name.
+        assert_eq!(tokens("IF[#1EQ0]THEN#20=0")[1].key, "THEN#20");
+        let siemens = Registry::shipped().get("siemens").unwrap();
+        assert_eq!(texts(tokens_in("_RESULT=1EX300", &siemens)), ["_RESULT=1EX300"]);
+        assert_eq!(texts(tokens_in("X1EX-3 Y2", &siemens)), ["X1EX-3", "Y2"]);
+        // A word after a number that is no exponent is still a word of its own.
+        assert_eq!(texts(tokens_in("G1X10EY5", &siemens)), ["G1", "X10", "EY5"]);
     }
 
     #[test]

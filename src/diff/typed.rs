@@ -81,6 +81,9 @@ pub(super) struct Context {
     pub function_code: Option<(char, u32)>,
     /// What the statement decides about which blocks run, if it is a control-flow statement.
     pub flow: Option<super::control::Flow>,
+    /// A macro call (`G65 P9810 F200.`, `G66`): its letters are the macro's arguments (locals
+    /// of the macro), never the modal feed, speed, tool or axes, whether the macro is found or not.
+    pub macro_call: bool,
 }
 
 /// Whether a code shifts the origin of the program's coordinates.
@@ -142,8 +145,12 @@ impl Context {
             c.shift |= shifts(cycle.meaning);
             c.legacy = !c.dwell && !c.shift;
         }
-        c.moves_by_variables = tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
+        c.macro_call =
+            tokens.iter().any(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall | Meaning::ModalMacroCall)));
+        c.moves_by_variables = !c.macro_call && tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
         c.flow = super::control::flow_of(tokens, d);
+        // A keyword code that shifts the origin (Siemens `TRANS`, `ATRANS`): its axis words are the shift.
+        c.shift |= tokens.iter().any(|t| t.sort == Sort::Other && matches!(about(t, d), About::Code(m) if shifts(m)));
         for t in tokens.iter().filter(|t| t.sort == Sort::Word) {
             let code = || t.key[1..].parse::<f64>().ok().map(|n| (t.key.chars().next().unwrap_or('M'), (n * 10.0).round() as u32));
             if about(t, d) == About::Unknown && unknown_code(t) {
@@ -202,6 +209,7 @@ impl Context {
             function: self.function || o.function,
             function_code: self.function_code.or(o.function_code),
             flow: self.flow.or(o.flow),
+            macro_call: self.macro_call || o.macro_call,
         }
     }
 }
@@ -234,6 +242,11 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
         return Some(if ctx.dwell { (K::DwellChanged, "dwell") } else { (K::CycleParameterChanged, "cycle parameter") });
     }
     let a = about(tok, d);
+    // A macro call's letters (`G65 P9810 F200.`): arguments, told as the call's (and followed
+    // into the macro where it is found), not as what the letter means outside a call.
+    if ctx.macro_call && matches!(a, About::Address(_)) {
+        return None;
+    }
     // Moves the plan may not see, where their axis words read variables: the whole move.
     let motion = matches!(a, About::Code(M::Rapid | M::Linear | M::ArcCw | M::ArcCcw | M::Probe | M::ProbeQuiet));
     if let About::Address(r) = a
@@ -251,7 +264,9 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     {
         return Some((K::MachineFunctionChanged, "machine function"));
     }
-    if ctx.shift && axis_word(tok, d) {
+    // The axis words of a shift, also written as assignments (Siemens `TRANS X=gX B=gB`).
+    let assigned_axis = tok.sort == Sort::Assign && axis_word(&Token { sort: Sort::Word, ..tok.clone() }, d);
+    if ctx.shift && (axis_word(tok, d) || assigned_axis) {
         return Some((K::WorkOffsetChanged, "origin shift"));
     }
     if ctx.switch && matches!(a, About::Address(R::P)) {
@@ -284,6 +299,8 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             M::PlaneXy | M::PlaneXz | M::PlaneYz => (K::PlaneChanged, "plane"),
             M::UnitsInch | M::UnitsMm => (K::UnitsChanged, "units"),
             M::RetractInitial | M::RetractR => (K::CycleParameterChanged, "cycle retract"),
+            // A keyword frame (`TRANS`, `ATRANS`) with the shift its words state: one change.
+            m if shifts(m) && tok.sort == Sort::Other => (K::WorkOffsetChanged, "origin shift"),
             // A G or M code, not a keyword's option (Heidenhain `PLANE … TURN MB MAX`).
             m if machine_function(m) && numbered_code(tok) => (K::MachineFunctionChanged, "machine function"),
             _ => return None,

@@ -18,12 +18,20 @@ use crate::text::LineIndex;
 
 /// The errors among `findings` (an analysis of `text`), as faults at their lines.
 pub fn faults(text: &str, findings: &[Diagnostic]) -> Vec<Fault> {
-    let errors: Vec<&Diagnostic> = findings.iter().filter(|d| d.is_error()).collect();
+    let errors: Vec<&Diagnostic> = findings.iter().filter(|d| d.is_error() && !global_unset(d)).collect();
     if errors.is_empty() {
         return Vec::new();
     }
     let index = LineIndex::new(text);
     errors.into_iter().map(|d| Fault { code: d.code, line: index.line_col(text, d.range.start).line, message: d.message.clone() }).collect()
+}
+
+/// Whether a finding is a global variable read before the file sets it (LinuxCNC `#<_td>`,
+/// global by its leading `_` as the interpreter keeps it): another program on the machine may
+/// have set it, the control keeps globals between programs, so it is no error the edit
+/// brings in or takes away.
+fn global_unset(d: &Diagnostic) -> bool {
+    d.code == crate::diag::Code::UndefinedParameter && d.message.starts_with("parameter `#<_")
 }
 
 /// The errors of an analysis (`found`) and those reading every block finds (`read`): a read

@@ -155,6 +155,12 @@ struct NameIndex {
     local: Vec<bool>,
 }
 
+/// Whether a named parameter is global to every program the control runs (a leading `_`:
+/// LinuxCNC `#<_td>`), not local to a subroutine.
+pub(crate) fn is_global(name: &str) -> bool {
+    name.starts_with('_')
+}
+
 impl Named {
     fn slot(&mut self, name: &str) -> u32 {
         if let Some(&s) = self.index.slots.get(name) {
@@ -164,7 +170,7 @@ impl Named {
         let s = index.names.len() as u32;
         index.slots.insert(name.into(), s);
         index.names.push(name.into());
-        index.local.push(!name.starts_with('_'));
+        index.local.push(!is_global(name));
         self.values.push(None);
         s
     }

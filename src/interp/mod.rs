@@ -1750,6 +1750,15 @@ impl<'a> Interpreter<'a> {
                     self.limited(diags, "unknown-variable", Diagnostic::new(Code::UnknownValue, range, msg));
                     self.params.set_named(&name, eval::UNKNOWN);
                 }
+                Err(EvalError::Undefined(name))
+                    if eval::is_global(&name) && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) =>
+                {
+                    // A global read before this file sets it (`#<_td>`): the control stops unless
+                    // another program set it before (globals persist between programs); said,
+                    // then read as unknown, so that what it feeds is not lost with it.
+                    diags.push(self.eval_diag(EvalError::Undefined(name.clone()), range));
+                    self.params.set_named(&name, eval::UNKNOWN);
+                }
                 Err(EvalError::Undefined(name)) if self.dialect.macros.unset_reads_zero => {
                     let msg = format!("`{name}` is read before this program sets it (machine data or set elsewhere); taken as 0");
                     diags.push(Diagnostic::new(Code::UnsetVariable, range, msg));

@@ -928,3 +928,51 @@ fn an_assignment_added_is_told_through_the_unchanged_uses_after_it() {
     let got = changes(a, &b, "linuxcnc");
     assert!(got.iter().all(|c| !c.field.contains("(via")), "{}", rows(&got));
 }
+
+/// A macro call's letters are the macro's arguments (locals), never the modal feed, spindle
+/// speed or tool, whether the macro is found or not (issue 41, r277: `G65 P110002 … F200.`
+/// removed is a skip feed passed to a probing macro, not "feed removed").
+#[test]
+fn a_macro_call_letter_is_an_argument_not_a_feed() {
+    let a = "O1\nG21 G90 G54\nT1 M6\nS1000 M3\nG0 X0 Y0 Z10.\nG65 P9001 Y183. Z49. F200. S300.\nG1 X10. F100.\nM30\n";
+    let b = a.replace(" F200. S300.", "");
+    let got = changes(a, &b, "fanuc");
+    assert!(!got.iter().any(|c| matches!(c.kind, ChangeKind::FeedChanged | ChangeKind::SpindleSpeedChanged)), "{}", rows(&got));
+    assert!(got.iter().any(|c| c.line == Some(6) && c.before.contains("F200.")), "{}", rows(&got));
+}
+
+/// A Siemens frame's words (`TRANS … B= C=`) shift the origin: no rotary axis moves (issue 41,
+/// r286).
+#[test]
+fn a_frame_with_rotary_words_is_no_rotary_move() {
+    let a = "G54 G90 G17\nT1 D1\nM6\nS1000 M3\nG0 X0 Y0 Z10\nG1 X10 F100\nM30\n";
+    let b = a.replace("G0 X0 Y0 Z10\n", "G0 X0 Y0 Z10\nTRANS X=1 Z=2 B=3 C=4\n");
+    let got = changes(a, &b, "siemens");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::RotaryMoveChanged), "{}", rows(&got));
+    // The plan sees what the shift does to the moves after it; the statement is no rotary move.
+    assert!(got.iter().any(|c| c.line == Some(6)), "{}", rows(&got));
+}
+
+/// A LinuxCNC global read before the file sets it (`#<_td>`) may come from another program on
+/// the machine (globals persist between programs): the edit that reads it breaks nothing
+/// (issue 41, r279). A local read before it is set still does.
+#[test]
+fn a_global_read_before_it_is_set_breaks_nothing() {
+    let a = "G21 G90\n#<tr> = 3\nG0 X#<tr> Y0 Z5\nM2\n";
+    let broken = |b: &str| changes_with_findings(a, b, "linuxcnc").into_iter().any(|c| c.kind == ChangeKind::ProgramBroken);
+    assert!(!broken(&a.replace("#<tr> = 3", "#<tr> = [#<_td>/2]")));
+    assert!(broken(&a.replace("#<tr> = 3", "#<tr> = [#<td>/2]")));
+}
+
+/// A Siemens `TRANS` added whose axis words are assignments (`X=gX-cyR*fR B=gB`): an origin
+/// shift, where the plan cannot see it (issue 41, r286).
+#[test]
+fn a_frame_of_variables_is_an_origin_shift() {
+    let a = "DEF REAL GX=1\nG54 G90 G17\nT1 D1\nM6\nS1000 M3\nG0 X0 Y0 Z10\nM30\n";
+    let b = a.replace("M30\n", "TRANS X=GX Z=GX B=GX C=GX\nM30\n");
+    let got = changes(a, &b, "siemens");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::RotaryMoveChanged), "{}", rows(&got));
+    assert!(got.iter().any(|c| c.kind == ChangeKind::WorkOffsetChanged && c.line == Some(7)), "{}", rows(&got));
+    // The keyword is told with its shift, not as a statement of its own.
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::StatementChanged), "{}", rows(&got));
+}
