@@ -178,7 +178,6 @@ impl Lexer<'_, '_> {
                             let at = b[from..self.i].iter().rposition(|&c| c == q as u8).map(|p| from + p);
                             let open = b[from..self.i].iter().filter(|&&c| c == q as u8).count() % 2 == 1;
                             if let (true, Some(at)) = (open, at) {
-                                let q = q as char;
                                 self.error(Code::MalformedExpression, at, self.i, format!("the string is not closed with `{q}`"));
                             }
                         }
