@@ -151,7 +151,10 @@ pub fn read(ini: &Path) -> anyhow::Result<MachineConfig> {
 /// the [`LEVELS_UP`] folders above, the nearest level that has one; `None` where none is found
 /// or one level's INIs add different things.
 pub fn find(program: &Path) -> Option<MachineConfig> {
-    let mut dir = program.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new(".")).to_path_buf();
+    let dir = program.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    // Absolute, so that the folders above a relative `nc_files/part.ngc` are reached (popping
+    // `nc_files` leaves an empty path, which names no folder).
+    let mut dir = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
     for _ in 0..=LEVELS_UP {
         let mut inis: Vec<PathBuf> = std::fs::read_dir(&dir)
             .into_iter()

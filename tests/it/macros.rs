@@ -52,6 +52,16 @@ fn two_argument_functions_in_one_bracket() {
 }
 
 #[test]
+fn an_operator_run_into_a_function_name_reads_as_both() {
+    // Renishaw's O9029 on a Robodrill: `IF[#20NEFIX[#20]]GOTO700`, no blank between NE and FIX.
+    let (out, codes) = moves("fanuc", "#20=2.5\nIF[#20NEFIX[#20]]GOTO7\nG0 X1.\nN7 G0 X[1EQABS[-1]]\nM30\n");
+    assert_eq!(out.trim(), "STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)", "{out}");
+    assert!(codes.is_empty(), "{codes:?}");
+    // A word that is no operator and function stays an error.
+    let (_, codes) = moves("fanuc", "#1=1\nIF[#1NEFOO[#1]]GOTO7\nN7 M30\n");
+    assert!(!codes.is_empty(), "{codes:?}");
+}
+#[test]
 fn fix_and_fup_round_by_dialect() {
     let program = "G0 X[FIX[-1.2]] Y[FUP[-1.2]] Z[FIX[1.7]+FUP[1.2]]\nM30\n";
     let (fanuc, _) = moves("fanuc", program);

@@ -75,9 +75,23 @@ impl Lexer<'_, '_> {
             c if c.is_ascii_alphabetic() => {
                 let end = self.b[self.i..].iter().position(|x| !x.is_ascii_alphabetic()).map_or(self.b.len(), |p| self.i + p);
                 let word = self.text[self.i..end].to_ascii_uppercase();
-                let op = BinOp::named(&word)?;
-                self.i = end;
-                return Some(op);
+                if let Some(op) = BinOp::named(&word) {
+                    self.i = end;
+                    return Some(op);
+                }
+                // Fanuc-style macro text runs keywords together (`IF[#20NEFIX[#20]]`): an
+                // operator directly followed by a function name, whose bracket comes next.
+                let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+                if expr_open.is_some() && self.b.get(end).copied() == expr_open {
+                    for len in [3, 2] {
+                        let (op, rest) = (word.get(..len)?, word.get(len..)?);
+                        if let (Some(op), Some(_)) = (BinOp::named(op), Func::named(rest)) {
+                            self.i += len;
+                            return Some(op);
+                        }
+                    }
+                }
+                return None;
             }
             _ => return None,
         };

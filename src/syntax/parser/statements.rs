@@ -170,7 +170,17 @@ impl Lexer<'_, '_> {
                                 |r: &crate::dialect::CommentRule| (plain || (r.open2.is_some() && !quoted)) && r.opens(&b[p..end]);
                             lex.block_end.is_some_and(|e| b[p] == e as u8) || lex.comments.iter().any(comment)
                         };
+                        let from = self.i;
                         self.i = (self.i..end).find(|&p| stops(p)).unwrap_or(end);
+                        // A text opened and never closed (`MSG("` at the line's end): the control
+                        // cannot read the statement (Siemens alarm 12080, syntax error).
+                        if let Some(q) = lex.string_quote.filter(|_| !plain) {
+                            let at = b[from..self.i].iter().rposition(|&c| c == q as u8).map(|p| from + p);
+                            let open = b[from..self.i].iter().filter(|&&c| c == q as u8).count() % 2 == 1;
+                            if let (true, Some(at)) = (open, at) {
+                                self.error(Code::MalformedExpression, at, self.i, format!("the string is not closed with `{q}`"));
+                            }
+                        }
                     }
                     _ => self.operands(&mut control),
                 }

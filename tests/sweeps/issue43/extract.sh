@@ -24,6 +24,27 @@ while IFS='	' read -r id half repo commit path rest; do
     mkdir -p "$out/$key/$(dirname "$p")"
     git --git-dir="$dir" show "$commit:$p" > "$out/$key/$p"
   done
+  # A LinuxCNC configuration lays its INI out above the program folder (config/x.ini,
+  # config/nc_files/part.ngc), with the remap subroutines in the folders its SUBROUTINE_PATH
+  # names relative to it: keep those INIs (the folder above and the one above that) and folders.
+  up=$(dirname "$path")
+  for _ in 1 2; do
+    [ "$up" = . ] && break
+    up=$(dirname "$up")
+    [ "$up" = . ] && pre= || pre="$up/"
+    git -c core.quotepath=off --git-dir="$dir" ls-tree --name-only "$commit" ${pre:+"$pre"} | grep -i '\.ini$' | while IFS= read -r ini; do
+      mkdir -p "$out/$key/$(dirname "$ini")"
+      git --git-dir="$dir" show "$commit:$ini" > "$out/$key/$ini"
+      sed -n 's/^[ \t]*SUBROUTINE_PATH[ \t]*=[ \t]*//p' "$out/$key/$ini" | tr ':' '\n' | tr -d '\r' | while IFS= read -r sp; do
+        case "$sp" in ''|.|/*|~*) continue ;; esac
+        git -c core.quotepath=off --git-dir="$dir" ls-tree --name-only "$commit" "$pre$sp/" | while IFS= read -r f; do
+          [ "$(git --git-dir="$dir" cat-file -t "$commit:$f")" = blob ] || continue
+          mkdir -p "$out/$key/$(dirname "$f")"
+          git --git-dir="$dir" show "$commit:$f" > "$out/$key/$f"
+        done
+      done
+    done
+  done
 done
 exit $status
 }
