@@ -442,9 +442,12 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// Whether tool centre point control is written on (`tcp-on`): the rotary axes written
     /// then turn the tool as in the source.
     tcp: bool,
-    /// A tool axis the source turned to under tool centre point control, to be checked
-    /// against the rotary axes of the next move written (the steady lane waits for it).
+    /// A tool axis the source turned to under tool centre point control, or by indexing its
+    /// rotary axes without it, to be checked against the rotary axes of the next move written
+    /// (the steady lane waits for it).
     axis_check: Option<[f64; 3]>,
+    /// Whether the source has tool centre point control on (whatever the target writes).
+    source_tcp: bool,
     /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
     /// number known to be written so (NaN: none): that number again is left out at once.
     written: [Option<(Key, f64)>; 8],
@@ -1069,6 +1072,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             tilt: None,
             tcp: false,
             axis_check: None,
+            source_tcp: false,
             written: Default::default(),
             last: [f64::NAN; 9],
             last_fi: [u32::MAX; 9],
