@@ -448,6 +448,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     axis_check: Option<[f64; 3]>,
     /// Whether the source has tool centre point control on (whatever the target writes).
     source_tcp: bool,
+    /// The source's tool axis in force (its last `ToolAxis` marker).
+    source_axis: [f64; 3],
     /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
     /// number known to be written so (NaN: none): that number again is left out at once.
     written: [Option<(Key, f64)>; 8],
@@ -1073,6 +1075,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             tcp: false,
             axis_check: None,
             source_tcp: false,
+            source_axis: [0.0, 0.0, 1.0],
             written: Default::default(),
             last: [f64::NAN; 9],
             last_fi: [u32::MAX; 9],
@@ -2000,7 +2003,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
             CanonOp::Turning(t) => self.lathe_cycle(canon, t),
             CanonOp::Setting(Setting::DiameterMode(on)) => self.diameter_mode(canon, *on),
-            CanonOp::Setting(Setting::ToolCentrePoint(on)) => self.tool_centre_point(*on),
+            CanonOp::Setting(Setting::ToolCentrePoint(on)) => self.tool_centre_point(canon, *on),
             CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
