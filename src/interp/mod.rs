@@ -1522,7 +1522,7 @@ impl<'a> Interpreter<'a> {
         }
         if self.filled & (1 << Role::ToolAxisI as u32 | 1 << Role::ToolAxisJ as u32 | 1 << Role::ToolAxisK as u32) != 0 {
             self.tool_axis(sink);
-        } else if self.st.tcp && self.filled & (1 << Role::A as u32 | 1 << Role::B as u32 | 1 << Role::C as u32) != 0 {
+        } else if self.filled & (1 << Role::A as u32 | 1 << Role::B as u32 | 1 << Role::C as u32) != 0 && self.rotary_turns_tool() {
             self.rotary_tool_axis(sink, diags);
         }
         if let Some(sub) = self.remap_call.take() {

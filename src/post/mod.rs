@@ -442,9 +442,14 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// Whether tool centre point control is written on (`tcp-on`): the rotary axes written
     /// then turn the tool as in the source.
     tcp: bool,
-    /// A tool axis the source turned to under tool centre point control, to be checked
-    /// against the rotary axes of the next move written (the steady lane waits for it).
+    /// A tool axis the source turned to under tool centre point control, or by indexing its
+    /// rotary axes without it, to be checked against the rotary axes of the next move written
+    /// (the steady lane waits for it).
     axis_check: Option<[f64; 3]>,
+    /// Whether the source has tool centre point control on (whatever the target writes).
+    source_tcp: bool,
+    /// The source's tool axis in force (its last `ToolAxis` marker).
+    source_axis: [f64; 3],
     /// The last written text of the modal values X, Y, Z, F, S, A, B, C, by its key, and a
     /// number known to be written so (NaN: none): that number again is left out at once.
     written: [Option<(Key, f64)>; 8],
@@ -1069,6 +1074,8 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             tilt: None,
             tcp: false,
             axis_check: None,
+            source_tcp: false,
+            source_axis: [0.0, 0.0, 1.0],
             written: Default::default(),
             last: [f64::NAN; 9],
             last_fi: [u32::MAX; 9],
@@ -1996,7 +2003,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Setting(Setting::BlockDelete) => self.optional_line = Some(canon.line),
             CanonOp::Turning(t) => self.lathe_cycle(canon, t),
             CanonOp::Setting(Setting::DiameterMode(on)) => self.diameter_mode(canon, *on),
-            CanonOp::Setting(Setting::ToolCentrePoint(on)) => self.tool_centre_point(*on),
+            CanonOp::Setting(Setting::ToolCentrePoint(on)) => self.tool_centre_point(canon, *on),
             CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),

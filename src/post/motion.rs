@@ -32,11 +32,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 self.arc(canon, end, centre, *rotation > 0, rotation.unsigned_abs());
             }
             CanonOp::ToolAxis(v) => {
+                self.source_axis = *v;
                 let along_z = v[0].abs() < 1e-9 && v[1].abs() < 1e-9 && v[2] > 0.0;
-                if self.tcp {
-                    // The rotary axes of the next move turn the tool: checked there.
+                if self.tcp || (!self.source_tcp && !along_z) {
+                    // The rotary axes of the next move turn the tool: checked there. Without
+                    // tool centre point control in the source as in the output, the source
+                    // indexed its rotary axes to this axis (3+2 by rotary positioning): the
+                    // same rotary words written give it, and only an axis they do not give
+                    // is unwritable.
                     self.axis_check = Some(*v);
                 } else if !along_z {
+                    // The source's moves are the tool tip's under tool centre point control,
+                    // which the target does not write.
                     self.note(
                         Code::PostUnwritable,
                         canon,
@@ -146,7 +153,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// A target whose code for it carries the length offset (Fanuc `G43.4 H1`, ended by
     /// `G43 H1`) says the offset in force with it, instead of a length offset still waiting for
     /// the next move; where the length offset was cancelled already (`G49`), that ended it.
-    pub(super) fn tool_centre_point(&mut self, on: bool) {
+    pub(super) fn tool_centre_point(&mut self, canon: &Canon, on: bool) {
+        self.source_tcp = on;
         let ev = if on { "tcp-on" } else { "tcp-off" };
         let mut vals = Vals::new();
         let takes_h = self.out.template(ev).is_some_and(|(t, _)| t.uses(Value::H));
@@ -165,12 +173,29 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         if !on {
             self.tcp = false;
             self.axis_check = None;
+        } else if !self.tcp {
+            // The rotary axes indexed the tool axis before: under tool centre point control
+            // the moves that follow are the tool tip's on the turned part, which the target
+            // does not write.
+            let v = self.source_axis;
+            if v[0].abs() > 1e-9 || v[1].abs() > 1e-9 || v[2] <= 0.0 {
+                self.note(
+                    Code::PostUnwritable,
+                    canon,
+                    "tool-axis",
+                    format!(
+                        "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
+                        v[0], v[1], v[2]
+                    ),
+                );
+            }
         }
     }
 
-    /// Under tool centre point control written, the tool axis the source turned to must be
-    /// the one the rotary axes written (`abc`, degrees) give; otherwise (a tool axis stated
-    /// as a vector, `A3=` or CLDATA `GOTO/x,y,z,i,j,k`) it is not written.
+    /// Under tool centre point control written, or where source and output index the rotary
+    /// axes without it, the tool axis the source turned to must be the one the rotary axes
+    /// written (`abc`, degrees) give; otherwise (a tool axis stated as a vector, `A3=` or
+    /// CLDATA `GOTO/x,y,z,i,j,k`) it is not written.
     fn check_axis(&mut self, canon: &Canon, abc: [f64; 3]) {
         let Some(v) = self.axis_check.take() else { return };
         let got = crate::canon::rotary_tool_axis(abc);

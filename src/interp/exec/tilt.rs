@@ -350,14 +350,50 @@ impl Interpreter<'_> {
         self.st.tcp_machine = on;
     }
 
-    /// Under tool centre point control, the tool axis the block's rotary axes turn the tool
-    /// to: `Rz(C)·Ry(B)·Rx(A)` applied to Z, the rotary axes where the block takes them. The
-    /// machine's kinematics are not known: that assumption is said once, where it tilts.
+    /// Whether the rotary axes a block moves turn the tool axis on the part: under tool centre
+    /// point control; and without it, where the axes index the part or the head (3+2 by rotary
+    /// positioning: an SH8000's B, a 4-axis mill's A) with no tilted working plane in force
+    /// (the plane then gives the axis) on a mill. On a lathe's dictionary (X in diameters or
+    /// a ZX start plane) C is the spindle's position, and under polar interpolation (`G12.1`,
+    /// `TRANSMIT`) the face's plane: the tool axis stays.
+    pub(in crate::interp) fn rotary_turns_tool(&self) -> bool {
+        if self.st.tcp {
+            return true;
+        }
+        let b = &self.dialect.behaviour;
+        let lathe = b.x_diameter || b.initial_plane != crate::canon::Plane::Xy;
+        // Only where the rotary words are the move's destination: a reference return's
+        // (`G28 A0`) are its intermediate point, a `G92 A0`'s or a `G10`'s no move at all.
+        self.st.frame.is_none() && self.st.face_plane.is_none() && !lathe && self.active_motion_code().is_some()
+    }
+
+    /// The tool axis the block's rotary axes turn the tool to (under tool centre point
+    /// control, or indexing without it: [`Interpreter::rotary_turns_tool`]): `Rz(C)·Ry(B)·Rx(A)`
+    /// applied to Z, the rotary axes where the block takes them.
+    ///
+    /// Which rotary axes turn the table and which the head: neither the dictionary nor the
+    /// machine's configuration says, so the ISO 841 reading holds. ISO 841 names the senses
+    /// of A, B and C as the tool's turn relative to the part; a rotary table turns the part the
+    /// other way (its axis is A', B', C' on the machine), so in the part's frame, where the plan
+    /// places features, the tool axis is the same turn for a table axis as for a head axis. A
+    /// machine whose kinematics differ tilts it otherwise: that assumption is said once, where
+    /// it tilts.
     pub(in crate::interp) fn rotary_tool_axis(&mut self, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        // The block's own G90 or G91 is in force for its words, though it is executed after
+        // this reading.
+        let stated = self.codes.iter().find_map(|&(c, _)| match self.code(c).meaning {
+            Meaning::DistanceAbsolute => Some(false),
+            Meaning::DistanceIncremental => Some(true),
+            _ => None,
+        });
+        let incremental = |me: &Self, r: Role| match (me.slots[r as usize].map(|s| s.mode), stated) {
+            (Some(crate::syntax::WordMode::Absolute | crate::syntax::WordMode::Incremental), _) | (_, None) => me.incremental(r),
+            (_, Some(inc)) => inc,
+        };
         let at = [Role::A, Role::B, Role::C].map(|r| {
             let i = r as usize;
             match self.slots[i] {
-                Some(_) if self.incremental(r) => self.st.pos[i] + self.slot(r).unwrap_or(0.0),
+                Some(_) if incremental(self, r) => self.st.pos[i] + self.slot(r).unwrap_or(0.0),
                 Some(slot) => slot.value,
                 None => self.st.pos[i],
             }
@@ -365,7 +401,11 @@ impl Interpreter<'_> {
         let r = chain([2, 1, 0], [at[2], at[1], at[0]]);
         let axis = [0, 1, 2].map(|i| if r[i][2].abs() < 1e-12 { 0.0 } else { r[i][2] });
         if axis != [0.0, 0.0, 1.0] {
-            self.kinematics_note(diags, "under tool centre point control the tool axis", "tcp-kinematics");
+            if self.st.tcp {
+                self.kinematics_note(diags, "under tool centre point control the tool axis", "tcp-kinematics");
+            } else {
+                self.kinematics_note(diags, "the tool axis the rotary axes index to (no tool centre point control)", "index-kinematics");
+            }
         }
         self.set_tool_axis(axis, sink);
     }
