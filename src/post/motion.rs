@@ -44,15 +44,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 } else if !along_z {
                     // The source's moves are the tool tip's under tool centre point control,
                     // which the target does not write.
-                    self.note(
-                        Code::PostUnwritable,
-                        canon,
-                        "tool-axis",
-                        format!(
-                            "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
-                            v[0], v[1], v[2]
-                        ),
-                    );
+                    self.no_tool_orientation(canon, *v);
                 }
             }
             CanonOp::WorkPlane(f) => self.work_plane(canon, f.as_deref()),
@@ -179,15 +171,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             // does not write.
             let v = self.source_axis;
             if v[0].abs() > 1e-9 || v[1].abs() > 1e-9 || v[2] <= 0.0 {
-                self.note(
-                    Code::PostUnwritable,
-                    canon,
-                    "tool-axis",
-                    format!(
-                        "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
-                        v[0], v[1], v[2]
-                    ),
-                );
+                self.no_tool_orientation(canon, v);
             }
         }
     }
@@ -210,6 +194,20 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 ),
             );
         }
+    }
+
+    /// Says the source tilts the tool axis to `v` under tool centre point control, which the
+    /// target's output rules cannot write (only the tool tip's moves).
+    fn no_tool_orientation(&mut self, canon: &Canon, v: [f64; 3]) {
+        self.note(
+            Code::PostUnwritable,
+            canon,
+            "tool-axis",
+            format!(
+                "the tool axis tilts to I{:.4} J{:.4} K{:.4}: the target's output rules write no tool orientation (5-axis), only the tool tip's moves",
+                v[0], v[1], v[2]
+            ),
+        );
     }
 
     /// Writes a straight move to `p` (program coordinates, rotary axes in degrees), at

@@ -418,6 +418,9 @@ impl Interpreter<'_> {
 
     /// Says once (per `key`) that `what` is read from the rotary axes as turns about the part's axes.
     fn kinematics_note(&mut self, diags: &mut Vec<Diagnostic>, what: &str, key: &'static str) {
+        if self.notes.contains_key(key) {
+            return;
+        }
         let msg = format!(
             "{what} is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (ISO 841 senses; A, then B, then C about the fixed axes); a machine whose kinematics differ tilts it otherwise"
         );
