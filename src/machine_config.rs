@@ -151,11 +151,45 @@ pub fn read(ini: &Path) -> anyhow::Result<MachineConfig> {
 /// the [`LEVELS_UP`] folders above, the nearest level that has one; `None` where none is found
 /// or one level's INIs add different things.
 pub fn find(program: &Path) -> Option<MachineConfig> {
+    find_under(program, None)
+}
+
+/// [`find`] for a program of a watched folder `root`: no INI above the folder is read, and a
+/// `SUBROUTINE_PATH` folder outside it is left out. A share's users write what is in it; the
+/// server's other files are not theirs to name.
+pub fn find_within(program: &Path, root: &Path) -> Option<MachineConfig> {
+    let root = std::path::absolute(root).unwrap_or_else(|_| root.to_path_buf());
+    let mut config = find_under(program, Some(&root))?;
+    config.subroutine_dirs.retain(|d| lexical(d).starts_with(&root));
+    Some(config)
+}
+
+/// `path` made absolute with its `.` and `..` resolved by name (LinuxCNC's configurations name
+/// their subroutine folders `../../nc_files/remap_lib`).
+fn lexical(path: &Path) -> PathBuf {
+    let path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn find_under(program: &Path, root: Option<&Path>) -> Option<MachineConfig> {
     let dir = program.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     // Absolute, so that the folders above a relative `nc_files/part.ngc` are reached (popping
     // `nc_files` leaves an empty path, which names no folder).
     let mut dir = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
     for _ in 0..=LEVELS_UP {
+        if root.is_some_and(|r| !dir.starts_with(r)) {
+            break;
+        }
         let mut inis: Vec<PathBuf> = std::fs::read_dir(&dir)
             .into_iter()
             .flatten()
@@ -206,6 +240,27 @@ mod tests {
     use super::*;
 
     const INI: &str = "[RS274NGC]\nSUBROUTINE_PATH = ./remap_subs:/abs\n   HAL_PIN_VARS = 1\n  REMAP = M428  modalgroup=10  ngc=428remap\nREMAP=M429 modalgroup=10 python=foo\n[KINS]\n# comment\nKINEMATICS = xyzac-trt-kins sparm=identityfirst\n[HAL]\nHALCMD = net :kinstype-select <= motion.analog-out-03 => motion.switchkins-type\n";
+
+    /// The daemon reads no INI above the watched folder, and no subroutine folder outside it,
+    /// however the INI names it; the CLI looks up to two folders above the program.
+    #[test]
+    fn a_watched_folder_confines_the_lookup() {
+        let tmp = tempfile::tempdir().unwrap();
+        let share = tmp.path().join("share");
+        std::fs::create_dir_all(share.join("cfg/nc")).unwrap();
+        std::fs::create_dir_all(share.join("cfg/subs")).unwrap();
+        let ini = "[RS274NGC]\nSUBROUTINE_PATH = ./subs:../../outside:/etc:../cfg/subs\nREMAP = M428 modalgroup=10 ngc=428remap\n";
+        std::fs::write(share.join("cfg/m.ini"), ini).unwrap();
+        std::fs::write(tmp.path().join("above.ini"), ini).unwrap();
+        let program = share.join("cfg/nc/part.ngc");
+        let found = find_within(&program, &share).unwrap();
+        assert_eq!(found.ini, share.join("cfg/m.ini"));
+        let dirs: Vec<PathBuf> = found.subroutine_dirs.iter().map(|d| lexical(d)).collect();
+        assert_eq!(dirs, vec![share.join("cfg/subs"), share.join("cfg/subs")]);
+        // A program at the share's top: the INI above the share is not read.
+        assert!(find_within(&share.join("part.ngc"), &share).is_none());
+        assert!(find(&share.join("part.ngc")).is_some());
+    }
 
     #[test]
     fn reads_remaps_pins_and_the_kinematics_switch() {

@@ -558,8 +558,8 @@ impl Reader<'_> {
             profile.programs = Some(std::sync::Arc::new(crate::config::FirstFound(sources)));
         }
         // The machine's configuration beside the program (a LinuxCNC INI in its folder or
-        // above): remapped codes, HAL pins, switchable kinematics.
-        if let Some(machine) = crate::machine_config::find(path) {
+        // above, within the watched folder): remapped codes, HAL pins, switchable kinematics.
+        if let Some(machine) = crate::machine_config::find_within(path, &folder.path) {
             profile = crate::machine_config::apply(&profile, &machine, self.config.max_file_bytes);
         }
         profile.role = crate::interp::role_for(folder.program_role, path, dialect);
