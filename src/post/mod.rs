@@ -1886,6 +1886,10 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
         }
         if matches!(canon.op, CanonOp::SetG5xOffset(..)) && !self.ended {
+            // A rapid waiting for the op after it goes first: it runs in the offset before.
+            if let Some(p) = self.pending_move.take() {
+                self.op(&p);
+            }
             self.held.push(canon.clone());
             return false;
         }
