@@ -782,22 +782,24 @@ impl ncplan::interp::ProgramSource for Beside {
     }
 }
 
+/// The changes from `a` to `b`, read in `dialect`, with the calls followed into `sub`.
+fn diff_following(dialect: &str, sub: &Beside, a: &str, b: &str) -> Vec<Change> {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let profile = Profile::default();
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
+    let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
+    diff::follow_calls(&mut got, edited, sub);
+    got
+}
+
 /// A call's argument changed in place is told as what the parameter it binds does in the
 /// subroutine in another file; a call whose argument count changed is left as statements,
 /// since every later argument binds another parameter.
 #[test]
 fn call_arguments_followed_into_a_subroutine_beside_the_program() {
     let sub = Beside("probe", "o<probe> sub\n#<fast> = #2\nG91 G38.2 X[#1] F[#<fast>]\no<probe> endsub\nM2\n");
-    let registry = Registry::shipped();
-    let d = registry.get("linuxcnc").unwrap();
-    let profile = Profile::default();
-    let run = |a: &str, b: &str| {
-        let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
-        let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
-        let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
-        diff::follow_calls(&mut got, edited, &sub);
-        got
-    };
+    let run = |a: &str, b: &str| diff_following("linuxcnc", &sub, a, b);
     let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [10] [150]\nM2\n");
     let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
     assert!(feed.field.contains("argument 2, #2 in probe"), "{}", feed.field);
@@ -846,14 +848,7 @@ fn subroutines_are_found_in_the_program_folders_subfolders() {
 #[test]
 fn macro_call_argument_followed_into_the_program_it_calls() {
     let sub = Beside("O9810", "O9810\nG0 Z5.\nG1 Z-#2 F100.\nG0 Z5.\nM99\n");
-    let registry = Registry::shipped();
-    let d = registry.get("fanuc").unwrap();
-    let profile = Profile::default();
-    let (a, b) = ("O1\nG21 G90\nG65 P9810 B2.\nM30\n", "O1\nG21 G90\nG65 P9810 B3.\nM30\n");
-    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
-    let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
-    let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
-    diff::follow_calls(&mut got, edited, &sub);
+    let got = diff_following("fanuc", &sub, "O1\nG21 G90\nG65 P9810 B2.\nM30\n", "O1\nG21 G90\nG65 P9810 B3.\nM30\n");
     let depth = got.iter().find(|c| c.kind == ChangeKind::DepthChanged).unwrap_or_else(|| panic!("{got:#?}"));
     assert!(depth.field.contains("G65 argument B, #2 in O9810"), "{}", depth.field);
     assert_eq!((depth.before.as_str(), depth.after.as_str(), depth.line), ("2.", "3.", Some(3)));
@@ -868,16 +863,7 @@ fn a_variable_passed_to_a_subroutine_is_told_as_what_it_feeds_there() {
         "nozzle",
         "o<nozzle> sub\n#<len> = #1\n#<tip> = [#<len> + 10]\n#<raw> = [#<tip> * 2]\n#<angle> = [#<raw> + 5]\nM68 E20 Q[#<angle>]\no<nozzle> endsub\nM2\n",
     );
-    let registry = Registry::shipped();
-    let d = registry.get("linuxcnc").unwrap();
-    let profile = Profile::default();
-    let run = |a: &str, b: &str| {
-        let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
-        let edited = diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d };
-        let mut got = diff::compare(diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d }, edited);
-        diff::follow_calls(&mut got, edited, &sub);
-        got
-    };
+    let run = |a: &str, b: &str| diff_following("linuxcnc", &sub, a, b);
     let got = run("G21\n#<l> = 0\no<nozzle> call [#<l>]\nM2\n", "G21\n#<l> = #5403\no<nozzle> call [#<l>]\nM2\n");
     expect![[r#"
         machine_function_changed | machine function M68: analog output (via #<L>, O<NOZZLE> argument 1, #1 in nozzle) | 0 | #5403 | 2 | 2
