@@ -515,6 +515,10 @@ fn real_programs_lie_on_their_faces() {
     /// plane, which no dictionary reads: ncplan has no MillPlus one, it was read as
     /// `heidenhain_iso`).
     const HELD7_SCORE: usize = 4;
+    // Sweep 8's held-back part (`held8`: a Creo 5-axis finishing CL file, GOTO with its tool axis
+    // on the continuation line, of 4r19415/5-axis-Rotation-tool-center-point-RTCP-; no licence
+    // stated, so `extract.sh` writes it from the mirror), expectations written before ncplan read
+    // it: printed with the other parts, to be measured once by the lead after merging (5 listed).
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
     let mut sides: Vec<_> =
@@ -532,6 +536,14 @@ fn real_programs_lie_on_their_faces() {
             Some(f) => dir.join(f),
             None => corpus.join(side["corpus"].as_str().unwrap()),
         };
+        // A program no licence lets us commit is written beside its sidecar by `extract.sh`.
+        if side.get("extracted").and_then(Value::as_bool) == Some(true) && !path.exists() {
+            crate::skip(
+                "tilt::real_programs_lie_on_their_faces",
+                &format!("{} is not extracted (tests/programs/tilt/real/extract.sh)", path.display()),
+            );
+            continue;
+        }
         let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
         // Read on its machine: the configuration found beside it (LinuxCNC's INI, its remapped
         // codes and kinematics), as `ncplan plan` and the daemon read it.
