@@ -681,3 +681,28 @@ fn a_machine_configuration_beside_the_program_remaps_its_codes() {
     let a = pipeline::analyze(program.as_bytes(), &dialect, &Profile::default());
     assert!(a.diagnostics.iter().any(|d| d.is_error() && d.message.to_ascii_lowercase().contains("m428")), "{:?}", a.diagnostics);
 }
+
+/// After tool centre point control is switched off (`M129`), the rotary axes stand where they
+/// were and the tool with them: the cut after it keeps the tilted axis (not Z), until the
+/// rotary axes index it back.
+#[test]
+fn the_tool_axis_stays_with_the_rotary_axes_after_tcp_is_off() {
+    let program = |back: &[&str]| {
+        let mut lines = vec!["BEGIN PGM T MM", "BLK FORM 0.1 Z X+0 Y+0 Z-40", "BLK FORM 0.2 X+100 Y+60 Z+0", "TOOL CALL 9 Z S12000"];
+        lines.extend(["L B+0 C+0 R0 FMAX", "M128", "L X+0 Y+30 Z+50 R0 FMAX M3", "L Z-1 R0 F400", "L X+30 B+30 R0 F1500"]);
+        lines.extend(["M129", "L X+60 R0 F1500", "L Z+50 R0 FMAX"]);
+        lines.extend(back);
+        lines.extend(["M30", "END PGM T MM"]);
+        lines.iter().enumerate().map(|(n, l)| format!("{n} {l}\n")).collect::<String>()
+    };
+    let side = serde_json::json!({"dialect": "heidenhain"});
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let tilted = [s, 0.0, c];
+    let close = |a: &[P3], b: &[P3]| a.len() == b.len() && a.iter().zip(b).all(|(g, w)| (0..3).all(|k| (g[k] - w[k]).abs() <= AXIS));
+    let got = axes_along(&plan_of(&program(&[]), &side));
+    assert!(close(&got, &[[0.0, 0.0, 1.0], tilted]), "{got:?}");
+    // Indexed back to B0, the next cut is along Z again.
+    let back = ["L B+0 R0 FMAX", "L X+0 Y+0 Z+2 R0 FMAX", "L Z-1 R0 F400", "L X+20 R0 F400"];
+    let got = axes_along(&plan_of(&program(&back), &side));
+    assert!(close(&got, &[[0.0, 0.0, 1.0], tilted, [0.0, 0.0, 1.0]]), "{got:?}");
+}
