@@ -29,7 +29,16 @@
 //! - roll-pitch-yaw (`tilt-roll-pitch-yaw`, `G68.2 P1`, the code's form chosen by its `P`
 //!   word, the dictionary's `tilt-forms`): about X by A, then the turned Y by B, then the turned
 //!   Z by C: `Rx(A)·Ry(B)·Rz(C)` [LinuxCNC's G68.2 remap's reading of the default order Q123;
-//!   unconfirmed against Fanuc's manual].
+//!   unconfirmed against Fanuc's manual]; its `Q` word the order (`Q321`), I J K staying the
+//!   angles about X, Y and Z as Mazak's G68.2 P1 page documents them;
+//! - three points block by block (`tilt-three-points`, `G68.2 P2 Q0..Q3`) and two vectors
+//!   (`tilt-two-vectors`, `G68.2 P3 Q1 Q2`): the blocks' words kept ([`TiltSteps`]) until the
+//!   one completing the plane, which puts it in force;
+//! - projection angles named by their axes (`tilt-projection-angles`, `G68.2 P4 I J K`): as
+//!   `tilt-projected` with the angles about X and Y swapped into its order.
+//!
+//! Tool centre point control switched off leaves the tool where the rotary axes stand: on a
+//! mill without a tilted plane its axis is the one they index it to.
 //!
 //! Tool centre point control (`M128`, `TRAORI`, `G43.4`) is here too: under it, the rotary
 //! axes' positions turn the tool axis, sent as `ToolAxis` markers.
