@@ -706,3 +706,29 @@ fn the_tool_axis_stays_with_the_rotary_axes_after_tcp_is_off() {
     let got = axes_along(&plan_of(&program(&back), &side));
     assert!(close(&got, &[[0.0, 0.0, 1.0], tilted, [0.0, 0.0, 1.0]]), "{got:?}");
 }
+
+#[test]
+fn g68_2_projection_angle() {
+    edit(
+        "fanuc_g682_p4_projected",
+        "J45. K0.",
+        "J40. K0.",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 45° about B | tilted 40° about B | 14 | 14
+              work plane tilted 45° → 40° about B; 2 holes moved at line 14
+        "#]],
+    );
+}
+
+#[test]
+fn g68_2_two_vectors_z_direction() {
+    edit(
+        "fanuc_g682_p3_vectors",
+        "Q2 I0. J-1. K0.",
+        "Q2 I0. J-0.965926 K0.258819",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 90° about A | tilted 75° about A | 15 | 15
+              work plane tilted 90° → 75° about A; 2 holes moved at line 15
+        "#]],
+    );
+}
