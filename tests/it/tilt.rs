@@ -378,7 +378,7 @@ fn stepnc_keeps_setups_and_placements() {
 /// (Heidenhain `PLANE SPATIAL`/`PLANE RESET`, Siemens `CYCLE800`, Fanuc `G68.2`/`G53.1`/`G69`)
 /// and proven as `translate --check` proves it: the moves compared on their planes. A
 /// translation is `ok` (it runs as the source, each move on the same plane with the same tool
-/// axis: tool centre point control written as `M128`/`TRAORI` with the rotary axes) or refused
+/// axis: tool centre point control written as `FUNCTION TCPM`/`TRAORI`/`G43.4` with the rotary axes) or refused
 /// with the first error; never a plane or a tool axis silently otherwise.
 #[test]
 fn tilted_planes_translate_between_the_controls_that_write_them() {
@@ -400,7 +400,7 @@ fn tilted_planes_translate_between_the_controls_that_write_them() {
                 None => {
                     // The plane (or tool centre point control) is written, and read back as the
                     // source's.
-                    let words = ["PLANE SPATIAL", "CYCLE800(", "G68.2", "M128", "TRAORI"];
+                    let words = ["PLANE SPATIAL", "CYCLE800(", "G68.2", "FUNCTION TCPM", "TRAORI", "G43.4"];
                     assert!(words.iter().any(|w| out.contains(w)), "{name} -> {to}:\n{out}");
                     written += 1;
                     "ok".to_owned()
@@ -731,4 +731,28 @@ fn g68_2_two_vectors_z_direction() {
               work plane tilted 90° → 75° about A; 2 holes moved at line 15
         "#]],
     );
+}
+
+/// Tool centre point control written for a TNC as its user's manual recommends it: `FUNCTION
+/// TCPM` with the tool tip's feed, the rotary words as axis positions and linear rotary
+/// interpolation (what M128 does), `FUNCTION RESET TCPM` after; the proof reads the
+/// translation back and compares each move's tool axis with the source's.
+#[test]
+fn tcp_is_written_for_a_tnc_as_function_tcpm() {
+    let text = "N10 G17 G710 G94 G90\nN20 T4 D1\nN30 M6\nN40 S9000 M3\nN50 TRAORI\nN60 G0 X0 Y30 Z50 B0 C0\n\
+        N70 G1 Z-2 F500\nN80 X20 B15 C0 F2000\nN90 X40 B30 C90\nN100 X60 B0 C90\nN110 G0 Z50\nN120 TRAFOOF\nN130 M30\n";
+    let (source, target) = (crate::translate::dialect("siemens"), crate::translate::dialect("heidenhain"));
+    let (out, diags) = crate::translate::translate(text, &source, &target, "traori_bc");
+    let check = pipeline::check_translation(text.into(), &source, &out, &target, &Profile::default(), &diags);
+    let errors: Vec<_> = diags.iter().chain(&check).filter(|d| d.is_error()).map(|d| d.message.clone()).collect();
+    assert!(errors.is_empty(), "{errors:?}\n{out}");
+    let on = out.lines().position(|l| l.contains("FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS"));
+    let off = out.lines().position(|l| l.contains("FUNCTION RESET TCPM"));
+    assert!(on.is_some() && off > on, "{out}");
+    assert!(!out.contains("M128"), "{out}");
+    // A tool axis the rotary axes written would not give is caught by the proof: the same
+    // program with its B words turned the other way is not the source's.
+    let wrong = out.replace("B+15", "B-15");
+    let check = pipeline::check_translation(text.into(), &source, &wrong, &target, &Profile::default(), &[]);
+    assert!(check.iter().any(|d| d.is_error()), "{wrong}");
 }
