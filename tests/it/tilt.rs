@@ -756,3 +756,20 @@ fn tcp_is_written_for_a_tnc_as_function_tcpm() {
     let check = pipeline::check_translation(text.into(), &source, &wrong, &target, &Profile::default(), &[]);
     assert!(check.iter().any(|d| d.is_error()), "{wrong}");
 }
+
+/// A plane stated over several blocks is put in force by the block completing it, from the
+/// blocks of that definition only: a `G69` between drops the unfinished one (said at the
+/// block that would have completed it), and a block of another form starts again.
+#[test]
+fn a_g68_2_plane_over_several_blocks_is_made_of_its_own_blocks() {
+    let registry = Registry::shipped();
+    let fanuc = registry.get("fanuc").unwrap();
+    let run = |text: &str| pipeline::analyze(text.as_bytes(), &fanuc, &Profile::default());
+    let said = |a: &pipeline::Analysis| a.diagnostics.iter().any(|d| d.message.contains("was not given before"));
+    let whole = run("G21 G90\nG68.2 P3 Q1 X0. Y0. Z0. I1. J0. K0.\nG68.2 P3 Q2 I0. J-1. K0.\nG0 X10. Y10.\nM30\n");
+    assert!(!said(&whole));
+    let dropped = run("G21 G90\nG68.2 P3 Q1 X0. Y0. Z0. I1. J0. K0.\nG69\nG68.2 P3 Q2 I0. J-1. K0.\nG0 X10. Y10.\nM30\n");
+    assert!(said(&dropped));
+    let other = run("G21 G90\nG68.2 P3 Q1 X0. Y0. Z0. I1. J0. K0.\nG68.2 P2 Q3 X0. Y1. Z0.\nM30\n");
+    assert!(said(&other));
+}

@@ -570,6 +570,8 @@ impl Interpreter<'_> {
 
     /// G69 and the like: the tilted plane is cancelled with the rotation.
     pub(in crate::interp) fn untilt(&mut self, sink: &mut dyn CanonSink) {
+        // A plane stated over several blocks and not completed is dropped with it.
+        self.st.tilt_steps = None;
         self.set_frame(None, sink);
     }
 
