@@ -426,6 +426,21 @@ vocab! {
         /// in rotation order Q123) [the order as LinuxCNC's G68.2 remap reads its default Q123;
         /// unconfirmed against Fanuc's manual].
         TiltRollPitchYaw = "tilt-roll-pitch-yaw",
+        /// Tilts the working plane through three points given block by block (Fanuc `G68.2 P2`:
+        /// `Q0 X Y Z` the origin, `Q1`, `Q2`, `Q3` the points as `X Y Z`): the first point to
+        /// the second is the new X, the third on the new +Y side; the plane is put in force at
+        /// the block that completes it; the origin `Q0`'s, else the first point.
+        TiltThreePoints = "tilt-three-points",
+        /// Tilts the working plane by two vectors given block by block (Fanuc `G68.2 P3`: `Q1 X
+        /// Y Z I J K` the origin and the new X's direction, `Q2 I J K` the new Z's); the plane
+        /// is put in force at the block that completes it.
+        TiltTwoVectors = "tilt-two-vectors",
+        /// Tilts the working plane by projection angles (Fanuc `G68.2 P4 I J K`): the plane's
+        /// trace in the YZ plane at `tilt-a` from Y (a turn about X), its trace in the ZX plane
+        /// at `tilt-b` from X (about Y), the new X along the second, turned by `tilt-c` about
+        /// the new Z: Heidenhain's projection angles with the angles named by their axes [the
+        /// traces' reading unconfirmed against the 30i manual's figure].
+        TiltProjectionAngles = "tilt-projection-angles",
         /// Tilts the working plane in force further by Euler angles about an origin in its own
         /// coordinates (Fanuc `G68.4 X Y Z I J K`).
         TiltEulerIncremental = "tilt-euler-incremental",
@@ -643,6 +658,8 @@ vocab! {
         /// angle), bits 1-0,
         /// 3-2, 5-4 the axis of the first, second and third rotation (01 X, 10 Y, 11 Z).
         TiltMode = "tilt-mode",
+        /// A turn about the tilted plane's own Z once its points give it (Fanuc `G68.2 P2 Q0 R`).
+        TiltTurn = "tilt-turn",
         /// A swivel cycle's swivel mode: its units digit 1 adds the swivel to the plane in force
         /// (Siemens `_ST` 200001), 0 swivels from the untilted plane.
         TiltSwivel = "tilt-swivel",

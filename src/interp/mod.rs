@@ -581,6 +581,9 @@ struct State {
     /// Whether tool centre point control is the machine's kinematics' (a switchable
     /// kinematics type, `profile.machine`), which a length offset code does not end.
     tcp_machine: bool,
+    /// A tilted plane stated over several blocks (Fanuc `G68.2 P2 Q0..Q3` three points,
+    /// `G68.2 P3 Q1 Q2` two vectors): what its blocks have given so far.
+    tilt_steps: Option<Box<exec::tilt::TiltSteps>>,
     /// Programmable scaling (G51): centre and factor per linear axis.
     scaling: Option<([f64; 3], [f64; 3])>,
     /// Whether the block's motion mode was already active before it.
@@ -689,6 +692,7 @@ impl State {
             frame: None,
             tcp: false,
             tcp_machine: false,
+            tilt_steps: None,
             scaling: None,
             pole: (0.0, 0.0),
             arc_cw: true,

@@ -27,6 +27,9 @@ struct WordReading {
     /// The role of the sequence number a subprogram call starts at (`M98 Q2100`), read as a
     /// number, no length, in a block with such a call.
     call_start: Option<Role>,
+    /// The role of a tilted-plane code's form selector (`G68.2 P2 Q1`, `P1 Q321`: its
+    /// `tilt-mode`), read as a number, no length.
+    selector: Option<Role>,
 }
 
 impl Interpreter<'_> {
@@ -268,7 +271,12 @@ impl Interpreter<'_> {
             || self.st.motion_code.is_some_and(|c| is_hole_cycle(self.code(c).meaning));
         let calls = self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::SubprogramCall);
         let call_start = self.dialect.macros.call_start.filter(|_| calls).and_then(|l| self.dialect.letter_role(l));
-        WordReading { units, diameter, k_counts, call_start }
+        let selector = self.codes.iter().find_map(|&(c, _)| {
+            let def = self.code(c);
+            let tilt = !def.tilt_forms.is_empty();
+            def.args.iter().find(|&&(_, to)| tilt && to == Role::TiltMode).map(|&(from, _)| from)
+        });
+        WordReading { units, diameter, k_counts, call_start, selector }
     }
 
     /// Word `k` of the block, not a code: into its slot, or the named cycle's arguments. An
@@ -365,6 +373,7 @@ impl Interpreter<'_> {
             && scaled.contains(&role)
             && !(how.k_counts && role == Role::K)
             && how.call_start != Some(role)
+            && how.selector != Some(role)
         {
             let axis = Role::AXES.iter().position(|&a| a == role);
             let absolute = match w.mode {

@@ -378,7 +378,7 @@ fn stepnc_keeps_setups_and_placements() {
 /// (Heidenhain `PLANE SPATIAL`/`PLANE RESET`, Siemens `CYCLE800`, Fanuc `G68.2`/`G53.1`/`G69`)
 /// and proven as `translate --check` proves it: the moves compared on their planes. A
 /// translation is `ok` (it runs as the source, each move on the same plane with the same tool
-/// axis: tool centre point control written as `M128`/`TRAORI` with the rotary axes) or refused
+/// axis: tool centre point control written as `FUNCTION TCPM`/`TRAORI`/`G43.4` with the rotary axes) or refused
 /// with the first error; never a plane or a tool axis silently otherwise.
 #[test]
 fn tilted_planes_translate_between_the_controls_that_write_them() {
@@ -400,7 +400,7 @@ fn tilted_planes_translate_between_the_controls_that_write_them() {
                 None => {
                     // The plane (or tool centre point control) is written, and read back as the
                     // source's.
-                    let words = ["PLANE SPATIAL", "CYCLE800(", "G68.2", "M128", "TRAORI"];
+                    let words = ["PLANE SPATIAL", "CYCLE800(", "G68.2", "FUNCTION TCPM", "TRAORI", "G43.4"];
                     assert!(words.iter().any(|w| out.contains(w)), "{name} -> {to}:\n{out}");
                     written += 1;
                     "ok".to_owned()
@@ -692,4 +692,96 @@ fn a_machine_configuration_beside_the_program_remaps_its_codes() {
     // Without its machine: the language's, where M428 is no code.
     let a = pipeline::analyze(program.as_bytes(), &dialect, &Profile::default());
     assert!(a.diagnostics.iter().any(|d| d.is_error() && d.message.to_ascii_lowercase().contains("m428")), "{:?}", a.diagnostics);
+}
+
+/// After tool centre point control is switched off (`M129`), the rotary axes stand where they
+/// were and the tool with them: the cut after it keeps the tilted axis (not Z), until the
+/// rotary axes index it back.
+#[test]
+fn the_tool_axis_stays_with_the_rotary_axes_after_tcp_is_off() {
+    let program = |back: &[&str]| {
+        let mut lines = vec!["BEGIN PGM T MM", "BLK FORM 0.1 Z X+0 Y+0 Z-40", "BLK FORM 0.2 X+100 Y+60 Z+0", "TOOL CALL 9 Z S12000"];
+        lines.extend(["L B+0 C+0 R0 FMAX", "M128", "L X+0 Y+30 Z+50 R0 FMAX M3", "L Z-1 R0 F400", "L X+30 B+30 R0 F1500"]);
+        lines.extend(["M129", "L X+60 R0 F1500", "L Z+50 R0 FMAX"]);
+        lines.extend(back);
+        lines.extend(["M30", "END PGM T MM"]);
+        lines.iter().enumerate().map(|(n, l)| format!("{n} {l}\n")).collect::<String>()
+    };
+    let side = serde_json::json!({"dialect": "heidenhain"});
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let tilted = [s, 0.0, c];
+    let close = |a: &[P3], b: &[P3]| a.len() == b.len() && a.iter().zip(b).all(|(g, w)| (0..3).all(|k| (g[k] - w[k]).abs() <= AXIS));
+    let got = axes_along(&plan_of(&program(&[]), &side));
+    assert!(close(&got, &[[0.0, 0.0, 1.0], tilted]), "{got:?}");
+    // Indexed back to B0, the next cut is along Z again.
+    let back = ["L B+0 R0 FMAX", "L X+0 Y+0 Z+2 R0 FMAX", "L Z-1 R0 F400", "L X+20 R0 F400"];
+    let got = axes_along(&plan_of(&program(&back), &side));
+    assert!(close(&got, &[[0.0, 0.0, 1.0], tilted, [0.0, 0.0, 1.0]]), "{got:?}");
+}
+
+#[test]
+fn g68_2_projection_angle() {
+    edit(
+        "fanuc_g682_p4_projected",
+        "J45. K0.",
+        "J40. K0.",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 45° about B | tilted 40° about B | 14 | 14
+              work plane tilted 45° → 40° about B; 2 holes moved at line 14
+        "#]],
+    );
+}
+
+#[test]
+fn g68_2_two_vectors_z_direction() {
+    edit(
+        "fanuc_g682_p3_vectors",
+        "Q2 I0. J-1. K0.",
+        "Q2 I0. J-0.965926 K0.258819",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted 90° about A | tilted 75° about A | 15 | 15
+              work plane tilted 90° → 75° about A; 2 holes moved at line 15
+        "#]],
+    );
+}
+
+/// Tool centre point control written for a TNC as its user's manual recommends it: `FUNCTION
+/// TCPM` with the tool tip's feed, the rotary words as axis positions and linear rotary
+/// interpolation (what M128 does), `FUNCTION RESET TCPM` after; the proof reads the
+/// translation back and compares each move's tool axis with the source's.
+#[test]
+fn tcp_is_written_for_a_tnc_as_function_tcpm() {
+    let text = "N10 G17 G710 G94 G90\nN20 T4 D1\nN30 M6\nN40 S9000 M3\nN50 TRAORI\nN60 G0 X0 Y30 Z50 B0 C0\n\
+        N70 G1 Z-2 F500\nN80 X20 B15 C0 F2000\nN90 X40 B30 C90\nN100 X60 B0 C90\nN110 G0 Z50\nN120 TRAFOOF\nN130 M30\n";
+    let (source, target) = (crate::translate::dialect("siemens"), crate::translate::dialect("heidenhain"));
+    let (out, diags) = crate::translate::translate(text, &source, &target, "traori_bc");
+    let check = pipeline::check_translation(text.into(), &source, &out, &target, &Profile::default(), &diags);
+    let errors: Vec<_> = diags.iter().chain(&check).filter(|d| d.is_error()).map(|d| d.message.clone()).collect();
+    assert!(errors.is_empty(), "{errors:?}\n{out}");
+    let on = out.lines().position(|l| l.contains("FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS"));
+    let off = out.lines().position(|l| l.contains("FUNCTION RESET TCPM"));
+    assert!(on.is_some() && off > on, "{out}");
+    assert!(!out.contains("M128"), "{out}");
+    // A tool axis the rotary axes written would not give is caught by the proof: the same
+    // program with its B words turned the other way is not the source's.
+    let wrong = out.replace("B+15", "B-15");
+    let check = pipeline::check_translation(text.into(), &source, &wrong, &target, &Profile::default(), &[]);
+    assert!(check.iter().any(|d| d.is_error()), "{wrong}");
+}
+
+/// A plane stated over several blocks is put in force by the block completing it, from the
+/// blocks of that definition only: a `G69` between drops the unfinished one (said at the
+/// block that would have completed it), and a block of another form starts again.
+#[test]
+fn a_g68_2_plane_over_several_blocks_is_made_of_its_own_blocks() {
+    let registry = Registry::shipped();
+    let fanuc = registry.get("fanuc").unwrap();
+    let run = |text: &str| pipeline::analyze(text.as_bytes(), &fanuc, &Profile::default());
+    let said = |a: &pipeline::Analysis| a.diagnostics.iter().any(|d| d.message.contains("was not given before"));
+    let whole = run("G21 G90\nG68.2 P3 Q1 X0. Y0. Z0. I1. J0. K0.\nG68.2 P3 Q2 I0. J-1. K0.\nG0 X10. Y10.\nM30\n");
+    assert!(!said(&whole));
+    let dropped = run("G21 G90\nG68.2 P3 Q1 X0. Y0. Z0. I1. J0. K0.\nG69\nG68.2 P3 Q2 I0. J-1. K0.\nG0 X10. Y10.\nM30\n");
+    assert!(said(&dropped));
+    let other = run("G21 G90\nG68.2 P3 Q1 X0. Y0. Z0. I1. J0. K0.\nG68.2 P2 Q3 X0. Y1. Z0.\nM30\n");
+    assert!(said(&other));
 }

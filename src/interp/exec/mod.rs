@@ -34,7 +34,7 @@ mod offsets;
 mod records;
 mod spindle;
 mod stops;
-mod tilt;
+pub(super) mod tilt;
 mod tool;
 mod transform;
 
@@ -166,6 +166,9 @@ impl Interpreter<'_> {
             | Meaning::TiltEuler
             | Meaning::TiltEulerIncremental
             | Meaning::TiltRollPitchYaw
+            | Meaning::TiltThreePoints
+            | Meaning::TiltTwoVectors
+            | Meaning::TiltProjectionAngles
             | Meaning::TiltVector
             | Meaning::TiltPoints
             | Meaning::TiltProjected

@@ -29,7 +29,16 @@
 //! - roll-pitch-yaw (`tilt-roll-pitch-yaw`, `G68.2 P1`, the code's form chosen by its `P`
 //!   word, the dictionary's `tilt-forms`): about X by A, then the turned Y by B, then the turned
 //!   Z by C: `Rx(A)·Ry(B)·Rz(C)` [LinuxCNC's G68.2 remap's reading of the default order Q123;
-//!   unconfirmed against Fanuc's manual].
+//!   unconfirmed against Fanuc's manual]; its `Q` word the order (`Q321`), I J K staying the
+//!   angles about X, Y and Z as Mazak's G68.2 P1 page documents them;
+//! - three points block by block (`tilt-three-points`, `G68.2 P2 Q0..Q3`) and two vectors
+//!   (`tilt-two-vectors`, `G68.2 P3 Q1 Q2`): the blocks' words kept ([`TiltSteps`]) until the
+//!   one completing the plane, which puts it in force;
+//! - projection angles named by their axes (`tilt-projection-angles`, `G68.2 P4 I J K`): as
+//!   `tilt-projected` with the angles about X and Y swapped into its order.
+//!
+//! Tool centre point control switched off leaves the tool where the rotary axes stand: on a
+//! mill without a tilted plane its axis is the one they index it to.
 //!
 //! Tool centre point control (`M128`, `TRAORI`, `G43.4`) is here too: under it, the rotary
 //! axes' positions turn the tool axis, sent as `ToolAxis` markers.
@@ -143,6 +152,34 @@ fn line_numbers(rest: &str) -> Vec<(&str, Option<f64>)> {
     out
 }
 
+/// The rotation order word of roll-pitch-yaw angles (Fanuc `G68.2 P1 Q123`, default 123): the
+/// axes (0 X, 1 Y, 2 Z) in the order turned, each once; `None` for another number.
+fn rotation_order(q: Option<f64>) -> Option<[usize; 3]> {
+    let q = q.unwrap_or(123.0);
+    if q.fract() != 0.0 || !(123.0..=321.0).contains(&q) {
+        return None;
+    }
+    let q = q as usize;
+    let axes = [q / 100, q / 10 % 10, q % 10];
+    let mut seen = [false; 3];
+    for &a in &axes {
+        if !(1..=3).contains(&a) || std::mem::replace(&mut seen[a - 1], true) {
+            return None;
+        }
+    }
+    Some(axes.map(|a| a - 1))
+}
+
+/// What the blocks of a tilted plane stated over several have given so far: by its `Q`
+/// number, a point (`X Y Z`) and a direction (`I J K`).
+#[derive(Clone, Debug, PartialEq)]
+pub(in crate::interp) struct TiltSteps {
+    form: Meaning,
+    given: [Option<([f64; 3], [f64; 3])>; 4],
+    /// The turn about the plane's Z (`R`).
+    turn: f64,
+}
+
 impl Interpreter<'_> {
     /// The value the code gives role `role`: a word of its unread rest of line
     /// (`line-words`), a word its `args` map to the role, or the block's word of that role.
@@ -183,7 +220,44 @@ impl Interpreter<'_> {
                 Some(Frame { origin: origin(self), rotation: chain([2, 1, 0], [c, b, a]) })
             }
             Meaning::TiltEuler => Some(Frame { origin: origin(self), rotation: chain([2, 0, 2], angles(self)) }),
-            Meaning::TiltRollPitchYaw => Some(Frame { origin: origin(self), rotation: chain([0, 1, 2], angles(self)) }),
+            Meaning::TiltRollPitchYaw => {
+                let Some(axes) = rotation_order(get(self, Role::TiltMode)) else {
+                    let msg =
+                        format!("{}: a rotation order the analysis does not know (Q123 to Q321); the plane in force stays", def.label());
+                    diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
+                    return;
+                };
+                let by_axis = angles(self);
+                Some(Frame { origin: origin(self), rotation: chain(axes, axes.map(|a| by_axis[a])) })
+            }
+            Meaning::TiltProjectionAngles => {
+                let [about_x, about_y, turn] = angles(self);
+                let Some(rotation) = projected(about_y, about_x) else {
+                    let msg = format!("{}: the projection angles give no plane; the plane in force stays", def.label());
+                    diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
+                    return;
+                };
+                Some(Frame { origin: origin(self), rotation: mul(rotation, rot(2, turn)) })
+            }
+            Meaning::TiltThreePoints | Meaning::TiltTwoVectors => {
+                let given = |s: &Self, rs: [Role; 3]| {
+                    let v = rs.map(|r| get(s, r));
+                    v.iter().any(Option::is_some).then(|| v.map(|x| x.unwrap_or(0.0)))
+                };
+                let step = get(self, Role::TiltMode).unwrap_or(0.0);
+                let at = given(self, [Role::TiltOriginX, Role::TiltOriginY, Role::TiltOriginZ]);
+                let dir = given(self, [Role::TiltA, Role::TiltB, Role::TiltC]);
+                let turn = get(self, Role::TiltTurn);
+                match self.tilt_step(meaning, step, at, dir, turn) {
+                    Ok(Some(frame)) => Some(frame),
+                    Ok(None) => return,
+                    Err(why) => {
+                        let msg = format!("{} Q{step}: {why}; the plane in force stays", def.label());
+                        diags.push(Diagnostic::new(Code::TiltUnknown, range, msg));
+                        return;
+                    }
+                }
+            }
             Meaning::TiltVector => {
                 let base = [Role::TiltBaseX, Role::TiltBaseY, Role::TiltBaseZ].map(|r| get(self, r).unwrap_or(0.0));
                 let normal = [Role::ToolAxisI, Role::ToolAxisJ, Role::ToolAxisK].map(|r| get(self, r).unwrap_or(0.0));
@@ -240,6 +314,56 @@ impl Interpreter<'_> {
             _ => return,
         };
         self.set_frame(frame, sink);
+    }
+
+    /// One block of a tilted plane stated over several (Fanuc `G68.2 P2 Q0..Q3`, `G68.2 P3
+    /// Q1 Q2`): its words kept; the frame once the block completing it comes, `None` before.
+    /// A block out of the form's order, or of another form, starts it again (said).
+    fn tilt_step(
+        &mut self,
+        form: Meaning,
+        step: f64,
+        at: Option<[f64; 3]>,
+        dir: Option<[f64; 3]>,
+        turn: Option<f64>,
+    ) -> Result<Option<Frame>, String> {
+        let three = form == Meaning::TiltThreePoints;
+        let last: u8 = if three { 3 } else { 2 };
+        let first: u8 = if three { 0 } else { 1 };
+        if step.fract() != 0.0 || step < f64::from(first) || step > f64::from(last) {
+            self.st.tilt_steps = None;
+            return Err(format!("not a block of this form (Q{first} to Q{last})"));
+        }
+        let step = step as usize;
+        let steps = self.st.tilt_steps.get_or_insert_with(|| Box::new(TiltSteps { form, given: [None; 4], turn: 0.0 }));
+        if steps.form != form {
+            **steps = TiltSteps { form, given: [None; 4], turn: 0.0 };
+        }
+        steps.given[step] = Some((at.unwrap_or([0.0; 3]), dir.unwrap_or([0.0; 3])));
+        if let Some(turn) = turn {
+            steps.turn = turn;
+        }
+        if step != usize::from(last) {
+            return Ok(None);
+        }
+        let steps = self.st.tilt_steps.take().expect("kept above");
+        let g = steps.given;
+        if three {
+            let (Some((p1, _)), Some((p2, _)), Some((p3, _))) = (g[1], g[2], g[3]) else {
+                return Err("the first or second point was not given before the third".into());
+            };
+            let x = std::array::from_fn(|i| p2[i] - p1[i]);
+            let y = std::array::from_fn(|i| p3[i] - p1[i]);
+            let rotation = by_vectors(x, cross(x, y)).ok_or("the three points lie on a line")?;
+            // The origin: Q0's where given, else the first point.
+            let origin = g[0].map_or(p1, |(o, _)| o);
+            Ok(Some(Frame { origin, rotation: mul(rotation, rot(2, steps.turn)) }))
+        } else {
+            let Some((origin, x)) = g[1] else { return Err("the X direction (Q1) was not given before the Z direction".into()) };
+            let (_, z) = g[2].expect("this block");
+            let rotation = by_vectors(x, z).ok_or("the X and Z directions are zero or parallel")?;
+            Ok(Some(Frame { origin, rotation }))
+        }
     }
 
     /// The meaning the block's form word gives a tilted-plane code (`G68.2 P1`: roll-pitch-yaw,
@@ -322,14 +446,17 @@ impl Interpreter<'_> {
     }
 
     /// Tool centre point control on or off. On, the rotary axes' positions give the tool axis
-    /// (see [`Interpreter::rotary_tool_axis`]); off, the tool axis is the plane's Z again.
+    /// (see [`Interpreter::rotary_tool_axis`]). Off, the rotary axes stay where they stand and
+    /// the tool with them: on a mill without a tilted plane, the axis they index the tool to
+    /// (as [`Interpreter::rotary_turns_tool`] reads them without the control); else the plane's
+    /// Z (a tilted plane gives the axis, a lathe's C is its spindle).
     pub(in crate::interp) fn tcp(&mut self, on: bool, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         if on == self.st.tcp {
             return;
         }
         self.st.tcp = on;
         self.emit(sink, CanonOp::Setting(crate::canon::Setting::ToolCentrePoint(on)));
-        if on {
+        if on || self.rotary_indexes_tool() {
             self.rotary_tool_axis(sink, diags);
         } else {
             self.set_tool_axis([0.0, 0.0, 1.0], sink);
@@ -357,14 +484,17 @@ impl Interpreter<'_> {
     /// a ZX start plane) C is the spindle's position, and under polar interpolation (`G12.1`,
     /// `TRANSMIT`) the face's plane: the tool axis stays.
     pub(in crate::interp) fn rotary_turns_tool(&self) -> bool {
-        if self.st.tcp {
-            return true;
-        }
-        let b = &self.dialect.behaviour;
-        let lathe = b.x_diameter || b.initial_plane != crate::canon::Plane::Xy;
         // Only where the rotary words are the move's destination: a reference return's
         // (`G28 A0`) are its intermediate point, a `G92 A0`'s or a `G10`'s no move at all.
-        self.st.frame.is_none() && self.st.face_plane.is_none() && !lathe && self.active_motion_code().is_some()
+        self.st.tcp || (self.rotary_indexes_tool() && self.active_motion_code().is_some())
+    }
+
+    /// Whether rotary axes standing without tool centre point control index the tool on the
+    /// part: a mill's dictionary, no tilted working plane, no polar interpolation.
+    fn rotary_indexes_tool(&self) -> bool {
+        let b = &self.dialect.behaviour;
+        let lathe = b.x_diameter || b.initial_plane != crate::canon::Plane::Xy;
+        self.st.frame.is_none() && self.st.face_plane.is_none() && !lathe
     }
 
     /// The tool axis the block's rotary axes turn the tool to (under tool centre point
@@ -440,6 +570,8 @@ impl Interpreter<'_> {
 
     /// G69 and the like: the tilted plane is cancelled with the rotation.
     pub(in crate::interp) fn untilt(&mut self, sink: &mut dyn CanonSink) {
+        // A plane stated over several blocks and not completed is dropped with it.
+        self.st.tilt_steps = None;
         self.set_frame(None, sink);
     }
 
@@ -545,6 +677,25 @@ mod tests {
             let r = chain([2, 1, 0], [abc[2], abc[1], abc[0]]);
             assert!(close(crate::canon::rotary_tool_axis(abc), [r[0][2], r[1][2], r[2][2]]), "{abc:?}");
         }
+    }
+
+    #[test]
+    fn rotation_orders_name_each_axis_once() {
+        assert_eq!(rotation_order(None), Some([0, 1, 2]));
+        assert_eq!(rotation_order(Some(321.0)), Some([2, 1, 0]));
+        assert_eq!(rotation_order(Some(132.0)), Some([0, 2, 1]));
+        for bad in [313.0, 122.0, 124.0, 0.123, 1230.0] {
+            assert_eq!(rotation_order(Some(bad)), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn projection_angles_named_by_their_axes() {
+        // Fanuc P4 I (about X) and J (about Y) are Heidenhain's PROMIN and PROPR: one alone
+        // tilts as the turn about its axis.
+        let f = Frame { origin: [0.0; 3], rotation: projected(0.0, -30.0).unwrap() };
+        let (s, c) = 30f64.to_radians().sin_cos();
+        assert!(close(f.axis(), [0.0, s, c]));
     }
 
     #[test]
