@@ -609,15 +609,19 @@ impl Builder {
     }
 
     /// Whether every cut so far faces: none feeds towards -Z, and some cut across X reaches
-    /// the axis (X words are radii here, in the lathe's ZX plane).
+    /// the axis (X words are radii here, in the lathe's ZX plane), each cut across going
+    /// towards it, as facing passes are written (passes across that feed away from the axis
+    /// are a facing cycle's levels, which its pass along the profile ends).
     fn faces_only(&self) -> bool {
         let mut cuts = self.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
-        let (mut across_to_axis, mut deeper) = (false, false);
+        let (mut across_to_axis, mut deeper, mut outward) = (false, false, false);
         for m in cuts.by_ref() {
             deeper |= m.to[2] < m.from[2] - 0.05;
-            across_to_axis |= (m.to[2] - m.from[2]).abs() < 1e-3 && m.to[0].min(m.from[0]) < 0.05;
+            let across = (m.to[2] - m.from[2]).abs() < 1e-3;
+            across_to_axis |= across && m.to[0].min(m.from[0]) < 0.05;
+            outward |= across && m.to[0].abs() > m.from[0].abs() + 0.5;
         }
-        across_to_axis && !deeper
+        across_to_axis && !deeper && !outward
     }
 
     /// Whether the cuts so far are several passes, none reaching the axis.

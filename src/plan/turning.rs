@@ -61,6 +61,7 @@ pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
 /// Names each turning workingstep's operation and builds the turned features.
 /// `remeasure` measures a workingstep again after its moves changed (recovery's `measure`).
 pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    separate_operations(plan, remeasure);
     for ws in &mut plan.workingsteps {
         beyond_the_centre(ws, remeasure);
     }
@@ -211,6 +212,118 @@ fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
         .collect();
     ws.toolpath = moves;
     remeasure(ws);
+}
+
+/// The cuts of a workingstep as runs between rapids: the toolpath index of each run's first
+/// and past its last cut.
+fn run_spans(ws: &Workingstep) -> Vec<(usize, usize)> {
+    let mut out: Vec<(usize, usize)> = Vec::new();
+    let mut open = false;
+    for (i, m) in ws.toolpath.iter().enumerate() {
+        if m.kind == MoveKind::Rapid || m.phase != Phase::Cut {
+            open = false;
+            continue;
+        }
+        match out.last_mut() {
+            Some(r) if open => r.1 = i + 1,
+            _ => out.push((i, i + 1)),
+        }
+        open = true;
+    }
+    out
+}
+
+/// One tool's operations run back to back at one feed and speed with nothing between them
+/// but rapids (LinuxCNC's `G70`, `G71` and `G72` one after another over a subroutine's
+/// profile, as its manual shows them; a post's roughing then finishing at one feed). A turner
+/// reads where one ends from the passes: a pass along the whole contour ends an operation (a
+/// finish, or the roughing cycle's last pass over the stock it leaves), so straight passes
+/// after one begin another (roughing again, along or across); and a pass along the whole
+/// contour after the roughing's passes along parts of it (its pockets), or after its own
+/// last pass along the contour, is the finish.
+/// Read on the moves alone, so that a program and its translation, the cycle written as moves,
+/// part them alike.
+fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    let explicit = |w: &Workingstep| {
+        w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none() && t.pitch.is_none()) && w.holes.is_empty()
+    };
+    let mut out: Vec<Workingstep> = Vec::new();
+    for ws in std::mem::take(&mut plan.workingsteps) {
+        if !explicit(&ws) {
+            out.push(ws);
+            continue;
+        }
+        let spans = run_spans(&ws);
+        let moves: Vec<Move> = ws.toolpath.iter().collect();
+        let way = |&(a, b): &(usize, usize)| main_cut(&moves[a..b]).map(|(w, _)| w).unwrap_or(Way::Profile);
+        // Whether run `k` follows the whole contour of the operation begun at run `from`: a
+        // pass along the profile over most of the length and half the depth the operation cut.
+        let full = |from: usize, k: usize| {
+            let span = |a: usize, b: usize, axis: usize| {
+                let v = moves[a..b].iter().flat_map(|m| [m.from[axis], m.to[axis]]);
+                let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+                hi - lo
+            };
+            let (a, b) = (spans[from].0, spans[k].1);
+            let (run_a, run_b) = spans[k];
+            way(&spans[k]) == Way::Profile && span(run_a, run_b, 2) >= 0.8 * span(a, b, 2) && span(run_a, run_b, 0) >= 0.5 * span(a, b, 0)
+        };
+        // Where each later operation begins: after the run before it ends.
+        let mut cuts_at: Vec<usize> = Vec::new();
+        let mut from = 0;
+        for k in 1..spans.len() {
+            let now = way(&spans[k]);
+            // Straight passes after a pass along the whole contour: roughing again.
+            let after_contour = now != Way::Profile && full(from, k - 1);
+            // A second pass along the contour after the roughing's passes: the finish.
+            let finish = way(&spans[k - 1]) == Way::Profile && k - from >= 2 && full(from, k);
+            if after_contour || finish {
+                cuts_at.push(spans[k - 1].1);
+                from = k;
+            }
+        }
+        if cuts_at.is_empty() {
+            out.push(ws);
+            continue;
+        }
+        let mut bounds = vec![0];
+        bounds.extend(cuts_at);
+        bounds.push(moves.len());
+        for w in bounds.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let mut piece = ws.clone();
+            let first_cut = moves[a..b].iter().position(|m| m.phase == Phase::Cut).map_or(a, |i| a + i);
+            piece.toolpath = moves[a..b]
+                .iter()
+                .enumerate()
+                .map(|(i, m)| Move { phase: if a > 0 && a + i < first_cut { Phase::Approach } else { m.phase }, ..*m })
+                .collect();
+            let inside = |at: u32| (at as usize) >= a && ((at as usize) < b || b == moves.len());
+            piece.state.stops = ws.state.stops.iter().filter(|s| inside(s.at)).map(|s| Stop { at: s.at - a as u32, ..*s }).collect();
+            piece.state.dwells = ws.state.dwells.iter().filter(|d| inside(d.at)).map(|d| Dwell { at: d.at - a as u32, ..*d }).collect();
+            let lines = moves[a..b].iter().map(|m| m.line);
+            let (lo, hi) = lines.fold((u32::MAX, 0), |(l, h), x| (l.min(x), h.max(x)));
+            if hi > 0 {
+                piece.lines = (if a == 0 { ws.lines.0 } else { lo }, if b == moves.len() { ws.lines.1 } else { hi });
+            }
+            piece.state.optional_lines.retain(|l| *l >= piece.lines.0 && *l <= piece.lines.1);
+            let mut feeds: Vec<f64> = Vec::new();
+            for m in moves[a..b].iter().filter(|m| m.kind != MoveKind::Rapid) {
+                if !feeds.iter().any(|f| (f - m.feed).abs() < 1e-9) {
+                    feeds.push(m.feed);
+                }
+            }
+            if !feeds.is_empty() {
+                piece.technology.feeds = feeds;
+            }
+            remeasure(&mut piece);
+            out.push(piece);
+        }
+    }
+    for (k, ws) in out.iter_mut().enumerate() {
+        ws.index = k as u32 + 1;
+    }
+    plan.workingsteps = out;
 }
 
 /// How a pass cuts: across the axis (X, a face), along it (Z), or along a profile.
@@ -481,7 +594,16 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         // where its roughing was (below).
         None if finish_cycle => boring,
         None => {
-            t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)) || pulls_off_inward(&runs)
+            // (Coming in at the small end counts only for straight passes on one side of the
+            // axis: a pass along the contour from its small end turns the outside, and passes
+            // across the axis, from one side to the other, have no inside.)
+            t.inside
+                || boring
+                || (runs.len() > 1
+                    && xmin > -1.0
+                    && runs.first().is_some_and(|r| main_cut(r).is_some())
+                    && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL))
+                || pulls_off_inward(&runs)
         }
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
@@ -551,7 +673,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
         None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
-        None => (TurnOp::Contouring, runs.len() > 1),
+        // Every pass along the whole contour (LinuxCNC's `G70 P2`, a finish and its spring
+        // pass): finishing, however many passes.
+        None => (TurnOp::Contouring, runs.len() > 1 && !runs.iter().all(|r| whole_contour(r, zmax - zmin))),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
     // roughing is that (a roughing operation's one pass over a last region). Passes stepping
@@ -564,6 +688,14 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// Whether a run of cuts follows the contour over (nearly) the whole length `length` the
+/// workingstep cuts: several moves or arcs, no one straight way most of it.
+fn whole_contour(run: &[Move], length: f64) -> bool {
+    let zs = run.iter().flat_map(|m| [m.from[2], m.to[2]]);
+    let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    main_cut(run).is_none() && hi - lo >= 0.8 * length
 }
 
 /// Whether the passes, as CAM posts and turners write them, pull off the wall towards the
@@ -696,8 +828,16 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
 /// by its allowances. Explicit roughing passes leave no finished shape of their own.
 fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKind, f64)> {
     let runs = runs(ws);
+    // Passes each along the whole contour (a finish and its spring pass, LinuxCNC's `G70 P2`
+    // closing in on the contour): the last is the part's.
+    let zs = runs.iter().flatten().flat_map(|m| [m.from[2], m.to[2]]);
+    let (zlo, zhi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    let finished = || match runs.as_slice() {
+        [.., last] if runs.len() > 1 && runs.iter().all(|r| whole_contour(r, zhi - zlo)) => last.clone(),
+        _ => runs.concat(),
+    };
     let (profile, shift) = match t.intent.as_ref().and_then(|i| i.kind) {
-        Some(TurnKind::Finish) => (runs.concat(), (0.0, 0.0)),
+        Some(TurnKind::Finish) => (finished(), (0.0, 0.0)),
         // Stock left all round (LinuxCNC's D) is no shift along X and Z: the finishing
         // pass gives the features.
         Some(TurnKind::RoughTurn | TurnKind::RoughFace)
@@ -713,7 +853,7 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
             let az = i.and_then(|i| i.allowance_z).unwrap_or(0.0);
             (runs.last().cloned().unwrap_or_default(), (ax, az))
         }
-        None if !t.rough => (runs.concat(), (0.0, 0.0)),
+        None if !t.rough => (finished(), (0.0, 0.0)),
         _ => return Vec::new(),
     };
     let nose = nose_arcs(ws, &profile);
