@@ -103,7 +103,11 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     let face = plan
         .workingsteps
         .iter()
-        .find(|w| w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside))
+        // (A face to the axis: a cut across a shoulder further back, a cut-off tool's chamfer
+        // before it parts, is no front.)
+        .find(|w| {
+            w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside && t.diameter.is_none_or(|d| d[0] < 0.1))
+        })
         .and_then(|w| cuts(w).into_iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]).map(|m| m.to[2]).next_back())
         // None faces: the program zero, where lathe programs put the front, unless the
         // highest cut across X lies far beyond it (more than any approach clearance: a shaft
@@ -257,16 +261,19 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
         let moves: Vec<Move> = ws.toolpath.iter().collect();
         let way = |&(a, b): &(usize, usize)| main_cut(&moves[a..b]).map(|(w, _)| w).unwrap_or(Way::Profile);
         // Whether run `k` follows the whole contour of the operation begun at run `from`: a
-        // pass along the profile over most of the length and half the depth the operation cut.
+        // pass along the profile over most of the length and half the depth the operation cut
+        // (turning), or most of the depth and half the length (facing).
         let full = |from: usize, k: usize| {
             let span = |a: usize, b: usize, axis: usize| {
-                let v = moves[a..b].iter().flat_map(|m| [m.from[axis], m.to[axis]]);
+                let cut = moves[a..b].iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+                let v = cut.flat_map(|m| [m.from[axis], m.to[axis]]);
                 let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
                 hi - lo
             };
             let (a, b) = (spans[from].0, spans[k].1);
             let (run_a, run_b) = spans[k];
-            way(&spans[k]) == Way::Profile && span(run_a, run_b, 2) >= 0.8 * span(a, b, 2) && span(run_a, run_b, 0) >= 0.5 * span(a, b, 0)
+            let share = |axis: usize| span(run_a, run_b, axis) / span(a, b, axis).max(TOL);
+            way(&spans[k]) == Way::Profile && ((share(2) >= 0.8 && share(0) >= 0.5) || (share(0) >= 0.8 && share(2) >= 0.5))
         };
         // Where each later operation begins: after the run before it ends.
         let mut cuts_at: Vec<usize> = Vec::new();
@@ -635,10 +642,21 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         at.dedup_by(|a, b| (*a - *b).abs() < TOL);
         (n, at.len())
     };
+    // A contour cycle over a contour that is only a face, across X to the axis (a `G71`/`G70`
+    // pair over `X-0.063 Z0.1`, `Z0`, `X3.`): facing, as a turner names what it does. The
+    // contour is the finishing cycle's cut, or the roughing cycle's last pass.
+    let face_contour = |contour: &[Move]| {
+        let across: f64 = contour.iter().filter(|m| across(m)).map(length).sum();
+        let all: f64 = contour.iter().map(length).sum();
+        let lo = contour.iter().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
+        all > TOL && across >= 0.75 * all && lo < 0.05
+    };
     let (op, rough) = match intent_kind {
+        Some(TurnKind::RoughTurn) if runs.last().is_some_and(|r| face_contour(r)) => (TurnOp::Facing, true),
         Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
         Some(TurnKind::RoughFace) => (TurnOp::Facing, true),
         Some(TurnKind::FacePass) => (TurnOp::Facing, runs.len() > 1),
+        Some(TurnKind::Finish) if face_contour(&cuts) => (TurnOp::Facing, false),
         Some(TurnKind::Finish) => (TurnOp::Contouring, false),
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
         Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
@@ -879,6 +897,10 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         } else if (x1 - x0).abs() < TOL && z0.min(z1) > face - TOL {
             // In front of the face (Z0, where lathe programs put it, or where the program
             // faced it): the lead-in from the cycle's start, in air.
+            continue;
+        } else if (x1 - x0).abs() < TOL && z1 > z0 && z1 > face + TOL && shift != (0.0, 0.0) {
+            // A roughing cycle's last pass running back along +Z out past the face: the
+            // contour's way back to the start point (its closing `G00`), no diameter.
             continue;
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
             // What runs on in front of the face is the lead-in.
