@@ -589,6 +589,9 @@ struct Builder {
     /// Cut in the XY plane: on a program that turns, milling on the face (polar coordinate
     /// interpolation) or drilling along Z with a driven tool, not turning.
     milling: bool,
+    /// On a lathe: each feed per revolution the cuts ran at (none: per minute), with the feed
+    /// per minute it first gave and the length cut at it.
+    cut_at: Vec<(Option<f64>, f64, f64)>,
 }
 
 impl Builder {
@@ -673,6 +676,10 @@ struct Tentative {
     origin: TextRange,
     line: u32,
 }
+
+/// The largest feed per revolution a turning insert cuts at, mm/rev; above it a feed move
+/// only positions the tool.
+const MAX_CUTTING_FEED_PER_REV: f64 = 1.5;
 
 struct Recovery<'p> {
     profile: &'p Profile,
@@ -1339,6 +1346,7 @@ impl<'p> Recovery<'p> {
                 setup: self.setup,
                 turn_seq: self.turn_seq,
                 turning,
+                cut_at: Vec::new(),
                 milling: self.mills(&mv),
             });
         }
@@ -1385,6 +1393,14 @@ impl<'p> Recovery<'p> {
         }
         if is_cut {
             b.cut_feed = Some(decisive_feed);
+            if lathe && mv.kind != MoveKind::Rapid {
+                let per_rev = (self.per_rev && self.sync.is_none()).then_some(self.feed);
+                let length = (mv.to[0] - mv.from[0]).hypot(mv.to[2] - mv.from[2]);
+                match b.cut_at.iter_mut().find(|c| c.0 == per_rev) {
+                    Some(c) => c.2 += length,
+                    None => b.cut_at.push((per_rev, mv.feed, length)),
+                }
+            }
             // A feed out of a hole is no level and no region.
             if !is_lift(&mv) {
                 b.note_cut(&mv);
@@ -1507,6 +1523,7 @@ impl<'p> Recovery<'p> {
             setup,
             turn_seq,
             turning,
+            cut_at: Vec::new(),
             milling: self.plane == Plane::Xy,
         });
     }
@@ -1570,6 +1587,23 @@ impl<'p> Recovery<'p> {
         if !self.optional.is_empty() {
             let lines: BTreeSet<u32> = b.moves.iter().map(|m| m.line).filter(|l| self.optional.contains(l)).collect();
             state.optional_lines = lines.into_iter().collect();
+        }
+        // Passes written as moves: the feed the cutting is done at decides, not an approach at
+        // a feed of its own (`G1 Z0. F2.` to the face, then `X1. F0.05` across it): the feed
+        // per revolution most of the length was cut at, leaving out feeds no turning insert
+        // cuts at (over 1.5 mm/rev: a fast feed in to the work, in place of a rapid). A lathe
+        // cycle's feed is its own.
+        let cutting = |c: &&(Option<f64>, f64, f64)| c.0.is_none_or(|f| f <= MAX_CUTTING_FEED_PER_REV);
+        if self.lathe
+            && !b.milling
+            && b.turning.intent.is_none()
+            && b.turning.pitch.is_none()
+            && let Some(&(per_rev, feed, _)) = b.cut_at.iter().filter(cutting).max_by(|a, c| a.2.total_cmp(&c.2))
+            && per_rev.is_some()
+            && per_rev != b.turning.feed_per_rev
+        {
+            b.turning.feed_per_rev = per_rev;
+            b.technology.feed = feed;
         }
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         ws.state = state;

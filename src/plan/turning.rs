@@ -259,7 +259,7 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
         }
         let spans = run_spans(&ws);
         let moves: Vec<Move> = ws.toolpath.iter().collect();
-        let way = |&(a, b): &(usize, usize)| main_cut(&moves[a..b]).map(|(w, _)| w).unwrap_or(Way::Profile);
+        let way = |&(a, b): &(usize, usize)| pass_way(&moves[a..b]);
         // Whether run `k` follows the whole contour of the operation begun at run `from`: a
         // pass along the profile over most of the length and half the depth the operation cut
         // (turning), or most of the depth and half the length (facing).
@@ -331,6 +331,27 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
         ws.index = k as u32 + 1;
     }
     plan.workingsteps = out;
+}
+
+/// The way a pass runs: straight (along or across) where that way makes most of its length,
+/// its lead-in and pull-out short; else along the profile.
+fn pass_way(run: &[Move]) -> Way {
+    let len = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let total: f64 = run.iter().map(len).sum();
+    let share = |w: Way| {
+        let straight = |m: &&Move| {
+            m.arc.is_none()
+                && match w {
+                    Way::Across => (m.to[2] - m.from[2]).abs() < TOL,
+                    _ => (m.to[0] - m.from[0]).abs() < TOL,
+                }
+        };
+        run.iter().filter(straight).map(len).sum::<f64>()
+    };
+    match main_cut(run) {
+        Some((w, _)) if share(w) >= 0.8 * total => w,
+        _ => Way::Profile,
+    }
 }
 
 /// How a pass cuts: across the axis (X, a face), along it (Z), or along a profile.
@@ -713,7 +734,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
 fn whole_contour(run: &[Move], length: f64) -> bool {
     let zs = run.iter().flat_map(|m| [m.from[2], m.to[2]]);
     let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
-    main_cut(run).is_none() && hi - lo >= 0.8 * length
+    pass_way(run) == Way::Profile && hi - lo >= 0.8 * length
 }
 
 /// Whether the passes, as CAM posts and turners write them, pull off the wall towards the
@@ -775,7 +796,10 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64) -> bool {
     let [run] = runs else { return false };
     let across: f64 = run.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| (m.to[0] - m.from[0]).abs()).sum();
     let total: f64 = run.iter().map(|m| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2])).sum();
-    xmin < 0.05 && run.last().is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]) && across >= 0.75 * total
+    // Across towards the axis, or over it from the far side (a tool working at X negative
+    // faces from there to the centre or past it, whatever the sign).
+    let inwards = |m: &Move| m.to[0].abs() < m.from[0].abs() || m.to[0] * m.from[0] < 0.0;
+    xmin < 0.05 && run.last().is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && inwards(m)) && across >= 0.75 * total
 }
 
 /// The features a workingstep machines, with the Z they are placed at.

@@ -755,7 +755,8 @@ S900 M3\nG0 X25 Z2\nG1 X23 Z-13 F0.15\nZ-10\nX25\nG53 G0 X150 Z300\nM30\n";
 /// negative turns the outside; the same cycle at X positive with `U-0.4` bores. A face cut
 /// from X-22. to the centre is facing on that side. (One that runs over the centre to leave
 /// no pip, to X1., is not mirrored: a workingstep is mirrored only where every cut lies at X
-/// at or below 0, as LinuxCNC's compensated lathe tests need; such a face reads as a contour.)
+/// at or below 0, as LinuxCNC's compensated lathe tests need; such a face is facing all the same, a cut
+/// across over the axis.)
 #[test]
 fn a_tool_beyond_the_centre_turns_the_outside() {
     let rear = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X-22. Z2.\nG1 Z0. F0.5\nX0. F0.1\nG0 Z2.\nX-22.\n\
@@ -792,4 +793,29 @@ G3 X36 Z-26 R2\nG1 Z-40\nG40\nG0 X50\nM2\n"
             .collect();
         assert_eq!(radii, [4.0, 2.0], "L{l}: {:?}", plan.features.iter().map(|f| f.kind.label()).collect::<Vec<_>>());
     }
+}
+
+/// LinuxCNC's `G70`, `G71` and `G72` one after another over one profile, with nothing between
+/// them but the cycles' own rapids (as LinuxCNC's manual and its quadrant demo write them), are
+/// one operation each: a finish, the roughing along Z ending with its pass along the contour,
+/// and a finish in two passes (`P2`) whose last pass gives the part. A face cut from the far
+/// side of the axis over it (`X-6.` to `X1.`), after a feed in at 2 mm/rev, is facing at the
+/// feed it cuts at; a contour cycle over a contour that is only a face is facing.
+#[test]
+fn back_to_back_profile_cycles_and_faces_as_a_turner_names_them() {
+    let g7x = "G18 G21 G54\nF300\nT1 M6\nS800 M3\nO100 SUB\nG0 X4 Z1\nG1 Z-10\nX8 Z-14\nZ-20\nG0 X15\nO100 ENDSUB\nG0 X15 Z2\n\
+G70 Q100 X15 Z2\nG71 Q100 X15 Z2 D0.5 I1 R0.3\nG70 Q100 X15 Z2 D0.5 P2\nG0 X20 Z10\nM2\n";
+    let (ws, features) = labels(g7x, "linuxcnc");
+    assert_eq!(ws, ["contouring finish", "contouring rough", "contouring finish"], "{features:?}");
+    assert_eq!(features, ["outer diameter", "outer diameter", "revolved flat"]);
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let face = "O1\nG21 G99\nT0101\nG97 S1200 M3\nG0 Z10. X-10.\nZ0.5\nX-6.\nG1 Z0. F2.\nX1. F0.05\nG0 Z2.\nX-25.\nZ10.\nM30\n";
+    let plan = pipeline::analyze(face.as_bytes(), &d, &Profile::default()).plan;
+    assert_eq!(plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>(), ["facing finish"]);
+    assert_eq!(plan.workingsteps[0].turning.as_ref().and_then(|t| t.feed_per_rev), Some(0.05));
+    let face_cycle = "O1\nG20 G99\nT0101\nG50 S2500\nG96 S700 M3\nG0 X3.0 Z0.1\nG71 P10 Q20 U0.01 W0.005 D0.05 F0.010\n\
+N10 G0 X-0.063 Z0.1\nG1 Z0.0\nX3.0\nN20 G0 Z0.1\nG70 P10 Q20 F0.005\nG0 X6. Z2.\nM30\n";
+    let (ws, features) = labels(face_cycle, "haas_lathe");
+    assert_eq!(ws, ["facing rough", "facing finish"]);
+    assert_eq!(features, ["revolved flat"]);
 }
