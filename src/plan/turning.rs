@@ -11,7 +11,9 @@
 //! then segments at each lathe cycle (the interpreter's `Turning` marker, with the values
 //! the cycle states: allowances, depth of cut, retract, pitch, thread height, pecks) and
 //! keeps each workingstep's feed per revolution, the constant cutting speed's clamp and the
-//! pitch of spindle-synchronised moves. [`recognise`] names each workingstep's operation —
+//! pitch of spindle-synchronised moves. One tool's operations run back to back with only rapids
+//! between them (LinuxCNC's `G70`-`G72`, which give no marker) are parted on their passes
+//! (`separate_operations`). [`recognise`] names each workingstep's operation —
 //! from its cycle, else from its moves as CAM posts write them: cuts only across X to the
 //! axis at the front are facing, elsewhere parting off; plunges across X and back out
 //! grooving; synchronised passes threading; feeds along the axis at X0 drilling; anything
