@@ -595,6 +595,18 @@ struct Builder {
 }
 
 impl Builder {
+    /// Notes the length a lathe's cut runs at its feed per revolution (none: per minute).
+    fn note_feed(&mut self, lathe: bool, per_rev: Option<f64>, mv: &Move) {
+        if !lathe || mv.kind == MoveKind::Rapid {
+            return;
+        }
+        let length = (mv.to[0] - mv.from[0]).hypot(mv.to[2] - mv.from[2]);
+        match self.cut_at.iter_mut().find(|c| c.0 == per_rev) {
+            Some(c) => c.2 += length,
+            None => self.cut_at.push((per_rev, mv.feed, length)),
+        }
+    }
+
     /// Notes a cut (not a plunge) for the depth sequence and the region.
     fn note_cut(&mut self, m: &Move) {
         let z = m.from[2].min(m.to[2]);
@@ -1393,14 +1405,7 @@ impl<'p> Recovery<'p> {
         }
         if is_cut {
             b.cut_feed = Some(decisive_feed);
-            if lathe && mv.kind != MoveKind::Rapid {
-                let per_rev = (self.per_rev && self.sync.is_none()).then_some(self.feed);
-                let length = (mv.to[0] - mv.from[0]).hypot(mv.to[2] - mv.from[2]);
-                match b.cut_at.iter_mut().find(|c| c.0 == per_rev) {
-                    Some(c) => c.2 += length,
-                    None => b.cut_at.push((per_rev, mv.feed, length)),
-                }
-            }
+            b.note_feed(lathe, (self.per_rev && self.sync.is_none()).then_some(self.feed), &mv);
             // A feed out of a hole is no level and no region.
             if !is_lift(&mv) {
                 b.note_cut(&mv);
