@@ -589,9 +589,24 @@ struct Builder {
     /// Cut in the XY plane: on a program that turns, milling on the face (polar coordinate
     /// interpolation) or drilling along Z with a driven tool, not turning.
     milling: bool,
+    /// On a lathe: each feed per revolution the cuts ran at (none: per minute), with the feed
+    /// per minute it first gave and the length cut at it.
+    cut_at: Vec<(Option<f64>, f64, f64)>,
 }
 
 impl Builder {
+    /// Notes the length a lathe's cut runs at its feed per revolution (none: per minute).
+    fn note_feed(&mut self, lathe: bool, per_rev: Option<f64>, mv: &Move) {
+        if !lathe || mv.kind == MoveKind::Rapid {
+            return;
+        }
+        let length = (mv.to[0] - mv.from[0]).hypot(mv.to[2] - mv.from[2]);
+        match self.cut_at.iter_mut().find(|c| c.0 == per_rev) {
+            Some(c) => c.2 += length,
+            None => self.cut_at.push((per_rev, mv.feed, length)),
+        }
+    }
+
     /// Notes a cut (not a plunge) for the depth sequence and the region.
     fn note_cut(&mut self, m: &Move) {
         let z = m.from[2].min(m.to[2]);
@@ -609,15 +624,19 @@ impl Builder {
     }
 
     /// Whether every cut so far faces: none feeds towards -Z, and some cut across X reaches
-    /// the axis (X words are radii here, in the lathe's ZX plane).
+    /// the axis (X words are radii here, in the lathe's ZX plane), each cut across going
+    /// towards it, as facing passes are written (passes across that feed away from the axis
+    /// are a facing cycle's levels, which its pass along the profile ends).
     fn faces_only(&self) -> bool {
         let mut cuts = self.moves.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
-        let (mut across_to_axis, mut deeper) = (false, false);
+        let (mut across_to_axis, mut deeper, mut outward) = (false, false, false);
         for m in cuts.by_ref() {
             deeper |= m.to[2] < m.from[2] - 0.05;
-            across_to_axis |= (m.to[2] - m.from[2]).abs() < 1e-3 && m.to[0].min(m.from[0]) < 0.05;
+            let across = (m.to[2] - m.from[2]).abs() < 1e-3;
+            across_to_axis |= across && m.to[0].min(m.from[0]) < 0.05;
+            outward |= across && m.to[0].abs() > m.from[0].abs() + 0.5;
         }
-        across_to_axis && !deeper
+        across_to_axis && !deeper && !outward
     }
 
     /// Whether the cuts so far are several passes, none reaching the axis.
@@ -669,6 +688,10 @@ struct Tentative {
     origin: TextRange,
     line: u32,
 }
+
+/// The largest feed per revolution a turning insert cuts at, mm/rev; above it a feed move
+/// only positions the tool.
+const MAX_CUTTING_FEED_PER_REV: f64 = 1.5;
 
 struct Recovery<'p> {
     profile: &'p Profile,
@@ -1335,6 +1358,7 @@ impl<'p> Recovery<'p> {
                 setup: self.setup,
                 turn_seq: self.turn_seq,
                 turning,
+                cut_at: Vec::new(),
                 milling: self.mills(&mv),
             });
         }
@@ -1381,6 +1405,7 @@ impl<'p> Recovery<'p> {
         }
         if is_cut {
             b.cut_feed = Some(decisive_feed);
+            b.note_feed(lathe, (self.per_rev && self.sync.is_none()).then_some(self.feed), &mv);
             // A feed out of a hole is no level and no region.
             if !is_lift(&mv) {
                 b.note_cut(&mv);
@@ -1503,6 +1528,7 @@ impl<'p> Recovery<'p> {
             setup,
             turn_seq,
             turning,
+            cut_at: Vec::new(),
             milling: self.plane == Plane::Xy,
         });
     }
@@ -1566,6 +1592,23 @@ impl<'p> Recovery<'p> {
         if !self.optional.is_empty() {
             let lines: BTreeSet<u32> = b.moves.iter().map(|m| m.line).filter(|l| self.optional.contains(l)).collect();
             state.optional_lines = lines.into_iter().collect();
+        }
+        // Passes written as moves: the feed the cutting is done at decides, not an approach at
+        // a feed of its own (`G1 Z0. F2.` to the face, then `X1. F0.05` across it): the feed
+        // per revolution most of the length was cut at, leaving out feeds no turning insert
+        // cuts at (over 1.5 mm/rev: a fast feed in to the work, in place of a rapid). A lathe
+        // cycle's feed is its own.
+        let cutting = |c: &&(Option<f64>, f64, f64)| c.0.is_none_or(|f| f <= MAX_CUTTING_FEED_PER_REV);
+        if self.lathe
+            && !b.milling
+            && b.turning.intent.is_none()
+            && b.turning.pitch.is_none()
+            && let Some(&(per_rev, feed, _)) = b.cut_at.iter().filter(cutting).max_by(|a, c| a.2.total_cmp(&c.2))
+            && per_rev.is_some()
+            && per_rev != b.turning.feed_per_rev
+        {
+            b.turning.feed_per_rev = per_rev;
+            b.technology.feed = feed;
         }
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         ws.state = state;

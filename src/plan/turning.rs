@@ -11,7 +11,9 @@
 //! then segments at each lathe cycle (the interpreter's `Turning` marker, with the values
 //! the cycle states: allowances, depth of cut, retract, pitch, thread height, pecks) and
 //! keeps each workingstep's feed per revolution, the constant cutting speed's clamp and the
-//! pitch of spindle-synchronised moves. [`recognise`] names each workingstep's operation —
+//! pitch of spindle-synchronised moves. One tool's operations run back to back with only rapids
+//! between them (LinuxCNC's `G70`-`G72`, which give no marker) are parted on their passes
+//! (`separate_operations`). [`recognise`] names each workingstep's operation —
 //! from its cycle, else from its moves as CAM posts write them: cuts only across X to the
 //! axis at the front are facing, elsewhere parting off; plunges across X and back out
 //! grooving; synchronised passes threading; feeds along the axis at X0 drilling; anything
@@ -61,6 +63,7 @@ pub fn infer_tool_kinds(plan: &mut ProcessPlan) {
 /// Names each turning workingstep's operation and builds the turned features.
 /// `remeasure` measures a workingstep again after its moves changed (recovery's `measure`).
 pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    separate_operations(plan, remeasure);
     for ws in &mut plan.workingsteps {
         beyond_the_centre(ws, remeasure);
     }
@@ -102,7 +105,11 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     let face = plan
         .workingsteps
         .iter()
-        .find(|w| w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside))
+        // (A face to the axis: a cut across a shoulder further back, a cut-off tool's chamfer
+        // before it parts, is no front.)
+        .find(|w| {
+            w.turning.as_ref().is_some_and(|t| t.operation == Some(TurnOp::Facing) && !t.inside && t.diameter.is_none_or(|d| d[0] < 0.1))
+        })
         .and_then(|w| cuts(w).into_iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]).map(|m| m.to[2]).next_back())
         // None faces: the program zero, where lathe programs put the front, unless the
         // highest cut across X lies far beyond it (more than any approach clearance: a shaft
@@ -211,6 +218,142 @@ fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
         .collect();
     ws.toolpath = moves;
     remeasure(ws);
+}
+
+/// The cuts of a workingstep as runs between rapids: the toolpath index of each run's first
+/// and past its last cut.
+fn run_spans(ws: &Workingstep) -> Vec<(usize, usize)> {
+    let mut out: Vec<(usize, usize)> = Vec::new();
+    let mut open = false;
+    for (i, m) in ws.toolpath.iter().enumerate() {
+        if m.kind == MoveKind::Rapid || m.phase != Phase::Cut {
+            open = false;
+            continue;
+        }
+        match out.last_mut() {
+            Some(r) if open => r.1 = i + 1,
+            _ => out.push((i, i + 1)),
+        }
+        open = true;
+    }
+    out
+}
+
+/// One tool's operations run back to back at one feed and speed with nothing between them
+/// but rapids (LinuxCNC's `G70`, `G71` and `G72` one after another over a subroutine's
+/// profile, as its manual shows them; a post's roughing then finishing at one feed). A turner
+/// reads where one ends from the passes: a pass along the whole contour ends an operation (a
+/// finish, or the roughing cycle's last pass over the stock it leaves), so straight passes
+/// after one begin another (roughing again, along or across); and a pass along the whole
+/// contour after the roughing's passes along parts of it (its pockets), or after its own
+/// last pass along the contour, is the finish.
+/// Read on the moves alone, so that a program and its translation, the cycle written as moves,
+/// part them alike.
+fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    let explicit = |w: &Workingstep| {
+        w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none() && t.pitch.is_none()) && w.holes.is_empty()
+    };
+    let mut out: Vec<Workingstep> = Vec::new();
+    for ws in std::mem::take(&mut plan.workingsteps) {
+        if !explicit(&ws) {
+            out.push(ws);
+            continue;
+        }
+        let spans = run_spans(&ws);
+        let moves: Vec<Move> = ws.toolpath.iter().collect();
+        let way = |&(a, b): &(usize, usize)| pass_way(&moves[a..b]);
+        // Whether run `k` follows the whole contour of the operation begun at run `from`: a
+        // pass along the profile over most of the length and half the depth the operation cut
+        // (turning), or most of the depth and half the length (facing).
+        let full = |from: usize, k: usize| {
+            let span = |a: usize, b: usize, axis: usize| {
+                let cut = moves[a..b].iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid);
+                let v = cut.flat_map(|m| [m.from[axis], m.to[axis]]);
+                let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+                hi - lo
+            };
+            let (a, b) = (spans[from].0, spans[k].1);
+            let (run_a, run_b) = spans[k];
+            let share = |axis: usize| span(run_a, run_b, axis) / span(a, b, axis).max(TOL);
+            way(&spans[k]) == Way::Profile && ((share(2) >= 0.8 && share(0) >= 0.5) || (share(0) >= 0.8 && share(2) >= 0.5))
+        };
+        // Where each later operation begins: after the run before it ends.
+        let mut cuts_at: Vec<usize> = Vec::new();
+        let mut from = 0;
+        for k in 1..spans.len() {
+            let now = way(&spans[k]);
+            // Straight passes after a pass along the whole contour: roughing again.
+            let after_contour = now != Way::Profile && full(from, k - 1);
+            // A second pass along the contour after the roughing's passes: the finish.
+            let finish = way(&spans[k - 1]) == Way::Profile && k - from >= 2 && full(from, k);
+            if after_contour || finish {
+                cuts_at.push(spans[k - 1].1);
+                from = k;
+            }
+        }
+        if cuts_at.is_empty() {
+            out.push(ws);
+            continue;
+        }
+        let mut bounds = vec![0];
+        bounds.extend(cuts_at);
+        bounds.push(moves.len());
+        for w in bounds.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let mut piece = ws.clone();
+            let first_cut = moves[a..b].iter().position(|m| m.phase == Phase::Cut).map_or(a, |i| a + i);
+            piece.toolpath = moves[a..b]
+                .iter()
+                .enumerate()
+                .map(|(i, m)| Move { phase: if a > 0 && a + i < first_cut { Phase::Approach } else { m.phase }, ..*m })
+                .collect();
+            let inside = |at: u32| (at as usize) >= a && ((at as usize) < b || b == moves.len());
+            piece.state.stops = ws.state.stops.iter().filter(|s| inside(s.at)).map(|s| Stop { at: s.at - a as u32, ..*s }).collect();
+            piece.state.dwells = ws.state.dwells.iter().filter(|d| inside(d.at)).map(|d| Dwell { at: d.at - a as u32, ..*d }).collect();
+            let lines = moves[a..b].iter().map(|m| m.line);
+            let (lo, hi) = lines.fold((u32::MAX, 0), |(l, h), x| (l.min(x), h.max(x)));
+            if hi > 0 {
+                piece.lines = (if a == 0 { ws.lines.0 } else { lo }, if b == moves.len() { ws.lines.1 } else { hi });
+            }
+            piece.state.optional_lines.retain(|l| *l >= piece.lines.0 && *l <= piece.lines.1);
+            let mut feeds: Vec<f64> = Vec::new();
+            for m in moves[a..b].iter().filter(|m| m.kind != MoveKind::Rapid) {
+                if !feeds.iter().any(|f| (f - m.feed).abs() < 1e-9) {
+                    feeds.push(m.feed);
+                }
+            }
+            if !feeds.is_empty() {
+                piece.technology.feeds = feeds;
+            }
+            remeasure(&mut piece);
+            out.push(piece);
+        }
+    }
+    for (k, ws) in out.iter_mut().enumerate() {
+        ws.index = k as u32 + 1;
+    }
+    plan.workingsteps = out;
+}
+
+/// The way a pass runs: straight (along or across) where that way makes most of its length,
+/// its lead-in and pull-out short; else along the profile.
+fn pass_way(run: &[Move]) -> Way {
+    let len = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let total: f64 = run.iter().map(len).sum();
+    let share = |w: Way| {
+        let straight = |m: &&Move| {
+            m.arc.is_none()
+                && match w {
+                    Way::Across => (m.to[2] - m.from[2]).abs() < TOL,
+                    _ => (m.to[0] - m.from[0]).abs() < TOL,
+                }
+        };
+        run.iter().filter(straight).map(len).sum::<f64>()
+    };
+    match main_cut(run) {
+        Some((w, _)) if share(w) >= 0.8 * total => w,
+        _ => Way::Profile,
+    }
 }
 
 /// How a pass cuts: across the axis (X, a face), along it (Z), or along a profile.
@@ -481,7 +624,16 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         // where its roughing was (below).
         None if finish_cycle => boring,
         None => {
-            t.inside || boring || (runs.len() > 1 && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)) || pulls_off_inward(&runs)
+            // (Coming in at the small end counts only for straight passes on one side of the
+            // axis: a pass along the contour from its small end turns the outside, and passes
+            // across the axis, from one side to the other, have no inside.)
+            t.inside
+                || boring
+                || (runs.len() > 1
+                    && xmin > -1.0
+                    && runs.first().is_some_and(|r| main_cut(r).is_some())
+                    && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL))
+                || pulls_off_inward(&runs)
         }
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
@@ -513,10 +665,21 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         at.dedup_by(|a, b| (*a - *b).abs() < TOL);
         (n, at.len())
     };
+    // A contour cycle over a contour that is only a face, across X to the axis (a `G71`/`G70`
+    // pair over `X-0.063 Z0.1`, `Z0`, `X3.`): facing, as a turner names what it does. The
+    // contour is the finishing cycle's cut, or the roughing cycle's last pass.
+    let face_contour = |contour: &[Move]| {
+        let across: f64 = contour.iter().filter(|m| across(m)).map(length).sum();
+        let all: f64 = contour.iter().map(length).sum();
+        let lo = contour.iter().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
+        all > TOL && across >= 0.75 * all && lo < 0.05
+    };
     let (op, rough) = match intent_kind {
+        Some(TurnKind::RoughTurn) if runs.last().is_some_and(|r| face_contour(r)) => (TurnOp::Facing, true),
         Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
         Some(TurnKind::RoughFace) => (TurnOp::Facing, true),
         Some(TurnKind::FacePass) => (TurnOp::Facing, runs.len() > 1),
+        Some(TurnKind::Finish) if face_contour(&cuts) => (TurnOp::Facing, false),
         Some(TurnKind::Finish) => (TurnOp::Contouring, false),
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
         Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
@@ -551,7 +714,9 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
         None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
-        None => (TurnOp::Contouring, runs.len() > 1),
+        // Every pass along the whole contour (LinuxCNC's `G70 P2`, a finish and its spring
+        // pass): finishing, however many passes.
+        None => (TurnOp::Contouring, runs.len() > 1 && !runs.iter().all(|r| whole_contour(r, zmax - zmin))),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
     // roughing is that (a roughing operation's one pass over a last region). Passes stepping
@@ -564,6 +729,14 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// Whether a run of cuts follows the contour over (nearly) the whole length `length` the
+/// workingstep cuts: several moves or arcs, no one straight way most of it.
+fn whole_contour(run: &[Move], length: f64) -> bool {
+    let zs = run.iter().flat_map(|m| [m.from[2], m.to[2]]);
+    let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    pass_way(run) == Way::Profile && hi - lo >= 0.8 * length
 }
 
 /// Whether the passes, as CAM posts and turners write them, pull off the wall towards the
@@ -625,7 +798,10 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64) -> bool {
     let [run] = runs else { return false };
     let across: f64 = run.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| (m.to[0] - m.from[0]).abs()).sum();
     let total: f64 = run.iter().map(|m| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2])).sum();
-    xmin < 0.05 && run.last().is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && m.to[0] < m.from[0]) && across >= 0.75 * total
+    // Across towards the axis, or over it from the far side (a tool working at X negative
+    // faces from there to the centre or past it, whatever the sign).
+    let inwards = |m: &Move| m.to[0].abs() < m.from[0].abs() || m.to[0] * m.from[0] < 0.0;
+    xmin < 0.05 && run.last().is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && inwards(m)) && across >= 0.75 * total
 }
 
 /// The features a workingstep machines, with the Z they are placed at.
@@ -696,8 +872,16 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
 /// by its allowances. Explicit roughing passes leave no finished shape of their own.
 fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKind, f64)> {
     let runs = runs(ws);
+    // Passes each along the whole contour (a finish and its spring pass, LinuxCNC's `G70 P2`
+    // closing in on the contour): the last is the part's.
+    let zs = runs.iter().flatten().flat_map(|m| [m.from[2], m.to[2]]);
+    let (zlo, zhi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    let finished = || match runs.as_slice() {
+        [.., last] if runs.len() > 1 && runs.iter().all(|r| whole_contour(r, zhi - zlo)) => last.clone(),
+        _ => runs.concat(),
+    };
     let (profile, shift) = match t.intent.as_ref().and_then(|i| i.kind) {
-        Some(TurnKind::Finish) => (runs.concat(), (0.0, 0.0)),
+        Some(TurnKind::Finish) => (finished(), (0.0, 0.0)),
         // Stock left all round (LinuxCNC's D) is no shift along X and Z: the finishing
         // pass gives the features.
         Some(TurnKind::RoughTurn | TurnKind::RoughFace)
@@ -713,7 +897,7 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
             let az = i.and_then(|i| i.allowance_z).unwrap_or(0.0);
             (runs.last().cloned().unwrap_or_default(), (ax, az))
         }
-        None if !t.rough => (runs.concat(), (0.0, 0.0)),
+        None if !t.rough => (finished(), (0.0, 0.0)),
         _ => return Vec::new(),
     };
     let nose = nose_arcs(ws, &profile);
@@ -739,6 +923,10 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         } else if (x1 - x0).abs() < TOL && z0.min(z1) > face - TOL {
             // In front of the face (Z0, where lathe programs put it, or where the program
             // faced it): the lead-in from the cycle's start, in air.
+            continue;
+        } else if (x1 - x0).abs() < TOL && z1 > z0 && z1 > face + TOL && shift != (0.0, 0.0) {
+            // A roughing cycle's last pass running back along +Z out past the face: the
+            // contour's way back to the start point (its closing `G00`), no diameter.
             continue;
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
             // What runs on in front of the face is the lead-in.

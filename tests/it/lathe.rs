@@ -151,11 +151,13 @@ fn lathe_suite() {
 /// feature. After the explicit-pass rules of branch lathe3 (6 December 2026: inside told by the
 /// pull-off, stepped facing, operation comments, grooves profiled from both sides, Okuma `TG=`):
 /// 67 of 92. After branch lathe5 (6 December 2026: a grooving tool the program names cuts
-/// grooves): 68 of 92. The test keeps that figure from falling and no milling feature.
+/// grooves): 68 of 92. After branch lathe8 (6 December 2026: back-to-back LinuxCNC `G70`-`G72`
+/// parted on their passes, a contour cycle over a face is facing): 73 of 92. The test keeps
+/// that figure from falling and no milling feature.
 #[test]
 fn lathe_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held out.
-    const HELD_OUT_SCORE: usize = 68;
+    const HELD_OUT_SCORE: usize = 73;
     let (programs, listed, found, milling, misses) = score_corpus_sidecars();
     assert!(programs >= 8, "{programs} held-out programs");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
@@ -243,12 +245,13 @@ fn lathe_real_build_programs() {
 /// a face stepped down is facing, a tool that faces then turns parts its workingsteps, Okuma's
 /// `TG=` names the tool, a pass from the axis after passes that never reached it is the
 /// finish, and where no workingstep faces a shaft whose program zero is at its far end keeps
-/// its diameters): 45 of 84. The test keeps that figure from falling and no milling
-/// feature.
+/// its diameters): 45 of 84. After branch lathe8 (6 December 2026: LinuxCNC's `G70`-`G72`
+/// one after another parted on their passes, the front face only where a face reaches the
+/// axis): 63 of 84. The test keeps that figure from falling and no milling feature.
 #[test]
 fn lathe_real_held_out_programs() {
     /// Listed workingsteps and features recovered on this half, re-scored (built on).
-    const HELD_OUT_SCORE: usize = 45;
+    const HELD_OUT_SCORE: usize = 63;
     let (listed, found, milling, misses) = score_folder("lathe_real_heldout");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(
@@ -282,12 +285,14 @@ fn lathe_new_build_programs() {
 /// The misses (not looked into, the part stays unseen): the face and diameters of lathe_hp_2,
 /// valve and weld_pin, both facing workingsteps of nims_1002 (a G71/G70 pair on a face-only
 /// contour), valve's undercut as a groove. No longer held back: branch lathe5 read its misses
-/// among the others' (6 December 2026; still 34 of 46). Where the
+/// among the others' (6 December 2026; still 34 of 46); branch lathe8 built on it (6 December
+/// 2026: a G71/G70 pair over a face is facing, the front face only where a face reaches the
+/// axis): 45 of 46. Where the
 /// programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_new_held_out_programs() {
     /// Listed workingsteps and features recovered on the held-back part, measured once.
-    const HELD_OUT_SCORE: usize = 34;
+    const HELD_OUT_SCORE: usize = 45;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_new_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
@@ -610,12 +615,16 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
 /// 43 of the 89 listed recovered, no milling feature. The misses (printed once, not built on):
 /// most of the bar-lathe programs written on the X- side (facing, G71 roughing, their
 /// diameters, parting), the Denford programs' inside G71 roughing, G75 grooves and several
-/// diameters, and the Nakamura programs' bores and drilled holes. Where the programs are not
-/// extracted the test says so and checks nothing.
+/// diameters, and the Nakamura programs' bores and drilled holes. No longer held back: 52 of 89
+/// when branch lathe8 built on it among the other seen sets, 55 after (6 December 2026: the feed
+/// a pass cuts at, not a fast feed in, decides; a face from the far side of the axis is facing).
+/// Most of its misses remain those of lengths written without a decimal point, which the Fanuc
+/// dictionary reads in least increments: only the machine's `decimal_input` can say otherwise.
+/// Where the programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_s7_held_out_programs() {
-    /// Listed workingsteps and features recovered on the held-back set, measured once.
-    const HELD_OUT_SCORE: usize = 43;
+    /// Listed workingsteps and features recovered, no longer held back.
+    const HELD_OUT_SCORE: usize = 55;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_s7_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
@@ -765,7 +774,8 @@ S900 M3\nG0 X25 Z2\nG1 X23 Z-13 F0.15\nZ-10\nX25\nG53 G0 X150 Z300\nM30\n";
 /// negative turns the outside; the same cycle at X positive with `U-0.4` bores. A face cut
 /// from X-22. to the centre is facing on that side. (One that runs over the centre to leave
 /// no pip, to X1., is not mirrored: a workingstep is mirrored only where every cut lies at X
-/// at or below 0, as LinuxCNC's compensated lathe tests need; such a face reads as a contour.)
+/// at or below 0, as LinuxCNC's compensated lathe tests need; such a face is facing all the same, a cut
+/// across over the axis.)
 #[test]
 fn a_tool_beyond_the_centre_turns_the_outside() {
     let rear = "O1\nG21 G99\nT0101\nG97 S1000 M3\nG0 X-22. Z2.\nG1 Z0. F0.5\nX0. F0.1\nG0 Z2.\nX-22.\n\
@@ -802,4 +812,29 @@ G3 X36 Z-26 R2\nG1 Z-40\nG40\nG0 X50\nM2\n"
             .collect();
         assert_eq!(radii, [4.0, 2.0], "L{l}: {:?}", plan.features.iter().map(|f| f.kind.label()).collect::<Vec<_>>());
     }
+}
+
+/// LinuxCNC's `G70`, `G71` and `G72` one after another over one profile, with nothing between
+/// them but the cycles' own rapids (as LinuxCNC's manual and its quadrant demo write them), are
+/// one operation each: a finish, the roughing along Z ending with its pass along the contour,
+/// and a finish in two passes (`P2`) whose last pass gives the part. A face cut from the far
+/// side of the axis over it (`X-6.` to `X1.`), after a feed in at 2 mm/rev, is facing at the
+/// feed it cuts at; a contour cycle over a contour that is only a face is facing.
+#[test]
+fn back_to_back_profile_cycles_and_faces_as_a_turner_names_them() {
+    let g7x = "G18 G21 G54\nF300\nT1 M6\nS800 M3\nO100 SUB\nG0 X4 Z1\nG1 Z-10\nX8 Z-14\nZ-20\nG0 X15\nO100 ENDSUB\nG0 X15 Z2\n\
+G70 Q100 X15 Z2\nG71 Q100 X15 Z2 D0.5 I1 R0.3\nG70 Q100 X15 Z2 D0.5 P2\nG0 X20 Z10\nM2\n";
+    let (ws, features) = labels(g7x, "linuxcnc");
+    assert_eq!(ws, ["contouring finish", "contouring rough", "contouring finish"], "{features:?}");
+    assert_eq!(features, ["outer diameter", "outer diameter", "revolved flat"]);
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let face = "O1\nG21 G99\nT0101\nG97 S1200 M3\nG0 Z10. X-10.\nZ0.5\nX-6.\nG1 Z0. F2.\nX1. F0.05\nG0 Z2.\nX-25.\nZ10.\nM30\n";
+    let plan = pipeline::analyze(face.as_bytes(), &d, &Profile::default()).plan;
+    assert_eq!(plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>(), ["facing finish"]);
+    assert_eq!(plan.workingsteps[0].turning.as_ref().and_then(|t| t.feed_per_rev), Some(0.05));
+    let face_cycle = "O1\nG20 G99\nT0101\nG50 S2500\nG96 S700 M3\nG0 X3.0 Z0.1\nG71 P10 Q20 U0.01 W0.005 D0.05 F0.010\n\
+N10 G0 X-0.063 Z0.1\nG1 Z0.0\nX3.0\nN20 G0 Z0.1\nG70 P10 Q20 F0.005\nG0 X6. Z2.\nM30\n";
+    let (ws, features) = labels(face_cycle, "haas_lathe");
+    assert_eq!(ws, ["facing rough", "facing finish"]);
+    assert_eq!(features, ["revolved flat"]);
 }
