@@ -924,7 +924,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         }
         let sort = y.as_ref().or(x.as_ref()).map_or(Sort::Other, |t| t.sort);
         match (sort, x, y) {
-            (Sort::Assign, _, _) if !y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {
+            (Sort::Assign, _, _) if y.as_ref().or(x.as_ref()).is_some_and(|t| typed::sets_variable(t, d)) => {
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
                 let param = typed::cycle_param(&key, d);
                 let mut c = blank(

@@ -154,7 +154,7 @@ pub(super) fn flow_of(tokens: &[Token], d: &Dialect) -> Option<Flow> {
 /// Whether a statement's first token calls a program by its name, as the parser reads it where
 /// the dialect calls programs by name (Siemens `WARMUP_CYCLE(7200, 5)`): a name with its
 /// arguments that is no cycle, keyword code or statement of the dictionary.
-fn called_by_name(first: &Token, d: &Dialect) -> bool {
+pub(super) fn called_by_name(first: &Token, d: &Dialect) -> bool {
     let key = first.key.as_str();
     d.macros.call_by_name
         && first.sort == Sort::Call

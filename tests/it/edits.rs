@@ -962,3 +962,25 @@ fn a_frame_of_variables_is_an_origin_shift() {
     // The keyword is told with its shift, not as a statement of its own.
     assert!(!got.iter().any(|c| c.kind == ChangeKind::StatementChanged), "{}", rows(&got));
 }
+
+/// A value passed to a program called by name that the analysis cannot follow (the
+/// grinder's `F_TP_GRINDING_PARAMETERS`, not beside the program) is that parameter's change,
+/// named by its position, whether the argument itself or a variable it reads changed; a
+/// two-letter variable the dictionary names no address (`WR`, not `CR`) is a variable
+/// (issue 41, r283–r285). An argument inserted before others binds nothing claimable.
+#[test]
+fn a_value_passed_to_a_called_program_is_that_parameter_s_change() {
+    let none = Beside("other", "PROC OTHER\nM17\n");
+    let changes = |a: &str, b: &str, d: &str| diff_following(d, &none, a, b);
+    let a = "DEF REAL WR, AL1\nWR = 572.86 / 2\nAL1 = 75.1238\nG54 G90\nGRIND_SETUP(WR, 2, AL1)\nM30\n";
+    let got = changes(a, &a.replace("572.86", "572.50"), "siemens");
+    let want = "cycle_parameter_changed | parameter 1 of GRIND_SETUP (via WR) | 572.86/2 | 572.5/2 | 2 | 2";
+    assert!(rows(&got).lines().any(|l| l == want), "{}", rows(&got));
+    let got = changes(a, &a.replace("AL1 = 75.1238", "AL1 = 75.1328"), "siemens");
+    assert!(got.iter().any(|c| c.field == "parameter 3 of GRIND_SETUP (via AL1)"), "{}", rows(&got));
+    let got = changes(a, &a.replace("(WR, 2, AL1)", "(WR, 3, AL1)"), "siemens");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::CycleParameterChanged && c.field == "parameter 2 of GRIND_SETUP"), "{}", rows(&got));
+    assert!(got.iter().all(|c| c.phrase().contains("GRIND_SETUP")), "the name as written: {}", rows(&got));
+    let got = changes(a, &a.replace("(WR, 2, AL1)", "(WR, 7, 2, AL1)"), "siemens");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::CycleParameterChanged), "{}", rows(&got));
+}
