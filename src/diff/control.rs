@@ -217,3 +217,10 @@ pub(super) fn branch_depth(tokens: &[Token], d: &Dialect) -> Option<i32> {
         _ => None,
     }
 }
+
+/// Whether a statement's key (`O100REPEAT`) is the dictionary's count loop, which runs its body
+/// the number its argument says (LinuxCNC `o100 repeat [5]`).
+pub(super) fn count_loop_key(key: &str, d: &Dialect) -> bool {
+    let word = key.strip_prefix(['O', 'o']).map_or(key, |r| r.trim_start_matches(|c: char| c.is_ascii_digit()));
+    d.macros.statement(word) == Some(Statement::Repeat)
+}

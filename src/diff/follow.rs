@@ -120,7 +120,12 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
             any = true;
             // A loop's bound or a branch's condition that reads it: which blocks run, or how
             // often (`FOR COUNT = 1 TO CYCLES`).
+            // A count loop whose count is the variable itself (`o100 repeat [#<n>]`): its passes.
+            let count = t.sort == Sort::Call
+                && control::count_loop_key(&t.key, p.dialect)
+                && statement::arguments(&t.value).first().is_some_and(|a| a.trim() == name);
             let decides = match flow {
+                Some(control::Flow::Loop) if count => Some((ChangeKind::FlowChanged, "loop passes".to_owned())),
                 Some(control::Flow::Loop) => Some((ChangeKind::FlowChanged, "loop bound".to_owned())),
                 Some(control::Flow::Branch) => Some((ChangeKind::FlowChanged, "condition".to_owned())),
                 _ => None,

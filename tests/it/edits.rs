@@ -984,3 +984,19 @@ fn a_value_passed_to_a_called_program_is_that_parameter_s_change() {
     let got = changes(a, &a.replace("(WR, 2, AL1)", "(WR, 7, 2, AL1)"), "siemens");
     assert!(!got.iter().any(|c| c.kind == ChangeKind::CycleParameterChanged), "{}", rows(&got));
 }
+
+/// A count loop's count (LinuxCNC `o100 repeat [5]`) changed is told as its passes, written
+/// or through the variable it reads; a count the analysis cannot read as a number stays the
+/// loop's condition (issue 41: "loop runs 5 → 6 times").
+#[test]
+fn a_count_loop_s_passes() {
+    let a = "G21 G90\nT1 M6\nS1000 M3\n#<n> = 5\no100 repeat [5]\nG91 G1 Z-1 F100\nG90 G1 X10\no100 endrepeat\nM2\n";
+    let got = changes(a, &a.replace("repeat [5]", "repeat [6]"), "linuxcnc");
+    let row = got.iter().find(|c| c.field == "loop passes").unwrap_or_else(|| panic!("{}", rows(&got)));
+    assert_eq!((row.kind, row.before.as_str(), row.after.as_str(), row.line), (ChangeKind::FlowChanged, "5", "6", Some(5)));
+    let by_var = a.replace("repeat [5]", "repeat [#<n>]");
+    let got = changes(&by_var, &by_var.replace("#<n> = 5", "#<n> = 6"), "linuxcnc");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::FlowChanged && c.field == "loop passes (via #<N>)"), "{}", rows(&got));
+    let got = changes(&by_var, &by_var.replace("repeat [#<n>]", "repeat [#<n>+1]"), "linuxcnc");
+    assert!(got.iter().any(|c| c.field == "loop condition"), "{}", rows(&got));
+}
