@@ -219,7 +219,7 @@ const PARTS: [(&str, &str); 9] = [
 fn report(pairs: &[Pair]) -> (String, usize) {
     let mut table = String::from("id | class | lines given | changes (machining, typed) | verdict\n");
     let mut failed = 0;
-    let mut figures: [Figures; 8] = Default::default();
+    let mut figures: [Figures; PARTS.len()] = Default::default();
     for p in pairs {
         let o = std::panic::catch_unwind(|| run(p)).unwrap_or_else(|e| Outcome {
             changes: Vec::new(),
