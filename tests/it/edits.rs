@@ -1000,3 +1000,14 @@ fn a_count_loop_s_passes() {
     let got = changes(&by_var, &by_var.replace("repeat [#<n>]", "repeat [#<n>+1]"), "linuxcnc");
     assert!(got.iter().any(|c| c.field == "loop condition"), "{}", rows(&got));
 }
+
+/// A zero written with a sign (`J-0.000`, a CAM re-post's rounding) is the same number as
+/// `J0.000`: no change (issue 41, held-back pair r297).
+#[test]
+fn a_signed_zero_is_zero() {
+    let a = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG2 X10 Y0 I5 J-0.000 F200\nG0 Z5\nM2\n";
+    let got = changes(a, &a.replace("J-0.000", "J0.000"), "linuxcnc");
+    assert!(got.is_empty(), "{}", rows(&got));
+    let got = changes(a, &a.replace("J-0.000", "J-0.5"), "linuxcnc");
+    assert!(!got.is_empty());
+}
