@@ -13,7 +13,11 @@
 //! (`clearance height (via #<_z_clearance>)`); a variable whose uses say nothing the
 //! dictionary knows (an axis position) stays the statement change that names it. One this
 //! program passes to a subroutine in another file (`o<nozzle> call [#<len>]`, `G65 P9810
-//! Z#100`) is followed there, through the parameter its argument binds ([`calls`]).
+//! Z#100`) is followed there, through the parameter its argument binds ([`calls`]); where
+//! the subroutine is not found, is called by name (Siemens `GRIND(WR, 2)`), or its parameter
+//! feeds nothing the dictionary knows, the value is still that parameter's: told as its change
+//! (`parameter 1 of GRIND (via WR)`), unless an argument inserted or removed before it shifts
+//! the binding.
 
 use super::control;
 use super::statement::{self, Sort, Stmt, Token};
