@@ -831,6 +831,13 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         let field = match flow {
             _ if whole => flow.field().to_owned(),
             control::Flow::Branch if argument || condition => "condition".to_owned(),
+            // A count loop's count (LinuxCNC `o100 repeat [5]` → `[6]`): its passes, where
+            // both are numbers.
+            control::Flow::Loop if argument && count_loop(&c.field, d) && passes_of(&c.before).zip(passes_of(&c.after)).is_some() => {
+                let (b, a) = (passes_of(&c.before).unwrap_or(0), passes_of(&c.after).unwrap_or(0));
+                (c.before, c.after) = (b.to_string(), a.to_string());
+                "loop passes".to_owned()
+            }
             control::Flow::Loop if argument || condition => "loop condition".to_owned(),
             control::Flow::Call if repeat => match (control::passes(&c.before, d), control::passes(&c.after, d)) {
                 // `L2` → `L3`: the call runs 2 → 3 times.
@@ -855,6 +862,20 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         c.kind = ChangeKind::FlowChanged;
         c.field = field;
     }
+}
+
+/// Whether a call-like statement's key (`call O100REPEAT argument 1`) is a loop that runs its
+/// body the number its argument says: the dictionary's repeat statement after the O-word.
+fn count_loop(field: &str, d: &Dialect) -> bool {
+    field.strip_prefix("call ").and_then(|r| r.rsplit_once(" argument ")).is_some_and(|(k, _)| control::count_loop_key(k, d))
+}
+
+/// A count written as a whole number or a constant expression (`[5]`, `5`, `[2*3]`): the
+/// passes it makes; none for a variable, which the statement change then tells as it is.
+fn passes_of(v: &str) -> Option<u64> {
+    let v = unbracketed(v);
+    let x = v.trim().parse::<f64>().ok().or_else(|| statement::constant(&v))?;
+    (x >= 0.0 && x.fract() == 0.0 && x < 1e9).then_some(x as u64)
 }
 
 /// A condition as a change writes it, without the brackets the statement reads it in.
@@ -924,7 +945,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         }
         let sort = y.as_ref().or(x.as_ref()).map_or(Sort::Other, |t| t.sort);
         match (sort, x, y) {
-            (Sort::Assign, _, _) if !y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {
+            (Sort::Assign, _, _) if y.as_ref().or(x.as_ref()).is_some_and(|t| typed::sets_variable(t, d)) => {
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
                 let param = typed::cycle_param(&key, d);
                 let mut c = blank(

@@ -154,7 +154,7 @@ pub(super) fn flow_of(tokens: &[Token], d: &Dialect) -> Option<Flow> {
 /// Whether a statement's first token calls a program by its name, as the parser reads it where
 /// the dialect calls programs by name (Siemens `WARMUP_CYCLE(7200, 5)`): a name with its
 /// arguments that is no cycle, keyword code or statement of the dictionary.
-fn called_by_name(first: &Token, d: &Dialect) -> bool {
+pub(super) fn called_by_name(first: &Token, d: &Dialect) -> bool {
     let key = first.key.as_str();
     d.macros.call_by_name
         && first.sort == Sort::Call
@@ -216,4 +216,11 @@ pub(super) fn branch_depth(tokens: &[Token], d: &Dialect) -> Option<i32> {
         Statement::ElseIf | Statement::Else => Some(0),
         _ => None,
     }
+}
+
+/// Whether a statement's key (`O100REPEAT`) is the dictionary's count loop, which runs its body
+/// the number its argument says (LinuxCNC `o100 repeat [5]`).
+pub(super) fn count_loop_key(key: &str, d: &Dialect) -> bool {
+    let word = key.strip_prefix(['O', 'o']).map_or(key, |r| r.trim_start_matches(|c: char| c.is_ascii_digit()));
+    d.macros.statement(word) == Some(Statement::Repeat)
 }

@@ -13,7 +13,11 @@
 //! (`clearance height (via #<_z_clearance>)`); a variable whose uses say nothing the
 //! dictionary knows (an axis position) stays the statement change that names it. One this
 //! program passes to a subroutine in another file (`o<nozzle> call [#<len>]`, `G65 P9810
-//! Z#100`) is followed there, through the parameter its argument binds ([`calls`]).
+//! Z#100`) is followed there, through the parameter its argument binds ([`calls`]); where
+//! the subroutine is not found, is called by name (Siemens `GRIND(WR, 2)`), or its parameter
+//! feeds nothing the dictionary knows, the value is still that parameter's: told as its change
+//! (`parameter 1 of GRIND (via WR)`), unless an argument inserted or removed before it shifts
+//! the binding.
 
 use super::control;
 use super::statement::{self, Sort, Stmt, Token};
@@ -78,7 +82,7 @@ fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<b
 
 /// What a word reading a variable does: its kind and field, in its statement's context.
 fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: &Dialect) -> Option<(ChangeKind, String)> {
-    if tok.sort == Sort::Assign && !tok.is_address() {
+    if typed::sets_variable(tok, d) {
         return typed::cycle_param(&tok.key, d)
             .map(|a| (ChangeKind::CycleParameterChanged, format!("cycle parameter {}", typed::arg_name(a))));
     }
@@ -120,7 +124,12 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
             any = true;
             // A loop's bound or a branch's condition that reads it: which blocks run, or how
             // often (`FOR COUNT = 1 TO CYCLES`).
+            // A count loop whose count is the variable itself (`o100 repeat [#<n>]`): its passes.
+            let count = t.sort == Sort::Call
+                && control::count_loop_key(&t.key, p.dialect)
+                && statement::arguments(&t.value).first().is_some_and(|a| a.trim() == name);
             let decides = match flow {
+                Some(control::Flow::Loop) if count => Some((ChangeKind::FlowChanged, "loop passes".to_owned())),
                 Some(control::Flow::Loop) => Some((ChangeKind::FlowChanged, "loop bound".to_owned())),
                 Some(control::Flow::Branch) => Some((ChangeKind::FlowChanged, "condition".to_owned())),
                 _ => None,
@@ -128,7 +137,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
             match decides.or_else(|| use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect)) {
                 Some(kf) if !kinds.contains(&kf) => kinds.push(kf),
                 Some(_) => {}
-                None if t.sort == Sort::Assign && !t.is_address() && !feeds.contains(&t.key) => feeds.push(t.key.clone()),
+                None if typed::sets_variable(t, p.dialect) && !feeds.contains(&t.key) => feeds.push(t.key.clone()),
                 None => {}
             }
         }
@@ -338,6 +347,13 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
         });
         let target = target.filter(|_| c.kind == ChangeKind::StatementChanged).or_else(|| macro_argument(c, edited, &mut edited_stmts));
         let Some((key, name, n)) = target else {
+            // A call by name the analysis cannot follow (Siemens `F_TP_GRINDING_PARAMETERS(…)`,
+            // no such file beside it): its argument is that parameter's value.
+            if let Some(label) = by_name_argument(changes, k, edited) {
+                let c = &mut changes[k];
+                c.kind = ChangeKind::CycleParameterChanged;
+                c.field = label;
+            }
             k += 1;
             continue;
         };
@@ -363,14 +379,17 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
             });
             texts.push((name.clone(), loaded));
         }
-        let Some((_, Some((text, stmts)))) = texts.iter().find(|(t, _)| *t == name) else {
-            k += 1;
-            continue;
-        };
         let param = format!("{sigil}{n}");
-        let p = Program { plan: &plan, text, dialect };
-        let found = fed_kinds(p, stmts, &param);
+        let found = match texts.iter().find(|(t, _)| *t == name) {
+            Some((_, Some((text, stmts)))) => fed_kinds(Program { plan: &plan, text, dialect }, stmts, &param),
+            _ => Vec::new(),
+        };
         if found.is_empty() {
+            // The subroutine not found, or its parameter's uses say nothing the dictionary
+            // knows: the argument is still that parameter's value, told as its change.
+            let c = &mut changes[k];
+            c.kind = ChangeKind::CycleParameterChanged;
+            c.field = format!("parameter {} of {}", arg_label(&key, n, first, dialect), callee_label(&key, &name));
             k += 1;
             continue;
         }
@@ -416,6 +435,17 @@ fn passed_to(p: Program<'_>, stmts: &[Stmt], var: &str) -> Vec<(String, String, 
         }
         let toks = statement::tokens_in(&statement::text_of(p.text, d, s), d);
         for t in toks.iter().filter(|t| t.sort == Sort::Call) {
+            // A program called by its name (Siemens `WARMUP_CYCLE(7200, 5)`): its parameters
+            // bind by position to the names its own definition declares; told by position
+            // (the local `0`, the name carrying the position).
+            if callee_name(&t.key).is_none() && control::called_by_name(t, d) {
+                for (i, a) in statement::arguments(&t.value).iter().enumerate() {
+                    if reads(a, var) {
+                        push((t.key.clone(), format!("{}#{}", t.key, i + 1), 0, s.line));
+                    }
+                }
+                continue;
+            }
             let Some(name) = callee_name(&t.key) else { continue };
             for (i, a) in statement::arguments(&t.value).iter().enumerate() {
                 let n = u32::from(first) + i as u32;
@@ -472,9 +502,24 @@ fn variables_into_calls(
         let mut found: Vec<(ChangeKind, String)> = Vec::new();
         let added = c.before.is_empty();
         let changed_at = |line: u32| changes.iter().any(|o| o.line == Some(line) || o.detail.at.iter().any(|&(_, e)| e == Some(line)));
+        let mut passed: Vec<String> = Vec::new();
         for (key, name, n, line) in passed_to(edited, stmts, &var) {
             // A newly set variable: told through the calls that were there before it.
             if added && changed_at(line) {
+                continue;
+            }
+            let field = match name.rsplit_once('#').filter(|_| n == 0) {
+                // Called by name: its parameters are named in its own file, not numbered.
+                Some((_, position)) => format!("parameter {position} of {key} (via {var})"),
+                None => {
+                    let label = arg_label(&key, n, edited.dialect.macros.locals.0, edited.dialect);
+                    format!("parameter {label} of {} (via {var})", callee_label(&key, &name))
+                }
+            };
+            if !passed.contains(&field) {
+                passed.push(field);
+            }
+            if n == 0 {
                 continue;
             }
             if !texts.iter().any(|(t, _)| *t == name) {
@@ -493,6 +538,12 @@ fn variables_into_calls(
                     found.push((kind, format!("{field} (via {var}, {key} argument {label}, {param} in {name})")));
                 }
             }
+        }
+        if found.is_empty() {
+            // Passed to subroutines whose parameters' uses the analysis cannot follow (not
+            // found beside the program, or used for what no dictionary word tells): the value
+            // is still those parameters' value, told as their change.
+            found = passed.into_iter().map(|f| (ChangeKind::CycleParameterChanged, f)).collect();
         }
         if found.is_empty() {
             k += 1;
@@ -549,6 +600,33 @@ fn only_appended(
     // Appended: the edited list's last ones; taken off: the ones after the edited list's end.
     (!inserted.is_empty() && count >= inserted.len() && inserted.iter().copied().eq(count - inserted.len() + 1..=count))
         || (!removed.is_empty() && removed.iter().copied().eq(count + 1..=count + removed.len()))
+}
+
+/// How a change names the program a call runs: an O-word call by its key (`O<COOLANT>`), a
+/// macro call by the program it names (`O9810`), a call by name by its name.
+fn callee_label(key: &str, name: &str) -> String {
+    if key.starts_with('G') { name.to_owned() } else { key.to_owned() }
+}
+
+/// A call's argument changed in place where the call names its program (Siemens
+/// `F_TP_GRINDING_PARAMETERS(…)`) and no argument was inserted or removed before it: the field
+/// that tells it as that parameter's change (`parameter 1 of F_TP_GRINDING_PARAMETERS`).
+fn by_name_argument(changes: &[Change], k: usize, edited: Program<'_>) -> Option<String> {
+    let c = &changes[k];
+    if c.kind != ChangeKind::StatementChanged || c.before == "none" || c.after == "none" {
+        return None;
+    }
+    let (key, n) = c.field.strip_prefix("call ")?.rsplit_once(" argument ")?;
+    let n = n.parse::<usize>().ok()?;
+    let call = Token { key: key.to_owned(), value: "()".into(), text: format!("{key}()"), sort: Sort::Call };
+    if !control::called_by_name(&call, edited.dialect) {
+        return None;
+    }
+    let prefix = format!("call {key} argument ");
+    let shifted = changes.iter().any(|o| {
+        o.line == c.line && o.original_line == c.original_line && o.field.starts_with(&prefix) && (o.before == "none" || o.after == "none")
+    });
+    (!shifted).then(|| format!("parameter {n} of {key}"))
 }
 
 /// How a change names the argument that binds local `n`: its position in an O-word call's

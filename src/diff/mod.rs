@@ -289,8 +289,10 @@ impl Change {
 
     /// The change as a planner reads it: `tool T1 renamed T8`.
     pub fn phrase(&self) -> String {
-        // The kind's words with blanks (`work_plane`), a variable it came through as written.
-        let field = match self.field.find(" (via ") {
+        // The kind's words with blanks (`work_plane`), a variable it came through and a
+        // subprogram a parameter belongs to as written.
+        let named = if self.field.starts_with("parameter ") { self.field.find(" of ") } else { None };
+        let field = match named.or_else(|| self.field.find(" (via ")) {
             Some(i) => format!("{}{}", self.field[..i].replace('_', " "), &self.field[i..]),
             None => self.field.replace('_', " "),
         };

@@ -372,6 +372,10 @@ fn canon(s: &str, (keep_point, numbers_apart): (bool, bool), out: &mut String) {
             let end = i + b[i..].iter().take_while(|x| x.is_ascii_digit() || **x == b'.').count();
             let run = &s[i..end];
             if numeric && run.matches('.').count() <= 1 {
+                // A zero's sign after an address says nothing (`J-0.000` is `J0`).
+                if last == Some('-') && prev.is_some_and(|p| p.is_ascii_alphabetic()) && run.bytes().all(|x| x == b'0' || x == b'.') {
+                    out.pop();
+                }
                 number(run, keep_point, out);
             } else {
                 out.push_str(run);

@@ -50,6 +50,13 @@ pub(super) fn about(tok: &Token, d: &Dialect) -> About {
         .map_or(About::Unknown, |(i, _)| About::Code(d.codes[i].meaning))
 }
 
+/// Whether an assignment sets a variable, not an address written with `=`: a key shaped
+/// like an address (`CR=5`, `RND=2`: up to three letters) that the dictionary names no
+/// address or code is the program's own variable (Siemens `DEF REAL WR` … `WR=286.43`).
+pub(super) fn sets_variable(tok: &Token, d: &Dialect) -> bool {
+    tok.sort == Sort::Assign && (!tok.is_address() || (tok.key.len() >= 2 && about(tok, d) == About::Unknown))
+}
+
 /// The codes a statement's tokens name that give its other words their sense.
 #[derive(Clone, Copy, Default, PartialEq)]
 pub(super) struct Context {

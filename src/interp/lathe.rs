@@ -99,13 +99,23 @@ impl Interpreter<'_> {
         let grooving = def.meaning == Meaning::CycleGroove;
         // (depth axis, shift axis): X then Z grooving, Z then X pecking along the axis.
         let (d, s) = if grooving { (0, 2) } else { (2, 0) };
-        let peck = self.slot(Role::P).map(|v| self.increments(v));
-        let shift = self.slot(Role::Q).map(|v| self.increments(v));
+        // Fanuc's P (X) and Q (Z), in least increments; a dictionary may name other words for
+        // them, lengths as written (Haas `G74`/`G75`: I the X and K the Z increment, P the dwell).
+        let amount = |s: &Self, role: Role| match def.args.iter().find(|(_, to)| *to == role) {
+            Some((from, _)) => s.slot(*from),
+            None => s.slot(role).map(|v| s.increments(v)),
+        };
+        let peck = amount(self, Role::P);
+        let shift = amount(self, Role::Q);
         let (peck, shift) = if grooving { (peck, shift) } else { (shift, peck) };
         let depth_total = (t[d] - start[d]).abs();
         let span = (t[s] - start[s]).abs();
-        let peck = peck.filter(|p| *p > 0.0).unwrap_or(depth_total);
-        let shift = shift.filter(|q| *q > 0.0).unwrap_or(span.max(1.0));
+        // A block that states no peck cuts the whole depth in one plunge, and one that states
+        // no shift plunges once per tool width (Fanuc G74/G75, Haas G74/G75: both optional):
+        // the intent keeps only what the block states, not a size made up from the depth.
+        let (peck_stated, shift_stated) = (peck.filter(|p| *p > 0.0), shift.filter(|q| *q > 0.0));
+        let peck = peck_stated.unwrap_or(depth_total);
+        let shift = shift_stated.unwrap_or(span.max(1.0));
         let plunges = (span / shift - 1e-9).ceil();
         let pecks = (depth_total / peck.max(1e-9) - 1e-9).ceil();
         if !(plunges.is_finite() && pecks.is_finite() && plunges <= MAX_PASSES && pecks * (plunges + 1.0) <= MAX_PASSES * 10.0) {
@@ -116,8 +126,8 @@ impl Interpreter<'_> {
             kind: Some(if grooving { TurnKind::Groove } else { TurnKind::FacePeck }),
             code: def.label(),
             retract: Some(setup.peck_retract),
-            peck: Some(peck),
-            step: (span > 0.0).then_some(shift),
+            peck: peck_stated,
+            step: shift_stated.filter(|_| span > 0.0),
             ..TurnIntent::default()
         };
         self.emit(sink, CanonOp::Turning(Box::new(intent)));

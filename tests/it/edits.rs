@@ -962,3 +962,52 @@ fn a_frame_of_variables_is_an_origin_shift() {
     // The keyword is told with its shift, not as a statement of its own.
     assert!(!got.iter().any(|c| c.kind == ChangeKind::StatementChanged), "{}", rows(&got));
 }
+
+/// A value passed to a program called by name that the analysis cannot follow (the
+/// grinder's `F_TP_GRINDING_PARAMETERS`, not beside the program) is that parameter's change,
+/// named by its position, whether the argument itself or a variable it reads changed; a
+/// two-letter variable the dictionary names no address (`WR`, not `CR`) is a variable
+/// (issue 41, r283–r285). An argument inserted before others binds nothing claimable.
+#[test]
+fn a_value_passed_to_a_called_program_is_that_parameter_s_change() {
+    let none = Beside("other", "PROC OTHER\nM17\n");
+    let changes = |a: &str, b: &str, d: &str| diff_following(d, &none, a, b);
+    let a = "DEF REAL WR, AL1\nWR = 572.86 / 2\nAL1 = 75.1238\nG54 G90\nGRIND_SETUP(WR, 2, AL1)\nM30\n";
+    let got = changes(a, &a.replace("572.86", "572.50"), "siemens");
+    let want = "cycle_parameter_changed | parameter 1 of GRIND_SETUP (via WR) | 572.86/2 | 572.5/2 | 2 | 2";
+    assert!(rows(&got).lines().any(|l| l == want), "{}", rows(&got));
+    let got = changes(a, &a.replace("AL1 = 75.1238", "AL1 = 75.1328"), "siemens");
+    assert!(got.iter().any(|c| c.field == "parameter 3 of GRIND_SETUP (via AL1)"), "{}", rows(&got));
+    let got = changes(a, &a.replace("(WR, 2, AL1)", "(WR, 3, AL1)"), "siemens");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::CycleParameterChanged && c.field == "parameter 2 of GRIND_SETUP"), "{}", rows(&got));
+    assert!(got.iter().all(|c| c.phrase().contains("GRIND_SETUP")), "the name as written: {}", rows(&got));
+    let got = changes(a, &a.replace("(WR, 2, AL1)", "(WR, 7, 2, AL1)"), "siemens");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::CycleParameterChanged), "{}", rows(&got));
+}
+
+/// A count loop's count (LinuxCNC `o100 repeat [5]`) changed is told as its passes, written
+/// or through the variable it reads; a count the analysis cannot read as a number stays the
+/// loop's condition (issue 41: "loop runs 5 → 6 times").
+#[test]
+fn a_count_loop_s_passes() {
+    let a = "G21 G90\nT1 M6\nS1000 M3\n#<n> = 5\no100 repeat [5]\nG91 G1 Z-1 F100\nG90 G1 X10\no100 endrepeat\nM2\n";
+    let got = changes(a, &a.replace("repeat [5]", "repeat [6]"), "linuxcnc");
+    let row = got.iter().find(|c| c.field == "loop passes").unwrap_or_else(|| panic!("{}", rows(&got)));
+    assert_eq!((row.kind, row.before.as_str(), row.after.as_str(), row.line), (ChangeKind::FlowChanged, "5", "6", Some(5)));
+    let by_var = a.replace("repeat [5]", "repeat [#<n>]");
+    let got = changes(&by_var, &by_var.replace("#<n> = 5", "#<n> = 6"), "linuxcnc");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::FlowChanged && c.field == "loop passes (via #<N>)"), "{}", rows(&got));
+    let got = changes(&by_var, &by_var.replace("repeat [#<n>]", "repeat [#<n>+1]"), "linuxcnc");
+    assert!(got.iter().any(|c| c.field == "loop condition"), "{}", rows(&got));
+}
+
+/// A zero written with a sign (`J-0.000`, a CAM re-post's rounding) is the same number as
+/// `J0.000`: no change (issue 41, held-back pair r297).
+#[test]
+fn a_signed_zero_is_zero() {
+    let a = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG2 X10 Y0 I5 J-0.000 F200\nG0 Z5\nM2\n";
+    let got = changes(a, &a.replace("J-0.000", "J0.000"), "linuxcnc");
+    assert!(got.is_empty(), "{}", rows(&got));
+    let got = changes(a, &a.replace("J-0.000", "J-0.5"), "linuxcnc");
+    assert!(!got.is_empty());
+}

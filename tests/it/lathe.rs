@@ -838,3 +838,30 @@ N10 G0 X-0.063 Z0.1\nG1 Z0.0\nX3.0\nN20 G0 Z0.1\nG70 P10 Q20 F0.005\nG0 X6. Z2.\
     assert_eq!(ws, ["facing rough", "facing finish"]);
     assert_eq!(features, ["revolved flat"]);
 }
+
+/// Haas `G75` grooving (Haas lathe operator's manual): `I` the X peck and `K` the Z shift,
+/// lengths with their decimal point, `P` the dwell. A groove made deeper is no peck change,
+/// where the block states a peck and where it states none (the cycle then cuts to depth in
+/// one plunge, no peck size of its own); a peck changed is told as the peck (issue 41, r293).
+#[test]
+fn a_groove_s_depth_is_no_peck() {
+    let a = "%\nO01000\nG20 G99\nT101\nG97 S500 M3\nG0 X1.2 Z-0.5\nG75 X0.8 I0.05 F0.003\nG0 X2.0\nM30\n%\n";
+    let rows = |a: &str, b: &str| {
+        let d = Registry::shipped().get("haas_lathe").unwrap();
+        let profile = Profile::default();
+        let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+        let got = ncplan::diff::compare(
+            ncplan::diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+            ncplan::diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+        );
+        got.iter().map(|c| format!("{} | {} | {} | {}\n", c.kind.as_str(), c.field, c.before, c.after)).collect::<String>()
+    };
+    let deeper = rows(a, &a.replace("X0.8 I", "X0.6 I"));
+    assert!(!deeper.contains("peck"), "{deeper}");
+    assert!(!deeper.is_empty());
+    let no_peck = a.replace(" I0.05", "");
+    let deeper = rows(&no_peck, &no_peck.replace("X0.8", "X0.6"));
+    assert!(!deeper.contains("peck"), "{deeper}");
+    let peck = rows(a, &a.replace("I0.05", "I0.1"));
+    assert!(peck.contains("cycle_parameter_changed | peck |"), "{peck}");
+}
