@@ -627,6 +627,9 @@ struct State {
     /// Whether the program has read data only the machine has (FN 18): arithmetic faults
     /// after it may come from that data.
     machine_data_read: bool,
+    /// The first condition on an unknown value the run took a way at (its text): after it,
+    /// the run follows the way the analysis chose, which the control may not take.
+    guessed: Option<String>,
     /// Whether a length with a decimal point has been read under least-increment input:
     /// after one, a length without (`X118`, 0.118 mm) is suspect.
     length_points: bool,
@@ -703,6 +706,7 @@ impl State {
             spindle_limit: None,
             cycle_initial: None,
             machine_data_read: false,
+            guessed: None,
             length_points: false,
             feed_unknown: profile.role != ProgramRole::Main,
             feed_outside: false,
@@ -1954,11 +1958,24 @@ impl<'a> Interpreter<'a> {
     fn alarm(&mut self, block: &Block, var: f64, value: f64, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let msg = self.block_comment(block);
         let number = if eval::is_null(value) { var } else { var + value.trunc() };
-        diags.push(Diagnostic::new(
-            Code::ProgramAlarm,
-            range,
-            format!("the program raises alarm {number}{}{msg}; execution stops here", if msg.is_empty() { "" } else { ": " }),
-        ));
+        let sep = if msg.is_empty() { "" } else { ": " };
+        let d = match &self.st.guessed {
+            // Reached on the way chosen at a condition on a value only the machine or the
+            // caller has: the control stops here only if it goes this way, which is not known.
+            Some(head) => {
+                let mut d = Diagnostic::new(
+                    Code::ProgramAlarm,
+                    range,
+                    format!(
+                        "the program raises alarm {number}{sep}{msg} on the way taken at `{head}`, a condition on a value unknown here: the control stops here only if it goes this way; the analysis follows it no further"
+                    ),
+                );
+                d.severity = crate::diag::Severity::Warning;
+                d
+            }
+            None => Diagnostic::new(Code::ProgramAlarm, range, format!("the program raises alarm {number}{sep}{msg}; execution stops here")),
+        };
+        diags.push(d);
         self.st.ended = true;
     }
 }

@@ -81,6 +81,7 @@ pub fn run<'t>(
         undecided: false,
         undecided_from: None,
         cond_reads: Vec::new(),
+        round_guessed: false,
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -270,6 +271,9 @@ struct Driver<'a, 'p> {
     /// once, in the order read: a loop round clears it, and a tree would allocate a node and
     /// free it again every round.
     cond_reads: Vec<u32>,
+    /// Whether a condition on an unknown value was met since the last backward jump or loop
+    /// end: a round that reads the machine's or the caller's data may not come round alike.
+    round_guessed: bool,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -991,6 +995,10 @@ impl<'a> Driver<'a, '_> {
             _ => (false, "the loop is left: a run that ends leaves its loops"),
         };
         let head = statement_head(block, c);
+        if interp.st.guessed.is_none() {
+            interp.st.guessed = Some(head.to_string());
+        }
+        self.round_guessed = true;
         let msg = format!("the condition of `{head}` reads {what}; taken as {value}: {why}");
         diags.push(Diagnostic::new(Code::UnknownCondition, c.range, msg));
         value
@@ -1174,10 +1182,14 @@ impl<'a> Driver<'a, '_> {
         let conditional = matches!(l.kind, LoopKind::While | LoopKind::Do | LoopKind::Numbered | LoopKind::Until | LoopKind::Forever);
         let (key, count) = ((l.source, l.head.at), l.iterations);
         if conditional && self.endless(key, count, interp) && !self.waits_for_outside(interp, range, diags) {
+            if self.waits_on_unknown(range, diags) {
+                return false;
+            }
             self.error(diags, Code::LoopLimit, range, format!("the loop comes round {ENDLESS}; the run stops here"));
             return false;
         }
         self.cond_reads.clear();
+        self.round_guessed = false;
         true
     }
 
@@ -1238,11 +1250,27 @@ impl<'a> Driver<'a, '_> {
         }
         interp.params.take_unknown_read();
         self.cond_reads.clear();
+        self.round_guessed = false;
         let msg = format!(
             "the loop waits for {} to change: nothing in the program changes it, so something outside it must (the PLC, a robot, a remote client); taken as changed: the loop is left, as a run that ends leaves it",
             names.join(", ")
         );
         diags.push(Diagnostic::new(Code::WaitLoop, range, msg));
+        true
+    }
+
+    /// A loop that comes round alike while its round took a way at a condition on a value
+    /// unknown here (the control's data, `IF $A_DBB[2]==1 GOTOF END` … `GOTOB LOOP`; the
+    /// caller's): it waits for that value, which the machine changes. The way out is not known:
+    /// said with a warning, and the analysis follows the run no further. False when no
+    /// condition of the round was unknown.
+    fn waits_on_unknown(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        if !self.round_guessed {
+            return false;
+        }
+        let msg = "the loop comes round alike while its conditions read values unknown here (the control's data, the caller's): it waits for them to change, as the machine does; where it leaves is not known, and the analysis follows the run no further";
+        diags.push(Diagnostic::new(Code::WaitLoop, range, msg));
+        self.stop = true;
         true
     }
 
@@ -1271,6 +1299,9 @@ impl<'a> Driver<'a, '_> {
             let limit = self.profile.max_loop_iterations;
             let over = count > limit;
             if over || (self.endless(key, count, interp) && !self.waits_for_outside(interp, range, diags)) {
+                if !over && self.waits_on_unknown(range, diags) {
+                    return;
+                }
                 // Back to the main program's first label, with nothing open: the program runs
                 // until the operator stops it, by design (a cell's loop), as a return in a
                 // main program restarts it.
@@ -1298,6 +1329,7 @@ impl<'a> Driver<'a, '_> {
         }
         if pos.at <= start.at {
             self.cond_reads.clear();
+        self.round_guessed = false;
         }
         self.jump(self.cur, pos, start, interp, diags);
     }
