@@ -591,6 +591,10 @@ struct State {
     feed_per_rev: bool,
     /// The circle centre / pole in the plane's two axes (`CC X Y`), program coordinates.
     pole: (f64, f64),
+    /// The plane of the pole when its block named the two axes of another plane than the
+    /// active one (Heidenhain `CC Y+0.2 Z-0.2` with tool axis Z): the arcs about it (`C`, `CP`)
+    /// run in that plane.
+    pole_plane: Option<Plane>,
     /// The direction of the last arc, for arcs that do not state one (`C X Y` after `DR-`).
     arc_cw: bool,
     /// The cycle defined last (`CYCL DEF 200`, `MCALL CYCLE81(...)`), for later calls.
@@ -694,6 +698,7 @@ impl State {
             tcp_machine: false,
             scaling: None,
             pole: (0.0, 0.0),
+            pole_plane: None,
             arc_cw: true,
             defined_cycle: None,
             cycle_modal: false,
@@ -1973,7 +1978,9 @@ impl<'a> Interpreter<'a> {
                 d.severity = crate::diag::Severity::Warning;
                 d
             }
-            None => Diagnostic::new(Code::ProgramAlarm, range, format!("the program raises alarm {number}{sep}{msg}; execution stops here")),
+            None => {
+                Diagnostic::new(Code::ProgramAlarm, range, format!("the program raises alarm {number}{sep}{msg}; execution stops here"))
+            }
         };
         diags.push(d);
         self.st.ended = true;

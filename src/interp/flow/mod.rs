@@ -1329,7 +1329,7 @@ impl<'a> Driver<'a, '_> {
         }
         if pos.at <= start.at {
             self.cond_reads.clear();
-        self.round_guessed = false;
+            self.round_guessed = false;
         }
         self.jump(self.cur, pos, start, interp, diags);
     }
