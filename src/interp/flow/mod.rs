@@ -82,6 +82,7 @@ pub fn run<'t>(
         undecided_from: None,
         cond_reads: Vec::new(),
         round_guessed: false,
+        guess_merge: None,
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -274,6 +275,9 @@ struct Driver<'a, 'p> {
     /// Whether a condition on an unknown value was met since the last backward jump or loop
     /// end: a round that reads the machine's or the caller's data may not come round alike.
     round_guessed: bool,
+    /// Where the way a forward jump on an unknown condition did not take meets the run again
+    /// (its source, the call depth, the target's offset): the run is on a chosen way until then.
+    guess_merge: Option<(usize, usize, usize)>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -452,6 +456,15 @@ impl<'a> Driver<'a, '_> {
             }
             let start = self.pos();
             let src = self.cur;
+            if let Some((s, depth, at)) = self.guess_merge
+                && s == src
+                && self.frames.len() == depth
+                && start.at >= at
+            {
+                // The way not taken meets the run here.
+                self.guess_merge = None;
+                interp.st.guessed = None;
+            }
             let mark = diags.len();
             self.give_back(&mut block);
             if !self.next_block(&mut block, start, interp, true, diags) {
@@ -462,6 +475,11 @@ impl<'a> Driver<'a, '_> {
             }
             if self.definition_block(&block, mark, diags) {
                 continue;
+            }
+            if self.guess_merge.is_some() && !block.assigns.is_empty() {
+                // A value set on the way chosen: where the ways meet, the values differ still;
+                // the run stays on the chosen way to its end.
+                self.guess_merge = None;
             }
             self.note_broken(&block, src, start, &diags[mark..]);
             if let Some(f) = self.frames.last()
@@ -972,6 +990,7 @@ impl<'a> Driver<'a, '_> {
             c.then,
             Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
         );
+        let mut forward = None;
         let (value, why) = match c.statement {
             // A block IF's body is the lines after it.
             Some(Statement::If) if block_if(block, c, self.dialect) => self.alarm_choice(self.alarm_at(here), false, choice),
@@ -979,6 +998,7 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::If) if jump => match self.jump_target(c, block, interp) {
                 Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
                 target => {
+                    forward = target;
                     // The way from the target on, past the blocks that only stop the spindle
                     // or coolant before the alarm (`N900 M05` `#3000=91`), to its first statement.
                     let at_target = target.is_some_and(|t| self.leads_to_alarm(t, interp, 0));
@@ -995,8 +1015,22 @@ impl<'a> Driver<'a, '_> {
             _ => (false, "the loop is left: a run that ends leaves its loops"),
         };
         let head = statement_head(block, c);
-        if interp.st.guessed.is_none() {
-            interp.st.guessed = Some(head.to_string());
+        if let Some(t) = forward
+            && interp.st.guessed.is_none()
+        {
+            if !value {
+                // A forward jump not taken: until the run reaches its target, where both ways
+                // meet, it goes the way chosen here, which the control may not go (nor what a
+                // program it calls on the way hands back).
+                interp.st.guessed = Some(head.to_string());
+                self.guess_merge = Some((self.cur, self.frames.len(), t.at));
+            } else if self.sources[self.cur].text.piece(here.at, t.at.saturating_sub(here.at)).contains('=') {
+                // A forward jump taken over blocks that set values (`#149=0` … `GOTO9` `N7`
+                // `#149=1`): what the run computes from here on comes of the way chosen, to
+                // the end of the run (a called program hands it back to its caller).
+                interp.st.guessed = Some(head.to_string());
+                self.guess_merge = None;
+            }
         }
         self.round_guessed = true;
         let msg = format!("the condition of `{head}` reads {what}; taken as {value}: {why}");
