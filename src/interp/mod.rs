@@ -594,6 +594,10 @@ struct State {
     feed_per_rev: bool,
     /// The circle centre / pole in the plane's two axes (`CC X Y`), program coordinates.
     pole: (f64, f64),
+    /// The plane of the pole when its block named the two axes of another plane than the
+    /// active one (Heidenhain `CC Y+0.2 Z-0.2` with tool axis Z): the arcs about it (`C`, `CP`)
+    /// run in that plane.
+    pole_plane: Option<Plane>,
     /// The direction of the last arc, for arcs that do not state one (`C X Y` after `DR-`).
     arc_cw: bool,
     /// The cycle defined last (`CYCL DEF 200`, `MCALL CYCLE81(...)`), for later calls.
@@ -630,6 +634,9 @@ struct State {
     /// Whether the program has read data only the machine has (FN 18): arithmetic faults
     /// after it may come from that data.
     machine_data_read: bool,
+    /// The first condition on an unknown value the run took a way at (its text): after it,
+    /// the run follows the way the analysis chose, which the control may not take.
+    guessed: Option<String>,
     /// Whether a length with a decimal point has been read under least-increment input:
     /// after one, a length without (`X118`, 0.118 mm) is suspect.
     length_points: bool,
@@ -695,6 +702,7 @@ impl State {
             tilt_steps: None,
             scaling: None,
             pole: (0.0, 0.0),
+            pole_plane: None,
             arc_cw: true,
             defined_cycle: None,
             cycle_modal: false,
@@ -707,6 +715,7 @@ impl State {
             spindle_limit: None,
             cycle_initial: None,
             machine_data_read: false,
+            guessed: None,
             length_points: false,
             feed_unknown: profile.role != ProgramRole::Main,
             feed_outside: false,
@@ -1958,11 +1967,26 @@ impl<'a> Interpreter<'a> {
     fn alarm(&mut self, block: &Block, var: f64, value: f64, range: TextRange, diags: &mut Vec<Diagnostic>) {
         let msg = self.block_comment(block);
         let number = if eval::is_null(value) { var } else { var + value.trunc() };
-        diags.push(Diagnostic::new(
-            Code::ProgramAlarm,
-            range,
-            format!("the program raises alarm {number}{}{msg}; execution stops here", if msg.is_empty() { "" } else { ": " }),
-        ));
+        let sep = if msg.is_empty() { "" } else { ": " };
+        let d = match &self.st.guessed {
+            // Reached on the way chosen at a condition on a value only the machine or the
+            // caller has: the control stops here only if it goes this way, which is not known.
+            Some(head) => {
+                let mut d = Diagnostic::new(
+                    Code::ProgramAlarm,
+                    range,
+                    format!(
+                        "the program raises alarm {number}{sep}{msg} on the way taken at `{head}`, a condition on a value unknown here: the control stops here only if it goes this way; the analysis follows it no further"
+                    ),
+                );
+                d.severity = crate::diag::Severity::Warning;
+                d
+            }
+            None => {
+                Diagnostic::new(Code::ProgramAlarm, range, format!("the program raises alarm {number}{sep}{msg}; execution stops here"))
+            }
+        };
+        diags.push(d);
         self.st.ended = true;
     }
 }

@@ -170,7 +170,19 @@ impl Interpreter<'_> {
             }
             Meaning::ArcCw | Meaning::ArcCcw | Meaning::ArcPole | Meaning::ArcRadius | Meaning::ArcTangent | Meaning::ArcThreePoint => {
                 let before = diags.len();
+                // An arc about a pole given in another plane (`CC Y Z`, then `C Y Z DR+`) runs
+                // in the pole's plane; the active plane is back after it.
+                let pole_plane = self.st.pole_plane.filter(|p| def.meaning == Meaning::ArcPole && *p != self.st.plane);
+                let active = self.st.plane;
+                if let Some(p) = pole_plane {
+                    self.st.plane = p;
+                    self.emit(sink, CanonOp::SelectPlane(p));
+                }
                 self.arc(def, range, block, sink, diags);
+                if pole_plane.is_some() {
+                    self.st.plane = active;
+                    self.emit(sink, CanonOp::SelectPlane(active));
+                }
                 self.misread_consequences(&mut diags[before..]);
             }
             Meaning::SpindleSync | Meaning::RigidTap => self.synchronised(def, range, sink, diags),

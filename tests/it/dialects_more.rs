@@ -152,3 +152,40 @@ fn a_lathe_roughing_cycle_runs_under_tool_nose_compensation() {
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
     assert!(moves(&calls).contains(&"STRAIGHT_FEED(20.2000, 0.0000, -29.9000, 0.0000, 0.0000, 0.0000)"), "{calls:#?}");
 }
+
+// ---- issue 43: arcs in the plane their centre names; Okuma lathe arcs by L ----
+
+/// An older TNC program's arc about a centre given in Y and Z while the tool is along Z
+/// (`CC Y Z`, then `C Y Z DR+`): the circle lies in the plane of the centre's axes, so its
+/// radii agree; the plane of the tool call is back after it.
+#[test]
+fn a_heidenhain_circle_centre_in_y_and_z_puts_the_arc_in_that_plane() {
+    let text = "0 BEGIN PGM YZ MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+0 R0 F100\n3 CC Y+0 Z+5\n4 C Y+5 Z+5 DR+\n5 CC X+5 Y+5\n6 C X+10 Y+5 DR-\n7 END PGM YZ MM\n";
+    let (calls, diags) = run("heidenhain", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let planes: Vec<&String> = calls.iter().filter(|c| c.starts_with("SELECT_PLANE")).collect();
+    assert!(planes.iter().any(|c| c.contains("YZ")), "{calls:?}");
+    assert!(planes.last().is_some_and(|c| c.contains("XY")), "{calls:?}");
+    assert_eq!(moves(&calls).iter().filter(|c| c.starts_with("ARC_FEED")).count(), 2, "{calls:?}");
+    // The same centre in X and Y (the tool call's plane) keeps the plane: no plane change.
+    let xy = text.replace("3 CC Y+0 Z+5\n4 C Y+5 Z+5 DR+\n", "");
+    let (calls, _) = run("heidenhain", &xy);
+    assert!(!calls.iter().any(|c| c.starts_with("SELECT_PLANE") && c.contains("YZ")), "{calls:?}");
+}
+
+/// An Okuma OSP-L arc sized by L (`G02 X Z L`, alarm B 2255 of the OSP): the radius, read
+/// as such; I K and L together are refused.
+#[test]
+fn an_okuma_lathe_arc_takes_its_radius_in_l() {
+    let (calls, diags) = run("okuma_lathe", "G00 X20. Z20.\nG02 X20. Z10. L5. F0.1\nM02\n");
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(moves(&calls).iter().filter(|c| c.starts_with("ARC_FEED")).count(), 1, "{calls:?}");
+    let (_, diags) = run("okuma_lathe", "G00 X20. Z20.\nG02 X20. Z10. L5. K-5. F0.1\nM02\n");
+    assert!(!errors(&diags).is_empty(), "{diags:?}");
+    let sniffed = Registry::shipped().sniff(
+        "%\nG140\nN10 G00 X20. Z20.\nN20 G50 S2400\nN30 G96 S350 M03\nN40 G02 X2.0286 Z4.745 L.0407 F.02\n",
+        None,
+        "fanuc",
+    );
+    assert_eq!(sniffed.dialect, "okuma_lathe", "{sniffed:?}");
+}

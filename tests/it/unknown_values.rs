@@ -384,3 +384,65 @@ fn an_okuma_subprogram_s_arguments_are_the_caller_s() {
     let errors = errors(&diags);
     assert!(errors.iter().any(|e| e.starts_with("interp::alarm") && e.contains("1004")), "{errors:?}");
 }
+
+/// A Renishaw-style protected move read alone: its argument checks (`IF[#26NE#0]GOTO3`) read
+/// the caller's arguments; the way taken sets `#8=210` and calls the error macro, whose
+/// `GOTO#149` lands on an alarm. The control raises it only if the caller left Z out, which is
+/// not known here: a warning, not an error. With Z known to be vacant, the alarm is an error.
+#[test]
+fn an_alarm_on_the_way_chosen_at_an_unknown_argument_is_a_warning() {
+    let program = "\
+%
+O9810 (PROTECTED MOVE)
+IF[#26NE#0]GOTO3
+#8=210
+M98P9700
+N3
+G90 G1 Z#26 F100.
+M99
+O9700 (ERROR MESSAGE)
+#149=#8
+GOTO#149
+N210
+#3000=91(XYZ INPUT MISSING)
+M99
+%
+";
+    let (_, diags) = run("fanuc", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let alarms: Vec<&Diagnostic> = diags.iter().filter(|d| d.code.as_str() == "interp::alarm").collect();
+    assert!(alarms.iter().any(|d| d.severity == Severity::Warning && d.message.contains("IF[#26NE#0]GOTO3")), "{diags:?}");
+    let known = program.replace("IF[#26NE#0]GOTO3", "#26=#0\nIF[#26NE#0]GOTO3");
+    let (_, diags) = run("fanuc", &known);
+    assert!(errors(&diags).iter().any(|e| e.starts_with("interp::alarm") && e.contains("XYZ INPUT MISSING")), "{diags:?}");
+}
+
+/// A Siemens grinding loop that waits (the work head turning) until the operator's retract key sets a
+/// PLC byte (`IF $A_DBB[2]==1` `GOTOF RING_END` `ENDIF` `GOTOB C_CYCLE`): the round comes
+/// alike, but its condition reads the control's data, which changes; a warning, and the run
+/// is followed no further, never an endless-loop error.
+#[test]
+fn a_loop_waiting_on_the_controls_data_is_no_endless_loop() {
+    let program = "\
+N10 G0 X10 Z0
+C_CYCLE:
+G4 F1
+IF $A_DBB[2]==1
+GOTOF RING_END
+ENDIF
+GOTOB C_CYCLE
+RING_END:
+G90 G0 X50
+M30
+";
+    let (_, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(said(&diags, "flow::wait-loop").len(), 1, "{diags:?}");
+    // The same loop on a value the program sets never ends: still an error.
+    let known = format!(
+        "DEF INT KEY\n{}",
+        program.replace("N10 G0 X10 Z0\n", "N10 G0 X10 Z0\nSTART:\nG0 X20\n").replace("IF $A_DBB[2]==1", "KEY=0\nIF KEY==1")
+    );
+    let (_, diags) = run("siemens", &known);
+    assert!(errors(&diags).iter().any(|e| e.starts_with("flow::loop-limit")), "{diags:?}");
+}

@@ -6,6 +6,7 @@
 //! Doors: [`Interpreter::pole_code`], [`Interpreter::corner_code`],
 //! [`Interpreter::corner_words`].
 
+use crate::canon::Plane;
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
 use crate::interp::{Interpreter, corner};
@@ -17,20 +18,39 @@ impl Interpreter<'_> {
     pub(super) fn pole_code(&mut self, def: &CodeDef) {
         match def.meaning {
             Meaning::Pole => {
+                self.st.pole_plane = None;
                 let t = self.target();
                 let (a0, a1, _) = self.st.plane.axes();
                 self.st.pole = (t[a0], t[a1]);
             }
             Meaning::PoleKeeping => {
                 let t = self.target();
-                let (a0, a1, _) = self.st.plane.axes();
                 let given = |axis: usize| self.slots[Role::AXES[axis] as usize].is_some();
+                // The two axes of another plane (`CC Y Z` while the tool is along Z): the circle
+                // about it lies in their plane (the TNC takes the plane of a circle from its
+                // centre's axes).
+                let other = match (given(0), given(1), given(2)) {
+                    (true, true, false) => Some(Plane::Xy),
+                    (true, false, true) => Some(Plane::Xz),
+                    (false, true, true) => Some(Plane::Yz),
+                    _ => None,
+                }
+                .filter(|p| *p != self.st.plane);
+                if let Some(p) = other {
+                    let (a0, a1, _) = p.axes();
+                    self.st.pole = (t[a0], t[a1]);
+                    self.st.pole_plane = Some(p);
+                    return;
+                }
+                self.st.pole_plane = None;
+                let (a0, a1, _) = self.st.plane.axes();
                 self.st.pole = match (given(a0), given(a1)) {
                     (false, false) => (t[a0], t[a1]),
                     (g0, g1) => (if g0 { t[a0] } else { self.st.pole.0 }, if g1 { t[a1] } else { self.st.pole.1 }),
                 };
             }
             _ => {
+                self.st.pole_plane = None;
                 let (a0, a1, _) = self.st.plane.axes();
                 let (b0, b1) = if def.meaning == Meaning::PoleIncremental { (self.st.pos[a0], self.st.pos[a1]) } else { self.st.pole };
                 let word = |axis: usize| self.slot(Role::AXES[axis]).unwrap_or(0.0);

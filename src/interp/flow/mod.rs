@@ -81,6 +81,8 @@ pub fn run<'t>(
         undecided: false,
         undecided_from: None,
         cond_reads: Vec::new(),
+        round_guessed: false,
+        guess_merge: None,
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -270,6 +272,12 @@ struct Driver<'a, 'p> {
     /// once, in the order read: a loop round clears it, and a tree would allocate a node and
     /// free it again every round.
     cond_reads: Vec<u32>,
+    /// Whether a condition on an unknown value was met since the last backward jump or loop
+    /// end: a round that reads the machine's or the caller's data may not come round alike.
+    round_guessed: bool,
+    /// Where the way a forward jump on an unknown condition did not take meets the run again
+    /// (its source, the call depth, the target's offset): the run is on a chosen way until then.
+    guess_merge: Option<(usize, usize, usize)>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -448,6 +456,15 @@ impl<'a> Driver<'a, '_> {
             }
             let start = self.pos();
             let src = self.cur;
+            if let Some((s, depth, at)) = self.guess_merge
+                && s == src
+                && self.frames.len() == depth
+                && start.at >= at
+            {
+                // The way not taken meets the run here.
+                self.guess_merge = None;
+                interp.st.guessed = None;
+            }
             let mark = diags.len();
             self.give_back(&mut block);
             if !self.next_block(&mut block, start, interp, true, diags) {
@@ -458,6 +475,11 @@ impl<'a> Driver<'a, '_> {
             }
             if self.definition_block(&block, mark, diags) {
                 continue;
+            }
+            if self.guess_merge.is_some() && !block.assigns.is_empty() {
+                // A value set on the way chosen: where the ways meet, the values differ still;
+                // the run stays on the chosen way to its end.
+                self.guess_merge = None;
             }
             self.note_broken(&block, src, start, &diags[mark..]);
             if let Some(f) = self.frames.last()
@@ -968,6 +990,7 @@ impl<'a> Driver<'a, '_> {
             c.then,
             Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
         );
+        let mut forward = None;
         let (value, why) = match c.statement {
             // A block IF's body is the lines after it.
             Some(Statement::If) if block_if(block, c, self.dialect) => self.alarm_choice(self.alarm_at(here), false, choice),
@@ -975,6 +998,7 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::If) if jump => match self.jump_target(c, block, interp) {
                 Some(target) if target.at <= here.at => (false, "the jump back is not taken: a run that ends leaves its loops"),
                 target => {
+                    forward = target;
                     // The way from the target on, past the blocks that only stop the spindle
                     // or coolant before the alarm (`N900 M05` `#3000=91`), to its first statement.
                     let at_target = target.is_some_and(|t| self.leads_to_alarm(t, interp, 0));
@@ -991,6 +1015,24 @@ impl<'a> Driver<'a, '_> {
             _ => (false, "the loop is left: a run that ends leaves its loops"),
         };
         let head = statement_head(block, c);
+        if let Some(t) = forward
+            && interp.st.guessed.is_none()
+        {
+            if !value {
+                // A forward jump not taken: until the run reaches its target, where both ways
+                // meet, it goes the way chosen here, which the control may not go (nor what a
+                // program it calls on the way hands back).
+                interp.st.guessed = Some(head.to_string());
+                self.guess_merge = Some((self.cur, self.frames.len(), t.at));
+            } else if self.sources[self.cur].text.piece(here.at, t.at.saturating_sub(here.at)).contains('=') {
+                // A forward jump taken over blocks that set values (`#149=0` … `GOTO9` `N7`
+                // `#149=1`): what the run computes from here on comes of the way chosen, to
+                // the end of the run (a called program hands it back to its caller).
+                interp.st.guessed = Some(head.to_string());
+                self.guess_merge = None;
+            }
+        }
+        self.round_guessed = true;
         let msg = format!("the condition of `{head}` reads {what}; taken as {value}: {why}");
         diags.push(Diagnostic::new(Code::UnknownCondition, c.range, msg));
         value
@@ -1174,10 +1216,14 @@ impl<'a> Driver<'a, '_> {
         let conditional = matches!(l.kind, LoopKind::While | LoopKind::Do | LoopKind::Numbered | LoopKind::Until | LoopKind::Forever);
         let (key, count) = ((l.source, l.head.at), l.iterations);
         if conditional && self.endless(key, count, interp) && !self.waits_for_outside(interp, range, diags) {
+            if self.waits_on_unknown(range, diags) {
+                return false;
+            }
             self.error(diags, Code::LoopLimit, range, format!("the loop comes round {ENDLESS}; the run stops here"));
             return false;
         }
         self.cond_reads.clear();
+        self.round_guessed = false;
         true
     }
 
@@ -1238,11 +1284,27 @@ impl<'a> Driver<'a, '_> {
         }
         interp.params.take_unknown_read();
         self.cond_reads.clear();
+        self.round_guessed = false;
         let msg = format!(
             "the loop waits for {} to change: nothing in the program changes it, so something outside it must (the PLC, a robot, a remote client); taken as changed: the loop is left, as a run that ends leaves it",
             names.join(", ")
         );
         diags.push(Diagnostic::new(Code::WaitLoop, range, msg));
+        true
+    }
+
+    /// A loop that comes round alike while its round took a way at a condition on a value
+    /// unknown here (the control's data, `IF $A_DBB[2]==1 GOTOF END` … `GOTOB LOOP`; the
+    /// caller's): it waits for that value, which the machine changes. The way out is not known:
+    /// said with a warning, and the analysis follows the run no further. False when no
+    /// condition of the round was unknown.
+    fn waits_on_unknown(&mut self, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
+        if !self.round_guessed {
+            return false;
+        }
+        let msg = "the loop comes round alike while its conditions read values unknown here (the control's data, the caller's): it waits for them to change, as the machine does; where it leaves is not known, and the analysis follows the run no further";
+        diags.push(Diagnostic::new(Code::WaitLoop, range, msg));
+        self.stop = true;
         true
     }
 
@@ -1271,6 +1333,9 @@ impl<'a> Driver<'a, '_> {
             let limit = self.profile.max_loop_iterations;
             let over = count > limit;
             if over || (self.endless(key, count, interp) && !self.waits_for_outside(interp, range, diags)) {
+                if !over && self.waits_on_unknown(range, diags) {
+                    return;
+                }
                 // Back to the main program's first label, with nothing open: the program runs
                 // until the operator stops it, by design (a cell's loop), as a return in a
                 // main program restarts it.
@@ -1298,6 +1363,7 @@ impl<'a> Driver<'a, '_> {
         }
         if pos.at <= start.at {
             self.cond_reads.clear();
+            self.round_guessed = false;
         }
         self.jump(self.cur, pos, start, interp, diags);
     }
