@@ -98,6 +98,7 @@ pub fn run<'t>(
         last_kept: None,
         lent: None,
         jump_targets: BTreeMap::new(),
+        spare_label: String::new(),
         reached: Vec::new(),
         broken_blocks: BTreeSet::new(),
         broken: false,
@@ -306,6 +307,10 @@ struct Driver<'a, 'p> {
     /// Where the jumps to a target written as a name or a constant go, by source and offset
     /// of the jump's block, with the target's name (found once, in the source's index).
     jump_targets: BTreeMap<(usize, usize), (Pos, std::rc::Rc<str>)>,
+    /// The room of the last statement's label, for the next one's ([`Driver::label_text`]):
+    /// a loop's `o101 while` and `o101 endwhile` come in every pass, and their labels then
+    /// allocate nothing.
+    spare_label: String,
     /// The kept block lent to [`Driver::drive`]'s block for its run (see
     /// [`Driver::give_back`]).
     lent: Option<u32>,
@@ -413,13 +418,18 @@ fn integer_label(n: i64) -> String {
     s
 }
 
-fn normalise_label(s: &str) -> String {
-    // The usual label is normal already (`100`, `row`): copied as it is.
+/// Whether label text `s` is normal already (`100`, `row`), as [`normalise_label`] would
+/// write it: lower case, digits and `_`, and no leading zero of a number.
+fn normal_label(s: &str) -> bool {
     let b = s.as_bytes();
-    if !b.is_empty()
+    !b.is_empty()
         && b.iter().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == b'_')
         && (b[0] != b'0' || b.len() == 1 || !b.iter().all(u8::is_ascii_digit))
-    {
+}
+
+fn normalise_label(s: &str) -> String {
+    // The usual label is normal already (`100`, `row`): copied as it is.
+    if normal_label(s) {
         return s.to_owned();
     }
     let s: String = s.chars().filter(|c| !c.is_whitespace()).flat_map(char::to_lowercase).collect();
@@ -945,8 +955,20 @@ impl<'a> Driver<'a, '_> {
         marks[from..].iter().find(|m| pred(m)).cloned()
     }
 
-    fn label_text(&self, block: &Block, control: &Control) -> Option<String> {
-        control.label.map(|r| normalise_label(block.text(r)))
+    /// The label `control` names, as [`normalise_label`] writes it, in the room the last
+    /// statement's label left ([`Driver::spare_label`]; the caller gives it back).
+    fn label_text(&mut self, block: &Block, control: &Control) -> Option<String> {
+        control.label.map(|r| {
+            let text = block.text(r);
+            let mut s = std::mem::take(&mut self.spare_label);
+            s.clear();
+            if normal_label(text) {
+                s.push_str(text);
+            } else {
+                s.push_str(&normalise_label(text));
+            }
+            s
+        })
     }
 
     /// Evaluates operand `e` of a control block with the interpreter's parameters.
@@ -1413,7 +1435,7 @@ impl<'a> Driver<'a, '_> {
     fn loop_head(
         &mut self,
         kind: LoopKind,
-        label: Option<String>,
+        label: &Option<String>,
         id: Option<i64>,
         cond: bool,
         start: Pos,
@@ -1429,7 +1451,8 @@ impl<'a> Driver<'a, '_> {
                 false
             }
             (true, None) => {
-                self.push_loop(kind, label, id, start, here);
+                // Copied only here: a loop's head comes again in every pass.
+                self.push_loop(kind, label.clone(), id, start, here);
                 false
             }
             (false, again) => {

@@ -35,7 +35,7 @@ impl<'a> Driver<'a, '_> {
             self.unknown_statement(c, block, interp, diags);
             return;
         };
-        let label = match c.label_expr {
+        let mut label = match c.label_expr {
             // `o#<sub> call`: the label is the parameter's value, a whole number.
             Some(e) => match self.value(interp, block, e, diags) {
                 Some(v) if v.fract() == 0.0 && (0.0..1e9).contains(&v) => Some(format!("{v}")),
@@ -58,16 +58,16 @@ impl<'a> Driver<'a, '_> {
                 self.while_statement(c, block, start, here, &label, interp, diags)
             }
             Statement::While => self.while_do(c, block, start, here, interp, diags),
-            Statement::Do if label.is_some() => self.push_loop(LoopKind::Do, label, None, start, here),
+            Statement::Do if label.is_some() => self.push_loop(LoopKind::Do, label.take(), None, start, here),
             Statement::Do => self.numbered_do(c, block, start, here, interp, diags),
             Statement::EndWhile => self.end_while(c, start, &label, interp, diags),
             Statement::EndDo => self.end_do(c, block, start, interp, diags),
-            Statement::Repeat => self.repeat(c, block, start, here, label, interp, diags),
+            Statement::Repeat => self.repeat(c, block, start, here, label.take(), interp, diags),
             Statement::EndRepeat => self.end_repeat(c, start, &label, interp, diags),
             Statement::Break | Statement::Continue => self.break_or_continue(statement, c, start, &label, interp, diags),
             Statement::Sub => self.sub_definition(c, start, &label, interp, diags),
             Statement::EndSub | Statement::Return => self.end_sub_or_return(statement, c, block, interp, sink, diags),
-            Statement::Call => self.call_sub(c, label, block, start, interp, diags),
+            Statement::Call => self.call_sub(c, label.take(), block, start, interp, diags),
             Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel => {
                 self.jump_statement(statement, c, block, start, interp, diags)
             }
@@ -84,6 +84,10 @@ impl<'a> Driver<'a, '_> {
             Statement::Procedure => self.procedure(c, block, interp),
             Statement::Inert => {}
             Statement::Unsupported => unsupported_statement(c, block, interp, diags),
+        }
+        // Its room kept for the next statement's label.
+        if let Some(s) = label {
+            self.spare_label = s;
         }
     }
 
@@ -211,7 +215,7 @@ impl<'a> Driver<'a, '_> {
             }
             return;
         }
-        if self.loop_head(LoopKind::While, label.clone(), None, cond, start, here, c.range, interp, diags) {
+        if self.loop_head(LoopKind::While, label, None, cond, start, here, c.range, interp, diags) {
             self.skip_structure(label, start, c.range, Statement::While, Statement::EndWhile, &[Statement::EndWhile], interp, diags);
         }
     }
@@ -220,7 +224,7 @@ impl<'a> Driver<'a, '_> {
     fn while_do(&mut self, c: &Control, block: &Block, start: Pos, here: Pos, interp: &mut Interpreter<'a>, diags: &mut Vec<Diagnostic>) {
         let id = self.loop_id(c, block, interp, diags);
         let Some(cond) = self.condition(interp, c, block, diags) else { return };
-        if self.loop_head(LoopKind::Numbered, None, id, cond, start, here, c.range, interp, diags) {
+        if self.loop_head(LoopKind::Numbered, &None, id, cond, start, here, c.range, interp, diags) {
             self.skip_numbered_end(id, start, c.range, interp, diags);
         }
     }
@@ -481,7 +485,7 @@ impl<'a> Driver<'a, '_> {
             return;
         }
         let go_on = if step > 0.0 { value <= last } else { value >= last };
-        if self.loop_head(LoopKind::For, None, None, go_on, start, here, c.range, interp, diags) {
+        if self.loop_head(LoopKind::For, &None, None, go_on, start, here, c.range, interp, diags) {
             self.skip_structure(&None, start, c.range, Statement::For, Statement::EndFor, &[Statement::EndFor], interp, diags);
         }
     }
