@@ -626,11 +626,25 @@ pub struct Canon {
 pub trait CanonSink {
     /// Takes one op.
     fn emit(&mut self, canon: Canon);
+
+    /// The memory the sink keeps, in bytes, after the interpreter has made `moves` moves: what
+    /// the analysis bound in memory (`Profile::max_repeated_bytes`) counts. By default the most
+    /// a kept move costs anywhere ([`crate::interp::BYTES_PER_MOVE`]); a sink that knows better
+    /// says so, and one that keeps nothing (it streams) says 0.
+    fn kept_bytes(&self, moves: u64) -> u64 {
+        moves.saturating_mul(crate::interp::BYTES_PER_MOVE)
+    }
 }
 
 impl CanonSink for Vec<Canon> {
     fn emit(&mut self, canon: Canon) {
         self.push(canon);
+    }
+
+    /// What the vector holds: its capacity in ops (text an op owns, such as a comment's, is
+    /// left out).
+    fn kept_bytes(&self, _: u64) -> u64 {
+        (self.capacity() * std::mem::size_of::<Canon>()) as u64
     }
 }
 

@@ -210,6 +210,9 @@ pub fn sniff_in(
     struct Discard;
     impl CanonSink for Discard {
         fn emit(&mut self, _: Canon) {}
+        fn kept_bytes(&self, _: u64) -> u64 {
+            0
+        }
     }
     let errors = |name: &str| {
         registry
@@ -291,6 +294,9 @@ pub fn machine_of(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Opti
     struct Discard;
     impl CanonSink for Discard {
         fn emit(&mut self, _: Canon) {}
+        fn kept_bytes(&self, _: u64) -> u64 {
+            0
+        }
     }
     let found = interp::interpret(text, dialect, profile, &mut Discard);
     match lathe_machine(&found, profile) {

@@ -86,7 +86,7 @@
 //! `RoundState` at passes 1, 2, 4, … and every 4096th). Blocks and conditions read the system
 //! variables (the position, the tool, the modes; LinuxCNC's `#5420` and `#<_x>`: `<system-variable>`)
 //! as they are at the statement: `refresh_system_vars` sets those the block reads, and no others.
-//! The analysis bound (`Profile::max_repeated_blocks` in time, `max_repeated_moves` in memory;
+//! The analysis bound (`Profile::max_repeated_blocks` in time, `max_repeated_bytes` in memory;
 //! `[analysis] max_seconds`, `max_memory_mb`) stops a run that would go on past it with
 //! `flow::repeat-budget`, which every command says on stderr. A condition on an
 //! unknown value (`unknown_condition`) takes the way whose first block raises no alarm
@@ -216,10 +216,11 @@ pub struct Profile {
     /// budgets ([`Profile::bound`] sets it from seconds). Blocks run for the first time do not
     /// count, so a long program streams whole.
     pub max_repeated_blocks: u64,
-    /// The analysis bound in memory: most moves the blocks run again make before the analysis
-    /// stops with a warning (a plan keeps every move; [`Profile::bound`] sets it from
+    /// The analysis bound in memory: most bytes the result keeps of what the blocks run again
+    /// make before the analysis stops with a warning (the sink says what it keeps:
+    /// [`crate::canon::CanonSink::kept_bytes`]; [`Profile::bound_memory`] sets it from
     /// megabytes).
-    pub max_repeated_moves: u64,
+    pub max_repeated_bytes: u64,
     /// Where subprograms outside the program's text come from (the shell's program directory).
     pub programs: Option<std::sync::Arc<dyn ProgramSource + Send + Sync>>,
     /// The raw stock as two corners (min, max) in program coordinates, mm, when configured.
@@ -296,13 +297,15 @@ impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
 /// A count, not a clock, so that the same program gives the same analysis on any machine.
 pub const REPEATED_BLOCKS_PER_SECOND: u64 = 1_000_000;
 
-/// The memory one move costs at the most where it is kept (a plan's toolpath, its features'
-/// geometry): the rate that turns the memory bound into a count of moves.
+/// The memory one move costs at the most where it is kept, for a sink that does not say what it
+/// keeps ([`crate::canon::CanonSink::kept_bytes`]): `check`'s ops kept whole cost some 370
+/// bytes a move of a plain loop of G1 moves.
 pub const BYTES_PER_MOVE: u64 = 400;
 
-/// The analysis bound by default: a minute of analysis, and 64 MB of the moves blocks run
-/// again make (some 160,000 moves: a macro program rs274 runs to its end in a second or two).
-/// A command that keeps no moves (`canon` streams them) has no bound in memory.
+/// The analysis bound by default: a minute of analysis, and 64 MB of what the result keeps of
+/// the moves blocks run again make (a plan: some 160,000 moves, a macro program rs274 runs to
+/// its end in a second or two). A command that keeps no moves (`canon` streams them) has no
+/// bound in memory.
 pub const DEFAULT_BOUND_SECONDS: u64 = 60;
 /// See [`DEFAULT_BOUND_SECONDS`].
 pub const DEFAULT_BOUND_MB: u64 = 64;
@@ -314,15 +317,15 @@ impl Profile {
         self.max_repeated_blocks = seconds.max(1).saturating_mul(REPEATED_BLOCKS_PER_SECOND);
     }
 
-    /// Sets the analysis bound in memory: `megabytes` of kept moves at the most for the
-    /// moves of blocks run again (at least one).
+    /// Sets the analysis bound in memory: `megabytes` kept at the most of the moves of blocks
+    /// run again (at least one).
     pub fn bound_memory(&mut self, megabytes: u64) {
-        self.max_repeated_moves = megabytes.max(1).saturating_mul(1_000_000) / BYTES_PER_MOVE;
+        self.max_repeated_bytes = megabytes.max(1).saturating_mul(1_000_000);
     }
 
     /// No bound in memory: for a run whose moves are streamed, not kept.
     pub fn streamed(&mut self) {
-        self.max_repeated_moves = u64::MAX;
+        self.max_repeated_bytes = u64::MAX;
     }
 }
 
@@ -336,7 +339,7 @@ impl Default for Profile {
             max_loop_iterations: 1_000_000,
             max_blocks: 200_000_000,
             max_repeated_blocks: DEFAULT_BOUND_SECONDS * REPEATED_BLOCKS_PER_SECOND,
-            max_repeated_moves: DEFAULT_BOUND_MB * 1_000_000 / BYTES_PER_MOVE,
+            max_repeated_bytes: DEFAULT_BOUND_MB * 1_000_000,
             programs: None,
             stock: None,
             fast_lane: true,

@@ -85,13 +85,39 @@ fn a_run_that_reaches_the_bound_stops_and_says_which() {
     assert_eq!((stops[0].code.as_str(), stops[0].severity), ("flow::repeat-budget", Severity::Warning));
     assert!(stops[0].message.contains("bound in time (20000 blocks run again"), "{}", stops[0].message);
     assert!(moves.len() < 10_000, "{} moves", moves.len());
-    let memory = Profile { max_repeated_moves: 1_000, ..Profile::default() };
+    // Ops kept whole (a vector: what `check` keeps) count as the vector's capacity: it grows
+    // by doubling, so the bound of 1,000 ops is passed when it grows to 1,024 and more.
+    let op = std::mem::size_of::<ncplan::canon::Canon>() as u64;
+    let memory = Profile { max_repeated_bytes: 1_000 * op, ..Profile::default() };
     let (moves, diags) = crate::moves_and_findings("linuxcnc", &program, &memory);
     let stops: Vec<_> = diags.iter().filter(|d| d.stops_analysis()).collect();
     assert_eq!(stops.len(), 1, "{diags:#?}");
-    assert!(stops[0].message.contains("bound in memory (1000 moves made by blocks run again"), "{}", stops[0].message);
-    // The first row runs before any block runs again; the bound counts from there.
-    assert!((1_000..=1_600).contains(&moves.len()), "{} moves", moves.len());
+    assert!(stops[0].message.contains("its bound in memory ("), "{}", stops[0].message);
+    assert!((500..=1_100).contains(&moves.len()), "{} moves", moves.len());
+}
+
+/// The bound in memory counts what the result keeps, as its sink says: ops kept whole (a
+/// vector) by the vector's capacity, which grows by doubling; a plan by the most a kept move
+/// costs (`BYTES_PER_MOVE`: `check` keeps some 370 bytes a move of a plain loop of G1 moves).
+/// The finding names the moves made.
+#[test]
+fn the_bound_in_memory_counts_what_the_result_keeps() {
+    let program = rows_by_calls();
+    let d = ncplan::dialect::Registry::shipped().get("linuxcnc").unwrap();
+    let mut profile = Profile::default();
+    profile.bound_memory(1);
+    let moves_made = |diags: &[ncplan::diag::Diagnostic]| -> u64 {
+        let stop = diags.iter().find(|d| d.stops_analysis()).expect("the run stops at the bound");
+        let m = stop.message.split("its bound in memory (").nth(1).expect("a bound in memory");
+        m.split(' ').next().unwrap().parse().unwrap()
+    };
+    let plan = ncplan::pipeline::analyze_plan(program.as_bytes(), &d, &profile);
+    let per_move = 1_000_000 / ncplan::interp::BYTES_PER_MOVE;
+    assert!((per_move..=per_move + 10).contains(&moves_made(&plan.diagnostics)), "{:?}", plan.diagnostics);
+    let whole = ncplan::pipeline::analyze(program.as_bytes(), &d, &profile);
+    let op = std::mem::size_of::<ncplan::canon::Canon>() as u64;
+    let kept = moves_made(&whole.diagnostics);
+    assert!((1_000_000 / op / 2 - 20..=1_000_000 / op + 20).contains(&kept), "{kept} moves, {op} bytes an op");
 }
 
 /// Every command that stops early says so on stderr, whatever findings it shows otherwise:

@@ -104,6 +104,7 @@ pub fn run<'t>(
         broken: false,
         repeated: 0,
         replay_moves: 0,
+        replay_kept: None,
         definition: None,
     };
     let mut interp = Interpreter::new(dialect, profile);
@@ -323,9 +324,11 @@ struct Driver<'a, 'p> {
     broken: bool,
     /// Blocks run again so far (see [`Profile::max_repeated_blocks`]).
     repeated: u64,
-    /// The interpreter's moves when the run began to replay: those after count towards
-    /// [`Profile::max_repeated_moves`].
+    /// The interpreter's moves when the run began to replay.
     replay_moves: u64,
+    /// What the sink kept when the run began to replay (taken at the first block of the
+    /// replay): what it keeps beyond counts towards [`Profile::max_repeated_bytes`].
+    replay_kept: Option<u64>,
     /// Inside a definition block (see [`crate::dialect::Macros::definition_block`]): where it
     /// started.
     definition: Option<TextRange>,
@@ -503,7 +506,7 @@ impl<'a> Driver<'a, '_> {
                 continue;
             }
             self.executed += 1;
-            if self.over_budget(&block, src, mark, interp.motions, diags) {
+            if self.over_budget(&block, src, mark, interp.motions, &*sink, diags) {
                 break;
             }
             if src == 0 && self.frames.is_empty() && !self.main_program_block(&block, interp, sink, diags) {
@@ -556,10 +559,23 @@ impl<'a> Driver<'a, '_> {
     /// ([`Profile::max_repeated_blocks`]) or all blocks run ([`Profile::max_blocks`]); the
     /// finding says which.
     #[inline]
-    fn over_budget(&mut self, block: &Block, src: usize, mark: usize, moves: u64, diags: &mut Vec<Diagnostic>) -> bool {
+    fn over_budget(
+        &mut self,
+        block: &Block,
+        src: usize,
+        mark: usize,
+        moves: u64,
+        sink: &dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
         let profile = self.profile;
-        let repeated_moves = if self.replaying { moves.saturating_sub(self.replay_moves) } else { 0 };
-        if self.repeated > profile.max_repeated_blocks || repeated_moves > profile.max_repeated_moves {
+        let repeated_bytes = if self.replaying {
+            let kept = sink.kept_bytes(moves);
+            kept.saturating_sub(*self.replay_kept.get_or_insert(kept))
+        } else {
+            0
+        };
+        if self.repeated > profile.max_repeated_blocks || repeated_bytes > profile.max_repeated_bytes {
             self.tidy(src, mark, diags);
             let bound = if self.repeated > profile.max_repeated_blocks {
                 format!(
@@ -569,9 +585,10 @@ impl<'a> Driver<'a, '_> {
                 )
             } else {
                 format!(
-                    "its bound in memory ({} moves made by blocks run again; about {} MB)",
-                    profile.max_repeated_moves,
-                    (profile.max_repeated_moves * super::BYTES_PER_MOVE).div_ceil(1_000_000)
+                    "its bound in memory ({} moves made by blocks run again, {} MB kept of them; about {} MB)",
+                    moves.saturating_sub(self.replay_moves),
+                    repeated_bytes.div_ceil(1_000_000),
+                    profile.max_repeated_bytes.div_ceil(1_000_000)
                 )
             };
             let msg = format!(
