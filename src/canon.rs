@@ -622,6 +622,11 @@ pub struct Canon {
     pub line: u32,
 }
 
+/// The memory one move costs at the most where it is kept, for a sink that does not say what it
+/// keeps ([`CanonSink::kept_bytes`]): a plan's feature recognition holds some 380 bytes a move
+/// of a plain loop of G1 moves at its peak (the profile's pieces beside the toolpath).
+pub const BYTES_PER_MOVE: u64 = 400;
+
 /// Receives canonical ops as the interpreter produces them.
 pub trait CanonSink {
     /// Takes one op.
@@ -629,10 +634,10 @@ pub trait CanonSink {
 
     /// The memory the sink keeps, in bytes, after the interpreter has made `moves` moves: what
     /// the analysis bound in memory (`Profile::max_repeated_bytes`) counts. By default the most
-    /// a kept move costs anywhere ([`crate::interp::BYTES_PER_MOVE`]); a sink that knows better
+    /// a kept move costs anywhere ([`BYTES_PER_MOVE`]); a sink that knows better
     /// says so, and one that keeps nothing (it streams) says 0.
     fn kept_bytes(&self, moves: u64) -> u64 {
-        moves.saturating_mul(crate::interp::BYTES_PER_MOVE)
+        moves.saturating_mul(BYTES_PER_MOVE)
     }
 }
 

@@ -297,10 +297,7 @@ impl std::fmt::Debug for dyn ProgramSource + Send + Sync {
 /// A count, not a clock, so that the same program gives the same analysis on any machine.
 pub const REPEATED_BLOCKS_PER_SECOND: u64 = 1_000_000;
 
-/// The memory one move costs at the most where it is kept, for a sink that does not say what it
-/// keeps ([`crate::canon::CanonSink::kept_bytes`]): `check`'s ops kept whole cost some 370
-/// bytes a move of a plain loop of G1 moves.
-pub const BYTES_PER_MOVE: u64 = 400;
+pub use crate::canon::BYTES_PER_MOVE;
 
 /// The analysis bound by default: a minute of analysis, and 64 MB of what the result keeps of
 /// the moves blocks run again make (a plan: some 160,000 moves, a macro program rs274 runs to

@@ -98,7 +98,7 @@ fn a_run_that_reaches_the_bound_stops_and_says_which() {
 
 /// The bound in memory counts what the result keeps, as its sink says: ops kept whole (a
 /// vector) by the vector's capacity, which grows by doubling; a plan by the most a kept move
-/// costs (`BYTES_PER_MOVE`: `check` keeps some 370 bytes a move of a plain loop of G1 moves).
+/// costs (`BYTES_PER_MOVE`).
 /// The finding names the moves made.
 #[test]
 fn the_bound_in_memory_counts_what_the_result_keeps() {

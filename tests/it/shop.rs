@@ -559,8 +559,11 @@ fn fanuc_high_speed_and_five_axis_codes_of_cam_posts() {
         // (25·sin 30°) in the plane's coordinates; `G1 Z-1.` keeps that Y.
         assert!(m.iter().any(|l| l.starts_with("STRAIGHT_FEED(10.0000, 12.5000, -1.0000")), "{dialect}: {m:?}");
     }
+    // Fagor's G08 is an arc tangent to the path before: documented, not modelled, so kept as
+    // intent with a warning (issue 43), never read as a smoothing code.
     let (_, diags) = run("fagor", "G90 G17\nG08 X10 Y10\nM30\n");
-    assert!(diags.iter().any(|d| d.code.as_str() == "syntax::unknown-code" && d.message.contains("G08")), "{diags:?}");
+    assert!(errors(&diags).is_empty(), "{diags:?}");
+    assert!(diags.iter().any(|d| d.message.contains("`G08` (arc tangent")), "{diags:?}");
 }
 
 /// Issue 43, sweep 4: Fanuc takes the last of two G codes of one group in a block
