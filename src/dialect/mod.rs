@@ -186,6 +186,9 @@ pub struct Lexical {
     /// that statement in brackets (Fagor 8055's high-level language: `(P100 = P101 * 2)`,
     /// `(IF P1 EQ 0 GOTO N10)`, `(CALL 3)`); any other `(` stays a comment.
     pub paren_statements: bool,
+    /// Whether a block may open with a statement keyword (`IF [#1 EQ 1] THEN GOTO 10`,
+    /// `GOTO 10`) although the dialect also has a control word (`O`): Centroid CNC12.
+    pub keyword_statements: bool,
     /// Comment rules, tried in order.
     pub comments: Vec<CommentRule>,
     /// Block-skip (block-delete) character.

@@ -16,6 +16,7 @@ const ATTRIBUTES: &[&str] = &[
     "identifier-variables",
     "symbolic-comparisons",
     "paren-statements",
+    "keyword-statements",
 ];
 
 /// The elements `<lexical>` may hold.
@@ -86,6 +87,7 @@ impl Cx {
             identifier_variables: self.bool(el, "identifier-variables", false),
             symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
             paren_statements: self.bool(el, "paren-statements", false),
+            keyword_statements: self.bool(el, "keyword-statements", false),
             comments: Vec::new(),
             block_skip: None,
             block_number: None,

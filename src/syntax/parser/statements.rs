@@ -127,12 +127,18 @@ impl Lexer<'_, '_> {
         self.i = eol;
     }
 
+    /// Whether statement keywords open blocks: in a dialect without a control word, or one
+    /// that says so beside it.
+    fn keywords_open_blocks(&self) -> bool {
+        self.dialect.lexical.control_word.is_none() || self.dialect.lexical.keyword_statements
+    }
+
     /// `IF [#1 GT 0] GOTO 10`, `WHILE [#2 LT 5] DO 1`, `END 1`, `GOTO #3`, `CALL LBL 1 REP 2`:
     /// a statement that starts with a keyword. Where the dialect calls programs by name, an
     /// unknown name is such a call (`DRILLING`, `L123 P2`, `MYPROC(1.5, 3)`). Any other run of
     /// letters is kept as an unknown statement, so that the interpreter can name it.
     pub(super) fn keyword_statement(&mut self, start: usize) {
-        let known = if self.dialect.lexical.control_word.is_none() { self.statement_at(start) } else { None };
+        let known = if self.keywords_open_blocks() { self.statement_at(start) } else { None };
         let mut control = Control::default();
         match known {
             Some((end, mut st)) => {
@@ -662,7 +668,7 @@ impl Lexer<'_, '_> {
             self.case_branches(control);
             return true;
         } else if takes_target(st) {
-            if self.dialect.lexical.control_word.is_none() {
+            if self.keywords_open_blocks() {
                 self.target(control);
                 if matches!(st, Statement::CallLabel | Statement::CallProgram) {
                     self.call_repeat(control);
@@ -717,7 +723,7 @@ impl Lexer<'_, '_> {
     /// where the dialect allows, a bare block name after an `IF` condition.
     fn then_clause(&mut self, st: Statement, control: &mut Control) {
         self.skip_blanks();
-        if self.dialect.lexical.control_word.is_some() || !self.peek().is_some_and(|c| c.is_ascii_alphabetic()) {
+        if !self.keywords_open_blocks() || !self.peek().is_some_and(|c| c.is_ascii_alphabetic()) {
             return;
         }
         let Some((end, then)) = self.statement_at(self.i) else {
