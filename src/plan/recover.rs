@@ -735,6 +735,8 @@ struct Recovery<'p> {
     h: Option<u32>,
     /// Cutter compensation in force.
     comp: Option<CompUse>,
+    /// The radius compensation offsets by, when the interpreter knows it, and its side (left).
+    comp_radius: Option<(f64, bool)>,
     /// Tool-list comments (`T3 D=10. CR=0. - FLAT END MILL`) by the tool they name.
     listed: BTreeMap<u32, String>,
     /// Names of tools the program selects by name (`T="EM10"`).
@@ -801,6 +803,7 @@ impl<'p> Recovery<'p> {
             tool_axis: [0.0, 0.0, 1.0],
             h: None,
             comp: None,
+            comp_radius: None,
             optional: BTreeSet::new(),
             tool_names: BTreeMap::new(),
             listed: BTreeMap::new(),
@@ -986,7 +989,11 @@ impl<'p> Recovery<'p> {
             }
             CanonOp::SetG5xOffset(index, _) => self.wcs = *index,
             CanonOp::Setting(Setting::LengthOffset(h)) => self.h = Some(*h),
-            CanonOp::Setting(Setting::CutterComp(c)) => self.comp = c.map(|(left, number)| CompUse { left, number }),
+            CanonOp::Setting(Setting::CutterComp(c)) => {
+                self.comp = c.map(|c| CompUse { left: c.left, number: c.number });
+                // The radius the path is offset by: on a lathe, the tool's nose radius.
+                self.comp_radius = c.and_then(|c| c.radius.filter(|r| *r > 0.0).map(|r| (r, c.left)));
+            }
             CanonOp::Setting(Setting::ToolName(n, name)) => {
                 self.tool_names.insert(*n, name.clone());
             }
@@ -1418,6 +1425,10 @@ impl<'p> Recovery<'p> {
         let comp = self.comp.map(|c| CompUse { number: c.number.filter(|n| own(*n)), ..c });
         if mv.kind != MoveKind::Rapid && b.settings.last().is_none_or(|s| (s.1, s.2) != (h, comp)) {
             b.settings.push((b.moves.len(), h, comp));
+        }
+        // The nose radius the control offsets the path by, from the first cut under it.
+        if is_cut && b.turning.nose.is_none() {
+            b.turning.nose = self.comp_radius;
         }
         if mv.kind != MoveKind::Rapid && self.feed_override_off {
             b.state.feed_override_off = true;
