@@ -834,6 +834,7 @@ impl<'p> Recovery<'p> {
             feed_per_rev: (self.per_rev && self.sync.is_none()).then_some(self.feed),
             spindle_limit: self.css.filter(|m| *m < NO_SPINDLE_LIMIT),
             pitch: self.sync.map(round_sig),
+            nose: self.comp_radius,
             ..super::turned::Turning::default()
         }
     }
@@ -993,6 +994,11 @@ impl<'p> Recovery<'p> {
                 self.comp = c.map(|c| CompUse { left: c.left, number: c.number });
                 // The radius the path is offset by: on a lathe, the tool's nose radius.
                 self.comp_radius = c.and_then(|c| c.radius.filter(|r| *r > 0.0).map(|r| (r, c.left)));
+                if let Some(b) = self.current.as_mut()
+                    && b.turning.nose.is_none()
+                {
+                    b.turning.nose = self.comp_radius;
+                }
             }
             CanonOp::Setting(Setting::ToolName(n, name)) => {
                 self.tool_names.insert(*n, name.clone());
@@ -1425,10 +1431,6 @@ impl<'p> Recovery<'p> {
         let comp = self.comp.map(|c| CompUse { number: c.number.filter(|n| own(*n)), ..c });
         if mv.kind != MoveKind::Rapid && b.settings.last().is_none_or(|s| (s.1, s.2) != (h, comp)) {
             b.settings.push((b.moves.len(), h, comp));
-        }
-        // The nose radius the control offsets the path by, from the first cut under it.
-        if is_cut && b.turning.nose.is_none() {
-            b.turning.nose = self.comp_radius;
         }
         if mv.kind != MoveKind::Rapid && self.feed_override_off {
             b.state.feed_override_off = true;
