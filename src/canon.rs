@@ -248,15 +248,33 @@ pub enum DistanceMode {
     Incremental,
 }
 
+/// Cutter radius compensation put in force: the side, the offset number the block states, and
+/// where the interpreter knows them the radius it offsets by and a lathe tool's tip.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CompOn {
+    /// Left of the direction of travel (G41) rather than right (G42).
+    pub left: bool,
+    /// The offset number (`D5`), when the block states one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub number: Option<u32>,
+    /// The radius the path is offset by, in the active units: half the diameter the block
+    /// gives (`G41.1 D0.8`), else the tool table's radius (with its wear) of the offset's or
+    /// the spindle's tool; on a lathe, the tool's nose radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// A lathe tool's tip orientation (1 to 9, `G42.1 D0.8 L3`), when the block states one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip: Option<u8>,
+}
+
 /// A machine setting the canonical interface does not carry, as a marker for the plan.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Setting {
     /// The length offset number put in force (`G43 H5`); 0 when it is cancelled (`G49`).
     LengthOffset(u32),
-    /// Cutter radius compensation on a side (`true` left, G41) with its offset number
-    /// (`D5`) when the block states one, or off (G40).
-    CutterComp(Option<(bool, Option<u32>)>),
+    /// Cutter radius compensation on (G41/G42, G41.1/G42.1), or off (G40).
+    CutterComp(Option<CompOn>),
     /// The block is optional (`/`): it runs only while the block-delete switch is off.
     BlockDelete,
     /// A tool selected by name (`T="EM10"`) and the number the analysis gave it.
@@ -970,12 +988,19 @@ fn setting(out: &mut Vec<u8>, s: &Setting) {
     let _ = match s {
         Setting::LengthOffset(h) => write!(out, "COMMENT(\"ncplan: length offset H{h}\")"),
         Setting::CutterComp(None) => write!(out, "COMMENT(\"ncplan: cutter compensation off\")"),
-        Setting::CutterComp(Some((left, d))) => {
-            let side = if *left { "left" } else { "right" };
-            match d {
-                Some(d) => write!(out, "COMMENT(\"ncplan: cutter compensation {side} D{d}\")"),
-                None => write!(out, "COMMENT(\"ncplan: cutter compensation {side}\")"),
+        Setting::CutterComp(Some(c)) => {
+            let side = if c.left { "left" } else { "right" };
+            let _ = write!(out, "COMMENT(\"ncplan: cutter compensation {side}");
+            if let Some(d) = c.number {
+                let _ = write!(out, " D{d}");
             }
+            if let Some(r) = c.radius {
+                let _ = write!(out, " radius {}", F4(r));
+            }
+            if let Some(t) = c.tip {
+                let _ = write!(out, " tip {t}");
+            }
+            write!(out, "\")")
         }
         Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
         Setting::WorkOffset(i) => write!(out, "COMMENT(\"ncplan: work offset {i} stated\")"),

@@ -735,6 +735,8 @@ struct Recovery<'p> {
     h: Option<u32>,
     /// Cutter compensation in force.
     comp: Option<CompUse>,
+    /// The radius compensation offsets by, when the interpreter knows it, and its side (left).
+    comp_radius: Option<(f64, bool)>,
     /// Tool-list comments (`T3 D=10. CR=0. - FLAT END MILL`) by the tool they name.
     listed: BTreeMap<u32, String>,
     /// Names of tools the program selects by name (`T="EM10"`).
@@ -801,6 +803,7 @@ impl<'p> Recovery<'p> {
             tool_axis: [0.0, 0.0, 1.0],
             h: None,
             comp: None,
+            comp_radius: None,
             optional: BTreeSet::new(),
             tool_names: BTreeMap::new(),
             listed: BTreeMap::new(),
@@ -831,6 +834,7 @@ impl<'p> Recovery<'p> {
             feed_per_rev: (self.per_rev && self.sync.is_none()).then_some(self.feed),
             spindle_limit: self.css.filter(|m| *m < NO_SPINDLE_LIMIT),
             pitch: self.sync.map(round_sig),
+            nose: self.comp_radius,
             ..super::turned::Turning::default()
         }
     }
@@ -986,7 +990,16 @@ impl<'p> Recovery<'p> {
             }
             CanonOp::SetG5xOffset(index, _) => self.wcs = *index,
             CanonOp::Setting(Setting::LengthOffset(h)) => self.h = Some(*h),
-            CanonOp::Setting(Setting::CutterComp(c)) => self.comp = c.map(|(left, number)| CompUse { left, number }),
+            CanonOp::Setting(Setting::CutterComp(c)) => {
+                self.comp = c.map(|c| CompUse { left: c.left, number: c.number });
+                // The radius the path is offset by: on a lathe, the tool's nose radius.
+                self.comp_radius = c.and_then(|c| c.radius.filter(|r| *r > 0.0).map(|r| (r, c.left)));
+                if let Some(b) = self.current.as_mut()
+                    && b.turning.nose.is_none()
+                {
+                    b.turning.nose = self.comp_radius;
+                }
+            }
             CanonOp::Setting(Setting::ToolName(n, name)) => {
                 self.tool_names.insert(*n, name.clone());
             }

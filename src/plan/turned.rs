@@ -78,6 +78,11 @@ pub struct Turning {
     /// then points the other way about the part. Read during recognition, then cleared.
     #[serde(skip)]
     pub mirrored: bool,
+    /// The radius tool nose radius compensation offsets the cuts by (the radius the block or
+    /// the tool table states), and whether on the left of the way (G41): read during
+    /// recognition.
+    #[serde(skip)]
+    pub nose: Option<(f64, bool)>,
     /// Smallest and largest diameter cut.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter: Option<[f64; 2]>,

@@ -900,7 +900,7 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         None if !t.rough => (finished(), (0.0, 0.0)),
         _ => return Vec::new(),
     };
-    let nose = nose_arcs(ws, &profile);
+    let nose = nose_arcs(ws, t, &profile);
     let mut out = Vec::new();
     for m in &profile {
         let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
@@ -945,14 +945,23 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
 /// not the contour the program states: the control goes round each sharp outside corner on an
 /// arc of the nose radius and runs a nose radius outside (or inside) each programmed round.
 /// The part's shape is the program's, so the nose radius and the sense the nose turns at an
-/// outside corner are taken from the path: its smallest arcs, when no larger than an insert's
-/// nose (ISO 1832: 0.1 to 2.4 mm), all turning one way, and when the path has an arc of
-/// another radius or at least two of them. None without compensation.
-fn nose_arcs(ws: &Workingstep, profile: &[Move]) -> Option<(f64, f64)> {
+/// outside corner are wanted. The radius is the one compensation ran at (the block's
+/// `G42.1 D0.8`, the tool table's), where the interpreter knew it; the sense that of the
+/// path's arcs of that radius, else the side's (a nose on the left of its way turns right
+/// round an outside corner). Where the radius is not known, both are taken from the path: its
+/// smallest arcs, when no larger than an insert's nose (ISO 1832: 0.1 to 2.4 mm), all turning
+/// one way, and when the path has an arc of another radius or at least two of them. None
+/// without compensation.
+fn nose_arcs(ws: &Workingstep, t: &Turning, profile: &[Move]) -> Option<(f64, f64)> {
     if ws.state.cutter_comp.is_empty() {
         return None;
     }
     let radius = |m: &Move| m.arc.map(|a| (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2]));
+    if let Some((nose, left)) = t.nose {
+        let corner = profile.iter().find(|m| radius(m).is_some_and(|r| (r - nose).abs() < 0.01));
+        let side = if left == t.mirrored { 1.0 } else { -1.0 };
+        return Some((nose, corner.map_or(side, arc_sense)));
+    }
     let smallest = profile.iter().filter_map(|m| radius(m).map(|r| (r, m))).min_by(|a, b| a.0.total_cmp(&b.0))?;
     let sense = arc_sense(smallest.1);
     let nose: Vec<&Move> = profile.iter().filter(|m| radius(m).is_some_and(|r| (r - smallest.0).abs() < 0.01)).collect();

@@ -138,15 +138,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// or off.
     pub(super) fn comp_op(&mut self, canon: &Canon) {
         match &canon.op {
-            CanonOp::Setting(Setting::CutterComp(c)) if *c == self.comp => {}
+            // The target compensates by its own offsets: the side and the offset number are
+            // what it writes, not the radius the source ran at.
+            CanonOp::Setting(Setting::CutterComp(c)) if c.map(|c| (c.left, c.number)) == self.comp => {}
             CanonOp::Setting(Setting::CutterComp(c)) => {
-                self.comp = *c;
+                let c = c.map(|c| (c.left, c.number));
+                self.comp = c;
                 let mut vals = Vals::new();
                 let ev = match c {
                     Some((left, d)) => {
                         self.comp_d = d.unwrap_or(self.tool);
                         vals.set(Value::D, f64::from(self.comp_d));
-                        let ev = if *left { "comp-left" } else { "comp-right" };
+                        let ev = if left { "comp-left" } else { "comp-right" };
                         // A target whose compensation takes the tool's own radius (no D
                         // word) cannot compensate by another offset's radius.
                         let tool = self.pending_tool.unwrap_or(self.tool);

@@ -607,7 +607,15 @@ fn the_other_records_do_what_the_reference_says() {
     assert!(has(&CanonOp::Dwell(1.5)) && has(&CanonOp::OptionalProgramStop) && has(&CanonOp::ProgramStop) && has(&CanonOp::ProgramEnd));
     assert!(has(&CanonOp::Comment("TURN THE PART OVER".into())) || has(&CanonOp::Comment("(TURN THE PART OVER)".into())), "{ops:#?}");
     assert!(has(&CanonOp::Comment("G65 P9010 (passed through as text)".into())), "{ops:#?}");
-    assert!(has(&CanonOp::Setting(ncplan::canon::Setting::CutterComp(Some((false, Some(7)))))), "{ops:#?}");
+    assert!(
+        has(&CanonOp::Setting(ncplan::canon::Setting::CutterComp(Some(ncplan::canon::CompOn {
+            left: false,
+            number: Some(7),
+            radius: None,
+            tip: None
+        })))),
+        "{ops:#?}"
+    );
     // FROM moves nothing; GODLTA goes by increments from the last point, then 3 down the axis.
     let moves = toolpath(&a).into_iter().map(|(k, p)| (k, [p[0], p[1], p[2]])).collect::<Vec<_>>();
     assert_eq!(moves[0], ("traverse", [10.0, 10.0, 20.0]), "{moves:?}");

@@ -4,7 +4,7 @@
 //!
 //! Doors: [`Interpreter::comp_off_code`], [`Interpreter::comp_on`].
 
-use crate::canon::{CanonOp, CanonSink, Plane, Setting};
+use crate::canon::{CanonOp, CanonSink, CompOn, Plane, Setting};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
 use crate::interp::{Interpreter, comp};
@@ -30,7 +30,9 @@ impl Interpreter<'_> {
         let side = if left { comp::Side::Left } else { comp::Side::Right };
         self.st.comp_left = left;
         let number = self.slot(Role::D).filter(|_| !by_diameter).map(|d| d as u32);
-        self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some((left, number)))));
+        // A lathe tool's tip as the block states it (`G42.1 D0.8 L3`).
+        let tip = self.slot(Role::L).filter(|l| by_diameter && l.fract() == 0.0 && (1.0..=9.0).contains(l)).map(|l| l as u8);
+        self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some(CompOn { left, number, radius, tip }))));
         if let Some(r) = radius
             && self.comp.borrow().as_ref().is_some_and(|c| c.runs(side, r))
         {
