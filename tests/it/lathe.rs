@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use ncplan::dialect::Registry;
 use ncplan::interp::Profile;
 use ncplan::pipeline;
-use ncplan::plan::{FeatureKind, ProcessPlan, Turned, Workingstep};
+use ncplan::plan::{Feature, FeatureKind, ProcessPlan, Turned, Workingstep};
 
 /// Sizes agree within this, mm.
 const TOL: f64 = 0.05;
@@ -59,11 +59,17 @@ fn ws_size(ws: &Workingstep, key: &str) -> Option<f64> {
 }
 
 /// The sizes of a feature by the sidecar's names.
-fn feature_size(kind: &FeatureKind, z: f64, key: &str) -> Option<f64> {
-    if key == "z" {
-        return Some(z);
+fn feature_size(f: &Feature, key: &str) -> Option<f64> {
+    let axis = f.axis.unwrap_or([0.0, 0.0, 1.0]);
+    match key {
+        "z" => return Some(f.placement[2]),
+        "depth" => return Some(f.depth),
+        "axis_x" => return Some(axis[0]),
+        "axis_y" => return Some(axis[1]),
+        "axis_z" => return Some(axis[2]),
+        _ => {}
     }
-    match kind {
+    match &f.kind {
         FeatureKind::Turned(t) => match (t, key) {
             (Turned::RevolvedFlat { outer, .. }, "outer") => Some(*outer),
             (Turned::RevolvedFlat { inner, .. }, "inner") => Some(*inner),
@@ -80,6 +86,8 @@ fn feature_size(kind: &FeatureKind, z: f64, key: &str) -> Option<f64> {
             _ => None,
         },
         FeatureKind::RoundHole { diameter, .. } if key == "diameter" => *diameter,
+        // Holes of one pattern: a mill-turn's face holes at several C angles.
+        FeatureKind::RoundHole { positions, .. } if key == "holes" => Some(positions.len() as f64),
         _ => None,
     }
 }
@@ -107,8 +115,7 @@ fn score(name: &str, plan: &ProcessPlan, expect: &str) -> Vec<String> {
             }
         } else if let Some(rest) = line.strip_prefix("feature ") {
             let e = parse_line(rest);
-            let found =
-                plan.features.iter().any(|f| f.kind.label() == e.words && matches(&e.sizes, |k| feature_size(&f.kind, f.placement[2], k)));
+            let found = plan.features.iter().any(|f| f.kind.label() == e.words && matches(&e.sizes, |k| feature_size(f, k)));
             if !found {
                 misses.push(format!("{name}: feature `{rest}` not found"));
             }

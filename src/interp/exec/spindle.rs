@@ -50,6 +50,12 @@ impl Interpreter<'_> {
                 }
             };
             self.emit(sink, CanonOp::OrientSpindle { angle: angle.unwrap_or(0.0), mode });
+            // On a lathe (X read as a diameter) the oriented main spindle is the C axis in
+            // position control (Siemens `SPOS=90`): the part stands at that angle for the
+            // driven tool's work that follows.
+            if self.st.diameter {
+                self.st.pos[5] = angle.unwrap_or(0.0);
+            }
         }
         match self.slot(Role::Q) {
             Some(t) if t > 0.0 => self.emit(sink, CanonOp::WaitOrientComplete(t)),
