@@ -392,6 +392,16 @@ impl Interpreter<'_> {
             still: true,
             surface: Some(surface),
         };
+        // On a lathe (X read as a diameter) a driven tool drills in G17 along Z on the face at
+        // the spindle's C angle, in G19 along X into the cylinder (Siemens 840D turning: the
+        // main spindle in position control is the C axis, `SPOS` turns it): a hole at (radius,
+        // C) or (Z, C) with its own axis, as the C-axis lathe cycles make them (interp::live).
+        // The cycle's planes along X are read as radii, as the X words are [unconfirmed].
+        if self.st.diameter && n != 1 {
+            let run = HoleRun { still: false, ..run };
+            let across = if n == 0 { 2 } else { 0 };
+            return self.live_holes(&run, n, 1, p[5], p[across], sink);
+        }
         if p[n] < r {
             p[n] = r;
             self.emit(sink, CanonOp::StraightTraverse(p));

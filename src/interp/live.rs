@@ -39,6 +39,12 @@ impl Interpreter<'_> {
         let across = if axis == 0 { 2 } else { 0 };
         let word = |me: &Self, role: Role| me.slots[role as usize];
         let along_word = word(self, Role::AXES[axis]);
+        // The first block of a cycle after G80 or another motion: G80 and the group 01 codes
+        // clear the drilling data (0i-TF manual, "canned cycle cancel"), so R, Q and P come from
+        // this block only; a side hole after a face cycle does not peck by the face's Q.
+        if self.st.cycle_initial.is_none() {
+            (self.st.sticky_r, self.st.sticky_q, self.st.sticky_p) = (None, None, None);
+        }
         if let Some(r) = self.slot(Role::R) {
             self.st.sticky_r = Some(r);
         }
@@ -92,13 +98,20 @@ impl Interpreter<'_> {
             surface: None,
         };
         let target = self.target();
+        self.live_holes(&run, axis, repeats, target[5], target[across], sink);
+    }
+
+    /// `repeats` holes of `run` along `axis` (0 X, 2 Z) at angle `c` and position `place` on
+    /// the other linear axis, from the current position: milling in the XY plane of the face
+    /// or of the cylinder's tilted plane; the lathe's plane and the untilted frame come back
+    /// after them.
+    pub(super) fn live_holes(&mut self, run: &HoleRun, axis: usize, repeats: u64, c: f64, place: f64, sink: &mut dyn CanonSink) {
         let old_plane = self.st.plane;
         self.st.plane = Plane::Xy;
         self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
-        let mut at = pos;
+        let mut at = self.st.pos;
         for _ in 0..repeats {
-            let (c, place) = (target[5], target[across]);
-            at = self.live_hole(&run, axis, c, place, at, sink);
+            at = self.live_hole(run, axis, c, place, at, sink);
         }
         if axis == 0 {
             self.emit(sink, CanonOp::WorkPlane(None));

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use ncplan::dialect::Registry;
 use ncplan::interp::Profile;
 use ncplan::pipeline;
-use ncplan::plan::{FeatureKind, ProcessPlan, Turned, Workingstep};
+use ncplan::plan::{Feature, FeatureKind, ProcessPlan, Turned, Workingstep};
 
 /// Sizes agree within this, mm.
 const TOL: f64 = 0.05;
@@ -59,11 +59,17 @@ fn ws_size(ws: &Workingstep, key: &str) -> Option<f64> {
 }
 
 /// The sizes of a feature by the sidecar's names.
-fn feature_size(kind: &FeatureKind, z: f64, key: &str) -> Option<f64> {
-    if key == "z" {
-        return Some(z);
+fn feature_size(f: &Feature, key: &str) -> Option<f64> {
+    let axis = f.axis.unwrap_or([0.0, 0.0, 1.0]);
+    match key {
+        "z" => return Some(f.placement[2]),
+        "depth" => return Some(f.depth),
+        "axis_x" => return Some(axis[0]),
+        "axis_y" => return Some(axis[1]),
+        "axis_z" => return Some(axis[2]),
+        _ => {}
     }
-    match kind {
+    match &f.kind {
         FeatureKind::Turned(t) => match (t, key) {
             (Turned::RevolvedFlat { outer, .. }, "outer") => Some(*outer),
             (Turned::RevolvedFlat { inner, .. }, "inner") => Some(*inner),
@@ -80,6 +86,8 @@ fn feature_size(kind: &FeatureKind, z: f64, key: &str) -> Option<f64> {
             _ => None,
         },
         FeatureKind::RoundHole { diameter, .. } if key == "diameter" => *diameter,
+        // Holes of one pattern: a mill-turn's face holes at several C angles.
+        FeatureKind::RoundHole { positions, .. } if key == "holes" => Some(positions.len() as f64),
         _ => None,
     }
 }
@@ -107,8 +115,7 @@ fn score(name: &str, plan: &ProcessPlan, expect: &str) -> Vec<String> {
             }
         } else if let Some(rest) = line.strip_prefix("feature ") {
             let e = parse_line(rest);
-            let found =
-                plan.features.iter().any(|f| f.kind.label() == e.words && matches(&e.sizes, |k| feature_size(&f.kind, f.placement[2], k)));
+            let found = plan.features.iter().any(|f| f.kind.label() == e.words && matches(&e.sizes, |k| feature_size(f, k)));
             if !found {
                 misses.push(format!("{name}: feature `{rest}` not found"));
             }
@@ -864,4 +871,51 @@ fn a_groove_s_depth_is_no_peck() {
     assert!(!deeper.contains("peck"), "{deeper}");
     let peck = rows(a, &a.replace("I0.05", "I0.1"));
     assert!(peck.contains("cycle_parameter_changed | peck |"), "{peck}");
+}
+
+/// The holes of a feature in the part's frame, rounded to 0.001 mm: its positions turned onto
+/// its face (for a face hole at C, the point (r·cos C, r·sin C) on the face).
+fn hole_points(plan: &ProcessPlan) -> Vec<(i64, i64, i64)> {
+    let round = |v: f64| (v * 1000.0).round() as i64;
+    plan.workingsteps
+        .iter()
+        .flat_map(|w| w.toolpath.iter().filter(|m| m.phase == ncplan::plan::Phase::Cut))
+        .map(|m| (round(m.to[0]), round(m.to[1]), round(m.to[2])))
+        .collect()
+}
+
+/// Siemens 840D turns the main spindle, in position control on a lathe, with any form of
+/// `SPOS`: `SPOS=IC(90)` on by 90°, `SPOS[1]=DC(180)` to 180° the short way; the face holes of
+/// `siemens_live.mpf` come out at the same four points whichever form states the angle.
+#[test]
+fn lathe_spos_forms_turn_the_part_alike() {
+    let text = std::fs::read_to_string(dir().join("siemens_live.mpf")).unwrap();
+    let forms = text
+        .replace("N130 SPOS=90", "N130 SPOS=IC(90)")
+        .replace("N150 SPOS=180", "N150 SPOS[1]=DC(180)")
+        .replace("N170 SPOS=270", "N170 SPOS=IC(90)");
+    let reg = Registry::shipped();
+    let d = reg.get("siemens").unwrap();
+    let plain = pipeline::analyze(text.as_bytes(), &d, &Profile::default()).plan;
+    let other = pipeline::analyze(forms.as_bytes(), &d, &Profile::default()).plan;
+    assert_eq!(hole_points(&plain), hole_points(&other));
+    let face = plain.features.iter().find(|f| matches!(&f.kind, FeatureKind::RoundHole { positions, .. } if positions.len() == 4));
+    let face = face.expect("a pattern of four face holes");
+    let FeatureKind::RoundHole { positions, .. } = &face.kind else { unreachable!() };
+    let mut at: Vec<(i64, i64)> =
+        positions.iter().map(|p| ((face.placement[0] + p[0]).round() as i64, (face.placement[1] + p[1]).round() as i64)).collect();
+    at.sort_unstable();
+    assert_eq!(at, vec![(-20, 0), (0, -20), (0, 20), (20, 0)]);
+}
+
+/// On a mill (X no diameter) `SPOS` only orients the spindle and CYCLE81 under G17 drills
+/// where X and Y say, along Z: no C angle turns the hole.
+#[test]
+fn lathe_spos_on_a_mill_orients_the_spindle_only() {
+    let text = "G17 G90 G94\nT1 M6\nS2000 M3 F100\nG0 X40 Y10 Z5\nSPOS=90\nCYCLE81(5,0,2,-10)\nG0 Z50\nM30\n";
+    let reg = Registry::shipped();
+    let plan = pipeline::analyze(text.as_bytes(), &reg.get("siemens").unwrap(), &Profile::default()).plan;
+    let hole = plan.features.iter().find(|f| matches!(f.kind, FeatureKind::RoundHole { .. })).expect("a hole");
+    assert_eq!((hole.placement[0].round(), hole.placement[1].round()), (40.0, 10.0));
+    assert!(hole.axis.is_none(), "{:?}", hole.axis);
 }

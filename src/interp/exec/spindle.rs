@@ -9,6 +9,7 @@ use crate::canon::{CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
 use crate::interp::{Interpreter, Spindle};
+use crate::syntax::WordMode;
 use crate::text::TextRange;
 
 impl Interpreter<'_> {
@@ -50,6 +51,14 @@ impl Interpreter<'_> {
                 }
             };
             self.emit(sink, CanonOp::OrientSpindle { angle: angle.unwrap_or(0.0), mode });
+            // On a lathe (X read as a diameter) the oriented main spindle is the C axis in
+            // position control (Siemens `SPOS=90`): the part stands at that angle for the
+            // driven tool's work that follows.
+            // `SPOS=IC(90)` turns it on by that much.
+            if self.st.diameter {
+                let incremental = self.slots[Role::R as usize].is_some_and(|s| s.mode == WordMode::Incremental);
+                self.st.pos[5] = if incremental { self.st.pos[5] + angle.unwrap_or(0.0) } else { angle.unwrap_or(0.0) };
+            }
         }
         match self.slot(Role::Q) {
             Some(t) if t > 0.0 => self.emit(sink, CanonOp::WaitOrientComplete(t)),
