@@ -611,7 +611,8 @@ fn the_other_records_do_what_the_reference_says() {
         has(&CanonOp::Setting(ncplan::canon::Setting::CutterComp(Some(ncplan::canon::CompOn {
             left: false,
             number: Some(7),
-            radius: None,
+            // The offset register's tool in the shop's table: Ø6.
+            radius: Some(3.0),
             tip: None
         })))),
         "{ops:#?}"

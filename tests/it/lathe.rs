@@ -656,7 +656,11 @@ fn lathe_s7_held_out_programs() {
 /// snippets (main and second spindle) of mwinterm/fusion_post; a small teaching lathe's facing of
 /// UncleEngineer/basic-cnc-lathe. Only the sidecars are committed (`extract.sh` writes the
 /// programs from mirrors); they were written by reading each program, before ncplan ran on it,
-/// and the set is to be measured once by the lead, after merging (51 listed).
+/// and the set was measured once by the lead, after merging, on 6 December 2026 (integrate
+/// 7be615f): 12 of 51, no milling feature. Missed: the system-B shaft's facing, roughing,
+/// groove and thread in all three versions; everything of the portfolio shaft (a block that
+/// lost its `G`, profile labels missing: a control stops there too); the Mazak finishing
+/// passes' feed; the teaching lathe's facing from the X- side.
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report

@@ -66,8 +66,12 @@
 //! with labels, WHILE/REPEAT, ROUNDUP, T="name"), student Fanuc/Mazak/Haas programs, a Fusion
 //! post, and LinuxCNC machine configurations' subroutine files (M6 remaps, carousel ATCs,
 //! tool setters, probing; named o-words, HAL/INI reads), about half of the set. Measured once
-//! by the lead after the merge: holdout-s8 _/83 valid without an error, family right for _/83
-//! valid and _/89 of all, invalid still rejected _/6.
+//! by the lead after the merge, on 6 December 2026 (integrate 7be615f): holdout-s8 77/83
+//! valid without an error (92.8%), family right for 80/83 valid (96.4%) and 86/89 of all,
+//! invalid still rejected 5/6. Missed: a Centroid CNC11 system-test macro (34 errors), two
+//! Doosan lathe programs and two grinder macros with 1-5 errors each, a Haas job-shop program
+//! (1 error); the Sinumerik lathe PROC and its main program read as the mill dictionary, a
+//! grinder macro read as Haas; the invalid LinuxCNC `m199.ngc` read without an error.
 
 use std::path::PathBuf;
 
