@@ -339,6 +339,17 @@ impl Change {
                 format!("global variable `{var}` {what}, for the subroutines and programs that run after (this file does not read it)")
             }
             ChangeKind::FlowChanged if self.field == "passes" => format!("call runs {} → {} times", self.before, self.after),
+            ChangeKind::ClearanceChanged if self.field == "rapid height" => {
+                return match (self.before.is_empty(), self.after.is_empty()) {
+                    (true, _) => format!("rapid height (clearance, approach) `{}` added{}", self.after, at(self.line)),
+                    (_, true) => format!(
+                        "rapid height (clearance, approach) `{}` removed{}",
+                        self.before,
+                        at(self.original_line).replace("line", "original line")
+                    ),
+                    _ => format!("rapid height (clearance, approach) changed from `{}` to `{}`{}", self.before, self.after, at(self.line)),
+                };
+            }
             ChangeKind::ClearanceChanged => {
                 let via = self.field.find(" (via ").map_or("", |i| &self.field[i..]);
                 format!("clearance height between cuts changed from {} to {}{via}", self.before, self.after)

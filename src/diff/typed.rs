@@ -91,6 +91,9 @@ pub(super) struct Context {
     /// A macro call (`G65 P9810 F200.`, `G66`): its letters are the macro's arguments (locals
     /// of the macro), never the modal feed, speed, tool or axes, whether the macro is found or not.
     pub macro_call: bool,
+    /// A rapid (`G0`) on a mill, with no plane code in the statement: its `Z` is the height the
+    /// tool goes to between cuts or before the first (clearance, approach).
+    pub rapid: bool,
 }
 
 /// Whether a code shifts the origin of the program's coordinates.
@@ -156,6 +159,11 @@ impl Context {
             tokens.iter().any(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall | Meaning::ModalMacroCall)));
         c.moves_by_variables = !c.macro_call && tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
         c.flow = super::control::flow_of(tokens, d);
+        let mill = !d.behaviour.x_diameter && d.behaviour.initial_plane == crate::canon::Plane::Xy;
+        let codes = || tokens.iter().filter(|t| t.sort == Sort::Word).map(|t| about(t, d));
+        c.rapid = mill
+            && codes().any(|a| a == About::Code(Meaning::Rapid))
+            && !codes().any(|a| matches!(a, About::Code(Meaning::PlaneXy | Meaning::PlaneXz | Meaning::PlaneYz)));
         // A keyword code that shifts the origin (Siemens `TRANS`, `ATRANS`): its axis words are the shift.
         c.shift |= tokens.iter().any(|t| t.sort == Sort::Other && matches!(about(t, d), About::Code(m) if shifts(m)));
         for t in tokens.iter().filter(|t| t.sort == Sort::Word) {
@@ -217,6 +225,7 @@ impl Context {
             function_code: self.function_code.or(o.function_code),
             flow: self.flow.or(o.flow),
             macro_call: self.macro_call || o.macro_call,
+            rapid: self.rapid && o.rapid,
         }
     }
 }
@@ -319,6 +328,10 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
         About::Address(r) if ctx.data.is_some() && !matches!(r, R::L | R::G) => data_kind(ctx.data?, r),
         About::Address(r) if ctx.cycle && matches!(r, R::R | R::Q | R::P | R::K) => (K::CycleParameterChanged, "cycle parameter"),
         About::Address(R::Z) if ctx.cycle => (K::DepthChanged, "hole depth"),
+        // A rapid's height (`G0 G54 X0 Y0 Z0`): where the tool goes before or between cuts.
+        About::Address(R::Z) if ctx.rapid && !ctx.special() && tok.sort == Sort::Word && !by_variable(tok) => {
+            (K::ClearanceChanged, "rapid height")
+        }
         About::Address(r) => match r {
             R::F => (K::FeedChanged, "feed"),
             R::PlungeFeed => (K::PlungeFeedChanged, "plunge feed"),

@@ -1011,3 +1011,20 @@ fn a_signed_zero_is_zero() {
     let got = changes(a, &a.replace("J-0.000", "J-0.5"), "linuxcnc");
     assert!(!got.is_empty());
 }
+
+/// A height added to or removed from a rapid before the first cut (`G0 G54 X0 Y0` → `G0 G54
+/// X0 Y0 Z0`: the tool now goes down to the part's top first) is a clearance change, told as
+/// the rapid height at its line, where the plan has no cut that changed (held7 r309, r313,
+/// r314). A rapid height through a variable is left to the variable's rule.
+#[test]
+fn a_rapid_height_added_or_removed_is_a_clearance_change() {
+    let a = "%\nO1000\nG20 G90 G17 G40 G80\nT1 M6\nG0 G54 X0 Y0\nG43 H1 Z0.1 S1200 M3\nG81 X1 Y1 Z-0.2 R0.1 F5\nG80\nG0 Z1\nM30\n%\n";
+    let b = a.replace("G0 G54 X0 Y0\n", "G0 G54 X0 Y0 Z0\n");
+    let got = changes(a, &b, "fanuc");
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert_eq!((got[0].kind.as_str(), got[0].field.as_str(), got[0].after.as_str()), ("clearance_changed", "rapid height", "Z0"));
+    assert_eq!(got[0].phrase(), "rapid height (clearance, approach) `Z0` added at line 5");
+    let got = changes(&b, a, "fanuc");
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert!(got[0].phrase().starts_with("rapid height (clearance, approach) `Z0` removed"), "{}", rows(&got));
+}
