@@ -522,6 +522,14 @@ fn real_programs_lie_on_their_faces() {
     /// at five moves. One program only: no other unused repository with real tilted programs
     /// was found.
     const HELD8_SCORE: usize = 5;
+    /// Sweep 9's held-back part (`held9`, branch gatherlt9: a German mill-turn course's Sinumerik
+    /// 840D sl programs of east-code/CNC-Dreh-Fraeszentrum, `CYCLE800` B90 on a lathe's cylinder
+    /// surface for a pocket, keyways and radial holes at `C4` angles, face holes on a pitch circle
+    /// under `TRANSMIT`; a research 5-axis CL path, bare `GOTO/x,y,z,i,j,k`, of
+    /// zhxinhust/virtualfiveaxisCNCmachining; no licence stated, so `extract.sh` writes them from
+    /// the mirrors), 15 items written before ncplan read them. Not yet measured: the lead measures
+    /// it once and sets the figure here.
+    const HELD9_SCORE: Option<usize> = None;
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
     let mut sides: Vec<_> =
@@ -574,6 +582,9 @@ fn real_programs_lie_on_their_faces() {
     }
     if let Some(h8) = score.get("held8") {
         assert!(h8.0 - h8.1.len() >= HELD8_SCORE, "sweep 8 held-back part: {}", h8.1.join("\n"));
+    }
+    if let (Some(h9), Some(least)) = (score.get("held9"), HELD9_SCORE) {
+        assert!(h9.0 - h9.1.len() >= least, "sweep 9 held-back part: {}", h9.1.join("\n"));
     }
     let Some(held) = score.get("held") else { return };
     assert!(
