@@ -662,13 +662,13 @@ fn lathe_s7_held_out_programs() {
 /// lost its `G`, profile labels missing: a control stops there too); the Mazak finishing
 /// passes' feed; the teaching lathe's facing from the X- side.
 ///
-/// `tests/programs/lathe_s9_heldout/` is sweep 9's held-back set (branch gatherlt9), gathered from
-/// four repositories no earlier set used (11 programs, 66 items): a German mill-turn course's Sinumerik 840D sl turning
-/// programs (ShopTurn `CYCLE951` facing and stock removal, `CYCLE952` on a contour written in the
-/// program, `CYCLE99` thread, `CYCLE92` parting, explicit G1 passes) of
-/// east-code/CNC-Dreh-Fraeszentrum; two Fanuc-style portfolio parts (a bore, a part turned from
-/// both sides with grooves) of leohiei/projetocnc-2- and leohiei/projetocnc-3- (the author of
-/// projetocnc-1-, sweep 8's); an Indian lab's G71 exercise of KL-Mithunvel/G-M_CODE. Only the
+/// `tests/programs/lathe_s9_heldout/` is sweep 9's held-back set (branch gatherlt9: 11 programs,
+/// 66 items), gathered from four repositories no earlier set used: a German mill-turn course's
+/// Sinumerik 840D sl turning programs (ShopTurn `CYCLE951` facing and stock removal, `CYCLE952`
+/// on a contour written in the program, `CYCLE99` thread, `CYCLE92` parting, explicit G1 passes)
+/// of east-code/CNC-Dreh-Fraeszentrum; two Fanuc-style portfolio parts (a bore, a part turned
+/// from both sides with a groove) of leohiei/projetocnc-2- and leohiei/projetocnc-3- (the author
+/// of projetocnc-1-, sweep 8's); a CNC course's lab G71 exercise of KL-Mithunvel/G-M_CODE. Only the
 /// sidecars are committed (`extract.sh` writes the programs from mirrors); they were written by
 /// reading each program, before ncplan ran on it; not yet measured (the lead measures it once).
 #[test]
