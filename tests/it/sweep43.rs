@@ -72,6 +72,19 @@
 //! Doosan lathe programs and two grinder macros with 1-5 errors each, a Haas job-shop program
 //! (1 error); the Sinumerik lathe PROC and its main program read as the mill dictionary, a
 //! grinder macro read as Haas; the invalid LinuxCNC `m199.ngc` read without an error.
+//!
+//! Sweep 9 (rows z001-z032, half `holdout-s9`: held out whole, no build half; 32 programs of
+//! 12 repositories, 29 valid and 3 invalid, none skipped), meant to spread wider than sweep 8
+//! (half LinuxCNC): 21 Sinumerik programs of grinder builders and their shops (CMA cycles with
+//! typed and VAR parameters, GUD arrays, CASE .. OF, WHILE, oscillation OSP1/OSCTRL, SETINT,
+//! FXS fixed stop, `$AA_ENC_COMP` writes, HMI `;NCG#` comment blocks, a probe log saved as
+//! `.MPF` that is no program), 8 Fanuc (an Indonesian mould shop's CAM output with `/M99` then
+//! `M30`, G10 L10-L13 offset input, an `M198` main program with a placeholder word the control
+//! rejects; a 2011 drilling program with G8 P1; Fusion output without an O word) and 3 LinuxCNC
+//! (a tuning loop, a stray `%` that LinuxCNC rejects, a one-subroutine file). No Heidenhain,
+//! Haas, Okuma, Mazak or Fagor program was found in a repository not used before. Verdicts
+//! written by reading each file before anyone ran ncplan on it (LinuxCNC files also through
+//! rs274); to be measured once by the lead after the merge (figure to be filled in).
 
 use std::path::PathBuf;
 
