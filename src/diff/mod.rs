@@ -292,7 +292,8 @@ impl Change {
     pub fn phrase(&self) -> String {
         // The kind's words with blanks (`work_plane`), a variable it came through and a
         // subprogram a parameter belongs to as written.
-        let named = if self.field.starts_with("parameter ") { self.field.find(" of ") } else { None };
+        // (A parameter's field is its name as written: `parameter #<z_clearance> of O<PROBE>`.)
+        let named = if self.field.starts_with("parameter ") { Some(0) } else { None };
         let field = match named.or_else(|| self.field.find(" (via ")) {
             Some(i) => format!("{}{}", self.field[..i].replace('_', " "), &self.field[i..]),
             None => self.field.replace('_', " "),
@@ -444,6 +445,10 @@ impl Change {
                 (true, _) => format!("variable `{var}` set to {a}{loc}"),
                 (false, true) => format!("`{var}={b}` removed{loc}"),
             }
+        } else if let Some(name) = self.field.strip_prefix("call ").and_then(|c| c.strip_suffix(" rebound")) {
+            format!(
+                "call `{name}` passes {a} instead of {b}, its subroutine's parameters renumbered alike: each parameter it reads gets the value it got{loc}"
+            )
         } else if let Some(call) = self.field.strip_prefix("call ") {
             let (name, arg) = call.rsplit_once(" argument ").unwrap_or((call, "?"));
             match (b.as_str(), a.as_str()) {
@@ -633,6 +638,18 @@ fn join_lines(l: &[u32]) -> String {
 /// binds does there (a feed, a height, a condition), where the dictionary knows it.
 pub fn follow_calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &dyn crate::interp::ProgramSource) {
     follow::calls(changes, edited, programs);
+}
+
+/// [`compare_with_findings`]'s changes with each call whose argument count changed compared
+/// by what reaches the subroutine it calls (`before`: the programs beside the original,
+/// `after`: those beside the edited one): old call with old subroutine against new call with
+/// new subroutine, parameter by parameter (see `follow::rebound`). Before [`follow_calls`].
+pub fn follow_rebound_calls(
+    changes: &mut Vec<Change>,
+    original: (Program<'_>, &dyn crate::interp::ProgramSource),
+    edited: (Program<'_>, &dyn crate::interp::ProgramSource),
+) {
+    follow::rebound(changes, original, edited);
 }
 
 /// The differing statements of two programs no change in `changes` names, as (original
