@@ -55,6 +55,17 @@ fn reads(value: &str, name: &str) -> bool {
     })
 }
 
+/// Whether a condition's token reads a parameter named by a letter and a number (Heidenhain
+/// `Q31`), written against the words around it in one spelling (`FN11:IF+Q11GTQ31GOTOLBL2`
+/// splits into `GTQ31`): the name's number not continued by more digits.
+fn reads_glued(t: &Token, name: &str) -> bool {
+    let letters = name.bytes().take_while(u8::is_ascii_alphabetic).count();
+    if letters == 0 || letters == name.len() || !name[letters..].bytes().all(|c| c.is_ascii_digit()) {
+        return false;
+    }
+    t.text.match_indices(name).any(|(i, _)| !t.text[i + name.len()..].starts_with(|c: char| c.is_ascii_digit() || c == '.' || c == '_'))
+}
+
 /// The motion in force at statement `k` (rapid or not), from its own codes or the ones before.
 fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<bool> {
     // A rapid word anywhere in the statement makes it a rapid (`L Z+Q1 R0 FMAX`: the line
@@ -117,7 +128,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
         let flow = control::flow_of(&toks, p.dialect);
         for t in &toks {
             // A loop's or branch's bound may stand as a token of its own (`TO CYCLES`).
-            let read = reads(&t.value, name) || (flow.is_some() && t.sort == Sort::Other && reads(&t.text, name));
+            let read = reads(&t.value, name) || (flow.is_some() && (t.sort == Sort::Other && reads(&t.text, name) || reads_glued(t, name)));
             if !read || (t.sort == Sort::Assign && t.key == name) {
                 continue;
             }
@@ -132,6 +143,12 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
                 Some(control::Flow::Loop) if count => Some((ChangeKind::FlowChanged, "loop passes".to_owned())),
                 Some(control::Flow::Loop) => Some((ChangeKind::FlowChanged, "loop bound".to_owned())),
                 Some(control::Flow::Branch) => Some((ChangeKind::FlowChanged, "condition".to_owned())),
+                // A jump the variable decides: read before its target, in its condition
+                // (Heidenhain `FN 11: IF +Q11 GT Q31 GOTO LBL 2`), or as the target itself.
+                Some(control::Flow::Jump) => {
+                    let target = toks.last().is_some_and(|l| std::ptr::eq(l, t));
+                    Some((ChangeKind::FlowChanged, if target { "jump" } else { "condition" }.to_owned()))
+                }
                 _ => None,
             };
             match decides.or_else(|| use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect)) {
@@ -767,6 +784,12 @@ pub(super) fn rebound(
         let (Some(old_bind), Some(new_bind)) = (binding(&old_text, d, sigil, locals), binding(&new_text, d, sigil, locals)) else {
             continue;
         };
+        // The subroutine unchanged and arguments only appended or taken off at the end: every
+        // earlier one binds what it bound, which [`calls`] tells.
+        let prefix = |x: &[String], y: &[String]| x.len() <= y.len() && x.iter().zip(y).all(|(p, q)| p == q);
+        if old_text == new_text && (prefix(&old_args, &new_args) || prefix(&new_args, &old_args)) {
+            continue;
+        }
         let arg = |args: &[String], n: u16| args.get(usize::from(n - locals.0)).filter(|v| !v.is_empty()).cloned();
         let new_stmts = statement::statements(&new_text, d);
         let callee = Program { plan: &plan, text: &new_text, dialect: d };
@@ -799,22 +822,22 @@ pub(super) fn rebound(
             let mut t = template.clone();
             t.detail.effect = None;
             at(&mut t);
-            match kinds.first() {
-                Some((kind, field)) => {
-                    t.kind = *kind;
-                    t.field = format!("{field} (via {key} {label}, {param} in {name})");
-                }
-                None => {
-                    t.kind = ChangeKind::CycleParameterChanged;
-                    t.field =
-                        if label.starts_with("parameter ") { format!("{label} of {key}") } else { format!("parameter {label} of {key}") };
-                }
-            }
             t.before = was.unwrap_or_else(|| "not passed".into());
             t.after = now.unwrap_or_else(|| {
                 if new_bind.contains_key(var) { "not passed".into() } else { format!("not passed (set in {name} itself)") }
             });
-            told.push(t);
+            if kinds.is_empty() {
+                t.kind = ChangeKind::CycleParameterChanged;
+                t.field = if label.starts_with("parameter ") { format!("{label} of {key}") } else { format!("parameter {label} of {key}") };
+                told.push(t);
+                continue;
+            }
+            for (kind, field) in kinds {
+                let mut u = t.clone();
+                u.kind = kind;
+                u.field = format!("{field} (via {key} {label}, {param} in {name})");
+                told.push(u);
+            }
         }
         if told.is_empty() {
             let mut t = template.clone();

@@ -25,8 +25,11 @@
 //! not show it (a feed, a dwell, a cycle parameter: the kinds plan changes use), by the
 //! dictionary's meanings and roles in the context of the statement's codes; `follow.rs`
 //! follows a variable set to another value to the words it feeds (`clearance height (via
-//! #<_z_clearance>)`); `verdict.rs` says what the edit breaks or fixes (errors the control
-//! stops at in one version only, matched by kind), listed first. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
+//! #<_z_clearance>)`), and compares a call whose argument count changed with its subroutine as
+//! each version has it (`rebound`); `rename.rs` finds labels renamed one to one over both
+//! programs (no change); `verdict.rs` says what the edit breaks or fixes (errors the control
+//! stops at in one version only, matched by kind at the same statement first), listed first.
+//! Toolpath changes whose moves read values the file never sets are told without sizes. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
 //! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
 //! offset, offset numbers, compensation, stops, dwells, block delete, spindle mode),
 //! technology, holes and cycle parameters, features, strategy and depths of cut, risky edits,

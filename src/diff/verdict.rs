@@ -55,6 +55,11 @@ pub(super) fn same_line(line: u32, (sa, sb): (&[Stmt], &[Stmt]), hunks: &[Hunk])
     let k = sa.partition_point(|s| s.line <= line).checked_sub(1)?;
     let mut shift: isize = 0;
     for h in hunks {
+        if h.original.contains(&k) && h.original.len() == h.edited.len() && line <= sa[k].last {
+            // A statement edited in place (as many on both sides): its counterpart.
+            let (x, y) = (&sa[k], sb.get(h.edited.start + (k - h.original.start))?);
+            return Some(y.line + (line - x.line).min(y.last - y.line));
+        }
         if h.original.contains(&k) || (h.original.is_empty() && h.original.start == k + 1 && line > sa[k].last) {
             return None;
         }
@@ -109,7 +114,13 @@ pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u3
     // A value left unknown is no error the control stops at.
     let stops = |f: &[Fault]| f.iter().filter(|f| f.code != crate::diag::Code::UnknownValue).cloned().collect::<Vec<Fault>>();
     let (a, b) = (stops(a), stops(b));
-    let (fixed, broken) = unmatched(&a, &b, same);
+    let (mut fixed, mut broken) = unmatched(&a, &b, same);
+    // A statement the control stopped at in both versions (a comment nested in an empty
+    // assignment's): another error on it neither breaks nor fixes the program.
+    let stopped_a: std::collections::BTreeSet<u32> = a.iter().filter_map(|g| same(g.line)).collect();
+    let stopped_b: std::collections::BTreeSet<u32> = b.iter().map(|f| f.line).collect();
+    broken.retain(|f| !stopped_a.contains(&f.line));
+    fixed.retain(|g| same(g.line).is_none_or(|l| !stopped_b.contains(&l)));
     let mut out = Vec::new();
     for (kind, list) in [(ChangeKind::ProgramBroken, broken), (ChangeKind::ProgramFixed, fixed)] {
         let mut by_code: BTreeMap<&str, Vec<&Fault>> = BTreeMap::new();

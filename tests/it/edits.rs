@@ -1064,6 +1064,9 @@ fn a_comment_after_an_empty_assignment_is_no_value() {
     let a = "#2=20 (SPEED)\n#4= (FEED)\nG0 X0 Y0\nG1 X1 F[#2]\nM2\n";
     let got = changes_with_findings(a, &a.replace("(FEED)", "(REVOLUTIONS PER MINUTE)"), "linuxcnc");
     assert!(got.is_empty(), "{}", rows(&got));
+    // A comment nested in it now: the control stopped at that statement before too.
+    let got = changes_with_findings(a, &a.replace("(FEED)", "(RPM (SPEED))"), "linuxcnc");
+    assert!(!got.iter().any(|c| matches!(c.kind, diff::ChangeKind::ProgramBroken | diff::ChangeKind::ProgramFixed)), "{}", rows(&got));
     let got = changes_with_findings(a, &a.replace("#2=20 (SPEED)", "#2= (SPEED)"), "linuxcnc");
     let first = got.iter().position(|c| c.kind == diff::ChangeKind::ProgramBroken && c.field == "syntax::malformed-expression");
     assert_eq!(first.map(|k| got[k].line), Some(Some(1)), "{}", rows(&got));

@@ -245,9 +245,11 @@ fn report(pairs: &[Pair]) -> (String, usize) {
             if located { "yes" } else { "no" },
             o.changes.len()
         ));
-        if !o.problems.is_empty() || (p.expect.class == "machining" && kinds == 0) {
+        // Every row where `NCPLAN_REVISIONS_ROWS` is set (to compare two builds row by row).
+        let all = std::env::var_os("NCPLAN_REVISIONS_ROWS").is_some();
+        if all || !o.problems.is_empty() || (p.expect.class == "machining" && kinds == 0) {
             table.push_str(&format!("    what: {}\n", p.expect.what));
-            for c in o.changes.iter().take(6) {
+            for c in o.changes.iter().take(if all { usize::MAX } else { 6 }) {
                 table.push_str(&format!("    - {}\n", c.phrase()));
             }
         }
