@@ -68,10 +68,9 @@ fn o_label(text: &str) -> Option<String> {
 }
 
 /// A token with its label written as `new` (`P1` → `P1000`, `O1IF[…]` → `O1000IF[…]`).
-fn relabel(t: &Token, old: &str, new: &str, first: bool) -> String {
+fn relabel(t: &Token, new: &str, first: bool) -> String {
     if first && let Some(l) = o_label(&t.text) {
         let len = if l.contains('<') { l.len() } else { 1 + t.text[1..].bytes().take_while(u8::is_ascii_digit).count() };
-        let _ = old;
         return format!("{new}{}", &t.text[len..]);
     }
     format!("{}{}", t.key, &new[1..])
@@ -92,7 +91,7 @@ pub(super) fn renamed(pairs: &[(usize, usize)], (ta, tb): (&str, &str), (sa, sb)
         }
         // Every token the same but the labels, and the labels written anew.
         let same_rest = x.iter().zip(&y).enumerate().all(|(k, (p, q))| match lx.iter().position(|l| l.0 == k) {
-            Some(n) => relabel(p, &lx[n].1, &ly[n].1, k == 0) == q.text,
+            Some(n) => relabel(p, &ly[n].1, k == 0) == q.text,
             None => p.text == q.text,
         });
         if !same_rest || lx.iter().zip(&ly).all(|(p, q)| p.1 == q.1) {
@@ -116,12 +115,53 @@ pub(super) fn renamed(pairs: &[(usize, usize)], (ta, tb): (&str, &str), (sa, sb)
     // nowhere in the edited one, the new ones the reverse.
     let olds: BTreeSet<String> = map.keys().cloned().collect();
     let news: BTreeSet<String> = map.values().cloned().collect();
-    let (ua, ub) = (statement::label_uses(ta, d, &olds, &news), statement::label_uses(tb, d, &news, &olds));
+    let (ua, ub) = (label_uses(ta, d, &olds, &news), label_uses(tb, d, &news, &olds));
     let whole = map.iter().all(|(o, n)| {
-        ua.0.get(o).is_some_and(|u| u.defined) && ua.1.get(n).is_none() && ub.0.get(n).is_some_and(|u| u.defined) && ub.1.get(o).is_none()
+        ua.0.get(o).is_some_and(|u| u.defined) && !ua.1.contains_key(n) && ub.0.get(n).is_some_and(|u| u.defined) && !ub.1.contains_key(o)
     });
     if !whole {
         return Vec::new();
     }
     taken
+}
+
+/// How a program uses a label (it is named there): whether it defines it (a program number, a
+/// block number, an O-word's own statement other than a call).
+#[derive(Clone, Copy, Debug, Default)]
+struct LabelUse {
+    defined: bool,
+}
+
+/// The uses in `text` of the labels of `first` and of `second` (as [`labels`] writes them),
+/// each set's found ones apart.
+fn label_uses(
+    text: &str,
+    d: &Dialect,
+    first: &BTreeSet<String>,
+    second: &BTreeSet<String>,
+) -> (BTreeMap<String, LabelUse>, BTreeMap<String, LabelUse>) {
+    let (mut u1, mut u2) = (BTreeMap::new(), BTreeMap::new());
+    let mut note = |label: &str, defined: bool| {
+        for (set, uses) in [(first, &mut u1), (second, &mut u2)] {
+            if set.contains(label) {
+                let u: &mut LabelUse = uses.entry(label.to_owned()).or_default();
+                u.defined |= defined;
+            }
+        }
+    };
+    statement::visit(text, d, |block, stmt| {
+        if let Some(n) = block.number {
+            note(&format!("N{n}"), true);
+        }
+        if let Some(n) = block.program_number {
+            note(&format!("O{n}"), true);
+        }
+        let Some(stmt) = stmt else { return };
+        let tokens = statement::tokens_in(stmt, d);
+        let call = block.control.as_ref().is_some_and(|c| c.statement == Some(Statement::Call));
+        for (k, label) in labels(&tokens, d) {
+            note(&label, k == 0 && label.starts_with('O') && !call && tokens[0].text.starts_with('O'));
+        }
+    });
+    (u1, u2)
 }

@@ -144,59 +144,25 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     (out, faults)
 }
 
-/// How a program uses a label: whether it defines it (a program number, a block number, an
-/// O-word's own statement other than a call), and how many statements name it.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct LabelUse {
-    /// Defined here.
-    pub defined: bool,
-    /// Statements (and block numbers) that name it.
-    pub named: usize,
-}
-
-/// The uses in `text` of the labels of `first` and of `second` (`O1000`, `O<NAME>`, `N20`, as
-/// [`super::rename::labels`] writes them), each set's found ones apart.
-pub fn label_uses(
-    text: &str,
-    dialect: &Dialect,
-    first: &std::collections::BTreeSet<String>,
-    second: &std::collections::BTreeSet<String>,
-) -> (std::collections::BTreeMap<String, LabelUse>, std::collections::BTreeMap<String, LabelUse>) {
+/// Every block of `text` with its statement's normalised text (`None` for a block that is no
+/// statement), in order: for readers of the whole program that need the block too (its
+/// number, its program number, its control statement).
+pub fn visit(text: &str, dialect: &Dialect, mut f: impl FnMut(&Block, Option<&str>)) {
     let keywords = Keywords::of(dialect);
     let mut parser = Parser::new(text, dialect);
     let mut block = Block::default();
     let mut diags = Vec::new();
     let mut buf = String::new();
-    let (mut u1, mut u2) = (std::collections::BTreeMap::new(), std::collections::BTreeMap::new());
-    let mut note = |label: &str, defined: bool| {
-        for (set, uses) in [(first, &mut u1), (second, &mut u2)] {
-            if set.contains(label) {
-                let u: &mut LabelUse = uses.entry(label.to_owned()).or_default();
-                u.defined |= defined;
-                u.named += 1;
-            }
-        }
-    };
     while parser.next_block(&mut block, &mut diags) {
         diags.clear();
-        if let Some(n) = block.number {
-            note(&format!("N{n}"), true);
-        }
-        if let Some(n) = block.program_number {
-            note(&format!("O{n}"), true);
-        }
         buf.clear();
-        if normalize(&block, dialect, &keywords, &mut buf).is_none() {
-            continue;
-        }
-        fold_constants(&mut buf);
-        let tokens = tokens_in(&buf, dialect);
-        let call = block.control.as_ref().is_some_and(|c| c.statement == Some(Statement::Call));
-        for (k, label) in super::rename::labels(&tokens, dialect) {
-            note(&label, k == 0 && label.starts_with('O') && !call && tokens[0].text.starts_with('O'));
+        if normalize(&block, dialect, &keywords, &mut buf).is_some() {
+            fold_constants(&mut buf);
+            f(&block, Some(&buf));
+        } else {
+            f(&block, None);
         }
     }
-    (u1, u2)
 }
 
 /// The normalised text of the statement at `stmt`, read again from `text`.
