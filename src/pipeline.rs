@@ -370,17 +370,23 @@ pub fn diff(original: &Analysis, original_dialect: &Dialect, edited: &Analysis, 
 }
 
 /// [`diff`], with the edited program's call arguments followed into the subroutines its
-/// profile finds (`edited_profile.programs`: those beside it for `ncplan diff`).
+/// profile finds (`edited_profile.programs`: those beside it for `ncplan diff`), and a call
+/// whose argument count changed compared with the subroutine as each version finds it
+/// (`original_profile.programs` beside the original).
 pub fn diff_beside(
     original: &Analysis,
     original_dialect: &Dialect,
     edited: &Analysis,
     edited_dialect: &Dialect,
-    edited_profile: &Profile,
+    (original_profile, edited_profile): (&Profile, &Profile),
 ) -> Vec<Change> {
     let mut changes = diff(original, original_dialect, edited, edited_dialect);
     if let Some(programs) = &edited_profile.programs {
         let program = crate::diff::Program { plan: &edited.plan, text: &edited.source.text, dialect: edited_dialect };
+        if let Some(before) = &original_profile.programs {
+            let old = crate::diff::Program { plan: &original.plan, text: &original.source.text, dialect: original_dialect };
+            crate::diff::follow_rebound_calls(&mut changes, (old, before.as_ref()), (program, programs.as_ref()));
+        }
         crate::diff::follow_calls(&mut changes, program, programs.as_ref());
     }
     changes

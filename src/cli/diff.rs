@@ -60,7 +60,7 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let b = pipeline::analyze_plan_owned(bytes_b, &db, &beside(&edited));
     say_stops(&original, &a.source.text, &a.diagnostics);
     say_stops(&edited, &b.source.text, &b.diagnostics);
-    let changes = pipeline::diff_beside(&a, &da, &b, &db, &beside(&edited));
+    let changes = pipeline::diff_beside(&a, &da, &b, &db, (&beside(&original), &beside(&edited)));
     let machining = changes.iter().any(Change::is_machining);
     match format {
         Format::Json => {

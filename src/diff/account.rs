@@ -74,8 +74,9 @@ pub(super) fn account(
 ) {
     let ((sa, fa), (sb, fb)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
     let (fa, fb) = (verdict::joined(findings.0, fa), verdict::joined(findings.1, fb));
-    let told = verdict::verdicts(&fa, &fb);
-    locate(a, b, (&sa, &sb), pairs, changes);
+    let hunks = statement::hunks(&sa, &sb);
+    let told = verdict::verdicts(&fa, &fb, &|l| verdict::same_line(l, (&sa, &sb), &hunks));
+    locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
 }
 
@@ -84,10 +85,10 @@ fn locate(
     a: Program<'_>,
     b: Program<'_>,
     (sa, sb): (&[Stmt], &[Stmt]),
+    hunks: Vec<Hunk>,
     pairs: &[(Option<usize>, Option<usize>)],
     changes: &mut Vec<Change>,
 ) {
-    let hunks = statement::hunks(sa, sb);
     if hunks.is_empty() {
         // The machine reads the same statements: what recognition took from comments (a
         // stock, a tool's size) changed, not the machining. Called programs may still have.
@@ -99,6 +100,7 @@ fn locate(
     // Arcs written another way that run the same path (`R2.5` for `I0 J2.5`): no change.
     let mut same = respelled(&items, a, b, sa, sb);
     same.extend(reblocked(&hunks, a, b, sa, sb));
+    same.extend(relabelled(&items, a, b, sa, sb));
     let tolerance = arc_tolerance(a);
     changes.retain(|c| {
         let only_respelled = c.kind == ChangeKind::ToolpathChanged
@@ -262,6 +264,7 @@ pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) ->
     let (items, _) = itemize(&hunks, a, b, &sa, &sb);
     let mut same = respelled(&items, a, b, &sa, &sb);
     same.extend(reblocked(&hunks, a, b, &sa, &sb));
+    same.extend(relabelled(&items, a, b, &sa, &sb));
     uncovered(changes, &hunks, &sa, &sb, &same)
 }
 
@@ -312,6 +315,23 @@ fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[
         }
     }
     out
+}
+
+/// The differing statements that only rename labels one to one over both programs (a
+/// subprogram renumbered with its calls, an O-word's label on all its statements): see
+/// [`super::rename`]. As (original line, edited line).
+fn relabelled(items: &[Item], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+    if a.dialect.name != b.dialect.name {
+        return Vec::new();
+    }
+    let pairs: Vec<(usize, usize)> = items.iter().filter_map(|it| Some((it.original?, it.edited?))).collect();
+    if pairs.is_empty() {
+        return Vec::new();
+    }
+    super::rename::renamed(&pairs, (a.text, b.text), (sa, sb), a.dialect)
+        .into_iter()
+        .map(|(i, j)| (Some(sa[i].line), Some(sb[j].line)))
+        .collect()
 }
 
 /// The control's arc tolerance for `p`, mm: how far apart two arcs' end points and centres

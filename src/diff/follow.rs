@@ -55,6 +55,17 @@ fn reads(value: &str, name: &str) -> bool {
     })
 }
 
+/// Whether a condition's token reads a parameter named by a letter and a number (Heidenhain
+/// `Q31`), written against the words around it in one spelling (`FN11:IF+Q11GTQ31GOTOLBL2`
+/// splits into `GTQ31`): the name's number not continued by more digits.
+fn reads_glued(t: &Token, name: &str) -> bool {
+    let letters = name.bytes().take_while(u8::is_ascii_alphabetic).count();
+    if letters == 0 || letters == name.len() || !name[letters..].bytes().all(|c| c.is_ascii_digit()) {
+        return false;
+    }
+    t.text.match_indices(name).any(|(i, _)| !t.text[i + name.len()..].starts_with(|c: char| c.is_ascii_digit() || c == '.' || c == '_'))
+}
+
 /// The motion in force at statement `k` (rapid or not), from its own codes or the ones before.
 fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<bool> {
     // A rapid word anywhere in the statement makes it a rapid (`L Z+Q1 R0 FMAX`: the line
@@ -117,7 +128,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
         let flow = control::flow_of(&toks, p.dialect);
         for t in &toks {
             // A loop's or branch's bound may stand as a token of its own (`TO CYCLES`).
-            let read = reads(&t.value, name) || (flow.is_some() && t.sort == Sort::Other && reads(&t.text, name));
+            let read = reads(&t.value, name) || (flow.is_some() && (t.sort == Sort::Other && reads(&t.text, name) || reads_glued(t, name)));
             if !read || (t.sort == Sort::Assign && t.key == name) {
                 continue;
             }
@@ -132,6 +143,12 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
                 Some(control::Flow::Loop) if count => Some((ChangeKind::FlowChanged, "loop passes".to_owned())),
                 Some(control::Flow::Loop) => Some((ChangeKind::FlowChanged, "loop bound".to_owned())),
                 Some(control::Flow::Branch) => Some((ChangeKind::FlowChanged, "condition".to_owned())),
+                // A jump the variable decides: read before its target, in its condition
+                // (Heidenhain `FN 11: IF +Q11 GT Q31 GOTO LBL 2`), or as the target itself.
+                Some(control::Flow::Jump) => {
+                    let target = toks.last().is_some_and(|l| std::ptr::eq(l, t));
+                    Some((ChangeKind::FlowChanged, if target { "jump" } else { "condition" }.to_owned()))
+                }
                 _ => None,
             };
             match decides.or_else(|| use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect)) {
@@ -679,4 +696,171 @@ fn macro_argument(c: &Change, edited: Program<'_>, stmts: &mut Option<Vec<Stmt>>
         })
     })?;
     Some((code, name, n))
+}
+
+/// The arguments of the call `key` in the statement at `line` of `p`, as written.
+fn call_args(p: Program<'_>, stmts: &[Stmt], line: u32, key: &str) -> Option<Vec<String>> {
+    let s = stmts.iter().find(|s| s.line == line)?;
+    let tokens = statement::tokens_in(&statement::text_of(p.text, p.dialect, s), p.dialect);
+    let call = tokens.iter().find(|t| t.sort == Sort::Call && t.key == key)?;
+    Some(statement::arguments(&call.value))
+}
+
+/// How a subroutine takes its parameters: each variable it sets from a positional parameter
+/// at the top of its body (`#<z_clearance> = #3`), by that variable, and each positional
+/// parameter it reads otherwise, by itself (`#3`); with the parameter's number. `None` where a
+/// variable is set from two parameters.
+fn binding(text: &str, d: &Dialect, sigil: char, (first, last): (u16, u16)) -> Option<std::collections::BTreeMap<String, u16>> {
+    let positional = |v: &str| {
+        let n = v.strip_prefix(sigil)?.parse::<u16>().ok()?;
+        (first..=last).contains(&n).then_some(n)
+    };
+    let mut out = std::collections::BTreeMap::new();
+    let mut named = std::collections::BTreeSet::new();
+    for s in statement::statements(text, d) {
+        for t in statement::tokens_in(&statement::text_of(text, d, &s), d) {
+            if t.sort == Sort::Assign
+                && let Some(n) = positional(&t.value)
+                && positional(&t.key).is_none()
+            {
+                if out.insert(t.key.clone(), n).is_some_and(|m| m != n) {
+                    return None;
+                }
+                named.insert(n);
+            }
+        }
+    }
+    // Positional parameters read elsewhere, by themselves.
+    let up = text.to_ascii_uppercase();
+    for n in first..=last {
+        let p = format!("{sigil}{n}");
+        let read = up.match_indices(&p).any(|(i, _)| !up[i + p.len()..].starts_with(|c: char| c.is_ascii_digit()));
+        if read && !named.contains(&n) {
+            out.insert(p, n);
+        }
+    }
+    Some(out)
+}
+
+/// Calls whose argument count changed together with the subroutine they call (in another
+/// file, `before` the edit and `after` it): the old call with the old subroutine and the new
+/// call with the new one bind each of its parameters (by the variable the subroutine sets
+/// from it, `#<z_clearance> = #3`) to an argument; a parameter bound to the same argument
+/// before and after is no change, whatever its position, so a list shortened with the
+/// subroutine's parameters renumbered alike is told as one statement change that says so. A
+/// parameter bound to another value is told once, as what it feeds in the new subroutine (or
+/// as that parameter's change), in place of a row for every argument the shift moved.
+pub(super) fn rebound(
+    changes: &mut Vec<Change>,
+    (a, before): (Program<'_>, &dyn crate::interp::ProgramSource),
+    (b, after): (Program<'_>, &dyn crate::interp::ProgramSource),
+) {
+    let d = b.dialect;
+    let Some((sigil, _)) = d.lexical.parameter else { return };
+    if a.dialect.name != d.name {
+        return;
+    }
+    let mut calls: Vec<(String, u32, u32)> = Vec::new();
+    for c in changes.iter() {
+        let Some((key, _)) = c.field.strip_prefix("call ").and_then(|r| r.rsplit_once(" argument ")) else { continue };
+        if c.kind == ChangeKind::StatementChanged
+            && (c.before == "none" || c.after == "none")
+            && let (Some(lo), Some(le)) = (c.original_line, c.line)
+            && !calls.contains(&(key.to_owned(), lo, le))
+        {
+            calls.push((key.to_owned(), lo, le));
+        }
+    }
+    if calls.is_empty() {
+        return;
+    }
+    let (sa, sb) = (statement::statements(a.text, a.dialect), statement::statements(b.text, d));
+    let plan = crate::plan::ProcessPlan::default();
+    for (key, lo, le) in calls {
+        let Some(name) = callee_name(&key) else { continue };
+        let (Some(old_text), Some(new_text)) = (before.load(&name), after.load(&name)) else { continue };
+        let (Some(old_args), Some(new_args)) = (call_args(a, &sa, lo, &key), call_args(b, &sb, le, &key)) else { continue };
+        let locals = d.macros.locals;
+        let (Some(old_bind), Some(new_bind)) = (binding(&old_text, d, sigil, locals), binding(&new_text, d, sigil, locals)) else {
+            continue;
+        };
+        // The subroutine unchanged and arguments only appended or taken off at the end: every
+        // earlier one binds what it bound, which [`calls`] tells.
+        let prefix = |x: &[String], y: &[String]| x.len() <= y.len() && x.iter().zip(y).all(|(p, q)| p == q);
+        if old_text == new_text && (prefix(&old_args, &new_args) || prefix(&new_args, &old_args)) {
+            continue;
+        }
+        let arg = |args: &[String], n: u16| args.get(usize::from(n - locals.0)).filter(|v| !v.is_empty()).cloned();
+        let new_stmts = statement::statements(&new_text, d);
+        let callee = Program { plan: &plan, text: &new_text, dialect: d };
+        let at = |c: &mut Change| {
+            (c.original_line, c.line) = (Some(lo), Some(le));
+            c.detail.at = vec![(Some(lo), Some(le))];
+        };
+        let template = changes
+            .iter()
+            .find(|c| c.original_line == Some(lo) && c.line == Some(le) && c.field.starts_with(&format!("call {key} argument ")))
+            .cloned();
+        let Some(template) = template else { continue };
+        let mut told = Vec::new();
+        let vars: std::collections::BTreeSet<&String> = old_bind.keys().chain(new_bind.keys()).collect();
+        for var in vars {
+            let was = old_bind.get(var).and_then(|&n| arg(&old_args, n));
+            let now = new_bind.get(var).and_then(|&n| arg(&new_args, n));
+            // A parameter the new subroutine no longer takes, nor reads: nothing of this call.
+            if !new_bind.contains_key(var) && !reads(&new_text.to_ascii_uppercase(), var) {
+                continue;
+            }
+            if was == now {
+                continue;
+            }
+            let n = new_bind.get(var).or_else(|| old_bind.get(var)).copied().unwrap_or(locals.0);
+            let param = format!("{sigil}{n}");
+            let label =
+                if var.starts_with(sigil) && positional_name(var, sigil) { format!("parameter {}", n + 1 - locals.0) } else { var.clone() };
+            let kinds = if new_bind.contains_key(var) { fed_kinds(callee, &new_stmts, &param) } else { Vec::new() };
+            let mut t = template.clone();
+            t.detail.effect = None;
+            at(&mut t);
+            t.before = was.unwrap_or_else(|| "not passed".into());
+            t.after = now.unwrap_or_else(|| {
+                if new_bind.contains_key(var) { "not passed".into() } else { format!("not passed (set in {name} itself)") }
+            });
+            if kinds.is_empty() {
+                t.kind = ChangeKind::CycleParameterChanged;
+                t.field = if label.starts_with("parameter ") { format!("{label} of {key}") } else { format!("parameter {label} of {key}") };
+                told.push(t);
+                continue;
+            }
+            for (kind, field) in kinds {
+                let mut u = t.clone();
+                u.kind = kind;
+                u.field = format!("{field} (via {key} {label}, {param} in {name})");
+                told.push(u);
+            }
+        }
+        if told.is_empty() {
+            let mut t = template.clone();
+            t.kind = ChangeKind::StatementChanged;
+            t.field = format!("call {key} rebound");
+            t.before = format!("[{}]", old_args.join("]["));
+            t.after = format!("[{}]", new_args.join("]["));
+            t.detail.effect = None;
+            at(&mut t);
+            told.push(t);
+        }
+        let k = changes
+            .iter()
+            .position(|c| c.original_line == Some(lo) && c.line == Some(le) && c.field.starts_with(&format!("call {key} argument ")));
+        changes.retain(|c| !(c.original_line == Some(lo) && c.line == Some(le) && c.field.starts_with(&format!("call {key} argument "))));
+        let k = k.unwrap_or(changes.len()).min(changes.len());
+        for (i, t) in told.into_iter().enumerate() {
+            changes.insert(k + i, t);
+        }
+    }
+}
+
+/// Whether a variable is a positional parameter itself (`#3`), not a name the subroutine gives it.
+fn positional_name(var: &str, sigil: char) -> bool {
+    var.strip_prefix(sigil).is_some_and(|n| !n.is_empty() && n.bytes().all(|c| c.is_ascii_digit()))
 }

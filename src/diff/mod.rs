@@ -25,8 +25,11 @@
 //! not show it (a feed, a dwell, a cycle parameter: the kinds plan changes use), by the
 //! dictionary's meanings and roles in the context of the statement's codes; `follow.rs`
 //! follows a variable set to another value to the words it feeds (`clearance height (via
-//! #<_z_clearance>)`); `verdict.rs` says what the edit breaks or fixes (errors the control
-//! stops at in one version only, matched by kind), listed first. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
+//! #<_z_clearance>)`), and compares a call whose argument count changed with its subroutine as
+//! each version has it (`rebound`); `rename.rs` finds labels renamed one to one over both
+//! programs (no change); `verdict.rs` says what the edit breaks or fixes (errors the control
+//! stops at in one version only, matched by kind at the same statement first), listed first.
+//! Toolpath changes whose moves read values the file never sets are told without sizes. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
 //! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
 //! offset, offset numbers, compensation, stops, dwells, block delete, spindle mode),
 //! technology, holes and cycle parameters, features, strategy and depths of cut, risky edits,
@@ -45,6 +48,7 @@ mod account;
 mod control;
 mod follow;
 mod moved;
+mod rename;
 mod setup;
 pub mod statement;
 mod turning;
@@ -291,7 +295,8 @@ impl Change {
     pub fn phrase(&self) -> String {
         // The kind's words with blanks (`work_plane`), a variable it came through and a
         // subprogram a parameter belongs to as written.
-        let named = if self.field.starts_with("parameter ") { self.field.find(" of ") } else { None };
+        // (A parameter's field is its name as written: `parameter #<z_clearance> of O<PROBE>`.)
+        let named = if self.field.starts_with("parameter ") { Some(0) } else { None };
         let field = match named.or_else(|| self.field.find(" (via ")) {
             Some(i) => format!("{}{}", self.field[..i].replace('_', " "), &self.field[i..]),
             None => self.field.replace('_', " "),
@@ -353,6 +358,15 @@ impl Change {
             ChangeKind::ClearanceChanged => {
                 let via = self.field.find(" (via ").map_or("", |i| &self.field[i..]);
                 format!("clearance height between cuts changed from {} to {}{via}", self.before, self.after)
+            }
+            ChangeKind::ToolpathChanged if self.field == FROM_UNKNOWN => {
+                let mut s = format!("toolpath changed{}", at(self.line));
+                if let Some(l) = self.original_line
+                    && Some(l) != self.line
+                {
+                    s.push_str(&format!(" (line {l} in the original)"));
+                }
+                return format!("{s}: {}", self.after);
             }
             ChangeKind::ToolpathChanged if !self.field.starts_with("moves") => {
                 let mut s = format!("toolpath changed{}", at(self.line));
@@ -434,6 +448,10 @@ impl Change {
                 (true, _) => format!("variable `{var}` set to {a}{loc}"),
                 (false, true) => format!("`{var}={b}` removed{loc}"),
             }
+        } else if let Some(name) = self.field.strip_prefix("call ").and_then(|c| c.strip_suffix(" rebound")) {
+            format!(
+                "call `{name}` passes {a} instead of {b}, its subroutine's parameters renumbered alike: each parameter it reads gets the value it got{loc}"
+            )
         } else if let Some(call) = self.field.strip_prefix("call ") {
             let (name, arg) = call.rsplit_once(" argument ").unwrap_or((call, "?"));
             match (b.as_str(), a.as_str()) {
@@ -537,7 +555,84 @@ pub fn compare_with_findings(
     if original.dialect.name == edited.dialect.name {
         account::account(original, edited, &pairs, &mut changes, findings);
     }
+    unknown_sizes(&mut changes, (original.plan, edited.plan), findings);
     changes
+}
+
+/// The field of a toolpath change whose moves read values the file never sets.
+const FROM_UNKNOWN: &str = "toolpath from unknown values";
+
+/// Toolpath changes whose moves, on either side, read a value the file never sets (a global
+/// another program sets, `X[#<xe>+#<_td>/2]`; a caller's argument): the analysis leaves such a
+/// word out and keeps the tool where it was, so the sizes and places it would tell (a path
+/// "56.7 mm shorter", a start point at X0) are the analysis's, not the machine's. Told
+/// without them, with the lines that read the unknown values; a start point moved there is
+/// that same change.
+fn unknown_sizes(changes: &mut Vec<Change>, (pa, pb): (&ProcessPlan, &ProcessPlan), (fa, fb): (&[statement::Fault], &[statement::Fault])) {
+    let unknown = |f: &[statement::Fault]| -> BTreeSet<u32> {
+        f.iter().filter(|f| f.code == crate::diag::Code::UnknownValue).map(|f| f.line).collect()
+    };
+    let (ua, ub) = (unknown(fa), unknown(fb));
+    if ua.is_empty() && ub.is_empty() {
+        return;
+    }
+    // The lines of the unknown values a workingstep's moves read, at a line of it.
+    let reads = |p: &ProcessPlan, u: &BTreeSet<u32>, line: Option<u32>| -> Vec<u32> {
+        let Some(line) = line else { return Vec::new() };
+        p.workingsteps
+            .iter()
+            .filter(|w| (w.lines.0..=w.lines.1).contains(&line) || w.toolpath.iter().any(|m| m.line == line))
+            .flat_map(|w| w.toolpath.iter().map(|m| m.line).filter(|l| u.contains(l)))
+            .collect::<BTreeSet<u32>>()
+            .into_iter()
+            .collect()
+    };
+    let mut seen: BTreeSet<u32> = BTreeSet::new();
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let sized = matches!(c.kind, ChangeKind::ToolpathChanged | ChangeKind::StartPointMoved) && !c.field.starts_with("moves");
+        let (ra, rb) = if sized { (reads(pa, &ua, c.original_line), reads(pb, &ub, c.line)) } else { (Vec::new(), Vec::new()) };
+        if ra.is_empty() && rb.is_empty() {
+            k += 1;
+            continue;
+        }
+        // One such change for a workingstep.
+        if !seen.insert(c.workingstep) {
+            let mut at = changes[k].detail.at.clone();
+            at.push((changes[k].original_line, changes[k].line));
+            let first = changes.iter().position(|d| d.field == FROM_UNKNOWN && d.workingstep == changes[k].workingstep);
+            if let Some(f) = first {
+                changes[f].detail.at.extend(at);
+                changes[f].detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+                changes[f].detail.at.dedup();
+            }
+            changes.remove(k);
+            continue;
+        }
+        let list = |side: &str, l: &[u32]| {
+            (!l.is_empty()).then(|| format!("line{} {} {side}", if l.len() == 1 { "" } else { "s" }, join_lines(l)))
+        };
+        let sides: Vec<String> = [list("in the original", &ra), list("in the edited program", &rb)].into_iter().flatten().collect();
+        let c = &mut changes[k];
+        c.kind = ChangeKind::ToolpathChanged;
+        c.field = FROM_UNKNOWN.into();
+        c.before = String::new();
+        c.after = format!("its moves read values the file never sets ({}): no size is told", sides.join("; "));
+        c.region = None;
+        c.deviation = None;
+        k += 1;
+    }
+}
+
+/// Lines as a planner reads them: `91, 95 and 99`, the first three and how many more.
+fn join_lines(l: &[u32]) -> String {
+    let shown: Vec<String> = l.iter().take(3).map(u32::to_string).collect();
+    match (shown.len(), l.len().saturating_sub(3)) {
+        (1, _) => shown[0].clone(),
+        (n, 0) => format!("{} and {}", shown[..n - 1].join(", "), shown[n - 1]),
+        (_, more) => format!("{} and {more} more", shown.join(", ")),
+    }
 }
 
 /// [`compare_with_findings`]'s changes with a call's arguments followed into the subroutines
@@ -546,6 +641,18 @@ pub fn compare_with_findings(
 /// binds does there (a feed, a height, a condition), where the dictionary knows it.
 pub fn follow_calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &dyn crate::interp::ProgramSource) {
     follow::calls(changes, edited, programs);
+}
+
+/// [`compare_with_findings`]'s changes with each call whose argument count changed compared
+/// by what reaches the subroutine it calls (`before`: the programs beside the original,
+/// `after`: those beside the edited one): old call with old subroutine against new call with
+/// new subroutine, parameter by parameter (see `follow::rebound`). Before [`follow_calls`].
+pub fn follow_rebound_calls(
+    changes: &mut Vec<Change>,
+    original: (Program<'_>, &dyn crate::interp::ProgramSource),
+    edited: (Program<'_>, &dyn crate::interp::ProgramSource),
+) {
+    follow::rebound(changes, original, edited);
 }
 
 /// The differing statements of two programs no change in `changes` names, as (original

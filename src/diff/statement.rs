@@ -144,6 +144,27 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     (out, faults)
 }
 
+/// Every block of `text` with its statement's normalised text (`None` for a block that is no
+/// statement), in order: for readers of the whole program that need the block too (its
+/// number, its program number, its control statement).
+pub fn visit(text: &str, dialect: &Dialect, mut f: impl FnMut(&Block, Option<&str>)) {
+    let keywords = Keywords::of(dialect);
+    let mut parser = Parser::new(text, dialect);
+    let mut block = Block::default();
+    let mut diags = Vec::new();
+    let mut buf = String::new();
+    while parser.next_block(&mut block, &mut diags) {
+        diags.clear();
+        buf.clear();
+        if normalize(&block, dialect, &keywords, &mut buf).is_some() {
+            fold_constants(&mut buf);
+            f(&block, Some(&buf));
+        } else {
+            f(&block, None);
+        }
+    }
+}
+
 /// The normalised text of the statement at `stmt`, read again from `text`.
 pub fn text_of(text: &str, dialect: &Dialect, stmt: &Stmt) -> String {
     let keywords = Keywords::of(dialect);

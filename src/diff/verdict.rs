@@ -3,22 +3,26 @@
 //! rest is read as words, an arc whose radii disagree, a jump to a label that is gone), those
 //! of the analysis and those reading every block finds in blocks the analysis did not run.
 //!
-//! The errors of both versions are matched by their kind (the diagnostic's code), the same
-//! sentence first and then in order, so that an error that only moved with the lines around it
-//! is no change. An error left over in the edited version is a [`ChangeKind::ProgramBroken`],
+//! The errors of both versions are matched by their kind (the diagnostic's code): at the same
+//! statement of both first (by the statements' alignment), then the same sentence, then in
+//! order, so that an error that only moved with the lines around it is no change, and one an
+//! edited line brings in is told at that line, not at an unchanged one further on. An error left over in the edited version is a [`ChangeKind::ProgramBroken`],
 //! one left over in the original a [`ChangeKind::ProgramFixed`], one change per kind at all
 //! its lines. They are listed first: a program the control stops in does not machine.
 
 use std::collections::BTreeMap;
 
-use super::statement::Fault;
+use super::statement::{Fault, Hunk, Stmt};
 use super::{Change, ChangeKind, Detail};
 use crate::diag::Diagnostic;
 use crate::text::LineIndex;
 
-/// The errors among `findings` (an analysis of `text`), as faults at their lines.
+/// The errors among `findings` (an analysis of `text`), as faults at their lines, and the
+/// words the analysis left out for a value the file never sets (`interp::unknown-value`: a
+/// global another program sets, a caller's argument), which no size may be told from.
 pub fn faults(text: &str, findings: &[Diagnostic]) -> Vec<Fault> {
-    let errors: Vec<&Diagnostic> = findings.iter().filter(|d| d.is_error() && !global_unset(d)).collect();
+    let errors: Vec<&Diagnostic> =
+        findings.iter().filter(|d| (d.is_error() && !global_unset(d)) || d.code == crate::diag::Code::UnknownValue).collect();
     if errors.is_empty() {
         return Vec::new();
     }
@@ -44,8 +48,35 @@ pub(super) fn joined(found: &[Fault], read: Vec<Fault>) -> Vec<Fault> {
     out
 }
 
-/// The faults of `a` and `b` matched by kind; what is left over, per side.
-fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault]) -> (Vec<&'f Fault>, Vec<&'f Fault>) {
+/// The edited program's line of an original line where the statements around it are the same
+/// in both (outside every hunk), by the statements' alignment; `None` where it differs.
+pub(super) fn same_line(line: u32, (sa, sb): (&[Stmt], &[Stmt]), hunks: &[Hunk]) -> Option<u32> {
+    // The statement at or before the line.
+    let k = sa.partition_point(|s| s.line <= line).checked_sub(1)?;
+    let mut shift: isize = 0;
+    for h in hunks {
+        if h.original.contains(&k) && h.original.len() == h.edited.len() && line <= sa[k].last {
+            // A statement edited in place (as many on both sides): its counterpart.
+            let (x, y) = (&sa[k], sb.get(h.edited.start + (k - h.original.start))?);
+            return Some(y.line + (line - x.line).min(y.last - y.line));
+        }
+        if h.original.contains(&k) || (h.original.is_empty() && h.original.start == k + 1 && line > sa[k].last) {
+            return None;
+        }
+        if h.original.start > k {
+            break;
+        }
+        shift += h.edited.len() as isize - h.original.len() as isize;
+    }
+    let j = usize::try_from(k as isize + shift).ok()?;
+    let (x, y) = (&sa[k], sb.get(j)?);
+    Some(if line <= x.last { y.line + (line - x.line) } else { y.last + (line - x.last) })
+}
+
+/// The faults of `a` and `b` matched by kind: first those at the same statement of both
+/// programs (`same`: the edited line of an original one), then those that say the same, then
+/// in order; what is left over, per side.
+fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault], same: &dyn Fn(u32) -> Option<u32>) -> (Vec<&'f Fault>, Vec<&'f Fault>) {
     let mut by_code: BTreeMap<&str, (Vec<&Fault>, Vec<&Fault>)> = BTreeMap::new();
     for f in a {
         by_code.entry(f.code.as_str()).or_default().0.push(f);
@@ -55,7 +86,15 @@ fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault]) -> (Vec<&'f Fault>, Vec<&'f Fau
     }
     let (mut left_a, mut left_b) = (Vec::new(), Vec::new());
     for (_, (mut xa, mut xb)) in by_code {
-        // The same sentence first, then in order.
+        // At the same statement first.
+        xa.retain(|fa| match same(fa.line).and_then(|l| xb.iter().position(|fb| fb.line == l)) {
+            Some(j) => {
+                xb.remove(j);
+                false
+            }
+            None => true,
+        });
+        // Then the same sentence, then in order.
         xa.retain(|fa| match xb.iter().position(|fb| fb.message == fa.message) {
             Some(j) => {
                 xb.remove(j);
@@ -71,8 +110,17 @@ fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault]) -> (Vec<&'f Fault>, Vec<&'f Fau
 }
 
 /// The changes that say what the edit breaks and what it fixes.
-pub(super) fn verdicts(a: &[Fault], b: &[Fault]) -> Vec<Change> {
-    let (fixed, broken) = unmatched(a, b);
+pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u32>) -> Vec<Change> {
+    // A value left unknown is no error the control stops at.
+    let stops = |f: &[Fault]| f.iter().filter(|f| f.code != crate::diag::Code::UnknownValue).cloned().collect::<Vec<Fault>>();
+    let (a, b) = (stops(a), stops(b));
+    let (mut fixed, mut broken) = unmatched(&a, &b, same);
+    // A statement the control stopped at in both versions (a comment nested in an empty
+    // assignment's): another error on it neither breaks nor fixes the program.
+    let stopped_a: std::collections::BTreeSet<u32> = a.iter().filter_map(|g| same(g.line)).collect();
+    let stopped_b: std::collections::BTreeSet<u32> = b.iter().map(|f| f.line).collect();
+    broken.retain(|f| !stopped_a.contains(&f.line));
+    fixed.retain(|g| same(g.line).is_none_or(|l| !stopped_b.contains(&l)));
     let mut out = Vec::new();
     for (kind, list) in [(ChangeKind::ProgramBroken, broken), (ChangeKind::ProgramFixed, fixed)] {
         let mut by_code: BTreeMap<&str, Vec<&Fault>> = BTreeMap::new();

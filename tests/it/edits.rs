@@ -1028,3 +1028,128 @@ fn a_rapid_height_added_or_removed_is_a_clearance_change() {
     assert_eq!(got.len(), 1, "{}", rows(&got));
     assert!(got[0].phrase().starts_with("rapid height (clearance, approach) `Z0` removed"), "{}", rows(&got));
 }
+
+/// A label renamed one to one over the whole program is no change: an O-word subroutine with
+/// its calls (`o<a>` → `o<b>`, `o100` → `o200`), a jump target with its block number (`GOTO 10`
+/// → `GOTO 20` with `N10` → `N20`). A call renamed alone (its subroutine in another file), or
+/// a jump sent to another block that was there already, is a change (held7 r306).
+#[test]
+fn a_label_renamed_with_every_use_is_no_change() {
+    let a =
+        "o<a> sub\n  G0 Z[#1]\no<a> endsub\no100 sub\n  G1 X1 F100\no100 endsub\nG0 X0 Y0\no<a> call [5]\no100 call\no<a> call [6]\nM2\n";
+    let b = a.replace("o<a>", "o<b>").replace("o100", "o200");
+    let got = changes(a, &b, "linuxcnc");
+    assert!(got.is_empty(), "{}", rows(&got));
+    // Only the calls renamed: they call subroutines this file does not have.
+    let calls_only = "G0 X0 Y0\no<a> call [5]\nM2\n";
+    let got = changes(calls_only, &calls_only.replace("o<a>", "o<b>"), "linuxcnc");
+    assert!(!got.is_empty());
+    // A jump with the block it names, and one sent to another block that both programs have.
+    let f = "%\nO1000\n#1=0\nN10 G0 X#1\n#1=#1+1\nIF[#1LT3]GOTO10\nN30 G0 Z5\nM30\n%\n";
+    let got = changes(f, &f.replace("N10", "N20").replace("GOTO10", "GOTO20"), "fanuc");
+    assert!(got.is_empty(), "{}", rows(&got));
+    let got = changes(f, &f.replace("GOTO10", "GOTO30"), "fanuc");
+    assert!(!got.is_empty());
+    // A subprogram renumbered with its M98-less reference (`P1` alone on its block).
+    let m = "G0 X0 Y0\nN70 P0001 (call)\nM2\n;\nO0001 (init)\nG90\nM99\n";
+    let got = changes(m, &m.replace("P0001", "P1000").replace("O0001", "O1000"), "linuxcnc");
+    assert!(got.is_empty(), "{}", rows(&got));
+}
+
+/// A comment after an empty assignment (`#4= (FEED)`) is a comment, never the value: both
+/// controls stop at the empty value, and an edit of the comment is no change; an edit that
+/// empties the value breaks the program and says so first (held7 r300).
+#[test]
+fn a_comment_after_an_empty_assignment_is_no_value() {
+    let a = "#2=20 (SPEED)\n#4= (FEED)\nG0 X0 Y0\nG1 X1 F[#2]\nM2\n";
+    let got = changes_with_findings(a, &a.replace("(FEED)", "(REVOLUTIONS PER MINUTE)"), "linuxcnc");
+    assert!(got.is_empty(), "{}", rows(&got));
+    // A comment nested in it now: the control stopped at that statement before too.
+    let got = changes_with_findings(a, &a.replace("(FEED)", "(RPM (SPEED))"), "linuxcnc");
+    assert!(!got.iter().any(|c| matches!(c.kind, diff::ChangeKind::ProgramBroken | diff::ChangeKind::ProgramFixed)), "{}", rows(&got));
+    let got = changes_with_findings(a, &a.replace("#2=20 (SPEED)", "#2= (SPEED)"), "linuxcnc");
+    let first = got.iter().position(|c| c.kind == diff::ChangeKind::ProgramBroken && c.field == "syntax::malformed-expression");
+    assert_eq!(first.map(|k| got[k].line), Some(Some(1)), "{}", rows(&got));
+    // Listed first, with the other stops the edit brings in (the feed now unset).
+    assert!(got[..first.unwrap_or(0)].iter().all(|c| c.kind == diff::ChangeKind::ProgramBroken), "{}", rows(&got));
+}
+
+/// An error the edit brings in at an edited line is told there, not at an unchanged line with
+/// an error of the same kind further on (held7 r300).
+#[test]
+fn an_error_brought_in_is_told_at_its_own_line() {
+    let a = "(A (nested) comment)\nG0 X0 Y0\nG1 X1 F100\n(B (nested) comment)\nM2\n";
+    let b = a.replace("G1 X1 F100", "G1 X1 F100 (C (nested) comment)");
+    let got = changes_with_findings(a, &b, "linuxcnc");
+    let broken: Vec<Option<u32>> = got.iter().filter(|c| c.kind == diff::ChangeKind::ProgramBroken).map(|c| c.line).collect();
+    assert_eq!(broken, [Some(3)], "{}", rows(&got));
+}
+
+/// Moves that read a value the file never sets (a global another program sets): the toolpath
+/// change is told without the sizes the analysis would make up for it (held6 r279).
+#[test]
+fn a_toolpath_from_values_the_file_never_sets_has_no_size() {
+    let a = "G20 G90\nT1 M6\nS1000 M3\n#<tr> = [#5410/2]\nG0 X[2+#<tr>] Y0\nG0 Z0\nG1 X[3+#<tr>] Z-0.25 F10\nG1 Y1\nG1 X[2+#<tr>]\nM2\n";
+    let b = a.replace("#5410/2", "#<_td>/2");
+    let got = changes_with_findings(a, &b, "linuxcnc");
+    let paths: Vec<&Change> = got.iter().filter(|c| c.kind == diff::ChangeKind::ToolpathChanged && !c.field.starts_with("moves")).collect();
+    assert_eq!(paths.len(), 1, "{}", rows(&got));
+    assert!(paths[0].deviation.is_none() && paths[0].region.is_none(), "{}", rows(&got));
+    assert!(paths[0].phrase().contains("no size is told"), "{}", rows(&got));
+    assert!(!got.iter().any(|c| c.kind == diff::ChangeKind::StartPointMoved), "{}", rows(&got));
+}
+
+/// The changes from `a` to `b` with each call whose argument count changed compared with its
+/// subroutine as each version has it (`old`, `new`).
+fn diff_rebinding(old: &Beside, new: &Beside, a: &str, b: &str) -> Vec<Change> {
+    let d = Registry::shipped().get("linuxcnc").unwrap();
+    let profile = Profile::default();
+    let (pa, pb) = (pipeline::analyze(a.as_bytes(), &d, &profile), pipeline::analyze(b.as_bytes(), &d, &profile));
+    let (oa, eb) = (
+        diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+        diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+    );
+    let mut got = diff::compare(oa, eb);
+    diff::follow_rebound_calls(&mut got, (oa, old), (eb, new));
+    diff::follow_calls(&mut got, eb, new);
+    let missing = diff::unaccounted(oa, eb, &got);
+    assert!(missing.is_empty(), "differing statements no change names: {missing:?}\n{}", rows(&got));
+    got
+}
+
+/// A call whose argument list shrinks together with its subroutine's parameters (r159): the
+/// same values reach the same parameters, one statement change says so; the same call against
+/// a subroutine that did not change (r265) binds other values, each told once as what it feeds.
+#[test]
+fn a_call_rebound_with_its_subroutine_is_compared_by_what_reaches_it() {
+    let old_sub = "o<probe> sub\n#<fast> = #2\n#<z_clear> = #3\n#<slow> = #4\nG0 Z[#<z_clear>]\nG1 Z-1 F[#<fast>]\nG1 Z-2 F[#<slow>]\no<probe> endsub\nM2\n";
+    let new_sub = "o<probe> sub\n#<z_clear> = #2\n#<slow> = #3\nG0 Z[#<z_clear>]\nG1 Z-2 F[#<slow>]\no<probe> endsub\nM2\n";
+    let a = "G0 X0 Y0\no<probe> call [#1][#2][#3][#4]\nM2\n";
+    let b = "G0 X0 Y0\no<probe> call [#1][#3][#4]\nM2\n";
+    let got = diff_rebinding(&Beside("probe", old_sub), &Beside("probe", new_sub), a, b);
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert_eq!(got[0].field, "call O<PROBE> rebound", "{}", rows(&got));
+    // The subroutine unchanged: its second and third parameters now get #3 and #4.
+    let got = diff_rebinding(&Beside("probe", new_sub), &Beside("probe", new_sub), a, b);
+    let told: Vec<(&str, &str, &str)> = got.iter().map(|c| (c.kind.as_str(), c.before.as_str(), c.after.as_str())).collect();
+    assert_eq!(told, [("feed_changed", "#3", "#4"), ("clearance_changed", "#2", "#3")], "{}", rows(&got));
+}
+
+/// Issue 41's wording: an argument inserted is told as such (not as a shift of every later
+/// one), an expression rewritten to the same value is silent, and a long run of changed
+/// statements keeps its line range.
+#[test]
+fn arguments_inserted_same_values_and_long_hunks_are_told_plainly() {
+    let a = "G0 X0 Y0\no<sub> call [1][2][3][4]\nM2\n";
+    let got = changes(a, &a.replace("[1][2][3][4]", "[1][9][2][3][4]"), "linuxcnc");
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert!(got[0].phrase().contains("argument 2 (9) inserted"), "{}", rows(&got));
+    let s = "G0 X0 Y0\nG1 X286.43 F100\nM2\n";
+    let got = changes(s, &s.replace("X286.43", "X[572.86/2]"), "linuxcnc");
+    assert!(got.is_empty(), "{}", rows(&got));
+    let long_a: String = (0..40).map(|i| format!("G1 X{i} Y0 F100\n")).collect::<String>() + "M2\n";
+    let long_b: String = (0..40).map(|i| format!("G1 X{i} Y1 F100\n")).collect::<String>() + "M2\n";
+    let got = changes(&format!("G0 X0 Y0\n{long_a}"), &format!("G0 X0 Y0\n{long_b}"), "linuxcnc");
+    let ranged = got.iter().any(|c| c.phrase().contains("lines 2–41"));
+    assert!(ranged, "{}", rows(&got));
+}

@@ -115,6 +115,12 @@ fn run(pair: &Pair) -> Outcome {
     let folder = pair.edited.parent().unwrap_or(Path::new("."));
     let after = folder.join("after");
     let dir = if after.is_dir() { after } else { folder.to_path_buf() };
+    let before = folder.join("before");
+    if before.is_dir() {
+        let old = ncplan::config::DirPrograms { dir: before, max_bytes: 1 << 20, subfolders: true };
+        let new = ncplan::config::DirPrograms { dir: dir.clone(), max_bytes: 1 << 20, subfolders: true };
+        diff::follow_rebound_calls(&mut changes, (pa, &old), (pb, &new));
+    }
     diff::follow_calls(&mut changes, pb, &ncplan::config::DirPrograms { dir, max_bytes: 1 << 20, subfolders: true });
     let mut problems = Vec::new();
     let missing = diff::unaccounted(pa, pb, &changes);
@@ -240,9 +246,11 @@ fn report(pairs: &[Pair]) -> (String, usize) {
             if located { "yes" } else { "no" },
             o.changes.len()
         ));
-        if !o.problems.is_empty() || (p.expect.class == "machining" && kinds == 0) {
+        // Every row where `NCPLAN_REVISIONS_ROWS` is set (to compare two builds row by row).
+        let all = std::env::var_os("NCPLAN_REVISIONS_ROWS").is_some();
+        if all || !o.problems.is_empty() || (p.expect.class == "machining" && kinds == 0) {
             table.push_str(&format!("    what: {}\n", p.expect.what));
-            for c in o.changes.iter().take(6) {
+            for c in o.changes.iter().take(if all { usize::MAX } else { 6 }) {
                 table.push_str(&format!("    - {}\n", c.phrase()));
             }
         }

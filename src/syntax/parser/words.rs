@@ -611,8 +611,13 @@ impl Lexer<'_, '_> {
             return;
         }
         self.i += 1;
+        let after = self.i;
         let Some(value) = self.expr(1, 0) else {
-            self.i = self.line_end();
+            // An empty value (`#4= (FEED)`, `R1= ; depth`): the control stops at it, and what
+            // follows it is still the comment it is written as, never the value.
+            let blank = self.b[after..].iter().take_while(|c| matches!(c, b' ' | b'\t')).count();
+            let comment = self.dialect.lexical.comments.iter().any(|r| r.opens(&self.b[after + blank..]));
+            self.i = if comment { after + blank } else { self.line_end() };
             return;
         };
         self.block.assigns.push(Assign { target, value, range: self.range(start, self.i) });
