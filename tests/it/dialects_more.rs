@@ -226,3 +226,18 @@ fn a_centroid_cnc12_macro_reads_its_defines_prompts_and_plc_waits() {
     let (_, bad) = run("centroid", "M200 \"Install tool\n");
     assert!(bad.iter().any(|d| d.is_error() && d.message.contains("not closed")), "{bad:?}");
 }
+
+/// A single-point groove cut in passes with G32 (the Doosan shop's style, our own text): the
+/// lead F is given on the first pass only; the later passes cut at the F in force, as the
+/// feed word is modal under feed per revolution. A G32 with no F ever given under feed per
+/// minute is still skipped with an error.
+#[test]
+fn a_lathe_thread_pass_without_f_cuts_at_the_lead_in_force() {
+    let text = "O1\nG20 G99\nG97 S100 M3\nG0 X2.81 Z.05\nG32 Z-.77 F.625\nG0 X2.7\nZ.05\nX2.825\nG32 Z-.77\nG0 X2.7\nZ.05\nM30\n";
+    let (calls, diags) = run("fanuc_lathe", text);
+    assert_eq!(errors(&diags), Vec::<String>::new());
+    let syncs = calls.iter().filter(|c| c.starts_with("START_SPEED_FEED_SYNC(0.625")).count();
+    assert_eq!(syncs, 2, "{calls:?}");
+    let (_, bad) = run("fanuc_lathe", "O1\nG98\nG97 S100 M3\nG0 X2.81 Z.05\nG32 Z-.77\nM30\n");
+    assert!(bad.iter().any(|d| d.is_error() && d.message.contains("without F")), "{bad:?}");
+}
