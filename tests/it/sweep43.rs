@@ -72,6 +72,14 @@
 //! Doosan lathe programs and two grinder macros with 1-5 errors each, a Haas job-shop program
 //! (1 error); the Sinumerik lathe PROC and its main program read as the mill dictionary, a
 //! grinder macro read as Haas; the invalid LinuxCNC `m199.ngc` read without an error.
+//!
+//! After branch vocab10 built from all four seen halves (none held out): Centroid's macro
+//! language as its M-Series operator's manual gives it (DEFINE names, quoted text arguments,
+//! `/` arguments, letter variables, the file's end a return) and G32's modal lead:
+//! holdout-s8 79/83 valid without an error, family 80/83; holdout-s7 45/47, family 46/47;
+//! build-s7 15/19, family 19/19; holdout-s6 29/32, family 31/32. Left: the Sinumerik lathe
+//! PROC and its main program (no Sinumerik lathe dictionary), the grinder's O8000 IF with no
+//! THEN, the Doosan G71 contour that runs on past Q, the Haas job shop's nested comment.
 
 use std::path::PathBuf;
 
