@@ -189,6 +189,23 @@ pub struct Lexical {
     /// Whether a block may open with a statement keyword (`IF [#1 EQ 1] THEN GOTO 10`,
     /// `GOTO 10`) although the dialect also has a control word (`O`): Centroid CNC12.
     pub keyword_statements: bool,
+    /// Whether `<NAME>` (no sigil) stands for the text a `DEFINE <NAME> text` gave it (Centroid
+    /// CNC12): read as a named value wherever a value or an assignment's target may stand; one
+    /// standing for a whole statement is skipped with a warning.
+    pub define_names: bool,
+    /// Whether a quoted text standing as a word of its own (`G65 "file.cnc" A1`, `M200
+    /// "prompt %f" #1`), and the variables listed beside it, are arguments of the block's code
+    /// (Centroid CNC12's file calls and formatted-string M codes): read and not kept.
+    pub text_arguments: bool,
+    /// Whether `/` after a code gives it an argument (`M101/50001`, `M95 /1/2`, `M105/X2/Y3`:
+    /// Centroid's PLC-bit and probing M codes) rather than a block skip: read and not kept.
+    pub slash_arguments: bool,
+    /// Whether `#` and one letter (`#T`, `#z`, `#[z]`) name a variable: a macro call's
+    /// argument of that letter, or a local one (Centroid CNC11/CNC12 macros).
+    pub letter_variables: bool,
+    /// Whether `(` and `)` group inside an expression as its brackets do (`[#(20100+#z) ==
+    /// 77]`: Centroid's manual, "numerical expression").
+    pub paren_grouping: bool,
     /// Comment rules, tried in order.
     pub comments: Vec<CommentRule>,
     /// Block-skip (block-delete) character.

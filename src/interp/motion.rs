@@ -207,7 +207,11 @@ impl Interpreter<'_> {
         // (Fanuc); a lathe dictionary that gives it both reads whichever the block has (NX
         // posts for Mazak, Mitsubishi, Okuma and Fagor lathes write `G32 Z K`).
         let leads: Vec<Role> = [Role::F, Role::K].into_iter().filter(|r| def.params.takes(*r)).collect();
-        let Some(pitch) = leads.iter().find_map(|r| self.slot(*r)) else {
+        // Where F is the lead, it is the feed word and modal as any feed: under feed per
+        // revolution a later thread block without F cuts at the F in force (the Haas lathe
+        // manual, G32: "Feedrate is equivalent to thread lead", G99 active; a G32 sequence).
+        let modal = (leads.first() == Some(&Role::F) && self.st.feed_per_rev && self.st.feed > 0.0).then_some(self.st.feed);
+        let Some(pitch) = leads.iter().find_map(|r| self.slot(*r)).or(modal) else {
             let names: Vec<&str> = leads.iter().map(|r| if *r == Role::F { "F" } else { "K" }).collect();
             let names = if names.is_empty() { "K".to_owned() } else { names.join(" or ") };
             let msg = format!("{} without {names} (the advance per revolution) was skipped", def.label());

@@ -448,6 +448,11 @@ impl Lexer<'_, '_> {
         self.diags.push(Diagnostic::new(code, self.range(start, end), msg));
     }
 
+    /// Where the line at the cursor starts.
+    fn line_start(&self) -> usize {
+        self.b[..self.i].iter().rposition(|&c| c == b'\n' || c == b'\r').map_or(0, |p| p + 1)
+    }
+
     /// Index of the end of the physical line from `i`.
     fn line_end(&self) -> usize {
         let rest = &self.b[self.i..];

@@ -189,3 +189,55 @@ fn an_okuma_lathe_arc_takes_its_radius_in_l() {
     );
     assert_eq!(sniffed.dialect, "okuma_lathe", "{sniffed:?}");
 }
+
+// ---- Centroid CNC12 macros ----
+
+/// A CNC12 macro in the style of the Avid/Corbin tool-changer macros (our own text): an
+/// included defines file called by G65 and its quoted name, `DEFINE <NAME>` and `<NAME>`
+/// reads and writes, a defined statement standing alone, bare and bracketed IF conditions
+/// with `!`, `!=`, `&&`, `#T` (the call's argument), `#[z]` and `#(expr)`, the formatted
+/// string M codes with their variables, PLC-bit waits after `/`, and no M30: the file's end
+/// is a return. Every form reads without an error, and `<NAME> = 2` then `G1 X<NAME>` moves
+/// to X2; an unclosed quote is still an error.
+#[test]
+fn a_centroid_cnc12_macro_reads_its_defines_prompts_and_plc_waits() {
+    let text = "G65 \"\\cncm\\shop\\defines.cnc\"\n\
+                DEFINE <OFFSET> #101\n\
+                <OFFSET> = 2\n\
+                G90 G1 X<OFFSET> F100\n\
+                <PREVENT_LOOK_AHEAD>\n\
+                IF <GRAPHING_OR_SEARCHING> THEN #121 = 1 ; note\n\
+                #[z] = 1\n\
+                IF [#(100+#z) == 0] || !<ENABLED> THEN #120 = #T\n\
+                M225 #130 \"Waiting %.0f seconds\" #130\n\
+                m222 q0 #110 \"Tool %.0f ready? Y for yes\" #1\n\
+                IF #110 != 121 THEN #122 = 1\n\
+                M200 \"Install tool %.0f\" #1\n\
+                M101/50001\n\
+                M95 /1/2/19\n\
+                M116/Z P[#z] F10\n\
+                G1 X3\n";
+    let (calls, diags) = run("centroid", text);
+    assert_eq!(errors(&diags), Vec::<String>::new());
+    let feeds: Vec<&str> = calls.iter().map(String::as_str).filter(|c| c.starts_with("STRAIGHT_FEED(")).collect();
+    assert!(feeds.first().is_some_and(|c| c.starts_with("STRAIGHT_FEED(2.0000,")), "G1 X<OFFSET> moves to X2: {calls:?}");
+    assert!(feeds.last().is_some_and(|c| c.starts_with("STRAIGHT_FEED(3.0000,")), "the run reaches the last block: {calls:?}");
+    assert!(diags.iter().any(|d| d.message.contains("`DEFINE` gave stands for a statement")), "{diags:?}");
+    let (_, bad) = run("centroid", "M200 \"Install tool\n");
+    assert!(bad.iter().any(|d| d.is_error() && d.message.contains("not closed")), "{bad:?}");
+}
+
+/// A single-point groove cut in passes with G32 (the Doosan shop's style, our own text): the
+/// lead F is given on the first pass only; the later passes cut at the F in force, as the
+/// feed word is modal under feed per revolution. A G32 with no F ever given under feed per
+/// minute is still skipped with an error.
+#[test]
+fn a_lathe_thread_pass_without_f_cuts_at_the_lead_in_force() {
+    let text = "O1\nG20 G99\nG97 S100 M3\nG0 X2.81 Z.05\nG32 Z-.77 F.625\nG0 X2.7\nZ.05\nX2.825\nG32 Z-.77\nG0 X2.7\nZ.05\nM30\n";
+    let (calls, diags) = run("fanuc_lathe", text);
+    assert_eq!(errors(&diags), Vec::<String>::new());
+    let syncs = calls.iter().filter(|c| c.starts_with("START_SPEED_FEED_SYNC(0.625")).count();
+    assert_eq!(syncs, 2, "{calls:?}");
+    let (_, bad) = run("fanuc_lathe", "O1\nG98\nG97 S100 M3\nG0 X2.81 Z.05\nG32 Z-.77\nM30\n");
+    assert!(bad.iter().any(|d| d.is_error() && d.message.contains("without F")), "{bad:?}");
+}

@@ -73,6 +73,14 @@
 //! (1 error); the Sinumerik lathe PROC and its main program read as the mill dictionary, a
 //! grinder macro read as Haas; the invalid LinuxCNC `m199.ngc` read without an error.
 //!
+//! After branch vocab10 built from all four seen halves (none held out): Centroid's macro
+//! language as its M-Series operator's manual gives it (DEFINE names, quoted text arguments,
+//! `/` arguments, letter variables, the file's end a return) and G32's modal lead:
+//! holdout-s8 79/83 valid without an error, family 80/83; holdout-s7 45/47, family 46/47;
+//! build-s7 15/19, family 19/19; holdout-s6 29/32, family 31/32. Left: the Sinumerik lathe
+//! PROC and its main program (no Sinumerik lathe dictionary), the grinder's O8000 IF with no
+//! THEN, the Doosan G71 contour that runs on past Q, the Haas job shop's nested comment.
+//!
 //! Sweep 9 (rows z001-z032, half `holdout-s9`: held out whole, no build half; 32 programs of
 //! 12 repositories, 29 valid and 3 invalid, none skipped), meant to spread wider than sweep 8
 //! (half LinuxCNC): 21 Sinumerik programs of grinder builders and their shops (CMA cycles with

@@ -17,6 +17,11 @@ const ATTRIBUTES: &[&str] = &[
     "symbolic-comparisons",
     "paren-statements",
     "keyword-statements",
+    "define-names",
+    "text-arguments",
+    "slash-arguments",
+    "letter-variables",
+    "paren-grouping",
 ];
 
 /// The elements `<lexical>` may hold.
@@ -88,6 +93,11 @@ impl Cx {
             symbolic_comparisons: self.bool(el, "symbolic-comparisons", false),
             paren_statements: self.bool(el, "paren-statements", false),
             keyword_statements: self.bool(el, "keyword-statements", false),
+            define_names: self.bool(el, "define-names", false),
+            text_arguments: self.bool(el, "text-arguments", false),
+            slash_arguments: self.bool(el, "slash-arguments", false),
+            letter_variables: self.bool(el, "letter-variables", false),
+            paren_grouping: self.bool(el, "paren-grouping", false),
             comments: Vec::new(),
             block_skip: None,
             block_number: None,

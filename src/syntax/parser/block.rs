@@ -134,6 +134,32 @@ impl Lexer<'_, '_> {
             self.assignment();
             return;
         }
+        if self.at_define_name(self.i) {
+            self.define_name_item();
+            return;
+        }
+        if lex.text_arguments && lex.string_quote == Some(c as char) {
+            // `G65 "\\cncm\\defines.cnc"`, `M200 "Install tool %.0f"`: the code's text argument.
+            let start = self.i;
+            let _ = self.string(start);
+            return;
+        }
+        if lex.slash_arguments && c == b'/' && !self.block.words.is_empty() {
+            // `M95 /1/2/19`, `M105/X2.0/Y3.0`, `M116/Z`: the code's arguments, a number, an
+            // axis letter and the bound it moves to, or an axis letter alone.
+            self.i += 1;
+            self.skip_blanks();
+            let letter = self.peek().is_some_and(|c| c.is_ascii_alphabetic());
+            if letter {
+                self.i += 1;
+            }
+            let operand = self.peek().is_some_and(|c| !c.is_ascii_whitespace() && c != b'/' && !c.is_ascii_alphabetic());
+            if operand || !letter {
+                let start = self.i;
+                let _ = self.value(start);
+            }
+            return;
+        }
         if c.is_ascii_alphabetic() || (c == b'_' && lex.identifier_variables) || self.at_system_variable(self.i) {
             self.address();
             return;
@@ -153,6 +179,35 @@ impl Lexer<'_, '_> {
         if !self.symbol_address(c) {
             self.unexpected_characters();
         }
+    }
+
+    /// `<NAME>` where a block's item starts (Centroid CNC12, `DEFINE <NAME> text`): `<NAME> = expr`
+    /// assigns what it names; a name alone stands for a text (a statement such as `IF #50001`),
+    /// not known here: skipped with a warning.
+    fn define_name_item(&mut self) {
+        let start = self.i;
+        let Some(name) = self.name(start) else { return };
+        self.skip_blanks();
+        if self.peek() == Some(b'=') && self.b.get(self.i + 1) != Some(&b'=') {
+            self.i += 1;
+            let Some(value) = self.expr(1, 0) else {
+                self.i = self.line_end();
+                return;
+            };
+            self.block.assigns.push(super::super::Assign {
+                target: super::super::ParamTarget::Named(name),
+                value,
+                range: self.range(start, self.i),
+            });
+            return;
+        }
+        let d = crate::diag::Diagnostic::new(
+            Code::Unsupported,
+            self.range(start, self.i),
+            "a name `DEFINE` gave stands for a statement here: its text is not known, the rest of the block is skipped",
+        );
+        self.diags.push(d);
+        self.i = self.line_end();
     }
 
     /// `(` opening a statement in brackets (`(P100 = 5)`, `(IF P1 EQ 0 GOTO N10)`, `(RET)`):

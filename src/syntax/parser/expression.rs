@@ -130,9 +130,27 @@ impl Lexer<'_, '_> {
                 Some(self.push(Expr::Num(v)))
             }
             c if Some(c) == expr_open => self.bracketed(depth, start),
+            b'(' if self.dialect.lexical.paren_grouping => {
+                self.i += 1;
+                let e = self.expr(depth + 1, 0)?;
+                if !self.expect(b')', "to close the group", start) {
+                    return None;
+                }
+                Some(e)
+            }
             c if Some(c) == self.dialect.lexical.string_quote.map(|q| q as u8) => {
                 let r = self.string(start)?;
                 Some(self.push(Expr::Text(r)))
+            }
+            b'<' if self.at_define_name(self.i) => {
+                let name = self.name(start)?;
+                Some(self.push(Expr::Named(name)))
+            }
+            // `!<ENABLED>`: not, where comparisons are written as symbols (`!=`, `&&`).
+            b'!' if self.dialect.lexical.symbolic_comparisons && self.b.get(self.i + 1) != Some(&b'=') => {
+                self.i += 1;
+                let inner = self.unary(depth + 1)?;
+                Some(self.push(Expr::Unary(Func::Not, inner)))
             }
             c if self.at_parameter(c, expr_open) => self.parameter(depth, start),
             c if self.at_variable(c, expr_open) => self.variable(depth, expr_open),
@@ -173,6 +191,9 @@ impl Lexer<'_, '_> {
         self.skip_blanks();
         if self.peek() == Some(b'<') && bank.is_none() && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
             let name = self.name(start)?;
+            return Some(self.push(Expr::Named(name)));
+        }
+        if let Some(name) = self.letter_variable() {
             return Some(self.push(Expr::Named(name)));
         }
         let inner = self.parameter_number(depth, bank)?;
@@ -285,7 +306,8 @@ impl Lexer<'_, '_> {
         if func == Func::Exists {
             return self.exists(depth, start);
         }
-        if self.peek() != expr_open {
+        let grouped = self.dialect.lexical.paren_grouping && self.peek() == Some(b'(');
+        if self.peek() != expr_open && !grouped {
             if self.dialect.lexical.bare_function_arguments && self.peek().is_some() {
                 // `SIN +Q1`, `SQRT 25`: the operand follows without brackets.
                 let inner = self.unary(depth + 1)?;
@@ -426,6 +448,41 @@ impl Lexer<'_, '_> {
         }
         self.error(Code::MalformedExpression, start, eol, format!("`{name}` is not closed"));
         self.i = eol;
+        None
+    }
+
+    /// Whether a name `DEFINE` gave (`<TOOL_NUMBER>`, no sigil) starts at `at`, where the
+    /// dialect has them: `<`, a letter or `_`, letters, digits or `_`, and `>`.
+    pub(super) fn at_define_name(&self, at: usize) -> bool {
+        if !self.dialect.lexical.define_names || self.b.get(at) != Some(&b'<') {
+            return false;
+        }
+        let from = at + 1;
+        if !self.b.get(from).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_') {
+            return false;
+        }
+        let end = self.b[from..].iter().position(|c| !(c.is_ascii_alphanumeric() || *c == b'_')).map_or(self.b.len(), |p| from + p);
+        self.b.get(end) == Some(&b'>')
+    }
+
+    /// After the parameter sigil, where the dialect has them, a variable named by one letter
+    /// (`#T`, `#z`, `#[z]`): the letter's range, read past; none, with nothing read, else.
+    pub(super) fn letter_variable(&mut self) -> Option<TextRange> {
+        if !self.dialect.lexical.letter_variables {
+            return None;
+        }
+        let expr_open = self.dialect.lexical.expression.map(|(o, _)| o as u8);
+        let is_letter = |j: usize| self.b.get(j).is_some_and(u8::is_ascii_alphabetic);
+        let ends = |j: usize| !self.b.get(j).is_some_and(|c| c.is_ascii_alphanumeric() || *c == b'_');
+        let at = self.i;
+        if is_letter(at) && ends(at + 1) {
+            self.i = at + 1;
+            return Some(self.range(at, at + 1));
+        }
+        if self.b.get(at).copied() == expr_open && is_letter(at + 1) && self.b.get(at + 2).copied() == Some(self.expr_close()) {
+            self.i = at + 3;
+            return Some(self.range(at + 1, at + 2));
+        }
         None
     }
 

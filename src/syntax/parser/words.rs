@@ -573,6 +573,7 @@ impl Lexer<'_, '_> {
         };
         let radix = self.dialect.lexical.numbers.radix.is_some_and(|(q, _, _)| c == q as u8);
         if Some(c) == expr_open
+            || self.at_define_name(self.i)
             || Some(c) == sigil
             || (Some(c) == global && self.b.get(self.i + 1).is_some_and(u8::is_ascii_digit))
             || sign_then_expr
@@ -595,6 +596,8 @@ impl Lexer<'_, '_> {
                 Some(r) => ParamTarget::Named(r),
                 None => return,
             }
+        } else if let Some(r) = self.letter_variable() {
+            ParamTarget::Named(r)
         } else {
             match self.parameter_number(0, bank) {
                 Some(e) => ParamTarget::Numbered(e),
@@ -606,6 +609,12 @@ impl Lexer<'_, '_> {
         };
         self.skip_blanks();
         if self.peek() != Some(b'=') {
+            // `M225 #130 "text" #1`: the variables a formatted text shows, or the one an input
+            // goes to, are the code's arguments where the dialect writes them so.
+            let quote = self.dialect.lexical.string_quote.map(|q| q as u8);
+            if self.dialect.lexical.text_arguments && quote.is_some_and(|q| self.b[self.line_start()..self.line_end()].contains(&q)) {
+                return;
+            }
             // A parameter read without assignment is meaningless in a block.
             self.error(Code::MalformedExpression, start, self.i.max(start + 1), "a parameter here must be assigned with `=`");
             return;
