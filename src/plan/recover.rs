@@ -918,6 +918,38 @@ impl<'p> Recovery<'p> {
         Technology { feed, feeds: vec![feed], spindle_speed, surface_speed, spindle: self.spindle, coolant, spindle_id: SpindleId::Main }
     }
 
+    /// The spindle marker, and the ops of another spindle than the main one (a driven tool)
+    /// and the main one's orientation, which holds the part: true where `op` was one.
+    fn other_spindle(&mut self, op: &CanonOp) -> bool {
+        match op {
+            CanonOp::Spindle(id) => self.spindle_id = *id,
+            CanonOp::SetSpindleSpeed(s) if self.spindle_id != SpindleId::Main => {
+                let dir = self.others.get(&self.spindle_id).map_or(SpindleDir::Off, |o| o.1);
+                self.others.insert(self.spindle_id, (round_sig(*s), dir));
+            }
+            // Another spindle than the main one turns (a driven tool) or stops.
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning
+                if self.spindle_id != SpindleId::Main =>
+            {
+                let dir = match op {
+                    CanonOp::StartSpindleClockwise => SpindleDir::Cw,
+                    CanonOp::StartSpindleCounterclockwise => SpindleDir::Ccw,
+                    _ => SpindleDir::Off,
+                };
+                self.others.entry(self.spindle_id).or_insert((0.0, dir)).1 = dir;
+            }
+            // On a lathe, the main spindle oriented is held in position (the C axis) until it
+            // turns again (which `op` then tells).
+            CanonOp::OrientSpindle { .. } if self.spindle_id == SpindleId::Main => self.held = true,
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise => {
+                self.held = false;
+                return false;
+            }
+            _ => return false,
+        }
+        true
+    }
+
     /// On a lathe whose main spindle is held in position or stopped (Haas `M5`, then `M154`
     /// engages the C axis), the other spindle that turns (a driven tool): the tool's spindle,
     /// speed and direction.
@@ -1037,11 +1069,13 @@ impl<'p> Recovery<'p> {
                 let mv = self.mv(MoveKind::Line, back, c.line);
                 self.cut(mv, c);
             }
-            CanonOp::Spindle(id) => self.spindle_id = *id,
-            CanonOp::SetSpindleSpeed(s) if self.spindle_id != SpindleId::Main => {
-                let dir = self.others.get(&self.spindle_id).map_or(SpindleDir::Off, |o| o.1);
-                self.others.insert(self.spindle_id, (round_sig(*s), dir));
-            }
+            CanonOp::Spindle(_)
+            | CanonOp::SetSpindleSpeed(_)
+            | CanonOp::StartSpindleClockwise
+            | CanonOp::StartSpindleCounterclockwise
+            | CanonOp::StopSpindleTurning
+            | CanonOp::OrientSpindle { .. }
+                if self.other_spindle(&c.op) => {}
             CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
             // Another spindle than the main one turns (a driven tool) or stops.
             CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning
@@ -1061,14 +1095,8 @@ impl<'p> Recovery<'p> {
                 self.css = *max;
                 self.lathe |= max.is_some() && self.plane == Plane::Xz;
             }
-            CanonOp::StartSpindleClockwise => {
-                self.spindle = SpindleDir::Cw;
-                self.held = false;
-            }
-            CanonOp::StartSpindleCounterclockwise => {
-                self.spindle = SpindleDir::Ccw;
-                self.held = false;
-            }
+            CanonOp::StartSpindleClockwise => self.spindle = SpindleDir::Cw,
+            CanonOp::StartSpindleCounterclockwise => self.spindle = SpindleDir::Ccw,
             // A boring cycle's spindle stop is part of the cycle, not of the technology.
             CanonOp::StopSpindleTurning if self.in_cycle.is_none() => self.spindle = SpindleDir::Off,
             CanonOp::MistOn => self.mist = true,
