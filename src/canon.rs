@@ -596,6 +596,10 @@ pub enum CanonOp {
     /// Marker: the tilted working plane in force from here (see [`Frame`]), `None` when
     /// untilted again. The moves that follow stay in the tilted plane's coordinates.
     WorkPlane(Option<Box<Frame>>),
+    /// Marker: the spindle the spindle ops that follow (speed, turning, stop, orientation)
+    /// address, where it changes: another than the main one (Siemens `M2=3`, `S2=`,
+    /// `SPOS[2]=`, `SETMS(2)`; a driven tool's own codes, Haas `M133`), or the main again.
+    Spindle(SpindleId),
     /// `NURBS_FEED(n, ...)`: a feed along a spline of `points` control points (the start
     /// among them) that ends at `end` (G5.1, G5.2 … G5.3); rs274 prints only the count.
     NurbsFeed {
@@ -604,6 +608,31 @@ pub enum CanonOp {
         /// The end point.
         end: [f64; 6],
     },
+}
+
+/// Which spindle a spindle op addresses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpindleId {
+    /// The main (work) spindle: the only one of most machines, spindle 1 of a Siemens control.
+    #[default]
+    Main,
+    /// Spindle `n` as the program numbers it (`M2=3`: 2), not the main one: a counter
+    /// spindle or a driven tool, as the machine is built.
+    Number(u8),
+    /// The driven (live) tool's drive, named by its own codes (Haas `M133`-`M135`).
+    Driven,
+}
+
+impl SpindleId {
+    /// In words: `main spindle`, `spindle 2`, `driven tool` (after "the").
+    pub fn words(self) -> String {
+        match self {
+            SpindleId::Main => "main spindle".to_owned(),
+            SpindleId::Number(n) => format!("spindle {n}"),
+            SpindleId::Driven => "driven tool".to_owned(),
+        }
+    }
 }
 
 /// What a log-file directive does.
@@ -876,6 +905,7 @@ pub fn write_call_bytes(out: &mut Vec<u8>, op: &CanonOp) {
         CanonOp::ToolAxis([i, j, k]) => put(out, format_args!("COMMENT(\"ncplan: tool axis {i:.6} {j:.6} {k:.6}\")")),
         CanonOp::WorkPlane(None) => out.extend_from_slice(b"COMMENT(\"ncplan: work plane untilted\")"),
         CanonOp::WorkPlane(Some(f)) => work_plane(out, f),
+        CanonOp::Spindle(id) => put(out, format_args!("COMMENT(\"ncplan: spindle ops: {}\")", id.words())),
         CanonOp::CycleCancel => out.extend_from_slice(b"COMMENT(\"interpreter: motion mode set to none\")"),
         CanonOp::Setting(s) => setting(out, s),
         CanonOp::MachineMove(m) => put(out, format_args!("COMMENT(\"ncplan: {}\")", m.describe())),

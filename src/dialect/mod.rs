@@ -670,6 +670,9 @@ pub struct AddressDef {
     /// For the tool address: how many last digits name the tool offset rather than the tool
     /// (a lathe's `T0202`: tool 2, offset 2; `T0200` cancels the offset).
     pub offset_digits: Option<u8>,
+    /// Whether the address may carry the number of the spindle it addresses before `=`
+    /// (Siemens `M2=3`, `S2=2000`: spindle 2), with a number for its value.
+    pub spindle_index: bool,
 }
 
 /// What a keyword code reads after itself, before the block's other words.
@@ -748,6 +751,12 @@ pub struct CodeDef {
     /// into the cylinder, placed by Z and C; 2 Z: into the face, placed by X and C); `None`
     /// for a cycle that feeds along its plane's normal.
     pub hole_axis: Option<u8>,
+    /// For such a cycle: R is the R plane's position (Haas lathes; a diameter for a hole into
+    /// the cylinder), not the distance from the initial level (Fanuc).
+    pub r_absolute: bool,
+    /// A spindle code of the driven tool's own drive (Haas `M133`-`M135`), not the main
+    /// spindle's; P its speed.
+    pub driven: bool,
     /// The roles the code gives its words' values (`I:pattern-radius`: Haas G70's I is the
     /// radius of its bolt circle, whatever I means elsewhere).
     pub args: Vec<(Role, Role)>,

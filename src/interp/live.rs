@@ -14,7 +14,8 @@
 //! axis; taken as a radius into the cylinder [unconfirmed]); the bottom is X or Z (U or W:
 //! from the R point); Q the peck, in least increments without a decimal point; P the dwell;
 //! K the repeats. In G-code system A the tool returns to the initial level (G98/G99 are the
-//! feed modes there) [unconfirmed: from the manual's note as remembered].
+//! feed modes there) [unconfirmed: from the manual's note as remembered]. Haas lathes' live
+//! cycles (`r-level="absolute"`): R is the R plane's position, a diameter into the cylinder.
 
 use super::cycle::HoleRun;
 use super::{Interpreter, Retract};
@@ -58,7 +59,11 @@ impl Interpreter<'_> {
         }
         let pos = self.st.pos;
         let initial = *self.st.cycle_initial.get_or_insert(pos[axis]);
-        let r = initial + self.st.sticky_r.unwrap_or(0.0);
+        // Haas: R the R plane's position, a diameter for a hole into the cylinder.
+        let r = match self.st.sticky_r {
+            Some(r) if def.r_absolute => r / if axis == 0 && self.st.diameter { 2.0 } else { 1.0 },
+            r => initial + r.unwrap_or(0.0),
+        };
         let bottom = match along_word {
             Some(s) if s.mode == WordMode::Incremental => Some(r + s.value),
             Some(s) => Some(s.value),

@@ -648,6 +648,8 @@ struct State {
     feed_outside: bool,
     /// Whether the spindle is the caller's (a called program that has not set it).
     spindle_unknown: bool,
+    /// The spindle the spindle ops address (the main one unless a block numbers another).
+    spindle_id: crate::canon::SpindleId,
     /// Whether the feed and the spindle speed overrides are enabled (M48 to M51).
     overrides: (bool, bool),
 }
@@ -720,6 +722,7 @@ impl State {
             feed_unknown: profile.role != ProgramRole::Main,
             feed_outside: false,
             spindle_unknown: profile.role != ProgramRole::Main,
+            spindle_id: crate::canon::SpindleId::Main,
             overrides: (true, true),
         }
     }
@@ -1701,6 +1704,9 @@ impl<'a> Interpreter<'a> {
             if self.st.ended {
                 return false;
             }
+        }
+        if block.spindle.is_some() {
+            self.address_spindle(None, sink);
         }
         true
     }

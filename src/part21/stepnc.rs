@@ -662,6 +662,12 @@ impl<W: std::io::Write> Writer<W> {
         if let Some(v) = ws.technology.surface_speed.filter(|_| turning.is_none()) {
             id.push_str(&format!(" surface_speed={v}"));
         }
+        // The tool's own spindle (a driven tool on a lathe) has no attribute either.
+        match ws.technology.spindle_id {
+            crate::canon::SpindleId::Main => {}
+            crate::canon::SpindleId::Driven => id.push_str(" tool_spindle=driven"),
+            crate::canon::SpindleId::Number(n) => id.push_str(&format!(" tool_spindle={n}")),
+        }
         let mut attrs = vec![toolpath, Value::Null, Value::str(id), Value::Null, start, tool, tech, functions];
         if let Some(t) = turning.filter(|t| t.operation != Some(TurnOp::Drilling)) {
             return self.turning_operation(ws, t, attrs);
@@ -1228,7 +1234,12 @@ impl Reader<'_> {
             Some(t) => t.surface_speed,
             None => op_words.get("surface_speed").and_then(|s| s.parse().ok()),
         };
-        let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant };
+        let spindle_id = match op_words.get("tool_spindle").map(String::as_str) {
+            Some("driven") => crate::canon::SpindleId::Driven,
+            Some(n) => n.parse().map_or(crate::canon::SpindleId::Main, crate::canon::SpindleId::Number),
+            None => crate::canon::SpindleId::Main,
+        };
+        let technology = Technology { feed, feeds: Vec::new(), spindle_speed, surface_speed, spindle, coolant, spindle_id };
         let source = TextRange::new(bytes.0 as usize, bytes.1 as usize);
         let mut ws = Workingstep::unmeasured(index, operation, tool_number, technology, security_plane, toolpath, source, lines);
         ws.state = MachineState::decode(&w);

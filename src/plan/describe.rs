@@ -95,7 +95,7 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
         let t = &w.technology;
         writeln!(
             out,
-            "workingstep {} ({}{}) T{} F{} {} spindle {}, coolant {}, lines {}-{}",
+            "workingstep {} ({}{}) T{} F{} {} spindle {}{}, coolant {}, lines {}-{}",
             w.index,
             w.operation.label(),
             w.feature.map(|f| format!(" of feature {f}")).unwrap_or_default(),
@@ -110,6 +110,8 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
                 super::SpindleDir::Ccw => "counter-clockwise",
                 super::SpindleDir::Off => "off",
             },
+            // The tool's own spindle where it is not the main one (a driven tool on a lathe).
+            if t.spindle_id == super::SpindleId::Main { String::new() } else { format!(" ({})", t.spindle_id.words()) },
             match t.coolant {
                 super::Coolant::Off => "off",
                 super::Coolant::Mist => "mist",

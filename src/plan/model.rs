@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::setup::Setup;
+pub use crate::canon::SpindleId;
 use crate::canon::{CycleKind, Units};
 use crate::text::TextRange;
 
@@ -696,6 +697,14 @@ pub struct Technology {
     pub spindle: SpindleDir,
     /// Coolant.
     pub coolant: Coolant,
+    /// The spindle that turns the tool, where it is not the main one: a driven tool on a
+    /// lathe (Haas `M133`), a spindle the program numbers (Siemens `S2= M2=3`).
+    #[serde(default, skip_serializing_if = "is_main")]
+    pub spindle_id: SpindleId,
+}
+
+fn is_main(id: &SpindleId) -> bool {
+    *id == SpindleId::Main
 }
 
 /// Kind of move.

@@ -711,6 +711,16 @@ struct Recovery<'p> {
     /// Constant surface speed (G96): the speed limit, 1/min; `speed` is then a surface speed.
     css: Option<f64>,
     spindle: SpindleDir,
+    /// The spindle the spindle ops address (canon's `Spindle` marker).
+    spindle_id: SpindleId,
+    /// The other spindles turning (a driven tool, a numbered spindle): speed, direction.
+    others: BTreeMap<SpindleId, (f64, SpindleDir)>,
+    /// On a lathe, the main spindle held in position (`SPOS`, `M19`): the C axis.
+    held: bool,
+    /// The radial working plane of a driven tool milling into the cylinder (`G19`/`G18` with
+    /// the main spindle held) and the C angle it is at; the position and the moves are then
+    /// in its coordinates (as in `setup`, which it is).
+    live: Option<(Setup, f64)>,
     mist: bool,
     flood: bool,
     tools: BTreeMap<u32, Tool>,
@@ -786,6 +796,10 @@ impl<'p> Recovery<'p> {
             speed: 0.0,
             css: None,
             spindle: SpindleDir::Off,
+            spindle_id: SpindleId::Main,
+            others: BTreeMap::new(),
+            held: false,
+            live: None,
             mist: false,
             flood: false,
             tools: BTreeMap::new(),
@@ -885,11 +899,117 @@ impl<'p> Recovery<'p> {
             (true, true) => Coolant::Both,
         };
         let feed = self.feed_now();
+        // A driven tool cutting while the main spindle holds the part: the tool's spindle.
+        if let Some((id, speed, dir)) = self.driven() {
+            return Technology {
+                feed,
+                feeds: vec![feed],
+                spindle_speed: speed,
+                surface_speed: None,
+                spindle: dir,
+                coolant,
+                spindle_id: id,
+            };
+        }
         let (spindle_speed, surface_speed) = match self.css {
             Some(max) => (if max < NO_SPINDLE_LIMIT { max } else { 0.0 }, Some(round_sig(self.surface_mm_per_min() / 1000.0))),
             None => (self.speed, None),
         };
-        Technology { feed, feeds: vec![feed], spindle_speed, surface_speed, spindle: self.spindle, coolant }
+        Technology { feed, feeds: vec![feed], spindle_speed, surface_speed, spindle: self.spindle, coolant, spindle_id: SpindleId::Main }
+    }
+
+    /// The spindle marker, and the ops of another spindle than the main one (a driven tool)
+    /// and the main one's orientation, which holds the part: true where `op` was one.
+    fn other_spindle(&mut self, op: &CanonOp) -> bool {
+        match op {
+            CanonOp::Spindle(id) => self.spindle_id = *id,
+            CanonOp::SetSpindleSpeed(s) if self.spindle_id != SpindleId::Main => {
+                let dir = self.others.get(&self.spindle_id).map_or(SpindleDir::Off, |o| o.1);
+                self.others.insert(self.spindle_id, (round_sig(*s), dir));
+            }
+            // Another spindle than the main one turns (a driven tool) or stops.
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning
+                if self.spindle_id != SpindleId::Main =>
+            {
+                let dir = match op {
+                    CanonOp::StartSpindleClockwise => SpindleDir::Cw,
+                    CanonOp::StartSpindleCounterclockwise => SpindleDir::Ccw,
+                    _ => SpindleDir::Off,
+                };
+                self.others.entry(self.spindle_id).or_insert((0.0, dir)).1 = dir;
+            }
+            // On a lathe, the main spindle oriented is held in position (the C axis) until it
+            // turns again (which `op` then tells).
+            CanonOp::OrientSpindle { .. } if self.spindle_id == SpindleId::Main => self.held = true,
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise => {
+                self.held = false;
+                return false;
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// On a lathe whose main spindle is held in position or stopped (Haas `M5`, then `M154`
+    /// engages the C axis), the other spindle that turns (a driven tool): the tool's spindle,
+    /// speed and direction.
+    fn driven(&self) -> Option<(SpindleId, f64, SpindleDir)> {
+        if !(self.lathe && (self.held || self.spindle == SpindleDir::Off)) {
+            return None;
+        }
+        self.others.iter().find(|(_, o)| o.1 != SpindleDir::Off).map(|(id, (speed, dir))| (*id, *speed, *dir))
+    }
+
+    /// The radial working plane a driven tool mills into the cylinder on (the main spindle
+    /// held at C, the lathe's plane not the face's XY), where no tilted plane is in force: its
+    /// Z the radial direction at C, its X along -Z, as `interp::live` drills a side hole.
+    fn live_plane(&self) -> Option<(Setup, f64)> {
+        if self.driven().is_none() || self.plane == Plane::Xy || (self.setup.is_some() && self.live.is_none()) {
+            return None;
+        }
+        let c = self.abc[2];
+        let (s, co) = c.to_radians().sin_cos();
+        let clean = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+        Some((Setup { origin: [0.0; 3], axis: [clean(co), clean(s), 0.0], ref_direction: [0.0, 0.0, -1.0] }, c))
+    }
+
+    /// A point of the lathe's frame (X radial at the part's angle `c`) in the part's.
+    fn lathe_to_part(p: P3, c: f64) -> P3 {
+        let (s, co) = c.to_radians().sin_cos();
+        [p[0] * co - p[1] * s, p[0] * s + p[1] * co, p[2]]
+    }
+
+    /// A point the canon gives (lathe coordinates) in the coordinates the moves are kept in:
+    /// the driven tool's radial plane where it mills into the cylinder. Entering, leaving or
+    /// turning that plane ends the workingstep and carries the position and the waiting
+    /// rapids into the new coordinates.
+    fn live_point(&mut self, p: P3) -> P3 {
+        let new = self.live_plane();
+        if new.map(|n| n.0) != self.live.map(|l| l.0) {
+            self.close_keeping_approach();
+            let (old, c_new) = (self.live, new.map_or(self.abc[2], |n| n.1));
+            let carry = |q: P3| {
+                // To the part's frame, then into the new plane (or back to the lathe's frame).
+                let part = match old {
+                    Some((s, _)) => s.to_part(q),
+                    None => Self::lathe_to_part(q, c_new),
+                };
+                match new {
+                    Some((s, _)) => s.from_part(part),
+                    None => Self::lathe_to_part(part, -old.map_or(0.0, |o| o.1)),
+                }
+            };
+            self.pos = carry(self.pos);
+            for m in &mut self.pending {
+                (m.from, m.to) = (carry(m.from), carry(m.to));
+            }
+            self.live = new;
+            self.setup = new.map(|n| n.0);
+        }
+        match self.live {
+            Some((s, c)) => s.from_part(Self::lathe_to_part(p, c)),
+            None => p,
+        }
     }
 
     /// The constant surface speed in mm/min: S is in m/min in a metric program and in feet
@@ -949,7 +1069,28 @@ impl<'p> Recovery<'p> {
                 let mv = self.mv(MoveKind::Line, back, c.line);
                 self.cut(mv, c);
             }
+            CanonOp::Spindle(_)
+            | CanonOp::SetSpindleSpeed(_)
+            | CanonOp::StartSpindleClockwise
+            | CanonOp::StartSpindleCounterclockwise
+            | CanonOp::StopSpindleTurning
+            | CanonOp::OrientSpindle { .. }
+                if self.other_spindle(&c.op) => {}
             CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
+            // Another spindle than the main one turns (a driven tool) or stops.
+            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning
+                if self.spindle_id != SpindleId::Main =>
+            {
+                let dir = match c.op {
+                    CanonOp::StartSpindleClockwise => SpindleDir::Cw,
+                    CanonOp::StartSpindleCounterclockwise => SpindleDir::Ccw,
+                    _ => SpindleDir::Off,
+                };
+                self.others.entry(self.spindle_id).or_insert((0.0, dir)).1 = dir;
+            }
+            // On a lathe, the main spindle oriented is held in position (the C axis) until it
+            // turns again.
+            CanonOp::OrientSpindle { .. } if self.spindle_id == SpindleId::Main => self.held = true,
             CanonOp::SetSpindleMode(max) => {
                 self.css = *max;
                 self.lathe |= max.is_some() && self.plane == Plane::Xz;
@@ -1018,8 +1159,8 @@ impl<'p> Recovery<'p> {
             }
             // A probe move measures; it positions like a rapid and cuts nothing.
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
-                let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
                 self.abc = [p[3], p[4], p[5]];
+                let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
                 let mv = self.mv(MoveKind::Rapid, to, c.line);
                 if self.in_cycle.is_some() {
                     self.cut(mv, c);
@@ -1029,10 +1170,13 @@ impl<'p> Recovery<'p> {
             }
             // A spline is followed by its chord: the plan keeps where it cuts to.
             CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => {
-                let to = [self.mm(p[0]), self.mm(p[1]), self.mm(p[2])];
+                let abc = [p[3], p[4], p[5]];
+                let c_before = self.abc[2];
+                self.abc[2] = p[5];
+                let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
+                self.abc[2] = c_before;
                 // A feed that goes nowhere (a post's repeated position, `G1 X0` at X0) cuts
                 // nothing: written or left out, the toolpath is the same.
-                let abc = [p[3], p[4], p[5]];
                 if geom::dist(to, self.pos) < EPS && abc.iter().zip(&self.abc).all(|(a, b)| (a - b).abs() < EPS) {
                     return;
                 }
@@ -1053,6 +1197,9 @@ impl<'p> Recovery<'p> {
     /// into the new plane's coordinates.
     fn work_plane(&mut self, f: Option<&crate::canon::Frame>) {
         let new = f.map(|f| Setup::of_frame(f, self.k));
+        // The interpreter's plane wins over a driven tool's radial plane (its moves are
+        // already in the plane's coordinates: a side hole's cycle).
+        self.live = None;
         if new == self.setup {
             return;
         }
@@ -1234,6 +1381,25 @@ impl<'p> Recovery<'p> {
         center[a1] = self.mm(*second_axis);
         let mut axis = [0.0; 3];
         axis[n] = 1.0;
+        if self.live_plane().is_some() || self.live.is_some() {
+            // Into the driven tool's radial plane: the centre as the end point across the plane.
+            let mut c0 = to;
+            (c0[a0], c0[a1]) = (center[a0], center[a1]);
+            let to_lathe = to;
+            let to = self.live_point(to_lathe);
+            if let Some((s, angle)) = self.live {
+                let center = s.from_part(Self::lathe_to_part(c0, angle));
+                let axis = s.from_part(Self::lathe_to_part(axis, angle));
+                let mut mv = self.mv(MoveKind::Arc, to, c.line);
+                mv.arc = Some(ArcGeometry { center, axis, turns: *rotation });
+                self.cut(mv, c);
+                return;
+            }
+            let mut mv = self.mv(MoveKind::Arc, to, c.line);
+            mv.arc = Some(ArcGeometry { center: c0, axis, turns: *rotation });
+            self.cut(mv, c);
+            return;
+        }
         let mut mv = self.mv(MoveKind::Arc, to, c.line);
         mv.arc = Some(ArcGeometry { center, axis, turns: *rotation });
         self.cut(mv, c);
@@ -1298,7 +1464,8 @@ impl<'p> Recovery<'p> {
     /// lathe programs switch to G17 for the cycle), which a lathe drills with the part
     /// turning and the drill held in the turret.
     fn mills(&self, mv: &Move) -> bool {
-        self.plane == Plane::Xy && !(self.in_cycle.is_some() && mv.to[0].abs() < EPS && mv.to[1].abs() < EPS)
+        // A driven tool cutting while the main spindle holds the part mills in any plane.
+        (self.plane == Plane::Xy && !(self.in_cycle.is_some() && mv.to[0].abs() < EPS && mv.to[1].abs() < EPS)) || self.driven().is_some()
     }
 
     fn cut(&mut self, mv: Move, c: &Canon) {
@@ -1542,7 +1709,7 @@ impl<'p> Recovery<'p> {
             turn_seq,
             turning,
             cut_at: Vec::new(),
-            milling: self.plane == Plane::Xy,
+            milling: self.plane == Plane::Xy || self.driven().is_some(),
         });
     }
 

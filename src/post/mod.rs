@@ -1938,6 +1938,16 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             }
         }
         match &canon.op {
+            // Another spindle than the main one (a driven tool, `M2=3`): no target's output
+            // rules address one, and written as the main spindle's it would turn the part.
+            CanonOp::Spindle(crate::canon::SpindleId::Main) => {}
+            CanonOp::Spindle(id) => {
+                let what = format!(
+                    "the speed and turning of the {} are not written: the target's output rules address the main spindle only",
+                    id.words()
+                );
+                self.note(Code::PostUnwritable, canon, "spindle-number", what);
+            }
             CanonOp::SetSpindleSpeed(_)
             | CanonOp::StartSpindleClockwise
             | CanonOp::StartSpindleCounterclockwise

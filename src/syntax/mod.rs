@@ -208,6 +208,8 @@ pub struct Block {
     pub assigns: Vec<Assign>,
     /// Comment texts (inside the delimiters).
     pub comments: Vec<TextRange>,
+    /// The spindle its spindle words address by number (Siemens `M2=3`, `S2=2000`, `SPOS[2]=`).
+    pub spindle: Option<u8>,
     /// A control-flow statement, if the block holds one.
     pub control: Option<Control>,
     /// Expression arena for this block.
@@ -255,6 +257,7 @@ impl Clone for Block {
         self.words.clone_from(&o.words);
         self.assigns.clone_from(&o.assigns);
         self.comments.clone_from(&o.comments);
+        self.spindle = o.spindle;
         self.control.clone_from(&o.control);
         self.exprs.clone_from(&o.exprs);
         self.axis_refs.clone_from(&o.axis_refs);
@@ -314,6 +317,7 @@ impl Block {
         self.words.clear();
         self.assigns.clear();
         self.comments.clear();
+        self.spindle = None;
         self.control = None;
         self.exprs.clear();
         self.axis_refs.clear();

@@ -618,6 +618,7 @@ mod tests {
             surface_speed: None,
             spindle: crate::plan::SpindleDir::Cw,
             coolant: crate::plan::Coolant::Off,
+            spindle_id: crate::plan::SpindleId::Main,
         }
     }
 

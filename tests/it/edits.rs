@@ -450,6 +450,7 @@ fn raster(passes: usize, steps: usize, shift: f64, edit: Option<usize>) -> ncpla
         surface_speed: None,
         spindle: SpindleDir::Cw,
         coolant: Coolant::Flood,
+        spindle_id: ncplan::plan::SpindleId::Main,
     };
     let mut ws =
         Workingstep::unmeasured(1, Operation::FreeformMilling, 1, tech, 10.0, moves.into(), ncplan::text::TextRange::new(0, 1), (10, 10));

@@ -935,3 +935,71 @@ fn lathe_spos_on_a_mill_orients_the_spindle_only() {
     assert_eq!((hole.placement[0].round(), hole.placement[1].round()), (40.0, 10.0));
     assert!(hole.axis.is_none(), "{:?}", hole.axis);
 }
+
+/// The canon of a Siemens program, as `ncplan canon` prints it.
+fn siemens_canon(text: &str) -> Vec<String> {
+    let reg = Registry::shipped();
+    let d = reg.get("siemens").unwrap();
+    let a = pipeline::analyze(text.as_bytes(), &d, &Profile::default());
+    a.canon
+        .iter()
+        .map(|c| {
+            let mut s = String::new();
+            ncplan::canon::write_call(&mut s, &c.op);
+            s
+        })
+        .collect()
+}
+
+/// Siemens numbers its spindles (840D programming manual: `M2=3`, `S2=2000`, `SPOS[2]=`):
+/// the speed, the turning and the orientation of spindle 2 are that spindle's, between
+/// `Spindle` markers, and spindle 1 is the main one; `M1=DIR` in a procedure (a value the
+/// caller gives) stays unread as before. Spindle 2 oriented does not turn the part.
+#[test]
+fn live_spindle_numbers_are_kept_in_the_canon() {
+    let calls = siemens_canon("N10 G18 G90 G95 DIAMON\nN20 S2=2000 M2=3\nN30 SPOS[2]=90\nN40 S1=500 M1=4\nN50 M2=5\nN60 M30\n");
+    let at = |s: &str| calls.iter().position(|c| c.contains(s)).unwrap_or_else(|| panic!("no {s} in {calls:#?}"));
+    let two = at("ncplan: spindle ops: spindle 2");
+    assert!(two < at("SET_SPINDLE_SPEED(0, 2000.0000)"));
+    assert!(at("SET_SPINDLE_SPEED(0, 2000.0000)") < at("START_SPINDLE_CLOCKWISE(0)"));
+    let main = at("ncplan: spindle ops: main spindle");
+    assert!(main > at("START_SPINDLE_CLOCKWISE(0)") && main < at("SET_SPINDLE_SPEED(0, 500.0000)"));
+    // Spindle 1 is the main spindle: no marker before its speed.
+    let s500 = at("SET_SPINDLE_SPEED(0, 500.0000)");
+    assert!(!calls[s500 - 1].contains("spindle 2"), "{calls:#?}");
+    assert_eq!(calls.iter().filter(|c| c.contains("ncplan: spindle ops: spindle 2")).count(), 3, "{calls:#?}");
+    let procedure = siemens_canon("N100 PROC CYC(REAL VELO, INT DIR)\nN160 G0 X10 M1=DIR S1=VELO\nN170 RET\n");
+    assert!(
+        !procedure.iter().any(|c| c.contains("SPINDLE_SPEED") || c.contains("START_SPINDLE") || c.contains("spindle ops")),
+        "{procedure:#?}"
+    );
+}
+
+/// A driven end mill (spindle 2) milling keyways under G19 with the main spindle held by
+/// `SPOS` is milling on radial planes at the C angles, in the tool's spindle terms; the lathe's
+/// turning of Ø50 stays turning (`siemens_live_keyway.mpf`).
+#[test]
+fn live_keyways_mill_on_the_cylinder_with_the_driven_spindle() {
+    let plan = plan_of(&dir().join("siemens_live_keyway.mpf"), "siemens");
+    let milling: Vec<&Workingstep> = plan.workingsteps.iter().filter(|w| w.turning.is_none()).collect();
+    assert_eq!(milling.len(), 2, "{:#?}", plan.workingsteps.iter().map(Workingstep::label).collect::<Vec<_>>());
+    let axes: Vec<[f64; 3]> = milling.iter().map(|w| w.setup.expect("a radial plane").axis).collect();
+    assert_eq!(axes, vec![[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]);
+    for w in &milling {
+        assert_eq!(w.technology.spindle_id, ncplan::plan::SpindleId::Number(2));
+        assert_eq!(w.technology.spindle_speed, 3000.0);
+    }
+    assert!(!plan.features.iter().any(|f| matches!(&f.kind, FeatureKind::Turned(Turned::Diameter { diameter, .. }) if *diameter < 49.0)));
+}
+
+/// Haas: `M133 P2500` turns the driven tool at 2500 /min; the face and radial cycles drill
+/// with it (`haas_live_tools.nc`).
+#[test]
+fn live_haas_tool_drive_turns_the_drill() {
+    let plan = plan_of(&dir().join("haas_live_tools.nc"), "haas_lathe");
+    let drill = plan.workingsteps.iter().find(|w| w.tool == 5).expect("T5's workingstep");
+    assert_eq!(drill.technology.spindle_id, ncplan::plan::SpindleId::Driven);
+    assert_eq!((drill.technology.spindle_speed, drill.technology.surface_speed), (2500.0, None));
+    let radial = plan.workingsteps.iter().find(|w| w.tool == 7).expect("T7's workingstep");
+    assert_eq!(radial.technology.spindle_speed, 3000.0);
+}

@@ -23,6 +23,8 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "forms",
     "gives-way",
     "hole-axis",
+    "r-level",
+    "spindle",
     "args",
     "line-words",
     "tilt-forms",
@@ -120,6 +122,11 @@ impl Cx {
             Some("z") => Some(2),
             _ => None,
         };
+        // Haas's live-tool cycles: R is the R plane's position (a diameter for a radial
+        // hole), not Fanuc's distance from the initial level.
+        let r_absolute = self.attr(c, "r-level") == Some("absolute");
+        // A driven tool's own spindle codes (Haas `M133 P2500`).
+        let driven = self.attr(c, "spindle") == Some("driven");
         let args = self.code_args(c, addresses, &params);
         let named = keyword.is_none() && self.attr(c, "rest") == Some("words");
         let line_words = self.line_words(c);
@@ -136,6 +143,8 @@ impl Cx {
             forms,
             gives_way,
             hole_axis,
+            r_absolute,
+            driven,
             args,
             named,
             line_words,

@@ -49,6 +49,11 @@ impl Interpreter<'_> {
     /// Runs step `step` of the block: its words of that step (comments, F, S, T) or its codes
     /// that take effect at it.
     pub(super) fn step(&mut self, step: Step, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        // A block that numbers its spindle (`S2=2000 M2=3`, `SPOS[2]=0`) addresses it at its
+        // speed and spindle steps (the main one again after the block: `run_steps`).
+        if block.spindle.is_some() && matches!(step, Step::Speed | Step::Spindle) {
+            self.address_spindle(block.spindle, sink);
+        }
         match step {
             Step::Comment => self.comments(block, sink, diags),
             Step::Feed => self.feed_word(sink),

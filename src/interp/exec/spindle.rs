@@ -5,7 +5,7 @@
 //! Doors: [`Interpreter::spindle_turn`], [`Interpreter::orient_spindle`],
 //! [`Interpreter::spindle_speed_mode`], [`Interpreter::speed_word`], [`Interpreter::coolant`].
 
-use crate::canon::{CanonOp, CanonSink};
+use crate::canon::{CanonOp, CanonSink, SpindleId};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
 use crate::interp::{Interpreter, Spindle};
@@ -13,8 +13,41 @@ use crate::syntax::WordMode;
 use crate::text::TextRange;
 
 impl Interpreter<'_> {
-    /// M3, M4, M5: the spindle turns clockwise, counterclockwise, or stops.
+    /// The spindle ops that follow address spindle `n` as the program numbers it (spindle 1
+    /// the main one, as a Siemens control numbers them), `None` the main one: a marker where
+    /// that changes.
+    pub(in crate::interp) fn address_spindle(&mut self, n: Option<u8>, sink: &mut dyn CanonSink) {
+        let id = match n {
+            None | Some(1) => SpindleId::Main,
+            Some(n) => SpindleId::Number(n),
+        };
+        self.address(id, sink);
+    }
+
+    fn address(&mut self, id: SpindleId, sink: &mut dyn CanonSink) {
+        if id != self.st.spindle_id {
+            self.st.spindle_id = id;
+            self.emit(sink, CanonOp::Spindle(id));
+        }
+    }
+
+    /// M3, M4, M5: the spindle turns clockwise, counterclockwise, or stops. A driven tool's own
+    /// code (Haas `M133 P2500`) turns that drive, at P.
     pub(super) fn spindle_turn(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+        if def.driven {
+            let before = self.st.spindle_id;
+            self.address(SpindleId::Driven, sink);
+            if let Some(p) = self.slot(Role::P).filter(|p| *p > 0.0) {
+                self.emit(sink, CanonOp::SetSpindleSpeed(p));
+            }
+            self.turn(def, sink);
+            self.address(before, sink);
+            return;
+        }
+        self.turn(def, sink);
+    }
+
+    fn turn(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         match def.meaning {
             Meaning::SpindleCw => {
                 self.st.spindle = Spindle::Cw;
@@ -55,7 +88,7 @@ impl Interpreter<'_> {
             // position control (Siemens `SPOS=90`): the part stands at that angle for the
             // driven tool's work that follows.
             // `SPOS=IC(90)` turns it on by that much.
-            if self.st.diameter {
+            if self.st.diameter && self.st.spindle_id == SpindleId::Main {
                 let incremental = self.slots[Role::R as usize].is_some_and(|s| s.mode == WordMode::Incremental);
                 self.st.pos[5] = if incremental { self.st.pos[5] + angle.unwrap_or(0.0) } else { angle.unwrap_or(0.0) };
             }

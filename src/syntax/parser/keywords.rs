@@ -20,12 +20,16 @@ impl Lexer<'_, '_> {
             j
         };
         j = skip(self.b, j);
-        // The spindle's number in brackets: there is one spindle in the toolpath.
+        // The spindle's number in brackets (`SPOS[2]=90`): the block addresses that spindle.
+        let mut spindle = None;
         if let Some((open, close)) = self.dialect.lexical.array_brackets
             && self.b.get(j) == Some(&open)
         {
             match self.b[j..].iter().position(|&c| c == close || c == b'\n') {
-                Some(p) if self.b[j + p] == close => j = skip(self.b, j + p + 1),
+                Some(p) if self.b[j + p] == close => {
+                    spindle = self.text[j + 1..j + p].trim().parse::<u8>().ok();
+                    j = skip(self.b, j + p + 1);
+                }
                 _ => return false,
             }
         }
@@ -33,6 +37,9 @@ impl Lexer<'_, '_> {
             return false;
         }
         let letter = self.push_keyword(start, end, idx);
+        if spindle.is_some() {
+            self.block.spindle = spindle;
+        }
         self.i = j + 1;
         if let (Some(role), Some((value, mode))) = (role, self.assigned_value(start)) {
             self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode, cycle_arg: false });

@@ -70,7 +70,13 @@ impl Lexer<'_, '_> {
         if self.label(start) || self.block_or_program_name(start) {
             return;
         }
-        if self.axis_indexed() || self.keyword() || self.cycle_call() || self.variable_assignment() || self.long_address(start) {
+        if self.axis_indexed()
+            || self.keyword()
+            || self.cycle_call()
+            || self.spindle_address(start)
+            || self.variable_assignment()
+            || self.long_address(start)
+        {
             return;
         }
         self.letter_address(start);
@@ -458,6 +464,38 @@ impl Lexer<'_, '_> {
             }
             _ => {}
         }
+        true
+    }
+
+    /// `M2=3`, `S2=2000` (Siemens): a spindle word with the number of the spindle it addresses
+    /// before `=`, where the dialect's address takes one (`spindle-index`). A number value only:
+    /// `M1=DIR` in a procedure (a value the caller gives) stays what it was read as before.
+    fn spindle_address(&mut self, start: usize) -> bool {
+        let letter = self.b[start].to_ascii_uppercase();
+        let Some(a) = self.dialect.addresses.iter().find(|a| a.spindle_index && a.name.as_bytes() == [letter]) else { return false };
+        let role = a.role;
+        let digits = self.b[start + 1..].iter().take_while(|c| c.is_ascii_digit()).count();
+        if !(1..=2).contains(&digits) {
+            return false;
+        }
+        let eq = start + 1 + digits;
+        if self.b.get(eq) != Some(&b'=') || self.b.get(eq + 1) == Some(&b'=') {
+            return false;
+        }
+        // A number, then the block's end, a blank or a comment.
+        let mut j = eq + 1;
+        if matches!(self.b.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let number = self.b[j..].iter().take_while(|c| c.is_ascii_digit() || **c == b'.').count();
+        if number == 0 || self.b.get(j + number).is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b'(' | b'[' | b'$')) {
+            return false;
+        }
+        let Ok(index) = self.text[start + 1..eq].parse::<u8>() else { return false };
+        self.i = eq + 1;
+        let Some(value) = self.value(start) else { return true };
+        self.block.spindle = Some(index);
+        self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode: WordMode::Modal, cycle_arg: false });
         true
     }
 
