@@ -945,9 +945,9 @@ pub struct Interpreter<'a> {
 
 const NOTE_LIMIT: u32 = 3;
 
-/// Whole-number lengths written without a decimal point, in a program that writes no whole
-/// number with one, from which the program is read as written for calculator-type input: one
-/// or two are slips in any program, more a habit.
+/// Whole-number lengths written without a decimal point from which, when they are also more
+/// than twice those written with one, the program is read as written for calculator-type
+/// input: one or two are slips in any program, more a habit.
 const CALCULATOR_BARE: u32 = 3;
 
 impl<'a> Interpreter<'a> {
@@ -1105,12 +1105,14 @@ impl<'a> Interpreter<'a> {
             diags.push(Diagnostic::new(Code::UnitsInferred, TextRange::default(), msg));
         }
         // A programmer who writes for least-increment input puts the point on whole numbers
-        // (`X55.`, `Z0.`): one who never does, and writes fractions with it beside several whole
-        // numbers without, wrote for calculator-type input (`X55` is 55 mm).
+        // (`X55.`, `Z0.`), save a slip or two: one who mostly leaves it off (more than twice as
+        // often as not) and writes fractions with it wrote for calculator-type input, where
+        // `X55` is 55 mm (and on least-increment input the tool would run into the part at
+        // X0.055).
         let [whole_points, fractions, bare] = self.point_habit;
-        if self.integers_scale && whole_points == 0 && fractions >= 1 && bare >= CALCULATOR_BARE {
+        if self.integers_scale && fractions >= 1 && bare >= CALCULATOR_BARE && bare > 2 * whole_points {
             let msg = format!(
-                "{bare} lengths are whole numbers written without a decimal point and {fractions} fractions with one, and no whole number has a point (`X55.`): the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
+                "{bare} lengths are whole numbers written without a decimal point, {whole_points} with one, and {fractions} fractions with one: the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
             );
             diags.push(Diagnostic::new(Code::DecimalInputInferred, TextRange::default(), msg));
         }

@@ -923,3 +923,34 @@ fn lathe_spos_on_a_mill_orients_the_spindle_only() {
     assert_eq!((hole.placement[0].round(), hole.placement[1].round()), (40.0, 10.0));
     assert!(hole.axis.is_none(), "{:?}", hole.axis);
 }
+
+/// A program that writes its whole-number lengths without a decimal point (`X55 Z2`) and its
+/// fractions with one (`X-1.6`) was written for calculator-type input (Fanuc parameter DPI on,
+/// as on teaching lathes and many shops' controls): read so, with a finding that says why, and
+/// not as 55 µm. A program that puts the point on its whole numbers (`X55.`) and slips once
+/// keeps least-increment input and its warning about the slip.
+#[test]
+fn whole_numbers_without_a_point_by_habit_are_read_in_millimetres() {
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let calculator = "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X55 Z2\nG1 Z0 F0.2\nX-1.6\nG0 Z2\nX50\n\
+G1 Z-30 F0.25\nX55\nG0 X100 Z50\nM30\n";
+    let a = pipeline::analyze(calculator.as_bytes(), &d, &Profile::default());
+    let codes: Vec<&str> = a.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert!(codes.contains(&"interp::decimal-input-inferred"), "{codes:?}");
+    assert!(!codes.contains(&"interp::no-decimal-point"), "{codes:?}");
+    // The face at Z0 across the Ø55 bar, and the Ø50 turned 30 long.
+    let od = a.plan.features.iter().find_map(|f| match f.kind {
+        FeatureKind::Turned(Turned::Diameter { diameter, length, inside: false }) => Some((diameter, length)),
+        _ => None,
+    });
+    assert_eq!(od, Some((50.0, 30.0)), "{:?}", a.plan.features);
+    let flat = a.plan.features.iter().find(|f| matches!(f.kind, FeatureKind::Turned(Turned::RevolvedFlat { .. })));
+    assert!(flat.is_some_and(|f| f.placement[2] == 0.0), "{:?}", a.plan.features);
+    // Points on its whole numbers, one slip (`X50`): least increments, and the slip is said.
+    let pointed = calculator.replace("X55 Z2", "X55. Z2.").replace("G0 Z2", "G0 Z2.").replace("Z-30", "Z-30.").replace("X55\n", "X55.\n");
+    let pointed = pointed.replace("X100 Z50", "X100. Z50.");
+    let b = pipeline::analyze(pointed.as_bytes(), &d, &Profile::default());
+    let codes: Vec<&str> = b.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert!(!codes.contains(&"interp::decimal-input-inferred"), "{codes:?}");
+    assert!(codes.contains(&"interp::no-decimal-point"), "{codes:?}");
+}
