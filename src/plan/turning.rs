@@ -682,6 +682,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         Some(TurnKind::Finish) if face_contour(&cuts) => (TurnOp::Facing, false),
         Some(TurnKind::Finish) => (TurnOp::Contouring, false),
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
+        Some(TurnKind::Groove) if xmin < 0.05 && groove_cycle_faces(&cuts) => (TurnOp::Facing, true),
         Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
         Some(TurnKind::Groove) => (TurnOp::Grooving, false),
         Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
@@ -729,6 +730,17 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// A grooving cycle (`G75`) used to face: its plunges reach the axis at several places along
+/// Z, stepping (its Q) down to the front at the program zero or in front of it, as a turner
+/// faces a bar with a grooving cycle. A cut-off reaches the axis at one Z, behind the part.
+fn groove_cycle_faces(cuts: &[Move]) -> bool {
+    let mut at_axis: Vec<f64> =
+        cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
+    at_axis.sort_by(f64::total_cmp);
+    at_axis.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+    at_axis.len() > 1 && at_axis[0] >= -0.5
 }
 
 /// Whether a run of cuts follows the contour over (nearly) the whole length `length` the

@@ -954,3 +954,18 @@ G1 Z-30 F0.25\nX55\nG0 X100 Z50\nM30\n";
     assert!(!codes.contains(&"interp::decimal-input-inferred"), "{codes:?}");
     assert!(codes.contains(&"interp::no-decimal-point"), "{codes:?}");
 }
+
+/// A grooving cycle that plunges to the axis at several places along Z, stepping down to the
+/// front at Z0, faces the bar (a turner's `G75` facing); at one place behind the part it parts
+/// off.
+#[test]
+fn a_grooving_cycle_that_steps_to_the_front_faces() {
+    let face = "O1\nG21 G99\nT0101\nG50 S3000\nG96 S250 M3\nG0 X44. Z3.\nG75 R0.5\nG75 X-1.6 Z0. P5000 Q1000 F0.1\n\
+G0 X100. Z50.\nM30\n";
+    let (ws, features) = labels(face, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough"]);
+    assert_eq!(features, ["revolved flat"]);
+    let part = "O2\nG21 G99\nT0505\nG97 S600 M3\nG0 X44. Z-52.\nG75 R0.5\nG75 X-1. Z-52. P5000 F0.08\nG0 X100. Z50.\nM30\n";
+    let (ws, _) = labels(part, "fanuc_lathe");
+    assert_eq!(ws, ["parting off"]);
+}
