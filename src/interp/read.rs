@@ -382,7 +382,13 @@ impl Interpreter<'_> {
                 WordMode::Absolute => true,
                 WordMode::Incremental => false,
             };
-            self.point_habit[if !decimal { 2 } else if v.fract() == 0.0 { 0 } else { 1 }] += u32::from(decimal || v != 0.0);
+            self.point_habit[if !decimal {
+                2
+            } else if v.fract() == 0.0 {
+                0
+            } else {
+                1
+            }] += u32::from(decimal || v != 0.0);
             if decimal {
                 self.st.length_points = true;
                 if let Some(i) = axis.filter(|_| absolute) {
