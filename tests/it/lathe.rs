@@ -969,3 +969,17 @@ G0 X100. Z50.\nM30\n";
     let (ws, _) = labels(part, "fanuc_lathe");
     assert_eq!(ws, ["parting off"]);
 }
+
+/// A cut to the axis nearer the part's front than its back faces, though a first face lies
+/// in front of it (the face taken in two steps, Z1.5 then Z0); behind the part it parts off.
+#[test]
+fn a_second_face_behind_the_first_is_facing_not_parting() {
+    let program = "O1\nG21 G99\nT0707\nG96 S255 M3\nG0 X55. Z1.5\nG1 X-0.5 F0.2\nG0 Z3.\nX53.\nZ0.\nG1 X-0.5 F0.1\n\
+G0 Z1.\nX100. Z50.\nT0101\nG97 S800 M3\nG0 X50. Z1.\nG1 Z-40. F0.2\nX55.\nG0 X100. Z50.\nT0505\nG97 S600 M3\n\
+G0 X55. Z-45.\nG1 X-0.5 F0.05\nG0 X100.\nZ50.\nM30\n";
+    let (ws, features) = labels(program, "fanuc_lathe");
+    assert_eq!(ws.first().map(String::as_str), Some("facing finish"), "{ws:?}");
+    assert_eq!(ws.get(1).map(String::as_str), Some("facing finish"), "{ws:?}");
+    assert_eq!(ws.last().map(String::as_str), Some("parting off"), "{ws:?}");
+    assert!(features.contains(&"revolved flat".to_owned()), "{features:?}");
+}
