@@ -159,12 +159,14 @@ fn lathe_suite() {
 /// pull-off, stepped facing, operation comments, grooves profiled from both sides, Okuma `TG=`):
 /// 67 of 92. After branch lathe5 (6 December 2026: a grooving tool the program names cuts
 /// grooves): 68 of 92. After branch lathe8 (6 December 2026: back-to-back LinuxCNC `G70`-`G72`
-/// parted on their passes, a contour cycle over a face is facing): 73 of 92. The test keeps
-/// that figure from falling and no milling feature.
+/// parted on their passes, a contour cycle over a face is facing): 73 of 92. After branch
+/// lathe11 (6 December 2026: whole numbers mostly written without a point read as calculator
+/// input, the Fanuc 0T bore program): 76 of 92. The test keeps that figure from falling and no
+/// milling feature.
 #[test]
 fn lathe_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held out.
-    const HELD_OUT_SCORE: usize = 73;
+    const HELD_OUT_SCORE: usize = 76;
     let (programs, listed, found, milling, misses) = score_corpus_sidecars();
     assert!(programs >= 8, "{programs} held-out programs");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
@@ -274,12 +276,13 @@ fn lathe_real_held_out_programs() {
 /// The build part (`tests/programs/lathe_new/`: the LatheEasyStep conversational generator's
 /// LinuxCNC programs, GPL-3.0): 25 of 50 when first scored, 42 of 50 after the rules were built
 /// on it (6 December 2026); 45 of 50 after branch lathe5 (6 December 2026: `G17 G83 X0` drills on
-/// the lathe's axis, a grooving tool named in an operation header cuts grooves). The test keeps
-/// the figure from falling and no milling feature.
+/// the lathe's axis, a grooving tool named in an operation header cuts grooves); 47 of 50 after
+/// branch lathe11 (a face behind a first one is facing, not parting). The test keeps the figure
+/// from falling and no milling feature.
 #[test]
 fn lathe_new_build_programs() {
     /// Listed workingsteps and features recovered on the build part.
-    const BUILD_SCORE: usize = 45;
+    const BUILD_SCORE: usize = 47;
     let (listed, found, milling, misses) = score_folder("lathe_new");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(found >= BUILD_SCORE, "build part: {found} of {listed} recovered, fewer than {BUILD_SCORE}:\n{}", misses.join("\n"));
@@ -625,13 +628,15 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
 /// diameters, and the Nakamura programs' bores and drilled holes. No longer held back: 52 of 89
 /// when branch lathe8 built on it among the other seen sets, 55 after (6 December 2026: the feed
 /// a pass cuts at, not a fast feed in, decides; a face from the far side of the axis is facing).
-/// Most of its misses remain those of lengths written without a decimal point, which the Fanuc
-/// dictionary reads in least increments: only the machine's `decimal_input` can say otherwise.
+/// After branch lathe11 (6 December 2026: a program that writes its whole numbers mostly without
+/// a point is read as written for calculator-type input; a face behind a first one is facing):
+/// 67 of 89. The misses left include lengths written without a point in programs that mostly
+/// write one (read in least increments, as the Fanuc dictionary says, with a warning).
 /// Where the programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_s7_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held back.
-    const HELD_OUT_SCORE: usize = 55;
+    const HELD_OUT_SCORE: usize = 67;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_s7_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
@@ -657,7 +662,8 @@ fn lathe_s7_held_out_programs() {
 /// UncleEngineer/basic-cnc-lathe. Only the sidecars are committed (`extract.sh` writes the
 /// programs from mirrors); they were written by reading each program, before ncplan ran on it,
 /// and the set was measured once by the lead, after merging, on 6 December 2026 (integrate
-/// 7be615f): 12 of 51, no milling feature. Missed: the system-B shaft's facing, roughing,
+/// 7be615f): 12 of 51, no milling feature; 24 of 51 after branch lathe11 built on it (no longer
+/// held back: calculator-type input inferred, a `G75` stepping to the front faces). Missed: the system-B shaft's facing, roughing,
 /// groove and thread in all three versions; everything of the portfolio shaft (a block that
 /// lost its `G`, profile labels missing: a control stops there too); the Mazak finishing
 /// passes' feed; the teaching lathe's facing from the X- side.
