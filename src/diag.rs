@@ -160,6 +160,11 @@ codes! {
     /// turning feed in mm/rev, an ordinary one in inch/rev): read in inch, the machine's
     /// power-on units being inch.
     UnitsInferred = ("interp::units-inferred", Warning),
+    /// A program under least-increment input that writes its whole-number lengths mostly
+    /// without a decimal point (`X55 Z2`, more than twice as often as `X55.`) and its fractions
+    /// with one (`X-0.5`): written for calculator-type input (Fanuc parameter DPI, 3401#0, on),
+    /// and read so.
+    DecimalInputInferred = ("interp::decimal-input-inferred", Warning),
     /// A word's value lies outside what its command accepts (`M19 P3`, `M19 Q-1`).
     BadValue = ("interp::bad-value", Error),
     /// A cutting move with the spindle stopped.

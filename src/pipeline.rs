@@ -116,18 +116,20 @@ pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Pr
     (plan, diagnostics)
 }
 
-/// The machine a lathe program's own words show (X words as radii, inch at power-on) where
+/// The machine a program's own words show (X words as radii, inch at power-on, whole numbers
+/// in units: calculator-type decimal input) where
 /// the first reading found the evidence: the profile so set, and the findings that say why.
 /// The program is then read again on it.
 fn lathe_machine(found: &[Diagnostic], profile: &Profile) -> Option<(Profile, Vec<Diagnostic>)> {
     let evidence: Vec<Diagnostic> =
-        found.iter().filter(|d| matches!(d.code, crate::diag::Code::XWordsRadius | crate::diag::Code::UnitsInferred)).cloned().collect();
+        found.iter().filter(|d| matches!(d.code, Code::XWordsRadius | Code::UnitsInferred | Code::DecimalInputInferred)).cloned().collect();
     if evidence.is_empty() {
         return None;
     }
     let mut machine = profile.clone();
     machine.x_radius |= evidence.iter().any(|d| d.code == crate::diag::Code::XWordsRadius);
     machine.inch |= evidence.iter().any(|d| d.code == crate::diag::Code::UnitsInferred);
+    machine.calculator_input |= evidence.iter().any(|d| d.code == Code::DecimalInputInferred);
     Some((machine, evidence))
 }
 

@@ -151,6 +151,8 @@ impl Interpreter<'_> {
         let incremental = self.st.distance == DistanceMode::Incremental;
         let mut to = self.st.pos;
         let (mut axes, mut code, mut feed) = (0u32, None, None);
+        // Its lengths written as whole numbers (`X55.`) and as fractions, as `read` counts them.
+        let mut whole_points = [0u32; 2];
         for w in words {
             let Some((role, value, decimal)) = w else { return false };
             if integers_scale && !decimal {
@@ -181,6 +183,7 @@ impl Interpreter<'_> {
                 return false;
             }
             axes |= 1 << axis;
+            whole_points[usize::from(value.fract() != 0.0)] += 1;
             to[axis] = if incremental { self.st.pos[axis] + value } else { value };
         }
         let Some(c) = code.or(self.st.motion_code) else { return false };
@@ -206,6 +209,8 @@ impl Interpreter<'_> {
         if integers_scale {
             // Every length here has its decimal point (integers went the general way).
             self.st.length_points = true;
+            self.point_habit[0] += whole_points[0];
+            self.point_habit[1] += whole_points[1];
         }
         // The feed step, as `step(Feed)` does.
         if let Some(f) = feed {

@@ -243,6 +243,10 @@ pub struct Profile {
     /// The machine powers on in inch (Fanuc parameter INI): found from a program's feeds
     /// (`interp::units-inferred`).
     pub inch: bool,
+    /// The machine reads a length without a decimal point in whole units (calculator-type
+    /// input, Fanuc parameter DPI on) on a control whose dialect reads it in least increments:
+    /// found from how a program writes its lengths (`interp::decimal-input-inferred`).
+    pub calculator_input: bool,
     /// The program turns from its start: a first reading found it a lathe's (plan recovery's
     /// `Recoverer::turns_throughout`), so that recovery reads every move as turning.
     pub turns: bool,
@@ -344,6 +348,7 @@ impl Default for Profile {
             unknown_conditions: None,
             x_radius: false,
             inch: false,
+            calculator_input: false,
             turns: false,
             machine: std::sync::Arc::default(),
         }
@@ -911,6 +916,10 @@ pub struct Interpreter<'a> {
     block_misread: bool,
     /// The word that was, as the finding showed it (`` `X4` read as 0.004 mm ``).
     misread_word: Option<String>,
+    /// How the program writes its lengths under least-increment input: whole numbers with a
+    /// decimal point (`X55.`), fractions (`X-0.5`), whole numbers without one (`X55`, not 0):
+    /// the evidence of calculator-type input (`lathe_evidence`).
+    point_habit: [u32; 3],
     /// Whether the block has a code of the control's vocabulary that ncplan does not model
     /// (kept as intent): the words no modelled command takes are that code's.
     intent_words: bool,
@@ -938,6 +947,11 @@ pub struct Interpreter<'a> {
 }
 
 const NOTE_LIMIT: u32 = 3;
+
+/// Whole-number lengths written without a decimal point from which, when they are also more
+/// than twice those written with one, the program is read as written for calculator-type
+/// input: one or two are slips in any program, more a habit.
+const CALCULATOR_BARE: u32 = 3;
 
 impl<'a> Interpreter<'a> {
     /// A fresh interpreter in the control's power-on state.
@@ -972,7 +986,7 @@ impl<'a> Interpreter<'a> {
             left_level: None,
             motions: 0,
             pending: Vec::new(),
-            integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }),
+            integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }) && !profile.calculator_input,
             feed_before_motion: {
                 let at = |step: Step| dialect.execution_order.iter().position(|&s| s == step);
                 matches!((at(Step::Feed), at(Step::Motion)), (Some(f), Some(m)) if f < m)
@@ -987,6 +1001,7 @@ impl<'a> Interpreter<'a> {
             misread_before: [false; 6],
             block_misread: false,
             misread_word: None,
+            point_habit: [0; 3],
             intent_words: false,
             remap_call: None,
             origin_override: None,
@@ -1091,6 +1106,18 @@ impl<'a> Interpreter<'a> {
                 "no units stated; all {count} feeds per revolution are at most 0.06 (the largest F{largest}): no turning feed in mm/rev, ordinary in inch/rev; and the constant surface speed turns {inch_only} cuts within the spindle limit only in ft/min ({metric} in m/min); read in inch"
             );
             diags.push(Diagnostic::new(Code::UnitsInferred, TextRange::default(), msg));
+        }
+        // A programmer who writes for least-increment input puts the point on whole numbers
+        // (`X55.`, `Z0.`), save a slip or two: one who mostly leaves it off (more than twice as
+        // often as not) and writes fractions with it wrote for calculator-type input, where
+        // `X55` is 55 mm (and on least-increment input the tool would run into the part at
+        // X0.055).
+        let [whole_points, fractions, bare] = self.point_habit;
+        if self.integers_scale && fractions >= 1 && bare >= CALCULATOR_BARE && bare > 2 * whole_points {
+            let msg = format!(
+                "{bare} lengths are whole numbers written without a decimal point, {whole_points} with one, and {fractions} fractions with one: the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
+            );
+            diags.push(Diagnostic::new(Code::DecimalInputInferred, TextRange::default(), msg));
         }
     }
 

@@ -123,8 +123,8 @@ impl Interpreter<'_> {
         // general way.
         let polar = self.st.motion_code.is_some_and(|m| self.code(m).args.iter().any(|&(from, _)| from == Role::Extra));
         // A value scaled as a least increment goes the general way.
-        let scaled =
-            matches!(&self.dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { scaled, .. } if scaled.contains(&Role::Extra));
+        let scaled = !self.profile.calculator_input
+            && matches!(&self.dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { scaled, .. } if scaled.contains(&Role::Extra));
         (inert && !scaled && !polar).then_some((c, *word))
     }
 
@@ -374,6 +374,7 @@ impl Interpreter<'_> {
             && !(how.k_counts && role == Role::K)
             && how.call_start != Some(role)
             && how.selector != Some(role)
+            && !self.profile.calculator_input
         {
             let axis = Role::AXES.iter().position(|&a| a == role);
             let absolute = match w.mode {
@@ -381,6 +382,13 @@ impl Interpreter<'_> {
                 WordMode::Absolute => true,
                 WordMode::Incremental => false,
             };
+            self.point_habit[if !decimal {
+                2
+            } else if v.fract() == 0.0 {
+                0
+            } else {
+                1
+            }] += u32::from(decimal || v != 0.0);
             if decimal {
                 self.st.length_points = true;
                 if let Some(i) = axis.filter(|_| absolute) {

@@ -77,7 +77,11 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         .filter(|m| (m.to[2] - m.from[2]).abs() < TOL)
         .map(|m| m.to[2])
         .fold(0.0, f64::max);
-    for ws in &mut plan.workingsteps {
+    // The deepest Z each workingstep cuts to: the part's back, as the others tell it.
+    let lows: Vec<f64> =
+        plan.workingsteps.iter().map(|w| cuts(w).iter().map(|m| m.to[2].min(m.from[2])).fold(f64::INFINITY, f64::min)).collect();
+    for (k, ws) in plan.workingsteps.iter_mut().enumerate() {
+        let back = lows.iter().enumerate().filter(|&(j, _)| j != k).map(|(_, z)| *z).fold(f64::INFINITY, f64::min);
         let tool = plan.tools.iter().find(|t| t.number == ws.tool);
         let boring = tool.is_some_and(|t| {
             t.kind == ToolKind::BoringTool || t.name.as_deref().is_some_and(|n| n.to_ascii_uppercase().contains("BORING"))
@@ -85,7 +89,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         // A grooving tool the program or the tool table names (not one inferred from what it
         // does): its passes that neither face nor part off cut a groove.
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
-        classify(ws, front, boring, grooving);
+        classify(ws, front, back, boring, grooving);
     }
     // A finishing pass is inside where the same tool's roughing was.
     for k in 1..plan.workingsteps.len() {
@@ -586,7 +590,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
+fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -682,6 +686,7 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
         Some(TurnKind::Finish) if face_contour(&cuts) => (TurnOp::Facing, false),
         Some(TurnKind::Finish) => (TurnOp::Contouring, false),
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
+        Some(TurnKind::Groove) if xmin < 0.05 && groove_cycle_faces(&cuts) => (TurnOp::Facing, true),
         Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
         Some(TurnKind::Groove) => (TurnOp::Grooving, false),
         Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
@@ -701,7 +706,11 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
             let mut at_axis: Vec<f64> = cuts.iter().filter(|m| across(m) && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
             at_axis.sort_by(f64::total_cmp);
             at_axis.dedup_by(|a, b| (*a - *b).abs() < 0.05);
-            if to_axis && (zmin >= front - 0.5 || at_axis.len() > 1) {
+            // A cut to the axis nearer the part's front than its back (the deepest the other
+            // workingsteps cut) faces, a second face behind a first one; a parting tool cuts
+            // off behind the part.
+            let near_front = back.is_finite() && zmin > back + TOL && front - zmin < zmin - back;
+            if to_axis && (zmin >= front - 0.5 || at_axis.len() > 1 || near_front) {
                 (TurnOp::Facing, runs.len() > 1)
             } else if to_axis {
                 (TurnOp::PartingOff, false)
@@ -729,6 +738,17 @@ fn classify(ws: &mut Workingstep, front: f64, boring: bool, grooving: bool) {
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// A grooving cycle (`G75`) used to face: its plunges reach the axis at several places along
+/// Z, stepping (its Q) down to the front at the program zero or in front of it, as a turner
+/// faces a bar with a grooving cycle. A cut-off reaches the axis at one Z, behind the part.
+fn groove_cycle_faces(cuts: &[Move]) -> bool {
+    let mut at_axis: Vec<f64> =
+        cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
+    at_axis.sort_by(f64::total_cmp);
+    at_axis.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+    at_axis.len() > 1 && at_axis[0] >= -0.5
 }
 
 /// Whether a run of cuts follows the contour over (nearly) the whole length `length` the

@@ -159,12 +159,14 @@ fn lathe_suite() {
 /// pull-off, stepped facing, operation comments, grooves profiled from both sides, Okuma `TG=`):
 /// 67 of 92. After branch lathe5 (6 December 2026: a grooving tool the program names cuts
 /// grooves): 68 of 92. After branch lathe8 (6 December 2026: back-to-back LinuxCNC `G70`-`G72`
-/// parted on their passes, a contour cycle over a face is facing): 73 of 92. The test keeps
-/// that figure from falling and no milling feature.
+/// parted on their passes, a contour cycle over a face is facing): 73 of 92. After branch
+/// lathe11 (6 December 2026: whole numbers mostly written without a point read as calculator
+/// input, the Fanuc 0T bore program): 76 of 92. The test keeps that figure from falling and no
+/// milling feature.
 #[test]
 fn lathe_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held out.
-    const HELD_OUT_SCORE: usize = 73;
+    const HELD_OUT_SCORE: usize = 76;
     let (programs, listed, found, milling, misses) = score_corpus_sidecars();
     assert!(programs >= 8, "{programs} held-out programs");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
@@ -274,12 +276,13 @@ fn lathe_real_held_out_programs() {
 /// The build part (`tests/programs/lathe_new/`: the LatheEasyStep conversational generator's
 /// LinuxCNC programs, GPL-3.0): 25 of 50 when first scored, 42 of 50 after the rules were built
 /// on it (6 December 2026); 45 of 50 after branch lathe5 (6 December 2026: `G17 G83 X0` drills on
-/// the lathe's axis, a grooving tool named in an operation header cuts grooves). The test keeps
-/// the figure from falling and no milling feature.
+/// the lathe's axis, a grooving tool named in an operation header cuts grooves); 47 of 50 after
+/// branch lathe11 (a face behind a first one is facing, not parting). The test keeps the figure
+/// from falling and no milling feature.
 #[test]
 fn lathe_new_build_programs() {
     /// Listed workingsteps and features recovered on the build part.
-    const BUILD_SCORE: usize = 45;
+    const BUILD_SCORE: usize = 47;
     let (listed, found, milling, misses) = score_folder("lathe_new");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(found >= BUILD_SCORE, "build part: {found} of {listed} recovered, fewer than {BUILD_SCORE}:\n{}", misses.join("\n"));
@@ -625,13 +628,15 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
 /// diameters, and the Nakamura programs' bores and drilled holes. No longer held back: 52 of 89
 /// when branch lathe8 built on it among the other seen sets, 55 after (6 December 2026: the feed
 /// a pass cuts at, not a fast feed in, decides; a face from the far side of the axis is facing).
-/// Most of its misses remain those of lengths written without a decimal point, which the Fanuc
-/// dictionary reads in least increments: only the machine's `decimal_input` can say otherwise.
+/// After branch lathe11 (6 December 2026: a program that writes its whole numbers mostly without
+/// a point is read as written for calculator-type input; a face behind a first one is facing):
+/// 67 of 89. The misses left include lengths written without a point in programs that mostly
+/// write one (read in least increments, as the Fanuc dictionary says, with a warning).
 /// Where the programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_s7_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held back.
-    const HELD_OUT_SCORE: usize = 55;
+    const HELD_OUT_SCORE: usize = 67;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_s7_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
@@ -657,7 +662,8 @@ fn lathe_s7_held_out_programs() {
 /// UncleEngineer/basic-cnc-lathe. Only the sidecars are committed (`extract.sh` writes the
 /// programs from mirrors); they were written by reading each program, before ncplan ran on it,
 /// and the set was measured once by the lead, after merging, on 6 December 2026 (integrate
-/// 7be615f): 12 of 51, no milling feature. Missed: the system-B shaft's facing, roughing,
+/// 7be615f): 12 of 51, no milling feature; 24 of 51 after branch lathe11 built on it (no longer
+/// held back: calculator-type input inferred, a `G75` stepping to the front faces). Missed: the system-B shaft's facing, roughing,
 /// groove and thread in all three versions; everything of the portfolio shaft (a block that
 /// lost its `G`, profile labels missing: a control stops there too); the Mazak finishing
 /// passes' feed; the teaching lathe's facing from the X- side.
@@ -1002,4 +1008,64 @@ fn live_haas_tool_drive_turns_the_drill() {
     assert_eq!((drill.technology.spindle_speed, drill.technology.surface_speed), (2500.0, None));
     let radial = plan.workingsteps.iter().find(|w| w.tool == 7).expect("T7's workingstep");
     assert_eq!(radial.technology.spindle_speed, 3000.0);
+}
+
+/// A program that writes its whole-number lengths without a decimal point (`X55 Z2`) and its
+/// fractions with one (`X-1.6`) was written for calculator-type input (Fanuc parameter DPI on,
+/// as on teaching lathes and many shops' controls): read so, with a finding that says why, and
+/// not as 55 µm. A program that puts the point on its whole numbers (`X55.`) and slips once
+/// keeps least-increment input and its warning about the slip.
+#[test]
+fn whole_numbers_without_a_point_by_habit_are_read_in_millimetres() {
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let calculator = "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X55 Z2\nG1 Z0 F0.2\nX-1.6\nG0 Z2\nX50\n\
+G1 Z-30 F0.25\nX55\nG0 X100 Z50\nM30\n";
+    let a = pipeline::analyze(calculator.as_bytes(), &d, &Profile::default());
+    let codes: Vec<&str> = a.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert!(codes.contains(&"interp::decimal-input-inferred"), "{codes:?}");
+    assert!(!codes.contains(&"interp::no-decimal-point"), "{codes:?}");
+    // The face at Z0 across the Ø55 bar, and the Ø50 turned 30 long.
+    let od = a.plan.features.iter().find_map(|f| match f.kind {
+        FeatureKind::Turned(Turned::Diameter { diameter, length, inside: false }) => Some((diameter, length)),
+        _ => None,
+    });
+    assert_eq!(od, Some((50.0, 30.0)), "{:?}", a.plan.features);
+    let flat = a.plan.features.iter().find(|f| matches!(f.kind, FeatureKind::Turned(Turned::RevolvedFlat { .. })));
+    assert!(flat.is_some_and(|f| f.placement[2] == 0.0), "{:?}", a.plan.features);
+    // Points on its whole numbers, one slip (`X50`): least increments, and the slip is said.
+    let pointed = calculator.replace("X55 Z2", "X55. Z2.").replace("G0 Z2", "G0 Z2.").replace("Z-30", "Z-30.").replace("X55\n", "X55.\n");
+    let pointed = pointed.replace("X100 Z50", "X100. Z50.");
+    let b = pipeline::analyze(pointed.as_bytes(), &d, &Profile::default());
+    let codes: Vec<&str> = b.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert!(!codes.contains(&"interp::decimal-input-inferred"), "{codes:?}");
+    assert!(codes.contains(&"interp::no-decimal-point"), "{codes:?}");
+}
+
+/// A grooving cycle that plunges to the axis at several places along Z, stepping down to the
+/// front at Z0, faces the bar (a turner's `G75` facing); at one place behind the part it parts
+/// off.
+#[test]
+fn a_grooving_cycle_that_steps_to_the_front_faces() {
+    let face = "O1\nG21 G99\nT0101\nG50 S3000\nG96 S250 M3\nG0 X44. Z3.\nG75 R0.5\nG75 X-1.6 Z0. P5000 Q1000 F0.1\n\
+G0 X100. Z50.\nM30\n";
+    let (ws, features) = labels(face, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough"]);
+    assert_eq!(features, ["revolved flat"]);
+    let part = "O2\nG21 G99\nT0505\nG97 S600 M3\nG0 X44. Z-52.\nG75 R0.5\nG75 X-1. Z-52. P5000 F0.08\nG0 X100. Z50.\nM30\n";
+    let (ws, _) = labels(part, "fanuc_lathe");
+    assert_eq!(ws, ["parting off"]);
+}
+
+/// A cut to the axis nearer the part's front than its back faces, though a first face lies
+/// in front of it (the face taken in two steps, Z1.5 then Z0); behind the part it parts off.
+#[test]
+fn a_second_face_behind_the_first_is_facing_not_parting() {
+    let program = "O1\nG21 G99\nT0707\nG96 S255 M3\nG0 X55. Z1.5\nG1 X-0.5 F0.2\nG0 Z3.\nX53.\nZ0.\nG1 X-0.5 F0.1\n\
+G0 Z1.\nX100. Z50.\nT0101\nG97 S800 M3\nG0 X50. Z1.\nG1 Z-40. F0.2\nX55.\nG0 X100. Z50.\nT0505\nG97 S600 M3\n\
+G0 X55. Z-45.\nG1 X-0.5 F0.05\nG0 X100.\nZ50.\nM30\n";
+    let (ws, features) = labels(program, "fanuc_lathe");
+    assert_eq!(ws.first().map(String::as_str), Some("facing finish"), "{ws:?}");
+    assert_eq!(ws.get(1).map(String::as_str), Some("facing finish"), "{ws:?}");
+    assert_eq!(ws.last().map(String::as_str), Some("parting off"), "{ws:?}");
+    assert!(features.contains(&"revolved flat".to_owned()), "{features:?}");
 }
