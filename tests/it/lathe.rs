@@ -923,3 +923,70 @@ fn lathe_spos_on_a_mill_orients_the_spindle_only() {
     assert_eq!((hole.placement[0].round(), hole.placement[1].round()), (40.0, 10.0));
     assert!(hole.axis.is_none(), "{:?}", hole.axis);
 }
+
+/// The thread a cycle cuts ends where its last pass leaves the work: LinuxCNC's `G76 ... E L2`
+/// tapers the pass out over E before the drive line's end (rs274: the full-depth cut stops
+/// 1.5 short of Z-20, the taper runs on to it), and the thread is 20 long, from the face to
+/// Z-20, as without the taper.
+#[test]
+fn a_thread_runs_through_its_tapered_run_out() {
+    let thread = |program: &str| {
+        let d = Registry::shipped().get("linuxcnc").unwrap();
+        let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
+        let threads: Vec<(Option<f64>, f64, f64, f64)> = plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                FeatureKind::Turned(Turned::Thread { diameter, root, pitch, length, .. }) => Some((*diameter, *root, *pitch, *length)),
+                _ => None,
+            })
+            .collect();
+        threads
+    };
+    // Radius mode: drive line at radius 6, crests at 5 (Ø10), K0.92 deep (root Ø8.16).
+    let tapered = "G8 G18 G21\nT1 M6\nS600 M3\nG0 X6 Z3\nG76 P1.5 Z-20 I-1 J0.2 K0.92 R1.5 Q29.5 H1 E1.5 L2\nG0 X15\nM2\n";
+    assert_eq!(thread(tapered), [(Some(10.0), 8.16, 1.5, 20.0)]);
+    let straight = "G8 G18 G21\nT1 M6\nS600 M3\nG0 X6 Z3\nG76 P1.5 Z-20 I-1 J0.2 K0.92 R1.5 Q29.5 H1\nG0 X15\nM2\n";
+    assert_eq!(thread(straight), [(Some(10.0), 8.16, 1.5, 20.0)]);
+}
+
+/// A recess in an outside finishing contour (an undercut: down from Ø22 to Ø18 between Z-15
+/// and Z-20, up again, and on along Z) is a groove 5 wide, not a diameter; a pass over the
+/// recess alone that climbs out and leaves tells none, nor does a contour that only steps
+/// outwards.
+#[test]
+fn a_recess_in_a_finishing_contour_is_a_groove() {
+    let grooves = |program: &str| {
+        let d = Registry::shipped().get("fanuc_lathe").unwrap();
+        let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
+        let all: Vec<String> = plan.features.iter().map(|f| f.kind.label().to_owned()).collect();
+        let grooves: Vec<(f64, Option<f64>)> = plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                FeatureKind::Turned(Turned::Groove { diameter, width, .. }) => Some((*diameter, *width)),
+                _ => None,
+            })
+            .collect();
+        let small: Vec<f64> = plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                FeatureKind::Turned(Turned::Diameter { diameter, .. }) if *diameter < 20.0 => Some(*diameter),
+                _ => None,
+            })
+            .collect();
+        (grooves, small, all)
+    };
+    let head = "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\n";
+    let undercut = format!(
+        "{head}G0 X-1. Z2.\nG1 Z0. F0.1\nX20.\nX22. Z-1.\nZ-15.\nX18. Z-16.\nZ-20.\nX22.\nZ-30.\nX30.\nX32. Z-31.\nZ-40.\nX40.\nG0 X100. Z50.\nM30\n"
+    );
+    let (g, small, all) = grooves(&undercut);
+    assert_eq!(g, [(18.0, Some(5.0))], "{all:?}");
+    assert!(small.is_empty(), "{small:?}");
+    let alone = format!("{head}G0 X24. Z-14.\nG1 X22. F0.05\nX18. Z-16.\nZ-20.\nX24.\nG0 X100. Z50.\nM30\n");
+    assert!(grooves(&alone).0.iter().all(|(_, w)| *w != Some(5.0)), "{:?}", grooves(&alone));
+    let stepped = format!("{head}G0 X-1. Z2.\nG1 Z0. F0.1\nX18.\nZ-15.\nX22.\nZ-30.\nX32.\nZ-40.\nX40.\nG0 X100. Z50.\nM30\n");
+    assert!(grooves(&stepped).0.is_empty(), "{:?}", grooves(&stepped));
+}
