@@ -159,12 +159,13 @@ fn lathe_suite() {
 /// pull-off, stepped facing, operation comments, grooves profiled from both sides, Okuma `TG=`):
 /// 67 of 92. After branch lathe5 (6 December 2026: a grooving tool the program names cuts
 /// grooves): 68 of 92. After branch lathe8 (6 December 2026: back-to-back LinuxCNC `G70`-`G72`
-/// parted on their passes, a contour cycle over a face is facing): 73 of 92. The test keeps
+/// parted on their passes, a contour cycle over a face is facing): 73 of 92; 75 of 92 after
+/// branch lathe10 (6 December 2026: a thread runs through its tapered run-out). The test keeps
 /// that figure from falling and no milling feature.
 #[test]
 fn lathe_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held out.
-    const HELD_OUT_SCORE: usize = 73;
+    const HELD_OUT_SCORE: usize = 75;
     let (programs, listed, found, milling, misses) = score_corpus_sidecars();
     assert!(programs >= 8, "{programs} held-out programs");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
@@ -254,11 +255,12 @@ fn lathe_real_build_programs() {
 /// finish, and where no workingstep faces a shaft whose program zero is at its far end keeps
 /// its diameters): 45 of 84. After branch lathe8 (6 December 2026: LinuxCNC's `G70`-`G72`
 /// one after another parted on their passes, the front face only where a face reaches the
-/// axis): 63 of 84. The test keeps that figure from falling and no milling feature.
+/// axis): 63 of 84; 64 after branch lathe10 (a thread runs through its tapered run-out). The
+/// test keeps that figure from falling and no milling feature.
 #[test]
 fn lathe_real_held_out_programs() {
     /// Listed workingsteps and features recovered on this half, re-scored (built on).
-    const HELD_OUT_SCORE: usize = 63;
+    const HELD_OUT_SCORE: usize = 64;
     let (listed, found, milling, misses) = score_folder("lathe_real_heldout");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(
@@ -294,12 +296,12 @@ fn lathe_new_build_programs() {
 /// contour), valve's undercut as a groove. No longer held back: branch lathe5 read its misses
 /// among the others' (6 December 2026; still 34 of 46); branch lathe8 built on it (6 December
 /// 2026: a G71/G70 pair over a face is facing, the front face only where a face reaches the
-/// axis): 45 of 46. Where the
+/// axis): 45 of 46; 46 after branch lathe10 (valve's undercut a groove). Where the
 /// programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_new_held_out_programs() {
     /// Listed workingsteps and features recovered on the held-back part, measured once.
-    const HELD_OUT_SCORE: usize = 45;
+    const HELD_OUT_SCORE: usize = 46;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_new_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
@@ -625,13 +627,14 @@ G0 X15 Z2\nG71 Q100 X15 Z2 D1 I0.5 R0.3\nG70 Q100 X15 Z2 D0.5 P1\nG0 X20 Z10\nM2
 /// diameters, and the Nakamura programs' bores and drilled holes. No longer held back: 52 of 89
 /// when branch lathe8 built on it among the other seen sets, 55 after (6 December 2026: the feed
 /// a pass cuts at, not a fast feed in, decides; a face from the far side of the axis is facing).
-/// Most of its misses remain those of lengths written without a decimal point, which the Fanuc
-/// dictionary reads in least increments: only the machine's `decimal_input` can say otherwise.
+/// Most of its misses were those of lengths written without a decimal point, which the Fanuc
+/// dictionary reads in least increments; after branch lathe10 (6 December 2026) whole lengths
+/// written without a point beside fractions with one are read as calculator-type input: 65.
 /// Where the programs are not extracted the test says so and checks nothing.
 #[test]
 fn lathe_s7_held_out_programs() {
     /// Listed workingsteps and features recovered, no longer held back.
-    const HELD_OUT_SCORE: usize = 55;
+    const HELD_OUT_SCORE: usize = 65;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/lathe_s7_heldout");
     let extracted = std::fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|e| e == "nc")).count();
     if extracted == 0 {
