@@ -160,11 +160,6 @@ codes! {
     /// turning feed in mm/rev, an ordinary one in inch/rev): read in inch, the machine's
     /// power-on units being inch.
     UnitsInferred = ("interp::units-inferred", Warning),
-    /// A program, on a control that reads a length without a decimal point in least input
-    /// increments, that writes its whole lengths without a point and its fractions with one
-    /// (`X44 ... X-1.6`), more whole lengths so than lengths with a point: it is written for
-    /// calculator-type input (Fanuc parameter 3401#0 DPI = 1: `X44` is 44 mm), and read so.
-    CalculatorInput = ("interp::calculator-input", Warning),
     /// A word's value lies outside what its command accepts (`M19 P3`, `M19 Q-1`).
     BadValue = ("interp::bad-value", Error),
     /// A cutting move with the spindle stopped.

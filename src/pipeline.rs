@@ -120,20 +120,14 @@ pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Pr
 /// the first reading found the evidence: the profile so set, and the findings that say why.
 /// The program is then read again on it.
 fn lathe_machine(found: &[Diagnostic], profile: &Profile) -> Option<(Profile, Vec<Diagnostic>)> {
-    let evidence: Vec<Diagnostic> = found
-        .iter()
-        .filter(|d| {
-            matches!(d.code, crate::diag::Code::XWordsRadius | crate::diag::Code::UnitsInferred | crate::diag::Code::CalculatorInput)
-        })
-        .cloned()
-        .collect();
+    let evidence: Vec<Diagnostic> =
+        found.iter().filter(|d| matches!(d.code, crate::diag::Code::XWordsRadius | crate::diag::Code::UnitsInferred)).cloned().collect();
     if evidence.is_empty() {
         return None;
     }
     let mut machine = profile.clone();
     machine.x_radius |= evidence.iter().any(|d| d.code == crate::diag::Code::XWordsRadius);
     machine.inch |= evidence.iter().any(|d| d.code == crate::diag::Code::UnitsInferred);
-    machine.calculator |= evidence.iter().any(|d| d.code == crate::diag::Code::CalculatorInput);
     Some((machine, evidence))
 }
 

@@ -151,8 +151,6 @@ impl Interpreter<'_> {
         let incremental = self.st.distance == DistanceMode::Incremental;
         let mut to = self.st.pos;
         let (mut axes, mut code, mut feed) = (0u32, None, None);
-        // Lengths with a point and fractions among them, counted once the move is taken here.
-        let mut points = [0u32; 2];
         for w in words {
             let Some((role, value, decimal)) = w else { return false };
             if integers_scale && !decimal {
@@ -183,8 +181,6 @@ impl Interpreter<'_> {
                 return false;
             }
             axes |= 1 << axis;
-            points[0] += 1;
-            points[1] += u32::from(value.fract() != 0.0);
             to[axis] = if incremental { self.st.pos[axis] + value } else { value };
         }
         let Some(c) = code.or(self.st.motion_code) else { return false };
@@ -210,8 +206,6 @@ impl Interpreter<'_> {
         if integers_scale {
             // Every length here has its decimal point (integers went the general way).
             self.st.length_points = true;
-            self.length_words[1] += points[0];
-            self.length_words[2] += points[1];
         }
         // The feed step, as `step(Feed)` does.
         if let Some(f) = feed {

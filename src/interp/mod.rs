@@ -243,10 +243,6 @@ pub struct Profile {
     /// The machine powers on in inch (Fanuc parameter INI): found from a program's feeds
     /// (`interp::units-inferred`).
     pub inch: bool,
-    /// The machine reads a length without a decimal point as whole units (calculator-type
-    /// input, Fanuc parameter 3401#0 DPI) where its dialect reads least increments: found from
-    /// how a program writes its lengths (`interp::calculator-input`).
-    pub calculator: bool,
     /// The program turns from its start: a first reading found it a lathe's (plan recovery's
     /// `Recoverer::turns_throughout`), so that recovery reads every move as turning.
     pub turns: bool,
@@ -348,7 +344,6 @@ impl Default for Profile {
             unknown_conditions: None,
             x_radius: false,
             inch: false,
-            calculator: false,
             turns: false,
             machine: std::sync::Arc::default(),
         }
@@ -865,9 +860,6 @@ pub struct Interpreter<'a> {
     units_stated: bool,
     /// Feeds per revolution read: how many, and the largest.
     per_rev_feeds: (u32, f64),
-    /// Length words read under least-increment input: whole values written without a decimal
-    /// point, values written with one, and those of them with a fraction.
-    length_words: [u32; 3],
     /// Feeds per revolution set under constant surface speed with a speed limit, at a known
     /// diameter: how many of them the surface speed read in m/min turns within the limit
     /// (millimetres plausible), and how many it turns only read in ft/min (in millimetres the
@@ -969,7 +961,6 @@ impl<'a> Interpreter<'a> {
             arc_fit: [0, 0],
             units_stated: false,
             per_rev_feeds: (0, 0.0),
-            length_words: [0; 3],
             css_fit: (0, 0),
             request: None,
             turn_intent: None,
@@ -978,7 +969,7 @@ impl<'a> Interpreter<'a> {
             left_level: None,
             motions: 0,
             pending: Vec::new(),
-            integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }) && !profile.calculator,
+            integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }),
             feed_before_motion: {
                 let at = |step: Step| dialect.execution_order.iter().position(|&s| s == step);
                 matches!((at(Step::Feed), at(Step::Motion)), (Some(f), Some(m)) if f < m)
@@ -1062,7 +1053,6 @@ impl<'a> Interpreter<'a> {
             diags.push(Diagnostic::new(Code::CalledProgram, TextRange::default(), msg));
         }
         self.lathe_evidence(diags);
-        self.decimal_evidence(diags);
         for (what, count) in &self.notes {
             if *count > NOTE_LIMIT {
                 diags.push(Diagnostic::new(
@@ -1098,24 +1088,6 @@ impl<'a> Interpreter<'a> {
                 "no units stated; all {count} feeds per revolution are at most 0.06 (the largest F{largest}): no turning feed in mm/rev, ordinary in inch/rev; and the constant surface speed turns {inch_only} cuts within the spindle limit only in ft/min ({metric} in m/min); read in inch"
             );
             diags.push(Diagnostic::new(Code::UnitsInferred, TextRange::default(), msg));
-        }
-    }
-
-    /// How the program writes its lengths, where the dialect reads a length without a point
-    /// in least increments: a writer who counts on that writes every whole length with its
-    /// point (`X44.`) or in increments (`X44000`), and a fraction with a point only beside
-    /// them. Whole lengths without a point (at least three, more than the lengths with one)
-    /// beside fractions with a point (`X44 ... X-1.6`) are written for calculator-type input,
-    /// where a point is needed only for a fraction: a finding, and the pipeline reads the
-    /// program again so. A program with a point dropped here and there (`X100` among `X100.`)
-    /// keeps its least-increment reading and its `no-decimal-point` finding.
-    fn decimal_evidence(&self, diags: &mut Vec<Diagnostic>) {
-        let [bare, pointed, fractions] = self.length_words;
-        if !self.profile.calculator && bare >= 3 && bare > pointed && fractions >= 1 {
-            let msg = format!(
-                "{bare} whole lengths are written without a decimal point (`X44`), {pointed} lengths with one, {fractions} of them fractions (`X-1.6`): the program is written for calculator-type input (Fanuc parameter 3401#0 DPI = 1, `X44` is 44 mm), and is read so; on a machine that reads least increments `X44` is 0.044 mm"
-            );
-            diags.push(Diagnostic::new(Code::CalculatorInput, TextRange::default(), msg));
         }
     }
 

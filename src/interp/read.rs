@@ -370,7 +370,6 @@ impl Interpreter<'_> {
         let units = how.units;
         if let (Value::Number { decimal, .. }, DecimalInput::LeastIncrement { mm, inch, scaled }) =
             (w.value, &self.dialect.behaviour.decimal_input)
-            && !self.profile.calculator
             && scaled.contains(&role)
             && !(how.k_counts && role == Role::K)
             && how.call_start != Some(role)
@@ -383,14 +382,11 @@ impl Interpreter<'_> {
                 WordMode::Incremental => false,
             };
             if decimal {
-                self.length_words[1] += 1;
-                self.length_words[2] += u32::from(v.fract() != 0.0);
                 self.st.length_points = true;
                 if let Some(i) = axis.filter(|_| absolute) {
                     self.misread[i] = false;
                 }
             } else {
-                self.length_words[0] += u32::from(v != 0.0);
                 if v != 0.0 && self.st.length_points {
                     let shown = block.text(w.range);
                     let unit = if units == Units::Mm { "mm" } else { "inch" };
