@@ -993,3 +993,44 @@ fn a_recess_in_a_finishing_contour_is_a_groove() {
     let stepped = format!("{head}G0 X-1. Z2.\nG1 Z0. F0.1\nX18.\nZ-15.\nX22.\nZ-30.\nX32.\nZ-40.\nX40.\nG0 X100. Z50.\nM30\n");
     assert!(grooves(&stepped).0.is_empty(), "{:?}", grooves(&stepped));
 }
+
+/// On a control that reads a length without a point in least increments (Fanuc), a program
+/// that writes its whole lengths without a point and its fractions with one (`X44 ... X-1.6`)
+/// is written for calculator-type input (parameter 3401#0 DPI = 1): a finding, and it is read
+/// so (Ø40 turned 20 long, not Ø0.04). A program with one point dropped among lengths written
+/// with points keeps its least-increment reading and its `no-decimal-point` finding; one
+/// written all in increments (`X44000`, no fraction anywhere) is read in increments.
+#[test]
+fn whole_lengths_without_points_beside_fractions_are_calculator_input() {
+    use ncplan::diag::Code;
+    let read = |program: &str| {
+        let d = Registry::shipped().get("fanuc_lathe").unwrap();
+        let a = pipeline::analyze(program.as_bytes(), &d, &Profile::default());
+        let codes: Vec<Code> = a.diagnostics.iter().map(|d| d.code).collect();
+        let diameters: Vec<(f64, f64)> = a
+            .plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                FeatureKind::Turned(Turned::Diameter { diameter, length, .. }) => Some((*diameter, *length)),
+                _ => None,
+            })
+            .collect();
+        (codes, diameters)
+    };
+    let calculator =
+        "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X44 Z2\nG1 X-1.6 Z0 F0.2\nG0 Z2\nX40\nG1 Z-20\nX44\nG0 X100 Z50\nM30\n";
+    let (codes, diameters) = read(calculator);
+    assert!(codes.contains(&Code::DecimalInputInferred), "{codes:?}");
+    assert!(!codes.contains(&Code::NoDecimalPoint), "{codes:?}");
+    assert!(diameters.contains(&(40.0, 20.0)), "{diameters:?}");
+    let dropped =
+        "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X44. Z2.\nG1 X-1.6 Z0. F0.2\nG0 Z2.\nX40.\nG1 Z-20.\nX44\nG0 X100. Z50.\nM30\n";
+    let (codes, _) = read(dropped);
+    assert!(!codes.contains(&Code::DecimalInputInferred), "{codes:?}");
+    assert!(codes.contains(&Code::NoDecimalPoint), "{codes:?}");
+    let increments = "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X44000 Z2000\nG1 X-1600 Z0 F0.2\nG0 Z2000\nX40000\nG1 Z-20000\nX44000\nG0 X100000 Z50000\nM30\n";
+    let (codes, diameters) = read(increments);
+    assert!(!codes.contains(&Code::DecimalInputInferred), "{codes:?}");
+    assert!(diameters.contains(&(40.0, 20.0)), "{diameters:?}");
+}
