@@ -868,10 +868,21 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
             let root = if t.inside { d[1] } else { d[0] };
             let height = t.intent.as_ref().and_then(|i| i.thread_depth);
             let diameter = height.map(|h| round(if t.inside { root - 2.0 * h } else { root + 2.0 * h }));
-            // The last pass: the run-in of the passes before shifts along the flank.
-            let last = runs(ws).into_iter().rev().find_map(|r| r.into_iter().find(|m| (m.to[2] - m.from[2]).abs() > TOL));
+            // The last pass: the run-in of the passes before shifts along the flank. Its cut
+            // along Z runs on through a tapered run-out (LinuxCNC's `G76 E L2`, a chamfered
+            // pull-out): the thread ends where the pass leaves the work, not where the taper
+            // starts.
+            let along = |m: &Move| (m.to[2] - m.from[2]).abs() > TOL;
+            let last =
+                runs(ws).into_iter().rev().find_map(|r| {
+                    let first = r.iter().position(along)?;
+                    let span = r[first..].iter().take_while(|m| along(m));
+                    Some(span.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), m| {
+                        (a.min(m.from[2].min(m.to[2])), b.max(m.from[2].max(m.to[2])))
+                    }))
+                });
             // Its run-in in front of the face (Z0) is air.
-            let (lo, hi) = last.map_or((z[0], z[1]), |m| (m.from[2].min(m.to[2]), m.from[2].max(m.to[2])));
+            let (lo, hi) = last.unwrap_or((z[0], z[1]));
             let hi = if lo < 0.0 { hi.min(0.0) } else { hi };
             // A cycle that states the thread's start and end gives its length.
             let (length, at) = match t.intent.as_ref().and_then(|i| i.span) {
@@ -922,7 +933,7 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
     };
     let nose = nose_arcs(ws, t, &profile);
     let mut out = Vec::new();
-    for m in &profile {
+    for (i, m) in profile.iter().enumerate() {
         let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
         let (z0, z1) = (m.from[2] - shift.1, m.to[2] - shift.1);
         if let Some(a) = m.arc {
@@ -948,6 +959,9 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
             // A roughing cycle's last pass running back along +Z out past the face: the
             // contour's way back to the start point (its closing `G00`), no diameter.
             continue;
+        } else if let Some((width, hi)) = (shift == (0.0, 0.0) && !t.inside && !t.mirrored).then(|| recess(&profile, i)).flatten() {
+            let k = Turned::Groove { diameter: round(2.0 * x0), width: Some(round(width)), inside: false };
+            out.push((FeatureKind::Turned(k), round(hi)));
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
             // What runs on in front of the face is the lead-in.
             let (lo, hi) = (z0.min(z1), z0.max(z1).min(face));
@@ -959,6 +973,32 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         }
     }
     out
+}
+
+/// A recess in an outside finishing contour (an undercut, a relief groove): the move at
+/// `i` runs along -Z at a diameter the contour came down to from a larger one and climbs out
+/// of to a larger one, after which the contour goes on along Z. A turning tool cannot leave
+/// such a dip where the contour only steps outwards, so it is a groove the finish profiles,
+/// as grooving and finishing posts write undercuts, not a diameter. Its width is taken
+/// between the walls where they leave the larger diameters; the Z of its front edge with it.
+/// A pass that climbs out and leaves the work (a partial pass over the recess alone) tells no
+/// recess: what lies beyond it is not cut.
+fn recess(profile: &[Move], i: usize) -> Option<(f64, f64)> {
+    let m = &profile[i];
+    if (m.to[0] - m.from[0]).abs() >= TOL || m.to[2] > m.from[2] - 0.1 {
+        return None;
+    }
+    // Down into it: the moves before, each coming down in X without going back along Z.
+    let down = |p: &Move| p.to[0] < p.from[0] - TOL && p.to[2] <= p.from[2] + TOL;
+    let up = |p: &Move| p.to[0] > p.from[0] + TOL && p.to[2] <= p.from[2] + TOL;
+    let before = profile[..i].iter().rev().take_while(|p| down(p)).last()?;
+    let after: Vec<&Move> = profile[i + 1..].iter().take_while(|p| up(p)).collect();
+    let out = after.last()?;
+    // The contour goes on along -Z past the recess.
+    let next = profile.get(i + 1 + after.len())?;
+    let on = next.to[2] < next.from[2] - TOL && (next.to[0] - next.from[0]).abs() < (next.from[2] - next.to[2]);
+    let depth = before.from[0].min(out.to[0]) - m.from[0];
+    (on && depth > 0.1).then_some((before.from[2] - out.to[2], before.from[2]))
 }
 
 /// Under tool nose radius compensation (G41/G42 on a lathe) the moves are the nose's path,
