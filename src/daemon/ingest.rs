@@ -748,7 +748,9 @@ fn recompare_callers(tx: &Txn<'_>, reader: &Reader<'_>, at: (&Path, Role), stem:
         let d = reader.dialect_of(&src.path, &src.dialect)?;
         let Some(op) = reader.program(tx, original, None)? else { continue };
         let faults = diff::verdict::faults(&a.source.text, &a.diagnostics);
-        let changes = op.compare(diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d }, &faults);
+        let edited = Stored { plan: a.plan, text: a.source.text, dialect: d, faults };
+        let (op, edited) = reader.on_one_machine(tx, (original, op), (caller, edited))?;
+        let changes = op.compare(edited.program(), &edited.faults);
         let base = rule.split("; recomputed:").next().unwrap_or_default();
         let rule = format!("{base}; recomputed: the called program {stem} changed (revision {revision})");
         tx.record_comparison(caller, original, &rule, &changes, now)?;
