@@ -121,16 +121,102 @@ pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Pr
 /// the first reading found the evidence: the profile so set, and the findings that say why.
 /// The program is then read again on it.
 fn lathe_machine(found: &[Diagnostic], profile: &Profile) -> Option<(Profile, Vec<Diagnostic>)> {
-    let evidence: Vec<Diagnostic> =
-        found.iter().filter(|d| matches!(d.code, Code::XWordsRadius | Code::UnitsInferred | Code::DecimalInputInferred)).cloned().collect();
+    let evidence: Vec<Diagnostic> = found.iter().filter(|d| MachineShown::is_evidence(d.code)).cloned().collect();
     if evidence.is_empty() {
         return None;
     }
-    let mut machine = profile.clone();
-    machine.x_radius |= evidence.iter().any(|d| d.code == crate::diag::Code::XWordsRadius);
-    machine.inch |= evidence.iter().any(|d| d.code == crate::diag::Code::UnitsInferred);
-    machine.calculator_input |= evidence.iter().any(|d| d.code == Code::DecimalInputInferred);
+    let machine = MachineShown::from_codes(evidence.iter().map(|d| d.code.as_str())).on(profile);
     Some((machine, evidence))
+}
+
+/// What a program's own words showed of the machine it runs on, beyond what its
+/// configuration says: X words as radii, inch at power-on, whole numbers in units
+/// (calculator-type decimal input). The machine does not change with
+/// an edit, so when two revisions are compared, what either shows holds for both
+/// ([`analyze_pair`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MachineShown {
+    x_radius: bool,
+    inch: bool,
+    calculator: bool,
+}
+
+impl MachineShown {
+    /// Whether a finding tells what the machine is.
+    fn is_evidence(code: Code) -> bool {
+        matches!(code, Code::XWordsRadius | Code::UnitsInferred | Code::DecimalInputInferred)
+    }
+
+    /// What a revision's findings (their codes, as `interp::units-inferred`) show.
+    pub fn from_codes<'c>(codes: impl IntoIterator<Item = &'c str>) -> MachineShown {
+        let mut shown = MachineShown::default();
+        for code in codes {
+            shown.x_radius |= code == Code::XWordsRadius.as_str();
+            shown.inch |= code == Code::UnitsInferred.as_str();
+            shown.calculator |= code == Code::DecimalInputInferred.as_str();
+        }
+        shown
+    }
+
+    /// What either shows.
+    pub fn union(self, other: MachineShown) -> MachineShown {
+        MachineShown {
+            x_radius: self.x_radius || other.x_radius,
+            inch: self.inch || other.inch,
+            calculator: self.calculator || other.calculator,
+        }
+    }
+
+    /// `profile` on this machine.
+    pub fn on(self, profile: &Profile) -> Profile {
+        let mut machine = profile.clone();
+        machine.x_radius |= self.x_radius;
+        machine.inch |= self.inch;
+        machine.calculator_input |= self.calculator;
+        machine
+    }
+}
+
+/// The machine a revision's analysis showed.
+fn shown(a: &Analysis) -> MachineShown {
+    MachineShown::from_codes(a.diagnostics.iter().map(|d| d.code.as_str()))
+}
+
+/// Two revisions of a program analysed to be compared ([`analyze_plan_owned`] each), read on
+/// one machine: where one revision's words show what the machine is (X words as radii, inch
+/// at power-on, calculator-type input) and the other's do not, the other is read again on that machine. An edit that
+/// only tips the evidence (a feed rewritten, a point added to one number) then changes no
+/// length of the program; the revision read again says why, with the other's findings.
+pub fn analyze_pair(original: (Vec<u8>, &Dialect, &Profile), edited: (Vec<u8>, &Dialect, &Profile)) -> (Analysis, Analysis) {
+    let a = analyze_plan_owned(original.0, original.1, original.2);
+    let b = analyze_plan_owned(edited.0, edited.1, edited.2);
+    let (in_a, in_b) = (shown(&a), shown(&b));
+    let both = in_a.union(in_b);
+    if in_a == in_b {
+        return (a, b);
+    }
+    let evidence =
+        |x: &Analysis| -> Vec<Diagnostic> { x.diagnostics.iter().filter(|d| MachineShown::is_evidence(d.code)).cloned().collect() };
+    let (of_a, of_b) = (evidence(&a), evidence(&b));
+    let a = if in_a == both { a } else { read_on(a, original.1, &both.on(original.2), &of_b) };
+    let b = if in_b == both { b } else { read_on(b, edited.1, &both.on(edited.2), &of_a) };
+    (a, b)
+}
+
+/// `a` read again on `machine`, which `other`'s words showed: its decoding findings kept, the
+/// other's evidence added to say why.
+fn read_on(a: Analysis, dialect: &Dialect, machine: &Profile, other: &[Diagnostic]) -> Analysis {
+    let Analysis { source, canon, diagnostics, .. } = a;
+    let mut kept: Vec<Diagnostic> = diagnostics.into_iter().filter(|d| d.code.as_str().starts_with("text::")).collect();
+    let (plan, found) = plan_of_text(Text::Whole(&source.text), dialect, machine);
+    kept.extend(found);
+    kept.extend(
+        other
+            .iter()
+            .map(|d| Diagnostic::new(d.code, TextRange::default(), format!("read as the other revision shows the machine: {}", d.message))),
+    );
+    kept.sort_by_key(|d| (d.range.start, d.range.end));
+    Analysis { source, canon, plan, diagnostics: kept }
 }
 
 /// The program's name: the record the dictionary names it by (CLDATA `PARTNO`), or the header's.

@@ -56,8 +56,8 @@ pub(super) fn run(args: Args, mut out: impl Write) -> Result<ExitCode> {
     let db = pick(edited_dialect.as_deref().or(dname.as_deref()), &edited, &bytes_b)?;
     // Each program with the subprograms kept beside it.
     let beside = |p: &Path| config::DirPrograms::beside(&config.profile, p, config.max_file_bytes);
-    let a = pipeline::analyze_plan_owned(bytes_a, &da, &beside(&original));
-    let b = pipeline::analyze_plan_owned(bytes_b, &db, &beside(&edited));
+    // Both read on one machine: what either's words show of it holds for both.
+    let (a, b) = pipeline::analyze_pair((bytes_a, &da, &beside(&original)), (bytes_b, &db, &beside(&edited)));
     say_stops(&original, &a.source.text, &a.diagnostics);
     say_stops(&edited, &b.source.text, &b.diagnostics);
     let changes = pipeline::diff_beside(&a, &da, &b, &db, (&beside(&original), &beside(&edited)));

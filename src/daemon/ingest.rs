@@ -615,6 +615,11 @@ impl Reader<'_> {
     /// Analyses a stored program's bytes again, with today's dictionary and engine, as the
     /// folder it lies in reads it (a folder no longer configured: its stored dialect, no overrides).
     pub fn reanalyse(&self, path: &str, dialect: &str, bytes: Vec<u8>) -> Result<pipeline::Analysis> {
+        self.reanalyse_on(path, dialect, bytes, pipeline::MachineShown::default())
+    }
+
+    /// [`Reader::reanalyse`] on the machine another revision showed (`pipeline::analyze_pair`).
+    fn reanalyse_on(&self, path: &str, dialect: &str, bytes: Vec<u8>, machine: pipeline::MachineShown) -> Result<pipeline::Analysis> {
         let path = &sharefile::text_path(path);
         let folder = match self.config.folder_at(path) {
             Some(i) => self.config.folders[i].clone(),
@@ -632,7 +637,31 @@ impl Reader<'_> {
             },
         };
         let d = folder.dialect_for(self.registry.get(dialect).with_context(|| format!("unknown dialect `{dialect}`"))?);
-        Ok(pipeline::analyze_plan_owned(bytes, &d, &self.profile(path, &folder, &d)))
+        Ok(pipeline::analyze_plan_owned(bytes, &d, &machine.on(&self.profile(path, &folder, &d))))
+    }
+
+    /// Two stored revisions to compare, read on one machine as `ncplan diff` reads them
+    /// (`pipeline::analyze_pair`): where one's findings show what the machine is (X words as
+    /// radii, inch at power-on, calculator-type input) and the other's do not, the other is read again on it.
+    fn on_one_machine(&self, tx: &Txn<'_>, before: (i64, Stored), after: (i64, Stored)) -> Result<(Stored, Stored)> {
+        let shown = |id: i64| -> Result<pipeline::MachineShown> {
+            Ok(pipeline::MachineShown::from_codes(tx.findings(id)?.iter().map(|f| f.code.as_str())))
+        };
+        let (in_before, in_after) = (shown(before.0)?, shown(after.0)?);
+        if in_before == in_after {
+            return Ok((before.1, after.1));
+        }
+        let both = in_before.union(in_after);
+        let again = |(id, stored): (i64, Stored), shown: pipeline::MachineShown| -> Result<Stored> {
+            if shown == both {
+                return Ok(stored);
+            }
+            let (Some(src), Some(bytes)) = (tx.source(id)?, tx.content(id)?) else { return Ok(stored) };
+            let a = self.reanalyse_on(&src.path, &src.dialect, bytes, both)?;
+            let faults = diff::verdict::faults(&a.source.text, &a.diagnostics);
+            Ok(Stored { plan: a.plan, text: a.source.text, dialect: stored.dialect, faults })
+        };
+        Ok((again(before, in_before)?, again(after, in_after)?))
     }
 }
 
@@ -719,7 +748,9 @@ fn recompare_callers(tx: &Txn<'_>, reader: &Reader<'_>, at: (&Path, Role), stem:
         let d = reader.dialect_of(&src.path, &src.dialect)?;
         let Some(op) = reader.program(tx, original, None)? else { continue };
         let faults = diff::verdict::faults(&a.source.text, &a.diagnostics);
-        let changes = op.compare(diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d }, &faults);
+        let edited = Stored { plan: a.plan, text: a.source.text, dialect: d, faults };
+        let (op, edited) = reader.on_one_machine(tx, (original, op), (caller, edited))?;
+        let changes = op.compare(edited.program(), &edited.faults);
         let base = rule.split("; recomputed:").next().unwrap_or_default();
         let rule = format!("{base}; recomputed: the called program {stem} changed (revision {revision})");
         tx.record_comparison(caller, original, &rule, &changes, now)?;
@@ -790,6 +821,7 @@ fn settle(tx: &Txn<'_>, reader: &Reader<'_>, revision: i64, pairing: &Pairing, k
             let original = *original;
             let load = |id: i64| reader.program(tx, id, (id == known.revision).then_some(known.plan));
             let (Some(before), Some(after)) = (load(original)?, load(revision)?) else { return Ok(None) };
+            let (before, after) = reader.on_one_machine(tx, (original, before), (revision, after))?;
             let changes = before.compare(after.program(), &after.faults);
             tx.record_comparison(revision, original, rule, &changes, now)?;
             Ok(Some(changes.len()))

@@ -1154,3 +1154,30 @@ fn arguments_inserted_same_values_and_long_hunks_are_told_plainly() {
     let ranged = got.iter().any(|c| c.phrase().contains("lines 2–41"));
     assert!(ranged, "{}", rows(&got));
 }
+
+/// The machine is one across revisions. The original's two arcs have centres that fit only
+/// with X read as a radius; the edit makes the second a chamfer, so the edited program alone
+/// no longer shows it. Read apart, the edited program's X words would be diameters, its first
+/// (unedited) arc an error the edit "breaks", and every size would change. Read as
+/// `ncplan diff` reads them, on one machine, the only change is at the edited line.
+#[test]
+fn what_one_revision_shows_of_the_machine_holds_for_both() {
+    let a = "O1000\nG18 G21 G99\nT0101\nG97 S1000 M3\nG0 X20. Z2.\nG1 X10. Z0. F0.2\nG2 X15. Z-5. I5. K0.\nG1 Z-20.\n\
+             G2 X20. Z-25. I5. K0.\nG1 Z-40.\nG0 X30.\nG0 Z2.\nM30\n";
+    let b = a.replace("G2 X20. Z-25. I5. K0.", "G1 X20. Z-25.");
+    let registry = Registry::shipped();
+    let d = registry.get("fanuc_lathe").unwrap();
+    let profile = Profile::default();
+    let apart = pipeline::analyze_plan(b.as_bytes(), &d, &profile);
+    assert!(apart.has_errors(), "alone, the edited program reads X as diameters and its first arc fails");
+    let (pa, pb) = pipeline::analyze_pair((a.as_bytes().to_vec(), &d, &profile), (b.into_bytes(), &d, &profile));
+    assert!(!pb.has_errors(), "{:?}", pb.diagnostics);
+    let why = pb.diagnostics.iter().find(|x| x.code == pipeline::Code::XWordsRadius).expect("the edited program says why");
+    assert!(why.message.starts_with("read as the other revision shows the machine"), "{}", why.message);
+    let got = pipeline::diff(&pa, &d, &pb, &d);
+    assert!(!got.is_empty());
+    for c in &got {
+        assert_ne!(c.kind, ChangeKind::ProgramBroken, "{}", rows(&got));
+        assert_eq!(c.line, Some(9), "{}", rows(&got));
+    }
+}

@@ -660,3 +660,27 @@ fn a_huge_revision_leaves_no_log_of_its_size_beside_the_database() {
     let db_len = std::fs::metadata(site.db()).unwrap().len();
     assert!(db_len >= text.len() as u64, "the database holds the program: {db_len} bytes");
 }
+
+/// The daemon compares revisions as `ncplan diff` does, on one machine: the CAM original's
+/// arcs show X read as radii, the operator's edit turns one of them into a chamfer so that the
+/// edited program alone no longer shows it. The stored comparison names the edited line
+/// only; no size elsewhere changes and the unedited arc is no error the edit "breaks".
+#[test]
+fn a_revision_is_compared_on_the_machine_its_original_shows() {
+    for mut engine in crate::pg::engines("faults::a_revision_is_compared_on_the_machine_its_original_shows") {
+        let store = &mut engine.store;
+        let site = Site::with("fanuc_lathe", "");
+        let a = "O1000\nG18 G21 G99\nT0101\nG97 S1000 M3\nG0 X20. Z2.\nG1 X10. Z0. F0.2\nG2 X15. Z-5. I5. K0.\nG1 Z-20.\n\
+                 G2 X20. Z-25. I5. K0.\nG1 Z-40.\nG0 X30.\nG0 Z2.\nM30\n";
+        std::fs::write(site.path("cam/O1000.nc"), a).unwrap();
+        std::fs::write(site.path("share/O1000.nc"), a.replace("G2 X20. Z-25. I5. K0.", "G1 X20. Z-25.")).unwrap();
+        assert!(matches!(ingest_at(&site, store, "cam/O1000.nc", "2026-12-01T10:00:00.000Z", None), Outcome::Stored { .. }));
+        assert!(matches!(ingest_at(&site, store, "share/O1000.nc", "2026-12-01T10:00:01.000Z", None), Outcome::Stored { .. }));
+        let changes = store.query("SELECT kind, line FROM changes ORDER BY id").unwrap().1;
+        assert!(!changes.is_empty(), "the edit is a change");
+        for row in &changes {
+            assert_ne!(row[0], "program_broken", "{changes:?}");
+            assert_eq!(row[1], "9", "{changes:?}");
+        }
+    }
+}

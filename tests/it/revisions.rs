@@ -104,8 +104,9 @@ fn run(pair: &Pair) -> Outcome {
     let d = registry.get(&pair.expect.dialect).unwrap_or_else(|| panic!("{}: unknown dialect {}", pair.id, pair.expect.dialect));
     let read = |p: &Path| std::fs::read(p).unwrap();
     let beside = |p: &Path| ncplan::config::DirPrograms::beside(&Profile::default(), p, 1 << 20);
-    let a = pipeline::analyze_plan_owned(read(&pair.original), &d, &beside(&pair.original));
-    let b = pipeline::analyze_plan_owned(read(&pair.edited), &d, &beside(&pair.edited));
+    // Read as `ncplan diff` reads them: on one machine.
+    let (a, b) =
+        pipeline::analyze_pair((read(&pair.original), &d, &beside(&pair.original)), (read(&pair.edited), &d, &beside(&pair.edited)));
     let pa = diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d };
     let pb = diff::Program { plan: &b.plan, text: &b.source.text, dialect: &d };
     let faults = |x: &pipeline::Analysis| diff::verdict::faults(&x.source.text, &x.diagnostics);
