@@ -505,9 +505,12 @@ impl Folder {
         use crate::dialect::{DecimalInput, Role as R};
         let Some(rule) = self.decimal_input else { return base };
         let mut d = (*base).clone();
+        d.behaviour.decimal_input_stated = true;
         d.behaviour.decimal_input = match (rule, &base.behaviour.decimal_input) {
             (DecimalRule::Calculator, _) => DecimalInput::Calculator,
-            (DecimalRule::LeastIncrement, DecimalInput::LeastIncrement { .. }) => return base,
+            (DecimalRule::LeastIncrement, DecimalInput::LeastIncrement { mm, inch, scaled }) => {
+                DecimalInput::LeastIncrement { mm: *mm, inch: *inch, scaled: scaled.clone() }
+            }
             (DecimalRule::LeastIncrement, DecimalInput::Calculator) => DecimalInput::LeastIncrement {
                 mm: 0.001,
                 inch: 0.0001,

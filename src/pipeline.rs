@@ -158,12 +158,30 @@ impl MachineShown {
         shown
     }
 
+    /// What an analysis's findings show.
+    pub fn of(a: &Analysis) -> MachineShown {
+        MachineShown::from_codes(a.diagnostics.iter().map(|d| d.code.as_str()))
+    }
+
     /// What either shows.
     pub fn union(self, other: MachineShown) -> MachineShown {
         MachineShown {
             x_radius: self.x_radius || other.x_radius,
             inch: self.inch || other.inch,
             calculator: self.calculator || other.calculator,
+        }
+    }
+
+    /// `dialect` as this machine reads a program's words: a length without a point in whole
+    /// units where it showed calculator-type input.
+    pub fn reads(self, dialect: &Dialect) -> std::borrow::Cow<'_, Dialect> {
+        use crate::dialect::DecimalInput;
+        if self.calculator && matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }) {
+            let mut d = dialect.clone();
+            d.behaviour.decimal_input = DecimalInput::Calculator;
+            std::borrow::Cow::Owned(d)
+        } else {
+            std::borrow::Cow::Borrowed(dialect)
         }
     }
 
@@ -179,7 +197,7 @@ impl MachineShown {
 
 /// The machine a revision's analysis showed.
 fn shown(a: &Analysis) -> MachineShown {
-    MachineShown::from_codes(a.diagnostics.iter().map(|d| d.code.as_str()))
+    MachineShown::of(a)
 }
 
 /// Two revisions of a program analysed to be compared ([`analyze_plan_owned`] each), read on
@@ -450,9 +468,12 @@ pub fn check_translation(
 /// dialect, in the order of the edited program (`ncplan diff`).
 pub fn diff(original: &Analysis, original_dialect: &Dialect, edited: &Analysis, edited_dialect: &Dialect) -> Vec<Change> {
     let faults = |a: &Analysis| crate::diff::verdict::faults(&a.source.text, &a.diagnostics);
+    // The statements compared as the machine both were read on reads their words.
+    let machine = shown(original).union(shown(edited));
+    let (original_dialect, edited_dialect) = (machine.reads(original_dialect), machine.reads(edited_dialect));
     crate::diff::compare_with_findings(
-        crate::diff::Program { plan: &original.plan, text: &original.source.text, dialect: original_dialect },
-        crate::diff::Program { plan: &edited.plan, text: &edited.source.text, dialect: edited_dialect },
+        crate::diff::Program { plan: &original.plan, text: &original.source.text, dialect: &original_dialect },
+        crate::diff::Program { plan: &edited.plan, text: &edited.source.text, dialect: &edited_dialect },
         (&faults(original), &faults(edited)),
     )
 }
@@ -469,6 +490,8 @@ pub fn diff_beside(
     (original_profile, edited_profile): (&Profile, &Profile),
 ) -> Vec<Change> {
     let mut changes = diff(original, original_dialect, edited, edited_dialect);
+    let machine = shown(original).union(shown(edited));
+    let (original_dialect, edited_dialect) = (&*machine.reads(original_dialect), &*machine.reads(edited_dialect));
     if let Some(programs) = &edited_profile.programs {
         let program = crate::diff::Program { plan: &edited.plan, text: &edited.source.text, dialect: edited_dialect };
         if let Some(before) = &original_profile.programs {

@@ -369,6 +369,10 @@ pub enum TimeUnit {
 pub struct Behaviour {
     /// Decimal-point input rule.
     pub decimal_input: DecimalInput,
+    /// Whether the machine's configuration states the rule (a `[[machine]]`'s
+    /// `decimal_input`): then no program's way of writing numbers overrides it
+    /// (`interp::decimal-input-inferred` is for machines whose setting is not known).
+    pub decimal_input_stated: bool,
     /// Dwell unit of `G4 P`.
     pub dwell_unit: TimeUnit,
     /// Whether M6 stops the spindle.

@@ -1113,7 +1113,8 @@ impl<'a> Interpreter<'a> {
         // `X55` is 55 mm (and on least-increment input the tool would run into the part at
         // X0.055).
         let [whole_points, fractions, bare] = self.point_habit;
-        if self.integers_scale && fractions >= 1 && bare >= CALCULATOR_BARE && bare > 2 * whole_points {
+        let stated = self.dialect.behaviour.decimal_input_stated;
+        if self.integers_scale && !stated && fractions >= 1 && bare >= CALCULATOR_BARE && bare > 2 * whole_points {
             let msg = format!(
                 "{bare} lengths are whole numbers written without a decimal point, {whole_points} with one, and {fractions} fractions with one: the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
             );

@@ -1181,3 +1181,22 @@ fn what_one_revision_shows_of_the_machine_holds_for_both() {
         assert_eq!(c.line, Some(9), "{}", rows(&got));
     }
 }
+
+/// An operator who puts the decimal point on some of a program's whole numbers (`X50` →
+/// `X50.`) changes no length: the original, written for calculator-type input, shows the
+/// machine reads `X50` as 50 mm, and so both revisions are read. Read apart, the edited
+/// program would no longer show it and every length without a point would become µm.
+#[test]
+fn points_added_to_whole_numbers_change_nothing_on_a_calculator_input_machine() {
+    let a = "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X55 Z2\nG1 Z0 F0.2\nX-1.6\nG0 Z2\nX50\n\
+             G1 Z-30 F0.25\nX55\nG0 X100 Z50\nM30\n";
+    let b = a.replace("G0 X55 Z2", "G0 X55. Z2.").replace("X50\n", "X50.\n").replace("Z-30 ", "Z-30. ").replace("X55\nG0", "X55.\nG0");
+    let registry = Registry::shipped();
+    let d = registry.get("fanuc_lathe").unwrap();
+    let profile = Profile::default();
+    let apart = pipeline::analyze_plan(b.as_bytes(), &d, &profile);
+    assert!(!apart.diagnostics.iter().any(|x| x.code == pipeline::Code::DecimalInputInferred), "alone, the edit reads in increments");
+    let (pa, pb) = pipeline::analyze_pair((a.as_bytes().to_vec(), &d, &profile), (b.into_bytes(), &d, &profile));
+    let got = pipeline::diff(&pa, &d, &pb, &d);
+    assert!(got.is_empty(), "{}", rows(&got));
+}

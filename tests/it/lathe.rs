@@ -1043,6 +1043,36 @@ G1 Z-30 F0.25\nX55\nG0 X100 Z50\nM30\n";
     assert!(codes.contains(&"interp::no-decimal-point"), "{codes:?}");
 }
 
+/// A machine whose configuration states its decimal input (`decimal_input` of its
+/// `[[machine]]`) is read so whatever its programs' habit: the inference is for machines whose
+/// setting is not known. Stated least-increment input keeps `X55` at 55 µm (with the warning);
+/// stated calculator input reads it as 55 mm with no inference finding.
+#[test]
+fn a_stated_decimal_input_is_not_overridden_by_a_program_habit() {
+    let calculator = "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X55 Z2\nG1 Z0 F0.2\nX-1.6\nG0 Z2\nX50\n\
+G1 Z-30 F0.25\nX55\nG0 X100 Z50\nM30\n";
+    let dir = tempfile::tempdir().unwrap();
+    for rule in ["least-increment", "calculator"] {
+        let text =
+            format!("[database]\npath = 'db'\n[[machine]]\nname = 'L1'\npath = 'l1'\ndialect = 'fanuc_lathe'\ndecimal_input = '{rule}'\n");
+        let config = ncplan::config::Config::parse(&text, dir.path()).unwrap();
+        let d = config.folders[0].dialect_for(Registry::shipped().get("fanuc_lathe").unwrap());
+        let a = pipeline::analyze(calculator.as_bytes(), &d, &Profile::default());
+        let codes: Vec<&str> = a.diagnostics.iter().map(|d| d.code.as_str()).collect();
+        assert!(!codes.contains(&"interp::decimal-input-inferred"), "{rule}: {codes:?}");
+        let od = a.plan.features.iter().find_map(|f| match f.kind {
+            FeatureKind::Turned(Turned::Diameter { diameter, inside: false, .. }) => Some(diameter),
+            _ => None,
+        });
+        if rule == "calculator" {
+            assert_eq!(od, Some(50.0), "{:?}", a.plan.features);
+        } else {
+            assert!(codes.contains(&"interp::no-decimal-point"), "{codes:?}");
+            assert_ne!(od, Some(50.0), "{:?}", a.plan.features);
+        }
+    }
+}
+
 /// A grooving cycle that plunges to the axis at several places along Z, stepping down to the
 /// front at Z0, faces the bar (a turner's `G75` facing); at one place behind the part it parts
 /// off.

@@ -107,6 +107,8 @@ fn run(pair: &Pair) -> Outcome {
     // Read as `ncplan diff` reads them: on one machine.
     let (a, b) =
         pipeline::analyze_pair((read(&pair.original), &d, &beside(&pair.original)), (read(&pair.edited), &d, &beside(&pair.edited)));
+    // Their words read as that machine reads them.
+    let d = pipeline::MachineShown::of(&a).union(pipeline::MachineShown::of(&b)).reads(&d).into_owned();
     let pa = diff::Program { plan: &a.plan, text: &a.source.text, dialect: &d };
     let pb = diff::Program { plan: &b.plan, text: &b.source.text, dialect: &d };
     let faults = |x: &pipeline::Analysis| diff::verdict::faults(&x.source.text, &x.diagnostics);

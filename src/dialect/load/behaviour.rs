@@ -51,6 +51,7 @@ const ATTRIBUTES: &[&str] = &[
 fn defaults() -> Behaviour {
     Behaviour {
         decimal_input: DecimalInput::Calculator,
+        decimal_input_stated: false,
         dwell_unit: TimeUnit::Seconds,
         tool_change_stops_spindle: true,
         tool_change_applies_length: false,
