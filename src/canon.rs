@@ -1270,6 +1270,9 @@ mod tests {
                 CanonOp::StraightFeed([x, 2.0, -x * 0.013, 0.0, 0.0, 0.0]),
                 CanonOp::StraightTraverse([0.0, -x, 1e-5, 0.0, -0.0, 0.0]),
                 CanonOp::StraightFeed([x, 0.0, 0.0, 0.0, 0.0, 1e-300]),
+                // Long lines: past 64 and past 128 bytes, the longest the line buffer holds.
+                CanonOp::StraightFeed([x * 1e6, -x * 1e6, x * 3e5, 12_345.678_9, -x * 1e5, 1.5]),
+                CanonOp::StraightTraverse([-8.0e11 - x, 7.5e11 + x, -6.0e11, -5.0e11 - x, 4.0e11, -3.0e11 + x]),
                 CanonOp::Dwell(x),
             ];
             for op in &ops {

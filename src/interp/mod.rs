@@ -1262,10 +1262,17 @@ impl<'a> Interpreter<'a> {
     /// where the block writes it as a number (`#5420`), all of them where it computes the
     /// number (`#[5420 + #1]`); a named one by its slot, all of them where the block reads
     /// an element of a named array.
+    #[inline(always)]
     pub(super) fn refresh_system_vars(&mut self, block: &Block) {
-        if block.reads_no_system {
-            return;
+        // Asked at every block of a loop, most of which read none: no call for those.
+        if !block.reads_no_system {
+            self.refresh_system_vars_of(block);
         }
+    }
+
+    /// [`Interpreter::refresh_system_vars`] for a block that may read some.
+    #[inline(never)]
+    fn refresh_system_vars_of(&mut self, block: &Block) {
         let macros = &self.dialect.macros;
         for (id, e) in block.exprs.iter().enumerate() {
             match *e {
@@ -1505,11 +1512,18 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Reports a corner block that could not be made while emitting the last block.
-    #[inline]
+    #[inline(always)]
     fn corner_report(&mut self, diags: &mut Vec<Diagnostic>) {
-        if self.corners.get_mut().is_none() {
-            return;
+        // At every block: without a call where the corner stage holds no problem.
+        if self.corners.get_mut().as_ref().is_some_and(|k| k.problem.is_some()) {
+            self.corner_problem(diags);
         }
+    }
+
+    /// [`Interpreter::corner_report`] where the corner stage holds a problem.
+    #[cold]
+    #[inline(never)]
+    fn corner_problem(&mut self, diags: &mut Vec<Diagnostic>) {
         let problem = self.corners.get_mut().as_mut().and_then(|k| k.problem.take());
         if let Some(p) = problem {
             let mut d = Diagnostic::new(Code::BadArc, self.origin, format!("the corner is left sharp: {}", p.describe()));

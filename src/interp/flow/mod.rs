@@ -569,7 +569,8 @@ impl<'a> Driver<'a, '_> {
         diags: &mut Vec<Diagnostic>,
     ) -> bool {
         let profile = self.profile;
-        let repeated_bytes = if self.replaying {
+        // Without a bound in memory (a streamed run) nothing kept is counted: no call to the sink.
+        let repeated_bytes = if self.replaying && profile.max_repeated_bytes != u64::MAX {
             let kept = sink.kept_bytes(moves);
             kept.saturating_sub(*self.replay_kept.get_or_insert(kept))
         } else {
