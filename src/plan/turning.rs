@@ -638,6 +638,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
                     && runs.first().is_some_and(|r| main_cut(r).is_some())
                     && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL))
                 || pulls_off_inward(&runs)
+                || left_inward(ws)
         }
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
@@ -772,6 +773,28 @@ fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
         })
         .collect();
     !pulls.is_empty() && pulls.iter().all(|dx| *dx < 0.0)
+}
+
+/// Whether the passes are left towards the axis, as a boring bar leaves the wall it cut (an
+/// outside tool leaves it away from the axis): the move after each run's last cut, straight in
+/// X, goes to a smaller diameter short of the axis more often than to a larger one.
+fn left_inward(ws: &Workingstep) -> bool {
+    let cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
+    let moves: Vec<Move> = ws.toolpath.iter().collect();
+    let (mut inward, mut outward) = (0, 0);
+    for w in moves.windows(2) {
+        let (last, next) = (&w[0], &w[1]);
+        if !cut(last) || cut(next) || (next.to[2] - next.from[2]).abs() > TOL || next.from[0] <= TOL {
+            continue;
+        }
+        let dx = next.to[0] - next.from[0];
+        if dx < -TOL && next.to[0] > TOL {
+            inward += 1;
+        } else if dx > TOL {
+            outward += 1;
+        }
+    }
+    inward > 0 && inward > outward
 }
 
 /// A groove profiled from both sides: passes that each come down a flank to the same bottom

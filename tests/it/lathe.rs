@@ -1209,3 +1209,26 @@ fn whole_lengths_without_points_beside_fractions_are_calculator_input() {
     assert!(!codes.contains(&Code::DecimalInputInferred), "{codes:?}");
     assert!(diameters.contains(&(40.0, 20.0)), "{diameters:?}");
 }
+
+/// A boring bar leaves the wall it cut towards the axis (an outside tool leaves it away from
+/// the axis): passes that end, and are left, by a move straight in X to a smaller diameter
+/// work inside, as CAM posts and turners write bores (a bore's roughing stepping the bottom
+/// out then pulling in, its finishing pass then `G0 X` below the bore).
+#[test]
+fn passes_left_towards_the_axis_bore() {
+    // Roughing the bottom of a drilled Ø14 hole out to Ø17, then the bore Ø15.5 with a chamfer
+    // at its mouth; each pass left towards the axis. Then the finishing pass Ø16, left the same way.
+    let bore = "O1\nG21 G99\nT0404\nG96 S120 M4\nG50 S2000\nG0 X14. Z2.\nZ-16.\nG1 Z-19. F0.1\nX17.\nG0 X14.\nZ2.\n\
+X20.\nG1 X17.5 Z0.\nX15.5 Z-1.\nZ-16.\nG0 X13.\nZ10.\nT1111\nG0 X20. Z2.\nG1 X18. Z0. F0.06\nX16. Z-1.\nZ-16.\n\
+G0 X13.\nZ10.\nM30\n";
+    let (ws, features) = labels(bore, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough inside", "contouring finish inside"]);
+    assert!(features.contains(&"inner diameter".to_owned()), "{features:?}");
+    assert!(!features.contains(&"outer diameter".to_owned()), "{features:?}");
+    // The outside counterpart, left away from the axis: outside.
+    let od = "O2\nG21 G99\nT0101\nG96 S120 M4\nG50 S2000\nG0 X44. Z2.\nG1 X40. Z0. F0.2\nZ-20.\nG0 X46.\nZ2.\n\
+T0303\nG0 X36. Z2.\nG1 X38. Z0. F0.06\nX39. Z-0.5\nZ-20.\nG0 X46.\nZ10.\nM30\n";
+    let (ws, features) = labels(od, "fanuc_lathe");
+    assert!(ws.iter().all(|w| !w.contains("inside")), "{ws:?}");
+    assert!(features.contains(&"outer diameter".to_owned()), "{features:?}");
+}
