@@ -776,22 +776,39 @@ fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
 }
 
 /// Whether the passes are left towards the axis, as a boring bar leaves the wall it cut (an
-/// outside tool leaves it away from the axis): the move after each run's last cut, straight in
-/// X, goes to a smaller diameter short of the axis more often than to a larger one.
+/// outside tool leaves it away from the axis): the move after each run's last cut (or that
+/// cut, a short pull-off), straight in X, goes to a smaller diameter short of the axis more
+/// often than to a larger one.
 fn left_inward(ws: &Workingstep) -> bool {
     let cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
+    let radial = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL && m.from[0] > TOL;
     let moves: Vec<Move> = ws.toolpath.iter().collect();
     let (mut inward, mut outward) = (0, 0);
-    for w in moves.windows(2) {
+    for (i, w) in moves.windows(2).enumerate() {
         let (last, next) = (&w[0], &w[1]);
-        if !cut(last) || cut(next) || (next.to[2] - next.from[2]).abs() > TOL || next.from[0] <= TOL {
+        if !cut(last) || cut(next) {
             continue;
         }
-        let dx = next.to[0] - next.from[0];
-        if dx < -TOL && next.to[0] > TOL {
+        if radial(next) {
+            if next.to[0] < next.from[0] && next.to[0] > TOL {
+                inward += 1;
+            } else if next.to[0] > next.from[0] {
+                outward += 1;
+            }
+            continue;
+        }
+        // Left along Z, the run's last cut may itself pull in straight along X by feed, a
+        // little (at most 2 mm on the radius), after a longer cut towards -Z. (A short cut out
+        // in X there tells nothing: an outside pass's pull-up, or a bore's bottom faced out.)
+        let before = i.checked_sub(1).and_then(|k| moves.get(k)).filter(|m| cut(m));
+        let pull = last.from[0] - last.to[0];
+        if radial(last)
+            && pull > TOL
+            && pull <= 2.0
+            && last.to[0] > TOL
+            && before.is_some_and(|b| (b.to[0] - b.from[0]).abs() < TOL && b.to[2] - b.from[2] < -pull)
+        {
             inward += 1;
-        } else if dx > TOL {
-            outward += 1;
         }
     }
     inward > 0 && inward > outward
