@@ -638,6 +638,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
                     && runs.first().is_some_and(|r| main_cut(r).is_some())
                     && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL))
                 || pulls_off_inward(&runs)
+                || left_inward(ws)
         }
     };
     // After a plunge across X, a groove is left back out along the same line; a face is
@@ -772,6 +773,45 @@ fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
         })
         .collect();
     !pulls.is_empty() && pulls.iter().all(|dx| *dx < 0.0)
+}
+
+/// Whether the passes are left towards the axis, as a boring bar leaves the wall it cut (an
+/// outside tool leaves it away from the axis): the move after each run's last cut (or that
+/// cut, a short pull-off), straight in X, goes to a smaller diameter short of the axis more
+/// often than to a larger one.
+fn left_inward(ws: &Workingstep) -> bool {
+    let cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
+    let radial = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL && m.from[0] > TOL;
+    let moves: Vec<Move> = ws.toolpath.iter().collect();
+    let (mut inward, mut outward) = (0, 0);
+    for (i, w) in moves.windows(2).enumerate() {
+        let (last, next) = (&w[0], &w[1]);
+        if !cut(last) || cut(next) {
+            continue;
+        }
+        if radial(next) {
+            if next.to[0] < next.from[0] && next.to[0] > TOL {
+                inward += 1;
+            } else if next.to[0] > next.from[0] {
+                outward += 1;
+            }
+            continue;
+        }
+        // Left along Z, the run's last cut may itself pull in straight along X by feed, a
+        // little (at most 2 mm on the radius), after a longer cut towards -Z. (A short cut out
+        // in X there tells nothing: an outside pass's pull-up, or a bore's bottom faced out.)
+        let before = i.checked_sub(1).and_then(|k| moves.get(k)).filter(|m| cut(m));
+        let pull = last.from[0] - last.to[0];
+        if radial(last)
+            && pull > TOL
+            && pull <= 2.0
+            && last.to[0] > TOL
+            && before.is_some_and(|b| (b.to[0] - b.from[0]).abs() < TOL && b.to[2] - b.from[2] < -pull)
+        {
+            inward += 1;
+        }
+    }
+    inward > 0 && inward > outward
 }
 
 /// A groove profiled from both sides: passes that each come down a flank to the same bottom
