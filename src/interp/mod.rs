@@ -923,6 +923,9 @@ pub struct Interpreter<'a> {
     /// Whether the block has a code of the control's vocabulary that ncplan does not model
     /// (kept as intent): the words no modelled command takes are that code's.
     intent_words: bool,
+    /// Whether the block addresses a spindle by its number (Siemens `M2=5`): then several
+    /// spindle codes may stand in it, one a spindle (`M2=5 M3=5 M5`).
+    numbered_spindles: bool,
     /// The subroutine a code of the block calls by the machine's remap (`profile.machine`).
     remap_call: Option<String>,
     /// Where ops come from while a subprogram from another file runs: the call block.
@@ -1003,6 +1006,7 @@ impl<'a> Interpreter<'a> {
             misread_word: None,
             point_habit: [0; 3],
             intent_words: false,
+            numbered_spindles: false,
             remap_call: None,
             origin_override: None,
             block_cycle: None,

@@ -57,6 +57,7 @@ impl Interpreter<'_> {
         self.misread_before = self.misread;
         self.block_misread = false;
         // Codes first: a unit change in this block affects how its numbers scale.
+        self.numbered_spindles = block.spindle.is_some();
         let mut ok = self.read_codes(block, diags);
         let how = self.word_reading();
         for (k, w) in block.words.iter().enumerate() {
@@ -448,6 +449,22 @@ impl Interpreter<'_> {
             }
             if self.code(other).gives_way {
                 self.codes[k] = (idx, range);
+                return true;
+            }
+            // `M2=5 M3=5 M5`: each spindle's code, where a block addresses spindles by number
+            // (Siemens 840D: stop spindles 2, 3 and the master together). The analysis follows
+            // one spindle a block: the first is read, the others kept as intent.
+            if self.numbered_spindles && def.letter == 'M' && self.code(other).letter == 'M' {
+                diags.push(Diagnostic::new(
+                    Code::Unmodelled,
+                    range,
+                    format!(
+                        "{} beside {}: this block addresses several spindles by number, each its own code; ncplan follows the first spindle of a block, so {} is kept as intent",
+                        def.label(),
+                        self.code(other).label(),
+                        def.label()
+                    ),
+                ));
                 return true;
             }
             // `G91 G28 X0 Y0 Z100. G90`: where the control's manual says the last G code of a

@@ -1243,3 +1243,19 @@ T0303\nG0 X36. Z2.\nG1 X38. Z0. F0.06\nX39. Z-0.5\nZ-20.\nG0 X46.\nZ10.\nM30\n";
     assert!(ws.iter().all(|w| !w.contains("inside")), "{ws:?}");
     assert!(features.contains(&"outer diameter".to_owned()), "{features:?}");
 }
+
+/// A Siemens block may stop or start several spindles together, each by its number
+/// (`M2=5 M3=5 M5`: spindles 2 and 3 and the master). The control runs it; the analysis follows
+/// one spindle a block and keeps the others' codes as intent: no error.
+#[test]
+fn several_numbered_spindles_in_one_block_are_no_error() {
+    let d = Registry::shipped().get("siemens").unwrap();
+    let text = "G18 G90 G95 DIAMON\nS2=2000 M2=3\nS3=1500 M3=3\nG0 X40 Z2\nG1 Z-10 F0.1\nG0 X60\nM2=5 M3=5 M5\nM30\n";
+    let a = pipeline::analyze(text.as_bytes(), &d, &Profile::default());
+    assert!(!a.has_errors(), "{:?}", a.diagnostics);
+    assert!(
+        a.diagnostics.iter().any(|x| x.code.as_str() == "syntax::unmodelled" && x.message.contains("several spindles")),
+        "{:?}",
+        a.diagnostics
+    );
+}
