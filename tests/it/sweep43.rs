@@ -92,7 +92,13 @@
 //! (a tuning loop, a stray `%` that LinuxCNC rejects, a one-subroutine file). No Heidenhain,
 //! Haas, Okuma, Mazak or Fagor program was found in a repository not used before. Verdicts
 //! written by reading each file before anyone ran ncplan on it (LinuxCNC files also through
-//! rs274); to be measured once by the lead after the merge (figure to be filled in).
+//! rs274). Measured once on 6 December 2026 (integrate 4d5e17b, after every merge of the
+//! stop): 24/29 valid without an error (82.8%), family right for 27/29 valid (93.1%) and
+//! 30/32 of all, invalid still rejected 3/3. The misses: a grinder builder's cycle with
+//! two-dimensional array indices (`R[1,2]`, 63 errors), Siemens `RND` after an arc as the
+//! first move of a contour subprogram (12), `/3` skip levels in a block (4), `M2=5 M3=5 M5`
+//! (several numbered spindles in a block, 2: fixed after the measurement), two Fanuc `.NT`
+//! mould programs read as LinuxCNC (one with 1 error: `P0` no command takes).
 
 use std::path::PathBuf;
 
