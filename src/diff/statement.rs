@@ -804,6 +804,9 @@ fn split(s: &str, exponent: Option<&str>, keywords: &[&str]) -> Vec<Token> {
     let mut pieces: Vec<&str> = Vec::new();
     let mut start = 0;
     let mut depth = 0i32;
+    // Inside parentheses (a comment, a message, an argument list) `<` and `>` are text or
+    // comparisons, not a named parameter's brackets: `(ABORT, … must be >= 0)` stays one piece.
+    let mut parens = 0i32;
     let mut quoted = false;
     for (i, &c) in b.iter().enumerate() {
         match c {
@@ -816,8 +819,11 @@ fn split(s: &str, exponent: Option<&str>, keywords: &[&str]) -> Vec<Token> {
                 }
             }
             _ if quoted => {}
-            b'[' | b'(' | b'<' => depth += 1,
-            b']' | b')' | b'>' => depth -= 1,
+            b'(' => (depth, parens) = (depth + 1, parens + 1),
+            b')' => (depth, parens) = (depth - 1, parens - 1),
+            b'<' | b'>' if parens > 0 => {}
+            b'[' | b'<' => depth += 1,
+            b']' | b'>' => depth -= 1,
             b' ' if depth <= 0 => {
                 if i > start {
                     pieces.push(&s[start..i]);
@@ -850,12 +856,15 @@ fn split(s: &str, exponent: Option<&str>, keywords: &[&str]) -> Vec<Token> {
 
 fn token(t: &str) -> Token {
     let text = t.to_owned();
-    // An assignment: `LHS=RHS` at depth 0.
-    let mut depth = 0i32;
+    // An assignment: `LHS=RHS` at depth 0; inside parentheses `<` and `>` are no brackets.
+    let (mut depth, mut parens) = (0i32, 0i32);
     for (i, c) in t.char_indices() {
         match c {
-            '[' | '(' | '<' => depth += 1,
-            ']' | ')' | '>' => depth -= 1,
+            '(' => (depth, parens) = (depth + 1, parens + 1),
+            ')' => (depth, parens) = (depth - 1, parens - 1),
+            '<' | '>' if parens > 0 => {}
+            '[' | '<' => depth += 1,
+            ']' | '>' => depth -= 1,
             '=' if depth == 0 && i > 0 && !t[i + 1..].starts_with('=') => {
                 return Token { key: t[..i].to_owned(), value: t[i + 1..].to_owned(), text, sort: Sort::Assign };
             }
@@ -1076,5 +1085,19 @@ mod tests {
         b.insert(100, 77_777);
         let h = hunks(&s(&a), &s(&b));
         assert_eq!(h, [Hunk { original: 100..100, edited: 100..101 }, Hunk { original: 2500..2501, edited: 2501..2502 }]);
+    }
+
+    /// A comparison in a comment or a message is text: `(ABORT, … >= 0 and <= 4)` is one
+    /// piece and no assignment (held8 r342 read it as a variable set); a named parameter's
+    /// brackets outside parentheses still are brackets.
+    #[test]
+    fn comparisons_inside_parentheses_are_no_brackets() {
+        let t = tokens("(ABORT, Param #3: Startloc must be >= 0 and <= 4)");
+        assert_eq!(t.len(), 1, "{t:?}");
+        assert_ne!(t[0].sort, Sort::Assign);
+        let t = tokens("#<_z_clearance>=-0.1");
+        assert_eq!((t[0].sort, t[0].key.as_str(), t[0].value.as_str()), (Sort::Assign, "#<_z_clearance>", "-0.1"));
+        let t = tokens("IF (R1>=R2) GOTOF END");
+        assert!(t.iter().all(|x| x.sort != Sort::Assign), "{t:?}");
     }
 }
