@@ -682,9 +682,11 @@ fn lathe_s7_held_out_programs() {
 /// sidecars are committed (`extract.sh` writes the programs from mirrors); they were written by
 /// reading each program, before ncplan ran on it. Measured once on 6 December 2026 (integrate
 /// 4d5e17b): 26 of 66, no milling feature. Most misses are the ShopTurn programs: a Sinumerik
-/// lathe's X is a diameter and G96 feeds per revolution by the machine's reset state, which
-/// these programs do not state (`DIAMON`, `G95`), so the east-code parts read X as a radius;
-/// `CYCLE951`/`CYCLE952`/`CYCLE99`/`CYCLE92` give no workingsteps yet.
+/// lathe's X is a diameter by the machine's reset state (`DIAMON`), which these programs do not
+/// state, so the east-code parts read X as a radius; Siemens puts `G96` in the feed-type group
+/// (constant cutting rate with G95's feed per revolution), which the dictionary models apart, so
+/// no feed per revolution is found; `CYCLE951`/`CYCLE952`/`CYCLE99`/`CYCLE92` give no workingsteps
+/// yet.
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report
