@@ -380,6 +380,8 @@ impl Change {
             ChangeKind::StatementChanged | ChangeKind::OutputChanged => return self.statement_phrase(),
             ChangeKind::ReturnMoveChanged => return format!("return move: {}", self.statement_phrase()),
             ChangeKind::RotaryMoveChanged => return format!("rotary axis move: {}", self.statement_phrase()),
+            // A tilt statement no plan row names (no cut follows it), as written.
+            ChangeKind::WorkPlaneChanged if self.field == "work plane" => return format!("work plane: {}", self.statement_phrase()),
             ChangeKind::WorkPlaneChanged => {
                 let mut s = match self.field.as_str() {
                     "work_plane" => setup::phrase(&self.before, &self.after),

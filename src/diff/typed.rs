@@ -313,6 +313,22 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             M::OverridesOn | M::OverridesOff | M::FeedOverrideSwitch => (K::FeedOverrideChanged, "feed override"),
             M::ToolChange => (K::ToolRenamed, "tool"),
             M::PlaneXy | M::PlaneXz | M::PlaneYz => (K::PlaneChanged, "plane"),
+            // A tilted working plane set or reset (`PLANE SPATIAL …`, `G68.2`, `PLANE RESET`),
+            // where no plan row names it (no cut follows).
+            M::TiltSpatial
+            | M::TiltEuler
+            | M::TiltEulerIncremental
+            | M::TiltRollPitchYaw
+            | M::TiltThreePoints
+            | M::TiltTwoVectors
+            | M::TiltProjectionAngles
+            | M::TiltVector
+            | M::TiltPoints
+            | M::TiltProjected
+            | M::TiltAxial
+            | M::TiltToolAxis
+            | M::TiltRelative
+            | M::TiltReset => (K::WorkPlaneChanged, "work plane"),
             M::UnitsInch | M::UnitsMm => (K::UnitsChanged, "units"),
             M::RetractInitial | M::RetractR => (K::CycleParameterChanged, "cycle retract"),
             // A keyword frame (`TRANS`, `ATRANS`) with the shift its words state: one change.
@@ -458,7 +474,16 @@ fn whole_statement(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &D
     if !(added || removed) || !keyword {
         return None;
     }
-    let (kind, field) = kind_of(first, ctx, d)?;
+    // The longest keyword code the statement opens with: `PLANE SPATIAL …` is the spatial
+    // tilt, not the bare `PLANE` the dictionary keeps for the other forms.
+    let words: Vec<&Token> = diffs.iter().filter_map(|(x, y)| y.as_ref().or(x.as_ref())).collect();
+    let opens = |spec: &crate::dialect::KeywordSpec| {
+        let n = spec.text.split(' ').count();
+        n <= words.len() && spec.text.split(' ').zip(&words).all(|(w, t)| t.sort == Sort::Other && t.value.is_empty() && t.key == w)
+    };
+    let longest = d.keyword_codes().filter(|(_, spec)| opens(spec)).max_by_key(|(_, spec)| spec.text.len());
+    let head = longest.map(|(_, spec)| Token { key: spec.text.clone(), value: String::new(), text: spec.text.clone(), sort: Sort::Other });
+    let (kind, field) = kind_of(head.as_ref().unwrap_or(first), ctx, d)?;
     let text = diffs.iter().filter_map(|(x, y)| y.as_ref().or(x.as_ref())).map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ");
     let kind = if kind == ChangeKind::StopAdded && removed { ChangeKind::StopRemoved } else { kind };
     let (before, after) = if added { (String::new(), text) } else { (text, String::new()) };

@@ -1200,3 +1200,22 @@ fn points_added_to_whole_numbers_change_nothing_on_a_calculator_input_machine() 
     let got = pipeline::diff(&pa, &d, &pb, &d);
     assert!(got.is_empty(), "{}", rows(&got));
 }
+
+/// A tilted working plane added where no cut follows it (a program that only positions, as
+/// a test of a plane finder does): the statement is still the work plane's change, not a raw
+/// statement row, on every control's tilt statement.
+#[test]
+fn a_tilted_plane_added_without_cuts_is_a_work_plane_change() {
+    let a = "0 BEGIN PGM T MM\n1 PLANE RESET TURN FMAX\n2 L Z+0 R0 FMAX M92\n3 END PGM T MM\n";
+    let b =
+        "0 BEGIN PGM T MM\n1 PLANE RESET TURN FMAX\n2 L Z+0 R0 FMAX M92\n3 PLANE SPATIAL SPA-45 SPB+0 SPC+0 TURN FMAX\n4 END PGM T MM\n";
+    let got = changes(a, b, "heidenhain");
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert_eq!(got[0].kind, ChangeKind::WorkPlaneChanged, "{}", rows(&got));
+    assert_eq!(got[0].line, Some(4), "{}", rows(&got));
+    assert_eq!(got[0].phrase(), "work plane: `PLANE SPATIAL SPA-45 SPB0 SPC0 TURN FMAX` added at line 4");
+    let a = "G17 G90 G54\nG0 X0 Y0 Z50\nM30\n";
+    let b = "G17 G90 G54\nG0 X0 Y0 Z50\nG68.2 X0 Y0 Z0 I0 J30 K0\nG53.1\nG69\nM30\n";
+    let got = changes(a, b, "fanuc");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::WorkPlaneChanged && c.line == Some(3)), "{}", rows(&got));
+}
