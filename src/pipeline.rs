@@ -221,11 +221,13 @@ pub fn analyze_pair(original: (Vec<u8>, &Dialect, &Profile), edited: (Vec<u8>, &
     (a, b)
 }
 
-/// `a` read again on `machine`, which `other`'s words showed: its decoding findings kept, the
-/// other's evidence added to say why.
+/// `a` read again on `machine`, which `other`'s words showed: its decoding findings and its
+/// own evidence kept (a reading on a machine already so set finds none again), the other's
+/// evidence added to say why.
 fn read_on(a: Analysis, dialect: &Dialect, machine: &Profile, other: &[Diagnostic]) -> Analysis {
     let Analysis { source, canon, diagnostics, .. } = a;
-    let mut kept: Vec<Diagnostic> = diagnostics.into_iter().filter(|d| d.code.as_str().starts_with("text::")).collect();
+    let mut kept: Vec<Diagnostic> =
+        diagnostics.into_iter().filter(|d| d.code.as_str().starts_with("text::") || MachineShown::is_evidence(d.code)).collect();
     let (plan, found) = plan_of_text(Text::Whole(&source.text), dialect, machine);
     kept.extend(found);
     kept.extend(
