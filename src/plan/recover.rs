@@ -1077,20 +1077,6 @@ impl<'p> Recovery<'p> {
             | CanonOp::OrientSpindle { .. }
                 if self.other_spindle(&c.op) => {}
             CanonOp::SetSpindleSpeed(s) => self.speed = round_sig(*s),
-            // Another spindle than the main one turns (a driven tool) or stops.
-            CanonOp::StartSpindleClockwise | CanonOp::StartSpindleCounterclockwise | CanonOp::StopSpindleTurning
-                if self.spindle_id != SpindleId::Main =>
-            {
-                let dir = match c.op {
-                    CanonOp::StartSpindleClockwise => SpindleDir::Cw,
-                    CanonOp::StartSpindleCounterclockwise => SpindleDir::Ccw,
-                    _ => SpindleDir::Off,
-                };
-                self.others.entry(self.spindle_id).or_insert((0.0, dir)).1 = dir;
-            }
-            // On a lathe, the main spindle oriented is held in position (the C axis) until it
-            // turns again.
-            CanonOp::OrientSpindle { .. } if self.spindle_id == SpindleId::Main => self.held = true,
             CanonOp::SetSpindleMode(max) => {
                 self.css = *max;
                 self.lathe |= max.is_some() && self.plane == Plane::Xz;

@@ -704,9 +704,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
             let to_axis = xmin < 0.05;
             // Cuts to the axis at several places along Z step down a face (a facing cycle
             // written as moves); a parting tool plunges to the axis at one.
-            let mut at_axis: Vec<f64> = cuts.iter().filter(|m| across(m) && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
-            at_axis.sort_by(f64::total_cmp);
-            at_axis.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+            let at_axis = axis_reached_at(&cuts);
             // A cut to the axis nearer the part's front than its back (the deepest the other
             // workingsteps cut) faces, a second face behind a first one; a parting tool cuts
             // off behind the part.
@@ -745,11 +743,17 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
 /// Z, stepping (its Q) down to the front at the program zero or in front of it, as a turner
 /// faces a bar with a grooving cycle. A cut-off reaches the axis at one Z, behind the part.
 fn groove_cycle_faces(cuts: &[Move]) -> bool {
-    let mut at_axis: Vec<f64> =
-        cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
-    at_axis.sort_by(f64::total_cmp);
-    at_axis.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+    let at_axis = axis_reached_at(cuts);
     at_axis.len() > 1 && at_axis[0] >= -0.5
+}
+
+/// The places along Z where cuts across X reach the axis, each once, in order.
+fn axis_reached_at(cuts: &[Move]) -> Vec<f64> {
+    let mut at: Vec<f64> =
+        cuts.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL && m.from[0].min(m.to[0]) < 0.05).map(|m| m.to[2]).collect();
+    at.sort_by(f64::total_cmp);
+    at.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+    at
 }
 
 /// Whether a run of cuts follows the contour over (nearly) the whole length `length` the
