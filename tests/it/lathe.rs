@@ -697,7 +697,7 @@ fn print_real_misses() {
         println!("{m}");
     }
     for folder in
-        ["lathe_real", "lathe_real_heldout", "lathe_new", "lathe_new_heldout", "lathe_s7_heldout", "lathe_s8_heldout", "lathe_s9_heldout"]
+        ["lathe_real", "lathe_real_heldout", "lathe_new", "lathe_new_heldout", "lathe_s7_heldout", "lathe_s8_heldout", "lathe_s9_heldout", "lathe_s10_heldout"]
     {
         if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
             continue;
