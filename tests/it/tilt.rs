@@ -578,7 +578,8 @@ fn real_programs_lie_on_their_faces() {
         part.1.extend(misses);
     }
     for (part, (listed, misses)) in &score {
-        println!("real tilt programs, {part}: {} of {listed} met\n{}", listed - misses.len(), misses.join("\n"));
+        // A CC1 read-back miss is counted beside the items, so misses can outnumber them.
+        println!("real tilt programs, {part}: {} of {listed} met\n{}", listed.saturating_sub(misses.len()), misses.join("\n"));
     }
     assert!(sides.len() >= 15, "{} real programs", sides.len());
     let built = &score["built"];
@@ -598,7 +599,7 @@ fn real_programs_lie_on_their_faces() {
         assert!(h9.0 - h9.1.len() >= least, "sweep 9 held-back part: {}", h9.1.join("\n"));
     }
     if let (Some(h10), Some(least)) = (score.get("held10"), HELD10_SCORE) {
-        assert!(h10.0 - h10.1.len() >= least, "sweep 10 held-back part: {}", h10.1.join("\n"));
+        assert!(h10.0.saturating_sub(h10.1.len()) >= least, "sweep 10 held-back part: {}", h10.1.join("\n"));
     }
     let Some(held) = score.get("held") else { return };
     assert!(
