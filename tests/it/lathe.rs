@@ -696,9 +696,16 @@ fn print_real_misses() {
     for m in &misses {
         println!("{m}");
     }
-    for folder in
-        ["lathe_real", "lathe_real_heldout", "lathe_new", "lathe_new_heldout", "lathe_s7_heldout", "lathe_s8_heldout", "lathe_s9_heldout"]
-    {
+    for folder in [
+        "lathe_real",
+        "lathe_real_heldout",
+        "lathe_new",
+        "lathe_new_heldout",
+        "lathe_s7_heldout",
+        "lathe_s8_heldout",
+        "lathe_s9_heldout",
+        "lathe_s10_heldout",
+    ] {
         if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
             continue;
         }

@@ -533,6 +533,14 @@ fn real_programs_lie_on_their_faces() {
     /// not applied under `CYCLE800`), the `TRANSMIT` pitch-circle holes, and the CL path's tool
     /// axis.
     const HELD9_SCORE: Option<usize> = Some(5);
+    /// Sweep 10's held-back part (`held10`, branch gatherlt10: hyperMILL 2025 shop programs of
+    /// szborok/json_scanner and szborok/BRK_CNC_CORE, Heidenhain `PLANE SPATIAL ... TABLE ROT`
+    /// after a `CYCL DEF 7` datum shift on a DMU 100P, a DMU 85 and a Trimill, drilling, bore
+    /// milling and tapping on the block's side faces; a school's Haas program of Meloc3D/MFPM
+    /// indexing A90 then B180 without tool centre point control; no licence stated, so
+    /// `extract.sh` writes them from the mirrors), 28 items written before ncplan read them.
+    /// Not yet scored: no minimum until the lead measures it once.
+    const HELD10_SCORE: Option<usize> = None;
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
     let mut sides: Vec<_> =
@@ -570,7 +578,8 @@ fn real_programs_lie_on_their_faces() {
         part.1.extend(misses);
     }
     for (part, (listed, misses)) in &score {
-        println!("real tilt programs, {part}: {} of {listed} met\n{}", listed - misses.len(), misses.join("\n"));
+        // A CC1 read-back miss is counted beside the items, so misses can outnumber them.
+        println!("real tilt programs, {part}: {} of {listed} met\n{}", listed.saturating_sub(misses.len()), misses.join("\n"));
     }
     assert!(sides.len() >= 15, "{} real programs", sides.len());
     let built = &score["built"];
@@ -588,6 +597,9 @@ fn real_programs_lie_on_their_faces() {
     }
     if let (Some(h9), Some(least)) = (score.get("held9"), HELD9_SCORE) {
         assert!(h9.0 - h9.1.len() >= least, "sweep 9 held-back part: {}", h9.1.join("\n"));
+    }
+    if let (Some(h10), Some(least)) = (score.get("held10"), HELD10_SCORE) {
+        assert!(h10.0.saturating_sub(h10.1.len()) >= least, "sweep 10 held-back part: {}", h10.1.join("\n"));
     }
     let Some(held) = score.get("held") else { return };
     assert!(
