@@ -587,8 +587,42 @@ impl Interpreter<'_> {
         let at = new.from_base(old.to_base([self.st.pos[0], self.st.pos[1], self.st.pos[2]]));
         self.st.pos[..3].copy_from_slice(&at);
         self.st.frame = frame;
+        self.st.frame_set = frame.map(|f| (f, self.st.pos[5]));
         self.emit(sink, CanonOp::WorkPlane(frame.map(Box::new)));
     }
+
+    /// A C move under a tilted working plane, without tool centre point control: the C axis
+    /// (a mill-turn's work spindle positioned as an axis, `SPOS` then `C4=120`; a rotary
+    /// table) turns the part about its Z under the plane, which the control does not follow
+    /// (the plane's frame stays where it was set on the machine). The features cut next lie
+    /// on the part turned by C from where it stood when the plane was set: the plane turned
+    /// about the part's Z by that angle, C positive from +X towards +Y (the C-axis lathe's
+    /// reading, `interp::live`). The program's coordinates stay; only the plane on the part
+    /// turns.
+    pub(in crate::interp) fn turn_part_under_plane(&mut self, sink: &mut dyn CanonSink) {
+        let Some((set, c0)) = self.st.frame_set else { return };
+        if self.active_motion_code().is_none() {
+            return;
+        }
+        let i = Role::C as usize;
+        let c = match self.slots[i] {
+            Some(_) if self.incremental(Role::C) => self.st.pos[i] + self.slot(Role::C).unwrap_or(0.0),
+            Some(slot) => slot.value,
+            None => return,
+        };
+        let turn = rot(2, c - c0);
+        let turned = Frame { origin: mul_v(turn, set.origin), rotation: mul(turn, set.rotation) };
+        let frame = Some(turned).filter(|f| !f.is_identity());
+        if frame == self.st.frame {
+            return;
+        }
+        self.st.frame = frame;
+        self.emit(sink, CanonOp::WorkPlane(frame.map(Box::new)));
+    }
+}
+
+fn mul_v(a: [[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| (0..3).map(|k| a[i][k] * v[k]).sum())
 }
 
 #[cfg(test)]
