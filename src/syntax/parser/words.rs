@@ -495,6 +495,11 @@ impl Lexer<'_, '_> {
         if number == 0 || self.b.get(j + number).is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b'(' | b'[' | b'$')) {
             return false;
         }
+        // An address the dictionary declares by that name (`C3=`, the tool axis' K under
+        // TRAORI) is that address, not the letter's axis numbered.
+        if !spindle && self.dialect.long_addresses().any(|a| a.name.as_bytes().eq_ignore_ascii_case(&self.b[start..eq])) {
+            return false;
+        }
         let Ok(index) = self.text[start + 1..eq].parse::<u8>() else { return false };
         self.i = eq + 1;
         let Some(value) = self.value(start) else { return true };
