@@ -163,6 +163,7 @@ mod live;
 pub mod machine;
 mod motion;
 mod named_turn;
+mod pocket;
 mod read;
 
 pub use flow::{NoPrograms, ProgramSource, run};

@@ -1142,6 +1142,8 @@ impl<'p> Recovery<'p> {
             CanonOp::CycleEnd => self.in_cycle = None,
             // Diameter or radius mode: only a lathe has them.
             CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
+            // A milling cycle is one operation: a workingstep of its own.
+            CanonOp::Setting(Setting::MillCycle(_)) => self.close(),
             CanonOp::Turning(t) => self.turning_begins(t),
             CanonOp::TurningEnd => {
                 self.turn = None;
