@@ -63,7 +63,9 @@ impl Interpreter<'_> {
         let mut d = Diagnostic::new(
             Code::Unsupported,
             range,
-            format!("{name}: the pocket's finishing pass on its wall is written as the cycle's moves; its roughing passes are not expanded"),
+            format!(
+                "{name}: the pocket's finishing pass on its wall is written as the cycle's moves; its roughing passes are not expanded"
+            ),
         );
         d.severity = Severity::Note;
         self.limited(diags, "pocket-passes", d);

@@ -473,8 +473,7 @@ impl Lexer<'_, '_> {
     /// Likewise an axis named by letter and number (`C4=120`, `axis-index`): the letter's axis.
     fn spindle_address(&mut self, start: usize) -> bool {
         let letter = self.b[start].to_ascii_uppercase();
-        let Some(a) = self.dialect.addresses.iter().find(|a| (a.spindle_index || a.axis_index) && a.name.as_bytes() == [letter])
-        else {
+        let Some(a) = self.dialect.addresses.iter().find(|a| (a.spindle_index || a.axis_index) && a.name.as_bytes() == [letter]) else {
             return false;
         };
         let (role, spindle) = (a.role, a.spindle_index);
