@@ -46,15 +46,19 @@ impl Interpreter<'_> {
             _ => get(Role::PocketRadius).filter(|r| *r > 0.0).map(|r| Shape::Circle { c: centre, r }),
         };
         let (Some(surface), Some(shape)) = (get(Role::ReferencePlane), shape) else {
-            let msg = format!("{name} states no reference plane or no size: the pocket is not milled here");
-            diags.push(Diagnostic::new(Code::CycleIncomplete, range, msg));
+            let msg = format!("{name} states no reference plane or no size: kept as intent only, its moves are not expanded");
+            let mut d = Diagnostic::new(Code::CycleIncomplete, range, msg);
+            d.severity = Severity::Warning;
+            diags.push(d);
             return;
         };
         let floor = match (get(Role::DepthRelative), get(Role::Depth)) {
             (Some(d), _) => surface - d.abs(),
             (None, Some(d)) => d,
             (None, None) => {
-                diags.push(Diagnostic::new(Code::CycleIncomplete, range, format!("{name} has no depth")));
+                let mut d = Diagnostic::new(Code::CycleIncomplete, range, format!("{name} has no depth: kept as intent only"));
+                d.severity = Severity::Warning;
+                diags.push(d);
                 return;
             }
         };

@@ -809,3 +809,20 @@ fn a_g68_2_plane_over_several_blocks_is_made_of_its_own_blocks() {
     let other = run("G21 G90\nG68.2 P3 Q1 X0. Y0. Z0. I1. J0. K0.\nG68.2 P2 Q3 X0. Y1. Z0.\nM30\n");
     assert!(said(&other));
 }
+
+/// A ShopMill pocket made longer is that pocket changed, told in its cycle's terms: no
+/// workingstep or feature removed or added (`POCKET3` milled where called, `interp::pocket`).
+#[test]
+fn a_shopmill_pocket_made_longer_is_its_size_changed() {
+    edit(
+        "siemens_shopmill_pockets",
+        "POCKET3(50,0,2,8,40,",
+        "POCKET3(50,0,2,8,44,",
+        expect_test::expect![[r#"
+        feature_changed | pocket_width | 40 mm | 44 mm | 8 | 8
+          pocket width changed from 40 mm to 44 mm
+        cycle_parameter_changed | POCKET3 _LENG (pocket length) | 40 | 44 | 8 | 8
+          POCKET3  LENG (pocket length) changed from 40 to 44 at line 8
+    "#]],
+    );
+}
