@@ -313,7 +313,19 @@ impl Interpreter<'_> {
             }
             _ => return,
         };
+        // A plane from the one in force (relative angles, G68.4) already stands on its datum.
+        let frame = if matches!(meaning, Meaning::TiltRelative | Meaning::TiltEulerIncremental) { frame } else { self.on_datum(frame) };
         self.set_frame(frame, sink);
+    }
+
+    /// A plane stated in the coordinates in force: turned about the datum a local shift moved
+    /// the program zero to (Heidenhain `CYCL DEF 7`, `TRANS DATUM`, G52), as the TNC tilts
+    /// about the active datum (a datum shift first, then the plane: the TNC 640 manual's
+    /// order); its origin is then that datum's and the program's coordinates on it are the
+    /// plane's. An untilted plane stays untilted.
+    fn on_datum(&self, frame: Option<Frame>) -> Option<Frame> {
+        let shift = [self.st.g92[0], self.st.g92[1], self.st.g92[2]];
+        frame.filter(|f| !f.is_identity()).map(|f| Frame { origin: std::array::from_fn(|i| f.origin[i] + shift[i]), rotation: f.rotation })
     }
 
     /// One block of a tilted plane stated over several (Fanuc `G68.2 P2 Q0..Q3`, `G68.2 P3
@@ -398,7 +410,8 @@ impl Interpreter<'_> {
             return;
         }
         let [a, b, c] = given.map(|v| v.unwrap_or(0.0));
-        self.set_frame(Some(Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [c, b, a]) }), sink);
+        let frame = self.on_datum(Some(Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [c, b, a]) }));
+        self.set_frame(frame, sink);
     }
 
     /// A swivel cycle (`CYCLE800(_FR, _TC, _ST, _MODE, _X0, …)`) with its arguments; without
@@ -582,8 +595,11 @@ impl Interpreter<'_> {
         if frame == self.st.frame {
             return;
         }
-        let old = self.st.frame.unwrap_or(Frame::IDENTITY);
-        let new = frame.unwrap_or(Frame::IDENTITY);
+        // The untilted plane's coordinates stand on the datum a local shift moved (as a
+        // plane's origin does: [`Interpreter::on_datum`]).
+        let datum = Frame { origin: [self.st.g92[0], self.st.g92[1], self.st.g92[2]], ..Frame::IDENTITY };
+        let old = self.st.frame.unwrap_or(datum);
+        let new = frame.unwrap_or(datum);
         let at = new.from_base(old.to_base([self.st.pos[0], self.st.pos[1], self.st.pos[2]]));
         self.st.pos[..3].copy_from_slice(&at);
         self.st.frame = frame;
