@@ -285,6 +285,11 @@ pub enum Setting {
     /// Lathe diameter mode on (X words are diameters: a lathe dictionary's start, `G7`,
     /// `DIAMON`) or off (`G8`, `DIAMOF`): the program turns about Z.
     DiameterMode(bool),
+    /// A milling cycle's moves begin (its name: `POCKET3`) or end (`None`): one operation,
+    /// whose moves are only the cycle's finishing pass on its wall (`interp::pocket`), so
+    /// that the plan keeps it a workingstep of its own and a translation does not write
+    /// them as the whole cycle.
+    MillCycle(Option<String>),
     /// Tool centre point control on (`M128`, `FUNCTION TCPM`, `TRAORI`, `G43.4`) or off: X Y Z
     /// are the tool tip's on the part, and the rotary axes turn the tool about it (the tool
     /// axis then follows as `ToolAxis` markers).
@@ -1032,6 +1037,11 @@ fn setting(out: &mut Vec<u8>, s: &Setting) {
             }
             write!(out, "\")")
         }
+        Setting::MillCycle(Some(name)) => {
+            let name: String = name.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
+            write!(out, "COMMENT(\"ncplan: milling cycle {name} begins\")")
+        }
+        Setting::MillCycle(None) => write!(out, "COMMENT(\"ncplan: milling cycle ends\")"),
         Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
         Setting::WorkOffset(i) => write!(out, "COMMENT(\"ncplan: work offset {i} stated\")"),
         Setting::DiameterMode(on) => write!(out, "COMMENT(\"ncplan: diameter mode {}\")", if *on { "on" } else { "off" }),

@@ -204,8 +204,10 @@ impl Trace {
         self.moves.iter().map(|m| m.slack).fold(0.0, f64::max)
     }
 
+    /// A coordinate in mm in the frame the move runs in: the G92 shift added on the untilted
+    /// plane; a tilted plane's origin already stands on the datum it moved (`interp::exec::tilt`).
     fn mm(&self, v: f64, k: usize) -> f64 {
-        v * self.scale + self.g92[k]
+        v * self.scale + if self.tilt.is_some() { 0.0 } else { self.g92[k] }
     }
 
     fn point(&self, p: &[f64]) -> [f64; 3] {

@@ -677,6 +677,10 @@ pub struct AddressDef {
     /// Whether the address may carry the number of the spindle it addresses before `=`
     /// (Siemens `M2=3`, `S2=2000`: spindle 2), with a number for its value.
     pub spindle_index: bool,
+    /// Whether the address may carry a number naming one of several axes of its kind before
+    /// `=` (Siemens `C4=120`: the axis the machine data names C4, here the C axis), with a
+    /// number for its value.
+    pub axis_index: bool,
 }
 
 /// What a keyword code reads after itself, before the block's other words.

@@ -464,6 +464,16 @@ vocab! {
         /// Positions on a circle (Siemens `HOLES2`): centre, radius, start angle and the angle
         /// between them (0: the full circle shared evenly). The modal cycle runs at each.
         PatternCircle = "pattern-circle",
+        /// A rectangular pocket milled by a cycle (Siemens `POCKET3`): its reference point
+        /// (`pocket-x`, `pocket-y`, the centre), `pocket-length` along the plane's first axis
+        /// turned by `pocket-angle`, `width`, `corner-radius`, from the reference plane to
+        /// its depth; its moves are the finishing pass on the wall at the floor, the contour as
+        /// programmed under cutter compensation (the roughing passes are not expanded).
+        MillPocketRect = "mill-pocket-rect",
+        /// A circular pocket milled by a cycle (Siemens `POCKET4`): centre (`pocket-x`,
+        /// `pocket-y`), `pocket-radius`, depth; its moves are the finishing pass as for
+        /// `mill-pocket-rect`.
+        MillPocketCircle = "mill-pocket-circle",
         /// A grid of positions (Siemens `CYCLE801`): a corner, an angle, column and row
         /// spacing and counts, visited row by row in a meander. The modal cycle runs at each.
         PatternGrid = "pattern-grid",
@@ -623,6 +633,16 @@ vocab! {
         PatternRowCount = "pattern-row-count",
         /// The radius of a circle of positions.
         PatternRadius = "pattern-radius",
+        /// A milled pocket's reference point (its centre), along the plane's first axis.
+        PocketX = "pocket-x",
+        /// A milled pocket's reference point, along the plane's second axis.
+        PocketY = "pocket-y",
+        /// A rectangular pocket's length, along its angle.
+        PocketLength = "pocket-length",
+        /// A rectangular pocket's angle, in degrees from the plane's first axis.
+        PocketAngle = "pocket-angle",
+        /// A circular pocket's radius.
+        PocketRadius = "pocket-radius",
         /// The angle between positions on a circle, in degrees (0: the full circle shared evenly).
         PatternStepAngle = "pattern-step-angle",
         /// A blank definition's flags saying which of its numbers are absolute (Siemens

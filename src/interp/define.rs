@@ -147,6 +147,21 @@ impl Interpreter<'_> {
             self.tilt_cycle(&args, block_range, sink, diags);
             return;
         }
+        // A pocket cycle mills where it is called; under a modal call (`MCALL POCKET3`) at
+        // the positions after it, which are not modelled: kept as intent.
+        let pocket = |m: Meaning| matches!(m, Meaning::MillPocketRect | Meaning::MillPocketCircle);
+        if let Some(ci) = self.block_cycle.take_if(|&mut ci| pocket(self.dialect.cycles[ci].meaning)) {
+            let args = std::mem::take(&mut self.cycle_args);
+            let cycle = &self.dialect.cycles[ci];
+            let (meaning, name) = (cycle.meaning, cycle.name.clone());
+            if modal {
+                let msg = format!("{name} called modally is kept as intent only: its moves are not expanded");
+                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, block_range, msg));
+            } else {
+                self.mill_pocket(meaning, &name, &args, block_range, sink, diags);
+            }
+            return;
+        }
         let turning = |m: Meaning| matches!(m, Meaning::CycleRoughTurn | Meaning::CycleGroove | Meaning::CycleThreadMultiple);
         if let Some(ci) = self.block_cycle.take_if(|&mut ci| turning(self.dialect.cycles[ci].meaning)) {
             let args = std::mem::take(&mut self.cycle_args);

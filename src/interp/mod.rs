@@ -163,6 +163,7 @@ mod live;
 pub mod machine;
 mod motion;
 mod named_turn;
+mod pocket;
 mod read;
 
 pub use flow::{NoPrograms, ProgramSource, run};
@@ -581,6 +582,9 @@ struct State {
     rotation: Option<(f64, f64, f64, f64)>,
     /// The tilted working plane in force (`PLANE SPATIAL`, `CYCLE800`, `G68.2`).
     frame: Option<crate::canon::Frame>,
+    /// The tilted working plane as it was put in force, and the C axis's position then: a C
+    /// move under it turns the part about its Z ([`Interpreter::turn_part_under_plane`]).
+    frame_set: Option<(crate::canon::Frame, f64)>,
     /// Tool centre point control (`M128`, `TRAORI`, `G43.4`): the rotary axes turn the tool axis.
     tcp: bool,
     /// Whether tool centre point control is the machine's kinematics' (a switchable
@@ -704,6 +708,7 @@ impl State {
             motion_continued: false,
             rotation: None,
             frame: None,
+            frame_set: None,
             tcp: false,
             tcp_machine: false,
             tilt_steps: None,
@@ -1586,6 +1591,8 @@ impl<'a> Interpreter<'a> {
             self.tool_axis(sink);
         } else if self.filled & (1 << Role::A as u32 | 1 << Role::B as u32 | 1 << Role::C as u32) != 0 && self.rotary_turns_tool() {
             self.rotary_tool_axis(sink, diags);
+        } else if self.filled & (1 << Role::C as u32) != 0 && self.st.frame_set.is_some() && !self.st.tcp {
+            self.turn_part_under_plane(sink);
         }
         if let Some(sub) = self.remap_call.take() {
             // Carried out after the block (a call or return its own codes ask for goes instead).

@@ -741,6 +741,9 @@ struct Recovery<'p> {
     setup: Option<Setup>,
     /// The tool axis the canon last stated (5-axis moves), in the plane's coordinates.
     tool_axis: P3,
+    /// The tool axis the last move ran with: a feed to where the tool is that turns it to
+    /// another axis is a move (the rotary axes turn about the tip), not one that goes nowhere.
+    moved_axis: P3,
     /// Length offset number in force.
     h: Option<u32>,
     /// Cutter compensation in force.
@@ -815,6 +818,7 @@ impl<'p> Recovery<'p> {
             wcs: 1,
             setup: None,
             tool_axis: [0.0, 0.0, 1.0],
+            moved_axis: [0.0, 0.0, 1.0],
             h: None,
             comp: None,
             comp_radius: None,
@@ -1138,6 +1142,8 @@ impl<'p> Recovery<'p> {
             CanonOp::CycleEnd => self.in_cycle = None,
             // Diameter or radius mode: only a lathe has them.
             CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
+            // A milling cycle is one operation: a workingstep of its own.
+            CanonOp::Setting(Setting::MillCycle(_)) => self.close(),
             CanonOp::Turning(t) => self.turning_begins(t),
             CanonOp::TurningEnd => {
                 self.turn = None;
@@ -1146,6 +1152,7 @@ impl<'p> Recovery<'p> {
             // A probe move measures; it positions like a rapid and cuts nothing.
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
                 self.abc = [p[3], p[4], p[5]];
+                self.moved_axis = self.tool_axis;
                 let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
                 let mv = self.mv(MoveKind::Rapid, to, c.line);
                 if self.in_cycle.is_some() {
@@ -1162,11 +1169,17 @@ impl<'p> Recovery<'p> {
                 let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
                 self.abc[2] = c_before;
                 // A feed that goes nowhere (a post's repeated position, `G1 X0` at X0) cuts
-                // nothing: written or left out, the toolpath is the same.
-                if geom::dist(to, self.pos) < EPS && abc.iter().zip(&self.abc).all(|(a, b)| (a - b).abs() < EPS) {
+                // nothing: written or left out, the toolpath is the same. One that turns the
+                // tool to another axis there (a CL `GOTO/x,y,z,i,j,k` at the same point, the
+                // first from where the tool stands) is a move about the tip.
+                if geom::dist(to, self.pos) < EPS
+                    && abc.iter().zip(&self.abc).all(|(a, b)| (a - b).abs() < EPS)
+                    && self.tool_axis == self.moved_axis
+                {
                     return;
                 }
                 self.abc = abc;
+                self.moved_axis = self.tool_axis;
                 let mv = self.mv(MoveKind::Line, to, c.line);
                 self.cut(mv, c);
             }
@@ -1357,6 +1370,7 @@ impl<'p> Recovery<'p> {
     fn arc_feed(&mut self, c: &Canon) {
         let CanonOp::ArcFeed { first_end, second_end, first_axis, second_axis, rotation, axis_end, abc } = &c.op else { return };
         self.abc = *abc;
+        self.moved_axis = self.tool_axis;
         let (a0, a1, n) = self.plane.axes();
         let mut to = [0.0; 3];
         to[a0] = self.mm(*first_end);

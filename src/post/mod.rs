@@ -2018,7 +2018,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Turning(t) => self.lathe_cycle(canon, t),
             CanonOp::Setting(Setting::DiameterMode(on)) => self.diameter_mode(canon, *on),
             CanonOp::Setting(Setting::ToolCentrePoint(on)) => self.tool_centre_point(canon, *on),
-            CanonOp::TurningEnd => {}
+            CanonOp::Setting(Setting::MillCycle(Some(name))) => {
+                let what = format!(
+                    "{name} is read as its finishing pass only (its roughing is not expanded): written as moves, the target would cut the wall at full depth without roughing the pocket"
+                );
+                self.note(Code::PostUnwritable, canon, "mill-cycle", what);
+            }
+            CanonOp::Setting(Setting::MillCycle(None)) | CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }

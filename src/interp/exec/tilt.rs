@@ -313,7 +313,19 @@ impl Interpreter<'_> {
             }
             _ => return,
         };
+        // A plane from the one in force (relative angles, G68.4) already stands on its datum.
+        let frame = if matches!(meaning, Meaning::TiltRelative | Meaning::TiltEulerIncremental) { frame } else { self.on_datum(frame) };
         self.set_frame(frame, sink);
+    }
+
+    /// A plane stated in the coordinates in force: turned about the datum a local shift moved
+    /// the program zero to (Heidenhain `CYCL DEF 7`, `TRANS DATUM`, G52), as the TNC tilts
+    /// about the active datum (a datum shift first, then the plane: the TNC 640 manual's
+    /// order); its origin is then that datum's and the program's coordinates on it are the
+    /// plane's. An untilted plane stays untilted.
+    fn on_datum(&self, frame: Option<Frame>) -> Option<Frame> {
+        let shift = [self.st.g92[0], self.st.g92[1], self.st.g92[2]];
+        frame.filter(|f| !f.is_identity()).map(|f| Frame { origin: std::array::from_fn(|i| f.origin[i] + shift[i]), rotation: f.rotation })
     }
 
     /// One block of a tilted plane stated over several (Fanuc `G68.2 P2 Q0..Q3`, `G68.2 P3
@@ -398,7 +410,8 @@ impl Interpreter<'_> {
             return;
         }
         let [a, b, c] = given.map(|v| v.unwrap_or(0.0));
-        self.set_frame(Some(Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [c, b, a]) }), sink);
+        let frame = self.on_datum(Some(Frame { origin: [0.0; 3], rotation: chain([2, 1, 0], [c, b, a]) }));
+        self.set_frame(frame, sink);
     }
 
     /// A swivel cycle (`CYCLE800(_FR, _TC, _ST, _MODE, _X0, …)`) with its arguments; without
@@ -582,13 +595,50 @@ impl Interpreter<'_> {
         if frame == self.st.frame {
             return;
         }
-        let old = self.st.frame.unwrap_or(Frame::IDENTITY);
-        let new = frame.unwrap_or(Frame::IDENTITY);
+        // The untilted plane's coordinates stand on the datum a local shift moved (as a
+        // plane's origin does: [`Interpreter::on_datum`]).
+        let datum = Frame { origin: [self.st.g92[0], self.st.g92[1], self.st.g92[2]], ..Frame::IDENTITY };
+        let old = self.st.frame.unwrap_or(datum);
+        let new = frame.unwrap_or(datum);
         let at = new.from_base(old.to_base([self.st.pos[0], self.st.pos[1], self.st.pos[2]]));
         self.st.pos[..3].copy_from_slice(&at);
         self.st.frame = frame;
+        self.st.frame_set = frame.map(|f| (f, self.st.pos[5]));
         self.emit(sink, CanonOp::WorkPlane(frame.map(Box::new)));
     }
+
+    /// A C move under a tilted working plane, without tool centre point control: the C axis
+    /// (a mill-turn's work spindle positioned as an axis, `SPOS` then `C4=120`; a rotary
+    /// table) turns the part about its Z under the plane, which the control does not follow
+    /// (the plane's frame stays where it was set on the machine). The features cut next lie
+    /// on the part turned by C from where it stood when the plane was set: the plane turned
+    /// about the part's Z by that angle, C positive from +X towards +Y (the C-axis lathe's
+    /// reading, `interp::live`). The program's coordinates stay; only the plane on the part
+    /// turns.
+    pub(in crate::interp) fn turn_part_under_plane(&mut self, sink: &mut dyn CanonSink) {
+        let Some((set, c0)) = self.st.frame_set else { return };
+        if self.active_motion_code().is_none() {
+            return;
+        }
+        let i = Role::C as usize;
+        let c = match self.slots[i] {
+            Some(_) if self.incremental(Role::C) => self.st.pos[i] + self.slot(Role::C).unwrap_or(0.0),
+            Some(slot) => slot.value,
+            None => return,
+        };
+        let turn = rot(2, c - c0);
+        let turned = Frame { origin: mul_v(turn, set.origin), rotation: mul(turn, set.rotation) };
+        let frame = Some(turned).filter(|f| !f.is_identity());
+        if frame == self.st.frame {
+            return;
+        }
+        self.st.frame = frame;
+        self.emit(sink, CanonOp::WorkPlane(frame.map(Box::new)));
+    }
+}
+
+fn mul_v(a: [[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| (0..3).map(|k| a[i][k] * v[k]).sum())
 }
 
 #[cfg(test)]

@@ -470,10 +470,13 @@ impl Lexer<'_, '_> {
     /// `M2=3`, `S2=2000` (Siemens): a spindle word with the number of the spindle it addresses
     /// before `=`, where the dialect's address takes one (`spindle-index`). A number value only:
     /// `M1=DIR` in a procedure (a value the caller gives) stays what it was read as before.
+    /// Likewise an axis named by letter and number (`C4=120`, `axis-index`): the letter's axis.
     fn spindle_address(&mut self, start: usize) -> bool {
         let letter = self.b[start].to_ascii_uppercase();
-        let Some(a) = self.dialect.addresses.iter().find(|a| a.spindle_index && a.name.as_bytes() == [letter]) else { return false };
-        let role = a.role;
+        let Some(a) = self.dialect.addresses.iter().find(|a| (a.spindle_index || a.axis_index) && a.name.as_bytes() == [letter]) else {
+            return false;
+        };
+        let (role, spindle) = (a.role, a.spindle_index);
         let digits = self.b[start + 1..].iter().take_while(|c| c.is_ascii_digit()).count();
         if !(1..=2).contains(&digits) {
             return false;
@@ -491,10 +494,17 @@ impl Lexer<'_, '_> {
         if number == 0 || self.b.get(j + number).is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b'_' | b'(' | b'[' | b'$')) {
             return false;
         }
+        // An address the dictionary declares by that name (`C3=`, the tool axis' K under
+        // TRAORI) is that address, not the letter's axis numbered.
+        if !spindle && self.dialect.long_addresses().any(|a| a.name.as_bytes().eq_ignore_ascii_case(&self.b[start..eq])) {
+            return false;
+        }
         let Ok(index) = self.text[start + 1..eq].parse::<u8>() else { return false };
         self.i = eq + 1;
         let Some(value) = self.value(start) else { return true };
-        self.block.spindle = Some(index);
+        if spindle {
+            self.block.spindle = Some(index);
+        }
         self.block.words.push(Word { role, letter, value, range: self.range(start, self.i), mode: WordMode::Modal, cycle_arg: false });
         true
     }

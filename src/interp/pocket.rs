@@ -1,0 +1,149 @@
+//! Pockets milled by a cycle (Siemens `POCKET3` rectangular, `POCKET4` circular; the
+//! dictionary's `mill-pocket-rect` and `mill-pocket-circle`): the pocket the cycle's
+//! arguments state, on the working plane in force (a swivelled plane included).
+//!
+//! The moves written are the cycle's finishing pass on the wall at the floor: the tool down at
+//! the pocket's centre, out to the wall, once round it (counter-clockwise), and up to the
+//! retract plane, as a contour programmed under cutter compensation (the control offsets it
+//! by the tool's radius). The roughing passes and their infeeds are not expanded, so the
+//! pocket is what the plan reads, not the time the cycle takes: said once in a note.
+
+use super::Interpreter;
+use crate::canon::{CanonOp, CanonSink, CompOn, Setting};
+use crate::diag::{Code, Diagnostic, Severity};
+use crate::dialect::{Meaning, Role};
+use crate::text::TextRange;
+
+/// The shape a pocket cycle states, in the plane's coordinates.
+enum Shape {
+    /// Centre, length along the angle, width, corner radius, angle (degrees).
+    Rect { c: [f64; 2], len: f64, wid: f64, r: f64, angle: f64 },
+    /// Centre and radius.
+    Circle { c: [f64; 2], r: f64 },
+}
+
+impl Interpreter<'_> {
+    /// A pocket cycle (`mill-pocket-rect`, `mill-pocket-circle`) with its arguments by role.
+    pub(super) fn mill_pocket(
+        &mut self,
+        meaning: Meaning,
+        name: &str,
+        args: &[(Role, f64)],
+        range: TextRange,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let get = |r: Role| args.iter().rev().find(|(a, _)| *a == r).map(|(_, v)| *v);
+        let centre = [get(Role::PocketX).unwrap_or(0.0), get(Role::PocketY).unwrap_or(0.0)];
+        let shape = match meaning {
+            Meaning::MillPocketRect => match (get(Role::PocketLength), get(Role::Width)) {
+                (Some(len), Some(wid)) if len > 0.0 && wid > 0.0 => {
+                    let r = get(Role::CornerRadius).unwrap_or(0.0).abs().min(len.min(wid) / 2.0);
+                    Some(Shape::Rect { c: centre, len, wid, r, angle: get(Role::PocketAngle).unwrap_or(0.0) })
+                }
+                _ => None,
+            },
+            _ => get(Role::PocketRadius).filter(|r| *r > 0.0).map(|r| Shape::Circle { c: centre, r }),
+        };
+        let (Some(surface), Some(shape)) = (get(Role::ReferencePlane), shape) else {
+            let msg = format!("{name} states no reference plane or no size: kept as intent only, its moves are not expanded");
+            let mut d = Diagnostic::new(Code::CycleIncomplete, range, msg);
+            d.severity = Severity::Warning;
+            diags.push(d);
+            return;
+        };
+        let floor = match (get(Role::DepthRelative), get(Role::Depth)) {
+            (Some(d), _) => surface - d.abs(),
+            (None, Some(d)) => d,
+            (None, None) => {
+                let mut d = Diagnostic::new(Code::CycleIncomplete, range, format!("{name} has no depth: kept as intent only"));
+                d.severity = Severity::Warning;
+                diags.push(d);
+                return;
+            }
+        };
+        let safe = surface + get(Role::SafetyDistance).unwrap_or(0.0).abs();
+        let retract = get(Role::RetractPlane).unwrap_or(safe).max(safe);
+        let mut d = Diagnostic::new(
+            Code::Unsupported,
+            range,
+            format!(
+                "{name}: the pocket's finishing pass on its wall is written as the cycle's moves; its roughing passes are not expanded"
+            ),
+        );
+        d.severity = Severity::Note;
+        self.limited(diags, "pocket-passes", d);
+
+        let (a0, a1, n) = self.st.plane.axes();
+        let at = |me: &Self, x: f64, y: f64, z: f64| {
+            let mut p = me.st.pos;
+            (p[a0], p[a1], p[n]) = (x, y, z);
+            p
+        };
+        let (cx, cy) = match shape {
+            Shape::Rect { c, .. } | Shape::Circle { c, .. } => (c[0], c[1]),
+        };
+        self.emit(sink, CanonOp::Setting(Setting::MillCycle(Some(name.to_owned()))));
+        let over = self.st.pos[n].max(retract);
+        self.go_to(sink, at(self, self.st.pos[a0], self.st.pos[a1], over), false);
+        self.go_to(sink, at(self, cx, cy, over), false);
+        self.go_to(sink, at(self, cx, cy, safe), false);
+        self.go_to(sink, at(self, cx, cy, floor), true);
+        self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some(CompOn { left: true, number: None, radius: None, tip: None }))));
+        match shape {
+            Shape::Circle { c, r } => {
+                let start = [c[0] + r, c[1]];
+                self.go_to(sink, at(self, start[0], start[1], floor), true);
+                let half = [c[0] - r, c[1]];
+                self.arc_to(sink, half, c, floor);
+                self.arc_to(sink, start, c, floor);
+            }
+            Shape::Rect { c, len, wid, r, angle } => {
+                let (s, co) = angle.to_radians().sin_cos();
+                let to_plane = |u: f64, v: f64| [c[0] + u * co - v * s, c[1] + u * s + v * co];
+                let (hl, hw) = (len / 2.0, wid / 2.0);
+                let start = to_plane(hl, 0.0);
+                self.go_to(sink, at(self, start[0], start[1], floor), true);
+                // Counter-clockwise from the middle of the side at +length/2: each side, then its
+                // corner's arc about the point `r` in from both sides.
+                let corners = [(hl, hw), (-hl, hw), (-hl, -hw), (hl, -hw)];
+                for (k, &(u, v)) in corners.iter().enumerate() {
+                    let (su, sv) = (u.signum(), v.signum());
+                    // Where the side before the corner ends, and where the next side begins.
+                    let (end, begin) = if k % 2 == 0 { ((u, v - sv * r), (u - su * r, v)) } else { ((u - su * r, v), (u, v - sv * r)) };
+                    let e = to_plane(end.0, end.1);
+                    self.go_to(sink, at(self, e[0], e[1], floor), true);
+                    if r > 0.0 {
+                        let b = to_plane(begin.0, begin.1);
+                        let centre = to_plane(u - su * r, v - sv * r);
+                        self.arc_to(sink, b, centre, floor);
+                    }
+                }
+                self.go_to(sink, at(self, start[0], start[1], floor), true);
+            }
+        }
+        self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
+        let p = self.st.pos;
+        self.go_to(sink, at(self, p[a0], p[a1], retract), false);
+        self.emit(sink, CanonOp::Setting(Setting::MillCycle(None)));
+    }
+
+    /// A counter-clockwise arc in the plane to `end` about `centre`, at `level` on the normal axis.
+    fn arc_to(&mut self, sink: &mut dyn CanonSink, end: [f64; 2], centre: [f64; 2], level: f64) {
+        let (a0, a1, n) = self.st.plane.axes();
+        let abc = [self.st.pos[3], self.st.pos[4], self.st.pos[5]];
+        self.emit(
+            sink,
+            CanonOp::ArcFeed {
+                first_end: end[0],
+                second_end: end[1],
+                first_axis: centre[0],
+                second_axis: centre[1],
+                rotation: 1,
+                axis_end: level,
+                abc,
+            },
+        );
+        (self.st.pos[a0], self.st.pos[a1], self.st.pos[n]) = (end[0], end[1], level);
+    }
+}
