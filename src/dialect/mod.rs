@@ -529,6 +529,9 @@ pub struct Macros {
     pub call_repeat_additional: bool,
     /// Whether a condition followed by a block name jumps there (`IF [VC1 EQ 0] NLOOP`).
     pub bare_if_jump: bool,
+    /// Whether a statement may follow an `IF [..]` condition on its line without `THEN`
+    /// (Haas: `IF [#9 EQ #0] #9=#4109`, `IF [..] M98 P9004`): run when the condition holds.
+    pub if_then_optional: bool,
     /// Whether a variable read before it is set is 0 (with a note) instead of an error.
     pub unset_reads_zero: bool,
     /// Whether a named variable read before the file declares or sets it is unknown: global
@@ -604,6 +607,7 @@ impl Default for Macros {
             call_repeat_additional: false,
             call_start: None,
             bare_if_jump: false,
+            if_then_optional: false,
             unset_reads_zero: false,
             unset_unknown: false,
             outside: Vec::new(),
