@@ -146,6 +146,16 @@ fn check(file: &std::path::Path) -> (String, usize) {
     (dialect, errors)
 }
 
+/// Whether the reading concludes the program turns: a workingstep of its plan is a turning one
+/// (the lathe evidence recovery uses: diameter mode, a lathe cycle, synchronised moves or a
+/// constant surface speed in the ZX plane, every move in the ZX plane through the axis),
+/// whatever the dictionary's name.
+fn turns(file: &std::path::Path) -> bool {
+    let out = std::process::Command::new(crate::bin()).args(["plan", "--format", "json"]).arg(file).output().unwrap();
+    let Ok(plan) = serde_json::from_slice::<serde_json::Value>(&out.stdout) else { return false };
+    plan["workingsteps"].as_array().is_some_and(|w| w.iter().any(|w| !w["turning"].is_null()))
+}
+
 #[derive(Default, Debug)]
 struct Score {
     valid: usize,
@@ -193,7 +203,9 @@ fn the_sweep_reads_what_its_controls_run() {
         let (dialect, errors) = check(&file);
         let d = registry.get(&dialect);
         let family = d.as_ref().map_or("?".to_owned(), |d| if d.family == "rs274ngc" { "linuxcnc".to_owned() } else { d.family.clone() });
-        let lathe = dialect.contains("lathe");
+        // The machine by what the reading concludes: a lathe dictionary, or a plan that turns
+        // (a Sinumerik lathe program read with the one Siemens dictionary).
+        let lathe = d.as_ref().is_some_and(|d| d.behaviour.x_diameter) || dialect.contains("lathe") || turns(&file);
         let s = scores.entry(r.half.clone()).or_default();
         s.counted += 1;
         let family_ok = r.families.iter().any(|f| *f == family || f == "any") && lathe == r.lathe;
