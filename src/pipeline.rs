@@ -311,7 +311,13 @@ pub fn sniff_in(
     profile: &Profile,
 ) -> crate::dialect::sniff::Sniffed {
     let (source, _) = text::decode(&bytes[..bytes.len().min(64 * 1024)]);
-    let mut s = registry.sniff(&source.text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT);
+    // A longer file's end is read too: how a program ends tells its control (`/M99`, `M30`).
+    let tail = (bytes.len() > 68 * 1024).then(|| text::decode(&bytes[bytes.len() - 4 * 1024..]).0);
+    let sniffed_text = match &tail {
+        Some(t) => std::borrow::Cow::Owned(format!("{}\n{}", source.text, t.text)),
+        None => std::borrow::Cow::Borrowed(&*source.text),
+    };
+    let mut s = registry.sniff(&sniffed_text, path.file_name().and_then(|n| n.to_str()), DEFAULT_DIALECT);
     if s.candidates.len() < 2 {
         return s;
     }

@@ -177,6 +177,9 @@ pub struct Lexical {
     /// The brackets of an array element (`_RICH[0]`, `VAR5[R2]`) where they are not the
     /// expression brackets (Siemens: `[` and `]`).
     pub array_brackets: Option<(u8, u8)>,
+    /// How many comma-separated indices an array element may have (`A[1,2]`, Siemens: up
+    /// to three); 1 where the dialect has no such arrays.
+    pub array_dimensions: u8,
     /// Names whose bracketed index is an axis name, not a variable (`AX[X]=10`,
     /// `VELOLIM[A]=50`), in dictionary order.
     pub axis_indexed: Vec<AxisIndexed>,
@@ -213,6 +216,9 @@ pub struct Lexical {
     /// Whether a digit may follow the block-skip character (`/2`: the second skip switch's
     /// blocks, Fanuc's additional optional block skip); the block is read as any skipped one.
     pub block_skip_levels: bool,
+    /// The lowest level digit after the block-skip character: 1 (Fanuc `/1`-`/9`, `/1` the
+    /// plain `/`), 0 (Siemens `/0`-`/9`, `/0` the plain `/`).
+    pub block_skip_first_level: u8,
     /// Address letter of block numbers (`N`).
     pub block_number: Option<char>,
     /// Characters that mark a statement keyword (`#CALL`, `$IF`, `%L 100`).
@@ -523,6 +529,9 @@ pub struct Macros {
     pub call_repeat_additional: bool,
     /// Whether a condition followed by a block name jumps there (`IF [VC1 EQ 0] NLOOP`).
     pub bare_if_jump: bool,
+    /// Whether a statement may follow an `IF [..]` condition on its line without `THEN`
+    /// (Haas: `IF [#9 EQ #0] #9=#4109`, `IF [..] M98 P9004`): run when the condition holds.
+    pub if_then_optional: bool,
     /// Whether a variable read before it is set is 0 (with a note) instead of an error.
     pub unset_reads_zero: bool,
     /// Whether a named variable read before the file declares or sets it is unknown: global
@@ -598,6 +607,7 @@ impl Default for Macros {
             call_repeat_additional: false,
             call_start: None,
             bare_if_jump: false,
+            if_then_optional: false,
             unset_reads_zero: false,
             unset_unknown: false,
             outside: Vec::new(),

@@ -74,6 +74,10 @@ pub struct Sniffed {
 /// How much of a file is looked at.
 const SNIFF_BYTES: usize = 64 * 1024;
 
+/// Of a text longer than [`SNIFF_BYTES`], its last this many bytes are read too (from a line
+/// start): how a program ends (`/M99` then `M30`, `END PGM`, `M17`) is told at its end.
+const SNIFF_TAIL: usize = 4 * 1024;
+
 /// Scores at or above this, with twice the runner-up's, are sure.
 const SURE: u32 = 20;
 
@@ -165,7 +169,18 @@ impl Registry {
         while !text.is_char_boundary(end) {
             end -= 1;
         }
-        let head = &text[..end];
+        let joined;
+        let head = if text.len() > end {
+            let mut t = text.len().saturating_sub(SNIFF_TAIL).max(end);
+            while !text.is_char_boundary(t) {
+                t += 1;
+            }
+            let t = text[t..].find('\n').map_or(text.len(), |p| t + p + 1);
+            joined = format!("{}\n{}", &text[..end], &text[t..]);
+            joined.as_str()
+        } else {
+            &text[..end]
+        };
         let set = self.evidence.get_or_init(|| EvidenceSet::build(self));
         let matched = set.as_ref().map(|s| s.matches(head));
         let own: std::collections::BTreeMap<&str, Vec<(i64, String)>> =

@@ -55,15 +55,28 @@ pub(super) enum CornerProblem {
     TooLarge,
     /// An approach is not followed by a contour element in the XY plane.
     NoContourAfterApproach,
+    /// An arc is on one side of the corner: the control rounds or chamfers it (Siemens,
+    /// Fanuc and Heidenhain document line and arc elements in any combination), but the
+    /// element is not computed here.
+    ArcNeighbour,
 }
 
 impl CornerProblem {
+    /// Whether the control makes the corner and only the analysis does not (a warning, not
+    /// an error).
+    pub(super) fn only_unmodelled(self) -> bool {
+        self == CornerProblem::ArcNeighbour
+    }
+
     pub(super) fn describe(self) -> &'static str {
         match self {
             CornerProblem::NoMoveBefore => "it must follow a straight feed move in the XY plane",
             CornerProblem::NoMoveAfter => "it must be followed by a straight feed move in the XY plane",
             CornerProblem::NotPlanar => "rounding and chamfers are computed for corners in the working plane only",
             CornerProblem::TooLarge => "it does not fit: it is longer than one of the moves beside the corner",
+            CornerProblem::ArcNeighbour => {
+                "the control rounds or chamfers a corner next to an arc too, but that element is not computed here: the toolpath keeps the sharp corner"
+            }
             CornerProblem::NoContourAfterApproach => {
                 "the approach is not followed by a contour element in the XY plane; the tool went straight to the contour point"
             }
@@ -89,6 +102,8 @@ pub(super) struct Corners {
     pub(super) problem: Option<CornerProblem>,
     /// The working plane the last `SELECT_PLANE` chose (`None`: XY, where runs start).
     plane: Option<Plane>,
+    /// Whether the last move was an arc feed (a corner after it has an arc beside it).
+    after_arc: bool,
 }
 
 impl Corners {
@@ -101,7 +116,8 @@ impl Corners {
     /// A corner block: the corner at the end of the held move is to be rounded or chamfered.
     pub(super) fn mark(&mut self, corner: Corner, origin: TextRange, line: u32) {
         if self.held.is_none() || self.pending.is_some() {
-            self.problem = Some(CornerProblem::NoMoveBefore);
+            let arc = self.held.is_none() && self.pending.is_none() && self.after_arc;
+            self.problem = Some(if arc { CornerProblem::ArcNeighbour } else { CornerProblem::NoMoveBefore });
             return;
         }
         self.pending = Some((corner, origin, line));
@@ -134,6 +150,11 @@ impl Corners {
                 }
             }
         }
+        self.after_arc = match canon.op {
+            CanonOp::ArcFeed { .. } => true,
+            CanonOp::StraightFeed(_) | CanonOp::StraightTraverse(_) | CanonOp::SelectPlane(_) => false,
+            _ => self.after_arc,
+        };
         match canon.op {
             CanonOp::StraightFeed(end) => {
                 let start = self.pos.unwrap_or(end);
@@ -153,6 +174,10 @@ impl Corners {
                 self.released.push(canon);
             }
             CanonOp::ArcFeed { first_end, second_end, axis_end, abc, .. } => {
+                if self.pending.take().is_some() {
+                    // A line, the corner, then an arc.
+                    self.problem = Some(CornerProblem::ArcNeighbour);
+                }
                 self.moved_otherwise();
                 let (a0, a1, n) = self.axes();
                 let mut end = [0.0, 0.0, 0.0, abc[0], abc[1], abc[2]];

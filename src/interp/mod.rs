@@ -1535,8 +1535,9 @@ impl<'a> Interpreter<'a> {
     fn corner_problem(&mut self, diags: &mut Vec<Diagnostic>) {
         let problem = self.corners.get_mut().as_mut().and_then(|k| k.problem.take());
         if let Some(p) = problem {
-            let mut d = Diagnostic::new(Code::BadArc, self.origin, format!("the corner is left sharp: {}", p.describe()));
-            if self.unknown_words > 0 {
+            let code = if p.only_unmodelled() { Code::Unsupported } else { Code::BadArc };
+            let mut d = Diagnostic::new(code, self.origin, format!("the corner is left sharp: {}", p.describe()));
+            if !p.only_unmodelled() && self.unknown_words > 0 {
                 // A move before it kept a position for an axis whose value is unknown here.
                 d.severity = Severity::Note;
                 d.message.push_str("; moves before it left out words whose values come from outside the file, so the machine may make it");

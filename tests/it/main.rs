@@ -57,6 +57,7 @@ mod called;
 mod cam_suite;
 mod cldata;
 mod cli;
+mod controls_run;
 mod cycles;
 mod daemon;
 mod derived;

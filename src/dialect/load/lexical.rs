@@ -87,6 +87,7 @@ impl Cx {
             numbers: NumberForms::default(),
             system_variable_prefix: None,
             array_brackets: None,
+            array_dimensions: 1,
             axis_indexed: Vec::new(),
             bare_function_arguments: self.bool(el, "bare-function-arguments", false),
             identifier_variables: self.bool(el, "identifier-variables", false),
@@ -103,6 +104,7 @@ impl Cx {
             block_number: None,
             program_delimiter: None,
             block_skip_levels: false,
+            block_skip_first_level: 1,
             leader_skipped: false,
             delimiter_first_line: false,
             header_words: false,
@@ -191,12 +193,18 @@ impl Cx {
 
     /// `<array open="[" close="]"/>`: the brackets of an array element's index; both ASCII.
     fn array_brackets(&mut self, c: &Element, lex: &mut Lexical) {
-        self.shape(c, &["open", "close"], &[]);
+        self.shape(c, &["open", "close", "dimensions"], &[]);
         if let (Some(o), Some(e)) = (self.char_attr(c, "open"), self.char_attr(c, "close"))
             && o.is_ascii()
             && e.is_ascii()
         {
             lex.array_brackets = Some((o as u8, e as u8));
+        }
+        if let Some(d) = self.attr(c, "dimensions") {
+            match d.parse::<u8>() {
+                Ok(n @ 1..=9) => lex.array_dimensions = n,
+                _ => self.error(Self::attr_range(c, "dimensions"), format!("array dimensions `{d}` is not a number from 1 to 9")),
+            }
         }
     }
 
@@ -298,8 +306,13 @@ impl Cx {
     /// `<block-skip char="/" position="line-start" levels="false"/>`: the block-skip mark,
     /// where it may stand, and whether a digit after it names a switch (`/2`).
     fn block_skip(&mut self, c: &Element, lex: &mut Lexical) {
-        self.shape(c, &["char", "position", "levels"], &[]);
+        self.shape(c, &["char", "position", "levels", "first-level"], &[]);
         lex.block_skip_levels = self.bool(c, "levels", false);
+        match self.attr(c, "first-level") {
+            None | Some("1") => {}
+            Some("0") => lex.block_skip_first_level = 0,
+            Some(other) => self.error(Self::attr_range(c, "first-level"), format!("block-skip first-level `{other}` is neither 0 nor 1")),
+        }
         let pos = match self.attr(c, "position").unwrap_or("line-start") {
             "line-start" => SkipPosition::LineStart,
             "line-start-or-after-number" => SkipPosition::LineStartOrAfterNumber,

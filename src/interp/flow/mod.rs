@@ -1553,6 +1553,21 @@ impl<'a> Driver<'a, '_> {
         }
     }
 
+    /// The dialect's keywords that may follow an `IF` condition (`GOTO` or `THEN`), for a
+    /// finding.
+    pub(super) fn if_forms(&self) -> String {
+        let mut forms: Vec<String> = self
+            .dialect
+            .macros
+            .statements
+            .iter()
+            .filter(|(_, st)| matches!(st, Statement::Goto | Statement::Then))
+            .map(|(k, _)| format!("`{k}`"))
+            .collect();
+        forms.dedup();
+        if forms.is_empty() { "a jump".to_owned() } else { forms.join(" nor ") }
+    }
+
     /// The first of `targets` after `after` that belongs to the structure opened there: by
     /// label where statements carry one (`o100 endif`), else by nesting depth, counting
     /// `open` ... `close` pairs in between (`IF` ... `ENDIF` inside `IF` ... `ELSE`).

@@ -122,7 +122,12 @@ impl<'a> Driver<'a, '_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let Some(cond) = self.condition(interp, c, block, diags) else { return };
-        match c.then {
+        // `IF [..] #9=#4109` where THEN may be left out: the statement after the condition.
+        let then = match c.then {
+            None if self.dialect.macros.if_then_optional && !(block.words.is_empty() && block.assigns.is_empty()) => Some(Statement::Then),
+            t => t,
+        };
+        match then {
             Some(st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)) => {
                 if cond {
                     self.jump_statement(st, c, block, start, interp, diags);
@@ -141,6 +146,17 @@ impl<'a> Driver<'a, '_> {
                 } else if cond {
                     interp.execute(block, sink, diags);
                 }
+            }
+            None if c.statement == Some(Statement::If) && !self.dialect.macros.statements.iter().any(|(_, st)| *st == Statement::EndIf) => {
+                // No block IF in the language (Fanuc Custom Macro B: `IF [..] GOTO n`,
+                // `IF [..] THEN`): the control stops at the block whatever the condition.
+                let forms = self.if_forms();
+                self.error(
+                    diags,
+                    Code::MissingLabel,
+                    c.range,
+                    format!("an `IF` condition with neither {forms} after it; the control stops here"),
+                );
             }
             _ => {
                 if !cond {

@@ -67,7 +67,7 @@ impl Lexer<'_, '_> {
         {
             self.block.skip = true;
             self.i += 1;
-            if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
+            if lex.block_skip_levels && self.peek().is_some_and(|c| (b'0' + lex.block_skip_first_level..=b'9').contains(&c)) {
                 self.i += 1; // `/2`: the second switch
             }
             self.skip_blanks();

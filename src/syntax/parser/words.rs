@@ -4,7 +4,7 @@
 //! and `Lexer::assignment` (from the block loop) and `Lexer::value`,
 //! `Lexer::assigned_value` and `Lexer::string` (for the keyword and statement readers).
 
-use super::super::expr::{ExprId, Func};
+use super::super::expr::{BinOp, Expr, ExprId, Func};
 use super::super::{Assign, ParamTarget, Value, Word, WordMode};
 use super::Lexer;
 use super::numbers::plain_number;
@@ -221,7 +221,7 @@ impl Lexer<'_, '_> {
             if self.peek() == Some(skip as u8) {
                 self.block.skip = true;
                 self.i += 1;
-                if lex.block_skip_levels && self.peek().is_some_and(|c| matches!(c, b'1'..=b'9')) {
+                if lex.block_skip_levels && self.peek().is_some_and(|c| (b'0' + lex.block_skip_first_level..=b'9').contains(&c)) {
                     self.i += 1;
                 }
             }
@@ -381,8 +381,21 @@ impl Lexer<'_, '_> {
         }
         let at = self.i;
         self.i += 1;
-        let Some(e) = self.expr(depth + 1, 0) else { return Some(None) };
+        let Some(mut e) = self.expr(depth + 1, 0) else { return Some(None) };
         self.skip_blanks();
+        // `A[i,j]`, `A[i,j,k]`: an element of an array of several dimensions reads as one
+        // element, each index after the first added to the one before times 1 000 000 (an
+        // index stays below that), as named arrays' subscripts do.
+        let mut dims = 1;
+        while self.peek() == Some(b',') && dims < self.dialect.lexical.array_dimensions {
+            self.i += 1;
+            let Some(next) = self.expr(depth + 1, 0) else { return Some(None) };
+            let scale = self.push(Expr::Num(1_000_000.0));
+            let row = self.push(Expr::Binary(BinOp::Mul, e, scale));
+            e = self.push(Expr::Binary(BinOp::Add, row, next));
+            dims += 1;
+            self.skip_blanks();
+        }
         if self.peek() != Some(close) {
             let end = self.i.max(at + 1);
             self.error(Code::MalformedExpression, at, end, format!("an array element's index is closed with `{}`", close as char));
@@ -390,6 +403,39 @@ impl Lexer<'_, '_> {
         }
         self.i += 1;
         Some(Some(e))
+    }
+
+    /// `(a,b)` at the cursor, in expression brackets: two or more comma-separated values, as
+    /// an axis setting takes them. The cursor goes past it; false, with nothing read, where
+    /// there is no such list.
+    fn setting_pair(&mut self) -> bool {
+        self.skip_blanks();
+        let Some((open, close)) = self.dialect.lexical.expression else { return false };
+        if self.peek() != Some(open as u8) {
+            return false;
+        }
+        let (save, marks, exprs) = (self.i, self.diags.len(), self.block.exprs.len());
+        self.i += 1;
+        let mut values = 0;
+        loop {
+            if self.expr(1, 0).is_none() {
+                break;
+            }
+            values += 1;
+            self.skip_blanks();
+            match self.peek() {
+                Some(b',') => self.i += 1,
+                Some(c) if c == close as u8 && values > 1 => {
+                    self.i += 1;
+                    return true;
+                }
+                _ => break,
+            }
+        }
+        self.diags.truncate(marks);
+        self.block.exprs.truncate(exprs);
+        self.i = save;
+        false
     }
 
     /// Whether a system variable's name starts at `at` (`$AC_TIME`).
@@ -441,6 +487,11 @@ impl Lexer<'_, '_> {
             None
         };
         self.i = j + 1;
+        // `OSCTRL[Z]=(1+2,16+32+64)`: a setting given as a pair of values in brackets (the
+        // options to set, then those to reset); read, and no toolpath depends on it.
+        if !moves && self.setting_pair() {
+            return true;
+        }
         let value = self.assigned_value(start);
         let range = self.range(start, self.i);
         match (role, letter, value) {
@@ -501,7 +552,10 @@ impl Lexer<'_, '_> {
         }
         let Ok(index) = self.text[start + 1..eq].parse::<u8>() else { return false };
         self.i = eq + 1;
-        let Some(value) = self.value(start) else { return true };
+        // `S2=90000/3`: the value may be an expression (an arithmetic operator after the number).
+        let operator = matches!(self.b.get(j + number), Some(b'+' | b'-' | b'*' | b'/'));
+        let value = if operator { self.assigned_value(start).map(|(v, _)| v) } else { self.value(start) };
+        let Some(value) = value else { return true };
         if spindle {
             self.block.spindle = Some(index);
         }

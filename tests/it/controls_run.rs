@@ -1,0 +1,76 @@
+//! What a control runs is read without an error (issue 43, sweep 9's misses): Siemens arrays
+//! of several dimensions, oscillation settings given as a pair, skip levels, an addressed
+//! spindle's expression value, a rounding beside an arc; Haas's `IF [..]` with a statement
+//! and no THEN; and what the control rejects stays an error (Fanuc's `IF` with neither GOTO
+//! nor THEN).
+
+use ncplan::interp::Profile;
+
+fn errors(dialect: &str, program: &str) -> Vec<String> {
+    let (_, diags) = crate::moves_and_findings(dialect, program, &Profile::default());
+    diags.iter().filter(|d| d.is_error()).map(|d| format!("{}: {}", d.code.as_str(), d.message)).collect()
+}
+
+fn moves(dialect: &str, program: &str) -> Vec<String> {
+    crate::moves_and_findings(dialect, program, &Profile::default()).0
+}
+
+#[test]
+fn siemens_arrays_of_two_and_three_dimensions_are_read_and_evaluated() {
+    let program = "DEF REAL POZZ[3,4]\nDEF INT IDX[2,2,2]\nPOZZ[1,2]=5\nPOZZ[2,1]=7\nIDX[1,1,1]=POZZ[1,2]+POZZ[2,1]\nG1 X=POZZ[1,2] Y=IDX[1,1,1] F100\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    // The elements are kept apart: [1,2] is 5, [2,1] is 7, their sum 12.
+    assert_eq!(moves("siemens", program).last().unwrap(), "STRAIGHT_FEED(5.0000, 12.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
+}
+
+#[test]
+fn siemens_oscillation_options_are_a_pair_of_values() {
+    assert_eq!(errors("siemens", "OSP1[Z]=1 OST1[Z]=-2\nOSCTRL[Z]=(1+2,16+32+64)\nM30\n"), Vec::<String>::new());
+}
+
+#[test]
+fn siemens_skip_levels_zero_to_nine_skip_the_block() {
+    let program = "G1 X10 F100\n/0 G1 X20\n/9 G1 X30\n/ G1 X40\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    // Each level's block is a skippable block as `/` is: with the switch on, only the first
+    // move is made; off, all four.
+    assert_eq!(moves("siemens", program).len(), 4);
+    let on = Profile { block_delete: true, ..Profile::default() };
+    let (on, _) = crate::moves_and_findings("siemens", program, &on);
+    assert_eq!(on, vec!["STRAIGHT_FEED(10.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"]);
+}
+
+#[test]
+fn an_addressed_spindle_word_takes_an_expression() {
+    assert_eq!(errors("siemens", "S2=90000/3 M2=3\nG4 F1\nM2=5\nM30\n"), Vec::<String>::new());
+}
+
+#[test]
+fn a_rounding_beside_an_arc_is_the_controls_to_make_not_an_error() {
+    let program = "G17 G90 G1 X0 Y0 F500\nG2 X10 Y10 CR=10 RND=2\nG1 X20 Y10\nG1 X20 Y0 RND=2\nG3 X30 Y10 CR=10\nM30\n";
+    let (_, diags) = crate::moves_and_findings("siemens", program, &Profile::default());
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let sharp = diags.iter().filter(|d| d.message.contains("next to an arc")).count();
+    assert_eq!(sharp, 2, "{diags:?}");
+    // A corner between two lines is still made.
+    let lines = "G17 G90 G1 X0 Y0 F500\nG1 X10 Y0 RND=2\nG1 X10 Y10\nM30\n";
+    assert!(moves("siemens", lines).len() > 3);
+    assert_eq!(errors("siemens", lines), Vec::<String>::new());
+}
+
+#[test]
+fn haas_runs_a_statement_after_an_if_without_then() {
+    let program = "O1000\n#1=1\n#2=0\nIF [#1 EQ 1] #2=5\nIF [#1 EQ 2] #2=7\nG0 X#2\nM30\n";
+    assert_eq!(errors("haas", program), Vec::<String>::new());
+    assert_eq!(moves("haas", program), vec!["STRAIGHT_TRAVERSE(5.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"]);
+}
+
+#[test]
+fn fanucs_if_with_neither_goto_nor_then_stops_whatever_the_condition() {
+    for cond in ["1", "2"] {
+        let program = format!("O1000\n#1=1\nIF [#1 EQ {cond}] #2=5\nG0 X1\nM30\n");
+        let found = errors("fanuc", &program);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(found[0].contains("neither `GOTO` nor `THEN`"), "{found:?}");
+    }
+}
