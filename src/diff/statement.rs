@@ -124,6 +124,7 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     let mut out = Vec::new();
     let mut faults = Vec::new();
     let mut buf = String::new();
+    let mut jumps = Jumps::default();
     loop {
         let offset = parser.offset();
         if !parser.next_block(&mut block, &mut diags) {
@@ -133,15 +134,81 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
             faults.push(Fault { code: d.code, line: block.line, message: d.message });
         }
         buf.clear();
-        let Some(class) = normalize(&block, dialect, &keywords, &mut buf) else { continue };
+        let statement = normalize(&block, dialect, &keywords, &mut buf);
         fold_constants(&mut buf);
+        jumps.block(&block, statement.is_some().then_some(buf.as_str()));
+        let Some(class) = statement else { continue };
         let mut h = std::hash::DefaultHasher::new();
         buf.hash(&mut h);
         let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
         let moves = moves_of(&block, dialect);
         out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class, moves });
     }
+    faults.extend(jumps.missing());
     (out, faults)
+}
+
+/// The jumps to a block number (`GOTO 11`, `IF [#101 EQ 11] GOTO 11`) and the block numbers a
+/// program has: a jump to a number no block carries stops the control (a sequence-number
+/// alarm) whenever it is taken, whatever values the run reads, so it is a fault the reading
+/// finds, as a malformed word is. A conditional jump never taken is none: one whose condition
+/// is that of a conditional jump just before it (only such jumps between them), which jumped
+/// first (`IF[#101 EQ 8] GOTO 8` `IF[#101 EQ 8] GOTO 11`).
+#[derive(Default)]
+struct Jumps {
+    numbers: std::collections::BTreeSet<u32>,
+    /// Each jump's target and line.
+    targets: Vec<(u32, u32)>,
+    /// The conditions of the conditional jumps in a row just before this block.
+    run: Vec<String>,
+}
+
+impl Jumps {
+    fn block(&mut self, block: &Block, statement: Option<&str>) {
+        if let Some(n) = block.number {
+            // A jump may land here: the conditions before it are not all behind the run.
+            self.numbers.insert(n);
+            self.run.clear();
+        }
+        let Some(text) = statement else { return };
+        let Some(c) = block.control.as_ref() else {
+            self.run.clear();
+            return;
+        };
+        let goto = |s: Option<Statement>| matches!(s, Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack));
+        let conditional = c.statement == Some(Statement::If) && goto(c.then);
+        if c.name.is_some() || !(goto(c.statement) || conditional) || !block.words.is_empty() || !block.assigns.is_empty() {
+            self.run.clear();
+            return;
+        }
+        let target = c.target.and_then(|e| match block.exprs.get(e as usize) {
+            Some(crate::syntax::Expr::Num(v)) if *v >= 0.0 && v.fract() == 0.0 && *v <= 99_999_999.0 => Some(*v as u32),
+            _ => None,
+        });
+        let upper = text.to_ascii_uppercase();
+        let condition = upper.rfind("GOTO").map(|i| upper[..i].to_owned());
+        let dead = conditional && condition.as_ref().is_some_and(|k| self.run.contains(k));
+        if let Some(n) = target.filter(|_| !dead) {
+            self.targets.push((n, block.line));
+        }
+        match condition.filter(|_| conditional) {
+            Some(k) => self.run.push(k),
+            None => self.run.clear(),
+        }
+    }
+
+    /// The jumps to a number no block of the program carries.
+    fn missing(&self) -> Vec<Fault> {
+        self.targets
+            .iter()
+            .filter(|(n, _)| !self.numbers.contains(n))
+            .map(|&(n, line)| Fault {
+                code: crate::diag::Code::MissingLabel,
+                line,
+                message: format!("the jump to block N{n}, which the program does not have: the control stops here when it jumps"),
+            })
+            .collect()
+    }
 }
 
 /// Every block of `text` with its statement's normalised text (`None` for a block that is no
