@@ -125,6 +125,7 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     let mut faults = Vec::new();
     let mut buf = String::new();
     let mut jumps = Jumps::default();
+    let mut locals = Locals { on: dialect.lexical.parameter.is_some_and(|(_, named)| named), ..Locals::default() };
     loop {
         let offset = parser.offset();
         if !parser.next_block(&mut block, &mut diags) {
@@ -137,6 +138,7 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
         let statement = normalize(&block, dialect, &keywords, &mut buf);
         fold_constants(&mut buf);
         jumps.block(&block, statement.is_some().then_some(buf.as_str()));
+        locals.block(&block, &mut faults);
         let Some(class) = statement else { continue };
         let mut h = std::hash::DefaultHasher::new();
         buf.hash(&mut h);
@@ -208,6 +210,105 @@ impl Jumps {
                 message: format!("the jump to block N{n}, which the program does not have: the control stops here when it jumps"),
             })
             .collect()
+    }
+}
+
+/// The named locals a subroutine reads before any of its blocks sets one (LinuxCNC
+/// `o<manual_tool_change> sub` … `o11 if [#<spindle_on> EQ 1]`): a subroutine's named
+/// parameters are its own (a name with a leading `_` is global), a caller's do not reach it,
+/// and the control stops at a read of one not set (`Named parameter #<spindle_on> not
+/// defined`), on every call: only the reads at the body's top level are counted (a branch's
+/// or loop's body runs on values, as its condition decides). Read in the text's order (an assignment anywhere before the read
+/// counts, a conditional one too), so that a subroutine the file only defines, which a remap
+/// or another program calls, is read as the analysis reads one it runs; `EXISTS[#<name>]`
+/// reads no value.
+#[derive(Default)]
+struct Locals {
+    /// Whether the dictionary has named parameters.
+    on: bool,
+    /// Inside a subroutine's body.
+    inside: bool,
+    /// The labels of the branches and loops open at this block.
+    open: Vec<String>,
+    set: std::collections::BTreeSet<String>,
+}
+
+impl Locals {
+    fn block(&mut self, block: &Block, faults: &mut Vec<Fault>) {
+        if !self.on {
+            return;
+        }
+        let label = |c: &crate::syntax::Control| c.label.map(|r| block.text(r).to_ascii_lowercase()).unwrap_or_default();
+        match block.control.as_ref().map(|c| (c.statement, c)) {
+            Some((Some(Statement::Sub), _)) => {
+                self.inside = true;
+                self.open.clear();
+                self.set.clear();
+                return;
+            }
+            // The subroutine's end, not a conditional `endsub` inside one of its branches.
+            Some((Some(Statement::EndSub), _)) if self.open.is_empty() => {
+                self.inside = false;
+                return;
+            }
+            // A `do` loop's tail (`o101 while [..]` after `o101 do`) closes it.
+            Some((Some(Statement::While), c)) if self.open.contains(&label(c)) => {
+                let l = label(c);
+                self.open.retain(|o| *o != l);
+            }
+            Some((Some(Statement::If | Statement::While | Statement::Do | Statement::Repeat), c)) => {
+                // The statement's own condition is read on every run; its body is not.
+                let l = label(c);
+                self.reads(block, faults);
+                self.open.push(l);
+                return;
+            }
+            Some((Some(Statement::EndIf | Statement::EndWhile | Statement::EndRepeat), c)) => {
+                let l = label(c);
+                self.open.retain(|o| *o != l);
+            }
+            _ => {}
+        }
+        self.reads(block, faults);
+    }
+
+    /// The reads of a block of a subroutine's body (at its top level: a branch or loop body
+    /// runs on values), and its assignments.
+    fn reads(&mut self, block: &Block, faults: &mut Vec<Fault>) {
+        if !self.inside {
+            return;
+        }
+        let top = self.open.is_empty();
+        let name = |r| block.text(r).chars().filter(|c| !c.is_whitespace()).collect::<String>().to_ascii_lowercase();
+        let exists: Vec<u32> = block
+            .exprs
+            .iter()
+            .filter_map(|e| match e {
+                crate::syntax::Expr::Unary(crate::syntax::Func::Exists, x) => Some(*x),
+                _ => None,
+            })
+            .collect();
+        for (i, e) in block.exprs.iter().enumerate() {
+            let crate::syntax::Expr::Named(r) = e else { continue };
+            let n = name(*r);
+            // A one-letter name is a word of the block that calls a remapped code (LinuxCNC's
+            // argspec: `M12 P3` sets `#<p>`), set by the caller.
+            if !top || n.len() < 2 || n.starts_with('_') || self.set.contains(&n) || exists.contains(&(i as u32)) {
+                continue;
+            }
+            faults.push(Fault {
+                code: crate::diag::Code::UndefinedParameter,
+                line: block.line,
+                message: format!("parameter `#<{n}>` is used before it is set"),
+            });
+            // Told once: the control stops at the first.
+            self.set.insert(n);
+        }
+        for a in &block.assigns {
+            if let crate::syntax::ParamTarget::Named(r) = a.target {
+                self.set.insert(name(r));
+            }
+        }
     }
 }
 
