@@ -533,9 +533,13 @@ fn pair_statements(
     // `G21` both the units), else its key; a call; a control statement's sort; text shown.
     let roles = |t: &[Token], class: Class| -> Vec<String> {
         let ctx = Context::of(t, d);
+        // A motion code alone is no shared role: the axes it moves are (`G0 Z0` is not `G0 A0`).
+        let motion = |t: &Token| {
+            matches!(about(t, d), About::Code(Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw | Meaning::RapidBlock))
+        };
         let mut r: Vec<String> = t
             .iter()
-            .filter(|t| !t.key.is_empty())
+            .filter(|t| !t.key.is_empty() && !motion(t))
             .map(|t| match (t.sort, typed::kind_of(t, ctx, d)) {
                 (Sort::Call, _) => "call".to_owned(),
                 (_, Some((kind, _))) if kind != ChangeKind::MachineFunctionChanged => kind.as_str().to_owned(),

@@ -141,13 +141,46 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
         locals.block(&block, &mut faults);
         let Some(class) = statement else { continue };
         let mut h = std::hash::DefaultHasher::new();
-        buf.hash(&mut h);
+        unlabelled(&block, &buf).hash(&mut h);
         let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
         let moves = moves_of(&block, dialect);
         out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class, moves });
     }
     faults.extend(jumps.missing());
     (out, faults)
+}
+
+/// A statement's text as it is compared, whole: an O-word branch's or loop's label left out
+/// (`O10IF[#5070NE1]` is `IF[#5070NE1]`). Such a label only ties the statements of one branch
+/// or loop together (`o10 if` … `o10 endif`), so a block renumbered in a longer edit (`o10` →
+/// `o20` while a new `o10` comes in before it) runs the same; a label that no longer matches
+/// its partner stops the control, which the analysis finds. Subprogram labels (`o<name>
+/// sub`, `o100 call`) name what runs and stay.
+fn unlabelled<'s>(block: &Block, text: &'s str) -> &'s str {
+    let structure = block.control.as_ref().is_some_and(|c| {
+        matches!(
+            c.statement,
+            Some(
+                Statement::If
+                    | Statement::ElseIf
+                    | Statement::Else
+                    | Statement::EndIf
+                    | Statement::While
+                    | Statement::EndWhile
+                    | Statement::Do
+                    | Statement::Repeat
+                    | Statement::EndRepeat
+                    | Statement::Break
+                    | Statement::Continue
+            )
+        ) && c.label.is_some()
+    });
+    let Some(rest) = text.strip_prefix('O').filter(|_| structure) else { return text };
+    if let Some(named) = rest.strip_prefix('<') {
+        return named.find('>').map_or(text, |e| &named[e + 1..]);
+    }
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    if digits > 0 { &rest[digits..] } else { text }
 }
 
 /// The jumps to a block number (`GOTO 11`, `IF [#101 EQ 11] GOTO 11`) and the block numbers a
