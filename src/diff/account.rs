@@ -537,15 +537,26 @@ fn pair_statements(
         let motion = |t: &Token| {
             matches!(about(t, d), About::Code(Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw | Meaning::RapidBlock))
         };
-        let mut r: Vec<String> = t
-            .iter()
-            .filter(|t| !t.key.is_empty() && !motion(t))
-            .map(|t| match (t.sort, typed::kind_of(t, ctx, d)) {
-                (Sort::Call, _) => "call".to_owned(),
-                (_, Some((kind, _))) if kind != ChangeKind::MachineFunctionChanged => kind.as_str().to_owned(),
-                _ => format!("{:?} {}", t.sort, t.key),
-            })
-            .collect();
+        let mut r: Vec<String> = Vec::new();
+        for t in t.iter().filter(|t| !t.key.is_empty() && !motion(t)) {
+            match (t.sort, typed::kind_of(t, ctx, d)) {
+                (Sort::Call, _) => r.push("call".to_owned()),
+                (_, Some((kind, _))) if kind != ChangeKind::MachineFunctionChanged => r.push(kind.as_str().to_owned()),
+                _ => {}
+            }
+            // A word under the block-delete slash is the same word (`/Y40.` and `Y40.`).
+            let key = t.key.trim_start_matches(|c: char| c == '/' || c.is_ascii_digit());
+            if !key.is_empty() {
+                r.push(format!("{:?} {key}", t.sort));
+            }
+        }
+        // An O-word statement by its keyword (`O<A>SUB` and `O<B>SUB`: a subroutine's head).
+        if let Some(first) = t.first() {
+            let k = control::keyword(&first.key);
+            if k.len() < first.key.len() {
+                r.push(format!("O-word {}", k.split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("")));
+            }
+        }
         // A control statement by its keyword (`O250IF` and `O400IF` both an `IF`, not an
         // `ENDIF`).
         if let Some(f) = control::flow_of(t, d) {
@@ -557,7 +568,12 @@ fn pair_statements(
         }
         r
     };
+    // A statement put under the block-delete slash (`/N160 Y40.`, read as one piece) is itself.
+    let plain = |t: &[Token]| t.iter().map(|t| t.text.as_str()).collect::<String>().trim_start_matches('/').to_owned();
     let shared = |x: usize, y: usize| {
+        if plain(&a[x]) == plain(&b[y]) {
+            return true;
+        }
         let rb = roles(&b[y], cb[y]);
         roles(&a[x], ca[x]).iter().any(|r| rb.contains(r))
     };
