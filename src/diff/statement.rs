@@ -189,11 +189,14 @@ fn unlabelled<'s>(block: &Block, text: &'s str) -> &'s str {
 /// finds, as a malformed word is. A conditional jump never taken is none: one whose condition
 /// is that of a conditional jump just before it (only such jumps between them), which jumped
 /// first (`IF[#101 EQ 8] GOTO 8` `IF[#101 EQ 8] GOTO 11`).
+/// The start of the sentence of a fault at a jump never taken.
+pub(super) const NEVER_TAKEN: &str = "never taken: ";
+
 #[derive(Default)]
 struct Jumps {
     numbers: std::collections::BTreeSet<u32>,
-    /// Each jump's target and line.
-    targets: Vec<(u32, u32)>,
+    /// Each jump's target, line and whether it is never taken.
+    targets: Vec<(u32, u32, bool)>,
     /// The conditions of the conditional jumps in a row just before this block.
     run: Vec<String>,
 }
@@ -223,8 +226,8 @@ impl Jumps {
         let upper = text.to_ascii_uppercase();
         let condition = upper.rfind("GOTO").map(|i| upper[..i].to_owned());
         let dead = conditional && condition.as_ref().is_some_and(|k| self.run.contains(k));
-        if let Some(n) = target.filter(|_| !dead) {
-            self.targets.push((n, block.line));
+        if let Some(n) = target {
+            self.targets.push((n, block.line, dead));
         }
         match condition.filter(|_| conditional) {
             Some(k) => self.run.push(k),
@@ -232,15 +235,20 @@ impl Jumps {
         }
     }
 
-    /// The jumps to a number no block of the program carries.
+    /// The jumps to a number no block of the program carries; one never taken is marked
+    /// ([`NEVER_TAKEN`]): it only answers the same jump in the other version, which the edit
+    /// made reachable where the run stopped before too (a dispatcher's alarm for that state).
     fn missing(&self) -> Vec<Fault> {
         self.targets
             .iter()
-            .filter(|(n, _)| !self.numbers.contains(n))
-            .map(|&(n, line)| Fault {
+            .filter(|(n, _, _)| !self.numbers.contains(n))
+            .map(|&(n, line, dead)| Fault {
                 code: crate::diag::Code::MissingLabel,
                 line,
-                message: format!("the jump to block N{n}, which the program does not have: the control stops here when it jumps"),
+                message: format!(
+                    "{}the jump to block N{n}, which the program does not have: the control stops here when it jumps",
+                    if dead { NEVER_TAKEN } else { "" }
+                ),
             })
             .collect()
     }

@@ -112,6 +112,10 @@ fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault], same: &dyn Fn(u32) -> Option<u3
             }
             None => true,
         });
+        // A jump never taken answers only its counterpart at the same statement.
+        let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
+        xa.retain(live);
+        xb.retain(live);
         // Then the same sentence, then in order.
         xa.retain(|fa| match xb.iter().position(|fb| fb.message == fa.message) {
             Some(j) => {
@@ -135,8 +139,9 @@ pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u3
     let (mut fixed, mut broken) = unmatched(&a, &b, same);
     // A statement the control stopped at in both versions (a comment nested in an empty
     // assignment's): another error on it neither breaks nor fixes the program.
-    let stopped_a: std::collections::BTreeSet<u32> = a.iter().filter_map(|g| same(g.line)).collect();
-    let stopped_b: std::collections::BTreeSet<u32> = b.iter().map(|f| f.line).collect();
+    let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
+    let stopped_a: std::collections::BTreeSet<u32> = a.iter().filter(live).filter_map(|g| same(g.line)).collect();
+    let stopped_b: std::collections::BTreeSet<u32> = b.iter().filter(live).map(|f| f.line).collect();
     broken.retain(|f| !stopped_a.contains(&f.line));
     fixed.retain(|g| same(g.line).is_none_or(|l| !stopped_b.contains(&l)));
     let mut out = Vec::new();

@@ -1293,6 +1293,11 @@ fn breaks_and_fixes_are_only_where_the_control_stops_whatever_the_values() {
     let dead = a.replace("N3\n", "N2\n").replace("IF[#101 EQ 2] GOTO 2\n", "IF[#101 EQ 2] GOTO 2\nIF[#101 EQ 2] GOTO 7\n");
     let got = changes_with_findings(&b, &dead, "fanuc");
     assert!(!got.iter().any(|c| c.kind == ChangeKind::ProgramBroken), "{}", rows(&got));
+    // Nor is that jump made reachable by its own condition corrected (state 2 stopped at the
+    // alarm before, at the missing block now): the same statement jumped nowhere in both.
+    let live = dead.replace("IF[#101 EQ 2] GOTO 7", "IF[#101 EQ 3] GOTO 7");
+    let got = changes_with_findings(&dead, &live, "fanuc");
+    assert!(!got.iter().any(|c| matches!(c.kind, ChangeKind::ProgramBroken | ChangeKind::ProgramFixed)), "{}", rows(&got));
     // A LinuxCNC subroutine reading a local nobody sets (rs274: "Named parameter
     // #<spindle_on> not defined") is fixed by reading the predefined `#<_spindle_on>`; a
     // conditional `endsub` does not end its body, a one-letter local is a remap's word.
