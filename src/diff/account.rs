@@ -447,7 +447,9 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
         // Whole branches that only choose what to show (`o100 if` … `(msg, …)` … `o100 endif`):
         // output, as the messages they choose between.
         let shows_only = only_output(&ta, &h.original, sa, a.dialect) && only_output(&tb, &h.edited, sb, b.dialect);
-        for (x, y) in pair_statements(&ta, &tb) {
+        let (ca, cb): (Vec<Class>, Vec<Class>) =
+            (h.original.clone().map(|k| sa[k].class).collect(), h.edited.clone().map(|k| sb[k].class).collect());
+        for (x, y) in pair_statements((&ta, &ca), (&tb, &cb), a.dialect) {
             let diffs = match (x, y) {
                 (Some(x), Some(y)) => token_diffs(&ta[x], &tb[y]),
                 (Some(x), None) => ta[x].iter().map(|t| (Some(t.clone()), None)).collect(),
@@ -514,13 +516,78 @@ fn only_output(tokens: &[Vec<Token>], range: &std::ops::Range<usize>, s: &[Stmt]
 }
 
 /// The statements of a hunk paired: first those whose first token has the same key (in
-/// order, by a longest common subsequence), then the rest between them in order.
-fn pair_statements(a: &[Vec<Token>], b: &[Vec<Token>]) -> Vec<(Option<usize>, Option<usize>)> {
+/// order, by a longest common subsequence), then the rest between them in order where the
+/// two share a role (a code, an address, a variable, a call or keyword of the same key: `G1
+/// X10 F500` for `X10 F800`); two that share none are one removed and one added (`M65 P…`
+/// is not `G53 G0 Z…` written another way).
+fn pair_statements(
+    (a, ca): (&[Vec<Token>], &[Class]),
+    (b, cb): (&[Vec<Token>], &[Class]),
+    d: &Dialect,
+) -> Vec<(Option<usize>, Option<usize>)> {
     let key = |t: &[Token]| t.first().map(|t| t.key.clone()).unwrap_or_default();
     let (ka, kb): (Vec<String>, Vec<String>) = (a.iter().map(|t| key(t)).collect(), b.iter().map(|t| key(t)).collect());
     let mut anchors = Vec::new();
     statement::lcs(&ka, &kb, 0, 0, &mut anchors);
-    statement::pairs_along(anchors, a.len(), b.len())
+    // A statement's roles: each word's kind where the dictionary gives it one (`G20` and
+    // `G21` both the units), else its key; a call; a control statement's sort; text shown.
+    let roles = |t: &[Token], class: Class| -> Vec<String> {
+        let ctx = Context::of(t, d);
+        // A motion code alone is no shared role: the axes it moves are (`G0 Z0` is not `G0 A0`).
+        let motion = |t: &Token| {
+            matches!(about(t, d), About::Code(Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw | Meaning::RapidBlock))
+        };
+        let mut r: Vec<String> = Vec::new();
+        for t in t.iter().filter(|t| !t.key.is_empty() && !motion(t)) {
+            match (t.sort, typed::kind_of(t, ctx, d)) {
+                (Sort::Call, _) => r.push("call".to_owned()),
+                (_, Some((kind, _))) if kind != ChangeKind::MachineFunctionChanged => r.push(kind.as_str().to_owned()),
+                _ => {}
+            }
+            // A word under the block-delete slash is the same word (`/Y40.` and `Y40.`).
+            let key = t.key.trim_start_matches(|c: char| c == '/' || c.is_ascii_digit());
+            if !key.is_empty() {
+                r.push(format!("{:?} {key}", t.sort));
+            }
+        }
+        // An O-word statement by its keyword (`O<A>SUB` and `O<B>SUB`: a subroutine's head).
+        if let Some(first) = t.first() {
+            let k = control::keyword(&first.key);
+            if k.len() < first.key.len() {
+                r.push(format!("O-word {}", k.split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("")));
+            }
+        }
+        // A control statement by its keyword (`O250IF` and `O400IF` both an `IF`, not an
+        // `ENDIF`).
+        if let Some(f) = control::flow_of(t, d) {
+            let k = t.first().map_or("", |t| control::keyword(&t.key));
+            r.push(format!("{f:?} {}", k.split(|c: char| !c.is_ascii_alphabetic()).next().unwrap_or("")));
+        }
+        if class == Class::Output || r.is_empty() {
+            r.push("text".to_owned());
+        }
+        r
+    };
+    // A statement put under the block-delete slash (`/N160 Y40.`, read as one piece) is itself.
+    let plain = |t: &[Token]| t.iter().map(|t| t.text.as_str()).collect::<String>().trim_start_matches('/').to_owned();
+    let shared = |x: usize, y: usize| {
+        if plain(&a[x]) == plain(&b[y]) {
+            return true;
+        }
+        let rb = roles(&b[y], cb[y]);
+        roles(&a[x], ca[x]).iter().any(|r| rb.contains(r))
+    };
+    let mut out = Vec::new();
+    for pair in statement::pairs_along(anchors, a.len(), b.len()) {
+        match pair {
+            (Some(x), Some(y)) if ka[x] != kb[y] && !shared(x, y) => {
+                out.push((Some(x), None));
+                out.push((None, Some(y)));
+            }
+            p => out.push(p),
+        }
+    }
+    out
 }
 
 /// How the tokens of two statements differ: each token of `a` matched to the first unused

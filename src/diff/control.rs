@@ -80,7 +80,7 @@ fn of_statement(s: Statement) -> Option<Flow> {
 
 /// A token's key without the O-word that labels a LinuxCNC flow statement (`O100WHILE`,
 /// `O<L1>IF`): the keyword, or the key itself.
-fn keyword(key: &str) -> &str {
+pub(super) fn keyword(key: &str) -> &str {
     let Some(rest) = key.strip_prefix('O') else { return key };
     if let Some(named) = rest.strip_prefix('<') {
         return named.find('>').map_or(key, |e| &named[e + 1..]);

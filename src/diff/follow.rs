@@ -151,6 +151,23 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
                 }
                 _ => None,
             };
+            // A named cycle's argument (Siemens `CYCLE81(10,0,1,-DEPTH)`): the parameter its
+            // position names in the dictionary, each argument that reads it.
+            if decides.is_none()
+                && t.sort == Sort::Call
+                && let Some(args) = typed::cycle_args(&t.key, p.dialect)
+            {
+                for (i, a) in statement::arguments(&t.value).iter().enumerate() {
+                    let kf = match args.get(i) {
+                        Some(arg) => (ChangeKind::CycleParameterChanged, format!("{} {}", t.key, typed::arg_name(arg))),
+                        None => (ChangeKind::CycleParameterChanged, format!("{} argument {}", t.key, i + 1)),
+                    };
+                    if reads(a, name) && !kinds.contains(&kf) {
+                        kinds.push(kf);
+                    }
+                }
+                continue;
+            }
             match decides.or_else(|| use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect)) {
                 Some(kf) if !kinds.contains(&kf) => kinds.push(kf),
                 Some(_) => {}

@@ -124,6 +124,8 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     let mut out = Vec::new();
     let mut faults = Vec::new();
     let mut buf = String::new();
+    let mut jumps = Jumps::default();
+    let mut locals = Locals { on: dialect.lexical.parameter.is_some_and(|(_, named)| named), ..Locals::default() };
     loop {
         let offset = parser.offset();
         if !parser.next_block(&mut block, &mut diags) {
@@ -133,15 +135,222 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
             faults.push(Fault { code: d.code, line: block.line, message: d.message });
         }
         buf.clear();
-        let Some(class) = normalize(&block, dialect, &keywords, &mut buf) else { continue };
+        let statement = normalize(&block, dialect, &keywords, &mut buf);
         fold_constants(&mut buf);
+        jumps.block(&block, statement.is_some().then_some(buf.as_str()));
+        locals.block(&block, &mut faults);
+        let Some(class) = statement else { continue };
         let mut h = std::hash::DefaultHasher::new();
-        buf.hash(&mut h);
+        unlabelled(&block, &buf).hash(&mut h);
         let start = if block.range.start as usize >= offset { block.range.start } else { offset as u32 };
         let moves = moves_of(&block, dialect);
         out.push(Stmt { line: block.line, last: block.line + block.extra_lines, offset: start, hash: h.finish(), class, moves });
     }
+    faults.extend(jumps.missing());
     (out, faults)
+}
+
+/// A statement's text as it is compared, whole: an O-word branch's or loop's label left out
+/// (`O10IF[#5070NE1]` is `IF[#5070NE1]`). Such a label only ties the statements of one branch
+/// or loop together (`o10 if` … `o10 endif`), so a block renumbered in a longer edit (`o10` →
+/// `o20` while a new `o10` comes in before it) runs the same; a label that no longer matches
+/// its partner stops the control, which the analysis finds. Subprogram labels (`o<name>
+/// sub`, `o100 call`) name what runs and stay.
+fn unlabelled<'s>(block: &Block, text: &'s str) -> &'s str {
+    let structure = block.control.as_ref().is_some_and(|c| {
+        matches!(
+            c.statement,
+            Some(
+                Statement::If
+                    | Statement::ElseIf
+                    | Statement::Else
+                    | Statement::EndIf
+                    | Statement::While
+                    | Statement::EndWhile
+                    | Statement::Do
+                    | Statement::Repeat
+                    | Statement::EndRepeat
+                    | Statement::Break
+                    | Statement::Continue
+            )
+        ) && c.label.is_some()
+    });
+    let Some(rest) = text.strip_prefix('O').filter(|_| structure) else { return text };
+    if let Some(named) = rest.strip_prefix('<') {
+        return named.find('>').map_or(text, |e| &named[e + 1..]);
+    }
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    if digits > 0 { &rest[digits..] } else { text }
+}
+
+/// The jumps to a block number (`GOTO 11`, `IF [#101 EQ 11] GOTO 11`) and the block numbers a
+/// program has: a jump to a number no block carries stops the control (a sequence-number
+/// alarm) whenever it is taken, whatever values the run reads, so it is a fault the reading
+/// finds, as a malformed word is. A conditional jump never taken is none: one whose condition
+/// is that of a conditional jump just before it (only such jumps between them), which jumped
+/// first (`IF[#101 EQ 8] GOTO 8` `IF[#101 EQ 8] GOTO 11`).
+/// The start of the sentence of a fault at a jump never taken.
+pub(super) const NEVER_TAKEN: &str = "never taken: ";
+
+#[derive(Default)]
+struct Jumps {
+    numbers: std::collections::BTreeSet<u32>,
+    /// Each jump's target, line and whether it is never taken.
+    targets: Vec<(u32, u32, bool)>,
+    /// The conditions of the conditional jumps in a row just before this block.
+    run: Vec<String>,
+}
+
+impl Jumps {
+    fn block(&mut self, block: &Block, statement: Option<&str>) {
+        if let Some(n) = block.number {
+            // A jump may land here: the conditions before it are not all behind the run.
+            self.numbers.insert(n);
+            self.run.clear();
+        }
+        let Some(text) = statement else { return };
+        let Some(c) = block.control.as_ref() else {
+            self.run.clear();
+            return;
+        };
+        let goto = |s: Option<Statement>| matches!(s, Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack));
+        let conditional = c.statement == Some(Statement::If) && goto(c.then);
+        if c.name.is_some() || !(goto(c.statement) || conditional) || !block.words.is_empty() || !block.assigns.is_empty() {
+            self.run.clear();
+            return;
+        }
+        let target = c.target.and_then(|e| match block.exprs.get(e as usize) {
+            Some(crate::syntax::Expr::Num(v)) if *v >= 0.0 && v.fract() == 0.0 && *v <= 99_999_999.0 => Some(*v as u32),
+            _ => None,
+        });
+        let upper = text.to_ascii_uppercase();
+        let condition = upper.rfind("GOTO").map(|i| upper[..i].to_owned());
+        let dead = conditional && condition.as_ref().is_some_and(|k| self.run.contains(k));
+        if let Some(n) = target {
+            self.targets.push((n, block.line, dead));
+        }
+        match condition.filter(|_| conditional) {
+            Some(k) => self.run.push(k),
+            None => self.run.clear(),
+        }
+    }
+
+    /// The jumps to a number no block of the program carries; one never taken is marked
+    /// ([`NEVER_TAKEN`]): it only answers the same jump in the other version, which the edit
+    /// made reachable where the run stopped before too (a dispatcher's alarm for that state).
+    fn missing(&self) -> Vec<Fault> {
+        self.targets
+            .iter()
+            .filter(|(n, _, _)| !self.numbers.contains(n))
+            .map(|&(n, line, dead)| Fault {
+                code: crate::diag::Code::MissingLabel,
+                line,
+                message: format!(
+                    "{}the jump to block N{n}, which the program does not have: the control stops here when it jumps",
+                    if dead { NEVER_TAKEN } else { "" }
+                ),
+            })
+            .collect()
+    }
+}
+
+/// The named locals a subroutine reads before any of its blocks sets one (LinuxCNC
+/// `o<manual_tool_change> sub` … `o11 if [#<spindle_on> EQ 1]`): a subroutine's named
+/// parameters are its own (a name with a leading `_` is global), a caller's do not reach it,
+/// and the control stops at a read of one not set (`Named parameter #<spindle_on> not
+/// defined`), on every call: only the reads at the body's top level are counted (a branch's
+/// or loop's body runs on values, as its condition decides). Read in the text's order (an assignment anywhere before the read
+/// counts, a conditional one too), so that a subroutine the file only defines, which a remap
+/// or another program calls, is read as the analysis reads one it runs; `EXISTS[#<name>]`
+/// reads no value.
+#[derive(Default)]
+struct Locals {
+    /// Whether the dictionary has named parameters.
+    on: bool,
+    /// Inside a subroutine's body.
+    inside: bool,
+    /// The labels of the branches and loops open at this block.
+    open: Vec<String>,
+    set: std::collections::BTreeSet<String>,
+}
+
+impl Locals {
+    fn block(&mut self, block: &Block, faults: &mut Vec<Fault>) {
+        if !self.on {
+            return;
+        }
+        let label = |c: &crate::syntax::Control| c.label.map(|r| block.text(r).to_ascii_lowercase()).unwrap_or_default();
+        match block.control.as_ref().map(|c| (c.statement, c)) {
+            Some((Some(Statement::Sub), _)) => {
+                self.inside = true;
+                self.open.clear();
+                self.set.clear();
+                return;
+            }
+            // The subroutine's end, not a conditional `endsub` inside one of its branches.
+            Some((Some(Statement::EndSub), _)) if self.open.is_empty() => {
+                self.inside = false;
+                return;
+            }
+            // A `do` loop's tail (`o101 while [..]` after `o101 do`) closes it.
+            Some((Some(Statement::While), c)) if self.open.contains(&label(c)) => {
+                let l = label(c);
+                self.open.retain(|o| *o != l);
+            }
+            Some((Some(Statement::If | Statement::While | Statement::Do | Statement::Repeat), c)) => {
+                // The statement's own condition is read on every run; its body is not.
+                let l = label(c);
+                self.reads(block, faults);
+                self.open.push(l);
+                return;
+            }
+            Some((Some(Statement::EndIf | Statement::EndWhile | Statement::EndRepeat), c)) => {
+                let l = label(c);
+                self.open.retain(|o| *o != l);
+            }
+            _ => {}
+        }
+        self.reads(block, faults);
+    }
+
+    /// The reads of a block of a subroutine's body (at its top level: a branch or loop body
+    /// runs on values), and its assignments.
+    fn reads(&mut self, block: &Block, faults: &mut Vec<Fault>) {
+        if !self.inside {
+            return;
+        }
+        let top = self.open.is_empty();
+        let name = |r| block.text(r).chars().filter(|c| !c.is_whitespace()).collect::<String>().to_ascii_lowercase();
+        let exists: Vec<u32> = block
+            .exprs
+            .iter()
+            .filter_map(|e| match e {
+                crate::syntax::Expr::Unary(crate::syntax::Func::Exists, x) => Some(*x),
+                _ => None,
+            })
+            .collect();
+        for (i, e) in block.exprs.iter().enumerate() {
+            let crate::syntax::Expr::Named(r) = e else { continue };
+            let n = name(*r);
+            // A one-letter name is a word of the block that calls a remapped code (LinuxCNC's
+            // argspec: `M12 P3` sets `#<p>`), set by the caller.
+            if !top || n.len() < 2 || n.starts_with('_') || self.set.contains(&n) || exists.contains(&(i as u32)) {
+                continue;
+            }
+            faults.push(Fault {
+                code: crate::diag::Code::UndefinedParameter,
+                line: block.line,
+                message: format!("parameter `#<{n}>` is used before it is set"),
+            });
+            // Told once: the control stops at the first.
+            self.set.insert(n);
+        }
+        for a in &block.assigns {
+            if let crate::syntax::ParamTarget::Named(r) = a.target {
+                self.set.insert(name(r));
+            }
+        }
+    }
 }
 
 /// Every block of `text` with its statement's normalised text (`None` for a block that is no

@@ -20,13 +20,31 @@ use crate::text::LineIndex;
 /// The errors among `findings` (an analysis of `text`), as faults at their lines, and the
 /// words the analysis left out for a value the file never sets (`interp::unknown-value`: a
 /// global another program sets, a caller's argument), which no size may be told from.
+///
+/// An error the run met only on the way values the file does not set sent it is no stop
+/// whatever those values are: the program's own alarm (`#3000`, `SETAL`) reached after a
+/// condition on such a value, a value left unknown or a call of a program not there (which
+/// may end the run or jump away before it), and a missing `endif` (or loop end, or label)
+/// found at a statement whose condition reads such a value (the control looks for the `endif`
+/// only when it skips the body; LinuxCNC runs `o100 if` without one to the end when the
+/// condition holds). A jump to a block number the program lacks is found by reading every
+/// block ([`super::statement::read`]), taken or not.
 pub fn faults(text: &str, findings: &[Diagnostic]) -> Vec<Fault> {
+    use crate::diag::Code;
+    let index = LineIndex::new(text);
+    let line = |d: &Diagnostic| index.line_col(text, d.range.start).line;
+    let guessed: std::collections::BTreeSet<u32> = findings.iter().filter(|d| d.code == Code::UnknownCondition).map(line).collect();
+    let runtime = !guessed.is_empty() || findings.iter().any(|d| matches!(d.code, Code::UnknownValue | Code::MissingProgram));
+    let on_values = |d: &Diagnostic| match d.code {
+        Code::ProgramAlarm => runtime,
+        Code::MissingLabel => guessed.contains(&line(d)),
+        _ => false,
+    };
     let errors: Vec<&Diagnostic> =
-        findings.iter().filter(|d| (d.is_error() && !global_unset(d)) || d.code == crate::diag::Code::UnknownValue).collect();
+        findings.iter().filter(|d| (d.is_error() && !global_unset(d) && !on_values(d)) || d.code == Code::UnknownValue).collect();
     if errors.is_empty() {
         return Vec::new();
     }
-    let index = LineIndex::new(text);
     errors.into_iter().map(|d| Fault { code: d.code, line: index.line_col(text, d.range.start).line, message: d.message.clone() }).collect()
 }
 
@@ -94,6 +112,10 @@ fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault], same: &dyn Fn(u32) -> Option<u3
             }
             None => true,
         });
+        // A jump never taken answers only its counterpart at the same statement.
+        let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
+        xa.retain(live);
+        xb.retain(live);
         // Then the same sentence, then in order.
         xa.retain(|fa| match xb.iter().position(|fb| fb.message == fa.message) {
             Some(j) => {
@@ -117,8 +139,9 @@ pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u3
     let (mut fixed, mut broken) = unmatched(&a, &b, same);
     // A statement the control stopped at in both versions (a comment nested in an empty
     // assignment's): another error on it neither breaks nor fixes the program.
-    let stopped_a: std::collections::BTreeSet<u32> = a.iter().filter_map(|g| same(g.line)).collect();
-    let stopped_b: std::collections::BTreeSet<u32> = b.iter().map(|f| f.line).collect();
+    let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
+    let stopped_a: std::collections::BTreeSet<u32> = a.iter().filter(live).filter_map(|g| same(g.line)).collect();
+    let stopped_b: std::collections::BTreeSet<u32> = b.iter().filter(live).map(|f| f.line).collect();
     broken.retain(|f| !stopped_a.contains(&f.line));
     fixed.retain(|g| same(g.line).is_none_or(|l| !stopped_b.contains(&l)));
     let mut out = Vec::new();

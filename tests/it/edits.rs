@@ -1219,3 +1219,97 @@ fn a_tilted_plane_added_without_cuts_is_a_work_plane_change() {
     let got = changes(a, b, "fanuc");
     assert!(got.iter().any(|c| c.kind == ChangeKind::WorkPlaneChanged && c.line == Some(3)), "{}", rows(&got));
 }
+
+/// The rows naming a variable (`… (via R1)`), as `kind | field | before | after | line`.
+fn via_rows(got: &[Change]) -> Vec<String> {
+    got.iter()
+        .filter(|c| c.field.contains("(via "))
+        .map(|c| format!("{} | {} | {} | {} | {:?}", c.kind.as_str(), c.field, c.before, c.after, c.line))
+        .collect()
+}
+
+#[test]
+fn siemens_r_parameters_and_def_variables_are_followed_to_the_depth_they_feed() {
+    // Sinumerik: an R parameter in a feed move's Z (`Z=-R1`), and an R parameter and a DEF
+    // variable in a drilling cycle's depth argument (CYCLE81 RTP, RFP, SDIS, DP: the
+    // Programming Manual's positions). Each is told as the depth, through the variable.
+    let moves = "R1=5\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nG1 Z=-R1 F200\nG1 X50\nG0 Z2\nM30\n";
+    let got = changes(moves, &moves.replace("R1=5", "R1=8"), "siemens");
+    assert_eq!(via_rows(&got), ["depth_changed | cut depth (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
+    let cycle = "R1=5\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-R1)\nX20\nMCALL\nM30\n";
+    let got = changes(cycle, &cycle.replace("R1=5", "R1=8"), "siemens");
+    assert_eq!(via_rows(&got), ["cycle_parameter_changed | CYCLE81 DP (depth) (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
+    let def = "DEF REAL DEPTH=5\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-DEPTH)\nX20\nMCALL\nM30\n";
+    let got = changes(def, &def.replace("DEPTH=5", "DEPTH=8"), "siemens");
+    assert_eq!(via_rows(&got), ["cycle_parameter_changed | CYCLE81 DP (depth) (via DEPTH) | 5 | 8 | Some(1)"], "{}", rows(&got));
+    // A variable the cycle does not read (the X of a later hole) is no cycle parameter.
+    let x = "R2=20\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-5)\nX=R2\nMCALL\nM30\n";
+    let got = changes(x, &x.replace("R2=20", "R2=30"), "siemens");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::CycleParameterChanged), "{}", rows(&got));
+}
+
+#[test]
+fn heidenhain_q_parameters_are_followed_into_the_cycle_parameter_they_set() {
+    // TNC 640 Klartext: Q1 set once and given to cycle 200's Q201 (depth): the depth through Q1.
+    let a = "0 BEGIN PGM T MM\n1 Q1 = -15\n2 TOOL CALL 1 Z S2000\n3 L Z+50 R0 FMAX M3\n4 CYCL DEF 200 DRILLING ~\n  Q200=2 ;SET-UP CLEARANCE ~\n  Q201=Q1 ;DEPTH ~\n  Q206=150 ;FEED RATE FOR PLNGNG ~\n  Q202=5 ;PLUNGING DEPTH ~\n  Q210=0 ;DWELL TIME AT TOP ~\n  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=50 ;2ND SET-UP CLEARANCE ~\n  Q211=0 ;DWELL TIME AT DEPTH\n5 L X+10 Y+10 R0 FMAX M99\n6 L Z+50 R0 FMAX M30\n7 END PGM T MM\n";
+    let got = changes(a, &a.replace("Q1 = -15", "Q1 = -20"), "heidenhain");
+    assert_eq!(
+        via_rows(&got),
+        ["cycle_parameter_changed | cycle parameter Q201 (depth relative) (via Q1) | -15 | -20 | Some(2)"],
+        "{}",
+        rows(&got)
+    );
+    // The set-up clearance through QL (a local Q parameter) the same way.
+    let b = a.replace("1 Q1 = -15", "1 QL5 = 2").replace("Q200=2 ;", "Q200=QL5 ;").replace("Q201=Q1 ;", "Q201=-15 ;");
+    let got = changes(&b, &b.replace("QL5 = 2", "QL5 = 4"), "heidenhain");
+    assert_eq!(
+        via_rows(&got),
+        ["cycle_parameter_changed | cycle parameter Q200 (safety distance) (via QL5) | 2 | 4 | Some(2)"],
+        "{}",
+        rows(&got)
+    );
+}
+
+#[test]
+fn breaks_and_fixes_are_only_where_the_control_stops_whatever_the_values() {
+    // A Fanuc dispatcher: the program's own alarm (`#3000`) reached on a way chosen at a
+    // condition on a value the file does not set (#891, set by the caller) stops the control
+    // only on that way: no verdict when an edit moves the run towards or away from it.
+    let a = "O9000\nIF[#890 NE 1] GOTO3\nM98 P[#891]\nGOTO 9\nN3\n#3000=15(NOT REQUESTED)\nN9\nM99\n";
+    let b = a.replace("GOTO 9\n", "");
+    let got = changes_with_findings(a, &b, "fanuc");
+    assert!(!got.iter().any(|c| matches!(c.kind, ChangeKind::ProgramBroken | ChangeKind::ProgramFixed)), "{}", rows(&got));
+    // A jump to a block number the program lacks stops the control when taken, whatever the
+    // analysis chose at its condition: an edit that adds the block fixes the program ...
+    let a = "O1000\nIF[#101 EQ 1] GOTO 1\nIF[#101 EQ 2] GOTO 2\n#3000=5(STATE)\nN1\nG0 X1\nM99\nN3\nG0 X2\nM99\n";
+    let b = a.replace("N3\n", "N2\n");
+    let fixed: Vec<(String, Option<u32>)> = changes_with_findings(a, &b, "fanuc")
+        .into_iter()
+        .filter(|c| c.kind == ChangeKind::ProgramFixed)
+        .map(|c| (c.field, c.original_line))
+        .collect();
+    assert_eq!(fixed, [("flow::missing-label".to_owned(), Some(3))]);
+    // ... and one never taken (the same condition just before it jumps first) is none.
+    let dead = a.replace("N3\n", "N2\n").replace("IF[#101 EQ 2] GOTO 2\n", "IF[#101 EQ 2] GOTO 2\nIF[#101 EQ 2] GOTO 7\n");
+    let got = changes_with_findings(&b, &dead, "fanuc");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::ProgramBroken), "{}", rows(&got));
+    // Nor is that jump made reachable by its own condition corrected (state 2 stopped at the
+    // alarm before, at the missing block now): the same statement jumped nowhere in both.
+    let live = dead.replace("IF[#101 EQ 2] GOTO 7", "IF[#101 EQ 3] GOTO 7");
+    let got = changes_with_findings(&dead, &live, "fanuc");
+    assert!(!got.iter().any(|c| matches!(c.kind, ChangeKind::ProgramBroken | ChangeKind::ProgramFixed)), "{}", rows(&got));
+    // A LinuxCNC subroutine reading a local nobody sets (rs274: "Named parameter
+    // #<spindle_on> not defined") is fixed by reading the predefined `#<_spindle_on>`; a
+    // conditional `endsub` does not end its body, a one-letter local is a remap's word.
+    let a = "o<change> sub\no10 if [#<p> EQ 1]\n  o<change> endsub [1]\no10 endif\no11 if [#<spindle_on> EQ 1]\n  M5\no11 endif\no<change> endsub [1]\nM2\n";
+    let b = a.replace("#<spindle_on>", "#<_spindle_on>");
+    let got = changes_with_findings(a, &b, "linuxcnc");
+    let fixed: Vec<(String, Option<u32>)> =
+        got.iter().filter(|c| c.kind == ChangeKind::ProgramFixed).map(|c| (c.before.clone(), c.original_line)).collect();
+    assert_eq!(fixed, [("parameter `#<spindle_on>` is used before it is set".to_owned(), Some(5))], "{}", rows(&got));
+    // Read only inside a branch (a value decides whether it runs): no verdict.
+    let a2 = a.replace("o11 if [#<spindle_on> EQ 1]\n  M5\n", "o11 if [#5400 EQ 1]\n  G0 Z#<spindle_on>\n");
+    let b2 = a2.replace("#<spindle_on>", "#<_spindle_on>");
+    let got = changes_with_findings(&a2, &b2, "linuxcnc");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::ProgramFixed), "{}", rows(&got));
+}
