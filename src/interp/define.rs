@@ -147,7 +147,23 @@ impl Interpreter<'_> {
             self.tilt_cycle(&args, block_range, sink, diags);
             return;
         }
-        let turning = |m: Meaning| matches!(m, Meaning::CycleRoughTurn | Meaning::CycleGroove | Meaning::CycleThreadMultiple);
+        if let Some(ci) = self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::ContourDefine) {
+            let _ = ci;
+            self.cycle_args.clear();
+            self.contour_named = self.cycle_text.take();
+            return;
+        }
+        let turning = |m: Meaning| {
+            matches!(
+                m,
+                Meaning::CycleRoughTurn
+                    | Meaning::CycleGroove
+                    | Meaning::CycleThreadMultiple
+                    | Meaning::CycleStockCorner
+                    | Meaning::CycleContourTurn
+                    | Meaning::CyclePartOff
+            )
+        };
         if let Some(ci) = self.block_cycle.take_if(|&mut ci| turning(self.dialect.cycles[ci].meaning)) {
             let args = std::mem::take(&mut self.cycle_args);
             self.named_turn_cycle(ci, &args, block_range, sink, diags);
