@@ -277,8 +277,16 @@ impl Interpreter<'_> {
             corner.push(at(start[0], ez));
         }
         corner.dedup();
-        let shape: Vec<Canon> =
-            corner.into_iter().map(|p| Canon { op: CanonOp::StraightFeed(p), origin: range, line: self.line }).collect();
+        // Cut along the corner, then left at rapid to the start's diameter (or Z).
+        let last = corner.len().saturating_sub(1);
+        let shape: Vec<Canon> = corner
+            .into_iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let op = if k == last { CanonOp::StraightTraverse(p) } else { CanonOp::StraightFeed(p) };
+                Canon { op, origin: range, line: self.line }
+            })
+            .collect();
         let kind = if facing { TurnKind::RoughFace } else { TurnKind::RoughTurn };
         let rough_intent = TurnIntent {
             kind: Some(kind),
