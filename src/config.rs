@@ -987,6 +987,22 @@ mod tests {
         assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("decimal_input"));
     }
 
+    /// A machine's stated X reading (`x_words`) wins over what a program's words show: a
+    /// Sinumerik lathe set to radius programming is not read with DIAMON from reset.
+    #[test]
+    fn a_machine_can_state_how_it_reads_x_words() {
+        let text = "[database]\npath = 'db'\n[[machine]]\nname = 'L1'\npath = 'l1'\ndialect = 'siemens'\nx_words = 'radius'\n";
+        let c = Config::parse(text, Path::new("/srv")).unwrap();
+        let reg = crate::dialect::Registry::shipped();
+        let l1 = c.folders[0].dialect_for(reg.get("siemens").unwrap());
+        assert!(l1.behaviour.x_words_stated && !l1.behaviour.x_diameter);
+        let program = "G18 G90\nT1 D1\nG96 S200 LIMS=3000 M4\nG0 X54 Z2\nG1 X50 Z0 F0.2\nZ-20\nM30\n";
+        let a = crate::pipeline::analyze(program.as_bytes(), &l1, &crate::interp::Profile::default());
+        assert!(a.diagnostics.iter().all(|d| d.code.as_str() != "interp::x-words-diameter"));
+        let bad = text.replace("'radius'", "'chord'");
+        assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("x_words"));
+    }
+
     /// A folder of dialect files extends shipped dialects and replaces them by name; the
     /// shipped ones are loaded only as they are needed.
     #[test]
