@@ -293,8 +293,9 @@ impl Interpreter<'_> {
             code: name.to_owned(),
             depth_of_cut: Some(depth),
             retract: Some(clear),
-            allowance_x: Some(2.0 * allow_x),
-            allowance_z: Some(uz),
+            // Stated where the call leaves some (a corner roughed to size states none).
+            allowance_x: (ux > 0.0 || uz > 0.0).then_some(2.0 * allow_x),
+            allowance_z: (ux > 0.0 || uz > 0.0).then_some(uz),
             ..TurnIntent::default()
         };
         let finish_intent = TurnIntent { kind: Some(TurnKind::Finish), code: name.to_owned(), ..TurnIntent::default() };
