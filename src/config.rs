@@ -386,6 +386,9 @@ struct RawMachine {
     /// Overrides the dialect's decimal-point rule for this machine: `calculator` (X10 is 10
     /// units) or `least-increment` (X10 is 10 µm on a metric control).
     decimal_input: Option<String>,
+    /// How the machine reads X words, as its control is set: `diameter` (a lathe's diameter
+    /// programming from reset) or `radius`; a program's own evidence then does not change it.
+    x_words: Option<String>,
     /// As for CAM folders: `main`, `called` or `auto`.
     role: Option<String>,
     #[serde(default)]
@@ -479,6 +482,9 @@ pub struct Folder {
     pub poll_ms: u64,
     /// The machine's decimal-point rule, when it differs from its dialect's.
     pub decimal_input: Option<DecimalRule>,
+    /// Whether the machine reads X words as diameters (`Some(true)`) or radii, where its
+    /// configuration says (`x_words`).
+    pub x_diameter: Option<bool>,
     /// Whether the folder's files are main programs, called ones, or tell it themselves.
     pub program_role: crate::interp::ProgramRole,
     /// The machine's units and limits (machines only).
@@ -503,6 +509,15 @@ impl Folder {
     /// The dialect this folder's programs are read in, with the folder's overrides applied.
     pub fn dialect_for(&self, base: std::sync::Arc<crate::dialect::Dialect>) -> std::sync::Arc<crate::dialect::Dialect> {
         use crate::dialect::{DecimalInput, Role as R};
+        let base = match self.x_diameter {
+            Some(on) => {
+                let mut d = (*base).clone();
+                d.behaviour.x_diameter = on;
+                d.behaviour.x_words_stated = true;
+                std::sync::Arc::new(d)
+            }
+            None => base,
+        };
         let Some(rule) = self.decimal_input else { return base };
         let mut d = (*base).clone();
         d.behaviour.decimal_input_stated = true;
@@ -730,6 +745,7 @@ fn cam_folder(f: &RawFolder, base: &Path) -> Result<Folder> {
         poll: f.poll,
         poll_ms: f.poll_ms.unwrap_or(2000),
         decimal_input: None,
+        x_diameter: None,
         program_role: program_role(f.role.as_deref(), &f.path)?,
         limits: MachineLimits::default(),
         tools: folder_tools(f.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &[], &f.path)?,
@@ -750,6 +766,12 @@ fn machine_folder(m: &RawMachine, machines: &[RawMachine], base: &Path) -> Resul
         Some("calculator") => Some(DecimalRule::Calculator),
         Some("least-increment") => Some(DecimalRule::LeastIncrement),
         Some(other) => bail!("machine `{}`: decimal_input must be calculator or least-increment, not `{other}`", m.name),
+    };
+    let x_diameter = match m.x_words.as_deref() {
+        None => None,
+        Some("diameter") => Some(true),
+        Some("radius") => Some(false),
+        Some(other) => bail!("machine `{}`: x_words must be diameter or radius, not `{other}`", m.name),
     };
     let units = match m.units.as_deref() {
         None => None,
@@ -772,6 +794,7 @@ fn machine_folder(m: &RawMachine, machines: &[RawMachine], base: &Path) -> Resul
         poll: m.poll,
         poll_ms: m.poll_ms.unwrap_or(2000),
         decimal_input,
+        x_diameter,
         program_role: program_role(m.role.as_deref(), &m.name)?,
         tools: folder_tools(m.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &m.tool, &m.name)?,
     })
@@ -962,6 +985,22 @@ mod tests {
         assert!(matches!(m2.behaviour.decimal_input, crate::dialect::DecimalInput::LeastIncrement { mm, .. } if mm == 0.001));
         let bad = text.replace("'calculator'", "'metric'");
         assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("decimal_input"));
+    }
+
+    /// A machine's stated X reading (`x_words`) wins over what a program's words show: a
+    /// Sinumerik lathe set to radius programming is not read with DIAMON from reset.
+    #[test]
+    fn a_machine_can_state_how_it_reads_x_words() {
+        let text = "[database]\npath = 'db'\n[[machine]]\nname = 'L1'\npath = 'l1'\ndialect = 'siemens'\nx_words = 'radius'\n";
+        let c = Config::parse(text, Path::new("/srv")).unwrap();
+        let reg = crate::dialect::Registry::shipped();
+        let l1 = c.folders[0].dialect_for(reg.get("siemens").unwrap());
+        assert!(l1.behaviour.x_words_stated && !l1.behaviour.x_diameter);
+        let program = "G18 G90\nT1 D1\nG96 S200 LIMS=3000 M4\nG0 X54 Z2\nG1 X50 Z0 F0.2\nZ-20\nM30\n";
+        let a = crate::pipeline::analyze(program.as_bytes(), &l1, &crate::interp::Profile::default());
+        assert!(a.diagnostics.iter().all(|d| d.code.as_str() != "interp::x-words-diameter"));
+        let bad = text.replace("'radius'", "'chord'");
+        assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("x_words"));
     }
 
     /// A folder of dialect files extends shipped dialects and replaces them by name; the

@@ -156,6 +156,11 @@ codes! {
     /// a control that reads them as diameters: the machine is set to radius programming (Fanuc
     /// parameter DIAx off), and the program is read so.
     XWordsRadius = ("interp::x-words-radius", Warning),
+    /// A program for a lathe of a control whose turning machines read X as a diameter in the
+    /// ZX plane from reset (SINUMERIK: `DIAMON` and `G18` among the reset values, MD20150
+    /// GCODE_RESET_VALUES) that moves before stating `DIAMON` and never states `DIAMOF`: its
+    /// turning words (cycles, `LIMS=`, `G96`) show the lathe, and it is read so.
+    XWordsDiameter = ("interp::x-words-diameter", Note),
     /// A lathe program that states no units whose feeds per revolution are all at most 0.06 (no
     /// turning feed in mm/rev, an ordinary one in inch/rev): read in inch, the machine's
     /// power-on units being inch.

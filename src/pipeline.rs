@@ -117,7 +117,7 @@ pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Pr
 }
 
 /// The machine a program's own words show (X words as radii, inch at power-on, whole numbers
-/// in units: calculator-type decimal input) where
+/// in units: calculator-type decimal input, a lathe whose reset state reads X as a diameter) where
 /// the first reading found the evidence: the profile so set, and the findings that say why.
 /// The program is then read again on it.
 fn lathe_machine(found: &[Diagnostic], profile: &Profile) -> Option<(Profile, Vec<Diagnostic>)> {
@@ -139,12 +139,14 @@ pub struct MachineShown {
     x_radius: bool,
     inch: bool,
     calculator: bool,
+    /// A lathe of a control whose turning machines read X as a diameter in G18 from reset.
+    lathe: bool,
 }
 
 impl MachineShown {
     /// Whether a finding tells what the machine is.
     fn is_evidence(code: Code) -> bool {
-        matches!(code, Code::XWordsRadius | Code::UnitsInferred | Code::DecimalInputInferred)
+        matches!(code, Code::XWordsRadius | Code::XWordsDiameter | Code::UnitsInferred | Code::DecimalInputInferred)
     }
 
     /// What a revision's findings (their codes, as `interp::units-inferred`) show.
@@ -154,6 +156,7 @@ impl MachineShown {
             shown.x_radius |= code == Code::XWordsRadius.as_str();
             shown.inch |= code == Code::UnitsInferred.as_str();
             shown.calculator |= code == Code::DecimalInputInferred.as_str();
+            shown.lathe |= code == Code::XWordsDiameter.as_str();
         }
         shown
     }
@@ -169,6 +172,7 @@ impl MachineShown {
             x_radius: self.x_radius || other.x_radius,
             inch: self.inch || other.inch,
             calculator: self.calculator || other.calculator,
+            lathe: self.lathe || other.lathe,
         }
     }
 
@@ -191,6 +195,7 @@ impl MachineShown {
         machine.x_radius |= self.x_radius;
         machine.inch |= self.inch;
         machine.calculator_input |= self.calculator;
+        machine.lathe_reset |= self.lathe;
         machine
     }
 }

@@ -631,6 +631,7 @@ impl Reader<'_> {
                 poll: false,
                 poll_ms: 0,
                 decimal_input: None,
+                x_diameter: None,
                 program_role: crate::interp::ProgramRole::Auto,
                 limits: Default::default(),
                 tools: Default::default(),

@@ -468,6 +468,13 @@ pub struct Behaviour {
     /// Whether X words give diameters from the program's start (a lathe control); G7/G8
     /// switch where the dictionary has them.
     pub x_diameter: bool,
+    /// Whether the control's turning machines read X words as diameters in the ZX plane from
+    /// reset, where its milling ones do not (SINUMERIK `DIAMON` and `G18` in a lathe's reset
+    /// values): a program that shows it turns is read so (`interp::x-words-diameter`).
+    pub lathe_x_diameter: bool,
+    /// Whether the machine's configuration states how X words read (`x_words`), which a
+    /// program's habit then does not override.
+    pub x_words_stated: bool,
     /// The plane at the program's start and after its end (XZ on a lathe).
     pub initial_plane: crate::canon::Plane,
     /// Whether canned cycles retract to the R plane (G99) until the program says G98 or G99
@@ -789,6 +796,11 @@ pub struct CodeDef {
     /// each word's letter and value with the meaning it gives (`tilt-forms="P1:tilt-roll-pitch-yaw"`);
     /// without the word, or with the value 0, the code's own meaning.
     pub tilt_forms: Vec<(char, u16, Meaning)>,
+    /// A second effect of the code, of another group of meanings (`also="feed-per-rev"`):
+    /// Siemens puts the spindle's speed mode and the feed's type in one group (15), so `G96`
+    /// is a constant cutting rate and a feed per revolution, `G94` a feed per minute and no
+    /// constant cutting rate. Only a feed mode or a spindle speed mode.
+    pub also: Option<Meaning>,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.

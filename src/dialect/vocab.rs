@@ -143,6 +143,25 @@ vocab! {
         /// A lathe's pecking cycle along Z (Fanuc G74, two blocks): as `cycle-groove` with X
         /// and Z exchanged (Q the peck in Z, P the shift in X); on the axis, a drilled hole.
         CycleFacePeck = "cycle-face-peck",
+        /// Stock removal of a corner between two points (SINUMERIK ShopTurn `CYCLE951`): the
+        /// stock from the start diameter and Z (`axis-x`, `axis-z`) to the end diameter and Z
+        /// (`end-x`, `end-z`), the finished corner running from the end diameter at the start Z
+        /// through the intermediate point (`via-x`, `via-z`: the end point for a square
+        /// corner, elsewhere a cone) to the start diameter at the end Z; roughed in passes
+        /// `cut-depth` apart leaving the allowances, or finished, along Z or across X as the
+        /// machining type says; inside where the end diameter is the larger.
+        CycleStockCorner = "cycle-stock-corner",
+        /// Contour turning (SINUMERIK `CYCLE952`): the contour the last `contour-define` named,
+        /// roughed out in passes `cut-depth` apart or finished, along Z or across X as the
+        /// machining type says, from outside its extent by the safety distance.
+        CycleContourTurn = "cycle-contour-turn",
+        /// Names the contour the contour cycles after it turn (SINUMERIK `CYCLE62`): the
+        /// labels of this program its `contour-name` arguments give, from the first to the second.
+        ContourDefine = "contour-define",
+        /// Parting off (SINUMERIK `CYCLE92`): a plunge at Z (`axis-z`) from the diameter
+        /// (`axis-x`) to the end diameter (`end-x`), at the feed and, from the diameter where the
+        /// feed changes (`via-x`), at the reduced feed (`finish-feed`).
+        CyclePartOff = "cycle-part-off",
         /// Cancel the canned cycle (G80).
         CycleCancel = "cycle-cancel",
         /// Spindle-synchronised motion (G33): K is the advance per revolution.

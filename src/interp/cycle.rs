@@ -368,7 +368,7 @@ pub(crate) struct Rough {
     allow_x: f64,
     allow_z: f64,
     /// Passes along X, the depth stepping in Z (G72), rather than along Z (G71).
-    facing: bool,
+    pub(super) facing: bool,
 }
 
 impl Rough {

@@ -162,7 +162,22 @@ impl Interpreter<'_> {
             }
             return;
         }
-        let turning = |m: Meaning| matches!(m, Meaning::CycleRoughTurn | Meaning::CycleGroove | Meaning::CycleThreadMultiple);
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::ContourDefine).is_some() {
+            self.cycle_args.clear();
+            self.contour_named = self.cycle_text.take();
+            return;
+        }
+        let turning = |m: Meaning| {
+            matches!(
+                m,
+                Meaning::CycleRoughTurn
+                    | Meaning::CycleGroove
+                    | Meaning::CycleThreadMultiple
+                    | Meaning::CycleStockCorner
+                    | Meaning::CycleContourTurn
+                    | Meaning::CyclePartOff
+            )
+        };
         if let Some(ci) = self.block_cycle.take_if(|&mut ci| turning(self.dialect.cycles[ci].meaning)) {
             let args = std::mem::take(&mut self.cycle_args);
             self.named_turn_cycle(ci, &args, block_range, sink, diags);

@@ -241,6 +241,10 @@ pub struct Profile {
     /// The machine reads X words as radii on a control whose dialect reads them as diameters
     /// (Fanuc parameter DIAx off): found from a program's arcs (`interp::x-words-radius`).
     pub x_radius: bool,
+    /// The machine is a lathe of a control whose turning machines read X words as diameters
+    /// in the ZX plane from reset (the dictionary's `lathe-x-words`): found from a program's
+    /// turning words (`interp::x-words-diameter`).
+    pub lathe_reset: bool,
     /// The machine powers on in inch (Fanuc parameter INI): found from a program's feeds
     /// (`interp::units-inferred`).
     pub inch: bool,
@@ -348,6 +352,7 @@ impl Default for Profile {
             role: ProgramRole::Auto,
             unknown_conditions: None,
             x_radius: false,
+            lathe_reset: false,
             inch: false,
             calculator_input: false,
             turns: false,
@@ -668,7 +673,7 @@ impl State {
     fn power_on(dialect: &Dialect, profile: &Profile) -> State {
         State {
             units: if profile.inch { Units::Inch } else { Units::Mm },
-            plane: dialect.behaviour.initial_plane,
+            plane: if profile.lathe_reset { Plane::Xz } else { dialect.behaviour.initial_plane },
             distance: DistanceMode::Absolute,
             arc_incremental: true,
             feed: 0.0,
@@ -722,7 +727,7 @@ impl State {
             comp_left: true,
             blank_min: None,
             leaving_comp: false,
-            diameter: dialect.behaviour.x_diameter && !profile.x_radius,
+            diameter: (dialect.behaviour.x_diameter || profile.lathe_reset) && !profile.x_radius,
             css_max: None,
             spindle_limit: None,
             cycle_initial: None,
@@ -925,6 +930,11 @@ pub struct Interpreter<'a> {
     /// decimal point (`X55.`), fractions (`X-0.5`), whole numbers without one (`X55`, not 0):
     /// the evidence of calculator-type input (`lathe_evidence`).
     point_habit: [u32; 3],
+    /// A lathe's words read (a turning cycle, a speed limit, constant cutting rate, `DIAMON`
+    /// after the first move), and whether the program told its X words before moving
+    /// (`DIAMON` first) or ever stated radius programming (`DIAMOF`): the evidence of a
+    /// lathe's reset state (`lathe_evidence`).
+    lathe_words: (u32, bool),
     /// Whether the block has a code of the control's vocabulary that ncplan does not model
     /// (kept as intent): the words no modelled command takes are that code's.
     intent_words: bool,
@@ -940,6 +950,9 @@ pub struct Interpreter<'a> {
     cycle_args: Vec<(Role, f64)>,
     /// The block's named cycle's text argument naming a contour (`CYCLE95("START:END", ...)`).
     cycle_text: Option<String>,
+    /// The contour a contour-defining call named last (SINUMERIK `CYCLE62`: `"START:END"`),
+    /// which the contour cycles after it turn.
+    contour_named: Option<String>,
     /// The surface a cycle call at a position gives the cycle (`CYCL CALL POS ... Z+0`).
     call_surface: Option<f64>,
     /// Tool names met in `T="NAME"` that the tool table does not know, numbered from 10001.
@@ -1010,6 +1023,7 @@ impl<'a> Interpreter<'a> {
             block_misread: false,
             misread_word: None,
             point_habit: [0; 3],
+            lathe_words: (0, false),
             intent_words: false,
             numbered_spindles: false,
             remap_call: None,
@@ -1017,6 +1031,7 @@ impl<'a> Interpreter<'a> {
             block_cycle: None,
             cycle_args: Vec::new(),
             cycle_text: None,
+            contour_named: None,
             call_surface: None,
             tool_names: Vec::new(),
             called: (profile.role == ProgramRole::Called)
@@ -1121,6 +1136,21 @@ impl<'a> Interpreter<'a> {
         // often as not) and writes fractions with it wrote for calculator-type input, where
         // `X55` is 55 mm (and on least-increment input the tool would run into the part at
         // X0.055).
+        let b = &self.dialect.behaviour;
+        let (lathe_words, told) = self.lathe_words;
+        if b.lathe_x_diameter
+            && !b.x_diameter
+            && !b.x_words_stated
+            && !self.profile.x_radius
+            && !self.profile.lathe_reset
+            && !told
+            && lathe_words > 0
+        {
+            let msg = format!(
+                "{lathe_words} words of a lathe (turning cycles, a spindle speed limit, constant cutting rate) and no radius programming stated: on this control's turning machines X is a diameter in the ZX plane from reset (DIAMON, G18), and the program is read so"
+            );
+            diags.push(Diagnostic::new(Code::XWordsDiameter, TextRange::default(), msg));
+        }
         let [whole_points, fractions, bare] = self.point_habit;
         let stated = self.dialect.behaviour.decimal_input_stated;
         if self.integers_scale && !stated && fractions >= 1 && bare >= CALCULATOR_BARE && bare > 2 * whole_points {

@@ -69,6 +69,10 @@ pub(crate) struct StockRemoval {
     pub feeds: (Option<f64>, Option<f64>),
     /// What the roughing and the finishing workingsteps state.
     pub intents: (TurnIntent, TurnIntent),
+    /// Where the cycle starts from outside the contour's extent by this distance, not from
+    /// where the tool stands (SINUMERIK `CYCLE952`); a face the contour begins with at its
+    /// front is then left to facing.
+    pub clear: Option<f64>,
 }
 
 /// A cycle's arguments by role.
@@ -91,6 +95,7 @@ impl Interpreter<'_> {
         sink: &mut dyn CanonSink,
         diags: &mut Vec<Diagnostic>,
     ) {
+        self.lathe_words.0 += 1;
         let cycle = &self.dialect.cycles[ci];
         let (name, meaning) = (cycle.name.clone(), cycle.meaning);
         let contour = self.cycle_text.take();
@@ -102,6 +107,9 @@ impl Interpreter<'_> {
         match meaning {
             Meaning::CycleRoughTurn => self.stock_removal_call(&name, contour, &a, range, diags),
             Meaning::CycleGroove => self.groove_call(&name, &a, range, sink, diags),
+            Meaning::CycleStockCorner => self.stock_corner_call(&name, &a, range, sink, diags),
+            Meaning::CycleContourTurn => self.contour_turn_call(&name, &a, range, diags),
+            Meaning::CyclePartOff => self.part_off_call(&name, &a, range, sink, diags),
             _ => self.thread_call(&name, &a, range, sink, diags),
         }
     }
@@ -156,13 +164,25 @@ impl Interpreter<'_> {
         };
         let finish_intent = TurnIntent { kind: Some(TurnKind::Finish), code: name.to_owned(), ..TurnIntent::default() };
         let feeds = (a.get(Role::F).filter(|f| *f > 0.0), a.get(Role::FinishFeed).filter(|f| *f > 0.0));
-        let job = StockRemoval { rough, finish: finishes, feeds, intents: (rough_intent, finish_intent) };
+        let job = StockRemoval { rough, finish: finishes, feeds, intents: (rough_intent, finish_intent), clear: None };
         self.request = Some(super::Request::NamedContour { name: contour, job: Box::new(job) });
     }
 
     /// Cuts a stock-removal call's contour (`shape`, its canon read from the start point):
     /// roughed out, then finished, each a workingstep of its own; back to the start point.
     pub(super) fn stock_removal(&mut self, job: &StockRemoval, shape: &[Canon], sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let cleared;
+        let shape = match job.clear {
+            Some(clear) => {
+                let Some((start, outside)) = clear_of(shape, self.st.pos, clear, job.rough.is_some_and(|r| r.facing)) else {
+                    return;
+                };
+                self.go_to(sink, start, false);
+                cleared = outside;
+                &cleared[..]
+            }
+            None => shape,
+        };
         let start = self.st.pos;
         if let Some(r) = job.rough {
             self.emit(sink, CanonOp::Turning(Box::new(job.intents.0.clone())));
@@ -195,6 +215,154 @@ impl Interpreter<'_> {
             self.st.pos = start;
             self.emit(sink, CanonOp::TurningEnd);
         }
+    }
+
+    /// The machining type of a ShopTurn cycle (`CYCLE951`, `CYCLE952`): its units digit the
+    /// direction (1 along Z, 2 across X: a face), its tens digit the machining (1 roughing, 2
+    /// finishing); the higher digits (position, residual material) are not read. `None`, with
+    /// a finding, for another value.
+    fn shopturn_type(&self, name: &str, a: &Args<'_>, range: TextRange, diags: &mut Vec<Diagnostic>) -> Option<(bool, bool)> {
+        let v = a.get(Role::MachiningType).unwrap_or(0.0);
+        let n = v.round().max(0.0) as u64;
+        let (direction, machining) = (n % 10, (n / 10) % 10);
+        if v.fract() != 0.0 || !matches!(machining, 1 | 2) || !matches!(direction, 1 | 2) {
+            let msg = format!(
+                "{name}: the machining type {v} is not read (units 1 along Z or 2 across X, tens 1 roughing or 2 finishing); the cycle is kept as intent"
+            );
+            diags.push(Diagnostic::new(Code::Unsupported, range, msg));
+            return None;
+        }
+        Some((machining == 1, direction == 2))
+    }
+
+    /// CYCLE951: stock removal of a corner. The stock lies between the start point (SPD, SPL)
+    /// and the end point (EPD, EPL); the finished corner runs from the end diameter at the
+    /// start Z through the intermediate point (ZPD, ZPL: the end point for a square corner) to
+    /// the start diameter at the end Z. It is cut from outside the start point by the safety
+    /// distance, as the stock removal of a contour is, and the tool returns there.
+    fn stock_corner_call(&mut self, name: &str, a: &Args<'_>, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let (Some(sx), Some(sz), Some(ex), Some(ez)) = (a.get(Role::X), a.get(Role::Z), a.get(Role::EndX), a.get(Role::EndZ)) else {
+            let msg = format!("{name} needs its start point (SPD, SPL) and end point (EPD, EPL); the cycle is skipped");
+            return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+        };
+        let Some((roughs, facing)) = self.shopturn_type(name, a, range, diags) else { return };
+        let (mx, mz) = (a.get(Role::ViaX).unwrap_or(ex), a.get(Role::ViaZ).unwrap_or(ez));
+        let (sx, ex, mx) = (self.across(sx), self.across(ex), self.across(mx));
+        // A bore opened: the end diameter beyond the start one, the tool inside.
+        let inside = ex > sx;
+        let out = if inside { -1.0 } else { 1.0 };
+        let depth = a.get(Role::CutDepth).map(f64::abs).unwrap_or(0.0);
+        if roughs && !(depth > 0.0 && depth.is_finite()) {
+            let msg = format!("{name} roughs with no infeed depth; the cycle is skipped");
+            return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+        }
+        let clear = a.get(Role::SafetyDistance).map_or(1.0, f64::abs);
+        // The X allowance is written as X positions are (on the diameter under DIAMON).
+        let (ux, uz) = (a.get(Role::AllowanceX).map_or(0.0, f64::abs), a.get(Role::AllowanceZ).map_or(0.0, f64::abs));
+        let allow_x = self.across(ux);
+        let mut start = self.st.pos;
+        (start[0], start[2]) = (sx + out * clear, sz + clear);
+        let at = |x: f64, z: f64| {
+            let mut p = start;
+            (p[0], p[2]) = (x, z);
+            p
+        };
+        let mut corner = vec![at(ex, sz), at(mx, mz), at(sx, ez)];
+        if facing {
+            corner.reverse();
+            corner.insert(0, at(start[0], ez));
+            corner.push(at(ex, start[2]));
+        } else {
+            corner.insert(0, at(ex, start[2]));
+            corner.push(at(start[0], ez));
+        }
+        corner.dedup();
+        // Cut along the corner, then left at rapid to the start's diameter (or Z).
+        let last = corner.len().saturating_sub(1);
+        let shape: Vec<Canon> = corner
+            .into_iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let op = if k == last { CanonOp::StraightTraverse(p) } else { CanonOp::StraightFeed(p) };
+                Canon { op, origin: range, line: self.line }
+            })
+            .collect();
+        let kind = if facing { TurnKind::RoughFace } else { TurnKind::RoughTurn };
+        let rough_intent = TurnIntent {
+            kind: Some(kind),
+            code: name.to_owned(),
+            depth_of_cut: Some(depth),
+            retract: Some(clear),
+            // Stated where the call leaves some (a corner roughed to size states none).
+            allowance_x: (ux > 0.0 || uz > 0.0).then_some(2.0 * allow_x),
+            allowance_z: (ux > 0.0 || uz > 0.0).then_some(uz),
+            ..TurnIntent::default()
+        };
+        let finish_intent = TurnIntent { kind: Some(TurnKind::Finish), code: name.to_owned(), ..TurnIntent::default() };
+        let feed = a.get(Role::F).filter(|f| *f > 0.0);
+        let rough = roughs.then(|| Rough::new(depth, clear, out * allow_x, uz, facing));
+        let job = StockRemoval { rough, finish: !roughs, feeds: (feed, feed), intents: (rough_intent, finish_intent), clear: None };
+        self.go_to(sink, start, false);
+        self.stock_removal(&job, &shape, sink, diags);
+    }
+
+    /// CYCLE952: the contour the last `CYCLE62` named, roughed out or finished along Z or
+    /// across X, from outside it by the safety distance; asks the flow driver for the contour.
+    fn contour_turn_call(&mut self, name: &str, a: &Args<'_>, range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let Some(contour) = self.contour_named.clone().filter(|c| !c.trim().is_empty()) else {
+            let msg = format!("{name} turns the contour a CYCLE62 before it names, and none is named; the cycle is skipped");
+            return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+        };
+        let Some((roughs, facing)) = self.shopturn_type(name, a, range, diags) else { return };
+        let depth = a.get(Role::CutDepth).map(f64::abs).unwrap_or(0.0);
+        if roughs && !(depth > 0.0 && depth.is_finite()) {
+            let msg = format!("{name} roughs with no infeed depth (D); the cycle is skipped");
+            return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+        }
+        let clear = a.get(Role::SafetyDistance).map_or(1.0, f64::abs);
+        let kind = if facing { TurnKind::RoughFace } else { TurnKind::RoughTurn };
+        let rough_intent = TurnIntent {
+            kind: Some(kind),
+            code: name.to_owned(),
+            depth_of_cut: Some(depth),
+            retract: Some(clear),
+            ..TurnIntent::default()
+        };
+        let finish_intent = TurnIntent { kind: Some(TurnKind::Finish), code: name.to_owned(), ..TurnIntent::default() };
+        let feed = a.get(Role::F).filter(|f| *f > 0.0);
+        let rough = roughs.then(|| Rough::new(depth, clear, 0.0, 0.0, facing));
+        let job = StockRemoval { rough, finish: !roughs, feeds: (feed, feed), intents: (rough_intent, finish_intent), clear: Some(clear) };
+        self.request = Some(super::Request::NamedContour { name: contour, job: Box::new(job) });
+    }
+
+    /// CYCLE92: parting off at Z (SPL) from the diameter (SPD) to the end diameter (X2), the
+    /// feed reduced (FF2) from the diameter X1 on; from outside the part by the safety
+    /// distance, and back out.
+    fn part_off_call(&mut self, name: &str, a: &Args<'_>, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let (Some(d), Some(z), Some(end)) = (a.get(Role::X), a.get(Role::Z), a.get(Role::EndX)) else {
+            let msg = format!("{name} needs its diameter (SPD), its Z (SPL) and the end diameter (X2); the cycle is skipped");
+            return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
+        };
+        let (top, bottom) = (self.across(d), self.across(end));
+        let slow = a.get(Role::ViaX).map(|x| self.across(x)).filter(|x| *x < top && *x > bottom);
+        let clear = a.get(Role::SafetyDistance).map_or(1.0, f64::abs);
+        let intent = TurnIntent { kind: Some(TurnKind::Groove), code: name.to_owned(), span: Some([z, z]), ..TurnIntent::default() };
+        let back = self.st.pos;
+        self.emit(sink, CanonOp::Turning(Box::new(intent)));
+        let mut p = back;
+        (p[0], p[2]) = (top + clear, z);
+        self.go_to(sink, p, false);
+        self.cycle_feed(a.get(Role::F).filter(|f| *f > 0.0), sink);
+        if let Some(x) = slow {
+            p[0] = x;
+            self.go_to(sink, p, true);
+            self.cycle_feed(a.get(Role::FinishFeed).filter(|f| *f > 0.0), sink);
+        }
+        p[0] = bottom;
+        self.go_to(sink, p, true);
+        p[0] = top + clear;
+        self.go_to(sink, p, false);
+        self.emit(sink, CanonOp::TurningEnd);
     }
 
     /// The feed a cycle states for its cuts, put in force.
@@ -342,4 +510,38 @@ impl Interpreter<'_> {
         self.go_to(sink, start, false);
         self.emit(sink, CanonOp::TurningEnd);
     }
+}
+
+/// A contour cycle's start outside the contour `shape` (its moves) by `clear`: beyond its
+/// largest diameter (its smallest, for a contour inside a bore, one that starts at a larger
+/// diameter than it ends) and in front of its front; and the contour from there, the face it
+/// begins with at the front (moves across X from its first point, for passes along Z; along
+/// Z, for passes across X) left out: roughing along the part takes the material to the
+/// contour, the face is another workingstep's. `None` for a contour without moves.
+fn clear_of(shape: &[Canon], from: [f64; 6], clear: f64, facing: bool) -> Option<([f64; 6], Vec<Canon>)> {
+    let moves: Vec<(usize, [f64; 6])> = shape
+        .iter()
+        .enumerate()
+        .filter_map(|(k, c)| match c.op {
+            CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Some((k, p)),
+            _ => None,
+        })
+        .collect();
+    let (&(first_k, first), &(_, last)) = (moves.first()?, moves.last()?);
+    let inside = first[0] > last[0] + 1e-9 && !facing;
+    let xs = moves.iter().map(|(_, p)| p[0]);
+    let x = if inside { xs.fold(f64::INFINITY, f64::min) - clear } else { xs.fold(f64::NEG_INFINITY, f64::max) + clear };
+    let z = moves.iter().map(|(_, p)| p[2]).fold(f64::NEG_INFINITY, f64::max) + clear;
+    let mut start = from;
+    (start[0], start[2]) = (x, z);
+    // The leading face: the moves after the first that keep its Z (its X, facing).
+    let fixed = if facing { 0 } else { 2 };
+    let mut skip = first_k;
+    for &(k, p) in &moves[1..] {
+        if (p[fixed] - first[fixed]).abs() > 1e-9 {
+            break;
+        }
+        skip = k;
+    }
+    Some((start, shape[skip..].to_vec()))
 }

@@ -296,7 +296,13 @@ impl Interpreter<'_> {
         let w = &w;
         if w.cycle_arg {
             if let (Value::Text(r), Role::ContourName) = (w.value, w.role) {
-                self.cycle_text = Some(block.text(r).to_owned());
+                // A second name is the end of a label range (`CYCLE62(,2,"START","END")`).
+                let text = block.text(r);
+                self.cycle_text = Some(match self.cycle_text.take() {
+                    Some(first) if !first.is_empty() && !text.is_empty() => format!("{first}:{text}"),
+                    Some(first) if text.is_empty() => first,
+                    _ => text.to_owned(),
+                });
                 return true;
             }
             match self.value(block, w.value, w.range, diags) {

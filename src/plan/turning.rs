@@ -625,8 +625,9 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         Some(u) => (u < 0.0) != (t.mirrored && xmax + u / 2.0 > 0.0),
         None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
         // A finishing cycle starts where its contour starts, inside or out: it is inside
-        // where its roughing was (below).
-        None if finish_cycle => boring,
+        // where its roughing was (below), or where it leaves its contour towards the axis
+        // (a bore's finishing pass, down its wall and across its bottom, pulled in).
+        None if finish_cycle => boring || left_inward(ws),
         None => {
             // (Coming in at the small end counts only for straight passes on one side of the
             // axis: a pass along the contour from its small end turns the outside, and passes

@@ -180,6 +180,14 @@ pub struct Options {
     /// lathe's): a target that does is told the source's feed mode at the program's start,
     /// so that it never runs in the mode a previous program left. Set by [`translate`].
     pub feed_per_rev_at_start: (bool, bool),
+    /// Whether the target's lathes read X words as diameters from reset where its mills do
+    /// not (SINUMERIK DIAMON): a program that turns with X as radii states its radius mode.
+    /// Set by [`translate`] from the target's dictionary.
+    pub lathe_reset_diameter: bool,
+    /// Whether the target's feed-type codes end constant surface speed (SINUMERIK group 15:
+    /// G95 after G96 turns at a constant speed): where the feed mode is written while it is
+    /// in force, it is stated again after it. Set by [`translate`] from the target's dictionary.
+    pub feed_mode_ends_css: bool,
 }
 
 impl Options {
@@ -201,6 +209,8 @@ impl Options {
             tap_to_clear: (false, false),
             x_diameter: false,
             feed_per_rev_at_start: (false, false),
+            lathe_reset_diameter: false,
+            feed_mode_ends_css: false,
         }
     }
 }
@@ -318,6 +328,10 @@ pub fn translate_with_facts<'t>(
     let clear = |d: &crate::dialect::Dialect| d.behaviour.tapping == crate::dialect::TapStyle::Clear;
     opts.tap_to_clear = (clear(from), clear(to));
     opts.x_diameter = to.behaviour.x_diameter;
+    opts.lathe_reset_diameter = to.behaviour.lathe_x_diameter && !to.behaviour.x_diameter;
+    use crate::dialect::Meaning as M;
+    opts.feed_mode_ends_css =
+        to.codes.iter().any(|c| matches!(c.meaning, M::FeedPerRev | M::FeedPerMinute) && c.also == Some(M::SpindleRpm));
     opts.feed_per_rev_at_start = (from.behaviour.initial_feed_per_rev, to.behaviour.initial_feed_per_rev);
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);
@@ -518,6 +532,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     sync: Option<f64>,
     /// Whether constant surface speed is in force.
     css: bool,
+    /// The spindle speed limit constant surface speed was put in force with.
+    css_limit: Option<f64>,
     /// Whether X words are written as diameters (twice the canonical radius): from the start
     /// on a target that reads them so (`Options::x_diameter`), or after its `diameter-on`.
     x_diam: bool,
@@ -526,6 +542,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     /// X as diameters takes no program that does not turn.
     turns: bool,
     moved_yet: bool,
+    /// Whether the X words' reading was stated (a diameter or radius mode written).
+    x_told: bool,
     /// Where each source line's text begins in `buf` (since the last hand-over): a run the
     /// program repeats is found there.
     line_offsets: Vec<(u32, usize, u64)>,
@@ -1113,9 +1131,11 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             rounded_feed_at: None,
             sync: None,
             css: false,
+            css_limit: None,
             x_diam,
             turns: false,
             moved_yet: false,
+            x_told: false,
             line_offsets: Vec::new(),
             repeat: None,
             loops: 0,

@@ -46,6 +46,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// read back it would not be known to turn; the radius mode needs no code there.
     pub(super) fn diameter_mode(&mut self, canon: &Canon, on: bool) {
         self.turns = true;
+        self.x_told = true;
         let has = |p: &Self, e: &str| p.out.template(e).is_some();
         if !self.opts.x_diameter && !has(self, "diameter-on") && !has(self, "diameter-off") {
             if on {
@@ -80,6 +81,17 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
         }
     }
 
+    /// A program that turns with X words as radii, written for a target whose lathes read
+    /// them as diameters from reset (`Options::lathe_reset_diameter`: SINUMERIK DIAMON) with
+    /// constant surface speed, which shows the control a lathe: its radius mode is stated
+    /// once, where nothing stated it (read back, the program reads radii throughout).
+    pub(super) fn radius_for_lathe(&mut self) {
+        if self.opts.lathe_reset_diameter && self.turns && self.css && !self.x_diam && !self.x_told {
+            self.x_told = true;
+            self.event("diameter-off", &mut Vals::new());
+        }
+    }
+
     /// X words are written as diameters (`on`) or radii from here: the last X written is
     /// forgotten, so that the next move states X in the new reading.
     fn set_x_diameter(&mut self, on: bool) {
@@ -95,6 +107,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     pub(super) fn first_move(&mut self, canon: &Canon) {
         self.moved_yet = true;
         self.turns |= self.plane == Plane::Xz;
+        self.radius_for_lathe();
         if self.opts.x_diameter && !self.turns {
             self.note(
                 Code::PostUnwritable,
@@ -108,6 +121,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     /// A lathe cycle (G71, CYCLE95, G76): written as the moves it makes, which follow.
     pub(super) fn lathe_cycle(&mut self, canon: &Canon, t: &crate::canon::TurnIntent) {
         self.turns = true;
+        self.radius_for_lathe();
         self.note(
             Code::PostCycleAsMoves,
             canon,
@@ -158,6 +172,14 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 let ev = if *m == FeedMode::PerMinute { "feed-per-minute" } else { "feed-per-rev" };
                 if !self.event(ev, &mut Vals::new()) {
                     self.note(Code::PostUnwritable, canon, ev, format!("the target's output rules have no `{ev}` template"));
+                } else if self.css && self.opts.feed_mode_ends_css {
+                    // The target's feed type ends constant surface speed (SINUMERIK group 15):
+                    // it is put in force again, with its limit.
+                    let mut vals = Vals::new();
+                    if let Some(m) = self.css_limit {
+                        vals.set(Value::SpindleMax, m);
+                    }
+                    self.event("css-on", &mut vals);
                 }
             }
             // The feed mode unchanged, or not a feed op ([`Post::other_op`] hands none).

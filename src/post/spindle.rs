@@ -109,6 +109,8 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 );
             } else if self.event(ev, &mut vals) {
                 self.css = on;
+                self.css_limit = limit;
+                self.radius_for_lathe();
             } else {
                 self.note(
                     Code::PostUnwritable,

@@ -42,6 +42,7 @@ const ATTRIBUTES: &[&str] = &[
     "program-end",
     "motion-without-axes",
     "x-words",
+    "lathe-x-words",
     "initial-plane",
     "initial-retract",
     "same-group-codes",
@@ -81,6 +82,8 @@ fn defaults() -> Behaviour {
         unused_words_rejected: false,
         end_required: false,
         x_diameter: false,
+        lathe_x_diameter: false,
+        x_words_stated: false,
         initial_plane: Plane::Xy,
         initial_retract_r: false,
         same_group_last_wins: false,
@@ -121,6 +124,7 @@ impl Cx {
         b.unused_words_rejected = self.either(el, "unused-words", "ignored", "rejected");
         b.end_required = self.either(el, "program-end", "optional", "required");
         b.x_diameter = self.either(el, "x-words", "radius", "diameter");
+        b.lathe_x_diameter = self.either(el, "lathe-x-words", "radius", "diameter");
         b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.same_group_last_wins = self.either(el, "same-group-codes", "error", "last");
         b.initial_plane = self.initial_plane(el);

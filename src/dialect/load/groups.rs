@@ -28,6 +28,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "args",
     "line-words",
     "tilt-forms",
+    "also",
 ];
 
 impl Cx {
@@ -131,6 +132,7 @@ impl Cx {
         let named = keyword.is_none() && self.attr(c, "rest") == Some("words");
         let line_words = self.line_words(c);
         let tilt_forms = self.tilt_forms(c);
+        let also = self.also(c);
         Some(CodeDef {
             letter,
             number,
@@ -149,7 +151,26 @@ impl Cx {
             named,
             line_words,
             tilt_forms,
+            also,
         })
+    }
+
+    /// `also="feed-per-rev"`: the code's second effect, a feed mode or a spindle speed mode
+    /// (the feed type group of a control that keeps both in one, Siemens group 15).
+    fn also(&mut self, c: &Element) -> Option<Meaning> {
+        let text = self.attr(c, "also")?;
+        let m = Meaning::parse(text);
+        let second = [Meaning::FeedPerMinute, Meaning::FeedPerRev, Meaning::FeedInverseTime, Meaning::SpindleCss, Meaning::SpindleRpm];
+        match m {
+            Some(m) if second.contains(&m) => Some(m),
+            _ => {
+                let msg = format!(
+                    "`also` must be a feed mode or a spindle speed mode (feed-per-minute, feed-per-rev, feed-inverse-time, spindle-css, spindle-rpm), not `{text}`"
+                );
+                self.error(Self::attr_range(c, "also"), msg);
+                None
+            }
+        }
     }
 
     /// A code's parameters: `required`, `optional`, `any-of="X Y|R"` (at least one of each

@@ -9,8 +9,8 @@ use crate::interp::Interpreter;
 
 impl Interpreter<'_> {
     /// G93, G94, G95: how F reads.
-    pub(super) fn feed_mode(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
-        if def.meaning == Meaning::FeedInverseTime {
+    pub(super) fn feed_mode(&mut self, meaning: Meaning, sink: &mut dyn CanonSink) {
+        if meaning == Meaning::FeedInverseTime {
             self.st.inverse_time = true;
             if self.st.feed_per_rev {
                 self.st.feed_per_rev = false;
@@ -19,7 +19,7 @@ impl Interpreter<'_> {
             return;
         }
         self.st.inverse_time = false;
-        let per_rev = def.meaning == Meaning::FeedPerRev;
+        let per_rev = meaning == Meaning::FeedPerRev;
         if per_rev != self.st.feed_per_rev {
             self.st.feed_per_rev = per_rev;
             self.emit(sink, CanonOp::SetFeedMode(if per_rev { FeedMode::PerRevolution } else { FeedMode::PerMinute }));

@@ -107,8 +107,11 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let def = self.code(c);
+        if let Some(second) = def.also {
+            self.second_effect(second, sink);
+        }
         match def.meaning {
-            Meaning::FeedPerMinute | Meaning::FeedPerRev | Meaning::FeedInverseTime => self.feed_mode(def, sink),
+            Meaning::FeedPerMinute | Meaning::FeedPerRev | Meaning::FeedInverseTime => self.feed_mode(def.meaning, sink),
             Meaning::ToolChange => self.tool_change(def, sink),
             Meaning::ToolSet => self.tool_set(def, range, sink, diags),
             Meaning::SpindleCw | Meaning::SpindleCcw | Meaning::SpindleStop => self.spindle_turn(def, sink),

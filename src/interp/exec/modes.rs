@@ -48,6 +48,12 @@ impl Interpreter<'_> {
     pub(super) fn diameter_mode(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         // Said either way: G7 and G8 are lathe codes, so the program turns.
         let on = def.meaning == Meaning::DiameterMode;
+        // DIAMOF, or DIAMON before any move, tells the reading; DIAMON later shows a lathe.
+        if !on || self.motions == 0 {
+            self.lathe_words.1 = true;
+        } else {
+            self.lathe_words.0 += 1;
+        }
         self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(on)));
         self.st.diameter = on;
     }

@@ -117,6 +117,7 @@ impl Interpreter<'_> {
                 }
             }
             Meaning::SpindleCss => {
+                self.lathe_words.0 += 1;
                 // LinuxCNC's D or Siemens' LIMS in the block, else the limit set before (a
                 // lathe's `G50 S`), else none (rs274 says 1e30).
                 let max = self
@@ -134,10 +135,30 @@ impl Interpreter<'_> {
         }
     }
 
+    /// A code's second effect (`CodeDef::also`), where the control keeps the spindle's speed
+    /// mode and the feed's type in one group (Siemens group 15): a feed mode, or constant
+    /// surface speed turned on or off where it changes (`G95` after `G96` ends it).
+    pub(super) fn second_effect(&mut self, m: Meaning, sink: &mut dyn CanonSink) {
+        match m {
+            Meaning::SpindleCss if self.st.css_max.is_none() => {
+                let max = self.slot(Role::SpindleLimit).or(self.st.spindle_limit).unwrap_or(crate::canon::NO_SPINDLE_LIMIT);
+                self.st.css_max = Some(max);
+                self.emit(sink, CanonOp::SetSpindleMode(Some(max)));
+            }
+            Meaning::SpindleRpm if self.st.css_max.is_some() => {
+                self.st.css_max = None;
+                self.emit(sink, CanonOp::SetSpindleMode(None));
+            }
+            Meaning::FeedPerMinute | Meaning::FeedPerRev | Meaning::FeedInverseTime => self.feed_mode(m, sink),
+            _ => {}
+        }
+    }
+
     /// The speed step: the block's S word sets the spindle speed, and `LIMS=` the limit.
     pub(super) fn speed_word(&mut self, sink: &mut dyn CanonSink) {
         // `LIMS=3000` (Siemens) sets the limit of constant surface speed, now or later.
         if let Some(max) = self.slot(Role::SpindleLimit) {
+            self.lathe_words.0 += 1;
             self.set_spindle_limit(max, sink);
         }
         // `G50 S3200` on a lathe limits the speed; it does not set it.

@@ -59,7 +59,7 @@ impl Interpreter<'_> {
         self.comp_off(sink);
         self.st.wcs = 1;
         self.emit(sink, CanonOp::SetG5xOffset(1, self.st.wcs_offsets[0]));
-        let initial = self.dialect.behaviour.initial_plane;
+        let initial = if self.profile.lathe_reset { crate::canon::Plane::Xz } else { self.dialect.behaviour.initial_plane };
         if self.st.plane != initial {
             self.st.plane = initial;
             self.emit(sink, CanonOp::SelectPlane(initial));
