@@ -766,6 +766,50 @@ G1 Z0.5\nZ-20.\nX40.\nG0 Z2.\nX-1.\nG1 Z0.\nX30.\nX32. Z-1.\nZ-20.\nX36.\nZ-30.\
     assert!(features.iter().filter(|f| *f == "outer diameter").count() >= 2, "{features:?}");
 }
 
+/// Facing passes as operators and posts write them: one pass across to the axis after a
+/// positioning feed many times the cutting feed (air, not cut); a pass across to the axis
+/// and back out along the face; the same pass twice (a spring pass) after a lead-in along the
+/// diameter. Each is facing finish, the face where it ran, never parting off or contouring.
+/// A groove plunged at several places along Z, each plunge left by a rapid, is grooving rough.
+#[test]
+fn facing_and_plunged_passes_as_operators_write_them() {
+    // One pass: a diagonal approach at F2 (ten times the cut's feed), across to X-1.
+    let fast = "O1\nG21 G99\nT0101\nG97 S2000 M3\nG0 X30. Z5.\nG1 X22. Z0. F2.\nX-1. F0.2\nG0 Z1.\nX40. Z20.\nM30\n";
+    let (ws, features) = labels(fast, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish"], "{features:?}");
+    assert_eq!(features, ["revolved flat"]);
+    // Across to the axis and back out along the face, then away along Z.
+    let back = "O2\nG21 G99\nT0101\nG97 S1500 M3\nG0 X60. Z2.\nG1 Z0. F0.04\nX0.\nX60.\nZ2.\nG0 X100. Z50.\nM30\n";
+    let (ws, features) = labels(back, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish"], "{features:?}");
+    assert_eq!(features, ["revolved flat"]);
+    // The same face twice at Z-2, fed down along the diameter first: a finish and its spring
+    // pass, not roughing, and no parting off (the tool feeds along Z at the diameter first).
+    let spring = "O3\nG21 G99\nT0101\nG97 S500 M3\nG0 Z0. X25.5\nG1 Z-2. F0.1\nX0.\nG0 Z5.\nX25.5\nG1 Z-2.\nX0.\nG0 Z5.\nX25.5\nM30\n";
+    let (ws, features) = labels(spring, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish"], "{features:?}");
+    assert_eq!(features, ["revolved flat"]);
+    // Faces stepping down are still roughing.
+    let steps = "O4\nG21 G99\nT0101\nG97 S500 M3\nG0 Z0. X40.\nG1 Z-1. F0.2\nX0.\nG0 Z5.\nX40.\nG1 Z-2.\nX0.\nG0 Z5.\nX100.\nM30\n";
+    let (ws, _) = labels(steps, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough"]);
+    // A parting tool positioned by rapids plunges to the axis behind the part: parting off.
+    let part = "O5\nG21 G99\nT0101\nG97 S800 M3\nG0 X42. Z2.\nG1 X40. Z0.5 F0.2\nZ-30.\nX42.\nG0 Z2.\nT0202\nG97 S500 M3\n\
+G0 X42. Z-25.\nG1 X-1. F0.05\nG0 X42.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(part, "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("parting off"), "{ws:?}");
+    // A groove Ø21 plunged at Z-15, Z-16 and Z-17, each plunge left by a rapid.
+    let groove = "O6\nG21 G99\nT0505\nG96 S120 M4\nG0 Z-15.\nX29.\nG1 X21. F0.05\nG0 X29.\nZ-16.\nG1 X21.\nG0 X29.\nZ-17.\n\
+G1 X21.\nG0 X29.\nG0 X200. Z270.\nM30\n";
+    let (ws, features) = labels(groove, "fanuc_lathe");
+    assert_eq!(ws, ["grooving rough"], "{features:?}");
+    assert_eq!(features, ["groove"]);
+    // One plunge: grooving finish, as before.
+    let one = "O7\nG21 G99\nT0505\nG96 S120 M4\nG0 Z-15.\nX29.\nG1 X21. F0.05\nG0 X29.\nG0 X200. Z270.\nM30\n";
+    let (ws, _) = labels(one, "fanuc_lathe");
+    assert_eq!(ws, ["grooving finish"]);
+}
+
 /// A word a code names for itself is no axis in its block: Haas' one-block `G76 ... A60`
 /// gives the tool's angle, so the thread's passes cut in X and Z with the A axis where it
 /// was (before, every cut went to A60).
