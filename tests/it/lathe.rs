@@ -810,6 +810,40 @@ G1 X21.\nG0 X29.\nG0 X200. Z270.\nM30\n";
     assert_eq!(ws, ["grooving finish"]);
 }
 
+/// A post written for a lathe set to radius programming, with no arc whose centre tells: its
+/// roughing passes' 45° pull-offs and its chamfers change X by as much as Z, which read as
+/// diameters is half the slope of a 45° move. Read so, the part is Ø30 and Ø40; the same
+/// program written with diameters shows nothing and gives the same sizes; two chamfers alone
+/// are too weak to tell, and change nothing.
+#[test]
+fn radius_words_shown_by_45_degree_moves() {
+    let sizes = |program: &str| -> (bool, Vec<f64>) {
+        let d = Registry::shipped().get("fanuc_lathe").unwrap();
+        let a = pipeline::analyze(program.as_bytes(), &d, &Profile::default());
+        let shown = a.diagnostics.iter().any(|d| d.code == pipeline::Code::XWordsRadius);
+        let mut ds: Vec<f64> = a
+            .plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                ncplan::plan::FeatureKind::Turned(ncplan::plan::Turned::Diameter { diameter, inside: false, .. }) => Some(*diameter),
+                _ => None,
+            })
+            .collect();
+        ds.sort_by(f64::total_cmp);
+        ds.dedup();
+        (shown, ds)
+    };
+    let radius = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X26. Z2.\nG0 X25.\nG1 Z-40. F0.25\nX25.5 Z-39.5\nG0 Z2.\nG0 X24.5\nG1 Z-40.\nX25. Z-39.5\nG0 Z2.\nG0 X24.\nG1 Z-40.\nX24.5 Z-39.5\nG0 Z2.\nG0 X23.5\nG1 Z-40.\nX24. Z-39.5\nG0 Z2.\nG0 X23.\nG1 Z-40.\nX23.5 Z-39.5\nG0 Z2.\nG0 X22.5\nG1 Z-40.\nX23. Z-39.5\nG0 Z2.\nG0 X22.\nG1 Z-40.\nX22.5 Z-39.5\nG0 Z2.\nG0 X21.5\nG1 Z-40.\nX22. Z-39.5\nG0 Z2.\nG0 X21.\nG1 Z-40.\nX21.5 Z-39.5\nG0 Z2.\nG0 X20.5\nG1 Z-40.\nX21. Z-39.5\nG0 Z2.\nG0 X14.\nG1 Z0. F0.1\nX15. Z-1.\nZ-20.\nX19.\nX20. Z-21.\nZ-40.\nX26.\nG0 X100. Z100.\nM30\n";
+    let diameter = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X52. Z2.\nG0 X50.\nG1 Z-40. F0.25\nX51. Z-39.5\nG0 Z2.\nG0 X49.\nG1 Z-40.\nX50. Z-39.5\nG0 Z2.\nG0 X48.\nG1 Z-40.\nX49. Z-39.5\nG0 Z2.\nG0 X47.\nG1 Z-40.\nX48. Z-39.5\nG0 Z2.\nG0 X46.\nG1 Z-40.\nX47. Z-39.5\nG0 Z2.\nG0 X45.\nG1 Z-40.\nX46. Z-39.5\nG0 Z2.\nG0 X44.\nG1 Z-40.\nX45. Z-39.5\nG0 Z2.\nG0 X43.\nG1 Z-40.\nX44. Z-39.5\nG0 Z2.\nG0 X42.\nG1 Z-40.\nX43. Z-39.5\nG0 Z2.\nG0 X41.\nG1 Z-40.\nX42. Z-39.5\nG0 Z2.\nG0 X28.\nG1 Z0. F0.1\nX30. Z-1.\nZ-20.\nX38.\nX40. Z-21.\nZ-40.\nX52.\nG0 X100. Z100.\nM30\n";
+    assert_eq!(sizes(radius), (true, vec![30.0, 40.0]));
+    assert_eq!(sizes(diameter), (false, vec![30.0, 40.0]));
+    // The finish alone: two chamfers, no finding, X read as written (diameters).
+    let weak =
+        "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X14. Z2.\nG1 Z0. F0.1\nX15. Z-1.\nZ-20.\nX19.\nX20. Z-21.\nZ-40.\nX26.\nG0 X100. Z100.\nM30\n";
+    assert_eq!(sizes(weak), (false, vec![15.0, 20.0]));
+}
+
 /// A word a code names for itself is no axis in its block: Haas' one-block `G76 ... A60`
 /// gives the tool's angle, so the thread's passes cut in X and Z with the A axis where it
 /// was (before, every cut went to A60).
