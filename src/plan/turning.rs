@@ -455,7 +455,14 @@ fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
             let last = runs(prev).pop()?;
             let new = runs(&ws);
             let [one] = new.as_slice() else { return None };
-            let ((a, ma), (b, mb)) = (main_cut(&last)?, main_cut(one)?);
+            // A CAM post's roughing pass may follow the contour after its straight cut (NX's
+            // profile clean-up) and pull off the same way as the pass before it: by its first
+            // straight cut, the same roughing.
+            let ((a, ma), (b, mb)) = match (main_cut(&last), main_cut(one)) {
+                (Some(a), Some(b)) => (a, b),
+                _ if same_pull_off(&last, one) => (lead_cut(&last)?, lead_cut(one)?),
+                _ => return None,
+            };
             if a != b || a == Way::Profile {
                 return None;
             }
@@ -496,6 +503,33 @@ fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         }
     }
     plan.workingsteps = out;
+}
+
+/// A pass's pull-off: its last cut, a short move that changes both X and Z (a post's 45°
+/// departure), as (X, Z).
+fn pull_off(run: &[Move]) -> Option<[f64; 2]> {
+    let m = run.last()?;
+    let (dx, dz) = (m.to[0] - m.from[0], m.to[2] - m.from[2]);
+    (m.arc.is_none() && dx.abs() > TOL && dz.abs() > TOL && dx.hypot(dz) <= 2.0 && run.len() > 1).then_some([dx, dz])
+}
+
+/// Whether two passes pull off alike (the same short move in X and Z).
+fn same_pull_off(a: &[Move], b: &[Move]) -> bool {
+    pull_off(a).zip(pull_off(b)).is_some_and(|(p, q)| (p[0] - q[0]).abs() < 2.0 * TOL && (p[1] - q[1]).abs() < 2.0 * TOL)
+}
+
+/// A pass's first straight cut (along Z or across X; a diagonal lead-in skipped) and its way.
+fn lead_cut(run: &[Move]) -> Option<(Way, Move)> {
+    run.iter().filter(|m| m.arc.is_none()).find_map(|m| {
+        let (dx, dz) = ((m.to[0] - m.from[0]).abs(), (m.to[2] - m.from[2]).abs());
+        if dz < TOL && dx > TOL {
+            Some((Way::Across, *m))
+        } else if dx < TOL && dz > TOL {
+            Some((Way::Along, *m))
+        } else {
+            None
+        }
+    })
 }
 
 /// Whether `ws` is one feed move of `prev`'s tool, without a cycle of its own, that starts
@@ -652,43 +686,11 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
-    // Passes written as moves cut across with a short lead-in and pull-out along Z.
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
-    // A feed many times the slowest cutting feed positions the tool in the air (`G1 Z0. F2.`
-    // before a face at F0.05): no cut, whatever way it runs.
-    // (Compared per revolution: under a constant surface speed a feed per minute grows as
-    // the tool nears the axis.)
-    let per_rev = |m: &Move| m.feed / rpm_at(&ws.technology, m.to[0]);
-    let slowest = cuts.iter().map(per_rev).filter(|f| *f > 0.0).fold(f64::INFINITY, f64::min);
-    let air = |m: &Move| slowest.is_finite() && per_rev(m) >= AIR_FEED * slowest;
-    let cut_length: f64 = cuts.iter().filter(|m| !air(m)).map(length).sum();
-    let across_length: f64 = cuts.iter().filter(|m| across(m) && !air(m)).map(length).sum();
-    let mostly_across = cuts.iter().all(across)
-        || (runs.len() > 1
-            && (across_length >= 0.75 * cut_length || runs.iter().all(|r| main_cut(r).is_some_and(|(w, _)| w == Way::Across))));
-    // The places along Z the cuts across X run at: passes at one Z are a finish and its spring
-    // passes, or one plunge; at several they step (facing down, a groove widened).
-    let levels: Vec<f64> = {
-        let mut at: Vec<f64> = cuts.iter().filter(|m| across(m) && !air(m) && length(m) > TOL).map(|m| m.to[2]).collect();
-        at.sort_by(f64::total_cmp);
-        at.dedup_by(|a, b| (*a - *b).abs() < 0.05);
-        at
-    };
-    // Plunges only (each run cuts across X and nothing else) at several places along Z, each
-    // a step of at most the tool's width from the next where that is known: one groove wider
-    // than the tool roughed out. Plunges further apart leave the stock between them.
-    let widened = levels.len() > 1
-        && runs.iter().all(|r| r.iter().filter(|m| !air(m)).all(across))
-        && width.is_none_or(|w| levels.windows(2).all(|p| p[1] - p[0] <= w + TOL));
-    // Fed along -Z at its largest diameter before it cuts across to the axis (not positioned
-    // there by a rapid or an air feed): a turning tool taking a face's depth, as no parting
-    // tool does.
-    let fed_down = runs.iter().any(|r| {
-        let mut it = r.iter().skip_while(|m| air(m));
-        it.next().is_some_and(|m| along(m) && m.to[2] < m.from[2] - TOL)
-            && it.next().is_some_and(|m| across(m) && !air(m) && (m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0))
-    });
+    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin, width);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
+    // Passes recovery joined as one operation, each a step from the one before.
+    let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
     // Runs that plunge across and come back out the way they went in, and at how many Z.
     let plunges = {
         let back = |r: &Vec<Move>| {
@@ -734,7 +736,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A recess profiled from both sides down to one bottom, as posts write a groove's
         // finish with a turning or grooving tool: each flank in a pass of its own.
         None if xmin >= 0.05 && !t.inside && profiled_groove(&runs).is_some() => (TurnOp::Grooving, false),
-        None if mostly_across || face_with_lead_in(&runs, xmin, &air) => {
+        None if mostly_across || face => {
             let to_axis = xmin < 0.05;
             // Cuts to the axis at several places along Z step down a face (a facing cycle
             // written as moves); a parting tool plunges to the axis at one.
@@ -759,7 +761,9 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
         // Every pass along the whole contour (LinuxCNC's `G70 P2`, a finish and its spring
         // pass): finishing, however many passes.
-        None => (TurnOp::Contouring, runs.len() > 1 && !runs.iter().all(|r| whole_contour(r, zmax - zmin))),
+        // (Passes joined as one roughing, each a step in from the one before, rough however
+        // much of the contour each follows.)
+        None => (TurnOp::Contouring, runs.len() > 1 && (stepped_in || !runs.iter().all(|r| whole_contour(r, zmax - zmin)))),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
     // roughing is that (a roughing operation's one pass over a last region). Passes stepping
@@ -772,6 +776,56 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// How explicit passes cut across X (`across_passes`).
+struct Across {
+    /// Most of the cutting runs across X (passes with short lead-ins and pull-outs).
+    mostly: bool,
+    /// The places along Z the cuts across X run at: passes at one Z are a finish and its
+    /// spring passes, or one plunge; at several they step (facing down, a groove widened).
+    levels: Vec<f64>,
+    /// Plunges only (each run cuts across X and nothing else) at several places along Z, each
+    /// a step of at most the tool's width from the next where that is known: one groove wider
+    /// than the tool roughed out. Plunges further apart leave the stock between them.
+    widened: bool,
+    /// Fed along -Z at its largest diameter before it cuts across to the axis (not positioned
+    /// there by a rapid or an air feed): a turning tool taking a face's depth, as no parting
+    /// tool does.
+    fed_down: bool,
+    /// One pass across to the axis with its lead-in ([`face_with_lead_in`]).
+    face: bool,
+}
+
+/// How a workingstep's explicit passes cut across X. A feed many times the slowest cutting
+/// feed positions the tool in the air (`G1 Z0. F2.` before a face at F0.05): no cut, whatever
+/// way it runs (compared per revolution: under a constant surface speed a feed per minute
+/// grows as the tool nears the axis).
+fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64, width: Option<f64>) -> Across {
+    let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
+    let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
+    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let per_rev = |m: &Move| m.feed / rpm_at(&ws.technology, m.to[0]);
+    let slowest = cuts.iter().map(per_rev).filter(|f| *f > 0.0).fold(f64::INFINITY, f64::min);
+    let air = |m: &Move| slowest.is_finite() && per_rev(m) >= AIR_FEED * slowest;
+    let cut_length: f64 = cuts.iter().filter(|m| !air(m)).map(length).sum();
+    let across_length: f64 = cuts.iter().filter(|m| across(m) && !air(m)).map(length).sum();
+    let mostly = cuts.iter().all(across)
+        || (runs.len() > 1
+            && (across_length >= 0.75 * cut_length || runs.iter().all(|r| main_cut(r).is_some_and(|(w, _)| w == Way::Across))));
+    let mut levels: Vec<f64> = cuts.iter().filter(|m| across(m) && !air(m) && length(m) > TOL).map(|m| m.to[2]).collect();
+    levels.sort_by(f64::total_cmp);
+    levels.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+    let widened = levels.len() > 1
+        && runs.iter().all(|r| r.iter().filter(|m| !air(m)).all(across))
+        && width.is_none_or(|w| levels.windows(2).all(|p| p[1] - p[0] <= w + TOL));
+    let fed_down = runs.iter().any(|r| {
+        let mut it = r.iter().skip_while(|m| air(m));
+        it.next().is_some_and(|m| along(m) && m.to[2] < m.from[2] - TOL)
+            && it.next().is_some_and(|m| across(m) && !air(m) && (m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0))
+    });
+    let face = face_with_lead_in(runs, xmin, &air);
+    Across { mostly, levels, widened, fed_down, face }
 }
 
 /// The spindle's speed with the tool at radius `x`, 1/min: under a constant surface speed,

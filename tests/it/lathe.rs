@@ -844,6 +844,31 @@ fn radius_words_shown_by_45_degree_moves() {
     assert_eq!(sizes(weak), (false, vec![15.0, 20.0]));
 }
 
+/// A CAM post's roughing as NX writes it: each pass feeds along Z at a step in X, follows the
+/// contour after its straight cut (arcs and a shoulder: the profile clean-up) and pulls off
+/// at 45° the same way. The passes are one `contouring rough` with its depth of cut (the step
+/// per side), the other tool's contour after it one `contouring finish`.
+#[test]
+fn roughing_passes_with_profile_clean_up_are_one_workingstep() {
+    // Before, each pass was a workingstep of its own, each a `contouring finish`.
+    let program = "O1\nG21 G99\nT0101\nG97 S1800 M3\nG0 X52. Z2.\n\
+G0 X48.\nG1 Z1.6 F0.75\nZ-30. F0.5\nX50. Z-31. F0.75\nX50.6 Z-30.7 F1.25\nG0 Z2.\n\
+X44.\nG1 Z1.6 F0.75\nZ-18.\nX45.\nG3 X47. Z-19. R1.\nG1 Z-29.5\nX48. Z-30.\nX48.6 Z-29.7 F1.25\nG0 Z2.\n\
+X40.\nG1 Z1.6 F0.75\nZ-18.\nX44.\nX44.6 Z-17.7 F1.25\nG0 Z2.\n\
+X100. Z100.\nT0202\nG96 S250 M3\nG0 X36. Z2.\nG1 X38. Z0. F0.1\nZ-18.\nX45.\nG3 X47. Z-19. R1.\nG1 Z-30.\nX52.\nG0 X100. Z100.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
+    let ws: Vec<String> = plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(ws, ["contouring rough", "contouring finish"]);
+    let rough = plan.workingsteps[0].turning.as_deref().unwrap();
+    assert_eq!(rough.passes, 3);
+    assert_eq!(rough.intent.as_ref().and_then(|i| i.depth_of_cut), Some(2.0));
+    // The same passes each pulling off another way are no one operation's.
+    let other = program.replace("X48.6 Z-29.7 F1.25", "X49. Z-29.5 F1.25");
+    let plan = pipeline::analyze(other.as_bytes(), &d, &Profile::default()).plan;
+    assert!(plan.workingsteps.len() > 2, "{:?}", plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>());
+}
+
 /// A word a code names for itself is no axis in its block: Haas' one-block `G76 ... A60`
 /// gives the tool's angle, so the thread's passes cut in X and Z with the A axis where it
 /// was (before, every cut went to A60).
