@@ -542,9 +542,11 @@ fn comment_diameter_bare(up: &str) -> Option<f64> {
             return Some(v);
         }
     }
-    // A drill's size right after the word (`DRILL 8.5`, Russian `SVERLO 1.5`).
+    // A drill's size right after its word in Russian, Turkish and German shops (`SVERLO 1.5`).
+    // (Not yet `DRILL 8.5`: a Siemens tool so named, `T="DRILL 8.5"`, is written to other
+    // controls by number only, and its translation would read as another tool.)
     for w in words.windows(2) {
-        if ["DRILL", "SVERLO", "MATKAP", "BOHRER"].contains(&w[0])
+        if ["SVERLO", "MATKAP", "BOHRER"].contains(&w[0])
             && w[1].chars().all(|c| c.is_ascii_digit() || c == '.')
             && let Some(v) = number(w[1])
         {
@@ -2209,7 +2211,6 @@ mod tests {
         assert_eq!(f("CAP9.MATKAP"), (Some(ToolKind::TwistDrill), Some(9.0)));
         assert_eq!(f("CAP21.UDRIL").1, Some(21.0));
         assert_eq!(f("SVERLO 1.5"), (Some(ToolKind::TwistDrill), Some(1.5)));
-        assert_eq!(f("DRILL 8.5"), (Some(ToolKind::TwistDrill), Some(8.5)));
         assert_eq!(f("END CAP SCREW").1, None);
         assert_eq!(f("ESCAPE 5").1, None);
         // Mastercam's tool list: the number before the kind; `D1` there is the offset.
