@@ -48,6 +48,9 @@ pub fn analyze(bytes: &[u8], dialect: &Dialect, profile: &Profile) -> Analysis {
     let mut diagnostics = crate::diag::decoding(notes);
     let mut canon = Vec::new();
     let mut found = interp::interpret(&source.text, dialect, profile, &mut canon);
+    let mut votes = interp::shown::RadiusVotes::default();
+    canon.iter().for_each(|c| votes.see(c));
+    found.extend(moves_show(&votes, &found, profile));
     if let Some((machine, evidence)) = lathe_machine(&found, profile) {
         canon.clear();
         found = interp::interpret(&source.text, dialect, &machine, &mut canon);
@@ -97,7 +100,9 @@ fn plan_of((source, notes): (SourceText, Vec<DecodeNote>), dialect: &Dialect, pr
 /// come.
 pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (ProcessPlan, Vec<Diagnostic>) {
     let mut recoverer = plan::Recoverer::new(profile);
-    let mut diagnostics = interp::interpret(text, dialect, profile, &mut recoverer);
+    let mut votes = interp::shown::RadiusVotes::default();
+    let mut diagnostics = interp::interpret(text, dialect, profile, &mut interp::shown::Tee { sink: &mut recoverer, votes: &mut votes });
+    diagnostics.extend(moves_show(&votes, &diagnostics, profile));
     let machine = lathe_machine(&diagnostics, profile);
     // A program found to turn only after its first moves (or by its moves all lying in the
     // ZX plane) is read again as a lathe's from its start.
@@ -114,6 +119,13 @@ pub fn plan_of_text(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Pr
     };
     diagnostics.extend(plan_diags);
     (plan, diagnostics)
+}
+
+/// What the moves show where the interpreter's evidence did not: X words as radii by the
+/// slope of 45° moves, where no arc tells (`interp::shown`).
+fn moves_show(votes: &interp::shown::RadiusVotes, found: &[Diagnostic], profile: &Profile) -> Option<Diagnostic> {
+    let known = profile.x_radius || found.iter().any(|d| d.code == Code::XWordsRadius);
+    votes.finding(known)
 }
 
 /// The machine a program's own words show (X words as radii, inch at power-on, whole numbers
@@ -410,14 +422,9 @@ pub fn translate<'t>(
 /// the profile so set and the findings that say why, or `None` and no findings when the
 /// program shows none. Streams: memory does not grow with the program.
 pub fn machine_of(text: Text<'_>, dialect: &Dialect, profile: &Profile) -> (Option<Profile>, Vec<Diagnostic>) {
-    struct Discard;
-    impl CanonSink for Discard {
-        fn emit(&mut self, _: Canon) {}
-        fn kept_bytes(&self, _: u64) -> u64 {
-            0
-        }
-    }
-    let found = interp::interpret(text, dialect, profile, &mut Discard);
+    let mut votes = interp::shown::RadiusVotes::default();
+    let mut found = interp::interpret(text, dialect, profile, &mut votes);
+    found.extend(moves_show(&votes, &found, profile));
     match lathe_machine(&found, profile) {
         Some((machine, evidence)) => (Some(machine), evidence),
         None => (None, Vec::new()),

@@ -165,6 +165,7 @@ mod motion;
 mod named_turn;
 mod pocket;
 mod read;
+pub mod shown;
 
 pub use flow::{NoPrograms, ProgramSource, run};
 pub use machine::MachineSetup;

@@ -326,7 +326,8 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
                 "BORING" => has("BOHRSTANGE") || has("AUSDREH"),
                 // Einstechen (grooving), Abstechen (parting off).
                 "GROOV" => has("EINSTECH") || has("ABSTECH"),
-                "DRILL" => has("BOHRER") && !has("GEWINDEBOHR"),
+                // Turkish matkap, Russian sverlo (written in Latin letters).
+                "DRILL" => (has("BOHRER") && !has("GEWINDEBOHR")) || has("MATKAP") || has("SVERLO"),
                 "ENDMILL" => has("SCHAFTFR") || has("FRAESER") || has("FRÄSER") || has("FRäSER"),
                 _ => false,
             }
@@ -509,6 +510,16 @@ fn comment_diameter(up: &str) -> Option<(f64, Option<f64>)> {
             }
         }
     }
+    // Turkish çap (diameter), often written without its cedilla, right before its number
+    // (`CAP11.5D.MATKAP`, `ÇAP 21`); not a word that only begins so (`CAP SCREW`).
+    for key in ["ÇAP", "CAP"] {
+        for (i, _) in up.match_indices(key) {
+            let word_start = up[..i].chars().next_back().is_none_or(|c| !c.is_alphabetic());
+            if let Some(v) = number(&up[i + key.len()..]).filter(|_| word_start) {
+                return Some((v, unit_after(&up[i + key.len()..])));
+            }
+        }
+    }
     // Inch fractions, as shops name drills and end mills (`1/4" DRILL`, `3/8 END MILL`).
     let fraction = up.split(|c: char| c.is_whitespace() || matches!(c, '|' | '(' | ')' | ',' | '-' | '=')).find_map(inch_fraction);
     if let Some(v) = fraction {
@@ -527,6 +538,17 @@ fn comment_diameter_bare(up: &str) -> Option<f64> {
         if w[0].chars().all(|c| c.is_ascii_digit() || c == '.')
             && KINDS.iter().any(|k| w[1].starts_with(k))
             && let Some(v) = number(w[0])
+        {
+            return Some(v);
+        }
+    }
+    // A drill's size right after its word in Russian, Turkish and German shops (`SVERLO 1.5`).
+    // (Not yet `DRILL 8.5`: a Siemens tool so named, `T="DRILL 8.5"`, is written to other
+    // controls by number only, and its translation would read as another tool.)
+    for w in words.windows(2) {
+        if ["SVERLO", "MATKAP", "BOHRER"].contains(&w[0])
+            && w[1].chars().all(|c| c.is_ascii_digit() || c == '.')
+            && let Some(v) = number(w[1])
         {
             return Some(v);
         }
@@ -2183,6 +2205,14 @@ mod tests {
         assert_eq!(parse_tool_comment("D=10. CR=0.").corner_radius, Some(0.0));
         assert_eq!(f("EM10"), (Some(ToolKind::EndMill), Some(10.0)));
         assert_eq!(f("T=\"EM10\""), (Some(ToolKind::EndMill), Some(10.0)));
+        // Drills named in Turkish and Russian shops: the size after çap (diameter), or after
+        // the drill's word.
+        assert_eq!(f("CAP11.5D.MATKAP"), (Some(ToolKind::TwistDrill), Some(11.5)));
+        assert_eq!(f("CAP9.MATKAP"), (Some(ToolKind::TwistDrill), Some(9.0)));
+        assert_eq!(f("CAP21.UDRIL").1, Some(21.0));
+        assert_eq!(f("SVERLO 1.5"), (Some(ToolKind::TwistDrill), Some(1.5)));
+        assert_eq!(f("END CAP SCREW").1, None);
+        assert_eq!(f("ESCAPE 5").1, None);
         // Mastercam's tool list: the number before the kind; `D1` there is the offset.
         assert_eq!(f("T1 | 10. FLAT ENDMILL | H1 | D1"), (Some(ToolKind::EndMill), Some(10.0)));
     }

@@ -28,6 +28,9 @@ pub use super::turned::{TurnOp, Turned, Turning};
 use crate::canon::TurnKind;
 use crate::text::num;
 
+/// A feed this many times a workingstep's slowest cutting feed moves the tool through the air.
+const AIR_FEED: f64 = 5.0;
+
 /// Within this, two lengths are the same, mm.
 const TOL: f64 = 1e-3;
 
@@ -89,7 +92,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         // A grooving tool the program or the tool table names (not one inferred from what it
         // does): its passes that neither face nor part off cut a groove.
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
-        classify(ws, front, back, boring, grooving);
+        classify(ws, front, back, boring, grooving, tool.and_then(tool_width));
     }
     // A finishing pass is inside where the same tool's roughing was.
     for k in 1..plan.workingsteps.len() {
@@ -452,7 +455,14 @@ fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
             let last = runs(prev).pop()?;
             let new = runs(&ws);
             let [one] = new.as_slice() else { return None };
-            let ((a, ma), (b, mb)) = (main_cut(&last)?, main_cut(one)?);
+            // A CAM post's roughing pass may follow the contour after its straight cut (NX's
+            // profile clean-up) and pull off the same way as the pass before it: by its first
+            // straight cut, the same roughing.
+            let ((a, ma), (b, mb)) = match (main_cut(&last), main_cut(one)) {
+                (Some(a), Some(b)) => (a, b),
+                _ if same_pull_off(&last, one) => (lead_cut(&last)?, lead_cut(one)?),
+                _ => return None,
+            };
             if a != b || a == Way::Profile {
                 return None;
             }
@@ -493,6 +503,33 @@ fn group_passes(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         }
     }
     plan.workingsteps = out;
+}
+
+/// A pass's pull-off: its last cut, a short move that changes both X and Z (a post's 45°
+/// departure), as (X, Z).
+fn pull_off(run: &[Move]) -> Option<[f64; 2]> {
+    let m = run.last()?;
+    let (dx, dz) = (m.to[0] - m.from[0], m.to[2] - m.from[2]);
+    (m.arc.is_none() && dx.abs() > TOL && dz.abs() > TOL && dx.hypot(dz) <= 2.0 && run.len() > 1).then_some([dx, dz])
+}
+
+/// Whether two passes pull off alike (the same short move in X and Z).
+fn same_pull_off(a: &[Move], b: &[Move]) -> bool {
+    pull_off(a).zip(pull_off(b)).is_some_and(|(p, q)| (p[0] - q[0]).abs() < 2.0 * TOL && (p[1] - q[1]).abs() < 2.0 * TOL)
+}
+
+/// A pass's first straight cut (along Z or across X; a diagonal lead-in skipped) and its way.
+fn lead_cut(run: &[Move]) -> Option<(Way, Move)> {
+    run.iter().filter(|m| m.arc.is_none()).find_map(|m| {
+        let (dx, dz) = ((m.to[0] - m.from[0]).abs(), (m.to[2] - m.from[2]).abs());
+        if dz < TOL && dx > TOL {
+            Some((Way::Across, *m))
+        } else if dx < TOL && dz > TOL {
+            Some((Way::Along, *m))
+        } else {
+            None
+        }
+    })
 }
 
 /// Whether `ws` is one feed move of `prev`'s tool, without a cycle of its own, that starts
@@ -590,7 +627,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool) {
+fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, width: Option<f64>) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -650,12 +687,11 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
-    // Passes written as moves cut across with a short lead-in and pull-out along Z.
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
-    let total: f64 = cuts.iter().map(length).sum();
-    let mostly_across =
-        cuts.iter().all(across) || (runs.len() > 1 && cuts.iter().filter(|m| across(m)).map(length).sum::<f64>() >= 0.75 * total);
+    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin, width);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
+    // Passes recovery joined as one operation, each a step from the one before.
+    let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
     // Runs that plunge across and come back out the way they went in, and at how many Z.
     let plunges = {
         let back = |r: &Vec<Move>| {
@@ -701,7 +737,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A recess profiled from both sides down to one bottom, as posts write a groove's
         // finish with a turning or grooving tool: each flank in a pass of its own.
         None if xmin >= 0.05 && !t.inside && profiled_groove(&runs).is_some() => (TurnOp::Grooving, false),
-        None if mostly_across || face_with_lead_in(&runs, xmin) => {
+        None if mostly_across || face => {
             let to_axis = xmin < 0.05;
             // Cuts to the axis at several places along Z step down a face (a facing cycle
             // written as moves); a parting tool plunges to the axis at one.
@@ -710,14 +746,15 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
             // workingsteps cut) faces, a second face behind a first one; a parting tool cuts
             // off behind the part.
             let near_front = back.is_finite() && zmin > back + TOL && front - zmin < zmin - back;
-            if to_axis && (zmin >= front - 0.5 || at_axis.len() > 1 || near_front) {
-                (TurnOp::Facing, runs.len() > 1)
+            let stepped = runs.len() > 1 && levels.len() > 1;
+            if to_axis && (zmin >= front - 0.5 || at_axis.len() > 1 || near_front || fed_down) {
+                (TurnOp::Facing, stepped)
             } else if to_axis {
                 (TurnOp::PartingOff, false)
             } else if back_out {
-                (TurnOp::Grooving, false)
+                (TurnOp::Grooving, runs.len() > 1 && widened)
             } else {
-                (TurnOp::Facing, runs.len() > 1)
+                (TurnOp::Facing, stepped)
             }
         }
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
@@ -725,7 +762,9 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
         // Every pass along the whole contour (LinuxCNC's `G70 P2`, a finish and its spring
         // pass): finishing, however many passes.
-        None => (TurnOp::Contouring, runs.len() > 1 && !runs.iter().all(|r| whole_contour(r, zmax - zmin))),
+        // (Passes joined as one roughing, each a step in from the one before, rough however
+        // much of the contour each follows.)
+        None => (TurnOp::Contouring, runs.len() > 1 && (stepped_in || !runs.iter().all(|r| whole_contour(r, zmax - zmin)))),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
     // roughing is that (a roughing operation's one pass over a last region). Passes stepping
@@ -738,6 +777,69 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// How explicit passes cut across X (`across_passes`).
+struct Across {
+    /// Most of the cutting runs across X (passes with short lead-ins and pull-outs).
+    mostly: bool,
+    /// The places along Z the cuts across X run at: passes at one Z are a finish and its
+    /// spring passes, or one plunge; at several they step (facing down, a groove widened).
+    levels: Vec<f64>,
+    /// Plunges only (each run cuts across X and nothing else) at several places along Z, each
+    /// a step of at most the tool's width from the next where that is known: one groove wider
+    /// than the tool roughed out. Plunges further apart leave the stock between them.
+    widened: bool,
+    /// Fed along -Z at its largest diameter before it cuts across to the axis (not positioned
+    /// there by a rapid or an air feed): a turning tool taking a face's depth, as no parting
+    /// tool does.
+    fed_down: bool,
+    /// One pass across to the axis with its lead-in ([`face_with_lead_in`]).
+    face: bool,
+}
+
+/// How a workingstep's explicit passes cut across X. A feed many times the slowest cutting
+/// feed positions the tool in the air (`G1 Z0. F2.` before a face at F0.05): no cut, whatever
+/// way it runs (compared per revolution: under a constant surface speed a feed per minute
+/// grows as the tool nears the axis).
+fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64, width: Option<f64>) -> Across {
+    let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
+    let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
+    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let per_rev = |m: &Move| m.feed / rpm_at(&ws.technology, m.to[0]);
+    let slowest = cuts.iter().map(per_rev).filter(|f| *f > 0.0).fold(f64::INFINITY, f64::min);
+    let air = |m: &Move| slowest.is_finite() && per_rev(m) >= AIR_FEED * slowest;
+    let cut_length: f64 = cuts.iter().filter(|m| !air(m)).map(length).sum();
+    let across_length: f64 = cuts.iter().filter(|m| across(m) && !air(m)).map(length).sum();
+    let mostly = cuts.iter().all(across)
+        || (runs.len() > 1
+            && (across_length >= 0.75 * cut_length || runs.iter().all(|r| main_cut(r).is_some_and(|(w, _)| w == Way::Across))));
+    let mut levels: Vec<f64> = cuts.iter().filter(|m| across(m) && !air(m) && length(m) > TOL).map(|m| m.to[2]).collect();
+    levels.sort_by(f64::total_cmp);
+    levels.dedup_by(|a, b| (*a - *b).abs() < 0.05);
+    let widened = levels.len() > 1
+        && runs.iter().all(|r| r.iter().filter(|m| !air(m)).all(across))
+        && width.is_none_or(|w| levels.windows(2).all(|p| p[1] - p[0] <= w + TOL));
+    let fed_down = runs.iter().any(|r| {
+        let mut it = r.iter().skip_while(|m| air(m));
+        it.next().is_some_and(|m| along(m) && m.to[2] < m.from[2] - TOL)
+            && it.next().is_some_and(|m| across(m) && !air(m) && (m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0))
+    });
+    let face = face_with_lead_in(runs, xmin, &air);
+    Across { mostly, levels, widened, fed_down, face }
+}
+
+/// The spindle's speed with the tool at radius `x`, 1/min: under a constant surface speed,
+/// the one that gives it there, up to the clamp (recovery's feeds per minute were made so).
+fn rpm_at(tech: &super::model::Technology, x: f64) -> f64 {
+    let rpm = match tech.surface_speed {
+        Some(v) if x.abs() > 1e-9 => {
+            let at = v * 1000.0 / (2.0 * std::f64::consts::PI * x.abs());
+            if tech.spindle_speed > 0.0 { at.min(tech.spindle_speed) } else { at }
+        }
+        _ => tech.spindle_speed,
+    };
+    if rpm > 0.0 { rpm } else { 1.0 }
 }
 
 /// A grooving cycle (`G75`) used to face: its plunges reach the axis at several places along
@@ -859,14 +961,20 @@ fn profiled_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
 /// One pass that feeds in along Z at its diameter and then cuts across to the axis: a face
 /// with its lead-in (LinuxCNC's one-pass `G72`, a post's facing pass), the run across being
 /// most of the cut.
-fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64) -> bool {
+/// Moves at a feed `air` tells (a positioning feed many times the cutting feed) count for
+/// nothing; the pass may go back out along the face it cut (`X0.` then `X60.`).
+fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool) -> bool {
     let [run] = runs else { return false };
-    let across: f64 = run.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(|m| (m.to[0] - m.from[0]).abs()).sum();
-    let total: f64 = run.iter().map(|m| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2])).sum();
+    let across_x = |m: &&Move| (m.to[2] - m.from[2]).abs() < TOL;
+    let across: f64 = run.iter().filter(|m| !air(m)).filter(across_x).map(|m| (m.to[0] - m.from[0]).abs()).sum();
+    let total: f64 = run.iter().filter(|m| !air(m)).map(|m| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2])).sum();
     // Across towards the axis, or over it from the far side (a tool working at X negative
     // faces from there to the centre or past it, whatever the sign).
     let inwards = |m: &Move| m.to[0].abs() < m.from[0].abs() || m.to[0] * m.from[0] < 0.0;
-    xmin < 0.05 && run.last().is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && inwards(m)) && across >= 0.75 * total
+    let to_axis = |m: &Move| m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0;
+    let ends_inward = run.last().is_some_and(|m| across_x(&m) && inwards(m));
+    let reaches = run.iter().filter(|m| !air(m)).filter(across_x).any(|m| inwards(m) && to_axis(m));
+    xmin < 0.05 && (ends_inward || reaches) && total > TOL && across >= 0.75 * total
 }
 
 /// The features a workingstep machines, with the Z they are placed at.

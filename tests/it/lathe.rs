@@ -769,6 +769,109 @@ G1 Z0.5\nZ-20.\nX40.\nG0 Z2.\nX-1.\nG1 Z0.\nX30.\nX32. Z-1.\nZ-20.\nX36.\nZ-30.\
     assert!(features.iter().filter(|f| *f == "outer diameter").count() >= 2, "{features:?}");
 }
 
+/// Facing passes as operators and posts write them: one pass across to the axis after a
+/// positioning feed many times the cutting feed (air, not cut); a pass across to the axis
+/// and back out along the face; the same pass twice (a spring pass) after a lead-in along the
+/// diameter. Each is facing finish, the face where it ran, never parting off or contouring.
+/// A groove plunged at several places along Z, each plunge left by a rapid, is grooving rough.
+#[test]
+fn facing_and_plunged_passes_as_operators_write_them() {
+    // One pass: a diagonal approach at F2 (ten times the cut's feed), across to X-1.
+    let fast = "O1\nG21 G99\nT0101\nG97 S2000 M3\nG0 X30. Z5.\nG1 X22. Z0. F2.\nX-1. F0.2\nG0 Z1.\nX40. Z20.\nM30\n";
+    let (ws, features) = labels(fast, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish"], "{features:?}");
+    assert_eq!(features, ["revolved flat"]);
+    // Across to the axis and back out along the face, then away along Z.
+    let back = "O2\nG21 G99\nT0101\nG97 S1500 M3\nG0 X60. Z2.\nG1 Z0. F0.04\nX0.\nX60.\nZ2.\nG0 X100. Z50.\nM30\n";
+    let (ws, features) = labels(back, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish"], "{features:?}");
+    assert_eq!(features, ["revolved flat"]);
+    // The same face twice at Z-2, fed down along the diameter first: a finish and its spring
+    // pass, not roughing, and no parting off (the tool feeds along Z at the diameter first).
+    let spring = "O3\nG21 G99\nT0101\nG97 S500 M3\nG0 Z0. X25.5\nG1 Z-2. F0.1\nX0.\nG0 Z5.\nX25.5\nG1 Z-2.\nX0.\nG0 Z5.\nX25.5\nM30\n";
+    let (ws, features) = labels(spring, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish"], "{features:?}");
+    assert_eq!(features, ["revolved flat"]);
+    // Faces stepping down are still roughing.
+    let steps = "O4\nG21 G99\nT0101\nG97 S500 M3\nG0 Z0. X40.\nG1 Z-1. F0.2\nX0.\nG0 Z5.\nX40.\nG1 Z-2.\nX0.\nG0 Z5.\nX100.\nM30\n";
+    let (ws, _) = labels(steps, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough"]);
+    // A parting tool positioned by rapids plunges to the axis behind the part: parting off.
+    let part = "O5\nG21 G99\nT0101\nG97 S800 M3\nG0 X42. Z2.\nG1 X40. Z0.5 F0.2\nZ-30.\nX42.\nG0 Z2.\nT0202\nG97 S500 M3\n\
+G0 X42. Z-25.\nG1 X-1. F0.05\nG0 X42.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(part, "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("parting off"), "{ws:?}");
+    // A groove Ø21 plunged at Z-15, Z-16 and Z-17, each plunge left by a rapid.
+    let groove = "O6\nG21 G99\nT0505\nG96 S120 M4\nG0 Z-15.\nX29.\nG1 X21. F0.05\nG0 X29.\nZ-16.\nG1 X21.\nG0 X29.\nZ-17.\n\
+G1 X21.\nG0 X29.\nG0 X200. Z270.\nM30\n";
+    let (ws, features) = labels(groove, "fanuc_lathe");
+    assert_eq!(ws, ["grooving rough"], "{features:?}");
+    assert_eq!(features, ["groove"]);
+    // One plunge: grooving finish, as before.
+    let one = "O7\nG21 G99\nT0505\nG96 S120 M4\nG0 Z-15.\nX29.\nG1 X21. F0.05\nG0 X29.\nG0 X200. Z270.\nM30\n";
+    let (ws, _) = labels(one, "fanuc_lathe");
+    assert_eq!(ws, ["grooving finish"]);
+}
+
+/// A post written for a lathe set to radius programming, with no arc whose centre tells: its
+/// roughing passes' 45° pull-offs and its chamfers change X by as much as Z, which read as
+/// diameters is half the slope of a 45° move. Read so, the part is Ø30 and Ø40; the same
+/// program written with diameters shows nothing and gives the same sizes; two chamfers alone
+/// are too weak to tell, and change nothing.
+#[test]
+fn radius_words_shown_by_45_degree_moves() {
+    let sizes = |program: &str| -> (bool, Vec<f64>) {
+        let d = Registry::shipped().get("fanuc_lathe").unwrap();
+        let a = pipeline::analyze(program.as_bytes(), &d, &Profile::default());
+        let shown = a.diagnostics.iter().any(|d| d.code == pipeline::Code::XWordsRadius);
+        let mut ds: Vec<f64> = a
+            .plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                ncplan::plan::FeatureKind::Turned(ncplan::plan::Turned::Diameter { diameter, inside: false, .. }) => Some(*diameter),
+                _ => None,
+            })
+            .collect();
+        ds.sort_by(f64::total_cmp);
+        ds.dedup();
+        (shown, ds)
+    };
+    let radius = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X26. Z2.\nG0 X25.\nG1 Z-40. F0.25\nX25.5 Z-39.5\nG0 Z2.\nG0 X24.5\nG1 Z-40.\nX25. Z-39.5\nG0 Z2.\nG0 X24.\nG1 Z-40.\nX24.5 Z-39.5\nG0 Z2.\nG0 X23.5\nG1 Z-40.\nX24. Z-39.5\nG0 Z2.\nG0 X23.\nG1 Z-40.\nX23.5 Z-39.5\nG0 Z2.\nG0 X22.5\nG1 Z-40.\nX23. Z-39.5\nG0 Z2.\nG0 X22.\nG1 Z-40.\nX22.5 Z-39.5\nG0 Z2.\nG0 X21.5\nG1 Z-40.\nX22. Z-39.5\nG0 Z2.\nG0 X21.\nG1 Z-40.\nX21.5 Z-39.5\nG0 Z2.\nG0 X20.5\nG1 Z-40.\nX21. Z-39.5\nG0 Z2.\nG0 X14.\nG1 Z0. F0.1\nX15. Z-1.\nZ-20.\nX19.\nX20. Z-21.\nZ-40.\nX26.\nG0 X100. Z100.\nM30\n";
+    let diameter = "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X52. Z2.\nG0 X50.\nG1 Z-40. F0.25\nX51. Z-39.5\nG0 Z2.\nG0 X49.\nG1 Z-40.\nX50. Z-39.5\nG0 Z2.\nG0 X48.\nG1 Z-40.\nX49. Z-39.5\nG0 Z2.\nG0 X47.\nG1 Z-40.\nX48. Z-39.5\nG0 Z2.\nG0 X46.\nG1 Z-40.\nX47. Z-39.5\nG0 Z2.\nG0 X45.\nG1 Z-40.\nX46. Z-39.5\nG0 Z2.\nG0 X44.\nG1 Z-40.\nX45. Z-39.5\nG0 Z2.\nG0 X43.\nG1 Z-40.\nX44. Z-39.5\nG0 Z2.\nG0 X42.\nG1 Z-40.\nX43. Z-39.5\nG0 Z2.\nG0 X41.\nG1 Z-40.\nX42. Z-39.5\nG0 Z2.\nG0 X28.\nG1 Z0. F0.1\nX30. Z-1.\nZ-20.\nX38.\nX40. Z-21.\nZ-40.\nX52.\nG0 X100. Z100.\nM30\n";
+    assert_eq!(sizes(radius), (true, vec![30.0, 40.0]));
+    assert_eq!(sizes(diameter), (false, vec![30.0, 40.0]));
+    // The finish alone: two chamfers, no finding, X read as written (diameters).
+    let weak =
+        "O1\nG21 G99\nT0101\nG97 S800 M3\nG0 X14. Z2.\nG1 Z0. F0.1\nX15. Z-1.\nZ-20.\nX19.\nX20. Z-21.\nZ-40.\nX26.\nG0 X100. Z100.\nM30\n";
+    assert_eq!(sizes(weak), (false, vec![15.0, 20.0]));
+}
+
+/// A CAM post's roughing as NX writes it: each pass feeds along Z at a step in X, follows the
+/// contour after its straight cut (arcs and a shoulder: the profile clean-up) and pulls off
+/// at 45° the same way. The passes are one `contouring rough` with its depth of cut (the step
+/// per side), the other tool's contour after it one `contouring finish`.
+#[test]
+fn roughing_passes_with_profile_clean_up_are_one_workingstep() {
+    // Before, each pass was a workingstep of its own, each a `contouring finish`.
+    let program = "O1\nG21 G99\nT0101\nG97 S1800 M3\nG0 X52. Z2.\n\
+G0 X48.\nG1 Z1.6 F0.75\nZ-30. F0.5\nX50. Z-31. F0.75\nX50.6 Z-30.7 F1.25\nG0 Z2.\n\
+X44.\nG1 Z1.6 F0.75\nZ-18.\nX45.\nG3 X47. Z-19. R1.\nG1 Z-29.5\nX48. Z-30.\nX48.6 Z-29.7 F1.25\nG0 Z2.\n\
+X40.\nG1 Z1.6 F0.75\nZ-18.\nX44.\nX44.6 Z-17.7 F1.25\nG0 Z2.\n\
+X100. Z100.\nT0202\nG96 S250 M3\nG0 X36. Z2.\nG1 X38. Z0. F0.1\nZ-18.\nX45.\nG3 X47. Z-19. R1.\nG1 Z-30.\nX52.\nG0 X100. Z100.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
+    let ws: Vec<String> = plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(ws, ["contouring rough", "contouring finish"]);
+    let rough = plan.workingsteps[0].turning.as_deref().unwrap();
+    assert_eq!(rough.passes, 3);
+    assert_eq!(rough.intent.as_ref().and_then(|i| i.depth_of_cut), Some(2.0));
+    // The same passes each pulling off another way are no one operation's.
+    let other = program.replace("X48.6 Z-29.7 F1.25", "X49. Z-29.5 F1.25");
+    let plan = pipeline::analyze(other.as_bytes(), &d, &Profile::default()).plan;
+    assert!(plan.workingsteps.len() > 2, "{:?}", plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>());
+}
+
 /// A word a code names for itself is no axis in its block: Haas' one-block `G76 ... A60`
 /// gives the tool's angle, so the thread's passes cut in X and Z with the A axis where it
 /// was (before, every cut went to A60).
