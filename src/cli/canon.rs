@@ -6,8 +6,7 @@ use std::process::ExitCode;
 use anyhow::{Result, bail};
 
 use super::common::{Input, input_program, print_short};
-use crate::pipeline::{self, CallWriter, Canon, CanonSink, Diagnostic};
-use crate::text::TextRange;
+use crate::pipeline::{self, CallWriter, Canon, CanonSink, Diagnostic, TextRange};
 
 /// The arguments of `ncplan canon`.
 #[derive(Debug, clap::Args)]
