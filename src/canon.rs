@@ -691,6 +691,18 @@ pub trait CanonSink {
     fn kept_bytes(&self, moves: u64) -> u64 {
         moves.saturating_mul(BYTES_PER_MOVE)
     }
+
+    /// Takes a straight move to `to` (a traverse when `rapid`, else a feed) from the block at
+    /// `origin`, on `line`: the op [`CanonSink::emit`] would take as
+    /// `Canon { op: StraightTraverse(to) | StraightFeed(to), origin, line }`. The interpreter
+    /// hands the common move here where no stage stands between it and the sink; a sink that
+    /// need not keep the op (one that prints it) takes the position where it lies, without an
+    /// op made, moved and dropped for each move. By default the op, to `emit`.
+    #[inline]
+    fn straight(&mut self, rapid: bool, to: &[f64; 6], origin: TextRange, line: u32) {
+        let op = if rapid { CanonOp::StraightTraverse(*to) } else { CanonOp::StraightFeed(*to) };
+        self.emit(Canon { op, origin, line });
+    }
 }
 
 impl CanonSink for Vec<Canon> {
@@ -1129,14 +1141,27 @@ impl CallWriter {
     /// overwrites in turn. Any number the fast formatter declines sends the whole call to
     /// [`write_call_bytes`].
     pub fn write(&mut self, out: &mut Vec<u8>, op: &CanonOp) {
-        let (name, p): (&[u8], _) = match op {
-            CanonOp::StraightTraverse(p) => (b"STRAIGHT_TRAVERSE(", p),
-            CanonOp::StraightFeed(p) => (b"STRAIGHT_FEED(", p),
-            _ => return write_call_bytes(out, op),
-        };
+        match op {
+            CanonOp::StraightTraverse(p) => self.write_straight(out, true, p),
+            CanonOp::StraightFeed(p) => self.write_straight(out, false, p),
+            _ => write_call_bytes(out, op),
+        }
+    }
+
+    /// Appends the straight move to `p` (a traverse when `rapid`, else a feed) and a newline,
+    /// as [`CallWriter::write`] appends its op: the same bytes, from the position alone
+    /// ([`CanonSink::straight`]).
+    pub fn write_straight(&mut self, out: &mut Vec<u8>, rapid: bool, p: &[f64; 6]) {
         let line = &mut self.line;
-        line[..name.len()].copy_from_slice(name);
-        let mut len = name.len();
+        // Each name a copy of a length known when compiled: no call to copy it.
+        let mut len = if rapid {
+            line[..18].copy_from_slice(b"STRAIGHT_TRAVERSE(");
+            18
+        } else {
+            line[..14].copy_from_slice(b"STRAIGHT_FEED(");
+            14
+        };
+        let op = || if rapid { CanonOp::StraightTraverse(*p) } else { CanonOp::StraightFeed(*p) };
         // A machine without rotary axes moves with A, B and C at +0: the line's last three
         // numbers and its end are one copy.
         let rotary = (p[3].to_bits() | p[4].to_bits() | p[5].to_bits()) != 0;
@@ -1148,7 +1173,7 @@ impl CallWriter {
             }
             let dst = line[len..].first_chunk_mut::<32>().expect("MOVE_LINE leaves room");
             let Some(n) = write_f4(&mut self.cache, x, dst) else {
-                return write_call_bytes(out, op);
+                return write_call_bytes(out, &op());
             };
             len += n;
         }
@@ -1171,6 +1196,10 @@ const NO_ROTARY_END: &[u8; 26] = b", 0.0000, 0.0000, 0.0000)\n";
 /// Writes `v` as [`push_f4`] writes it at the start of `dst` (which it may overwrite up to
 /// 32 bytes) and returns its length: from `cache`, or formatted in place and remembered;
 /// `None` when only the standard formatter can decide.
+///
+/// Inlined: [`CallWriter::write_straight`] calls it for each number, and a call costs a
+/// good part of a cached number's copy.
+#[inline(always)]
 fn write_f4(cache: &mut [(u64, u8, [u8; CACHED]); SLOTS], v: f64, dst: &mut [u8; 32]) -> Option<usize> {
     if v.to_bits() == 0 {
         dst[..8].copy_from_slice(b"0.0000\0\0");
@@ -1265,6 +1294,20 @@ mod tests {
 
     fn close_m(a: &Frame, b: &Frame) -> bool {
         (0..3).all(|i| close(a.rotation[i], b.rotation[i]))
+    }
+
+    #[test]
+    fn a_straight_move_by_position_is_the_op_emit_takes() {
+        let mut by_position: Vec<Canon> = Vec::new();
+        let mut by_op: Vec<Canon> = Vec::new();
+        let origin = TextRange::new(3, 17);
+        for (rapid, to) in [(true, [1.0, -2.5, 0.125, 0.0, 0.0, 0.0]), (false, [-0.0, 1e-9, 7.0, 90.0, 0.0, -45.0])] {
+            by_position.straight(rapid, &to, origin, 4);
+            let op = if rapid { CanonOp::StraightTraverse(to) } else { CanonOp::StraightFeed(to) };
+            by_op.emit(Canon { op, origin, line: 4 });
+        }
+        assert_eq!(by_position, by_op);
+        assert!(matches!(by_position[0].op, CanonOp::StraightTraverse(_)) && matches!(by_position[1].op, CanonOp::StraightFeed(_)));
     }
 
     #[test]

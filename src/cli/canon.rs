@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::{Result, bail};
 
 use super::common::{Input, input_program, print_short};
-use crate::pipeline::{self, CallWriter, Canon, CanonSink, Diagnostic};
+use crate::pipeline::{self, CallWriter, Canon, CanonSink, Diagnostic, TextRange};
 
 /// The arguments of `ncplan canon`.
 #[derive(Debug, clap::Args)]
@@ -82,6 +82,21 @@ impl<W: Write> CanonSink for Printer<'_, W> {
             let _ = write!(self.buf, "{:>6} ", canon.line);
         }
         self.writer.write(&mut self.buf, &canon.op);
+        if self.buf.len() >= Self::CHUNK {
+            self.flush();
+        }
+    }
+
+    /// The common move printed from where it lies: the same line `emit` prints for its op.
+    #[inline]
+    fn straight(&mut self, rapid: bool, to: &[f64; 6], _origin: TextRange, line: u32) {
+        if self.error.is_some() {
+            return;
+        }
+        if self.lines {
+            let _ = write!(self.buf, "{line:>6} ");
+        }
+        self.writer.write_straight(&mut self.buf, rapid, to);
         if self.buf.len() >= Self::CHUNK {
             self.flush();
         }

@@ -183,7 +183,11 @@ impl Interpreter<'_> {
                 return false;
             }
             axes |= 1 << axis;
-            whole_points[usize::from(value.fract() != 0.0)] += 1;
+            if integers_scale {
+                // Only such a control counts them (`fract` is a call where the target has no
+                // rounding instruction).
+                whole_points[usize::from(value.fract() != 0.0)] += 1;
+            }
             to[axis] = if incremental { self.st.pos[axis] + value } else { value };
         }
         let Some(c) = code.or(self.st.motion_code) else { return false };

@@ -1215,7 +1215,7 @@ impl<'a> Interpreter<'a> {
             return self.emit(sink, op(to));
         }
         self.sent.set(to);
-        sink.emit(Canon { op: op(to), origin: self.origin, line: self.line });
+        sink.straight(rapid, &to, self.origin, self.line);
     }
 
     /// The stage after corners: cutter compensation when it is on, else the sink.
@@ -1706,13 +1706,14 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Runs `block` when it holds assignments and nothing else (`#<x> = [#<col> * 0.1]`,
-    /// `R1=R1+1`, `Q4 = Q1 * 0.5`), the most of a macro program's blocks; false, with nothing
-    /// changed, when it holds more, or the state has work after any block (a modal cycle or
-    /// macro, a stop message). It does what `read_and_assign` and the motion step do for
-    /// such a block, without their look at words and codes it has none of.
+    /// `R1=R1+1`, `Q4 = Q1 * 0.5`), the most of a macro program's blocks, or nothing at all (a
+    /// jump's label on a line of its own, Siemens `POINT:`, met at every pass of its loop);
+    /// false, with nothing changed, when it holds more, or the state has work after any block
+    /// (a modal cycle or macro, a stop message). It does what `read_and_assign` and the motion
+    /// step do for such a block, without their look at words and codes it has none of (with
+    /// no word read, no slot is filled: no axis, so the motion step finds no move).
     fn assignments_only(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) -> bool {
-        if block.assigns.is_empty()
-            || !block.words.is_empty()
+        if !block.words.is_empty()
             || !block.comments.is_empty()
             || block.control.is_some()
             || self.st.cycle_modal
@@ -1726,6 +1727,7 @@ impl<'a> Interpreter<'a> {
         self.block_read = true;
         self.misread_before = self.misread;
         self.block_misread = false;
+        self.numbered_spindles = false;
         self.has_axes = false;
         if !self.dialect.macros.system.is_empty() || !self.dialect.macros.system_named.is_empty() {
             self.refresh_system_vars(block);
