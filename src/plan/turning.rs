@@ -761,9 +761,8 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // a grooving tool does (a profiled recess, a wide groove turned out).
         None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
         // Every pass along the whole contour (LinuxCNC's `G70 P2`, a finish and its spring
-        // pass): finishing, however many passes.
-        // (Passes joined as one roughing, each a step in from the one before, rough however
-        // much of the contour each follows.)
+        // pass): finishing, however many passes; passes joined as one roughing, each a step
+        // in from the one before, rough however much of the contour each follows.
         None => (TurnOp::Contouring, runs.len() > 1 && (stepped_in || !runs.iter().all(|r| whole_contour(r, zmax - zmin)))),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls

@@ -188,6 +188,10 @@ pub struct Options {
     /// G95 after G96 turns at a constant speed): where the feed mode is written while it is
     /// in force, it is stated again after it. Set by [`translate`] from the target's dictionary.
     pub feed_mode_ends_css: bool,
+    /// Whether the target's constant surface speed codes also set the feed per revolution
+    /// (SINUMERIK G96, G97): under a feed per minute, its `css-on-per-minute` and
+    /// `css-off-per-minute` are written instead (G961, G971). Set by [`translate`].
+    pub css_sets_feed_per_rev: bool,
 }
 
 impl Options {
@@ -211,6 +215,7 @@ impl Options {
             feed_per_rev_at_start: (false, false),
             lathe_reset_diameter: false,
             feed_mode_ends_css: false,
+            css_sets_feed_per_rev: false,
         }
     }
 }
@@ -332,6 +337,8 @@ pub fn translate_with_facts<'t>(
     use crate::dialect::Meaning as M;
     opts.feed_mode_ends_css =
         to.codes.iter().any(|c| matches!(c.meaning, M::FeedPerRev | M::FeedPerMinute) && c.also == Some(M::SpindleRpm));
+    opts.css_sets_feed_per_rev =
+        to.codes.iter().any(|c| matches!(c.meaning, M::SpindleCss | M::SpindleRpm) && c.also == Some(M::FeedPerRev));
     opts.feed_per_rev_at_start = (from.behaviour.initial_feed_per_rev, to.behaviour.initial_feed_per_rev);
     let mut post = Post::new(out, opts, sink);
     post.tops_source = Some(hole_tops);

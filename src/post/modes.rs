@@ -179,7 +179,13 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     if let Some(m) = self.css_limit {
                         vals.set(Value::SpindleMax, m);
                     }
-                    self.event("css-on", &mut vals);
+                    let ev = self.css_event(true);
+                    if !self.event(ev, &mut vals) {
+                        let msg = format!(
+                            "constant surface speed under this feed type is not written: the target's output rules have no `{ev}` template"
+                        );
+                        self.note(Code::PostUnwritable, canon, ev, msg);
+                    }
                 }
             }
             // The feed mode unchanged, or not a feed op ([`Post::other_op`] hands none).

@@ -7,7 +7,7 @@
 //! what needs it.
 
 use super::{EPS, Post, Vals};
-use crate::canon::{Canon, CanonOp};
+use crate::canon::{Canon, CanonOp, FeedMode};
 use crate::diag::Code;
 use crate::dialect::output::Value;
 
@@ -92,7 +92,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
     fn spindle_mode(&mut self, canon: &Canon, max: &Option<f64>) {
         let on = max.is_some();
         if on || self.css {
-            let ev = if on { "css-on" } else { "css-off" };
+            let ev = self.css_event(on);
             let mut vals = Vals::new();
             let limit = max.filter(|m| *m < crate::canon::NO_SPINDLE_LIMIT);
             if let Some(m) = limit {
@@ -119,6 +119,18 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                     format!("constant surface speed (G96/G97) is not written: the target's output rules have no `{ev}` template"),
                 );
             }
+        }
+    }
+
+    /// The event that puts constant surface speed in force (`on`) or out of it, keeping the
+    /// feed type: on a target whose G96/G97 also set the feed per revolution, the per-minute
+    /// forms (G961/G971) where the feed is per minute.
+    pub(super) fn css_event(&self, on: bool) -> &'static str {
+        match (on, self.opts.css_sets_feed_per_rev && self.feed_mode == FeedMode::PerMinute) {
+            (true, false) => "css-on",
+            (false, false) => "css-off",
+            (true, true) => "css-on-per-minute",
+            (false, true) => "css-off-per-minute",
         }
     }
 

@@ -387,7 +387,8 @@ fn constant_surface_speed_is_kept_and_feeds_per_revolution_follow_the_diameter()
     let rows = ncplan::diff::diff(&a.plan, &b.plan);
     assert!(rows.iter().any(|r| r.field == "cutting_speed" && r.before == "200 m/min" && r.after == "180 m/min"), "{rows:?}");
     // Siemens writes the limit as LIMS=, in the block or on its own later.
-    let siemens = "G18 G71 G95\nT1 D1 M6\nG96 S200 LIMS=1500 M3\nLIMS=2000\nG0 X20 Z1\nG1 Z-10 F0.2\nG1 X5\nM30\n";
+    // (On a Sinumerik lathe X is a diameter from reset: DIAMOF reads it as the radius it is here.)
+    let siemens = "G18 G71 G95 DIAMOF\nT1 D1 M6\nG96 S200 LIMS=1500 M3\nLIMS=2000\nG0 X20 Z1\nG1 Z-10 F0.2\nG1 X5\nM30\n";
     let s = pipeline::analyze(siemens.as_bytes(), &reg.get("siemens").unwrap(), &Profile::default());
     assert!(!s.has_errors(), "{:?}", s.diagnostics);
     assert_eq!(s.plan.workingsteps[0].technology, *t);

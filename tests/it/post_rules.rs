@@ -126,7 +126,13 @@ fn constant_surface_speed_keeps_its_limit_or_is_unwritable() {
     let text = "G21 G90 G18\nT1 M6\nG96 D2500 S100 M3\nG0 X20 Z5\nG1 Z-10 F100\nG1 X30\nG0 Z5\nG97 S500\nM2\n";
     let src = source(text, "linuxcnc");
     let (out, verdict) = round_trip(&src, "siemens");
-    assert!(out.contains(" G96 LIMS=2500\n"), "{out}");
+    // The feed is per minute (G94): SINUMERIK's G96/G97 would read F per revolution (group
+    // 15), so the per-minute forms G961/G971 keep it.
+    assert!(out.contains(" G961 LIMS=2500\n") && out.contains(" G971\n"), "{out}");
+    assert!(same_toolpath(&verdict), "{verdict}\n{out}");
+    // Under a feed per revolution, G96 itself.
+    let (out, verdict) = round_trip(&source(&text.replace("G18\n", "G18 G95\n").replace("F100", "F0.1"), "linuxcnc"), "siemens");
+    assert!(out.contains(" G96 LIMS=2500\n") && out.contains(" G97\n"), "{out}");
     assert!(same_toolpath(&verdict), "{verdict}\n{out}");
     let (out, verdict) = round_trip(&src, "fanuc");
     assert!(verdict.contains("constant surface speed (G96/G97) is not written"), "{verdict}\n{out}");

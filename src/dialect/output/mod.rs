@@ -319,6 +319,8 @@ pub const EVENTS: &[&str] = &[
     "rigid-tap",
     "css-on",
     "css-off",
+    "css-on-per-minute",
+    "css-off-per-minute",
     "spindle-orient",
     "diameter-on",
     "diameter-off",
