@@ -690,6 +690,16 @@ fn lathe_s7_held_out_programs() {
 /// lathe's reset state inferred from its turning words, group 15's codes with both their effects,
 /// the ShopTurn cycles as workingsteps); left: the chuck part's Ø56 pass with its chamfer read as
 /// a general revolution, the lab exercise's Ø25, a portfolio part's groove roughing.
+///
+/// `tests/programs/lathe_s10_heldout/` is sweep 10's held-back set (branch gatherlt10: 3 programs
+/// of 2 repositories, 21 items; a second gatherer found no lathe program in a repository not used
+/// before): two Haas school parts with one-block `G71` (Meloc3D/MFPM) and a Sinumerik 810T-style
+/// program with `G58` shifts, `B` radii and a counter-spindle second side (ph-lk/tempGCodeCNC).
+/// Measured once on 6 December 2026 (integrate 9a7411f): 10 of 21, no milling feature. Missed: the
+/// 810T program's facing and contouring workingsteps with their feeds per revolution and three of
+/// its features (an older Sinumerik read with the 840D dictionary), the second Haas part's
+/// roughing and finishing (its `G71` P/Q block numbers are duplicated: the control would not run
+/// it as written) and its Ø48, the first part's face at Z0.
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report

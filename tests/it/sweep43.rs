@@ -122,8 +122,14 @@
 //! address, a line of minus signs between blocks, LinuxCNC o-words closing an `if` that was never
 //! opened. No Heidenhain, Okuma, Mazak, Fagor or Mitsubishi program could be found in a
 //! repository not used before. Verdicts written by reading each file before anyone ran ncplan on
-//! it (LinuxCNC files also through rs274). Measured once by the lead after the merge: (figure to
-//! be filled in).
+//! it (LinuxCNC files also through rs274). Measured once by the lead after the merges (integrate
+//! 9a7411f, 6 December 2026): 22/25 valid without an error (88.0%), family right for 22/25 valid
+//! (88.0%), invalid still rejected 1/3. Errors on valid programs: a Sinumerik PROC cycle (5: `ROUNDUP (…)`,
+//! a function with a space before its bracket), two Fanuc lathe programs of one shop (4 and 5:
+//! the direct-drawing angle `G1X51.0,A-45.0`, not in the Fanuc lathe dictionary).
+//! Family: a LinuxCNC probing subroutine read as Centroid, a Fusion `.tap` read as Fanuc. Invalid
+//! programs read without an error: the `YY=R101` address and the o-words closing an `if` that was
+//! never opened.
 
 use std::path::PathBuf;
 
