@@ -150,6 +150,9 @@ pub fn read(text: &str, dialect: &Dialect) -> (Vec<Stmt>, Vec<Fault>) {
     (out, faults)
 }
 
+/// The start of the sentence of a fault at a jump never taken ([`Jumps`]).
+pub(super) const NEVER_TAKEN: &str = "never taken: ";
+
 /// A statement's text as it is compared, whole: an O-word branch's or loop's label left out
 /// (`O10IF[#5070NE1]` is `IF[#5070NE1]`). Such a label only ties the statements of one branch
 /// or loop together (`o10 if` … `o10 endif`), so a block renumbered in a longer edit (`o10` →
@@ -189,9 +192,6 @@ fn unlabelled<'s>(block: &Block, text: &'s str) -> &'s str {
 /// finds, as a malformed word is. A conditional jump never taken is none: one whose condition
 /// is that of a conditional jump just before it (only such jumps between them), which jumped
 /// first (`IF[#101 EQ 8] GOTO 8` `IF[#101 EQ 8] GOTO 11`).
-/// The start of the sentence of a fault at a jump never taken.
-pub(super) const NEVER_TAKEN: &str = "never taken: ";
-
 #[derive(Default)]
 struct Jumps {
     numbers: std::collections::BTreeSet<u32>,
