@@ -591,6 +591,10 @@ vocab! {
         /// A chamfer of this length itself at the corner at the end of this block's move,
         /// cutting back equally along each move (Siemens `CHF=2`).
         CornerChamferLength = "corner-chamfer-length",
+        /// The angle of a straight feed's line from the +Z axis, counter-clockwise in the ZX
+        /// plane (Fanuc lathe direct drawing dimensions, `X51.,A-45.`): the end's coordinate the
+        /// block leaves out follows from it.
+        LineAngle = "line-angle",
         /// A value the engine keeps but does not interpret.
         Extra = "extra",
         /// The tool's cutting edge whose length and radius offsets apply, kept but not

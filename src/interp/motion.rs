@@ -58,6 +58,26 @@ impl Interpreter<'_> {
         t
     }
 
+    /// A straight feed given by its line's angle from +Z and one end coordinate (Fanuc lathe
+    /// direct drawing dimensions, `G01 X51.,A-45.`): the coordinate the block leaves out is
+    /// where that line meets the given one (X in the radius the slots hold). Any other form
+    /// (both coordinates, neither: the two-block intersections) is not computed, and said so.
+    fn direct_drawing(&self, angle: f64, t: &mut [f64; 6], range: TextRange, diags: &mut Vec<Diagnostic>) {
+        let given = |r: Role| self.slots[r as usize].is_some() && !self.taken_by_code(r);
+        let tan = angle.to_radians().tan();
+        let from = self.st.pos;
+        match (given(Role::X), given(Role::Z)) {
+            (true, false) if self.st.plane == Plane::Xz && tan.abs() > 1e-9 => t[2] = from[2] + (t[0] - from[0]) / tan,
+            (false, true) if self.st.plane == Plane::Xz && tan.abs() < 1e9 => t[0] = from[0] + (t[2] - from[2]) * tan,
+            _ => {
+                let msg = format!(
+                    "the line angle A{angle} with this block's coordinates (the two-block form, or not in G18) is not computed: the move goes to the coordinates given"
+                );
+                diags.push(Diagnostic::new(Code::Unsupported, range, msg));
+            }
+        }
+    }
+
     /// Whether a code of the block gives this axis letter's word another meaning (Haas
     /// lathe `G76 ... A60`: A is the tool's angle, `args="A:tool-angle"`), so the word is
     /// no axis target in that block.
@@ -157,7 +177,10 @@ impl Interpreter<'_> {
             }
             Meaning::Linear => {
                 self.check_technology(def, block.range, diags);
-                let t = self.target();
+                let mut t = self.target();
+                if let Some(a) = self.slots[Role::LineAngle as usize] {
+                    self.direct_drawing(a.value, &mut t, range, diags);
+                }
                 if self.st.inverse_time {
                     let length = (0..3).map(|i| (t[i] - self.st.pos[i]).powi(2)).sum::<f64>().sqrt();
                     if !self.inverse_time_feed(def, length, block, sink, diags) {

@@ -74,3 +74,20 @@ fn fanucs_if_with_neither_goto_nor_then_stops_whatever_the_condition() {
         assert!(found[0].contains("neither `GOTO` nor `THEN`"), "{found:?}");
     }
 }
+
+/// Fanuc lathe direct drawing dimensions (0i-TF/30i T series): `G01 X51.,A-45.` gives one end
+/// coordinate and the line's angle from +Z; the other coordinate follows (sweep 10's Fanuc
+/// lathe programs, found after its measurement). The two-block intersection form is not
+/// computed: a warning, the move to the coordinates given.
+#[test]
+fn fanuc_lathe_direct_drawing_angle_gives_the_left_out_coordinate() {
+    let program = "G21 G18 G99\nT0101\nG0 X45. Z2.\nG1 Z0 F0.1\nG1 X51.,A-45.\nG1 Z-20.\nG1 X60.\nG1 W-5.,A-30.\nM30\n";
+    assert_eq!(errors("fanuc_lathe", program), Vec::<String>::new());
+    let m = moves("fanuc_lathe", program);
+    // Ø45 → Ø51 at 45°: 3 mm out in radius is 3 mm along -Z, a 3 × 45° chamfer.
+    assert!(m.contains(&"STRAIGHT_FEED(25.5000, 0.0000, -3.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{m:?}");
+    // 5 mm along -Z at -30°: 5 · tan 30° = 2.8868 mm out in radius.
+    assert!(m.contains(&"STRAIGHT_FEED(32.8868, 0.0000, -25.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{m:?}");
+    let (_, diags) = crate::moves_and_findings("fanuc_lathe", "G18 G99\nG0 X40. Z0\nG1 X50. Z-10.,A20. F0.1\nM30\n", &Profile::default());
+    assert!(diags.iter().any(|d| d.code.as_str() == "interp::unsupported" && d.message.contains("line angle")), "{diags:?}");
+}
