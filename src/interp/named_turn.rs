@@ -287,18 +287,11 @@ impl Interpreter<'_> {
                 Canon { op, origin: range, line: self.line }
             })
             .collect();
-        let kind = if facing { TurnKind::RoughFace } else { TurnKind::RoughTurn };
-        let rough_intent = TurnIntent {
-            kind: Some(kind),
-            code: name.to_owned(),
-            depth_of_cut: Some(depth),
-            retract: Some(clear),
-            // Stated where the call leaves some (a corner roughed to size states none).
-            allowance_x: (ux > 0.0 || uz > 0.0).then_some(2.0 * allow_x),
-            allowance_z: (ux > 0.0 || uz > 0.0).then_some(uz),
-            ..TurnIntent::default()
-        };
-        let finish_intent = TurnIntent { kind: Some(TurnKind::Finish), code: name.to_owned(), ..TurnIntent::default() };
+        let (mut rough_intent, finish_intent) = shopturn_intents(name, facing, depth, clear);
+        // Stated where the call leaves some (a corner roughed to size states none).
+        if ux > 0.0 || uz > 0.0 {
+            (rough_intent.allowance_x, rough_intent.allowance_z) = (Some(2.0 * allow_x), Some(uz));
+        }
         let feed = a.get(Role::F).filter(|f| *f > 0.0);
         let rough = roughs.then(|| Rough::new(depth, clear, out * allow_x, uz, facing));
         let job = StockRemoval { rough, finish: !roughs, feeds: (feed, feed), intents: (rough_intent, finish_intent), clear: None };
@@ -320,15 +313,7 @@ impl Interpreter<'_> {
             return diags.push(Diagnostic::new(Code::MissingParameter, range, msg));
         }
         let clear = a.get(Role::SafetyDistance).map_or(1.0, f64::abs);
-        let kind = if facing { TurnKind::RoughFace } else { TurnKind::RoughTurn };
-        let rough_intent = TurnIntent {
-            kind: Some(kind),
-            code: name.to_owned(),
-            depth_of_cut: Some(depth),
-            retract: Some(clear),
-            ..TurnIntent::default()
-        };
-        let finish_intent = TurnIntent { kind: Some(TurnKind::Finish), code: name.to_owned(), ..TurnIntent::default() };
+        let (rough_intent, finish_intent) = shopturn_intents(name, facing, depth, clear);
         let feed = a.get(Role::F).filter(|f| *f > 0.0);
         let rough = roughs.then(|| Rough::new(depth, clear, 0.0, 0.0, facing));
         let job = StockRemoval { rough, finish: !roughs, feeds: (feed, feed), intents: (rough_intent, finish_intent), clear: Some(clear) };
@@ -510,6 +495,15 @@ impl Interpreter<'_> {
         self.go_to(sink, start, false);
         self.emit(sink, CanonOp::TurningEnd);
     }
+}
+
+/// A ShopTurn stock-removal cycle's intents: the roughing (along Z, or across X where it
+/// faces) with its depth of cut and retract, and the finishing.
+fn shopturn_intents(name: &str, facing: bool, depth: f64, clear: f64) -> (TurnIntent, TurnIntent) {
+    let kind = if facing { TurnKind::RoughFace } else { TurnKind::RoughTurn };
+    let rough =
+        TurnIntent { kind: Some(kind), code: name.to_owned(), depth_of_cut: Some(depth), retract: Some(clear), ..TurnIntent::default() };
+    (rough, TurnIntent { kind: Some(TurnKind::Finish), code: name.to_owned(), ..TurnIntent::default() })
 }
 
 /// A contour cycle's start outside the contour `shape` (its moves) by `clear`: beyond its
