@@ -701,11 +701,14 @@ fn lathe_s7_held_out_programs() {
 /// roughing and finishing (its `G71` P/Q block numbers are duplicated: the control would not run
 /// it as written) and its Ø48, the first part's face at Z0.
 ///
-/// `tests/programs/lathe_s11_heldout/` is sweep 11's held-back set (branch gatherlt11: 2 programs
-/// of 2 repositories, 4 items; the search index gave no other lathe program in a repository not
-/// used before): a Fanuc 16T mill-turn part's face outline milled under the machine's polar
-/// interpolation `G121`/`G120` (srhart/CNC-Lathe-GCode-Polar-Example) and the turning of a
-/// LinuxCNC simulation config's Mazak Integrex example part, explicit G7 roughing passes
+/// `tests/programs/lathe_s11_heldout/` is sweep 11's held-back set (branch gatherlt11: 4 programs
+/// of 3 repositories, 34 items; the search index gave no other lathe program in a repository not
+/// used before): two Dutch shop programs for a Fanuc 18T kept as samples of a 2005 lathe
+/// simulator (Planet-Source-Code/alkiman-lathe-simulator__1-61452: a stud with an M5x0.8 `G76`
+/// thread; a bush with `G90` roughing, `G71`/`G70` inside, inside and outside `G76` threads), a
+/// Fanuc 16T mill-turn part's face outline milled under the machine's polar interpolation
+/// `G121`/`G120` (srhart/CNC-Lathe-GCode-Polar-Example) and the turning of a LinuxCNC simulation
+/// config's Mazak Integrex example part, explicit G7 roughing passes
 /// (Sigma1912/LinuxCNC_Demo_Configs). Only the sidecars are committed (`extract.sh` writes the
 /// programs from mirrors); written before ncplan ran on them, not yet measured.
 #[test]
