@@ -548,7 +548,7 @@ fn real_programs_lie_on_their_faces() {
     /// intent: no hole to place, 6 items), the +X face's two deep holes of the other DMU 100P
     /// program, the Trimill's two +Y pilot holes (not yet looked into).
     const HELD10_SCORE: Option<usize> = Some(19);
-    /// Sweep 11's held-back part (`held11`, branch gatherlt11, 17 items written before ncplan read
+    /// Sweep 11's held-back part (`held11`, branch gatherlt11, 22 items written before ncplan read
     /// them): two sample ISO programs of a 2004 5-axis milling simulator
     /// (Planet-Source-Code/cuq-a-5-axis-milling-machine-simulator__1-51046: a ball-nose lace path
     /// with A and C moving on every block, A 0 to -90 and back; a chamfer round a square block at
@@ -556,7 +556,10 @@ fn real_programs_lie_on_their_faces() {
     /// so `extract.sh` writes them from the mirror; 11 `tool_tilt` items) and a production
     /// program of a Spinner U5-620 data set (ElMoe/Production-Data-Set-for-Five-Axis-CNC-Milling-
     /// with-Multiple-Changeovers, CC BY 4.0, committed: faces reached by `G0 B.. C..`, `TRAORI`
-    /// and `AROT` frames; 6 `steps` with their face axes). Not yet scored: no minimum.
+    /// and `AROT` frames; 6 `steps` with their face axes), and a course project's NX output for a
+    /// Haas UMC-750 (dhanush-k-k/Subtractive-FIVE-AXIS-CNC-Manufacturing-using-HAAS-Inc-Machine:
+    /// sides at B82.875 under `G254`, contours with B and C moving under `G234`; no licence
+    /// stated, extracted; 5 `tool_tilt` items). Not yet scored: no minimum.
     const HELD11_SCORE: Option<usize> = None;
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
