@@ -22,6 +22,19 @@
 //! moved back by its allowances): each run along Z an outer (or inner) diameter, each run
 //! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
 //! axis from their workingsteps. Diameters throughout; lengths along Z.
+//!
+//! Grooving, rough or finish, is named as turners and CAM systems name grooving passes
+//! (Sandvik Coromant's grooving guide: "multiple grooving" roughs a groove wider than the
+//! insert, a profiling pass then finishes it; the CAM systems' groove roughing and groove
+//! finishing operations alike):
+//! - **finish**: one plunge at one place along Z to the final depth (the groove as wide as the
+//!   tool: roughed and finished in that pass), or passes that follow the groove's flanks and
+//!   bottom (profiled from both sides), or a cycle that finishes the flanks and base it states
+//!   (SINUMERIK `CYCLE93`);
+//! - **rough**: plunges at several places along Z across one groove (a grooving cycle's Z
+//!   shift, Fanuc's and Haas's `G75`, or plunges written as moves), whether they overlap or
+//!   leave stock between them for a later pass, pecked or not. A finishing pass after them is
+//!   a workingstep of its own.
 
 use super::model::*;
 pub use super::turned::{TurnOp, Turned, Turning};
@@ -92,7 +105,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         // A grooving tool the program or the tool table names (not one inferred from what it
         // does): its passes that neither face nor part off cut a groove.
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
-        classify(ws, front, back, boring, grooving, tool.and_then(tool_width));
+        classify(ws, front, back, boring, grooving);
     }
     // A finishing pass is inside where the same tool's roughing was.
     for k in 1..plan.workingsteps.len() {
@@ -627,7 +640,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, width: Option<f64>) {
+fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -688,7 +701,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
-    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin, width);
+    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     // Passes recovery joined as one operation, each a step from the one before.
     let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
@@ -726,7 +739,10 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
         Some(TurnKind::Groove) if xmin < 0.05 && groove_cycle_faces(&cuts) => (TurnOp::Facing, true),
         Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
-        Some(TurnKind::Groove) => (TurnOp::Grooving, false),
+        // A grooving cycle that plunges at several places along Z (Fanuc's `G75` with its Z
+        // shift) roughs the groove out; one plunge, or a cycle that finishes the flanks and base
+        // it states (SINUMERIK `CYCLE93`), finishes it (the module's grooving convention).
+        Some(TurnKind::Groove) => (TurnOp::Grooving, levels.len() > 1 && t.intent.as_ref().is_some_and(|i| i.span.is_none())),
         Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
@@ -785,9 +801,9 @@ struct Across {
     /// The places along Z the cuts across X run at: passes at one Z are a finish and its
     /// spring passes, or one plunge; at several they step (facing down, a groove widened).
     levels: Vec<f64>,
-    /// Plunges only (each run cuts across X and nothing else) at several places along Z, each
-    /// a step of at most the tool's width from the next where that is known: one groove wider
-    /// than the tool roughed out. Plunges further apart leave the stock between them.
+    /// Plunges only (each run cuts across X and nothing else) at several places along Z: a
+    /// groove wider than the tool roughed out, whether the plunges overlap or leave stock
+    /// between them for a later pass (the module's grooving convention).
     widened: bool,
     /// Fed along -Z at its largest diameter before it cuts across to the axis (not positioned
     /// there by a rapid or an air feed): a turning tool taking a face's depth, as no parting
@@ -801,7 +817,7 @@ struct Across {
 /// feed positions the tool in the air (`G1 Z0. F2.` before a face at F0.05): no cut, whatever
 /// way it runs (compared per revolution: under a constant surface speed a feed per minute
 /// grows as the tool nears the axis).
-fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64, width: Option<f64>) -> Across {
+fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64) -> Across {
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
@@ -816,9 +832,7 @@ fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64,
     let mut levels: Vec<f64> = cuts.iter().filter(|m| across(m) && !air(m) && length(m) > TOL).map(|m| m.to[2]).collect();
     levels.sort_by(f64::total_cmp);
     levels.dedup_by(|a, b| (*a - *b).abs() < 0.05);
-    let widened = levels.len() > 1
-        && runs.iter().all(|r| r.iter().filter(|m| !air(m)).all(across))
-        && width.is_none_or(|w| levels.windows(2).all(|p| p[1] - p[0] <= w + TOL));
+    let widened = levels.len() > 1 && runs.iter().all(|r| r.iter().filter(|m| !air(m)).all(across));
     let fed_down = runs.iter().any(|r| {
         let mut it = r.iter().skip_while(|m| air(m));
         it.next().is_some_and(|m| along(m) && m.to[2] < m.from[2] - TOL)
