@@ -823,6 +823,26 @@ G1 X21.\nG0 X29.\nG0 X200. Z270.\nM30\n";
     assert_eq!(ws, ["grooving finish"]);
 }
 
+/// Grooving by the convention of `plan::turning`: plunges at several places along Z rough the
+/// groove (a `G75` with its Z shift, or plunges written as moves, even where they leave stock
+/// between them); one plunge to the final depth finishes it.
+#[test]
+fn grooving_passes_are_named_by_the_convention() {
+    let stepped =
+        "O1\nG21 G99\nT0505 (GROOVE W3.)\nG97 S700 M3\nG0 X42. Z-15.\nG75 R0.5\nG75 X30. Z-20. P1500 Q2500 F0.08\nG0 X100. Z100.\nM30\n";
+    let (ws, features) = labels(stepped, "fanuc_lathe");
+    assert_eq!(ws, ["grooving rough"], "{features:?}");
+    assert_eq!(features, ["groove"]);
+    // The same cycle without its Z: one plunge, pecked, at the tool's width.
+    let one = stepped.replace(" Z-20. P1500 Q2500", " P1500");
+    let (ws, _) = labels(&one, "fanuc_lathe");
+    assert_eq!(ws, ["grooving finish"]);
+    // Plunges 4 apart with a 3 mm tool leave 1 mm between them: still the groove roughed.
+    let apart = "O2\nG21 G99\nT0505 (OD GROOVE W3.)\nG97 S800 M3\nG0 X34. Z-12.\nG1 X26. F0.05\nG0 X34.\nZ-16.\nG1 X26.\nG0 X34.\nX100. Z100.\nM30\n";
+    let (ws, _) = labels(apart, "fanuc_lathe");
+    assert_eq!(ws, ["grooving rough"]);
+}
+
 /// A post written for a lathe set to radius programming, with no arc whose centre tells: its
 /// roughing passes' 45° pull-offs and its chamfers change X by as much as Z, which read as
 /// diameters is half the slope of a 45° move. Read so, the part is Ø30 and Ø40; the same
