@@ -33,7 +33,8 @@
 //!   (SINUMERIK `CYCLE93`);
 //! - **rough**: plunges at several places along Z across one groove (a grooving cycle's Z
 //!   shift, Fanuc's and Haas's `G75`, or plunges written as moves), whether they overlap or
-//!   leave stock between them for a later pass, pecked or not. A finishing pass after them is
+//!   leave stock between them for a later pass, pecked or not (`classify`: a cycle whose
+//!   intent states no edges, plunging at more than one level). A finishing pass after them is
 //!   a workingstep of its own.
 
 use super::model::*;
@@ -739,9 +740,6 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
         Some(TurnKind::Groove) if xmin < 0.05 && groove_cycle_faces(&cuts) => (TurnOp::Facing, true),
         Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
-        // A grooving cycle that plunges at several places along Z (Fanuc's `G75` with its Z
-        // shift) roughs the groove out; one plunge, or a cycle that finishes the flanks and base
-        // it states (SINUMERIK `CYCLE93`), finishes it (the module's grooving convention).
         Some(TurnKind::Groove) => (TurnOp::Grooving, levels.len() > 1 && t.intent.as_ref().is_some_and(|i| i.span.is_none())),
         Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),

@@ -280,12 +280,14 @@ fn lathe_real_held_out_programs() {
 /// LinuxCNC programs, GPL-3.0): 25 of 50 when first scored, 42 of 50 after the rules were built
 /// on it (6 December 2026); 45 of 50 after branch lathe5 (6 December 2026: `G17 G83 X0` drills on
 /// the lathe's axis, a grooving tool named in an operation header cuts grooves); 47 of 50 after
-/// branch lathe11 (a face behind a first one is facing, not parting). The test keeps the figure
-/// from falling and no milling feature.
+/// branch lathe11 (a face behind a first one is facing, not parting); 48 of 50 on branch lathe15
+/// (no rule changed for it: les_einstich's sidecar now names its one pass to the groove's depth
+/// grooving finish, by `plan::turning`'s grooving convention). The test keeps the figure from
+/// falling and no milling feature.
 #[test]
 fn lathe_new_build_programs() {
     /// Listed workingsteps and features recovered on the build part.
-    const BUILD_SCORE: usize = 47;
+    const BUILD_SCORE: usize = 48;
     let (listed, found, milling, misses) = score_folder("lathe_new");
     assert_eq!(milling, 0, "milling features on lathe programs:\n{}", misses.join("\n"));
     assert!(found >= BUILD_SCORE, "build part: {found} of {listed} recovered, fewer than {BUILD_SCORE}:\n{}", misses.join("\n"));
