@@ -35,7 +35,10 @@
 //!   shift, Fanuc's and Haas's `G75`, or plunges written as moves), whether they overlap or
 //!   leave stock between them for a later pass, pecked or not (`classify`: a cycle whose
 //!   intent states no edges, plunging at more than one level). A finishing pass after them is
-//!   a workingstep of its own.
+//!   a workingstep of its own where recovery parts it from them (another tool, feed or
+//!   operation comment). Not yet: a profile at the plunges' feed right after them stays in
+//!   their workingstep, since `CYCLE93` written as moves must part as the cycle does (one
+//!   workingstep); reading that cycle as its roughing and its finish would allow both.
 
 use super::model::*;
 pub use super::turned::{TurnOp, Turned, Turning};
@@ -896,11 +899,14 @@ fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
 /// Whether the passes are left towards the axis, as a boring bar leaves the wall it cut (an
 /// outside tool leaves it away from the axis): the move after each run's last cut (or that
 /// cut, a short pull-off), straight in X, goes to a smaller diameter short of the axis more
-/// often than to a larger one.
+/// often than to a larger one; or, after a cut along a wall, a rapid back out along +Z pulls
+/// in off it by at most 1 mm (where no cut reaches the axis).
 fn left_inward(ws: &Workingstep) -> bool {
     let cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
     let radial = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL && m.from[0] > TOL;
     let moves: Vec<Move> = ws.toolpath.iter().collect();
+    // (A workingstep cutting to the axis has no bore wall to pull off.)
+    let clear_of_axis = moves.iter().filter(|m| cut(m)).all(|m| m.from[0].min(m.to[0]) > 0.05);
     let (mut inward, mut outward) = (0, 0);
     for (i, w) in moves.windows(2).enumerate() {
         let (last, next) = (&w[0], &w[1]);
@@ -913,6 +919,16 @@ fn left_inward(ws: &Workingstep) -> bool {
             } else if next.to[0] > next.from[0] {
                 outward += 1;
             }
+            continue;
+        }
+        // Left by a rapid back along +Z out of the work that pulls in off the wall it cut, a
+        // little (at most 1 mm on the radius), after a cut along that wall (`G0 X44.5 Z10`
+        // after a bore Ø45 to Z-58): a boring bar leaving the bore it cut; an outside tool
+        // leaving so would run through the stock it turned.
+        let wall = (last.to[0] - last.from[0]).abs() < TOL && last.to[2] < last.from[2] - TOL && clear_of_axis;
+        let pull = next.from[0] - next.to[0];
+        if wall && next.kind == MoveKind::Rapid && next.to[2] > next.from[2] + TOL && pull > TOL && pull <= 1.0 && next.to[0] > TOL {
+            inward += 1;
             continue;
         }
         // Left along Z, the run's last cut may itself pull in straight along X by feed, a
