@@ -22,6 +22,23 @@
 //! moved back by its allowances): each run along Z an outer (or inner) diameter, each run
 //! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
 //! axis from their workingsteps. Diameters throughout; lengths along Z.
+//!
+//! Grooving, rough or finish, is named as turners and CAM systems name grooving passes
+//! (Sandvik Coromant's grooving guide: "multiple grooving" roughs a groove wider than the
+//! insert, a profiling pass then finishes it; the CAM systems' groove roughing and groove
+//! finishing operations alike):
+//! - **finish**: one plunge at one place along Z to the final depth (the groove as wide as the
+//!   tool: roughed and finished in that pass), or passes that follow the groove's flanks and
+//!   bottom (profiled from both sides), or a cycle that finishes the flanks and base it states
+//!   (SINUMERIK `CYCLE93`);
+//! - **rough**: plunges at several places along Z across one groove (a grooving cycle's Z
+//!   shift, Fanuc's and Haas's `G75`, or plunges written as moves), whether they overlap or
+//!   leave stock between them for a later pass, pecked or not (`classify`: a cycle whose
+//!   intent states no edges, plunging at more than one level). A finishing pass after them is
+//!   a workingstep of its own where recovery parts it from them (another tool, feed or
+//!   operation comment). Not yet: a profile at the plunges' feed right after them stays in
+//!   their workingstep, since `CYCLE93` written as moves must part as the cycle does (one
+//!   workingstep); reading that cycle as its roughing and its finish would allow both.
 
 use super::model::*;
 pub use super::turned::{TurnOp, Turned, Turning};
@@ -92,7 +109,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         // A grooving tool the program or the tool table names (not one inferred from what it
         // does): its passes that neither face nor part off cut a groove.
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
-        classify(ws, front, back, boring, grooving, tool.and_then(tool_width));
+        classify(ws, front, back, boring, grooving);
     }
     // A finishing pass is inside where the same tool's roughing was.
     for k in 1..plan.workingsteps.len() {
@@ -627,7 +644,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, width: Option<f64>) {
+fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -688,7 +705,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
-    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin, width);
+    let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     // Passes recovery joined as one operation, each a step from the one before.
     let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
@@ -726,7 +743,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         Some(TurnKind::Thread | TurnKind::ThreadPass) => (TurnOp::Threading, runs.len() > 1),
         Some(TurnKind::Groove) if xmin < 0.05 && groove_cycle_faces(&cuts) => (TurnOp::Facing, true),
         Some(TurnKind::Groove) if xmin < 0.05 => (TurnOp::PartingOff, false),
-        Some(TurnKind::Groove) => (TurnOp::Grooving, false),
+        Some(TurnKind::Groove) => (TurnOp::Grooving, levels.len() > 1 && t.intent.as_ref().is_some_and(|i| i.span.is_none())),
         Some(TurnKind::FacePeck) if xmax.abs() < TOL => (TurnOp::Drilling, false),
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
@@ -785,9 +802,9 @@ struct Across {
     /// The places along Z the cuts across X run at: passes at one Z are a finish and its
     /// spring passes, or one plunge; at several they step (facing down, a groove widened).
     levels: Vec<f64>,
-    /// Plunges only (each run cuts across X and nothing else) at several places along Z, each
-    /// a step of at most the tool's width from the next where that is known: one groove wider
-    /// than the tool roughed out. Plunges further apart leave the stock between them.
+    /// Plunges only (each run cuts across X and nothing else) at several places along Z: a
+    /// groove wider than the tool roughed out, whether the plunges overlap or leave stock
+    /// between them for a later pass (the module's grooving convention).
     widened: bool,
     /// Fed along -Z at its largest diameter before it cuts across to the axis (not positioned
     /// there by a rapid or an air feed): a turning tool taking a face's depth, as no parting
@@ -801,7 +818,7 @@ struct Across {
 /// feed positions the tool in the air (`G1 Z0. F2.` before a face at F0.05): no cut, whatever
 /// way it runs (compared per revolution: under a constant surface speed a feed per minute
 /// grows as the tool nears the axis).
-fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64, width: Option<f64>) -> Across {
+fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64) -> Across {
     let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
     let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
@@ -816,9 +833,7 @@ fn across_passes(ws: &Workingstep, cuts: &[Move], runs: &[Vec<Move>], xmin: f64,
     let mut levels: Vec<f64> = cuts.iter().filter(|m| across(m) && !air(m) && length(m) > TOL).map(|m| m.to[2]).collect();
     levels.sort_by(f64::total_cmp);
     levels.dedup_by(|a, b| (*a - *b).abs() < 0.05);
-    let widened = levels.len() > 1
-        && runs.iter().all(|r| r.iter().filter(|m| !air(m)).all(across))
-        && width.is_none_or(|w| levels.windows(2).all(|p| p[1] - p[0] <= w + TOL));
+    let widened = levels.len() > 1 && runs.iter().all(|r| r.iter().filter(|m| !air(m)).all(across));
     let fed_down = runs.iter().any(|r| {
         let mut it = r.iter().skip_while(|m| air(m));
         it.next().is_some_and(|m| along(m) && m.to[2] < m.from[2] - TOL)
@@ -884,11 +899,14 @@ fn pulls_off_inward(runs: &[Vec<Move>]) -> bool {
 /// Whether the passes are left towards the axis, as a boring bar leaves the wall it cut (an
 /// outside tool leaves it away from the axis): the move after each run's last cut (or that
 /// cut, a short pull-off), straight in X, goes to a smaller diameter short of the axis more
-/// often than to a larger one.
+/// often than to a larger one; or, after a cut along a wall, a rapid back out along +Z pulls
+/// in off it by at most 1 mm (where no cut reaches the axis).
 fn left_inward(ws: &Workingstep) -> bool {
     let cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
     let radial = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL && m.from[0] > TOL;
     let moves: Vec<Move> = ws.toolpath.iter().collect();
+    // (A workingstep cutting to the axis has no bore wall to pull off.)
+    let clear_of_axis = moves.iter().filter(|m| cut(m)).all(|m| m.from[0].min(m.to[0]) > 0.05);
     let (mut inward, mut outward) = (0, 0);
     for (i, w) in moves.windows(2).enumerate() {
         let (last, next) = (&w[0], &w[1]);
@@ -901,6 +919,16 @@ fn left_inward(ws: &Workingstep) -> bool {
             } else if next.to[0] > next.from[0] {
                 outward += 1;
             }
+            continue;
+        }
+        // Left by a rapid back along +Z out of the work that pulls in off the wall it cut, a
+        // little (at most 1 mm on the radius), after a cut along that wall (`G0 X44.5 Z10`
+        // after a bore Ø45 to Z-58): a boring bar leaving the bore it cut; an outside tool
+        // leaving so would run through the stock it turned.
+        let wall = (last.to[0] - last.from[0]).abs() < TOL && last.to[2] < last.from[2] - TOL && clear_of_axis;
+        let pull = next.from[0] - next.to[0];
+        if wall && next.kind == MoveKind::Rapid && next.to[2] > next.from[2] + TOL && pull > TOL && pull <= 1.0 && next.to[0] > TOL {
+            inward += 1;
             continue;
         }
         // Left along Z, the run's last cut may itself pull in straight along X by feed, a
