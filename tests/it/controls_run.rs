@@ -77,8 +77,8 @@ fn fanucs_if_with_neither_goto_nor_then_stops_whatever_the_condition() {
 
 /// Fanuc lathe direct drawing dimensions (0i-TF/30i T series): `G01 X51.,A-45.` gives one end
 /// coordinate and the line's angle from +Z; the other coordinate follows (sweep 10's Fanuc
-/// lathe programs, found after its measurement). The two-block intersection form is not
-/// computed: a warning, the move to the coordinates given.
+/// lathe programs, found after its measurement). Both coordinates and an angle in one block
+/// (no angle-only block before it) is no form of it: a warning, the move to the coordinates given.
 #[test]
 fn fanuc_lathe_direct_drawing_angle_gives_the_left_out_coordinate() {
     let program = "G21 G18 G99\nT0101\nG0 X45. Z2.\nG1 Z0 F0.1\nG1 X51.,A-45.\nG1 Z-20.\nG1 X60.\nG1 W-5.,A-30.\nM30\n";
