@@ -503,6 +503,9 @@ pub enum TapStyle {
 pub struct Macros {
     /// Statement keywords (upper case) and what they do, longest first.
     pub statements: Vec<(String, Statement)>,
+    /// Whether a statement keyword starts with a mark rather than a letter (`@100`, the older
+    /// SINUMERIK controls): the parser looks for one only then.
+    pub marked_keywords: bool,
     /// Whether variables start vacant (`#0` is null) and a word whose value is null is
     /// omitted, as in Fanuc Macro B. Otherwise variables start at zero.
     pub null_value: bool,
@@ -599,6 +602,7 @@ impl Default for Macros {
     fn default() -> Macros {
         Macros {
             statements: Vec::new(),
+            marked_keywords: false,
             null_value: false,
             locals: (1, 30),
             arguments: [None; 26],

@@ -17,6 +17,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("heidenhain.xml", include_str!("../../dialects/heidenhain.xml")),
     // Derived dialects come after their bases.
     ("heidenhain_iso.xml", include_str!("../../dialects/heidenhain_iso.xml")),
+    ("siemens_810.xml", include_str!("../../dialects/siemens_810.xml")),
     ("haas.xml", include_str!("../../dialects/haas.xml")),
     ("mitsubishi.xml", include_str!("../../dialects/mitsubishi.xml")),
     ("mazak.xml", include_str!("../../dialects/mazak.xml")),

@@ -626,6 +626,9 @@ struct State {
     comp_left: bool,
     /// The first corner of a workpiece blank (`BLK FORM 0.1`), waiting for the second.
     blank_min: Option<[f64; 3]>,
+    /// A straight feed given by its line's angle alone (Fanuc lathe direct drawing `G01 ,A150.`)
+    /// and where its block was: it ends where the next block's line meets it.
+    angle_line: Option<(f64, TextRange)>,
     /// Cutter compensation has just ended: the next move leaves the compensated path.
     leaving_comp: bool,
     /// Lathe diameter mode (G7): X words give diameters.
@@ -727,6 +730,7 @@ impl State {
             tangent: None,
             comp_left: true,
             blank_min: None,
+            angle_line: None,
             leaving_comp: false,
             diameter: (dialect.behaviour.x_diameter || profile.lathe_reset) && !profile.x_radius,
             css_max: None,

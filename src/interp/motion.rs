@@ -58,24 +58,71 @@ impl Interpreter<'_> {
         t
     }
 
-    /// A straight feed given by its line's angle from +Z and one end coordinate (Fanuc lathe
-    /// direct drawing dimensions, `G01 X51.,A-45.`): the coordinate the block leaves out is
-    /// where that line meets the given one (X in the radius the slots hold). Any other form
-    /// (both coordinates, neither: the two-block intersections) is not computed, and said so.
-    fn direct_drawing(&self, angle: f64, t: &mut [f64; 6], range: TextRange, diags: &mut Vec<Diagnostic>) {
+    /// A straight feed given by its line's angle from +Z (Fanuc lathe direct drawing
+    /// dimensions, 0i-TF / 30i T series): with one end coordinate (`G01 X51.,A-45.`) the one
+    /// the block leaves out is where that line meets the given one (X in the radius the slots
+    /// hold); with the angle alone (`G01 ,A150.`) the move waits for the next block, which
+    /// gives its end point and its own line's angle (`G01 X60. Z-30.,A90.`): the first move
+    /// ends where the two lines meet ([`Interpreter::angle_corner`]). Other forms (a corner
+    /// `,R`/`,C` between the two blocks, arcs) are not computed, and said so. True when the
+    /// move waits.
+    fn direct_drawing(&mut self, angle: f64, t: &mut [f64; 6], range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
         let given = |r: Role| self.slots[r as usize].is_some() && !self.taken_by_code(r);
         let tan = angle.to_radians().tan();
         let from = self.st.pos;
+        let xz = self.st.plane == Plane::Xz;
         match (given(Role::X), given(Role::Z)) {
-            (true, false) if self.st.plane == Plane::Xz && tan.abs() > 1e-9 => t[2] = from[2] + (t[0] - from[0]) / tan,
-            (false, true) if self.st.plane == Plane::Xz && tan.abs() < 1e9 => t[0] = from[0] + (t[2] - from[2]) * tan,
+            (true, false) if xz && tan.abs() > 1e-9 => t[2] = from[2] + (t[0] - from[0]) / tan,
+            (false, true) if xz && tan.abs() < 1e9 => t[0] = from[0] + (t[2] - from[2]) * tan,
+            (false, false) if xz && self.filled & super::CORNER_WORDS == 0 => {
+                self.st.angle_line = Some((angle, range));
+                return true;
+            }
             _ => {
                 let msg = format!(
-                    "the line angle A{angle} with this block's coordinates (the two-block form, or not in G18) is not computed: the move goes to the coordinates given"
+                    "the line angle A{angle} with this block's coordinates (a corner between two angle blocks, or not in G18) is not computed: the move goes to the coordinates given"
                 );
                 diags.push(Diagnostic::new(Code::Unsupported, range, msg));
             }
         }
+        false
+    }
+
+    /// The waiting angle-only move (`G01 ,A150.`) ended where its line meets this block's
+    /// line through its end point `t` at `angle`: emitted now. False (and said so) where the
+    /// two lines do not meet, or this block does not give both end coordinates.
+    fn angle_corner(
+        &mut self,
+        first: (f64, TextRange),
+        angle: Option<f64>,
+        t: &[f64; 6],
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let given = |r: Role| self.slots[r as usize].is_some() && !self.taken_by_code(r);
+        let (a1, at) = first;
+        let from = self.st.pos;
+        let meet = angle.filter(|_| given(Role::X) && given(Role::Z) && self.st.plane == Plane::Xz).and_then(|a2| {
+            let (d1, d2) = ((a1.to_radians().sin(), a1.to_radians().cos()), (a2.to_radians().sin(), a2.to_radians().cos()));
+            let det = d2.0 * d1.1 - d1.0 * d2.1;
+            (det.abs() > 1e-9).then(|| {
+                let (ex, ez) = (t[0] - from[0], t[2] - from[2]);
+                let s = (d2.0 * ez - ex * d2.1) / det;
+                (from[0] + s * d1.0, from[2] + s * d1.1)
+            })
+        });
+        let Some((x, z)) = meet else {
+            let msg = format!(
+                "the line angle A{a1} alone waits for a next block giving its end point and an angle whose line meets it; this one does not: that move is left out"
+            );
+            diags.push(Diagnostic::new(Code::Unsupported, at, msg));
+            return;
+        };
+        let mut p = from;
+        (p[0], p[2]) = (x, z);
+        self.note_tangent(p);
+        self.emit(sink, CanonOp::StraightFeed(p));
+        self.st.pos = p;
     }
 
     /// Whether a code of the block gives this axis letter's word another meaning (Haas
@@ -148,6 +195,15 @@ impl Interpreter<'_> {
 
     pub(super) fn motion(&mut self, def: &CodeDef, range: TextRange, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         self.motions += 1;
+        if def.meaning != Meaning::Linear
+            && let Some((a1, at)) = self.st.angle_line.take()
+        {
+            let msg = format!(
+                "the line angle A{a1} alone waits for a next straight feed with its end point and angle; {} followed: that move is left out",
+                def.label()
+            );
+            diags.push(Diagnostic::new(Code::Unsupported, at, msg));
+        }
         let rapid_block = !self.codes.is_empty() && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::RapidBlock);
         let arc = matches!(
             def.meaning,
@@ -178,8 +234,13 @@ impl Interpreter<'_> {
             Meaning::Linear => {
                 self.check_technology(def, block.range, diags);
                 let mut t = self.target();
-                if let Some(a) = self.slots[Role::LineAngle as usize] {
-                    self.direct_drawing(a.value, &mut t, range, diags);
+                let angle = self.slots[Role::LineAngle as usize].map(|a| a.value);
+                if let Some(first) = self.st.angle_line.take() {
+                    self.angle_corner(first, angle, &t, sink, diags);
+                } else if let Some(a) = angle
+                    && self.direct_drawing(a, &mut t, range, diags)
+                {
+                    return;
                 }
                 if self.st.inverse_time {
                     let length = (0..3).map(|i| (t[i] - self.st.pos[i]).powi(2)).sum::<f64>().sqrt();

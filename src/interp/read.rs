@@ -80,7 +80,8 @@ impl Interpreter<'_> {
         }
         // Polar words (`PA+90`) name an end point as axis words do.
         const POSITION: u128 = {
-            let mut m = 1 << Role::PolarRadius as u32 | 1 << Role::PolarAngle as u32;
+            // A line's angle alone (Fanuc lathe direct drawing `G01 ,A150.`) says where the move goes too.
+            let mut m = 1 << Role::PolarRadius as u32 | 1 << Role::PolarAngle as u32 | 1 << Role::LineAngle as u32;
             let mut k = 0;
             while k < Role::AXES.len() {
                 m |= 1 << Role::AXES[k] as u32;

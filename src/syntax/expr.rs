@@ -78,7 +78,9 @@ impl Func {
             "SQ" | "POT" => Func::Sq,
             "LOG" => Func::Log,
             "NEG" => Func::Neg,
-            "FUP" => Func::Fup,
+            // Siemens ROUNDUP: the next integer up (840D sl job planning, "ROUNDUP: Round up":
+            // ROUNDUP(3.1) is 4, ROUNDUP(-3.1) is -3), as FUP where no magnitude rounding is set.
+            "FUP" | "ROUNDUP" => Func::Fup,
             "LN" => Func::Ln,
             "EXP" => Func::Exp,
             "EXISTS" => Func::Exists,

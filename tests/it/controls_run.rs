@@ -77,8 +77,8 @@ fn fanucs_if_with_neither_goto_nor_then_stops_whatever_the_condition() {
 
 /// Fanuc lathe direct drawing dimensions (0i-TF/30i T series): `G01 X51.,A-45.` gives one end
 /// coordinate and the line's angle from +Z; the other coordinate follows (sweep 10's Fanuc
-/// lathe programs, found after its measurement). The two-block intersection form is not
-/// computed: a warning, the move to the coordinates given.
+/// lathe programs, found after its measurement). Both coordinates and an angle in one block
+/// (no angle-only block before it) is no form of it: a warning, the move to the coordinates given.
 #[test]
 fn fanuc_lathe_direct_drawing_angle_gives_the_left_out_coordinate() {
     let program = "G21 G18 G99\nT0101\nG0 X45. Z2.\nG1 Z0 F0.1\nG1 X51.,A-45.\nG1 Z-20.\nG1 X60.\nG1 W-5.,A-30.\nM30\n";
@@ -90,4 +90,71 @@ fn fanuc_lathe_direct_drawing_angle_gives_the_left_out_coordinate() {
     assert!(m.contains(&"STRAIGHT_FEED(32.8868, 0.0000, -25.0000, 0.0000, 0.0000, 0.0000)".to_owned()), "{m:?}");
     let (_, diags) = crate::moves_and_findings("fanuc_lathe", "G18 G99\nG0 X40. Z0\nG1 X50. Z-10.,A20. F0.1\nM30\n", &Profile::default());
     assert!(diags.iter().any(|d| d.code.as_str() == "interp::unsupported" && d.message.contains("line angle")), "{diags:?}");
+}
+
+/// The two-block direct drawing form (Fanuc 0i-TF / 30i T series): `G01 ,A150.` gives a line's
+/// angle alone; the next block's end point and angle give a second line, and the first move
+/// ends where the two meet. A move of that form with nothing to meet is left out, and said so.
+#[test]
+fn fanuc_lathe_direct_drawing_two_blocks_meet_at_their_lines_intersection() {
+    // From Ø20 Z0 along -Z (A180), then a face at Z-30 up to Ø60 (A90): the corner is Ø20 Z-30.
+    let program = "G21 G18 G99\nT0101\nG0 X20. Z2.\nG1 Z0 F0.1\nG1 ,A180.\nG1 X60. Z-30.,A90.\nM30\n";
+    assert_eq!(errors("fanuc_lathe", program), Vec::<String>::new());
+    let m = moves("fanuc_lathe", program);
+    let at = m.iter().position(|x| x == "STRAIGHT_FEED(10.0000, 0.0000, -30.0000, 0.0000, 0.0000, 0.0000)").expect("the corner");
+    assert_eq!(m[at + 1], "STRAIGHT_FEED(30.0000, 0.0000, -30.0000, 0.0000, 0.0000, 0.0000)", "{m:?}");
+    // From Ø20 Z0 at 150° (out in X by half of what it goes along -Z), then along Ø60 (A180) to
+    // Z-40: the lines meet at radius 30, 40 · cos 30° = 34.641 along -Z.
+    let program = "G21 G18 G99\nT0101\nG0 X20. Z2.\nG1 Z0 F0.1\nG1 ,A150.\nG1 X60. Z-40.,A180.\nM30\n";
+    assert_eq!(errors("fanuc_lathe", program), Vec::<String>::new());
+    let m = moves("fanuc_lathe", program);
+    assert!(m.contains(&"STRAIGHT_FEED(30.0000, 0.0000, -34.6410, 0.0000, 0.0000, 0.0000)".to_owned()), "{m:?}");
+    assert_eq!(m.last().unwrap(), "STRAIGHT_FEED(30.0000, 0.0000, -40.0000, 0.0000, 0.0000, 0.0000)");
+    // An angle alone, then a rapid: nothing to meet.
+    let (m, diags) = crate::moves_and_findings("fanuc_lathe", "G18 G99\nG0 X20. Z0\nG1 ,A180. F0.1\nG0 X50.\nM30\n", &Profile::default());
+    assert!(diags.iter().any(|d| d.code.as_str() == "interp::unsupported" && d.message.contains("left out")), "{diags:?}");
+    assert!(!m.iter().any(|x| x.starts_with("STRAIGHT_FEED")), "{m:?}");
+}
+
+/// LinuxCNC stops where rs274 does: a bare o-word inside a subroutine's body starts another
+/// definition ("Nested subroutine definition"), and an `endif` no `if` of its label opened
+/// ("undefined O-word label"). Sweep 10's toolchange.ngc of jakefreese/LCNC_BMC20 had both.
+#[test]
+fn linuxcnc_stray_o_word_closers_stop_the_program() {
+    let nested = errors("linuxcnc", "o<a> sub\nO103\nG0 X1\no<a> endsub\nM2\n");
+    assert!(nested.iter().any(|e| e.starts_with("flow::nested-definition")), "{nested:?}");
+    let unmatched = errors("linuxcnc", "G0 X0\nO108 endif\nM2\n");
+    assert!(unmatched.iter().any(|e| e.starts_with("flow::unmatched")), "{unmatched:?}");
+    // Matched ones, and a Fanuc-style numbered subprogram outside any definition, read clean.
+    assert_eq!(errors("linuxcnc", "#1=1\nO108 if [#1 GT 0]\nG0 X1\nO108 endif\nM2\n"), Vec::<String>::new());
+    assert_eq!(errors("linuxcnc", "G0 X0\nO1000\nG0 X1\nM99\nM2\n"), Vec::<String>::new());
+}
+
+/// Siemens `ROUNDUP` rounds up (840D sl job planning, "ROUNDUP: Round up": 3.1 → 4, -3.1 → -3),
+/// also with a blank before its bracket (sweep 10's CYCLE189.spf).
+#[test]
+fn siemens_roundup_rounds_up_with_or_without_a_blank() {
+    let program = "R1=ROUNDUP (3.1)\nR2=ROUNDUP(-3.1)\nG1 X=R1 Y=R2 F100\nM30\n";
+    assert_eq!(errors("siemens", program), Vec::<String>::new());
+    assert_eq!(moves("siemens", program).last().unwrap(), "STRAIGHT_FEED(4.0000, -3.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
+}
+
+/// The older SINUMERIK controls (810/820/840C): `( )` remarks, `B` the arc radius, `G58` the
+/// programmable zero offset, `G4 X` a dwell, `G92 S` the speed limit, and the @ codes of
+/// program flow kept as intent (a warning each, the blocks run once in order); told from the
+/// 840D by them.
+#[test]
+fn older_sinumerik_remarks_b_radius_and_at_codes() {
+    let program = "%MPF1005\n(Nullpunktverschiebung)\nN5 G54\nN10 G58 X0 Z45\nN15 G92 S3000\nN20 T1 D1 G96 S300 F0.2 M3\nN25 G0 X20 Z2\nN30 G1 Z0\nN35 G2 X30 Z-5 B5\nN40 R102=1 (Laufvariable)\nN45 @136 R102 K2 K60\nN50 R102=R102+1\nN55 @100 K-45\nN60 G4 X1\nN65 M30\n";
+    let r = ncplan::dialect::Registry::shipped();
+    let sniffed = r.sniff(program, Some("MPF1005"), "linuxcnc");
+    assert_eq!(sniffed.dialect, "siemens_810", "{sniffed:?}");
+    assert_eq!(errors("siemens_810", program), Vec::<String>::new());
+    let (m, diags) = crate::moves_and_findings("siemens_810", program, &Profile::default());
+    assert!(diags.iter().filter(|d| d.code.as_str() == "interp::unsupported" && d.message.contains('@')).count() >= 2, "{diags:?}");
+    // G58 Z45 shifts Z: the arc ends 45 above its programmed Z-5 in machine terms; read in
+    // program coordinates the move list holds the arc's end at X radius 15.
+    assert!(m.iter().any(|x| x.starts_with("ARC_FEED(")), "{m:?}");
+    // The 840D reads the same text with errors (`( )` is arithmetic there).
+    assert!(!errors("siemens", program).is_empty());
 }

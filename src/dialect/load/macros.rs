@@ -213,10 +213,14 @@ impl Cx {
         let k = k.to_ascii_uppercase();
         // Words of letters, joined by `_` within a word (LNC `END_IF`).
         let word = |w: &str| w.starts_with(|c: char| c.is_ascii_alphabetic()) && w.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
-        if k.split(' ').any(|w| !word(w)) {
+        // `@100`: an @ code of the older SINUMERIK controls, the mark and three digits.
+        let at_code = k.len() == 4 && k.starts_with('@') && k[1..].bytes().all(|b| b.is_ascii_digit());
+        if !at_code && k.split(' ').any(|w| !word(w)) {
             self.error(
                 Self::attr_range(c, "keyword"),
-                format!("statement keyword `{k}` must be letters (then letters, digits and `_`), or such words separated by single blanks"),
+                format!(
+                    "statement keyword `{k}` must be letters (then letters, digits and `_`), or such words separated by single blanks, or `@` and three digits"
+                ),
             );
         } else if m.statements.iter().any(|&(ref x, other)| {
             // One keyword may head a repeat-until loop and a section repeat: a
@@ -226,6 +230,7 @@ impl Cx {
         }) {
             self.error(c.range, format!("statement `{k}` is declared twice"));
         } else {
+            m.marked_keywords |= at_code;
             m.statements.push((k, meaning));
         }
     }

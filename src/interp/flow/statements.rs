@@ -51,6 +51,10 @@ impl<'a> Driver<'a, '_> {
             Statement::If => self.if_statement(c, block, start, &label, interp, sink, diags),
             Statement::ElseIf => self.else_if(c, block, start, &label, interp, diags),
             Statement::Else => self.else_statement(c, start, &label, interp, diags),
+            // `O108 endif` with no `O108 if` before it: RS274NGC stops (undefined O-word label).
+            Statement::EndIf if label.is_some() && self.dialect.lexical.control_word.is_some() && !self.opened_before(start, &label) => {
+                self.unmatched(c, "endif", "if", diags);
+            }
             Statement::EndIf | Statement::Then | Statement::Output | Statement::Declare => {}
             Statement::Print => print_statement(c, block, interp, sink),
             // `o100 while [..]`, or the tail of `o100 do`; else `WHILE [..] DO m`.
@@ -376,8 +380,15 @@ impl<'a> Driver<'a, '_> {
             let msg = "a subroutine definition inside a running subroutine: definitions do not nest";
             diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
         }
-        let inner = self.find_after(start.at, |m| same_label(m, label, &[Statement::EndSub]) || m.statement == Some(Statement::Sub));
-        if let Some(m) = inner.filter(|m| m.statement == Some(Statement::Sub)) {
+        // Where o-words are control words, a bare one (`O103`) starts a numbered subprogram
+        // too (RS274NGC: "Nested subroutine definition" inside another's body).
+        let bare = self.dialect.lexical.control_word.is_some();
+        let inner = self.find_after(start.at, |m| {
+            same_label(m, label, &[Statement::EndSub])
+                || m.statement == Some(Statement::Sub)
+                || (bare && m.statement.is_none() && m.program.is_some())
+        });
+        if let Some(m) = inner.filter(|m| m.statement == Some(Statement::Sub) || m.statement.is_none()) {
             let msg = format!("another subroutine is defined inside this one (line {}): definitions do not nest", m.start.line);
             diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
         }
@@ -820,6 +831,14 @@ impl<'a> Driver<'a, '_> {
 
 /// Whether mark `m` is one of the statements `sts` labelled `label` (`o100 endwhile` for
 /// `o100 while`).
+impl Driver<'_, '_> {
+    /// Whether an `if` with `label` stands before `start` in the running source.
+    fn opened_before(&mut self, start: Pos, label: &Option<String>) -> bool {
+        let cur = self.cur;
+        self.marks(cur).iter().take_while(|m| m.start.at < start.at).any(|m| same_label(m, label, &[Statement::If]))
+    }
+}
+
 fn same_label(m: &Mark, label: &Option<String>, sts: &[Statement]) -> bool {
     m.label == *label && m.statement.is_some_and(|s| sts.contains(&s))
 }

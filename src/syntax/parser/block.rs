@@ -117,6 +117,12 @@ impl Lexer<'_, '_> {
             self.comment(&close);
             return;
         }
+        // `@100 K-122`, `@136 R102 K2 K133`: a statement keyword written as a mark and digits
+        // (the @ codes of the older SINUMERIK controls), where the dialect lists that keyword.
+        if self.dialect.macros.marked_keywords && !c.is_ascii_alphanumeric() && c != b'_' && self.statement_at(self.i).is_some() {
+            self.keyword_statement(self.i);
+            return;
+        }
         if lex.statement_prefix.contains(&c) && self.b.get(self.i + 1).is_some_and(u8::is_ascii_alphabetic) {
             // `#CALL L100`, `$IF P1 == 0`, `%L 100`: the mark says a statement follows.
             self.i += 1;

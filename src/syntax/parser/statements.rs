@@ -412,6 +412,10 @@ impl Lexer<'_, '_> {
             if self.b.get(i).is_some_and(|c| c.is_ascii_alphabetic() || *c == b'_') {
                 continue;
             }
+            // `@100` is not the start of `@1000`.
+            if k.ends_with(|c: char| c.is_ascii_digit()) && self.b.get(i).is_some_and(u8::is_ascii_digit) {
+                continue;
+            }
             return Some((i, *st));
         }
         None
