@@ -60,6 +60,9 @@ impl<'a> Driver<'a, '_> {
         }
         let profile = self.profile;
         let mut ran = false;
+        // Where the next block starts: the parser is sought there only where something reads
+        // it (a control statement, a call, the general loop after the lane).
+        let mut at = Pos { at: self.parser.offset(), line: self.parser.line() };
         loop {
             // What a block may change, asked before the next: the general loop's questions.
             if interp.left_level.is_some()
@@ -72,12 +75,12 @@ impl<'a> Driver<'a, '_> {
             {
                 break;
             }
-            let start = Pos { at: self.parser.offset(), line: self.parser.line() };
-            let src = self.cur;
+            let (start, src) = (at, self.cur);
             self.give_back(block);
             let Some((k, linked)) = self.peek_kept((src, start.at)) else { break };
             let l = &self.kept[k as usize];
-            match l.lane {
+            let (next, lane) = (l.next, l.lane);
+            match lane {
                 Lane::Off => break,
                 Lane::Control if !self.broken_blocks.is_empty() && self.broken_blocks.contains(&(src, start.at)) => break,
                 _ => {}
@@ -93,30 +96,42 @@ impl<'a> Driver<'a, '_> {
                     break;
                 }
             }
-            // As `next_block` takes a kept block: lent to the block being run.
-            let (next, is_control) = (l.next, l.lane == Lane::Control);
+            // As `next_block` takes a kept block and `drive` counts it.
             self.take_kept(k, linked);
-            let l = &mut self.kept[k as usize];
-            std::mem::swap(block, &mut l.block);
-            l.lent = true;
-            self.lent = Some(k);
-            self.parser.seek(next.at, next.line);
             self.repeated += 1;
             self.executed += 1;
             // A kept control block is not broken (asked above); any other is not either.
             self.broken = false;
             let mark = diags.len();
-            if is_control {
+            at = next;
+            if lane == Lane::Control {
+                self.lend_kept(block, k, next);
                 self.run_block(block, start, interp, sink, diags);
+                at = Pos { at: self.parser.offset(), line: self.parser.line() };
             } else {
-                interp.execute(block, sink, diags);
+                // Read where it is kept: the interpreter's block is not lent for its run.
+                interp.execute(&self.kept[k as usize].block, sink, diags);
                 if let Some(r) = interp.request.take() {
+                    self.lend_kept(block, k, next);
                     self.request(r, block, interp, sink, diags);
+                    at = Pos { at: self.parser.offset(), line: self.parser.line() };
                 }
             }
             self.tidy(src, mark, diags);
             ran = true;
         }
+        self.parser.seek(at.at, at.line);
         ran
+    }
+
+    /// Lends kept block `k` to `block` for its run, and seeks the parser to the block after
+    /// it (`next`), as `next_block` does for a block the general loop runs.
+    #[inline(always)]
+    fn lend_kept(&mut self, block: &mut Box<Block>, k: u32, next: Pos) {
+        let l = &mut self.kept[k as usize];
+        std::mem::swap(block, &mut l.block);
+        l.lent = true;
+        self.lent = Some(k);
+        self.parser.seek(next.at, next.line);
     }
 }
