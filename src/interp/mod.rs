@@ -233,6 +233,10 @@ pub struct Profile {
     /// Off, every block is lexed and goes the general way; both give the same result, and
     /// tests check it.
     pub fast_lane: bool,
+    /// Whether a replay runs its kept blocks on the replay lane (`flow/replay.rs`), without
+    /// the driver's general loop; only with `fast_lane`. Off, they go the general loop: the
+    /// same result, and tests check it.
+    pub replay_lane: bool,
     /// Whether the file is a main program, a program others call, or to be told from its
     /// form (the config's `role`, `check --as`).
     pub role: ProgramRole,
@@ -350,6 +354,7 @@ impl Default for Profile {
             programs: None,
             stock: None,
             fast_lane: true,
+            replay_lane: true,
             role: ProgramRole::Auto,
             unknown_conditions: None,
             x_radius: false,

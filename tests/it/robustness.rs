@@ -293,6 +293,145 @@ fn moves_from_expressions_agree_with_the_general_way() {
     }
 }
 
+/// A loop or called body's blocks, kept lexed, take the replay lane (`Profile::replay_lane`)
+/// from their third run on. Generated loop and call programs of four dialects, with
+/// assignments, moves, calls, nested loops, forward jumps, unknown values and tight budgets
+/// in their bodies, give the same calls and findings on the lane, off it, and the general
+/// way (`fast_lane` off).
+fn replay_lane_agrees(dialect: &str, text: &str, (max_blocks, max_repeated_blocks): (u64, u64)) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let run = |fast_lane: bool, replay_lane: bool| {
+        let mut canon = Vec::new();
+        let p = Profile { fast_lane, replay_lane, max_blocks, max_repeated_blocks, ..profile() };
+        let diags = ncplan::interp::interpret(text, &d, &p, &mut canon);
+        (format!("{canon:?}"), format!("{diags:?}"))
+    };
+    let lane = run(true, true);
+    assert!(lane == run(true, false), "{dialect}: the replay lane differs on\n{text}");
+    assert!(lane == run(false, false), "{dialect}: the replay lane differs from the general way on\n{text}");
+}
+
+/// A program of `dialect` whose loop body is `body`, the loop running `rounds` times.
+fn loop_program(dialect: &str, body: &str, rounds: u32) -> String {
+    match dialect {
+        "linuxcnc" => format!(
+            "G21 G90 G17\nF600\n#<i> = 0\n#2 = 0\no100 sub\nG1 X[#2 + 1] Y#<i>\n#2 = [#2 + 1]\no100 endsub\n\
+             o1 while [#<i> LT {rounds}]\n{body}#<i> = [#<i> + 1]\no1 endwhile\nG0 Z5\nM2\n"
+        ),
+        "fanuc" => format!(
+            "O1000\nG21 G90 G17\nF600\n#1=0\n#2=0\nWHILE [#1 LT {rounds}] DO 1\n{body}#1=#1+1\nEND 1\nG0 Z5\nM30\n\
+             O2000\nG1 X[#2+1] Y#1\n#2=#2+1\nM99\n"
+        ),
+        "siemens" => format!(
+            "DEF REAL XP\nG17 G90 G71\nT1 D1\nM6\nF500\nG0 X0 Y0 Z5\nR1=0\nR2=0\nP1:\n{body}R1=R1+1\nIF R1<{rounds} GOTOB P1\nG0 Z5\nM30\n"
+        ),
+        _ => format!(
+            "BEGIN PGM T MM\nTOOL CALL 1 Z S1000\nL X+0 Y+0 Z+5 R0 FMAX M3\nL Z+0 F300\nFN 0: Q1 = +0\nFN 0: Q2 = +0\nLBL 1\n\
+             {body}FN 1: Q1 = +Q1 + +1\nFN 12: IF +Q1 LT +{rounds} GOTO LBL 1\nL Z+5 R0 FMAX\nM30\nLBL 5\nL X+Q2 Y+Q1\n\
+             FN 1: Q2 = +Q2 + +1\nLBL 0\nEND PGM T MM\n"
+        ),
+    }
+}
+
+/// Body blocks for [`loop_program`], per dialect: what a macro program's loop holds.
+fn body_parts(dialect: &str) -> &'static [&'static str] {
+    match dialect {
+        "linuxcnc" => &[
+            "#<x> = [#<i> * 0.5]\n",
+            "G1 X#<x> Y[#<i> * 2] Z[-1 - #<i>]\n",
+            "G0 X[#<i> + 0.5]\n",
+            "o100 call\n",
+            "o2 if [#<i> GT 1]\nG1 Z-1\no2 else\nG1 Z-2\no2 endif\n",
+            "o3 repeat [2]\nG1 Y#<i>\no3 endrepeat\n",
+            "G2 X1 Y1 I0.5 J0.5\n",
+            "S1000 M3\n",
+            "G91 X1\nG90\n",
+            "X#<_x> Y1\n",
+            "G1 X#7\n",
+            "(note)\n",
+            "G81 R2 Z-5 F100\nG80\n",
+            "F[100 + #<i>]\n",
+            "/G1 X2\n",
+            "N10 G1 X1\n",
+            "#5 = [#<i> / [#<i> - 1]]\n",
+        ],
+        "fanuc" => &[
+            "#3=#1*0.5\n",
+            "G1 X#3 Y[#1*2]\n",
+            "M98 P2000\n",
+            "G65 P2000 A1.\n",
+            "IF [#1 EQ 1] GOTO 50\nG1 Z-1\nN50 G1 Z0\n",
+            "G0 X[#1+0.5]\n",
+            "WHILE [#4 LT 2] DO 2\n#4=#4+1\nEND 2\n#4=0\n",
+            "G1 X#9\n",
+            "S1000 M3\n",
+            "(NOTE)\n",
+            "G81 R2. Z-5. F100.\nG80\n",
+            "G91 X1.\nG90\n",
+            "#5=#5+#1\n",
+        ],
+        "siemens" => &[
+            "XP=R1*0.5\n",
+            "G1 X=XP Y=R1 Z=-1\n",
+            "G1 X=R9 Y=R1\n",
+            "G0 X=XP+1\n",
+            "IF R1==1 GOTOF SKIP1\nG1 Z-1\nSKIP1:\n",
+            "WHILE R3<2\nR3=R3+1\nENDWHILE\nR3=0\n",
+            "R2=R2+R1\n",
+            "G1 X=IC(XP) Y=2\n",
+            "S1000 M3\n",
+            "; note\n",
+            "G2 X1 Y1 I0.5 J0.5\n",
+            "G1 X=XP+$AA_IM[X] Y=1\n",
+        ],
+        _ => &[
+            "FN 3: Q3 = +Q1 * +0.5\n",
+            "L X+Q3 Y+Q1\n",
+            "Q4 = Q1 * 2\n",
+            "L IX+Q1 Y+2\n",
+            "CALL LBL 5\n",
+            "L X+Q108 Y+Q1\n",
+            "L X+Q1 FMAX\n",
+            "FN 9: IF +Q1 EQU +1 GOTO LBL 7\nL Z-1\nLBL 7\n",
+            "L X+Q77 Y+1\n",
+            "; note\n",
+            "FN 2: Q6 = +Q6 - +Q1\n",
+        ],
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: std::env::var("NCPLAN_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64), ..ProptestConfig::default() })]
+
+    #[test]
+    fn replay_lane_changes_nothing(
+        which in 0usize..4,
+        picks in proptest::collection::vec(0usize..64, 1..8),
+        rounds in 1u32..7,
+        budgets in prop_oneof![Just((50_000u64, 25_000u64)), (20u64..300).prop_map(|b| (b, 1_000_000)), (10u64..150).prop_map(|r| (1_000_000, r))],
+    ) {
+        let dialect = ["linuxcnc", "fanuc", "siemens", "heidenhain"][which];
+        let parts = body_parts(dialect);
+        let body: String = picks.iter().map(|&p| parts[p % parts.len()]).collect();
+        replay_lane_agrees(dialect, &loop_program(dialect, &body, rounds), budgets);
+    }
+}
+
+/// The bench's macro programs, small, on the replay lane and off it.
+#[test]
+fn replay_lane_runs_the_bench_macro_programs_alike() {
+    for (dialect, text) in [
+        ("linuxcnc", ncplan::bench::macro_program(3)),
+        ("siemens", ncplan::bench::siemens_macro_program(3)),
+        ("heidenhain", ncplan::bench::heidenhain_macro_program(3)),
+    ] {
+        replay_lane_agrees(dialect, &text, (50_000, 25_000));
+        // A budget reached inside the loop: the lane stops where the general loop does.
+        replay_lane_agrees(dialect, &text, (157, 1_000_000));
+        replay_lane_agrees(dialect, &text, (1_000_000, 93));
+    }
+}
+
 #[test]
 fn hostile_inputs_are_diagnosed() {
     let deep = format!("G1 X{}1{}\n", "[".repeat(10_000), "]".repeat(10_000));

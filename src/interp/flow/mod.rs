@@ -21,6 +21,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use typed_arena::Arena;
 
 mod contour;
+mod replay;
 mod statements;
 
 use super::eval::{self, NULL};
@@ -347,6 +348,8 @@ struct Lexed {
     after: Option<u32>,
     /// Whether the block is lent to the block being run (its place here holds a spare).
     lent: bool,
+    /// How the replay lane runs it, decided when it is kept.
+    lane: replay::Lane,
 }
 
 /// Most blocks kept lexed (a few megabytes at most).
@@ -463,6 +466,13 @@ impl<'a> Driver<'a, '_> {
             // A replay never takes the plain lane (`plain_lane_open`): asked here, without a call.
             if !self.replaying && self.run_plain(&mut plain, interp, sink, diags) {
                 if interp.finished() {
+                    break;
+                }
+                continue;
+            }
+            // A replay takes the replay lane, kept block after kept block (`replay.rs`).
+            if self.replaying && self.replay(&mut block, interp, sink, diags) {
+                if interp.finished() || self.stop {
                     break;
                 }
                 continue;
@@ -804,7 +814,8 @@ impl<'a> Driver<'a, '_> {
                 block.reads_no_system = !interp.reads_system(block);
                 let k = self.kept.len() as u32;
                 self.lexed.insert(key, k);
-                self.kept.push(Lexed { block: block.clone(), next: self.pos(), key, after: None, lent: false });
+                let lane = replay::lane(block);
+                self.kept.push(Lexed { block: block.clone(), next: self.pos(), key, after: None, lent: false, lane });
             }
         } else {
             *reached = self.parser.offset();
@@ -816,22 +827,31 @@ impl<'a> Driver<'a, '_> {
     /// block taken before, or else looked up.
     #[inline]
     fn kept_at(&mut self, key: (usize, usize)) -> Option<u32> {
+        let (k, linked) = self.peek_kept(key)?;
+        self.take_kept(k, linked);
+        Some(k)
+    }
+
+    /// The kept block at `key`, unless it is lent, and whether it is the one the last kept
+    /// block names as its `after`; nothing changed (see [`Driver::take_kept`]).
+    #[inline(always)]
+    fn peek_kept(&self, key: (usize, usize)) -> Option<(u32, bool)> {
         let last = self.last_kept.map(|p| p as usize);
-        let k = match last.and_then(|p| self.kept[p].after).filter(|&k| self.kept[k as usize].key == key) {
-            Some(k) => k,
-            None => {
-                let k = *self.lexed.get(&key)?;
-                if let Some(p) = last {
-                    self.kept[p].after = Some(k);
-                }
-                k
-            }
+        let (k, linked) = match last.and_then(|p| self.kept[p].after).filter(|&k| self.kept[k as usize].key == key) {
+            Some(k) => (k, true),
+            None => (*self.lexed.get(&key)?, false),
         };
-        if self.kept[k as usize].lent {
-            return None;
+        (!self.kept[k as usize].lent).then_some((k, linked))
+    }
+
+    /// Takes kept block `k` (found by [`Driver::peek_kept`]) as the run's last: the one
+    /// before it names it as its `after` when it did not.
+    #[inline(always)]
+    fn take_kept(&mut self, k: u32, linked: bool) {
+        if !linked && let Some(p) = self.last_kept {
+            self.kept[p as usize].after = Some(k);
         }
         self.last_kept = Some(k);
-        Some(k)
     }
 
     /// Gives the kept block lent to `block` back to its place (see [`Driver::next_block`]).
