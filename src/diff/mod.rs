@@ -478,7 +478,9 @@ impl Change {
                 (Some(f), _) => format!(" at original line {f}"),
                 _ => String::new(),
             };
-            format!("{a} in place of {b}{}", if from.is_empty() { String::new() } else { format!(" ({})", from.trim_start()) })
+            // The original's lines once: where the replaced statements already name them, not again.
+            let named = self.original_line.is_some_and(|f| b.contains(&format!("line {f}")) || b.contains(&format!("lines {f}–")));
+            format!("{a} in place of {b}{}", if from.is_empty() || named { String::new() } else { format!(" ({})", from.trim_start()) })
         } else {
             match (b.is_empty(), a.is_empty()) {
                 (false, false) => format!("`{a}` instead of `{b}`{loc}"),
