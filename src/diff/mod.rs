@@ -327,6 +327,9 @@ impl Change {
                     None => format!("workingstep {verb} ({what})"),
                 }
             }
+            // Stops at several statements (identical `M0`s removed together) at all their lines.
+            ChangeKind::StopAdded if self.detail.at.len() > 1 => return format!("{} added{}", self.after, self.located()),
+            ChangeKind::StopRemoved if self.detail.at.len() > 1 => return format!("{} removed{}", self.before, self.located()),
             ChangeKind::StopAdded => return format!("{} added{}", self.after, at(self.line)),
             ChangeKind::StopRemoved => {
                 return format!("{} removed{}", self.before, at(self.original_line).replace("line", "original line"));
