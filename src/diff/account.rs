@@ -14,7 +14,7 @@ use std::ops::RangeInclusive;
 
 use super::statement::{self, Class, Fault, Hunk, Sort, Stmt, Token};
 use super::typed::{self, About, Context, about};
-use super::{Change, ChangeKind, control, follow, verdict};
+use super::{Change, ChangeKind, control, follow, height, retrace, verdict};
 use crate::dialect::{Dialect, Meaning, Role};
 use crate::plan::{ProcessPlan, Workingstep};
 
@@ -51,6 +51,9 @@ struct Item {
     /// The kinds of the plan changes located here: a named cycle's argument whose role one of
     /// them states (`CYCLE95 MID`, told as the depth of cut) needs no change of its own.
     located_kinds: Vec<ChangeKind>,
+    /// Whether the original's statement and the edited one call a program or label, as the
+    /// parser reads them ([`statement::CALL`]).
+    calls: (bool, bool),
 }
 
 /// A hunk too large to tell statement by statement.
@@ -75,7 +78,16 @@ pub(super) fn account(
     let ((sa, fa), (sb, fb)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
     let (fa, fb) = (verdict::joined(findings.0, fa), verdict::joined(findings.1, fb));
     let hunks = statement::hunks(&sa, &sb);
-    let told = verdict::verdicts(&fa, &fb, &|l| verdict::same_line(l, (&sa, &sb), &hunks));
+    // Whether the original cuts anything with a feed, where the control removes material.
+    let cuts = || {
+        a.plan
+            .workingsteps
+            .iter()
+            .flat_map(|w| w.toolpath.iter())
+            .any(|m| m.phase == crate::plan::Phase::Cut && m.kind != crate::plan::MoveKind::Rapid && m.feed > 0.0)
+    };
+    let cuts = fa.is_empty() || fb.is_empty() || cuts();
+    let told = verdict::verdicts(&fa, &fb, &|l| verdict::same_line(l, (&sa, &sb), &hunks), cuts);
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
 }
@@ -101,6 +113,7 @@ fn locate(
     let mut same = respelled(&items, a, b, sa, sb);
     same.extend(reblocked(&hunks, a, b, sa, sb));
     same.extend(relabelled(&items, a, b, sa, sb));
+    same.extend(retrace::retraced(&hunks, a, b, sa, sb));
     let tolerance = arc_tolerance(a);
     changes.retain(|c| {
         let only_respelled = c.kind == ChangeKind::ToolpathChanged
@@ -168,10 +181,21 @@ fn locate(
     };
     merge_repeats(changes);
     let mut added = Vec::new();
-    for it in &items {
+    let mut budget = height::Budget::default();
+    for it in &mut items {
         let lo = line(sa, it.original);
         let le = line(sb, it.edited);
         let ws = workingstep_at(lo, le, a.plan, b.plan, &spans_a, &spans_b, pairs);
+        // An absolute height the later incremental moves start from, the plan not showing it.
+        if let Some(mut c) = inherited_height(it, (a, b), (sa, sb), &mut budget) {
+            (c.workingstep, c.operation) = ws.clone();
+            (c.original_line, c.line) = (lo, le);
+            c.detail.at = vec![(lo, le)];
+            added.push(c);
+            if it.diffs.is_empty() {
+                continue;
+            }
+        }
         // A statement over several lines (`CYCL DEF 200 ~`) is named whole.
         let last = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].last).filter(|&l| Some(l) != line(s, i));
         for mut c in statement_changes(it, lo, le, ws, b.dialect) {
@@ -216,6 +240,34 @@ fn locate(
         let missing = uncovered(changes, &hunks, sa, sb, &same);
         assert!(missing.is_empty(), "differing statements no change names (original, edited line): {missing:?}");
     }
+}
+
+/// The height change of an item whose height word alone (of its moves) differs, in absolute
+/// distances, both programs reaching the later heights by incremental steps from it
+/// ([`height::inherited`]): that word taken out of the item's differences, told as the start
+/// height of the later moves.
+fn inherited_height(
+    it: &mut Item,
+    (a, b): (Program<'_>, Program<'_>),
+    (sa, sb): (&[Stmt], &[Stmt]),
+    budget: &mut height::Budget,
+) -> Option<Change> {
+    let (Some(oi), Some(ei)) = (it.original, it.edited) else { return None };
+    if it.located || it.class != Class::Machining {
+        return None;
+    }
+    let axis = height::axis(b.dialect)?;
+    let number = |t: &Option<Token>| t.as_ref().filter(|t| t.sort == Sort::Word && t.key == axis).and_then(|t| t.value.parse::<f64>().ok());
+    let n = it.diffs.iter().position(|(x, y)| number(x).zip(number(y)).is_some_and(|(p, q)| p != q))?;
+    if !(height::inherited(b, sb, ei, axis, budget) && height::inherited(a, sa, oi, axis, budget)) {
+        return None;
+    }
+    let (x, y) = it.diffs.remove(n);
+    let mut c = blank(ChangeKind::DepthChanged, (0, String::new()));
+    c.field = "start height of the later incremental moves".into();
+    c.before = x.map(|t| t.text).unwrap_or_default();
+    c.after = y.map(|t| t.text).unwrap_or_default();
+    Some(c)
 }
 
 /// Kinds that feature recognition derives, which comments (stock and tool sizes) feed.
@@ -265,6 +317,7 @@ pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) ->
     let mut same = respelled(&items, a, b, &sa, &sb);
     same.extend(reblocked(&hunks, a, b, &sa, &sb));
     same.extend(relabelled(&items, a, b, &sa, &sb));
+    same.extend(retrace::retraced(&hunks, a, b, &sa, &sb));
     uncovered(changes, &hunks, &sa, &sb, &same)
 }
 
@@ -474,8 +527,14 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             };
             let moves = oi.map_or(0, |k| sa[k].moves) | ei.map_or(0, |k| sb[k].moves);
             let ctx_of = |t: &[Vec<Token>], i: Option<usize>, d: &Dialect| i.map_or_else(Context::default, |i| Context::of(&t[i], d));
-            let ctx = ctx_of(&ta, x, a.dialect).or(ctx_of(&tb, y, b.dialect));
+            let mut ctx = ctx_of(&ta, x, a.dialect).or(ctx_of(&tb, y, b.dialect));
+            let calls = (oi.is_some_and(|k| sa[k].moves & statement::CALL != 0), ei.is_some_and(|k| sb[k].moves & statement::CALL != 0));
+            // A call the parser reads anywhere in the block (`R910=25 … L100 P1`): flow.
+            if ctx.flow.is_none() && (calls.0 || calls.1) {
+                ctx.flow = Some(control::Flow::Call);
+            }
             items.push(Item {
+                calls,
                 original: oi,
                 edited: ei,
                 diffs,
@@ -519,7 +578,8 @@ fn only_output(tokens: &[Vec<Token>], range: &std::ops::Range<usize>, s: &[Stmt]
 /// order, by a longest common subsequence), then the rest between them in order where the
 /// two share a role (a code, an address, a variable, a call or keyword of the same key: `G1
 /// X10 F500` for `X10 F800`); two that share none are one removed and one added (`M65 P…`
-/// is not `G53 G0 Z…` written another way).
+/// is not `G53 G0 Z…` written another way). Two moves that begin with one motion code pair
+/// only where they share more than it (an axis: `G0 Z0` and `G0 A0` are one removed, one added).
 fn pair_statements(
     (a, ca): (&[Vec<Token>], &[Class]),
     (b, cb): (&[Vec<Token>], &[Class]),
@@ -534,11 +594,8 @@ fn pair_statements(
     let roles = |t: &[Token], class: Class| -> Vec<String> {
         let ctx = Context::of(t, d);
         // A motion code alone is no shared role: the axes it moves are (`G0 Z0` is not `G0 A0`).
-        let motion = |t: &Token| {
-            matches!(about(t, d), About::Code(Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw | Meaning::RapidBlock))
-        };
         let mut r: Vec<String> = Vec::new();
-        for t in t.iter().filter(|t| !t.key.is_empty() && !motion(t)) {
+        for t in t.iter().filter(|t| !t.key.is_empty() && !motion_code(t, d)) {
             match (t.sort, typed::kind_of(t, ctx, d)) {
                 (Sort::Call, _) => r.push("call".to_owned()),
                 (_, Some((kind, _))) if kind != ChangeKind::MachineFunctionChanged => r.push(kind.as_str().to_owned()),
@@ -577,10 +634,13 @@ fn pair_statements(
         let rb = roles(&b[y], cb[y]);
         roles(&a[x], ca[x]).iter().any(|r| rb.contains(r))
     };
+    // Two moves of one motion code share its key, not a role: they pair only where they move
+    // an axis in common (`G0 Z0` is not `G0 A0` written another way).
+    let motion_key = |t: &[Token]| t.first().is_some_and(|t| motion_code(t, d));
     let mut out = Vec::new();
     for pair in statement::pairs_along(anchors, a.len(), b.len()) {
         match pair {
-            (Some(x), Some(y)) if ka[x] != kb[y] && !shared(x, y) => {
+            (Some(x), Some(y)) if (ka[x] != kb[y] || motion_key(&a[x])) && !shared(x, y) => {
                 out.push((Some(x), None));
                 out.push((None, Some(y)));
             }
@@ -588,6 +648,11 @@ fn pair_statements(
         }
     }
     out
+}
+
+/// Whether a token is a motion code (`G0`, `G1`, `G2`, `G3`).
+fn motion_code(t: &Token, d: &Dialect) -> bool {
+    matches!(about(t, d), About::Code(Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw | Meaning::RapidBlock))
 }
 
 /// How the tokens of two statements differ: each token of `a` matched to the first unused
@@ -917,6 +982,20 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         }
         let field = match flow {
             _ if whole => flow.field().to_owned(),
+            // A call written into a statement that stays (`R910=25 … L100 P1`), or taken out of
+            // one: the call added or removed, with the passes its repeat word gives.
+            control::Flow::Call if it.calls.0 != it.calls.1 && (c.before.is_empty() || c.after.is_empty()) => {
+                for side in [&mut c.before, &mut c.after] {
+                    if side.is_empty() {
+                        continue;
+                    }
+                    let repeat: Vec<&str> = side.split(' ').filter(|w| control::passes(w, d).is_some()).collect();
+                    if let Some(n) = control::passes(&repeat.join(" "), d) {
+                        *side = format!("{side} ({n} pass{})", if n == 1 { "" } else { "es" });
+                    }
+                }
+                "call".to_owned()
+            }
             control::Flow::Branch if argument || condition => "condition".to_owned(),
             // A count loop's count (LinuxCNC `o100 repeat [5]` → `[6]`): its passes, where
             // both are numbers.

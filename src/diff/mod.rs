@@ -27,7 +27,9 @@
 //! follows a variable set to another value to the words it feeds (`clearance height (via
 //! #<_z_clearance>)`), and compares a call whose argument count changed with its subroutine as
 //! each version has it (`rebound`); `rename.rs` finds labels renamed one to one over both
-//! programs (no change); `verdict.rs` says what the edit breaks or fixes (errors the control
+//! programs (no change); `retrace.rs` finds straight moves written in other pieces along
+//! the same path at the same feed (no change); `height.rs` tells an absolute height the later
+//! incremental moves start from; `verdict.rs` says what the edit breaks or fixes (errors the control
 //! stops at in one version only, matched by kind at the same statement first), listed first.
 //! Toolpath changes whose moves read values the file never sets are told without sizes. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
 //! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
@@ -47,8 +49,10 @@
 mod account;
 mod control;
 mod follow;
+mod height;
 mod moved;
 mod rename;
+mod retrace;
 mod setup;
 pub mod statement;
 mod turning;
@@ -314,8 +318,18 @@ impl Change {
                 return format!("the edit fixes the program: no longer {}{at} ({})", self.before, self.field);
             }
             ChangeKind::StartPointMoved => format!("start point moved from {} to {}", self.before, self.after),
-            ChangeKind::WorkingstepAdded => format!("workingstep added ({})", self.after),
-            ChangeKind::WorkingstepRemoved => format!("workingstep removed ({})", self.before),
+            // The workingsteps a repeated one is also in, after its own parenthesis, not inside it.
+            ChangeKind::WorkingstepAdded | ChangeKind::WorkingstepRemoved => {
+                let (verb, what) =
+                    if self.kind == ChangeKind::WorkingstepAdded { ("added", &self.after) } else { ("removed", &self.before) };
+                match what.rfind(" (also in workingstep").filter(|_| what.ends_with(')')) {
+                    Some(i) => return format!("workingstep {verb} ({}){}, {}", &what[..i], self.located(), &what[i + 2..what.len() - 1]),
+                    None => format!("workingstep {verb} ({what})"),
+                }
+            }
+            // Stops at several statements (identical `M0`s removed together) at all their lines.
+            ChangeKind::StopAdded if self.detail.at.len() > 1 => return format!("{} added{}", self.after, self.located()),
+            ChangeKind::StopRemoved if self.detail.at.len() > 1 => return format!("{} removed{}", self.before, self.located()),
             ChangeKind::StopAdded => return format!("{} added{}", self.after, at(self.line)),
             ChangeKind::StopRemoved => {
                 return format!("{} removed{}", self.before, at(self.original_line).replace("line", "original line"));
@@ -467,7 +481,9 @@ impl Change {
                 (Some(f), _) => format!(" at original line {f}"),
                 _ => String::new(),
             };
-            format!("{a} in place of {b}{}", if from.is_empty() { String::new() } else { format!(" ({})", from.trim_start()) })
+            // The original's lines once: where the replaced statements already name them, not again.
+            let named = self.original_line.is_some_and(|f| b.contains(&format!("line {f}")) || b.contains(&format!("lines {f}–")));
+            format!("{a} in place of {b}{}", if from.is_empty() || named { String::new() } else { format!(" ({})", from.trim_start()) })
         } else {
             match (b.is_empty(), a.is_empty()) {
                 (false, false) => format!("`{a}` instead of `{b}`{loc}"),
@@ -1526,13 +1542,22 @@ fn toolpath_difference(a: &Workingstep, b: &Workingstep, depth: Option<(f64, f64
     if p == na && p == nb {
         return None;
     }
-    // The differing moves of each side, as index ranges.
-    let (ma, mb) = (p..na - s, p..nb - s);
     // The same way along the same path, in other pieces (an arc written in turns or halves,
-    // a line in two): no change.
-    if same_trace(&ca, ma.clone(), &cb, mb.clone(), &map_z) {
+    // a line in two): no change. Measured from the end, a move is shared only where it also
+    // starts where its counterpart does (the second half of a line written in two ends where
+    // the whole line does, and is not it).
+    let mut whole = 0;
+    while whole < s && {
+        let (x, y) = (at(&ca, na - 1 - whole), at(&cb, nb - 1 - whole));
+        close(x.from, y.from)
+    } {
+        whole += 1;
+    }
+    if same_trace(&ca, p..na - whole, &cb, p..nb - whole, &map_z) {
         return None;
     }
+    // The differing moves of each side, as index ranges.
+    let (ma, mb) = (p..na - s, p..nb - s);
     // The paths around the difference: from where the shared start ends to where the shared
     // end begins, so that a removed move is measured against the path that replaces it.
     let path = |all: &Cuts<'_>, from: usize, to: usize, z: &dyn Fn(f64) -> f64| -> Path {

@@ -39,7 +39,7 @@ pub struct Stmt {
     pub hash: u64,
     /// What it does.
     pub class: Class,
-    /// What its words move: [`RETURN_MOVE`], [`ROTARY_MOVE`].
+    /// What its words move: [`RETURN_MOVE`], [`ROTARY_MOVE`]; whether it calls: [`CALL`].
     pub moves: u8,
 }
 
@@ -47,6 +47,9 @@ pub struct Stmt {
 pub const RETURN_MOVE: u8 = 1;
 /// A statement with a word of a rotary axis (`A`, `B`, `C`).
 pub const ROTARY_MOVE: u8 = 2;
+/// A statement the parser reads as a call of a program or label, wherever in the block it
+/// stands (Siemens `R910=25 … L100 P1`, `CALL PGM SUB`, `CALL LBL 5`).
+pub const CALL: u8 = 4;
 
 /// What the words of `block` move, by the dictionary's meanings and roles.
 fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
@@ -62,7 +65,11 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
     // origin shift's axis words its values (Siemens `TRANS … B=gB C=gC`, `ROT C45`, `G92 A0`):
     // no axis moves.
     let no_motion = block.words.iter().any(|w| code_of(w).is_some_and(|c| words_are_no_motion(c.meaning)));
-    let mut m = 0;
+    let calls = block
+        .control
+        .as_ref()
+        .is_some_and(|c| matches!(c.statement, Some(Statement::Call | Statement::CallLabel | Statement::CallProgram)));
+    let mut m = if calls { CALL } else { 0 };
     for w in &block.words {
         if matches!(w.role, Role::A | Role::B | Role::C) && !no_motion {
             m |= ROTARY_MOVE;

@@ -8,7 +8,9 @@
 //! order, so that an error that only moved with the lines around it is no change, and one an
 //! edited line brings in is told at that line, not at an unchanged one further on. An error left over in the edited version is a [`ChangeKind::ProgramBroken`],
 //! one left over in the original a [`ChangeKind::ProgramFixed`], one change per kind at all
-//! its lines. They are listed first: a program the control stops in does not machine.
+//! its lines. They are listed first: a program the control stops in does not machine. An
+//! original that cuts nothing with a feed and stops at an error the edit leaves is not broken
+//! by another error: neither version machines anything.
 
 use std::collections::BTreeMap;
 
@@ -131,15 +133,24 @@ fn unmatched<'f>(a: &'f [Fault], b: &'f [Fault], same: &dyn Fn(u32) -> Option<u3
     (left_a, left_b)
 }
 
-/// The changes that say what the edit breaks and what it fixes.
-pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u32>) -> Vec<Change> {
+/// The changes that say what the edit breaks and what it fixes. `cuts`: whether the original
+/// cuts anything with a feed.
+pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u32>, cuts: bool) -> Vec<Change> {
     // A value left unknown is no error the control stops at.
     let stops = |f: &[Fault]| f.iter().filter(|f| f.code != crate::diag::Code::UnknownValue).cloned().collect::<Vec<Fault>>();
     let (a, b) = (stops(a), stops(b));
     let (mut fixed, mut broken) = unmatched(&a, &b, same);
+    // The control stops at the first error it meets. Where the original cuts nothing with a
+    // feed (no feed is programmed: the control refuses its first cut; or it has no cut) and
+    // the edit leaves the error it stops at, another error breaks nothing: neither version
+    // machines.
+    let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
+    let idle = !cuts && a.iter().filter(live).any(|f| !fixed.iter().any(|g| std::ptr::eq(*g, f)));
+    if idle {
+        broken.clear();
+    }
     // A statement the control stopped at in both versions (a comment nested in an empty
     // assignment's): another error on it neither breaks nor fixes the program.
-    let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
     let stopped_a: std::collections::BTreeSet<u32> = a.iter().filter(live).filter_map(|g| same(g.line)).collect();
     let stopped_b: std::collections::BTreeSet<u32> = b.iter().filter(live).map(|f| f.line).collect();
     broken.retain(|f| !stopped_a.contains(&f.line));

@@ -1313,3 +1313,72 @@ fn breaks_and_fixes_are_only_where_the_control_stops_whatever_the_values() {
     let got = changes_with_findings(&a2, &b2, "linuxcnc");
     assert!(!got.iter().any(|c| c.kind == ChangeKind::ProgramFixed), "{}", rows(&got));
 }
+
+#[test]
+fn a_straight_line_written_in_two_pieces_at_its_feed_is_no_change() {
+    // Pravar20/Gcode-history's solder strokes, regenerated: in G91 two `G1 Y5 F75` joined into
+    // one `G1 Y10 F75` trace the same path at the same feed.
+    let a = "G21\nG91\nM3 S9000\nG1 Y10 F2000\nG1 Y-10 F2000\nG1 Y5 F75\nG1 Y5 F75\nG1 Z5 F2000\nG1 X3 Y-10 F2000\nM5\nM2\n";
+    let b = a.replace("G1 Y5 F75\nG1 Y5 F75\n", "G1 Y10 F75\n");
+    assert_eq!(rows(&changes(a, &b, "linuxcnc")), "");
+    // At another feed, or bent, it is a change.
+    let slower = a.replace("G1 Y5 F75\nG1 Y5 F75\n", "G1 Y10 F60\n");
+    assert!(!changes(a, &slower, "linuxcnc").is_empty());
+    let bent = a.replace("G1 Y5 F75\nG1 Y5 F75\n", "G1 X1 Y5 F75\nG1 X-1 Y5 F75\n");
+    assert!(!changes(a, &bent, "linuxcnc").is_empty());
+}
+
+#[test]
+fn a_call_written_into_a_statement_is_the_call_added() {
+    // An older Sinumerik main program (ph-lk/tempGCodeCNC): the block that only set the cycle's
+    // R parameters now also calls the cycle, `L100 P1` (the subprogram is not there).
+    let a = "N10 G90 G0 X100 Z100\nN20 R910=25 R911=17 R941=-0.5\nN30 M30\n";
+    let b = a.replace("R941=-0.5", "R941=-0.5 L100 P1");
+    expect![[r#"
+        flow_changed | call |  | L100 P1 (1 pass) | 2 | 2
+          call L100 P1 (1 pass) added at line 2
+    "#]]
+    .assert_eq(&rows(&changes(a, &b, "siemens")));
+}
+
+#[test]
+fn an_absolute_height_the_incremental_moves_start_from_is_told_as_that_height() {
+    // ozturkf/AluFDM: the first layer's start height, the layers after it reached by G91 steps.
+    let a = "G90 X-20 Y-20 Z0.85 F285\nY-10 M10\nG90 X-7.5 Y-7.5\nG91 X15 M10\nG91 Z0.8\nX-15 M10\nM30\n";
+    let b = a.replace("Z0.85", "Z0.8");
+    let got = changes(a, &b, "siemens");
+    let typed: Vec<(&str, &str, &str)> = got.iter().map(|c| (c.kind.as_str(), c.before.as_str(), c.after.as_str())).collect();
+    assert_eq!(typed, [("depth_changed", "Z0.85", "Z0.8")], "{}", rows(&got));
+    // A later absolute height starts the later moves anew: the word stays a statement change.
+    let again = "G90 X-20 Y-20 Z0.85 F285\nY-10 M10\nG90 Z1.6\nG91 Z0.8\nM30\n";
+    let got = changes(again, &again.replace("Z0.85", "Z0.8"), "siemens");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::DepthChanged), "{}", rows(&got));
+}
+
+#[test]
+fn moves_of_other_axes_are_not_paired() {
+    // probe_basic's go_to_zero: `G0 Z0` gone, `G0 A0` new: one removed, one added.
+    let a = "G0 X0 Y0\nG0 Z0\nM2\n";
+    let b = "G0 X0 Y0\nG0 A0\nM2\n";
+    expect![[r#"
+        statement_changed | statement | G0 Z0 |  | - | 2
+          `G0 Z0` removed at original line 2
+        rotary_move_changed | statement |  | G0 A0 | 2 | -
+          rotary axis move: `G0 A0` added at line 2
+    "#]]
+    .assert_eq(&rows(&changes(a, b, "linuxcnc")));
+}
+
+#[test]
+fn another_error_in_a_program_that_machines_nothing_breaks_nothing() {
+    // KL-Mithunvel/G-M_CODE EX4: no feed anywhere (the control refuses the first cut), and a
+    // program number typed with a zero added at the top: both versions stop, neither machines.
+    let a = "G21 G98\nM06 T01\nM03 S1000\nG0 X5 Z2\nG1 X0 Z0\nG1 Z-15 X10\nG0 Z2\nM30\n";
+    let b = format!("01000\n{a}");
+    let got = changes_with_findings(a, &b, "fanuc_lathe");
+    assert!(!got.iter().any(|c| c.kind == ChangeKind::ProgramBroken), "{}", rows(&got));
+    // With a feed the original runs its cuts: the same line breaks it.
+    let fed = a.replace("G1 X0 Z0", "G1 X0 Z0 F0.2");
+    let got = changes_with_findings(&fed, &format!("01000\n{fed}"), "fanuc_lathe");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::ProgramBroken), "{}", rows(&got));
+}
