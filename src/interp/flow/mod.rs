@@ -2306,9 +2306,10 @@ fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
             then: c.and_then(|c| c.then).filter(|_| !c.is_some_and(|c| block_if(&block, c, dialect))),
             id: c.and_then(|c| literal(c.target)),
             program: block.program_number.or_else(|| {
-                // An O-word label alone on its line starts a numbered program (`O1000` + M99).
+                // An O-word label alone on its line starts a numbered program (`O1000` + M99);
+                // followed by anything else (`O1 #<dir> = 1`) it is an unknown control command.
                 let c = c?;
-                if c.keyword.is_some() {
+                if c.keyword.is_some() || !alone(&block, c.range) {
                     return None;
                 }
                 block.text(c.label?).parse().ok()
@@ -2319,6 +2320,22 @@ fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
         });
     }
     marks
+}
+
+/// Whether nothing but blanks and comments follows the statement at `r` in `block`.
+fn alone(block: &Block, r: TextRange) -> bool {
+    let mut at = r.end;
+    let mut comments: Vec<TextRange> = block.comments.iter().copied().filter(|c| c.end > r.end).collect();
+    comments.sort_by_key(|c| c.start);
+    for c in comments.iter().chain(std::iter::once(&TextRange { start: block.range.end, end: block.range.end })) {
+        // A comment's range lies inside its delimiters: one byte either side is the delimiter.
+        let gap = TextRange { start: at, end: c.start.saturating_sub(1).max(at) };
+        if !block.text(gap).trim().is_empty() {
+            return false;
+        }
+        at = at.max(c.end.saturating_add(1));
+    }
+    true
 }
 
 /// The blocks of `text` numbered `n`.
