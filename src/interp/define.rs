@@ -357,6 +357,11 @@ impl Interpreter<'_> {
         if !self.defined_args_given(cycle, &defined, &args, diags) {
             return;
         }
+        if cycle.meaning == Meaning::MillBore {
+            let label = format!("CYCL DEF {}", cycle.name);
+            self.mill_bore(&label, &args, range, sink, diags);
+            return;
+        }
         let Some(kind) = self.defined_kind(cycle, range, diags) else { return };
         let (a0, a1, n) = self.st.plane.axes();
         let surface = match get(Role::ReferencePlane) {
