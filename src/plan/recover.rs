@@ -621,6 +621,30 @@ struct Builder {
 }
 
 impl Builder {
+    /// What the cycle in force gives the workingstep it cuts in: a hole cycle's dwell, peck and
+    /// surface (`hole_surface`, while a hole cycle runs), a milling cycle's surface.
+    fn take_cycle_values(
+        &mut self,
+        operation: Operation,
+        dwell: Option<f64>,
+        peck: Option<f64>,
+        hole_surface: Option<f64>,
+        mill_surface: Option<f64>,
+    ) {
+        if operation.is_hole() && !self.operation.is_hole() {
+            self.operation = operation;
+        }
+        if operation.is_hole() && dwell.is_some() {
+            self.dwell = dwell;
+        }
+        if operation.is_hole() && self.peck.is_none() {
+            self.peck = peck;
+        }
+        if self.surface.is_none() {
+            self.surface = if operation.is_hole() { hole_surface } else { mill_surface };
+        }
+    }
+
     /// Notes the length a lathe's cut runs at its feed per revolution (none: per minute).
     fn note_feed(&mut self, lathe: bool, per_rev: Option<f64>, mv: &Move) {
         if !lathe || mv.kind == MoveKind::Rapid {
@@ -1183,26 +1207,7 @@ impl<'p> Recovery<'p> {
             // Diameter or radius mode: only a lathe has them.
             CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
             // A milling cycle is one operation: a workingstep of its own.
-            CanonOp::Setting(Setting::MillCycle(Some(name))) => {
-                let key = self.hole_next.take();
-                // The same cycle making the same hole again continues the workingstep.
-                let again = key.as_ref().is_some_and(|k| self.mill_ended.take().is_some_and(|(n, e)| n == *name && e == *k));
-                self.mill_ended = None;
-                if !again {
-                    self.close();
-                }
-                self.mill_cycle = Some((name.clone(), key));
-            }
-            CanonOp::Setting(Setting::MillCycle(None)) => {
-                self.mill_surface = None;
-                match self.mill_cycle.take() {
-                    // A hole milled: the next call may make the same hole elsewhere.
-                    Some((name, Some(key))) => self.mill_ended = Some((name, key)),
-                    _ => self.close(),
-                }
-            }
-            CanonOp::Setting(Setting::HoleMilled(key)) => self.hole_next = Some(key.clone()),
-            CanonOp::Setting(Setting::CycleSurface(z)) => self.mill_surface = Some(self.mm(*z)),
+            CanonOp::Setting(s @ (Setting::MillCycle(_) | Setting::HoleMilled(_) | Setting::CycleSurface(_))) => self.mill_cycle_marker(s),
             CanonOp::Turning(t) => self.turning_begins(t),
             CanonOp::TurningEnd => {
                 self.turn = None;
@@ -1672,20 +1677,36 @@ impl<'p> Recovery<'p> {
         b.moves.push(mv);
         b.source = b.source.cover(c.origin);
         b.lines.1 = c.line;
-        if operation.is_hole() && !b.operation.is_hole() {
-            b.operation = operation;
-        }
-        if operation.is_hole() && self.dwell.is_some() {
-            b.dwell = self.dwell;
-        }
-        if operation.is_hole() && b.peck.is_none() {
-            b.peck = self.peck;
-        }
-        if operation.is_hole() && b.surface.is_none() && self.in_cycle.is_some() {
-            b.surface = self.surface;
-        }
-        if !operation.is_hole() && b.surface.is_none() {
-            b.surface = self.mill_surface;
+        let cycle_surface = if self.in_cycle.is_some() { self.surface } else { None };
+        b.take_cycle_values(operation, self.dwell, self.peck, cycle_surface, self.mill_surface);
+    }
+
+    /// A milling cycle's markers (`interp::pocket`): each cycle a workingstep of its own, but
+    /// a hole-milling cycle making the same hole as the one that just ended continues its
+    /// workingstep (the same hole elsewhere, as consecutive drilling cycle calls are); the
+    /// surface it states goes to its workingstep.
+    fn mill_cycle_marker(&mut self, s: &Setting) {
+        match s {
+            Setting::HoleMilled(key) => self.hole_next = Some(key.clone()),
+            Setting::MillCycle(Some(name)) => {
+                let key = self.hole_next.take();
+                let again = key.as_ref().is_some_and(|k| self.mill_ended.take().is_some_and(|(n, e)| n == *name && e == *k));
+                self.mill_ended = None;
+                if !again {
+                    self.close();
+                }
+                self.mill_cycle = Some((name.clone(), key));
+            }
+            Setting::MillCycle(None) => {
+                self.mill_surface = None;
+                match self.mill_cycle.take() {
+                    // A hole milled: the next call may make the same hole elsewhere.
+                    Some((name, Some(key))) => self.mill_ended = Some((name, key)),
+                    _ => self.close(),
+                }
+            }
+            Setting::CycleSurface(z) => self.mill_surface = Some(self.mm(*z)),
+            _ => {}
         }
     }
 
