@@ -362,6 +362,15 @@ impl Interpreter<'_> {
             self.mill_bore(&label, &args, range, sink, diags);
             return;
         }
+        // A pocket cycle called at a position (Heidenhain 251, 252): the position is its centre.
+        if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle) {
+            let (label, meaning) = (format!("CYCL DEF {}", cycle.name), cycle.meaning);
+            let (a0, a1, _) = self.st.plane.axes();
+            let mut at = args.clone();
+            at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
+            self.mill_pocket(meaning, &label, &at, range, sink, diags);
+            return;
+        }
         let Some(kind) = self.defined_kind(cycle, range, diags) else { return };
         let (a0, a1, n) = self.st.plane.axes();
         let surface = match get(Role::ReferencePlane) {

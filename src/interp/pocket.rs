@@ -1,7 +1,8 @@
 //! Pockets milled by a cycle (Siemens `POCKET3` rectangular, `POCKET4` circular; the
 //! dictionary's `mill-pocket-rect` and `mill-pocket-circle`): the pocket the cycle's
-//! arguments state, on the working plane in force (a swivelled plane included). And bores
-//! milled in a helix (Heidenhain 208, `mill-bore`): [`Interpreter::mill_bore`].
+//! arguments state, on the working plane in force (a swivelled plane included); a pocket
+//! cycle called at a position (Heidenhain 251, 252) is centred there. And bores milled in a
+//! helix (Heidenhain 208, `mill-bore`): [`Interpreter::mill_bore`].
 //!
 //! The moves written are the cycle's finishing pass on the wall at the floor: the tool down at
 //! the pocket's centre, out to the wall, once round it (counter-clockwise), and up to the
@@ -35,6 +36,12 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let get = |r: Role| args.iter().rev().find(|(a, _)| *a == r).map(|(_, v)| *v);
+        // A pocket placed by a corner (Heidenhain 251 `Q367` 1-4) rather than its centre.
+        if get(Role::Geometry).is_some_and(|p| p != 0.0) {
+            let msg = format!("{name} placed by a corner of the pocket, not its centre: kept as intent only, its moves are not expanded");
+            self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
+            return;
+        }
         let centre = [get(Role::PocketX).unwrap_or(0.0), get(Role::PocketY).unwrap_or(0.0)];
         let shape = match meaning {
             Meaning::MillPocketRect => match (get(Role::PocketLength), get(Role::Width)) {
@@ -44,7 +51,8 @@ impl Interpreter<'_> {
                 }
                 _ => None,
             },
-            _ => get(Role::PocketRadius).filter(|r| *r > 0.0).map(|r| Shape::Circle { c: centre, r }),
+            // Its radius, or its diameter as its width (Heidenhain Q223).
+            _ => get(Role::PocketRadius).or(get(Role::Width).map(|d| d / 2.0)).filter(|r| *r > 0.0).map(|r| Shape::Circle { c: centre, r }),
         };
         let (Some(surface), Some(shape)) = (get(Role::ReferencePlane), shape) else {
             let msg = format!("{name} states no reference plane or no size: kept as intent only, its moves are not expanded");
@@ -64,7 +72,7 @@ impl Interpreter<'_> {
             }
         };
         let safe = surface + get(Role::SafetyDistance).unwrap_or(0.0).abs();
-        let retract = get(Role::RetractPlane).unwrap_or(safe).max(safe);
+        let retract = get(Role::RetractPlane).or(get(Role::RetractDistance).map(|d| surface + d)).unwrap_or(safe).max(safe);
         let mut d = Diagnostic::new(
             Code::Unsupported,
             range,
