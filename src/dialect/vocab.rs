@@ -499,6 +499,11 @@ vocab! {
         /// the helix down along the wall and a full circle at the floor, the wall as programmed
         /// under cutter compensation.
         MillBore = "mill-bore",
+        /// A slot milled by a cycle (Heidenhain 253 SLOT MILLING), called at its centre:
+        /// `pocket-length` from end to end along `pocket-angle`, `width`, its ends half circles,
+        /// from the reference plane to its depth; its moves the finishing pass on its wall as
+        /// for `mill-pocket-rect`.
+        MillSlot = "mill-slot",
         /// A grid of positions (Siemens `CYCLE801`): a corner, an angle, column and row
         /// spacing and counts, visited row by row in a meander. The modal cycle runs at each.
         PatternGrid = "pattern-grid",

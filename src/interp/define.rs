@@ -149,7 +149,7 @@ impl Interpreter<'_> {
         }
         // A pocket cycle mills where it is called; under a modal call (`MCALL POCKET3`) at
         // the positions after it, which are not modelled: kept as intent.
-        let pocket = |m: Meaning| matches!(m, Meaning::MillPocketRect | Meaning::MillPocketCircle);
+        let pocket = |m: Meaning| matches!(m, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot);
         if let Some(ci) = self.block_cycle.take_if(|&mut ci| pocket(self.dialect.cycles[ci].meaning)) {
             let args = std::mem::take(&mut self.cycle_args);
             let cycle = &self.dialect.cycles[ci];
@@ -363,7 +363,7 @@ impl Interpreter<'_> {
             return;
         }
         // A pocket cycle called at a position (Heidenhain 251, 252): the position is its centre.
-        if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle) {
+        if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot) {
             let (label, meaning) = (format!("CYCL DEF {}", cycle.name), cycle.meaning);
             let (a0, a1, _) = self.st.plane.axes();
             let mut at = args.clone();

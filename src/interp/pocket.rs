@@ -22,6 +22,8 @@ enum Shape {
     Rect { c: [f64; 2], len: f64, wid: f64, r: f64, angle: f64 },
     /// Centre and radius.
     Circle { c: [f64; 2], r: f64 },
+    /// Centre, length from end to end along the angle, width (its ends half circles), angle.
+    Slot { c: [f64; 2], len: f64, wid: f64, angle: f64 },
 }
 
 impl Interpreter<'_> {
@@ -48,6 +50,12 @@ impl Interpreter<'_> {
                 (Some(len), Some(wid)) if len > 0.0 && wid > 0.0 => {
                     let r = get(Role::CornerRadius).unwrap_or(0.0).abs().min(len.min(wid) / 2.0);
                     Some(Shape::Rect { c: centre, len, wid, r, angle: get(Role::PocketAngle).unwrap_or(0.0) })
+                }
+                _ => None,
+            },
+            Meaning::MillSlot => match (get(Role::PocketLength), get(Role::Width)) {
+                (Some(len), Some(wid)) if wid > 0.0 && len > wid => {
+                    Some(Shape::Slot { c: centre, len, wid, angle: get(Role::PocketAngle).unwrap_or(0.0) })
                 }
                 _ => None,
             },
@@ -90,7 +98,7 @@ impl Interpreter<'_> {
             p
         };
         let (cx, cy) = match shape {
-            Shape::Rect { c, .. } | Shape::Circle { c, .. } => (c[0], c[1]),
+            Shape::Rect { c, .. } | Shape::Circle { c, .. } | Shape::Slot { c, .. } => (c[0], c[1]),
         };
         self.emit(sink, CanonOp::Setting(Setting::MillCycle(Some(name.to_owned()))));
         self.emit(sink, CanonOp::Setting(Setting::CycleSurface(surface)));
@@ -107,6 +115,24 @@ impl Interpreter<'_> {
                 let half = [c[0] - r, c[1]];
                 self.arc_to(sink, half, c, floor, true);
                 self.arc_to(sink, start, c, floor, true);
+            }
+            Shape::Slot { c, len, wid, angle } => {
+                // Counter-clockwise from the middle of the side at -width/2: along it, round the
+                // far end, back along the other side, round the near end.
+                let (s, co) = angle.to_radians().sin_cos();
+                let to_plane = |u: f64, v: f64| [c[0] + u * co - v * s, c[1] + u * s + v * co];
+                let (e, hw) = (len / 2.0 - wid / 2.0, wid / 2.0);
+                let start = to_plane(0.0, -hw);
+                self.go_to(sink, at(self, start[0], start[1], floor), true);
+                for (k, (u0, v0)) in [(e, -hw), (-e, hw)].into_iter().enumerate() {
+                    let side = to_plane(u0, v0);
+                    self.go_to(sink, at(self, side[0], side[1], floor), true);
+                    let (end, centre) = (to_plane(u0, -v0), to_plane(u0, 0.0));
+                    self.arc_to(sink, end, centre, floor, true);
+                    if k == 1 {
+                        self.go_to(sink, at(self, start[0], start[1], floor), true);
+                    }
+                }
             }
             Shape::Rect { c, len, wid, r, angle } => {
                 let (s, co) = angle.to_radians().sin_cos();
