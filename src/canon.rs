@@ -290,6 +290,13 @@ pub enum Setting {
     /// that the plan keeps it a workingstep of its own and a translation does not write
     /// them as the whole cycle.
     MillCycle(Option<String>),
+    /// The workpiece surface the milling cycle just begun states (Heidenhain `Q203`, Siemens
+    /// `_RFP`), along the working plane's normal: the top of what it mills.
+    CycleSurface(f64),
+    /// The milling cycle about to begin (the next `MillCycle`) makes one hole where it is
+    /// called (a bore milled in a helix), told by its size and depth: consecutive calls that make the same hole with the
+    /// same tool are one operation at several positions, as consecutive drilling cycle calls are.
+    HoleMilled(String),
     /// Tool centre point control on (`M128`, `FUNCTION TCPM`, `TRAORI`, `G43.4`) or off: X Y Z
     /// are the tool tip's on the part, and the rotary axes turn the tool about it (the tool
     /// axis then follows as `ToolAxis` markers).
@@ -1054,6 +1061,11 @@ fn setting(out: &mut Vec<u8>, s: &Setting) {
             write!(out, "COMMENT(\"ncplan: milling cycle {name} begins\")")
         }
         Setting::MillCycle(None) => write!(out, "COMMENT(\"ncplan: milling cycle ends\")"),
+        Setting::HoleMilled(key) => {
+            let key: String = key.chars().filter(|c| !matches!(c, '"' | '\\') && !c.is_control()).collect();
+            write!(out, "COMMENT(\"ncplan: milling cycle makes the hole {key}\")")
+        }
+        Setting::CycleSurface(z) => write!(out, "COMMENT(\"ncplan: milling cycle surface {}\")", F4(*z)),
         Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
         Setting::WorkOffset(i) => write!(out, "COMMENT(\"ncplan: work offset {i} stated\")"),
         Setting::DiameterMode(on) => write!(out, "COMMENT(\"ncplan: diameter mode {}\")", if *on { "on" } else { "off" }),

@@ -389,6 +389,9 @@ struct RawMachine {
     /// How the machine reads X words, as its control is set: `diameter` (a lathe's diameter
     /// programming from reset) or `radius`; a program's own evidence then does not change it.
     x_words: Option<String>,
+    /// The two rotary axes the machine swivels with, in its swivel data's order (`BC`, `AC`):
+    /// `CYCLE800` in "rotary axes direct" mode gives their positions.
+    swivel_axes: Option<String>,
     /// As for CAM folders: `main`, `called` or `auto`.
     role: Option<String>,
     #[serde(default)]
@@ -485,6 +488,8 @@ pub struct Folder {
     /// Whether the machine reads X words as diameters (`Some(true)`) or radii, where its
     /// configuration says (`x_words`).
     pub x_diameter: Option<bool>,
+    /// The machine's two swivel axes, where its configuration names them (`swivel_axes`).
+    pub swivel_axes: Option<[u8; 2]>,
     /// Whether the folder's files are main programs, called ones, or tell it themselves.
     pub program_role: crate::interp::ProgramRole,
     /// The machine's units and limits (machines only).
@@ -514,6 +519,14 @@ impl Folder {
                 let mut d = (*base).clone();
                 d.behaviour.x_diameter = on;
                 d.behaviour.x_words_stated = true;
+                std::sync::Arc::new(d)
+            }
+            None => base,
+        };
+        let base = match self.swivel_axes {
+            Some(axes) => {
+                let mut d = (*base).clone();
+                d.behaviour.swivel_axes = Some(axes);
                 std::sync::Arc::new(d)
             }
             None => base,
@@ -746,6 +759,7 @@ fn cam_folder(f: &RawFolder, base: &Path) -> Result<Folder> {
         poll_ms: f.poll_ms.unwrap_or(2000),
         decimal_input: None,
         x_diameter: None,
+        swivel_axes: None,
         program_role: program_role(f.role.as_deref(), &f.path)?,
         limits: MachineLimits::default(),
         tools: folder_tools(f.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &[], &f.path)?,
@@ -773,6 +787,13 @@ fn machine_folder(m: &RawMachine, machines: &[RawMachine], base: &Path) -> Resul
         Some("radius") => Some(false),
         Some(other) => bail!("machine `{}`: x_words must be diameter or radius, not `{other}`", m.name),
     };
+    let swivel_axes = match m.swivel_axes.as_deref().map(str::as_bytes) {
+        None => None,
+        Some(&[a, b]) if a != b && b"ABC".contains(&a.to_ascii_uppercase()) && b"ABC".contains(&b.to_ascii_uppercase()) => {
+            Some([a.to_ascii_uppercase(), b.to_ascii_uppercase()])
+        }
+        Some(_) => bail!("machine `{}`: swivel_axes must name two of the rotary axes A, B, C (`BC`, `AC`)", m.name),
+    };
     let units = match m.units.as_deref() {
         None => None,
         Some("mm") => Some(crate::canon::Units::Mm),
@@ -795,6 +816,7 @@ fn machine_folder(m: &RawMachine, machines: &[RawMachine], base: &Path) -> Resul
         poll_ms: m.poll_ms.unwrap_or(2000),
         decimal_input,
         x_diameter,
+        swivel_axes,
         program_role: program_role(m.role.as_deref(), &m.name)?,
         tools: folder_tools(m.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &m.tool, &m.name)?,
     })

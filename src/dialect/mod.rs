@@ -475,6 +475,10 @@ pub struct Behaviour {
     /// Whether the machine's configuration states how X words read (`x_words`), which a
     /// program's habit then does not override.
     pub x_words_stated: bool,
+    /// The machine's two swivel axes, first and second (`swivel_axes = "BC"` in its
+    /// configuration: the rotary axes a SINUMERIK swivel data record names), which
+    /// `CYCLE800` in "rotary axes direct" mode positions; none where not configured.
+    pub swivel_axes: Option<[u8; 2]>,
     /// The plane at the program's start and after its end (XZ on a lathe).
     pub initial_plane: crate::canon::Plane,
     /// Whether canned cycles retract to the R plane (G99) until the program says G98 or G99

@@ -493,6 +493,17 @@ vocab! {
         /// `pocket-y`), `pocket-radius`, depth; its moves are the finishing pass as for
         /// `mill-pocket-rect`.
         MillPocketCircle = "mill-pocket-circle",
+        /// A bore milled in a helix by a cycle (Heidenhain 208 BORE MILLING), called at the
+        /// position in force, its centre: its diameter (`width`) from the reference plane down
+        /// to its depth, `pitch` deeper each turn, climb or up-cut by `machining-type`; its moves are
+        /// the helix down along the wall and a full circle at the floor, the wall as programmed
+        /// under cutter compensation.
+        MillBore = "mill-bore",
+        /// A slot milled by a cycle (Heidenhain 253 SLOT MILLING), called at its centre:
+        /// `pocket-length` from end to end along `pocket-angle`, `width`, its ends half circles,
+        /// from the reference plane to its depth; its moves the finishing pass on its wall as
+        /// for `mill-pocket-rect`.
+        MillSlot = "mill-slot",
         /// A grid of positions (Siemens `CYCLE801`): a corner, an angle, column and row
         /// spacing and counts, visited row by row in a meander. The modal cycle runs at each.
         PatternGrid = "pattern-grid",
@@ -746,7 +757,8 @@ vocab! {
         /// label range (`"START:END"`) (Siemens CYCLE95 NPP); a text argument.
         ContourName = "contour-name",
         /// What and where a turning cycle machines, by its number (Siemens VARI: roughing or
-        /// finishing, along Z or across X, outside or inside, from which side).
+        /// finishing, along Z or across X, outside or inside, from which side); how a milling
+        /// cycle cuts (Heidenhain Q351: positive climb milling, negative up-cut).
         MachiningType = "machining-type",
         /// A finishing allowance all round a contour, or on a thread's depth (Siemens FAL), per side.
         Allowance = "allowance",
@@ -756,7 +768,8 @@ vocab! {
         EndX = "end-x",
         /// A cycle's end point along the axis (a thread's end, Siemens FPL).
         EndZ = "end-z",
-        /// A groove's width along the axis (Siemens WIDG).
+        /// A groove's width along the axis (Siemens WIDG); a pocket's across its length
+        /// (`POCKET3` _WID); a milled bore's diameter (Heidenhain 208 Q335).
         Width = "width",
         /// A groove's or a thread's depth, per side (Siemens DIAG, TDEP).
         ProfileDepth = "profile-depth",

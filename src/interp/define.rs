@@ -149,7 +149,7 @@ impl Interpreter<'_> {
         }
         // A pocket cycle mills where it is called; under a modal call (`MCALL POCKET3`) at
         // the positions after it, which are not modelled: kept as intent.
-        let pocket = |m: Meaning| matches!(m, Meaning::MillPocketRect | Meaning::MillPocketCircle);
+        let pocket = |m: Meaning| matches!(m, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot);
         if let Some(ci) = self.block_cycle.take_if(|&mut ci| pocket(self.dialect.cycles[ci].meaning)) {
             let args = std::mem::take(&mut self.cycle_args);
             let cycle = &self.dialect.cycles[ci];
@@ -355,6 +355,20 @@ impl Interpreter<'_> {
         }
         let get = |role: Role| args.iter().rev().find(|(r, _)| *r == role).map(|&(_, v)| v);
         if !self.defined_args_given(cycle, &defined, &args, diags) {
+            return;
+        }
+        if cycle.meaning == Meaning::MillBore {
+            let label = format!("CYCL DEF {}", cycle.name);
+            self.mill_bore(&label, &args, range, sink, diags);
+            return;
+        }
+        // A pocket cycle called at a position (Heidenhain 251, 252): the position is its centre.
+        if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot) {
+            let (label, meaning) = (format!("CYCL DEF {}", cycle.name), cycle.meaning);
+            let (a0, a1, _) = self.st.plane.axes();
+            let mut at = args.clone();
+            at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
+            self.mill_pocket(meaning, &label, &at, range, sink, diags);
             return;
         }
         let Some(kind) = self.defined_kind(cycle, range, diags) else { return };

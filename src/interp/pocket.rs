@@ -1,6 +1,8 @@
 //! Pockets milled by a cycle (Siemens `POCKET3` rectangular, `POCKET4` circular; the
 //! dictionary's `mill-pocket-rect` and `mill-pocket-circle`): the pocket the cycle's
-//! arguments state, on the working plane in force (a swivelled plane included).
+//! arguments state, on the working plane in force (a swivelled plane included); a pocket
+//! cycle called at a position (Heidenhain 251, 252) is centred there. And bores milled in a
+//! helix (Heidenhain 208, `mill-bore`): [`Interpreter::mill_bore`].
 //!
 //! The moves written are the cycle's finishing pass on the wall at the floor: the tool down at
 //! the pocket's centre, out to the wall, once round it (counter-clockwise), and up to the
@@ -20,6 +22,8 @@ enum Shape {
     Rect { c: [f64; 2], len: f64, wid: f64, r: f64, angle: f64 },
     /// Centre and radius.
     Circle { c: [f64; 2], r: f64 },
+    /// Centre, length from end to end along the angle, width (its ends half circles), angle.
+    Slot { c: [f64; 2], len: f64, wid: f64, angle: f64 },
 }
 
 impl Interpreter<'_> {
@@ -34,6 +38,12 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let get = |r: Role| args.iter().rev().find(|(a, _)| *a == r).map(|(_, v)| *v);
+        // A pocket placed by a corner (Heidenhain 251 `Q367` 1-4) rather than its centre.
+        if get(Role::Geometry).is_some_and(|p| p != 0.0) {
+            let msg = format!("{name} placed by a corner of the pocket, not its centre: kept as intent only, its moves are not expanded");
+            self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, range, msg));
+            return;
+        }
         let centre = [get(Role::PocketX).unwrap_or(0.0), get(Role::PocketY).unwrap_or(0.0)];
         let shape = match meaning {
             Meaning::MillPocketRect => match (get(Role::PocketLength), get(Role::Width)) {
@@ -43,7 +53,14 @@ impl Interpreter<'_> {
                 }
                 _ => None,
             },
-            _ => get(Role::PocketRadius).filter(|r| *r > 0.0).map(|r| Shape::Circle { c: centre, r }),
+            Meaning::MillSlot => match (get(Role::PocketLength), get(Role::Width)) {
+                (Some(len), Some(wid)) if wid > 0.0 && len > wid => {
+                    Some(Shape::Slot { c: centre, len, wid, angle: get(Role::PocketAngle).unwrap_or(0.0) })
+                }
+                _ => None,
+            },
+            // Its radius, or its diameter as its width (Heidenhain Q223).
+            _ => get(Role::PocketRadius).or(get(Role::Width).map(|d| d / 2.0)).filter(|r| *r > 0.0).map(|r| Shape::Circle { c: centre, r }),
         };
         let (Some(surface), Some(shape)) = (get(Role::ReferencePlane), shape) else {
             let msg = format!("{name} states no reference plane or no size: kept as intent only, its moves are not expanded");
@@ -63,7 +80,7 @@ impl Interpreter<'_> {
             }
         };
         let safe = surface + get(Role::SafetyDistance).unwrap_or(0.0).abs();
-        let retract = get(Role::RetractPlane).unwrap_or(safe).max(safe);
+        let retract = get(Role::RetractPlane).or(get(Role::RetractDistance).map(|d| surface + d)).unwrap_or(safe).max(safe);
         let mut d = Diagnostic::new(
             Code::Unsupported,
             range,
@@ -81,9 +98,10 @@ impl Interpreter<'_> {
             p
         };
         let (cx, cy) = match shape {
-            Shape::Rect { c, .. } | Shape::Circle { c, .. } => (c[0], c[1]),
+            Shape::Rect { c, .. } | Shape::Circle { c, .. } | Shape::Slot { c, .. } => (c[0], c[1]),
         };
         self.emit(sink, CanonOp::Setting(Setting::MillCycle(Some(name.to_owned()))));
+        self.emit(sink, CanonOp::Setting(Setting::CycleSurface(surface)));
         let over = self.st.pos[n].max(retract);
         self.go_to(sink, at(self, self.st.pos[a0], self.st.pos[a1], over), false);
         self.go_to(sink, at(self, cx, cy, over), false);
@@ -95,8 +113,26 @@ impl Interpreter<'_> {
                 let start = [c[0] + r, c[1]];
                 self.go_to(sink, at(self, start[0], start[1], floor), true);
                 let half = [c[0] - r, c[1]];
-                self.arc_to(sink, half, c, floor);
-                self.arc_to(sink, start, c, floor);
+                self.arc_to(sink, half, c, floor, true);
+                self.arc_to(sink, start, c, floor, true);
+            }
+            Shape::Slot { c, len, wid, angle } => {
+                // Counter-clockwise from the middle of the side at -width/2: along it, round the
+                // far end, back along the other side, round the near end.
+                let (s, co) = angle.to_radians().sin_cos();
+                let to_plane = |u: f64, v: f64| [c[0] + u * co - v * s, c[1] + u * s + v * co];
+                let (e, hw) = (len / 2.0 - wid / 2.0, wid / 2.0);
+                let start = to_plane(0.0, -hw);
+                self.go_to(sink, at(self, start[0], start[1], floor), true);
+                for (k, (u0, v0)) in [(e, -hw), (-e, hw)].into_iter().enumerate() {
+                    let side = to_plane(u0, v0);
+                    self.go_to(sink, at(self, side[0], side[1], floor), true);
+                    let (end, centre) = (to_plane(u0, -v0), to_plane(u0, 0.0));
+                    self.arc_to(sink, end, centre, floor, true);
+                    if k == 1 {
+                        self.go_to(sink, at(self, start[0], start[1], floor), true);
+                    }
+                }
             }
             Shape::Rect { c, len, wid, r, angle } => {
                 let (s, co) = angle.to_radians().sin_cos();
@@ -116,7 +152,7 @@ impl Interpreter<'_> {
                     if r > 0.0 {
                         let b = to_plane(begin.0, begin.1);
                         let centre = to_plane(u - su * r, v - sv * r);
-                        self.arc_to(sink, b, centre, floor);
+                        self.arc_to(sink, b, centre, floor, true);
                     }
                 }
                 self.go_to(sink, at(self, start[0], start[1], floor), true);
@@ -128,8 +164,87 @@ impl Interpreter<'_> {
         self.emit(sink, CanonOp::Setting(Setting::MillCycle(None)));
     }
 
-    /// A counter-clockwise arc in the plane to `end` about `centre`, at `level` on the normal axis.
-    fn arc_to(&mut self, sink: &mut dyn CanonSink, end: [f64; 2], centre: [f64; 2], level: f64) {
+    /// A bore milled in a helix (`mill-bore`: Heidenhain 208 BORE MILLING) about the position
+    /// in force, as the TNC 640 cycles manual describes its run: to the set-up clearance above
+    /// the surface, out to the wall of the nominal diameter, a helix down by the infeed per
+    /// turn (`pitch`) to the depth, a full circle at the floor, back to the centre and up to
+    /// the set-up clearance, then the 2nd one. Climb milling (`machining-type` positive or not
+    /// given) runs counter-clockwise under left compensation, as for a clockwise spindle; the
+    /// wall is written as programmed under cutter compensation, as the pockets' are.
+    pub(super) fn mill_bore(
+        &mut self,
+        name: &str,
+        args: &[(Role, f64)],
+        range: TextRange,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let get = |r: Role| args.iter().rev().find(|(a, _)| *a == r).map(|(_, v)| *v);
+        let (Some(diameter), Some(depth)) = (get(Role::Width).filter(|d| *d > 0.0), get(Role::DepthRelative)) else {
+            let mut d =
+                Diagnostic::new(Code::CycleIncomplete, range, format!("{name} states no diameter or no depth: kept as intent only"));
+            d.severity = Severity::Warning;
+            diags.push(d);
+            return;
+        };
+        if depth == 0.0 {
+            // The TNC does not run a cycle of depth 0.
+            return;
+        }
+        let (a0, a1, n) = self.st.plane.axes();
+        let c = [self.st.pos[a0], self.st.pos[a1]];
+        let r = diameter / 2.0;
+        let surface = get(Role::ReferencePlane).unwrap_or(0.0);
+        let floor = surface - depth.abs();
+        let safe = surface + get(Role::SafetyDistance).unwrap_or(0.0).abs();
+        let clear = get(Role::RetractDistance).map_or(safe, |d| (surface + d).max(safe));
+        let ccw = get(Role::MachiningType).is_none_or(|v| v >= 0.0);
+        let pitch = get(Role::Pitch).map(f64::abs).filter(|p| *p > 0.0).unwrap_or(safe - floor);
+        // Half turns, each as deep as the others, down to the floor.
+        let halves = (((safe - floor) / (pitch / 2.0)) - 1e-9).ceil().max(1.0) as usize;
+        let at = |me: &Self, x: f64, y: f64, z: f64| {
+            let mut p = me.st.pos;
+            (p[a0], p[a1], p[n]) = (x, y, z);
+            p
+        };
+        self.emit(sink, CanonOp::Setting(Setting::HoleMilled(format!("Ø{diameter} from {surface} to {floor}"))));
+        self.emit(sink, CanonOp::Setting(Setting::MillCycle(Some(name.to_owned()))));
+        self.emit(sink, CanonOp::Setting(Setting::CycleSurface(surface)));
+        if let Some(f) = get(Role::PlungeFeed).filter(|f| *f > 0.0 && *f != self.st.feed) {
+            self.st.feed = f;
+            self.emit(sink, CanonOp::SetFeedRate(f));
+        }
+        let over = self.st.pos[n].max(clear);
+        if self.st.pos[n] < over {
+            self.go_to(sink, at(self, c[0], c[1], over), false);
+        }
+        self.go_to(sink, at(self, c[0], c[1], safe), false);
+        self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some(CompOn { left: ccw, number: None, radius: None, tip: None }))));
+        let start = [c[0] + r, c[1]];
+        let half = [c[0] - r, c[1]];
+        self.go_to(sink, at(self, start[0], start[1], safe), true);
+        let drop = (safe - floor) / halves as f64;
+        for k in 1..=halves {
+            let end = if k % 2 == 1 { half } else { start };
+            let level = if k == halves { floor } else { safe - drop * k as f64 };
+            self.arc_to(sink, end, c, level, ccw);
+        }
+        // The full circle at the floor, from where the helix ended.
+        let (here, there) = if halves % 2 == 1 { (half, start) } else { (start, half) };
+        self.arc_to(sink, there, c, floor, ccw);
+        self.arc_to(sink, here, c, floor, ccw);
+        self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
+        self.go_to(sink, at(self, c[0], c[1], floor), true);
+        self.go_to(sink, at(self, c[0], c[1], safe), false);
+        if clear > safe {
+            self.go_to(sink, at(self, c[0], c[1], clear), false);
+        }
+        self.emit(sink, CanonOp::Setting(Setting::MillCycle(None)));
+    }
+
+    /// An arc in the plane to `end` about `centre` (counter-clockwise or not), ending at `level`
+    /// on the normal axis (a helix where that is not where it starts).
+    fn arc_to(&mut self, sink: &mut dyn CanonSink, end: [f64; 2], centre: [f64; 2], level: f64, ccw: bool) {
         let (a0, a1, n) = self.st.plane.axes();
         let abc = [self.st.pos[3], self.st.pos[4], self.st.pos[5]];
         self.emit(
@@ -139,7 +254,7 @@ impl Interpreter<'_> {
                 second_end: end[1],
                 first_axis: centre[0],
                 second_axis: centre[1],
-                rotation: 1,
+                rotation: if ccw { 1 } else { -1 },
                 axis_end: level,
                 abc,
             },

@@ -216,6 +216,8 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             state,
             setup,
             turning,
+            // The surface a milling cycle stated placed its feature; CC1 keeps no feature.
+            surface: _,
             source,
             lines,
         } = full;

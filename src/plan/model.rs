@@ -1028,6 +1028,11 @@ pub struct Workingstep {
     /// On a program that turns: the turning operation and its values.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub turning: Option<Box<super::turned::Turning>>,
+    /// The workpiece surface a milling cycle states for what it mills (Heidenhain `Q203`,
+    /// Siemens `_RFP`), along the tool axis in the toolpath's coordinates: the feature's top.
+    /// Feature recognition reads it; the recovered plan has none (its feature holds the top).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub surface: Option<f64>,
     /// Source range covered by the workingstep's blocks.
     pub source: TextRange,
     /// First and last source line.
@@ -1086,6 +1091,7 @@ impl Workingstep {
             state: MachineState::default(),
             setup: None,
             turning: None,
+            surface: None,
             source,
             lines,
         }

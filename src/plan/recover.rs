@@ -99,6 +99,10 @@ impl<'p> Recoverer<'p> {
             infer_tool_kinds(&mut plan);
             feature::recognise(&mut plan);
         }
+        // A milling cycle's surface placed its feature's top; the feature carries it now.
+        for ws in &mut plan.workingsteps {
+            ws.surface = None;
+        }
         let mut diags = r.diags;
         diags.extend(super::risk::diagnostics(&plan));
         (plan, diags)
@@ -617,6 +621,30 @@ struct Builder {
 }
 
 impl Builder {
+    /// What the cycle in force gives the workingstep it cuts in: a hole cycle's dwell, peck and
+    /// surface (`hole_surface`, while a hole cycle runs), a milling cycle's surface.
+    fn take_cycle_values(
+        &mut self,
+        operation: Operation,
+        dwell: Option<f64>,
+        peck: Option<f64>,
+        hole_surface: Option<f64>,
+        mill_surface: Option<f64>,
+    ) {
+        if operation.is_hole() && !self.operation.is_hole() {
+            self.operation = operation;
+        }
+        if operation.is_hole() && dwell.is_some() {
+            self.dwell = dwell;
+        }
+        if operation.is_hole() && self.peck.is_none() {
+            self.peck = peck;
+        }
+        if self.surface.is_none() {
+            self.surface = if operation.is_hole() { hole_surface } else { mill_surface };
+        }
+    }
+
     /// Notes the length a lathe's cut runs at its feed per revolution (none: per minute).
     fn note_feed(&mut self, lathe: bool, per_rev: Option<f64>, mv: &Move) {
         if !lathe || mv.kind == MoveKind::Rapid {
@@ -752,6 +780,16 @@ struct Recovery<'p> {
     dwell: Option<f64>,
     peck: Option<f64>,
     surface: Option<f64>,
+    /// The workpiece surface the milling cycle in progress states (`Setting::CycleSurface`).
+    mill_surface: Option<f64>,
+    /// The milling cycle in progress, and the hole it makes where it makes one
+    /// (`Setting::HoleMilled`).
+    mill_cycle: Option<(String, Option<String>)>,
+    /// The hole the next milling cycle makes (`Setting::HoleMilled`, before its start).
+    hole_next: Option<String>,
+    /// A hole-milling cycle that ended, whose workingstep the same cycle making the same hole
+    /// at its next call continues; any other cut starts a new one.
+    mill_ended: Option<(String, String)>,
     stock: Option<[P3; 2]>,
     /// Where a stock origin comment puts the stock (`STOCK ORIGIN: X0 Y0 Z1 - LOWER LEFT TOP`).
     stock_origin: Option<StockOrigin>,
@@ -834,6 +872,10 @@ impl<'p> Recovery<'p> {
             dwell: None,
             peck: None,
             surface: None,
+            mill_surface: None,
+            mill_cycle: None,
+            hole_next: None,
+            mill_ended: None,
             stock: None,
             stock_origin: None,
             stock_line: None,
@@ -1165,7 +1207,7 @@ impl<'p> Recovery<'p> {
             // Diameter or radius mode: only a lathe has them.
             CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
             // A milling cycle is one operation: a workingstep of its own.
-            CanonOp::Setting(Setting::MillCycle(_)) => self.close(),
+            CanonOp::Setting(s @ (Setting::MillCycle(_) | Setting::HoleMilled(_) | Setting::CycleSurface(_))) => self.mill_cycle_marker(s),
             CanonOp::Turning(t) => self.turning_begins(t),
             CanonOp::TurningEnd => {
                 self.turn = None;
@@ -1491,6 +1533,10 @@ impl<'p> Recovery<'p> {
     }
 
     fn cut(&mut self, mv: Move, c: &Canon) {
+        // A cut after a hole-milling cycle ended, outside its next call, is another operation.
+        if self.mill_ended.take().is_some() {
+            self.close_keeping_approach();
+        }
         self.lathe_evidence(&mv);
         // Comments before a cut are the operation's, not the next tool's.
         self.comments.clear();
@@ -1566,9 +1612,13 @@ impl<'p> Recovery<'p> {
         }
         // A retract and re-entry with the same tool and plunge feed may still start the next
         // operation (roughing, then finishing at another feed): decided at the first cut.
+        // A hole-milling cycle's call that continues the last one's workingstep (the same hole
+        // elsewhere) was decided at its start.
+        let hole_milled = self.mill_cycle.as_ref().is_some_and(|c| c.1.is_some());
         if !restart
             && !self.pending.is_empty()
             && !operation.is_hole()
+            && !hole_milled
             && let Some(b) = self.current.as_mut()
         {
             let lifts = self.pending.iter().take_while(|m| is_lift(m)).count();
@@ -1627,17 +1677,36 @@ impl<'p> Recovery<'p> {
         b.moves.push(mv);
         b.source = b.source.cover(c.origin);
         b.lines.1 = c.line;
-        if operation.is_hole() && !b.operation.is_hole() {
-            b.operation = operation;
-        }
-        if operation.is_hole() && self.dwell.is_some() {
-            b.dwell = self.dwell;
-        }
-        if operation.is_hole() && b.peck.is_none() {
-            b.peck = self.peck;
-        }
-        if operation.is_hole() && b.surface.is_none() && self.in_cycle.is_some() {
-            b.surface = self.surface;
+        let cycle_surface = if self.in_cycle.is_some() { self.surface } else { None };
+        b.take_cycle_values(operation, self.dwell, self.peck, cycle_surface, self.mill_surface);
+    }
+
+    /// A milling cycle's markers (`interp::pocket`): each cycle a workingstep of its own, but
+    /// a hole-milling cycle making the same hole as the one that just ended continues its
+    /// workingstep (the same hole elsewhere, as consecutive drilling cycle calls are); the
+    /// surface it states goes to its workingstep.
+    fn mill_cycle_marker(&mut self, s: &Setting) {
+        match s {
+            Setting::HoleMilled(key) => self.hole_next = Some(key.clone()),
+            Setting::MillCycle(Some(name)) => {
+                let key = self.hole_next.take();
+                let again = key.as_ref().is_some_and(|k| self.mill_ended.take().is_some_and(|(n, e)| n == *name && e == *k));
+                self.mill_ended = None;
+                if !again {
+                    self.close();
+                }
+                self.mill_cycle = Some((name.clone(), key));
+            }
+            Setting::MillCycle(None) => {
+                self.mill_surface = None;
+                match self.mill_cycle.take() {
+                    // A hole milled: the next call may make the same hole elsewhere.
+                    Some((name, Some(key))) => self.mill_ended = Some((name, key)),
+                    _ => self.close(),
+                }
+            }
+            Setting::CycleSurface(z) => self.mill_surface = Some(self.mm(*z)),
+            _ => {}
         }
     }
 
@@ -1815,6 +1884,9 @@ impl<'p> Recovery<'p> {
         let mut ws = Workingstep::unmeasured(index, b.operation, b.tool, b.technology, security_plane, b.moves, b.source, b.lines);
         ws.state = state;
         ws.setup = b.setup;
+        if !b.operation.is_hole() {
+            ws.surface = b.surface;
+        }
         if self.lathe && !b.milling {
             ws.turning = Some(Box::new(b.turning));
         }

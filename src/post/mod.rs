@@ -447,6 +447,8 @@ pub struct Post<'a, F: FnMut(&[u8])> {
     buf: Vec<u8>,
     diags: Vec<Diagnostic>,
     noted: BTreeSet<String>,
+    /// The milling cycle about to begin makes a hole (`Setting::HoleMilled` came first).
+    hole_milled: bool,
     started: bool,
     ended: bool,
     block: u64,
@@ -1087,6 +1089,7 @@ impl<'a, F: FnMut(&[u8])> Post<'a, F> {
             buf: Vec::with_capacity(FLUSH_AT + 4096),
             diags: Vec::new(),
             noted: BTreeSet::new(),
+            hole_milled: false,
             started: false,
             ended: false,
             block: 0,
@@ -2045,13 +2048,20 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
             CanonOp::Turning(t) => self.lathe_cycle(canon, t),
             CanonOp::Setting(Setting::DiameterMode(on)) => self.diameter_mode(canon, *on),
             CanonOp::Setting(Setting::ToolCentrePoint(on)) => self.tool_centre_point(canon, *on),
+            CanonOp::Setting(Setting::HoleMilled(_)) => self.hole_milled = true,
+            CanonOp::Setting(Setting::MillCycle(Some(name))) if std::mem::take(&mut self.hole_milled) => {
+                let what = format!(
+                    "{name} is read as its helix along the bore's wall and its circle at the floor, the wall as programmed under compensation: written as moves, the target would not cut the core a bore wider than twice the tool leaves, which the control's cycle does"
+                );
+                self.note(Code::PostUnwritable, canon, "mill-bore", what);
+            }
             CanonOp::Setting(Setting::MillCycle(Some(name))) => {
                 let what = format!(
                     "{name} is read as its finishing pass only (its roughing is not expanded): written as moves, the target would cut the wall at full depth without roughing the pocket"
                 );
                 self.note(Code::PostUnwritable, canon, "mill-cycle", what);
             }
-            CanonOp::Setting(Setting::MillCycle(None)) | CanonOp::TurningEnd => {}
+            CanonOp::Setting(Setting::MillCycle(None) | Setting::CycleSurface(_)) | CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }

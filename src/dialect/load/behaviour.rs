@@ -84,6 +84,7 @@ fn defaults() -> Behaviour {
         x_diameter: false,
         lathe_x_diameter: false,
         x_words_stated: false,
+        swivel_axes: None,
         initial_plane: Plane::Xy,
         initial_retract_r: false,
         same_group_last_wins: false,

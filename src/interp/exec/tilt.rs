@@ -433,13 +433,27 @@ impl Interpreter<'_> {
         };
         let mode = mode as u32;
         let axes = [mode & 3, (mode >> 2) & 3, (mode >> 4) & 3];
-        let rotation = match mode >> 6 {
+        // Rotary axes direct (mode bits 7-6 = 11): `_A` and `_B` position the machine's first
+        // and second swivel axes, which its configuration names (`swivel_axes`); the plane is
+        // where they turn the tool, read as tool centre point control reads the rotary axes.
+        let direct = self.dialect.behaviour.swivel_axes.filter(|_| mode >> 6 == 3).map(|named| {
+            let mut abc = [0.0; 3];
+            for (k, letter) in named.iter().enumerate() {
+                abc[usize::from(letter - b'A')] = angles[k];
+            }
+            chain([2, 1, 0], [abc[2], abc[1], abc[0]])
+        });
+        let rotation = match (mode >> 6, direct) {
+            (_, Some(r)) => {
+                self.kinematics_note(diags, "CYCLE800's plane in rotary axes direct mode", "tilt-direct");
+                r
+            }
             // Solid angle: about Z by the first angle, then about the turned Y by the second.
-            1 => chain([2, 1, 2], [angles[0], angles[1], 0.0]),
-            0 if !axes.contains(&0) => chain(axes.map(|a| a as usize - 1), angles),
+            (1, None) => chain([2, 1, 2], [angles[0], angles[1], 0.0]),
+            (0, None) if !axes.contains(&0) => chain(axes.map(|a| a as usize - 1), angles),
             _ => {
                 let msg = format!(
-                    "swivel mode {mode} (projection angles, or rotary axes direct) needs the machine's kinematics; the plane in force stays"
+                    "swivel mode {mode} (projection angles, or rotary axes direct) needs the machine's kinematics (rotary axes direct: the machine's `swivel_axes` in its configuration); the plane in force stays, so what is cut after it is placed on that plane, which may not be the face the machine turns to"
                 );
                 self.limited(diags, "tilt-mode", Diagnostic::new(Code::TiltUnknown, range, msg));
                 return;

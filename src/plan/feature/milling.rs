@@ -111,6 +111,11 @@ fn top_of(ws: &Workingstep, levels: &[f64], step: Option<f64>, stock: Option<&St
     let bottom = *levels.last().expect("one level at least");
     let feed_start =
         ws.toolpath.iter().filter(|m| m.kind == MoveKind::Line && m.to[2] < m.from[2] - EPS).map(|m| m.from[2]).reduce(f64::max);
+    // A milling cycle states the surface it mills from (`Q203`, `_RFP`): the program's word
+    // wins over the stock's top, which need not be that face's.
+    if let Some(s) = ws.surface.filter(|s| *s > bottom + EPS) {
+        return (s, false, Source::Program);
+    }
     match (stock, step) {
         _ if faced.is_some() => (faced.unwrap_or(bottom), false, Source::Cuts),
         (Some(s), _) => (s.max()[2], false, Source::Stock),
@@ -338,6 +343,11 @@ impl<'a> Cut<'a> {
         if sorted.len() >= 2 && side_by_side(&sorted) {
             return self.circle_milled_holes(cand, &sorted);
         }
+        // One circle the tool went down to in a helix along it is a bore milled by helical
+        // interpolation (Heidenhain 208, a CAM's helical bore milling): a round hole.
+        if sorted.len() == 1 && self.helix_along(sorted[0]) && self.circle_milled_holes(cand, &sorted) {
+            return true;
+        }
         let outer = sorted[0];
         // Nested loops entered from outside all of them run around a boss: the innermost is
         // its wall, the others roughed towards it.
@@ -384,13 +394,15 @@ impl<'a> Cut<'a> {
             return false;
         }
         let first = circles[0].0;
+        // A circle programmed under compensation in the control is the wall itself.
+        let diameter = if self.contour_programmed { Some(round6(2.0 * r)) } else { self.radius.map(|t| round6(2.0 * (r + t))) };
         cand.kind = FeatureKind::RoundHole {
-            diameter: self.radius.map(|t| round6(2.0 * (r + t))),
+            diameter,
             bottom: HoleBottom::Flat,
             positions: circles.iter().map(|(c, _)| [round6(c[0] - first[0]), round6(c[1] - first[1])]).collect(),
         };
         cand.placement = [first[0], first[1], self.top];
-        if self.radius.is_none() {
+        if diameter.is_none() {
             cand.centre_path = Some((round6(2.0 * r), round6(2.0 * r)));
         }
         cand.operation = Operation::SideFinishMilling;
@@ -444,6 +456,19 @@ impl<'a> Cut<'a> {
             None => (None, None),
         };
         cand.kind = FeatureKind::OutsideProfile { boundary: to_contour(&boundary), rectangle, corner_radius };
+    }
+
+    /// Whether the tool went down in a helix along the circle `lp` (an arc about its centre, at
+    /// its radius, descending).
+    fn helix_along(&self, lp: &[Piece]) -> bool {
+        let Some((c, r)) = circle(lp) else { return false };
+        self.ws.toolpath.iter().any(|m| {
+            m.kind == MoveKind::Arc
+                && m.to[2] < m.from[2] - EPS
+                && m.center().is_some_and(|k| dist([k[0], k[1]], c) < 1e-3)
+                && m.axis().is_some_and(|a| a[2].abs() > 1.0 - 1e-9)
+                && (dist([m.from[0], m.from[1]], c) - r).abs() < 1e-3
+        })
     }
 
     /// Every entry down into the material (a plunge, a ramp, a helix) says where the
@@ -671,7 +696,10 @@ fn pocket(cand: &mut Candidate, outer: &[Piece], r: f64, stock: Option<&Stock>) 
             FeatureKind::ClosedPocket { boundary: rect_contour(w, l, corner_radius), rectangle: Some((w, l)), corner_radius }
         };
     } else {
-        cand.placement = [bmin[0], bmin[1], cand.placement[2]];
+        // A circular pocket is placed by its centre, as ISO 14649-10 places a circular closed
+        // profile and as a machinist dimensions it; any other shape by its lower corner.
+        let origin = circle(&wall).map_or(bmin, |(c, _)| c);
+        cand.placement = [origin[0], origin[1], cand.placement[2]];
         cand.kind =
             FeatureKind::ClosedPocket { boundary: relative(&to_contour(&wall), cand.placement), rectangle: None, corner_radius: None };
     }
