@@ -125,27 +125,14 @@ fn linuxcnc_stray_o_word_closers_stop_the_program() {
     assert!(nested.iter().any(|e| e.starts_with("flow::nested-definition")), "{nested:?}");
     // An o-word followed by anything but a comment is no definition but an unknown control
     // command (rs274: "Unknown control command in o word"), where the control stops.
-    let command = errors(
-        "linuxcnc",
-        "o<a> sub
-O1 #<d> = 1 (set)
-o<a> endsub
-o<a> call
-M2
-",
-    );
+    let command = errors("linuxcnc", "o<a> sub\nO1 #<d> = 1 (set)\no<a> endsub\no<a> call\nM2\n");
     assert!(command.iter().all(|e| !e.starts_with("flow::nested-definition")), "{command:?}");
     assert!(command.iter().any(|e| e.starts_with("syntax::unknown-address")), "{command:?}");
-    let commented = errors(
-        "linuxcnc",
-        "o<a> sub
-O103 (next)
-G0 X1
-o<a> endsub
-M2
-",
-    );
-    assert!(commented.iter().any(|e| e.starts_with("flow::nested-definition")), "{commented:?}");
+    // A comment after it, in either form, leaves it a definition.
+    for bare in ["O103 (next)", "O103 ; next"] {
+        let commented = errors("linuxcnc", &format!("o<a> sub\n{bare}\nG0 X1\no<a> endsub\nM2\n"));
+        assert!(commented.iter().any(|e| e.starts_with("flow::nested-definition")), "{bare}: {commented:?}");
+    }
     let unmatched = errors("linuxcnc", "G0 X0\nO108 endif\nM2\n");
     assert!(unmatched.iter().any(|e| e.starts_with("flow::unmatched")), "{unmatched:?}");
     // Matched ones, and a Fanuc-style numbered subprogram outside any definition, read clean.

@@ -2324,16 +2324,18 @@ fn index(text: Text<'_>, dialect: &Dialect) -> Vec<Mark> {
 
 /// Whether nothing but blanks and comments follows the statement at `r` in `block`.
 fn alone(block: &Block, r: TextRange) -> bool {
-    let mut at = r.end;
+    let last = block.range.end;
+    let mut at = r.end.min(last);
     let mut comments: Vec<TextRange> = block.comments.iter().copied().filter(|c| c.end > r.end).collect();
     comments.sort_by_key(|c| c.start);
-    for c in comments.iter().chain(std::iter::once(&TextRange { start: block.range.end, end: block.range.end })) {
-        // A comment's range lies inside its delimiters: one byte either side is the delimiter.
-        let gap = TextRange { start: at, end: c.start.saturating_sub(1).max(at) };
+    for c in comments.iter().chain(std::iter::once(&TextRange { start: last, end: last })) {
+        // A comment's range lies inside its delimiters: the byte before it opens it, the byte
+        // after it (where there is one: `;` runs to the line's end) closes it.
+        let gap = TextRange { start: at, end: c.start.saturating_sub(1).clamp(at, last) };
         if !block.text(gap).trim().is_empty() {
             return false;
         }
-        at = at.max(c.end.saturating_add(1));
+        at = at.max(c.end.saturating_add(1)).min(last);
     }
     true
 }
