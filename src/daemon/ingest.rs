@@ -632,6 +632,7 @@ impl Reader<'_> {
                 poll_ms: 0,
                 decimal_input: None,
                 x_diameter: None,
+                tool_word_changes: None,
                 program_role: crate::interp::ProgramRole::Auto,
                 limits: Default::default(),
                 tools: Default::default(),
