@@ -1581,3 +1581,19 @@ fn a_sinumerik_lathe_changes_the_tool_with_the_t_word() {
     let (found, no_tool, _) = read("G17 G90\nT1 D1\nS1000 M3\nG0 X50 Y0 Z2\nG1 Z-2 F100\nX80\nM30\n");
     assert!(!found && no_tool);
 }
+
+/// A LinuxCNC lathe's tool-change remap (as a lathe configuration keeps it beside its INI:
+/// `G53 G0 X0`, `G53 G0 Z0`, a turret M code, `G43 H`) carries no code only a lathe has (no
+/// `G7`, `G18`, turning cycle, spindle-synchronised move or cut): moving X and Z without Y is
+/// what a mill's change sub may do as well. Weak evidence changes nothing: it reads without an
+/// error and no plan turns. Expectations written before the run.
+#[test]
+fn a_linuxcnc_turret_sub_without_lathe_words_is_not_made_a_lathe() {
+    let reg = Registry::shipped();
+    let d = reg.get("linuxcnc").unwrap();
+    let sub = "o<toolchange> sub\nG53 G0 X0\nG53 G0 Z0\nM100 P#<selected_pocket>\ng43 H#<selected_tool>\no<toolchange> endsub [1]\n";
+    let a = pipeline::analyze(sub.as_bytes(), &d, &Profile::default());
+    let errors: Vec<_> = a.diagnostics.iter().filter(|x| x.severity == ncplan::diag::Severity::Error).collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(a.plan.workingsteps.iter().all(|w| w.turning.is_none()));
+}
