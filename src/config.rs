@@ -392,6 +392,10 @@ struct RawMachine {
     /// The two rotary axes the machine swivels with, in its swivel data's order (`BC`, `AC`):
     /// `CYCLE800` in "rotary axes direct" mode gives their positions.
     swivel_axes: Option<String>,
+    /// How the machine changes its tool, as its control is set: `t` (the T word changes it,
+    /// a turret) or `m6` (T selects, M6 changes); a program's own evidence then does not
+    /// change it.
+    tool_change: Option<String>,
     /// As for CAM folders: `main`, `called` or `auto`.
     role: Option<String>,
     #[serde(default)]
@@ -490,6 +494,9 @@ pub struct Folder {
     pub x_diameter: Option<bool>,
     /// The machine's two swivel axes, where its configuration names them (`swivel_axes`).
     pub swivel_axes: Option<[u8; 2]>,
+    /// Whether the T word changes the tool (`Some(true)`) or M6 does, where the machine's
+    /// configuration says (`tool_change`).
+    pub tool_word_changes: Option<bool>,
     /// Whether the folder's files are main programs, called ones, or tell it themselves.
     pub program_role: crate::interp::ProgramRole,
     /// The machine's units and limits (machines only).
@@ -527,6 +534,15 @@ impl Folder {
             Some(axes) => {
                 let mut d = (*base).clone();
                 d.behaviour.swivel_axes = Some(axes);
+                std::sync::Arc::new(d)
+            }
+            None => base,
+        };
+        let base = match self.tool_word_changes {
+            Some(on) => {
+                let mut d = (*base).clone();
+                d.behaviour.tool_word_changes = on;
+                d.behaviour.tool_change_stated = true;
                 std::sync::Arc::new(d)
             }
             None => base,
@@ -760,6 +776,7 @@ fn cam_folder(f: &RawFolder, base: &Path) -> Result<Folder> {
         decimal_input: None,
         x_diameter: None,
         swivel_axes: None,
+        tool_word_changes: None,
         program_role: program_role(f.role.as_deref(), &f.path)?,
         limits: MachineLimits::default(),
         tools: folder_tools(f.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &[], &f.path)?,
@@ -794,6 +811,12 @@ fn machine_folder(m: &RawMachine, machines: &[RawMachine], base: &Path) -> Resul
         }
         Some(_) => bail!("machine `{}`: swivel_axes must name two of the rotary axes A, B, C (`BC`, `AC`)", m.name),
     };
+    let tool_word_changes = match m.tool_change.as_deref() {
+        None => None,
+        Some("t") => Some(true),
+        Some("m6") => Some(false),
+        Some(other) => bail!("machine `{}`: tool_change must be t or m6, not `{other}`", m.name),
+    };
     let units = match m.units.as_deref() {
         None => None,
         Some("mm") => Some(crate::canon::Units::Mm),
@@ -817,6 +840,7 @@ fn machine_folder(m: &RawMachine, machines: &[RawMachine], base: &Path) -> Resul
         decimal_input,
         x_diameter,
         swivel_axes,
+        tool_word_changes,
         program_role: program_role(m.role.as_deref(), &m.name)?,
         tools: folder_tools(m.tool_table.as_deref().map(|t| resolve(base, t)).as_deref(), &m.tool, &m.name)?,
     })
@@ -1023,6 +1047,30 @@ mod tests {
         assert!(a.diagnostics.iter().all(|d| d.code.as_str() != "interp::x-words-diameter"));
         let bad = text.replace("'radius'", "'chord'");
         assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("x_words"));
+    }
+
+    /// A machine's stated tool change (`tool_change`) wins over what a program shows: a
+    /// Sinumerik lathe set to change with M6 (MD22550 = 1) reads `T3 D1` as a selection only.
+    #[test]
+    fn a_machine_can_state_how_it_changes_tools() {
+        let text = "[database]\npath = 'db'\n[[machine]]\nname = 'L1'\npath = 'l1'\ndialect = 'siemens'\ntool_change = 'm6'\n";
+        let c = Config::parse(text, Path::new("/srv")).unwrap();
+        let reg = crate::dialect::Registry::shipped();
+        let l1 = c.folders[0].dialect_for(reg.get("siemens").unwrap());
+        assert!(l1.behaviour.tool_change_stated && !l1.behaviour.tool_word_changes);
+        let program = "G18 G90\nT3 D1\nG96 S200 LIMS=3000 M4\nG0 X54 Z2\nG1 X50 Z0 F0.2\nZ-20\nM30\n";
+        let code = |a: &crate::pipeline::Analysis, c: &str| a.diagnostics.iter().any(|d| d.code.as_str() == c);
+        let a = crate::pipeline::analyze(program.as_bytes(), &l1, &crate::interp::Profile::default());
+        assert!(!code(&a, "interp::tool-word-changes") && code(&a, "plan::no-tool"));
+        // Stated `t`: the T word changes the tool, with nothing to infer.
+        let turret = c.folders[0].clone();
+        let turret = Folder { tool_word_changes: Some(true), ..turret };
+        let l2 = turret.dialect_for(reg.get("siemens").unwrap());
+        let a = crate::pipeline::analyze(program.as_bytes(), &l2, &crate::interp::Profile::default());
+        assert!(!code(&a, "interp::tool-word-changes") && !code(&a, "plan::no-tool"));
+        assert!(a.plan.workingsteps.iter().all(|w| w.tool == 3), "{:?}", a.plan.workingsteps);
+        let bad = text.replace("'m6'", "'m06x'");
+        assert!(Config::parse(&bad, Path::new("/srv")).unwrap_err().to_string().contains("tool_change"));
     }
 
     /// A folder of dialect files extends shipped dialects and replaces them by name; the

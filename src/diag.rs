@@ -161,6 +161,11 @@ codes! {
     /// GCODE_RESET_VALUES) that moves before stating `DIAMON` and never states `DIAMOF`: its
     /// turning words (cycles, `LIMS=`, `G96`) show the lathe, and it is read so.
     XWordsDiameter = ("interp::x-words-diameter", Note),
+    /// A lathe program (its turning words, or `DIAMON`) with T words and no M6, on a control
+    /// whose turning machines change the tool with the T word (SINUMERIK MD22550
+    /// TOOL_CHANGE_MODE 0, the turning setting): each T word changes the tool, and the program
+    /// is read so.
+    ToolWordChanges = ("interp::tool-word-changes", Note),
     /// A lathe program that states no units whose feeds per revolution are all at most 0.06 (no
     /// turning feed in mm/rev, an ordinary one in inch/rev): read in inch, the machine's
     /// power-on units being inch.

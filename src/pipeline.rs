@@ -153,12 +153,14 @@ pub struct MachineShown {
     calculator: bool,
     /// A lathe of a control whose turning machines read X as a diameter in G18 from reset.
     lathe: bool,
+    /// Such a lathe that changes the tool with the T word.
+    turret: bool,
 }
 
 impl MachineShown {
     /// Whether a finding tells what the machine is.
     fn is_evidence(code: Code) -> bool {
-        matches!(code, Code::XWordsRadius | Code::XWordsDiameter | Code::UnitsInferred | Code::DecimalInputInferred)
+        matches!(code, Code::XWordsRadius | Code::XWordsDiameter | Code::ToolWordChanges | Code::UnitsInferred | Code::DecimalInputInferred)
     }
 
     /// What a revision's findings (their codes, as `interp::units-inferred`) show.
@@ -169,6 +171,7 @@ impl MachineShown {
             shown.inch |= code == Code::UnitsInferred.as_str();
             shown.calculator |= code == Code::DecimalInputInferred.as_str();
             shown.lathe |= code == Code::XWordsDiameter.as_str();
+            shown.turret |= code == Code::ToolWordChanges.as_str();
         }
         shown
     }
@@ -185,6 +188,7 @@ impl MachineShown {
             inch: self.inch || other.inch,
             calculator: self.calculator || other.calculator,
             lathe: self.lathe || other.lathe,
+            turret: self.turret || other.turret,
         }
     }
 
@@ -208,6 +212,7 @@ impl MachineShown {
         machine.inch |= self.inch;
         machine.calculator_input |= self.calculator;
         machine.lathe_reset |= self.lathe;
+        machine.tool_word_changes |= self.turret;
         machine
     }
 }

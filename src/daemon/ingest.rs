@@ -633,6 +633,7 @@ impl Reader<'_> {
                 decimal_input: None,
                 x_diameter: None,
                 swivel_axes: None,
+                tool_word_changes: None,
                 program_role: crate::interp::ProgramRole::Auto,
                 limits: Default::default(),
                 tools: Default::default(),

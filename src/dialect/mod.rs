@@ -444,6 +444,14 @@ pub struct Behaviour {
     /// Whether the T word changes the tool at once (a lathe turret indexes on `T0202`, with
     /// no M6) and puts its offset in force.
     pub tool_word_changes: bool,
+    /// Whether the control's turning machines change the tool with the T word where its
+    /// milling ones change it with M6 (SINUMERIK MD22550 TOOL_CHANGE_MODE: 0, "tool change
+    /// with T", on turning machines; 1, with M6, on milling ones): a program read as such a
+    /// lathe's that never says M6 is read so (`interp::tool-word-changes`).
+    pub lathe_tool_word_changes: bool,
+    /// Whether the machine's configuration states how the tool changes (`tool_change`), which
+    /// a program's habit then does not override.
+    pub tool_change_stated: bool,
     /// Whether I, J and K are the circle centre, absolute unless G91, kept as the pole for
     /// the arcs and polar moves after, and an arc without them turns about the pole
     /// (Heidenhain ISO, `arc-centres="pole"`).

@@ -250,6 +250,10 @@ pub struct Profile {
     /// in the ZX plane from reset (the dictionary's `lathe-x-words`): found from a program's
     /// turning words (`interp::x-words-diameter`).
     pub lathe_reset: bool,
+    /// The machine is such a lathe and changes the tool with the T word (the dictionary's
+    /// `lathe-tool-word`): found from a lathe program that never says M6
+    /// (`interp::tool-word-changes`).
+    pub tool_word_changes: bool,
     /// The machine powers on in inch (Fanuc parameter INI): found from a program's feeds
     /// (`interp::units-inferred`).
     pub inch: bool,
@@ -359,6 +363,7 @@ impl Default for Profile {
             unknown_conditions: None,
             x_radius: false,
             lathe_reset: false,
+            tool_word_changes: false,
             inch: false,
             calculator_input: false,
             turns: false,
@@ -945,6 +950,9 @@ pub struct Interpreter<'a> {
     /// (`DIAMON` first) or ever stated radius programming (`DIAMOF`): the evidence of a
     /// lathe's reset state (`lathe_evidence`).
     lathe_words: (u32, bool),
+    /// T words read, M6 (a tool change) read, `DIAMON` read: the evidence of a lathe's tool
+    /// change with the T word (`lathe-tool-word`).
+    tool_words: (u32, bool, bool),
     /// Whether the block has a code of the control's vocabulary that ncplan does not model
     /// (kept as intent): the words no modelled command takes are that code's.
     intent_words: bool,
@@ -1034,6 +1042,7 @@ impl<'a> Interpreter<'a> {
             misread_word: None,
             point_habit: [0; 3],
             lathe_words: (0, false),
+            tool_words: (0, false, false),
             intent_words: false,
             numbered_spindles: false,
             remap_call: None,
@@ -1160,6 +1169,23 @@ impl<'a> Interpreter<'a> {
                 "{lathe_words} words of a lathe (turning cycles, a spindle speed limit, constant cutting rate) and no radius programming stated: on this control's turning machines X is a diameter in the ZX plane from reset (DIAMON, G18), and the program is read so"
             );
             diags.push(Diagnostic::new(Code::XWordsDiameter, TextRange::default(), msg));
+        }
+        // The same lathe, or one that says DIAMON: a control whose turning machines change
+        // the tool with the T word does so where the program never says M6.
+        let (t_words, m6, diamon) = self.tool_words;
+        let lathe = lathe_words > 0 || diamon || self.profile.lathe_reset;
+        if b.lathe_tool_word_changes
+            && !b.tool_word_changes
+            && !b.tool_change_stated
+            && !self.profile.tool_word_changes
+            && lathe
+            && t_words > 0
+            && !m6
+        {
+            let msg = format!(
+                "a lathe program with {t_words} T words and no M6: on this control's turning machines the T command changes the tool (MD22550 TOOL_CHANGE_MODE 0), and the program is read so"
+            );
+            diags.push(Diagnostic::new(Code::ToolWordChanges, TextRange::default(), msg));
         }
         let [whole_points, fractions, bare] = self.point_habit;
         let stated = self.dialect.behaviour.decimal_input_stated;

@@ -1548,3 +1548,52 @@ T4 D1\nG97 S600 M3\nG0 X25 Z5\nCYCLE99(0,20,-25,,2,2,1.227,0.05,30,0,8,1,2.5,131
     assert!(step(&p, "threading rough", &[("pitch", 2.5), ("thread_height", 1.227)]));
     assert!(has(&p, "thread", &[("diameter", 20.0), ("pitch", 2.5)]), "{:?}", p.features);
 }
+
+/// On a Sinumerik turning machine the T word changes the tool (MD22550 TOOL_CHANGE_MODE 0, the
+/// turning setting; a milling machine's 1 changes it with M6): a program that shows a lathe
+/// (its turning words, or `DIAMON`) and never says M6 is read so; one that says M6 changes
+/// there; a milling program's T still only selects. Expectations written before the run.
+#[test]
+fn a_sinumerik_lathe_changes_the_tool_with_the_t_word() {
+    let reg = Registry::shipped();
+    let d = reg.get("siemens").unwrap();
+    let read = |program: &str| {
+        let a = pipeline::analyze(program.as_bytes(), &d, &Profile::default());
+        let has = |c: &str| a.diagnostics.iter().any(|x| x.code.as_str() == c);
+        let tools: Vec<u32> = a.plan.workingsteps.iter().map(|w| w.tool).collect();
+        (has("interp::tool-word-changes"), has("plan::no-tool"), tools)
+    };
+    // No DIAMON, no M6: the lathe's words show the reset state; T3 and T5 change the tool.
+    let lathe = "G18 G90\nT3 D1\nG96 S200 LIMS=3000 M4\nG0 X54 Z2\nG1 X50 Z0 F0.2\nZ-20\nX56\nG0 X100 Z50\n\
+                 T5 D1\nG96 S150 M4\nG0 X44 Z2\nG1 Z-10 F0.15\nX50\nG0 X100 Z50\nM30\n";
+    let (found, no_tool, tools) = read(lathe);
+    assert!(found && !no_tool, "{tools:?}");
+    assert!(tools.contains(&3) && tools.contains(&5) && !tools.contains(&0), "{tools:?}");
+    // The same program with M6 after each T: M6 changes, nothing inferred, the same tools.
+    let (found, no_tool, with_m6) = read(&lathe.replace("T3 D1\n", "T3 D1\nM6\n").replace("T5 D1\n", "T5 D1\nM6\n"));
+    assert!(!found && !no_tool);
+    assert_eq!(with_m6, tools);
+    // DIAMON stated, no other lathe word: a lathe all the same.
+    let diamon = "G18 G90 DIAMON\nT2 D1\nS800 M4\nG0 X40 Z2\nG1 Z-15 F0.2\nX46\nG0 X100 Z50\nM30\n";
+    let (found, no_tool, tools) = read(diamon);
+    assert!(found && !no_tool && tools.iter().all(|t| *t == 2) && !tools.is_empty(), "{tools:?}");
+    // A milling program: T selects only, as before (MD22550 = 1 on milling machines).
+    let (found, no_tool, _) = read("G17 G90\nT1 D1\nS1000 M3\nG0 X50 Y0 Z2\nG1 Z-2 F100\nX80\nM30\n");
+    assert!(!found && no_tool);
+}
+
+/// A LinuxCNC lathe's tool-change remap (as a lathe configuration keeps it beside its INI:
+/// `G53 G0 X0`, `G53 G0 Z0`, a turret M code, `G43 H`) carries no code only a lathe has (no
+/// `G7`, `G18`, turning cycle, spindle-synchronised move or cut): moving X and Z without Y is
+/// what a mill's change sub may do as well. Weak evidence changes nothing: it reads without an
+/// error and no plan turns. Expectations written before the run.
+#[test]
+fn a_linuxcnc_turret_sub_without_lathe_words_is_not_made_a_lathe() {
+    let reg = Registry::shipped();
+    let d = reg.get("linuxcnc").unwrap();
+    let sub = "o<toolchange> sub\nG53 G0 X0\nG53 G0 Z0\nM100 P#<selected_pocket>\ng43 H#<selected_tool>\no<toolchange> endsub [1]\n";
+    let a = pipeline::analyze(sub.as_bytes(), &d, &Profile::default());
+    let errors: Vec<_> = a.diagnostics.iter().filter(|x| x.severity == ncplan::diag::Severity::Error).collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(a.plan.workingsteps.iter().all(|w| w.turning.is_none()));
+}

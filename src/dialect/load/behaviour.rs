@@ -43,6 +43,7 @@ const ATTRIBUTES: &[&str] = &[
     "motion-without-axes",
     "x-words",
     "lathe-x-words",
+    "lathe-tool-word",
     "initial-plane",
     "initial-retract",
     "same-group-codes",
@@ -74,6 +75,8 @@ fn defaults() -> Behaviour {
         resident_programs: false,
         subroutine_path: false,
         tool_word_changes: false,
+        lathe_tool_word_changes: false,
+        tool_change_stated: false,
         arc_centres_pole: false,
         initial_feed_per_rev: false,
         tapping: TapStyle::RPlane,
@@ -126,6 +129,7 @@ impl Cx {
         b.end_required = self.either(el, "program-end", "optional", "required");
         b.x_diameter = self.either(el, "x-words", "radius", "diameter");
         b.lathe_x_diameter = self.either(el, "lathe-x-words", "radius", "diameter");
+        b.lathe_tool_word_changes = self.either(el, "lathe-tool-word", "selects", "changes");
         b.initial_retract_r = self.either(el, "initial-retract", "initial-level", "r-plane");
         b.same_group_last_wins = self.either(el, "same-group-codes", "error", "last");
         b.initial_plane = self.initial_plane(el);

@@ -56,6 +56,7 @@ impl Interpreter<'_> {
         }
         self.emit(sink, CanonOp::Setting(crate::canon::Setting::DiameterMode(on)));
         self.st.diameter = on;
+        self.tool_words.2 |= on;
     }
 
     /// G98, G99: a canned cycle returns to its initial level or to the R plane.

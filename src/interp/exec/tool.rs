@@ -57,7 +57,8 @@ impl Interpreter<'_> {
         // A tool called by name in diameter mode (Sinumerik `T="ROUGH_80"` after DIAMON) is
         // a turret's: on turning machines the T command changes the tool (840D, tool change
         // mode 0), with no M6.
-        let turret = self.dialect.behaviour.tool_word_changes || (named && self.st.diameter);
+        self.tool_words.0 += 1;
+        let turret = self.dialect.behaviour.tool_word_changes || self.profile.tool_word_changes || (named && self.st.diameter);
         if !turret {
             return;
         }
@@ -83,6 +84,7 @@ impl Interpreter<'_> {
         if def.keyword.as_ref().is_some_and(|k| k.value_role == Some(Role::T)) && self.slot(Role::T).is_none() {
             return;
         }
+        self.tool_words.1 = true;
         if self.dialect.behaviour.tool_change_stops_spindle {
             self.emit(sink, CanonOp::StopSpindleTurning);
             self.st.spindle = Spindle::Stopped;
