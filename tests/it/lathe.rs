@@ -714,7 +714,12 @@ fn lathe_s7_held_out_programs() {
 /// `G121`/`G120` (srhart/CNC-Lathe-GCode-Polar-Example) and the turning of a LinuxCNC simulation
 /// config's Mazak Integrex example part, explicit G7 roughing passes
 /// (Sigma1912/LinuxCNC_Demo_Configs). Only the sidecars are committed (`extract.sh` writes the
-/// programs from mirrors); written before ncplan ran on them, not yet measured.
+/// programs from mirrors); written before ncplan ran on them. Measured once on 6 December 2026
+/// (integrate 12e72bb): 18 of 34, no milling feature. Missed: the bush's facing rough and
+/// finish, its outside and inside finishing (feeds 0.11 and 0.22 mm/rev), its faces at Z0 and
+/// Z-30, R3, Ø49.9 and the M50x1.5 thread; the stud's facing rough and finish and its R2.15; the
+/// Integrex part's roughing at 200 m/min and Ø80.2; the polar-interpolation face outline's side
+/// milling and its profile (`G121`/`G120`, a builder's codes for polar interpolation, unread).
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report

@@ -563,8 +563,10 @@ fn real_programs_lie_on_their_faces() {
     /// and `AROT` frames; 6 `steps` with their face axes), and a course project's NX output for a
     /// Haas UMC-750 (dhanush-k-k/Subtractive-FIVE-AXIS-CNC-Manufacturing-using-HAAS-Inc-Machine:
     /// sides at B82.875 under `G254`, contours with B and C moving under `G234`; no licence
-    /// stated, extracted; 5 `tool_tilt` items). Not yet scored: no minimum.
-    const HELD11_SCORE: Option<usize> = None;
+    /// stated, extracted; 5 `tool_tilt` items). Scored once on 6 December 2026 (integrate
+    /// 12e72bb): 17 of 22; missed the Spinner program's five faces set by `AROT` frames after
+    /// `TRAORI` (the plan keeps the tool axis along Z: the frame rotation is not applied to it).
+    const HELD11_SCORE: Option<usize> = Some(17);
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
     let mut sides: Vec<_> =
