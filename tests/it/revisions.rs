@@ -224,7 +224,7 @@ const PARTS: [(&str, &str); 12] = [
     ("held6", "sixth round's pairs held back (r269-r293)"),
     ("held7", "seventh round's pairs held back (r294-r315)"),
     ("held8", "eighth round's pairs held back (r316-r353)"),
-    ("held9", "ninth round's pairs held back (r354-)"),
+    ("held9", "ninth round's pairs held back (r354-r381)"),
     ("held10", "tenth round's pairs held back (r382-)"),
 ];
 
