@@ -508,6 +508,8 @@ impl Interpreter<'_> {
         let old = self.st.g92;
         let mut new = if additive { old } else { [0.0; 6] };
         if !additive {
+            // The plane a rotation in space turned, put back about the datum it turned on.
+            self.programmable_rotation_cleared(sink);
             self.st.rotation = None;
             self.st.scaling = None;
         }
@@ -522,23 +524,25 @@ impl Interpreter<'_> {
     }
 
     /// `ROT RPL=30` / `ROT Z30` rotates the frame in the plane about the program origin;
-    /// `AROT` adds to the rotation.
-    pub(super) fn frame_rot(&mut self, def: &CodeDef, range: TextRange, diags: &mut Vec<Diagnostic>) {
-        if [Role::X, Role::Y].iter().any(|&r| self.slot(r).is_some_and(|v| v != 0.0)) {
-            let d = Diagnostic::new(
-                Code::Unsupported,
-                range,
-                format!("{}: rotation about X or Y (a tilted plane) is not applied", def.label()),
-            );
-            self.limited(diags, "frame-rot-3d", d);
-        }
-        let angle = self.slot(Role::R).or(self.slot(Role::Z)).unwrap_or(0.0);
+    /// `AROT` adds to the rotation. An angle about X or Y turns the frame in space: a tilted
+    /// working plane ([`Interpreter::frame_rotation_in_space`]). A replacing `ROT` puts back
+    /// the plane a rotation in space had turned.
+    pub(super) fn frame_rot(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         let additive = def.meaning == Meaning::FrameRotAdd;
+        let about_z = self.slot(Role::R).or(self.slot(Role::Z)).unwrap_or(0.0);
+        let [x, y] = [Role::X, Role::Y].map(|r| self.slot(r).unwrap_or(0.0));
+        if x != 0.0 || y != 0.0 {
+            self.frame_rotation_in_space([x, y, about_z], additive, sink);
+            return;
+        }
+        if !additive {
+            self.programmable_rotation_cleared(sink);
+        }
         let base = match (additive, self.st.rotation) {
             (true, Some((_, _, c, s))) => s.atan2(c).to_degrees(),
             _ => 0.0,
         };
-        let total = (base + angle).to_radians();
+        let total = (base + about_z).to_radians();
         self.st.rotation = if total == 0.0 { None } else { Some((0.0, 0.0, total.cos(), total.sin())) };
     }
 

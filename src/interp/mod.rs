@@ -601,6 +601,10 @@ struct State {
     /// The tilted working plane as it was put in force, and the C axis's position then: a C
     /// move under it turns the part about its Z ([`Interpreter::turn_part_under_plane`]).
     frame_set: Option<(crate::canon::Frame, f64)>,
+    /// Where the programmable frame turns the plane in space (Siemens `ROT`/`AROT` about X or
+    /// Y): the plane in force before it (`None`: untilted), which a replacing `TRANS` or `ROT`
+    /// puts back ([`Interpreter::frame_rotation_in_space`]).
+    frame_before_rot: Option<Option<crate::canon::Frame>>,
     /// Tool centre point control (`M128`, `TRAORI`, `G43.4`): the rotary axes turn the tool axis.
     tcp: bool,
     /// Whether tool centre point control is the machine's kinematics' (a switchable
@@ -728,6 +732,7 @@ impl State {
             rotation: None,
             frame: None,
             frame_set: None,
+            frame_before_rot: None,
             tcp: false,
             tcp_machine: false,
             tilt_steps: None,

@@ -229,7 +229,7 @@ impl Interpreter<'_> {
             Meaning::CornerRound | Meaning::CornerChamfer => self.corner_code(def, range, diags),
             Meaning::Pole | Meaning::PoleKeeping | Meaning::PoleIncremental | Meaning::PoleFromPole => self.pole_code(def),
             Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
-            Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, range, diags),
+            Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, sink),
             Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),
             Meaning::FrameMirror => self.unsupported(def, range, diags),
             Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),

@@ -12,6 +12,8 @@
 //!   C: `Rz(A)·Rx(B)·Rz(C)` (Fanuc `G68.2 I J K`, Heidenhain `EULPR EULNU EULROT`);
 //! - a base and a normal vector (`tilt-vector`): the new X and the new Z (the tool axis);
 //! - a relative angle (`tilt-relative`): about the tilted plane's own X, Y or Z;
+//! - Siemens `ROT`/`AROT` about X or Y (`frame-rot`, `frame-rot-add`): the programmable frame
+//!   turned in space, about Z, the turned Y and the turned X ([`Interpreter::frame_rotation_in_space`]);
 //! - a swivel cycle (`tilt-cycle`, `CYCLE800`): axis by axis in the mode's order, each
 //!   about the turned axes, about the reference point `_X0 _Y0 _Z0`, the zero point then
 //!   shifted to `_X1 _Y1 _Z1` on the tilted plane; on the plane in force where `_ST`'s units
@@ -602,10 +604,43 @@ impl Interpreter<'_> {
         self.set_frame(None, sink);
     }
 
+    /// Siemens `ROT`/`AROT` with an angle about X or Y (840D frames: programmable rotations in
+    /// space): the coordinate system turned in space, a tilted working plane as `CYCLE800`'s,
+    /// about the program zero in force. The angles in the RPY order (machine data 10600
+    /// `FRAME_ANGLE_INPUT_MODE` = 1, the default): about Z, then the turned Y, then the turned
+    /// X [from the programming manual's frame chapter, recalled; one angle per block, as posts
+    /// write them, needs no order]. `AROT` turns the plane in force about its own axes (a
+    /// rotation in the plane kept so far, `AROT RPL=`, folded in first); `ROT` turns the plane
+    /// that was in force before any programmable rotation.
+    pub(in crate::interp) fn frame_rotation_in_space(&mut self, deg: [f64; 3], additive: bool, sink: &mut dyn CanonSink) {
+        let datum = Frame { origin: [self.st.g92[0], self.st.g92[1], self.st.g92[2]], ..Frame::IDENTITY };
+        let before = self.st.frame_before_rot.unwrap_or(self.st.frame);
+        let (start, planar) = if additive {
+            let planar = self.st.rotation.map_or(rot(2, 0.0), |(_, _, c, s)| rot(2, s.atan2(c).to_degrees()));
+            (self.st.frame.unwrap_or(datum), planar)
+        } else {
+            (before.unwrap_or(datum), rot(2, 0.0))
+        };
+        self.st.rotation = None;
+        let rotation = mul(mul(start.rotation, planar), chain([2, 1, 0], [deg[2], deg[1], deg[0]]));
+        self.set_frame(Some(Frame { origin: start.origin, rotation }), sink);
+        self.st.frame_before_rot = Some(before);
+    }
+
+    /// A replacing `TRANS` or `ROT`: the plane a programmable rotation in space turned is put
+    /// back as it was before it.
+    pub(in crate::interp) fn programmable_rotation_cleared(&mut self, sink: &mut dyn CanonSink) {
+        if let Some(before) = self.st.frame_before_rot.take() {
+            self.set_frame(before, sink);
+        }
+    }
+
     /// Puts `frame` in force (`None`: untilted): the position carried over into its
     /// coordinates, and the marker sent when the frame changes.
     fn set_frame(&mut self, frame: Option<Frame>, sink: &mut dyn CanonSink) {
         let frame = frame.filter(|f| !f.is_identity());
+        // Another plane put in force ends what a programmable rotation turned.
+        self.st.frame_before_rot = None;
         if frame == self.st.frame {
             return;
         }
