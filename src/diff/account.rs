@@ -107,13 +107,20 @@ fn locate(
         changes.retain(|c| !derived(c.kind));
         return;
     }
-    let (mut items, bulks) = itemize(&hunks, a, b, sa, sb);
+    let (mut items, mut bulks) = itemize(&hunks, a, b, sa, sb);
     let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
     // Arcs written another way that run the same path (`R2.5` for `I0 J2.5`): no change.
     let mut same = respelled(&items, a, b, sa, sb);
     same.extend(reblocked(&hunks, a, b, sa, sb));
     same.extend(relabelled(&items, a, b, sa, sb));
     same.extend(retrace::retraced(&hunks, a, b, sa, sb));
+    same.extend(restated(&hunks, a, b, sa, sb));
+    // A hunk too large to tell statement by statement whose every statement is the same.
+    bulks.retain(|bk| {
+        let (o, e): (std::collections::BTreeSet<u32>, std::collections::BTreeSet<u32>) =
+            (same.iter().filter_map(|s| s.0).collect(), same.iter().filter_map(|s| s.1).collect());
+        !(bk.hunk.original.clone().all(|k| o.contains(&sa[k].line)) && bk.hunk.edited.clone().all(|k| e.contains(&sb[k].line)))
+    });
     let tolerance = arc_tolerance(a);
     changes.retain(|c| {
         let only_respelled = c.kind == ChangeKind::ToolpathChanged
@@ -318,6 +325,7 @@ pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) ->
     same.extend(reblocked(&hunks, a, b, &sa, &sb));
     same.extend(relabelled(&items, a, b, &sa, &sb));
     same.extend(retrace::retraced(&hunks, a, b, &sa, &sb));
+    same.extend(restated(&hunks, a, b, &sa, &sb));
     uncovered(changes, &hunks, &sa, &sb, &same)
 }
 
@@ -368,6 +376,91 @@ fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[
         }
     }
     out
+}
+
+/// How many statements [`restated`] reads at most in one diff: a bound on its work.
+const RESTATED_MOST: usize = 20_000;
+
+/// The differing statements that only write the motion code in force (`X0.5 Y0.9` written
+/// `G0 X0.5 Y0.9` after a rapid): hunks with as many statements on each side, paired in order,
+/// each pair differing only by motion codes one side has, and the moves both programs make
+/// from the pair the same (kind, ends, feed, arc), so that the code was the mode in force. A
+/// pair from which neither program moves (a move to where the tool stands) is the same where
+/// its hunk has a pair that moves alike and none that moves otherwise. As (original line,
+/// edited line).
+fn restated(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> Vec<(Option<u32>, Option<u32>)> {
+    let motion =
+        |t: &Token, d: &Dialect| matches!(about(t, d), About::Code(Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw));
+    let mut budget = RESTATED_MOST;
+    let mut candidates = Vec::new();
+    for h in hunks.iter().filter(|h| !h.original.is_empty() && h.original.len() == h.edited.len()) {
+        if budget < h.original.len() {
+            break;
+        }
+        budget -= h.original.len();
+        for (i, j) in h.original.clone().zip(h.edited.clone()) {
+            let ta = statement::tokens_in(&statement::text_of(a.text, a.dialect, &sa[i]), a.dialect);
+            let tb = statement::tokens_in(&statement::text_of(b.text, b.dialect, &sb[j]), b.dialect);
+            let diffs = token_diffs(&ta, &tb);
+            let only_motion = !diffs.is_empty()
+                && diffs.iter().all(|d| match d {
+                    (Some(t), None) => motion(t, a.dialect),
+                    (None, Some(t)) => motion(t, b.dialect),
+                    _ => false,
+                });
+            if only_motion {
+                candidates.push((sa[i].line, sb[j].line, h.original.start));
+            }
+        }
+    }
+    if candidates.is_empty() {
+        return Vec::new();
+    }
+    let moves = |p: Program<'_>, lines: &std::collections::BTreeSet<u32>| {
+        let mut by_line: std::collections::BTreeMap<u32, Vec<crate::plan::Move>> = std::collections::BTreeMap::new();
+        for w in &p.plan.workingsteps {
+            for m in w.toolpath.iter().filter(|m| lines.contains(&m.line)) {
+                by_line.entry(m.line).or_default().push(m);
+            }
+        }
+        by_line
+    };
+    let (ma, mb) = (moves(a, &candidates.iter().map(|c| c.0).collect()), moves(b, &candidates.iter().map(|c| c.1).collect()));
+    let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= super::TOLERANCE);
+    let alike = |x: &crate::plan::Move, y: &crate::plan::Move| {
+        x.kind == y.kind
+            && x.feed == y.feed
+            && near(x.from, y.from)
+            && near(x.to, y.to)
+            && match (x.arc, y.arc) {
+                (Some(u), Some(v)) => near(u.center, v.center) && u.turns == v.turns && near(u.axis, v.axis),
+                (None, None) => true,
+                _ => false,
+            }
+    };
+    // By pair: Some(true) moves alike, Some(false) otherwise, None: neither moves.
+    let verdict = |lo: &u32, le: &u32| match (ma.get(lo), mb.get(le)) {
+        (Some(x), Some(y)) => Some(x.len() == y.len() && x.iter().zip(y).all(|(x, y)| alike(x, y))),
+        (None, None) => None,
+        _ => Some(false),
+    };
+    let mut hunk_ok: std::collections::BTreeMap<usize, (bool, bool)> = std::collections::BTreeMap::new();
+    for (lo, le, h) in &candidates {
+        let e = hunk_ok.entry(*h).or_insert((false, false));
+        match verdict(lo, le) {
+            Some(true) => e.0 = true,
+            Some(false) => e.1 = true,
+            None => {}
+        }
+    }
+    candidates
+        .iter()
+        .filter(|(lo, le, h)| match verdict(lo, le) {
+            Some(same) => same,
+            None => hunk_ok.get(h).is_some_and(|&(alike, other)| alike && !other),
+        })
+        .map(|&(lo, le, _)| (Some(lo), Some(le)))
+        .collect()
 }
 
 /// The differing statements that only rename labels one to one over both programs (a

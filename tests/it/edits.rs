@@ -1382,3 +1382,24 @@ fn another_error_in_a_program_that_machines_nothing_breaks_nothing() {
     let got = changes_with_findings(&fed, &format!("01000\n{fed}"), "fanuc_lathe");
     assert!(got.iter().any(|c| c.kind == ChangeKind::ProgramBroken), "{}", rows(&got));
 }
+
+/// A motion word that restates the motion in force (`X0.5 Y0.5` written `G0 X0.5 Y0.5` after
+/// a rapid, `G1 X1 Y0.5` in the cuts) makes the same moves: no change, also where a hunk is too
+/// large to tell statement by statement (held10's r400). A motion word that changes the mode
+/// (`G0` where `G1` is in force) turns cuts into rapids: told.
+#[test]
+fn a_motion_word_that_restates_the_mode_in_force_is_no_change() {
+    let a = "G20 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z0.25\nX0.5 Y0.5\nG1 Z-0.005 F50\nX1 Y0.5\nX1 Y1\nX0.5 Y1\nX0.5 Y0.5\nG0 Z0.25\nM2\n";
+    let b =
+        a.replace("\nX0.5 Y0.5\nG1", "\nG0 X0.5 Y0.5\nG1").replace("\nX1 Y0.5\n", "\nG1 X1 Y0.5\n").replace("\nX1 Y1\n", "\nG1 X1 Y1\n");
+    assert_eq!(rows(&changes(a, &b, "linuxcnc")), "");
+    let mut long = String::from("G20 G90 G17\nT1 M6\nS1000 M3\nG0 X0 Y0 Z0.25\nG1 Z-0.005 F50\n");
+    for k in 1..=40 {
+        long.push_str(&format!("X{} Y{}\n", k as f64 * 0.1, (k % 2) as f64 * 0.2));
+    }
+    long.push_str("G0 Z0.25\nM2\n");
+    let explicit = long.lines().map(|l| if l.starts_with('X') { format!("G1 {l}\n") } else { format!("{l}\n") }).collect::<String>();
+    assert_eq!(rows(&changes(&long, &explicit, "linuxcnc")), "");
+    let rapid = a.replace("\nX1 Y1\n", "\nG0 X1 Y1\n");
+    assert_ne!(rows(&changes(a, &rapid, "linuxcnc")), "");
+}
