@@ -109,18 +109,9 @@ fn locate(
     }
     let (mut items, mut bulks) = itemize(&hunks, a, b, sa, sb);
     let line = |s: &[Stmt], i: Option<usize>| i.map(|i| s[i].line);
-    // Arcs written another way that run the same path (`R2.5` for `I0 J2.5`): no change.
-    let mut same = respelled(&items, a, b, sa, sb);
-    same.extend(reblocked(&hunks, a, b, sa, sb));
-    same.extend(relabelled(&items, a, b, sa, sb));
-    same.extend(retrace::retraced(&hunks, a, b, sa, sb));
-    same.extend(restated(&hunks, a, b, sa, sb));
+    let same = same_machining(&items, &hunks, a, b, sa, sb);
     // A hunk too large to tell statement by statement whose every statement is the same.
-    bulks.retain(|bk| {
-        let (o, e): (std::collections::BTreeSet<u32>, std::collections::BTreeSet<u32>) =
-            (same.iter().filter_map(|s| s.0).collect(), same.iter().filter_map(|s| s.1).collect());
-        !(bk.hunk.original.clone().all(|k| o.contains(&sa[k].line)) && bk.hunk.edited.clone().all(|k| e.contains(&sb[k].line)))
-    });
+    bulks.retain(|bk| !all_same(bk, sa, sb, &same));
     let tolerance = arc_tolerance(a);
     changes.retain(|c| {
         let only_respelled = c.kind == ChangeKind::ToolpathChanged
@@ -321,12 +312,36 @@ pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) ->
     let ((sa, _), (sb, _)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
     let hunks = statement::hunks(&sa, &sb);
     let (items, _) = itemize(&hunks, a, b, &sa, &sb);
-    let mut same = respelled(&items, a, b, &sa, &sb);
-    same.extend(reblocked(&hunks, a, b, &sa, &sb));
-    same.extend(relabelled(&items, a, b, &sa, &sb));
-    same.extend(retrace::retraced(&hunks, a, b, &sa, &sb));
-    same.extend(restated(&hunks, a, b, &sa, &sb));
+    let same = same_machining(&items, &hunks, a, b, &sa, &sb);
     uncovered(changes, &hunks, &sa, &sb, &same)
+}
+
+/// The differing statements that machine the same (each as (original line, edited line), one
+/// side `None` where only one side's line is named): arcs written another way that run the
+/// same path (`R2.5` for `I0 J2.5`), modal words re-blocked, labels renamed one to one, straight
+/// moves in other pieces, a motion word restating the motion in force.
+fn same_machining(
+    items: &[Item],
+    hunks: &[Hunk],
+    a: Program<'_>,
+    b: Program<'_>,
+    sa: &[Stmt],
+    sb: &[Stmt],
+) -> Vec<(Option<u32>, Option<u32>)> {
+    let mut same = respelled(items, a, b, sa, sb);
+    same.extend(reblocked(hunks, a, b, sa, sb));
+    same.extend(relabelled(items, a, b, sa, sb));
+    same.extend(retrace::retraced(hunks, a, b, sa, sb));
+    same.extend(restated(hunks, a, b, sa, sb));
+    same
+}
+
+/// Whether every statement of a hunk too large to tell statement by statement machines the
+/// same ([`same_machining`]).
+fn all_same(bk: &Bulk, sa: &[Stmt], sb: &[Stmt], same: &[(Option<u32>, Option<u32>)]) -> bool {
+    let o: std::collections::BTreeSet<u32> = same.iter().filter_map(|s| s.0).collect();
+    let e: std::collections::BTreeSet<u32> = same.iter().filter_map(|s| s.1).collect();
+    bk.hunk.original.clone().all(|k| o.contains(&sa[k].line)) && bk.hunk.edited.clone().all(|k| e.contains(&sb[k].line))
 }
 
 /// The statements of hunks that only set the same modal states in other blocks (`G54 G18 G21
