@@ -393,6 +393,17 @@ fn reblocked(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[
     out
 }
 
+/// The moves `p`'s plan makes from each of `lines`, by line.
+fn moves_at(p: Program<'_>, lines: &std::collections::BTreeSet<u32>) -> std::collections::BTreeMap<u32, Vec<crate::plan::Move>> {
+    let mut by_line: std::collections::BTreeMap<u32, Vec<crate::plan::Move>> = std::collections::BTreeMap::new();
+    for w in &p.plan.workingsteps {
+        for m in w.toolpath.iter().filter(|m| lines.contains(&m.line)) {
+            by_line.entry(m.line).or_default().push(m);
+        }
+    }
+    by_line
+}
+
 /// How many statements [`restated`] reads at most in one diff: a bound on its work.
 const RESTATED_MOST: usize = 20_000;
 
@@ -431,16 +442,7 @@ fn restated(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[S
     if candidates.is_empty() {
         return Vec::new();
     }
-    let moves = |p: Program<'_>, lines: &std::collections::BTreeSet<u32>| {
-        let mut by_line: std::collections::BTreeMap<u32, Vec<crate::plan::Move>> = std::collections::BTreeMap::new();
-        for w in &p.plan.workingsteps {
-            for m in w.toolpath.iter().filter(|m| lines.contains(&m.line)) {
-                by_line.entry(m.line).or_default().push(m);
-            }
-        }
-        by_line
-    };
-    let (ma, mb) = (moves(a, &candidates.iter().map(|c| c.0).collect()), moves(b, &candidates.iter().map(|c| c.1).collect()));
+    let (ma, mb) = (moves_at(a, &candidates.iter().map(|c| c.0).collect()), moves_at(b, &candidates.iter().map(|c| c.1).collect()));
     let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= super::TOLERANCE);
     let alike = |x: &crate::plan::Move, y: &crate::plan::Move| {
         x.kind == y.kind
@@ -521,16 +523,7 @@ fn respelled(items: &[Item], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[
     if candidates.is_empty() {
         return Vec::new();
     }
-    let moves = |p: Program<'_>, lines: &std::collections::BTreeSet<u32>| {
-        let mut by_line: std::collections::BTreeMap<u32, Vec<crate::plan::Move>> = std::collections::BTreeMap::new();
-        for w in &p.plan.workingsteps {
-            for m in w.toolpath.iter().filter(|m| lines.contains(&m.line)) {
-                by_line.entry(m.line).or_default().push(m);
-            }
-        }
-        by_line
-    };
-    let (ma, mb) = (moves(a, &candidates.iter().map(|c| c.0).collect()), moves(b, &candidates.iter().map(|c| c.1).collect()));
+    let (ma, mb) = (moves_at(a, &candidates.iter().map(|c| c.0).collect()), moves_at(b, &candidates.iter().map(|c| c.1).collect()));
     let tolerance = arc_tolerance(a);
     let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= tolerance);
     let alike = |x: &crate::plan::Move, y: &crate::plan::Move| match (x.arc, y.arc) {
