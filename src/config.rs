@@ -521,34 +521,23 @@ impl Folder {
     /// The dialect this folder's programs are read in, with the folder's overrides applied.
     pub fn dialect_for(&self, base: std::sync::Arc<crate::dialect::Dialect>) -> std::sync::Arc<crate::dialect::Dialect> {
         use crate::dialect::{DecimalInput, Role as R};
-        let base = match self.x_diameter {
-            Some(on) => {
-                let mut d = (*base).clone();
-                d.behaviour.x_diameter = on;
-                d.behaviour.x_words_stated = true;
-                std::sync::Arc::new(d)
-            }
-            None => base,
-        };
-        let base = match self.swivel_axes {
-            Some(axes) => {
-                let mut d = (*base).clone();
-                d.behaviour.swivel_axes = Some(axes);
-                std::sync::Arc::new(d)
-            }
-            None => base,
-        };
-        let base = match self.tool_word_changes {
-            Some(on) => {
-                let mut d = (*base).clone();
-                d.behaviour.tool_word_changes = on;
-                d.behaviour.tool_change_stated = true;
-                std::sync::Arc::new(d)
-            }
-            None => base,
-        };
-        let Some(rule) = self.decimal_input else { return base };
+        if self.x_diameter.is_none() && self.swivel_axes.is_none() && self.tool_word_changes.is_none() && self.decimal_input.is_none() {
+            return base;
+        }
+        // One copy of the dictionary carries every override the machine states.
         let mut d = (*base).clone();
+        if let Some(on) = self.x_diameter {
+            d.behaviour.x_diameter = on;
+            d.behaviour.x_words_stated = true;
+        }
+        if let Some(axes) = self.swivel_axes {
+            d.behaviour.swivel_axes = Some(axes);
+        }
+        if let Some(on) = self.tool_word_changes {
+            d.behaviour.tool_word_changes = on;
+            d.behaviour.tool_change_stated = true;
+        }
+        let Some(rule) = self.decimal_input else { return std::sync::Arc::new(d) };
         d.behaviour.decimal_input_stated = true;
         d.behaviour.decimal_input = match (rule, &base.behaviour.decimal_input) {
             (DecimalRule::Calculator, _) => DecimalInput::Calculator,
