@@ -574,6 +574,9 @@ fn real_programs_lie_on_their_faces() {
         std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "json")).collect();
     sides.sort();
     let mut score = std::collections::BTreeMap::<String, (usize, Vec<String>)>::new();
+    // A part missing one of its programs (not extracted on this machine) is printed but not
+    // held to its score: its figure counts fewer items than the score was measured on.
+    let mut incomplete = std::collections::BTreeSet::<String>::new();
     for p in &sides {
         let side: Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
         // While building, the held-back part stays unread.
@@ -591,6 +594,7 @@ fn real_programs_lie_on_their_faces() {
                 "tilt::real_programs_lie_on_their_faces",
                 &format!("{} is not extracted (tests/programs/tilt/real/extract.sh)", path.display()),
             );
+            incomplete.insert(side["part"].as_str().unwrap().to_owned());
             continue;
         }
         let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
@@ -607,6 +611,10 @@ fn real_programs_lie_on_their_faces() {
     for (part, (listed, misses)) in &score {
         // A CC1 read-back miss is counted beside the items, so misses can outnumber them.
         println!("real tilt programs, {part}: {} of {listed} met\n{}", listed.saturating_sub(misses.len()), misses.join("\n"));
+    }
+    for part in &incomplete {
+        crate::skip("tilt::real_programs_lie_on_their_faces", &format!("part {part} is not whole here: its score is not checked"));
+        score.remove(part);
     }
     assert!(sides.len() >= 15, "{} real programs", sides.len());
     let built = &score["built"];
