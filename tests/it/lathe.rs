@@ -739,6 +739,7 @@ fn print_real_misses() {
         "lathe_s9_heldout",
         "lathe_s10_heldout",
         "lathe_s11_heldout",
+        "lathe_s12_heldout",
     ] {
         if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
             continue;
