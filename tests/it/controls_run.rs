@@ -163,6 +163,15 @@ fn siemens_roundup_rounds_up_with_or_without_a_blank() {
     assert_eq!(moves("siemens", program).last().unwrap(), "STRAIGHT_FEED(4.0000, -3.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
 }
 
+/// Fanuc custom macro words may be written by their first two letters: `WH[..]DO1` is a
+/// WHILE loop (a Fanuc 0i-MD shop's macro, sweep 7's O3001: its `END1` was unmatched).
+#[test]
+fn fanuc_wh_is_while() {
+    let program = "O3001\n#1=3\nWH[#1GT0]DO1\nG91G1X1.F100\n#1=#1-1\nEND1\nM99\n";
+    assert_eq!(errors("fanuc", program), Vec::<String>::new());
+    assert_eq!(moves("fanuc", program).iter().filter(|m| m.starts_with("STRAIGHT_FEED(")).count(), 3);
+}
+
 /// Between the two Sinumerik dictionaries, codes only one has decide: a program whose only
 /// marks are `( )` remarks and shared codes (`%MPF`, R parameters, `L100 P2`) is the older
 /// controls', since the 840D's round brackets hold arithmetic and its remarks follow `;`; one
