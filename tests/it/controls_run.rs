@@ -140,6 +140,20 @@ fn linuxcnc_stray_o_word_closers_stop_the_program() {
     assert_eq!(errors("linuxcnc", "G0 X0\nO1000\nG0 X1\nM99\nM2\n"), Vec::<String>::new());
 }
 
+/// A subroutine file (RS274NGC "Calling Files": the file opens with its one definition, read
+/// when a call or an M6 remap's `ngc=` opens it) runs from its `sub` line: an `endsub` inside
+/// one of its `if`s returns early, as `return` does, and the definition ends at the `endsub` no
+/// block encloses (sweep 11's flexgui-style toolchange.ngc, `o105 if` .. `o<toolchange> endsub
+/// [1]` .. `o105 endif`, had 19 errors). Met in the flow of a main program, a definition is
+/// skipped to its first `endsub`, as rs274 does, and the `endif` left over stops the run.
+#[test]
+fn linuxcnc_a_subroutine_file_may_end_its_sub_early_inside_an_if() {
+    let file = "o<tc> sub\no105 if [#<selected_tool> EQ #<tool_in_spindle>]\n  o<tc> endsub [1]\no105 endif\nG53 G0 Z0\nM6\no<tc> endsub [1]\nM2\n";
+    assert_eq!(errors("linuxcnc", file), Vec::<String>::new());
+    let in_flow = "G0 X0\no100 sub\no101 if [#1 GT 0]\no100 endsub [1]\no101 endif\nG0 X1\no100 endsub\no100 call [1]\nM2\n";
+    assert!(!errors("linuxcnc", in_flow).is_empty());
+}
+
 /// Siemens `ROUNDUP` rounds up (840D sl job planning, "ROUNDUP: Round up": 3.1 → 4, -3.1 → -3),
 /// also with a blank before its bracket (sweep 10's CYCLE189.spf).
 #[test]
@@ -147,6 +161,35 @@ fn siemens_roundup_rounds_up_with_or_without_a_blank() {
     let program = "R1=ROUNDUP (3.1)\nR2=ROUNDUP(-3.1)\nG1 X=R1 Y=R2 F100\nM30\n";
     assert_eq!(errors("siemens", program), Vec::<String>::new());
     assert_eq!(moves("siemens", program).last().unwrap(), "STRAIGHT_FEED(4.0000, -3.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
+}
+
+/// Fanuc custom macro words may be written by their first two letters: `WH[..]DO1` is a
+/// WHILE loop (a Fanuc 0i-MD shop's macro, sweep 7's O3001: its `END1` was unmatched).
+#[test]
+fn fanuc_wh_is_while() {
+    let program = "O3001\n#1=3\nWH[#1GT0]DO1\nG91G1X1.F100\n#1=#1-1\nEND1\nM99\n";
+    assert_eq!(errors("fanuc", program), Vec::<String>::new());
+    assert_eq!(moves("fanuc", program).iter().filter(|m| m.starts_with("STRAIGHT_FEED(")).count(), 3);
+}
+
+/// Between the two Sinumerik dictionaries, codes only one has decide: a program whose only
+/// marks are `( )` remarks and shared codes (`%MPF`, R parameters, `L100 P2`) is the older
+/// controls', since the 840D's round brackets hold arithmetic and its remarks follow `;`; one
+/// with the 840D's own language (DEF, IF/ENDIF, CYCLE8x, TRANS) is the 840D's, and the older
+/// dictionary does not read that language (it is not theirs).
+#[test]
+fn sinumerik_810_or_840d_by_the_codes_only_one_has() {
+    let r = ncplan::dialect::Registry::shipped();
+    let remarks = "%MPF1\n(PART 1234 SHAFT)\nN10 G90 G0 X10 Y10 S500 M3 (START POINT)\nN20 G1 X20 F100 (FIRST CUT)\nN25 L100 P2\nN30 M30\n";
+    assert_eq!(r.sniff(remarks, Some("PART.MPF"), "linuxcnc").dialect, "siemens_810");
+    assert_eq!(r.sniff(remarks, None, "linuxcnc").dialect, "siemens_810");
+    let d840 = "%_N_PART_MPF\nDEF REAL DEPTH\nN10 G90 G0 X10 Y10 S500 M3 ; start\nN20 CYCLE81(10, 0, 2, -5)\nN30 IF R1>0 GOTOF ENDE\nN40 TRANS X10\nENDE:\nN50 M30\n";
+    assert_eq!(r.sniff(d840, Some("PART.MPF"), "linuxcnc").dialect, "siemens");
+    assert_eq!(errors("siemens", d840), Vec::<String>::new());
+    assert!(!errors("siemens_810", "N10 DEF REAL DEPTH\nN20 TRANS X10\nN30 M30\n").is_empty());
+    // A Fanuc program's remarks count for neither.
+    let fanuc = "%\nO1234 (SHAFT)\nN10 G90 G54 G0 X10. Y10. (START POINT)\nN20 M30\n%\n";
+    assert_eq!(r.sniff(fanuc, Some("O1234.NC"), "linuxcnc").dialect, "fanuc");
 }
 
 /// The older SINUMERIK controls (810/820/840C): `( )` remarks, `B` the arc radius, `G58` the

@@ -165,6 +165,16 @@
 //! Okuma lathe program, where a named program is allowed). Three of the 18 rows (b004-b006) are
 //! of an owner whose other repositories sweep 10 used (MariuszMalec).
 //!
+//! After branch vocab13 (all halves seen, so no held-out figures): a subroutine file's `endsub`
+//! inside one of its `if`s returns early (RS274NGC "Calling Files": the file runs from its
+//! `sub` line when called, b016), and Fanuc's `WH` abbreviation of `WHILE` (x003, x004; x001
+//! keeps its R-arc shorter than half its chord): holdout-s11 14/14 valid without an error,
+//! family 14/14, invalid 1/3; build-s7 17/19; the other seen halves as before (holdout-s10
+//! 25/25, s9 29/29, s8 79/83, s7 45/47, s6 29/32). Left: b002 (a Klartext block that starts
+//! with an axis, `80 Z DR+0.0`, is read as a modal `L`; the TNC takes no block without its
+//! function), b014 (`Osample(..)`: Okuma's named program takes it, and the reading without an
+//! error wins on weak evidence), a003 (`YY=R101`).
+//!
 //! Sweep 12 (rows c001-c030, half `holdout-s12`: held out whole, no build half; 30 programs of 15
 //! repositories, 28 valid, 2 invalid), fewer than the 40 asked: the index and the fetchable store
 //! gave nothing else unused, and no Okuma, Fagor, Mitsubishi or Centroid program. Under this

@@ -392,7 +392,19 @@ impl<'a> Driver<'a, '_> {
             let msg = format!("another subroutine is defined inside this one (line {}): definitions do not nest", m.start.line);
             diags.push(Diagnostic::new(Code::NestedDefinition, c.range, msg));
         }
-        self.library |= self.frames.is_empty() && self.cur == 0;
+        let head = self.frames.is_empty() && self.cur == 0;
+        // A definition that opens the file is a subroutine file, which the control reads
+        // only when a call opens it (RS274NGC "Calling Files", an M6 remap's `ngc=`): run
+        // from its `sub` line, an `endsub` inside one of its `if`s or loops returns like
+        // `return`, and the definition ends at the `endsub` no block of it encloses.
+        if head && !self.main_work {
+            if let Some(next) = enclosing_end(self.marks(self.cur), start.at, label) {
+                self.library = true;
+                self.switch_to(self.cur, next, interp);
+                return;
+            }
+        }
+        self.library |= head;
         self.skip_to(start, c.range, "endsub", |m| same_label(m, label, &[Statement::EndSub]), interp, diags);
     }
 
@@ -837,6 +849,24 @@ impl Driver<'_, '_> {
         let cur = self.cur;
         self.marks(cur).iter().take_while(|m| m.start.at < start.at).any(|m| same_label(m, label, &[Statement::If]))
     }
+}
+
+/// Where a subroutine file's definition opened at `after` ends: past its first `endsub` that
+/// no labelled `if`, `while`, `do` or `repeat` of its body encloses (opened after the
+/// definition, closed after the `endsub`).
+fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option<Pos> {
+    let from = marks.partition_point(|m| m.start.at <= after);
+    let body = &marks[from..];
+    let opens = [Statement::If, Statement::While, Statement::Do, Statement::Repeat];
+    let closes = [Statement::EndIf, Statement::EndWhile, Statement::While, Statement::EndRepeat];
+    body.iter().enumerate().filter(|(_, m)| same_label(m, label, &[Statement::EndSub])).find_map(|(i, m)| {
+        let enclosed = body[..i].iter().filter(|o| o.label.is_some() && o.label != *label && same_label(o, &o.label, &opens)).any(|o| {
+            body[i + 1..].iter().any(|e| {
+                same_label(e, &o.label, &closes) && !(o.statement == Some(Statement::While) && e.statement == Some(Statement::While))
+            })
+        });
+        (!enclosed).then_some(m.next)
+    })
 }
 
 fn same_label(m: &Mark, label: &Option<String>, sts: &[Statement]) -> bool {
