@@ -964,3 +964,32 @@ fn a_mirror_image_turns_arcs_and_compensation_with_it() {
     // After G50.1 X0 the arc turns as written (clockwise about (40, 10)).
     assert!(calls.iter().any(|l| l.starts_with("ARC_FEED(40.0000, 20.0000, 40.0000, 10.0000, -1,")), "{text}");
 }
+
+/// Mirror first, then scaling (the Fanuc manual's order of programmable mirror image, scaling
+/// and rotation); cancelling the scaling leaves the mirror in force, and `G50.1` ends it.
+/// Written by hand before the run: X20 Y10 mirrored about X50 is X80, scaled by 2 about the
+/// origin X160 Y20 (Z the centre's, the position G51 was given at, so unscaled); without the
+/// scaling X80 Y10; without the mirror X20 Y10.
+#[test]
+fn a_mirror_image_comes_before_scaling() {
+    let program =
+        "G90 G17 G21\nG0 X0 Y0 Z5.\nG51.1 X50.\nG51 X0 Y0 P2000\nG1 X20. Y10. F100.\nG50\nG1 X20. Y10.\nG50.1 X0\nG1 X20. Y10.\nM30\n";
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let mut out = Vec::new();
+    let diags = ncplan::interp::interpret(program, &d, &Profile::default(), &mut out);
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let mut text = String::new();
+    for c in &out {
+        ncplan::canon::write_call(&mut text, &c.op);
+    }
+    let feeds: Vec<&str> = text.lines().filter(|l| l.starts_with("STRAIGHT_FEED")).collect();
+    assert_eq!(
+        feeds,
+        [
+            "STRAIGHT_FEED(160.0000, 20.0000, 5.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(80.0000, 10.0000, 5.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(20.0000, 10.0000, 5.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{text}"
+    );
+}

@@ -231,11 +231,7 @@ impl Interpreter<'_> {
             Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
             Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, sink),
             Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),
-            Meaning::FrameMirror | Meaning::FrameMirrorAdd => {
-                let named = [0, 1, 2].map(|i| self.slots[crate::dialect::Role::AXES[i] as usize].is_some());
-                self.frame_mirror(def.meaning == Meaning::FrameMirrorAdd, named);
-            }
-            Meaning::Mirror | Meaning::MirrorCancel => self.mirror_code(def),
+            Meaning::FrameMirror | Meaning::FrameMirrorAdd | Meaning::Mirror | Meaning::MirrorCancel => self.mirror_code(def),
             Meaning::CycleDefine => self.define_numbered_cycle(def, range, block, sink, diags),
             // Carried out after the block's moves (`cycles_after`).
             Meaning::CycleCall | Meaning::CycleModal => {}

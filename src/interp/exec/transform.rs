@@ -80,9 +80,14 @@ impl Interpreter<'_> {
     }
 
     /// G51.1 (each axis named mirrored about the coordinate its word gives) and G50.1 (the
-    /// axes named no longer mirrored; with none, every axis).
+    /// axes named no longer mirrored; with none, every axis); Siemens `MIRROR`/`AMIRROR`
+    /// ([`Interpreter::frame_mirror`]).
     pub(super) fn mirror_code(&mut self, def: &CodeDef) {
         let named = [0, 1, 2].map(|i| self.slot(Role::AXES[i]));
+        if matches!(def.meaning, Meaning::FrameMirror | Meaning::FrameMirrorAdd) {
+            self.frame_mirror(def.meaning == Meaning::FrameMirrorAdd, named.map(|v| v.is_some()));
+            return;
+        }
         let mut mirror = self.st.mirror;
         let cancel = def.meaning == Meaning::MirrorCancel;
         for i in 0..3 {
