@@ -993,3 +993,26 @@ fn a_mirror_image_comes_before_scaling() {
         "{text}"
     );
 }
+
+/// A mirror moved (`G51.1 X50.` → `X60.`) moves the holes cut under it, each by twice the
+/// shift along X, and nothing else: the second call's (80, 10) and (70, 15) to (100, 10) and
+/// (90, 15), the third's (80, 50) and (70, 45) to (100, 50) and (90, 45); the first and the
+/// last call's holes stay (written before the run).
+#[test]
+fn a_mirror_moved_moves_the_holes_cut_under_it() {
+    edit(
+        "fanuc_mirror_g511",
+        "G51.1 X50.",
+        "G51.1 X60.",
+        expect_test::expect![[r#"
+        hole_moved | hole | X80 Y10 | X100 Y10 | 11 | 11
+          hole at X80 Y10 moved to X100 Y10 at line 11
+        hole_moved | hole | X70 Y15 | X90 Y15 | 11 | 11
+          hole at X70 Y15 moved to X90 Y15 at line 11
+        hole_moved | hole | X80 Y50 | X100 Y50 | 11 | 11
+          hole at X80 Y50 moved to X100 Y50 at line 11
+        hole_moved | hole | X70 Y45 | X90 Y45 | 11 | 11
+          hole at X70 Y45 moved to X90 Y45 at line 11
+    "#]],
+    );
+}
