@@ -347,8 +347,18 @@ vocab! {
         FrameScale = "frame-scale",
         /// Multiplies the programmable frame's scale (`ASCALE`).
         FrameScaleAdd = "frame-scale-add",
-        /// Mirroring of the programmable frame (`MIRROR X0`, `AMIRROR`): diagnosed, not applied.
+        /// Replaces the programmable frame's mirroring (`MIRROR X0 Y0`): the axes named change
+        /// sign about the program zero (the values are not read); alone, no mirroring.
         FrameMirror = "frame-mirror",
+        /// Adds a mirroring to the programmable frame's (`AMIRROR X0`): an axis named again is
+        /// mirrored back.
+        FrameMirrorAdd = "frame-mirror-add",
+        /// Programmable mirror image (Fanuc `G51.1 X10`, Haas `G101`): each axis named is
+        /// mirrored about the coordinate its word gives.
+        Mirror = "mirror",
+        /// Programmable mirror image cancelled (Fanuc `G50.1 X0`, Haas `G100`) for the axes
+        /// named; with none, for every axis.
+        MirrorCancel = "mirror-cancel",
         /// Sets the circle centre / pole from the block's axis words (`CC X+25 Y+25`); alone, the current position.
         Pole = "pole",
         /// Sets the circle centre from the block's axis words, an axis without one keeping the

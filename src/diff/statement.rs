@@ -96,6 +96,9 @@ fn words_are_no_motion(m: Meaning) -> bool {
             | M::FrameScale
             | M::FrameScaleAdd
             | M::FrameMirror
+            | M::FrameMirrorAdd
+            | M::Mirror
+            | M::MirrorCancel
             | M::OriginShift
             | M::LocalOffset
             | M::Scaling

@@ -30,7 +30,14 @@ pub(super) struct Defined {
 impl Interpreter<'_> {
     /// `CYCL DEF 200`: remembers cycle 200 for later calls; a cycle that acts where it is
     /// written (`CYCL DEF 7.1 X+10`, a datum shift) acts now.
-    pub(super) fn define_numbered_cycle(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+    pub(super) fn define_numbered_cycle(
+        &mut self,
+        def: &CodeDef,
+        range: TextRange,
+        block: &Block,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
         // `CYCL DEF 200` gives the number as its value; a G code (`G200`) is the number.
         let own = def.keyword.is_none().then(|| f64::from(def.number) / 10.0);
         let Some(number) = self.slot(Role::CycleNumber).or(own) else {
@@ -73,6 +80,15 @@ impl Interpreter<'_> {
         match cycle.meaning {
             Meaning::LocalOffset => self.datum_shift(sink),
             Meaning::TiltSpatial => self.tilt_by_axis_words(sink),
+            // `CYCL DEF 8.1 X Y`: the axes listed (their words without values); `8.0` names the cycle.
+            Meaning::FrameMirror => {
+                if (number.fract() * 10.0).round() != 0.0 {
+                    let rest = block.text(TextRange { start: range.end, end: block.range.end });
+                    let listed = |letter: char| rest.split_ascii_whitespace().any(|w| w.len() == 1 && w.starts_with(letter));
+                    let named = [0, 1, 2].map(|i| self.slots[Role::AXES[i] as usize].is_some() || listed(['X', 'Y', 'Z'][i]));
+                    self.frame_mirror(false, named);
+                }
+            }
             // `CYCL DEF 9.1 DWELL 1.5`: the sub-block's value, seconds.
             Meaning::Dwell => {
                 if let Some(seconds) = self.slot(Role::CycleValue) {
@@ -511,7 +527,7 @@ impl Interpreter<'_> {
             // The plane a rotation in space turned, put back about the datum it turned on.
             self.programmable_rotation_cleared(sink);
             self.st.rotation = None;
-            self.st.scaling = None;
+            self.set_mirror_and_scale([None; 3], None);
         }
         for (i, &role) in Role::AXES.iter().enumerate() {
             if let Some(v) = self.slot(role) {
@@ -548,7 +564,7 @@ impl Interpreter<'_> {
 
     /// `SCALE X2 Y2` sets the frame's scale per axis (1 where not given); `ASCALE` multiplies it.
     pub(super) fn frame_scale(&mut self, additive: bool) {
-        let mut k = match (additive, self.st.scaling) {
+        let mut k = match (additive, self.st.scale_set) {
             (true, Some((_, k))) => k,
             _ => [1.0; 3],
         };
@@ -557,7 +573,7 @@ impl Interpreter<'_> {
                 k[i] *= v;
             }
         }
-        self.st.scaling = if k == [1.0; 3] { None } else { Some(([0.0; 3], k)) };
+        self.set_mirror_and_scale(self.st.mirror, if k == [1.0; 3] { None } else { Some(([0.0; 3], k)) });
     }
 }
 

@@ -613,8 +613,15 @@ struct State {
     /// A tilted plane stated over several blocks (Fanuc `G68.2 P2 Q0..Q3` three points,
     /// `G68.2 P3 Q1 Q2` two vectors): what its blocks have given so far.
     tilt_steps: Option<Box<exec::tilt::TiltSteps>>,
-    /// Programmable scaling (G51): centre and factor per linear axis.
+    /// What programmable mirroring and scaling do to a point, together (mirror first, then
+    /// scale: `Interpreter::set_mirror_and_scale`): centre and factor per linear axis, a
+    /// mirrored axis's factor negative.
     scaling: Option<([f64; 3], [f64; 3])>,
+    /// Programmable scaling as stated (G51, `SCALE`): centre and factor per linear axis.
+    scale_set: Option<([f64; 3], [f64; 3])>,
+    /// Programmable mirroring (G51.1, `MIRROR`, cycle 8): per linear axis, the coordinate it is
+    /// mirrored about.
+    mirror: [Option<f64>; 3],
     /// Whether the block's motion mode was already active before it.
     motion_continued: bool,
     /// G93: F is the inverse of each move's time in minutes.
@@ -737,6 +744,8 @@ impl State {
             tcp_machine: false,
             tilt_steps: None,
             scaling: None,
+            scale_set: None,
+            mirror: [None; 3],
             pole: (0.0, 0.0),
             pole_plane: None,
             arc_cw: true,

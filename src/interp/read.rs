@@ -449,6 +449,15 @@ impl Interpreter<'_> {
     /// Adds code `idx` to the block's codes; false (with a diagnostic) when its group already has one.
     fn push_code(&mut self, idx: usize, range: TextRange, diags: &mut Vec<Diagnostic>) -> bool {
         let def = self.code(idx);
+        // A bare axis letter in a cycle's definition (TNC `CYCL DEF 8.1 X Y`, the axes cycle 8
+        // mirrors) names an axis of the cycle, which reads it from the block: not the tool
+        // axis the letter gives after `TOOL CALL 1 Z`.
+        if def.keyword.is_some()
+            && matches!(def.meaning, Meaning::PlaneXy | Meaning::PlaneXz | Meaning::PlaneYz)
+            && self.codes.iter().any(|&(c, _)| self.code(c).meaning == Meaning::CycleDefine)
+        {
+            return true;
+        }
         if let Some(k) = self.codes.iter().position(|(c, _)| self.code(*c).group == def.group) {
             let other = self.codes[k].0;
             if def.gives_way {
@@ -653,6 +662,9 @@ impl Interpreter<'_> {
                     | Meaning::FrameScale
                     | Meaning::FrameScaleAdd
                     | Meaning::FrameMirror
+                    | Meaning::FrameMirrorAdd
+                    | Meaning::Mirror
+                    | Meaning::MirrorCancel
                     | Meaning::Stock
                     | Meaning::CycleIntent
             ) || (self.dialect.groups[self.code(c).group].step != Step::Motion && self.claims_axes(c))

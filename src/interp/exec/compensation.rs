@@ -26,6 +26,9 @@ impl Interpreter<'_> {
         let left = matches!(def.meaning, Meaning::CompLeft | Meaning::CompLeftDiameter);
         // A negative offset (`G41.1 D-0.3`) runs on the other side, as in rs274.
         let left = left != radius.is_some_and(|r| r < 0.0);
+        // Under a mirror image of one axis of the plane the control runs it on the other side
+        // of the mirrored path (`interp/exec/transform.rs`).
+        let left = left != self.mirrored_in_plane(self.st.plane);
         let radius = radius.map(f64::abs);
         let side = if left { comp::Side::Left } else { comp::Side::Right };
         self.st.comp_left = left;

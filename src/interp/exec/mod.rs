@@ -231,8 +231,8 @@ impl Interpreter<'_> {
             Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
             Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, sink),
             Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),
-            Meaning::FrameMirror => self.unsupported(def, range, diags),
-            Meaning::CycleDefine => self.define_numbered_cycle(def, range, sink, diags),
+            Meaning::FrameMirror | Meaning::FrameMirrorAdd | Meaning::Mirror | Meaning::MirrorCancel => self.mirror_code(def),
+            Meaning::CycleDefine => self.define_numbered_cycle(def, range, block, sink, diags),
             // Carried out after the block's moves (`cycles_after`).
             Meaning::CycleCall | Meaning::CycleModal => {}
             Meaning::CycleCallAt => self.call_at_position(sink),

@@ -19,8 +19,12 @@
 //!   shifted to `_X1 _Y1 _Z1` on the tilted plane; on the plane in force where `_ST`'s units
 //!   digit is 1 (additive) [from the cycle's documented `_ST` coding, unconfirmed on a control]; in solid-angle mode (bits 7-6 01) about Z
 //!   by `_A`, then about the turned Y by `_B` [the order from public CYCLE800 descriptions,
-//!   unconfirmed on a control]. Its other modes (projection angles, rotary axes direct) need
-//!   the machine: said, and the plane stays as it was;
+//!   unconfirmed on a control]; in projection-angle mode (bits 7-6 10) with the axes X and Y
+//!   in either order (`_MODE` 185: X, Y, Z), the angles about X and Y projected as `PLANE
+//!   PROJECTED` reads them (the new X in the old ZX plane, as the SINUMERIK Operate manual
+//!   says of the XY and YX positions), then a turn about the new Z by the third angle. Its
+//!   other modes (projection angles about Z, rotary axes direct without the machine's
+//!   `swivel_axes`) need what the analysis does not have: said, and the plane stays as it was;
 //! - three points (`tilt-points`, `PLANE POINTS`): the first to the second is the new X, the
 //!   third on the new +Y side;
 //! - projection angles (`tilt-projected`, `PLANE PROJECTED`): the plane's traces in the ZX
@@ -452,11 +456,28 @@ impl Interpreter<'_> {
             }
             // Solid angle: about Z by the first angle, then about the turned Y by the second.
             (1, None) => chain([2, 1, 2], [angles[0], angles[1], 0.0]),
+            // Projection angles about X and Y (either order), then a turn about the new Z.
+            (2, None) if matches!(axes, [1, 2, 3 | 0] | [2, 1, 3 | 0]) => {
+                let about = |axis: u32| angles[if axes[0] == axis { 0 } else { 1 }];
+                match projected(about(2), about(1)) {
+                    Some(r) => mul(r, rot(2, angles[2])),
+                    None => {
+                        let msg = format!("swivel mode {mode}: the projection angles give no plane; the plane in force stays");
+                        self.limited(diags, "tilt-mode", Diagnostic::new(Code::TiltUnknown, range, msg));
+                        return;
+                    }
+                }
+            }
             (0, None) if !axes.contains(&0) => chain(axes.map(|a| a as usize - 1), angles),
             _ => {
-                let msg = format!(
-                    "swivel mode {mode} (projection angles, or rotary axes direct) needs the machine's kinematics (rotary axes direct: the machine's `swivel_axes` in its configuration); the plane in force stays, so what is cut after it is placed on that plane, which may not be the face the machine turns to"
-                );
+                let msg = match mode >> 6 {
+                    2 => format!(
+                        "swivel mode {mode}: projection angles about other axes than X and Y (the G18 and G19 positions) are not modelled; the plane in force stays, so what is cut after it is placed on that plane, which may not be the face the machine turns to"
+                    ),
+                    _ => format!(
+                        "swivel mode {mode} (rotary axes direct, or no axes named) needs the machine's kinematics (rotary axes direct: the machine's `swivel_axes` in its configuration); the plane in force stays, so what is cut after it is placed on that plane, which may not be the face the machine turns to"
+                    ),
+                };
                 self.limited(diags, "tilt-mode", Diagnostic::new(Code::TiltUnknown, range, msg));
                 return;
             }

@@ -1,8 +1,17 @@
-//! Programmable rotation (G68, G69) and scaling (G51, G50 on a mill): the codes that set
-//! them, and what they do to every op on its way out. The programmable frames (`TRANS`,
-//! `ROT`, `SCALE`) are in `interp/define.rs`.
+//! Programmable rotation (G68, G69), scaling (G51, G50 on a mill) and mirror image (G51.1,
+//! G50.1; Siemens `MIRROR`/`AMIRROR`; Heidenhain cycle 8): the codes that set them, and what
+//! they do to every op on its way out. The programmable frames (`TRANS`, `ROT`, `SCALE`) are
+//! in `interp/define.rs`.
 //!
-//! Doors: [`Interpreter::rotation_code`], [`Interpreter::scaling_code`], and
+//! Mirroring, as the controls document it (Fanuc's programmable mirror image; the SINUMERIK
+//! ISO milling manual's G51.1; Siemens frames; the TNC's cycle 8): each axis named changes
+//! sign about its mirror's position (Fanuc and Haas: the coordinate the axis word gives;
+//! Siemens and Heidenhain: the program zero in force); where one axis of the working plane is
+//! mirrored, arcs turn the other way and radius compensation changes sides. The mirror comes
+//! first, then scaling, then rotation. Features cut under it lie where the mirrored moves run.
+//!
+//! Doors: [`Interpreter::rotation_code`], [`Interpreter::scaling_code`],
+//! [`Interpreter::mirror_code`], [`Interpreter::frame_mirror`], and
 //! [`Interpreter::transform`] for the ops [`Interpreter::emit`] sends.
 
 use crate::canon::{CanonOp, Plane};
@@ -32,7 +41,7 @@ impl Interpreter<'_> {
     /// G51 (scaling about the block's point by P, or by I J K per axis) and its cancel.
     pub(super) fn scaling_code(&mut self, def: &CodeDef, range: TextRange, block: &Block, diags: &mut Vec<Diagnostic>) {
         if def.meaning == Meaning::ScalingCancel {
-            self.st.scaling = None;
+            self.set_mirror_and_scale(self.st.mirror, None);
             return;
         }
         let uniform = block.words.iter().find(|w| w.role == Role::P).map(|w| match w.value {
@@ -67,7 +76,73 @@ impl Interpreter<'_> {
                 ),
             );
         }
-        self.st.scaling = Some((centre, k));
+        self.set_mirror_and_scale(self.st.mirror, Some((centre, k)));
+    }
+
+    /// G51.1 (each axis named mirrored about the coordinate its word gives) and G50.1 (the
+    /// axes named no longer mirrored; with none, every axis); Siemens `MIRROR`/`AMIRROR`
+    /// ([`Interpreter::frame_mirror`]).
+    pub(super) fn mirror_code(&mut self, def: &CodeDef) {
+        let named = [0, 1, 2].map(|i| self.slot(Role::AXES[i]));
+        if matches!(def.meaning, Meaning::FrameMirror | Meaning::FrameMirrorAdd) {
+            self.frame_mirror(def.meaning == Meaning::FrameMirrorAdd, named.map(|v| v.is_some()));
+            return;
+        }
+        let mut mirror = self.st.mirror;
+        let cancel = def.meaning == Meaning::MirrorCancel;
+        for i in 0..3 {
+            match (cancel, named[i]) {
+                (true, Some(_)) => mirror[i] = None,
+                (true, None) if named.iter().all(Option::is_none) => mirror[i] = None,
+                (false, Some(at)) => mirror[i] = Some(at),
+                _ => {}
+            }
+        }
+        self.set_mirror_and_scale(mirror, self.st.scale_set);
+    }
+
+    /// Siemens `MIRROR X0` (the axes named, about the program zero, replacing the mirroring in
+    /// force; alone, none) and `AMIRROR X0` (added: an axis mirrored already is mirrored back);
+    /// Heidenhain cycle 8 (`CYCL DEF 8.1 X Y`, replacing; without axes, none). The axis
+    /// words' values are not read.
+    pub(in crate::interp) fn frame_mirror(&mut self, additive: bool, named: [bool; 3]) {
+        let mut mirror = if additive { self.st.mirror } else { [None; 3] };
+        for i in 0..3 {
+            if named[i] {
+                mirror[i] = if additive && mirror[i].is_some() { None } else { Some(0.0) };
+            }
+        }
+        self.set_mirror_and_scale(mirror, self.st.scale_set);
+    }
+
+    /// Puts mirroring and scaling in force: the point map they make together, mirror first
+    /// (`p → 2m − p`), then scaling (`p → c + (p − c)·k`), kept as one centre and factor per
+    /// axis (a mirrored axis's factor negative).
+    pub(in crate::interp) fn set_mirror_and_scale(&mut self, mirror: [Option<f64>; 3], scale: Option<([f64; 3], [f64; 3])>) {
+        self.st.mirror = mirror;
+        self.st.scale_set = scale;
+        if mirror.iter().all(Option::is_none) {
+            self.st.scaling = scale;
+            return;
+        }
+        let (c, k) = scale.unwrap_or(([0.0; 3], [1.0; 3]));
+        let mut centre = [0.0; 3];
+        let mut factor = [1.0; 3];
+        for i in 0..3 {
+            // q = o + t·p with o = c(1 − k) + k·a, t = k·s (a = 2m, s = −1 mirrored; 0 and 1 not).
+            let (a, s) = mirror[i].map_or((0.0, 1.0), |m| (2.0 * m, -1.0));
+            let (o, t) = (c[i] * (1.0 - k[i]) + k[i] * a, k[i] * s);
+            factor[i] = t;
+            centre[i] = if (1.0 - t).abs() > 1e-12 { o / (1.0 - t) } else { 0.0 };
+        }
+        self.st.scaling = Some((centre, factor));
+    }
+
+    /// Whether the mirroring in force turns the plane's arcs the other way (one of its two
+    /// axes mirrored): arcs and radius compensation's side swap.
+    pub(in crate::interp) fn mirrored_in_plane(&self, plane: Plane) -> bool {
+        let (a0, a1, _) = plane.axes();
+        self.st.mirror[a0].is_some() != self.st.mirror[a1].is_some()
     }
 
     /// A point through programmable scaling (G51), then rotation (G68), as the control moves.
@@ -108,7 +183,7 @@ impl Interpreter<'_> {
                     second_end: end[a1],
                     first_axis: centre[a0],
                     second_axis: centre[a1],
-                    rotation,
+                    rotation: if self.mirrored_in_plane(self.st.plane) { -rotation } else { rotation },
                     axis_end: end[n],
                     abc,
                 }
