@@ -1634,3 +1634,19 @@ G0 X54. Z0.\nG1 X-1.6 F0.1\nG0 Z2.\nX100. Z100.\nM30\n";
     let (ws, _) = labels(twice, "fanuc_lathe");
     assert_eq!(ws, ["facing rough", "facing finish"]);
 }
+
+/// A `G71` whose P names a block the program does not number (the contour written without
+/// its N words, as a Brazilian shaft program has it) is the control's alarm: an error that
+/// says so, the run stopped there, and no contour invented from the unnumbered blocks (no
+/// roughing, no finishing pass read from them).
+#[test]
+fn a_contour_cycle_without_its_numbered_blocks_is_an_alarm() {
+    let program = "O1\nG21 G99\nT0101\nG50 S2200\nG96 S200 M3\nG0 X105. Z5.\nG1 X102. Z0. F0.2\nX-1.5\nG0 X102. Z5.\n\
+G71 U2. R4.\nG71 P140 Q220 U0.4 W0.1 F0.3\nG1 X30. Z0.\nX36. Z-3.\nZ-83.\nX105.\nG0 X200. Z200.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let a = pipeline::analyze(program.as_bytes(), &d, &Profile::default());
+    let alarm = a.diagnostics.iter().find(|x| x.code == ncplan::diag::Code::MissingLabel).expect("an error at the G71");
+    assert!(alarm.message.contains("N140") && alarm.message.contains("alarm"), "{}", alarm.message);
+    let ws: Vec<String> = a.plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(ws, ["facing finish"]);
+}
