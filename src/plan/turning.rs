@@ -900,7 +900,7 @@ fn face_cut(ws: &Workingstep) -> Option<(f64, [f64; 2])> {
     ws.turning.as_deref().filter(|t| t.operation == Some(TurnOp::Facing) && !t.inside)?;
     let cuts = cuts(ws);
     let across = || cuts.iter().filter(|m| m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
-    let last = across().filter(|m| m.from[0].min(m.to[0]) < 0.05).next_back().or_else(|| across().next_back())?;
+    let last = across().rfind(|m| m.from[0].min(m.to[0]) < 0.05).or_else(|| across().next_back())?;
     let (a, b) = (2.0 * last.from[0].abs(), 2.0 * last.to[0].max(0.0));
     Some((last.to[2], [a.min(b), a.max(b)]))
 }
