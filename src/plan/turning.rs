@@ -23,6 +23,12 @@
 //! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
 //! axis from their workingsteps. Diameters throughout; lengths along Z.
 //!
+//! Facing as a turner reads it: feed moves left forwards off a face cut to the axis (a pull
+//! back along +Z, a move across in front of it) cut nothing (`off_the_face`); faces cut in
+//! towards the axis and then passes turning behind them with one tool at one feed are two
+//! operations (`faced_first`); one pass across that a later pass faces again within 2 mm
+//! behind it roughs, leaving that face's stock.
+//!
 //! Grooving, rough or finish, is named as turners and CAM systems name grooving passes
 //! (Sandvik Coromant's grooving guide: "multiple grooving" roughs a groove wider than the
 //! insert, a profiling pass then finishes it; the CAM systems' groove roughing and groove
