@@ -23,6 +23,12 @@
 //! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
 //! axis from their workingsteps. Diameters throughout; lengths along Z.
 //!
+//! Facing as a turner reads it: feed moves left forwards off a face cut to the axis (a pull
+//! back along +Z, a move across in front of it) cut nothing (`off_the_face`); faces cut in
+//! towards the axis and then passes turning behind them with one tool at one feed are two
+//! operations (`faced_first`); one pass across that a later pass faces again within 2 mm
+//! behind it roughs, leaving that face's stock.
+//!
 //! Grooving, rough or finish, is named as turners and CAM systems name grooving passes
 //! (Sandvik Coromant's grooving guide: "multiple grooving" roughs a groove wider than the
 //! insert, a profiling pass then finishes it; the CAM systems' groove roughing and groove
@@ -54,6 +60,10 @@ const TOL: f64 = 1e-3;
 /// A face cut across X this far beyond the program zero is no approach in the air: the part's
 /// front lies there, mm.
 const FAR_FRONT: f64 = 10.0;
+
+/// A face cut again at most this far behind a first pass across it: that pass left the stock
+/// for the finishing one, mm.
+const REFACED: f64 = 2.0;
 
 /// Whether a feature kind is a milling one (none of these on a pure lathe program).
 pub fn is_milling(kind: &FeatureKind) -> bool {
@@ -88,6 +98,9 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         beyond_the_centre(ws, remeasure);
     }
     group_passes(plan, remeasure);
+    for ws in &mut plan.workingsteps {
+        off_the_face(ws, remeasure);
+    }
     // The part's front: the highest face cut (across X), and at least the program zero,
     // where lathe programs put the finished face.
     let front = plan
@@ -123,6 +136,16 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         {
             t.inside = true;
         }
+    }
+    // One pass across the front that a later workingstep faces again a little behind it
+    // (another pass, another tool) left stock for that face: it roughs. (Never faced again, it
+    // is the part's face, finished unless its operation's comment calls it roughing.)
+    let faces: Vec<Option<(f64, [f64; 2])>> = plan.workingsteps.iter().map(face_cut).collect();
+    for (k, ws) in plan.workingsteps.iter_mut().enumerate() {
+        let Some((z, d)) = faces[k] else { continue };
+        let Some(t) = ws.turning.as_mut().filter(|t| t.passes == 1 && !t.inside && t.intent.is_none()) else { continue };
+        let again = faces[k + 1..].iter().flatten().any(|&(z2, d2)| z2 < z - TOL && z2 > z - REFACED && d2[0] < d[1] && d[0] < d2[1]);
+        t.rough |= again;
     }
     // The finished face: where the first facing workingstep's last cut across leaves it (the
     // program zero where none faces); a contour's run along Z in front of it is its lead-in.
@@ -244,6 +267,48 @@ fn beyond_the_centre(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
     remeasure(ws);
 }
 
+/// A cut across X to the axis faces the part at its Z: in front of that face and within the
+/// radius it faced there is no material left. Feed moves that follow it there (a pull back
+/// along +Z off the face at the cutting feed, `G1 X-1.6` then `Z2.1`, a move across in front
+/// of it on the way to the next operation) cut nothing: they leave the face, as a retract
+/// does, written as moves or as a cycle's (a `G94` box cycle's feed back along +Z), alike.
+fn off_the_face(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
+    let turns = ws.turning.as_deref().is_some_and(|t| t.pitch.is_none() && t.intent.as_ref().is_none_or(|i| i.pitch.is_none()));
+    if !turns || !ws.holes.is_empty() {
+        return;
+    }
+    let cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
+    let moves: Vec<Move> = ws.toolpath.iter().collect();
+    let mut off: Vec<usize> = Vec::new();
+    for (i, m) in moves.iter().enumerate() {
+        let across = m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL;
+        let to_axis = m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0;
+        if !cut(m) || !across || !to_axis || m.from[0].abs() < 0.5 {
+            continue;
+        }
+        let (zf, reach) = (m.to[2], m.from[0].abs());
+        // The tool leaves the face forwards (along +Z) first; a pass back out along the face
+        // it cut is no leaving.
+        if !moves.get(i + 1).is_some_and(|n| cut(n) && n.to[2] > zf + TOL) {
+            continue;
+        }
+        for (j, n) in moves.iter().enumerate().skip(i + 1) {
+            let in_front = n.from[2].min(n.to[2]) > zf - TOL && n.from[0].abs().max(n.to[0].abs()) <= reach + TOL;
+            if !cut(n) || !in_front {
+                break;
+            }
+            off.push(j);
+        }
+    }
+    if off.is_empty() {
+        return;
+    }
+    for j in off {
+        ws.toolpath.set_phase(j, Phase::Retract);
+    }
+    remeasure(ws);
+}
+
 /// The cuts of a workingstep as runs between rapids: the toolpath index of each run's first
 /// and past its last cut.
 fn run_spans(ws: &Workingstep) -> Vec<(usize, usize)> {
@@ -304,7 +369,14 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
         // Where each later operation begins: after the run before it ends.
         let mut cuts_at: Vec<usize> = Vec::new();
         let mut from = 0;
-        for k in 1..spans.len() {
+        // Passes across the front first, then passes along the part behind that face: the
+        // facing, then the turning.
+        let faces = faced_first(&moves, &spans);
+        if faces > 0 {
+            cuts_at.push(spans[faces - 1].1);
+            from = faces;
+        }
+        for k in from + 1..spans.len() {
             let now = way(&spans[k]);
             // Straight passes after a pass along the whole contour: roughing again.
             let after_contour = now != Way::Profile && full(from, k - 1);
@@ -357,6 +429,42 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
         ws.index = k as u32 + 1;
     }
     plan.workingsteps = out;
+}
+
+/// How many of the first runs face the front before the rest turn behind it (0 where they do
+/// not): runs across X (`Way::Across`) in towards the axis, then runs that are not, whose
+/// cuts reach the last face's Z or lie behind it, as a turner faces a part and then turns it
+/// with one tool at one feed (`G1 X23` at Z2, Z1 and Z0.1, then a chamfer pass from Z0). A
+/// groove's plunges lie between its flanks, not in front of the profile: they do not part.
+fn faced_first(moves: &[Move], spans: &[(usize, usize)]) -> usize {
+    let way = |&(a, b): &(usize, usize)| pass_way(&moves[a..b]);
+    let n = spans.iter().take_while(|s| way(s) == Way::Across).count();
+    if n == 0 || n == spans.len() {
+        return 0;
+    }
+    let across = |m: &&Move| m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL;
+    let cut = |m: &&Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
+    let Some(face) = moves[spans[n - 1].0..spans[n - 1].1].iter().filter(cut).filter(across).map(|m| m.to[2]).next_back() else {
+        return 0;
+    };
+    // Each face cut in towards the axis, from the stock's outside.
+    let inwards = spans[..n].iter().all(|&(a, b)| moves[a..b].iter().filter(cut).filter(across).all(|m| m.to[0].abs() < m.from[0].abs()));
+    if !inwards {
+        return 0;
+    }
+    // Every later cut reaches the face or lies behind it (a lead-in along Z from in front of
+    // it ends there), and one after its run's lead-in runs along the part behind it (a chamfer
+    // or a diameter, not a pass across that only clears a corner).
+    let later = || spans[n..].iter().flat_map(|&(a, b)| moves[a..b].iter()).filter(cut);
+    let behind = later().all(|m| m.from[2].min(m.to[2]) <= face + TOL);
+    let along = |m: &Move| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL;
+    let past_lead_in = spans[n..].iter().flat_map(|&(a, b)| {
+        let run = moves[a..b].iter().filter(cut);
+        let lead = run.clone().next().is_some_and(along);
+        run.skip(usize::from(lead))
+    });
+    let turns = past_lead_in.into_iter().any(|m| (m.to[2] - m.from[2]).abs() > 0.5 && m.from[2].min(m.to[2]) < face - 0.5);
+    if behind && turns { n } else { 0 }
 }
 
 /// The way a pass runs: straight (along or across) where that way makes most of its length,
@@ -683,14 +791,14 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // (a bore's finishing pass, down its wall and across its bottom, pulled in).
         None if finish_cycle => boring || left_inward(ws),
         None => {
-            // (Coming in at the small end counts only for straight passes on one side of the
+            // (Coming in at the small end counts only for passes all straight, on one side of the
             // axis: a pass along the contour from its small end turns the outside, and passes
             // across the axis, from one side to the other, have no inside.)
             t.inside
                 || boring
                 || (runs.len() > 1
                     && xmin > -1.0
-                    && runs.first().is_some_and(|r| main_cut(r).is_some())
+                    && runs.iter().all(|r| main_cut(r).is_some())
                     && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL))
                 || pulls_off_inward(&runs)
                 || left_inward(ws)
@@ -777,10 +885,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
         None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
-        // Every pass along the whole contour (LinuxCNC's `G70 P2`, a finish and its spring
-        // pass): finishing, however many passes; passes joined as one roughing, each a step
-        // in from the one before, rough however much of the contour each follows.
-        None => (TurnOp::Contouring, runs.len() > 1 && (stepped_in || !runs.iter().all(|r| whole_contour(r, zmax - zmin)))),
+        None => (TurnOp::Contouring, contour_roughs(ws, &runs, stepped_in, zmax - zmin)),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
     // roughing is that (a roughing operation's one pass over a last region). Passes stepping
@@ -793,6 +898,17 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// A facing workingstep outside: the Z of the face its last cut across leaves (the last that
+/// reaches the axis, where some do), and the diameters that cut spans.
+fn face_cut(ws: &Workingstep) -> Option<(f64, [f64; 2])> {
+    ws.turning.as_deref().filter(|t| t.operation == Some(TurnOp::Facing) && !t.inside)?;
+    let cuts = cuts(ws);
+    let across = || cuts.iter().filter(|m| m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
+    let last = across().rfind(|m| m.from[0].min(m.to[0]) < 0.05).or_else(|| across().next_back())?;
+    let (a, b) = (2.0 * last.from[0].abs(), 2.0 * last.to[0].max(0.0));
+    Some((last.to[2], [a.min(b), a.max(b)]))
 }
 
 /// How explicit passes cut across X (`across_passes`).
@@ -871,6 +987,29 @@ fn axis_reached_at(cuts: &[Move]) -> Vec<f64> {
     at.sort_by(f64::total_cmp);
     at.dedup_by(|a, b| (*a - *b).abs() < 0.05);
     at
+}
+
+/// Whether explicit passes along a contour rough it. Every pass along the whole contour
+/// (LinuxCNC's `G70 P2`, a finish and its spring pass): finishing, however many passes;
+/// passes joined as one roughing, each a step in from the one before, rough however much of
+/// the contour each follows. Passes under tool nose radius compensation that each run along
+/// their own stretch of the contour, none over another's, finish it in pieces (a profile,
+/// then a shoulder behind a relief cut elsewhere): roughing passes leave stock, and posts and
+/// turners compensate the nose on the finishing profile.
+fn contour_roughs(ws: &Workingstep, runs: &[Vec<Move>], stepped_in: bool, length: f64) -> bool {
+    let pieces = !ws.state.cutter_comp.is_empty() && pieces_of_one_contour(runs);
+    runs.len() > 1 && (stepped_in || !(runs.iter().all(|r| whole_contour(r, length)) || pieces))
+}
+
+/// Whether runs of cuts are one contour cut in pieces: at least one follows a profile, and no
+/// two overlap along Z (roughing passes go over the same length again, each deeper).
+fn pieces_of_one_contour(runs: &[Vec<Move>]) -> bool {
+    let spans: Vec<(f64, f64)> = runs
+        .iter()
+        .map(|r| r.iter().flat_map(|m| [m.from[2], m.to[2]]).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z))))
+        .collect();
+    let apart = spans.iter().enumerate().all(|(i, a)| spans[i + 1..].iter().all(|b| a.1.min(b.1) - a.0.max(b.0) <= TOL));
+    apart && runs.iter().any(|r| pass_way(r) == Way::Profile)
 }
 
 /// Whether a run of cuts follows the contour over (nearly) the whole length `length` the

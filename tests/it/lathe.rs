@@ -1277,14 +1277,15 @@ G0 X100. Z50.\nM30\n";
 }
 
 /// A cut to the axis nearer the part's front than its back faces, though a first face lies
-/// in front of it (the face taken in two steps, Z1.5 then Z0); behind the part it parts off.
+/// in front of it (the face taken in two steps, Z1.5 then Z0: the first pass roughs, leaving
+/// the stock the second finishes); behind the part it parts off.
 #[test]
 fn a_second_face_behind_the_first_is_facing_not_parting() {
     let program = "O1\nG21 G99\nT0707\nG96 S255 M3\nG0 X55. Z1.5\nG1 X-0.5 F0.2\nG0 Z3.\nX53.\nZ0.\nG1 X-0.5 F0.1\n\
 G0 Z1.\nX100. Z50.\nT0101\nG97 S800 M3\nG0 X50. Z1.\nG1 Z-40. F0.2\nX55.\nG0 X100. Z50.\nT0505\nG97 S600 M3\n\
 G0 X55. Z-45.\nG1 X-0.5 F0.05\nG0 X100.\nZ50.\nM30\n";
     let (ws, features) = labels(program, "fanuc_lathe");
-    assert_eq!(ws.first().map(String::as_str), Some("facing finish"), "{ws:?}");
+    assert_eq!(ws.first().map(String::as_str), Some("facing rough"), "{ws:?}");
     assert_eq!(ws.get(1).map(String::as_str), Some("facing finish"), "{ws:?}");
     assert_eq!(ws.last().map(String::as_str), Some("parting off"), "{ws:?}");
     assert!(features.contains(&"revolved flat".to_owned()), "{features:?}");
@@ -1602,4 +1603,51 @@ fn a_linuxcnc_turret_sub_without_lathe_words_is_not_made_a_lathe() {
     let errors: Vec<_> = a.diagnostics.iter().filter(|x| x.severity == ncplan::diag::Severity::Error).collect();
     assert!(errors.is_empty(), "{errors:?}");
     assert!(a.plan.workingsteps.iter().all(|w| w.turning.is_none()));
+}
+
+/// One tool faces the front in two passes and then turns the part behind it at the same feed:
+/// two operations, facing rough then contouring rough (a turner reads where the passes go,
+/// not the feed). The finishing tool faces Z0 and pulls back along +Z at its feed, off the
+/// face into air (no cut: the face stays at Z0), then finishes the contour under nose radius
+/// compensation in two pieces that lie apart along Z (the profile, then a collar's face
+/// behind a relief it leaves): facing finish, then contouring finish. A single face pass that a
+/// later pass faces again a little behind it roughs.
+#[test]
+fn faces_then_turns_and_a_face_left_forwards() {
+    let program = "O1\nG21 G99\nT0101\nG50 S3000\nG96 S200 M3\nG0 X54. Z1.\nG1 X-1.6 F0.2\nG0 Z2.\nX54.\nZ0.1\n\
+G1 X-1.6\nG0 Z2.\nX46.\nG1 Z0.1\nZ-20.\nX50.\nG0 Z2.\nX42.\nG1 Z0.1\nZ-20.\nX46.\nG0 X100. Z100.\nT0202\nG96 S250 M3\n\
+G0 X54. Z0.\nG1 X-1.6 F0.1\nZ1.\nG0 X36. Z2.\nG42 G1 Z0.\nX40. Z-2.\nZ-20.\nX48.\nG0 X56.\nZ-33.\nG1 X52. Z-31.\nX48.\n\
+G40 G0 X100. Z100.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
+    let ws: Vec<String> = plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(ws, ["facing rough", "contouring rough", "facing finish", "contouring finish"]);
+    let faces: Vec<f64> = plan
+        .features
+        .iter()
+        .filter(|f| matches!(f.kind, FeatureKind::Turned(Turned::RevolvedFlat { inner, .. }) if inner < 0.1))
+        .map(|f| f.placement[2])
+        .collect();
+    assert!(faces.iter().any(|z| z.abs() < 1e-6) && !faces.iter().any(|z| *z > 0.5), "{faces:?}");
+    // One pass across, faced again 0.5 behind by the finishing tool: rough; the second, finish.
+    let twice = "O2\nG21 G99\nT0101\nG96 S200 M3\nG0 X54. Z0.5\nG1 X-1.6 F0.25\nG0 Z2.\nX100. Z100.\nT0202\nG96 S250 M3\n\
+G0 X54. Z0.\nG1 X-1.6 F0.1\nG0 Z2.\nX100. Z100.\nM30\n";
+    let (ws, _) = labels(twice, "fanuc_lathe");
+    assert_eq!(ws, ["facing rough", "facing finish"]);
+}
+
+/// A `G71` whose P names a block the program does not number (the contour written without
+/// its N words, as a Brazilian shaft program has it) is the control's alarm: an error that
+/// says so, the run stopped there, and no contour invented from the unnumbered blocks (no
+/// roughing, no finishing pass read from them).
+#[test]
+fn a_contour_cycle_without_its_numbered_blocks_is_an_alarm() {
+    let program = "O1\nG21 G99\nT0101\nG50 S2200\nG96 S200 M3\nG0 X105. Z5.\nG1 X102. Z0. F0.2\nX-1.5\nG0 X102. Z5.\n\
+G71 U2. R4.\nG71 P140 Q220 U0.4 W0.1 F0.3\nG1 X30. Z0.\nX36. Z-3.\nZ-83.\nX105.\nG0 X200. Z200.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let a = pipeline::analyze(program.as_bytes(), &d, &Profile::default());
+    let alarm = a.diagnostics.iter().find(|x| x.code == ncplan::diag::Code::MissingLabel).expect("an error at the G71");
+    assert!(alarm.message.contains("N140") && alarm.message.contains("alarm"), "{}", alarm.message);
+    let ws: Vec<String> = a.plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(ws, ["facing finish"]);
 }

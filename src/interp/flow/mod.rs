@@ -1932,7 +1932,12 @@ impl<'a> Driver<'a, '_> {
         let blocks = self.numbered_blocks(self.cur, first);
         let found = blocks.iter().find(|p| p.at >= after).or(if rough.is_none() { blocks.first() } else { None }).copied();
         let Some(from) = found else {
-            self.error(diags, Code::MissingLabel, block.range, format!("no block N{first} after this cycle starts its contour"));
+            // The control searches the program for the block P names and stops with an
+            // alarm where it finds none: no contour is run, roughed or guessed.
+            let msg = format!(
+                "no block N{first} after this cycle starts its contour: the control stops here with an alarm (the sequence number P names is not found)"
+            );
+            self.error(diags, Code::MissingLabel, block.range, msg);
             return;
         };
         let start = interp.st.pos;
