@@ -88,8 +88,52 @@ pub(super) fn account(
     };
     let cuts = fa.is_empty() || fb.is_empty() || cuts();
     let told = verdict::verdicts(&fa, &fb, &|l| verdict::same_line(l, (&sa, &sb), &hunks), cuts);
+    // An edit only inside remarks (a parenthesis nested in one added or taken out): the
+    // control's words are the same in both, and what changes is only that the control stops
+    // at the remark closed early, or no longer does. The plan changes that follow from the
+    // analysis reading the remark's rest as words (a block it skipped, a statement of remark
+    // text) are that same fix or break, not an edit of their own.
+    if !told.is_empty() && only_remarks_differ(a, b) {
+        changes.clear();
+        // One row per side, saying what the control met there.
+        for mut c in told {
+            if let Some(k) = changes.iter().position(|d: &Change| d.kind == c.kind) {
+                let d = &mut changes[k];
+                d.field = format!("{}, {}", d.field, c.field);
+                d.detail.at.append(&mut c.detail.at);
+                d.detail.at.dedup();
+                continue;
+            }
+            let what = |m: &str| format!("a remark closed early by a parenthesis nested in it, its rest read as words ({m})");
+            if c.kind == ChangeKind::ProgramFixed {
+                c.before = what(&c.before);
+            } else {
+                c.after = what(&c.after);
+            }
+            changes.push(c);
+        }
+        return;
+    }
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
+}
+
+/// Whether the two programs differ only inside `( )` remarks, read as if a remark's own
+/// parentheses nested in it (`(Copyright (c) 2024 ...)`, `(... M3(rechtsdrehend) ...)`): the
+/// control closes such a remark at its first `)` (DIN 66025: a remark holds no further
+/// parentheses; Fanuc and LinuxCNC alike), so the edit matters only for where the control
+/// stops. False where the dictionary has no `( )` remarks, or they already nest.
+fn only_remarks_differ(a: Program<'_>, b: Program<'_>) -> bool {
+    use crate::dialect::CommentClose;
+    let paren = |r: &crate::dialect::CommentRule| r.open == '(' && r.open2.is_none() && r.close == CommentClose::Char(')') && !r.nested;
+    if a.dialect.name != b.dialect.name || !a.dialect.lexical.comments.iter().any(paren) {
+        return false;
+    }
+    let mut d = a.dialect.clone();
+    for r in d.lexical.comments.iter_mut().filter(|r| paren(r)) {
+        r.nested = true;
+    }
+    statement::hunks(&statement::statements(a.text, &d), &statement::statements(b.text, &d)).is_empty()
 }
 
 /// [`account`] without the verdicts: the plan's changes located, and the statement changes.
