@@ -129,11 +129,26 @@ fn only_remarks_differ(a: Program<'_>, b: Program<'_>) -> bool {
     if a.dialect.name != b.dialect.name || !a.dialect.lexical.comments.iter().any(paren) {
         return false;
     }
-    let mut d = a.dialect.clone();
-    for r in d.lexical.comments.iter_mut().filter(|r| paren(r)) {
-        r.nested = true;
-    }
-    statement::hunks(&statement::statements(a.text, &d), &statement::statements(b.text, &d)).is_empty()
+    // Each line without its remarks, nested ones whole, and without blanks.
+    let words = |text: &str| -> Vec<String> {
+        text.lines()
+            .map(|line| {
+                let mut depth = 0u32;
+                let mut out = String::new();
+                for ch in line.chars() {
+                    match ch {
+                        '(' => depth += 1,
+                        ')' if depth > 0 => depth -= 1,
+                        c if depth == 0 && !c.is_whitespace() => out.push(c),
+                        _ => {}
+                    }
+                }
+                out
+            })
+            .filter(|l| !l.is_empty())
+            .collect()
+    };
+    words(a.text) == words(b.text)
 }
 
 /// [`account`] without the verdicts: the plan's changes located, and the statement changes.
@@ -1083,11 +1098,14 @@ fn call_changes(
         for k in 0..pa.len().max(pb.len()) {
             let (va, vb) = (pa.get(k), pb.get(k));
             // An argument the plan's change located here already tells in the machine's terms.
-            let told = args.get(k).and_then(|a| argument_kind(a.role)).is_some_and(|kind| located.contains(&kind));
+            let told = args.get(k).is_some_and(|a| {
+                argument_kind(a.role).is_some_and(|kind| located.contains(&kind))
+                    || (typed::arg_kind(a.role) != ChangeKind::CycleParameterChanged && located.contains(&typed::arg_kind(a.role)))
+            });
             if va == vb || told {
                 continue;
             }
-            let mut c = blank(ChangeKind::CycleParameterChanged, ws.clone());
+            let mut c = blank(args.get(k).map_or(ChangeKind::CycleParameterChanged, |a| typed::arg_kind(a.role)), ws.clone());
             c.field = match args.get(k) {
                 Some(a) => format!("{} {}", x.key, typed::arg_name(a)),
                 None => format!("{} argument {}", x.key, k + 1),
@@ -1260,11 +1278,14 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
                 let param = typed::cycle_param(&key, d);
                 let mut c = blank(
-                    if param.is_some() && kind == ChangeKind::StatementChanged { ChangeKind::CycleParameterChanged } else { kind },
+                    match param {
+                        Some(a) if kind == ChangeKind::StatementChanged => typed::arg_kind(a.role),
+                        _ => kind,
+                    },
                     ws.clone(),
                 );
                 c.field = match param {
-                    Some(a) if c.kind == ChangeKind::CycleParameterChanged => format!("cycle parameter {}", typed::arg_name(a)),
+                    Some(a) if c.kind == typed::arg_kind(a.role) => format!("cycle parameter {}", typed::arg_name(a)),
                     _ => format!("variable {key}"),
                 };
                 c.before = x.as_ref().map(|t| t.value.clone()).unwrap_or_default();
