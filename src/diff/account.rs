@@ -95,8 +95,16 @@ pub(super) fn account(
     // text) are that same fix or break, not an edit of their own.
     if !told.is_empty() && only_remarks_differ(a, b) {
         changes.clear();
-        // One row per side, saying what the control met there.
+        // One row per side, saying what the control met there, at its line in both programs.
+        let same = |o: u32| verdict::same_line(o, (&sa, &sb), &hunks);
         for mut c in told {
+            for at in c.detail.at.iter_mut() {
+                match *at {
+                    (Some(o), None) => at.1 = same(o),
+                    (None, Some(e)) => at.0 = sa.iter().map(|s| s.line).find(|&o| same(o) == Some(e)),
+                    _ => {}
+                }
+            }
             if let Some(k) = changes.iter().position(|d: &Change| d.kind == c.kind) {
                 let d = &mut changes[k];
                 d.field = format!("{}, {}", d.field, c.field);

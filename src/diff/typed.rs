@@ -525,7 +525,8 @@ pub(super) fn arg_kind(role: Role) -> ChangeKind {
 
 /// A cycle argument's name as a planner reads it: `Q200 (safety distance)`.
 pub(super) fn arg_name(arg: &crate::dialect::CycleArg) -> String {
-    format!("{} ({})", arg.name, arg.role.as_str().replace('-', " "))
+    // The manuals' leading `_` of Siemens names (`_FFP1`) is no part of the name a planner reads.
+    format!("{} ({})", arg.name.trim_start_matches('_'), arg.role.as_str().replace('-', " "))
 }
 
 /// The alignment of two argument lists: pairs of positions, one side `None` for an argument

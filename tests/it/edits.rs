@@ -1403,3 +1403,37 @@ fn a_motion_word_that_restates_the_mode_in_force_is_no_change() {
     let rapid = a.replace("\nX1 Y1\n", "\nG0 X1 Y1\n");
     assert_ne!(rows(&changes(a, &rapid, "linuxcnc")), "");
 }
+
+#[test]
+fn a_remark_edit_that_only_takes_out_a_nested_parenthesis_is_that_fix() {
+    // Fanuc closes a remark at its first `)`: `(STOCK IS (NOMINALLY) 3/8)` leaves ` 3/8)` as
+    // words, where the control stops. Taking the inner parenthesis out fixes the program and
+    // does nothing else: one row, not the statements of the remark's rest.
+    let a = "%\nO1000\n(STOCK IS (NOMINALLY) 10 MM)\nG21 G90 G17\nT1 M6\nS3000 M3\nG0 X0 Y0 Z5.\nG1 Z-1. F100.\nX50.\nG0 Z5.\nM30\n%\n";
+    let b = a.replace("(STOCK IS (NOMINALLY) 10 MM)", "(STOCK IS NOMINALLY 10 MM)");
+    let got = changes(a, &b, "fanuc");
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert_eq!(got[0].kind, ChangeKind::ProgramFixed, "{}", rows(&got));
+    assert!(got[0].phrase().contains("remark closed early by a parenthesis nested in it"), "{}", rows(&got));
+    // Put back, it breaks the program, told the same way.
+    let back = changes(&b, a, "fanuc");
+    assert_eq!(back.iter().map(|c| c.kind).collect::<Vec<_>>(), [ChangeKind::ProgramBroken], "{}", rows(&back));
+    // A block number renumbered beside such a remark is no remark edit.
+    let renumbered = b.replace("G21 G90 G17", "N5 G21 G90 G17");
+    assert!(changes(a, &renumbered, "fanuc").iter().all(|c| !c.phrase().contains("remark closed early")));
+}
+
+#[test]
+fn a_probes_feed_moves_are_no_cut_and_make_no_hole() {
+    // A probing job (Fusion's probe tool `T99 ... probe`): the protected moves down at a feed
+    // and the probing moves measure; moving the start is no hole removed and another added.
+    let a = "G20 G90 G17\n(T99 D=0.1181 CR=0.0591 - ZMIN=0. - probe)\nT99 G43 H99 M6\nG54\nG0 X-0.25 Y0\nG1 Z1 F50\nG1 Z-0.25 F20\nG38.2 X0.5 F10\nG0 Z1\nM30\n";
+    let b = a.replace("G0 X-0.25 Y0", "G0 X1.25 Y-1").replace("G38.2 X0.5", "G38.2 X2");
+    let got = changes(a, &b, "linuxcnc");
+    let kinds: Vec<ChangeKind> = got.iter().map(|c| c.kind).collect();
+    assert!(!kinds.iter().any(|k| matches!(k, ChangeKind::HoleAdded | ChangeKind::HoleRemoved | ChangeKind::HoleMoved)), "{}", rows(&got));
+    assert!(!got.is_empty(), "the edit is told");
+    let registry = Registry::shipped();
+    let plan = pipeline::analyze(a.as_bytes(), &registry.get("linuxcnc").unwrap(), &Profile::default()).plan;
+    assert!(plan.workingsteps.is_empty(), "a probe cuts nothing: {:?}", plan.workingsteps.len());
+}
