@@ -1224,17 +1224,9 @@ impl<'p> Recovery<'p> {
                 self.turn = None;
                 self.turn_seq += 1;
             }
-            // A probe move measures; it positions like a rapid and cuts nothing. So does any
-            // feed move of a probe (a tool its name calls one: Fusion's `T99 ... probe`, a
-            // shop's `3D-Taster`): the protected positioning moves of a probing job, the
-            // `G1 Z-.25 F..` down to the probing height, are no cut.
-            CanonOp::StraightFeed(p) if self.probe_in_spindle() => {
-                self.abc = [p[3], p[4], p[5]];
-                self.moved_axis = self.tool_axis;
-                let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
-                let mv = self.mv(MoveKind::Rapid, to, c.line);
-                self.pending.push(mv);
-            }
+            // A probe move measures; it positions like a rapid and cuts nothing (so does a
+            // probe's feed move, `probe_feed`).
+            CanonOp::StraightFeed(p) if self.probe_in_spindle() => self.probe_feed(p, c.line),
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
                 self.abc = [p[3], p[4], p[5]];
                 self.moved_axis = self.tool_axis;
@@ -1488,6 +1480,17 @@ impl<'p> Recovery<'p> {
         let mut mv = self.mv(MoveKind::Arc, to, c.line);
         mv.arc = Some(ArcGeometry { center, axis, turns: *rotation });
         self.cut(mv, c);
+    }
+
+    /// A feed move of a probe (a tool its name calls one: Fusion's `T99 ... probe`, a shop's
+    /// `3D-Taster`): the protected positioning moves of a probing job, the `G1 Z-.25 F..` down
+    /// to the probing height, position the probe as a rapid does and cut nothing.
+    fn probe_feed(&mut self, p: &[f64; 6], line: u32) {
+        self.abc = [p[3], p[4], p[5]];
+        self.moved_axis = self.tool_axis;
+        let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
+        let mv = self.mv(MoveKind::Rapid, to, line);
+        self.pending.push(mv);
     }
 
     /// Whether the tool in the spindle is a probe by its name (not a cutting tool).

@@ -1238,10 +1238,10 @@ fn siemens_r_parameters_and_def_variables_are_followed_to_the_depth_they_feed() 
     assert_eq!(via_rows(&got), ["depth_changed | cut depth (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
     let cycle = "R1=5\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-R1)\nX20\nMCALL\nM30\n";
     let got = changes(cycle, &cycle.replace("R1=5", "R1=8"), "siemens");
-    assert_eq!(via_rows(&got), ["cycle_parameter_changed | CYCLE81 DP (depth) (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
+    assert_eq!(via_rows(&got), ["depth_changed | CYCLE81 DP (depth) (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
     let def = "DEF REAL DEPTH=5\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-DEPTH)\nX20\nMCALL\nM30\n";
     let got = changes(def, &def.replace("DEPTH=5", "DEPTH=8"), "siemens");
-    assert_eq!(via_rows(&got), ["cycle_parameter_changed | CYCLE81 DP (depth) (via DEPTH) | 5 | 8 | Some(1)"], "{}", rows(&got));
+    assert_eq!(via_rows(&got), ["depth_changed | CYCLE81 DP (depth) (via DEPTH) | 5 | 8 | Some(1)"], "{}", rows(&got));
     // A variable the cycle does not read (the X of a later hole) is no cycle parameter.
     let x = "R2=20\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-5)\nX=R2\nMCALL\nM30\n";
     let got = changes(x, &x.replace("R2=20", "R2=30"), "siemens");
@@ -1253,12 +1253,7 @@ fn heidenhain_q_parameters_are_followed_into_the_cycle_parameter_they_set() {
     // TNC 640 Klartext: Q1 set once and given to cycle 200's Q201 (depth): the depth through Q1.
     let a = "0 BEGIN PGM T MM\n1 Q1 = -15\n2 TOOL CALL 1 Z S2000\n3 L Z+50 R0 FMAX M3\n4 CYCL DEF 200 DRILLING ~\n  Q200=2 ;SET-UP CLEARANCE ~\n  Q201=Q1 ;DEPTH ~\n  Q206=150 ;FEED RATE FOR PLNGNG ~\n  Q202=5 ;PLUNGING DEPTH ~\n  Q210=0 ;DWELL TIME AT TOP ~\n  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=50 ;2ND SET-UP CLEARANCE ~\n  Q211=0 ;DWELL TIME AT DEPTH\n5 L X+10 Y+10 R0 FMAX M99\n6 L Z+50 R0 FMAX M30\n7 END PGM T MM\n";
     let got = changes(a, &a.replace("Q1 = -15", "Q1 = -20"), "heidenhain");
-    assert_eq!(
-        via_rows(&got),
-        ["cycle_parameter_changed | cycle parameter Q201 (depth relative) (via Q1) | -15 | -20 | Some(2)"],
-        "{}",
-        rows(&got)
-    );
+    assert_eq!(via_rows(&got), ["depth_changed | cycle parameter Q201 (depth relative) (via Q1) | -15 | -20 | Some(2)"], "{}", rows(&got));
     // The set-up clearance through QL (a local Q parameter) the same way.
     let b = a.replace("1 Q1 = -15", "1 QL5 = 2").replace("Q200=2 ;", "Q200=QL5 ;").replace("Q201=Q1 ;", "Q201=-15 ;");
     let got = changes(&b, &b.replace("QL5 = 2", "QL5 = 4"), "heidenhain");
