@@ -1138,6 +1138,9 @@ fn call_changes(
 /// The statement changes of a control-flow statement told as what they change: its
 /// condition, its jump's target, its repeat count, the call or loop added or removed; the
 /// arguments a call passes and the variables it sets stay as they are.
+///
+/// A condition is shown with its word operators apart (`#156 LT 7`, not the statement's
+/// `#156LT7`), as a planner reads it.
 fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect) {
     let whole = it.original.is_none() || it.edited.is_none();
     let condition = it.diffs.iter().any(|(x, y)| {
@@ -1193,6 +1196,11 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         if argument {
             // The bracketed condition whole: `[#1LT6]` for `O100WHILE` argument 1.
             (c.before, c.after) = (unbracketed(&c.before), unbracketed(&c.after));
+        }
+        if field.ends_with("condition") {
+            (c.before, c.after) = (spaced(&c.before), spaced(&c.after));
+        }
+        if argument {
         } else if whole && c.before.is_empty() && c.after.is_empty() {
             c.after = "statement".into();
         }
@@ -1339,4 +1347,53 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         c.detail.at = vec![(lo, le)];
     }
     out
+}
+
+/// A condition with its word operators set apart by blanks (`#1LT3` → `#1 LT 3`,
+/// `#<A>EQ#<B>` → `#<A> EQ #<B>`, `[#1GT0]AND[#2LT5]` → `[#1 GT 0] AND [#2 LT 5]`): an operator
+/// only between an operand's end (a digit, `]`, `>`, `.`) and the next one's start (`#`, `[`,
+/// a digit, a sign, `.`), never inside a `#<name>`.
+fn spaced(s: &str) -> String {
+    const OPS: [&str; 10] = ["AND", "XOR", "MOD", "OR", "EQ", "NE", "LT", "LE", "GT", "GE"];
+    let b = s.as_bytes();
+    let mut out = String::with_capacity(s.len() + 8);
+    let (mut i, mut name) = (0, false);
+    while i < b.len() {
+        let c = b[i];
+        if name {
+            name = c != b'>';
+        } else if c == b'<' && i > 0 && b[i - 1] == b'#' {
+            name = true;
+        } else if i > 0 && (b[i - 1].is_ascii_digit() || matches!(b[i - 1], b']' | b'>' | b'.')) {
+            let op = OPS.iter().find(|op| {
+                s[i..].starts_with(**op)
+                    && b.get(i + op.len()).is_some_and(|n| n.is_ascii_digit() || matches!(n, b'#' | b'[' | b'-' | b'+' | b'.'))
+            });
+            if let Some(op) = op {
+                out.push(' ');
+                out.push_str(op);
+                out.push(' ');
+                i += op.len();
+                continue;
+            }
+        }
+        let ch = s[i..].chars().next().unwrap_or(' ');
+        out.push(ch);
+        i += ch.len_utf8();
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn conditions_read_with_their_operators_apart() {
+        use super::spaced;
+        assert_eq!(spaced("#1LT3"), "#1 LT 3");
+        assert_eq!(spaced("#<LOAD>EQ#<PROBE_NE>"), "#<LOAD> EQ #<PROBE_NE>");
+        assert_eq!(spaced("[#1GT0]AND[#2LE-5]"), "[#1 GT 0] AND [#2 LE -5]");
+        assert_eq!(spaced("R1<3"), "R1<3");
+        assert_eq!(spaced("#1 LT 3"), "#1 LT 3");
+        assert_eq!(spaced("Ø5GT2"), "Ø5 GT 2");
+    }
 }

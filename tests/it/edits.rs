@@ -568,8 +568,8 @@ fn control_flow_edits_are_told_as_what_runs() {
     let a = "%\nO1\nG21 G90 G17\nT1 M6\nS2000 M3\nG54 G0 X0. Y0. Z5.\n#1=0\nWHILE[#1LT3]DO1\nG1 Z-1. F300.\nX50.\n#1=#1+1\nEND1\nM98 P2 L2\nG0 Z50.\nM30\n%\nO2\nG0 Z5.\nM99\n%\n";
     let b = a.replace("WHILE[#1LT3]", "WHILE[#1LE3]").replace("P2 L2", "P2 L3");
     expect![[r#"
-        flow_changed | loop condition | #1LT3 | #1LE3 | 8 | 8
-          loop condition changed from #1LT3 to #1LE3 at line 8
+        flow_changed | loop condition | #1 LT 3 | #1 LE 3 | 8 | 8
+          loop condition changed from #1 LT 3 to #1 LE 3 at line 8
         flow_changed | passes | 2 | 3 | 13 | 13
           call runs 2 → 3 times at line 13
     "#]]
