@@ -88,8 +88,75 @@ pub(super) fn account(
     };
     let cuts = fa.is_empty() || fb.is_empty() || cuts();
     let told = verdict::verdicts(&fa, &fb, &|l| verdict::same_line(l, (&sa, &sb), &hunks), cuts);
+    // An edit only inside remarks (a parenthesis nested in one added or taken out): the
+    // control's words are the same in both, and what changes is only that the control stops
+    // at the remark closed early, or no longer does. The plan changes that follow from the
+    // analysis reading the remark's rest as words (a block it skipped, a statement of remark
+    // text) are that same fix or break, not an edit of their own.
+    if !told.is_empty() && only_remarks_differ(a, b) {
+        changes.clear();
+        // One row per side, saying what the control met there, at its line in both programs.
+        let same = |o: u32| verdict::same_line(o, (&sa, &sb), &hunks);
+        for mut c in told {
+            for at in c.detail.at.iter_mut() {
+                match *at {
+                    (Some(o), None) => at.1 = same(o),
+                    (None, Some(e)) => at.0 = sa.iter().map(|s| s.line).find(|&o| same(o) == Some(e)),
+                    _ => {}
+                }
+            }
+            if let Some(k) = changes.iter().position(|d: &Change| d.kind == c.kind) {
+                let d = &mut changes[k];
+                d.field = format!("{}, {}", d.field, c.field);
+                d.detail.at.append(&mut c.detail.at);
+                d.detail.at.dedup();
+                continue;
+            }
+            let what = |m: &str| format!("a remark closed early by a parenthesis nested in it, its rest read as words ({m})");
+            if c.kind == ChangeKind::ProgramFixed {
+                c.before = what(&c.before);
+            } else {
+                c.after = what(&c.after);
+            }
+            changes.push(c);
+        }
+        return;
+    }
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
+}
+
+/// Whether the two programs differ only inside `( )` remarks, read as if a remark's own
+/// parentheses nested in it (`(Copyright (c) 2024 ...)`, `(... M3(rechtsdrehend) ...)`): the
+/// control closes such a remark at its first `)` (DIN 66025: a remark holds no further
+/// parentheses; Fanuc and LinuxCNC alike), so the edit matters only for where the control
+/// stops. False where the dictionary has no `( )` remarks, or they already nest.
+fn only_remarks_differ(a: Program<'_>, b: Program<'_>) -> bool {
+    use crate::dialect::CommentClose;
+    let paren = |r: &crate::dialect::CommentRule| r.open == '(' && r.open2.is_none() && r.close == CommentClose::Char(')') && !r.nested;
+    if a.dialect.name != b.dialect.name || !a.dialect.lexical.comments.iter().any(paren) {
+        return false;
+    }
+    // Each line without its remarks, nested ones whole, and without blanks.
+    let words = |text: &str| -> Vec<String> {
+        text.lines()
+            .map(|line| {
+                let mut depth = 0u32;
+                let mut out = String::new();
+                for ch in line.chars() {
+                    match ch {
+                        '(' => depth += 1,
+                        ')' if depth > 0 => depth -= 1,
+                        c if depth == 0 && !c.is_whitespace() => out.push(c),
+                        _ => {}
+                    }
+                }
+                out
+            })
+            .filter(|l| !l.is_empty())
+            .collect()
+    };
+    words(a.text) == words(b.text)
 }
 
 /// [`account`] without the verdicts: the plan's changes located, and the statement changes.
@@ -1039,11 +1106,14 @@ fn call_changes(
         for k in 0..pa.len().max(pb.len()) {
             let (va, vb) = (pa.get(k), pb.get(k));
             // An argument the plan's change located here already tells in the machine's terms.
-            let told = args.get(k).and_then(|a| argument_kind(a.role)).is_some_and(|kind| located.contains(&kind));
+            let told = args.get(k).is_some_and(|a| {
+                argument_kind(a.role).is_some_and(|kind| located.contains(&kind))
+                    || (typed::arg_kind(a.role) != ChangeKind::CycleParameterChanged && located.contains(&typed::arg_kind(a.role)))
+            });
             if va == vb || told {
                 continue;
             }
-            let mut c = blank(ChangeKind::CycleParameterChanged, ws.clone());
+            let mut c = blank(args.get(k).map_or(ChangeKind::CycleParameterChanged, |a| typed::arg_kind(a.role)), ws.clone());
             c.field = match args.get(k) {
                 Some(a) => format!("{} {}", x.key, typed::arg_name(a)),
                 None => format!("{} argument {}", x.key, k + 1),
@@ -1068,6 +1138,9 @@ fn call_changes(
 /// The statement changes of a control-flow statement told as what they change: its
 /// condition, its jump's target, its repeat count, the call or loop added or removed; the
 /// arguments a call passes and the variables it sets stay as they are.
+///
+/// A condition is shown with its word operators apart (`#156 LT 7`, not the statement's
+/// `#156LT7`), as a planner reads it.
 fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect) {
     let whole = it.original.is_none() || it.edited.is_none();
     let condition = it.diffs.iter().any(|(x, y)| {
@@ -1123,6 +1196,11 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         if argument {
             // The bracketed condition whole: `[#1LT6]` for `O100WHILE` argument 1.
             (c.before, c.after) = (unbracketed(&c.before), unbracketed(&c.after));
+        }
+        if field.ends_with("condition") {
+            (c.before, c.after) = (spaced(&c.before), spaced(&c.after));
+        }
+        if argument {
         } else if whole && c.before.is_empty() && c.after.is_empty() {
             c.after = "statement".into();
         }
@@ -1216,11 +1294,14 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
                 let param = typed::cycle_param(&key, d);
                 let mut c = blank(
-                    if param.is_some() && kind == ChangeKind::StatementChanged { ChangeKind::CycleParameterChanged } else { kind },
+                    match param {
+                        Some(a) if kind == ChangeKind::StatementChanged => typed::arg_kind(a.role),
+                        _ => kind,
+                    },
                     ws.clone(),
                 );
                 c.field = match param {
-                    Some(a) if c.kind == ChangeKind::CycleParameterChanged => format!("cycle parameter {}", typed::arg_name(a)),
+                    Some(a) if c.kind == typed::arg_kind(a.role) => format!("cycle parameter {}", typed::arg_name(a)),
                     _ => format!("variable {key}"),
                 };
                 c.before = x.as_ref().map(|t| t.value.clone()).unwrap_or_default();
@@ -1266,4 +1347,53 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         c.detail.at = vec![(lo, le)];
     }
     out
+}
+
+/// A condition with its word operators set apart by blanks (`#1LT3` → `#1 LT 3`,
+/// `#<A>EQ#<B>` → `#<A> EQ #<B>`, `[#1GT0]AND[#2LT5]` → `[#1 GT 0] AND [#2 LT 5]`): an operator
+/// only between an operand's end (a digit, `]`, `>`, `.`) and the next one's start (`#`, `[`,
+/// a digit, a sign, `.`), never inside a `#<name>`.
+fn spaced(s: &str) -> String {
+    const OPS: [&str; 10] = ["AND", "XOR", "MOD", "OR", "EQ", "NE", "LT", "LE", "GT", "GE"];
+    let b = s.as_bytes();
+    let mut out = String::with_capacity(s.len() + 8);
+    let (mut i, mut name) = (0, false);
+    while i < b.len() {
+        let c = b[i];
+        if name {
+            name = c != b'>';
+        } else if c == b'<' && i > 0 && b[i - 1] == b'#' {
+            name = true;
+        } else if i > 0 && (b[i - 1].is_ascii_digit() || matches!(b[i - 1], b']' | b'>' | b'.')) {
+            let op = OPS.iter().find(|op| {
+                s[i..].starts_with(**op)
+                    && b.get(i + op.len()).is_some_and(|n| n.is_ascii_digit() || matches!(n, b'#' | b'[' | b'-' | b'+' | b'.'))
+            });
+            if let Some(op) = op {
+                out.push(' ');
+                out.push_str(op);
+                out.push(' ');
+                i += op.len();
+                continue;
+            }
+        }
+        let ch = s[i..].chars().next().unwrap_or(' ');
+        out.push(ch);
+        i += ch.len_utf8();
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn conditions_read_with_their_operators_apart() {
+        use super::spaced;
+        assert_eq!(spaced("#1LT3"), "#1 LT 3");
+        assert_eq!(spaced("#<LOAD>EQ#<PROBE_NE>"), "#<LOAD> EQ #<PROBE_NE>");
+        assert_eq!(spaced("[#1GT0]AND[#2LE-5]"), "[#1 GT 0] AND [#2 LE -5]");
+        assert_eq!(spaced("R1<3"), "R1<3");
+        assert_eq!(spaced("#1 LT 3"), "#1 LT 3");
+        assert_eq!(spaced("Ø5GT2"), "Ø5 GT 2");
+    }
 }

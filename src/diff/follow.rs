@@ -94,8 +94,7 @@ fn rapid_at(p: Program<'_>, stmts: &[Stmt], k: usize, own: &[Token]) -> Option<b
 /// What a word reading a variable does: its kind and field, in its statement's context.
 fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: &Dialect) -> Option<(ChangeKind, String)> {
     if typed::sets_variable(tok, d) {
-        return typed::cycle_param(&tok.key, d)
-            .map(|a| (ChangeKind::CycleParameterChanged, format!("cycle parameter {}", typed::arg_name(a))));
+        return typed::cycle_param(&tok.key, d).map(|a| (typed::arg_kind(a.role), format!("cycle parameter {}", typed::arg_name(a))));
     }
     if matches!(about(tok, d), About::Address(Role::Z)) && !ctx.cycle && ctx.data.is_none() && !ctx.length {
         return rapid().map(|r| {
@@ -159,7 +158,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
             {
                 for (i, a) in statement::arguments(&t.value).iter().enumerate() {
                     let kf = match args.get(i) {
-                        Some(arg) => (ChangeKind::CycleParameterChanged, format!("{} {}", t.key, typed::arg_name(arg))),
+                        Some(arg) => (typed::arg_kind(arg.role), format!("{} {}", t.key, typed::arg_name(arg))),
                         None => (ChangeKind::CycleParameterChanged, format!("{} argument {}", t.key, i + 1)),
                     };
                     if reads(a, name) && !kinds.contains(&kf) {

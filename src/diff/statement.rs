@@ -1085,7 +1085,17 @@ fn token(t: &str) -> Token {
             '[' | '<' => depth += 1,
             ']' | '>' => depth -= 1,
             '=' if depth == 0 && i > 0 && !t[i + 1..].starts_with('=') => {
-                return Token { key: t[..i].to_owned(), value: t[i + 1..].to_owned(), text, sort: Sort::Assign };
+                // A parameter function's label before the parameter it sets (Heidenhain
+                // `FN 0: Q1 = +5`, `FN 1: Q3 = +Q1 + +Q2`): the parameter is the one set, as in
+                // `Q1 = +5`.
+                let lhs = &t[..i];
+                let key = match lhs.rsplit_once(':') {
+                    Some((label, name)) if !label.is_empty() && !name.is_empty() && label.bytes().all(|b| b.is_ascii_alphanumeric()) => {
+                        name
+                    }
+                    _ => lhs,
+                };
+                return Token { key: key.to_owned(), value: t[i + 1..].to_owned(), text, sort: Sort::Assign };
             }
             _ => {}
         }

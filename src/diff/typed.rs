@@ -511,9 +511,22 @@ pub(super) fn cycle_param<'d>(key: &str, d: &'d Dialect) -> Option<&'d crate::di
     d.cycles.iter().flat_map(|c| c.args.iter()).find(|a| a.param == Some(n))
 }
 
+/// The kind of change a named cycle's argument makes, by its role in the dictionary: a feed
+/// (`FFP1` of `POCKET3`, `Q207` of cycle 251) is a feed change and a depth (`DP`, `Q201`) a
+/// depth change, as the plan names them where it sees them; any other is a cycle parameter.
+pub(super) fn arg_kind(role: Role) -> ChangeKind {
+    match role {
+        Role::F | Role::FinishFeed => ChangeKind::FeedChanged,
+        Role::PlungeFeed => ChangeKind::PlungeFeedChanged,
+        Role::Depth | Role::DepthRelative => ChangeKind::DepthChanged,
+        _ => ChangeKind::CycleParameterChanged,
+    }
+}
+
 /// A cycle argument's name as a planner reads it: `Q200 (safety distance)`.
 pub(super) fn arg_name(arg: &crate::dialect::CycleArg) -> String {
-    format!("{} ({})", arg.name, arg.role.as_str().replace('-', " "))
+    // The manuals' leading `_` of Siemens names (`_FFP1`) is no part of the name a planner reads.
+    format!("{} ({})", arg.name.trim_start_matches('_'), arg.role.as_str().replace('-', " "))
 }
 
 /// The alignment of two argument lists: pairs of positions, one side `None` for an argument

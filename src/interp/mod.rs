@@ -1523,10 +1523,13 @@ impl<'a> Interpreter<'a> {
         d
     }
 
-    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind, and counts the rest. A
-    /// listed finding met again (a loop's next pass) is neither listed nor counted; only the
-    /// listed ones are remembered, so memory stays bounded on any program.
+    /// Reports a finding, at most [`NOTE_LIMIT`] times per kind, and counts the rest; an error
+    /// every time at a new place, for the control stops at each (a fourth unknown statement is
+    /// where a program edited there stops, and what an edit breaks or fixes is told from
+    /// them). A listed finding met again (a loop's next pass) is neither listed nor counted;
+    /// only the listed ones are remembered, so memory stays bounded by the program's text.
     fn limited(&mut self, diags: &mut Vec<Diagnostic>, key: &str, d: Diagnostic) {
+        let error = d.is_error();
         let listed = (d.range.start, d.range.end, d.message);
         if self.noted.contains(&listed) {
             return;
@@ -1535,8 +1538,10 @@ impl<'a> Interpreter<'a> {
             Some(n) => n,
             None => self.notes.entry(key.to_owned()).or_insert(0),
         };
-        *n += 1;
-        if *n <= NOTE_LIMIT {
+        if !error {
+            *n += 1;
+        }
+        if *n <= NOTE_LIMIT || error {
             let d = Diagnostic { message: listed.2.clone(), ..d };
             self.noted.insert(listed);
             diags.push(d);

@@ -247,6 +247,17 @@ fn infer_tool_kinds(plan: &mut ProcessPlan) {
     }
 }
 
+/// Whether a tool's name calls it a probe, a measuring tool that cuts nothing: `PROBE`
+/// (Fusion 360's probe tool `T99 ... - probe`, `TOUCH PROBE`, `3D PROBE`), German shops'
+/// `TASTER` (`Messtaster`, `3D-Taster`) and `TASTSYSTEM`, Renishaw's probes by the maker's
+/// name. A word only: `PROBED` or `UNPROBED` are not.
+pub(crate) fn names_probe(name: &str) -> bool {
+    let up = name.to_ascii_uppercase();
+    up.split(|c: char| !c.is_ascii_alphanumeric()).any(|w| {
+        w == "PROBE" || w.ends_with("TASTER") || w.starts_with("TASTSYSTEM") || w == "RENISHAW" || (w.ends_with("PROBE") && w.len() <= 8)
+    })
+}
+
 /// The tool a tool-list comment names: `T3 D=10. ...`, `T3 - 10MM ENDMILL`, `T03: ...`,
 /// `TOOL 3 ...`, `TOOL: 3`, `LOAD/TOOL,3`.
 fn listed_tool(comment: &str) -> Option<u32> {
@@ -1213,7 +1224,9 @@ impl<'p> Recovery<'p> {
                 self.turn = None;
                 self.turn_seq += 1;
             }
-            // A probe move measures; it positions like a rapid and cuts nothing.
+            // A probe move measures; it positions like a rapid and cuts nothing (so does a
+            // probe's feed move, `probe_feed`).
+            CanonOp::StraightFeed(p) if self.probe_in_spindle() => self.probe_feed(p, c.line),
             CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
                 self.abc = [p[3], p[4], p[5]];
                 self.moved_axis = self.tool_axis;
@@ -1467,6 +1480,22 @@ impl<'p> Recovery<'p> {
         let mut mv = self.mv(MoveKind::Arc, to, c.line);
         mv.arc = Some(ArcGeometry { center, axis, turns: *rotation });
         self.cut(mv, c);
+    }
+
+    /// A feed move of a probe (a tool its name calls one: Fusion's `T99 ... probe`, a shop's
+    /// `3D-Taster`): the protected positioning moves of a probing job, the `G1 Z-.25 F..` down
+    /// to the probing height, position the probe as a rapid does and cut nothing.
+    fn probe_feed(&mut self, p: &[f64; 6], line: u32) {
+        self.abc = [p[3], p[4], p[5]];
+        self.moved_axis = self.tool_axis;
+        let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
+        let mv = self.mv(MoveKind::Rapid, to, line);
+        self.pending.push(mv);
+    }
+
+    /// Whether the tool in the spindle is a probe by its name (not a cutting tool).
+    fn probe_in_spindle(&self) -> bool {
+        self.in_cycle.is_none() && self.tools.get(&self.tool).and_then(|t| t.name.as_deref()).is_some_and(names_probe)
     }
 
     fn name_tool(&mut self, comment: &str) {
@@ -2213,7 +2242,7 @@ pub fn parse_stock(comment: &str) -> Option<[P3; 2]> {
 
 #[cfg(test)]
 mod tests {
-    use super::{parse_stock, parse_tool_comment, point_angle};
+    use super::{names_probe, parse_stock, parse_tool_comment, point_angle};
     use crate::plan::ToolKind;
 
     #[test]
@@ -2338,5 +2367,15 @@ mod tests {
         assert_eq!(parse_stock("STOCK X0 Y0 Z-20 X100 Y50 Z0"), Some([[0.0, 0.0, -20.0], [100.0, 50.0, 0.0]]));
         assert_eq!(parse_stock("Stock size: 100 x 50 x 20"), Some([[0.0, 0.0, -20.0], [100.0, 50.0, 0.0]]));
         assert_eq!(parse_stock("T1 D=18 ENDMILL"), None);
+    }
+
+    #[test]
+    fn a_probe_by_its_name() {
+        for n in ["T99  D=0.1181 CR=0.0591 - ZMIN=0. - probe", "3D-Taster", "Messtaster TS640", "TOUCH PROBE", "RENISHAW OMP40"] {
+            assert!(names_probe(n), "{n}");
+        }
+        for n in ["T1 D=10 ENDMILL", "PROBED DEPTH 5", "UNPROBED", "T3 DRILL 6.8"] {
+            assert!(!names_probe(n), "{n}");
+        }
     }
 }

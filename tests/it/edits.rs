@@ -568,8 +568,8 @@ fn control_flow_edits_are_told_as_what_runs() {
     let a = "%\nO1\nG21 G90 G17\nT1 M6\nS2000 M3\nG54 G0 X0. Y0. Z5.\n#1=0\nWHILE[#1LT3]DO1\nG1 Z-1. F300.\nX50.\n#1=#1+1\nEND1\nM98 P2 L2\nG0 Z50.\nM30\n%\nO2\nG0 Z5.\nM99\n%\n";
     let b = a.replace("WHILE[#1LT3]", "WHILE[#1LE3]").replace("P2 L2", "P2 L3");
     expect![[r#"
-        flow_changed | loop condition | #1LT3 | #1LE3 | 8 | 8
-          loop condition changed from #1LT3 to #1LE3 at line 8
+        flow_changed | loop condition | #1 LT 3 | #1 LE 3 | 8 | 8
+          loop condition changed from #1 LT 3 to #1 LE 3 at line 8
         flow_changed | passes | 2 | 3 | 13 | 13
           call runs 2 → 3 times at line 13
     "#]]
@@ -1238,10 +1238,10 @@ fn siemens_r_parameters_and_def_variables_are_followed_to_the_depth_they_feed() 
     assert_eq!(via_rows(&got), ["depth_changed | cut depth (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
     let cycle = "R1=5\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-R1)\nX20\nMCALL\nM30\n";
     let got = changes(cycle, &cycle.replace("R1=5", "R1=8"), "siemens");
-    assert_eq!(via_rows(&got), ["cycle_parameter_changed | CYCLE81 DP (depth) (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
+    assert_eq!(via_rows(&got), ["depth_changed | CYCLE81 DP (depth) (via R1) | 5 | 8 | Some(1)"], "{}", rows(&got));
     let def = "DEF REAL DEPTH=5\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-DEPTH)\nX20\nMCALL\nM30\n";
     let got = changes(def, &def.replace("DEPTH=5", "DEPTH=8"), "siemens");
-    assert_eq!(via_rows(&got), ["cycle_parameter_changed | CYCLE81 DP (depth) (via DEPTH) | 5 | 8 | Some(1)"], "{}", rows(&got));
+    assert_eq!(via_rows(&got), ["depth_changed | CYCLE81 DP (depth) (via DEPTH) | 5 | 8 | Some(1)"], "{}", rows(&got));
     // A variable the cycle does not read (the X of a later hole) is no cycle parameter.
     let x = "R2=20\nT1 D1\nM6\nS2000 M3\nG0 X0 Y0 Z2\nMCALL CYCLE81(10,0,1,-5)\nX=R2\nMCALL\nM30\n";
     let got = changes(x, &x.replace("R2=20", "R2=30"), "siemens");
@@ -1253,12 +1253,7 @@ fn heidenhain_q_parameters_are_followed_into_the_cycle_parameter_they_set() {
     // TNC 640 Klartext: Q1 set once and given to cycle 200's Q201 (depth): the depth through Q1.
     let a = "0 BEGIN PGM T MM\n1 Q1 = -15\n2 TOOL CALL 1 Z S2000\n3 L Z+50 R0 FMAX M3\n4 CYCL DEF 200 DRILLING ~\n  Q200=2 ;SET-UP CLEARANCE ~\n  Q201=Q1 ;DEPTH ~\n  Q206=150 ;FEED RATE FOR PLNGNG ~\n  Q202=5 ;PLUNGING DEPTH ~\n  Q210=0 ;DWELL TIME AT TOP ~\n  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=50 ;2ND SET-UP CLEARANCE ~\n  Q211=0 ;DWELL TIME AT DEPTH\n5 L X+10 Y+10 R0 FMAX M99\n6 L Z+50 R0 FMAX M30\n7 END PGM T MM\n";
     let got = changes(a, &a.replace("Q1 = -15", "Q1 = -20"), "heidenhain");
-    assert_eq!(
-        via_rows(&got),
-        ["cycle_parameter_changed | cycle parameter Q201 (depth relative) (via Q1) | -15 | -20 | Some(2)"],
-        "{}",
-        rows(&got)
-    );
+    assert_eq!(via_rows(&got), ["depth_changed | cycle parameter Q201 (depth relative) (via Q1) | -15 | -20 | Some(2)"], "{}", rows(&got));
     // The set-up clearance through QL (a local Q parameter) the same way.
     let b = a.replace("1 Q1 = -15", "1 QL5 = 2").replace("Q200=2 ;", "Q200=QL5 ;").replace("Q201=Q1 ;", "Q201=-15 ;");
     let got = changes(&b, &b.replace("QL5 = 2", "QL5 = 4"), "heidenhain");
@@ -1402,4 +1397,38 @@ fn a_motion_word_that_restates_the_mode_in_force_is_no_change() {
     assert_eq!(rows(&changes(&long, &explicit, "linuxcnc")), "");
     let rapid = a.replace("\nX1 Y1\n", "\nG0 X1 Y1\n");
     assert_ne!(rows(&changes(a, &rapid, "linuxcnc")), "");
+}
+
+#[test]
+fn a_remark_edit_that_only_takes_out_a_nested_parenthesis_is_that_fix() {
+    // Fanuc closes a remark at its first `)`: `(STOCK IS (NOMINALLY) 3/8)` leaves ` 3/8)` as
+    // words, where the control stops. Taking the inner parenthesis out fixes the program and
+    // does nothing else: one row, not the statements of the remark's rest.
+    let a = "%\nO1000\n(STOCK IS (NOMINALLY) 10 MM)\nG21 G90 G17\nT1 M6\nS3000 M3\nG0 X0 Y0 Z5.\nG1 Z-1. F100.\nX50.\nG0 Z5.\nM30\n%\n";
+    let b = a.replace("(STOCK IS (NOMINALLY) 10 MM)", "(STOCK IS NOMINALLY 10 MM)");
+    let got = changes(a, &b, "fanuc");
+    assert_eq!(got.len(), 1, "{}", rows(&got));
+    assert_eq!(got[0].kind, ChangeKind::ProgramFixed, "{}", rows(&got));
+    assert!(got[0].phrase().contains("remark closed early by a parenthesis nested in it"), "{}", rows(&got));
+    // Put back, it breaks the program, told the same way.
+    let back = changes(&b, a, "fanuc");
+    assert_eq!(back.iter().map(|c| c.kind).collect::<Vec<_>>(), [ChangeKind::ProgramBroken], "{}", rows(&back));
+    // A block number renumbered beside such a remark is no remark edit.
+    let renumbered = b.replace("G21 G90 G17", "N5 G21 G90 G17");
+    assert!(changes(a, &renumbered, "fanuc").iter().all(|c| !c.phrase().contains("remark closed early")));
+}
+
+#[test]
+fn a_probes_feed_moves_are_no_cut_and_make_no_hole() {
+    // A probing job (Fusion's probe tool `T99 ... probe`): the protected moves down at a feed
+    // and the probing moves measure; moving the start is no hole removed and another added.
+    let a = "G20 G90 G17\n(T99 D=0.1181 CR=0.0591 - ZMIN=0. - probe)\nT99 G43 H99 M6\nG54\nG0 X-0.25 Y0\nG1 Z1 F50\nG1 Z-0.25 F20\nG38.2 X0.5 F10\nG0 Z1\nM30\n";
+    let b = a.replace("G0 X-0.25 Y0", "G0 X1.25 Y-1").replace("G38.2 X0.5", "G38.2 X2");
+    let got = changes(a, &b, "linuxcnc");
+    let kinds: Vec<ChangeKind> = got.iter().map(|c| c.kind).collect();
+    assert!(!kinds.iter().any(|k| matches!(k, ChangeKind::HoleAdded | ChangeKind::HoleRemoved | ChangeKind::HoleMoved)), "{}", rows(&got));
+    assert!(!got.is_empty(), "the edit is told");
+    let registry = Registry::shipped();
+    let plan = pipeline::analyze(a.as_bytes(), &registry.get("linuxcnc").unwrap(), &Profile::default()).plan;
+    assert!(plan.workingsteps.is_empty(), "a probe cuts nothing: {:?}", plan.workingsteps.len());
 }

@@ -882,8 +882,8 @@ fn a_shopmill_pocket_made_longer_is_its_size_changed() {
         expect_test::expect![[r#"
         feature_changed | pocket_width | 40 mm | 44 mm | 8 | 8
           pocket width changed from 40 mm to 44 mm
-        cycle_parameter_changed | POCKET3 _LENG (pocket length) | 40 | 44 | 8 | 8
-          POCKET3  LENG (pocket length) changed from 40 to 44 at line 8
+        cycle_parameter_changed | POCKET3 LENG (pocket length) | 40 | 44 | 8 | 8
+          POCKET3 LENG (pocket length) changed from 40 to 44 at line 8
     "#]],
     );
 }
