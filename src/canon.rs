@@ -1179,7 +1179,10 @@ impl CallWriter {
     ///
     /// Each number is a fixed-size copy from the cache, or formatted where it goes and then
     /// cached; either may overwrite bytes past its end, which the next part overwrites in turn.
-    #[inline]
+    ///
+    /// Inlined: a printer calls it for every move, and the call's prologue and epilogue
+    /// cost as much as a cached number.
+    #[inline(always)]
     pub fn write_straight_at(&mut self, line: &mut [u8; MOVE_LINE], rapid: bool, p: &[f64; 6]) -> Option<usize> {
         straight_line(&mut self.cache, line, rapid, p)
     }
