@@ -163,3 +163,55 @@ impl<W: Write> CanonSink for Printer<'_, W> {
         self.put_straight(rapid, to);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canon::write_call_bytes;
+
+    /// The printer's chunks, with moves written where they go and other calls copied in,
+    /// hold the lines `write_call_bytes` writes, in order, across chunk ends; with line
+    /// numbers too, and for moves whose numbers only the standard formatter writes.
+    #[test]
+    fn the_printer_prints_the_calls_as_written_one_by_one() {
+        for lines in [false, true] {
+            let mut out = Vec::new();
+            let mut want = Vec::new();
+            let mut printer = Printer {
+                out: &mut out,
+                buf: vec![0; Printer::<Vec<u8>>::CHUNK + MOVE_LINE],
+                used: 0,
+                other: Vec::new(),
+                writer: CallWriter::default(),
+                lines,
+                error: None,
+            };
+            let long = "x".repeat(3 * Printer::<Vec<u8>>::CHUNK);
+            for i in 0..20_000u32 {
+                let x = f64::from(i % 900) * 0.2 - 7.0;
+                let ops = [
+                    CanonOp::StraightFeed([x, 1.5, -x * 0.013, 0.0, 0.0, 0.0]),
+                    CanonOp::StraightTraverse([x * 1e6, -x * 1e6, 0.5, 12_345.678_9, -x, 1.5]),
+                    CanonOp::StraightFeed([x, f64::NAN, 1e300, 0.0, 0.0, 0.0]),
+                    CanonOp::Comment(if i % 5000 == 7 { long.clone() } else { format!("c{i}") }),
+                ];
+                for (k, op) in ops.into_iter().enumerate() {
+                    let line = i * 4 + k as u32;
+                    if lines {
+                        want.extend_from_slice(format!("{line:>6} ").as_bytes());
+                    }
+                    write_call_bytes(&mut want, &op);
+                    let origin = TextRange::default();
+                    match op {
+                        CanonOp::StraightFeed(to) if k == 0 => printer.straight(false, &to, origin, line),
+                        CanonOp::StraightTraverse(to) if i % 2 == 0 => printer.straight(true, &to, origin, line),
+                        op => printer.emit(Canon { op, origin, line }),
+                    }
+                }
+            }
+            printer.flush();
+            assert!(printer.error.is_none());
+            assert!(out == want, "lines {lines}: the printed text differs");
+        }
+    }
+}
