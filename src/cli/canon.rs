@@ -167,7 +167,7 @@ impl<W: Write> CanonSink for Printer<'_, W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::canon::write_call_bytes;
+    use crate::pipeline::write_call_bytes;
 
     /// The printer's chunks, with moves written where they go and other calls copied in,
     /// hold the lines `write_call_bytes` writes, in order, across chunk ends; with line
