@@ -1125,8 +1125,8 @@ pub struct CallWriter {
     /// Direct-mapped: slot by a hash of the value's bits; (bits, length, text). Of a size
     /// known when compiled, so that a slot needs no bounds check.
     cache: Box<[(u64, u8, [u8; CACHED]); SLOTS]>,
-    /// Where a straight move's line is assembled before it is appended: kept from one call
-    /// to the next, so that no call clears room for it in the output first.
+    /// Where [`CallWriter::write_straight`] assembles a straight move's line before it is
+    /// appended: kept from one call to the next, so that no call clears room for it first.
     line: [u8; MOVE_LINE],
 }
 
@@ -1142,7 +1142,7 @@ impl Default for CallWriter {
 /// Room for the longest straight move line: the name (18 bytes), five numbers with the
 /// separators before them (5 × (2 + 23)), the last separator (2), and the 32 bytes the last
 /// number is formatted in, which also hold its `)` and the newline.
-const MOVE_LINE: usize = 18 + 5 * (2 + CACHED) + 2 + 32;
+pub const MOVE_LINE: usize = 18 + 5 * (2 + CACHED) + 2 + 32;
 
 impl CallWriter {
     /// Appends the call and a newline.
@@ -1165,40 +1165,61 @@ impl CallWriter {
     /// ([`CanonSink::straight`]).
     pub fn write_straight(&mut self, out: &mut Vec<u8>, rapid: bool, p: &[f64; 6]) {
         let line = &mut self.line;
-        // Each name a copy of a length known when compiled: no call to copy it.
-        let mut len = if rapid {
-            line[..18].copy_from_slice(b"STRAIGHT_TRAVERSE(");
-            18
-        } else {
-            line[..14].copy_from_slice(b"STRAIGHT_FEED(");
-            14
-        };
-        let op = || if rapid { CanonOp::StraightTraverse(*p) } else { CanonOp::StraightFeed(*p) };
-        // A machine without rotary axes moves with A, B and C at +0: the line's last three
-        // numbers and its end are one copy.
-        let rotary = (p[3].to_bits() | p[4].to_bits() | p[5].to_bits()) != 0;
-        let numbers = if rotary { &p[..] } else { &p[..3] };
-        for (i, &x) in numbers.iter().enumerate() {
-            if i > 0 {
-                line[len..len + 2].copy_from_slice(b", ");
-                len += 2;
-            }
-            let dst = line[len..].first_chunk_mut::<32>().expect("MOVE_LINE leaves room");
-            let Some(n) = write_f4(&mut self.cache, x, dst) else {
-                return write_call_bytes(out, &op());
-            };
-            len += n;
+        match straight_line(&mut self.cache, line, rapid, p) {
+            Some(len) => out.extend_from_slice(&line[..len]),
+            None => write_call_bytes(out, &if rapid { CanonOp::StraightTraverse(*p) } else { CanonOp::StraightFeed(*p) }),
         }
-        // Copies of a known length each: no call to copy a length only known at run time.
-        if rotary {
-            line[len..len + 2].copy_from_slice(b")\n");
-            len += 2;
-        } else {
-            line[len..len + NO_ROTARY_END.len()].copy_from_slice(NO_ROTARY_END);
-            len += NO_ROTARY_END.len();
-        }
-        out.extend_from_slice(&line[..len]);
     }
+
+    /// Writes the line [`CallWriter::write_straight`] appends at the start of `line` (it may
+    /// overwrite bytes past the line's end) and returns its length; `None`, with `line`
+    /// overwritten, where a number needs the standard formatter ([`write_call_bytes`] then
+    /// writes the op). A printer that keeps its output in a buffer of its own writes the
+    /// line where it goes: no copy between.
+    ///
+    /// Each number is a fixed-size copy from the cache, or formatted where it goes and then
+    /// cached; either may overwrite bytes past its end, which the next part overwrites in turn.
+    ///
+    /// Inlined: a printer calls it for every move, and the call's prologue and epilogue
+    /// cost as much as a cached number.
+    #[inline(always)]
+    pub fn write_straight_at(&mut self, line: &mut [u8; MOVE_LINE], rapid: bool, p: &[f64; 6]) -> Option<usize> {
+        straight_line(&mut self.cache, line, rapid, p)
+    }
+}
+
+/// [`CallWriter::write_straight_at`], with the writer's cache.
+#[inline(always)]
+fn straight_line(cache: &mut [(u64, u8, [u8; CACHED]); SLOTS], line: &mut [u8; MOVE_LINE], rapid: bool, p: &[f64; 6]) -> Option<usize> {
+    // Each name a copy of a length known when compiled: no call to copy it.
+    let mut len = if rapid {
+        line[..18].copy_from_slice(b"STRAIGHT_TRAVERSE(");
+        18
+    } else {
+        line[..14].copy_from_slice(b"STRAIGHT_FEED(");
+        14
+    };
+    // A machine without rotary axes moves with A, B and C at +0: the line's last three
+    // numbers and its end are one copy.
+    let rotary = (p[3].to_bits() | p[4].to_bits() | p[5].to_bits()) != 0;
+    let numbers = if rotary { &p[..] } else { &p[..3] };
+    for (i, &x) in numbers.iter().enumerate() {
+        if i > 0 {
+            line[len..len + 2].copy_from_slice(b", ");
+            len += 2;
+        }
+        let dst = line[len..].first_chunk_mut::<32>().expect("MOVE_LINE leaves room");
+        len += write_f4(cache, x, dst)?;
+    }
+    // Copies of a known length each: no call to copy a length only known at run time.
+    if rotary {
+        line[len..len + 2].copy_from_slice(b")\n");
+        len += 2;
+    } else {
+        line[len..len + NO_ROTARY_END.len()].copy_from_slice(NO_ROTARY_END);
+        len += NO_ROTARY_END.len();
+    }
+    Some(len)
 }
 
 /// The end of a straight move whose A, B and C are +0 (three numbers [`push_f4`] writes as

@@ -11,7 +11,7 @@ use crate::text::{self, DecodeNote};
 // The vocabulary the commands speak: diagnostics and how they are shown, dialects, positions
 // in a text, plans, the options of a translation, changes. What they ask of the core is one
 // function each, below.
-pub use crate::canon::{CallWriter, Canon, CanonSink, Units};
+pub use crate::canon::{CallWriter, Canon, CanonOp, CanonSink, MOVE_LINE, Units, write_call_bytes};
 pub use crate::diag::{Code, Diagnostic, DiagnosticJson, Severity, render_human, render_short, render_short_at};
 pub use crate::dialect::sniff::Sniffed;
 pub use crate::dialect::{Dialect, Registry};

@@ -726,13 +726,14 @@ impl Layout {
 
     /// Appends the decoded text from the first character boundary at or after `at` to `out`,
     /// `want` bytes or up to a character's end beyond them (fewer at the end), reading the
-    /// file's bytes through `read_at` (file offset, buffer → bytes read). Returns where the
+    /// file's bytes through `read_at` (file offset, most bytes, buffer → bytes appended to
+    /// the buffer: appended, so that no room is cleared for them first). Returns where the
     /// appended text starts; `Changed` when the file no longer holds what was surveyed.
     pub fn read(
         &self,
         at: usize,
         want: usize,
-        read_at: &mut dyn FnMut(u64, &mut [u8]) -> usize,
+        read_at: &mut dyn FnMut(u64, usize, &mut Vec<u8>) -> usize,
         out: &mut String,
     ) -> Result<usize, Changed> {
         let at = at.min(self.text_len);
@@ -751,7 +752,7 @@ impl Layout {
         &self,
         at: usize,
         want: usize,
-        read_at: &mut dyn FnMut(u64, &mut [u8]) -> usize,
+        read_at: &mut dyn FnMut(u64, usize, &mut Vec<u8>) -> usize,
         out: &mut String,
     ) -> Result<usize, Changed> {
         // Up to 3 bytes to the first boundary, the end of the last character and the byte after
@@ -760,12 +761,11 @@ impl Layout {
         // Read into the text's own bytes: no buffer between.
         let mut bytes = std::mem::take(out).into_bytes();
         let kept = bytes.len();
-        bytes.resize(kept + len, 0);
         let restore = |mut bytes: Vec<u8>, out: &mut String| {
             bytes.truncate(kept);
             *out = String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
         };
-        if read_full(read_at, self.bom + at as u64, &mut bytes[kept..]) < len {
+        if read_full(read_at, self.bom + at as u64, len, &mut bytes) < len {
             restore(bytes, out);
             return Err(Changed);
         }
@@ -802,7 +802,7 @@ impl Layout {
         &self,
         at: usize,
         want: usize,
-        read_at: &mut dyn FnMut(u64, &mut [u8]) -> usize,
+        read_at: &mut dyn FnMut(u64, usize, &mut Vec<u8>) -> usize,
         out: &mut String,
     ) -> Result<usize, Changed> {
         // The last mark at or before `at`, and decoding on from it.
@@ -823,10 +823,11 @@ impl Layout {
         let mut written = 0;
         let kept = out.len();
         let chunk = want.clamp(64, 1 << 20);
-        let mut buf = vec![0u8; chunk + 1];
+        let mut buf = Vec::with_capacity(chunk + 1);
         'read: while body < self.body_len {
             let len = ((chunk + 1) as u64).min(self.body_len - body) as usize;
-            if read_full(read_at, self.bom + body, &mut buf[..len]) < len {
+            buf.clear();
+            if read_full(read_at, self.bom + body, len, &mut buf) < len {
                 out.truncate(kept);
                 return Err(Changed);
             }
@@ -852,11 +853,13 @@ impl Layout {
     }
 }
 
-/// Reads into all of `buf` from `offset` through `read_at`; the bytes read.
-fn read_full(read_at: &mut dyn FnMut(u64, &mut [u8]) -> usize, offset: u64, buf: &mut [u8]) -> usize {
+/// Appends `len` bytes from `offset` on to `buf` through `read_at` (fewer where the file
+/// ends before); the bytes appended.
+fn read_full(read_at: &mut dyn FnMut(u64, usize, &mut Vec<u8>) -> usize, offset: u64, len: usize, buf: &mut Vec<u8>) -> usize {
+    buf.reserve(len);
     let mut got = 0;
-    while got < buf.len() {
-        let n = read_at(offset + got as u64, &mut buf[got..]);
+    while got < len {
+        let n = read_at(offset + got as u64, len - got, buf);
         if n == 0 {
             break;
         }
@@ -896,10 +899,10 @@ impl TextReader for BytesReader {
     }
 
     fn read(&self, at: usize, want: usize, buf: &mut String) -> usize {
-        let mut read_at = |off: u64, b: &mut [u8]| {
+        let mut read_at = |off: u64, most: usize, b: &mut Vec<u8>| {
             let off = (off as usize).min(self.bytes.len());
-            let n = b.len().min(self.bytes.len() - off);
-            b[..n].copy_from_slice(&self.bytes[off..off + n]);
+            let n = most.min(self.bytes.len() - off);
+            b.extend_from_slice(&self.bytes[off..off + n]);
             n
         };
         self.layout.read(at, want, &mut read_at, buf).unwrap_or(at)

@@ -9,8 +9,7 @@
 //! other than the survey's, checked after the run.
 
 use std::fs::File;
-use std::io::Read;
-use std::os::unix::fs::FileExt;
+use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::SystemTime;
@@ -27,6 +26,8 @@ pub struct FileText {
     seen: (u64, Option<SystemTime>),
     /// Why the file could not be read as surveyed (the first reason).
     trouble: Mutex<Option<String>>,
+    /// Held while the file's position is set and bytes read from it.
+    reading: Mutex<()>,
 }
 
 /// A program's text: a regular file read piece by piece, or bytes read whole (a pipe, a
@@ -107,7 +108,7 @@ impl FileText {
             survey.feed(&buf[..n]);
         }
         let (layout, notes) = survey.finish();
-        let text = FileText { file, path: path.to_path_buf(), layout, seen, trouble: Mutex::new(None) };
+        let text = FileText { file, path: path.to_path_buf(), layout, seen, trouble: Mutex::new(None), reading: Mutex::new(()) };
         Ok((text, crate::diag::decoding(notes)))
     }
 
@@ -140,13 +141,18 @@ impl TextReader for FileText {
 
     fn read(&self, at: usize, want: usize, buf: &mut String) -> usize {
         let mut failed = None;
-        let mut read_at = |offset: u64, b: &mut [u8]| loop {
-            match self.file.read_at(b, offset) {
-                Ok(n) => break n,
-                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+        // Appended where the buffer's room lies, not read into room cleared for it first:
+        // the position set and the bytes read under one lock, since the position is the
+        // file's own.
+        let mut read_at = |offset: u64, most: usize, b: &mut Vec<u8>| {
+            let _reading = self.reading.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            let mut file = &self.file;
+            let read = file.seek(SeekFrom::Start(offset)).and_then(|_| file.take(most as u64).read_to_end(b));
+            match read {
+                Ok(n) => n,
                 Err(e) => {
                     failed = Some(e);
-                    break 0;
+                    0
                 }
             }
         };
@@ -202,7 +208,8 @@ mod tests {
         // Grown after the survey: its size is not the one surveyed.
         std::fs::write(&path, &text).unwrap();
         let (program, _) = Program::open(&path).unwrap();
-        std::fs::OpenOptions::new().append(true).open(&path).unwrap().write_all_at(b"M30\n", text.len() as u64).unwrap();
+        let file = std::fs::OpenOptions::new().append(true).open(&path).unwrap();
+        std::os::unix::fs::FileExt::write_all_at(&file, b"M30\n", text.len() as u64).unwrap();
         assert!(program.trouble().is_some_and(|w| w.contains("changed while it was read")), "{:?}", program.trouble());
     }
 }
