@@ -1026,3 +1026,20 @@ fn a_mirror_moved_moves_the_holes_cut_under_it() {
     "#]],
     );
 }
+
+/// Cylindrical interpolation (`G07.1 C25.`, Fanuc 0i-TF): the slot milled on the cylinder made
+/// deeper, its bottom `X46.` → `X45.` (Ø46 → Ø45: 2 → 2.5 deep), is that slot's depth changed,
+/// told in the developed surface's plane (its Z the radius the tool cuts at); no turned feature
+/// comes or goes.
+#[test]
+fn a_slot_on_the_cylinder_made_deeper_is_its_depth_changed() {
+    edit(
+        "fanuc_lathe_g071_cylinder_slot",
+        "G1 X46. F100.",
+        "G1 X45. F100.",
+        expect_test::expect![[r#"
+        depth_changed | depth | Z23 | Z22.5 | 18 | 18
+          depth changed from Z23 to Z22.5 at line 18
+    "#]],
+    );
+}
