@@ -158,7 +158,7 @@ impl Interpreter<'_> {
             // geometry.
             let args = std::mem::take(&mut self.cycle_args);
             let d = args.iter().find(|(r, _)| *r == Role::Geometry).map(|(_, v)| *v);
-            self.cylinder_mode(d.map(|d| d / 2.0), sink);
+            self.cylinder_mode(d.map(|d| d / 2.0), block_range, sink, diags);
             return;
         }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TcpOn).is_some() {

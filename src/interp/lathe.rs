@@ -282,7 +282,7 @@ impl Interpreter<'_> {
     pub(super) fn face_mode(&mut self, on: bool, sink: &mut dyn CanonSink) {
         // TRAFOOF ends any transformation: cylindrical interpolation too.
         if !on && self.st.cylinder.is_some() {
-            self.cylinder_mode(None, sink);
+            self.cylinder_mode(None, TextRange::default(), sink, &mut Vec::new());
             return;
         }
         let plane = match (on, self.st.face_plane) {
@@ -338,10 +338,10 @@ impl Interpreter<'_> {
     /// Cylindrical interpolation's code (Fanuc `G07.1 C25.`, `G107 C25.`): the word the
     /// dictionary maps to `extra` gives the cylinder's radius, 0 ends the mode. Without that
     /// word (`TRACYL` as a keyword) the cycle form's argument gives it (`cycles_after`).
-    pub(super) fn cylinder_code(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
+    pub(super) fn cylinder_code(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let Some(&(from, _)) = def.args.iter().find(|(_, to)| *to == Role::Extra) else { return };
         if let Some(r) = self.slot(from) {
-            self.cylinder_mode((r.abs() > 1e-9).then_some(r.abs()), sink);
+            self.cylinder_mode((r.abs() > 1e-9).then_some(r.abs()), range, sink, diags);
         }
     }
 
@@ -353,7 +353,7 @@ impl Interpreter<'_> {
     /// that angle the plane touches the cylinder, so a feature there lies on it with its
     /// radial axis; beyond it the developed surface is laid flat, not wrapped [a partial
     /// placement: the plan's features have one axis each].
-    pub(super) fn cylinder_mode(&mut self, radius: Option<f64>, sink: &mut dyn CanonSink) {
+    pub(super) fn cylinder_mode(&mut self, radius: Option<f64>, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let p = self.st.pos;
         match (radius, self.st.cylinder) {
             (Some(radius), None) => {
@@ -369,6 +369,13 @@ impl Interpreter<'_> {
                 // The cylinder's surface is the top the slot or profile is cut from.
                 self.emit(sink, CanonOp::Setting(Setting::CycleSurface(radius)));
                 self.st.pos = [-p[2], 0.0, p[0], p[3], p[4], p[5]];
+                let msg = format!(
+                    "cylindrical interpolation (radius {}): the moves are milling on the cylinder, placed on its developed surface laid tangent at C{}; beyond that angle the plan lays them flat, not wrapped, and the tool axis stays radial at C{}",
+                    crate::text::num(radius),
+                    crate::text::num(p[5]),
+                    crate::text::num(p[5])
+                );
+                self.limited(diags, "cylinder-developed", Diagnostic::new(Code::Unsupported, range, msg));
             }
             (None, Some(cyl)) => {
                 let c = cyl.c0 + (p[1] / cyl.radius).to_degrees();
