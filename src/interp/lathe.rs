@@ -368,7 +368,9 @@ impl Interpreter<'_> {
                 self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
                 // The cylinder's surface is the top the slot or profile is cut from.
                 self.emit(sink, CanonOp::Setting(Setting::CycleSurface(radius)));
-                self.st.pos = [-p[2], 0.0, p[0], p[3], p[4], p[5]];
+                // The tool where it is, in the plane's coordinates: recovery carries a lathe
+                // point into the plane as if at C0, so the point is told again.
+                self.go_to(sink, [-p[2], 0.0, p[0], p[3], p[4], p[5]], false);
                 let msg = format!(
                     "cylindrical interpolation (radius {}): the moves are milling on the cylinder, placed on its developed surface laid tangent at C{}; beyond that angle the plan lays them flat, not wrapped, and the tool axis stays radial at C{}",
                     crate::text::num(radius),
