@@ -122,6 +122,13 @@ vocab! {
         /// The end of polar coordinate interpolation (Fanuc G13.1/G113; Siemens TRAFOOF ends it
         /// as it ends any transformation): the plane before it again.
         PolarInterpolationOff = "polar-interpolation-off",
+        /// Cylindrical interpolation on a lathe (Fanuc G07.1/G107 with the cylinder's radius in
+        /// the rotary axis word, the same code with 0 ending it; Siemens TRACYL(d) with the
+        /// working diameter, TRAFOOF ending it): the axis along the spindle and the developed
+        /// surface (the C word in degrees, turned into a length by the radius; a Y word that
+        /// length) are a plane on the cylinder, X the depth, milled with a driven tool whose
+        /// axis is radial.
+        CylindricalInterpolation = "cylindrical-interpolation",
         /// LinuxCNC's G70: finishing passes along the profile that the O-word subroutine
         /// named by Q draws, from distance D to E in P passes.
         ProfileFinish = "profile-finish",

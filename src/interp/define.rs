@@ -153,6 +153,14 @@ impl Interpreter<'_> {
             self.face_mode(true, sink);
             return;
         }
+        if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::CylindricalInterpolation).is_some() {
+            // `TRACYL(d)`: the working diameter, the argument the dictionary gives the role of
+            // geometry.
+            let args = std::mem::take(&mut self.cycle_args);
+            let d = args.iter().find(|(r, _)| *r == Role::Geometry).map(|(_, v)| *v);
+            self.cylinder_mode(d.map(|d| d / 2.0), block_range, sink, diags);
+            return;
+        }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::TcpOn).is_some() {
             self.cycle_args.clear();
             self.tcp(true, sink, diags);

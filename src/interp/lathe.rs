@@ -13,10 +13,11 @@
 //! pass before), infeeding along the flank (half the tool angle), up to the thread height (P)
 //! less the finishing allowance, then the full height once per finishing pass.
 
-use super::Interpreter;
-use crate::canon::{CanonOp, CanonSink, TurnIntent, TurnKind, Units};
+use super::{Interpreter, Slot};
+use crate::canon::{CanonOp, CanonSink, DistanceMode, Frame, Plane, Setting, TurnIntent, TurnKind, Units};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
+use crate::syntax::WordMode;
 use crate::text::TextRange;
 
 /// Most plunges or passes a cycle makes: more is a slip in a peck or shift.
@@ -279,6 +280,11 @@ impl Interpreter<'_> {
     /// Polar coordinate interpolation on (G12.1, TRANSMIT) or off (G13.1, TRAFOOF): the
     /// moves between are milling on the face, in its XY plane with the tool along Z.
     pub(super) fn face_mode(&mut self, on: bool, sink: &mut dyn CanonSink) {
+        // TRAFOOF ends any transformation: cylindrical interpolation too.
+        if !on && self.st.cylinder.is_some() {
+            self.cylinder_mode(None, TextRange::default(), sink, &mut Vec::new());
+            return;
+        }
         let plane = match (on, self.st.face_plane) {
             (true, None) => {
                 self.st.face_plane = Some(self.st.plane);
@@ -302,5 +308,122 @@ impl Interpreter<'_> {
             self.slots[Role::Y as usize] = Some(c);
             self.filled |= 1 << Role::Y as u32;
         }
+    }
+}
+
+/// Cylindrical interpolation in force: the cylinder's radius and the C angle (degrees) it
+/// began at, where the developed surface is laid tangent to the cylinder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Cylinder {
+    radius: f64,
+    c0: f64,
+}
+
+impl Cylinder {
+    /// The working plane of the developed surface, tangent to the cylinder at `c0`: its Z the
+    /// radial direction there (the driven tool's axis), its X along -Z (the spindle axis), its
+    /// Y the way C turns, as `interp::live` drills a side hole.
+    fn frame(&self) -> Frame {
+        let (s, co) = self.c0.to_radians().sin_cos();
+        Frame { origin: [0.0; 3], rotation: [[0.0, -s, co], [0.0, co, s], [-1.0, 0.0, 0.0]] }
+    }
+
+    /// A length on the developed surface for `degrees` of C.
+    fn developed(&self, degrees: f64) -> f64 {
+        self.radius * degrees.to_radians()
+    }
+}
+
+impl Interpreter<'_> {
+    /// Cylindrical interpolation's code (Fanuc `G07.1 C25.`, `G107 C25.`): the word the
+    /// dictionary maps to `extra` gives the cylinder's radius, 0 ends the mode. Without that
+    /// word (`TRACYL` as a keyword) the cycle form's argument gives it (`cycles_after`).
+    pub(super) fn cylinder_code(&mut self, def: &CodeDef, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let Some(&(from, _)) = def.args.iter().find(|(_, to)| *to == Role::Extra) else { return };
+        if let Some(r) = self.slot(from) {
+            self.cylinder_mode((r.abs() > 1e-9).then_some(r.abs()), range, sink, diags);
+        }
+    }
+
+    /// Cylindrical interpolation on with the cylinder's `radius`, or off (`None`). The
+    /// moves between are milling on the cylinder by a driven tool whose axis is radial. They
+    /// are written in the working plane of the developed surface laid tangent to the
+    /// cylinder at the C angle the mode began at (`Cylinder::frame`): X along -Z, Y the
+    /// developed length (the radius times C in radians), Z the radius the tool cuts at. At
+    /// that angle the plane touches the cylinder, so a feature there lies on it with its
+    /// radial axis; beyond it the developed surface is laid flat, not wrapped [a partial
+    /// placement: the plan's features have one axis each].
+    pub(super) fn cylinder_mode(&mut self, radius: Option<f64>, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
+        let p = self.st.pos;
+        match (radius, self.st.cylinder) {
+            (Some(radius), None) => {
+                if self.st.face_plane.is_some() {
+                    self.face_mode(false, sink);
+                }
+                let cyl = Cylinder { radius, c0: p[5] };
+                self.st.face_plane = Some(self.st.plane);
+                self.st.cylinder = Some(cyl);
+                self.st.plane = Plane::Xy;
+                self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
+                self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
+                // The cylinder's surface is the top the slot or profile is cut from.
+                self.emit(sink, CanonOp::Setting(Setting::CycleSurface(radius)));
+                // The tool where it is, in the plane's coordinates: recovery carries a lathe
+                // point into the plane as if at C0, so the point is told again.
+                self.go_to(sink, [-p[2], 0.0, p[0], p[3], p[4], p[5]], false);
+                let msg = format!(
+                    "cylindrical interpolation (radius {}): the moves are milling on the cylinder, placed on its developed surface laid tangent at C{}; beyond that angle the plan lays them flat, not wrapped, and the tool axis stays radial at C{}",
+                    crate::text::num(radius),
+                    crate::text::num(p[5]),
+                    crate::text::num(p[5])
+                );
+                self.limited(diags, "cylinder-developed", Diagnostic::new(Code::Unsupported, range, msg));
+            }
+            (None, Some(cyl)) => {
+                let c = cyl.c0 + (p[1] / cyl.radius).to_degrees();
+                self.st.pos = [p[2], 0.0, -p[0], p[3], p[4], c];
+                self.st.cylinder = None;
+                let plane = self.st.face_plane.take().unwrap_or(Plane::Xz);
+                self.st.plane = plane;
+                self.emit(sink, CanonOp::Setting(Setting::MillCycle(None)));
+                self.emit(sink, CanonOp::WorkPlane(None));
+                self.emit(sink, CanonOp::SelectPlane(plane));
+            }
+            // A new radius while on: the same developed surface, measured anew.
+            (Some(radius), Some(cyl)) => self.st.cylinder = Some(Cylinder { radius, ..cyl }),
+            (None, None) => {}
+        }
+    }
+
+    /// Under cylindrical interpolation, the words in the developed surface's plane
+    /// (`cylinder_mode`): Z along its -X, C (degrees, from the angle the mode began at) or Y
+    /// (a length) its Y, X (the radius the tool cuts at) its Z. The cylinder code's own word
+    /// (`G07.1 C0`) stays the code's.
+    pub(super) fn cylinder_words(&mut self, cyl: Cylinder) {
+        let take = |me: &mut Self, role: Role| {
+            if me.taken_by_code(role) {
+                return None;
+            }
+            me.filled &= !(1 << role as u32);
+            me.slots[role as usize].take()
+        };
+        let (x, y, z, c) = (take(self, Role::X), take(self, Role::Y), take(self, Role::Z), take(self, Role::C));
+        let absolute = |s: &Slot| match s.mode {
+            WordMode::Modal => self.st.distance != DistanceMode::Incremental,
+            WordMode::Absolute => true,
+            WordMode::Incremental => false,
+        };
+        let along = c
+            .map(|s| Slot { value: cyl.developed(if absolute(&s) { s.value - cyl.c0 } else { s.value }), ..s })
+            .or(y.map(|s| Slot { value: if absolute(&s) { s.value - cyl.developed(cyl.c0) } else { s.value }, ..s }));
+        let put = |me: &mut Self, role: Role, slot: Option<Slot>| {
+            if let Some(slot) = slot {
+                me.slots[role as usize] = Some(slot);
+                me.filled |= 1 << role as u32;
+            }
+        };
+        put(self, Role::X, z.map(|s| Slot { value: -s.value, ..s }));
+        put(self, Role::Y, along);
+        put(self, Role::Z, x);
     }
 }

@@ -667,6 +667,10 @@ struct State {
     /// Polar coordinate interpolation on a lathe (G12.1, TRANSMIT) in force: the plane it
     /// replaced. X and C are then a plane on the face (`lathe::face_words`).
     face_plane: Option<Plane>,
+    /// Cylindrical interpolation in force (G07.1, TRACYL): the cylinder's radius and the C
+    /// angle it began at (`lathe::cylinder_mode`); `face_plane` then holds the plane it
+    /// replaced.
+    cylinder: Option<lathe::Cylinder>,
     /// The initial level of the canned cycles in force: the hole axis position when the
     /// first of them began. G98 returns to it, and in G91 R counts from it.
     cycle_initial: Option<f64>,
@@ -729,6 +733,7 @@ impl State {
             rough_cut: None,
             lathe_setup: lathe::LatheSetup::default(),
             face_plane: None,
+            cylinder: None,
             sticky_q: None,
             sticky_p: None,
             ended: false,

@@ -128,7 +128,7 @@ impl Interpreter<'_> {
     /// Whether a code of the block gives this axis letter's word another meaning (Haas
     /// lathe `G76 ... A60`: A is the tool's angle, `args="A:tool-angle"`), so the word is
     /// no axis target in that block.
-    fn taken_by_code(&self, role: Role) -> bool {
+    pub(super) fn taken_by_code(&self, role: Role) -> bool {
         self.codes.iter().any(|&(c, _)| self.code(c).args.iter().any(|&(from, _)| from == role))
     }
 

@@ -67,7 +67,9 @@ impl Interpreter<'_> {
             ok &= self.read_word(block, k, *w, how, diags);
         }
         self.polar_roles();
-        if self.st.face_plane.is_some() {
+        if let Some(cylinder) = self.st.cylinder {
+            self.cylinder_words(cylinder);
+        } else if self.st.face_plane.is_some() {
             self.face_words();
         }
         // Where I J K are the circle centre and the pole (Heidenhain ISO), a block that

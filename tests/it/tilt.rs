@@ -1026,3 +1026,47 @@ fn a_mirror_moved_moves_the_holes_cut_under_it() {
     "#]],
     );
 }
+
+/// Cylindrical interpolation (`G07.1 C25.`, Fanuc 0i-TF): the slot milled on the cylinder made
+/// deeper, its bottom `X46.` → `X45.` (Ø46 → Ø45: 2 → 2.5 deep), is that slot's depth changed,
+/// told in the developed surface's plane (its Z the radius the tool cuts at); no turned feature
+/// comes or goes.
+#[test]
+fn a_slot_on_the_cylinder_made_deeper_is_its_depth_changed() {
+    edit(
+        "fanuc_lathe_g071_cylinder_slot",
+        "G1 X46. F100.",
+        "G1 X45. F100.",
+        expect_test::expect![[r#"
+        depth_changed | depth | Z23 | Z22.5 | 18 | 18
+          depth changed from Z23 to Z22.5 at line 18
+    "#]],
+    );
+}
+
+/// Cylindrical interpolation begun at C90, with `G19` inside it, incremental `W` and a `G03`
+/// on the developed surface: the slot lies at its start on the cylinder at C90 (Z-10: (0, 25,
+/// -10)) with the radial axis there (0, 1, 0), 8 wide and 2 deep; after `G07.1 C0` the C axis
+/// is where the developed length left it (C270), and no turned feature comes from the slot.
+#[test]
+fn a_slot_on_the_cylinder_begun_at_c90_lies_at_c90() {
+    let text = "%\nO0072\nT0101 (OD TOOL)\nG97 S1200 M3\nG0 X54. Z2.\nG1 X50. F0.2\nZ-60.\nG0 X54. Z2.\nM5\n\
+                T0505 (D8 END MILL)\nG98\nG0 X60. Z-10. C90.\nG07.1 C25.\nG19\nG1 X46. F100.\nW-30.\nC180.\n\
+                G03 Z-50. C220. R15.\nG1 C270.\nG0 X60.\nG07.1 C0\nG18\nG0 X60. Z2.\nM30\n%\n";
+    let plan = plan_of(text, &serde_json::json!({"dialect": "fanuc_lathe"}));
+    let kinds: Vec<&str> = plan.features.iter().map(|f| f.kind.label()).collect();
+    assert_eq!(kinds, ["outer diameter", "slot"], "{plan:#?}");
+    let slot = &plan.features[1];
+    assert!(matches(
+        slot,
+        &serde_json::json!({"kind": "slot", "axis": [0.0, 1.0, 0.0], "positions": [[0.0, 25.0, -10.0]], "width": 8.0, "depth": 2.0})
+    ));
+    let reg = Registry::shipped();
+    let d = reg.get("fanuc_lathe").unwrap();
+    let canon = pipeline::analyze(text.as_bytes(), &d, &Profile::default()).canon;
+    let end = canon.iter().rev().find_map(|c| match &c.op {
+        ncplan::canon::CanonOp::StraightTraverse(p) => Some(*p),
+        _ => None,
+    });
+    assert!(end.is_some_and(|p| (p[5] - 270.0).abs() < 1e-6 && (p[0] - 30.0).abs() < 1e-6), "{end:?}");
+}

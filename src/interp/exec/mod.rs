@@ -149,6 +149,7 @@ impl Interpreter<'_> {
             Meaning::PolarInterpolation | Meaning::PolarInterpolationOff => {
                 self.face_mode(def.meaning == Meaning::PolarInterpolation, sink)
             }
+            Meaning::CylindricalInterpolation => self.cylinder_code(def, range, sink, diags),
             Meaning::Wcs | Meaning::WcsExtended => self.work_offset(def, range, sink, diags),
             Meaning::StateSave | Meaning::StateSaveAutorestore | Meaning::StateInvalidate | Meaning::StateRestore => {
                 self.modal_context(def, range, sink, diags)

@@ -18,6 +18,12 @@ impl Interpreter<'_> {
             Meaning::PlaneXz => Plane::Xz,
             _ => Plane::Yz,
         };
+        // Under cylindrical interpolation the moves stay on the developed surface (its XY):
+        // the plane code (G19, the cylinder's plane) is the one the mode's end gives back.
+        if self.st.cylinder.is_some() {
+            self.st.face_plane = Some(plane);
+            return;
+        }
         self.st.plane = plane;
         self.emit(sink, CanonOp::SelectPlane(plane));
     }
