@@ -664,6 +664,7 @@ impl Interpreter<'_> {
                     | Meaning::FrameMirror
                     | Meaning::FrameMirrorAdd
                     | Meaning::Mirror
+                    | Meaning::MirrorAboutZero
                     | Meaning::MirrorCancel
                     | Meaning::Stock
                     | Meaning::CycleIntent
