@@ -360,9 +360,12 @@ vocab! {
         /// Adds a mirroring to the programmable frame's (`AMIRROR X0`): an axis named again is
         /// mirrored back.
         FrameMirrorAdd = "frame-mirror-add",
-        /// Programmable mirror image (Fanuc `G51.1 X10`, Haas `G101`): each axis named is
-        /// mirrored about the coordinate its word gives.
+        /// Programmable mirror image (Fanuc `G51.1 X10`): each axis named is mirrored about the
+        /// coordinate its word gives.
         Mirror = "mirror",
+        /// Programmable mirror image about the work zero (Haas `G101 X0`): each axis named is
+        /// mirrored about the work offset's zero, its word's value not read.
+        MirrorAboutZero = "mirror-about-zero",
         /// Programmable mirror image cancelled (Fanuc `G50.1 X0`, Haas `G100`) for the axes
         /// named; with none, for every axis.
         MirrorCancel = "mirror-cancel",
@@ -819,6 +822,11 @@ vocab! {
 }
 
 impl Meaning {
+    /// Whether the meaning sets or cancels a mirror image (programmable, or the frame's).
+    pub fn mirrors(self) -> bool {
+        matches!(self, Meaning::FrameMirror | Meaning::FrameMirrorAdd | Meaning::Mirror | Meaning::MirrorAboutZero | Meaning::MirrorCancel)
+    }
+
     /// Whether the meaning is a canned drilling or boring cycle.
     pub fn is_cycle(self) -> bool {
         matches!(

@@ -168,7 +168,11 @@ pub fn table(d: &Dialect) -> Vec<Row> {
         };
         rows.push(Row { kind, code, status: "modelled", what: c.name.clone(), manual: manual.clone() });
     }
-    for (keyword, statement) in &d.macros.statements {
+    // A statement its `<vocabulary>` restates (with the manual it comes from) is listed once,
+    // as the entry says.
+    let restated =
+        |keyword: &str| d.vocabulary.entries.iter().any(|e| e.kind == Kind::Statement && e.codes.split_whitespace().any(|c| c == keyword));
+    for (keyword, statement) in d.macros.statements.iter().filter(|(k, _)| !restated(k)) {
         let status = if *statement == Statement::Unsupported { "unsupported" } else { "modelled" };
         rows.push(Row { kind: "statement", code: keyword.clone(), status, what: statement.as_str().to_owned(), manual: manual.clone() });
     }

@@ -1200,8 +1200,7 @@ fn flow_changes(out: &mut [Change], it: &Item, flow: control::Flow, d: &Dialect)
         if field.ends_with("condition") {
             (c.before, c.after) = (spaced(&c.before), spaced(&c.after));
         }
-        if argument {
-        } else if whole && c.before.is_empty() && c.after.is_empty() {
+        if !argument && whole && c.before.is_empty() && c.after.is_empty() {
             c.after = "statement".into();
         }
         c.kind = ChangeKind::FlowChanged;

@@ -98,6 +98,7 @@ fn words_are_no_motion(m: Meaning) -> bool {
             | M::FrameMirror
             | M::FrameMirrorAdd
             | M::Mirror
+            | M::MirrorAboutZero
             | M::MirrorCancel
             | M::OriginShift
             | M::LocalOffset

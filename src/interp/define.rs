@@ -526,16 +526,35 @@ impl Interpreter<'_> {
         })
     }
 
+    /// The programmable frame deleted, as each replacing frame instruction (`TRANS`, `ROT`,
+    /// `SCALE`, `MIRROR`) does before it sets its own component (SINUMERIK 840D sl
+    /// Programming Manual Fundamentals, "Frame instructions": a substitutional instruction
+    /// resets all frame instructions programmed before it; the additive `A…` forms keep them).
+    pub(super) fn frame_replaced(&mut self, sink: &mut dyn CanonSink) {
+        self.frame_cleared_but_translation(sink);
+        let old = self.st.g92;
+        if old != [0.0; 6] {
+            self.st.g92 = [0.0; 6];
+            self.shift_origin(old, self.st.g92);
+            self.emit(sink, CanonOp::SetG92Offset(self.st.g92));
+        }
+    }
+
+    /// The plane a rotation in space turned put back about the datum it turned on, then the
+    /// rotation, mirroring and scaling cleared.
+    fn frame_cleared_but_translation(&mut self, sink: &mut dyn CanonSink) {
+        self.programmable_rotation_cleared(sink);
+        self.st.rotation = None;
+        self.set_mirror_and_scale([None; 3], None);
+    }
+
     /// `TRANS X10 Y5` replaces the programmable frame with a translation (alone: no frame);
     /// `ATRANS` adds to it. Kept in the G52/G92 offset, as G52 is.
     pub(super) fn frame_trans(&mut self, additive: bool, sink: &mut dyn CanonSink) {
         let old = self.st.g92;
         let mut new = if additive { old } else { [0.0; 6] };
         if !additive {
-            // The plane a rotation in space turned, put back about the datum it turned on.
-            self.programmable_rotation_cleared(sink);
-            self.st.rotation = None;
-            self.set_mirror_and_scale([None; 3], None);
+            self.frame_cleared_but_translation(sink);
         }
         for (i, &role) in Role::AXES.iter().enumerate() {
             if let Some(v) = self.slot(role) {
@@ -555,12 +574,12 @@ impl Interpreter<'_> {
         let additive = def.meaning == Meaning::FrameRotAdd;
         let about_z = self.slot(Role::R).or(self.slot(Role::Z)).unwrap_or(0.0);
         let [x, y] = [Role::X, Role::Y].map(|r| self.slot(r).unwrap_or(0.0));
+        if !additive {
+            self.frame_replaced(sink);
+        }
         if x != 0.0 || y != 0.0 {
             self.frame_rotation_in_space([x, y, about_z], additive, sink);
             return;
-        }
-        if !additive {
-            self.programmable_rotation_cleared(sink);
         }
         let base = match (additive, self.st.rotation) {
             (true, Some((_, _, c, s))) => s.atan2(c).to_degrees(),
@@ -570,8 +589,12 @@ impl Interpreter<'_> {
         self.st.rotation = if total == 0.0 { None } else { Some((0.0, 0.0, total.cos(), total.sin())) };
     }
 
-    /// `SCALE X2 Y2` sets the frame's scale per axis (1 where not given); `ASCALE` multiplies it.
-    pub(super) fn frame_scale(&mut self, additive: bool) {
+    /// `SCALE X2 Y2` replaces the frame with a scale per axis (1 where not given); `ASCALE`
+    /// multiplies the scale in force.
+    pub(super) fn frame_scale(&mut self, additive: bool, sink: &mut dyn CanonSink) {
+        if !additive {
+            self.frame_replaced(sink);
+        }
         let mut k = match (additive, self.st.scale_set) {
             (true, Some((_, k))) => k,
             _ => [1.0; 3],

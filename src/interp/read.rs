@@ -666,6 +666,7 @@ impl Interpreter<'_> {
                     | Meaning::FrameMirror
                     | Meaning::FrameMirrorAdd
                     | Meaning::Mirror
+                    | Meaning::MirrorAboutZero
                     | Meaning::MirrorCancel
                     | Meaning::Stock
                     | Meaning::CycleIntent

@@ -139,12 +139,20 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     }
     // One pass across the front that a later workingstep faces again a little behind it
     // (another pass, another tool) left stock for that face: it roughs. (Never faced again, it
-    // is the part's face, finished unless its operation's comment calls it roughing.)
+    // is the part's face, finished unless its operation's comment calls it roughing.) Only on
+    // the same part in the same place: the same setup, work offset and spindle (after a flip
+    // or on the counter-spindle, a face is another face).
+    let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
     let faces: Vec<Option<(f64, [f64; 2])>> = plan.workingsteps.iter().map(face_cut).collect();
+    let places: Vec<_> = plan.workingsteps.iter().map(place).collect();
     for (k, ws) in plan.workingsteps.iter_mut().enumerate() {
         let Some((z, d)) = faces[k] else { continue };
         let Some(t) = ws.turning.as_mut().filter(|t| t.passes == 1 && !t.inside && t.intent.is_none()) else { continue };
-        let again = faces[k + 1..].iter().flatten().any(|&(z2, d2)| z2 < z - TOL && z2 > z - REFACED && d2[0] < d[1] && d[0] < d2[1]);
+        let again = faces[k + 1..]
+            .iter()
+            .zip(&places[k + 1..])
+            .filter(|(_, p)| **p == places[k])
+            .any(|(f, _)| f.is_some_and(|(z2, d2)| z2 < z - TOL && z2 > z - REFACED && d2[0] < d[1] && d[0] < d2[1]));
         t.rough |= again;
     }
     // The finished face: where the first facing workingstep's last cut across leaves it (the
@@ -281,6 +289,11 @@ fn off_the_face(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
     let moves: Vec<Move> = ws.toolpath.iter().collect();
     let mut off: Vec<usize> = Vec::new();
     for (i, m) in moves.iter().enumerate() {
+        // A move already found leaving an earlier face cuts nothing, a face cut among them
+        // too: each move is looked at once (linear on a program of many face passes).
+        if off.last().is_some_and(|&j| i <= j) {
+            continue;
+        }
         let across = m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL;
         let to_axis = m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0;
         if !cut(m) || !across || !to_axis || m.from[0].abs() < 0.5 {

@@ -1069,4 +1069,59 @@ fn a_slot_on_the_cylinder_begun_at_c90_lies_at_c90() {
         _ => None,
     });
     assert!(end.is_some_and(|p| (p[5] - 270.0).abs() < 1e-6 && (p[0] - 30.0).abs() < 1e-6), "{end:?}");
+
+/// The feed moves and local offsets a program makes in `dialect`, as canon lines.
+fn feeds_of(dialect: &str, program: &str) -> Vec<String> {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let mut out = Vec::new();
+    let diags = ncplan::interp::interpret(program, &d, &Profile::default(), &mut out);
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let mut text = String::new();
+    for c in &out {
+        ncplan::canon::write_call(&mut text, &c.op);
+    }
+    text.lines().filter(|l| l.starts_with("STRAIGHT_FEED") || l.starts_with("SET_G92_OFFSET")).map(str::to_owned).collect()
+}
+
+/// Each replacing frame instruction of the 840D (`TRANS`, `ROT`, `SCALE`, `MIRROR`) deletes
+/// the frame programmed before it; the additive `A…` forms keep it (SINUMERIK 840D sl
+/// Programming Manual Fundamentals, frame instructions). Written by hand before the run (the
+/// canon's coordinates are the program's, the translation told by `SET_G92_OFFSET`): under
+/// `TRANS X50 Y30` then `AROT RPL=90`, X10 Y0 is X0 Y10 on the offset X50 Y30; `MIRROR X0`
+/// deletes both: the offset back to 0 and X10 Y0 is X-10 Y0; `AMIRROR Y0` adds: X10 Y5 is
+/// X-10 Y-5; `SCALE X2 Y2` deletes the mirrors: X10 Y5 is X20 Y10; `ROT RPL=90` deletes the
+/// scale: X10 Y0 is X0 Y10.
+#[test]
+fn a_replacing_frame_instruction_deletes_the_frame_before_it() {
+    let program = "G17 G90 G71\nT1 D1\nM6\nG0 X0 Y0 Z5\nTRANS X50 Y30\nAROT RPL=90\nG1 X10 Y0 F100\nMIRROR X0\nG1 X10 Y0\nAMIRROR Y0\nG1 X10 Y5\nSCALE X2 Y2\nG1 X10 Y5\nROT RPL=90\nG1 X10 Y0\nM30\n";
+    let feeds = feeds_of("siemens", program);
+    let xy: Vec<String> = feeds.iter().map(|l| l.split(", ").take(2).collect::<Vec<_>>().join(", ")).collect();
+    assert_eq!(
+        xy,
+        [
+            "SET_G92_OFFSET(50.0000, 30.0000",
+            "STRAIGHT_FEED(0.0000, 10.0000",
+            "SET_G92_OFFSET(0.0000, 0.0000",
+            "STRAIGHT_FEED(-10.0000, 0.0000",
+            "STRAIGHT_FEED(-10.0000, -5.0000",
+            "STRAIGHT_FEED(20.0000, 10.0000",
+            "STRAIGHT_FEED(0.0000, 10.0000",
+        ],
+        "{feeds:?}"
+    );
+}
+/// Haas `G101` mirrors the axes named about the work zero, whatever value the axis word
+/// carries (Haas VF operator's manual, G101: "around the work zero point"); `G100` ends it.
+/// Written before the run: X20 Y10 under `G101 X5.` is X-20 Y10; after `G100 X0` X20 Y10.
+#[test]
+fn a_haas_mirror_image_is_about_the_work_zero() {
+    let program = "G90 G17 G20\nT1 M6\nG0 X0 Y0 Z0.1\nG101 X5.\nG1 X20. Y10. F10.\nG100 X0\nG1 X20. Y10.\nM30\n";
+    let feeds = feeds_of("haas", program);
+    assert_eq!(
+        feeds,
+        [
+            "STRAIGHT_FEED(-20.0000, 10.0000, 0.1000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(20.0000, 10.0000, 0.1000, 0.0000, 0.0000, 0.0000)",
+        ]
+    );
 }

@@ -231,8 +231,8 @@ impl Interpreter<'_> {
             Meaning::Pole | Meaning::PoleKeeping | Meaning::PoleIncremental | Meaning::PoleFromPole => self.pole_code(def),
             Meaning::FrameTrans | Meaning::FrameTransAdd => self.frame_trans(def.meaning == Meaning::FrameTransAdd, sink),
             Meaning::FrameRot | Meaning::FrameRotAdd => self.frame_rot(def, sink),
-            Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd),
-            Meaning::FrameMirror | Meaning::FrameMirrorAdd | Meaning::Mirror | Meaning::MirrorCancel => self.mirror_code(def),
+            Meaning::FrameScale | Meaning::FrameScaleAdd => self.frame_scale(def.meaning == Meaning::FrameScaleAdd, sink),
+            m if m.mirrors() => self.mirror_code(def, sink),
             Meaning::CycleDefine => self.define_numbered_cycle(def, range, block, sink, diags),
             // Carried out after the block's moves (`cycles_after`).
             Meaning::CycleCall | Meaning::CycleModal => {}

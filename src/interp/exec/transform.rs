@@ -14,7 +14,7 @@
 //! [`Interpreter::mirror_code`], [`Interpreter::frame_mirror`], and
 //! [`Interpreter::transform`] for the ops [`Interpreter::emit`] sends.
 
-use crate::canon::{CanonOp, Plane};
+use crate::canon::{CanonOp, CanonSink, Plane};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
 use crate::interp::Interpreter;
@@ -79,11 +79,16 @@ impl Interpreter<'_> {
         self.set_mirror_and_scale(self.st.mirror, Some((centre, k)));
     }
 
-    /// G51.1 (each axis named mirrored about the coordinate its word gives) and G50.1 (the
+    /// G51.1 (each axis named mirrored about the coordinate its word gives; Haas G101 about
+    /// the work zero, the word's value not read) and G50.1 (the
     /// axes named no longer mirrored; with none, every axis); Siemens `MIRROR`/`AMIRROR`
     /// ([`Interpreter::frame_mirror`]).
-    pub(super) fn mirror_code(&mut self, def: &CodeDef) {
+    pub(super) fn mirror_code(&mut self, def: &CodeDef, sink: &mut dyn CanonSink) {
         let named = [0, 1, 2].map(|i| self.slot(Role::AXES[i]));
+        if def.meaning == Meaning::FrameMirror {
+            // A replacing frame instruction: the frame programmed before it deleted.
+            self.frame_replaced(sink);
+        }
         if matches!(def.meaning, Meaning::FrameMirror | Meaning::FrameMirrorAdd) {
             self.frame_mirror(def.meaning == Meaning::FrameMirrorAdd, named.map(|v| v.is_some()));
             return;
@@ -94,7 +99,7 @@ impl Interpreter<'_> {
             match (cancel, named[i]) {
                 (true, Some(_)) => mirror[i] = None,
                 (true, None) if named.iter().all(Option::is_none) => mirror[i] = None,
-                (false, Some(at)) => mirror[i] = Some(at),
+                (false, Some(at)) => mirror[i] = Some(if def.meaning == Meaning::MirrorAboutZero { 0.0 } else { at }),
                 _ => {}
             }
         }

@@ -853,20 +853,36 @@ impl Driver<'_, '_> {
 
 /// Where a subroutine file's definition opened at `after` ends: past its first `endsub` that
 /// no labelled `if`, `while`, `do` or `repeat` of its body encloses (opened after the
-/// definition, closed after the `endsub`).
+/// definition and still open there). One pass, the open blocks kept as a stack of labels; a
+/// label reused by a later block after its own closed is another block.
 fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option<Pos> {
     let from = marks.partition_point(|m| m.start.at <= after);
-    let body = &marks[from..];
-    let opens = [Statement::If, Statement::While, Statement::Do, Statement::Repeat];
-    let closes = [Statement::EndIf, Statement::EndWhile, Statement::While, Statement::EndRepeat];
-    body.iter().enumerate().filter(|(_, m)| same_label(m, label, &[Statement::EndSub])).find_map(|(i, m)| {
-        let enclosed = body[..i].iter().filter(|o| o.label.is_some() && o.label != *label && same_label(o, &o.label, &opens)).any(|o| {
-            body[i + 1..].iter().any(|e| {
-                same_label(e, &o.label, &closes) && !(o.statement == Some(Statement::While) && e.statement == Some(Statement::While))
-            })
-        });
-        (!enclosed).then_some(m.next)
-    })
+    // The labels open at each point, and whether each was opened by `do` (its `while` closes it).
+    let mut open: Vec<(&Option<String>, bool)> = Vec::new();
+    for m in &marks[from..] {
+        let Some(st) = m.statement else { continue };
+        if m.label.is_none() {
+            continue;
+        }
+        if m.label == *label {
+            if st == Statement::EndSub && open.is_empty() {
+                return Some(m.next);
+            }
+            continue;
+        }
+        let closes_do = st == Statement::While && open.iter().rev().any(|(l, d)| *d && **l == m.label);
+        match st {
+            Statement::If | Statement::Do | Statement::Repeat => open.push((&m.label, st == Statement::Do)),
+            Statement::While if !closes_do => open.push((&m.label, false)),
+            Statement::EndIf | Statement::EndWhile | Statement::EndRepeat | Statement::While => {
+                if let Some(k) = open.iter().rposition(|(l, _)| **l == m.label) {
+                    open.truncate(k);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 fn same_label(m: &Mark, label: &Option<String>, sts: &[Statement]) -> bool {
