@@ -1069,6 +1069,7 @@ fn a_slot_on_the_cylinder_begun_at_c90_lies_at_c90() {
         _ => None,
     });
     assert!(end.is_some_and(|p| (p[5] - 270.0).abs() < 1e-6 && (p[0] - 30.0).abs() < 1e-6), "{end:?}");
+}
 
 /// The feed moves and local offsets a program makes in `dialect`, as canon lines.
 fn feeds_of(dialect: &str, program: &str) -> Vec<String> {
