@@ -1556,6 +1556,31 @@ T4 D1\nG97 S600 M3\nG0 X25 Z5\nCYCLE99(0,20,-25,,2,2,1.227,0.05,30,0,8,1,2.5,131
     assert!(has(&p, "thread", &[("diameter", 20.0), ("pitch", 2.5)]), "{:?}", p.features);
 }
 
+/// `CYCLE62("NAME",0,,)` names the contour by its first argument (SINUMERIK 840D sl cycles,
+/// CYCLE62 KNAME): the one ShopTurn's contour editor writes under that name between the
+/// labels `E_LAB_A_NAME` and `E_LAB_E_NAME`, or a contour program of that name. Written before
+/// the run: the same Ø30 × 20 with its shoulder to Ø40 as the label form, roughed at infeed 2;
+/// a name that is nowhere stays the error it was (the control stops there too).
+#[test]
+fn a_contour_named_by_cycle62_is_the_one_under_that_name() {
+    let d = Registry::shipped().get("siemens").unwrap();
+    let named = "G18 G90 G95\nT1 D1\nG96 S200 LIMS=3000 M4\nCYCLE62(\"SHAFT\",0,,)\n\
+CYCLE952(\"ROUGH\",,\"\",2101311,0.3,0,0,2,0.1,0.1,0.3,0.3,0.1,0,1,0,0,,,,,2,2,,,0,1,,11111000,12,1100110,1,0)\n\
+G0 X100 Z100\nM30\nE_LAB_A_SHAFT:\nG18 G90 DIAM90\nG0 Z0 X0\nG1 X30\nZ-20\nX40\nE_LAB_E_SHAFT:\n";
+    let a = pipeline::analyze(named.as_bytes(), &d, &Profile::default());
+    assert!(a.diagnostics.iter().all(|x| !x.is_error()), "{:?}", a.diagnostics);
+    let labels: Vec<String> = a.plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(labels, ["contouring rough"], "{labels:?}");
+    assert!(
+        a.plan.features.iter().any(|f| f.kind.label() == "outer diameter" && feature_size(f, "diameter") == Some(30.0)),
+        "{:?}",
+        a.plan.features
+    );
+    let nowhere = named.replace("E_LAB_A_SHAFT", "E_LAB_A_OTHER").replace("E_LAB_E_SHAFT", "E_LAB_E_OTHER");
+    let a = pipeline::analyze(nowhere.as_bytes(), &d, &Profile::default());
+    assert!(a.diagnostics.iter().any(|x| x.is_error() && x.message.contains("SHAFT")), "{:?}", a.diagnostics);
+}
+
 /// On a Sinumerik turning machine the T word changes the tool (MD22550 TOOL_CHANGE_MODE 0, the
 /// turning setting; a milling machine's 1 changes it with M6): a program that shows a lathe
 /// (its turning words, or `DIAMON`) and never says M6 is read so; one that says M6 changes

@@ -47,6 +47,15 @@ impl<'a> Driver<'a, '_> {
         if let Some(m) = self.marks(cur).iter().find(|m| label(m, &key)) {
             return Ok((cur, m.start, usize::MAX));
         }
+        // The contour ShopTurn's contour editor writes under its name, between the labels
+        // `E_LAB_A_name` and `E_LAB_E_name`.
+        let (a, b) = (normalise_label(&format!("E_LAB_A_{name}")), normalise_label(&format!("E_LAB_E_{name}")));
+        let marks = self.marks(cur);
+        if let Some(first) = marks.iter().find(|m| label(m, &a)) {
+            if let Some(last) = marks.iter().find(|m| label(m, &b) && m.start.at >= first.start.at) {
+                return Ok((cur, first.start, last.next.at));
+            }
+        }
         let is_proc = |m: &Mark| m.statement == Some(Statement::Procedure) && m.name.as_deref() == Some(key.as_str());
         let starts = |m: &Mark| is_proc(m) || m.program_name.as_deref() == Some(key.as_str());
         match self.locate(name, starts) {
@@ -77,6 +86,9 @@ impl<'a> Driver<'a, '_> {
         let corners = interp.corners.replace(None);
         let saved = (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take());
         interp.comp.replace(None);
+        // The contour's blocks are its geometry, not cuts run as written: no feed or spindle
+        // asked of them (the cycle's own feed cuts it).
+        interp.st.tech_warned = true;
         let (shape, _) = self.profile_blocks(source, body, until, interp, diags);
         let (st, params, comp, corners, problem) = saved;
         interp.st = st;
