@@ -720,6 +720,19 @@ fn lathe_s7_held_out_programs() {
 /// Z-30, R3, Ø49.9 and the M50x1.5 thread; the stud's facing rough and finish and its R2.15; the
 /// Integrex part's roughing at 200 m/min and Ø80.2; the polar-interpolation face outline's side
 /// milling and its profile (`G121`/`G120`, a builder's codes for polar interpolation, unread).
+/// After lathe17 (seen): 27 of 34.
+///
+/// `tests/programs/lathe_s12_heldout/` is sweep 12's held-back set (branch gatherlt12: 8 programs
+/// of 4 repositories, 82 items; short of the 10 asked): four Doosan Lynx shop programs in inch
+/// (mikemacfarland/Doosan-Lynx-300 and -2100: `G71`/`G70` without decimal points, `G76`, groove
+/// turning, sub-spindle transfer, `G75` parting), two Haas lathe class programs written as
+/// explicit passes (mark-brannan/mfgt_haas_cnc_class_assignments) and two turning samples of a
+/// CNC simulator (ailtonbsj/free-cnc-simulator-wine). Only the sidecars are committed; written
+/// before ncplan ran on them. Measured once on 7 December 2026 (integrate 9165117): 52 of 82, no
+/// milling feature. Missed: the simulator samples' inside work, grooves, drilling and finish
+/// diameters (8 + 4), the class programs' facing rough/finish with their feeds and their
+/// diameters and faces (9), the Doosan programs' grooving and a few diameters, faces and the
+/// 2.54-pitch thread (9).
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report
