@@ -25,7 +25,9 @@ use plain::{plain_block, plain_block_number};
 
 /// The tape leader the dialect skips: the text before the first line that is only the
 /// program delimiter (`%`) with program text after it, when there is text before it (an NX
-/// listing header, a title), and the 1-based line the program starts on.
+/// listing header, a title), and the 1-based line the program starts on. The first line may
+/// also end with the delimiter after a sender's leader of its own (a device control code and a
+/// DNC header, `\x12&HE:%`): the leader then ends where the delimiter starts.
 pub fn leader<'t>(text: impl Into<Text<'t>>, dialect: &Dialect) -> Option<(TextRange, u32)> {
     let d = dialect.lexical.program_delimiter.filter(|_| dialect.lexical.leader_skipped)?;
     let text = text.into();
@@ -34,12 +36,17 @@ pub fn leader<'t>(text: impl Into<Text<'t>>, dialect: &Dialect) -> Option<(TextR
     let mut at = 0;
     for (n, line) in head.split_inclusive('\n').enumerate() {
         let t = line.trim().trim_start_matches('\u{feff}');
-        if t.len() == d.len_utf8() && t.starts_with(d) {
-            let before = &head[..at];
+        // (Only behind a device control code, DC1-DC4, that a tape punch or DNC sender writes:
+        // a first line such as Okuma's `$NAME.MIN%` is the program's own header.)
+        let sender = t.chars().any(|c| ('\u{11}'..='\u{14}').contains(&c));
+        let first_ends = n == 0 && sender && t.ends_with(d) && t.matches(d).count() == 1;
+        if t.len() == d.len_utf8() && t.starts_with(d) || first_ends {
+            let start = if first_ends { at + line.rfind(d).unwrap_or(0) } else { at };
+            let before = &head[..start];
             let after = at + line.len();
             // Program text after the line: in the head, or else anywhere after it.
             let text_after = !blank(&head[after..]) || (head.len() < text.len() && !rest_blank(text, head.len(), &blank));
-            return (!blank(before) && text_after).then(|| (TextRange::new(0, at), n as u32 + 1));
+            return (!blank(before) && text_after).then(|| (TextRange::new(0, start), n as u32 + 1));
         }
         at += line.len();
     }

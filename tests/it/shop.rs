@@ -302,6 +302,16 @@ fn text_before_the_opening_percent_is_tape_leader() {
     let (_, diags) = run("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n");
     assert!(!has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
     assert_eq!(moves("fanuc", "O0001\nG0 G90 X1. Y2.\nM30\n%\n").len(), 1);
+    // A DNC sender's control character and header on the opening `%`'s own line (a Fanuc 18T
+    // shop's files: DC2, `&HE:%`, then `:0115 ;`) are leader too; the program after it reads
+    // without an error (written before the run).
+    let dnc = "\u{12}&HE:%\n:0115 ;\nN5 G21 G40 G99 ;\nN10 G00 X25. Z2. ;\nM30 ;\n%\n";
+    let (_, diags) = run("fanuc_lathe", dnc);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
+    // A first line that is program text holds no leader, whatever it ends with.
+    let (_, diags) = run("fanuc", "O0001 (PART A)\nG0 G90 X1. Y2.\nM30\n%\n");
+    assert!(!has(&diags, "syntax::leader", Severity::Note), "{diags:?}");
 }
 
 /// Heidenhain: PLANE (applied, RESET read), M140 MB MAX, cycle 32 TOLERANCE, M128
