@@ -471,6 +471,19 @@ fn moves_at(p: Program<'_>, lines: &std::collections::BTreeSet<u32>) -> std::col
     by_line
 }
 
+/// Whether two moves run the same path within `tolerance`: the same ends, and the same arc
+/// (centre, turns, axis) or none.
+fn same_path(x: &crate::plan::Move, y: &crate::plan::Move, tolerance: f64) -> bool {
+    let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= tolerance);
+    near(x.from, y.from)
+        && near(x.to, y.to)
+        && match (x.arc, y.arc) {
+            (Some(u), Some(v)) => near(u.center, v.center) && u.turns == v.turns && near(u.axis, v.axis),
+            (None, None) => true,
+            _ => false,
+        }
+}
+
 /// How many statements [`restated`] reads at most in one diff: a bound on its work.
 const RESTATED_MOST: usize = 20_000;
 
@@ -510,18 +523,7 @@ fn restated(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[S
         return Vec::new();
     }
     let (ma, mb) = (moves_at(a, &candidates.iter().map(|c| c.0).collect()), moves_at(b, &candidates.iter().map(|c| c.1).collect()));
-    let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= super::TOLERANCE);
-    let alike = |x: &crate::plan::Move, y: &crate::plan::Move| {
-        x.kind == y.kind
-            && x.feed == y.feed
-            && near(x.from, y.from)
-            && near(x.to, y.to)
-            && match (x.arc, y.arc) {
-                (Some(u), Some(v)) => near(u.center, v.center) && u.turns == v.turns && near(u.axis, v.axis),
-                (None, None) => true,
-                _ => false,
-            }
-    };
+    let alike = |x: &crate::plan::Move, y: &crate::plan::Move| x.kind == y.kind && x.feed == y.feed && same_path(x, y, super::TOLERANCE);
     // By pair: Some(true) moves alike, Some(false) otherwise, None: neither moves.
     let verdict = |lo: &u32, le: &u32| match (ma.get(lo), mb.get(le)) {
         (Some(x), Some(y)) => Some(x.len() == y.len() && x.iter().zip(y).all(|(x, y)| alike(x, y))),
@@ -592,13 +594,8 @@ fn respelled(items: &[Item], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[
     }
     let (ma, mb) = (moves_at(a, &candidates.iter().map(|c| c.0).collect()), moves_at(b, &candidates.iter().map(|c| c.1).collect()));
     let tolerance = arc_tolerance(a);
-    let near = |p: crate::plan::P3, q: crate::plan::P3| (0..3).all(|i| (p[i] - q[i]).abs() <= tolerance);
-    let alike = |x: &crate::plan::Move, y: &crate::plan::Move| match (x.arc, y.arc) {
-        (Some(u), Some(v)) => {
-            near(x.from, y.from) && near(x.to, y.to) && near(u.center, v.center) && u.turns == v.turns && near(u.axis, v.axis)
-        }
-        _ => false,
-    };
+    // Arcs both, on the same path.
+    let alike = |x: &crate::plan::Move, y: &crate::plan::Move| x.arc.is_some() && same_path(x, y, tolerance);
     candidates
         .into_iter()
         .filter(|(lo, le)| match (ma.get(lo), mb.get(le)) {
@@ -1106,9 +1103,10 @@ fn call_changes(
         for k in 0..pa.len().max(pb.len()) {
             let (va, vb) = (pa.get(k), pb.get(k));
             // An argument the plan's change located here already tells in the machine's terms.
+            // (By the plan's kinds of the argument's role, or by the kind its own row would have.)
             let told = args.get(k).is_some_and(|a| {
-                argument_kind(a.role).is_some_and(|kind| located.contains(&kind))
-                    || (typed::arg_kind(a.role) != ChangeKind::CycleParameterChanged && located.contains(&typed::arg_kind(a.role)))
+                let own = Some(typed::arg_kind(a.role)).filter(|&kind| kind != ChangeKind::CycleParameterChanged);
+                [argument_kind(a.role), own].into_iter().flatten().any(|kind| located.contains(&kind))
             });
             if va == vb || told {
                 continue;

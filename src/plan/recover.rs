@@ -251,10 +251,18 @@ fn infer_tool_kinds(plan: &mut ProcessPlan) {
 /// (Fusion 360's probe tool `T99 ... - probe`, `TOUCH PROBE`, `3D PROBE`), German shops'
 /// `TASTER` (`Messtaster`, `3D-Taster`) and `TASTSYSTEM`, Renishaw's probes by the maker's
 /// name. A word only: `PROBED` or `UNPROBED` are not.
+///
+/// Asked at every feed move: compared in place, in any case, with no copy of the name.
 pub(crate) fn names_probe(name: &str) -> bool {
-    let up = name.to_ascii_uppercase();
-    up.split(|c: char| !c.is_ascii_alphanumeric()).any(|w| {
-        w == "PROBE" || w.ends_with("TASTER") || w.starts_with("TASTSYSTEM") || w == "RENISHAW" || (w.ends_with("PROBE") && w.len() <= 8)
+    // Each word is ASCII letters and digits only, so any byte is a character's start.
+    name.split(|c: char| !c.is_ascii_alphanumeric()).any(|w| {
+        let starts = |s: &str| w.len() >= s.len() && w[..s.len()].eq_ignore_ascii_case(s);
+        let ends = |s: &str| w.len() >= s.len() && w[w.len() - s.len()..].eq_ignore_ascii_case(s);
+        w.eq_ignore_ascii_case("PROBE")
+            || ends("TASTER")
+            || starts("TASTSYSTEM")
+            || w.eq_ignore_ascii_case("RENISHAW")
+            || (ends("PROBE") && w.len() <= 8)
     })
 }
 
@@ -1226,18 +1234,8 @@ impl<'p> Recovery<'p> {
             }
             // A probe move measures; it positions like a rapid and cuts nothing (so does a
             // probe's feed move, `probe_feed`).
-            CanonOp::StraightFeed(p) if self.probe_in_spindle() => self.probe_feed(p, c.line),
-            CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => {
-                self.abc = [p[3], p[4], p[5]];
-                self.moved_axis = self.tool_axis;
-                let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
-                let mv = self.mv(MoveKind::Rapid, to, c.line);
-                if self.in_cycle.is_some() {
-                    self.cut(mv, c);
-                } else {
-                    self.pending.push(mv);
-                }
-            }
+            CanonOp::StraightFeed(p) if self.probe_in_spindle() => self.positioning(p, c),
+            CanonOp::StraightTraverse(p) | CanonOp::StraightProbe(p) => self.positioning(p, c),
             // A spline is followed by its chord: the plan keeps where it cuts to.
             CanonOp::StraightFeed(p) | CanonOp::NurbsFeed { end: p, .. } => {
                 let abc = [p[3], p[4], p[5]];
@@ -1482,15 +1480,20 @@ impl<'p> Recovery<'p> {
         self.cut(mv, c);
     }
 
-    /// A feed move of a probe (a tool its name calls one: Fusion's `T99 ... probe`, a shop's
-    /// `3D-Taster`): the protected positioning moves of a probing job, the `G1 Z-.25 F..` down
-    /// to the probing height, position the probe as a rapid does and cut nothing.
-    fn probe_feed(&mut self, p: &[f64; 6], line: u32) {
+    /// A move that positions as a rapid does: a rapid, a probing move, and a probe's feed
+    /// move (a tool its name calls one: Fusion's `T99 ... probe`, a shop's `3D-Taster`; the
+    /// protected positioning moves of a probing job, the `G1 Z-.25 F..` down to the probing
+    /// height, cut nothing). Inside a canned cycle, the cycle's own rapid.
+    fn positioning(&mut self, p: &[f64; 6], c: &Canon) {
         self.abc = [p[3], p[4], p[5]];
         self.moved_axis = self.tool_axis;
         let to = self.live_point([self.mm(p[0]), self.mm(p[1]), self.mm(p[2])]);
-        let mv = self.mv(MoveKind::Rapid, to, line);
-        self.pending.push(mv);
+        let mv = self.mv(MoveKind::Rapid, to, c.line);
+        if self.in_cycle.is_some() {
+            self.cut(mv, c);
+        } else {
+            self.pending.push(mv);
+        }
     }
 
     /// Whether the tool in the spindle is a probe by its name (not a cutting tool).

@@ -285,7 +285,6 @@ fn off_the_face(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
     if !turns || !ws.holes.is_empty() {
         return;
     }
-    let cut = |m: &Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
     let moves: Vec<Move> = ws.toolpath.iter().collect();
     let mut off: Vec<usize> = Vec::new();
     for (i, m) in moves.iter().enumerate() {
@@ -296,18 +295,18 @@ fn off_the_face(ws: &mut Workingstep, remeasure: fn(&mut Workingstep)) {
         }
         let across = m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL;
         let to_axis = m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0;
-        if !cut(m) || !across || !to_axis || m.from[0].abs() < 0.5 {
+        if !is_cut(m) || !across || !to_axis || m.from[0].abs() < 0.5 {
             continue;
         }
         let (zf, reach) = (m.to[2], m.from[0].abs());
         // The tool leaves the face forwards (along +Z) first; a pass back out along the face
         // it cut is no leaving.
-        if !moves.get(i + 1).is_some_and(|n| cut(n) && n.to[2] > zf + TOL) {
+        if !moves.get(i + 1).is_some_and(|n| is_cut(n) && n.to[2] > zf + TOL) {
             continue;
         }
         for (j, n) in moves.iter().enumerate().skip(i + 1) {
             let in_front = n.from[2].min(n.to[2]) > zf - TOL && n.from[0].abs().max(n.to[0].abs()) <= reach + TOL;
-            if !cut(n) || !in_front {
+            if !is_cut(n) || !in_front {
                 break;
             }
             off.push(j);
@@ -455,8 +454,8 @@ fn faced_first(moves: &[Move], spans: &[(usize, usize)]) -> usize {
     if n == 0 || n == spans.len() {
         return 0;
     }
-    let across = |m: &&Move| m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL;
-    let cut = |m: &&Move| m.phase == Phase::Cut && m.kind != MoveKind::Rapid;
+    let across = |m: &&Move| straight_across(m);
+    let cut = |m: &&Move| is_cut(m);
     let Some(face) = moves[spans[n - 1].0..spans[n - 1].1].iter().filter(cut).filter(across).map(|m| m.to[2]).next_back() else {
         return 0;
     };
@@ -742,7 +741,17 @@ pub fn tool_width(t: &Tool) -> Option<f64> {
 
 /// A cutting move in (Z, X radius).
 fn cuts(ws: &Workingstep) -> Vec<Move> {
-    ws.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid).collect()
+    ws.toolpath.iter().filter(is_cut).collect()
+}
+
+/// Whether a move cuts (a feed in the cutting phase).
+fn is_cut(m: &Move) -> bool {
+    m.phase == Phase::Cut && m.kind != MoveKind::Rapid
+}
+
+/// Whether a move is a straight cut across X at one Z (a pass facing, or along a face).
+fn straight_across(m: &Move) -> bool {
+    m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL
 }
 
 /// Runs of cuts between rapids.
@@ -918,7 +927,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
 fn face_cut(ws: &Workingstep) -> Option<(f64, [f64; 2])> {
     ws.turning.as_deref().filter(|t| t.operation == Some(TurnOp::Facing) && !t.inside)?;
     let cuts = cuts(ws);
-    let across = || cuts.iter().filter(|m| m.arc.is_none() && (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
+    let across = || cuts.iter().filter(|m| straight_across(m));
     let last = across().rfind(|m| m.from[0].min(m.to[0]) < 0.05).or_else(|| across().next_back())?;
     let (a, b) = (2.0 * last.from[0].abs(), 2.0 * last.to[0].max(0.0));
     Some((last.to[2], [a.min(b), a.max(b)]))

@@ -841,8 +841,6 @@ impl<'a> Driver<'a, '_> {
     }
 }
 
-/// Whether mark `m` is one of the statements `sts` labelled `label` (`o100 endwhile` for
-/// `o100 while`).
 impl Driver<'_, '_> {
     /// Whether an `if` with `label` stands before `start` in the running source.
     fn opened_before(&mut self, start: Pos, label: &Option<String>) -> bool {
@@ -885,6 +883,8 @@ fn enclosing_end(marks: &[Mark], after: usize, label: &Option<String>) -> Option
     None
 }
 
+/// Whether mark `m` is one of the statements `sts` labelled `label` (`o100 endwhile` for
+/// `o100 while`).
 fn same_label(m: &Mark, label: &Option<String>, sts: &[Statement]) -> bool {
     m.label == *label && m.statement.is_some_and(|s| sts.contains(&s))
 }
