@@ -204,6 +204,19 @@
 //! NG's `<#_value>`. After the measurement (seen): `CYCLE62`'s first argument names the contour
 //! (the ShopTurn `E_LAB_A_name` labels or a program of that name), the three SinuTrain
 //! programs read without an error.
+//!
+//! Sweep 13 (rows d001-d022, half `holdout-s13`: held out whole, no build half; 22 programs of 2
+//! repositories, all valid), from files no set used of repositories other sets used in part (each
+//! row says so). Heidenhain 12 (a Hungarian job shop's hyperMILL 2025 output for a DMG DMU 85
+//! monoBLOCK, two sister parts' jobs: `PLANE SPATIAL` on up to five table orientations followed by
+//! `L A+Q120 C+Q122`, cycles 200/203/207/208/241 defined with `~` continuation lines and called by
+//! `M99`, `CYCL DEF 32` tolerance set and reset, `M110`/`M111`, a 30 000-line 3+2 ball-nose
+//! finish, an engraving job, Latin-1 job comments, `/NN M30` then `FN 9` label blocks), Haas 10 (a
+//! machining student's hand-written lathe programs with one-block `G71`/`G76`/`G75`, `M23`, and
+//! mill programs; three Fusion 360 personal-use outputs with feed moves in place of rapids, merged
+//! by hand with `M00` between setups). No Siemens, Fanuc-only, LinuxCNC, Okuma or Mazak program
+//! in a repository not mined before was found. Verdicts written by reading each file before
+//! anyone ran ncplan on it. Figure: to be measured once by the lead after the merge.
 
 use std::path::PathBuf;
 
