@@ -734,16 +734,19 @@ fn lathe_s7_held_out_programs() {
 /// diameters and faces (9), the Doosan programs' grooving and a few diameters, faces and the
 /// 2.54-pitch thread (9).
 ///
-/// `tests/programs/lathe_s13_heldout/` is sweep 13's held-back set (branch gatherlt13: 8 programs
-/// of 2 repositories, 79 items): Doosan Lynx shop programs in inch no test used, of the two
-/// repositories sweep 12's set drew on (mikemacfarland/Doosan-Lynx-300: a transmission dyno
-/// shaft's OD, insert drilling and stepped boring to a floor; a bronze carrier bushing's inside
-/// `G71`/`G70` and its press-in bearing's OD and two-sided chamfered groove, and the trim op;
-/// a stator spline sleeve's facing, explicit OD passes and boring; a V-band flange's stepped OD
-/// with a fillet and a counterbore; mikemacfarland/Doosan-Lynx-2100: the female and male 1.5 in
-/// V-band flanges, bar fed, `G71` without its own F, `G75` parting into the sub-spindle and the
-/// second side faced and turned there). Only the sidecars are committed; written before ncplan
-/// ran on them. Not yet measured.
+/// `tests/programs/lathe_s13_heldout/` is sweep 13's held-back set (branch gatherlt13: 11 programs
+/// of 2 repositories, 110 items): Doosan Lynx shop programs in inch no test used, of the two
+/// repositories sweep 12's set drew on. Of mikemacfarland/Doosan-Lynx-300: a transmission dyno
+/// shaft's OD, off-axis insert drilling and stepped boring to a floor; a bronze carrier
+/// bushing's inside `G71`/`G70`, its press-in bearing's OD and two-sided chamfered groove, and
+/// the trim op; a stator spline sleeve's facing, explicit OD passes and boring; a V-band
+/// flange's two sides (stepped OD with a fillet, a counterbore, the inner flank bored); a drum
+/// bushing with a spiral oil groove cut by `G32` passes of 0.625 in lead, an inside groove and
+/// a groove-and-part-off. Of mikemacfarland/Doosan-Lynx-2100 (bar fed, `G75` parting into the
+/// sub-spindle, the second side worked there): the female and male 1.5 in V-band flanges
+/// (`G71` without its own F) and a drain plug with a 55° `G76` thread, a `G71` to size for its
+/// relief, an O-ring seat and a broach undercut. Only the sidecars are committed; written
+/// before ncplan ran on them. Not yet measured.
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report
