@@ -734,9 +734,11 @@ fn lathe_s7_held_out_programs() {
 /// diameters and faces (9), the Doosan programs' grooving and a few diameters, faces and the
 /// 2.54-pitch thread (9).
 ///
-/// `tests/programs/lathe_s13_heldout/` is sweep 13's held-back set (branch gatherlt13: 11 programs
-/// of 2 repositories, 110 items): Doosan Lynx shop programs in inch no test used, of the two
-/// repositories sweep 12's set drew on. Of mikemacfarland/Doosan-Lynx-300: a transmission dyno
+/// `tests/programs/lathe_s13_heldout/` is sweep 13's held-back set (branch gatherlt13: 12 programs
+/// of 3 repositories, 125 items), files no test used of repositories earlier sets drew on: eleven
+/// Doosan Lynx shop programs in inch (sweep 12's two repositories) and a Nakamura-Tome mill-turn
+/// program (erdotsc/Nakamura, the s7 set's: G72/G71 roughing, U-drills, boring; its live-tool
+/// milling not listed). Of mikemacfarland/Doosan-Lynx-300: a transmission dyno
 /// shaft's OD, off-axis insert drilling and stepped boring to a floor; a bronze carrier
 /// bushing's inside `G71`/`G70`, its press-in bearing's OD and two-sided chamfered groove, and
 /// the trim op; a stator spline sleeve's facing, explicit OD passes and boring; a V-band
