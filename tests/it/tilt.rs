@@ -258,6 +258,62 @@ fn g68_2_origin() {
     );
 }
 
+/// The diff in tilt terms for the other plane forms (issue 40 item 5), each edit of one
+/// angle: `PLANE EULER` (the nutation EULNU turns about the precession-turned X), `PLANE
+/// VECTOR` (a normal vector turned 10° about X), the legacy cycle 19, and `G68.2 P1` (roll,
+/// pitch, yaw).
+#[test]
+fn plane_euler_angle() {
+    edit(
+        "nx_tnc_euler_front",
+        "EULPR+45 EULNU+30",
+        "EULPR+45 EULNU+25",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted A30° B0° C45° | tilted A25° B0° C45° | 25 | 25
+              work plane tilted A30° B0° C45° → tilted A25° B0° C45°; 2 holes moved at line 25
+        "#]],
+    );
+}
+
+#[test]
+fn plane_vector_normal() {
+    edit(
+        "nx_tnc_vector_back",
+        "NX+0.0000000 NY+1.0000000 NZ+0.0000000",
+        "NX+0.0000000 NY+0.9848078 NZ+0.1736482",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted -90° about A | tilted -80° about A | 8 | 8
+              work plane tilted -90° → -80° about A; 2 holes moved at line 8
+        "#]],
+    );
+}
+
+#[test]
+fn cycle19_angle() {
+    edit(
+        "nx_tnc_cycle19_legacy",
+        "19.1 A+0 B+90 C+0",
+        "19.1 A+0 B+85 C+0",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted 90° about B | tilted 85° about B | 9 | 9
+          work plane tilted 90° → 85° about B; 2 holes moved at line 9
+    "#]],
+    );
+}
+
+#[test]
+fn g68_2_roll_pitch_yaw_angle() {
+    edit(
+        "fanuc_g682_p1_rpy",
+        "I0. J90. K0.",
+        "I0. J85. K0.",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted 90° about B | tilted 85° about B | 14 | 14
+          work plane tilted 90° → 85° about B; 2 holes moved at line 14
+    "#]],
+    );
+}
+
 #[test]
 fn plane_axial_angle() {
     edit(
