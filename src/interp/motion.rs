@@ -218,6 +218,9 @@ impl Interpreter<'_> {
         if matches!(def.meaning, Meaning::Rapid | Meaning::Linear) {
             self.machine_marker(sink);
         }
+        if self.slots[Role::W as usize].is_some() && (arc || matches!(def.meaning, Meaning::Rapid | Meaning::Linear)) {
+            self.quill_word();
+        }
         match def.meaning {
             Meaning::Rapid | Meaning::Linear if rapid_block => {
                 let t = self.target();

@@ -566,8 +566,11 @@ fn real_programs_lie_on_their_faces() {
     /// to carry the tool axes its B head turns), and the mill-turn's bores at A90/A180/A270 run
     /// in its `millturn` kinematics' mill type, indexing A without tool centre point control.
     /// With rotary indexing turning the tool axis (tilt6): 19 of 21, the bridgemill's two
-    /// quill rings missed.
-    const LCNC_HELD_SCORE: usize = 19;
+    /// quill rings missed. With W a quill moving the tool tip along the spindle (tilt14): 20 of
+    /// 21; the last ring (B-11.25) is drilled, but in a workingstep of the loop's later rounds,
+    /// whose lines run from 44 back to 43, so that the first workingstep holding line 43 (the
+    /// first ring's, B-90) is the one scored.
+    const LCNC_HELD_SCORE: usize = 20;
     /// Sweep 7's held-back part (`held7`: LinuxCNC's xyzac/xyzbc switchkins demos on their
     /// machine's INI, NX samples DMC 160U MillPlus and Sundstrand Omnimill), expectations written
     /// before ncplan read them, scored once on 6 December 2026: 4 of 10. Met: both LinuxCNC
@@ -1181,5 +1184,39 @@ fn a_haas_mirror_image_is_about_the_work_zero() {
             "STRAIGHT_FEED(-20.0000, 10.0000, 0.1000, 0.0000, 0.0000, 0.0000)",
             "STRAIGHT_FEED(20.0000, 10.0000, 0.1000, 0.0000, 0.0000, 0.0000)",
         ]
+    );
+}
+
+/// A mill's W axis is a quill along the spindle (ISO 841: the secondary motion parallel to
+/// Z; LinuxCNC's XYZW machines): the tool tip stands W along the tool axis from the X Y Z
+/// the program gives, absolute or incremental by the distance mode, and every move while W
+/// is out carries it. Written before the run: at X10 Y20 Z2, `W-12` feeds the tip to Z-10
+/// and `W0` takes it back to Z2; at X30, `G91 W-5` twice feeds to Z-3 and Z-8, and the move
+/// in X with W out stays at Z-8.
+#[test]
+fn a_quill_moves_the_tool_tip_along_the_spindle() {
+    let program = "G21 G90 G17\nT1 M6\nG0 X10 Y20 Z2\nG1 W-12 F100\nG0 W0\nG0 X30\nG91 G1 W-5\nW-5\nG90 G1 X35\nG0 W0\nM2\n";
+    let d = Registry::shipped().get("linuxcnc").unwrap();
+    let mut out = Vec::new();
+    let diags = ncplan::interp::interpret(program, &d, &Profile::default(), &mut out);
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let mut text = String::new();
+    for c in &out {
+        ncplan::canon::write_call(&mut text, &c.op);
+    }
+    let moves: Vec<&str> = text.lines().filter(|l| l.starts_with("STRAIGHT_")).collect();
+    assert_eq!(
+        moves,
+        [
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(10.0000, 20.0000, -10.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(30.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(30.0000, 20.0000, -3.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(30.0000, 20.0000, -8.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(35.0000, 20.0000, -8.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(35.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{text}"
     );
 }
