@@ -1220,3 +1220,29 @@ fn a_quill_moves_the_tool_tip_along_the_spindle() {
         "{text}"
     );
 }
+
+/// An NX post set to write I J K from the arc's centre to its start (the SH8000 sample post:
+/// `I[$mom_prev_pos(0) - $mom_pos_arc_center(0)]`, Post Builder's "Vector - Arc Center to
+/// Start") gives arcs a Fanuc control rejects; the finding says that the offsets fit read that
+/// way, and the move is still rejected, as the control does. An arc whose offsets fit neither
+/// way gets no such note. Written before the run: from X-2.7559 Y-1.9685, `G03 X-1.9685
+/// Y-2.7559 I-.7874 J0` is centre X-3.5433 (radius .7874 to the start, 1.7607 to the end);
+/// read from the centre, X-1.9685 Y-1.9685, radius .7874 both.
+#[test]
+fn arc_offsets_from_the_centre_to_the_start_are_named_in_the_finding() {
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let findings = |program: &str| {
+        let mut out = Vec::new();
+        ncplan::interp::interpret(program, &d, &Profile::default(), &mut out)
+            .into_iter()
+            .filter(|d| d.is_error())
+            .map(|d| d.message)
+            .collect::<Vec<_>>()
+    };
+    let reversed = findings("G20 G17 G90\nG0 X-2.7559 Y-1.9685\nG1 Z0 F10.\nG03 X-1.9685 Y-2.7559 I-.7874 J0.\nM30\n");
+    assert_eq!(reversed.len(), 1, "{reversed:?}");
+    assert!(reversed[0].contains("the offsets fit read from the centre to the start"), "{reversed:?}");
+    let neither = findings("G20 G17 G90\nG0 X-2.7559 Y-1.9685\nG1 Z0 F10.\nG03 X-1.9685 Y-2.7559 I-.5 J0.\nM30\n");
+    assert_eq!(neither.len(), 1, "{neither:?}");
+    assert!(!neither[0].contains("centre to the start"), "{neither:?}");
+}
