@@ -231,6 +231,9 @@ impl Interpreter<'_> {
             Meaning::Rapid => {
                 let t = self.target();
                 self.note_tangent(t);
+                if self.st.cylinder.is_some() && self.cylinder_rapid(t, sink) {
+                    return;
+                }
                 self.emit(sink, CanonOp::StraightTraverse(t));
                 self.st.pos = t;
             }

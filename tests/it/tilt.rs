@@ -1246,3 +1246,35 @@ fn arc_offsets_from_the_centre_to_the_start_are_named_in_the_finding() {
     assert_eq!(neither.len(), 1, "{neither:?}");
     assert!(!neither[0].contains("centre to the start"), "{neither:?}");
 }
+
+/// Cylindrical interpolation begun at C0, then a rapid clear of the cylinder (X60 > D50) to
+/// C90 before the cut: the developed length there is 25 · π/2, and the slot cut from it lies on
+/// the cylinder at C90 ((0, 25, -10), radial axis (0, 1, 0)), 8 wide and 2 deep, not on the
+/// plane laid at C0 (Fanuc G07.1: the developed length is the angle times the radius). A
+/// second slot after a rapid to C180 lies at C180 ((-25, 0, -10), axis (-1, 0, 0)). Written
+/// before the run.
+#[test]
+fn a_slot_on_the_cylinder_after_a_rapid_to_another_angle_lies_at_that_angle() {
+    let text = "%\nO0073\nT0101 (OD TOOL)\nG97 S1200 M3\nG0 X54. Z2.\nG1 X50. F0.2\nZ-60.\nG0 X54. Z2.\nM5\n\
+                T0505 (D8 END MILL)\nG98\nG0 X60. Z-10. C0.\nG07.1 C25.\nG0 C90.\nG1 X46. F100.\nZ-40.\nG0 X60.\n\
+                Z-10.\nC180.\nG1 X46.\nZ-40.\nG0 X60.\nG07.1 C0\nG0 X60. Z2.\nM30\n%\n";
+    let plan = plan_of(text, &serde_json::json!({"dialect": "fanuc_lathe"}));
+    let slots: Vec<&Feature> = plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
+    assert_eq!(slots.len(), 2, "{plan:#?}");
+    assert!(
+        matches(
+            slots[0],
+            &serde_json::json!({"kind": "slot", "axis": [0.0, 1.0, 0.0], "positions": [[0.0, 25.0, -10.0]], "width": 8.0, "depth": 2.0})
+        ),
+        "{:#?}",
+        slots[0]
+    );
+    assert!(
+        matches(
+            slots[1],
+            &serde_json::json!({"kind": "slot", "axis": [-1.0, 0.0, 0.0], "positions": [[-25.0, 0.0, -10.0]], "width": 8.0, "depth": 2.0})
+        ),
+        "{:#?}",
+        slots[1]
+    );
+}
