@@ -395,8 +395,8 @@ impl Interpreter<'_> {
         }
     }
 
-    /// Under cylindrical interpolation, a rapid that ends clear of the cylinder (its radius at
-    /// or above the cylinder's) at another angle lays the developed surface's plane anew,
+    /// Under cylindrical interpolation, a rapid round the cylinder (along the developed length)
+    /// that ends clear of it (its radius at or above the cylinder's) lays the developed surface's plane anew,
     /// tangent at the angle the tool now stands over: the developed length is the angle times
     /// the radius (Fanuc G07.1, Siemens TRACYL), so the tool stands over C0 + Y / radius. What it
     /// cuts next then lies on the cylinder at its own angle with its radial axis there, as a side
@@ -407,7 +407,9 @@ impl Interpreter<'_> {
     /// false where it stays on the plane in force.
     pub(super) fn cylinder_rapid(&mut self, t: [f64; 6], sink: &mut dyn CanonSink) -> bool {
         let Some(cyl) = self.st.cylinder else { return false };
-        if t[2] < cyl.radius - 1e-6 || t[1].abs() < 1e-6 {
+        // Only a rapid round the cylinder: a retract where a cut ended stays on its plane, so
+        // that the passes of one cut back from there lie with it.
+        if t[2] < cyl.radius - 1e-6 || t[1].abs() < 1e-6 || (t[1] - self.st.pos[1]).abs() < 1e-6 {
             return false;
         }
         let c0 = cyl.c0 + (t[1] / cyl.radius).to_degrees();

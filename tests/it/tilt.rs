@@ -1278,3 +1278,16 @@ fn a_slot_on_the_cylinder_after_a_rapid_to_another_angle_lies_at_that_angle() {
         slots[1]
     );
 }
+
+/// A retract where a cut on the cylinder ended is no move round it: a second pass cut back from
+/// there lies on the same plane, so the two passes make one slot at the angle the mode began
+/// at (C0: axis (1, 0, 0)). Written before the run.
+#[test]
+fn a_retract_at_the_end_of_a_cut_on_the_cylinder_keeps_its_plane() {
+    let text = "%\nO0074\nT0505 (D8 END MILL)\nG98\nG0 X60. Z-10. C0.\nG07.1 C25.\nG1 X47. F100.\nC60.\nG0 X60.\n\
+                G1 X46.\nC0.\nG0 X60.\nG07.1 C0\nM30\n%\n";
+    let plan = plan_of(text, &serde_json::json!({"dialect": "fanuc_lathe"}));
+    let slots: Vec<&Feature> = plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
+    assert_eq!(slots.len(), 1, "{plan:#?}");
+    assert!(slots[0].axis.is_some_and(|a| (a[0] - 1.0).abs() < AXIS), "{:#?}", slots[0]);
+}
