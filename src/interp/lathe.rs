@@ -372,7 +372,7 @@ impl Interpreter<'_> {
                 // point into the plane as if at C0, so the point is told again.
                 self.go_to(sink, [-p[2], 0.0, p[0], p[3], p[4], p[5]], false);
                 let msg = format!(
-                    "cylindrical interpolation (radius {}): the moves are milling on the cylinder, placed on its developed surface laid tangent at C{}; beyond that angle the plan lays them flat, not wrapped, and the tool axis stays radial at C{}",
+                    "cylindrical interpolation (radius {}): the moves are milling on the cylinder, placed on its developed surface laid tangent at C{} and again at the angle a rapid clear of the cylinder brings the tool over; a cut running round the cylinder from there is laid flat, not wrapped, its tool axis radial where it began (C{} here)",
                     crate::text::num(radius),
                     crate::text::num(p[5]),
                     crate::text::num(p[5])
@@ -393,6 +393,32 @@ impl Interpreter<'_> {
             (Some(radius), Some(cyl)) => self.st.cylinder = Some(Cylinder { radius, ..cyl }),
             (None, None) => {}
         }
+    }
+
+    /// Under cylindrical interpolation, a rapid round the cylinder (along the developed length)
+    /// that ends clear of it (its radius at or above the cylinder's) lays the developed surface's plane anew,
+    /// tangent at the angle the tool now stands over: the developed length is the angle times
+    /// the radius (Fanuc G07.1, Siemens TRACYL), so the tool stands over C0 + Y / radius. What it
+    /// cuts next then lies on the cylinder at its own angle with its radial axis there, as a side
+    /// hole does (`interp::live`), not on the plane laid at the angle the mode began at. A cut
+    /// that runs round the cylinder from there is still laid flat on that plane.
+    ///
+    /// The rapid to `t` (the plane's coordinates) is made so, on the plane laid anew, and true;
+    /// false where it stays on the plane in force.
+    pub(super) fn cylinder_rapid(&mut self, t: [f64; 6], sink: &mut dyn CanonSink) -> bool {
+        let Some(cyl) = self.st.cylinder else { return false };
+        // Only a rapid round the cylinder: a retract where a cut ended stays on its plane, so
+        // that the passes of one cut back from there lie with it.
+        if t[2] < cyl.radius - 1e-6 || t[1].abs() < 1e-6 || (t[1] - self.st.pos[1]).abs() < 1e-6 {
+            return false;
+        }
+        let c0 = cyl.c0 + (t[1] / cyl.radius).to_degrees();
+        let cyl = Cylinder { c0, ..cyl };
+        self.st.cylinder = Some(cyl);
+        self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
+        self.emit(sink, CanonOp::Setting(Setting::CycleSurface(cyl.radius)));
+        self.go_to(sink, [t[0], 0.0, t[2], t[3], t[4], t[5]], false);
+        true
     }
 
     /// Under cylindrical interpolation, the words in the developed surface's plane

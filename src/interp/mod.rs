@@ -695,6 +695,10 @@ struct State {
     spindle_id: crate::canon::SpindleId,
     /// Whether the feed and the spindle speed overrides are enabled (M48 to M51).
     overrides: (bool, bool),
+    /// The W axis of a mill, a linear axis along the spindle (ISO 841: the secondary motion
+    /// parallel to Z; a quill): where it stands, program units. The tool tip stands that far
+    /// along the tool axis from the X Y Z the program gives ([`Interpreter::quill_shift`]).
+    quill: f64,
 }
 
 impl State {
@@ -773,6 +777,7 @@ impl State {
             spindle_unknown: profile.role != ProgramRole::Main,
             spindle_id: crate::canon::SpindleId::Main,
             overrides: (true, true),
+            quill: 0.0,
         }
     }
 
@@ -1229,7 +1234,7 @@ impl<'a> Interpreter<'a> {
             }
             _ => {}
         }
-        let op = if self.st.rotation.is_some() || self.st.scaling.is_some() { self.transform(op) } else { op };
+        let op = if self.st.rotation.is_some() || self.st.scaling.is_some() || self.st.quill != 0.0 { self.transform(op) } else { op };
         let canon = Canon { op, origin, line };
         // Neither corners nor compensation (the common case): the op goes straight out.
         if self.comp.borrow().is_none() && self.corners.borrow().is_none() {
@@ -1255,6 +1260,7 @@ impl<'a> Interpreter<'a> {
         self.origin_override.is_some()
             || self.st.rotation.is_some()
             || self.st.scaling.is_some()
+            || self.st.quill != 0.0
             || self.comp.borrow().is_some()
             || self.corners.borrow().is_some()
     }
@@ -1560,7 +1566,7 @@ impl<'a> Interpreter<'a> {
             return;
         }
         let at = self.sent.get();
-        let at = if self.st.rotation.is_some() || self.st.scaling.is_some() {
+        let at = if self.st.rotation.is_some() || self.st.scaling.is_some() || self.st.quill != 0.0 {
             match self.transform(CanonOp::StraightTraverse(at)) {
                 CanonOp::StraightTraverse(p) => p,
                 _ => at,

@@ -218,6 +218,9 @@ impl Interpreter<'_> {
         if matches!(def.meaning, Meaning::Rapid | Meaning::Linear) {
             self.machine_marker(sink);
         }
+        if self.slots[Role::W as usize].is_some() && (arc || matches!(def.meaning, Meaning::Rapid | Meaning::Linear)) {
+            self.quill_word();
+        }
         match def.meaning {
             Meaning::Rapid | Meaning::Linear if rapid_block => {
                 let t = self.target();
@@ -228,6 +231,9 @@ impl Interpreter<'_> {
             Meaning::Rapid => {
                 let t = self.target();
                 self.note_tangent(t);
+                if self.st.cylinder.is_some() && self.cylinder_rapid(t, sink) {
+                    return;
+                }
                 self.emit(sink, CanonOp::StraightTraverse(t));
                 self.st.pos = t;
             }
@@ -1096,16 +1102,19 @@ impl Interpreter<'_> {
         self.weigh_radius_words(start, end, (r_start, r_end), tol, relative);
         if radii_disagree(r_start, r_end, tol, relative) {
             let unit = if self.st.units == Units::Mm { "mm" } else { "in" };
-            diags.push(Diagnostic::new(
-                Code::BadArc,
-                block.range,
-                format!("radius to the end of the arc ({r_end:.4} {unit}) differs from the radius to its start ({r_start:.4} {unit}) by more than {tol} {unit}{}",
-                    match relative {
-                        Some(rel) => format!(" and {}% of the radius", rel * 100.0),
-                        None => String::new(),
-                    }
-                ),
-            ));
+            let mut msg = format!(
+                "radius to the end of the arc ({r_end:.4} {unit}) differs from the radius to its start ({r_start:.4} {unit}) by more than {tol} {unit}{}",
+                match relative {
+                    Some(rel) => format!(" and {}% of the radius", rel * 100.0),
+                    None => String::new(),
+                }
+            );
+            if self.reversed_offsets_fit(start, end, c, tol, relative) {
+                msg.push_str(
+                    "; the offsets fit read from the centre to the start, as a post set to write them so gives them (NX Post Builder's \"Vector - Arc Center to Start\"), but the control reads them from the start to the centre",
+                );
+            }
+            diags.push(Diagnostic::new(Code::BadArc, block.range, msg));
             self.rejected_arc(end);
             return None;
         }
@@ -1114,6 +1123,25 @@ impl Interpreter<'_> {
 }
 
 impl Interpreter<'_> {
+    /// Whether an arc whose I J K offsets from the start miss its end fits with them read the
+    /// other way, from the centre to the start (`centre` = start − offsets): a post's setting,
+    /// told beside the finding so that the reader sees why, never used for the move.
+    fn reversed_offsets_fit(&self, start: [f64; 6], end: [f64; 6], centre: (f64, f64), tol: f64, relative: Option<f64>) -> bool {
+        let (a0, a1, _) = self.st.plane.axes();
+        let incremental = [a0, a1].iter().all(|&axis| match self.slots[OFFSETS[axis] as usize].map(|s| s.mode) {
+            Some(WordMode::Absolute) => false,
+            Some(WordMode::Incremental) => true,
+            _ => !self.dialect.behaviour.arc_centres_pole && self.st.arc_incremental,
+        });
+        if !incremental {
+            return false;
+        }
+        let c = (2.0 * start[a0] - centre.0, 2.0 * start[a1] - centre.1);
+        let r_start = (start[a0] - c.0).hypot(start[a1] - c.1);
+        let r_end = (end[a0] - c.0).hypot(end[a1] - c.1);
+        r_start > tol && !radii_disagree(r_start, r_end, tol, relative)
+    }
+
     /// Under diameter programming in the ZX plane, whether an arc's centre (I, K from the
     /// start) fits as the X words were read or only with them read as radii: evidence of a
     /// machine set to radius programming (see `lathe_evidence`).

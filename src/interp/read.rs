@@ -91,7 +91,8 @@ impl Interpreter<'_> {
             }
             m
         };
-        self.has_axes = self.filled & POSITION != 0;
+        // A mill's W (its quill) moves the tool as X, Y and Z do (`quill_word`).
+        self.has_axes = self.filled & POSITION != 0 || (self.filled & 1 << Role::W as u32 != 0 && self.quill_moves_tool());
         if ok {
             ok = self.check_params(block, diags);
         }

@@ -258,6 +258,62 @@ fn g68_2_origin() {
     );
 }
 
+/// The diff in tilt terms for the other plane forms (issue 40 item 5), each edit of one
+/// angle: `PLANE EULER` (the nutation EULNU turns about the precession-turned X), `PLANE
+/// VECTOR` (a normal vector turned 10° about X), the legacy cycle 19, and `G68.2 P1` (roll,
+/// pitch, yaw).
+#[test]
+fn plane_euler_angle() {
+    edit(
+        "nx_tnc_euler_front",
+        "EULPR+45 EULNU+30",
+        "EULPR+45 EULNU+25",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted A30° B0° C45° | tilted A25° B0° C45° | 25 | 25
+              work plane tilted A30° B0° C45° → tilted A25° B0° C45°; 2 holes moved at line 25
+        "#]],
+    );
+}
+
+#[test]
+fn plane_vector_normal() {
+    edit(
+        "nx_tnc_vector_back",
+        "NX+0.0000000 NY+1.0000000 NZ+0.0000000",
+        "NX+0.0000000 NY+0.9848078 NZ+0.1736482",
+        expect_test::expect![[r#"
+            work_plane_changed | work_plane | tilted -90° about A | tilted -80° about A | 8 | 8
+              work plane tilted -90° → -80° about A; 2 holes moved at line 8
+        "#]],
+    );
+}
+
+#[test]
+fn cycle19_angle() {
+    edit(
+        "nx_tnc_cycle19_legacy",
+        "19.1 A+0 B+90 C+0",
+        "19.1 A+0 B+85 C+0",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted 90° about B | tilted 85° about B | 9 | 9
+          work plane tilted 90° → 85° about B; 2 holes moved at line 9
+    "#]],
+    );
+}
+
+#[test]
+fn g68_2_roll_pitch_yaw_angle() {
+    edit(
+        "fanuc_g682_p1_rpy",
+        "I0. J90. K0.",
+        "I0. J85. K0.",
+        expect_test::expect![[r#"
+        work_plane_changed | work_plane | tilted 90° about B | tilted 85° about B | 14 | 14
+          work plane tilted 90° → 85° about B; 2 holes moved at line 14
+    "#]],
+    );
+}
+
 #[test]
 fn plane_axial_angle() {
     edit(
@@ -510,8 +566,11 @@ fn real_programs_lie_on_their_faces() {
     /// to carry the tool axes its B head turns), and the mill-turn's bores at A90/A180/A270 run
     /// in its `millturn` kinematics' mill type, indexing A without tool centre point control.
     /// With rotary indexing turning the tool axis (tilt6): 19 of 21, the bridgemill's two
-    /// quill rings missed.
-    const LCNC_HELD_SCORE: usize = 19;
+    /// quill rings missed. With W a quill moving the tool tip along the spindle (tilt14): 20 of
+    /// 21; the last ring (B-11.25) is drilled, but in a workingstep of the loop's later rounds,
+    /// whose lines run from 44 back to 43, so that the first workingstep holding line 43 (the
+    /// first ring's, B-90) is the one scored.
+    const LCNC_HELD_SCORE: usize = 20;
     /// Sweep 7's held-back part (`held7`: LinuxCNC's xyzac/xyzbc switchkins demos on their
     /// machine's INI, NX samples DMC 160U MillPlus and Sundstrand Omnimill), expectations written
     /// before ncplan read them, scored once on 6 December 2026: 4 of 10. Met: both LinuxCNC
@@ -1141,4 +1200,109 @@ fn a_haas_mirror_image_is_about_the_work_zero() {
             "STRAIGHT_FEED(20.0000, 10.0000, 0.1000, 0.0000, 0.0000, 0.0000)",
         ]
     );
+}
+
+/// A mill's W axis is a quill along the spindle (ISO 841: the secondary motion parallel to
+/// Z; LinuxCNC's XYZW machines): the tool tip stands W along the tool axis from the X Y Z
+/// the program gives, absolute or incremental by the distance mode, and every move while W
+/// is out carries it. Written before the run: at X10 Y20 Z2, `W-12` feeds the tip to Z-10
+/// and `W0` takes it back to Z2; at X30, `G91 W-5` twice feeds to Z-3 and Z-8, and the move
+/// in X with W out stays at Z-8.
+#[test]
+fn a_quill_moves_the_tool_tip_along_the_spindle() {
+    let program = "G21 G90 G17\nT1 M6\nG0 X10 Y20 Z2\nG1 W-12 F100\nG0 W0\nG0 X30\nG91 G1 W-5\nW-5\nG90 G1 X35\nG0 W0\nM2\n";
+    let d = Registry::shipped().get("linuxcnc").unwrap();
+    let mut out = Vec::new();
+    let diags = ncplan::interp::interpret(program, &d, &Profile::default(), &mut out);
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+    let mut text = String::new();
+    for c in &out {
+        ncplan::canon::write_call(&mut text, &c.op);
+    }
+    let moves: Vec<&str> = text.lines().filter(|l| l.starts_with("STRAIGHT_")).collect();
+    assert_eq!(
+        moves,
+        [
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(10.0000, 20.0000, -10.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(30.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(30.0000, 20.0000, -3.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(30.0000, 20.0000, -8.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(35.0000, 20.0000, -8.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(35.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{text}"
+    );
+}
+
+/// An NX post set to write I J K from the arc's centre to its start (the SH8000 sample post:
+/// `I[$mom_prev_pos(0) - $mom_pos_arc_center(0)]`, Post Builder's "Vector - Arc Center to
+/// Start") gives arcs a Fanuc control rejects; the finding says that the offsets fit read that
+/// way, and the move is still rejected, as the control does. An arc whose offsets fit neither
+/// way gets no such note. Written before the run: from X-2.7559 Y-1.9685, `G03 X-1.9685
+/// Y-2.7559 I-.7874 J0` is centre X-3.5433 (radius .7874 to the start, 1.7607 to the end);
+/// read from the centre, X-1.9685 Y-1.9685, radius .7874 both.
+#[test]
+fn arc_offsets_from_the_centre_to_the_start_are_named_in_the_finding() {
+    let d = Registry::shipped().get("fanuc").unwrap();
+    let findings = |program: &str| {
+        let mut out = Vec::new();
+        ncplan::interp::interpret(program, &d, &Profile::default(), &mut out)
+            .into_iter()
+            .filter(|d| d.is_error())
+            .map(|d| d.message)
+            .collect::<Vec<_>>()
+    };
+    let reversed = findings("G20 G17 G90\nG0 X-2.7559 Y-1.9685\nG1 Z0 F10.\nG03 X-1.9685 Y-2.7559 I-.7874 J0.\nM30\n");
+    assert_eq!(reversed.len(), 1, "{reversed:?}");
+    assert!(reversed[0].contains("the offsets fit read from the centre to the start"), "{reversed:?}");
+    let neither = findings("G20 G17 G90\nG0 X-2.7559 Y-1.9685\nG1 Z0 F10.\nG03 X-1.9685 Y-2.7559 I-.5 J0.\nM30\n");
+    assert_eq!(neither.len(), 1, "{neither:?}");
+    assert!(!neither[0].contains("centre to the start"), "{neither:?}");
+}
+
+/// Cylindrical interpolation begun at C0, then a rapid clear of the cylinder (X60 > D50) to
+/// C90 before the cut: the developed length there is 25 · π/2, and the slot cut from it lies on
+/// the cylinder at C90 ((0, 25, -10), radial axis (0, 1, 0)), 8 wide and 2 deep, not on the
+/// plane laid at C0 (Fanuc G07.1: the developed length is the angle times the radius). A
+/// second slot after a rapid to C180 lies at C180 ((-25, 0, -10), axis (-1, 0, 0)). Written
+/// before the run.
+#[test]
+fn a_slot_on_the_cylinder_after_a_rapid_to_another_angle_lies_at_that_angle() {
+    let text = "%\nO0073\nT0101 (OD TOOL)\nG97 S1200 M3\nG0 X54. Z2.\nG1 X50. F0.2\nZ-60.\nG0 X54. Z2.\nM5\n\
+                T0505 (D8 END MILL)\nG98\nG0 X60. Z-10. C0.\nG07.1 C25.\nG0 C90.\nG1 X46. F100.\nZ-40.\nG0 X60.\n\
+                Z-10.\nC180.\nG1 X46.\nZ-40.\nG0 X60.\nG07.1 C0\nG0 X60. Z2.\nM30\n%\n";
+    let plan = plan_of(text, &serde_json::json!({"dialect": "fanuc_lathe"}));
+    let slots: Vec<&Feature> = plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
+    assert_eq!(slots.len(), 2, "{plan:#?}");
+    assert!(
+        matches(
+            slots[0],
+            &serde_json::json!({"kind": "slot", "axis": [0.0, 1.0, 0.0], "positions": [[0.0, 25.0, -10.0]], "width": 8.0, "depth": 2.0})
+        ),
+        "{:#?}",
+        slots[0]
+    );
+    assert!(
+        matches(
+            slots[1],
+            &serde_json::json!({"kind": "slot", "axis": [-1.0, 0.0, 0.0], "positions": [[-25.0, 0.0, -10.0]], "width": 8.0, "depth": 2.0})
+        ),
+        "{:#?}",
+        slots[1]
+    );
+}
+
+/// A retract where a cut on the cylinder ended is no move round it: a second pass cut back from
+/// there lies on the same plane, so the two passes make one slot at the angle the mode began
+/// at (C0: axis (1, 0, 0)). Written before the run.
+#[test]
+fn a_retract_at_the_end_of_a_cut_on_the_cylinder_keeps_its_plane() {
+    let text = "%\nO0074\nT0505 (D8 END MILL)\nG98\nG0 X60. Z-10. C0.\nG07.1 C25.\nG1 X47. F100.\nC60.\nG0 X60.\n\
+                G1 X46.\nC0.\nG0 X60.\nG07.1 C0\nM30\n%\n";
+    let plan = plan_of(text, &serde_json::json!({"dialect": "fanuc_lathe"}));
+    let slots: Vec<&Feature> = plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
+    assert_eq!(slots.len(), 1, "{plan:#?}");
+    assert!(slots[0].axis.is_some_and(|a| (a[0] - 1.0).abs() < AXIS), "{:#?}", slots[0]);
 }

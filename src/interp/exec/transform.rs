@@ -14,10 +14,11 @@
 //! [`Interpreter::mirror_code`], [`Interpreter::frame_mirror`], and
 //! [`Interpreter::transform`] for the ops [`Interpreter::emit`] sends.
 
-use crate::canon::{CanonOp, CanonSink, Plane};
+use crate::canon::{CanonOp, CanonSink, DistanceMode, Plane};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{CodeDef, Meaning, Role};
 use crate::interp::Interpreter;
+use crate::syntax::WordMode;
 use crate::syntax::{Block, Value};
 use crate::text::TextRange;
 
@@ -150,7 +151,8 @@ impl Interpreter<'_> {
         self.st.mirror[a0].is_some() != self.st.mirror[a1].is_some()
     }
 
-    /// A point through programmable scaling (G51), then rotation (G68), as the control moves.
+    /// A point through programmable scaling (G51), then rotation (G68), as the control moves,
+    /// and on by the quill's stroke along the tool axis ([`Interpreter::quill_shift`]).
     fn xform(&self, p: [f64; 3]) -> [f64; 3] {
         let mut q = p;
         if let Some((c, k)) = self.st.scaling {
@@ -163,7 +165,48 @@ impl Interpreter<'_> {
             q[0] = cx + dx * cos - dy * sin;
             q[1] = cy + dx * sin + dy * cos;
         }
+        if self.st.quill != 0.0 {
+            let d = self.quill_shift();
+            for i in 0..3 {
+                q[i] += d[i];
+            }
+        }
         q
+    }
+
+    /// A mill's W axis word in a move (`G1 W-10`): the quill, a linear axis along the spindle
+    /// (ISO 841 names W the secondary motion parallel to Z), goes to its new position, absolute
+    /// or incremental as the block's distance mode says. On a lathe's dictionary or machine W
+    /// is left as it was read (an incremental Z there, or a tailstock or counter-spindle axis
+    /// that moves no tool).
+    pub(in crate::interp) fn quill_word(&mut self) {
+        let Some(slot) = self.slots[Role::W as usize] else { return };
+        if self.taken_by_code(Role::W) || !self.quill_moves_tool() {
+            return;
+        }
+        let incremental = match slot.mode {
+            WordMode::Modal => self.st.distance == DistanceMode::Incremental,
+            WordMode::Absolute => false,
+            WordMode::Incremental => true,
+        };
+        self.st.quill = if incremental { self.st.quill + slot.value } else { slot.value };
+    }
+
+    /// Whether the W axis is a quill that moves the tool: not on a lathe's dictionary or
+    /// machine, where W is an incremental Z or moves a tailstock or counter-spindle.
+    pub(in crate::interp) fn quill_moves_tool(&self) -> bool {
+        !(self.st.diameter || self.dialect.behaviour.x_diameter || self.profile.lathe_reset)
+    }
+
+    /// Where the quill's stroke puts the tool tip from the X Y Z the program gives: W along the
+    /// tool axis, from the tip towards the holder, as a quill or ram moves the spindle (LinuxCNC's
+    /// trivial kinematics with W a joint parallel to Z; its bridge mill's `5axiskins` adds W to
+    /// the tool's length along the tilted spindle, kins(9): "the W coordinate values (typically
+    /// used for tool motion) are incorporated into XYZ positioning"). On a tilted working plane
+    /// the spindle is the plane's Z.
+    pub(in crate::interp) fn quill_shift(&self) -> [f64; 3] {
+        let axis = if self.st.frame.is_some() { [0.0, 0.0, 1.0] } else { self.tool_axis };
+        axis.map(|a| a * self.st.quill)
     }
 
     /// An op with its points through scaling and rotation (see [`Interpreter::xform`]).
