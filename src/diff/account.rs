@@ -77,6 +77,7 @@ pub(super) fn account(
 ) {
     let ((sa, fa), (sb, fb)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
     let (fa, fb) = (verdict::joined(findings.0, fa), verdict::joined(findings.1, fb));
+    let (fa, fb) = (verdict::library_stops(&fa, a.dialect), verdict::library_stops(&fb, b.dialect));
     let hunks = statement::hunks(&sa, &sb);
     // Whether the original cuts anything with a feed, where the control removes material.
     let cuts = || {
@@ -400,6 +401,7 @@ fn same_machining(
     same.extend(relabelled(items, a, b, sa, sb));
     same.extend(retrace::retraced(hunks, a, b, sa, sb));
     same.extend(restated(hunks, a, b, sa, sb));
+    same.extend(follow::moved_same(hunks, a, b, sa, sb));
     same
 }
 

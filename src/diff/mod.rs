@@ -392,7 +392,10 @@ impl Change {
                 return format!("{s}: {} became {}", self.before, self.after);
             }
             ChangeKind::StatementChanged | ChangeKind::OutputChanged => return self.statement_phrase(),
-            ChangeKind::ReturnMoveChanged => return format!("return move: {}", self.statement_phrase()),
+            // A value followed to such a move (`G53 G0 X#<setter_x>`) reads as the others.
+            ChangeKind::ReturnMoveChanged if !self.field.contains(" (via ") => {
+                return format!("return move: {}", self.statement_phrase());
+            }
             ChangeKind::RotaryMoveChanged => return format!("rotary axis move: {}", self.statement_phrase()),
             // A tilt statement no plan row names (no cut follows it), as written.
             ChangeKind::WorkPlaneChanged if self.field == "work plane" => return format!("work plane: {}", self.statement_phrase()),

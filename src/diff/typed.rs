@@ -122,7 +122,7 @@ fn other_cycle(m: Meaning) -> bool {
 }
 
 /// Whether a token is an axis or arc-centre word.
-fn axis_word(tok: &Token, d: &Dialect) -> bool {
+pub(super) fn axis_word(tok: &Token, d: &Dialect) -> bool {
     use Role as R;
     tok.sort == Sort::Word
         && matches!(about(tok, d), About::Address(R::X | R::Y | R::Z | R::A | R::B | R::C | R::U | R::V | R::W | R::I | R::J | R::K))
