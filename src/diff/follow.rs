@@ -96,7 +96,7 @@ fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: 
     if typed::sets_variable(tok, d) {
         return typed::cycle_param(&tok.key, d).map(|a| (typed::arg_kind(a.role), format!("cycle parameter {}", typed::arg_name(a))));
     }
-    if matches!(about(tok, d), About::Address(Role::Z)) && !ctx.cycle && ctx.data.is_none() && !ctx.length {
+    if matches!(about(tok, d), About::Address(Role::Z)) && !ctx.cycle && !ctx.probe && ctx.data.is_none() && !ctx.length {
         return rapid().map(|r| {
             if r { (ChangeKind::ClearanceChanged, "clearance height".into()) } else { (ChangeKind::DepthChanged, "cut depth".into()) }
         });

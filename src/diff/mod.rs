@@ -171,6 +171,10 @@ pub enum ChangeKind {
     /// A global variable the file sets and does not read (LinuxCNC `#<_paranoid>`) changed,
     /// was set or no longer is: a value for the subroutines and programs that run after it.
     GlobalVariableChanged,
+    /// A probing move (LinuxCNC `G38.2`–`G38.5`, Fanuc's skip `G31`: the dictionary's probe
+    /// codes) changed where the plan does not tell it: its target, its feed, or which probe
+    /// move it is, also through a variable it reads.
+    ProbingChanged,
 }
 
 impl ChangeKind {
@@ -223,6 +227,7 @@ impl ChangeKind {
             ChangeKind::FlowChanged => "flow_changed",
             ChangeKind::MachineFunctionChanged => "machine_function_changed",
             ChangeKind::GlobalVariableChanged => "global_variable_changed",
+            ChangeKind::ProbingChanged => "probing_changed",
         }
     }
 }
