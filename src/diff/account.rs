@@ -87,7 +87,10 @@ pub(super) fn account(
             .flat_map(|w| w.toolpath.iter())
             .any(|m| m.phase == crate::plan::Phase::Cut && m.kind != crate::plan::MoveKind::Rapid && m.feed > 0.0)
     };
-    let cuts = fa.is_empty() || fb.is_empty() || cuts();
+    // A file of definitions only stops only when run as a program; called, its subroutines
+    // run (and stop at their own errors).
+    let stops = |f: &[Fault]| f.iter().any(|f| f.code != crate::diag::Code::Library);
+    let cuts = !stops(&fa) || !stops(&fb) || cuts();
     let told = verdict::verdicts(&fa, &fb, &|l| verdict::same_line(l, (&sa, &sb), &hunks), cuts);
     // An edit only inside remarks (a parenthesis nested in one added or taken out): the
     // control's words are the same in both, and what changes is only that the control stops

@@ -172,7 +172,9 @@ pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u3
     // the edit leaves the error it stops at, another error breaks nothing: neither version
     // machines.
     let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
-    let idle = !cuts && a.iter().filter(live).any(|f| !fixed.iter().any(|g| std::ptr::eq(*g, f)));
+    // A file of definitions only (`flow::library`) stops only run as a program: its
+    // subroutines, called, still run into the errors the edit brings in.
+    let idle = !cuts && a.iter().filter(live).any(|f| f.code != crate::diag::Code::Library && !fixed.iter().any(|g| std::ptr::eq(*g, f)));
     if idle {
         broken.clear();
     }
