@@ -25,12 +25,17 @@
 //! not show it (a feed, a dwell, a cycle parameter: the kinds plan changes use), by the
 //! dictionary's meanings and roles in the context of the statement's codes; `follow.rs`
 //! follows a variable set to another value to the words it feeds (`clearance height (via
-//! #<_z_clearance>)`), and compares a call whose argument count changed with its subroutine as
-//! each version has it (`rebound`); `rename.rs` finds labels renamed one to one over both
+//! #<_z_clearance>)`), an assignment written elsewhere with another value as one change of
+//! it (`moved`; one moved with its number, read nowhere between, is no change: `moved_same`),
+//! and compares a call whose argument count changed with its subroutine as
+//! each version has it (`rebound`); a probing move's words (the dictionary's probe codes) are
+//! a `probing_changed`; `rename.rs` finds labels renamed one to one over both
 //! programs (no change); `retrace.rs` finds straight moves written in other pieces along
 //! the same path at the same feed (no change); `height.rs` tells an absolute height the later
 //! incremental moves start from; `verdict.rs` says what the edit breaks or fixes (errors the control
-//! stops at in one version only, matched by kind at the same statement first), listed first.
+//! stops at in one version only, matched by kind at the same statement first; a file of
+//! subroutine definitions only, with no program end outside them, where the dictionary requires
+//! one, as the stop it is run as a program), listed first.
 //! Toolpath changes whose moves read values the file never sets are told without sizes. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
 //! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
 //! offset, offset numbers, compensation, stops, dwells, block delete, spindle mode),
