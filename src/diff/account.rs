@@ -77,6 +77,7 @@ pub(super) fn account(
 ) {
     let ((sa, fa), (sb, fb)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
     let (fa, fb) = (verdict::joined(findings.0, fa), verdict::joined(findings.1, fb));
+    let (fa, fb) = (verdict::library_stops(&fa, a.dialect), verdict::library_stops(&fb, b.dialect));
     let hunks = statement::hunks(&sa, &sb);
     // Whether the original cuts anything with a feed, where the control removes material.
     let cuts = || {
@@ -86,7 +87,10 @@ pub(super) fn account(
             .flat_map(|w| w.toolpath.iter())
             .any(|m| m.phase == crate::plan::Phase::Cut && m.kind != crate::plan::MoveKind::Rapid && m.feed > 0.0)
     };
-    let cuts = fa.is_empty() || fb.is_empty() || cuts();
+    // A file of definitions only stops only when run as a program; called, its subroutines
+    // run (and stop at their own errors).
+    let stops = |f: &[Fault]| f.iter().any(|f| f.code != crate::diag::Code::Library);
+    let cuts = !stops(&fa) || !stops(&fb) || cuts();
     let told = verdict::verdicts(&fa, &fb, &|l| verdict::same_line(l, (&sa, &sb), &hunks), cuts);
     // An edit only inside remarks (a parenthesis nested in one added or taken out): the
     // control's words are the same in both, and what changes is only that the control stops
@@ -400,6 +404,7 @@ fn same_machining(
     same.extend(relabelled(items, a, b, sa, sb));
     same.extend(retrace::retraced(hunks, a, b, sa, sb));
     same.extend(restated(hunks, a, b, sa, sb));
+    same.extend(follow::moved_same(hunks, a, b, sa, sb));
     same
 }
 

@@ -96,7 +96,7 @@ fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: 
     if typed::sets_variable(tok, d) {
         return typed::cycle_param(&tok.key, d).map(|a| (typed::arg_kind(a.role), format!("cycle parameter {}", typed::arg_name(a))));
     }
-    if matches!(about(tok, d), About::Address(Role::Z)) && !ctx.cycle && ctx.data.is_none() && !ctx.length {
+    if matches!(about(tok, d), About::Address(Role::Z)) && !ctx.cycle && !ctx.probe && ctx.data.is_none() && !ctx.length {
         return rapid().map(|r| {
             if r { (ChangeKind::ClearanceChanged, "clearance height".into()) } else { (ChangeKind::DepthChanged, "cut depth".into()) }
         });
@@ -167,7 +167,18 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
                 }
                 continue;
             }
-            match decides.or_else(|| use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect)) {
+            // An axis word of a return or machine-coordinate move (`G53 G0 X#<setter_x>`,
+            // `G28 Z#1`): where that move goes, told as that move's change.
+            // Where its words say no more than that the move changed.
+            let returns = s.moves & statement::RETURN_MOVE != 0 && typed::axis_word(t, p.dialect);
+            let kind = decides.or_else(|| use_kind(t, ctx, || rapid_at(p, stmts, k, &toks), p.dialect));
+            let kind = match kind {
+                None | Some((ChangeKind::ToolpathChanged, _)) if returns => {
+                    Some((ChangeKind::ReturnMoveChanged, "return or machine-coordinate move".to_owned()))
+                }
+                k => k,
+            };
+            match kind {
                 Some(kf) if !kinds.contains(&kf) => kinds.push(kf),
                 Some(_) => {}
                 None if typed::sets_variable(t, p.dialect) && !feeds.contains(&t.key) => feeds.push(t.key.clone()),
@@ -195,6 +206,7 @@ fn global(var: &str, d: &Dialect) -> bool {
 /// Statement changes of variables set to other values become the changes of what the
 /// variables feed, where their uses say it; the rest stay as they are.
 pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, (sa, sb): (&[Stmt], &[Stmt])) {
+    moved(changes, (a, sa), (b, sb));
     let mut k = 0;
     // Each assignment added or removed reads both programs once more: so many at most.
     let mut whole_left = MAX_WHOLE;
@@ -264,6 +276,116 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             k += 1;
         }
     }
+}
+
+/// An assignment written elsewhere with another value (`#<tool_touch_x_coords> = 52` removed
+/// at line 12, `= 17.4` added at line 13): where each program assigns the variable once, its
+/// removal and its addition are one change of the value, from the original's to the edited
+/// one's, at both lines, followed to its uses as a value changed in place is. Only a value
+/// that differs comes here: an assignment moved with its value is no change where every use
+/// reads it after it in both programs (`super::account`'s `moved_same`).
+fn moved(changes: &mut Vec<Change>, (a, sa): (Program<'_>, &[Stmt]), (b, sb): (Program<'_>, &[Stmt])) {
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let removed = c.kind == ChangeKind::StatementChanged
+            && c.field.starts_with("variable ")
+            && !c.before.is_empty()
+            && c.after.is_empty()
+            && c.line.is_none()
+            && c.original_line.is_some();
+        let added = |o: &Change| {
+            o.kind == ChangeKind::StatementChanged && o.field == c.field && o.before.is_empty() && !o.after.is_empty() && o.line.is_some()
+        };
+        // The same text written elsewhere (`#<feed> = #<_feed>` three lines lower) may read
+        // another value there, or the same: not told as a change of its value.
+        let found = if removed { changes.iter().position(|o| added(o) && o.after != c.before) } else { None };
+        let Some(j) = found else {
+            k += 1;
+            continue;
+        };
+        let var = c.field["variable ".len()..].to_owned();
+        if assignments(a, sa, &var) != 1 || assignments(b, sb, &var) != 1 {
+            k += 1;
+            continue;
+        }
+        let new = changes.remove(j);
+        if j < k {
+            k -= 1;
+        }
+        let c = &mut changes[k];
+        c.after = new.after;
+        c.line = new.line;
+        c.detail.at.extend(new.detail.at);
+        k += 1;
+    }
+}
+
+/// How far apart (in statements) an assignment moved with its value may lie for
+/// [`moved_same`], and how many statements around it are read.
+const MOVED_WITHIN: usize = 32;
+
+/// Assignments moved with their value (`#<tool_setter_height> = 23.8836` written two lines
+/// lower, `Q1 = 5` above another): no change where the value is a number, each program
+/// assigns the variable once, and no statement between the two places (in each program,
+/// between it and where the other program's lies) reads the variable, calls, jumps, is
+/// numbered (a jump's target) or opens or closes a block. Then every use
+/// reads the same value in both: those after both places the number, those before both the
+/// value before it. Each as (original line, None) and (None, edited line).
+pub(super) fn moved_same(
+    hunks: &[statement::Hunk],
+    a: Program<'_>,
+    b: Program<'_>,
+    sa: &[Stmt],
+    sb: &[Stmt],
+) -> Vec<(Option<u32>, Option<u32>)> {
+    let mut out = Vec::new();
+    let removed: Vec<usize> = hunks.iter().flat_map(|h| h.original.clone()).take(MAX_WHOLE).collect();
+    let added: Vec<usize> = hunks.iter().flat_map(|h| h.edited.clone()).take(MAX_WHOLE).collect();
+    for &i in &removed {
+        let Some(&j) = added.iter().find(|&&j| sb[j].hash == sa[i].hash && i.abs_diff(j) <= MOVED_WITHIN) else { continue };
+        let toks = statement::tokens_in(&statement::text_of(a.text, a.dialect, &sa[i]), a.dialect);
+        let [t] = toks.as_slice() else { continue };
+        let number = t.value.trim().trim_start_matches(['[']).trim_end_matches([']']).parse::<f64>().is_ok();
+        if t.sort != Sort::Assign || !typed::sets_variable(t, a.dialect) || !number {
+            continue;
+        }
+        let var = t.key.as_str();
+        if assignments(a, sa, var) != 1 || assignments(b, sb, var) != 1 {
+            continue;
+        }
+        // Where each lies in the other program: the start of its hunk's other side.
+        let place = |k: usize, original: bool| {
+            hunks
+                .iter()
+                .find(|h| if original { h.original.contains(&k) } else { h.edited.contains(&k) })
+                .map(|h| if original { h.edited.start } else { h.original.start })
+        };
+        let (Some(pi), Some(pj)) = (place(i, true), place(j, false)) else { continue };
+        let quiet = |p: Program<'_>, stmts: &[Stmt], own: usize, other: usize| {
+            let (lo, hi) = (own.min(other), (own + 1).max(other));
+            hi - lo <= MOVED_WITHIN
+                && stmts.iter().enumerate().take(hi).skip(lo).all(|(k, s)| {
+                    k == own || {
+                        let toks = statement::tokens_in(&statement::text_of(p.text, p.dialect, s), p.dialect);
+                        // A numbered block may be a jump's target (Fanuc `GOTO 100` to `N100`).
+                        let raw = p.text.get(s.offset as usize..).unwrap_or_default().trim_start();
+                        let numbered = raw.len() > 1 && raw.as_bytes()[0].eq_ignore_ascii_case(&b'N') && raw.as_bytes()[1].is_ascii_digit();
+                        s.moves & statement::CALL == 0
+                            && !numbered
+                            && control::flow_of(&toks, p.dialect).is_none()
+                            && toks
+                                .iter()
+                                .all(|t| matches!(t.sort, Sort::Word | Sort::Assign) && !reads(&t.value, var) && !reads(&t.text, var))
+                    }
+                })
+        };
+        if quiet(a, sa, i, pj) && quiet(b, sb, j, pi) {
+            out.push((Some(sa[i].line), None));
+            out.push((None, Some(sb[j].line)));
+        }
+    }
+    out
 }
 
 /// Whether the assignment of `var` that change `k` adds (or removes) is the only one: the

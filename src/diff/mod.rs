@@ -25,12 +25,17 @@
 //! not show it (a feed, a dwell, a cycle parameter: the kinds plan changes use), by the
 //! dictionary's meanings and roles in the context of the statement's codes; `follow.rs`
 //! follows a variable set to another value to the words it feeds (`clearance height (via
-//! #<_z_clearance>)`), and compares a call whose argument count changed with its subroutine as
-//! each version has it (`rebound`); `rename.rs` finds labels renamed one to one over both
+//! #<_z_clearance>)`), an assignment written elsewhere with another value as one change of
+//! it (`moved`; one moved with its number, read nowhere between, is no change: `moved_same`),
+//! and compares a call whose argument count changed with its subroutine as
+//! each version has it (`rebound`); a probing move's words (the dictionary's probe codes) are
+//! a `probing_changed`; `rename.rs` finds labels renamed one to one over both
 //! programs (no change); `retrace.rs` finds straight moves written in other pieces along
 //! the same path at the same feed (no change); `height.rs` tells an absolute height the later
 //! incremental moves start from; `verdict.rs` says what the edit breaks or fixes (errors the control
-//! stops at in one version only, matched by kind at the same statement first), listed first.
+//! stops at in one version only, matched by kind at the same statement first; a file of
+//! subroutine definitions only, with no program end outside them, where the dictionary requires
+//! one, as the stop it is run as a program), listed first.
 //! Toolpath changes whose moves read values the file never sets are told without sizes. `mod.rs`: alignment of workingsteps (Needleman–Wunsch on a similarity of operation,
 //! tool geometry, cutting length and toolpath box) and typed `Change`s: machine state (work
 //! offset, offset numbers, compensation, stops, dwells, block delete, spindle mode),
@@ -171,6 +176,10 @@ pub enum ChangeKind {
     /// A global variable the file sets and does not read (LinuxCNC `#<_paranoid>`) changed,
     /// was set or no longer is: a value for the subroutines and programs that run after it.
     GlobalVariableChanged,
+    /// A probing move (LinuxCNC `G38.2`–`G38.5`, Fanuc's skip `G31`: the dictionary's probe
+    /// codes) changed where the plan does not tell it: its target, its feed, or which probe
+    /// move it is, also through a variable it reads.
+    ProbingChanged,
 }
 
 impl ChangeKind {
@@ -223,6 +232,7 @@ impl ChangeKind {
             ChangeKind::FlowChanged => "flow_changed",
             ChangeKind::MachineFunctionChanged => "machine_function_changed",
             ChangeKind::GlobalVariableChanged => "global_variable_changed",
+            ChangeKind::ProbingChanged => "probing_changed",
         }
     }
 }
@@ -392,7 +402,10 @@ impl Change {
                 return format!("{s}: {} became {}", self.before, self.after);
             }
             ChangeKind::StatementChanged | ChangeKind::OutputChanged => return self.statement_phrase(),
-            ChangeKind::ReturnMoveChanged => return format!("return move: {}", self.statement_phrase()),
+            // A value followed to such a move (`G53 G0 X#<setter_x>`) reads as the others.
+            ChangeKind::ReturnMoveChanged if !self.field.contains(" (via ") => {
+                return format!("return move: {}", self.statement_phrase());
+            }
             ChangeKind::RotaryMoveChanged => return format!("rotary axis move: {}", self.statement_phrase()),
             // A tilt statement no plan row names (no cut follows it), as written.
             ChangeKind::WorkPlaneChanged if self.field == "work plane" => return format!("work plane: {}", self.statement_phrase()),

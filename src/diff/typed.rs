@@ -94,6 +94,9 @@ pub(super) struct Context {
     /// A rapid (`G0`) on a mill, with no plane code in the statement: its `Z` is the height the
     /// tool goes to between cuts or before the first (clearance, approach).
     pub rapid: bool,
+    /// A probing move (`G38.2`, `G31`): its axis words are where the probe goes until it
+    /// touches, its `F` the probing feed.
+    pub probe: bool,
 }
 
 /// Whether a code shifts the origin of the program's coordinates.
@@ -122,7 +125,7 @@ fn other_cycle(m: Meaning) -> bool {
 }
 
 /// Whether a token is an axis or arc-centre word.
-fn axis_word(tok: &Token, d: &Dialect) -> bool {
+pub(super) fn axis_word(tok: &Token, d: &Dialect) -> bool {
     use Role as R;
     tok.sort == Sort::Word
         && matches!(about(tok, d), About::Address(R::X | R::Y | R::Z | R::A | R::B | R::C | R::U | R::V | R::W | R::I | R::J | R::K))
@@ -174,6 +177,7 @@ impl Context {
             }
             if let About::Code(m) = about(t, d) {
                 c.dwell |= m == Meaning::Dwell;
+                c.probe |= matches!(m, Meaning::Probe | Meaning::ProbeQuiet);
                 c.cycle |= m.is_cycle();
                 c.other_cycle |= other_cycle(m);
                 c.css |= m == Meaning::SpindleCss;
@@ -226,6 +230,7 @@ impl Context {
             flow: self.flow.or(o.flow),
             macro_call: self.macro_call || o.macro_call,
             rapid: self.rapid && o.rapid,
+            probe: self.probe || o.probe,
         }
     }
 }
@@ -290,6 +295,17 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     }
     if ctx.css && matches!(a, About::Address(R::D)) {
         return Some((K::SpindleSpeedChanged, "spindle speed limit"));
+    }
+    // A probing move's target, feed or code (`G38.2 Z-10 F100` → `G38.2 Z-15 F50`, `G38.2` →
+    // `G38.3`): where the probe goes until it touches, and how fast (LinuxCNC G38.x, Fanuc
+    // G31 skip function), told as the probing it is, not as a cut's feed or a toolpath.
+    if ctx.probe && !ctx.cycle && !ctx.other_cycle && !ctx.macro_call {
+        match a {
+            About::Code(M::Probe | M::ProbeQuiet) => return Some((K::ProbingChanged, "probe move")),
+            About::Address(R::F) => return Some((K::ProbingChanged, "probe feed")),
+            _ if axis_word(tok, d) => return Some((K::ProbingChanged, "probe target")),
+            _ => {}
+        }
     }
     if ctx.moves_by_variables && !ctx.cycle && !ctx.other_cycle && ctx.data.is_none() && !ctx.length && (motion || axis_word(tok, d)) {
         return Some((K::ToolpathChanged, "moves"));

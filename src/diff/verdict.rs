@@ -42,12 +42,39 @@ pub fn faults(text: &str, findings: &[Diagnostic]) -> Vec<Fault> {
         Code::MissingLabel => guessed.contains(&line(d)),
         _ => false,
     };
-    let errors: Vec<&Diagnostic> =
-        findings.iter().filter(|d| (d.is_error() && !global_unset(d) && !on_values(d)) || d.code == Code::UnknownValue).collect();
+    // A file that only defines subroutines (`flow::library`): nothing to stop at when a call
+    // opens it, but run as a program by itself the control reads past the definitions to the
+    // file's end without a program end ([`library_stops`] keeps it where the dictionary
+    // requires one).
+    let errors: Vec<&Diagnostic> = findings
+        .iter()
+        .filter(|d| (d.is_error() && !global_unset(d) && !on_values(d)) || matches!(d.code, Code::UnknownValue | Code::Library))
+        .collect();
     if errors.is_empty() {
         return Vec::new();
     }
     errors.into_iter().map(|d| Fault { code: d.code, line: index.line_col(text, d.range.start).line, message: d.message.clone() }).collect()
+}
+
+/// The faults of a program read in `d`, a file that only defines subroutines (`flow::library`)
+/// kept as the stop it is when the file is run as a program, where the dictionary requires a
+/// program end: the control skips the definitions (RS274NGC: a `sub` is read, not run, until
+/// a call) and meets the file's end with no M2, M30 or `%` (LinuxCNC: "File ended with no
+/// percent sign or program end"). An edit that wraps a program into a definition, or takes the
+/// wrapper away so that its blocks run, is then told as breaking or fixing the program run by
+/// itself. Where the dictionary needs no program end, the library is no stop at all.
+pub(super) fn library_stops(faults: &[Fault], d: &crate::dialect::Dialect) -> Vec<Fault> {
+    faults
+        .iter()
+        .filter(|f| f.code != crate::diag::Code::Library || d.behaviour.end_required)
+        .map(|f| {
+            let mut f = f.clone();
+            if f.code == crate::diag::Code::Library {
+                f.message = "a file of subroutine definitions only, with no M2, M30 or `%` outside them: run as a program, the control skips the definitions and stops at the end of the file".into();
+            }
+            f
+        })
+        .collect()
 }
 
 /// Whether a finding is a global variable read before the file sets it (LinuxCNC `#<_td>`,
@@ -145,7 +172,9 @@ pub(super) fn verdicts(a: &[Fault], b: &[Fault], same: &dyn Fn(u32) -> Option<u3
     // the edit leaves the error it stops at, another error breaks nothing: neither version
     // machines.
     let live = |f: &&Fault| !f.message.starts_with(super::statement::NEVER_TAKEN);
-    let idle = !cuts && a.iter().filter(live).any(|f| !fixed.iter().any(|g| std::ptr::eq(*g, f)));
+    // A file of definitions only (`flow::library`) stops only run as a program: its
+    // subroutines, called, still run into the errors the edit brings in.
+    let idle = !cuts && a.iter().filter(live).any(|f| f.code != crate::diag::Code::Library && !fixed.iter().any(|g| std::ptr::eq(*g, f)));
     if idle {
         broken.clear();
     }

@@ -802,24 +802,25 @@ fn call_arguments_followed_into_a_subroutine_beside_the_program() {
     let sub = Beside("probe", "o<probe> sub\n#<fast> = #2\nG91 G38.2 X[#1] F[#<fast>]\no<probe> endsub\nM2\n");
     let run = |a: &str, b: &str| diff_following("linuxcnc", &sub, a, b);
     let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [10] [150]\nM2\n");
-    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    // The subroutine's `G38.2 … F[#<fast>]`: the probing feed.
+    let feed = got.iter().find(|c| c.kind == ChangeKind::ProbingChanged).unwrap_or_else(|| panic!("{got:#?}"));
     assert!(feed.field.contains("argument 2, #2 in probe"), "{}", feed.field);
     assert_eq!((feed.before.as_str(), feed.after.as_str(), feed.line), ("300", "150", Some(2)));
     // An argument inserted before it: the binding shifts, nothing is claimed about it.
     let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [5] [10] [300]\nM2\n");
-    assert!(got.iter().all(|c| c.kind != ChangeKind::FeedChanged), "{got:#?}");
+    assert!(got.iter().all(|c| c.kind != ChangeKind::ProbingChanged), "{got:#?}");
     assert!(!got.is_empty());
     // An argument appended at the end shifts nothing: it binds #2, which sets the feed.
     let got = run("G21\no<probe> call [10]\nM2\n", "G21\no<probe> call [10] [150]\nM2\n");
-    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    let feed = got.iter().find(|c| c.kind == ChangeKind::ProbingChanged).unwrap_or_else(|| panic!("{got:#?}"));
     assert!(feed.field.contains("argument 2, #2 in probe"), "{}", feed.field);
     assert_eq!((feed.before.as_str(), feed.after.as_str()), ("none", "150"));
     // Appended with the first changed in place: both followed, each to its own parameter.
     let got = run("G21\no<probe> call [10]\nM2\n", "G21\no<probe> call [12] [150]\nM2\n");
-    assert!(got.iter().any(|c| c.kind == ChangeKind::FeedChanged), "{got:#?}");
+    assert!(got.iter().any(|c| c.kind == ChangeKind::ProbingChanged), "{got:#?}");
     // The last argument taken off: #2 no longer passed, told as the feed it set.
     let got = run("G21\no<probe> call [10] [300]\nM2\n", "G21\no<probe> call [10]\nM2\n");
-    let feed = got.iter().find(|c| c.kind == ChangeKind::FeedChanged).unwrap_or_else(|| panic!("{got:#?}"));
+    let feed = got.iter().find(|c| c.kind == ChangeKind::ProbingChanged).unwrap_or_else(|| panic!("{got:#?}"));
     assert_eq!((feed.before.as_str(), feed.after.as_str()), ("300", "none"));
 }
 
