@@ -408,8 +408,13 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
             let now = way(&spans[k]);
             // Straight passes after a pass along the whole contour: roughing again.
             let after_contour = now != Way::Profile && full(from, k - 1);
-            // A second pass along the contour after the roughing's passes: the finish.
-            let finish = way(&spans[k - 1]) == Way::Profile && k - from >= 2 && full(from, k);
+            // A second pass along the contour after the roughing's passes: the finish. So is a
+            // pass along the whole contour after straight passes along Z only (roughing passes,
+            // each a stretch of the stock, then the profile at the same feed, as a simulator's
+            // sample or an operator writes them; not a groove's plunges across, which the
+            // profile after them finishes within their workingstep, as `CYCLE93` does).
+            let straight_before = (from..k).all(|j| way(&spans[j]) == Way::Along);
+            let finish = (way(&spans[k - 1]) == Way::Profile || straight_before) && k - from >= 2 && full(from, k);
             if after_contour || finish {
                 cuts_at.push(spans[k - 1].1);
                 from = k;
