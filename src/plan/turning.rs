@@ -411,9 +411,20 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
             // A second pass along the contour after the roughing's passes: the finish. So is a
             // pass along the whole contour after straight passes along Z only (roughing passes,
             // each a stretch of the stock, then the profile at the same feed, as a simulator's
-            // sample or an operator writes them; not a groove's plunges across, which the
-            // profile after them finishes within their workingstep, as `CYCLE93` does).
-            let straight_before = (from..k).all(|j| way(&spans[j]) == Way::Along);
+            // sample or an operator writes them, the last pass of the workingstep along it; not a
+            // groove's plunges across, which the profile after them finishes within their
+            // workingstep, as `CYCLE93` does).
+            // (Followed by another pass along the whole contour, it is the roughing's last pass
+            // over the stock it leaves, as LinuxCNC's `G71` ends before its `G70`.)
+            // A roughing cycle's last pass runs through where its passes along Z ended (they stop
+            // at the contour moved out by the allowance, which that pass follows); a finishing
+            // pass runs clear of them, by the allowance they left.
+            let clear = |k: usize| {
+                let profile = &moves[spans[k].0..spans[k].1];
+                (from..k).all(|j| main_cut(&moves[spans[j].0..spans[j].1]).is_some_and(|(_, m)| off_the_path(profile, m.to) > 0.05))
+            };
+            let straight_before =
+                (from..k).all(|j| way(&spans[j]) == Way::Along) && !(k + 1..spans.len()).any(|j| full(from, j)) && clear(k);
             let finish = (way(&spans[k - 1]) == Way::Profile || straight_before) && k - from >= 2 && full(from, k);
             if after_contour || finish {
                 cuts_at.push(spans[k - 1].1);
@@ -462,6 +473,21 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
         ws.index = k as u32 + 1;
     }
     plan.workingsteps = out;
+}
+
+/// How far a point (X radius, Z) lies from a path of moves in the ZX plane: from the nearest
+/// straight move, or the circle of the nearest arc.
+fn off_the_path(path: &[Move], p: P3) -> f64 {
+    let d = |m: &Move| match m.arc {
+        Some(a) => ((p[0] - a.center[0]).hypot(p[2] - a.center[2]) - (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2])).abs(),
+        None => {
+            let (dx, dz) = (m.to[0] - m.from[0], m.to[2] - m.from[2]);
+            let len2 = dx * dx + dz * dz;
+            let t = if len2 > 0.0 { (((p[0] - m.from[0]) * dx + (p[2] - m.from[2]) * dz) / len2).clamp(0.0, 1.0) } else { 0.0 };
+            (p[0] - m.from[0] - t * dx).hypot(p[2] - m.from[2] - t * dz)
+        }
+    };
+    path.iter().map(d).fold(f64::INFINITY, f64::min)
 }
 
 /// How many of the first runs face the front before the rest turn behind it (0 where they do

@@ -922,12 +922,18 @@ N10 G1 X112. Z-6.5\nX100. Z-9.\nG2 X84. Z-25. R40.\nG1 Z-26.\nN20 X113.\nG70 P10
     let other = cycle.replace("(OD GROOVE TURN)\nT0808", "(OD TURN)\nT0101").replace("G70 P10", "(OD GROOVE)\nT0808\nG70 P10");
     let (ws, _) = labels(&other, "fanuc_lathe");
     assert_eq!(ws, ["contouring rough", "contouring finish"]);
-    let rough_then_profile = "O4\nG21 G99\nT0101\nG97 S1000 M3\nG0 X32. Z2.\nX28.\nG1 Z-30. F0.2\nX29. Z-29.\nG0 Z2.\nX24.\n\
-G1 Z-20.\nX25. Z-19.\nG0 Z2.\nX20.\nG1 Z-10.\nX21. Z-9.\nG0 X16. Z2.\nG1 X18. Z0.\nZ-10.\nX22. Z-20.\nX26.\nZ-30.\nX32.\n\
+    // (The roughing passes stop 0.2 short of the shoulders: the finish runs clear of their ends.)
+    let rough_then_profile = "O4\nG21 G99\nT0101\nG97 S1000 M3\nG0 X32. Z2.\nX28.\nG1 Z-29.8 F0.2\nX29. Z-28.8\nG0 Z2.\nX24.\n\
+G1 Z-19.8\nX25. Z-18.8\nG0 Z2.\nX20.\nG1 Z-9.8\nX21. Z-8.8\nG0 X16. Z2.\nG1 X18. Z0.\nZ-10.\nX22. Z-20.\nX26.\nZ-30.\nX32.\n\
 G0 X100. Z100.\nM30\n";
     let (ws, features) = labels(rough_then_profile, "fanuc_lathe");
     assert_eq!(ws, ["contouring rough", "contouring finish"], "{features:?}");
     assert_eq!(features.iter().filter(|f| *f == "outer diameter").count(), 2, "{features:?}");
+    // Passes that end on the profile (a roughing cycle written as moves, its last pass along
+    // the contour through their ends) are one roughing.
+    let cycle_as_moves = rough_then_profile.replace("Z-29.8", "Z-30.").replace("Z-19.8", "Z-20.").replace("Z-9.8", "Z-10.");
+    let (ws, _) = labels(&cycle_as_moves, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough"]);
 }
 
 /// A pass along a wall left by a rapid back out along +Z that pulls in off the wall a little is a
