@@ -732,7 +732,12 @@ fn lathe_s7_held_out_programs() {
 /// milling feature. Missed: the simulator samples' inside work, grooves, drilling and finish
 /// diameters (8 + 4), the class programs' facing rough/finish with their feeds and their
 /// diameters and faces (9), the Doosan programs' grooving and a few diameters, faces and the
-/// 2.54-pitch thread (9).
+/// 2.54-pitch thread (9). After lathe18 (seen, 7 December 2026): 65 of 82 (a face then diameters
+/// turned one each from it, plunges left by a rapid, a grooving tool's `G71`/`G70`, the profile
+/// after straight roughing passes); left: the simulator sample 3's tools (`T26`, `T21`, `T09`: two
+/// digits, read by the Fanuc tool/offset split as tool 0, as the control reads them), the class
+/// programs' `G97` steps listed with the `G50` clamp, a `G02` with no radius and an arc whose end
+/// is off its circle (controls alarm on both).
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report
