@@ -36,7 +36,8 @@
 //! - **finish**: one plunge at one place along Z to the final depth (the groove as wide as the
 //!   tool: roughed and finished in that pass), or passes that follow the groove's flanks and
 //!   bottom (profiled from both sides), or a cycle that finishes the flanks and base it states
-//!   (SINUMERIK `CYCLE93`);
+//!   (SINUMERIK `CYCLE93`), or the finishing cycle (`G70`) a grooving tool the program names
+//!   runs outside after its own roughing cycle (`G71`: rough), groove turning;
 //! - **rough**: plunges at several places along Z across one groove (a grooving cycle's Z
 //!   shift, Fanuc's and Haas's `G75`, or plunges written as moves), whether they overlap or
 //!   leave stock between them for a later pass, pecked or not (`classify`: a cycle whose
