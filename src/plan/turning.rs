@@ -36,7 +36,8 @@
 //! - **finish**: one plunge at one place along Z to the final depth (the groove as wide as the
 //!   tool: roughed and finished in that pass), or passes that follow the groove's flanks and
 //!   bottom (profiled from both sides), or a cycle that finishes the flanks and base it states
-//!   (SINUMERIK `CYCLE93`);
+//!   (SINUMERIK `CYCLE93`), or the finishing cycle (`G70`) a grooving tool the program names
+//!   runs outside after its own roughing cycle (`G71`: rough), groove turning;
 //! - **rough**: plunges at several places along Z across one groove (a grooving cycle's Z
 //!   shift, Fanuc's and Haas's `G75`, or plunges written as moves), whether they overlap or
 //!   leave stock between them for a later pass, pecked or not (`classify`: a cycle whose
@@ -123,6 +124,22 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         // does): its passes that neither face nor part off cut a groove.
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
         classify(ws, front, back, boring, grooving);
+    }
+    // A finishing cycle a grooving tool runs finishes a groove only where that tool roughed it
+    // with the roughing cycle before (it finishes that cycle's contour); after another tool's
+    // roughing it finishes that contour.
+    for k in 0..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let ws = &mut rest[0];
+        let kind = |w: &Workingstep| w.turning.as_ref().and_then(|t| t.intent.as_ref()).and_then(|i| i.kind);
+        if kind(ws) != Some(TurnKind::Finish) || ws.turning.as_ref().and_then(|t| t.operation) != Some(TurnOp::Grooving) {
+            continue;
+        }
+        let roughed = done.iter().rev().find(|w| kind(w) == Some(TurnKind::RoughTurn));
+        let grooved = roughed.is_some_and(|w| w.tool == ws.tool && w.turning.as_ref().and_then(|t| t.operation) == Some(TurnOp::Grooving));
+        if let Some(t) = ws.turning.as_mut().filter(|_| !grooved) {
+            t.operation = Some(TurnOp::Contouring);
+        }
     }
     // A finishing pass is inside where the same tool's roughing was.
     for k in 1..plan.workingsteps.len() {
@@ -392,8 +409,24 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
             let now = way(&spans[k]);
             // Straight passes after a pass along the whole contour: roughing again.
             let after_contour = now != Way::Profile && full(from, k - 1);
-            // A second pass along the contour after the roughing's passes: the finish.
-            let finish = way(&spans[k - 1]) == Way::Profile && k - from >= 2 && full(from, k);
+            // A second pass along the contour after the roughing's passes: the finish. So is a
+            // pass along the whole contour after straight passes along Z only (roughing passes,
+            // each a stretch of the stock, then the profile at the same feed, as a simulator's
+            // sample or an operator writes them, the last pass of the workingstep along it; not a
+            // groove's plunges across, which the profile after them finishes within their
+            // workingstep, as `CYCLE93` does).
+            // (Followed by another pass along the whole contour, it is the roughing's last pass
+            // over the stock it leaves, as LinuxCNC's `G71` ends before its `G70`.)
+            // A roughing cycle's last pass runs through where its passes along Z ended (they stop
+            // at the contour moved out by the allowance, which that pass follows); a finishing
+            // pass runs clear of them, by the allowance they left.
+            let clear = |k: usize| {
+                let profile = &moves[spans[k].0..spans[k].1];
+                (from..k).all(|j| main_cut(&moves[spans[j].0..spans[j].1]).is_some_and(|(_, m)| off_the_path(profile, m.to) > 0.05))
+            };
+            let straight_before =
+                (from..k).all(|j| way(&spans[j]) == Way::Along) && !(k + 1..spans.len()).any(|j| full(from, j)) && clear(k);
+            let finish = (way(&spans[k - 1]) == Way::Profile || straight_before) && k - from >= 2 && full(from, k);
             if after_contour || finish {
                 cuts_at.push(spans[k - 1].1);
                 from = k;
@@ -443,6 +476,21 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
     plan.workingsteps = out;
 }
 
+/// How far a point (X radius, Z) lies from a path of moves in the ZX plane: from the nearest
+/// straight move, or the circle of the nearest arc.
+fn off_the_path(path: &[Move], p: P3) -> f64 {
+    let d = |m: &Move| match m.arc {
+        Some(a) => ((p[0] - a.center[0]).hypot(p[2] - a.center[2]) - (m.from[0] - a.center[0]).hypot(m.from[2] - a.center[2])).abs(),
+        None => {
+            let (dx, dz) = (m.to[0] - m.from[0], m.to[2] - m.from[2]);
+            let len2 = dx * dx + dz * dz;
+            let t = if len2 > 0.0 { (((p[0] - m.from[0]) * dx + (p[2] - m.from[2]) * dz) / len2).clamp(0.0, 1.0) } else { 0.0 };
+            (p[0] - m.from[0] - t * dx).hypot(p[2] - m.from[2] - t * dz)
+        }
+    };
+    path.iter().map(d).fold(f64::INFINITY, f64::min)
+}
+
 /// How many of the first runs face the front before the rest turn behind it (0 where they do
 /// not): runs across X (`Way::Across`) in towards the axis, then runs that are not, whose
 /// cuts reach the last face's Z or lie behind it, as a turner faces a part and then turns it
@@ -466,10 +514,12 @@ fn faced_first(moves: &[Move], spans: &[(usize, usize)]) -> usize {
     }
     // Every later cut reaches the face or lies behind it (a lead-in along Z from in front of
     // it ends there), and one after its run's lead-in runs along the part behind it (a chamfer
-    // or a diameter, not a pass across that only clears a corner).
+    // or a diameter, not a pass across that only clears a corner). A run's first cut along Z
+    // is a lead-in only where it starts in front of the face: one that starts at the face or
+    // behind it turns a diameter (`G0 X0.309` after the face at Z0, then `G1 Z-0.12`).
     let later = || spans[n..].iter().flat_map(|&(a, b)| moves[a..b].iter()).filter(cut);
     let behind = later().all(|m| m.from[2].min(m.to[2]) <= face + TOL);
-    let along = |m: &Move| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL;
+    let along = |m: &Move| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL && m.from[2] > face + TOL;
     let past_lead_in = spans[n..].iter().flat_map(|&(a, b)| {
         let run = moves[a..b].iter().filter(cut);
         let lead = run.clone().next().is_some_and(along);
@@ -821,7 +871,8 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
                 || (runs.len() > 1
                     && xmin > -1.0
                     && runs.iter().all(|r| main_cut(r).is_some())
-                    && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL))
+                    && entry.is_some_and(|x| x <= xmin + TOL && x < xmax - TOL)
+                    && !shaft_steps(&runs))
                 || pulls_off_inward(&runs)
                 || left_inward(ws)
         }
@@ -839,16 +890,25 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     // Passes recovery joined as one operation, each a step from the one before.
     let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
-    // Runs that plunge across and come back out the way they went in, and at how many Z.
+    // Runs that plunge across and come back out the way they went in, and at how many Z: by
+    // feed within the run, or by the move that leaves it (a rapid back out along the line it
+    // plunged, `G1 X.175` then `G0 X.425`, as a groove is plunged at several places).
     let plunges = {
-        let back = |r: &Vec<Move>| {
-            r.iter().all(across)
-                && r.windows(2).any(|w| {
-                    let (a, b) = (w[0].to[0] - w[0].from[0], w[1].to[0] - w[1].from[0]);
-                    a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
-                })
+        let moves: Vec<Move> = ws.toolpath.iter().collect();
+        let spans = run_spans(ws);
+        let back = |(r, &(_, end)): (&Vec<Move>, &(usize, usize))| {
+            let reverses = r.windows(2).any(|w| {
+                let (a, b) = (w[0].to[0] - w[0].from[0], w[1].to[0] - w[1].from[0]);
+                a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
+            });
+            let backed_out = r.last().zip(moves.get(end)).is_some_and(|(last, next)| {
+                let (a, b) = (last.to[0] - last.from[0], next.to[0] - next.from[0]);
+                across(next) && a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
+            });
+            r.iter().all(across) && (reverses || backed_out)
         };
-        let mut at: Vec<f64> = runs.iter().filter(|r| back(r)).filter_map(|r| r.first().map(|m| m.from[2])).collect();
+        let runs_at = runs.iter().zip(&spans).filter(|p| back(*p)).filter_map(|(r, _)| r.first().map(|m| m.from[2]));
+        let mut at: Vec<f64> = runs_at.collect();
         let n = at.len();
         at.sort_by(f64::total_cmp);
         at.dedup_by(|a, b| (*a - *b).abs() < TOL);
@@ -865,6 +925,11 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     };
     let (op, rough) = match intent_kind {
         Some(TurnKind::RoughTurn) if runs.last().is_some_and(|r| face_contour(r)) => (TurnOp::Facing, true),
+        // A contour cycle run outside by a grooving tool the program names (`(OD GROOVE TURN)`
+        // with a `G71`/`G70` pair over a recess): groove turning, roughed by the roughing cycle
+        // and finished by the finishing one, as for its passes written as moves (below).
+        Some(TurnKind::RoughTurn) if grooving && !t.inside => (TurnOp::Grooving, true),
+        Some(TurnKind::Finish) if grooving && !t.inside && !face_contour(&cuts) => (TurnOp::Grooving, false),
         Some(TurnKind::RoughTurn | TurnKind::TurnPass) => (TurnOp::Contouring, true),
         Some(TurnKind::RoughFace) => (TurnOp::Facing, true),
         Some(TurnKind::FacePass) => (TurnOp::Facing, runs.len() > 1),
@@ -920,6 +985,19 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// Whether passes along Z step as a shaft does: a pass at a larger diameter runs deeper (to a
+/// Z further back) than one at a smaller diameter. Turned from its front, a part's outside
+/// can grow behind a smaller diameter; a bore cannot (the bar would not reach a larger bore
+/// behind a smaller one), so such passes turn the outside, whichever diameter they start at.
+fn shaft_steps(runs: &[Vec<Move>]) -> bool {
+    let along: Vec<(f64, f64)> = runs
+        .iter()
+        .filter_map(|r| main_cut(r).filter(|(w, _)| *w == Way::Along))
+        .map(|(_, m)| (m.from[0].abs(), m.from[2].min(m.to[2])))
+        .collect();
+    along.iter().any(|a| along.iter().any(|b| b.0 > a.0 + TOL && b.1 < a.1 - 0.5))
 }
 
 /// A facing workingstep outside: the Z of the face its last cut across leaves (the last that
@@ -1019,8 +1097,26 @@ fn axis_reached_at(cuts: &[Move]) -> Vec<f64> {
 /// then a shoulder behind a relief cut elsewhere): roughing passes leave stock, and posts and
 /// turners compensate the nose on the finishing profile.
 fn contour_roughs(ws: &Workingstep, runs: &[Vec<Move>], stepped_in: bool, length: f64) -> bool {
-    let pieces = !ws.state.cutter_comp.is_empty() && pieces_of_one_contour(runs);
+    let pieces = (!ws.state.cutter_comp.is_empty() && pieces_of_one_contour(runs)) || diameters_one_each(runs);
     runs.len() > 1 && (stepped_in || !(runs.iter().all(|r| whole_contour(r, length)) || pieces))
+}
+
+/// Whether straight passes each turn a diameter of their own over a stretch of Z no other
+/// pass along Z goes over (within 0.5 mm: a pull-off's overlap), a larger diameter further
+/// back: a stepped shaft's diameters finished one by one (`Z-0.12` at Ø0.309, then `Z-1.075`
+/// at Ø0.735 from Z-0.115), with the shoulders between them faced. Roughing passes go over
+/// the same length again, each at a smaller diameter than the one before, from the front.
+fn diameters_one_each(runs: &[Vec<Move>]) -> bool {
+    let Some(ways): Option<Vec<(Way, Move)>> = runs.iter().map(|r| main_cut(r)).collect() else { return false };
+    let along: Vec<(f64, f64, f64)> = ways
+        .iter()
+        .filter(|(w, _)| *w == Way::Along)
+        .map(|(_, m)| (m.from[0].abs(), m.from[2].min(m.to[2]), m.from[2].max(m.to[2])))
+        .collect();
+    let apart = along.iter().enumerate().all(|(i, a)| {
+        along[i + 1..].iter().all(|b| (a.0 - b.0).abs() > TOL && a.2.min(b.2) - a.1.max(b.1) <= 0.5 && (b.0 > a.0) == (b.1 < a.1))
+    });
+    along.len() >= 2 && apart
 }
 
 /// Whether runs of cuts are one contour cut in pieces: at least one follows a profile, and no
@@ -1171,8 +1267,22 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
     let cuts = cuts(ws);
     let (Some(d), Some(z)) = (t.diameter, t.z) else { return Vec::new() };
     let turned = |k: Turned| FeatureKind::Turned(k);
+    // A contour cycle a grooving tool runs: the groove its finishing cycle leaves, at the
+    // contour's smallest diameter (its width is the tool's path, not stated: none given); the
+    // roughing cycle's is the finish's, as for any roughing.
+    let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
+    if t.operation == Some(TurnOp::Grooving) && matches!(intent_kind, Some(TurnKind::RoughTurn | TurnKind::Finish)) {
+        if t.rough {
+            return Vec::new();
+        }
+        let k = Turned::Groove { diameter: if t.inside { d[1] } else { d[0] }, width: None, inside: t.inside };
+        // The rounds its contour programs are the part's too (a concave flank's arc).
+        let rounds =
+            contour_features(ws, t, face).into_iter().filter(|(k, _)| matches!(k, FeatureKind::Turned(Turned::RevolvedRound { .. })));
+        return std::iter::once((turned(k), round(z[1]))).chain(rounds).collect();
+    }
     // A contour cycle's features are its contour's, whichever way it cuts.
-    if matches!(t.intent.as_ref().and_then(|i| i.kind), Some(TurnKind::RoughTurn | TurnKind::RoughFace | TurnKind::Finish)) {
+    if matches!(intent_kind, Some(TurnKind::RoughTurn | TurnKind::RoughFace | TurnKind::Finish)) {
         return contour_features(ws, t, face);
     }
     match t.operation {

@@ -732,7 +732,12 @@ fn lathe_s7_held_out_programs() {
 /// milling feature. Missed: the simulator samples' inside work, grooves, drilling and finish
 /// diameters (8 + 4), the class programs' facing rough/finish with their feeds and their
 /// diameters and faces (9), the Doosan programs' grooving and a few diameters, faces and the
-/// 2.54-pitch thread (9).
+/// 2.54-pitch thread (9). After lathe18 (seen, 7 December 2026): 65 of 82 (a face then diameters
+/// turned one each from it, plunges left by a rapid, a grooving tool's `G71`/`G70`, the profile
+/// after straight roughing passes); left: the simulator sample 3's tools (`T26`, `T21`, `T09`: two
+/// digits, read by the Fanuc tool/offset split as tool 0, as the control reads them), the class
+/// programs' `G97` steps listed with the `G50` clamp, a `G02` with no radius and an arc whose end
+/// is off its circle (controls alarm on both).
 ///
 /// `tests/programs/lathe_s13_heldout/` is sweep 13's held-back set (branch gatherlt13: 12 programs
 /// of 3 repositories, 125 items), files no test used of repositories earlier sets drew on: eleven
@@ -893,6 +898,64 @@ fn grooving_passes_are_named_by_the_convention() {
     let apart = "O2\nG21 G99\nT0505 (OD GROOVE W3.)\nG97 S800 M3\nG0 X34. Z-12.\nG1 X26. F0.05\nG0 X34.\nZ-16.\nG1 X26.\nG0 X34.\nX100. Z100.\nM30\n";
     let (ws, _) = labels(apart, "fanuc_lathe");
     assert_eq!(ws, ["grooving rough"]);
+}
+
+/// Passes as the seen lathe_s12 programs write them (a Haas class program, Doosan shop programs,
+/// a simulator's sample), each rule in a small program of its own: a face, then diameters
+/// turned from it one each (a larger one further back: the outside, finished one at a time);
+/// plunges left by a rapid back out, then a pass along the floor, rough the groove; a
+/// `G71`/`G70` pair a grooving tool the program names runs outside turns a groove (another
+/// tool's roughing finished by it stays contouring); straight roughing passes along Z and then
+/// the whole profile at the same feed are roughing and finishing.
+#[test]
+fn passes_of_the_seen_s12_programs_read_as_a_turner_reads_them() {
+    let face_then_steps = "O1\nG21 G99\nG50 S2000\nT0202\nG96 S200 M3\nG0 X20. Z2.5\nG1 Z0. F0.03\nX-2.5\nG0 X8.\nG1 Z-3.\n\
+X8.5 Z-2.9\nG0 X20.\nZ-3.\nG1 X8.\nG0 X18.7 Z-2.9\nG1 Z-27.\nX20.\nG0 X100. Z100.\nM30\n";
+    let (ws, features) = labels(face_then_steps, "fanuc_lathe");
+    assert_eq!(ws, ["facing finish", "contouring finish"], "{features:?}");
+    let plan = pipeline::analyze(face_then_steps.as_bytes(), &Registry::shipped().get("fanuc_lathe").unwrap(), &Profile::default()).plan;
+    for d in [8.0, 18.7] {
+        let found = plan
+            .features
+            .iter()
+            .any(|f| matches!(f.kind, FeatureKind::Turned(Turned::Diameter { diameter, inside: false, .. }) if (diameter - d).abs() < TOL));
+        assert!(found, "Ø{d}: {features:?}");
+    }
+    let plunged = "O2\nG21 G99\nT0303 (OD GROOVE W3.)\nG96 S150 M3\nG0 X12. Z-25.\nG1 X4.5 F0.1\nG0 X12.\nZ-26.5\nG1 X4.5\nG0 X12.\n\
+Z-28.\nG1 X4.5\nG0 X12.\nZ-29.5\nG1 X4.2\nZ-25.\nG0 X12.\nX100. Z100.\nM30\n";
+    let (ws, features) = labels(plunged, "fanuc_lathe");
+    assert_eq!(ws.first().map(String::as_str), Some("grooving rough"), "{ws:?}");
+    assert!(features.iter().all(|f| f == "groove"), "{features:?}");
+    let cycle = "O3\nG21 G99\n(OD GROOVE TURN)\nT0808\nG96 S150 M3\nG0 X113. Z-6.\nG71 U1. R0.5\nG71 P10 Q20 U0.5 W0. F0.3\n\
+N10 G1 X112. Z-6.5\nX100. Z-9.\nG2 X84. Z-25. R40.\nG1 Z-26.\nN20 X113.\nG70 P10 Q20 F0.15\nG0 X150. Z100.\nM30\n";
+    let (ws, features) = labels(cycle, "fanuc_lathe");
+    assert_eq!(ws, ["grooving rough", "grooving finish"]);
+    assert!(features.contains(&"groove".to_owned()) && features.contains(&"revolved round".to_owned()), "{features:?}");
+    let plan = pipeline::analyze(cycle.as_bytes(), &Registry::shipped().get("fanuc_lathe").unwrap(), &Profile::default()).plan;
+    let groove = plan.features.iter().find_map(|f| match f.kind {
+        FeatureKind::Turned(Turned::Groove { diameter, .. }) => Some(diameter),
+        _ => None,
+    });
+    assert!(groove.is_some_and(|d| (d - 84.0).abs() < TOL), "{groove:?}");
+    // A turning tool's pair is contouring; so is the grooving tool's finish of a contour
+    // another tool roughed.
+    let (ws, _) = labels(&cycle.replace("(OD GROOVE TURN)", "(OD TURN)"), "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough", "contouring finish"]);
+    let other = cycle.replace("(OD GROOVE TURN)\nT0808", "(OD TURN)\nT0101").replace("G70 P10", "(OD GROOVE)\nT0808\nG70 P10");
+    let (ws, _) = labels(&other, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough", "contouring finish"]);
+    // (The roughing passes stop 0.2 short of the shoulders: the finish runs clear of their ends.)
+    let rough_then_profile = "O4\nG21 G99\nT0101\nG97 S1000 M3\nG0 X32. Z2.\nX28.\nG1 Z-29.8 F0.2\nX29. Z-28.8\nG0 Z2.\nX24.\n\
+G1 Z-19.8\nX25. Z-18.8\nG0 Z2.\nX20.\nG1 Z-9.8\nX21. Z-8.8\nG0 X16. Z2.\nG1 X18. Z0.\nZ-10.\nX22. Z-20.\nX26.\nZ-30.\nX32.\n\
+G0 X100. Z100.\nM30\n";
+    let (ws, features) = labels(rough_then_profile, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough", "contouring finish"], "{features:?}");
+    assert_eq!(features.iter().filter(|f| *f == "outer diameter").count(), 2, "{features:?}");
+    // Passes that end on the profile (a roughing cycle written as moves, its last pass along
+    // the contour through their ends) are one roughing.
+    let cycle_as_moves = rough_then_profile.replace("Z-29.8", "Z-30.").replace("Z-19.8", "Z-20.").replace("Z-9.8", "Z-10.");
+    let (ws, _) = labels(&cycle_as_moves, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough"]);
 }
 
 /// A pass along a wall left by a rapid back out along +Z that pulls in off the wall a little is a
