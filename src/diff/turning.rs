@@ -5,7 +5,8 @@
 //! follow the diameter, the clamp and the allowance, which are said instead.
 
 use super::{ChangeKind, Fmt, Push, TOLERANCE, coolant_words, num, spindle_words};
-use crate::plan::{Turning, Workingstep};
+use crate::dialect::{Dialect, Role};
+use crate::plan::{Turned, Turning, Workingstep};
 
 /// The first cut's start, as a diameter and Z, where the workingstep's moves are its own:
 /// a cycle's passes start where its start point and depth of cut put them, which its
@@ -28,7 +29,8 @@ pub(super) fn technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Pu
     let at = (Some(a.lines.0), Some(b.lines.0));
     let (Some(ta), Some(tb)) = (a.turning.as_deref(), b.turning.as_deref()) else { return false };
     let (ka, kb) = (&a.technology, &b.technology);
-    let per_rev = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |f| format!("F{} mm/rev", u.c(f)));
+    // Per revolution in the original's units (G99 F0.01 in an inch program is 0.01 in/rev).
+    let per_rev = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |f| format!("F{} {}/rev", u.c(f), if u.inch { "in" } else { "mm" }));
     let feeds_differ = differs(ta.feed_per_rev, tb.feed_per_rev)
         || (ta.feed_per_rev.is_none() && ta.pitch.is_none() && (ka.feed - kb.feed).abs() > TOLERANCE);
     if differs(ta.feed_per_rev, tb.feed_per_rev) {
@@ -141,4 +143,134 @@ fn differs(x: Option<f64>, y: Option<f64>) -> bool {
         (None, None) => false,
         _ => true,
     }
+}
+
+/// A turned feature's sizes as a turner reads them: diameters as `Ø24`, a round's radius, a
+/// groove's width, a thread's diameters; `dim` pushes one that differs (field, before, after).
+pub(super) fn turned_dims(a: (&Turned, f64), b: (&Turned, f64), u: Fmt, dim: &mut dyn FnMut(&str, String, String)) {
+    let ((a, za), (b, zb)) = (a, b);
+    // A face across the axis is where it stands along Z (`face Z0 → Z-0.2`).
+    if matches!((a, b), (Turned::RevolvedFlat { .. }, Turned::RevolvedFlat { .. })) && (za - zb).abs() > TOLERANCE {
+        dim("face", format!("Z{}", u.c(za)), format!("Z{}", u.c(zb)));
+    }
+    let mut size = |field: &str, x: Option<f64>, y: Option<f64>, diameter: bool| {
+        if let (Some(x), Some(y)) = (x, y)
+            && (x - y).abs() > TOLERANCE
+        {
+            let show = |v: f64| if diameter { format!("Ø{}", u.c(v)) } else { u.len(v) };
+            dim(field, show(x), show(y));
+        }
+    };
+    match (a, b) {
+        (Turned::RevolvedFlat { outer: oa, inner: ia }, Turned::RevolvedFlat { outer: ob, inner: ib }) => {
+            size("outer_diameter", Some(*oa), Some(*ob), true);
+            size("inner_diameter", Some(*ia), Some(*ib), true);
+        }
+        (Turned::Diameter { diameter: da, .. }, Turned::Diameter { diameter: db, .. }) => size("diameter", Some(*da), Some(*db), true),
+        (Turned::RevolvedRound { radius: ra, .. }, Turned::RevolvedRound { radius: rb, .. }) => {
+            size("round_radius", Some(*ra), Some(*rb), false);
+        }
+        (Turned::Groove { diameter: da, width: wa, .. }, Turned::Groove { diameter: db, width: wb, .. }) => {
+            size("groove_diameter", Some(*da), Some(*db), true);
+            size("groove_width", *wa, *wb, false);
+        }
+        (Turned::Revolution { outer: oa, inner: ia, .. }, Turned::Revolution { outer: ob, inner: ib, .. }) => {
+            size("outer_diameter", Some(*oa), Some(*ob), true);
+            size("inner_diameter", Some(*ia), Some(*ib), true);
+        }
+        (Turned::Thread { diameter: da, root: ra, .. }, Turned::Thread { diameter: db, root: rb, .. }) => {
+            size("thread_diameter", *da, *db, true);
+            size("thread_root_diameter", Some(*ra), Some(*rb), true);
+        }
+        _ => {}
+    }
+}
+
+/// The role a lathe cycle gives a word of its block by the dictionary (`G71 P Q U W D F` on a
+/// Haas lathe: `D:cut-depth`; Haas G76: `K:profile-depth`, `D:cut-depth`, `A:tool-angle`), where
+/// the word's letter means something else outside the cycle (D an offset, A a rotary axis).
+pub(super) fn cycle_role(letter: Role, code: Option<(char, u32)>, d: &Dialect) -> Option<Role> {
+    let (l, n) = code?;
+    d.code(l, n)?.args.iter().find(|(word, _)| *word == letter).map(|&(_, role)| role)
+}
+
+/// Whether a plan change of `kind` is what a lathe cycle's word of this role states: the
+/// depth of cut (or a thread's first cut), the allowances, a thread's height, angle and pitch,
+/// the retract; the plan tells these in a turner's terms, so the word needs no row of its own.
+pub(super) fn role_shows(role: Role, kind: ChangeKind) -> bool {
+    use ChangeKind as K;
+    match role {
+        Role::CutDepth => matches!(kind, K::AxialDepthChanged | K::CycleParameterChanged),
+        Role::AllowanceX | Role::AllowanceZ | Role::Allowance => kind == K::AllowanceChanged,
+        Role::Pitch | Role::ThreadSize => kind == K::ThreadPitchChanged,
+        Role::ProfileDepth => matches!(kind, K::CycleParameterChanged | K::FeatureChanged),
+        _ => kind == K::CycleParameterChanged,
+    }
+}
+
+/// Sizes that follow from a cycle's parameter told above are not told again: a thread's major
+/// diameter where the cycle states the root and the height (Fanuc and Haas `G76 X… P…`/`K…`:
+/// X the root diameter, the height per side; the diameter is X plus twice the height, which
+/// the turner did not change).
+pub(super) fn fold_derived(first: usize, out: &mut Vec<super::Change>) {
+    let told = |field: &str| out[first..].iter().any(|c| c.field == field);
+    if told("thread_height") && !told("thread_root_diameter") {
+        let mut k = first;
+        while k < out.len() {
+            if out[k].kind == ChangeKind::FeatureChanged && out[k].field == "thread_diameter" {
+                out.remove(k);
+            } else {
+                k += 1;
+            }
+        }
+    }
+}
+
+/// A turned feature's change told at one workingstep and, the same, where no statement of
+/// another workingstep that shares the feature shows it (a contour roughed in explicit passes and
+/// finished): told once, at the statement, with the workingsteps it is also in.
+pub(super) fn merge_feature_repeats(changes: &mut Vec<super::Change>) {
+    let mut k = 0;
+    while k < changes.len() {
+        let c = &changes[k];
+        let twin = (c.kind == ChangeKind::FeatureChanged && c.detail.at.is_empty())
+            .then(|| {
+                changes.iter().position(|d| {
+                    d.kind == c.kind
+                        && d.field == c.field
+                        && d.before == c.before
+                        && d.after == c.after
+                        && d.workingstep != c.workingstep
+                        && !d.detail.at.is_empty()
+                })
+            })
+            .flatten();
+        match twin {
+            Some(j) => {
+                let ws = changes[k].workingstep;
+                changes[j].after.push_str(&format!(" (also in workingstep {ws})"));
+                changes.remove(k);
+            }
+            None => k += 1,
+        }
+    }
+}
+
+/// Whether a named cycle (Siemens `CYCLE95`, `CYCLE97`) turns, by its meaning in the dictionary.
+pub(super) fn named_turning(name: &str, d: &Dialect) -> bool {
+    use crate::dialect::Meaning as M;
+    d.cycles.iter().any(|c| {
+        c.name.eq_ignore_ascii_case(name)
+            && matches!(
+                c.meaning,
+                M::CycleRoughTurn
+                    | M::CycleRoughFace
+                    | M::CycleThreadMultiple
+                    | M::CycleGroove
+                    | M::CycleStockCorner
+                    | M::CycleContourTurn
+                    | M::CyclePartOff
+                    | M::CycleFacePeck
+            )
+    })
 }

@@ -94,6 +94,9 @@ pub(super) struct Context {
     /// A rapid (`G0`) on a mill, with no plane code in the statement: its `Z` is the height the
     /// tool goes to between cuts or before the first (clearance, approach).
     pub rapid: bool,
+    /// A lathe cycle's code whose words the dictionary gives roles (`args`, Haas `G71 … D`):
+    /// its letter and number × 10 (`diff::turning::cycle_role`).
+    pub turn_cycle: Option<(char, u32)>,
 }
 
 /// Whether a code shifts the origin of the program's coordinates.
@@ -176,6 +179,19 @@ impl Context {
                 c.dwell |= m == Meaning::Dwell;
                 c.cycle |= m.is_cycle();
                 c.other_cycle |= other_cycle(m);
+                let lathe = other_cycle(m)
+                    || matches!(
+                        m,
+                        Meaning::CycleThreadMultiple
+                            | Meaning::CycleGroove
+                            | Meaning::CycleFacePeck
+                            | Meaning::CycleStockCorner
+                            | Meaning::CycleContourTurn
+                            | Meaning::CyclePartOff
+                    );
+                if lathe && c.turn_cycle.is_none() {
+                    c.turn_cycle = code().filter(|&(l, n)| d.code(l, n).is_some_and(|def| !def.args.is_empty()));
+                }
                 c.css |= m == Meaning::SpindleCss;
                 c.switch |= matches!(m, Meaning::FeedOverrideSwitch | Meaning::SpeedOverrideSwitch);
                 c.shift |= shifts(m);
@@ -226,6 +242,7 @@ impl Context {
             flow: self.flow.or(o.flow),
             macro_call: self.macro_call || o.macro_call,
             rapid: self.rapid && o.rapid,
+            turn_cycle: self.turn_cycle.or(o.turn_cycle),
         }
     }
 }
