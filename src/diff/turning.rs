@@ -124,6 +124,40 @@ pub(super) fn cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
         push(ChangeKind::CycleParameterChanged, "thread_angle", deg(ia.angle), deg(ib.angle), at);
         explained = true;
     }
+    // Passes the program writes one by one (a CAM post's G1 roughing, the single-pass cycles
+    // G90/G92/G94 repeated by their X or Z words), not those a cycle works out from its depth
+    // of cut: one taken out or added is a pass, not a changed toolpath.
+    let written = |t: &Turning| {
+        let single = t.intent.as_ref().is_some_and(|i| {
+            matches!(i.kind, Some(crate::canon::TurnKind::TurnPass | crate::canon::TurnKind::FacePass | crate::canon::TurnKind::ThreadPass))
+        });
+        single || (t.intent.is_none() && t.cycle.is_none())
+    };
+    // Moves from one block are a cycle's, whatever the plan kept of it (LinuxCNC `G71`).
+    let blocks = |w: &Workingstep| {
+        let mut lines = w.toolpath.iter().filter(|m| m.kind != crate::plan::MoveKind::Rapid).map(|m| m.line);
+        let first = lines.next();
+        lines.any(|l| Some(l) != first)
+    };
+    if ta.passes != tb.passes
+        && ta.passes > 0
+        && tb.passes > 0
+        && written(ta)
+        && written(tb)
+        && ta.rough == tb.rough
+        && blocks(a)
+        && blocks(b)
+    {
+        let field = if pitch(ta).is_some() {
+            "thread_passes"
+        } else if ta.rough {
+            "roughing_passes"
+        } else {
+            "passes"
+        };
+        push(ChangeKind::CycleParameterChanged, field, ta.passes.to_string(), tb.passes.to_string(), at);
+        explained = true;
+    }
     if ia.finish_passes != ib.finish_passes {
         let n = |v: Option<u32>| v.map_or_else(|| "none".to_owned(), |v| v.to_string());
         push(ChangeKind::CycleParameterChanged, "finishing_passes", n(ia.finish_passes), n(ib.finish_passes), at);
@@ -272,5 +306,31 @@ pub(super) fn named_turning(name: &str, d: &Dialect) -> bool {
                     | M::CyclePartOff
                     | M::CycleFacePeck
             )
+    })
+}
+
+/// A lathe turret's T word whose last digits name the offset (Fanuc T-series `T0202`, the
+/// dictionary's `offset-digits`): the same tool with another offset (`T0101` → `T0111`, a
+/// wear offset of its own) is the tool's offset changed, not the tool renamed.
+pub(super) fn turret_offset(
+    x: Option<&super::statement::Token>,
+    y: Option<&super::statement::Token>,
+    d: &Dialect,
+) -> Option<super::typed::Typed> {
+    let digits = d.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits)?;
+    let split = |t: &super::statement::Token| {
+        if super::typed::about(t, d) != super::typed::About::Address(Role::T) {
+            return None;
+        }
+        let v = t.value.parse::<u64>().ok()?;
+        let base = 10u64.pow(u32::from(digits));
+        Some((v / base, v % base))
+    };
+    let ((ta, oa), (tb, ob)) = (split(x?)?, split(y?)?);
+    (ta == tb && oa != ob).then(|| super::typed::Typed {
+        kind: ChangeKind::LengthOffsetChanged,
+        field: format!("offset of tool {ta}"),
+        before: oa.to_string(),
+        after: ob.to_string(),
     })
 }

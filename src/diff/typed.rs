@@ -447,6 +447,12 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
     let mut told = vec![false; diffs.len()];
     for (n, (x, y)) in diffs.iter().enumerate() {
         let tok = y.as_ref().or(x.as_ref()).expect("a difference has a side");
+        // A turret's T word with the same tool and another offset (`T0101` → `T0111`).
+        if let Some(t) = super::turning::turret_offset(x.as_ref(), y.as_ref(), d) {
+            told[n] = true;
+            out.push(t);
+            continue;
+        }
         let Some((kind, field)) = kind_of(tok, ctx, d) else { continue };
         told[n] = true;
         let k = match out.iter().position(|t| t.kind == kind) {

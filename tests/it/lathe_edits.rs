@@ -94,8 +94,8 @@ fn fanuc_two_block_g71_and_g76() {
     .assert_eq(&diameter);
     let wear = edit(p, "fanuc_lathe", "T0101 (OD ROUGH", "T0111 (OD ROUGH");
     expect![[r#"
-        tool_renamed | tool | T101 | T111
-          tool T101 renamed T111 at line 6
+        length_offset_changed | offset of tool 1 | 1 | 11
+          offset of tool 1 changed from 1 to 11 at line 6
     "#]]
     .assert_eq(&wear);
     let quiet = rows(
@@ -121,8 +121,8 @@ fn fanuc_g92_and_g94() {
     let passes = edit("fanuc_g92_thread.nc", "fanuc_lathe", "X27.6\n", "");
     no_structure_change(&passes);
     expect![[r#"
-        toolpath_changed | toolpath | the cut at line 12 to X13.8 Y0 Z-35 | no cut (41 mm shorter), in X13.775…13.9 Y0…0, at most 0 mm from the original path
-          toolpath changed at line 12: the cut at line 12 to X13.8 Y0 Z-35 became no cut (41 mm shorter), in X13.775…13.9 Y0…0, at most 0 mm from the original path
+        cycle_parameter_changed | thread_passes | 7 | 6
+          thread passes changed from 7 to 6 at original line 12
     "#]]
     .assert_eq(&passes);
     let face = edit("fanuc_g94_face.nc", "fanuc_lathe", "Z0.\n", "Z-0.2\n");
@@ -263,8 +263,8 @@ fn siemens_cycle97_lims_and_explicit_passes() {
 fn fusion_explicit_roughing_pass_removed() {
     let pass = edit("fusion_explicit.nc", "fanuc_lathe", "N30 X42.4\nN31 G1 Z-40.9\nN32 X46.4\nN33 G0 Z5.\n", "");
     expect![[r#"
-        toolpath_changed | toolpath | the 2 cuts at lines 29–30, ending at X23.2 Y0 Z-40.9 | no cut (47.9 mm shorter), in X19.2…25.2 Y0…0, at most 3.8313 mm from the original path
-          toolpath changed at line 29: the 2 cuts at lines 29–30, ending at X23.2 Y0 Z-40.9 became no cut (47.9 mm shorter), in X19.2…25.2 Y0…0, at most 3.8313 mm from the original path
+        cycle_parameter_changed | roughing_passes | 3 | 2
+          roughing passes changed from 3 to 2 at original lines 28, 29, 30 and 1 more
     "#]]
     .assert_eq(&pass);
 }
