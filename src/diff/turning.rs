@@ -2,7 +2,16 @@
 //! speed and its clamp (`spindle clamp 2500 → 1800 /min`), the cycle's finishing allowance
 //! (`U0.4 W0.1 → U0.6 W0.2`), depth of cut and retract, a thread's pitch, height and passes,
 //! a groove's pecks. The feed per minute and the lowest Z are not compared: on a lathe they
-//! follow the diameter, the clamp and the allowance, which are said instead.
+//! follow the diameter, the clamp and the allowance, which are said instead. A lathe cycle's
+//! word is located by the role the dictionary gives it (`cycle_role`: Haas `G71 … D` the depth
+//! of cut, `G76 … A` the tool's angle, never an offset or a rotary axis); a turret's T word with
+//! another offset is the tool's offset (`turret_offset`); passes written one by one (a CAM
+//! post's G1 roughing, G92's repeated X words) are told as passes; turned features read in
+//! diameters (`Ø24`) and a face by its Z (`turned_dims`); a feature's change shared by the
+//! workingsteps that rough and finish it is told once (`merge_feature_repeats`), and a thread's
+//! major diameter derived from the height told is not told again (`fold_derived`).
+
+use std::collections::BTreeSet;
 
 use super::{ChangeKind, Fmt, Push, TOLERANCE, coolant_words, num, spindle_words};
 use crate::dialect::{Dialect, Role};
@@ -133,11 +142,12 @@ pub(super) fn cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
         });
         single || (t.intent.is_none() && t.cycle.is_none())
     };
-    // Moves from one block are a cycle's, whatever the plan kept of it (LinuxCNC `G71`).
-    let blocks = |w: &Workingstep| {
-        let mut lines = w.toolpath.iter().filter(|m| m.kind != crate::plan::MoveKind::Rapid).map(|m| m.line);
-        let first = lines.next();
-        lines.any(|l| Some(l) != first)
+    // Each pass written in blocks of its own: not a cycle's moves from one block, whatever the
+    // plan kept of it (LinuxCNC `G71`), nor a loop running the same blocks again (a grinder's
+    // parts per series), whose bound says the change.
+    let blocks = |w: &Workingstep, passes: u32| {
+        let lines: BTreeSet<u32> = w.toolpath.iter().filter(|m| m.kind != crate::plan::MoveKind::Rapid).map(|m| m.line).collect();
+        lines.len() > 1 && lines.len() >= passes as usize
     };
     if ta.passes != tb.passes
         && ta.passes > 0
@@ -145,8 +155,8 @@ pub(super) fn cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
         && written(ta)
         && written(tb)
         && ta.rough == tb.rough
-        && blocks(a)
-        && blocks(b)
+        && blocks(a, ta.passes)
+        && blocks(b, tb.passes)
     {
         let field = if pitch(ta).is_some() {
             "thread_passes"
@@ -260,33 +270,42 @@ pub(super) fn fold_derived(first: usize, out: &mut Vec<super::Change>) {
     }
 }
 
-/// A turned feature's change told at one workingstep and, the same, where no statement of
-/// another workingstep that shares the feature shows it (a contour roughed in explicit passes and
-/// finished): told once, at the statement, with the workingsteps it is also in.
+/// A feature's change told the same at several workingsteps that share the feature (a contour
+/// roughed and finished: `G71`/`G70 P Q`, or explicit passes then a finishing pass): told once,
+/// at the statements that show it in any of them, with the workingsteps it is also in.
 pub(super) fn merge_feature_repeats(changes: &mut Vec<super::Change>) {
     let mut k = 0;
     while k < changes.len() {
-        let c = &changes[k];
-        let twin = (c.kind == ChangeKind::FeatureChanged && c.detail.at.is_empty())
-            .then(|| {
-                changes.iter().position(|d| {
-                    d.kind == c.kind
-                        && d.field == c.field
-                        && d.before == c.before
-                        && d.after == c.after
-                        && d.workingstep != c.workingstep
-                        && !d.detail.at.is_empty()
-                })
-            })
-            .flatten();
-        match twin {
-            Some(j) => {
-                let ws = changes[k].workingstep;
-                changes[j].after.push_str(&format!(" (also in workingstep {ws})"));
-                changes.remove(k);
-            }
-            None => k += 1,
+        if changes[k].kind != ChangeKind::FeatureChanged {
+            k += 1;
+            continue;
         }
+        let mut also = Vec::new();
+        let mut j = k + 1;
+        while j < changes.len() {
+            let (c, d) = (&changes[k], &changes[j]);
+            let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
+            if same && d.workingstep != c.workingstep {
+                let d = changes.remove(j);
+                if !also.contains(&d.workingstep) {
+                    also.push(d.workingstep);
+                }
+                let c = &mut changes[k];
+                if c.detail.at.is_empty() {
+                    (c.original_line, c.line) = (d.original_line, d.line);
+                }
+                c.detail.at.extend(d.detail.at);
+                c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+                c.detail.at.dedup();
+            } else {
+                j += 1;
+            }
+        }
+        if !also.is_empty() {
+            let list = also.iter().map(u32::to_string).collect::<Vec<_>>().join(", ");
+            changes[k].after.push_str(&format!(" (also in workingstep{} {list})", if also.len() == 1 { "" } else { "s" }));
+        }
+        k += 1;
     }
 }
 
