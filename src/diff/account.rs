@@ -248,6 +248,7 @@ fn locate(
         1..=2 => Some(effects.join("; ")),
         n => Some(format!("{}; and {} more", effects[..2].join("; "), n - 2)),
     };
+    super::turning::merge_feature_repeats(changes);
     merge_repeats(changes);
     let mut added = Vec::new();
     let mut budget = height::Budget::default();
@@ -861,17 +862,45 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
     if kind == ChangeKind::WorkPlaneChanged && tok.sort == statement::Sort::Call {
         return dialect.cycles.iter().any(|c| c.meaning == Meaning::TiltCycle && c.name.eq_ignore_ascii_case(&tok.key));
     }
-    // A named cycle's argument states what its role names (`CYCLE95(…, MID, …)`: the depth of cut).
+    // A named cycle's argument states what its role names (`CYCLE95(…, MID, …)`: the depth of
+    // cut); a turning cycle's (`CYCLE97(…, TDEP, …)`) what the plan tells in a turner's terms.
     if let (Some(x), Some(y)) = d
         && x.sort == statement::Sort::Call
         && x.key == y.key
     {
-        return differing_roles(x, y, dialect).any(|r| argument_kind(r) == Some(kind));
+        let turning = typed::cycle_args(&x.key, dialect).is_some() && super::turning::named_turning(&x.key, dialect);
+        return differing_roles(x, y, dialect).any(|r| {
+            argument_kind(r) == Some(kind) || (turning && kind == ChangeKind::CycleParameterChanged && super::turning::role_shows(r, kind))
+        });
+    }
+    // The spindle's limit under constant surface speed as an assignment (Siemens `LIMS=2500`).
+    if kind == ChangeKind::SpindleSpeedChanged
+        && tok.sort == statement::Sort::Assign
+        && about(tok, dialect) == About::Address(Role::SpindleLimit)
+    {
+        return true;
     }
     if !tok.is_address() {
         return false;
     }
+    // A lathe cycle's word the dictionary gives a role (Haas `G71 … D0.06`: the depth of cut;
+    // `G76 … K0.92 A60`: the thread's height, the tool's angle) states what its role names.
+    if let About::Address(letter) = about(tok, dialect)
+        && let Some(role) = super::turning::cycle_role(letter, ctx.turn_cycle, dialect)
+    {
+        return super::turning::role_shows(role, kind);
+    }
     use ChangeKind as K;
+    // A lathe cycle's own words (LinuxCNC `G76 … H2`: the spring passes) are its parameters,
+    // not the offsets or feeds their letters name elsewhere.
+    if ctx.other_cycle
+        && matches!(kind, K::CycleParameterChanged | K::AxialDepthChanged | K::AllowanceChanged)
+        && !matches!(about(tok, dialect), About::Address(Role::F | Role::S | Role::T | Role::G | Role::M | Role::N))
+        && about(tok, dialect) != About::Unknown
+        && matches!(about(tok, dialect), About::Address(_))
+    {
+        return true;
+    }
     // A word its statement's codes give another sense (a dwell's `F`, a cycle's `H`) shows
     // that, not the technology its letter names elsewhere.
     let technology =
@@ -894,7 +923,10 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
     const OVERRIDES: [Meaning; 3] = [M::OverridesOn, M::OverridesOff, M::FeedOverrideSwitch];
     match kind {
         K::FeedChanged => address(&[R::F, R::E, R::PlungeFeed]) || code(&FEED),
-        K::SpindleSpeedChanged | K::SpindleModeChanged => address(&[R::S]) || code(&SPEED),
+        // Under constant surface speed, its other word is the spindle's limit (LinuxCNC `G96 D2500`).
+        K::SpindleSpeedChanged | K::SpindleModeChanged => {
+            address(&[R::S, R::SpindleLimit]) || code(&SPEED) || (ctx.css && address(&[R::D]))
+        }
         K::SpindleDirectionChanged => code(&SPINDLE),
         K::CoolantChanged => code(&COOLANT),
         K::ToolRenamed => address(&[R::T, R::D, R::ToolEdge, R::NextTool]) || code(&[M::ToolChange]),
@@ -1292,6 +1324,9 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
         }
         let sort = y.as_ref().or(x.as_ref()).map_or(Sort::Other, |t| t.sort);
         match (sort, x, y) {
+            // The spindle's limit (Siemens `LIMS=2500`) told by the plan where it is located.
+            (Sort::Assign, _, _)
+                if it.located && y.as_ref().or(x.as_ref()).is_some_and(|t| about(t, d) == About::Address(Role::SpindleLimit)) => {}
             (Sort::Assign, _, _) if y.as_ref().or(x.as_ref()).is_some_and(|t| typed::sets_variable(t, d)) => {
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
                 let param = typed::cycle_param(&key, d);

@@ -971,9 +971,18 @@ fn compare_workingsteps(
     // The features, once per pair.
     if let (Some(fa), Some(fb)) = (a.feature.and_then(|f| pa.feature(f)), b.feature.and_then(|f| pb.feature(f)))
         && stock_alike
-        && features_seen.insert((fa.id, fb.id))
     {
-        explained |= compare_features(fa, fb, depth_change.is_some(), u, &mut push);
+        if features_seen.insert((fa.id, fb.id)) {
+            explained |= compare_features(fa, fb, depth_change.is_some(), u, &mut push);
+        } else if lathe {
+            // A contour roughed and finished (`G71`/`G70 P Q`, or in explicit passes) is one
+            // feature: its edit is what changed this workingstep's cuts too (told once, with
+            // the workingsteps it is also in).
+            explained |= compare_features(fa, fb, depth_change.is_some(), u, &mut push);
+        }
+    }
+    if lathe {
+        turning::fold_derived(first, out);
     }
     if !explained && let Some(tp) = toolpath_difference(a, b, depth_change, u) {
         out.push(Change {
@@ -1471,39 +1480,16 @@ fn compare_features(fa: &crate::plan::Feature, fb: &crate::plan::Feature, depth_
             dim("feature_width", Some(*wa), Some(*wb));
         }
         (FeatureKind::Slot { width: wa, .. }, FeatureKind::Slot { width: wb, .. }) => dim("slot_width", Some(*wa), Some(*wb)),
-        (FeatureKind::Turned(ta), FeatureKind::Turned(tb)) => turned_dims(ta, tb, &mut dim),
+        (FeatureKind::Turned(ta), FeatureKind::Turned(tb)) => {
+            let at = (Some(fa.lines.0), Some(fb.lines.0));
+            turning::turned_dims((ta, fa.placement[2]), (tb, fb.placement[2]), u, &mut |field, x, y| {
+                push(ChangeKind::FeatureChanged, field, x, y, at);
+                any = true;
+            });
+        }
         _ => {}
     }
     any
-}
-
-/// Reports one dimension of a feature that differs.
-type Dim<'a> = dyn FnMut(&str, Option<f64>, Option<f64>) + 'a;
-
-/// A turned feature's sizes: diameters, a round's radius, a groove's width, a thread's diameters.
-fn turned_dims(a: &crate::plan::Turned, b: &crate::plan::Turned, dim: &mut Dim<'_>) {
-    use crate::plan::Turned as T;
-    match (a, b) {
-        (T::RevolvedFlat { outer: oa, inner: ia }, T::RevolvedFlat { outer: ob, inner: ib }) => {
-            dim("outer_diameter", Some(*oa), Some(*ob));
-            dim("inner_diameter", Some(*ia), Some(*ib));
-        }
-        (T::Diameter { diameter: da, .. }, T::Diameter { diameter: db, .. }) => dim("diameter", Some(*da), Some(*db)),
-        (T::RevolvedRound { radius: ra, .. }, T::RevolvedRound { radius: rb, .. }) => dim("round_radius", Some(*ra), Some(*rb)),
-        (T::Groove { diameter: da, width: wa, .. }, T::Groove { diameter: db, width: wb, .. }) => {
-            dim("groove_diameter", Some(*da), Some(*db));
-            dim("groove_width", *wa, *wb);
-        }
-        (T::Revolution { outer: oa, inner: ia, .. }, T::Revolution { outer: ob, inner: ib, .. }) => {
-            dim("outer_diameter", Some(*oa), Some(*ob));
-            dim("inner_diameter", Some(*ia), Some(*ib));
-        }
-        (T::Thread { diameter: da, root: ra, .. }, T::Thread { diameter: db, root: rb, .. }) => {
-            dim("thread_diameter", *da, *db);
-            dim("thread_root_diameter", Some(*ra), Some(*rb));
-        }
-        _ => {}
-    }
 }
 
 /// What differs between two toolpaths, and where.

@@ -70,8 +70,10 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
         .as_ref()
         .is_some_and(|c| matches!(c.statement, Some(Statement::Call | Statement::CallLabel | Statement::CallProgram)));
     let mut m = if calls { CALL } else { 0 };
+    // A letter a code of the block gives a role of its own (Haas G76 `A60`: the tool's angle).
+    let given = |r: Role| block.words.iter().any(|w| code_of(w).is_some_and(|c| c.args.iter().any(|a| a.0 == r)));
     for w in &block.words {
-        if matches!(w.role, Role::A | Role::B | Role::C) && !no_motion {
+        if matches!(w.role, Role::A | Role::B | Role::C) && !no_motion && !given(w.role) {
             m |= ROTARY_MOVE;
         }
         if code_of(w).is_some_and(|code| matches!(code.meaning, Meaning::Home1 | Meaning::Home2 | Meaning::MachineCoords)) {

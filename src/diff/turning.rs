@@ -2,10 +2,20 @@
 //! speed and its clamp (`spindle clamp 2500 → 1800 /min`), the cycle's finishing allowance
 //! (`U0.4 W0.1 → U0.6 W0.2`), depth of cut and retract, a thread's pitch, height and passes,
 //! a groove's pecks. The feed per minute and the lowest Z are not compared: on a lathe they
-//! follow the diameter, the clamp and the allowance, which are said instead.
+//! follow the diameter, the clamp and the allowance, which are said instead. A lathe cycle's
+//! word is located by the role the dictionary gives it (`cycle_role`: Haas `G71 … D` the depth
+//! of cut, `G76 … A` the tool's angle, never an offset or a rotary axis); a turret's T word with
+//! another offset is the tool's offset (`turret_offset`); passes written one by one (a CAM
+//! post's G1 roughing, G92's repeated X words) are told as passes; turned features read in
+//! diameters (`Ø24`) and a face by its Z (`turned_dims`); a feature's change shared by the
+//! workingsteps that rough and finish it is told once (`merge_feature_repeats`), and a thread's
+//! major diameter derived from the height told is not told again (`fold_derived`).
+
+use std::collections::BTreeSet;
 
 use super::{ChangeKind, Fmt, Push, TOLERANCE, coolant_words, num, spindle_words};
-use crate::plan::{Turning, Workingstep};
+use crate::dialect::{Dialect, Role};
+use crate::plan::{Turned, Turning, Workingstep};
 
 /// The first cut's start, as a diameter and Z, where the workingstep's moves are its own:
 /// a cycle's passes start where its start point and depth of cut put them, which its
@@ -28,7 +38,8 @@ pub(super) fn technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Pu
     let at = (Some(a.lines.0), Some(b.lines.0));
     let (Some(ta), Some(tb)) = (a.turning.as_deref(), b.turning.as_deref()) else { return false };
     let (ka, kb) = (&a.technology, &b.technology);
-    let per_rev = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |f| format!("F{} mm/rev", u.c(f)));
+    // Per revolution in the original's units (G99 F0.01 in an inch program is 0.01 in/rev).
+    let per_rev = |v: Option<f64>| v.map_or_else(|| "none".to_owned(), |f| format!("F{} {}/rev", u.c(f), if u.inch { "in" } else { "mm" }));
     let feeds_differ = differs(ta.feed_per_rev, tb.feed_per_rev)
         || (ta.feed_per_rev.is_none() && ta.pitch.is_none() && (ka.feed - kb.feed).abs() > TOLERANCE);
     if differs(ta.feed_per_rev, tb.feed_per_rev) {
@@ -122,6 +133,41 @@ pub(super) fn cutting(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
         push(ChangeKind::CycleParameterChanged, "thread_angle", deg(ia.angle), deg(ib.angle), at);
         explained = true;
     }
+    // Passes the program writes one by one (a CAM post's G1 roughing, the single-pass cycles
+    // G90/G92/G94 repeated by their X or Z words), not those a cycle works out from its depth
+    // of cut: one taken out or added is a pass, not a changed toolpath.
+    let written = |t: &Turning| {
+        let single = t.intent.as_ref().is_some_and(|i| {
+            matches!(i.kind, Some(crate::canon::TurnKind::TurnPass | crate::canon::TurnKind::FacePass | crate::canon::TurnKind::ThreadPass))
+        });
+        single || (t.intent.is_none() && t.cycle.is_none())
+    };
+    // Each pass written in blocks of its own: not a cycle's moves from one block, whatever the
+    // plan kept of it (LinuxCNC `G71`), nor a loop running the same blocks again (a grinder's
+    // parts per series), whose bound says the change.
+    let blocks = |w: &Workingstep, passes: u32| {
+        let lines: BTreeSet<u32> = w.toolpath.iter().filter(|m| m.kind != crate::plan::MoveKind::Rapid).map(|m| m.line).collect();
+        lines.len() > 1 && lines.len() >= passes as usize
+    };
+    if ta.passes != tb.passes
+        && ta.passes > 0
+        && tb.passes > 0
+        && written(ta)
+        && written(tb)
+        && ta.rough == tb.rough
+        && blocks(a, ta.passes)
+        && blocks(b, tb.passes)
+    {
+        let field = if pitch(ta).is_some() {
+            "thread_passes"
+        } else if ta.rough {
+            "roughing_passes"
+        } else {
+            "passes"
+        };
+        push(ChangeKind::CycleParameterChanged, field, ta.passes.to_string(), tb.passes.to_string(), at);
+        explained = true;
+    }
     if ia.finish_passes != ib.finish_passes {
         let n = |v: Option<u32>| v.map_or_else(|| "none".to_owned(), |v| v.to_string());
         push(ChangeKind::CycleParameterChanged, "finishing_passes", n(ia.finish_passes), n(ib.finish_passes), at);
@@ -141,4 +187,169 @@ fn differs(x: Option<f64>, y: Option<f64>) -> bool {
         (None, None) => false,
         _ => true,
     }
+}
+
+/// A turned feature's sizes as a turner reads them: diameters as `Ø24`, a round's radius, a
+/// groove's width, a thread's diameters; `dim` pushes one that differs (field, before, after).
+pub(super) fn turned_dims(a: (&Turned, f64), b: (&Turned, f64), u: Fmt, dim: &mut dyn FnMut(&str, String, String)) {
+    let ((a, za), (b, zb)) = (a, b);
+    // A face across the axis is where it stands along Z (`face Z0 → Z-0.2`).
+    if matches!((a, b), (Turned::RevolvedFlat { .. }, Turned::RevolvedFlat { .. })) && (za - zb).abs() > TOLERANCE {
+        dim("face", format!("Z{}", u.c(za)), format!("Z{}", u.c(zb)));
+    }
+    let mut size = |field: &str, x: Option<f64>, y: Option<f64>, diameter: bool| {
+        if let (Some(x), Some(y)) = (x, y)
+            && (x - y).abs() > TOLERANCE
+        {
+            let show = |v: f64| if diameter { format!("Ø{}", u.c(v)) } else { u.len(v) };
+            dim(field, show(x), show(y));
+        }
+    };
+    match (a, b) {
+        (Turned::RevolvedFlat { outer: oa, inner: ia }, Turned::RevolvedFlat { outer: ob, inner: ib }) => {
+            size("outer_diameter", Some(*oa), Some(*ob), true);
+            size("inner_diameter", Some(*ia), Some(*ib), true);
+        }
+        (Turned::Diameter { diameter: da, .. }, Turned::Diameter { diameter: db, .. }) => size("diameter", Some(*da), Some(*db), true),
+        (Turned::RevolvedRound { radius: ra, .. }, Turned::RevolvedRound { radius: rb, .. }) => {
+            size("round_radius", Some(*ra), Some(*rb), false);
+        }
+        (Turned::Groove { diameter: da, width: wa, .. }, Turned::Groove { diameter: db, width: wb, .. }) => {
+            size("groove_diameter", Some(*da), Some(*db), true);
+            size("groove_width", *wa, *wb, false);
+        }
+        (Turned::Revolution { outer: oa, inner: ia, .. }, Turned::Revolution { outer: ob, inner: ib, .. }) => {
+            size("outer_diameter", Some(*oa), Some(*ob), true);
+            size("inner_diameter", Some(*ia), Some(*ib), true);
+        }
+        (Turned::Thread { diameter: da, root: ra, .. }, Turned::Thread { diameter: db, root: rb, .. }) => {
+            size("thread_diameter", *da, *db, true);
+            size("thread_root_diameter", Some(*ra), Some(*rb), true);
+        }
+        _ => {}
+    }
+}
+
+/// The role a lathe cycle gives a word of its block by the dictionary (`G71 P Q U W D F` on a
+/// Haas lathe: `D:cut-depth`; Haas G76: `K:profile-depth`, `D:cut-depth`, `A:tool-angle`), where
+/// the word's letter means something else outside the cycle (D an offset, A a rotary axis).
+pub(super) fn cycle_role(letter: Role, code: Option<(char, u32)>, d: &Dialect) -> Option<Role> {
+    let (l, n) = code?;
+    d.code(l, n)?.args.iter().find(|(word, _)| *word == letter).map(|&(_, role)| role)
+}
+
+/// Whether a plan change of `kind` is what a lathe cycle's word of this role states: the
+/// depth of cut (or a thread's first cut), the allowances, a thread's height, angle and pitch,
+/// the retract; the plan tells these in a turner's terms, so the word needs no row of its own.
+pub(super) fn role_shows(role: Role, kind: ChangeKind) -> bool {
+    use ChangeKind as K;
+    match role {
+        Role::CutDepth => matches!(kind, K::AxialDepthChanged | K::CycleParameterChanged),
+        Role::AllowanceX | Role::AllowanceZ | Role::Allowance => kind == K::AllowanceChanged,
+        Role::Pitch | Role::ThreadSize => kind == K::ThreadPitchChanged,
+        Role::ProfileDepth => matches!(kind, K::CycleParameterChanged | K::FeatureChanged),
+        _ => kind == K::CycleParameterChanged,
+    }
+}
+
+/// Sizes that follow from a cycle's parameter told above are not told again: a thread's major
+/// diameter where the cycle states the root and the height (Fanuc and Haas `G76 X… P…`/`K…`:
+/// X the root diameter, the height per side; the diameter is X plus twice the height, which
+/// the turner did not change).
+pub(super) fn fold_derived(first: usize, out: &mut Vec<super::Change>) {
+    let told = |field: &str| out[first..].iter().any(|c| c.field == field);
+    if told("thread_height") && !told("thread_root_diameter") {
+        let mut k = first;
+        while k < out.len() {
+            if out[k].kind == ChangeKind::FeatureChanged && out[k].field == "thread_diameter" {
+                out.remove(k);
+            } else {
+                k += 1;
+            }
+        }
+    }
+}
+
+/// A feature's change told the same at several workingsteps that share the feature (a contour
+/// roughed and finished: `G71`/`G70 P Q`, or explicit passes then a finishing pass): told once,
+/// at the statements that show it in any of them, with the workingsteps it is also in.
+pub(super) fn merge_feature_repeats(changes: &mut Vec<super::Change>) {
+    let mut k = 0;
+    while k < changes.len() {
+        if changes[k].kind != ChangeKind::FeatureChanged {
+            k += 1;
+            continue;
+        }
+        let mut also = Vec::new();
+        let mut j = k + 1;
+        while j < changes.len() {
+            let (c, d) = (&changes[k], &changes[j]);
+            let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
+            if same && d.workingstep != c.workingstep {
+                let d = changes.remove(j);
+                if !also.contains(&d.workingstep) {
+                    also.push(d.workingstep);
+                }
+                let c = &mut changes[k];
+                if c.detail.at.is_empty() {
+                    (c.original_line, c.line) = (d.original_line, d.line);
+                }
+                c.detail.at.extend(d.detail.at);
+                c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+                c.detail.at.dedup();
+            } else {
+                j += 1;
+            }
+        }
+        if !also.is_empty() {
+            let list = also.iter().map(u32::to_string).collect::<Vec<_>>().join(", ");
+            changes[k].after.push_str(&format!(" (also in workingstep{} {list})", if also.len() == 1 { "" } else { "s" }));
+        }
+        k += 1;
+    }
+}
+
+/// Whether a named cycle (Siemens `CYCLE95`, `CYCLE97`) turns, by its meaning in the dictionary.
+pub(super) fn named_turning(name: &str, d: &Dialect) -> bool {
+    use crate::dialect::Meaning as M;
+    d.cycles.iter().any(|c| {
+        c.name.eq_ignore_ascii_case(name)
+            && matches!(
+                c.meaning,
+                M::CycleRoughTurn
+                    | M::CycleRoughFace
+                    | M::CycleThreadMultiple
+                    | M::CycleGroove
+                    | M::CycleStockCorner
+                    | M::CycleContourTurn
+                    | M::CyclePartOff
+                    | M::CycleFacePeck
+            )
+    })
+}
+
+/// A lathe turret's T word whose last digits name the offset (Fanuc T-series `T0202`, the
+/// dictionary's `offset-digits`): the same tool with another offset (`T0101` → `T0111`, a
+/// wear offset of its own) is the tool's offset changed, not the tool renamed.
+pub(super) fn turret_offset(
+    x: Option<&super::statement::Token>,
+    y: Option<&super::statement::Token>,
+    d: &Dialect,
+) -> Option<super::typed::Typed> {
+    let digits = d.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits)?;
+    let split = |t: &super::statement::Token| {
+        if super::typed::about(t, d) != super::typed::About::Address(Role::T) {
+            return None;
+        }
+        let v = t.value.parse::<u64>().ok()?;
+        let base = 10u64.pow(u32::from(digits));
+        Some((v / base, v % base))
+    };
+    let ((ta, oa), (tb, ob)) = (split(x?)?, split(y?)?);
+    (ta == tb && oa != ob).then(|| super::typed::Typed {
+        kind: ChangeKind::LengthOffsetChanged,
+        field: format!("offset of tool {ta}"),
+        before: oa.to_string(),
+        after: ob.to_string(),
+    })
 }

@@ -97,6 +97,9 @@ pub(super) struct Context {
     /// A probing move (`G38.2`, `G31`): its axis words are where the probe goes until it
     /// touches, its `F` the probing feed.
     pub probe: bool,
+    /// A lathe cycle's code whose words the dictionary gives roles (`args`, Haas `G71 … D`):
+    /// its letter and number × 10 (`diff::turning::cycle_role`).
+    pub turn_cycle: Option<(char, u32)>,
 }
 
 /// Whether a code shifts the origin of the program's coordinates.
@@ -180,6 +183,19 @@ impl Context {
                 c.probe |= matches!(m, Meaning::Probe | Meaning::ProbeQuiet);
                 c.cycle |= m.is_cycle();
                 c.other_cycle |= other_cycle(m);
+                let lathe = other_cycle(m)
+                    || matches!(
+                        m,
+                        Meaning::CycleThreadMultiple
+                            | Meaning::CycleGroove
+                            | Meaning::CycleFacePeck
+                            | Meaning::CycleStockCorner
+                            | Meaning::CycleContourTurn
+                            | Meaning::CyclePartOff
+                    );
+                if lathe && c.turn_cycle.is_none() {
+                    c.turn_cycle = code().filter(|&(l, n)| d.code(l, n).is_some_and(|def| !def.args.is_empty()));
+                }
                 c.css |= m == Meaning::SpindleCss;
                 c.switch |= matches!(m, Meaning::FeedOverrideSwitch | Meaning::SpeedOverrideSwitch);
                 c.shift |= shifts(m);
@@ -231,6 +247,7 @@ impl Context {
             macro_call: self.macro_call || o.macro_call,
             rapid: self.rapid && o.rapid,
             probe: self.probe || o.probe,
+            turn_cycle: self.turn_cycle.or(o.turn_cycle),
         }
     }
 }
@@ -446,6 +463,12 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
     let mut told = vec![false; diffs.len()];
     for (n, (x, y)) in diffs.iter().enumerate() {
         let tok = y.as_ref().or(x.as_ref()).expect("a difference has a side");
+        // A turret's T word with the same tool and another offset (`T0101` → `T0111`).
+        if let Some(t) = super::turning::turret_offset(x.as_ref(), y.as_ref(), d) {
+            told[n] = true;
+            out.push(t);
+            continue;
+        }
         let Some((kind, field)) = kind_of(tok, ctx, d) else { continue };
         told[n] = true;
         let k = match out.iter().position(|t| t.kind == kind) {

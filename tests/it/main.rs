@@ -72,6 +72,7 @@ mod faults;
 mod first_start;
 mod flow;
 mod lathe;
+mod lathe_edits;
 mod legacy_blocks;
 mod macros;
 mod parity;
