@@ -117,6 +117,10 @@ pub(super) fn plain_block(
     }
 }
 
+/// X, Y and Z are the first three roles, in that order: a [`PlainLine`] finds a word's axis
+/// from its role's number.
+const _: () = assert!(Role::X as usize == 0 && Role::Y as usize == 1 && Role::Z as usize == 2);
+
 /// Where [`plain_block`] puts what it reads.
 pub(super) trait PlainWords {
     /// The block number.
@@ -144,6 +148,18 @@ impl PlainWords for PlainLine {
 
     #[inline(always)]
     fn word(&mut self, role: Role, _: u8, value: f64, decimal: bool, _: TextRange) -> bool {
+        // X, Y and Z are the first roles: their number is the axis (asserted below).
+        let axis = role as usize;
+        if let Some(v) = self.axes.get_mut(axis) {
+            // An axis written twice: the block goes the general way, which says what it means.
+            let read = self.read;
+            if (read >> axis) & 1 != 0 {
+                return false;
+            }
+            *v = value;
+            self.read = read | (1 | u32::from(decimal) << 3) << axis;
+            return true;
+        }
         let Some(w) = self.words.get_mut(self.len) else { return false };
         *w = PlainWord { role, value, decimal };
         self.len += 1;
