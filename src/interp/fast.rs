@@ -66,7 +66,7 @@ impl Interpreter<'_> {
             // As `eval` leaves it: no unknown value read.
             self.params.take_unknown_read();
         }
-        let none = (0, 0, &[0.0; 3]);
+        let none = (0, &[true; 3], &[0.0; 3]);
         self.plain_move(words[..block.words.len()].iter().copied(), none, block.range, self.staged(), true, sink, diags)
     }
 
@@ -134,7 +134,7 @@ impl Interpreter<'_> {
 
     /// The plain move of `words` (role, value, whether written with a point; `None` for a
     /// word that is no literal number) and of X, Y and Z words read by axis (`read`: which
-    /// axes, which of them with a point, their values; as [`PlainLine::axes`] gives them) in
+    /// axes, by axis whether with a point, their values; as [`PlainLine::axes`] gives them) in
     /// the block at `range`, in a state that admits one ([`Interpreter::plain_state`]);
     /// `staged` as [`Interpreter::staged`] says. `keywords`: whether the words may hold a
     /// keyword code (a block's may, a plain line's may not: the plain lane's loop is then
@@ -144,7 +144,7 @@ impl Interpreter<'_> {
     fn plain_move(
         &mut self,
         words: impl Iterator<Item = Option<(Role, f64, bool)>>,
-        read: (u8, u8, &[f64; 3]),
+        read: (u8, &[bool; 3], &[f64; 3]),
         range: TextRange,
         staged: bool,
         keywords: bool,
@@ -199,20 +199,28 @@ impl Interpreter<'_> {
         // too, or a length an integer counts, goes the general way).
         let (mask, points, values) = read;
         if mask != 0 {
-            if axes & u32::from(mask) != 0 || (integers_scale && points != mask) {
+            if axes & u32::from(mask) != 0 {
                 return false;
             }
             axes |= u32::from(mask);
             if integers_scale {
                 for (axis, &value) in values.iter().enumerate() {
                     if mask & 1 << axis != 0 {
+                        if !points[axis] {
+                            return false;
+                        }
                         whole_points[usize::from(value.fract() != 0.0)] += 1;
                     }
                 }
             }
-            for (axis, &value) in values.iter().enumerate() {
-                if mask & 1 << axis != 0 {
-                    to[axis] = if incremental { self.st.pos[axis] + value } else { value };
+            if mask == 0b111 && !incremental {
+                // X, Y and Z, absolute (a 3D surface's every line): one copy.
+                to[..3].copy_from_slice(values);
+            } else {
+                for (axis, &value) in values.iter().enumerate() {
+                    if mask & 1 << axis != 0 {
+                        to[axis] = if incremental { self.st.pos[axis] + value } else { value };
+                    }
                 }
             }
         }

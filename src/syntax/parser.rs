@@ -376,9 +376,10 @@ pub struct PlainLine {
     len: usize,
     /// The values of its X, Y and Z words, by axis.
     axes: [f64; 3],
-    /// Which axes it writes (bit 0 X, bit 1 Y, bit 2 Z) and, three bits up, which of those
-    /// with a decimal point: one field, set by one write a word.
+    /// Which axes it writes: bit 0 X, bit 1 Y, bit 2 Z.
     read: u32,
+    /// By axis: whether its word is written with a decimal point (of an axis it writes).
+    points: [bool; 3],
     /// Source range of the block, without its line terminator.
     pub range: TextRange,
     /// 1-based line of the block.
@@ -402,7 +403,7 @@ pub struct PlainWord {
 impl Default for PlainLine {
     fn default() -> PlainLine {
         let w = PlainWord { role: Role::X, value: 0.0, decimal: false };
-        PlainLine { words: [w; PLAIN_WORDS], len: 0, axes: [0.0; 3], read: 0, range: TextRange::default(), line: 0 }
+        PlainLine { words: [w; PLAIN_WORDS], len: 0, axes: [0.0; 3], read: 0, points: [false; 3], range: TextRange::default(), line: 0 }
     }
 }
 
@@ -412,11 +413,12 @@ impl PlainLine {
         &self.words[..self.len]
     }
 
-    /// Its X, Y and Z words: which it writes (bit 0 X, bit 1 Y, bit 2 Z), which of those with
-    /// a decimal point (the same bits), and their values by axis (an axis not written: 0).
+    /// Its X, Y and Z words: which it writes (bit 0 X, bit 1 Y, bit 2 Z), by axis whether
+    /// written with a decimal point, and their values by axis (only those of the axes it
+    /// writes mean anything).
     #[inline(always)]
-    pub fn axes(&self) -> (u8, u8, &[f64; 3]) {
-        ((self.read & 7) as u8, ((self.read >> 3) & 7) as u8, &self.axes)
+    pub fn axes(&self) -> (u8, &[bool; 3], &[f64; 3]) {
+        (self.read as u8, &self.points, &self.axes)
     }
 }
 

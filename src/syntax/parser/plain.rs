@@ -96,7 +96,7 @@ pub(super) fn plain_block(
         };
         let sign = b.get(i + 1).copied().unwrap_or(0);
         let negative = sign == b'-';
-        let signed = negative || sign == b'+';
+        let signed = negative | (sign == b'+');
         // Blanks inside a number (`X1 5`, where the dialect allows them) need not be looked for
         // here: a digit after blanks is no plain word, and the general lexer reads the block.
         let (v, end, decimal) = plain_number(b, i + 1 + usize::from(signed), false)?;
@@ -157,7 +157,8 @@ impl PlainWords for PlainLine {
                 return false;
             }
             *v = value;
-            self.read = read | (1 | u32::from(decimal) << 3) << axis;
+            self.read = read | 1 << axis;
+            self.points[axis] = decimal;
             return true;
         }
         let Some(w) = self.words.get_mut(self.len) else { return false };
