@@ -1130,20 +1130,12 @@ pub struct CallWriter {
     line: [u8; MOVE_LINE],
 }
 
-/// The slots of [`CallWriter`]'s cache: 2^14, for the 14 bits of [`write_f4`]'s hash
-/// ([`SLOT_SHIFT`]). A surface's Z levels at four decimals are a few thousand values, which
-/// 2^10 slots kept evicting each other: on the bench's surfacing program 2^10 slots miss 1.23M
-/// of its 3M numbers, 2^14 miss 0.22M (512 KiB, made once per printer).
-const SLOTS: usize = 1 << 14;
-
-/// The shift that leaves the top `log2(SLOTS)` bits of the hash.
-const SLOT_SHIFT: u32 = 64 - SLOTS.trailing_zeros();
+/// The slots of [`CallWriter`]'s cache: 2^10, for the 10 bits of [`write_f4`]'s hash.
+const SLOTS: usize = 1 << 10;
 
 impl Default for CallWriter {
     fn default() -> CallWriter {
-        // Made on the heap: the table is too large to build on a thread's stack first.
-        let cache = vec![(0, 0, [0; CACHED]); SLOTS].into_boxed_slice().try_into().expect("SLOTS entries");
-        CallWriter { cache, line: [0; MOVE_LINE] }
+        CallWriter { cache: Box::new([(0, 0, [0; CACHED]); SLOTS]), line: [0; MOVE_LINE] }
     }
 }
 
@@ -1247,7 +1239,7 @@ fn write_f4(cache: &mut [(u64, u8, [u8; CACHED]); SLOTS], v: f64, dst: &mut [u8;
         return Some(6);
     }
     let bits = v.to_bits();
-    let slot = ((bits ^ (bits >> 31)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> SLOT_SHIFT) as usize;
+    let slot = ((bits ^ (bits >> 31)).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 54) as usize;
     let entry = &mut cache[slot];
     if entry.0 == bits && entry.1 != 0 {
         dst[..CACHED].copy_from_slice(&entry.2);
