@@ -18,7 +18,7 @@
 use super::{Interpreter, eval};
 use crate::canon::{CanonOp, CanonSink, DistanceMode};
 use crate::diag::Diagnostic;
-use crate::dialect::{Meaning, Role, Step};
+use crate::dialect::{Dialect, Meaning, Role, Step};
 use crate::syntax::{Block, PlainLine, Value, WordMode};
 use crate::text::TextRange;
 
@@ -66,7 +66,8 @@ impl Interpreter<'_> {
             // As `eval` leaves it: no unknown value read.
             self.params.take_unknown_read();
         }
-        self.plain_move(words[..block.words.len()].iter().copied(), block.range, self.staged(), true, sink, diags)
+        let none = (0, &[true; 3], &[0.0; 3]);
+        self.plain_move(words[..block.words.len()].iter().copied(), none, block.range, self.staged(), true, sink, diags)
     }
 
     /// Whether the expressions of `block` leave `read` nothing to do but evaluate them: the
@@ -116,7 +117,7 @@ impl Interpreter<'_> {
         self.origin = line.range;
         self.line = line.line;
         let words = line.words().iter().map(|w| Some((w.role, w.value, w.decimal)));
-        if !self.plain_move(words, line.range, run.staged, false, sink, diags) {
+        if !self.plain_move(words, line.axes(), line.range, run.staged, false, sink, diags) {
             return false;
         }
         // What `execute` does after its block; without stages there is nothing to report.
@@ -132,14 +133,18 @@ impl Interpreter<'_> {
     }
 
     /// The plain move of `words` (role, value, whether written with a point; `None` for a
-    /// word that is no literal number) in the block at `range`, in a state that admits one
-    /// ([`Interpreter::plain_state`]); `staged` as [`Interpreter::staged`] says. `keywords`:
-    /// whether the words may hold a keyword code (a block's may, a plain line's may not: the
-    /// plain lane's loop is then without the case).
+    /// word that is no literal number) and of X, Y and Z words read by axis (`read`: which
+    /// axes, by axis whether with a point, their values; as [`PlainLine::axes`] gives them) in
+    /// the block at `range`, in a state that admits one ([`Interpreter::plain_state`]);
+    /// `staged` as [`Interpreter::staged`] says. `keywords`: whether the words may hold a
+    /// keyword code (a block's may, a plain line's may not: the plain lane's loop is then
+    /// without the case).
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn plain_move(
         &mut self,
         words: impl Iterator<Item = Option<(Role, f64, bool)>>,
+        read: (u8, &[bool; 3], &[f64; 3]),
         range: TextRange,
         staged: bool,
         keywords: bool,
@@ -189,6 +194,35 @@ impl Interpreter<'_> {
                 whole_points[usize::from(value.fract() != 0.0)] += 1;
             }
             to[axis] = if incremental { self.st.pos[axis] + value } else { value };
+        }
+        // The axes read by axis: as the loop takes X, Y and Z words (an axis the words wrote
+        // too, or a length an integer counts, goes the general way).
+        let (mask, points, values) = read;
+        if mask != 0 {
+            if axes & u32::from(mask) != 0 {
+                return false;
+            }
+            axes |= u32::from(mask);
+            if integers_scale {
+                for (axis, &value) in values.iter().enumerate() {
+                    if mask & 1 << axis != 0 {
+                        if !points[axis] {
+                            return false;
+                        }
+                        whole_points[usize::from(value.fract() != 0.0)] += 1;
+                    }
+                }
+            }
+            if mask == 0b111 && !incremental {
+                // X, Y and Z, absolute (a 3D surface's every line): one copy.
+                to[..3].copy_from_slice(values);
+            } else {
+                for (axis, &value) in values.iter().enumerate() {
+                    if mask & 1 << axis != 0 {
+                        to[axis] = if incremental { self.st.pos[axis] + value } else { value };
+                    }
+                }
+            }
         }
         let Some(c) = code.or(self.st.motion_code) else { return false };
         let def = self.code(c);
@@ -254,20 +288,31 @@ impl Interpreter<'_> {
     }
 
     /// The straight motion code a keyword word names (its value is the code's index), when
-    /// its block needs nothing but the move, and the code gives no word another role.
+    /// its block needs nothing but the move, and the code gives no word another role
+    /// ([`straight_keyword`], asked once for each code).
     fn plain_keyword_code(&self, value: f64) -> Option<usize> {
         let c = value as usize;
-        (value >= 0.0 && c as f64 == value && c < self.dialect.codes.len() && self.code(c).args.is_empty() && self.plain_code(c))
-            .then_some(c)
+        (value >= 0.0 && c as f64 == value && self.straight_keywords.get(c) == Some(&true)).then_some(c)
     }
 
     /// Whether code `c` is a straight move (G0, G1, `L`) that requires no other word.
     fn plain_code(&self, c: usize) -> bool {
-        let def = self.code(c);
-        matches!(def.meaning, Meaning::Rapid | Meaning::Linear)
-            && self.dialect.groups[def.group].step == Step::Motion
-            && def.params.required.is_empty()
-            && def.params.any_of.is_empty()
-            && def.params.exclusive.is_empty()
+        plain_code(self.dialect, c)
     }
+}
+
+/// Whether code `c` of `d` is a straight move (G0, G1, `L`) that requires no other word.
+fn plain_code(d: &Dialect, c: usize) -> bool {
+    let def = &d.codes[c];
+    matches!(def.meaning, Meaning::Rapid | Meaning::Linear)
+        && d.groups[def.group].step == Step::Motion
+        && def.params.required.is_empty()
+        && def.params.any_of.is_empty()
+        && def.params.exclusive.is_empty()
+}
+
+/// Whether a keyword word naming code `c` of `d` (`c` < the number of codes) makes a plain
+/// straight move: the code is one ([`plain_code`]) and gives no word another role.
+pub(super) fn straight_keyword(d: &Dialect, c: usize) -> bool {
+    d.codes[c].args.is_empty() && plain_code(d, c)
 }

@@ -940,6 +940,10 @@ pub struct Interpreter<'a> {
     /// `decimal-input`, looked at by every plain move.
     integers_scale: bool,
     feed_before_motion: bool,
+    /// By code: whether a keyword word naming it makes a plain straight move (Heidenhain's
+    /// `L`; [`Interpreter::plain_keyword_code`]), asked of the dictionary once, not at every
+    /// move.
+    straight_keywords: Vec<bool>,
     /// Assignments of the block being executed, waiting for its reads (reused).
     pending: Vec<PendingAssign>,
     /// A `#3006` stop message to emit at the stop step.
@@ -1054,6 +1058,7 @@ impl<'a> Interpreter<'a> {
                 let at = |step: Step| dialect.execution_order.iter().position(|&s| s == step);
                 matches!((at(Step::Feed), at(Step::Motion)), (Some(f), Some(m)) if f < m)
             },
+            straight_keywords: (0..dialect.codes.len()).map(|c| fast::straight_keyword(dialect, c)).collect(),
             stop_message: None,
             tool_edits: BTreeMap::new(),
             comp: std::cell::RefCell::new(None),

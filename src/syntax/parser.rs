@@ -310,7 +310,7 @@ impl<'a> Parser<'a> {
     #[inline(always)]
     fn plain_at(&self, bytes: &[u8], base: usize, pos: usize, line: &mut PlainLine) -> Option<(usize, u32)> {
         let start = pos - base;
-        line.len = 0;
+        (line.len, line.read) = (0, 0);
         let end = plain_block(&self.plain, self.number, self.dialect, bytes, start, base, line)?;
         let (next, lines) = match bytes.get(end) {
             Some(b'\r') if bytes.get(end + 1) == Some(&b'\n') => (end + 2, 1),
@@ -367,10 +367,19 @@ impl<'a> Parser<'a> {
 
 /// A line of plain words read by [`Parser::plain_lines`] without a [`Block`]: the block that
 /// makes up most of a CAM program (`X12.5 Y-3.2 Z-1.05`), for the interpreter's plain lane.
+/// Its X, Y and Z words are kept by axis ([`PlainLine::axes`]), each at most once (a line that
+/// writes an axis twice is read as a [`Block`]); its other words in source order
+/// ([`PlainLine::words`]).
 #[derive(Clone, Debug)]
 pub struct PlainLine {
     words: [PlainWord; PLAIN_WORDS],
     len: usize,
+    /// The values of its X, Y and Z words, by axis.
+    axes: [f64; 3],
+    /// Which axes it writes: bit 0 X, bit 1 Y, bit 2 Z.
+    read: u32,
+    /// By axis: whether its word is written with a decimal point (of an axis it writes).
+    points: [bool; 3],
     /// Source range of the block, without its line terminator.
     pub range: TextRange,
     /// 1-based line of the block.
@@ -394,14 +403,22 @@ pub struct PlainWord {
 impl Default for PlainLine {
     fn default() -> PlainLine {
         let w = PlainWord { role: Role::X, value: 0.0, decimal: false };
-        PlainLine { words: [w; PLAIN_WORDS], len: 0, range: TextRange::default(), line: 0 }
+        PlainLine { words: [w; PLAIN_WORDS], len: 0, axes: [0.0; 3], read: 0, points: [false; 3], range: TextRange::default(), line: 0 }
     }
 }
 
 impl PlainLine {
-    /// The words in source order.
+    /// Its words other than X, Y and Z, in source order.
     pub fn words(&self) -> &[PlainWord] {
         &self.words[..self.len]
+    }
+
+    /// Its X, Y and Z words: which it writes (bit 0 X, bit 1 Y, bit 2 Z), by axis whether
+    /// written with a decimal point, and their values by axis (only those of the axes it
+    /// writes mean anything).
+    #[inline(always)]
+    pub fn axes(&self) -> (u8, &[bool; 3], &[f64; 3]) {
+        (self.read as u8, &self.points, &self.axes)
     }
 }
 

@@ -252,6 +252,7 @@ proptest! {
         Just("o1 repeat [3]\n"), Just("o1 endrepeat\n"), Just("#1=0\n"), Just("o2 while [#1 LT 3]\n"), Just("#1=[#1+1]\n"),
         Just("G1 X5 Y2 F200\n"), Just("G01 Z-2 F50.\n"), Just("G0 X1 Y1\n"), Just("G1 X1 F0\n"), Just("G1 X2 G0 Y1\n"), Just("N5 G1 X3 F100 F200\n"),
         Just("o2 endwhile\n"), Just("WHILE [#1 LT 3] DO 1\n"), Just("END 1\n"), Just("X[#1*2] Y@\n"), Just("GOTO 20\n"), Just("N20 G0 X1\n"),
+        Just("Z-2 Y1 X3\n"), Just("Y1 G1 X2 Y3\n"), Just("X.5 F200 Z1\n"), Just("Z1 Z1\n"), Just("G0 F100 Y2 X-1.\n"),
     ], 0..40)) {
         fast_lane_agrees(&parts.concat());
     }

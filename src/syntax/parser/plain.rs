@@ -96,7 +96,7 @@ pub(super) fn plain_block(
         };
         let sign = b.get(i + 1).copied().unwrap_or(0);
         let negative = sign == b'-';
-        let signed = negative || sign == b'+';
+        let signed = negative | (sign == b'+');
         // Blanks inside a number (`X1 5`, where the dialect allows them) need not be looked for
         // here: a digit after blanks is no plain word, and the general lexer reads the block.
         let (v, end, decimal) = plain_number(b, i + 1 + usize::from(signed), false)?;
@@ -116,6 +116,10 @@ pub(super) fn plain_block(
         i = end + usize::from(b.get(end) == Some(&b' '));
     }
 }
+
+/// X, Y and Z are the first three roles, in that order: a [`PlainLine`] finds a word's axis
+/// from its role's number.
+const _: () = assert!(Role::X as usize == 0 && Role::Y as usize == 1 && Role::Z as usize == 2);
 
 /// Where [`plain_block`] puts what it reads.
 pub(super) trait PlainWords {
@@ -144,6 +148,19 @@ impl PlainWords for PlainLine {
 
     #[inline(always)]
     fn word(&mut self, role: Role, _: u8, value: f64, decimal: bool, _: TextRange) -> bool {
+        // X, Y and Z are the first roles: their number is the axis (asserted below).
+        let axis = role as usize;
+        if let Some(v) = self.axes.get_mut(axis) {
+            // An axis written twice: the block goes the general way, which says what it means.
+            let read = self.read;
+            if (read >> axis) & 1 != 0 {
+                return false;
+            }
+            *v = value;
+            self.read = read | 1 << axis;
+            self.points[axis] = decimal;
+            return true;
+        }
         let Some(w) = self.words.get_mut(self.len) else { return false };
         *w = PlainWord { role, value, decimal };
         self.len += 1;
