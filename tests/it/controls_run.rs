@@ -211,3 +211,19 @@ fn older_sinumerik_remarks_b_radius_and_at_codes() {
     // The 840D reads the same text with errors (`( )` is arithmetic there).
     assert!(!errors("siemens", program).is_empty());
 }
+
+/// A LinuxCNC subroutine file runs when a call opens it (RS274NGC "Calling Files"): a block of
+/// its body whose expression the control cannot read stops it then, as rs274 stops at Probe
+/// Screen NG's `[<#_value> EQ -1]` ("bad number format"); the same file written right reads
+/// without an error, and a main program's branch not taken is not read (rs274 skips it too).
+#[test]
+fn a_subroutine_files_unreadable_block_is_an_error() {
+    let bad = "o<probe> sub\nG90\no<_probe_z> call [5]\nO1 if [<#_value> EQ -1]\n  (ABORT, tripped)\nO1 endif\no<probe> endsub\nM2\n";
+    let found = errors("linuxcnc", bad);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(found[0].starts_with("syntax::malformed-expression"), "{found:?}");
+    let good = bad.replace("<#_value>", "#<_value>");
+    assert_eq!(errors("linuxcnc", &good), Vec::<String>::new());
+    let untaken = "#1 = 0\nO1 if [#1 EQ 1]\n#2 = [<#_value> + 1]\nO1 endif\nG0 X1\nM2\n";
+    assert_eq!(errors("linuxcnc", untaken), Vec::<String>::new());
+}
