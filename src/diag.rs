@@ -113,6 +113,9 @@ codes! {
     CircleTilted = ("syntax::circle-tilted", Warning),
     /// A letter that the dialect does not define as an address.
     UnknownAddress = ("syntax::unknown-address", Error),
+    /// A block of a keyword-first language (Klartext) that starts with an axis word: the
+    /// control reads no block without its function (`L`, `C`, `CR`, ...), so it stops there.
+    NoFunction = ("syntax::no-function", Error),
     /// A number that cannot be read.
     MalformedNumber = ("syntax::malformed-number", Error),
     /// A comment that is not closed before the end of the line.

@@ -707,6 +707,10 @@ pub struct AddressDef {
     /// For the tool address: how many last digits name the tool offset rather than the tool
     /// (a lathe's `T0202`: tool 2, offset 2; `T0200` cancels the offset).
     pub offset_digits: Option<u8>,
+    /// For the tool address: a fraction after the point is the tool's ID code, not part of
+    /// its number (Mazak's `T6400.1102`: tool 64, offset 00, ID code 1102, as the Autodesk
+    /// Mazak Integrex post writes it from the tool's product ID).
+    pub id_suffix: bool,
     /// Whether the address may carry the number of the spindle it addresses before `=`
     /// (Siemens `M2=3`, `S2=2000`: spindle 2), with a number for its value.
     pub spindle_index: bool,

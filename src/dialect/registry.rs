@@ -30,6 +30,7 @@ pub const SHIPPED: &[(&str, &str)] = &[
     ("haas_lathe.xml", include_str!("../../dialects/haas_lathe.xml")),
     ("mitsubishi_lathe.xml", include_str!("../../dialects/mitsubishi_lathe.xml")),
     ("mazak_lathe.xml", include_str!("../../dialects/mazak_lathe.xml")),
+    ("mazak_millturn.xml", include_str!("../../dialects/mazak_millturn.xml")),
     ("fagor_lathe.xml", include_str!("../../dialects/fagor_lathe.xml")),
     ("centroid.xml", include_str!("../../dialects/centroid.xml")),
     ("mach3.xml", include_str!("../../dialects/mach3.xml")),

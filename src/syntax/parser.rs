@@ -53,6 +53,35 @@ pub fn leader<'t>(text: impl Into<Text<'t>>, dialect: &Dialect) -> Option<(TextR
     None
 }
 
+/// A keyword-first block (Klartext) whose first word is an axis (`80 Z DR+0.0`, a broken
+/// `TOOL CALL`): the TNC writes and reads every positioning block with its path function
+/// (`L X+10`, `C X.. DR+`; the TNC programming manuals' "Path functions"), and has no modal
+/// motion to carry a bare axis word, so the block stops the program. An M function alone
+/// (`79 M5`) is a block of its own.
+fn no_function(block: &Block, diags: &mut Vec<Diagnostic>) {
+    if block.control.is_some() || !block.assigns.is_empty() {
+        return;
+    }
+    // An axis word with its value (`X+20`, `C+90`), or X, Y or Z alone (read as TOOL CALL's
+    // tool axis); a `C` alone is the circle function.
+    let axis = |w: &&super::Word| {
+        let t = block.text(w.range).trim_end().as_bytes();
+        match t {
+            [c] => b"XYZ".contains(&c.to_ascii_uppercase()),
+            [c, next, ..] => b"XYZABCUVW".contains(&c.to_ascii_uppercase()) && !next.is_ascii_alphabetic(),
+            [] => false,
+        }
+    };
+    if let Some(w) = block.words.first().filter(axis) {
+        let letter = char::from(block.text(w.range).as_bytes()[0].to_ascii_uppercase());
+        diags.push(Diagnostic::new(
+            Code::NoFunction,
+            w.range,
+            format!("the block starts with the axis `{letter}` and no function (`L`, `C`, ...): the control reads no such block"),
+        ));
+    }
+}
+
 /// Whether the text from `from` on is all `blank`, read piece by piece.
 fn rest_blank(text: Text<'_>, mut from: usize, blank: &dyn Fn(&str) -> bool) -> bool {
     while from < text.len() {
@@ -272,6 +301,9 @@ impl<'a> Parser<'a> {
             }
             block.range = TextRange::new(base + start, base + end);
             block.set_source(&win[start..end.max(start)]);
+            if dialect.lexical.block_form == crate::dialect::BlockForm::KeywordFirst {
+                no_function(block, diags);
+            }
             self.line += lines;
             self.pos = base + i;
             return true;

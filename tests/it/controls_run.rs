@@ -211,3 +211,46 @@ fn older_sinumerik_remarks_b_radius_and_at_codes() {
     // The 840D reads the same text with errors (`( )` is arithmetic there).
     assert!(!errors("siemens", program).is_empty());
 }
+
+/// A LinuxCNC subroutine file runs when a call opens it (RS274NGC "Calling Files"): a block of
+/// its body whose expression the control cannot read stops it then, as rs274 stops at Probe
+/// Screen NG's `[<#_value> EQ -1]` ("bad number format"); the same file written right reads
+/// without an error, and a main program's branch not taken is not read (rs274 skips it too).
+#[test]
+fn a_subroutine_files_unreadable_block_is_an_error() {
+    let bad = "o<probe> sub\nG90\no<_probe_z> call [5]\nO1 if [<#_value> EQ -1]\n  (ABORT, tripped)\nO1 endif\no<probe> endsub\nM2\n";
+    let found = errors("linuxcnc", bad);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(found[0].starts_with("syntax::malformed-expression"), "{found:?}");
+    let good = bad.replace("<#_value>", "#<_value>");
+    assert_eq!(errors("linuxcnc", &good), Vec::<String>::new());
+    let untaken = "#1 = 0\nO1 if [#1 EQ 1]\n#2 = [<#_value> + 1]\nO1 endif\nG0 X1\nM2\n";
+    assert_eq!(errors("linuxcnc", untaken), Vec::<String>::new());
+}
+
+/// A Klartext block starts with its path function: a block that starts with an axis word, or
+/// with an axis letter alone (a broken `TOOL CALL`'s `80 Z DR+0.0`), is no block the TNC
+/// reads; `C X.. Y.. DR+` (the circle function) and an M function alone are blocks of their own.
+#[test]
+fn a_klartext_block_without_its_function_stops_the_tnc() {
+    let good =
+        "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L X+10 Y+5 R0 FMAX M3\n3 CC X+0 Y+0\n4 C X-10 Y+5 DR+ F200\n5 M5\n6 END PGM T MM\n";
+    assert_eq!(errors("heidenhain", good), Vec::<String>::new());
+    let broken = good.replace("5 M5", "5 Z DR+0.0");
+    let found = errors("heidenhain", &broken);
+    assert!(found.len() == 1 && found[0].starts_with("syntax::no-function"), "{found:?}");
+    let bare_axis = good.replace("5 M5", "5 X+20 F100");
+    assert!(errors("heidenhain", &bare_axis).iter().any(|e| e.starts_with("syntax::no-function")));
+}
+
+/// Fanuc's `WH` abbreviation of WHILE is no Fagor statement (the 8055 T's high-level
+/// language is written in brackets, the 8070's loops as `$WHILE`): on the Fagor lathe `WH` is
+/// no loop, as on the Fagor mill; on the Fanuc lathe it is.
+#[test]
+fn fagor_lathes_have_no_wh_abbreviation() {
+    let r = ncplan::dialect::Registry::shipped();
+    for (name, has) in [("fagor_lathe", false), ("fagor", false), ("fanuc_lathe", true)] {
+        let d = r.get(name).unwrap();
+        assert_eq!(d.macros.statements.iter().any(|(k, _)| k == "WH"), has, "{name}");
+    }
+}

@@ -205,6 +205,15 @@
 //! (the ShopTurn `E_LAB_A_name` labels or a program of that name), the three SinuTrain
 //! programs read without an error.
 //!
+//! After branch vocab14 (all halves seen, so no held-out figures): the Integrex mill-turn's
+//! own dictionary `mazak_millturn` (G-code type C, told by INTEGREX, G122.1/G123.1 and
+//! `G112 M/S`; `T6400.1102` a tool with its ID code), a LinuxCNC subroutine file's unreadable
+//! block an error (it runs when called: c018's `[<#_value> EQ -1]`), and a Klartext block with
+//! no function an error (b002): holdout-s12 27/28 valid without an error, family 28/28, invalid
+//! 2/2; holdout-s11 14/14, invalid 2/3; the other halves as before. Left: c024's first `G1`
+//! with no F before it (F200 comes a block later: whether the Mazak keeps a feed from before
+//! is not known), b014 (`Osample(..)`), a003 (`YY=R101`).
+//!
 //! Sweep 13 (rows d001-d022, half `holdout-s13`: held out whole, no build half; 22 programs of 2
 //! repositories, all valid), from files no set used of repositories other sets used in part (each
 //! row says so). Heidenhain 12 (a Hungarian job shop's hyperMILL 2025 output for a DMG DMU 85

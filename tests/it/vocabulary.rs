@@ -415,3 +415,21 @@ fn a_machine_builders_g_code_is_intent_on_fanuc() {
     let invented = read("fanuc", "O1\nG90 G0 X0 Y0\nG135\nM30\n");
     assert!(invented.iter().any(|x| x.code == Code::UnknownCode && x.is_error()), "{invented:?}");
 }
+
+/// A Mazak Integrex (mill-turn) program in EIA/ISO, G-code type C, as the Integrex's own
+/// macros and the Autodesk Integrex post write it: told from the Mazak mill dictionary by
+/// G122.1/G123.1 (radius and diameter input) and `G112 M`/`G112 S` (the milling spindle),
+/// read without an error; `T6400.1102` is tool 64 with its ID code after the point.
+#[test]
+fn a_mazak_integrex_program_reads_as_the_mill_turn() {
+    let text = "O1002\n(MILLING FLATS)\nG122.1\n#101=25.\nT6400.1102\nG112 M200\nG112 M203 G112 S3000\nG0 Z-50.\n\
+                G0 X[-#101] Y-10.\nG1 X[#101] F200\nG91 G1 Y5.\nG90\nG123.1\nG95 G97 S500 M3\nG1 Z-2. F0.1\nG112 M205\nM30\n%\n";
+    let r = Registry::shipped();
+    let sniffed = r.sniff(text, Some("O1002.EIA"), "fanuc");
+    assert_eq!(sniffed.dialect, "mazak_millturn", "{sniffed:?}");
+    let (calls, diags) = run("mazak_millturn", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(calls.iter().any(|c| c.starts_with("SELECT_TOOL(64)")), "{calls:#?}");
+    // The same words on the Mazak mill: G122.1 and G112 are no codes of it.
+    assert!(!errors(&read("mazak", text)).is_empty());
+}

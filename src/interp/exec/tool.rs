@@ -17,6 +17,9 @@ impl Interpreter<'_> {
     /// The tool-select step: the block's T word, when it is a tool number.
     pub(super) fn tool_select(&mut self, block: &Block, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         if let Some(t) = self.slot(Role::T) {
+            // Where the dictionary says so (Mazak), the fraction is the tool's ID code.
+            let id_suffix = self.dialect.addresses.iter().any(|a| a.role == Role::T && a.id_suffix);
+            let t = if id_suffix && t >= 0.0 { t.trunc() } else { t };
             if t < 0.0 || t.fract() != 0.0 {
                 diags.push(Diagnostic::new(
                     Code::MalformedNumber,

@@ -400,12 +400,37 @@ impl<'a> Driver<'a, '_> {
         if head && !self.main_work {
             if let Some(next) = enclosing_end(self.marks(self.cur), start.at, label) {
                 self.library = true;
+                self.unreadable_body(start, next, diags);
                 self.switch_to(self.cur, next, interp);
                 return;
             }
         }
         self.library |= head;
         self.skip_to(start, c.range, "endsub", |m| same_label(m, label, &[Statement::EndSub]), interp, diags);
+    }
+
+    /// The blocks of a subroutine file's body (from its `sub` line to `end`) whose text the
+    /// control cannot read: a malformed number or expression, a comment left open. The file
+    /// runs when a call opens it (RS274NGC "Calling Files"), and rs274 stops at such a block
+    /// when it runs ("bad number format" for `[<#_value> EQ -1]`); its moves here are not run.
+    fn unreadable_body(&self, start: Pos, end: Pos, diags: &mut Vec<Diagnostic>) {
+        const UNREADABLE: [Code; 3] = [Code::MalformedNumber, Code::MalformedExpression, Code::UnterminatedComment];
+        let mut parser = self.parser.fork(self.sources[self.cur].text, start.at, start.line);
+        let mut block = crate::syntax::Block::default();
+        let mut scratch = Vec::new();
+        // The `sub` line itself, read already.
+        if !parser.next_block(&mut block, &mut scratch) {
+            return;
+        }
+        scratch.clear();
+        while parser.offset() < end.at && parser.next_block(&mut block, &mut scratch) {
+            if block.range.start as usize >= end.at {
+                break;
+            }
+            // The first such finding of a block: the control stops there.
+            diags.extend(scratch.drain(..).find(|d| d.is_error() && UNREADABLE.contains(&d.code)));
+            scratch.clear();
+        }
     }
 
     /// `o100 endsub`, `o100 return [value]`: back to the caller, with the value; a return in
