@@ -791,12 +791,15 @@ impl Stored {
 }
 
 /// The errors among a revision's stored findings, as the diff reads them (and the values left
-/// unknown, see `diff::verdict::faults`); the findings the
-/// daemon adds of its own (a partial write, an ambiguous pairing) are no program's errors.
+/// unknown, and a file of subroutine definitions only, see `diff::verdict::faults`); the
+/// findings the daemon adds of its own (a partial write, an ambiguous pairing) are no
+/// program's errors. The same faults as the diff keeps from a fresh analysis, so a comparison
+/// against a stored revision tells what one of two fresh ones tells.
 fn stored_faults(findings: &[crate::store::StoredFinding]) -> Vec<diff::statement::Fault> {
+    let kept = |code: &str| code == Code::UnknownValue.as_str() || code == Code::Library.as_str();
     findings
         .iter()
-        .filter(|f| (f.severity == "error" || f.code == Code::UnknownValue.as_str()) && f.line > 0)
+        .filter(|f| (f.severity == "error" || kept(&f.code)) && f.line > 0)
         .filter_map(|f| {
             let code = *Code::ALL.iter().find(|c| c.as_str() == f.code)?;
             Some(diff::statement::Fault { code, line: u32::try_from(f.line).ok()?, message: f.message.clone() })

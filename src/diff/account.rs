@@ -885,10 +885,14 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
     }
     // A lathe cycle's word the dictionary gives a role (Haas `G71 … D0.06`: the depth of cut;
     // `G76 … K0.92 A60`: the thread's height, the tool's angle) states what its role names.
+    // Where the role does not show the change, the word may mean something else in the block
+    // (Fanuc's two-block `G71`: the first block's `U` the depth of cut, the second's, beside P
+    // and Q, the finishing allowance), which the rules below tell.
     if let About::Address(letter) = about(tok, dialect)
         && let Some(role) = super::turning::cycle_role(letter, ctx.turn_cycle, dialect)
+        && super::turning::role_shows(role, kind)
     {
-        return super::turning::role_shows(role, kind);
+        return true;
     }
     use ChangeKind as K;
     // A lathe cycle's own words (LinuxCNC `G76 … H2`: the spring passes) are its parameters,

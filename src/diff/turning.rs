@@ -272,8 +272,18 @@ pub(super) fn fold_derived(first: usize, out: &mut Vec<super::Change>) {
 
 /// A feature's change told the same at several workingsteps that share the feature (a contour
 /// roughed and finished: `G71`/`G70 P Q`, or explicit passes then a finishing pass): told once,
-/// at the statements that show it in any of them, with the workingsteps it is also in.
+/// at the statements that show it in any of them, with the workingsteps it is also in. The
+/// feature is the same where a statement shows the change in both (the contour's blocks both
+/// cycles run), or where only one of them is shown at statements; two grooves changed alike,
+/// each at its own blocks, stay two changes.
 pub(super) fn merge_feature_repeats(changes: &mut Vec<super::Change>) {
+    let shared = |c: &super::Change, d: &super::Change| match (c.detail.at.is_empty(), d.detail.at.is_empty()) {
+        (true, true) => (c.original_line, c.line) == (d.original_line, d.line),
+        // One side shown at no statement (a roughing's passes the finishing pass's edit moved):
+        // the statements of the other show it for both.
+        (true, false) | (false, true) => true,
+        (false, false) => c.detail.at.iter().any(|x| d.detail.at.contains(x)),
+    };
     let mut k = 0;
     while k < changes.len() {
         if changes[k].kind != ChangeKind::FeatureChanged {
@@ -285,7 +295,7 @@ pub(super) fn merge_feature_repeats(changes: &mut Vec<super::Change>) {
         while j < changes.len() {
             let (c, d) = (&changes[k], &changes[j]);
             let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
-            if same && d.workingstep != c.workingstep {
+            if same && d.workingstep != c.workingstep && shared(c, d) {
                 let d = changes.remove(j);
                 if !also.contains(&d.workingstep) {
                     also.push(d.workingstep);
@@ -325,31 +335,5 @@ pub(super) fn named_turning(name: &str, d: &Dialect) -> bool {
                     | M::CyclePartOff
                     | M::CycleFacePeck
             )
-    })
-}
-
-/// A lathe turret's T word whose last digits name the offset (Fanuc T-series `T0202`, the
-/// dictionary's `offset-digits`): the same tool with another offset (`T0101` → `T0111`, a
-/// wear offset of its own) is the tool's offset changed, not the tool renamed.
-pub(super) fn turret_offset(
-    x: Option<&super::statement::Token>,
-    y: Option<&super::statement::Token>,
-    d: &Dialect,
-) -> Option<super::typed::Typed> {
-    let digits = d.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits)?;
-    let split = |t: &super::statement::Token| {
-        if super::typed::about(t, d) != super::typed::About::Address(Role::T) {
-            return None;
-        }
-        let v = t.value.parse::<u64>().ok()?;
-        let base = 10u64.pow(u32::from(digits));
-        Some((v / base, v % base))
-    };
-    let ((ta, oa), (tb, ob)) = (split(x?)?, split(y?)?);
-    (ta == tb && oa != ob).then(|| super::typed::Typed {
-        kind: ChangeKind::LengthOffsetChanged,
-        field: format!("offset of tool {ta}"),
-        before: oa.to_string(),
-        after: ob.to_string(),
     })
 }

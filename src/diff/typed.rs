@@ -464,7 +464,7 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
     for (n, (x, y)) in diffs.iter().enumerate() {
         let tok = y.as_ref().or(x.as_ref()).expect("a difference has a side");
         // A turret's T word with the same tool and another offset (`T0101` → `T0111`).
-        if let Some(t) = super::turning::turret_offset(x.as_ref(), y.as_ref(), d) {
+        if let Some(t) = turret_offset(x.as_ref(), y.as_ref(), d) {
             told[n] = true;
             out.push(t);
             continue;
@@ -597,4 +597,26 @@ fn abort_comment(text: &str, d: &Dialect) -> bool {
         _ => inner,
     };
     matches!(d.lexical.directive(inner.trim_start()), Some((crate::dialect::Directive::Abort, _)))
+}
+
+/// A lathe turret's T word whose last digits name the offset (Fanuc T-series `T0202`, the
+/// dictionary's `offset-digits`): the same tool with another offset (`T0101` → `T0111`, a
+/// wear offset of its own) is the tool's offset changed, not the tool renamed.
+fn turret_offset(x: Option<&Token>, y: Option<&Token>, d: &Dialect) -> Option<Typed> {
+    let digits = d.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits)?;
+    let split = |t: &Token| {
+        if about(t, d) != About::Address(Role::T) {
+            return None;
+        }
+        let v = t.value.parse::<u64>().ok()?;
+        let base = 10u64.pow(u32::from(digits));
+        Some((v / base, v % base))
+    };
+    let ((ta, oa), (tb, ob)) = (split(x?)?, split(y?)?);
+    (ta == tb && oa != ob).then(|| Typed {
+        kind: ChangeKind::LengthOffsetChanged,
+        field: format!("offset of tool {ta}"),
+        before: oa.to_string(),
+        after: ob.to_string(),
+    })
 }

@@ -91,13 +91,16 @@ impl Interpreter<'_> {
     }
 
     /// Whether the state lets a block be a plain move at all: no modal cycle or macro, no
-    /// message waiting for a stop, no diameter programming, no NURBS curve under way.
+    /// message waiting for a stop, no diameter programming, no NURBS curve under way, no
+    /// face (`TRANSMIT`, `G12.1`) or cylinder (`TRACYL`, `G7.1`) interpolation, whose words
+    /// are not the machine's axes (`face_plane` is set under both).
     #[inline(always)]
     fn plain_state(&self) -> bool {
         !(self.st.cycle_modal
             || self.st.modal_macro.is_some()
             || self.stop_message.is_some()
             || self.st.diameter
+            || self.st.face_plane.is_some()
             || self.st.tcp
             || self.st.nurbs.is_some())
     }

@@ -676,9 +676,10 @@ impl Interpreter<'_> {
         if self.has_axes && !claimed { self.st.motion_code } else { None }
     }
 
-    /// Whether code `c` takes one of the axis words the block has.
+    /// Whether code `c` takes one of the axis words the block has, a mill's quill `W` among
+    /// them (`G28 W0`, `G92 W2`, `G10 L20 P1 W5`: the dictionary lists W for those codes).
     pub(super) fn claims_axes(&self, c: usize) -> bool {
-        Role::AXES.iter().any(|&r| self.slots[r as usize].is_some() && self.code(c).params.takes(r))
+        Role::AXES.iter().chain(&[Role::W]).any(|&r| self.slots[r as usize].is_some() && self.code(c).params.takes(r))
     }
 
     /// A word whose value is unknown: omitted, as a vacant one is, so that a move keeps its

@@ -125,35 +125,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
         classify(ws, front, back, boring, grooving);
     }
-    // A finishing cycle a grooving tool runs finishes a groove only where that tool roughed it
-    // with the roughing cycle before (it finishes that cycle's contour); after another tool's
-    // roughing it finishes that contour.
-    for k in 0..plan.workingsteps.len() {
-        let (done, rest) = plan.workingsteps.split_at_mut(k);
-        let ws = &mut rest[0];
-        let kind = |w: &Workingstep| w.turning.as_ref().and_then(|t| t.intent.as_ref()).and_then(|i| i.kind);
-        if kind(ws) != Some(TurnKind::Finish) || ws.turning.as_ref().and_then(|t| t.operation) != Some(TurnOp::Grooving) {
-            continue;
-        }
-        let roughed = done.iter().rev().find(|w| kind(w) == Some(TurnKind::RoughTurn));
-        let grooved = roughed.is_some_and(|w| w.tool == ws.tool && w.turning.as_ref().and_then(|t| t.operation) == Some(TurnOp::Grooving));
-        if let Some(t) = ws.turning.as_mut().filter(|_| !grooved) {
-            t.operation = Some(TurnOp::Contouring);
-        }
-    }
-    // A finishing pass is inside where the same tool's roughing was.
-    for k in 1..plan.workingsteps.len() {
-        let (done, rest) = plan.workingsteps.split_at_mut(k);
-        let ws = &mut rest[0];
-        let inside = done.iter().rev().find(|w| w.tool == ws.tool).and_then(|w| w.turning.as_ref()).is_some_and(|t| t.inside);
-        if let Some(t) = ws.turning.as_mut()
-            && !t.rough
-            && t.operation == Some(TurnOp::Contouring)
-            && inside
-        {
-            t.inside = true;
-        }
-    }
+    follow_roughing(plan);
     // One pass across the front that a later workingstep faces again a little behind it
     // (another pass, another tool) left stock for that face: it roughs. (Never faced again, it
     // is the part's face, finished unless its operation's comment calls it roughing.) Only on
@@ -256,6 +228,42 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     // STEP-NC or the store cannot carry it, and must equal the one recovered.
     for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
         t.mirrored = false;
+    }
+}
+
+/// What a workingstep takes from the roughing before it: a finishing cycle a grooving tool runs
+/// finishes a groove only where that tool roughed it with the roughing cycle before (it finishes
+/// that cycle's contour; after another tool's roughing it finishes that contour), and a
+/// finishing pass is inside where the same tool's roughing was.
+fn follow_roughing(plan: &mut ProcessPlan) {
+    // A finishing cycle a grooving tool runs finishes a groove only where that tool roughed it
+    // with the roughing cycle before (it finishes that cycle's contour); after another tool's
+    // roughing it finishes that contour.
+    for k in 0..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let ws = &mut rest[0];
+        let kind = |w: &Workingstep| w.turning.as_ref().and_then(|t| t.intent.as_ref()).and_then(|i| i.kind);
+        if kind(ws) != Some(TurnKind::Finish) || ws.turning.as_ref().and_then(|t| t.operation) != Some(TurnOp::Grooving) {
+            continue;
+        }
+        let roughed = done.iter().rev().find(|w| kind(w) == Some(TurnKind::RoughTurn));
+        let grooved = roughed.is_some_and(|w| w.tool == ws.tool && w.turning.as_ref().and_then(|t| t.operation) == Some(TurnOp::Grooving));
+        if let Some(t) = ws.turning.as_mut().filter(|_| !grooved) {
+            t.operation = Some(TurnOp::Contouring);
+        }
+    }
+    // A finishing pass is inside where the same tool's roughing was.
+    for k in 1..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let ws = &mut rest[0];
+        let inside = done.iter().rev().find(|w| w.tool == ws.tool).and_then(|w| w.turning.as_ref()).is_some_and(|t| t.inside);
+        if let Some(t) = ws.turning.as_mut()
+            && !t.rough
+            && t.operation == Some(TurnOp::Contouring)
+            && inside
+        {
+            t.inside = true;
+        }
     }
 }
 
@@ -425,8 +433,10 @@ fn separate_operations(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) 
                 (from..k).all(|j| main_cut(&moves[spans[j].0..spans[j].1]).is_some_and(|(_, m)| off_the_path(profile, m.to) > 0.05))
             };
             let straight_before =
-                (from..k).all(|j| way(&spans[j]) == Way::Along) && !(k + 1..spans.len()).any(|j| full(from, j)) && clear(k);
-            let finish = (way(&spans[k - 1]) == Way::Profile || straight_before) && k - from >= 2 && full(from, k);
+                || (from..k).all(|j| way(&spans[j]) == Way::Along) && !(k + 1..spans.len()).any(|j| full(from, j)) && clear(k);
+            // The cheap tests first: most spans are no pass along the whole contour, and the
+            // look back and ahead is quadratic in the passes.
+            let finish = k - from >= 2 && full(from, k) && (way(&spans[k - 1]) == Way::Profile || straight_before());
             if after_contour || finish {
                 cuts_at.push(spans[k - 1].1);
                 from = k;
@@ -890,30 +900,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     // Passes recovery joined as one operation, each a step from the one before.
     let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
-    // Runs that plunge across and come back out the way they went in, and at how many Z: by
-    // feed within the run, or by the move that leaves it (a rapid back out along the line it
-    // plunged, `G1 X.175` then `G0 X.425`, as a groove is plunged at several places).
-    let plunges = {
-        let moves: Vec<Move> = ws.toolpath.iter().collect();
-        let spans = run_spans(ws);
-        let back = |(r, &(_, end)): (&Vec<Move>, &(usize, usize))| {
-            let reverses = r.windows(2).any(|w| {
-                let (a, b) = (w[0].to[0] - w[0].from[0], w[1].to[0] - w[1].from[0]);
-                a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
-            });
-            let backed_out = r.last().zip(moves.get(end)).is_some_and(|(last, next)| {
-                let (a, b) = (last.to[0] - last.from[0], next.to[0] - next.from[0]);
-                across(next) && a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
-            });
-            r.iter().all(across) && (reverses || backed_out)
-        };
-        let runs_at = runs.iter().zip(&spans).filter(|p| back(*p)).filter_map(|(r, _)| r.first().map(|m| m.from[2]));
-        let mut at: Vec<f64> = runs_at.collect();
-        let n = at.len();
-        at.sort_by(f64::total_cmp);
-        at.dedup_by(|a, b| (*a - *b).abs() < TOL);
-        (n, at.len())
-    };
+    let plunges = plunges(ws, &runs);
     // A contour cycle over a contour that is only a face, across X to the axis (a `G71`/`G70`
     // pair over `X-0.063 Z0.1`, `Z0`, `X3.`): facing, as a turner names what it does. The
     // contour is the finishing cycle's cut, or the roughing cycle's last pass.
@@ -985,6 +972,32 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     t.operation = Some(op);
     t.rough = rough;
     ws.turning = Some(Box::new(t));
+}
+
+/// Runs that plunge across and come back out the way they went in, and at how many Z: by
+/// feed within the run, or by the move that leaves it (a rapid back out along the line it
+/// plunged, `G1 X.175` then `G0 X.425`, as a groove is plunged at several places): (runs, places).
+fn plunges(ws: &Workingstep, runs: &[Vec<Move>]) -> (usize, usize) {
+    let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
+    let moves: Vec<Move> = ws.toolpath.iter().collect();
+    let spans = run_spans(ws);
+    let back = |(r, &(_, end)): (&Vec<Move>, &(usize, usize))| {
+        let reverses = r.windows(2).any(|w| {
+            let (a, b) = (w[0].to[0] - w[0].from[0], w[1].to[0] - w[1].from[0]);
+            a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
+        });
+        let backed_out = r.last().zip(moves.get(end)).is_some_and(|(last, next)| {
+            let (a, b) = (last.to[0] - last.from[0], next.to[0] - next.from[0]);
+            across(next) && a.abs() > TOL && b.abs() > TOL && a.signum() != b.signum()
+        });
+        r.iter().all(across) && (reverses || backed_out)
+    };
+    let runs_at = runs.iter().zip(&spans).filter(|p| back(*p)).filter_map(|(r, _)| r.first().map(|m| m.from[2]));
+    let mut at: Vec<f64> = runs_at.collect();
+    let n = at.len();
+    at.sort_by(f64::total_cmp);
+    at.dedup_by(|a, b| (*a - *b).abs() < TOL);
+    (n, at.len())
 }
 
 /// Whether passes along Z step as a shaft does: a pass at a larger diameter runs deeper (to a

@@ -334,3 +334,33 @@ fn linuxcnc_g76_and_g71() {
     "#]]
     .assert_eq(&feed);
 }
+
+/// Fanuc's two-block `G71`: the second block's `U` (beside P and Q) is the finishing allowance,
+/// where the first block's is the depth of cut; its edit is one allowance row, told once.
+#[test]
+fn fanuc_g71_second_blocks_u_is_the_allowance_told_once() {
+    let allowance = edit("fanuc_g71_shaft.nc", "fanuc_lathe", "P10 Q20 U0.4 W0.1", "P10 Q20 U0.8 W0.1");
+    no_structure_change(&allowance);
+    expect![[r#"
+        allowance_changed | finishing_allowance | U0.4 W0.1 | U0.8 W0.1
+          finishing allowance changed from U0.4 W0.1 to U0.8 W0.1 at line 11
+    "#]]
+    .assert_eq(&allowance);
+}
+
+/// Two grooves, each plunged by its own tool at its own Z, deepened alike: two features, two
+/// changes, each at its own line (not one change "also in" the other workingstep).
+#[test]
+fn two_grooves_changed_alike_stay_two_changes() {
+    let a = "O1002\nG21 G18 G99\nT0101\nG97 S800 M3\nG0 X42. Z-10.\nG1 X30. F0.05\nG0 X42.\nT0202\nG97 S800 M3\nG0 X42. Z-30.\nG1 X30. F0.05\nG0 X42.\nG28 U0 W0\nM30\n";
+    let b = a.replace("X30.", "X28.");
+    let rows = rows("fanuc_lathe", a, &b);
+    assert!(!rows.contains("also in"), "{rows}");
+    expect![[r#"
+        feature_changed | groove_diameter | Ø30 | Ø28
+          groove diameter changed from Ø30 to Ø28 at line 6
+        feature_changed | groove_diameter | Ø30 | Ø28
+          groove diameter changed from Ø30 to Ø28 at line 11
+    "#]]
+    .assert_eq(&rows);
+}

@@ -1306,3 +1306,70 @@ fn a_retract_at_the_end_of_a_cut_on_the_cylinder_keeps_its_plane() {
     assert_eq!(slots.len(), 1, "{plan:#?}");
     assert!(slots[0].axis.is_some_and(|a| (a[0] - 1.0).abs() < AXIS), "{:#?}", slots[0]);
 }
+
+/// The canon's moves of `program` read in dictionary `dialect` (the general path, or the plain
+/// lane where `fast`), and its error findings.
+fn straight_moves(program: &str, dialect: &str, fast: bool) -> (Vec<String>, Vec<String>) {
+    let d = Registry::shipped().get(dialect).unwrap();
+    let profile = Profile { fast_lane: fast, ..Profile::default() };
+    let mut out = Vec::new();
+    let diags = ncplan::interp::interpret(program, &d, &profile, &mut out);
+    let mut text = String::new();
+    for c in &out {
+        ncplan::canon::write_call(&mut text, &c.op);
+    }
+    let moves = text.lines().filter(|l| l.starts_with("STRAIGHT_")).map(str::to_owned).collect();
+    (moves, diags.into_iter().filter(|d| d.is_error()).map(|d| d.message).collect())
+}
+
+/// The quill is an axis of LinuxCNC's home returns and offsets (its W has a reference in
+/// #5169, 0 here): `G28` alone brings it home with every axis, `G28 W0` brings it home alone
+/// through W0, and `G92 W2`, `G10 L20 P1 W5` take their W word without an error (the dictionary
+/// lists W for them). Written before the run: the quill out 5 at Z2 leaves the tip at Z-3; the
+/// first return passes there and ends at the reference (0, 0, 0); out 4 after the rapid to
+/// X10 Y20 Z2, the tip is at Z-2, and `G28 W0` retracts it to Z2 without moving X, Y or Z.
+#[test]
+fn a_quill_goes_home_with_the_home_returns_and_its_w_words_are_no_error() {
+    let program = "G21 G90 G17\nT1 M6\nG0 X10 Y20 Z2\nG1 W-5 F100\nG28\nG0 X10 Y20 Z2\nG1 W-4\nG28 W0\nG92 W2\nG92.1\nG10 L20 P1 W5\nM2\n";
+    let (moves, errors) = straight_moves(program, "linuxcnc", true);
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(
+        moves,
+        [
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(10.0000, 20.0000, -3.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, -3.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(10.0000, 20.0000, -2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_TRAVERSE(10.0000, 20.0000, 2.0000, 0.0000, 0.0000, 0.0000)",
+        ]
+    );
+}
+
+/// A SINUMERIK turning program in the ZX plane (radius words, no `DIAMON`): its W is a
+/// tailstock or counter-spindle, never a quill, so the turning tool's feed ends at Z-40.
+#[test]
+fn a_sinumerik_turning_programs_w_moves_no_tool() {
+    let program = "G18 G90 G95\nT=\"ROUGH\" D1\nG96 S200 LIMS=3000 M4\nG0 X60 Z2\nG0 W-300\nG1 Z-40 F0.2\nG1 X70\nG0 Z2\nM30\n";
+    let (moves, _) = straight_moves(program, "siemens", true);
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_FEED(60.0000, 0.0000, -40.0000")), "{moves:?}");
+    assert!(!moves.iter().any(|m| m.contains("-340")), "{moves:?}");
+}
+
+/// Under cylinder interpolation (`TRACYL`) the words are the developed surface's, not the
+/// machine's axes: the plain lane leaves such blocks to the general path, whatever the
+/// diameter mode, and gives the same moves.
+#[test]
+fn cylinder_interpolation_reads_the_same_on_the_plain_lane() {
+    for mode in ["DIAMON", "DIAMOF"] {
+        let program = format!(
+            "G18 G90 G54 {mode}\nT5 D1\nG94 G0 X60 Z-10\nTRACYL(50)\nG19 G1 X46 F100\nG0 X27 Z-10\nG1 Z-40 Y20\nY40\nG0 X60\nTRAFOOF\nM30\n"
+        );
+        let (fast, fast_errors) = straight_moves(&program, "siemens", true);
+        let (general, general_errors) = straight_moves(&program, "siemens", false);
+        assert_eq!(fast_errors, general_errors, "{mode}");
+        assert_eq!(fast, general, "{mode}");
+    }
+}

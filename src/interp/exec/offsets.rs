@@ -288,7 +288,10 @@ impl Interpreter<'_> {
     /// G28 (`first`) or G30: a rapid through the block's point, then to the reference
     /// position along the axes the block names (all of them without any).
     fn home(&mut self, first: bool, sink: &mut dyn CanonSink) {
-        let any = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some());
+        // A mill's quill (`W`) is an axis of the return too (LinuxCNC stores W's reference in
+        // #5169/#5189; 0 unless set): `G28 W0` homes the quill alone, `G28` all axes with it.
+        let quill = self.slots[Role::W as usize].filter(|_| self.quill_moves_tool());
+        let any = Role::AXES.iter().any(|&r| self.slots[r as usize].is_some()) || quill.is_some();
         let mut mid = self.st.pos;
         for (i, &role) in Role::AXES.iter().enumerate() {
             if let Some(v) = self.slot(role) {
@@ -298,7 +301,14 @@ impl Interpreter<'_> {
         let axes = std::array::from_fn(|i| (!any || self.slots[Role::AXES[i] as usize].is_some()).then_some(0.0));
         let target = MachineTarget::Reference(if first { 1 } else { 2 });
         self.emit(sink, CanonOp::MachineMove(Box::new(MachineMove { target, axes })));
+        if let Some(w) = quill {
+            let incremental = self.st.distance == DistanceMode::Incremental;
+            self.st.quill = if incremental { self.st.quill + w.value } else { w.value };
+        }
         self.emit(sink, CanonOp::StraightTraverse(mid));
+        if !any || quill.is_some() {
+            self.st.quill = 0.0;
+        }
         let home = if first { self.st.home1 } else { self.st.home2 };
         let mut end = mid;
         let moves = |i: usize| !any || self.slots[Role::AXES[i] as usize].is_some();

@@ -193,9 +193,14 @@ impl Interpreter<'_> {
     }
 
     /// Whether the W axis is a quill that moves the tool: not on a lathe's dictionary or
-    /// machine, where W is an incremental Z or moves a tailstock or counter-spindle.
+    /// machine, in diameter mode, or where a dictionary shared with lathes turns in the ZX
+    /// plane; there W is an incremental Z or moves a tailstock or counter-spindle.
     pub(in crate::interp) fn quill_moves_tool(&self) -> bool {
-        !(self.st.diameter || self.dialect.behaviour.x_diameter || self.profile.lathe_reset)
+        let b = &self.dialect.behaviour;
+        // A dictionary shared by mills and lathes (SINUMERIK: `lathe-x-words`) turning in the
+        // ZX plane, radius words or not: its W is a tailstock or counter-spindle, never a quill.
+        let turning = b.lathe_x_diameter && self.st.plane == crate::canon::Plane::Xz;
+        !(self.st.diameter || b.x_diameter || self.profile.lathe_reset || turning)
     }
 
     /// Where the quill's stroke puts the tool tip from the X Y Z the program gives: W along the
