@@ -225,7 +225,11 @@
 //! mill programs; three Fusion 360 personal-use outputs with feed moves in place of rapids, merged
 //! by hand with `M00` between setups). No Siemens, Fanuc-only, LinuxCNC, Okuma or Mazak program
 //! in a repository not mined before was found. Verdicts written by reading each file before
-//! anyone ran ncplan on it. Figure: to be measured once by the lead after the merge.
+//! anyone ran ncplan on it. Measured once on 7 December 2026 (integrate 0d8fb95): 21/22 valid
+//! programs without an error (95.5%), family right for 20/22 (90.9%), no invalid program in it.
+//! Missed: two of the Haas lathe programs (`weld_pin_02`, `_03`: one-block `G76 X Z K D F` and
+//! Haas chip-conveyor `M31`/`M33`, no code only Haas has) read as the Fanuc lathe, where the
+//! one-block `G76` then gives an error in `_02` (Fanuc's two-block form wants P and Q).
 
 use std::path::PathBuf;
 
