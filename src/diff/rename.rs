@@ -40,14 +40,20 @@ pub(super) fn labels(tokens: &[Token], d: &Dialect) -> Vec<(usize, String)> {
         if !number(t) {
             continue;
         }
+        // A number as the control reads it: `GOTO0800` jumps to `N800` (leading zeros are no
+        // digits of it), as a block's and a program's own numbers are written here.
+        let value = match t.value.trim_start_matches('0') {
+            "" => "0",
+            v => v,
+        };
         let label = match t.key.as_str() {
             // The program a call names (`M98 P1000`, `G65 P9010`), or alone on its block (a
             // control that calls by `P` without `M98`).
-            "P" if calls || tokens.len() == 1 => format!("O{}", t.value),
+            "P" if calls || tokens.len() == 1 => format!("O{value}"),
             // The block a return or a call starts at (`M99 P20`, `M98 Q2100`).
-            "P" if returns => format!("N{}", t.value),
-            "Q" if calls => format!("N{}", t.value),
-            k if jumps.iter().any(|j| j.eq_ignore_ascii_case(k)) => format!("N{}", t.value),
+            "P" if returns => format!("N{value}"),
+            "Q" if calls => format!("N{value}"),
+            k if jumps.iter().any(|j| j.eq_ignore_ascii_case(k)) => format!("N{value}"),
             _ => continue,
         };
         out.push((i, label));
