@@ -350,32 +350,12 @@ fn derived(kind: ChangeKind) -> bool {
 /// later workingsteps from where it is seen (one `M7` for the whole program, one dwell in a
 /// loop): told once, naming the other workingsteps.
 fn merge_repeats(changes: &mut Vec<Change>) {
-    let mut k = 0;
-    while k < changes.len() {
-        if changes[k].detail.at.is_empty() {
-            k += 1;
-            continue;
-        }
-        let mut also = Vec::new();
-        let mut j = k + 1;
-        while j < changes.len() {
-            let (c, d) = (&changes[k], &changes[j]);
-            let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
-            if same && (d.detail.at == c.detail.at || (d.detail.at.is_empty() && d.workingstep > c.workingstep)) {
-                if d.workingstep != c.workingstep && !also.contains(&d.workingstep) {
-                    also.push(d.workingstep);
-                }
-                changes.remove(j);
-            } else {
-                j += 1;
-            }
-        }
-        if !also.is_empty() {
-            let list = also.iter().map(u32::to_string).collect::<Vec<_>>().join(", ");
-            changes[k].after.push_str(&format!(" (also in workingstep{} {list})", if also.len() == 1 { "" } else { "s" }));
-        }
-        k += 1;
-    }
+    super::fold_repeats(
+        changes,
+        |c| !c.detail.at.is_empty(),
+        |c, d| d.detail.at == c.detail.at || (d.detail.at.is_empty() && d.workingstep > c.workingstep),
+        |_, _| {},
+    );
 }
 
 /// The differing statements no change names: (original line, edited line), one side `None`.

@@ -1923,3 +1923,42 @@ pub fn render_plain(changes: &[Change]) -> Vec<String> {
     }
     lines
 }
+
+/// Folds each change that `first` takes into it the later ones alike (the same kind, field,
+/// before and after) that `joins` says are that change seen again, `absorb` keeping what a
+/// later one adds; the first then names the other workingsteps it is also in. The door of
+/// `account`'s repeats at the same statements and `turning`'s feature shared by workingsteps.
+fn fold_repeats(
+    changes: &mut Vec<Change>,
+    first: impl Fn(&Change) -> bool,
+    joins: impl Fn(&Change, &Change) -> bool,
+    absorb: impl Fn(&mut Change, Change),
+) {
+    let mut k = 0;
+    while k < changes.len() {
+        if !first(&changes[k]) {
+            k += 1;
+            continue;
+        }
+        let mut also = Vec::new();
+        let mut j = k + 1;
+        while j < changes.len() {
+            let (c, d) = (&changes[k], &changes[j]);
+            let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
+            if same && joins(c, d) {
+                let d = changes.remove(j);
+                if d.workingstep != changes[k].workingstep && !also.contains(&d.workingstep) {
+                    also.push(d.workingstep);
+                }
+                absorb(&mut changes[k], d);
+            } else {
+                j += 1;
+            }
+        }
+        if !also.is_empty() {
+            let list = also.iter().map(u32::to_string).collect::<Vec<_>>().join(", ");
+            changes[k].after.push_str(&format!(" (also in workingstep{} {list})", if also.len() == 1 { "" } else { "s" }));
+        }
+        k += 1;
+    }
+}

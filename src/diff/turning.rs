@@ -284,39 +284,19 @@ pub(super) fn merge_feature_repeats(changes: &mut Vec<super::Change>) {
         (true, false) | (false, true) => true,
         (false, false) => c.detail.at.iter().any(|x| d.detail.at.contains(x)),
     };
-    let mut k = 0;
-    while k < changes.len() {
-        if changes[k].kind != ChangeKind::FeatureChanged {
-            k += 1;
-            continue;
-        }
-        let mut also = Vec::new();
-        let mut j = k + 1;
-        while j < changes.len() {
-            let (c, d) = (&changes[k], &changes[j]);
-            let same = d.kind == c.kind && d.field == c.field && d.before == c.before && d.after == c.after;
-            if same && d.workingstep != c.workingstep && shared(c, d) {
-                let d = changes.remove(j);
-                if !also.contains(&d.workingstep) {
-                    also.push(d.workingstep);
-                }
-                let c = &mut changes[k];
-                if c.detail.at.is_empty() {
-                    (c.original_line, c.line) = (d.original_line, d.line);
-                }
-                c.detail.at.extend(d.detail.at);
-                c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
-                c.detail.at.dedup();
-            } else {
-                j += 1;
+    super::fold_repeats(
+        changes,
+        |c| c.kind == ChangeKind::FeatureChanged,
+        |c, d| d.workingstep != c.workingstep && shared(c, d),
+        |c, d| {
+            if c.detail.at.is_empty() {
+                (c.original_line, c.line) = (d.original_line, d.line);
             }
-        }
-        if !also.is_empty() {
-            let list = also.iter().map(u32::to_string).collect::<Vec<_>>().join(", ");
-            changes[k].after.push_str(&format!(" (also in workingstep{} {list})", if also.len() == 1 { "" } else { "s" }));
-        }
-        k += 1;
-    }
+            c.detail.at.extend(d.detail.at);
+            c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+            c.detail.at.dedup();
+        },
+    );
 }
 
 /// Whether a named cycle (Siemens `CYCLE95`, `CYCLE97`) turns, by its meaning in the dictionary.
