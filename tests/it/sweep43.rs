@@ -241,8 +241,8 @@
 //! workpiece programs of HMI shop-form calls, a ShopTurn-style contour, a leadscrew-error
 //! compensation table with `CHANDATA`/`$AN_CEC`/`NEWCONF`, grinder cycles with condition-less
 //! `DO MOV[C]` synchronized actions and a loading robot's handshake), Mazak 2 (Integrex 300SY
-//! side milling with `G112`); one invalid (e012: `Z-0560` with no decimal point, whole inches on
-//! a Haas, beyond the travel). Verdicts written by reading each file before anyone ran ncplan on
+//! side milling with `G112`); no invalid program (e012's `Z-0560` with no decimal point is read in
+//! least increments with Haas Setting 162 off, its default: a pass 0.5 in. too high, no stop). Verdicts written by reading each file before anyone ran ncplan on
 //! it; to be measured once, by the lead, after merging.
 
 use std::path::PathBuf;
