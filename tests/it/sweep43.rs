@@ -230,6 +230,20 @@
 //! Missed: two of the Haas lathe programs (`weld_pin_02`, `_03`: one-block `G76 X Z K D F` and
 //! Haas chip-conveyor `M31`/`M33`, no code only Haas has) read as the Fanuc lathe, where the
 //! one-block `G76` then gives an error in `_02` (Fanuc's two-block form wants P and Q).
+//!
+//! Sweep 14 (rows e001-e023, half `holdout-s14`: held out whole, no build half; 23 programs of 5
+//! repositories, files no set used of repositories other sets used in part, each row says so, and
+//! none whose history is this round's revision pairs r506-r608). Haas 14 (a college class's
+//! hand-written mill programs: facing, spot-and-drill sequences as `G01` plunges, `G84` tapping
+//! with its R plane below the start, `G41`/`G40` around corner arcs, pen-plotter exercises at
+//! F900 with the spindle off, T words with no `M06`, a CAM helical bore pasted into a hand
+//! program; two Haas lathe programs with `G50`/`G96`/`T0101`), Siemens 7 (a thread grinder's
+//! workpiece programs of HMI shop-form calls, a ShopTurn-style contour, a leadscrew-error
+//! compensation table with `CHANDATA`/`$AN_CEC`/`NEWCONF`, grinder cycles with condition-less
+//! `DO MOV[C]` synchronized actions and a loading robot's handshake), Mazak 2 (Integrex 300SY
+//! side milling with `G112`); no invalid program (e012's `Z-0560` with no decimal point is read in
+//! least increments with Haas Setting 162 off, its default: a pass 0.5 in. too high, no stop). Verdicts written by reading each file before anyone ran ncplan on
+//! it; to be measured once, by the lead, after merging.
 
 use std::path::PathBuf;
 
