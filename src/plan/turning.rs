@@ -103,10 +103,12 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         off_the_face(ws, remeasure);
     }
     // The part's front: the highest face cut (across X), and at least the program zero,
-    // where lathe programs put the finished face.
+    // where lathe programs put the finished face. (Not a shoulder of the other side's part, on
+    // a counter-spindle whose Z runs into it towards +Z.)
     let front = plan
         .workingsteps
         .iter()
+        .filter(|w| !works_towards_plus_z(&cuts(w), 0.0))
         .flat_map(|w| w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid))
         .filter(|m| (m.to[2] - m.from[2]).abs() < TOL)
         .map(|m| m.to[2])
@@ -1395,7 +1397,56 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         None if !t.rough => (finished(), (0.0, 0.0)),
         _ => return Vec::new(),
     };
-    let nose = nose_arcs(ws, t, &profile);
+    // The part on the other side of its face (the counter-spindle's, its Z running into the
+    // part towards +Z): the contour read mirrored about the face, its features put back.
+    let reversed = works_towards_plus_z(&profile, face);
+    let (profile, shift) =
+        if reversed { (profile.iter().map(|m| mirror_z(m, face)).collect(), (shift.0, -shift.1)) } else { (profile, shift) };
+    let place = |z: f64| if reversed { round(2.0 * face - z) } else { z };
+    // Mirrored along Z, an arc turns the other way, as on moves mirrored about the axis.
+    let nose = if reversed { nose_arcs(ws, &Turning { mirrored: !t.mirrored, ..t.clone() }, &profile) } else { nose_arcs(ws, t, &profile) };
+    let mut out = contour_profile_features(t, &profile, shift, nose, face);
+    for (_, z) in &mut out {
+        *z = place(*z);
+    }
+    out
+}
+
+/// Whether a contour works a part lying on the +Z side of its face, as a counter-spindle's
+/// (sub-spindle's) second operation is written: there the spindle faces the main one and its
+/// Z runs into the part towards +Z (the Doosan Lynx and other Fanuc sub-spindle lathes' `G55`
+/// programs; their roughing cycles' Z allowance `W` is negative for it). Told by the contour's
+/// runs along Z: none runs towards -Z, and those lying wholly in front of the face (Z above
+/// it) cut more than half a millimetre towards +Z. On the main spindle a contour runs along its
+/// diameters towards -Z, the way into the part.
+fn works_towards_plus_z(profile: &[Move], face: f64) -> bool {
+    let along = || profile.iter().filter(|m| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL && (m.to[2] - m.from[2]).abs() > TOL);
+    let towards_minus = along().any(|m| m.to[2] < m.from[2]);
+    let front: f64 = along().filter(|m| m.from[2].min(m.to[2]) > face - TOL).map(|m| m.to[2] - m.from[2]).sum();
+    !towards_minus && front > 0.5
+}
+
+/// A move mirrored along Z about the face.
+fn mirror_z(m: &Move, face: f64) -> Move {
+    let mut m = m.clone();
+    m.from[2] = 2.0 * face - m.from[2];
+    m.to[2] = 2.0 * face - m.to[2];
+    if let Some(a) = m.arc.as_mut() {
+        a.center[2] = 2.0 * face - a.center[2];
+        // A mirror turns the arc the other way: its axis is the mirrored one, reversed.
+        a.axis = [-a.axis[0], -a.axis[1], a.axis[2]];
+    }
+    m
+}
+
+/// The features of a contour's profile, the part behind its face (towards -Z).
+fn contour_profile_features(
+    t: &Turning,
+    profile: &[Move],
+    shift: (f64, f64),
+    nose: Option<(f64, f64)>,
+    face: f64,
+) -> Vec<(FeatureKind, f64)> {
     let mut out = Vec::new();
     for (i, m) in profile.iter().enumerate() {
         let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
@@ -1423,7 +1474,7 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
             // A roughing cycle's last pass running back along +Z out past the face: the
             // contour's way back to the start point (its closing `G00`), no diameter.
             continue;
-        } else if let Some((width, hi)) = (shift == (0.0, 0.0) && !t.inside && !t.mirrored).then(|| recess(&profile, i)).flatten() {
+        } else if let Some((width, hi)) = (shift == (0.0, 0.0) && !t.inside && !t.mirrored).then(|| recess(profile, i)).flatten() {
             let k = Turned::Groove { diameter: round(2.0 * x0), width: Some(round(width)), inside: false };
             out.push((FeatureKind::Turned(k), round(hi)));
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {
