@@ -125,7 +125,9 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         // A grooving tool the program or the tool table names (not one inferred from what it
         // does): its passes that neither face nor part off cut a groove.
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
-        classify(ws, front, back, boring, grooving);
+        // A drill the program or the tool table names, with its diameter.
+        let drill = tool.filter(|t| t.kind == ToolKind::TwistDrill && t.kind_source != ToolSource::Inferred).and_then(|t| t.diameter);
+        classify(ws, front, back, boring, grooving, drill);
     }
     follow_roughing(plan);
     // One pass across the front that a later workingstep faces again a little behind it
@@ -836,7 +838,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool) {
+fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, drill: Option<f64>) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -932,6 +934,12 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
         None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
+        // A drill fed along the axis and run off the centre by less than its radius, as
+        // indexable-insert drills (U-drills) are on lathes to open the hole they drill to a
+        // larger diameter (Sandvik Coromant's CoroDrill 880: radial offset on a rotating
+        // workpiece): it still covers the axis, so it drills, whatever it cuts across X at the
+        // bottom.
+        None if drill.is_some_and(|d| xmin.abs().max(xmax.abs()) < d / 2.0 - TOL) && cuts.iter().any(along) => (TurnOp::Drilling, false),
         // Passes that plunge across and back out the same way, as CAM posts write a groove
         // wider than the tool: roughing where they plunge at several places along Z.
         None if xmin >= 0.05 && plunges.0 >= 1 && 2 * plunges.0 >= runs.len() => (TurnOp::Grooving, plunges.1 > 1),
@@ -973,6 +981,8 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     };
     t.operation = Some(op);
     t.rough = rough;
+    // A drill on the axis works no inside of a hole already there: it makes the hole.
+    t.inside &= op != TurnOp::Drilling;
     ws.turning = Some(Box::new(t));
 }
 
