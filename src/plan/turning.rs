@@ -1203,13 +1203,14 @@ fn left_inward(ws: &Workingstep) -> bool {
             }
             continue;
         }
-        // Left by a rapid back along +Z out of the work that pulls in off the wall it cut, a
-        // little (at most 1 mm on the radius), after a cut along that wall (`G0 X44.5 Z10`
-        // after a bore Ø45 to Z-58): a boring bar leaving the bore it cut; an outside tool
-        // leaving so would run through the stock it turned.
+        // Left by a rapid back along +Z out of the work that pulls in off the wall it cut,
+        // after a cut along that wall (`G0 X44.5 Z10` after a bore Ø45 to Z-58, `G0 X2.375
+        // Z.05` after a bore Ø2.6 to Z-.825): a boring bar leaving the bore it cut, by however
+        // much, short of the axis; an outside tool leaving so would run through the part it
+        // turned.
         let wall = (last.to[0] - last.from[0]).abs() < TOL && last.to[2] < last.from[2] - TOL && clear_of_axis;
         let pull = next.from[0] - next.to[0];
-        if wall && next.kind == MoveKind::Rapid && next.to[2] > next.from[2] + TOL && pull > TOL && pull <= 1.0 && next.to[0] > TOL {
+        if wall && next.kind == MoveKind::Rapid && next.to[2] > next.from[2] + TOL && pull > TOL && next.to[0] > TOL {
             inward += 1;
             continue;
         }
