@@ -21,7 +21,11 @@
 //! the features from the finished contour (a finishing pass, or a roughing cycle's last pass
 //! moved back by its allowances): each run along Z an outer (or inner) diameter, each run
 //! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
-//! axis from their workingsteps. Diameters throughout; lengths along Z.
+//! axis from their workingsteps. Diameters throughout; lengths along Z. A contour that runs
+//! only towards +Z, its diameters in front of the face, works a part on the counter-spindle
+//! (its Z runs into the part towards +Z): it is read mirrored about the face
+//! (`works_towards_plus_z`). A drill the program names, fed along Z and run off the centre by
+//! less than its radius (an indexable-insert drill opening its hole), drills.
 //!
 //! Facing as a turner reads it: feed moves left forwards off a face cut to the axis (a pull
 //! back along +Z, a move across in front of it) cut nothing (`off_the_face`); faces cut in
@@ -1439,7 +1443,7 @@ fn works_towards_plus_z(profile: &[Move], face: f64) -> bool {
 
 /// A move mirrored along Z about the face.
 fn mirror_z(m: &Move, face: f64) -> Move {
-    let mut m = m.clone();
+    let mut m = *m;
     m.from[2] = 2.0 * face - m.from[2];
     m.to[2] = 2.0 * face - m.to[2];
     if let Some(a) = m.arc.as_mut() {
