@@ -973,6 +973,10 @@ pub struct Interpreter<'a> {
     /// decimal point (`X55.`), fractions (`X-0.5`), whole numbers without one (`X55`, not 0):
     /// the evidence of calculator-type input (`lathe_evidence`).
     point_habit: [u32; 3],
+    /// Arcs given by an R written without a decimal point under least-increment input: how
+    /// many reach their end point only with the R read in whole units (mm or inch), and how
+    /// many reach it as least increments: the evidence of calculator-type input (`lathe_evidence`).
+    radius_units: [u32; 2],
     /// A lathe's words read (a turning cycle, a speed limit, constant cutting rate, `DIAMON`
     /// after the first move), and whether the program told its X words before moving
     /// (`DIAMON` first) or ever stated radius programming (`DIAMOF`): the evidence of a
@@ -1019,6 +1023,10 @@ const NOTE_LIMIT: u32 = 3;
 /// than twice those written with one, the program is read as written for calculator-type
 /// input: one or two are slips in any program, more a habit.
 const CALCULATOR_BARE: u32 = 3;
+
+/// Arcs whose radius written without a decimal point fits only in whole units from which the
+/// program is read as written for calculator-type input: one is a slip, more a habit.
+const CALCULATOR_ARCS: u32 = 2;
 
 impl<'a> Interpreter<'a> {
     /// A fresh interpreter in the control's power-on state.
@@ -1070,6 +1078,7 @@ impl<'a> Interpreter<'a> {
             block_misread: false,
             misread_word: None,
             point_habit: [0; 3],
+            radius_units: [0; 2],
             lathe_words: (0, false),
             tool_words: (0, false, false),
             intent_words: false,
@@ -1218,9 +1227,20 @@ impl<'a> Interpreter<'a> {
         }
         let [whole_points, fractions, bare] = self.point_habit;
         let stated = self.dialect.behaviour.decimal_input_stated;
+        let [units, increments] = self.radius_units;
         if self.integers_scale && !stated && fractions >= 1 && bare >= CALCULATOR_BARE && bare > 2 * whole_points {
             let msg = format!(
                 "{bare} lengths are whole numbers written without a decimal point, {whole_points} with one, and {fractions} fractions with one: the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
+            );
+            diags.push(Diagnostic::new(Code::DecimalInputInferred, TextRange::default(), msg));
+        } else if self.integers_scale && !stated && units >= CALCULATOR_ARCS && increments == 0 {
+            // Arcs the program gives by a radius without a point (`G3 X89. Z-1. R1`), none of
+            // which a control on least-increment input could run (R1 is 0.001 mm, too small
+            // to reach the end point: an alarm), and each of which fits read in whole units:
+            // the program ran on a machine set for calculator-type input (Fanuc parameter DPI,
+            // 3401#0: a number without a point is in mm or inch).
+            let msg = format!(
+                "{units} arcs given by a radius written without a decimal point reach their end point only with the radius in whole units (none as least increments): the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
             );
             diags.push(Diagnostic::new(Code::DecimalInputInferred, TextRange::default(), msg));
         }

@@ -5,7 +5,7 @@ use crate::canon::{
     CanonOp, CanonSink, CycleIntent, CycleKind, DistanceMode, MachineMove, MachineTarget, Plane, TurnIntent, TurnKind, Units,
 };
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::{CodeDef, Meaning, Role, SystemVar};
+use crate::dialect::{CodeDef, DecimalInput, Meaning, Role, SystemVar};
 use crate::syntax::{Block, WordMode};
 use crate::text::TextRange;
 
@@ -1061,7 +1061,18 @@ impl Interpreter<'_> {
     ) -> Option<(f64, f64)> {
         let (a0, a1, _) = self.st.plane.axes();
         let (tol, _) = self.arc_tolerance(block);
-        match arc_center_from_radius(start[a0], start[a1], end[a0], end[a1], r, cw, tol) {
+        let found = arc_center_from_radius(start[a0], start[a1], end[a0], end[a1], r, cw, tol);
+        // An R written without a point, read as least increments: does the arc reach its end
+        // so, or only with the R in whole units (the evidence of calculator-type input)?
+        if let Some(units) = self.radius_in_units(block, r) {
+            let fits_units = arc_center_from_radius(start[a0], start[a1], end[a0], end[a1], units, cw, tol).is_ok();
+            match (found.is_ok(), fits_units) {
+                (false, true) => self.radius_units[0] += 1,
+                (true, _) => self.radius_units[1] += 1,
+                _ => {}
+            }
+        }
+        match found {
             Ok(c) => Some(c),
             Err(msg) => {
                 diags.push(Diagnostic::new(Code::BadArc, block.range, msg));
@@ -1069,6 +1080,19 @@ impl Interpreter<'_> {
                 None
             }
         }
+    }
+
+    /// The radius `r` read in whole units, where the block's R word has no decimal point and
+    /// least-increment input scaled it; `None` otherwise.
+    fn radius_in_units(&self, block: &Block, r: f64) -> Option<f64> {
+        let DecimalInput::LeastIncrement { scaled, .. } = &self.dialect.behaviour.decimal_input else { return None };
+        if !self.integers_scale || !scaled.contains(&Role::R) {
+            return None;
+        }
+        let w = block.words.iter().rfind(|w| w.role == Role::R)?;
+        // The number as written (the sign of the radius read kept).
+        let crate::syntax::Value::Number { value, decimal: false } = w.value else { return None };
+        (value != 0.0).then(|| value.abs() * r.signum())
     }
 
     /// The centre of an arc given by I J K offsets (from the start, or absolute), if start

@@ -350,7 +350,8 @@ pub fn parse_tool_comment(text: &str) -> ToolFacts {
                 // Einstechen (grooving), Abstechen (parting off).
                 "GROOV" => has("EINSTECH") || has("ABSTECH"),
                 // Turkish matkap, Russian sverlo (written in Latin letters).
-                "DRILL" => (has("BOHRER") && !has("GEWINDEBOHR")) || has("MATKAP") || has("SVERLO"),
+                // And `U-DRIL`, `UDRILL`: an indexable-insert drill (U-drill) by its trade name.
+                "DRILL" => (has("BOHRER") && !has("GEWINDEBOHR")) || has("MATKAP") || has("SVERLO") || has("UDRIL"),
                 "ENDMILL" => has("SCHAFTFR") || has("FRAESER") || has("FRÄSER") || has("FRäSER"),
                 _ => false,
             }

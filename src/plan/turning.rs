@@ -21,7 +21,11 @@
 //! the features from the finished contour (a finishing pass, or a roughing cycle's last pass
 //! moved back by its allowances): each run along Z an outer (or inner) diameter, each run
 //! across X a revolved flat, each arc a revolved round, and grooves, threads and holes on the
-//! axis from their workingsteps. Diameters throughout; lengths along Z.
+//! axis from their workingsteps. Diameters throughout; lengths along Z. A contour that runs
+//! only towards +Z, its diameters in front of the face, works a part on the counter-spindle
+//! (its Z runs into the part towards +Z): it is read mirrored about the face
+//! (`works_towards_plus_z`). A drill the program names, fed along Z and run off the centre by
+//! less than its radius (an indexable-insert drill opening its hole), drills.
 //!
 //! Facing as a turner reads it: feed moves left forwards off a face cut to the axis (a pull
 //! back along +Z, a move across in front of it) cut nothing (`off_the_face`); faces cut in
@@ -103,10 +107,12 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         off_the_face(ws, remeasure);
     }
     // The part's front: the highest face cut (across X), and at least the program zero,
-    // where lathe programs put the finished face.
+    // where lathe programs put the finished face. (Not a shoulder of the other side's part, on
+    // a counter-spindle whose Z runs into it towards +Z.)
     let front = plan
         .workingsteps
         .iter()
+        .filter(|w| !works_towards_plus_z(&cuts(w), 0.0))
         .flat_map(|w| w.toolpath.iter().filter(|m| m.phase == Phase::Cut && m.kind != MoveKind::Rapid))
         .filter(|m| (m.to[2] - m.from[2]).abs() < TOL)
         .map(|m| m.to[2])
@@ -123,7 +129,9 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         // A grooving tool the program or the tool table names (not one inferred from what it
         // does): its passes that neither face nor part off cut a groove.
         let grooving = tool.is_some_and(|t| t.kind == ToolKind::GroovingTool && t.kind_source != ToolSource::Inferred);
-        classify(ws, front, back, boring, grooving);
+        // A drill the program or the tool table names, with its diameter.
+        let drill = tool.filter(|t| t.kind == ToolKind::TwistDrill && t.kind_source != ToolSource::Inferred).and_then(|t| t.diameter);
+        classify(ws, front, back, boring, grooving, drill);
     }
     follow_roughing(plan);
     // One pass across the front that a later workingstep faces again a little behind it
@@ -834,7 +842,7 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
-fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool) {
+fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, drill: Option<f64>) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
     if cuts.is_empty() {
@@ -930,6 +938,12 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         Some(TurnKind::FacePeck) => (TurnOp::Grooving, false),
         None if t.pitch.is_some() => (TurnOp::Threading, runs.len() > 1),
         None if xmax.abs() < TOL && cuts.iter().all(along) => (TurnOp::Drilling, false),
+        // A drill fed along the axis and run off the centre by less than its radius, as
+        // indexable-insert drills (U-drills) are on lathes to open the hole they drill to a
+        // larger diameter (Sandvik Coromant's CoroDrill 880: radial offset on a rotating
+        // workpiece): it still covers the axis, so it drills, whatever it cuts across X at the
+        // bottom.
+        None if drill.is_some_and(|d| xmin.abs().max(xmax.abs()) < d / 2.0 - TOL) && cuts.iter().any(along) => (TurnOp::Drilling, false),
         // Passes that plunge across and back out the same way, as CAM posts write a groove
         // wider than the tool: roughing where they plunge at several places along Z.
         None if xmin >= 0.05 && plunges.0 >= 1 && 2 * plunges.0 >= runs.len() => (TurnOp::Grooving, plunges.1 > 1),
@@ -971,6 +985,8 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     };
     t.operation = Some(op);
     t.rough = rough;
+    // A drill on the axis works no inside of a hole already there: it makes the hole.
+    t.inside &= op != TurnOp::Drilling;
     ws.turning = Some(Box::new(t));
 }
 
@@ -1191,13 +1207,14 @@ fn left_inward(ws: &Workingstep) -> bool {
             }
             continue;
         }
-        // Left by a rapid back along +Z out of the work that pulls in off the wall it cut, a
-        // little (at most 1 mm on the radius), after a cut along that wall (`G0 X44.5 Z10`
-        // after a bore Ø45 to Z-58): a boring bar leaving the bore it cut; an outside tool
-        // leaving so would run through the stock it turned.
+        // Left by a rapid back along +Z out of the work that pulls in off the wall it cut,
+        // after a cut along that wall (`G0 X44.5 Z10` after a bore Ø45 to Z-58, `G0 X2.375
+        // Z.05` after a bore Ø2.6 to Z-.825): a boring bar leaving the bore it cut, by however
+        // much, short of the axis; an outside tool leaving so would run through the part it
+        // turned.
         let wall = (last.to[0] - last.from[0]).abs() < TOL && last.to[2] < last.from[2] - TOL && clear_of_axis;
         let pull = next.from[0] - next.to[0];
-        if wall && next.kind == MoveKind::Rapid && next.to[2] > next.from[2] + TOL && pull > TOL && pull <= 1.0 && next.to[0] > TOL {
+        if wall && next.kind == MoveKind::Rapid && next.to[2] > next.from[2] + TOL && pull > TOL && next.to[0] > TOL {
             inward += 1;
             continue;
         }
@@ -1395,7 +1412,56 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
         None if !t.rough => (finished(), (0.0, 0.0)),
         _ => return Vec::new(),
     };
-    let nose = nose_arcs(ws, t, &profile);
+    // The part on the other side of its face (the counter-spindle's, its Z running into the
+    // part towards +Z): the contour read mirrored about the face, its features put back.
+    let reversed = works_towards_plus_z(&profile, face);
+    let (profile, shift) =
+        if reversed { (profile.iter().map(|m| mirror_z(m, face)).collect(), (shift.0, -shift.1)) } else { (profile, shift) };
+    let place = |z: f64| if reversed { round(2.0 * face - z) } else { z };
+    // Mirrored along Z, an arc turns the other way, as on moves mirrored about the axis.
+    let nose = if reversed { nose_arcs(ws, &Turning { mirrored: !t.mirrored, ..t.clone() }, &profile) } else { nose_arcs(ws, t, &profile) };
+    let mut out = contour_profile_features(t, &profile, shift, nose, face);
+    for (_, z) in &mut out {
+        *z = place(*z);
+    }
+    out
+}
+
+/// Whether a contour works a part lying on the +Z side of its face, as a counter-spindle's
+/// (sub-spindle's) second operation is written: there the spindle faces the main one and its
+/// Z runs into the part towards +Z (the Doosan Lynx and other Fanuc sub-spindle lathes' `G55`
+/// programs; their roughing cycles' Z allowance `W` is negative for it). Told by the contour's
+/// runs along Z: none runs towards -Z, and those lying wholly in front of the face (Z above
+/// it) cut more than half a millimetre towards +Z. On the main spindle a contour runs along its
+/// diameters towards -Z, the way into the part.
+fn works_towards_plus_z(profile: &[Move], face: f64) -> bool {
+    let along = || profile.iter().filter(|m| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL && (m.to[2] - m.from[2]).abs() > TOL);
+    let towards_minus = along().any(|m| m.to[2] < m.from[2]);
+    let front: f64 = along().filter(|m| m.from[2].min(m.to[2]) > face - TOL).map(|m| m.to[2] - m.from[2]).sum();
+    !towards_minus && front > 0.5
+}
+
+/// A move mirrored along Z about the face.
+fn mirror_z(m: &Move, face: f64) -> Move {
+    let mut m = *m;
+    m.from[2] = 2.0 * face - m.from[2];
+    m.to[2] = 2.0 * face - m.to[2];
+    if let Some(a) = m.arc.as_mut() {
+        a.center[2] = 2.0 * face - a.center[2];
+        // A mirror turns the arc the other way: its axis is the mirrored one, reversed.
+        a.axis = [-a.axis[0], -a.axis[1], a.axis[2]];
+    }
+    m
+}
+
+/// The features of a contour's profile, the part behind its face (towards -Z).
+fn contour_profile_features(
+    t: &Turning,
+    profile: &[Move],
+    shift: (f64, f64),
+    nose: Option<(f64, f64)>,
+    face: f64,
+) -> Vec<(FeatureKind, f64)> {
     let mut out = Vec::new();
     for (i, m) in profile.iter().enumerate() {
         let (x0, x1) = (m.from[0] - shift.0, m.to[0] - shift.0);
@@ -1423,7 +1489,7 @@ fn contour_features(ws: &Workingstep, t: &Turning, face: f64) -> Vec<(FeatureKin
             // A roughing cycle's last pass running back along +Z out past the face: the
             // contour's way back to the start point (its closing `G00`), no diameter.
             continue;
-        } else if let Some((width, hi)) = (shift == (0.0, 0.0) && !t.inside && !t.mirrored).then(|| recess(&profile, i)).flatten() {
+        } else if let Some((width, hi)) = (shift == (0.0, 0.0) && !t.inside && !t.mirrored).then(|| recess(profile, i)).flatten() {
             let k = Turned::Groove { diameter: round(2.0 * x0), width: Some(round(width)), inside: false };
             out.push((FeatureKind::Turned(k), round(hi)));
         } else if (x1 - x0).abs() < TOL && (z1 - z0).abs() > 0.5 && x0 > TOL {

@@ -703,7 +703,9 @@ fn lathe_s7_held_out_programs() {
 /// 810T program's facing and contouring workingsteps with their feeds per revolution and three of
 /// its features (an older Sinumerik read with the 840D dictionary), the second Haas part's
 /// roughing and finishing (its `G71` P/Q block numbers are duplicated: the control would not run
-/// it as written) and its Ø48, the first part's face at Z0.
+/// it as written) and its Ø48, the first part's face at Z0. After lathe19 (seen, 7 December
+/// 2026): 13 of 21 (the 810T program's second-side facing and its Ø18: a contour running along
+/// +Z read as the counter-spindle's).
 ///
 /// `tests/programs/lathe_s11_heldout/` is sweep 11's held-back set (branch gatherlt11: 4 programs
 /// of 3 repositories, 34 items; the search index gave no other lathe program in a repository not
@@ -737,7 +739,8 @@ fn lathe_s7_held_out_programs() {
 /// after straight roughing passes); left: the simulator sample 3's tools (`T26`, `T21`, `T09`: two
 /// digits, read by the Fanuc tool/offset split as tool 0, as the control reads them), the class
 /// programs' `G97` steps listed with the `G50` clamp, a `G02` with no radius and an arc whose end
-/// is off its circle (controls alarm on both).
+/// is off its circle (controls alarm on both). After lathe19 (seen, 7 December 2026): 66 of 82
+/// (O0035's second side on the sub-spindle, read along +Z).
 ///
 /// `tests/programs/lathe_s13_heldout/` is sweep 13's held-back set (branch gatherlt13: 12 programs
 /// of 3 repositories, 125 items), files no test used of repositories earlier sets drew on: eleven
@@ -757,7 +760,12 @@ fn lathe_s7_held_out_programs() {
 /// no milling feature. Missed: the drum bushing's (O3390) four `G71`/`G70` contourings, its
 /// Ø66.04 bore and part-off (the workingsteps after its `G32` oil groove not found), the
 /// Nakamura program's two U-drillings, Ø127, R5, the Ø39.8 bore and its Z-30.1 face, the dyno
-/// shaft's off-axis insert drilling, and O0043's Ø40.005 bore and O0044's Ø39.7764.
+/// shaft's off-axis insert drilling, and O0043's Ø40.005 bore and O0044's Ø39.7764. After
+/// lathe19 (seen, 7 December 2026): 119 of 125 (a counter-spindle's contour read along +Z, arcs
+/// whose R without a point fits only in mm showing calculator-type input, an insert drill run
+/// off the centre drilling, a bore left by a rapid pulling in); left: O3390's five workingsteps
+/// listed with the `G50` clamp under `G97` (Fanuc clamps the speed by `G50 S` under constant
+/// surface speed only) and the Nakamura bore's floor at Z-30.1 (its roughing pass only).
 ///
 /// `tests/programs/lathe_s14_heldout/` is sweep 14's held-back set (branch gatherlt14: 11 programs
 /// of 4 repositories, 127 items), files no test used of repositories earlier sets drew on. Of
