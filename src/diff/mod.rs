@@ -52,6 +52,7 @@
 //! sentence.
 
 mod account;
+mod around;
 mod control;
 mod follow;
 mod height;
@@ -392,7 +393,8 @@ impl Change {
                 }
                 return format!("{s}: {}", self.after);
             }
-            ChangeKind::ToolpathChanged if !self.field.starts_with("moves") => {
+            // A contour a lathe cycle names (`contour of G71`), in its words.
+            ChangeKind::ToolpathChanged if !self.field.starts_with("moves") && !self.field.starts_with("contour of ") => {
                 let mut s = format!("toolpath changed{}", at(self.line));
                 if let Some(l) = self.original_line
                     && Some(l) != self.line
