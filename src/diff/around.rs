@@ -8,7 +8,8 @@
 //! returns there at its end, so the move before it sets the start and return point: the stock
 //! G71 roughs from, the diameter G76's passes begin and retract to. G71/G72/G70's `P` and `Q`
 //! name the first and last blocks of the contour (`N10` … `N20`) that the cycle roughs to and
-//! finishes along. Both are told in those terms where the plan shows nothing of the edit (a
+//! finishes along. LinuxCNC's G76 alike starts its drive line where the tool stands (LinuxCNC
+//! G-code reference, G76). Both are told in those terms where the plan shows nothing of the edit (a
 //! contour whose every block is a rapid, a start point the passes do not reach).
 
 use super::statement::Stmt;
@@ -90,7 +91,10 @@ fn positions(block: &Block, d: &Dialect) -> bool {
     let machine = block.words.iter().any(|w| match (w.letter, w.value) {
         (b'G', Value::Number { value, .. }) => d.code('G', (value * 10.0).round().max(0.0) as u32).is_some_and(|c| {
             use Meaning as M;
-            matches!(c.meaning, M::Home1 | M::Home2 | M::MachineCoords | M::SetData | M::OriginShift | M::LocalOffset | M::Home1Set | M::Home2Set)
+            matches!(
+                c.meaning,
+                M::Home1 | M::Home2 | M::MachineCoords | M::SetData | M::OriginShift | M::LocalOffset | M::Home1Set | M::Home2Set
+            )
         }),
         _ => false,
     });
@@ -152,4 +156,49 @@ pub(super) fn read(text: &str, d: &Dialect, stmts: &[Stmt]) -> Vec<Option<Around
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::Registry;
+
+    fn roles(text: &str, dialect: &str) -> Vec<(u32, Option<Around>)> {
+        let d = Registry::shipped().get(dialect).unwrap();
+        let (stmts, _) = crate::diff::statement::read(text, &d);
+        read(text, &d, &stmts).into_iter().zip(&stmts).map(|(r, s)| (s.line, r)).collect()
+    }
+
+    #[test]
+    fn the_move_before_a_lathe_cycle_is_its_start_and_p_q_its_contour() {
+        let text = "G18 G20 G99\nT0101\nG00 X3.0 Z0.1\nM08\nG71 P10 Q20 U0.01 W0.005 D0.05 F0.01\nN10 G00 X1.0\nN15 G01 Z-1.0\nN20 X3.0\nG70 P10 Q20\nG00 X1.2\nG76 X0.8 Z-1.0 K0.06 D0.01 F0.1\nM30\n";
+        let r = roles(text, "haas_lathe");
+        let at = |l: u32| r.iter().find(|(line, _)| *line == l).and_then(|x| x.1);
+        assert_eq!(at(3), Some(Around::StartOf(('G', 710))));
+        assert_eq!(at(4), None);
+        for l in [6, 7, 8] {
+            assert_eq!(at(l), Some(Around::ContourOf(('G', 710))), "line {l}");
+        }
+        assert_eq!(at(10), Some(Around::StartOf(('G', 760))));
+        assert_eq!(at(12), None);
+    }
+
+    #[test]
+    fn a_modal_single_cycles_further_passes_are_no_start_point() {
+        // G90's further passes (`X1.8`) run the cycle again; the G92 after them starts where the
+        // last pass returned, which no block of its own states.
+        let text = "G18 G21 G99\nG00 X50. Z2.\nG90 X45. Z-20. F0.2\nX40.\nG92 X38. Z-15. F1.5\nM30\n";
+        let r = roles(text, "fanuc_lathe");
+        let at = |l: u32| r.iter().find(|(line, _)| *line == l).and_then(|x| x.1);
+        assert_eq!(at(2), Some(Around::StartOf(('G', 900))));
+        assert_eq!(at(4), None);
+    }
+
+    #[test]
+    fn a_drilling_cycles_approach_is_no_lathe_start_point() {
+        // A mill's G81 starts at its R plane, not where the tool stood: the rapid before it is
+        // told as the move it is.
+        let text = "G0 X0 Y0 Z10\nG81 X10 Y10 Z-5 R2 F100\nM30\n";
+        assert!(roles(text, "linuxcnc").iter().all(|(_, r)| r.is_none()));
+    }
 }

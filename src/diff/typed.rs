@@ -469,7 +469,9 @@ pub(super) fn function_field(ctx: Context, d: &Dialect) -> String {
 /// Whether the statement's machine function takes words of `role` by the dictionary (LinuxCNC
 /// `M66 P E L Q`): a code the dictionary does not know (a builder's `M88`) may take any.
 fn function_takes(ctx: Context, role: Role, d: &Dialect) -> bool {
-    ctx.function_code.and_then(|(l, n)| d.code(l, n)).is_none_or(|def| def.params.takes(role) || def.args.iter().any(|(from, _)| *from == role))
+    ctx.function_code
+        .and_then(|(l, n)| d.code(l, n))
+        .is_none_or(|def| def.params.takes(role) || def.args.iter().any(|(from, _)| *from == role))
 }
 
 /// Whether a code's meaning is a machine function the plan has no kind for: what the
