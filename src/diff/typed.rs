@@ -528,15 +528,11 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
     // one change, with its words.
     let one_side = diffs.iter().all(|(x, _)| x.is_none()) || diffs.iter().all(|(_, y)| y.is_none());
     if ctx.probe_cycle && one_side && diffs.iter().any(|(x, y)| y.as_ref().or(x.as_ref()).is_some_and(|t| probing(t, ctx.macro_call, d))) {
-        let text = |side: &dyn Fn(&(Option<Token>, Option<Token>)) -> Option<&Token>| {
-            diffs.iter().filter_map(side).map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ")
+        let text = |after: bool| {
+            let side = |(x, y): &(Option<Token>, Option<Token>)| if after { y.clone() } else { x.clone() };
+            diffs.iter().filter_map(side).map(|t| t.text).collect::<Vec<_>>().join(" ")
         };
-        let t = Typed {
-            kind: ChangeKind::ProbingChanged,
-            field: "probing cycle".into(),
-            before: text(&|p| p.0.as_ref()),
-            after: text(&|p| p.1.as_ref()),
-        };
+        let t = Typed { kind: ChangeKind::ProbingChanged, field: "probing cycle".into(), before: text(false), after: text(true) };
         return (vec![t], vec![true; diffs.len()]);
     }
     let mut out: Vec<Typed> = Vec::new();
