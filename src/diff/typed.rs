@@ -306,22 +306,8 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
         return Some(if ctx.dwell { (K::DwellChanged, "dwell") } else { (K::CycleParameterChanged, "cycle parameter") });
     }
     let a = about(tok, d);
-    // A touch probe's measuring cycle (`G65 P9810 Z-5. F3000.`, `TCH PROBE 0.1 X+10`): its
-    // target, feed, the cycle it runs and its other words (Renishaw Inspection Plus letters,
-    // Heidenhain's cycle number), told as the probing they set.
-    if ctx.probe_cycle {
-        match a {
-            About::Address(R::F) => return Some((K::ProbingChanged, "probe feed")),
-            _ if axis_word(tok, d) => return Some((K::ProbingChanged, "probe target")),
-            About::Address(_) if ctx.macro_call && tok.key == "P" => return Some((K::ProbingChanged, "probing cycle")),
-            About::Address(_) => return Some((K::ProbingChanged, "probing parameter")),
-            About::Unknown if tok.sort == Sort::Other && tok.key.parse::<f64>().is_ok() => {
-                return Some((K::ProbingChanged, "probing cycle"));
-            }
-            About::Code(M::MacroCall | M::ModalMacroCall) => return Some((K::ProbingChanged, "probing cycle")),
-            About::Code(_) if probing(tok, false, d) => return Some((K::ProbingChanged, "probing cycle")),
-            _ => {}
-        }
+    if let Some(k) = probe_cycle_kind(tok, a, ctx, d) {
+        return Some(k);
     }
     // A macro call's letters (`G65 P9810 F200.`): arguments, told as the call's (and followed
     // into the macro where it is found), not as what the letter means outside a call.
@@ -370,16 +356,8 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             _ => {}
         }
     }
-    // A lathe cycle's start point or contour, where the statement's own words do not say it
-    // (`diff::around`: Fanuc/Haas G70–G76 start where the tool stands; P and Q name the contour).
-    if !ctx.special() && !ctx.probe && !ctx.macro_call {
-        use super::around::Around;
-        let position = axis_word(tok, d) && matches!(a, About::Address(R::X | R::Z | R::U | R::W));
-        match ctx.around {
-            Some(Around::ContourOf(_)) if motion || axis_word(tok, d) => return Some((K::ToolpathChanged, "contour")),
-            Some(Around::StartOf(_)) if position => return Some((K::CycleParameterChanged, "start point")),
-            _ => {}
-        }
+    if let Some(k) = around_kind(tok, a, motion, ctx, d) {
+        return Some(k);
     }
     if ctx.moves_by_variables && !ctx.cycle && !ctx.other_cycle && ctx.data.is_none() && !ctx.length && (motion || axis_word(tok, d)) {
         return Some((K::ToolpathChanged, "moves"));
@@ -452,6 +430,41 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
         About::Unknown if unknown_code(tok) => (K::MachineFunctionChanged, "machine function"),
         About::Unknown => return None,
     })
+}
+
+/// A touch probe's measuring cycle (`G65 P9810 Z-5. F3000.`, `TCH PROBE 0.1 X+10`): its
+/// target, feed, the cycle it runs and its other words (Renishaw Inspection Plus letters,
+/// Heidenhain's cycle number), told as the probing they set.
+fn probe_cycle_kind(tok: &Token, a: About, ctx: Context, d: &Dialect) -> Option<(ChangeKind, &'static str)> {
+    use ChangeKind as K;
+    if !ctx.probe_cycle {
+        return None;
+    }
+    Some(match a {
+        About::Address(Role::F) => (K::ProbingChanged, "probe feed"),
+        _ if axis_word(tok, d) => (K::ProbingChanged, "probe target"),
+        About::Address(_) if ctx.macro_call && tok.key == "P" => (K::ProbingChanged, "probing cycle"),
+        About::Address(_) => (K::ProbingChanged, "probing parameter"),
+        About::Unknown if tok.sort == Sort::Other && tok.key.parse::<f64>().is_ok() => (K::ProbingChanged, "probing cycle"),
+        About::Code(Meaning::MacroCall | Meaning::ModalMacroCall) => (K::ProbingChanged, "probing cycle"),
+        About::Code(_) if probing(tok, false, d) => (K::ProbingChanged, "probing cycle"),
+        _ => return None,
+    })
+}
+
+/// A lathe cycle's start point or contour, where the statement's own words do not say it
+/// (`diff::around`: Fanuc/Haas G70–G76 start where the tool stands; P and Q name the contour).
+fn around_kind(tok: &Token, a: About, motion: bool, ctx: Context, d: &Dialect) -> Option<(ChangeKind, &'static str)> {
+    use super::around::Around;
+    if ctx.special() || ctx.probe || ctx.macro_call {
+        return None;
+    }
+    let position = axis_word(tok, d) && matches!(a, About::Address(Role::X | Role::Z | Role::U | Role::W));
+    match ctx.around {
+        Some(Around::ContourOf(_)) if motion || axis_word(tok, d) => Some((ChangeKind::ToolpathChanged, "contour")),
+        Some(Around::StartOf(_)) if position => Some((ChangeKind::CycleParameterChanged, "start point")),
+        _ => None,
+    }
 }
 
 /// A machine function as a change names it: its code and the dictionary's name for it
