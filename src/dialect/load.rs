@@ -360,7 +360,7 @@ impl Cx {
         self.shape(el, &[], &["cycle"]);
         let mut out: Vec<CycleDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "cycle") {
-            self.shape(c, &["name", "meaning", "acts", "surface"], &["arg"]);
+            self.shape(c, &["name", "meaning", "acts", "surface", "probe"], &["arg"]);
             let surface_below_start = match self.attr(c, "surface").unwrap_or("parameter") {
                 "parameter" => false,
                 "below-start" => true,
@@ -420,7 +420,8 @@ impl Cx {
                 };
                 args.push(CycleArg { name: n.to_owned(), role, required, param, sub });
             }
-            out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate, surface_below_start });
+            let probe = self.bool(c, "probe", false);
+            out.push(CycleDef { name: name.to_ascii_uppercase(), meaning, args, immediate, surface_below_start, probe });
         }
         out
     }

@@ -574,6 +574,10 @@ pub struct Macros {
     pub return_tells_called: bool,
     /// Program numbers a control reserves for called programs (Fanuc O9000–O9999 macros).
     pub called_numbers: Option<(u32, u32)>,
+    /// Program numbers of probing macros (`probe-programs`: Renishaw Inspection Plus `O9810`…):
+    /// a macro call of one runs a touch probe, its letters the probing's target, feed and
+    /// measuring parameters.
+    pub probe_programs: Vec<(u32, u32)>,
     /// File extensions (lower case, without the dot) of called programs (Siemens `spf`).
     pub called_extensions: Vec<String>,
     /// How a condition on an unknown value is taken when neither way leads to an alarm:
@@ -637,6 +641,7 @@ impl Default for Macros {
             globals: Vec::new(),
             highest_variable: 9999,
             called_numbers: None,
+            probe_programs: Vec::new(),
             return_tells_called: true,
             called_extensions: Vec::new(),
             unknown_conditions: false,
@@ -821,6 +826,9 @@ pub struct CodeDef {
     /// is a constant cutting rate and a feed per revolution, `G94` a feed per minute and no
     /// constant cutting rate. Only a feed mode or a spindle speed mode.
     pub also: Option<Meaning>,
+    /// Whether the code runs a touch probe's measuring cycle (`probe="true"`, Heidenhain
+    /// `TCH PROBE 430`): its words and parameters are the probing's.
+    pub probe: bool,
 }
 
 /// What a data-setting code (`G10 L..`) sets, by its L value.
@@ -928,6 +936,9 @@ pub struct CycleDef {
     /// Whether, with no reference plane given, the surface lies the safety distance below the
     /// position the cycle starts from (Heidenhain's legacy cycles: `CYCL DEF 1.1 DIST2`).
     pub surface_below_start: bool,
+    /// Whether the cycle measures with a touch probe (`probe="true"`, Siemens `CYCLE977`): its
+    /// arguments are the probing's.
+    pub probe: bool,
 }
 
 /// A validated dialect.

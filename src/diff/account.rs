@@ -637,6 +637,11 @@ pub(super) fn uncovered(
 fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[Stmt]) -> (Vec<Item>, Vec<Bulk>) {
     let mut items = Vec::new();
     let mut bulks = Vec::new();
+    // What the blocks around each statement make of it, read only for a lathe's dictionary.
+    let around = |p: Program<'_>, s: &[Stmt]| {
+        if hunks.is_empty() || !super::around::applies(p.dialect) { Vec::new() } else { super::around::read(p.text, p.dialect, s) }
+    };
+    let (around_a, around_b) = (around(a, sa), around(b, sb));
     for h in hunks {
         let class_of = |s: &[Stmt], r: &std::ops::Range<usize>| r.clone().all(|k| s[k].class == Class::Output);
         if h.original.len() > DETAILED || h.edited.len() > DETAILED {
@@ -679,6 +684,8 @@ fn itemize(hunks: &[Hunk], a: Program<'_>, b: Program<'_>, sa: &[Stmt], sb: &[St
             let moves = oi.map_or(0, |k| sa[k].moves) | ei.map_or(0, |k| sb[k].moves);
             let ctx_of = |t: &[Vec<Token>], i: Option<usize>, d: &Dialect| i.map_or_else(Context::default, |i| Context::of(&t[i], d));
             let mut ctx = ctx_of(&ta, x, a.dialect).or(ctx_of(&tb, y, b.dialect));
+            let at = |v: &[Option<super::around::Around>], i: Option<usize>| i.and_then(|k| v.get(k).copied().flatten());
+            ctx.around = at(&around_b, ei).or(at(&around_a, oi));
             let calls = (oi.is_some_and(|k| sa[k].moves & statement::CALL != 0), ei.is_some_and(|k| sb[k].moves & statement::CALL != 0));
             // A call the parser reads anywhere in the block (`R910=25 … L100 P1`): flow.
             if ctx.flow.is_none() && (calls.0 || calls.1) {
@@ -1132,11 +1139,21 @@ fn call_changes(
             if va == vb || told {
                 continue;
             }
-            let mut c = blank(args.get(k).map_or(ChangeKind::CycleParameterChanged, |a| typed::arg_kind(a.role)), ws.clone());
+            // A touch probe's measuring cycle (`CYCLE977(…)`): its arguments are the probing's.
+            let probing = typed::probing(x, false, d);
+            let kind = match args.get(k) {
+                _ if probing => ChangeKind::ProbingChanged,
+                Some(a) => typed::arg_kind(a.role),
+                None => ChangeKind::CycleParameterChanged,
+            };
+            let mut c = blank(kind, ws.clone());
             c.field = match args.get(k) {
                 Some(a) => format!("{} {}", x.key, typed::arg_name(a)),
                 None => format!("{} argument {}", x.key, k + 1),
             };
+            if probing {
+                c.field = format!("probing {}", c.field);
+            }
             (c.before, c.after) = (argument(va), argument(vb));
             out.push(c);
         }
@@ -1314,14 +1331,18 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
             (Sort::Assign, _, _) if y.as_ref().or(x.as_ref()).is_some_and(|t| typed::sets_variable(t, d)) => {
                 let key = y.as_ref().or(x.as_ref()).map(|t| t.key.clone()).unwrap_or_default();
                 let param = typed::cycle_param(&key, d);
+                // A parameter of a touch probe's cycle (`TCH PROBE 430` … `Q262=+80`): the probing's.
+                let probing = it.ctx.probe_cycle && kind == ChangeKind::StatementChanged;
                 let mut c = blank(
                     match param {
+                        _ if probing => ChangeKind::ProbingChanged,
                         Some(a) if kind == ChangeKind::StatementChanged => typed::arg_kind(a.role),
                         _ => kind,
                     },
                     ws.clone(),
                 );
                 c.field = match param {
+                    _ if probing => format!("probing parameter {key}"),
                     Some(a) if c.kind == typed::arg_kind(a.role) => format!("cycle parameter {}", typed::arg_name(a)),
                     _ => format!("variable {key}"),
                 };

@@ -541,8 +541,13 @@ pub(super) fn calls(changes: &mut Vec<Change>, edited: Program<'_>, programs: &d
         };
         if found.is_empty() {
             // The subroutine not found, or its parameter's uses say nothing the dictionary
-            // knows: the argument is still that parameter's value, told as its change.
+            // knows: the argument is still that parameter's value, told as its change (a
+            // probing macro's as the probing's, as the dictionary says).
             let c = &mut changes[k];
+            if c.kind == ChangeKind::ProbingChanged {
+                k += 1;
+                continue;
+            }
             c.kind = ChangeKind::CycleParameterChanged;
             c.field = format!("parameter {} of {}", arg_label(&key, n, first, dialect), callee_label(&key, &name));
             k += 1;
@@ -807,8 +812,12 @@ fn macro_argument(c: &Change, edited: Program<'_>, stmts: &mut Option<Vec<Stmt>>
     };
     let (lb, la) = (letter_of(&c.before)?, letter_of(&c.after)?);
     // A word of the call statement, told as a statement or as the call's change.
-    let word =
-        (c.kind == ChangeKind::StatementChanged && c.field == "statement") || (c.kind == ChangeKind::FlowChanged && c.field == "call");
+    // (A probing macro's word, told as the probing's where the macro is not found beside the
+    // program, is followed into it where it is.)
+    let probing = c.kind == ChangeKind::ProbingChanged && matches!(c.field.as_str(), "probing parameter" | "probe target" | "probe feed");
+    let word = (c.kind == ChangeKind::StatementChanged && c.field == "statement")
+        || (c.kind == ChangeKind::FlowChanged && c.field == "call")
+        || probing;
     if lb != la || !word {
         return None;
     }

@@ -29,7 +29,11 @@
 //! it (`moved`; one moved with its number, read nowhere between, is no change: `moved_same`),
 //! and compares a call whose argument count changed with its subroutine as
 //! each version has it (`rebound`); a probing move's words (the dictionary's probe codes) are
-//! a `probing_changed`; `rename.rs` finds labels renamed one to one over both
+//! a `probing_changed`, and so are a measuring cycle's words, arguments and parameters (the
+//! dictionary's `probe-programs` and `probe="true"`: Renishaw `G65 P9810`, Siemens
+//! `CYCLE977`, Heidenhain `TCH PROBE`); `around.rs` tells a lathe program's statement by the
+//! blocks around it (the move before a lathe cycle its start point, the blocks its `P` and `Q`
+//! name its contour); `rename.rs` finds labels renamed one to one over both
 //! programs (no change); `retrace.rs` finds straight moves written in other pieces along
 //! the same path at the same feed (no change); `height.rs` tells an absolute height the later
 //! incremental moves start from; `verdict.rs` says what the edit breaks or fixes (errors the control
@@ -52,6 +56,7 @@
 //! sentence.
 
 mod account;
+mod around;
 mod control;
 mod follow;
 mod height;
@@ -178,7 +183,9 @@ pub enum ChangeKind {
     GlobalVariableChanged,
     /// A probing move (LinuxCNC `G38.2`–`G38.5`, Fanuc's skip `G31`: the dictionary's probe
     /// codes) changed where the plan does not tell it: its target, its feed, or which probe
-    /// move it is, also through a variable it reads.
+    /// move it is, also through a variable it reads; or a measuring cycle's (the dictionary's
+    /// `probe-programs` and `probe="true"`: Renishaw `G65 P9810`, Siemens `CYCLE977`,
+    /// Heidenhain `TCH PROBE`) target, feed, cycle or parameter.
     ProbingChanged,
 }
 
@@ -392,7 +399,8 @@ impl Change {
                 }
                 return format!("{s}: {}", self.after);
             }
-            ChangeKind::ToolpathChanged if !self.field.starts_with("moves") => {
+            // A contour a lathe cycle names (`contour of G71`), in its words.
+            ChangeKind::ToolpathChanged if !self.field.starts_with("moves") && !self.field.starts_with("contour of ") => {
                 let mut s = format!("toolpath changed{}", at(self.line));
                 if let Some(l) = self.original_line
                     && Some(l) != self.line

@@ -100,6 +100,29 @@ pub(super) struct Context {
     /// A lathe cycle's code whose words the dictionary gives roles (`args`, Haas `G71 … D`):
     /// its letter and number × 10 (`diff::turning::cycle_role`).
     pub turn_cycle: Option<(char, u32)>,
+    /// What the blocks around the statement make of it (`diff::around`): the move before a
+    /// lathe cycle (its start point), a block of the contour a cycle names by `P` and `Q`.
+    pub around: Option<super::around::Around>,
+    /// A touch probe's measuring cycle, by the dictionary (`probe="true"`, `probe-programs`):
+    /// Renishaw's `G65 P9810 Z-5. F3000.`, Heidenhain `TCH PROBE 430` with its Q parameters,
+    /// Siemens `CYCLE977(…)`: its words and parameters are the probing's.
+    pub probe_cycle: bool,
+}
+
+/// Whether a token names a touch probe's measuring cycle by the dictionary: a cycle called by
+/// name (`CYCLE977(…)`) or a keyword code (`TCH PROBE`) it marks `probe="true"`, or, in a macro
+/// call, the number of a program it lists in `probe-programs` (`G65 P9810`).
+pub(super) fn probing(t: &Token, macro_call: bool, d: &Dialect) -> bool {
+    match t.sort {
+        Sort::Call => d.cycles.iter().any(|c| c.probe && c.name.eq_ignore_ascii_case(&t.key)),
+        Sort::Word if macro_call && t.key == "P" => {
+            t.value.parse::<u32>().is_ok_and(|n| d.macros.probe_programs.iter().any(|&(a, b)| (a..=b).contains(&n)))
+        }
+        Sort::Other => d
+            .keyword_codes()
+            .any(|(i, spec)| d.codes[i].probe && (spec.text == t.key || spec.text.split(' ').next() == Some(t.key.as_str()))),
+        _ => false,
+    }
 }
 
 /// Whether a code shifts the origin of the program's coordinates.
@@ -164,6 +187,7 @@ impl Context {
         c.macro_call =
             tokens.iter().any(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall | Meaning::ModalMacroCall)));
         c.moves_by_variables = !c.macro_call && tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
+        c.probe_cycle = tokens.iter().any(|t| probing(t, c.macro_call, d));
         c.flow = super::control::flow_of(tokens, d);
         let mill = !d.behaviour.x_diameter && d.behaviour.initial_plane == crate::canon::Plane::Xy;
         let codes = || tokens.iter().filter(|t| t.sort == Sort::Word).map(|t| about(t, d));
@@ -248,6 +272,8 @@ impl Context {
             rapid: self.rapid && o.rapid,
             probe: self.probe || o.probe,
             turn_cycle: self.turn_cycle.or(o.turn_cycle),
+            around: self.around.or(o.around),
+            probe_cycle: self.probe_cycle || o.probe_cycle,
         }
     }
 }
@@ -280,6 +306,9 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
         return Some(if ctx.dwell { (K::DwellChanged, "dwell") } else { (K::CycleParameterChanged, "cycle parameter") });
     }
     let a = about(tok, d);
+    if let Some(k) = probe_cycle_kind(tok, a, ctx, d) {
+        return Some(k);
+    }
     // A macro call's letters (`G65 P9810 F200.`): arguments, told as the call's (and followed
     // into the macro where it is found), not as what the letter means outside a call.
     if ctx.macro_call && matches!(a, About::Address(_)) {
@@ -293,12 +322,15 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     {
         return Some((K::CycleParameterChanged, "cycle parameter"));
     }
-    // A machine function's own words (`M66 P1 E0 L3`, `G64 P0.01`): that function's.
+    // A machine function's own words (`M66 P1 E0 L3`, `G64 P0.01`): that function's. An arc's
+    // centre or radius words (`G91 G03 X… Y… I… J…`) are the arc's, not the distance mode's:
+    // they are the function's only where the dictionary says its code takes them.
     if let About::Address(r) = a
         && ctx.function
         && !ctx.cycle
         && !ctx.other_cycle
         && !matches!(r, R::X | R::Y | R::Z | R::A | R::B | R::C | R::U | R::V | R::W | R::F | R::S | R::T | R::G | R::M | R::N)
+        && (!matches!(r, R::I | R::J | R::K | R::R) || function_takes(ctx, r, d))
     {
         return Some((K::MachineFunctionChanged, "machine function"));
     }
@@ -323,6 +355,9 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             _ if axis_word(tok, d) => return Some((K::ProbingChanged, "probe target")),
             _ => {}
         }
+    }
+    if let Some(k) = around_kind(tok, a, motion, ctx, d) {
+        return Some(k);
     }
     if ctx.moves_by_variables && !ctx.cycle && !ctx.other_cycle && ctx.data.is_none() && !ctx.length && (motion || axis_word(tok, d)) {
         return Some((K::ToolpathChanged, "moves"));
@@ -397,6 +432,41 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     })
 }
 
+/// A touch probe's measuring cycle (`G65 P9810 Z-5. F3000.`, `TCH PROBE 0.1 X+10`): its
+/// target, feed, the cycle it runs and its other words (Renishaw Inspection Plus letters,
+/// Heidenhain's cycle number), told as the probing they set.
+fn probe_cycle_kind(tok: &Token, a: About, ctx: Context, d: &Dialect) -> Option<(ChangeKind, &'static str)> {
+    use ChangeKind as K;
+    if !ctx.probe_cycle {
+        return None;
+    }
+    Some(match a {
+        About::Address(Role::F) => (K::ProbingChanged, "probe feed"),
+        _ if axis_word(tok, d) => (K::ProbingChanged, "probe target"),
+        About::Address(_) if ctx.macro_call && tok.key == "P" => (K::ProbingChanged, "probing cycle"),
+        About::Address(_) => (K::ProbingChanged, "probing parameter"),
+        About::Unknown if tok.sort == Sort::Other && tok.key.parse::<f64>().is_ok() => (K::ProbingChanged, "probing cycle"),
+        About::Code(Meaning::MacroCall | Meaning::ModalMacroCall) => (K::ProbingChanged, "probing cycle"),
+        About::Code(_) if probing(tok, false, d) => (K::ProbingChanged, "probing cycle"),
+        _ => return None,
+    })
+}
+
+/// A lathe cycle's start point or contour, where the statement's own words do not say it
+/// (`diff::around`: Fanuc/Haas G70–G76 start where the tool stands; P and Q name the contour).
+fn around_kind(tok: &Token, a: About, motion: bool, ctx: Context, d: &Dialect) -> Option<(ChangeKind, &'static str)> {
+    use super::around::Around;
+    if ctx.special() || ctx.probe || ctx.macro_call {
+        return None;
+    }
+    let position = axis_word(tok, d) && matches!(a, About::Address(Role::X | Role::Z | Role::U | Role::W));
+    match ctx.around {
+        Some(Around::ContourOf(_)) if motion || axis_word(tok, d) => Some((ChangeKind::ToolpathChanged, "contour")),
+        Some(Around::StartOf(_)) if position => Some((ChangeKind::CycleParameterChanged, "start point")),
+        _ => None,
+    }
+}
+
 /// A machine function as a change names it: its code and the dictionary's name for it
 /// (`machine function M66: wait on input`), or that the dictionary does not know it.
 pub(super) fn function_field(ctx: Context, d: &Dialect) -> String {
@@ -407,6 +477,14 @@ pub(super) fn function_field(ctx: Context, d: &Dialect) -> String {
         Some(def) => format!("machine function {code}: {}", def.meaning.as_str().replace('-', " ")),
         None => format!("machine function {code}: not in the dictionary"),
     }
+}
+
+/// Whether the statement's machine function takes words of `role` by the dictionary (LinuxCNC
+/// `M66 P E L Q`): a code the dictionary does not know (a builder's `M88`) may take any.
+fn function_takes(ctx: Context, role: Role, d: &Dialect) -> bool {
+    ctx.function_code
+        .and_then(|(l, n)| d.code(l, n))
+        .is_none_or(|def| def.params.takes(role) || def.args.iter().any(|(from, _)| *from == role))
 }
 
 /// Whether a code's meaning is a machine function the plan has no kind for: what the
@@ -459,6 +537,17 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
     if let Some(whole) = whole_statement(diffs, ctx, d) {
         return (vec![whole], vec![true; diffs.len()]);
     }
+    // A probing cycle's statement added or removed whole (`G65 P9811 Z-5.`, `TCH PROBE 430 …`):
+    // one change, with its words.
+    let one_side = diffs.iter().all(|(x, _)| x.is_none()) || diffs.iter().all(|(_, y)| y.is_none());
+    if ctx.probe_cycle && one_side && diffs.iter().any(|(x, y)| y.as_ref().or(x.as_ref()).is_some_and(|t| probing(t, ctx.macro_call, d))) {
+        let text = |after: bool| {
+            let side = |(x, y): &(Option<Token>, Option<Token>)| if after { y.clone() } else { x.clone() };
+            diffs.iter().filter_map(side).map(|t| t.text).collect::<Vec<_>>().join(" ")
+        };
+        let t = Typed { kind: ChangeKind::ProbingChanged, field: "probing cycle".into(), before: text(false), after: text(true) };
+        return (vec![t], vec![true; diffs.len()]);
+    }
     let mut out: Vec<Typed> = Vec::new();
     let mut told = vec![false; diffs.len()];
     for (n, (x, y)) in diffs.iter().enumerate() {
@@ -471,7 +560,8 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
         }
         let Some((kind, field)) = kind_of(tok, ctx, d) else { continue };
         told[n] = true;
-        let k = match out.iter().position(|t| t.kind == kind) {
+        // (A probe's target and its feed are told apart: `probe target`, `probe feed`.)
+        let k = match out.iter().position(|t| t.kind == kind && (kind != ChangeKind::ProbingChanged || t.field == field)) {
             Some(k) => k,
             None => {
                 out.push(Typed { kind, field: field.into(), before: String::new(), after: String::new() });
@@ -491,6 +581,12 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
     for t in &mut out {
         if t.kind == ChangeKind::MachineFunctionChanged {
             t.field = function_field(ctx, d);
+        }
+        // The cycle whose start point or contour it is (`start point of G76`).
+        if let Some(super::around::Around::StartOf((l, n)) | super::around::Around::ContourOf((l, n))) = ctx.around
+            && matches!(t.field.as_str(), "contour" | "start point")
+        {
+            t.field = format!("{} of {l}{}", t.field, crate::diff::num(f64::from(n) / 10.0));
         }
         // A stop added or removed is its own kind; one replaced by another stays `stop_added`
         // with both sides.

@@ -29,6 +29,7 @@ const CODE_ATTRIBUTES: &[&str] = &[
     "line-words",
     "tilt-forms",
     "also",
+    "probe",
 ];
 
 impl Cx {
@@ -152,6 +153,7 @@ impl Cx {
             line_words,
             tilt_forms,
             also,
+            probe: self.bool(c, "probe", false),
         })
     }
 

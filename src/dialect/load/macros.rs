@@ -28,6 +28,7 @@ const ATTRIBUTES: &[&str] = &[
     "global-variables",
     "highest-variable",
     "called-programs",
+    "probe-programs",
     "called-extensions",
     "unknown-conditions",
     "unlisted-tools",
@@ -143,6 +144,7 @@ impl Cx {
     fn outside_variables(&mut self, el: &Element, m: &mut Macros) {
         m.outside = self.ranges(el, "outside-variables");
         m.globals = self.ranges(el, "global-variables");
+        m.probe_programs = self.ranges(el, "probe-programs");
     }
 
     /// An attribute listing number ranges (`100-199 500-999`); none when it is absent.
