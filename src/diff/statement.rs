@@ -803,7 +803,7 @@ const LCS_CELLS: usize = 1 << 22;
 /// The runs of statements that differ between `a` and `b`, in order.
 pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
     let (ha, hb): (Vec<u64>, Vec<u64>) = (a.iter().map(|s| s.hash).collect(), b.iter().map(|s| s.hash).collect());
-    let pairs = matches(&ha, &hb);
+    let pairs = compact(&ha, &hb, &matches(&ha, &hb));
     let mut out = Vec::new();
     let (mut i, mut j) = (0, 0);
     for &(x, y) in pairs.iter().chain(std::iter::once(&(a.len(), b.len()))) {
@@ -813,6 +813,143 @@ pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
         (i, j) = (x + 1, y + 1);
     }
     out
+}
+
+/// The matched pairs of `a` and `b` with each run of differing items slid as git's diff
+/// slides it (`xdl_change_compact` in git's `xdiff/xdiffi.c`; the same compaction GNU diff
+/// does): among the placements of a run that are equally short edits (a run of removed
+/// statements beside an identical statement can stand one earlier or one later), the run is
+/// moved up to merge with the run before it where it can, then down as far as it goes, and
+/// back up to line up with a run of the other side where one lies in its reach. The rows then
+/// name the lines the edit's author (and `git diff`) sees as changed, and a run split by a
+/// repeated statement (`G0 X0.2` before and after a removed section) is one run.
+fn compact(a: &[u64], b: &[u64], pairs: &[(usize, usize)]) -> Vec<(usize, usize)> {
+    let (mut ca, mut cb) = (vec![true; a.len()], vec![true; b.len()]);
+    for &(x, y) in pairs {
+        ca[x] = false;
+        cb[y] = false;
+    }
+    slide(a, &mut ca, &cb);
+    slide(b, &mut cb, &ca);
+    let kept = |c: &[bool]| c.iter().enumerate().filter(|(_, c)| !**c).map(|(i, _)| i).collect::<Vec<_>>();
+    let (ka, kb) = (kept(&ca), kept(&cb));
+    // The compaction keeps each side's count of unchanged items; they pair in order.
+    if ka.len() != kb.len() {
+        return pairs.to_vec();
+    }
+    ka.into_iter().zip(kb).collect()
+}
+
+/// A run of changed items `start..end` of one side (empty where the run is between two
+/// unchanged items).
+#[derive(Clone, Copy)]
+struct Group {
+    start: usize,
+    end: usize,
+}
+
+impl Group {
+    fn first(changed: &[bool]) -> Group {
+        let end = changed.iter().position(|&c| !c).unwrap_or(changed.len());
+        Group { start: 0, end }
+    }
+
+    /// The next group, after the unchanged item at `end`; `false` at the end.
+    fn next(&mut self, changed: &[bool]) -> bool {
+        if self.end >= changed.len() {
+            return false;
+        }
+        self.start = self.end + 1;
+        self.end = self.start;
+        while self.end < changed.len() && changed[self.end] {
+            self.end += 1;
+        }
+        true
+    }
+
+    /// The group before, before the unchanged item at `start - 1`; `false` at the start.
+    fn previous(&mut self, changed: &[bool]) -> bool {
+        if self.start == 0 {
+            return false;
+        }
+        self.end = self.start - 1;
+        self.start = self.end;
+        while self.start > 0 && changed[self.start - 1] {
+            self.start -= 1;
+        }
+        true
+    }
+
+    /// One item down where the first item of the group equals the one after it (merging
+    /// with the group after).
+    fn down(&mut self, items: &[u64], changed: &mut [bool]) -> bool {
+        if self.end >= items.len() || items[self.start] != items[self.end] {
+            return false;
+        }
+        changed[self.start] = false;
+        changed[self.end] = true;
+        self.start += 1;
+        self.end += 1;
+        while self.end < items.len() && changed[self.end] {
+            self.end += 1;
+        }
+        true
+    }
+
+    /// One item up where the last item of the group equals the one before it (merging with
+    /// the group before).
+    fn up(&mut self, items: &[u64], changed: &mut [bool]) -> bool {
+        if self.start == 0 || items[self.start - 1] != items[self.end - 1] {
+            return false;
+        }
+        self.start -= 1;
+        self.end -= 1;
+        changed[self.start] = true;
+        changed[self.end] = false;
+        while self.start > 0 && changed[self.start - 1] {
+            self.start -= 1;
+        }
+        true
+    }
+}
+
+/// Slides the changed runs of `items` (`changed`), with `other` the other side's changes.
+fn slide(items: &[u64], changed: &mut [bool], other: &[bool]) {
+    let (mut g, mut go) = (Group::first(changed), Group::first(other));
+    loop {
+        if g.end > g.start {
+            let (mut earliest_end, mut matching);
+            loop {
+                let size = g.end - g.start;
+                matching = None;
+                while g.up(items, changed) {
+                    go.previous(other);
+                }
+                earliest_end = g.end;
+                if go.end > go.start {
+                    matching = Some(g.end);
+                }
+                while g.down(items, changed) {
+                    go.next(other);
+                    if go.end > go.start {
+                        matching = Some(g.end);
+                    }
+                }
+                if size == g.end - g.start {
+                    break;
+                }
+            }
+            // Back to the last place it lines up with a run of the other side.
+            if g.end != earliest_end && matching.is_some() {
+                while go.end == go.start && g.up(items, changed) {
+                    go.previous(other);
+                }
+            }
+        }
+        if !g.next(changed) || !go.next(other) {
+            break;
+        }
+    }
 }
 
 /// Matched index pairs of equal items, increasing on both sides.
