@@ -56,6 +56,7 @@ mod control;
 mod follow;
 mod height;
 mod moved;
+mod place;
 mod rename;
 mod retrace;
 mod setup;

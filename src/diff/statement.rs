@@ -802,8 +802,19 @@ const LCS_CELLS: usize = 1 << 22;
 
 /// The runs of statements that differ between `a` and `b`, in order.
 pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
+    hunks_in(a, b, None)
+}
+
+/// The runs of statements that differ between `a` and `b`, the statements of `texts` (the two
+/// programs' texts, where known): where a statement could pair with more than one equal
+/// statement (an `M0` commented out among three), it pairs as the lines of the texts pair in
+/// git's diff, so that a row names the lines the edit's author sees changed.
+pub fn hunks_in(a: &[Stmt], b: &[Stmt], texts: Option<(&str, &str)>) -> Vec<Hunk> {
     let (ha, hb): (Vec<u64>, Vec<u64>) = (a.iter().map(|s| s.hash).collect(), b.iter().map(|s| s.hash).collect());
-    let pairs = compact(&ha, &hb, &matches(&ha, &hb));
+    let pairs = match texts {
+        Some(texts) => along_lines(a, b, (&ha, &hb), texts),
+        None => compact(&ha, &hb, &matches(&ha, &hb)),
+    };
     let mut out = Vec::new();
     let (mut i, mut j) = (0, 0);
     for &(x, y) in pairs.iter().chain(std::iter::once(&(a.len(), b.len()))) {
@@ -823,7 +834,7 @@ pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
 /// back up to line up with a run of the other side where one lies in its reach. The rows then
 /// name the lines the edit's author (and `git diff`) sees as changed, and a run split by a
 /// repeated statement (`G0 X0.2` before and after a removed section) is one run.
-fn compact(a: &[u64], b: &[u64], pairs: &[(usize, usize)]) -> Vec<(usize, usize)> {
+pub(super) fn compact(a: &[u64], b: &[u64], pairs: &[(usize, usize)]) -> Vec<(usize, usize)> {
     let (mut ca, mut cb) = (vec![true; a.len()], vec![true; b.len()]);
     for &(x, y) in pairs {
         ca[x] = false;
@@ -838,6 +849,65 @@ fn compact(a: &[u64], b: &[u64], pairs: &[(usize, usize)]) -> Vec<(usize, usize)
         return pairs.to_vec();
     }
     ka.into_iter().zip(kb).collect()
+}
+
+/// The hash of each line of `text` (a line's end `\r` left out), exactly as written.
+pub(super) fn line_hashes(text: &str) -> Vec<u64> {
+    text.split('\n')
+        .map(|l| {
+            let mut h = std::hash::DefaultHasher::new();
+            l.strip_suffix('\r').unwrap_or(l).hash(&mut h);
+            h.finish()
+        })
+        .collect()
+}
+
+/// The matched statements of `a` and `b`: first the statements on lines that git's diff of
+/// the two texts keeps (a line the same, its statement the same), then between two of those
+/// the rest by their longest common subsequence, slid as git slides a run ([`compact`]).
+fn along_lines(a: &[Stmt], b: &[Stmt], (ha, hb): (&[u64], &[u64]), (ta, tb): (&str, &str)) -> Vec<(usize, usize)> {
+    let (la, lb) = (line_hashes(ta), line_hashes(tb));
+    let kept = compact(&la, &lb, &matches(&la, &lb));
+    // The statements on each line (1-based lines), those on one line alone.
+    let on_lines = |s: &[Stmt], lines: usize| {
+        let mut on: Vec<Option<Range<usize>>> = vec![None; lines + 1];
+        let mut k = 0;
+        while k < s.len() {
+            let mut e = k + 1;
+            while e < s.len() && s[e].line == s[k].line {
+                e += 1;
+            }
+            let line = s[k].line as usize;
+            if s[k..e].iter().all(|t| t.last == t.line) && line < on.len() {
+                on[line] = Some(k..e);
+            }
+            k = e;
+        }
+        on
+    };
+    let (oa, ob) = (on_lines(a, la.len()), on_lines(b, lb.len()));
+    let mut anchors: Vec<(usize, usize)> = Vec::new();
+    for (x, y) in kept {
+        let (Some(Some(ra)), Some(Some(rb))) = (oa.get(x + 1), ob.get(y + 1)) else { continue };
+        if ra.len() != rb.len() || ra.clone().zip(rb.clone()).any(|(i, j)| ha[i] != hb[j]) {
+            continue;
+        }
+        if anchors.last().is_some_and(|&(i, j)| i >= ra.start || j >= rb.start) {
+            continue;
+        }
+        anchors.extend(ra.clone().zip(rb.clone()));
+    }
+    let mut out = Vec::new();
+    let (mut pa, mut pb) = (0, 0);
+    for (x, y) in anchors.into_iter().chain(std::iter::once((a.len(), b.len()))) {
+        let (sa, sb) = (&ha[pa..x], &hb[pb..y]);
+        out.extend(compact(sa, sb, &matches(sa, sb)).into_iter().map(|(i, j)| (pa + i, pb + j)));
+        if x < a.len() && y < b.len() {
+            out.push((x, y));
+        }
+        (pa, pb) = (x + 1, y + 1);
+    }
+    out
 }
 
 /// A run of changed items `start..end` of one side (empty where the run is between two
@@ -953,7 +1023,7 @@ fn slide(items: &[u64], changed: &mut [bool], other: &[bool]) {
 }
 
 /// Matched index pairs of equal items, increasing on both sides.
-fn matches(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
+pub(super) fn matches(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     // Work: (range of a, range of b), taken in order.
     let mut work = vec![(0..a.len(), 0..b.len())];
