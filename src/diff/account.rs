@@ -128,7 +128,7 @@ pub(super) fn account(
     }
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
-    super::place::name_places(changes, (a.text, b.text), (&sa, &sb));
+    super::place::name_places(changes, (a.text, b.text), (&sa, &sb), (a.dialect, b.dialect));
 }
 
 /// Whether the two programs differ only inside `( )` remarks, read as if a remark's own
