@@ -84,12 +84,7 @@ fn lines_in<'t>(text: &'t str, range: &std::ops::Range<u32>) -> Vec<&'t str> {
 
 /// Names, in `changes`, the lines without a statement that differ beside the lines they
 /// name (see the module doc).
-pub(super) fn name_places(
-    changes: &mut [Change],
-    (ta, tb): (&str, &str),
-    (sa, sb): (&[Stmt], &[Stmt]),
-    (da, db): (&Dialect, &Dialect),
-) {
+pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, sb): (&[Stmt], &[Stmt]), (da, db): (&Dialect, &Dialect)) {
     if changes.is_empty() {
         return;
     }
@@ -162,7 +157,8 @@ pub(super) fn name_places(
         (i, j) = (x + 1, y + 1);
     }
     let mut touched = vec![false; changes.len()];
-    let row_at = |original: bool, l: u32| if original { na.get(l as usize).copied().flatten() } else { nb.get(l as usize).copied().flatten() };
+    let row_at =
+        |original: bool, l: u32| if original { na.get(l as usize).copied().flatten() } else { nb.get(l as usize).copied().flatten() };
     for (ra, rb) in runs {
         // Statements only re-indented under a condition a row changes: each original one
         // paired with the next edited one of the same text, in order, and named by the row
@@ -198,15 +194,15 @@ pub(super) fn name_places(
                 // as one line changed); for a label, the row of the block it heads.
                 let across = other.start + (l - range.start);
                 let k = if other.contains(&across) { row_at(!original, across) } else { None };
-                let k = k.or_else(|| {
-                    labels.iter().any(|&(_, x)| x == l).then(|| row_at(original, l + 1)).flatten()
-                });
+                let k = k.or_else(|| labels.iter().any(|&(_, x)| x == l).then(|| row_at(original, l + 1)).flatten());
                 let Some(k) = k else { continue };
                 // The place of a statement the row tells removed (added) there: the pair
                 // completed; else a line of its own.
-                let open = changes[k].detail.at.iter_mut().find(|(o, e)| {
-                    if original { o.is_none() && *e == Some(across) } else { e.is_none() && *o == Some(across) }
-                });
+                let open = changes[k]
+                    .detail
+                    .at
+                    .iter_mut()
+                    .find(|(o, e)| if original { o.is_none() && *e == Some(across) } else { e.is_none() && *o == Some(across) });
                 match open {
                     Some(at) if original => at.0 = Some(l),
                     Some(at) => at.1 = Some(l),
