@@ -41,8 +41,11 @@ enum Target {
 
 /// The blocks a program's jumps may land on (target, line), and the targets of the jumps on
 /// each line.
+/// The labels of a program (target, line) and the targets of the jumps on each line.
+type Jumps = (Vec<(Target, u32)>, BTreeMap<u32, Vec<Target>>);
+
 /// Labels are kept only on the lines that differ (`!same[line]`).
-fn jumps_of(text: &str, dialect: &Dialect, same: &[bool]) -> (Vec<(Target, u32)>, BTreeMap<u32, Vec<Target>>) {
+fn jumps_of(text: &str, dialect: &Dialect, same: &[bool]) -> Jumps {
     let mut labels = Vec::new();
     let mut jumps: BTreeMap<u32, Vec<Target>> = BTreeMap::new();
     let slice = |r: crate::text::TextRange| text.get(r.start as usize..r.end as usize).unwrap_or("").trim().to_ascii_uppercase();
