@@ -80,9 +80,9 @@ fn jumps_of(text: &str, dialect: &Dialect, same: &[bool]) -> Jumps {
     (labels, jumps)
 }
 
-/// The lines `range` (1-based) of `text`.
-fn lines_in<'t>(text: &'t str, range: &std::ops::Range<u32>) -> Vec<&'t str> {
-    text.split('\n').skip(range.start as usize - 1).take(range.len()).collect()
+/// Line `l` (1-based) of `lines`, without the blanks around it.
+fn trimmed<'t>(lines: &[&'t str], l: u32) -> &'t str {
+    lines.get((l as usize).wrapping_sub(1)).map_or("", |t| t.trim())
 }
 
 /// Names, in `changes`, the lines without a statement that differ beside the lines they
@@ -99,86 +99,96 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
         same_a[x + 1] = true;
         same_b[y + 1] = true;
     }
-    let flows = |c: &Change| matches!(c.kind, ChangeKind::FlowChanged | ChangeKind::ProgramFixed | ChangeKind::ProgramBroken);
-    let ((label_a, jump_a), (label_b, jump_b)) = (jumps_of(ta, da, &same_a), jumps_of(tb, db, &same_b));
-    {
-        for c in changes.iter_mut().filter(|c| flows(c)) {
-            let mut targets: Vec<Target> = named(c, true)
-                .filter_map(|l| jump_a.get(&l))
-                .chain(named(c, false).filter_map(|l| jump_b.get(&l)))
-                .flatten()
-                .cloned()
-                .collect();
-            targets.sort();
-            targets.dedup();
-            let mut at = Vec::new();
-            for t in &targets {
-                at.extend(label_a.iter().filter(|(u, _)| u == t).map(|&(_, l)| (Some(l), None)));
-                at.extend(label_b.iter().filter(|(u, _)| u == t).map(|&(_, l)| (None, Some(l))));
-            }
-            at.retain(|a| !c.detail.at.contains(a));
-            if !at.is_empty() {
-                c.detail.at.extend(at);
-                c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
-                c.detail.at.dedup();
-            }
-        }
-    }
-    // Lines (1-based) that hold a statement, or a part of one.
-    let held = |s: &[Stmt], n: usize| {
-        let mut v = vec![false; n + 2];
-        for t in s {
-            for l in t.line..=t.last.max(t.line) {
-                if let Some(x) = v.get_mut(l as usize) {
-                    *x = true;
-                }
-            }
-        }
-        v
+    // Lines (1-based) that hold a statement, or a part of one (the statements are in order).
+    let holds = |s: &[Stmt], l: u32| {
+        let i = s.partition_point(|t| t.last.max(t.line) < l);
+        i < s.len() && s[i].line <= l
     };
-    let (ha, hb) = (held(sa, la.len()), held(sb, lb.len()));
     // The first row naming each line of a side.
-    let rows = |original: bool, n: usize| {
-        let mut v: Vec<Option<usize>> = vec![None; n + 2];
+    let rows = |changes: &[Change], original: bool| {
+        let mut v: BTreeMap<u32, usize> = BTreeMap::new();
         for (k, c) in changes.iter().enumerate() {
             for l in named(c, original) {
-                if let Some(x) = v.get_mut(l as usize) {
-                    x.get_or_insert(k);
-                }
+                v.entry(l).or_insert(k);
             }
         }
         v
     };
-    let (na, nb) = (rows(true, la.len()), rows(false, lb.len()));
-    // The runs of lines that differ on both sides, 1-based.
+    // The runs of lines that differ, 1-based.
     let mut runs = Vec::new();
     let (mut i, mut j) = (0usize, 0usize);
-    for (x, y) in kept.into_iter().chain(std::iter::once((la.len(), lb.len()))) {
+    for &(x, y) in kept.iter().chain(std::iter::once(&(la.len(), lb.len()))) {
         if x > i || y > j {
             runs.push(((i + 1) as u32..(x + 1) as u32, (j + 1) as u32..(y + 1) as u32));
         }
         (i, j) = (x + 1, y + 1);
     }
+    let flows = |c: &Change| matches!(c.kind, ChangeKind::FlowChanged | ChangeKind::ProgramFixed | ChangeKind::ProgramBroken);
+    // The blocks are read again only where a jump row or a line without a statement asks.
+    let (na, nb) = (rows(changes, true), rows(changes, false));
+    let open = |ra: &std::ops::Range<u32>, s: &[Stmt], n: &BTreeMap<u32, usize>| ra.clone().any(|l| !holds(s, l) && !n.contains_key(&l));
+    let need = changes.iter().any(flows) || runs.iter().any(|(ra, rb)| open(ra, sa, &na) || open(rb, sb, &nb));
+    let ((label_a, jump_a), (label_b, jump_b)) =
+        if need { (jumps_of(ta, da, &same_a), jumps_of(tb, db, &same_b)) } else { Default::default() };
+    for c in changes.iter_mut().filter(|c| flows(c)) {
+        let mut targets: Vec<Target> = named(c, true)
+            .filter_map(|l| jump_a.get(&l))
+            .chain(named(c, false).filter_map(|l| jump_b.get(&l)))
+            .flatten()
+            .cloned()
+            .collect();
+        targets.sort();
+        targets.dedup();
+        let mut at = Vec::new();
+        for t in &targets {
+            at.extend(label_a.iter().filter(|(u, _)| u == t).map(|&(_, l)| (Some(l), None)));
+            at.extend(label_b.iter().filter(|(u, _)| u == t).map(|&(_, l)| (None, Some(l))));
+        }
+        at.retain(|a| !c.detail.at.contains(a));
+        if !at.is_empty() {
+            c.detail.at.extend(at);
+            c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+            c.detail.at.dedup();
+        }
+    }
+    let (na, nb) = (rows(changes, true), rows(changes, false));
+    let label_lines = |labels: &[(Target, u32)]| labels.iter().map(|&(_, l)| l).collect::<std::collections::BTreeSet<u32>>();
+    let (lla, llb) = (label_lines(&label_a), label_lines(&label_b));
+    // The lines the condition rows name, by line, and the texts' lines, where there are any.
+    let conditions_of = |original: bool| {
+        let mut v: Vec<(u32, usize)> = Vec::new();
+        for (k, c) in changes.iter().enumerate().filter(|(_, c)| c.kind == ChangeKind::FlowChanged) {
+            v.extend(named(c, original).map(|l| (l, k)));
+        }
+        v.sort_unstable();
+        v
+    };
+    let (ca, cb) = (conditions_of(true), conditions_of(false));
+    let (ea, eb): (Vec<&str>, Vec<&str>) =
+        if ca.is_empty() && cb.is_empty() { Default::default() } else { (ta.split('\n').collect(), tb.split('\n').collect()) };
     let mut touched = vec![false; changes.len()];
-    let row_at =
-        |original: bool, l: u32| if original { na.get(l as usize).copied().flatten() } else { nb.get(l as usize).copied().flatten() };
+    let row_at = |original: bool, l: u32| if original { na.get(&l).copied() } else { nb.get(&l).copied() };
+    let within = |v: &[(u32, usize)], r: &std::ops::Range<u32>| {
+        let from = v.partition_point(|&(l, _)| l < r.start);
+        let to = v.partition_point(|&(l, _)| l < r.end);
+        v[from..to].to_vec()
+    };
     for (ra, rb) in runs {
         // Statements only re-indented under a condition a row changes: each original one
         // paired with the next edited one of the same text, in order, and named by the row
         // of a condition in the run nearest to it.
-        let mut conditions: Vec<(usize, u32)> = Vec::new();
-        for (k, c) in changes.iter().enumerate().filter(|(_, c)| c.kind == ChangeKind::FlowChanged) {
-            conditions.extend(named(c, true).filter(|l| ra.contains(l)).map(|l| (k, l - ra.start)));
-            conditions.extend(named(c, false).filter(|l| rb.contains(l)).map(|l| (k, l - rb.start)));
-        }
+        let conditions: Vec<(usize, u32)> = within(&ca, &ra)
+            .into_iter()
+            .map(|(l, k)| (k, l - ra.start))
+            .chain(within(&cb, &rb).into_iter().map(|(l, k)| (k, l - rb.start)))
+            .collect();
         if !conditions.is_empty() && !ra.is_empty() && !rb.is_empty() {
-            let (ea, eb) = (lines_in(ta, &ra), lines_in(tb, &rb));
             let mut from = rb.start;
-            for l in ra.clone().filter(|&l| ha[l as usize] && na[l as usize].is_none()) {
-                let text = ea[(l - ra.start) as usize].trim();
-                let Some(m) = (from..rb.end).find(|&m| hb[m as usize] && eb[(m - rb.start) as usize].trim() == text) else { continue };
+            for l in ra.clone().filter(|&l| holds(sa, l) && !na.contains_key(&l)) {
+                let text = trimmed(&ea, l);
+                let Some(m) = (from..rb.end).find(|&m| holds(sb, m) && trimmed(&eb, m) == text) else { continue };
                 from = m + 1;
-                if nb[m as usize].is_some() {
+                if nb.contains_key(&m) {
                     continue;
                 }
                 let place = l - ra.start;
@@ -187,17 +197,19 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
                 touched[k] = true;
             }
         }
-        for (original, range, other, held, names) in [(true, &ra, &rb, &ha, &na), (false, &rb, &ra, &hb, &nb)] {
-            let labels = if original { &label_a } else { &label_b };
+        for (original, range, other, stmts, names) in [(true, &ra, &rb, sa, &na), (false, &rb, &ra, sb, &nb)] {
+            let labels = if original { &lla } else { &llb };
             for l in range.clone() {
-                if held.get(l as usize).copied().unwrap_or(true) || names.get(l as usize).is_none_or(Option::is_some) {
+                if holds(stmts, l) || names.contains_key(&l) {
                     continue;
                 }
                 // The row of the line in the same place of the other side (git shows the two
-                // as one line changed); for a label, the row of the block it heads.
+                // as one line changed); for a label in a run only added or removed (a section
+                // with its own block number, `N0034`), the row of the block it heads. A label
+                // renumbered in place is a respelling.
                 let across = other.start + (l - range.start);
                 let k = if other.contains(&across) { row_at(!original, across) } else { None };
-                let k = k.or_else(|| labels.iter().any(|&(_, x)| x == l).then(|| row_at(original, l + 1)).flatten());
+                let k = k.or_else(|| (other.is_empty() && labels.contains(&l)).then(|| row_at(original, l + 1)).flatten());
                 let Some(k) = k else { continue };
                 // The place of a statement the row tells removed (added) there: the pair
                 // completed; else a line of its own.

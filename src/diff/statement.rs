@@ -811,9 +811,12 @@ pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
 /// git's diff, so that a row names the lines the edit's author sees changed.
 pub fn hunks_in(a: &[Stmt], b: &[Stmt], texts: Option<(&str, &str)>) -> Vec<Hunk> {
     let (ha, hb): (Vec<u64>, Vec<u64>) = (a.iter().map(|s| s.hash).collect(), b.iter().map(|s| s.hash).collect());
-    let pairs = match texts {
-        Some(texts) => along_lines(a, b, (&ha, &hb), texts),
-        None => compact(&ha, &hb, &matches(&ha, &hb)),
+    let plain = compact(&ha, &hb, &matches(&ha, &hb));
+    // The pairing along the lines only where it pairs as many statements: where respelled
+    // lines leave few equal, git's pairing of those few may cross the statements' own.
+    let pairs = match texts.map(|t| along_lines(a, b, (&ha, &hb), t)) {
+        Some(along) if along.len() >= plain.len() => along,
+        _ => plain,
     };
     let mut out = Vec::new();
     let (mut i, mut j) = (0, 0);
