@@ -9,7 +9,9 @@
 //! becomes one new label in every statement that names it, the old label is defined in the
 //! original and named nowhere in the edited program, the new one defined in the edited program
 //! and named nowhere in the original. A call of a program in another file renamed alone
-//! (`M98 P1` → `M98 P1000`, no `O1000` here) calls another program: a change.
+//! (`M98 P1` → `M98 P1000`, no `O1000` here) calls another program: a change; so is a
+//! subroutine called by name (`o<name> sub`) renamed where its file does not call it (its
+//! callers, in other files, call it by that name).
 
 use std::collections::{BTreeMap, BTreeSet};
 

@@ -1529,6 +1529,26 @@ mod tests {
         assert_eq!(h, [Hunk { original: 100..100, edited: 100..101 }, Hunk { original: 2500..2501, edited: 2501..2502 }]);
     }
 
+    /// A removed run split by a statement equal to the one after it is one run, where git
+    /// puts it: the longest common subsequence keeps the earlier of two equal statements
+    /// (`g0x.2` in the middle of a removed section, and again after it), git the later.
+    #[test]
+    fn runs_slide_as_git_slides_them() {
+        let s = |v: &[u64]| {
+            v.iter().map(|&h| Stmt { line: 0, last: 0, offset: 0, hash: h, class: Class::Machining, moves: 0 }).collect::<Vec<_>>()
+        };
+        // 1 2 | 3 4 5 2 6 | 2 7 8  →  1 2 2 7 9
+        let h = hunks(&s(&[1, 2, 3, 4, 5, 2, 6, 2, 7, 8]), &s(&[1, 2, 2, 7, 9]));
+        assert_eq!(h, [Hunk { original: 2..7, edited: 2..2 }, Hunk { original: 9..10, edited: 4..5 }]);
+        // Along the texts: the statement on a line git keeps pairs with that line's.
+        let (a, b) = ("M0\nX1\nM0\nX2\n", "(M0)\nX1\nM0\nX2\n");
+        let st = |lines: &[(u32, u64)]| {
+            lines.iter().map(|&(l, h)| Stmt { line: l, last: l, offset: 0, hash: h, class: Class::Machining, moves: 0 }).collect::<Vec<_>>()
+        };
+        let h = hunks_in(&st(&[(1, 5), (2, 1), (3, 5), (4, 2)]), &st(&[(2, 1), (3, 5), (4, 2)]), Some((a, b)));
+        assert_eq!(h, [Hunk { original: 0..1, edited: 0..0 }]);
+    }
+
     /// A comparison in a comment or a message is text: `(ABORT, … >= 0 and <= 4)` is one
     /// piece and no assignment (held8 r342 read it as a variable set); a named parameter's
     /// brackets outside parentheses still are brackets.
