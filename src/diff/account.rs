@@ -78,7 +78,7 @@ pub(super) fn account(
     let ((sa, fa), (sb, fb)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
     let (fa, fb) = (verdict::joined(findings.0, fa), verdict::joined(findings.1, fb));
     let (fa, fb) = (verdict::library_stops(&fa, a.dialect), verdict::library_stops(&fb, b.dialect));
-    let hunks = statement::hunks(&sa, &sb);
+    let hunks = statement::hunks_in(&sa, &sb, Some((a.text, b.text)));
     // Whether the original cuts anything with a feed, where the control removes material.
     let cuts = || {
         a.plan
@@ -128,6 +128,7 @@ pub(super) fn account(
     }
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
+    super::place::name_places(changes, (a.text, b.text), (&sa, &sb), (a.dialect, b.dialect));
 }
 
 /// Whether the two programs differ only inside `( )` remarks, read as if a remark's own
@@ -362,7 +363,7 @@ fn merge_repeats(changes: &mut Vec<Change>) {
 /// The differing statements of `a` and `b` no change in `changes` names (see [`uncovered`]).
 pub(super) fn unaccounted(a: Program<'_>, b: Program<'_>, changes: &[Change]) -> Vec<(Option<u32>, Option<u32>)> {
     let ((sa, _), (sb, _)) = (statement::read(a.text, a.dialect), statement::read(b.text, b.dialect));
-    let hunks = statement::hunks(&sa, &sb);
+    let hunks = statement::hunks_in(&sa, &sb, Some((a.text, b.text)));
     let (items, _) = itemize(&hunks, a, b, &sa, &sb);
     let same = same_machining(&items, &hunks, a, b, &sa, &sb);
     uncovered(changes, &hunks, &sa, &sb, &same)

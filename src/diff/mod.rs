@@ -16,7 +16,10 @@
 //! spelling: no block numbers, comments, blanks, case or number spellings, no program name;
 //! messages and aborts kept; the dictionary's `log` comment directives and `output` codes mark
 //! statements that only write text) and aligns them (prefix and suffix, a full LCS up to 4M
-//! cells, patience anchors beyond: near-linear whatever the edit). `account.rs` locates each
+//! cells, patience anchors beyond: near-linear whatever the edit; statements on lines git's
+//! diff keeps anchor the pairing where that pairs as many, and runs slide as git slides them).
+//! `place.rs` names, in the rows, the lines git shows beside them that hold no statement (a
+//! statement commented out, a jump's label, a condition's re-indented body). `account.rs` locates each
 //! plan change at the differing statements of its workingstep whose words show it, turns every
 //! other differing statement into a statement change (variables, call arguments, words, jumps;
 //! output apart), names unexplained plan changes as their effect, tells a change carried into
@@ -61,6 +64,7 @@ mod control;
 mod follow;
 mod height;
 mod moved;
+mod place;
 mod rename;
 mod retrace;
 mod setup;

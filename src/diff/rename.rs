@@ -9,7 +9,9 @@
 //! becomes one new label in every statement that names it, the old label is defined in the
 //! original and named nowhere in the edited program, the new one defined in the edited program
 //! and named nowhere in the original. A call of a program in another file renamed alone
-//! (`M98 P1` → `M98 P1000`, no `O1000` here) calls another program: a change.
+//! (`M98 P1` → `M98 P1000`, no `O1000` here) calls another program: a change; so is a
+//! subroutine called by name (`o<name> sub`) renamed where its file does not call it (its
+//! callers, in other files, call it by that name).
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -125,7 +127,12 @@ pub(super) fn renamed(pairs: &[(usize, usize)], (ta, tb): (&str, &str), (sa, sb)
     let whole = map.iter().all(|(o, n)| {
         ua.0.get(o).is_some_and(|u| u.defined) && !ua.1.contains_key(n) && ub.0.get(n).is_some_and(|u| u.defined) && !ub.1.contains_key(o)
     });
-    if !whole {
+    // A subroutine called by its name (`o<name> sub` … `o<name> endsub`) that no statement
+    // here calls is called from other programs by that name, which they must then change:
+    // LinuxCNC finds `o<name> call`'s subroutine in the file `name.ngc` holding `o<name> sub`
+    // (LinuxCNC manual, O Codes, "Calling Files"). Its rename is a change, not a respelling.
+    let called_elsewhere = map.keys().any(|o| o.starts_with("O<") && !ua.0.get(o).is_some_and(|u| u.called));
+    if !whole || called_elsewhere {
         return Vec::new();
     }
     taken
@@ -136,6 +143,8 @@ pub(super) fn renamed(pairs: &[(usize, usize)], (ta, tb): (&str, &str), (sa, sb)
 #[derive(Clone, Copy, Debug, Default)]
 struct LabelUse {
     defined: bool,
+    /// Named by a call (or a jump, a return to it) here.
+    called: bool,
 }
 
 /// The uses in `text` of the labels of `first` and of `second` (as [`labels`] writes them),
@@ -152,6 +161,7 @@ fn label_uses(
             if set.contains(label) {
                 let u: &mut LabelUse = uses.entry(label.to_owned()).or_default();
                 u.defined |= defined;
+                u.called |= !defined;
             }
         }
     };

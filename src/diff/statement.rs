@@ -802,8 +802,22 @@ const LCS_CELLS: usize = 1 << 22;
 
 /// The runs of statements that differ between `a` and `b`, in order.
 pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
+    hunks_in(a, b, None)
+}
+
+/// The runs of statements that differ between `a` and `b`, the statements of `texts` (the two
+/// programs' texts, where known): where a statement could pair with more than one equal
+/// statement (an `M0` commented out among three), it pairs as the lines of the texts pair in
+/// git's diff, so that a row names the lines the edit's author sees changed.
+pub fn hunks_in(a: &[Stmt], b: &[Stmt], texts: Option<(&str, &str)>) -> Vec<Hunk> {
     let (ha, hb): (Vec<u64>, Vec<u64>) = (a.iter().map(|s| s.hash).collect(), b.iter().map(|s| s.hash).collect());
-    let pairs = matches(&ha, &hb);
+    let plain = compact(&ha, &hb, &matches(&ha, &hb));
+    // The pairing along the lines only where it pairs as many statements: where respelled
+    // lines leave few equal, git's pairing of those few may cross the statements' own.
+    let pairs = match texts.map(|t| along_lines(a, b, (&ha, &hb), t)) {
+        Some(along) if along.len() >= plain.len() => along,
+        _ => plain,
+    };
     let mut out = Vec::new();
     let (mut i, mut j) = (0, 0);
     for &(x, y) in pairs.iter().chain(std::iter::once(&(a.len(), b.len()))) {
@@ -815,8 +829,204 @@ pub fn hunks(a: &[Stmt], b: &[Stmt]) -> Vec<Hunk> {
     out
 }
 
+/// The matched pairs of `a` and `b` with each run of differing items slid as git's diff
+/// slides it (`xdl_change_compact` in git's `xdiff/xdiffi.c`; the same compaction GNU diff
+/// does): among the placements of a run that are equally short edits (a run of removed
+/// statements beside an identical statement can stand one earlier or one later), the run is
+/// moved up to merge with the run before it where it can, then down as far as it goes, and
+/// back up to line up with a run of the other side where one lies in its reach. The rows then
+/// name the lines the edit's author (and `git diff`) sees as changed, and a run split by a
+/// repeated statement (`G0 X0.2` before and after a removed section) is one run.
+pub(super) fn compact(a: &[u64], b: &[u64], pairs: &[(usize, usize)]) -> Vec<(usize, usize)> {
+    let (mut ca, mut cb) = (vec![true; a.len()], vec![true; b.len()]);
+    for &(x, y) in pairs {
+        ca[x] = false;
+        cb[y] = false;
+    }
+    slide(a, &mut ca, &cb);
+    slide(b, &mut cb, &ca);
+    let kept = |c: &[bool]| c.iter().enumerate().filter(|(_, c)| !**c).map(|(i, _)| i).collect::<Vec<_>>();
+    let (ka, kb) = (kept(&ca), kept(&cb));
+    // The compaction keeps each side's count of unchanged items; they pair in order.
+    if ka.len() != kb.len() {
+        return pairs.to_vec();
+    }
+    ka.into_iter().zip(kb).collect()
+}
+
+/// The hash of each line of `text` (a line's end `\r` left out), exactly as written.
+pub(super) fn line_hashes(text: &str) -> Vec<u64> {
+    text.split('\n')
+        .map(|l| {
+            let mut h = std::hash::DefaultHasher::new();
+            l.strip_suffix('\r').unwrap_or(l).hash(&mut h);
+            h.finish()
+        })
+        .collect()
+}
+
+/// The matched statements of `a` and `b`: first the statements on lines that git's diff of
+/// the two texts keeps (a line the same, its statement the same), then between two of those
+/// the rest by their longest common subsequence, slid as git slides a run ([`compact`]).
+fn along_lines(a: &[Stmt], b: &[Stmt], (ha, hb): (&[u64], &[u64]), (ta, tb): (&str, &str)) -> Vec<(usize, usize)> {
+    let (la, lb) = (line_hashes(ta), line_hashes(tb));
+    let kept = compact(&la, &lb, &matches(&la, &lb));
+    // The statements on each line (1-based lines), those on one line alone.
+    let on_lines = |s: &[Stmt], lines: usize| {
+        let mut on: Vec<Option<Range<usize>>> = vec![None; lines + 1];
+        let mut k = 0;
+        while k < s.len() {
+            let mut e = k + 1;
+            while e < s.len() && s[e].line == s[k].line {
+                e += 1;
+            }
+            let line = s[k].line as usize;
+            if s[k..e].iter().all(|t| t.last == t.line) && line < on.len() {
+                on[line] = Some(k..e);
+            }
+            k = e;
+        }
+        on
+    };
+    let (oa, ob) = (on_lines(a, la.len()), on_lines(b, lb.len()));
+    let mut anchors: Vec<(usize, usize)> = Vec::new();
+    for (x, y) in kept {
+        let (Some(Some(ra)), Some(Some(rb))) = (oa.get(x + 1), ob.get(y + 1)) else { continue };
+        if ra.len() != rb.len() || ra.clone().zip(rb.clone()).any(|(i, j)| ha[i] != hb[j]) {
+            continue;
+        }
+        if anchors.last().is_some_and(|&(i, j)| i >= ra.start || j >= rb.start) {
+            continue;
+        }
+        anchors.extend(ra.clone().zip(rb.clone()));
+    }
+    let mut out = Vec::new();
+    let (mut pa, mut pb) = (0, 0);
+    for (x, y) in anchors.into_iter().chain(std::iter::once((a.len(), b.len()))) {
+        let (sa, sb) = (&ha[pa..x], &hb[pb..y]);
+        out.extend(compact(sa, sb, &matches(sa, sb)).into_iter().map(|(i, j)| (pa + i, pb + j)));
+        if x < a.len() && y < b.len() {
+            out.push((x, y));
+        }
+        (pa, pb) = (x + 1, y + 1);
+    }
+    out
+}
+
+/// A run of changed items `start..end` of one side (empty where the run is between two
+/// unchanged items).
+#[derive(Clone, Copy)]
+struct Group {
+    start: usize,
+    end: usize,
+}
+
+impl Group {
+    fn first(changed: &[bool]) -> Group {
+        let end = changed.iter().position(|&c| !c).unwrap_or(changed.len());
+        Group { start: 0, end }
+    }
+
+    /// The next group, after the unchanged item at `end`; `false` at the end.
+    fn next(&mut self, changed: &[bool]) -> bool {
+        if self.end >= changed.len() {
+            return false;
+        }
+        self.start = self.end + 1;
+        self.end = self.start;
+        while self.end < changed.len() && changed[self.end] {
+            self.end += 1;
+        }
+        true
+    }
+
+    /// The group before, before the unchanged item at `start - 1`; `false` at the start.
+    fn previous(&mut self, changed: &[bool]) -> bool {
+        if self.start == 0 {
+            return false;
+        }
+        self.end = self.start - 1;
+        self.start = self.end;
+        while self.start > 0 && changed[self.start - 1] {
+            self.start -= 1;
+        }
+        true
+    }
+
+    /// One item down where the first item of the group equals the one after it (merging
+    /// with the group after).
+    fn down(&mut self, items: &[u64], changed: &mut [bool]) -> bool {
+        if self.end >= items.len() || items[self.start] != items[self.end] {
+            return false;
+        }
+        changed[self.start] = false;
+        changed[self.end] = true;
+        self.start += 1;
+        self.end += 1;
+        while self.end < items.len() && changed[self.end] {
+            self.end += 1;
+        }
+        true
+    }
+
+    /// One item up where the last item of the group equals the one before it (merging with
+    /// the group before).
+    fn up(&mut self, items: &[u64], changed: &mut [bool]) -> bool {
+        if self.start == 0 || items[self.start - 1] != items[self.end - 1] {
+            return false;
+        }
+        self.start -= 1;
+        self.end -= 1;
+        changed[self.start] = true;
+        changed[self.end] = false;
+        while self.start > 0 && changed[self.start - 1] {
+            self.start -= 1;
+        }
+        true
+    }
+}
+
+/// Slides the changed runs of `items` (`changed`), with `other` the other side's changes.
+fn slide(items: &[u64], changed: &mut [bool], other: &[bool]) {
+    let (mut g, mut go) = (Group::first(changed), Group::first(other));
+    loop {
+        if g.end > g.start {
+            let (mut earliest_end, mut matching);
+            loop {
+                let size = g.end - g.start;
+                matching = None;
+                while g.up(items, changed) {
+                    go.previous(other);
+                }
+                earliest_end = g.end;
+                if go.end > go.start {
+                    matching = Some(g.end);
+                }
+                while g.down(items, changed) {
+                    go.next(other);
+                    if go.end > go.start {
+                        matching = Some(g.end);
+                    }
+                }
+                if size == g.end - g.start {
+                    break;
+                }
+            }
+            // Back to the last place it lines up with a run of the other side.
+            if g.end != earliest_end && matching.is_some() {
+                while go.end == go.start && g.up(items, changed) {
+                    go.previous(other);
+                }
+            }
+        }
+        if !g.next(changed) || !go.next(other) {
+            break;
+        }
+    }
+}
+
 /// Matched index pairs of equal items, increasing on both sides.
-fn matches(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
+pub(super) fn matches(a: &[u64], b: &[u64]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     // Work: (range of a, range of b), taken in order.
     let mut work = vec![(0..a.len(), 0..b.len())];
@@ -1317,6 +1527,26 @@ mod tests {
         b.insert(100, 77_777);
         let h = hunks(&s(&a), &s(&b));
         assert_eq!(h, [Hunk { original: 100..100, edited: 100..101 }, Hunk { original: 2500..2501, edited: 2501..2502 }]);
+    }
+
+    /// A removed run split by a statement equal to the one after it is one run, where git
+    /// puts it: the longest common subsequence keeps the earlier of two equal statements
+    /// (`g0x.2` in the middle of a removed section, and again after it), git the later.
+    #[test]
+    fn runs_slide_as_git_slides_them() {
+        let s = |v: &[u64]| {
+            v.iter().map(|&h| Stmt { line: 0, last: 0, offset: 0, hash: h, class: Class::Machining, moves: 0 }).collect::<Vec<_>>()
+        };
+        // 1 2 | 3 4 5 2 6 | 2 7 8  →  1 2 2 7 9
+        let h = hunks(&s(&[1, 2, 3, 4, 5, 2, 6, 2, 7, 8]), &s(&[1, 2, 2, 7, 9]));
+        assert_eq!(h, [Hunk { original: 2..7, edited: 2..2 }, Hunk { original: 9..10, edited: 4..5 }]);
+        // Along the texts: the statement on a line git keeps pairs with that line's.
+        let (a, b) = ("M0\nX1\nM0\nX2\n", "(M0)\nX1\nM0\nX2\n");
+        let st = |lines: &[(u32, u64)]| {
+            lines.iter().map(|&(l, h)| Stmt { line: l, last: l, offset: 0, hash: h, class: Class::Machining, moves: 0 }).collect::<Vec<_>>()
+        };
+        let h = hunks_in(&st(&[(1, 5), (2, 1), (3, 5), (4, 2)]), &st(&[(2, 1), (3, 5), (4, 2)]), Some((a, b)));
+        assert_eq!(h, [Hunk { original: 0..1, edited: 0..0 }]);
     }
 
     /// A comparison in a comment or a message is text: `(ABORT, … >= 0 and <= 4)` is one

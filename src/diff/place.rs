@@ -1,0 +1,234 @@
+//! The lines of an edit's place: a row names the lines `git diff` shows changed beside the
+//! statement it tells, where those lines hold no statement.
+//!
+//! A statement commented out (`o<task>call` → `;o<task>call`, `M0 (…)` → `(M0 …)`) or written
+//! over a blank line is, to the edit's author, one line changed: the row that tells the
+//! statement removed (or added) names the comment or blank line that took its place in the
+//! other program too. The texts are paired line by line as git pairs them (the longest common
+//! subsequence of exact lines, runs slid as git slides them); in each run of lines that
+//! differ on both sides, every line without a statement that no row names is named by the
+//! row of that run nearest to it. A run only removed or only added names nothing more: its
+//! comments went with its statements. Statement lines are left alone: the accounting names
+//! them where they differ, but for one case: a statement only re-indented in a run a row
+//! names (the body of a condition changed or removed, `o<l1> if` taken away from around
+//! `T#<toolno> M6 G43`) is named by that row, which governs it.
+//!
+//! A row that tells a jump (`GOTO 10` removed, `GOTO2004` → `GOTO1005`, a jump to a missing
+//! block) names, in each program, the line of the block it jumps to where that line differs
+//! (the label `N10` taken out with its jump, a new `N1005`): the jump and its target are one
+//! edit (Fanuc, Siemens and Heidenhain manuals: a jump goes to the block of that number or
+//! label). That is done first, so that the label's run then names its other side.
+
+use std::collections::BTreeMap;
+
+use super::statement::{self, Stmt};
+use super::{Change, ChangeKind};
+use crate::dialect::{Dialect, Statement as DStatement};
+
+/// The lines of one side a change names: its first to last line, and its `at`.
+fn named(c: &Change, original: bool) -> impl Iterator<Item = u32> + '_ {
+    let (first, end) = if original { (c.original_line, c.detail.original_line_end) } else { (c.line, c.detail.line_end) };
+    let run = first.map(|f| f..=end.unwrap_or(f).max(f)).into_iter().flatten();
+    run.chain(c.detail.at.iter().filter_map(move |&(o, e)| if original { o } else { e }))
+}
+
+/// A jump's target: a block number or a label's name (upper case).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Target {
+    Number(u32),
+    Name(String),
+}
+
+/// The blocks a program's jumps may land on (target, line), and the targets of the jumps on
+/// each line.
+/// The labels of a program (target, line) and the targets of the jumps on each line.
+type Jumps = (Vec<(Target, u32)>, BTreeMap<u32, Vec<Target>>);
+
+/// Labels are kept only on the lines that differ (`!same[line]`).
+fn jumps_of(text: &str, dialect: &Dialect, same: &[bool]) -> Jumps {
+    let mut labels = Vec::new();
+    let mut jumps: BTreeMap<u32, Vec<Target>> = BTreeMap::new();
+    let slice = |r: crate::text::TextRange| text.get(r.start as usize..r.end as usize).unwrap_or("").trim().to_ascii_uppercase();
+    statement::visit(text, dialect, |block, _| {
+        if !same.get(block.line as usize).copied().unwrap_or(true) {
+            if let Some(n) = block.number {
+                labels.push((Target::Number(n), block.line));
+            }
+            if let Some(r) = block.label {
+                labels.push((Target::Name(slice(r)), block.line));
+            }
+        }
+        let Some(c) = block.control.as_ref() else { return };
+        let goto = |s: Option<DStatement>| {
+            matches!(
+                s,
+                Some(DStatement::Goto | DStatement::GotoForward | DStatement::GotoBack | DStatement::GotoQuiet | DStatement::GotoLabel)
+            )
+        };
+        if !(goto(c.statement) || goto(c.then)) {
+            return;
+        }
+        let number = c.target.and_then(|e| match block.exprs.get(e as usize) {
+            Some(crate::syntax::Expr::Num(v)) if *v >= 0.0 && v.fract() == 0.0 && *v <= 99_999_999.0 => Some(*v as u32),
+            _ => None,
+        });
+        let target = number.map(Target::Number).or_else(|| c.name.map(|r| Target::Name(slice(r))));
+        if let Some(t) = target {
+            jumps.entry(block.line).or_default().push(t);
+        }
+    });
+    (labels, jumps)
+}
+
+/// Line `l` (1-based) of `lines`, without the blanks around it.
+fn trimmed<'t>(lines: &[&'t str], l: u32) -> &'t str {
+    lines.get((l as usize).wrapping_sub(1)).map_or("", |t| t.trim())
+}
+
+/// Names, in `changes`, the lines without a statement that differ beside the lines they
+/// name (see the module doc).
+pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, sb): (&[Stmt], &[Stmt]), (da, db): (&Dialect, &Dialect)) {
+    if changes.is_empty() {
+        return;
+    }
+    let (la, lb) = (statement::line_hashes(ta), statement::line_hashes(tb));
+    let kept = statement::compact(&la, &lb, &statement::matches(&la, &lb));
+    // Whether a line (1-based) is one git's diff keeps.
+    let (mut same_a, mut same_b) = (vec![false; la.len() + 2], vec![false; lb.len() + 2]);
+    for &(x, y) in &kept {
+        same_a[x + 1] = true;
+        same_b[y + 1] = true;
+    }
+    // Lines (1-based) that hold a statement, or a part of one (the statements are in order).
+    let holds = |s: &[Stmt], l: u32| {
+        let i = s.partition_point(|t| t.last.max(t.line) < l);
+        i < s.len() && s[i].line <= l
+    };
+    // The first row naming each line of a side.
+    let rows = |changes: &[Change], original: bool| {
+        let mut v: BTreeMap<u32, usize> = BTreeMap::new();
+        for (k, c) in changes.iter().enumerate() {
+            for l in named(c, original) {
+                v.entry(l).or_insert(k);
+            }
+        }
+        v
+    };
+    // The runs of lines that differ, 1-based.
+    let mut runs = Vec::new();
+    let (mut i, mut j) = (0usize, 0usize);
+    for &(x, y) in kept.iter().chain(std::iter::once(&(la.len(), lb.len()))) {
+        if x > i || y > j {
+            runs.push(((i + 1) as u32..(x + 1) as u32, (j + 1) as u32..(y + 1) as u32));
+        }
+        (i, j) = (x + 1, y + 1);
+    }
+    let flows = |c: &Change| matches!(c.kind, ChangeKind::FlowChanged | ChangeKind::ProgramFixed | ChangeKind::ProgramBroken);
+    // The blocks are read again only where a jump row or a line without a statement asks.
+    let (na, nb) = (rows(changes, true), rows(changes, false));
+    let open = |ra: &std::ops::Range<u32>, s: &[Stmt], n: &BTreeMap<u32, usize>| ra.clone().any(|l| !holds(s, l) && !n.contains_key(&l));
+    let need = changes.iter().any(flows) || runs.iter().any(|(ra, rb)| open(ra, sa, &na) || open(rb, sb, &nb));
+    let ((label_a, jump_a), (label_b, jump_b)) =
+        if need { (jumps_of(ta, da, &same_a), jumps_of(tb, db, &same_b)) } else { Default::default() };
+    for c in changes.iter_mut().filter(|c| flows(c)) {
+        let mut targets: Vec<Target> = named(c, true)
+            .filter_map(|l| jump_a.get(&l))
+            .chain(named(c, false).filter_map(|l| jump_b.get(&l)))
+            .flatten()
+            .cloned()
+            .collect();
+        targets.sort();
+        targets.dedup();
+        let mut at = Vec::new();
+        for t in &targets {
+            at.extend(label_a.iter().filter(|(u, _)| u == t).map(|&(_, l)| (Some(l), None)));
+            at.extend(label_b.iter().filter(|(u, _)| u == t).map(|&(_, l)| (None, Some(l))));
+        }
+        at.retain(|a| !c.detail.at.contains(a));
+        if !at.is_empty() {
+            c.detail.at.extend(at);
+            c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+            c.detail.at.dedup();
+        }
+    }
+    let (na, nb) = (rows(changes, true), rows(changes, false));
+    let label_lines = |labels: &[(Target, u32)]| labels.iter().map(|&(_, l)| l).collect::<std::collections::BTreeSet<u32>>();
+    let (lla, llb) = (label_lines(&label_a), label_lines(&label_b));
+    // The lines the condition rows name, by line, and the texts' lines, where there are any.
+    let conditions_of = |original: bool| {
+        let mut v: Vec<(u32, usize)> = Vec::new();
+        for (k, c) in changes.iter().enumerate().filter(|(_, c)| c.kind == ChangeKind::FlowChanged) {
+            v.extend(named(c, original).map(|l| (l, k)));
+        }
+        v.sort_unstable();
+        v
+    };
+    let (ca, cb) = (conditions_of(true), conditions_of(false));
+    let (ea, eb): (Vec<&str>, Vec<&str>) =
+        if ca.is_empty() && cb.is_empty() { Default::default() } else { (ta.split('\n').collect(), tb.split('\n').collect()) };
+    let mut touched = vec![false; changes.len()];
+    let row_at = |original: bool, l: u32| if original { na.get(&l).copied() } else { nb.get(&l).copied() };
+    let within = |v: &[(u32, usize)], r: &std::ops::Range<u32>| {
+        let from = v.partition_point(|&(l, _)| l < r.start);
+        let to = v.partition_point(|&(l, _)| l < r.end);
+        v[from..to].to_vec()
+    };
+    for (ra, rb) in runs {
+        // Statements only re-indented under a condition a row changes: each original one
+        // paired with the next edited one of the same text, in order, and named by the row
+        // of a condition in the run nearest to it.
+        let conditions: Vec<(usize, u32)> = within(&ca, &ra)
+            .into_iter()
+            .map(|(l, k)| (k, l - ra.start))
+            .chain(within(&cb, &rb).into_iter().map(|(l, k)| (k, l - rb.start)))
+            .collect();
+        if !conditions.is_empty() && !ra.is_empty() && !rb.is_empty() {
+            let mut from = rb.start;
+            for l in ra.clone().filter(|&l| holds(sa, l) && !na.contains_key(&l)) {
+                let text = trimmed(&ea, l);
+                let Some(m) = (from..rb.end).find(|&m| holds(sb, m) && trimmed(&eb, m) == text) else { continue };
+                from = m + 1;
+                if nb.contains_key(&m) {
+                    continue;
+                }
+                let place = l - ra.start;
+                let Some(&(k, _)) = conditions.iter().min_by_key(|&&(k, p)| (p.abs_diff(place), k)) else { continue };
+                changes[k].detail.at.push((Some(l), Some(m)));
+                touched[k] = true;
+            }
+        }
+        for (original, range, other, stmts, names) in [(true, &ra, &rb, sa, &na), (false, &rb, &ra, sb, &nb)] {
+            let labels = if original { &lla } else { &llb };
+            for l in range.clone() {
+                if holds(stmts, l) || names.contains_key(&l) {
+                    continue;
+                }
+                // The row of the line in the same place of the other side (git shows the two
+                // as one line changed); for a label in a run only added or removed (a section
+                // with its own block number, `N0034`), the row of the block it heads. A label
+                // renumbered in place is a respelling.
+                let across = other.start + (l - range.start);
+                let k = if other.contains(&across) { row_at(!original, across) } else { None };
+                let k = k.or_else(|| (other.is_empty() && labels.contains(&l)).then(|| row_at(original, l + 1)).flatten());
+                let Some(k) = k else { continue };
+                // The place of a statement the row tells removed (added) there: the pair
+                // completed; else a line of its own.
+                let open = changes[k]
+                    .detail
+                    .at
+                    .iter_mut()
+                    .find(|(o, e)| if original { o.is_none() && *e == Some(across) } else { e.is_none() && *o == Some(across) });
+                match open {
+                    Some(at) if original => at.0 = Some(l),
+                    Some(at) => at.1 = Some(l),
+                    None => changes[k].detail.at.push(if original { (Some(l), None) } else { (None, Some(l)) }),
+                }
+                touched[k] = true;
+            }
+        }
+    }
+    for c in changes.iter_mut().zip(touched).filter_map(|(c, t)| t.then_some(c)) {
+        c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+        c.detail.at.dedup();
+    }
+}
