@@ -97,6 +97,16 @@ fn kinematics_types(line: &str) -> Option<Vec<Kinematics>> {
     Some(types)
 }
 
+/// The rotary axes (A, B, C) a kinematics module turns the other way from ISO 841: LinuxCNC's
+/// `5axiskins` (the XYZBC bridge mill) its B (the module's notes: "the direction of the tilt
+/// axis is the opposite of the conventional axis direction"; its forward kinematics put the
+/// tool at the polar angle 180° - B from Z, azimuth C, so B+90 at C0 points the tool from the
+/// holder towards +X, where ISO 841's B+90 points it towards -X).
+fn reversed_rotary(line: &str) -> [bool; 3] {
+    let module = line.split_whitespace().next().unwrap_or_default().to_ascii_lowercase();
+    [false, module == "5axiskins", false]
+}
+
 /// The analog output a HALCMD line wires to `motion.switchkins-type`:
 /// `net :kinstype-select <= motion.analog-out-03 => motion.switchkins-type`.
 fn switch_output(halcmd: &str) -> Option<u32> {
@@ -136,8 +146,10 @@ pub fn parse(text: &str, ini: &Path) -> Option<MachineConfig> {
         (Some(types), Some(output)) => Some(KinematicsSwitch { codes: vec![('M', 670), ('M', 680)], output, types }),
         _ => None,
     };
+    let reversed_rotary = get("KINS", "KINEMATICS").next().map_or([false; 3], reversed_rotary);
     let source = ini.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    Some(MachineConfig { ini: ini.to_path_buf(), setup: MachineSetup { remaps, hal_pins, kinematics, source }, subroutine_dirs })
+    let setup = MachineSetup { remaps, hal_pins, kinematics, reversed_rotary, source };
+    Some(MachineConfig { ini: ini.to_path_buf(), setup, subroutine_dirs })
 }
 
 /// Reads the INI file at `ini`.

@@ -24,6 +24,11 @@ pub struct MachineSetup {
     pub hal_pins: bool,
     /// The switch of the machine's kinematics, where it has one.
     pub kinematics: Option<KinematicsSwitch>,
+    /// The rotary axes (A, B, C) whose positive turn tilts the tool the other way from ISO
+    /// 841 on this machine's kinematics (LinuxCNC `5axiskins`: its B, "the direction of the
+    /// tilt axis is the opposite of the conventional axis direction", its model putting the
+    /// tool at the polar angle 180° - B): the tool axis the rotary axes give is read so.
+    pub reversed_rotary: [bool; 3],
     /// Where the setup was read (the INI's name), for the notes that name it.
     pub source: String,
 }
@@ -71,7 +76,7 @@ impl MachineSetup {
 
     /// Whether nothing is set.
     pub fn is_empty(&self) -> bool {
-        self.remaps.is_empty() && !self.hal_pins && self.kinematics.is_none()
+        self.remaps.is_empty() && !self.hal_pins && self.kinematics.is_none() && self.reversed_rotary == [false; 3]
     }
 }
 

@@ -650,6 +650,12 @@ impl<W: std::io::Write> Writer<W> {
             && let Some(z) = ws.holes.iter().find_map(|h| h.top)
         {
             id.push_str(&format!(" surface={z}"));
+            // Holes whose cycle calls state each its own surface: every hole's top, in order
+            // (`-` where a hole's bottom lies above the surface stated, so it has none).
+            if ws.holes.iter().any(|h| h.top != ws.holes[0].top) {
+                let list: Vec<String> = ws.holes.iter().map(|h| h.top.map_or("-".to_owned(), |z| z.to_string())).collect();
+                id.push_str(&format!(" hole_tops={}", list.join(",")));
+            }
         }
         // A spindle value is signed by direction: a stopped spindle's speed, and the direction
         // of a turning spindle at speed 0, have no attribute.
@@ -808,7 +814,7 @@ impl<W: std::io::Write> Writer<W> {
             vec![Value::str(id.clone()), workpiece.clone(), Value::List(ops), place, depth]
         };
         match &f.kind {
-            FeatureKind::RoundHole { diameter, bottom, positions } => {
+            FeatureKind::RoundHole { diameter, bottom, positions, heights } => {
                 let (base_place, base_ops) = if positions.len() > 1 { ([0.0; 3], Vec::new()) } else { (f.placement, ops.clone()) };
                 let mut attrs = common(self, base_place, f.depth, base_ops);
                 if diameter.is_none() {
@@ -830,7 +836,10 @@ impl<W: std::io::Write> Writer<W> {
                     return hole;
                 }
                 let place = self.placement_ref(f.placement, Some(axis), refd);
-                let locations: Vec<Value> = positions.iter().map(|p| self.placement([p[0], p[1], 0.0], None)).collect();
+                // Each replicate at its own top along the axis, where the holes' tops differ.
+                let height = |k: usize| heights.get(k).copied().unwrap_or(0.0);
+                let locations: Vec<Value> =
+                    positions.iter().enumerate().map(|(k, p)| self.placement([p[0], p[1], height(k)], None)).collect();
                 // The pattern carries the feature's words (`top=inferred`, where its sizes came from).
                 let head = format!("F{}", f.id);
                 let pid = format!("{head} pattern{}", &id[head.len()..]);
@@ -1283,8 +1292,16 @@ impl Reader<'_> {
         } else {
             op_words.get("peck").and_then(|v| v.parse().ok())
         };
-        let surface = op_words.get("surface").and_then(|v| v.parse().ok());
-        plan::measure(&mut ws, dwell, peck, surface);
+        let surface: Option<f64> = op_words.get("surface").and_then(|v| v.parse().ok());
+        plan::measure(&mut ws, dwell, peck, &surface.map(|z| vec![(0, z)]).unwrap_or_default());
+        if let Some(tops) = op_words.get("hole_tops") {
+            let tops: Vec<Option<f64>> = tops.split(',').map(|v| v.parse().ok()).collect();
+            if tops.len() == ws.holes.len() {
+                for (h, z) in ws.holes.iter_mut().zip(tops) {
+                    h.top = z;
+                }
+            }
+        }
         // The feature, numbered in order of first machining; a turning workingstep's list
         // names its own first.
         let listed = self.attr(inst, 2)?;
@@ -1618,7 +1635,7 @@ impl Reader<'_> {
             axis: axes.map(|a| a.0),
             ref_direction: axes.map(|a| a.1),
         };
-        let hole = |h: &Instance, positions: Vec<P2>| -> Result<FeatureKind, String> {
+        let hole = |h: &Instance, positions: Vec<P2>, heights: Vec<f64>| -> Result<FeatureKind, String> {
             let d = self.tlm(self.attr(h, 5)?)?;
             let bottom = self.inst(self.attr(h, 7)?)?;
             let bottom = match bottom.name.as_str() {
@@ -1626,25 +1643,27 @@ impl Reader<'_> {
                 "CONICAL_HOLE_BOTTOM" => HoleBottom::Conical(self.real(bottom, 0)?),
                 _ => HoleBottom::Flat,
             };
-            Ok(FeatureKind::RoundHole { diameter: (d != 0.0).then_some(d), bottom, positions })
+            Ok(FeatureKind::RoundHole { diameter: (d != 0.0).then_some(d), bottom, positions, heights })
         };
         if let Some((t, _)) = turned {
             feature.kind = FeatureKind::Turned(t);
             return Ok(feature);
         }
         feature.kind = match f.name.as_str() {
-            "ROUND_HOLE" => hole(f, vec![[0.0, 0.0]])?,
+            "ROUND_HOLE" => hole(f, vec![[0.0, 0.0]], Vec::new())?,
             "GENERAL_PATTERN" => {
                 let base = self.inst(self.attr(f, 4)?)?;
                 feature.depth = -self.plane_z(self.attr(base, 4)?)?;
-                let positions = self
+                let located = self
                     .attr(f, 5)?
                     .as_list()
                     .ok_or("pattern locations")?
                     .iter()
-                    .map(|p| self.placement(p).map(|q| [q[0], q[1]]))
-                    .collect::<Result<_, _>>()?;
-                hole(base, positions)?
+                    .map(|p| self.placement(p))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let positions = located.iter().map(|q| [q[0], q[1]]).collect();
+                let heights = if located.iter().any(|q| q[2] != 0.0) { located.iter().map(|q| q[2]).collect() } else { Vec::new() };
+                hole(base, positions, heights)?
             }
             "PLANAR_FACE" => {
                 let course = self.inst(self.attr(f, 5)?)?;

@@ -82,6 +82,12 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
             let v = |v: P3| format!("{} {} {}", num(v[0]), num(v[1]), num(v[2]));
             writeln!(out, "  on a tilted face: axis {}, positions along {}", v(z), v(x))?;
         }
+        if let super::FeatureKind::RoundHole { heights, .. } = &f.kind
+            && !heights.is_empty()
+        {
+            let h: Vec<String> = heights.iter().map(|h| num(*h)).collect();
+            writeln!(out, "  each hole's top as its cycle states it, along the axis from the first: {}", h.join(", "))?;
+        }
         if !matches!(f.kind, super::FeatureKind::Toolpath) {
             writeln!(out, "  {}", feature_sources(f))?;
         }
@@ -179,7 +185,7 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
 fn shape(kind: &super::FeatureKind) -> String {
     match kind {
         super::FeatureKind::PlanarFace { length, width, .. } => format!(" {} x {}", num(*length), num(*width)),
-        super::FeatureKind::RoundHole { diameter, positions, bottom } => {
+        super::FeatureKind::RoundHole { diameter, positions, bottom, .. } => {
             let bottom = match bottom {
                 super::HoleBottom::Through => "through".to_owned(),
                 super::HoleBottom::Flat => "flat bottom".to_owned(),

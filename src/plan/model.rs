@@ -136,6 +136,13 @@ pub enum FeatureKind {
         bottom: HoleBottom,
         /// Positions relative to the placement; the first is (0, 0).
         positions: Vec<P2>,
+        /// Each position's top above the placement's along the feature's axis, where the
+        /// cycles state each hole its own surface (Heidenhain `Q203`, Siemens `RFP`: the holes
+        /// of one tool and depth on a stepped face, written one cycle each); empty where every
+        /// top is the placement's. ISO 14649-10 places each replicate of a `general_pattern`
+        /// in three dimensions, so the pattern keeps them.
+        #[serde(skip_serializing_if = "Vec::is_empty", default)]
+        heights: Vec<f64>,
     },
     /// A pocket surrounded by walls.
     ClosedPocket {

@@ -221,7 +221,7 @@ fn explicit_holes(plan: &mut ProcessPlan) {
             }
         }
         let dwell = ws.state.dwells.first().map(|d| d.seconds);
-        measure(ws, dwell, None, None);
+        measure(ws, dwell, None, &[]);
     }
 }
 
@@ -611,6 +611,10 @@ struct Builder {
     peck: Option<f64>,
     /// The workpiece surface its cycles state (`RFP`, `Q203`).
     surface: Option<f64>,
+    /// The surface each hole cycle call states, from the move (its index) at which it took
+    /// effect: a cycle written again for each hole with its own `Q203` or `RFP` (a stepped or
+    /// turned face) gives each hole its own top.
+    hole_surfaces: Vec<(usize, f64)>,
     source: TextRange,
     lines: (u32, u32),
     tentative: Option<Tentative>,
@@ -662,6 +666,12 @@ impl Builder {
         }
         if self.surface.is_none() {
             self.surface = if operation.is_hole() { hole_surface } else { mill_surface };
+        }
+        if operation.is_hole()
+            && let Some(z) = hole_surface
+            && self.hole_surfaces.last().is_none_or(|l| l.1 != z)
+        {
+            self.hole_surfaces.push((self.moves.len().saturating_sub(1), z));
         }
     }
 
@@ -1627,6 +1637,7 @@ impl<'p> Recovery<'p> {
                 dwell: None,
                 peck: None,
                 surface: None,
+                hole_surfaces: Vec::new(),
                 source: c.origin,
                 lines: (first_line, c.line),
                 tentative: None,
@@ -1820,6 +1831,7 @@ impl<'p> Recovery<'p> {
             dwell: None,
             peck: None,
             surface: None,
+            hole_surfaces: Vec::new(),
             source: t.origin.cover(c.origin),
             lines: (t.line, c.line),
             tentative: None,
@@ -1923,14 +1935,15 @@ impl<'p> Recovery<'p> {
         if self.lathe && !b.milling {
             ws.turning = Some(Box::new(b.turning));
         }
-        measure(&mut ws, b.dwell, b.peck, b.surface);
+        let surfaces = if b.hole_surfaces.is_empty() { b.surface.map(|z| vec![(0, z)]).unwrap_or_default() } else { b.hole_surfaces };
+        measure(&mut ws, b.dwell, b.peck, &surfaces);
         self.done.push(ws);
     }
 }
 
 /// Measures a workingstep again after turning recognition joined or mirrored its moves.
 fn remeasure(ws: &mut Workingstep) {
-    measure(ws, None, None, None);
+    measure(ws, None, None, &[]);
 }
 
 /// A rate rounded to 12 significant digits: feeds converted from inches carry no
@@ -1940,9 +1953,10 @@ pub fn round_sig(v: f64) -> f64 {
 }
 
 /// Fills in what a workingstep's toolpath determines: start point, depth, box, cutting
-/// length, holes (for hole making, with `dwell` at each bottom and the cycle's `peck`) and
-/// the list of feeds.
-pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surface: Option<f64>) {
+/// length, holes (for hole making, with `dwell` at each bottom, the cycle's `peck` and the
+/// surface each cycle call states, `surfaces`: from the move at its index on) and the list of
+/// feeds.
+pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surfaces: &[(usize, f64)]) {
     let mut bbox = None;
     let mut depth: Option<f64> = None;
     let mut cutting_length = 0.0;
@@ -1965,7 +1979,7 @@ pub fn measure(ws: &mut Workingstep, dwell: Option<f64>, peck: Option<f64>, surf
     // one under half a millisecond, the step controls state dwells in (Haas `P.01` read as
     // 0.01 ms is written `P0`).
     let dwell = dwell.filter(|d| *d >= 5e-4);
-    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, surface, &ws.state.optional_lines) } else { Vec::new() };
+    ws.holes = if ws.operation.is_hole() { holes(&ws.toolpath, dwell, peck, surfaces, &ws.state.optional_lines) } else { Vec::new() };
     let mut feeds = vec![ws.technology.feed];
     for m in ws.toolpath.iter().filter(|m| m.kind != MoveKind::Rapid) {
         if !feeds.iter().any(|f| (f - m.feed).abs() < EPS) {
@@ -2070,10 +2084,12 @@ fn feed_links(moves: &mut Toolpath) {
 
 /// Hole positions: the bottom of each feed-in within a cycle, with the height the tool
 /// lifts to before it leaves the hole. A hole fed by an optional block is optional.
-fn holes(moves: &Toolpath, dwell: Option<f64>, peck: Option<f64>, surface: Option<f64>, optional: &[u32]) -> Vec<Hole> {
+fn holes(moves: &Toolpath, dwell: Option<f64>, peck: Option<f64>, surfaces: &[(usize, f64)], optional: &[u32]) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
     let mut open = false;
-    for m in moves {
+    // The surface stated by the cycle call the move belongs to (the first one's before it).
+    let surface_at = |i: usize| surfaces.iter().rev().find(|s| s.0 <= i).or(surfaces.first()).map(|s| s.1);
+    for (i, m) in moves.iter().enumerate() {
         let m = &m;
         if !(m.kind == MoveKind::Line && is_plunge(m)) {
             if open && is_lift(m) {
@@ -2097,7 +2113,7 @@ fn holes(moves: &Toolpath, dwell: Option<f64>, peck: Option<f64>, surface: Optio
                 }
             }
             _ => {
-                let top = surface.filter(|z| *z > m.to[2]);
+                let top = surface_at(i).filter(|z| *z > m.to[2]);
                 out.push(Hole {
                     x: m.to[0],
                     y: m.to[1],

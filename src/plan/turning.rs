@@ -1373,7 +1373,10 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
             vec![(turned(Turned::Thread { diameter, root, pitch, length: round(length), inside: t.inside }), round(at))]
         }
         Some(TurnOp::Drilling) => {
-            vec![(FeatureKind::RoundHole { diameter: tool_width, bottom: HoleBottom::Flat, positions: vec![[0.0, 0.0]] }, z[1])]
+            vec![(
+                FeatureKind::RoundHole { diameter: tool_width, bottom: HoleBottom::Flat, positions: vec![[0.0, 0.0]], heights: Vec::new() },
+                z[1],
+            )]
         }
         Some(TurnOp::Contouring) => contour_features(ws, t, face),
         None => Vec::new(),

@@ -250,9 +250,9 @@ pub fn tool_facts(plan: &crate::plan::ProcessPlan) -> Vec<ToolFact> {
 pub fn hole_tops(plan: &crate::plan::ProcessPlan) -> Vec<[f64; 3]> {
     let mut out = Vec::new();
     for f in &plan.features {
-        if let crate::plan::FeatureKind::RoundHole { positions, .. } = &f.kind {
-            for p in positions {
-                out.push([f.placement[0] + p[0], f.placement[1] + p[1], f.placement[2]]);
+        if let crate::plan::FeatureKind::RoundHole { positions, heights, .. } = &f.kind {
+            for (k, p) in positions.iter().enumerate() {
+                out.push([f.placement[0] + p[0], f.placement[1] + p[1], f.placement[2] + heights.get(k).copied().unwrap_or(0.0)]);
             }
         }
     }

@@ -454,7 +454,7 @@ fn raster(passes: usize, steps: usize, shift: f64, edit: Option<usize>) -> ncpla
     };
     let mut ws =
         Workingstep::unmeasured(1, Operation::FreeformMilling, 1, tech, 10.0, moves.into(), ncplan::text::TextRange::new(0, 1), (10, 10));
-    measure(&mut ws, None, None, None);
+    measure(&mut ws, None, None, &[]);
     ProcessPlan { workingsteps: vec![ws], tools: vec![Tool::unknown(1)], ..ProcessPlan::default() }
 }
 

@@ -249,7 +249,7 @@ fn drilling_then_reaming_one_pattern_is_one_hole_feature() {
     assert_eq!([p.workingsteps[0].operation, p.workingsteps[1].operation], [Operation::Drilling, Operation::Reaming]);
     assert_eq!(p.features.len(), 1, "{:#?}", p.features);
     let f = &p.features[0];
-    let FeatureKind::RoundHole { diameter, bottom, positions } = &f.kind else { panic!() };
+    let FeatureKind::RoundHole { diameter, bottom, positions, .. } = &f.kind else { panic!() };
     assert_eq!(*diameter, Some(8.0));
     // The D7.8 drill's point (assumed 118°) lies below the reamer's flat end at 12: the hole
     // ends in the drill's cone, and is as deep as the drill's full diameter goes,
@@ -271,7 +271,7 @@ fn peck_drilling_is_multistep_with_its_peck() {
     let ws = &p.workingsteps[0];
     assert_eq!(ws.operation, Operation::MultistepDrilling);
     assert_eq!(ws.axial_depth, Some(5.0));
-    let FeatureKind::RoundHole { positions, bottom, diameter } = &p.features[0].kind else { panic!() };
+    let FeatureKind::RoundHole { positions, bottom, diameter, .. } = &p.features[0].kind else { panic!() };
     assert_eq!((positions.len(), *bottom, *diameter), (2, HoleBottom::Conical(118.0), Some(6.0)));
 }
 

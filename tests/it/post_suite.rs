@@ -109,7 +109,7 @@ fn matches(f: &Feature, want: &Value) -> bool {
         return false;
     }
     match &f.kind {
-        FeatureKind::RoundHole { diameter, positions, bottom } => {
+        FeatureKind::RoundHole { diameter, positions, bottom, .. } => {
             let at: Vec<[f64; 2]> = positions.iter().map(|p| [p[0] + f.placement[0], p[1] + f.placement[1]]).collect();
             let want_at: Vec<[f64; 2]> = want["positions"]
                 .as_array()

@@ -62,9 +62,12 @@ fn points(f: &Feature) -> Vec<P3> {
     let z = f.axis.unwrap_or([0.0, 0.0, 1.0]);
     let x = f.ref_direction.unwrap_or([1.0, 0.0, 0.0]);
     let y = cross(z, x);
-    let at = |p: [f64; 2]| [0, 1, 2].map(|i| f.placement[i] + x[i] * p[0] + y[i] * p[1]);
+    let at = |p: [f64; 2], h: f64| [0, 1, 2].map(|i| f.placement[i] + x[i] * p[0] + y[i] * p[1] + z[i] * h);
     match &f.kind {
-        FeatureKind::RoundHole { positions, .. } => positions.iter().map(|p| at(*p)).collect(),
+        // A hole whose cycle states its own surface stands that much higher along the axis.
+        FeatureKind::RoundHole { positions, heights, .. } => {
+            positions.iter().enumerate().map(|(k, p)| at(*p, heights.get(k).copied().unwrap_or(0.0))).collect()
+        }
         _ => vec![f.placement],
     }
 }
@@ -652,8 +655,9 @@ fn real_programs_lie_on_their_faces() {
     /// `PLANE RESET STAY` and the plane written again. `steps` with their face axes and `holes`
     /// with their tops. Scored once on 7 December 2026 (integrate 0d8fb95): 26 of 29 (missed: A7's
     /// two five-hole sets of the faces turned 25° and 15° off the sides and A4's five deep holes
-    /// of its SPC15 face, each hole its own cycle with its own `Q203`).
-    const HELD13_SCORE: Option<usize> = Some(26);
+    /// of its SPC15 face, each hole its own cycle with its own `Q203`). With each hole's top the
+    /// surface its own cycle call states (tilt15): 29 of 29.
+    const HELD13_SCORE: Option<usize> = Some(29);
     /// Sweep 14's held-back part (`held14`, branch gatherlt14, 14 items written before ncplan
     /// read them): four hyperMILL 2025 shop programs of the job shop's data (szborok/json_scanner,
     /// files no test used; no licence stated, so `extract.sh` writes them from the mirror): a DMU
@@ -867,6 +871,37 @@ fn a_machine_configuration_beside_the_program_remaps_its_codes() {
     // Without its machine: the language's, where M428 is no code.
     let a = pipeline::analyze(program.as_bytes(), &dialect, &Profile::default());
     assert!(a.diagnostics.iter().any(|d| d.is_error() && d.message.to_ascii_lowercase().contains("m428")), "{:?}", a.diagnostics);
+}
+
+/// LinuxCNC's `5axiskins` (the XYZBC bridge mill) turns its B the other way from ISO 841: its
+/// forward kinematics put the tool at the polar angle 180° - B from Z (azimuth C), and its notes
+/// say "the direction of the tilt axis is the opposite of the conventional axis direction". On
+/// that machine `B-90` at `C0` points the tool from its holder on the +X side towards -X, so a
+/// quill feed `W-15` (the tip W along the tool axis) drills in towards the axis: from X65 to X50.
+/// Read by ISO 841 (no machine configuration) the same block drills outward, to X80. Expected
+/// by hand from 5axiskins.c before the run.
+#[test]
+fn the_5axiskins_b_tilts_the_tool_against_iso_841() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("5axis.ini"), "[RS274NGC]\nHAL_PIN_VARS = 1\n[KINS]\nKINEMATICS = 5axiskins coordinates=xyzbcwy\n")
+        .unwrap();
+    let program = "G21 G90 G17\nT1 M6\nS1000 M3\nG0 X65 Y0 Z-65 B-90 C0\nG1 W-15 F500\nG0 W0\nM5\nM2\n";
+    let path = dir.path().join("ring.ngc");
+    std::fs::write(&path, program).unwrap();
+    let dialect = Registry::shipped().get("linuxcnc").unwrap();
+    let feed_in = |profile: &Profile| {
+        let a = pipeline::analyze(program.as_bytes(), &dialect, profile);
+        assert!(!a.has_errors(), "{:?}", a.diagnostics);
+        let ws = &a.plan.workingsteps[0];
+        let k = ws.toolpath.iter().position(|m| m.kind != ncplan::plan::MoveKind::Rapid).expect("a feed");
+        (ws.toolpath.iter().nth(k).unwrap().to, ws.toolpath.axis_at(k))
+    };
+    let near = |a: P3, b: P3| (0..3).all(|i| (a[i] - b[i]).abs() <= 1e-3);
+    let profile = ncplan::machine_config::for_program(&Profile::default(), &path, None, 1 << 20).unwrap();
+    let (to, axis) = feed_in(&profile);
+    assert!(near(to, [50.0, 0.0, -65.0]) && near(axis, [1.0, 0.0, 0.0]), "on 5axiskins: to {to:?}, axis {axis:?}");
+    let (to, axis) = feed_in(&Profile::default());
+    assert!(near(to, [80.0, 0.0, -65.0]) && near(axis, [-1.0, 0.0, 0.0]), "by ISO 841: to {to:?}, axis {axis:?}");
 }
 
 /// After tool centre point control is switched off (`M129`), the rotary axes stand where they

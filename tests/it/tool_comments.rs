@@ -222,7 +222,7 @@ fn a_meshcam_header_gives_the_cutter_and_the_plate() {
     assert_eq!(tools(&a), [(1, Some(2.6924), ToolKind::EndMill)]);
     let f = &a.plan.features[0];
     match &f.kind {
-        ncplan::plan::FeatureKind::RoundHole { diameter, bottom, positions } => {
+        ncplan::plan::FeatureKind::RoundHole { diameter, bottom, positions, .. } => {
             assert_eq!((*diameter, *bottom, positions.len()), (Some(2.6924), ncplan::plan::HoleBottom::Through, 2));
         }
         other => panic!("{other:?}"),

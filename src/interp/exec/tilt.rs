@@ -578,6 +578,7 @@ impl Interpreter<'_> {
                 None => self.st.pos[i],
             }
         });
+        let at = self.machine_senses(at);
         let r = chain([2, 1, 0], [at[2], at[1], at[0]]);
         let axis = [0, 1, 2].map(|i| if r[i][2].abs() < 1e-12 { 0.0 } else { r[i][2] });
         if axis != [0.0, 0.0, 1.0] {
@@ -592,8 +593,15 @@ impl Interpreter<'_> {
 
     /// The turn the rotary axes A, B and C give at their positions in force: `Rz(C)·Ry(B)·Rx(A)`.
     fn rotary_rotation(&self) -> [[f64; 3]; 3] {
-        let at = [Role::A, Role::B, Role::C].map(|r| self.st.pos[r as usize]);
+        let at = self.machine_senses([Role::A, Role::B, Role::C].map(|r| self.st.pos[r as usize]));
         chain([2, 1, 0], [at[2], at[1], at[0]])
+    }
+
+    /// The rotary axes' positions as ISO 841 turns: negated for an axis the machine's
+    /// kinematics turn the other way (`MachineSetup::reversed_rotary`: LinuxCNC `5axiskins`'s B).
+    fn machine_senses(&self, at: [f64; 3]) -> [f64; 3] {
+        let reversed = self.profile.machine.reversed_rotary;
+        [0, 1, 2].map(|i| if reversed[i] { -at[i] } else { at[i] })
     }
 
     /// Says once (per `key`) that `what` is read from the rotary axes as turns about the part's axes.
@@ -601,9 +609,19 @@ impl Interpreter<'_> {
         if self.notes.contains_key(key) {
             return;
         }
-        let msg = format!(
-            "{what} is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (ISO 841 senses; A, then B, then C about the fixed axes); a machine whose kinematics differ tilts it otherwise"
-        );
+        let machine = &self.profile.machine;
+        let reversed: Vec<&str> = ["A", "B", "C"].into_iter().zip(machine.reversed_rotary).filter(|r| r.1).map(|r| r.0).collect();
+        let msg = if reversed.is_empty() {
+            format!(
+                "{what} is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (ISO 841 senses; A, then B, then C about the fixed axes); a machine whose kinematics differ tilts it otherwise"
+            )
+        } else {
+            format!(
+                "{what} is taken from the rotary axes A, B and C as turns of the tool about the part's X, Y and Z (A, then B, then C about the fixed axes), {} turning the other way from ISO 841 as the kinematics of {} turn it",
+                reversed.join(", "),
+                machine.source
+            )
+        };
         let mut d = Diagnostic::new(Code::TiltUnknown, self.origin, msg);
         d.severity = crate::diag::Severity::Note;
         self.limited(diags, key, d);

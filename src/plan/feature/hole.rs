@@ -36,7 +36,12 @@ pub(super) fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>,
     } else {
         (HoleBottom::Flat, None)
     };
-    let tip_depth = if bottom_z.is_finite() { top - bottom_z } else { 0.0 };
+    // Each hole's top is the surface its own cycle states (a cycle written per hole, each
+    // with its `Q203` or `RFP`: the TNC 640 cycles manual's SURFACE COORDINATE is the
+    // workpiece surface at that hole), else the feature's; its depth is from there.
+    let top_of = |h: &Hole| if top_source == Source::Program { h.top.unwrap_or(top) } else { top };
+    let tip_depth = ws.holes.iter().map(|h| top_of(h) - h.bottom).filter(|d| d.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+    let tip_depth = if tip_depth.is_finite() { tip_depth } else { 0.0 };
     // A drawing dimensions a drilled hole to where its full diameter ends; the cone of the
     // point lies below that.
     let depth = match (bottom, diameter, stock) {
@@ -53,9 +58,11 @@ pub(super) fn hole(ws: &Workingstep, tool: Option<&Tool>, stock: Option<&Stock>,
     let (diameter, depth) = if marks { (None, tip_depth) } else { (diameter, depth) };
     let origin = first.map_or([0.0, 0.0], |h| [h.x, h.y]);
     let positions = ws.holes.iter().map(|h| [h.x - origin[0], h.y - origin[1]]).collect();
+    let heights: Vec<f64> = ws.holes.iter().map(|h| round6(top_of(h) - top)).collect();
+    let heights = if heights.iter().any(|d| d.abs() > 1e-6) { heights } else { Vec::new() };
     let size = if diameter.is_some() { Source::of_tool(tool) } else { Source::Unknown };
     Candidate {
-        kind: FeatureKind::RoundHole { diameter, bottom, positions },
+        kind: FeatureKind::RoundHole { diameter, bottom, positions, heights },
         placement: [origin[0], origin[1], top],
         depth,
         top_inferred,
@@ -113,6 +120,7 @@ pub(super) fn plunged_holes(ws: &Workingstep, tool: Option<&Tool>, stock: Option
             diameter: Some(d),
             bottom: bottom_kind,
             positions: at.iter().map(|p| [p[0] - first[0], p[1] - first[1]]).collect(),
+            heights: Vec::new(),
         },
         placement: [first[0], first[1], top],
         depth: round6(depth),

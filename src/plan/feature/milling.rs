@@ -400,6 +400,7 @@ impl<'a> Cut<'a> {
             diameter,
             bottom: HoleBottom::Flat,
             positions: circles.iter().map(|(c, _)| [round6(c[0] - first[0]), round6(c[1] - first[1])]).collect(),
+            heights: Vec::new(),
         };
         cand.placement = [first[0], first[1], self.top];
         if diameter.is_none() {
