@@ -172,7 +172,9 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         let named = |s: &Self, role: Role| def.args.iter().find(|(_, to)| *to == role).and_then(|(from, _)| s.slot(*from));
-        let one_block = def.args.iter().any(|(_, to)| *to == Role::ProfileDepth);
+        // The one-block form where the block gives the word the dictionary names for the height
+        // (Haas `G76 X Z K D F`, Fanuc's FS15 tape format); else Fanuc's two-block P and Q.
+        let one_block = named(self, Role::ProfileDepth).is_some();
         let mut spec = if one_block {
             let method = named(self, Role::MachiningType).map_or(1, |p| p.round() as i64);
             ThreadSpec {

@@ -254,3 +254,41 @@ fn fagor_lathes_have_no_wh_abbreviation() {
         assert_eq!(d.macros.statements.iter().any(|(k, _)| k == "WH"), has, "{name}");
     }
 }
+
+/// The one-block G76 (`G76 X Z K D F`: K the thread height, D the first depth of cut) is the
+/// Haas lathe's only form and Fanuc's FS15 tape format: read without an error in both, as
+/// passes down to the height; Fanuc's two-block form reads as before. A one-block G76 or G75
+/// with its own words is the Haas lathe's evidence (as G71's one block with D), and Haas's
+/// reading wins there; a program without them stays the Fanuc lathe's.
+#[test]
+fn the_one_block_g76_threads_on_fanuc_and_haas_lathes() {
+    let one =
+        "O2007\nG18 G20 G99\nT0303\nG97 S1000 M03\nG00 X0.6 Z0.1\nG76 X0.4069 Z-1.5 K0.043075 D0.01076875 F0.07692308\nG00 Z0.1\nM30\n";
+    for d in ["fanuc_lathe", "haas_lathe"] {
+        assert_eq!(errors(d, one), Vec::<String>::new(), "{d}");
+        // The cycle runs as its passes (it was skipped with an error on the Fanuc lathe).
+        let m = moves(d, one);
+        assert!(m.len() > 6, "{d}: {m:?}");
+    }
+    let two = "O1\nG18 G21 G99\nT0303\nG97 S800 M03\nG00 X22. Z5.\nG76 P020060 Q50 R0.02\nG76 X18.16 Z-20. P920 Q300 F1.5\nG00 Z5.\nM30\n";
+    assert_eq!(errors("fanuc_lathe", two), Vec::<String>::new());
+    let r = ncplan::dialect::Registry::shipped();
+    let text = format!("%\n{one}%\n");
+    assert_eq!(r.sniff(&text, Some("p.nc"), "fanuc").dialect, "haas_lathe");
+    let groove = "%\nO2008\nT1212\nG50 S2500\nG97 S2000 M03\nG00 X1.5 Z-2.097\nG75 X0.0 I0.005\nG00 X1.5\nM30\n%\n";
+    assert_eq!(r.sniff(groove, Some("p.nc"), "fanuc").dialect, "haas_lathe");
+    assert_eq!(r.sniff(&format!("%\n{two}%\n"), Some("p.nc"), "fanuc").dialect, "fanuc_lathe");
+}
+
+/// The Fagor 8055 T's parameters and high-level language (`P100`, `(P100 = 5)`, `(IF P100 EQ 5
+/// GOTO N30)`, `;` comments) are read, and Fanuc's Custom Macro B, which the Fagor does not
+/// have, is not: `#1=5` and `WHILE [..] DO1` stop it.
+#[test]
+fn the_fagor_lathe_reads_its_parameters_not_fanuc_macro_b() {
+    let program = "%\nN10 G90 G95\nG96 S180 M3\n(P100 = 20)\nG0 X P100 Z10\n(IF P100 EQ 20 GOTO N30)\nN20 G1 X40 F0.1\nN30 G1 X30 Z0 F0.1 ; done\nM30\n%\n";
+    assert_eq!(errors("fagor_lathe", program), Vec::<String>::new());
+    assert_eq!(moves("fagor_lathe", program)[0], "STRAIGHT_TRAVERSE(10.0000, 0.0000, 10.0000, 0.0000, 0.0000, 0.0000)");
+    let macro_b = "%\nO100\n#1=5\nWHILE [#1 GT 0] DO1\n#1=#1-1\nEND1\nM30\n%\n";
+    assert!(!errors("fagor_lathe", macro_b).is_empty());
+    assert!(errors("fanuc_lathe", macro_b).is_empty());
+}

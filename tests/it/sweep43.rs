@@ -231,6 +231,18 @@
 //! Haas chip-conveyor `M31`/`M33`, no code only Haas has) read as the Fanuc lathe, where the
 //! one-block `G76` then gives an error in `_02` (Fanuc's two-block form wants P and Q).
 //!
+//! After branch vocab15 (all halves seen, so no held-out figures): the one-block `G76 X Z K D F`
+//! read without an error on the Fanuc lathe too (its FS15 tape format; the block that gives K
+//! reads so) and, with `G75 I/K`, counted as the Haas lathe's evidence (the Haas manual's only
+//! forms, weight 10 as G71's one block with D); the Fagor lathe reads the 8055's own language
+//! (P parameters, bracketed statements, G70/G71 units) rather than Macro B: holdout-s13 22/22
+//! valid without an error, family 22/22 (d015/d016 read as `haas_lathe`); every other half as
+//! before (build 28/29, build-s3 24/24, build-s4 22/22, build-s5 4/4, build-s6 14/14, build-s7
+//! 17/19, holdout 27/27, s4 43/44, s5 14/14, s6 29/32, s7 45/47, s8 79/83, s9 29/29, s10 25/25,
+//! s11 14/14, s12 27/28; holdout-s3 not scored: its heidenhain-simulator mirror cannot be
+//! fetched). Left: c024 (a first `G1` whose F comes a block later), b014 (`Osample(..)`), a003
+//! (`YY=R101`), the Fanuc label skip beyond a sender's header line.
+//!
 //! Sweep 14 (rows e001-e023, half `holdout-s14`: held out whole, no build half; 23 programs of 5
 //! repositories, files no set used of repositories other sets used in part, each row says so, and
 //! none whose history is this round's revision pairs r506-r608). Haas 14 (a college class's

@@ -83,6 +83,8 @@ const CONTEXTS: &[(&str, &str, &str)] = &[
     ("haas", "G70", "G81 Z-1 R1\n{} I1 J0 K30 L3\nG80\nM30\n"),
     ("haas", "G71", "G81 Z-1 R1\n{} I1 J0 K30 L3\nG80\nM30\n"),
     ("haas", "G72", "G81 Z-1 R1\n{} I1 J0 K30 L3\nG80\nM30\n"),
+    // On a Fagor lathe G70 is inch input, no finishing cycle.
+    ("fagor_lathe", "G70", "{}\nM30\n"),
     ("fanuc_lathe", "G70", "G0 X10 Z1\n{} P10 Q20\nN10 G1 X5\nN20 Z-1\nM30\n"),
     // Okuma LAP: the contour from the block its N names (G81) to G80, right after the call.
     ("okuma_lathe", "G85", "G0 X60 Z2\n{} N10 D2 F0.3 U0.4 W0.1\nN10 G81\nG1 X40 Z0\nZ-20\nX60\nG80\nM30\n"),
