@@ -1259,31 +1259,7 @@ impl Reader<'_> {
             (Some(o), Some(t)) => Some(Box::new(self.turning(o, w.get("turning"), t.feed_per_rev, op_words.contains_key("fpr")))),
             _ => w.get("turning").and_then(|v| from_json_word(v)).map(Box::new),
         };
-        let mut dwell = None;
-        match operation {
-            // A turning workingstep has no milling strategy.
-            Operation::FreeformMilling if ws.turning.is_some() => {}
-            Operation::FreeformMilling => ws.strategy = Some(explicit()),
-            Operation::PlaneRoughMilling | Operation::PlaneFinishMilling => {
-                ws.strategy = self.strategy(self.attr(op, 11)?)?;
-                ws.axial_depth = self.opt_real(op, 12)?;
-                ws.allowance_bottom = self.opt_real(op, 13)?;
-            }
-            Operation::SideRoughMilling | Operation::SideFinishMilling => {
-                ws.strategy = self.strategy(self.attr(op, 11)?)?;
-                ws.axial_depth = self.opt_real(op, 12)?;
-                ws.radial_depth = self.opt_real(op, 13)?;
-                ws.allowance_side = self.opt_real(op, 14)?;
-            }
-            Operation::BottomAndSideRoughMilling | Operation::BottomAndSideFinishMilling => {
-                ws.strategy = self.strategy(self.attr(op, 11)?)?;
-                ws.axial_depth = self.opt_real(op, 12)?;
-                ws.radial_depth = self.opt_real(op, 13)?;
-                ws.allowance_side = self.opt_real(op, 14)?;
-                ws.allowance_bottom = self.opt_real(op, 15)?;
-            }
-            _ => dwell = self.opt_real(op, 11)?,
-        }
+        let dwell = self.operation_parameters(op, operation, &mut ws)?;
         if matches!(operation, Operation::PlaneRoughMilling | Operation::PlaneFinishMilling) {
             ws.radial_depth = op_words.get("stepover").and_then(|v| v.parse().ok());
         }
@@ -1346,6 +1322,36 @@ impl Reader<'_> {
             }
         }
         Ok(ws)
+    }
+
+    /// A milling operation's strategy, depths and allowances, as its entity's attributes give
+    /// them; the dwell of a drilling operation.
+    fn operation_parameters(&self, op: &Instance, operation: Operation, ws: &mut Workingstep) -> Result<Option<f64>, String> {
+        match operation {
+            // A turning workingstep has no milling strategy.
+            Operation::FreeformMilling if ws.turning.is_some() => {}
+            Operation::FreeformMilling => ws.strategy = Some(explicit()),
+            Operation::PlaneRoughMilling | Operation::PlaneFinishMilling => {
+                ws.strategy = self.strategy(self.attr(op, 11)?)?;
+                ws.axial_depth = self.opt_real(op, 12)?;
+                ws.allowance_bottom = self.opt_real(op, 13)?;
+            }
+            Operation::SideRoughMilling | Operation::SideFinishMilling => {
+                ws.strategy = self.strategy(self.attr(op, 11)?)?;
+                ws.axial_depth = self.opt_real(op, 12)?;
+                ws.radial_depth = self.opt_real(op, 13)?;
+                ws.allowance_side = self.opt_real(op, 14)?;
+            }
+            Operation::BottomAndSideRoughMilling | Operation::BottomAndSideFinishMilling => {
+                ws.strategy = self.strategy(self.attr(op, 11)?)?;
+                ws.axial_depth = self.opt_real(op, 12)?;
+                ws.radial_depth = self.opt_real(op, 13)?;
+                ws.allowance_side = self.opt_real(op, 14)?;
+                ws.allowance_bottom = self.opt_real(op, 15)?;
+            }
+            _ => return self.opt_real(op, 11),
+        }
+        Ok(None)
     }
 
     /// The coolant an operation's machine functions state (milling or turning).
