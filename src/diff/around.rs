@@ -28,7 +28,7 @@ pub(super) enum Around {
 
 /// Whether a code's meaning is a lathe cycle that starts from, and returns to, where the tool
 /// stands when it is called.
-fn starts_where_called(m: Meaning) -> bool {
+pub(super) fn starts_where_called(m: Meaning) -> bool {
     use Meaning as M;
     matches!(
         m,
@@ -59,7 +59,7 @@ pub(super) fn applies(d: &Dialect) -> bool {
 fn cycle_of(block: &Block, d: &Dialect) -> Option<((char, u32), Meaning)> {
     block.words.iter().find_map(|w| match (w.letter, w.value) {
         (b'G', Value::Number { value, .. }) => {
-            let n = (value * 10.0).round().max(0.0) as u32;
+            let n = code_number(value);
             let def = d.code('G', n)?;
             starts_where_called(def.meaning).then_some((('G', n), def.meaning))
         }
@@ -75,30 +75,41 @@ fn number_of(block: &Block, letter: u8) -> Option<u32> {
     })
 }
 
+/// A G word's value as the dictionary numbers codes (number × 10: `G76` is 760).
+fn code_number(value: f64) -> u32 {
+    (value * 10.0).round().max(0.0) as u32
+}
+
+/// Whether a meaning is a motion code (`G0`, `G1`, `G2`, `G3`).
+fn is_motion(m: Meaning) -> bool {
+    matches!(m, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw)
+}
+
 /// Whether a block has a motion code (`G0`, `G1`, `G2`, `G3`).
 fn motion_code(block: &Block, d: &Dialect) -> bool {
     block.words.iter().any(|w| match (w.letter, w.value) {
-        (b'G', Value::Number { value, .. }) => d
-            .code('G', (value * 10.0).round().max(0.0) as u32)
-            .is_some_and(|c| matches!(c.meaning, Meaning::Rapid | Meaning::Linear | Meaning::ArcCw | Meaning::ArcCcw)),
+        (b'G', Value::Number { value, .. }) => d.code('G', code_number(value)).is_some_and(|c| is_motion(c.meaning)),
         _ => false,
     })
 }
 
 /// Whether a block moves the tool in the plane a lathe turns in: an axis word, no return to a
-/// reference point or machine-coordinate move (`G28`, `G53`), which are told as such.
+/// reference point or machine-coordinate move (`G28`, `G53`), which are told as such, and no
+/// code that takes the axis letters as its own parameters (Fanuc's dwell `G04 X1.`, the
+/// coordinate setting `G50 X Z`): those words move nothing.
 fn positions(block: &Block, d: &Dialect) -> bool {
-    let machine = block.words.iter().any(|w| match (w.letter, w.value) {
-        (b'G', Value::Number { value, .. }) => d.code('G', (value * 10.0).round().max(0.0) as u32).is_some_and(|c| {
+    const AXES: [Role; 4] = [Role::X, Role::Z, Role::U, Role::W];
+    let moves_nothing = block.words.iter().any(|w| match (w.letter, w.value) {
+        (b'G', Value::Number { value, .. }) => d.code('G', code_number(value)).is_some_and(|c| {
             use Meaning as M;
             matches!(
                 c.meaning,
                 M::Home1 | M::Home2 | M::MachineCoords | M::SetData | M::OriginShift | M::LocalOffset | M::Home1Set | M::Home2Set
-            )
+            ) || (!is_motion(c.meaning) && AXES.iter().any(|&r| c.params.takes(r)))
         }),
         _ => false,
     });
-    !machine && block.words.iter().any(|w| matches!(w.role, Role::X | Role::Z | Role::U | Role::W))
+    !moves_nothing && block.words.iter().any(|w| AXES.contains(&w.role))
 }
 
 /// What each of `stmts` (the statements of `text`) is by the blocks around it; `None` for most.
@@ -200,5 +211,17 @@ mod tests {
         // told as the move it is.
         let text = "G0 X0 Y0 Z10\nG81 X10 Y10 Z-5 R2 F100\nM30\n";
         assert!(roles(text, "linuxcnc").iter().all(|(_, r)| r.is_none()));
+    }
+
+    #[test]
+    fn a_dwell_or_a_coordinate_setting_before_a_cycle_is_no_start_point() {
+        // `G04 X1.` waits a second and `G50 X Z` names where the tool stands: neither moves it,
+        // so the rapid before them stays the cycle's start point.
+        let text = "G99\nG00 X30. Z5.\nG04 X1.\nG76 P010060 Q100 R0.05\nG76 X22.2 Z-20. P1000 Q300 F1.5\nG50 X200. Z100.\nM30\n";
+        let r = roles(text, "fanuc_lathe");
+        let at = |l: u32| r.iter().find(|(line, _)| *line == l).and_then(|x| x.1);
+        assert_eq!(at(2), Some(Around::StartOf(('G', 760))));
+        assert_eq!(at(3), None);
+        assert_eq!(at(6), None);
     }
 }

@@ -130,24 +130,14 @@ fn shifts(m: Meaning) -> bool {
     matches!(m, Meaning::LocalOffset | Meaning::OriginShift | Meaning::FrameTrans | Meaning::FrameTransAdd)
 }
 
-/// Whether a code is a cycle other than a drilling one, whose words are its parameters.
+/// Whether a code is a cycle other than a drilling one, whose words are its parameters: the
+/// lathe cycles that start where they are called ([`super::around::starts_where_called`]) but
+/// the multiple-pass thread and the peck cycles (`G76`, `G74`/`G75` of system A, which count
+/// only as lathe cycles below), and the profile, synchronised-spindle and rigid tapping codes.
 fn other_cycle(m: Meaning) -> bool {
     use Meaning as M;
-    matches!(
-        m,
-        M::CycleThread
-            | M::CycleTurn
-            | M::CycleFace
-            | M::CycleThreadPass
-            | M::CycleRoughTurn
-            | M::CycleRoughFace
-            | M::CycleFinishContour
-            | M::ProfileFinish
-            | M::ProfileRoughTurn
-            | M::ProfileRoughFace
-            | M::SpindleSync
-            | M::RigidTap
-    )
+    (super::around::starts_where_called(m) && !matches!(m, M::CycleThreadMultiple | M::CycleGroove | M::CycleFacePeck))
+        || matches!(m, M::ProfileFinish | M::ProfileRoughTurn | M::ProfileRoughFace | M::SpindleSync | M::RigidTap)
 }
 
 /// Whether a token is an axis or arc-centre word.
@@ -208,15 +198,8 @@ impl Context {
                 c.cycle |= m.is_cycle();
                 c.other_cycle |= other_cycle(m);
                 let lathe = other_cycle(m)
-                    || matches!(
-                        m,
-                        Meaning::CycleThreadMultiple
-                            | Meaning::CycleGroove
-                            | Meaning::CycleFacePeck
-                            | Meaning::CycleStockCorner
-                            | Meaning::CycleContourTurn
-                            | Meaning::CyclePartOff
-                    );
+                    || super::around::starts_where_called(m)
+                    || matches!(m, Meaning::CycleStockCorner | Meaning::CycleContourTurn | Meaning::CyclePartOff);
                 if lathe && c.turn_cycle.is_none() {
                     c.turn_cycle = code().filter(|&(l, n)| d.code(l, n).is_some_and(|def| !def.args.is_empty()));
                 }

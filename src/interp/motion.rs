@@ -132,6 +132,13 @@ impl Interpreter<'_> {
         self.codes.iter().any(|&(c, _)| self.code(c).args.iter().any(|&(from, _)| from == role))
     }
 
+    /// Whether a code of the block reads this axis letter's word as an angle (the one-block
+    /// lathe `G76 ... A60`: the tool's included angle in degrees, `args="A:tool-angle"`): no
+    /// length, so no least increments.
+    pub(super) fn taken_as_angle(&self, role: Role) -> bool {
+        self.codes.iter().any(|&(c, _)| self.code(c).args.iter().any(|&(from, to)| from == role && to == Role::ToolAngle))
+    }
+
     /// `LP PR+30 PA+45`, `CP IPA+90`: the end point in the plane from its distance to the pole
     /// and its angle about it; a missing one keeps the current point's, an incremental one
     /// (`IPR`, `IPA`) adds to the distance and angle of `from`, the point the move starts at.

@@ -386,6 +386,7 @@ impl Interpreter<'_> {
             && how.call_start != Some(role)
             && how.selector != Some(role)
             && !self.profile.calculator_input
+            && !self.taken_as_angle(role)
         {
             let axis = Role::AXES.iter().position(|&a| a == role);
             let absolute = match w.mode {

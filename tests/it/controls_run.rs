@@ -270,6 +270,14 @@ fn the_one_block_g76_threads_on_fanuc_and_haas_lathes() {
         let m = moves(d, one);
         assert!(m.len() > 6, "{d}: {m:?}");
     }
+    // A, the tool's included angle in degrees, is no length: no least increments on either.
+    let angle = "O2\nG18 G21 G99\nT0303\nG97 S800 M03\nG00 X26. Z5.\nG76 X22.2 Z-20. K0.92 D0.3 F1.5 A60\nG00 Z5.\nM30\n";
+    for d in ["fanuc_lathe", "haas_lathe"] {
+        let (_, diags) = crate::moves_and_findings(d, angle, &Profile::default());
+        let found: Vec<_> = diags.iter().map(|d| d.code.as_str()).collect();
+        assert!(!found.contains(&"interp::no-decimal-point"), "{d}: {found:?}");
+        assert!(diags.iter().all(|d| !d.is_error()), "{d}: {found:?}");
+    }
     let two = "O1\nG18 G21 G99\nT0303\nG97 S800 M03\nG00 X22. Z5.\nG76 P020060 Q50 R0.02\nG76 X18.16 Z-20. P920 Q300 F1.5\nG00 Z5.\nM30\n";
     assert_eq!(errors("fanuc_lathe", two), Vec::<String>::new());
     let r = ncplan::dialect::Registry::shipped();
