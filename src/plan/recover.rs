@@ -2087,8 +2087,12 @@ fn feed_links(moves: &mut Toolpath) {
 fn holes(moves: &Toolpath, dwell: Option<f64>, peck: Option<f64>, surfaces: &[(usize, f64)], optional: &[u32]) -> Vec<Hole> {
     let mut out: Vec<Hole> = Vec::new();
     let mut open = false;
-    // The surface stated by the cycle call the move belongs to (the first one's before it).
-    let surface_at = |i: usize| surfaces.iter().rev().find(|s| s.0 <= i).or(surfaces.first()).map(|s| s.1);
+    // The surface stated by the cycle call the move belongs to (the first one's before it);
+    // the calls are in the order of their moves.
+    let surface_at = |i: usize| {
+        let k = surfaces.partition_point(|s| s.0 <= i);
+        k.checked_sub(1).and_then(|k| surfaces.get(k)).or(surfaces.first()).map(|s| s.1)
+    };
     for (i, m) in moves.iter().enumerate() {
         let m = &m;
         if !(m.kind == MoveKind::Line && is_plunge(m)) {
