@@ -196,11 +196,21 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
         // Statements only re-indented under a condition a row changes: each original one
         // paired with the next edited one of the same text, in order, and named by the row
         // of a condition in the run nearest to it.
-        let conditions: Vec<(usize, u32)> = within(&ca, &ra)
+        // (place in the run, row), in order.
+        let mut conditions: Vec<(u32, usize)> = within(&ca, &ra)
             .into_iter()
-            .map(|(l, k)| (k, l - ra.start))
-            .chain(within(&cb, &rb).into_iter().map(|(l, k)| (k, l - rb.start)))
+            .map(|(l, k)| (l - ra.start, k))
+            .chain(within(&cb, &rb).into_iter().map(|(l, k)| (l - rb.start, k)))
             .collect();
+        conditions.sort_unstable();
+        // The nearest condition's row, the first row of the nearest at a tie: the first at or
+        // after the place, or the first of the last place before it.
+        let nearest = |place: u32| {
+            let i = conditions.partition_point(|&(p, _)| p < place);
+            let after = conditions.get(i);
+            let before = i.checked_sub(1).map(|b| conditions[conditions.partition_point(|&(p, _)| p < conditions[b].0)]);
+            after.copied().into_iter().chain(before).min_by_key(|&(p, k)| (p.abs_diff(place), k)).map(|(_, k)| k)
+        };
         if !conditions.is_empty() && !ra.is_empty() && !rb.is_empty() {
             // The edited run's statement lines by their text, in order.
             let mut lines_of: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
@@ -217,7 +227,7 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
                     continue;
                 }
                 let place = l - ra.start;
-                let Some(&(k, _)) = conditions.iter().min_by_key(|&&(k, p)| (p.abs_diff(place), k)) else { continue };
+                let Some(k) = nearest(place) else { continue };
                 changes[k].detail.at.push((Some(l), Some(m)));
                 touched[k] = true;
             }
