@@ -10,10 +10,11 @@
 //! row that names the line at the same offset in the other side's part of the run (git shows
 //! the two as one line changed), and by none where that line is past the other side's part or
 //! no row names it. A run only removed or only added names nothing more: its comments went
-//! with its statements, but for a label line, named by the row of the block it heads. Statement lines are left alone: the accounting names
-//! them where they differ, but for one case: a statement only re-indented in a run a row
-//! names (the body of a condition changed or removed, `o<l1> if` taken away from around
-//! `T#<toolno> M6 G43`) is named by that row, which governs it.
+//! with its statements, but for a label line, named by the row of the block it heads.
+//! Statement lines are left alone: the accounting names them where they differ, but for one
+//! case: a statement only re-indented in a run a row names (the body of a condition changed
+//! or removed, `o<l1> if` taken away from around `T#<toolno> M6 G43`) is named by that row,
+//! which governs it.
 //!
 //! A row that tells a jump (`GOTO 10` removed, `GOTO2004` → `GOTO1005`, a jump to a missing
 //! block) names, in each program, the line of the block it jumps to where that line differs
