@@ -7,11 +7,14 @@
 //! other program too. The texts are paired line by line as git pairs them (the longest common
 //! subsequence of exact lines, runs slid as git slides them); in each run of lines that
 //! differ on both sides, every line without a statement that no row names is named by the
-//! row of that run nearest to it. A run only removed or only added names nothing more: its
-//! comments went with its statements. Statement lines are left alone: the accounting names
-//! them where they differ, but for one case: a statement only re-indented in a run a row
-//! names (the body of a condition changed or removed, `o<l1> if` taken away from around
-//! `T#<toolno> M6 G43`) is named by that row, which governs it.
+//! row that names the line at the same offset in the other side's part of the run (git shows
+//! the two as one line changed), and by none where that line is past the other side's part or
+//! no row names it. A run only removed or only added names nothing more: its comments went
+//! with its statements, but for a label line, named by the row of the block it heads.
+//! Statement lines are left alone: the accounting names them where they differ, but for one
+//! case: a statement only re-indented in a run a row names (the body of a condition changed
+//! or removed, `o<l1> if` taken away from around `T#<toolno> M6 G43`) is named by that row,
+//! which governs it.
 //!
 //! A row that tells a jump (`GOTO 10` removed, `GOTO2004` → `GOTO1005`, a jump to a missing
 //! block) names, in each program, the line of the block it jumps to where that line differs
@@ -19,7 +22,7 @@
 //! edit (Fanuc, Siemens and Heidenhain manuals: a jump goes to the block of that number or
 //! label). That is done first, so that the label's run then names its other side.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use super::statement::{self, Stmt};
 use super::{Change, ChangeKind};
@@ -130,6 +133,15 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
     let need = changes.iter().any(flows) || runs.iter().any(|(ra, rb)| open(ra, sa, &na) || open(rb, sb, &nb));
     let ((label_a, jump_a), (label_b, jump_b)) =
         if need { (jumps_of(ta, da, &same_a), jumps_of(tb, db, &same_b)) } else { Default::default() };
+    // The lines of each target's labels, in the order of the text.
+    let by_target = |labels: &[(Target, u32)]| {
+        let mut v: BTreeMap<Target, Vec<u32>> = BTreeMap::new();
+        for (t, l) in labels {
+            v.entry(t.clone()).or_default().push(*l);
+        }
+        v
+    };
+    let (target_a, target_b) = if changes.iter().any(flows) { (by_target(&label_a), by_target(&label_b)) } else { Default::default() };
     for c in changes.iter_mut().filter(|c| flows(c)) {
         let mut targets: Vec<Target> = named(c, true)
             .filter_map(|l| jump_a.get(&l))
@@ -141,10 +153,13 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
         targets.dedup();
         let mut at = Vec::new();
         for t in &targets {
-            at.extend(label_a.iter().filter(|(u, _)| u == t).map(|&(_, l)| (Some(l), None)));
-            at.extend(label_b.iter().filter(|(u, _)| u == t).map(|&(_, l)| (None, Some(l))));
+            at.extend(target_a.get(t).into_iter().flatten().map(|&l| (Some(l), None)));
+            at.extend(target_b.get(t).into_iter().flatten().map(|&l| (None, Some(l))));
         }
-        at.retain(|a| !c.detail.at.contains(a));
+        if !at.is_empty() {
+            let had: BTreeSet<(Option<u32>, Option<u32>)> = c.detail.at.iter().copied().collect();
+            at.retain(|a| !had.contains(a));
+        }
         if !at.is_empty() {
             c.detail.at.extend(at);
             c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
@@ -167,6 +182,11 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
     let (ea, eb): (Vec<&str>, Vec<&str>) =
         if ca.is_empty() && cb.is_empty() { Default::default() } else { (ta.split('\n').collect(), tb.split('\n').collect()) };
     let mut touched = vec![false; changes.len()];
+    // The open places of each row a line below asks for (a place with its line on one side
+    // only), by (whether the original side's line is the one missing, the other side's line):
+    // their indices in the row's `at`, first first, each taken once it is completed. Built
+    // for a row when first asked; places are only appended to `at` until the end.
+    let mut open_of: BTreeMap<usize, BTreeMap<(bool, u32), VecDeque<usize>>> = BTreeMap::new();
     let row_at = |original: bool, l: u32| if original { na.get(&l).copied() } else { nb.get(&l).copied() };
     let within = |v: &[(u32, usize)], r: &std::ops::Range<u32>| {
         let from = v.partition_point(|&(l, _)| l < r.start);
@@ -177,22 +197,38 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
         // Statements only re-indented under a condition a row changes: each original one
         // paired with the next edited one of the same text, in order, and named by the row
         // of a condition in the run nearest to it.
-        let conditions: Vec<(usize, u32)> = within(&ca, &ra)
+        // (place in the run, row), in order.
+        let mut conditions: Vec<(u32, usize)> = within(&ca, &ra)
             .into_iter()
-            .map(|(l, k)| (k, l - ra.start))
-            .chain(within(&cb, &rb).into_iter().map(|(l, k)| (k, l - rb.start)))
+            .map(|(l, k)| (l - ra.start, k))
+            .chain(within(&cb, &rb).into_iter().map(|(l, k)| (l - rb.start, k)))
             .collect();
+        conditions.sort_unstable();
+        // The nearest condition's row, the first row of the nearest at a tie: the first at or
+        // after the place, or the first of the last place before it.
+        let nearest = |place: u32| {
+            let i = conditions.partition_point(|&(p, _)| p < place);
+            let after = conditions.get(i);
+            let before = i.checked_sub(1).map(|b| conditions[conditions.partition_point(|&(p, _)| p < conditions[b].0)]);
+            after.copied().into_iter().chain(before).min_by_key(|&(p, k)| (p.abs_diff(place), k)).map(|(_, k)| k)
+        };
         if !conditions.is_empty() && !ra.is_empty() && !rb.is_empty() {
+            // The edited run's statement lines by their text, in order.
+            let mut lines_of: BTreeMap<&str, Vec<u32>> = BTreeMap::new();
+            for m in rb.clone().filter(|&m| holds(sb, m)) {
+                lines_of.entry(trimmed(&eb, m)).or_default().push(m);
+            }
             let mut from = rb.start;
             for l in ra.clone().filter(|&l| holds(sa, l) && !na.contains_key(&l)) {
                 let text = trimmed(&ea, l);
-                let Some(m) = (from..rb.end).find(|&m| holds(sb, m) && trimmed(&eb, m) == text) else { continue };
+                let Some(ms) = lines_of.get(text) else { continue };
+                let Some(&m) = ms.get(ms.partition_point(|&m| m < from)) else { continue };
                 from = m + 1;
                 if nb.contains_key(&m) {
                     continue;
                 }
                 let place = l - ra.start;
-                let Some(&(k, _)) = conditions.iter().min_by_key(|&&(k, p)| (p.abs_diff(place), k)) else { continue };
+                let Some(k) = nearest(place) else { continue };
                 changes[k].detail.at.push((Some(l), Some(m)));
                 touched[k] = true;
             }
@@ -213,15 +249,26 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
                 let Some(k) = k else { continue };
                 // The place of a statement the row tells removed (added) there: the pair
                 // completed; else a line of its own.
-                let open = changes[k]
-                    .detail
-                    .at
-                    .iter_mut()
-                    .find(|(o, e)| if original { o.is_none() && *e == Some(across) } else { e.is_none() && *o == Some(across) });
-                match open {
-                    Some(at) if original => at.0 = Some(l),
-                    Some(at) => at.1 = Some(l),
-                    None => changes[k].detail.at.push(if original { (Some(l), None) } else { (None, Some(l)) }),
+                let open = open_of.entry(k).or_insert_with(|| {
+                    let mut v: BTreeMap<(bool, u32), VecDeque<usize>> = BTreeMap::new();
+                    for (s, &(o, e)) in changes[k].detail.at.iter().enumerate() {
+                        match (o, e) {
+                            (None, Some(e)) => v.entry((true, e)).or_default().push_back(s),
+                            (Some(o), None) => v.entry((false, o)).or_default().push_back(s),
+                            _ => {}
+                        }
+                    }
+                    v
+                });
+                let at = &mut changes[k].detail.at;
+                match open.get_mut(&(original, across)).and_then(VecDeque::pop_front) {
+                    Some(s) if original => at[s].0 = Some(l),
+                    Some(s) => at[s].1 = Some(l),
+                    None => {
+                        // An open place of its own, which a line of the other side may complete.
+                        open.entry((!original, l)).or_default().push_back(at.len());
+                        at.push(if original { (Some(l), None) } else { (None, Some(l)) });
+                    }
                 }
                 touched[k] = true;
             }
