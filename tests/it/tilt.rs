@@ -666,8 +666,9 @@ fn real_programs_lie_on_their_faces() {
     /// +X end and the -Y side, `SPA-90 SPC-90` and `SPA-90 SPC180`), each face reached with a
     /// pre-positioning under `M128` between `PLANE RESET STAY` and the plane written again; and a
     /// DMU 85 monoBLOCK part's countersinking of M9 holes on the +Y side and the +X end. `steps`
-    /// with their face axes and `holes` with their tops. Not yet scored.
-    const HELD14_SCORE: Option<usize> = None;
+    /// with their face axes and `holes` with their tops. Scored once on 7 December 2026
+    /// (integrate fba6f7a): 14 of 14.
+    const HELD14_SCORE: Option<usize> = Some(14);
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
     let mut sides: Vec<_> =
