@@ -42,8 +42,6 @@ enum Target {
     Name(String),
 }
 
-/// The blocks a program's jumps may land on (target, line), and the targets of the jumps on
-/// each line.
 /// The labels of a program (target, line) and the targets of the jumps on each line.
 type Jumps = (Vec<(Target, u32)>, BTreeMap<u32, Vec<Target>>);
 
@@ -86,6 +84,68 @@ fn jumps_of(text: &str, dialect: &Dialect, same: &[bool]) -> Jumps {
 /// Line `l` (1-based) of `lines`, without the blanks around it.
 fn trimmed<'t>(lines: &[&'t str], l: u32) -> &'t str {
     lines.get((l as usize).wrapping_sub(1)).map_or("", |t| t.trim())
+}
+
+/// The places of a row with their line on one side only, by (whether the original side's
+/// line is the one missing, the other side's line): their indices in `at`, first first.
+fn open_places(at: &[(Option<u32>, Option<u32>)]) -> BTreeMap<(bool, u32), VecDeque<usize>> {
+    let mut v: BTreeMap<(bool, u32), VecDeque<usize>> = BTreeMap::new();
+    for (s, &(o, e)) in at.iter().enumerate() {
+        match (o, e) {
+            (None, Some(e)) => v.entry((true, e)).or_default().push_back(s),
+            (Some(o), None) => v.entry((false, o)).or_default().push_back(s),
+            _ => {}
+        }
+    }
+    v
+}
+
+/// The lines the condition rows name on one side, with their rows, by line.
+fn conditions_of(changes: &[Change], original: bool) -> Vec<(u32, usize)> {
+    let mut v: Vec<(u32, usize)> = Vec::new();
+    for (k, c) in changes.iter().enumerate().filter(|(_, c)| c.kind == ChangeKind::FlowChanged) {
+        v.extend(named(c, original).map(|l| (l, k)));
+    }
+    v.sort_unstable();
+    v
+}
+
+/// A jump row also names the lines of the labels its jumps go to (both sides).
+fn name_jump_targets(changes: &mut [Change], (label_a, jump_a): &Jumps, (label_b, jump_b): &Jumps) {
+    let flows = |c: &Change| matches!(c.kind, ChangeKind::FlowChanged | ChangeKind::ProgramFixed | ChangeKind::ProgramBroken);
+    // The lines of each target's labels, in the order of the text.
+    let by_target = |labels: &[(Target, u32)]| {
+        let mut v: BTreeMap<Target, Vec<u32>> = BTreeMap::new();
+        for (t, l) in labels {
+            v.entry(t.clone()).or_default().push(*l);
+        }
+        v
+    };
+    let (target_a, target_b) = (by_target(label_a), by_target(label_b));
+    for c in changes.iter_mut().filter(|c| flows(c)) {
+        let mut targets: Vec<Target> = named(c, true)
+            .filter_map(|l| jump_a.get(&l))
+            .chain(named(c, false).filter_map(|l| jump_b.get(&l)))
+            .flatten()
+            .cloned()
+            .collect();
+        targets.sort();
+        targets.dedup();
+        let mut at = Vec::new();
+        for t in &targets {
+            at.extend(target_a.get(t).into_iter().flatten().map(|&l| (Some(l), None)));
+            at.extend(target_b.get(t).into_iter().flatten().map(|&l| (None, Some(l))));
+        }
+        if !at.is_empty() {
+            let had: BTreeSet<(Option<u32>, Option<u32>)> = c.detail.at.iter().copied().collect();
+            at.retain(|a| !had.contains(a));
+        }
+        if !at.is_empty() {
+            c.detail.at.extend(at);
+            c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
+            c.detail.at.dedup();
+        }
+    }
 }
 
 /// Names, in `changes`, the lines without a statement that differ beside the lines they
@@ -131,54 +191,16 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
     let (na, nb) = (rows(changes, true), rows(changes, false));
     let open = |ra: &std::ops::Range<u32>, s: &[Stmt], n: &BTreeMap<u32, usize>| ra.clone().any(|l| !holds(s, l) && !n.contains_key(&l));
     let need = changes.iter().any(flows) || runs.iter().any(|(ra, rb)| open(ra, sa, &na) || open(rb, sb, &nb));
-    let ((label_a, jump_a), (label_b, jump_b)) =
-        if need { (jumps_of(ta, da, &same_a), jumps_of(tb, db, &same_b)) } else { Default::default() };
-    // The lines of each target's labels, in the order of the text.
-    let by_target = |labels: &[(Target, u32)]| {
-        let mut v: BTreeMap<Target, Vec<u32>> = BTreeMap::new();
-        for (t, l) in labels {
-            v.entry(t.clone()).or_default().push(*l);
-        }
-        v
-    };
-    let (target_a, target_b) = if changes.iter().any(flows) { (by_target(&label_a), by_target(&label_b)) } else { Default::default() };
-    for c in changes.iter_mut().filter(|c| flows(c)) {
-        let mut targets: Vec<Target> = named(c, true)
-            .filter_map(|l| jump_a.get(&l))
-            .chain(named(c, false).filter_map(|l| jump_b.get(&l)))
-            .flatten()
-            .cloned()
-            .collect();
-        targets.sort();
-        targets.dedup();
-        let mut at = Vec::new();
-        for t in &targets {
-            at.extend(target_a.get(t).into_iter().flatten().map(|&l| (Some(l), None)));
-            at.extend(target_b.get(t).into_iter().flatten().map(|&l| (None, Some(l))));
-        }
-        if !at.is_empty() {
-            let had: BTreeSet<(Option<u32>, Option<u32>)> = c.detail.at.iter().copied().collect();
-            at.retain(|a| !had.contains(a));
-        }
-        if !at.is_empty() {
-            c.detail.at.extend(at);
-            c.detail.at.sort_by_key(|&(o, e)| (e.or(o), o));
-            c.detail.at.dedup();
-        }
+    let (ja, jb): (Jumps, Jumps) = if need { (jumps_of(ta, da, &same_a), jumps_of(tb, db, &same_b)) } else { Default::default() };
+    if changes.iter().any(flows) {
+        name_jump_targets(changes, &ja, &jb);
     }
+    let (label_a, label_b) = (&ja.0, &jb.0);
     let (na, nb) = (rows(changes, true), rows(changes, false));
     let label_lines = |labels: &[(Target, u32)]| labels.iter().map(|&(_, l)| l).collect::<std::collections::BTreeSet<u32>>();
-    let (lla, llb) = (label_lines(&label_a), label_lines(&label_b));
+    let (lla, llb) = (label_lines(label_a), label_lines(label_b));
     // The lines the condition rows name, by line, and the texts' lines, where there are any.
-    let conditions_of = |original: bool| {
-        let mut v: Vec<(u32, usize)> = Vec::new();
-        for (k, c) in changes.iter().enumerate().filter(|(_, c)| c.kind == ChangeKind::FlowChanged) {
-            v.extend(named(c, original).map(|l| (l, k)));
-        }
-        v.sort_unstable();
-        v
-    };
-    let (ca, cb) = (conditions_of(true), conditions_of(false));
+    let (ca, cb) = (conditions_of(changes, true), conditions_of(changes, false));
     let (ea, eb): (Vec<&str>, Vec<&str>) =
         if ca.is_empty() && cb.is_empty() { Default::default() } else { (ta.split('\n').collect(), tb.split('\n').collect()) };
     let mut touched = vec![false; changes.len()];
@@ -249,17 +271,7 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
                 let Some(k) = k else { continue };
                 // The place of a statement the row tells removed (added) there: the pair
                 // completed; else a line of its own.
-                let open = open_of.entry(k).or_insert_with(|| {
-                    let mut v: BTreeMap<(bool, u32), VecDeque<usize>> = BTreeMap::new();
-                    for (s, &(o, e)) in changes[k].detail.at.iter().enumerate() {
-                        match (o, e) {
-                            (None, Some(e)) => v.entry((true, e)).or_default().push_back(s),
-                            (Some(o), None) => v.entry((false, o)).or_default().push_back(s),
-                            _ => {}
-                        }
-                    }
-                    v
-                });
+                let open = open_of.entry(k).or_insert_with(|| open_places(&changes[k].detail.at));
                 let at = &mut changes[k].detail.at;
                 match open.get_mut(&(original, across)).and_then(VecDeque::pop_front) {
                     Some(s) if original => at[s].0 = Some(l),
