@@ -787,6 +787,10 @@ fn lathe_s7_held_out_programs() {
 /// clamp (O0024, O4520), O4520's Ø63.373 and Ø56.007, O2301's face at Z-13.589, the Nakamura
 /// program's Ø33 bore and its face at Z-25.6, O0106's four fillets (R5, R2, R6, R12) and O0117's
 /// Ø30 groove.
+///
+/// `tests/programs/lathe_s15_heldout/` is sweep 15's held-back set (branch gatherlt15), files no
+/// test used of repositories earlier sets drew on; listed in its SOURCES.tsv. Only the sidecars
+/// are committed; written before ncplan ran on them; not yet measured.
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report
@@ -809,6 +813,7 @@ fn print_real_misses() {
         "lathe_s12_heldout",
         "lathe_s13_heldout",
         "lathe_s14_heldout",
+        "lathe_s15_heldout",
     ] {
         if !Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs").join(folder).exists() {
             continue;
