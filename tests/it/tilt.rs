@@ -669,15 +669,17 @@ fn real_programs_lie_on_their_faces() {
     /// with their face axes and `holes` with their tops. Scored once on 7 December 2026
     /// (integrate fba6f7a): 14 of 14.
     const HELD14_SCORE: Option<usize> = Some(14);
-    /// Sweep 15's held-back part (`held15`, branch gatherlt15, 10 items written before ncplan
-    /// read them): five hyperMILL 2025 shop programs of the job shop's data (szborok/json_scanner,
+    /// Sweep 15's held-back part (`held15`, branch gatherlt15, 16 items written before ncplan
+    /// read them): seven hyperMILL 2025 shop programs of the job shop's data (szborok/json_scanner,
     /// files no test used; no licence stated, so `extract.sh` writes them from the mirror): the
     /// DMU 100P duoBLOCK part's A side (two `CYCL DEF 203` holes on the +X end at two surfaces,
     /// `Q203` -23 and -49; two `CYCL DEF 200` holes one above the other on the +X end) and B side
     /// (one `CYCL DEF 203` hole under `SPA-90 SPC-90`, 27 below the end), each face reached with a
     /// pre-positioning under `M128` between `PLANE RESET STAY` and the plane written again; and a
-    /// DMU 85 monoBLOCK part's Ø10 hole on the +X end and eight Ø12 pilot holes on the +Y side.
-    /// `steps` with their face axes and `holes` with their tops. Not yet scored.
+    /// DMU 85 monoBLOCK part's Ø10 hole on the +X end and eight Ø12 pilot holes on the +Y side;
+    /// and another DMU 85 part's two Ø8 gun-drilled holes 366 deep from the +X end (`CYCL DEF
+    /// 241`) and two Ø10 bores milled by `CYCL DEF 208` on the -X end (`SPA90 SPC-90`) and the +Y
+    /// side. `steps` with their face axes and `holes` with their tops. Not yet scored.
     const HELD15_SCORE: Option<usize> = None;
     let corpus = crate::root().join("../shared/corpus");
     let dir = crate::root().join("tests/programs/tilt/real");
