@@ -793,7 +793,8 @@ fn lathe_s7_held_out_programs() {
 /// Planet-Source-Code/alkiman-lathe-simulator__1-61452 (Fanuc 18T, metric): `G94` facing with
 /// `G71`/`G70` whose profile carries its own feeds; `G94`, `G71` and a finishing contour written
 /// out from the back (a dome, R15, R8, R3); three programs of explicit facing and turning passes
-/// with a finish profile (one with no speed clamp for its roughing tool); a bush's explicit passes, drilling, inside roughing with an R3 and inside finishing.
+/// with a finish profile (one with no speed clamp for its roughing tool); a bush's explicit
+/// passes, drilling, inside roughing with an R3 and inside finishing.
 /// Of mikemacfarland/Doosan-Lynx-300 (inch, `G71`/`G70` without decimal points): a locknut
 /// retainer's stepped OD, a discharge adapter's OD and its inside cone with an R.191, a flange's
 /// stepped OD, a shoulder turned with no face cut, a reducer's OD with an edge round, insert
