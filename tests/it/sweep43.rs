@@ -260,6 +260,21 @@
 //! inside a comment (`(... F900 (IPM) based ...)`), which this reading ends at the first `)`, so
 //! the rest of the line is read as words (e007 then as the Fanuc mill); e010 is read as the Fanuc
 //! mill, with no error, having no code only Haas has.
+//!
+//! Sweep 15 (rows f001-f023, half `holdout-s15`: held out whole, no build half; 23 programs of 4
+//! repositories, files no set used of repositories other sets used in part, each row says so, and
+//! none whose text is a side of this round's revision pairs r609-r674). Fanuc 11 (a job shop's
+//! Doosan DNM 5700 hand-written mill programs backed up from the machine: tooling clamps with an
+//! empty comment before code, soft-jaw spiral pockets of `G03` quarter arcs, clamp plates, a
+//! double-vise band anchor with `G81` drilling and `I`/`J` chamfer contours, a `G83` peck, radial
+//! T-cutter slots; three small programs of an SK7420 thread grinder: an endless `GOTO` C run-in, a
+//! `WHILE` touch-step macro with a repeated sequence number, a C run with no motion G code), Haas
+//! 10 (the college class's programs not used before: a face finish, S-clamp arms' drilling and
+//! `G41` peripheries, a small jaw, T words with no `M06`, four lathe programs with
+//! `G50`/`G96`/`G97` and R-corner finishing), Siemens 2 (a thread grinder's dressing-profile
+//! cycles: `G451`, `G42` switched to `G41` without `G40`, `RND`, GUD thread data); 1 invalid (f010:
+//! a `G02` with neither R nor I/J). Verdicts written by reading each file before anyone ran ncplan
+//! on it; to be measured once after merging.
 
 use std::path::PathBuf;
 
