@@ -199,6 +199,8 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
 /// dictionary's `global-variables` (Fanuc's common `#100`-`#999`, LinuxCNC's `#31`-`#5000`).
 /// So is a user variable a program neither declares nor takes as a parameter, where the
 /// dialect's programs declare theirs (`shared_name`).
+/// Its callers ask it of both programs: a name one of them declares, or sets in a statement
+/// with a keyword of the language, is no global there.
 fn global(var: &str, p: Program<'_>) -> bool {
     let d = p.dialect;
     if shared_name(var, p) {
@@ -229,9 +231,10 @@ fn shared_name(var: &str, p: Program<'_>) -> bool {
         && name.len() >= 2;
     // (An address written with `=`, `F=…`, is no variable; a parameter by its sigil and number
     // is one of the dictionary's numbered ranges.)
-    let parameter = d.lexical.parameter.is_some_and(|(sigil, _)| {
-        name.strip_prefix(sigil).is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-    });
+    let parameter = d
+        .lexical
+        .parameter
+        .is_some_and(|(sigil, _)| name.strip_prefix(sigil).is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())));
     if !identifier || parameter || d.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(name)) {
         return false;
     }
@@ -242,7 +245,12 @@ fn shared_name(var: &str, p: Program<'_>) -> bool {
     !stmts.iter().any(|s| {
         let tokens = statement::tokens_in(&statement::text_of(p.text, d, s), d);
         let declare = tokens.first().is_some_and(|t| d.macros.statement(&t.key) == Some(crate::dialect::Statement::Declare));
-        declare && tokens.iter().skip(1).any(|t| reads(&t.text, name))
+        // Set in a statement with a keyword of the language (`IDS=10 EVERY … DO …`: a
+        // synchronized action's number; `IF INI[109]=0`: a condition written with `=`): not
+        // a plain assignment of a variable.
+        let keyword = tokens.iter().any(|t| t.sort == Sort::Assign && t.key.eq_ignore_ascii_case(var))
+            && tokens.iter().any(|t| t.sort == Sort::Other && d.macros.statement(&t.key).is_some());
+        keyword || (declare && tokens.iter().skip(1).any(|t| reads(&t.text, name)))
     })
 }
 
@@ -264,7 +272,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
         let whole = c.before.is_empty() || c.after.is_empty();
         if whole {
             // A global set or no longer set, that the file does not read: for what runs after.
-            if global(&var, p) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+            if global(&var, a) && global(&var, b) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
                 k += 1;
                 continue;
@@ -296,7 +304,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             fed_kinds(p, stmts, &var).into_iter().filter(|(kind, _)| !(whole && *kind == ChangeKind::ToolRenamed)).collect();
         if found.is_empty() {
             // A global the file does not read: told as such, for what runs after it.
-            if global(&var, p) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+            if global(&var, a) && global(&var, b) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
             }
             k += 1;
@@ -1030,7 +1038,11 @@ pub(super) fn rebound(
             for (kind, field) in kinds {
                 let mut u = t.clone();
                 u.kind = kind;
-                u.field = if by_name { format!("{field} (via {key} parameter {label})") } else { format!("{field} (via {key} {label}, {param} in {name})") };
+                u.field = if by_name {
+                    format!("{field} (via {key} parameter {label})")
+                } else {
+                    format!("{field} (via {key} {label}, {param} in {name})")
+                };
                 told.push(u);
             }
         }

@@ -10,7 +10,12 @@
 //! and the parameters a cycle reads by number (Heidenhain `Q200`) are its parameters, named as
 //! the dictionary names them. The words of one kind in one statement make one change of that
 //! kind (`G4 F0.1` added is one dwell added); what the dictionary says nothing about (axis
-//! words, variables, jumps) is left to the statement change.
+//! words the plan tells, variables, jumps) is left to the statement change. A move whose axis
+//! words read variables is the moves, the plan not seeing where they go; an axis word is also
+//! one written with `=` (`Z=INI[108]`) or a name the dictionary indexes by the axis it moves
+//! (`AX[AXIVER]=…`). A machine function the plan has no kind for is named by the dictionary:
+//! a G or M code (`M66`), a keyword code (`DRFOF`), a procedure (`FGROUP(…)`) of such a
+//! meaning, or a code the dictionary does not model but its vocabulary documents (`G112`).
 
 use super::ChangeKind;
 use super::statement::{Sort, Token};
@@ -54,9 +59,7 @@ pub(super) fn about(tok: &Token, d: &Dialect) -> About {
 /// like an address (`CR=5`, `RND=2`: up to three letters) that the dictionary names no
 /// address or code is the program's own variable (Siemens `DEF REAL WR` … `WR=286.43`).
 pub(super) fn sets_variable(tok: &Token, d: &Dialect) -> bool {
-    tok.sort == Sort::Assign
-        && (!tok.is_address() || (tok.key.len() >= 2 && about(tok, d) == About::Unknown))
-        && !axis_indexed_move(tok, d)
+    tok.sort == Sort::Assign && (!tok.is_address() || (tok.key.len() >= 2 && about(tok, d) == About::Unknown)) && !axis_indexed_move(tok, d)
 }
 
 /// The codes a statement's tokens name that give its other words their sense.
@@ -609,7 +612,10 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
         };
         told[n] = true;
         // (A probe's target and its feed are told apart: `probe target`, `probe feed`.)
-        let k = match out.iter().position(|t| t.kind == kind && (!matches!(kind, K::ProbingChanged | K::MachineFunctionChanged) || t.field == field)) {
+        let k = match out
+            .iter()
+            .position(|t| t.kind == kind && (!matches!(kind, K::ProbingChanged | K::MachineFunctionChanged) || t.field == field))
+        {
             Some(k) => k,
             None => {
                 out.push(Typed { kind, field, before: String::new(), after: String::new() });
