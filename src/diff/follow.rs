@@ -106,6 +106,14 @@ fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: 
         .map(|(k, f)| (k, if k == ChangeKind::MachineFunctionChanged { typed::function_field(ctx, d) } else { f.to_owned() }))
 }
 
+/// The text of statement `s` as written, over its lines.
+fn raw<'t>(text: &'t str, s: &Stmt) -> &'t str {
+    let from = (s.offset as usize).min(text.len());
+    let lines = (s.last.saturating_sub(s.line) + 1) as usize;
+    let end = text[from..].match_indices('\n').nth(lines - 1).map_or(text.len(), |(e, _)| from + e);
+    &text[from..end]
+}
+
 /// The kinds of the uses of `name` in `p`, the variables it feeds (for the next level), and
 /// whether any statement reads it.
 fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)>, Vec<String>, bool) {
@@ -115,11 +123,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
     let mut any = false;
     for (k, s) in stmts.iter().enumerate() {
         // The raw line first: most statements do not name the variable.
-        let from = s.offset as usize;
-        let lines = (s.last - s.line + 1) as usize;
-        let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
-        let raw = &p.text[from..end];
-        if !raw.to_ascii_uppercase().contains(name) {
+        if !raw(p.text, s).to_ascii_uppercase().contains(name) {
             continue;
         }
         let toks = statement::tokens_in(&statement::text_of(p.text, p.dialect, s), p.dialect);
@@ -201,9 +205,9 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
 /// dialect's programs declare theirs (`shared_name`).
 /// Its callers ask it of both programs: a name one of them declares, or sets in a statement
 /// with a keyword of the language, is no global there.
-fn global(var: &str, p: Program<'_>) -> bool {
+fn global(var: &str, (p, stmts): (Program<'_>, &[Stmt])) -> bool {
     let d = p.dialect;
-    if shared_name(var, p) {
+    if shared_name(var, p, stmts) {
         return true;
     }
     let Some((sigil, named)) = d.lexical.parameter else { return false };
@@ -219,7 +223,7 @@ fn global(var: &str, p: Program<'_>) -> bool {
 /// every program outside this file (Sinumerik: a program's own variables are defined with `DEF`
 /// and seen only in it; the GUD, defined in the definition files, are seen by every program —
 /// 840D sl programming manual, job planning, "Definition of user variables (DEF)").
-fn shared_name(var: &str, p: Program<'_>) -> bool {
+fn shared_name(var: &str, p: Program<'_>, stmts: &[Stmt]) -> bool {
     let d = p.dialect;
     let declares = d.macros.statements.iter().any(|&(_, s)| s == crate::dialect::Statement::Declare);
     if !d.lexical.identifier_variables || !d.macros.unset_unknown || !declares {
@@ -238,11 +242,14 @@ fn shared_name(var: &str, p: Program<'_>) -> bool {
     if !identifier || parameter || d.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(name)) {
         return false;
     }
-    if formal_parameters(p.text, d, 0).is_some_and(|f| f.contains_key(name)) {
+    if stmts.first().and_then(|s| header_parameters(p.text, d, s, 0)).is_some_and(|f| f.contains_key(name)) {
         return false;
     }
-    let stmts = statement::statements(p.text, d);
     !stmts.iter().any(|s| {
+        // The raw text first: most statements do not name the variable.
+        if !raw(p.text, s).to_ascii_uppercase().contains(name) {
+            return false;
+        }
         let tokens = statement::tokens_in(&statement::text_of(p.text, d, s), d);
         let declare = tokens.first().is_some_and(|t| d.macros.statement(&t.key) == Some(crate::dialect::Statement::Declare));
         // Set in a statement with a keyword of the language (`IDS=10 EVERY … DO …`: a
@@ -272,7 +279,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
         let whole = c.before.is_empty() || c.after.is_empty();
         if whole {
             // A global set or no longer set, that the file does not read: for what runs after.
-            if global(&var, a) && global(&var, b) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+            if global(&var, (a, sa)) && global(&var, (b, sb)) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
                 k += 1;
                 continue;
@@ -304,7 +311,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             fed_kinds(p, stmts, &var).into_iter().filter(|(kind, _)| !(whole && *kind == ChangeKind::ToolRenamed)).collect();
         if found.is_empty() {
             // A global the file does not read: told as such, for what runs after it.
-            if global(&var, a) && global(&var, b) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+            if global(&var, (a, sa)) && global(&var, (b, sb)) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
             }
             k += 1;
@@ -1082,7 +1089,12 @@ fn by_name_callee(key: &str, d: &Dialect) -> Option<String> {
 /// `None` where the program opens with no such header.
 fn formal_parameters(text: &str, d: &Dialect, first: u16) -> Option<std::collections::BTreeMap<String, u16>> {
     let s = statement::statements(text, d).into_iter().next()?;
-    let tokens = statement::tokens_in(&statement::text_of(text, d, &s), d);
+    header_parameters(text, d, &s, first)
+}
+
+/// [`formal_parameters`] of a program whose first statement is `s`.
+fn header_parameters(text: &str, d: &Dialect, s: &Stmt, first: u16) -> Option<std::collections::BTreeMap<String, u16>> {
+    let tokens = statement::tokens_in(&statement::text_of(text, d, s), d);
     let (head, call) = (tokens.first()?, tokens.get(1)?);
     if d.macros.statement(&head.key) != Some(crate::dialect::Statement::Procedure) || call.sort != Sort::Call {
         return None;
