@@ -1530,6 +1530,12 @@ mod tests {
         assert_eq!(texts(tokens_in("X1EX-3 Y2", &siemens)), ["X1EX-3", "Y2"]);
         // A word after a number that is no exponent is still a word of its own.
         assert_eq!(texts(tokens_in("G1X10EY5", &siemens)), ["G1", "X10", "EY5"]);
+        // `==` compares, and a statement keyword against a system variable is a token of its own.
+        let t = tokens_in("IF$A_DBB[15]==0", &siemens);
+        assert_eq!(texts(t.clone()), ["IF", "$A_DBB[15]==0"]);
+        assert_eq!(t[1].sort, Sort::Other);
+        assert_ne!(tokens("INI[109]==0")[0].sort, Sort::Assign);
+        assert_eq!((tokens("INI[109]=0")[0].sort, tokens("INI[109]=0")[0].key.as_str()), (Sort::Assign, "INI[109]"));
     }
 
     #[test]
