@@ -868,7 +868,7 @@ fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect
     {
         return true;
     }
-    if !tok.is_address() {
+    if !tok.is_address() && !typed::axis_indexed_move(tok, dialect) {
         return false;
     }
     // A lathe cycle's word the dictionary gives a role (Haas `G71 … D0.06`: the depth of cut;
@@ -1355,7 +1355,9 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
             (Sort::Call, Some(x), Some(y)) if x.key == y.key => call_changes(x, y, (kind, &it.located_kinds), &ws, d, &mut out),
             // A control-flow statement is told even where a plan change is located at it: the
             // plan says what it did, the statement why.
-            _ if it.located && it.ctx.flow.is_none() && y.as_ref().or(x.as_ref()).is_some_and(Token::is_address) => {}
+            _ if it.located
+                && it.ctx.flow.is_none()
+                && y.as_ref().or(x.as_ref()).is_some_and(|t| t.is_address() || typed::axis_indexed_move(t, d)) => {}
             _ => {
                 plain = true;
                 if let Some(x) = x {

@@ -106,6 +106,14 @@ fn use_kind(tok: &Token, ctx: Context, rapid: impl FnOnce() -> Option<bool>, d: 
         .map(|(k, f)| (k, if k == ChangeKind::MachineFunctionChanged { typed::function_field(ctx, d) } else { f.to_owned() }))
 }
 
+/// The text of statement `s` as written, over its lines.
+fn raw<'t>(text: &'t str, s: &Stmt) -> &'t str {
+    let from = (s.offset as usize).min(text.len());
+    let lines = (s.last.saturating_sub(s.line) + 1) as usize;
+    let end = text[from..].match_indices('\n').nth(lines - 1).map_or(text.len(), |(e, _)| from + e);
+    &text[from..end]
+}
+
 /// The kinds of the uses of `name` in `p`, the variables it feeds (for the next level), and
 /// whether any statement reads it.
 fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)>, Vec<String>, bool) {
@@ -115,11 +123,7 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
     let mut any = false;
     for (k, s) in stmts.iter().enumerate() {
         // The raw line first: most statements do not name the variable.
-        let from = s.offset as usize;
-        let lines = (s.last - s.line + 1) as usize;
-        let end = p.text[from..].match_indices('\n').nth(lines - 1).map_or(p.text.len(), |(e, _)| from + e);
-        let raw = &p.text[from..end];
-        if !raw.to_ascii_uppercase().contains(name) {
+        if !raw(p.text, s).to_ascii_uppercase().contains(name) {
             continue;
         }
         let toks = statement::tokens_in(&statement::text_of(p.text, p.dialect, s), p.dialect);
@@ -197,10 +201,64 @@ fn uses(p: Program<'_>, stmts: &[Stmt], name: &str) -> (Vec<(ChangeKind, String)
 /// parameters, which the subroutines and programs that run after it read: a named parameter
 /// whose name starts with `_` (LinuxCNC `#<_paranoid>`), or a numbered one in the
 /// dictionary's `global-variables` (Fanuc's common `#100`-`#999`, LinuxCNC's `#31`-`#5000`).
-fn global(var: &str, d: &Dialect) -> bool {
+/// So is a user variable a program neither declares nor takes as a parameter, where the
+/// dialect's programs declare theirs (`shared_name`).
+/// Its callers ask it of both programs: a name one of them declares, or sets in a statement
+/// with a keyword of the language, is no global there.
+fn global(var: &str, (p, stmts): (Program<'_>, &[Stmt])) -> bool {
+    let d = p.dialect;
+    if shared_name(var, p, stmts) {
+        return true;
+    }
     let Some((sigil, named)) = d.lexical.parameter else { return false };
     let Some(rest) = var.strip_prefix(sigil) else { return false };
     (named && rest.starts_with("<_")) || rest.parse::<u32>().is_ok_and(|n| d.macros.globals.iter().any(|&(lo, hi)| (lo..=hi).contains(&n)))
+}
+
+/// Whether `var` is a user variable named by an identifier (`PROCESS[50]`, `COMMON_RND[2]`) that
+/// the program neither declares (the dictionary's declare statement, `DEF REAL …`) nor takes as
+/// a parameter of its procedure header, where identifiers name variables, each program declares
+/// its own and one read before it is set is the caller's or global data (`identifier-variables`,
+/// a `declare` statement, `unset-variables="unknown"`): then it is global user data, defined for
+/// every program outside this file (Sinumerik: a program's own variables are defined with `DEF`
+/// and seen only in it; the GUD, defined in the definition files, are seen by every program —
+/// 840D sl programming manual, job planning, "Definition of user variables (DEF)").
+fn shared_name(var: &str, p: Program<'_>, stmts: &[Stmt]) -> bool {
+    let d = p.dialect;
+    let declares = d.macros.statements.iter().any(|&(_, s)| s == crate::dialect::Statement::Declare);
+    if !d.lexical.identifier_variables || !d.macros.unset_unknown || !declares {
+        return false;
+    }
+    let name = var.split('[').next().unwrap_or(var);
+    let identifier = name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && name.len() >= 2;
+    // (An address written with `=`, `F=…`, is no variable; a parameter by its sigil and number
+    // is one of the dictionary's numbered ranges.)
+    let parameter = d
+        .lexical
+        .parameter
+        .is_some_and(|(sigil, _)| name.strip_prefix(sigil).is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())));
+    if !identifier || parameter || d.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(name)) {
+        return false;
+    }
+    if stmts.first().and_then(|s| header_parameters(p.text, d, s, 0)).is_some_and(|f| f.contains_key(name)) {
+        return false;
+    }
+    !stmts.iter().any(|s| {
+        // The raw text first: most statements do not name the variable.
+        if !raw(p.text, s).to_ascii_uppercase().contains(name) {
+            return false;
+        }
+        let tokens = statement::tokens_in(&statement::text_of(p.text, d, s), d);
+        let declare = tokens.first().is_some_and(|t| d.macros.statement(&t.key) == Some(crate::dialect::Statement::Declare));
+        // Set in a statement with a keyword of the language (`IDS=10 EVERY … DO …`: a
+        // synchronized action's number; `IF INI[109]=0`: a condition written with `=`): not
+        // a plain assignment of a variable.
+        let keyword = tokens.iter().any(|t| t.sort == Sort::Assign && t.key.eq_ignore_ascii_case(var))
+            && tokens.iter().any(|t| t.sort == Sort::Other && d.macros.statement(&t.key).is_some());
+        keyword || (declare && tokens.iter().skip(1).any(|t| reads(&t.text, name)))
+    })
 }
 
 /// Statement changes of variables set to other values become the changes of what the
@@ -221,7 +279,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
         let whole = c.before.is_empty() || c.after.is_empty();
         if whole {
             // A global set or no longer set, that the file does not read: for what runs after.
-            if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+            if global(&var, (a, sa)) && global(&var, (b, sb)) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
                 k += 1;
                 continue;
@@ -253,7 +311,7 @@ pub(super) fn follow(changes: &mut Vec<Change>, a: Program<'_>, b: Program<'_>, 
             fed_kinds(p, stmts, &var).into_iter().filter(|(kind, _)| !(whole && *kind == ChangeKind::ToolRenamed)).collect();
         if found.is_empty() {
             // A global the file does not read: told as such, for what runs after it.
-            if global(&var, p.dialect) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
+            if global(&var, (a, sa)) && global(&var, (b, sb)) && !uses(a, sa, &var).2 && !uses(b, sb, &var).2 {
                 changes[k].kind = ChangeKind::GlobalVariableChanged;
             }
             k += 1;
@@ -924,11 +982,16 @@ pub(super) fn rebound(
     let (sa, sb) = (statement::statements(a.text, a.dialect), statement::statements(b.text, d));
     let plan = crate::plan::ProcessPlan::default();
     for (key, lo, le) in calls {
-        let Some(name) = callee_name(&key) else { continue };
+        let Some(name) = callee_name(&key).or_else(|| by_name_callee(&key, d)) else { continue };
         let (Some(old_text), Some(new_text)) = (before.load(&name), after.load(&name)) else { continue };
         let (Some(old_args), Some(new_args)) = (call_args(a, &sa, lo, &key), call_args(b, &sb, le, &key)) else { continue };
         let locals = d.macros.locals;
-        let (Some(old_bind), Some(new_bind)) = (binding(&old_text, d, sigil, locals), binding(&new_text, d, sigil, locals)) else {
+        // A procedure's parameters by the names its header gives them (Siemens `PROC
+        // F_ZC_START(REAL Z_START_POSITION, …)`), else by the variables it sets from them.
+        let formal = (formal_parameters(&old_text, d, locals.0), formal_parameters(&new_text, d, locals.0));
+        let by_name = formal.0.is_some() && formal.1.is_some();
+        let bound = |text: &str, f: Option<std::collections::BTreeMap<String, u16>>| f.or_else(|| binding(text, d, sigil, locals));
+        let (Some(old_bind), Some(new_bind)) = (bound(&old_text, formal.0), bound(&new_text, formal.1)) else {
             continue;
         };
         // The subroutine unchanged and arguments only appended or taken off at the end: every
@@ -962,7 +1025,7 @@ pub(super) fn rebound(
                 continue;
             }
             let n = new_bind.get(var).or_else(|| old_bind.get(var)).copied().unwrap_or(locals.0);
-            let param = format!("{sigil}{n}");
+            let param = if by_name { var.clone() } else { format!("{sigil}{n}") };
             let label =
                 if var.starts_with(sigil) && positional_name(var, sigil) { format!("parameter {}", n + 1 - locals.0) } else { var.clone() };
             let kinds = if new_bind.contains_key(var) { fed_kinds(callee, &new_stmts, &param) } else { Vec::new() };
@@ -982,7 +1045,11 @@ pub(super) fn rebound(
             for (kind, field) in kinds {
                 let mut u = t.clone();
                 u.kind = kind;
-                u.field = format!("{field} (via {key} {label}, {param} in {name})");
+                u.field = if by_name {
+                    format!("{field} (via {key} parameter {label})")
+                } else {
+                    format!("{field} (via {key} {label}, {param} in {name})")
+                };
                 told.push(u);
             }
         }
@@ -1005,6 +1072,42 @@ pub(super) fn rebound(
             changes.insert(k + i, t);
         }
     }
+}
+
+/// The program a call by name calls, as a program source is asked for it, where the dialect
+/// calls programs by their names (Siemens `F_ZC_START(INI[7],INI[6],INI[5],50*INI[5],0)`: the
+/// program `F_ZC_START`).
+fn by_name_callee(key: &str, d: &Dialect) -> Option<String> {
+    let t = Token { key: key.to_owned(), value: "()".into(), text: format!("{key}()"), sort: Sort::Call };
+    control::called_by_name(&t, d).then(|| key.to_owned())
+}
+
+/// The parameters a procedure's header names, in order (Siemens `PROC F_ZC_START(REAL
+/// Z_START_POSITION, REAL Z_END_POSITION, VAR REAL SPEED)`: the 840D sl programming manual, job
+/// planning, "Subprogram with parameter transfer", the formal parameters bound to the call's
+/// actual parameters by position), each by its name with its position counted from `first`;
+/// `None` where the program opens with no such header.
+fn formal_parameters(text: &str, d: &Dialect, first: u16) -> Option<std::collections::BTreeMap<String, u16>> {
+    let s = statement::statements(text, d).into_iter().next()?;
+    header_parameters(text, d, &s, first)
+}
+
+/// [`formal_parameters`] of a program whose first statement is `s`.
+fn header_parameters(text: &str, d: &Dialect, s: &Stmt, first: u16) -> Option<std::collections::BTreeMap<String, u16>> {
+    let tokens = statement::tokens_in(&statement::text_of(text, d, s), d);
+    let (head, call) = (tokens.first()?, tokens.get(1)?);
+    if d.macros.statement(&head.key) != Some(crate::dialect::Statement::Procedure) || call.sort != Sort::Call {
+        return None;
+    }
+    let mut out = std::collections::BTreeMap::new();
+    for (k, p) in statement::arguments(&call.value).iter().enumerate() {
+        // `REAL SPEED`, `VAR REAL POS[3]`, `REAL F=100`: the last word before a default or an index.
+        let decl = p.split('=').next().unwrap_or(p);
+        let name = decl.split_whitespace().last().map(|w| w.split('[').next().unwrap_or(w));
+        let Some(name) = name.filter(|n| !n.is_empty()) else { continue };
+        out.insert(name.to_ascii_uppercase(), first.saturating_add(u16::try_from(k).ok()?));
+    }
+    (!out.is_empty()).then_some(out)
 }
 
 /// Whether a variable is a positional parameter itself (`#3`), not a name the subroutine gives it.

@@ -85,7 +85,7 @@ fn moves_of(block: &Block, dialect: &Dialect) -> u8 {
 
 /// Whether a code's axis words are its values, not a motion: a macro call's arguments, a
 /// frame (translation, rotation, scale, mirror) or an origin shift, data set (`G10`).
-fn words_are_no_motion(m: Meaning) -> bool {
+pub(super) fn words_are_no_motion(m: Meaning) -> bool {
     use Meaning as M;
     matches!(
         m,
@@ -1205,7 +1205,28 @@ pub fn tokens(s: &str) -> Vec<Token> {
 /// `THEN`, then the assignment of `#20`, not a variable named `THEN#20`).
 pub fn tokens_in(s: &str, d: &Dialect) -> Vec<Token> {
     let keywords: Vec<&str> = d.macros.statements.iter().map(|(k, _)| k.as_str()).filter(|k| !k.is_empty()).collect();
-    split(s, d.lexical.numbers.exponent.as_deref(), &keywords)
+    let pieces = split(s, d.lexical.numbers.exponent.as_deref(), &keywords);
+    let Some(prefix) = d.lexical.system_variable_prefix.and_then(|c| u8::try_from(c).ok()) else { return pieces };
+    // A statement keyword written against a system variable (Siemens `IF$A_DBB[15]==0`, the
+    // blank between them gone with the spelling): the keyword, then the condition.
+    let mut out = Vec::with_capacity(pieces.len());
+    for t in pieces {
+        let b = t.text.as_bytes();
+        let k = keywords
+            .iter()
+            .map(|k| k.as_bytes())
+            .filter(|k| b.len() > k.len() && b[..k.len()].eq_ignore_ascii_case(k) && b[k.len()] == prefix)
+            .map(<[u8]>::len)
+            .max()
+            .unwrap_or(0);
+        if k > 0 {
+            out.push(token(&t.text[..k]));
+            out.push(token(&t.text[k..]));
+        } else {
+            out.push(t);
+        }
+    }
+    out
 }
 
 /// Whether the text at `i` is the exponent letters after a number's digits (`EX3`, `EX-3`).
@@ -1297,7 +1318,8 @@ fn token(t: &str) -> Token {
             '<' | '>' if parens > 0 => {}
             '[' | '<' => depth += 1,
             ']' | '>' => depth -= 1,
-            '=' if depth == 0 && i > 0 && !t[i + 1..].starts_with('=') => {
+            // (`==` compares: neither of its signs assigns, `IF INI[109]==0`.)
+            '=' if depth == 0 && i > 0 && !t[i + 1..].starts_with('=') && !t[..i].ends_with(['=', '!']) => {
                 // A parameter function's label before the parameter it sets (Heidenhain
                 // `FN 0: Q1 = +5`, `FN 1: Q3 = +Q1 + +Q2`): the parameter is the one set, as in
                 // `Q1 = +5`.
@@ -1508,6 +1530,12 @@ mod tests {
         assert_eq!(texts(tokens_in("X1EX-3 Y2", &siemens)), ["X1EX-3", "Y2"]);
         // A word after a number that is no exponent is still a word of its own.
         assert_eq!(texts(tokens_in("G1X10EY5", &siemens)), ["G1", "X10", "EY5"]);
+        // `==` compares, and a statement keyword against a system variable is a token of its own.
+        let t = tokens_in("IF$A_DBB[15]==0", &siemens);
+        assert_eq!(texts(t.clone()), ["IF", "$A_DBB[15]==0"]);
+        assert_eq!(t[1].sort, Sort::Other);
+        assert_ne!(tokens("INI[109]==0")[0].sort, Sort::Assign);
+        assert_eq!((tokens("INI[109]=0")[0].sort, tokens("INI[109]=0")[0].key.as_str()), (Sort::Assign, "INI[109]"));
     }
 
     #[test]

@@ -10,7 +10,12 @@
 //! and the parameters a cycle reads by number (Heidenhain `Q200`) are its parameters, named as
 //! the dictionary names them. The words of one kind in one statement make one change of that
 //! kind (`G4 F0.1` added is one dwell added); what the dictionary says nothing about (axis
-//! words, variables, jumps) is left to the statement change.
+//! words the plan tells, variables, jumps) is left to the statement change. A move whose axis
+//! words read variables is the moves, the plan not seeing where they go; an axis word is also
+//! one written with `=` (`Z=INI[108]`) or a name the dictionary indexes by the axis it moves
+//! (`AX[AXIVER]=…`). A machine function the plan has no kind for is named by the dictionary:
+//! a G or M code (`M66`), a keyword code (`DRFOF`), a procedure (`FGROUP(…)`) of such a
+//! meaning, or a code the dictionary does not model but its vocabulary documents (`G112`).
 
 use super::ChangeKind;
 use super::statement::{Sort, Token};
@@ -54,7 +59,7 @@ pub(super) fn about(tok: &Token, d: &Dialect) -> About {
 /// like an address (`CR=5`, `RND=2`: up to three letters) that the dictionary names no
 /// address or code is the program's own variable (Siemens `DEF REAL WR` … `WR=286.43`).
 pub(super) fn sets_variable(tok: &Token, d: &Dialect) -> bool {
-    tok.sort == Sort::Assign && (!tok.is_address() || (tok.key.len() >= 2 && about(tok, d) == About::Unknown))
+    tok.sort == Sort::Assign && (!tok.is_address() || (tok.key.len() >= 2 && about(tok, d) == About::Unknown)) && !axis_indexed_move(tok, d)
 }
 
 /// The codes a statement's tokens name that give its other words their sense.
@@ -140,11 +145,24 @@ fn other_cycle(m: Meaning) -> bool {
         || matches!(m, M::ProfileFinish | M::ProfileRoughTurn | M::ProfileRoughFace | M::SpindleSync | M::RigidTap)
 }
 
-/// Whether a token is an axis or arc-centre word.
+/// Whether a token is an axis or arc-centre word: an address and its value (`X10`), an axis
+/// address given an expression with `=` (Siemens `Z=INI[108]`, `V=$AA_SOFTENDP[V]-1`: the 840D
+/// sl programming manual, fundamentals, "axis address = expression"), or a name the dictionary
+/// indexes by the axis it moves (`AX[AXIVER]=…`, `POS[X]=…`: `<axis-indexed meaning="axis-word">`).
 pub(super) fn axis_word(tok: &Token, d: &Dialect) -> bool {
     use Role as R;
-    tok.sort == Sort::Word
-        && matches!(about(tok, d), About::Address(R::X | R::Y | R::Z | R::A | R::B | R::C | R::U | R::V | R::W | R::I | R::J | R::K))
+    let addressed = matches!(tok.sort, Sort::Word | Sort::Assign)
+        && matches!(about(tok, d), About::Address(R::X | R::Y | R::Z | R::A | R::B | R::C | R::U | R::V | R::W | R::I | R::J | R::K));
+    addressed || axis_indexed_move(tok, d)
+}
+
+/// Whether an assignment moves the axis a dictionary name is indexed by (Siemens `AX[X]=10`,
+/// `AX[AXNAME(AXIS_EW)]=PROCESS[20]+2`, `POS[X]=0.2`), the parser's axis-indexed word, not a
+/// variable of the program.
+pub(super) fn axis_indexed_move(tok: &Token, d: &Dialect) -> bool {
+    let Some((open, close)) = d.lexical.array_brackets else { return false };
+    let name = tok.key.strip_suffix(char::from(close)).and_then(|k| k.split_once(char::from(open))).map(|(name, _)| name);
+    tok.sort == Sort::Assign && name.is_some_and(|n| d.lexical.axis_indexed.iter().any(|a| a.moves && a.name.eq_ignore_ascii_case(n)))
 }
 
 /// Whether an axis word's value is written with a variable or an expression, not a number.
@@ -176,7 +194,9 @@ impl Context {
         }
         c.macro_call =
             tokens.iter().any(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall | Meaning::ModalMacroCall)));
-        c.moves_by_variables = !c.macro_call && tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
+        // A frame's or an origin shift's axis words are its values, no move (`AROT Z=ANGLE`).
+        let no_motion = tokens.iter().any(|t| matches!(about(t, d), About::Code(m) if super::statement::words_are_no_motion(m)));
+        c.moves_by_variables = !c.macro_call && !no_motion && tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
         c.probe_cycle = tokens.iter().any(|t| probing(t, c.macro_call, d));
         c.flow = super::control::flow_of(tokens, d);
         let mill = !d.behaviour.x_diameter && d.behaviour.initial_plane == crate::canon::Plane::Xy;
@@ -188,7 +208,7 @@ impl Context {
         c.shift |= tokens.iter().any(|t| t.sort == Sort::Other && matches!(about(t, d), About::Code(m) if shifts(m)));
         for t in tokens.iter().filter(|t| t.sort == Sort::Word) {
             let code = || t.key[1..].parse::<f64>().ok().map(|n| (t.key.chars().next().unwrap_or('M'), (n * 10.0).round() as u32));
-            if about(t, d) == About::Unknown && unknown_code(t) {
+            if about(t, d) == About::Unknown && (unknown_code(t) || documented_code(t, d).is_some()) {
                 c.function = true;
                 c.function_code = c.function_code.or_else(code);
             }
@@ -277,7 +297,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
     use ChangeKind as K;
     use Meaning as M;
     use Role as R;
-    if !tok.is_address() || tok.sort == Sort::Call {
+    if (!tok.is_address() && !axis_indexed_move(tok, d)) || tok.sort == Sort::Call {
         return None;
     }
     // A comment the control stops at (LinuxCNC `(abort, …)`): the program ends there.
@@ -410,7 +430,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
             R::DwellTime => (K::DwellChanged, "dwell"),
             _ => return None,
         },
-        About::Unknown if unknown_code(tok) => (K::MachineFunctionChanged, "machine function"),
+        About::Unknown if unknown_code(tok) || documented_code(tok, d).is_some() => (K::MachineFunctionChanged, "machine function"),
         About::Unknown => return None,
     })
 }
@@ -458,8 +478,50 @@ pub(super) fn function_field(ctx: Context, d: &Dialect) -> String {
     match d.code(letter, n) {
         Some(def) if !def.name.is_empty() && def.name != def.meaning.as_str() => format!("machine function {code}: {}", def.name),
         Some(def) => format!("machine function {code}: {}", def.meaning.as_str().replace('-', " ")),
-        None => format!("machine function {code}: not in the dictionary"),
+        // A code the control's manual documents that the engine does not model (Mazak `G112`):
+        // what the vocabulary says it does.
+        None => match d.vocabulary.code(letter, n) {
+            Some(e) if !e.what.is_empty() => format!("machine function {code}: {}", e.what),
+            _ => format!("machine function {code}: not in the dictionary"),
+        },
     }
+}
+
+/// The vocabulary's entry for a numbered G or M code the dictionary does not model but the
+/// control's manual documents (`<vocabulary>`: Mazak Integrex `G112`, the block's S and M words
+/// on the milling spindle): a machine function the plan has no kind for.
+fn documented_code<'d>(tok: &Token, d: &'d Dialect) -> Option<&'d crate::dialect::vocabulary::Entry> {
+    if !numbered_code(tok) {
+        return None;
+    }
+    let letter = tok.key.chars().next()?;
+    let n = (tok.key[1..].parse::<f64>().ok()? * 10.0).round();
+    if !(0.0..1e6).contains(&n) || d.code(letter, n as u32).is_some() {
+        return None;
+    }
+    d.vocabulary.code(letter, n as u32)
+}
+
+/// A statement added or removed whole that calls a procedure the dictionary lists as a machine
+/// function the plan has no kind for (Siemens `FGROUP(AX_HORI,AX_VER)`, `<cycle meaning="other">`:
+/// the axes the path feed refers to): that function, named.
+fn function_call(tok: &Token, d: &Dialect) -> Option<String> {
+    let c = d.cycles.iter().find(|c| tok.sort == Sort::Call && c.name.eq_ignore_ascii_case(&tok.key))?;
+    (machine_function(c.meaning) && !c.probe).then(|| format!("machine function {}", c.name.to_ascii_uppercase()))
+}
+
+/// A keyword code the dictionary gives a machine function the plan has no kind for (Siemens
+/// `DRFOF`, handwheel offsets cleared): that function, by the dictionary's name for it.
+fn keyword_function(tok: &Token, d: &Dialect) -> Option<String> {
+    if tok.sort != Sort::Other || !tok.value.is_empty() {
+        return None;
+    }
+    let (i, spec) = d.keyword_codes().find(|(_, spec)| spec.text == tok.key)?;
+    let def = &d.codes[i];
+    machine_function(def.meaning).then(|| {
+        let name = if def.name.is_empty() { def.meaning.as_str().replace('-', " ") } else { def.name.clone() };
+        format!("machine function {}: {name}", spec.text)
+    })
 }
 
 /// Whether the statement's machine function takes words of `role` by the dictionary (LinuxCNC
@@ -517,6 +579,7 @@ fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
 /// The typed changes of one statement's token differences, and which differences they tell.
 /// Words of one kind make one change: their texts joined, before and after.
 pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> (Vec<Typed>, Vec<bool>) {
+    use ChangeKind as K;
     if let Some(whole) = whole_statement(diffs, ctx, d) {
         return (vec![whole], vec![true; diffs.len()]);
     }
@@ -541,13 +604,21 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
             out.push(t);
             continue;
         }
-        let Some((kind, field)) = kind_of(tok, ctx, d) else { continue };
+        let (kind, field) = match (kind_of(tok, ctx, d), function_call(tok, d)) {
+            (Some((kind, field)), _) => (kind, field.to_owned()),
+            // (Its arguments changed in place are the call's own rows.)
+            (None, Some(f)) if x.is_none() || y.is_none() => (ChangeKind::MachineFunctionChanged, f),
+            _ => continue,
+        };
         told[n] = true;
         // (A probe's target and its feed are told apart: `probe target`, `probe feed`.)
-        let k = match out.iter().position(|t| t.kind == kind && (kind != ChangeKind::ProbingChanged || t.field == field)) {
+        let k = match out
+            .iter()
+            .position(|t| t.kind == kind && (!matches!(kind, K::ProbingChanged | K::MachineFunctionChanged) || t.field == field))
+        {
             Some(k) => k,
             None => {
-                out.push(Typed { kind, field: field.into(), before: String::new(), after: String::new() });
+                out.push(Typed { kind, field, before: String::new(), after: String::new() });
                 out.len() - 1
             }
         };
@@ -562,7 +633,7 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
         }
     }
     for t in &mut out {
-        if t.kind == ChangeKind::MachineFunctionChanged {
+        if t.kind == ChangeKind::MachineFunctionChanged && t.field == "machine function" {
             t.field = function_field(ctx, d);
         }
         // The cycle whose start point or contour it is (`start point of G76`).
@@ -601,11 +672,15 @@ fn whole_statement(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &D
     };
     let longest = d.keyword_codes().filter(|(_, spec)| opens(spec)).max_by_key(|(_, spec)| spec.text.len());
     let head = longest.map(|(_, spec)| Token { key: spec.text.clone(), value: String::new(), text: spec.text.clone(), sort: Sort::Other });
-    let (kind, field) = kind_of(head.as_ref().unwrap_or(first), ctx, d)?;
+    let head = head.as_ref().unwrap_or(first);
+    let (kind, field) = match kind_of(head, ctx, d) {
+        Some((kind, field)) => (kind, field.to_owned()),
+        None => (ChangeKind::MachineFunctionChanged, keyword_function(head, d)?),
+    };
     let text = diffs.iter().filter_map(|(x, y)| y.as_ref().or(x.as_ref())).map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ");
     let kind = if kind == ChangeKind::StopAdded && removed { ChangeKind::StopRemoved } else { kind };
     let (before, after) = if added { (String::new(), text) } else { (text, String::new()) };
-    Some(Typed { kind, field: field.into(), before, after })
+    Some(Typed { kind, field, before, after })
 }
 
 /// The cycle a call token names (`CYCLE81(…)`) and its arguments' names, by the dictionary.

@@ -587,8 +587,8 @@ fn machine_functions_are_named_by_the_dictionary() {
           machine function M64 (digital output on) changed from P1 to P2 at line 4
         machine_function_changed | machine function M66: wait on input | L3 | L4 | 5 | 5
           machine function M66 (wait on input) changed from L3 to L4 at line 5
-        machine_function_changed | machine function M188: not in the dictionary |  | M188 | 6 | -
-          machine function `M188` added (M188: not in the dictionary) at line 6
+        machine_function_changed | machine function M188: user-defined M codes: a program M1nn on the control's USER_M_PATH, with P and Q |  | M188 | 6 | -
+          machine function `M188` added (M188: user-defined M codes: a program M1nn on the control's USER_M_PATH, with P and Q) at line 6
     "#]]
     .assert_eq(&rows(&changes(a, &b, "linuxcnc")));
 }
