@@ -171,19 +171,16 @@ impl Interpreter<'_> {
             self.tilt_cycle(&args, block_range, sink, diags);
             return;
         }
-        // A pocket cycle mills where it is called; under a modal call (`MCALL POCKET3`) at
-        // the positions after it, which are not modelled: kept as intent.
+        // A pocket cycle mills where it is called; under a modal call (`MCALL SLOT1`) it is the
+        // cycle in force, called after each block that moves (below, as a drilling cycle is):
+        // the 840D runs the cycle `MCALL` names after every block with a movement until `MCALL`
+        // alone (Programming Manual Fundamentals, modal subprogram call).
         let pocket = |m: Meaning| matches!(m, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot);
-        if let Some(ci) = self.block_cycle.take_if(|&mut ci| pocket(self.dialect.cycles[ci].meaning)) {
+        if !modal && let Some(ci) = self.block_cycle.take_if(|&mut ci| pocket(self.dialect.cycles[ci].meaning)) {
             let args = std::mem::take(&mut self.cycle_args);
             let cycle = &self.dialect.cycles[ci];
             let (meaning, name) = (cycle.meaning, cycle.name.clone());
-            if modal {
-                let msg = format!("{name} called modally is kept as intent only: its moves are not expanded");
-                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, block_range, msg));
-            } else {
-                self.mill_pocket(meaning, &name, &args, block_range, sink, diags);
-            }
+            self.mill_pocket(meaning, &name, &args, block_range, sink, diags);
             return;
         }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::ContourDefine).is_some() {
@@ -387,11 +384,16 @@ impl Interpreter<'_> {
             return;
         }
         // A pocket cycle called at a position (Heidenhain 251, 252): the position is its centre.
+        // One whose arguments place it (Siemens `POCKET3`, `SLOT1` under `MCALL`) is milled
+        // where they say, in the frame in force at the call.
         if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot) {
-            let (label, meaning) = (format!("CYCL DEF {}", cycle.name), cycle.meaning);
+            let placed = args.iter().any(|(r, _)| matches!(r, Role::PocketX | Role::PocketY));
+            let (label, meaning) = (if placed { cycle.name.clone() } else { format!("CYCL DEF {}", cycle.name) }, cycle.meaning);
             let (a0, a1, _) = self.st.plane.axes();
             let mut at = args.clone();
-            at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
+            if !placed {
+                at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
+            }
             self.mill_pocket(meaning, &label, &at, range, sink, diags);
             return;
         }
