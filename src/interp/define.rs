@@ -658,8 +658,12 @@ fn pattern_points(meaning: Meaning, get: impl Fn(Role) -> Option<f64>) -> Result
             let n = count(Role::PatternCount, "the number of holes")?;
             // A negative radius runs the circle clockwise (Haas `I-1.5`).
             let radius = get(Role::PatternRadius).unwrap_or(0.0);
+            // A full circle: the step the control calculates from the count (a step angle 0, or
+            // Siemens Operate's `_VARI` units digit 0, the machining type the dictionary gives
+            // that role; the pitch circle's step angle is then not read).
+            let full = get(Role::MachiningType).is_some_and(|v| v.rem_euclid(10.0) == 0.0);
             let step = match get(Role::PatternStepAngle).unwrap_or(0.0) {
-                0.0 => 360.0 / n as f64,
+                a if a == 0.0 || full => 360.0 / n as f64,
                 a => a,
             } * radius.signum();
             let radius = radius.abs();

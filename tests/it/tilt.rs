@@ -603,8 +603,9 @@ fn real_programs_lie_on_their_faces() {
     /// read as the C axis), the CL path's first pose kept and `POCKET3` milled (tilt10): 11 of
     /// 15; missed the three `SLOT1` keyways (intent) and the `HOLES2` circle (its `_VARI` full
     /// circle against the 30° step written, unread). With `SLOT1` milled as slots on a circle,
-    /// called modally after each move under `MCALL` (tilt16): 14 of 15.
-    const HELD9_SCORE: Option<usize> = Some(14);
+    /// called modally after each move under `MCALL` (tilt16): 14 of 15; with `HOLES2`'s
+    /// Operate `_VARI` read (units digit 0 a full circle, its step from the count): 15 of 15.
+    const HELD9_SCORE: Option<usize> = Some(15);
     /// Sweep 10's held-back part (`held10`, branch gatherlt10: hyperMILL 2025 shop programs of
     /// szborok/json_scanner and szborok/BRK_CNC_CORE, Heidenhain `PLANE SPATIAL ... TABLE ROT`
     /// after a `CYCL DEF 7` datum shift on a DMU 100P, a DMU 85 and a Trimill, drilling, bore
