@@ -385,7 +385,10 @@ impl Interpreter<'_> {
         }
         // A pocket cycle called at a position (Heidenhain 251, 252): the position is its centre.
         // One whose arguments place it (Siemens `POCKET3`, `SLOT1` under `MCALL`) is milled
-        // where they say, in the frame in force at the call.
+        // where they say, in the frame in force at the call: the classic cycles position
+        // themselves, so that a modal call repeats them in a frame turned between the calls (a
+        // C-axis angle). [SINUMERIK Operate's "position pattern" choice, which may place them
+        // at each position instead, is not read: unconfirmed against the manual.]
         if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot) {
             let placed = args.iter().any(|(r, _)| matches!(r, Role::PocketX | Role::PocketY));
             let (label, meaning) = (if placed { cycle.name.clone() } else { format!("CYCL DEF {}", cycle.name) }, cycle.meaning);

@@ -286,8 +286,9 @@ impl Interpreter<'_> {
     }
 }
 
-/// The most slots one cycle call is expanded into.
-const MAX_SLOTS: f64 = 1_000.0;
+/// The most slots one cycle call is expanded into: a circle of slots holds a few dozen at most,
+/// and a modal call repeats the call at each of up to 10 000 pattern positions.
+const MAX_SLOTS: f64 = 100.0;
 
 /// Slots on a circle (Siemens `SLOT1`, "slots on a circle" in the 840D cycles manual): `NUM`
 /// slots of the length and width the slot states, each along the radius of the circle about

@@ -1426,3 +1426,32 @@ fn cylinder_interpolation_reads_the_same_on_the_plain_lane() {
         assert_eq!(fast, general, "{mode}");
     }
 }
+
+/// Siemens `SLOT1` whose count of slots is not a whole number from 1 to 100 is kept as intent
+/// with a warning naming the count; a modal call (`MCALL SLOT1`) mills the slot after each block
+/// that moves and not after `MCALL` alone, and the slot turned by `INDA` lies along its radius.
+#[test]
+fn slot1_counts_and_modal_calls() {
+    let dialect = Registry::shipped().get("siemens").unwrap();
+    let run = |text: &str| pipeline::analyze(text.as_bytes(), &dialect, &Profile::default());
+    for bad in ["0", "2.5", "101"] {
+        let text = format!("G17 G90\nT=\"MILL 6\"\nM6\nS3000 M3 F400\nSLOT1(10,0,2,,3,{bad},16,6,50,30,18,0,90)\nM30\n");
+        let a = run(&text);
+        assert!(a.plan.features.is_empty(), "{bad}: {:?}", a.plan.features);
+        assert!(
+            a.diagnostics.iter().any(|d| d.message.contains("number of slots") && d.message.contains(bad)),
+            "{bad}: {:?}",
+            a.diagnostics
+        );
+    }
+    // Two moves under MCALL: the slot twice (one feature, two workingsteps), none after MCALL.
+    let a =
+        run("G17 G90\nT=\"MILL 6\"\nM6\nS3000 M3 F400\nMCALL SLOT1(10,0,2,,3,1,16,6,50,30,0,90,0)\nG0 X0\nG0 X10\nMCALL\nG0 X20\nM30\n");
+    assert!(!a.has_errors(), "{:?}", a.diagnostics);
+    let slots: Vec<_> = a.plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
+    assert_eq!(slots.len(), 1, "{:?}", a.plan.features);
+    assert_eq!(a.plan.workingsteps.len(), 2, "{:?}", a.plan.workingsteps.iter().map(|w| w.lines).collect::<Vec<_>>());
+    // Along Y (STA1 90): the ends' centres at (50, 25) and (50, 35), the start the lower.
+    let p = slots[0].placement;
+    assert!((p[0] - 50.0).abs() < 1e-3 && (p[1] - 25.0).abs() < 1e-3, "{p:?}");
+}
