@@ -384,19 +384,19 @@ impl Interpreter<'_> {
             return;
         }
         // A pocket cycle called at a position (Heidenhain 251, 252): the position is its centre.
-        // One whose arguments place it (Siemens `POCKET3`, `SLOT1` under `MCALL`) is milled
-        // where they say, in the frame in force at the call: the classic cycles position
-        // themselves, so that a modal call repeats them in a frame turned between the calls (a
-        // C-axis angle). [SINUMERIK Operate's "position pattern" choice, which may place them
-        // at each position instead, is not read: unconfirmed against the manual.]
+        // So is a Siemens pocket or slot cycle under `MCALL` (`MCALL SLOT1`): SINUMERIK Operate
+        // writes the modal call for its "position pattern" choice, the cycle machined at each
+        // position the blocks after it reach, its own position arguments not read [unconfirmed
+        // against the manual; a course's keyways at `C4=0 X10` and `C4=120 X10` lie so on the
+        // shaft's centre line]; a slot on a circle is laid about that position.
         if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot) {
-            let placed = args.iter().any(|(r, _)| matches!(r, Role::PocketX | Role::PocketY));
-            let (label, meaning) = (if placed { cycle.name.clone() } else { format!("CYCL DEF {}", cycle.name) }, cycle.meaning);
+            // A cycle with position arguments of its own is named as written, not as `CYCL DEF`.
+            let own_position = args.iter().any(|(r, _)| matches!(r, Role::PocketX | Role::PocketY));
+            let label = if own_position { cycle.name.clone() } else { format!("CYCL DEF {}", cycle.name) };
+            let meaning = cycle.meaning;
             let (a0, a1, _) = self.st.plane.axes();
             let mut at = args.clone();
-            if !placed {
-                at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
-            }
+            at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
             self.mill_pocket(meaning, &label, &at, range, sink, diags);
             return;
         }

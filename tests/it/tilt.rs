@@ -1428,8 +1428,9 @@ fn cylinder_interpolation_reads_the_same_on_the_plain_lane() {
 }
 
 /// Siemens `SLOT1` whose count of slots is not a whole number from 1 to 100 is kept as intent
-/// with a warning naming the count; a modal call (`MCALL SLOT1`) mills the slot after each block
-/// that moves and not after `MCALL` alone, and the slot turned by `INDA` lies along its radius.
+/// with a warning naming the count; a modal call (`MCALL SLOT1`) mills the slot at each block
+/// that moves, centred where it moved (SINUMERIK Operate's position pattern), and not after
+/// `MCALL` alone; a slot turned by `STA1` lies along its radius.
 #[test]
 fn slot1_counts_and_modal_calls() {
     let dialect = Registry::shipped().get("siemens").unwrap();
@@ -1444,14 +1445,18 @@ fn slot1_counts_and_modal_calls() {
             a.diagnostics
         );
     }
-    // Two moves under MCALL: the slot twice (one feature, two workingsteps), none after MCALL.
-    let a =
-        run("G17 G90\nT=\"MILL 6\"\nM6\nS3000 M3 F400\nMCALL SLOT1(10,0,2,,3,1,16,6,50,30,0,90,0)\nG0 X0\nG0 X10\nMCALL\nG0 X20\nM30\n");
+    // Two moves under MCALL: a slot at each, along Y (STA1 90), its ends' centres 5 either side;
+    // none after MCALL alone.
+    let a = run(
+        "G17 G90\nT=\"MILL 6\"\nM6\nS3000 M3 F400\nMCALL SLOT1(10,0,2,,3,1,16,6,50,30,0,90,0)\nG0 X20 Y30\nG0 X60\nMCALL\nG0 X80\nM30\n",
+    );
     assert!(!a.has_errors(), "{:?}", a.diagnostics);
-    let slots: Vec<_> = a.plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
-    assert_eq!(slots.len(), 1, "{:?}", a.plan.features);
-    assert_eq!(a.plan.workingsteps.len(), 2, "{:?}", a.plan.workingsteps.iter().map(|w| w.lines).collect::<Vec<_>>());
-    // Along Y (STA1 90): the ends' centres at (50, 25) and (50, 35), the start the lower.
-    let p = slots[0].placement;
-    assert!((p[0] - 50.0).abs() < 1e-3 && (p[1] - 25.0).abs() < 1e-3, "{p:?}");
+    let starts: Vec<[f64; 2]> =
+        a.plan.features.iter().filter(|f| f.kind.label() == "slot").map(|f| [f.placement[0], f.placement[1]]).collect();
+    let want = [[20.0, 25.0], [60.0, 25.0]];
+    assert!(
+        starts.len() == 2 && starts.iter().zip(&want).all(|(g, w)| (g[0] - w[0]).abs() < 1e-3 && (g[1] - w[1]).abs() < 1e-3),
+        "{starts:?}"
+    );
+    assert_eq!(a.plan.workingsteps.len(), 2);
 }
