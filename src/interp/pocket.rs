@@ -3,9 +3,9 @@
 //! arguments state, on the working plane in force (a swivelled plane included); a pocket
 //! cycle called at a position (Heidenhain 251, 252) is centred there. Slots (`mill-slot`:
 //! Heidenhain 253 at its centre; Siemens `SLOT1`, slots on a circle, each where its arguments
-//! place it: [`slots_on_circle`]); a cycle whose arguments place it is milled there also when
-//! `MCALL` calls it after a move. And bores milled in a helix (Heidenhain 208, `mill-bore`):
-//! [`Interpreter::mill_bore`].
+//! place it: [`slots_on_circle`]); under `MCALL` each is centred at the position the blocks
+//! after it reach (`define`'s call of the cycle in force). And bores milled in a helix
+//! (Heidenhain 208, `mill-bore`): [`Interpreter::mill_bore`].
 //!
 //! The moves written are the cycle's finishing pass on the wall at the floor: the tool down at
 //! the pocket's centre, out to the wall, once round it (counter-clockwise), and up to the
