@@ -171,19 +171,16 @@ impl Interpreter<'_> {
             self.tilt_cycle(&args, block_range, sink, diags);
             return;
         }
-        // A pocket cycle mills where it is called; under a modal call (`MCALL POCKET3`) at
-        // the positions after it, which are not modelled: kept as intent.
+        // A pocket cycle mills where it is called; under a modal call (`MCALL SLOT1`) it is the
+        // cycle in force, called after each block that moves (below, as a drilling cycle is):
+        // the 840D runs the cycle `MCALL` names after every block with a movement until `MCALL`
+        // alone (Programming Manual Fundamentals, modal subprogram call).
         let pocket = |m: Meaning| matches!(m, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot);
-        if let Some(ci) = self.block_cycle.take_if(|&mut ci| pocket(self.dialect.cycles[ci].meaning)) {
+        if !modal && let Some(ci) = self.block_cycle.take_if(|&mut ci| pocket(self.dialect.cycles[ci].meaning)) {
             let args = std::mem::take(&mut self.cycle_args);
             let cycle = &self.dialect.cycles[ci];
             let (meaning, name) = (cycle.meaning, cycle.name.clone());
-            if modal {
-                let msg = format!("{name} called modally is kept as intent only: its moves are not expanded");
-                self.limited(diags, "cycle-not-expanded", Diagnostic::new(Code::Unsupported, block_range, msg));
-            } else {
-                self.mill_pocket(meaning, &name, &args, block_range, sink, diags);
-            }
+            self.mill_pocket(meaning, &name, &args, block_range, sink, diags);
             return;
         }
         if self.block_cycle.take_if(|&mut ci| self.dialect.cycles[ci].meaning == Meaning::ContourDefine).is_some() {
@@ -387,8 +384,16 @@ impl Interpreter<'_> {
             return;
         }
         // A pocket cycle called at a position (Heidenhain 251, 252): the position is its centre.
+        // So is a Siemens pocket or slot cycle under `MCALL` (`MCALL SLOT1`): SINUMERIK Operate
+        // writes the modal call for its "position pattern" choice, the cycle machined at each
+        // position the blocks after it reach, its own position arguments not read [unconfirmed
+        // against the manual; a course's keyways at `C4=0 X10` and `C4=120 X10` lie so on the
+        // shaft's centre line]; a slot on a circle is laid about that position.
         if matches!(cycle.meaning, Meaning::MillPocketRect | Meaning::MillPocketCircle | Meaning::MillSlot) {
-            let (label, meaning) = (format!("CYCL DEF {}", cycle.name), cycle.meaning);
+            // A cycle with position arguments of its own is named as written, not as `CYCL DEF`.
+            let own_position = args.iter().any(|(r, _)| matches!(r, Role::PocketX | Role::PocketY));
+            let label = if own_position { cycle.name.clone() } else { format!("CYCL DEF {}", cycle.name) };
+            let meaning = cycle.meaning;
             let (a0, a1, _) = self.st.plane.axes();
             let mut at = args.clone();
             at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
@@ -656,8 +661,12 @@ fn pattern_points(meaning: Meaning, get: impl Fn(Role) -> Option<f64>) -> Result
             let n = count(Role::PatternCount, "the number of holes")?;
             // A negative radius runs the circle clockwise (Haas `I-1.5`).
             let radius = get(Role::PatternRadius).unwrap_or(0.0);
+            // A full circle: the step the control calculates from the count (a step angle 0, or
+            // Siemens Operate's `_VARI` units digit 0, the machining type the dictionary gives
+            // that role; the pitch circle's step angle is then not read).
+            let full = get(Role::MachiningType).is_some_and(|v| v.rem_euclid(10.0) == 0.0);
             let step = match get(Role::PatternStepAngle).unwrap_or(0.0) {
-                0.0 => 360.0 / n as f64,
+                a if a == 0.0 || full => 360.0 / n as f64,
                 a => a,
             } * radius.signum();
             let radius = radius.abs();

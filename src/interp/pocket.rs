@@ -1,8 +1,11 @@
 //! Pockets milled by a cycle (Siemens `POCKET3` rectangular, `POCKET4` circular; the
 //! dictionary's `mill-pocket-rect` and `mill-pocket-circle`): the pocket the cycle's
 //! arguments state, on the working plane in force (a swivelled plane included); a pocket
-//! cycle called at a position (Heidenhain 251, 252) is centred there. And bores milled in a
-//! helix (Heidenhain 208, `mill-bore`): [`Interpreter::mill_bore`].
+//! cycle called at a position (Heidenhain 251, 252) is centred there. Slots (`mill-slot`:
+//! Heidenhain 253 at its centre; Siemens `SLOT1`, slots on a circle, each where its arguments
+//! place it: [`slots_on_circle`]); under `MCALL` each is centred at the position the blocks
+//! after it reach (`define`'s call of the cycle in force). And bores milled in a helix
+//! (Heidenhain 208, `mill-bore`): [`Interpreter::mill_bore`].
 //!
 //! The moves written are the cycle's finishing pass on the wall at the floor: the tool down at
 //! the pocket's centre, out to the wall, once round it (counter-clockwise), and up to the
@@ -17,6 +20,7 @@ use crate::dialect::{Meaning, Role};
 use crate::text::TextRange;
 
 /// The shape a pocket cycle states, in the plane's coordinates.
+#[derive(Clone, Copy)]
 enum Shape {
     /// Centre, length along the angle, width, corner radius, angle (degrees).
     Rect { c: [f64; 2], len: f64, wid: f64, r: f64, angle: f64 },
@@ -90,7 +94,26 @@ impl Interpreter<'_> {
         );
         d.severity = Severity::Note;
         self.limited(diags, "pocket-passes", d);
+        let shapes = match slots_on_circle(&shape, &get) {
+            Ok(Some(slots)) => slots,
+            Ok(None) => vec![shape],
+            Err(problem) => {
+                let msg = format!("{name}: {problem}: kept as intent only, its moves are not expanded");
+                let mut d = Diagnostic::new(Code::CycleIncomplete, range, msg);
+                d.severity = Severity::Warning;
+                diags.push(d);
+                return;
+            }
+        };
+        for shape in shapes {
+            self.pocket_pass(name, shape, surface, safe, floor, retract, sink);
+        }
+    }
 
+    /// One pocket's finishing pass between its `MillCycle` markers: down at its centre, round
+    /// its wall under cutter compensation, up to the retract plane.
+    #[allow(clippy::too_many_arguments)]
+    fn pocket_pass(&mut self, name: &str, shape: Shape, surface: f64, safe: f64, floor: f64, retract: f64, sink: &mut dyn CanonSink) {
         let (a0, a1, n) = self.st.plane.axes();
         let at = |me: &Self, x: f64, y: f64, z: f64| {
             let mut p = me.st.pos;
@@ -261,4 +284,38 @@ impl Interpreter<'_> {
         );
         (self.st.pos[a0], self.st.pos[a1], self.st.pos[n]) = (end[0], end[1], level);
     }
+}
+
+/// The most slots one cycle call is expanded into: a circle of slots holds a few dozen at most,
+/// and a modal call repeats the call at each of up to 10 000 pattern positions.
+const MAX_SLOTS: f64 = 100.0;
+
+/// Slots on a circle (Siemens `SLOT1`, "slots on a circle" in the 840D cycles manual): `NUM`
+/// slots of the length and width the slot states, each along the radius of the circle about
+/// the centre `CPA CPO` of radius `RAD`, the first at the start angle `STA1` from the plane's
+/// first axis and each next one `INDA` further (`INDA` 0: spread evenly round the full
+/// circle, as `HOLES2` reads it). Each slot is centred on the circle [the manual's figure as
+/// read; unconfirmed on a control]. `None` where the cycle names no circle (Heidenhain 253:
+/// one slot at its centre).
+fn slots_on_circle(shape: &Shape, get: &impl Fn(Role) -> Option<f64>) -> Result<Option<Vec<Shape>>, String> {
+    let Shape::Slot { c, len, wid, .. } = *shape else { return Ok(None) };
+    let (Some(radius), Some(count)) = (get(Role::PatternRadius), get(Role::PatternCount)) else { return Ok(None) };
+    if count.fract() != 0.0 || !(1.0..=MAX_SLOTS).contains(&count) {
+        return Err(format!("the number of slots must be a whole number from 1 to {MAX_SLOTS}, not {count}"));
+    }
+    let n = count as usize;
+    let start = get(Role::PatternAngle).unwrap_or(0.0);
+    let step = match get(Role::PatternStepAngle).unwrap_or(0.0) {
+        0.0 => 360.0 / n as f64,
+        a => a,
+    };
+    Ok(Some(
+        (0..n)
+            .map(|i| {
+                let angle = start + i as f64 * step;
+                let (s, co) = angle.to_radians().sin_cos();
+                Shape::Slot { c: [c[0] + radius * co, c[1] + radius * s], len, wid, angle }
+            })
+            .collect(),
+    ))
 }

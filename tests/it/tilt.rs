@@ -602,8 +602,10 @@ fn real_programs_lie_on_their_faces() {
     /// axis. No longer blind: with a C move under a tilted plane turning the part (`C4=120`
     /// read as the C axis), the CL path's first pose kept and `POCKET3` milled (tilt10): 11 of
     /// 15; missed the three `SLOT1` keyways (intent) and the `HOLES2` circle (its `_VARI` full
-    /// circle against the 30° step written, unread).
-    const HELD9_SCORE: Option<usize> = Some(11);
+    /// circle against the 30° step written, unread). With `SLOT1` milled as slots on a circle,
+    /// called modally after each move under `MCALL` (tilt16): 14 of 15; with `HOLES2`'s
+    /// Operate `_VARI` read (units digit 0 a full circle, its step from the count): 15 of 15.
+    const HELD9_SCORE: Option<usize> = Some(15);
     /// Sweep 10's held-back part (`held10`, branch gatherlt10: hyperMILL 2025 shop programs of
     /// szborok/json_scanner and szborok/BRK_CNC_CORE, Heidenhain `PLANE SPATIAL ... TABLE ROT`
     /// after a `CYCL DEF 7` datum shift on a DMU 100P, a DMU 85 and a Trimill, drilling, bore
@@ -1438,4 +1440,38 @@ fn cylinder_interpolation_reads_the_same_on_the_plain_lane() {
         assert_eq!(fast_errors, general_errors, "{mode}");
         assert_eq!(fast, general, "{mode}");
     }
+}
+
+/// Siemens `SLOT1` whose count of slots is not a whole number from 1 to 100 is kept as intent
+/// with a warning naming the count; a modal call (`MCALL SLOT1`) mills the slot at each block
+/// that moves, centred where it moved (SINUMERIK Operate's position pattern), and not after
+/// `MCALL` alone; a slot turned by `STA1` lies along its radius.
+#[test]
+fn slot1_counts_and_modal_calls() {
+    let dialect = Registry::shipped().get("siemens").unwrap();
+    let run = |text: &str| pipeline::analyze(text.as_bytes(), &dialect, &Profile::default());
+    for bad in ["0", "2.5", "101"] {
+        let text = format!("G17 G90\nT=\"MILL 6\"\nM6\nS3000 M3 F400\nSLOT1(10,0,2,,3,{bad},16,6,50,30,18,0,90)\nM30\n");
+        let a = run(&text);
+        assert!(a.plan.features.is_empty(), "{bad}: {:?}", a.plan.features);
+        assert!(
+            a.diagnostics.iter().any(|d| d.message.contains("number of slots") && d.message.contains(bad)),
+            "{bad}: {:?}",
+            a.diagnostics
+        );
+    }
+    // Two moves under MCALL: a slot at each, along Y (STA1 90), its ends' centres 5 either side;
+    // none after MCALL alone.
+    let a = run(
+        "G17 G90\nT=\"MILL 6\"\nM6\nS3000 M3 F400\nMCALL SLOT1(10,0,2,,3,1,16,6,50,30,0,90,0)\nG0 X20 Y30\nG0 X60\nMCALL\nG0 X80\nM30\n",
+    );
+    assert!(!a.has_errors(), "{:?}", a.diagnostics);
+    let starts: Vec<[f64; 2]> =
+        a.plan.features.iter().filter(|f| f.kind.label() == "slot").map(|f| [f.placement[0], f.placement[1]]).collect();
+    let want = [[20.0, 25.0], [60.0, 25.0]];
+    assert!(
+        starts.len() == 2 && starts.iter().zip(&want).all(|(g, w)| (g[0] - w[0]).abs() < 1e-3 && (g[1] - w[1]).abs() < 1e-3),
+        "{starts:?}"
+    );
+    assert_eq!(a.plan.workingsteps.len(), 2);
 }
