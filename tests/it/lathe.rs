@@ -1526,6 +1526,26 @@ fn whole_lengths_without_points_beside_fractions_are_calculator_input() {
     assert!(diameters.contains(&(40.0, 20.0)), "{diameters:?}");
 }
 
+/// The finding of calculator-type input points at its evidence: the first whole number written
+/// without a decimal point, or the R of the first arc that reaches its end only with that R in
+/// whole units.
+#[test]
+fn calculator_input_finding_points_at_its_evidence() {
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let finding = |program: &str| {
+        let a = pipeline::analyze(program.as_bytes(), &d, &Profile::default());
+        let f = a.diagnostics.iter().find(|x| x.code.as_str() == "interp::decimal-input-inferred").cloned();
+        f.map(|f| program[f.range.start as usize..f.range.end as usize].to_owned())
+    };
+    let bare = "O1\nG21 G99\nT0101\nG50 S2000\nG96 S200 M3\nG0 X44 Z2\nG1 X-1.6 Z0 F0.2\nG0 Z2\nX40\nG1 Z-20\nX44\nG0 X100 Z50\nM30\n";
+    assert_eq!(finding(bare).as_deref(), Some("X44"));
+    // Points on every length, two rounds given by `R2` (0.002 mm on least-increment input
+    // cannot join the ends 4 mm apart; 2 mm can).
+    let arcs = "O2\nG21 G99\nT0101\nG97 S800 M3\nG0 X30. Z2.\nG1 Z0. F0.2\nG3 X34. Z-2. R2\nG1 Z-20.\n\
+G2 X38. Z-22. R2\nG1 X44.\nG0 X100. Z50.\nM30\n";
+    assert_eq!(finding(arcs).as_deref(), Some("R2"));
+}
+
 /// A boring bar leaves the wall it cut towards the axis (an outside tool leaves it away from
 /// the axis): passes that end, and are left, by a move straight in X to a smaller diameter
 /// work inside, as CAM posts and turners write bores (a bore's roughing stepping the bottom
