@@ -134,6 +134,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         classify(ws, front, back, boring, grooving, drill);
     }
     follow_roughing(plan);
+    parted_through_the_bore(plan);
     // One pass across the front that a later workingstep faces again a little behind it
     // (another pass, another tool) left stock for that face: it roughs. (Never faced again, it
     // is the part's face, finished unless its operation's comment calls it roughing.) Only on
@@ -236,6 +237,62 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     // STEP-NC or the store cannot carry it, and must equal the one recovered.
     for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
         t.mirrored = false;
+    }
+}
+
+/// A plunge from outside that reaches the bore the part already has there parts it off: a tube,
+/// or a part drilled or bored through behind the cut, falls off once the tool passes its inner
+/// diameter, and shops and posts feed the cut-off tool only just past it (Sandvik Coromant's
+/// parting-off guide: on tubes the insert feeds through the wall, past the inner diameter, not
+/// to the centre). The bore: the hole a named drill of known diameter drilled past that Z, or
+/// the largest radius an inside workingstep cut at that Z, before it on the same part in the
+/// same place (setup, work offset, spindle). A groove whose bottom stays outside the bore is
+/// still a groove.
+fn parted_through_the_bore(plan: &mut ProcessPlan) {
+    let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
+    for k in 1..plan.workingsteps.len() {
+        let ws = &plan.workingsteps[k];
+        let Some(t) = ws.turning.as_deref().filter(|t| t.operation == Some(TurnOp::Grooving) && !t.inside) else { continue };
+        let cuts = cuts(ws);
+        // The plunge's bottom and where along Z it lies, and where it came in from.
+        let Some(bottom) = cuts.iter().min_by(|a, b| a.to[0].total_cmp(&b.to[0])) else { continue };
+        let (x, z) = (bottom.to[0], bottom.to[2]);
+        let outer = cuts.iter().map(|m| m.from[0].max(m.to[0])).fold(f64::NEG_INFINITY, f64::max);
+        if x < 0.05 || t.intent.as_ref().and_then(|i| i.span).is_some() {
+            continue;
+        }
+        let bore = plan.workingsteps[..k]
+            .iter()
+            .filter(|w| place(w) == place(ws))
+            .filter_map(|w| bore_at(w, z, plan.tools.iter().find(|tl| tl.number == w.tool)))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if bore > 0.05 && x <= bore + TOL && outer > bore + 0.5 {
+            if let Some(t) = plan.workingsteps[k].turning.as_mut() {
+                t.operation = Some(TurnOp::PartingOff);
+                t.rough = false;
+            }
+        }
+    }
+}
+
+/// The radius of the bore a workingstep leaves at `z`: a drill's (of known diameter) where it
+/// drilled past `z`, or the largest radius an inside workingstep's cuts along Z reach at `z`.
+fn bore_at(w: &Workingstep, z: f64, tool: Option<&Tool>) -> Option<f64> {
+    let t = w.turning.as_deref()?;
+    let cuts = cuts(w);
+    match t.operation {
+        Some(TurnOp::Drilling) => {
+            let d = tool.filter(|tl| tl.kind == ToolKind::TwistDrill).and_then(|tl| tl.diameter)?;
+            let deepest = cuts.iter().map(|m| m.to[2]).fold(f64::INFINITY, f64::min);
+            (deepest < z - TOL).then_some(d / 2.0)
+        }
+        Some(_) if t.inside => cuts
+            .iter()
+            .filter(|m| m.arc.is_none() && (m.to[2] - m.from[2]).abs() > TOL)
+            .filter(|m| m.from[2].min(m.to[2]) < z - TOL && m.from[2].max(m.to[2]) >= z)
+            .map(|m| m.from[0] + (m.to[0] - m.from[0]) * (z - m.from[2]) / (m.to[2] - m.from[2]))
+            .reduce(f64::max),
+        _ => None,
     }
 }
 

@@ -210,7 +210,7 @@ fn score_folder(folder: &str) -> (usize, usize, usize, Vec<String>) {
     let mut programs: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e != "expect" && e != "tsv" && e != "sh"))
+        .filter(|p| p.extension().is_some_and(|e| e != "expect" && e != "tsv" && e != "sh" && e != "md"))
         .collect();
     programs.sort();
     let (mut listed, mut misses) = (0, Vec::new());
@@ -1524,6 +1524,33 @@ fn whole_lengths_without_points_beside_fractions_are_calculator_input() {
     let (codes, diameters) = read(increments);
     assert!(!codes.contains(&Code::DecimalInputInferred), "{codes:?}");
     assert!(diameters.contains(&(40.0, 20.0)), "{diameters:?}");
+}
+
+/// A cut-off tool fed from outside only just past the bore the part already has parts it off
+/// (a tube falls off once the wall is cut through): by a `G75` plunge after a named drill of
+/// known diameter, and by plunges written as moves after an inside turning pass. A groove
+/// whose bottom stays outside the bore is still a groove.
+#[test]
+fn a_plunge_through_to_the_bore_parts_off() {
+    // A Ø20 drill through to Z-45, then a G75 plunge at Z-30 from Ø52 to Ø19.
+    let drilled = "O1\nG21 G99\nT0101 (DRILL D20)\nG97 S800 M3\nG0 X0. Z2.\nG1 Z-45. F0.15\nG0 Z2.\nX100. Z50.\n\
+T0202 (PARTING TOOL W3)\nG50 S2000\nG96 S120 M3\nG0 X52. Z-30.\nG75 R0.5\nG75 X19. P2000 F0.05\nG0 X100. Z50.\nM30\n";
+    let (ws, features) = labels(drilled, "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("parting off"), "{ws:?}");
+    assert!(!features.contains(&"groove".to_owned()), "{features:?}");
+    // The same plunge stopping at Ø30, outside the Ø20 hole: a groove.
+    let (ws, features) = labels(&drilled.replace("X19. P2000", "X30. P2000"), "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("grooving finish"), "{ws:?}");
+    assert!(features.contains(&"groove".to_owned()), "{features:?}");
+    // A bore turned Ø40 to Z-25 (a boring bar's pass), then a plunge from Ø62 to Ø39 at Z-20
+    // written as moves, left by a rapid out.
+    let bored = "O2\nG21 G99\nT0303 (BORING BAR)\nG97 S900 M3\nG0 X38. Z2.\nG1 X40. Z0. F0.15\nZ-25.\nX38.\nG0 Z2.\n\
+X100. Z50.\nT0404 (GROOVE W3)\nG97 S600 M3\nG0 X62. Z-20.\nG1 X39. F0.05\nG0 X70.\nX100. Z50.\nM30\n";
+    let (ws, _) = labels(bored, "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("parting off"), "{ws:?}");
+    // The plunge in front of the bore's end but stopping at Ø44: a groove.
+    let (ws, _) = labels(&bored.replace("G1 X39. F0.05", "G1 X44. F0.05"), "fanuc_lathe");
+    assert_eq!(ws.last().map(String::as_str), Some("grooving finish"), "{ws:?}");
 }
 
 /// The finding of calculator-type input points at its evidence: the first whole number written
