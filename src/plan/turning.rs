@@ -1600,8 +1600,8 @@ fn recess(profile: &[Move], i: usize) -> Option<(f64, f64)> {
 /// path's arcs of that radius, else the side's (a nose on the left of its way turns right
 /// round an outside corner). Where the radius is not known, both are taken from the path: its
 /// smallest arcs, when no larger than an insert's nose (ISO 1832: 0.1 to 2.4 mm), all turning
-/// one way, and when the path has an arc of another radius or at least two of them. None
-/// without compensation.
+/// one way round outside corners (the side's sense), and when the path has an arc of another
+/// radius or at least two of them. None without compensation.
 fn nose_arcs(ws: &Workingstep, t: &Turning, profile: &[Move]) -> Option<(f64, f64)> {
     if ws.state.cutter_comp.is_empty() {
         return None;
@@ -1619,7 +1619,15 @@ fn nose_arcs(ws: &Workingstep, t: &Turning, profile: &[Move]) -> Option<(f64, f6
     // The nose goes round outside corners only, so its arcs all turn one way; small arcs
     // turning both ways are the program's rounds (the control had no radius to offset by).
     let one_way = nose.iter().all(|m| arc_sense(m) == sense);
-    (smallest.0 <= 2.4 + TOL && one_way && (nose.len() >= 2 || other)).then_some((smallest.0, sense))
+    // And round outside corners only: a nose on the left of its way turns right there (as
+    // above). Small arcs turning the other way, into the material, are the program's fillets
+    // (`G02 X14 Z-15 R2` into a shoulder under `G42`): the path is the programmed contour.
+    let sides: Vec<bool> = ws.state.cutter_comp.iter().map(|c| c.left).collect();
+    let convex = match sides.split_first() {
+        Some((&left, rest)) if rest.iter().all(|&l| l == left) => sense == if left == t.mirrored { 1.0 } else { -1.0 },
+        _ => true,
+    };
+    (smallest.0 <= 2.4 + TOL && one_way && convex && (nose.len() >= 2 || other)).then_some((smallest.0, sense))
 }
 
 /// The sense an arc turns in the plane of the part's profile (+1 or -1).

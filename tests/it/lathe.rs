@@ -1160,6 +1160,27 @@ G3 X36 Z-26 R2\nG1 Z-40\nG40\nG0 X50\nM2\n"
     }
 }
 
+/// Under `G42` with the nose radius in the control's offsets (unknown here) the path is the
+/// programmed contour: a small fillet turning into the material (concave, `G02 … R2` into a
+/// shoulder) is the part's round, not the nose going round an outside corner, and the other
+/// rounds keep their programmed radii.
+#[test]
+fn a_small_fillet_into_a_shoulder_is_no_nose_arc() {
+    let p = "O1\nG21 G99\nT1111\nG50 S3000\nG96 S250 M3\nG0 G42 X14. Z2.\nG1 X0. Z0. F0.1\nG3 X10. Z-5. R5.\nG1 Z-13.\n\
+G2 X14. Z-15. R2.\nG1 X18.\nZ-24.\nG2 X30. Z-30. R6.\nG1 X40.\nG0 G40 X100. Z50.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(p.as_bytes(), &d, &Profile::default()).plan;
+    let radii: Vec<f64> = plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::RevolvedRound { radius, .. }) => Some(*radius),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(radii, [5.0, 2.0, 6.0], "{:?}", plan.features.iter().map(|f| f.kind.label()).collect::<Vec<_>>());
+}
+
 /// LinuxCNC's `G70`, `G71` and `G72` one after another over one profile, with nothing between
 /// them but the cycles' own rapids (as LinuxCNC's manual and its quadrant demo write them), are
 /// one operation each: a finish, the roughing along Z ending with its pass along the contour,
