@@ -1029,7 +1029,10 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         }
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
-        None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
+        // Not a pass that turns a profile down along -Z and never climbs back out of it (a
+        // grooving tool finishing a spigot that a part-off then ends): that is a contour turned,
+        // with its diameters, as a turner reads it; a groove has a wall on each side.
+        None if grooving && !t.inside && !runs.iter().all(|r| descends(r)) => (TurnOp::Grooving, runs.len() > 1),
         None => (TurnOp::Contouring, contour_roughs(ws, &runs, stepped_in, zmax - zmin)),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
@@ -1045,6 +1048,21 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     // A drill on the axis works no inside of a hole already there: it makes the hole.
     t.inside &= op != TurnOp::Drilling;
     ws.turning = Some(Box::new(t));
+}
+
+/// Whether a run turns a profile outside down along -Z: it cuts along Z (a diameter longer
+/// than 0.5 mm), never goes back along +Z, never climbs back out once it has come down (no
+/// cut to a larger diameter after its smallest), and does not plunge to its bottom first.
+fn descends(run: &[Move]) -> bool {
+    let along = run.iter().any(|m| (m.to[0] - m.from[0]).abs() < TOL && m.from[2] - m.to[2] > 0.5);
+    let back = run.iter().any(|m| m.to[2] > m.from[2] + TOL);
+    let lowest = run.iter().map(|m| m.to[0]).fold(f64::INFINITY, f64::min);
+    let bottom = run.iter().position(|m| m.to[0] <= lowest + TOL);
+    let climbs = bottom.is_some_and(|i| run[i + 1..].iter().any(|m| m.to[0] > m.from[0] + TOL));
+    // A plunge straight to the bottom first, then along it: a groove's floor, its other wall
+    // plunged or profiled before.
+    let plunged = run.first().is_some_and(|m| straight_across(m) && m.to[0] <= lowest + TOL);
+    along && !back && !climbs && !plunged
 }
 
 /// Runs that plunge across and come back out the way they went in, and at how many Z: by

@@ -1574,6 +1574,38 @@ X100. Z50.\nT0404 (GROOVE W3)\nG97 S600 M3\nG0 X62. Z-20.\nG1 X39. F0.05\nG0 X70
     assert_eq!(ws.last().map(String::as_str), Some("grooving finish"), "{ws:?}");
 }
 
+/// A grooving tool the program names, finishing a profile that steps down along -Z and never
+/// climbs back out (a spigot a part-off then ends), turns a contour: its diameters, not a
+/// groove. The same tool turning out a recess (down, along, back up) still grooves.
+#[test]
+fn a_grooving_tools_descending_profile_is_a_contour() {
+    let spigot = "O1\nG21 G99\nT1010 (OD GROOVE W3)\nG50 S2500\nG96 S150 M3\nG0 X66. Z1.\nG1 X61. Z0. F0.08\n\
+X63. Z-1.\nZ-6.\nX56. Z-8.\nZ-17.\nX54. Z-18.\nG0 X70.\nX100. Z50.\nM30\n";
+    let (ws, features) = labels(spigot, "fanuc_lathe");
+    assert_eq!(ws, ["contouring finish"], "{features:?}");
+    assert!(!features.contains(&"groove".to_owned()), "{features:?}");
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(spigot.as_bytes(), &d, &Profile::default()).plan;
+    let diameters: Vec<f64> = plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::Diameter { diameter, inside: false, .. }) => Some(*diameter),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(diameters, [63.0, 56.0]);
+    // Down into a recess, along its bottom and back out: a groove.
+    let recess = "O2\nG21 G99\nT1010 (OD GROOVE W3)\nG97 S800 M3\nG0 X66. Z-10.\nG1 X50. F0.08\nZ-20.\nX66.\nG0 X100. Z50.\nM30\n";
+    let (ws, features) = labels(recess, "fanuc_lathe");
+    assert!(ws.iter().all(|w| w.starts_with("grooving")), "{ws:?}");
+    assert!(features.contains(&"groove".to_owned()), "{features:?}");
+    // Plunged straight to a floor and along it, left by a rapid: a groove's floor.
+    let floor = recess.replace("Z-20.\nX66.\n", "Z-20.\nG0 X66.\n");
+    let (ws, _) = labels(&floor, "fanuc_lathe");
+    assert!(ws.iter().all(|w| w.starts_with("grooving")), "{ws:?}");
+}
+
 /// The finding of calculator-type input points at its evidence: the first whole number written
 /// without a decimal point, or the R of the first arc that reaches its end only with that R in
 /// whole units.
