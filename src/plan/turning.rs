@@ -188,7 +188,8 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
             })
             .map(|j| found[k + 1 + j].clone())
             .filter(|f| ws.turning.as_ref().is_some_and(|t| t.rough) && !f.is_empty());
-        found[k] = finish.unwrap_or_else(|| revolution(ws));
+        let beyond = || profiled_beyond_the_finish(ws, &plan.workingsteps[k + 1..], face).filter(|f| !f.is_empty());
+        found[k] = finish.or_else(beyond).unwrap_or_else(|| revolution(ws));
     }
     let mut features: Vec<Feature> = Vec::new();
     for (ws, found) in plan.workingsteps.iter_mut().zip(found) {
@@ -294,6 +295,37 @@ fn bore_at(w: &Workingstep, z: f64, tool: Option<&Tool>) -> Option<f64> {
             .reduce(f64::max),
         _ => None,
     }
+}
+
+/// Explicit roughing passes of one tool whose last pass runs the whole contour (a profile
+/// pass), finished afterwards on the same side by another tool that does not reach all of it
+/// (a finishing boring bar run to Z-22 in a bore roughed to its floor at Z-25.6): where the
+/// finish does not reach, the part is as that profile pass left it, so its features there are
+/// the part's (a diameter lying wholly beyond the finish's reach, a face behind it). Where the
+/// finish reaches, the finish gives the part. None without such a finish (roughing alone
+/// leaves stock, no finished shape) or where nothing lies beyond it.
+fn profiled_beyond_the_finish(ws: &Workingstep, later: &[Workingstep], face: f64) -> Option<Vec<(FeatureKind, f64)>> {
+    let t = ws.turning.as_deref().filter(|t| t.rough && t.intent.is_none() && t.operation == Some(TurnOp::Contouring))?;
+    let runs = runs(ws);
+    let [.., last] = runs.as_slice() else { return None };
+    let length = t.z.map_or(0.0, |z| z[1] - z[0]);
+    if runs.len() < 2 || !whole_contour(last, length) {
+        return None;
+    }
+    // The deepest Z a later finishing workingstep on the same side reaches.
+    let reach = later
+        .iter()
+        .filter(|w| w.tool != ws.tool)
+        .filter(|w| w.turning.as_ref().is_some_and(|l| !l.rough && l.inside == t.inside && l.operation == Some(TurnOp::Contouring)))
+        .flat_map(|w| cuts(w).into_iter().map(|m| m.to[2].min(m.from[2])))
+        .reduce(f64::min)?;
+    let nose = nose_arcs(ws, t, last);
+    let beyond = contour_profile_features(t, last, (0.0, 0.0), nose, face).into_iter().filter(|(k, z)| match k {
+        FeatureKind::Turned(Turned::Diameter { length, .. }) => z - length < reach - TOL && *z <= reach + TOL,
+        FeatureKind::Turned(Turned::RevolvedFlat { .. }) => *z < reach - TOL,
+        _ => false,
+    });
+    Some(beyond.collect())
 }
 
 /// What a workingstep takes from the roughing before it: a finishing cycle a grooving tool runs

@@ -1606,6 +1606,33 @@ X63. Z-1.\nZ-6.\nX56. Z-8.\nZ-17.\nX54. Z-18.\nG0 X70.\nX100. Z50.\nM30\n";
     assert!(ws.iter().all(|w| w.starts_with("grooving")), "{ws:?}");
 }
 
+/// A roughing boring bar's passes, the last along the whole bore to its floor, then a finishing
+/// bar that bores only the front part: behind the finish's reach the bore is as the roughing
+/// profile left it (its Ø33 and its floor at Z-25.6); in front, the finish gives the part
+/// (Ø31.8, not the roughed Ø31.6).
+#[test]
+fn a_bore_beyond_the_finishing_bars_reach_is_the_roughing_profiles() {
+    let p = "O1\nG21 G99\nT0505 (DRILL D18)\nG97 S1400 M3\nG0 X0. Z2.\nG1 Z-40. F0.08\nG0 Z2.\nX100. Z50.\n\
+T0404 (BORING BAR ROUGH)\nG50 S2000\nG96 S120 M3\nG0 X25. Z2.\nZ-21.\nG1 Z-25. F0.1\nX32.2\nG0 X25.\nZ3.\n\
+G1 X34.2 Z0.\nX31.6 Z-1.2\nZ-20.5\nX33. Z-22.739\nZ-25.6\nX19.\nG0 Z15.\nX100. Z50.\n\
+T1111 (BORING BAR FINISH)\nG96 S150 M3\nG0 X32.8 Z3.\nG1 X31.8 Z0. F0.1\nZ-22.\nG0 X25.\nZ15.\nX100. Z50.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(p.as_bytes(), &d, &Profile::default()).plan;
+    let labels: Vec<String> = plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(labels, ["drilling", "contouring rough inside", "contouring finish inside"]);
+    let bores: Vec<f64> = plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::Diameter { diameter, inside: true, .. }) => Some(*diameter),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bores, [33.0, 31.8]);
+    let floor = plan.features.iter().find(|f| matches!(f.kind, FeatureKind::Turned(Turned::RevolvedFlat { .. })));
+    assert_eq!(floor.map(|f| f.placement[2]), Some(-25.6));
+}
+
 /// The finding of calculator-type input points at its evidence: the first whole number written
 /// without a decimal point, or the R of the first arc that reaches its end only with that R in
 /// whole units.
