@@ -134,6 +134,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         classify(ws, front, back, boring, grooving, drill);
     }
     follow_roughing(plan);
+    roughed_then_finished(plan);
     parted_through_the_bore(plan);
     // One pass across the front that a later workingstep faces again a little behind it
     // (another pass, another tool) left stock for that face: it roughs. (Never faced again, it
@@ -238,6 +239,33 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     // STEP-NC or the store cannot carry it, and must equal the one recovered.
     for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
         t.mirrored = false;
+    }
+}
+
+/// One pass along a stretch, then straight after it the same tool's pass over that stretch at
+/// a finer feed per revolution: the first roughed and the second finishes, as turners rough
+/// and finish with one tool (a finishing feed below the roughing one, Sandvik Coromant's
+/// turning guide). On the finishing pass's side: a pass at a diameter inside the bore the
+/// same tool then finishes roughed that bore (an outside pass there would leave it nothing).
+fn roughed_then_finished(plan: &mut ProcessPlan) {
+    for k in 1..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let (a, b) = (&mut done[k - 1], &rest[0]);
+        let explicit = |w: &Workingstep| {
+            w.turning.as_deref().filter(|t| t.intent.is_none() && !t.rough && t.operation == Some(TurnOp::Contouring)).cloned()
+        };
+        let (Some(ta), Some(tb)) = (explicit(a), explicit(b)) else { continue };
+        let finer = matches!((ta.feed_per_rev, tb.feed_per_rev), (Some(fa), Some(fb)) if fb < fa - 1e-9);
+        let (Some(za), Some(zb)) = (ta.z, tb.z) else { continue };
+        let overlap = za[1].min(zb[1]) - za[0].max(zb[0]);
+        if a.tool != b.tool || ta.passes != 1 || !finer || overlap < 0.8 * (za[1] - za[0]) || za[1] - za[0] < 0.5 {
+            continue;
+        }
+        let inside = tb.inside && !ta.inside && matches!((ta.diameter, tb.diameter), (Some(da), Some(db)) if da[1] < db[1] - TOL);
+        if let Some(t) = a.turning.as_mut() {
+            t.rough = true;
+            t.inside |= inside;
+        }
     }
 }
 

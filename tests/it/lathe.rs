@@ -1633,6 +1633,25 @@ T1111 (BORING BAR FINISH)\nG96 S150 M3\nG0 X32.8 Z3.\nG1 X31.8 Z0. F0.1\nZ-22.\n
     assert_eq!(floor.map(|f| f.placement[2]), Some(-25.6));
 }
 
+/// One pass, then the same tool over the same stretch at a finer feed: roughing, then
+/// finishing. Outside (a pass at Ø72.6, then the chamfered Ø72.1 at half the feed) and in a
+/// bore (a pass at Ø65.4 left by a rapid in towards the axis, then the Ø66 bore finished: the
+/// pass lies inside the finished bore, so it roughed the inside).
+#[test]
+fn one_pass_then_a_finer_pass_of_the_same_tool_roughs_and_finishes() {
+    let od = "O1\nG21 G99\nT1212\nG97 S1250 M3\nG0 X72.6 Z1.\nG1 Z-21. F0.15\nG0 X86.\nZ1.\nX70.4\nG1 Z0. F0.076\n\
+X72.1 Z-1.\nZ-21.\nG0 X86.\nX100. Z50.\nM30\n";
+    let (ws, features) = labels(od, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough", "contouring finish"], "{features:?}");
+    let id = "O2\nG21 G99\nT0909\nG97 S890 M3\nG0 X65.4 Z1.\nG1 Z-21. F0.15\nG0 X60.\nZ1.\nX68.8\nG1 Z0. F0.1\n\
+X66. Z-1.4\nZ-21.\nG0 X60.\nZ50.\nX100.\nM30\n";
+    let (ws, features) = labels(id, "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough inside", "contouring finish inside"], "{features:?}");
+    // At one feed nothing parts them: one workingstep of two passes, as before.
+    let (ws, _) = labels(&od.replace("F0.076", "F0.15"), "fanuc_lathe");
+    assert_eq!(ws, ["contouring rough"]);
+}
+
 /// The finding of calculator-type input points at its evidence: the first whole number written
 /// without a decimal point, or the R of the first arc that reaches its end only with that R in
 /// whole units.
