@@ -27,6 +27,17 @@
 //! (`works_towards_plus_z`). A drill the program names, fed along Z and run off the centre by
 //! less than its radius (an indexable-insert drill opening its hole), drills.
 //!
+//! As turners work a part with one tool and several: one pass, then the same tool over that
+//! stretch at a finer feed, roughs and then finishes (`roughed_then_finished`); a plunge from
+//! outside through to the bore the part already has (a named drill's hole, an inside
+//! workingstep's wall at that Z) parts off, as a cut-off tool is fed just past a tube's inner
+//! diameter (`parted_through_the_bore`); a named grooving tool's pass that turns a profile
+//! down along -Z and never climbs back out turns a contour, not a groove (`descends`); and
+//! where explicit roughing passes end in a pass along the whole contour that another tool's
+//! finish on the same side does not reach all of, the part beyond its reach is that pass's
+//! (`profiled_beyond_the_finish`). Under `G41`/`G42` with the nose radius unknown, the path is
+//! the nose's only where its smallest arcs turn round outside corners (`nose_arcs`).
+//!
 //! Facing as a turner reads it: feed moves left forwards off a face cut to the axis (a pull
 //! back along +Z, a move across in front of it) cut nothing (`off_the_face`); faces cut in
 //! towards the axis and then passes turning behind them with one tool at one feed are two
