@@ -341,23 +341,28 @@ fn bore_at(w: &Workingstep, z: f64, tool: Option<&Tool>) -> Option<f64> {
 /// (a finishing boring bar run to Z-22 in a bore roughed to its floor at Z-25.6): where the
 /// finish does not reach, the part is as that profile pass left it, so its features there are
 /// the part's (a diameter lying wholly beyond the finish's reach, a face behind it). Where the
-/// finish reaches, the finish gives the part. None without such a finish (roughing alone
-/// leaves stock, no finished shape) or where nothing lies beyond it.
+/// finish reaches, the finish gives the part. With no finish on that side at all, the whole
+/// profile (or the operation's one pass) is the shape the program leaves. None where several
+/// passes end in no pass along the whole contour (straight roughing passes each leave only a
+/// step of it), or where nothing lies beyond the finish.
 fn profiled_beyond_the_finish(ws: &Workingstep, later: &[Workingstep], face: f64) -> Option<Vec<(FeatureKind, f64)>> {
     let t = ws.turning.as_deref().filter(|t| t.rough && t.intent.is_none() && t.operation == Some(TurnOp::Contouring))?;
     let runs = runs(ws);
     let [.., last] = runs.as_slice() else { return None };
     let length = t.z.map_or(0.0, |z| z[1] - z[0]);
-    if runs.len() < 2 || !whole_contour(last, length) {
+    // The last pass along the whole contour, or the operation's one pass (it is all it cut).
+    if runs.len() > 1 && !whole_contour(last, length) {
         return None;
     }
-    // The deepest Z a later finishing workingstep on the same side reaches.
+    // The deepest Z a later finishing workingstep on the same side reaches; with none, the
+    // whole profile is the shape the program leaves.
     let reach = later
         .iter()
         .filter(|w| w.tool != ws.tool)
         .filter(|w| w.turning.as_ref().is_some_and(|l| !l.rough && l.inside == t.inside && l.operation == Some(TurnOp::Contouring)))
         .flat_map(|w| cuts(w).into_iter().map(|m| m.to[2].min(m.from[2])))
-        .reduce(f64::min)?;
+        .reduce(f64::min)
+        .unwrap_or(f64::INFINITY);
     let nose = nose_arcs(ws, t, last);
     let beyond = contour_profile_features(t, last, (0.0, 0.0), nose, face).into_iter().filter(|(k, z)| match k {
         FeatureKind::Turned(Turned::Diameter { length, .. }) => z - length < reach - TOL && *z <= reach + TOL,

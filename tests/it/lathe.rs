@@ -1609,7 +1609,7 @@ X63. Z-1.\nZ-6.\nX56. Z-8.\nZ-17.\nX54. Z-18.\nG0 X70.\nX100. Z50.\nM30\n";
 /// A roughing boring bar's passes, the last along the whole bore to its floor, then a finishing
 /// bar that bores only the front part: behind the finish's reach the bore is as the roughing
 /// profile left it (its Ø33 and its floor at Z-25.6); in front, the finish gives the part
-/// (Ø31.8, not the roughed Ø31.6).
+/// (Ø31.8, not the roughed Ø31.6). A roughing pass nothing finishes after it leaves the part.
 #[test]
 fn a_bore_beyond_the_finishing_bars_reach_is_the_roughing_profiles() {
     let p = "O1\nG21 G99\nT0505 (DRILL D18)\nG97 S1400 M3\nG0 X0. Z2.\nG1 Z-40. F0.08\nG0 Z2.\nX100. Z50.\n\
@@ -1631,6 +1631,17 @@ T1111 (BORING BAR FINISH)\nG96 S150 M3\nG0 X32.8 Z3.\nG1 X31.8 Z0. F0.1\nZ-22.\n
     assert_eq!(bores, [33.0, 31.8]);
     let floor = plan.features.iter().find(|f| matches!(f.kind, FeatureKind::Turned(Turned::RevolvedFlat { .. })));
     assert_eq!(floor.map(|f| f.placement[2]), Some(-25.6));
+    // A roughing operation's one pass (its comment names it) that nothing finishes after it:
+    // the shape the program leaves is that pass's, its Ø56.
+    let rough = "O2\nG21 G99\nT0101\nG50 S3000\nG96 S320 M4\n(ROUGHING)\nG0 X52. Z2.\nG1 Z0. F0.3\nX56. Z-2.\nZ-30.\nX62.\n\
+G0 X200. Z50.\nM30\n";
+    let plan = pipeline::analyze(rough.as_bytes(), &d, &Profile::default()).plan;
+    assert_eq!(plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>(), ["contouring rough"]);
+    let od = plan.features.iter().find_map(|f| match f.kind {
+        FeatureKind::Turned(Turned::Diameter { diameter, length, inside: false }) => Some((diameter, length)),
+        _ => None,
+    });
+    assert_eq!(od, Some((56.0, 28.0)), "{:?}", plan.features);
 }
 
 /// One pass, then the same tool over the same stretch at a finer feed: roughing, then
