@@ -693,7 +693,8 @@ fn lathe_s7_held_out_programs() {
 /// yet. No longer held back: 63 of 66 after branch lathe13 built on it (6 December 2026: the
 /// lathe's reset state inferred from its turning words, group 15's codes with both their effects,
 /// the ShopTurn cycles as workingsteps); left: the chuck part's Ø56 pass with its chamfer read as
-/// a general revolution, the lab exercise's Ø25, a portfolio part's groove roughing.
+/// a general revolution, the lab exercise's Ø25, a portfolio part's groove roughing. After
+/// lathe20 (7 December 2026): 64 of 66 (a roughing pass nothing finishes leaves the Ø56).
 ///
 /// `tests/programs/lathe_s10_heldout/` is sweep 10's held-back set (branch gatherlt10: 3 programs
 /// of 2 repositories, 21 items; a second gatherer found no lathe program in a repository not used
@@ -765,7 +766,11 @@ fn lathe_s7_held_out_programs() {
 /// whose R without a point fits only in mm showing calculator-type input, an insert drill run
 /// off the centre drilling, a bore left by a rapid pulling in); left: O3390's five workingsteps
 /// listed with the `G50` clamp under `G97` (Fanuc clamps the speed by `G50 S` under constant
-/// surface speed only) and the Nakamura bore's floor at Z-30.1 (its roughing pass only).
+/// surface speed only) and the Nakamura bore's floor at Z-30.1 (its roughing pass only). After
+/// lathe20 (7 December 2026): 125 of 125, O3390's sidecar corrected (its operations under `G97`
+/// listed with their spindle speed, no clamp: the folder's README.md says why); a part-off
+/// through to the bore, one pass then a finer pass of the same tool as roughing and finishing,
+/// and a bore beyond the finishing bar's reach as the roughing profile left it.
 ///
 /// `tests/programs/lathe_s14_heldout/` is sweep 14's held-back set (branch gatherlt14: 11 programs
 /// of 4 repositories, 127 items), files no test used of repositories earlier sets drew on. Of
@@ -786,7 +791,10 @@ fn lathe_s7_held_out_programs() {
 /// 2026 (integrate fba6f7a): 115 of 127, no milling feature. Missed: two part-offs under a `G50`
 /// clamp (O0024, O4520), O4520's Ø63.373 and Ø56.007, O2301's face at Z-13.589, the Nakamura
 /// program's Ø33 bore and its face at Z-25.6, O0106's four fillets (R5, R2, R6, R12) and O0117's
-/// Ø30 groove.
+/// Ø30 groove. After lathe20 (7 December 2026): 125 of 127, O4520's sidecar corrected (its
+/// part-off runs under `G97 S1000`: README.md); left: O2301's annular face groove floor at
+/// Z-13.589 and O0117's Ø30 groove (a plunge and two flank passes parted into three
+/// workingsteps).
 #[test]
 #[ignore]
 #[allow(clippy::print_stdout)] // the misses are the test's report
