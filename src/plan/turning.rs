@@ -1105,9 +1105,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         }
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
-        // Not a pass that turns a profile down along -Z and never climbs back out of it (a
-        // grooving tool finishing a spigot that a part-off then ends): that is a contour turned,
-        // with its diameters, as a turner reads it; a groove has a wall on each side.
+        // (Not a profile turned down along -Z, `descends`: a contour.)
         None if grooving && !t.inside && !runs.iter().all(|r| descends(r)) => (TurnOp::Grooving, runs.len() > 1),
         None => (TurnOp::Contouring, contour_roughs(ws, &runs, stepped_in, zmax - zmin)),
     };
@@ -1126,7 +1124,9 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     ws.turning = Some(Box::new(t));
 }
 
-/// Whether a run turns a profile outside down along -Z: it cuts along Z (a diameter longer
+/// Whether a run turns a profile outside down along -Z, as a grooving tool finishes a spigot
+/// that a part-off then ends: a contour turned, with its diameters, as a turner reads it, not
+/// a groove (a groove has a wall on each side): it cuts along Z (a diameter longer
 /// than 0.5 mm), never goes back along +Z, never climbs back out once it has come down (no
 /// cut to a larger diameter after its smallest), and does not plunge to its bottom first.
 fn descends(run: &[Move]) -> bool {
