@@ -973,10 +973,15 @@ pub struct Interpreter<'a> {
     /// decimal point (`X55.`), fractions (`X-0.5`), whole numbers without one (`X55`, not 0):
     /// the evidence of calculator-type input (`lathe_evidence`).
     point_habit: [u32; 3],
+    /// The first whole number written without a decimal point that `point_habit` counted:
+    /// where the finding of calculator-type input points.
+    first_bare: Option<TextRange>,
     /// Arcs given by an R written without a decimal point under least-increment input: how
     /// many reach their end point only with the R read in whole units (mm or inch), and how
     /// many reach it as least increments: the evidence of calculator-type input (`lathe_evidence`).
     radius_units: [u32; 2],
+    /// The R word of the first arc that reached its end point only with its R in whole units.
+    first_radius_units: Option<TextRange>,
     /// A lathe's words read (a turning cycle, a speed limit, constant cutting rate, `DIAMON`
     /// after the first move), and whether the program told its X words before moving
     /// (`DIAMON` first) or ever stated radius programming (`DIAMOF`): the evidence of a
@@ -1078,7 +1083,9 @@ impl<'a> Interpreter<'a> {
             block_misread: false,
             misread_word: None,
             point_habit: [0; 3],
+            first_bare: None,
             radius_units: [0; 2],
+            first_radius_units: None,
             lathe_words: (0, false),
             tool_words: (0, false, false),
             intent_words: false,
@@ -1232,7 +1239,7 @@ impl<'a> Interpreter<'a> {
             let msg = format!(
                 "{bare} lengths are whole numbers written without a decimal point, {whole_points} with one, and {fractions} fractions with one: the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
             );
-            diags.push(Diagnostic::new(Code::DecimalInputInferred, TextRange::default(), msg));
+            diags.push(Diagnostic::new(Code::DecimalInputInferred, self.first_bare.unwrap_or_default(), msg));
         } else if self.integers_scale && !stated && units >= CALCULATOR_ARCS && increments == 0 {
             // Arcs the program gives by a radius without a point (`G3 X89. Z-1. R1`), none of
             // which a control on least-increment input could run (R1 is 0.001 mm, too small
@@ -1242,7 +1249,7 @@ impl<'a> Interpreter<'a> {
             let msg = format!(
                 "{units} arcs given by a radius written without a decimal point reach their end point only with the radius in whole units (none as least increments): the program is written for calculator-type decimal input (a whole number is mm or inch, Fanuc parameter DPI on), and is read so"
             );
-            diags.push(Diagnostic::new(Code::DecimalInputInferred, TextRange::default(), msg));
+            diags.push(Diagnostic::new(Code::DecimalInputInferred, self.first_radius_units.unwrap_or_default(), msg));
         }
     }
 

@@ -1074,7 +1074,12 @@ impl Interpreter<'_> {
         if let Some(units) = self.radius_in_units(block, r) {
             let fits_units = arc_center_from_radius(start[a0], start[a1], end[a0], end[a1], units, cw, tol).is_ok();
             match (found.is_ok(), fits_units) {
-                (false, true) => self.radius_units[0] += 1,
+                (false, true) => {
+                    self.radius_units[0] += 1;
+                    if self.first_radius_units.is_none() {
+                        self.first_radius_units = block.words.iter().rfind(|w| w.role == Role::R).map(|w| w.range);
+                    }
+                }
                 (true, _) => self.radius_units[1] += 1,
                 _ => {}
             }

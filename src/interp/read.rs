@@ -401,6 +401,9 @@ impl Interpreter<'_> {
             } else {
                 1
             }] += u32::from(decimal || v != 0.0);
+            if !decimal && v != 0.0 && self.first_bare.is_none() {
+                self.first_bare = Some(w.range);
+            }
             if decimal {
                 self.st.length_points = true;
                 if let Some(i) = axis.filter(|_| absolute) {

@@ -27,6 +27,17 @@
 //! (`works_towards_plus_z`). A drill the program names, fed along Z and run off the centre by
 //! less than its radius (an indexable-insert drill opening its hole), drills.
 //!
+//! As turners work a part with one tool and several: one pass, then the same tool over that
+//! stretch at a finer feed, roughs and then finishes (`roughed_then_finished`); a plunge from
+//! outside through to the bore the part already has (a named drill's hole, an inside
+//! workingstep's wall at that Z) parts off, as a cut-off tool is fed just past a tube's inner
+//! diameter (`parted_through_the_bore`); a named grooving tool's pass that turns a profile
+//! down along -Z and never climbs back out turns a contour, not a groove (`descends`); and
+//! where explicit roughing passes end in a pass along the whole contour that another tool's
+//! finish on the same side does not reach all of, the part beyond its reach is that pass's
+//! (`profiled_beyond_the_finish`). Under `G41`/`G42` with the nose radius unknown, the path is
+//! the nose's only where its smallest arcs turn round outside corners (`nose_arcs`).
+//!
 //! Facing as a turner reads it: feed moves left forwards off a face cut to the axis (a pull
 //! back along +Z, a move across in front of it) cut nothing (`off_the_face`); faces cut in
 //! towards the axis and then passes turning behind them with one tool at one feed are two
@@ -134,6 +145,8 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         classify(ws, front, back, boring, grooving, drill);
     }
     follow_roughing(plan);
+    roughed_then_finished(plan);
+    parted_through_the_bore(plan);
     // One pass across the front that a later workingstep faces again a little behind it
     // (another pass, another tool) left stock for that face: it roughs. (Never faced again, it
     // is the part's face, finished unless its operation's comment calls it roughing.) Only on
@@ -187,7 +200,8 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
             })
             .map(|j| found[k + 1 + j].clone())
             .filter(|f| ws.turning.as_ref().is_some_and(|t| t.rough) && !f.is_empty());
-        found[k] = finish.unwrap_or_else(|| revolution(ws));
+        let beyond = || profiled_beyond_the_finish(ws, &plan.workingsteps[k + 1..], face).filter(|f| !f.is_empty());
+        found[k] = finish.or_else(beyond).unwrap_or_else(|| revolution(ws));
     }
     let mut features: Vec<Feature> = Vec::new();
     for (ws, found) in plan.workingsteps.iter_mut().zip(found) {
@@ -237,6 +251,125 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     for t in plan.workingsteps.iter_mut().filter_map(|w| w.turning.as_mut()) {
         t.mirrored = false;
     }
+}
+
+/// One pass along a stretch, then straight after it the same tool's pass over that stretch at
+/// a finer feed per revolution: the first roughed and the second finishes, as turners rough
+/// and finish with one tool (a finishing feed below the roughing one, Sandvik Coromant's
+/// turning guide). On the finishing pass's side: a pass at a diameter inside the bore the
+/// same tool then finishes roughed that bore (an outside pass there would leave it nothing).
+fn roughed_then_finished(plan: &mut ProcessPlan) {
+    for k in 1..plan.workingsteps.len() {
+        let (done, rest) = plan.workingsteps.split_at_mut(k);
+        let (a, b) = (&mut done[k - 1], &rest[0]);
+        let explicit = |w: &Workingstep| {
+            w.turning.as_deref().filter(|t| t.intent.is_none() && !t.rough && t.operation == Some(TurnOp::Contouring)).cloned()
+        };
+        let (Some(ta), Some(tb)) = (explicit(a), explicit(b)) else { continue };
+        let finer = matches!((ta.feed_per_rev, tb.feed_per_rev), (Some(fa), Some(fb)) if fb < fa - 1e-9);
+        let (Some(za), Some(zb)) = (ta.z, tb.z) else { continue };
+        let overlap = za[1].min(zb[1]) - za[0].max(zb[0]);
+        if a.tool != b.tool || ta.passes != 1 || !finer || overlap < 0.8 * (za[1] - za[0]) || za[1] - za[0] < 0.5 {
+            continue;
+        }
+        let inside = tb.inside && !ta.inside && matches!((ta.diameter, tb.diameter), (Some(da), Some(db)) if da[1] < db[1] - TOL);
+        if let Some(t) = a.turning.as_mut() {
+            t.rough = true;
+            t.inside |= inside;
+        }
+    }
+}
+
+/// A plunge from outside that reaches the bore the part already has there parts it off: a tube,
+/// or a part drilled or bored through behind the cut, falls off once the tool passes its inner
+/// diameter, and shops and posts feed the cut-off tool only just past it (Sandvik Coromant's
+/// parting-off guide: on tubes the insert feeds through the wall, past the inner diameter, not
+/// to the centre). The bore: the hole a named drill of known diameter drilled past that Z, or
+/// the largest radius an inside workingstep cut at that Z, before it on the same part in the
+/// same place (setup, work offset, spindle). A groove whose bottom stays outside the bore is
+/// still a groove.
+fn parted_through_the_bore(plan: &mut ProcessPlan) {
+    let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
+    for k in 1..plan.workingsteps.len() {
+        let ws = &plan.workingsteps[k];
+        let Some(t) = ws.turning.as_deref().filter(|t| t.operation == Some(TurnOp::Grooving) && !t.inside) else { continue };
+        let cuts = cuts(ws);
+        // The plunge's bottom and where along Z it lies, and where it came in from.
+        let Some(bottom) = cuts.iter().min_by(|a, b| a.to[0].total_cmp(&b.to[0])) else { continue };
+        let (x, z) = (bottom.to[0], bottom.to[2]);
+        let outer = cuts.iter().map(|m| m.from[0].max(m.to[0])).fold(f64::NEG_INFINITY, f64::max);
+        if x < 0.05 || t.intent.as_ref().and_then(|i| i.span).is_some() {
+            continue;
+        }
+        let bore = plan.workingsteps[..k]
+            .iter()
+            .filter(|w| place(w) == place(ws))
+            .filter_map(|w| bore_at(w, z, plan.tools.iter().find(|tl| tl.number == w.tool)))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if bore > 0.05 && x <= bore + TOL && outer > bore + 0.5 {
+            if let Some(t) = plan.workingsteps[k].turning.as_mut() {
+                t.operation = Some(TurnOp::PartingOff);
+                t.rough = false;
+            }
+        }
+    }
+}
+
+/// The radius of the bore a workingstep leaves at `z`: a drill's (of known diameter) where it
+/// drilled past `z`, or the largest radius an inside workingstep's cuts along Z reach at `z`.
+fn bore_at(w: &Workingstep, z: f64, tool: Option<&Tool>) -> Option<f64> {
+    let t = w.turning.as_deref()?;
+    let cuts = cuts(w);
+    match t.operation {
+        Some(TurnOp::Drilling) => {
+            let d = tool.filter(|tl| tl.kind == ToolKind::TwistDrill).and_then(|tl| tl.diameter)?;
+            let deepest = cuts.iter().map(|m| m.to[2]).fold(f64::INFINITY, f64::min);
+            (deepest < z - TOL).then_some(d / 2.0)
+        }
+        Some(_) if t.inside => cuts
+            .iter()
+            .filter(|m| m.arc.is_none() && (m.to[2] - m.from[2]).abs() > TOL)
+            .filter(|m| m.from[2].min(m.to[2]) < z - TOL && m.from[2].max(m.to[2]) >= z)
+            .map(|m| m.from[0] + (m.to[0] - m.from[0]) * (z - m.from[2]) / (m.to[2] - m.from[2]))
+            .reduce(f64::max),
+        _ => None,
+    }
+}
+
+/// Explicit roughing passes of one tool whose last pass runs the whole contour (a profile
+/// pass), finished afterwards on the same side by another tool that does not reach all of it
+/// (a finishing boring bar run to Z-22 in a bore roughed to its floor at Z-25.6): where the
+/// finish does not reach, the part is as that profile pass left it, so its features there are
+/// the part's (a diameter lying wholly beyond the finish's reach, a face behind it). Where the
+/// finish reaches, the finish gives the part. With no finish on that side at all, the whole
+/// profile (or the operation's one pass) is the shape the program leaves. None where several
+/// passes end in no pass along the whole contour (straight roughing passes each leave only a
+/// step of it), or where nothing lies beyond the finish.
+fn profiled_beyond_the_finish(ws: &Workingstep, later: &[Workingstep], face: f64) -> Option<Vec<(FeatureKind, f64)>> {
+    let t = ws.turning.as_deref().filter(|t| t.rough && t.intent.is_none() && t.operation == Some(TurnOp::Contouring))?;
+    let runs = runs(ws);
+    let [.., last] = runs.as_slice() else { return None };
+    let length = t.z.map_or(0.0, |z| z[1] - z[0]);
+    // The last pass along the whole contour, or the operation's one pass (it is all it cut).
+    if runs.len() > 1 && !whole_contour(last, length) {
+        return None;
+    }
+    // The deepest Z a later finishing workingstep on the same side reaches; with none, the
+    // whole profile is the shape the program leaves.
+    let reach = later
+        .iter()
+        .filter(|w| w.tool != ws.tool)
+        .filter(|w| w.turning.as_ref().is_some_and(|l| !l.rough && l.inside == t.inside && l.operation == Some(TurnOp::Contouring)))
+        .flat_map(|w| cuts(w).into_iter().map(|m| m.to[2].min(m.from[2])))
+        .reduce(f64::min)
+        .unwrap_or(f64::INFINITY);
+    let nose = nose_arcs(ws, t, last);
+    let beyond = contour_profile_features(t, last, (0.0, 0.0), nose, face).into_iter().filter(|(k, z)| match k {
+        FeatureKind::Turned(Turned::Diameter { length, .. }) => z - length < reach - TOL && *z <= reach + TOL,
+        FeatureKind::Turned(Turned::RevolvedFlat { .. }) => *z < reach - TOL,
+        _ => false,
+    });
+    Some(beyond.collect())
 }
 
 /// What a workingstep takes from the roughing before it: a finishing cycle a grooving tool runs
@@ -972,7 +1105,8 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         }
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
-        None if grooving && !t.inside => (TurnOp::Grooving, runs.len() > 1),
+        // (Not a profile turned down along -Z, `descends`: a contour.)
+        None if grooving && !t.inside && !runs.iter().all(|r| descends(r)) => (TurnOp::Grooving, runs.len() > 1),
         None => (TurnOp::Contouring, contour_roughs(ws, &runs, stepped_in, zmax - zmin)),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
@@ -988,6 +1122,23 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     // A drill on the axis works no inside of a hole already there: it makes the hole.
     t.inside &= op != TurnOp::Drilling;
     ws.turning = Some(Box::new(t));
+}
+
+/// Whether a run turns a profile outside down along -Z, as a grooving tool finishes a spigot
+/// that a part-off then ends: a contour turned, with its diameters, as a turner reads it, not
+/// a groove (a groove has a wall on each side): it cuts along Z (a diameter longer
+/// than 0.5 mm), never goes back along +Z, never climbs back out once it has come down (no
+/// cut to a larger diameter after its smallest), and does not plunge to its bottom first.
+fn descends(run: &[Move]) -> bool {
+    let along = run.iter().any(|m| (m.to[0] - m.from[0]).abs() < TOL && m.from[2] - m.to[2] > 0.5);
+    let back = run.iter().any(|m| m.to[2] > m.from[2] + TOL);
+    let lowest = run.iter().map(|m| m.to[0]).fold(f64::INFINITY, f64::min);
+    let bottom = run.iter().position(|m| m.to[0] <= lowest + TOL);
+    let climbs = bottom.is_some_and(|i| run[i + 1..].iter().any(|m| m.to[0] > m.from[0] + TOL));
+    // A plunge straight to the bottom first, then along it: a groove's floor, its other wall
+    // plunged or profiled before.
+    let plunged = run.first().is_some_and(|m| straight_across(m) && m.to[0] <= lowest + TOL);
+    along && !back && !climbs && !plunged
 }
 
 /// Runs that plunge across and come back out the way they went in, and at how many Z: by
@@ -1543,8 +1694,8 @@ fn recess(profile: &[Move], i: usize) -> Option<(f64, f64)> {
 /// path's arcs of that radius, else the side's (a nose on the left of its way turns right
 /// round an outside corner). Where the radius is not known, both are taken from the path: its
 /// smallest arcs, when no larger than an insert's nose (ISO 1832: 0.1 to 2.4 mm), all turning
-/// one way, and when the path has an arc of another radius or at least two of them. None
-/// without compensation.
+/// one way round outside corners (the side's sense), and when the path has an arc of another
+/// radius or at least two of them. None without compensation.
 fn nose_arcs(ws: &Workingstep, t: &Turning, profile: &[Move]) -> Option<(f64, f64)> {
     if ws.state.cutter_comp.is_empty() {
         return None;
@@ -1562,7 +1713,15 @@ fn nose_arcs(ws: &Workingstep, t: &Turning, profile: &[Move]) -> Option<(f64, f6
     // The nose goes round outside corners only, so its arcs all turn one way; small arcs
     // turning both ways are the program's rounds (the control had no radius to offset by).
     let one_way = nose.iter().all(|m| arc_sense(m) == sense);
-    (smallest.0 <= 2.4 + TOL && one_way && (nose.len() >= 2 || other)).then_some((smallest.0, sense))
+    // And round outside corners only: a nose on the left of its way turns right there (as
+    // above). Small arcs turning the other way, into the material, are the program's fillets
+    // (`G02 X14 Z-15 R2` into a shoulder under `G42`): the path is the programmed contour.
+    let sides: Vec<bool> = ws.state.cutter_comp.iter().map(|c| c.left).collect();
+    let convex = match sides.split_first() {
+        Some((&left, rest)) if rest.iter().all(|&l| l == left) => sense == if left == t.mirrored { 1.0 } else { -1.0 },
+        _ => true,
+    };
+    (smallest.0 <= 2.4 + TOL && one_way && convex && (nose.len() >= 2 || other)).then_some((smallest.0, sense))
 }
 
 /// The sense an arc turns in the plane of the part's profile (+1 or -1).

@@ -251,10 +251,8 @@ fn siemens_cycle97_lims_and_explicit_passes() {
     .assert_eq(&finish);
     let pass = edit(p, "siemens", "N120 X46\nN130 G1 Z-25\nN140 X52\nN150 G0 Z2\n", "");
     expect![[r#"
-        feature_changed | feature_depth | 24.5 mm | 40 mm
-          feature depth changed from 24.5 mm to 40 mm at original lines 13, 14, 15 and 1 more
-        feature_changed | diameter | Ø45 | Ø50
-          diameter changed from Ø45 to Ø50 at original lines 13, 14, 15 and 1 more
+        cycle_parameter_changed | roughing_passes | 2 | 1
+          roughing passes changed from 2 to 1 at original lines 13, 14, 15 and 1 more
     "#]]
     .assert_eq(&pass);
 }
