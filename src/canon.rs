@@ -702,7 +702,8 @@ pub trait CanonSink {
     /// Takes a straight move to `to` (a traverse when `rapid`, else a feed) from the block at
     /// `origin`, on `line`: the op [`CanonSink::emit`] would take as
     /// `Canon { op: StraightTraverse(to) | StraightFeed(to), origin, line }`. The interpreter
-    /// hands the common move here where no stage stands between it and the sink; a sink that
+    /// hands the common move here where no stage stands between it and the sink (or where the
+    /// corner stage, the only one, lets a move go while nothing else waits in it); a sink that
     /// need not keep the op (one that prints it) takes the position where it lies, without an
     /// op made, moved and dropped for each move. By default the op, to `emit`.
     #[inline]

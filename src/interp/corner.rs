@@ -84,13 +84,29 @@ impl CornerProblem {
     }
 }
 
+/// A straight feed the stage holds: where it starts and ends, and its block's range and line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Held {
+    pub from: [f64; 6],
+    pub to: [f64; 6],
+    pub origin: TextRange,
+    pub line: u32,
+}
+
+impl Held {
+    /// The move as its op.
+    fn canon(&self) -> Canon {
+        Canon { op: CanonOp::StraightFeed(self.to), origin: self.origin, line: self.line }
+    }
+}
+
 /// The corner stage between the interpreter and cutter compensation.
 #[derive(Default)]
 pub(super) struct Corners {
     /// Where the tool is after the last move seen, when known.
     pos: Option<[f64; 6]>,
-    /// The held straight feed and where it starts, then the ops that followed it.
-    held: Option<([f64; 6], Canon)>,
+    /// The held straight feed, then the ops that followed it.
+    held: Option<Held>,
     after: Vec<Canon>,
     /// A corner block waiting for the next move: what, and its block's range and line.
     pending: Option<(Corner, TextRange, u32)>,
@@ -165,7 +181,7 @@ impl Corners {
                 }
                 // The move starts where the corner left the tool (its second tangent point).
                 let from = self.pos.unwrap_or(start);
-                self.held = Some((from, canon));
+                self.held = Some(Held { from, to: end, origin: canon.origin, line: canon.line });
                 self.pos = Some(end);
             }
             CanonOp::StraightTraverse(p) => {
@@ -200,6 +216,28 @@ impl Corners {
             _ if self.held.is_some() => self.after.push(canon),
             _ => self.released.push(canon),
         }
+    }
+
+    /// A straight move (a traverse when `rapid`) to `to` from the block at `origin`, `line`,
+    /// taken as [`Corners::push`] takes its op where nothing waits but perhaps a held move (no
+    /// corner block, no approach, no op behind the held move or settled and not yet sent on):
+    /// the held move, which goes out now, is returned (a traverse goes out after it, and a
+    /// feed is held in its place). `None`, with nothing changed, where something waits: the
+    /// op then goes [`Corners::push`]'s way. The same ops in the same order, without an op
+    /// made and moved through the stage's lists for every move.
+    #[inline(always)]
+    pub(super) fn pass_straight(&mut self, rapid: bool, to: [f64; 6], origin: TextRange, line: u32) -> Option<Option<Held>> {
+        if self.approach.is_some() || self.pending.is_some() || !self.after.is_empty() || !self.released.is_empty() {
+            return None;
+        }
+        let out = self.held.take();
+        if !rapid {
+            // Nothing pending: the move starts where the last one left the tool.
+            self.held = Some(Held { from: self.pos.unwrap_or(to), to, origin, line });
+        }
+        self.pos = Some(to);
+        self.after_arc = false;
+        Some(out)
     }
 
     /// The end of the run (or of the stage): everything held goes out.
@@ -241,8 +279,8 @@ impl Corners {
     }
 
     fn release_held(&mut self) {
-        if let Some((_, c)) = self.held.take() {
-            self.released.push(c);
+        if let Some(h) = self.held.take() {
+            self.released.push(h.canon());
         }
         self.released.append(&mut self.after);
     }
@@ -255,7 +293,8 @@ impl Corners {
     /// Resolves the corner between the held move (ending at the corner) and the move to `end`,
     /// in the working plane's (first, second) coordinates.
     fn make_corner(&mut self, corner: Corner, origin: TextRange, line: u32, at: [f64; 6], end: [f64; 6]) {
-        let Some((from, mut first)) = self.held.take() else { return };
+        let Some(first) = self.held.take() else { return };
+        let from = first.from;
         let (a0, a1, n) = self.axes();
         let planar = from[n] == at[n] && end[n] == at[n] && from[3..] == at[3..] && end[3..] == at[3..];
         let (s, c, e): (V2, V2, V2) = ((from[a0], from[a1]), (at[a0], at[a1]), (end[a0], end[a1]));
@@ -283,14 +322,13 @@ impl Corners {
         }
         if !planar || !fits || turn.abs() < 1e-12 || back <= 0.0 {
             // A straight continuation has no corner to make; the others were reported.
-            self.held = Some((from, first));
+            self.held = Some(first);
             self.release_held();
             return;
         }
         let t1 = sub(c, scale(d1, back));
         let t2 = add(c, scale(d2, back));
-        first.op = CanonOp::StraightFeed(put(t1));
-        self.released.push(first);
+        self.released.push(Held { to: put(t1), ..first }.canon());
         self.released.append(&mut self.after);
         let op = match corner {
             Corner::Chamfer(_) | Corner::ChamferLength(_) => CanonOp::StraightFeed(put(t2)),

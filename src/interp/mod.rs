@@ -1304,10 +1304,40 @@ impl<'a> Interpreter<'a> {
     fn emit_straight(&self, sink: &mut dyn CanonSink, rapid: bool, to: [f64; 6], staged: bool) {
         let op = |to| if rapid { CanonOp::StraightTraverse(to) } else { CanonOp::StraightFeed(to) };
         if staged {
+            if self.corners_pass(sink, rapid, to) {
+                return;
+            }
             return self.emit(sink, op(to));
         }
         self.sent.set(to);
         sink.straight(rapid, &to, self.origin, self.line);
+    }
+
+    /// A straight move to `to` where the corner stage is the only stage and nothing waits in
+    /// it but perhaps a held move ([`corner::Corners::pass_straight`]): what the stage lets
+    /// go goes straight to the sink (`CanonSink::straight`), as [`Interpreter::emit`] would
+    /// send the same ops through the stage. False, with nothing changed, otherwise. A dialect
+    /// with corner blocks (Heidenhain's `RND`, `CHF`) has the stage open from the start
+    /// ([`corner_stage`]), so that each of its moves passes here.
+    #[inline(always)]
+    fn corners_pass(&self, sink: &mut dyn CanonSink, rapid: bool, to: [f64; 6]) -> bool {
+        if self.st.rotation.is_some() || self.st.scaling.is_some() || self.st.quill != 0.0 || self.comp.borrow().is_some() {
+            return false;
+        }
+        let (origin, line) = self.origin_override.unwrap_or((self.origin, self.line));
+        let out = match self.corners.borrow_mut().as_mut() {
+            Some(k) => k.pass_straight(rapid, to, origin, line),
+            None => None,
+        };
+        let Some(out) = out else { return false };
+        self.sent.set(to);
+        if let Some(h) = out {
+            sink.straight(false, &h.to, h.origin, h.line);
+        }
+        if rapid {
+            sink.straight(true, &to, origin, line);
+        }
+        true
     }
 
     /// The stage after corners: cutter compensation when it is on, else the sink.

@@ -294,6 +294,41 @@ fn moves_from_expressions_agree_with_the_general_way() {
     }
 }
 
+/// Where the dialect has corner blocks (Heidenhain's `RND`, `CHF`), the corner stage stands
+/// open from the start and a plain move passes it without its lists while nothing waits in
+/// it (`Corners::pass_straight`); corner words (`,R`, `,C`) open it at their first block.
+/// Around corners, approaches, rapids, compensation, plane and offset changes, feeds and the
+/// program's end, the fast lane and the general way give the same calls and findings, and
+/// the corners are made.
+#[test]
+fn moves_through_the_corner_stage_agree_with_the_general_way() {
+    let heidenhain = "BEGIN PGM C MM\nTOOL CALL 1 Z S1000\nL X+0 Y+0 Z+5 R0 FMAX M3\nL Z-1 F300\nL X+10\nRND R2\nL Y+10\n\
+        L X+20 Y+10\nCHF 1\nL X+20 Y+0\nL X+30\nRND R1 F100\nL Y+5\nL X+40 FMAX\nL X+50\nRND R0.5\nL X+50 Y+9 FMAX\n\
+        L X+60\nCHF 1\nCC X+60 Y+20\nC X+70 Y+20 DR+\nL X+70 Y+30\nRND R1\nL X+80 Y+30 Z-2\nL X+0 Y+0\n\
+        APPR LT X+10 Y+10 LEN 5 RL F200\nL X+30 Y+10\nRND R3\nL X+30 Y+30\nDEP LT LEN 5\nL R0\nL X+5 Y+5\n\
+        FN 0: Q1 = +0\nLBL 1\nL X+Q1 Y+0\nL X+Q1 Y+5\nRND R1\nL X+Q1 Y+5 Z+Q1\nFN 1: Q1 = +Q1 + +1\n\
+        FN 12: IF +Q1 LT +4 GOTO LBL 1\nL X+9 Y+9\nCHF 50\nL X+1 Y+9\nL Z+5 R0 FMAX\nL X+0 Y+0\nEND PGM C MM\n";
+    let fanuc = "%\nO1000\nG21 G90 G17\nT1 M6\nS1000 M3\nG0 X0. Y0. Z5.\nG1 Z-1. F300.\nX10.\nX10. Y10. ,R2.\nX20.\nY0. ,C1.\n\
+        X30.\nX30. Y10. ,R1.\nY20.\nG0 X40.\nG1 X50. ,R1.\nY5.\nG2 X55. Y10. R5.\nG1 X60. ,R1.\nY20.\nX0. Y0.\nG0 Z5.\nM30\n%\n";
+    let programs = [("heidenhain", heidenhain), ("fanuc", fanuc)];
+    let r = Registry::shipped();
+    for (dialect, text) in programs {
+        let d = r.get(dialect).unwrap();
+        let run = |fast_lane: bool| {
+            let mut canon = Vec::new();
+            let diags = ncplan::interp::interpret(text, &d, &Profile { fast_lane, ..profile() }, &mut canon);
+            (canon, diags)
+        };
+        let ((fast, fast_diags), (general, general_diags)) = (run(true), run(false));
+        assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{dialect}: the fast lane differs on\n{text}");
+        assert_eq!(format!("{fast_diags:?}"), format!("{general_diags:?}"), "{dialect}: the findings differ on\n{text}");
+        // The corners are made: arcs the program does not write (`RND`, `,R`), and more
+        // straight feeds than it writes (the chamfers).
+        let arcs = fast.iter().filter(|c| matches!(c.op, ncplan::canon::CanonOp::ArcFeed { .. })).count();
+        assert!(arcs >= 3, "{dialect}: {arcs} arcs: {fast:?}");
+    }
+}
+
 /// A loop or called body's blocks, kept lexed, take the replay lane (`Profile::replay_lane`)
 /// from their third run on. Generated loop and call programs of four dialects, with
 /// assignments, moves, calls, nested loops, forward jumps, unknown values and tight budgets
