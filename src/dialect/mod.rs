@@ -99,6 +99,9 @@ pub struct CommentRule {
     /// Whether an opening character inside the comment opens a nested one, so the comment
     /// ends at the matching close (`($SetPartSize(4, 4, 1, 1) )`, which simulators write).
     pub nested: bool,
+    /// Whether an opening character inside the comment stops the program (rs274ngc: "Nested
+    /// comment found"; NIST RS274NGC 3.3.4: comments may not be nested).
+    pub nested_error: bool,
 }
 
 impl CommentRule {

@@ -469,3 +469,21 @@ fn a_dwell_in_seconds_tells_a_haas_program() {
     let text = text.replace("G04 P1.0", "G04 P1000");
     assert_eq!(Registry::shipped().sniff(&text, Some("PART.nc"), "fanuc").dialect, "fanuc");
 }
+
+/// A `(` inside a comment: LinuxCNC's rs274 stops with "Nested comment found" (NIST
+/// RS274NGC 3.3.4: comments may not be nested), so it is an error there and on PathPilot, which
+/// runs the same interpreter; a Fanuc-family reading ends the comment at its first `)` and finds
+/// no such error where no `)` is left over; Mach3 and Centroid keep the plain reading.
+#[test]
+fn a_parenthesis_inside_a_comment_stops_rs274() {
+    let text = "G0 X0\n(open ( only)\nM2\n";
+    for dialect in ["linuxcnc", "pathpilot"] {
+        let d = read(dialect, text);
+        assert!(d.iter().any(|x| x.code == Code::NestedComment && x.is_error()), "{dialect}: {d:?}");
+    }
+    for dialect in ["mach3", "centroid", "fanuc"] {
+        assert!(errors(&read(dialect, text)).is_empty(), "{dialect}");
+    }
+    // A message directive is still a comment: a plain one reads without an error.
+    assert!(errors(&read("linuxcnc", "G0 X0\n(MSG, tool change)\nM2\n")).is_empty());
+}
