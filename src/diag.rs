@@ -120,6 +120,9 @@ codes! {
     MalformedNumber = ("syntax::malformed-number", Error),
     /// A comment that is not closed before the end of the line.
     UnterminatedComment = ("syntax::unterminated-comment", Error),
+    /// A comment holding the character that opens one, where the control stops at it
+    /// (rs274ngc: "Nested comment found").
+    NestedComment = ("syntax::nested-comment", Error),
     /// A teaching simulator's command written as a comment with parentheses of its own
     /// (`($SetPartSize(42, 12, 2, 1))`): read to its matching close, as the simulator reads
     /// it; a control ends the comment at its first close.

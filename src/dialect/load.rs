@@ -292,7 +292,11 @@ impl Cx {
         self.shape(el, &[], &["address"]);
         let mut out: Vec<AddressDef> = Vec::new();
         for c in el.children.iter().filter(|c| c.name == "address") {
-            self.shape(c, &["name", "role", "form", "mode", "again", "offset-digits", "id-suffix", "spindle-index", "axis-index"], &[]);
+            self.shape(
+                c,
+                &["name", "role", "form", "mode", "again", "offset-digits", "id-suffix", "offset-suffix", "spindle-index", "axis-index"],
+                &[],
+            );
             let (Some(name), Some(role)) = (self.required(c, "name"), self.required(c, "role")) else { continue };
             let name = name.to_ascii_uppercase();
             let symbol = name.len() == 1 && SYMBOL_ADDRESSES.contains(name.as_bytes()[0] as char);
@@ -351,7 +355,20 @@ impl Cx {
             let axis_index = self.attr(c, "axis-index") == Some("true");
             // `T6400.1102` (Mazak): the fraction is the tool's ID code.
             let id_suffix = self.attr(c, "id-suffix") == Some("true") && role == Role::T;
-            out.push(AddressDef { name, role, assign, incremental, again, offset_digits, id_suffix, spindle_index, axis_index });
+            // `T2.2` (Fagor): the digits after the point name the offset.
+            let offset_suffix = self.attr(c, "offset-suffix") == Some("true") && role == Role::T;
+            out.push(AddressDef {
+                name,
+                role,
+                assign,
+                incremental,
+                again,
+                offset_digits,
+                id_suffix,
+                offset_suffix,
+                spindle_index,
+                axis_index,
+            });
         }
         out
     }

@@ -99,6 +99,9 @@ pub struct CommentRule {
     /// Whether an opening character inside the comment opens a nested one, so the comment
     /// ends at the matching close (`($SetPartSize(4, 4, 1, 1) )`, which simulators write).
     pub nested: bool,
+    /// Whether an opening character inside the comment stops the program (rs274ngc: "Nested
+    /// comment found"; NIST RS274NGC 3.3.4: comments may not be nested).
+    pub nested_error: bool,
 }
 
 impl CommentRule {
@@ -716,6 +719,9 @@ pub struct AddressDef {
     /// its number (Mazak's `T6400.1102`: tool 64, offset 00, ID code 1102, as the Autodesk
     /// Mazak Integrex post writes it from the tool's product ID).
     pub id_suffix: bool,
+    /// For the tool address: the digits after the point name the tool offset (Fagor
+    /// 8025/8055 T's `T2.2`: tool 2, offset 2), not a fraction of the tool's number.
+    pub offset_suffix: bool,
     /// Whether the address may carry the number of the spindle it addresses before `=`
     /// (Siemens `M2=3`, `S2=2000`: spindle 2), with a number for its value.
     pub spindle_index: bool,

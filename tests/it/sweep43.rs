@@ -261,6 +261,12 @@
 //! the rest of the line is read as words (e007 then as the Fanuc mill); e010 is read as the Fanuc
 //! mill, with no error, having no code only Haas has.
 //!
+//! After the round vocab16 (all halves seen): e010 is read as Haas by its `G04 P1.0` (seconds on
+//! a Haas, no Fanuc form): holdout-s14 family 23/23. e003/e007 keep their errors: no Fanuc, Haas
+//! or Mitsubishi manual found documents a nested comment (fanuc.xml says so). build-s7 is 17/19
+//! on integrate 6068106 already (x001: an `R0.2` arc the macro's `#621=#610+#18` sends 104 mm;
+//! x027: G2/G3 with no I, J, K or R, its verdict not settled).
+//!
 //! Sweep 15 (rows f001-f023, half `holdout-s15`: held out whole, no build half; 23 programs of 4
 //! repositories, files no set used of repositories other sets used in part, each row says so, and
 //! none whose text is a side of this round's revision pairs r609-r674). Fanuc 11 (a job shop's

@@ -435,3 +435,55 @@ fn a_mazak_integrex_program_reads_as_the_mill_turn() {
     // The same words on the Mazak mill: G122.1 and G112 are no codes of it.
     assert!(!errors(&read("mazak", text)).is_empty());
 }
+
+/// A Fagor 8025/8055 T lathe: `T2.2` is tool 2 with offset 2 (the NX post for the Fagor 8025 T
+/// writes `T1.1`), read without an error; the 8055 T's own turning cycles under G81-G89 are
+/// kept as intent, not read as Fanuc's live-tool drilling cycles or left unknown, and Fanuc
+/// system B's G77-G79 single cycles are no codes of it.
+#[test]
+fn a_fagor_lathe_reads_its_tool_offset_and_own_cycles() {
+    let text = "N10 G90 G94 G71\nN20 T2.2\nN30 M3 S1000\nN40 G0 X90 Z2\n\
+                N50 G81 X50 Z-10 Q80 R-10 C2 L1 M1 F25 H25\nN60 G88 X50 Z-20 Q40 R-25 C3 D1 K1\nN70 G0 X100 Z50\nN80 M30\n";
+    let (calls, diags) = run("fagor_lathe", text);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert!(calls.iter().any(|c| c == "SELECT_TOOL(2)"), "{calls:#?}");
+    for code in ["G81", "G88"] {
+        assert!(diags.iter().any(|d| d.code == Code::Unmodelled && d.message.contains(code) && !d.is_error()), "{code}: {diags:?}");
+    }
+    // A tool number with a fraction stays an error where the dictionary has no such form.
+    assert!(errors(&read("fanuc_lathe", "O1\nT2.2\nM30\n")).iter().any(|e| e.contains("tool number")));
+    // G77 is Fanuc system B's turning cycle, not the 8055 T's.
+    let g77 = read("fagor_lathe", "N10 G90\nN20 G77 X40 Z-20 F0.2\nN30 M30\n");
+    assert!(g77.iter().any(|d| d.code == Code::UnknownCode && d.is_error()), "{g77:?}");
+}
+
+/// A dwell's P with a decimal point is seconds on a Haas and no Fanuc form (its P takes no
+/// decimal point): a program with no other code of its maker is told to be a Haas one by it.
+#[test]
+fn a_dwell_in_seconds_tells_a_haas_program() {
+    let text = "%\nO14217 (PART)\nG17 G20 G40 G80 G90 G94\nG54\nT5 M06\nG43 H5\nG00 X0 Y0 Z1.\nS240 M03\n\
+                G01 Z.7 F8.\nG04 P1.0\nG84 Z-.425 R0.2 F15.0\nG80\nM02\n%\n";
+    let sniffed = Registry::shipped().sniff(text, Some("PART.nc"), "fanuc");
+    assert_eq!(sniffed.dialect, "haas", "{sniffed:?}");
+    // Whole milliseconds (`G04 P1000`) tell nothing.
+    let text = text.replace("G04 P1.0", "G04 P1000");
+    assert_eq!(Registry::shipped().sniff(&text, Some("PART.nc"), "fanuc").dialect, "fanuc");
+}
+
+/// A `(` inside a comment: LinuxCNC's rs274 stops with "Nested comment found" (NIST
+/// RS274NGC 3.3.4: comments may not be nested), so it is an error there and on PathPilot, which
+/// runs the same interpreter; a Fanuc-family reading ends the comment at its first `)` and finds
+/// no such error where no `)` is left over; Mach3 and Centroid keep the plain reading.
+#[test]
+fn a_parenthesis_inside_a_comment_stops_rs274() {
+    let text = "G0 X0\n(open ( only)\nM2\n";
+    for dialect in ["linuxcnc", "pathpilot"] {
+        let d = read(dialect, text);
+        assert!(d.iter().any(|x| x.code == Code::NestedComment && x.is_error()), "{dialect}: {d:?}");
+    }
+    for dialect in ["mach3", "centroid", "fanuc"] {
+        assert!(errors(&read(dialect, text)).is_empty(), "{dialect}");
+    }
+    // A message directive is still a comment: a plain one reads without an error.
+    assert!(errors(&read("linuxcnc", "G0 X0\n(MSG, tool change)\nM2\n")).is_empty());
+}

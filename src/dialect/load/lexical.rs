@@ -231,8 +231,9 @@ impl Cx {
     /// `<comment open="(" close=")" position="anywhere" nested="false"/>`: one comment rule;
     /// `close="eol"` runs to the line end.
     fn comment_rule(&mut self, c: &Element, lex: &mut Lexical) {
-        self.shape(c, &["open", "close", "position", "nested"], &[]);
+        self.shape(c, &["open", "close", "position", "nested", "nested-error"], &[]);
         let nested = self.bool(c, "nested", false);
+        let nested_error = self.bool(c, "nested-error", false);
         let block_start = match self.attr(c, "position").unwrap_or("anywhere") {
             "anywhere" => false,
             "block-start" => true,
@@ -264,7 +265,7 @@ impl Cx {
             self.error(c.range, "<comment> needs a one- or two-character `open`");
         }
         if let (Some(open), Some(close)) = (open, close) {
-            lex.comments.push(CommentRule { open, open2, close, block_start, nested });
+            lex.comments.push(CommentRule { open, open2, close, block_start, nested, nested_error });
         }
     }
 

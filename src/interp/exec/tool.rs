@@ -20,6 +20,18 @@ impl Interpreter<'_> {
             // Where the dictionary says so (Mazak), the fraction is the tool's ID code.
             let id_suffix = self.dialect.addresses.iter().any(|a| a.role == Role::T && a.id_suffix);
             let t = if id_suffix && t >= 0.0 { t.trunc() } else { t };
+            // Where the dictionary says so (Fagor `T2.2`), the digits after the point name the
+            // offset: the tool is selected with that offset.
+            let offset_suffix = self.dialect.addresses.iter().any(|a| a.role == Role::T && a.offset_suffix);
+            if offset_suffix && t >= 0.0 && t.fract() != 0.0 {
+                let range = self.slots[Role::T as usize].map_or(block.range, |s| s.range);
+                let text = block.text(range);
+                let digits: String = text.split_once('.').map_or("", |(_, d)| d).chars().take_while(char::is_ascii_digit).collect();
+                if let Ok(offset) = digits.parse::<u32>() {
+                    self.tool_word_with(t.trunc().min(f64::from(u32::MAX)) as u32, Some(offset), sink);
+                    return;
+                }
+            }
             if t < 0.0 || t.fract() != 0.0 {
                 diags.push(Diagnostic::new(
                     Code::MalformedNumber,
@@ -49,6 +61,11 @@ impl Interpreter<'_> {
             }
             None => (t.min(f64::from(u32::MAX)) as u32, None),
         };
+        self.tool_word_with(tool, offset, sink);
+    }
+
+    /// The tool `tool` selected, with the offset its word names, if any.
+    fn tool_word_with(&mut self, tool: u32, offset: Option<u32>, sink: &mut dyn CanonSink) {
         self.st.selected_tool = tool;
         self.st.tool_commanded = true;
         self.emit(sink, CanonOp::SelectTool(tool));

@@ -390,6 +390,20 @@ impl Lexer<'_, '_> {
                         format!("a teaching simulator's command, read to its matching `{c}` as the simulator reads it; a control ends the comment at its first `{c}` and reads the rest as words"),
                     );
                 }
+                // Where the control stops at an opening character inside a comment (rs274ngc).
+                if let Some(p) = found
+                    && !simulator
+                    && self.dialect.lexical.comments.iter().any(|r| r.open as u8 == opener && r.nested_error)
+                    && let Some(q) = rest[..p].iter().position(|&x| x == opener)
+                {
+                    let at = self.i + q;
+                    self.error(
+                        Code::NestedComment,
+                        at,
+                        at + 1,
+                        format!("a `{}` inside a comment: comments may not be nested, and the control stops here", opener as char),
+                    );
+                }
                 match found {
                     Some(p) => {
                         self.block.comments.push(self.range(self.i, self.i + p));
