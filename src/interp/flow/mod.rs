@@ -22,6 +22,7 @@ use typed_arena::Arena;
 
 mod contour;
 mod exit;
+mod nesting;
 mod replay;
 mod statements;
 
@@ -110,6 +111,8 @@ pub fn run<'t>(
         replay_kept: None,
         definition: None,
     };
+    // The control reads the nesting of its control structures before it runs the program.
+    diags.extend(nesting::check(text, dialect));
     let mut interp = Interpreter::new(dialect, profile);
     interp.start(sink);
     driver.drive(&mut interp, sink, &mut diags);
