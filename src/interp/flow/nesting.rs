@@ -54,7 +54,7 @@ fn end_word(st: Statement) -> &'static str {
 
 /// The finding of a program's control-structure nesting where the control stops: the first
 /// end with no structure open, end of another structure than the one open or `ELSE` outside
-/// an `IF`; else every structure left open at the end of the text. Nothing where the dictionary does not check.
+/// an `IF`; else the outermost structure left open at the end of the text. Nothing where the dictionary does not check.
 pub(super) fn check(text: Text<'_>, dialect: &Dialect) -> Vec<Diagnostic> {
     if !dialect.macros.checks_nesting {
         return Vec::new();
@@ -111,7 +111,8 @@ pub(super) fn check(text: Text<'_>, dialect: &Dialect) -> Vec<Diagnostic> {
         out.truncate(1);
         return out;
     }
-    for (end, range) in open {
+    // The outermost structure left open: the control stops at the end of the program.
+    if let Some(&(end, range)) = open.first() {
         let msg = format!("this structure is never closed (no `{}`): {stop}", end_word(end));
         out.push(Diagnostic::new(Code::UnmatchedStatement, range, msg));
     }
