@@ -554,6 +554,11 @@ pub struct Macros {
     pub call_repeat_additional: bool,
     /// Whether a condition followed by a block name jumps there (`IF [VC1 EQ 0] NLOOP`).
     pub bare_if_jump: bool,
+    /// Whether the control checks the nesting of its control structures (`IF`/`ELSE`/`ENDIF`,
+    /// `WHILE`/`ENDWHILE`, `FOR`/`ENDFOR`, `REPEAT`/`UNTIL`, `LOOP`/`ENDLOOP`) and stops with an
+    /// alarm at an end with no open structure, an end of another kind, or a structure never
+    /// closed (`checks-nesting`; Sinumerik: alarm 12640, invalid nesting of control structures).
+    pub checks_nesting: bool,
     /// Whether a statement may follow an `IF [..]` condition on its line without `THEN`
     /// (Haas: `IF [#9 EQ #0] #9=#4109`, `IF [..] M98 P9004`): run when the condition holds.
     pub if_then_optional: bool,
@@ -637,6 +642,7 @@ impl Default for Macros {
             call_repeat_additional: false,
             call_start: None,
             bare_if_jump: false,
+            checks_nesting: false,
             if_then_optional: false,
             unset_reads_zero: false,
             unset_unknown: false,

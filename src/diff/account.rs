@@ -126,9 +126,18 @@ pub(super) fn account(
         }
         return;
     }
+    // Assignments moved with their value, as (original line, edited line): no change of their
+    // own, but part of the hunk a row tells (`place::name_moves`).
+    let moved: Vec<(u32, u32)> = follow::moved_same(&hunks, a, b, &sa, &sb)
+        .chunks_exact(2)
+        .filter_map(|p| match p {
+            [(Some(o), None), (None, Some(e))] => Some((*o, *e)),
+            _ => None,
+        })
+        .collect();
     locate(a, b, (&sa, &sb), hunks, pairs, changes);
     changes.splice(0..0, told);
-    super::place::name_places(changes, (a.text, b.text), (&sa, &sb), (a.dialect, b.dialect));
+    super::place::name_places(changes, (a.text, b.text), (&sa, &sb), (a.dialect, b.dialect), &moved);
 }
 
 /// Whether the two programs differ only inside `( )` remarks, read as if a remark's own

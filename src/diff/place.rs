@@ -148,9 +148,48 @@ fn name_jump_targets(changes: &mut [Change], (label_a, jump_a): &Jumps, (label_b
     }
 }
 
+/// An assignment moved with its value (no change of its own, `follow::moved_same`) whose
+/// new or old line lies in a run of lines that differ that a row names (`INI[146]=3` moved
+/// down among the `R210=0.6` … `R213=3` added): git shows the move inside that row's hunk, so
+/// the row names both its lines, as one place. A move in runs no row names stays silent.
+fn name_moves(changes: &mut [Change], moved: &[(u32, u32)], runs: &[(std::ops::Range<u32>, std::ops::Range<u32>)], touched: &mut [bool]) {
+    if moved.is_empty() {
+        return;
+    }
+    for &(o, e) in moved {
+        let Some((ra, rb)) = runs.iter().find(|(_, rb)| rb.contains(&e)).or_else(|| runs.iter().find(|(ra, _)| ra.contains(&o))) else {
+            continue;
+        };
+        // The row naming a line of the run nearest to the moved line, on the edited side
+        // first: the first row at a tie.
+        let nearest = |original: bool, r: &std::ops::Range<u32>, l: u32| {
+            changes
+                .iter()
+                .enumerate()
+                .filter_map(|(k, c)| named(c, original).filter(|m| r.contains(m) && *m != l).map(|m| (m.abs_diff(l), k)).min())
+                .min()
+        };
+        let row = nearest(false, rb, e).or_else(|| nearest(true, ra, o)).map(|(_, k)| k);
+        // Also the run of the other line, where it is another run.
+        let row = row.or_else(|| {
+            let (ra2, rb2) = runs.iter().find(|(ra, _)| ra.contains(&o))?;
+            nearest(true, ra2, o).or_else(|| nearest(false, rb2, e)).map(|(_, k)| k)
+        });
+        let Some(k) = row else { continue };
+        changes[k].detail.at.push((Some(o), Some(e)));
+        touched[k] = true;
+    }
+}
+
 /// Names, in `changes`, the lines without a statement that differ beside the lines they
 /// name (see the module doc).
-pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, sb): (&[Stmt], &[Stmt]), (da, db): (&Dialect, &Dialect)) {
+pub(super) fn name_places(
+    changes: &mut [Change],
+    (ta, tb): (&str, &str),
+    (sa, sb): (&[Stmt], &[Stmt]),
+    (da, db): (&Dialect, &Dialect),
+    moved: &[(u32, u32)],
+) {
     if changes.is_empty() {
         return;
     }
@@ -195,6 +234,8 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
     if changes.iter().any(flows) {
         name_jump_targets(changes, &ja, &jb);
     }
+    let mut touched = vec![false; changes.len()];
+    name_moves(changes, moved, &runs, &mut touched);
     let (label_a, label_b) = (&ja.0, &jb.0);
     let (na, nb) = (rows(changes, true), rows(changes, false));
     let label_lines = |labels: &[(Target, u32)]| labels.iter().map(|&(_, l)| l).collect::<std::collections::BTreeSet<u32>>();
@@ -203,7 +244,6 @@ pub(super) fn name_places(changes: &mut [Change], (ta, tb): (&str, &str), (sa, s
     let (ca, cb) = (conditions_of(changes, true), conditions_of(changes, false));
     let (ea, eb): (Vec<&str>, Vec<&str>) =
         if ca.is_empty() && cb.is_empty() { Default::default() } else { (ta.split('\n').collect(), tb.split('\n').collect()) };
-    let mut touched = vec![false; changes.len()];
     // The open places of each row a line below asks for (a place with its line on one side
     // only), by (whether the original side's line is the one missing, the other side's line):
     // their indices in the row's `at`, first first, each taken once it is completed. Built

@@ -316,3 +316,55 @@ fn a_loop_that_changes_nothing_stops_at_once_and_one_that_moves_on_runs_out() {
     let (moves, codes) = path("linuxcnc", program, &[]);
     assert_eq!((moves.as_str(), codes), ("1 0 0\n2 0 0\n3 0 0\n", vec![]));
 }
+
+/// Sinumerik checks the nesting of its control structures (alarm 12640): an `ENDIF` with no
+/// `IF`, an end of another structure than the one open, or a structure never closed is an
+/// error wherever it lies, run or not; one-line `IF … GOTOF` and `REPEAT` of a section open
+/// nothing, and a well-nested program has no such finding. Dialects whose dictionary does
+/// not say so (`checks-nesting`) are not read this way.
+#[test]
+fn siemens_control_structure_nesting_is_checked() {
+    let nesting = |dialect: &str, program: &str| -> Vec<String> {
+        let (_, diags) = crate::moves_and_findings(dialect, program, &ncplan::interp::Profile::default());
+        diags.iter().filter(|d| d.code.as_str() == "flow::unmatched" && d.message.contains("nesting")).map(|d| d.message.clone()).collect()
+    };
+    let good = "\
+DEF INT CNT=0
+IF R1>0 GOTOF SKIP
+WHILE CNT<2
+  IF CNT==1
+    G1 X1 F100
+  ELSE
+    G1 X2 F100
+  ENDIF
+  FOR R2=1 TO 2
+    REPEAT
+      R3=R3+1
+    UNTIL R3>2
+  ENDFOR
+  LOOP
+    GOTOF OUT
+  ENDLOOP
+  OUT:
+  CNT=CNT+1
+ENDWHILE
+SKIP:
+M30
+";
+    assert!(nesting("siemens", good).is_empty(), "{:?}", nesting("siemens", good));
+    let stray = good.replace("  OUT:\n", "  OUT:\n  ENDIF\n");
+    let found = nesting("siemens", &stray);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(found[0].starts_with("`ENDIF` where the open structure ends with `ENDWHILE`"), "{found:?}");
+    let unclosed = good.replace("  ENDIF\n", "");
+    let found = nesting("siemens", &unclosed);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(found[0].contains("ENDIF") || found[0].contains("ENDWHILE"), "{found:?}");
+    let never = "IF R1>0\nG1 X1 F100\nM30\n";
+    assert_eq!(nesting("siemens", never).len(), 1);
+    // Not in the branch the run takes: still the control's alarm.
+    let untaken = "R1=0\nIF R1>0 GOTOF SKIP\nG0 X0\nSKIP:\nENDIF\nM30\n";
+    assert_eq!(nesting("siemens", untaken).len(), 1);
+    // A dictionary that does not check nesting reads no such error.
+    assert!(nesting("linuxcnc", "G0 X0\nM2\n").is_empty());
+}

@@ -446,3 +446,96 @@ M30
     let (_, diags) = run("siemens", &known);
     assert!(errors(&diags).iter().any(|e| e.starts_with("flow::loop-limit")), "{diags:?}");
 }
+
+/// A grinder's infeed loop in the style of a Sinumerik shop cycle (`DOSKOK:` … `GOTOB
+/// DOSKOK`): each pass feeds in deeper, and the exit past the loop's `GOTOB` reads a global
+/// the machine's data sets (`IF (PASS>=MAXPASS) GOTOF KRAJ`), with a check between it and the
+/// jump back. No round repeats the one before, so the loop would run to the analysis bound;
+/// a run that ends leaves it: one pass, with a warning that the pass count is assumed.
+#[test]
+fn a_jump_loops_exit_on_unknown_data_leaves_after_one_pass() {
+    let program = "\
+PROC GRIND
+DEF REAL DEPTH=0
+DEF INT PASS=0
+G0 X20 Z5
+DOSKOK:
+DEPTH=DEPTH-0.1
+PASS=PASS+1
+G1 X=10+DEPTH F100
+G0 X20
+IF (PASS>=MAXPASS) GOTOF KRAJ
+IF (PASS>=2)
+  PASS=PASS+0
+ENDIF
+GOTOB DOSKOK
+KRAJ:
+G0 X50
+M17
+";
+    let (moves, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let feeds: Vec<&String> = moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).collect();
+    assert_eq!(feeds, ["STRAIGHT_FEED(9.9000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)"], "{moves:?}");
+    assert_eq!(moves.last().map(String::as_str), Some("STRAIGHT_TRAVERSE(50.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)"));
+    let exit: Vec<&Diagnostic> = diags.iter().filter(|d| d.code.as_str() == "flow::unknown-condition").collect();
+    assert!(
+        exit.iter().any(|d| d.severity == Severity::Warning && d.message.contains("leaves the loop") && d.message.contains("one pass")),
+        "{exit:?}"
+    );
+    assert!(said(&diags, "flow::repeat-budget").is_empty(), "{diags:?}");
+    // The same loop with the pass count set in the program runs its passes and leaves.
+    let known = program.replace("DEF INT PASS=0\n", "DEF INT PASS=0\nDEF INT MAXPASS=3\n");
+    let (moves, diags) = run("siemens", &known);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    assert_eq!(moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).count(), 3, "{moves:?}");
+    assert!(said(&diags, "flow::unknown-condition").is_empty(), "{diags:?}");
+}
+
+/// The same exit out of a Sinumerik `LOOP` … `ENDLOOP`, and out of a Fanuc `N10` … `GOTO 10`
+/// loop whose exit reads a common variable the machine keeps (`#500`) with another check
+/// between it and the jump back: one pass each, a warning, no bound reached.
+#[test]
+fn an_endless_loops_exit_on_unknown_data_leaves_after_one_pass() {
+    let siemens = "\
+PROC LOOPER
+DEF REAL DEPTH=0
+G0 X20 Z5
+LOOP
+DEPTH=DEPTH-0.1
+G1 X=10+DEPTH F100
+G0 X20
+IF (DEPTH<=ZIEL) GOTOF KRAJ
+ENDLOOP
+KRAJ:
+G0 X50
+M17
+";
+    let fanuc = "\
+O1000
+G90 G54 G0 X0 Y0 Z5
+#1=0
+N10 #1=#1-0.5
+G1 Z#1 F100
+G1 X10
+G0 Z5
+X0
+IF [#1 LE #500] GOTO 99
+IF [#1 LT -100] GOTO 99
+GOTO 10
+N99 G0 Z50
+M30
+";
+    for (dialect, program, cuts) in [("siemens", siemens, 1), ("fanuc", fanuc, 2)] {
+        let (moves, diags) = run(dialect, program);
+        assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
+        assert_eq!(moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).count(), cuts, "{dialect}: {moves:?}");
+        assert!(said(&diags, "flow::repeat-budget").is_empty(), "{dialect}: {diags:?}");
+        assert!(
+            diags
+                .iter()
+                .any(|d| d.code.as_str() == "flow::unknown-condition" && d.severity == Severity::Warning && d.message.contains("one pass")),
+            "{dialect}: {diags:?}"
+        );
+    }
+}

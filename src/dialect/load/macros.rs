@@ -21,6 +21,7 @@ const ATTRIBUTES: &[&str] = &[
     "main-return",
     "call-start",
     "bare-if-jump",
+    "checks-nesting",
     "if-then-optional",
     "unset-variables",
     "return-value",
@@ -53,6 +54,7 @@ impl Cx {
             call_repeat: self.attr(el, "call-repeat").map(|w| w.trim().to_ascii_uppercase()),
             call_start: self.letter_attr(el, "call-start").map(|c| c as u8),
             bare_if_jump: self.bool(el, "bare-if-jump", false),
+            checks_nesting: self.bool(el, "checks-nesting", false),
             if_then_optional: self.bool(el, "if-then-optional", false),
             return_value: self.attr(el, "return-value").map(|n| n.split_whitespace().collect::<String>().to_lowercase()),
             machine_functions: self

@@ -21,6 +21,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use typed_arena::Arena;
 
 mod contour;
+mod exit;
+mod nesting;
 mod replay;
 mod statements;
 
@@ -84,6 +86,7 @@ pub fn run<'t>(
         cond_reads: Vec::new(),
         round_guessed: false,
         guess_merge: None,
+        exits: BTreeMap::new(),
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -108,6 +111,8 @@ pub fn run<'t>(
         replay_kept: None,
         definition: None,
     };
+    // The control reads the nesting of its control structures before it runs the program.
+    diags.extend(nesting::check(text, dialect));
     let mut interp = Interpreter::new(dialect, profile);
     interp.start(sink);
     driver.drive(&mut interp, sink, &mut diags);
@@ -281,6 +286,9 @@ struct Driver<'a, 'p> {
     /// Where the way a forward jump on an unknown condition did not take meets the run again
     /// (its source, the call depth, the target's offset): the run is on a chosen way until then.
     guess_merge: Option<(usize, usize, usize)>,
+    /// Whether a forward jump (source, offset after it, target) leaves a loop it stands in
+    /// ([`Driver::loop_exit`]): read once.
+    exits: BTreeMap<(usize, usize, usize), Option<exit::LoopExit>>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -1051,6 +1059,7 @@ impl<'a> Driver<'a, '_> {
             Some(Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
         );
         let mut forward = None;
+        let mut loop_exit = false;
         let (value, why) = match c.statement {
             // A block IF's body is the lines after it.
             Some(Statement::If) if block_if(block, c, self.dialect) => self.alarm_choice(self.alarm_at(here), false, choice),
@@ -1066,6 +1075,19 @@ impl<'a> Driver<'a, '_> {
                         // Not jumping goes round the loop again (`IF [found] GOTO 20` …
                         // `GOTO 10`): the jump leaves the loop, as a run that ends does.
                         Way::Back if !at_target => (true, "the jump leaves the loop: a run that ends leaves its loops"),
+                        // A jump past the loop's end with more between (`IF (F>=MAX) GOTOF END`
+                        // … `GOTOB LOOP`): it leaves the loop after one pass (see `exit`).
+                        Way::On if !at_target && let Some(exit) = target.and_then(|t| self.loop_exit(here, t, interp)) => {
+                            loop_exit = true;
+                            if self.exit_now(exit) {
+                                (
+                                    true,
+                                    "the jump leaves the loop it stands in, after one pass of it: a run that ends leaves its loops, where the control's data says (one pass assumed)",
+                                )
+                            } else {
+                                (false, "the loop runs one pass first, then the jump leaves it: a run that ends leaves its loops")
+                            }
+                        }
                         way => self.alarm_choice(at_target, self.alarm_at(here) || way == Way::Alarm, choice),
                     }
                 }
@@ -1094,7 +1116,12 @@ impl<'a> Driver<'a, '_> {
         }
         self.round_guessed = true;
         let msg = format!("the condition of `{head}` reads {what}; taken as {value}: {why}");
-        diags.push(Diagnostic::new(Code::UnknownCondition, c.range, msg));
+        let mut d = Diagnostic::new(Code::UnknownCondition, c.range, msg);
+        if loop_exit {
+            // How many passes the loop makes is a guess: a warning, not a note.
+            d.severity = Severity::Warning;
+        }
+        diags.push(d);
         value
     }
 
