@@ -239,7 +239,7 @@ fn shared_name(var: &str, p: Program<'_>, stmts: &[Stmt]) -> bool {
         .lexical
         .parameter
         .is_some_and(|(sigil, _)| name.strip_prefix(sigil).is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())));
-    if !identifier || parameter || d.addresses.iter().any(|a| a.name.eq_ignore_ascii_case(name)) {
+    if !identifier || parameter || known_name(name, d) {
         return false;
     }
     if stmts.first().and_then(|s| header_parameters(p.text, d, s, 0)).is_some_and(|f| f.contains_key(name)) {
@@ -259,6 +259,28 @@ fn shared_name(var: &str, p: Program<'_>, stmts: &[Stmt]) -> bool {
             && tokens.iter().any(|t| t.sort == Sort::Other && d.macros.statement(&t.key).is_some());
         keyword || (declare && tokens.iter().skip(1).any(|t| reads(&t.text, name)))
     })
+}
+
+/// Whether the dictionary knows `name` (upper case, without an index) as a word of the language,
+/// so that no program can name its own or global user data so: the 840D sl programming manual,
+/// fundamentals, "Identifiers" — reserved words must not be used as identifiers, and a user
+/// identifier's first two characters are letters or underscores. Known are: an address (`F=…`)
+/// or its extended form, the address and a number (`S1=2000`, `M1=3`: spindle 1's speed and
+/// direction; `X1=10`, `Y2=5`: numbered axes); a G or M code, a keyword code (`SPOS=0`,
+/// `SPOSA=90`) or a statement keyword; a name indexed by an axis (`FA[X]=100`, `OVRA[X]=50`);
+/// a cycle or procedure (`CYCLE81`); a statement or cycle keyword the vocabulary documents.
+fn known_name(name: &str, d: &Dialect) -> bool {
+    let word = Token { key: name.to_owned(), value: String::new(), text: name.to_owned(), sort: Sort::Word };
+    let address = |a: &str| d.addresses.iter().any(|x| x.name.eq_ignore_ascii_case(a));
+    let letters = name.trim_end_matches(|c: char| c.is_ascii_digit());
+    about(&word, d) != About::Unknown
+        || address(name)
+        || (letters.len() < name.len() && address(letters))
+        || d.keyword_codes().any(|(_, spec)| spec.text.split(' ').next().is_some_and(|w| w.eq_ignore_ascii_case(name)))
+        || d.macros.statement(name).is_some()
+        || d.lexical.axis_indexed.iter().any(|a| a.name.eq_ignore_ascii_case(name))
+        || d.cycles.iter().any(|c| c.name.eq_ignore_ascii_case(name))
+        || d.vocabulary.keyword(name).is_some()
 }
 
 /// Statement changes of variables set to other values become the changes of what the
@@ -855,7 +877,14 @@ fn arg_label(key: &str, n: u16, first: u16, d: &Dialect) -> String {
             return char::from(b'A' + i as u8).to_string();
         }
     }
-    (n + 1 - first).to_string()
+    position(n, first).to_string()
+}
+
+/// The position, counted from 1, of local `n` among the locals from `first`, in `usize`: a
+/// header's parameters are counted with `saturating_add` and may stand at `u16::MAX` (a PROC
+/// header of some 65,000 parameters), where `n + 1` overflows a `u16`.
+fn position(n: u16, first: u16) -> usize {
+    (usize::from(n) + 1).saturating_sub(usize::from(first))
 }
 
 /// A word of a macro call (`G65 P9810 B2`, LNC `G65 "PROBEY" B-0.5`) changed in place: the
@@ -1000,7 +1029,7 @@ pub(super) fn rebound(
         if old_text == new_text && (prefix(&old_args, &new_args) || prefix(&new_args, &old_args)) {
             continue;
         }
-        let arg = |args: &[String], n: u16| args.get(usize::from(n - locals.0)).filter(|v| !v.is_empty()).cloned();
+        let arg = |args: &[String], n: u16| args.get(usize::from(n).checked_sub(usize::from(locals.0))?).filter(|v| !v.is_empty()).cloned();
         let new_stmts = statement::statements(&new_text, d);
         let callee = Program { plan: &plan, text: &new_text, dialect: d };
         let at = |c: &mut Change| {
@@ -1026,8 +1055,11 @@ pub(super) fn rebound(
             }
             let n = new_bind.get(var).or_else(|| old_bind.get(var)).copied().unwrap_or(locals.0);
             let param = if by_name { var.clone() } else { format!("{sigil}{n}") };
-            let label =
-                if var.starts_with(sigil) && positional_name(var, sigil) { format!("parameter {}", n + 1 - locals.0) } else { var.clone() };
+            let label = if var.starts_with(sigil) && positional_name(var, sigil) {
+                format!("parameter {}", position(n, locals.0))
+            } else {
+                var.clone()
+            };
             let kinds = if new_bind.contains_key(var) { fed_kinds(callee, &new_stmts, &param) } else { Vec::new() };
             let mut t = template.clone();
             t.detail.effect = None;
@@ -1113,4 +1145,65 @@ fn header_parameters(text: &str, d: &Dialect, s: &Stmt, first: u16) -> Option<st
 /// Whether a variable is a positional parameter itself (`#3`), not a name the subroutine gives it.
 fn positional_name(var: &str, sigil: char) -> bool {
     var.strip_prefix(sigil).is_some_and(|n| !n.is_empty() && n.bytes().all(|c| c.is_ascii_digit()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::Registry;
+
+    /// The rows `kind | field | before | after` of the comparison of two programs.
+    fn rows(a: &str, b: &str, dialect: &str) -> Vec<String> {
+        let d = Registry::shipped().get(dialect).unwrap();
+        let profile = crate::interp::Profile::default();
+        let (pa, pb) = (crate::pipeline::analyze(a.as_bytes(), &d, &profile), crate::pipeline::analyze(b.as_bytes(), &d, &profile));
+        let changes = crate::diff::compare(
+            Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+            Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+        );
+        changes.iter().map(|c| format!("{} | {} | {} | {}", c.kind.as_str(), c.field, c.before, c.after)).collect()
+    }
+
+    const PLAIN: &str = "N10 G17 G90 G71\nN20 T1 D1\nN30 M3 S1000\nN40 G0 X0 Y0 Z5\nN50 G1 Z-2 F200\nN60 G1 X50\nN70 G0 Z5\nN80 M30\n";
+
+    #[test]
+    fn names_the_dictionary_knows_are_no_global_user_data() {
+        // Extended addresses (spindle 1's speed and direction), keyword codes written with `=`,
+        // names indexed by an axis, numbered axes: the language's, never a user's GUD.
+        let d = Registry::shipped().get("siemens").unwrap();
+        for name in ["S1", "M1", "SPOS", "SPOSA", "FA", "OVRA", "X1", "Y2", "F", "CYCLE81", "H2", "T1"] {
+            assert!(known_name(name, &d), "{name}");
+        }
+        // Names only a program or the definition files give.
+        for name in ["PROCESS", "INI", "COMMON_RND", "WR", "_Z_SAFE", "UX1"] {
+            assert!(!known_name(name, &d), "{name}");
+        }
+    }
+
+    #[test]
+    fn an_extended_address_added_is_no_global_variable() {
+        let b = PLAIN.replace("N40 ", "N35 M1=3 S1=2000\nN40 ");
+        let got = rows(PLAIN, &b, "siemens");
+        assert!(!got.iter().any(|r| r.starts_with("global_variable_changed")), "{got:#?}");
+        assert!(got.iter().any(|r| r.contains("S1") && r.ends_with("| 2000")), "{got:#?}");
+        // Keyword codes and axis-indexed settings written with `=`, numbered axes.
+        for edit in ["SPOS=0", "SPOSA=90", "FA[X]=100", "OVRA[X]=50", "X1=10 Y2=5"] {
+            let b = PLAIN.replace("N70 ", &format!("N65 {edit}\nN70 "));
+            let got = rows(PLAIN, &b, "siemens");
+            assert!(!got.iter().any(|r| r.starts_with("global_variable_changed")), "{edit}: {got:#?}");
+        }
+        // A name the program neither defines nor takes is still global user data.
+        let b = PLAIN.replace("N70 ", "N65 PROCESS[50]=3\nN70 ");
+        let got = rows(PLAIN, &b, "siemens");
+        assert!(got.iter().any(|r| r.starts_with("global_variable_changed | variable PROCESS[50]")), "{got:#?}");
+    }
+
+    #[test]
+    fn a_parameter_position_at_the_end_of_u16_does_not_overflow() {
+        assert_eq!(position(u16::MAX, 0), 65536);
+        assert_eq!(position(u16::MAX, 1), 65535);
+        assert_eq!(position(0, 1), 0);
+        let d = Registry::shipped().get("siemens").unwrap();
+        assert_eq!(arg_label("F_ZC_START", u16::MAX, 1, &d), "65535");
+    }
 }

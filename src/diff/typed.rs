@@ -165,9 +165,51 @@ pub(super) fn axis_indexed_move(tok: &Token, d: &Dialect) -> bool {
     tok.sort == Sort::Assign && name.is_some_and(|n| d.lexical.axis_indexed.iter().any(|a| a.moves && a.name.eq_ignore_ascii_case(n)))
 }
 
-/// Whether an axis word's value is written with a variable or an expression, not a number.
-fn by_variable(tok: &Token) -> bool {
-    tok.value.trim_start_matches(['-', '+']).parse::<f64>().is_err()
+/// Whether an axis word's value reads a variable: its expression names a parameter (`Z#7`,
+/// `X=R1`, `Q5`), a user or system variable (`Z=INI[108]`, `V=$AA_SOFTENDP[V]-1`). A number
+/// is none, nor is one inside a dimension function (Siemens `X=IC(10)`, `AC(…)`, `C=DC(90)`,
+/// `ACP`/`ACN`: the 840D sl programming manual, fundamentals, "Absolute and incremental
+/// dimensions" and "Absolute dimension for rotary axes": the number, absolute or incremental
+/// for that word alone) or a function of numbers (`SIN(30)`): the plan reads those values.
+fn by_variable(tok: &Token, d: &Dialect) -> bool {
+    let v = tok.value.as_bytes();
+    let sigil = d.lexical.parameter.map(|(s, _)| s);
+    let mut i = 0;
+    while i < v.len() {
+        let c = v[i];
+        if c == b'$' || sigil.is_some_and(|s| s.is_ascii() && !s.is_ascii_alphabetic() && c == s as u8) {
+            return true;
+        }
+        let start = i;
+        // A quoted constant (`'H1F'`, `'B1011'`): a number.
+        if c == b'\'' {
+            i += 1 + v[i + 1..].iter().position(|&b| b == b'\'').map_or(v.len() - i - 1, |k| k + 1);
+            continue;
+        }
+        if c.is_ascii_digit() || c == b'.' {
+            // A number, with its exponent if any (`1.5E3`, `10EX3`).
+            while i < v.len() && (v[i].is_ascii_alphanumeric() || v[i] == b'.') {
+                i += 1;
+            }
+            continue;
+        }
+        if !(c.is_ascii_alphabetic() || c == b'_') {
+            i += 1;
+            continue;
+        }
+        while i < v.len() && (v[i].is_ascii_alphanumeric() || v[i] == b'_') {
+            i += 1;
+        }
+        let name = tok.value[start..i].to_ascii_uppercase();
+        let wrapper =
+            d.lexical.axis_modes.as_ref().is_some_and(|(abs, inc)| name.eq_ignore_ascii_case(abs) || name.eq_ignore_ascii_case(inc))
+                || d.lexical.rotary_absolute.iter().any(|r| r.eq_ignore_ascii_case(&name));
+        let function = crate::syntax::Func::named(&name).is_some() || crate::syntax::BinOp::named(&name).is_some();
+        if !wrapper && !function {
+            return true;
+        }
+    }
+    false
 }
 
 /// The legacy cycle a `DEF n.m` token defines a sub-block of (`CYCL DEF 9.1`), by the
@@ -196,7 +238,7 @@ impl Context {
             tokens.iter().any(|t| t.sort == Sort::Word && matches!(about(t, d), About::Code(Meaning::MacroCall | Meaning::ModalMacroCall)));
         // A frame's or an origin shift's axis words are its values, no move (`AROT Z=ANGLE`).
         let no_motion = tokens.iter().any(|t| matches!(about(t, d), About::Code(m) if super::statement::words_are_no_motion(m)));
-        c.moves_by_variables = !c.macro_call && !no_motion && tokens.iter().any(|t| axis_word(t, d) && by_variable(t));
+        c.moves_by_variables = !c.macro_call && !no_motion && tokens.iter().any(|t| axis_word(t, d) && by_variable(t, d));
         c.probe_cycle = tokens.iter().any(|t| probing(t, c.macro_call, d));
         c.flow = super::control::flow_of(tokens, d);
         let mill = !d.behaviour.x_diameter && d.behaviour.initial_plane == crate::canon::Plane::Xy;
@@ -416,7 +458,7 @@ pub(super) fn kind_of(tok: &Token, ctx: Context, d: &Dialect) -> Option<(ChangeK
         About::Address(r) if ctx.cycle && matches!(r, R::R | R::Q | R::P | R::K) => (K::CycleParameterChanged, "cycle parameter"),
         About::Address(R::Z) if ctx.cycle => (K::DepthChanged, "hole depth"),
         // A rapid's height (`G0 G54 X0 Y0 Z0`): where the tool goes before or between cuts.
-        About::Address(R::Z) if ctx.rapid && !ctx.special() && tok.sort == Sort::Word && !by_variable(tok) => {
+        About::Address(R::Z) if ctx.rapid && !ctx.special() && tok.sort == Sort::Word && !by_variable(tok, d) => {
             (K::ClearanceChanged, "rapid height")
         }
         About::Address(r) => match r {
@@ -773,4 +815,55 @@ fn turret_offset(x: Option<&Token>, y: Option<&Token>, d: &Dialect) -> Option<Ty
         before: oa.to_string(),
         after: ob.to_string(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::Registry;
+
+    fn word(key: &str, value: &str) -> Token {
+        Token { key: key.into(), value: value.into(), text: format!("{key}={value}"), sort: Sort::Assign }
+    }
+
+    #[test]
+    fn a_dimension_function_around_a_number_is_that_number() {
+        let d = Registry::shipped().get("siemens").unwrap();
+        for v in ["IC(10)", "AC(-5.5)", "DC(90)", "ACP(90)", "ACN(270)", "ic(10)", "10", "-2.5", "SIN(30)*10", "1.5EX3", "'H1F'"] {
+            assert!(!by_variable(&word("X", v), &d), "{v}");
+        }
+        for v in ["IC(R1)", "R1", "INI[108]", "$AA_SOFTENDP[V]-1", "PROCESS[20]+2", "AC(_Z_SAFE)"] {
+            assert!(by_variable(&word("X", v), &d), "{v}");
+        }
+        let fanuc = Registry::shipped().get("fanuc").unwrap();
+        let z = |v: &str| Token { key: "Z".into(), value: v.into(), text: format!("Z{v}"), sort: Sort::Word };
+        assert!(by_variable(&z("#7"), &fanuc) && by_variable(&z("[#1+2.]"), &fanuc));
+        assert!(!by_variable(&z("-2."), &fanuc) && !by_variable(&z("[1.+2.]"), &fanuc));
+    }
+
+    #[test]
+    fn a_move_to_an_incremental_number_is_no_move_by_variables() {
+        let d = Registry::shipped().get("siemens").unwrap();
+        let profile = crate::interp::Profile::default();
+        let a = "N10 G17 G90 G71\nN20 T1 D1\nN30 M3 S1000\nN40 G0 X0 Y0 Z5\nN50 G1 Z-2 F200 X10\nN60 G1 X=IC(10)\nN70 G0 Z5\nN80 M30\n";
+        let b = a.replace("X=IC(10)", "X20");
+        let (pa, pb) = (crate::pipeline::analyze(a.as_bytes(), &d, &profile), crate::pipeline::analyze(b.as_bytes(), &d, &profile));
+        let changes = crate::diff::compare(
+            crate::diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+            crate::diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+        );
+        let rows: Vec<String> = changes.iter().map(|c| format!("{} | {} | {} | {}", c.kind.as_str(), c.field, c.before, c.after)).collect();
+        // The block told as it is written, removed and added: no moves by variables.
+        assert_eq!(rows, ["statement_changed | statement | G1 X=IC(10) | ", "statement_changed | statement |  | G1 X20"], "{rows:#?}");
+        // Where the increment reads a parameter the program does not set, the plan does not
+        // see where the move goes: the moves.
+        let (a, b) = (a.replace("X=IC(10)", "X=IC(R1)"), a.replace("X=IC(10)", "X=IC(R2)"));
+        let (pa, pb) = (crate::pipeline::analyze(a.as_bytes(), &d, &profile), crate::pipeline::analyze(b.as_bytes(), &d, &profile));
+        let changes = crate::diff::compare(
+            crate::diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
+            crate::diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
+        );
+        let rows: Vec<String> = changes.iter().map(|c| format!("{} | {} | {} | {}", c.kind.as_str(), c.field, c.before, c.after)).collect();
+        assert!(rows.iter().any(|r| r.starts_with("toolpath_changed | moves")), "{rows:#?}");
+    }
 }
