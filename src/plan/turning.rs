@@ -1109,7 +1109,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
         // (Not a profile turned down along -Z, `descends`: a contour.)
-        None if grooving && !t.inside && !(!runs.is_empty() && runs.iter().all(|r| descends(r))) => (TurnOp::Grooving, runs.len() > 1),
+        None if grooving && !t.inside && (runs.is_empty() || !runs.iter().all(|r| descends(r))) => (TurnOp::Grooving, runs.len() > 1),
         None => (TurnOp::Contouring, contour_roughs(ws, &runs, stepped_in, zmax - zmin)),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls
