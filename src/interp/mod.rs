@@ -935,6 +935,8 @@ pub struct Interpreter<'a> {
     pub(super) left_level: Option<usize>,
     /// Motion commands executed so far (to tell whether a block moved).
     motions: u64,
+    /// Pocket and slot finishing passes written so far in the whole run (`pocket`'s bound).
+    pocket_passes: usize,
     /// Whether the dialect sets the feed before it moves (the fast lane takes F only then).
     /// Whether integers count least increments (`X10` is 10 µm): the dictionary's
     /// `decimal-input`, looked at by every plain move.
@@ -1065,6 +1067,7 @@ impl<'a> Interpreter<'a> {
             contexts: Vec::new(),
             left_level: None,
             motions: 0,
+            pocket_passes: 0,
             pending: Vec::new(),
             integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }) && !profile.calculator_input,
             feed_before_motion: {

@@ -1076,8 +1076,11 @@ impl Interpreter<'_> {
             match (found.is_ok(), fits_units) {
                 (false, true) => {
                     self.radius_units[0] += 1;
+                    // The R word, or the main program's call while a subprogram from another
+                    // file runs (the finding is told against the main program).
                     if self.first_radius_units.is_none() {
-                        self.first_radius_units = block.words.iter().rfind(|w| w.role == Role::R).map(|w| w.range);
+                        let word = block.words.iter().rfind(|w| w.role == Role::R).map(|w| w.range);
+                        self.first_radius_units = self.origin_override.map(|(call, _)| call).or(word);
                     }
                 }
                 (true, _) => self.radius_units[1] += 1,

@@ -105,6 +105,18 @@ impl Interpreter<'_> {
                 return;
             }
         };
+        // One bound for the whole run, as a pattern's positions have one: a modal call repeats the
+        // cycle at each of a pattern's positions, and each call may lay a circle of slots.
+        if self.pocket_passes + shapes.len() > MAX_POCKET_PASSES {
+            let msg = format!(
+                "{name}: more than {MAX_POCKET_PASSES} pocket and slot passes in the program: this call is kept as intent only, its moves are not expanded"
+            );
+            let mut d = Diagnostic::new(Code::Unsupported, range, msg);
+            d.severity = Severity::Warning;
+            self.limited(diags, "cycle-not-expanded", d);
+            return;
+        }
+        self.pocket_passes += shapes.len();
         for shape in shapes {
             self.pocket_pass(name, shape, surface, safe, floor, retract, sink);
         }
@@ -289,6 +301,11 @@ impl Interpreter<'_> {
 /// The most slots one cycle call is expanded into: a circle of slots holds a few dozen at most,
 /// and a modal call repeats the call at each of up to 10 000 pattern positions.
 const MAX_SLOTS: f64 = 100.0;
+
+/// The most pocket and slot passes one run expands in all: as many as a pattern has positions
+/// at most. Past it a call is kept as intent only (a modal slot cycle over a large pattern
+/// would otherwise write up to a million passes).
+const MAX_POCKET_PASSES: usize = 10_000;
 
 /// Slots on a circle (Siemens `SLOT1`, "slots on a circle" in the 840D cycles manual): `NUM`
 /// slots of the length and width the slot states, each along the radius of the circle about

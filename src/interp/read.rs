@@ -401,8 +401,10 @@ impl Interpreter<'_> {
             } else {
                 1
             }] += u32::from(decimal || v != 0.0);
+            // Where the finding points: the word, or while a subprogram from another file runs
+            // the main program's call of it (the finding is told against the main program).
             if !decimal && v != 0.0 && self.first_bare.is_none() {
-                self.first_bare = Some(w.range);
+                self.first_bare = Some(self.origin_override.map_or(w.range, |(call, _)| call));
             }
             if decimal {
                 self.st.length_points = true;

@@ -355,10 +355,13 @@ fn profiled_beyond_the_finish(ws: &Workingstep, later: &[Workingstep], face: f64
         return None;
     }
     // The deepest Z a later finishing workingstep on the same side reaches; with none, the
-    // whole profile is the shape the program leaves.
+    // whole profile is the shape the program leaves. Only a finish on the same part in the
+    // same place counts (the same setup, work offset and spindle, as for a face cut again):
+    // after a flip or on another offset it finishes another side of the part.
+    let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
     let reach = later
         .iter()
-        .filter(|w| w.tool != ws.tool)
+        .filter(|w| w.tool != ws.tool && place(w) == place(ws))
         .filter(|w| w.turning.as_ref().is_some_and(|l| !l.rough && l.inside == t.inside && l.operation == Some(TurnOp::Contouring)))
         .flat_map(|w| cuts(w).into_iter().map(|m| m.to[2].min(m.from[2])))
         .reduce(f64::min)
@@ -1106,7 +1109,7 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A grooving tool's passes along a contour outside: grooving, as a turner names what
         // a grooving tool does (a profiled recess, a wide groove turned out).
         // (Not a profile turned down along -Z, `descends`: a contour.)
-        None if grooving && !t.inside && !runs.iter().all(|r| descends(r)) => (TurnOp::Grooving, runs.len() > 1),
+        None if grooving && !t.inside && (runs.is_empty() || !runs.iter().all(|r| descends(r))) => (TurnOp::Grooving, runs.len() > 1),
         None => (TurnOp::Contouring, contour_roughs(ws, &runs, stepped_in, zmax - zmin)),
     };
     // One pass tells nothing of roughing or finishing: an operation its own comment calls

@@ -1656,6 +1656,19 @@ T1111 (BORING BAR FINISH)\nG96 S150 M3\nG0 X32.8 Z3.\nG1 X31.8 Z0. F0.1\nZ-22.\n
     assert_eq!(bores, [33.0, 31.8]);
     let floor = plan.features.iter().find(|f| matches!(f.kind, FeatureKind::Turned(Turned::RevolvedFlat { .. })));
     assert_eq!(floor.map(|f| f.placement[2]), Some(-25.6));
+    // The finishing bar on another work offset (`G55` after an optional stop) finishes another
+    // part: nothing finishes the G54 bore, so its roughing profile is the part's, Ø31.6 too.
+    let moved = p.replace("T1111 (BORING BAR FINISH)\n", "M1\nG55\nT1111 (BORING BAR FINISH)\n");
+    let plan = pipeline::analyze(moved.as_bytes(), &d, &Profile::default()).plan;
+    let bores: Vec<(f64, f64)> = plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::Diameter { diameter, length, inside: true }) => Some((*diameter, *length)),
+            _ => None,
+        })
+        .collect();
+    assert!(bores.iter().any(|&(dia, len)| dia == 31.6 && (len - 19.3).abs() < 1e-6), "{bores:?}");
     // A roughing operation's one pass (its comment names it) that nothing finishes after it:
     // the shape the program leaves is that pass's, its Ø56.
     let rough = "O2\nG21 G99\nT0101\nG50 S3000\nG96 S320 M4\n(ROUGHING)\nG0 X52. Z2.\nG1 Z0. F0.3\nX56. Z-2.\nZ-30.\nX62.\n\
@@ -1706,6 +1719,28 @@ fn calculator_input_finding_points_at_its_evidence() {
     let arcs = "O2\nG21 G99\nT0101\nG97 S800 M3\nG0 X30. Z2.\nG1 Z0. F0.2\nG3 X34. Z-2. R2\nG1 Z-20.\n\
 G2 X38. Z-22. R2\nG1 X44.\nG0 X100. Z50.\nM30\n";
     assert_eq!(finding(arcs).as_deref(), Some("R2"));
+}
+
+/// The calculator-input finding of a program whose bare numbers stand in a subprogram file
+/// it calls points at the main program's call (`M98 P1234`), not at a place in the other file.
+#[test]
+fn calculator_input_evidence_in_a_called_file_points_at_the_call() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = "O1\nG21 G99\nT0101\nM98 P1234\nM30\n";
+    let sub = "O1234\nG50 S2000\nG96 S200 M3\nG0 X44 Z2\nG1 X-1.6 Z0 F0.2\nG0 Z2\nX40\nG1 Z-20\nX44\nG0 X100 Z50\nM99\n";
+    std::fs::write(dir.path().join("main.nc"), main).unwrap();
+    std::fs::write(dir.path().join("O1234.nc"), sub).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncplan"))
+        .args(["check", "-d", "fanuc_lathe", "--format", "json"])
+        .arg(dir.path().join("main.nc"))
+        .output()
+        .unwrap();
+    let json: serde_json::Value =
+        serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)));
+    let found = json["diagnostics"].as_array().and_then(|ds| ds.iter().find(|d| d["code"] == "interp::decimal-input-inferred"));
+    let f = found.unwrap_or_else(|| panic!("no calculator-input finding: {json}"));
+    let call = main.find("M98 P1234").unwrap();
+    assert_eq!((f["line"].as_u64(), f["start"].as_u64(), f["end"].as_u64()), (Some(4), Some(call as u64), Some((call + 9) as u64)), "{f}");
 }
 
 /// A boring bar leaves the wall it cut towards the axis (an outside tool leaves it away from

@@ -1475,3 +1475,23 @@ fn slot1_counts_and_modal_calls() {
     );
     assert_eq!(a.plan.workingsteps.len(), 2);
 }
+
+/// A modal slot cycle over a large hole pattern (`MCALL SLOT1` of 100 slots on a circle, then
+/// `HOLES1` of 10 000 positions) would expand a million slot passes: the passes of the whole
+/// run are bounded (10 000), and past the bound the call is kept as intent with one warning at
+/// the pattern's block. The analysis finishes, with at most the bound's passes.
+#[test]
+fn slot_passes_under_a_modal_call_have_one_bound_for_the_run() {
+    let dialect = Registry::shipped().get("siemens").unwrap();
+    let text = "G17 G90 G54\nT1 D1\nM3 S1000\nG0 X0 Y0 Z50\nMCALL SLOT1(10,0,2,,5,100,20,8,0,0,30,0,0,100,200,5,2,0,1)\n\
+HOLES1(0,0,0,0,1,10000)\nMCALL\nM30\n";
+    let a = pipeline::analyze(text.as_bytes(), &dialect, &Profile::default());
+    let line_of = |d: &ncplan::diag::Diagnostic| text[..d.range.start as usize].matches('\n').count() + 1;
+    let bound: Vec<_> = a.diagnostics.iter().filter(|d| d.message.contains("pocket and slot passes in the program")).collect();
+    assert_eq!(bound.len(), 1, "{:?}", a.diagnostics);
+    assert_eq!(bound[0].code.as_str(), "interp::unsupported");
+    assert_eq!(bound[0].severity, ncplan::diag::Severity::Warning);
+    assert_eq!(line_of(bound[0]), 6, "{:?}", bound[0]);
+    let slots = a.plan.features.iter().filter(|f| f.kind.label() == "slot").count();
+    assert!((1..=10_000).contains(&slots), "{slots}");
+}
