@@ -991,8 +991,14 @@ fn groove_passes(ws: &Workingstep, after: Option<Move>) -> Option<GroovePasses> 
     let mut profiled = false;
     for &(a, b) in &spans {
         let run: Vec<Move> = moves[a..b].iter().filter(|m| is_cut(m)).copied().collect();
-        let first = run.iter().find(|m| (m.to[0] - m.from[0]).abs() > TOL)?;
-        let dir = (first.to[0] - first.from[0]).signum();
+        // The pass opens with its plunge: its first cut comes in across X at least half as much
+        // as along Z (a lead-in along Z first is a facing or turning pass's).
+        let first = run.first()?;
+        let (dx, dz) = (first.to[0] - first.from[0], first.to[2] - first.from[2]);
+        if dx.abs() <= TOL || 2.0 * dx.abs() < dz.abs() {
+            return None;
+        }
+        let dir = dx.signum();
         if inward != 0.0 && dir != inward {
             return None;
         }
@@ -1005,8 +1011,11 @@ fn groove_passes(ws: &Workingstep, after: Option<Move>) -> Option<GroovePasses> 
         let off_axis = run.iter().all(|m| m.from[0].min(m.to[0]) >= 0.05);
         // Out the way it came: a move back across X (more across than along Z).
         let leaves = |m: &Move| (m.to[0] - m.from[0]) * dir < -TOL && (m.to[0] - m.from[0]).abs() > (m.to[2] - m.from[2]).abs();
+        // (Not after a pull-off along Z: a facing pass is left along Z off the face it cut, a
+        // plunge straight back out of its groove.)
         let next = moves.get(b).copied().or(after);
-        let out = run.last().is_some_and(leaves) || next.as_ref().is_none_or(leaves);
+        let pulled_off = run.last().is_some_and(|m| (m.to[0] - m.from[0]).abs() < TOL);
+        let out = run.last().is_some_and(leaves) || (!pulled_off && next.as_ref().is_none_or(leaves));
         if !(off_axis && out && depth > TOL && hi - lo <= depth) {
             return None;
         }
@@ -1214,8 +1223,9 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A face groove profiled from both walls down to one floor (`face_groove`).
         None if xmin >= 0.05 && !t.inside && face_groove(&runs).is_some() => (TurnOp::Grooving, false),
         // A groove plunged and its flanks finished, each pass in and back out across X over
-        // one stretch of Z (`one_groove`): one grooving operation that finishes the groove.
-        None if runs.len() > 1 && groove_passes(ws, None).is_some_and(|g| g.profiled) => (TurnOp::Grooving, false),
+        // one stretch of Z (`one_groove`; not passes stepping a face down, each a depth of cut
+        // from the one before): one grooving operation that finishes the groove.
+        None if runs.len() > 1 && !stepped_in && groove_passes(ws, None).is_some_and(|g| g.profiled) => (TurnOp::Grooving, false),
         None if mostly_across || face => {
             let to_axis = xmin < 0.05;
             // Cuts to the axis at several places along Z step down a face (a facing cycle
