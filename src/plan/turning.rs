@@ -925,8 +925,12 @@ fn join(prev: &mut Workingstep, ws: Workingstep) {
 /// over one groove (their Z stretches overlapping, from the same side) is no new operation.
 /// Consecutive workingsteps of one tool made of such passes are joined into one.
 fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    // Passes as moves (no cycle; the depth of cut `group_passes` read between straight passes
+    // is no cycle's).
     let explicit = |w: &Workingstep| {
-        w.turning.as_deref().is_some_and(|t| t.intent.is_none() && t.cycle.is_none() && t.pitch.is_none()) && w.holes.is_empty()
+        w.turning.as_deref().is_some_and(|t| {
+            t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() }) && t.cycle.is_none() && t.pitch.is_none()
+        }) && w.holes.is_empty()
     };
     let stated = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.stated);
     let mut out: Vec<Workingstep> = Vec::new();
@@ -945,13 +949,17 @@ fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
                 && prev.technology.spindle_id == ws.technology.spindle_id
                 && !ws.state.stops.iter().any(|s| s.at == 0)
                 && (stated(&ws).is_none() || stated(&ws) == stated(prev))
-                && groove_passes(prev, firsts[i]).zip(groove_passes(&ws, after)).is_some_and(|(a, b)| {
-                    (a.inward - b.inward).abs() < TOL && a.lo <= b.hi + TOL && b.lo <= a.hi + TOL
-                })
+                && groove_passes(prev, firsts[i])
+                    .zip(groove_passes(&ws, after))
+                    .is_some_and(|(a, b)| (a.inward - b.inward).abs() < TOL && a.lo <= b.hi + TOL && b.lo <= a.hi + TOL)
         });
         match out.last_mut() {
             Some(prev) if joins => {
                 join(prev, ws);
+                // A groove's passes step over along its floor, not down by a depth of cut.
+                if let Some(t) = prev.turning.as_mut() {
+                    t.intent = None;
+                }
                 remeasure(prev);
             }
             _ => out.push(ws),
@@ -1041,7 +1049,8 @@ fn groove_passes(ws: &Workingstep, after: Option<Move>) -> Option<GroovePasses> 
 /// exchanged: the floor's Z and the radii its cuts span (from wall to wall at the floor).
 fn face_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
     let swap = |p: P3| [p[2], p[1], p[0]];
-    let swapped: Vec<Vec<Move>> = runs.iter().map(|r| r.iter().map(|m| Move { from: swap(m.from), to: swap(m.to), ..*m }).collect()).collect();
+    let swapped: Vec<Vec<Move>> =
+        runs.iter().map(|r| r.iter().map(|m| Move { from: swap(m.from), to: swap(m.to), ..*m }).collect()).collect();
     let (floor, _, _) = profiled_groove(&swapped)?;
     // Off the axis: a face cut to the centre is facing.
     if runs.iter().flatten().any(|m| m.from[0].min(m.to[0]) < 0.05) {
