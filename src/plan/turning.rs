@@ -929,7 +929,9 @@ fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
     // is no cycle's).
     let explicit = |w: &Workingstep| {
         w.turning.as_deref().is_some_and(|t| {
-            t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() }) && t.cycle.is_none() && t.pitch.is_none()
+            t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() })
+                && t.cycle.is_none()
+                && t.pitch.is_none()
         }) && w.holes.is_empty()
     };
     let stated = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.stated);
