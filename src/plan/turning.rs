@@ -61,6 +61,12 @@
 //!   operation comment). Not yet: a profile at the plunges' feed right after them stays in
 //!   their workingstep, since `CYCLE93` written as moves must part as the cycle does (one
 //!   workingstep); reading that cycle as its roughing and its finish would allow both.
+//!
+//! The passes of one tool over one groove (a plunge, then each flank down to the floor, a
+//! rapid and often a finer feed between them), which recovery parts at the feed change, are
+//! one grooving workingstep again (`one_groove`), its groove as wide as the flanks' span. A
+//! groove on the face, profiled from both walls down to one floor (`face_groove`), is
+//! grooving; with no face-groove kind yet, its floor is the revolved flat it leaves.
 
 use super::model::*;
 pub use super::turned::{TurnOp, Turned, Turning};
