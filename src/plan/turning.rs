@@ -61,6 +61,12 @@
 //!   operation comment). Not yet: a profile at the plunges' feed right after them stays in
 //!   their workingstep, since `CYCLE93` written as moves must part as the cycle does (one
 //!   workingstep); reading that cycle as its roughing and its finish would allow both.
+//!
+//! The passes of one tool over one groove (a plunge, then each flank down to the floor, a
+//! rapid and often a finer feed between them), which recovery parts at the feed change, are
+//! one grooving workingstep again (`one_groove`), its groove as wide as the flanks' span. A
+//! groove on the face, profiled from both walls down to one floor (`face_groove`), is
+//! grooving; with no face-groove kind yet, its floor is the revolved flat it leaves.
 
 use super::model::*;
 pub use super::turned::{TurnOp, Turned, Turning};
@@ -114,6 +120,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         beyond_the_centre(ws, remeasure);
     }
     group_passes(plan, remeasure);
+    one_groove(plan, remeasure);
     for ws in &mut plan.workingsteps {
         off_the_face(ws, remeasure);
     }
@@ -919,6 +926,153 @@ fn join(prev: &mut Workingstep, ws: Workingstep) {
     prev.lines = (prev.lines.0.min(ws.lines.0), prev.lines.1.max(ws.lines.1));
 }
 
+/// The passes of one groove, as turners and posts cut a groove wider than the tool: plunge to
+/// the floor, back out, step over and plunge again (Fanuc's `G75` grooving cycle shifts
+/// along Z between its plunges in the same way), then finish each flank down to the floor.
+/// Each pass comes in across X and goes back out the way it came, a rapid between them, often
+/// at a finer feed for the flanks: a rapid or a feed change between the passes of one tool
+/// over one groove (their Z stretches overlapping, from the same side) is no new operation.
+/// Consecutive workingsteps of one tool made of such passes are joined into one.
+fn one_groove(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
+    // Passes as moves (no cycle; the depth of cut `group_passes` read between straight passes
+    // is no cycle's).
+    let explicit = |w: &Workingstep| {
+        w.turning.as_deref().is_some_and(|t| {
+            t.intent.as_ref().is_none_or(|i| *i == crate::canon::TurnIntent { depth_of_cut: i.depth_of_cut, ..Default::default() })
+                && t.cycle.is_none()
+                && t.pitch.is_none()
+        }) && w.holes.is_empty()
+    };
+    let stated = |w: &Workingstep| w.turning.as_deref().and_then(|t| t.stated);
+    let mut out: Vec<Workingstep> = Vec::new();
+    let input = std::mem::take(&mut plan.workingsteps);
+    // Each workingstep's first move: the way out of the one before (the rapid back out of a
+    // groove's last pass begins the next pass's workingstep).
+    let firsts: Vec<Option<Move>> = input.iter().map(|w| w.toolpath.iter().next()).collect();
+    for (i, ws) in input.into_iter().enumerate() {
+        let after = firsts.get(i + 1).copied().flatten();
+        let joins = out.last().is_some_and(|prev| {
+            explicit(prev)
+                && explicit(&ws)
+                && prev.tool == ws.tool
+                && prev.setup == ws.setup
+                && prev.state.work_offset == ws.state.work_offset
+                && prev.technology.spindle_id == ws.technology.spindle_id
+                && !ws.state.stops.iter().any(|s| s.at == 0)
+                && (stated(&ws).is_none() || stated(&ws) == stated(prev))
+                && groove_passes(prev, firsts[i])
+                    .zip(groove_passes(&ws, after))
+                    .is_some_and(|(a, b)| (a.inward - b.inward).abs() < TOL && a.lo <= b.hi + TOL && b.lo <= a.hi + TOL)
+        });
+        match out.last_mut() {
+            Some(prev) if joins => {
+                join(prev, ws);
+                // A groove's passes step over along its floor, not down by a depth of cut.
+                if let Some(t) = prev.turning.as_mut() {
+                    t.intent = None;
+                }
+                remeasure(prev);
+            }
+            _ => out.push(ws),
+        }
+    }
+    for (k, ws) in out.iter_mut().enumerate() {
+        ws.index = k as u32 + 1;
+    }
+    plan.workingsteps = out;
+}
+
+/// A workingstep's passes as the passes of one groove (`one_groove`).
+struct GroovePasses {
+    /// Which way the passes go into the part across X: -1 outside, 1 in a bore.
+    inward: f64,
+    /// The Z stretch the passes cut over, mm.
+    lo: f64,
+    hi: f64,
+    /// Some pass is no straight plunge (it comes down a flank along a profile): the groove's
+    /// flanks are finished, and its width is their span.
+    profiled: bool,
+}
+
+/// Whether every pass of a workingstep plunges across X into the part and goes back out the
+/// way it came (by its own last cut or the move after it), cutting more across X than along
+/// Z, off the axis, all from one side, their Z stretches overlapping one another: one groove.
+/// `after`: the move after the workingstep (its last pass's way out, if not its own); with
+/// none, its last pass is taken to leave (nothing of it follows).
+fn groove_passes(ws: &Workingstep, after: Option<Move>) -> Option<GroovePasses> {
+    let moves: Vec<Move> = ws.toolpath.iter().collect();
+    let spans = run_spans(ws);
+    if spans.is_empty() {
+        return None;
+    }
+    let mut inward = 0.0;
+    let mut stretches: Vec<(f64, f64)> = Vec::new();
+    let mut profiled = false;
+    for &(a, b) in &spans {
+        let run: Vec<Move> = moves[a..b].iter().filter(|m| is_cut(m)).copied().collect();
+        // The pass opens with its plunge: its first cut comes in across X at least half as much
+        // as along Z (a lead-in along Z first is a facing or turning pass's).
+        let first = run.first()?;
+        let (dx, dz) = (first.to[0] - first.from[0], first.to[2] - first.from[2]);
+        if dx.abs() <= TOL || 2.0 * dx.abs() < dz.abs() {
+            return None;
+        }
+        let dir = dx.signum();
+        if inward != 0.0 && dir != inward {
+            return None;
+        }
+        inward = dir;
+        let start = run.first()?.from[0];
+        let deepest = run.iter().map(|m| m.to[0] * dir).fold(f64::NEG_INFINITY, f64::max);
+        let depth = deepest - start * dir;
+        let zs = run.iter().flat_map(|m| [m.from[2], m.to[2]]);
+        let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), z| (l.min(z), h.max(z)));
+        let off_axis = run.iter().all(|m| m.from[0].min(m.to[0]) >= 0.05);
+        // Out the way it came: a move back across X (more across than along Z).
+        let leaves = |m: &Move| (m.to[0] - m.from[0]) * dir < -TOL && (m.to[0] - m.from[0]).abs() > (m.to[2] - m.from[2]).abs();
+        // (Not after a pull-off along Z: a facing pass is left along Z off the face it cut, a
+        // plunge straight back out of its groove.)
+        let next = moves.get(b).copied().or(after);
+        let pulled_off = run.last().is_some_and(|m| (m.to[0] - m.from[0]).abs() < TOL);
+        let out = run.last().is_some_and(leaves) || (!pulled_off && next.as_ref().is_none_or(leaves));
+        if !(off_axis && out && depth > TOL && hi - lo <= depth) {
+            return None;
+        }
+        profiled |= run.iter().any(|m| m.arc.is_some() || (m.to[2] - m.from[2]).abs() > TOL);
+        stretches.push((lo, hi));
+    }
+    // Overlapping one another: each stretch, in order along Z, reaches the ones before.
+    stretches.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut reach = stretches[0].1;
+    for &(lo, hi) in &stretches[1..] {
+        if lo > reach + TOL {
+            return None;
+        }
+        reach = reach.max(hi);
+    }
+    Some(GroovePasses { inward, lo: stretches[0].0, hi: reach, profiled })
+}
+
+/// A groove on the face, profiled from both walls (its roughing fed along -Z, as Fanuc's
+/// `G74` face grooving cycle pecks): passes that each come down a wall along -Z to the same
+/// floor (the deepest Z cut) and run across it, one from the outer wall and one from the
+/// inner, their runs across the floor meeting. Read as [`profiled_groove`] with Z and X
+/// exchanged: the floor's Z and the radii its cuts span (from wall to wall at the floor).
+fn face_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
+    let swap = |p: P3| [p[2], p[1], p[0]];
+    let swapped: Vec<Vec<Move>> =
+        runs.iter().map(|r| r.iter().map(|m| Move { from: swap(m.from), to: swap(m.to), ..*m }).collect()).collect();
+    let (floor, _, _) = profiled_groove(&swapped)?;
+    // Off the axis: a face cut to the centre is facing.
+    if runs.iter().flatten().any(|m| m.from[0].min(m.to[0]) < 0.05) {
+        return None;
+    }
+    let on_floor = runs.iter().flatten().filter(|m| m.arc.is_none() && (m.from[2] - floor).abs() < 0.01 && (m.to[2] - floor).abs() < 0.01);
+    let xs = on_floor.flat_map(|m| [m.from[0], m.to[0]]);
+    let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+    (hi > lo).then_some((floor, lo, hi))
+}
+
 /// The region a workingstep turns, as one general revolution.
 fn revolution(ws: &Workingstep) -> Vec<(FeatureKind, f64)> {
     match ws.turning.as_deref().map(|t| (t.diameter, t.z)) {
@@ -1086,6 +1240,12 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // A recess profiled from both sides down to one bottom, as posts write a groove's
         // finish with a turning or grooving tool: each flank in a pass of its own.
         None if xmin >= 0.05 && !t.inside && profiled_groove(&runs).is_some() => (TurnOp::Grooving, false),
+        // A face groove profiled from both walls down to one floor (`face_groove`).
+        None if xmin >= 0.05 && !t.inside && face_groove(&runs).is_some() => (TurnOp::Grooving, false),
+        // A groove plunged and its flanks finished, each pass in and back out across X over
+        // one stretch of Z (`one_groove`; not passes stepping a face down, each a depth of cut
+        // from the one before): one grooving operation that finishes the groove.
+        None if runs.len() > 1 && !stepped_in && groove_passes(ws, None).is_some_and(|g| g.profiled) => (TurnOp::Grooving, false),
         None if mostly_across || face => {
             let to_axis = xmin < 0.05;
             // Cuts to the axis at several places along Z step down a face (a facing cycle
@@ -1480,13 +1640,23 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
             let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
             vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), round(last - allow))]
         }
+        // A face groove: the flat its floor leaves, between its walls (no face-groove kind yet).
+        Some(TurnOp::Grooving) if face_groove(&runs(ws)).is_some() => face_groove(&runs(ws))
+            .map(|(z, lo, hi)| vec![(turned(Turned::RevolvedFlat { outer: round(2.0 * hi), inner: round(2.0 * lo) }), round(z))])
+            .unwrap_or_default(),
         Some(TurnOp::Grooving) | Some(TurnOp::PartingOff) => {
             let plunge_z = cuts.iter().map(|m| m.to[2]);
             let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
             // A cycle that states the groove's edges gives its width; else the plunges' span
             // and the tool's width.
             // A groove profiled from both sides: from flank to flank.
-            let span = t.intent.as_ref().and_then(|i| i.span).or_else(|| profiled_groove(&runs(ws)).map(|(_, lo, hi)| [lo, hi]));
+            // So is one whose passes plunge and finish its flanks (`one_groove`).
+            let span = t
+                .intent
+                .as_ref()
+                .and_then(|i| i.span)
+                .or_else(|| profiled_groove(&runs(ws)).map(|(_, lo, hi)| [lo, hi]))
+                .or_else(|| groove_passes(ws, None).filter(|g| g.profiled).map(|g| [g.lo, g.hi]));
             let width = match span {
                 Some([lo, hi]) => Some(round(hi - lo)),
                 None => tool_width.map(|w| round(hi - lo + w)),

@@ -2020,3 +2020,61 @@ G71 U2. R4.\nG71 P140 Q220 U0.4 W0.1 F0.3\nG1 X30. Z0.\nX36. Z-3.\nZ-83.\nX105.\
     let ws: Vec<String> = a.plan.workingsteps.iter().map(|w| w.label()).collect();
     assert_eq!(ws, ["facing finish"]);
 }
+
+/// A wide groove as operators and posts cut it: a plunge to near the floor, back out, then each
+/// flank finished down to the floor, the second at a finer feed, a rapid between the passes.
+/// The passes of one tool over one stretch of Z are one grooving workingstep with one groove
+/// (its floor diameter, its width from flank to flank); passes stepping a face down are not.
+#[test]
+fn a_groove_plunged_and_its_flanks_finished_is_one_groove() {
+    let plan_of_text = |program: &str| {
+        let d = Registry::shipped().get("fanuc_lathe").unwrap();
+        pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan
+    };
+    let groove = "O4\nG21 G99\nT0505\nG97 S600 M3\nG0 X52. Z-20.\nG1 X40.2 F0.1\nG0 X52.\nG1 X50. Z-21.5\nX40.\nG0 X52. Z-20.\n\
+G1 X50. Z-18. F0.05\nX40.\nG0 X52.\nX100. Z50.\nM30\n";
+    let plan = plan_of_text(groove);
+    let ws: Vec<String> = plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert_eq!(ws, ["grooving finish"]);
+    let grooves: Vec<(f64, Option<f64>, f64)> = plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::Groove { diameter, width, .. }) => Some((*diameter, *width, f.placement[2])),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(grooves, [(40.0, Some(3.5), -18.0)]);
+    // The same plunge and a flank pass far from it along Z: two grooves' passes, not joined.
+    let apart = "O5\nG21 G99\nT0505\nG97 S600 M3\nG0 X52. Z-20.\nG1 X40.2 F0.1\nG0 X52.\nZ-40.\nG1 X50. Z-41.5\nX40.\nG0 X52.\n\
+X100. Z50.\nM30\n";
+    let plan = plan_of_text(apart);
+    assert_eq!(plan.workingsteps.len(), 2, "{:?}", plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>());
+}
+
+/// An annular groove on the face, as a face grooving insert cuts it: plunges along -Z each
+/// turned inward (its roughing), then the outer wall profiled down to the floor and across it,
+/// and the inner wall down to the floor and out along it. The floor is a revolved flat at its
+/// depth, between the walls; the wall passes are grooving.
+#[test]
+fn a_face_groove_profiled_from_both_walls_leaves_its_floor() {
+    let program = "O6\nG21 G99\nT0808\nG96 S200 M3\nG50 S2000\nG0 X120. Z1.\nG1 Z-2. F0.1\nX100.\nZ-1.8\nG0 Z1.\n\
+X120.\nG1 Z-4.\nX100.\nZ-3.8\nG0 Z1.\nX124.\nG1 Z0. F0.08\nG2 X122. Z-1. R1.\nG1 Z-5.\nX96.\nZ-4.8\nG0 Z1.\nX92.\nG1 Z0.\n\
+G3 X94. Z-1. R1.\nG1 Z-5.\nX97.\nZ-4.8\nG0 Z5.\nX200. Z50.\nM30\n";
+    let d = Registry::shipped().get("fanuc_lathe").unwrap();
+    let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
+    let ws: Vec<String> = plan.workingsteps.iter().map(|w| w.label()).collect();
+    assert!(ws.last().is_some_and(|l| l == "grooving finish"), "{ws:?}");
+    let floor: Vec<(f64, f64, f64)> = plan
+        .features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::RevolvedFlat { outer, inner }) if (f.placement[2] + 5.0).abs() < 1e-6 => {
+                Some((*outer, *inner, f.placement[2]))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(floor, [(122.0, 94.0, -5.0)]);
+    assert!(plan.features.iter().all(|f| !ncplan::plan::turning::is_milling(&f.kind)));
+}
