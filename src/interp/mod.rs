@@ -1852,6 +1852,14 @@ impl<'a> Interpreter<'a> {
         {
             return false;
         }
+        self.assignments_alone(block, diags);
+        true
+    }
+
+    /// What `read_and_assign` and the motion step do for a block whose words `read` leaves
+    /// nothing of: the state a block without words leaves, then its assignments.
+    #[inline(always)]
+    fn assignments_alone(&mut self, block: &Block, diags: &mut Vec<Diagnostic>) {
         // What `read` leaves for a block without words.
         self.clear_block();
         self.block_read = true;
@@ -1863,7 +1871,6 @@ impl<'a> Interpreter<'a> {
             self.refresh_system_vars(block);
         }
         self.assign(block, diags);
-        true
     }
 
     /// Runs `block` when it holds one inert keyword code with its value, and perhaps
@@ -1881,6 +1888,15 @@ impl<'a> Interpreter<'a> {
             return false;
         }
         let Some((c, word)) = self.inert_code_words(block) else { return false };
+        if !block.assigns.is_empty() {
+            // Heidenhain's `FN 3: Q3 = +Q2 * +0.1`: the code means nothing to execute, and what
+            // `read` would put of it (the block's code, its value's slot) nothing reads after
+            // the block (the next block's `read`, or a plain move, clears it; no step runs for
+            // it here): the block is its assignments, as `Q3 = Q2 * 0.1` is
+            // (`assignments_only`), without the code read for nobody.
+            self.assignments_alone(block, diags);
+            return true;
+        }
         let at = block.words.iter().find(|w| w.role == Role::Keyword).map_or(block.range, |w| w.range);
         self.around_assignments(block, diags, |me, _| {
             me.read_inert_code(c, at, word);

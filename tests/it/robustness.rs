@@ -432,6 +432,10 @@ fn body_parts(dialect: &str) -> &'static [&'static str] {
             "L X+Q77 Y+1\n",
             "; note\n",
             "FN 2: Q6 = +Q6 - +Q1\n",
+            // FN arithmetic reading the control's data (the tool radius), and one whose
+            // value is an error: the fast lane runs such a block as its assignments alone.
+            "FN 0: Q9 = +Q108\n",
+            "FN 4: Q7 = +Q1 DIV +0\n",
         ],
     }
 }
