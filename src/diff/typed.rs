@@ -840,30 +840,4 @@ mod tests {
         assert!(by_variable(&z("#7"), &fanuc) && by_variable(&z("[#1+2.]"), &fanuc));
         assert!(!by_variable(&z("-2."), &fanuc) && !by_variable(&z("[1.+2.]"), &fanuc));
     }
-
-    #[test]
-    fn a_move_to_an_incremental_number_is_no_move_by_variables() {
-        let d = Registry::shipped().get("siemens").unwrap();
-        let profile = crate::interp::Profile::default();
-        let a = "N10 G17 G90 G71\nN20 T1 D1\nN30 M3 S1000\nN40 G0 X0 Y0 Z5\nN50 G1 Z-2 F200 X10\nN60 G1 X=IC(10)\nN70 G0 Z5\nN80 M30\n";
-        let b = a.replace("X=IC(10)", "X20");
-        let (pa, pb) = (crate::pipeline::analyze(a.as_bytes(), &d, &profile), crate::pipeline::analyze(b.as_bytes(), &d, &profile));
-        let changes = crate::diff::compare(
-            crate::diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
-            crate::diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
-        );
-        let rows: Vec<String> = changes.iter().map(|c| format!("{} | {} | {} | {}", c.kind.as_str(), c.field, c.before, c.after)).collect();
-        // The block told as it is written, removed and added: no moves by variables.
-        assert_eq!(rows, ["statement_changed | statement | G1 X=IC(10) | ", "statement_changed | statement |  | G1 X20"], "{rows:#?}");
-        // Where the increment reads a parameter the program does not set, the plan does not
-        // see where the move goes: the moves.
-        let (a, b) = (a.replace("X=IC(10)", "X=IC(R1)"), a.replace("X=IC(10)", "X=IC(R2)"));
-        let (pa, pb) = (crate::pipeline::analyze(a.as_bytes(), &d, &profile), crate::pipeline::analyze(b.as_bytes(), &d, &profile));
-        let changes = crate::diff::compare(
-            crate::diff::Program { plan: &pa.plan, text: &pa.source.text, dialect: &d },
-            crate::diff::Program { plan: &pb.plan, text: &pb.source.text, dialect: &d },
-        );
-        let rows: Vec<String> = changes.iter().map(|c| format!("{} | {} | {} | {}", c.kind.as_str(), c.field, c.before, c.after)).collect();
-        assert!(rows.iter().any(|r| r.starts_with("toolpath_changed | moves")), "{rows:#?}");
-    }
 }

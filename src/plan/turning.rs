@@ -1132,6 +1132,17 @@ fn runs(ws: &Workingstep) -> Vec<Vec<Move>> {
     out
 }
 
+/// A contour cycle over a contour that is only a face, across X to the axis (a `G71`/`G70`
+/// pair over `X-0.063 Z0.1`, `Z0`, `X3.`): facing, as a turner names what it does. The
+/// contour is the finishing cycle's cut, or the roughing cycle's last pass.
+fn face_contour(contour: &[Move]) -> bool {
+    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
+    let across: f64 = contour.iter().filter(|m| (m.to[2] - m.from[2]).abs() < TOL).map(length).sum();
+    let all: f64 = contour.iter().map(length).sum();
+    let lo = contour.iter().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
+    all > TOL && across >= 0.75 * all && lo < 0.05
+}
+
 fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving: bool, drill: Option<f64>) {
     let mut t = ws.turning.take().map(|b| *b).unwrap_or_default();
     let cuts = cuts(ws);
@@ -1191,23 +1202,12 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     let back_out = last_cut
         .and_then(|i| ws.toolpath.get(i + 1))
         .is_some_and(|m| (m.to[2] - m.from[2]).abs() < TOL && (m.to[0] - m.from[0]).abs() > TOL);
-    let across = |m: &Move| (m.to[2] - m.from[2]).abs() < TOL;
     let along = |m: &Move| (m.to[0] - m.from[0]).abs() < TOL;
-    let length = |m: &Move| (m.to[0] - m.from[0]).hypot(m.to[2] - m.from[2]);
     let Across { mostly: mostly_across, levels, widened, fed_down, face } = across_passes(ws, &cuts, &runs, xmin);
     let intent_kind = t.intent.as_ref().and_then(|i| i.kind);
     // Passes recovery joined as one operation, each a step from the one before.
     let stepped_in = t.intent.as_ref().is_some_and(|i| i.kind.is_none() && i.depth_of_cut.is_some_and(|d| d > TOL));
     let plunges = plunges(ws, &runs);
-    // A contour cycle over a contour that is only a face, across X to the axis (a `G71`/`G70`
-    // pair over `X-0.063 Z0.1`, `Z0`, `X3.`): facing, as a turner names what it does. The
-    // contour is the finishing cycle's cut, or the roughing cycle's last pass.
-    let face_contour = |contour: &[Move]| {
-        let across: f64 = contour.iter().filter(|m| across(m)).map(length).sum();
-        let all: f64 = contour.iter().map(length).sum();
-        let lo = contour.iter().flat_map(|m| [m.from[0], m.to[0]]).fold(f64::INFINITY, f64::min);
-        all > TOL && across >= 0.75 * all && lo < 0.05
-    };
     let (op, rough) = match intent_kind {
         Some(TurnKind::RoughTurn) if runs.last().is_some_and(|r| face_contour(r)) => (TurnOp::Facing, true),
         // A contour cycle run outside by a grooving tool the program names (`(OD GROOVE TURN)`

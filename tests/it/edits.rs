@@ -1484,3 +1484,42 @@ fn long_runs_under_a_changed_condition_or_commented_out_are_named_in_time() {
     let got = compare(&a, &b);
     assert!(all_named(&got, 2..=n + 1, true) && all_named(&got, 2..=n + 1, false), "{}", rows(&got));
 }
+
+/// The rows `kind | field | before | after` of the comparison of two programs.
+fn kind_rows(a: &str, b: &str, dialect: &str) -> Vec<String> {
+    changes(a, b, dialect).iter().map(|c| format!("{} | {} | {} | {}", c.kind.as_str(), c.field, c.before, c.after)).collect()
+}
+
+const SIEMENS_PLAIN: &str = "N10 G17 G90 G71\nN20 T1 D1\nN30 M3 S1000\nN40 G0 X0 Y0 Z5\nN50 G1 Z-2 F200\nN60 G1 X50\nN70 G0 Z5\nN80 M30\n";
+
+#[test]
+fn an_extended_address_added_is_no_global_variable() {
+    let b = SIEMENS_PLAIN.replace("N40 ", "N35 M1=3 S1=2000\nN40 ");
+    let got = kind_rows(SIEMENS_PLAIN, &b, "siemens");
+    assert!(!got.iter().any(|r| r.starts_with("global_variable_changed")), "{got:#?}");
+    assert!(got.iter().any(|r| r.contains("S1") && r.ends_with("| 2000")), "{got:#?}");
+    // Keyword codes and axis-indexed settings written with `=`, numbered axes.
+    for edit in ["SPOS=0", "SPOSA=90", "FA[X]=100", "OVRA[X]=50", "X1=10 Y2=5"] {
+        let b = SIEMENS_PLAIN.replace("N70 ", &format!("N65 {edit}\nN70 "));
+        let got = kind_rows(SIEMENS_PLAIN, &b, "siemens");
+        assert!(!got.iter().any(|r| r.starts_with("global_variable_changed")), "{edit}: {got:#?}");
+    }
+    // A name the program neither defines nor takes is still global user data.
+    let b = SIEMENS_PLAIN.replace("N70 ", "N65 PROCESS[50]=3\nN70 ");
+    let got = kind_rows(SIEMENS_PLAIN, &b, "siemens");
+    assert!(got.iter().any(|r| r.starts_with("global_variable_changed | variable PROCESS[50]")), "{got:#?}");
+}
+
+#[test]
+fn a_move_to_an_incremental_number_is_no_move_by_variables() {
+    let a = "N10 G17 G90 G71\nN20 T1 D1\nN30 M3 S1000\nN40 G0 X0 Y0 Z5\nN50 G1 Z-2 F200 X10\nN60 G1 X=IC(10)\nN70 G0 Z5\nN80 M30\n";
+    let b = a.replace("X=IC(10)", "X20");
+    let rows = kind_rows(a, &b, "siemens");
+    // The block told as it is written, removed and added: no moves by variables.
+    assert_eq!(rows, ["statement_changed | statement | G1 X=IC(10) | ", "statement_changed | statement |  | G1 X20"], "{rows:#?}");
+    // Where the increment reads a parameter the program does not set, the plan does not
+    // see where the move goes: the moves.
+    let (a, b) = (a.replace("X=IC(10)", "X=IC(R1)"), a.replace("X=IC(10)", "X=IC(R2)"));
+    let rows = kind_rows(&a, &b, "siemens");
+    assert!(rows.iter().any(|r| r.starts_with("toolpath_changed | moves")), "{rows:#?}");
+}
