@@ -796,24 +796,40 @@ fn abort_comment(text: &str, d: &Dialect) -> bool {
 }
 
 /// A lathe turret's T word whose last digits name the offset (Fanuc T-series `T0202`, the
-/// dictionary's `offset-digits`): the same tool with another offset (`T0101` → `T0111`, a
-/// wear offset of its own) is the tool's offset changed, not the tool renamed.
+/// dictionary's `offset-digits`), or, where the dictionary's tool address has `offset-suffix`
+/// (Fagor `T2.2`), whose digits after the point name it: the same tool with another offset
+/// (`T0101` → `T0111`, a wear offset of its own; `T1.1` → `T1.2`) is the tool's offset
+/// changed, not the tool renamed. A word with the point and no digits after it (`T2.`) names
+/// no offset: the tool's own is taken, as the interpreter reads it (interp/exec/tool.rs).
 fn turret_offset(x: Option<&Token>, y: Option<&Token>, d: &Dialect) -> Option<Typed> {
-    let digits = d.addresses.iter().find(|a| a.role == Role::T).and_then(|a| a.offset_digits)?;
-    let split = |t: &Token| {
+    let address = d.addresses.iter().find(|a| a.role == Role::T)?;
+    let (digits, suffix) = (address.offset_digits, address.offset_suffix);
+    if digits.is_none() && !suffix {
+        return None;
+    }
+    let split = |t: &Token| -> Option<(u64, Option<u64>)> {
         if about(t, d) != About::Address(Role::T) {
             return None;
         }
-        let v = t.value.parse::<u64>().ok()?;
-        let base = 10u64.pow(u32::from(digits));
-        Some((v / base, v % base))
+        let v = t.value.trim();
+        if suffix && let Some((tool, offset)) = v.split_once('.') {
+            let number = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+            if !number(tool) || !(offset.is_empty() || number(offset)) {
+                return None;
+            }
+            return Some((tool.parse().ok()?, if offset.is_empty() { None } else { Some(offset.parse().ok()?) }));
+        }
+        let v = v.parse::<u64>().ok()?;
+        let base = 10u64.pow(u32::from(digits?));
+        Some((v / base, Some(v % base)))
     };
     let ((ta, oa), (tb, ob)) = (split(x?)?, split(y?)?);
+    let text = |o: Option<u64>| o.map_or_else(|| "the tool's own".to_owned(), |o| o.to_string());
     (ta == tb && oa != ob).then(|| Typed {
         kind: ChangeKind::LengthOffsetChanged,
         field: format!("offset of tool {ta}"),
-        before: oa.to_string(),
-        after: ob.to_string(),
+        before: text(oa),
+        after: text(ob),
     })
 }
 

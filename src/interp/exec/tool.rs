@@ -21,14 +21,18 @@ impl Interpreter<'_> {
             let id_suffix = self.dialect.addresses.iter().any(|a| a.role == Role::T && a.id_suffix);
             let t = if id_suffix && t >= 0.0 { t.trunc() } else { t };
             // Where the dictionary says so (Fagor `T2.2`), the digits after the point name the
-            // offset: the tool is selected with that offset.
+            // offset: the tool is selected with that offset. The word's text decides, not its
+            // value: `T2.0` and `T2.` are tool 2 (the value has no fraction, yet the point is
+            // there), never Fanuc's two-digit split of `T0202`, which a word without a point
+            // still takes. `T2.0` names offset 0, no offset applied (as the 8055's `D0` applies
+            // none: programming manual, "Tool number (T) and tool offset (D)"); `T2.` names no
+            // offset, so the tool's own is taken (as the 8055's `T3` alone takes "the offset
+            // associated with that tool", the same section).
             let offset_suffix = self.dialect.addresses.iter().any(|a| a.role == Role::T && a.offset_suffix);
-            if offset_suffix && t >= 0.0 && t.fract() != 0.0 {
+            if offset_suffix && t >= 0.0 {
                 let range = self.slots[Role::T as usize].map_or(block.range, |s| s.range);
-                let text = block.text(range);
-                let digits: String = text.split_once('.').map_or("", |(_, d)| d).chars().take_while(char::is_ascii_digit).collect();
-                if let Ok(offset) = digits.parse::<u32>() {
-                    self.tool_word_with(t.trunc().min(f64::from(u32::MAX)) as u32, Some(offset), sink);
+                if let Some((tool, offset)) = suffix_offset(block.text(range)) {
+                    self.tool_word_with(tool, offset, sink);
                     return;
                 }
             }
@@ -283,4 +287,19 @@ impl Interpreter<'_> {
             DataForm::Wcs | DataForm::WcsHere | DataForm::WcsExtended => {}
         }
     }
+}
+
+/// A tool word written as a number with a point (`T2.2`, `T2.0`, `T2.`), as the dictionary's
+/// `offset-suffix` reads it: the tool before the point and the offset its digits after the
+/// point name (none where none are written). Not such a number (`T0202`, `TP100`, a
+/// bracketed expression): none.
+fn suffix_offset(text: &str) -> Option<(u32, Option<u32>)> {
+    let lit = text.trim().trim_start_matches(|c: char| c.is_ascii_alphabetic()).trim();
+    let (tool, offset) = lit.split_once('.')?;
+    if tool.is_empty() || !tool.bytes().all(|b| b.is_ascii_digit()) || !offset.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let tool = tool.parse::<u64>().ok()?.min(u64::from(u32::MAX)) as u32;
+    let offset = if offset.is_empty() { None } else { Some(offset.parse::<u64>().ok()?.min(u64::from(u32::MAX)) as u32) };
+    Some((tool, offset))
 }
