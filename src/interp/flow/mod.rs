@@ -87,6 +87,7 @@ pub fn run<'t>(
         round_guessed: false,
         guess_merge: None,
         exits: BTreeMap::new(),
+        exit_waits: BTreeMap::new(),
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -289,6 +290,9 @@ struct Driver<'a, 'p> {
     /// Whether a forward jump (source, offset after it, target) leaves a loop it stands in
     /// ([`Driver::loop_exit`]): read once.
     exits: BTreeMap<(usize, usize, usize), Option<exit::LoopExit>>,
+    /// The loop exits on an unknown condition declined in the current entry of their loop (by
+    /// [`exit::LoopExit`]'s key), with the loop's round count then: taken once it came round.
+    exit_waits: BTreeMap<(usize, usize, usize), u64>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -1085,7 +1089,10 @@ impl<'a> Driver<'a, '_> {
                                     "the jump leaves the loop it stands in, after one pass of it: a run that ends leaves its loops, where the control's data says (one pass assumed)",
                                 )
                             } else {
-                                (false, "the loop runs one pass first, then the jump leaves it: a run that ends leaves its loops")
+                                (
+                                    false,
+                                    "the loop runs one whole pass first, then the jump leaves the loop it stands in: a run that ends leaves its loops, where the control's data says (one pass assumed)",
+                                )
                             }
                         }
                         way => self.alarm_choice(at_target, self.alarm_at(here) || way == Way::Alarm, choice),
