@@ -19,6 +19,14 @@ use crate::text::{Text, TextRange};
 /// Most structures kept open: deeper nesting is not followed (the control's limit is lower).
 const MAX_OPEN: usize = 256;
 
+/// What a finding says the control does, where the run meets the statement.
+pub(super) const STOP: &str = "the control checks the nesting of its control structures and stops with an alarm (invalid nesting)";
+
+/// What it says instead where the run does not reach the statement: the 840D sl checks the
+/// block structure in interpreter mode only as it runs (job planning, Arbeitsvorbereitung
+/// 02/2011, p.107).
+pub(super) const UNREACHED: &str = "the run does not reach this block, and in interpreter mode the control checks the block structure only where it runs: an alarm (invalid nesting) only if the control comes here";
+
 /// The structure a statement opens, by the statement that closes it.
 fn closer_of(st: Statement) -> Option<Statement> {
     match st {
@@ -64,7 +72,10 @@ pub(super) fn check(text: Text<'_>, dialect: &Dialect) -> Vec<Diagnostic> {
     // The structures open: (the statement that closes it, the opening statement's range).
     let mut open: Vec<(Statement, TextRange)> = Vec::new();
     let mut out = Vec::new();
-    let stop = "the control checks the nesting of its control structures and stops with an alarm (invalid nesting)";
+    let stop = STOP;
+    // Structures opened past `MAX_OPEN` deep: not recorded, but counted, so that their ends
+    // close them (of whatever kind) and not the recorded ones below.
+    let mut deep = 0usize;
     while parser.next_block(&mut block, &mut scratch) {
         scratch.clear();
         let Some(c) = block.control.as_ref() else { continue };
@@ -76,9 +87,13 @@ pub(super) fn check(text: Text<'_>, dialect: &Dialect) -> Vec<Diagnostic> {
             Statement::If | Statement::While | Statement::For | Statement::RepeatUntil | Statement::Loop => {
                 if open.len() < MAX_OPEN {
                     open.push((closer_of(st).unwrap_or(Statement::EndIf), c.range));
+                } else {
+                    deep += 1;
                 }
                 continue;
             }
+            // Inside a structure not recorded: its kind is not known, nothing is checked.
+            Statement::Else if deep > 0 => None,
             Statement::Else if open.last().is_some_and(|&(e, _)| e == Statement::EndIf) => None,
             Statement::Else => {
                 out.push(Diagnostic::new(Code::UnmatchedStatement, c.range, format!("`ELSE` outside an open IF: {stop}")));
@@ -88,6 +103,10 @@ pub(super) fn check(text: Text<'_>, dialect: &Dialect) -> Vec<Diagnostic> {
             _ => None,
         };
         let Some(end) = closes else { continue };
+        if deep > 0 {
+            deep -= 1;
+            continue;
+        }
         match open.last() {
             Some(&(e, _)) if e == end => {
                 open.pop();
