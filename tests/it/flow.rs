@@ -384,7 +384,7 @@ fn siemens_nesting_faults_are_errors_where_the_run_meets_them_once() {
     let jumped = "N10 G0 X0 Y0 Z0\nN20 GOTOF WEITER\nN30 ENDIF\nWEITER:\nN40 G1 X10 F100 S1000 M3\nN50 M30\n";
     let (moves, found) = findings(jumped);
     assert_eq!(found.len(), 1, "{found:?}");
-    assert!(!found[0].0 && found[0].1.contains("does not reach"), "{found:?}");
+    assert!(!found[0].0 && found[0].1.contains("no run reaches"), "{found:?}");
     assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_FEED(10.0000")), "{moves:?}");
     let mistyped = "N10 G0 X0 Y0 Z0\nN20 R1=1\nN30 WHILE R1<3\nN40 R1=R1+1\nN50 ENDFOR\nN70 M30\n";
     let (_, found) = findings(mistyped);

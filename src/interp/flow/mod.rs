@@ -88,7 +88,6 @@ pub fn run<'t>(
         guess_merge: None,
         exits: BTreeMap::new(),
         exit_waits: BTreeMap::new(),
-        met: BTreeSet::new(),
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -120,16 +119,17 @@ pub fn run<'t>(
     driver.drive(&mut interp, sink, &mut diags);
     interp.flush(sink);
     interp.finish(&mut diags);
-    // In interpreter mode the control checks the block structure only where the run meets
-    // it, not completely (SINUMERIK 840D sl job planning, Arbeitsvorbereitung 02/2011, p.107,
-    // "Control structures"): a nesting fault is an error where the run meets its statement,
-    // and said once (not again where the run already said it: `ENDFOR without an open FOR`);
-    // one in blocks the run does not reach is a warning.
-    for mut d in nest {
+    // In interpreter mode the control checks the block structure only as it runs, not
+    // completely (SINUMERIK 840D sl job planning, Arbeitsvorbereitung 02/2011, p.107,
+    // "Control structures"): a nesting fault is said once (not again where the run already
+    // said it: `ENDFOR without an open FOR`), and one in blocks no run reaches (after a jump
+    // without condition, before the next label) is a warning. Blocks the analysis skips on a
+    // value it does not know may still be run by the control: their faults stay errors.
+    for (mut d, dead) in nest {
         if diags.iter().any(|e| e.code == Code::UnmatchedStatement && e.range == d.range) {
             continue;
         }
-        if !driver.met.contains(&d.range.start) {
+        if dead {
             d.severity = Severity::Warning;
             d.message = d.message.replace(nesting::STOP, nesting::UNREACHED);
         }
@@ -309,9 +309,6 @@ struct Driver<'a, 'p> {
     /// The loop exits on an unknown condition declined in the current entry of their loop (by
     /// [`exit::LoopExit`]'s key), with the loop's round count then: taken once it came round.
     exit_waits: BTreeMap<(usize, usize, usize), u64>,
-    /// Where the control statements the run met in the main program's text start: the
-    /// nesting check's findings stand as errors there (see [`run`]).
-    met: BTreeSet<u32>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -707,16 +704,10 @@ impl<'a> Driver<'a, '_> {
         if block.control.as_ref().is_some_and(|c| c.then == Some(Statement::Then)) {
             // `IF [..] THEN #1 = 2`: the block's own words run with the statement taken off.
             if let Some(control) = block.control.take() {
-                if self.cur == 0 {
-                    self.met.insert(control.range.start);
-                }
                 self.control(&control, block, start, interp, sink, diags);
                 block.control = Some(control);
             }
         } else if let Some(control) = &block.control {
-            if self.cur == 0 {
-                self.met.insert(control.range.start);
-            }
             // Lent, not moved out and back: a statement is carried out on every pass of a loop.
             self.control(control, block, start, interp, sink, diags);
         } else {
