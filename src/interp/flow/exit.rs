@@ -70,9 +70,7 @@ impl<'a> Driver<'a, '_> {
             match c.statement {
                 Some(Statement::Loop) => depth += 1,
                 Some(Statement::EndLoop) if depth == 0 => {
-                    if forever.is_some() {
-                        found = Some(LoopExit { key: (self.cur, here.at, target.at), back: None });
-                    }
+                    found = forever.map(|_| LoopExit { key: (self.cur, here.at, target.at), back: None }).or(found);
                 }
                 Some(Statement::EndLoop) => depth -= 1,
                 Some(st) => {
