@@ -319,7 +319,7 @@ fn a_loop_that_changes_nothing_stops_at_once_and_one_that_moves_on_runs_out() {
 
 /// Sinumerik checks the nesting of its control structures (alarm 12640): an `ENDIF` with no
 /// `IF`, an end of another structure than the one open, or a structure never closed is an
-/// error wherever it lies, run or not; one-line `IF … GOTOF` and `REPEAT` of a section open
+/// error where the run meets it (a warning where the run never comes); one-line `IF … GOTOF` and `REPEAT` of a section open
 /// nothing, and a well-nested program has no such finding. Dialects whose dictionary does
 /// not say so (`checks-nesting`) are not read this way.
 #[test]
@@ -367,4 +367,41 @@ M30
     assert_eq!(nesting("siemens", untaken).len(), 1);
     // A dictionary that does not check nesting reads no such error.
     assert!(nesting("linuxcnc", "G0 X0\nM2\n").is_empty());
+}
+
+/// In interpreter mode the 840D sl checks the block structure only as far as it runs
+/// (job planning, Arbeitsvorbereitung 02/2011, p.107): a stray `ENDIF` a `GOTOF` jumps over is
+/// a warning, not an error, and the moves after it run; one fault the run meets
+/// (`WHILE` … `ENDFOR`) is one error, not two.
+#[test]
+fn siemens_nesting_faults_are_errors_where_the_run_meets_them_once() {
+    let findings = |program: &str| {
+        let (moves, diags) = crate::moves_and_findings("siemens", program, &ncplan::interp::Profile::default());
+        let unmatched: Vec<(bool, String)> =
+            diags.iter().filter(|d| d.code.as_str() == "flow::unmatched").map(|d| (d.is_error(), d.message.clone())).collect();
+        (moves, unmatched)
+    };
+    let jumped = "N10 G0 X0 Y0 Z0\nN20 GOTOF WEITER\nN30 ENDIF\nWEITER:\nN40 G1 X10 F100 S1000 M3\nN50 M30\n";
+    let (moves, found) = findings(jumped);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(!found[0].0 && found[0].1.contains("no run reaches"), "{found:?}");
+    assert!(moves.iter().any(|m| m.starts_with("STRAIGHT_FEED(10.0000")), "{moves:?}");
+    let mistyped = "N10 G0 X0 Y0 Z0\nN20 R1=1\nN30 WHILE R1<3\nN40 R1=R1+1\nN50 ENDFOR\nN70 M30\n";
+    let (_, found) = findings(mistyped);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(found[0].0, "{found:?}");
+}
+
+/// Nesting deeper than the check records (256) still pairs each end with its structure:
+/// 300 `IF`s closed by 300 `ENDIF`s are well nested, and one `ENDIF` more is the fault.
+#[test]
+fn siemens_nesting_past_the_recorded_depth_stays_paired() {
+    let nesting = |program: &str| -> usize {
+        let (_, diags) = crate::moves_and_findings("siemens", program, &ncplan::interp::Profile::default());
+        diags.iter().filter(|d| d.code.as_str() == "flow::unmatched" && d.message.contains("nesting")).count()
+    };
+    let deep = format!("R1=1\n{}G1 X1 F100\n{}M30\n", "IF R1>0\n".repeat(300), "ENDIF\n".repeat(300));
+    assert_eq!(nesting(&deep), 0);
+    let extra = format!("R1=1\n{}G1 X1 F100\n{}M30\n", "IF R1>0\n".repeat(300), "ENDIF\n".repeat(301));
+    assert_eq!(nesting(&extra), 1);
 }

@@ -451,7 +451,9 @@ M30
 /// DOSKOK`): each pass feeds in deeper, and the exit past the loop's `GOTOB` reads a global
 /// the machine's data sets (`IF (PASS>=MAXPASS) GOTOF KRAJ`), with a check between it and the
 /// jump back. No round repeats the one before, so the loop would run to the analysis bound;
-/// a run that ends leaves it: one pass, with a warning that the pass count is assumed.
+/// a run that ends leaves it: its whole body runs one pass (the check after the exit too), the
+/// loop comes round, and the exit is taken at its next test, with a warning that the pass count
+/// is assumed.
 #[test]
 fn a_jump_loops_exit_on_unknown_data_leaves_after_one_pass() {
     let program = "\
@@ -476,7 +478,11 @@ M17
     let (moves, diags) = run("siemens", program);
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
     let feeds: Vec<&String> = moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).collect();
-    assert_eq!(feeds, ["STRAIGHT_FEED(9.9000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)"], "{moves:?}");
+    assert_eq!(
+        feeds,
+        ["STRAIGHT_FEED(9.9000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)", "STRAIGHT_FEED(9.8000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)"],
+        "{moves:?}"
+    );
     assert_eq!(moves.last().map(String::as_str), Some("STRAIGHT_TRAVERSE(50.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)"));
     let exit: Vec<&Diagnostic> = diags.iter().filter(|d| d.code.as_str() == "flow::unknown-condition").collect();
     assert!(
@@ -494,7 +500,8 @@ M17
 
 /// The same exit out of a Sinumerik `LOOP` … `ENDLOOP`, and out of a Fanuc `N10` … `GOTO 10`
 /// loop whose exit reads a common variable the machine keeps (`#500`) with another check
-/// between it and the jump back: one pass each, a warning, no bound reached.
+/// between it and the jump back: one whole pass each (the moves before the exit come round
+/// once more before it is taken), a warning, no bound reached.
 #[test]
 fn an_endless_loops_exit_on_unknown_data_leaves_after_one_pass() {
     let siemens = "\
@@ -526,7 +533,7 @@ GOTO 10
 N99 G0 Z50
 M30
 ";
-    for (dialect, program, cuts) in [("siemens", siemens, 1), ("fanuc", fanuc, 2)] {
+    for (dialect, program, cuts) in [("siemens", siemens, 2), ("fanuc", fanuc, 4)] {
         let (moves, diags) = run(dialect, program);
         assert!(errors(&diags).is_empty(), "{dialect}: {:?}", errors(&diags));
         assert_eq!(moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).count(), cuts, "{dialect}: {moves:?}");
@@ -538,4 +545,111 @@ M30
             "{dialect}: {diags:?}"
         );
     }
+}
+
+/// The pass an exit on unknown data waits for is counted per entry into its loop: a Fanuc
+/// subprogram whose `N10 IF [#1000 EQ 1] GOTO 90` … `GOTO 10` loop reads an input, called
+/// twice, runs its pass at each call (the second call used to leave at once, its moves lost).
+#[test]
+fn a_loop_exit_on_unknown_data_runs_its_pass_at_each_call() {
+    let program = "\
+O1000
+G0 X0 Y0 Z0
+M98 P2000
+G0 Z1
+M98 P2000
+M30
+O2000
+N10 IF [#1000 EQ 1] GOTO 90
+N15 IF [#1 GT 5] THEN #2=1
+N20 G1 X10 F100
+N30 G1 X0
+N40 GOTO 10
+N90 M99
+%
+";
+    let (moves, diags) = run("fanuc", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let feeds: Vec<&String> = moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).collect();
+    assert_eq!(feeds.len(), 4, "{moves:?}");
+    // The second call's pass runs after the `G0 Z1` (Z1 without a decimal point: one increment).
+    let after =
+        moves.iter().position(|m| m.starts_with("STRAIGHT_TRAVERSE") && !m.contains("(0.0000, 0.0000, 0.0000")).expect("the Z1 move");
+    assert_eq!(moves[after..].iter().filter(|m| m.starts_with("STRAIGHT_FEED")).count(), 2, "{moves:?}");
+}
+
+/// The same for a Sinumerik `GOTOB` loop inside an outer loop: each round of the outer loop
+/// runs the inner loop's pass (X10 and back) before its exit on the PLC input is taken.
+#[test]
+fn an_inner_loops_exit_on_unknown_data_runs_its_pass_each_outer_round() {
+    let program = "\
+N10 G0 X0 Y0 Z0
+N20 R1=0
+OUTER:
+INNER:
+N40 IF $A_IN[1]==1 GOTOF OUT
+N45 IF R1>5
+N46 G1 Y5
+N47 ENDIF
+N50 G1 X10 F100
+N60 G1 X0
+N70 GOTOB INNER
+OUT:
+N80 R1=R1+1
+N85 G0 Z=R1
+N90 IF R1<3 GOTOB OUTER
+N100 M30
+";
+    let (moves, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let feeds: Vec<&str> = moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).map(|m| &m[..24]).collect();
+    assert_eq!(
+        feeds,
+        [
+            "STRAIGHT_FEED(10.0000, 0",
+            "STRAIGHT_FEED(0.0000, 0.",
+            "STRAIGHT_FEED(10.0000, 0",
+            "STRAIGHT_FEED(0.0000, 0.",
+            "STRAIGHT_FEED(10.0000, 0",
+            "STRAIGHT_FEED(0.0000, 0."
+        ],
+        "{moves:?}"
+    );
+}
+
+/// An exit after the loop's first moves (a grinder's infeed `G1 X=R1`, then `IF $AA_IM[X]<R5
+/// GOTOF ENDE`, then the strokes `Z-100` and back): the rest of the body runs its pass before
+/// the exit is taken, so the strokes are in the run.
+#[test]
+fn a_loop_exit_after_the_infeed_still_runs_the_strokes() {
+    let program = "\
+N10 G0 X50 Z0
+N20 R1=40
+LBL:
+N30 G1 X=R1 F100
+N40 IF $AA_IM[X]<R5 GOTOF ENDE
+N45 IF R1>100
+N46 M0
+N47 ENDIF
+N50 G1 Z-100
+N60 G1 Z0
+N70 R1=R1-0.01
+N80 GOTOB LBL
+ENDE:
+N90 M30
+";
+    let (moves, diags) = run("siemens", program);
+    assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
+    let feeds: Vec<&String> = moves.iter().filter(|m| m.starts_with("STRAIGHT_FEED")).collect();
+    assert_eq!(
+        feeds,
+        [
+            "STRAIGHT_FEED(40.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(40.0000, 0.0000, -100.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(40.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+            "STRAIGHT_FEED(39.9900, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)",
+        ],
+        "{moves:?}"
+    );
+    assert!(said(&diags, "flow::repeat-budget").is_empty(), "{diags:?}");
 }

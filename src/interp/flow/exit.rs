@@ -7,7 +7,8 @@
 //! leaves the loop when the data says so; the analysis does not know when. Taking the
 //! condition as false runs the loop until the analysis bound (a grinder's infeed summed
 //! round after round to depths no part has): a run that ends leaves its loops, so the exit
-//! is taken once the loop's body has run one pass (Sinumerik 840D programming manual,
+//! is taken once the loop's body has run one whole pass, that is once the loop has come round
+//! since the exit was first declined in this entry of the loop (Sinumerik 840D programming manual,
 //! "Program jumps to jump markers": `GOTOB`/`GOTOF`/`GOTO` with `IF`; a loop is the
 //! program's own jump back, repeated until the condition holds). The diagnostic says the
 //! pass is an assumption.
@@ -24,9 +25,8 @@ const EXIT_SCAN: usize = 4096;
 /// A jump forward that leaves the loop it stands in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct LoopExit {
-    /// Whether the loop's blocks before the jump (from its top) make moves: where none do
-    /// (the exit heads the loop), a pass is only complete once the loop has come round.
-    work_before: bool,
+    /// The exit: source, offset after the jump, target offset (the key of the pass it waits for).
+    key: (usize, usize, usize),
     /// What counts the loop's rounds: its jump back (source, target offset), or none for a
     /// `LOOP` … `ENDLOOP` (the open loop's count).
     back: Option<(usize, usize)>,
@@ -70,9 +70,7 @@ impl<'a> Driver<'a, '_> {
             match c.statement {
                 Some(Statement::Loop) => depth += 1,
                 Some(Statement::EndLoop) if depth == 0 => {
-                    if let Some(top) = forever {
-                        found = Some(LoopExit { work_before: self.moves_between(top, here), back: None });
-                    }
+                    found = forever.map(|_| LoopExit { key: (self.cur, here.at, target.at), back: None }).or(found);
                 }
                 Some(Statement::EndLoop) => depth -= 1,
                 Some(st) => {
@@ -95,29 +93,13 @@ impl<'a> Driver<'a, '_> {
                     if let Some(t) = self.jump_target_from(&c, &b, interp, at)
                         && t.at < here.at
                     {
-                        found = Some(LoopExit { work_before: self.moves_between(t, here), back: Some((self.cur, t.at)) });
+                        found = Some(LoopExit { key: (self.cur, here.at, target.at), back: Some((self.cur, t.at)) });
                     }
                 }
                 None => {}
             }
         }
         found
-    }
-
-    /// Whether a block from `from` up to `to` in the current source names an axis.
-    fn moves_between(&self, from: Pos, to: Pos) -> bool {
-        let mut p = self.parser.fork(self.sources[self.cur].text, from.at, from.line);
-        let (mut b, mut scratch) = (Block::default(), Vec::new());
-        for _ in 0..EXIT_SCAN {
-            if p.offset() >= to.at || !p.next_block(&mut b, &mut scratch) {
-                return false;
-            }
-            scratch.clear();
-            if b.words.iter().any(|w| w.role.is_axis()) {
-                return true;
-            }
-        }
-        false
     }
 
     /// How many times the loop `exit` leaves has come round.
@@ -128,9 +110,23 @@ impl<'a> Driver<'a, '_> {
         }
     }
 
-    /// Whether an exit on an unknown condition is taken now: once the loop's body has run a
-    /// pass (at once where the loop moves before the exit, else once the loop came round).
-    pub(super) fn exit_now(&self, exit: LoopExit) -> bool {
-        exit.work_before || self.exit_rounds(exit) > 0
+    /// Whether an exit on an unknown condition is taken now: once the loop has come round
+    /// since the exit was first declined, so that its whole body (before and after the exit)
+    /// has run one pass. The round count is kept per exit and forgotten when the exit is taken,
+    /// so each entry into the loop (an outer loop's next round, the subprogram called again)
+    /// runs its pass. A count that moved on by more than one round (the loop was left another
+    /// way and entered again) starts a new wait.
+    pub(super) fn exit_now(&mut self, exit: LoopExit) -> bool {
+        let rounds = self.exit_rounds(exit);
+        match self.exit_waits.get(&exit.key) {
+            Some(&declined) if rounds == declined + 1 => {
+                self.exit_waits.remove(&exit.key);
+                true
+            }
+            _ => {
+                self.exit_waits.insert(exit.key, rounds);
+                false
+            }
+        }
     }
 }

@@ -87,6 +87,7 @@ pub fn run<'t>(
         round_guessed: false,
         guess_merge: None,
         exits: BTreeMap::new(),
+        exit_waits: BTreeMap::new(),
         executed: 0,
         replaying: false,
         not_found: BTreeSet::new(),
@@ -111,13 +112,29 @@ pub fn run<'t>(
         replay_kept: None,
         definition: None,
     };
-    // The control reads the nesting of its control structures before it runs the program.
-    diags.extend(nesting::check(text, dialect));
+    // The nesting of the control structures, read over the whole text.
+    let nest = nesting::check(text, dialect);
     let mut interp = Interpreter::new(dialect, profile);
     interp.start(sink);
     driver.drive(&mut interp, sink, &mut diags);
     interp.flush(sink);
     interp.finish(&mut diags);
+    // In interpreter mode the control checks the block structure only as it runs, not
+    // completely (SINUMERIK 840D sl job planning, Arbeitsvorbereitung 02/2011, p.107,
+    // "Control structures"): a nesting fault is said once (not again where the run already
+    // said it: `ENDFOR without an open FOR`), and one in blocks no run reaches (after a jump
+    // without condition, before the next label) is a warning. Blocks the analysis skips on a
+    // value it does not know may still be run by the control: their faults stay errors.
+    for (mut d, dead) in nest {
+        if diags.iter().any(|e| e.code == Code::UnmatchedStatement && e.range == d.range) {
+            continue;
+        }
+        if dead {
+            d.severity = Severity::Warning;
+            d.message = d.message.replace(nesting::STOP, nesting::UNREACHED);
+        }
+        diags.push(d);
+    }
     diags
 }
 
@@ -289,6 +306,9 @@ struct Driver<'a, 'p> {
     /// Whether a forward jump (source, offset after it, target) leaves a loop it stands in
     /// ([`Driver::loop_exit`]): read once.
     exits: BTreeMap<(usize, usize, usize), Option<exit::LoopExit>>,
+    /// The loop exits on an unknown condition declined in the current entry of their loop (by
+    /// [`exit::LoopExit`]'s key), with the loop's round count then: taken once it came round.
+    exit_waits: BTreeMap<(usize, usize, usize), u64>,
     executed: u64,
     /// Whether any block may run a second time: diagnostics are then deduplicated.
     replaying: bool,
@@ -1085,7 +1105,10 @@ impl<'a> Driver<'a, '_> {
                                     "the jump leaves the loop it stands in, after one pass of it: a run that ends leaves its loops, where the control's data says (one pass assumed)",
                                 )
                             } else {
-                                (false, "the loop runs one pass first, then the jump leaves it: a run that ends leaves its loops")
+                                (
+                                    false,
+                                    "the loop runs one whole pass first, then the jump leaves the loop it stands in: a run that ends leaves its loops, where the control's data says (one pass assumed)",
+                                )
                             }
                         }
                         way => self.alarm_choice(at_target, self.alarm_at(here) || way == Way::Alarm, choice),
