@@ -280,7 +280,8 @@
 //! `G50`/`G96`/`G97` and R-corner finishing), Siemens 2 (a thread grinder's dressing-profile
 //! cycles: `G451`, `G42` switched to `G41` without `G40`, `RND`, GUD thread data); 1 invalid (f010:
 //! a `G02` with neither R nor I/J). Verdicts written by reading each file before anyone ran ncplan
-//! on it; to be measured once after merging.
+//! on it. Measured once on 7 December 2026 (integrate 2a0a436): 22/22 valid programs without an
+//! error, family right 23/23, the invalid one still rejected.
 
 use std::path::PathBuf;
 
