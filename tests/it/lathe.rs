@@ -1162,6 +1162,17 @@ G71 U1. R0.5\nG71 P10 Q20 U-0.4 W0.1 F0.2\nN10 G0 X22.\nG1 Z-15.\nX16.\nZ-30.\nN
     assert_eq!(ws, ["contouring rough inside", "contouring finish inside"], "{features:?}");
 }
 
+/// The radii of the revolved rounds a plan lists, in its order.
+fn round_radii(plan: &ncplan::plan::ProcessPlan) -> Vec<f64> {
+    plan.features
+        .iter()
+        .filter_map(|f| match &f.kind {
+            FeatureKind::Turned(Turned::RevolvedRound { radius, .. }) => Some(*radius),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Under tool nose radius compensation the moves are the nose's path: the control rounds each
 /// sharp outside corner with the nose radius and runs a nose radius off each programmed round.
 /// The part is what the program states: a chamfer's corners are no R0.4 rounds, a concave R4
@@ -1175,14 +1186,7 @@ G3 X36 Z-26 R2\nG1 Z-40\nG40\nG0 X50\nM2\n"
         );
         let d = Registry::shipped().get("linuxcnc").unwrap();
         let plan = pipeline::analyze(p.as_bytes(), &d, &Profile::default()).plan;
-        let radii: Vec<f64> = plan
-            .features
-            .iter()
-            .filter_map(|f| match &f.kind {
-                FeatureKind::Turned(Turned::RevolvedRound { radius, .. }) => Some(*radius),
-                _ => None,
-            })
-            .collect();
+        let radii = round_radii(&plan);
         assert_eq!(radii, [4.0, 2.0], "L{l}: {:?}", plan.features.iter().map(|f| f.kind.label()).collect::<Vec<_>>());
     }
 }
@@ -1197,14 +1201,7 @@ fn a_small_fillet_into_a_shoulder_is_no_nose_arc() {
 G2 X14. Z-15. R2.\nG1 X18.\nZ-24.\nG2 X30. Z-30. R6.\nG1 X40.\nG0 G40 X100. Z50.\nM30\n";
     let d = Registry::shipped().get("fanuc_lathe").unwrap();
     let plan = pipeline::analyze(p.as_bytes(), &d, &Profile::default()).plan;
-    let radii: Vec<f64> = plan
-        .features
-        .iter()
-        .filter_map(|f| match &f.kind {
-            FeatureKind::Turned(Turned::RevolvedRound { radius, .. }) => Some(*radius),
-            _ => None,
-        })
-        .collect();
+    let radii = round_radii(&plan);
     assert_eq!(radii, [5.0, 2.0, 6.0], "{:?}", plan.features.iter().map(|f| f.kind.label()).collect::<Vec<_>>());
 }
 
