@@ -283,8 +283,8 @@
 //! on it. Measured once on 7 December 2026 (integrate 2a0a436): 22/22 valid programs without an
 //! error, family right 23/23, the invalid one still rejected.
 //!
-//! Sweep 16 (rows g001-g030, half `holdout-s16`: held out whole, no build half; 30 programs of 1
-//! repository, files no set used of a repository other sets used in part, each row says so).
+//! Sweep 16 (rows g001-g033, half `holdout-s16`: held out whole, no build half; 33 programs of 2
+//! repositories, files no set used of repositories other sets used in part, each row says so).
 //! Siemens 30 (a German mill-turn course's SinuTrain 840D sl programs for a turning centre with a
 //! B axis, a counter-spindle and driven tools: `CYCLE951`/`CYCLE952`/`CYCLE930` turning with
 //! `CYCLE62` contour calls by name or by labels, the contour editor's subprograms with `DIAM90`,
@@ -292,7 +292,9 @@
 //! hand-written passes with `G42 G147`/`G40 G148 DISR`, two ShopTurn work-step programs,
 //! `TRANSMIT` face milling, `TRACYL` peripheral drilling and tapping under `CYCLE800` with
 //! `MCALL` and `REPEATB` of labelled position patterns, a counter-spindle handover with
-//! `COUPDEF`/`COUPON`, an `EXTERN`-declared slotting `PROC` with a `REPEAT`/`UNTIL` loop); 1
+//! `COUPDEF`/`COUPON`, an `EXTERN`-declared slotting `PROC` with a `REPEAT`/`UNTIL` loop),
+//! LinuxCNC 3 (a cylindrical grinder's generated flute subroutines of `G93` X/Z/C moves with
+//! depth-fraction `if`/`elseif` chains, and its W-axis loading subroutine); 1
 //! invalid (g021: a teaching skeleton with `. . .` placeholders for values). Verdicts written by
 //! reading each file before anyone ran ncplan on it; to be measured once after merging.
 
