@@ -367,7 +367,9 @@ impl Interpreter<'_> {
                 self.st.cylinder = Some(cyl);
                 self.st.plane = Plane::Xy;
                 self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
+                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(Some(radius))));
                 self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
+                self.cylinder_axis(0.0, sink);
                 // The cylinder's surface is the top the slot or profile is cut from.
                 self.emit(sink, CanonOp::Setting(Setting::CycleSurface(radius)));
                 // The tool where it is, in the plane's coordinates: recovery carries a lathe
@@ -388,11 +390,18 @@ impl Interpreter<'_> {
                 let plane = self.st.face_plane.take().unwrap_or(Plane::Xz);
                 self.st.plane = plane;
                 self.emit(sink, CanonOp::Setting(Setting::MillCycle(None)));
+                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(None)));
                 self.emit(sink, CanonOp::WorkPlane(None));
+                self.cylinder_axis(0.0, sink);
                 self.emit(sink, CanonOp::SelectPlane(plane));
             }
             // A new radius while on: the same developed surface, measured anew.
-            (Some(radius), Some(cyl)) => self.st.cylinder = Some(Cylinder { radius, ..cyl }),
+            (Some(radius), Some(cyl)) => {
+                let cyl = Cylinder { radius, ..cyl };
+                self.st.cylinder = Some(cyl);
+                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(Some(radius))));
+                self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
+            }
             (None, None) => {}
         }
     }
@@ -419,8 +428,30 @@ impl Interpreter<'_> {
         self.st.cylinder = Some(cyl);
         self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
         self.emit(sink, CanonOp::Setting(Setting::CycleSurface(cyl.radius)));
+        self.cylinder_axis(0.0, sink);
         self.go_to(sink, [t[0], 0.0, t[2], t[3], t[4], t[5]], false);
         true
+    }
+
+    /// Under cylindrical interpolation, the tool axis where a move on the developed surface
+    /// ends at length `y` round the cylinder from where the plane is laid: the driven tool
+    /// stands radial (Fanuc 0i-TF / 30i cylindrical interpolation, SINUMERIK `TRACYL`: the
+    /// tool's axis is square to the cylinder), so in the plane's coordinates it is turned
+    /// about the plane's X by `y` over the radius. Sent as a `ToolAxis` marker before the move
+    /// where it changes, and back to the plane's Z where the plane is laid anew or the mode ends.
+    pub(super) fn cylinder_axis(&mut self, y: f64, sink: &mut dyn CanonSink) {
+        let axis = match self.st.cylinder {
+            Some(cyl) if cyl.radius > 1e-9 => {
+                let (s, c) = (y / cyl.radius).sin_cos();
+                let clean = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+                [0.0, clean(s), clean(c)]
+            }
+            _ => [0.0, 0.0, 1.0],
+        };
+        if axis != self.tool_axis {
+            self.tool_axis = axis;
+            self.emit(sink, CanonOp::ToolAxis(axis));
+        }
     }
 
     /// Under cylindrical interpolation, the words in the developed surface's plane

@@ -1173,8 +1173,8 @@ fn a_mirror_moved_moves_the_holes_cut_under_it() {
 
 /// Cylindrical interpolation (`G07.1 C25.`, Fanuc 0i-TF): the slot milled on the cylinder made
 /// deeper, its bottom `X46.` → `X45.` (Ø46 → Ø45: 2 → 2.5 deep), is that slot's depth changed,
-/// told in the developed surface's plane (its Z the radius the tool cuts at); no turned feature
-/// comes or goes.
+/// told as the bottom's diameter and the depth below the Ø50 cylinder (the developed surface's
+/// Z is the radius the tool cuts at); no turned feature comes or goes.
 #[test]
 fn a_slot_on_the_cylinder_made_deeper_is_its_depth_changed() {
     edit(
@@ -1182,8 +1182,8 @@ fn a_slot_on_the_cylinder_made_deeper_is_its_depth_changed() {
         "G1 X46. F100.",
         "G1 X45. F100.",
         expect_test::expect![[r#"
-        depth_changed | depth | Z23 | Z22.5 | 18 | 18
-          depth changed from Z23 to Z22.5 at line 18
+        depth_changed | depth | Ø46 (2 deep on the Ø50 cylinder) | Ø45 (2.5 deep on the Ø50 cylinder) | 18 | 18
+          depth changed from Ø46 (2 deep on the Ø50 cylinder) to Ø45 (2.5 deep on the Ø50 cylinder) at line 18
     "#]],
     );
 }
@@ -1364,8 +1364,10 @@ fn a_slot_on_the_cylinder_after_a_rapid_to_another_angle_lies_at_that_angle() {
 }
 
 /// A retract where a cut on the cylinder ended is no move round it: a second pass cut back from
-/// there lies on the same plane, so the two passes make one slot at the angle the mode began
-/// at (C0: axis (1, 0, 0)). Written before the run.
+/// there lies on the same plane, so the two passes make one slot, wrapped round the Ø50
+/// cylinder from C0 to C60 (25 · π/3 = 26.18 round it). Its deepest pass begins at C60, so it
+/// is placed there on the cylinder, (12.5, 21.65, -10), its axis radial there (0.5, 0.866, 0).
+/// Written before the run.
 #[test]
 fn a_retract_at_the_end_of_a_cut_on_the_cylinder_keeps_its_plane() {
     let text = "%\nO0074\nT0505 (D8 END MILL)\nG98\nG0 X60. Z-10. C0.\nG07.1 C25.\nG1 X47. F100.\nC60.\nG0 X60.\n\
@@ -1373,7 +1375,13 @@ fn a_retract_at_the_end_of_a_cut_on_the_cylinder_keeps_its_plane() {
     let plan = plan_of(text, &serde_json::json!({"dialect": "fanuc_lathe"}));
     let slots: Vec<&Feature> = plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
     assert_eq!(slots.len(), 1, "{plan:#?}");
-    assert!(slots[0].axis.is_some_and(|a| (a[0] - 1.0).abs() < AXIS), "{:#?}", slots[0]);
+    let (c, s) = (60f64.to_radians().cos(), 60f64.to_radians().sin());
+    let near = |a: [f64; 3], b: [f64; 3], tol: f64| (0..3).all(|i| (a[i] - b[i]).abs() < tol);
+    assert!(slots[0].axis.is_some_and(|a| near(a, [c, s, 0.0], AXIS)), "{:#?}", slots[0]);
+    assert!(near(slots[0].placement, [25.0 * c, 25.0 * s, -10.0], 1e-3), "{:#?}", slots[0]);
+    let w = slots[0].wrap.expect("wrapped");
+    assert!((w.diameter - 50.0).abs() < 1e-9 && w.angles == (0.0, 60.0), "{w:?}");
+    assert!((w.developed - 25.0 * std::f64::consts::FRAC_PI_3).abs() < 1e-3, "{w:?}");
 }
 
 /// The canon's moves of `program` read in dictionary `dialect` (the general path, or the plain
