@@ -301,6 +301,12 @@ pub enum Setting {
     /// are the tool tip's on the part, and the rotary axes turn the tool about it (the tool
     /// axis then follows as `ToolAxis` markers).
     ToolCentrePoint(bool),
+    /// Cylindrical interpolation (Fanuc `G07.1`/`G107`, Siemens `TRACYL`) on the cylinder of
+    /// this radius (program units), or off (`None`): the moves that follow are written on its
+    /// developed surface, their Y the length round it measured at this radius (the angle of C
+    /// times the radius, as the controls' manuals define it). Sent before the `WorkPlane` laid
+    /// tangent to the cylinder, so that what is cut there is wrapped onto it.
+    CylinderWrap(Option<f64>),
 }
 
 /// The tool axis the rotary axes A, B and C (degrees) turn the tool to, read as turns of the
@@ -1067,6 +1073,8 @@ fn setting(out: &mut Vec<u8>, s: &Setting) {
             write!(out, "COMMENT(\"ncplan: milling cycle makes the hole {key}\")")
         }
         Setting::CycleSurface(z) => write!(out, "COMMENT(\"ncplan: milling cycle surface {}\")", F4(*z)),
+        Setting::CylinderWrap(Some(r)) => write!(out, "COMMENT(\"ncplan: cylinder wrap radius {}\")", F4(*r)),
+        Setting::CylinderWrap(None) => write!(out, "COMMENT(\"ncplan: cylinder wrap off\")"),
         Setting::BlockDelete => write!(out, "COMMENT(\"ncplan: optional block\")"),
         Setting::WorkOffset(i) => write!(out, "COMMENT(\"ncplan: work offset {i} stated\")"),
         Setting::DiameterMode(on) => write!(out, "COMMENT(\"ncplan: diameter mode {}\")", if *on { "on" } else { "off" }),

@@ -855,9 +855,13 @@ fn token_diffs(a: &[Token], b: &[Token]) -> Vec<(Option<Token>, Option<Token>)> 
 /// plan change by themselves.
 fn shows(kind: ChangeKind, d: &(Option<Token>, Option<Token>), dialect: &Dialect, ctx: Context) -> bool {
     let tok = d.1.as_ref().or(d.0.as_ref()).expect("a difference has a side");
-    // A swivel cycle's arguments (`CYCLE800(…)`) state the work plane.
+    // A swivel cycle's arguments (`CYCLE800(…)`) state the work plane; a cylinder surface
+    // transformation's (`TRACYL(d)`) the cylinder whose developed surface it is.
     if kind == ChangeKind::WorkPlaneChanged && tok.sort == statement::Sort::Call {
-        return dialect.cycles.iter().any(|c| c.meaning == Meaning::TiltCycle && c.name.eq_ignore_ascii_case(&tok.key));
+        return dialect
+            .cycles
+            .iter()
+            .any(|c| matches!(c.meaning, Meaning::TiltCycle | Meaning::CylindricalInterpolation) && c.name.eq_ignore_ascii_case(&tok.key));
     }
     // A named cycle's argument states what its role names (`CYCLE95(…, MID, …)`: the depth of
     // cut); a turning cycle's (`CYCLE97(…, TDEP, …)`) what the plan tells in a turner's terms.

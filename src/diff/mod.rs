@@ -424,6 +424,7 @@ impl Change {
             ChangeKind::WorkPlaneChanged => {
                 let mut s = match self.field.as_str() {
                     "work_plane" => setup::phrase(&self.before, &self.after),
+                    "cylinder" => format!("work plane {} → {}", self.before, self.after),
                     _ => format!("work plane origin {} → {}", self.before, self.after),
                 };
                 if let Some(e) = &self.detail.effect {
@@ -1149,7 +1150,13 @@ fn compare_technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
         (Some(x), Some(y)) if (x - y).abs() > TOLERANCE => Some((x, y)),
         _ => None,
     };
-    if let Some((x, y)) = depth_change {
+    // On a cylinder's developed surface (cylindrical interpolation) the plane's Z is the radius
+    // the tool cuts at: told as the diameter of the bottom and the depth below the cylinder.
+    let cylinders = (a.setup.and_then(|s| s.cylinder), b.setup.and_then(|s| s.cylinder));
+    if let (Some((x, y)), (Some(da), Some(db))) = (depth_change, cylinders) {
+        let words = |z: f64, d: f64| format!("Ø{} ({} deep on the Ø{} cylinder)", u.c(2.0 * z), u.c(d / 2.0 - z), u.c(d));
+        push(ChangeKind::DepthChanged, "depth", words(x, da), words(y, db), at_start);
+    } else if let Some((x, y)) = depth_change {
         push(ChangeKind::DepthChanged, "depth", format!("Z{}", u.c(x)), format!("Z{}", u.c(y)), at_start);
     }
     (feeds_differ, depth_change)

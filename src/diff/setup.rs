@@ -28,12 +28,31 @@ pub(super) fn phrase(before: &str, after: &str) -> String {
 fn same(a: Option<&Setup>, b: Option<&Setup>) -> bool {
     match (a, b) {
         (None, None) => true,
-        (Some(x), Some(y)) => (0..3).all(|i| {
-            (x.origin[i] - y.origin[i]).abs() <= TOLERANCE
-                && (x.axis[i] - y.axis[i]).abs() <= 1e-9
-                && (x.ref_direction[i] - y.ref_direction[i]).abs() <= 1e-9
-        }),
+        (Some(x), Some(y)) => {
+            same_cylinder(x, y)
+                && (0..3).all(|i| {
+                    (x.origin[i] - y.origin[i]).abs() <= TOLERANCE
+                        && (x.axis[i] - y.axis[i]).abs() <= 1e-9
+                        && (x.ref_direction[i] - y.ref_direction[i]).abs() <= 1e-9
+                })
+        }
         _ => false,
+    }
+}
+
+/// Whether two planes are the developed surfaces of the same cylinder, or both of none.
+fn same_cylinder(x: &Setup, y: &Setup) -> bool {
+    match (x.cylinder, y.cylinder) {
+        (Some(a), Some(b)) => (a - b).abs() <= TOLERANCE,
+        (a, b) => a.is_none() && b.is_none(),
+    }
+}
+
+/// A cylinder's developed surface in words: `the developed surface of the Ø50 cylinder`.
+fn cylinder(s: Option<&Setup>, u: Fmt) -> String {
+    match s.and_then(|s| s.cylinder) {
+        Some(d) => format!("the developed surface of the Ø{} cylinder", u.c(d)),
+        None => "no cylinder's developed surface".to_owned(),
     }
 }
 
@@ -58,7 +77,13 @@ pub(super) fn compare(pa: &ProcessPlan, a: &Workingstep, b: &Workingstep, u: Fmt
     if same(sa, sb) {
         return;
     }
-    if same_moves(a, b) {
+    // The same moves wrapped round another cylinder cut another depth: what recognition reads
+    // of the features there is the edit's.
+    let rewrapped = match (sa.and_then(|s| s.cylinder), sb.and_then(|s| s.cylinder)) {
+        (Some(x), Some(y)) => (x - y).abs() > TOLERANCE,
+        (x, y) => x.is_some() != y.is_some(),
+    };
+    if same_moves(a, b) && !rewrapped {
         use ChangeKind as K;
         let mut k = 0;
         out.retain(|c| {
@@ -71,7 +96,11 @@ pub(super) fn compare(pa: &ProcessPlan, a: &Workingstep, b: &Workingstep, u: Fmt
         });
     }
     let (ta, tb) = (tilt(sa), tilt(sb));
-    let (field, before, after) = if ta != tb {
+    // Cylindrical interpolation on another diameter (`TRACYL(50)` → `TRACYL(60)`): the same
+    // developed path wrapped round another cylinder, told as the cylinder's diameter.
+    let (field, before, after) = if rewrapped {
+        ("cylinder", cylinder(sa, u), cylinder(sb, u))
+    } else if ta != tb {
         ("work_plane", ta, tb)
     } else {
         let origin = |s: Option<&Setup>| {
@@ -81,7 +110,9 @@ pub(super) fn compare(pa: &ProcessPlan, a: &Workingstep, b: &Workingstep, u: Fmt
         ("work_plane_origin", origin(sa), origin(sb))
     };
     let feature = a.feature.and_then(|f| pa.feature(f)).map_or("toolpath", |f| f.kind.label());
-    let moved = if a.holes.is_empty() {
+    let moved = if field == "cylinder" {
+        format!("the {feature} wrapped round it")
+    } else if a.holes.is_empty() {
         format!("the {feature} moved")
     } else {
         let n = a.holes.len();

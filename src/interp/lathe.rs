@@ -351,10 +351,11 @@ impl Interpreter<'_> {
     /// moves between are milling on the cylinder by a driven tool whose axis is radial. They
     /// are written in the working plane of the developed surface laid tangent to the
     /// cylinder at the C angle the mode began at (`Cylinder::frame`): X along -Z, Y the
-    /// developed length (the radius times C in radians), Z the radius the tool cuts at. At
-    /// that angle the plane touches the cylinder, so a feature there lies on it with its
-    /// radial axis; beyond it the developed surface is laid flat, not wrapped [a partial
-    /// placement: the plan's features have one axis each].
+    /// developed length (the radius times C in radians), Z the radius the tool cuts at. The
+    /// cylinder goes first as a `CylinderWrap` marker, so that the plan wraps what is cut
+    /// there round it (`plan::Setup::wrapped_at`: a feature placed where it begins, at its own
+    /// angle with its radial axis), and each move carries its radial tool axis
+    /// (`cylinder_axis`) [the toolpath itself stays on the developed surface].
     pub(super) fn cylinder_mode(&mut self, radius: Option<f64>, range: TextRange, sink: &mut dyn CanonSink, diags: &mut Vec<Diagnostic>) {
         let p = self.st.pos;
         match (radius, self.st.cylinder) {
@@ -367,17 +368,18 @@ impl Interpreter<'_> {
                 self.st.cylinder = Some(cyl);
                 self.st.plane = Plane::Xy;
                 self.emit(sink, CanonOp::SelectPlane(Plane::Xy));
+                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(Some(radius))));
                 self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
+                self.cylinder_axis(0.0, sink);
                 // The cylinder's surface is the top the slot or profile is cut from.
                 self.emit(sink, CanonOp::Setting(Setting::CycleSurface(radius)));
                 // The tool where it is, in the plane's coordinates: recovery carries a lathe
                 // point into the plane as if at C0, so the point is told again.
                 self.go_to(sink, [-p[2], 0.0, p[0], p[3], p[4], p[5]], false);
                 let msg = format!(
-                    "cylindrical interpolation (radius {}): the moves are milling on the cylinder, placed on its developed surface laid tangent at C{} and again at the angle a rapid clear of the cylinder brings the tool over; a cut running round the cylinder from there is laid flat, not wrapped, its tool axis radial where it began (C{} here)",
+                    "cylindrical interpolation (radius {}): the moves are milling on the cylinder, on its developed surface laid tangent at C{} (its Y the length round the cylinder): what they cut is wrapped round it, placed where it begins with its axis radial there and the tool axis radial at each move, but the toolpath itself is kept on the developed surface",
                     crate::text::num(radius),
                     crate::text::num(p[5]),
-                    crate::text::num(p[5])
                 );
                 self.limited(diags, "cylinder-developed", Diagnostic::new(Code::Unsupported, range, msg));
             }
@@ -388,11 +390,18 @@ impl Interpreter<'_> {
                 let plane = self.st.face_plane.take().unwrap_or(Plane::Xz);
                 self.st.plane = plane;
                 self.emit(sink, CanonOp::Setting(Setting::MillCycle(None)));
+                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(None)));
                 self.emit(sink, CanonOp::WorkPlane(None));
+                self.cylinder_axis(0.0, sink);
                 self.emit(sink, CanonOp::SelectPlane(plane));
             }
             // A new radius while on: the same developed surface, measured anew.
-            (Some(radius), Some(cyl)) => self.st.cylinder = Some(Cylinder { radius, ..cyl }),
+            (Some(radius), Some(cyl)) => {
+                let cyl = Cylinder { radius, ..cyl };
+                self.st.cylinder = Some(cyl);
+                self.emit(sink, CanonOp::Setting(Setting::CylinderWrap(Some(radius))));
+                self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
+            }
             (None, None) => {}
         }
     }
@@ -403,7 +412,7 @@ impl Interpreter<'_> {
     /// the radius (Fanuc G07.1, Siemens TRACYL), so the tool stands over C0 + Y / radius. What it
     /// cuts next then lies on the cylinder at its own angle with its radial axis there, as a side
     /// hole does (`interp::live`), not on the plane laid at the angle the mode began at. A cut
-    /// that runs round the cylinder from there is still laid flat on that plane.
+    /// that runs round the cylinder from there is wrapped by the plan (`Setting::CylinderWrap`).
     ///
     /// The rapid to `t` (the plane's coordinates) is made so, on the plane laid anew, and true;
     /// false where it stays on the plane in force.
@@ -419,8 +428,30 @@ impl Interpreter<'_> {
         self.st.cylinder = Some(cyl);
         self.emit(sink, CanonOp::WorkPlane(Some(Box::new(cyl.frame()))));
         self.emit(sink, CanonOp::Setting(Setting::CycleSurface(cyl.radius)));
+        self.cylinder_axis(0.0, sink);
         self.go_to(sink, [t[0], 0.0, t[2], t[3], t[4], t[5]], false);
         true
+    }
+
+    /// Under cylindrical interpolation, the tool axis where a move on the developed surface
+    /// ends at length `y` round the cylinder from where the plane is laid: the driven tool
+    /// stands radial (Fanuc 0i-TF / 30i cylindrical interpolation, SINUMERIK `TRACYL`: the
+    /// tool's axis is square to the cylinder), so in the plane's coordinates it is turned
+    /// about the plane's X by `y` over the radius. Sent as a `ToolAxis` marker before the move
+    /// where it changes, and back to the plane's Z where the plane is laid anew or the mode ends.
+    pub(super) fn cylinder_axis(&mut self, y: f64, sink: &mut dyn CanonSink) {
+        let axis = match self.st.cylinder {
+            Some(cyl) if cyl.radius > 1e-9 => {
+                let (s, c) = (y / cyl.radius).sin_cos();
+                let clean = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+                [0.0, clean(s), clean(c)]
+            }
+            _ => [0.0, 0.0, 1.0],
+        };
+        if axis != self.tool_axis {
+            self.tool_axis = axis;
+            self.emit(sink, CanonOp::ToolAxis(axis));
+        }
     }
 
     /// Under cylindrical interpolation, the words in the developed surface's plane

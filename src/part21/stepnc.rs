@@ -255,6 +255,7 @@ fn toolpaths_only_skeleton(plan: &ProcessPlan) -> ProcessPlan {
             centre_path: None,
             axis: None,
             ref_direction: None,
+            wrap: None,
         });
         p.workingsteps.push(ws);
     }
@@ -269,6 +270,11 @@ fn workingstep_id(shape: &ProcessPlan, ws: &Workingstep) -> String {
         // The plane's origin and the security plane's height over it, which the placement in
         // the part's frame says only to rounding.
         id.push_str(&format!(" plane_origin={},{},{} plane_z={}", s.origin[0], s.origin[1], s.origin[2], ws.security_plane));
+        // The plane as a cylinder's developed surface (cylindrical interpolation): no ISO
+        // 14649 entity carries it, so its word does.
+        if let Some(d) = s.cylinder {
+            id.push_str(&format!(" plane_cylinder={d}"));
+        }
     }
     for word in ws.state.encode() {
         id.push(' ');
@@ -803,6 +809,11 @@ impl<W: std::io::Write> Writer<W> {
         if let Some((w, l)) = f.centre_path {
             id.push_str(&format!(" centre_path={w}x{l}"));
         }
+        // ISO 14649-10 places a feature on a plane; one wrapped round a cylinder (cut on its
+        // developed surface) has no entity of its own: its word says the cylinder and angles.
+        if let Some(w) = f.wrap {
+            id.push_str(&format!(" wrap={}x{}x{}x{}", w.diameter, w.angles.0, w.angles.1, w.developed));
+        }
         // A thread is no ISO entity (see `turning`): its word says it.
         if let FeatureKind::Turned(t @ Turned::Thread { .. }) = &f.kind {
             id.push_str(&format!(" turned={}", json_word(t)));
@@ -1184,7 +1195,8 @@ impl Reader<'_> {
                 let at = self.placement(sec_place)?;
                 let along = (0..3).map(|i| (at[i] - origin[i]) * axis[i]).sum::<f64>() / (0..3).map(|i| axis[i] * axis[i]).sum::<f64>();
                 security_plane = w.get("plane_z").and_then(|z| z.parse().ok()).unwrap_or_else(|| snap(along));
-                Some(crate::plan::Setup { origin, axis, ref_direction })
+                let cylinder = w.get("plane_cylinder").and_then(|d| d.parse().ok());
+                Some(crate::plan::Setup { origin, axis, ref_direction, cylinder })
             }
             _ => None,
         };
@@ -1640,6 +1652,11 @@ impl Reader<'_> {
             }),
             axis: axes.map(|a| a.0),
             ref_direction: axes.map(|a| a.1),
+            wrap: w.get("wrap").and_then(|v| {
+                let n: Vec<f64> = v.split('x').map(str::parse).collect::<Result<_, _>>().ok()?;
+                let [diameter, from, to, developed] = n[..] else { return None };
+                Some(crate::plan::Wrap { diameter, angles: (from, to), developed })
+            }),
         };
         let hole = |h: &Instance, positions: Vec<P2>, heights: Vec<f64>| -> Result<FeatureKind, String> {
             let d = self.tlm(self.attr(h, 5)?)?;

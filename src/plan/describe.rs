@@ -82,6 +82,16 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
             let v = |v: P3| format!("{} {} {}", num(v[0]), num(v[1]), num(v[2]));
             writeln!(out, "  on a tilted face: axis {}, positions along {}", v(z), v(x))?;
         }
+        if let Some(w) = f.wrap {
+            writeln!(
+                out,
+                "  wrapped round the Ø{} cylinder: C{}° to C{}°, {} mm round it (its Y the length round the cylinder)",
+                num(w.diameter),
+                num(w.angles.0),
+                num(w.angles.1),
+                num(w.developed)
+            )?;
+        }
         if let super::FeatureKind::RoundHole { heights, .. } = &f.kind
             && !heights.is_empty()
         {

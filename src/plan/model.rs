@@ -259,6 +259,24 @@ pub struct Feature {
     /// `axis`, where it lies on a tilted plane; +X when none.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub ref_direction: Option<P3>,
+    /// Where it is cut on the developed surface of a cylinder (cylindrical interpolation), the
+    /// cylinder and the angles it runs round it: its placement and axis are where it begins,
+    /// and its positions' and contours' second coordinate is the length round the cylinder.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub wrap: Option<Wrap>,
+}
+
+/// A feature wrapped round a cylinder (cut on its developed surface: Fanuc `G07.1`, Siemens
+/// `TRACYL`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Wrap {
+    /// The cylinder's diameter, mm: the developed length round it is measured at it.
+    pub diameter: f64,
+    /// The angles about the cylinder's axis (degrees, as C turns, 0 to 360) the feature runs
+    /// from and to round it, by its positions' and contour's points.
+    pub angles: (f64, f64),
+    /// The length round the cylinder it spans at `diameter`, mm.
+    pub developed: f64,
 }
 
 /// Where a number of a feature came from.

@@ -829,6 +829,9 @@ struct Recovery<'p> {
     wcs: u16,
     /// The tilted working plane in force; the position and the moves are in its coordinates.
     setup: Option<Setup>,
+    /// The diameter (mm) of the cylinder whose developed surface the next work plane is
+    /// (`Setting::CylinderWrap`): cylindrical interpolation.
+    wrap: Option<f64>,
     /// The tool axis the canon last stated (5-axis moves), in the plane's coordinates.
     tool_axis: P3,
     /// The tool axis the last move ran with: a feed to where the tool is that turns it to
@@ -911,6 +914,7 @@ impl<'p> Recovery<'p> {
             stock_line: None,
             wcs: 1,
             setup: None,
+            wrap: None,
             tool_axis: [0.0, 0.0, 1.0],
             moved_axis: [0.0, 0.0, 1.0],
             h: None,
@@ -1068,7 +1072,7 @@ impl<'p> Recovery<'p> {
         let c = self.abc[2];
         let (s, co) = c.to_radians().sin_cos();
         let clean = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
-        Some((Setup { origin: [0.0; 3], axis: [clean(co), clean(s), 0.0], ref_direction: [0.0, 0.0, -1.0] }, c))
+        Some((Setup { origin: [0.0; 3], axis: [clean(co), clean(s), 0.0], ref_direction: [0.0, 0.0, -1.0], cylinder: None }, c))
     }
 
     /// A point of the lathe's frame (X radial at the part's angle `c`) in the part's.
@@ -1236,6 +1240,7 @@ impl<'p> Recovery<'p> {
             CanonOp::CycleEnd => self.in_cycle = None,
             // Diameter or radius mode: only a lathe has them.
             CanonOp::Setting(Setting::DiameterMode(_)) => self.lathe = true,
+            CanonOp::Setting(Setting::CylinderWrap(r)) => self.wrap = r.map(|r| 2.0 * self.mm(r)),
             // A milling cycle is one operation: a workingstep of its own.
             CanonOp::Setting(s @ (Setting::MillCycle(_) | Setting::HoleMilled(_) | Setting::CycleSurface(_))) => self.mill_cycle_marker(s),
             CanonOp::Turning(t) => self.turning_begins(t),
@@ -1281,7 +1286,7 @@ impl<'p> Recovery<'p> {
     /// before ends, and the position and the rapids waiting for the next cut are carried
     /// into the new plane's coordinates.
     fn work_plane(&mut self, f: Option<&crate::canon::Frame>) {
-        let new = f.map(|f| Setup::of_frame(f, self.k));
+        let new = f.map(|f| Setup { cylinder: self.wrap, ..Setup::of_frame(f, self.k) });
         // The interpreter's plane wins over a driven tool's radial plane (its moves are
         // already in the plane's coordinates: a side hole's cycle).
         self.live = None;

@@ -28,6 +28,12 @@ pub struct Setup {
     pub axis: P3,
     /// The plane's X axis, unit, square to `axis`.
     pub ref_direction: P3,
+    /// Where the plane is the developed surface of a cylinder (cylindrical interpolation:
+    /// Fanuc `G07.1`, Siemens `TRACYL`), the cylinder's diameter, mm: the plane is laid
+    /// tangent to it where `axis` points, its X along the cylinder's axis, and its Y is the
+    /// length round the cylinder at that diameter (`Setup::wrapped_at`).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub cylinder: Option<f64>,
 }
 
 fn cross(a: P3, b: P3) -> P3 {
@@ -44,7 +50,31 @@ impl Setup {
     /// The setup of canon frame `f`, its origin scaled by `k` (mm per program unit).
     pub fn of_frame(f: &Frame, k: f64) -> Setup {
         let col = |j: usize| [0, 1, 2].map(|i| clean(f.rotation[i][j]));
-        Setup { origin: f.origin.map(|v| clean(v * k)), axis: col(2), ref_direction: col(0) }
+        Setup { origin: f.origin.map(|v| clean(v * k)), axis: col(2), ref_direction: col(0), cylinder: None }
+    }
+
+    /// On the developed surface of a cylinder (`cylinder`), the plane laid tangent where the
+    /// length `along` its Y (from where it is laid now) wraps to: turned about the cylinder's
+    /// axis (the plane's X) by `along` over the radius, as the control maps the developed
+    /// length to the angle of C (Fanuc 0i-TF / 30i operator's manual, cylindrical
+    /// interpolation: the length round the cylinder is the radius times the angle; SINUMERIK
+    /// 840D sl job planning, `TRACYL`: Y on the developed surface). The plane itself where it
+    /// is no cylinder's.
+    pub fn wrapped_at(&self, along: f64) -> Setup {
+        let Some(d) = self.cylinder.filter(|d| *d > 1e-9) else { return *self };
+        let (s, c) = (2.0 * along / d).sin_cos();
+        let (z, y) = (self.axis, self.y());
+        Setup { axis: [0, 1, 2].map(|i| clean(z[i] * c + y[i] * s)), ..*self }
+    }
+
+    /// On the developed surface of a cylinder, the angle (degrees, about the cylinder's axis,
+    /// as C turns) the plane's radial axis stands at, `along` its Y from where it is laid:
+    /// about the part's Z, the C axis of a lathe whose spindle is Z; to 0.0001°.
+    pub fn wrap_angle(&self, along: f64) -> f64 {
+        let a = self.wrapped_at(along).axis;
+        // To 0.0001°: the plan's lengths are kept to a micrometre.
+        let d = clean((a[1].atan2(a[0]).to_degrees().rem_euclid(360.0) * 1e4).round() / 1e4);
+        if d >= 360.0 { 0.0 } else { d }
     }
 
     /// The plane's Y axis.
@@ -88,8 +118,9 @@ impl Setup {
     /// The plane in words: its tilt, origin and tool axis.
     pub fn words(&self) -> String {
         let (o, z) = (self.origin, self.axis);
+        let wrap = self.cylinder.map_or_else(String::new, |d| format!(", the developed surface of the Ø{} cylinder", num(d)));
         format!(
-            "work plane {}, origin X{} Y{} Z{}, tool axis I{} J{} K{}",
+            "work plane {}, origin X{} Y{} Z{}, tool axis I{} J{} K{}{wrap}",
             Setup::tilt_words(Some(self)),
             num(o[0]),
             num(o[1]),
@@ -158,8 +189,26 @@ mod tests {
     #[test]
     fn points_go_onto_the_plane() {
         // Tilted 90° about Y: the plane's X points down, its Z along +X.
-        let s = Setup { origin: [100.0, 0.0, -20.0], axis: [1.0, 0.0, 0.0], ref_direction: [0.0, 0.0, -1.0] };
+        let s = Setup { origin: [100.0, 0.0, -20.0], axis: [1.0, 0.0, 0.0], ref_direction: [0.0, 0.0, -1.0], cylinder: None };
         assert_eq!(s.to_part([5.0, 10.0, 0.0]), [100.0, 10.0, -25.0]);
         assert_eq!(s.to_part([0.0, 0.0, -8.0]), [92.0, 0.0, -20.0]);
+    }
+
+    /// The developed surface of the Ø50 cylinder laid tangent at C0 (radial axis +X, its X
+    /// along -Z, its Y the way C turns): a quarter of the circumference, 25·π/2 along Y,
+    /// wraps to C90, where the radial axis is +Y; half of it to C180 (-X). Written before the
+    /// run (the developed length is the radius times the angle).
+    #[test]
+    fn the_developed_surface_wraps_round_its_cylinder() {
+        let s = Setup { origin: [0.0; 3], axis: [1.0, 0.0, 0.0], ref_direction: [0.0, 0.0, -1.0], cylinder: Some(50.0) };
+        let quarter = 25.0 * std::f64::consts::FRAC_PI_2;
+        let q = s.wrapped_at(quarter);
+        assert_eq!((q.axis, q.ref_direction, q.cylinder), ([0.0, 1.0, 0.0], [0.0, 0.0, -1.0], Some(50.0)));
+        assert_eq!(q.to_part([10.0, 0.0, 23.0]), [0.0, 23.0, -10.0]);
+        assert_eq!(s.wrapped_at(2.0 * quarter).axis, [-1.0, 0.0, 0.0]);
+        assert_eq!((s.wrap_angle(quarter), s.wrap_angle(-quarter), s.wrap_angle(0.0)), (90.0, 270.0, 0.0));
+        // A plane of no cylinder does not turn.
+        let flat = Setup { cylinder: None, ..s };
+        assert_eq!(flat.wrapped_at(quarter), flat);
     }
 }

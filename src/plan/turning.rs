@@ -244,6 +244,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
                         // On the axis of revolution (Z), the plan's default.
                         axis: None,
                         ref_direction: None,
+                        wrap: None,
                     });
                     id
                 }

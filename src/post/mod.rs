@@ -2061,7 +2061,7 @@ impl<F: FnMut(&[u8])> Post<'_, F> {
                 );
                 self.note(Code::PostUnwritable, canon, "mill-cycle", what);
             }
-            CanonOp::Setting(Setting::MillCycle(None) | Setting::CycleSurface(_)) | CanonOp::TurningEnd => {}
+            CanonOp::Setting(Setting::MillCycle(None) | Setting::CycleSurface(_) | Setting::CylinderWrap(_)) | CanonOp::TurningEnd => {}
             // The rest (probing, overrides, the log file, M61): said, not written.
             _ => self.unwritable(canon),
         }

@@ -1184,8 +1184,8 @@ fn a_mirror_moved_moves_the_holes_cut_under_it() {
 
 /// Cylindrical interpolation (`G07.1 C25.`, Fanuc 0i-TF): the slot milled on the cylinder made
 /// deeper, its bottom `X46.` → `X45.` (Ø46 → Ø45: 2 → 2.5 deep), is that slot's depth changed,
-/// told in the developed surface's plane (its Z the radius the tool cuts at); no turned feature
-/// comes or goes.
+/// told as the bottom's diameter and the depth below the Ø50 cylinder (the developed surface's
+/// Z is the radius the tool cuts at); no turned feature comes or goes.
 #[test]
 fn a_slot_on_the_cylinder_made_deeper_is_its_depth_changed() {
     edit(
@@ -1193,8 +1193,8 @@ fn a_slot_on_the_cylinder_made_deeper_is_its_depth_changed() {
         "G1 X46. F100.",
         "G1 X45. F100.",
         expect_test::expect![[r#"
-        depth_changed | depth | Z23 | Z22.5 | 18 | 18
-          depth changed from Z23 to Z22.5 at line 18
+        depth_changed | depth | Ø46 (2 deep on the Ø50 cylinder) | Ø45 (2.5 deep on the Ø50 cylinder) | 18 | 18
+          depth changed from Ø46 (2 deep on the Ø50 cylinder) to Ø45 (2.5 deep on the Ø50 cylinder) at line 18
     "#]],
     );
 }
@@ -1375,8 +1375,10 @@ fn a_slot_on_the_cylinder_after_a_rapid_to_another_angle_lies_at_that_angle() {
 }
 
 /// A retract where a cut on the cylinder ended is no move round it: a second pass cut back from
-/// there lies on the same plane, so the two passes make one slot at the angle the mode began
-/// at (C0: axis (1, 0, 0)). Written before the run.
+/// there lies on the same plane, so the two passes make one slot, wrapped round the Ø50
+/// cylinder from C0 to C60 (25 · π/3 = 26.18 round it). Its deepest pass begins at C60, so it
+/// is placed there on the cylinder, (12.5, 21.65, -10), its axis radial there (0.5, 0.866, 0).
+/// Written before the run.
 #[test]
 fn a_retract_at_the_end_of_a_cut_on_the_cylinder_keeps_its_plane() {
     let text = "%\nO0074\nT0505 (D8 END MILL)\nG98\nG0 X60. Z-10. C0.\nG07.1 C25.\nG1 X47. F100.\nC60.\nG0 X60.\n\
@@ -1384,7 +1386,13 @@ fn a_retract_at_the_end_of_a_cut_on_the_cylinder_keeps_its_plane() {
     let plan = plan_of(text, &serde_json::json!({"dialect": "fanuc_lathe"}));
     let slots: Vec<&Feature> = plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
     assert_eq!(slots.len(), 1, "{plan:#?}");
-    assert!(slots[0].axis.is_some_and(|a| (a[0] - 1.0).abs() < AXIS), "{:#?}", slots[0]);
+    let (c, s) = (60f64.to_radians().cos(), 60f64.to_radians().sin());
+    let near = |a: [f64; 3], b: [f64; 3], tol: f64| (0..3).all(|i| (a[i] - b[i]).abs() < tol);
+    assert!(slots[0].axis.is_some_and(|a| near(a, [c, s, 0.0], AXIS)), "{:#?}", slots[0]);
+    assert!(near(slots[0].placement, [25.0 * c, 25.0 * s, -10.0], 1e-3), "{:#?}", slots[0]);
+    let w = slots[0].wrap.expect("wrapped");
+    assert!((w.diameter - 50.0).abs() < 1e-9 && w.angles == (0.0, 60.0), "{w:?}");
+    assert!((w.developed - 25.0 * std::f64::consts::FRAC_PI_3).abs() < 1e-3, "{w:?}");
 }
 
 /// The canon's moves of `program` read in dictionary `dialect` (the general path, or the plain
@@ -1506,4 +1514,65 @@ HOLES1(0,0,0,0,1,10000)\nMCALL\nM30\n";
     assert_eq!(line_of(bound[0]), 6, "{:?}", bound[0]);
     let slots = a.plan.features.iter().filter(|f| f.kind.label() == "slot").count();
     assert!((1..=10_000).contains(&slots), "{slots}");
+}
+
+/// SINUMERIK `TRACYL(50)` (840D sl job planning: Y on the developed surface, the length round
+/// the cylinder at the working diameter): a slot 2 deep (X46 under `DIAMON`) cut from Y0 to
+/// Y78.5398 (25 · π, half round) at Z-10, then along Z to Z-30. Written before the run: the
+/// slot is placed where it begins, (25, 0, -10) with the radial axis (1, 0, 0), and wrapped
+/// round the Ø50 cylinder from C0 to C180 (78.54 round it); its workingstep's plane is the
+/// cylinder's developed surface; the tool axis is radial at each move, so in the plane's
+/// coordinates the cut's last moves (at C180) run with the axis (0, 0, -1); STEP-NC CC1 and
+/// CC2 keep the cylinder and the wrap.
+#[test]
+fn a_cut_wrapped_round_the_cylinder_runs_its_angles_with_a_radial_tool_axis() {
+    let text = "G18 G90 G54 DIAMON\nT5 D1 ; D8 END MILL\nSPOS=0\nS2=2000 M2=3\nG94 G0 X60 Z-10\nTRACYL(50)\nG19 G1 X46 F100\n\
+                Y78.5398\nZ-30\nG0 X60\nTRAFOOF\nG18\nM30\n";
+    let plan = plan_of(text, &serde_json::json!({"dialect": "siemens"}));
+    let slots: Vec<&Feature> = plan.features.iter().filter(|f| f.kind.label() == "slot").collect();
+    assert_eq!(slots.len(), 1, "{plan:#?}");
+    assert!(
+        matches(
+            slots[0],
+            &serde_json::json!({"kind": "slot", "axis": [1.0, 0.0, 0.0], "positions": [[25.0, 0.0, -10.0]], "width": 8.0, "depth": 2.0})
+        ),
+        "{:#?}",
+        slots[0]
+    );
+    let w = slots[0].wrap.expect("wrapped round the cylinder");
+    assert!((w.diameter - 50.0).abs() < 1e-9, "{w:?}");
+    assert!(w.angles.0.abs() < 1e-3 && (w.angles.1 - 180.0).abs() < 1e-3, "{w:?}");
+    assert!((w.developed - 78.5398).abs() < 1e-3, "{w:?}");
+    let ws = plan.workingsteps.iter().find(|ws| ws.feature == Some(slots[0].id)).unwrap();
+    assert_eq!(ws.setup.and_then(|s| s.cylinder), Some(50.0), "{:?}", ws.setup);
+    let last = ws.toolpath.len() - 1;
+    let axis = ws.toolpath.axis_at(last);
+    assert!(ws.toolpath.tilts() && (axis[2] + 1.0).abs() < 1e-6 && axis[0].abs() < 1e-9, "{axis:?}");
+    let described = ncplan::plan::describe(&plan);
+    assert!(described.contains("wrapped round the Ø50 cylinder: C0° to C180°"), "{described}");
+    for cc in [stepnc::Class::Cc1, stepnc::Class::Cc2] {
+        let (p21, _) = stepnc::to_string(&plan, cc, "2026-01-01T00:00:00");
+        let back = stepnc::read(&ncplan::part21::parse(&p21).unwrap()).unwrap();
+        let want = if cc == stepnc::Class::Cc2 { plan.clone() } else { stepnc::toolpaths_only(&plan) };
+        assert_eq!(back, want, "{cc:?}");
+    }
+}
+
+/// `TRACYL(50)` → `TRACYL(60)` with the same moves: the slot is cut on the developed surface of
+/// a Ø60 cylinder, its bottom still at Ø46 (`DIAMON`), so it is 7 deep, not 2. Written before
+/// the run: the work plane's row names the cylinder's diameter (not a raw argument of the
+/// call), and the feature's depth 2 → 7 stays told.
+#[test]
+fn a_cut_wrapped_round_the_cylinder_on_another_diameter_is_the_cylinders_change() {
+    edit(
+        "siemens_lathe_tracyl_slot",
+        "TRACYL(50)",
+        "TRACYL(60)",
+        expect_test::expect![[r#"
+            feature_changed | feature_depth | 2 mm | 7 mm | 14 | 14
+              feature depth changed from 2 mm to 7 mm
+            work_plane_changed | cylinder | the developed surface of the Ø50 cylinder | the developed surface of the Ø60 cylinder | 15 | 15
+              work plane the developed surface of the Ø50 cylinder → the developed surface of the Ø60 cylinder; the slot wrapped round it at line 15
+        "#]],
+    );
 }

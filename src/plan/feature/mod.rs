@@ -108,6 +108,7 @@ pub fn recognise(plan: &mut ProcessPlan) {
                     centre_path: cand.centre_path,
                     axis: None,
                     ref_direction: None,
+                    wrap: None,
                 };
                 features.push((f, cand.region.into_iter().collect()));
                 id
@@ -146,14 +147,68 @@ fn setup_of(plan: &ProcessPlan, i: u32) -> Option<Setup> {
 /// Places every feature machined on a tilted plane in the part's frame: its placement turned
 /// and moved onto the plane, with the plane's axis and reference direction (its positions
 /// and contours stay relative to the placement, in the plane's X and Y).
+///
+/// On the developed surface of a cylinder (cylindrical interpolation), the plane's Y is the
+/// length round the cylinder: the feature is wrapped onto it, placed where it begins at the
+/// angle that length gives (the plane laid tangent there, its axis radial), and its `Wrap`
+/// tells the cylinder and the angles it runs round it from its points' lengths.
 fn place_on_setups(plan: &mut ProcessPlan) {
     for k in 0..plan.features.len() {
         let Some(s) = plan.features[k].workingsteps.first().and_then(|&i| setup_of(plan, i)) else { continue };
         let f = &mut plan.features[k];
+        let s = match s.cylinder {
+            Some(diameter) => {
+                let p = f.placement;
+                let (lo, hi) = developed_span(f);
+                f.wrap = Some(crate::plan::Wrap {
+                    diameter,
+                    angles: (s.wrap_angle(p[1] + lo), s.wrap_angle(p[1] + hi)),
+                    developed: crate::plan::round_sig(hi - lo),
+                });
+                let s = s.wrapped_at(p[1]);
+                f.placement = [p[0], 0.0, p[2]];
+                s
+            }
+            None => s,
+        };
         f.placement = s.to_part(f.placement);
         f.axis = Some(s.axis);
         f.ref_direction = Some(s.ref_direction);
     }
+}
+
+/// The least and greatest second coordinate (the plane's Y) of a feature's positions and
+/// contour points, relative to its placement: the ends of its contour's segments and, for an
+/// arc, the points of its circle it passes at the quarters.
+fn developed_span(f: &Feature) -> (f64, f64) {
+    let mut ys = vec![0.0];
+    if let FeatureKind::RoundHole { positions, .. } = &f.kind {
+        ys.extend(positions.iter().map(|p| p[1]));
+    }
+    if let Some(c) = f.kind.contour() {
+        ys.push(c.start[1]);
+        let mut from = c.start;
+        for seg in &c.segments {
+            ys.push(seg.to[1]);
+            if let Some((centre, ccw)) = seg.arc {
+                let r = (from[0] - centre[0]).hypot(from[1] - centre[1]);
+                let ang = |p: P2| (p[1] - centre[1]).atan2(p[0] - centre[0]);
+                let (a0, a1) = (ang(from), ang(seg.to));
+                // The sweep from a0 to a1 the arc's sense gives, a whole turn where they meet.
+                let tau = std::f64::consts::TAU;
+                let sweep = if ccw { (a1 - a0).rem_euclid(tau) } else { -(a0 - a1).rem_euclid(tau) };
+                let sweep = if sweep.abs() < 1e-12 { if ccw { tau } else { -tau } } else { sweep };
+                for (q, y) in [(std::f64::consts::FRAC_PI_2, r), (-std::f64::consts::FRAC_PI_2, -r)] {
+                    let t = if ccw { (q - a0).rem_euclid(tau) } else { (a0 - q).rem_euclid(tau) };
+                    if t <= sweep.abs() {
+                        ys.push(centre[1] + y);
+                    }
+                }
+            }
+            from = seg.to;
+        }
+    }
+    ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &y| (lo.min(y), hi.max(y)))
 }
 
 /// A spot drill or countersink that marks holes made by other tools is part of those holes,
