@@ -937,6 +937,8 @@ pub struct Interpreter<'a> {
     motions: u64,
     /// Pocket and slot finishing passes written so far in the whole run (`pocket`'s bound).
     pocket_passes: usize,
+    /// Half turns of bores milled in a helix written so far in the whole run (`pocket`'s bound).
+    helix_halves: usize,
     /// Whether the dialect sets the feed before it moves (the fast lane takes F only then).
     /// Whether integers count least increments (`X10` is 10 µm): the dictionary's
     /// `decimal-input`, looked at by every plain move.
@@ -1068,6 +1070,7 @@ impl<'a> Interpreter<'a> {
             left_level: None,
             motions: 0,
             pocket_passes: 0,
+            helix_halves: 0,
             pending: Vec::new(),
             integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }) && !profile.calculator_input,
             feed_before_motion: {
