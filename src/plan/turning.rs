@@ -1368,8 +1368,10 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     };
     t.operation = Some(op);
     t.rough = rough;
-    // A drill on the axis works no inside of a hole already there: it makes the hole.
-    t.inside &= op != TurnOp::Drilling;
+    // A drill on the axis works no inside of a hole already there: it makes the hole. Nor does
+    // a face cut at the part's front, by a boring bar out from its bore or otherwise: it is the
+    // front face (a bore's bottom, behind the front, is faced inside).
+    t.inside &= op != TurnOp::Drilling && !(op == TurnOp::Facing && zmin >= front - TOL);
     ws.turning = Some(Box::new(t));
 }
 
@@ -1676,7 +1678,8 @@ fn profiled_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
 /// with its lead-in (LinuxCNC's one-pass `G72`, a post's facing pass), the run across being
 /// most of the cut.
 /// Moves at a feed `air` tells (a positioning feed many times the cutting feed) count for
-/// nothing; the pass may go back out along the face it cut (`X0.` then `X60.`).
+/// nothing; the pass may go back out along the face it cut (`X0.` then `X60.`). Clear of the
+/// axis, a boring bar's lead-in and its one cut out across from the bore face too.
 fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool) -> bool {
     let [run] = runs else { return false };
     let across_x = |m: &&Move| (m.to[2] - m.from[2]).abs() < TOL;
@@ -1688,7 +1691,17 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool)
     let to_axis = |m: &Move| m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0;
     let ends_inward = run.last().is_some_and(|m| across_x(&m) && inwards(m));
     let reaches = run.iter().filter(|m| !air(m)).filter(across_x).any(|m| inwards(m) && to_axis(m));
-    xmin < 0.05 && (ends_inward || reaches) && total > TOL && across >= 0.75 * total
+    // Or, clear of the axis, a lead-in along Z then one cut out across from the bore: a boring
+    // bar facing the front out from the hole it stands in (the face out from Ø1.8 to Ø3.0 after
+    // `G1 Z0.` at Ø1.8), as a turning tool faces in to the axis.
+    let out_of_the_bore = match run.iter().filter(|m| !air(m)).collect::<Vec<_>>().as_slice() {
+        [lead, cut] => {
+            (lead.to[0] - lead.from[0]).abs() < TOL && lead.to[2] < lead.from[2] - TOL && across_x(cut) && cut.to[0] > cut.from[0] + TOL
+        }
+        _ => false,
+    };
+    let mostly = total > TOL && across >= 0.75 * total - TOL;
+    mostly && ((xmin < 0.05 && (ends_inward || reaches)) || (xmin >= 0.05 && out_of_the_bore))
 }
 
 /// The features a workingstep machines, with the Z they are placed at.
