@@ -937,6 +937,8 @@ pub struct Interpreter<'a> {
     motions: u64,
     /// Pocket and slot finishing passes written so far in the whole run (`pocket`'s bound).
     pocket_passes: usize,
+    /// Half turns of bores milled in a helix written so far in the whole run (`pocket`'s bound).
+    helix_halves: usize,
     /// Whether the dialect sets the feed before it moves (the fast lane takes F only then).
     /// Whether integers count least increments (`X10` is 10 µm): the dictionary's
     /// `decimal-input`, looked at by every plain move.
@@ -1068,6 +1070,7 @@ impl<'a> Interpreter<'a> {
             left_level: None,
             motions: 0,
             pocket_passes: 0,
+            helix_halves: 0,
             pending: Vec::new(),
             integers_scale: matches!(dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { .. }) && !profile.calculator_input,
             feed_before_motion: {
@@ -1191,8 +1194,10 @@ impl<'a> Interpreter<'a> {
         // 0.02-0.05 mm/rev. The constant surface speed must also fit inches only: in
         // millimetres nearly every cut would turn above the spindle limit.
         let (metric, inch_only) = self.css_fit;
-        let css_inch = inch_only >= 3 && metric * 10 <= inch_only + metric;
-        if !self.profile.inch && !self.units_stated && count >= 3 && largest <= 0.06 && css_inch {
+        // A short program (a boring bar's `G71` and `G70`: two feeds) tells it as surely where
+        // both agree and nothing speaks for millimetres.
+        let css_inch = (inch_only >= 3 && metric * 10 <= inch_only + metric) || (inch_only == 2 && metric == 0 && count == 2);
+        if !self.profile.inch && !self.units_stated && count >= 2 && largest <= 0.06 && css_inch {
             let msg = format!(
                 "no units stated; all {count} feeds per revolution are at most 0.06 (the largest F{largest}): no turning feed in mm/rev, ordinary in inch/rev; and the constant surface speed turns {inch_only} cuts within the spindle limit only in ft/min ({metric} in m/min); read in inch"
             );

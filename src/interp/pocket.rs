@@ -235,8 +235,22 @@ impl Interpreter<'_> {
         let clear = get(Role::RetractDistance).map_or(safe, |d| (surface + d).max(safe));
         let ccw = get(Role::MachiningType).is_none_or(|v| v >= 0.0);
         let pitch = get(Role::Pitch).map(f64::abs).filter(|p| *p > 0.0).unwrap_or(safe - floor);
-        // Half turns, each as deep as the others, down to the floor.
-        let halves = (((safe - floor) / (pitch / 2.0)) - 1e-9).ceil().max(1.0) as usize;
+        // Half turns, each as deep as the others, down to the floor; counted as a float first, so
+        // that an infeed per turn of a micron over a deep bore, or a tiny one, is not a loop of
+        // billions. One bound for the whole run, as the pocket passes have one: a modal call
+        // repeats the cycle at each of a pattern's positions.
+        let halves = (((safe - floor) / (pitch / 2.0)) - 1e-9).ceil().max(1.0);
+        if !halves.is_finite() || self.helix_halves as f64 + halves > MAX_HELIX_HALVES as f64 {
+            let msg = format!(
+                "{name}: more than {MAX_HELIX_HALVES} half turns of bores milled in a helix in the program: this call is kept as intent only, its moves are not expanded"
+            );
+            let mut d = Diagnostic::new(Code::Unsupported, range, msg);
+            d.severity = Severity::Warning;
+            self.limited(diags, "cycle-not-expanded", d);
+            return;
+        }
+        let halves = halves as usize;
+        self.helix_halves += halves;
         let at = |me: &Self, x: f64, y: f64, z: f64| {
             let mut p = me.st.pos;
             (p[a0], p[a1], p[n]) = (x, y, z);
@@ -306,6 +320,12 @@ const MAX_SLOTS: f64 = 100.0;
 /// at most. Past it a call is kept as intent only (a modal slot cycle over a large pattern
 /// would otherwise write up to a million passes).
 const MAX_POCKET_PASSES: usize = 10_000;
+
+/// The most half turns the bores milled in a helix of one run expand into in all (each half
+/// turn an arc): as many as the pocket and slot passes. Past it a call is kept as intent only
+/// (an infeed per turn of 0.001 mm down a bore 100 mm deep would otherwise write 200 000 arcs,
+/// and a modal call repeats that at each of a pattern's positions).
+const MAX_HELIX_HALVES: usize = 10_000;
 
 /// Slots on a circle (Siemens `SLOT1`, "slots on a circle" in the 840D cycles manual): `NUM`
 /// slots of the length and width the slot states, each along the radius of the circle about

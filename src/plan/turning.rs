@@ -152,6 +152,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
         classify(ws, front, back, boring, grooving, drill);
     }
     follow_roughing(plan);
+    finished_in_the_bore(plan);
     roughed_then_finished(plan);
     parted_through_the_bore(plan);
     // One pass across the front that a later workingstep faces again a little behind it
@@ -295,10 +296,11 @@ fn roughed_then_finished(plan: &mut ProcessPlan) {
 /// to the centre). The bore: the hole a named drill of known diameter drilled past that Z, or
 /// the largest radius an inside workingstep cut at that Z, before it on the same part in the
 /// same place (setup, work offset, spindle). A groove whose bottom stays outside the bore is
-/// still a groove.
+/// still a groove. And one plunge at one Z by a tool the program names a cut-off or parting
+/// tool parts off, the tube's bore known or not.
 fn parted_through_the_bore(plan: &mut ProcessPlan) {
     let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
-    for k in 1..plan.workingsteps.len() {
+    for k in 0..plan.workingsteps.len() {
         let ws = &plan.workingsteps[k];
         let Some(t) = ws.turning.as_deref().filter(|t| t.operation == Some(TurnOp::Grooving) && !t.inside) else { continue };
         let cuts = cuts(ws);
@@ -314,10 +316,75 @@ fn parted_through_the_bore(plan: &mut ProcessPlan) {
             .filter(|w| place(w) == place(ws))
             .filter_map(|w| bore_at(w, z, plan.tools.iter().find(|tl| tl.number == w.tool)))
             .fold(f64::NEG_INFINITY, f64::max);
-        if bore > 0.05 && x <= bore + TOL && outer > bore + 0.5 {
+        // A single plunge at one place along Z by a tool the program names a cut-off or
+        // parting tool (`(CUT OFF AT .395)`, `PARTING`, German Abstechen): it parts the part off,
+        // through a tube's wall to its bore, which no workingstep before it need have cut.
+        let tool = plan.tools.iter().find(|tl| tl.number == ws.tool);
+        let named = tool.and_then(|tl| tl.name.as_deref()).is_some_and(|n| {
+            let n: String = n.to_ascii_uppercase().chars().filter(|c| c.is_ascii_alphanumeric()).collect();
+            ["CUTOFF", "PARTOFF", "PARTING", "ABSTECH"].iter().any(|k| n.contains(k))
+        });
+        let one_plunge = runs(ws).len() == 1 && cuts.iter().all(|m| (m.to[2] - z).abs() < TOL && (m.from[2] - z).abs() < TOL);
+        if (bore > 0.05 && x <= bore + TOL && outer > bore + 0.5) || (named && one_plunge) {
             if let Some(t) = plan.workingsteps[k].turning.as_mut() {
                 t.operation = Some(TurnOp::PartingOff);
                 t.rough = false;
+            }
+        }
+    }
+}
+
+/// A finishing contour of another tool run where an inside workingstep before it roughed the
+/// bore (or a drill drilled it), on the same part in the same place: where each of its cuts
+/// along Z lies in the bore left at its Z or at most 0.5 mm beyond it on the radius (the
+/// finishing allowance the roughing left on the wall; the wall itself is thicker), it finishes
+/// that bore, as a turner reads a finishing bar run after the boring passes (explicit moves
+/// after a tool change, with nothing else telling its side: an inside contour finished from
+/// the mouth steps down to smaller diameters as an outside one of a part larger at its front
+/// does). Only where every cut along Z is so, at least one runs 1 mm along Z, and the outside
+/// is turned beside one of them (`walled`).
+fn finished_in_the_bore(plan: &mut ProcessPlan) {
+    let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
+    for k in 1..plan.workingsteps.len() {
+        let ws = &plan.workingsteps[k];
+        let Some(t) = ws.turning.as_deref() else { continue };
+        if t.inside || t.rough || t.operation != Some(TurnOp::Contouring) || t.intent.is_some() {
+            continue;
+        }
+        let cuts = cuts(ws);
+        let along: Vec<&Move> = cuts.iter().filter(|m| (m.to[0] - m.from[0]).abs() < TOL && (m.to[2] - m.from[2]).abs() > TOL).collect();
+        if !along.iter().any(|m| (m.to[2] - m.from[2]).abs() >= 1.0) || cuts.iter().any(|m| m.from[0].min(m.to[0]) < 0.05) {
+            continue;
+        }
+        let before: Vec<&Workingstep> = plan.workingsteps[..k].iter().filter(|w| w.tool != ws.tool && place(w) == place(ws)).collect();
+        let in_bore = |m: &Move| {
+            // Halfway along the cut: the bore the workingsteps before left there.
+            let z = (m.from[2] + m.to[2]) / 2.0;
+            let bore = before
+                .iter()
+                .filter_map(|w| bore_at(w, z, plan.tools.iter().find(|tl| tl.number == w.tool)))
+                .fold(f64::NEG_INFINITY, f64::max);
+            bore > 0.05 && m.from[0] <= bore + 0.5 + TOL
+        };
+        // And the part's outside known there: a turning workingstep on the outside cut along Z
+        // over the same Z at a diameter at least 1 mm larger on the radius (the pass lies between
+        // the bore and the outside wall; a bore known only from a workingstep itself misread,
+        // with no outside beside it, tells nothing).
+        let others: Vec<&Workingstep> = plan.workingsteps.iter().filter(|w| w.tool != ws.tool && place(w) == place(ws)).collect();
+        let walled = |m: &Move| {
+            let z = (m.from[2] + m.to[2]) / 2.0;
+            others.iter().filter(|w| w.turning.as_deref().is_some_and(|t| !t.inside && t.operation == Some(TurnOp::Contouring))).any(|w| {
+                self::cuts(w).iter().any(|c| {
+                    (c.to[0] - c.from[0]).abs() < TOL
+                        && c.from[2].min(c.to[2]) < z
+                        && c.from[2].max(c.to[2]) > z
+                        && c.from[0] > m.from[0] + 1.0
+                })
+            })
+        };
+        if along.iter().all(|m| in_bore(m)) && along.iter().any(|m| walled(m)) {
+            if let Some(t) = plan.workingsteps[k].turning.as_mut() {
+                t.inside = true;
             }
         }
     }
@@ -367,16 +434,30 @@ fn profiled_beyond_the_finish(ws: &Workingstep, later: &[Workingstep], face: f64
     // same place counts (the same setup, work offset and spindle, as for a face cut again):
     // after a flip or on another offset it finishes another side of the part.
     let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
-    let reach = later
+    let finishes: Vec<Move> = later
         .iter()
         .filter(|w| w.tool != ws.tool && place(w) == place(ws))
         .filter(|w| w.turning.as_ref().is_some_and(|l| !l.rough && l.inside == t.inside && l.operation == Some(TurnOp::Contouring)))
-        .flat_map(|w| cuts(w).into_iter().map(|m| m.to[2].min(m.from[2])))
-        .reduce(f64::min)
-        .unwrap_or(f64::INFINITY);
+        .flat_map(cuts)
+        .collect();
+    let reach = finishes.iter().map(|m| m.to[2].min(m.from[2])).reduce(f64::min).unwrap_or(f64::INFINITY);
+    // Where the finish reaches along Z, it makes the part only where it cuts at the wall or
+    // into it: a bore finished at Ø39.8 past a recess roughed to Ø41 runs through the recess's
+    // air and leaves its wall as the roughing profile cut it (inside a larger diameter than
+    // its own; outside a smaller one), 0.05 mm on the radius allowed.
+    let cut_by_finish = |diameter: f64, top: f64, length: f64| {
+        // Halfway along the stretch of the wall the finish reaches.
+        let z = ((top - length).max(reach) + top) / 2.0;
+        finishes.iter().filter(|m| (m.from[2] - z) * (m.to[2] - z) <= 0.0 && (m.to[2] - m.from[2]).abs() > TOL).any(|m| {
+            let x = m.from[0] + (m.to[0] - m.from[0]) * (z - m.from[2]) / (m.to[2] - m.from[2]);
+            if t.inside { 2.0 * x >= diameter - 0.1 } else { 2.0 * x <= diameter + 0.1 }
+        })
+    };
     let nose = nose_arcs(ws, t, last);
     let beyond = contour_profile_features(t, last, (0.0, 0.0), nose, face).into_iter().filter(|(k, z)| match k {
-        FeatureKind::Turned(Turned::Diameter { length, .. }) => z - length < reach - TOL && *z <= reach + TOL,
+        FeatureKind::Turned(Turned::Diameter { length, diameter, .. }) => {
+            z - length < reach - TOL && (*z <= reach + TOL || !cut_by_finish(*diameter, *z, *length))
+        }
         FeatureKind::Turned(Turned::RevolvedFlat { .. }) => *z < reach - TOL,
         _ => false,
     });
@@ -1176,6 +1257,11 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         // The allowance is left away from the axis outside: towards +X where the contour
         // lies at X positive, towards -X where the program writes it at X negative (its
         // moves mirrored here: the contour is then at X -(x + U/2), a pass at x).
+        // A roughing cycle whose start point lies wholly inside the diameters it cuts roughs a
+        // bore, whatever sign its X allowance is written with (the controls rough between the
+        // start point and the contour, the start point clear of the stock on the side cut from:
+        // Fanuc 0i-TF operator's manual, G71): so does a tool the program names a boring bar.
+        Some(_) if rough_cycle && !t.mirrored && (boring || start.is_some_and(|x| x < xmin - TOL)) => true,
         Some(u) => (u < 0.0) != (t.mirrored && xmax + u / 2.0 > 0.0),
         None if rough_cycle && start.is_some() => boring || start.is_some_and(|x| x < (xmin + xmax) / 2.0),
         // A finishing cycle starts where its contour starts, inside or out: it is inside
@@ -1283,8 +1369,10 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
     };
     t.operation = Some(op);
     t.rough = rough;
-    // A drill on the axis works no inside of a hole already there: it makes the hole.
-    t.inside &= op != TurnOp::Drilling;
+    // A drill on the axis works no inside of a hole already there: it makes the hole. Nor does
+    // a face cut at the part's front, by a boring bar out from its bore or otherwise: it is the
+    // front face (a bore's bottom, behind the front, is faced inside).
+    t.inside &= op != TurnOp::Drilling && !(op == TurnOp::Facing && zmin >= front - TOL);
     ws.turning = Some(Box::new(t));
 }
 
@@ -1591,7 +1679,8 @@ fn profiled_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
 /// with its lead-in (LinuxCNC's one-pass `G72`, a post's facing pass), the run across being
 /// most of the cut.
 /// Moves at a feed `air` tells (a positioning feed many times the cutting feed) count for
-/// nothing; the pass may go back out along the face it cut (`X0.` then `X60.`).
+/// nothing; the pass may go back out along the face it cut (`X0.` then `X60.`). Clear of the
+/// axis, a boring bar's lead-in and its one cut out across from the bore face too.
 fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool) -> bool {
     let [run] = runs else { return false };
     let across_x = |m: &&Move| (m.to[2] - m.from[2]).abs() < TOL;
@@ -1603,7 +1692,17 @@ fn face_with_lead_in(runs: &[Vec<Move>], xmin: f64, air: &dyn Fn(&Move) -> bool)
     let to_axis = |m: &Move| m.to[0].abs() < 0.05 || m.to[0] * m.from[0] < 0.0;
     let ends_inward = run.last().is_some_and(|m| across_x(&m) && inwards(m));
     let reaches = run.iter().filter(|m| !air(m)).filter(across_x).any(|m| inwards(m) && to_axis(m));
-    xmin < 0.05 && (ends_inward || reaches) && total > TOL && across >= 0.75 * total
+    // Or, clear of the axis, a lead-in along Z then one cut out across from the bore: a boring
+    // bar facing the front out from the hole it stands in (the face out from Ø1.8 to Ø3.0 after
+    // `G1 Z0.` at Ø1.8), as a turning tool faces in to the axis.
+    let out_of_the_bore = match run.iter().filter(|m| !air(m)).collect::<Vec<_>>().as_slice() {
+        [lead, cut] => {
+            (lead.to[0] - lead.from[0]).abs() < TOL && lead.to[2] < lead.from[2] - TOL && across_x(cut) && cut.to[0] > cut.from[0] + TOL
+        }
+        _ => false,
+    };
+    let mostly = total > TOL && across >= 0.75 * total - TOL;
+    mostly && ((xmin < 0.05 && (ends_inward || reaches)) || (xmin >= 0.05 && out_of_the_bore))
 }
 
 /// The features a workingstep machines, with the Z they are placed at.

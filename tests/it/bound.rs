@@ -159,3 +159,35 @@ fn every_command_that_stops_early_says_so() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("repeat-budget"), "{}", String::from_utf8_lossy(&out.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A bore milled in a helix (Heidenhain `CYCL DEF 208`) with an infeed per turn of a micron down
+/// a bore 100 deep would be 200 000 arcs, and a modal call repeats it at each position: the half
+/// turns of the whole run are bounded (10 000) as the pocket and slot passes are, and past the
+/// bound the call is kept as intent with one warning at its call. A bore within the bound is
+/// milled as its helix; one past the bound after it is not.
+#[test]
+fn helical_bores_have_one_bound_for_the_run() {
+    let dialect = ncplan::dialect::Registry::shipped().get("heidenhain").unwrap();
+    let bore = |depth: &str, pitch: &str| {
+        format!(
+            "CYCL DEF 208 BORE MILLING ~\n  Q200=2 ;SET-UP CLEARANCE ~\n  Q201=-{depth} ;DEPTH ~\n  Q206=150 ;FEED RATE FOR PLNGNG ~\n  \
+             Q334={pitch} ;PLUNGING DEPTH ~\n  Q203=+0 ;SURFACE COORDINATE ~\n  Q204=50 ;2ND SET-UP CLEARANCE ~\n  \
+             Q335=10 ;NOMINAL DIAMETER ~\n  Q342=0 ;ROUGHING DIAMETER\nCYCL CALL\n"
+        )
+    };
+    let text = format!(
+        "BEGIN PGM T MM\nTOOL CALL 1 Z S3000\nL X+0 Y+0 Z+50 R0 FMAX\n{}L X+40 Y+0 R0 FMAX\n{}END PGM T MM\n",
+        bore("10", "2"),
+        bore("100", "0.001")
+    );
+    let a = ncplan::pipeline::analyze(text.as_bytes(), &dialect, &Profile::default());
+    let line_of = |d: &ncplan::diag::Diagnostic| text[..d.range.start as usize].matches('\n').count() + 1;
+    let bound: Vec<_> = a.diagnostics.iter().filter(|d| d.message.contains("half turns of bores milled in a helix")).collect();
+    assert_eq!(bound.len(), 1, "{:?}", a.diagnostics);
+    assert_eq!(bound[0].code.as_str(), "interp::unsupported");
+    assert_eq!(bound[0].severity, Severity::Warning);
+    assert!(matches!(line_of(bound[0]), 15..=24), "{:?} at line {}", bound[0], line_of(bound[0]));
+    // The first bore is milled: its arcs are in the plan; the second writes none.
+    let arcs: usize = a.plan.workingsteps.iter().map(|w| w.toolpath.iter().filter(|m| m.arc.is_some()).count()).sum();
+    assert!((6..1000).contains(&arcs), "{arcs} arcs");
+}
