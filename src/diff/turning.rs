@@ -48,12 +48,24 @@ pub(super) fn retract(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<
     if cycle(a) || cycle(b) {
         return;
     }
+    use crate::plan::geom::dist;
+    // Where the cuts differ, their change says the rest (the last pass elsewhere leaves from
+    // elsewhere): the way off is told only where the tool cut the same path.
+    let cuts = |w: &Workingstep| -> Vec<(crate::plan::P3, crate::plan::P3)> {
+        w.toolpath.iter().filter(|m| m.phase == crate::plan::Phase::Cut).map(|m| (m.from, m.to)).collect()
+    };
+    let (ca, cb) = (cuts(a), cuts(b));
+    if ca.is_empty() || ca.len() != cb.len() || ca.iter().zip(&cb).any(|(x, y)| dist(x.0, y.0) > TOLERANCE || dist(x.1, y.1) > TOLERANCE) {
+        return;
+    }
+    // The moves that go somewhere (a return written twice, a reference return where the tool
+    // already is, are none).
     let way = |w: &Workingstep| -> Vec<(bool, crate::plan::P3, u32)> {
         let Some(last_cut) = w.toolpath.iter().rposition(|m| m.phase == crate::plan::Phase::Cut) else { return Vec::new() };
         w.toolpath
             .iter()
             .skip(last_cut + 1)
-            .filter(|m| m.phase == crate::plan::Phase::Retract)
+            .filter(|m| m.phase == crate::plan::Phase::Retract && dist(m.from, m.to) > TOLERANCE)
             .map(|m| (m.kind == crate::plan::MoveKind::Rapid, m.to, m.line))
             .collect()
     };
