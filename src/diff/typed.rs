@@ -621,7 +621,7 @@ fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
 /// A write to a cutting edge's offset data through a system variable array the dictionary
 /// names (`tool-data`: Siemens `$TC_DP4[t,d]=…`, length 2): the tool's length or radius
 /// changed, naming the tool and edge its indices give (`tool BRSONDE, edge IVICA`), with the
-/// variable it came through. Not such an array, or not indexed: none.
+/// variable it came through as written. Not such an array, or not indexed: none.
 pub(super) fn tool_data(key: &str, d: &Dialect) -> Option<(ChangeKind, String)> {
     let (name, rest) = key.split_once('[')?;
     let name = name.trim().to_ascii_uppercase();
@@ -637,7 +637,8 @@ pub(super) fn tool_data(key: &str, d: &Dialect) -> Option<(ChangeKind, String)> 
         Some((t, e)) => format!("tool {}, edge {}", t.trim(), e.trim()),
         None => format!("tool {}", index.trim()),
     };
-    Some((kind, format!("{what} of {whose} (via {name})")))
+    // (The names after ` (via ` are kept as written: `ME_TOOL_NUMBER`.)
+    Some((kind, format!("tool {what} (via {name}[{}]: {whose})", index.trim())))
 }
 
 /// The typed changes of one statement's token differences, and which differences they tell.
