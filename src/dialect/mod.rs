@@ -533,6 +533,9 @@ pub struct Macros {
     /// Read-only named system parameters (LinuxCNC's `#<_x>`, `#<_motion_mode>`): the
     /// normalised name, what it reads, and the value of a [`SystemVar::Constant`].
     pub system_named: Vec<(String, SystemVar, f64)>,
+    /// System variable arrays a program writes a tool's offset data through (Siemens
+    /// `$TC_DP3[t,d]`, the length), upper case, and which data each is.
+    pub tool_data: Vec<(String, DataForm)>,
     /// Deepest allowed nesting of calls.
     pub call_depth: u32,
     /// Whether digits above the fourth of a subprogram call's P are its repeat count
@@ -659,6 +662,7 @@ impl Default for Macros {
             main_return: MainReturn::Error,
             return_value: None,
             machine_functions: Vec::new(),
+            tool_data: Vec::new(),
         }
     }
 }

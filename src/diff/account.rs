@@ -1347,9 +1347,12 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 let param = typed::cycle_param(&key, d);
                 // A parameter of a touch probe's cycle (`TCH PROBE 430` … `Q262=+80`): the probing's.
                 let probing = it.ctx.probe_cycle && kind == ChangeKind::StatementChanged;
+                // A cutting edge's offset data (`$TC_DP4[t,d]=…`): the tool's length or radius.
+                let data = typed::tool_data(&key, d).filter(|_| kind == ChangeKind::StatementChanged);
                 let mut c = blank(
                     match param {
                         _ if probing => ChangeKind::ProbingChanged,
+                        _ if data.is_some() => data.as_ref().expect("checked").0,
                         Some(a) if kind == ChangeKind::StatementChanged => typed::arg_kind(a.role),
                         _ => kind,
                     },
@@ -1357,6 +1360,7 @@ fn statement_changes(it: &Item, lo: Option<u32>, le: Option<u32>, ws: (u32, Stri
                 );
                 c.field = match param {
                     _ if probing => format!("probing parameter {key}"),
+                    _ if data.is_some() => data.expect("checked").1,
                     Some(a) if c.kind == typed::arg_kind(a.role) => format!("cycle parameter {}", typed::arg_name(a)),
                     _ => format!("variable {key}"),
                 };

@@ -379,6 +379,9 @@ impl Change {
                 format!("global variable `{var}` {what}, for the subroutines and programs that run after (this file does not read it)")
             }
             ChangeKind::FlowChanged if self.field == "passes" => format!("call runs {} → {} times", self.before, self.after),
+            ChangeKind::RetractChanged if self.field == "retract_path" => {
+                format!("the way the tool leaves the part after its last cut changed: {} → {}", self.before, self.after)
+            }
             ChangeKind::ClearanceChanged if self.field == "rapid height" => {
                 return match (self.before.is_empty(), self.after.is_empty()) {
                     (true, _) => format!("rapid height (clearance, approach) `{}` added{}", self.after, at(self.line)),
@@ -960,6 +963,7 @@ fn compare_workingsteps(
     let lathe = a.turning.is_some() && b.turning.is_some();
     if lathe {
         turning::start(a, b, u, &mut push);
+        turning::retract(a, b, u, &mut push);
     } else {
         compare_start(a, b, u, &mut push);
     }

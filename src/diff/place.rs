@@ -10,7 +10,8 @@
 //! row that names the line at the same offset in the other side's part of the run (git shows
 //! the two as one line changed), and by none where that line is past the other side's part or
 //! no row names it. A run only removed or only added names nothing more: its comments went
-//! with its statements, but for a label line, named by the row of the block it heads.
+//! with its statements, but for a label line, named by the row of the block it heads, or,
+//! where that block stays, by the row of the nearest statement above it in the run.
 //! Statement lines are left alone: the accounting names them where they differ, but for one
 //! case: a statement only re-indented in a run a row names (the body of a condition changed
 //! or removed, `o<l1> if` taken away from around `T#<toolno> M6 G43`) is named by that row,
@@ -308,6 +309,13 @@ pub(super) fn name_places(
                 let across = other.start + (l - range.start);
                 let k = if other.contains(&across) { row_at(!original, across) } else { None };
                 let k = k.or_else(|| (other.is_empty() && labels.contains(&l)).then(|| row_at(original, l + 1)).flatten());
+                // A label at the end of a run only removed or added whose block stays (`N800`
+                // after the `G65 …` and `GOTO 1000` of the section before it, taken out): it
+                // went with the statements above it in the hunk git shows, named by the row of
+                // the nearest of them.
+                let k = k.or_else(|| {
+                    (other.is_empty() && labels.contains(&l)).then(|| (range.start..l).rev().find_map(|p| row_at(original, p))).flatten()
+                });
                 let Some(k) = k else { continue };
                 // The place of a statement the row tells removed (added) there: the pair
                 // completed; else a line of its own.

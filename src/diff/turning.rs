@@ -33,6 +33,64 @@ pub(super) fn start(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_
     }
 }
 
+/// The way the tool leaves the part after its last cut (ISO 14649's retract), move by move:
+/// where each move goes (a diameter and Z) and whether in rapid or at feed. On a lathe no
+/// retract height says it (the heights compared on a mill are along the spindle, here along
+/// the part): a back-off rapid along the part's diameter to the face (`G00 X0.385 Z0`) taken
+/// out, so that the tool rapids from the last cut straight to its change position, is a path
+/// the tool no longer takes, told where the two ways part. Moves that go nowhere are not in the
+/// plan, so restating where the tool already is changes nothing here. Moves the program writes
+/// itself only, not a cycle's.
+pub(super) fn retract(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) {
+    // A cycle's passes retract where its start point and parameters put them, which their
+    // changes say (as for the start point).
+    let cycle = |w: &Workingstep| w.turning.as_deref().is_some_and(|t| t.intent.is_some() || t.cycle.is_some());
+    if cycle(a) || cycle(b) {
+        return;
+    }
+    use crate::plan::geom::dist;
+    // Where the cuts differ, their change says the rest (the last pass elsewhere leaves from
+    // elsewhere): the way off is told only where the tool cut the same path.
+    let cuts = |w: &Workingstep| -> Vec<(crate::plan::P3, crate::plan::P3)> {
+        w.toolpath.iter().filter(|m| m.phase == crate::plan::Phase::Cut).map(|m| (m.from, m.to)).collect()
+    };
+    let (ca, cb) = (cuts(a), cuts(b));
+    if ca.is_empty() || ca.len() != cb.len() || ca.iter().zip(&cb).any(|(x, y)| dist(x.0, y.0) > TOLERANCE || dist(x.1, y.1) > TOLERANCE) {
+        return;
+    }
+    // The moves that go somewhere (a return written twice, a reference return where the tool
+    // already is, are none).
+    let way = |w: &Workingstep| -> Vec<(bool, crate::plan::P3, u32)> {
+        let Some(last_cut) = w.toolpath.iter().rposition(|m| m.phase == crate::plan::Phase::Cut) else { return Vec::new() };
+        w.toolpath
+            .iter()
+            .skip(last_cut + 1)
+            .filter(|m| m.phase == crate::plan::Phase::Retract && dist(m.from, m.to) > TOLERANCE)
+            .map(|m| (m.kind == crate::plan::MoveKind::Rapid, m.to, m.line))
+            .collect()
+    };
+    let (wa, wb) = (way(a), way(b));
+    if wa.is_empty() || wb.is_empty() {
+        return;
+    }
+    let same =
+        |x: &(bool, crate::plan::P3, u32), y: &(bool, crate::plan::P3, u32)| x.0 == y.0 && crate::plan::geom::dist(x.1, y.1) <= TOLERANCE;
+    let Some(k) = (0..wa.len().max(wb.len())).find(|&k| match (wa.get(k), wb.get(k)) {
+        (Some(x), Some(y)) => !same(x, y),
+        _ => true,
+    }) else {
+        return;
+    };
+    let text = |w: &[(bool, crate::plan::P3, u32)]| {
+        w.iter()
+            .map(|(rapid, q, _)| format!("{} Ø{} Z{}", if *rapid { "rapid to" } else { "feed to" }, u.c(2.0 * q[0]), u.c(q[2])))
+            .collect::<Vec<_>>()
+            .join(", then ")
+    };
+    let line = |w: &[(bool, crate::plan::P3, u32)]| w.get(k).or(w.last()).map(|m| m.2);
+    push(ChangeKind::RetractChanged, "retract_path", text(&wa), text(&wb), (line(&wa), line(&wb)));
+}
+
 /// Compares the technology of two turning workingsteps; whether the feeds differ.
 pub(super) fn technology(a: &Workingstep, b: &Workingstep, u: Fmt, push: &mut Push<'_>) -> bool {
     let at = (Some(a.lines.0), Some(b.lines.0));

@@ -618,6 +618,29 @@ fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
     }
 }
 
+/// A write to a cutting edge's offset data through a system variable array the dictionary
+/// names (`tool-data`: Siemens `$TC_DP4[t,d]=…`, length 2): the tool's length or radius
+/// changed, naming the tool and edge its indices give (`tool BRSONDE, edge IVICA`), with the
+/// variable it came through as written. Not such an array, or not indexed: none.
+pub(super) fn tool_data(key: &str, d: &Dialect) -> Option<(ChangeKind, String)> {
+    let (name, rest) = key.split_once('[')?;
+    let name = name.trim().to_ascii_uppercase();
+    let &(_, form) = d.macros.tool_data.iter().find(|(n, _)| *n == name)?;
+    let index = rest.trim_end().strip_suffix(']')?;
+    let (kind, what) = match form {
+        DataForm::ToolRadius => (ChangeKind::CutterCompChanged, "radius"),
+        DataForm::ToolRadiusWear => (ChangeKind::CutterCompChanged, "radius wear"),
+        DataForm::ToolLengthWear => (ChangeKind::LengthOffsetChanged, "length wear"),
+        _ => (ChangeKind::LengthOffsetChanged, "length"),
+    };
+    let whose = match index.split_once(',') {
+        Some((t, e)) => format!("tool {}, edge {}", t.trim(), e.trim()),
+        None => format!("tool {}", index.trim()),
+    };
+    // (The names after ` (via ` are kept as written: `ME_TOOL_NUMBER`.)
+    Some((kind, format!("tool {what} (via {name}[{}]: {whose})", index.trim())))
+}
+
 /// The typed changes of one statement's token differences, and which differences they tell.
 /// Words of one kind make one change: their texts joined, before and after.
 pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> (Vec<Typed>, Vec<bool>) {
@@ -820,6 +843,11 @@ fn turret_offset(x: Option<&Token>, y: Option<&Token>, d: &Dialect) -> Option<Ty
             return Some((tool.parse().ok()?, if offset.is_empty() { None } else { Some(offset.parse().ok()?) }));
         }
         let v = v.parse::<u64>().ok()?;
+        // Without the point, where no digits split the word (Fagor `T2`): the tool alone, with
+        // its own offset, as `T2.` (interp/exec/tool.rs).
+        if suffix && digits.is_none() {
+            return Some((v, None));
+        }
         let base = 10u64.pow(u32::from(digits?));
         Some((v / base, Some(v % base)))
     };

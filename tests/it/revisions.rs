@@ -222,7 +222,7 @@ fn part(p: &Pair) -> &str {
 }
 
 /// The parts, and how the figures name them.
-const PARTS: [(&str, &str); 17] = [
+const PARTS: [(&str, &str); 18] = [
     ("old", "old pairs (r001-r182, all seen)"),
     ("built", "second round's pairs built on (r183-r235)"),
     ("held", "second round's pairs held back (r183-r235, measured, spent)"),
@@ -239,7 +239,8 @@ const PARTS: [(&str, &str); 17] = [
     ("held12", "twelfth round's pairs held back (r437-r505)"),
     ("held13", "thirteenth round's pairs held back (r506-r608)"),
     ("held14", "fourteenth round's pairs held back (r609-r674)"),
-    ("held15", "fifteenth round's pairs held back (r675-)"),
+    ("held15", "fifteenth round's pairs held back (r675-r704)"),
+    ("build16", "sixteenth round's pairs built on (r900-)"),
 ];
 
 fn report(pairs: &[Pair]) -> (String, usize) {
@@ -296,7 +297,7 @@ fn own_revision_pairs_are_accounted_for() {
 #[test]
 fn real_revision_pairs_are_accounted_for() {
     let Some(texts) = std::env::var_os("NCPLAN_REVISIONS_REAL") else { return };
-    // `old`, `built`, `held`, `built3`, `held3`, `held4`, `held5`, `held6`, `held7`, `held8`, `held9`, `held10`, `held11`, `held12`, `held13`, `held14` or `held15`: only that part (several joined with `,`).
+    // `old`, `built`, `held`, `built3`, `held3`, `held4`, `held5`, `held6`, `held7`, `held8`, `held9`, `held10`, `held11`, `held12`, `held13`, `held14`, `held15` or `build16`: only that part (several joined with `,`).
     let only = std::env::var("NCPLAN_REVISIONS_PART").unwrap_or_default();
     let pairs: Vec<Pair> =
         real_pairs(Path::new(&texts)).into_iter().filter(|p| only.is_empty() || only.split(',').any(|o| o == part(p))).collect();

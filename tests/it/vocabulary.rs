@@ -462,7 +462,8 @@ fn a_fagor_lathe_reads_its_tool_offset_and_own_cycles() {
 /// Fagor's `T2.2` is decided by the point written, not by the value's fraction: `T2.0` and `T2.`
 /// are tool 2 too (never Fanuc's two-digit split, which took `T2.0` for tool 0), `T2.0` with
 /// offset 0 (none applied, as the 8055's `D0`), `T2.` with the tool's own offset (as the
-/// 8055's `T3` alone); a word without a point still splits as Fanuc's `T0202`.
+/// 8055's `T3` alone); a word without a point is the tool alone with its own offset (`T2`: tool
+/// 2, not Fanuc's split to tool 0 with offset 2).
 #[test]
 fn a_fagor_lathe_tool_word_is_split_where_its_point_is() {
     let d = Registry::shipped().get("fagor_lathe").unwrap();
@@ -470,7 +471,7 @@ fn a_fagor_lathe_tool_word_is_split_where_its_point_is() {
     for (tool, length) in [(2, 5.0), (12, 7.0)] {
         profile.tools.insert(tool, ncplan::interp::ToolData { length, ..Default::default() });
     }
-    let text = "N10 G90 G71\nN20 T2.\nN30 T2.0\nN40 T12.05\nN50 T2.12\nN60 T0202\nN70 M30\n";
+    let text = "N10 G90 G71\nN20 T2.\nN30 T2.0\nN40 T12.05\nN50 T2.12\nN60 T2\nN70 M30\n";
     let mut out = Vec::new();
     let diags = interpret(text, &d, &profile, &mut out);
     assert!(errors(&diags).is_empty(), "{:?}", errors(&diags));
@@ -498,7 +499,7 @@ fn a_fagor_lathe_tool_word_is_split_where_its_point_is() {
             // `T2.12`: tool 2 with offset 12 (tool 12's data, length 7).
             "SELECT_TOOL(2)",
             "USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 7.0000)",
-            // `T0202`: Fanuc's form, tool 2 with offset 2.
+            // `T2`: tool 2 with its own offset, as `T2.` (no Fanuc split to tool 0, offset 2).
             "SELECT_TOOL(2)",
             "USE_TOOL_LENGTH_OFFSET(0.0000 0.0000 5.0000)",
         ],

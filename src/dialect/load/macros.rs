@@ -44,7 +44,7 @@ impl Cx {
     /// `<macros>`: its attributes, then its statements, argument letters and system variables
     /// in document order. Statements are kept longest keyword first.
     pub(super) fn macros(&mut self, el: &Element) -> Macros {
-        self.shape(el, ATTRIBUTES, &["statement", "arguments", "system-variable"]);
+        self.shape(el, ATTRIBUTES, &["statement", "arguments", "system-variable", "tool-data"]);
         let mut m = Macros {
             null_value: self.bool(el, "null-value", false),
             repeat_in_p: self.bool(el, "repeat-in-p", false),
@@ -91,6 +91,7 @@ impl Cx {
             match c.name.as_str() {
                 "statement" => self.statement_def(c, &mut m),
                 "arguments" => self.argument_letters(c, &mut m),
+                "tool-data" => self.tool_data(c, &mut m),
                 _ if self.attr(c, "name").is_some() => self.named_system_variable(c, &mut m),
                 _ => self.numbered_system_variable(c, &mut m),
             }
@@ -264,6 +265,22 @@ impl Cx {
         match SystemVar::parse(meaning) {
             Some(v) => m.system_named.push((name, v, value)),
             None => self.error(Self::attr_range(c, "meaning"), format!("unknown system variable meaning `{meaning}`")),
+        }
+    }
+
+    /// `<tool-data name="$TC_DP3" form="tool-length"/>`: a system variable array the program
+    /// writes a tool's offset data through (Siemens `$TC_DP3[t,d]=…`), and which of them.
+    fn tool_data(&mut self, c: &Element, m: &mut Macros) {
+        self.shape(c, &["name", "form"], &[]);
+        let (Some(name), Some(form)) = (self.required(c, "name"), self.required(c, "form")) else { return };
+        match crate::dialect::DataForm::parse(form) {
+            Some(
+                f @ (crate::dialect::DataForm::ToolLength
+                | crate::dialect::DataForm::ToolLengthWear
+                | crate::dialect::DataForm::ToolRadius
+                | crate::dialect::DataForm::ToolRadiusWear),
+            ) => m.tool_data.push((name.trim().to_ascii_uppercase(), f)),
+            _ => self.error(Self::attr_range(c, "form"), format!("`{form}` is not a tool's length or radius")),
         }
     }
 
