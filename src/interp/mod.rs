@@ -2117,6 +2117,13 @@ impl<'a> Interpreter<'a> {
         for (k, &PendingAssign { number, name, index, slot, value, range }) in pending.iter().enumerate() {
             let origin = origins.get(k).cloned().flatten();
             match number {
+                // `#[#111+5] = 1280` with #111 the caller's: which variable the control writes
+                // is not known here. The write is not followed (it must never land on #0, the
+                // vacant value, as the unknown index would round to), and that is no fault.
+                Some(n) if eval::is_unknown(n) => {
+                    let msg = "the number of the variable this assigns is set outside this file: which one is written is not known here, and the analysis does not follow the write";
+                    diags.push(Diagnostic::new(Code::UnknownValue, range, msg));
+                }
                 Some(n) => {
                     // A whole number (compared, not `fract`: no call to `trunc` per assignment).
                     let whole = n >= 0.0 && n <= f64::from(u32::MAX) && f64::from(n as u32) == n;

@@ -300,3 +300,37 @@ fn the_fagor_lathe_reads_its_parameters_not_fanuc_macro_b() {
     assert!(!errors("fagor_lathe", macro_b).is_empty());
     assert!(errors("fanuc_lathe", macro_b).is_empty());
 }
+
+#[test]
+fn an_indirect_write_to_a_variable_set_outside_is_not_followed_and_never_lands_on_vacant() {
+    // Renishaw's `#[#111+5]=1280` with #111 the caller's: which variable is written is not
+    // known, so nothing is written; before, the unknown index rounded to #0, after which
+    // `IF[#8EQ#0]` (E not given) read as unknown and `GOTO#149` jumped to the vacant value.
+    let program = "O1000\n#149=5\n#[#111+5]=3\nIF[#8EQ#0]GOTO10\n#149=#8\nN10\nGOTO#149\nN5\nM30\n";
+    assert_eq!(errors("fanuc", program), Vec::<String>::new());
+    let (_, diags) = crate::moves_and_findings("fanuc", program, &Profile::default());
+    assert!(diags.iter().any(|d| d.code.as_str() == "interp::unknown-value" && d.message.contains("which one is written")), "{diags:?}");
+    // A known index still writes, and a jump to a block that is not there is still an error.
+    assert_eq!(errors("fanuc", "O1000\n#1=100\n#[#1+5]=5\nGOTO#105\nN5\nM30\n"), Vec::<String>::new());
+    assert_eq!(errors("fanuc", "O1000\n#1=100\n#[#1+5]=7\nGOTO#105\nN5\nM30\n").len(), 1);
+}
+
+#[test]
+fn a_legacy_cycle_name_run_into_its_value_is_read_as_name_and_value() {
+    // The Hungarian dialogue's cycle 9 as hyperMILL writes it: `9.1 V.IDO2` is DWELL 2.
+    let program = "0 BEGIN PGM T MM\n1 TOOL CALL 1 Z S1000\n2 L Z+10 R0 FMAX M3\n3 CYCL DEF9.0 VARAKOZASI IDO\n4 CYCL DEF9.1 V.IDO2\n5 END PGM T MM\n";
+    assert_eq!(errors("heidenhain", program), Vec::<String>::new());
+}
+
+#[test]
+fn a_macro_calls_w_argument_is_no_lathe_evidence() {
+    let registry = ncplan::dialect::Registry::shipped();
+    // Renishaw's calibration on a mill: the W and U are G65 arguments (#23, #21).
+    let mill = "%\nO9801\nG65P9732S1.W2.\nG65P9725Z#14F#119U1.\nG43H#4111Z#5003\nM99\n%\n";
+    let sniffed = ncplan::pipeline::sniff(&registry, mill.as_bytes(), std::path::Path::new("O9801"));
+    assert_eq!(sniffed.dialect, "fanuc");
+    // A U/W move outside a call still counts.
+    let lathe = "%\nO1000\nG65P9732S1.\nG0 U1. W-2.\nM30\n%\n";
+    let sniffed = ncplan::pipeline::sniff(&registry, lathe.as_bytes(), std::path::Path::new("O1000"));
+    assert_eq!(sniffed.dialect, "fanuc_lathe");
+}

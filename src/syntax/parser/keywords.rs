@@ -160,6 +160,24 @@ impl Lexer<'_, '_> {
         }
     }
 
+    /// Where the value starts in a name run into it (`V.IDO2` from `from` to `end`): a name
+    /// of two or more letters (dots between), not an address of the dictionary, then a bare
+    /// number that ends the line. `None` for anything else.
+    fn glued_name_value(&self, from: usize, end: usize) -> Option<usize> {
+        let word = &self.b[from..end];
+        let split = word.iter().position(u8::is_ascii_digit)?;
+        let name = &word[..split];
+        let letters = name.iter().filter(|c| c.is_ascii_alphabetic()).count();
+        if letters < 2 || !name.iter().all(|c| c.is_ascii_alphabetic() || *c == b'.') || !name[0].is_ascii_alphabetic() {
+            return None;
+        }
+        let name = name.strip_suffix(b".").unwrap_or(name);
+        if self.dialect.addresses.iter().any(|a| a.name.as_bytes().eq_ignore_ascii_case(name)) {
+            return None;
+        }
+        self.bare_number_ends_line(from + split).then_some(from + split)
+    }
+
     /// Whether a bare number (`5`, `-15`, `.1181`, `+0.5`) starts at `at` and only blanks
     /// follow it on the line.
     fn bare_number_ends_line(&self, at: usize) -> bool {
@@ -195,6 +213,15 @@ impl Lexer<'_, '_> {
             let single_letter = word.len() == 1 && word[0].is_ascii_alphabetic();
             let mixed = word.iter().any(u8::is_ascii_digit) && !word.first().is_some_and(u8::is_ascii_digit);
             let plain = !word.is_empty() && !mixed && !single_letter && !matches!(self.b.get(end), Some(b'=' | b'+'));
+            // A legacy cycle's sub-block name run into its value at the line's end, as older
+            // TNCs and posts write it (`9.1 TIME5`, the Hungarian `9.1 V.IDO2` of DWELL 2):
+            // the name is read past and the number left as its value. Never an address word
+            // (`X10`, `Q200`, `DR5`: a letter or the dictionary's address before the digits).
+            if mixed && let Some(split) = self.glued_name_value(from, end) {
+                self.i = split;
+                named = true;
+                break;
+            }
             if !plain || (named && self.bare_number_ends_line(from)) {
                 break;
             }
