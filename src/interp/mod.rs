@@ -948,6 +948,13 @@ pub struct Interpreter<'a> {
     /// `L`; [`Interpreter::plain_keyword_code`]), asked of the dictionary once, not at every
     /// move.
     straight_keywords: Vec<bool>,
+    /// By code: whether a keyword word naming it, with its value, is an inert code (Heidenhain's
+    /// `FN` before its assignment or jump; [`read::inert_keyword`]), asked of the dictionary
+    /// once, not at every `FN` block.
+    inert_keywords: Vec<bool>,
+    /// By code: whether the code, as the motion mode in force, reads the extra word as a polar
+    /// word (an inert code's value then goes the general way), asked once.
+    extra_polar: Vec<bool>,
     /// Assignments of the block being executed, waiting for its reads (reused).
     pending: Vec<PendingAssign>,
     /// A `#3006` stop message to emit at the stop step.
@@ -1078,6 +1085,8 @@ impl<'a> Interpreter<'a> {
                 matches!((at(Step::Feed), at(Step::Motion)), (Some(f), Some(m)) if f < m)
             },
             straight_keywords: (0..dialect.codes.len()).map(|c| fast::straight_keyword(dialect, c)).collect(),
+            inert_keywords: (0..dialect.codes.len()).map(|c| read::inert_keyword(dialect, profile, c)).collect(),
+            extra_polar: dialect.codes.iter().map(|def| def.args.iter().any(|&(from, _)| from == Role::Extra)).collect(),
             stop_message: None,
             tool_edits: BTreeMap::new(),
             comp: std::cell::RefCell::new(None),

@@ -9,7 +9,7 @@
 
 use crate::canon::{DistanceMode, Units};
 use crate::diag::{Code, Diagnostic, Severity};
-use crate::dialect::{CodeDef, DecimalInput, Meaning, Role, Step};
+use crate::dialect::{CodeDef, DecimalInput, Dialect, Meaning, Role, Step};
 use crate::syntax::{Block, Value, Word, WordMode};
 use crate::text::TextRange;
 
@@ -112,25 +112,20 @@ impl Interpreter<'_> {
         };
         let (Value::Number { value: c, .. }, Value::Number { .. }) = (code.value, word.value) else { return None };
         let c = c as usize;
-        if c >= self.dialect.codes.len() || word.cycle_arg || code.cycle_arg || !block.axis_refs.is_empty() || self.st.face_plane.is_some()
+        // What the dictionary says of the code, asked once (`inert_keyword`; none past the
+        // codes).
+        if !self.inert_keywords.get(c).is_some_and(|&inert| inert)
+            || word.cycle_arg
+            || code.cycle_arg
+            || !block.axis_refs.is_empty()
+            || self.st.face_plane.is_some()
         {
             return None;
         }
-        let def = self.code(c);
-        let inert = def.meaning == Meaning::Other
-            && def.keyword.as_ref().is_some_and(|k| k.value_role == Some(Role::Extra))
-            && def.args.is_empty()
-            && def.params.required.is_empty()
-            && def.params.any_of.is_empty()
-            && def.params.exclusive.is_empty()
-            && self.dialect.groups[def.group].step != Step::Motion;
         // A motion mode that would read the value as a polar word (`polar_roles`): the
         // general way.
-        let polar = self.st.motion_code.is_some_and(|m| self.code(m).args.iter().any(|&(from, _)| from == Role::Extra));
-        // A value scaled as a least increment goes the general way.
-        let scaled = !self.profile.calculator_input
-            && matches!(&self.dialect.behaviour.decimal_input, DecimalInput::LeastIncrement { scaled, .. } if scaled.contains(&Role::Extra));
-        (inert && !scaled && !polar).then_some((c, *word))
+        let polar = self.st.motion_code.is_some_and(|m| self.extra_polar.get(m).is_none_or(|&p| p));
+        (!polar).then_some((c, *word))
     }
 
     /// The read phase of a block [`Interpreter::inert_code_words`] found inert, code `c`
@@ -743,4 +738,25 @@ impl Interpreter<'_> {
         }
         None
     }
+}
+
+/// Whether a keyword word naming code `c` of `d` (`c` < the number of codes), with its value
+/// as the extra word, is an inert code ([`Interpreter::inert_code_words`]): a code that means
+/// nothing to execute (Heidenhain's `FN`, whose arithmetic or jump the block's assignment or
+/// statement carries), takes its value as the extra word, needs no other word, and is not a
+/// motion mode; and the extra word is not scaled as a least increment (that goes the general
+/// way). Asked once for each code of the dictionary.
+pub(super) fn inert_keyword(d: &Dialect, profile: &super::Profile, c: usize) -> bool {
+    let def = &d.codes[c];
+    let inert = def.meaning == Meaning::Other
+        && def.keyword.as_ref().is_some_and(|k| k.value_role == Some(Role::Extra))
+        && def.args.is_empty()
+        && def.params.required.is_empty()
+        && def.params.any_of.is_empty()
+        && def.params.exclusive.is_empty()
+        && d.groups[def.group].step != Step::Motion;
+    // A value scaled as a least increment goes the general way.
+    let scaled = !profile.calculator_input
+        && matches!(&d.behaviour.decimal_input, DecimalInput::LeastIncrement { scaled, .. } if scaled.contains(&Role::Extra));
+    inert && !scaled
 }

@@ -1351,7 +1351,8 @@ impl<'a> Driver<'a, '_> {
             len -= 1;
             let (a, b) = match block.exprs.get(stack[len] as usize) {
                 Some(&Expr::Param(n)) => match block.exprs.get(n as usize) {
-                    Some(&Expr::Num(v)) if v >= 0.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => {
+                    // A whole number, compared, not `fract` (a call to `trunc` per condition).
+                    Some(&Expr::Num(v)) if v >= 0.0 && v <= f64::from(u32::MAX) && f64::from(v as u32) == v => {
                         let v = v as u32;
                         if outside.iter().any(|&(lo, hi)| (lo..=hi).contains(&v)) && !self.cond_reads.contains(&v) {
                             self.cond_reads.push(v);
