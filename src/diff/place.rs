@@ -182,6 +182,31 @@ fn name_moves(changes: &mut [Change], moved: &[(u32, u32)], runs: &[(std::ops::R
     }
 }
 
+/// The first row naming each line of a side.
+fn first_rows(changes: &[Change], original: bool) -> BTreeMap<u32, usize> {
+    let mut v: BTreeMap<u32, usize> = BTreeMap::new();
+    for (k, c) in changes.iter().enumerate() {
+        for l in named(c, original) {
+            v.entry(l).or_insert(k);
+        }
+    }
+    v
+}
+
+/// The runs of lines that differ, 1-based, between the line pairs git's diff keeps (0-based,
+/// in order) of two texts of `len` lines.
+fn differing_runs(kept: &[(usize, usize)], len: (usize, usize)) -> Vec<(std::ops::Range<u32>, std::ops::Range<u32>)> {
+    let mut runs = Vec::new();
+    let (mut i, mut j) = (0usize, 0usize);
+    for &(x, y) in kept.iter().chain(std::iter::once(&len)) {
+        if x > i || y > j {
+            runs.push(((i + 1) as u32..(x + 1) as u32, (j + 1) as u32..(y + 1) as u32));
+        }
+        (i, j) = (x + 1, y + 1);
+    }
+    runs
+}
+
 /// Names, in `changes`, the lines without a statement that differ beside the lines they
 /// name (see the module doc).
 pub(super) fn name_places(
@@ -207,28 +232,10 @@ pub(super) fn name_places(
         let i = s.partition_point(|t| t.last.max(t.line) < l);
         i < s.len() && s[i].line <= l
     };
-    // The first row naming each line of a side.
-    let rows = |changes: &[Change], original: bool| {
-        let mut v: BTreeMap<u32, usize> = BTreeMap::new();
-        for (k, c) in changes.iter().enumerate() {
-            for l in named(c, original) {
-                v.entry(l).or_insert(k);
-            }
-        }
-        v
-    };
-    // The runs of lines that differ, 1-based.
-    let mut runs = Vec::new();
-    let (mut i, mut j) = (0usize, 0usize);
-    for &(x, y) in kept.iter().chain(std::iter::once(&(la.len(), lb.len()))) {
-        if x > i || y > j {
-            runs.push(((i + 1) as u32..(x + 1) as u32, (j + 1) as u32..(y + 1) as u32));
-        }
-        (i, j) = (x + 1, y + 1);
-    }
+    let runs = differing_runs(&kept, (la.len(), lb.len()));
     let flows = |c: &Change| matches!(c.kind, ChangeKind::FlowChanged | ChangeKind::ProgramFixed | ChangeKind::ProgramBroken);
     // The blocks are read again only where a jump row or a line without a statement asks.
-    let (na, nb) = (rows(changes, true), rows(changes, false));
+    let (na, nb) = (first_rows(changes, true), first_rows(changes, false));
     let open = |ra: &std::ops::Range<u32>, s: &[Stmt], n: &BTreeMap<u32, usize>| ra.clone().any(|l| !holds(s, l) && !n.contains_key(&l));
     let need = changes.iter().any(flows) || runs.iter().any(|(ra, rb)| open(ra, sa, &na) || open(rb, sb, &nb));
     let (ja, jb): (Jumps, Jumps) = if need { (jumps_of(ta, da, &same_a), jumps_of(tb, db, &same_b)) } else { Default::default() };
@@ -238,7 +245,7 @@ pub(super) fn name_places(
     let mut touched = vec![false; changes.len()];
     name_moves(changes, moved, &runs, &mut touched);
     let (label_a, label_b) = (&ja.0, &jb.0);
-    let (na, nb) = (rows(changes, true), rows(changes, false));
+    let (na, nb) = (first_rows(changes, true), first_rows(changes, false));
     let label_lines = |labels: &[(Target, u32)]| labels.iter().map(|&(_, l)| l).collect::<std::collections::BTreeSet<u32>>();
     let (lla, llb) = (label_lines(label_a), label_lines(label_b));
     // The lines the condition rows name, by line, and the texts' lines, where there are any.

@@ -59,48 +59,7 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
         writeln!(out, "tool T{} {}{d}{r}{z}{l} {}", t.number, t.kind.as_str().replace('_', " "), t.name.as_deref().unwrap_or(""))?;
     }
     for f in &plan.features {
-        let p = f.placement;
-        let ws: Vec<String> = f.workingsteps.iter().map(u32::to_string).collect();
-        let shape = shape(&f.kind);
-        if matches!(f.kind, super::FeatureKind::Turned(_)) {
-            writeln!(out, "feature {} {}{shape} at Z{}; workingsteps {}", f.id, f.kind.label(), num(p[2]), ws.join(", "))?;
-            continue;
-        }
-        writeln!(
-            out,
-            "feature {} {}{shape} at X{} Y{} Z{} depth {}{}; workingsteps {}",
-            f.id,
-            f.kind.label(),
-            num(p[0]),
-            num(p[1]),
-            num(p[2]),
-            num(f.depth),
-            if f.top_inferred { " (top inferred)" } else { "" },
-            ws.join(", ")
-        )?;
-        if let (Some(z), Some(x)) = (f.axis, f.ref_direction) {
-            let v = |v: P3| format!("{} {} {}", num(v[0]), num(v[1]), num(v[2]));
-            writeln!(out, "  on a tilted face: axis {}, positions along {}", v(z), v(x))?;
-        }
-        if let Some(w) = f.wrap {
-            writeln!(
-                out,
-                "  wrapped round the Ø{} cylinder: C{}° to C{}°, {} mm round it (its Y the length round the cylinder)",
-                num(w.diameter),
-                num(w.angles.0),
-                num(w.angles.1),
-                num(w.developed)
-            )?;
-        }
-        if let super::FeatureKind::RoundHole { heights, .. } = &f.kind
-            && !heights.is_empty()
-        {
-            let h: Vec<String> = heights.iter().map(|h| num(*h)).collect();
-            writeln!(out, "  each hole's top as its cycle states it, along the axis from the first: {}", h.join(", "))?;
-        }
-        if !matches!(f.kind, super::FeatureKind::Toolpath) {
-            writeln!(out, "  {}", feature_sources(f))?;
-        }
+        write_feature(out, f)?;
     }
     for w in &plan.workingsteps {
         if let Some(words) = super::turning::words(w) {
@@ -187,6 +146,53 @@ fn write_plan(out: &mut impl Write, plan: &ProcessPlan) -> std::fmt::Result {
         for h in &w.holes {
             writeln!(out, "  hole X{} Y{} bottom Z{} from R{}", num(h.x), num(h.y), num(h.bottom), num(h.r_plane))?;
         }
+    }
+    Ok(())
+}
+
+/// One feature of the plan: its kind, size and place, then its tilt, wrap and sources.
+fn write_feature(out: &mut impl Write, f: &Feature) -> std::fmt::Result {
+    let p = f.placement;
+    let ws: Vec<String> = f.workingsteps.iter().map(u32::to_string).collect();
+    let shape = shape(&f.kind);
+    if matches!(f.kind, super::FeatureKind::Turned(_)) {
+        writeln!(out, "feature {} {}{shape} at Z{}; workingsteps {}", f.id, f.kind.label(), num(p[2]), ws.join(", "))?;
+        return Ok(());
+    }
+    writeln!(
+        out,
+        "feature {} {}{shape} at X{} Y{} Z{} depth {}{}; workingsteps {}",
+        f.id,
+        f.kind.label(),
+        num(p[0]),
+        num(p[1]),
+        num(p[2]),
+        num(f.depth),
+        if f.top_inferred { " (top inferred)" } else { "" },
+        ws.join(", ")
+    )?;
+    if let (Some(z), Some(x)) = (f.axis, f.ref_direction) {
+        let v = |v: P3| format!("{} {} {}", num(v[0]), num(v[1]), num(v[2]));
+        writeln!(out, "  on a tilted face: axis {}, positions along {}", v(z), v(x))?;
+    }
+    if let Some(w) = f.wrap {
+        writeln!(
+            out,
+            "  wrapped round the Ø{} cylinder: C{}° to C{}°, {} mm round it (its Y the length round the cylinder)",
+            num(w.diameter),
+            num(w.angles.0),
+            num(w.angles.1),
+            num(w.developed)
+        )?;
+    }
+    if let super::FeatureKind::RoundHole { heights, .. } = &f.kind
+        && !heights.is_empty()
+    {
+        let h: Vec<String> = heights.iter().map(|h| num(*h)).collect();
+        writeln!(out, "  each hole's top as its cycle states it, along the axis from the first: {}", h.join(", "))?;
+    }
+    if !matches!(f.kind, super::FeatureKind::Toolpath) {
+        writeln!(out, "  {}", feature_sources(f))?;
     }
     Ok(())
 }

@@ -297,6 +297,7 @@
 //! depth-fraction `if`/`elseif` chains, and its W-axis loading subroutine); 1
 //! invalid (g021: a teaching skeleton with `. . .` placeholders for values). Verdicts written by
 //! reading each file before anyone ran ncplan on it; to be measured once after merging.
+//!
 //! Sweep 16's build half (rows h001-h030, half `build-s16`, gathered by vocab17 to build from;
 //! 30 programs of 6 repositories, all valid): Fanuc 19 (a Robodrill's 2025 Renishaw GoProbe
 //! macros, a Fanuc SK7620A thread grinder's builder macros, two Doosan DNM 5700 job-shop
