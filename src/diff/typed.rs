@@ -112,6 +112,8 @@ pub(super) struct Context {
     /// Renishaw's `G65 P9810 Z-5. F3000.`, Heidenhain `TCH PROBE 430` with its Q parameters,
     /// Siemens `CYCLE977(…)`: its words and parameters are the probing's.
     pub probe_cycle: bool,
+    /// A parameter function's keyword code (`FN 17: SYSWRITE`): the statement is that function.
+    pub function_keyword: Option<usize>,
 }
 
 /// Whether a token names a touch probe's measuring cycle by the dictionary: a cycle called by
@@ -240,6 +242,7 @@ impl Context {
         let no_motion = tokens.iter().any(|t| matches!(about(t, d), About::Code(m) if super::statement::words_are_no_motion(m)));
         c.moves_by_variables = !c.macro_call && !no_motion && tokens.iter().any(|t| axis_word(t, d) && by_variable(t, d));
         c.probe_cycle = tokens.iter().any(|t| probing(t, c.macro_call, d));
+        c.function_keyword = tokens.iter().find_map(|t| super::function::code_after_number(t, d));
         c.flow = super::control::flow_of(tokens, d);
         let mill = !d.behaviour.x_diameter && d.behaviour.initial_plane == crate::canon::Plane::Xy;
         let codes = || tokens.iter().filter(|t| t.sort == Sort::Word).map(|t| about(t, d));
@@ -319,6 +322,7 @@ impl Context {
             turn_cycle: self.turn_cycle.or(o.turn_cycle),
             around: self.around.or(o.around),
             probe_cycle: self.probe_cycle || o.probe_cycle,
+            function_keyword: self.function_keyword.or(o.function_keyword),
         }
     }
 }
@@ -554,7 +558,7 @@ fn function_call(tok: &Token, d: &Dialect) -> Option<String> {
 
 /// A keyword code the dictionary gives a machine function the plan has no kind for (Siemens
 /// `DRFOF`, handwheel offsets cleared): that function, by the dictionary's name for it.
-fn keyword_function(tok: &Token, d: &Dialect) -> Option<String> {
+pub(super) fn keyword_function(tok: &Token, d: &Dialect) -> Option<String> {
     if tok.sort != Sort::Other || !tok.value.is_empty() {
         return None;
     }
@@ -622,6 +626,9 @@ fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
 /// Words of one kind make one change: their texts joined, before and after.
 pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> (Vec<Typed>, Vec<bool>) {
     use ChangeKind as K;
+    if let Some(whole) = super::function::whole(diffs, ctx.function_keyword, d) {
+        return (vec![whole], vec![true; diffs.len()]);
+    }
     if let Some(whole) = whole_statement(diffs, ctx, d) {
         return (vec![whole], vec![true; diffs.len()]);
     }
