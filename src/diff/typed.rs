@@ -558,7 +558,7 @@ fn function_call(tok: &Token, d: &Dialect) -> Option<String> {
 
 /// A keyword code the dictionary gives a machine function the plan has no kind for (Siemens
 /// `DRFOF`, handwheel offsets cleared): that function, by the dictionary's name for it.
-pub(super) fn keyword_function(tok: &Token, d: &Dialect) -> Option<String> {
+fn keyword_function(tok: &Token, d: &Dialect) -> Option<String> {
     if tok.sort != Sort::Other || !tok.value.is_empty() {
         return None;
     }
@@ -626,7 +626,7 @@ fn data_kind(form: DataForm, r: Role) -> (ChangeKind, &'static str) {
 /// Words of one kind make one change: their texts joined, before and after.
 pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> (Vec<Typed>, Vec<bool>) {
     use ChangeKind as K;
-    if let Some(whole) = super::function::whole(diffs, ctx.function_keyword, d) {
+    if let Some(whole) = parameter_function(diffs, ctx.function_keyword, d) {
         return (vec![whole], vec![true; diffs.len()]);
     }
     if let Some(whole) = whole_statement(diffs, ctx, d) {
@@ -698,6 +698,25 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
         }
     }
     (out, told)
+}
+
+/// The statement's change as its function's, where the function is a machine function the
+/// plan has no kind for (a system datum or a table row written), or a read of data only the
+/// machine has into a parameter (`FN 18: SYSREAD Q1600 = ID50 NR0 IDXQ1`, told whole as a
+/// statement, not as the parameter set to `ID50`): the words that differ on each side.
+fn parameter_function(diffs: &[(Option<Token>, Option<Token>)], code: Option<usize>, d: &Dialect) -> Option<Typed> {
+    let (i, spec) = d.keyword_codes().find(|&(i, _)| Some(i) == code)?;
+    let head = Token { key: spec.text.clone(), value: String::new(), text: spec.text.clone(), sort: Sort::Other };
+    let (kind, field) = match keyword_function(&head, d) {
+        Some(field) => (ChangeKind::MachineFunctionChanged, field),
+        None if d.codes[i].meaning == crate::dialect::Meaning::MachineDataRead => (ChangeKind::StatementChanged, "statement".into()),
+        None => return None,
+    };
+    let side = |after: bool| {
+        let words = diffs.iter().filter_map(|(x, y)| if after { y.as_ref() } else { x.as_ref() });
+        words.map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ")
+    };
+    Some(Typed { kind, field, before: side(false), after: side(true) })
 }
 
 /// A statement added or removed whole that a keyword code begins (`TOOL CALL 5 Z S3000`):
