@@ -160,11 +160,11 @@ pub fn decode(bytes: &[u8]) -> (SourceText, Vec<DecodeNote>) {
         return (SourceText { text: String::new(), encoding: Encoding::Binary }, diags);
     }
     match std::str::from_utf8(body) {
-        Ok(s) => (SourceText { text: blank_stray_returns(s.to_owned()), encoding: Encoding::Utf8 }, diags),
+        Ok(s) => (SourceText { text: blank_end_marks(blank_stray_returns(s.to_owned())), encoding: Encoding::Utf8 }, diags),
         Err(e) => {
             let text: String = body.iter().map(|&b| windows_1252(b)).collect();
             diags.push(DecodeNote::NotUtf8 { at: e.valid_up_to() as u64 });
-            (SourceText { text: blank_stray_returns(text), encoding: Encoding::Windows1252 }, diags)
+            (SourceText { text: blank_end_marks(blank_stray_returns(text)), encoding: Encoding::Windows1252 }, diags)
         }
     }
 }
@@ -187,6 +187,40 @@ fn blank_stray_returns(text: String) -> String {
     String::from_utf8(bytes).expect("an ASCII byte replaced by another keeps UTF-8 valid")
 }
 
+/// The end-of-file mark: SUB (0x1A, Ctrl-Z), which MS-DOS text files and the DNC and
+/// tape-punch software of that era write after a file's last line (CP/M and MS-DOS end a text
+/// file there; `COPY /A` writes it). It is no character of the ISO 840 tape code a control
+/// reads (a Fanuc reads a file up to its closing `%`; LinuxCNC's interpreter stops with "Bad
+/// character" at one inside the program), so only the run at the file's end is the mark.
+const END_MARK: u8 = 0x1a;
+
+/// Whether `b` may stand in the run of end-of-file marks at a file's end: the mark itself and
+/// the line ends and blanks among the marks.
+fn in_end_run(b: u8) -> bool {
+    matches!(b, END_MARK | b'\n' | b'\r' | b' ' | b'\t')
+}
+
+/// The end-of-file marks after a program's last line blanked: a file saved again without them
+/// is the same program, and a mark on a line of its own is no unexpected character. Blanked,
+/// not removed, so every byte offset stays the source's; a mark anywhere before the trailing
+/// run of marks, line ends and blanks stays (the lexer reports it). [`Survey`] finds the same
+/// run as the bytes go by, so that a file read piece by piece reads the same.
+fn blank_end_marks(text: String) -> String {
+    let b = text.as_bytes();
+    let run = b.iter().rev().take_while(|&&c| in_end_run(c)).count();
+    if !b[b.len() - run..].contains(&END_MARK) {
+        return text;
+    }
+    let mut bytes = text.into_bytes();
+    let n = bytes.len();
+    for c in &mut bytes[n - run..] {
+        if *c == END_MARK {
+            *c = b' ';
+        }
+    }
+    String::from_utf8(bytes).expect("an ASCII byte replaced by another keeps UTF-8 valid")
+}
+
 /// [`decode`] that takes the bytes and, for UTF-8 input (the common case), keeps them as the
 /// text without a copy: a large program is held in memory once.
 pub fn decode_owned(mut bytes: Vec<u8>) -> (SourceText, Vec<DecodeNote>) {
@@ -197,7 +231,7 @@ pub fn decode_owned(mut bytes: Vec<u8>) -> (SourceText, Vec<DecodeNote>) {
         return decode(&bytes);
     }
     match String::from_utf8(bytes) {
-        Ok(text) => (SourceText { text: blank_stray_returns(text), encoding: Encoding::Utf8 }, Vec::new()),
+        Ok(text) => (SourceText { text: blank_end_marks(blank_stray_returns(text)), encoding: Encoding::Utf8 }, Vec::new()),
         Err(e) => decode(e.as_bytes()),
     }
 }
@@ -551,6 +585,10 @@ pub struct Survey {
     extra: u64,
     /// `extra` before each multiple of [`MARK_EVERY`] body bytes.
     marks: Vec<u64>,
+    /// Where the run of end-of-file marks, line ends and blanks at the end of the bytes seen
+    /// starts (a body offset), and whether it holds a mark (see `blank_end_marks`).
+    run_start: u64,
+    run_mark: bool,
 }
 
 /// How a surveyed file decodes: enough to decode any piece of it ([`Layout::read`]).
@@ -566,6 +604,9 @@ pub struct Layout {
     text_len: usize,
     /// Whether lone carriage returns are blanks (see `blank_stray_returns`).
     blank_stray: bool,
+    /// Where the end-of-file marks that are blanks start in the decoded text (see
+    /// `blank_end_marks`); the text's length where there are none.
+    end_marks: usize,
     /// Windows-1252: decoded bytes beyond one per body byte before each multiple of
     /// [`MARK_EVERY`] body bytes.
     marks: Vec<u64>,
@@ -645,6 +686,13 @@ impl Survey {
         if self.invalid_at.is_none() {
             self.validate(seg, ascii);
         }
+        match seg.iter().rposition(|&c| !in_end_run(c)) {
+            Some(p) => {
+                self.run_start = self.body_len + p as u64 + 1;
+                self.run_mark = seg[p + 1..].contains(&END_MARK);
+            }
+            None => self.run_mark |= seg.contains(&END_MARK),
+        }
         self.body_len += seg.len() as u64;
     }
 
@@ -703,7 +751,9 @@ impl Survey {
             (Encoding::Utf8, self.body_len as usize)
         };
         let marks = if encoding == Encoding::Windows1252 { self.marks } else { Vec::new() };
-        (Layout { encoding, bom, body_len: self.body_len, text_len, blank_stray, marks }, diags)
+        // The run is ASCII: it ends the decoded text as it ends the bytes.
+        let end_marks = if self.run_mark { text_len.saturating_sub((self.body_len - self.run_start) as usize) } else { text_len };
+        (Layout { encoding, bom, body_len: self.body_len, text_len, blank_stray, end_marks, marks }, diags)
     }
 }
 
@@ -786,6 +836,14 @@ impl Layout {
                 from = p + 1;
             }
         }
+        if at + end > self.end_marks {
+            let from = self.end_marks.saturating_sub(at);
+            for c in &mut buf[from..end] {
+                if *c == END_MARK {
+                    *c = b' ';
+                }
+            }
+        }
         bytes.truncate(kept + end);
         bytes.drain(kept..kept + start);
         match String::from_utf8(bytes) {
@@ -841,7 +899,8 @@ impl Layout {
                     }
                     first.get_or_insert(dec as usize);
                     let lone = buf[p] == b'\r' && self.blank_stray && buf[..len].get(p + 1).is_none_or(|&n| n != b'\n');
-                    out.push(if lone { ' ' } else { c });
+                    let end_mark = buf[p] == END_MARK && dec >= self.end_marks as u64;
+                    out.push(if lone || end_mark { ' ' } else { c });
                     written += c.len_utf8();
                 }
                 dec += c.len_utf8() as u64;
@@ -918,6 +977,35 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_end_of_file_marks_after_the_last_line_are_blanks() {
+        // A DOS-era file closed by Ctrl-Z after the tape end `%`, or on a line of its own:
+        // blanked, same length, read whole or piece by piece; a mark inside the program stays
+        // (the lexer reports it), and so does one before the last line.
+        for (input, want) in [
+            (&b"%\nO1\nM30\n%\x1a"[..], "%\nO1\nM30\n% "),
+            (b"G0 X1\r\n\x1a\x1a", "G0 X1\r\n  "),
+            (b"G0 X1\r\n\x1a\r\n\t\x1a \n", "G0 X1\r\n \r\n\t  \n"),
+            (b"G0 X1\n", "G0 X1\n"),
+            (b"G0 \x1a X1\n", "G0 \x1a X1\n"),
+            (b"G0 X1\n\x1a\nM30\n", "G0 X1\n\x1a\nM30\n"),
+            (b"(\xe9)\nM30\n%\x1a", "(\u{e9})\nM30\n% "),
+            (b"\x1a", " "),
+        ] {
+            assert_eq!(decode(input).0.text, want);
+            assert_eq!(decode_owned(input.to_vec()).0.text, want);
+            for chunk in [1, 3, 64] {
+                let (r, _) = BytesReader::new(input.to_vec(), chunk, 4);
+                let mut got = String::new();
+                while got.len() < r.len() {
+                    let at = got.len();
+                    r.read(at, 2, &mut got);
+                }
+                assert_eq!(got, want, "read piece by piece in chunks of {chunk}");
+            }
+        }
+    }
+
+    #[test]
     fn a_stray_carriage_return_is_a_blank_unless_the_file_ends_lines_in_cr() {
         let (t, _) = decode(b"N1 ;COMMENT\r REST\nN2 G0\r\nN3\r");
         assert_eq!(t.text, "N1 ;COMMENT  REST\nN2 G0\r\nN3 ");
@@ -959,7 +1047,7 @@ mod tests {
     }
 
     /// Bytes of the kinds decoding distinguishes: line ends, stray returns, multi-byte
-    /// UTF-8, Windows-1252 bytes, a byte-order mark, NULs.
+    /// UTF-8, Windows-1252 bytes, a byte-order mark, NULs, end-of-file marks.
     fn program_bytes() -> impl proptest::strategy::Strategy<Value = Vec<u8>> {
         use proptest::prelude::*;
         let piece = prop_oneof![
@@ -972,6 +1060,8 @@ mod tests {
             Just(b"\xEF\xBB\xBF".to_vec()),
             Just(b"\xE2\x82".to_vec()),
             Just(vec![0u8]),
+            Just(b"\x1a".to_vec()),
+            Just(b"%\x1a".to_vec()),
             proptest::collection::vec(any::<u8>(), 0..4),
             "[ -~]{0,12}".prop_map(String::into_bytes),
         ];

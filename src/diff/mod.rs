@@ -62,6 +62,7 @@ mod account;
 mod around;
 mod control;
 mod follow;
+mod function;
 mod height;
 mod moved;
 mod place;

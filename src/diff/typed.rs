@@ -112,6 +112,8 @@ pub(super) struct Context {
     /// Renishaw's `G65 P9810 Z-5. F3000.`, Heidenhain `TCH PROBE 430` with its Q parameters,
     /// Siemens `CYCLE977(…)`: its words and parameters are the probing's.
     pub probe_cycle: bool,
+    /// A parameter function's keyword code (`FN 17: SYSWRITE`): the statement is that function.
+    pub function_keyword: Option<usize>,
 }
 
 /// Whether a token names a touch probe's measuring cycle by the dictionary: a cycle called by
@@ -240,6 +242,7 @@ impl Context {
         let no_motion = tokens.iter().any(|t| matches!(about(t, d), About::Code(m) if super::statement::words_are_no_motion(m)));
         c.moves_by_variables = !c.macro_call && !no_motion && tokens.iter().any(|t| axis_word(t, d) && by_variable(t, d));
         c.probe_cycle = tokens.iter().any(|t| probing(t, c.macro_call, d));
+        c.function_keyword = tokens.iter().find_map(|t| super::function::code_after_number(t, d));
         c.flow = super::control::flow_of(tokens, d);
         let mill = !d.behaviour.x_diameter && d.behaviour.initial_plane == crate::canon::Plane::Xy;
         let codes = || tokens.iter().filter(|t| t.sort == Sort::Word).map(|t| about(t, d));
@@ -319,6 +322,7 @@ impl Context {
             turn_cycle: self.turn_cycle.or(o.turn_cycle),
             around: self.around.or(o.around),
             probe_cycle: self.probe_cycle || o.probe_cycle,
+            function_keyword: self.function_keyword.or(o.function_keyword),
         }
     }
 }
@@ -645,6 +649,9 @@ pub(super) fn tool_data(key: &str, d: &Dialect) -> Option<(ChangeKind, String)> 
 /// Words of one kind make one change: their texts joined, before and after.
 pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &Dialect) -> (Vec<Typed>, Vec<bool>) {
     use ChangeKind as K;
+    if let Some(whole) = parameter_function(diffs, ctx.function_keyword, d) {
+        return (vec![whole], vec![true; diffs.len()]);
+    }
     if let Some(whole) = whole_statement(diffs, ctx, d) {
         return (vec![whole], vec![true; diffs.len()]);
     }
@@ -714,6 +721,25 @@ pub(super) fn typed(diffs: &[(Option<Token>, Option<Token>)], ctx: Context, d: &
         }
     }
     (out, told)
+}
+
+/// The statement's change as its function's, where the function is a machine function the
+/// plan has no kind for (a system datum or a table row written), or a read of data only the
+/// machine has into a parameter (`FN 18: SYSREAD Q1600 = ID50 NR0 IDXQ1`, told whole as a
+/// statement, not as the parameter set to `ID50`): the words that differ on each side.
+fn parameter_function(diffs: &[(Option<Token>, Option<Token>)], code: Option<usize>, d: &Dialect) -> Option<Typed> {
+    let (i, spec) = d.keyword_codes().find(|&(i, _)| Some(i) == code)?;
+    let head = Token { key: spec.text.clone(), value: String::new(), text: spec.text.clone(), sort: Sort::Other };
+    let (kind, field) = match keyword_function(&head, d) {
+        Some(field) => (ChangeKind::MachineFunctionChanged, field),
+        None if d.codes[i].meaning == crate::dialect::Meaning::MachineDataRead => (ChangeKind::StatementChanged, "statement".into()),
+        None => return None,
+    };
+    let side = |after: bool| {
+        let words = diffs.iter().filter_map(|(x, y)| if after { y.as_ref() } else { x.as_ref() });
+        words.map(|t| t.text.as_str()).collect::<Vec<_>>().join(" ")
+    };
+    Some(Typed { kind, field, before: side(false), after: side(true) })
 }
 
 /// A statement added or removed whole that a keyword code begins (`TOOL CALL 5 Z S3000`):

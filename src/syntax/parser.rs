@@ -687,4 +687,17 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn the_rest_of_line_a_keyword_keeps_ends_at_its_comment() {
+        // `FN 17: SYSWRITE … = value ; comment`: the comment is one, a `;` inside quotes is text.
+        let registry = Registry::shipped();
+        let d = registry.get("heidenhain").unwrap();
+        let text = "FN 17: SYSWRITE ID50 NR0 IDXQ8 = \"A;B\" ; NAME, untested!\n";
+        let mut p = Parser::new(text, &d);
+        let (mut block, mut diags) = (Block::default(), Vec::new());
+        assert!(p.next_block(&mut block, &mut diags));
+        let comments: Vec<&str> = block.comments.iter().map(|r| &text[r.start as usize..r.end as usize]).collect();
+        assert_eq!(comments, [" NAME, untested!"], "{diags:?}");
+    }
 }

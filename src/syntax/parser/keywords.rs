@@ -129,7 +129,7 @@ impl Lexer<'_, '_> {
                     self.i += 1;
                 }
             }
-            KeywordRest::Line => self.i = self.line_end(),
+            KeywordRest::Line => self.i = self.rest_of_line_end(),
             KeywordRest::Words => {
                 let named = self.display_name();
                 if named && value_role.is_some() {
@@ -138,6 +138,26 @@ impl Lexer<'_, '_> {
             }
         }
         true
+    }
+
+    /// Where the rest of a line a keyword keeps unread ends: at the line's end, or at a comment
+    /// that opens there outside quoted text, which stays a comment. The TNC writes a comment
+    /// after such a function's values (TNC 426/430 technical manual, "FN17: SYSWRITE IDxxxx
+    /// NRxxxx IDXxxxx = Qxxx or numerical value; comment"); `IDXQ8 = "" ; NAME` ends at `;`, a
+    /// `;` inside the quotes does not end it.
+    fn rest_of_line_end(&self) -> usize {
+        let end = self.line_end();
+        let quote = self.dialect.lexical.string_quote.map(|q| q as u8);
+        let mut quoted = false;
+        for p in self.i..end {
+            let c = self.b[p];
+            if Some(c) == quote {
+                quoted = !quoted;
+            } else if !quoted && self.dialect.lexical.comments.iter().any(|r| !r.block_start && r.opens(&self.b[p..end])) {
+                return p;
+            }
+        }
+        end
     }
 
     /// The value after a numbered code's display name (`CYCL DEF 1.1 SET UP .1181`,
