@@ -146,7 +146,8 @@ impl<'a> Driver<'a, '_> {
             }
             Some(Statement::Then) if c.otherwise.is_some() => {
                 // `IF [c] THEN #1 = 1 ELSE #2 = 1`: the THEN clause's part of the block, or
-                // the ELSE's. On a condition not known here, the one a run without alarm takes.
+                // the ELSE's. On a condition not known here, the way `condition` chose (its
+                // note says which).
                 let Some(o) = &c.otherwise else { return };
                 if cond {
                     interp.execute(&branch_of(block, o, true), sink, diags);
