@@ -143,6 +143,28 @@ pub struct Control {
     pub repeat: Option<ExprId>,
     /// The branches of a `CASE` (its operand is the first of `args`), in order.
     pub cases: Vec<CaseBranch>,
+    /// The `ELSE` of a one-line `IF`, what runs when its condition is false.
+    pub otherwise: Option<Otherwise>,
+}
+
+/// The `ELSE` after a one-line `IF`'s THEN clause, on its line (Centroid CNC12, its manual's
+/// parametric programming chapter and its own system-test macro: `IF c THEN GOTO 1 ELSE GOTO 2`,
+/// `IF [c] THEN #1 = 1 ELSE #2 = 1`, and `.. THEN GOTO 100 ELSE` with nothing after it, as
+/// Avid's CNC12 macros write): a jump, statements of its own, or nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Otherwise {
+    /// The `ELSE` keyword.
+    pub keyword: TextRange,
+    /// Its jump (`ELSE GOTO 2`), if it has one.
+    pub jump: Option<Statement>,
+    /// The jump's numbered target.
+    pub target: Option<ExprId>,
+    /// The jump's named target.
+    pub name: Option<TextRange>,
+    /// Where its words start in the block's `words`: those before are the THEN clause's.
+    pub words: u32,
+    /// Where its assignments start in the block's `assigns`.
+    pub assigns: u32,
 }
 
 impl Clone for Control {
@@ -165,6 +187,7 @@ impl Clone for Control {
         self.name = o.name;
         self.repeat = o.repeat;
         self.cases.clone_from(&o.cases);
+        self.otherwise = o.otherwise;
     }
 }
 

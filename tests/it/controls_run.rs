@@ -2,7 +2,7 @@
 //! of several dimensions, oscillation settings given as a pair, skip levels, an addressed
 //! spindle's expression value, a rounding beside an arc; Haas's `IF [..]` with a statement
 //! and no THEN; and what the control rejects stays an error (Fanuc's `IF` with neither GOTO
-//! nor THEN).
+//! nor THEN); Centroid's one-line `IF .. THEN GOTO n` and its `ELSE`.
 
 use ncplan::interp::Profile;
 
@@ -333,4 +333,78 @@ fn a_macro_calls_w_argument_is_no_lathe_evidence() {
     let lathe = "%\nO1000\nG65P9732S1.\nG0 U1. W-2.\nM30\n%\n";
     let sniffed = ncplan::pipeline::sniff(&registry, lathe.as_bytes(), std::path::Path::new("O1000"));
     assert_eq!(sniffed.dialect, "fanuc_lathe");
+}
+
+/// The X of each move, in order.
+fn xs(dialect: &str, program: &str) -> Vec<String> {
+    moves(dialect, program).iter().map(|m| m.split(['(', ',']).nth(1).unwrap_or("").to_owned()).collect()
+}
+
+/// Centroid CNC12 `IF cond THEN GOTO n` (its manual's IF/THEN, the form Avid's macros write:
+/// `IF #9701 EQ 0 THEN GOTO 1000`): the jump is taken only when the condition holds. It was
+/// read as `IF cond THEN` and then a `GOTO` of its own, taken whatever the condition.
+#[test]
+fn centroid_if_then_goto_jumps_only_when_the_condition_holds() {
+    for (value, expected) in [("0", vec!["1.0000", "3.0000"]), ("121", vec!["3.0000"])] {
+        let program = format!("G90 F10\n#111={value}\nIF #111 != 0 THEN GOTO 1000\nG1 X1\nN1000 G1 X3\nM30\n");
+        assert_eq!(errors("centroid", &program), Vec::<String>::new());
+        assert_eq!(xs("centroid", &program), expected, "#111={value}");
+    }
+    // A bracketed condition and a lower-case `then`, as the Avid macros write some.
+    let program = "G90 F10\n#1=1\nIF [#1 == 1] then GOTO 20\nG1 X1\nN20 G1 X2\nM30\n";
+    assert_eq!(xs("centroid", program), vec!["2.0000"]);
+}
+
+/// `IF cond THEN GOTO a ELSE GOTO b` and a trailing `ELSE` with nothing after it (Avid's
+/// CNC12 macros: `IF #110 EQ #9718 THEN GOTO 200 ELSE GOTO 300`, `IF #111 EQ 1 THEN GOTO
+/// 100 ELSE`): one line, one of the two jumps, or on to the next line; no block `ELSE` that
+/// looks for an `ENDIF`.
+#[test]
+fn centroid_one_line_else_takes_the_other_jump_or_goes_on() {
+    for (value, expected) in [("1", vec!["2.0000", "4.0000"]), ("0", vec!["3.0000", "4.0000"])] {
+        let program = format!(
+            "G90 F10\n#5={value}\nIF #5 EQ 1 THEN GOTO 200 ELSE GOTO 300 ;which\nG1 X1\nN200 G1 X2\nGOTO 400\nN300 G1 X3\nN400 G1 X4\nM30\n"
+        );
+        assert_eq!(errors("centroid", &program), Vec::<String>::new());
+        assert_eq!(xs("centroid", &program), expected, "#5={value}");
+    }
+    for (value, expected) in [("1", vec!["2.0000"]), ("0", vec!["1.0000", "2.0000"])] {
+        let program = format!("G90 F10\n#5={value}\nIF #5 EQ 1 THEN GOTO 100 ELSE\nG1 X1\nN100 G1 X2\nM30\n");
+        assert_eq!(errors("centroid", &program), Vec::<String>::new());
+        assert_eq!(xs("centroid", &program), expected, "#5={value}");
+    }
+}
+
+/// `IF [c] THEN #a = 1 ELSE #b = 1` (Centroid's own CNC11 system-test macro) and `THEN
+/// G1 X5 ELSE G1 X6`: the THEN clause's statement when the condition holds, else the ELSE's,
+/// never both.
+#[test]
+fn centroid_one_line_else_runs_one_of_two_statements() {
+    for (value, expected) in [("1", vec!["5.0000", "7.0000"]), ("0", vec!["6.0000", "8.0000"])] {
+        let program = format!(
+            "G90 F10\n#1=0\n#2=0\n#5={value}\nIF [#5 == 1] THEN #1 = 7 ELSE #2 = 8\nIF #5 == 1 THEN G1 X5 ELSE G1 X6\nG1 X[#1+#2]\nM30\n"
+        );
+        assert_eq!(errors("centroid", &program), Vec::<String>::new());
+        assert_eq!(xs("centroid", &program), expected, "#5={value}");
+    }
+}
+
+/// The one-line forms of the other dialects still run by their condition: Fanuc's and Haas's
+/// `IF [..] THEN #1=..` and `IF [..] GOTO n`, Okuma's `IF [..] N<name>`.
+#[test]
+fn other_dialects_one_line_if_forms_still_follow_their_condition() {
+    for dialect in ["fanuc", "haas"] {
+        for (value, expected) in [("1", vec!["5.0000", "9.0000"]), ("0", vec!["0.0000", "8.0000", "9.0000"])] {
+            let program = format!(
+                "O1000\nG90 F100\n#1={value}\n#2=0\nIF [#1 EQ 1] THEN #2=5.\nG1 X#2\nIF [#1 EQ 1] GOTO 10\nG1 X8.\nN10 G1 X9.\nM30\n"
+            );
+            assert_eq!(errors(dialect, &program), Vec::<String>::new());
+            assert_eq!(xs(dialect, &program), expected, "{dialect} #1={value}");
+        }
+    }
+    for (value, expected) in [("1", vec!["9.0000"]), ("0", vec!["8.0000", "9.0000"])] {
+        let program = format!("G90 F100\nVC1={value}\nIF [VC1 EQ 1] NSKIP\nG1 X8.\nNSKIP G1 X9.\nM30\n");
+        assert_eq!(errors("okuma", &program), Vec::<String>::new());
+        assert_eq!(xs("okuma", &program), expected, "okuma VC1={value}");
+    }
 }

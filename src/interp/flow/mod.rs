@@ -2305,6 +2305,7 @@ fn set_variable(interp: &mut Interpreter<'_>, block: &Block, var: ExprId, v: f64
 fn block_if(block: &Block, c: &Control, dialect: &Dialect) -> bool {
     c.statement == Some(Statement::If)
         && c.then == Some(Statement::Then)
+        && c.otherwise.is_none()
         && block.words.is_empty()
         && block.assigns.is_empty()
         && dialect.macros.statements.iter().any(|(_, st)| *st == Statement::EndIf)

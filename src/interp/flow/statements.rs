@@ -14,7 +14,7 @@ use crate::canon::{Canon, CanonOp, CanonSink};
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::dialect::{MainReturn, Statement};
 use crate::interp::{Interpreter, eval};
-use crate::syntax::{Block, Control, Expr};
+use crate::syntax::{Block, Control, Expr, Otherwise};
 use crate::text::TextRange;
 
 impl<'a> Driver<'a, '_> {
@@ -135,11 +135,24 @@ impl<'a> Driver<'a, '_> {
             Some(st @ (Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)) => {
                 if cond {
                     self.jump_statement(st, c, block, start, interp, diags);
+                } else if let Some(o) = &c.otherwise {
+                    self.otherwise(c, o, block, start, interp, sink, diags);
                 }
             }
             Some(Statement::Then) if block_if(block, c, self.dialect) => {
                 if !cond {
                     self.next_branch(label, start, c.range, interp, diags);
+                }
+            }
+            Some(Statement::Then) if c.otherwise.is_some() => {
+                // `IF [c] THEN #1 = 1 ELSE #2 = 1`: the THEN clause's part of the block, or
+                // the ELSE's. On a condition not known here, the way `condition` chose (its
+                // note says which).
+                let Some(o) = &c.otherwise else { return };
+                if cond {
+                    interp.execute(&branch_of(block, o, true), sink, diags);
+                } else {
+                    self.otherwise(c, o, block, start, interp, sink, diags);
                 }
             }
             Some(Statement::Then) => {
@@ -167,6 +180,27 @@ impl<'a> Driver<'a, '_> {
                     self.next_branch(label, start, c.range, interp, diags);
                 }
             }
+        }
+    }
+
+    /// The `ELSE` of a one-line `IF` whose condition is false: its jump, or its part of the
+    /// block's words and assignments.
+    #[allow(clippy::too_many_arguments)]
+    fn otherwise(
+        &mut self,
+        c: &Control,
+        o: &Otherwise,
+        block: &Block,
+        start: Pos,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        if let Some(jump) = o.jump {
+            let control = Control { range: c.range, statement: Some(jump), name: o.name, target: o.target, ..Control::default() };
+            self.jump_statement(jump, &control, block, start, interp, diags);
+        } else if (o.words as usize) < block.words.len() || (o.assigns as usize) < block.assigns.len() {
+            interp.execute(&branch_of(block, o, false), sink, diags);
         }
     }
 
@@ -930,4 +964,30 @@ fn unsupported_statement(c: &Control, block: &Block, interp: &mut Interpreter<'_
     // Counted per keyword: each kind of statement is named at least once.
     let key = format!("statement {}", c.keyword.map_or("", |k| block.text(k)).to_ascii_uppercase());
     interp.limited(diags, &key, Diagnostic::new(Code::Unsupported, c.range, msg));
+}
+
+/// The part of `block` one branch of a one-line `IF .. ELSE` runs: the THEN clause's words
+/// and assignments (`then`), or the ELSE's, without the statement.
+fn branch_of(block: &Block, o: &Otherwise, then: bool) -> Block {
+    let mut b = block.clone();
+    b.control = None;
+    let (w, a) = ((o.words as usize).min(b.words.len()), (o.assigns as usize).min(b.assigns.len()));
+    if then {
+        b.words.truncate(w);
+        b.assigns.truncate(a);
+        b.axis_refs.retain(|r| r.0 < w);
+    } else {
+        b.words.drain(..w);
+        b.assigns.drain(..a);
+        b.axis_refs.retain(|r| r.0 >= w);
+        for r in &mut b.axis_refs {
+            r.0 -= w;
+        }
+    }
+    // What a kept block caches by assignment no longer lines up: read afresh.
+    b.resolved.clear();
+    b.flat.clear();
+    b.flat_spans.clear();
+    b.reads_no_system = false;
+    b
 }

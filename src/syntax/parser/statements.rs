@@ -4,7 +4,7 @@
 //! are `Lexer::control_word` and `Lexer::keyword_statement`.
 
 use super::super::expr::Expr;
-use super::super::{Assign, CaseBranch, Control, ParamTarget};
+use super::super::{Assign, CaseBranch, Control, Otherwise, ParamTarget};
 use super::Lexer;
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::Statement;
@@ -141,6 +141,10 @@ impl Lexer<'_, '_> {
         let known = if self.keywords_open_blocks() { self.statement_at(start) } else { None };
         let mut control = Control::default();
         match known {
+            Some((end, Statement::Else)) if self.one_line_else() => {
+                self.else_branch(start, end);
+                return;
+            }
             Some((end, mut st)) => {
                 self.i = end;
                 // One keyword for both (Siemens `REPEAT`): a label after it makes a section repeat.
@@ -755,6 +759,55 @@ impl Lexer<'_, '_> {
             control.target = self.unary(1);
         } else if jump {
             self.target(control);
+        } else if then == Statement::Then
+            && let Some((end, jump)) = self.statement_at(self.i).filter(|&(_, st)| is_jump(st))
+        {
+            // `IF #111 != 121 THEN GOTO 1000` (Centroid CNC12's IF .. THEN with a jump, the
+            // Avid macros' form): the jump is the THEN clause's one statement, taken only
+            // when the condition holds, as `IF [..] GOTO n`.
+            self.i = end;
+            control.then = Some(jump);
+            self.target(control);
         }
     }
+
+    /// Whether an `ELSE` at `start` is the else of this line's one-line `IF`: the block holds
+    /// an `IF` whose condition has a THEN clause or a jump after it.
+    fn one_line_else(&self) -> bool {
+        self.block.control.as_ref().is_some_and(|c| {
+            c.statement == Some(Statement::If) && c.otherwise.is_none() && c.then.is_some_and(|t| t == Statement::Then || is_jump(t))
+        })
+    }
+
+    /// `ELSE GOTO 2`, `ELSE #2 = 1`, or `ELSE` alone after a one-line `IF` (see
+    /// [`crate::syntax::Otherwise`]): noted on the `IF`, whose statement the block keeps. The
+    /// words and assignments after it are read as the block's, from the places noted.
+    fn else_branch(&mut self, start: usize, end: usize) {
+        let mut otherwise = Otherwise {
+            keyword: self.range(start, end),
+            words: self.block.words.len() as u32,
+            assigns: self.block.assigns.len() as u32,
+            ..Otherwise::default()
+        };
+        self.i = end;
+        self.skip_blanks();
+        if let Some((end, jump)) = self.statement_at(self.i).filter(|&(_, st)| is_jump(st)) {
+            self.i = end;
+            let mut target = Control { statement: Some(jump), ..Control::default() };
+            self.target(&mut target);
+            otherwise.jump = Some(jump);
+            otherwise.target = target.target;
+            otherwise.name = target.name;
+        }
+        let end = self.range(start, self.i).end;
+        if let Some(c) = self.block.control.as_mut() {
+            c.otherwise = Some(otherwise);
+            c.range.end = end;
+        }
+    }
+}
+
+/// Whether `st` is a jump: `GOTO` and its forms.
+fn is_jump(st: Statement) -> bool {
+    matches!(st, Statement::Goto | Statement::GotoForward | Statement::GotoBack | Statement::GotoQuiet | Statement::GotoLabel)
 }
