@@ -65,8 +65,11 @@
 //! The passes of one tool over one groove (a plunge, then each flank down to the floor, a
 //! rapid and often a finer feed between them), which recovery parts at the feed change, are
 //! one grooving workingstep again (`one_groove`), its groove as wide as the flanks' span. A
-//! groove on the face, profiled from both walls down to one floor (`face_groove`), is
-//! grooving; with no face-groove kind yet, its floor is the revolved flat it leaves.
+//! groove on the face, its walls profiled or plunged down to one floor (`face_groove`,
+//! `straight_walls`), is grooving, and its feature a face groove (`Turned::FaceGroove`), as are
+//! a face grooving tool's plunges along -Z off the axis, each left back up along +Z
+//! (`face_plunges`: roughing where they also cut across their floors, the groove then the one
+//! the tool's finish makes) and `G74` off the axis: between the diameters plunged.
 
 use super::model::*;
 pub use super::turned::{TurnOp, Turned, Turning};
@@ -1207,8 +1210,9 @@ struct FacePlunges {
 /// floor, then straight back out: the tool sits between the groove's two walls, so it cannot
 /// leave across X). Each pass opens with its plunge, straight along -Z at one X; none cuts
 /// above where it plunged in, nor reaches the axis (a face cut to the centre is facing);
-/// each ends with a cut back up along +Z at one X or is followed by such a move (the last one
-/// may leave with the workingstep's end).
+/// each ends with a cut back up along +Z at one X or is followed by such a move in the
+/// workingstep (a profile turned down along -Z by a grooving tool leaves across X, or with
+/// the workingstep's end).
 fn face_plunges(ws: &Workingstep) -> Option<FacePlunges> {
     let moves: Vec<Move> = ws.toolpath.iter().collect();
     let spans = run_spans(ws);
@@ -1217,7 +1221,7 @@ fn face_plunges(ws: &Workingstep) -> Option<FacePlunges> {
     }
     let up = |m: &Move| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL && m.to[2] > m.from[2] + TOL;
     let mut p = FacePlunges { floor: f64::INFINITY, lo: f64::INFINITY, hi: f64::NEG_INFINITY, across: false };
-    for (k, &(a, b)) in spans.iter().enumerate() {
+    for &(a, b) in &spans {
         let run: Vec<Move> = moves[a..b].iter().filter(|m| is_cut(m)).copied().collect();
         let first = run.first()?;
         if first.arc.is_some() || (first.to[0] - first.from[0]).abs() > TOL || first.to[2] > first.from[2] - TOL {
@@ -1228,8 +1232,7 @@ fn face_plunges(ws: &Workingstep) -> Option<FacePlunges> {
             return None;
         }
         let next = moves.get(b).copied();
-        let last_pass = k + 1 == spans.len();
-        if !(run.last().is_some_and(up) || next.as_ref().is_some_and(up) || (last_pass && next.is_none())) {
+        if !(run.last().is_some_and(up) || next.as_ref().is_some_and(up)) {
             return None;
         }
         for m in &run {

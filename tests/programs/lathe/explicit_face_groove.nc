@@ -1,7 +1,7 @@
 %
 O2311 (FACE GROOVE PLUNGED AND FINISHED)
-(A face grooving tool as posts write it: plunges along -Z stepping inward across X, each
-turned across at its floor, then the outer and the inner wall finished down to one floor.)
+(FACE GROOVING TOOL AS POSTS WRITE IT: PLUNGES ALONG -Z TURNED ACROSS)
+(THEN THE OUTER AND THE INNER WALL FINISHED DOWN TO ONE FLOOR)
 G21 G18 G40 G99
 T0808 (FACE GROOVE W3)
 G50 S1800

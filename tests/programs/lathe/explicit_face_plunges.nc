@@ -1,7 +1,7 @@
 %
 O2312 (FACE GROOVE PLUNGED)
-(Plunges along -Z at three diameters, stepping in by less than the tool's width: the
-groove a face grooving tool leaves between Ø88 and Ø100 plunged, floor Z-4.)
+(PLUNGES ALONG -Z AT THREE DIAMETERS, STEPPING IN BY LESS THAN THE TOOL WIDTH)
+(THE GROOVE BETWEEN D88 AND D100 PLUNGED, FLOOR Z-4)
 G21 G18 G40 G99
 T0808 (FACE GROOVE W4)
 G97 S800 M03

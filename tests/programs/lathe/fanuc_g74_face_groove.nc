@@ -1,7 +1,7 @@
 %
 O2310 (G74 FACE GROOVE)
-(An annular groove in the face between Ø60 and Ø80, 6 deep: G74 pecks along Z by Q,
-shifting in X by P, as the Fanuc 0i-TF manual's face grooving cycle.)
+(AN ANNULAR GROOVE IN THE FACE FROM D60 TO D80, 6 DEEP)
+(G74 PECKS ALONG Z BY Q, SHIFTS IN X BY P)
 G21 G18 G40 G99
 T0303 (FACE GROOVE W3)
 G50 S1500
