@@ -1176,7 +1176,7 @@ fn straight_walls(runs: &[Vec<Move>]) -> Option<f64> {
             r.iter().filter(|m| m.arc.is_none() && (m.from[2] - floor).abs() < 0.01 && (m.to[2] - floor).abs() < 0.01).collect();
         let xs = along.iter().flat_map(|m| [m.from[0], m.to[0]]);
         let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
-        if !plunge || !(hi - lo > TOL) || first.from[2] <= floor + TOL {
+        if !plunge || hi - lo <= TOL || first.from[2] <= floor + TOL {
             continue;
         }
         let wall = first.from[0];
