@@ -7,7 +7,8 @@
 //! of cut, `G76 … A` the tool's angle, never an offset or a rotary axis); a turret's T word with
 //! another offset is the tool's offset (`turret_offset`); passes written one by one (a CAM
 //! post's G1 roughing, G92's repeated X words) are told as passes; turned features read in
-//! diameters (`Ø24`) and a face by its Z (`turned_dims`); a feature's change shared by the
+//! diameters (`Ø24`), a face by its Z and a face groove by its floor's Z, width and walls
+//! (`turned_dims`); a feature's change shared by the
 //! workingsteps that rough and finish it is told once (`merge_feature_repeats`), and a thread's
 //! major diameter derived from the height told is not told again (`fold_derived`).
 
@@ -255,6 +256,10 @@ pub(super) fn turned_dims(a: (&Turned, f64), b: (&Turned, f64), u: Fmt, dim: &mu
     if matches!((a, b), (Turned::RevolvedFlat { .. }, Turned::RevolvedFlat { .. })) && (za - zb).abs() > TOLERANCE {
         dim("face", format!("Z{}", u.c(za)), format!("Z{}", u.c(zb)));
     }
+    // A face groove's floor is where it stands along Z (`face groove floor Z-13.589 → Z-14`).
+    if matches!((a, b), (Turned::FaceGroove { .. }, Turned::FaceGroove { .. })) && (za - zb).abs() > TOLERANCE {
+        dim("face_groove_floor", format!("Z{}", u.c(za)), format!("Z{}", u.c(zb)));
+    }
     let mut size = |field: &str, x: Option<f64>, y: Option<f64>, diameter: bool| {
         if let (Some(x), Some(y)) = (x, y)
             && (x - y).abs() > TOLERANCE
@@ -275,6 +280,11 @@ pub(super) fn turned_dims(a: (&Turned, f64), b: (&Turned, f64), u: Fmt, dim: &mu
         (Turned::Groove { diameter: da, width: wa, .. }, Turned::Groove { diameter: db, width: wb, .. }) => {
             size("groove_diameter", Some(*da), Some(*db), true);
             size("groove_width", *wa, *wb, false);
+        }
+        (Turned::FaceGroove { outer: oa, inner: ia }, Turned::FaceGroove { outer: ob, inner: ib }) => {
+            size("face_groove_width", a.face_groove_width(), b.face_groove_width(), false);
+            size("face_groove_outer_diameter", Some(*oa), Some(*ob), true);
+            size("face_groove_inner_diameter", Some(*ia), Some(*ib), true);
         }
         (Turned::Revolution { outer: oa, inner: ia, .. }, Turned::Revolution { outer: ob, inner: ib, .. }) => {
             size("outer_diameter", Some(*oa), Some(*ob), true);

@@ -128,6 +128,19 @@ pub enum Turned {
         /// Inside the part (or on the face).
         inside: bool,
     },
+    /// An annular groove cut along -Z into the face between two diameters (a face groove, as
+    /// Fanuc's `G74` face grooving cycle or a face grooving tool's plunges along Z cut it):
+    /// its floor is the feature's placement (Z); `inner` and `outer` its walls' diameters at
+    /// the floor where its walls are cut, else the smallest and largest diameter plunged (the
+    /// tool's width then adds to the groove on a side the program does not tell). Its radial
+    /// width is [`Turned::face_groove_width`]. ISO 14649-12 has no face-groove entity: it is
+    /// written as a `groove` whose material side is along the axis (`part21::stepnc::turning`).
+    FaceGroove {
+        /// Outer wall's diameter at the floor.
+        outer: f64,
+        /// Inner wall's diameter at the floor.
+        inner: f64,
+    },
     /// The region a workingstep turns where its parts do not separate (`general_revolution`:
     /// roughing passes, parting off): from `inner` to `outer` diameter, `length` along -Z.
     Revolution {
@@ -163,6 +176,7 @@ impl Turned {
             Turned::Diameter { inside: true, .. } => "inner diameter",
             Turned::RevolvedRound { .. } => "revolved round",
             Turned::Groove { .. } => "groove",
+            Turned::FaceGroove { .. } => "face groove",
             Turned::Thread { .. } => "thread",
             Turned::Revolution { .. } => "general revolution",
         }
@@ -179,11 +193,24 @@ impl Turned {
                 Some(w) => format!("Ø{} width {}", n(*diameter), n(*w)),
                 None => format!("Ø{}", n(*diameter)),
             },
+            Turned::FaceGroove { outer, inner } => match self.face_groove_width() {
+                Some(w) => format!("Ø{}..Ø{} width {}", n(*inner), n(*outer), n(w)),
+                None => format!("Ø{}..Ø{}", n(*inner), n(*outer)),
+            },
             Turned::Revolution { outer, inner, length } => format!("Ø{}..Ø{} × {}", n(*inner), n(*outer), n(*length)),
             Turned::Thread { diameter, root, pitch, length, .. } => match diameter {
                 Some(d) => format!("Ø{} pitch {} root Ø{} × {}", n(*d), n(*pitch), n(*root), n(*length)),
                 None => format!("pitch {} root Ø{} × {}", n(*pitch), n(*root), n(*length)),
             },
+        }
+    }
+
+    /// A face groove's radial width, from wall to wall (none where it was plunged at one
+    /// diameter: the tool's width, not stated).
+    pub fn face_groove_width(&self) -> Option<f64> {
+        match self {
+            Turned::FaceGroove { outer, inner } if outer > inner => Some(((outer - inner) / 2.0 * 1e4).round() / 1e4),
+            _ => None,
         }
     }
 }

@@ -65,8 +65,11 @@
 //! The passes of one tool over one groove (a plunge, then each flank down to the floor, a
 //! rapid and often a finer feed between them), which recovery parts at the feed change, are
 //! one grooving workingstep again (`one_groove`), its groove as wide as the flanks' span. A
-//! groove on the face, profiled from both walls down to one floor (`face_groove`), is
-//! grooving; with no face-groove kind yet, its floor is the revolved flat it leaves.
+//! groove on the face, its walls profiled or plunged down to one floor (`face_groove`,
+//! `straight_walls`), is grooving, and its feature a face groove (`Turned::FaceGroove`), as are
+//! a face grooving tool's plunges along -Z off the axis, each left back up along +Z
+//! (`face_plunges`: roughing where they also cut across their floors, the groove then the one
+//! the tool's finish makes) and `G74` off the axis: between the diameters plunged.
 
 use super::model::*;
 pub use super::turned::{TurnOp, Turned, Turning};
@@ -209,7 +212,7 @@ pub fn recognise(plan: &mut ProcessPlan, remeasure: fn(&mut Workingstep)) {
             .map(|j| found[k + 1 + j].clone())
             .filter(|f| ws.turning.as_ref().is_some_and(|t| t.rough) && !f.is_empty());
         let beyond = || profiled_beyond_the_finish(ws, &plan.workingsteps[k + 1..], face).filter(|f| !f.is_empty());
-        found[k] = finish.or_else(beyond).unwrap_or_else(|| revolution(ws));
+        found[k] = finish.or_else(beyond).unwrap_or_else(|| unfinished(ws));
     }
     let mut features: Vec<Feature> = Vec::new();
     for (ws, found) in plan.workingsteps.iter_mut().zip(found) {
@@ -1144,7 +1147,7 @@ fn face_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
     let swap = |p: P3| [p[2], p[1], p[0]];
     let swapped: Vec<Vec<Move>> =
         runs.iter().map(|r| r.iter().map(|m| Move { from: swap(m.from), to: swap(m.to), ..*m }).collect()).collect();
-    let (floor, _, _) = profiled_groove(&swapped)?;
+    let floor = profiled_groove(&swapped).map(|(floor, _, _)| floor).or_else(|| straight_walls(runs))?;
     // Off the axis: a face cut to the centre is facing.
     if runs.iter().flatten().any(|m| m.from[0].min(m.to[0]) < 0.05) {
         return None;
@@ -1153,6 +1156,113 @@ fn face_groove(runs: &[Vec<Move>]) -> Option<(f64, f64, f64)> {
     let xs = on_floor.flat_map(|m| [m.from[0], m.to[0]]);
     let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
     (hi > lo).then_some((floor, lo, hi))
+}
+
+/// A face groove whose walls are straight, each finished by a pass of its own as a face
+/// grooving tool finishes them: the pass plunges along -Z down the wall to the floor (the
+/// deepest Z cut) and runs across the floor away from its wall, one from the outer wall and one
+/// from the inner, their runs across the floor meeting (the straight-walled case of
+/// [`face_groove`], whose profiled passes come down a flank from beyond the floor). The floor.
+fn straight_walls(runs: &[Vec<Move>]) -> Option<f64> {
+    if runs.len() < 2 {
+        return None;
+    }
+    let floor = runs.iter().flatten().flat_map(|m| [m.from[2], m.to[2]]).fold(f64::INFINITY, f64::min);
+    let (mut outer, mut inner) = (None::<(f64, f64)>, None::<(f64, f64)>);
+    for r in runs {
+        let Some(first) = r.first() else { continue };
+        let plunge = first.arc.is_none() && (first.to[0] - first.from[0]).abs() < TOL && (first.to[2] - floor).abs() < 0.01;
+        let along: Vec<&Move> =
+            r.iter().filter(|m| m.arc.is_none() && (m.from[2] - floor).abs() < 0.01 && (m.to[2] - floor).abs() < 0.01).collect();
+        let xs = along.iter().flat_map(|m| [m.from[0], m.to[0]]);
+        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+        if !plunge || hi - lo <= TOL || first.from[2] <= floor + TOL {
+            continue;
+        }
+        let wall = first.from[0];
+        let span = |o: Option<(f64, f64)>| Some(o.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi))));
+        if (wall - hi).abs() < TOL {
+            outer = span(outer);
+        } else if (wall - lo).abs() < TOL {
+            inner = span(inner);
+        }
+    }
+    let ((lo_out, _), (_, hi_in)) = (outer?, inner?);
+    (lo_out <= hi_in + TOL).then_some(floor)
+}
+
+/// A face groove's passes plunged along -Z (`face_plunges`).
+struct FacePlunges {
+    /// The floor: the deepest Z cut.
+    floor: f64,
+    /// The smallest and largest radius the passes cut at.
+    lo: f64,
+    hi: f64,
+    /// Some pass also cuts across X (at its floor), as a face groove is roughed wider than the
+    /// tool before its walls are finished.
+    across: bool,
+}
+
+/// Whether every pass of a workingstep plunges along -Z into the face, off the axis, and
+/// leaves back up along +Z: a face groove cut as Fanuc's `G74` face grooving cycle pecks it
+/// (Fanuc 0i-TF operator's manual, G74: pecks along Z, shifting in X between them) and as
+/// posts write a face grooving tool's passes (a plunge along Z, perhaps a cut across X at the
+/// floor, then straight back out: the tool sits between the groove's two walls, so it cannot
+/// leave across X). Each pass opens with its plunge, straight along -Z at one X; none cuts
+/// above where it plunged in, nor reaches the axis (a face cut to the centre is facing);
+/// each ends with a cut back up along +Z at one X or is followed by such a move in the
+/// workingstep (a profile turned down along -Z by a grooving tool leaves across X, or with
+/// the workingstep's end).
+fn face_plunges(ws: &Workingstep) -> Option<FacePlunges> {
+    let moves: Vec<Move> = ws.toolpath.iter().collect();
+    let spans = run_spans(ws);
+    if spans.is_empty() {
+        return None;
+    }
+    let up = |m: &Move| m.arc.is_none() && (m.to[0] - m.from[0]).abs() < TOL && m.to[2] > m.from[2] + TOL;
+    let mut p = FacePlunges { floor: f64::INFINITY, lo: f64::INFINITY, hi: f64::NEG_INFINITY, across: false };
+    for &(a, b) in &spans {
+        let run: Vec<Move> = moves[a..b].iter().filter(|m| is_cut(m)).copied().collect();
+        let first = run.first()?;
+        if first.arc.is_some() || (first.to[0] - first.from[0]).abs() > TOL || first.to[2] > first.from[2] - TOL {
+            return None;
+        }
+        let top = first.from[2];
+        if run.iter().any(|m| m.from[0].min(m.to[0]) < 0.05 || m.from[2].max(m.to[2]) > top + TOL) {
+            return None;
+        }
+        let next = moves.get(b).copied();
+        if !(run.last().is_some_and(up) || next.as_ref().is_some_and(up)) {
+            return None;
+        }
+        for m in &run {
+            p.floor = p.floor.min(m.from[2].min(m.to[2]));
+            p.lo = p.lo.min(m.from[0].min(m.to[0]));
+            p.hi = p.hi.max(m.from[0].max(m.to[0]));
+            p.across |= m.arc.is_some() || (m.to[0] - m.from[0]).abs() > TOL;
+        }
+    }
+    Some(p)
+}
+
+/// The face groove plunges cut: between the smallest and largest diameter plunged, its floor
+/// the deepest. (The tool's width adds to it beyond one of them: which, the tool's reference
+/// point tells, not the program.)
+fn plunged_face_groove(ws: &Workingstep) -> Vec<(FeatureKind, f64)> {
+    let Some(p) = face_plunges(ws) else { return Vec::new() };
+    let k = Turned::FaceGroove { outer: round(2.0 * p.hi), inner: round(2.0 * p.lo) };
+    vec![(FeatureKind::Turned(k), round(p.floor))]
+}
+
+/// What a roughing workingstep no finish of its tool follows machines: a face groove roughed
+/// by plunges is that groove, as far as the plunges cut it; any other region turned is one
+/// general revolution.
+fn unfinished(ws: &Workingstep) -> Vec<(FeatureKind, f64)> {
+    let t = ws.turning.as_deref();
+    if t.is_some_and(|t| t.operation == Some(TurnOp::Grooving) && !t.inside) && face_plunges(ws).is_some() {
+        return plunged_face_groove(ws);
+    }
+    revolution(ws)
 }
 
 /// The region a workingstep turns, as one general revolution.
@@ -1329,6 +1439,12 @@ fn classify(ws: &mut Workingstep, front: f64, back: f64, boring: bool, grooving:
         None if xmin >= 0.05 && !t.inside && profiled_groove(&runs).is_some() => (TurnOp::Grooving, false),
         // A face groove profiled from both walls down to one floor (`face_groove`).
         None if xmin >= 0.05 && !t.inside && face_groove(&runs).is_some() => (TurnOp::Grooving, false),
+        // A face grooving tool's passes plunged along -Z between two diameters (`face_plunges`):
+        // roughing where the passes also cut across X at their floors (they leave the walls to
+        // a finish), else the plunges make the groove.
+        None if grooving && xmin >= 0.05 && !t.inside && face_plunges(ws).is_some() => {
+            (TurnOp::Grooving, runs.len() > 1 && face_plunges(ws).is_some_and(|p| p.across))
+        }
         // A groove plunged and its flanks finished, each pass in and back out across X over
         // one stretch of Z (`one_groove`; not passes stepping a face down, each a depth of cut
         // from the one before): one grooving operation that finishes the groove.
@@ -1740,10 +1856,20 @@ fn features_of(ws: &Workingstep, tool_width: Option<f64>, face: f64) -> Vec<(Fea
             let allow = t.intent.as_ref().and_then(|i| i.allowance_z).unwrap_or(0.0);
             vec![(turned(Turned::RevolvedFlat { outer: d[1], inner: d[0] }), round(last - allow))]
         }
-        // A face groove: the flat its floor leaves, between its walls (no face-groove kind yet).
-        Some(TurnOp::Grooving) if face_groove(&runs(ws)).is_some() => face_groove(&runs(ws))
-            .map(|(z, lo, hi)| vec![(turned(Turned::RevolvedFlat { outer: round(2.0 * hi), inner: round(2.0 * lo) }), round(z))])
-            .unwrap_or_default(),
+        // A face groove profiled from both walls: from wall to wall at its floor.
+        Some(TurnOp::Grooving) if face_groove(&runs(ws)).is_some() => {
+            let Some((z, lo, hi)) = face_groove(&runs(ws)) else { return Vec::new() };
+            let k = Turned::FaceGroove { outer: round(2.0 * hi), inner: round(2.0 * lo) };
+            vec![(turned(k), round(z))]
+        }
+        // A face groove plunged along -Z (`G74`, a face grooving tool's plunges): roughing
+        // passes leave what the same tool's finish makes (none: `unfinished`).
+        Some(TurnOp::Grooving) if !t.inside && face_plunges(ws).is_some() => {
+            if t.rough {
+                return Vec::new();
+            }
+            plunged_face_groove(ws)
+        }
         Some(TurnOp::Grooving) | Some(TurnOp::PartingOff) => {
             let plunge_z = cuts.iter().map(|m| m.to[2]);
             let (lo, hi) = plunge_z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));

@@ -79,6 +79,9 @@ fn feature_size(f: &Feature, key: &str) -> Option<f64> {
             (Turned::RevolvedRound { diameter, .. }, "diameter") => Some(*diameter),
             (Turned::Groove { diameter, .. }, "diameter") => Some(*diameter),
             (Turned::Groove { width, .. }, "width") => *width,
+            (Turned::FaceGroove { outer, .. }, "outer") => Some(*outer),
+            (Turned::FaceGroove { inner, .. }, "inner") => Some(*inner),
+            (Turned::FaceGroove { .. }, "width") => t.face_groove_width(),
             (Turned::Thread { diameter, .. }, "diameter") => *diameter,
             (Turned::Thread { root, .. }, "root") => Some(*root),
             (Turned::Thread { pitch, .. }, "pitch") => Some(*pitch),
@@ -2075,8 +2078,9 @@ X100. Z50.\nM30\n";
 
 /// An annular groove on the face, as a face grooving insert cuts it: plunges along -Z each
 /// turned inward (its roughing), then the outer wall profiled down to the floor and across it,
-/// and the inner wall down to the floor and out along it. The floor is a revolved flat at its
-/// depth, between the walls; the wall passes are grooving.
+/// and the inner wall down to the floor and out along it. The groove is a face groove with its
+/// floor at its depth, between the walls (a revolved flat before the kind existed); the wall
+/// passes are grooving.
 #[test]
 fn a_face_groove_profiled_from_both_walls_leaves_its_floor() {
     let program = "O6\nG21 G99\nT0808\nG96 S200 M3\nG50 S2000\nG0 X120. Z1.\nG1 Z-2. F0.1\nX100.\nZ-1.8\nG0 Z1.\n\
@@ -2090,7 +2094,7 @@ G3 X94. Z-1. R1.\nG1 Z-5.\nX97.\nZ-4.8\nG0 Z5.\nX200. Z50.\nM30\n";
         .features
         .iter()
         .filter_map(|f| match &f.kind {
-            FeatureKind::Turned(Turned::RevolvedFlat { outer, inner }) if (f.placement[2] + 5.0).abs() < 1e-6 => {
+            FeatureKind::Turned(Turned::FaceGroove { outer, inner }) if (f.placement[2] + 5.0).abs() < 1e-6 => {
                 Some((*outer, *inner, f.placement[2]))
             }
             _ => None,
@@ -2178,4 +2182,68 @@ T1111 (ID FINISH BORING BAR)\nG96 S120 M3\nG0 X42. Z3.\nG1 X39.8 Z0. F0.1\nZ-27.
         .collect();
     assert!(inner.iter().any(|d| (d - 41.0).abs() < 0.01), "{inner:?}");
     assert!(inner.iter().any(|d| (d - 39.8).abs() < 0.01), "{inner:?}");
+}
+
+/// A face groove (issue 40): an annular groove cut along -Z into the face between two
+/// diameters is a feature of its own, whichever way it is cut (Fanuc `G74` pecks, a face
+/// grooving tool's plunges, its walls finished), written in STEP-NC as a GROOVE whose material
+/// side is along the axis and read back so, and its edits are told as the face groove's.
+#[test]
+fn a_face_groove_is_its_own_feature() {
+    use expect_test::expect;
+    use ncplan::part21::{schema, stepnc};
+    let groove = |name: &str| {
+        let plan = plan_of(&dir().join(name), "fanuc_lathe");
+        let grooves: Vec<(Turned, f64)> = plan
+            .features
+            .iter()
+            .filter_map(|f| match &f.kind {
+                FeatureKind::Turned(t @ Turned::FaceGroove { .. }) => Some((t.clone(), f.placement[2])),
+                _ => None,
+            })
+            .collect();
+        (plan, grooves)
+    };
+    // G74 off the axis: the diameters plunged, the floor where its pecks end.
+    let (plan, g) = groove("fanuc_g74_face_groove.nc");
+    assert_eq!(g, [(Turned::FaceGroove { outer: 80.0, inner: 60.0 }, -6.0)]);
+    assert_eq!(plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>(), ["grooving finish"]);
+    // Plunges along -Z, each straight back out: one groove between the diameters plunged.
+    let (plan, g) = groove("explicit_face_plunges.nc");
+    assert_eq!(g, [(Turned::FaceGroove { outer: 100.0, inner: 88.0 }, -4.0)]);
+    assert_eq!(plan.workingsteps.len(), 1);
+    // Roughed by plunges turned across their floors, the walls finished each by a pass: one
+    // groove from wall to wall, roughing and finishing it; no revolved flat at its floor.
+    let (plan, g) = groove("explicit_face_groove.nc");
+    assert_eq!(g, [(Turned::FaceGroove { outer: 112.0, inner: 92.0 }, -6.0)]);
+    assert_eq!(g[0].0.face_groove_width(), Some(10.0));
+    assert_eq!(plan.features[0].workingsteps, [1, 2]);
+    assert_eq!(plan.workingsteps.iter().map(|w| w.label()).collect::<Vec<_>>(), ["grooving rough", "grooving finish"]);
+    assert!(!plan.features.iter().any(|f| f.kind.label() == "revolved flat"), "{:?}", plan.features);
+    // In STEP-NC: a GROOVE with its material side along -Z, read back as the face groove.
+    let (text, _) = stepnc::to_string(&plan, stepnc::Class::Cc2, "2026-01-01T00:00:00");
+    let x = ncplan::part21::parse(&text).unwrap();
+    assert_eq!(schema::iso14649().check(&x), Vec::<String>::new());
+    assert!(text.contains("=GROOVE("), "{text}");
+    assert!(text.contains("DIRECTION('',(0.,0.,-1.))"), "{text}");
+    assert_eq!(stepnc::read(&x).unwrap(), plan);
+    // The floor deepened, a wall moved: told as the face groove's, nothing added or removed.
+    let deeper = lathe_edit("fanuc_g74_face_groove.nc", "Z-6.", "Z-7.");
+    no_structure_change(&deeper);
+    expect![[r#"
+        feature_changed | face_groove_floor | Z-6 | Z-7
+          face groove floor changed from Z-6 to Z-7 at line 11
+    "#]]
+    .assert_eq(&deeper);
+    let wider = lathe_edit("explicit_face_groove.nc", "X112.\n", "X114.\n");
+    no_structure_change(&wider);
+    expect![[r#"
+        feature_changed | face_groove_width | 10 mm | 11 mm (also in workingstep 2)
+          face groove width changed from 10 mm to 11 mm (also in workingstep 2) at line 20
+        feature_changed | face_groove_outer_diameter | Ø112 | Ø114 (also in workingstep 2)
+          face groove outer diameter changed from Ø112 to Ø114 (also in workingstep 2) at line 20
+        start_point_moved | start_point | Ø112 Z1 | Ø114 Z1
+          start point moved from Ø112 Z1 to Ø114 Z1 at line 20
+    "#]]
+    .assert_eq(&wider);
 }

@@ -22,7 +22,11 @@
 //! - **Features** (CC2): REVOLVED_FLAT (radius the outer one, the flat's radial length as
 //!   its profile), OUTER_DIAMETER, REVOLVED_ROUND (a quarter circle: the plan keeps no
 //!   sweep), GROOVE (a SQUARE_U_PROFILE of its width, 0 where unknown; material side
-//!   outward for an inner groove), and GENERAL_REVOLUTION with its profile in the plane
+//!   outward for an inner groove; a face groove, which ISO 14649-12 has no entity for, is a
+//!   GROOVE whose material side is along -Z, into the face: placed at its floor, its radius
+//!   the outer wall's and its SQUARE_U_PROFILE the radial width to the inner wall, 0 where it
+//!   was plunged at one diameter; so a reader of the schema still finds a groove of that
+//!   width and depth, and the U's sweep lies on the face), and GENERAL_REVOLUTION with its profile in the plane
 //!   through the axis: the region turned (material side unstated), or an inner diameter
 //!   (material side outward: this draft of ISO 14649-12 has no inner diameter, and a
 //!   ROUND_HOLE needs a bottom the program does not state).
@@ -314,6 +318,15 @@ impl<W: std::io::Write> Writer<W> {
                 attrs.extend([side, radius, sweep]);
                 "GROOVE"
             }
+            Turned::FaceGroove { outer, .. } => {
+                let side = self.direction([0.0, 0.0, -1.0]);
+                let radius = self.tlm(outer / 2.0);
+                let w = self.tlm(t.face_groove_width().unwrap_or(0.0));
+                let (r1, r2) = (self.tlm(0.0), self.tlm(0.0));
+                let sweep = self.b.add("SQUARE_U_PROFILE", vec![Value::Null, w, r1, Value::Real(90.0), r2, Value::Real(90.0)]);
+                attrs.extend([side, radius, sweep]);
+                "GROOVE"
+            }
             Turned::Revolution { outer, inner, length } => {
                 let radius = self.tlm(outer / 2.0);
                 let (ro, ri) = (outer / 2.0, inner / 2.0);
@@ -409,6 +422,15 @@ impl Reader<'_> {
             "GROOVE" => {
                 let sweep = self.inst(self.attr(f, 6)?)?;
                 let width = self.tlm(self.attr(sweep, 1)?)?;
+                // Its material side along the axis: a face groove (see the module).
+                let along_axis = match self.attr(f, 4)? {
+                    Value::Null => false,
+                    d => self.direction(d)?[2].abs() > 0.5,
+                };
+                if along_axis {
+                    let outer = radius(5)?;
+                    return Ok(Some((Turned::FaceGroove { outer, inner: snap(outer - 2.0 * width) }, 0.0)));
+                }
                 let inside = inward(4)?.unwrap_or(false);
                 (Turned::Groove { diameter: radius(5)?, width: (width != 0.0).then_some(width), inside }, 0.0)
             }
