@@ -248,12 +248,22 @@ pub struct Lexical {
     /// beside the local `#1`-`#199`), and the number its variable 0 is kept as: `@n` is
     /// variable `first + n` of the one numbered store.
     pub global_parameter: Option<(char, u32)>,
+    /// Banks of numbered variables named by the parameter sigil and a letter (Heidenhain
+    /// `QL1` local, `QR1` nonvolatile, `QS1` text), each with the number its variable 0 is
+    /// kept as: `QLn` is variable `first + n` of the one numbered store.
+    pub parameter_banks: Vec<(String, u32)>,
+    /// Words that stand before a parameter's assignment and declare it (Heidenhain
+    /// `DECLARE STRING QS1 = "TEXT"`): the assignment reads on after them.
+    pub assignment_prefixes: Vec<String>,
     /// End-of-block character that may separate blocks on one line (Fanuc `;`).
     pub block_end: Option<char>,
     /// Line-continuation character (Heidenhain `~`).
     pub continuation: Option<char>,
     /// Whether `X 1 0 . 5` is `X10.5`.
     pub spaces_in_numbers: bool,
+    /// Whether `||` joins two texts (Heidenhain `QS1 = QS2 || QS3`) where comparisons are
+    /// written as words.
+    pub bar_concatenation: bool,
     /// Program-number address at program start (Fanuc `O1234`), not a control word.
     pub program_number: Option<char>,
     /// A second character that starts a program number (`:0100` in ISO tape format).

@@ -2065,7 +2065,20 @@ impl<'a> Interpreter<'a> {
                     // A variable of the second bank by its own sigil (LNC `@100`).
                     _ => match self.dialect.lexical.global_parameter.filter(|&(_, first)| n >= first) {
                         Some((g, first)) => format!("{g}{}, which is set outside this file (a global variable)", n - first),
-                        None => format!("{sigil}{n}, which is set outside this file (retained, or machine data)"),
+                        // A variable of a bank named by letters (Heidenhain `QR1`).
+                        None => match self
+                            .dialect
+                            .lexical
+                            .parameter_banks
+                            .iter()
+                            .filter(|(_, first)| n >= *first)
+                            .max_by_key(|(_, first)| *first)
+                        {
+                            Some((prefix, first)) => {
+                                format!("{prefix}{}, which is set outside this file (retained, or machine data)", n - first)
+                            }
+                            None => format!("{sigil}{n}, which is set outside this file (retained, or machine data)"),
+                        },
                     },
                 }
             }

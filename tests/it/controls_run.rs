@@ -408,3 +408,50 @@ fn other_dialects_one_line_if_forms_still_follow_their_condition() {
         assert_eq!(xs("okuma", &program), expected, "okuma VC1={value}");
     }
 }
+
+/// Heidenhain string parameters and the local and nonvolatile banks (TNC 640 user's manual,
+/// "Q parameters: principle and overview" and "String functions"): `DECLARE STRING QS1 =
+/// "TEXT"`, `QS3 = QS1 || QS2`, the string functions read whole, `QL`/`QR` numbers. Each
+/// documented form reads without an error; a `;` inside the quotes is text, after them a comment.
+#[test]
+fn heidenhain_string_and_local_parameters_are_statements() {
+    let program = "0 BEGIN PGM STR MM\n\
+        1 DECLARE STRING QS10 = \"WORKPIECE\"\n\
+        2 QS3 = \"%0x\" ;temp string\n\
+        3 QS11 = QS10 || QS3\n\
+        4 QS13 = TOCHAR ( DAT+Q5 DECIMALS3 )\n\
+        5 QS14 = SUBSTR ( SRC_QS10 BEG2 LEN4 )\n\
+        6 Q5 = TONUMB ( SRC_QS3 )\n\
+        7 Q6 = STRLEN ( SRC_QS10 )\n\
+        8 Q7 = INSTR ( SRC_QS10 SEA_QS3 BEG0 )\n\
+        9 Q8 = STRCOMP ( SRC_QS10 SEA_QS3 )\n\
+        10 QS15 = \"A;B\" ; comment\n\
+        11 QL1 = 5\n\
+        12 QL2 = QL1 * 2\n\
+        13 L X+QL1 Y+QL2 R0 FMAX\n\
+        14 END PGM STR MM\n";
+    assert_eq!(errors("heidenhain", program), Vec::<String>::new());
+    // QL1 is 5 and QL2 twice that: the move goes there.
+    assert_eq!(moves("heidenhain", program).last().unwrap(), "STRAIGHT_TRAVERSE(5.0000, 10.0000, 0.0000, 0.0000, 0.0000, 0.0000)");
+    // The comment after the text is a comment, the `;` in the quotes is not one.
+    let (_, diags) = crate::moves_and_findings("heidenhain", program, &Profile::default());
+    assert!(diags.is_empty(), "{diags:?}");
+    let d = ncplan::dialect::Registry::shipped().get("heidenhain").unwrap();
+    let mut out = Vec::new();
+    let _ = ncplan::interp::interpret(program, &d, &Profile::default(), &mut out);
+    let mut canon = String::new();
+    for c in &out {
+        ncplan::canon::write_call(&mut canon, &c.op);
+    }
+    assert!(canon.contains("COMMENT(\" comment\")") && !canon.contains("COMMENT(\"B"), "{canon}");
+    // A text not closed is the TNC's error, once.
+    let broken = program.replace("\"WORKPIECE\"", "\"WORKPIECE");
+    let found = errors("heidenhain", &broken);
+    assert!(found.len() == 1 && found[0].contains("not closed"), "{found:?}");
+    // A QR parameter keeps its value over a power interruption: read before this file sets
+    // it, it is unknown (the word left out, a warning), never an error.
+    let retained = "0 BEGIN PGM R MM\n1 L X+QR1 R0 FMAX\n2 END PGM R MM\n";
+    assert_eq!(errors("heidenhain", retained), Vec::<String>::new());
+    let (_, diags) = crate::moves_and_findings("heidenhain", retained, &Profile::default());
+    assert!(diags.iter().any(|d| d.message.contains("QR1, which is set outside")), "{diags:?}");
+}

@@ -11,6 +11,7 @@ use super::Cx;
 const ATTRIBUTES: &[&str] = &[
     "block-form",
     "spaces-in-numbers",
+    "bar-concatenation",
     "assign-values",
     "bare-function-arguments",
     "identifier-variables",
@@ -40,6 +41,8 @@ const CHILDREN: &[&str] = &[
     "expression",
     "parameter",
     "global-parameters",
+    "parameter-bank",
+    "assignment-prefix",
     "block-end",
     "continuation",
     "program-number",
@@ -111,9 +114,12 @@ impl Cx {
             expression: None,
             parameter: None,
             global_parameter: None,
+            parameter_banks: Vec::new(),
+            assignment_prefixes: Vec::new(),
             block_end: None,
             continuation: None,
             spaces_in_numbers: self.bool(el, "spaces-in-numbers", false),
+            bar_concatenation: self.bool(el, "bar-concatenation", false),
             program_number: None,
             program_number_alt: None,
             control_word: None,
@@ -144,6 +150,13 @@ impl Cx {
             "expression" => self.expression_brackets(c, lex),
             "parameter" => self.parameter_sigil(c, lex),
             "global-parameters" => self.global_parameters(c, lex),
+            "parameter-bank" => self.parameter_bank(c, lex),
+            "assignment-prefix" => {
+                if let Some(k) = self.required(c, "keyword") {
+                    lex.assignment_prefixes.push(k.to_ascii_uppercase());
+                }
+                self.shape(c, &["keyword"], &[]);
+            }
             "block-end" => lex.block_end = self.only_char(c, "char"),
             "continuation" => lex.continuation = self.only_char(c, "char"),
             "program-number" => self.program_number(c, lex),
@@ -372,6 +385,24 @@ impl Cx {
         }
         if let (Some(s), Some(f)) = (self.char_attr(c, "sigil"), first) {
             lex.global_parameter = Some((s, f));
+        }
+    }
+
+    /// `<parameter-bank prefix="QL" first="10000"/>`: a bank of numbered variables named by
+    /// the parameter sigil and letters, `QLn` kept as variable `first + n`.
+    fn parameter_bank(&mut self, c: &Element, lex: &mut Lexical) {
+        self.shape(c, &["prefix", "first"], &[]);
+        let first = self.required(c, "first").and_then(|v| v.parse::<u32>().ok());
+        if first.is_none() {
+            self.error(Self::attr_range(c, "first"), "`first` must be a whole number");
+        }
+        let prefix = self.required(c, "prefix").map(str::to_ascii_uppercase);
+        if prefix.as_ref().is_some_and(|p| p.len() < 2 || !p.bytes().all(|b| b.is_ascii_alphabetic())) {
+            self.error(Self::attr_range(c, "prefix"), "`prefix` must be two or more letters");
+            return;
+        }
+        if let (Some(p), Some(f)) = (prefix, first) {
+            lex.parameter_banks.push((p, f));
         }
     }
 

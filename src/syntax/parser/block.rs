@@ -136,7 +136,15 @@ impl Lexer<'_, '_> {
             self.assignment();
             return;
         }
-        if self.global_bank().is_some() && self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open()) {
+        if let Some((_, len)) = self.global_bank()
+            && self.b.get(self.i + len).is_some_and(|n| n.is_ascii_digit() || Some(*n) == self.expr_open())
+        {
+            self.assignment();
+            return;
+        }
+        // `DECLARE STRING QS1 = "TEXT"`: words that declare the parameter, then its assignment.
+        if let Some(at) = self.after_assignment_prefix() {
+            self.i = at;
             self.assignment();
             return;
         }
@@ -190,6 +198,42 @@ impl Lexer<'_, '_> {
     /// `<NAME>` where a block's item starts (Centroid CNC12, `DEFINE <NAME> text`): `<NAME> = expr`
     /// assigns what it names; a name alone stands for a text (a statement such as `IF #50001`),
     /// not known here: skipped with a warning.
+    /// Where the parameter starts after words that declare it (Heidenhain `DECLARE STRING
+    /// QS1 = "TEXT"`, TNC 640 user's manual, "String functions": DECLARE STRING assigns a text
+    /// to a QS parameter): the dictionary's words, blanks between them, then a parameter.
+    fn after_assignment_prefix(&self) -> Option<usize> {
+        let blanks = |mut j: usize| {
+            while matches!(self.b.get(j), Some(b' ' | b'\t')) {
+                j += 1;
+            }
+            j
+        };
+        self.dialect.lexical.assignment_prefixes.iter().find_map(|prefix| {
+            let mut j = self.i;
+            for (n, word) in prefix.split_ascii_whitespace().enumerate() {
+                if n > 0 {
+                    let k = blanks(j);
+                    if k == j {
+                        return None;
+                    }
+                    j = k;
+                }
+                let end = j + word.len();
+                if !self.b.get(j..end).is_some_and(|w| w.eq_ignore_ascii_case(word.as_bytes())) {
+                    return None;
+                }
+                j = end;
+            }
+            let at = blanks(j);
+            if at == j {
+                return None;
+            }
+            let sigil = self.dialect.lexical.parameter.map(|(s, _)| s.to_ascii_uppercase() as u8);
+            let numbered = self.b.get(at).map(u8::to_ascii_uppercase) == sigil && self.b.get(at + 1).is_some_and(u8::is_ascii_digit);
+            (numbered || self.parameter_bank_at(at).is_some()).then_some(at)
+        })
+    }
+
     fn define_name_item(&mut self) {
         let start = self.i;
         let Some(name) = self.name(start) else { return };

@@ -50,6 +50,11 @@ impl Lexer<'_, '_> {
                 return Some(BinOp::Pow);
             }
             b'*' => BinOp::Mul,
+            // `QS1 = QS2 || QS3`: texts joined (TNC 640 user's manual, "String functions").
+            b'|' if self.dialect.lexical.bar_concatenation && self.b.get(self.i + 1) == Some(&b'|') => {
+                self.i += 2;
+                return Some(BinOp::Concat);
+            }
             b'/' if self.dialect.lexical.comments.iter().any(|r| r.open2.is_some() && r.opens(&self.b[self.i..])) => return None,
             b'/' => BinOp::Div,
             b'+' => BinOp::Add,
@@ -180,14 +185,16 @@ impl Lexer<'_, '_> {
         let sigil = self.dialect.lexical.parameter.map(|(s, _)| s as u8);
         let global = self.dialect.lexical.global_parameter.map(|(s, _)| s as u8);
         let operand = || self.b.get(self.i + 1).is_some_and(|n| n.is_ascii_digit() || Some(*n) == expr_open);
-        (Some(c.to_ascii_uppercase()) == sigil && (!c.is_ascii_alphabetic() || operand())) || (Some(c) == global && operand())
+        (Some(c.to_ascii_uppercase()) == sigil && (!c.is_ascii_alphabetic() || operand()))
+            || (Some(c) == global && operand())
+            || self.parameter_bank_at(self.i).is_some()
     }
 
     /// A parameter at its sigil: `#<name>` where parameters have names, else `#` and the
     /// operand that gives its number (`#1`, `##2`, `#[#1+1]`).
     fn parameter(&mut self, depth: u32, start: usize) -> Option<ExprId> {
         let bank = self.global_bank();
-        self.i += 1;
+        self.i += bank.map_or(1, |(_, len)| len);
         self.skip_blanks();
         if self.peek() == Some(b'<') && bank.is_none() && self.dialect.lexical.parameter.is_some_and(|(_, named)| named) {
             let name = self.name(start)?;
@@ -196,14 +203,29 @@ impl Lexer<'_, '_> {
         if let Some(name) = self.letter_variable() {
             return Some(self.push(Expr::Named(name)));
         }
-        let inner = self.parameter_number(depth, bank)?;
+        let inner = self.parameter_number(depth, bank.map(|(first, _)| first))?;
         Some(self.push(Expr::Param(inner)))
     }
 
     /// Where the cursor is at the sigil of the dialect's second bank of variables (`@1`),
     /// the number its variable 0 is kept as.
-    pub(super) fn global_bank(&self) -> Option<u32> {
-        self.dialect.lexical.global_parameter.filter(|&(s, _)| self.peek() == Some(s as u8)).map(|(_, first)| first)
+    /// Or at the letters of a bank of variables named by letters and a number (Heidenhain
+    /// `QL1`): the number its variable 0 is kept as, and the length of its mark.
+    pub(super) fn global_bank(&self) -> Option<(u32, usize)> {
+        match self.dialect.lexical.global_parameter.filter(|&(s, _)| self.peek() == Some(s as u8)) {
+            Some((_, first)) => Some((first, 1)),
+            None => self.parameter_bank_at(self.i),
+        }
+    }
+
+    /// The bank of variables whose letters start at `at` before a digit (`QL1`, `QS10`): the
+    /// number its variable 0 is kept as, and the length of its letters.
+    pub(super) fn parameter_bank_at(&self, at: usize) -> Option<(u32, usize)> {
+        self.dialect.lexical.parameter_banks.iter().find_map(|(prefix, first)| {
+            let end = at + prefix.len();
+            let named = self.b.get(at..end).is_some_and(|w| w.eq_ignore_ascii_case(prefix.as_bytes()));
+            (named && self.b.get(end).is_some_and(u8::is_ascii_digit)).then_some((*first, prefix.len()))
+        })
     }
 
     /// The operand after a parameter's sigil that gives its number, moved into its bank.
@@ -419,11 +441,14 @@ impl Lexer<'_, '_> {
 
     /// A function of the dictionary's whose value comes from the machine (`R_REG[#100]`,
     /// `INPUT["title", "text", "", 1, 99, 4]`): its name and bracketed arguments read past, a
-    /// value the analysis does not know.
+    /// value the analysis does not know. Blanks may stand before the bracket (Heidenhain
+    /// `Q1 = STRLEN ( SRC_QS1 )`).
     fn machine_function(&mut self, start: usize, expr_open: Option<u8>) -> Option<ExprId> {
         let open = expr_open?;
-        let end = self.b[self.i..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| self.i + p);
-        let name = self.text[self.i..end].to_ascii_uppercase();
+        let name_end =
+            self.b[self.i..].iter().position(|x| !(x.is_ascii_alphanumeric() || *x == b'_')).map_or(self.b.len(), |p| self.i + p);
+        let name = self.text[self.i..name_end].to_ascii_uppercase();
+        let end = self.b[name_end..].iter().position(|x| !matches!(x, b' ' | b'\t')).map_or(self.b.len(), |p| name_end + p);
         if self.b.get(end) != Some(&open) || !self.dialect.macros.machine_functions.contains(&name) {
             return None;
         }

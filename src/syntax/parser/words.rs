@@ -678,6 +678,7 @@ impl Lexer<'_, '_> {
             || self.at_define_name(self.i)
             || Some(c) == sigil
             || (Some(c) == global && self.b.get(self.i + 1).is_some_and(u8::is_ascii_digit))
+            || self.parameter_bank_at(self.i).is_some()
             || sign_then_expr
             || is_func
             || radix
@@ -691,7 +692,7 @@ impl Lexer<'_, '_> {
     pub(super) fn assignment(&mut self) {
         let start = self.i;
         let bank = self.global_bank();
-        self.i += 1;
+        self.i += bank.map_or(1, |(_, len)| len);
         self.skip_blanks();
         let target = if self.peek() == Some(b'<') && bank.is_none() && self.dialect.lexical.parameter.is_some_and(|(_, n)| n) {
             match self.name(start) {
@@ -701,7 +702,7 @@ impl Lexer<'_, '_> {
         } else if let Some(r) = self.letter_variable() {
             ParamTarget::Named(r)
         } else {
-            match self.parameter_number(0, bank) {
+            match self.parameter_number(0, bank.map(|(first, _)| first)) {
                 Some(e) => ParamTarget::Numbered(e),
                 None => {
                     self.i = self.line_end();
