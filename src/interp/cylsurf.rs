@@ -17,6 +17,7 @@
 //! and the wall passes of a slot wider than the tool are not expanded.
 
 use super::Interpreter;
+use super::lathe::SurfaceWords;
 use crate::canon::{CanonOp, CanonSink, Frame, Setting};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::Role;
@@ -39,6 +40,8 @@ pub(crate) struct CylinderSurface {
     feeds: (Option<f64>, Option<f64>),
     /// Whether the contour's C words are lengths round the cylinder (`Q17=1`).
     mm: bool,
+    /// The slot's width, `Q20` (cycle 28): the contour is its centre line.
+    width: Option<f64>,
     /// Where the cycle was called.
     range: TextRange,
 }
@@ -85,6 +88,7 @@ impl Interpreter<'_> {
             step,
             feeds: (positive(get(Role::PlungeFeed)), positive(get(Role::F))),
             mm: get(Role::Geometry) == Some(1.0),
+            width: get(Role::Width).map(f64::abs).filter(|w| *w > 1e-9),
             range,
         };
         self.request = Some(super::Request::CylinderContour { name: contour, job: Box::new(job) });
@@ -107,7 +111,13 @@ impl Interpreter<'_> {
             self.cylinder_mode(None, job.range, sink, diags);
         }
         self.cylinder_mode(Some(job.radius), job.range, sink, diags);
-        self.cylinder_contour_words(Some(job.mm));
+        // The tilted plane's X along the cylinder's axis (the part's Z): its sense against the
+        // developed surface's X (the part's -Z).
+        let x_sense = match tilt.map(|f| f.rotation[2][0]) {
+            Some(z) if z > 0.5 => -1.0,
+            _ => 1.0,
+        };
+        self.cylinder_contour_words(Some(SurfaceWords { mm: job.mm, x_sense }));
         self.emit(sink, CanonOp::Setting(Setting::MillCycle(Some(job.name.clone()))));
         self.emit(sink, CanonOp::Setting(Setting::CycleSurface(job.radius)));
         // The contour is read at the milling depth: no move of it leaves the cylinder.
@@ -126,22 +136,32 @@ impl Interpreter<'_> {
         diags: &mut Vec<Diagnostic>,
     ) {
         self.cylinder_contour_words(None);
+        // The moves, and the compensation side the contour states (`RL`, `RR`): a contour cut
+        // as programmed, its side told (not a slot's centre line).
         let moves: Vec<&CanonOp> = shape
             .iter()
             .map(|c| &c.op)
-            .filter(|op| matches!(op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. }))
+            .filter(|op| {
+                matches!(op, CanonOp::StraightTraverse(_) | CanonOp::StraightFeed(_) | CanonOp::ArcFeed { .. })
+                    || (job.width.is_none() && matches!(op, CanonOp::Setting(Setting::CutterComp(_))))
+            })
             .collect();
         let end = |op: &CanonOp| match op {
             CanonOp::StraightTraverse(p) | CanonOp::StraightFeed(p) => Some([p[0], p[1]]),
             CanonOp::ArcFeed { first_end, second_end, .. } => Some([*first_end, *second_end]),
             _ => None,
         };
-        match moves.first().and_then(|m| end(m)) {
+        match moves.iter().position(|m| end(m).is_some()) {
             None => {
                 let msg = format!("{}: its contour has no moves; the cycle is skipped", job.name);
                 diags.push(Diagnostic::new(Code::CycleIncomplete, job.range, msg));
             }
-            Some(start) => self.cylinder_passes(job, start, &moves[1..], sink),
+            Some(i) => {
+                let start = end(moves[i]).unwrap_or_default();
+                // The side stated on the way to the start applies from the start on.
+                let rest: Vec<&CanonOp> = moves[..i].iter().chain(&moves[i + 1..]).copied().collect();
+                self.cylinder_passes(job, start, &rest, sink);
+            }
         }
         self.cylinder_surface_end(job, tilt, sink, diags);
     }
@@ -163,6 +183,51 @@ impl Interpreter<'_> {
         depths.push(job.depth);
         let p = self.st.pos;
         let to = |x: f64, y: f64, z: f64| [x, y, z, p[3], p[4], p[5]];
+        // A slot along one straight line (cycle 28, `Q20` wide): its wall at each depth, the
+        // ends half circles about the line's ends, as programmed under cutter compensation
+        // (cycle 253's finishing pass, `interp::pocket`), so that the plan reads its width.
+        let line = match moves {
+            [CanonOp::StraightFeed(t) | CanonOp::StraightTraverse(t)] => Some([t[0], t[1]]),
+            _ => None,
+        };
+        let length = line.map_or(0.0, |e| (e[0] - start[0]).hypot(e[1] - start[1]));
+        if let (Some(end), Some(width)) = (line, job.width)
+            && length > 1e-6
+        {
+            let hw = width / 2.0;
+            // The left normal of the line, half the width long.
+            let n = [-(end[1] - start[1]) / length * hw, (end[0] - start[0]) / length * hw];
+            let side = |c: [f64; 2], k: f64| [c[0] + k * n[0], c[1] + k * n[1]];
+            for d in depths {
+                let z = job.radius - d;
+                self.cylinder_axis(start[1], sink);
+                self.go_to(sink, to(start[0], start[1], over), false);
+                self.feed_of_cycle(job.feeds.0, sink);
+                self.go_to(sink, to(start[0], start[1], z), true);
+                self.feed_of_cycle(job.feeds.1, sink);
+                let comp = crate::canon::CompOn { left: true, number: None, radius: None, tip: None };
+                self.emit(sink, CanonOp::Setting(Setting::CutterComp(Some(comp))));
+                // Counter-clockwise: along the right side, round the far end, back along the
+                // left side, round the near end.
+                let a = side(start, -1.0);
+                self.go_to(sink, to(a[0], a[1], z), true);
+                let b = side(end, -1.0);
+                self.cylinder_axis(b[1], sink);
+                self.go_to(sink, to(b[0], b[1], z), true);
+                let c = side(end, 1.0);
+                self.cylinder_axis(c[1], sink);
+                self.arc_to(sink, c, end, z, true);
+                let e = side(start, 1.0);
+                self.cylinder_axis(e[1], sink);
+                self.go_to(sink, to(e[0], e[1], z), true);
+                self.cylinder_axis(a[1], sink);
+                self.arc_to(sink, a, start, z, true);
+                self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
+                let q = self.st.pos;
+                self.go_to(sink, to(q[0], q[1], over), false);
+            }
+            return;
+        }
         for d in depths {
             let z = job.radius - d;
             self.cylinder_axis(start[1], sink);
@@ -182,9 +247,11 @@ impl Interpreter<'_> {
                         self.emit(sink, arc);
                         self.st.pos = to(first_end, second_end, z);
                     }
+                    CanonOp::Setting(Setting::CutterComp(c)) => self.emit(sink, CanonOp::Setting(Setting::CutterComp(c))),
                     _ => {}
                 }
             }
+            self.emit(sink, CanonOp::Setting(Setting::CutterComp(None)));
             let q = self.st.pos;
             self.go_to(sink, to(q[0], q[1], over), false);
         }
