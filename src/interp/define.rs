@@ -103,7 +103,7 @@ impl Interpreter<'_> {
                     let rest = block.text(TextRange { start: range.end, end: block.range.end });
                     let mut words = rest.split_ascii_whitespace().skip_while(|w| !w.to_ascii_uppercase().ends_with("LABEL"));
                     let written = words.nth(1).and_then(|w| w.split('/').next()).map(|w| w.trim_matches('"').to_owned());
-                    let label = written.filter(|w| !w.is_empty()).or(self.slot(Role::CycleValue).map(|v| crate::text::num(v)));
+                    let label = written.filter(|w| !w.is_empty()).or(self.slot(Role::CycleValue).map(crate::text::num));
                     if let Some(label) = label {
                         self.contour_named = Some(label);
                     }
