@@ -524,6 +524,13 @@ vocab! {
         /// from the reference plane to its depth; its moves the finishing pass on its wall as
         /// for `mill-pocket-rect`.
         MillSlot = "mill-slot",
+        /// Milling on a cylinder's developed surface by a cycle (Heidenhain 27 CYLINDER
+        /// SURFACE, 28 CYLINDRICAL SURFACE SLOT, 29 CYL SURFACE RIDGE, 39 CYL. SURFACE
+        /// CONTOUR): the contour the last `contour-define` named, drawn with the rotary axis
+        /// as the length round the cylinder of radius `pocket-radius` (degrees, or mm where
+        /// `geometry` is 1), cut `depth-relative` below its surface in plunges of `cut-depth`;
+        /// `width` the slot's or ridge's. Cut under cylindrical interpolation, its tool axis radial.
+        MillCylinderSurface = "mill-cylinder-surface",
         /// A grid of positions (Siemens `CYCLE801`): a corner, an angle, column and row
         /// spacing and counts, visited row by row in a meander. The modal cycle runs at each.
         PatternGrid = "pattern-grid",

@@ -96,6 +96,19 @@ impl Interpreter<'_> {
                 }
             }
             Meaning::Wcs => self.select_preset(ci, &name, range, sink, diags),
+            // `CYCL DEF 14.1 CONTOUR LABEL 1`: the subprogram label whose blocks draw the
+            // contour of the contour cycles after it; of `LABEL 1/2/3` the first.
+            Meaning::ContourDefine => {
+                if (number.fract() * 10.0).round() != 0.0 {
+                    let rest = block.text(TextRange { start: range.end, end: block.range.end });
+                    let mut words = rest.split_ascii_whitespace().skip_while(|w| !w.to_ascii_uppercase().ends_with("LABEL"));
+                    let written = words.nth(1).and_then(|w| w.split('/').next()).map(|w| w.trim_matches('"').to_owned());
+                    let label = written.filter(|w| !w.is_empty()).or(self.slot(Role::CycleValue).map(crate::text::num));
+                    if let Some(label) = label {
+                        self.contour_named = Some(label);
+                    }
+                }
+            }
             Meaning::Other | Meaning::Output => {}
             _ => {
                 let d = Diagnostic::new(
@@ -398,6 +411,13 @@ impl Interpreter<'_> {
             let mut at = args.clone();
             at.extend([(Role::PocketX, self.st.pos[a0]), (Role::PocketY, self.st.pos[a1])]);
             self.mill_pocket(meaning, &label, &at, range, sink, diags);
+            return;
+        }
+        // A cylinder surface cycle (Heidenhain 27, 28, 29, 39): the contour cycle 14 named,
+        // cut on the cylinder's developed surface (`interp::cylsurf`).
+        if cycle.meaning == Meaning::MillCylinderSurface {
+            let label = format!("CYCL DEF {}", cycle.name);
+            self.cylinder_surface(&label, &args, range, diags);
             return;
         }
         let Some(kind) = self.defined_kind(cycle, range, diags) else { return };

@@ -319,6 +319,9 @@ impl Interpreter<'_> {
 pub(super) struct Cylinder {
     radius: f64,
     c0: f64,
+    /// Where the moves are a cylinder surface cycle's contour (Heidenhain 27, 28, 29, 39:
+    /// `interp::cylsurf`), how its words are read (`SurfaceWords`).
+    surface: Option<SurfaceWords>,
 }
 
 impl Cylinder {
@@ -333,6 +336,27 @@ impl Cylinder {
     /// A length on the developed surface for `degrees` of C.
     fn developed(&self, degrees: f64) -> f64 {
         self.radius * degrees.to_radians()
+    }
+}
+
+/// How a cylinder surface cycle's contour is read on the developed surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct SurfaceWords {
+    /// Whether its C words are lengths round the cylinder (`Q17=1`) rather than degrees.
+    pub(super) mm: bool,
+    /// The way an X word runs along the developed surface's X (the cylinder's -Z): +1 or -1,
+    /// as the tilted working plane's X runs along the cylinder (`PLANE SPATIAL SPB+90`: its X
+    /// is the part's -Z, so +1).
+    pub(super) x_sense: f64,
+}
+
+impl Interpreter<'_> {
+    /// Under cylindrical interpolation, reads the blocks that follow as a cylinder surface
+    /// cycle's contour (`Some`) or as written (`None`): see `cylinder_words`.
+    pub(super) fn cylinder_contour_words(&mut self, surface: Option<SurfaceWords>) {
+        if let Some(cyl) = self.st.cylinder.as_mut() {
+            cyl.surface = surface;
+        }
     }
 }
 
@@ -363,7 +387,7 @@ impl Interpreter<'_> {
                 if self.st.face_plane.is_some() {
                     self.face_mode(false, sink);
                 }
-                let cyl = Cylinder { radius, c0: p[5] };
+                let cyl = Cylinder { radius, c0: p[5], surface: None };
                 self.st.face_plane = Some(self.st.plane);
                 self.st.cylinder = Some(cyl);
                 self.st.plane = Plane::Xy;
@@ -472,15 +496,31 @@ impl Interpreter<'_> {
             WordMode::Absolute => true,
             WordMode::Incremental => false,
         };
-        let along = c
-            .map(|s| Slot { value: cyl.developed(if absolute(&s) { s.value - cyl.c0 } else { s.value }), ..s })
-            .or(y.map(|s| Slot { value: if absolute(&s) { s.value - cyl.developed(cyl.c0) } else { s.value }, ..s }));
         let put = |me: &mut Self, role: Role, slot: Option<Slot>| {
             if let Some(slot) = slot {
                 me.slots[role as usize] = Some(slot);
                 me.filled |= 1 << role as u32;
             }
         };
+        // A cylinder surface cycle's contour (TNC 640 cycles 27, 28, 29, 39): drawn in the
+        // rotary axis and the linear axis parallel to it, X where the working plane is tilted
+        // so that its X runs along the cylinder (`SurfaceWords::x_sense`), Z where it is not
+        // (along -X here); C in degrees or, where the cycle says so (`Q17=1`),
+        // as a length round the cylinder. Its depth is the cycle's (`Q1`), so no word is the
+        // radius.
+        if let Some(words) = cyl.surface {
+            let along = c.map(|s| {
+                let length = |v: f64| if words.mm { v } else { cyl.developed(v) };
+                Slot { value: if absolute(&s) { length(s.value) - cyl.developed(cyl.c0) } else { length(s.value) }, ..s }
+            });
+            let x = x.map(|s| Slot { value: words.x_sense * s.value, ..s });
+            put(self, Role::X, x.or(z.map(|s| Slot { value: -s.value, ..s })));
+            put(self, Role::Y, along);
+            return;
+        }
+        let along = c
+            .map(|s| Slot { value: cyl.developed(if absolute(&s) { s.value - cyl.c0 } else { s.value }), ..s })
+            .or(y.map(|s| Slot { value: if absolute(&s) { s.value - cyl.developed(cyl.c0) } else { s.value }, ..s }));
         put(self, Role::X, z.map(|s| Slot { value: -s.value, ..s }));
         put(self, Role::Y, along);
         put(self, Role::Z, x);

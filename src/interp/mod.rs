@@ -152,6 +152,7 @@ mod comp;
 mod context;
 mod corner;
 mod cycle;
+mod cylsurf;
 mod define;
 pub mod eval;
 mod exec;
@@ -497,6 +498,14 @@ pub(crate) enum Request {
         name: String,
         /// What the cycle does with it.
         job: Box<named_turn::StockRemoval>,
+    },
+    /// A cylinder surface cycle's contour (Heidenhain 27, 28, 29, 39): the label cycle 14
+    /// named, read without effect on the cylinder's developed surface, then cut as `job` says.
+    CylinderContour {
+        /// The label (`1`).
+        name: String,
+        /// The cycle.
+        job: Box<cylsurf::CylinderSurface>,
     },
 }
 

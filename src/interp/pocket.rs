@@ -293,7 +293,7 @@ impl Interpreter<'_> {
 
     /// An arc in the plane to `end` about `centre` (counter-clockwise or not), ending at `level`
     /// on the normal axis (a helix where that is not where it starts).
-    fn arc_to(&mut self, sink: &mut dyn CanonSink, end: [f64; 2], centre: [f64; 2], level: f64, ccw: bool) {
+    pub(super) fn arc_to(&mut self, sink: &mut dyn CanonSink, end: [f64; 2], centre: [f64; 2], level: f64, ccw: bool) {
         let (a0, a1, n) = self.st.plane.axes();
         let abc = [self.st.pos[3], self.st.pos[4], self.st.pos[5]];
         self.emit(

@@ -1576,3 +1576,134 @@ fn a_cut_wrapped_round_the_cylinder_on_another_diameter_is_the_cylinders_change(
         "#]],
     );
 }
+
+/// The wrap, axis and depth of the one feature a program's plan has, as the plan says them.
+fn wrapped_feature(text: &str) -> Feature {
+    let plan = plan_of(text, &serde_json::json!({"dialect": "heidenhain"}));
+    assert_eq!(plan.features.len(), 1, "{plan:#?}");
+    plan.features[0].clone()
+}
+
+fn near3(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() < tol)
+}
+
+/// Heidenhain cycle 28 CYLINDRICAL SURFACE SLOT (TNC 640 cycles manual): the slot's centre line
+/// in `LBL 1`, C in degrees, cut on the Ø50 cylinder (Q16 25) 4 deep (Q1) and 12 wide (Q20),
+/// in plunges of 2 (Q10). Written before the run from the manual's conventions: a slot 12
+/// wide, 4 deep, placed where its course begins at C20 (Z-30: the tilted plane's X+30 under
+/// SPB+90 is the part's Z-30), its axis radial there, wrapped round the Ø50 cylinder from C20
+/// to C120 (25 · 100° in radians = 43.633 round it); the tool axis radial at each move in CC1.
+#[test]
+fn a_heidenhain_cylinder_surface_slot_is_wrapped_round_its_cylinder() {
+    let (_, text, _) = parts().into_iter().find(|p| p.0 == "tnc_cyl28_slot").expect("in the suite");
+    let slot = wrapped_feature(&text);
+    let (c, s) = (20f64.to_radians().cos(), 20f64.to_radians().sin());
+    assert!(matches!(slot.kind, FeatureKind::Slot { width, .. } if (width - 12.0).abs() < SIZE), "{slot:#?}");
+    assert!((slot.depth - 4.0).abs() < SIZE, "{slot:#?}");
+    assert!(slot.axis.is_some_and(|a| near3(a, [c, s, 0.0], AXIS)), "{slot:#?}");
+    assert!(near3(slot.placement, [25.0 * c, 25.0 * s, -30.0], 1e-3), "{slot:#?}");
+    let w = slot.wrap.expect("wrapped");
+    assert!((w.diameter - 50.0).abs() < 1e-9 && w.angles == (20.0, 120.0), "{w:?}");
+    assert!((w.developed - 25.0 * 100f64.to_radians()).abs() < 1e-3, "{w:?}");
+    // The toolpath keeps the radial tool axis of the moves round the cylinder: at C120, in the
+    // developed surface's plane laid at C0 (its X along -Z, Z radial at C0), (0, sin 120, cos 120).
+    let plan = plan_of(&text, &serde_json::json!({"dialect": "heidenhain"}));
+    let axes = axes_along(&plan);
+    let at120 = [0.0, 120f64.to_radians().sin(), 120f64.to_radians().cos()];
+    assert!(axes.iter().any(|a| near3(*a, at120, AXIS)), "{axes:?}");
+}
+
+/// Cycle 27 CYLINDER SURFACE with the rotary axis in mm (Q17=1), the head's axis X and the
+/// contour in Z and C (untilted): the closed contour, left of the tool (`RL`) counter-clockwise
+/// on the developed surface, is a pocket 20 along the cylinder by 40 round it, 3 deep (Q1),
+/// cut as programmed. Written before the run: C+20 to C+60 mm round the Ø60 cylinder are the
+/// angles 20/30 and 60/30 radians, C38.1972 to C114.5916, 40 mm round it.
+#[test]
+fn a_heidenhain_cylinder_surface_contour_in_mm_is_a_pocket_wrapped_round_it() {
+    let text = "0 BEGIN PGM CYL27 MM\n1 ; T4 D=6 CR=0 - FLAT END MILL\n2 TOOL CALL 4 X S4000\n3 L X+100 R0 FMAX\n\
+                4 L Y+0 Z+50 C+0 R0 FMAX\n5 CYCL DEF 14.0 CONTOUR\n6 CYCL DEF 14.1 CONTOUR LABEL 2\n\
+                7 CYCL DEF 27 CYLINDER SURFACE ~\n  Q1=-3 ;MILLING DEPTH ~\n  Q3=+0 ;ALLOWANCE FOR SIDE ~\n\
+                \x20 Q6=+2 ;SET-UP CLEARANCE ~\n  Q10=-3 ;PLUNGING DEPTH ~\n  Q11=+80 ;FEED RATE FOR PLNGNG ~\n\
+                \x20 Q12=+200 ;FEED RATE F. ROUGHNG ~\n  Q16=+30 ;RADIUS ~\n  Q17=+1 ;TYPE OF DIMENSION\n8 CYCL CALL M3\n\
+                9 L X+100 R0 FMAX\n10 M30\n11 LBL 2\n12 L C+20 Z+20 RL\n13 L C+60\n14 L Z+40\n15 L C+20\n16 L Z+20\n\
+                17 LBL 0\n18 END PGM CYL27 MM\n";
+    let pocket = wrapped_feature(text);
+    assert_eq!(pocket.kind.label(), "closed pocket", "{pocket:#?}");
+    let json = serde_json::to_value(&pocket.kind).unwrap();
+    assert_eq!(json["rectangle"], serde_json::json!([20.0, 40.0]), "{json}");
+    assert!((pocket.depth - 3.0).abs() < SIZE, "{pocket:#?}");
+    let w = pocket.wrap.expect("wrapped");
+    assert!((w.diameter - 60.0).abs() < 1e-9 && w.angles == (38.1972, 114.5916), "{w:?}");
+    assert!((w.developed - 40.0).abs() < 1e-3, "{w:?}");
+    // Placed at its middle round the cylinder (C76.394, 40/30 radians), Z30, its axis radial there.
+    let m = (40.0f64 / 30.0).sin_cos();
+    assert!(pocket.axis.is_some_and(|a| near3(a, [m.1, m.0, 0.0], AXIS)), "{pocket:#?}");
+    assert!(near3(pocket.placement, [30.0 * m.1, 30.0 * m.0, 30.0], 1e-3), "{pocket:#?}");
+}
+
+/// Cycle 39 CYL. SURFACE CONTOUR, C in degrees, its corners rounded (`RND R5`: arcs on the
+/// developed surface), the tool right of the counter-clockwise contour (`RR`): the boss it leaves,
+/// 20 along the cylinder by 90° round the Ø60 cylinder (47.124 mm), 2 deep in two plunges of 1.
+/// Written before the run. [The `RND` corners are not rounded in the contour a cycle reads
+/// (`flow::contour` reads it without the corner stage), so the boss's corners come out sharp.]
+#[test]
+fn a_heidenhain_cylinder_surface_contour_with_rounded_corners_is_a_profile_wrapped_round_it() {
+    let text = "0 BEGIN PGM CYL39 MM\n1 ; T5 D=10 CR=0 - FLAT END MILL\n2 TOOL CALL 5 X S3500\n3 L X+100 R0 FMAX\n\
+                4 L Y+0 Z+50 C+0 R0 FMAX\n5 CYCL DEF 14.0 CONTOUR\n6 CYCL DEF 14.1 CONTOUR LABEL 3\n\
+                7 CYCL DEF 39 CYL. SURFACE CONTOUR ~\n  Q1=-2 ;MILLING DEPTH ~\n  Q3=+0 ;ALLOWANCE FOR SIDE ~\n\
+                \x20 Q6=+2 ;SET-UP CLEARANCE ~\n  Q10=-1 ;PLUNGING DEPTH ~\n  Q11=+80 ;FEED RATE FOR PLNGNG ~\n\
+                \x20 Q12=+300 ;FEED RATE F. ROUGHNG ~\n  Q16=+30 ;RADIUS ~\n  Q17=+0 ;TYPE OF DIMENSION\n8 CYCL CALL M3\n\
+                9 L X+100 R0 FMAX\n10 M30\n11 LBL 3\n12 L C+0 Z+10 RR\n13 L C+90\n14 RND R5\n15 L Z+30\n16 RND R5\n\
+                17 L C+0\n18 RND R5\n19 L Z+10\n20 LBL 0\n21 END PGM CYL39 MM\n";
+    let profile = wrapped_feature(text);
+    assert_eq!(profile.kind.label(), "general outside profile", "{profile:#?}");
+    assert!((profile.depth - 2.0).abs() < SIZE, "{profile:#?}");
+    assert!(profile.axis.is_some_and(|a| near3(a, [1.0, 0.0, 0.0], AXIS)), "{profile:#?}");
+    let w = profile.wrap.expect("wrapped");
+    assert!((w.diameter - 60.0).abs() < 1e-9 && w.angles == (0.0, 90.0), "{w:?}");
+    assert!((w.developed - 30.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-3, "{w:?}");
+    let json = serde_json::to_value(&profile.kind).unwrap();
+    assert_eq!(json["rectangle"], serde_json::json!([20.0, 47.12389]), "{json}");
+}
+
+/// The cylinder surface slot made deeper (`Q1=-4` → `Q1=-5`): the slot's depth on the cylinder,
+/// Ø42 (4 deep on the Ø50 cylinder) → Ø40 (5 deep); no feature comes or goes. The plunges of 2
+/// (Q10) now make a third pass at 5, told as the toolpath's new cuts, and the argument's row
+/// stays beside the depth's [the plan's depth row does not yet account for the cycle's `Q1`].
+#[test]
+fn a_heidenhain_cylinder_surface_slot_made_deeper_is_its_depth_on_the_cylinder() {
+    edit(
+        "tnc_cyl28_slot",
+        "Q1=-4 ;MILLING DEPTH",
+        "Q1=-5 ;MILLING DEPTH",
+        expect_test::expect![[r#"
+        depth_changed | depth | Ø42 (4 deep on the Ø50 cylinder) | Ø40 (5 deep on the Ø50 cylinder) | 22 | 22
+          depth changed from Ø42 (4 deep on the Ø50 cylinder) to Ø40 (5 deep on the Ø50 cylinder)
+        toolpath_changed | toolpath | no cut | the 6 cuts at line 22, ending at X36 Y8.7266 Z21 (136.9656 mm longer), in X24…36 Y2.7266…58.3599, at most 49.6413 mm from the original path | 22 | 22
+          toolpath changed at line 22: no cut became the 6 cuts at line 22, ending at X36 Y8.7266 Z21 (136.9656 mm longer), in X24…36 Y2.7266…58.3599, at most 49.6413 mm from the original path
+        depth_changed | cycle parameter Q1 (depth relative) | -4 | -5 | 11 | 11
+          cycle parameter Q1 (depth relative) changed from -4 to -5 at line 11
+    "#]],
+    );
+}
+
+/// A cylinder surface cycle without a contour named before it, or with a depth past the
+/// cylinder's axis, is skipped with a finding, and the program goes on.
+#[test]
+fn a_heidenhain_cylinder_surface_cycle_without_its_contour_is_skipped_with_a_finding() {
+    let (_, text, _) = parts().into_iter().find(|p| p.0 == "tnc_cyl28_slot").expect("in the suite");
+    let reg = Registry::shipped();
+    let d = reg.get("heidenhain").unwrap();
+    for (from, to, says) in [
+        ("9 CYCL DEF 14.1 CONTOUR LABEL 1\n", "9 ; no contour\n", "none is named"),
+        ("Q1=-4 ;MILLING DEPTH", "Q1=-30 ;MILLING DEPTH", "cuts nothing on it"),
+        ("9 CYCL DEF 14.1 CONTOUR LABEL 1\n", "9 CYCL DEF 14.1 CONTOUR LABEL 7\n", "the contour `7` is neither a label"),
+    ] {
+        let b = text.replace(from, to);
+        assert_ne!(b, text);
+        let a = pipeline::analyze(b.as_bytes(), &d, &Profile::default());
+        assert!(a.diagnostics.iter().any(|g| g.message.contains(says)), "{says}: {:#?}", a.diagnostics);
+        assert!(a.plan.features.is_empty(), "{:#?}", a.plan.features);
+    }
+}

@@ -676,7 +676,7 @@ impl Interpreter<'_> {
 
     /// Puts `frame` in force (`None`: untilted): the position carried over into its
     /// coordinates, and the marker sent when the frame changes.
-    fn set_frame(&mut self, frame: Option<Frame>, sink: &mut dyn CanonSink) {
+    pub(in crate::interp) fn set_frame(&mut self, frame: Option<Frame>, sink: &mut dyn CanonSink) {
         let frame = frame.filter(|f| !f.is_identity());
         // Another plane put in force ends what a programmable rotation turned.
         self.st.frame_before_rot = None;

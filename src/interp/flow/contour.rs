@@ -99,4 +99,39 @@ impl<'a> Driver<'a, '_> {
         (interp.origin, interp.line) = (block.range, block.line);
         interp.stock_removal(job, &shape, sink, diags);
     }
+
+    /// A cylinder surface cycle's contour (Heidenhain 27, 28, 29, 39: `interp::cylsurf`): the
+    /// label's blocks read without effect on the cylinder's developed surface, then cut.
+    pub(super) fn cylinder_contour(
+        &mut self,
+        name: &str,
+        job: &crate::interp::cylsurf::CylinderSurface,
+        block: &Block,
+        interp: &mut Interpreter<'a>,
+        sink: &mut dyn CanonSink,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let (source, body, until) = match self.contour_span(name) {
+            Ok(span) => span,
+            Err(why) => {
+                self.error(diags, Code::MissingLabel, block.range, format!("{why}; the cycle is skipped"));
+                return;
+            }
+        };
+        let tilt = interp.cylinder_surface_begin(job, sink, diags);
+        let corners = interp.corners.replace(None);
+        let saved = (interp.st.clone(), interp.params.clone(), interp.comp.borrow().clone(), corners, interp.comp_problem.take());
+        interp.comp.replace(None);
+        // The contour's blocks are its geometry: the cycle's own feeds cut it.
+        interp.st.tech_warned = true;
+        let (shape, _) = self.profile_blocks(source, body, until, interp, diags);
+        let (st, params, comp, corners, problem) = saved;
+        interp.st = st;
+        interp.params = params;
+        interp.comp.replace(comp);
+        interp.corners.replace(corners);
+        interp.comp_problem.set(problem);
+        (interp.origin, interp.line) = (block.range, block.line);
+        interp.cylinder_surface_cut(job, &shape, tilt, sink, diags);
+    }
 }

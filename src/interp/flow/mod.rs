@@ -1958,6 +1958,7 @@ impl<'a> Driver<'a, '_> {
             Request::Contour { first, last, rough } => self.contour(first, last, rough, block, interp, sink, diags),
             Request::Profile { name, cycle } => self.profile(&name, cycle, block, interp, sink, diags),
             Request::NamedContour { name, job } => self.named_contour(&name, &job, block, interp, sink, diags),
+            Request::CylinderContour { name, job } => self.cylinder_contour(&name, &job, block, interp, sink, diags),
         }
     }
 

@@ -30,8 +30,9 @@ pub fn recognise(plan: &mut ProcessPlan) {
         let tool = plan.tool(ws.tool).cloned();
         // Holes along another axis than Z (cycles in G18/G19) are not recognised yet.
         // The stock and the faced level are the untilted plane's: a tilted one's coordinates
-        // do not compare with them.
-        let tilted_stock = ws.setup.as_ref().zip(plan.workpiece.as_ref()).map(|(s, w)| on_plane(w, s));
+        // do not compare with them. Nor does a cylinder's developed surface (cylindrical
+        // interpolation) with any box: its Y is a length round the cylinder.
+        let tilted_stock = ws.setup.as_ref().filter(|s| s.cylinder.is_none()).zip(plan.workpiece.as_ref()).map(|(s, w)| on_plane(w, s));
         let (stock, faced_here) = match &tilted_stock {
             Some(t) => (Some(t), None),
             None if ws.setup.is_some() => (None, None),
