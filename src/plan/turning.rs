@@ -356,8 +356,8 @@ fn parted_through_the_bore(plan: &mut ProcessPlan) {
 /// after a tool change, with nothing else telling its side: an inside contour finished from
 /// the mouth steps down to smaller diameters as an outside one of a part larger at its front
 /// does). Only where every cut along Z is so, at least one runs 1 mm along Z, and the outside
-/// is turned beside one of them (`walled`), and the pass is a boring tool's or left towards
-/// the axis (`left_inward`).
+/// is turned beside one of them (`walled`), and the pass is a boring tool's, cut towards the
+/// chuck under G41, or left towards the axis (`left_inward`).
 fn finished_in_the_bore(plan: &mut ProcessPlan) {
     let place = |w: &Workingstep| (w.setup, w.state.work_offset, w.technology.spindle_id);
     for k in 1..plan.workingsteps.len() {
@@ -404,7 +404,13 @@ fn finished_in_the_bore(plan: &mut ProcessPlan) {
         let boring = tool.is_some_and(|t| {
             t.kind == ToolKind::BoringTool || t.name.as_deref().is_some_and(|n| n.to_ascii_uppercase().contains("BORING"))
         });
-        if along.iter().all(|m| in_bore(m)) && along.iter().any(|m| walled(m)) && (boring || left_inward(ws)) {
+        // Or cut towards the chuck under G41: with the tool moving towards -Z, the tool nose
+        // radius compensation on its left keeps it on the axis side of the contour, as in
+        // boring (G42 for turning outside: Fanuc lathe operator's manual, tool nose radius
+        // compensation; Smid, CNC Programming Handbook, the same on either turret).
+        let comp = &ws.state.cutter_comp;
+        let bored_left = !comp.is_empty() && comp.iter().all(|c| c.left) && along.iter().all(|m| m.to[2] < m.from[2] && m.to[0] > 0.0);
+        if along.iter().all(|m| in_bore(m)) && along.iter().any(|m| walled(m)) && (boring || bored_left || left_inward(ws)) {
             if let Some(t) = plan.workingsteps[k].turning.as_mut() {
                 t.inside = true;
             }

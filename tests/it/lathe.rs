@@ -2148,13 +2148,17 @@ G0 X200. Z200.\nM30\n";
 N10 G0 X30.\nG1 Z0.\nZ-10.\nX24.\nN20 Z-20.\nG70 P10 Q20 F0.1\nG0 X200. Z200.\nM30\n";
     let (ws, _) = labels(rough, "fanuc_lathe");
     assert_eq!(ws, ["contouring rough inside", "contouring finish inside"]);
-    // A cut-off tool's one plunge at Z-10 from Ø50 to Ø35 (a tube's wall): parting off; the same
-    // plunge by a grooving tool the program names so is a groove.
-    let cut = |name: &str| {
-        format!("O3\nG21 G99\n({name})\nT0101\nG50 S2000\nG96 S100 M3\nG0 X52. Z-10.\nG1 X35. F0.05\nG0 X60.\nX200. Z200.\nM30\n")
+    // A cut-off tool's one plunge at Z-10 from Ø50 to Ø35 through a tube's wall, the new face
+    // then faced at Z-10 in to Ø34.5 (the tube's bore, as Lynx 300 O2700 faces it): parting off;
+    // the same plunge by a grooving tool the program names so is a groove, and so is the cut-off
+    // tool's where nothing tells a bore there (review16a: a blade stopping in a bar's wall).
+    let cut = |name: &str, face: bool| {
+        let face = if face { "T0202\nG97 S300 M3\nG0 X52. Z-10.\nG1 X34.5 F0.08\nG0 X60.\nX200. Z200.\n" } else { "" };
+        format!("O3\nG21 G99\n({name})\nT0101\nG50 S2000\nG96 S100 M3\nG0 X52. Z-10.\nG1 X35. F0.05\nG0 X60.\nX200. Z200.\n{face}M30\n")
     };
-    assert_eq!(labels(&cut("T01 CUT OFF AT 10"), "fanuc_lathe").0, ["parting off"]);
-    assert_eq!(labels(&cut("T01 OD GROOVE"), "fanuc_lathe").0, ["grooving finish"]);
+    assert_eq!(labels(&cut("T01 CUT OFF AT 10", true), "fanuc_lathe").0.first().map(String::as_str), Some("parting off"));
+    assert_eq!(labels(&cut("T01 OD GROOVE", true), "fanuc_lathe").0.first().map(String::as_str), Some("grooving finish"));
+    assert_eq!(labels(&cut("T01 CUT OFF AT 10", false), "fanuc_lathe").0, ["grooving finish"]);
     // A boring bar fed in along Z at Ø45 to the front, then out across it to Ø76: it faces the
     // front (not inside), then bores.
     let face_out = "O5\nG21 G99\nT0808 (BORING BAR)\nG50 S2500\nG96 S190 M3\nG0 X45. Z5.\nG1 Z0. F0.25\nX76. F0.15\n\
