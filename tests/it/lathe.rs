@@ -2184,8 +2184,11 @@ T1111 (ID FINISH BORING BAR)\nG96 S120 M3\nG0 X42. Z3.\nG1 X39.8 Z0. F0.1\nZ-27.
     assert!(inner.iter().any(|d| (d - 39.8).abs() < 0.01), "{inner:?}");
 }
 
-/// The turned features of a program, as (kind, diameter, length or width, inside).
-fn turned_of(program: &str) -> (Vec<String>, Vec<(String, f64, f64, bool)>) {
+/// A turned feature as (kind, diameter, length or width, inside).
+type TurnedRow = (String, f64, f64, bool);
+
+/// The workingsteps' labels and the turned features of a program.
+fn turned_of(program: &str) -> (Vec<String>, Vec<TurnedRow>) {
     let d = Registry::shipped().get("fanuc_lathe").unwrap();
     let plan = pipeline::analyze(program.as_bytes(), &d, &Profile::default()).plan;
     let features = plan
@@ -2270,4 +2273,12 @@ G0 X200. Z200.\nT0303 (OD FINISH)\nG96 S250 M3\nG0 X38. Z2.\nG1 X40. Z0. F0.08\n
     assert_eq!(ws.last().map(String::as_str), Some("contouring finish"), "{ws:?}");
     assert!(features.iter().any(|f| f.0 == "diameter" && !f.3 && (f.1 - 40.0).abs() < 0.01), "{ws:?} {features:?}");
     assert!(!features.iter().any(|f| f.0 == "diameter" && f.3 && (f.1 - 40.0).abs() < 0.01), "{ws:?} {features:?}");
+    // The same pass by an unnamed tool cut towards the chuck under G41 (the side Fanuc lathes
+    // bore with) and left along Z: a finishing bar's, the bore Ø40.
+    let bar = program
+        .replace("T0303 (OD FINISH)", "T0303")
+        .replace("G0 X38. Z2.\nG1 X40.", "G0 G41 X38. Z2.\nG1 X40.")
+        .replace("Z-30.\nX44.\nG0 X200. Z200.\nM30", "Z-30.\nG0 Z2.\nG40 X200. Z200.\nM30");
+    let (ws, features) = turned_of(&bar);
+    assert_eq!(ws.last().map(String::as_str), Some("contouring finish inside"), "{ws:?} {features:?}");
 }
